@@ -1,0 +1,79 @@
+"""Building blocks of the payload codecs: one declaration serves encode and decode."""
+
+from __future__ import annotations
+
+import inspect
+import struct
+from collections.abc import Callable
+from operator import attrgetter
+from typing import Any, ClassVar, Final, Generic, Self, TypeVar
+
+from .errors import PayloadError
+
+__all__ = ["I16", "Codec", "FixedPayload"]
+
+T = TypeVar("T")
+
+#: One signed 16-bit word (EW codes, counts).
+I16: Final = struct.Struct("<h")
+
+
+class Codec(Generic[T]):
+    """A payload codec: ``encode(value) -> bytes`` and ``decode(bytes) -> value``.
+
+    ``decode`` raises :class:`PayloadError` and nothing else on bytes that do not fit;
+    ``encode`` raises :class:`ValueError` on a value that cannot be put on the wire.
+    """
+
+    __slots__ = ("decode", "encode", "name")
+
+    def __init__(
+        self, name: str, encode: Callable[[T], bytes], decode: Callable[[bytes], T]
+    ) -> None:
+        self.name = name
+        self.encode = encode
+        self.decode = decode
+
+    def __repr__(self) -> str:
+        return f"Codec({self.name})"
+
+
+class FixedPayload:
+    """Base of payloads with a fixed ``struct`` layout.
+
+    A subclass is a frozen, slotted dataclass whose fields are, in order, the fields of
+    ``FORMAT``; declaring the two together gives both ``encode`` and ``decode``.
+    """
+
+    FORMAT: ClassVar[str]
+    STRUCT: ClassVar[struct.Struct]
+    _getter: ClassVar[Callable[[Any], tuple[Any, ...]]]
+
+    def __init_subclass__(cls, **kwargs: Any) -> None:
+        super().__init_subclass__(**kwargs)
+        cls.STRUCT = struct.Struct(cls.FORMAT)
+        names = [n for n in inspect.get_annotations(cls) if n.isidentifier()]
+        names = [n for n in names if not n.isupper() and not n.startswith("_")]
+        if len(names) == 1:
+            single = attrgetter(names[0])
+            cls._getter = staticmethod(lambda obj: (single(obj),))
+        elif names:
+            cls._getter = staticmethod(attrgetter(*names))
+
+    def encode(self) -> bytes:
+        try:
+            return self.STRUCT.pack(*self._getter(self))  # type: ignore[call-arg]
+        except struct.error as exc:
+            raise ValueError(f"{type(self).__name__}: {exc}") from None
+
+    @classmethod
+    def decode(cls, data: bytes) -> Self:
+        st = cls.STRUCT
+        if len(data) != st.size:
+            raise PayloadError(f"{cls.__name__}: {len(data)} bytes, expected {st.size}")
+        return cls(*st.unpack(data))
+
+    @classmethod
+    def codec(cls) -> Codec[Self]:
+        """This payload as a :class:`Codec`."""
+        return Codec(cls.__name__, cls.encode, cls.decode)

@@ -1,0 +1,231 @@
+"""Counted alarm lists: ``cnc_rdalmmsg`` (0x0006) and ``cnc_rdalmhistry`` (0x0F1A).
+
+Both start with ``i16 count``; ``count = -1`` is followed by ``i16 ew`` and nothing else.
+Decoding follows the rules of PROTOCOL.md section 3 and never raises:
+
+* a negative count gives no entries (``ew`` carries the code; ``EW_PROTOCOL`` when the count is
+  negative but no code follows, or the count is below -1);
+* a history entry with an impossible timestamp (month 0, day 32, ...) is skipped;
+* an entry whose ``msg_len`` is negative or runs past the payload ends the list there, keeping
+  the entries before it.
+"""
+
+from __future__ import annotations
+
+import enum
+import struct
+from dataclasses import dataclass
+from datetime import UTC, datetime
+from typing import Final, Self
+
+from .errors import EW
+
+__all__ = [
+    "ALARM_TYPE_NAMES",
+    "MAX_ALARM_MSG",
+    "MAX_HISTORY_DEPTH",
+    "ActiveAlarm",
+    "ActiveAlarmList",
+    "AlarmHistory",
+    "AlarmHistoryEntry",
+    "AlarmType",
+]
+
+#: Longest message the CNC keeps for an alarm.
+MAX_ALARM_MSG: Final = 32
+#: Deepest alarm-history read (``cnc_rdalmhistry`` depth 1..250).
+MAX_HISTORY_DEPTH: Final = 250
+
+_I16: Final = struct.Struct("<h")
+_COUNT_ERROR: Final = struct.Struct("<hh")
+_MSG_HEAD: Final = struct.Struct("<hhhh")  # axis_no, alm_type, alm_no, msg_len
+_HIST_HEAD: Final = struct.Struct("<10h")  # 6 x time, axis_no, alm_type, alm_no, msg_len
+
+
+class AlarmType(enum.IntEnum):
+    """Alarm type numbers (FANUC 0i-D/F, 30i numbering)."""
+
+    SW = 0
+    PW = 1
+    IO = 2
+    PS = 3
+    OT = 4
+    OH = 5
+    SV = 6
+    SR = 7
+    MC = 8
+    SP = 9
+    DS = 10
+    IE = 11
+    BG = 12
+    SN = 13
+    EX = 15
+    PC = 19
+
+
+#: alm_type -> its two-letter prefix, as the CNC screen shows it.
+ALARM_TYPE_NAMES: Final[dict[int, str]] = {t.value: t.name for t in AlarmType}
+
+
+def _text(raw: bytes) -> str:
+    return raw.decode("latin-1")
+
+
+def _raw(msg: str) -> bytes:
+    try:
+        return msg.encode("latin-1")
+    except UnicodeEncodeError as exc:
+        raise ValueError(f"alarm message must be ASCII: {msg!r}") from exc
+
+
+def _pad(n: int) -> bytes:
+    return b"\x00" * (-n % 4)
+
+
+def _count_error(ew: int) -> bytes:
+    return _COUNT_ERROR.pack(-1, ew)
+
+
+def _negative_count(payload: bytes, count: int) -> int:
+    if count == -1 and len(payload) >= 4:
+        return int(_I16.unpack_from(payload, 2)[0])
+    return int(EW.PROTOCOL)
+
+
+@dataclass(frozen=True, slots=True)
+class ActiveAlarm:
+    """One active alarm (an entry of ``cnc_rdalmmsg``)."""
+
+    axis_no: int
+    alm_type: int
+    alm_no: int
+    msg: str
+
+    @property
+    def key(self) -> tuple[int, int, int]:
+        """The identity of an alarm: ``(axis_no, alm_type, alm_no)``."""
+        return (self.axis_no, self.alm_type, self.alm_no)
+
+
+@dataclass(frozen=True, slots=True)
+class ActiveAlarmList:
+    """``cnc_rdalmmsg`` answer: the entries, or ``ew != 0`` (count = -1) and no entries."""
+
+    entries: tuple[ActiveAlarm, ...] = ()
+    ew: int = 0
+
+    def encode(self) -> bytes:
+        if self.ew:
+            if self.entries:
+                raise ValueError("an error answer carries no entries")
+            return _count_error(self.ew)
+        parts = [_I16.pack(len(self.entries))]
+        for e in self.entries:
+            raw = _raw(e.msg)
+            try:
+                parts.append(_MSG_HEAD.pack(e.axis_no, e.alm_type, e.alm_no, len(raw)))
+            except struct.error as exc:
+                raise ValueError(f"active alarm entry: {exc}") from None
+            parts.append(raw + _pad(len(raw)))
+        return b"".join(parts)
+
+    @classmethod
+    def decode(cls, data: bytes) -> Self:
+        if len(data) < 2:
+            return cls((), int(EW.PROTOCOL))
+        (count,) = _I16.unpack_from(data, 0)
+        if count < 0:
+            return cls((), _negative_count(data, count))
+        entries: list[ActiveAlarm] = []
+        pos, size = 2, len(data)
+        for _ in range(count):
+            if pos + 8 > size:
+                break
+            axis_no, alm_type, alm_no, msg_len = _MSG_HEAD.unpack_from(data, pos)
+            end = pos + 8 + msg_len
+            if msg_len < 0 or end > size:
+                break
+            entries.append(ActiveAlarm(axis_no, alm_type, alm_no, _text(data[pos + 8 : end])))
+            pos = end + (-msg_len % 4)
+        return cls(tuple(entries))
+
+
+@dataclass(frozen=True, slots=True)
+class AlarmHistoryEntry:
+    """One entry of the alarm history (ODBAHIS); ``occurred_at`` is timezone-aware UTC."""
+
+    occurred_at: datetime
+    axis_no: int
+    alm_type: int
+    alm_no: int
+    msg: str
+
+    @property
+    def key(self) -> tuple[datetime, int, int]:
+        """Deduplication key: ``(occurred_at, alm_no, alm_type)``."""
+        return (self.occurred_at, self.alm_no, self.alm_type)
+
+
+@dataclass(frozen=True, slots=True)
+class AlarmHistory:
+    """``cnc_rdalmhistry`` answer, newest first; ``ew != 0`` (count < 0) means no entries."""
+
+    entries: tuple[AlarmHistoryEntry, ...] = ()
+    ew: int = 0
+
+    def encode(self) -> bytes:
+        if self.ew:
+            if self.entries:
+                raise ValueError("an error answer carries no entries")
+            return _count_error(self.ew)
+        parts = [_I16.pack(len(self.entries))]
+        for e in self.entries:
+            t = e.occurred_at.astimezone(UTC) if e.occurred_at.tzinfo else e.occurred_at
+            raw = _raw(e.msg)
+            try:
+                parts.append(
+                    _HIST_HEAD.pack(
+                        t.year,
+                        t.month,
+                        t.day,
+                        t.hour,
+                        t.minute,
+                        t.second,
+                        e.axis_no,
+                        e.alm_type,
+                        e.alm_no,
+                        len(raw),
+                    )
+                )
+            except struct.error as exc:
+                raise ValueError(f"alarm history entry: {exc}") from None
+            parts.append(raw + _pad(len(raw)))
+        return b"".join(parts)
+
+    @classmethod
+    def decode(cls, data: bytes) -> Self:
+        if len(data) < 2:
+            return cls((), int(EW.PROTOCOL))
+        (count,) = _I16.unpack_from(data, 0)
+        if count < 0:
+            return cls((), _negative_count(data, count))
+        entries: list[AlarmHistoryEntry] = []
+        pos, size = 2, len(data)
+        for _ in range(count):
+            if pos + 20 > size:
+                break
+            y, mo, d, h, mi, s, axis_no, alm_type, alm_no, msg_len = _HIST_HEAD.unpack_from(
+                data, pos
+            )
+            end = pos + 20 + msg_len
+            if msg_len < 0 or end > size:
+                break
+            pos = end + (-msg_len % 4)
+            try:
+                when = datetime(y, mo, d, h, mi, s, tzinfo=UTC)
+            except ValueError:
+                continue  # impossible timestamp: skip this entry, keep the rest
+            entries.append(
+                AlarmHistoryEntry(when, axis_no, alm_type, alm_no, _text(data[end - msg_len : end]))
+            )
+        return cls(tuple(entries))

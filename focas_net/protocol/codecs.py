@@ -1,0 +1,485 @@
+"""Payload codecs of every command (PROTOCOL.md sections 3-5), declared once each.
+
+Every payload is a frozen, slotted dataclass with ``encode()`` and ``decode(bytes)``; the
+request codec the client encodes with is the one the server decodes with, and the same holds
+for responses. :data:`COMMANDS` maps each command id to its :class:`CommandSpec`.
+
+Responses of reads and writes start with ``i16 ew``; the response codecs here decode a non-zero
+``ew`` to an :class:`EwReply` carrying the code (the client turns it into :class:`CncError`).
+Counted lists (alarm messages, alarm history) carry their error inside their own dataclass.
+"""
+
+from __future__ import annotations
+
+import enum
+import struct
+from dataclasses import dataclass
+from typing import Any, ClassVar, Final, Self
+
+from ._base import I16, Codec, FixedPayload
+from .alarms import ActiveAlarmList, AlarmHistory
+from .commands import Command
+from .errors import PayloadError
+from .versamax import VersaMaxReply, VersaMaxRequest
+
+__all__ = [
+    "COMMANDS",
+    "EW_OK_BYTES",
+    "MAX_PMC_CHUNK",
+    "PMC_AREA_CODES",
+    "AlarmHistoryRequest",
+    "AlarmMsgRequest",
+    "ClearAlarms",
+    "CommandSpec",
+    "DataRequest",
+    "EwReply",
+    "InjectFault",
+    "MacroRequest",
+    "MacroValue",
+    "ParamValue",
+    "Password",
+    "PmcArea",
+    "PmcData",
+    "PmcRange",
+    "RaiseAlarm",
+    "SetPanel",
+    "StatusInfo",
+    "SysInfo",
+    "encode_ew",
+    "encode_response",
+]
+
+#: Most data bytes one PMC range call carries.
+MAX_PMC_CHUNK: Final = 32
+#: ``i16 ew = 0``, the start of every successful read or write answer.
+EW_OK_BYTES: Final = b"\x00\x00"
+
+
+@dataclass(frozen=True, slots=True)
+class EwReply:
+    """A response that carries only a non-zero EW code."""
+
+    ew: int
+
+
+def encode_ew(ew: int) -> bytes:
+    """The 2-byte ``i16 ew`` payload."""
+    return I16.pack(ew)
+
+
+class _Empty:
+    """The empty payload (requests of status/sysinfo, data part of write answers)."""
+
+    @staticmethod
+    def encode(_value: None) -> bytes:
+        return b""
+
+    @staticmethod
+    def decode(data: bytes) -> None:
+        if data:
+            raise PayloadError(f"expected an empty payload, got {len(data)} bytes")
+
+
+EMPTY: Final[Codec[None]] = Codec("Empty", _Empty.encode, _Empty.decode)
+
+
+# -- fixed-layout payloads -----------------------------------------------------------------
+
+
+@dataclass(frozen=True, slots=True)
+class StatusInfo(FixedPayload):
+    """ODBST (``cnc_rdcncstat`` / ``cnc_statinfo``): 9 x i16."""
+
+    FORMAT: ClassVar[str] = "<9h"
+    hdck: int
+    tmmode: int
+    aut: int
+    run: int
+    motion: int
+    mstb: int
+    emergency: int
+    alarm: int
+    edit: int
+
+
+@dataclass(frozen=True, slots=True)
+class DataRequest(FixedPayload):
+    """Request of ``cnc_rdparam`` and ``cnc_rddiag``: ``i16 datano, i16 axis``."""
+
+    FORMAT: ClassVar[str] = "<hh"
+    datano: int
+    axis: int
+
+
+@dataclass(frozen=True, slots=True)
+class MacroRequest(FixedPayload):
+    """Request of ``cnc_rdmacro``: ``i16 number``."""
+
+    FORMAT: ClassVar[str] = "<h"
+    number: int
+
+
+@dataclass(frozen=True, slots=True)
+class MacroValue(FixedPayload):
+    """ODBM: ``i16 number, i16 length (8), i32 mcr_val, i16 dec_val``.
+
+    Value = ``mcr_val / 10**dec_val``; vacant is ``mcr_val = 0, dec_val = -1``.
+    """
+
+    FORMAT: ClassVar[str] = "<hhih"
+    number: int
+    length: int
+    mcr_val: int
+    dec_val: int
+
+    @property
+    def vacant(self) -> bool:
+        return self.mcr_val == 0 and self.dec_val == -1
+
+
+@dataclass(frozen=True, slots=True)
+class SysInfo(FixedPayload):
+    """ODBSYS (``cnc_sysinfo``): 18 bytes; the character fields are ASCII."""
+
+    FORMAT: ClassVar[str] = "<hh2s2s4s4s2s"
+    addinfo: int
+    max_axis: int
+    cnc_type: bytes
+    mt_type: bytes
+    series: bytes
+    version: bytes
+    axes: bytes
+
+    @property
+    def axes_count(self) -> int | None:
+        """The ``axes`` field as a number ("03" -> 3), or None when not numeric."""
+        text = self.axes.decode("latin-1").strip()
+        return int(text) if text.isdigit() else None
+
+
+@dataclass(frozen=True, slots=True)
+class AlarmMsgRequest(FixedPayload):
+    """Request of ``cnc_rdalmmsg``: ``i16 type`` (-1 all), ``i16 max`` (1..32)."""
+
+    FORMAT: ClassVar[str] = "<hh"
+    type: int
+    max: int
+
+
+@dataclass(frozen=True, slots=True)
+class AlarmHistoryRequest(FixedPayload):
+    """Request of ``cnc_rdalmhistry``: ``i16 depth`` (1..250)."""
+
+    FORMAT: ClassVar[str] = "<h"
+    depth: int
+
+
+@dataclass(frozen=True, slots=True)
+class PmcRange(FixedPayload):
+    """IODBPMC header: ``i16 type_a, i16 type_d, u16 datano_s, u16 datano_e`` (inclusive)."""
+
+    FORMAT: ClassVar[str] = "<hhHH"
+    type_a: int
+    type_d: int
+    datano_s: int
+    datano_e: int
+
+    @property
+    def count(self) -> int:
+        return self.datano_e - self.datano_s + 1
+
+
+@dataclass(frozen=True, slots=True)
+class Password(FixedPayload):
+    """``cnc_wrunlockparam``: ``byte password[4]``, ASCII right-padded with NUL, cut at 4."""
+
+    FORMAT: ClassVar[str] = "<4s"
+    password: bytes
+
+    @classmethod
+    def from_text(cls, text: str | bytes) -> Self:
+        raw = text.encode("latin-1") if isinstance(text, str) else text
+        return cls(raw[:4].ljust(4, b"\x00"))
+
+
+@dataclass(frozen=True, slots=True)
+class SetPanel(FixedPayload):
+    """0x0E01: ``i16 mode`` (an ``aut`` value other than 2), ``i16 pwe``, ``i16 emergency``."""
+
+    FORMAT: ClassVar[str] = "<hhh"
+    mode: int
+    pwe: int
+    emergency: int
+
+
+@dataclass(frozen=True, slots=True)
+class ClearAlarms(FixedPayload):
+    """0x0E03: ``i16 alm_type, i16 alm_no`` (-1 = any)."""
+
+    FORMAT: ClassVar[str] = "<hh"
+    alm_type: int
+    alm_no: int
+
+
+@dataclass(frozen=True, slots=True)
+class InjectFault(FixedPayload):
+    """0x0E05: ``i16 kind, i16 scope, i16 count, i32 arg``."""
+
+    FORMAT: ClassVar[str] = "<hhhi"
+    kind: int
+    scope: int
+    count: int
+    arg: int
+
+
+# -- variable-layout payloads --------------------------------------------------------------
+
+_PARAM_HEAD: Final = struct.Struct("<hh")
+_WIDTH_FORMATS: Final[dict[int, struct.Struct]] = {
+    1: struct.Struct("<hhb"),
+    2: struct.Struct("<hhh"),
+    4: struct.Struct("<hhi"),
+}
+
+
+@dataclass(frozen=True, slots=True)
+class ParamValue:
+    """IODBPSD: ``i16 datano, i16 axis``, then the value as signed byte, i16 or i32.
+
+    The width (1, 2 or 4) is implied by the payload length. Used by the answer of
+    ``cnc_rdparam``/``cnc_rddiag`` and by the request of ``cnc_wrparam``.
+    """
+
+    datano: int
+    axis: int
+    value: int
+    width: int
+
+    def encode(self) -> bytes:
+        st = _WIDTH_FORMATS.get(self.width)
+        if st is None:
+            raise ValueError(f"parameter width must be 1, 2 or 4, got {self.width}")
+        try:
+            return st.pack(self.datano, self.axis, self.value)
+        except struct.error as exc:
+            raise ValueError(f"ParamValue: {exc}") from None
+
+    @classmethod
+    def decode(cls, data: bytes) -> Self:
+        width = len(data) - 4
+        st = _WIDTH_FORMATS.get(width)
+        if st is None:
+            raise PayloadError(f"IODBPSD of {len(data)} bytes (expected 5, 6 or 8)")
+        datano, axis, value = st.unpack(data)
+        return cls(datano, axis, value, width)
+
+
+_PMC_HEAD: Final = PmcRange.STRUCT
+
+
+@dataclass(frozen=True, slots=True)
+class PmcData:
+    """IODBPMC with data: the 8-byte header then the bytes.
+
+    The answer of ``pmc_rdpmcrng`` and the request of ``pmc_wrpmcrng`` and ``set_pmc``. The
+    decoder does not check the data length against the header (the server answers a mismatch
+    with EW_LENGTH, in the order of PROTOCOL.md).
+    """
+
+    type_a: int
+    type_d: int
+    datano_s: int
+    datano_e: int
+    data: bytes
+
+    @property
+    def header(self) -> PmcRange:
+        return PmcRange(self.type_a, self.type_d, self.datano_s, self.datano_e)
+
+    def encode(self) -> bytes:
+        try:
+            return _PMC_HEAD.pack(self.type_a, self.type_d, self.datano_s, self.datano_e) + (
+                self.data
+            )
+        except struct.error as exc:
+            raise ValueError(f"PmcData: {exc}") from None
+
+    @classmethod
+    def decode(cls, data: bytes) -> Self:
+        if len(data) < 8:
+            raise PayloadError(f"IODBPMC of {len(data)} bytes is shorter than its header")
+        type_a, type_d, start, end = _PMC_HEAD.unpack_from(data, 0)
+        return cls(type_a, type_d, start, end, data[8:])
+
+
+_RAISE_HEAD: Final = struct.Struct("<hhhh")
+
+
+@dataclass(frozen=True, slots=True)
+class RaiseAlarm:
+    """0x0E02: ``i16 axis_no, i16 alm_type, i16 alm_no, i16 msg_len, msg`` (ASCII)."""
+
+    axis_no: int
+    alm_type: int
+    alm_no: int
+    msg: bytes
+
+    def encode(self) -> bytes:
+        try:
+            head = _RAISE_HEAD.pack(self.axis_no, self.alm_type, self.alm_no, len(self.msg))
+        except struct.error as exc:
+            raise ValueError(f"RaiseAlarm: {exc}") from None
+        return head + self.msg
+
+    @classmethod
+    def decode(cls, data: bytes) -> Self:
+        if len(data) < 8:
+            raise PayloadError(f"raise_alarm of {len(data)} bytes is shorter than its header")
+        axis_no, alm_type, alm_no, msg_len = _RAISE_HEAD.unpack_from(data, 0)
+        if msg_len != len(data) - 8:
+            raise PayloadError(f"raise_alarm msg_len {msg_len}, {len(data) - 8} bytes sent")
+        return cls(axis_no, alm_type, alm_no, data[8:])
+
+
+# -- PMC areas -------------------------------------------------------------------------------
+
+
+class PmcArea(enum.IntEnum):
+    """``type_a`` codes of this protocol (not FWLIB's adr_type numbers)."""
+
+    X = 1
+    Y = 2
+    F = 3
+    G = 4
+    R = 5
+    T = 6
+    C = 7
+    D = 8
+    K = 10
+    A = 11
+    E = 12
+
+    @classmethod
+    def parse(cls, area: str | int | PmcArea) -> PmcArea:
+        """``"R"``, ``PmcArea.R`` or ``5`` -> ``PmcArea.R``; ValueError otherwise."""
+        if isinstance(area, PmcArea):
+            return area
+        if isinstance(area, str):
+            try:
+                return cls[area.strip().upper()]
+            except KeyError:
+                raise ValueError(f"unknown PMC area {area!r}") from None
+        return cls(area)
+
+
+#: letter -> type_a code.
+PMC_AREA_CODES: Final[dict[str, int]] = {a.name: a.value for a in PmcArea}
+
+
+# -- response wrapping -----------------------------------------------------------------------
+
+
+def _ew_response(inner: Codec[Any]) -> Codec[Any]:
+    """An answer that starts with ``i16 ew``: 0 then ``inner``, else only the code."""
+    inner_encode, inner_decode = inner.encode, inner.decode
+
+    def encode(value: Any) -> bytes:
+        if isinstance(value, EwReply):
+            if value.ew == 0:
+                raise ValueError("EwReply carries a non-zero code")
+            return encode_ew(value.ew)
+        return EW_OK_BYTES + inner_encode(value)
+
+    def decode(data: bytes) -> Any:
+        if len(data) < 2:
+            raise PayloadError(f"answer of {len(data)} bytes has no EW code")
+        if data[0] or data[1]:
+            return EwReply(I16.unpack_from(data, 0)[0])
+        return inner_decode(data[2:])
+
+    return Codec(f"EW+{inner.name}", encode, decode)
+
+
+def encode_response(command: int, value: Any) -> bytes:
+    """Encode a response payload with the codec of ``command``."""
+    return COMMANDS[command].response.encode(value)
+
+
+@dataclass(frozen=True, slots=True)
+class CommandSpec:
+    """One row of the command table."""
+
+    command: Command
+    focas_name: str
+    request: Codec[Any]
+    response: Codec[Any]
+    counted: bool = False
+
+    def error_payload(self, ew: int) -> bytes:
+        """The answer carrying only ``ew`` (``count = -1, ew`` for counted lists)."""
+        return struct.pack("<hh", -1, ew) if self.counted else encode_ew(ew)
+
+
+def _counted(cls: type[ActiveAlarmList] | type[AlarmHistory]) -> Codec[Any]:
+    return Codec(cls.__name__, cls.encode, cls.decode)
+
+
+def _spec(
+    command: Command, name: str, request: Codec[Any], response: Codec[Any], counted: bool = False
+) -> CommandSpec:
+    return CommandSpec(command, name, request, response, counted)
+
+
+_STATUS: Final = StatusInfo.codec()
+_PARAM: Final = Codec("ParamValue", ParamValue.encode, ParamValue.decode)
+_PMC_DATA: Final = Codec("PmcData", PmcData.encode, PmcData.decode)
+_OK_ONLY: Final = _ew_response(EMPTY)
+
+#: command id -> request and response codecs.
+COMMANDS: Final[dict[int, CommandSpec]] = {
+    s.command.value: s
+    for s in (
+        _spec(Command.RDCNCSTAT, "cnc_rdcncstat", EMPTY, _ew_response(_STATUS)),
+        _spec(Command.RDPARAM, "cnc_rdparam", DataRequest.codec(), _ew_response(_PARAM)),
+        _spec(
+            Command.RDMACRO, "cnc_rdmacro", MacroRequest.codec(), _ew_response(MacroValue.codec())
+        ),
+        _spec(Command.RDDIAG, "cnc_rddiag", DataRequest.codec(), _ew_response(_PARAM)),
+        _spec(Command.SYSINFO, "cnc_sysinfo", EMPTY, _ew_response(SysInfo.codec())),
+        _spec(
+            Command.RDALMMSG,
+            "cnc_rdalmmsg",
+            AlarmMsgRequest.codec(),
+            _counted(ActiveAlarmList),
+            counted=True,
+        ),
+        _spec(Command.RDPMCRNG, "pmc_rdpmcrng", PmcRange.codec(), _ew_response(_PMC_DATA)),
+        _spec(Command.WRPARAM, "cnc_wrparam", _PARAM, _OK_ONLY),
+        _spec(Command.WRMACRO, "cnc_wrmacro", MacroValue.codec(), _OK_ONLY),
+        _spec(Command.WRPMCRNG, "pmc_wrpmcrng", _PMC_DATA, _OK_ONLY),
+        _spec(Command.WRUNLOCKPARAM, "cnc_wrunlockparam", Password.codec(), _OK_ONLY),
+        _spec(
+            Command.VERSAMAX_RDCONFIG,
+            "versamax_rdconfig",
+            Codec("VersaMaxRequest", VersaMaxRequest.encode, VersaMaxRequest.decode),
+            _ew_response(Codec("VersaMaxReply", VersaMaxReply.encode, VersaMaxReply.decode)),
+        ),
+        _spec(Command.SIM_SET_PANEL, "sim_set_panel", SetPanel.codec(), _OK_ONLY),
+        _spec(
+            Command.SIM_RAISE_ALARM,
+            "sim_raise_alarm",
+            Codec("RaiseAlarm", RaiseAlarm.encode, RaiseAlarm.decode),
+            _OK_ONLY,
+        ),
+        _spec(Command.SIM_CLEAR_ALARMS, "sim_clear_alarms", ClearAlarms.codec(), _OK_ONLY),
+        _spec(Command.SIM_SET_PMC, "sim_set_pmc", _PMC_DATA, _OK_ONLY),
+        _spec(Command.SIM_INJECT_FAULT, "sim_inject_fault", InjectFault.codec(), _OK_ONLY),
+        _spec(
+            Command.RDALMHISTRY,
+            "cnc_rdalmhistry",
+            AlarmHistoryRequest.codec(),
+            _counted(AlarmHistory),
+            counted=True,
+        ),
+    )
+}

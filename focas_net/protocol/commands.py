@@ -1,0 +1,43 @@
+"""Command ids of the packed protocol (PROTOCOL.md section 3). Append-only: never renumber."""
+
+from __future__ import annotations
+
+import enum
+
+__all__ = ["Command"]
+
+
+class Command(enum.IntEnum):
+    """Command ids. The FOCAS name each one stands for is in its comment."""
+
+    RDCNCSTAT = 0x0001  # cnc_rdcncstat [cnc_statinfo]: ODBST
+    RDPARAM = 0x0002  # cnc_rdparam: IODBPSD
+    RDMACRO = 0x0003  # cnc_rdmacro: ODBM
+    RDDIAG = 0x0004  # cnc_rddiag [cnc_diagnoss]
+    SYSINFO = 0x0005  # cnc_sysinfo: ODBSYS
+    RDALMMSG = 0x0006  # cnc_rdalmmsg: active alarms
+    RDPMCRNG = 0x0010  # pmc_rdpmcrng: IODBPMC
+    WRPARAM = 0x0102  # cnc_wrparam: IODBPSD
+    WRMACRO = 0x0103  # cnc_wrmacro: ODBM
+    WRPMCRNG = 0x0104  # pmc_wrpmcrng: IODBPMC
+    WRUNLOCKPARAM = 0x0105  # cnc_wrunlockparam
+    VERSAMAX_RDCONFIG = 0x0201  # VersaMax GNIU Read Configuration datagram
+    SIM_SET_PANEL = 0x0E01  # simulator control: operator panel
+    SIM_RAISE_ALARM = 0x0E02  # simulator control: raise an alarm
+    SIM_CLEAR_ALARMS = 0x0E03  # simulator control: clear active alarms
+    SIM_SET_PMC = 0x0E04  # simulator control: write PMC ignoring protection
+    SIM_INJECT_FAULT = 0x0E05  # simulator control: fault injection
+    RDALMHISTRY = 0x0F1A  # cnc_rdalmhistry: ODBAHIS
+
+    @property
+    def is_control(self) -> bool:
+        """True for the simulator control commands 0x0E01..0x0E05."""
+        return 0x0E01 <= self.value <= 0x0E05
+
+    @property
+    def is_write(self) -> bool:
+        """True for commands that change machine state (writes and control)."""
+        return self.value in _WRITES or self.is_control
+
+
+_WRITES = frozenset({0x0102, 0x0103, 0x0104})

@@ -1,0 +1,110 @@
+"""The frame of PROTOCOL.md section 1 and its incremental decoder.
+
+``u32 length`` (bytes after the field = 4 + payload), ``u16 command``, ``u16 request_id``,
+then the payload; all little-endian. The decoder is fed byte chunks of any size and returns
+whole frames; it checks each length prefix against ``max_frame`` as soon as the 4-byte field is
+in, before it buffers anything of the body.
+"""
+
+from __future__ import annotations
+
+import struct
+from typing import Final, NamedTuple
+
+from .errors import FrameError
+
+__all__ = [
+    "DEFAULT_MAX_FRAME",
+    "HEADER",
+    "HEADER_SIZE",
+    "Frame",
+    "FrameDecoder",
+    "encode_frame",
+]
+
+#: Default ceiling of ``length`` (both sides; configurable).
+DEFAULT_MAX_FRAME: Final = 65_536
+#: ``u32 length, u16 command, u16 request_id``.
+HEADER: Final = struct.Struct("<IHH")
+HEADER_SIZE: Final = HEADER.size
+_MIN_LENGTH: Final = 4
+_pack_header = HEADER.pack
+_unpack_header_from = HEADER.unpack_from
+
+
+class Frame(NamedTuple):
+    """One decoded frame."""
+
+    command: int
+    request_id: int
+    payload: bytes
+
+
+def encode_frame(command: int, request_id: int, payload: bytes = b"") -> bytes:
+    """The bytes of one frame."""
+    return _pack_header(len(payload) + 4, command, request_id) + payload
+
+
+class FrameDecoder:
+    """Incremental frame decoder.
+
+    ``feed(chunk)`` returns the frames completed by ``chunk`` (possibly none) and keeps any
+    trailing partial frame. A length prefix below 4 or above ``max_frame`` raises
+    :class:`FrameError` the moment the 4-byte field is complete; after that the decoder is
+    poisoned and every further ``feed`` raises again (the connection must be closed).
+    """
+
+    __slots__ = ("_buf", "_error", "max_frame")
+
+    def __init__(self, max_frame: int = DEFAULT_MAX_FRAME) -> None:
+        if max_frame < _MIN_LENGTH:
+            raise ValueError(f"max_frame must be at least {_MIN_LENGTH}, got {max_frame}")
+        self.max_frame = max_frame
+        self._buf = bytearray()
+        self._error: FrameError | None = None
+
+    @property
+    def buffered(self) -> int:
+        """Bytes held for a frame not yet complete."""
+        return len(self._buf)
+
+    def _violation(self, length: int) -> FrameError:
+        self._buf.clear()
+        self._error = FrameError(
+            f"frame length {length} outside 4..{self.max_frame}; closing the connection"
+        )
+        return self._error
+
+    def feed(self, data: bytes | bytearray | memoryview) -> list[Frame]:
+        """Add ``data`` and return every frame now complete, in order."""
+        if self._error is not None:
+            raise self._error
+        buf = self._buf
+        if buf:
+            buf += data
+            view: bytes | bytearray | memoryview = buf
+        else:
+            view = data
+        frames: list[Frame] = []
+        size = len(view)
+        pos = 0
+        max_frame = self.max_frame
+        while size - pos >= 4:
+            if size - pos >= 8:
+                length, command, request_id = _unpack_header_from(view, pos)
+            else:
+                (length,) = struct.unpack_from("<I", view, pos)
+                command = request_id = 0
+            if length < _MIN_LENGTH or length > max_frame:
+                raise self._violation(length)
+            end = pos + 4 + length
+            if end > size:
+                break
+            frames.append(Frame(command, request_id, bytes(view[pos + 8 : end])))
+            pos = end
+        if view is buf:
+            if pos:
+                del buf[:pos]
+        elif pos < size:
+            buf += view[pos:]
+        return frames
