@@ -1,0 +1,226 @@
+"""The built-in default machine: a three-axis milling control of the FANUC 0i-F class.
+
+It holds everything PROTOCOL.md section 7 promises (tests may rely on that part) and more, so
+that it reads like a real control. Values are in least input increments (0.001 mm).
+
+Parameters (number: type, axis or not, range, meaning)::
+
+    20    byte  -      0..35              I/O channel
+    1001  byte  -      full               bit parameter (INM: inch machine)
+    1005  byte  axis   full               bit parameter (ZRN, HJZ, ...)
+    1006  byte  axis   full               bit parameter (ROT, DIA, ZMI, ...)
+    1020  byte  axis   65..90             program axis name ('X', 'Y', 'Z')
+    1320  i32   axis   -999999999..999999999  stored stroke limit 1, positive side
+    1321  i32   axis   -999999999..999999999  stored stroke limit 1, negative side
+    1410  i32   -      0..999999999       dry run rate
+    1420  i32   axis   0..999999999       rapid traverse rate
+    1422  i32   -      0..999999999       maximum cutting feedrate
+    1815  byte  axis   full               bit parameter (APC, APZ, OPT, ...)
+    1825  i16   axis   1..32767           servo loop gain
+    1826  i32   axis   0..99999999        in-position width
+    1828  i32   axis   0..99999999        positional deviation limit in movement
+    3216  i16   -      0..9999            increment of automatic sequence numbers
+    3401  byte  -      full               bit parameter (DPI: decimal point input)
+    6711  i32   -      0..999999999       parts count
+    6712  i32   -      0..999999999       total parts
+    6713  i32   -      0..999999999       parts required
+    8130  byte  -      1..8               number of controlled axes
+
+Diagnostics: 0 (byte, status bits), 300 (i32 axis, position error), 301 (i32 axis, machine
+position error), 308 (byte axis, servo motor temperature C), 309 (byte axis, pulse coder
+temperature C), 403 (byte, spindle motor temperature C), 410 (i16, spindle load %).
+
+Macro variables: #0 (read-only, always vacant); #1..#33 local, #100..#199 and #500..#999 common,
+all writable and vacant at start; read-only system variables: #4001..#4030 modal G codes of
+the last block read, #4102..#4130 its B D E F H M N O S T codes, #5001..#5003 block end
+position, #5021..#5023 machine coordinates (EW_PROT on write).
+
+PMC: X 128 and F 768 bytes (write-protected for pmc_wrpmcrng), Y 128, G 768, R 8000, D 10000,
+K 100, A 250, T 500, C 400; no E area.
+
+VersaMax rack 0: slot 1 the GNIU (IC200GBI001), slot 3 the IC200MDD844; every other slot empty.
+"""
+
+from __future__ import annotations
+
+import struct
+from typing import Final
+
+from ..protocol import BoardId, IOModuleRecord, RefType, SysInfo
+from .machine import (
+    DEFAULT_HISTORY_CAPACITY,
+    Clock,
+    DataItem,
+    Machine,
+    MacroRange,
+    MotionState,
+    Panel,
+    PmcAreaSpec,
+    utc_now,
+)
+
+__all__ = ["DEFAULT_NAME", "default_machine", "gniu_record", "mdd844_record"]
+
+#: The name of the built-in machine (used in the server's ready line).
+DEFAULT_NAME: Final = "focas-sim-0i"
+
+_STROKE: Final = 999_999_999
+_GNIU_DATA: Final = struct.Struct("<BBHHHH")  # bus address, baud code, %I, %Q, %AI, %AQ bytes
+
+
+def mdd844_record() -> IOModuleRecord:
+    """IC200MDD844: 16 outputs on the primary board, 16 inputs on the secondary, defaults
+    defined and fault reporting on; the 76-byte record of GFK-1535's example."""
+    return IOModuleRecord.build(
+        BoardId(0x8080),
+        BoardId(0x8008),
+        "D844",
+        [(RefType.I, 17, 2), (RefType.Q, 8, 2)],
+        setup=0b11,
+        default_inputs=b"\x00\x00",
+        default_outputs=b"\x00\x00",
+        module_data=b"\x00\x00",
+    )
+
+
+def gniu_record(
+    *,
+    bus_address: int = 1,
+    inputs: int = 2,
+    outputs: int = 2,
+    analog_in: int = 0,
+    analog_out: int = 0,
+) -> IOModuleRecord:
+    """IC200GBI001, the Genius Network Interface Unit in slot 1: no I/O references of its own;
+    its module data carries its Genius bus address, the baud-rate code (0 = 153.6 kbaud
+    standard) and the station's %I, %Q, %AI and %AQ byte lengths."""
+    return IOModuleRecord.build(
+        BoardId(0x8000),
+        BoardId(0x8000),
+        "GBI1",
+        [],
+        module_data=_GNIU_DATA.pack(bus_address, 0, inputs, outputs, analog_in, analog_out),
+    )
+
+
+def _params(n: int) -> list[DataItem]:
+    names = [ord(c) for c in "XYZABCUVW"[:n]] if n <= 9 else [88] * n
+    return [
+        DataItem(20, 1, False, 0, 35, [4], "I/O channel"),
+        DataItem(1001, 1, False, None, None, [0], "INM"),
+        DataItem(1005, 1, True, None, None, [0], "ZRN HJZ"),
+        DataItem(1006, 1, True, None, None, [0], "ROT DIA ZMI"),
+        DataItem(1020, 1, True, 65, 90, names, "program axis name"),
+        DataItem(1320, 4, True, -_STROKE, _STROKE, [_STROKE], "stroke limit +"),
+        DataItem(1321, 4, True, -_STROKE, _STROKE, [-_STROKE], "stroke limit -"),
+        DataItem(1410, 4, False, 0, _STROKE, [5000], "dry run rate"),
+        DataItem(1420, 4, True, 0, _STROKE, [24000], "rapid traverse rate"),
+        DataItem(1422, 4, False, 0, _STROKE, [10000], "maximum cutting feedrate"),
+        DataItem(1815, 1, True, None, None, [0b0011_0000], "APC APZ"),
+        DataItem(1825, 2, True, 1, 32767, [3000], "servo loop gain"),
+        DataItem(1826, 4, True, 0, 99_999_999, [20], "in-position width"),
+        DataItem(1828, 4, True, 0, 99_999_999, [7000], "deviation limit in movement"),
+        DataItem(3216, 2, False, 0, 9999, [10], "sequence number increment"),
+        DataItem(3401, 1, False, None, None, [1], "DPI"),
+        DataItem(6711, 4, False, 0, _STROKE, [0], "parts count"),
+        DataItem(6712, 4, False, 0, _STROKE, [0], "total parts"),
+        DataItem(6713, 4, False, 0, _STROKE, [0], "parts required"),
+        DataItem(8130, 1, False, 1, 8, [n], "controlled axes"),
+    ]
+
+
+def _diags() -> list[DataItem]:
+    return [
+        DataItem(0, 1, False, None, None, [0], "status"),
+        DataItem(300, 4, True, None, None, [0], "position error"),
+        DataItem(301, 4, True, None, None, [0], "machine position error"),
+        DataItem(308, 1, True, 0, 127, [31], "servo motor temperature"),
+        DataItem(309, 1, True, 0, 127, [29], "pulse coder temperature"),
+        DataItem(403, 1, False, 0, 127, [33], "spindle motor temperature"),
+        DataItem(410, 2, False, 0, 9999, [0], "spindle load"),
+    ]
+
+
+#: Modal G codes at power-on, group -> (mcr_val, dec_val): G00 G17 G90 G22 G94 G21 G40 G49 G80
+#: G98 G50 G67 G97 G54 G64 G69 G15 G40.1 G25 G160 G13.1 G50.1.
+_MODAL_G: Final[dict[int, tuple[int, int]]] = {
+    1: (0, 0), 2: (17, 0), 3: (90, 0), 4: (22, 0), 5: (94, 0), 6: (21, 0), 7: (40, 0),
+    8: (49, 0), 9: (80, 0), 10: (98, 0), 11: (50, 0), 12: (67, 0), 13: (97, 0), 14: (54, 0),
+    15: (64, 0), 16: (69, 0), 17: (15, 0), 18: (401, 1), 19: (25, 0), 20: (160, 0),
+    21: (131, 1), 22: (501, 1),
+}  # fmt: skip
+
+
+def _macros() -> tuple[list[MacroRange], dict[int, tuple[int, int]]]:
+    ranges = [
+        MacroRange(0, 0, writable=False),
+        MacroRange(1, 33),
+        MacroRange(100, 199),
+        MacroRange(500, 999),
+        MacroRange(4001, 4030, writable=False),
+        MacroRange(4102, 4130, writable=False),
+        MacroRange(5001, 5003, writable=False),
+        MacroRange(5021, 5023, writable=False),
+    ]
+    values = {4000 + group: v for group, v in _MODAL_G.items()}
+    values |= {
+        4107: (0, 0),  # D
+        4109: (0, 0),  # F
+        4111: (0, 0),  # H
+        4113: (0, 0),  # M
+        4114: (0, 0),  # N
+        4115: (1, 0),  # O
+        4119: (0, 0),  # S
+        4120: (0, 0),  # T
+    }
+    values |= {n: (0, 3) for n in (5001, 5002, 5003, 5021, 5022, 5023)}
+    return ranges, values
+
+
+def _pmc() -> list[PmcAreaSpec]:
+    return [
+        PmcAreaSpec("X", 128, write_protected=True),
+        PmcAreaSpec("Y", 128),
+        PmcAreaSpec("F", 768, write_protected=True),
+        PmcAreaSpec("G", 768),
+        PmcAreaSpec("R", 8000),
+        PmcAreaSpec("D", 10000),
+        PmcAreaSpec("K", 100),
+        PmcAreaSpec("A", 250),
+        PmcAreaSpec("T", 500),
+        PmcAreaSpec("C", 400),
+    ]
+
+
+def default_machine(
+    name: str = DEFAULT_NAME,
+    param_password: str | bytes | None = None,
+    *,
+    clock: Clock = utc_now,
+    control_enabled: bool = True,
+    read_only: bool = False,
+    history_capacity: int = DEFAULT_HISTORY_CAPACITY,
+) -> Machine:
+    """A fresh default machine (each call returns independent state)."""
+    axes = ("X", "Y", "Z")
+    ranges, values = _macros()
+    return Machine(
+        name,
+        axes=axes,
+        sysinfo=SysInfo(2, 8, b" 0", b" M", b"D4F1", b"32.0", b"03"),
+        params=_params(len(axes)),
+        diags=_diags(),
+        macro_ranges=ranges,
+        macro_values=values,
+        pmc=_pmc(),
+        panel=Panel(mode=1, pwe=0, emergency=0),
+        param_password=param_password,
+        station={(0, 1): gniu_record(), (0, 3): mdd844_record()},
+        motion=MotionState(
+            [0, 0, 0], [0, 0, 0], [0, 0, 0], [0, 0, 0], program_main=1, program_running=1
+        ),
+        history_capacity=history_capacity,
+        clock=clock,
+        control_enabled=control_enabled,
+        read_only=read_only,
+    )
