@@ -1,0 +1,154 @@
+"""The floor: the least a plain-asyncio implementation of the focas_net frame can cost.
+
+A ``BufferedProtocol`` server that answers every frame with a fixed 20-byte status payload
+(command 0x0001; any other command gets ``EW_FUNC``), and a client that matches answers to
+callers by request id. No codecs, no machine, no checks beyond the length bounds: whatever the
+real library spends above this is its own overhead.
+
+``python -m benchmarks.floor --port 0`` serves until killed and prints
+``floor: listening on HOST:PORT`` when ready.
+"""
+
+from __future__ import annotations
+
+import argparse
+import asyncio
+import struct
+from typing import Final
+
+HEADER: Final = struct.Struct("<IHH")
+MAX_FRAME: Final = 65_536
+STATUS: Final = 0x0001
+#: ``ew = 0`` then ODBST (hdck, tmmode, aut = 1 MEM, run, motion, mstb, emergency, alarm, edit).
+STATUS_PAYLOAD: Final = struct.pack("<h9h", 0, 0, 0, 1, 0, 0, 0, 0, 0, 0)
+_EW_FUNC: Final = struct.pack("<h", 1)
+
+
+class FloorServer(asyncio.BufferedProtocol):
+    """One connection of the floor server."""
+
+    def __init__(self) -> None:
+        self._buf = bytearray(4096)
+        self._start = self._end = 0
+        self._transport: asyncio.Transport | None = None
+
+    def connection_made(self, transport: asyncio.BaseTransport) -> None:
+        assert isinstance(transport, asyncio.Transport)
+        self._transport = transport
+
+    def get_buffer(self, sizehint: int) -> memoryview:
+        if len(self._buf) - self._end < 1024:  # a frame larger than the buffer: grow it
+            self._buf = self._buf + bytes(len(self._buf))
+        return memoryview(self._buf)[self._end :]
+
+    def buffer_updated(self, nbytes: int) -> None:
+        buf, pos, end = self._buf, self._start, self._end + nbytes
+        out = bytearray()
+        while end - pos >= 8:
+            length, command, request_id = HEADER.unpack_from(buf, pos)
+            if length < 4 or length > MAX_FRAME:
+                assert self._transport is not None
+                self._transport.abort()
+                return
+            if end - pos < 4 + length:
+                break
+            pos += 4 + length
+            payload = STATUS_PAYLOAD if command == STATUS else _EW_FUNC
+            out += HEADER.pack(4 + len(payload), command, request_id)
+            out += payload
+        if out and self._transport is not None:
+            self._transport.write(out)
+        if pos == end:
+            pos = end = 0
+        elif pos:  # keep the partial frame at the front
+            buf[: end - pos] = buf[pos:end]
+            pos, end = 0, end - pos
+        self._start, self._end = pos, end
+
+    def connection_lost(self, exc: Exception | None) -> None:
+        self._transport = None
+
+
+class FloorClient(asyncio.Protocol):
+    """The floor client: one connection, many requests in flight, matched by request id."""
+
+    def __init__(self) -> None:
+        self._buf = bytearray()
+        self._pending: dict[int, asyncio.Future[bytes]] = {}
+        self._next_id = 0
+        self._transport: asyncio.Transport | None = None
+
+    @classmethod
+    async def connect(cls, host: str, port: int) -> FloorClient:
+        loop = asyncio.get_running_loop()
+        _, protocol = await loop.create_connection(cls, host, port)
+        return protocol
+
+    def connection_made(self, transport: asyncio.BaseTransport) -> None:
+        assert isinstance(transport, asyncio.Transport)
+        self._transport = transport
+
+    def data_received(self, data: bytes) -> None:
+        buf = self._buf
+        buf += data
+        pos, size = 0, len(buf)
+        while size - pos >= 8:
+            length, _command, request_id = HEADER.unpack_from(buf, pos)
+            if size - pos < 4 + length:
+                break
+            future = self._pending.pop(request_id, None)
+            if future is not None and not future.done():
+                future.set_result(bytes(buf[pos + 8 : pos + 4 + length]))
+            pos += 4 + length
+        del buf[:pos]
+
+    def connection_lost(self, exc: Exception | None) -> None:
+        self._transport = None
+        for future in self._pending.values():
+            if not future.done():
+                future.set_exception(ConnectionError("floor connection lost"))
+        self._pending.clear()
+
+    async def request(self, command: int, payload: bytes = b"") -> bytes:
+        if self._transport is None:
+            raise ConnectionError("floor connection closed")
+        request_id = self._next_id
+        while request_id in self._pending:
+            request_id = (request_id + 1) & 0xFFFF
+        self._next_id = (request_id + 1) & 0xFFFF
+        future: asyncio.Future[bytes] = asyncio.get_running_loop().create_future()
+        self._pending[request_id] = future
+        self._transport.write(HEADER.pack(4 + len(payload), command, request_id) + payload)
+        return await future
+
+    async def read_status(self) -> bytes:
+        return await self.request(STATUS)
+
+    async def close(self) -> None:
+        if self._transport is not None:
+            self._transport.close()
+            self._transport = None
+
+
+async def serve(host: str, port: int) -> asyncio.Server:
+    """Start the floor server; the caller owns the returned server."""
+    return await asyncio.get_running_loop().create_server(FloorServer, host, port, backlog=1024)
+
+
+async def _main(host: str, port: int) -> None:
+    server = await serve(host, port)
+    bound = server.sockets[0].getsockname()
+    print(f"floor: listening on {bound[0]}:{bound[1]}", flush=True)
+    async with server:
+        await server.serve_forever()
+
+
+if __name__ == "__main__":
+    from benchmarks._loop import run_forever
+
+    parser = argparse.ArgumentParser(description="Run the floor server.")
+    parser.add_argument("--host", default="127.0.0.1")
+    parser.add_argument("--port", type=int, default=0)
+    parser.add_argument("--uvloop", action="store_true")
+    args = parser.parse_args()
+    run_forever(_main(args.host, args.port), use_uvloop=args.uvloop)

@@ -1,0 +1,560 @@
+"""Run the focas_net benchmark suite: ``python -m benchmarks`` or ``python benchmarks/run.py``.
+
+Every server and every client runs in a process of its own on 127.0.0.1. Each scenario runs for
+a fixed time, once to warm up and then ``--reps`` times; the subjects take turns within each
+repetition, so the ratio to the floor is taken pair by pair from samples measured side by side.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import os
+import platform
+import re
+import shlex
+import subprocess
+import sys
+import threading
+import time
+from collections import deque
+from collections.abc import Sequence
+from dataclasses import asdict, dataclass
+from pathlib import Path
+from typing import Any
+
+ROOT = Path(__file__).resolve().parent.parent
+if __package__ in (None, ""):  # run as a script: make ``benchmarks`` importable
+    sys.path.insert(0, str(ROOT))
+
+from benchmarks._loop import uvloop_available  # noqa: E402
+from benchmarks.report import (  # noqa: E402
+    FLOOR,
+    FOCAS,
+    PEER,
+    THROUGHPUT_MODES,
+    Results,
+    Row,
+    evaluate,
+    pairwise_ratios,
+    render_checks,
+    render_table,
+)
+from benchmarks.subjects import (  # noqa: E402
+    LISTEN_PATTERN,
+    focas_available,
+    peer_available,
+    server_argv,
+)
+
+SCENARIOS = (*THROUGHPUT_MODES, "pmc4k", "bitstorm", "fleet", "memory")
+#: (connections, concurrent callers per connection) of each throughput mode.
+MODES: dict[str, tuple[int, int]] = {"seq": (1, 1), "pipe64": (1, 64), "conc100": (100, 1)}
+DEFAULT_JSON = ROOT / "benchmarks" / "results" / "latest.json"
+_LISTEN = re.compile(LISTEN_PATTERN)
+
+
+@dataclass(frozen=True, slots=True)
+class Config:
+    reps: int = 5
+    duration: float = 1.0
+    warmup: float = 0.5
+    fleet_size: int = 200
+    fleet_hz: float = 10.0
+    fleet_duration: float = 3.0
+    idle_conns: int = 1000
+    storm_calls: int = 1000
+    storm_bytes: int = 8
+    pmc_big: int = 4096
+    pmc_small: int = 32
+    use_uvloop: bool = False
+
+    @classmethod
+    def quick(cls, use_uvloop: bool) -> Config:
+        return cls(
+            reps=2,
+            duration=0.2,
+            warmup=0.1,
+            fleet_duration=1.0,
+            idle_conns=200,
+            use_uvloop=use_uvloop,
+        )
+
+
+def _env() -> dict[str, str]:
+    env = dict(os.environ)
+    env["PYTHONPATH"] = os.pathsep.join(filter(None, [str(ROOT), env.get("PYTHONPATH")]))
+    env["PYTHONUNBUFFERED"] = "1"
+    return env
+
+
+def log(message: str) -> None:
+    print(message, file=sys.stderr, flush=True)
+
+
+class ServerProcess:
+    """A server in its own process; ready once it printed its ``listening on`` line(s)."""
+
+    def __init__(self, name: str, argv: list[str]) -> None:
+        self.name = name
+        self.argv = argv
+        self.proc = subprocess.Popen(
+            argv,
+            cwd=ROOT,
+            env=_env(),
+            stdin=subprocess.DEVNULL,
+            stdout=subprocess.PIPE,
+            stderr=subprocess.STDOUT,
+            text=True,
+        )
+        self.lines: deque[str] = deque(maxlen=50)
+        self.endpoints: list[tuple[str, int]] = []
+        self._cond = threading.Condition()
+        self._last = time.monotonic()
+        threading.Thread(target=self._drain, daemon=True).start()
+
+    @property
+    def pid(self) -> int:
+        return self.proc.pid
+
+    def _drain(self) -> None:
+        assert self.proc.stdout is not None
+        for line in self.proc.stdout:
+            with self._cond:
+                self.lines.append(line.rstrip())
+                match = _LISTEN.search(line)
+                if match:
+                    self.endpoints.append((match["host"].strip("[]"), int(match["port"])))
+                    self._last = time.monotonic()
+                self._cond.notify_all()
+        with self._cond:
+            self._cond.notify_all()
+
+    def wait_ready(self, count: int = 1, timeout: float = 30.0, settle: float = 1.0) -> None:
+        """Wait for ``count`` endpoints (or, past the first, ``settle`` s without a new one)."""
+        deadline = time.monotonic() + timeout
+        with self._cond:
+            while len(self.endpoints) < count:
+                if self.proc.poll() is not None:
+                    tail = "\n".join(self.lines)
+                    raise RuntimeError(f"{self.name} server exited:\n{tail}")
+                now = time.monotonic()
+                if now > deadline:
+                    raise RuntimeError(f"{self.name} server not ready in {timeout:g} s")
+                if self.endpoints and now - self._last > settle:
+                    break
+                self._cond.wait(0.1)
+
+    @property
+    def endpoint(self) -> tuple[str, int]:
+        return self.endpoints[0]
+
+    def rss_kib(self) -> int:
+        """Resident set size of the server process, from /proc (KiB)."""
+        with open(f"/proc/{self.pid}/status", encoding="ascii") as f:
+            for line in f:
+                if line.startswith("VmRSS:"):
+                    return int(line.split()[1])
+        raise RuntimeError("no VmRSS in /proc status")
+
+    def stop(self) -> None:
+        if self.proc.poll() is None:
+            self.proc.terminate()
+            try:
+                self.proc.wait(5)
+            except subprocess.TimeoutExpired:
+                self.proc.kill()
+                self.proc.wait(5)
+
+
+def start_server(
+    subject: str, cfg: Config, extra: tuple[str, ...] = (), count: int = 1
+) -> ServerProcess:
+    server = ServerProcess(subject, server_argv(subject, use_uvloop=cfg.use_uvloop, extra=extra))
+    try:
+        server.wait_ready(count)
+    except BaseException:
+        server.stop()
+        raise
+    return server
+
+
+class WorkerProcess:
+    """A client process of one subject, driven by JSON lines (see ``benchmarks.worker``)."""
+
+    def __init__(self, subject: str, cfg: Config) -> None:
+        argv = [sys.executable, "-m", "benchmarks.worker", "--subject", subject]
+        if cfg.use_uvloop:
+            argv.append("--uvloop")
+        self.subject = subject
+        self.proc = subprocess.Popen(
+            argv,
+            cwd=ROOT,
+            env=_env(),
+            stdin=subprocess.PIPE,
+            stdout=subprocess.PIPE,
+            stderr=subprocess.PIPE,
+            text=True,
+        )
+        self.errors: deque[str] = deque(maxlen=50)
+        threading.Thread(target=self._drain_stderr, daemon=True).start()
+
+    def _drain_stderr(self) -> None:
+        assert self.proc.stderr is not None
+        for line in self.proc.stderr:
+            self.errors.append(line.rstrip())
+
+    def call(self, op: str, **kwargs: Any) -> dict[str, Any]:
+        assert self.proc.stdin is not None and self.proc.stdout is not None
+        self.proc.stdin.write(json.dumps({"op": op, **kwargs}) + "\n")
+        self.proc.stdin.flush()
+        line = self.proc.stdout.readline()
+        if not line:
+            tail = "\n".join(self.errors)
+            raise RuntimeError(f"{self.subject} client process died:\n{tail}")
+        answer = json.loads(line)
+        if not answer["ok"]:
+            raise RuntimeError(f"{self.subject} client: {op} failed: {answer['error']}")
+        result: dict[str, Any] = answer["result"]
+        return result
+
+    def stop(self) -> None:
+        if self.proc.poll() is None:
+            try:
+                assert self.proc.stdin is not None
+                self.proc.stdin.write('{"op": "quit"}\n')
+                self.proc.stdin.close()
+                self.proc.wait(10)
+            except (OSError, subprocess.TimeoutExpired):
+                self.proc.kill()
+                self.proc.wait(5)
+
+
+def machine_info(cfg: Config) -> dict[str, str]:
+    model = "unknown"
+    try:
+        with open("/proc/cpuinfo", encoding="utf-8") as f:
+            for line in f:
+                if line.startswith("model name"):
+                    model = line.split(":", 1)[1].strip()
+                    break
+    except OSError:
+        pass
+    loop = "uvloop" if cfg.use_uvloop and uvloop_available() else "asyncio"
+    return {
+        "nproc": str(
+            len(os.sched_getaffinity(0)) if hasattr(os, "sched_getaffinity") else os.cpu_count()
+        ),
+        "cpu": model,
+        "python": platform.python_version(),
+        "implementation": platform.python_implementation(),
+        "platform": platform.platform(),
+        "event_loop": loop,
+    }
+
+
+class Suite:
+    def __init__(self, cfg: Config, scenarios: Sequence[str], results: Results) -> None:
+        self.cfg = cfg
+        self.scenarios = scenarios
+        self.results = results
+        self.subjects = [FLOOR]
+        self.servers: dict[str, ServerProcess] = {}
+        self.workers: dict[str, WorkerProcess] = {}
+        why = focas_available()
+        if why is None:
+            self.subjects.append(FOCAS)
+        else:
+            self.skip(f"focas_net skipped: {why}")
+        why = peer_available()
+        if why is None:
+            self.subjects.append(PEER)
+        else:
+            self.skip(f"pymodbus peer skipped: {why}")
+
+    def skip(self, message: str) -> None:
+        log(message)
+        self.results.skipped.append(message)
+
+    def add(self, row: Row) -> None:
+        self.results.rows.append(row)
+
+    def run(self) -> None:
+        try:
+            for subject in list(self.subjects):
+                try:
+                    self.servers[subject] = start_server(subject, self.cfg)
+                    self.workers[subject] = WorkerProcess(subject, self.cfg)
+                except RuntimeError as exc:
+                    self.subjects.remove(subject)
+                    self.skip(f"{subject} skipped: {exc}")
+            for mode in THROUGHPUT_MODES:
+                if mode in self.scenarios:
+                    self.throughput(mode)
+            if FOCAS in self.subjects:
+                if "pmc4k" in self.scenarios:
+                    self.pmc4k()
+                if "bitstorm" in self.scenarios:
+                    self.bitstorm()
+            else:
+                for name in ("pmc4k", "bitstorm"):
+                    if name in self.scenarios:
+                        self.skip(f"{name} skipped: focas_net is not available")
+        finally:
+            for server in self.servers.values():
+                server.stop()
+            self.servers.clear()
+        if "fleet" in self.scenarios:
+            if FOCAS in self.subjects:
+                self.fleet()
+            else:
+                self.skip("fleet skipped: focas_net is not available")
+        try:
+            if "memory" in self.scenarios:
+                self.memory()
+        finally:
+            for worker in self.workers.values():
+                worker.stop()
+
+    def _sample(self, subject: str, mode: str, duration: float) -> float:
+        conns, callers = MODES[mode]
+        host, port = self.servers[subject].endpoint
+        r = self.workers[subject].call(
+            "throughput", host=host, port=port, conns=conns, callers=callers, duration=duration
+        )
+        return float(r["ops"]) / float(r["elapsed"])
+
+    def throughput(self, mode: str) -> None:
+        cfg = self.cfg
+        log(f"{mode}: warm-up, then {cfg.reps} x {cfg.duration:g} s per subject")
+        samples: dict[str, list[float]] = {s: [] for s in self.subjects}
+        for subject in self.subjects:
+            self._sample(subject, mode, cfg.warmup)
+        for _ in range(cfg.reps):
+            for subject in self.subjects:
+                samples[subject].append(self._sample(subject, mode, cfg.duration))
+        floor = samples[FLOOR]
+        for subject in self.subjects:
+            ratios = None if subject == FLOOR else pairwise_ratios(samples[subject], floor)
+            self.add(
+                Row(
+                    mode,
+                    subject,
+                    "req/s",
+                    samples[subject],
+                    ratio_to=None if subject == FLOOR else "floor",
+                    ratios=ratios,
+                )
+            )
+
+    def pmc4k(self) -> None:
+        cfg = self.cfg
+        log(f"pmc4k: read_pmc('D', 0, {cfg.pmc_big}) against a {cfg.pmc_small}-byte read")
+        host, port = self.servers[FOCAS].endpoint
+        worker = self.workers[FOCAS]
+        kwargs = {
+            "host": host,
+            "port": port,
+            "area": "D",
+            "big": cfg.pmc_big,
+            "small": cfg.pmc_small,
+        }
+        worker.call("pmc_pair", duration=cfg.warmup, **kwargs)
+        big: list[float] = []
+        small: list[float] = []
+        for _ in range(cfg.reps):
+            r = worker.call("pmc_pair", duration=cfg.duration, **kwargs)
+            big.append(r["big"] * 1e3)
+            small.append(r["small"] * 1e3)
+        self.add(
+            Row(
+                "pmc4k",
+                FOCAS,
+                "ms",
+                big,
+                ratio_to=f"{cfg.pmc_small}-byte read",
+                ratios=pairwise_ratios(big, small),
+            )
+        )
+        self.add(Row(f"pmc{cfg.pmc_small}", FOCAS, "ms", small))
+
+    def bitstorm(self) -> None:
+        cfg = self.cfg
+        log(f"bitstorm: {cfg.storm_calls} concurrent write_pmc_bit over {cfg.storm_bytes} bytes")
+        host, port = self.servers[FOCAS].endpoint
+        worker = self.workers[FOCAS]
+        kwargs = {
+            "host": host,
+            "port": port,
+            "area": "D",
+            "start": 1000,
+            "nbytes": cfg.storm_bytes,
+            "calls": cfg.storm_calls,
+        }
+        worker.call("bitstorm", **kwargs)
+        rates: list[float] = []
+        lost = errors = calls = 0
+        for _ in range(cfg.reps):
+            r = worker.call("bitstorm", **kwargs)
+            rates.append(r["calls"] / r["elapsed"])
+            lost += int(r["lost"])
+            errors += int(r["errors"])
+            calls += int(r["calls"])
+        self.add(
+            Row(
+                "bitstorm",
+                FOCAS,
+                "calls/s",
+                rates,
+                note=f"{lost} bits lost, {errors} errors in {calls} calls",
+                extra={"lost": lost, "errors": errors, "calls": calls},
+            )
+        )
+
+    def fleet(self) -> None:
+        cfg = self.cfg
+        n = cfg.fleet_size
+        log(f"fleet: {n} machines at {cfg.fleet_hz:g} Hz, {cfg.reps} x {cfg.fleet_duration:g} s")
+        try:
+            server = start_server(FOCAS, cfg, extra=("--fleet", str(n)), count=n)
+        except RuntimeError as exc:
+            self.skip(f"fleet skipped: {exc}")
+            return
+        try:
+            targets = [list(e) for e in server.endpoints]
+            if len(targets) < n:
+                raise RuntimeError(f"fleet server announced {len(targets)} of {n} machines")
+            worker = self.workers[FOCAS]
+            interval = 1.0 / cfg.fleet_hz
+            worker.call(
+                "fleet", targets=targets, interval=interval, duration=min(1.0, cfg.fleet_duration)
+            )
+            rates: list[float] = []
+            achieved: list[float] = []
+            cpu: list[float] = []
+            errors = 0
+            worst = 0.0
+            for _ in range(cfg.reps):
+                r = worker.call(
+                    "fleet", targets=targets, interval=interval, duration=cfg.fleet_duration
+                )
+                rates.append(r["polls"] / r["duration"])
+                achieved.append(r["polls"] / r["due"])
+                cpu.append(r["cpu"] / r["wall"])
+                errors += int(r["errors"])
+                worst = max(worst, float(r["worst_latency"]))
+        except RuntimeError as exc:
+            self.skip(f"fleet skipped: {exc}")
+            return
+        finally:
+            server.stop()
+        nominal = n * cfg.fleet_hz
+        self.add(
+            Row(
+                "fleet_rate",
+                FOCAS,
+                "polls/s",
+                rates,
+                ratio_to=f"nominal {nominal:g}/s",
+                ratios=achieved,
+                note=f"{errors} errors, slowest poll {worst * 1e3:.1f} ms",
+            )
+        )
+        self.add(Row("fleet_cpu", FOCAS, "cores", cpu, note="client process_time / wall"))
+
+    def memory(self) -> None:
+        cfg = self.cfg
+        n = cfg.idle_conns
+        log(f"memory: server RSS with {n} idle connections minus none, {cfg.reps} fresh servers")
+        per_conn: dict[str, list[float]] = {s: [] for s in self.subjects}
+        for _ in range(cfg.reps):
+            for subject in self.subjects:
+                server = start_server(subject, cfg)
+                try:
+                    host, port = server.endpoint
+                    worker = self.workers[subject]
+                    worker.call("idle_open", host=host, port=port, count=1)
+                    worker.call("idle_close")
+                    time.sleep(0.2)
+                    before = server.rss_kib()
+                    worker.call("idle_open", host=host, port=port, count=n)
+                    time.sleep(0.3)
+                    after = server.rss_kib()
+                    worker.call("idle_close")
+                finally:
+                    server.stop()
+                per_conn[subject].append((after - before) / n)
+        floor = per_conn[FLOOR]
+        for subject in self.subjects:
+            self.add(
+                Row(
+                    "memory",
+                    subject,
+                    "KiB/conn",
+                    per_conn[subject],
+                    ratio_to=None if subject == FLOOR else "floor",
+                    ratios=None if subject == FLOOR else pairwise_ratios(per_conn[subject], floor),
+                )
+            )
+
+
+def parse_args(argv: Sequence[str] | None) -> argparse.Namespace:
+    parser = argparse.ArgumentParser(
+        prog="python -m benchmarks", description="focas_net benchmarks against a floor and a peer."
+    )
+    parser.add_argument("--quick", action="store_true", help="a short smoke run")
+    parser.add_argument("--uvloop", action="store_true", help="use uvloop if installed")
+    parser.add_argument("--json", type=Path, default=DEFAULT_JSON, metavar="PATH")
+    parser.add_argument("--reps", type=int, help="repetitions after the warm-up (at least 1)")
+    parser.add_argument("--duration", type=float, help="seconds per measurement")
+    parser.add_argument(
+        "--only",
+        default=",".join(SCENARIOS),
+        help=f"comma-separated subset of {','.join(SCENARIOS)}",
+    )
+    parser.add_argument("--strict", action="store_true", help="exit 1 when a target fails")
+    return parser.parse_args(argv)
+
+
+def main(argv: Sequence[str] | None = None) -> int:
+    args = parse_args(argv)
+    scenarios = [s.strip() for s in args.only.split(",") if s.strip()]
+    unknown = sorted(set(scenarios) - set(SCENARIOS))
+    if unknown:
+        log(f"unknown scenarios: {', '.join(unknown)} (known: {', '.join(SCENARIOS)})")
+        return 2
+    if args.uvloop and not uvloop_available():
+        log("--uvloop: uvloop is not installed; using asyncio's own loop")
+    cfg = Config.quick(args.uvloop) if args.quick else Config(use_uvloop=args.uvloop)
+    overrides: dict[str, Any] = {}
+    if args.reps is not None:
+        overrides["reps"] = max(1, args.reps)
+    if args.duration is not None:
+        overrides["duration"] = args.duration
+    if overrides:
+        cfg = Config(**{**asdict(cfg), **overrides})
+    command = shlex.join(["python", "-m", "benchmarks", *(sys.argv[1:] if argv is None else argv)])
+    results = Results(machine_info(cfg), command, asdict(cfg))
+    Suite(cfg, scenarios, results).run()
+    results.checks = evaluate(results, fleet_size=cfg.fleet_size, fleet_hz=cfg.fleet_hz)
+    m = results.machine
+    print(
+        f"machine: {m['nproc']} x {m['cpu']}, {m['implementation']} {m['python']},"
+        f" {m['event_loop']}"
+    )
+    print(f"command: {command}")
+    print()
+    print(render_table(results.rows))
+    print()
+    print(render_checks(results.checks))
+    for message in results.skipped:
+        print(f"note: {message}")
+    args.json.parent.mkdir(parents=True, exist_ok=True)
+    args.json.write_text(json.dumps(results.to_json(), indent=2) + "\n", encoding="utf-8")
+    print(f"results written to {args.json}")
+    failed = any(c.passed is False for c in results.checks)
+    return 1 if args.strict and failed else 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

@@ -1,0 +1,253 @@
+"""The client process of a benchmark: one per subject, driven by JSON lines on stdin.
+
+Each command line is a JSON object with an ``op``; the answer is one JSON line on stdout,
+``{"ok": true, "result": {...}}`` or ``{"ok": false, "error": "..."}``. The event loop lives as
+long as the process, so idle connections opened by one command stay open until another closes
+them. Run as ``python -m benchmarks.worker --subject NAME [--uvloop]``.
+"""
+
+from __future__ import annotations
+
+import argparse
+import asyncio
+import json
+import sys
+import time
+from collections.abc import Awaitable, Callable
+from typing import Any
+
+from benchmarks._loop import make_runner
+from benchmarks.subjects import FocasConn, StatusConn, connector
+
+_perf = time.perf_counter
+
+
+async def open_conns(
+    connect: Callable[[str, int], Awaitable[StatusConn]], host: str, port: int, count: int
+) -> list[StatusConn]:
+    """``count`` connections, opened in batches (the listen backlog is finite), each used once."""
+    conns: list[StatusConn] = []
+    try:
+        while len(conns) < count:
+            batch = min(50, count - len(conns))
+            conns += await asyncio.gather(*(connect(host, port) for _ in range(batch)))
+        await asyncio.gather(*(c.read_status() for c in conns))
+    except BaseException:
+        await close_conns(conns)
+        raise
+    return conns
+
+
+async def close_conns(conns: list[StatusConn]) -> None:
+    await asyncio.gather(*(c.close() for c in conns), return_exceptions=True)
+
+
+async def throughput(
+    subject: str, host: str, port: int, conns: int, callers: int, duration: float
+) -> dict[str, float]:
+    """``callers`` loops per connection calling ``read_status`` until the deadline."""
+    opened = await open_conns(connector(subject), host, port, conns)
+    counts: list[int] = []
+
+    async def caller(conn: StatusConn, deadline: float) -> None:
+        read_status = conn.read_status
+        n = 0
+        while _perf() < deadline:
+            await read_status()
+            n += 1
+        counts.append(n)
+
+    try:
+        start = _perf()
+        deadline = start + duration
+        await asyncio.gather(*(caller(c, deadline) for c in opened for _ in range(callers)))
+        elapsed = _perf() - start
+    finally:
+        await close_conns(opened)
+    return {"ops": sum(counts), "elapsed": elapsed}
+
+
+async def pmc_pair(
+    host: str, port: int, area: str, big: int, small: int, duration: float
+) -> dict[str, float]:
+    """Mean latency of sequential ``read_pmc`` calls of ``big`` bytes, then of ``small``."""
+    conn = await FocasConn.connect(host, port)
+    client = conn.client
+    out: dict[str, float] = {}
+    try:
+        for key, count in (("big", big), ("small", small)):
+            data = await client.read_pmc(area, 0, count)
+            if len(data) != count:
+                raise RuntimeError(f"read_pmc({area!r}, 0, {count}) gave {len(data)} bytes")
+            n = 0
+            start = _perf()
+            deadline = start + duration
+            while _perf() < deadline:
+                await client.read_pmc(area, 0, count)
+                n += 1
+            out[key] = (_perf() - start) / n
+    finally:
+        await conn.close()
+    return out
+
+
+def storm_plan(calls: int, nbytes: int) -> list[tuple[int, int]]:
+    """``(byte offset, bit)`` of each call: every bit of ``nbytes`` bytes in turn, ``calls``
+    calls in all (each bit is hit ``calls // (8 * nbytes)`` or one more times)."""
+    bits = 8 * nbytes
+    return [((k % bits) // 8, k % 8) for k in range(calls)]
+
+
+def count_wrong(data: bytes, value: bool) -> int:
+    """Bits of ``data`` that are not all ``value`` (set, or clear)."""
+    ones = sum(bin(b).count("1") for b in data)
+    return 8 * len(data) - ones if value else ones
+
+
+async def bitstorm(
+    host: str, port: int, area: str, start: int, nbytes: int, calls: int
+) -> dict[str, float]:
+    """``calls`` concurrent ``write_pmc_bit`` setting every bit of the range, then as many
+    clearing it; after each round every bit must be in the state written."""
+    conn = await FocasConn.connect(host, port)
+    client = conn.client
+    plan = storm_plan(calls, nbytes)
+    lost = errors = 0
+    elapsed = 0.0
+    try:
+        await client.write_pmc(area, start, bytes(nbytes))
+        for value in (True, False):
+            t0 = _perf()
+            outcomes = await asyncio.gather(
+                *(client.write_pmc_bit(area, start + off, bit, value) for off, bit in plan),
+                return_exceptions=True,
+            )
+            elapsed += _perf() - t0
+            errors += sum(isinstance(o, BaseException) for o in outcomes)
+            lost += count_wrong(bytes(await client.read_pmc(area, start, nbytes)), value)
+    finally:
+        await conn.close()
+    return {"calls": 2 * calls, "elapsed": elapsed, "lost": lost, "errors": errors}
+
+
+async def fleet(targets: list[list[Any]], interval: float, duration: float) -> dict[str, float]:
+    """Poll every target's status every ``interval`` s for ``duration`` s, one task each,
+    starts staggered; a tick missed because the previous poll ran late is skipped, not
+    caught up. Returns polls done, polls due, and the client's CPU time."""
+    conns: list[FocasConn] = []
+    try:
+        for i in range(0, len(targets), 50):
+            conns += await asyncio.gather(
+                *(FocasConn.connect(str(h), int(p)) for h, p in targets[i : i + 50])
+            )
+        await asyncio.gather(*(c.read_status() for c in conns))
+        loop = asyncio.get_running_loop()
+        ticks = round(duration / interval)
+        polls = [0] * len(conns)
+        errors = [0] * len(conns)
+        worst = [0.0] * len(conns)
+        t0 = loop.time() + 0.05
+        cpu0 = time.process_time()
+        wall0 = _perf()
+
+        async def poll(i: int, conn: FocasConn) -> None:
+            base = t0 + interval * i / len(conns)
+            tick = 0
+            while tick < ticks:
+                due = base + tick * interval
+                now = loop.time()
+                if now >= due + interval:  # the whole slot went by: that poll is missed
+                    tick += int((now - due) // interval)
+                    continue
+                if due > now:
+                    await asyncio.sleep(due - now)
+                began = loop.time()
+                try:
+                    await conn.read_status()
+                    polls[i] += 1
+                except Exception:
+                    errors[i] += 1
+                worst[i] = max(worst[i], loop.time() - began)
+                tick += 1
+
+        await asyncio.gather(*(poll(i, c) for i, c in enumerate(conns)))
+        wall = _perf() - wall0
+        cpu = time.process_time() - cpu0
+    finally:
+        await asyncio.gather(*(c.close() for c in conns), return_exceptions=True)
+    return {
+        "polls": sum(polls),
+        "due": ticks * len(conns),
+        "errors": sum(errors),
+        "wall": wall,
+        "cpu": cpu,
+        "worst_latency": max(worst, default=0.0),
+        "duration": ticks * interval,
+    }
+
+
+class Worker:
+    def __init__(self, subject: str) -> None:
+        self.subject = subject
+        self.idle: list[StatusConn] = []
+
+    async def handle(self, cmd: dict[str, Any]) -> dict[str, Any]:
+        op = cmd["op"]
+        if op == "throughput":
+            return await throughput(
+                self.subject,
+                cmd["host"],
+                cmd["port"],
+                cmd["conns"],
+                cmd["callers"],
+                cmd["duration"],
+            )
+        if op == "pmc_pair":
+            return await pmc_pair(
+                cmd["host"], cmd["port"], cmd["area"], cmd["big"], cmd["small"], cmd["duration"]
+            )
+        if op == "bitstorm":
+            return await bitstorm(
+                cmd["host"], cmd["port"], cmd["area"], cmd["start"], cmd["nbytes"], cmd["calls"]
+            )
+        if op == "fleet":
+            return await fleet(cmd["targets"], cmd["interval"], cmd["duration"])
+        if op == "idle_open":
+            self.idle += await open_conns(
+                connector(self.subject), cmd["host"], cmd["port"], cmd["count"]
+            )
+            return {"open": len(self.idle)}
+        if op == "idle_close":
+            await close_conns(self.idle)
+            self.idle = []
+            await asyncio.sleep(0.05)
+            return {"open": 0}
+        raise ValueError(f"unknown op {op!r}")
+
+
+def main() -> int:
+    parser = argparse.ArgumentParser(description="Benchmark client process (JSON lines).")
+    parser.add_argument("--subject", required=True)
+    parser.add_argument("--uvloop", action="store_true")
+    args = parser.parse_args()
+    worker = Worker(args.subject)
+    with make_runner(args.uvloop) as runner:
+        for line in sys.stdin:
+            if not line.strip():
+                continue
+            cmd = json.loads(line)
+            if cmd.get("op") == "quit":
+                break
+            try:
+                answer: dict[str, Any] = {"ok": True, "result": runner.run(worker.handle(cmd))}
+            except Exception as exc:
+                answer = {"ok": False, "error": f"{type(exc).__name__}: {exc}"}
+            sys.stdout.write(json.dumps(answer) + "\n")
+            sys.stdout.flush()
+        if worker.idle:
+            runner.run(close_conns(worker.idle))
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
