@@ -1,0 +1,837 @@
+"""The packed-protocol adapter, driven through ``handle`` with payloads made by the codecs."""
+
+from __future__ import annotations
+
+import struct
+from collections.abc import Iterator
+from datetime import UTC, datetime, timedelta, timezone
+from typing import Any
+
+import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
+
+from focas_net.protocol import (
+    COMMANDS,
+    EW,
+    ActiveAlarmList,
+    AlarmHistory,
+    AlarmHistoryRequest,
+    AlarmMsgRequest,
+    ClearAlarms,
+    Command,
+    DataRequest,
+    EwReply,
+    IOModuleRecord,
+    MacroRequest,
+    MacroValue,
+    ParamValue,
+    Password,
+    PmcArea,
+    PmcData,
+    PmcRange,
+    RaiseAlarm,
+    SetPanel,
+    StatusInfo,
+    SysInfo,
+    VersaMaxReply,
+    VersaMaxRequest,
+)
+from focas_net.sim import Machine, Session, default_machine, handle, handled_commands
+from focas_net.sim.default import mdd844_record
+
+MANUAL_REPLY = bytes.fromhex(
+    "00 52 00 03 00 00 80 08 80 80 44 38 34 34 32 00"
+    "00 00 00 00 00 00 00 00 00 00 00 00 00 00 34 00"
+    "80 08 80 80 30 00 01 00 01 00 00 00 00 00 03 00"
+    "00 00 02 00 00 00 00 00 01 10 11 00 02 00 2C 00"
+    "02 12 08 00 02 00 2E 00 00 00 00 00 00 00 00 00"
+    "00 00"
+)
+
+
+class FakeClock:
+    """A settable UTC clock."""
+
+    def __init__(self, start: datetime) -> None:
+        self.now = start
+
+    def __call__(self) -> datetime:
+        return self.now
+
+    def tick(self, seconds: float = 1) -> None:
+        self.now += timedelta(seconds=seconds)
+
+
+@pytest.fixture
+def clock() -> FakeClock:
+    return FakeClock(datetime(2024, 3, 9, 14, 30, 5, 750_000, tzinfo=UTC))
+
+
+@pytest.fixture
+def m(clock: FakeClock) -> Machine:
+    return default_machine(clock=clock)
+
+
+@pytest.fixture
+def s(m: Machine) -> Session:
+    return m.new_session()
+
+
+def raw(m: Machine, s: Session, command: int, request: Any) -> bytes:
+    payload = request if isinstance(request, bytes) else request.encode()
+    return handle(m, s, command, payload)
+
+
+def call(m: Machine, s: Session, command: int, request: Any = b"") -> Any:
+    return COMMANDS[command].response.decode(raw(m, s, command, request))
+
+
+def ew_of(m: Machine, s: Session, command: int, request: Any = b"") -> int:
+    """The EW code of an answer (0 for success; counted lists: the code after count -1)."""
+    answer = call(m, s, command, request)
+    if isinstance(answer, EwReply | ActiveAlarmList | AlarmHistory):
+        return answer.ew
+    return 0
+
+
+def ew(code: EW) -> int:
+    return int(code)
+
+
+def open_gate(m: Machine, s: Session) -> None:
+    assert ew_of(m, s, Command.SIM_SET_PANEL, SetPanel(0, 1, 0)) == 0
+
+
+def rd_param(m: Machine, s: Session, datano: int, axis: int) -> Any:
+    return call(m, s, Command.RDPARAM, DataRequest(datano, axis))
+
+
+def wr_param(m: Machine, s: Session, datano: int, axis: int, value: int, width: int) -> int:
+    return ew_of(m, s, Command.WRPARAM, ParamValue(datano, axis, value, width))
+
+
+def raise_alarm(m: Machine, s: Session, axis: int, typ: int, no: int, msg: bytes = b"") -> int:
+    return ew_of(m, s, Command.SIM_RAISE_ALARM, RaiseAlarm(axis, typ, no, msg))
+
+
+def history(m: Machine, s: Session, depth: int = 250) -> AlarmHistory:
+    answer = call(m, s, Command.RDALMHISTRY, AlarmHistoryRequest(depth))
+    assert isinstance(answer, AlarmHistory)
+    return answer
+
+
+# -- status and identity ----------------------------------------------------------------------
+
+
+def test_status_of_default_machine(m: Machine, s: Session) -> None:
+    st_ = call(m, s, Command.RDCNCSTAT)
+    assert st_ == StatusInfo(0, 0, 1, 0, 0, 0, 0, 0, 0)
+
+
+def test_status_follows_panel_and_alarms(m: Machine, s: Session) -> None:
+    assert ew_of(m, s, Command.SIM_SET_PANEL, SetPanel(5, 1, 1)) == 0
+    st_ = call(m, s, Command.RDCNCSTAT)
+    assert (st_.aut, st_.emergency, st_.alarm) == (5, 1, 0)
+    assert raise_alarm(m, s, 0, 0, 1000, b"EMERGENCY STOP") == 0
+    assert call(m, s, Command.RDCNCSTAT).alarm == 1
+    assert raise_alarm(m, s, 1, 4, 500, b"OVER TRAVEL +X") == 0
+    assert ew_of(m, s, Command.SIM_CLEAR_ALARMS, ClearAlarms(0, -1)) == 0
+    assert call(m, s, Command.RDCNCSTAT).alarm == 1
+    assert ew_of(m, s, Command.SIM_CLEAR_ALARMS, ClearAlarms(-1, -1)) == 0
+    st_ = call(m, s, Command.RDCNCSTAT)
+    assert (st_.aut, st_.emergency, st_.alarm) == (5, 1, 0)
+    assert ew_of(m, s, Command.SIM_SET_PANEL, SetPanel(0, 0, 0)) == 0
+    st_ = call(m, s, Command.RDCNCSTAT)
+    assert (st_.aut, st_.emergency) == (0, 0)
+
+
+def test_status_and_sysinfo_reject_a_payload(m: Machine, s: Session) -> None:
+    assert raw(m, s, Command.RDCNCSTAT, b"\x00") == b"\x02\x00"
+    assert raw(m, s, Command.SYSINFO, b"\x00\x00") == b"\x02\x00"
+
+
+def test_sysinfo(m: Machine, s: Session) -> None:
+    info = call(m, s, Command.SYSINFO)
+    assert isinstance(info, SysInfo)
+    assert info.axes == b"03" and info.axes_count == 3
+    assert len(raw(m, s, Command.SYSINFO, b"")) == 20
+
+
+# -- parameters -------------------------------------------------------------------------------
+
+SECTION7_PARAMS = [
+    (1320, True, 4),
+    (1420, True, 4),
+    (1815, True, 1),
+    (3216, False, 2),
+    (6711, False, 4),
+    (6712, False, 4),
+    (20, False, 1),
+]
+
+
+@pytest.mark.parametrize(("datano", "is_axis", "width"), SECTION7_PARAMS)
+def test_section7_parameters(
+    m: Machine, s: Session, datano: int, is_axis: bool, width: int
+) -> None:
+    for axis in (1, 2, 3) if is_axis else (0,):
+        pv = rd_param(m, s, datano, axis)
+        assert (pv.datano, pv.axis, pv.width) == (datano, axis, width)
+        assert len(raw(m, s, Command.RDPARAM, DataRequest(datano, axis))) == 6 + width
+
+
+def test_axis_names_in_1020(m: Machine, s: Session) -> None:
+    assert [chr(rd_param(m, s, 1020, a).value) for a in (1, 2, 3)] == ["X", "Y", "Z"]
+
+
+@pytest.mark.parametrize("command", [Command.RDPARAM, Command.RDDIAG])
+@pytest.mark.parametrize(
+    ("datano", "axis", "code"),
+    [
+        (9999, 0, EW.NUMBER),
+        (9999, -5, EW.NUMBER),  # the number is checked before the axis
+        (300, 0, EW.ATTRIB),  # axis item read with axis 0 (300 is axis in both tables)
+        (300, -1, EW.ATTRIB),  # no all-axes read
+        (300, 4, EW.ATTRIB),
+    ],
+)
+def test_data_read_errors(
+    m: Machine, s: Session, command: int, datano: int, axis: int, code: EW
+) -> None:
+    if command == Command.RDPARAM and datano == 300:
+        datano = 1320
+    assert raw(m, s, command, DataRequest(datano, axis)) == struct.pack("<h", code)
+
+
+def test_non_axis_item_with_an_axis(m: Machine, s: Session) -> None:
+    assert ew_of(m, s, Command.RDPARAM, DataRequest(3216, 1)) == ew(EW.ATTRIB)
+    assert ew_of(m, s, Command.RDDIAG, DataRequest(410, 1)) == ew(EW.ATTRIB)
+
+
+@pytest.mark.parametrize("command", [Command.RDPARAM, Command.RDDIAG])
+@pytest.mark.parametrize("payload", [b"", b"\x00", b"\x00\x00\x00", b"\x00" * 5])
+def test_data_read_wrong_size(m: Machine, s: Session, command: int, payload: bytes) -> None:
+    assert raw(m, s, command, payload) == b"\x02\x00"
+
+
+def test_diagnostic_300(m: Machine, s: Session) -> None:
+    for axis in (1, 2, 3):
+        pv = call(m, s, Command.RDDIAG, DataRequest(300, axis))
+        assert (pv.datano, pv.axis, pv.width) == (300, axis, 4)
+
+
+def test_param_write_gate_pwe_and_mode(m: Machine, s: Session) -> None:
+    before = m.state_digest()
+    assert wr_param(m, s, 6711, 0, 5, 4) == ew(EW.PASSWD)  # MEM, PWE off
+    assert ew_of(m, s, Command.SIM_SET_PANEL, SetPanel(1, 1, 0)) == 0
+    assert wr_param(m, s, 6711, 0, 5, 4) == ew(EW.PASSWD)  # PWE on but MEM
+    assert ew_of(m, s, Command.SIM_SET_PANEL, SetPanel(0, 0, 0)) == 0
+    assert wr_param(m, s, 6711, 0, 5, 4) == ew(EW.PASSWD)  # MDI but PWE off
+    assert rd_param(m, s, 6711, 0).value == 0
+    assert ew_of(m, s, Command.SIM_SET_PANEL, SetPanel(0, 1, 0)) == 0
+    assert m.state_digest() != before
+    assert wr_param(m, s, 6711, 0, 5, 4) == 0
+    assert rd_param(m, s, 6711, 0).value == 5
+
+
+@pytest.mark.parametrize(
+    ("datano", "axis", "value", "width"),
+    [
+        (1320, 2, -123_456_789, 4),
+        (1420, 3, 30000, 4),
+        (1815, 1, -1, 1),
+        (1815, 3, 0x31, 1),
+        (3216, 0, 9999, 2),
+        (20, 0, 35, 1),
+        (6712, 0, 999_999_999, 4),
+    ],
+)
+def test_param_write_reads_back_byte_identical(
+    m: Machine, s: Session, datano: int, axis: int, value: int, width: int
+) -> None:
+    open_gate(m, s)
+    request = ParamValue(datano, axis, value, width).encode()
+    assert raw(m, s, Command.WRPARAM, request) == b"\x00\x00"
+    assert raw(m, s, Command.RDPARAM, DataRequest(datano, axis)) == b"\x00\x00" + request
+
+
+def test_param_write_touches_only_its_axis(m: Machine, s: Session) -> None:
+    open_gate(m, s)
+    assert wr_param(m, s, 1420, 2, 1234, 4) == 0
+    assert [rd_param(m, s, 1420, a).value for a in (1, 2, 3)] == [24000, 1234, 24000]
+
+
+@pytest.mark.parametrize(
+    ("payload", "gate", "code"),
+    [
+        (b"\x00" * 4, True, EW.LENGTH),
+        (b"\x00" * 7, True, EW.LENGTH),
+        (b"\x00" * 9, True, EW.LENGTH),
+        (ParamValue(9999, 0, 1, 4).encode(), True, EW.NUMBER),
+        (ParamValue(9999, 7, 1, 2).encode(), False, EW.NUMBER),
+        (ParamValue(1320, 0, 1, 4).encode(), True, EW.ATTRIB),
+        (ParamValue(1320, 4, 1, 2).encode(), False, EW.ATTRIB),
+        (ParamValue(3216, 1, 1, 2).encode(), True, EW.ATTRIB),
+        (ParamValue(1320, 1, 1, 2).encode(), True, EW.LENGTH),  # width differs
+        (ParamValue(3216, 0, 1, 4).encode(), False, EW.LENGTH),  # width before the gate
+        (ParamValue(3216, 0, 1, 2).encode(), False, EW.PASSWD),
+        (ParamValue(3216, 0, 10000, 2).encode(), False, EW.PASSWD),  # gate before range
+        (ParamValue(3216, 0, 10000, 2).encode(), True, EW.DATA),
+        (ParamValue(3216, 0, -1, 2).encode(), True, EW.DATA),
+        (ParamValue(1320, 1, 2_000_000_000, 4).encode(), True, EW.DATA),
+        (ParamValue(20, 0, 36, 1).encode(), True, EW.DATA),
+    ],
+)
+def test_param_write_errors_in_order(
+    m: Machine, s: Session, payload: bytes, gate: bool, code: EW
+) -> None:
+    if gate:
+        open_gate(m, s)
+    before = m.state_digest()
+    assert raw(m, s, Command.WRPARAM, payload) == struct.pack("<h", code)
+    assert m.state_digest() == before
+
+
+# -- password unlock --------------------------------------------------------------------------
+
+
+@pytest.fixture
+def locked(clock: FakeClock) -> Machine:
+    return default_machine(param_password="secret", clock=clock)
+
+
+def unlock(m: Machine, s: Session, text: str) -> int:
+    return ew_of(m, s, Command.WRUNLOCKPARAM, Password.from_text(text))
+
+
+def test_unlock_is_per_session(locked: Machine) -> None:
+    a, b = locked.new_session(), locked.new_session()
+    open_gate(locked, a)
+    assert wr_param(locked, a, 6711, 0, 1, 4) == ew(EW.PASSWD)
+    assert unlock(locked, a, "secr") == 0  # the password is cut at 4 bytes
+    assert wr_param(locked, a, 6711, 0, 2, 4) == 0
+    assert wr_param(locked, b, 6711, 0, 3, 4) == ew(EW.PASSWD)
+    assert rd_param(locked, b, 6711, 0).value == 2
+    assert unlock(locked, b, "secret") == 0
+    assert wr_param(locked, b, 6711, 0, 3, 4) == 0
+    assert locked.new_session().unlocked is False
+
+
+def test_failed_unlock_locks_again(locked: Machine) -> None:
+    s = locked.new_session()
+    open_gate(locked, s)
+    assert unlock(locked, s, "secr") == 0
+    assert unlock(locked, s, "nope") == ew(EW.PASSWD)
+    assert wr_param(locked, s, 6711, 0, 1, 4) == ew(EW.PASSWD)
+    assert unlock(locked, s, "") == ew(EW.PASSWD)
+    assert unlock(locked, s, "sec") == ew(EW.PASSWD)
+    assert unlock(locked, s, "secr") == 0
+    assert wr_param(locked, s, 6711, 0, 1, 4) == 0
+
+
+def test_unlock_without_a_password(m: Machine, s: Session) -> None:
+    assert unlock(m, s, "anything") == 0
+    assert unlock(m, s, "") == 0
+
+
+@pytest.mark.parametrize("payload", [b"", b"abc", b"abcde"])
+def test_unlock_wrong_size(locked: Machine, payload: bytes) -> None:
+    s = locked.new_session()
+    assert raw(locked, s, Command.WRUNLOCKPARAM, payload) == b"\x02\x00"
+
+
+def test_short_password_is_padded_with_nul(clock: FakeClock) -> None:
+    m = default_machine(param_password="ab", clock=clock)
+    s = m.new_session()
+    assert raw(m, s, Command.WRUNLOCKPARAM, b"ab\x00\x00") == b"\x00\x00"
+    assert raw(m, s, Command.WRUNLOCKPARAM, b"ab\x00x") == struct.pack("<h", EW.PASSWD)
+
+
+# -- macro variables --------------------------------------------------------------------------
+
+
+@pytest.mark.parametrize("number", [1, 33, 100, 199, 500, 999, 0])
+def test_macros_vacant_at_start(m: Machine, s: Session, number: int) -> None:
+    assert call(m, s, Command.RDMACRO, MacroRequest(number)) == MacroValue(number, 8, 0, -1)
+
+
+@pytest.mark.parametrize("number", [-1, 34, 99, 200, 499, 1000, 4000, 32767])
+def test_unknown_macro(m: Machine, s: Session, number: int) -> None:
+    assert raw(m, s, Command.RDMACRO, MacroRequest(number)) == b"\x03\x00"
+    assert ew_of(m, s, Command.WRMACRO, MacroValue(number, 8, 1, 0)) == ew(EW.NUMBER)
+
+
+def test_system_macros_are_read_only(m: Machine, s: Session) -> None:
+    assert call(m, s, Command.RDMACRO, MacroRequest(4003)) == MacroValue(4003, 8, 90, 0)
+    assert call(m, s, Command.RDMACRO, MacroRequest(4018)) == MacroValue(4018, 8, 401, 1)
+    before = m.state_digest()
+    for number in (0, 4001, 4014, 4109, 5001, 5023):
+        assert ew_of(m, s, Command.WRMACRO, MacroValue(number, 8, 1, 0)) == ew(EW.PROT)
+        # read-only is checked before dec_val
+        assert ew_of(m, s, Command.WRMACRO, MacroValue(number, 8, 1, 12)) == ew(EW.PROT)
+    assert m.state_digest() == before
+
+
+@pytest.mark.parametrize(
+    ("mcr_val", "dec_val"),
+    [(0, 0), (12345, 3), (-7, 1), (2**31 - 1, 9), (-(2**31), 0), (100, 2), (0, 9)],
+)
+def test_macro_write_reads_back_as_written(
+    m: Machine, s: Session, mcr_val: int, dec_val: int
+) -> None:
+    for number in (1, 150, 999):
+        assert ew_of(m, s, Command.WRMACRO, MacroValue(number, 8, mcr_val, dec_val)) == 0
+        got = call(m, s, Command.RDMACRO, MacroRequest(number))
+        assert got == MacroValue(number, 8, mcr_val, dec_val)
+
+
+@pytest.mark.parametrize(
+    ("payload", "code"),
+    [
+        (b"\x01\x00" * 4, EW.LENGTH),
+        (b"\x01\x00" * 6, EW.LENGTH),
+        (MacroValue(100, 4, 1, 0).encode(), EW.LENGTH),
+        (MacroValue(100, 0, 1, 0).encode(), EW.LENGTH),
+        (MacroValue(9999, 4, 1, 0).encode(), EW.LENGTH),  # length before the number
+        (MacroValue(9999, 8, 1, 12).encode(), EW.NUMBER),  # number before dec_val
+        (MacroValue(100, 8, 1, 10).encode(), EW.DATA),
+        (MacroValue(100, 8, 1, -1).encode(), EW.DATA),  # vacant cannot be written
+    ],
+)
+def test_macro_write_errors(m: Machine, s: Session, payload: bytes, code: EW) -> None:
+    assert ew_of(m, s, Command.WRMACRO, MacroValue(100, 8, 42, 1)) == 0
+    before = m.state_digest()
+    assert raw(m, s, Command.WRMACRO, payload) == struct.pack("<h", code)
+    assert m.state_digest() == before
+    assert call(m, s, Command.RDMACRO, MacroRequest(100)) == MacroValue(100, 8, 42, 1)
+
+
+@pytest.mark.parametrize("payload", [b"", b"\x01", b"\x01\x00\x00"])
+def test_macro_read_wrong_size(m: Machine, s: Session, payload: bytes) -> None:
+    assert raw(m, s, Command.RDMACRO, payload) == b"\x02\x00"
+
+
+# -- PMC --------------------------------------------------------------------------------------
+
+AREAS = {"X": 128, "Y": 128, "F": 768, "G": 768, "R": 8000, "D": 10000, "K": 100, "A": 250}
+AREAS |= {"T": 500, "C": 400}
+
+
+@pytest.mark.parametrize(("letter", "size"), AREAS.items())
+def test_pmc_areas_read_to_their_last_byte(m: Machine, s: Session, letter: str, size: int) -> None:
+    code = PmcArea[letter]
+    got = call(m, s, Command.RDPMCRNG, PmcRange(code, 0, size - 32, size - 1))
+    assert got == PmcData(code, 0, size - 32, size - 1, bytes(32))
+    assert ew_of(m, s, Command.RDPMCRNG, PmcRange(code, 0, size - 1, size)) == ew(EW.NUMBER)
+    assert ew_of(m, s, Command.RDPMCRNG, PmcRange(code, 0, size, size)) == ew(EW.NUMBER)
+
+
+@pytest.mark.parametrize(
+    ("header", "code"),
+    [
+        (PmcRange(9, 0, 0, 0), EW.ATTRIB),  # unknown type_a
+        (PmcRange(0, 1, 0, 0), EW.ATTRIB),
+        (PmcRange(-1, 0, 0, 0), EW.ATTRIB),
+        (PmcRange(PmcArea.E, 0, 0, 0), EW.NOOPT),
+        (PmcRange(PmcArea.E, 1, 0, 100), EW.NOOPT),  # no-area before type_d and count
+        (PmcRange(PmcArea.R, 1, 0, 100), EW.ATTRIB),  # type_d before count
+        (PmcRange(PmcArea.R, 0, 5, 4), EW.LENGTH),  # count 0
+        (PmcRange(PmcArea.R, 0, 0, 32), EW.LENGTH),  # count 33
+        (PmcRange(PmcArea.R, 0, 9000, 9100), EW.LENGTH),  # count before the address
+        (PmcRange(PmcArea.R, 0, 7990, 8005), EW.NUMBER),
+        (PmcRange(PmcArea.K, 0, 65535, 65535), EW.NUMBER),
+    ],
+)
+def test_pmc_read_errors_in_order(m: Machine, s: Session, header: PmcRange, code: EW) -> None:
+    assert raw(m, s, Command.RDPMCRNG, header) == struct.pack("<h", code)
+
+
+@pytest.mark.parametrize("payload", [b"", b"\x05\x00" * 3, b"\x05\x00" * 4 + b"\x00"])
+def test_pmc_read_wrong_size(m: Machine, s: Session, payload: bytes) -> None:
+    assert raw(m, s, Command.RDPMCRNG, payload) == b"\x02\x00"
+
+
+def test_pmc_write_reads_back_and_echoes_header(m: Machine, s: Session) -> None:
+    data = bytes(range(1, 33))
+    request = PmcData(PmcArea.R, 0, 100, 131, data)
+    assert raw(m, s, Command.WRPMCRNG, request) == b"\x00\x00"
+    header = PmcRange(PmcArea.R, 0, 100, 131).encode()
+    assert raw(m, s, Command.RDPMCRNG, header) == b"\x00\x00" + header + data
+    assert call(m, s, Command.RDPMCRNG, PmcRange(PmcArea.R, 0, 99, 101)).data == b"\x00\x01\x02"
+
+
+@pytest.mark.parametrize(
+    ("request_", "code"),
+    [
+        (b"\x05\x00\x00\x00\x00\x00", EW.LENGTH),
+        (PmcData(13, 0, 0, 0, b"\x01"), EW.ATTRIB),
+        (PmcData(PmcArea.E, 0, 0, 0, b"\x01"), EW.NOOPT),
+        (PmcData(PmcArea.G, 2, 0, 0, b"\x01"), EW.ATTRIB),
+        (PmcData(PmcArea.G, 0, 0, 32, bytes(33)), EW.LENGTH),
+        (PmcData(PmcArea.G, 0, 0, 3, b"\x01\x02"), EW.LENGTH),  # data length != count
+        (PmcData(PmcArea.G, 0, 0, 1, b"\x01\x02\x03"), EW.LENGTH),
+        (PmcData(PmcArea.G, 0, 767, 768, b"\x01\x02"), EW.NUMBER),
+        (PmcData(PmcArea.G, 0, 767, 768, b"\x01"), EW.LENGTH),  # data length before address
+        (PmcData(PmcArea.X, 0, 0, 1, b"\x01\x02"), EW.PROT),
+        (PmcData(PmcArea.F, 0, 767, 767, b"\x01"), EW.PROT),
+        (PmcData(PmcArea.F, 0, 768, 768, b"\x01"), EW.NUMBER),  # address before protection
+    ],
+)
+def test_pmc_write_errors_change_nothing(m: Machine, s: Session, request_: Any, code: EW) -> None:
+    before = m.state_digest()
+    assert raw(m, s, Command.WRPMCRNG, request_) == struct.pack("<h", code)
+    assert m.state_digest() == before
+
+
+def test_set_pmc_ignores_write_protection(m: Machine, s: Session) -> None:
+    assert ew_of(m, s, Command.SIM_SET_PMC, PmcData(PmcArea.X, 0, 8, 9, b"\xa5\x5a")) == 0
+    assert call(m, s, Command.RDPMCRNG, PmcRange(PmcArea.X, 0, 8, 9)).data == b"\xa5\x5a"
+    assert ew_of(m, s, Command.SIM_SET_PMC, PmcData(PmcArea.F, 0, 0, 0, b"\x80")) == 0
+    before = m.state_digest()
+    assert ew_of(m, s, Command.SIM_SET_PMC, PmcData(PmcArea.X, 0, 127, 128, b"\x01\x01")) == ew(
+        EW.NUMBER
+    )
+    assert ew_of(m, s, Command.SIM_SET_PMC, PmcData(PmcArea.E, 0, 0, 0, b"\x01")) == ew(EW.NOOPT)
+    assert ew_of(m, s, Command.SIM_SET_PMC, PmcData(PmcArea.X, 0, 0, 1, b"\x01")) == ew(EW.LENGTH)
+    assert raw(m, s, Command.SIM_SET_PMC, b"\x01\x00") == b"\x02\x00"
+    assert m.state_digest() == before
+
+
+# -- alarms -----------------------------------------------------------------------------------
+
+
+def alarms(m: Machine, s: Session, typ: int = -1, max_: int = 32) -> ActiveAlarmList:
+    answer = call(m, s, Command.RDALMMSG, AlarmMsgRequest(typ, max_))
+    assert isinstance(answer, ActiveAlarmList)
+    return answer
+
+
+def test_rdalmmsg_oldest_first_filtered_and_limited(m: Machine, s: Session) -> None:
+    assert alarms(m, s) == ActiveAlarmList(())
+    assert raise_alarm(m, s, 1, 6, 401, b"SV0401 IMPROPER V_READY OFF") == 0
+    assert raise_alarm(m, s, 0, 3, 10, b"PS0010 IMPROPER G-CODE") == 0
+    assert raise_alarm(m, s, 2, 6, 411, b"SV0411 EXCESS ERROR") == 0
+    got = alarms(m, s)
+    assert [a.key for a in got.entries] == [(1, 6, 401), (0, 3, 10), (2, 6, 411)]
+    assert got.entries[1].msg == "PS0010 IMPROPER G-CODE"
+    assert [a.key for a in alarms(m, s, 6).entries] == [(1, 6, 401), (2, 6, 411)]
+    assert [a.key for a in alarms(m, s, -1, 2).entries] == [(1, 6, 401), (0, 3, 10)]
+    assert [a.key for a in alarms(m, s, 6, 1).entries] == [(1, 6, 401)]
+    assert alarms(m, s, 19).entries == ()
+    assert alarms(m, s, -7).entries == ()
+
+
+@pytest.mark.parametrize("max_", [0, 33, -1, 32767])
+def test_rdalmmsg_bad_max(m: Machine, s: Session, max_: int) -> None:
+    assert raw(m, s, Command.RDALMMSG, AlarmMsgRequest(-1, max_)) == b"\xff\xff\x02\x00"
+
+
+@pytest.mark.parametrize("payload", [b"", b"\xff\xff", b"\xff\xff\x01\x00\x00"])
+def test_rdalmmsg_wrong_size(m: Machine, s: Session, payload: bytes) -> None:
+    assert raw(m, s, Command.RDALMMSG, payload) == b"\xff\xff\x02\x00"
+
+
+def test_alarm_history_newest_first_in_utc(m: Machine, s: Session, clock: FakeClock) -> None:
+    assert history(m, s) == AlarmHistory(())
+    assert raise_alarm(m, s, 1, 6, 401, b"SERVO") == 0
+    clock.tick(61)
+    assert raise_alarm(m, s, 0, 3, 10, b"PROGRAM") == 0
+    clock.now = datetime(2024, 3, 9, 17, 0, 0, 999_999, tzinfo=timezone(timedelta(hours=2)))
+    assert raise_alarm(m, s, 0, 2, 1, b"") == 0
+    got = history(m, s)
+    assert [(e.alm_type, e.alm_no) for e in got.entries] == [(2, 1), (3, 10), (6, 401)]
+    assert [e.occurred_at for e in got.entries] == [
+        datetime(2024, 3, 9, 15, 0, 0, tzinfo=UTC),
+        datetime(2024, 3, 9, 14, 31, 6, tzinfo=UTC),
+        datetime(2024, 3, 9, 14, 30, 5, tzinfo=UTC),
+    ]
+    assert got.entries[2].msg == "SERVO" and got.entries[0].msg == ""
+    assert [e.alm_no for e in history(m, s, 2).entries] == [1, 10]
+
+
+def test_alarm_history_naive_clock_is_utc(clock: FakeClock) -> None:
+    clock.now = datetime(2023, 12, 31, 23, 59, 59, 500_000)
+    m = default_machine(clock=clock)
+    s = m.new_session()
+    assert raise_alarm(m, s, 0, 1, 1, b"X") == 0
+    assert history(m, s).entries[0].occurred_at == datetime(2023, 12, 31, 23, 59, 59, tzinfo=UTC)
+
+
+def test_active_alarm_raised_again_changes_nothing(
+    m: Machine, s: Session, clock: FakeClock
+) -> None:
+    assert raise_alarm(m, s, 1, 4, 500, b"OT0500 +X") == 0
+    before = m.state_digest()
+    clock.tick(5)
+    assert raise_alarm(m, s, 1, 4, 500, b"another text") == 0
+    assert m.state_digest() == before
+    assert len(history(m, s).entries) == 1
+    assert alarms(m, s).entries[0].msg == "OT0500 +X"
+    # same number on another axis is another alarm
+    assert raise_alarm(m, s, 2, 4, 500, b"OT0500 +Y") == 0
+    assert len(alarms(m, s).entries) == 2
+    # cleared, it can be raised again and is recorded again
+    assert ew_of(m, s, Command.SIM_CLEAR_ALARMS, ClearAlarms(4, 500)) == 0
+    assert alarms(m, s).entries == ()
+    assert raise_alarm(m, s, 1, 4, 500, b"OT0500 +X") == 0
+    assert len(history(m, s).entries) == 3
+
+
+def test_alarm_message_cut_at_32(m: Machine, s: Session) -> None:
+    msg = bytes(range(0x41, 0x41 + 40))
+    assert raise_alarm(m, s, 0, 15, 1, msg) == 0
+    assert alarms(m, s).entries[0].msg.encode("latin-1") == msg[:32]
+    assert history(m, s).entries[0].msg.encode("latin-1") == msg[:32]
+
+
+def test_alarm_message_bytes_come_back_identical(m: Machine, s: Session) -> None:
+    msg = bytes([0x20, 0x7E, 0x80, 0xFF, 0x01])
+    assert raise_alarm(m, s, 0, 12, 7, msg) == 0
+    assert alarms(m, s).entries[0].msg.encode("latin-1") == msg
+
+
+def test_alarm_history_ring_of_250(m: Machine, s: Session, clock: FakeClock) -> None:
+    for no in range(260):
+        assert raise_alarm(m, s, 0, 3, no, b"PS") == 0
+        clock.tick(1)
+    got = history(m, s, 250).entries
+    assert [e.alm_no for e in got] == list(range(259, 9, -1))
+    assert got[0].occurred_at - got[-1].occurred_at == timedelta(seconds=249)
+    assert [e.alm_no for e in history(m, s, 1).entries] == [259]
+
+
+@pytest.mark.parametrize("depth", [0, 251, -1, -32768])
+def test_alarm_history_bad_depth(m: Machine, s: Session, depth: int) -> None:
+    assert raw(m, s, Command.RDALMHISTRY, AlarmHistoryRequest(depth)) == b"\xff\xff\x02\x00"
+
+
+@pytest.mark.parametrize("payload", [b"", b"\x01", b"\x01\x00\x00"])
+def test_alarm_history_wrong_size(m: Machine, s: Session, payload: bytes) -> None:
+    assert raw(m, s, Command.RDALMHISTRY, payload) == b"\xff\xff\x02\x00"
+
+
+@pytest.mark.parametrize(
+    ("payload", "code"),
+    [
+        (b"\x00" * 7, EW.LENGTH),
+        (struct.pack("<4h", 0, 1, 1, 3) + b"ab", EW.LENGTH),  # msg_len does not match
+        (struct.pack("<4h", 0, 1, 1, 1) + b"ab", EW.LENGTH),
+        (struct.pack("<4h", 0, 1, 1, -1), EW.LENGTH),
+        (RaiseAlarm(0, 32, 1, b"").encode(), EW.DATA),
+        (RaiseAlarm(0, -1, 1, b"").encode(), EW.DATA),
+        (RaiseAlarm(9, 40, 1, b"").encode(), EW.DATA),  # alm_type before axis_no
+        (RaiseAlarm(0, 3, -1, b"").encode(), EW.DATA),
+        (RaiseAlarm(4, 3, 1, b"").encode(), EW.ATTRIB),
+        (RaiseAlarm(-1, 3, 1, b"").encode(), EW.ATTRIB),
+    ],
+)
+def test_raise_alarm_errors(m: Machine, s: Session, payload: bytes, code: EW) -> None:
+    before = m.state_digest()
+    assert raw(m, s, Command.SIM_RAISE_ALARM, payload) == struct.pack("<h", code)
+    assert m.state_digest() == before
+
+
+def test_raise_alarm_limits(m: Machine, s: Session) -> None:
+    assert raise_alarm(m, s, 3, 31, 0) == 0
+    assert raise_alarm(m, s, 0, 0, 32767) == 0
+    assert len(alarms(m, s).entries) == 2
+
+
+def test_clear_alarms_matching(m: Machine, s: Session) -> None:
+    for axis, typ, no in [(0, 3, 10), (0, 3, 11), (1, 6, 10), (2, 6, 411)]:
+        assert raise_alarm(m, s, axis, typ, no) == 0
+    assert ew_of(m, s, Command.SIM_CLEAR_ALARMS, ClearAlarms(-1, 10)) == 0
+    assert [a.key for a in alarms(m, s).entries] == [(0, 3, 11), (2, 6, 411)]
+    assert ew_of(m, s, Command.SIM_CLEAR_ALARMS, ClearAlarms(6, -1)) == 0
+    assert [a.key for a in alarms(m, s).entries] == [(0, 3, 11)]
+    assert ew_of(m, s, Command.SIM_CLEAR_ALARMS, ClearAlarms(9, 9)) == 0
+    assert len(alarms(m, s).entries) == 1
+    assert len(history(m, s).entries) == 4
+    assert raw(m, s, Command.SIM_CLEAR_ALARMS, b"\xff\xff") == b"\x02\x00"
+
+
+# -- operator panel ---------------------------------------------------------------------------
+
+
+@pytest.mark.parametrize(
+    "panel", [(2, 0, 0), (11, 0, 0), (-1, 0, 0), (0, 2, 0), (0, -1, 0), (0, 0, 2), (1, 1, -1)]
+)
+def test_set_panel_bad_values(m: Machine, s: Session, panel: tuple[int, int, int]) -> None:
+    before = m.state_digest()
+    assert raw(m, s, Command.SIM_SET_PANEL, SetPanel(*panel)) == b"\x05\x00"
+    assert m.state_digest() == before
+
+
+@pytest.mark.parametrize("mode", [0, 1, 3, 4, 5, 6, 7, 8, 9, 10])
+def test_set_panel_every_mode(m: Machine, s: Session, mode: int) -> None:
+    assert ew_of(m, s, Command.SIM_SET_PANEL, SetPanel(mode, 1, 0)) == 0
+    assert call(m, s, Command.RDCNCSTAT).aut == mode
+
+
+def test_set_panel_wrong_size(m: Machine, s: Session) -> None:
+    assert raw(m, s, Command.SIM_SET_PANEL, b"\x00\x00\x00\x00") == b"\x02\x00"
+
+
+# -- VersaMax ---------------------------------------------------------------------------------
+
+
+def test_versamax_mdd844_is_the_manual_example(m: Machine, s: Session) -> None:
+    answer = raw(m, s, Command.VERSAMAX_RDCONFIG, VersaMaxRequest(0, 128, 3, 0))
+    assert answer == b"\x00\x00" + MANUAL_REPLY
+    reply = call(m, s, Command.VERSAMAX_RDCONFIG, VersaMaxRequest(0, 128, 3, 0))
+    assert IOModuleRecord.decode(reply.data) == mdd844_record()
+
+
+def test_versamax_read_by_offset_reassembles(m: Machine, s: Session) -> None:
+    parts: list[bytes] = []
+    offset = 0
+    for _ in range(20):
+        reply = call(m, s, Command.VERSAMAX_RDCONFIG, VersaMaxRequest(0, 10, 3, offset))
+        assert isinstance(reply, VersaMaxReply) and reply.offset == offset
+        parts.append(reply.data)
+        offset += len(reply.data)
+        if offset >= 76:
+            break
+    assert b"".join(parts) == MANUAL_REPLY[6:]
+
+
+def test_versamax_gniu_record(m: Machine, s: Session) -> None:
+    reply = call(m, s, Command.VERSAMAX_RDCONFIG, VersaMaxRequest(0, 128, 1, 0))
+    record = IOModuleRecord.decode(reply.data)
+    assert record.label == "GBI1" and record.references == ()
+    assert record.primary_id.valid
+
+
+@pytest.mark.parametrize(
+    ("request_", "code"),
+    [
+        (VersaMaxRequest(0, 10, 0, 0), EW.NUMBER),  # power supply slot empty
+        (VersaMaxRequest(0, 10, 2, 0), EW.NUMBER),
+        (VersaMaxRequest(0, 10, 10, 0), EW.NUMBER),
+        (VersaMaxRequest(1, 10, 3, 0), EW.NUMBER),
+        (VersaMaxRequest(8, 10, 3, 0), EW.NUMBER),
+        (VersaMaxRequest(255, 0, 3, 0), EW.NUMBER),  # rack/slot before length
+        (VersaMaxRequest(0, 0, 3, 0), EW.LENGTH),
+        (VersaMaxRequest(0, 129, 3, 0), EW.LENGTH),
+        (VersaMaxRequest(0, 129, 3, 500), EW.LENGTH),  # length before offset
+        (VersaMaxRequest(0, 1, 3, 76), EW.NUMBER),
+        (VersaMaxRequest(0, 1, 3, 65535), EW.NUMBER),
+    ],
+)
+def test_versamax_errors(m: Machine, s: Session, request_: VersaMaxRequest, code: EW) -> None:
+    assert raw(m, s, Command.VERSAMAX_RDCONFIG, request_) == struct.pack("<h", code)
+
+
+def test_versamax_last_byte(m: Machine, s: Session) -> None:
+    reply = call(m, s, Command.VERSAMAX_RDCONFIG, VersaMaxRequest(0, 128, 3, 75))
+    assert reply.data == MANUAL_REPLY[-1:]
+
+
+@pytest.mark.parametrize("payload", [b"", b"\x00" * 5, b"\x00" * 7])
+def test_versamax_wrong_size(m: Machine, s: Session, payload: bytes) -> None:
+    assert raw(m, s, Command.VERSAMAX_RDCONFIG, payload) == b"\x02\x00"
+
+
+# -- control off, read-only machine, unknown commands -----------------------------------------
+
+CONTROL_REQUESTS = [
+    (Command.SIM_SET_PANEL, SetPanel(0, 1, 0).encode()),
+    (Command.SIM_RAISE_ALARM, RaiseAlarm(0, 1, 1, b"x").encode()),
+    (Command.SIM_CLEAR_ALARMS, ClearAlarms(-1, -1).encode()),
+    (Command.SIM_SET_PMC, PmcData(PmcArea.X, 0, 0, 0, b"\x01").encode()),
+]
+
+
+@pytest.mark.parametrize(("command", "payload"), CONTROL_REQUESTS)
+def test_control_disabled_answers_func(clock: FakeClock, command: int, payload: bytes) -> None:
+    m = default_machine(clock=clock, control_enabled=False)
+    s = m.new_session()
+    before = m.state_digest()
+    assert handle(m, s, command, payload) == b"\x01\x00"
+    assert handle(m, s, command, b"\x00") == b"\x01\x00"  # before the payload size
+    assert m.state_digest() == before
+
+
+def test_control_can_be_switched_off_at_run_time(m: Machine, s: Session) -> None:
+    assert ew_of(m, s, Command.SIM_SET_PANEL, SetPanel(0, 1, 0)) == 0
+    m.control_enabled = False
+    assert raw(m, s, Command.SIM_SET_PANEL, SetPanel(1, 0, 0)) == b"\x01\x00"
+    assert call(m, s, Command.RDCNCSTAT).aut == 0
+
+
+WRITE_REQUESTS = [
+    (Command.WRPARAM, ParamValue(3216, 0, 5, 2).encode()),
+    (Command.WRPARAM, ParamValue(9999, 0, 5, 2).encode()),  # before the number check
+    (Command.WRMACRO, MacroValue(100, 8, 1, 0).encode()),
+    (Command.WRMACRO, MacroValue(9999, 8, 1, 0).encode()),
+    (Command.WRPMCRNG, PmcData(PmcArea.R, 0, 0, 0, b"\x01").encode()),
+    (Command.WRPMCRNG, PmcData(PmcArea.E, 0, 0, 0, b"\x01").encode()),
+    *CONTROL_REQUESTS,
+    (Command.SIM_SET_PANEL, SetPanel(2, 0, 0).encode()),
+    (Command.SIM_RAISE_ALARM, RaiseAlarm(9, 99, 1, b"").encode()),
+]
+
+
+@pytest.mark.parametrize(("command", "payload"), WRITE_REQUESTS)
+def test_read_only_machine_protects_every_write(
+    clock: FakeClock, command: int, payload: bytes
+) -> None:
+    m = default_machine(clock=clock, read_only=True)
+    s = m.new_session()
+    before = m.state_digest()
+    assert handle(m, s, command, payload) == b"\x07\x00"
+    assert m.state_digest() == before
+
+
+def test_read_only_machine_still_reads(clock: FakeClock) -> None:
+    m = default_machine(clock=clock, read_only=True, param_password="pw")
+    s = m.new_session()
+    assert call(m, s, Command.RDCNCSTAT).aut == 1
+    assert rd_param(m, s, 1320, 1).width == 4
+    assert unlock(m, s, "pw") == 0
+    assert raw(m, s, Command.WRPARAM, b"\x00" * 7) == b"\x02\x00"  # size before protection
+
+
+@pytest.mark.parametrize("command", [0x0000, 0x0007, 0x0101, 0x0E00, 0x0E05, 0x0E06, 0xFFFF])
+def test_unknown_command(m: Machine, s: Session, command: int) -> None:
+    assert handle(m, s, command, b"") == b"\x01\x00"
+    assert handle(m, s, command, b"\x00" * 10) == b"\x01\x00"
+
+
+def test_handled_commands_are_all_but_inject_fault() -> None:
+    assert handled_commands() == frozenset(COMMANDS) - {Command.SIM_INJECT_FAULT}
+
+
+# -- robustness -------------------------------------------------------------------------------
+
+
+def _all_commands() -> Iterator[int]:
+    yield from COMMANDS
+    yield 0x0E05
+    yield 0x1234
+
+
+@settings(max_examples=400, deadline=None)
+@given(
+    command=st.sampled_from(sorted(set(_all_commands()))),
+    payload=st.binary(max_size=48),
+    read_only=st.booleans(),
+    control=st.booleans(),
+)
+def test_handle_never_raises(command: int, payload: bytes, read_only: bool, control: bool) -> None:
+    m = default_machine(read_only=read_only, control_enabled=control)
+    s = m.new_session()
+    if control and not read_only:
+        open_gate(m, s)
+    before = m.state_digest()
+    answer = handle(m, s, command, payload)
+    assert isinstance(answer, bytes) and len(answer) >= 2
+    spec = COMMANDS.get(command)
+    if spec is None or command == 0x0E05:
+        assert answer == b"\x01\x00"
+        return
+    decoded = spec.response.decode(answer)
+    failed = isinstance(decoded, EwReply) or getattr(decoded, "ew", 0) != 0
+    if failed:
+        assert m.state_digest() == before  # all-or-nothing
