@@ -8,6 +8,7 @@ repetition, so the ratio to the floor is taken pair by pair from samples measure
 from __future__ import annotations
 
 import argparse
+import functools
 import json
 import os
 import platform
@@ -18,7 +19,7 @@ import sys
 import threading
 import time
 from collections import deque
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 from dataclasses import asdict, dataclass
 from pathlib import Path
 from typing import Any
@@ -276,6 +277,13 @@ class Suite:
         log(message)
         self.results.skipped.append(message)
 
+    def guarded(self, name: str, scenario: Callable[[], None]) -> None:
+        """Run one scenario; a failure is reported and the suite goes on."""
+        try:
+            scenario()
+        except RuntimeError as exc:
+            self.skip(f"{name} failed: {exc}")
+
     def add(self, row: Row) -> None:
         self.results.rows.append(row)
 
@@ -290,12 +298,12 @@ class Suite:
                     self.skip(f"{subject} skipped: {exc}")
             for mode in THROUGHPUT_MODES:
                 if mode in self.scenarios:
-                    self.throughput(mode)
+                    self.guarded(mode, functools.partial(self.throughput, mode))
             if FOCAS in self.subjects:
                 if "pmc4k" in self.scenarios:
-                    self.pmc4k()
+                    self.guarded("pmc4k", self.pmc4k)
                 if "bitstorm" in self.scenarios:
-                    self.bitstorm()
+                    self.guarded("bitstorm", self.bitstorm)
             else:
                 for name in ("pmc4k", "bitstorm"):
                     if name in self.scenarios:
@@ -306,12 +314,12 @@ class Suite:
             self.servers.clear()
         if "fleet" in self.scenarios:
             if FOCAS in self.subjects:
-                self.fleet()
+                self.guarded("fleet", self.fleet)
             else:
                 self.skip("fleet skipped: focas_net is not available")
         try:
             if "memory" in self.scenarios:
-                self.memory()
+                self.guarded("memory", self.memory)
         finally:
             for worker in self.workers.values():
                 worker.stop()
@@ -469,7 +477,9 @@ class Suite:
         per_conn: dict[str, list[float]] = {s: [] for s in self.subjects}
         for _ in range(cfg.reps):
             for subject in self.subjects:
-                server = start_server(subject, cfg)
+                # focas_net's server takes 256 connections per machine unless told otherwise
+                extra = ("--max-connections", str(n + 16)) if subject == FOCAS else ()
+                server = start_server(subject, cfg, extra=extra)
                 try:
                     host, port = server.endpoint
                     worker = self.workers[subject]
