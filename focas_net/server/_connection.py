@@ -1,0 +1,387 @@
+"""One client connection: the per-frame data path of the server.
+
+A plain :class:`asyncio.Protocol` (no task per connection, no task per request): every chunk
+read from the socket goes through the incremental :class:`FrameDecoder`; each request is
+answered synchronously by the machine's packed adapter, and all answers produced by one chunk
+leave in one ``writelines`` call. Delayed answers (fault injection) are timer callbacks.
+
+Backpressure: reading stops while the transport's write buffer is above its high-water mark
+(``pause_writing``) or while the connection holds ``max_delayed`` delayed answers, and resumes
+when the buffer drained (``resume_writing``) or half the delayed answers went out. A client that
+never reads therefore cannot grow the server's memory beyond one read chunk's answers plus the
+write buffer's high-water mark.
+"""
+
+from __future__ import annotations
+
+import asyncio
+import logging
+from typing import TYPE_CHECKING, Any, Final
+
+from focas_net.protocol import EW, HEADER, FrameDecoder, FrameError, encode_ew
+from focas_net.sim.packed import error_payload, handle
+
+from .faults import FaultKind, FaultQueue, FaultScope, parse_inject
+
+if TYPE_CHECKING:
+    from focas_net.sim import Machine, Session
+
+    from ._server import Listener
+
+__all__ = ["Connection"]
+
+_log = logging.getLogger("focas_net.server")
+
+_pack_header = HEADER.pack
+_CONTROL_FIRST: Final = 0x0E01
+_CONTROL_LAST: Final = 0x0E05
+_INJECT_FAULT: Final = 0x0E05
+_EW_OK: Final = encode_ew(EW.OK)
+_EW_FUNC: Final = encode_ew(EW.FUNC)
+_DEBUG: Final = logging.DEBUG
+_HEXDUMP_LIMIT: Final = 256
+_DELAY_KIND: Final = FaultKind.DELAY
+_ERROR_KIND: Final = FaultKind.ERROR
+_DROP_KIND: Final = FaultKind.DROP
+
+
+def _hexdump(data: bytes | bytearray | memoryview) -> str:
+    head = bytes(data[:_HEXDUMP_LIMIT]).hex(" ")
+    return head + (f" ... ({len(data)} bytes)" if len(data) > _HEXDUMP_LIMIT else "")
+
+
+class _Delayed:
+    """An answer waiting for its delay (fault kind 1)."""
+
+    __slots__ = ("conn", "data", "timer")
+
+    def __init__(self, conn: Connection, data: bytes) -> None:
+        self.conn = conn
+        self.data = data
+        self.timer: asyncio.TimerHandle | None = None
+
+    def fire(self) -> None:
+        self.conn._send_delayed(self)
+
+
+class Connection(asyncio.Protocol):
+    """The protocol of one accepted connection."""
+
+    __slots__ = (
+        "_closing",
+        "_decoder",
+        "_delayed",
+        "_faults",
+        "_listener",
+        "_machine",
+        "_peer",
+        "_read_paused",
+        "_session",
+        "_tick",
+        "_transport",
+        "_write_paused",
+    )
+
+    def __init__(self, listener: Listener) -> None:
+        self._listener = listener
+        self._machine: Machine = listener.machine
+        self._transport: asyncio.Transport | None = None
+        self._session: Session | None = None
+        self._decoder = FrameDecoder(listener.server.max_frame)
+        self._peer: Any = None
+        self._faults: FaultQueue | None = None
+        self._delayed: set[_Delayed] | None = None
+        self._read_paused = False
+        self._write_paused = False
+        self._closing = False
+        self._tick = 0
+
+    # -- state visible to the server and to tests ------------------------------------------
+
+    @property
+    def peer(self) -> Any:
+        """The peer address (``(host, port)`` for TCP)."""
+        return self._peer
+
+    @property
+    def reading_paused(self) -> bool:
+        """True while the server does not read from this connection (backpressure)."""
+        return self._read_paused
+
+    @property
+    def delayed_count(self) -> int:
+        """Answers held back by a delay fault, not sent yet."""
+        return len(self._delayed) if self._delayed else 0
+
+    @property
+    def write_buffer_size(self) -> int:
+        """Bytes written to the transport and not yet sent."""
+        t = self._transport
+        return t.get_write_buffer_size() if t is not None else 0
+
+    @property
+    def buffered_input(self) -> int:
+        """Bytes of a partial frame held by the decoder."""
+        return self._decoder.buffered
+
+    # -- asyncio.Protocol ------------------------------------------------------------------
+
+    def connection_made(self, transport: asyncio.BaseTransport) -> None:
+        assert isinstance(transport, asyncio.Transport)
+        listener = self._listener
+        self._peer = transport.get_extra_info("peername")
+        if not listener.accepting:
+            transport.abort()
+            return
+        if len(listener.connections) >= listener.server.max_connections:
+            _log.warning(
+                "%s: connection from %s refused: %d connections is the limit",
+                listener.label,
+                self._peer,
+                listener.server.max_connections,
+            )
+            listener.refused += 1
+            transport.abort()
+            return
+        self._transport = transport
+        self._session = self._machine.new_session()
+        self._tick = listener.server._tick
+        high = listener.server.write_buffer_high
+        transport.set_write_buffer_limits(high=high, low=high // 4)
+        listener.connections.add(self)
+        listener.accepted += 1
+        _log.debug("%s: connection from %s", listener.label, self._peer)
+
+    def connection_lost(self, exc: Exception | None) -> None:
+        listener = self._listener
+        if self._transport is None:
+            return
+        self._transport = None
+        self._closing = True
+        delayed = self._delayed
+        if delayed:
+            for item in delayed:
+                if item.timer is not None:
+                    item.timer.cancel()
+            delayed.clear()
+        listener.connections.discard(self)
+        listener.server._connection_done(self)
+        _log.debug("%s: connection from %s closed (%s)", listener.label, self._peer, exc)
+
+    def pause_writing(self) -> None:
+        self._write_paused = True
+        self._update_reading()
+
+    def resume_writing(self) -> None:
+        self._write_paused = False
+        self._update_reading()
+
+    def eof_received(self) -> bool:
+        # The peer sends nothing more. Without delayed answers pending, returning False lets
+        # the transport close after flushing; otherwise keep the write side open until the
+        # last delayed answer is sent (``_send_delayed`` closes then).
+        if not self._delayed:
+            return False
+        self._closing = True
+        return True
+
+    def data_received(self, data: bytes) -> None:
+        transport = self._transport
+        if transport is None or self._closing:
+            return
+        try:
+            frames = self._decoder.feed(data)
+        except FrameError as exc:
+            self._framing_violation(exc, data)
+            return
+        if not frames:
+            return
+        listener = self._listener
+        self._tick = listener.server._tick
+        if _log.isEnabledFor(_DEBUG):
+            _log.debug("%s: from %s: %s", listener.label, self._peer, _hexdump(data))
+        machine = self._machine
+        session = self._session
+        shared = listener.faults
+        out: list[bytes] = []
+        for command, request_id, payload in frames:
+            if command == _INJECT_FAULT:
+                answer = self._inject_fault(payload)
+            else:
+                try:
+                    answer = handle(machine, session, command, payload)  # type: ignore[arg-type]
+                except Exception:
+                    _log.exception(
+                        "%s: command 0x%04X from %s failed", listener.label, command, self._peer
+                    )
+                    answer = error_payload(command, EW.REJECT)
+                if (shared.armed or self._faults is not None) and not (
+                    _CONTROL_FIRST <= command <= _CONTROL_LAST
+                ):
+                    own = self._faults
+                    fault = None
+                    if own is not None:
+                        fault = own.take()
+                        if not own.armed:
+                            self._faults = None
+                    if fault is None:
+                        fault = shared.take()
+                    if fault is not None:
+                        kind, arg = fault
+                        if kind is _ERROR_KIND:
+                            answer = error_payload(command, arg)
+                        elif kind is _DELAY_KIND:
+                            header = _pack_header(len(answer) + 4, command, request_id)
+                            self._delay(arg, header + answer)
+                            continue
+                        elif kind is _DROP_KIND:
+                            if out:
+                                transport.writelines(out)
+                            _log.info(
+                                "%s: closing the connection from %s (injected fault)",
+                                listener.label,
+                                self._peer,
+                            )
+                            self._close_now()
+                            return
+                        else:  # SPLIT: one byte per write
+                            if out:
+                                transport.writelines(out)
+                                out = []
+                            frame = _pack_header(len(answer) + 4, command, request_id) + answer
+                            write = transport.write
+                            for i in range(len(frame)):
+                                write(frame[i : i + 1])
+                            continue
+            out.append(_pack_header(len(answer) + 4, command, request_id))
+            out.append(answer)
+        if out:
+            transport.writelines(out)
+
+    # -- helpers ---------------------------------------------------------------------------
+
+    def _framing_violation(self, exc: FrameError, data: bytes) -> None:
+        listener = self._listener
+        _log.warning("%s: %s from %s: %s", listener.label, "framing violation", self._peer, exc)
+        if _log.isEnabledFor(_DEBUG):
+            _log.debug(
+                "%s: offending chunk from %s: %s", listener.label, self._peer, _hexdump(data)
+            )
+        listener.violations += 1
+        self._close_now()
+
+    def _close_now(self) -> None:
+        """Close at once without answering anything more (pending delayed answers dropped)."""
+        self._closing = True
+        delayed = self._delayed
+        if delayed:
+            for item in delayed:
+                if item.timer is not None:
+                    item.timer.cancel()
+            delayed.clear()
+        transport = self._transport
+        if transport is not None:
+            transport.close()
+
+    def _inject_fault(self, payload: bytes) -> bytes:
+        machine = self._machine
+        if not machine.control_enabled:
+            return _EW_FUNC
+        parsed = parse_inject(payload, read_only=machine.read_only)
+        if isinstance(parsed, int):
+            return encode_ew(parsed)
+        scope, fault = parsed
+        queue: FaultQueue | None
+        if scope is FaultScope.MACHINE:
+            queue = self._listener.faults
+        else:
+            queue = self._faults
+            if queue is None:
+                queue = self._faults = FaultQueue()
+        ew = queue.arm(fault)
+        if ew:
+            return encode_ew(ew)
+        _log.info("%s: %s armed by %s (%s)", self._listener.label, fault, self._peer, scope.name)
+        return _EW_OK
+
+    def _delay(self, ms: int, frame: bytes) -> None:
+        item = _Delayed(self, frame)
+        delayed = self._delayed
+        if delayed is None:
+            delayed = self._delayed = set()
+        delayed.add(item)
+        item.timer = self._listener.server._loop.call_later(ms / 1000.0, item.fire)
+        if len(delayed) >= self._listener.server.max_delayed:
+            self._update_reading()
+
+    def _send_delayed(self, item: _Delayed) -> None:
+        delayed = self._delayed
+        if delayed is None or item not in delayed:
+            return
+        delayed.discard(item)
+        item.timer = None
+        transport = self._transport
+        if transport is None:
+            return
+        transport.write(item.data)
+        if not delayed and self._closing:
+            # End of input or server shutdown: the last delayed answer is out, close.
+            transport.close()
+        elif self._read_paused:
+            self._update_reading()
+
+    def _update_reading(self) -> None:
+        transport = self._transport
+        if transport is None:
+            return
+        delayed = len(self._delayed) if self._delayed else 0
+        limit = self._listener.server.max_delayed
+        if self._read_paused:
+            if not self._write_paused and not self._closing and delayed <= limit // 2:
+                self._read_paused = False
+                transport.resume_reading()
+        elif self._write_paused or self._closing or delayed >= limit:
+            self._read_paused = True
+            transport.pause_reading()
+
+    # -- shutdown (driven by the server) ---------------------------------------------------
+
+    def begin_shutdown(self) -> None:
+        """Stop reading; close once the delayed answers (if any) are sent."""
+        self._closing = True
+        self._update_reading()
+        if not self._delayed:
+            self.close()
+
+    def flush_delayed(self) -> None:
+        """Send every delayed answer now (the grace period is over)."""
+        delayed = self._delayed
+        transport = self._transport
+        if not delayed:
+            return
+        items = sorted(delayed, key=lambda d: d.timer.when() if d.timer else 0.0)
+        delayed.clear()
+        for item in items:
+            if item.timer is not None:
+                item.timer.cancel()
+                item.timer = None
+            if transport is not None:
+                transport.write(item.data)
+
+    def close(self) -> None:
+        """Close after the write buffer drained."""
+        self._closing = True
+        transport = self._transport
+        if transport is not None:
+            transport.close()
+
+    def abort(self) -> None:
+        """Close at once, dropping anything unsent."""
+        transport = self._transport
+        if transport is not None:
+            transport.abort()
+
+    @property
+    def last_tick(self) -> int:
+        """The server's idle-sweep tick at this connection's last complete request."""
+        return self._tick

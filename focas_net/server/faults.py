@@ -1,0 +1,147 @@
+"""Fault injection (simulator control 0x0E05, PROTOCOL.md section 4): the pure part.
+
+``inject_fault`` carries ``i16 kind, i16 scope, i16 count, i32 arg``. This module validates it
+and keeps the queues of armed faults; the connection protocol (``_connection.py``) applies a
+fault to the answers it sends.
+
+* kind 1 :attr:`FaultKind.DELAY` - the answer is sent ``arg`` ms later (0..60,000); answers to
+  later requests may overtake it.
+* kind 2 :attr:`FaultKind.ERROR` - the answer is replaced by the EW code ``arg`` (non-zero,
+  within i16); a counted list answers ``count = -1`` and that code.
+* kind 3 :attr:`FaultKind.DROP` - the connection is closed instead of answering.
+* kind 4 :attr:`FaultKind.SPLIT` - the answer is sent one byte per write.
+
+``arg`` is ignored by kinds 3 and 4. ``scope`` 0 arms the fault for the connection that sent the
+command; scope 1 for the next ``count`` answers of the machine on any connection (one shared
+count). ``count`` is 1..10,000. A bad kind, scope, count or arg answers ``EW_DATA``.
+
+Faults armed in one scope form a queue: the first fault applies to the next answers until its
+count is used up, then the next one takes over. When both scopes hold a fault, the connection's
+own fault applies (and only its count goes down). The answers of control commands are never
+faulted and never count.
+"""
+
+from __future__ import annotations
+
+import enum
+from collections import deque
+from typing import Final
+
+from focas_net.protocol import EW, InjectFault, PayloadError
+
+__all__ = [
+    "MAX_ARMED_FAULTS",
+    "MAX_DELAY_MS",
+    "MAX_FAULT_COUNT",
+    "Fault",
+    "FaultKind",
+    "FaultQueue",
+    "FaultScope",
+    "parse_inject",
+]
+
+#: Longest delay a fault may ask for, in milliseconds.
+MAX_DELAY_MS: Final = 60_000
+#: Largest ``count`` of one fault.
+MAX_FAULT_COUNT: Final = 10_000
+#: Most faults one queue holds at once; arming one more answers ``EW_OVRFLOW``.
+MAX_ARMED_FAULTS: Final = 64
+
+_I16_MIN: Final = -32_768
+_I16_MAX: Final = 32_767
+
+
+class FaultKind(enum.IntEnum):
+    """What an armed fault does to an answer."""
+
+    DELAY = 1
+    ERROR = 2
+    DROP = 3
+    SPLIT = 4
+
+
+class FaultScope(enum.IntEnum):
+    """Which answers a fault applies to."""
+
+    CONNECTION = 0
+    MACHINE = 1
+
+
+class Fault:
+    """One armed fault: its kind, its argument and how many answers it still applies to."""
+
+    __slots__ = ("arg", "kind", "remaining")
+
+    def __init__(self, kind: FaultKind, arg: int, remaining: int) -> None:
+        self.kind = kind
+        self.arg = arg
+        self.remaining = remaining
+
+    def __repr__(self) -> str:
+        return f"Fault({self.kind.name}, arg={self.arg}, remaining={self.remaining})"
+
+
+class FaultQueue:
+    """Faults armed in one scope, applied in the order they were armed."""
+
+    __slots__ = ("armed",)
+
+    def __init__(self) -> None:
+        #: The armed faults, the one applying now first.
+        self.armed: deque[Fault] = deque()
+
+    def __bool__(self) -> bool:
+        return bool(self.armed)
+
+    def __len__(self) -> int:
+        return len(self.armed)
+
+    def arm(self, fault: Fault) -> int:
+        """Queue ``fault``; returns ``EW_OK``, or ``EW_OVRFLOW`` when the queue is full."""
+        if len(self.armed) >= MAX_ARMED_FAULTS:
+            return EW.OVRFLOW
+        self.armed.append(fault)
+        return EW.OK
+
+    def take(self) -> tuple[FaultKind, int] | None:
+        """The fault for the next answer as ``(kind, arg)``, counting it; None when none."""
+        faults = self.armed
+        if not faults:
+            return None
+        fault = faults[0]
+        fault.remaining -= 1
+        if fault.remaining <= 0:
+            faults.popleft()
+        return fault.kind, fault.arg
+
+    def clear(self) -> None:
+        self.armed.clear()
+
+
+def parse_inject(payload: bytes, *, read_only: bool = False) -> tuple[FaultScope, Fault] | int:
+    """Validate an ``inject_fault`` payload.
+
+    Returns ``(scope, fault)``, or the EW code to answer, checked in the order of every control
+    command: ``EW_LENGTH`` for a payload that is not 10 bytes, ``EW_PROT`` on a read-only
+    machine, ``EW_DATA`` for a bad kind, scope, count or arg. (Control switched off, answered
+    ``EW_FUNC`` before anything else, is the caller's check.)
+    """
+    try:
+        req = InjectFault.decode(payload)
+    except PayloadError:
+        return EW.LENGTH
+    if read_only:
+        return EW.PROT
+    kind, scope, count, arg = req.kind, req.scope, req.count, req.arg
+    if kind not in _KINDS or scope not in _SCOPES or not 1 <= count <= MAX_FAULT_COUNT:
+        return EW.DATA
+    if kind == FaultKind.DELAY:
+        if not 0 <= arg <= MAX_DELAY_MS:
+            return EW.DATA
+    elif kind == FaultKind.ERROR and (arg == 0 or not _I16_MIN <= arg <= _I16_MAX):
+        return EW.DATA
+    return FaultScope(scope), Fault(FaultKind(kind), arg, count)
+
+
+_KINDS: Final = frozenset(int(k) for k in FaultKind)
+_SCOPES: Final = frozenset(int(s) for s in FaultScope)
