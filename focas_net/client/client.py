@@ -1,0 +1,916 @@
+"""The typed asyncio client: :class:`FocasClient`.
+
+One TCP connection carries many calls at once (matched by request id); every method is a
+coroutine with a typed result, and every EW answer raises :class:`CncError`. See
+``docs/client.md``.
+"""
+
+# Every call takes a per-call ``timeout=`` by contract (a deadline is computed once per call and
+# shared by its chunks, lock waits and reconnect waits), so ASYNC109 does not apply here.
+# ruff: noqa: ASYNC109
+
+from __future__ import annotations
+
+import asyncio
+import enum
+import logging
+import math
+import random
+import ssl as _ssl
+from collections.abc import Callable, Sequence
+from dataclasses import dataclass
+from decimal import Decimal, InvalidOperation
+from types import TracebackType
+from typing import Any, Final, Self
+
+from ..protocol import (
+    COMMANDS,
+    DEFAULT_MAX_FRAME,
+    EW,
+    MAX_CONFIG_CHUNK,
+    MAX_HISTORY_DEPTH,
+    MAX_PMC_CHUNK,
+    ActiveAlarm,
+    ActiveAlarmList,
+    AlarmHistory,
+    AlarmHistoryRequest,
+    AlarmMsgRequest,
+    ChunkedWriteError,
+    ClearAlarms,
+    CncError,
+    CommandSpec,
+    DataRequest,
+    EwReply,
+    FocasConnectionError,
+    FocasTimeoutError,
+    InjectFault,
+    IOModuleRecord,
+    MacroRequest,
+    MacroValue,
+    ParamValue,
+    Password,
+    PayloadError,
+    PmcArea,
+    PmcData,
+    PmcRange,
+    RaiseAlarm,
+    SetPanel,
+    StatusInfo,
+    SysInfo,
+    VersaMaxReply,
+    VersaMaxRequest,
+)
+from ..protocol import Command as C
+from ._locks import KeyedLocks
+from .connection import Connection, NotSentError, open_connection
+
+__all__ = [
+    "ClientState",
+    "FaultKind",
+    "FaultScope",
+    "FocasClient",
+    "ReconnectPolicy",
+    "SimControl",
+]
+
+logger = logging.getLogger(__name__)
+
+_RDCNCSTAT: Final = COMMANDS[C.RDCNCSTAT]
+_SYSINFO: Final = COMMANDS[C.SYSINFO]
+_RDPARAM: Final = COMMANDS[C.RDPARAM]
+_RDDIAG: Final = COMMANDS[C.RDDIAG]
+_RDMACRO: Final = COMMANDS[C.RDMACRO]
+_RDALMMSG: Final = COMMANDS[C.RDALMMSG]
+_RDPMCRNG: Final = COMMANDS[C.RDPMCRNG]
+_WRPARAM: Final = COMMANDS[C.WRPARAM]
+_WRMACRO: Final = COMMANDS[C.WRMACRO]
+_WRPMCRNG: Final = COMMANDS[C.WRPMCRNG]
+_UNLOCK: Final = COMMANDS[C.WRUNLOCKPARAM]
+_RDCONFIG: Final = COMMANDS[C.VERSAMAX_RDCONFIG]
+_SET_PANEL: Final = COMMANDS[C.SIM_SET_PANEL]
+_RAISE_ALARM: Final = COMMANDS[C.SIM_RAISE_ALARM]
+_CLEAR_ALARMS: Final = COMMANDS[C.SIM_CLEAR_ALARMS]
+_SET_PMC: Final = COMMANDS[C.SIM_SET_PMC]
+_INJECT_FAULT: Final = COMMANDS[C.SIM_INJECT_FAULT]
+_RDALMHISTRY: Final = COMMANDS[C.RDALMHISTRY]
+
+_EMPTY: Final = b""
+_MAX_ACTIVE_ALARMS: Final = 32
+_I32_MIN: Final = -(2**31)
+_I32_MAX: Final = 2**31 - 1
+_MAX_MACRO_DECIMALS: Final = 9
+_U16_LIMIT: Final = 0x10000
+_CLOSE_GRACE: Final = 2.0
+
+AreaLike = str | int | PmcArea
+
+
+class ClientState(enum.Enum):
+    """Where a :class:`FocasClient` stands."""
+
+    #: Not connected: before :meth:`FocasClient.connect`, or after a loss without reconnect.
+    DISCONNECTED = "disconnected"
+    #: Connected; calls are sent at once.
+    CONNECTED = "connected"
+    #: The connection was lost and the reconnect policy is trying again; calls wait.
+    RECONNECTING = "reconnecting"
+    #: :meth:`FocasClient.aclose` was called; final.
+    CLOSED = "closed"
+
+
+class FaultKind(enum.IntEnum):
+    """``kind`` of the simulator's fault injection (0x0E05)."""
+
+    DELAY = 1  #: answer ``arg`` milliseconds late
+    EW = 2  #: answer with EW code ``arg`` instead
+    CLOSE = 3  #: close the connection instead of answering
+    SPLIT = 4  #: send the answer one byte per write
+
+
+class FaultScope(enum.IntEnum):
+    """``scope`` of the simulator's fault injection (0x0E05)."""
+
+    CONNECTION = 0  #: answers on this connection
+    MACHINE = 1  #: answers of this machine on any connection (one shared count)
+
+
+@dataclass(frozen=True, slots=True)
+class ReconnectPolicy:
+    """Exponential backoff with jitter and a cap.
+
+    The delay before attempt ``n`` (0-based) is ``min(max_delay, initial_delay * factor**n)``,
+    reduced by a random fraction of at most ``jitter`` so that many clients of one server do
+    not reconnect in lock step. ``max_attempts=None`` retries for ever.
+    """
+
+    initial_delay: float = 0.1
+    max_delay: float = 10.0
+    factor: float = 2.0
+    jitter: float = 0.25
+    max_attempts: int | None = None
+
+    def __post_init__(self) -> None:
+        if self.initial_delay < 0 or self.max_delay < 0:
+            raise ValueError("reconnect delays must not be negative")
+        if self.factor < 1:
+            raise ValueError(f"factor must be at least 1, got {self.factor}")
+        if not 0 <= self.jitter <= 1:
+            raise ValueError(f"jitter must be within 0..1, got {self.jitter}")
+        if self.max_attempts is not None and self.max_attempts < 1:
+            raise ValueError("max_attempts must be at least 1 (or None)")
+
+    def delay(self, attempt: int) -> float:
+        """Seconds to wait before attempt ``attempt`` (0-based)."""
+        try:
+            base = min(self.max_delay, self.initial_delay * self.factor**attempt)
+        except OverflowError:
+            base = self.max_delay
+        return base * (1.0 - self.jitter * random.random())
+
+
+StateCallback = Callable[[ClientState], None]
+
+
+def _check_u16_range(start: int, count: int) -> None:
+    if not 0 <= start < _U16_LIMIT:
+        raise ValueError(f"start address {start} outside 0..65535")
+    if count < 1 or start + count > _U16_LIMIT:
+        raise ValueError(f"count {count} at {start}: must be at least 1 and end by 65535")
+
+
+def _check_bit(bit: int, width: int = 1) -> None:
+    if not 0 <= bit < 8 * width:
+        raise ValueError(f"bit {bit} outside 0..{8 * width - 1}")
+
+
+def _chunks(start: int, count: int) -> list[tuple[int, int]]:
+    """``(first, count)`` of consecutive chunks of at most 32 bytes."""
+    return [(a, min(MAX_PMC_CHUNK, start + count - a)) for a in range(start, start + count, 32)]
+
+
+def _merge(spans: list[tuple[int, int]]) -> list[tuple[int, int]]:
+    """Merge sorted inclusive ``(first, last)`` spans that touch."""
+    merged: list[tuple[int, int]] = []
+    for first, last in spans:
+        if merged and merged[-1][1] + 1 == first:
+            merged[-1] = (merged[-1][0], last)
+        else:
+            merged.append((first, last))
+    return merged
+
+
+def macro_to_wire(value: int | Decimal | float | str) -> tuple[int, int]:
+    """``(mcr_val, dec_val)`` for ``value``; :class:`ValueError` when it cannot be carried.
+
+    An ``int`` keeps ``dec_val = 0``; a ``Decimal`` or string keeps the digits it was given
+    (``"1.50"`` -> ``(150, 2)``) when they fit, else the fewest that represent it exactly; a
+    ``float`` uses its shortest decimal form (``0.1`` -> ``(1, 1)``). ``dec_val`` is 0..9 and
+    ``mcr_val`` an i32.
+    """
+    if isinstance(value, bool):
+        raise ValueError("a macro value must be a number, not a bool")
+    if isinstance(value, int):
+        if not _I32_MIN <= value <= _I32_MAX:
+            raise ValueError(f"macro value {value} does not fit mcr_val (i32)")
+        return value, 0
+    if isinstance(value, float):
+        if not math.isfinite(value):
+            raise ValueError(f"macro value {value} is not finite")
+        dec = Decimal(repr(value))
+    elif isinstance(value, Decimal):
+        dec = value
+    elif isinstance(value, str):
+        try:
+            dec = Decimal(value.strip())
+        except InvalidOperation:
+            raise ValueError(f"not a number: {value!r}") from None
+    else:
+        raise ValueError(f"a macro value must be int, Decimal, float or str, not {value!r}")
+    if not dec.is_finite():
+        raise ValueError(f"macro value {value} is not finite")
+    for candidate in (dec, dec.normalize()):
+        exponent = candidate.as_tuple().exponent
+        assert isinstance(exponent, int)
+        places = max(0, -exponent)
+        if places > _MAX_MACRO_DECIMALS:
+            continue
+        mcr = int(candidate.scaleb(places))
+        if _I32_MIN <= mcr <= _I32_MAX:
+            return mcr, places
+    raise ValueError(f"macro value {value} cannot be carried as mcr_val (i32) / 10**dec_val (0..9)")
+
+
+def macro_from_wire(mcr_val: int, dec_val: int) -> Decimal | None:
+    """The value of an ODBM: ``mcr_val / 10**dec_val``, or None when vacant."""
+    if mcr_val == 0 and dec_val == -1:
+        return None
+    return Decimal(mcr_val).scaleb(-dec_val)
+
+
+class FocasClient:
+    """An asyncio client of the packed FOCAS protocol.
+
+    Use it as ``async with FocasClient(host) as cnc: ...`` or call :meth:`connect` and
+    :meth:`aclose`. Every method accepts ``timeout=`` (seconds) overriding the default for
+    that call; the timeout covers the whole call (waiting for a free request slot, for a
+    reconnect, for a bit lock, and every chunk of a chunked PMC call).
+
+    ``reconnect`` is ``False`` (a lost connection stays lost), ``True`` (the default
+    :class:`ReconnectPolicy`) or a :class:`ReconnectPolicy`. ``password`` is sent with
+    ``cnc_wrunlockparam`` after every connect and again, followed by one retry, when a call
+    answers ``EW_PASSWD``.
+    """
+
+    def __init__(
+        self,
+        host: str,
+        port: int = 8193,
+        *,
+        timeout: float | None = 3.0,
+        max_in_flight: int = 64,
+        password: str | bytes | None = None,
+        reconnect: bool | ReconnectPolicy = False,
+        max_frame: int = DEFAULT_MAX_FRAME,
+        ssl: _ssl.SSLContext | None = None,
+        server_hostname: str | None = None,
+        on_state_change: StateCallback | None = None,
+    ) -> None:
+        if max_in_flight < 1:
+            raise ValueError(f"max_in_flight must be at least 1, got {max_in_flight}")
+        if timeout is not None and timeout <= 0:
+            raise ValueError(f"timeout must be positive, got {timeout}")
+        self.host = host
+        self.port = port
+        self.timeout = timeout
+        self.max_in_flight = max_in_flight
+        self.max_frame = max_frame
+        self._ssl = ssl
+        self._server_hostname = server_hostname
+        self._password = password
+        if reconnect is True:
+            self._policy: ReconnectPolicy | None = ReconnectPolicy()
+        elif reconnect is False:
+            self._policy = None
+        else:
+            self._policy = reconnect
+        self._state = ClientState.DISCONNECTED
+        self._callbacks: list[StateCallback] = []
+        if on_state_change is not None:
+            self._callbacks.append(on_state_change)
+        self._conn: Connection | None = None
+        self._loop: asyncio.AbstractEventLoop | None = None
+        self._ready: asyncio.Event | None = None
+        self._reconnect_task: asyncio.Task[None] | None = None
+        self._param_widths: dict[int, int] = {}
+        self._pmc_locks: KeyedLocks[tuple[int, int]] = KeyedLocks()
+        self._param_locks: KeyedLocks[tuple[int, int]] = KeyedLocks()
+        self.sim = SimControl(self)
+
+    def __repr__(self) -> str:
+        return f"<FocasClient {self.host}:{self.port} {self._state.value}>"
+
+    # -- lifecycle -----------------------------------------------------------------------
+    @property
+    def state(self) -> ClientState:
+        """The current :class:`ClientState`."""
+        return self._state
+
+    @property
+    def connected(self) -> bool:
+        return self._state is ClientState.CONNECTED
+
+    @property
+    def reconnect_policy(self) -> ReconnectPolicy | None:
+        return self._policy
+
+    def add_state_callback(self, callback: StateCallback) -> None:
+        """Call ``callback(state)`` on every state change (exceptions are logged)."""
+        self._callbacks.append(callback)
+
+    def remove_state_callback(self, callback: StateCallback) -> None:
+        self._callbacks.remove(callback)
+
+    def _set_state(self, state: ClientState) -> None:
+        if state is self._state:
+            return
+        self._state = state
+        logger.info("%s:%s %s", self.host, self.port, state.value)
+        for callback in tuple(self._callbacks):
+            try:
+                callback(state)
+            except Exception:
+                logger.exception("state callback %r failed", callback)
+
+    async def __aenter__(self) -> Self:
+        await self.connect()
+        return self
+
+    async def __aexit__(
+        self,
+        exc_type: type[BaseException] | None,
+        exc: BaseException | None,
+        tb: TracebackType | None,
+    ) -> None:
+        await self.aclose()
+
+    async def connect(self) -> None:
+        """Open the connection (and unlock when a password was given).
+
+        Raises :class:`FocasConnectionError` (or :class:`FocasTimeoutError`) when the server
+        cannot be reached, :class:`AccessDeniedError` when the password is refused. The
+        first connection is not retried; the reconnect policy applies to later losses.
+        """
+        if self._state is ClientState.CLOSED:
+            raise FocasConnectionError("client is closed")
+        if self._conn is not None and not self._conn.closed:
+            return
+        self._loop = asyncio.get_running_loop()
+        if self._ready is None:
+            self._ready = asyncio.Event()
+        conn = await self._open(self._deadline(None), strict=True)
+        if self.state is ClientState.CLOSED:  # closed while connecting
+            conn.close()
+            await conn.wait_closed()
+            raise FocasConnectionError("client is closed")
+        self._install(conn)
+
+    async def aclose(self) -> None:
+        """Close the connection; pending calls fail with :class:`FocasConnectionError`."""
+        self._set_state(ClientState.CLOSED)
+        task, self._reconnect_task = self._reconnect_task, None
+        if task is not None and not task.done():
+            task.cancel()
+            await asyncio.wait([task])
+        conn, self._conn = self._conn, None
+        if self._ready is not None:
+            self._ready.set()
+        if conn is not None:
+            conn.close()
+            try:
+                async with asyncio.timeout(_CLOSE_GRACE):
+                    await conn.wait_closed()
+            except TimeoutError:
+                conn.abort()
+
+    async def _open(self, deadline: float | None, *, strict: bool) -> Connection:
+        conn = await open_connection(
+            self.host,
+            self.port,
+            deadline=deadline,
+            max_in_flight=self.max_in_flight,
+            max_frame=self.max_frame,
+            ssl=self._ssl,
+            server_hostname=self._server_hostname,
+            on_lost=self._on_lost,
+        )
+        if self._password is not None:
+            try:
+                await self._unlock_on(conn, self._password, deadline)
+            except CncError as exc:
+                if strict:
+                    conn.close()
+                    await conn.wait_closed()
+                    raise
+                logger.warning("%s:%s: unlock after reconnect refused: %s", *self._addr, exc)
+            except BaseException:
+                conn.close()
+                raise
+        return conn
+
+    @property
+    def _addr(self) -> tuple[str, int]:
+        return (self.host, self.port)
+
+    def _install(self, conn: Connection) -> None:
+        self._conn = conn
+        self._set_state(ClientState.CONNECTED)
+        if self._ready is not None:
+            self._ready.set()
+
+    def _on_lost(self, conn: Connection, exc: BaseException | None) -> None:
+        if conn is not self._conn:
+            return
+        self._conn = None
+        if self._state is ClientState.CLOSED:
+            return
+        if self._policy is None:
+            logger.warning("connection to %s:%s lost: %s", self.host, self.port, exc or "closed")
+            self._set_state(ClientState.DISCONNECTED)
+            return
+        logger.warning("connection to %s:%s lost (%s); reconnecting", *self._addr, exc or "closed")
+        assert self._ready is not None and self._loop is not None
+        self._ready.clear()
+        self._set_state(ClientState.RECONNECTING)
+        if self._reconnect_task is None or self._reconnect_task.done():
+            self._reconnect_task = self._loop.create_task(
+                self._reconnect(self._policy), name=f"focas-reconnect {self.host}:{self.port}"
+            )
+
+    async def _reconnect(self, policy: ReconnectPolicy) -> None:
+        attempt = 0
+        try:
+            while policy.max_attempts is None or attempt < policy.max_attempts:
+                await asyncio.sleep(policy.delay(attempt))
+                attempt += 1
+                try:
+                    conn = await self._open(self._deadline(None), strict=False)
+                except (FocasConnectionError, FocasTimeoutError) as exc:
+                    logger.debug("reconnect attempt %d to %s:%s: %s", attempt, *self._addr, exc)
+                    continue
+                if conn.closed:
+                    continue
+                self._install(conn)
+                return
+            logger.warning(
+                "giving up reconnecting to %s:%s after %d attempts", *self._addr, attempt
+            )
+            self._set_state(ClientState.DISCONNECTED)
+        finally:
+            if self._ready is not None:
+                self._ready.set()
+
+    async def _connection(self, deadline: float | None) -> Connection:
+        """The live connection, waiting (until ``deadline``) while reconnecting."""
+        while True:
+            conn = self._conn
+            if conn is not None:
+                if not conn.closed:
+                    return conn
+                self._on_lost(conn, None)  # closing but connection_lost not run yet
+                continue
+            state = self._state
+            if state is ClientState.CLOSED:
+                raise FocasConnectionError("client is closed")
+            if state is not ClientState.RECONNECTING or self._ready is None:
+                raise FocasConnectionError(f"not connected to {self.host}:{self.port}")
+            try:
+                async with asyncio.timeout_at(deadline):
+                    await self._ready.wait()
+            except TimeoutError:
+                raise FocasConnectionError(
+                    f"still reconnecting to {self.host}:{self.port} when the call timed out"
+                ) from None
+
+    # -- the request path ----------------------------------------------------------------
+    def _deadline(self, timeout: float | None) -> float | None:
+        t = self.timeout if timeout is None else timeout
+        if t is None:
+            return None
+        loop = self._loop or asyncio.get_running_loop()
+        return loop.time() + t
+
+    async def _request(self, spec: CommandSpec, payload: bytes, deadline: float | None) -> Any:
+        """Send one request (through reconnects) and decode its answer; EW -> CncError."""
+        retried_unlock = False
+        while True:
+            conn = self._conn
+            if conn is None or conn.closed:
+                conn = await self._connection(deadline)
+            try:
+                raw = await conn.request(spec.command, payload, deadline)
+            except NotSentError:
+                if self._policy is None:
+                    raise
+                continue  # never reached the peer: safe to send on the next connection
+            value = spec.response.decode(raw)
+            if type(value) is EwReply:
+                password = self._password
+                if (
+                    value.ew == EW.PASSWD
+                    and password is not None
+                    and not retried_unlock
+                    and spec is not _UNLOCK
+                ):
+                    retried_unlock = True
+                    await self._unlock_on(conn, password, deadline)
+                    continue
+                raise CncError.from_ew(value.ew, spec.focas_name)
+            return value
+
+    async def _unlock_on(
+        self, conn: Connection, password: str | bytes, deadline: float | None
+    ) -> None:
+        raw = await conn.request(
+            _UNLOCK.command, _UNLOCK.request.encode(Password.from_text(password)), deadline
+        )
+        value = _UNLOCK.response.decode(raw)
+        if type(value) is EwReply:
+            raise CncError.from_ew(value.ew, _UNLOCK.focas_name)
+
+    async def _call(self, spec: CommandSpec, payload: bytes, timeout: float | None) -> Any:
+        return await self._request(spec, payload, self._deadline(timeout))
+
+    # -- status --------------------------------------------------------------------------
+    async def read_status(self, *, timeout: float | None = None) -> StatusInfo:
+        """``cnc_rdcncstat``: the ODBST status (mode, run state, alarm, emergency, ...)."""
+        result: StatusInfo = await self._request(_RDCNCSTAT, _EMPTY, self._deadline(timeout))
+        return result
+
+    async def read_sysinfo(self, *, timeout: float | None = None) -> SysInfo:
+        """``cnc_sysinfo``: ODBSYS (CNC type, series, version, axes)."""
+        result: SysInfo = await self._call(_SYSINFO, _EMPTY, timeout)
+        return result
+
+    # -- parameters and diagnostics ------------------------------------------------------
+    async def _read_param_value(self, number: int, axis: int, deadline: float | None) -> ParamValue:
+        payload = _RDPARAM.request.encode(DataRequest(number, axis))
+        value: ParamValue = await self._request(_RDPARAM, payload, deadline)
+        self._param_widths[number] = value.width
+        return value
+
+    async def read_param_value(
+        self, number: int, *, axis: int = 0, timeout: float | None = None
+    ) -> ParamValue:
+        """``cnc_rdparam`` as an IODBPSD: the value and its width (1, 2 or 4 bytes)."""
+        return await self._read_param_value(number, axis, self._deadline(timeout))
+
+    async def read_param(self, number: int, *, axis: int = 0, timeout: float | None = None) -> int:
+        """``cnc_rdparam``: the value of parameter ``number`` (``axis`` 1..n for axis items)."""
+        value = await self._read_param_value(number, axis, self._deadline(timeout))
+        return value.value
+
+    async def write_param(
+        self,
+        number: int,
+        value: int,
+        *,
+        axis: int = 0,
+        width: int | None = None,
+        timeout: float | None = None,
+    ) -> None:
+        """``cnc_wrparam``: write ``value`` with ``width`` bytes (1, 2 or 4).
+
+        With ``width=None`` the width is the one the CNC reported for this parameter; the
+        first time it is learnt by one read and then cached.
+        """
+        deadline = self._deadline(timeout)
+        learnt = False
+        if width is None:
+            cached = self._param_widths.get(number)
+            if cached is None:
+                width = (await self._read_param_value(number, axis, deadline)).width
+                learnt = True
+            else:
+                width = cached
+        elif width not in (1, 2, 4):
+            raise ValueError(f"parameter width must be 1, 2 or 4, got {width}")
+        payload = _WRPARAM.request.encode(ParamValue(number, axis, value, width))
+        try:
+            await self._request(_WRPARAM, payload, deadline)
+        except CncError as exc:
+            if exc.ew == EW.LENGTH and not learnt:
+                self._param_widths.pop(number, None)  # stale width: learn it again next time
+            raise
+
+    async def write_param_bit(
+        self,
+        number: int,
+        bit: int,
+        value: bool,
+        *,
+        axis: int = 0,
+        timeout: float | None = None,
+    ) -> None:
+        """Set or clear one bit of a bit-type parameter (``1815.0``) by read-modify-write.
+
+        Writes to the same ``(number, axis)`` are serialised by a lock; others run in
+        parallel.
+        """
+        _check_bit(bit, 4)
+        deadline = self._deadline(timeout)
+        async with self._param_locks.hold((number, axis), deadline):
+            current = await self._read_param_value(number, axis, deadline)
+            width = current.width
+            _check_bit(bit, width)
+            bits = 8 * width
+            raw = current.value & ((1 << bits) - 1)
+            raw = raw | (1 << bit) if value else raw & ~(1 << bit)
+            if raw >= 1 << (bits - 1):
+                raw -= 1 << bits
+            payload = _WRPARAM.request.encode(ParamValue(number, axis, raw, width))
+            await self._request(_WRPARAM, payload, deadline)
+
+    async def read_diag(self, number: int, *, axis: int = 0, timeout: float | None = None) -> int:
+        """``cnc_rddiag``: the value of diagnostic ``number``."""
+        payload = _RDDIAG.request.encode(DataRequest(number, axis))
+        value: ParamValue = await self._call(_RDDIAG, payload, timeout)
+        return value.value
+
+    # -- macros --------------------------------------------------------------------------
+    async def read_macro(self, number: int, *, timeout: float | None = None) -> Decimal | None:
+        """``cnc_rdmacro``: the value of ``#number`` as a Decimal, or None when vacant."""
+        payload = _RDMACRO.request.encode(MacroRequest(number))
+        value: MacroValue = await self._call(_RDMACRO, payload, timeout)
+        return macro_from_wire(value.mcr_val, value.dec_val)
+
+    async def write_macro(
+        self, number: int, value: int | Decimal | float | str, *, timeout: float | None = None
+    ) -> None:
+        """``cnc_wrmacro``: write ``#number``; see :func:`macro_to_wire` for the scaling.
+
+        A value that cannot be carried raises :class:`ValueError` before anything is sent.
+        """
+        mcr_val, dec_val = macro_to_wire(value)
+        payload = _WRMACRO.request.encode(MacroValue(number, 8, mcr_val, dec_val))
+        await self._call(_WRMACRO, payload, timeout)
+
+    # -- PMC -----------------------------------------------------------------------------
+    async def _read_pmc_chunk(
+        self, area: PmcArea, start: int, count: int, deadline: float | None
+    ) -> bytes:
+        payload = _RDPMCRNG.request.encode(PmcRange(area, 0, start, start + count - 1))
+        value: PmcData = await self._request(_RDPMCRNG, payload, deadline)
+        if len(value.data) != count or value.datano_s != start:
+            raise PayloadError(
+                f"pmc_rdpmcrng answer: {len(value.data)} bytes from {value.datano_s}, "
+                f"asked {count} from {start}"
+            )
+        return value.data
+
+    async def read_pmc(
+        self, area: AreaLike, start: int, count: int, *, timeout: float | None = None
+    ) -> bytes:
+        """``pmc_rdpmcrng``: ``count`` bytes of ``area`` (``"R"`` or :class:`PmcArea`) from
+        ``start``. Ranges over 32 bytes are read as concurrent 32-byte calls."""
+        a = PmcArea.parse(area)
+        _check_u16_range(start, count)
+        deadline = self._deadline(timeout)
+        if count <= MAX_PMC_CHUNK:
+            return await self._read_pmc_chunk(a, start, count, deadline)
+        parts = await _all_or_first_error(
+            [self._read_pmc_chunk(a, s, n, deadline) for s, n in _chunks(start, count)]
+        )
+        return b"".join(parts)
+
+    async def _write_pmc_range(
+        self, spec: CommandSpec, area: AreaLike, start: int, data: bytes, deadline: float | None
+    ) -> None:
+        a = PmcArea.parse(area)
+        data = bytes(data)
+        _check_u16_range(start, len(data))
+        if len(data) <= MAX_PMC_CHUNK:
+            payload = spec.request.encode(PmcData(a, 0, start, start + len(data) - 1, data))
+            await self._request(spec, payload, deadline)
+            return
+        chunks = _chunks(start, len(data))
+        coros = []
+        for first, n in chunks:
+            piece = data[first - start : first - start + n]
+            payload = spec.request.encode(PmcData(a, 0, first, first + n - 1, piece))
+            coros.append(self._request(spec, payload, deadline))
+        results = await asyncio.gather(*coros, return_exceptions=True)
+        failures = [r for r in results if isinstance(r, BaseException)]
+        if not failures:
+            return
+        written: list[tuple[int, int]] = []
+        not_written: list[tuple[int, int]] = []
+        for (first, n), result in zip(chunks, results, strict=True):
+            span = (first, first + n - 1)
+            (not_written if isinstance(result, BaseException) else written).append(span)
+        cause = failures[0]
+        if not isinstance(cause, Exception):  # a BaseException such as KeyboardInterrupt
+            raise cause
+        raise ChunkedWriteError(a.name, _merge(written), _merge(not_written), cause) from cause
+
+    async def write_pmc(
+        self, area: AreaLike, start: int, data: bytes, *, timeout: float | None = None
+    ) -> None:
+        """``pmc_wrpmcrng``: write ``data`` to ``area`` from ``start``.
+
+        Over 32 bytes the write is split into concurrent 32-byte calls; if any fails,
+        :class:`ChunkedWriteError` lists the byte ranges written and not written.
+        """
+        await self._write_pmc_range(_WRPMCRNG, area, start, data, self._deadline(timeout))
+
+    async def read_pmc_bit(
+        self, area: AreaLike, byte: int, bit: int, *, timeout: float | None = None
+    ) -> bool:
+        """One bit of a PMC byte (``R100.3`` is ``read_pmc_bit("R", 100, 3)``)."""
+        _check_bit(bit)
+        data = await self.read_pmc(area, byte, 1, timeout=timeout)
+        return bool(data[0] >> bit & 1)
+
+    async def write_pmc_bit(
+        self,
+        area: AreaLike,
+        byte: int,
+        bit: int,
+        value: bool,
+        *,
+        timeout: float | None = None,
+    ) -> None:
+        """Set or clear one PMC bit: read the byte, change the bit, write the byte back,
+        under a lock of ``(area, byte)`` so that concurrent bit writes never lose one another."""
+        a = PmcArea.parse(area)
+        _check_bit(bit)
+        _check_u16_range(byte, 1)
+        deadline = self._deadline(timeout)
+        async with self._pmc_locks.hold((a.value, byte), deadline):
+            current = (await self._read_pmc_chunk(a, byte, 1, deadline))[0]
+            new = current | (1 << bit) if value else current & ~(1 << bit)
+            payload = _WRPMCRNG.request.encode(PmcData(a, 0, byte, byte, bytes((new,))))
+            await self._request(_WRPMCRNG, payload, deadline)
+
+    # -- alarms --------------------------------------------------------------------------
+    async def read_alarms(
+        self, *, alm_type: int = -1, timeout: float | None = None
+    ) -> tuple[ActiveAlarm, ...]:
+        """``cnc_rdalmmsg``: the active alarms (all types, or only ``alm_type``), oldest
+        first. An error answer (count = -1) raises :class:`CncError`."""
+        payload = _RDALMMSG.request.encode(AlarmMsgRequest(alm_type, _MAX_ACTIVE_ALARMS))
+        result: ActiveAlarmList = await self._call(_RDALMMSG, payload, timeout)
+        if result.ew:
+            raise CncError.from_ew(result.ew, _RDALMMSG.focas_name)
+        return result.entries
+
+    async def read_alarm_history(
+        self, depth: int = 10, *, timeout: float | None = None
+    ) -> AlarmHistory:
+        """``cnc_rdalmhistry``: up to ``depth`` (clamped to 1..250) most recent entries,
+        newest first. A negative count gives no entries and ``ew`` set; it never raises for
+        the content of the answer."""
+        depth = min(max(int(depth), 1), MAX_HISTORY_DEPTH)
+        payload = _RDALMHISTRY.request.encode(AlarmHistoryRequest(depth))
+        result: AlarmHistory = await self._call(_RDALMHISTRY, payload, timeout)
+        return result
+
+    # -- unlock --------------------------------------------------------------------------
+    async def unlock(self, password: str | bytes, *, timeout: float | None = None) -> None:
+        """``cnc_wrunlockparam``: unlock parameter writes on this connection.
+
+        On success the password is kept and sent again after every reconnect. A refused
+        password raises :class:`AccessDeniedError` (and the connection is locked).
+        """
+        payload = _UNLOCK.request.encode(Password.from_text(password))
+        await self._call(_UNLOCK, payload, timeout)
+        self._password = password
+
+    # -- VersaMax ------------------------------------------------------------------------
+    async def _config_chunk(
+        self, rack: int, slot: int, offset: int, deadline: float | None
+    ) -> bytes:
+        request = VersaMaxRequest(rack, MAX_CONFIG_CHUNK, slot, offset)
+        reply: VersaMaxReply = await self._request(
+            _RDCONFIG, _RDCONFIG.request.encode(request), deadline
+        )
+        if (reply.rack, reply.slot, reply.offset) != (rack, slot, offset):
+            raise PayloadError(
+                f"versamax_rdconfig answer for rack {reply.rack} slot {reply.slot} offset "
+                f"{reply.offset}, asked rack {rack} slot {slot} offset {offset}"
+            )
+        return reply.data
+
+    async def read_config_record(
+        self, rack: int, slot: int, *, timeout: float | None = None
+    ) -> bytes:
+        """The whole configuration record of ``rack``/``slot``, read 128 bytes at a time by
+        offset and reassembled."""
+        deadline = self._deadline(timeout)
+        parts: list[bytes] = []
+        offset = 0
+        while offset < _U16_LIMIT:
+            try:
+                chunk = await self._config_chunk(rack, slot, offset, deadline)
+            except CncError as exc:
+                if offset and exc.ew == EW.NUMBER:
+                    break  # the record ended exactly at a chunk boundary
+                raise
+            parts.append(chunk)
+            if len(chunk) < MAX_CONFIG_CHUNK:
+                break
+            offset += MAX_CONFIG_CHUNK
+        return b"".join(parts)
+
+    async def read_module_config(
+        self, rack: int, slot: int, *, timeout: float | None = None
+    ) -> IOModuleRecord:
+        """``versamax_rdconfig``: the decoded configuration record of an I/O module."""
+        return IOModuleRecord.decode(await self.read_config_record(rack, slot, timeout=timeout))
+
+
+async def _all_or_first_error(coros: Sequence[Any]) -> list[Any]:
+    """Run ``coros`` concurrently; on the first failure cancel the rest and raise it."""
+    loop = asyncio.get_running_loop()
+    tasks = [loop.create_task(c) for c in coros]
+    try:
+        await asyncio.wait(tasks, return_when=asyncio.FIRST_EXCEPTION)
+    finally:
+        unfinished = [t for t in tasks if not t.done()]
+        for t in unfinished:
+            t.cancel()
+        if unfinished:
+            await asyncio.wait(unfinished)
+    for t in tasks:
+        if not t.cancelled() and t.exception() is not None:
+            raise t.exception()  # type: ignore[misc]
+    return [t.result() for t in tasks]
+
+
+class SimControl:
+    """The simulator control commands (0x0E01..0x0E05), as ``client.sim``.
+
+    A real CNC, or a server with control disabled, answers them with ``EW_FUNC``.
+    """
+
+    __slots__ = ("_client",)
+
+    def __init__(self, client: FocasClient) -> None:
+        self._client = client
+
+    async def set_panel(
+        self,
+        mode: int,
+        *,
+        pwe: bool = False,
+        emergency: bool = False,
+        timeout: float | None = None,
+    ) -> None:
+        """Set the operator panel: ``mode`` (an ``aut`` value: 0 MDI, 1 MEM, 3 EDIT, ...),
+        parameter write enable and emergency stop (all three are set)."""
+        payload = _SET_PANEL.request.encode(SetPanel(mode, int(pwe), int(emergency)))
+        await self._client._call(_SET_PANEL, payload, timeout)
+
+    async def raise_alarm(
+        self,
+        alm_type: int,
+        alm_no: int,
+        msg: str = "",
+        *,
+        axis_no: int = 0,
+        timeout: float | None = None,
+    ) -> None:
+        """Raise an alarm (a no-op when the same ``(axis_no, alm_type, alm_no)`` is active)."""
+        try:
+            raw = msg.encode("ascii")
+        except UnicodeEncodeError:
+            raise ValueError(f"alarm message must be ASCII: {msg!r}") from None
+        payload = _RAISE_ALARM.request.encode(RaiseAlarm(axis_no, alm_type, alm_no, raw))
+        await self._client._call(_RAISE_ALARM, payload, timeout)
+
+    async def clear_alarms(
+        self, alm_type: int = -1, alm_no: int = -1, *, timeout: float | None = None
+    ) -> None:
+        """Clear the matching active alarms (-1 matches any); the history is kept."""
+        payload = _CLEAR_ALARMS.request.encode(ClearAlarms(alm_type, alm_no))
+        await self._client._call(_CLEAR_ALARMS, payload, timeout)
+
+    async def set_pmc(
+        self, area: AreaLike, start: int, data: bytes, *, timeout: float | None = None
+    ) -> None:
+        """Write PMC bytes ignoring write protection (to drive X and F inputs); chunked like
+        :meth:`FocasClient.write_pmc`."""
+        client = self._client
+        await client._write_pmc_range(_SET_PMC, area, start, data, client._deadline(timeout))
+
+    async def inject_fault(
+        self,
+        kind: FaultKind | int,
+        *,
+        count: int = 1,
+        arg: int = 0,
+        scope: FaultScope | int = FaultScope.CONNECTION,
+        timeout: float | None = None,
+    ) -> None:
+        """Make the next ``count`` answers misbehave (see :class:`FaultKind`)."""
+        payload = _INJECT_FAULT.request.encode(InjectFault(int(kind), int(scope), count, arg))
+        await self._client._call(_INJECT_FAULT, payload, timeout)

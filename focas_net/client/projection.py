@@ -1,0 +1,210 @@
+"""Alarm projection: turn periodic alarm polls into a stream of typed events.
+
+:class:`AlarmProjection` polls ``cnc_rdalmmsg`` (and, in ``ACTIVE_PLUS_HISTORY`` mode,
+``cnc_rdalmhistry``) every ``interval`` seconds and yields:
+
+* :class:`AlarmRaised` / :class:`AlarmCleared` when an alarm enters or leaves the active list;
+* :class:`AlarmHistoryEvent` for each history entry not seen before, oldest first,
+  deduplicated by ``(occurred_at, alm_no, alm_type)`` across polls and reconnects.
+
+A poll that fails (an error answer, a timeout, a lost connection, a client still
+reconnecting) yields nothing and the next tick tries again; the projection's state is only
+changed by complete polls. Polling happens inside ``__anext__``: there is no background task,
+and :meth:`AlarmProjection.stop` (or leaving ``async with``) ends the iteration at once.
+"""
+
+from __future__ import annotations
+
+import asyncio
+import enum
+import logging
+from collections import deque
+from dataclasses import dataclass
+from datetime import datetime
+from types import TracebackType
+from typing import Final, Self
+
+from ..protocol import ActiveAlarm, AlarmHistoryEntry, FocasError, ew_name
+from .client import ClientState, FocasClient
+
+__all__ = [
+    "AlarmCleared",
+    "AlarmEvent",
+    "AlarmHistoryEvent",
+    "AlarmProjection",
+    "AlarmRaised",
+    "ProjectionMode",
+]
+
+logger = logging.getLogger(__name__)
+
+#: Fewest history keys remembered for deduplication (the bound is ``max(4 * depth, this)``).
+MIN_HISTORY_MEMORY: Final = 1_000
+
+
+class ProjectionMode(enum.Enum):
+    """What an :class:`AlarmProjection` follows."""
+
+    ACTIVE = "active"  #: the active alarm list only
+    ACTIVE_PLUS_HISTORY = "active+history"  #: the active list and the alarm history
+
+
+@dataclass(frozen=True, slots=True)
+class AlarmRaised:
+    """An alarm entered the active list."""
+
+    alarm: ActiveAlarm
+
+
+@dataclass(frozen=True, slots=True)
+class AlarmCleared:
+    """An alarm left the active list."""
+
+    alarm: ActiveAlarm
+
+
+@dataclass(frozen=True, slots=True)
+class AlarmHistoryEvent:
+    """A new entry of the alarm history."""
+
+    entry: AlarmHistoryEntry
+
+
+AlarmEvent = AlarmRaised | AlarmCleared | AlarmHistoryEvent
+_HistoryKey = tuple[datetime, int, int]
+
+
+class AlarmProjection:
+    """An async iterator of :data:`AlarmEvent` built by polling ``client``.
+
+    The first poll reports every alarm already active as :class:`AlarmRaised` and, unless
+    ``replay_history`` is False, every history entry within ``depth`` as
+    :class:`AlarmHistoryEvent`. ``timeout`` bounds each poll (default: the client's).
+    """
+
+    def __init__(
+        self,
+        client: FocasClient,
+        mode: ProjectionMode = ProjectionMode.ACTIVE,
+        interval: float = 1.0,
+        depth: int = 50,
+        *,
+        replay_history: bool = True,
+        timeout: float | None = None,
+    ) -> None:
+        if interval <= 0:
+            raise ValueError(f"interval must be positive, got {interval}")
+        if not 1 <= depth <= 250:
+            raise ValueError(f"depth must be within 1..250, got {depth}")
+        self.client = client
+        self.mode = mode
+        self.interval = interval
+        self.depth = depth
+        self.timeout = timeout
+        self._replay_history = replay_history
+        self._active: dict[tuple[int, int, int], ActiveAlarm] = {}
+        self._seen: dict[_HistoryKey, None] = {}  # insertion-ordered: oldest first
+        self._memory = max(4 * depth, MIN_HISTORY_MEMORY)
+        self._queue: deque[AlarmEvent] = deque()
+        self._stop = asyncio.Event()
+        self._polled = False
+        self._next_poll = 0.0
+        #: Polls that failed and yielded nothing.
+        self.failed_polls = 0
+        #: Polls that completed.
+        self.polls = 0
+
+    @property
+    def active(self) -> tuple[ActiveAlarm, ...]:
+        """The active alarms as of the last complete poll."""
+        return tuple(self._active.values())
+
+    @property
+    def stopped(self) -> bool:
+        return self._stop.is_set()
+
+    def stop(self) -> None:
+        """End the iteration; a pending ``__anext__`` returns at once."""
+        self._stop.set()
+
+    async def aclose(self) -> None:
+        self.stop()
+
+    async def __aenter__(self) -> Self:
+        return self
+
+    async def __aexit__(
+        self,
+        exc_type: type[BaseException] | None,
+        exc: BaseException | None,
+        tb: TracebackType | None,
+    ) -> None:
+        self.stop()
+
+    def __aiter__(self) -> Self:
+        return self
+
+    async def __anext__(self) -> AlarmEvent:
+        queue = self._queue
+        loop = asyncio.get_running_loop()
+        while True:
+            if self._stop.is_set() or self.client.state is ClientState.CLOSED:
+                raise StopAsyncIteration
+            if queue:
+                return queue.popleft()
+            delay = self._next_poll - loop.time()
+            if self._polled and delay > 0:
+                try:
+                    async with asyncio.timeout(delay):
+                        await self._stop.wait()
+                except TimeoutError:
+                    pass
+                continue
+            self._next_poll = loop.time() + self.interval
+            queue.extend(await self.poll())
+
+    async def poll(self) -> list[AlarmEvent]:
+        """Poll once and return the new events (also usable without iterating)."""
+        client = self.client
+        with_history = self.mode is ProjectionMode.ACTIVE_PLUS_HISTORY
+        try:
+            active = await client.read_alarms(timeout=self.timeout)
+            history = (
+                await client.read_alarm_history(self.depth, timeout=self.timeout)
+                if with_history
+                else None
+            )
+        except FocasError as exc:
+            self.failed_polls += 1
+            logger.debug("alarm poll of %s:%s failed: %s", client.host, client.port, exc)
+            return []
+        if history is not None and history.ew:
+            self.failed_polls += 1
+            logger.debug("alarm history poll failed: %s", ew_name(history.ew))
+            return []
+        first = not self._polled
+        self._polled = True
+        self.polls += 1
+
+        events: list[AlarmEvent] = []
+        now = {a.key: a for a in active}
+        before = self._active
+        events.extend(AlarmCleared(a) for k, a in before.items() if k not in now)
+        events.extend(AlarmRaised(a) for k, a in now.items() if k not in before)
+        self._active = now
+
+        if history is not None:
+            seen = self._seen
+            emit = self._replay_history or not first
+            for entry in reversed(history.entries):  # oldest first
+                key = entry.key
+                if key in seen:
+                    continue
+                seen[key] = None
+                if emit:
+                    events.append(AlarmHistoryEvent(entry))
+            excess = len(seen) - self._memory
+            if excess > 0:
+                for key in list(seen)[:excess]:
+                    del seen[key]
+        return events

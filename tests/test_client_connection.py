@@ -1,0 +1,477 @@
+"""The client's connection layer against a small scripted peer speaking the packed protocol.
+
+The peer answers with the protocol codecs; tests can hold answers back and release them in
+any order, answer late, split answers, drop the connection or send garbage.
+"""
+
+from __future__ import annotations
+
+import asyncio
+import struct
+from collections.abc import AsyncIterator, Callable
+from typing import Any
+
+import pytest
+
+from focas_net.client import ClientState, FocasClient, ReconnectPolicy
+from focas_net.client.connection import Connection, open_connection
+from focas_net.protocol import (
+    COMMANDS,
+    EW,
+    AccessDeniedError,
+    ChunkedWriteError,
+    CncError,
+    Command,
+    EwReply,
+    FocasConnectionError,
+    FocasTimeoutError,
+    Frame,
+    FrameDecoder,
+    ParamValue,
+    PmcData,
+    ProtocolError,
+    StatusInfo,
+    encode_frame,
+)
+
+STATUS = StatusInfo(0, 0, 1, 0, 0, 0, 0, 0, 0)
+BOUND = 10.0  # upper bound for waits that must end much sooner; keeps a broken test finite
+
+
+def default_answer(frame: Frame, peer: FakePeer) -> bytes | None:
+    """Answer like a tiny CNC: parameters read back their own number, PMC is a bytearray."""
+    spec = COMMANDS[frame.command]
+    request = spec.request.decode(frame.payload)
+    value: Any
+    if frame.command == Command.RDCNCSTAT:
+        value = STATUS
+    elif frame.command == Command.RDPARAM:
+        value = ParamValue(request.datano, request.axis, request.datano, 4)
+    elif frame.command == Command.WRPARAM:
+        if peer.password_required and not peer.unlocked:
+            value = EwReply(EW.PASSWD)
+        else:
+            value = None
+    elif frame.command == Command.WRUNLOCKPARAM:
+        peer.unlocks += 1
+        peer.unlocked = request.password == b"1234"
+        value = None if peer.unlocked else EwReply(EW.PASSWD)
+    elif frame.command == Command.RDPMCRNG:
+        data = bytes(peer.pmc[request.datano_s : request.datano_e + 1])
+        value = PmcData(request.type_a, 0, request.datano_s, request.datano_e, data)
+    elif frame.command == Command.WRPMCRNG:
+        if request.datano_e >= len(peer.pmc):
+            value = EwReply(EW.NUMBER)
+        else:
+            peer.pmc[request.datano_s : request.datano_e + 1] = request.data
+            value = None
+    else:
+        value = EwReply(EW.FUNC)
+    return spec.response.encode(value)
+
+
+class FakePeer:
+    """A packed-protocol peer on 127.0.0.1:0 with knobs for misbehaviour."""
+
+    def __init__(self) -> None:
+        self.answer: Callable[[Frame, FakePeer], bytes | None] = default_answer
+        self.hold = False
+        self.held: list[tuple[Frame, asyncio.StreamWriter]] = []
+        self.received: list[Frame] = []
+        self.split = False
+        self.pmc = bytearray(256)
+        self.password_required = False
+        self.unlocked = False
+        self.unlocks = 0
+        self.connections = 0
+        self._writers: set[asyncio.StreamWriter] = set()
+        self._tasks: set[asyncio.Task[Any]] = set()
+        self._server: asyncio.Server | None = None
+        self.port = 0
+        self._arrived = asyncio.Condition()
+
+    async def start(self, port: int = 0) -> None:
+        self._server = await asyncio.start_server(self._serve, "127.0.0.1", port)
+        self.port = self._server.sockets[0].getsockname()[1]
+
+    async def _serve(self, reader: asyncio.StreamReader, writer: asyncio.StreamWriter) -> None:
+        task = asyncio.current_task()
+        assert task is not None
+        self._tasks.add(task)
+        self._writers.add(writer)
+        self.connections += 1
+        self.unlocked = False
+        decoder = FrameDecoder()
+        try:
+            while data := await reader.read(65536):
+                for frame in decoder.feed(data):
+                    self.received.append(frame)
+                    if self.hold:
+                        self.held.append((frame, writer))
+                    else:
+                        await self._reply(frame, writer)
+                async with self._arrived:
+                    self._arrived.notify_all()
+        except (ConnectionError, asyncio.CancelledError):
+            pass
+        finally:
+            self._writers.discard(writer)
+            writer.close()
+            self._tasks.discard(task)
+
+    async def _reply(self, frame: Frame, writer: asyncio.StreamWriter) -> None:
+        payload = self.answer(frame, self)
+        if payload is None:
+            return
+        await self.send(writer, encode_frame(frame.command, frame.request_id, payload))
+
+    async def send(self, writer: asyncio.StreamWriter, data: bytes) -> None:
+        if self.split:
+            for i in range(len(data)):
+                writer.write(data[i : i + 1])
+                await writer.drain()
+        else:
+            writer.write(data)
+            await writer.drain()
+
+    async def wait_received(self, n: int) -> None:
+        async with asyncio.timeout(BOUND), self._arrived:
+            await self._arrived.wait_for(lambda: len(self.received) >= n)
+
+    async def release(self, order: Callable[[list[Any]], list[Any]] = list) -> None:
+        held, self.held = self.held, []
+        for frame, writer in order(held):
+            if not writer.is_closing():
+                await self._reply(frame, writer)
+
+    async def send_raw(self, data: bytes) -> None:
+        for writer in list(self._writers):
+            writer.write(data)
+            await writer.drain()
+
+    def drop(self) -> None:
+        for writer in list(self._writers):
+            writer.transport.abort()
+
+    async def stop(self) -> None:
+        if self._server is not None:
+            self._server.close()
+            await self._server.wait_closed()
+            self._server = None
+        self.drop()
+        for task in list(self._tasks):
+            task.cancel()
+        if self._tasks:
+            await asyncio.wait(list(self._tasks))
+
+
+@pytest.fixture
+async def peer() -> AsyncIterator[FakePeer]:
+    p = FakePeer()
+    await p.start()
+    try:
+        yield p
+    finally:
+        await p.stop()
+
+
+@pytest.fixture
+async def client(peer: FakePeer) -> AsyncIterator[FocasClient]:
+    async with FocasClient("127.0.0.1", peer.port, timeout=BOUND) as c:
+        yield c
+
+
+def current_connection(client: FocasClient) -> Connection:
+    conn = client._conn
+    assert conn is not None
+    return conn
+
+
+async def test_pipelined_calls_get_their_own_answers(client: FocasClient) -> None:
+    numbers = list(range(1, 301))
+    values = await asyncio.gather(*(client.read_param(n) for n in numbers))
+    assert values == numbers
+    assert current_connection(client).in_flight == 0
+
+
+async def test_out_of_order_answers_are_matched_by_request_id(
+    peer: FakePeer, client: FocasClient
+) -> None:
+    peer.hold = True
+    tasks = [asyncio.create_task(client.read_param(n)) for n in range(10, 20)]
+    await peer.wait_received(10)
+    await peer.release(lambda held: list(reversed(held)))
+    assert await asyncio.gather(*tasks) == list(range(10, 20))
+
+
+async def test_late_answer_after_timeout_is_dropped(peer: FakePeer, client: FocasClient) -> None:
+    peer.hold = True
+    with pytest.raises(FocasTimeoutError):
+        await client.read_param(7, timeout=0.05)
+    conn = current_connection(client)
+    assert conn.abandoned == 1 and conn.in_flight == 0
+    late_id = peer.held[0][0].request_id
+    # The id of the abandoned request stays reserved: a new call never takes it.
+    conn._next_id = late_id
+    pending = asyncio.create_task(client.read_param(8))
+    await peer.wait_received(2)
+    assert peer.received[-1].request_id != late_id
+    peer.hold = False
+    await peer.release()  # the late answer to 7, then the answer to 8
+    assert await pending == 8
+    assert conn.abandoned == 0
+    assert await client.read_param(9) == 9
+
+
+async def test_timeout_error_is_also_builtin_timeout(peer: FakePeer, client: FocasClient) -> None:
+    peer.hold = True
+    with pytest.raises(TimeoutError):
+        await client.read_status(timeout=0.02)
+    peer.hold = False
+    await peer.release()
+
+
+async def test_cancellation_propagates_and_never_desynchronises(
+    peer: FakePeer, client: FocasClient
+) -> None:
+    peer.hold = True
+    victim = asyncio.create_task(client.read_param(1))
+    survivor = asyncio.create_task(client.read_param(2))
+    await peer.wait_received(2)
+    victim.cancel()
+    with pytest.raises(asyncio.CancelledError):
+        await victim
+    peer.hold = False
+    await peer.release(lambda held: list(reversed(held)))
+    assert await survivor == 2
+    assert await client.read_param(3) == 3
+    conn = current_connection(client)
+    assert conn.in_flight == 0 and conn.abandoned == 0
+
+
+async def test_cancelling_a_caller_waiting_for_a_slot(peer: FakePeer) -> None:
+    async with FocasClient("127.0.0.1", peer.port, timeout=BOUND, max_in_flight=2) as c:
+        peer.hold = True
+        first = [asyncio.create_task(c.read_param(n)) for n in (1, 2)]
+        await peer.wait_received(2)
+        waiting = asyncio.create_task(c.read_param(3))
+        await asyncio.sleep(0)
+        waiting.cancel()
+        with pytest.raises(asyncio.CancelledError):
+            await waiting
+        assert len(peer.received) == 2  # the cancelled call was never sent
+        peer.hold = False
+        await peer.release()
+        assert await asyncio.gather(*first) == [1, 2]
+        assert await c.read_param(4) == 4
+
+
+async def test_max_in_flight_bounds_the_requests_sent(peer: FakePeer) -> None:
+    async with FocasClient("127.0.0.1", peer.port, timeout=BOUND, max_in_flight=4) as c:
+        peer.hold = True
+        tasks = [asyncio.create_task(c.read_param(n)) for n in range(1, 11)]
+        await peer.wait_received(4)
+        for _ in range(5):
+            await asyncio.sleep(0)
+        assert len(peer.received) == 4
+        peer.hold = False
+        await peer.release()
+        assert await asyncio.gather(*tasks) == list(range(1, 11))
+
+
+async def test_connection_loss_fails_every_pending_call_at_once(
+    peer: FakePeer, client: FocasClient
+) -> None:
+    peer.hold = True
+    tasks = [asyncio.create_task(client.read_param(n, timeout=60)) for n in range(50)]
+    await peer.wait_received(50)
+    peer.drop()
+    async with asyncio.timeout(BOUND):
+        results = await asyncio.gather(*tasks, return_exceptions=True)
+    assert all(isinstance(r, FocasConnectionError) for r in results)
+    assert all(isinstance(r, ConnectionError) for r in results)
+    assert client.state is ClientState.DISCONNECTED
+    with pytest.raises(FocasConnectionError):
+        await client.read_status()
+
+
+async def test_framing_violation_closes_and_fails_pending(
+    peer: FakePeer, client: FocasClient
+) -> None:
+    peer.hold = True
+    task = asyncio.create_task(client.read_status(timeout=60))
+    await peer.wait_received(1)
+    await peer.send_raw(struct.pack("<I", 2))  # length below 4
+    with pytest.raises(FocasConnectionError):
+        await task
+    assert client.state is ClientState.DISCONNECTED
+
+
+async def test_answer_with_wrong_command_fails_only_that_call(
+    peer: FakePeer, client: FocasClient
+) -> None:
+    def wrong(frame: Frame, p: FakePeer) -> bytes | None:
+        if frame.command == Command.RDCNCSTAT:
+            return None
+        return default_answer(frame, p)
+
+    peer.answer = wrong
+    task = asyncio.create_task(client.read_status())
+    await peer.wait_received(1)
+    rid = peer.received[-1].request_id
+    await peer.send_raw(encode_frame(Command.SYSINFO, rid, b"\x01\x00"))
+    with pytest.raises(ProtocolError):
+        await task
+    assert await client.read_param(5) == 5
+
+
+async def test_unsolicited_frames_are_ignored(peer: FakePeer, client: FocasClient) -> None:
+    await peer.send_raw(encode_frame(Command.RDPARAM, 999, b"\x00\x00"))
+    assert await client.read_param(6) == 6
+
+
+async def test_answers_split_one_byte_per_write(peer: FakePeer, client: FocasClient) -> None:
+    peer.split = True
+    values = await asyncio.gather(*(client.read_param(n) for n in range(1, 21)))
+    assert values == list(range(1, 21))
+    assert await client.read_status() == STATUS
+
+
+async def test_connect_failure_is_a_connection_error() -> None:
+    server = await asyncio.start_server(lambda r, w: None, "127.0.0.1", 0)
+    port = server.sockets[0].getsockname()[1]
+    server.close()
+    await server.wait_closed()
+    with pytest.raises(FocasConnectionError):
+        await FocasClient("127.0.0.1", port, timeout=BOUND).connect()
+
+
+async def test_connection_closed_by_caller(peer: FakePeer) -> None:
+    conn = await open_connection("127.0.0.1", peer.port)
+    peer.hold = True
+    loop = asyncio.get_running_loop()
+    task = asyncio.create_task(conn.request(Command.RDCNCSTAT, b"", loop.time() + 60))
+    await peer.wait_received(1)
+    conn.close()
+    with pytest.raises(FocasConnectionError):
+        await task
+    await conn.wait_closed()
+    assert conn.closed
+
+
+async def test_calls_after_close_fail(peer: FakePeer) -> None:
+    c = FocasClient("127.0.0.1", peer.port)
+    await c.connect()
+    await c.aclose()
+    assert c.state is ClientState.CLOSED
+    with pytest.raises(FocasConnectionError):
+        await c.read_status()
+    with pytest.raises(FocasConnectionError):
+        await c.connect()
+
+
+async def test_password_retry_once_on_ew_passwd(peer: FakePeer) -> None:
+    peer.password_required = True
+    async with FocasClient("127.0.0.1", peer.port, password="1234", timeout=BOUND) as c:
+        assert peer.unlocks == 1
+        peer.unlocked = False  # as if the CNC had locked again
+        await c.write_param(1320, 5, axis=1, width=4)
+        assert peer.unlocks == 2
+    async with FocasClient("127.0.0.1", peer.port, timeout=BOUND) as c:
+        with pytest.raises(AccessDeniedError) as info:
+            await c.write_param(1320, 5, axis=1, width=4)
+        assert info.value.ew == EW.PASSWD
+
+
+async def test_wrong_password_fails_connect(peer: FakePeer) -> None:
+    c = FocasClient("127.0.0.1", peer.port, password="nope", timeout=BOUND)
+    with pytest.raises(AccessDeniedError):
+        await c.connect()
+    await c.aclose()
+
+
+async def test_reconnect_after_drop_and_password_resent(peer: FakePeer) -> None:
+    states: list[ClientState] = []
+    policy = ReconnectPolicy(initial_delay=0.01, max_delay=0.05)
+    async with FocasClient(
+        "127.0.0.1",
+        peer.port,
+        timeout=BOUND,
+        reconnect=policy,
+        password="1234",
+        on_state_change=states.append,
+    ) as c:
+        assert peer.unlocks == 1
+        lost = asyncio.Event()
+        c.add_state_callback(lambda s: lost.set() if s is ClientState.RECONNECTING else None)
+        peer.drop()
+        async with asyncio.timeout(BOUND):
+            await lost.wait()
+        assert await c.read_param(11) == 11  # waits for the reconnect
+        assert c.state is ClientState.CONNECTED
+        assert peer.unlocks == 2 and peer.connections == 2
+        assert ClientState.RECONNECTING in states
+    assert states[-1] is ClientState.CLOSED
+
+
+async def test_calls_while_reconnecting_wait_within_their_timeout(peer: FakePeer) -> None:
+    policy = ReconnectPolicy(initial_delay=0.01, max_delay=0.02)
+    async with FocasClient("127.0.0.1", peer.port, timeout=BOUND, reconnect=policy) as c:
+        port = peer.port
+        await peer.stop()
+        with pytest.raises(FocasConnectionError):
+            await c.read_status(timeout=0.1)
+        assert c.state is ClientState.RECONNECTING
+        revived = FakePeer()
+        await revived.start(port)
+        try:
+            assert await c.read_param(12, timeout=BOUND) == 12
+        finally:
+            await revived.stop()
+
+
+async def test_reconnect_gives_up_after_max_attempts(peer: FakePeer) -> None:
+    policy = ReconnectPolicy(initial_delay=0.0, max_delay=0.0, max_attempts=2)
+    async with FocasClient("127.0.0.1", peer.port, timeout=BOUND, reconnect=policy) as c:
+        await peer.stop()
+        with pytest.raises(FocasConnectionError):
+            await c.read_status()
+        assert c.state is ClientState.DISCONNECTED
+
+
+async def test_chunked_pmc_over_fake_peer(peer: FakePeer, client: FocasClient) -> None:
+    data = bytes(range(200))
+    await client.write_pmc("R", 0, data)
+    assert bytes(peer.pmc[:200]) == data
+    assert await client.read_pmc("R", 0, 200) == data
+    writes = [f for f in peer.received if f.command == Command.WRPMCRNG]
+    assert len(writes) == 7  # 6 x 32 + 8
+
+
+async def test_chunked_write_error_names_ranges(peer: FakePeer, client: FocasClient) -> None:
+    with pytest.raises(ChunkedWriteError) as info:
+        await client.write_pmc("D", 200, bytes(range(1, 101)))  # the peer's memory ends at 255
+    err = info.value
+    # chunks 200..231 | 232..263 (crosses the end) | 264..295 | 296..299
+    assert err.written == [(200, 231)]
+    assert err.not_written == [(232, 299)]
+    assert bytes(peer.pmc[200:232]) == bytes(range(1, 33))
+    assert bytes(peer.pmc[232:256]) == bytes(24)
+    assert isinstance(err.cause, CncError) and err.cause.ew == EW.NUMBER
+
+
+async def test_connection_counts_reset_after_many_timeouts(peer: FakePeer) -> None:
+    async with FocasClient("127.0.0.1", peer.port, timeout=0.01) as c:
+        peer.hold = True
+        results = await asyncio.gather(
+            *(c.read_param(n) for n in range(100)), return_exceptions=True
+        )
+        assert all(isinstance(r, FocasTimeoutError) for r in results)
+        conn = current_connection(c)
+        # 64 were sent and abandoned; 36 timed out waiting for a free slot, never sent
+        assert conn.abandoned == 64
+        assert len(peer.received) == 64
+        peer.hold = False
+        await peer.release()
+        assert await c.read_param(1, timeout=BOUND) == 1
+        assert conn.abandoned == 0 and conn.in_flight == 0
