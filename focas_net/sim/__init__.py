@@ -16,6 +16,7 @@ from .machine import (
     Session,
     utc_now,
 )
+from .machinefile import MachineFileError, load_machine, machine_from_dict
 from .packed import error_payload, handle, handled_commands
 
 __all__ = [
@@ -26,6 +27,7 @@ __all__ = [
     "DataItem",
     "Machine",
     "MachineError",
+    "MachineFileError",
     "MacroRange",
     "MotionState",
     "Panel",
@@ -35,5 +37,7 @@ __all__ = [
     "error_payload",
     "handle",
     "handled_commands",
+    "load_machine",
+    "machine_from_dict",
     "utc_now",
 ]

@@ -1,0 +1,564 @@
+"""Machine files: a simulated CNC described in TOML (schema in ``docs/machine-file.md``).
+
+:func:`load_machine` reads a file with the standard ``tomllib`` and builds a
+:class:`~focas_net.sim.machine.Machine`. Every key is checked; anything wrong raises
+:class:`MachineFileError`, whose message names the file, the key as a dotted path
+(``parameters.1320.range``, ``versamax[1].references[0].type``) and what is wrong. Unknown keys
+are errors too, so a misspelt key never passes silently.
+"""
+
+from __future__ import annotations
+
+import tomllib
+from collections.abc import Mapping
+from dataclasses import dataclass
+from os import PathLike
+from pathlib import Path
+from typing import Any, Final, NoReturn
+
+from ..protocol import BoardId, IOModuleRecord, PmcArea, RefType, SysInfo
+from .default import gniu_record, mdd844_record
+from .machine import (
+    AUT_MODES,
+    DEFAULT_HISTORY_CAPACITY,
+    MAX_RACK,
+    MAX_SLOT,
+    Clock,
+    DataItem,
+    Machine,
+    MacroRange,
+    MotionState,
+    Panel,
+    PmcAreaSpec,
+    utc_now,
+)
+
+__all__ = ["MODE_NAMES", "MachineFileError", "load_machine", "machine_from_dict"]
+
+
+class MachineFileError(ValueError):
+    """A machine file that cannot be used: ``path``, ``key`` (dotted) and ``problem``."""
+
+    def __init__(self, path: str, key: str, problem: str) -> None:
+        self.path = path
+        self.key = key
+        self.problem = problem
+        where = f"{path}: {key}" if key else path
+        super().__init__(f"{where}: {problem}")
+
+
+#: Panel mode names accepted for ``panel.mode`` (``aut`` values of ``cnc_rdcncstat``).
+MODE_NAMES: Final[dict[str, int]] = {
+    "MDI": 0,
+    "MEM": 1,
+    "EDIT": 3,
+    "HND": 4,
+    "JOG": 5,
+    "TJOG": 6,
+    "THND": 7,
+    "INC": 8,
+    "REF": 9,
+    "RMT": 10,
+}
+_TYPES: Final[dict[str, int]] = {"byte": 1, "i16": 2, "i32": 4}
+_SPANS: Final[dict[int, tuple[int, int]]] = {
+    1: (-0x80, 0x7F),
+    2: (-0x8000, 0x7FFF),
+    4: (-0x8000_0000, 0x7FFF_FFFF),
+}
+_I16: Final = (-0x8000, 0x7FFF)
+_I32: Final = _SPANS[4]
+_MODULES: Final = {"IC200GBI001": gniu_record, "IC200MDD844": mdd844_record}
+_REF_TYPES: Final[dict[str, RefType]] = {"I": RefType.I, "Q": RefType.Q, "AI": RefType.AI}
+_REF_TYPES["AQ"] = RefType.AQ
+
+
+@dataclass(frozen=True, slots=True)
+class _Ctx:
+    """Where we are: the file and the dotted key of the current table."""
+
+    path: str
+    key: str
+
+    def sub(self, key: str | int) -> _Ctx:
+        if isinstance(key, int):
+            return _Ctx(self.path, f"{self.key}[{key}]")
+        return _Ctx(self.path, f"{self.key}.{key}" if self.key else key)
+
+    def fail(self, problem: str) -> NoReturn:
+        raise MachineFileError(self.path, self.key, problem)
+
+
+def _table(ctx: _Ctx, value: Any) -> dict[str, Any]:
+    if not isinstance(value, dict):
+        ctx.fail(f"must be a table, got {_kind(value)}")
+    return value
+
+
+def _kind(value: Any) -> str:
+    if isinstance(value, bool):
+        return f"a boolean ({str(value).lower()})"
+    if isinstance(value, int):
+        return f"an integer ({value})"
+    if isinstance(value, str):
+        return f"a string ({value!r})"
+    if isinstance(value, list):
+        return "an array"
+    if isinstance(value, dict):
+        return "a table"
+    return f"a {type(value).__name__}"
+
+
+def _only(ctx: _Ctx, table: Mapping[str, Any], allowed: tuple[str, ...]) -> None:
+    for key in table:
+        if key not in allowed:
+            ctx.sub(key).fail(f"unknown key (expected one of: {', '.join(allowed)})")
+
+
+def _int(ctx: _Ctx, value: Any, span: tuple[int, int] | None = None) -> int:
+    if isinstance(value, bool) or not isinstance(value, int):
+        ctx.fail(f"must be an integer, got {_kind(value)}")
+    if span is not None and not span[0] <= value <= span[1]:
+        ctx.fail(f"{value} is outside {span[0]}..{span[1]}")
+    return value
+
+
+def _bool(ctx: _Ctx, value: Any) -> bool:
+    if isinstance(value, bool):
+        return value
+    if isinstance(value, int) and value in (0, 1):
+        return bool(value)
+    ctx.fail(f"must be true or false, got {_kind(value)}")
+
+
+def _str(ctx: _Ctx, value: Any) -> str:
+    if not isinstance(value, str):
+        ctx.fail(f"must be a string, got {_kind(value)}")
+    return value
+
+
+def _ascii(ctx: _Ctx, value: Any, size: int | None = None) -> str:
+    text = _str(ctx, value)
+    if not text.isascii():
+        ctx.fail(f"must be ASCII: {text!r}")
+    if size is not None and len(text) != size:
+        ctx.fail(f"must be exactly {size} characters: {text!r}")
+    return text
+
+
+def _list(ctx: _Ctx, value: Any) -> list[Any]:
+    if not isinstance(value, list):
+        ctx.fail(f"must be an array, got {_kind(value)}")
+    return value
+
+
+def _bytes(ctx: _Ctx, value: Any) -> bytes:
+    items = _list(ctx, value)
+    return bytes(_int(ctx.sub(i), v, (0, 255)) for i, v in enumerate(items))
+
+
+def _number_key(ctx: _Ctx, key: str, span: tuple[int, int]) -> int:
+    try:
+        number = int(key)
+    except ValueError:
+        ctx.fail(f"the key must be a number, got {key!r}")
+    if not span[0] <= number <= span[1]:
+        ctx.fail(f"{number} is outside {span[0]}..{span[1]}")
+    return number
+
+
+# -- sections -----------------------------------------------------------------------------------
+
+
+def _axes(ctx: _Ctx, value: Any) -> list[str]:
+    names = _list(ctx, value)
+    if not 1 <= len(names) <= 32:
+        ctx.fail(f"a machine has 1..32 axes, got {len(names)}")
+    axes = []
+    for i, name in enumerate(names):
+        text = _ascii(ctx.sub(i), name)
+        if not 1 <= len(text) <= 4 or not text.isalnum():
+            ctx.sub(i).fail(f"an axis name is 1..4 letters or digits: {text!r}")
+        if text in axes:
+            ctx.sub(i).fail(f"axis {text!r} is named twice")
+        axes.append(text)
+    return axes
+
+
+def _sysinfo(ctx: _Ctx, value: Any, n_axes: int) -> SysInfo:
+    t = _table(ctx, value)
+    _only(ctx, t, ("addinfo", "max_axis", "cnc_type", "mt_type", "series", "version"))
+    max_axis = _int(ctx.sub("max_axis"), t.get("max_axis", max(8, n_axes)), (n_axes, 32))
+    return SysInfo(
+        _int(ctx.sub("addinfo"), t.get("addinfo", 2), _I16),
+        max_axis,
+        _ascii(ctx.sub("cnc_type"), t.get("cnc_type", " 0"), 2).encode(),
+        _ascii(ctx.sub("mt_type"), t.get("mt_type", " M"), 2).encode(),
+        _ascii(ctx.sub("series"), t.get("series", "D4F1"), 4).encode(),
+        _ascii(ctx.sub("version"), t.get("version", "32.0"), 4).encode(),
+        b"%02d" % n_axes,
+    )
+
+
+def _panel(ctx: _Ctx, value: Any) -> Panel:
+    t = _table(ctx, value)
+    _only(ctx, t, ("mode", "pwe", "emergency", "run"))
+    mode_v = t.get("mode", "MEM")
+    c = ctx.sub("mode")
+    if isinstance(mode_v, str):
+        if mode_v.upper() not in MODE_NAMES:
+            c.fail(f"unknown mode {mode_v!r} (expected one of: {', '.join(MODE_NAMES)})")
+        mode = MODE_NAMES[mode_v.upper()]
+    else:
+        mode = _int(c, mode_v)
+        if mode not in AUT_MODES:
+            c.fail(f"{mode} is not a mode (0, 1, 3..10)")
+    return Panel(
+        mode=mode,
+        pwe=int(_bool(ctx.sub("pwe"), t.get("pwe", False))),
+        emergency=int(_bool(ctx.sub("emergency"), t.get("emergency", False))),
+        run=_int(ctx.sub("run"), t.get("run", 0), (0, 4)),
+    )
+
+
+def _items(ctx: _Ctx, value: Any, n_axes: int) -> list[DataItem]:
+    t = _table(ctx, value)
+    items: list[DataItem] = []
+    for key, raw in t.items():
+        c = ctx.sub(key)
+        number = _number_key(c, key, _I16)
+        if any(item.number == number for item in items):
+            c.fail(f"number {number} is given twice")
+        spec = _table(c, raw)
+        _only(c, spec, ("type", "axis", "range", "value", "name"))
+        if "type" not in spec:
+            c.sub("type").fail('missing (one of "byte", "i16", "i32")')
+        type_name = _str(c.sub("type"), spec["type"])
+        if type_name not in _TYPES:
+            c.sub("type").fail(f'unknown type {type_name!r} (expected "byte", "i16" or "i32")')
+        width = _TYPES[type_name]
+        span = _SPANS[width]
+        is_axis = _bool(c.sub("axis"), spec.get("axis", False))
+        low, high = span
+        if "range" in spec:
+            rc = c.sub("range")
+            bounds = _list(rc, spec["range"])
+            if len(bounds) != 2:
+                rc.fail("must be [low, high]")
+            low = _int(rc.sub(0), bounds[0], span)
+            high = _int(rc.sub(1), bounds[1], span)
+            if low > high:
+                rc.fail(f"low {low} is above high {high}")
+        vc = c.sub("value")
+        raw_value = spec.get("value", 0 if low <= 0 <= high else low)
+        if isinstance(raw_value, list):
+            if not is_axis:
+                vc.fail("a list of values needs axis = true")
+            if len(raw_value) != n_axes:
+                vc.fail(f"{len(raw_value)} values for {n_axes} axes")
+            values = [_int(vc.sub(i), v, (low, high)) for i, v in enumerate(raw_value)]
+        else:
+            values = [_int(vc, raw_value, (low, high))] * (n_axes if is_axis else 1)
+        name = _str(c.sub("name"), spec.get("name", ""))
+        items.append(DataItem(number, width, is_axis, low, high, values, name))
+    return items
+
+
+def _macros(ctx: _Ctx, value: Any) -> tuple[list[MacroRange], dict[int, tuple[int, int]]]:
+    t = _table(ctx, value)
+    _only(ctx, t, ("ranges", "values"))
+    rc = ctx.sub("ranges")
+    ranges: list[MacroRange] = []
+    for i, raw in enumerate(_list(rc, t.get("ranges", []))):
+        c = rc.sub(i)
+        spec = _table(c, raw)
+        _only(c, spec, ("first", "last", "writable"))
+        for key in ("first", "last"):
+            if key not in spec:
+                c.sub(key).fail("missing")
+        first = _int(c.sub("first"), spec["first"], _I16)
+        last = _int(c.sub("last"), spec["last"], _I16)
+        if first > last:
+            c.fail(f"first {first} is above last {last}")
+        for j, other in enumerate(ranges):
+            if first <= other.last and other.first <= last:
+                c.fail(f"overlaps {rc.key}[{j}] (#{other.first}..#{other.last})")
+        ranges.append(MacroRange(first, last, _bool(c.sub("writable"), spec.get("writable", True))))
+    vc = ctx.sub("values")
+    values: dict[int, tuple[int, int]] = {}
+    for key, raw in _table(vc, t.get("values", {})).items():
+        c = vc.sub(key)
+        number = _number_key(c, key, _I16)
+        if number in values:
+            c.fail(f"#{number} is given twice")
+        if not any(r.first <= number <= r.last for r in ranges):
+            c.fail(f"#{number} is in no macro range")
+        if isinstance(raw, list):
+            if len(raw) != 2:
+                c.fail("must be an integer or [mcr_val, dec_val]")
+            values[number] = (_int(c.sub(0), raw[0], _I32), _int(c.sub(1), raw[1], (0, 9)))
+        else:
+            values[number] = (_int(c, raw, _I32), 0)
+    return ranges, values
+
+
+def _pmc(ctx: _Ctx, value: Any) -> list[PmcAreaSpec]:
+    t = _table(ctx, value)
+    areas = []
+    for letter, raw in t.items():
+        c = ctx.sub(letter)
+        if letter not in PmcArea.__members__:
+            c.fail(f"unknown PMC area (expected one of: {', '.join(PmcArea.__members__)})")
+        spec = _table(c, raw)
+        _only(c, spec, ("size", "write_protected", "values"))
+        if "size" not in spec:
+            c.sub("size").fail("missing")
+        size = _int(c.sub("size"), spec["size"], (1, 65536))
+        initial: dict[int, bytes] = {}
+        vc = c.sub("values")
+        for key, data in _table(vc, spec.get("values", {})).items():
+            ac = vc.sub(key)
+            address = _number_key(ac, key, (0, size - 1))
+            if address in initial:
+                ac.fail(f"address {address} is given twice")
+            raw_bytes = (
+                _bytes(ac, data) if isinstance(data, list) else bytes([_int(ac, data, (0, 255))])
+            )
+            if address + len(raw_bytes) > size:
+                ac.fail(f"{len(raw_bytes)} bytes at {address} run past the {size}-byte area")
+            initial[address] = raw_bytes
+        areas.append(
+            PmcAreaSpec(
+                letter,
+                size,
+                _bool(c.sub("write_protected"), spec.get("write_protected", False)),
+                initial,
+            )
+        )
+    return areas
+
+
+def _module(ctx: _Ctx, spec: dict[str, Any]) -> IOModuleRecord:
+    if "module" in spec:
+        _only(ctx, spec, ("rack", "slot", "module"))
+        name = _str(ctx.sub("module"), spec["module"])
+        if name not in _MODULES:
+            ctx.sub("module").fail(
+                f"unknown module {name!r} (built in: {', '.join(_MODULES)}; "
+                "or describe the record with label, primary_id, ...)"
+            )
+        return _MODULES[name]()
+    keys: tuple[str, ...] = ("rack", "slot", "label", "primary_id", "secondary_id")
+    keys += ("references", "setup", "default_inputs", "default_outputs", "module_data")
+    keys += ("input_segment_mode", "output_segment_mode")
+    _only(ctx, spec, keys)
+    for key in ("label", "primary_id"):
+        if key not in spec:
+            ctx.sub(key).fail("missing (or give module = a built-in model)")
+    ids = []
+    for key in ("primary_id", "secondary_id"):
+        board = BoardId(_int(ctx.sub(key), spec.get(key, 0x8000), (0, 0xFFFF)))
+        if not board.valid:
+            ctx.sub(key).fail(f"0x{board.value:04X} is not a board id (bits 15-13 must be 100)")
+        ids.append(board)
+    refs = []
+    rc = ctx.sub("references")
+    for i, raw in enumerate(_list(rc, spec.get("references", []))):
+        c = rc.sub(i)
+        ref = _table(c, raw)
+        _only(c, ref, ("type", "offset", "length"))
+        for key in ("type", "offset", "length"):
+            if key not in ref:
+                c.sub(key).fail("missing")
+        kind = _str(c.sub("type"), ref["type"])
+        if kind not in _REF_TYPES:
+            c.sub("type").fail(f"unknown reference type {kind!r} (expected I, Q, AI or AQ)")
+        refs.append(
+            (
+                _REF_TYPES[kind],
+                _int(c.sub("offset"), ref["offset"], (0, 0xFFFF)),
+                _int(c.sub("length"), ref["length"], (1, 0xFFFF)),
+            )
+        )
+    setup = _int(ctx.sub("setup"), spec.get("setup", 0), (0, 0xFFFF))
+    record = IOModuleRecord.build(
+        ids[0],
+        ids[1],
+        _ascii(ctx.sub("label"), spec["label"], 4),
+        refs,
+        setup=setup,
+        default_inputs=_bytes(ctx.sub("default_inputs"), spec.get("default_inputs", [])),
+        default_outputs=_bytes(ctx.sub("default_outputs"), spec.get("default_outputs", [])),
+        module_data=_bytes(ctx.sub("module_data"), spec.get("module_data", [])),
+        input_segment_mode=_int(
+            ctx.sub("input_segment_mode"), spec.get("input_segment_mode", 0), (0, 0xFFFF)
+        ),
+        output_segment_mode=_int(
+            ctx.sub("output_segment_mode"), spec.get("output_segment_mode", 0), (0, 0xFFFF)
+        ),
+    )
+    try:
+        encoded = record.encode()
+    except ValueError as exc:
+        key = "default_inputs" if setup & 1 else "setup"
+        ctx.sub(key).fail(str(exc))
+    if len(encoded) > 0xFFFF:
+        ctx.fail("the record is too long")
+    return record
+
+
+def _station(ctx: _Ctx, value: Any) -> dict[tuple[int, int], IOModuleRecord]:
+    station: dict[tuple[int, int], IOModuleRecord] = {}
+    for i, raw in enumerate(_list(ctx, value)):
+        c = ctx.sub(i)
+        spec = _table(c, raw)
+        for key in ("rack", "slot"):
+            if key not in spec:
+                c.sub(key).fail("missing")
+        rack = _int(c.sub("rack"), spec["rack"], (0, MAX_RACK))
+        slot = _int(c.sub("slot"), spec["slot"], (0, MAX_SLOT))
+        if (rack, slot) in station:
+            c.sub("slot").fail(f"rack {rack} slot {slot} is given twice")
+        station[rack, slot] = _module(c, spec)
+    return station
+
+
+def _motion(ctx: _Ctx, value: Any, n_axes: int) -> MotionState:
+    t = _table(ctx, value)
+    lists = ("absolute", "machine", "relative", "distance_to_go")
+    scalars = ("feed", "spindle_speed", "program_running", "program_main", "sequence")
+    _only(ctx, t, lists + scalars)
+    positions = []
+    for key in lists:
+        c = ctx.sub(key)
+        raw = _list(c, t.get(key, [0] * n_axes))
+        if len(raw) != n_axes:
+            c.fail(f"{len(raw)} values for {n_axes} axes")
+        positions.append([_int(c.sub(i), v, _I32) for i, v in enumerate(raw)])
+    nums = [_int(ctx.sub(k), t.get(k, 0), (0, _I32[1])) for k in scalars]
+    return MotionState(positions[0], positions[1], positions[2], positions[3], *nums)
+
+
+_TOP: Final = (
+    "machine",
+    "sysinfo",
+    "panel",
+    "parameters",
+    "diagnostics",
+    "macros",
+    "pmc",
+    "versamax",
+    "motion",
+)
+
+
+def machine_from_dict(
+    data: Mapping[str, Any],
+    *,
+    path: str = "<machine file>",
+    clock: Clock = utc_now,
+    param_password: str | None = None,
+    control_enabled: bool | None = None,
+) -> Machine:
+    """Build a machine from the parsed TOML ``data``; ``path`` names it in error messages.
+
+    ``param_password`` and ``control_enabled``, when given, override the file."""
+    root = _Ctx(path, "")
+    top = _table(root, dict(data))
+    _only(root, top, _TOP)
+    mc = root.sub("machine")
+    if "machine" not in top:
+        mc.fail("missing (the [machine] table with at least name and axes)")
+    head = _table(mc, top["machine"])
+    _only(mc, head, ("name", "axes", "param_password", "control", "read_only", "history_capacity"))
+    if "name" not in head:
+        mc.sub("name").fail("missing")
+    name = _str(mc.sub("name"), head["name"]).strip()
+    if not name:
+        mc.sub("name").fail("must not be empty")
+    if "axes" not in head:
+        mc.sub("axes").fail("missing")
+    axes = _axes(mc.sub("axes"), head["axes"])
+    password: str | None = None
+    if "param_password" in head:
+        password = _ascii(mc.sub("param_password"), head["param_password"])
+        if not 1 <= len(password) <= 4:
+            mc.sub("param_password").fail("must be 1..4 ASCII characters")
+    if param_password is not None:
+        password = param_password
+    control = _bool(mc.sub("control"), head.get("control", True))
+    if control_enabled is not None:
+        control = control_enabled
+    capacity = _int(
+        mc.sub("history_capacity"),
+        head.get("history_capacity", DEFAULT_HISTORY_CAPACITY),
+        (1, 100_000),
+    )
+    ranges, values = _macros(root.sub("macros"), top.get("macros", {}))
+    try:
+        return _build(root, top, name, axes, password, control, capacity, ranges, values, clock)
+    except MachineFileError:
+        raise
+    except ValueError as exc:  # a check of the machine itself that the file checks missed
+        root.fail(str(exc))
+
+
+def _build(
+    root: _Ctx,
+    top: dict[str, Any],
+    name: str,
+    axes: list[str],
+    password: str | None,
+    control: bool,
+    capacity: int,
+    ranges: list[MacroRange],
+    values: dict[int, tuple[int, int]],
+    clock: Clock,
+) -> Machine:
+    n = len(axes)
+    mc = root.sub("machine")
+    head = top["machine"]
+    return Machine(
+        name,
+        axes=axes,
+        sysinfo=_sysinfo(root.sub("sysinfo"), top.get("sysinfo", {}), n),
+        params=_items(root.sub("parameters"), top.get("parameters", {}), n),
+        diags=_items(root.sub("diagnostics"), top.get("diagnostics", {}), n),
+        macro_ranges=ranges,
+        macro_values=values,
+        pmc=_pmc(root.sub("pmc"), top.get("pmc", {})),
+        panel=_panel(root.sub("panel"), top.get("panel", {})),
+        param_password=password,
+        station=_station(root.sub("versamax"), top.get("versamax", [])),
+        motion=_motion(root.sub("motion"), top.get("motion", {}), n),
+        history_capacity=capacity,
+        clock=clock,
+        control_enabled=control,
+        read_only=_bool(mc.sub("read_only"), head.get("read_only", False)),
+    )
+
+
+def load_machine(
+    path: str | PathLike[str],
+    *,
+    clock: Clock = utc_now,
+    param_password: str | None = None,
+    control_enabled: bool | None = None,
+) -> Machine:
+    """Read the machine file at ``path`` (TOML). Raises :class:`MachineFileError`."""
+    p = Path(path)
+    name = str(path)
+    try:
+        with p.open("rb") as f:
+            data = tomllib.load(f)
+    except OSError as exc:
+        raise MachineFileError(name, "", f"cannot read: {exc.strerror or exc}") from None
+    except tomllib.TOMLDecodeError as exc:
+        raise MachineFileError(name, "", f"not valid TOML: {exc}") from None
+    return machine_from_dict(
+        data,
+        path=name,
+        clock=clock,
+        param_password=param_password,
+        control_enabled=control_enabled,
+    )
