@@ -1,0 +1,75 @@
+"""The public surface of ``focas_net.protocol``: ``__all__`` is exact.
+
+The top-level ``focas_net`` package is checked once its ``__init__.py`` exports are settled;
+until then only the protocol layer is covered here.
+"""
+
+from __future__ import annotations
+
+import importlib
+import types
+
+import pytest
+
+import focas_net.protocol as protocol
+
+SUBMODULES = ["alarms", "codecs", "commands", "errors", "frame", "versamax"]
+
+
+def test_all_names_exist() -> None:
+    missing = [name for name in protocol.__all__ if not hasattr(protocol, name)]
+    assert missing == []
+
+
+def test_all_has_no_duplicates() -> None:
+    assert len(protocol.__all__) == len(set(protocol.__all__))
+
+
+def test_every_public_name_is_in_all() -> None:
+    public = {
+        name
+        for name, value in vars(protocol).items()
+        if not name.startswith("_") and not isinstance(value, types.ModuleType)
+    }
+    assert public - set(protocol.__all__) == set()
+
+
+def test_star_import_gives_exactly_all() -> None:
+    namespace: dict[str, object] = {}
+    exec("from focas_net.protocol import *", namespace)
+    namespace.pop("__builtins__", None)
+    assert set(namespace) == set(protocol.__all__)
+
+
+@pytest.mark.parametrize("name", SUBMODULES)
+def test_submodule_all_is_exported_by_the_package(name: str) -> None:
+    module = importlib.import_module(f"focas_net.protocol.{name}")
+    declared = set(module.__all__)
+    assert [n for n in declared if not hasattr(module, n)] == []
+    assert declared - set(protocol.__all__) == set()
+    for n in declared:
+        assert getattr(protocol, n) is getattr(module, n)
+
+
+@pytest.mark.parametrize("name", SUBMODULES)
+def test_submodule_public_classes_and_functions_are_declared(name: str) -> None:
+    """A class or function defined in a submodule without a leading underscore is public."""
+    module = importlib.import_module(f"focas_net.protocol.{name}")
+    defined_here = {
+        n
+        for n, v in vars(module).items()
+        if not n.startswith("_")
+        and isinstance(v, type | types.FunctionType)
+        and getattr(v, "__module__", None) == module.__name__
+    }
+    assert defined_here - set(module.__all__) == set()
+
+
+def test_exported_exceptions_share_one_base() -> None:
+    errors = [
+        getattr(protocol, n)
+        for n in protocol.__all__
+        if isinstance(getattr(protocol, n), type) and issubclass(getattr(protocol, n), Exception)
+    ]
+    assert errors
+    assert all(issubclass(e, protocol.FocasError) for e in errors)
