@@ -1,11 +1,13 @@
-"""FANUC's own FOCAS/2 Ethernet protocol: the pure codec of the native front end.
+"""FANUC's own FOCAS/2 Ethernet protocol: the native front end of the simulated machine.
 
-See ``docs/native-protocol.md`` for the wire format and :mod:`focas_net.native.codec` for the
-exception tree.
+:mod:`.codec` is the pure codec, :mod:`.adapter` answers data requests from a machine (pure too)
+and :mod:`.server` is the asyncio listener (:class:`NativeServer`, :func:`start_native`). See
+``docs/native-protocol.md`` for the wire format and the server's behaviour.
 """
 
 from __future__ import annotations
 
+from .adapter import ITEM_TYPES, ITEM_TYPES_30I, POSITION_DECIMALS, NativeAdapter, macro_from_double
 from .codec import (
     CLIENT_VERSION,
     DEFAULT_MAX_BODY,
@@ -76,14 +78,26 @@ from .codec import (
     max_response_body,
     resolve_position_kind,
 )
+from .server import (
+    DEFAULT_NATIVE_IDLE_TIMEOUT,
+    DEFAULT_NATIVE_MAX_CONNECTIONS,
+    NativeConnection,
+    NativeServer,
+    start_native,
+)
 
 __all__ = [
     "CLIENT_VERSION",
     "DEFAULT_MAX_BODY",
+    "DEFAULT_NATIVE_IDLE_TIMEOUT",
+    "DEFAULT_NATIVE_MAX_CONNECTIONS",
     "DEFAULT_SERVER_VERSION",
     "HEADER",
     "HEADER_SIZE",
+    "ITEM_TYPES",
+    "ITEM_TYPES_30I",
     "MAGIC",
+    "POSITION_DECIMALS",
     "REQUEST_BLOCK_SIZE",
     "REQUEST_TYPES",
     "RESPONSE_BLOCK_SIZE",
@@ -103,13 +117,16 @@ __all__ = [
     "MacroDoubleWriteRequest",
     "MacroDoubles",
     "MacroReadRequest",
+    "NativeAdapter",
     "NativeCommand",
+    "NativeConnection",
     "NativeFrame",
     "NativeFrameDecoder",
     "NativeFrameError",
     "NativePayloadError",
     "NativeProtocolError",
     "NativeRequest",
+    "NativeServer",
     "OpenRequest",
     "ParamRead3Request",
     "ParamReadRequest",
@@ -144,6 +161,8 @@ __all__ = [
     "encode_request_body",
     "encode_response",
     "encode_response_body",
+    "macro_from_double",
     "max_response_body",
     "resolve_position_kind",
+    "start_native",
 ]
