@@ -177,13 +177,9 @@ class Connection(asyncio.Protocol):
         self._update_reading()
 
     def eof_received(self) -> bool:
-        # The peer sends nothing more. Without delayed answers pending, returning False lets
-        # the transport close after flushing; otherwise keep the write side open until the
-        # last delayed answer is sent (``_send_delayed`` closes then).
-        if not self._delayed:
-            return False
-        self._closing = True
-        return True
+        # The peer sends nothing more: answers already written are flushed, then the transport
+        # closes (returning False); delayed answers still pending are dropped with it.
+        return False
 
     def data_received(self, data: bytes) -> None:
         transport = self._transport
@@ -207,58 +203,97 @@ class Connection(asyncio.Protocol):
         for command, request_id, payload in frames:
             if command == _INJECT_FAULT:
                 answer = self._inject_fault(payload)
+            elif (shared.armed or self._faults is not None) and not (
+                _CONTROL_FIRST <= command <= _CONTROL_LAST
+            ):
+                fault = self._take_fault()
+                if fault is not None:
+                    written = self._apply_fault(fault, command, request_id, payload, out)
+                    if written is None:
+                        return  # the connection was closed instead of answering
+                    out = written
+                    continue
+                answer = self._answer(command, payload)
             else:
                 try:
                     answer = handle(machine, session, command, payload)  # type: ignore[arg-type]
                 except Exception:
-                    _log.exception(
-                        "%s: command 0x%04X from %s failed", listener.label, command, self._peer
-                    )
-                    answer = error_payload(command, EW.REJECT)
-                if (shared.armed or self._faults is not None) and not (
-                    _CONTROL_FIRST <= command <= _CONTROL_LAST
-                ):
-                    own = self._faults
-                    fault = None
-                    if own is not None:
-                        fault = own.take()
-                        if not own.armed:
-                            self._faults = None
-                    if fault is None:
-                        fault = shared.take()
-                    if fault is not None:
-                        kind, arg = fault
-                        if kind is _ERROR_KIND:
-                            answer = error_payload(command, arg)
-                        elif kind is _DELAY_KIND:
-                            header = _pack_header(len(answer) + 4, command, request_id)
-                            self._delay(arg, header + answer)
-                            continue
-                        elif kind is _DROP_KIND:
-                            if out:
-                                transport.writelines(out)
-                            _log.info(
-                                "%s: closing the connection from %s (injected fault)",
-                                listener.label,
-                                self._peer,
-                            )
-                            self._close_now()
-                            return
-                        else:  # SPLIT: one byte per write
-                            if out:
-                                transport.writelines(out)
-                                out = []
-                            frame = _pack_header(len(answer) + 4, command, request_id) + answer
-                            write = transport.write
-                            for i in range(len(frame)):
-                                write(frame[i : i + 1])
-                            continue
+                    answer = self._failed(command)
             out.append(_pack_header(len(answer) + 4, command, request_id))
             out.append(answer)
         if out:
             transport.writelines(out)
 
     # -- helpers ---------------------------------------------------------------------------
+
+    def _answer(self, command: int, payload: bytes) -> bytes:
+        try:
+            return handle(self._machine, self._session, command, payload)  # type: ignore[arg-type]
+        except Exception:
+            return self._failed(command)
+
+    def _failed(self, command: int) -> bytes:
+        """A bug in the machine must not take the connection down: log it, answer EW_REJECT."""
+        _log.exception(
+            "%s: command 0x%04X from %s failed", self._listener.label, command, self._peer
+        )
+        return error_payload(command, EW.REJECT)
+
+    def _take_fault(self) -> tuple[FaultKind, int] | None:
+        """The fault for the next answer (this connection's first, then the machine's)."""
+        own = self._faults
+        if own is not None:
+            fault = own.take()
+            if not own.armed:
+                self._faults = None
+            if fault is not None:
+                return fault
+        return self._listener.faults.take()
+
+    def _apply_fault(
+        self,
+        fault: tuple[FaultKind, int],
+        command: int,
+        request_id: int,
+        payload: bytes,
+        out: list[bytes],
+    ) -> list[bytes] | None:
+        """Answer one request under ``fault``; the answers still to write (None: closed).
+
+        A forced EW code (kind 2) and a dropped connection (kind 3) answer without running the
+        request, so the rule "an EW code other than 0 means nothing changed" holds; a delayed
+        (kind 1) or split (kind 4) answer is the real answer.
+        """
+        kind, arg = fault
+        transport = self._transport
+        assert transport is not None
+        if kind is _ERROR_KIND:
+            answer = error_payload(command, arg)
+            out.append(_pack_header(len(answer) + 4, command, request_id))
+            out.append(answer)
+            return out
+        if kind is _DROP_KIND:
+            if out:
+                transport.writelines(out)
+            _log.info(
+                "%s: closing the connection from %s instead of answering (injected fault)",
+                self._listener.label,
+                self._peer,
+            )
+            self._close_now()
+            return None
+        answer = self._answer(command, payload)
+        frame = _pack_header(len(answer) + 4, command, request_id) + answer
+        if kind is _DELAY_KIND:
+            self._delay(arg, frame)
+            return out
+        # SPLIT: what came before goes first, then this answer one byte per write
+        if out:
+            transport.writelines(out)
+        write = transport.write
+        for i in range(len(frame)):
+            write(frame[i : i + 1])
+        return []
 
     def _framing_violation(self, exc: FrameError, data: bytes) -> None:
         listener = self._listener
@@ -325,7 +360,7 @@ class Connection(asyncio.Protocol):
             return
         transport.write(item.data)
         if not delayed and self._closing:
-            # End of input or server shutdown: the last delayed answer is out, close.
+            # Server shutdown: the last delayed answer is out, close.
             transport.close()
         elif self._read_paused:
             self._update_reading()
