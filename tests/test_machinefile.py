@@ -1,0 +1,345 @@
+"""Machine files: the example loads; every kind of bad file names the file and the key."""
+
+from __future__ import annotations
+
+from datetime import UTC, datetime
+from pathlib import Path
+
+import pytest
+
+from focas_net.protocol import EW, IOModuleRecord, MacroValue, PmcArea, SysInfo
+from focas_net.sim import (
+    Machine,
+    MachineError,
+    MachineFileError,
+    default_machine,
+    load_machine,
+)
+from focas_net.sim.default import gniu_record, mdd844_record
+
+EXAMPLE = Path(__file__).resolve().parent.parent / "examples" / "machine.toml"
+
+MINIMAL = """
+[machine]
+name = "tiny"
+axes = ["X", "Z"]
+"""
+
+
+def write(tmp_path: Path, text: str) -> Path:
+    path = tmp_path / "machine.toml"
+    path.write_text(text, encoding="utf-8")
+    return path
+
+
+def test_example_loads() -> None:
+    m = load_machine(EXAMPLE)
+    assert m.name == "vmc-850-b"
+    assert m.axes == ["X", "Y", "Z", "B"]
+    assert m.sysinfo() == SysInfo(2, 8, b" 0", b" M", b"D4F1", b"32.0", b"04")
+    assert m.has_password and m.control_enabled and not m.read_only
+    assert m.history_capacity == 250
+    assert m.status().aut == 1
+    assert [m.read_param(1020, a).value for a in (1, 2, 3, 4)] == [88, 89, 90, 66]
+    assert [m.read_param(1815, a).value for a in (1, 2, 3, 4)] == [0x30] * 4
+    assert m.read_param(3216, 0).width == 2
+    assert m.read_diag(308, 3).value == 38
+    assert m.read_macro(500) == MacroValue(500, 8, 254, 1)
+    assert m.read_macro(100) == MacroValue(100, 8, 0, -1)
+    assert m.macro_writable(4001) is False
+    assert m.read_pmc(PmcArea.X, 0, 8, 8) == b"\x10"
+    assert m.read_pmc(PmcArea.R, 0, 99, 104) == b"\x00\x01\x02\x03\x04\x00"
+    assert m.pmc_area("X") == (128, True)
+    assert m.pmc_area("E") is None
+    assert m.module_record(0, 1) == gniu_record()
+    assert m.module_record(0, 3) == mdd844_record()
+    record = m.module_record(0, 4)
+    assert record is not None and record.label == "MDL6"
+    reply = m.versamax_read(0, 128, 4, 0)
+    assert IOModuleRecord.decode(reply.data) == record
+    assert m.motion.program_main == 1234
+    assert m.motion.machine[2] == -150000
+
+
+def test_example_password_gates_writes() -> None:
+    m = load_machine(EXAMPLE)
+    s = m.new_session()
+    m.set_panel(0, 1, 0)
+    with pytest.raises(MachineError) as exc:
+        m.write_param(s, 6711, 0, 1, 4)
+    assert exc.value.ew == EW.PASSWD
+    m.unlock(s, b"5810")
+    m.write_param(s, 6711, 0, 1, 4)
+    assert m.read_param(6711, 0).value == 1
+
+
+def test_overrides_and_clock(tmp_path: Path) -> None:
+    def fixed() -> datetime:
+        return datetime(2024, 1, 2, 3, 4, 5, tzinfo=UTC)
+
+    m = load_machine(EXAMPLE, clock=fixed, param_password="abcd", control_enabled=False)
+    assert not m.control_enabled
+    m.unlock(m.new_session(), b"abcd")
+    m.raise_alarm(0, 3, 10, b"x")
+    assert m.alarm_history(1)[0].occurred_at == fixed()
+
+
+def test_minimal_file(tmp_path: Path) -> None:
+    m = load_machine(write(tmp_path, MINIMAL))
+    assert isinstance(m, Machine)
+    assert m.axes == ["X", "Z"] and m.sysinfo().axes == b"02"
+    assert not m.has_password
+    assert m.pmc_area("R") is None
+    with pytest.raises(MachineError) as exc:
+        m.read_param(1320, 1)
+    assert exc.value.ew == EW.NUMBER
+
+
+def test_minimal_file_with_a_bit_of_everything(tmp_path: Path) -> None:
+    text = (
+        MINIMAL
+        + """
+[panel]
+mode = 0
+pwe = true
+[parameters.1420]
+type = "i32"
+axis = true
+value = 5000
+[macros]
+ranges = [{ first = 1, last = 10 }]
+values = { 3 = -12 }
+[pmc.D]
+size = 4
+values = { 0 = [1, 2, 3, 4] }
+"""
+    )
+    m = load_machine(write(tmp_path, text))
+    s = m.new_session()
+    assert m.status().aut == 0
+    m.write_param(s, 1420, 2, 7000, 4)
+    assert [m.read_param(1420, a).value for a in (1, 2)] == [5000, 7000]
+    assert m.read_macro(3) == MacroValue(3, 8, -12, 0)
+    assert m.read_pmc(PmcArea.D, 0, 0, 3) == b"\x01\x02\x03\x04"
+
+
+BAD_FILES = [
+    # (TOML after the [machine] table or a whole file, key named, words of the problem)
+    ("[machine]\nname = 'a'\naxes = ['X']\nspeed = 3\n", "machine.speed", "unknown key"),
+    ("[machine]\naxes = ['X']\n", "machine.name", "missing"),
+    ("[machine]\nname = 'a'\n", "machine.axes", "missing"),
+    ("[machine]\nname = 5\naxes = ['X']\n", "machine.name", "must be a string"),
+    ("[machine]\nname = 'a'\naxes = []\n", "machine.axes", "1..32 axes"),
+    ("[machine]\nname = 'a'\naxes = ['X', 'X']\n", "machine.axes[1]", "named twice"),
+    ("[machine]\nname = 'a'\naxes = ['X', '']\n", "machine.axes[1]", "axis name"),
+    (
+        "[machine]\nname = 'a'\naxes = ['X']\nparam_password = 'toolong'\n",
+        "machine.param_password",
+        "1..4",
+    ),
+    ("[machine]\nname = 'a'\naxes = ['X']\ncontrol = 'yes'\n", "machine.control", "true or false"),
+    (
+        "[machine]\nname = 'a'\naxes = ['X']\nhistory_capacity = 0\n",
+        "machine.history_capacity",
+        "outside",
+    ),
+    ("[machin]\nname = 'a'\n", "machin", "unknown key"),
+    ("x = 1\n", "x", "unknown key"),
+    ("[sysinfo]\nseries = 'D4F'\n", "sysinfo.series", "exactly 4"),
+    ("[sysinfo]\ncnc_type = 3\n", "sysinfo.cnc_type", "must be a string"),
+    ("[panel]\nmode = 'AUTO'\n", "panel.mode", "unknown mode"),
+    ("[panel]\nmode = 2\n", "panel.mode", "not a mode"),
+    ("[panel]\npwe = 2\n", "panel.pwe", "true or false"),
+    ("[panel]\nrun = 9\n", "panel.run", "outside 0..4"),
+    ("[parameters.1320]\naxis = true\n", "parameters.1320.type", "missing"),
+    ("[parameters.1320]\ntype = 'float'\n", "parameters.1320.type", "unknown type"),
+    ("[parameters.abc]\ntype = 'i16'\n", "parameters.abc", "must be a number"),
+    ("[parameters.40000]\ntype = 'i16'\n", "parameters.40000", "outside"),
+    ("[parameters.20]\ntype = 'byte'\nvalue = 200\n", "parameters.20.value", "outside"),
+    (
+        "[parameters.20]\ntype = 'byte'\nrange = [0, 9]\nvalue = 10\n",
+        "parameters.20.value",
+        "outside 0..9",
+    ),
+    ("[parameters.20]\ntype = 'byte'\nrange = [0, 300]\n", "parameters.20.range[1]", "outside"),
+    ("[parameters.20]\ntype = 'byte'\nrange = [5, 1]\n", "parameters.20.range", "above"),
+    ("[parameters.20]\ntype = 'byte'\nrange = [5]\n", "parameters.20.range", "[low, high]"),
+    ("[parameters.20]\ntype = 'byte'\nvalue = [1]\n", "parameters.20.value", "axis = true"),
+    (
+        "[parameters.1420]\ntype = 'i32'\naxis = true\nvalue = [1, 2, 3]\n",
+        "parameters.1420.value",
+        "3 values for 1 axes",
+    ),
+    (
+        "[parameters.1420]\ntype = 'i32'\naxis = true\nvalue = ['a']\n",
+        "parameters.1420.value[0]",
+        "must be an integer",
+    ),
+    ("[parameters.20]\ntype = 'byte'\nunit = 'mm'\n", "parameters.20.unit", "unknown key"),
+    (
+        "[parameters]\n20 = { type = 'byte' }\n020 = { type = 'byte' }\n",
+        "parameters.020",
+        "given twice",
+    ),
+    ("[diagnostics.300]\ntype = 'i64'\n", "diagnostics.300.type", "unknown type"),
+    ("[macros]\nranges = [{ first = 10, last = 1 }]\n", "macros.ranges[0]", "above last"),
+    ("[macros]\nranges = [{ last = 1 }]\n", "macros.ranges[0].first", "missing"),
+    (
+        "[macros]\nranges = [{ first = 1, last = 50 }, { first = 40, last = 60 }]\n",
+        "macros.ranges[1]",
+        "overlaps",
+    ),
+    (
+        "[macros]\nranges = [{ first = 1, last = 5, writable = 'no' }]\n",
+        "macros.ranges[0].writable",
+        "true or false",
+    ),
+    (
+        "[macros]\nranges = [{ first = 1, last = 5 }]\nvalues = { 9 = 1 }\n",
+        "macros.values.9",
+        "no macro range",
+    ),
+    (
+        "[macros]\nranges = [{ first = 1, last = 5 }]\nvalues = { 2 = [1, 12] }\n",
+        "macros.values.2[1]",
+        "outside 0..9",
+    ),
+    (
+        "[macros]\nranges = [{ first = 1, last = 5 }]\nvalues = { 2 = [1, 2, 3] }\n",
+        "macros.values.2",
+        "[mcr_val, dec_val]",
+    ),
+    (
+        "[macros]\nranges = [{ first = 1, last = 5 }]\nvalues = { 2 = 2.5 }\n",
+        "macros.values.2",
+        "must be an integer",
+    ),
+    ("[pmc.Q]\nsize = 10\n", "pmc.Q", "unknown PMC area"),
+    ("[pmc.R]\nwrite_protected = true\n", "pmc.R.size", "missing"),
+    ("[pmc.R]\nsize = 0\n", "pmc.R.size", "outside"),
+    ("[pmc.R]\nsize = 10\nvalues = { 9 = [1, 2] }\n", "pmc.R.values.9", "run past"),
+    ("[pmc.R]\nsize = 10\nvalues = { 10 = 1 }\n", "pmc.R.values.10", "outside 0..9"),
+    ("[pmc.R]\nsize = 10\nvalues = { 1 = 256 }\n", "pmc.R.values.1", "outside 0..255"),
+    ("[pmc.R]\nsize = 10\nvalues = { 1 = [1, -1] }\n", "pmc.R.values.1[1]", "outside"),
+    ("[[versamax]]\nrack = 0\nmodule = 'IC200GBI001'\n", "versamax[0].slot", "missing"),
+    (
+        "[[versamax]]\nrack = 8\nslot = 1\nmodule = 'IC200GBI001'\n",
+        "versamax[0].rack",
+        "outside 0..7",
+    ),
+    (
+        "[[versamax]]\nrack = 0\nslot = 10\nmodule = 'IC200GBI001'\n",
+        "versamax[0].slot",
+        "outside 0..9",
+    ),
+    (
+        "[[versamax]]\nrack = 0\nslot = 1\nmodule = 'IC200XXX'\n",
+        "versamax[0].module",
+        "unknown module",
+    ),
+    (
+        "[[versamax]]\nrack = 0\nslot = 1\nmodule = 'IC200GBI001'\n[[versamax]]\nrack = 0\n"
+        "slot = 1\nmodule = 'IC200MDD844'\n",
+        "versamax[1].slot",
+        "given twice",
+    ),
+    ("[[versamax]]\nrack = 0\nslot = 2\nlabel = 'ABCD'\n", "versamax[0].primary_id", "missing"),
+    (
+        "[[versamax]]\nrack = 0\nslot = 2\nlabel = 'ABC'\nprimary_id = 0x8008\n",
+        "versamax[0].label",
+        "exactly 4",
+    ),
+    (
+        "[[versamax]]\nrack = 0\nslot = 2\nlabel = 'ABCD'\nprimary_id = 0x1008\n",
+        "versamax[0].primary_id",
+        "not a board id",
+    ),
+    (
+        "[[versamax]]\nrack = 0\nslot = 2\nlabel = 'ABCD'\nprimary_id = 0x8008\n"
+        "references = [{ type = 'Z', offset = 1, length = 2 }]\n",
+        "versamax[0].references[0].type",
+        "unknown reference type",
+    ),
+    (
+        "[[versamax]]\nrack = 0\nslot = 2\nlabel = 'ABCD'\nprimary_id = 0x8008\n"
+        "references = [{ type = 'I', length = 2 }]\n",
+        "versamax[0].references[0].offset",
+        "missing",
+    ),
+    (
+        "[[versamax]]\nrack = 0\nslot = 2\nlabel = 'ABCD'\nprimary_id = 0x8008\nsetup = 1\n"
+        "references = [{ type = 'I', offset = 1, length = 2 }]\n",
+        "versamax[0].default_inputs",
+        "defaults must be",
+    ),
+    (
+        "[[versamax]]\nrack = 0\nslot = 2\nmodule = 'IC200GBI001'\nlabel = 'X'\n",
+        "versamax[0].label",
+        "unknown key",
+    ),
+    ("[motion]\nabsolute = [1, 2, 3]\n", "motion.absolute", "3 values for 1 axes"),
+    ("[motion]\nfeed = -1\n", "motion.feed", "outside"),
+    ("[motion]\nspeed = 1\n", "motion.speed", "unknown key"),
+]
+_HEAD = "[machine]\nname = 'm'\naxes = ['X']\n"
+
+
+@pytest.mark.parametrize(("text", "key", "problem"), BAD_FILES)
+def test_bad_file_names_file_and_key(tmp_path: Path, text: str, key: str, problem: str) -> None:
+    if not text.startswith(("[machine]", "[machin]", "x =")):
+        text = _HEAD + text
+    path = write(tmp_path, text)
+    with pytest.raises(MachineFileError) as exc:
+        load_machine(path)
+    err = exc.value
+    assert err.path == str(path)
+    assert err.key == key
+    assert problem in err.problem
+    assert str(err).startswith(f"{path}: {key}: ")
+
+
+def test_missing_machine_table(tmp_path: Path) -> None:
+    path = write(tmp_path, "[panel]\nmode = 'MDI'\n")
+    with pytest.raises(MachineFileError, match=r"machine\.toml: machine: missing"):
+        load_machine(path)
+
+
+def test_not_toml(tmp_path: Path) -> None:
+    path = write(tmp_path, "[machine\nname = 'a'\n")
+    with pytest.raises(MachineFileError) as exc:
+        load_machine(path)
+    assert exc.value.path == str(path)
+    assert "not valid TOML" in str(exc.value) and "line 1" in str(exc.value)
+
+
+def test_missing_file(tmp_path: Path) -> None:
+    path = tmp_path / "nowhere.toml"
+    with pytest.raises(MachineFileError) as exc:
+        load_machine(path)
+    assert str(path) in str(exc.value) and "cannot read" in str(exc.value)
+
+
+def test_machine_file_error_is_a_value_error() -> None:
+    assert issubclass(MachineFileError, ValueError)
+
+
+def test_default_machine_as_file_round_trip(tmp_path: Path) -> None:
+    """A file written with the default machine's section-7 content behaves like it."""
+    text = """
+[machine]
+name = "focas-sim-0i"
+axes = ["X", "Y", "Z"]
+[parameters.1320]
+type = "i32"
+axis = true
+range = [-999999999, 999999999]
+value = 999999999
+[pmc.F]
+size = 768
+write_protected = true
+"""
+    m = load_machine(write(tmp_path, text))
+    d = default_machine()
+    assert m.read_param(1320, 2) == d.read_param(1320, 2)
+    assert m.pmc_area("F") == d.pmc_area("F")
+    assert m.status() == d.status()
