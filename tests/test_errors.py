@@ -246,11 +246,6 @@ def test_protocol_errors_map_to_an_opcua_status() -> None:
     assert FrameError("x").opcua_status.value & 0x80000000
 
 
-@pytest.mark.xfail(
-    strict=True,
-    reason="errors.py ChunkedWriteError has no __reduce__: unpickling calls __init__ with the "
-    "message only and raises TypeError",
-)
 def test_pickling_chunked_write_error_round_trips() -> None:
     exc = ChunkedWriteError("R", [(0, 31)], [(32, 63)], CncError(7))
     copy = pickle.loads(pickle.dumps(exc))

@@ -235,22 +235,12 @@ def test_encode_rejects_defaults_of_the_wrong_size() -> None:
         ).encode()
 
 
-@pytest.mark.xfail(
-    strict=True,
-    reason="versamax.py IOModuleRecord.encode packs the board ids outside its try block: "
-    "struct.error escapes instead of ValueError",
-)
 def test_encode_rejects_a_board_id_wider_than_16_bits_with_value_error() -> None:
     record = IOModuleRecord(BoardId(0x1_8008), BoardId(0x8080), "D844")
     with pytest.raises(ValueError):
         record.encode()
 
 
-@pytest.mark.xfail(
-    strict=True,
-    reason="versamax.py IOModuleRecord.encode accepts a reference type outside %I/%Q/%AI/%AQ; "
-    "the counts then omit it and the record decodes to something else",
-)
 def test_encode_rejects_an_unknown_reference_type() -> None:
     record = IOModuleRecord(BoardId(0x8008), BoardId(0x8080), "D844", (RefDesc(1, 5, 0, 2, 0),))
     with pytest.raises(ValueError):

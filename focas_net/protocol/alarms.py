@@ -88,7 +88,9 @@ def _count_error(ew: int) -> bytes:
 
 def _negative_count(payload: bytes, count: int) -> int:
     if count == -1 and len(payload) >= 4:
-        return int(_I16.unpack_from(payload, 2)[0])
+        ew = int(_I16.unpack_from(payload, 2)[0])
+        if ew:
+            return ew
     return int(EW.PROTOCOL)
 
 

@@ -246,6 +246,14 @@ class ChunkedWriteError(FocasError):
             f"not written: {ranges(not_written)}"
         )
 
+    def __reduce__(
+        self,
+    ) -> tuple[
+        type[ChunkedWriteError],
+        tuple[str, list[tuple[int, int]], list[tuple[int, int]], BaseException],
+    ]:
+        return (type(self), (self.area, self.written, self.not_written, self.cause))
+
     @property
     def opcua_status(self) -> OpcUaStatus:
         """The OPC UA status of the cause."""

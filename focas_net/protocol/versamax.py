@@ -247,8 +247,11 @@ class IOModuleRecord:
         label = self.label.encode("latin-1")
         if len(label) != 4:
             raise ValueError(f"label must be 4 characters: {self.label!r}")
-        ids = _IDS.pack(self.secondary_id.value, self.primary_id.value)
+        unknown = [r.ref_type for r in self.references if r.ref_type not in _KNOWN_TYPES]
+        if unknown:
+            raise ValueError(f"unknown reference type(s) {unknown}: expected 16, 18, 10 or 12")
         try:
+            ids = _IDS.pack(self.secondary_id.value, self.primary_id.value)
             parts = [
                 ids,
                 _HEAD_REST.pack(label, additional_len, -additional_len % 26 + additional_len),
@@ -304,6 +307,7 @@ class IOModuleRecord:
 
 _INPUT_TYPES: Final = frozenset({RefType.I.value, RefType.AI.value})
 _COUNT_ORDER: Final = (RefType.I, RefType.Q, RefType.AI, RefType.AQ)
+_KNOWN_TYPES: Final = frozenset(t.value for t in RefType)
 
 
 def _ref_fields(r: RefDesc) -> tuple[int, int, int, int, int]:
