@@ -122,8 +122,8 @@ class FaultKind(enum.IntEnum):
     """``kind`` of the simulator's fault injection (0x0E05)."""
 
     DELAY = 1  #: answer ``arg`` milliseconds late
-    EW = 2  #: answer with EW code ``arg`` instead
-    CLOSE = 3  #: close the connection instead of answering
+    ERROR = 2  #: answer with EW code ``arg`` instead
+    DROP = 3  #: close the connection instead of answering
     SPLIT = 4  #: send the answer one byte per write
 
 
