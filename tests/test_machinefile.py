@@ -73,7 +73,7 @@ def test_example_password_gates_writes() -> None:
     assert m.read_param(6711, 0).value == 1
 
 
-def test_overrides_and_clock(tmp_path: Path) -> None:
+def test_overrides_and_clock() -> None:
     def fixed() -> datetime:
         return datetime(2024, 1, 2, 3, 4, 5, tzinfo=UTC)
 
