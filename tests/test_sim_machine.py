@@ -384,3 +384,24 @@ def test_axis_item_single_value_applies_to_every_axis() -> None:
     m = Machine("m", axes=["X", "Y"], params=[DataItem(7, 2, True, values=[9])])
     assert [m.read_param(7, a).value for a in (1, 2)] == [9, 9]
     assert ew_of(lambda: m.read_param(7, 3)) == EW.ATTRIB
+
+
+def test_set_param_password_locks_open_sessions() -> None:
+    m = default_machine()
+    m.set_panel(0, 1, 0)
+    s = m.new_session()
+    m.write_param(s, 6711, 0, 1, 4)  # no password: the gate is PWE and MDI only
+    m.set_param_password("ab")
+    assert m.has_password
+    assert ew_of(lambda: m.write_param(s, 6711, 0, 2, 4)) == EW.PASSWD
+    m.unlock(s, b"ab")
+    m.write_param(s, 6711, 0, 2, 4)
+    m.set_param_password("cd")
+    assert ew_of(lambda: m.write_param(s, 6711, 0, 3, 4)) == EW.PASSWD
+    late = m.new_session()
+    m.unlock(late, b"cd")
+    m.write_param(late, 6711, 0, 3, 4)
+    m.set_param_password(None)
+    assert not m.has_password
+    m.write_param(s, 6711, 0, 4, 4)
+    assert m.read_param(6711, 0).value == 4

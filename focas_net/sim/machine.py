@@ -119,9 +119,11 @@ class MachineError(Exception):
 
 @dataclass(slots=True)
 class Session:
-    """Per-connection state: whether this connection unlocked the parameter password."""
+    """Per-connection state: whether this connection unlocked the parameter password (and
+    under which password: ``epoch`` counts :meth:`Machine.set_param_password` calls)."""
 
     unlocked: bool = False
+    epoch: int = 0
 
 
 @dataclass(slots=True)
@@ -295,6 +297,7 @@ class Machine:
         self._password: bytes | None = (
             None if param_password is None else Password.from_text(param_password).password
         )
+        self._password_epoch = 0
         self._station: dict[tuple[int, int], bytes] = {}
         self._records: dict[tuple[int, int], IOModuleRecord] = {}
         for (rack, slot), record in (station or {}).items():
@@ -333,7 +336,14 @@ class Machine:
     # -- sessions, status, identity ------------------------------------------------------
     def new_session(self) -> Session:
         """Per-connection state for a new connection (locked)."""
-        return Session()
+        return Session(False, self._password_epoch)
+
+    def set_param_password(self, password: str | bytes | None) -> None:
+        """Set (None: remove) the parameter password, cut at 4 bytes. Connections unlocked
+        under the previous password are locked again."""
+        self._password = None if password is None else Password.from_text(password).password
+        self._password_epoch += 1
+        self._changed()
 
     @property
     def has_password(self) -> bool:
@@ -422,7 +432,11 @@ class Machine:
     def param_gate_open(self, session: Session) -> bool:
         """PWE on, MDI mode, and (when there is a password) this connection unlocked."""
         p = self.panel
-        return p.pwe == 1 and p.mode == MDI and (self._password is None or session.unlocked)
+        if p.pwe != 1 or p.mode != MDI:
+            return False
+        return self._password is None or (
+            session.unlocked and session.epoch == self._password_epoch
+        )
 
     def write_param(self, session: Session, datano: int, axis: int, value: int, width: int) -> None:
         """``cnc_wrparam``: EW_PROT (read-only machine), EW_NUMBER, EW_ATTRIB, EW_LENGTH (width),
@@ -536,10 +550,11 @@ class Machine:
         """``cnc_wrunlockparam``: unlock parameter writes for ``session``; a mismatch answers
         EW_PASSWD and locks the session again."""
         expected = self._password
+        session.epoch = self._password_epoch
         if expected is None:
             session.unlocked = True
             return
-        given = password[:4].ljust(4, b"\x00")
+        given = bytes(password[:4]).ljust(4, b"\x00")
         if hmac.compare_digest(given, expected):
             session.unlocked = True
             return
