@@ -14,7 +14,7 @@ Rules (also in ``docs/native-protocol.md``):
   room for the 16-byte head of every later block is kept, and a block whose data would not fit
   what is left answers ``EW_LENGTH``. The size is computed from the arguments **before** any
   data is gathered;
-* a request with more blocks than the limit can answer even as bare heads (89 at version 2)
+* a request with more blocks than the limit can answer even as bare heads (90 at version 2)
   is a framing violation (:class:`NativeFrameError`): the connection is closed.
 
 Macro values written as doubles (0xA8) are stored as the machine's ``(mcr_val, dec_val)``
@@ -118,7 +118,7 @@ def macro_from_double(value: float) -> tuple[int, int] | None:
     fits a signed 32-bit integer, then drop trailing zeros. So 100.0 -> (100, 0), 1.5 -> (15, 1),
     0.1 -> (1, 1), 1/3 -> (333333333, 9), 12345.678901234 -> (123456789, 4).
     """
-    if not math.isfinite(value) or abs(value) >= _I32_MAX + 1:
+    if not math.isfinite(value) or abs(value) > -_I32_MIN:
         return None
     exact = Decimal(repr(value))
     exponent = exact.as_tuple().exponent

@@ -1,0 +1,182 @@
+"""The native adapter without sockets: the double-to-macro rounding rule, the size limit and
+arbitrary request blocks (every answer well formed, the machine unchanged by reads)."""
+
+from __future__ import annotations
+
+import math
+import struct
+
+import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
+
+from focas_net.native import (
+    REQUEST_TYPES,
+    Device,
+    FrameType,
+    MacroDoubleWriteRequest,
+    MacroReadRequest,
+    NativeAdapter,
+    NativeCommand,
+    NativeFrameError,
+    RequestBlock,
+    SysInfoRequest,
+    decode_frame,
+    decode_response_body,
+    encode_request_body,
+    macro_from_double,
+)
+from focas_net.protocol import EW
+from focas_net.sim import default_machine
+
+
+@pytest.mark.parametrize(
+    ("value", "stored"),
+    [
+        (100.0, (100, 0)),
+        (1.5, (15, 1)),
+        (0.1, (1, 1)),
+        (-0.001, (-1, 3)),
+        (12.345, (12345, 3)),
+        (-0.0, (0, 0)),
+        (1e-300, (0, 0)),
+        (1 / 3, (333333333, 9)),
+        (2 / 3, (666666667, 9)),
+        (0.0000000005, (0, 0)),  # half-even at the 9th decimal
+        (0.0000000015, (2, 9)),
+        (12345.678901234, (123456789, 4)),
+        (2147483647.0, (2147483647, 0)),
+        (-2147483648.0, (-2147483648, 0)),
+        (2147483647.4, (2147483647, 0)),
+    ],
+)
+def test_macro_from_double(value: float, stored: tuple[int, int]) -> None:
+    assert macro_from_double(value) == stored
+
+
+@pytest.mark.parametrize("value", [math.inf, -math.inf, math.nan, 2147483647.6, 3e9, 1e300])
+def test_macro_from_double_refuses(value: float) -> None:
+    assert macro_from_double(value) is None
+
+
+@given(st.floats(allow_nan=False, allow_infinity=False, min_value=-1e9, max_value=1e9))
+def test_macro_from_double_is_close(value: float) -> None:
+    stored = macro_from_double(value)
+    assert stored is not None
+    mantissa, decimals = stored
+    assert -(2**31) <= mantissa < 2**31
+    assert 0 <= decimals <= 9
+    assert decimals == 0 or mantissa % 10  # no trailing zero
+    # within half a unit of the last decimal kept
+    assert abs(mantissa / 10**decimals - value) <= 0.5 / 10**decimals * (1 + 1e-9) + 1e-12
+
+
+def _answer(adapter: NativeAdapter, *blocks: RequestBlock) -> tuple[int, list[tuple[int, int]]]:
+    frame = decode_frame(adapter.answer(encode_request_body(list(blocks))))
+    assert frame.type == FrameType.DATA_RESPONSE
+    answers = decode_response_body(frame.body)
+    return len(frame.body), [(a.ew, len(a.data)) for a in answers]
+
+
+def test_block_count_limit() -> None:
+    adapter = NativeAdapter(default_machine())
+    assert adapter.limit == 1450
+    # 89 heads leave 24 bytes of data: the first block gets its 18, the others EW_LENGTH
+    size, answers = _answer(adapter, *[SysInfoRequest().to_block()] * 89)
+    assert size <= 1450
+    assert answers == [(0, 18)] + [(EW.LENGTH, 0)] * 88
+    # 90 heads fill the body: every block answered, none with data
+    size, answers = _answer(adapter, *[SysInfoRequest().to_block()] * 90)
+    assert size == 2 + 16 * 90 <= 1450
+    assert answers == [(EW.LENGTH, 0)] * 90
+    with pytest.raises(NativeFrameError):
+        adapter.answer(encode_request_body([SysInfoRequest().to_block()] * 91))
+
+
+def test_version_raises_the_limit() -> None:
+    adapter = NativeAdapter(default_machine(), version=4)
+    assert adapter.limit == 3470
+    _, answers = _answer(adapter, MacroReadRequest(500, 899).to_block())
+    assert answers == [(0, 400 * 8)]
+    frame = decode_frame(adapter.answer(encode_request_body([SysInfoRequest().to_block()])))
+    assert frame.version == 4
+
+
+def test_vacant_write_on_vacant_variable_changes_nothing() -> None:
+    machine = default_machine()
+    adapter = NativeAdapter(machine)
+    before = machine.state_digest()
+    _, answers = _answer(adapter, MacroDoubleWriteRequest(500, None).to_block())
+    assert answers == [(0, 0)]
+    assert machine.state_digest() == before
+
+
+_SERVED = sorted(REQUEST_TYPES)
+_READS = [key for key in _SERVED if key[1] != NativeCommand.WRMACRO_DOUBLE]
+_i32 = st.integers(-(2**31), 2**31 - 1)
+_small = st.integers(-3, 1100)
+_args = st.tuples(
+    st.one_of(_small, _i32), st.one_of(_small, _i32), st.one_of(_small, _i32), _small, _small
+)
+
+
+@st.composite
+def _blocks(draw: st.DrawFn, keys: list[tuple[int, int]]) -> RequestBlock:
+    if draw(st.booleans()):
+        device, command = draw(st.sampled_from(keys))
+    else:
+        device = draw(st.integers(0, 3))
+        command = draw(st.integers(0, 0xFFFF))
+    path = draw(st.sampled_from([1, 1, 1, 0, 2]))
+    extra = draw(st.binary(max_size=12))
+    return RequestBlock(device, path, command, draw(_args), extra)
+
+
+@settings(max_examples=300, deadline=None)
+@given(st.lists(_blocks(_READS), min_size=0, max_size=12))
+def test_arbitrary_reads_answer_every_block_and_change_nothing(blocks: list[RequestBlock]) -> None:
+    machine = default_machine()
+    machine.raise_alarm(1, 2, 300, b"ALARM")
+    adapter = NativeAdapter(machine)
+    before = machine.state_digest()
+    raw = adapter.answer(encode_request_body(blocks)) if blocks else adapter.answer(b"")
+    frame = decode_frame(raw)
+    assert len(frame.body) <= adapter.limit
+    answers = decode_response_body(frame.body)
+    assert len(answers) == len(blocks)
+    for req, resp in zip(blocks, answers, strict=True):
+        assert (resp.device, resp.path, resp.command) == (req.device, req.path, req.command)
+        if (req.device, req.command) not in REQUEST_TYPES:
+            assert resp.ew == EW.FUNC
+        if resp.ew:
+            assert resp.data == b""
+        assert resp.detail1 == resp.detail2 == 0
+    assert machine.state_digest() == before
+
+
+@settings(max_examples=200, deadline=None)
+@given(st.integers(-5, 1100), st.floats(allow_nan=True, width=64), st.binary(max_size=16))
+def test_arbitrary_macro_writes(number: int, value: float, extra: bytes) -> None:
+    machine = default_machine()
+    adapter = NativeAdapter(machine)
+    good = RequestBlock(
+        Device.CNC, 1, NativeCommand.WRMACRO_DOUBLE, (number, 0, 0, 0, 8), struct.pack(">d", value)
+    )
+    odd = RequestBlock(Device.CNC, 1, NativeCommand.WRMACRO_DOUBLE, (number, 0, 0, 0, 8), extra)
+    _, answers = _answer(adapter, odd, good)
+    writable = machine.macro_writable(number)
+    ew = answers[1][0]
+    if writable is None:
+        assert ew == EW.NUMBER
+    elif not writable:
+        assert ew == EW.PROT
+    elif math.isnan(value):
+        assert ew == 0
+    elif macro_from_double(value) is None:
+        assert ew == EW.DATA
+    else:
+        assert ew == 0
+        stored = machine.read_macro(number)
+        assert (stored.mcr_val, stored.dec_val) == macro_from_double(value)
+    if len(extra) != 8:
+        assert answers[0] == (EW.LENGTH, 0)
