@@ -26,7 +26,7 @@ import asyncio
 import logging
 import ssl as _ssl
 from collections.abc import Callable
-from typing import Final
+from typing import Final, cast
 
 from ..protocol import (
     DEFAULT_MAX_FRAME,
@@ -124,8 +124,8 @@ class Connection(asyncio.Protocol):
 
     # -- asyncio.Protocol ----------------------------------------------------------------
     def connection_made(self, transport: asyncio.BaseTransport) -> None:
-        assert isinstance(transport, asyncio.Transport)
-        self._transport = transport
+        # uvloop's transports implement the interface without subclassing asyncio.Transport
+        self._transport = cast(asyncio.Transport, transport)
         peer = transport.get_extra_info("peername")
         if peer:
             self.peer = f"{peer[0]}:{peer[1]}"
@@ -238,11 +238,13 @@ class Connection(asyncio.Protocol):
             slots.release()
 
     def _write(self, frame: bytes) -> None:
-        if not self._batch:
+        buf = self._wbuf
+        if not self._batch or (not buf and len(self._pending) - self._abandoned <= 1):
+            # A lone request (sequential use) goes out at once; when others are in flight,
+            # frames written during this loop turn are flushed together.
             assert self._transport is not None
             self._transport.write(frame)
             return
-        buf = self._wbuf
         buf.append(frame)
         if len(buf) == 1:
             self._loop.call_soon(self._flush)
