@@ -835,3 +835,44 @@ def test_handle_never_raises(command: int, payload: bytes, read_only: bool, cont
     failed = isinstance(decoded, EwReply) or getattr(decoded, "ew", 0) != 0
     if failed:
         assert m.state_digest() == before  # all-or-nothing
+
+
+def test_cached_reads_follow_writes(m: Machine, s: Session) -> None:
+    open_gate(m, s)
+    assert rd_param(m, s, 6711, 0).value == 0
+    assert wr_param(m, s, 6711, 0, 77, 4) == 0
+    assert rd_param(m, s, 6711, 0).value == 77
+    assert call(m, s, Command.RDDIAG, DataRequest(410, 0)).value == 0
+    m.set_diag(410, 0, 12)
+    assert call(m, s, Command.RDDIAG, DataRequest(410, 0)).value == 12
+    assert call(m, s, Command.RDMACRO, MacroRequest(500)).vacant
+    assert ew_of(m, s, Command.WRMACRO, MacroValue(500, 8, 5, 2)) == 0
+    assert call(m, s, Command.RDMACRO, MacroRequest(500)) == MacroValue(500, 8, 5, 2)
+    assert alarms(m, s).entries == ()
+    assert raise_alarm(m, s, 0, 3, 10) == 0
+    assert len(alarms(m, s).entries) == 1
+    assert ew_of(m, s, Command.SIM_CLEAR_ALARMS, ClearAlarms(-1, -1)) == 0
+    assert alarms(m, s).entries == ()
+    assert len(history(m, s, 10).entries) == 1
+    assert raise_alarm(m, s, 0, 3, 11) == 0
+    assert len(history(m, s, 10).entries) == 2
+
+
+def test_machines_do_not_share_answers(clock: FakeClock) -> None:
+    a, b = default_machine(clock=clock), default_machine(clock=clock)
+    sa, sb = a.new_session(), b.new_session()
+    open_gate(a, sa)
+    assert wr_param(a, sa, 3216, 0, 99, 2) == 0
+    assert rd_param(a, sa, 3216, 0).value == 99
+    assert rd_param(b, sb, 3216, 0).value == 10
+    assert raise_alarm(a, sa, 0, 3, 1) == 0
+    assert alarms(b, sb).entries == () and call(b, sb, Command.RDCNCSTAT).alarm == 0
+
+
+@pytest.mark.parametrize("wrap", [bytearray, memoryview])
+def test_payload_of_another_bytes_type(m: Machine, s: Session, wrap: Any) -> None:
+    payload = wrap(DataRequest(1320, 1).encode())
+    assert handle(m, s, Command.RDPARAM, payload) == raw(
+        m, s, Command.RDPARAM, DataRequest(1320, 1)
+    )
+    assert handle(m, s, Command.RDPARAM, wrap(b"\x00")) == b"\x02\x00"

@@ -315,6 +315,12 @@ class Machine:
         self._history_bytes: dict[int, bytes] = {}
         #: Incremented on every change of machine state (front ends may key caches on it).
         self.version = 0
+        #: Incremented when a parameter or diagnostic value changes.
+        self.data_version = 0
+        #: Incremented when a macro variable changes.
+        self.macro_version = 0
+        #: Incremented when the set of active alarms changes.
+        self.alarm_version = 0
         #: Filled in by :mod:`focas_net.sim.packed` (its dispatch table for this machine).
         self.packed_table: PackedTable | None = None
 
@@ -453,6 +459,7 @@ class Machine:
         if not low <= value <= high:
             raise MachineError(EW.DATA, f"parameter {datano}: {value} outside {low}..{high}")
         item.values[i] = value
+        self.data_version += 1
         self._changed()
 
     def set_diag(self, datano: int, axis: int, value: int) -> None:
@@ -463,6 +470,7 @@ class Machine:
         if not low <= value <= high:
             raise MachineError(EW.DATA, f"diagnostic {datano}: {value} outside {low}..{high}")
         item.values[i] = value
+        self.data_version += 1
         self._changed()
 
     # -- macro variables -----------------------------------------------------------------
@@ -499,6 +507,7 @@ class Machine:
         if not 0 <= dec_val <= 9:
             raise MachineError(EW.DATA, f"dec_val {dec_val} outside 0..9")
         self._macros[number] = (mcr_val, dec_val)
+        self.macro_version += 1
         self._changed()
 
     # -- PMC -------------------------------------------------------------------------------
@@ -623,6 +632,7 @@ class Machine:
         self._history.appendleft(AlarmHistoryEntry(self.now(), axis_no, alm_type, alm_no, text))
         self._history_cache.clear()
         self._history_bytes.clear()
+        self.alarm_version += 1
         self._status_changed()
 
     def clear_alarms(self, alm_type: int = -1, alm_no: int = -1) -> int:
@@ -638,6 +648,7 @@ class Machine:
         for k in gone:
             del self._active[k]
         if gone:
+            self.alarm_version += 1
             self._status_changed()
         return len(gone)
 

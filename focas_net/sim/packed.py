@@ -64,6 +64,7 @@ _decode_raise = RaiseAlarm.decode
 _decode_versamax = VersaMaxRequest.decode
 _HISTORY_REQUEST_SIZE: Final = 2
 _ALMMSG_REQUEST_SIZE: Final = 4
+_ALMMSG_CACHE: Final = 1024
 
 
 def error_payload(command: int, ew: int) -> bytes:
@@ -97,6 +98,8 @@ def handle(machine: Machine, session: Session, command: int, payload: bytes) -> 
     fn = (machine.packed_table or _table(machine)).get(command)
     if fn is None:
         return _EW_FUNC
+    if type(payload) is not bytes:  # the read caches key on the payload: make it hashable
+        payload = bytes(payload)
     try:
         return fn(session, payload)
     except MachineError as exc:
@@ -130,6 +133,15 @@ class _Handlers:
 
     def __init__(self, machine: Machine) -> None:
         self.m = machine
+        # answers of successful reads keyed by request payload, dropped when the machine's
+        # matching version counter moves (bounded: only valid requests are stored)
+        self._param: dict[bytes, bytes] = {}
+        self._diag: dict[bytes, bytes] = {}
+        self._data_version = machine.data_version
+        self._macro: dict[bytes, bytes] = {}
+        self._macro_version = machine.macro_version
+        self._almmsg: dict[bytes, bytes] = {}
+        self._alarm_version = machine.alarm_version
 
     def table(self) -> PackedTable:
         by_id: dict[int, Callable[[Session, bytes], bytes]] = {
@@ -165,26 +177,59 @@ class _Handlers:
             return _EW_LENGTH
         return self.m.sysinfo_payload()
 
+    def _data_fresh(self) -> None:
+        self._param.clear()
+        self._diag.clear()
+        self._data_version = self.m.data_version
+
     def rdparam(self, _session: Session, payload: bytes) -> bytes:
-        if len(payload) != 4:
-            return _EW_LENGTH
-        return EW_OK_BYTES + self.m.read_param(*_unpack_data(payload)).encode()
+        if self._data_version != self.m.data_version:
+            self._data_fresh()
+        answer = self._param.get(payload)
+        if answer is None:
+            if len(payload) != 4:
+                return _EW_LENGTH
+            answer = EW_OK_BYTES + self.m.read_param(*_unpack_data(payload)).encode()
+            self._param[payload] = answer
+        return answer
 
     def rddiag(self, _session: Session, payload: bytes) -> bytes:
-        if len(payload) != 4:
-            return _EW_LENGTH
-        return EW_OK_BYTES + self.m.read_diag(*_unpack_data(payload)).encode()
+        if self._data_version != self.m.data_version:
+            self._data_fresh()
+        answer = self._diag.get(payload)
+        if answer is None:
+            if len(payload) != 4:
+                return _EW_LENGTH
+            answer = EW_OK_BYTES + self.m.read_diag(*_unpack_data(payload)).encode()
+            self._diag[payload] = answer
+        return answer
 
     def rdmacro(self, _session: Session, payload: bytes) -> bytes:
-        if len(payload) != 2:
-            return _EW_LENGTH
-        return EW_OK_BYTES + self.m.read_macro(_unpack_macro(payload)[0]).encode()
+        if self._macro_version != self.m.macro_version:
+            self._macro.clear()
+            self._macro_version = self.m.macro_version
+        answer = self._macro.get(payload)
+        if answer is None:
+            if len(payload) != 2:
+                return _EW_LENGTH
+            answer = EW_OK_BYTES + self.m.read_macro(_unpack_macro(payload)[0]).encode()
+            self._macro[payload] = answer
+        return answer
 
     def rdalmmsg(self, _session: Session, payload: bytes) -> bytes:
-        if len(payload) != _ALMMSG_REQUEST_SIZE:
-            return _COUNTED_LENGTH
-        alm_type, max_ = _unpack_data(payload)
-        return ActiveAlarmList(tuple(self.m.active_alarms(alm_type, max_))).encode()
+        if self._alarm_version != self.m.alarm_version:
+            self._almmsg.clear()
+            self._alarm_version = self.m.alarm_version
+        answer = self._almmsg.get(payload)
+        if answer is None:
+            if len(payload) != _ALMMSG_REQUEST_SIZE:
+                return _COUNTED_LENGTH
+            alm_type, max_ = _unpack_data(payload)
+            entries = tuple(self.m.active_alarms(alm_type, max_))
+            answer = ActiveAlarmList(entries).encode()
+            if len(self._almmsg) < _ALMMSG_CACHE:
+                self._almmsg[payload] = answer
+        return answer
 
     def rdalmhistry(self, _session: Session, payload: bytes) -> bytes:
         if len(payload) != _HISTORY_REQUEST_SIZE:
