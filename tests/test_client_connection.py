@@ -432,8 +432,18 @@ async def test_calls_while_reconnecting_wait_within_their_timeout(peer: FakePeer
 
 async def test_reconnect_gives_up_after_max_attempts(peer: FakePeer) -> None:
     policy = ReconnectPolicy(initial_delay=0.0, max_delay=0.0, max_attempts=2)
-    async with FocasClient("127.0.0.1", peer.port, timeout=BOUND, reconnect=policy) as c:
+    gave_up = asyncio.Event()
+
+    def watch(state: ClientState) -> None:
+        if state is ClientState.DISCONNECTED:
+            gave_up.set()
+
+    async with FocasClient(
+        "127.0.0.1", peer.port, timeout=BOUND, reconnect=policy, on_state_change=watch
+    ) as c:
         await peer.stop()
+        async with asyncio.timeout(BOUND):
+            await gave_up.wait()
         with pytest.raises(FocasConnectionError):
             await c.read_status()
         assert c.state is ClientState.DISCONNECTED
