@@ -61,6 +61,11 @@ class Wire:
             reader, writer = await asyncio.open_connection(host, port, **kwargs)
         return cls(reader, writer)
 
+    @property
+    def sockname(self) -> Any:
+        """This end's address."""
+        return self.writer.get_extra_info("sockname")
+
     def next_id(self) -> int:
         rid = self._next_id
         self._next_id = (rid + 1) & 0xFFFF

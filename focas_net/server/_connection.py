@@ -18,7 +18,7 @@ import asyncio
 import logging
 from typing import TYPE_CHECKING, Any, Final
 
-from focas_net.protocol import EW, HEADER, FrameDecoder, FrameError, encode_ew
+from focas_net.protocol import EW, HEADER, Frame, FrameDecoder, FrameError, encode_ew
 from focas_net.sim.packed import error_payload, handle
 
 from .faults import FaultKind, FaultQueue, FaultScope, parse_inject
@@ -40,6 +40,9 @@ _EW_OK: Final = encode_ew(EW.OK)
 _EW_FUNC: Final = encode_ew(EW.FUNC)
 _DEBUG: Final = logging.DEBUG
 _HEXDUMP_LIMIT: Final = 256
+#: Input is decoded at most this many bytes at a time, so that output backpressure can stop
+#: the answering between slices.
+_SLICE: Final = 16 * 1024
 _DELAY_KIND: Final = FaultKind.DELAY
 _ERROR_KIND: Final = FaultKind.ERROR
 _DROP_KIND: Final = FaultKind.DROP
@@ -64,10 +67,22 @@ class _Delayed:
         self.conn._send_delayed(self)
 
 
+class _Backlog:
+    """Input held while output backpressure stops the answering: decoded requests not yet
+    answered, then raw bytes not yet decoded. Bounded by one read of the transport."""
+
+    __slots__ = ("frames", "input")
+
+    def __init__(self, frames: list[Frame] | None, data: bytes | memoryview) -> None:
+        self.frames = frames
+        self.input: bytes | memoryview = data
+
+
 class Connection(asyncio.Protocol):
     """The protocol of one accepted connection."""
 
     __slots__ = (
+        "_backlog",
         "_closing",
         "_decoder",
         "_delayed",
@@ -91,6 +106,7 @@ class Connection(asyncio.Protocol):
         self._peer: Any = None
         self._faults: FaultQueue | None = None
         self._delayed: set[_Delayed] | None = None
+        self._backlog: _Backlog | None = None
         self._read_paused = False
         self._write_paused = False
         self._closing = False
@@ -121,8 +137,15 @@ class Connection(asyncio.Protocol):
 
     @property
     def buffered_input(self) -> int:
-        """Bytes of a partial frame held by the decoder."""
-        return self._decoder.buffered
+        """Bytes received and not answered yet: a partial frame in the decoder, plus the
+        backlog held while backpressure stops the answering."""
+        held = self._decoder.buffered
+        backlog = self._backlog
+        if backlog is not None:
+            held += len(backlog.input)
+            if backlog.frames:
+                held += sum(8 + len(f.payload) for f in backlog.frames)
+        return held
 
     # -- asyncio.Protocol ------------------------------------------------------------------
 
@@ -158,49 +181,64 @@ class Connection(asyncio.Protocol):
             return
         self._transport = None
         self._closing = True
-        delayed = self._delayed
-        if delayed:
-            for item in delayed:
-                if item.timer is not None:
-                    item.timer.cancel()
-            delayed.clear()
+        self._backlog = None
+        self._cancel_delayed()
         listener.connections.discard(self)
         listener.server._connection_done(self)
         _log.debug("%s: connection from %s closed (%s)", listener.label, self._peer, exc)
 
     def pause_writing(self) -> None:
         self._write_paused = True
-        self._update_reading()
+        self._pause_reading()
 
     def resume_writing(self) -> None:
         self._write_paused = False
-        self._update_reading()
+        self._maybe_resume()
 
     def eof_received(self) -> bool:
-        # The peer sends nothing more: answers already written are flushed, then the transport
-        # closes (returning False); delayed answers still pending are dropped with it.
-        return False
+        # The peer sends nothing more. Requests already received are answered and flushed,
+        # then the connection closes; delayed answers still pending are dropped.
+        self._cancel_delayed()
+        if self._backlog is None:
+            return False  # the transport closes itself after flushing
+        self._closing = True
+        return True  # closed by _work_backlog once the backlog is answered
 
     def data_received(self, data: bytes) -> None:
-        transport = self._transport
-        if transport is None or self._closing:
+        if self._transport is None or self._closing:
             return
-        try:
-            frames = self._decoder.feed(data)
-        except FrameError as exc:
-            self._framing_violation(exc, data)
+        if self._backlog is not None:
+            # Still working off earlier input (reading is paused): keep the order.
+            backlog = self._backlog
+            backlog.input = bytes(backlog.input) + data
             return
-        if not frames:
-            return
-        listener = self._listener
-        self._tick = listener.server._tick
         if _log.isEnabledFor(_DEBUG):
-            _log.debug("%s: from %s: %s", listener.label, self._peer, _hexdump(data))
+            _log.debug("%s: from %s: %s", self._listener.label, self._peer, _hexdump(data))
+        if len(data) <= _SLICE:
+            try:
+                frames = self._decoder.feed(data)
+            except FrameError as exc:
+                self._framing_violation(exc, data)
+                return
+            if frames:
+                self._tick = self._listener.server._tick
+                self._run(frames)
+        else:
+            self._backlog = _Backlog(None, memoryview(data))
+            self._work_backlog()
+
+    def _run(self, frames: list[Frame]) -> bool:
+        """Answer ``frames`` in order; False when output backpressure stopped it part way (the
+        rest is kept in the backlog) or the connection was closed."""
+        transport = self._transport
+        assert transport is not None
         machine = self._machine
         session = self._session
-        shared = listener.faults
+        shared = self._listener.faults
+        budget = self._listener.server.write_buffer_high
         out: list[bytes] = []
-        for command, request_id, payload in frames:
+        size = 0
+        for index, (command, request_id, payload) in enumerate(frames):
             if command == _INJECT_FAULT:
                 answer = self._inject_fault(payload)
             elif (shared.armed or self._faults is not None) and not (
@@ -210,8 +248,10 @@ class Connection(asyncio.Protocol):
                 if fault is not None:
                     written = self._apply_fault(fault, command, request_id, payload, out)
                     if written is None:
-                        return  # the connection was closed instead of answering
+                        return False  # the connection was closed instead of answering
                     out = written
+                    if self._write_paused or self._delayed_full():
+                        return self._stop(frames, index + 1, out)
                     continue
                 answer = self._answer(command, payload)
             else:
@@ -221,8 +261,65 @@ class Connection(asyncio.Protocol):
                     answer = self._failed(command)
             out.append(_pack_header(len(answer) + 4, command, request_id))
             out.append(answer)
+            size += len(answer)
+            if size >= budget:
+                transport.writelines(out)
+                out = []
+                size = 0
+                if self._write_paused:  # the write buffer passed its high-water mark
+                    return self._stop(frames, index + 1, out)
         if out:
             transport.writelines(out)
+        return True
+
+    def _stop(self, frames: list[Frame], index: int, out: list[bytes]) -> bool:
+        transport = self._transport
+        assert transport is not None
+        if out:
+            transport.writelines(out)
+        rest = frames[index:]
+        backlog = self._backlog
+        if backlog is None:
+            self._backlog = _Backlog(rest or None, b"")
+        else:
+            backlog.frames = rest or None
+        return False
+
+    def _work_backlog(self) -> None:
+        """Answer held requests, then feed held input a slice at a time, until done or paused
+        again. Reading resumes (or the connection closes) when the backlog is empty."""
+        backlog = self._backlog
+        while backlog is not None and self._transport is not None:
+            if self._write_paused or self._delayed_full():
+                return
+            frames = backlog.frames
+            if frames is not None:
+                backlog.frames = None
+                if not self._run(frames):
+                    return
+                continue
+            data = backlog.input
+            if not data:
+                break
+            chunk, backlog.input = data[:_SLICE], data[_SLICE:]
+            try:
+                frames = self._decoder.feed(chunk)
+            except FrameError as exc:
+                self._framing_violation(exc, chunk)
+                return
+            if frames:
+                self._tick = self._listener.server._tick
+                if not self._run(frames):
+                    return
+        self._backlog = None
+        if self._transport is None:
+            return
+        if self._closing:
+            if not self._delayed:
+                self._transport.close()
+        elif self._read_paused and not self._write_paused and not self._delayed_full():
+            self._read_paused = False
+            self._transport.resume_reading()
 
     # -- helpers ---------------------------------------------------------------------------
 
@@ -295,7 +392,7 @@ class Connection(asyncio.Protocol):
             write(frame[i : i + 1])
         return []
 
-    def _framing_violation(self, exc: FrameError, data: bytes) -> None:
+    def _framing_violation(self, exc: FrameError, data: bytes | memoryview) -> None:
         listener = self._listener
         _log.warning("%s: %s from %s: %s", listener.label, "framing violation", self._peer, exc)
         if _log.isEnabledFor(_DEBUG):
@@ -308,12 +405,8 @@ class Connection(asyncio.Protocol):
     def _close_now(self) -> None:
         """Close at once without answering anything more (pending delayed answers dropped)."""
         self._closing = True
-        delayed = self._delayed
-        if delayed:
-            for item in delayed:
-                if item.timer is not None:
-                    item.timer.cancel()
-            delayed.clear()
+        self._backlog = None
+        self._cancel_delayed()
         transport = self._transport
         if transport is not None:
             transport.close()
@@ -347,7 +440,7 @@ class Connection(asyncio.Protocol):
         delayed.add(item)
         item.timer = self._listener.server._loop.call_later(ms / 1000.0, item.fire)
         if len(delayed) >= self._listener.server.max_delayed:
-            self._update_reading()
+            self._pause_reading()
 
     def _send_delayed(self, item: _Delayed) -> None:
         delayed = self._delayed
@@ -359,33 +452,49 @@ class Connection(asyncio.Protocol):
         if transport is None:
             return
         transport.write(item.data)
-        if not delayed and self._closing:
+        if not delayed and self._closing and self._backlog is None:
             # Server shutdown: the last delayed answer is out, close.
             transport.close()
         elif self._read_paused:
-            self._update_reading()
+            self._maybe_resume()
 
-    def _update_reading(self) -> None:
-        transport = self._transport
-        if transport is None:
-            return
-        delayed = len(self._delayed) if self._delayed else 0
-        limit = self._listener.server.max_delayed
-        if self._read_paused:
-            if not self._write_paused and not self._closing and delayed <= limit // 2:
-                self._read_paused = False
-                transport.resume_reading()
-        elif self._write_paused or self._closing or delayed >= limit:
+    def _delayed_full(self) -> bool:
+        delayed = self._delayed
+        return delayed is not None and len(delayed) >= self._listener.server.max_delayed
+
+    def _pause_reading(self) -> None:
+        if not self._read_paused and self._transport is not None:
             self._read_paused = True
-            transport.pause_reading()
+            self._transport.pause_reading()
+
+    def _maybe_resume(self) -> None:
+        """Work off the backlog and resume reading once no bound holds any more."""
+        if not self._read_paused or self._write_paused or self._transport is None:
+            return
+        delayed = self._delayed
+        if delayed and len(delayed) > self._listener.server.max_delayed // 2:
+            return
+        if self._backlog is not None:
+            self._work_backlog()  # resumes reading itself when done
+        elif not self._closing:
+            self._read_paused = False
+            self._transport.resume_reading()
+
+    def _cancel_delayed(self) -> None:
+        delayed = self._delayed
+        if delayed:
+            for item in delayed:
+                if item.timer is not None:
+                    item.timer.cancel()
+            delayed.clear()
 
     # -- shutdown (driven by the server) ---------------------------------------------------
 
     def begin_shutdown(self) -> None:
-        """Stop reading; close once the delayed answers (if any) are sent."""
+        """Stop reading; close once held requests and delayed answers (if any) are answered."""
         self._closing = True
-        self._update_reading()
-        if not self._delayed:
+        self._pause_reading()
+        if not self._delayed and self._backlog is None:
             self.close()
 
     def flush_delayed(self) -> None:
