@@ -1,0 +1,254 @@
+"""``focas-net serve``: run simulated CNCs until SIGINT or SIGTERM.
+
+When every listener is bound it prints, flushed, one line per machine::
+
+    focas-net: <machine name> listening on HOST:PORT
+
+so scripts and tests can wait for it. A bad machine file, TLS file or option ends with a
+one-line error and exit code 2; a port that cannot be bound with exit code 1. SIGINT and
+SIGTERM shut down gracefully (stop accepting, answer what is in flight, close) and exit 0.
+"""
+
+from __future__ import annotations
+
+import argparse
+import logging
+import signal
+import ssl
+import sys
+from typing import TYPE_CHECKING, Any
+
+import anyio
+
+from focas_net.server import (
+    DEFAULT_GRACE_PERIOD,
+    DEFAULT_HOST,
+    DEFAULT_IDLE_TIMEOUT,
+    DEFAULT_MAX_CONNECTIONS,
+    DEFAULT_PORT,
+    FocasServer,
+)
+
+if TYPE_CHECKING:
+    from focas_net.sim import Machine
+
+__all__ = ["build_machines", "register", "run"]
+
+_log = logging.getLogger("focas_net.cli.serve")
+
+#: Exit code of a usage or configuration error.
+EXIT_USAGE = 2
+#: Exit code when the server cannot start (port in use, ...).
+EXIT_START = 1
+
+
+class ConfigError(Exception):
+    """A configuration problem reported as one line, exit code 2."""
+
+
+def _positive_int(text: str) -> int:
+    try:
+        value = int(text, 0)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"not an integer: {text!r}") from None
+    if value < 1:
+        raise argparse.ArgumentTypeError(f"must be at least 1, got {value}")
+    return value
+
+
+def _port(text: str) -> int:
+    try:
+        value = int(text, 0)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"not a port number: {text!r}") from None
+    if not 0 <= value <= 65_535:
+        raise argparse.ArgumentTypeError(f"port must be 0..65535, got {value}")
+    return value
+
+
+def _seconds(text: str) -> float:
+    try:
+        value = float(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"not a number of seconds: {text!r}") from None
+    if not value >= 0 or value == float("inf"):
+        raise argparse.ArgumentTypeError(f"must be a finite number >= 0, got {text}")
+    return value
+
+
+def _max_frame(text: str) -> int:
+    value = _positive_int(text)
+    if value < 4:
+        raise argparse.ArgumentTypeError(f"must be at least 4, got {value}")
+    return value
+
+
+def register(subparsers: Any) -> None:
+    """Add the ``serve`` subcommand."""
+    p = subparsers.add_parser(
+        "serve",
+        help="run a simulated CNC (or a fleet of them)",
+        description="Run simulated FANUC CNCs speaking the focas_net packed protocol.",
+    )
+    p.add_argument("--host", default=DEFAULT_HOST, help="address to bind (default %(default)s)")
+    p.add_argument(
+        "--port",
+        type=_port,
+        default=DEFAULT_PORT,
+        help="port of the first machine; 0 = ephemeral ports (default %(default)s)",
+    )
+    p.add_argument(
+        "--machine",
+        metavar="FILE",
+        help="machine file (TOML, see docs/machine-file.md); default: the built-in machine",
+    )
+    p.add_argument(
+        "--fleet",
+        type=_positive_int,
+        default=1,
+        metavar="N",
+        help="serve N independent machines on ports PORT..PORT+N-1 (or N ephemeral ports)",
+    )
+    p.add_argument(
+        "--param-password",
+        metavar="TEXT",
+        help="parameter-write password (cnc_wrunlockparam); at most 4 characters are used",
+    )
+    p.add_argument(
+        "--no-control",
+        action="store_true",
+        help="answer simulator control commands 0x0E01..0x0E05 with EW_FUNC, like a real CNC",
+    )
+    p.add_argument(
+        "--read-only",
+        action="store_true",
+        help="answer every write (parameter, macro, PMC, control) with EW_PROT",
+    )
+    p.add_argument(
+        "--max-connections",
+        type=_positive_int,
+        default=DEFAULT_MAX_CONNECTIONS,
+        metavar="N",
+        help="connections per machine; extra ones are closed at once (default %(default)s)",
+    )
+    p.add_argument(
+        "--idle-timeout",
+        type=_seconds,
+        default=DEFAULT_IDLE_TIMEOUT,
+        metavar="SECONDS",
+        help="close a connection without a request for this long; 0 = never (default %(default)s)",
+    )
+    p.add_argument(
+        "--max-frame",
+        type=_max_frame,
+        default=65_536,
+        metavar="BYTES",
+        help="largest frame length accepted; a longer one closes the connection "
+        "(default %(default)s)",
+    )
+    p.add_argument(
+        "--grace-period",
+        type=_seconds,
+        default=DEFAULT_GRACE_PERIOD,
+        metavar="SECONDS",
+        help="how long shutdown waits for answers in flight (default %(default)s)",
+    )
+    p.add_argument("--tls-cert", metavar="FILE", help="serve TLS with this certificate (PEM)")
+    p.add_argument("--tls-key", metavar="FILE", help="private key of --tls-cert (PEM)")
+    p.add_argument(
+        "--log-level",
+        default="WARNING",
+        type=str.upper,
+        choices=["DEBUG", "INFO", "WARNING", "ERROR", "CRITICAL"],
+        help="logging threshold on stderr (default %(default)s)",
+    )
+    p.set_defaults(func=run)
+
+
+def build_machines(args: argparse.Namespace) -> list[Machine]:
+    """The machines described by the options; raises :class:`ConfigError`."""
+    from focas_net.sim import MachineFileError, default_machine, load_machine
+
+    machines: list[Machine] = []
+    for i in range(args.fleet):
+        if args.machine is not None:
+            try:
+                machine = load_machine(args.machine, param_password=args.param_password)
+            except MachineFileError as exc:
+                raise ConfigError(str(exc)) from None
+            except OSError as exc:
+                raise ConfigError(f"{args.machine}: {exc.strerror or exc}") from None
+        else:
+            machine = default_machine(param_password=args.param_password)
+        if args.fleet > 1:
+            machine.name = f"{machine.name}-{i + 1}"
+        if args.no_control:
+            machine.control_enabled = False
+        if args.read_only:
+            machine.read_only = True
+        machines.append(machine)
+    return machines
+
+
+def _ssl_context(args: argparse.Namespace) -> ssl.SSLContext | None:
+    if args.tls_cert is None and args.tls_key is None:
+        return None
+    if args.tls_cert is None:
+        raise ConfigError("--tls-key needs --tls-cert")
+    ctx = ssl.SSLContext(ssl.PROTOCOL_TLS_SERVER)
+    try:
+        ctx.load_cert_chain(args.tls_cert, args.tls_key)
+    except (OSError, ssl.SSLError) as exc:
+        files = args.tls_cert if args.tls_key is None else f"{args.tls_cert}, {args.tls_key}"
+        raise ConfigError(f"TLS certificate/key ({files}): {exc}") from None
+    return ctx
+
+
+def _error(message: str) -> None:
+    sys.stderr.write(f"focas-net serve: error: {message}\n")
+    sys.stderr.flush()
+
+
+def run(args: argparse.Namespace) -> int:
+    """Entry point of ``focas-net serve``; returns the exit code."""
+    logging.basicConfig(
+        level=getattr(logging, args.log_level),
+        format="%(asctime)s %(levelname)s %(name)s: %(message)s",
+        stream=sys.stderr,
+    )
+    try:
+        machines = build_machines(args)
+        ssl_context = _ssl_context(args)
+        if args.port and args.port + args.fleet - 1 > 65_535:
+            raise ConfigError(f"--fleet {args.fleet} from port {args.port} runs past 65535")
+    except ConfigError as exc:
+        _error(str(exc))
+        return EXIT_USAGE
+    server = FocasServer(
+        machines,
+        host=args.host,
+        port=args.port,
+        ssl=ssl_context,
+        max_frame=args.max_frame,
+        max_connections=args.max_connections,
+        idle_timeout=args.idle_timeout,
+        grace_period=args.grace_period,
+    )
+    try:
+        return anyio.run(_serve, server, backend="asyncio")
+    except OSError as exc:
+        _error(f"cannot listen on {args.host}:{args.port}: {exc.strerror or exc}")
+        return EXIT_START
+
+
+async def _serve(server: FocasServer) -> int:
+    with anyio.open_signal_receiver(signal.SIGINT, signal.SIGTERM) as signals:
+        async with server:
+            out = sys.stdout
+            for listener in server.listeners:
+                out.write(f"focas-net: {listener.label} listening on {listener.address_text}\n")
+            out.flush()
+            async for signum in signals:
+                _log.info("%s received: shutting down", signal.Signals(signum).name)
+                break
+    return 0
