@@ -405,3 +405,18 @@ def test_set_param_password_locks_open_sessions() -> None:
     assert not m.has_password
     m.write_param(s, 6711, 0, 4, 4)
     assert m.read_param(6711, 0).value == 4
+
+
+def test_numbers_and_clear_macro(m: Machine) -> None:
+    assert m.param_numbers()[:3] == (20, 1001, 1005)
+    assert {1320, 1420, 1815, 3216, 6711, 6712} <= set(m.param_numbers())
+    assert m.diag_numbers() == (0, 300, 301, 308, 309, 403, 410)
+    m.write_macro(7, 1, 0)
+    v = m.version
+    m.clear_macro(7)
+    assert m.read_macro(7).vacant and m.version == v + 1
+    m.clear_macro(7)  # already vacant: nothing changes
+    assert m.version == v + 1
+    assert ew_of(lambda: m.clear_macro(34)) == EW.NUMBER
+    assert ew_of(lambda: m.clear_macro(4001)) == EW.PROT
+    assert ew_of(lambda: default_machine(read_only=True).clear_macro(1)) == EW.PROT

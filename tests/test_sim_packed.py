@@ -876,3 +876,18 @@ def test_payload_of_another_bytes_type(m: Machine, s: Session, wrap: Any) -> Non
         m, s, Command.RDPARAM, DataRequest(1320, 1)
     )
     assert handle(m, s, Command.RDPARAM, wrap(b"\x00")) == b"\x02\x00"
+
+
+def test_changes_made_outside_the_adapter_are_seen(m: Machine, s: Session) -> None:
+    """Another front end (native FOCAS/2) changes the same machine through its typed API."""
+    assert ew_of(m, s, Command.WRMACRO, MacroValue(120, 8, 3, 0)) == 0
+    assert not call(m, s, Command.RDMACRO, MacroRequest(120)).vacant
+    m.clear_macro(120)
+    assert call(m, s, Command.RDMACRO, MacroRequest(120)).vacant
+    assert rd_param(m, s, 3216, 0).value == 10
+    m.set_panel(0, 1, 0)
+    m.write_param(s, 3216, 0, 20, 2)
+    assert rd_param(m, s, 3216, 0).value == 20
+    assert alarms(m, s).entries == ()
+    m.raise_alarm(2, 6, 411, b"SV0411")
+    assert [a.key for a in alarms(m, s).entries] == [(2, 6, 411)]

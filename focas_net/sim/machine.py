@@ -349,7 +349,7 @@ class Machine:
         under the previous password are locked again."""
         self._password = None if password is None else Password.from_text(password).password
         self._password_epoch += 1
-        self._changed()
+        self.version += 1
 
     @property
     def has_password(self) -> bool:
@@ -380,7 +380,13 @@ class Machine:
         return cached
 
     def _changed(self) -> None:
+        """Something changed, not said what: every version counter moves (answer caches of
+        the front ends are dropped)."""
         self.version += 1
+        self.data_version += 1
+        self.macro_version += 1
+        self.alarm_version += 1
+        self._status_bytes = None
 
     def _status_changed(self) -> None:
         self._status_bytes = None
@@ -425,6 +431,14 @@ class Machine:
         """The description of diagnostic ``datano`` (None when the machine has none)."""
         return self._diags.get(datano)
 
+    def param_numbers(self) -> tuple[int, ...]:
+        """The numbers of every parameter, ascending."""
+        return tuple(sorted(self._params))
+
+    def diag_numbers(self) -> tuple[int, ...]:
+        """The numbers of every diagnostic, ascending."""
+        return tuple(sorted(self._diags))
+
     def read_param(self, datano: int, axis: int) -> ParamValue:
         """``cnc_rdparam``: EW_NUMBER, then EW_ATTRIB."""
         item, i = self._lookup(self._params, datano, axis)
@@ -460,7 +474,7 @@ class Machine:
             raise MachineError(EW.DATA, f"parameter {datano}: {value} outside {low}..{high}")
         item.values[i] = value
         self.data_version += 1
-        self._changed()
+        self.version += 1
 
     def set_diag(self, datano: int, axis: int, value: int) -> None:
         """Change a diagnostic value (for simulation code; not reachable over the wire)."""
@@ -471,7 +485,7 @@ class Machine:
             raise MachineError(EW.DATA, f"diagnostic {datano}: {value} outside {low}..{high}")
         item.values[i] = value
         self.data_version += 1
-        self._changed()
+        self.version += 1
 
     # -- macro variables -----------------------------------------------------------------
     def _macro_range(self, number: int) -> MacroRange | None:
@@ -508,7 +522,21 @@ class Machine:
             raise MachineError(EW.DATA, f"dec_val {dec_val} outside 0..9")
         self._macros[number] = (mcr_val, dec_val)
         self.macro_version += 1
-        self._changed()
+        self.version += 1
+
+    def clear_macro(self, number: int) -> None:
+        """Make macro ``number`` vacant (what a native ``cnc_wrmacro`` of a null value does):
+        EW_PROT (read-only machine), EW_NUMBER, EW_PROT (read-only variable)."""
+        if self.read_only:
+            raise MachineError(EW.PROT, "read-only machine")
+        r = self._macro_range(number)
+        if r is None:
+            raise MachineError(EW.NUMBER, f"no macro variable #{number}")
+        if not r.writable:
+            raise MachineError(EW.PROT, f"macro variable #{number} is read-only")
+        if self._macros.pop(number, None) is not None:
+            self.macro_version += 1
+            self.version += 1
 
     # -- PMC -------------------------------------------------------------------------------
     def pmc_area(self, letter: str) -> tuple[int, bool] | None:
@@ -552,7 +580,7 @@ class Machine:
         if area.write_protected and not force:
             raise MachineError(EW.PROT, f"PMC area {area.letter} is write-protected")
         area.data[start : end + 1] = data
-        self._changed()
+        self.version += 1
 
     # -- password ------------------------------------------------------------------------
     def unlock(self, session: Session, password: bytes) -> None:
