@@ -389,3 +389,22 @@ async def test_tls(certificate: tuple[Path, Path]) -> None:
                 await plain.recv(within=2.0)
         async with await Wire.open(served.host, served.port, ssl=client_ctx) as again:
             assert await again.ew(*STATUS) == 0
+
+
+# -- uvloop ------------------------------------------------------------------------------------
+
+
+def test_serves_on_uvloop() -> None:
+    pytest.importorskip("uvloop")
+    import anyio
+
+    async def main() -> int:
+        async with serving() as served:
+            async with await served.connect() as w:
+                assert await w.ew(Command.SIM_INJECT_FAULT, InjectFault(1, 0, 1, 10).encode()) == 0
+                w.send(*STATUS, request_id=1)
+                w.send(Command.RDMACRO, MacroRequest(1).encode(), request_id=2)
+                frames = await w.recv_many(2)
+                return len(frames)
+
+    assert anyio.run(main, backend="asyncio", backend_options={"use_uvloop": True}) == 2

@@ -16,7 +16,7 @@ from __future__ import annotations
 
 import asyncio
 import logging
-from typing import TYPE_CHECKING, Any, Final
+from typing import TYPE_CHECKING, Any, Final, cast
 
 from focas_net.protocol import EW, HEADER, Frame, FrameDecoder, FrameError, encode_ew
 from focas_net.sim.packed import error_payload, handle
@@ -149,8 +149,9 @@ class Connection(asyncio.Protocol):
 
     # -- asyncio.Protocol ------------------------------------------------------------------
 
-    def connection_made(self, transport: asyncio.BaseTransport) -> None:
-        assert isinstance(transport, asyncio.Transport)
+    def connection_made(self, base: asyncio.BaseTransport) -> None:
+        # uvloop's transports do not subclass asyncio.Transport, but have its methods
+        transport = cast(asyncio.Transport, base)
         listener = self._listener
         self._peer = transport.get_extra_info("peername")
         if not listener.accepting:
