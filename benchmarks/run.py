@@ -277,6 +277,11 @@ class Suite:
         log(message)
         self.results.skipped.append(message)
 
+    def turns(self, rep: int) -> list[str]:
+        """The subjects in the order they take their turn in repetition ``rep`` (alternating,
+        so that neither goes first every time)."""
+        return self.subjects if rep % 2 == 0 else self.subjects[::-1]
+
     def guarded(self, name: str, scenario: Callable[[], None]) -> None:
         """Run one scenario; a failure is reported and the suite goes on."""
         try:
@@ -338,8 +343,8 @@ class Suite:
         samples: dict[str, list[float]] = {s: [] for s in self.subjects}
         for subject in self.subjects:
             self._sample(subject, mode, cfg.warmup)
-        for _ in range(cfg.reps):
-            for subject in self.subjects:
+        for rep in range(cfg.reps):
+            for subject in self.turns(rep):
                 samples[subject].append(self._sample(subject, mode, cfg.duration))
         floor = samples[FLOOR]
         for subject in self.subjects:
@@ -367,13 +372,23 @@ class Suite:
             "big": cfg.pmc_big,
             "small": cfg.pmc_small,
         }
+        burst = -(-cfg.pmc_big // cfg.pmc_small)  # the number of chunks
+        fhost, fport = self.servers[FLOOR].endpoint
+        floor = self.workers[FLOOR]
+        fkwargs = {"host": fhost, "port": fport, "burst": burst}
         worker.call("pmc_pair", duration=cfg.warmup, **kwargs)
+        floor.call("burst_pair", duration=cfg.warmup, **fkwargs)
         big: list[float] = []
         small: list[float] = []
+        fbig: list[float] = []
+        fsmall: list[float] = []
         for _ in range(cfg.reps):
             r = worker.call("pmc_pair", duration=cfg.duration, **kwargs)
             big.append(r["big"] * 1e3)
             small.append(r["small"] * 1e3)
+            r = floor.call("burst_pair", duration=cfg.duration, **fkwargs)
+            fbig.append(r["big"] * 1e3)
+            fsmall.append(r["small"] * 1e3)
         self.add(
             Row(
                 "pmc4k",
@@ -385,6 +400,17 @@ class Suite:
             )
         )
         self.add(Row(f"pmc{cfg.pmc_small}", FOCAS, "ms", small))
+        self.add(
+            Row(
+                "pmc4k",
+                FLOOR,
+                "ms",
+                fbig,
+                ratio_to="1 request",
+                ratios=pairwise_ratios(fbig, fsmall),
+                note=f"{burst} pipelined status frames: the least {burst} chunks can cost",
+            )
+        )
 
     def bitstorm(self) -> None:
         cfg = self.cfg

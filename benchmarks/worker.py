@@ -91,6 +91,30 @@ async def pmc_pair(
     return out
 
 
+async def burst_pair(
+    subject: str, host: str, port: int, burst: int, duration: float
+) -> dict[str, float]:
+    """Mean latency of ``burst`` concurrent ``read_status`` calls, then of a single call: what
+    a chunked read of ``burst`` frames costs at the least, against one round trip."""
+    conn = await connector(subject)(host, port)
+    out: dict[str, float] = {}
+    try:
+        for key, count in (("big", burst), ("small", 1)):
+            n = 0
+            start = _perf()
+            deadline = start + duration
+            while _perf() < deadline:
+                if count == 1:
+                    await conn.read_status()
+                else:
+                    await asyncio.gather(*(conn.read_status() for _ in range(count)))
+                n += 1
+            out[key] = (_perf() - start) / n
+    finally:
+        await conn.close()
+    return out
+
+
 def storm_plan(calls: int, nbytes: int) -> list[tuple[int, int]]:
     """``(byte offset, bit)`` of each call: every bit of ``nbytes`` bytes in turn, ``calls``
     calls in all (each bit is hit ``calls // (8 * nbytes)`` or one more times)."""
@@ -205,6 +229,10 @@ class Worker:
         if op == "pmc_pair":
             return await pmc_pair(
                 cmd["host"], cmd["port"], cmd["area"], cmd["big"], cmd["small"], cmd["duration"]
+            )
+        if op == "burst_pair":
+            return await burst_pair(
+                self.subject, cmd["host"], cmd["port"], cmd["burst"], cmd["duration"]
             )
         if op == "bitstorm":
             return await bitstorm(

@@ -116,6 +116,19 @@ async def test_worker_throughput_and_idle_connections_against_the_floor(floor_po
     assert await w.handle({"op": "idle_close"}) == {"open": 0}
 
 
+async def test_worker_burst_pair_against_the_floor(floor_port: int) -> None:
+    result = await worker.burst_pair(FLOOR, HOST, floor_port, burst=8, duration=0.01)
+    assert set(result) == {"big", "small"}
+    assert result["big"] > 0 and result["small"] > 0
+
+
+def test_subjects_alternate_their_turns() -> None:
+    suite = run.Suite(run.Config(), [], _results([]))
+    suite.subjects = [FLOOR, FOCAS, PEER]
+    assert suite.turns(0) == [FLOOR, FOCAS, PEER]
+    assert suite.turns(1) == [PEER, FOCAS, FLOOR]
+
+
 def test_storm_plan_covers_every_bit_evenly() -> None:
     plan = worker.storm_plan(1000, 8)
     assert len(plan) == 1000
