@@ -478,9 +478,12 @@ async def test_connection_counts_reset_after_many_timeouts(peer: FakePeer) -> No
         )
         assert all(isinstance(r, FocasTimeoutError) for r in results)
         conn = current_connection(c)
-        # 64 were sent and abandoned; 36 timed out waiting for a free slot, never sent
-        assert conn.abandoned == 64
-        assert len(peer.received) == 64
+        # At least 64 were sent and abandoned; the others timed out waiting for a free slot
+        # (or took a slot freed by an earlier timeout before their own deadline).
+        sent = conn.abandoned
+        assert 64 <= sent <= 100
+        await peer.wait_received(sent)
+        assert len(peer.received) == sent
         peer.hold = False
         await peer.release()
         assert await c.read_param(1, timeout=BOUND) == 1
