@@ -891,3 +891,46 @@ def test_changes_made_outside_the_adapter_are_seen(m: Machine, s: Session) -> No
     assert alarms(m, s).entries == ()
     m.raise_alarm(2, 6, 411, b"SV0411")
     assert [a.key for a in alarms(m, s).entries] == [(2, 6, 411)]
+
+
+_REQUESTS = st.one_of(
+    st.tuples(st.just(int(Command.WRPARAM)), st.sampled_from([
+        ParamValue(3216, 0, 5, 2).encode(), ParamValue(1320, 2, -1, 4).encode(),
+        ParamValue(20, 0, 99, 1).encode(), ParamValue(1815, 1, 7, 1).encode(),
+    ])),
+    st.tuples(st.just(int(Command.WRMACRO)), st.builds(
+        lambda n, v, d: MacroValue(n, 8, v, d).encode(),
+        st.sampled_from([1, 33, 34, 100, 999, 4001]), st.integers(-5, 5), st.integers(-1, 10),
+    )),
+    st.tuples(st.sampled_from([int(Command.WRPMCRNG), int(Command.SIM_SET_PMC)]), st.builds(
+        lambda a, start, n: PmcData(a, 0, start, start + n - 1, bytes(range(n))).encode(),
+        st.sampled_from([1, 3, 5, 12]), st.integers(0, 800), st.integers(1, 4),
+    )),
+    st.tuples(st.just(int(Command.SIM_SET_PANEL)), st.builds(
+        lambda *v: SetPanel(*v).encode(), st.integers(-1, 3), st.integers(0, 2), st.integers(0, 1)
+    )),
+    st.tuples(st.just(int(Command.SIM_RAISE_ALARM)), st.builds(
+        lambda ax, t, n: RaiseAlarm(ax, t, n, b"A").encode(),
+        st.integers(-1, 4), st.integers(-1, 33), st.integers(0, 3),
+    )),
+    st.tuples(st.just(int(Command.SIM_CLEAR_ALARMS)), st.builds(
+        lambda t, n: ClearAlarms(t, n).encode(), st.integers(-1, 4), st.integers(-1, 3)
+    )),
+    st.tuples(st.just(int(Command.WRUNLOCKPARAM)), st.sampled_from([b"pw\x00\x00", b"xx\x00\x00"])),
+)  # fmt: skip
+
+
+@settings(max_examples=150, deadline=None)
+@given(st.lists(_REQUESTS, max_size=25))
+def test_write_sequences_are_all_or_nothing(requests: list[tuple[int, bytes]]) -> None:
+    m = default_machine(param_password="pw")
+    s = m.new_session()
+    for command, payload in requests:
+        before = m.state_digest()
+        answer = handle(m, s, command, payload)
+        assert len(answer) == 2
+        if answer != b"\x00\x00":
+            assert m.state_digest() == before
+    # the status always matches the panel and the alarms
+    st_ = call(m, s, Command.RDCNCSTAT)
+    assert st_.aut == m.panel.mode and st_.alarm == (1 if alarms(m, s).entries else 0)

@@ -656,6 +656,9 @@ class Machine:
         if key in self._active:
             return
         text = bytes(msg[:MAX_ALARM_MSG]).decode("latin-1")
+        logger.debug(
+            "%s: alarm raised: axis %d type %d no %d", self.name, axis_no, alm_type, alm_no
+        )
         self._active[key] = ActiveAlarm(axis_no, alm_type, alm_no, text)
         self._history.appendleft(AlarmHistoryEntry(self.now(), axis_no, alm_type, alm_no, text))
         self._history_cache.clear()
@@ -676,6 +679,7 @@ class Machine:
         for k in gone:
             del self._active[k]
         if gone:
+            logger.debug("%s: %d alarm(s) cleared", self.name, len(gone))
             self.alarm_version += 1
             self._status_changed()
         return len(gone)
@@ -690,6 +694,7 @@ class Machine:
             raise MachineError(EW.DATA, f"panel mode={mode} pwe={pwe} emergency={emergency}")
         p = self.panel
         p.mode, p.pwe, p.emergency = mode, pwe, emergency
+        logger.debug("%s: panel mode %d pwe %d emergency %d", self.name, mode, pwe, emergency)
         self._status_changed()
 
     def set_run(self, run: int, motion: int = 0) -> None:
