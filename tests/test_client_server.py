@@ -12,7 +12,7 @@ from decimal import Decimal
 from pathlib import Path
 
 import pytest
-from conftest import IO_TIMEOUT, Served, serving
+from conftest import IO_TIMEOUT, Served, serving, wait_until
 
 from focas_net.client import ClientState, FaultKind, FaultScope, FocasClient, ReconnectPolicy
 from focas_net.protocol import (
@@ -193,10 +193,10 @@ async def test_late_answers_dropped_next_calls_correct(cnc: FocasClient) -> None
     results = await asyncio.gather(*(cnc.read_param(1420, axis=a) for a in (1, 2, 3)))
     assert results == [24000, 24000, 24000]
     assert await cnc.read_param(3216) == 10
-    await asyncio.sleep(0.4)  # let the late answer arrive and be dropped
-    assert await cnc.read_param(6711) == 0
     conn = cnc._conn
-    assert conn is not None and conn.abandoned == 0
+    assert conn is not None
+    await wait_until(lambda: conn.abandoned == 0)  # the late answer arrived and was dropped
+    assert await cnc.read_param(6711) == 0
 
 
 async def test_answers_split_one_byte_per_write(cnc: FocasClient) -> None:
