@@ -35,12 +35,15 @@ from ..protocol import (
     AlarmHistory,
     AlarmHistoryRequest,
     AlarmMsgRequest,
+    AutMode,
     ChunkedWriteError,
     ClearAlarms,
     CncError,
     CommandSpec,
     DataRequest,
     EwReply,
+    FaultKind,
+    FaultScope,
     FocasConnectionError,
     FocasTimeoutError,
     InjectFault,
@@ -116,22 +119,6 @@ class ClientState(enum.Enum):
     RECONNECTING = "reconnecting"
     #: :meth:`FocasClient.aclose` was called; final.
     CLOSED = "closed"
-
-
-class FaultKind(enum.IntEnum):
-    """``kind`` of the simulator's fault injection (0x0E05)."""
-
-    DELAY = 1  #: answer ``arg`` milliseconds late
-    ERROR = 2  #: answer with EW code ``arg`` instead
-    DROP = 3  #: close the connection instead of answering
-    SPLIT = 4  #: send the answer one byte per write
-
-
-class FaultScope(enum.IntEnum):
-    """``scope`` of the simulator's fault injection (0x0E05)."""
-
-    CONNECTION = 0  #: answers on this connection
-    MACHINE = 1  #: answers of this machine on any connection (one shared count)
 
 
 @dataclass(frozen=True, slots=True)
@@ -859,15 +846,16 @@ class SimControl:
 
     async def set_panel(
         self,
-        mode: int,
+        mode: AutMode | str | int,
         *,
         pwe: bool = False,
         emergency: bool = False,
         timeout: float | None = None,
     ) -> None:
-        """Set the operator panel: ``mode`` (an ``aut`` value: 0 MDI, 1 MEM, 3 EDIT, ...),
-        parameter write enable and emergency stop (all three are set)."""
-        payload = _SET_PANEL.request.encode(SetPanel(mode, int(pwe), int(emergency)))
+        """Set the operator panel: ``mode`` (an ``aut`` value or name: ``"MDI"``, ``AutMode.MEM``,
+        ``3``...), parameter write enable and emergency stop (all three are set)."""
+        aut = AutMode.parse(mode)
+        payload = _SET_PANEL.request.encode(SetPanel(int(aut), int(pwe), int(emergency)))
         await self._client._call(_SET_PANEL, payload, timeout)
 
     async def raise_alarm(

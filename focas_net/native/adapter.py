@@ -33,7 +33,6 @@ from typing import TYPE_CHECKING, Final
 from focas_net.protocol import EW, MAX_PMC_CHUNK
 from focas_net.protocol import PmcArea as PackedPmcArea
 
-from . import _state
 from .codec import (
     _DOUBLE,
     _MAGIC_U32,
@@ -198,8 +197,8 @@ class NativeAdapter:
         ).encode()
         self._status = b""
         self._status_version = -1
-        self._param_numbers = _state.param_numbers(machine)
-        self._diag_numbers = _state.diag_numbers(machine)
+        self._param_numbers = machine.param_numbers()
+        self._diag_numbers = machine.diag_numbers()
         self._scaled_zero = _pack_scaled(0, 10, 0)
         cnc, pmc = Device.CNC, Device.PMC
         self._handlers: dict[tuple[int, int], _Handler] = {
@@ -372,12 +371,17 @@ class NativeAdapter:
         req = MacroDoubleWriteRequest.from_block(block)
         machine = self.machine
         if req.value is None:
-            _state.clear_macro(machine, req.number)
+            machine.clear_macro(req.number)
             return b""
         stored = macro_from_double(req.value)
         if stored is None:
-            _state.check_macro_writable(machine, req.number)
-            raise _Refused(EW.DATA)
+            # the checks of a write come before the value's: EW_PROT, EW_NUMBER, EW_PROT
+            if machine.read_only:
+                raise _Refused(EW.PROT)
+            writable = machine.macro_writable(req.number)
+            if writable is None:
+                raise _Refused(EW.NUMBER)
+            raise _Refused(EW.DATA if writable else EW.PROT)
         machine.write_macro(req.number, *stored)
         return b""
 

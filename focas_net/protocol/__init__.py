@@ -62,6 +62,17 @@ from .errors import (
     ew_name,
 )
 from .frame import DEFAULT_MAX_FRAME, HEADER, HEADER_SIZE, Frame, FrameDecoder, encode_frame
+from .values import (
+    AlarmState,
+    AutMode,
+    EmergencyState,
+    FaultKind,
+    FaultScope,
+    MotionState,
+    MstbState,
+    RunState,
+    label_of,
+)
 from .versamax import (
     MAX_CONFIG_CHUNK,
     BoardId,
@@ -98,7 +109,9 @@ __all__ = [
     "AlarmHistoryEntry",
     "AlarmHistoryRequest",
     "AlarmMsgRequest",
+    "AlarmState",
     "AlarmType",
+    "AutMode",
     "BoardId",
     "ChunkedWriteError",
     "ClearAlarms",
@@ -106,8 +119,11 @@ __all__ = [
     "Command",
     "CommandSpec",
     "DataRequest",
+    "EmergencyState",
     "EwInfo",
     "EwReply",
+    "FaultKind",
+    "FaultScope",
     "FocasConnectionError",
     "FocasError",
     "FocasTimeoutError",
@@ -119,6 +135,8 @@ __all__ = [
     "MacroRequest",
     "MacroValue",
     "ModuleType",
+    "MotionState",
+    "MstbState",
     "OpcUaStatus",
     "ParamValue",
     "Password",
@@ -130,6 +148,7 @@ __all__ = [
     "RaiseAlarm",
     "RefDesc",
     "RefType",
+    "RunState",
     "SetPanel",
     "StatusInfo",
     "SysInfo",
@@ -140,4 +159,5 @@ __all__ = [
     "encode_response",
     "ew_info",
     "ew_name",
+    "label_of",
 ]
