@@ -251,3 +251,12 @@ def test_pickling_chunked_write_error_round_trips() -> None:
     copy = pickle.loads(pickle.dumps(exc))
     assert (copy.area, copy.written, copy.not_written) == ("R", [(0, 31)], [(32, 63)])
     assert str(copy) == str(exc)
+
+
+def test_chunked_write_error_lists_unconfirmed_ranges() -> None:
+    exc = ChunkedWriteError("D", [(0, 31)], [], FocasTimeoutError("late"), [(32, 63)])
+    assert exc.uncertain == [(32, 63)]
+    assert "unconfirmed: D32..D63" in str(exc)
+    copy = pickle.loads(pickle.dumps(exc))
+    assert copy.uncertain == [(32, 63)] and str(copy) == str(exc)
+    assert exc.opcua_status.name == "BadTimeout"

@@ -691,13 +691,23 @@ class FocasClient:
             return
         written: list[tuple[int, int]] = []
         not_written: list[tuple[int, int]] = []
+        uncertain: list[tuple[int, int]] = []
         for (first, n), result in zip(chunks, results, strict=True):
             span = (first, first + n - 1)
-            (not_written if isinstance(result, BaseException) else written).append(span)
+            if not isinstance(result, BaseException):
+                written.append(span)
+            elif isinstance(result, (FocasTimeoutError, FocasConnectionError)) and not (
+                isinstance(result, NotSentError)
+            ):
+                uncertain.append(span)  # sent, never answered: the CNC may have applied it
+            else:
+                not_written.append(span)
         cause = failures[0]
         if not isinstance(cause, Exception):  # a BaseException such as KeyboardInterrupt
             raise cause
-        raise ChunkedWriteError(a.name, _merge(written), _merge(not_written), cause) from cause
+        raise ChunkedWriteError(
+            a.name, _merge(written), _merge(not_written), cause, _merge(uncertain)
+        ) from cause
 
     async def write_pmc(
         self, area: AreaLike, start: int, data: bytes, *, timeout: float | None = None

@@ -24,7 +24,7 @@ from __future__ import annotations
 
 import enum
 from dataclasses import dataclass
-from typing import Final
+from typing import Any, Final
 
 __all__ = [
     "EW",
@@ -222,8 +222,10 @@ class AccessDeniedError(CncError):
 class ChunkedWriteError(FocasError):
     """A PMC write split into several calls failed part way.
 
-    ``written`` and ``not_written`` are lists of inclusive ``(first, last)`` byte address ranges;
-    ``cause`` is the exception of the first chunk that failed.
+    ``written``, ``not_written`` and ``uncertain`` are lists of inclusive ``(first, last)``
+    byte address ranges: confirmed by the CNC, refused or never sent, and sent but unanswered
+    (a timeout or a lost connection: the CNC may or may not have applied them). ``cause`` is
+    the exception of the first chunk that failed.
     """
 
     def __init__(
@@ -232,27 +234,30 @@ class ChunkedWriteError(FocasError):
         written: list[tuple[int, int]],
         not_written: list[tuple[int, int]],
         cause: BaseException,
+        uncertain: list[tuple[int, int]] | None = None,
     ) -> None:
         self.area = area
         self.written = written
         self.not_written = not_written
+        self.uncertain = uncertain or []
         self.cause = cause
 
         def ranges(spans: list[tuple[int, int]]) -> str:
             return ", ".join(f"{area}{a}..{area}{b}" for a, b in spans) or "none"
 
-        super().__init__(
+        text = (
             f"PMC write to {area} failed ({cause}); written: {ranges(written)}; "
             f"not written: {ranges(not_written)}"
         )
+        if self.uncertain:
+            text += f"; unconfirmed: {ranges(self.uncertain)}"
+        super().__init__(text)
 
-    def __reduce__(
-        self,
-    ) -> tuple[
-        type[ChunkedWriteError],
-        tuple[str, list[tuple[int, int]], list[tuple[int, int]], BaseException],
-    ]:
-        return (type(self), (self.area, self.written, self.not_written, self.cause))
+    def __reduce__(self) -> tuple[type[ChunkedWriteError], tuple[Any, ...]]:
+        return (
+            type(self),
+            (self.area, self.written, self.not_written, self.cause, self.uncertain),
+        )
 
     @property
     def opcua_status(self) -> OpcUaStatus:
