@@ -14,7 +14,7 @@ from __future__ import annotations
 import argparse
 import asyncio
 import struct
-from typing import Final
+from typing import Final, cast
 
 HEADER: Final = struct.Struct("<IHH")
 MAX_FRAME: Final = 65_536
@@ -33,8 +33,7 @@ class FloorServer(asyncio.BufferedProtocol):
         self._transport: asyncio.Transport | None = None
 
     def connection_made(self, transport: asyncio.BaseTransport) -> None:
-        assert isinstance(transport, asyncio.Transport)
-        self._transport = transport
+        self._transport = cast(asyncio.Transport, transport)  # uvloop's does not subclass it
 
     def get_buffer(self, sizehint: int) -> memoryview:
         if len(self._buf) - self._end < 1024:  # a frame larger than the buffer: grow it
@@ -85,8 +84,7 @@ class FloorClient(asyncio.Protocol):
         return protocol
 
     def connection_made(self, transport: asyncio.BaseTransport) -> None:
-        assert isinstance(transport, asyncio.Transport)
-        self._transport = transport
+        self._transport = cast(asyncio.Transport, transport)  # uvloop's does not subclass it
 
     def data_received(self, data: bytes) -> None:
         buf = self._buf

@@ -14,6 +14,7 @@ import os
 import platform
 import re
 import shlex
+import statistics
 import subprocess
 import sys
 import threading
@@ -53,6 +54,7 @@ SCENARIOS = (*THROUGHPUT_MODES, "pmc4k", "bitstorm", "fleet", "memory")
 MODES: dict[str, tuple[int, int]] = {"seq": (1, 1), "pipe64": (1, 64), "conc100": (100, 1)}
 DEFAULT_JSON = ROOT / "benchmarks" / "results" / "latest.json"
 _LISTEN = re.compile(LISTEN_PATTERN)
+_CLK_TCK = os.sysconf("SC_CLK_TCK") if hasattr(os, "sysconf") else 100
 
 
 @dataclass(frozen=True, slots=True)
@@ -149,6 +151,12 @@ class ServerProcess:
     @property
     def endpoint(self) -> tuple[str, int]:
         return self.endpoints[0]
+
+    def cpu_seconds(self) -> float:
+        """User + system CPU time of the server process so far, from /proc."""
+        with open(f"/proc/{self.pid}/stat", encoding="ascii") as f:
+            fields = f.read().rsplit(")", 1)[1].split()
+        return (int(fields[11]) + int(fields[12])) / _CLK_TCK
 
     def rss_kib(self) -> int:
         """Resident set size of the server process, from /proc (KiB)."""
@@ -329,36 +337,48 @@ class Suite:
             for worker in self.workers.values():
                 worker.stop()
 
-    def _sample(self, subject: str, mode: str, duration: float) -> float:
+    def _sample(self, subject: str, mode: str, duration: float) -> tuple[float, float, float]:
+        """Requests per second, and server and client CPU microseconds per request."""
         conns, callers = MODES[mode]
-        host, port = self.servers[subject].endpoint
+        server = self.servers[subject]
+        host, port = server.endpoint
+        cpu = server.cpu_seconds()
         r = self.workers[subject].call(
             "throughput", host=host, port=port, conns=conns, callers=callers, duration=duration
         )
-        return float(r["ops"]) / float(r["elapsed"])
+        cpu = server.cpu_seconds() - cpu  # includes connecting; clock ticks of 10 ms
+        ops = float(r["ops"])
+        return ops / float(r["elapsed"]), 1e6 * cpu / ops, 1e6 * float(r["cpu"]) / ops
 
     def throughput(self, mode: str) -> None:
         cfg = self.cfg
         log(f"{mode}: warm-up, then {cfg.reps} x {cfg.duration:g} s per subject")
         samples: dict[str, list[float]] = {s: [] for s in self.subjects}
+        server_us: dict[str, list[float]] = {s: [] for s in self.subjects}
+        client_us: dict[str, list[float]] = {s: [] for s in self.subjects}
         for subject in self.subjects:
             self._sample(subject, mode, cfg.warmup)
         for rep in range(cfg.reps):
             for subject in self.turns(rep):
-                samples[subject].append(self._sample(subject, mode, cfg.duration))
-        floor = samples[FLOOR]
+                rate, srv, cli = self._sample(subject, mode, cfg.duration)
+                samples[subject].append(rate)
+                server_us[subject].append(srv)
+                client_us[subject].append(cli)
+        rows = []
         for subject in self.subjects:
-            ratios = None if subject == FLOOR else pairwise_ratios(samples[subject], floor)
-            self.add(
-                Row(
-                    mode,
-                    subject,
-                    "req/s",
-                    samples[subject],
-                    ratio_to=None if subject == FLOOR else "floor",
-                    ratios=ratios,
-                )
+            vs = None if subject == FLOOR else "floor"
+            rows.append(Row(mode, subject, "req/s", samples[subject], vs))
+            total = [s + c for s, c in zip(server_us[subject], client_us[subject], strict=True)]
+            note = (
+                f"server {statistics.median(server_us[subject]):.1f}"
+                f" + client {statistics.median(client_us[subject]):.1f}"
             )
+            rows.append(Row(f"{mode}_cpu", subject, "us/req", total, vs, note=note))
+        for row in rows:
+            if row.ratio_to is not None:
+                floor = next(r for r in rows if r.scenario == row.scenario and r.subject == FLOOR)
+                row.ratios = pairwise_ratios(row.samples, floor.samples)
+            self.add(row)
 
     def pmc4k(self) -> None:
         cfg = self.cfg

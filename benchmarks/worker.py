@@ -58,13 +58,15 @@ async def throughput(
         counts.append(n)
 
     try:
+        cpu = time.process_time()
         start = _perf()
         deadline = start + duration
         await asyncio.gather(*(caller(c, deadline) for c in opened for _ in range(callers)))
         elapsed = _perf() - start
+        cpu = time.process_time() - cpu
     finally:
         await close_conns(opened)
-    return {"ops": sum(counts), "elapsed": elapsed}
+    return {"ops": sum(counts), "elapsed": elapsed, "cpu": cpu}
 
 
 async def pmc_pair(
