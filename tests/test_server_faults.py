@@ -138,8 +138,8 @@ async def test_delay_lets_other_answers_overtake(server: Served, wire: Wire) -> 
     assert await wire.ew(Command.SIM_INJECT_FAULT, inject(DELAY, CONN, 1, 1000)) == 0
     # one chunk: the later answers are written at once, the delayed one by its timer
     wire.send_raw(
-        encode_frame(*MACRO_1, 100)
-        + encode_frame(*STATUS, 101)
+        encode_frame(Command.RDMACRO, 100, MacroRequest(1).encode())
+        + encode_frame(Command.RDCNCSTAT, 101)
         + encode_frame(Command.SYSINFO, 102)
     )
     first, second = await wire.recv_many(2)
