@@ -11,12 +11,21 @@ import sys
 from collections.abc import AsyncIterator
 from contextlib import asynccontextmanager
 from pathlib import Path
+from typing import Any
 
 import pytest
 from conftest import Wire
 
 from focas_net.cli import serve
-from focas_net.protocol import EW, Command, InjectFault, MacroRequest, MacroValue, SetPanel
+from focas_net.protocol import (
+    COMMANDS,
+    EW,
+    Command,
+    InjectFault,
+    MacroRequest,
+    MacroValue,
+    SetPanel,
+)
 
 READY = re.compile(r"^focas-net: (?P<name>\S+) listening on (?P<host>[\d.]+):(?P<port>\d+)$")
 STATUS = (Command.RDCNCSTAT, b"")
@@ -219,3 +228,37 @@ def test_build_machines_fleet_names_and_flags() -> None:
     assert all(not m.control_enabled and m.read_only for m in machines)
     (single,) = serve.build_machines(_parse())
     assert single.name == "focas-sim-0i" and single.control_enabled and not single.read_only
+
+
+NATIVE_READY = re.compile(
+    r"^focas-net: (?P<name>\S+) \(native FOCAS/2\) listening on (?P<host>[\d.]+):(?P<port>\d+)$"
+)
+
+
+async def test_serve_native_port_speaks_both_front_ends() -> None:
+    from pyfocas.protocol.protocol import FOCAS
+
+    async with running("--native-port", "0") as (proc, ready):
+        assert proc.stdout is not None
+        async with asyncio.timeout(START_TIMEOUT):
+            line = (await proc.stdout.readline()).decode().rstrip("\n")
+        native = NATIVE_READY.match(line)
+        assert native is not None, f"unexpected output: {line!r}"
+        assert native["name"] == ready[0]["name"]
+        packed_port, native_port = int(ready[0]["port"]), int(native["port"])
+        assert packed_port != native_port
+
+        def native_macro() -> Any:
+            client = FOCAS("127.0.0.1", native_port)
+            client.connect()
+            try:
+                client.write_macro_double(510, 42.5)
+                return client.read_macro(510)
+            finally:
+                client.socket.close()
+
+        assert await asyncio.to_thread(native_macro) == {510: 42.5}
+        async with await Wire.open("127.0.0.1", packed_port) as w:
+            answer = await w.call(Command.RDMACRO, MacroRequest(510).encode())
+        assert COMMANDS[Command.RDMACRO].response.decode(answer) == MacroValue(510, 8, 425, 1)
+        assert await stop(proc) == 0

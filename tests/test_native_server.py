@@ -13,6 +13,7 @@ import math
 import struct
 from collections.abc import AsyncIterator
 from dataclasses import dataclass
+from decimal import Decimal
 from typing import Any
 
 import pytest
@@ -712,3 +713,41 @@ async def test_aclose_closes_open_connections(front: Front) -> None:
     assert await client.closed_by_peer()
     await client.close()
     assert server.stats()["connections"] == 0
+
+
+async def test_focas_server_native_port_shares_the_machine() -> None:
+    from focas_net.client import FocasClient
+
+    machine = default_machine()
+    async with FocasServer(machine, port=0, native_port=0) as server:
+        listener = server.listeners[0]
+        assert listener.native is not None
+        host, native_port = listener.native.address
+        assert "native" in server.stats()[listener.label]
+
+        def native_work() -> Any:
+            client = FOCAS(host, native_port)
+            client.connect()
+            try:
+                client.write_macro_double(520, -7.25)
+                return client.get_sys_info()
+            finally:
+                client.socket.close()
+
+        info = await asyncio.to_thread(native_work)
+        async with FocasClient(host, listener.port, timeout=TIMEOUT) as cnc:
+            assert await cnc.read_macro(520) == Decimal("-7.25")
+            await cnc.write_macro(521, Decimal("1.5"))
+            sysinfo = await cnc.read_sysinfo()
+        assert sysinfo.max_axis == info.max_axis
+
+        def native_read() -> Any:
+            client = FOCAS(host, native_port)
+            client.connect()
+            try:
+                return client.read_macro(521)
+            finally:
+                client.socket.close()
+
+        assert await asyncio.to_thread(native_read) == {521: 1.5}
+    assert listener.native is None  # closed with the server

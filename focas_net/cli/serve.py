@@ -4,9 +4,11 @@ When every listener is bound it prints, flushed, one line per machine::
 
     focas-net: <machine name> listening on HOST:PORT
 
-so scripts and tests can wait for it. A bad machine file, TLS file or option ends with a
-one-line error and exit code 2; a port that cannot be bound with exit code 1. SIGINT and
-SIGTERM shut down gracefully (stop accepting, answer what is in flight, close) and exit 0.
+(then, with ``--native-port``, one ``focas-net: <machine name> (native FOCAS/2) listening on
+HOST:PORT`` line per machine) so scripts and tests can wait for it. A bad machine file, TLS
+file or option ends with a one-line error and exit code 2; a port that cannot be bound with
+exit code 1. SIGINT and SIGTERM shut down gracefully (stop accepting, answer what is in
+flight, close) and exit 0.
 """
 
 from __future__ import annotations
@@ -153,6 +155,19 @@ def register(subparsers: Any) -> None:
         metavar="SECONDS",
         help="how long shutdown waits for answers in flight (default %(default)s)",
     )
+    p.add_argument(
+        "--native-port",
+        type=_port,
+        default=None,
+        metavar="PORT",
+        help="also speak FANUC's native FOCAS/2 Ethernet protocol on PORT (PORT+i for machine "
+        "i of a fleet; 0 = ephemeral); off by default",
+    )
+    p.add_argument(
+        "--uvloop",
+        action="store_true",
+        help="run on uvloop (pip install 'focas-net[uvloop]')",
+    )
     p.add_argument("--tls-cert", metavar="FILE", help="serve TLS with this certificate (PEM)")
     p.add_argument("--tls-key", metavar="FILE", help="private key of --tls-cert (PEM)")
     p.add_argument(
@@ -221,6 +236,15 @@ def run(args: argparse.Namespace) -> int:
         ssl_context = _ssl_context(args)
         if args.port and args.port + args.fleet - 1 > 65_535:
             raise ConfigError(f"--fleet {args.fleet} from port {args.port} runs past 65535")
+        if args.native_port and args.native_port + args.fleet - 1 > 65_535:
+            raise ConfigError(
+                f"--fleet {args.fleet} from --native-port {args.native_port} runs past 65535"
+            )
+        if args.uvloop:
+            try:
+                import uvloop  # noqa: F401
+            except ImportError:
+                raise ConfigError("--uvloop: uvloop is not installed") from None
     except ConfigError as exc:
         _error(str(exc))
         return EXIT_USAGE
@@ -233,9 +257,12 @@ def run(args: argparse.Namespace) -> int:
         max_connections=args.max_connections,
         idle_timeout=args.idle_timeout,
         grace_period=args.grace_period,
+        native_port=args.native_port,
     )
     try:
-        return anyio.run(_serve, server, backend="asyncio")
+        return anyio.run(
+            _serve, server, backend="asyncio", backend_options={"use_uvloop": args.uvloop}
+        )
     except OSError as exc:
         _error(f"cannot listen on {args.host}:{args.port}: {exc.strerror or exc}")
         return EXIT_START
@@ -247,6 +274,12 @@ async def _serve(server: FocasServer) -> int:
             out = sys.stdout
             for listener in server.listeners:
                 out.write(f"focas-net: {listener.label} listening on {listener.address_text}\n")
+            for listener in server.listeners:
+                if listener.native is not None:
+                    out.write(
+                        f"focas-net: {listener.label} (native FOCAS/2) listening on "
+                        f"{listener.native.address_text}\n"
+                    )
             out.flush()
             async for signum in signals:
                 _log.info("%s received: shutting down", signal.Signals(signum).name)

@@ -18,7 +18,7 @@ import logging
 import math
 import ssl as _ssl
 from collections.abc import Iterable, Sequence
-from typing import Any, Final
+from typing import TYPE_CHECKING, Any, Final
 
 import anyio
 import anyio.lowlevel
@@ -27,6 +27,9 @@ from focas_net.protocol import DEFAULT_MAX_FRAME
 from focas_net.sim import Machine
 
 from ._connection import Connection
+
+if TYPE_CHECKING:
+    from focas_net.native import NativeServer
 from .faults import FaultQueue
 
 __all__ = [
@@ -73,6 +76,7 @@ class Listener:
         "faults",
         "label",
         "machine",
+        "native",
         "refused",
         "server",
         "violations",
@@ -94,6 +98,8 @@ class Listener:
         self.refused = 0
         self.violations = 0
         self._aserver: asyncio.Server | None = None
+        #: The native FOCAS/2 listener on the same machine, when the server has one.
+        self.native: NativeServer | None = None
 
     @property
     def host(self) -> str:
@@ -139,6 +145,10 @@ class FocasServer:
     answers per connection and ``write_buffer_high`` bytes of unsent output before reading
     from that connection stops. ``ssl`` serves TLS. ``grace_period`` bounds the graceful
     shutdown of :meth:`aclose` (``async with`` exit).
+
+    ``native_port`` (None = off) adds, for each machine, a listener speaking FANUC's native
+    FOCAS/2 Ethernet protocol on the same machine state (see ``docs/native-protocol.md``):
+    machine *i* on ``native_port + i``, or an ephemeral port for each when it is 0.
     """
 
     def __init__(
@@ -156,6 +166,7 @@ class FocasServer:
         write_buffer_high: int = DEFAULT_WRITE_BUFFER_HIGH,
         grace_period: float = DEFAULT_GRACE_PERIOD,
         backlog: int = 128,
+        native_port: int | None = None,
     ) -> None:
         if max_frame < 4:
             raise ValueError(f"max_frame must be at least 4, got {max_frame}")
@@ -178,7 +189,11 @@ class FocasServer:
             self._ports = [0] * len(machine_list)
         else:
             self._ports = [port + i for i in range(len(machine_list))]
-        for p in self._ports:
+        self._native_ports: list[int] | None = None
+        if native_port is not None:
+            step = 0 if native_port == 0 else 1
+            self._native_ports = [native_port + i * step for i in range(len(machine_list))]
+        for p in self._ports + (self._native_ports or []):
             if not 0 <= p <= 65_535:
                 raise ValueError(f"port {p} outside 0..65535")
         self.host = host
@@ -216,6 +231,18 @@ class FocasServer:
         try:
             for listener, port in zip(self.listeners, self._ports, strict=True):
                 await self._bind(listener, port)
+            if self._native_ports is not None:
+                from focas_net.native import start_native
+
+                for listener, port in zip(self.listeners, self._native_ports, strict=True):
+                    listener.native = await start_native(
+                        listener.machine,
+                        self.host,
+                        port,
+                        max_connections=self.max_connections,
+                        idle_timeout=self.idle_timeout,
+                        backlog=self.backlog,
+                    )
         except BaseException:
             with anyio.CancelScope(shield=True):
                 for listener in self.listeners:
@@ -226,6 +253,8 @@ class FocasServer:
             self._schedule_sweep()
         for listener in self.listeners:
             _log.info("%s listening on %s", listener.label, listener.address_text)
+            if listener.native is not None:
+                _log.info("%s: native FOCAS/2 on %s", listener.label, listener.native.address_text)
 
     async def _bind(self, listener: Listener, port: int) -> None:
         def factory() -> Connection:
@@ -243,6 +272,9 @@ class FocasServer:
         aserver = listener._aserver
         if aserver is not None:
             aserver.close()
+        native, listener.native = listener.native, None
+        if native is not None:
+            await native.aclose(self.grace_period)
 
     async def serve_forever(self) -> None:
         """Wait until cancelled (the ``async with`` exit then shuts down gracefully)."""
@@ -376,6 +408,7 @@ class FocasServer:
                 "refused": listener.refused,
                 "violations": listener.violations,
                 "faults": len(listener.faults),
+                **({"native": listener.native.stats()} if listener.native is not None else {}),
             }
             for listener in self.listeners
         }
