@@ -171,7 +171,7 @@ def test_poisoned_after_a_violation() -> None:
     for _ in range(3):
         with pytest.raises(FrameError) as again:
             decoder.feed(STATUS_REQUEST)  # a valid frame is refused too
-        assert again.value is first.value
+        assert str(again.value) == str(first.value) and again.value.frames == []
     with pytest.raises(FrameError):
         decoder.feed(b"")
     assert decoder.buffered == 0
@@ -244,3 +244,15 @@ def test_arbitrary_bytes_give_frames_or_frame_error(blob: bytes, max_frame: int)
         assert decoder.buffered == 0
         return
     assert sum(HEADER_SIZE + len(f.payload) for f in frames) + decoder.buffered == len(blob)
+
+
+def test_violation_carries_the_frames_decoded_before_it() -> None:
+    decoder = FrameDecoder(max_frame=64)
+    good = bytes.fromhex("0400000001000700") + bytes.fromhex("06000000030008000500")
+    bad = bytes.fromhex("ffff0000")
+    with pytest.raises(FrameError) as info:
+        decoder.feed(good + bad)
+    assert info.value.frames == [Frame(1, 7, b""), Frame(3, 8, b"\x05\x00")]
+    with pytest.raises(FrameError) as again:
+        decoder.feed(bytes.fromhex("0400000001000900"))
+    assert again.value.frames == []  # poisoned: nothing more is decoded, nothing repeated

@@ -67,6 +67,20 @@ async def test_oversize_frame_after_good_ones(server: Served) -> None:
         assert await w.closed_by_peer()
 
 
+async def test_good_frames_in_the_same_chunk_as_a_violation_are_answered(
+    server: Served,
+) -> None:
+    async with await server.connect() as w:
+        good = encode_frame(Command.RDCNCSTAT, 5) + encode_frame(Command.SYSINFO, 6)
+        w.send_raw(good + struct.pack("<IHH", 70_000, 1, 2))
+        answers = await w.recv_many(2)
+        assert [(a.command, a.request_id) for a in answers] == [
+            (Command.RDCNCSTAT, 5),
+            (Command.SYSINFO, 6),
+        ]
+        assert await w.closed_by_peer()
+
+
 async def test_largest_frame_is_accepted(server: Served, wire: Wire) -> None:
     payload = b"\x00" * (65_536 - 4)
     assert await wire.call(Command.RDMACRO, payload) == struct.pack("<h", EW.LENGTH)

@@ -33,6 +33,7 @@ from ..protocol import (
     HEADER,
     FocasConnectionError,
     FocasTimeoutError,
+    Frame,
     FrameDecoder,
     FrameError,
     ProtocolError,
@@ -134,9 +135,13 @@ class Connection(asyncio.Protocol):
         try:
             frames = self._decoder.feed(data)
         except FrameError as exc:
+            self._deliver(exc.frames)  # answers that arrived whole before the violation
             logger.warning("closing connection to %s: %s", self.peer, exc)
             self._abort(exc)
             return
+        self._deliver(frames)
+
+    def _deliver(self, frames: list[Frame]) -> None:
         pending = self._pending
         for command, request_id, payload in frames:
             entry = pending.pop(request_id, _MISSING)

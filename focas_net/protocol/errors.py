@@ -272,7 +272,18 @@ class ProtocolError(FocasError):
 
 
 class FrameError(ProtocolError):
-    """A framing violation (bad length prefix): the connection must be closed."""
+    """A framing violation (bad length prefix): the connection must be closed.
+
+    ``frames`` holds the whole frames the same ``feed`` call decoded before the violation, in
+    order, so that a receiver can still answer them before it closes.
+    """
+
+    def __init__(self, message: str, frames: list[Any] | None = None) -> None:
+        super().__init__(message)
+        self.frames: list[Any] = frames if frames is not None else []
+
+    def __reduce__(self) -> tuple[type[FrameError], tuple[str]]:
+        return (type(self), (str(self),))
 
 
 class PayloadError(ProtocolError):

@@ -50,8 +50,9 @@ class FrameDecoder:
 
     ``feed(chunk)`` returns the frames completed by ``chunk`` (possibly none) and keeps any
     trailing partial frame. A length prefix below 4 or above ``max_frame`` raises
-    :class:`FrameError` the moment the 4-byte field is complete; after that the decoder is
-    poisoned and every further ``feed`` raises again (the connection must be closed).
+    :class:`FrameError` the moment the 4-byte field is complete (its ``frames`` are the whole
+    frames this call decoded before the bad one); after that the decoder is poisoned and every
+    further ``feed`` raises again, with no frames (the connection must be closed).
     """
 
     __slots__ = ("_buf", "_error", "max_frame")
@@ -68,17 +69,16 @@ class FrameDecoder:
         """Bytes held for a frame not yet complete."""
         return len(self._buf)
 
-    def _violation(self, length: int) -> FrameError:
+    def _violation(self, length: int, frames: list[Frame]) -> FrameError:
         self._buf.clear()
-        self._error = FrameError(
-            f"frame length {length} outside 4..{self.max_frame}; closing the connection"
-        )
-        return self._error
+        message = f"frame length {length} outside 4..{self.max_frame}; closing the connection"
+        self._error = FrameError(message)
+        return FrameError(message, frames)
 
     def feed(self, data: bytes | bytearray | memoryview) -> list[Frame]:
         """Add ``data`` and return every frame now complete, in order."""
         if self._error is not None:
-            raise self._error
+            raise FrameError(str(self._error))
         buf = self._buf
         if buf:
             buf += data
@@ -96,7 +96,7 @@ class FrameDecoder:
                 (length,) = struct.unpack_from("<I", view, pos)
                 command = request_id = 0
             if length < _MIN_LENGTH or length > max_frame:
-                raise self._violation(length)
+                raise self._violation(length, frames)
             end = pos + 4 + length
             if end > size:
                 break

@@ -219,6 +219,8 @@ class Connection(asyncio.Protocol):
             try:
                 frames = self._decoder.feed(data)
             except FrameError as exc:
+                if exc.frames:
+                    self._run(exc.frames)
                 self._framing_violation(exc, data)
                 return
             if frames:
@@ -306,6 +308,8 @@ class Connection(asyncio.Protocol):
             try:
                 frames = self._decoder.feed(chunk)
             except FrameError as exc:
+                if exc.frames:
+                    self._run(exc.frames)
                 self._framing_violation(exc, chunk)
                 return
             if frames:
