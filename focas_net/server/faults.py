@@ -23,11 +23,10 @@ faulted and never count.
 
 from __future__ import annotations
 
-import enum
 from collections import deque
 from typing import Final
 
-from focas_net.protocol import EW, InjectFault, PayloadError
+from focas_net.protocol import EW, FaultKind, FaultScope, InjectFault, PayloadError
 
 __all__ = [
     "MAX_ARMED_FAULTS",
@@ -49,22 +48,6 @@ MAX_ARMED_FAULTS: Final = 64
 
 _I16_MIN: Final = -32_768
 _I16_MAX: Final = 32_767
-
-
-class FaultKind(enum.IntEnum):
-    """What an armed fault does to an answer."""
-
-    DELAY = 1
-    ERROR = 2
-    DROP = 3
-    SPLIT = 4
-
-
-class FaultScope(enum.IntEnum):
-    """Which answers a fault applies to."""
-
-    CONNECTION = 0
-    MACHINE = 1
 
 
 class Fault:
