@@ -73,3 +73,47 @@ def test_exported_exceptions_share_one_base() -> None:
     ]
     assert errors
     assert all(issubclass(e, protocol.FocasError) for e in errors)
+
+
+PACKAGES = [
+    "focas_net",
+    "focas_net.client",
+    "focas_net.server",
+    "focas_net.sim",
+    "focas_net.native",
+]
+
+
+@pytest.mark.parametrize("package", PACKAGES)
+def test_package_all_names_exist_and_star_import_matches(package: str) -> None:
+    module = importlib.import_module(package)
+    assert [n for n in module.__all__ if not hasattr(module, n)] == []
+    assert len(module.__all__) == len(set(module.__all__))
+    namespace: dict[str, object] = {}
+    exec(f"from {package} import *", namespace)
+    namespace.pop("__builtins__", None)
+    assert set(namespace) == set(module.__all__)
+
+
+def test_top_level_names_are_the_subpackages_objects() -> None:
+    import focas_net
+
+    homes = [importlib.import_module(p) for p in PACKAGES[1:]] + [protocol]
+    for name in focas_net.__all__:
+        if name == "__version__":
+            continue
+        value = getattr(focas_net, name)
+        assert any(getattr(home, name, None) is value for home in homes), name
+
+
+def test_top_level_exceptions_share_one_base() -> None:
+    import focas_net
+
+    errors = [
+        v
+        for v in (getattr(focas_net, n) for n in focas_net.__all__)
+        if isinstance(v, type) and issubclass(v, Exception)
+    ]
+    assert {e.__name__ for e in errors} >= {"CncError", "FocasConnectionError", "FocasTimeoutError"}
+    assert all(issubclass(e, focas_net.FocasError) for e in errors)
+    assert issubclass(focas_net.NotSentError, focas_net.FocasConnectionError)

@@ -53,7 +53,7 @@ from .machine import (
     DataItem,
     Machine,
     MacroRange,
-    MotionState,
+    MotionData,
     Panel,
     PmcAreaSpec,
     utc_now,
@@ -216,7 +216,7 @@ def default_machine(
         panel=Panel(mode=1, pwe=0, emergency=0),
         param_password=param_password,
         station={(0, 1): gniu_record(), (0, 3): mdd844_record()},
-        motion=MotionState(
+        motion=MotionData(
             [0, 0, 0], [0, 0, 0], [0, 0, 0], [0, 0, 0], program_main=1, program_running=1
         ),
         history_capacity=history_capacity,

@@ -45,6 +45,7 @@ from ..protocol import (
     ActiveAlarm,
     AlarmHistory,
     AlarmHistoryEntry,
+    FocasError,
     IOModuleRecord,
     MacroValue,
     ParamValue,
@@ -65,7 +66,7 @@ __all__ = [
     "Machine",
     "MachineError",
     "MacroRange",
-    "MotionState",
+    "MotionData",
     "PackedTable",
     "Panel",
     "PmcAreaSpec",
@@ -107,7 +108,7 @@ def utc_now() -> datetime:
     return datetime.now(UTC)
 
 
-class MachineError(Exception):
+class MachineError(FocasError):
     """A typed operation refused: ``ew`` is the FANUC ``EW_*`` code the CNC answers."""
 
     def __init__(self, ew: int, detail: str = "") -> None:
@@ -200,7 +201,7 @@ class Panel:
 
 
 @dataclass(slots=True)
-class MotionState:
+class MotionData:
     """Figures for a native front end: positions per axis in least input increments, actual
     feed, spindle speed, program numbers and the sequence number."""
 
@@ -251,7 +252,7 @@ class Machine:
         panel: Panel | None = None,
         param_password: str | bytes | None = None,
         station: Mapping[tuple[int, int], IOModuleRecord] | None = None,
-        motion: MotionState | None = None,
+        motion: MotionData | None = None,
         history_capacity: int = DEFAULT_HISTORY_CAPACITY,
         clock: Clock = utc_now,
         control_enabled: bool = True,
@@ -305,7 +306,7 @@ class Machine:
                 raise ValueError(f"VersaMax rack {rack} slot {slot} is out of range")
             self._records[rack, slot] = record
             self._station[rack, slot] = record.encode()
-        self.motion = motion or MotionState([0] * n, [0] * n, [0] * n, [0] * n)
+        self.motion = motion or MotionData([0] * n, [0] * n, [0] * n, [0] * n)
         if history_capacity < 1:
             raise ValueError("alarm history capacity must be at least 1")
         self._active: dict[tuple[int, int, int], ActiveAlarm] = {}

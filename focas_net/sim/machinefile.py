@@ -16,7 +16,7 @@ from os import PathLike
 from pathlib import Path
 from typing import Any, Final, NoReturn
 
-from ..protocol import BoardId, IOModuleRecord, PmcArea, RefType, SysInfo
+from ..protocol import BoardId, FocasError, IOModuleRecord, PmcArea, RefType, SysInfo
 from .default import gniu_record, mdd844_record
 from .machine import (
     AUT_MODES,
@@ -27,7 +27,7 @@ from .machine import (
     DataItem,
     Machine,
     MacroRange,
-    MotionState,
+    MotionData,
     Panel,
     PmcAreaSpec,
     utc_now,
@@ -36,7 +36,7 @@ from .machine import (
 __all__ = ["MODE_NAMES", "MachineFileError", "load_machine", "machine_from_dict"]
 
 
-class MachineFileError(ValueError):
+class MachineFileError(FocasError, ValueError):
     """A machine file that cannot be used: ``path``, ``key`` (dotted) and ``problem``."""
 
     def __init__(self, path: str, key: str, problem: str) -> None:
@@ -423,7 +423,7 @@ def _station(ctx: _Ctx, value: Any) -> dict[tuple[int, int], IOModuleRecord]:
     return station
 
 
-def _motion(ctx: _Ctx, value: Any, n_axes: int) -> MotionState:
+def _motion(ctx: _Ctx, value: Any, n_axes: int) -> MotionData:
     t = _table(ctx, value)
     lists = ("absolute", "machine", "relative", "distance_to_go")
     scalars = ("feed", "spindle_speed", "program_running", "program_main", "sequence")
@@ -436,7 +436,7 @@ def _motion(ctx: _Ctx, value: Any, n_axes: int) -> MotionState:
             c.fail(f"{len(raw)} values for {n_axes} axes")
         positions.append([_int(c.sub(i), v, _I32) for i, v in enumerate(raw)])
     nums = [_int(ctx.sub(k), t.get(k, 0), (0, _I32[1])) for k in scalars]
-    return MotionState(positions[0], positions[1], positions[2], positions[3], *nums)
+    return MotionData(positions[0], positions[1], positions[2], positions[3], *nums)
 
 
 _TOP: Final = (
