@@ -1,0 +1,564 @@
+"""Pure formatting and parsing for the client commands of ``focas-net``.
+
+Nothing here does I/O: names and meanings of the ODBST fields, alarm codes (``PS0100``), the
+ODBSYS identity, VersaMax records, PMC hex dumps, column tables, and the parsers of the
+command-line forms (``1815.0``, ``100.3``, ``PS0100``, PMC data). Each function returns plain
+text or JSON-ready values so that it can be tested on its own.
+"""
+
+from __future__ import annotations
+
+import re
+from collections.abc import Iterable, Mapping, Sequence
+from datetime import UTC, datetime
+from decimal import Decimal
+from typing import Any, Final
+
+from focas_net.protocol import (
+    ALARM_TYPE_NAMES,
+    EW,
+    ActiveAlarm,
+    AlarmHistoryEntry,
+    BoardId,
+    ChunkedWriteError,
+    CncError,
+    IOModuleRecord,
+    RefType,
+    StatusInfo,
+    SysInfo,
+    ew_info,
+)
+
+__all__ = [
+    "AUT_NAMES",
+    "EDIT_NAMES",
+    "EMERGENCY_NAMES",
+    "MOTION_NAMES",
+    "MSTB_NAMES",
+    "RUN_NAMES",
+    "STATUS_ALARM_NAMES",
+    "STATUS_FIELDS",
+    "alarm_code",
+    "alarm_dict",
+    "error_line",
+    "field_name",
+    "format_active_alarm",
+    "format_history_entry",
+    "hexdump",
+    "history_dict",
+    "macro_text",
+    "module_dict",
+    "module_lines",
+    "parse_alarm",
+    "parse_alarm_filter",
+    "parse_aut",
+    "parse_bool",
+    "parse_byte_list",
+    "parse_ew",
+    "parse_hex",
+    "parse_int",
+    "parse_number_bit",
+    "render_table",
+    "status_dict",
+    "status_rows",
+    "status_summary",
+    "sysinfo_dict",
+    "sysinfo_rows",
+    "utc_text",
+]
+
+Names = Mapping[int, tuple[str, str]]
+
+#: ``aut`` (mode selection): value -> (FOCAS name, meaning).
+AUT_NAMES: Final[Names] = {
+    0: ("MDI", "manual data input"),
+    1: ("MEM", "memory (automatic operation)"),
+    2: ("****", "no selection"),
+    3: ("EDIT", "program edit"),
+    4: ("HND", "manual handle feed"),
+    5: ("JOG", "jog feed"),
+    6: ("TJOG", "teach-in jog"),
+    7: ("THND", "teach-in handle"),
+    8: ("INC", "incremental feed"),
+    9: ("REF", "reference position return"),
+    10: ("RMT", "remote (DNC) operation"),
+}
+#: ``run`` (automatic operation state).
+RUN_NAMES: Final[Names] = {
+    0: ("****", "reset"),
+    1: ("STOP", "automatic operation stopped"),
+    2: ("HOLD", "feed hold"),
+    3: ("STRT", "cycle start (running)"),
+    4: ("MSTR", "manual numerical command / tool retract and return"),
+}
+#: ``motion`` (axis movement / dwell).
+MOTION_NAMES: Final[Names] = {
+    0: ("***", "no motion"),
+    1: ("MTN", "axis moving"),
+    2: ("DWL", "dwell"),
+}
+#: ``mstb`` (M, S, T, B function state).
+MSTB_NAMES: Final[Names] = {
+    0: ("***", "no M/S/T/B function"),
+    1: ("FIN", "M/S/T/B function waiting for completion (FIN)"),
+}
+#: ``emergency``.
+EMERGENCY_NAMES: Final[Names] = {
+    0: ("****", "not in emergency stop"),
+    1: ("EMG", "emergency stop"),
+    2: ("RESET", "reset signal on"),
+}
+#: ``alarm`` of ODBST.
+STATUS_ALARM_NAMES: Final[Names] = {
+    0: ("****", "no alarm"),
+    1: ("ALM", "alarm active"),
+    2: ("BAT", "battery low"),
+}
+#: ``edit`` (the common values; others are shown as numbers).
+EDIT_NAMES: Final[Names] = {
+    0: ("****", "not editing"),
+    1: ("EDIT", "editing"),
+    2: ("SEARCH", "searching"),
+    3: ("OUTPUT", "outputting data"),
+    4: ("INPUT", "inputting data"),
+    5: ("COMPARE", "comparing data"),
+}
+_TMMODE_NAMES: Final[Names] = {0: ("T", "T mode"), 1: ("M", "M mode")}
+_HDCK_NAMES: Final[Names] = {
+    0: ("****", "manual handle retrace off"),
+    1: ("HDCK", "manual handle retrace on"),
+}
+
+#: The ODBST fields in display order, with their name tables.
+STATUS_FIELDS: Final[tuple[tuple[str, Names], ...]] = (
+    ("aut", AUT_NAMES),
+    ("run", RUN_NAMES),
+    ("motion", MOTION_NAMES),
+    ("mstb", MSTB_NAMES),
+    ("emergency", EMERGENCY_NAMES),
+    ("alarm", STATUS_ALARM_NAMES),
+    ("edit", EDIT_NAMES),
+    ("tmmode", _TMMODE_NAMES),
+    ("hdck", _HDCK_NAMES),
+)
+_SUMMARY_FIELDS: Final = ("aut", "run", "motion", "mstb", "emergency", "alarm", "edit")
+
+
+def field_name(names: Names, value: int) -> tuple[str, str]:
+    """``(name, meaning)`` of ``value`` in ``names``; an unknown value is its number."""
+    found = names.get(value)
+    return found if found is not None else (str(value), "unknown value")
+
+
+def status_summary(status: StatusInfo) -> str:
+    """One line: ``aut=MEM run=STRT motion=MTN mstb=*** emergency=**** alarm=ALM edit=****``."""
+    tables = dict(STATUS_FIELDS)
+    return " ".join(f"{f}={field_name(tables[f], getattr(status, f))[0]}" for f in _SUMMARY_FIELDS)
+
+
+def status_rows(status: StatusInfo) -> list[tuple[str, str, str, str]]:
+    """``(field, value, name, meaning)`` for every ODBST field."""
+    rows = []
+    for f, names in STATUS_FIELDS:
+        value = getattr(status, f)
+        name, meaning = field_name(names, value)
+        rows.append((f, str(value), name, meaning))
+    return rows
+
+
+def status_dict(status: StatusInfo) -> dict[str, dict[str, Any]]:
+    """``{field: {"value": n, "name": ..., "meaning": ...}}`` for every ODBST field."""
+    out: dict[str, dict[str, Any]] = {}
+    for f, names in STATUS_FIELDS:
+        value = getattr(status, f)
+        name, meaning = field_name(names, value)
+        out[f] = {"value": value, "name": name, "meaning": meaning}
+    return out
+
+
+# -- ODBSYS --------------------------------------------------------------------------------
+
+_MT_TYPES: Final[dict[str, str]] = {
+    "M": "machining center (M series)",
+    "T": "lathe (T series)",
+    "MM": "M series, two paths",
+    "TT": "T series, two or three paths",
+    "MT": "compound machining (T with M)",
+    "P": "punch press",
+    "L": "laser",
+    "W": "wire cut",
+}
+
+
+def _ascii(raw: bytes) -> str:
+    return raw.decode("latin-1").strip(" \x00")
+
+
+def _cnc_type_text(cnc_type: str) -> str:
+    if cnc_type == "0":
+        return "Series 0i"
+    if cnc_type.isdigit():
+        return f"Series {cnc_type}/{cnc_type}i"
+    return {"PD": "Power Mate i-D", "PH": "Power Mate i-H"}.get(cnc_type, "")
+
+
+def sysinfo_dict(info: SysInfo) -> dict[str, Any]:
+    """The ODBSYS fields as text and numbers."""
+    return {
+        "addinfo": info.addinfo,
+        "max_axis": info.max_axis,
+        "cnc_type": _ascii(info.cnc_type),
+        "mt_type": _ascii(info.mt_type),
+        "series": _ascii(info.series),
+        "version": _ascii(info.version),
+        "axes": _ascii(info.axes),
+        "axes_count": info.axes_count,
+    }
+
+
+def sysinfo_rows(info: SysInfo) -> list[tuple[str, str, str]]:
+    """``(field, value, meaning)`` rows of ODBSYS."""
+    d = sysinfo_dict(info)
+    axes = d["axes_count"]
+    return [
+        ("cnc_type", d["cnc_type"], _cnc_type_text(d["cnc_type"])),
+        ("mt_type", d["mt_type"], _MT_TYPES.get(d["mt_type"], "")),
+        ("series", d["series"], "software series"),
+        ("version", d["version"], "software version"),
+        ("axes", d["axes"], f"{axes} controlled axes" if axes is not None else ""),
+        ("max_axis", str(d["max_axis"]), "maximum controlled axes"),
+        ("addinfo", str(d["addinfo"]), "additional information bits"),
+    ]
+
+
+# -- alarms --------------------------------------------------------------------------------
+
+
+def alarm_code(alm_type: int, alm_no: int) -> str:
+    """``PS0100`` for type 3, number 100; an unnamed type is shown as ``T<n>:``."""
+    prefix = ALARM_TYPE_NAMES.get(alm_type)
+    if prefix is None:
+        return f"T{alm_type}:{alm_no:04d}"
+    return f"{prefix}{alm_no:04d}"
+
+
+def utc_text(when: datetime) -> str:
+    """``2024-05-01T12:00:00Z``."""
+    t = when.astimezone(UTC) if when.tzinfo else when
+    return t.strftime("%Y-%m-%dT%H:%M:%SZ")
+
+
+def _axis_text(axis_no: int) -> str:
+    return f" (axis {axis_no})" if axis_no else ""
+
+
+def format_active_alarm(alarm: ActiveAlarm) -> str:
+    """``PS0100 PARAMETER WRITE ENABLE`` (with `` (axis n)`` for an axis alarm)."""
+    text = f"{alarm_code(alarm.alm_type, alarm.alm_no)}{_axis_text(alarm.axis_no)}"
+    return f"{text} {alarm.msg}".rstrip()
+
+
+def format_history_entry(entry: AlarmHistoryEntry) -> str:
+    """``2024-05-01T12:00:00Z PS0100 PARAMETER WRITE ENABLE``."""
+    code = alarm_code(entry.alm_type, entry.alm_no)
+    return f"{utc_text(entry.occurred_at)} {code}{_axis_text(entry.axis_no)} {entry.msg}".rstrip()
+
+
+def alarm_dict(alarm: ActiveAlarm) -> dict[str, Any]:
+    return {
+        "code": alarm_code(alarm.alm_type, alarm.alm_no),
+        "axis_no": alarm.axis_no,
+        "alm_type": alarm.alm_type,
+        "alm_no": alarm.alm_no,
+        "msg": alarm.msg,
+    }
+
+
+def history_dict(entry: AlarmHistoryEntry) -> dict[str, Any]:
+    return {
+        "occurred_at": utc_text(entry.occurred_at),
+        "code": alarm_code(entry.alm_type, entry.alm_no),
+        "axis_no": entry.axis_no,
+        "alm_type": entry.alm_type,
+        "alm_no": entry.alm_no,
+        "msg": entry.msg,
+    }
+
+
+_ALARM_RE: Final = re.compile(r"^([A-Za-z]{2})(\d{1,5})$")
+_ALARM_NUMERIC_RE: Final = re.compile(r"^(\d{1,2}):(\d{1,5})$")
+_TYPES_BY_NAME: Final[dict[str, int]] = {name: t for t, name in ALARM_TYPE_NAMES.items()}
+
+
+def _alarm_type(prefix: str) -> int:
+    t = _TYPES_BY_NAME.get(prefix.upper())
+    if t is None:
+        known = " ".join(sorted(_TYPES_BY_NAME, key=_TYPES_BY_NAME.__getitem__))
+        raise ValueError(f"unknown alarm type {prefix!r} (known: {known})")
+    return t
+
+
+def parse_alarm(text: str) -> tuple[int, int]:
+    """``"PS0100"`` -> ``(3, 100)``; ``"3:100"`` (type number, alarm number) also works."""
+    s = text.strip()
+    m = _ALARM_RE.match(s)
+    if m:
+        return _alarm_type(m[1]), int(m[2])
+    m = _ALARM_NUMERIC_RE.match(s)
+    if m:
+        return int(m[1]), int(m[2])
+    raise ValueError(f"not an alarm code: {text!r} (expected e.g. PS0100 or 3:100)")
+
+
+def parse_alarm_filter(text: str | None) -> tuple[int, int]:
+    """Filter of ``sim clear``: None -> every alarm ``(-1, -1)``; ``"PS"`` -> every PS alarm
+    ``(3, -1)``; ``"PS0100"`` -> ``(3, 100)``."""
+    if text is None:
+        return (-1, -1)
+    s = text.strip()
+    if s.isalpha() and len(s) == 2:
+        return (_alarm_type(s), -1)
+    return parse_alarm(s)
+
+
+# -- VersaMax ------------------------------------------------------------------------------
+
+_REF_NAMES: Final[dict[int, str]] = {
+    RefType.I: "%I",
+    RefType.Q: "%Q",
+    RefType.AI: "%AI",
+    RefType.AQ: "%AQ",
+}
+
+
+def _board_dict(board: BoardId) -> dict[str, Any]:
+    return {
+        "id": f"0x{board.value:04X}",
+        "valid": board.valid,
+        "module_type": board.module_type.name,
+        "inputs": board.inputs,
+        "outputs": board.outputs,
+    }
+
+
+def module_dict(rack: int, slot: int, record: IOModuleRecord) -> dict[str, Any]:
+    """A VersaMax module record as JSON-ready values."""
+    return {
+        "rack": rack,
+        "slot": slot,
+        "label": record.label,
+        "primary_id": _board_dict(record.primary_id),
+        "secondary_id": _board_dict(record.secondary_id),
+        "inputs": record.inputs,
+        "outputs": record.outputs,
+        "setup": record.setup,
+        "defaults_defined": bool(record.setup & 1),
+        "fault_reporting": bool(record.setup & 2),
+        "references": [
+            {
+                "sequence": r.sequence,
+                "type": _REF_NAMES.get(r.ref_type, str(r.ref_type)),
+                "offset": r.offset,
+                "bytes": r.byte_length,
+                "defaults_offset": r.defaults_offset,
+            }
+            for r in record.references
+        ],
+        "input_segment_mode": record.input_segment_mode,
+        "output_segment_mode": record.output_segment_mode,
+        "default_inputs": record.default_inputs.hex(),
+        "default_outputs": record.default_outputs.hex(),
+        "module_data": record.module_data.hex(),
+    }
+
+
+def _board_text(board: BoardId) -> str:
+    kind = board.module_type.name.lower().replace("_", " ")
+    return f"0x{board.value:04X} ({kind}, {board.inputs} in, {board.outputs} out)"
+
+
+def module_lines(rack: int, slot: int, record: IOModuleRecord) -> list[str]:
+    """Readable lines describing a VersaMax module record."""
+    flags = [
+        "defaults defined" if record.setup & 1 else "no defaults",
+        "fault reporting on" if record.setup & 2 else "fault reporting off",
+    ]
+    lines = [
+        f"rack {rack} slot {slot}: {record.label}, {record.inputs} inputs, "
+        f"{record.outputs} outputs",
+        render_table(
+            ("field", "value"),
+            [
+                ("primary board", _board_text(record.primary_id)),
+                ("secondary board", _board_text(record.secondary_id)),
+                ("setup", f"0x{record.setup:04X} ({', '.join(flags)})"),
+                (
+                    "segment modes",
+                    f"in {record.input_segment_mode}, out {record.output_segment_mode}",
+                ),
+                ("default inputs", record.default_inputs.hex(" ") or "-"),
+                ("default outputs", record.default_outputs.hex(" ") or "-"),
+                ("module data", record.module_data.hex(" ") or "-"),
+            ],
+        ),
+    ]
+    if record.references:
+        lines.append(
+            render_table(
+                ("seq", "ref", "offset", "bytes", "defaults at"),
+                [
+                    (
+                        str(r.sequence),
+                        _REF_NAMES.get(r.ref_type, str(r.ref_type)),
+                        str(r.offset),
+                        str(r.byte_length),
+                        str(r.defaults_offset),
+                    )
+                    for r in record.references
+                ],
+            )
+        )
+    return lines
+
+
+# -- tables and dumps ----------------------------------------------------------------------
+
+
+def render_table(headers: Sequence[str] | None, rows: Iterable[Sequence[str]]) -> str:
+    """Left-aligned columns separated by two spaces; no trailing blanks."""
+    body = [list(map(str, r)) for r in rows]
+    all_rows = ([list(headers)] if headers else []) + body
+    if not all_rows:
+        return ""
+    ncols = max(len(r) for r in all_rows)
+    widths = [max((len(r[i]) for r in all_rows if i < len(r)), default=0) for i in range(ncols)]
+    lines = []
+    for r in all_rows:
+        cells = [c.ljust(widths[i]) for i, c in enumerate(r)]
+        lines.append("  ".join(cells).rstrip())
+    return "\n".join(lines)
+
+
+def hexdump(area: str, start: int, data: bytes, per_line: int = 16) -> str:
+    """``R0100  01 02 03 ...`` lines, ``per_line`` bytes each, addressed by their first byte."""
+    width = max(4, len(str(start + max(len(data) - 1, 0))))
+    lines = []
+    for off in range(0, len(data), per_line):
+        chunk = data[off : off + per_line]
+        lines.append(f"{area}{start + off:0{width}d}  {chunk.hex(' ')}")
+    return "\n".join(lines)
+
+
+# -- parsers -------------------------------------------------------------------------------
+
+
+def parse_int(text: str) -> int:
+    """A decimal, ``0x`` hex, ``0b`` binary or ``0o`` octal integer."""
+    try:
+        return int(text.strip().replace("_", ""), 0)
+    except ValueError:
+        raise ValueError(f"not an integer: {text!r}") from None
+
+
+def parse_number_bit(text: str) -> tuple[int, int | None]:
+    """``"1815"`` -> ``(1815, None)``; ``"1815.0"`` -> ``(1815, 0)``."""
+    s = text.strip()
+    number, dot, bit = s.partition(".")
+    if not number.isdigit() or (dot and not bit.isdigit()):
+        raise ValueError(f"expected NUMBER or NUMBER.BIT, got {text!r}")
+    return int(number), (int(bit) if dot else None)
+
+
+_TRUE: Final = frozenset({"1", "on", "true", "yes", "set"})
+_FALSE: Final = frozenset({"0", "off", "false", "no", "clear"})
+
+
+def parse_bool(text: str) -> bool:
+    """``1/on/true/yes/set`` or ``0/off/false/no/clear``."""
+    s = text.strip().lower()
+    if s in _TRUE:
+        return True
+    if s in _FALSE:
+        return False
+    raise ValueError(f"expected 0/1, on/off or true/false, got {text!r}")
+
+
+def parse_hex(text: str) -> bytes:
+    """``"01ff"``, ``"01 ff"``, ``"0x01ff"`` or ``"01:ff"`` -> bytes."""
+    s = text.strip()
+    if s[:2].lower() == "0x":
+        s = s[2:]
+    s = re.sub(r"[\s:_-]", "", s)
+    try:
+        data = bytes.fromhex(s)
+    except ValueError:
+        raise ValueError(f"not hex bytes: {text!r}") from None
+    if not data:
+        raise ValueError("no data bytes given")
+    return data
+
+
+def parse_byte_list(items: Iterable[str]) -> bytes:
+    """Byte values given as numbers (``1 2 0xff``, also comma separated) -> bytes."""
+    values: list[int] = []
+    for item in items:
+        for part in item.replace(",", " ").split():
+            v = parse_int(part)
+            if not 0 <= v <= 255:
+                raise ValueError(f"byte value {part!r} outside 0..255")
+            values.append(v)
+    if not values:
+        raise ValueError("no data bytes given")
+    return bytes(values)
+
+
+_AUT_BY_NAME: Final[dict[str, int]] = {name: v for v, (name, _) in AUT_NAMES.items() if v != 2}
+
+
+def parse_aut(text: str) -> int:
+    """A mode by FOCAS name (``MDI``, ``MEM``, ``EDIT``, ...) or ``aut`` number."""
+    s = text.strip().upper()
+    if s in _AUT_BY_NAME:
+        return _AUT_BY_NAME[s]
+    if s.isdigit() and int(s) in AUT_NAMES:
+        return int(s)
+    raise ValueError(f"unknown mode {text!r} (one of {', '.join(_AUT_BY_NAME)})")
+
+
+def parse_ew(text: str) -> int:
+    """An EW code by number or name (``17``, ``EW_PASSWD``, ``passwd``, ``-1``)."""
+    s = text.strip()
+    try:
+        return int(s, 0)
+    except ValueError:
+        pass
+    name = s.upper().removeprefix("EW_")
+    try:
+        return int(EW[name])
+    except KeyError:
+        raise ValueError(f"unknown EW code {text!r}") from None
+
+
+# -- errors --------------------------------------------------------------------------------
+
+
+def error_line(exc: BaseException) -> str:
+    """The one-line text of a failure (without the ``focas-net:`` prefix).
+
+    A CNC error reads ``EW_PASSWD (17): protection / password error (cnc_wrparam)``.
+    """
+    if isinstance(exc, CncError):
+        info = ew_info(exc.ew)
+        text = f"{info.name} ({exc.ew}): {info.meaning}"
+        if exc.detail:
+            text += f" ({exc.detail})"
+    elif isinstance(exc, ChunkedWriteError):
+        text = str(exc)
+    else:
+        text = str(exc) or type(exc).__name__
+    return " ".join(text.split())
+
+
+def macro_text(value: Decimal | None) -> str:
+    """A macro value as the CNC shows it; a vacant variable is ``<vacant>``."""
+    return "<vacant>" if value is None else str(value)
