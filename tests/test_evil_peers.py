@@ -51,11 +51,6 @@ def server_errors(caplog: pytest.LogCaptureFixture) -> Iterator[list[logging.Log
     assert not records, [r.getMessage() for r in records]
 
 
-def only_connection(served: Served) -> Connection:
-    (conn,) = served.listener.connections
-    return conn
-
-
 async def assert_serves(served: Served) -> None:
     """A fresh connection is accepted and answered."""
     async with await served.connect() as wire:
