@@ -1,0 +1,124 @@
+"""Follow a CNC's alarms as a stream of events with AlarmProjection.
+
+    python examples/alarm_watch.py --port 8193 --events 6
+    python examples/alarm_watch.py --port 8193 --watch-only --events 1 --seconds 60
+
+The projection polls the active alarm list and the alarm history and yields "raised",
+"cleared" and "history" events, each history entry exactly once. Unless ``--watch-only`` is
+given, the script also drives the simulated CNC: it raises two alarms and clears them again
+through simulator control. It stops after ``--events`` events, or with exit code 1 when they
+do not all arrive within ``--seconds``.
+"""
+
+from __future__ import annotations
+
+import argparse
+import asyncio
+import sys
+
+from focas_net.client import (
+    AlarmCleared,
+    AlarmEvent,
+    AlarmHistoryEvent,
+    AlarmProjection,
+    AlarmRaised,
+    FocasClient,
+    ProjectionMode,
+)
+from focas_net.protocol import ALARM_TYPE_NAMES, FocasError
+
+#: (alm_type, alm_no, message, axis_no) raised by the demonstration.
+DEMO_ALARMS = [
+    (3, 100, "PARAMETER WRITE ENABLE", 0),
+    (4, 500, "OVER TRAVEL ( +1 )", 1),
+]
+
+
+def code(alm_type: int, alm_no: int) -> str:
+    return f"{ALARM_TYPE_NAMES.get(alm_type, alm_type)}{alm_no:04d}"
+
+
+def describe(event: AlarmEvent) -> str:
+    if isinstance(event, AlarmHistoryEvent):
+        e = event.entry
+        when = e.occurred_at.strftime("%Y-%m-%d %H:%M:%S")
+        axis = f" axis {e.axis_no}" if e.axis_no else ""
+        return f"history  {when} UTC {code(e.alm_type, e.alm_no)}{axis} {e.msg}"
+    kind = "raised " if isinstance(event, AlarmRaised) else "cleared"
+    assert isinstance(event, AlarmRaised | AlarmCleared)
+    a = event.alarm
+    axis = f" axis {a.axis_no}" if a.axis_no else ""
+    return f"{kind}  {code(a.alm_type, a.alm_no)}{axis} {a.msg}"
+
+
+async def drive(cnc: FocasClient, pause: float) -> None:
+    """Raise the demonstration alarms, then clear them, a few polls apart."""
+    for alm_type, alm_no, msg, axis in DEMO_ALARMS:
+        await cnc.sim.raise_alarm(alm_type, alm_no, msg, axis_no=axis)
+        await asyncio.sleep(pause)
+    for alm_type, alm_no, _msg, _axis in DEMO_ALARMS:
+        await cnc.sim.clear_alarms(alm_type, alm_no)
+        await asyncio.sleep(pause)
+
+
+async def watch(args: argparse.Namespace) -> int:
+    seen = 0
+    async with FocasClient(args.host, args.port, timeout=args.timeout, reconnect=True) as cnc:
+        projection = AlarmProjection(
+            cnc,
+            ProjectionMode.ACTIVE_PLUS_HISTORY,
+            interval=args.interval,
+            depth=20,
+            replay_history=False,  # only history entries that appear from now on
+        )
+        driver = None
+        try:
+            async with asyncio.timeout(args.seconds), projection:
+                # The first poll learns what is already there (active alarms are reported,
+                # older history is not); only then does the demonstration start.
+                events = await projection.poll()
+                if not args.watch_only:
+                    driver = asyncio.create_task(drive(cnc, 2 * args.interval))
+                for event in events:
+                    seen += 1
+                    print(f"{seen:3d}  {describe(event)}", flush=True)
+                async for event in projection:
+                    if seen >= args.events:
+                        break
+                    seen += 1
+                    print(f"{seen:3d}  {describe(event)}", flush=True)
+                    if seen >= args.events:
+                        break
+        except TimeoutError:
+            print(f"only {seen} of {args.events} events in {args.seconds} s", file=sys.stderr)
+            return 1
+        finally:
+            if driver is not None:
+                if not driver.done():
+                    driver.cancel()
+                await asyncio.gather(driver, return_exceptions=True)
+    print(f"{seen} events; polls: {projection.polls}, failed polls: {projection.failed_polls}")
+    return 0
+
+
+def main() -> int:
+    parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    parser.add_argument("--host", default="127.0.0.1")
+    parser.add_argument("--port", type=int, default=8193)
+    parser.add_argument("--timeout", type=float, default=3.0, help="seconds per call")
+    parser.add_argument("--interval", type=float, default=0.2, help="poll interval (0.2 s)")
+    parser.add_argument("--events", type=int, default=6, help="stop after this many (6)")
+    parser.add_argument("--seconds", type=float, default=20.0, help="give up after (20 s)")
+    parser.add_argument("--watch-only", action="store_true", help="do not raise alarms, only watch")
+    args = parser.parse_args()
+    if args.events < 1 or args.interval <= 0 or args.seconds <= 0:
+        parser.error("--events, --interval and --seconds must be positive")
+    try:
+        return asyncio.run(watch(args))
+    except FocasError as exc:
+        print(f"alarm_watch: {exc}", file=sys.stderr)
+        return 1
+
+
+if __name__ == "__main__":
+    sys.exit(main())

@@ -1,0 +1,57 @@
+"""Read the status, identity and active alarms of a CNC.
+
+    python examples/read_status.py --host 127.0.0.1 --port 8193
+
+The three reads go out at once on one connection (``asyncio.gather``): the client matches
+the answers by request id.
+"""
+
+from __future__ import annotations
+
+import argparse
+import asyncio
+import sys
+
+from focas_net.client import FocasClient
+from focas_net.protocol import ALARM_TYPE_NAMES, FocasError
+
+AUT = {0: "MDI", 1: "MEM", 2: "****", 3: "EDIT", 4: "HND", 5: "JOG", 6: "TJOG", 7: "THND",
+       8: "INC", 9: "REF", 10: "RMT"}  # fmt: skip
+RUN = {0: "****", 1: "STOP", 2: "HOLD", 3: "STRT", 4: "MSTR"}
+EMERGENCY = {0: "****", 1: "EMG", 2: "RESET"}
+
+
+async def read_status(host: str, port: int, call_timeout: float) -> None:
+    async with FocasClient(host, port, timeout=call_timeout) as cnc:
+        status, info, alarms = await asyncio.gather(
+            cnc.read_status(), cnc.read_sysinfo(), cnc.read_alarms()
+        )
+    series = info.series.decode("ascii").strip()
+    version = info.version.decode("ascii").strip()
+    print(f"CNC {host}:{port}: series {series} version {version}, {info.axes_count} axes")
+    print(
+        f"aut={AUT.get(status.aut, status.aut)} run={RUN.get(status.run, status.run)} "
+        f"emergency={EMERGENCY.get(status.emergency, status.emergency)} "
+        f"alarm={'ALM' if status.alarm else '****'}"
+    )
+    print(f"active alarms: {len(alarms)}")
+    for a in alarms:
+        print(f"  {ALARM_TYPE_NAMES.get(a.alm_type, a.alm_type)}{a.alm_no:04d} {a.msg}")
+
+
+def main() -> int:
+    parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    parser.add_argument("--host", default="127.0.0.1")
+    parser.add_argument("--port", type=int, default=8193)
+    parser.add_argument("--timeout", type=float, default=3.0, help="seconds per call")
+    args = parser.parse_args()
+    try:
+        asyncio.run(read_status(args.host, args.port, args.timeout))
+    except FocasError as exc:
+        print(f"read_status: {exc}", file=sys.stderr)
+        return 1
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

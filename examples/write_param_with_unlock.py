@@ -1,0 +1,71 @@
+"""Write a CNC parameter the way an operator would, then read it back.
+
+    python examples/write_param_with_unlock.py --port 8193 --param 1320 --axis 1 --value 5000
+    python examples/write_param_with_unlock.py --port 8193 --password 1234
+
+A parameter write is refused (EW_PASSWD) unless the CNC is in MDI mode with parameter write
+enable (PWE) on and, when it has a parameter password, the connection is unlocked. The script
+switches the simulated panel to MDI with PWE on (simulator control), writes, unlocks with
+``--password`` if the CNC refuses and writes again, reads the value back, and puts the panel
+back to its previous mode with PWE off.
+"""
+
+from __future__ import annotations
+
+import argparse
+import asyncio
+import sys
+
+from focas_net.client import FocasClient
+from focas_net.protocol import AccessDeniedError, FocasError
+
+MDI = 0
+
+
+async def write_param(args: argparse.Namespace) -> int:
+    async with FocasClient(args.host, args.port, timeout=args.timeout) as cnc:
+        before = await cnc.read_status()
+        old = await cnc.read_param(args.param, axis=args.axis)
+        print(f"parameter {args.param} axis {args.axis}: {old}")
+        await cnc.sim.set_panel(MDI, pwe=True, emergency=before.emergency == 1)
+        print("panel: MDI, PWE on")
+        try:
+            try:
+                await cnc.write_param(args.param, args.value, axis=args.axis)
+            except AccessDeniedError:
+                if args.password is None:
+                    print("the CNC has a parameter password: give --password", file=sys.stderr)
+                    return 1
+                await cnc.unlock(args.password)
+                print("unlocked with the parameter password")
+                await cnc.write_param(args.param, args.value, axis=args.axis)
+            new = await cnc.read_param(args.param, axis=args.axis)
+        finally:
+            await cnc.sim.set_panel(before.aut, pwe=False, emergency=before.emergency == 1)
+            print("panel: mode restored, PWE off")
+    print(f"wrote {args.value}, read back {new}")
+    if new != args.value:
+        print("read back differs from the value written", file=sys.stderr)
+        return 1
+    return 0
+
+
+def main() -> int:
+    parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    parser.add_argument("--host", default="127.0.0.1")
+    parser.add_argument("--port", type=int, default=8193)
+    parser.add_argument("--timeout", type=float, default=3.0, help="seconds per call")
+    parser.add_argument("--param", type=int, default=1320, help="parameter number (1320)")
+    parser.add_argument("--axis", type=int, default=1, help="axis, 0 for non-axis (1)")
+    parser.add_argument("--value", type=int, default=500_000, help="value to write (500000)")
+    parser.add_argument("--password", help="parameter password, used when the CNC asks")
+    args = parser.parse_args()
+    try:
+        return asyncio.run(write_param(args))
+    except FocasError as exc:
+        print(f"write_param_with_unlock: {exc}", file=sys.stderr)
+        return 1
+
+
+if __name__ == "__main__":
+    sys.exit(main())
