@@ -589,7 +589,8 @@ def main(argv: Sequence[str] | None = None) -> int:
         overrides["duration"] = args.duration
     if overrides:
         cfg = Config(**{**asdict(cfg), **overrides})
-    command = shlex.join(["python", "-m", "benchmarks", *(sys.argv[1:] if argv is None else argv)])
+    prog = ["python", "-m", "benchmarks"] if __package__ else ["python", "benchmarks/run.py"]
+    command = shlex.join([*prog, *(sys.argv[1:] if argv is None else argv)])
     results = Results(machine_info(cfg), command, asdict(cfg))
     Suite(cfg, scenarios, results).run()
     results.checks = evaluate(results, fleet_size=cfg.fleet_size, fleet_hz=cfg.fleet_hz)
