@@ -1,0 +1,222 @@
+"""Every script in ``examples/`` runs as a subprocess against a real server started here."""
+
+from __future__ import annotations
+
+import asyncio
+import re
+import sys
+from pathlib import Path
+
+import pytest
+from conftest import IO_TIMEOUT, Served, serving
+
+from focas_net.server import FocasServer
+from focas_net.sim import default_machine
+
+EXAMPLES = Path(__file__).resolve().parent.parent / "examples"
+#: Upper bound of one example run (they all finish by themselves well before).
+RUN_TIMEOUT = 12 * IO_TIMEOUT
+
+
+async def run_example(name: str, *args: str) -> tuple[int, str, str]:
+    """Run ``examples/<name>`` with ``args``; its exit code, stdout and stderr."""
+    proc = await asyncio.create_subprocess_exec(
+        sys.executable,
+        str(EXAMPLES / name),
+        *args,
+        stdout=asyncio.subprocess.PIPE,
+        stderr=asyncio.subprocess.PIPE,
+    )
+    try:
+        out, err = await asyncio.wait_for(proc.communicate(), RUN_TIMEOUT)
+    finally:
+        if proc.returncode is None:
+            proc.kill()
+            await proc.wait()
+    assert proc.returncode is not None
+    return proc.returncode, out.decode(), err.decode()
+
+
+def port_args(served: Served) -> list[str]:
+    return ["--host", served.host, "--port", str(served.port)]
+
+
+def test_every_example_is_tested() -> None:
+    tested = {
+        "read_status.py",
+        "write_param_with_unlock.py",
+        "pmc_bits.py",
+        "alarm_watch.py",
+        "fleet_poll.py",
+        "versamax_config.py",
+    }
+    assert {p.name for p in EXAMPLES.glob("*.py")} == tested
+
+
+async def test_read_status(server: Served) -> None:
+    server.machine.raise_alarm(0, 3, 100, b"PARAMETER WRITE ENABLE")
+    code, out, err = await run_example("read_status.py", *port_args(server))
+    assert (code, err) == (0, "")
+    lines = out.splitlines()
+    assert lines[0] == f"CNC {server.host}:{server.port}: series D4F1 version 32.0, 3 axes"
+    assert lines[1] == "aut=MEM run=**** emergency=**** alarm=ALM"
+    assert lines[2:] == ["active alarms: 1", "  PS0100 PARAMETER WRITE ENABLE"]
+
+
+async def test_read_status_unreachable() -> None:
+    async with serving() as served:
+        args = port_args(served)
+    code, out, err = await run_example("read_status.py", *args)  # the server is gone
+    assert code == 1 and out == ""
+    assert err.startswith("read_status: cannot connect to")
+
+
+async def test_write_param_without_password(server: Served) -> None:
+    code, out, err = await run_example(
+        "write_param_with_unlock.py", *port_args(server), "--param", "1420", "--axis", "3",
+        "--value", "30000",
+    )  # fmt: skip
+    assert (code, err) == (0, "")
+    assert "parameter 1420 axis 3: 24000" in out
+    assert out.splitlines()[-1] == "wrote 30000, read back 30000"
+    assert "unlocked" not in out
+    assert server.machine.read_param(1420, 3).value == 30000
+    # the panel went back to MEM with PWE off
+    assert (server.machine.panel.mode, server.machine.panel.pwe) == (1, 0)
+
+
+async def test_write_param_with_password() -> None:
+    async with serving(default_machine(param_password="1234")) as served:
+        code, out, err = await run_example(
+            "write_param_with_unlock.py", *port_args(served), "--password", "1234"
+        )
+        assert (code, err) == (0, "")
+        assert "unlocked with the parameter password" in out
+        assert out.splitlines()[-1] == "wrote 500000, read back 500000"
+        assert served.machine.read_param(1320, 1).value == 500_000
+
+        code, out, err = await run_example("write_param_with_unlock.py", *port_args(served))
+        assert code == 1
+        assert "give --password" in err
+        assert "panel: mode restored, PWE off" in out
+        assert served.machine.panel.pwe == 0
+
+        served.machine.read_only = True
+        code, _out, err = await run_example("write_param_with_unlock.py", *port_args(served))
+        assert code == 1 and err.startswith("write_param_with_unlock: EW_PROT (7)")
+
+
+async def test_pmc_bits(server: Served) -> None:
+    code, out, err = await run_example(
+        "pmc_bits.py", *port_args(server), "--area", "D", "--start", "500", "--bytes", "16"
+    )
+    assert (code, err) == (0, "")
+    assert out.startswith("128 concurrent bit writes to D500..")
+    assert out.splitlines()[-1] == "every bit as written"
+    assert "MISMATCH" not in out
+    rows = [line.split() for line in out.splitlines() if line.startswith("D5")]
+    assert len(rows) == 16
+    written = server.machine.read_pmc(8, 0, 500, 515)  # type_a 8 = D
+    assert [int(r[2], 2) for r in rows] == list(written)
+    assert all(r[1] == r[2] for r in rows)
+
+
+async def test_alarm_watch(server: Served) -> None:
+    code, out, err = await run_example(
+        "alarm_watch.py", *port_args(server), "--interval", "0.05", "--events", "6"
+    )
+    assert (code, err) == (0, "")
+    lines = out.splitlines()
+    assert lines[-1].startswith("6 events; polls: ")
+    events = sorted(re.sub(r"^\s*\d+\s+", "", line).split(" UTC ")[-1] for line in lines[:-1])
+    assert len(events) == 6
+    assert sum(e.startswith("raised") for e in events) == 2
+    assert sum(e.startswith("cleared") for e in events) == 2
+    assert sum(e.startswith("PS0100") or e.startswith("OT0500") for e in events) == 2
+    assert "raised   OT0500 axis 1 OVER TRAVEL ( +1 )" in events
+    # the demonstration cleaned up after itself; the history keeps both
+    assert server.machine.active_alarms() == []
+    assert len(server.machine.alarm_history(10)) == 2
+
+
+async def test_alarm_watch_gives_up_when_nothing_happens(server: Served) -> None:
+    code, out, err = await run_example(
+        "alarm_watch.py", *port_args(server), "--watch-only", "--events", "1",
+        "--interval", "0.05", "--seconds", "0.5",
+    )  # fmt: skip
+    assert code == 1 and out == ""
+    assert err.strip() == "only 0 of 1 events in 0.5 s"
+
+
+async def test_versamax_config(server: Served) -> None:
+    code, out, err = await run_example("versamax_config.py", *port_args(server))
+    assert (code, err) == (0, "")
+    assert "rack 0 slot 0: empty" in out
+    assert "rack 0 slot 1: GBI1" in out
+    assert "rack 0 slot 3: D844  primary 0x8080 secondary 0x8008  16 inputs, 16 outputs" in out
+    assert "    reference 1: %I offset 17, 2 bytes" in out
+    assert out.splitlines()[-1] == "2 module(s) configured in rack 0"
+
+    code, out, err = await run_example("versamax_config.py", *port_args(server), "--slot", "3")
+    assert (code, err) == (0, "")
+    assert out.splitlines()[0].startswith("rack 0 slot 3: D844")
+    code, out, _ = await run_example("versamax_config.py", *port_args(server), "--rack", "5")
+    assert code == 1 and out.splitlines()[-1] == "0 module(s) configured in rack 5"
+
+
+def _table_rows(out: str) -> list[list[str]]:
+    lines = out.splitlines()
+    assert lines[0].split() == ["machine", "address", "cnc", "mode", "run", "alarm", "parts", "ms"]
+    return [line.split() for line in lines[1:-1]]
+
+
+async def test_fleet_poll_simulates_its_own_fleet() -> None:
+    code, out, err = await run_example(
+        "fleet_poll.py", "--simulate", "21", "--rounds", "2", "--interval", "0.05"
+    )
+    assert (code, err) == (0, "")
+    rows = _table_rows(out)
+    assert [r[0] for r in rows] == [f"sim-{i:03d}" for i in range(1, 22)]
+    assert [int(r[6]) for r in rows] == [100 * i + 7 for i in range(21)]  # parts counts
+    assert rows[0][3:5] == ["MEM", "STRT"] and rows[2][3] == "MDI"
+    assert rows[5][5] == "PS0105"
+    assert out.splitlines()[-1].startswith(
+        "21 machines, 2 round(s): 42 polls of 3 calls each, 0 failed"
+    )
+
+
+async def test_fleet_poll_of_ports_given() -> None:
+    machines = [default_machine(f"cell-{i}") for i in range(20)]
+    machines[7].raise_alarm(2, 4, 500, b"OVER TRAVEL")
+    async with FocasServer(machines, host="127.0.0.1", port=0, grace_period=1.0) as server:
+        ports = ",".join(str(lst.port) for lst in server.listeners)
+        code, out, err = await run_example(
+            "fleet_poll.py", "--ports", ports, "--rounds", "2", "--interval", "0.05"
+        )
+    assert (code, err) == (0, "")
+    rows = _table_rows(out)
+    assert len(rows) == 20
+    assert [r[1] for r in rows] == [f"127.0.0.1:{lst.port}" for lst in server.listeners]
+    assert rows[7][5] == "OT0500" and all(r[5] == "-" for i, r in enumerate(rows) if i != 7)
+    assert all(r[2] == "D4F1/32.0" and r[3] == "MEM" for r in rows)
+    assert "40 polls of 3 calls each, 0 failed" in out.splitlines()[-1]
+
+
+async def test_fleet_poll_reports_unreachable_machines(server: Served) -> None:
+    async with serving() as gone:
+        dead = gone.port
+    code, out, err = await run_example(
+        "fleet_poll.py", "--ports", f"{server.port},{dead}", "--rounds", "1"
+    )
+    assert code == 1 and err == ""
+    rows = _table_rows(out)
+    assert rows[0][3] == "MEM"
+    assert rows[1][2:4] == ["ERROR", "unreachable:"]
+    assert "1 failed" in out.splitlines()[-1]
+
+
+@pytest.mark.parametrize("name", sorted(p.name for p in EXAMPLES.glob("*.py")))
+async def test_examples_document_their_options(name: str) -> None:
+    code, out, _ = await run_example(name, "--help")
+    assert code == 0
+    assert "--host" in out and "--port" in out
