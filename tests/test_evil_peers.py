@@ -383,11 +383,6 @@ async def test_half_close_after_a_partial_frame_answers_the_whole_ones(
         await assert_serves(served)
 
 
-@pytest.mark.xfail(
-    strict=True,
-    reason="Connection.eof_received (focas_net/server/_connection.py) cancels the answers held "
-    "by a delay fault, so a half-closed peer never gets them",
-)
 async def test_half_close_delivers_delayed_answers(
     server_errors: list[logging.LogRecord],
 ) -> None:

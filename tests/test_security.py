@@ -381,12 +381,6 @@ async def test_password_text_is_never_logged(caplog: pytest.LogCaptureFixture) -
     assert repr(PASSWORD.encode()) not in text
 
 
-@pytest.mark.xfail(
-    strict=True,
-    reason="focas_net/server/_connection.py data_received logs a hex dump of every chunk "
-    "received at DEBUG, so the payload of cnc_wrunlockparam (0x0105) - the password - is "
-    "logged in hex",
-)
 async def test_password_is_not_logged_in_hex_dumps(caplog: pytest.LogCaptureFixture) -> None:
     caplog.set_level(logging.DEBUG)
     async with serving(default_machine(param_password=PASSWORD)) as served:

@@ -36,6 +36,7 @@ _pack_header = HEADER.pack
 _CONTROL_FIRST: Final = 0x0E01
 _CONTROL_LAST: Final = 0x0E05
 _INJECT_FAULT: Final = 0x0E05
+_UNLOCK: Final = 0x0105
 _EW_OK: Final = encode_ew(EW.OK)
 _EW_FUNC: Final = encode_ew(EW.FUNC)
 _DEBUG: Final = logging.DEBUG
@@ -51,6 +52,15 @@ _DROP_KIND: Final = FaultKind.DROP
 def _hexdump(data: bytes | bytearray | memoryview) -> str:
     head = bytes(data[:_HEXDUMP_LIMIT]).hex(" ")
     return head + (f" ... ({len(data)} bytes)" if len(data) > _HEXDUMP_LIMIT else "")
+
+
+def _dump_frames(frames: list[Frame]) -> str:
+    """Decoded frames for a DEBUG log; the payload of an unlock (the password) is never shown."""
+    return "; ".join(
+        f"0x{command:04X} #{request_id}: "
+        + ("<password redacted>" if command == _UNLOCK else _hexdump(payload))
+        for command, request_id, payload in frames
+    )
 
 
 class _Delayed:
@@ -197,13 +207,12 @@ class Connection(asyncio.Protocol):
         self._maybe_resume()
 
     def eof_received(self) -> bool:
-        # The peer sends nothing more. Requests already received are answered and flushed,
-        # then the connection closes; delayed answers still pending are dropped.
-        self._cancel_delayed()
-        if self._backlog is None:
+        # The peer sends nothing more. Requests already received are answered (delayed
+        # answers when due) and flushed, then the connection closes.
+        if self._backlog is None and not self._delayed:
             return False  # the transport closes itself after flushing
         self._closing = True
-        return True  # closed by _work_backlog once the backlog is answered
+        return True  # closed by _work_backlog / _send_delayed once everything is answered
 
     def data_received(self, data: bytes) -> None:
         if self._transport is None or self._closing:
@@ -213,8 +222,6 @@ class Connection(asyncio.Protocol):
             backlog = self._backlog
             backlog.input = bytes(backlog.input) + data
             return
-        if _log.isEnabledFor(_DEBUG):
-            _log.debug("%s: from %s: %s", self._listener.label, self._peer, _hexdump(data))
         if len(data) <= _SLICE:
             try:
                 frames = self._decoder.feed(data)
@@ -224,6 +231,10 @@ class Connection(asyncio.Protocol):
                 self._framing_violation(exc, data)
                 return
             if frames:
+                if _log.isEnabledFor(_DEBUG):
+                    _log.debug(
+                        "%s: from %s: %s", self._listener.label, self._peer, _dump_frames(frames)
+                    )
                 self._tick = self._listener.server._tick
                 self._run(frames)
         else:
@@ -313,6 +324,10 @@ class Connection(asyncio.Protocol):
                 self._framing_violation(exc, chunk)
                 return
             if frames:
+                if _log.isEnabledFor(_DEBUG):
+                    _log.debug(
+                        "%s: from %s: %s", self._listener.label, self._peer, _dump_frames(frames)
+                    )
                 self._tick = self._listener.server._tick
                 if not self._run(frames):
                     return
@@ -401,8 +416,13 @@ class Connection(asyncio.Protocol):
         listener = self._listener
         _log.warning("%s: %s from %s: %s", listener.label, "framing violation", self._peer, exc)
         if _log.isEnabledFor(_DEBUG):
+            # Whole frames only: raw bytes could hold part of an unlock request's password.
             _log.debug(
-                "%s: offending chunk from %s: %s", listener.label, self._peer, _hexdump(data)
+                "%s: offending chunk from %s: %d bytes, whole frames before the violation: %s",
+                listener.label,
+                self._peer,
+                len(data),
+                _dump_frames(exc.frames) or "none",
             )
         listener.violations += 1
         self._close_now()
