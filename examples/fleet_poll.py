@@ -23,7 +23,7 @@ import time
 from collections.abc import AsyncIterator
 from dataclasses import dataclass
 
-from focas_net.client import FocasClient
+from focas_net import FocasClient
 from focas_net.protocol import ALARM_TYPE_NAMES, FocasError
 from focas_net.server import FocasServer
 from focas_net.sim import default_machine

@@ -15,7 +15,7 @@ import argparse
 import asyncio
 import sys
 
-from focas_net.client import FocasClient
+from focas_net import FocasClient
 from focas_net.protocol import FocasError
 
 

@@ -12,7 +12,7 @@ import argparse
 import asyncio
 import sys
 
-from focas_net.client import FocasClient
+from focas_net import FocasClient
 from focas_net.protocol import ALARM_TYPE_NAMES, FocasError
 
 AUT = {0: "MDI", 1: "MEM", 2: "****", 3: "EDIT", 4: "HND", 5: "JOG", 6: "TJOG", 7: "THND",

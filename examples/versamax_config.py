@@ -15,7 +15,7 @@ import argparse
 import asyncio
 import sys
 
-from focas_net.client import FocasClient
+from focas_net import FocasClient
 from focas_net.protocol import EW, CncError, FocasError, IOModuleRecord
 
 REF_NAMES = {16: "%I", 18: "%Q", 10: "%AI", 12: "%AQ"}

@@ -16,7 +16,7 @@ import argparse
 import asyncio
 import sys
 
-from focas_net.client import FocasClient
+from focas_net import FocasClient
 from focas_net.protocol import AccessDeniedError, FocasError
 
 MDI = 0

@@ -1,0 +1,47 @@
+"""The README stays true: its opening commands and its client example."""
+
+from __future__ import annotations
+
+import asyncio
+import re
+import sys
+from pathlib import Path
+
+from focas_net import FocasServer, default_machine
+
+README = Path(__file__).resolve().parent.parent / "README.md"
+
+
+def _blocks(lang: str) -> list[str]:
+    return re.findall(rf"```{lang}\n(.*?)```", README.read_text(), flags=re.S)
+
+
+def test_readme_opens_with_the_two_commands() -> None:
+    text = README.read_text()
+    first = _blocks("sh")[0].strip().splitlines()
+    assert text.index("```sh") < text.index("\n## ")  # before any section
+    assert len(first) == 2
+    serve, tests = first
+    assert "pip install -e ." in serve and serve.endswith("focas-net serve")
+    assert "pip install -e '.[test]'" in tests and tests.endswith("python -m pytest")
+
+
+async def test_readme_client_example_runs(tmp_path: Path) -> None:
+    (example,) = [b for b in _blocks("python") if "asyncio.run(main())" in b]
+    async with FocasServer(default_machine(), port=0) as server:
+        host, port = server.addresses[0]
+        script = tmp_path / "example.py"
+        script.write_text(example.replace('"127.0.0.1", 8193', f'"{host}", {port}'))
+        proc = await asyncio.create_subprocess_exec(
+            sys.executable,
+            str(script),
+            stdout=asyncio.subprocess.PIPE,
+            stderr=asyncio.subprocess.PIPE,
+        )
+        async with asyncio.timeout(30):
+            out, err = await proc.communicate()
+    assert proc.returncode == 0, err.decode()
+    lines = out.decode().splitlines()
+    assert lines[0] == "mode MEM run ****"
+    assert "#500 = 12.345" in lines
+    assert server.machines[0].read_pmc(5, 0, 100, 100) == bytes([0b1000])
