@@ -14,6 +14,7 @@ flight, close) and exit 0.
 from __future__ import annotations
 
 import argparse
+import importlib.util
 import logging
 import signal
 import ssl
@@ -240,11 +241,8 @@ def run(args: argparse.Namespace) -> int:
             raise ConfigError(
                 f"--fleet {args.fleet} from --native-port {args.native_port} runs past 65535"
             )
-        if args.uvloop:
-            try:
-                import uvloop  # noqa: F401
-            except ImportError:
-                raise ConfigError("--uvloop: uvloop is not installed") from None
+        if args.uvloop and importlib.util.find_spec("uvloop") is None:
+            raise ConfigError("--uvloop: uvloop is not installed")
     except ConfigError as exc:
         _error(str(exc))
         return EXIT_USAGE
