@@ -12,7 +12,6 @@ import asyncio
 import hmac
 import inspect
 import logging
-import shutil
 import signal
 import ssl
 import subprocess
@@ -177,42 +176,6 @@ async def test_focas_net_serve_read_only(cli: list[Serve]) -> None:
 
 
 # -- TLS ------------------------------------------------------------------------------------------
-
-
-@pytest.fixture(scope="module")
-def certificate(tmp_path_factory: pytest.TempPathFactory) -> tuple[Path, Path]:
-    """A self-signed certificate for 127.0.0.1 and localhost, and its key (PEM files)."""
-    openssl = shutil.which("openssl")
-    if openssl is None:
-        pytest.skip("TLS tests need the openssl command to generate a certificate")
-    folder = tmp_path_factory.mktemp("tls")
-    cert, key = folder / "cert.pem", folder / "key.pem"
-    subprocess.run(
-        [
-            openssl,
-            "req",
-            "-x509",
-            "-newkey",
-            "ec",
-            "-pkeyopt",
-            "ec_paramgen_curve:prime256v1",
-            "-nodes",
-            "-days",
-            "1",
-            "-subj",
-            "/CN=focas-net test",
-            "-addext",
-            "subjectAltName=IP:127.0.0.1,DNS:localhost",
-            "-keyout",
-            str(key),
-            "-out",
-            str(cert),
-        ],
-        check=True,
-        capture_output=True,
-        timeout=60,
-    )
-    return cert, key
 
 
 def server_context(cert: Path, key: Path) -> ssl.SSLContext:
