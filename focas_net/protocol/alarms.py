@@ -82,16 +82,34 @@ def _pad(n: int) -> bytes:
     return b"\x00" * (-n % 4)
 
 
-def _count_error(ew: int) -> bytes:
-    return _COUNT_ERROR.pack(-1, ew)
+def _encode_list(ew: int, heads_and_msgs: list[tuple[bytes, bytes]]) -> bytes:
+    """``count`` then each entry (its packed head, its message, the pad); or ``-1, ew``."""
+    if ew:
+        if heads_and_msgs:
+            raise ValueError("an error answer carries no entries")
+        return _COUNT_ERROR.pack(-1, ew)
+    try:
+        parts = [_I16.pack(len(heads_and_msgs))]
+    except struct.error as exc:
+        raise ValueError(f"alarm list of {len(heads_and_msgs)} entries: {exc}") from None
+    for head, raw in heads_and_msgs:
+        parts += (head, raw, _pad(len(raw)))
+    return b"".join(parts)
 
 
-def _negative_count(payload: bytes, count: int) -> int:
+def _count(payload: bytes) -> tuple[int, int]:
+    """``(count, 0)`` of a list answer, or ``(0, ew)`` when the count is negative (with the
+    code that follows ``count = -1``, else EW_PROTOCOL). Never raises."""
+    if len(payload) < 2:
+        return 0, int(EW.PROTOCOL)
+    (count,) = _I16.unpack_from(payload, 0)
+    if count >= 0:
+        return count, 0
     if count == -1 and len(payload) >= 4:
         ew = int(_I16.unpack_from(payload, 2)[0])
         if ew:
-            return ew
-    return int(EW.PROTOCOL)
+            return 0, ew
+    return 0, int(EW.PROTOCOL)
 
 
 @dataclass(frozen=True, slots=True)
@@ -117,27 +135,20 @@ class ActiveAlarmList:
     ew: int = 0
 
     def encode(self) -> bytes:
-        if self.ew:
-            if self.entries:
-                raise ValueError("an error answer carries no entries")
-            return _count_error(self.ew)
-        parts = [_I16.pack(len(self.entries))]
+        entries = []
         for e in self.entries:
             raw = _raw(e.msg)
             try:
-                parts.append(_MSG_HEAD.pack(e.axis_no, e.alm_type, e.alm_no, len(raw)))
+                entries.append((_MSG_HEAD.pack(e.axis_no, e.alm_type, e.alm_no, len(raw)), raw))
             except struct.error as exc:
                 raise ValueError(f"active alarm entry: {exc}") from None
-            parts.append(raw + _pad(len(raw)))
-        return b"".join(parts)
+        return _encode_list(self.ew, entries)
 
     @classmethod
     def decode(cls, data: bytes) -> Self:
-        if len(data) < 2:
-            return cls((), int(EW.PROTOCOL))
-        (count,) = _I16.unpack_from(data, 0)
-        if count < 0:
-            return cls((), _negative_count(data, count))
+        count, ew = _count(data)
+        if ew:
+            return cls((), ew)
         entries: list[ActiveAlarm] = []
         pos, size = 2, len(data)
         for _ in range(count):
@@ -176,41 +187,25 @@ class AlarmHistory:
     ew: int = 0
 
     def encode(self) -> bytes:
-        if self.ew:
-            if self.entries:
-                raise ValueError("an error answer carries no entries")
-            return _count_error(self.ew)
-        parts = [_I16.pack(len(self.entries))]
+        entries = []
         for e in self.entries:
             t = e.occurred_at.astimezone(UTC) if e.occurred_at.tzinfo else e.occurred_at
             raw = _raw(e.msg)
             try:
-                parts.append(
-                    _HIST_HEAD.pack(
-                        t.year,
-                        t.month,
-                        t.day,
-                        t.hour,
-                        t.minute,
-                        t.second,
-                        e.axis_no,
-                        e.alm_type,
-                        e.alm_no,
-                        len(raw),
-                    )
-                )
+                head = _HIST_HEAD.pack(
+                    t.year, t.month, t.day, t.hour, t.minute, t.second,
+                    e.axis_no, e.alm_type, e.alm_no, len(raw),
+                )  # fmt: skip
             except struct.error as exc:
                 raise ValueError(f"alarm history entry: {exc}") from None
-            parts.append(raw + _pad(len(raw)))
-        return b"".join(parts)
+            entries.append((head, raw))
+        return _encode_list(self.ew, entries)
 
     @classmethod
     def decode(cls, data: bytes) -> Self:
-        if len(data) < 2:
-            return cls((), int(EW.PROTOCOL))
-        (count,) = _I16.unpack_from(data, 0)
-        if count < 0:
-            return cls((), _negative_count(data, count))
+        count, ew = _count(data)
+        if ew:
+            return cls((), ew)
         entries: list[AlarmHistoryEntry] = []
         pos, size = 2, len(data)
         for _ in range(count):
