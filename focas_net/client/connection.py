@@ -9,8 +9,11 @@ Rules it keeps:
 * a request id is never reused while a request with that id may still be answered: an id whose
   caller gave up (timeout or cancellation) stays reserved until its late answer arrives, and the
   late answer is dropped, so no caller ever receives another call's answer;
-* at most ``max_in_flight`` calls wait for answers at once (a semaphore; the wait for a slot
-  counts towards the call's deadline);
+* at most ``max_in_flight`` calls wait for answers at once (a counter, and a first-in first-out
+  line of waiters when every slot is taken; the wait for a slot counts towards the call's
+  deadline);
+* one timer per connection, armed for the earliest deadline of the requests in flight, fails
+  every overdue request when it fires;
 * when the connection is lost, every pending call fails at once with
   :class:`FocasConnectionError`;
 * frames written during one event-loop turn leave in one ``transport.writelines`` call;
@@ -23,8 +26,10 @@ Transport exceptions are translated here, once: callers see :class:`FocasConnect
 from __future__ import annotations
 
 import asyncio
+import heapq
 import logging
 import ssl as _ssl
+from collections import deque
 from collections.abc import Callable
 from typing import Final, cast
 
@@ -37,7 +42,6 @@ from ..protocol import (
     FrameDecoder,
     FrameError,
     ProtocolError,
-    encode_frame,
 )
 
 __all__ = ["Connection", "NotSentError", "open_connection"]
@@ -49,6 +53,9 @@ logger = logging.getLogger(__name__)
 MAX_ABANDONED: Final = 16_384
 _ID_MASK: Final = 0xFFFF
 _HEADER: Final = HEADER
+_pack_header = HEADER.pack
+_INF: Final = float("inf")
+_COMPACT_MIN: Final = 1024
 
 
 class NotSentError(FocasConnectionError):
@@ -59,20 +66,29 @@ class NotSentError(FocasConnectionError):
 
 
 class _Pending:
-    """An unanswered request: its future and the command its answer must carry."""
+    """An unanswered request: its future, the command its answer must carry, its id and its
+    deadline (``loop.time()`` units; infinite for none)."""
 
-    __slots__ = ("command", "future")
+    __slots__ = ("command", "deadline", "future", "request_id")
 
-    def __init__(self, future: asyncio.Future[bytes], command: int) -> None:
+    def __init__(
+        self, future: asyncio.Future[bytes], command: int, request_id: int, deadline: float
+    ) -> None:
         self.future = future
         self.command = command
+        self.request_id = request_id
+        self.deadline = deadline
+
+    def __lt__(self, other: _Pending) -> bool:  # heap order of the odd deadlines
+        return self.deadline < other.deadline
 
 
-def _expire(future: asyncio.Future[bytes], command: int, request_id: int) -> None:
-    if not future.done():
-        future.set_exception(
-            FocasTimeoutError(f"no answer to command 0x{command:04X} (request {request_id})")
+def _timed_out(entry: _Pending) -> None:
+    entry.future.set_exception(
+        FocasTimeoutError(
+            f"no answer to command 0x{entry.command:04X} (request {entry.request_id})"
         )
+    )
 
 
 class Connection(asyncio.Protocol):
@@ -99,7 +115,19 @@ class Connection(asyncio.Protocol):
         self._pending: dict[int, _Pending | None] = {}
         self._abandoned = 0
         self._next_id = 0
-        self._slots = asyncio.Semaphore(max_in_flight)
+        # Request slots: a counter, and a FIFO of waiters only while every slot is taken.
+        self._max_in_flight = max_in_flight
+        self._slots_taken = 0
+        self._slot_waiters: deque[asyncio.Future[None]] = deque()
+        # Deadlines of the requests in flight, earliest first: those sent with deadlines in
+        # send order (the usual case, one timeout for every call) in a deque, the others in a
+        # heap. One timer per connection is armed for the earliest; entries whose future is
+        # done are dropped lazily.
+        self._by_deadline: deque[_Pending] = deque()
+        self._odd_deadlines: list[_Pending] = []
+        self._timer: asyncio.TimerHandle | None = None
+        self._timer_when = 0.0
+        self._compact_at = _COMPACT_MIN
         self._wbuf: list[bytes] = []
         self._batch = batch_writes
         self._closed_exc: FocasConnectionError | None = None
@@ -165,6 +193,16 @@ class Connection(asyncio.Protocol):
                 logger.debug(
                     "dropped unsolicited frame (command 0x%04X, id %d)", command, request_id
                 )
+        # Answered requests leave the front of the deadline queue now, not when the timer
+        # fires; if one slow request holds the front, the queue is compacted once it has grown
+        # to twice its size after the last compaction.
+        queue = self._by_deadline
+        while queue and queue[0].future.done():
+            queue.popleft()
+        if len(queue) > self._compact_at:
+            live = deque(e for e in queue if not e.future.done())
+            self._by_deadline = live
+            self._compact_at = max(_COMPACT_MIN, 2 * len(live))
 
     def connection_lost(self, exc: Exception | None) -> None:
         if self._closed_exc is None:
@@ -192,17 +230,10 @@ class Connection(asyncio.Protocol):
         connection is lost first (:class:`NotSentError` if the request never left), and
         :class:`ProtocolError` for an answer carrying the wrong command.
         """
-        slots = self._slots
-        if slots.locked():
-            try:
-                async with asyncio.timeout_at(deadline):
-                    await slots.acquire()
-            except TimeoutError:
-                raise FocasTimeoutError(
-                    f"no free request slot for command 0x{command:04X} in time"
-                ) from None
+        if self._slots_taken < self._max_in_flight and not self._slot_waiters:
+            self._slots_taken += 1  # a free slot: taken without suspending
         else:
-            await slots.acquire()  # uncontended: returns without suspending
+            await self._wait_for_slot(command, deadline)
         try:
             if self._closed_exc is not None:
                 raise NotSentError(str(self._closed_exc))
@@ -212,35 +243,125 @@ class Connection(asyncio.Protocol):
                 request_id = (request_id + 1) & _ID_MASK
             self._next_id = (request_id + 1) & _ID_MASK
             future: asyncio.Future[bytes] = self._loop.create_future()
-            entry = _Pending(future, command)
-            pending[request_id] = entry
-            self._write(encode_frame(command, request_id, payload))
-            timer = (
-                None
-                if deadline is None
-                else self._loop.call_at(deadline, _expire, future, command, request_id)
-            )
+            if deadline is None:
+                entry = _Pending(future, command, request_id, _INF)
+                pending[request_id] = entry
+                self._write(_pack_header(len(payload) + 4, command, request_id) + payload)
+            else:
+                entry = _Pending(future, command, request_id, deadline)
+                pending[request_id] = entry
+                self._write(_pack_header(len(payload) + 4, command, request_id) + payload)
+                self._track(entry, deadline)
             try:
                 return await future
             finally:
-                if timer is not None:
-                    timer.cancel()
-                if pending.get(request_id) is entry:
-                    if self._closed_exc is None:
-                        # Gave up (timeout or cancellation): keep the id reserved until the
-                        # late answer arrives so that it can never reach another call.
-                        pending[request_id] = None
-                        self._abandoned += 1
-                        if self._abandoned > MAX_ABANDONED:
-                            self._abort(
-                                FocasConnectionError(
-                                    f"{self._abandoned} requests unanswered; recycling"
-                                )
-                            )
-                    else:
-                        del pending[request_id]
+                # Still registered (on this connection, not one failed by a close): the
+                # caller gave up.
+                if self._pending.get(request_id) is entry:
+                    self._give_up(request_id)
         finally:
-            slots.release()
+            self._release_slot()
+
+    def _give_up(self, request_id: int) -> None:
+        """The caller of ``request_id`` stopped waiting (timeout or cancellation)."""
+        if self._closed_exc is None:
+            # Keep the id reserved until the late answer arrives so that it can never reach
+            # another call.
+            self._pending[request_id] = None
+            self._abandoned += 1
+            if self._abandoned > MAX_ABANDONED:
+                self._abort(
+                    FocasConnectionError(f"{self._abandoned} requests unanswered; recycling")
+                )
+        else:
+            del self._pending[request_id]
+
+    # -- request slots -------------------------------------------------------------------
+    async def _wait_for_slot(self, command: int, deadline: float | None) -> None:
+        """Wait in line for a slot; the slot is handed over by :meth:`_release_slot`."""
+        waiter: asyncio.Future[None] = self._loop.create_future()
+        self._slot_waiters.append(waiter)
+        try:
+            if deadline is None:
+                await waiter
+            else:
+                async with asyncio.timeout_at(deadline):
+                    await waiter
+        except TimeoutError:
+            self._leave_line(waiter)
+            raise FocasTimeoutError(
+                f"no free request slot for command 0x{command:04X} in time"
+            ) from None
+        except BaseException:
+            self._leave_line(waiter)
+            raise
+
+    def _leave_line(self, waiter: asyncio.Future[None]) -> None:
+        """A waiter gave up: if a slot was handed to it already, pass the slot on."""
+        if waiter.done() and not waiter.cancelled():
+            self._release_slot()
+            return
+        waiter.cancel()
+        try:
+            self._slot_waiters.remove(waiter)
+        except ValueError:
+            pass
+
+    def _release_slot(self) -> None:
+        waiters = self._slot_waiters
+        while waiters:
+            waiter = waiters.popleft()
+            if not waiter.done():
+                waiter.set_result(None)  # the slot goes straight to the first in line
+                return
+        self._slots_taken -= 1
+
+    # -- deadlines -----------------------------------------------------------------------
+    def _track(self, entry: _Pending, deadline: float) -> None:
+        queue = self._by_deadline
+        if not queue or queue[-1].deadline <= deadline:
+            queue.append(entry)
+        else:
+            heapq.heappush(self._odd_deadlines, entry)
+        timer = self._timer
+        if timer is None:
+            self._timer_when = deadline
+            self._timer = self._loop.call_at(deadline, self._expire)
+        elif deadline < self._timer_when:
+            timer.cancel()
+            self._timer_when = deadline
+            self._timer = self._loop.call_at(deadline, self._expire)
+
+    def _expire(self) -> None:
+        """Fail every request whose deadline passed; arm the timer for the next one."""
+        self._timer = None
+        now = self._loop.time()
+        queue = self._by_deadline
+        odd = self._odd_deadlines
+        nxt = _INF
+        while queue:
+            entry = queue[0]
+            if entry.future.done():
+                queue.popleft()
+            elif entry.deadline > now:
+                nxt = entry.deadline
+                break
+            else:
+                queue.popleft()
+                _timed_out(entry)
+        while odd:
+            entry = odd[0]
+            if entry.future.done():
+                heapq.heappop(odd)
+            elif entry.deadline > now:
+                nxt = min(nxt, entry.deadline)
+                break
+            else:
+                heapq.heappop(odd)
+                _timed_out(entry)
+        if nxt != _INF and self._closed_exc is None:
+            self._timer_when = nxt
+            self._timer = self._loop.call_at(nxt, self._expire)
 
     def _write(self, frame: bytes) -> None:
         buf = self._wbuf
@@ -272,6 +393,11 @@ class Connection(asyncio.Protocol):
     def _fail_all(self) -> None:
         pending, self._pending = self._pending, {}
         self._abandoned = 0
+        self._by_deadline.clear()
+        self._odd_deadlines.clear()
+        if self._timer is not None:
+            self._timer.cancel()
+            self._timer = None
         # Frames still in the write buffer never reached the peer.
         unsent = {_HEADER.unpack_from(frame)[2] for frame in self._wbuf}
         self._wbuf.clear()
