@@ -212,6 +212,8 @@ def test_defaults() -> None:
         ("--idle-timeout", "nan"),
         ("--max-frame", "3"),
         ("--log-level", "LOUD"),
+        ("--param-password", "\u20acuro"),
+        ("--param-password", ""),
     ],
 )
 def test_bad_options(argv: tuple[str, ...], capsys: pytest.CaptureFixture[str]) -> None:

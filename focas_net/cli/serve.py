@@ -79,6 +79,12 @@ def _seconds(text: str) -> float:
     return value
 
 
+def _password(text: str) -> str:
+    if not text or not text.isascii():
+        raise argparse.ArgumentTypeError(f"must be ASCII and not empty, got {text!r}")
+    return text
+
+
 def _max_frame(text: str) -> int:
     value = _positive_int(text)
     if value < 4:
@@ -114,8 +120,9 @@ def register(subparsers: Any) -> None:
     )
     p.add_argument(
         "--param-password",
+        type=_password,
         metavar="TEXT",
-        help="parameter-write password (cnc_wrunlockparam); at most 4 characters are used",
+        help="parameter-write password (cnc_wrunlockparam), ASCII; at most 4 characters are used",
     )
     p.add_argument(
         "--no-control",
