@@ -96,6 +96,8 @@ _CLEAR_ALARMS: Final = COMMANDS[C.SIM_CLEAR_ALARMS]
 _SET_PMC: Final = COMMANDS[C.SIM_SET_PMC]
 _INJECT_FAULT: Final = COMMANDS[C.SIM_INJECT_FAULT]
 _RDALMHISTRY: Final = COMMANDS[C.RDALMHISTRY]
+_STATUS_COMMAND: Final = int(C.RDCNCSTAT)
+_decode_status: Final = _RDCNCSTAT.response.decode
 
 _EMPTY: Final = b""
 _MAX_ACTIVE_ALARMS: Final = 32
@@ -488,7 +490,46 @@ class FocasClient:
 
     async def _request(self, spec: CommandSpec, payload: bytes, deadline: float | None) -> Any:
         """Send one request (through reconnects) and decode its answer; EW -> CncError."""
-        retried_unlock = False
+        conn = self._conn
+        if conn is None or conn.closed:
+            return await self._request_loop(spec, payload, deadline, False)
+        # Connected (the usual case): one attempt inline, the loop only for what is left.
+        try:
+            raw = await conn.request(spec.command, payload, deadline)
+        except NotSentError:
+            if self._policy is None:
+                raise
+            return await self._request_loop(spec, payload, deadline, False)
+        value = spec.response.decode(raw)
+        if type(value) is EwReply:
+            return await self._ew_answer(spec, payload, deadline, conn, value, False)
+        return value
+
+    async def _ew_answer(
+        self,
+        spec: CommandSpec,
+        payload: bytes,
+        deadline: float | None,
+        conn: Connection,
+        value: EwReply,
+        retried_unlock: bool,
+    ) -> Any:
+        """An EW answer: unlock and try once more on EW_PASSWD (when a password is known),
+        else raise :class:`CncError`."""
+        password = self._password
+        if (
+            value.ew == EW.PASSWD
+            and password is not None
+            and not retried_unlock
+            and spec is not _UNLOCK
+        ):
+            await self._unlock_on(conn, password, deadline)
+            return await self._request_loop(spec, payload, deadline, True)
+        raise CncError.from_ew(value.ew, spec.focas_name)
+
+    async def _request_loop(
+        self, spec: CommandSpec, payload: bytes, deadline: float | None, retried_unlock: bool
+    ) -> Any:
         while True:
             conn = self._conn
             if conn is None or conn.closed:
@@ -501,17 +542,7 @@ class FocasClient:
                 continue  # never reached the peer: safe to send on the next connection
             value = spec.response.decode(raw)
             if type(value) is EwReply:
-                password = self._password
-                if (
-                    value.ew == EW.PASSWD
-                    and password is not None
-                    and not retried_unlock
-                    and spec is not _UNLOCK
-                ):
-                    retried_unlock = True
-                    await self._unlock_on(conn, password, deadline)
-                    continue
-                raise CncError.from_ew(value.ew, spec.focas_name)
+                return await self._ew_answer(spec, payload, deadline, conn, value, retried_unlock)
             return value
 
     async def _unlock_on(
@@ -530,7 +561,26 @@ class FocasClient:
     # -- status --------------------------------------------------------------------------
     async def read_status(self, *, timeout: float | None = None) -> StatusInfo:
         """``cnc_rdcncstat``: the ODBST status (mode, run state, alarm, emergency, ...)."""
-        result: StatusInfo = await self._request(_RDCNCSTAT, _EMPTY, self._deadline(timeout))
+        conn = self._conn
+        loop = self._loop
+        if conn is None or conn.closed or loop is None:
+            result: StatusInfo = await self._request(_RDCNCSTAT, _EMPTY, self._deadline(timeout))
+            return result
+        # The polling path, inlined: connected, one attempt, a non-EW answer.
+        t = self.timeout if timeout is None else timeout
+        deadline = None if t is None else loop.time() + t
+        try:
+            raw = await conn.request(_STATUS_COMMAND, _EMPTY, deadline)
+        except NotSentError:
+            if self._policy is None:
+                raise
+            result = await self._request_loop(_RDCNCSTAT, _EMPTY, deadline, False)
+            return result
+        value = _decode_status(raw)
+        if type(value) is EwReply:
+            result = await self._ew_answer(_RDCNCSTAT, _EMPTY, deadline, conn, value, False)
+            return result
+        result = value
         return result
 
     async def read_sysinfo(self, *, timeout: float | None = None) -> SysInfo:
