@@ -379,8 +379,15 @@ PMC_AREA_CODES: Final[dict[str, int]] = {a.name: a.value for a in PmcArea}
 # -- response wrapping -----------------------------------------------------------------------
 
 
-def _ew_response(inner: Codec[Any]) -> Codec[Any]:
-    """An answer that starts with ``i16 ew``: 0 then ``inner``, else only the code."""
+def _ew_response(inner: Codec[Any], memo: int = 0) -> Codec[Any]:
+    """An answer that starts with ``i16 ew``: 0 then ``inner``, else only the code.
+
+    With ``memo`` > 0 the inner values are immutable (frozen dataclasses of ints and bytes) and
+    ``decode`` keeps the values it decoded from ``bytes`` payloads in a dict keyed by the
+    payload, emptied whenever it reaches ``memo`` entries: a poller reading the same status
+    again and again gets the value it decoded before (equal, and as immutable) without
+    building a new one.
+    """
     inner_encode, inner_decode = inner.encode, inner.decode
 
     def encode(value: Any) -> bytes:
@@ -397,7 +404,23 @@ def _ew_response(inner: Codec[Any]) -> Codec[Any]:
             return EwReply(I16.unpack_from(data, 0)[0])
         return inner_decode(data[2:])
 
-    return Codec(f"EW+{inner.name}", encode, decode)
+    if memo <= 0:
+        return Codec(f"EW+{inner.name}", encode, decode)
+    values: dict[bytes, Any] = {}
+    get = values.get
+
+    def memo_decode(data: bytes) -> Any:
+        if type(data) is not bytes:  # bytearray, memoryview: not hashable (or not stable)
+            return decode(data)
+        value = get(data)
+        if value is None:
+            value = decode(data)
+            if len(values) >= memo:
+                values.clear()
+            values[data] = value
+        return value
+
+    return Codec(f"EW+{inner.name}", encode, memo_decode)
 
 
 def encode_response(command: int, value: Any) -> bytes:
@@ -434,18 +457,23 @@ _STATUS: Final = StatusInfo.codec()
 _PARAM: Final = Codec("ParamValue", ParamValue.encode, ParamValue.decode)
 _PMC_DATA: Final = Codec("PmcData", PmcData.encode, PmcData.decode)
 _OK_ONLY: Final = _ew_response(EMPTY)
+#: Entries of the decoded-answer memo of each read command (see :func:`_ew_response`).
+_MEMO: Final = 256
 
 #: command id -> request and response codecs.
 COMMANDS: Final[dict[int, CommandSpec]] = {
     s.command.value: s
     for s in (
-        _spec(Command.RDCNCSTAT, "cnc_rdcncstat", EMPTY, _ew_response(_STATUS)),
-        _spec(Command.RDPARAM, "cnc_rdparam", DataRequest.codec(), _ew_response(_PARAM)),
+        _spec(Command.RDCNCSTAT, "cnc_rdcncstat", EMPTY, _ew_response(_STATUS, _MEMO)),
+        _spec(Command.RDPARAM, "cnc_rdparam", DataRequest.codec(), _ew_response(_PARAM, _MEMO)),
         _spec(
-            Command.RDMACRO, "cnc_rdmacro", MacroRequest.codec(), _ew_response(MacroValue.codec())
+            Command.RDMACRO,
+            "cnc_rdmacro",
+            MacroRequest.codec(),
+            _ew_response(MacroValue.codec(), _MEMO),
         ),
-        _spec(Command.RDDIAG, "cnc_rddiag", DataRequest.codec(), _ew_response(_PARAM)),
-        _spec(Command.SYSINFO, "cnc_sysinfo", EMPTY, _ew_response(SysInfo.codec())),
+        _spec(Command.RDDIAG, "cnc_rddiag", DataRequest.codec(), _ew_response(_PARAM, _MEMO)),
+        _spec(Command.SYSINFO, "cnc_sysinfo", EMPTY, _ew_response(SysInfo.codec(), _MEMO)),
         _spec(
             Command.RDALMMSG,
             "cnc_rdalmmsg",
@@ -453,7 +481,7 @@ COMMANDS: Final[dict[int, CommandSpec]] = {
             _counted(ActiveAlarmList),
             counted=True,
         ),
-        _spec(Command.RDPMCRNG, "pmc_rdpmcrng", PmcRange.codec(), _ew_response(_PMC_DATA)),
+        _spec(Command.RDPMCRNG, "pmc_rdpmcrng", PmcRange.codec(), _ew_response(_PMC_DATA, _MEMO)),
         _spec(Command.WRPARAM, "cnc_wrparam", _PARAM, _OK_ONLY),
         _spec(Command.WRMACRO, "cnc_wrmacro", MacroValue.codec(), _OK_ONLY),
         _spec(Command.WRPMCRNG, "pmc_wrpmcrng", _PMC_DATA, _OK_ONLY),
