@@ -30,6 +30,7 @@ HEADER_SIZE: Final = HEADER.size
 _MIN_LENGTH: Final = 4
 _pack_header = HEADER.pack
 _unpack_header_from = HEADER.unpack_from
+_unpack_length_from = struct.Struct("<I").unpack_from
 
 
 class Frame(NamedTuple):
@@ -43,6 +44,9 @@ class Frame(NamedTuple):
 def encode_frame(command: int, request_id: int, payload: bytes = b"") -> bytes:
     """The bytes of one frame."""
     return _pack_header(len(payload) + 4, command, request_id) + payload
+
+
+_new_frame = tuple.__new__
 
 
 class FrameDecoder:
@@ -80,31 +84,50 @@ class FrameDecoder:
         if self._error is not None:
             raise FrameError(str(self._error))
         buf = self._buf
-        if buf:
+        if not buf:
+            if type(data) is bytes:
+                # The usual case: whole frames in a fresh chunk; a slice of bytes is the one
+                # copy of each payload.
+                frames, pos, bad = self._frames(data, data)
+                if bad >= 0:
+                    raise self._violation(bad, frames)
+                if pos < len(data):
+                    buf += data[pos:]
+                return frames
             buf += data
-            view: bytes | bytearray | memoryview = buf
         else:
-            view = data
+            buf += data
+        # Bytes held from before: payloads are copied once, out of a view of the buffer (the
+        # view is released before the buffer is trimmed).
+        with memoryview(buf) as view:
+            frames, pos, bad = self._frames(buf, view)
+        if bad >= 0:
+            raise self._violation(bad, frames)
+        if pos:
+            del buf[:pos]
+        return frames
+
+    def _frames(
+        self, data: bytes | bytearray, view: bytes | memoryview
+    ) -> tuple[list[Frame], int, int]:
+        """The whole frames at the start of ``data`` (``view`` slices it), where they end, and
+        the length prefix that violates the bounds (-1: none)."""
         frames: list[Frame] = []
-        size = len(view)
+        append = frames.append
+        size = len(data)
         pos = 0
         max_frame = self.max_frame
-        while size - pos >= 4:
-            if size - pos >= 8:
-                length, command, request_id = _unpack_header_from(view, pos)
-            else:
-                (length,) = struct.unpack_from("<I", view, pos)
-                command = request_id = 0
+        while size - pos >= 8:
+            length, command, request_id = _unpack_header_from(data, pos)
             if length < _MIN_LENGTH or length > max_frame:
-                raise self._violation(length, frames)
+                return frames, pos, length
             end = pos + 4 + length
             if end > size:
-                break
-            frames.append(Frame(command, request_id, bytes(view[pos + 8 : end])))
+                return frames, pos, -1
+            append(_new_frame(Frame, (command, request_id, bytes(view[pos + 8 : end]))))
             pos = end
-        if view is buf:
-            if pos:
-                del buf[:pos]
-        elif pos < size:
-            buf += view[pos:]
-        return frames
+        if size - pos >= 4:  # a length prefix alone is checked as soon as it is complete
+            (length,) = _unpack_length_from(data, pos)
+            if length < _MIN_LENGTH or length > max_frame:
+                return frames, pos, length
+        return frames, pos, -1
