@@ -324,6 +324,16 @@ async def test_alarms_and_history(cli: Cli) -> None:
     assert "history" not in await cli.json("alarms")
 
 
+async def test_sim_alarm_reports_the_message_as_the_cnc_keeps_it(cli: Cli) -> None:
+    long = "M" * 40
+    out = await cli.ok("sim", "alarm", "PS0102", long)
+    assert out.strip() == "raised PS0102 " + "M" * 32
+    data = await cli.json("alarms")
+    assert data["active"][0]["msg"] == "M" * 32
+    raised = await cli.json("sim", "alarm", "PS0103", long)
+    assert raised["raised"]["msg"] == "M" * 32
+
+
 async def test_alarm_usage_errors(cli: Cli) -> None:
     err = await cli.fails(EXIT_USAGE, "sim", "alarm", "XX0100")
     assert "unknown alarm type 'XX'" in err

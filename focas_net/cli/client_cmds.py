@@ -47,6 +47,7 @@ from focas_net.client import (
     ProjectionMode,
 )
 from focas_net.protocol import (
+    MAX_ALARM_MSG,
     AccessDeniedError,
     ChunkedWriteError,
     CncError,
@@ -585,6 +586,7 @@ def _sim_panel(args: argparse.Namespace) -> Go:
 def _sim_alarm(args: argparse.Namespace) -> Go:
     alm_type, alm_no = fmt.parse_alarm(args.alarm)
     msg = " ".join(args.message)
+    kept = msg[:MAX_ALARM_MSG]  # the CNC keeps the first 32 characters of a message
 
     async def go(cnc: FocasClient) -> Output:
         await cnc.sim.raise_alarm(alm_type, alm_no, msg, axis_no=args.axis)
@@ -595,11 +597,11 @@ def _sim_alarm(args: argparse.Namespace) -> Go:
                 "axis_no": args.axis,
                 "alm_type": alm_type,
                 "alm_no": alm_no,
-                "msg": msg,
+                "msg": kept,
             }
         }
         axis = f" (axis {args.axis})" if args.axis else ""
-        return Output(data, f"raised {code}{axis} {msg}".rstrip())
+        return Output(data, f"raised {code}{axis} {kept}".rstrip())
 
     return go
 
