@@ -679,7 +679,7 @@ def test_value_parsing() -> None:
     with pytest.raises(ValueError):
         fmt.parse_byte_list([" , "])
     assert fmt.parse_aut("mdi") == 0 and fmt.parse_aut("MEM") == 1 and fmt.parse_aut("10") == 10
-    for bad in ("****", "2x", "11"):
+    for bad in ("****", "2", "2x", "11"):
         with pytest.raises(ValueError):
             fmt.parse_aut(bad)
     assert fmt.parse_ew("EW_PASSWD") == 17 and fmt.parse_ew("busy") == -1

@@ -516,11 +516,12 @@ _AUT_BY_NAME: Final[dict[str, int]] = {name: v for v, (name, _) in AUT_NAMES.ite
 
 
 def parse_aut(text: str) -> int:
-    """A mode by FOCAS name (``MDI``, ``MEM``, ``EDIT``, ...) or ``aut`` number."""
+    """A mode by FOCAS name (``MDI``, ``MEM``, ``EDIT``, ...) or ``aut`` number; 2 (``****``,
+    no selection) is not a mode."""
     s = text.strip().upper()
     if s in _AUT_BY_NAME:
         return _AUT_BY_NAME[s]
-    if s.isdigit() and int(s) in AUT_NAMES:
+    if s.isdigit() and int(s) in _AUT_BY_NAME.values():
         return int(s)
     raise ValueError(f"unknown mode {text!r} (one of {', '.join(_AUT_BY_NAME)})")
 
