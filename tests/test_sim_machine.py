@@ -256,7 +256,6 @@ def test_write_param_order(m: Machine) -> None:
 def test_read_only_machine_typed_ops() -> None:
     m = default_machine(read_only=True)
     s = m.new_session()
-    assert m.control_gate() == EW.PROT
     for op in (
         lambda: m.write_param(s, 9, 0, 1, 1),
         lambda: m.write_macro(9999, 1, 0),
@@ -267,12 +266,6 @@ def test_read_only_machine_typed_ops() -> None:
         lambda: m.clear_alarms(),
     ):
         assert ew_of(op) == EW.PROT
-
-
-def test_control_gate() -> None:
-    assert default_machine().control_gate() == 0
-    assert default_machine(control_enabled=False).control_gate() == EW.FUNC
-    assert default_machine(control_enabled=False, read_only=True).control_gate() == EW.FUNC
 
 
 def test_macro_values(m: Machine) -> None:

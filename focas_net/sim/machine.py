@@ -380,15 +380,6 @@ class Machine:
             cached = self._status_bytes = EW_OK_BYTES + self.status().encode()
         return cached
 
-    def _changed(self) -> None:
-        """Something changed, not said what: every version counter moves (answer caches of
-        the front ends are dropped)."""
-        self.version += 1
-        self.data_version += 1
-        self.macro_version += 1
-        self.alarm_version += 1
-        self._status_bytes = None
-
     def _status_changed(self) -> None:
         self._status_bytes = None
         self.version += 1
@@ -400,16 +391,6 @@ class Machine:
     def sysinfo_payload(self) -> bytes:
         """The whole ``cnc_sysinfo`` answer payload."""
         return EW_OK_BYTES + self._sysinfo.encode()
-
-    def control_gate(self) -> int:
-        """The EW code a control command (0x0E01..0x0E05) gets before anything else is looked
-        at: EW_FUNC when control is off, EW_PROT on a read-only machine, else 0. The server
-        uses it for the 0x0E05 it answers itself (after its payload-size check for EW_PROT)."""
-        if not self.control_enabled:
-            return int(EW.FUNC)
-        if self.read_only:
-            return int(EW.PROT)
-        return 0
 
     # -- parameters and diagnostics ------------------------------------------------------
     def _lookup(self, table: dict[int, DataItem], datano: int, axis: int) -> tuple[DataItem, int]:
@@ -541,7 +522,8 @@ class Machine:
 
     # -- PMC -------------------------------------------------------------------------------
     def pmc_area(self, letter: str) -> tuple[int, bool] | None:
-        """``(size, write_protected)`` of area ``letter``, or None when the machine has none."""
+        """``(size, write_protected)`` of area ``letter``, or None when the machine has none
+        (ValueError for a letter that is no PMC area at all)."""
         area = self._areas.get(int(PmcArea.parse(letter)))
         return None if area is None else (area.size, area.write_protected)
 
