@@ -714,9 +714,49 @@ class FocasClient:
         deadline = self._deadline(timeout)
         if count <= MAX_PMC_CHUNK:
             return await self._read_pmc_chunk(a, start, count, deadline)
+        conn = self._conn
+        if conn is not None and not conn.closed:
+            data = await self._read_pmc_batch(conn, a, start, count, deadline)
+            if data is not None:
+                return data
         parts = await _all_or_first_error(
             [self._read_pmc_chunk(a, s, n, deadline) for s, n in _chunks(start, count)]
         )
+        return b"".join(parts)
+
+    async def _read_pmc_batch(
+        self, conn: Connection, area: PmcArea, start: int, count: int, deadline: float | None
+    ) -> bytes | None:
+        """Every chunk of a chunked read in one batch on ``conn``; None when the read must go
+        through the per-chunk path instead (the batch was not sent and a reconnect is due, or a
+        chunk answered ``EW_PASSWD`` and a password is known): reads are safe to repeat."""
+        chunks = _chunks(start, count)
+        encode = _RDPMCRNG.request.encode
+        payloads = [encode(PmcRange(area, 0, s, s + n - 1)) for s, n in chunks]
+        try:
+            answers = await conn.request_all(_RDPMCRNG.command, payloads, deadline, _ew_not_ok)
+        except NotSentError:
+            if self._policy is None:
+                raise
+            return None
+        decode = _RDPMCRNG.response.decode
+        parts: list[bytes] = []
+        for (first, n), raw in zip(chunks, answers, strict=True):
+            if raw is None:
+                continue  # given up after another chunk failed; that one is raised below
+            value = decode(raw)
+            if type(value) is EwReply:
+                if value.ew == EW.PASSWD and self._password is not None:
+                    return None
+                raise CncError.from_ew(value.ew, _RDPMCRNG.focas_name)
+            if len(value.data) != n or value.datano_s != first:
+                raise PayloadError(
+                    f"pmc_rdpmcrng answer: {len(value.data)} bytes from {value.datano_s}, "
+                    f"asked {n} from {first}"
+                )
+            parts.append(value.data)
+        if len(parts) != len(chunks):  # not reached: a chunk given up implies one raised
+            raise PayloadError("pmc_rdpmcrng: a chunked read ended with chunks missing")
         return b"".join(parts)
 
     async def _write_pmc_range(
@@ -873,6 +913,11 @@ class FocasClient:
     ) -> IOModuleRecord:
         """``versamax_rdconfig``: the decoded configuration record of an I/O module."""
         return IOModuleRecord.decode(await self.read_config_record(rack, slot, timeout=timeout))
+
+
+def _ew_not_ok(raw: bytes) -> bool:
+    """True for an answer that is not a success (an EW code, or too short for one)."""
+    return len(raw) < 2 or raw[0] != 0 or raw[1] != 0
 
 
 async def _all_or_first_error(coros: Sequence[Any]) -> list[Any]:

@@ -30,7 +30,7 @@ import heapq
 import logging
 import ssl as _ssl
 from collections import deque
-from collections.abc import Callable
+from collections.abc import Callable, Sequence
 from typing import Final, cast
 
 from ..protocol import (
@@ -262,6 +262,81 @@ class Connection(asyncio.Protocol):
         finally:
             self._release_slot()
 
+    async def request_all(
+        self,
+        command: int,
+        payloads: Sequence[bytes],
+        deadline: float | None,
+        failed: Callable[[bytes], bool] | None = None,
+    ) -> list[bytes | None]:
+        """Send one request per payload in one write and return their answers, in order.
+
+        The batch is admitted like one call (it waits in line for a free slot) and then takes
+        one slot per request at once: while it is in flight the connection may carry up to
+        ``len(payloads) - 1`` requests more than ``max_in_flight``, and no other call is
+        admitted until the count is back under the bound. On the first request that fails
+        (the exceptions of :meth:`request`), or whose answer ``failed(answer)`` rejects, the
+        others are given up (their ids stay reserved until their late answers) and the
+        failure is raised, or the answers are returned with None for those given up.
+        """
+        count = len(payloads)
+        if self._slots_taken < self._max_in_flight and not self._slot_waiters:
+            self._slots_taken += count
+        else:
+            await self._wait_for_slot(command, deadline)
+            self._slots_taken += count - 1
+        entries: list[_Pending] = []
+        try:
+            if self._closed_exc is not None:
+                raise NotSentError(str(self._closed_exc))
+            loop = self._loop
+            pending = self._pending
+            frames: list[bytes] = []
+            request_id = self._next_id
+            when = _INF if deadline is None else deadline
+            for payload in payloads:
+                while request_id in pending:
+                    request_id = (request_id + 1) & _ID_MASK
+                entry = _Pending(loop.create_future(), command, request_id, when)
+                pending[request_id] = entry
+                entries.append(entry)
+                frames.append(_pack_header(len(payload) + 4, command, request_id) + payload)
+                request_id = (request_id + 1) & _ID_MASK
+            self._next_id = request_id
+            if self._wbuf:
+                self._wbuf.extend(frames)  # behind frames of this turn not flushed yet
+            else:
+                assert self._transport is not None
+                self._transport.write(b"".join(frames))
+            if deadline is not None:
+                for entry in entries:
+                    self._track(entry, deadline)
+            await _first_failure(loop, entries, failed)
+            answers: list[bytes | None] = []
+            failure: BaseException | None = None
+            for entry in entries:
+                future = entry.future
+                if not future.done() or future.cancelled():
+                    answers.append(None)
+                    continue
+                exc = future.exception()  # every failure is retrieved; the first is raised
+                if exc is None:
+                    answers.append(future.result())
+                elif failure is None:
+                    failure = exc
+            if failure is not None:
+                raise failure
+            return answers
+        finally:
+            current = self._pending
+            for entry in entries:
+                if not entry.future.done():
+                    entry.future.cancel()
+                if current.get(entry.request_id) is entry:
+                    self._give_up(entry.request_id)
+            for _ in range(count):
+                self._release_slot()
+
     def _give_up(self, request_id: int) -> None:
         """The caller of ``request_id`` stopped waiting (timeout or cancellation)."""
         if self._closed_exc is None:
@@ -309,6 +384,9 @@ class Connection(asyncio.Protocol):
 
     def _release_slot(self) -> None:
         waiters = self._slot_waiters
+        if self._slots_taken > self._max_in_flight:  # over the bound (a batch): no hand-over
+            self._slots_taken -= 1
+            return
         while waiters:
             waiter = waiters.popleft()
             if not waiter.done():
@@ -432,6 +510,38 @@ class Connection(asyncio.Protocol):
     async def wait_closed(self) -> None:
         """Wait until the transport has gone (``connection_lost`` ran)."""
         await asyncio.shield(self._lost)
+
+
+async def _first_failure(
+    loop: asyncio.AbstractEventLoop,
+    entries: list[_Pending],
+    failed: Callable[[bytes], bool] | None,
+) -> None:
+    """Wait until every future of ``entries`` is done, or one fails (or its answer is
+    rejected by ``failed``). No task is created: one callback per future."""
+    done: asyncio.Future[None] = loop.create_future()
+    left = len(entries)
+
+    def settled(future: asyncio.Future[bytes]) -> None:
+        nonlocal left
+        if done.done():
+            return
+        left -= 1
+        if (
+            left == 0
+            or future.cancelled()
+            or future.exception() is not None
+            or (failed is not None and failed(future.result()))
+        ):
+            done.set_result(None)
+
+    for entry in entries:
+        entry.future.add_done_callback(settled)
+    try:
+        await done
+    finally:
+        for entry in entries:
+            entry.future.remove_done_callback(settled)
 
 
 class _Missing:
