@@ -402,3 +402,14 @@ def test_module_record_with_a_consistent_length_raises_only_payload_error(
         + (len(body) + -len(body) % 26).to_bytes(2, "little")
     )
     _decode_or_payload_error(IOModuleRecord, header + body, never_raises=False)
+
+
+def test_encode_errors_name_the_field_and_its_range() -> None:
+    with pytest.raises(ValueError, match=r"value 99999 does not fit a 2-byte parameter"):
+        ParamValue(3216, 0, 99999, 2).encode()
+    with pytest.raises(ValueError, match=r"value 200 does not fit a 1-byte parameter \(-128"):
+        ParamValue(20, 0, 200, 1).encode()
+    with pytest.raises(ValueError, match=r"MacroValue\.mcr_val = 2147483648 does not fit"):
+        MacroValue(1, 8, 2**31, 0).encode()
+    with pytest.raises(ValueError, match=r"SetPanel\.mode = 70000 does not fit \(-32768..32767\)"):
+        SetPanel(70000, 0, 0).encode()

@@ -10,12 +10,21 @@ from typing import Any, ClassVar, Final, Generic, Self, TypeVar
 
 from .errors import PayloadError
 
-__all__ = ["I16", "Codec", "FixedPayload"]
+__all__ = ["I16", "INT_RANGES", "Codec", "FixedPayload"]
 
 T = TypeVar("T")
 
 #: One signed 16-bit word (EW codes, counts).
 I16: Final = struct.Struct("<h")
+#: struct code -> (least, greatest) integer it carries.
+INT_RANGES: Final[dict[str, tuple[int, int]]] = {
+    "b": (-128, 127),
+    "B": (0, 255),
+    "h": (-32_768, 32_767),
+    "H": (0, 65_535),
+    "i": (-(2**31), 2**31 - 1),
+    "I": (0, 2**32 - 1),
+}
 
 
 class Codec(Generic[T]):
@@ -64,7 +73,21 @@ class FixedPayload:
         try:
             return self.STRUCT.pack(*self._getter(self))  # type: ignore[call-arg]
         except struct.error as exc:
-            raise ValueError(f"{type(self).__name__}: {exc}") from None
+            raise ValueError(self._explain(exc)) from None
+
+    def _explain(self, exc: struct.error) -> str:
+        """Which field does not fit, and its range."""
+        name = type(self).__name__
+        codes = [c for c in self.FORMAT if c.isalpha()]
+        fields = [f for f in inspect.get_annotations(type(self)) if f.islower()]
+        for field, code in zip(fields, codes, strict=False):
+            value = getattr(self, field)
+            bounds = INT_RANGES.get(code)
+            if bounds is not None and not (
+                isinstance(value, int) and bounds[0] <= value <= bounds[1]
+            ):
+                return f"{name}.{field} = {value!r} does not fit ({bounds[0]}..{bounds[1]})"
+        return f"{name}: {exc}"
 
     @classmethod
     def decode(cls, data: bytes) -> Self:

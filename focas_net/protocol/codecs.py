@@ -16,7 +16,7 @@ import struct
 from dataclasses import dataclass
 from typing import Any, ClassVar, Final, Self
 
-from ._base import I16, Codec, FixedPayload
+from ._base import I16, INT_RANGES, Codec, FixedPayload
 from .alarms import ActiveAlarmList, AlarmHistory
 from .commands import Command
 from .errors import PayloadError
@@ -261,8 +261,15 @@ class ParamValue:
             raise ValueError(f"parameter width must be 1, 2 or 4, got {self.width}")
         try:
             return st.pack(self.datano, self.axis, self.value)
-        except struct.error as exc:
-            raise ValueError(f"ParamValue: {exc}") from None
+        except struct.error:
+            lo, hi = INT_RANGES[{1: "b", 2: "h", 4: "i"}[self.width]]
+            if not lo <= self.value <= hi:
+                raise ValueError(
+                    f"value {self.value} does not fit a {self.width}-byte parameter ({lo}..{hi})"
+                ) from None
+            raise ValueError(
+                f"data number {self.datano} / axis {self.axis} outside -32768..32767"
+            ) from None
 
     @classmethod
     def decode(cls, data: bytes) -> Self:
