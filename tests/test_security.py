@@ -165,6 +165,18 @@ async def test_read_only_machine_refuses_every_write_and_serves_reads() -> None:
     assert machine.state_digest() == before
 
 
+async def test_focas_server_read_only_argument_covers_a_fleet() -> None:
+    machines = [default_machine(), default_machine()]
+    async with FocasServer(machines, port=0, read_only=True, control=True) as server:
+        assert all(m.read_only and m.control_enabled for m in machines)
+        befores = [m.state_digest() for m in machines]
+        for host, port in server.addresses:
+            async with FocasClient(host, port, timeout=IO_TIMEOUT) as cnc:
+                await assert_every_write_is_refused(cnc)
+                await assert_reads_work(cnc)
+    assert [m.state_digest() for m in machines] == befores
+
+
 async def test_focas_net_serve_read_only(cli: list[Serve]) -> None:
     serve = start(cli, "--port", "0", "--read-only")
     host, port = await serve.address()

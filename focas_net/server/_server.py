@@ -146,6 +146,10 @@ class FocasServer:
     from that connection stops. ``ssl`` serves TLS. ``grace_period`` bounds the graceful
     shutdown of :meth:`aclose` (``async with`` exit).
 
+    ``read_only`` and ``control``, when given, set those switches of every machine served
+    (``Machine.read_only``: every write answers EW_PROT; ``Machine.control_enabled``: simulator
+    control on or off); None leaves each machine as it is.
+
     ``native_port`` (None = off) adds, for each machine, a listener speaking FANUC's native
     FOCAS/2 Ethernet protocol on the same machine state (see ``docs/native-protocol.md``):
     machine *i* on ``native_port + i``, or an ephemeral port for each when it is 0.
@@ -167,6 +171,8 @@ class FocasServer:
         grace_period: float = DEFAULT_GRACE_PERIOD,
         backlog: int = 128,
         native_port: int | None = None,
+        read_only: bool | None = None,
+        control: bool | None = None,
     ) -> None:
         if max_frame < 4:
             raise ValueError(f"max_frame must be at least 4, got {max_frame}")
@@ -181,6 +187,11 @@ class FocasServer:
         if grace_period < 0:
             raise ValueError(f"grace_period must be >= 0, got {grace_period}")
         machine_list = _machines(machines)
+        for m in machine_list:
+            if read_only is not None:
+                m.read_only = read_only
+            if control is not None:
+                m.control_enabled = control
         if ports is not None:
             if len(ports) != len(machine_list):
                 raise ValueError(f"{len(ports)} ports for {len(machine_list)} machines")
