@@ -280,38 +280,11 @@ class Connection(asyncio.Protocol):
         failure is raised, or the answers are returned with None for those given up.
         """
         count = len(payloads)
-        if self._slots_taken < self._max_in_flight and not self._slot_waiters:
-            self._slots_taken += count
-        else:
-            await self._wait_for_slot(command, deadline)
-            self._slots_taken += count - 1
+        await self._admit(command, count, deadline)
         entries: list[_Pending] = []
         try:
-            if self._closed_exc is not None:
-                raise NotSentError(str(self._closed_exc))
-            loop = self._loop
-            pending = self._pending
-            frames: list[bytes] = []
-            request_id = self._next_id
-            when = _INF if deadline is None else deadline
-            for payload in payloads:
-                while request_id in pending:
-                    request_id = (request_id + 1) & _ID_MASK
-                entry = _Pending(loop.create_future(), command, request_id, when)
-                pending[request_id] = entry
-                entries.append(entry)
-                frames.append(_pack_header(len(payload) + 4, command, request_id) + payload)
-                request_id = (request_id + 1) & _ID_MASK
-            self._next_id = request_id
-            if self._wbuf:
-                self._wbuf.extend(frames)  # behind frames of this turn not flushed yet
-            else:
-                assert self._transport is not None
-                self._transport.write(b"".join(frames))
-            if deadline is not None:
-                for entry in entries:
-                    self._track(entry, deadline)
-            await _first_failure(loop, entries, failed)
+            self._send_batch(command, payloads, deadline, entries)
+            await _settled(self._loop, entries, True, failed)
             answers: list[bytes | None] = []
             failure: BaseException | None = None
             for entry in entries:
@@ -328,14 +301,94 @@ class Connection(asyncio.Protocol):
                 raise failure
             return answers
         finally:
-            current = self._pending
+            self._end_batch(entries, count)
+
+    async def request_each(
+        self, command: int, payloads: Sequence[bytes], deadline: float | None
+    ) -> list[bytes | BaseException]:
+        """Send one request per payload in one write and wait for every one of them.
+
+        Admitted and bounded like :meth:`request_all`, but no request is given up when
+        another fails: the result holds, in order, each request's answer or the exception it
+        ended with (:class:`FocasTimeoutError`, :class:`FocasConnectionError` when the
+        connection was lost after the request left, :class:`NotSentError` when it was lost
+        before, :class:`ProtocolError`). Raises only when nothing was sent: no free slot
+        before ``deadline`` (:class:`FocasTimeoutError`), the connection already closed
+        (:class:`NotSentError`), or the caller cancelled while waiting for a slot. A caller
+        cancelled after sending gives up every request still unanswered (their ids stay
+        reserved until their late answers).
+        """
+        count = len(payloads)
+        await self._admit(command, count, deadline)
+        entries: list[_Pending] = []
+        try:
+            self._send_batch(command, payloads, deadline, entries)
+            await _settled(self._loop, entries, False, None)
+            results: list[bytes | BaseException] = []
             for entry in entries:
-                if not entry.future.done():
-                    entry.future.cancel()
-                if current.get(entry.request_id) is entry:
-                    self._give_up(entry.request_id)
-            for _ in range(count):
-                self._release_slot()
+                future = entry.future
+                exc = future.exception()
+                results.append(future.result() if exc is None else exc)
+            return results
+        finally:
+            self._end_batch(entries, count)
+
+    async def _admit(self, command: int, count: int, deadline: float | None) -> None:
+        """Take ``count`` slots for a batch: at once when one is free and nobody waits, else
+        after waiting in line for one (the batch then goes over the bound)."""
+        if self._slots_taken < self._max_in_flight and not self._slot_waiters:
+            self._slots_taken += count
+        else:
+            await self._wait_for_slot(command, deadline)
+            self._slots_taken += count - 1
+
+    def _send_batch(
+        self,
+        command: int,
+        payloads: Sequence[bytes],
+        deadline: float | None,
+        entries: list[_Pending],
+    ) -> None:
+        """Register one request per payload (appended to ``entries``) and write them all at
+        once, behind any frames of this loop turn not flushed yet."""
+        if self._closed_exc is not None:
+            raise NotSentError(str(self._closed_exc))
+        loop = self._loop
+        pending = self._pending
+        frames: list[bytes] = []
+        request_id = self._next_id
+        when = _INF if deadline is None else deadline
+        for payload in payloads:
+            while request_id in pending:
+                request_id = (request_id + 1) & _ID_MASK
+            entry = _Pending(loop.create_future(), command, request_id, when)
+            pending[request_id] = entry
+            entries.append(entry)
+            frames.append(_pack_header(len(payload) + 4, command, request_id) + payload)
+            request_id = (request_id + 1) & _ID_MASK
+        self._next_id = request_id
+        if self._wbuf:
+            self._wbuf.extend(frames)  # flushed together by the call already scheduled
+        else:
+            assert self._transport is not None
+            self._transport.write(b"".join(frames))
+        if deadline is not None:
+            for entry in entries:
+                self._track(entry, deadline)
+
+    def _end_batch(self, entries: list[_Pending], count: int) -> None:
+        """Give up the requests of a batch still unanswered and release its slots."""
+        current = self._pending
+        for entry in entries:
+            future = entry.future
+            if not future.done():
+                future.cancel()
+            elif not future.cancelled():
+                future.exception()  # retrieved, so that no failure is reported as unseen
+            if current.get(entry.request_id) is entry:
+                self._give_up(entry.request_id)
+        for _ in range(count):
+            self._release_slot()
 
     def _give_up(self, request_id: int) -> None:
         """The caller of ``request_id`` stopped waiting (timeout or cancellation)."""
@@ -512,26 +565,31 @@ class Connection(asyncio.Protocol):
         await asyncio.shield(self._lost)
 
 
-async def _first_failure(
+async def _settled(
     loop: asyncio.AbstractEventLoop,
     entries: list[_Pending],
+    stop_early: bool,
     failed: Callable[[bytes], bool] | None,
 ) -> None:
-    """Wait until every future of ``entries`` is done, or one fails (or its answer is
-    rejected by ``failed``). No task is created: one callback per future."""
+    """Wait until every future of ``entries`` is done or, with ``stop_early``, one fails (or
+    its answer is rejected by ``failed``). No task is created: one callback per future."""
     done: asyncio.Future[None] = loop.create_future()
     left = len(entries)
+    if not left:
+        return
 
     def settled(future: asyncio.Future[bytes]) -> None:
         nonlocal left
         if done.done():
             return
         left -= 1
-        if (
-            left == 0
-            or future.cancelled()
-            or future.exception() is not None
-            or (failed is not None and failed(future.result()))
+        if left == 0 or (
+            stop_early
+            and (
+                future.cancelled()
+                or future.exception() is not None
+                or (failed is not None and failed(future.result()))
+            )
         ):
             done.set_result(None)
 
