@@ -708,7 +708,7 @@ class FocasClient:
         self, area: AreaLike, start: int, count: int, *, timeout: float | None = None
     ) -> bytes:
         """``pmc_rdpmcrng``: ``count`` bytes of ``area`` (``"R"`` or :class:`PmcArea`) from
-        ``start``. Ranges over 32 bytes are read as concurrent 32-byte calls."""
+        ``start``. Ranges over 32 bytes are read as 32-byte calls sent as one batch."""
         a = PmcArea.parse(area)
         _check_u16_range(start, count)
         deadline = self._deadline(timeout)
@@ -770,42 +770,114 @@ class FocasClient:
             await self._request(spec, payload, deadline)
             return
         chunks = _chunks(start, len(data))
-        coros = []
-        for first, n in chunks:
-            piece = data[first - start : first - start + n]
-            payload = spec.request.encode(PmcData(a, 0, first, first + n - 1, piece))
-            coros.append(self._request(spec, payload, deadline))
-        results = await asyncio.gather(*coros, return_exceptions=True)
-        failures = [r for r in results if isinstance(r, BaseException)]
-        if not failures:
+        encode = spec.request.encode
+        payloads = [
+            encode(PmcData(a, 0, first, first + n - 1, data[first - start : first - start + n]))
+            for first, n in chunks
+        ]
+        errors, unanswered = await self._write_chunks(spec, payloads, deadline)
+        cause = next((e for e in errors if e is not None), None)
+        if cause is None:
             return
         written: list[tuple[int, int]] = []
         not_written: list[tuple[int, int]] = []
         uncertain: list[tuple[int, int]] = []
-        for (first, n), result in zip(chunks, results, strict=True):
+        for (first, n), error, unsure in zip(chunks, errors, unanswered, strict=True):
             span = (first, first + n - 1)
-            if not isinstance(result, BaseException):
+            if error is None:
                 written.append(span)
-            elif isinstance(result, (FocasTimeoutError, FocasConnectionError)) and not (
-                isinstance(result, NotSentError)
-            ):
+            elif unsure:
                 uncertain.append(span)  # sent, never answered: the CNC may have applied it
             else:
                 not_written.append(span)
-        cause = failures[0]
-        if not isinstance(cause, Exception):  # a BaseException such as KeyboardInterrupt
-            raise cause
         raise ChunkedWriteError(
             a.name, _merge(written), _merge(not_written), cause, _merge(uncertain)
         ) from cause
+
+    async def _write_chunks(
+        self, spec: CommandSpec, payloads: list[bytes], deadline: float | None
+    ) -> tuple[list[Exception | None], list[bool]]:
+        """Send the chunks of a chunked write as batches and wait for every chunk.
+
+        Returns, per chunk, the exception it ended with (None: confirmed written) and whether
+        it was sent and left unanswered (a timeout, or the connection lost after it left).
+        Chunks never sent go out again on the next connection when a reconnect policy is set;
+        chunks answered ``EW_PASSWD`` are sent once more after one unlock when a password is
+        known; every other chunk's outcome is final after one batch.
+        """
+        count = len(payloads)
+        errors: list[Exception | None] = [None] * count
+        unanswered = [False] * count
+        retried = [False] * count  # sent again after an unlock already
+        decode = spec.response.decode
+        todo = list(range(count))
+        while todo:
+            conn = self._conn
+            try:
+                if conn is None or conn.closed:
+                    conn = await self._connection(deadline)
+                results = await conn.request_each(
+                    spec.command, [payloads[i] for i in todo], deadline
+                )
+            except NotSentError as exc:
+                if self._policy is not None:
+                    continue  # nothing left: every chunk goes out on the next connection
+                for i in todo:
+                    errors[i] = exc
+                break
+            except (FocasConnectionError, FocasTimeoutError) as exc:
+                # Nothing of this batch was sent: not connected (or still reconnecting when
+                # the deadline passed), or no request slot free in time.
+                for i in todo:
+                    errors[i] = exc
+                break
+            again: list[int] = []
+            locked: list[int] = []
+            for i, result in zip(todo, results, strict=True):
+                if isinstance(result, bytes):
+                    try:
+                        value = decode(result)
+                    except Exception as exc:  # an answer that does not decode
+                        errors[i] = exc
+                        continue
+                    if type(value) is EwReply:
+                        if value.ew == EW.PASSWD and self._password is not None and not retried[i]:
+                            locked.append(i)
+                        else:
+                            errors[i] = CncError.from_ew(value.ew, spec.focas_name)
+                elif not isinstance(result, Exception):
+                    raise result
+                elif isinstance(result, NotSentError):
+                    if self._policy is not None:
+                        again.append(i)  # never reached the peer: sent on the next connection
+                    else:
+                        errors[i] = result
+                else:
+                    errors[i] = result
+                    unanswered[i] = isinstance(result, (FocasTimeoutError, FocasConnectionError))
+            if locked:
+                password = self._password
+                assert password is not None
+                try:
+                    await self._unlock_on(conn, password, deadline)
+                except Exception as exc:
+                    for i in locked:
+                        errors[i] = exc  # the chunk itself was refused: not written
+                else:
+                    for i in locked:
+                        retried[i] = True
+                    again.extend(locked)
+                    again.sort()
+            todo = again
+        return errors, unanswered
 
     async def write_pmc(
         self, area: AreaLike, start: int, data: bytes, *, timeout: float | None = None
     ) -> None:
         """``pmc_wrpmcrng``: write ``data`` to ``area`` from ``start``.
 
-        Over 32 bytes the write is split into concurrent 32-byte calls; if any fails,
-        :class:`ChunkedWriteError` lists the byte ranges written and not written.
+        Over 32 bytes the write is split into 32-byte calls sent as one batch; if any fails,
+        :class:`ChunkedWriteError` lists the byte ranges written, not written and uncertain.
         """
         await self._write_pmc_range(_WRPMCRNG, area, start, data, self._deadline(timeout))
 
