@@ -1,0 +1,946 @@
+"""The client's connection machinery, driven step by step against a scripted peer.
+
+A small packed-protocol peer on 127.0.0.1:0 records every frame (and which frames arrived in
+one receive), holds answers back when told and answers them in any order, with any payload,
+or drops the connection. The tests check outcomes and ordering, never durations:
+
+* the one deadline timer of a connection with mixed per-call timeouts;
+* ids of abandoned requests staying reserved until their late answers, which are dropped;
+* request slots handed over in FIFO order, and never leaked by cancelled or timed-out waiters;
+* chunked PMC reads and writes leaving as one batch in one write, and their failure semantics
+  (:class:`CncError` for a read, :class:`ChunkedWriteError` ranges for a write);
+* :class:`FrameDecoder` fed ``bytearray`` and ``memoryview`` chunks.
+"""
+
+from __future__ import annotations
+
+import asyncio
+import random
+from collections.abc import AsyncIterator, Callable, Iterable
+from typing import Any
+
+import pytest
+from conftest import IO_TIMEOUT, serving, wait_until
+
+from focas_net.client import ClientState, FocasClient, ReconnectPolicy
+from focas_net.client.connection import Connection, NotSentError, open_connection
+from focas_net.protocol import (
+    COMMANDS,
+    EW,
+    AccessDeniedError,
+    ChunkedWriteError,
+    CncError,
+    Command,
+    DataRequest,
+    EwReply,
+    FocasConnectionError,
+    FocasTimeoutError,
+    Frame,
+    FrameDecoder,
+    ParamValue,
+    PmcData,
+    encode_frame,
+)
+
+BOUND = 10.0  # a safety net for waits that must end much sooner; never a measured duration
+SHORT = 0.05  # a timeout meant to pass while the peer holds the answer back
+RDPARAM = int(Command.RDPARAM)
+RDPMCRNG = int(Command.RDPMCRNG)
+WRPMCRNG = int(Command.WRPMCRNG)
+
+
+def _answer(frame: Frame, peer: ScriptedPeer) -> bytes:
+    """What a tiny CNC answers: a parameter reads back its own number; PMC is a bytearray."""
+    spec = COMMANDS[frame.command]
+    request = spec.request.decode(frame.payload)
+    value: Any
+    if frame.command == Command.RDPARAM:
+        value = ParamValue(request.datano, request.axis, request.datano, 4)
+    elif frame.command == Command.RDPMCRNG:
+        data = bytes(peer.pmc[request.datano_s : request.datano_e + 1])
+        value = PmcData(request.type_a, 0, request.datano_s, request.datano_e, data)
+    elif frame.command == Command.WRPMCRNG:
+        if peer.password_required and not peer.unlocked:
+            value = EwReply(EW.PASSWD)
+        elif request.datano_s in peer.refuse:
+            value = EwReply(peer.refuse[request.datano_s])
+        else:
+            peer.pmc[request.datano_s : request.datano_e + 1] = request.data
+            value = None
+    elif frame.command == Command.WRUNLOCKPARAM:
+        peer.unlocks += 1
+        peer.unlocked = request.password == peer.password
+        value = None if peer.unlocked else EwReply(EW.PASSWD)
+    else:
+        value = EwReply(EW.FUNC)
+    return spec.response.encode(value)
+
+
+class _PeerSide(asyncio.Protocol):
+    def __init__(self, peer: ScriptedPeer) -> None:
+        self.peer = peer
+        self.decoder = FrameDecoder()
+        self.transport: asyncio.Transport | None = None
+
+    def connection_made(self, transport: asyncio.BaseTransport) -> None:
+        assert isinstance(transport, asyncio.Transport)
+        self.transport = transport
+        self.peer.sides.append(self)
+        self.peer.unlocked = False
+
+    def data_received(self, data: bytes) -> None:
+        peer = self.peer
+        frames = self.decoder.feed(data)
+        peer.receives.append(frames)
+        before = peer.answers_sent
+        for frame in frames:
+            peer.received.append(frame)
+            peer.answered_before.append(before)
+            if peer.hold or frame.command in peer.hold_commands:
+                peer.held.append((frame, self))
+            else:
+                self.reply(frame)
+
+    def reply(self, frame: Frame, payload: bytes | None = None) -> None:
+        if self.transport is None or self.transport.is_closing():
+            return
+        if payload is None:
+            payload = _answer(frame, self.peer)
+        self.peer.answers_sent += 1
+        self.transport.write(encode_frame(frame.command, frame.request_id, payload))
+
+    def connection_lost(self, exc: Exception | None) -> None:
+        self.transport = None
+
+
+class ScriptedPeer:
+    """A packed-protocol peer whose answers the test releases one by one."""
+
+    def __init__(self) -> None:
+        self.hold = False
+        self.hold_commands: set[int] = set()
+        self.held: list[tuple[Frame, _PeerSide]] = []
+        self.received: list[Frame] = []
+        self.receives: list[list[Frame]] = []  # the frames completed by each receive
+        self.answered_before: list[int] = []  # answers sent before each frame's receive
+        self.answers_sent = 0
+        self.sides: list[_PeerSide] = []
+        self.pmc = bytearray(4096)
+        self.refuse: dict[int, int] = {}  # first address of a write chunk -> EW code
+        self.password = b"1234"
+        self.password_required = False
+        self.unlocked = False
+        self.unlocks = 0
+        self.port = 0
+        self._server: asyncio.Server | None = None
+
+    async def start(self) -> None:
+        loop = asyncio.get_running_loop()
+        self._server = await loop.create_server(lambda: _PeerSide(self), "127.0.0.1", 0)
+        self.port = self._server.sockets[0].getsockname()[1]
+
+    async def stop(self) -> None:
+        if self._server is not None:
+            self._server.close()
+            self.drop()
+            await self._server.wait_closed()
+
+    def drop(self) -> None:
+        for side in self.sides:
+            if side.transport is not None:
+                side.transport.abort()
+
+    async def wait_received(self, n: int) -> None:
+        await wait_until(lambda: len(self.received) >= n, within=BOUND)
+
+    def release(
+        self,
+        which: Callable[[Frame], bool] = lambda f: True,
+        payload: Callable[[Frame], bytes | None] = lambda f: None,
+    ) -> list[Frame]:
+        """Answer the held frames ``which`` selects (in arrival order); return them."""
+        chosen = [(f, s) for f, s in self.held if which(f)]
+        self.held = [(f, s) for f, s in self.held if not which(f)]
+        for frame, side in chosen:
+            side.reply(frame, payload(frame))
+        return [f for f, _ in chosen]
+
+
+class CountingTransport:
+    """Wraps a client's transport and counts the calls that hand it bytes."""
+
+    def __init__(self, inner: asyncio.Transport) -> None:
+        self.inner = inner
+        self.writes = 0
+
+    def write(self, data: bytes) -> None:
+        self.writes += 1
+        self.inner.write(data)
+
+    def writelines(self, lines: Iterable[bytes]) -> None:
+        self.writes += 1
+        self.inner.writelines(lines)
+
+    def __getattr__(self, name: str) -> Any:
+        return getattr(self.inner, name)
+
+
+@pytest.fixture
+async def peer() -> AsyncIterator[ScriptedPeer]:
+    p = ScriptedPeer()
+    await p.start()
+    try:
+        yield p
+    finally:
+        await p.stop()
+
+
+@pytest.fixture
+async def conn(peer: ScriptedPeer) -> AsyncIterator[Connection]:
+    c = await open_connection("127.0.0.1", peer.port, max_in_flight=4)
+    try:
+        yield c
+    finally:
+        c.close()
+        await c.wait_closed()
+
+
+def connection_of(client: FocasClient) -> Connection:
+    c = client._conn
+    assert c is not None
+    return c
+
+
+def count_writes(client: FocasClient) -> CountingTransport:
+    c = connection_of(client)
+    assert c._transport is not None
+    counting = CountingTransport(c._transport)
+    c._transport = counting  # type: ignore[assignment]
+    return counting
+
+
+def param_request(number: int) -> bytes:
+    return COMMANDS[Command.RDPARAM].request.encode(DataRequest(number, 0))
+
+
+def param_number(frame: Frame) -> int:
+    return int(COMMANDS[Command.RDPARAM].request.decode(frame.payload).datano)
+
+
+def param_value(answer: bytes) -> int:
+    return int(COMMANDS[Command.RDPARAM].response.decode(answer).value)
+
+
+def deadline(seconds: float) -> float:
+    return asyncio.get_running_loop().time() + seconds
+
+
+async def ask(c: Connection, number: int, seconds: float | None = BOUND) -> int:
+    """One RDPARAM on ``c``; returns the value the peer answered."""
+    when = None if seconds is None else deadline(seconds)
+    return param_value(await c.request(RDPARAM, param_request(number), when))
+
+
+async def turns(n: int = 10) -> None:
+    """Let the loop run ``n`` turns (for checks that something did NOT happen)."""
+    for _ in range(n):
+        await asyncio.sleep(0)
+
+
+def assert_idle(c: Connection) -> None:
+    assert c.in_flight == 0
+    assert c.abandoned == 0
+    assert c._slots_taken == 0
+    assert not c._slot_waiters
+
+
+async def assert_bound_is(c: Connection, peer: ScriptedPeer, n: int) -> None:
+    """Exactly ``n`` calls go out at once on ``c``; every one of ``n + 2`` calls succeeds."""
+    assert_idle(c)
+    peer.hold = True
+    first = len(peer.received)
+    tasks = [asyncio.create_task(ask(c, 9000 + i)) for i in range(n + 2)]
+    await peer.wait_received(first + n)
+    await turns()
+    assert len(peer.received) == first + n
+    assert c.in_flight == n and len(c._slot_waiters) == 2
+    peer.hold = False  # the two waiting calls are answered as soon as they are sent
+    peer.release()
+    async with asyncio.timeout(BOUND):
+        assert await asyncio.gather(*tasks) == [9000 + i for i in range(n + 2)]
+    assert_idle(c)
+
+
+# -- the deadline timer -------------------------------------------------------------------------
+
+
+async def test_short_timeout_behind_long_ones_times_out_first(
+    peer: ScriptedPeer, conn: Connection
+) -> None:
+    peer.hold = True
+    long_a = asyncio.create_task(ask(conn, 1, BOUND))
+    no_deadline = asyncio.create_task(ask(conn, 2, None))
+    short = asyncio.create_task(ask(conn, 3, SHORT))  # behind a later deadline: the heap
+    long_b = asyncio.create_task(ask(conn, 4, 2 * BOUND))
+    await peer.wait_received(4)
+    with pytest.raises(FocasTimeoutError):
+        await short
+    assert not long_a.done() and not long_b.done() and not no_deadline.done()
+    assert conn.abandoned == 1 and conn.in_flight == 3
+    peer.release()  # every answer, the late one to the short call included
+    assert await asyncio.gather(long_a, no_deadline, long_b) == [1, 2, 4]
+    assert_idle(conn)
+
+
+async def test_mixed_timeouts_fail_only_the_overdue(peer: ScriptedPeer) -> None:
+    peer.hold = True
+    c = await open_connection("127.0.0.1", peer.port, max_in_flight=64)
+    try:
+        timeouts = [BOUND, SHORT, 2 * BOUND, SHORT / 2, BOUND, 2 * SHORT, None, SHORT]
+        tasks = [asyncio.create_task(ask(c, n, t)) for n, t in enumerate(timeouts)]
+        await peer.wait_received(len(timeouts))
+        short = [t for t, s in zip(tasks, timeouts, strict=True) if s is not None and s < 1]
+        long = [t for t in tasks if t not in short]
+        for task in short:
+            with pytest.raises(FocasTimeoutError):
+                await task
+        assert not any(t.done() for t in long)
+        assert c.abandoned == len(short)
+        # the timer is re-armed: a new short call behind all of them still times out
+        with pytest.raises(FocasTimeoutError):
+            await ask(c, 99, SHORT)
+        peer.release()
+        async with asyncio.timeout(BOUND):
+            values = await asyncio.gather(*long)
+        assert values == [n for n, t in enumerate(timeouts) if t is None or t >= 1]
+        await wait_until(lambda: c.abandoned == 0, within=BOUND)
+        assert_idle(c)
+    finally:
+        c.close()
+        await c.wait_closed()
+
+
+# -- ids of abandoned requests ------------------------------------------------------------------
+
+
+async def test_timed_out_id_stays_reserved_until_its_late_answer(
+    peer: ScriptedPeer, conn: Connection
+) -> None:
+    peer.hold = True
+    with pytest.raises(FocasTimeoutError):
+        await ask(conn, 7, SHORT)
+    await peer.wait_received(1)
+    late = peer.received[-1]
+    assert conn.abandoned == 1
+    conn._next_id = late.request_id  # the next id in line is the reserved one
+    waiting = asyncio.create_task(ask(conn, 8))
+    await peer.wait_received(2)
+    assert peer.received[-1].request_id != late.request_id
+    # the late answer carries a value only the abandoned call could have expected
+    peer.release(lambda f: f.request_id == late.request_id)
+    await wait_until(lambda: conn.abandoned == 0, within=BOUND)
+    await turns()
+    assert not waiting.done()  # the late answer was dropped, not given to another call
+    peer.release()
+    assert await waiting == 8
+    # once its late answer came, the id is free again
+    conn._next_id = late.request_id
+    peer.hold = False
+    assert await ask(conn, 9) == 9
+    assert peer.received[-1].request_id == late.request_id
+    assert_idle(conn)
+
+
+async def test_a_second_answer_to_a_reused_id_is_dropped(
+    peer: ScriptedPeer, conn: Connection
+) -> None:
+    peer.hold = True
+    with pytest.raises(FocasTimeoutError):
+        await ask(conn, 1, SHORT)
+    await peer.wait_received(1)
+    late = peer.held[0][0]
+    peer.release()
+    await wait_until(lambda: conn.abandoned == 0, within=BOUND)
+    # the same answer again (a duplicate): nobody waits for that id any more; the answer to
+    # the next call comes after it on the stream, so it has been dropped by then
+    peer.sides[0].reply(late)
+    peer.hold = False
+    assert await ask(conn, 50) == 50
+    conn._next_id = late.request_id
+    assert await ask(conn, 2) == 2
+    assert peer.received[-1].request_id == late.request_id
+    assert_idle(conn)
+
+
+# -- request slots ------------------------------------------------------------------------------
+
+
+async def test_waiters_get_slots_in_fifo_order(peer: ScriptedPeer, conn: Connection) -> None:
+    peer.hold = True
+    running = [asyncio.create_task(ask(conn, n)) for n in range(4)]  # max_in_flight=4
+    await peer.wait_received(4)
+    waiters = []
+    for n in range(10, 20):
+        waiters.append(asyncio.create_task(ask(conn, n)))
+        await turns(1)
+    await wait_until(lambda: len(conn._slot_waiters) == 10, within=BOUND)
+    assert len(peer.received) == 4
+    # answer one request at a time: each answer lets exactly the next waiter in
+    for expected in range(10, 20):
+        oldest = peer.held[0][0]
+        peer.release(lambda f, oldest=oldest: f is oldest)
+        await peer.wait_received(4 + expected - 9)
+        await turns()
+        assert param_number(peer.received[-1]) == expected
+        assert len(peer.received) == 4 + expected - 9
+    peer.release()
+    assert await asyncio.gather(*running) == list(range(4))
+    assert await asyncio.gather(*waiters) == list(range(10, 20))
+    await assert_bound_is(conn, peer, 4)
+
+
+async def ask_then_cancel(c: Connection, number: int, victim: list[asyncio.Task[int]]) -> int:
+    """``ask``, then cancel ``victim[0]`` in the same step: the slot this call released was
+    handed to the first waiter in line, which has not run yet."""
+    value = await ask(c, number)
+    waiter = c._slot_waiters[0] if c._slot_waiters else None
+    assert waiter is None or not waiter.done()  # the handed waiter left the line already
+    victim[0].cancel()
+    return value
+
+
+async def test_cancelled_waiters_never_leak_a_slot(peer: ScriptedPeer, conn: Connection) -> None:
+    peer.hold = True
+    victim: list[asyncio.Task[int]] = []
+    running = [asyncio.create_task(ask_then_cancel(conn, 0, victim))]
+    running += [asyncio.create_task(ask(conn, n)) for n in range(1, 4)]
+    await peer.wait_received(4)
+    waiters = [asyncio.create_task(ask(conn, n)) for n in range(10, 16)]
+    await wait_until(lambda: len(conn._slot_waiters) == 6, within=BOUND)
+    # cancelled before being handed a slot
+    for i in (0, 2):
+        waiters[i].cancel()
+    for i in (0, 2):
+        with pytest.raises(asyncio.CancelledError):
+            await waiters[i]
+    assert len(conn._slot_waiters) == 4
+    # cancelled after being handed a slot, before it could use it (10 and 12 are gone, so
+    # 11 is first in line when the answer to 0 frees a slot)
+    victim.append(waiters[1])
+    peer.release(lambda f: param_number(f) == 0)
+    assert await running[0] == 0
+    with pytest.raises(asyncio.CancelledError):
+        await waiters[1]
+    await peer.wait_received(5)
+    assert param_number(peer.received[-1]) == 13  # the slot went on to the next in line
+    peer.hold = False
+    peer.release()
+    async with asyncio.timeout(BOUND):
+        assert await asyncio.gather(*running[1:]) == [1, 2, 3]
+        assert await asyncio.gather(*waiters[3:]) == [13, 14, 15]
+    sent = {param_number(f) for f in peer.received}
+    assert sent.isdisjoint({10, 11, 12})  # no cancelled waiter was sent
+    await assert_bound_is(conn, peer, 4)
+
+
+async def test_cancelled_waiters_with_a_deadline_pass_the_slot_on(
+    peer: ScriptedPeer, conn: Connection
+) -> None:
+    """The same hand-over, for a waiter whose wait runs under a deadline and one without."""
+    for seconds in (BOUND, None):
+        peer.hold = True
+        first = len(peer.received)
+        victim: list[asyncio.Task[int]] = []
+        running = [asyncio.create_task(ask_then_cancel(conn, 0, victim))]
+        running += [asyncio.create_task(ask(conn, n)) for n in range(1, 4)]
+        await peer.wait_received(first + 4)
+        victim.append(asyncio.create_task(ask(conn, 10, seconds)))
+        heir = asyncio.create_task(ask(conn, 11, seconds))
+        await wait_until(lambda: len(conn._slot_waiters) == 2, within=BOUND)
+        peer.release(lambda f: param_number(f) == 0)
+        with pytest.raises(asyncio.CancelledError):
+            await victim[0]
+        await peer.wait_received(first + 5)
+        assert param_number(peer.received[-1]) == 11
+        peer.hold = False
+        peer.release()
+        async with asyncio.timeout(BOUND):
+            assert await heir == 11
+            assert await asyncio.gather(*running) == [0, 1, 2, 3]
+        await assert_bound_is(conn, peer, 4)
+
+
+async def test_waiter_timing_out_for_a_slot_leaks_nothing(
+    peer: ScriptedPeer, conn: Connection
+) -> None:
+    peer.hold = True
+    running = [asyncio.create_task(ask(conn, n)) for n in range(4)]
+    await peer.wait_received(4)
+    behind = asyncio.create_task(ask(conn, 11))  # waits without a short deadline
+    with pytest.raises(FocasTimeoutError, match="no free request slot"):
+        await ask(conn, 10, SHORT)
+    assert len(peer.received) == 4  # never sent
+    assert conn.abandoned == 0 and len(conn._slot_waiters) == 1
+    peer.hold = False
+    peer.release()
+    assert await asyncio.gather(*running) == [0, 1, 2, 3]
+    assert await behind == 11
+    await assert_bound_is(conn, peer, 4)
+
+
+async def test_slot_storm_with_random_cancellations(peer: ScriptedPeer, conn: Connection) -> None:
+    rng = random.Random(4242)
+    peer.hold = True
+    tasks = [asyncio.create_task(ask(conn, n)) for n in range(60)]
+    await peer.wait_received(4)
+    cancelled: set[int] = set()
+    for _ in range(300):  # bounded: each round answers or cancels something
+        if all(t.done() for t in tasks):
+            break
+        pick = rng.random()
+        live = [i for i, t in enumerate(tasks) if not t.done() and i not in cancelled]
+        if pick < 0.3 and live:
+            i = rng.choice(live)
+            tasks[i].cancel()
+            cancelled.add(i)
+        elif peer.held:
+            peer.release(lambda f, first=peer.held[0][0]: f is first)
+        await turns(rng.choice([0, 1, 3]))
+        if not peer.held and not all(t.done() for t in tasks):
+            await wait_until(lambda: bool(peer.held) or all(t.done() for t in tasks), within=BOUND)
+    peer.hold = False
+    peer.release()
+    async with asyncio.timeout(BOUND):
+        results = await asyncio.gather(*tasks, return_exceptions=True)
+    assert len(cancelled) > 5
+    for i, result in enumerate(results):
+        if isinstance(result, asyncio.CancelledError):
+            assert i in cancelled
+        else:
+            assert result == i  # every call got its own answer
+    await wait_until(lambda: conn.abandoned == 0, within=BOUND)
+    await assert_bound_is(conn, peer, 4)
+
+
+# -- chunked reads: one batch -------------------------------------------------------------------
+
+
+@pytest.fixture
+async def client(peer: ScriptedPeer) -> AsyncIterator[FocasClient]:
+    async with FocasClient("127.0.0.1", peer.port, timeout=BOUND, max_in_flight=4) as c:
+        yield c
+
+
+async def test_chunked_read_leaves_in_one_write(peer: ScriptedPeer, client: FocasClient) -> None:
+    peer.pmc[:] = random.Random(1).randbytes(len(peer.pmc))
+    counting = count_writes(client)
+    assert await client.read_pmc("D", 0, 128) == bytes(peer.pmc[:128])
+    assert counting.writes == 1
+    assert [len(r) for r in peer.receives] == [4]  # 4 frames in one receive
+    counting.writes = 0
+    first = len(peer.received)
+    assert await client.read_pmc("D", 0, 4096) == bytes(peer.pmc)
+    assert counting.writes == 1
+    assert len(peer.received) - first == 128
+    assert_idle(connection_of(client))
+
+
+async def test_chunked_read_frames_arrive_before_any_answer(
+    peer: ScriptedPeer, client: FocasClient
+) -> None:
+    await client.read_pmc("R", 0, 100)
+    chunk_frames = [i for i, f in enumerate(peer.received) if f.command == RDPMCRNG]
+    assert len(chunk_frames) == 4
+    assert {peer.answered_before[i] for i in chunk_frames} == {0}
+
+
+async def test_refused_chunk_fails_the_read_and_late_answers_are_dropped(
+    peer: ScriptedPeer, client: FocasClient
+) -> None:
+    peer.hold = True
+    read = asyncio.create_task(client.read_pmc("D", 0, 128))
+    await peer.wait_received(4)
+    ids = {f.request_id for f in peer.received}
+    busy = COMMANDS[Command.RDPMCRNG].response.encode(EwReply(EW.BUSY))
+    peer.release(lambda f: f is peer.received[2], lambda f: busy)
+    with pytest.raises(CncError) as info:
+        await read
+    assert info.value.ew == EW.BUSY
+    c = connection_of(client)
+    assert c.abandoned == 3 and c.in_flight == 0
+    other = asyncio.create_task(client.read_param(5))
+    await peer.wait_received(5)
+    assert peer.received[-1].request_id not in ids
+    peer.release(lambda f: f.command == RDPMCRNG)  # the late answers
+    await wait_until(lambda: c.abandoned == 0, within=BOUND)
+    await turns()
+    assert not other.done()
+    peer.release()
+    assert await other == 5
+    assert_idle(c)
+
+
+async def test_chunked_read_timeout(peer: ScriptedPeer, client: FocasClient) -> None:
+    peer.hold = True
+    with pytest.raises(FocasTimeoutError):
+        await client.read_pmc("D", 0, 128, timeout=SHORT)
+    c = connection_of(client)
+    assert c.abandoned == 4 and c.in_flight == 0
+    peer.hold = False
+    peer.release()
+    await wait_until(lambda: c.abandoned == 0, within=BOUND)
+    assert await client.read_pmc("D", 0, 128) == bytes(128)
+    assert_idle(c)
+
+
+async def test_chunked_read_with_some_chunks_answered_then_timeout(
+    peer: ScriptedPeer, client: FocasClient
+) -> None:
+    peer.hold = True
+    read = asyncio.create_task(client.read_pmc("D", 0, 128, timeout=SHORT * 2))
+    await peer.wait_received(4)
+    peer.release(lambda f: f in peer.received[:2])
+    with pytest.raises(FocasTimeoutError):
+        await read
+    c = connection_of(client)
+    assert c.abandoned == 2
+    peer.hold = False
+    peer.release()
+    await wait_until(lambda: c.abandoned == 0, within=BOUND)
+    assert_idle(c)
+
+
+async def test_bound_holds_around_a_batch(peer: ScriptedPeer, client: FocasClient) -> None:
+    c = connection_of(client)
+    peer.hold = True
+    # every slot taken: the batch waits in line like one call
+    calls = [asyncio.create_task(client.read_param(n)) for n in range(4)]
+    await peer.wait_received(4)
+    read = asyncio.create_task(client.read_pmc("D", 0, 256))  # 8 chunks
+    await wait_until(lambda: len(c._slot_waiters) == 1, within=BOUND)
+    await turns()
+    assert len(peer.received) == 4
+    peer.release()
+    assert await asyncio.gather(*calls) == [0, 1, 2, 3]
+    await peer.wait_received(12)  # the 8 chunks, at once
+    # while the batch is over the bound, nothing else is admitted
+    late = asyncio.create_task(client.read_param(50))
+    await turns()
+    assert len(peer.received) == 12 and len(c._slot_waiters) == 1
+    peer.release()
+    assert await read == bytes(256)
+    await peer.wait_received(13)
+    peer.release()
+    assert await late == 50
+    await assert_bound_is(c, peer, 4)
+
+
+async def test_request_all_of_nothing_returns_at_once(conn: Connection) -> None:
+    assert await conn.request_all(RDPARAM, [], deadline(BOUND)) == []
+    assert await conn.request_each(RDPARAM, [], deadline(BOUND)) == []
+    assert_idle(conn)
+
+
+# -- the frame decoder ------------------------------------------------------------------------
+
+
+def test_frame_decoder_accepts_bytearray_and_memoryview_chunks() -> None:
+    frames = [(RDPARAM, i, bytes(range(i % 7)) * 3) for i in range(20)]
+    wire = b"".join(encode_frame(c, i, p) for c, i, p in frames)
+    for step in (1, 3, 8, 13, 64, len(wire)):
+        for kind in ("bytearray", "memoryview"):
+            decoder = FrameDecoder()
+            got: list[Frame] = []
+            for pos in range(0, len(wire), step):
+                buf = bytearray(wire[pos : pos + step])
+                if kind == "bytearray":
+                    got += decoder.feed(buf)
+                else:
+                    with memoryview(buf) as view:
+                        got += decoder.feed(view)
+                buf[:] = bytes(len(buf))  # the caller reuses its buffer
+            assert [(f.command, f.request_id, f.payload) for f in got] == frames, (step, kind)
+            assert all(type(f.payload) is bytes for f in got)
+            assert decoder.buffered == 0
+
+
+def test_frame_decoder_copies_out_of_a_reused_buffer() -> None:
+    wire = encode_frame(RDPARAM, 1, b"abcdef") + encode_frame(RDPARAM, 2, b"ghij")
+    buffer = bytearray(wire[:15])  # the first frame whole and 1 byte of the second
+    decoder = FrameDecoder()
+    first = decoder.feed(memoryview(buffer))
+    buffer[:] = bytes(len(buffer))  # the caller overwrites its buffer
+    rest = decoder.feed(bytearray(wire[15:]))
+    assert [(f.request_id, f.payload) for f in first + rest] == [(1, b"abcdef"), (2, b"ghij")]
+
+
+async def test_connection_decodes_answers_fed_as_bytearray_and_memoryview(
+    peer: ScriptedPeer, conn: Connection
+) -> None:
+    peer.hold_commands = {RDPARAM}
+    tasks = [asyncio.create_task(ask(conn, n)) for n in (1, 2)]
+    await peer.wait_received(2)
+    spec = COMMANDS[Command.RDPARAM].response
+    a, b = (
+        encode_frame(RDPARAM, f.request_id, spec.encode(ParamValue(100 + i, 0, 100 + i, 4)))
+        for i, f in enumerate(peer.received)
+    )
+    conn.data_received(bytearray(a[:5]))
+    conn.data_received(memoryview(a[5:] + b[:9]))
+    conn.data_received(bytearray(b[9:]))
+    assert await asyncio.gather(*tasks) == [100, 101]
+    peer.held.clear()
+    assert_idle(conn)
+
+
+# -- chunked writes: one batch ------------------------------------------------------------------
+
+
+async def test_chunked_write_leaves_in_one_write_without_tasks(
+    peer: ScriptedPeer, client: FocasClient
+) -> None:
+    data = random.Random(2).randbytes(4096)
+    counting = count_writes(client)
+    peer.hold = True
+    before = len(asyncio.all_tasks())
+    write = asyncio.create_task(client.write_pmc("D", 0, data))
+    await peer.wait_received(128)
+    assert len(asyncio.all_tasks()) == before + 1  # the write itself, no task per chunk
+    assert counting.writes == 1
+    peer.hold = False
+    peer.release()
+    await write
+    assert bytes(peer.pmc) == data
+    counting.writes = 0
+    await client.write_pmc("D", 0, data[:100])
+    assert counting.writes == 1
+    assert len(peer.receives[-1]) == 4 and peer.receives[-1][0].command == WRPMCRNG
+    assert_idle(connection_of(client))
+
+
+async def test_chunked_write_waits_for_every_chunk_and_names_the_refused_one(
+    peer: ScriptedPeer, client: FocasClient
+) -> None:
+    peer.refuse[32] = EW.BUSY
+    peer.hold = True
+    write = asyncio.create_task(client.write_pmc("R", 0, bytes(range(1, 129))))
+    await peer.wait_received(4)
+    peer.release(lambda f: f is peer.received[1])  # the refusal comes first
+    await turns()
+    assert not write.done()  # unlike a read, a write waits for every chunk
+    peer.release()
+    with pytest.raises(ChunkedWriteError) as info:
+        await write
+    err = info.value
+    assert err.written == [(0, 31), (64, 127)]
+    assert err.not_written == [(32, 63)]
+    assert err.uncertain == []
+    assert isinstance(err.cause, CncError) and err.cause.ew == EW.BUSY
+    assert bytes(peer.pmc[:128]) == bytes(range(1, 33)) + bytes(32) + bytes(range(65, 129))
+    assert_idle(connection_of(client))
+
+
+async def test_chunked_write_cause_is_the_first_failing_chunk(
+    peer: ScriptedPeer, client: FocasClient
+) -> None:
+    peer.refuse.update({64: EW.NUMBER, 32: EW.BUSY})
+    peer.hold = True
+    write = asyncio.create_task(client.write_pmc("R", 0, bytes(160)))
+    await peer.wait_received(5)
+    peer.release(lambda f: f is peer.received[2])  # the later chunk is refused first
+    peer.release()
+    with pytest.raises(ChunkedWriteError) as info:
+        await write
+    err = info.value
+    assert err.written == [(0, 31), (96, 159)]
+    assert err.not_written == [(32, 95)]
+    assert isinstance(err.cause, CncError) and err.cause.ew == EW.BUSY
+
+
+async def test_drop_in_the_middle_of_a_batched_write_leaves_uncertain_ranges(
+    peer: ScriptedPeer, client: FocasClient
+) -> None:
+    peer.hold = True
+    write = asyncio.create_task(client.write_pmc("R", 0, bytes(range(1, 129))))
+    await peer.wait_received(4)
+    peer.release(lambda f: f in peer.received[:2])
+    await wait_until(lambda: connection_of(client).in_flight == 2, within=BOUND)
+    peer.drop()
+    with pytest.raises(ChunkedWriteError) as info:
+        await write
+    err = info.value
+    assert err.written == [(0, 63)]
+    assert err.uncertain == [(64, 127)]
+    assert err.not_written == []
+    assert isinstance(err.cause, FocasConnectionError)
+    await wait_until(lambda: client.state is ClientState.DISCONNECTED, within=BOUND)
+
+
+async def test_timeout_in_the_middle_of_a_batched_write_leaves_uncertain_ranges(
+    peer: ScriptedPeer, client: FocasClient
+) -> None:
+    peer.hold = True
+    write = asyncio.create_task(client.write_pmc("R", 0, bytes(range(1, 129)), timeout=SHORT * 2))
+    await peer.wait_received(4)
+    peer.release(lambda f: f in (peer.received[0], peer.received[2]))
+    with pytest.raises(ChunkedWriteError) as info:
+        await write
+    err = info.value
+    assert err.written == [(0, 31), (64, 95)]
+    assert err.uncertain == [(32, 63), (96, 127)]
+    assert err.not_written == []
+    assert isinstance(err.cause, FocasTimeoutError)
+    c = connection_of(client)
+    assert c.abandoned == 2
+    peer.hold = False
+    peer.release()
+    await wait_until(lambda: c.abandoned == 0, within=BOUND)
+    assert_idle(c)
+
+
+async def test_write_on_a_lost_connection_is_not_written(
+    peer: ScriptedPeer, client: FocasClient
+) -> None:
+    peer.drop()
+    await wait_until(lambda: client.state is ClientState.DISCONNECTED, within=BOUND)
+    with pytest.raises(ChunkedWriteError) as info:
+        await client.write_pmc("R", 0, bytes(100))
+    err = info.value
+    assert err.written == [] and err.uncertain == []
+    assert err.not_written == [(0, 99)]
+    assert isinstance(err.cause, FocasConnectionError)
+
+
+async def test_write_timing_out_for_a_slot_is_not_written(
+    peer: ScriptedPeer, client: FocasClient
+) -> None:
+    peer.hold = True
+    calls = [asyncio.create_task(client.read_param(n)) for n in range(4)]
+    await peer.wait_received(4)
+    with pytest.raises(ChunkedWriteError) as info:
+        await client.write_pmc("R", 0, bytes(100), timeout=SHORT)
+    err = info.value
+    assert err.not_written == [(0, 99)] and err.written == [] and err.uncertain == []
+    assert isinstance(err.cause, FocasTimeoutError)
+    assert len(peer.received) == 4
+    peer.hold = False
+    peer.release()
+    assert await asyncio.gather(*calls) == [0, 1, 2, 3]
+    await assert_bound_is(connection_of(client), peer, 4)
+
+
+def _queue_then_abort(client: FocasClient, data: bytes) -> list[asyncio.Task[Any]]:
+    """Two reads and a chunked write queued in one loop turn, the connection aborted before
+    the turn's frames are flushed: the second read and the write's chunks never leave."""
+    loop = asyncio.get_running_loop()
+    c = connection_of(client)
+    tasks: list[asyncio.Task[Any]] = [
+        asyncio.create_task(client.read_param(1)),
+        asyncio.create_task(client.read_param(2)),
+        asyncio.create_task(client.write_pmc("R", 0, data)),
+    ]
+    loop.call_soon(c.abort)  # runs after the three steps, before the scheduled flush
+    return tasks
+
+
+async def test_never_sent_chunks_are_not_written_without_reconnect(
+    peer: ScriptedPeer, client: FocasClient
+) -> None:
+    tasks = _queue_then_abort(client, bytes(range(1, 101)))
+    async with asyncio.timeout(BOUND):
+        first, second, write = await asyncio.gather(*tasks, return_exceptions=True)
+    assert isinstance(first, FocasConnectionError)
+    assert isinstance(second, NotSentError)
+    assert isinstance(write, ChunkedWriteError)
+    assert write.not_written == [(0, 99)] and write.written == [] and write.uncertain == []
+    assert isinstance(write.cause, NotSentError)
+    assert all(f.command != WRPMCRNG for f in peer.received)
+
+
+async def test_never_sent_chunks_go_out_after_the_reconnect(peer: ScriptedPeer) -> None:
+    policy = ReconnectPolicy(initial_delay=0.0, max_delay=0.01, jitter=0.0)
+    async with FocasClient(
+        "127.0.0.1", peer.port, timeout=BOUND, max_in_flight=4, reconnect=policy
+    ) as c:
+        data = bytes(range(1, 101))
+        tasks = _queue_then_abort(c, data)
+        async with asyncio.timeout(BOUND):
+            first, second, write = await asyncio.gather(*tasks, return_exceptions=True)
+        assert isinstance(first, FocasConnectionError)  # sent, then lost: not sent again
+        assert second == 2 and write is None  # never sent: sent on the new connection
+        assert bytes(peer.pmc[:100]) == data
+        assert len(peer.sides) == 2
+        assert c.state is ClientState.CONNECTED
+        assert_idle(connection_of(c))
+
+
+async def test_chunked_write_unlocks_once_and_resends_on_ew_passwd(peer: ScriptedPeer) -> None:
+    peer.password_required = True
+    async with FocasClient(
+        "127.0.0.1", peer.port, timeout=BOUND, max_in_flight=4, password="1234"
+    ) as c:
+        assert peer.unlocks == 1
+        peer.unlocked = False  # as if the CNC had locked again
+        data = bytes(range(1, 129))
+        await c.write_pmc("R", 0, data)
+        assert bytes(peer.pmc[:128]) == data
+        assert peer.unlocks == 2  # one unlock for the whole batch
+        writes = [f for f in peer.received if f.command == WRPMCRNG]
+        assert len(writes) == 8  # every chunk refused once, then sent again
+        # the password no longer works: the chunks were refused, nothing is uncertain
+        peer.password = b"9999"
+        peer.unlocked = False
+        with pytest.raises(ChunkedWriteError) as info:
+            await c.write_pmc("R", 0, bytes(128))
+        err = info.value
+        assert err.not_written == [(0, 127)] and err.written == [] and err.uncertain == []
+        assert isinstance(err.cause, AccessDeniedError)
+        assert bytes(peer.pmc[:128]) == data
+        assert_idle(connection_of(c))
+
+
+async def test_chunked_write_without_password_is_refused_once(peer: ScriptedPeer) -> None:
+    peer.password_required = True
+    async with FocasClient("127.0.0.1", peer.port, timeout=BOUND, max_in_flight=4) as c:
+        with pytest.raises(ChunkedWriteError) as info:
+            await c.write_pmc("R", 0, bytes(70))
+        err = info.value
+        assert err.not_written == [(0, 69)]
+        assert isinstance(err.cause, AccessDeniedError)
+        assert len([f for f in peer.received if f.command == WRPMCRNG]) == 3
+        assert peer.unlocks == 0
+
+
+async def test_cancelled_batched_write_gives_up_its_chunks(
+    peer: ScriptedPeer, client: FocasClient
+) -> None:
+    peer.hold = True
+    write = asyncio.create_task(client.write_pmc("R", 0, bytes(128)))
+    await peer.wait_received(4)
+    peer.release(lambda f: f is peer.received[0])
+    c = connection_of(client)
+    await wait_until(lambda: c.in_flight == 3, within=BOUND)
+    write.cancel()
+    with pytest.raises(asyncio.CancelledError):
+        await write
+    assert c.abandoned == 3 and c.in_flight == 0
+    peer.hold = False
+    peer.release()
+    await wait_until(lambda: c.abandoned == 0, within=BOUND)
+    await assert_bound_is(c, peer, 4)
+
+
+async def test_set_pmc_is_batched_against_the_simulator() -> None:
+    async with (
+        serving() as served,
+        FocasClient(served.host, served.port, timeout=IO_TIMEOUT, max_in_flight=2) as cnc,
+    ):
+        counting = count_writes(cnc)
+        data = random.Random(3).randbytes(300)
+        await cnc.sim.set_pmc("F", 0, data)
+        assert counting.writes == 1
+        await cnc.write_pmc("D", 100, data)
+        assert counting.writes == 2
+        assert await cnc.read_pmc("F", 0, 300) == data
+        assert await cnc.read_pmc("D", 100, 300) == data
+        assert_idle(connection_of(cnc))
