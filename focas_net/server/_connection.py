@@ -223,23 +223,27 @@ class Connection(asyncio.Protocol):
             backlog.input = bytes(backlog.input) + data
             return
         if len(data) <= _SLICE:
-            try:
-                frames = self._decoder.feed(data)
-            except FrameError as exc:
-                if exc.frames:
-                    self._run(exc.frames)
-                self._framing_violation(exc, data)
-                return
-            if frames:
-                if _log.isEnabledFor(_DEBUG):
-                    _log.debug(
-                        "%s: from %s: %s", self._listener.label, self._peer, _dump_frames(frames)
-                    )
-                self._tick = self._listener.server._tick
-                self._run(frames)
+            self._feed(data)
         else:
             self._backlog = _Backlog(None, memoryview(data))
             self._work_backlog()
+
+    def _feed(self, chunk: bytes | memoryview) -> bool:
+        """Decode ``chunk`` and answer its frames; False when a framing violation closed the
+        connection or output backpressure stopped the answering part way."""
+        try:
+            frames = self._decoder.feed(chunk)
+        except FrameError as exc:
+            if exc.frames:
+                self._run(exc.frames)
+            self._framing_violation(exc, chunk)
+            return False
+        if not frames:
+            return True
+        if _log.isEnabledFor(_DEBUG):
+            _log.debug("%s: from %s: %s", self._listener.label, self._peer, _dump_frames(frames))
+        self._tick = self._listener.server._tick
+        return self._run(frames)
 
     def _run(self, frames: list[Frame]) -> bool:
         """Answer ``frames`` in order; False when output backpressure stopped it part way (the
@@ -316,21 +320,8 @@ class Connection(asyncio.Protocol):
             if not data:
                 break
             chunk, backlog.input = data[:_SLICE], data[_SLICE:]
-            try:
-                frames = self._decoder.feed(chunk)
-            except FrameError as exc:
-                if exc.frames:
-                    self._run(exc.frames)
-                self._framing_violation(exc, chunk)
+            if not self._feed(chunk):
                 return
-            if frames:
-                if _log.isEnabledFor(_DEBUG):
-                    _log.debug(
-                        "%s: from %s: %s", self._listener.label, self._peer, _dump_frames(frames)
-                    )
-                self._tick = self._listener.server._tick
-                if not self._run(frames):
-                    return
         self._backlog = None
         if self._transport is None:
             return
