@@ -16,6 +16,7 @@ from collections.abc import AsyncIterator
 from typing import Any
 
 import pytest
+from conftest import wait_until
 from test_client_mechanics import (
     BOUND,
     ScriptedPeer,
@@ -23,12 +24,14 @@ from test_client_mechanics import (
 )
 
 from focas_net.client import (
+    ClientState,
     FocasClient,
     ReconnectPolicy,
 )
 from focas_net.client import connection as connection_module
 from focas_net.protocol import (
     Command,
+    FocasConnectionError,
     FocasTimeoutError,
 )
 
@@ -90,6 +93,57 @@ async def test_batch_given_up_past_the_abandoned_limit_fails_cleanly(
 
 
 # -- reconnect ---------------------------------------------------------------------------------
+
+
+async def test_reconnect_survives_an_unlock_answer_that_does_not_decode(
+    peer: ScriptedPeer,
+) -> None:
+    """The unlock sent after a reconnect is answered with a payload that does not decode.
+    That attempt fails like any other and the next one connects; the reconnect never dies
+    leaving the client RECONNECTING for ever (which made waiting calls spin)."""
+    peer.password_required = True
+    async with FocasClient(
+        "127.0.0.1", peer.port, timeout=BOUND, password="1234", reconnect=FAST
+    ) as client:
+        with LoopErrors() as errors:
+            peer.hold_commands = {UNLOCK}
+            peer.drop()
+            await wait_until(lambda: any(f.command == UNLOCK for f, _ in peer.held), BOUND)
+            peer.hold_commands = set()
+            peer.release(payload=lambda f: b"\x00")  # too short for an EW code
+            await wait_until(lambda: client.state is ClientState.CONNECTED, BOUND)
+            assert await client.read_param(1815) == 1815
+            assert len(peer.sides) >= 3  # the first, the refused unlock, the good one
+        assert not any("never retrieved" in m for m in errors.messages)
+
+
+async def test_a_dead_reconnect_task_never_makes_calls_spin(peer: ScriptedPeer) -> None:
+    """If the reconnect ends while the state still says RECONNECTING, a waiting call fails
+    (it does not spin on an event that stays set)."""
+    async with FocasClient("127.0.0.1", peer.port, timeout=BOUND, reconnect=FAST) as client:
+        # an ended reconnect with the state left RECONNECTING, no connection, the event set
+        client._reconnect_task = asyncio.get_running_loop().create_task(asyncio.sleep(0))
+        await client._reconnect_task
+        conn = connection_of(client)
+        client._conn = None
+        client._state = ClientState.RECONNECTING
+        assert client._ready is not None
+        client._ready.set()
+        spins = 0
+        original = client._ready.wait
+
+        async def counted() -> bool:
+            nonlocal spins
+            spins += 1
+            if spins > 100:
+                raise AssertionError("waiting call spins on a set event")
+            return await original()
+
+        client._ready.wait = counted  # type: ignore[method-assign]
+        with pytest.raises(FocasConnectionError):
+            await client.read_param(1, timeout=SHORT)
+        assert spins <= 1
+        client._conn = conn
 
 
 # -- chunked reads through the per-chunk path ---------------------------------------------------

@@ -367,9 +367,12 @@ class FocasClient:
         """Close the connection; pending calls fail with :class:`FocasConnectionError`."""
         self._set_state(ClientState.CLOSED)
         task, self._reconnect_task = self._reconnect_task, None
-        if task is not None and not task.done():
-            task.cancel()
-            await asyncio.wait([task])
+        if task is not None:
+            if not task.done():
+                task.cancel()
+                await asyncio.wait([task])
+            if not task.cancelled() and task.exception() is not None:
+                logger.warning("reconnect to %s:%s failed: %r", *self._addr, task.exception())
         conn, self._conn = self._conn, None
         if self._ready is not None:
             self._ready.set()
@@ -446,6 +449,9 @@ class FocasClient:
                 except (FocasConnectionError, FocasTimeoutError) as exc:
                     logger.debug("reconnect attempt %d to %s:%s: %s", attempt, *self._addr, exc)
                     continue
+                except Exception as exc:  # e.g. an unlock answer that does not decode
+                    logger.warning("reconnect attempt %d to %s:%s: %r", attempt, *self._addr, exc)
+                    continue
                 if conn.closed:
                     continue
                 self._install(conn)
@@ -455,6 +461,8 @@ class FocasClient:
             )
             self._set_state(ClientState.DISCONNECTED)
         finally:
+            if self._state is ClientState.RECONNECTING and self._conn is None:
+                self._set_state(ClientState.DISCONNECTED)  # ended without a connection
             if self._ready is not None:
                 self._ready.set()
 
@@ -470,7 +478,13 @@ class FocasClient:
             state = self._state
             if state is ClientState.CLOSED:
                 raise FocasConnectionError("client is closed")
-            if state is not ClientState.RECONNECTING or self._ready is None:
+            task = self._reconnect_task
+            if (
+                state is not ClientState.RECONNECTING
+                or self._ready is None
+                or task is None
+                or task.done()
+            ):
                 raise FocasConnectionError(f"not connected to {self.host}:{self.port}")
             try:
                 async with asyncio.timeout_at(deadline):
