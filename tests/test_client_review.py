@@ -146,6 +146,36 @@ async def test_a_dead_reconnect_task_never_makes_calls_spin(peer: ScriptedPeer) 
         client._conn = conn
 
 
+async def test_concurrent_connects_leave_one_connection(peer: ScriptedPeer) -> None:
+    """Two ``connect()`` calls at once: one connection is kept, the other is closed, and
+    ``aclose()`` leaves no socket open at the peer."""
+    client = FocasClient("127.0.0.1", peer.port, timeout=BOUND)
+    await asyncio.gather(client.connect(), client.connect())
+    assert await client.read_param(7) == 7
+    await client.aclose()
+    await wait_until(lambda: all(s.transport is None for s in peer.sides), BOUND)
+
+
+async def test_connect_while_reconnecting_keeps_one_connection(peer: ScriptedPeer) -> None:
+    """``connect()`` called while the policy is reconnecting: the client ends with one
+    connection, calls on it are not failed by a second one replacing it, and ``aclose()``
+    leaves no socket open at the peer."""
+    slow = ReconnectPolicy(initial_delay=0.2, max_delay=0.2, jitter=0.0)
+    client = FocasClient("127.0.0.1", peer.port, timeout=BOUND, reconnect=slow)
+    await client.connect()
+    peer.drop()
+    await wait_until(lambda: client.state is ClientState.RECONNECTING, BOUND)
+    await client.connect()
+    first = connection_of(client)
+    task = client._reconnect_task
+    if task is not None:
+        await asyncio.wait([task], timeout=BOUND)
+    assert connection_of(client) is first and not first.closed
+    assert await client.read_param(3) == 3
+    await client.aclose()
+    await wait_until(lambda: all(s.transport is None for s in peer.sides), BOUND)
+
+
 # -- chunked reads through the per-chunk path ---------------------------------------------------
 
 

@@ -361,6 +361,11 @@ class FocasClient:
             conn.close()
             await conn.wait_closed()
             raise FocasConnectionError("client is closed")
+        current = self._conn
+        if current is not None and not current.closed:  # a concurrent connect() won
+            conn.close()
+            await conn.wait_closed()
+            return
         self._install(conn)
 
     async def aclose(self) -> None:
@@ -414,6 +419,9 @@ class FocasClient:
         return (self.host, self.port)
 
     def _install(self, conn: Connection) -> None:
+        task = self._reconnect_task
+        if task is not None and not task.done() and task is not asyncio.current_task():
+            task.cancel()  # connect() succeeded while the policy was reconnecting
         self._conn = conn
         self._set_state(ClientState.CONNECTED)
         if self._ready is not None:
