@@ -21,6 +21,7 @@ from test_client_mechanics import (
     BOUND,
     ScriptedPeer,
     connection_of,
+    turns,
 )
 
 from focas_net.client import (
@@ -177,6 +178,22 @@ async def test_connect_while_reconnecting_keeps_one_connection(peer: ScriptedPee
 
 
 # -- chunked reads through the per-chunk path ---------------------------------------------------
+
+
+async def test_chunked_read_when_disconnected_leaves_no_unretrieved_exception(
+    peer: ScriptedPeer,
+) -> None:
+    """Not connected: every chunk of a chunked read fails at once; the caller gets the
+    connection error and no chunk's exception is left unretrieved."""
+    async with FocasClient("127.0.0.1", peer.port, timeout=BOUND) as client:
+        peer.drop()
+        await wait_until(lambda: client.state is ClientState.DISCONNECTED, BOUND)
+        with LoopErrors() as errors:
+            for _ in range(3):
+                with pytest.raises(FocasConnectionError):
+                    await client.read_pmc("R", 0, 200)
+            await turns()
+        assert not any("never retrieved" in m for m in errors.messages), errors.messages
 
 
 # -- bit locks -----------------------------------------------------------------------------------

@@ -1026,9 +1026,12 @@ async def _all_or_first_error(coros: Sequence[Any]) -> list[Any]:
             t.cancel()
         if unfinished:
             await asyncio.wait(unfinished)
-    for t in tasks:
-        if not t.cancelled() and t.exception() is not None:
-            raise t.exception()  # type: ignore[misc]
+        # Retrieve every failure (also when this call is being cancelled), so that none is
+        # reported as never retrieved; the first, in order, is raised.
+        failures = [t.exception() for t in tasks if not t.cancelled()]
+    first = next((e for e in failures if e is not None), None)
+    if first is not None:
+        raise first
     return [t.result() for t in tasks]
 
 
