@@ -30,6 +30,7 @@ from focas_net.client import (
     ReconnectPolicy,
 )
 from focas_net.client import connection as connection_module
+from focas_net.client._locks import KeyedLocks
 from focas_net.protocol import (
     Command,
     FocasConnectionError,
@@ -197,6 +198,48 @@ async def test_chunked_read_when_disconnected_leaves_no_unretrieved_exception(
 
 
 # -- bit locks -----------------------------------------------------------------------------------
+
+
+async def test_bit_lock_wait_keeps_its_deadline_in_the_hand_over_window() -> None:
+    """A lock just handed to a waiter that has not run yet looks free. A caller asking for it
+    in that window (here the previous holder, asking again in the same step, as a loop of bit
+    writes to one byte does) must still wait within its deadline, not until the lock is free."""
+    locks: KeyedLocks[int] = KeyedLocks()
+    loop = asyncio.get_running_loop()
+    first_in = asyncio.Event()
+    release_first = asyncio.Event()
+    second_in = asyncio.Event()
+    release_second = asyncio.Event()
+
+    async def first_then_again() -> None:
+        async with locks.hold(1, None):
+            first_in.set()
+            await release_first.wait()
+        # same step: the lock has just been handed to the second holder, which has not run
+        async with locks.hold(1, loop.time() + SHORT):
+            pass
+
+    async def second_holder() -> None:
+        async with locks.hold(1, None):
+            second_in.set()
+            await release_second.wait()
+
+    first = asyncio.create_task(first_then_again())
+    await first_in.wait()
+    second = asyncio.create_task(second_holder())
+    await turns()  # the second holder waits in the lock's line
+    release_first.set()
+    await second_in.wait()
+    done, _ = await asyncio.wait([first], timeout=BOUND)  # a safety net, not a measurement
+    try:
+        assert done, "the caller waited for the lock past its deadline"
+        with pytest.raises(FocasTimeoutError):
+            first.result()
+        assert not second.done()  # it still holds the lock
+    finally:
+        release_second.set()
+        await asyncio.gather(first, second, return_exceptions=True)
+    assert len(locks) == 0
 
 
 # -- projection ----------------------------------------------------------------------------------

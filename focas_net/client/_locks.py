@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import asyncio
+from collections import deque
 from collections.abc import AsyncIterator, Hashable
 from contextlib import asynccontextmanager
 from typing import Generic, TypeVar
@@ -15,15 +16,40 @@ K = TypeVar("K", bound=Hashable)
 
 
 class _Entry:
-    __slots__ = ("lock", "users")
+    """One key's lock: held or not, and a first-in first-out line of waiters. A release hands
+    the lock straight to the first waiter (it stays held), so a caller arriving before that
+    waiter has run still finds it held and waits in line, within its own deadline."""
+
+    __slots__ = ("held", "users", "waiters")
 
     def __init__(self) -> None:
-        self.lock = asyncio.Lock()
+        self.held = False
         self.users = 0
+        self.waiters: deque[asyncio.Future[None]] = deque()
+
+    def release(self) -> None:
+        waiters = self.waiters
+        while waiters:
+            waiter = waiters.popleft()
+            if not waiter.done():
+                waiter.set_result(None)  # handed over: still held
+                return
+        self.held = False
+
+    def leave_line(self, waiter: asyncio.Future[None]) -> None:
+        """A waiter gave up: if the lock was handed to it already, pass it on."""
+        if waiter.done() and not waiter.cancelled():
+            self.release()
+            return
+        waiter.cancel()
+        try:
+            self.waiters.remove(waiter)
+        except ValueError:
+            pass
 
 
 class KeyedLocks(Generic[K]):
-    """One :class:`asyncio.Lock` per key, alive only while someone holds or waits for it.
+    """One lock per key, alive only while someone holds or waits for it.
 
     The table therefore holds at most as many locks as there are callers inside
     :meth:`hold`; it never grows with the number of distinct keys ever used.
@@ -46,19 +72,24 @@ class KeyedLocks(Generic[K]):
             entry = entries[key] = _Entry()
         entry.users += 1
         try:
-            lock = entry.lock
-            if lock.locked():
+            if entry.held:
+                waiter: asyncio.Future[None] = asyncio.get_running_loop().create_future()
+                entry.waiters.append(waiter)
                 try:
                     async with asyncio.timeout_at(deadline):
-                        await lock.acquire()
+                        await waiter
                 except TimeoutError:
+                    entry.leave_line(waiter)
                     raise FocasTimeoutError(f"lock of {key!r} not free in time") from None
+                except BaseException:
+                    entry.leave_line(waiter)
+                    raise
             else:
-                await lock.acquire()  # free: returns without suspending
+                entry.held = True  # free: taken without suspending
             try:
                 yield
             finally:
-                lock.release()
+                entry.release()
         finally:
             entry.users -= 1
             if not entry.users:
