@@ -25,8 +25,10 @@ from test_client_mechanics import (
 )
 
 from focas_net.client import (
+    AlarmProjection,
     ClientState,
     FocasClient,
+    ProjectionMode,
     ReconnectPolicy,
 )
 from focas_net.client import connection as connection_module
@@ -243,6 +245,32 @@ async def test_bit_lock_wait_keeps_its_deadline_in_the_hand_over_window() -> Non
 
 
 # -- projection ----------------------------------------------------------------------------------
+
+
+async def test_projection_waits_a_tick_after_a_failed_first_poll(peer: ScriptedPeer) -> None:
+    """The first polls fail (client not connected): the projection waits ``interval`` before
+    trying again instead of polling in a loop (which, with calls failing without suspending,
+    froze the event loop)."""
+    async with FocasClient("127.0.0.1", peer.port, timeout=BOUND) as client:
+        peer.drop()
+        await wait_until(lambda: client.state is ClientState.DISCONNECTED, BOUND)
+        projection = AlarmProjection(client, ProjectionMode.ACTIVE, interval=3600.0)
+        original = client.read_alarms
+
+        async def bounded(**kwargs: Any) -> Any:
+            if projection.failed_polls > 50:
+                projection.stop()  # let a spinning projection end so that the test can fail
+            return await original(**kwargs)
+
+        client.read_alarms = bounded  # type: ignore[method-assign]
+        consumer = asyncio.create_task(anext(projection, None))
+        await turns(20)
+        try:
+            assert projection.failed_polls == 1
+            assert not consumer.done()
+        finally:
+            projection.stop()
+            assert await asyncio.wait_for(consumer, BOUND) is None
 
 
 # -- end of stream -------------------------------------------------------------------------------

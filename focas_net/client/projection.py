@@ -108,7 +108,7 @@ class AlarmProjection:
         self._queue: deque[AlarmEvent] = deque()
         self._stop = asyncio.Event()
         self._polled = False
-        self._next_poll = 0.0
+        self._next_poll = float("-inf")  # when the next poll is due (a failed one counts)
         #: Polls that failed and yielded nothing.
         self.failed_polls = 0
         #: Polls that completed.
@@ -153,7 +153,7 @@ class AlarmProjection:
             if queue:
                 return queue.popleft()
             delay = self._next_poll - loop.time()
-            if self._polled and delay > 0:
+            if delay > 0:
                 try:
                     async with asyncio.timeout(delay):
                         await self._stop.wait()
