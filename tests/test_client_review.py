@@ -19,8 +19,11 @@ import pytest
 from conftest import wait_until
 from test_client_mechanics import (
     BOUND,
+    RDPARAM,
     ScriptedPeer,
+    assert_idle,
     connection_of,
+    param_request,
     turns,
 )
 
@@ -33,6 +36,7 @@ from focas_net.client import (
 )
 from focas_net.client import connection as connection_module
 from focas_net.client._locks import KeyedLocks
+from focas_net.client.connection import NotSentError, open_connection
 from focas_net.protocol import (
     Command,
     FocasConnectionError,
@@ -274,3 +278,49 @@ async def test_projection_waits_a_tick_after_a_failed_first_poll(peer: ScriptedP
 
 
 # -- end of stream -------------------------------------------------------------------------------
+
+
+async def test_call_after_the_peers_end_of_stream_is_not_sent(peer: ScriptedPeer) -> None:
+    """A request made after the peer ended its stream but before the connection is reported
+    lost never reaches the peer: it fails with :class:`NotSentError` (safe to resend), not
+    with the error of a request that may have been sent."""
+    c = await open_connection("127.0.0.1", peer.port)
+    late: list[asyncio.Task[bytes]] = []
+    original = c.eof_received
+
+    def eof() -> bool | None:
+        late.append(asyncio.create_task(c.request(RDPARAM, param_request(11), None)))
+        return original()
+
+    c.eof_received = eof  # type: ignore[method-assign]
+    try:
+        side = peer.sides[0]
+        assert side.transport is not None
+        side.transport.write_eof()
+        await wait_until(lambda: bool(late), BOUND)
+        with pytest.raises(NotSentError):
+            await asyncio.wait_for(late[0], BOUND)
+    finally:
+        c.close()
+        await c.wait_closed()
+    assert c._slots_taken == 0
+    assert not peer.received
+
+
+async def test_call_after_end_of_stream_goes_out_after_the_reconnect(peer: ScriptedPeer) -> None:
+    async with FocasClient("127.0.0.1", peer.port, timeout=BOUND, reconnect=FAST) as client:
+        c = connection_of(client)
+        late: list[asyncio.Task[int]] = []
+        original = c.eof_received
+
+        def eof() -> bool | None:
+            late.append(asyncio.create_task(client.read_param(12)))
+            return original()
+
+        c.eof_received = eof  # type: ignore[method-assign]
+        side = peer.sides[0]
+        assert side.transport is not None
+        side.transport.write_eof()
+        await wait_until(lambda: bool(late), BOUND)
+        assert await asyncio.wait_for(late[0], BOUND) == 12
+        assert_idle(connection_of(client))

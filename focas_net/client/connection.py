@@ -219,6 +219,11 @@ class Connection(asyncio.Protocol):
                 logger.exception("connection-lost callback failed")
 
     def eof_received(self) -> bool | None:
+        # The peer ended its stream: the transport closes now and connection_lost follows on
+        # a later loop turn. Calls made until then must not be written into the closing
+        # transport (where they would vanish and fail as maybe sent): they fail as not sent.
+        if self._closed_exc is None:
+            self._closed_exc = FocasConnectionError(f"connection closed by {self.peer}")
         return None  # close the transport
 
     # -- requests ------------------------------------------------------------------------
@@ -513,9 +518,8 @@ class Connection(asyncio.Protocol):
         if not buf:
             return
         transport = self._transport
-        if transport is None or transport.is_closing():
-            buf.clear()
-            return
+        if transport is None or transport.is_closing() or self._closed_exc is not None:
+            return  # never sent: connection_lost fails these calls with NotSentError
         if len(buf) == 1:
             transport.write(buf[0])
         else:
