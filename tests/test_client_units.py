@@ -7,7 +7,7 @@ from decimal import Decimal
 
 import pytest
 
-from focas_net.client import ReconnectPolicy
+from focas_net.client import FocasClient, ReconnectPolicy
 from focas_net.client._locks import KeyedLocks
 from focas_net.client.client import _chunks, _merge, macro_from_wire, macro_to_wire
 from focas_net.protocol import FocasTimeoutError
@@ -111,3 +111,11 @@ async def test_keyed_lock_wait_respects_deadline_and_cancellation() -> None:
     release.set()
     await task
     assert len(locks) == 0
+
+
+def test_max_in_flight_is_bounded_within_the_request_ids() -> None:
+    with pytest.raises(ValueError, match=r"1\.\.32768"):
+        FocasClient("127.0.0.1", 1, max_in_flight=0)
+    with pytest.raises(ValueError, match=r"1\.\.32768"):
+        FocasClient("127.0.0.1", 1, max_in_flight=40_000)
+    assert FocasClient("127.0.0.1", 1, max_in_flight=32_768).max_in_flight == 32_768

@@ -65,7 +65,7 @@ from ..protocol import (
 )
 from ..protocol import Command as C
 from ._locks import KeyedLocks
-from .connection import Connection, NotSentError, open_connection
+from .connection import MAX_IN_FLIGHT, Connection, NotSentError, open_connection
 
 __all__ = [
     "ClientState",
@@ -264,8 +264,10 @@ class FocasClient:
         server_hostname: str | None = None,
         on_state_change: StateCallback | None = None,
     ) -> None:
-        if max_in_flight < 1:
-            raise ValueError(f"max_in_flight must be at least 1, got {max_in_flight}")
+        if not 1 <= max_in_flight <= MAX_IN_FLIGHT:
+            raise ValueError(
+                f"max_in_flight must be within 1..{MAX_IN_FLIGHT}, got {max_in_flight}"
+            )
         if timeout is not None and timeout <= 0:
             raise ValueError(f"timeout must be positive, got {timeout}")
         self.host = host

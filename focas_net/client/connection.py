@@ -51,6 +51,9 @@ logger = logging.getLogger(__name__)
 #: Reserved ids of abandoned requests a connection tolerates before it is recycled (a peer
 #: that stopped answering would otherwise exhaust the 16-bit id space).
 MAX_ABANDONED: Final = 16_384
+#: Most calls one connection may have waiting for an answer (``max_in_flight``): with the
+#: abandoned ids and the overshoot of a chunked batch it stays well inside the 65,536 ids.
+MAX_IN_FLIGHT: Final = 32_768
 _ID_MASK: Final = 0xFFFF
 _HEADER: Final = HEADER
 _pack_header = HEADER.pack
@@ -106,8 +109,10 @@ class Connection(asyncio.Protocol):
         on_lost: Callable[[Connection, BaseException | None], None] | None = None,
         batch_writes: bool = True,
     ) -> None:
-        if max_in_flight < 1:
-            raise ValueError(f"max_in_flight must be at least 1, got {max_in_flight}")
+        if not 1 <= max_in_flight <= MAX_IN_FLIGHT:
+            raise ValueError(
+                f"max_in_flight must be within 1..{MAX_IN_FLIGHT}, got {max_in_flight}"
+            )
         self._loop = asyncio.get_running_loop()
         self._decoder = FrameDecoder(max_frame)
         self._transport: asyncio.Transport | None = None
