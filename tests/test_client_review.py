@@ -4,8 +4,10 @@ Each test pins one path where a request id, a slot, a lock, a task or a connecti
 lost or left behind, or where the event loop could be kept busy: batches given up past the
 abandoned-id limit, a reconnect whose unlock answer does not decode, a chunked read falling
 back to one task per chunk, a projection whose first polls fail, a bit lock freed while its
-next owner has not run yet, concurrent ``connect()`` calls, and calls made between the peer's
-end of stream and the loss of the connection. Outcomes are asserted, never durations.
+next owner has not run yet, concurrent ``connect()`` calls, calls made between the peer's
+end of stream and the loss of the connection, and calls (single or chunked) answered
+``EW_PASSWD`` whose connection is lost around the unlock. Outcomes are asserted, never
+durations.
 """
 
 from __future__ import annotations
@@ -38,6 +40,8 @@ from focas_net.client import connection as connection_module
 from focas_net.client._locks import KeyedLocks
 from focas_net.client.connection import NotSentError, open_connection
 from focas_net.protocol import (
+    AccessDeniedError,
+    ChunkedWriteError,
     Command,
     FocasConnectionError,
     FocasTimeoutError,
@@ -324,3 +328,139 @@ async def test_call_after_end_of_stream_goes_out_after_the_reconnect(peer: Scrip
         await wait_until(lambda: bool(late), BOUND)
         assert await asyncio.wait_for(late[0], BOUND) == 12
         assert_idle(connection_of(client))
+
+
+# -- EW_PASSWD retried across a reconnect --------------------------------------------------------
+
+WRPMCRNG = int(Command.WRPMCRNG)
+
+
+def _lose_after_next_answer(client: FocasClient) -> None:
+    """Abort the client's connection right after it receives its next answer, before the
+    caller runs again: whatever the caller sends next on it is never sent."""
+    c = connection_of(client)
+    original = c._deliver
+
+    def deliver(frames: list[Any]) -> None:
+        original(frames)
+        c._deliver = original  # type: ignore[method-assign]
+        c.abort()
+
+    c._deliver = deliver  # type: ignore[method-assign]
+
+
+@pytest.mark.parametrize("unlock_sent", [False, True])
+async def test_ew_passwd_retry_goes_through_the_reconnect(
+    peer: ScriptedPeer, unlock_sent: bool
+) -> None:
+    """A call answered ``EW_PASSWD`` whose connection is lost before (or while) its unlock is
+    sent: with reconnect on it waits for the new connection, which the reconnect unlocks, and
+    is retried there once, instead of failing with the lost connection's error."""
+    peer.password_required = True
+    async with FocasClient(
+        "127.0.0.1", peer.port, timeout=BOUND, password="1234", reconnect=FAST
+    ) as client:
+        peer.unlocked = False  # as if the CNC had locked again
+        if unlock_sent:
+            peer.hold_commands = {UNLOCK}
+        else:
+            _lose_after_next_answer(client)
+        write = asyncio.create_task(client.write_pmc("R", 5, b"\x07\x08"))
+        if unlock_sent:
+            await wait_until(lambda: any(f.command == UNLOCK for f, _ in peer.held), BOUND)
+            peer.hold_commands = set()
+            peer.drop()  # the unlock left but is never answered
+        await asyncio.wait_for(write, BOUND)  # raises if the write failed
+        assert bytes(peer.pmc[5:7]) == b"\x07\x08"
+        assert len(peer.sides) == 2
+        writes = [f for f in peer.received if f.command == WRPMCRNG]
+        assert len(writes) == 2  # refused once, then retried once on the new connection
+        assert_idle(connection_of(client))
+
+
+async def test_ew_passwd_retry_is_tried_once_across_a_reconnect(peer: ScriptedPeer) -> None:
+    """The retry on the new connection is the only one: refused again (the reconnect's
+    unlock was refused too), the call raises ``EW_PASSWD``."""
+    peer.password_required = True
+    async with FocasClient(
+        "127.0.0.1", peer.port, timeout=BOUND, password="1234", reconnect=FAST
+    ) as client:
+        peer.unlocked = False
+        peer.password = b"9999"  # every later unlock is refused
+        _lose_after_next_answer(client)
+        with pytest.raises(AccessDeniedError):
+            await client.write_pmc("R", 5, b"\x07", timeout=BOUND)
+        assert len([f for f in peer.received if f.command == WRPMCRNG]) == 2
+        assert bytes(peer.pmc[5:6]) == b"\x00"
+
+
+async def test_ew_passwd_retry_without_reconnect_keeps_the_loss(peer: ScriptedPeer) -> None:
+    peer.password_required = True
+    async with FocasClient("127.0.0.1", peer.port, timeout=BOUND, password="1234") as client:
+        peer.unlocked = False
+        _lose_after_next_answer(client)
+        with pytest.raises(NotSentError):
+            await client.write_pmc("R", 5, b"\x07")
+        assert len([f for f in peer.received if f.command == WRPMCRNG]) == 1
+        assert peer.unlocks == 1  # only the one of the first connect
+
+
+@pytest.mark.parametrize("unlock_sent", [False, True])
+async def test_chunked_write_resends_refused_chunks_after_the_reconnect(
+    peer: ScriptedPeer, unlock_sent: bool
+) -> None:
+    """Every chunk of a chunked write is answered ``EW_PASSWD`` and the connection is lost
+    before (or while) the unlock is sent: with reconnect on the chunks go out again on the
+    new connection (unlocked by the reconnect) and the write succeeds."""
+    peer.password_required = True
+    async with FocasClient(
+        "127.0.0.1", peer.port, timeout=BOUND, max_in_flight=4, password="1234", reconnect=FAST
+    ) as client:
+        peer.unlocked = False
+        data = bytes(range(1, 129))  # four chunks
+        if unlock_sent:
+            peer.hold_commands = {UNLOCK}
+        else:
+            c = connection_of(client)
+            original = c._deliver
+            answered = 0
+
+            def deliver(frames: list[Any]) -> None:
+                nonlocal answered
+                original(frames)
+                answered += len(frames)
+                if answered >= 4:  # every chunk answered: lost before the unlock leaves
+                    c._deliver = original  # type: ignore[method-assign]
+                    c.abort()
+
+            c._deliver = deliver  # type: ignore[method-assign]
+        write = asyncio.create_task(client.write_pmc("R", 0, data))
+        if unlock_sent:
+            await wait_until(lambda: any(f.command == UNLOCK for f, _ in peer.held), BOUND)
+            peer.hold_commands = set()
+            peer.drop()
+        await asyncio.wait_for(write, BOUND)  # raises if the write failed
+        assert bytes(peer.pmc[:128]) == data
+        assert len(peer.sides) == 2
+        assert len([f for f in peer.received if f.command == WRPMCRNG]) == 8  # each twice
+        assert_idle(connection_of(client))
+
+
+async def test_chunked_write_refused_chunks_not_written_without_reconnect(
+    peer: ScriptedPeer,
+) -> None:
+    peer.password_required = True
+    async with FocasClient(
+        "127.0.0.1", peer.port, timeout=BOUND, max_in_flight=4, password="1234"
+    ) as client:
+        peer.unlocked = False
+        peer.hold_commands = {UNLOCK}
+        write = asyncio.create_task(client.write_pmc("R", 0, bytes(range(1, 129))))
+        await wait_until(lambda: any(f.command == UNLOCK for f, _ in peer.held), BOUND)
+        peer.drop()
+        with pytest.raises(ChunkedWriteError) as info:
+            await asyncio.wait_for(write, BOUND)
+        err = info.value
+        assert err.not_written == [(0, 127)] and err.written == [] and err.uncertain == []
+        assert isinstance(err.cause, FocasConnectionError)
+        assert bytes(peer.pmc[:128]) == bytes(128)

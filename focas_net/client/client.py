@@ -539,7 +539,11 @@ class FocasClient:
         retried_unlock: bool,
     ) -> Any:
         """An EW answer: unlock and try once more on EW_PASSWD (when a password is known),
-        else raise :class:`CncError`."""
+        else raise :class:`CncError`.
+
+        If the connection is lost around the unlock and a reconnect policy is set, the one
+        retry waits for the next connection instead (the reconnect sends the password first).
+        """
         password = self._password
         if (
             value.ew == EW.PASSWD
@@ -547,7 +551,11 @@ class FocasClient:
             and not retried_unlock
             and spec is not _UNLOCK
         ):
-            await self._unlock_on(conn, password, deadline)
+            try:
+                await self._unlock_on(conn, password, deadline)
+            except FocasConnectionError:
+                if self._policy is None:
+                    raise
             return await self._request_loop(spec, payload, deadline, True)
         raise CncError.from_ew(value.ew, spec.focas_name)
 
@@ -827,7 +835,8 @@ class FocasClient:
         it was sent and left unanswered (a timeout, or the connection lost after it left).
         Chunks never sent go out again on the next connection when a reconnect policy is set;
         chunks answered ``EW_PASSWD`` are sent once more after one unlock when a password is
-        known; every other chunk's outcome is final after one batch.
+        known (on the next connection, with a reconnect policy, if this one is lost around the
+        unlock); every other chunk's outcome is final after one batch.
         """
         count = len(payloads)
         errors: list[Exception | None] = [None] * count
@@ -885,13 +894,17 @@ class FocasClient:
                 try:
                     await self._unlock_on(conn, password, deadline)
                 except Exception as exc:
-                    for i in locked:
-                        errors[i] = exc  # the chunk itself was refused: not written
-                else:
-                    for i in locked:
-                        retried[i] = True
-                    again.extend(locked)
-                    again.sort()
+                    # Lost around the unlock with a reconnect policy: the chunks go out once
+                    # more on the next connection (which the reconnect unlocks), like chunks
+                    # never sent. Otherwise each chunk was refused: not written.
+                    if self._policy is None or not isinstance(exc, FocasConnectionError):
+                        for i in locked:
+                            errors[i] = exc
+                        locked = []
+                for i in locked:
+                    retried[i] = True
+                again.extend(locked)
+                again.sort()
             todo = again
         return errors, unanswered
 
