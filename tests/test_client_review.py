@@ -6,8 +6,8 @@ abandoned-id limit, a reconnect whose unlock answer does not decode, a chunked r
 back to one task per chunk, a projection whose first polls fail, a bit lock freed while its
 next owner has not run yet, concurrent ``connect()`` calls, calls made between the peer's
 end of stream and the loss of the connection, and calls (single or chunked) answered
-``EW_PASSWD`` whose connection is lost around the unlock. Outcomes are asserted, never
-durations.
+``EW_PASSWD`` whose connection is lost around the unlock, and the reconnect backoff against a
+server that closes every connection at once. Outcomes are asserted, never durations.
 """
 
 from __future__ import annotations
@@ -15,6 +15,7 @@ from __future__ import annotations
 import asyncio
 import gc
 from collections.abc import AsyncIterator
+from itertools import pairwise
 from typing import Any
 
 import pytest
@@ -464,3 +465,90 @@ async def test_chunked_write_refused_chunks_not_written_without_reconnect(
         assert err.not_written == [(0, 127)] and err.written == [] and err.uncertain == []
         assert isinstance(err.cause, FocasConnectionError)
         assert bytes(peer.pmc[:128]) == bytes(128)
+
+
+# -- reconnect backoff against a server that closes at once ---------------------------------------
+
+
+class RecordedPolicy(ReconnectPolicy):
+    """A policy that records ``("attempt", n)`` into ``events`` for every delay it is asked
+    for and waits no time at all (the sequence of ``n`` is the backoff, without a clock)."""
+
+    events: list[tuple[str, object]]
+
+    def delay(self, attempt: int) -> float:
+        self.events.append(("attempt", attempt))
+        return 0.0
+
+
+async def _record_reconnects(stable_after: float, attempts: int) -> list[tuple[str, object]]:
+    """Connect to a server whose first connection stays up until dropped and whose later ones
+    are closed as soon as they are accepted; return the reconnect attempts and state changes
+    seen until ``attempts`` attempts were made."""
+    loop = asyncio.get_running_loop()
+    accepted: list[asyncio.Transport] = []
+
+    class Closer(asyncio.Protocol):
+        def connection_made(self, transport: asyncio.BaseTransport) -> None:
+            assert isinstance(transport, asyncio.Transport)
+            accepted.append(transport)
+            if len(accepted) > 1:
+                transport.close()  # accepted, then closed at once
+
+    server = await loop.create_server(Closer, "127.0.0.1", 0)
+    port = server.sockets[0].getsockname()[1]
+    policy = RecordedPolicy(initial_delay=0.01, jitter=0.0, stable_after=stable_after)
+    events: list[tuple[str, object]] = []
+    object.__setattr__(policy, "events", events)
+    client = FocasClient(
+        "127.0.0.1",
+        port,
+        timeout=BOUND,
+        reconnect=policy,
+        on_state_change=lambda s: events.append(("state", s)),
+    )
+    try:
+        await client.connect()
+        accepted[0].abort()  # the first connection is lost: the policy starts
+        await wait_until(lambda: sum(kind == "attempt" for kind, _ in events) >= attempts, BOUND)
+    finally:
+        await client.aclose()
+        for transport in accepted:
+            transport.abort()
+        server.close()
+        await server.wait_closed()
+    return events
+
+
+async def test_backoff_goes_on_while_connections_close_at_once() -> None:
+    """Every reconnect is accepted and closed at once: the backoff is not reset by those
+    short connections, so the delays grow (up to ``max_delay``) instead of the server being
+    retried every ``initial_delay`` for ever."""
+    events = await _record_reconnects(stable_after=3600.0, attempts=6)
+    steps = [n for kind, n in events if kind == "attempt"]
+    assert steps[:6] == [0, 1, 2, 3, 4, 5]
+    assert sum(s is ClientState.CONNECTED for kind, s in events if kind == "state") >= 3
+    plain = ReconnectPolicy(initial_delay=0.01, jitter=0.0)
+    delays = [plain.delay(n) for n in steps[:6]]
+    assert all(a < b for a, b in pairwise(delays))
+
+
+async def test_backoff_resets_after_a_stable_connection() -> None:
+    """With ``stable_after=0`` every connection counts as stable: each loss of a connection
+    that was up starts the backoff again from its first step."""
+    events = await _record_reconnects(stable_after=0.0, attempts=6)
+    after_loss = [
+        events[i + 1][1]
+        for i, (kind, state) in enumerate(events[:-1])
+        if kind == "state" and state is ClientState.RECONNECTING and events[i + 1][0] == "attempt"
+    ]
+    assert len(after_loss) >= 3
+    assert set(after_loss) == {0}
+
+
+def test_stable_after_is_validated() -> None:
+    assert ReconnectPolicy().stable_after == 5.0
+    assert ReconnectPolicy(stable_after=0.0).stable_after == 0.0
+    for bad in (-1.0, float("nan")):
+        with pytest.raises(ValueError, match="stable_after"):
+            ReconnectPolicy(stable_after=bad)

@@ -129,7 +129,10 @@ class ReconnectPolicy:
 
     The delay before attempt ``n`` (0-based) is ``min(max_delay, initial_delay * factor**n)``,
     reduced by a random fraction of at most ``jitter`` so that many clients of one server do
-    not reconnect in lock step. ``max_attempts=None`` retries for ever.
+    not reconnect in lock step. ``n`` goes back to 0 only once a connection has stayed up
+    ``stable_after`` seconds: after a connection lost sooner (a server that accepts and closes
+    at once) the backoff goes on where it was. ``max_attempts`` bounds the attempts made after
+    one loss; ``None`` retries for ever.
     """
 
     initial_delay: float = 0.1
@@ -137,6 +140,7 @@ class ReconnectPolicy:
     factor: float = 2.0
     jitter: float = 0.25
     max_attempts: int | None = None
+    stable_after: float = 5.0
 
     def __post_init__(self) -> None:
         if self.initial_delay < 0 or self.max_delay < 0:
@@ -147,6 +151,8 @@ class ReconnectPolicy:
             raise ValueError(f"jitter must be within 0..1, got {self.jitter}")
         if self.max_attempts is not None and self.max_attempts < 1:
             raise ValueError("max_attempts must be at least 1 (or None)")
+        if not self.stable_after >= 0:  # also refuses NaN
+            raise ValueError(f"stable_after must not be negative, got {self.stable_after}")
 
     def delay(self, attempt: int) -> float:
         """Seconds to wait before attempt ``attempt`` (0-based)."""
@@ -292,6 +298,10 @@ class FocasClient:
         self._loop: asyncio.AbstractEventLoop | None = None
         self._ready: asyncio.Event | None = None
         self._reconnect_task: asyncio.Task[None] | None = None
+        # Backoff step of the next reconnect attempt (reset by a connection that stayed up
+        # ``stable_after`` seconds) and when the current connection was installed.
+        self._backoff = 0
+        self._up_since = 0.0
         self._param_widths: dict[int, int] = {}
         self._pmc_locks: KeyedLocks[tuple[int, int]] = KeyedLocks()
         self._param_locks: KeyedLocks[tuple[int, int]] = KeyedLocks()
@@ -425,6 +435,7 @@ class FocasClient:
         if task is not None and not task.done() and task is not asyncio.current_task():
             task.cancel()  # connect() succeeded while the policy was reconnecting
         self._conn = conn
+        self._up_since = (self._loop or asyncio.get_running_loop()).time()
         self._set_state(ClientState.CONNECTED)
         if self._ready is not None:
             self._ready.set()
@@ -441,6 +452,8 @@ class FocasClient:
             return
         logger.warning("connection to %s:%s lost (%s); reconnecting", *self._addr, exc or "closed")
         assert self._ready is not None and self._loop is not None
+        if self._loop.time() - self._up_since >= self._policy.stable_after:
+            self._backoff = 0  # a stable connection: the backoff starts again from the start
         self._ready.clear()
         self._set_state(ClientState.RECONNECTING)
         if self._reconnect_task is None or self._reconnect_task.done():
@@ -452,7 +465,8 @@ class FocasClient:
         attempt = 0
         try:
             while policy.max_attempts is None or attempt < policy.max_attempts:
-                await asyncio.sleep(policy.delay(attempt))
+                await asyncio.sleep(policy.delay(self._backoff))
+                self._backoff += 1
                 attempt += 1
                 try:
                     conn = await self._open(self._deadline(None), strict=False)
