@@ -470,18 +470,21 @@ async def test_chunked_write_refused_chunks_not_written_without_reconnect(
 # -- reconnect backoff against a server that closes at once ---------------------------------------
 
 
+Event = tuple[str, int | ClientState]  # ("attempt", backoff step) or ("state", new state)
+
+
 class RecordedPolicy(ReconnectPolicy):
     """A policy that records ``("attempt", n)`` into ``events`` for every delay it is asked
     for and waits no time at all (the sequence of ``n`` is the backoff, without a clock)."""
 
-    events: list[tuple[str, object]]
+    events: list[Event]
 
     def delay(self, attempt: int) -> float:
         self.events.append(("attempt", attempt))
         return 0.0
 
 
-async def _record_reconnects(stable_after: float, attempts: int) -> list[tuple[str, object]]:
+async def _record_reconnects(stable_after: float, attempts: int) -> list[Event]:
     """Connect to a server whose first connection stays up until dropped and whose later ones
     are closed as soon as they are accepted; return the reconnect attempts and state changes
     seen until ``attempts`` attempts were made."""
@@ -498,7 +501,7 @@ async def _record_reconnects(stable_after: float, attempts: int) -> list[tuple[s
     server = await loop.create_server(Closer, "127.0.0.1", 0)
     port = server.sockets[0].getsockname()[1]
     policy = RecordedPolicy(initial_delay=0.01, jitter=0.0, stable_after=stable_after)
-    events: list[tuple[str, object]] = []
+    events: list[Event] = []
     object.__setattr__(policy, "events", events)
     client = FocasClient(
         "127.0.0.1",
@@ -525,7 +528,7 @@ async def test_backoff_goes_on_while_connections_close_at_once() -> None:
     short connections, so the delays grow (up to ``max_delay``) instead of the server being
     retried every ``initial_delay`` for ever."""
     events = await _record_reconnects(stable_after=3600.0, attempts=6)
-    steps = [n for kind, n in events if kind == "attempt"]
+    steps = [n for _, n in events if isinstance(n, int)]
     assert steps[:6] == [0, 1, 2, 3, 4, 5]
     assert sum(s is ClientState.CONNECTED for kind, s in events if kind == "state") >= 3
     plain = ReconnectPolicy(initial_delay=0.01, jitter=0.0)
