@@ -49,6 +49,11 @@ RDPMCRNG = int(Command.RDPMCRNG)
 WRPMCRNG = int(Command.WRPMCRNG)
 
 
+def _is(frame: Frame) -> Callable[[Frame], bool]:
+    """A predicate matching exactly ``frame``."""
+    return lambda f: f is frame
+
+
 def _answer(frame: Frame, peer: ScriptedPeer) -> bytes:
     """What a tiny CNC answers: a parameter reads back its own number; PMC is a bytearray."""
     spec = COMMANDS[frame.command]
@@ -288,7 +293,7 @@ async def test_short_timeout_behind_long_ones_times_out_first(
     assert not long_a.done() and not long_b.done() and not no_deadline.done()
     assert conn.abandoned == 1 and conn.in_flight == 3
     peer.release()  # every answer, the late one to the short call included
-    assert await asyncio.gather(long_a, no_deadline, long_b) == [1, 2, 4]
+    assert list(await asyncio.gather(long_a, no_deadline, long_b)) == [1, 2, 4]
     assert_idle(conn)
 
 
@@ -388,7 +393,8 @@ async def test_waiters_get_slots_in_fifo_order(peer: ScriptedPeer, conn: Connect
     # answer one request at a time: each answer lets exactly the next waiter in
     for expected in range(10, 20):
         oldest = peer.held[0][0]
-        peer.release(lambda f, oldest=oldest: f is oldest)
+
+        peer.release(_is(oldest))
         await peer.wait_received(4 + expected - 9)
         await turns()
         assert param_number(peer.received[-1]) == expected
@@ -504,7 +510,7 @@ async def test_slot_storm_with_random_cancellations(peer: ScriptedPeer, conn: Co
             tasks[i].cancel()
             cancelled.add(i)
         elif peer.held:
-            peer.release(lambda f, first=peer.held[0][0]: f is first)
+            peer.release(_is(peer.held[0][0]))
         await turns(rng.choice([0, 1, 3]))
         if not peer.held and not all(t.done() for t in tasks):
             await wait_until(lambda: bool(peer.held) or all(t.done() for t in tasks), within=BOUND)

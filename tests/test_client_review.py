@@ -152,7 +152,7 @@ async def test_a_dead_reconnect_task_never_makes_calls_spin(peer: ScriptedPeer) 
                 raise AssertionError("waiting call spins on a set event")
             return await original()
 
-        client._ready.wait = counted  # type: ignore[method-assign]
+        client._ready.wait = counted  # type: ignore[method-assign, assignment]
         with pytest.raises(FocasConnectionError):
             await client.read_param(1, timeout=SHORT)
         assert spins <= 1
