@@ -43,6 +43,13 @@ from focas_net.protocol import (
     encode_frame,
     encode_response,
 )
+from focas_net.protocol.codecs import (
+    ActualValue,
+    AxisPosition,
+    PositionData,
+    PositionRequest,
+    ProgramNumbers,
+)
 from focas_net.protocol.frame import Frame
 
 # The IC200MDD844 record of PROTOCOL.md section 5 (76 bytes, without the 6-byte datagram header).
@@ -336,6 +343,53 @@ GOLDEN: list[Golden] = [
     ),
     Golden("inject-ok", Command.SIM_INJECT_FAULT, RSP, "0000", None),
     Golden("inject-data", Command.SIM_INJECT_FAULT, RSP, "0500", EwReply(5)),
+    # -- 0x0007 cnc_rdprgnum -----------------------------------------------------------------------
+    Golden("rdprgnum", Command.RDPRGNUM, REQ, "", None),
+    Golden(
+        "rdprgnum-o1234-main-o1000",
+        Command.RDPRGNUM,
+        RSP,
+        "0000 d2040000 e8030000",  # ew, running 1234, main 1000
+        ProgramNumbers(1234, 1000),
+    ),
+    Golden(
+        "rdprgnum-8-digits",
+        Command.RDPRGNUM,
+        RSP,
+        "0000 ffe0f505 00000000",  # running 99999999, main 0 (none)
+        ProgramNumbers(99_999_999, 0),
+    ),
+    Golden("rdprgnum-busy", Command.RDPRGNUM, RSP, "ffff", EwReply(-1)),
+    # -- 0x0008 cnc_actf
+    Golden("actf", Command.ACTF, REQ, "", None),
+    Golden("actf-1500", Command.ACTF, RSP, "0000 dc050000", ActualValue(1500)),
+    Golden("actf-func", Command.ACTF, RSP, "0100", EwReply(1)),
+    # -- 0x0009 cnc_acts
+    Golden("acts", Command.ACTS, REQ, "", None),
+    Golden("acts-3000", Command.ACTS, RSP, "0000 b80b0000", ActualValue(3000)),
+    Golden("acts-0", Command.ACTS, RSP, "0000 00000000", ActualValue(0)),
+    Golden("acts-busy", Command.ACTS, RSP, "ffff", EwReply(-1)),
+    # -- 0x000A cnc_rdposition
+    Golden("rdposition-abs-all", Command.RDPOSITION, REQ, "0000 ffff", PositionRequest(0, -1)),
+    Golden("rdposition-dist-2", Command.RDPOSITION, REQ, "0300 0200", PositionRequest(3, 2)),
+    Golden(
+        "rdposition-all",
+        Command.RDPOSITION,
+        RSP,
+        # ew, dec 3, count 3; X 12345, Y -2, Z 100000 (names NUL-padded to 4)
+        "0000 0300 0300 39300000 58000000 feffffff 59000000 a0860100 5a000000",
+        PositionData(
+            3, (AxisPosition("X", 12345), AxisPosition("Y", -2), AxisPosition("Z", 100_000))
+        ),
+    ),
+    Golden(
+        "rdposition-one-4-char-name",
+        Command.RDPOSITION,
+        RSP,
+        "0000 0300 0100 2efbffff 42324158",  # dec 3, count 1, "B2AX" -1234
+        PositionData(3, (AxisPosition("B2AX", -1234),)),
+    ),
+    Golden("rdposition-attrib", Command.RDPOSITION, RSP, "0400", EwReply(4)),
     # -- 0x0F1A cnc_rdalmhistry -------------------------------------------------------------------
     Golden("rdalmhistry-250", Command.RDALMHISTRY, REQ, "fa00", AlarmHistoryRequest(250)),
     Golden("rdalmhistry-1", Command.RDALMHISTRY, REQ, "0100", AlarmHistoryRequest(1)),
@@ -410,6 +464,10 @@ def test_the_command_table_covers_every_command_id() -> None:
         0x0004,
         0x0005,
         0x0006,
+        0x0007,
+        0x0008,
+        0x0009,
+        0x000A,
         0x0010,
         0x0102,
         0x0103,
@@ -436,6 +494,10 @@ ERROR_PAYLOADS = [
     (Command.RDDIAG, 4, "0400"),
     (Command.SYSINFO, 1, "0100"),
     (Command.RDALMMSG, 2, "ffff 0200"),
+    (Command.RDPRGNUM, 2, "0200"),
+    (Command.ACTF, 1, "0100"),
+    (Command.ACTS, -1, "ffff"),
+    (Command.RDPOSITION, 4, "0400"),
     (Command.RDPMCRNG, 6, "0600"),
     (Command.WRPARAM, 17, "1100"),
     (Command.WRMACRO, 5, "0500"),

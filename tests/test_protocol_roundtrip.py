@@ -45,6 +45,14 @@ from focas_net.protocol import (
     VersaMaxRequest,
     encode_frame,
 )
+from focas_net.protocol.codecs import (
+    ActualValue,
+    AxisPosition,
+    PositionData,
+    PositionKind,
+    PositionRequest,
+    ProgramNumbers,
+)
 
 u8 = st.integers(0, 0xFF)
 i8 = st.integers(-0x80, 0x7F)
@@ -79,6 +87,14 @@ raise_alarms = st.builds(RaiseAlarm, i16, i16, i16, st.binary(max_size=48))
 versamax_requests = st.builds(VersaMaxRequest, u8, u16, u8, u16)
 versamax_replies = st.builds(VersaMaxReply, u8, u8, u16, st.binary(max_size=140))
 
+program_numbers = st.builds(ProgramNumbers, i32, i32)
+actual_values = st.builds(ActualValue, i32)
+position_requests = st.builds(PositionRequest, i16, i16)
+axis_names = st.text(st.characters(min_codepoint=1, max_codepoint=0xFF), max_size=4)
+position_data = st.builds(
+    PositionData, i16, st.lists(st.builds(AxisPosition, axis_names, i32), max_size=32).map(tuple)
+)
+
 active_alarms = st.builds(ActiveAlarm, i16, i16, i16, st.text(latin1, max_size=40))
 active_lists = st.one_of(
     st.builds(ActiveAlarmList, st.lists(active_alarms, max_size=8).map(tuple), st.just(0)),
@@ -112,6 +128,10 @@ REQUESTS: dict[Command, st.SearchStrategy[Any]] = {
     Command.RDDIAG: data_requests,
     Command.SYSINFO: st.none(),
     Command.RDALMMSG: st.builds(AlarmMsgRequest, i16, i16),
+    Command.RDPRGNUM: st.none(),
+    Command.ACTF: st.none(),
+    Command.ACTS: st.none(),
+    Command.RDPOSITION: position_requests,
     Command.RDPMCRNG: pmc_ranges,
     Command.WRPARAM: param_values,
     Command.WRMACRO: macro_values,
@@ -133,6 +153,10 @@ RESPONSES: dict[Command, st.SearchStrategy[Any]] = {
     Command.RDDIAG: ew_or(param_values),
     Command.SYSINFO: ew_or(sysinfos),
     Command.RDALMMSG: active_lists,
+    Command.RDPRGNUM: ew_or(program_numbers),
+    Command.ACTF: ew_or(actual_values),
+    Command.ACTS: ew_or(actual_values),
+    Command.RDPOSITION: ew_or(position_data),
     Command.RDPMCRNG: ew_or(pmc_data),
     Command.WRPARAM: OK_ONLY,
     Command.WRMACRO: OK_ONLY,
@@ -221,6 +245,10 @@ PAYLOAD_CLASSES: dict[type[Any], st.SearchStrategy[Any]] = {
     ActiveAlarmList: active_lists,
     AlarmHistory: histories,
     IOModuleRecord: st.one_of(module_records(), built_records()),
+    ProgramNumbers: program_numbers,
+    ActualValue: actual_values,
+    PositionRequest: position_requests,
+    PositionData: position_data,
 }
 
 NUMBERS = sorted(COMMANDS)
@@ -287,7 +315,18 @@ def test_payload_class_round_trip(cls: type[Any], data: st.DataObject) -> None:
 
 @pytest.mark.parametrize(
     "cls",
-    [StatusInfo, DataRequest, MacroRequest, MacroValue, SysInfo, AlarmMsgRequest, PmcRange],
+    [
+        StatusInfo,
+        DataRequest,
+        MacroRequest,
+        MacroValue,
+        SysInfo,
+        AlarmMsgRequest,
+        PmcRange,
+        ProgramNumbers,
+        ActualValue,
+        PositionRequest,
+    ],
     ids=lambda c: c.__name__,
 )
 def test_fixed_payload_codec_is_the_class(cls: type[Any]) -> None:
@@ -316,6 +355,22 @@ OUT_OF_RANGE = [
     pytest.param(lambda: VersaMaxReply(0, 3, 0, bytes(65530)).encode(), id="vm-reply-too-long"),
     pytest.param(
         lambda: ActiveAlarmList((ActiveAlarm(0, 0, 40000, ""),)).encode(), id="active-alarm"
+    ),
+    pytest.param(lambda: ProgramNumbers(2**31, 0).encode(), id="program-numbers"),
+    pytest.param(lambda: ActualValue(-(2**31) - 1).encode(), id="actual-value"),
+    pytest.param(lambda: PositionRequest(0, 40000).encode(), id="position-request"),
+    pytest.param(lambda: PositionData(40000, ()).encode(), id="position-dec"),
+    pytest.param(
+        lambda: PositionData(3, (AxisPosition("X", 2**31),)).encode(), id="position-value"
+    ),
+    pytest.param(
+        lambda: PositionData(3, (AxisPosition("XAXIS", 0),)).encode(), id="position-long-name"
+    ),
+    pytest.param(
+        lambda: PositionData(3, (AxisPosition("X\x00", 0),)).encode(), id="position-nul-name"
+    ),
+    pytest.param(
+        lambda: PositionData(3, (AxisPosition("\u0394", 0),)).encode(), id="position-non-latin1"
     ),
     pytest.param(
         lambda: AlarmHistory(
@@ -413,3 +468,26 @@ def test_encode_errors_name_the_field_and_its_range() -> None:
         MacroValue(1, 8, 2**31, 0).encode()
     with pytest.raises(ValueError, match=r"SetPanel\.mode = 70000 does not fit \(-32768..32767\)"):
         SetPanel(70000, 0, 0).encode()
+
+
+@pytest.mark.parametrize(
+    ("given", "kind"),
+    [
+        ("absolute", PositionKind.ABSOLUTE),
+        (" Machine ", PositionKind.MACHINE),
+        ("RELATIVE", PositionKind.RELATIVE),
+        ("distance", PositionKind.DISTANCE),
+        ("distance-to-go", PositionKind.DISTANCE),
+        ("distance_to_go", PositionKind.DISTANCE),
+        (3, PositionKind.DISTANCE),
+        (PositionKind.MACHINE, PositionKind.MACHINE),
+    ],
+)
+def test_position_kind_parse(given: str | int | PositionKind, kind: PositionKind) -> None:
+    assert PositionKind.parse(given) is kind
+
+
+@pytest.mark.parametrize("given", ["skip", "", 4, -1])
+def test_position_kind_parse_rejects(given: str | int) -> None:
+    with pytest.raises(ValueError):
+        PositionKind.parse(given)

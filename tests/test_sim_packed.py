@@ -37,8 +37,16 @@ from focas_net.protocol import (
     VersaMaxReply,
     VersaMaxRequest,
 )
+from focas_net.protocol.codecs import (
+    ActualValue,
+    AxisPosition,
+    PositionData,
+    PositionRequest,
+    ProgramNumbers,
+)
 from focas_net.sim import Machine, Session, default_machine, handle, handled_commands
 from focas_net.sim.default import mdd844_record
+from focas_net.sim.machine import MachineError, MotionData
 
 MANUAL_REPLY = bytes.fromhex(
     "00 52 00 03 00 00 80 08 80 80 44 38 34 34 32 00"
@@ -793,7 +801,7 @@ def test_read_only_machine_still_reads(clock: FakeClock) -> None:
     assert raw(m, s, Command.WRPARAM, b"\x00" * 7) == b"\x02\x00"  # size before protection
 
 
-@pytest.mark.parametrize("command", [0x0000, 0x0007, 0x0101, 0x0E00, 0x0E05, 0x0E06, 0xFFFF])
+@pytest.mark.parametrize("command", [0x0000, 0x000B, 0x0101, 0x0E00, 0x0E05, 0x0E06, 0xFFFF])
 def test_unknown_command(m: Machine, s: Session, command: int) -> None:
     assert handle(m, s, command, b"") == b"\x01\x00"
     assert handle(m, s, command, b"\x00" * 10) == b"\x01\x00"
@@ -934,3 +942,132 @@ def test_write_sequences_are_all_or_nothing(requests: list[tuple[int, bytes]]) -
     # the status always matches the panel and the alarms
     st_ = call(m, s, Command.RDCNCSTAT)
     assert st_.aut == m.panel.mode and st_.alarm == (1 if alarms(m, s).entries else 0)
+
+
+# -- motion figures (0x0007..0x000A) ------------------------------------------------------------
+
+
+def test_program_numbers_feed_and_spindle_of_the_default_machine(m: Machine, s: Session) -> None:
+    assert call(m, s, Command.RDPRGNUM) == ProgramNumbers(1, 1)
+    assert call(m, s, Command.ACTF) == ActualValue(0)
+    assert call(m, s, Command.ACTS) == ActualValue(0)
+
+
+def test_set_motion_feeds_the_reads(m: Machine, s: Session) -> None:
+    m.set_motion(feed=1500, spindle_speed=3000, program_running=1234, program_main=1000)
+    assert raw(m, s, Command.RDPRGNUM, b"") == bytes.fromhex("0000 d2040000 e8030000")
+    assert raw(m, s, Command.ACTF, b"") == bytes.fromhex("0000 dc050000")
+    assert raw(m, s, Command.ACTS, b"") == bytes.fromhex("0000 b80b0000")
+    m.set_motion(feed=0)  # only what is given changes
+    assert call(m, s, Command.ACTF) == ActualValue(0)
+    assert call(m, s, Command.ACTS) == ActualValue(3000)
+
+
+@pytest.mark.parametrize("command", [Command.RDPRGNUM, Command.ACTF, Command.ACTS])
+def test_motion_reads_reject_a_payload(m: Machine, s: Session, command: Command) -> None:
+    assert raw(m, s, command, b"\x00") == b"\x02\x00"
+    assert raw(m, s, command, b"\x00\x00\x00\x00") == b"\x02\x00"
+
+
+@pytest.mark.parametrize(
+    ("kind", "field"),
+    [(0, "absolute"), (1, "machine"), (2, "relative"), (3, "distance_to_go")],
+)
+def test_positions_of_every_kind(m: Machine, s: Session, kind: int, field: str) -> None:
+    values = {
+        "absolute": [12345, -2, 100_000],
+        "machine": [1, 2, 3],
+        "relative": [-7, 0, 7],
+        "distance_to_go": [0, 50, -50],
+    }
+    m.set_motion(**values)  # type: ignore[arg-type]
+    want = values[field]
+    answer = call(m, s, Command.RDPOSITION, PositionRequest(kind, -1))
+    assert answer == PositionData(
+        3, tuple(AxisPosition(n, v) for n, v in zip("XYZ", want, strict=True))
+    )
+    for axis in (1, 2, 3):
+        one = call(m, s, Command.RDPOSITION, PositionRequest(kind, axis))
+        assert one == PositionData(3, (AxisPosition("XYZ"[axis - 1], want[axis - 1]),))
+
+
+def test_position_answer_bytes(m: Machine, s: Session) -> None:
+    m.set_motion(absolute=[12345, -2, 100_000])
+    assert raw(m, s, Command.RDPOSITION, PositionRequest(0, -1)) == bytes.fromhex(
+        "0000 0300 0300 39300000 58000000 feffffff 59000000 a0860100 5a000000"
+    )
+    assert raw(m, s, Command.RDPOSITION, PositionRequest(0, 2)) == bytes.fromhex(
+        "0000 0300 0100 feffffff 59000000"
+    )
+
+
+def test_positions_carry_long_axis_names() -> None:
+    m = Machine("long", axes=("X1", "B2AX"))
+    s = m.new_session()
+    m.set_motion(machine=[5, -5])
+    answer = call(m, s, Command.RDPOSITION, PositionRequest(1, -1))
+    assert answer == PositionData(3, (AxisPosition("X1", 5), AxisPosition("B2AX", -5)))
+
+
+@pytest.mark.parametrize(
+    ("payload", "code"),
+    [
+        (b"", EW.LENGTH),
+        (b"\x00\x00", EW.LENGTH),
+        (b"\x00\x00\xff\xff\x00", EW.LENGTH),
+        (b"\x04\x00\x00\x00\x00\x00", EW.LENGTH),  # size first: type 4 never looked at
+        (PositionRequest(4, -1).encode(), EW.ATTRIB),
+        (PositionRequest(-1, 1).encode(), EW.ATTRIB),
+        (PositionRequest(4, 0).encode(), EW.ATTRIB),  # bad type and bad axis: EW_ATTRIB
+        (PositionRequest(0, 0).encode(), EW.ATTRIB),
+        (PositionRequest(0, -2).encode(), EW.ATTRIB),
+        (PositionRequest(3, 4).encode(), EW.ATTRIB),
+        (PositionRequest(0, 32767).encode(), EW.ATTRIB),
+    ],
+)
+def test_position_read_errors(m: Machine, s: Session, payload: bytes, code: EW) -> None:
+    assert raw(m, s, Command.RDPOSITION, payload) == struct.pack("<h", code)
+
+
+def test_position_reads_work_on_a_read_only_machine_without_control(clock: FakeClock) -> None:
+    m = default_machine(clock=clock, read_only=True, control_enabled=False)
+    s = m.new_session()
+    m.set_motion(relative=[1, 2, 3], feed=10)
+    assert call(m, s, Command.RDPOSITION, PositionRequest(2, 3)) == PositionData(
+        3, (AxisPosition("Z", 3),)
+    )
+    assert call(m, s, Command.ACTF) == ActualValue(10)
+
+
+@pytest.mark.parametrize(
+    "kwargs",
+    [
+        {"absolute": [1, 2]},
+        {"machine": [1, 2, 3, 4]},
+        {"relative": [0, 0, 2**31]},
+        {"distance_to_go": [0, 0, 1.5]},
+        {"feed": -1},
+        {"spindle_speed": 2**31},
+        {"program_running": 1, "program_main": -5},
+        {"absolute": [9, 9, 9], "sequence": True},
+    ],
+)
+def test_set_motion_is_all_or_nothing(m: Machine, kwargs: dict[str, Any]) -> None:
+    before = m.state_digest()
+    with pytest.raises(MachineError) as info:
+        m.set_motion(**kwargs)
+    assert info.value.ew == EW.DATA
+    assert m.state_digest() == before
+
+
+def test_set_motion_changes_the_state_digest(m: Machine) -> None:
+    before, version = m.state_digest(), m.version
+    m.set_motion(sequence=10)
+    assert m.state_digest() != before
+    assert m.version == version + 1
+    assert m.motion.sequence == 10
+
+
+def test_machine_rejects_motion_for_other_axes() -> None:
+    with pytest.raises(ValueError, match="2 values for 3 axes"):
+        Machine("m", motion=MotionData([0, 0], [0, 0, 0], [0, 0, 0], [0, 0, 0]))

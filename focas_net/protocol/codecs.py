@@ -27,8 +27,10 @@ __all__ = [
     "EW_OK_BYTES",
     "MAX_PMC_CHUNK",
     "PMC_AREA_CODES",
+    "ActualValue",
     "AlarmHistoryRequest",
     "AlarmMsgRequest",
+    "AxisPosition",
     "ClearAlarms",
     "CommandSpec",
     "DataRequest",
@@ -41,6 +43,10 @@ __all__ = [
     "PmcArea",
     "PmcData",
     "PmcRange",
+    "PositionData",
+    "PositionKind",
+    "PositionRequest",
+    "ProgramNumbers",
     "RaiseAlarm",
     "SetPanel",
     "StatusInfo",
@@ -232,6 +238,57 @@ class InjectFault(FixedPayload):
     arg: int
 
 
+@dataclass(frozen=True, slots=True)
+class ProgramNumbers(FixedPayload):
+    """Answer of ``cnc_rdprgnum``: ``i32 running, i32 main`` (O numbers; 0 = none)."""
+
+    FORMAT: ClassVar[str] = "<ii"
+    running: int
+    main: int
+
+
+@dataclass(frozen=True, slots=True)
+class ActualValue(FixedPayload):
+    """Answer of ``cnc_actf`` (feed rate) and ``cnc_acts`` (spindle speed): ``i32 data``."""
+
+    FORMAT: ClassVar[str] = "<i"
+    data: int
+
+
+class PositionKind(enum.IntEnum):
+    """``type`` of ``cnc_rdposition``: which position is read."""
+
+    ABSOLUTE = 0
+    MACHINE = 1
+    RELATIVE = 2
+    DISTANCE = 3  # distance to go
+
+    @classmethod
+    def parse(cls, kind: str | int | PositionKind) -> PositionKind:
+        """``"absolute"``, ``"machine"``, ``"relative"``, ``"distance"`` (or
+        ``"distance_to_go"``), a ``PositionKind`` or 0..3; ValueError otherwise."""
+        if isinstance(kind, PositionKind):
+            return kind
+        if isinstance(kind, str):
+            key = kind.strip().upper().replace("-", "_")
+            if key == "DISTANCE_TO_GO":
+                key = "DISTANCE"
+            try:
+                return cls[key]
+            except KeyError:
+                raise ValueError(f"unknown position kind {kind!r}") from None
+        return cls(kind)
+
+
+@dataclass(frozen=True, slots=True)
+class PositionRequest(FixedPayload):
+    """Request of ``cnc_rdposition``: ``i16 type`` (0..3), ``i16 axis`` (-1 all, 1..n)."""
+
+    FORMAT: ClassVar[str] = "<hh"
+    type: int
+    axis: int
+
+
 # -- variable-layout payloads --------------------------------------------------------------
 
 _PARAM_HEAD: Final = struct.Struct("<hh")
@@ -346,6 +403,54 @@ class RaiseAlarm:
         if msg_len != len(data) - 8:
             raise PayloadError(f"raise_alarm msg_len {msg_len}, {len(data) - 8} bytes sent")
         return cls(axis_no, alm_type, alm_no, data[8:])
+
+
+_POS_HEAD: Final = struct.Struct("<hh")  # dec, count
+_POS_ENTRY: Final = struct.Struct("<i4s")  # value, name
+_POS_ENTRY_SIZE: Final = _POS_ENTRY.size
+
+
+@dataclass(frozen=True, slots=True)
+class AxisPosition:
+    """One entry of a ``cnc_rdposition`` answer: the axis name (1..4 ASCII characters on a
+    simulated machine; NUL-padded to 4 on the wire) and the value in least input increments."""
+
+    name: str
+    value: int
+
+
+@dataclass(frozen=True, slots=True)
+class PositionData:
+    """Answer of ``cnc_rdposition`` after ``ew``: ``i16 dec, i16 count``, then ``count``
+    entries of ``i32 value, char name[4]``. Value = ``value / 10**dec``."""
+
+    dec: int
+    axes: tuple[AxisPosition, ...]
+
+    def encode(self) -> bytes:
+        try:
+            parts = [_POS_HEAD.pack(self.dec, len(self.axes))]
+            for a in self.axes:
+                raw = a.name.encode("latin-1")
+                if len(raw) > 4 or b"\x00" in raw:
+                    raise ValueError(f"axis name {a.name!r}: 0..4 characters, no NUL")
+                parts.append(_POS_ENTRY.pack(a.value, raw))
+        except (struct.error, UnicodeEncodeError) as exc:
+            raise ValueError(f"PositionData: {exc}") from None
+        return b"".join(parts)
+
+    @classmethod
+    def decode(cls, data: bytes) -> Self:
+        if len(data) < 4:
+            raise PayloadError(f"position answer of {len(data)} bytes has no dec and count")
+        dec, count = _POS_HEAD.unpack_from(data, 0)
+        if count < 0 or len(data) != 4 + count * _POS_ENTRY_SIZE:
+            raise PayloadError(f"position answer of {len(data)} bytes for count {count}")
+        axes = tuple(
+            AxisPosition(name.rstrip(b"\x00").decode("latin-1"), value)
+            for value, name in _POS_ENTRY.iter_unpack(data[4:])
+        )
+        return cls(dec, axes)
 
 
 # -- PMC areas -------------------------------------------------------------------------------
@@ -464,6 +569,7 @@ _STATUS: Final = StatusInfo.codec()
 _PARAM: Final = Codec("ParamValue", ParamValue.encode, ParamValue.decode)
 _PMC_DATA: Final = Codec("PmcData", PmcData.encode, PmcData.decode)
 _OK_ONLY: Final = _ew_response(EMPTY)
+_ACTUAL: Final = ActualValue.codec()
 #: Entries of the decoded-answer memo of each read command (see :func:`_ew_response`).
 _MEMO: Final = 256
 
@@ -487,6 +593,15 @@ COMMANDS: Final[dict[int, CommandSpec]] = {
             AlarmMsgRequest.codec(),
             _counted(ActiveAlarmList),
             counted=True,
+        ),
+        _spec(Command.RDPRGNUM, "cnc_rdprgnum", EMPTY, _ew_response(ProgramNumbers.codec(), _MEMO)),
+        _spec(Command.ACTF, "cnc_actf", EMPTY, _ew_response(_ACTUAL, _MEMO)),
+        _spec(Command.ACTS, "cnc_acts", EMPTY, _ew_response(_ACTUAL, _MEMO)),
+        _spec(
+            Command.RDPOSITION,
+            "cnc_rdposition",
+            PositionRequest.codec(),
+            _ew_response(Codec("PositionData", PositionData.encode, PositionData.decode), _MEMO),
         ),
         _spec(Command.RDPMCRNG, "pmc_rdpmcrng", PmcRange.codec(), _ew_response(_PMC_DATA, _MEMO)),
         _spec(Command.WRPARAM, "cnc_wrparam", _PARAM, _OK_ONLY),

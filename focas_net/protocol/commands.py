@@ -16,6 +16,10 @@ class Command(enum.IntEnum):
     RDDIAG = 0x0004  # cnc_rddiag [cnc_diagnoss]
     SYSINFO = 0x0005  # cnc_sysinfo: ODBSYS
     RDALMMSG = 0x0006  # cnc_rdalmmsg: active alarms
+    RDPRGNUM = 0x0007  # cnc_rdprgnum: running and main program numbers
+    ACTF = 0x0008  # cnc_actf: actual feed rate
+    ACTS = 0x0009  # cnc_acts: actual spindle speed
+    RDPOSITION = 0x000A  # cnc_rdposition: positions in least input increments
     RDPMCRNG = 0x0010  # pmc_rdpmcrng: IODBPMC
     WRPARAM = 0x0102  # cnc_wrparam: IODBPSD
     WRMACRO = 0x0103  # cnc_wrmacro: ODBM

@@ -61,6 +61,7 @@ __all__ = [
     "DEFAULT_HISTORY_CAPACITY",
     "MDI",
     "MEM",
+    "POSITION_DECIMALS",
     "Clock",
     "DataItem",
     "Machine",
@@ -99,6 +100,13 @@ _WIDTH_RANGES: Final[dict[int, tuple[int, int]]] = {
     2: (-0x8000, 0x7FFF),
     4: (-0x8000_0000, 0x7FFF_FFFF),
 }
+#: Decimals of the least input increment of the positions (0.001 mm, IS-B).
+POSITION_DECIMALS: Final = 3
+#: ``cnc_rdposition`` types: 0 absolute, 1 machine, 2 relative, 3 distance to go.
+_POSITION_FIELDS: Final = ("absolute", "machine", "relative", "distance_to_go")
+_MOTION_SCALARS: Final = ("feed", "spindle_speed", "program_running", "program_main", "sequence")
+_I32_MIN: Final = -0x8000_0000
+_I32_MAX: Final = 0x7FFF_FFFF
 _MACRO_LENGTH: Final = 8
 _VACANT: Final = (0, -1)
 
@@ -307,6 +315,11 @@ class Machine:
             self._records[rack, slot] = record
             self._station[rack, slot] = record.encode()
         self.motion = motion or MotionData([0] * n, [0] * n, [0] * n, [0] * n)
+        for key in _POSITION_FIELDS:
+            if len(getattr(self.motion, key)) != n:
+                raise ValueError(
+                    f"motion {key}: {len(getattr(self.motion, key))} values for {n} axes"
+                )
         if history_capacity < 1:
             raise ValueError("alarm history capacity must be at least 1")
         self._active: dict[tuple[int, int, int], ActiveAlarm] = {}
@@ -687,6 +700,70 @@ class Machine:
             raise MachineError(EW.DATA, f"run={run} motion={motion}")
         self.panel.run, self.panel.motion = run, motion
         self._status_changed()
+
+    # -- motion figures ------------------------------------------------------------------
+    def set_motion(
+        self,
+        *,
+        absolute: Iterable[int] | None = None,
+        machine: Iterable[int] | None = None,
+        relative: Iterable[int] | None = None,
+        distance_to_go: Iterable[int] | None = None,
+        feed: int | None = None,
+        spindle_speed: int | None = None,
+        program_running: int | None = None,
+        program_main: int | None = None,
+        sequence: int | None = None,
+    ) -> None:
+        """Set motion figures (simulation code only); what is not given stays.
+
+        Positions are one i32 per axis in least input increments; the other figures are
+        0..2**31-1. EW_DATA (and nothing changes) when a value does not fit or a position list
+        does not have one value per axis.
+        """
+        n = len(self.axes)
+        lists: dict[str, list[int]] = {}
+        for key, values in zip(
+            _POSITION_FIELDS, (absolute, machine, relative, distance_to_go), strict=True
+        ):
+            if values is None:
+                continue
+            got = list(values)
+            if len(got) != n or not all(type(v) is int and _I32_MIN <= v <= _I32_MAX for v in got):
+                raise MachineError(EW.DATA, f"{key}: {n} i32 values expected, got {got!r}")
+            lists[key] = got
+        scalars: dict[str, int] = {}
+        for key, value in zip(
+            _MOTION_SCALARS,
+            (feed, spindle_speed, program_running, program_main, sequence),
+            strict=True,
+        ):
+            if value is None:
+                continue
+            if type(value) is not int or not 0 <= value <= _I32_MAX:
+                raise MachineError(EW.DATA, f"{key} = {value!r} outside 0..{_I32_MAX}")
+            scalars[key] = value
+        m = self.motion
+        for key, got in lists.items():
+            setattr(m, key, got)
+        for key, value in scalars.items():
+            setattr(m, key, value)
+        self.version += 1
+
+    def positions(self, kind: int, axis: int) -> list[tuple[str, int]]:
+        """``cnc_rdposition``: ``(axis name, value)`` of every axis (``axis = -1``) or of axis
+        ``axis`` (1..n), in least input increments (:data:`POSITION_DECIMALS` decimals).
+        ``kind`` 0 absolute, 1 machine, 2 relative, 3 distance to go. Checks, in order:
+        ``kind`` outside 0..3 -> EW_ATTRIB; ``axis`` 0, below -1 or above the axes ->
+        EW_ATTRIB."""
+        if not 0 <= kind < len(_POSITION_FIELDS):
+            raise MachineError(EW.ATTRIB, f"position type {kind} outside 0..3")
+        values: list[int] = getattr(self.motion, _POSITION_FIELDS[kind])
+        if axis == -1:
+            return list(zip(self.axes, values, strict=True))
+        if not 1 <= axis <= len(self.axes):
+            raise MachineError(EW.ATTRIB, f"axis {axis} outside -1, 1..{len(self.axes)}")
+        return [(self.axes[axis - 1], values[axis - 1])]
 
     # -- VersaMax ------------------------------------------------------------------------
     def module_record(self, rack: int, slot: int) -> IOModuleRecord | None:

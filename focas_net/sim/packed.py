@@ -20,6 +20,7 @@ command id to a handler bound to the machine, built once per machine.
 
 from __future__ import annotations
 
+import struct
 from collections.abc import Callable
 from typing import Final
 
@@ -42,7 +43,7 @@ from ..protocol import (
     VersaMaxRequest,
     encode_ew,
 )
-from .machine import Machine, MachineError, PackedTable, Session
+from .machine import POSITION_DECIMALS, Machine, MachineError, PackedTable, Session
 
 __all__ = ["error_payload", "handle", "handled_commands"]
 
@@ -63,6 +64,9 @@ _decode_pmc_data = PmcData.decode
 _decode_raise = RaiseAlarm.decode
 _decode_versamax = VersaMaxRequest.decode
 _HISTORY_REQUEST_SIZE: Final = 2
+_POSITION_REQUEST_SIZE: Final = 4
+_TWO_I32: Final = struct.Struct("<hii")  # ew, then two i32
+_ONE_I32: Final = struct.Struct("<hi")  # ew, then one i32
 _ALMMSG_REQUEST_SIZE: Final = 4
 _ALMMSG_CACHE: Final = 1024
 
@@ -118,6 +122,10 @@ class _Handlers:
         Command.RDDIAG,
         Command.SYSINFO,
         Command.RDALMMSG,
+        Command.RDPRGNUM,
+        Command.ACTF,
+        Command.ACTS,
+        Command.RDPOSITION,
         Command.RDPMCRNG,
         Command.WRPARAM,
         Command.WRMACRO,
@@ -142,6 +150,11 @@ class _Handlers:
         self._macro_version = machine.macro_version
         self._almmsg: dict[bytes, bytes] = {}
         self._alarm_version = machine.alarm_version
+        n = len(machine.axes)
+        # cnc_rdposition answers: ew, dec, count, then (i32 value, char name[4]) per axis
+        self._pos_all = struct.Struct("<hhh" + "i4s" * n)
+        self._pos_one = struct.Struct("<hhhi4s")
+        self._names = [name.encode("latin-1")[:4] for name in machine.axes]
 
     def table(self) -> PackedTable:
         by_id: dict[int, Callable[[Session, bytes], bytes]] = {
@@ -151,6 +164,10 @@ class _Handlers:
             Command.RDDIAG: self.rddiag,
             Command.SYSINFO: self.sysinfo,
             Command.RDALMMSG: self.rdalmmsg,
+            Command.RDPRGNUM: self.rdprgnum,
+            Command.ACTF: self.actf,
+            Command.ACTS: self.acts,
+            Command.RDPOSITION: self.rdposition,
             Command.RDPMCRNG: self.rdpmcrng,
             Command.WRPARAM: self.wrparam,
             Command.WRMACRO: self.wrmacro,
@@ -235,6 +252,35 @@ class _Handlers:
         if len(payload) != _HISTORY_REQUEST_SIZE:
             return _COUNTED_LENGTH
         return self.m.alarm_history_payload(_unpack_macro(payload)[0])
+
+    def rdprgnum(self, _session: Session, payload: bytes) -> bytes:
+        if payload:
+            return _EW_LENGTH
+        m = self.m.motion
+        return _TWO_I32.pack(0, m.program_running, m.program_main)
+
+    def actf(self, _session: Session, payload: bytes) -> bytes:
+        if payload:
+            return _EW_LENGTH
+        return _ONE_I32.pack(0, self.m.motion.feed)
+
+    def acts(self, _session: Session, payload: bytes) -> bytes:
+        if payload:
+            return _EW_LENGTH
+        return _ONE_I32.pack(0, self.m.motion.spindle_speed)
+
+    def rdposition(self, _session: Session, payload: bytes) -> bytes:
+        if len(payload) != _POSITION_REQUEST_SIZE:
+            return _EW_LENGTH
+        kind, axis = _unpack_data(payload)
+        values = self.m.positions(kind, axis)
+        if axis == -1:
+            args: list[int | bytes] = [0, POSITION_DECIMALS, len(values)]
+            for (_, value), name in zip(values, self._names, strict=True):
+                args.append(value)
+                args.append(name)
+            return self._pos_all.pack(*args)
+        return self._pos_one.pack(0, POSITION_DECIMALS, 1, values[0][1], self._names[axis - 1])
 
     def rdpmcrng(self, _session: Session, payload: bytes) -> bytes:
         if len(payload) != 8:
