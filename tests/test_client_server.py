@@ -13,6 +13,7 @@ import pytest
 from conftest import IO_TIMEOUT, Served, serving, wait_until
 
 from focas_net.client import ClientState, FaultKind, FaultScope, FocasClient, ReconnectPolicy
+from focas_net.client.client import Positions
 from focas_net.protocol import (
     EW,
     AccessDeniedError,
@@ -23,6 +24,8 @@ from focas_net.protocol import (
     FocasTimeoutError,
     IOModuleRecord,
     PmcArea,
+    PositionKind,
+    ProgramNumbers,
     RefType,
     StatusInfo,
     SysInfo,
@@ -420,3 +423,64 @@ async def test_tls(certificate: tuple[Path, Path]) -> None:
         untrusted = ssl.create_default_context()  # does not know the self-signed certificate
         with pytest.raises(FocasConnectionError):
             await FocasClient(served.host, served.port, timeout=IO_TIMEOUT, ssl=untrusted).connect()
+
+
+async def test_program_numbers_feed_and_spindle(server: Served, cnc: FocasClient) -> None:
+    assert await cnc.read_program_numbers() == ProgramNumbers(1, 1)
+    assert await cnc.read_feed() == 0
+    assert await cnc.read_spindle_speed() == 0
+    server.machine.set_motion(
+        feed=1500, spindle_speed=3000, program_running=1234, program_main=1000
+    )
+    numbers = await cnc.read_program_numbers()
+    assert (numbers.running, numbers.main) == (1234, 1000)
+    assert await cnc.read_feed() == 1500
+    assert await cnc.read_spindle_speed() == 3000
+
+
+async def test_read_positions(server: Served, cnc: FocasClient) -> None:
+    server.machine.set_motion(
+        absolute=[12345, -2, 100_000], machine=[1, 2, 3], distance_to_go=[0, 0, -500]
+    )
+    pos = await cnc.read_positions()
+    assert pos == Positions(
+        PositionKind.ABSOLUTE,
+        3,
+        {"X": Decimal("12.345"), "Y": Decimal("-0.002"), "Z": Decimal("100.000")},
+        {"X": 12345, "Y": -2, "Z": 100_000},
+    )
+    assert list(pos.values) == ["X", "Y", "Z"]
+    assert str(pos.values["Z"]) == "100.000"
+    machine = await cnc.read_positions("machine", axis=2)
+    assert machine.kind is PositionKind.MACHINE
+    assert machine.values == {"Y": Decimal("0.002")}
+    dist = await cnc.read_positions(PositionKind.DISTANCE, axis=3)
+    assert dist.values == {"Z": Decimal("-0.500")} and dist.increments == {"Z": -500}
+    relative = await cnc.read_positions(2)
+    assert relative.values == {"X": Decimal("0.000"), "Y": Decimal("0.000"), "Z": Decimal("0.000")}
+
+
+async def test_read_positions_errors(cnc: FocasClient) -> None:
+    with pytest.raises(CncError) as info:
+        await cnc.read_positions(axis=4)  # the machine has 3 axes
+    assert info.value.ew == EW.ATTRIB
+    with pytest.raises(ValueError):
+        await cnc.read_positions("skip")  # never sent
+    with pytest.raises(ValueError):
+        await cnc.read_positions(axis=0)
+    with pytest.raises(ValueError):
+        await cnc.read_positions(axis=-1)
+    # the connection is still usable
+    assert (await cnc.read_positions(axis=1)).increments == {"X": 0}
+
+
+async def test_motion_reads_surface_injected_errors(cnc: FocasClient) -> None:
+    await cnc.sim.inject_fault(FaultKind.ERROR, arg=EW.BUSY, count=4, scope=FaultScope.CONNECTION)
+    for read in (cnc.read_program_numbers, cnc.read_feed, cnc.read_spindle_speed):
+        with pytest.raises(CncError) as info:
+            await read()
+        assert info.value.ew == EW.BUSY
+    with pytest.raises(CncError) as info:
+        await cnc.read_positions()
+    assert info.value.ew == EW.BUSY
+    assert await cnc.read_feed() == 0

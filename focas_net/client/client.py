@@ -32,6 +32,7 @@ from ..protocol import (
     MAX_PMC_CHUNK,
     ActiveAlarm,
     ActiveAlarmList,
+    ActualValue,
     AlarmHistory,
     AlarmHistoryRequest,
     AlarmMsgRequest,
@@ -56,6 +57,10 @@ from ..protocol import (
     PmcArea,
     PmcData,
     PmcRange,
+    PositionData,
+    PositionKind,
+    PositionRequest,
+    ProgramNumbers,
     RaiseAlarm,
     SetPanel,
     StatusInfo,
@@ -72,6 +77,7 @@ __all__ = [
     "FaultKind",
     "FaultScope",
     "FocasClient",
+    "Positions",
     "ReconnectPolicy",
     "SimControl",
 ]
@@ -96,6 +102,10 @@ _CLEAR_ALARMS: Final = COMMANDS[C.SIM_CLEAR_ALARMS]
 _SET_PMC: Final = COMMANDS[C.SIM_SET_PMC]
 _INJECT_FAULT: Final = COMMANDS[C.SIM_INJECT_FAULT]
 _RDALMHISTRY: Final = COMMANDS[C.RDALMHISTRY]
+_RDPRGNUM: Final = COMMANDS[C.RDPRGNUM]
+_ACTF: Final = COMMANDS[C.ACTF]
+_ACTS: Final = COMMANDS[C.ACTS]
+_RDPOSITION: Final = COMMANDS[C.RDPOSITION]
 _STATUS_COMMAND: Final = int(C.RDCNCSTAT)
 _decode_status: Final = _RDCNCSTAT.response.decode
 
@@ -108,6 +118,21 @@ _U16_LIMIT: Final = 0x10000
 _CLOSE_GRACE: Final = 2.0
 
 AreaLike = str | int | PmcArea
+
+
+@dataclass(frozen=True, slots=True)
+class Positions:
+    """The answer of :meth:`FocasClient.read_positions`.
+
+    ``values`` maps each axis name to its position (``increments / 10**decimals``, a Decimal
+    with ``decimals`` places); ``increments`` holds the raw least-input-increment counts. Both
+    keep the CNC's axis order.
+    """
+
+    kind: PositionKind
+    decimals: int
+    values: dict[str, Decimal]
+    increments: dict[str, int]
 
 
 class ClientState(enum.Enum):
@@ -633,6 +658,49 @@ class FocasClient:
         """``cnc_sysinfo``: ODBSYS (CNC type, series, version, axes)."""
         result: SysInfo = await self._call(_SYSINFO, _EMPTY, timeout)
         return result
+
+    # -- program, feed, spindle, positions ------------------------------------------------
+    async def read_program_numbers(self, *, timeout: float | None = None) -> ProgramNumbers:
+        """``cnc_rdprgnum``: the running and the main program numbers (0 = none)."""
+        result: ProgramNumbers = await self._call(_RDPRGNUM, _EMPTY, timeout)
+        return result
+
+    async def read_feed(self, *, timeout: float | None = None) -> int:
+        """``cnc_actf``: the actual feed rate (the machine's feed unit, e.g. mm/min)."""
+        value: ActualValue = await self._call(_ACTF, _EMPTY, timeout)
+        return value.data
+
+    async def read_spindle_speed(self, *, timeout: float | None = None) -> int:
+        """``cnc_acts``: the actual spindle speed (min^-1)."""
+        value: ActualValue = await self._call(_ACTS, _EMPTY, timeout)
+        return value.data
+
+    async def read_positions(
+        self,
+        kind: str | int | PositionKind = PositionKind.ABSOLUTE,
+        *,
+        axis: int | None = None,
+        timeout: float | None = None,
+    ) -> Positions:
+        """``cnc_rdposition``: positions of every axis (``axis=None``) or of axis ``axis``
+        (1..n). ``kind``: ``"absolute"``, ``"machine"``, ``"relative"``, ``"distance"``
+        (to go), a :class:`PositionKind` or 0..3.
+
+        An unknown ``kind`` or an ``axis`` below 1 raises :class:`ValueError` before anything
+        is sent; an axis the CNC does not have answers EW_ATTRIB (:class:`CncError`).
+        """
+        which = PositionKind.parse(kind)
+        if axis is not None and not 1 <= axis <= 0x7FFF:
+            raise ValueError(f"axis must be 1..n (None for every axis), got {axis}")
+        payload = _RDPOSITION.request.encode(PositionRequest(which, -1 if axis is None else axis))
+        data: PositionData = await self._call(_RDPOSITION, payload, timeout)
+        dec = data.dec
+        return Positions(
+            which,
+            dec,
+            {a.name: Decimal(a.value).scaleb(-dec) for a in data.axes},
+            {a.name: a.value for a in data.axes},
+        )
 
     # -- parameters and diagnostics ------------------------------------------------------
     async def _read_param_value(self, number: int, axis: int, deadline: float | None) -> ParamValue:
