@@ -36,6 +36,7 @@ from focas_net.protocol import (
     CncError,
     FocasTimeoutError,
     FrameDecoder,
+    ProgramNumbers,
     StatusInfo,
     SysInfo,
     encode_frame,
@@ -729,3 +730,67 @@ def test_error_line() -> None:
     assert fmt.error_line(CncError(99, "x")) == "EW_UNKNOWN(99) (99): unknown return code (x)"
     assert fmt.error_line(FocasTimeoutError("no\nanswer")) == "no answer"
     assert fmt.error_line(ValueError()) == "ValueError"
+
+
+# -- program numbers, feed, spindle, positions ----------------------------------------------------
+
+
+async def test_program_table_and_json(cli: Cli) -> None:
+    cli.served.machine.set_motion(
+        feed=1500, spindle_speed=3000, program_running=1234, program_main=1000
+    )
+    out = await cli.ok("program")
+    rows = [line.split()[:2] for line in out.splitlines()]
+    assert rows[0] == ["item", "value"]
+    assert ["running", "O1234"] in rows and ["main", "O1000"] in rows
+    assert ["feed", "1500"] in rows and ["spindle", "3000"] in rows
+    assert await cli.json("program") == {
+        "program_running": 1234,
+        "program_main": 1000,
+        "feed": 1500,
+        "spindle_speed": 3000,
+    }
+
+
+async def test_position_table_and_json(cli: Cli) -> None:
+    cli.served.machine.set_motion(absolute=[12345, -2, 100_000], machine=[1, 2, 3])
+    out = await cli.ok("position")
+    lines = out.splitlines()
+    assert lines[0] == "absolute position"
+    assert lines[2].split() == ["axis", "position", "increments"]
+    assert [line.split() for line in lines[3:]] == [
+        ["X", "12.345", "12345"],
+        ["Y", "-0.002", "-2"],
+        ["Z", "100.000", "100000"],
+    ]
+    data = await cli.json("position", "--kind", "machine", "--axis", "3")
+    assert data == {
+        "kind": "machine",
+        "decimals": 3,
+        "axes": [{"name": "Z", "position": "0.003", "increments": 3}],
+    }
+    data = await cli.json("position", "--kind", "distance")
+    assert data["kind"] == "distance" and [a["name"] for a in data["axes"]] == ["X", "Y", "Z"]
+
+
+async def test_position_errors(cli: Cli) -> None:
+    err = await cli.fails(EXIT_CNC, "position", "--axis", "4")
+    assert "EW_ATTRIB" in err and "cnc_rdposition" in err
+
+
+@pytest.mark.parametrize("argv", [["--kind", "skip"], ["--axis", "0"], ["--axis", "x"]])
+def test_position_usage_errors(argv: list[str], capsys: pytest.CaptureFixture[str]) -> None:
+    with pytest.raises(SystemExit) as info:  # argparse refuses before connecting
+        main(["position", *argv])
+    assert info.value.code == EXIT_USAGE
+    assert "focas-net position: error:" in capsys.readouterr().err
+
+
+def test_program_and_position_formatting() -> None:
+    data = fmt.program_dict(ProgramNumbers(0, 7), 0, 12)
+    assert fmt.program_rows(data)[:2] == [
+        ("running", "none", "program being executed (cnc_rdprgnum)"),
+        ("main", "O0007", "main program (cnc_rdprgnum)"),
+    ]
+    pos = fmt.positions_dict("relative", 3, {"A1": Decimal("-1.500")}, {"A1": -1500})
+    assert fmt.positions_rows(pos) == [("A1", "-1.500", "-1500")]

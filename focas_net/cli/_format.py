@@ -23,6 +23,7 @@ from focas_net.protocol import (
     ChunkedWriteError,
     CncError,
     IOModuleRecord,
+    ProgramNumbers,
     RefType,
     StatusInfo,
     SysInfo,
@@ -58,6 +59,10 @@ __all__ = [
     "parse_hex",
     "parse_int",
     "parse_number_bit",
+    "positions_dict",
+    "positions_rows",
+    "program_dict",
+    "program_rows",
     "render_table",
     "status_dict",
     "status_rows",
@@ -229,6 +234,52 @@ def sysinfo_rows(info: SysInfo) -> list[tuple[str, str, str]]:
         ("max_axis", str(d["max_axis"]), "maximum controlled axes"),
         ("addinfo", str(d["addinfo"]), "additional information bits"),
     ]
+
+
+# -- program numbers, feed, spindle, positions -------------------------------------------------
+
+
+def _o_number(number: int) -> str:
+    return f"O{number:04d}" if number else "none"
+
+
+def program_dict(numbers: ProgramNumbers, feed: int, spindle_speed: int) -> dict[str, Any]:
+    """Program numbers, actual feed and spindle speed as JSON-ready values."""
+    return {
+        "program_running": numbers.running,
+        "program_main": numbers.main,
+        "feed": feed,
+        "spindle_speed": spindle_speed,
+    }
+
+
+def program_rows(data: Mapping[str, Any]) -> list[tuple[str, str, str]]:
+    """``(item, value, meaning)`` rows of :func:`program_dict`."""
+    return [
+        ("running", _o_number(data["program_running"]), "program being executed (cnc_rdprgnum)"),
+        ("main", _o_number(data["program_main"]), "main program (cnc_rdprgnum)"),
+        ("feed", str(data["feed"]), "actual feed rate (cnc_actf)"),
+        ("spindle", str(data["spindle_speed"]), "actual spindle speed, min^-1 (cnc_acts)"),
+    ]
+
+
+def positions_dict(
+    kind: str, decimals: int, values: Mapping[str, Decimal], increments: Mapping[str, int]
+) -> dict[str, Any]:
+    """A position read as JSON-ready values (positions as decimal strings)."""
+    return {
+        "kind": kind,
+        "decimals": decimals,
+        "axes": [
+            {"name": name, "position": str(value), "increments": increments[name]}
+            for name, value in values.items()
+        ],
+    }
+
+
+def positions_rows(data: Mapping[str, Any]) -> list[tuple[str, str, str]]:
+    """``(axis, position, increments)`` rows of :func:`positions_dict`."""
+    return [(a["name"], a["position"], str(a["increments"])) for a in data["axes"]]
 
 
 # -- alarms --------------------------------------------------------------------------------

@@ -1,6 +1,6 @@
 """The client commands of ``focas-net``: read and write a CNC from the terminal.
 
-``status``, ``sysinfo``, ``param get|set``, ``macro get|set``, ``diag``,
+``status``, ``sysinfo``, ``program``, ``position``, ``param get|set``, ``macro get|set``, ``diag``,
 ``pmc read|write|bit``, ``alarms``, ``unlock``, ``versamax`` and ``sim panel|alarm|clear|fault``.
 Every command takes ``--host`` (default 127.0.0.1), ``--port`` (8193), ``--timeout`` (seconds,
 3) and ``--json``; the commands that write also take ``--password`` (sent with
@@ -55,6 +55,7 @@ from focas_net.protocol import (
     FocasError,
     FocasTimeoutError,
     PmcArea,
+    PositionKind,
     ProtocolError,
 )
 
@@ -285,6 +286,32 @@ def _sysinfo(args: argparse.Namespace) -> Go:
         info = await cnc.read_sysinfo()
         table = fmt.render_table(("field", "value", "meaning"), fmt.sysinfo_rows(info))
         return Output(fmt.sysinfo_dict(info), table)
+
+    return go
+
+
+# -- program numbers, feed, spindle, positions ----------------------------------------------
+
+
+def _program(args: argparse.Namespace) -> Go:
+    async def go(cnc: FocasClient) -> Output:
+        numbers = await cnc.read_program_numbers()
+        feed = await cnc.read_feed()
+        speed = await cnc.read_spindle_speed()
+        data = fmt.program_dict(numbers, feed, speed)
+        return Output(data, fmt.render_table(("item", "value", "meaning"), fmt.program_rows(data)))
+
+    return go
+
+
+def _position(args: argparse.Namespace) -> Go:
+    kind = PositionKind.parse(args.kind)
+
+    async def go(cnc: FocasClient) -> Output:
+        pos = await cnc.read_positions(kind, axis=args.axis)
+        data = fmt.positions_dict(pos.kind.name.lower(), pos.decimals, pos.values, pos.increments)
+        table = fmt.render_table(("axis", "position", "increments"), fmt.positions_rows(data))
+        return Output(data, f"{data['kind']} position\n\n{table}")
 
     return go
 
@@ -721,6 +748,23 @@ def register(subparsers: Any) -> None:
     """Add the client commands to the ``focas-net`` parser."""
     _add(subparsers, "status", _status, "read the CNC status (cnc_rdcncstat, ODBST)")
     _add(subparsers, "sysinfo", _sysinfo, "read the CNC identity (cnc_sysinfo, ODBSYS)")
+
+    _add(
+        subparsers,
+        "program",
+        _program,
+        "read the program numbers, feed and spindle speed (cnc_rdprgnum, cnc_actf, cnc_acts)",
+    )
+    p = _add(subparsers, "position", _position, "read axis positions (cnc_rdposition)")
+    p.add_argument(
+        "--kind",
+        choices=("absolute", "machine", "relative", "distance"),
+        default="absolute",
+        help="which position; distance = distance to go (default %(default)s)",
+    )
+    p.add_argument(
+        "--axis", type=_POSITIVE, metavar="N", help="only axis N (1..n; default every axis)"
+    )
 
     param = _group(subparsers, "param", "read or write a CNC parameter")
     p = _add(param, "get", _param_get, "read a parameter (cnc_rdparam)")
