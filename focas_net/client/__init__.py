@@ -1,6 +1,14 @@
 """The asyncio client of the packed FOCAS protocol."""
 
-from .client import ClientState, FaultKind, FaultScope, FocasClient, ReconnectPolicy, SimControl
+from .client import (
+    ClientState,
+    FaultKind,
+    FaultScope,
+    FocasClient,
+    Positions,
+    ReconnectPolicy,
+    SimControl,
+)
 from .connection import Connection, NotSentError, open_connection
 from .projection import (
     AlarmCleared,
@@ -23,6 +31,7 @@ __all__ = [
     "FaultScope",
     "FocasClient",
     "NotSentError",
+    "Positions",
     "ProjectionMode",
     "ReconnectPolicy",
     "SimControl",

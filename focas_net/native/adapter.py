@@ -32,6 +32,7 @@ from typing import TYPE_CHECKING, Final
 
 from focas_net.protocol import EW, MAX_PMC_CHUNK
 from focas_net.protocol import PmcArea as PackedPmcArea
+from focas_net.sim.machine import POSITION_DECIMALS as MACHINE_POSITION_DECIMALS
 
 from .codec import (
     _DOUBLE,
@@ -84,8 +85,8 @@ __all__ = [
     "macro_from_double",
 ]
 
-#: Decimals of the position records (least input increment 0.001 mm, IS-B).
-POSITION_DECIMALS: Final = 3
+#: Decimals of the position records: the machine's least input increment (0.001 mm, IS-B).
+POSITION_DECIMALS: Final = MACHINE_POSITION_DECIMALS
 #: Item ``type`` word of 0x0E/0x30 records by value width in bytes (16i numbering).
 ITEM_TYPES: Final[dict[int, int]] = {1: 0, 2: 1, 4: 2}
 #: Item ``type`` word of 0x8D records by value width in bytes (30i numbering).
