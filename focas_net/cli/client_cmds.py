@@ -54,6 +54,7 @@ from focas_net.protocol import (
     FocasConnectionError,
     FocasError,
     FocasTimeoutError,
+    ParamValue,
     PmcArea,
     PositionKind,
     ProtocolError,
@@ -332,26 +333,28 @@ def _value_text(value: int, width: int) -> str:
     return f"{text}), {width} byte{'s' if width > 1 else ''}"
 
 
+def _param_output(
+    number: int, bit: int | None, axis: int, pv: ParamValue
+) -> tuple[dict[str, Any], str, str | None]:
+    """The JSON data of a parameter read, its text, and the text of its bit (when one)."""
+    data: dict[str, Any] = {"number": number, "axis": axis, "value": pv.value, "width": pv.width}
+    whole = f"{_item_name(number, None, axis)} = {_value_text(pv.value, pv.width)}"
+    if bit is None:
+        return data, whole, None
+    data["bit"] = bit
+    data["bit_value"] = pv.value >> bit & 1
+    return data, whole, f"{_item_name(number, bit, axis)} = {data['bit_value']}"
+
+
 def _param_get(args: argparse.Namespace) -> Go:
     number, bit = fmt.parse_number_bit(args.number)
 
     async def go(cnc: FocasClient) -> Output:
         pv = await cnc.read_param_value(number, axis=args.axis)
-        data: dict[str, Any] = {
-            "number": number,
-            "axis": args.axis,
-            "value": pv.value,
-            "width": pv.width,
-        }
-        if bit is None:
-            return Output(
-                data, f"{_item_name(number, None, args.axis)} = {_value_text(pv.value, pv.width)}"
-            )
-        if not 0 <= bit < 8 * pv.width:
+        if bit is not None and not 0 <= bit < 8 * pv.width:
             raise ValueError(f"bit {bit} outside 0..{8 * pv.width - 1} of parameter {number}")
-        data["bit"] = bit
-        data["bit_value"] = pv.value >> bit & 1
-        return Output(data, f"{_item_name(number, bit, args.axis)} = {data['bit_value']}")
+        data, whole, bit_text = _param_output(number, bit, args.axis, pv)
+        return Output(data, whole if bit_text is None else bit_text)
 
     return go
 
@@ -374,17 +377,8 @@ def _param_set(args: argparse.Namespace) -> Go:
         except AccessDeniedError as exc:
             raise _HintedError(exc, _PASSWD_HINT) from exc
         pv = await cnc.read_param_value(number, axis=args.axis)
-        data: dict[str, Any] = {
-            "number": number,
-            "axis": args.axis,
-            "value": pv.value,
-            "width": pv.width,
-        }
-        text = f"{_item_name(number, None, args.axis)} = {_value_text(pv.value, pv.width)}"
-        if bit is not None:
-            data["bit"] = bit
-            data["bit_value"] = pv.value >> bit & 1
-            text = f"{_item_name(number, bit, args.axis)} = {data['bit_value']}; {text}"
+        data, whole, bit_text = _param_output(number, bit, args.axis, pv)
+        text = whole if bit_text is None else f"{bit_text}; {whole}"
         return Output(data, f"{text} (written)")
 
     return go
