@@ -25,7 +25,8 @@ from focas_net.client import (
     FocasClient,
     ProjectionMode,
 )
-from focas_net.protocol import ALARM_TYPE_NAMES, FocasError
+from focas_net.errors import FocasError
+from focas_net.protocol import ALARM_TYPE_NAMES
 
 #: (alm_type, alm_no, message, axis_no) raised by the demonstration.
 DEMO_ALARMS = [

@@ -24,7 +24,8 @@ from collections.abc import AsyncIterator
 from dataclasses import dataclass
 
 from focas_net import FocasClient
-from focas_net.protocol import ALARM_TYPE_NAMES, FocasError
+from focas_net.errors import FocasError
+from focas_net.protocol import ALARM_TYPE_NAMES
 from focas_net.server import FocasServer
 from focas_net.sim import default_machine
 

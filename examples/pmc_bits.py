@@ -16,7 +16,7 @@ import asyncio
 import sys
 
 from focas_net import FocasClient
-from focas_net.protocol import FocasError
+from focas_net.errors import FocasError
 
 
 def pattern(n: int) -> bytes:

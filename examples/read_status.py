@@ -13,7 +13,8 @@ import asyncio
 import sys
 
 from focas_net import FocasClient
-from focas_net.protocol import ALARM_TYPE_NAMES, FocasError
+from focas_net.errors import FocasError
+from focas_net.protocol import ALARM_TYPE_NAMES
 
 AUT = {0: "MDI", 1: "MEM", 2: "****", 3: "EDIT", 4: "HND", 5: "JOG", 6: "TJOG", 7: "THND",
        8: "INC", 9: "REF", 10: "RMT"}  # fmt: skip

@@ -16,7 +16,8 @@ import asyncio
 import sys
 
 from focas_net import FocasClient
-from focas_net.protocol import EW, CncError, FocasError, IOModuleRecord
+from focas_net.errors import EW, CncError, FocasError
+from focas_net.protocol import IOModuleRecord
 
 REF_NAMES = {16: "%I", 18: "%Q", 10: "%AI", 12: "%AQ"}
 MAX_SLOT = 9

@@ -17,7 +17,7 @@ import asyncio
 import sys
 
 from focas_net import FocasClient
-from focas_net.protocol import AccessDeniedError, FocasError
+from focas_net.errors import AccessDeniedError, FocasError
 
 MDI = 0
 

@@ -12,10 +12,10 @@ import pytest
 from hypothesis import given
 from hypothesis import strategies as st
 
+from focas_net.errors import EW
 from focas_net.protocol import (
     ALARM_TYPE_NAMES,
     COMMANDS,
-    EW,
     MAX_ALARM_MSG,
     MAX_HISTORY_DEPTH,
     ActiveAlarm,

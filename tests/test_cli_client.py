@@ -29,12 +29,10 @@ from focas_net.cli.client_cmds import (
     EXIT_PROTOCOL,
     EXIT_USAGE,
 )
+from focas_net.errors import AccessDeniedError, CncError, FocasTimeoutError
 from focas_net.protocol import (
-    AccessDeniedError,
     ActiveAlarm,
     AlarmHistoryEntry,
-    CncError,
-    FocasTimeoutError,
     FrameDecoder,
     ProgramNumbers,
     StatusInfo,

@@ -17,15 +17,8 @@ import pytest
 from conftest import Wire
 
 from focas_net.cli import serve
-from focas_net.protocol import (
-    COMMANDS,
-    EW,
-    Command,
-    InjectFault,
-    MacroRequest,
-    MacroValue,
-    SetPanel,
-)
+from focas_net.errors import EW
+from focas_net.protocol import COMMANDS, Command, InjectFault, MacroRequest, MacroValue, SetPanel
 
 READY = re.compile(r"^focas-net: (?P<name>\S+) listening on (?P<host>[\d.]+):(?P<port>\d+)$")
 STATUS = (Command.RDCNCSTAT, b"")

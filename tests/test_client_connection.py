@@ -15,21 +15,23 @@ import pytest
 
 from focas_net.client import ClientState, FocasClient, ReconnectPolicy
 from focas_net.client.connection import Connection, open_connection
-from focas_net.protocol import (
-    COMMANDS,
+from focas_net.errors import (
     EW,
     AccessDeniedError,
     ChunkedWriteError,
     CncError,
-    Command,
-    EwReply,
     FocasConnectionError,
     FocasTimeoutError,
+    ProtocolError,
+)
+from focas_net.protocol import (
+    COMMANDS,
+    Command,
+    EwReply,
     Frame,
     FrameDecoder,
     ParamValue,
     PmcData,
-    ProtocolError,
     StatusInfo,
     encode_frame,
 )

@@ -41,7 +41,7 @@ from focas_net.client import (
     ProjectionMode,
     ReconnectPolicy,
 )
-from focas_net.protocol import (
+from focas_net.errors import (
     EW,
     AccessDeniedError,
     ChunkedWriteError,

@@ -24,17 +24,19 @@ from conftest import IO_TIMEOUT, serving, wait_until
 
 from focas_net.client import ClientState, FocasClient, ReconnectPolicy
 from focas_net.client.connection import Connection, NotSentError, open_connection
-from focas_net.protocol import (
-    COMMANDS,
+from focas_net.errors import (
     EW,
     AccessDeniedError,
     ChunkedWriteError,
     CncError,
+    FocasConnectionError,
+    FocasTimeoutError,
+)
+from focas_net.protocol import (
+    COMMANDS,
     Command,
     DataRequest,
     EwReply,
-    FocasConnectionError,
-    FocasTimeoutError,
     Frame,
     FrameDecoder,
     ParamValue,

@@ -40,13 +40,13 @@ from focas_net.client import (
 from focas_net.client import connection as connection_module
 from focas_net.client._locks import KeyedLocks
 from focas_net.client.connection import NotSentError, open_connection
-from focas_net.protocol import (
+from focas_net.errors import (
     AccessDeniedError,
     ChunkedWriteError,
-    Command,
     FocasConnectionError,
     FocasTimeoutError,
 )
+from focas_net.protocol import Command
 
 SHORT = 0.05  # a timeout meant to pass while the peer holds the answer back
 FAST = ReconnectPolicy(initial_delay=0.0, max_delay=0.01, jitter=0.0)

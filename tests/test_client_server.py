@@ -14,14 +14,16 @@ from conftest import IO_TIMEOUT, Served, serving, wait_until
 
 from focas_net.client import ClientState, FaultKind, FaultScope, FocasClient, ReconnectPolicy
 from focas_net.client.client import Positions
-from focas_net.protocol import (
+from focas_net.errors import (
     EW,
     AccessDeniedError,
-    BoardId,
     ChunkedWriteError,
     CncError,
     FocasConnectionError,
     FocasTimeoutError,
+)
+from focas_net.protocol import (
+    BoardId,
     IOModuleRecord,
     PmcArea,
     PositionKind,

@@ -10,7 +10,7 @@ import pytest
 from focas_net.client import FocasClient, ReconnectPolicy
 from focas_net.client._locks import KeyedLocks
 from focas_net.client.client import _chunks, _merge, macro_from_wire, macro_to_wire
-from focas_net.protocol import FocasTimeoutError
+from focas_net.errors import FocasTimeoutError
 
 
 @pytest.mark.parametrize(

@@ -8,7 +8,7 @@ import pytest
 from hypothesis import given
 from hypothesis import strategies as st
 
-from focas_net.protocol import (
+from focas_net.errors import (
     EW,
     EW_TABLE,
     OPCUA_BAD_COMMUNICATION_ERROR,

@@ -12,8 +12,9 @@ import types
 import pytest
 
 import focas_net.protocol as protocol
+from focas_net.errors import FocasError
 
-SUBMODULES = ["alarms", "codecs", "commands", "errors", "frame", "versamax"]
+SUBMODULES = ["alarms", "codecs", "commands", "frame", "versamax"]
 
 
 def test_all_names_exist() -> None:
@@ -65,14 +66,26 @@ def test_submodule_public_classes_and_functions_are_declared(name: str) -> None:
     assert defined_here - set(module.__all__) == set()
 
 
-def test_exported_exceptions_share_one_base() -> None:
+def test_protocol_exports_no_exceptions() -> None:
+    """The exception tree lives in :mod:`focas_net.errors`, shared by both protocols."""
     errors = [
-        getattr(protocol, n)
+        n
         for n in protocol.__all__
         if isinstance(getattr(protocol, n), type) and issubclass(getattr(protocol, n), Exception)
     ]
-    assert errors
-    assert all(issubclass(e, protocol.FocasError) for e in errors)
+    assert errors == []
+
+
+def test_error_module_exceptions_share_one_base() -> None:
+    import focas_net.errors as errors_module
+
+    errors = [
+        v
+        for v in (getattr(errors_module, n) for n in errors_module.__all__)
+        if isinstance(v, type) and issubclass(v, Exception)
+    ]
+    assert len(errors) >= 8
+    assert all(issubclass(e, FocasError) for e in errors)
 
 
 PACKAGES = [
@@ -99,6 +112,7 @@ def test_top_level_names_are_the_subpackages_objects() -> None:
     import focas_net
 
     homes = [importlib.import_module(p) for p in PACKAGES[1:]] + [protocol]
+    homes.append(importlib.import_module("focas_net.errors"))
     for name in focas_net.__all__:
         if name == "__version__":
             continue

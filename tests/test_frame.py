@@ -8,15 +8,8 @@ import pytest
 from hypothesis import given
 from hypothesis import strategies as st
 
-from focas_net.protocol import (
-    DEFAULT_MAX_FRAME,
-    HEADER_SIZE,
-    Frame,
-    FrameDecoder,
-    FrameError,
-    ProtocolError,
-    encode_frame,
-)
+from focas_net.errors import FrameError, ProtocolError
+from focas_net.protocol import DEFAULT_MAX_FRAME, HEADER_SIZE, Frame, FrameDecoder, encode_frame
 
 # Hand-written frames: u32 length (4 + payload), u16 command, u16 request_id, payload.
 STATUS_REQUEST = bytes.fromhex("04000000 0100 0100")

@@ -35,7 +35,8 @@ from conftest import IO_TIMEOUT, Served, Wire, ew_of, serving
 from hypothesis import HealthCheck, assume, given, settings
 from hypothesis import strategies as st
 
-from focas_net.protocol import COMMANDS, EW, Command, PayloadError, encode_ew, encode_frame
+from focas_net.errors import EW, PayloadError
+from focas_net.protocol import COMMANDS, Command, encode_ew, encode_frame
 
 MAX_FRAME: Final = 65_536
 INJECT_FAULT: Final = int(Command.SIM_INJECT_FAULT)

@@ -7,7 +7,8 @@ from pathlib import Path
 
 import pytest
 
-from focas_net.protocol import EW, IOModuleRecord, MacroValue, PmcArea, SysInfo
+from focas_net.errors import EW
+from focas_net.protocol import IOModuleRecord, MacroValue, PmcArea, SysInfo
 from focas_net.sim import (
     Machine,
     MachineError,

@@ -10,6 +10,7 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
+from focas_net.errors import EW
 from focas_net.native import (
     REQUEST_TYPES,
     Device,
@@ -26,7 +27,6 @@ from focas_net.native import (
     encode_request_body,
     macro_from_double,
 )
-from focas_net.protocol import EW
 from focas_net.sim import default_machine
 
 

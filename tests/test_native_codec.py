@@ -9,6 +9,7 @@ import pytest
 from hypothesis import given
 from hypothesis import strategies as st
 
+from focas_net.errors import EW, FrameError, PayloadError, ProtocolError
 from focas_net.native import (
     DEFAULT_MAX_BODY,
     REQUEST_TYPES,
@@ -69,7 +70,6 @@ from focas_net.native import (
     max_response_body,
     resolve_position_kind,
 )
-from focas_net.protocol.errors import EW, FrameError, PayloadError, ProtocolError
 
 
 def h(text: str) -> bytes:

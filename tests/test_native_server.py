@@ -21,6 +21,7 @@ from pyfocas.protocol.packet import DecodingError, FOCASError
 from pyfocas.protocol.protocol import FOCAS
 
 from focas_net.client.connection import Connection, open_connection
+from focas_net.errors import EW
 from focas_net.native import (
     AlarmMessageRequest,
     AlarmMessages,
@@ -63,7 +64,6 @@ from focas_net.native.codec import ActualFeedRequest, ActualSpindleSpeedRequest
 from focas_net.native.codec import ProgramNumberRequest as PrgNumRequest
 from focas_net.protocol import (
     COMMANDS,
-    EW,
     Command,
     MacroRequest,
     MacroValue,

@@ -19,7 +19,7 @@ from focas_net.client import (
     ProjectionMode,
     ReconnectPolicy,
 )
-from focas_net.protocol import EW
+from focas_net.errors import EW
 from focas_net.server import FocasServer
 from focas_net.sim import default_machine
 

@@ -11,6 +11,7 @@ import pytest
 from hypothesis import given
 from hypothesis import strategies as st
 
+from focas_net.errors import PayloadError
 from focas_net.protocol import (
     COMMANDS,
     ActiveAlarm,
@@ -32,7 +33,6 @@ from focas_net.protocol import (
     ModuleType,
     ParamValue,
     Password,
-    PayloadError,
     PmcData,
     PmcRange,
     RaiseAlarm,

@@ -27,7 +27,7 @@ from conftest import IO_TIMEOUT, Served, serving
 
 from focas_net.cli import build_parser
 from focas_net.client import FaultKind, FocasClient
-from focas_net.protocol import (
+from focas_net.errors import (
     EW,
     AccessDeniedError,
     ChunkedWriteError,

@@ -12,9 +12,9 @@ from datetime import UTC, datetime, timedelta
 import pytest
 from conftest import Served, Wire, ew_of, serving
 
+from focas_net.errors import EW
 from focas_net.protocol import (
     COMMANDS,
-    EW,
     ActiveAlarmList,
     AlarmHistory,
     AlarmHistoryRequest,

@@ -8,8 +8,8 @@ from typing import Any
 import pytest
 from conftest import Served, Wire, ew_of, serving, wait_until
 
+from focas_net.errors import EW
 from focas_net.protocol import (
-    EW,
     AlarmHistoryRequest,
     Command,
     DataRequest,

@@ -12,13 +12,12 @@ from pathlib import Path
 import pytest
 from conftest import Served, Wire, serving, wait_until
 
+from focas_net.errors import EW, FrameError
 from focas_net.protocol import (
-    EW,
     AlarmHistoryRequest,
     ClearAlarms,
     Command,
     FrameDecoder,
-    FrameError,
     InjectFault,
     MacroRequest,
     MacroValue,

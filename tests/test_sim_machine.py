@@ -8,7 +8,8 @@ from datetime import UTC, datetime, timedelta, timezone
 
 import pytest
 
-from focas_net.protocol import EW, MacroValue, ParamValue, PmcArea, StatusInfo, SysInfo
+from focas_net.errors import EW
+from focas_net.protocol import MacroValue, ParamValue, PmcArea, StatusInfo, SysInfo
 from focas_net.sim import (
     AUT_MODES,
     DEFAULT_NAME,

@@ -11,9 +11,9 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
+from focas_net.errors import EW
 from focas_net.protocol import (
     COMMANDS,
-    EW,
     ActiveAlarmList,
     AlarmHistory,
     AlarmHistoryRequest,

@@ -6,6 +6,7 @@ import pytest
 from hypothesis import given
 from hypothesis import strategies as st
 
+from focas_net.errors import PayloadError
 from focas_net.protocol import (
     COMMANDS,
     MAX_CONFIG_CHUNK,
@@ -13,7 +14,6 @@ from focas_net.protocol import (
     EwReply,
     IOModuleRecord,
     ModuleType,
-    PayloadError,
     RefDesc,
     RefType,
     VersaMaxReply,

@@ -14,20 +14,17 @@ from datetime import UTC, datetime
 from decimal import Decimal
 from typing import Any, Final
 
+from focas_net.errors import EW, ChunkedWriteError, CncError, ew_info
 from focas_net.protocol import (
     ALARM_TYPE_NAMES,
-    EW,
     ActiveAlarm,
     AlarmHistoryEntry,
     BoardId,
-    ChunkedWriteError,
-    CncError,
     IOModuleRecord,
     ProgramNumbers,
     RefType,
     StatusInfo,
     SysInfo,
-    ew_info,
 )
 
 __all__ = [

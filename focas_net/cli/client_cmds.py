@@ -46,19 +46,16 @@ from focas_net.client import (
     FocasClient,
     ProjectionMode,
 )
-from focas_net.protocol import (
-    MAX_ALARM_MSG,
+from focas_net.errors import (
     AccessDeniedError,
     ChunkedWriteError,
     CncError,
     FocasConnectionError,
     FocasError,
     FocasTimeoutError,
-    ParamValue,
-    PmcArea,
-    PositionKind,
     ProtocolError,
 )
+from focas_net.protocol import MAX_ALARM_MSG, ParamValue, PmcArea, PositionKind
 
 from . import _format as fmt
 

@@ -8,7 +8,7 @@ from collections.abc import AsyncIterator, Hashable
 from contextlib import asynccontextmanager
 from typing import Generic, TypeVar
 
-from ..protocol import FocasTimeoutError
+from focas_net.errors import FocasTimeoutError
 
 __all__ = ["KeyedLocks"]
 

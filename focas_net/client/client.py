@@ -23,10 +23,18 @@ from decimal import Decimal, InvalidOperation
 from types import TracebackType
 from typing import Any, Final, Self
 
+from focas_net.errors import (
+    EW,
+    ChunkedWriteError,
+    CncError,
+    FocasConnectionError,
+    FocasTimeoutError,
+    PayloadError,
+)
+
 from ..protocol import (
     COMMANDS,
     DEFAULT_MAX_FRAME,
-    EW,
     MAX_CONFIG_CHUNK,
     MAX_HISTORY_DEPTH,
     MAX_PMC_CHUNK,
@@ -37,23 +45,18 @@ from ..protocol import (
     AlarmHistoryRequest,
     AlarmMsgRequest,
     AutMode,
-    ChunkedWriteError,
     ClearAlarms,
-    CncError,
     CommandSpec,
     DataRequest,
     EwReply,
     FaultKind,
     FaultScope,
-    FocasConnectionError,
-    FocasTimeoutError,
     InjectFault,
     IOModuleRecord,
     MacroRequest,
     MacroValue,
     ParamValue,
     Password,
-    PayloadError,
     PmcArea,
     PmcData,
     PmcRange,

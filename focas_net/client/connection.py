@@ -33,16 +33,9 @@ from collections import deque
 from collections.abc import Callable, Sequence
 from typing import Final, cast
 
-from ..protocol import (
-    DEFAULT_MAX_FRAME,
-    HEADER,
-    FocasConnectionError,
-    FocasTimeoutError,
-    Frame,
-    FrameDecoder,
-    FrameError,
-    ProtocolError,
-)
+from focas_net.errors import FocasConnectionError, FocasTimeoutError, FrameError, ProtocolError
+
+from ..protocol import DEFAULT_MAX_FRAME, HEADER, Frame, FrameDecoder
 
 __all__ = ["Connection", "NotSentError", "open_connection"]
 

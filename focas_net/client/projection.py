@@ -24,7 +24,9 @@ from datetime import datetime
 from types import TracebackType
 from typing import Final, Self
 
-from ..protocol import ActiveAlarm, AlarmHistoryEntry, FocasError, ew_name
+from focas_net.errors import FocasError, ew_name
+
+from ..protocol import ActiveAlarm, AlarmHistoryEntry
 from .client import ClientState, FocasClient
 
 __all__ = [

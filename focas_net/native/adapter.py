@@ -30,7 +30,8 @@ from collections.abc import Callable
 from decimal import ROUND_HALF_EVEN, Decimal
 from typing import TYPE_CHECKING, Final
 
-from focas_net.protocol import EW, MAX_PMC_CHUNK
+from focas_net.errors import EW
+from focas_net.protocol import MAX_PMC_CHUNK
 from focas_net.protocol import PmcArea as PackedPmcArea
 from focas_net.sim.machine import POSITION_DECIMALS as MACHINE_POSITION_DECIMALS
 

@@ -18,7 +18,7 @@ On top of the blocks sit the typed requests (one frozen dataclass per command, w
 ``encode``/``decode``), each declared once and used by both sides.
 
 Exceptions (all derive from :class:`NativeProtocolError`, itself a
-:class:`focas_net.protocol.errors.ProtocolError`)::
+:class:`focas_net.errors.ProtocolError`)::
 
     NativeProtocolError          anything this codec refuses to decode
      +-- NativeFrameError        bad magic, length above the maximum, broken block structure:
@@ -41,7 +41,7 @@ import struct
 from dataclasses import dataclass
 from typing import ClassVar, Final, NamedTuple, Self
 
-from focas_net.protocol.errors import EW, FrameError, PayloadError, ProtocolError
+from focas_net.errors import EW, FrameError, PayloadError, ProtocolError
 
 __all__ = [
     "CLIENT_VERSION",

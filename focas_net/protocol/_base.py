@@ -8,7 +8,7 @@ from collections.abc import Callable
 from operator import attrgetter
 from typing import Any, ClassVar, Final, Generic, Self, TypeVar
 
-from .errors import PayloadError
+from ..errors import PayloadError
 
 __all__ = ["I16", "INT_RANGES", "Codec", "FixedPayload"]
 

@@ -18,7 +18,7 @@ from dataclasses import dataclass
 from datetime import UTC, datetime
 from typing import Final, Self
 
-from .errors import EW
+from ..errors import EW
 
 __all__ = [
     "ALARM_TYPE_NAMES",

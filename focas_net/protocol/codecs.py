@@ -16,10 +16,10 @@ import struct
 from dataclasses import dataclass
 from typing import Any, ClassVar, Final, Self
 
+from ..errors import PayloadError
 from ._base import I16, INT_RANGES, Codec, FixedPayload
 from .alarms import ActiveAlarmList, AlarmHistory
 from .commands import Command
-from .errors import PayloadError
 from .versamax import VersaMaxReply, VersaMaxRequest
 
 __all__ = [

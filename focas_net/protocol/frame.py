@@ -11,7 +11,7 @@ from __future__ import annotations
 import struct
 from typing import Final, NamedTuple
 
-from .errors import FrameError
+from ..errors import FrameError
 
 __all__ = [
     "DEFAULT_MAX_FRAME",

@@ -32,7 +32,7 @@ from collections.abc import Iterable
 from dataclasses import dataclass
 from typing import Final, Self
 
-from .errors import PayloadError
+from ..errors import PayloadError
 
 __all__ = [
     "MAX_CONFIG_CHUNK",

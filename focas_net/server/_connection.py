@@ -18,7 +18,8 @@ import asyncio
 import logging
 from typing import TYPE_CHECKING, Any, Final, cast
 
-from focas_net.protocol import EW, HEADER, Frame, FrameDecoder, FrameError, encode_ew
+from focas_net.errors import EW, FrameError
+from focas_net.protocol import HEADER, Frame, FrameDecoder, encode_ew
 from focas_net.sim.packed import error_payload, handle
 
 from .faults import FaultKind, FaultQueue, FaultScope, parse_inject

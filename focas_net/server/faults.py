@@ -26,7 +26,8 @@ from __future__ import annotations
 from collections import deque
 from typing import Final
 
-from focas_net.protocol import EW, FaultKind, FaultScope, InjectFault, PayloadError
+from focas_net.errors import EW, PayloadError
+from focas_net.protocol import FaultKind, FaultScope, InjectFault
 
 __all__ = [
     "MAX_ARMED_FAULTS",

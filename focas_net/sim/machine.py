@@ -35,8 +35,9 @@ from datetime import UTC, datetime
 from itertools import islice
 from typing import Final
 
+from focas_net.errors import EW, FocasError
+
 from ..protocol import (
-    EW,
     EW_OK_BYTES,
     MAX_ALARM_MSG,
     MAX_CONFIG_CHUNK,
@@ -45,7 +46,6 @@ from ..protocol import (
     ActiveAlarm,
     AlarmHistory,
     AlarmHistoryEntry,
-    FocasError,
     IOModuleRecord,
     MacroValue,
     ParamValue,

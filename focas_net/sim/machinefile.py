@@ -16,7 +16,9 @@ from os import PathLike
 from pathlib import Path
 from typing import Any, Final, NoReturn
 
-from ..protocol import BoardId, FocasError, IOModuleRecord, PmcArea, RefType, SysInfo
+from focas_net.errors import FocasError
+
+from ..protocol import BoardId, IOModuleRecord, PmcArea, RefType, SysInfo
 from .default import gniu_record, mdd844_record
 from .machine import (
     AUT_MODES,

@@ -24,9 +24,10 @@ import struct
 from collections.abc import Callable
 from typing import Final
 
+from focas_net.errors import EW, PayloadError
+
 from ..protocol import (
     COMMANDS,
-    EW,
     EW_OK_BYTES,
     ActiveAlarmList,
     ClearAlarms,
@@ -35,7 +36,6 @@ from ..protocol import (
     MacroRequest,
     MacroValue,
     ParamValue,
-    PayloadError,
     PmcData,
     PmcRange,
     RaiseAlarm,
