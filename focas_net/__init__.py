@@ -43,9 +43,11 @@ from .protocol import (
     AutMode,
     BoardId,
     Command,
+    EditState,
     EmergencyState,
     FaultKind,
     FaultScope,
+    HdckState,
     IOModuleRecord,
     MacroValue,
     MotionState,
@@ -57,6 +59,7 @@ from .protocol import (
     RunState,
     StatusInfo,
     SysInfo,
+    TmMode,
 )
 from .server import FocasServer
 from .sim import Machine, MachineError, MachineFileError, default_machine, load_machine
@@ -84,6 +87,7 @@ __all__ = [
     "ClientState",
     "CncError",
     "Command",
+    "EditState",
     "EmergencyState",
     "FaultKind",
     "FaultScope",
@@ -93,6 +97,7 @@ __all__ = [
     "FocasServer",
     "FocasTimeoutError",
     "FrameError",
+    "HdckState",
     "IOModuleRecord",
     "Machine",
     "MachineError",
@@ -115,6 +120,7 @@ __all__ = [
     "RunState",
     "StatusInfo",
     "SysInfo",
+    "TmMode",
     "__version__",
     "default_machine",
     "load_machine",

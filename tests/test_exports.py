@@ -14,7 +14,7 @@ import pytest
 import focas_net.protocol as protocol
 from focas_net.errors import FocasError
 
-SUBMODULES = ["alarms", "codecs", "commands", "frame", "versamax"]
+SUBMODULES = ["alarms", "codecs", "commands", "frame", "values", "versamax"]
 
 
 def test_all_names_exist() -> None:

@@ -1,34 +1,61 @@
 """Named values of ODBST fields and of the simulator's fault injection, in one place.
 
-The numbers are FANUC's for the 0i/16i/18i/21i/30i series; the ``label`` of each member is what
-the CNC screen shows (``****`` for "nothing").
+The numbers are FANUC's for the 0i/16i/18i/21i/30i series. Every ODBST member carries two
+texts: its ``label``, what the CNC screen shows in the status line, and its ``meaning``, a
+short description for people. The screen writes "nothing" as asterisks filling the field:
+``****`` in the four-character fields (mode, run state, edit state) and ``***`` in the
+three-character motion and M/S/T/B fields. The emergency and alarm fields stay blank on the
+screen when inactive; their inactive members use ``****`` so that a label is never empty.
 """
 
 from __future__ import annotations
 
 import enum
+from typing import TYPE_CHECKING, Self
 
 __all__ = [
     "AlarmState",
     "AutMode",
+    "EditState",
     "EmergencyState",
     "FaultKind",
     "FaultScope",
+    "HdckState",
     "MotionState",
     "MstbState",
     "RunState",
-    "label_of",
+    "TmMode",
 ]
 
 
 class _Labelled(enum.IntEnum):
-    @property
-    def label(self) -> str:
-        """The text the CNC screen shows for this value."""
-        return _LABELS.get((type(self).__name__, self.value), self.name)
+    """An ODBST field value with its screen ``label`` and its ``meaning``.
+
+    Members are written ``NAME = number, label, meaning``; the member's value is the number.
+    """
+
+    _value_: int
+    label: str
+    """The text the CNC screen shows for this value."""
+    meaning: str
+    """What this value means, in a few words."""
+
+    if TYPE_CHECKING:
+        # Calling the class looks a member up by its number (``AutMode(1)``); only the class
+        # body passes a label and a meaning, to the constructor below.
+        def __new__(cls, value: int) -> Self: ...
+
+    else:
+
+        def __new__(cls, value, label, meaning):
+            member = int.__new__(cls, value)
+            member._value_ = value
+            member.label = label
+            member.meaning = meaning
+            return member
 
     @classmethod
-    def parse(cls, value: str | int) -> _Labelled:
+    def parse(cls, value: str | int) -> Self:
         """A member from its name (``"MDI"``), its label, or its number; ValueError otherwise."""
         if isinstance(value, str):
             text = value.strip().upper()
@@ -49,64 +76,93 @@ class _Labelled(enum.IntEnum):
 class AutMode(_Labelled):
     """ODBST ``aut``: the mode selection."""
 
-    MDI = 0
-    MEM = 1
-    NOSEL = 2  # "****": no selection; not a settable mode
-    EDIT = 3
-    HND = 4
-    JOG = 5
-    TJOG = 6  # teach-in JOG
-    THND = 7  # teach-in handle
-    INC = 8
-    REF = 9
-    RMT = 10
+    MDI = 0, "MDI", "manual data input"
+    MEM = 1, "MEM", "memory (automatic operation)"
+    NOSEL = 2, "****", "no selection"  # not a settable mode
+    EDIT = 3, "EDIT", "program edit"
+    HND = 4, "HND", "manual handle feed"
+    JOG = 5, "JOG", "jog feed"
+    TJOG = 6, "TJOG", "teach-in jog"
+    THND = 7, "THND", "teach-in handle"
+    INC = 8, "INC", "incremental feed"
+    REF = 9, "REF", "reference position return"
+    RMT = 10, "RMT", "remote (DNC) operation"
 
 
 class RunState(_Labelled):
     """ODBST ``run``: the automatic operation status."""
 
-    RESET = 0
-    STOP = 1
-    HOLD = 2
-    STRT = 3
-    MSTR = 4
+    RESET = 0, "****", "reset"
+    STOP = 1, "STOP", "automatic operation stopped"
+    HOLD = 2, "HOLD", "feed hold"
+    STRT = 3, "STRT", "cycle start (running)"
+    MSTR = 4, "MSTR", "manual numerical command / tool retract and return"
 
 
 class MotionState(_Labelled):
-    """ODBST ``motion``."""
+    """ODBST ``motion``: axis movement or dwell."""
 
-    NONE = 0
-    MTN = 1
-    DWL = 2
+    NONE = 0, "***", "no motion"
+    MTN = 1, "MTN", "axis moving"
+    DWL = 2, "DWL", "dwell"
 
 
 class MstbState(_Labelled):
     """ODBST ``mstb``: M/S/T/B function status."""
 
-    NONE = 0
-    FIN = 1
+    NONE = 0, "***", "no M/S/T/B function"
+    FIN = 1, "FIN", "M/S/T/B function waiting for completion (FIN)"
 
 
 class EmergencyState(_Labelled):
     """ODBST ``emergency``."""
 
-    NONE = 0
-    EMG = 1
-    RESET = 2
+    NONE = 0, "****", "not in emergency stop"
+    EMG = 1, "EMG", "emergency stop"
+    RESET = 2, "RESET", "reset signal on"
 
 
 class AlarmState(_Labelled):
     """ODBST ``alarm`` (30i numbering beyond 2)."""
 
-    NONE = 0
-    ALM = 1
-    BAT = 2
-    FAN = 3
-    PS = 4
-    FSSB = 5
-    INSU = 6
-    ENC = 7
-    PMC = 8
+    NONE = 0, "****", "no alarm"
+    ALM = 1, "ALM", "alarm active"
+    BAT = 2, "BAT", "battery low"
+    FAN = 3, "FAN", "fan alarm (CNC or servo amplifier)"
+    PS = 4, "PS", "PS warning"
+    FSSB = 5, "FSSB", "FSSB warning"
+    INSU = 6, "INSU", "insulation warning"
+    ENC = 7, "ENC", "encoder warning"
+    PMC = 8, "PMC", "PMC alarm"
+
+
+class EditState(_Labelled):
+    """ODBST ``edit``: the program editing status.
+
+    The values common to every series; higher ones differ per series (and model) and have no
+    member.
+    """
+
+    NONE = 0, "****", "not editing"
+    EDIT = 1, "EDIT", "editing"
+    SEARCH = 2, "SEARCH", "searching"
+    OUTPUT = 3, "OUTPUT", "outputting data"
+    INPUT = 4, "INPUT", "inputting data"
+    COMPARE = 5, "COMPARE", "comparing data"
+
+
+class TmMode(_Labelled):
+    """ODBST ``tmmode``: the T/M mode selection of a compound machine."""
+
+    T = 0, "T", "T mode"
+    M = 1, "M", "M mode"
+
+
+class HdckState(_Labelled):
+    """ODBST ``hdck``: the manual handle retrace status."""
+
+    NONE = 0, "****", "manual handle retrace off"
+    HDCK = 1, "HDCK", "manual handle retrace on"
 
 
 class FaultKind(enum.IntEnum):
@@ -123,24 +179,3 @@ class FaultScope(enum.IntEnum):
 
     CONNECTION = 0  #: the next answers on this connection
     MACHINE = 1  #: the next answers of this machine on any connection (one shared count)
-
-
-_LABELS: dict[tuple[str, int], str] = {
-    ("AutMode", 2): "****",
-    ("AutMode", 6): "TJOG",
-    ("AutMode", 7): "THND",
-    ("RunState", 0): "****",
-    ("MotionState", 0): "****",
-    ("MstbState", 0): "****",
-    ("EmergencyState", 0): "****",
-    ("EmergencyState", 2): "RESET",
-    ("AlarmState", 0): "****",
-}
-
-
-def label_of(enum_type: type[_Labelled], value: int) -> str:
-    """The screen text of ``value`` for ``enum_type``, or the number itself when unknown."""
-    try:
-        return enum_type(value).label
-    except ValueError:
-        return str(value)
