@@ -7,6 +7,7 @@ while the server runs on the test's loop; one test runs it as a subprocess to se
 from __future__ import annotations
 
 import asyncio
+import dataclasses
 import json
 import signal
 import socket
@@ -33,6 +34,9 @@ from focas_net.errors import AccessDeniedError, CncError, FocasTimeoutError
 from focas_net.protocol import (
     ActiveAlarm,
     AlarmHistoryEntry,
+    AlarmState,
+    AutMode,
+    EditState,
     FrameDecoder,
     ProgramNumbers,
     StatusInfo,
@@ -605,8 +609,14 @@ def test_status_formatting() -> None:
     }
     odd = StatusInfo(0, 0, 42, 0, 0, 0, 0, 0, 99)
     assert fmt.status_summary(odd).startswith("aut=42 ")
-    assert fmt.field_name(fmt.EDIT_NAMES, 99) == ("99", "unknown value")
-    assert fmt.AUT_NAMES[0][0] == "MDI" and fmt.AUT_NAMES[10][0] == "RMT"
+    assert fmt.field_name(AlarmState, 3) == ("FAN", "fan alarm (CNC or servo amplifier)")
+    assert fmt.field_name(EditState, 99) == ("99", "unknown value")
+    assert fmt.field_name(AutMode, 0) == ("MDI", "manual data input")
+    assert fmt.field_name(AutMode, 10) == ("RMT", "remote (DNC) operation")
+    assert [f for f, _ in fmt.STATUS_FIELDS] == [
+        "aut", "run", "motion", "mstb", "emergency", "alarm", "edit", "tmmode", "hdck",
+    ]  # fmt: skip
+    assert {f for f, _ in fmt.STATUS_FIELDS} == {f.name for f in dataclasses.fields(StatusInfo)}
 
 
 def test_sysinfo_formatting() -> None:
@@ -678,8 +688,9 @@ def test_value_parsing() -> None:
     with pytest.raises(ValueError):
         fmt.parse_byte_list([" , "])
     assert fmt.parse_aut("mdi") == 0 and fmt.parse_aut("MEM") == 1 and fmt.parse_aut("10") == 10
-    for bad in ("****", "2", "2x", "11"):
-        with pytest.raises(ValueError):
+    assert fmt.parse_aut(" tjog ") is AutMode.TJOG and fmt.parse_aut("03") is AutMode.EDIT
+    for bad in ("****", "2", "NOSEL", "2x", "11", "-1", ""):
+        with pytest.raises(ValueError, match=r"unknown mode .* \(one of MDI, MEM, EDIT, HND, "):
             fmt.parse_aut(bad)
     assert fmt.parse_ew("EW_PASSWD") == 17 and fmt.parse_ew("busy") == -1
     assert fmt.parse_ew("-16") == -16 and fmt.parse_ew("0x11") == 17

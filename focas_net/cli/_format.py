@@ -1,41 +1,45 @@
 """Pure formatting and parsing for the client commands of ``focas-net``.
 
-Nothing here does I/O: names and meanings of the ODBST fields, alarm codes (``PS0100``), the
-ODBSYS identity, VersaMax records, PMC hex dumps, column tables, and the parsers of the
-command-line forms (``1815.0``, ``100.3``, ``PS0100``, PMC data). Each function returns plain
-text or JSON-ready values so that it can be tested on its own.
+Nothing here does I/O: the ODBST fields (labels and meanings from the enums of
+:mod:`focas_net.protocol`), alarm codes (``PS0100``), the ODBSYS identity, VersaMax records,
+PMC hex dumps, column tables, and the parsers of the command-line forms (``1815.0``,
+``100.3``, ``PS0100``, PMC data). Each function returns plain text or JSON-ready values so that
+it can be tested on its own.
 """
 
 from __future__ import annotations
 
 import re
-from collections.abc import Iterable, Mapping, Sequence
+from collections.abc import Callable, Iterable, Mapping, Sequence
 from datetime import UTC, datetime
 from decimal import Decimal
-from typing import Any, Final
+from typing import Any, Final, Protocol
 
 from focas_net.errors import EW, ChunkedWriteError, CncError, ew_info
 from focas_net.protocol import (
     ALARM_TYPE_NAMES,
     ActiveAlarm,
     AlarmHistoryEntry,
+    AlarmState,
+    AutMode,
     BoardId,
+    EditState,
+    EmergencyState,
+    HdckState,
     IOModuleRecord,
+    MotionState,
+    MstbState,
     ProgramNumbers,
     RefType,
+    RunState,
     StatusInfo,
     SysInfo,
+    TmMode,
 )
 
 __all__ = [
-    "AUT_NAMES",
-    "EDIT_NAMES",
-    "EMERGENCY_NAMES",
-    "MOTION_NAMES",
-    "MSTB_NAMES",
-    "RUN_NAMES",
-    "STATUS_ALARM_NAMES",
     "STATUS_FIELDS",
+    "FieldValues",
     "alarm_code",
     "alarm_dict",
     "error_line",
@@ -69,101 +73,56 @@ __all__ = [
     "utc_text",
 ]
 
-Names = Mapping[int, tuple[str, str]]
 
-#: ``aut`` (mode selection): value -> (FOCAS name, meaning).
-AUT_NAMES: Final[Names] = {
-    0: ("MDI", "manual data input"),
-    1: ("MEM", "memory (automatic operation)"),
-    2: ("****", "no selection"),
-    3: ("EDIT", "program edit"),
-    4: ("HND", "manual handle feed"),
-    5: ("JOG", "jog feed"),
-    6: ("TJOG", "teach-in jog"),
-    7: ("THND", "teach-in handle"),
-    8: ("INC", "incremental feed"),
-    9: ("REF", "reference position return"),
-    10: ("RMT", "remote (DNC) operation"),
-}
-#: ``run`` (automatic operation state).
-RUN_NAMES: Final[Names] = {
-    0: ("****", "reset"),
-    1: ("STOP", "automatic operation stopped"),
-    2: ("HOLD", "feed hold"),
-    3: ("STRT", "cycle start (running)"),
-    4: ("MSTR", "manual numerical command / tool retract and return"),
-}
-#: ``motion`` (axis movement / dwell).
-MOTION_NAMES: Final[Names] = {
-    0: ("***", "no motion"),
-    1: ("MTN", "axis moving"),
-    2: ("DWL", "dwell"),
-}
-#: ``mstb`` (M, S, T, B function state).
-MSTB_NAMES: Final[Names] = {
-    0: ("***", "no M/S/T/B function"),
-    1: ("FIN", "M/S/T/B function waiting for completion (FIN)"),
-}
-#: ``emergency``.
-EMERGENCY_NAMES: Final[Names] = {
-    0: ("****", "not in emergency stop"),
-    1: ("EMG", "emergency stop"),
-    2: ("RESET", "reset signal on"),
-}
-#: ``alarm`` of ODBST.
-STATUS_ALARM_NAMES: Final[Names] = {
-    0: ("****", "no alarm"),
-    1: ("ALM", "alarm active"),
-    2: ("BAT", "battery low"),
-}
-#: ``edit`` (the common values; others are shown as numbers).
-EDIT_NAMES: Final[Names] = {
-    0: ("****", "not editing"),
-    1: ("EDIT", "editing"),
-    2: ("SEARCH", "searching"),
-    3: ("OUTPUT", "outputting data"),
-    4: ("INPUT", "inputting data"),
-    5: ("COMPARE", "comparing data"),
-}
-_TMMODE_NAMES: Final[Names] = {0: ("T", "T mode"), 1: ("M", "M mode")}
-_HDCK_NAMES: Final[Names] = {
-    0: ("****", "manual handle retrace off"),
-    1: ("HDCK", "manual handle retrace on"),
-}
+class _Named(Protocol):
+    """A member of an ODBST enum: its screen label and its meaning."""
 
-#: The ODBST fields in display order, with their name tables.
-STATUS_FIELDS: Final[tuple[tuple[str, Names], ...]] = (
-    ("aut", AUT_NAMES),
-    ("run", RUN_NAMES),
-    ("motion", MOTION_NAMES),
-    ("mstb", MSTB_NAMES),
-    ("emergency", EMERGENCY_NAMES),
-    ("alarm", STATUS_ALARM_NAMES),
-    ("edit", EDIT_NAMES),
-    ("tmmode", _TMMODE_NAMES),
-    ("hdck", _HDCK_NAMES),
+    @property
+    def label(self) -> str: ...
+
+    @property
+    def meaning(self) -> str: ...
+
+
+#: An ODBST enum (``AutMode``, ...): a member from a field's number, ValueError when unknown.
+FieldValues = Callable[[int], _Named]
+
+#: The ODBST fields in display order, with the enums of their values.
+STATUS_FIELDS: Final[tuple[tuple[str, FieldValues], ...]] = (
+    ("aut", AutMode),
+    ("run", RunState),
+    ("motion", MotionState),
+    ("mstb", MstbState),
+    ("emergency", EmergencyState),
+    ("alarm", AlarmState),
+    ("edit", EditState),
+    ("tmmode", TmMode),
+    ("hdck", HdckState),
 )
 _SUMMARY_FIELDS: Final = ("aut", "run", "motion", "mstb", "emergency", "alarm", "edit")
 
 
-def field_name(names: Names, value: int) -> tuple[str, str]:
-    """``(name, meaning)`` of ``value`` in ``names``; an unknown value is its number."""
-    found = names.get(value)
-    return found if found is not None else (str(value), "unknown value")
+def field_name(values: FieldValues, value: int) -> tuple[str, str]:
+    """``(label, meaning)`` of ``value`` of a field; an unknown value is its number."""
+    try:
+        member = values(value)
+    except ValueError:
+        return str(value), "unknown value"
+    return member.label, member.meaning
 
 
 def status_summary(status: StatusInfo) -> str:
     """One line: ``aut=MEM run=STRT motion=MTN mstb=*** emergency=**** alarm=ALM edit=****``."""
-    tables = dict(STATUS_FIELDS)
-    return " ".join(f"{f}={field_name(tables[f], getattr(status, f))[0]}" for f in _SUMMARY_FIELDS)
+    fields = dict(STATUS_FIELDS)
+    return " ".join(f"{f}={field_name(fields[f], getattr(status, f))[0]}" for f in _SUMMARY_FIELDS)
 
 
 def status_rows(status: StatusInfo) -> list[tuple[str, str, str, str]]:
     """``(field, value, name, meaning)`` for every ODBST field."""
     rows = []
-    for f, names in STATUS_FIELDS:
+    for f, values in STATUS_FIELDS:
         value = getattr(status, f)
-        name, meaning = field_name(names, value)
+        name, meaning = field_name(values, value)
         rows.append((f, str(value), name, meaning))
     return rows
 
@@ -171,9 +130,9 @@ def status_rows(status: StatusInfo) -> list[tuple[str, str, str, str]]:
 def status_dict(status: StatusInfo) -> dict[str, dict[str, Any]]:
     """``{field: {"value": n, "name": ..., "meaning": ...}}`` for every ODBST field."""
     out: dict[str, dict[str, Any]] = {}
-    for f, names in STATUS_FIELDS:
+    for f, values in STATUS_FIELDS:
         value = getattr(status, f)
-        name, meaning = field_name(names, value)
+        name, meaning = field_name(values, value)
         out[f] = {"value": value, "name": name, "meaning": meaning}
     return out
 
@@ -560,18 +519,19 @@ def parse_byte_list(items: Iterable[str]) -> bytes:
     return bytes(values)
 
 
-_AUT_BY_NAME: Final[dict[str, int]] = {name: v for v, (name, _) in AUT_NAMES.items() if v != 2}
+_MODES: Final = ", ".join(m.name for m in AutMode if m is not AutMode.NOSEL)
 
 
-def parse_aut(text: str) -> int:
-    """A mode by FOCAS name (``MDI``, ``MEM``, ``EDIT``, ...) or ``aut`` number; 2 (``****``,
-    no selection) is not a mode."""
-    s = text.strip().upper()
-    if s in _AUT_BY_NAME:
-        return _AUT_BY_NAME[s]
-    if s.isdigit() and int(s) in _AUT_BY_NAME.values():
-        return int(s)
-    raise ValueError(f"unknown mode {text!r} (one of {', '.join(_AUT_BY_NAME)})")
+def parse_aut(text: str) -> AutMode:
+    """A mode by FOCAS name (``MDI``, ``MEM``, ``EDIT``, ...) or ``aut`` number
+    (:meth:`AutMode.parse`); 2 (``****``, no selection) is not a mode."""
+    try:
+        mode = AutMode.parse(text)
+    except ValueError:
+        mode = AutMode.NOSEL
+    if mode is AutMode.NOSEL:
+        raise ValueError(f"unknown mode {text!r} (one of {_MODES})")
+    return mode
 
 
 def parse_ew(text: str) -> int:

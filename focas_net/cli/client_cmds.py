@@ -586,7 +586,7 @@ def _sim_panel(args: argparse.Namespace) -> Go:
 
     async def go(cnc: FocasClient) -> Output:
         before = await cnc.read_status()
-        new_mode = before.aut if mode is None else mode
+        new_mode = before.aut if mode is None else int(mode)
         emergency = before.emergency == 1 if args.emergency is None else args.emergency
         await cnc.sim.set_panel(new_mode, pwe=bool(args.pwe), emergency=emergency)
         st = await cnc.read_status()
