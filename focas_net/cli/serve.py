@@ -32,6 +32,8 @@ from focas_net.server import (
     FocasServer,
 )
 
+from ._args import EXIT_CNC, EXIT_USAGE, LISTEN_PORT, POSITIVE, PROG, print_error
+
 if TYPE_CHECKING:
     from focas_net.sim import Machine
 
@@ -39,34 +41,11 @@ __all__ = ["build_machines", "register", "run"]
 
 _log = logging.getLogger("focas_net.cli.serve")
 
-#: Exit code of a usage or configuration error.
-EXIT_USAGE = 2
-#: Exit code when the server cannot start (port in use, ...).
-EXIT_START = 1
+_ERROR_PREFIX = f"{PROG} serve: error"  # as argparse words its usage errors
 
 
 class ConfigError(Exception):
     """A configuration problem reported as one line, exit code 2."""
-
-
-def _positive_int(text: str) -> int:
-    try:
-        value = int(text, 0)
-    except ValueError:
-        raise argparse.ArgumentTypeError(f"not an integer: {text!r}") from None
-    if value < 1:
-        raise argparse.ArgumentTypeError(f"must be at least 1, got {value}")
-    return value
-
-
-def _port(text: str) -> int:
-    try:
-        value = int(text, 0)
-    except ValueError:
-        raise argparse.ArgumentTypeError(f"not a port number: {text!r}") from None
-    if not 0 <= value <= 65_535:
-        raise argparse.ArgumentTypeError(f"port must be 0..65535, got {value}")
-    return value
 
 
 def _seconds(text: str) -> float:
@@ -86,7 +65,7 @@ def _password(text: str) -> str:
 
 
 def _max_frame(text: str) -> int:
-    value = _positive_int(text)
+    value = POSITIVE(text)
     if value < 4:
         raise argparse.ArgumentTypeError(f"must be at least 4, got {value}")
     return value
@@ -102,7 +81,7 @@ def register(subparsers: Any) -> None:
     p.add_argument("--host", default=DEFAULT_HOST, help="address to bind (default %(default)s)")
     p.add_argument(
         "--port",
-        type=_port,
+        type=LISTEN_PORT,
         default=DEFAULT_PORT,
         help="port of the first machine; 0 = ephemeral ports (default %(default)s)",
     )
@@ -113,7 +92,7 @@ def register(subparsers: Any) -> None:
     )
     p.add_argument(
         "--fleet",
-        type=_positive_int,
+        type=POSITIVE,
         default=1,
         metavar="N",
         help="serve N independent machines on ports PORT..PORT+N-1 (or N ephemeral ports)",
@@ -136,7 +115,7 @@ def register(subparsers: Any) -> None:
     )
     p.add_argument(
         "--max-connections",
-        type=_positive_int,
+        type=POSITIVE,
         default=DEFAULT_MAX_CONNECTIONS,
         metavar="N",
         help="connections per machine; extra ones are closed at once (default %(default)s)",
@@ -165,7 +144,7 @@ def register(subparsers: Any) -> None:
     )
     p.add_argument(
         "--native-port",
-        type=_port,
+        type=LISTEN_PORT,
         default=None,
         metavar="PORT",
         help="also speak FANUC's native FOCAS/2 Ethernet protocol on PORT (PORT+i for machine "
@@ -227,11 +206,6 @@ def _ssl_context(args: argparse.Namespace) -> ssl.SSLContext | None:
     return ctx
 
 
-def _error(message: str) -> None:
-    sys.stderr.write(f"focas-net serve: error: {message}\n")
-    sys.stderr.flush()
-
-
 def run(args: argparse.Namespace) -> int:
     """Entry point of ``focas-net serve``; returns the exit code."""
     logging.basicConfig(
@@ -251,7 +225,7 @@ def run(args: argparse.Namespace) -> int:
         if args.uvloop and importlib.util.find_spec("uvloop") is None:
             raise ConfigError("--uvloop: uvloop is not installed")
     except ConfigError as exc:
-        _error(str(exc))
+        print_error(str(exc), _ERROR_PREFIX)
         return EXIT_USAGE
     server = FocasServer(
         machines,
@@ -269,8 +243,10 @@ def run(args: argparse.Namespace) -> int:
             _serve, server, backend="asyncio", backend_options={"use_uvloop": args.uvloop}
         )
     except OSError as exc:
-        _error(f"cannot listen on {args.host}:{args.port}: {exc.strerror or exc}")
-        return EXIT_START
+        print_error(
+            f"cannot listen on {args.host}:{args.port}: {exc.strerror or exc}", _ERROR_PREFIX
+        )
+        return EXIT_CNC
 
 
 async def _serve(server: FocasServer) -> int:

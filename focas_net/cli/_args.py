@@ -1,0 +1,161 @@
+"""What every ``focas-net`` command shares: exit codes, the one-line error, argument types.
+
+An argument type is a parser of the command-line form (``ValueError`` with a message naming
+what the user typed) wrapped by :func:`argument_type` for ``argparse``, which then reports
+``focas-net CMD: error: argument --port: port must be 1..65535, got '70000'`` and exits 2.
+"""
+
+from __future__ import annotations
+
+import argparse
+import sys
+from collections.abc import Callable
+from functools import partial
+from typing import Final, TypeVar
+
+from focas_net.protocol import PmcArea
+
+from . import _format as fmt
+
+__all__ = [
+    "AREA",
+    "BOOL",
+    "EXIT_CNC",
+    "EXIT_CODES",
+    "EXIT_CONNECTION",
+    "EXIT_OK",
+    "EXIT_PROTOCOL",
+    "EXIT_USAGE",
+    "HISTORY_DEPTH",
+    "INT",
+    "LISTEN_PORT",
+    "NON_NEGATIVE",
+    "PORT",
+    "POSITIVE",
+    "PROG",
+    "SECONDS",
+    "argument_type",
+    "parse_area",
+    "parse_history_depth",
+    "parse_non_negative",
+    "parse_port",
+    "parse_positive",
+    "parse_seconds",
+    "print_error",
+]
+
+T = TypeVar("T")
+
+PROG: Final = "focas-net"
+
+#: Success.
+EXIT_OK: Final = 0
+#: A client command: the CNC answered an EW code (or a chunked PMC write failed part way);
+#: ``serve``: a listener could not start (port in use, ...).
+EXIT_CNC: Final = 1
+#: Bad arguments, a value the protocol cannot carry, or (``serve``) a bad configuration.
+EXIT_USAGE: Final = 2
+#: Connection refused or lost, or no answer within ``--timeout``.
+EXIT_CONNECTION: Final = 3
+#: The peer broke the wire protocol.
+EXIT_PROTOCOL: Final = 4
+
+#: The exit codes of the client commands with their short descriptions, as ``--help`` lists them.
+EXIT_CODES: Final[tuple[tuple[int, str], ...]] = (
+    (EXIT_OK, "success"),
+    (EXIT_CNC, "CNC error (EW code)"),
+    (EXIT_USAGE, "usage error"),
+    (EXIT_CONNECTION, "connection error or timeout"),
+    (EXIT_PROTOCOL, "protocol violation"),
+)
+
+
+def print_error(message: str, prog: str = PROG) -> None:
+    """``prog: message`` on stderr, flushed."""
+    sys.stderr.write(f"{prog}: {message}\n")
+    sys.stderr.flush()
+
+
+def argument_type(parse: Callable[[str], T], what: str) -> Callable[[str], T]:
+    """``parse`` as an ``argparse`` type: its ``ValueError`` message becomes the usage error."""
+
+    def convert(text: str) -> T:
+        try:
+            return parse(text)
+        except ValueError as exc:
+            raise argparse.ArgumentTypeError(str(exc)) from None
+
+    convert.__name__ = what  # argparse names the type in its messages
+    return convert
+
+
+# -- parsers --------------------------------------------------------------------------------
+
+
+def parse_port(text: str, *, lowest: int = 1) -> int:
+    """A TCP port, ``lowest``..65535, as a decimal or ``0x`` number; ``lowest`` is 0 where port
+    0 asks for an ephemeral port (``serve``), 1 where a port is connected to."""
+    try:
+        value = fmt.parse_int(text)
+    except ValueError:
+        raise ValueError(f"not a port number: {text!r}") from None
+    if not lowest <= value <= 65_535:
+        raise ValueError(f"port must be {lowest}..65535, got {text!r}")
+    return value
+
+
+def parse_positive(text: str) -> int:
+    """An integer of at least 1."""
+    value = fmt.parse_int(text)
+    if value < 1:
+        raise ValueError(f"must be at least 1, got {value}")
+    return value
+
+
+def parse_non_negative(text: str) -> int:
+    """An integer of at least 0."""
+    value = fmt.parse_int(text)
+    if value < 0:
+        raise ValueError(f"must not be negative, got {value}")
+    return value
+
+
+def parse_seconds(text: str) -> float:
+    """A positive, finite number of seconds."""
+    try:
+        value = float(text)
+    except ValueError:
+        raise ValueError(f"not a number: {text!r}") from None
+    if not 0 < value < float("inf"):
+        raise ValueError(f"must be a positive number, got {text}")
+    return value
+
+
+def parse_history_depth(text: str) -> int:
+    """How many alarm history entries to read, 1..250."""
+    value = fmt.parse_int(text)
+    if not 1 <= value <= 250:
+        raise ValueError(f"history depth must be 1..250, got {value}")
+    return value
+
+
+def parse_area(text: str) -> PmcArea:
+    """A PMC area by letter (``R``) or number."""
+    try:
+        return PmcArea.parse(text)
+    except ValueError:
+        letters = "".join(a.name for a in PmcArea)
+        raise ValueError(f"unknown PMC area {text!r} (one of {letters})") from None
+
+
+#: A port to connect to, 1..65535.
+PORT: Final = argument_type(parse_port, "port")
+#: A port to listen on, 0..65535 (0: an ephemeral port).
+LISTEN_PORT: Final = argument_type(partial(parse_port, lowest=0), "port")
+INT: Final = argument_type(fmt.parse_int, "integer")
+POSITIVE: Final = argument_type(parse_positive, "count")
+NON_NEGATIVE: Final = argument_type(parse_non_negative, "count")
+SECONDS: Final = argument_type(parse_seconds, "seconds")
+BOOL: Final = argument_type(fmt.parse_bool, "on/off")
+AREA: Final = argument_type(parse_area, "area")
+HISTORY_DEPTH: Final = argument_type(parse_history_depth, "depth")
