@@ -21,15 +21,15 @@ from typing import Any
 import pytest
 from conftest import IO_TIMEOUT, Served, serving
 
-from focas_net.cli import _format as fmt
-from focas_net.cli import main
-from focas_net.cli.client_cmds import (
+from focas_net.cli import (
     EXIT_CNC,
     EXIT_CONNECTION,
     EXIT_OK,
     EXIT_PROTOCOL,
     EXIT_USAGE,
+    main,
 )
+from focas_net.cli import _format as fmt
 from focas_net.errors import AccessDeniedError, CncError, FocasTimeoutError
 from focas_net.protocol import (
     ActiveAlarm,

@@ -1,7 +1,31 @@
 """The ``focas-net`` command line: ``serve`` and the client commands.
 
-Each subcommand module exposes ``register(subparsers)``, which adds its parsers and sets
-``func`` (``args -> exit code``) on each.
+``focas-net serve`` runs simulated CNCs (:mod:`.serve`). The client commands read and write a
+CNC from the terminal: ``status``, ``sysinfo``, ``program``, ``position``, ``param get|set``,
+``macro get|set``, ``diag``, ``pmc read|write|bit``, ``alarms``, ``unlock``, ``versamax`` and
+``sim panel|alarm|clear|fault``. They are one table (:mod:`._table`) of handlers from
+:mod:`.read_cmds`, :mod:`.write_cmds` and :mod:`.sim_cmds`, run by :mod:`._run`; what all
+commands share (exit codes, argument types, the one-line error) is in :mod:`._args`.
+
+Every client command takes ``--host`` (default 127.0.0.1), ``--port`` (8193), ``--timeout``
+(seconds, 3) and ``--json``; the commands that write also take ``--password`` (sent with
+``cnc_wrunlockparam`` right after connecting).
+
+Output is a readable table by default (FOCAS names and their meanings); ``--json`` prints one
+JSON document instead (``alarms --follow --json`` prints one JSON object per line). A failure
+prints one line on stderr, ``focas-net: EW_PASSWD (17): protection / password error
+(cnc_wrparam)``, and exits with:
+
+====  ==========================================================================
+0     success
+1     the CNC answered an EW code (or a chunked PMC write failed part way)
+2     usage error (bad arguments, or a value the protocol cannot carry)
+3     connection refused or lost, or no answer within ``--timeout``
+4     the peer broke the wire protocol
+====  ==========================================================================
+
+``alarms --follow`` polls until interrupted (Ctrl-C or SIGTERM end it cleanly with exit 0), or
+until ``--count`` events were printed; it reconnects when the connection is lost.
 """
 
 from __future__ import annotations
@@ -10,19 +34,30 @@ import argparse
 import sys
 from collections.abc import Sequence
 
-__all__ = ["build_parser", "main"]
+from ._args import EXIT_CNC, EXIT_CONNECTION, EXIT_OK, EXIT_PROTOCOL, EXIT_USAGE, PROG
+
+__all__ = [
+    "EXIT_CNC",
+    "EXIT_CONNECTION",
+    "EXIT_OK",
+    "EXIT_PROTOCOL",
+    "EXIT_USAGE",
+    "build_parser",
+    "main",
+]
 
 
 def build_parser() -> argparse.ArgumentParser:
-    from . import client_cmds, serve
+    """The ``focas-net`` parser: ``serve``, then the client commands of the table."""
+    from . import _table, serve
 
     parser = argparse.ArgumentParser(
-        prog="focas-net",
+        prog=PROG,
         description="A simulated FANUC CNC (focas-net serve) and a FOCAS client for the terminal.",
     )
     sub = parser.add_subparsers(dest="command", required=True, metavar="COMMAND")
     serve.register(sub)
-    client_cmds.register(sub)
+    _table.register(sub)
     return parser
 
 

@@ -1,0 +1,407 @@
+"""The client commands of ``focas-net`` as one table, and the parsers built from it.
+
+Each row is a :class:`Cmd` (name, help, handler, arguments; ``writes`` adds ``--password``) or
+a :class:`Group` of them (``param get``, ``param set``, ...). An argument is an :func:`arg`:
+the flags and keyword options of one ``add_argument`` call. Every command also gets the
+``connection`` options (``--host``, ``--port``, ``--timeout``, ``--json``), a description made
+from its help, and the exit codes as its epilog.
+"""
+
+from __future__ import annotations
+
+import argparse
+from collections.abc import Callable, Sequence
+from dataclasses import dataclass
+from typing import Any, Final, Literal, TypedDict, Unpack
+
+from . import read_cmds, sim_cmds, write_cmds
+from ._args import (
+    AREA,
+    BOOL,
+    EXIT_CODES,
+    HISTORY_DEPTH,
+    INT,
+    NON_NEGATIVE,
+    PORT,
+    POSITIVE,
+    SECONDS,
+)
+from ._run import Command, runner
+
+__all__ = ["COMMANDS", "Arg", "ArgOptions", "Cmd", "Group", "arg", "register"]
+
+
+class ArgOptions(TypedDict, total=False):
+    """The keyword options of ``add_argument`` that the table uses."""
+
+    action: Literal["store_true"]
+    choices: Sequence[Any]
+    default: Any
+    help: str
+    metavar: str
+    nargs: Literal["?", "*"]
+    type: Callable[[str], Any]
+
+
+@dataclass(frozen=True, slots=True)
+class Arg:
+    """One ``add_argument`` call: ``--axis`` or a positional name, and its options."""
+
+    flags: tuple[str, ...]
+    options: ArgOptions
+
+
+def arg(*flags: str, **options: Unpack[ArgOptions]) -> Arg:
+    """An argument, written like ``add_argument``: ``arg("--axis", type=..., help=...)``."""
+    return Arg(flags, options)
+
+
+@dataclass(frozen=True, slots=True)
+class Cmd:
+    """A command: ``focas-net NAME`` or, in a :class:`Group`, ``focas-net GROUP NAME``."""
+
+    name: str
+    help: str
+    handler: Command
+    args: tuple[Arg, ...] = ()
+    writes: bool = False  #: takes ``--password`` (sent with cnc_wrunlockparam after connecting)
+
+
+@dataclass(frozen=True, slots=True)
+class Group:
+    """Commands under one name, chosen by an ACTION: ``focas-net param get``."""
+
+    name: str
+    help: str
+    commands: tuple[Cmd, ...]
+
+
+# -- shared arguments -----------------------------------------------------------------------
+
+_CONNECTION: Final = (
+    arg("--host", default="127.0.0.1", help="CNC address (default %(default)s)"),
+    arg("--port", type=PORT, default=8193, help="CNC port (default %(default)s)"),
+    arg(
+        "--timeout",
+        type=SECONDS,
+        default=3.0,
+        metavar="SECONDS",
+        help="per-call timeout (default %(default)s)",
+    ),
+    arg("--json", action="store_true", help="print JSON instead of a table"),
+)
+_PASSWORD: Final = arg(
+    "--password",
+    metavar="TEXT",
+    help="parameter password, sent with cnc_wrunlockparam after connecting",
+)
+_EPILOG: Final = "exit status: " + ", ".join(f"{code} {text}" for code, text in EXIT_CODES)
+
+_AXIS: Final = arg(
+    "--axis",
+    type=NON_NEGATIVE,
+    default=0,
+    metavar="N",
+    help="axis 1..n for an axis item; 0 for a non-axis item (default 0)",
+)
+_PARAM_NUMBER: Final = arg(
+    "number", metavar="NUMBER[.BIT]", help="parameter number, e.g. 1320 or 1815.4"
+)
+_MACRO_NUMBER: Final = arg("number", type=INT, metavar="NUMBER", help="variable number, e.g. 100")
+_AREA: Final = arg("area", type=AREA, metavar="AREA", help="area letter: X Y F G R T C D K A E")
+_START: Final = arg("start", type=NON_NEGATIVE, metavar="START", help="first byte address")
+
+
+# -- the table ------------------------------------------------------------------------------
+
+COMMANDS: Final[tuple[Cmd | Group, ...]] = (
+    Cmd("status", "read the CNC status (cnc_rdcncstat, ODBST)", read_cmds.status),
+    Cmd("sysinfo", "read the CNC identity (cnc_sysinfo, ODBSYS)", read_cmds.sysinfo),
+    Cmd(
+        "program",
+        "read the program numbers, feed and spindle speed (cnc_rdprgnum, cnc_actf, cnc_acts)",
+        read_cmds.program,
+    ),
+    Cmd(
+        "position",
+        "read axis positions (cnc_rdposition)",
+        read_cmds.position,
+        (
+            arg(
+                "--kind",
+                choices=("absolute", "machine", "relative", "distance"),
+                default="absolute",
+                help="which position; distance = distance to go (default %(default)s)",
+            ),
+            arg(
+                "--axis", type=POSITIVE, metavar="N", help="only axis N (1..n; default every axis)"
+            ),
+        ),
+    ),
+    Group(
+        "param",
+        "read or write a CNC parameter",
+        (
+            Cmd(
+                "get", "read a parameter (cnc_rdparam)", read_cmds.param_get, (_PARAM_NUMBER, _AXIS)
+            ),
+            Cmd(
+                "set",
+                "write a parameter (cnc_wrparam); NUMBER.BIT writes one bit by read-modify-write",
+                write_cmds.param_set,
+                (
+                    _PARAM_NUMBER,
+                    arg("value", metavar="VALUE", help="integer (0x.. hex); 0/1 for a bit"),
+                    _AXIS,
+                    arg(
+                        "--width",
+                        type=int,
+                        choices=(1, 2, 4),
+                        help="value width in bytes (default: the width the CNC reports)",
+                    ),
+                ),
+                writes=True,
+            ),
+        ),
+    ),
+    Group(
+        "macro",
+        "read or write a custom macro variable",
+        (
+            Cmd(
+                "get", "read a macro variable (cnc_rdmacro)", read_cmds.macro_get, (_MACRO_NUMBER,)
+            ),
+            Cmd(
+                "set",
+                "write a macro variable (cnc_wrmacro)",
+                write_cmds.macro_set,
+                (_MACRO_NUMBER, arg("value", metavar="VALUE", help="decimal value, e.g. 12.5")),
+                writes=True,
+            ),
+        ),
+    ),
+    Cmd(
+        "diag",
+        "read a diagnostic (cnc_rddiag)",
+        read_cmds.diag,
+        (
+            arg("number", type=INT, metavar="NUMBER", help="diagnostic number, e.g. 300"),
+            _AXIS,
+        ),
+    ),
+    Group(
+        "pmc",
+        "read or write PMC data",
+        (
+            Cmd(
+                "read",
+                "read PMC bytes (pmc_rdpmcrng)",
+                read_cmds.pmc_read,
+                (
+                    _AREA,
+                    _START,
+                    arg(
+                        "count",
+                        type=POSITIVE,
+                        nargs="?",
+                        default=1,
+                        metavar="COUNT",
+                        help="bytes (default 1)",
+                    ),
+                ),
+            ),
+            Cmd(
+                "write",
+                "write PMC bytes (pmc_wrpmcrng)",
+                write_cmds.pmc_write,
+                (
+                    _AREA,
+                    _START,
+                    arg(
+                        "values", nargs="*", metavar="BYTE", help="byte values: 1 2 0xff or 1,2,255"
+                    ),
+                    arg("--hex", metavar="HEX", help="the bytes as hex instead, e.g. 0102ff"),
+                    arg(
+                        "--force",
+                        action="store_true",
+                        help="write through simulator control, ignoring write protection "
+                        "(drives X and F)",
+                    ),
+                ),
+                writes=True,
+            ),
+            Cmd(
+                "bit",
+                "read a PMC bit, or write it (read-modify-write of its byte) when VALUE is given",
+                write_cmds.pmc_bit,
+                (
+                    _AREA,
+                    arg("address", metavar="BYTE.BIT", help="e.g. 100.3"),
+                    arg("value", nargs="?", metavar="VALUE", help="0/1 (on/off) to write"),
+                ),
+                writes=True,
+            ),
+        ),
+    ),
+    Cmd(
+        "alarms",
+        "read the active alarms (cnc_rdalmmsg) and the alarm history (cnc_rdalmhistry)",
+        read_cmds.alarms,
+        (
+            arg(
+                "--history",
+                type=HISTORY_DEPTH,
+                default=0,
+                metavar="N",
+                help="also the N most recent history entries (1..250)",
+            ),
+            arg(
+                "--follow",
+                action="store_true",
+                help="poll and print alarm events until Ctrl-C (with --history: history entries "
+                "too)",
+            ),
+            arg(
+                "--interval", type=SECONDS, metavar="SECONDS", help="poll interval of --follow (1)"
+            ),
+            arg("--count", type=POSITIVE, metavar="N", help="stop --follow after N events"),
+        ),
+    ),
+    Cmd(
+        "unlock",
+        "check a parameter password (cnc_wrunlockparam); the unlock lasts one connection",
+        write_cmds.unlock,
+        (arg("secret", metavar="PASSWORD", help="the parameter password"),),
+    ),
+    Cmd(
+        "versamax",
+        "read a VersaMax module configuration record (versamax_rdconfig)",
+        read_cmds.versamax,
+        (
+            arg("rack", type=NON_NEGATIVE, metavar="RACK", help="rack 0..7"),
+            arg("slot", type=NON_NEGATIVE, metavar="SLOT", help="slot 0..9"),
+        ),
+    ),
+    Group(
+        "sim",
+        "drive a simulated CNC (control commands; a real CNC refuses)",
+        (
+            Cmd(
+                "panel",
+                "set the operator panel: mode, PWE, emergency stop",
+                sim_cmds.panel,
+                (
+                    arg(
+                        "--mode",
+                        metavar="MODE",
+                        help="MDI MEM EDIT HND JOG ... (default: unchanged)",
+                    ),
+                    arg(
+                        "--pwe",
+                        type=BOOL,
+                        default=False,
+                        metavar="on|off",
+                        help="parameter write enable (default off: the panel's PWE cannot be "
+                        "read back)",
+                    ),
+                    arg(
+                        "--emergency",
+                        type=BOOL,
+                        metavar="on|off",
+                        help="emergency stop (default: unchanged)",
+                    ),
+                ),
+            ),
+            Cmd(
+                "alarm",
+                "raise an alarm",
+                sim_cmds.alarm,
+                (
+                    arg("alarm", metavar="ALARM", help="alarm code, e.g. PS0100 (or TYPE:NO)"),
+                    arg("message", nargs="*", metavar="MESSAGE", help="alarm message (ASCII)"),
+                    _AXIS,
+                ),
+            ),
+            Cmd(
+                "clear",
+                "clear active alarms (the history is kept)",
+                sim_cmds.clear,
+                (
+                    arg(
+                        "alarm",
+                        nargs="?",
+                        metavar="ALARM",
+                        help="PS0100, or PS for a whole type (default all)",
+                    ),
+                ),
+            ),
+            Cmd(
+                "fault",
+                "make the next answers misbehave (fault injection)",
+                sim_cmds.fault,
+                (
+                    arg(
+                        "kind",
+                        choices=sorted(sim_cmds.FAULT_KINDS),
+                        help="what happens to the answers",
+                    ),
+                    arg(
+                        "--arg",
+                        metavar="VALUE",
+                        help="delay: milliseconds; error: EW code (number or name, e.g. EW_BUSY)",
+                    ),
+                    arg(
+                        "--count", type=POSITIVE, default=1, metavar="N", help="answers (default 1)"
+                    ),
+                    arg(
+                        "--scope",
+                        choices=sorted(sim_cmds.FAULT_SCOPES),
+                        default="machine",
+                        help="machine: the next answers on any connection (default); "
+                        "connection: only this command's own connection",
+                    ),
+                ),
+            ),
+        ),
+    ),
+)
+
+
+# -- building the parsers -------------------------------------------------------------------
+
+
+def _add_argument(container: argparse._ActionsContainer, a: Arg) -> None:
+    container.add_argument(*a.flags, **a.options)
+
+
+def _add_command(subparsers: Any, cmd: Cmd) -> None:
+    p: argparse.ArgumentParser = subparsers.add_parser(
+        cmd.name,
+        help=cmd.help,
+        description=cmd.help[0].upper() + cmd.help[1:] + ".",
+        epilog=_EPILOG,
+    )
+    connection = p.add_argument_group("connection")
+    for a in (*_CONNECTION, _PASSWORD) if cmd.writes else _CONNECTION:
+        _add_argument(connection, a)
+    for a in cmd.args:
+        _add_argument(p, a)
+    p.set_defaults(func=runner(cmd.handler))
+
+
+def _add_group(subparsers: Any, group: Group) -> None:
+    p = subparsers.add_parser(
+        group.name, help=group.help, description=group.help[0].upper() + group.help[1:]
+    )
+    actions = p.add_subparsers(dest=f"{group.name}_command", required=True, metavar="ACTION")
+    for cmd in group.commands:
+        _add_command(actions, cmd)
+
+
+def register(subparsers: Any, commands: Sequence[Cmd | Group] = COMMANDS) -> None:
+    """Add ``commands`` (by default every client command) to the ``focas-net`` parser."""
+    for row in commands:
+        if isinstance(row, Group):
+            _add_group(subparsers, row)
+        else:
+            _add_command(subparsers, row)

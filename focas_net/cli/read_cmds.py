@@ -1,0 +1,259 @@
+"""The reading commands: ``status``, ``sysinfo``, ``program``, ``position``, ``param get``,
+``macro get``, ``diag``, ``pmc read``, ``alarms`` (and ``--follow``) and ``versamax``."""
+
+from __future__ import annotations
+
+import argparse
+import asyncio
+import json
+import signal
+from decimal import Decimal
+from typing import Any
+
+from focas_net.client import (
+    AlarmCleared,
+    AlarmHistoryEvent,
+    AlarmProjection,
+    AlarmRaised,
+    FocasClient,
+    ProjectionMode,
+)
+from focas_net.errors import CncError
+from focas_net.protocol import ParamValue, PmcArea, PositionKind
+
+from . import _format as fmt
+from ._run import Go, Output, write
+
+__all__ = [
+    "alarms",
+    "diag",
+    "item_name",
+    "macro_dict",
+    "macro_get",
+    "param_get",
+    "param_output",
+    "pmc_read",
+    "position",
+    "program",
+    "status",
+    "sysinfo",
+    "versamax",
+]
+
+
+# -- status and identity --------------------------------------------------------------------
+
+
+def status(args: argparse.Namespace) -> Go:
+    async def go(cnc: FocasClient) -> Output:
+        st = await cnc.read_status()
+        table = fmt.render_table(("field", "value", "name", "meaning"), fmt.status_rows(st))
+        return Output(fmt.status_dict(st), f"{fmt.status_summary(st)}\n\n{table}")
+
+    return go
+
+
+def sysinfo(args: argparse.Namespace) -> Go:
+    async def go(cnc: FocasClient) -> Output:
+        info = await cnc.read_sysinfo()
+        table = fmt.render_table(("field", "value", "meaning"), fmt.sysinfo_rows(info))
+        return Output(fmt.sysinfo_dict(info), table)
+
+    return go
+
+
+# -- program numbers, feed, spindle, positions ----------------------------------------------
+
+
+def program(args: argparse.Namespace) -> Go:
+    async def go(cnc: FocasClient) -> Output:
+        numbers = await cnc.read_program_numbers()
+        feed = await cnc.read_feed()
+        speed = await cnc.read_spindle_speed()
+        data = fmt.program_dict(numbers, feed, speed)
+        return Output(data, fmt.render_table(("item", "value", "meaning"), fmt.program_rows(data)))
+
+    return go
+
+
+def position(args: argparse.Namespace) -> Go:
+    kind = PositionKind.parse(args.kind)
+
+    async def go(cnc: FocasClient) -> Output:
+        pos = await cnc.read_positions(kind, axis=args.axis)
+        data = fmt.positions_dict(pos.kind.name.lower(), pos.decimals, pos.values, pos.increments)
+        table = fmt.render_table(("axis", "position", "increments"), fmt.positions_rows(data))
+        return Output(data, f"{data['kind']} position\n\n{table}")
+
+    return go
+
+
+# -- parameters, diagnostics, macros --------------------------------------------------------
+
+
+def item_name(number: int, bit: int | None, axis: int) -> str:
+    """``1815.4 axis 1``: a parameter or diagnostic, its bit and its axis."""
+    name = f"{number}" if bit is None else f"{number}.{bit}"
+    return f"{name} axis {axis}" if axis else name
+
+
+def _value_text(value: int, width: int) -> str:
+    raw = value & ((1 << 8 * width) - 1)
+    text = f"{value} (0x{raw:0{2 * width}X}"
+    if width == 1:
+        text += f", 0b{raw:08b}"
+    return f"{text}), {width} byte{'s' if width > 1 else ''}"
+
+
+def param_output(
+    number: int, bit: int | None, axis: int, pv: ParamValue
+) -> tuple[dict[str, Any], str, str | None]:
+    """The JSON data of a parameter read, its text, and the text of its bit (when one)."""
+    data: dict[str, Any] = {"number": number, "axis": axis, "value": pv.value, "width": pv.width}
+    whole = f"{item_name(number, None, axis)} = {_value_text(pv.value, pv.width)}"
+    if bit is None:
+        return data, whole, None
+    data["bit"] = bit
+    data["bit_value"] = pv.value >> bit & 1
+    return data, whole, f"{item_name(number, bit, axis)} = {data['bit_value']}"
+
+
+def param_get(args: argparse.Namespace) -> Go:
+    number, bit = fmt.parse_number_bit(args.number)
+
+    async def go(cnc: FocasClient) -> Output:
+        pv = await cnc.read_param_value(number, axis=args.axis)
+        if bit is not None and not 0 <= bit < 8 * pv.width:
+            raise ValueError(f"bit {bit} outside 0..{8 * pv.width - 1} of parameter {number}")
+        data, whole, bit_text = param_output(number, bit, args.axis, pv)
+        return Output(data, whole if bit_text is None else bit_text)
+
+    return go
+
+
+def diag(args: argparse.Namespace) -> Go:
+    async def go(cnc: FocasClient) -> Output:
+        value = await cnc.read_diag(args.number, axis=args.axis)
+        data = {"number": args.number, "axis": args.axis, "value": value}
+        return Output(data, f"{item_name(args.number, None, args.axis)} = {value}")
+
+    return go
+
+
+def macro_dict(number: int, value: Decimal | None) -> dict[str, Any]:
+    """The JSON data of a macro variable (its value as a decimal string, or None when vacant)."""
+    return {"number": number, "value": None if value is None else str(value)}
+
+
+def macro_get(args: argparse.Namespace) -> Go:
+    async def go(cnc: FocasClient) -> Output:
+        value = await cnc.read_macro(args.number)
+        return Output(macro_dict(args.number, value), f"#{args.number} = {fmt.macro_text(value)}")
+
+    return go
+
+
+# -- PMC ------------------------------------------------------------------------------------
+
+
+def pmc_read(args: argparse.Namespace) -> Go:
+    area: PmcArea = args.area
+
+    async def go(cnc: FocasClient) -> Output:
+        data = await cnc.read_pmc(area, args.start, args.count)
+        out = {
+            "area": area.name,
+            "start": args.start,
+            "count": len(data),
+            "hex": data.hex(),
+            "data": list(data),
+        }
+        return Output(out, fmt.hexdump(area.name, args.start, data))
+
+    return go
+
+
+# -- alarms ---------------------------------------------------------------------------------
+
+
+def alarms(args: argparse.Namespace) -> Go:
+    if args.follow:
+        return _alarms_follow(args)
+    if args.count is not None or args.interval is not None:
+        raise ValueError("--count and --interval apply to --follow")
+
+    async def go(cnc: FocasClient) -> Output:
+        active = await cnc.read_alarms()
+        data: dict[str, Any] = {"active": [fmt.alarm_dict(a) for a in active]}
+        lines = [f"active alarms: {len(active)}"]
+        lines += [f"  {fmt.format_active_alarm(a)}" for a in active]
+        if args.history:
+            history = await cnc.read_alarm_history(args.history)
+            if history.ew:
+                raise CncError.from_ew(history.ew, "cnc_rdalmhistry")
+            data["history"] = [fmt.history_dict(e) for e in history.entries]
+            lines.append(f"alarm history, newest first: {len(history.entries)}")
+            lines += [f"  {fmt.format_history_entry(e)}" for e in history.entries]
+        return Output(data, "\n".join(lines))
+
+    return go
+
+
+def _event_output(event: AlarmRaised | AlarmCleared | AlarmHistoryEvent) -> Output:
+    if isinstance(event, AlarmHistoryEvent):
+        return Output(
+            {"event": "history", "entry": fmt.history_dict(event.entry)},
+            f"history  {fmt.format_history_entry(event.entry)}",
+        )
+    kind = "raised" if isinstance(event, AlarmRaised) else "cleared"
+    return Output(
+        {"event": kind, "alarm": fmt.alarm_dict(event.alarm)},
+        f"{kind:<8} {fmt.format_active_alarm(event.alarm)}",
+    )
+
+
+def _alarms_follow(args: argparse.Namespace) -> Go:
+    mode = ProjectionMode.ACTIVE_PLUS_HISTORY if args.history else ProjectionMode.ACTIVE
+    interval = 1.0 if args.interval is None else args.interval
+
+    async def go(cnc: FocasClient) -> None:
+        projection = AlarmProjection(cnc, mode, interval=interval, depth=args.history or 50)
+        loop = asyncio.get_running_loop()
+        installed = []
+        for signum in (signal.SIGINT, signal.SIGTERM):
+            try:
+                loop.add_signal_handler(signum, projection.stop)
+            except (NotImplementedError, RuntimeError, ValueError):
+                continue  # not the main thread, or no signal support: Ctrl-C still ends it
+            installed.append(signum)
+        try:
+            printed = 0
+            async for event in projection:
+                out = _event_output(event)
+                if args.json:
+                    write(json.dumps(out.data) + "\n")
+                else:
+                    write(out.text + "\n")
+                printed += 1
+                if args.count is not None and printed >= args.count:
+                    break
+        finally:
+            for signum in installed:
+                loop.remove_signal_handler(signum)
+            projection.stop()
+
+    return go
+
+
+# -- VersaMax -------------------------------------------------------------------------------
+
+
+def versamax(args: argparse.Namespace) -> Go:
+    async def go(cnc: FocasClient) -> Output:
+        record = await cnc.read_module_config(args.rack, args.slot)
+        return Output(
+            fmt.module_dict(args.rack, args.slot, record),
+            "\n\n".join(fmt.module_lines(args.rack, args.slot, record)),
+        )
+
+    return go

@@ -1,0 +1,122 @@
+"""The writing commands: ``param set``, ``macro set``, ``pmc write``, ``pmc bit`` and
+``unlock``; each reads back what it wrote."""
+
+from __future__ import annotations
+
+import argparse
+from typing import Final
+
+from focas_net.client import FocasClient
+from focas_net.errors import AccessDeniedError
+from focas_net.protocol import PmcArea
+
+from . import _format as fmt
+from ._run import Go, HintedError, Output
+from .read_cmds import macro_dict, param_output
+
+__all__ = ["macro_set", "param_set", "pmc_bit", "pmc_write", "unlock"]
+
+_PASSWD_HINT: Final = (
+    "parameter writes need MDI mode and PWE on (focas-net sim panel --mode MDI --pwe on) "
+    "and, when the CNC has a parameter password, --password"
+)
+
+
+def param_set(args: argparse.Namespace) -> Go:
+    number, bit = fmt.parse_number_bit(args.number)
+    if bit is not None:
+        if args.width is not None:
+            raise ValueError("--width does not apply to a bit write (NUMBER.BIT)")
+        bit_value = fmt.parse_bool(args.value)
+    else:
+        value = fmt.parse_int(args.value)
+
+    async def go(cnc: FocasClient) -> Output:
+        try:
+            if bit is None:
+                await cnc.write_param(number, value, axis=args.axis, width=args.width)
+            else:
+                await cnc.write_param_bit(number, bit, bit_value, axis=args.axis)
+        except AccessDeniedError as exc:
+            raise HintedError(exc, _PASSWD_HINT) from exc
+        pv = await cnc.read_param_value(number, axis=args.axis)
+        data, whole, bit_text = param_output(number, bit, args.axis, pv)
+        text = whole if bit_text is None else f"{bit_text}; {whole}"
+        return Output(data, f"{text} (written)")
+
+    return go
+
+
+def macro_set(args: argparse.Namespace) -> Go:
+    # A value that cannot be carried raises ValueError before anything is sent (exit 2).
+    async def go(cnc: FocasClient) -> Output:
+        await cnc.write_macro(args.number, args.value)
+        value = await cnc.read_macro(args.number)
+        return Output(
+            macro_dict(args.number, value),
+            f"#{args.number} = {fmt.macro_text(value)} (written)",
+        )
+
+    return go
+
+
+def pmc_write(args: argparse.Namespace) -> Go:
+    area: PmcArea = args.area
+    if args.hex is not None and args.values:
+        raise ValueError("give the bytes either as values or with --hex, not both")
+    if args.hex is not None:
+        payload = fmt.parse_hex(args.hex)
+    else:
+        payload = fmt.parse_byte_list(args.values)
+
+    async def go(cnc: FocasClient) -> Output:
+        if args.force:
+            await cnc.sim.set_pmc(area, args.start, payload)
+        else:
+            await cnc.write_pmc(area, args.start, payload)
+        last = args.start + len(payload) - 1
+        data = {"area": area.name, "start": args.start, "count": len(payload), "hex": payload.hex()}
+        where = f"{area.name}{args.start}" + (f"..{area.name}{last}" if last > args.start else "")
+        return Output(
+            data,
+            f"wrote {len(payload)} byte{'s' * (len(payload) > 1)} to {where}: {payload.hex(' ')}",
+        )
+
+    return go
+
+
+def _parse_byte_bit(text: str) -> tuple[int, int]:
+    byte, bit = fmt.parse_number_bit(text)
+    if bit is None:
+        raise ValueError(f"expected BYTE.BIT (e.g. 100.3), got {text!r}")
+    if bit > 7:
+        raise ValueError(f"bit {bit} outside 0..7")
+    return byte, bit
+
+
+def pmc_bit(args: argparse.Namespace) -> Go:
+    area: PmcArea = args.area
+    byte, bit = _parse_byte_bit(args.address)
+    value = None if args.value is None else fmt.parse_bool(args.value)
+
+    async def go(cnc: FocasClient) -> Output:
+        if value is not None:
+            await cnc.write_pmc_bit(area, byte, bit, value)
+        current = await cnc.read_pmc_bit(area, byte, bit)
+        data = {"area": area.name, "byte": byte, "bit": bit, "value": int(current)}
+        suffix = " (written)" if value is not None else ""
+        return Output(data, f"{area.name}{byte}.{bit} = {int(current)}{suffix}")
+
+    return go
+
+
+def unlock(args: argparse.Namespace) -> Go:
+    async def go(cnc: FocasClient) -> Output:
+        await cnc.unlock(args.secret)
+        return Output(
+            {"unlocked": True},
+            "password accepted (an unlock holds for one connection: give --password to "
+            "the commands that write parameters)",
+        )
+
+    return go
