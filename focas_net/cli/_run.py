@@ -1,8 +1,8 @@
 """Running a client command: connect, run it, print its output or its failure as one line.
 
-A command is ``args -> Go``: it checks and converts its arguments (a ``ValueError`` is a usage
-error, reported before anything is sent), then returns the coroutine function that talks to
-the CNC and returns what to print.
+A command's handler is ``args -> Go``: it checks and converts its arguments (a
+``ValueError`` is a usage error, reported before anything is sent), then returns the coroutine
+function that talks to the CNC and returns what to print.
 """
 
 from __future__ import annotations
@@ -36,7 +36,7 @@ from ._args import (
     print_error,
 )
 
-__all__ = ["Command", "Go", "HintedError", "Output", "runner", "write"]
+__all__ = ["Go", "Handler", "HintedError", "Output", "runner", "write"]
 
 
 @dataclass(frozen=True, slots=True)
@@ -50,7 +50,7 @@ class Output:
 #: Talks to the CNC; returns what to print (None: the command printed as it went).
 Go = Callable[[FocasClient], Awaitable[Output | None]]
 #: A client command: its parsed arguments -> the talk to the CNC.
-Command = Callable[[argparse.Namespace], Go]
+Handler = Callable[[argparse.Namespace], Go]
 
 
 class HintedError(FocasError):
@@ -137,13 +137,13 @@ def _failure_text(args: argparse.Namespace, exc: BaseException) -> str:
     return text
 
 
-def runner(command: Command) -> Callable[[argparse.Namespace], int]:
+def runner(handler: Handler) -> Callable[[argparse.Namespace], int]:
     """``args -> exit code``: parse, connect, run, print; failures become one line."""
 
     def run(args: argparse.Namespace) -> int:
         reconnect = bool(getattr(args, "follow", False))
         try:
-            go = command(args)
+            go = handler(args)
             out = asyncio.run(_session(args, go, reconnect))
         except (FocasError, ValueError, OSError) as exc:
             _error(_failure_text(args, exc))

@@ -26,7 +26,7 @@ from ._args import (
     POSITIVE,
     SECONDS,
 )
-from ._run import Command, runner
+from ._run import Handler, runner
 
 __all__ = ["COMMANDS", "Arg", "ArgOptions", "Cmd", "Group", "arg", "register"]
 
@@ -62,7 +62,7 @@ class Cmd:
 
     name: str
     help: str
-    handler: Command
+    handler: Handler
     args: tuple[Arg, ...] = ()
     writes: bool = False  #: takes ``--password`` (sent with cnc_wrunlockparam after connecting)
 
