@@ -74,7 +74,7 @@ def write(text: str) -> None:
         os.close(devnull)
 
 
-def _error(message: str) -> None:
+def _print_one_line(message: str) -> None:
     print_error(" ".join(message.split()))
 
 
@@ -120,10 +120,10 @@ def _report_state(client: FocasClient) -> Callable[[ClientState], None]:
         nonlocal lost
         if state is ClientState.RECONNECTING:
             lost = True
-            _error(f"connection to {client.host}:{client.port} lost; reconnecting")
+            _print_one_line(f"connection to {client.host}:{client.port} lost; reconnecting")
         elif state is ClientState.CONNECTED and lost:
             lost = False
-            _error(f"reconnected to {client.host}:{client.port}")
+            _print_one_line(f"reconnected to {client.host}:{client.port}")
 
     return report
 
@@ -146,7 +146,7 @@ def runner(handler: Handler) -> Callable[[argparse.Namespace], int]:
             go = handler(args)
             out = asyncio.run(_session(args, go, reconnect))
         except (FocasError, ValueError, OSError) as exc:
-            _error(_failure_text(args, exc))
+            _print_one_line(_failure_text(args, exc))
             return _exit_code(exc)
         if out is not None:
             _emit(args, out)
