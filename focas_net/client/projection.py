@@ -27,7 +27,8 @@ from typing import Final, Self
 from focas_net.errors import FocasError, ew_name
 
 from ..protocol import ActiveAlarm, AlarmHistoryEntry
-from .client import ClientState, FocasClient
+from .client import FocasClient
+from .reconnect import ClientState
 
 __all__ = [
     "AlarmCleared",
