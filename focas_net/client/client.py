@@ -422,11 +422,13 @@ class FocasClient(Link):
         self, depth: int = 10, *, timeout: float | None = None
     ) -> AlarmHistory:
         """``cnc_rdalmhistry``: up to ``depth`` (clamped to 1..250) most recent entries,
-        newest first. A negative count gives no entries and ``ew`` set; it never raises for
-        the content of the answer."""
+        newest first. An error answer (a negative count) raises :class:`CncError`, like
+        :meth:`read_alarms`: a failed read is never mistaken for an empty history."""
         depth = min(max(int(depth), 1), MAX_HISTORY_DEPTH)
         payload = _RDALMHISTRY.request.encode(AlarmHistoryRequest(depth))
         result: AlarmHistory = await self._request(_RDALMHISTRY, payload, self._deadline(timeout))
+        if result.ew:
+            raise CncError.from_ew(result.ew, _RDALMHISTRY.focas_name)
         return result
 
     # -- unlock --------------------------------------------------------------------------
