@@ -29,7 +29,7 @@ from decimal import Decimal
 from typing import Any, Final
 
 import pytest
-from conftest import IO_TIMEOUT, Served, serving, wait_until
+from support import IO_TIMEOUT, Served, serving, wait_until
 
 from focas_net.client import (
     AlarmHistoryEvent,

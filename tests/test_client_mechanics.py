@@ -20,7 +20,7 @@ from collections.abc import AsyncIterator, Callable, Iterable
 from typing import Any
 
 import pytest
-from conftest import IO_TIMEOUT, serving, wait_until
+from support import IO_TIMEOUT, serving, wait_until
 
 from focas_net.client import ClientState, FocasClient, ReconnectPolicy
 from focas_net.client.connection import Connection, NotSentError, open_connection

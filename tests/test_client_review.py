@@ -19,7 +19,7 @@ from itertools import pairwise
 from typing import Any
 
 import pytest
-from conftest import wait_until
+from support import wait_until
 from test_client_mechanics import (
     BOUND,
     RDPARAM,

@@ -10,7 +10,7 @@ from decimal import Decimal
 from pathlib import Path
 
 import pytest
-from conftest import IO_TIMEOUT, Served, serving, wait_until
+from support import IO_TIMEOUT, Served, serving, wait_until
 
 from focas_net.client import ClientState, FaultKind, FaultScope, FocasClient, ReconnectPolicy
 from focas_net.client.client import Positions
