@@ -1,7 +1,8 @@
-"""Shared fixtures: a real server on 127.0.0.1 (port 0), a raw wire to it, leak checks.
+"""Shared fixtures: a real server on 127.0.0.1 (port 0), a raw wire to it, a scripted peer,
+leak checks.
 
-The helpers they are built on are in ``support.py``, which test modules import; this file is
-never imported.
+The helpers they are built on are in ``support.py`` and ``peers.py``, which test modules
+import; this file is never imported.
 """
 
 from __future__ import annotations
@@ -14,6 +15,7 @@ from pathlib import Path
 from typing import Any
 
 import pytest
+from peers import ScriptedPeer
 from support import Served, Wire, serving
 
 
@@ -49,6 +51,13 @@ async def wire(server: Served) -> AsyncIterator[Wire]:
     w = await server.connect()
     async with w:
         yield w
+
+
+@pytest.fixture
+async def peer() -> AsyncIterator[ScriptedPeer]:
+    """A :class:`ScriptedPeer` listening on 127.0.0.1 (an ephemeral port)."""
+    async with ScriptedPeer() as p:
+        yield p
 
 
 @pytest.fixture(scope="session")
