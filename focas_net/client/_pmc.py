@@ -261,11 +261,12 @@ async def _write_chunks(
                 unanswered[i] = isinstance(result, (FocasTimeoutError, FocasConnectionError))
         if locked:
             try:
+                # One unlock for the batch. Lost around it with a reconnect policy, this
+                # returns: the chunks go out once more on the next connection, which the
+                # reconnect unlocks, like chunks never sent.
                 await link._unlock_for_retry(conn, deadline)
             except Exception as exc:
-                # Each chunk was refused: not written. (Lost around the unlock with a
-                # reconnect policy, the unlock returns and the chunks go out once more on the
-                # next connection, which the reconnect unlocks, like chunks never sent.)
+                # The unlock failed: each of these chunks was refused, so not written.
                 for i in locked:
                     errors[i] = exc
                 locked = []
