@@ -1,32 +1,22 @@
-"""Shared fixtures: a real server on 127.0.0.1 (port 0), a raw wire to it, leak checks."""
+"""Shared fixtures: a real server on 127.0.0.1 (port 0), a raw wire to it, a scripted peer,
+leak checks.
+
+The helpers they are built on are in ``support.py`` and ``peers.py``, which test modules
+import; this file is never imported.
+"""
 
 from __future__ import annotations
 
 import asyncio
 import shutil
-import struct
 import subprocess
-from collections.abc import AsyncIterator, Iterable
-from contextlib import asynccontextmanager
-from dataclasses import dataclass
+from collections.abc import AsyncIterator
 from pathlib import Path
 from typing import Any
 
 import pytest
-
-from focas_net.protocol import (
-    COMMANDS,
-    HEADER,
-    Command,
-    Frame,
-    FrameDecoder,
-    encode_frame,
-)
-from focas_net.server import FocasServer, Listener
-from focas_net.sim import Machine, default_machine
-
-#: Upper bound of any single wait on the network in a test (a hang fails, it never blocks).
-IO_TIMEOUT = 5.0
+from peers import ScriptedPeer
+from support import Served, Wire, serving
 
 
 @pytest.fixture(autouse=True)
@@ -48,145 +38,6 @@ async def _no_leaked_tasks() -> AsyncIterator[None]:
         pytest.fail(f"test left {len(leaked)} task(s) behind: {sorted(map(repr, leaked))}")
 
 
-class Wire:
-    """A raw TCP connection speaking frames: no client class, only the protocol codecs."""
-
-    def __init__(self, reader: asyncio.StreamReader, writer: asyncio.StreamWriter) -> None:
-        self.reader = reader
-        self.writer = writer
-        self.decoder = FrameDecoder()
-        self._frames: list[Frame] = []
-        self._next_id = 1
-
-    @classmethod
-    async def open(cls, host: str, port: int, **kwargs: Any) -> Wire:
-        async with asyncio.timeout(IO_TIMEOUT):
-            reader, writer = await asyncio.open_connection(host, port, **kwargs)
-        return cls(reader, writer)
-
-    @property
-    def sockname(self) -> Any:
-        """This end's address."""
-        return self.writer.get_extra_info("sockname")
-
-    def next_id(self) -> int:
-        rid = self._next_id
-        self._next_id = (rid + 1) & 0xFFFF
-        return rid
-
-    def send(self, command: int, payload: bytes = b"", request_id: int | None = None) -> int:
-        """Queue one request frame; returns its request id."""
-        rid = self.next_id() if request_id is None else request_id
-        self.writer.write(encode_frame(command, rid, payload))
-        return rid
-
-    def send_raw(self, data: bytes) -> None:
-        self.writer.write(data)
-
-    async def recv(self, within: float = IO_TIMEOUT) -> Frame:
-        """The next answer frame (EOFError when the server closed the connection)."""
-        async with asyncio.timeout(within):
-            while not self._frames:
-                chunk = await self.reader.read(65_536)
-                if not chunk:
-                    raise EOFError("connection closed by the server")
-                self._frames.extend(self.decoder.feed(chunk))
-        return self._frames.pop(0)
-
-    async def recv_many(self, n: int, within: float = IO_TIMEOUT) -> list[Frame]:
-        """The next ``n`` answer frames, all within ``within`` seconds."""
-        async with asyncio.timeout(within):
-            return [await self.recv() for _ in range(n)]
-
-    async def call(self, command: int, payload: bytes = b"") -> bytes:
-        """Send one request, wait for its answer, check command and id; the answer payload."""
-        rid = self.send(command, payload)
-        await self.writer.drain()
-        frame = await self.recv()
-        assert frame.command == command, f"answer to 0x{command:04X} has 0x{frame.command:04X}"
-        assert frame.request_id == rid
-        return frame.payload
-
-    async def request(self, command: int, value: Any = None) -> Any:
-        """Encode ``value`` with the command's request codec; decode the answer."""
-        spec = COMMANDS[command]
-        answer = await self.call(command, spec.request.encode(value))
-        return spec.response.decode(answer)
-
-    async def ew(self, command: int, payload: bytes = b"") -> int:
-        """The EW code of an answer (for counted lists: the code after ``count = -1``)."""
-        answer = await self.call(command, payload)
-        return ew_of(command, answer)
-
-    async def closed_by_peer(self, within: float = IO_TIMEOUT) -> bool:
-        """True when the server closes this connection (reads until EOF, dropping data)."""
-        try:
-            async with asyncio.timeout(within):
-                while True:
-                    chunk = await self.reader.read(65_536)
-                    if not chunk:
-                        return True
-        except (ConnectionResetError, BrokenPipeError):
-            return True
-        except TimeoutError:
-            return False
-
-    async def close(self) -> None:
-        self.writer.close()
-        try:
-            async with asyncio.timeout(IO_TIMEOUT):
-                await self.writer.wait_closed()
-        except (ConnectionError, TimeoutError):
-            pass
-
-    async def __aenter__(self) -> Wire:
-        return self
-
-    async def __aexit__(self, *exc: object) -> None:
-        await self.close()
-
-
-def ew_of(command: int, answer: bytes) -> int:
-    """The EW code an answer carries (0 on success)."""
-    if COMMANDS.get(command) is not None and COMMANDS[command].counted:
-        (count,) = struct.unpack_from("<h", answer, 0)
-        if count >= 0:
-            return 0
-        return int(struct.unpack_from("<h", answer, 2)[0])
-    return int(struct.unpack_from("<h", answer, 0)[0])
-
-
-def frame_bytes(frames: Iterable[tuple[int, int, bytes]]) -> bytes:
-    return b"".join(encode_frame(c, r, p) for c, r, p in frames)
-
-
-@dataclass
-class Served:
-    """What the ``server`` fixture yields."""
-
-    server: FocasServer
-    host: str
-    port: int
-    machine: Machine
-
-    @property
-    def listener(self) -> Listener:
-        return self.server.listeners[0]
-
-    async def connect(self) -> Wire:
-        return await Wire.open(self.host, self.port)
-
-
-@asynccontextmanager
-async def serving(machine: Machine | None = None, **kwargs: Any) -> AsyncIterator[Served]:
-    """Serve ``machine`` (default: a fresh default machine) on 127.0.0.1, an ephemeral port."""
-    machine = default_machine() if machine is None else machine
-    kwargs.setdefault("grace_period", 1.0)
-    async with FocasServer(machine, host="127.0.0.1", port=0, **kwargs) as srv:
-        host, port = srv.listeners[0].address
-        yield Served(srv, host, port, machine)
-
-
 @pytest.fixture
 async def server() -> AsyncIterator[Served]:
     """The default machine served on 127.0.0.1, an ephemeral port."""
@@ -202,14 +53,11 @@ async def wire(server: Served) -> AsyncIterator[Wire]:
         yield w
 
 
-async def wait_until(predicate: Any, within: float = IO_TIMEOUT) -> None:
-    """Yield to the loop until ``predicate()`` is true; fail after ``within`` seconds."""
-    step = 0.005
-    for _ in range(int(within / step) + 1):
-        if predicate():
-            return
-        await asyncio.sleep(step)
-    pytest.fail(f"condition not met within {within} s: {predicate}")
+@pytest.fixture
+async def peer() -> AsyncIterator[ScriptedPeer]:
+    """A :class:`ScriptedPeer` listening on 127.0.0.1 (an ephemeral port)."""
+    async with ScriptedPeer() as p:
+        yield p
 
 
 @pytest.fixture(scope="session")
@@ -228,16 +76,3 @@ def certificate(tmp_path_factory: pytest.TempPathFactory) -> tuple[Path, Path]:
         check=True, capture_output=True, timeout=60,
     )  # fmt: skip
     return cert, key
-
-
-__all__ = [
-    "HEADER",
-    "IO_TIMEOUT",
-    "Command",
-    "Served",
-    "Wire",
-    "ew_of",
-    "frame_bytes",
-    "serving",
-    "wait_until",
-]

@@ -19,7 +19,7 @@ from decimal import Decimal
 from typing import Any
 
 import pytest
-from conftest import IO_TIMEOUT, Served, serving
+from support import IO_TIMEOUT, Served, serving
 
 from focas_net.cli import (
     EXIT_CNC,

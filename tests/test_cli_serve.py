@@ -14,7 +14,7 @@ from pathlib import Path
 from typing import Any
 
 import pytest
-from conftest import Wire
+from support import Wire
 
 from focas_net.cli import serve
 from focas_net.errors import EW

@@ -1,4 +1,4 @@
-"""The client's connection layer against a small scripted peer speaking the packed protocol.
+"""The client's connection layer against the scripted peer of ``peers.py``.
 
 The peer answers with the protocol codecs; tests can hold answers back and release them in
 any order, answer late, split answers, drop the connection or send garbage.
@@ -8,10 +8,10 @@ from __future__ import annotations
 
 import asyncio
 import struct
-from collections.abc import AsyncIterator, Callable
-from typing import Any
+from collections.abc import AsyncIterator
 
 import pytest
+from peers import STATUS, ScriptedPeer, tiny_cnc
 
 from focas_net.client import ClientState, FocasClient, ReconnectPolicy
 from focas_net.client.connection import Connection, open_connection
@@ -25,160 +25,22 @@ from focas_net.errors import (
     ProtocolError,
 )
 from focas_net.protocol import (
-    COMMANDS,
     Command,
-    EwReply,
     Frame,
-    FrameDecoder,
-    ParamValue,
-    PmcData,
-    StatusInfo,
     encode_frame,
 )
 
-STATUS = StatusInfo(0, 0, 1, 0, 0, 0, 0, 0, 0)
 BOUND = 10.0  # upper bound for waits that must end much sooner; keeps a broken test finite
 
 
-def default_answer(frame: Frame, peer: FakePeer) -> bytes | None:
-    """Answer like a tiny CNC: parameters read back their own number, PMC is a bytearray."""
-    spec = COMMANDS[frame.command]
-    request = spec.request.decode(frame.payload)
-    value: Any
-    if frame.command == Command.RDCNCSTAT:
-        value = STATUS
-    elif frame.command == Command.RDPARAM:
-        value = ParamValue(request.datano, request.axis, request.datano, 4)
-    elif frame.command == Command.WRPARAM:
-        if peer.password_required and not peer.unlocked:
-            value = EwReply(EW.PASSWD)
-        else:
-            value = None
-    elif frame.command == Command.WRUNLOCKPARAM:
-        peer.unlocks += 1
-        peer.unlocked = request.password == b"1234"
-        value = None if peer.unlocked else EwReply(EW.PASSWD)
-    elif frame.command == Command.RDPMCRNG:
-        data = bytes(peer.pmc[request.datano_s : request.datano_e + 1])
-        value = PmcData(request.type_a, 0, request.datano_s, request.datano_e, data)
-    elif frame.command == Command.WRPMCRNG:
-        if request.datano_e >= len(peer.pmc):
-            value = EwReply(EW.NUMBER)
-        else:
-            peer.pmc[request.datano_s : request.datano_e + 1] = request.data
-            value = None
-    else:
-        value = EwReply(EW.FUNC)
-    return spec.response.encode(value)
-
-
-class FakePeer:
-    """A packed-protocol peer on 127.0.0.1:0 with knobs for misbehaviour."""
-
-    def __init__(self) -> None:
-        self.answer: Callable[[Frame, FakePeer], bytes | None] = default_answer
-        self.hold = False
-        self.held: list[tuple[Frame, asyncio.StreamWriter]] = []
-        self.received: list[Frame] = []
-        self.split = False
-        self.pmc = bytearray(256)
-        self.password_required = False
-        self.unlocked = False
-        self.unlocks = 0
-        self.connections = 0
-        self._writers: set[asyncio.StreamWriter] = set()
-        self._tasks: set[asyncio.Task[Any]] = set()
-        self._server: asyncio.Server | None = None
-        self.port = 0
-        self._arrived = asyncio.Condition()
-
-    async def start(self, port: int = 0) -> None:
-        self._server = await asyncio.start_server(self._serve, "127.0.0.1", port)
-        self.port = self._server.sockets[0].getsockname()[1]
-
-    async def _serve(self, reader: asyncio.StreamReader, writer: asyncio.StreamWriter) -> None:
-        task = asyncio.current_task()
-        assert task is not None
-        self._tasks.add(task)
-        self._writers.add(writer)
-        self.connections += 1
-        self.unlocked = False
-        decoder = FrameDecoder()
-        try:
-            while data := await reader.read(65536):
-                for frame in decoder.feed(data):
-                    self.received.append(frame)
-                    if self.hold:
-                        self.held.append((frame, writer))
-                    else:
-                        await self._reply(frame, writer)
-                async with self._arrived:
-                    self._arrived.notify_all()
-        except (ConnectionError, asyncio.CancelledError):
-            pass
-        finally:
-            self._writers.discard(writer)
-            writer.close()
-            self._tasks.discard(task)
-
-    async def _reply(self, frame: Frame, writer: asyncio.StreamWriter) -> None:
-        payload = self.answer(frame, self)
-        if payload is None:
-            return
-        await self.send(writer, encode_frame(frame.command, frame.request_id, payload))
-
-    async def send(self, writer: asyncio.StreamWriter, data: bytes) -> None:
-        if self.split:
-            for i in range(len(data)):
-                writer.write(data[i : i + 1])
-                await writer.drain()
-        else:
-            writer.write(data)
-            await writer.drain()
-
-    async def wait_received(self, n: int) -> None:
-        async with asyncio.timeout(BOUND), self._arrived:
-            await self._arrived.wait_for(lambda: len(self.received) >= n)
-
-    async def release(self, order: Callable[[list[Any]], list[Any]] = list) -> None:
-        held, self.held = self.held, []
-        for frame, writer in order(held):
-            if not writer.is_closing():
-                await self._reply(frame, writer)
-
-    async def send_raw(self, data: bytes) -> None:
-        for writer in list(self._writers):
-            writer.write(data)
-            await writer.drain()
-
-    def drop(self) -> None:
-        for writer in list(self._writers):
-            writer.transport.abort()
-
-    async def stop(self) -> None:
-        if self._server is not None:
-            self._server.close()
-            await self._server.wait_closed()
-            self._server = None
-        self.drop()
-        for task in list(self._tasks):
-            task.cancel()
-        if self._tasks:
-            await asyncio.wait(list(self._tasks))
-
-
 @pytest.fixture
-async def peer() -> AsyncIterator[FakePeer]:
-    p = FakePeer()
-    await p.start()
-    try:
+async def peer() -> AsyncIterator[ScriptedPeer]:
+    async with ScriptedPeer(pmc_size=256) as p:  # the chunked write below runs off its end
         yield p
-    finally:
-        await p.stop()
 
 
 @pytest.fixture
-async def client(peer: FakePeer) -> AsyncIterator[FocasClient]:
+async def client(peer: ScriptedPeer) -> AsyncIterator[FocasClient]:
     async with FocasClient("127.0.0.1", peer.port, timeout=BOUND) as c:
         yield c
 
@@ -197,16 +59,18 @@ async def test_pipelined_calls_get_their_own_answers(client: FocasClient) -> Non
 
 
 async def test_out_of_order_answers_are_matched_by_request_id(
-    peer: FakePeer, client: FocasClient
+    peer: ScriptedPeer, client: FocasClient
 ) -> None:
     peer.hold = True
     tasks = [asyncio.create_task(client.read_param(n)) for n in range(10, 20)]
     await peer.wait_received(10)
-    await peer.release(lambda held: list(reversed(held)))
+    peer.release(reverse=True)
     assert await asyncio.gather(*tasks) == list(range(10, 20))
 
 
-async def test_late_answer_after_timeout_is_dropped(peer: FakePeer, client: FocasClient) -> None:
+async def test_late_answer_after_timeout_is_dropped(
+    peer: ScriptedPeer, client: FocasClient
+) -> None:
     peer.hold = True
     with pytest.raises(FocasTimeoutError):
         await client.read_param(7, timeout=0.05)
@@ -219,22 +83,24 @@ async def test_late_answer_after_timeout_is_dropped(peer: FakePeer, client: Foca
     await peer.wait_received(2)
     assert peer.received[-1].request_id != late_id
     peer.hold = False
-    await peer.release()  # the late answer to 7, then the answer to 8
+    peer.release()  # the late answer to 7, then the answer to 8
     assert await pending == 8
     assert conn.abandoned == 0
     assert await client.read_param(9) == 9
 
 
-async def test_timeout_error_is_also_builtin_timeout(peer: FakePeer, client: FocasClient) -> None:
+async def test_timeout_error_is_also_builtin_timeout(
+    peer: ScriptedPeer, client: FocasClient
+) -> None:
     peer.hold = True
     with pytest.raises(TimeoutError):
         await client.read_status(timeout=0.02)
     peer.hold = False
-    await peer.release()
+    peer.release()
 
 
 async def test_cancellation_propagates_and_never_desynchronises(
-    peer: FakePeer, client: FocasClient
+    peer: ScriptedPeer, client: FocasClient
 ) -> None:
     peer.hold = True
     victim = asyncio.create_task(client.read_param(1))
@@ -244,14 +110,14 @@ async def test_cancellation_propagates_and_never_desynchronises(
     with pytest.raises(asyncio.CancelledError):
         await victim
     peer.hold = False
-    await peer.release(lambda held: list(reversed(held)))
+    peer.release(reverse=True)
     assert await survivor == 2
     assert await client.read_param(3) == 3
     conn = current_connection(client)
     assert conn.in_flight == 0 and conn.abandoned == 0
 
 
-async def test_cancelling_a_caller_waiting_for_a_slot(peer: FakePeer) -> None:
+async def test_cancelling_a_caller_waiting_for_a_slot(peer: ScriptedPeer) -> None:
     async with FocasClient("127.0.0.1", peer.port, timeout=BOUND, max_in_flight=2) as c:
         peer.hold = True
         first = [asyncio.create_task(c.read_param(n)) for n in (1, 2)]
@@ -263,12 +129,12 @@ async def test_cancelling_a_caller_waiting_for_a_slot(peer: FakePeer) -> None:
             await waiting
         assert len(peer.received) == 2  # the cancelled call was never sent
         peer.hold = False
-        await peer.release()
+        peer.release()
         assert await asyncio.gather(*first) == [1, 2]
         assert await c.read_param(4) == 4
 
 
-async def test_max_in_flight_bounds_the_requests_sent(peer: FakePeer) -> None:
+async def test_max_in_flight_bounds_the_requests_sent(peer: ScriptedPeer) -> None:
     async with FocasClient("127.0.0.1", peer.port, timeout=BOUND, max_in_flight=4) as c:
         peer.hold = True
         tasks = [asyncio.create_task(c.read_param(n)) for n in range(1, 11)]
@@ -277,12 +143,12 @@ async def test_max_in_flight_bounds_the_requests_sent(peer: FakePeer) -> None:
             await asyncio.sleep(0)
         assert len(peer.received) == 4
         peer.hold = False
-        await peer.release()
+        peer.release()
         assert await asyncio.gather(*tasks) == list(range(1, 11))
 
 
 async def test_connection_loss_fails_every_pending_call_at_once(
-    peer: FakePeer, client: FocasClient
+    peer: ScriptedPeer, client: FocasClient
 ) -> None:
     peer.hold = True
     tasks = [asyncio.create_task(client.read_param(n, timeout=60)) for n in range(50)]
@@ -298,41 +164,41 @@ async def test_connection_loss_fails_every_pending_call_at_once(
 
 
 async def test_framing_violation_closes_and_fails_pending(
-    peer: FakePeer, client: FocasClient
+    peer: ScriptedPeer, client: FocasClient
 ) -> None:
     peer.hold = True
     task = asyncio.create_task(client.read_status(timeout=60))
     await peer.wait_received(1)
-    await peer.send_raw(struct.pack("<I", 2))  # length below 4
+    peer.send_raw(struct.pack("<I", 2))  # length below 4
     with pytest.raises(FocasConnectionError):
         await task
     assert client.state is ClientState.DISCONNECTED
 
 
 async def test_answer_with_wrong_command_fails_only_that_call(
-    peer: FakePeer, client: FocasClient
+    peer: ScriptedPeer, client: FocasClient
 ) -> None:
-    def wrong(frame: Frame, p: FakePeer) -> bytes | None:
+    def wrong(frame: Frame, p: ScriptedPeer) -> bytes | None:
         if frame.command == Command.RDCNCSTAT:
             return None
-        return default_answer(frame, p)
+        return tiny_cnc(frame, p)
 
     peer.answer = wrong
     task = asyncio.create_task(client.read_status())
     await peer.wait_received(1)
     rid = peer.received[-1].request_id
-    await peer.send_raw(encode_frame(Command.SYSINFO, rid, b"\x01\x00"))
+    peer.send_raw(encode_frame(Command.SYSINFO, rid, b"\x01\x00"))
     with pytest.raises(ProtocolError):
         await task
     assert await client.read_param(5) == 5
 
 
-async def test_unsolicited_frames_are_ignored(peer: FakePeer, client: FocasClient) -> None:
-    await peer.send_raw(encode_frame(Command.RDPARAM, 999, b"\x00\x00"))
+async def test_unsolicited_frames_are_ignored(peer: ScriptedPeer, client: FocasClient) -> None:
+    peer.send_raw(encode_frame(Command.RDPARAM, 999, b"\x00\x00"))
     assert await client.read_param(6) == 6
 
 
-async def test_answers_split_one_byte_per_write(peer: FakePeer, client: FocasClient) -> None:
+async def test_answers_split_one_byte_per_write(peer: ScriptedPeer, client: FocasClient) -> None:
     peer.split = True
     values = await asyncio.gather(*(client.read_param(n) for n in range(1, 21)))
     assert values == list(range(1, 21))
@@ -348,7 +214,7 @@ async def test_connect_failure_is_a_connection_error() -> None:
         await FocasClient("127.0.0.1", port, timeout=BOUND).connect()
 
 
-async def test_connection_closed_by_caller(peer: FakePeer) -> None:
+async def test_connection_closed_by_caller(peer: ScriptedPeer) -> None:
     conn = await open_connection("127.0.0.1", peer.port)
     peer.hold = True
     loop = asyncio.get_running_loop()
@@ -361,7 +227,7 @@ async def test_connection_closed_by_caller(peer: FakePeer) -> None:
     assert conn.closed
 
 
-async def test_calls_after_close_fail(peer: FakePeer) -> None:
+async def test_calls_after_close_fail(peer: ScriptedPeer) -> None:
     c = FocasClient("127.0.0.1", peer.port)
     await c.connect()
     await c.aclose()
@@ -372,7 +238,7 @@ async def test_calls_after_close_fail(peer: FakePeer) -> None:
         await c.connect()
 
 
-async def test_password_retry_once_on_ew_passwd(peer: FakePeer) -> None:
+async def test_password_retry_once_on_ew_passwd(peer: ScriptedPeer) -> None:
     peer.password_required = True
     async with FocasClient("127.0.0.1", peer.port, password="1234", timeout=BOUND) as c:
         assert peer.unlocks == 1
@@ -385,14 +251,14 @@ async def test_password_retry_once_on_ew_passwd(peer: FakePeer) -> None:
         assert info.value.ew == EW.PASSWD
 
 
-async def test_wrong_password_fails_connect(peer: FakePeer) -> None:
+async def test_wrong_password_fails_connect(peer: ScriptedPeer) -> None:
     c = FocasClient("127.0.0.1", peer.port, password="nope", timeout=BOUND)
     with pytest.raises(AccessDeniedError):
         await c.connect()
     await c.aclose()
 
 
-async def test_reconnect_after_drop_and_password_resent(peer: FakePeer) -> None:
+async def test_reconnect_after_drop_and_password_resent(peer: ScriptedPeer) -> None:
     states: list[ClientState] = []
     policy = ReconnectPolicy(initial_delay=0.01, max_delay=0.05)
     async with FocasClient(
@@ -416,7 +282,7 @@ async def test_reconnect_after_drop_and_password_resent(peer: FakePeer) -> None:
     assert states[-1] is ClientState.CLOSED
 
 
-async def test_calls_while_reconnecting_wait_within_their_timeout(peer: FakePeer) -> None:
+async def test_calls_while_reconnecting_wait_within_their_timeout(peer: ScriptedPeer) -> None:
     policy = ReconnectPolicy(initial_delay=0.01, max_delay=0.02)
     async with FocasClient("127.0.0.1", peer.port, timeout=BOUND, reconnect=policy) as c:
         port = peer.port
@@ -424,7 +290,7 @@ async def test_calls_while_reconnecting_wait_within_their_timeout(peer: FakePeer
         with pytest.raises(FocasConnectionError):
             await c.read_status(timeout=0.1)
         assert c.state is ClientState.RECONNECTING
-        revived = FakePeer()
+        revived = ScriptedPeer()
         await revived.start(port)
         try:
             assert await c.read_param(12, timeout=BOUND) == 12
@@ -432,7 +298,7 @@ async def test_calls_while_reconnecting_wait_within_their_timeout(peer: FakePeer
             await revived.stop()
 
 
-async def test_reconnect_gives_up_after_max_attempts(peer: FakePeer) -> None:
+async def test_reconnect_gives_up_after_max_attempts(peer: ScriptedPeer) -> None:
     policy = ReconnectPolicy(initial_delay=0.0, max_delay=0.0, max_attempts=2)
     gave_up = asyncio.Event()
 
@@ -451,7 +317,7 @@ async def test_reconnect_gives_up_after_max_attempts(peer: FakePeer) -> None:
         assert c.state is ClientState.DISCONNECTED
 
 
-async def test_chunked_pmc_over_fake_peer(peer: FakePeer, client: FocasClient) -> None:
+async def test_chunked_pmc_over_fake_peer(peer: ScriptedPeer, client: FocasClient) -> None:
     data = bytes(range(200))
     await client.write_pmc("R", 0, data)
     assert bytes(peer.pmc[:200]) == data
@@ -460,7 +326,7 @@ async def test_chunked_pmc_over_fake_peer(peer: FakePeer, client: FocasClient) -
     assert len(writes) == 7  # 6 x 32 + 8
 
 
-async def test_chunked_write_error_names_ranges(peer: FakePeer, client: FocasClient) -> None:
+async def test_chunked_write_error_names_ranges(peer: ScriptedPeer, client: FocasClient) -> None:
     with pytest.raises(ChunkedWriteError) as info:
         await client.write_pmc("D", 200, bytes(range(1, 101)))  # the peer's memory ends at 255
     err = info.value
@@ -472,7 +338,7 @@ async def test_chunked_write_error_names_ranges(peer: FakePeer, client: FocasCli
     assert isinstance(err.cause, CncError) and err.cause.ew == EW.NUMBER
 
 
-async def test_connection_counts_reset_after_many_timeouts(peer: FakePeer) -> None:
+async def test_connection_counts_reset_after_many_timeouts(peer: ScriptedPeer) -> None:
     async with FocasClient("127.0.0.1", peer.port, timeout=0.01) as c:
         peer.hold = True
         results = await asyncio.gather(
@@ -487,6 +353,6 @@ async def test_connection_counts_reset_after_many_timeouts(peer: FakePeer) -> No
         await peer.wait_received(sent)
         assert len(peer.received) == sent
         peer.hold = False
-        await peer.release()
+        peer.release()
         assert await c.read_param(1, timeout=BOUND) == 1
         assert conn.abandoned == 0 and conn.in_flight == 0

@@ -1,8 +1,8 @@
 """The client's connection machinery, driven step by step against a scripted peer.
 
-A small packed-protocol peer on 127.0.0.1:0 records every frame (and which frames arrived in
-one receive), holds answers back when told and answers them in any order, with any payload,
-or drops the connection. The tests check outcomes and ordering, never durations:
+The scripted peer of ``peers.py`` records every frame (and which frames arrived in one
+receive), holds answers back when told and answers them in any order, with any payload, or
+drops the connection. The tests check outcomes and ordering, never durations:
 
 * the one deadline timer of a connection with mixed per-call timeouts;
 * ids of abandoned requests staying reserved until their late answers, which are dropped;
@@ -20,7 +20,16 @@ from collections.abc import AsyncIterator, Callable, Iterable
 from typing import Any
 
 import pytest
-from conftest import IO_TIMEOUT, serving, wait_until
+from peers import (
+    BOUND,
+    RDPARAM,
+    ScriptedPeer,
+    assert_idle,
+    connection_of,
+    param_request,
+    turns,
+)
+from support import IO_TIMEOUT, serving, wait_until
 
 from focas_net.client import ClientState, FocasClient, ReconnectPolicy
 from focas_net.client.connection import Connection, NotSentError, open_connection
@@ -35,18 +44,14 @@ from focas_net.errors import (
 from focas_net.protocol import (
     COMMANDS,
     Command,
-    DataRequest,
     EwReply,
     Frame,
     FrameDecoder,
     ParamValue,
-    PmcData,
     encode_frame,
 )
 
-BOUND = 10.0  # a safety net for waits that must end much sooner; never a measured duration
 SHORT = 0.05  # a timeout meant to pass while the peer holds the answer back
-RDPARAM = int(Command.RDPARAM)
 RDPMCRNG = int(Command.RDPMCRNG)
 WRPMCRNG = int(Command.WRPMCRNG)
 
@@ -54,123 +59,6 @@ WRPMCRNG = int(Command.WRPMCRNG)
 def _is(frame: Frame) -> Callable[[Frame], bool]:
     """A predicate matching exactly ``frame``."""
     return lambda f: f is frame
-
-
-def _answer(frame: Frame, peer: ScriptedPeer) -> bytes:
-    """What a tiny CNC answers: a parameter reads back its own number; PMC is a bytearray."""
-    spec = COMMANDS[frame.command]
-    request = spec.request.decode(frame.payload)
-    value: Any
-    if frame.command == Command.RDPARAM:
-        value = ParamValue(request.datano, request.axis, request.datano, 4)
-    elif frame.command == Command.RDPMCRNG:
-        data = bytes(peer.pmc[request.datano_s : request.datano_e + 1])
-        value = PmcData(request.type_a, 0, request.datano_s, request.datano_e, data)
-    elif frame.command == Command.WRPMCRNG:
-        if peer.password_required and not peer.unlocked:
-            value = EwReply(EW.PASSWD)
-        elif request.datano_s in peer.refuse:
-            value = EwReply(peer.refuse[request.datano_s])
-        else:
-            peer.pmc[request.datano_s : request.datano_e + 1] = request.data
-            value = None
-    elif frame.command == Command.WRUNLOCKPARAM:
-        peer.unlocks += 1
-        peer.unlocked = request.password == peer.password
-        value = None if peer.unlocked else EwReply(EW.PASSWD)
-    else:
-        value = EwReply(EW.FUNC)
-    return spec.response.encode(value)
-
-
-class _PeerSide(asyncio.Protocol):
-    def __init__(self, peer: ScriptedPeer) -> None:
-        self.peer = peer
-        self.decoder = FrameDecoder()
-        self.transport: asyncio.Transport | None = None
-
-    def connection_made(self, transport: asyncio.BaseTransport) -> None:
-        assert isinstance(transport, asyncio.Transport)
-        self.transport = transport
-        self.peer.sides.append(self)
-        self.peer.unlocked = False
-
-    def data_received(self, data: bytes) -> None:
-        peer = self.peer
-        frames = self.decoder.feed(data)
-        peer.receives.append(frames)
-        before = peer.answers_sent
-        for frame in frames:
-            peer.received.append(frame)
-            peer.answered_before.append(before)
-            if peer.hold or frame.command in peer.hold_commands:
-                peer.held.append((frame, self))
-            else:
-                self.reply(frame)
-
-    def reply(self, frame: Frame, payload: bytes | None = None) -> None:
-        if self.transport is None or self.transport.is_closing():
-            return
-        if payload is None:
-            payload = _answer(frame, self.peer)
-        self.peer.answers_sent += 1
-        self.transport.write(encode_frame(frame.command, frame.request_id, payload))
-
-    def connection_lost(self, exc: Exception | None) -> None:
-        self.transport = None
-
-
-class ScriptedPeer:
-    """A packed-protocol peer whose answers the test releases one by one."""
-
-    def __init__(self) -> None:
-        self.hold = False
-        self.hold_commands: set[int] = set()
-        self.held: list[tuple[Frame, _PeerSide]] = []
-        self.received: list[Frame] = []
-        self.receives: list[list[Frame]] = []  # the frames completed by each receive
-        self.answered_before: list[int] = []  # answers sent before each frame's receive
-        self.answers_sent = 0
-        self.sides: list[_PeerSide] = []
-        self.pmc = bytearray(4096)
-        self.refuse: dict[int, int] = {}  # first address of a write chunk -> EW code
-        self.password = b"1234"
-        self.password_required = False
-        self.unlocked = False
-        self.unlocks = 0
-        self.port = 0
-        self._server: asyncio.Server | None = None
-
-    async def start(self) -> None:
-        loop = asyncio.get_running_loop()
-        self._server = await loop.create_server(lambda: _PeerSide(self), "127.0.0.1", 0)
-        self.port = self._server.sockets[0].getsockname()[1]
-
-    async def stop(self) -> None:
-        if self._server is not None:
-            self._server.close()
-            self.drop()
-            await self._server.wait_closed()
-
-    def drop(self) -> None:
-        for side in self.sides:
-            if side.transport is not None:
-                side.transport.abort()
-
-    async def wait_received(self, n: int) -> None:
-        await wait_until(lambda: len(self.received) >= n, within=BOUND)
-
-    def release(
-        self,
-        which: Callable[[Frame], bool] = lambda f: True,
-        payload: Callable[[Frame], bytes | None] = lambda f: None,
-    ) -> list[Frame]:
-        """Answer the held frames ``which`` selects (in arrival order); return them."""
-        chosen = [(f, s) for f, s in self.held if which(f)]
-        self.held = [(f, s) for f, s in self.held if not which(f)]
-        for frame, side in chosen:
-            side.reply(frame, payload(frame))
-        return [f for f, _ in chosen]
 
 
 class CountingTransport:
@@ -193,16 +81,6 @@ class CountingTransport:
 
 
 @pytest.fixture
-async def peer() -> AsyncIterator[ScriptedPeer]:
-    p = ScriptedPeer()
-    await p.start()
-    try:
-        yield p
-    finally:
-        await p.stop()
-
-
-@pytest.fixture
 async def conn(peer: ScriptedPeer) -> AsyncIterator[Connection]:
     c = await open_connection("127.0.0.1", peer.port, max_in_flight=4)
     try:
@@ -212,22 +90,12 @@ async def conn(peer: ScriptedPeer) -> AsyncIterator[Connection]:
         await c.wait_closed()
 
 
-def connection_of(client: FocasClient) -> Connection:
-    c = client._conn
-    assert c is not None
-    return c
-
-
 def count_writes(client: FocasClient) -> CountingTransport:
     c = connection_of(client)
     assert c._transport is not None
     counting = CountingTransport(c._transport)
     c._transport = counting  # type: ignore[assignment]
     return counting
-
-
-def param_request(number: int) -> bytes:
-    return COMMANDS[Command.RDPARAM].request.encode(DataRequest(number, 0))
 
 
 def param_number(frame: Frame) -> int:
@@ -246,19 +114,6 @@ async def ask(c: Connection, number: int, seconds: float | None = BOUND) -> int:
     """One RDPARAM on ``c``; returns the value the peer answered."""
     when = None if seconds is None else deadline(seconds)
     return param_value(await c.request(RDPARAM, param_request(number), when))
-
-
-async def turns(n: int = 10) -> None:
-    """Let the loop run ``n`` turns (for checks that something did NOT happen)."""
-    for _ in range(n):
-        await asyncio.sleep(0)
-
-
-def assert_idle(c: Connection) -> None:
-    assert c.in_flight == 0
-    assert c.abandoned == 0
-    assert c._slots_taken == 0
-    assert not c._slot_waiters
 
 
 async def assert_bound_is(c: Connection, peer: ScriptedPeer, n: int) -> None:

@@ -14,13 +14,11 @@ from __future__ import annotations
 
 import asyncio
 import gc
-from collections.abc import AsyncIterator
 from itertools import pairwise
 from typing import Any
 
 import pytest
-from conftest import wait_until
-from test_client_mechanics import (
+from peers import (
     BOUND,
     RDPARAM,
     ScriptedPeer,
@@ -29,6 +27,7 @@ from test_client_mechanics import (
     param_request,
     turns,
 )
+from support import wait_until
 
 from focas_net.client import (
     AlarmProjection,
@@ -51,16 +50,6 @@ from focas_net.protocol import Command
 SHORT = 0.05  # a timeout meant to pass while the peer holds the answer back
 FAST = ReconnectPolicy(initial_delay=0.0, max_delay=0.01, jitter=0.0)
 UNLOCK = int(Command.WRUNLOCKPARAM)
-
-
-@pytest.fixture
-async def peer() -> AsyncIterator[ScriptedPeer]:
-    p = ScriptedPeer()
-    await p.start()
-    try:
-        yield p
-    finally:
-        await p.stop()
 
 
 class LoopErrors:

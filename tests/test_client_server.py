@@ -10,7 +10,7 @@ from decimal import Decimal
 from pathlib import Path
 
 import pytest
-from conftest import IO_TIMEOUT, Served, serving, wait_until
+from support import IO_TIMEOUT, Served, serving, wait_until
 
 from focas_net.client import ClientState, FaultKind, FaultScope, FocasClient, ReconnectPolicy
 from focas_net.client.client import Positions
@@ -231,12 +231,20 @@ async def test_alarms_and_history(cnc: FocasClient) -> None:
     assert len((await cnc.read_alarm_history(250)).entries) == 2
 
 
-async def test_history_error_answer_gives_empty_result(cnc: FocasClient) -> None:
+async def test_history_error_answer_raises_like_the_active_list(cnc: FocasClient) -> None:
+    """An error answer (count -1, then the code) raises CncError for the history as for the
+    active list; it is never returned as an empty history."""
     await cnc.sim.raise_alarm(3, 11)
-    await cnc.sim.inject_fault(FaultKind.ERROR, arg=EW.BUSY, count=1)
+    for read in (cnc.read_alarm_history, cnc.read_alarms):
+        await cnc.sim.inject_fault(FaultKind.ERROR, arg=EW.BUSY, count=1)
+        with pytest.raises(CncError) as info:
+            await read()
+        assert info.value.ew == EW.BUSY
+    await cnc.sim.inject_fault(FaultKind.ERROR, arg=EW.PASSWD, count=1)
+    with pytest.raises(AccessDeniedError):
+        await cnc.read_alarm_history(5)
     history = await cnc.read_alarm_history(5)
-    assert history.entries == () and history.ew == EW.BUSY
-    assert len((await cnc.read_alarm_history(5)).entries) == 1
+    assert history.ew == 0 and [e.alm_no for e in history.entries] == [11]
 
 
 async def test_module_config(cnc: FocasClient) -> None:

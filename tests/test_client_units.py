@@ -9,7 +9,8 @@ import pytest
 
 from focas_net.client import FocasClient, ReconnectPolicy
 from focas_net.client._locks import KeyedLocks
-from focas_net.client.client import _chunks, _merge, macro_from_wire, macro_to_wire
+from focas_net.client._pmc import _chunks, _merge
+from focas_net.client.client import macro_from_wire, macro_to_wire
 from focas_net.errors import FocasTimeoutError
 
 

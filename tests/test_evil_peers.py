@@ -17,7 +17,7 @@ from collections.abc import Iterator
 from typing import Final
 
 import pytest
-from conftest import IO_TIMEOUT, Served, ew_of, serving, wait_until
+from support import IO_TIMEOUT, Served, ew_of, serving, wait_until
 
 from focas_net.protocol import (
     AlarmHistory,

@@ -8,7 +8,7 @@ import sys
 from pathlib import Path
 
 import pytest
-from conftest import IO_TIMEOUT, Served, serving
+from support import IO_TIMEOUT, Served, serving
 
 from focas_net.server import FocasServer
 from focas_net.sim import default_machine

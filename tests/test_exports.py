@@ -132,3 +132,24 @@ def test_top_level_exceptions_share_one_base() -> None:
     assert {e.__name__ for e in errors} >= {"CncError", "FocasConnectionError", "FocasTimeoutError"}
     assert all(issubclass(e, focas_net.FocasError) for e in errors)
     assert issubclass(focas_net.NotSentError, focas_net.FocasConnectionError)
+
+
+CLIENT_MODULES = ["client", "connection", "projection", "reconnect", "sim_control"]
+
+
+def test_client_names_have_one_home() -> None:
+    """Each public name of ``focas_net.client`` is declared in the ``__all__`` of exactly one
+    of its modules and exported as that module's object; ``FaultKind`` and ``FaultScope`` (the
+    arguments of ``client.sim.inject_fault``) are those of ``focas_net.protocol``."""
+    import focas_net.client as client
+
+    homes: dict[str, list[str]] = {}
+    for name in CLIENT_MODULES:
+        module = importlib.import_module(f"focas_net.client.{name}")
+        for n in module.__all__:
+            homes.setdefault(n, []).append(name)
+            assert getattr(client, n) is getattr(module, n), n
+    assert {n: m for n, m in homes.items() if len(m) > 1} == {}
+    assert set(homes) | {"FaultKind", "FaultScope"} == set(client.__all__)
+    assert client.FaultKind is protocol.FaultKind
+    assert client.FaultScope is protocol.FaultScope

@@ -31,9 +31,9 @@ from collections.abc import AsyncIterator, Iterator
 from typing import Any, Final
 
 import pytest
-from conftest import IO_TIMEOUT, Served, Wire, ew_of, serving
 from hypothesis import HealthCheck, assume, given, settings
 from hypothesis import strategies as st
+from support import IO_TIMEOUT, Served, Wire, ew_of, serving
 
 from focas_net.errors import EW, PayloadError
 from focas_net.protocol import COMMANDS, Command, encode_ew, encode_frame

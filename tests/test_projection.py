@@ -6,7 +6,7 @@ import asyncio
 from collections.abc import AsyncIterator
 
 import pytest
-from conftest import IO_TIMEOUT, Served, serving
+from support import IO_TIMEOUT, Served, serving
 
 from focas_net.client import (
     AlarmCleared,

@@ -23,7 +23,7 @@ from pathlib import Path
 from typing import Any, Final
 
 import pytest
-from conftest import IO_TIMEOUT, Served, serving
+from support import IO_TIMEOUT, Served, serving
 
 from focas_net.cli import build_parser
 from focas_net.client import FaultKind, FocasClient

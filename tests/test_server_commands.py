@@ -10,7 +10,7 @@ import struct
 from datetime import UTC, datetime, timedelta
 
 import pytest
-from conftest import Served, Wire, ew_of, serving
+from support import Served, Wire, ew_of, serving
 
 from focas_net.errors import EW
 from focas_net.protocol import (

@@ -6,7 +6,7 @@ import struct
 from typing import Any
 
 import pytest
-from conftest import Served, Wire, ew_of, serving, wait_until
+from support import Served, Wire, ew_of, serving, wait_until
 
 from focas_net.errors import EW
 from focas_net.protocol import (

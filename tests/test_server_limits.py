@@ -10,7 +10,7 @@ import struct
 from pathlib import Path
 
 import pytest
-from conftest import Served, Wire, serving, wait_until
+from support import Served, Wire, serving, wait_until
 
 from focas_net.errors import EW, FrameError
 from focas_net.protocol import (

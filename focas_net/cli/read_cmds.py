@@ -18,7 +18,6 @@ from focas_net.client import (
     FocasClient,
     ProjectionMode,
 )
-from focas_net.errors import CncError
 from focas_net.protocol import ParamValue, PmcArea, PositionKind
 
 from . import _format as fmt
@@ -189,8 +188,6 @@ def alarms(args: argparse.Namespace) -> Go:
         lines += [f"  {fmt.format_active_alarm(a)}" for a in active]
         if args.history:
             history = await cnc.read_alarm_history(args.history)
-            if history.ew:
-                raise CncError.from_ew(history.ew, "cnc_rdalmhistry")
             data["history"] = [fmt.history_dict(e) for e in history.entries]
             lines.append(f"alarm history, newest first: {len(history.entries)}")
             lines += [f"  {fmt.format_history_entry(e)}" for e in history.entries]

@@ -1,14 +1,14 @@
-"""The asyncio client of the packed FOCAS protocol."""
+"""The asyncio client of the packed FOCAS protocol (``docs/client.md``, ``docs/protocol.md``).
 
-from .client import (
-    ClientState,
-    FaultKind,
-    FaultScope,
-    FocasClient,
-    Positions,
-    ReconnectPolicy,
-    SimControl,
-)
+Each name below has one home: :mod:`.client` (the client and its results), :mod:`.reconnect`
+(states and the reconnect policy), :mod:`.sim_control` (``client.sim``), :mod:`.connection`
+(one pipelined connection), :mod:`.projection` (alarm events); ``FaultKind`` and
+``FaultScope``, the arguments of ``client.sim.inject_fault``, are those of
+:mod:`focas_net.protocol`.
+"""
+
+from ..protocol import FaultKind, FaultScope
+from .client import FocasClient, Positions
 from .connection import Connection, NotSentError, open_connection
 from .projection import (
     AlarmCleared,
@@ -18,6 +18,8 @@ from .projection import (
     AlarmRaised,
     ProjectionMode,
 )
+from .reconnect import ClientState, ReconnectPolicy
+from .sim_control import SimControl
 
 __all__ = [
     "AlarmCleared",

@@ -24,10 +24,11 @@ from datetime import datetime
 from types import TracebackType
 from typing import Final, Self
 
-from focas_net.errors import FocasError, ew_name
+from focas_net.errors import FocasError
 
 from ..protocol import ActiveAlarm, AlarmHistoryEntry
-from .client import ClientState, FocasClient
+from .client import FocasClient
+from .reconnect import ClientState
 
 __all__ = [
     "AlarmCleared",
@@ -179,10 +180,6 @@ class AlarmProjection:
         except FocasError as exc:
             self.failed_polls += 1
             logger.debug("alarm poll of %s:%s failed: %s", client.host, client.port, exc)
-            return []
-        if history is not None and history.ew:
-            self.failed_polls += 1
-            logger.debug("alarm history poll failed: %s", ew_name(history.ew))
             return []
         first = not self._polled
         self._polled = True

@@ -1,0 +1,444 @@
+"""The link of a client to one CNC: connecting, reconnecting, unlocking, and the request path.
+
+:class:`Link` holds the one :class:`Connection` of a :class:`~focas_net.client.FocasClient`
+(which is a :class:`Link` with the typed FOCAS calls on top) and everything that outlives it:
+
+* the :class:`ClientState` machine (``DISCONNECTED``, ``CONNECTED``, ``RECONNECTING``,
+  ``CLOSED``) and the state callbacks;
+* the :class:`ReconnectPolicy` and its backoff, run by one reconnect task per loss;
+* the password: sent with ``cnc_wrunlockparam`` after every connect, and before the one retry
+  of a call answered ``EW_PASSWD``;
+* :meth:`Link._request`, the one path every call takes (connect or wait for the reconnect,
+  send, decode, EW check, unlock and retry, send again on the next connection what never
+  left), and the rules the batched PMC chunks share with it.
+
+The wire protocol is ``docs/protocol.md``; the client's behaviour ``docs/client.md``.
+"""
+
+from __future__ import annotations
+
+import asyncio
+import enum
+import logging
+import random
+import ssl as _ssl
+from collections.abc import Callable
+from dataclasses import dataclass
+from types import TracebackType
+from typing import Any, Final, Self
+
+from focas_net.errors import EW, CncError, FocasConnectionError, FocasTimeoutError
+
+from ..protocol import COMMANDS, CommandSpec, EwReply, Password
+from ..protocol import Command as C
+from .connection import MAX_IN_FLIGHT, Connection, NotSentError, open_connection
+
+__all__ = ["ClientState", "ReconnectPolicy"]
+
+# The client's documented logger (docs/client.md): state changes, losses and reconnects.
+logger = logging.getLogger("focas_net.client.client")
+
+_UNLOCK: Final = COMMANDS[C.WRUNLOCKPARAM]
+_CLOSE_GRACE: Final = 2.0
+
+
+class ClientState(enum.Enum):
+    """Where a :class:`FocasClient` stands."""
+
+    #: Not connected: before :meth:`FocasClient.connect`, or after a loss without reconnect.
+    DISCONNECTED = "disconnected"
+    #: Connected; calls are sent at once.
+    CONNECTED = "connected"
+    #: The connection was lost and the reconnect policy is trying again; calls wait.
+    RECONNECTING = "reconnecting"
+    #: :meth:`FocasClient.aclose` was called; final.
+    CLOSED = "closed"
+
+
+@dataclass(frozen=True, slots=True)
+class ReconnectPolicy:
+    """Exponential backoff with jitter and a cap.
+
+    The delay before attempt ``n`` (0-based) is ``min(max_delay, initial_delay * factor**n)``,
+    reduced by a random fraction of at most ``jitter`` so that many clients of one server do
+    not reconnect in lock step. ``n`` goes back to 0 only once a connection has stayed up
+    ``stable_after`` seconds: after a connection lost sooner (a server that accepts and closes
+    at once) the backoff goes on where it was. ``max_attempts`` bounds the attempts made after
+    one loss; ``None`` retries for ever.
+    """
+
+    initial_delay: float = 0.1
+    max_delay: float = 10.0
+    factor: float = 2.0
+    jitter: float = 0.25
+    max_attempts: int | None = None
+    stable_after: float = 5.0
+
+    def __post_init__(self) -> None:
+        if self.initial_delay < 0 or self.max_delay < 0:
+            raise ValueError("reconnect delays must not be negative")
+        if self.factor < 1:
+            raise ValueError(f"factor must be at least 1, got {self.factor}")
+        if not 0 <= self.jitter <= 1:
+            raise ValueError(f"jitter must be within 0..1, got {self.jitter}")
+        if self.max_attempts is not None and self.max_attempts < 1:
+            raise ValueError("max_attempts must be at least 1 (or None)")
+        if not self.stable_after >= 0:  # also refuses NaN
+            raise ValueError(f"stable_after must not be negative, got {self.stable_after}")
+
+    def delay(self, attempt: int) -> float:
+        """Seconds to wait before attempt ``attempt`` (0-based)."""
+        try:
+            base = min(self.max_delay, self.initial_delay * self.factor**attempt)
+        except OverflowError:
+            base = self.max_delay
+        return base * (1.0 - self.jitter * random.random())
+
+
+StateCallback = Callable[[ClientState], None]
+
+
+class Link:
+    """The connection of a client, its state machine, its reconnects and its request path.
+
+    The arguments are those of :class:`~focas_net.client.FocasClient`, which is a
+    :class:`Link` with the FOCAS calls on top and documents them.
+    """
+
+    def __init__(
+        self,
+        host: str,
+        port: int,
+        *,
+        timeout: float | None,
+        max_in_flight: int,
+        password: str | bytes | None,
+        reconnect: bool | ReconnectPolicy,
+        max_frame: int,
+        ssl: _ssl.SSLContext | None,
+        server_hostname: str | None,
+        on_state_change: StateCallback | None,
+    ) -> None:
+        if not 1 <= max_in_flight <= MAX_IN_FLIGHT:
+            raise ValueError(
+                f"max_in_flight must be within 1..{MAX_IN_FLIGHT}, got {max_in_flight}"
+            )
+        if timeout is not None and timeout <= 0:
+            raise ValueError(f"timeout must be positive, got {timeout}")
+        self.host = host
+        self.port = port
+        self.timeout = timeout
+        self.max_in_flight = max_in_flight
+        self.max_frame = max_frame
+        self._ssl = ssl
+        self._server_hostname = server_hostname
+        self._password = password
+        if reconnect is True:
+            self._policy: ReconnectPolicy | None = ReconnectPolicy()
+        elif reconnect is False:
+            self._policy = None
+        else:
+            self._policy = reconnect
+        self._state = ClientState.DISCONNECTED
+        self._callbacks: list[StateCallback] = []
+        if on_state_change is not None:
+            self._callbacks.append(on_state_change)
+        self._conn: Connection | None = None
+        self._loop: asyncio.AbstractEventLoop | None = None
+        self._ready: asyncio.Event | None = None
+        self._reconnect_task: asyncio.Task[None] | None = None
+        # Backoff step of the next reconnect attempt (reset by a connection that stayed up
+        # ``stable_after`` seconds) and when the current connection was installed.
+        self._backoff = 0
+        self._up_since = 0.0
+
+    def __repr__(self) -> str:
+        return f"<{type(self).__name__} {self.host}:{self.port} {self._state.value}>"
+
+    # -- lifecycle -----------------------------------------------------------------------
+    @property
+    def state(self) -> ClientState:
+        """The current :class:`ClientState`."""
+        return self._state
+
+    @property
+    def connected(self) -> bool:
+        return self._state is ClientState.CONNECTED
+
+    @property
+    def reconnect_policy(self) -> ReconnectPolicy | None:
+        return self._policy
+
+    def add_state_callback(self, callback: StateCallback) -> None:
+        """Call ``callback(state)`` on every state change (exceptions are logged)."""
+        self._callbacks.append(callback)
+
+    def remove_state_callback(self, callback: StateCallback) -> None:
+        self._callbacks.remove(callback)
+
+    def _set_state(self, state: ClientState) -> None:
+        if state is self._state:
+            return
+        self._state = state
+        logger.info("%s:%s %s", self.host, self.port, state.value)
+        for callback in tuple(self._callbacks):
+            try:
+                callback(state)
+            except Exception:
+                logger.exception("state callback %r failed", callback)
+
+    async def __aenter__(self) -> Self:
+        await self.connect()
+        return self
+
+    async def __aexit__(
+        self,
+        exc_type: type[BaseException] | None,
+        exc: BaseException | None,
+        tb: TracebackType | None,
+    ) -> None:
+        await self.aclose()
+
+    async def connect(self) -> None:
+        """Open the connection (and unlock when a password was given).
+
+        Raises :class:`FocasConnectionError` (or :class:`FocasTimeoutError`) when the server
+        cannot be reached, :class:`AccessDeniedError` when the password is refused. The
+        first connection is not retried; the reconnect policy applies to later losses.
+        """
+        if self._state is ClientState.CLOSED:
+            raise FocasConnectionError("client is closed")
+        if self._conn is not None and not self._conn.closed:
+            return
+        self._loop = asyncio.get_running_loop()
+        if self._ready is None:
+            self._ready = asyncio.Event()
+        conn = await self._open(self._deadline(None), strict=True)
+        if self.state is ClientState.CLOSED:  # closed while connecting
+            conn.close()
+            await conn.wait_closed()
+            raise FocasConnectionError("client is closed")
+        current = self._conn
+        if current is not None and not current.closed:  # a concurrent connect() won
+            conn.close()
+            await conn.wait_closed()
+            return
+        self._install(conn)
+
+    async def aclose(self) -> None:
+        """Close the connection; pending calls fail with :class:`FocasConnectionError`."""
+        self._set_state(ClientState.CLOSED)
+        task, self._reconnect_task = self._reconnect_task, None
+        if task is not None:
+            if not task.done():
+                task.cancel()
+                await asyncio.wait([task])
+            if not task.cancelled() and task.exception() is not None:
+                logger.warning("reconnect to %s:%s failed: %r", *self._addr, task.exception())
+        conn, self._conn = self._conn, None
+        if self._ready is not None:
+            self._ready.set()
+        if conn is not None:
+            conn.close()
+            try:
+                async with asyncio.timeout(_CLOSE_GRACE):
+                    await conn.wait_closed()
+            except TimeoutError:
+                conn.abort()
+
+    async def _open(self, deadline: float | None, *, strict: bool) -> Connection:
+        """A new connection, unlocked when a password is known. A refused password raises
+        with ``strict`` (the first connect) and is logged otherwise (a reconnect)."""
+        conn = await open_connection(
+            self.host,
+            self.port,
+            deadline=deadline,
+            max_in_flight=self.max_in_flight,
+            max_frame=self.max_frame,
+            ssl=self._ssl,
+            server_hostname=self._server_hostname,
+            on_lost=self._on_lost,
+        )
+        if self._password is not None:
+            try:
+                await self._unlock_on(conn, self._password, deadline)
+            except CncError as exc:
+                if strict:
+                    conn.close()
+                    await conn.wait_closed()
+                    raise
+                logger.warning("%s:%s: unlock after reconnect refused: %s", *self._addr, exc)
+            except BaseException:
+                conn.close()
+                raise
+        return conn
+
+    @property
+    def _addr(self) -> tuple[str, int]:
+        return (self.host, self.port)
+
+    # -- the state machine and the reconnect ----------------------------------------------
+    def _install(self, conn: Connection) -> None:
+        task = self._reconnect_task
+        if task is not None and not task.done() and task is not asyncio.current_task():
+            task.cancel()  # connect() succeeded while the policy was reconnecting
+        self._conn = conn
+        self._up_since = (self._loop or asyncio.get_running_loop()).time()
+        self._set_state(ClientState.CONNECTED)
+        if self._ready is not None:
+            self._ready.set()
+
+    def _on_lost(self, conn: Connection, exc: BaseException | None) -> None:
+        if conn is not self._conn:
+            return
+        self._conn = None
+        if self._state is ClientState.CLOSED:
+            return
+        if self._policy is None:
+            logger.warning("connection to %s:%s lost: %s", self.host, self.port, exc or "closed")
+            self._set_state(ClientState.DISCONNECTED)
+            return
+        logger.warning("connection to %s:%s lost (%s); reconnecting", *self._addr, exc or "closed")
+        assert self._ready is not None and self._loop is not None
+        if self._loop.time() - self._up_since >= self._policy.stable_after:
+            self._backoff = 0  # a stable connection: the backoff starts again from the start
+        self._ready.clear()
+        self._set_state(ClientState.RECONNECTING)
+        if self._reconnect_task is None or self._reconnect_task.done():
+            self._reconnect_task = self._loop.create_task(
+                self._reconnect(self._policy), name=f"focas-reconnect {self.host}:{self.port}"
+            )
+
+    async def _reconnect(self, policy: ReconnectPolicy) -> None:
+        attempt = 0
+        try:
+            while policy.max_attempts is None or attempt < policy.max_attempts:
+                await asyncio.sleep(policy.delay(self._backoff))
+                self._backoff += 1
+                attempt += 1
+                try:
+                    conn = await self._open(self._deadline(None), strict=False)
+                except (FocasConnectionError, FocasTimeoutError) as exc:
+                    logger.debug("reconnect attempt %d to %s:%s: %s", attempt, *self._addr, exc)
+                    continue
+                except Exception as exc:  # e.g. an unlock answer that does not decode
+                    logger.warning("reconnect attempt %d to %s:%s: %r", attempt, *self._addr, exc)
+                    continue
+                if conn.closed:
+                    continue
+                self._install(conn)
+                return
+            logger.warning(
+                "giving up reconnecting to %s:%s after %d attempts", *self._addr, attempt
+            )
+            self._set_state(ClientState.DISCONNECTED)
+        finally:
+            if self._state is ClientState.RECONNECTING and self._conn is None:
+                self._set_state(ClientState.DISCONNECTED)  # ended without a connection
+            if self._ready is not None:
+                self._ready.set()
+
+    async def _connection(self, deadline: float | None) -> Connection:
+        """The live connection, waiting (until ``deadline``) while reconnecting.
+
+        Raises :class:`FocasConnectionError` when there is none to wait for (not connected
+        and no reconnect under way, or closed) or when ``deadline`` passes first.
+        """
+        while True:
+            conn = self._conn
+            if conn is not None:
+                if not conn.closed:
+                    return conn
+                self._on_lost(conn, None)  # closing but connection_lost not run yet
+                continue
+            state = self._state
+            if state is ClientState.CLOSED:
+                raise FocasConnectionError("client is closed")
+            task = self._reconnect_task
+            if (
+                state is not ClientState.RECONNECTING
+                or self._ready is None
+                or task is None
+                or task.done()
+            ):
+                raise FocasConnectionError(f"not connected to {self.host}:{self.port}")
+            try:
+                async with asyncio.timeout_at(deadline):
+                    await self._ready.wait()
+            except TimeoutError:
+                raise FocasConnectionError(
+                    f"still reconnecting to {self.host}:{self.port} when the call timed out"
+                ) from None
+
+    # -- the request path ----------------------------------------------------------------
+    def _deadline(self, timeout: float | None) -> float | None:
+        """The deadline (``loop.time()`` units) of a call given ``timeout=``, or None."""
+        t = self.timeout if timeout is None else timeout
+        if t is None:
+            return None
+        loop = self._loop or asyncio.get_running_loop()
+        return loop.time() + t
+
+    async def _request(self, spec: CommandSpec, payload: bytes, deadline: float | None) -> Any:
+        """Send one request and return its decoded answer: the one path of every call.
+
+        * The live connection is used at once; while reconnecting the call waits for the next
+          one (until ``deadline``); with no connection to wait for it raises
+          :class:`FocasConnectionError`.
+        * A request that never left (:class:`NotSentError`) goes out again on the next
+          connection when a reconnect policy is set, and is raised otherwise.
+        * An answer carrying an EW code raises :class:`CncError`, except ``EW_PASSWD`` when a
+          password is known: the password is sent (:meth:`_unlock_for_retry`) and the call
+          is sent once more; that retry's answer is final.
+
+        Every other failure (a timeout, a connection lost after the request left, an answer
+        that does not decode) is raised as it is.
+        """
+        retried = False
+        while True:
+            conn = self._conn
+            if conn is None or conn.closed:
+                conn = await self._connection(deadline)
+            try:
+                raw = await conn.request(spec.command, payload, deadline)
+            except NotSentError:
+                if self._policy is None:
+                    raise
+                continue  # never reached the peer: safe to send on the next connection
+            value = spec.response.decode(raw)
+            if type(value) is not EwReply:
+                return value
+            if retried or not self._retries_after_unlock(spec, value.ew):
+                raise CncError.from_ew(value.ew, spec.focas_name)
+            await self._unlock_for_retry(conn, deadline)
+            retried = True
+
+    def _retries_after_unlock(self, spec: CommandSpec, ew: int) -> bool:
+        """Whether a call of ``spec`` answered ``ew`` is unlocked and sent once more."""
+        return ew == EW.PASSWD and self._password is not None and spec is not _UNLOCK
+
+    async def _unlock_for_retry(self, conn: Connection, deadline: float | None) -> None:
+        """Send the password on ``conn`` before retrying calls answered ``EW_PASSWD``.
+
+        If the connection is lost around the unlock and a reconnect policy is set, this
+        returns and the retry waits for the next connection instead (which the reconnect
+        unlocks first). Every other failure, a refused password among them, is raised.
+        """
+        password = self._password
+        assert password is not None
+        try:
+            await self._unlock_on(conn, password, deadline)
+        except FocasConnectionError:
+            if self._policy is None:
+                raise
+
+    async def _unlock_on(
+        self, conn: Connection, password: str | bytes, deadline: float | None
+    ) -> None:
+        """``cnc_wrunlockparam`` on ``conn`` itself: no wait, no retry, EW -> CncError."""
+        raw = await conn.request(
+            _UNLOCK.command, _UNLOCK.request.encode(Password.from_text(password)), deadline
+        )
+        value = _UNLOCK.response.decode(raw)
+        if type(value) is EwReply:
+            raise CncError.from_ew(value.ew, _UNLOCK.focas_name)
