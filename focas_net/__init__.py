@@ -41,25 +41,23 @@ from .protocol import (
     AlarmState,
     AlarmType,
     AutMode,
-    BoardId,
     Command,
     EmergencyState,
     FaultKind,
     FaultScope,
-    IOModuleRecord,
     MacroValue,
     MotionState,
     MstbState,
     PmcArea,
     PositionKind,
     ProgramNumbers,
-    RefType,
     RunState,
     StatusInfo,
     SysInfo,
 )
 from .server import FocasServer
 from .sim import Machine, MachineError, MachineFileError, default_machine, load_machine
+from .versamax import BoardId, IOModuleRecord, RefType
 
 __version__ = "0.1.0"
 

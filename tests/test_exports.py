@@ -94,6 +94,7 @@ PACKAGES = [
     "focas_net.server",
     "focas_net.sim",
     "focas_net.native",
+    "focas_net.versamax",
 ]
 
 

@@ -8,7 +8,7 @@ from pathlib import Path
 import pytest
 
 from focas_net.errors import EW
-from focas_net.protocol import IOModuleRecord, MacroValue, PmcArea, SysInfo
+from focas_net.protocol import MacroValue, PmcArea, SysInfo
 from focas_net.sim import (
     Machine,
     MachineError,
@@ -17,6 +17,7 @@ from focas_net.sim import (
     load_machine,
 )
 from focas_net.sim.default import gniu_record, mdd844_record
+from focas_net.versamax import IOModuleRecord
 
 EXAMPLE = Path(__file__).resolve().parent.parent / "examples" / "machine.toml"
 

@@ -22,7 +22,6 @@ from focas_net.protocol import (
     Command,
     DataRequest,
     EwReply,
-    IOModuleRecord,
     MacroRequest,
     MacroValue,
     ParamValue,
@@ -47,6 +46,7 @@ from focas_net.protocol.codecs import (
 from focas_net.sim import Machine, Session, default_machine, handle, handled_commands
 from focas_net.sim.default import mdd844_record
 from focas_net.sim.machine import MachineError, MotionData
+from focas_net.versamax import IOModuleRecord
 
 MANUAL_REPLY = bytes.fromhex(
     "00 52 00 03 00 00 80 08 80 80 44 38 34 34 32 00"

@@ -19,13 +19,11 @@ from focas_net.protocol import (
     ALARM_TYPE_NAMES,
     ActiveAlarm,
     AlarmHistoryEntry,
-    BoardId,
-    IOModuleRecord,
     ProgramNumbers,
-    RefType,
     StatusInfo,
     SysInfo,
 )
+from focas_net.versamax import BoardId, IOModuleRecord, RefType
 
 __all__ = [
     "AUT_NAMES",

@@ -52,7 +52,6 @@ from ..protocol import (
     FaultKind,
     FaultScope,
     InjectFault,
-    IOModuleRecord,
     MacroRequest,
     MacroValue,
     ParamValue,
@@ -72,6 +71,7 @@ from ..protocol import (
     VersaMaxRequest,
 )
 from ..protocol import Command as C
+from ..versamax import IOModuleRecord
 from ._locks import KeyedLocks
 from .connection import MAX_IN_FLIGHT, Connection, NotSentError, open_connection
 

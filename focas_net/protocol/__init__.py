@@ -58,16 +58,7 @@ from .values import (
     RunState,
     label_of,
 )
-from .versamax import (
-    MAX_CONFIG_CHUNK,
-    BoardId,
-    IOModuleRecord,
-    ModuleType,
-    RefDesc,
-    RefType,
-    VersaMaxReply,
-    VersaMaxRequest,
-)
+from .versamax import MAX_CONFIG_CHUNK, VersaMaxReply, VersaMaxRequest
 
 __all__ = [
     "ALARM_TYPE_NAMES",
@@ -92,7 +83,6 @@ __all__ = [
     "AlarmType",
     "AutMode",
     "AxisPosition",
-    "BoardId",
     "ClearAlarms",
     "Command",
     "CommandSpec",
@@ -103,11 +93,9 @@ __all__ = [
     "FaultScope",
     "Frame",
     "FrameDecoder",
-    "IOModuleRecord",
     "InjectFault",
     "MacroRequest",
     "MacroValue",
-    "ModuleType",
     "MotionState",
     "MstbState",
     "ParamValue",
@@ -120,8 +108,6 @@ __all__ = [
     "PositionRequest",
     "ProgramNumbers",
     "RaiseAlarm",
-    "RefDesc",
-    "RefType",
     "RunState",
     "SetPanel",
     "StatusInfo",

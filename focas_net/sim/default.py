@@ -46,7 +46,8 @@ from __future__ import annotations
 import struct
 from typing import Final
 
-from ..protocol import BoardId, IOModuleRecord, RefType, SysInfo
+from ..protocol import SysInfo
+from ..versamax import BoardId, IOModuleRecord, RefType
 from .machine import (
     DEFAULT_HISTORY_CAPACITY,
     Clock,

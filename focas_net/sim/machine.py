@@ -46,7 +46,6 @@ from ..protocol import (
     ActiveAlarm,
     AlarmHistory,
     AlarmHistoryEntry,
-    IOModuleRecord,
     MacroValue,
     ParamValue,
     Password,
@@ -55,6 +54,7 @@ from ..protocol import (
     SysInfo,
     VersaMaxReply,
 )
+from ..versamax import IOModuleRecord
 
 __all__ = [
     "AUT_MODES",

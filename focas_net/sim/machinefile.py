@@ -18,7 +18,8 @@ from typing import Any, Final, NoReturn
 
 from focas_net.errors import FocasError
 
-from ..protocol import BoardId, IOModuleRecord, PmcArea, RefType, SysInfo
+from ..protocol import PmcArea, SysInfo
+from ..versamax import BoardId, IOModuleRecord, RefType
 from .default import gniu_record, mdd844_record
 from .machine import (
     AUT_MODES,
