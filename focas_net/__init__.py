@@ -1,7 +1,8 @@
 """focas_net: a simulated FANUC CNC and an asyncio FOCAS client over a packed TCP protocol.
 
 The names here are the public surface; the subpackages (``focas_net.protocol``,
-``focas_net.client``, ``focas_net.server``, ``focas_net.sim``, ``focas_net.native``) export more
+``focas_net.client``, ``focas_net.server``, ``focas_net.sim``, ``focas_net.adapters``,
+``focas_net.native``) and the modules ``focas_net.errors`` and ``focas_net.versamax`` export more
 for those who need it.
 """
 
