@@ -14,7 +14,8 @@ Rules of this wire (``docs/native-protocol.md``; the CNC's rules are the machine
 * every answer fits the body size the response version allows (1450 bytes for version 2):
   room for the 16-byte head of every later block is kept, and a block whose data would not fit
   what is left answers ``EW_LENGTH``. The size is computed from the arguments **before** any
-  data is gathered;
+  data is gathered (a position read asks the machine first: its EW_NOOPT for the skip position
+  and EW_ATTRIB for an axis it has not come before EW_LENGTH, as they always did);
 * a request with more blocks than the limit can answer even as bare heads (90 at version 2)
   is a framing violation (:class:`NativeFrameError`): the connection is closed;
 * this wire's own numbering and limits: PMC ``adr_type`` codes (an unknown code -> EW_ATTRIB, a
