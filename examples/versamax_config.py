@@ -17,7 +17,7 @@ import sys
 
 from focas_net import FocasClient
 from focas_net.errors import EW, CncError, FocasError
-from focas_net.protocol import IOModuleRecord
+from focas_net.versamax import IOModuleRecord
 
 REF_NAMES = {16: "%I", 18: "%Q", 10: "%AI", 12: "%AQ"}
 MAX_SLOT = 9

@@ -1,7 +1,8 @@
 """focas_net: a simulated FANUC CNC and an asyncio FOCAS client over a packed TCP protocol.
 
 The names here are the public surface; the subpackages (``focas_net.protocol``,
-``focas_net.client``, ``focas_net.server``, ``focas_net.sim``, ``focas_net.native``) export more
+``focas_net.client``, ``focas_net.server``, ``focas_net.sim``, ``focas_net.adapters``,
+``focas_net.native``) and the modules ``focas_net.errors`` and ``focas_net.versamax`` export more
 for those who need it.
 """
 
@@ -41,21 +42,18 @@ from .protocol import (
     AlarmState,
     AlarmType,
     AutMode,
-    BoardId,
     Command,
     EditState,
     EmergencyState,
     FaultKind,
     FaultScope,
     HdckState,
-    IOModuleRecord,
     MacroValue,
     MotionState,
     MstbState,
     PmcArea,
     PositionKind,
     ProgramNumbers,
-    RefType,
     RunState,
     StatusInfo,
     SysInfo,
@@ -63,6 +61,7 @@ from .protocol import (
 )
 from .server import FocasServer
 from .sim import Machine, MachineError, MachineFileError, default_machine, load_machine
+from .versamax import BoardId, IOModuleRecord, RefType
 
 __version__ = "0.1.0"
 

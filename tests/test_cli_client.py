@@ -159,12 +159,12 @@ async def test_param_set_needs_mdi_and_pwe(cli: Cli) -> None:
     err = await cli.fails(EXIT_CNC, "param", "set", "1320", "5000", "--axis", "1")
     assert err.startswith("focas-net: EW_PASSWD (17): protection / password error (cnc_wrparam)")
     assert "--pwe on" in err
-    assert cli.served.machine.read_param(1320, 1).value == 999_999_999  # nothing changed
+    assert cli.served.machine.read_param(1320, 1) == 999_999_999  # nothing changed
 
     await cli.ok("sim", "panel", "--mode", "MDI", "--pwe", "on")
     out = await cli.ok("param", "set", "1320", "5000", "--axis", "1")
     assert out.strip() == "1320 axis 1 = 5000 (0x00001388), 4 bytes (written)"
-    assert cli.served.machine.read_param(1320, 1).value == 5000
+    assert cli.served.machine.read_param(1320, 1) == 5000
     data = await cli.json("param", "set", "3216", "0x20", "--width", "2")
     assert data == {"number": 3216, "axis": 0, "value": 32, "width": 2}
 
@@ -172,7 +172,7 @@ async def test_param_set_needs_mdi_and_pwe(cli: Cli) -> None:
     assert (data["value"], data["bit_value"]) == (0b0011_0001, 1)
     out = await cli.ok("param", "set", "1815.5", "off", "--axis", "2")
     assert out.startswith("1815.5 axis 2 = 0; 1815 axis 2 = 17 (0x11, 0b00010001)")
-    assert cli.served.machine.read_param(1815, 1).value == 0b0011_0000  # other axes untouched
+    assert cli.served.machine.read_param(1815, 1) == 0b0011_0000  # other axes untouched
 
     err = await cli.fails(EXIT_CNC, "param", "set", "3216", "5", "--width", "4")
     assert err.startswith("focas-net: EW_LENGTH (2)")
@@ -191,7 +191,7 @@ async def test_param_set_with_password(locked_cli: Cli) -> None:
     assert err.startswith("focas-net: EW_PASSWD (17)")
     data = await cli.json("param", "set", "6711", "42", "--password", "1234")
     assert data["value"] == 42
-    assert cli.served.machine.read_param(6711, 0).value == 42
+    assert cli.served.machine.read_param(6711, 0) == 42
 
 
 async def test_unlock(locked_cli: Cli) -> None:
@@ -217,7 +217,7 @@ async def test_macro(cli: Cli) -> None:
     data = await cli.json("macro", "set", "500", "-3")
     assert data == {"number": 500, "value": "-3"}
     value = cli.served.machine.read_macro(500)
-    assert (value.mcr_val, value.dec_val) == (-3, 0)
+    assert value is not None and value.as_tuple() == (1, (3,), 0)
     assert Decimal(data["value"]) == -3
 
 
@@ -348,7 +348,7 @@ async def test_alarm_usage_errors(cli: Cli) -> None:
 
 async def test_alarms_follow_json(server: Served, capsys: pytest.CaptureFixture[str]) -> None:
     machine = server.machine
-    machine.raise_alarm(0, 3, 100, b"PARAMETER WRITE ENABLE")
+    machine.raise_alarm(0, 3, 100, "PARAMETER WRITE ENABLE")
     capsys.readouterr()
     argv = ["alarms", "--follow", "--json", "--count", "3", "--interval", "0.05"]
     follow = asyncio.ensure_future(asyncio.to_thread(main, [*argv, "--port", str(server.port)]))
@@ -364,14 +364,14 @@ async def test_alarms_follow_json(server: Served, capsys: pytest.CaptureFixture[
 
     try:
         await wait_for_line(1)  # the alarm active at start
-        machine.raise_alarm(1, 4, 500, b"OVER TRAVEL")
+        machine.raise_alarm(1, 4, 500, "OVER TRAVEL")
         await wait_for_line(2)
         machine.clear_alarms(3, 100)
         code = await asyncio.wait_for(follow, CLI_TIMEOUT)
     finally:
         if not follow.done():
             for n in range(3):  # three more events: the command reaches its --count
-                machine.raise_alarm(0, 3, 990 + n, b"")
+                machine.raise_alarm(0, 3, 990 + n, "")
             await asyncio.wait_for(follow, CLI_TIMEOUT)
     out, err = capsys.readouterr()
     printed += out
@@ -386,7 +386,7 @@ async def test_alarms_follow_json(server: Served, capsys: pytest.CaptureFixture[
 
 
 async def test_alarms_follow_history_text(cli: Cli) -> None:
-    cli.served.machine.raise_alarm(0, 3, 100, b"PARAMETER WRITE ENABLE")
+    cli.served.machine.raise_alarm(0, 3, 100, "PARAMETER WRITE ENABLE")
     code, out, err = await cli.run(
         "alarms", "--follow", "--history", "5", "--count", "2", "--interval", "0.05"
     )
@@ -397,7 +397,7 @@ async def test_alarms_follow_history_text(cli: Cli) -> None:
 
 
 async def test_alarms_follow_stops_on_ctrl_c(server: Served) -> None:
-    server.machine.raise_alarm(0, 3, 100, b"PARAMETER WRITE ENABLE")
+    server.machine.raise_alarm(0, 3, 100, "PARAMETER WRITE ENABLE")
     proc = await asyncio.create_subprocess_exec(
         sys.executable,
         "-m",

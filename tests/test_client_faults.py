@@ -334,7 +334,7 @@ async def test_alarm_projection_resumes_after_a_restart_without_duplicates() -> 
             failed = projection.failed_polls
             assert await projection.poll() == []  # nothing to poll: no events, no change
             assert projection.failed_polls == failed + 1
-            machine.raise_alarm(0, 3, 101, b"DURING")  # raised while the server is down
+            machine.raise_alarm(0, 3, 101, "DURING")  # raised while the server is down
             restarted = FocasServer(machine, host="127.0.0.1", port=port, grace_period=0.5)
             await restarted.start()
             await wait_until(lambda: cnc.state is ClientState.CONNECTED, within=10)

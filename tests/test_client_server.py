@@ -23,17 +23,15 @@ from focas_net.errors import (
     FocasTimeoutError,
 )
 from focas_net.protocol import (
-    BoardId,
-    IOModuleRecord,
     PmcArea,
     PositionKind,
     ProgramNumbers,
-    RefType,
     StatusInfo,
     SysInfo,
 )
 from focas_net.server import FocasServer
 from focas_net.sim import Machine, default_machine
+from focas_net.versamax import BoardId, IOModuleRecord, RefType
 
 MDI, MEM = 0, 1
 LONG = 30.0  # per-call timeout for calls that queue behind many others

@@ -19,6 +19,7 @@ from typing import Final
 import pytest
 from support import IO_TIMEOUT, Served, ew_of, serving, wait_until
 
+from focas_net.adapters import PackedAdapter
 from focas_net.protocol import (
     AlarmHistory,
     AlarmHistoryRequest,
@@ -216,7 +217,10 @@ async def test_a_client_that_never_reads_is_held_by_backpressure(
                 await asyncio.sleep(0.01)
             # now read: every request sent is answered exactly once, in order
             sock.setsockopt(socket.SOL_SOCKET, socket.SO_RCVBUF, 1 << 20)
-            expected = served.machine.alarm_history_payload(HISTORY_DEPTH)
+            machine = served.machine
+            expected = PackedAdapter(machine).answer(
+                machine.new_session(), Command.RDALMHISTRY, HISTORY_REQUEST
+            )
             assert len(AlarmHistory.decode(expected).entries) == HISTORY_DEPTH
             tail = data[sent : requests * size]
             decoder = FrameDecoder()

@@ -54,7 +54,7 @@ def test_every_example_is_tested() -> None:
 
 
 async def test_read_status(server: Served) -> None:
-    server.machine.raise_alarm(0, 3, 100, b"PARAMETER WRITE ENABLE")
+    server.machine.raise_alarm(0, 3, 100, "PARAMETER WRITE ENABLE")
     code, out, err = await run_example("read_status.py", *port_args(server))
     assert (code, err) == (0, "")
     lines = out.splitlines()
@@ -80,7 +80,7 @@ async def test_write_param_without_password(server: Served) -> None:
     assert "parameter 1420 axis 3: 24000" in out
     assert out.splitlines()[-1] == "wrote 30000, read back 30000"
     assert "unlocked" not in out
-    assert server.machine.read_param(1420, 3).value == 30000
+    assert server.machine.read_param(1420, 3) == 30000
     # the panel went back to MEM with PWE off
     assert (server.machine.panel.mode, server.machine.panel.pwe) == (1, 0)
 
@@ -93,7 +93,7 @@ async def test_write_param_with_password() -> None:
         assert (code, err) == (0, "")
         assert "unlocked with the parameter password" in out
         assert out.splitlines()[-1] == "wrote 500000, read back 500000"
-        assert served.machine.read_param(1320, 1).value == 500_000
+        assert served.machine.read_param(1320, 1) == 500_000
 
         code, out, err = await run_example("write_param_with_unlock.py", *port_args(served))
         assert code == 1
@@ -116,7 +116,7 @@ async def test_pmc_bits(server: Served) -> None:
     assert "MISMATCH" not in out
     rows = [line.split() for line in out.splitlines() if line.startswith("D5")]
     assert len(rows) == 16
-    written = server.machine.read_pmc(8, 0, 500, 515)  # type_a 8 = D
+    written = server.machine.read_pmc("D", 500, 16)
     assert [int(r[2], 2) for r in rows] == list(written)
     assert all(r[1] == r[2] for r in rows)
 
@@ -187,7 +187,7 @@ async def test_fleet_poll_simulates_its_own_fleet() -> None:
 
 async def test_fleet_poll_of_ports_given() -> None:
     machines = [default_machine(f"cell-{i}") for i in range(20)]
-    machines[7].raise_alarm(2, 4, 500, b"OVER TRAVEL")
+    machines[7].raise_alarm(2, 4, 500, "OVER TRAVEL")
     async with FocasServer(machines, host="127.0.0.1", port=0, grace_period=1.0) as server:
         ports = ",".join(str(lst.port) for lst in server.listeners)
         code, out, err = await run_example(

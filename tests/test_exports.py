@@ -95,6 +95,8 @@ PACKAGES = [
     "focas_net.sim",
     "focas_net.native",
     "focas_net.cli",
+    "focas_net.adapters",
+    "focas_net.versamax",
 ]
 
 
@@ -107,6 +109,30 @@ def test_package_all_names_exist_and_star_import_matches(package: str) -> None:
     exec(f"from {package} import *", namespace)
     namespace.pop("__builtins__", None)
     assert set(namespace) == set(module.__all__)
+
+
+#: The machine, its adapters and the codecs: each public object has one home among them.
+HOMES = [
+    "focas_net.sim",
+    "focas_net.adapters",
+    "focas_net.versamax",
+    "focas_net.native",
+    "focas_net.protocol",
+    "focas_net.errors",
+]
+
+
+def test_each_object_is_exported_by_one_subpackage() -> None:
+    """No subpackage re-exports another's objects (the top level only gathers them)."""
+    homes: dict[int, str] = {}
+    for package in HOMES:
+        module = importlib.import_module(package)
+        for name in module.__all__:
+            value = getattr(module, name)
+            if isinstance(value, int | str | bytes | frozenset | tuple | bool) or value is None:
+                continue  # constants: equal values are not a re-export
+            other = homes.setdefault(id(value), f"{package}.{name}")
+            assert other == f"{package}.{name}", f"{package}.{name} is also {other}"
 
 
 def test_top_level_names_are_the_subpackages_objects() -> None:

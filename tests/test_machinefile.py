@@ -3,13 +3,14 @@
 from __future__ import annotations
 
 from datetime import UTC, datetime
+from decimal import Decimal
 from pathlib import Path
 
 import pytest
 
 from focas_net.errors import EW
-from focas_net.protocol import IOModuleRecord, MacroValue, PmcArea, SysInfo
 from focas_net.sim import (
+    Identity,
     Machine,
     MachineError,
     MachineFileError,
@@ -17,6 +18,7 @@ from focas_net.sim import (
     load_machine,
 )
 from focas_net.sim.default import gniu_record, mdd844_record
+from focas_net.versamax import IOModuleRecord
 
 EXAMPLE = Path(__file__).resolve().parent.parent / "examples" / "machine.toml"
 
@@ -37,27 +39,28 @@ def test_example_loads() -> None:
     m = load_machine(EXAMPLE)
     assert m.name == "vmc-850-b"
     assert m.axes == ["X", "Y", "Z", "B"]
-    assert m.sysinfo() == SysInfo(2, 8, b" 0", b" M", b"D4F1", b"32.0", b"04")
+    assert m.identity() == Identity(2, 8, " 0", " M", "D4F1", "32.0", "04")
     assert m.has_password and m.control_enabled and not m.read_only
     assert m.history_capacity == 250
     assert m.status().aut == 1
-    assert [m.read_param(1020, a).value for a in (1, 2, 3, 4)] == [88, 89, 90, 66]
-    assert [m.read_param(1815, a).value for a in (1, 2, 3, 4)] == [0x30] * 4
-    assert m.read_param(3216, 0).width == 2
-    assert m.read_diag(308, 3).value == 38
-    assert m.read_macro(500) == MacroValue(500, 8, 254, 1)
-    assert m.read_macro(100) == MacroValue(100, 8, 0, -1)
+    assert [m.read_param(1020, a) for a in (1, 2, 3, 4)] == [88, 89, 90, 66]
+    assert [m.read_param(1815, a) for a in (1, 2, 3, 4)] == [0x30] * 4
+    item = m.param_item(3216)
+    assert item is not None and item.width == 2
+    assert m.read_diag(308, 3) == 38
+    value = m.read_macro(500)
+    assert value == Decimal("25.4") and str(value) == "25.4"
+    assert m.read_macro(100) is None
     assert m.macro_writable(4001) is False
-    assert m.read_pmc(PmcArea.X, 0, 8, 8) == b"\x10"
-    assert m.read_pmc(PmcArea.R, 0, 99, 104) == b"\x00\x01\x02\x03\x04\x00"
+    assert m.read_pmc("X", 8, 1) == b"\x10"
+    assert m.read_pmc("R", 99, 6) == b"\x00\x01\x02\x03\x04\x00"
     assert m.pmc_area("X") == (128, True)
     assert m.pmc_area("E") is None
     assert m.module_record(0, 1) == gniu_record()
     assert m.module_record(0, 3) == mdd844_record()
     record = m.module_record(0, 4)
     assert record is not None and record.label == "MDL6"
-    reply = m.versamax_read(0, 128, 4, 0)
-    assert IOModuleRecord.decode(reply.data) == record
+    assert IOModuleRecord.decode(m.config_record(0, 4)) == record
     assert m.motion.program_main == 1234
     assert m.motion.machine[2] == -150000
 
@@ -67,11 +70,11 @@ def test_example_password_gates_writes() -> None:
     s = m.new_session()
     m.set_panel(0, 1, 0)
     with pytest.raises(MachineError) as exc:
-        m.write_param(s, 6711, 0, 1, 4)
+        m.write_param(s, 6711, 0, 1)
     assert exc.value.ew == EW.PASSWD
-    m.unlock(s, b"5810")
-    m.write_param(s, 6711, 0, 1, 4)
-    assert m.read_param(6711, 0).value == 1
+    m.unlock(s, "5810")
+    m.write_param(s, 6711, 0, 1)
+    assert m.read_param(6711, 0) == 1
 
 
 def test_overrides_and_clock() -> None:
@@ -81,14 +84,14 @@ def test_overrides_and_clock() -> None:
     m = load_machine(EXAMPLE, clock=fixed, param_password="abcd", control_enabled=False)
     assert not m.control_enabled
     m.unlock(m.new_session(), b"abcd")
-    m.raise_alarm(0, 3, 10, b"x")
+    m.raise_alarm(0, 3, 10, "x")
     assert m.alarm_history(1)[0].occurred_at == fixed()
 
 
 def test_minimal_file(tmp_path: Path) -> None:
     m = load_machine(write(tmp_path, MINIMAL))
     assert isinstance(m, Machine)
-    assert m.axes == ["X", "Z"] and m.sysinfo().axes == b"02"
+    assert m.axes == ["X", "Z"] and m.identity().axes == "02"
     assert not m.has_password
     assert m.pmc_area("R") is None
     with pytest.raises(MachineError) as exc:
@@ -118,10 +121,10 @@ values = { 0 = [1, 2, 3, 4] }
     m = load_machine(write(tmp_path, text))
     s = m.new_session()
     assert m.status().aut == 0
-    m.write_param(s, 1420, 2, 7000, 4)
-    assert [m.read_param(1420, a).value for a in (1, 2)] == [5000, 7000]
-    assert m.read_macro(3) == MacroValue(3, 8, -12, 0)
-    assert m.read_pmc(PmcArea.D, 0, 0, 3) == b"\x01\x02\x03\x04"
+    m.write_param(s, 1420, 2, 7000)
+    assert [m.read_param(1420, a) for a in (1, 2)] == [5000, 7000]
+    assert m.read_macro(3) == Decimal(-12)
+    assert m.read_pmc("D", 0, 4) == b"\x01\x02\x03\x04"
 
 
 BAD_FILES = [

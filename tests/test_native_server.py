@@ -228,7 +228,7 @@ async def with_pyfocas(front: Front, work: Any) -> Any:
 
 async def test_pyfocas_sysinfo_and_status(front: Front) -> None:
     sys_info, stat = await with_pyfocas(front, lambda c: (c.get_sys_info(), c.get_status_info()))
-    si = front.machine.sysinfo()
+    si = front.machine.identity()
     assert sys_info.addinfo == si.addinfo == 2
     assert sys_info.max_axis == si.max_axis == 8
     assert (sys_info.cnc_type, sys_info.mt_type) == ("0", "M")
@@ -256,9 +256,9 @@ async def test_pyfocas_read_vacant_macro_raises_decoding_error(front: Front) -> 
 
 
 async def test_pyfocas_read_set_and_range(front: Front) -> None:
-    front.machine.write_macro(500, 1500, 2)
-    front.machine.write_macro(501, -7, 0)
-    front.machine.write_macro(502, 123456789, 9)
+    front.machine.write_macro(500, Decimal("15.00"))
+    front.machine.write_macro(501, -7)
+    front.machine.write_macro(502, Decimal("0.123456789"))
     result = await with_pyfocas(front, lambda c: (c.read_macro(500), c.read_macro(500, 502)))
     assert result[0] == {500: 15.0}
     assert result[1] == {500: 15.0, 501: -7.0, 502: 0.123456789}
@@ -274,7 +274,7 @@ async def test_pyfocas_write_macro_double_then_read(front: Front) -> None:
     # The answer block: device 1, path 1, command 0xA8, EW 0, details 0, no data.
     assert packet.data == [b"\x00\x01\x00\x01\x00\xa8" + bytes(8)]
     assert value == {502: 100.0}
-    assert front.machine.read_macro(502) == MacroValue(502, 8, 100, 0)
+    assert front.machine.read_macro(502) == Decimal(100)
 
 
 async def test_pyfocas_refused_block_surfaces_as_focas_error(front: Front) -> None:
@@ -298,7 +298,7 @@ async def test_pyfocas_refused_write_is_visible_only_in_the_block(front: Front) 
     no_such, infinite = await with_pyfocas(front, work)
     assert struct.unpack(">h", no_such[6:8])[0] == EW.NUMBER  # #1000 is not a variable here
     assert struct.unpack(">h", infinite[6:8])[0] == EW.DATA
-    assert front.machine.read_macro(500).vacant
+    assert front.machine.read_macro(500) is None
 
 
 # --------------------------------------------------------------------------------------------
@@ -390,7 +390,7 @@ async def test_alarm_raised_through_packed_is_seen_natively(
 
 
 async def test_macro_commands(front: Front, native: NativeClient) -> None:
-    front.machine.write_macro(101, 42, 0)
+    front.machine.write_macro(101, 42)
     data = await native.ok(MacroReadRequest(100, 102))
     assert ScaledValues.decode(data).values == (
         ScaledNumber(0, -1),
@@ -402,9 +402,9 @@ async def test_macro_commands(front: Front, native: NativeClient) -> None:
     doubles = MacroDoubles.decode(await native.ok(MacroDoubleReadRequest(100, 3))).values
     assert doubles == (None, 42.0, None)
     assert await native.ok(MacroDoubleWriteRequest(102, 0.1)) == b""
-    assert front.machine.read_macro(102) == MacroValue(102, 8, 1, 1)
+    assert front.machine.read_macro(102) == Decimal("0.1")
     assert await native.ok(MacroDoubleWriteRequest(101, None)) == b""  # NaN -> vacant
-    assert front.machine.read_macro(101).vacant
+    assert front.machine.read_macro(101) is None
     packed = await front.packed_call(Command.RDMACRO, MacroRequest(101).encode())
     assert packed == MacroValue(101, 8, 0, -1)
     # refusals
@@ -421,7 +421,7 @@ async def test_macro_commands(front: Front, native: NativeClient) -> None:
     short = RequestBlock(Device.CNC, 1, NativeCommand.WRMACRO_DOUBLE, (500, 0, 0, 0, 4), b"\0" * 4)
     (answer,) = await native.blocks(short)
     assert answer.ew == EW.LENGTH
-    assert front.machine.read_macro(500).vacant
+    assert front.machine.read_macro(500) is None
 
 
 async def test_parameter_reads(front: Front, native: NativeClient) -> None:
@@ -544,7 +544,7 @@ async def test_positions(front: Front, native: NativeClient) -> None:
 async def test_unsupported_block_answers_ew_func_others_succeed(
     front: Front, native: NativeClient
 ) -> None:
-    front.machine.write_macro(1, 7, 0)
+    front.machine.write_macro(1, 7)
     blocks = (
         SysInfoRequest().to_block(),
         RequestBlock(Device.CNC, 1, 0xE1, (0, 0, 0, 0, 0)),  # remaining ODBST words
@@ -585,7 +585,7 @@ async def test_close_handshake(front: Front) -> None:
 
 async def test_pipelined_requests_answered_in_order(front: Front, native: NativeClient) -> None:
     frames = [encode_request([MacroReadRequest(n, n).to_block()]) for n in (1, 2, 3)]
-    front.machine.write_macro(2, 22, 0)
+    front.machine.write_macro(2, 22)
     native.writer.write(b"".join(frames))
     await native.writer.drain()
     seen = []
@@ -686,7 +686,7 @@ async def test_start_native_and_shared_machine(front: Front) -> None:
     other = await start_native(front.machine, "127.0.0.1", 0)
     try:
         assert other.address[1] not in (0, front.port)
-        front.machine.write_macro(600, 31416, 4)
+        front.machine.write_macro(600, Decimal("3.1416"))
         host, port = other.address
 
         def work() -> Any:

@@ -20,24 +20,19 @@ from focas_net.protocol import (
     AlarmHistoryEntry,
     AlarmHistoryRequest,
     AlarmMsgRequest,
-    BoardId,
     ClearAlarms,
     Command,
     DataRequest,
     EwReply,
     FrameDecoder,
     InjectFault,
-    IOModuleRecord,
     MacroRequest,
     MacroValue,
-    ModuleType,
     ParamValue,
     Password,
     PmcData,
     PmcRange,
     RaiseAlarm,
-    RefDesc,
-    RefType,
     SetPanel,
     StatusInfo,
     SysInfo,
@@ -53,6 +48,7 @@ from focas_net.protocol.codecs import (
     PositionRequest,
     ProgramNumbers,
 )
+from focas_net.versamax import BoardId, IOModuleRecord, ModuleType, RefDesc, RefType
 
 u8 = st.integers(0, 0xFF)
 i8 = st.integers(-0x80, 0x7F)

@@ -44,4 +44,4 @@ async def test_readme_client_example_runs(tmp_path: Path) -> None:
     lines = out.decode().splitlines()
     assert lines[0] == "mode MEM run ****"
     assert "#500 = 12.345" in lines
-    assert server.machines[0].read_pmc(5, 0, 100, 100) == bytes([0b1000])
+    assert server.machines[0].read_pmc("R", 100, 1) == bytes([0b1000])

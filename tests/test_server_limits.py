@@ -107,16 +107,17 @@ async def test_partial_frame_on_one_connection_does_not_block_another(server: Se
 async def test_machine_bug_answers_ew_reject_and_keeps_the_connection(
     server: Served, wire: Wire, monkeypatch: pytest.MonkeyPatch, caplog: pytest.LogCaptureFixture
 ) -> None:
-    import focas_net.server._connection as conn_module
+    from focas_net.adapters import PackedAdapter
+    from focas_net.sim import Session
 
-    real = conn_module.handle  # type: ignore[attr-defined]
+    real = PackedAdapter.answer
 
-    def broken(machine: object, session: object, command: int, payload: bytes) -> bytes:
+    def broken(adapter: PackedAdapter, session: Session, command: int, payload: bytes) -> bytes:
         if command == Command.RDMACRO:
             raise RuntimeError("simulated machine bug")
-        return real(machine, session, command, payload)  # type: ignore[arg-type]
+        return real(adapter, session, command, payload)
 
-    monkeypatch.setattr(conn_module, "handle", broken)
+    monkeypatch.setattr(PackedAdapter, "answer", broken)
     with caplog.at_level(logging.ERROR, logger="focas_net.server"):
         assert await wire.ew(Command.RDMACRO, MacroRequest(1).encode()) == EW.REJECT
     assert any("simulated machine bug" in (r.exc_text or "") for r in caplog.records)

@@ -1,24 +1,28 @@
-"""The simulated machine through its typed API (no wire encoding)."""
+"""The simulated machine through its protocol-neutral API (no wire types, no payload bytes)."""
 
 from __future__ import annotations
 
 import logging
 from collections.abc import Callable
 from datetime import UTC, datetime, timedelta, timezone
+from decimal import Decimal
 
 import pytest
 
 from focas_net.errors import EW
-from focas_net.protocol import MacroValue, ParamValue, PmcArea, StatusInfo, SysInfo
 from focas_net.sim import (
     AUT_MODES,
     DEFAULT_NAME,
+    Alarm,
     DataItem,
+    HistoryEntry,
+    Identity,
     Machine,
     MachineError,
     MacroRange,
     Panel,
     PmcAreaSpec,
+    Status,
     default_machine,
 )
 from focas_net.sim.default import gniu_record, mdd844_record
@@ -39,14 +43,14 @@ def m() -> Machine:
     return default_machine(clock=fixed_clock(datetime(2025, 6, 1, 8, 0, 0, tzinfo=UTC)))
 
 
-# -- the default machine (PROTOCOL.md section 7) --------------------------------------------
+# -- the default machine (docs/protocol.md section 7) -----------------------------------------
 
 
 def test_default_identity_and_panel(m: Machine) -> None:
     assert m.name == DEFAULT_NAME
     assert m.axes == ["X", "Y", "Z"]
-    assert isinstance(m.sysinfo(), SysInfo) and m.sysinfo().axes == b"03"
-    assert m.status() == StatusInfo(0, 0, 1, 0, 0, 0, 0, 0, 0)
+    assert m.identity() == Identity(2, 8, " 0", " M", "D4F1", "32.0", "03")
+    assert m.status() == Status(0, 0, 1, 0, 0, 0, 0, 0, 0)
     assert (m.panel.mode, m.panel.pwe, m.panel.emergency) == (1, 0, 0)
     assert not m.has_password
     assert m.active_alarms() == [] and m.alarm_history(250) == ()
@@ -80,14 +84,14 @@ def test_default_parameters(m: Machine, number: int, is_axis: bool, width: int) 
 def test_default_diagnostics(m: Machine) -> None:
     item = m.diag_item(300)
     assert item is not None and item.axis and item.width == 4
-    assert m.read_diag(300, 2) == ParamValue(300, 2, 0, 4)
+    assert m.read_diag(300, 2) == 0
 
 
 @pytest.mark.parametrize(("first", "last"), [(1, 33), (100, 199), (500, 999)])
 def test_default_writable_macros(m: Machine, first: int, last: int) -> None:
     for number in (first, (first + last) // 2, last):
         assert m.macro_writable(number) is True
-        assert m.read_macro(number).vacant
+        assert m.read_macro(number) is None
     assert m.macro_writable(first - 1) is not True
     assert m.macro_writable(last + 1) is not True
 
@@ -113,7 +117,7 @@ def test_default_pmc_areas(m: Machine, letter: str, size: int, protected: bool) 
 
 def test_default_has_no_e_area(m: Machine) -> None:
     assert m.pmc_area("E") is None
-    assert ew_of(lambda: m.read_pmc(PmcArea.E, 0, 0, 0)) == EW.NOOPT
+    assert ew_of(lambda: m.read_pmc("E", 0, 1)) == EW.NOOPT
 
 
 def test_default_versamax_station(m: Machine) -> None:
@@ -132,12 +136,12 @@ def test_default_versamax_station(m: Machine) -> None:
 def test_default_machines_are_independent() -> None:
     a, b = default_machine(), default_machine()
     a.set_panel(0, 1, 0)
-    a.write_param(a.new_session(), 1420, 1, 1, 4)
-    a.write_pmc(PmcArea.R, 0, 0, 0, b"\x01")
-    a.write_macro(100, 1, 0)
-    assert b.read_param(1420, 1).value == 24000
-    assert b.read_pmc(PmcArea.R, 0, 0, 0) == b"\x00"
-    assert b.read_macro(100).vacant
+    a.write_param(a.new_session(), 1420, 1, 1)
+    a.write_pmc("R", 0, b"\x01")
+    a.write_macro(100, 1)
+    assert b.read_param(1420, 1) == 24000
+    assert b.read_pmc("R", 0, 1) == b"\x00"
+    assert b.read_macro(100) is None
     assert b.status().aut == 1
 
 
@@ -146,7 +150,7 @@ def test_default_machine_name_and_password() -> None:
     assert m.name == "cell-7" and m.has_password
 
 
-# -- errors, caches and digests ---------------------------------------------------------------
+# -- errors, counters and digests ---------------------------------------------------------------
 
 
 def test_machine_error_carries_the_code() -> None:
@@ -156,35 +160,34 @@ def test_machine_error_carries_the_code() -> None:
     assert "1234" in str(MachineError(1234))
 
 
-def test_status_payload_is_cached_until_panel_or_alarm_change(m: Machine) -> None:
-    first = m.status_payload()
-    assert first == b"\x00\x00" + m.status().encode()
-    assert m.status_payload() is first
-    m.write_macro(100, 1, 0)
-    assert m.status_payload() is first
+def test_status_version_moves_with_panel_run_and_alarms(m: Machine) -> None:
+    v = m.status_version
+    m.write_macro(100, 1)
+    m.write_pmc("R", 0, b"\x01")
+    assert m.status_version == v
     m.set_panel(0, 1, 1)
-    second = m.status_payload()
-    assert second != first and StatusInfo.decode(second[2:]).emergency == 1
-    m.raise_alarm(0, 3, 10, b"")
-    third = m.status_payload()
-    assert StatusInfo.decode(third[2:]).alarm == 1
+    assert m.status_version == v + 1 and m.status().emergency == 1
+    m.raise_alarm(0, 3, 10)
+    assert m.status_version == v + 2 and m.status().alarm == 1
+    m.raise_alarm(0, 3, 10)  # already active: nothing changes
+    assert m.status_version == v + 2
     m.clear_alarms()
-    assert StatusInfo.decode(m.status_payload()[2:]).alarm == 0
+    assert m.status_version == v + 3 and m.status().alarm == 0
     m.set_run(3, 1)
-    st = StatusInfo.decode(m.status_payload()[2:])
-    assert (st.run, st.motion) == (3, 1)
+    st = m.status()
+    assert (st.run, st.motion) == (3, 1) and m.status_version == v + 4
 
 
 def test_version_counts_changes_only(m: Machine) -> None:
     v = m.version
     m.read_param(1320, 1)
-    m.read_pmc(PmcArea.R, 0, 0, 3)
-    m.status_payload()
+    m.read_pmc("R", 0, 4)
+    m.status()
     assert m.version == v
     with pytest.raises(MachineError):
-        m.write_macro(4001, 1, 0)
+        m.write_macro(4001, 1)
     assert m.version == v
-    m.write_macro(100, 1, 0)
+    m.write_macro(100, 1)
     assert m.version == v + 1
 
 
@@ -195,11 +198,11 @@ def test_state_digest_is_stable_and_sees_every_change() -> None:
     s = a.new_session()
     changes: list[Callable[[], object]] = [
         lambda: a.set_panel(0, 1, 0),
-        lambda: a.write_param(s, 20, 0, 5, 1),
-        lambda: a.write_macro(1, 5, 1),
-        lambda: a.write_pmc(PmcArea.G, 0, 4, 4, b"\x01"),
-        lambda: a.write_pmc(PmcArea.X, 0, 4, 4, b"\x01", force=True),
-        lambda: a.raise_alarm(1, 6, 401, b"SV"),
+        lambda: a.write_param(s, 20, 0, 5),
+        lambda: a.write_macro(1, Decimal("0.5")),
+        lambda: a.write_pmc("G", 4, b"\x01"),
+        lambda: a.write_pmc("X", 4, b"\x01", force=True),
+        lambda: a.raise_alarm(1, 6, 401, "SV"),
         lambda: a.clear_alarms(6, 401),
         lambda: a.set_diag(410, 0, 55),
         lambda: a.set_run(3),
@@ -213,7 +216,7 @@ def test_state_digest_is_stable_and_sees_every_change() -> None:
     a.read_macro(1)
     a.alarm_history(10)
     with pytest.raises(MachineError):
-        a.write_param(s, 20, 0, 99, 1)
+        a.write_param(s, 20, 0, 99)
     assert a.state_digest() == digest
 
 
@@ -222,11 +225,11 @@ def test_unlock_per_session_and_constant_time_compare(caplog: pytest.LogCaptureF
     m = default_machine(param_password="Q7#z")
     m.set_panel(0, 1, 0)
     a, b = m.new_session(), m.new_session()
-    assert ew_of(lambda: m.write_param(a, 6711, 0, 1, 4)) == EW.PASSWD
-    m.unlock(a, b"Q7#z")
+    assert ew_of(lambda: m.write_param(a, 6711, 0, 1)) == EW.PASSWD
+    m.unlock(a, "Q7#z")
     assert a.unlocked and not b.unlocked
-    m.write_param(a, 6711, 0, 1, 4)
-    assert ew_of(lambda: m.write_param(b, 6711, 0, 2, 4)) == EW.PASSWD
+    m.write_param(a, 6711, 0, 1)
+    assert ew_of(lambda: m.write_param(b, 6711, 0, 2)) == EW.PASSWD
     assert ew_of(lambda: m.unlock(a, b"Q7#")) == EW.PASSWD
     assert not a.unlocked
     assert "Q7#z" not in caplog.text and "Q7#z" not in repr(m)
@@ -241,14 +244,15 @@ def test_password_longer_than_four_is_cut() -> None:
 
 def test_write_param_order(m: Machine) -> None:
     s = m.new_session()
-    assert ew_of(lambda: m.write_param(s, 9, 0, 1, 1)) == EW.NUMBER
-    assert ew_of(lambda: m.write_param(s, 1320, 0, 1, 4)) == EW.ATTRIB
-    assert ew_of(lambda: m.write_param(s, 1320, 1, 1, 2)) == EW.LENGTH
-    assert ew_of(lambda: m.write_param(s, 1320, 1, 1, 4)) == EW.PASSWD
+    assert ew_of(lambda: m.write_param(s, 9, 0, 1, width=1)) == EW.NUMBER
+    assert ew_of(lambda: m.write_param(s, 1320, 0, 1, width=4)) == EW.ATTRIB
+    assert ew_of(lambda: m.write_param(s, 1320, 1, 1, width=2)) == EW.LENGTH
+    assert ew_of(lambda: m.write_param(s, 1320, 1, 1, width=4)) == EW.PASSWD
+    assert ew_of(lambda: m.write_param(s, 1320, 1, 1)) == EW.PASSWD  # no width: not checked
     m.set_panel(0, 1, 0)
-    assert ew_of(lambda: m.write_param(s, 3216, 0, -5, 2)) == EW.DATA
-    m.write_param(s, 3216, 0, 0, 2)
-    assert m.read_param(3216, 0) == ParamValue(3216, 0, 0, 2)
+    assert ew_of(lambda: m.write_param(s, 3216, 0, -5, width=2)) == EW.DATA
+    m.write_param(s, 3216, 0, 0, width=2)
+    assert m.read_param(3216, 0) == 0
     assert m.param_gate_open(s)
     m.set_panel(3, 1, 0)
     assert not m.param_gate_open(s)
@@ -258,24 +262,26 @@ def test_read_only_machine_typed_ops() -> None:
     m = default_machine(read_only=True)
     s = m.new_session()
     for op in (
-        lambda: m.write_param(s, 9, 0, 1, 1),
-        lambda: m.write_macro(9999, 1, 0),
-        lambda: m.write_pmc(99, 0, 0, 0, b""),
-        lambda: m.write_pmc(PmcArea.R, 0, 0, 0, b"\x00", force=True),
+        lambda: m.write_param(s, 9, 0, 1, width=1),
+        lambda: m.write_macro(9999, 1),
+        lambda: m.write_macro(9999, None),
+        lambda: m.write_pmc("Q", 0, b""),
+        lambda: m.write_pmc("R", 0, b"\x00", force=True),
         lambda: m.set_panel(2, 2, 2),
-        lambda: m.raise_alarm(0, 1, 1, b""),
+        lambda: m.raise_alarm(0, 1, 1),
         lambda: m.clear_alarms(),
+        m.check_writable,
     ):
         assert ew_of(op) == EW.PROT
 
 
 def test_macro_values(m: Machine) -> None:
-    m.write_macro(33, -123456, 3)
-    assert m.read_macro(33) == MacroValue(33, 8, -123456, 3)
-    assert ew_of(lambda: m.write_macro(33, 1, 10)) == EW.DATA
-    assert m.read_macro(33) == MacroValue(33, 8, -123456, 3)
+    m.write_macro(33, Decimal("-123.456"))
+    assert m.read_macro(33) == Decimal("-123.456")
+    assert ew_of(lambda: m.write_macro(33, Decimal("1E-10"))) == EW.DATA
+    assert m.read_macro(33) == Decimal("-123.456")
     assert ew_of(lambda: m.read_macro(34)) == EW.NUMBER
-    assert m.read_macro(4014) == MacroValue(4014, 8, 54, 0)
+    assert m.read_macro(4014) == Decimal(54)
 
 
 # -- alarms -------------------------------------------------------------------------------------
@@ -284,43 +290,48 @@ def test_macro_values(m: Machine) -> None:
 def test_alarm_clock_is_utc_whole_seconds() -> None:
     local = timezone(timedelta(hours=-5))
     m = default_machine(clock=fixed_clock(datetime(2025, 1, 1, 22, 15, 30, 999_000, local)))
-    m.raise_alarm(0, 2, 1, b"IO")
+    m.raise_alarm(0, 2, 1, "IO")
     assert m.alarm_history(1)[0].occurred_at == datetime(2025, 1, 2, 3, 15, 30, tzinfo=UTC)
 
 
-def test_alarm_history_cache_follows_new_alarms(m: Machine) -> None:
+def test_alarm_history_follows_new_alarms(m: Machine) -> None:
     assert m.alarm_history(5) == ()
-    before = m.alarm_history_payload(5)
-    m.raise_alarm(0, 3, 1, b"a")
-    assert len(m.alarm_history(5)) == 1
-    assert m.alarm_history_payload(5) != before
-    assert ew_of(lambda: m.alarm_history(0)) == EW.LENGTH
-    assert ew_of(lambda: m.alarm_history_payload(251)) == EW.LENGTH
+    v = m.alarm_version
+    m.raise_alarm(0, 3, 1, "a")
+    assert m.alarm_version == v + 1
+    assert m.alarm_history(5) == (
+        HistoryEntry(datetime(2025, 6, 1, 8, 0, 0, tzinfo=UTC), 0, 3, 1, "a"),
+    )
+    assert m.alarm_history(0) == ()
+    assert len(m.alarm_history(251)) == len(m.alarm_history()) == 1
 
 
 def test_custom_history_capacity() -> None:
     m = default_machine(history_capacity=5)
     for no in range(8):
-        m.raise_alarm(0, 3, no, b"")
+        m.raise_alarm(0, 3, no)
     assert [e.alm_no for e in m.alarm_history(250)] == [7, 6, 5, 4, 3]
 
 
-def test_active_alarm_limits(m: Machine) -> None:
+def test_active_alarms_to_any_depth(m: Machine) -> None:
     for no in range(40):
-        m.raise_alarm(0, 3, no, b"")
+        m.raise_alarm(0, 3, no)
     assert len(m.active_alarms(-1, 32)) == 32
     assert [a.alm_no for a in m.active_alarms(3, 3)] == [0, 1, 2]
-    assert ew_of(lambda: m.active_alarms(-1, 0)) == EW.LENGTH
-    assert ew_of(lambda: m.active_alarms(-1, 33)) == EW.LENGTH
+    assert m.active_alarms(-1, 0) == []
+    assert len(m.active_alarms(-1, 33)) == 33
+    assert len(m.active_alarms()) == 40
+    assert m.active_alarms(4) == []
     assert m.clear_alarms(3, 5) == 1
     assert m.clear_alarms(3, 5) == 0
     assert m.clear_alarms() == 39
 
 
 def test_raise_alarm_check_order(m: Machine) -> None:
-    assert ew_of(lambda: m.raise_alarm(99, 99, 1, b"")) == EW.DATA
-    assert ew_of(lambda: m.raise_alarm(99, 0, -2, b"")) == EW.DATA
-    assert ew_of(lambda: m.raise_alarm(99, 0, 1, b"")) == EW.ATTRIB
+    assert ew_of(lambda: m.raise_alarm(99, 99, 1)) == EW.DATA
+    assert ew_of(lambda: m.raise_alarm(99, 0, -2)) == EW.DATA
+    assert ew_of(lambda: m.raise_alarm(99, 0, 1, "\u20ac")) == EW.ATTRIB
+    assert ew_of(lambda: m.raise_alarm(0, 0, 1, "\u20ac")) == EW.DATA  # not single-byte text
     assert m.active_alarms() == []
 
 
@@ -335,7 +346,7 @@ def test_set_run_and_set_diag_validate(m: Machine) -> None:
     assert ew_of(lambda: m.set_run(5)) == EW.DATA
     assert ew_of(lambda: m.set_diag(308, 1, 500)) == EW.DATA
     m.set_diag(308, 1, 40)
-    assert m.read_diag(308, 1).value == 40
+    assert m.read_diag(308, 1) == 40
 
 
 def test_motion_state(m: Machine) -> None:
@@ -360,8 +371,11 @@ def test_motion_state(m: Machine) -> None:
         ({"diags": [DataItem(40000, 1)]}, "outside i16"),
         ({"macro_ranges": [MacroRange(1, 10), MacroRange(5, 20)]}, "overlap"),
         ({"macro_ranges": [MacroRange(10, 1)]}, "empty"),
-        ({"macro_ranges": [MacroRange(1, 10)], "macro_values": {11: (1, 0)}}, "not in any"),
-        ({"macro_ranges": [MacroRange(1, 10)], "macro_values": {1: (1, 10)}}, "invalid"),
+        ({"macro_ranges": [MacroRange(1, 10)], "macro_values": {11: 1}}, "not in any"),
+        ({"macro_ranges": [MacroRange(1, 10)], "macro_values": {1: Decimal("1E-10")}}, "invalid"),
+        ({"macro_ranges": [MacroRange(1, 10)], "macro_values": {1: 2**31}}, "invalid"),
+        ({"pmc": [PmcAreaSpec("Q", 10)]}, "unknown PMC area"),
+        ({"identity": Identity(2, 8, "0", " M", "D4F1", "32.0", "03")}, "cnc_type"),
         ({"pmc": [PmcAreaSpec("R", 10), PmcAreaSpec("R", 20)]}, "twice"),
         ({"pmc": [PmcAreaSpec("R", 4, initial={3: b"\x01\x02"})]}, "run past"),
         ({"panel": Panel(mode=2)}, "aut"),
@@ -376,7 +390,7 @@ def test_constructor_rejects(kwargs: dict[str, object], words: str) -> None:
 
 def test_axis_item_single_value_applies_to_every_axis() -> None:
     m = Machine("m", axes=["X", "Y"], params=[DataItem(7, 2, True, values=[9])])
-    assert [m.read_param(7, a).value for a in (1, 2)] == [9, 9]
+    assert [m.read_param(7, a) for a in (1, 2)] == [9, 9]
     assert ew_of(lambda: m.read_param(7, 3)) == EW.ATTRIB
 
 
@@ -384,33 +398,196 @@ def test_set_param_password_locks_open_sessions() -> None:
     m = default_machine()
     m.set_panel(0, 1, 0)
     s = m.new_session()
-    m.write_param(s, 6711, 0, 1, 4)  # no password: the gate is PWE and MDI only
+    m.write_param(s, 6711, 0, 1)  # no password: the gate is PWE and MDI only
     m.set_param_password("ab")
     assert m.has_password
-    assert ew_of(lambda: m.write_param(s, 6711, 0, 2, 4)) == EW.PASSWD
+    assert ew_of(lambda: m.write_param(s, 6711, 0, 2)) == EW.PASSWD
     m.unlock(s, b"ab")
-    m.write_param(s, 6711, 0, 2, 4)
+    m.write_param(s, 6711, 0, 2)
     m.set_param_password("cd")
-    assert ew_of(lambda: m.write_param(s, 6711, 0, 3, 4)) == EW.PASSWD
+    assert ew_of(lambda: m.write_param(s, 6711, 0, 3)) == EW.PASSWD
     late = m.new_session()
-    m.unlock(late, b"cd")
-    m.write_param(late, 6711, 0, 3, 4)
+    m.unlock(late, "cd")
+    m.write_param(late, 6711, 0, 3)
     m.set_param_password(None)
     assert not m.has_password
-    m.write_param(s, 6711, 0, 4, 4)
-    assert m.read_param(6711, 0).value == 4
+    m.write_param(s, 6711, 0, 4)
+    assert m.read_param(6711, 0) == 4
 
 
-def test_numbers_and_clear_macro(m: Machine) -> None:
+def test_numbers_and_vacant_macro(m: Machine) -> None:
     assert m.param_numbers()[:3] == (20, 1001, 1005)
     assert {1320, 1420, 1815, 3216, 6711, 6712} <= set(m.param_numbers())
     assert m.diag_numbers() == (0, 300, 301, 308, 309, 403, 410)
-    m.write_macro(7, 1, 0)
+    m.write_macro(7, 1)
     v = m.version
-    m.clear_macro(7)
-    assert m.read_macro(7).vacant and m.version == v + 1
-    m.clear_macro(7)  # already vacant: nothing changes
+    m.write_macro(7, None)
+    assert m.read_macro(7) is None and m.version == v + 1
+    m.write_macro(7, None)  # already vacant: nothing changes
     assert m.version == v + 1
-    assert ew_of(lambda: m.clear_macro(34)) == EW.NUMBER
-    assert ew_of(lambda: m.clear_macro(4001)) == EW.PROT
-    assert ew_of(lambda: default_machine(read_only=True).clear_macro(1)) == EW.PROT
+    assert ew_of(lambda: m.write_macro(34, None)) == EW.NUMBER
+    assert ew_of(lambda: m.write_macro(4001, None)) == EW.PROT
+    assert ew_of(lambda: default_machine(read_only=True).write_macro(1, None)) == EW.PROT
+
+
+# -- the neutral API: any length, decimals, vacant, check orders ----------------------------
+
+
+def test_pmc_reads_and_writes_of_any_length(m: Machine) -> None:
+    data = bytes(i % 251 for i in range(5000))
+    m.write_pmc("D", 3000, data)
+    assert m.read_pmc("D", 3000, 5000) == data
+    assert m.read_pmc("d", 2999, 2) == b"\x00\x00"  # any case
+    assert m.read_pmc("D", 9990, 10) == bytes(10)
+    assert m.read_pmc("D", 10000, 0) == b""
+    m.write_pmc("R", 0, bytes(8000))  # the whole area at once
+    assert m.read_pmc("R", 0, 8000) == bytes(8000)
+
+
+@pytest.mark.parametrize(
+    ("op", "code"),
+    [
+        (lambda m: m.read_pmc("E", -5, 99999), EW.NOOPT),  # the area before the range
+        (lambda m: m.read_pmc("Q", 0, 1), EW.NOOPT),  # a letter no machine has
+        (lambda m: m.read_pmc("D", 9999, 2), EW.NUMBER),
+        (lambda m: m.read_pmc("D", -1, 1), EW.NUMBER),
+        (lambda m: m.write_pmc("E", 0, b"\x01"), EW.NOOPT),
+        (lambda m: m.write_pmc("X", 127, b"\x01\x02"), EW.NUMBER),  # range before protection
+        (lambda m: m.write_pmc("X", 0, b"\x01"), EW.PROT),
+        (lambda m: m.write_pmc("G", 767, b"\x01\x02"), EW.NUMBER),
+        (lambda m: m.check_pmc_area("E"), EW.NOOPT),
+    ],
+)
+def test_pmc_check_order(m: Machine, op: Callable[[Machine], object], code: EW) -> None:
+    before = m.state_digest()
+    assert ew_of(lambda: op(m)) == code
+    assert m.state_digest() == before
+
+
+def test_pmc_write_protection_and_force(m: Machine) -> None:
+    m.write_pmc("X", 126, b"\x01\x02", force=True)
+    assert m.read_pmc("X", 126, 2) == b"\x01\x02"
+    m.check_pmc_area("X")
+    with pytest.raises(ValueError):
+        m.read_pmc("D", 0, -1)
+    with pytest.raises(ValueError):
+        m.pmc_area("Q")
+
+
+@pytest.mark.parametrize(
+    "value",
+    [
+        Decimal("1.50"),
+        Decimal("-0.000000001"),
+        Decimal("2147483.647"),
+        Decimal("-2147483648"),
+        Decimal("0.000"),
+        7,
+        -(2**31),
+        Decimal("1E+0"),
+    ],
+)
+def test_a_macro_holds_up_to_nine_decimals_as_given(m: Machine, value: Decimal | int) -> None:
+    m.write_macro(500, value)
+    got = m.read_macro(500)
+    assert isinstance(got, Decimal) and got == value
+    assert str(got) == str(Decimal(value))  # the decimals written are the decimals read
+
+
+@pytest.mark.parametrize(
+    "value",
+    [
+        Decimal("1E-10"),  # ten decimals
+        Decimal("5E+1"),  # negative decimals
+        Decimal("2147483648"),  # digits beyond 32 bits
+        Decimal("214748364.80"),
+        Decimal("NaN"),
+        Decimal("Infinity"),
+        2**31,
+    ],
+)
+def test_a_macro_refuses_what_it_cannot_hold(m: Machine, value: Decimal | int) -> None:
+    m.write_macro(500, 3)
+    before = m.state_digest()
+    assert ew_of(lambda: m.write_macro(500, value)) == EW.DATA
+    assert m.state_digest() == before and m.read_macro(500) == 3
+
+
+def test_macro_write_check_order() -> None:
+    m = default_machine()
+    bad = Decimal("1E-12")
+    assert ew_of(lambda: m.write_macro(9999, bad)) == EW.NUMBER  # the number before the value
+    assert ew_of(lambda: m.write_macro(4001, bad)) == EW.PROT  # read-only before the value
+    assert ew_of(lambda: m.write_macro(4001, None)) == EW.PROT
+    assert ew_of(lambda: m.write_macro(1, bad)) == EW.DATA
+    ro = default_machine(read_only=True)
+    assert ew_of(lambda: ro.write_macro(9999, bad)) == EW.PROT  # read-only machine first
+    with pytest.raises(TypeError):
+        m.write_macro(1, 1.5)  # type: ignore[arg-type]
+    with pytest.raises(TypeError):
+        m.write_macro(1, True)
+
+
+def test_macro_counters(m: Machine) -> None:
+    v, mv = m.version, m.macro_version
+    m.write_macro(1, Decimal("2.5"))
+    assert (m.version, m.macro_version) == (v + 1, mv + 1)
+    m.write_macro(1, None)
+    m.write_macro(1, None)
+    assert (m.version, m.macro_version) == (v + 2, mv + 2)
+
+
+def test_the_default_system_variables_keep_their_decimals(m: Machine) -> None:
+    assert str(m.read_macro(5001)) == "0.000"
+    assert m.read_macro(4018) == Decimal("40.1")
+    assert m.read_macro(0) is None
+
+
+def test_positions_by_kind_and_axis(m: Machine) -> None:
+    m.set_motion(absolute=[1, 2, 3], distance_to_go=[-1, 0, 1])
+    assert m.positions("absolute") == [("X", 1), ("Y", 2), ("Z", 3)]
+    assert m.positions("distance_to_go", 3) == [("Z", 1)]
+    assert ew_of(lambda: m.positions("skip", 9)) == EW.NOOPT  # the kind before the axis
+    assert ew_of(lambda: m.positions("sideways")) == EW.ATTRIB
+    for axis in (0, -1, 4):
+        with pytest.raises(MachineError) as exc:
+            m.positions("machine", axis)
+        assert exc.value.ew == EW.ATTRIB
+
+
+def test_versamax_station_reads(m: Machine) -> None:
+    record = m.config_record(0, 3)
+    assert record == mdd844_record().encode()
+    assert m.read_config(0, 3, 70, 128) == record[70:]
+    assert m.read_config(0, 3, 0, 1000) == record  # any length: what the record has
+    assert ew_of(lambda: m.config_record(0, 2)) == EW.NUMBER
+    assert ew_of(lambda: m.read_config(0, 2, 99, 1)) == EW.NUMBER
+    assert ew_of(lambda: m.read_config(0, 3, 76, 1)) == EW.NUMBER
+    assert ew_of(lambda: m.read_config(0, 3, -1, 1)) == EW.NUMBER
+
+
+def test_active_alarms_and_history_are_neutral_records(m: Machine) -> None:
+    m.raise_alarm(1, 4, 500, "OVER TRAVEL +X" + "." * 40)
+    (alarm,) = m.active_alarms()
+    assert alarm == Alarm(1, 4, 500, "OVER TRAVEL +X" + "." * 18)  # 32 characters kept
+    assert alarm.key == (1, 4, 500)
+    (entry,) = m.alarm_history()
+    assert entry.occurred_at.tzinfo is UTC and entry.msg == alarm.msg
+
+
+def test_identity_and_status_are_plain_values(m: Machine) -> None:
+    identity = m.identity()
+    assert (identity.series, identity.version, identity.axes) == ("D4F1", "32.0", "03")
+    m.set_panel(0, 1, 1)
+    assert m.status() == Status(0, 0, 0, 0, 0, 0, 1, 0, 0)
+    custom = Machine("one", axes=["X"])
+    assert custom.identity() == Identity(2, 8, " 0", " M", "D4F1", "32.0", "01")
+
+
+def test_parameter_width_is_checked_only_when_given(m: Machine) -> None:
+    s = m.new_session()
+    m.set_panel(0, 1, 0)
+    assert ew_of(lambda: m.write_param(s, 3216, 0, 5, width=4)) == EW.LENGTH
+    m.write_param(s, 3216, 0, 5)
+    m.write_param(s, 3216, 0, 6, width=2)
+    assert m.read_param(3216, 0) == 6

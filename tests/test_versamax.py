@@ -1,4 +1,4 @@
-"""VersaMax Read Configuration (PROTOCOL.md section 5): the IC200MDD844 record and board ids."""
+"""VersaMax Read Configuration (docs/protocol.md section 5): the IC200MDD844 record, board ids."""
 
 from __future__ import annotations
 
@@ -10,17 +10,13 @@ from focas_net.errors import PayloadError
 from focas_net.protocol import (
     COMMANDS,
     MAX_CONFIG_CHUNK,
-    BoardId,
     EwReply,
-    IOModuleRecord,
-    ModuleType,
-    RefDesc,
-    RefType,
     VersaMaxReply,
     VersaMaxRequest,
 )
+from focas_net.versamax import BoardId, IOModuleRecord, ModuleType, RefDesc, RefType
 
-# The manual's 82-byte Read Configuration Reply, copied from PROTOCOL.md section 5.
+# The manual's 82-byte Read Configuration Reply, copied from docs/protocol.md section 5.
 REPLY_82 = bytes.fromhex(
     "00 52 00 03 00 00 80 08 80 80 44 38 34 34 32 00"
     "00 00 00 00 00 00 00 00 00 00 00 00 00 00 34 00"

@@ -22,20 +22,18 @@ from focas_net.protocol import (
     AlarmHistoryEntry,
     AlarmState,
     AutMode,
-    BoardId,
     EditState,
     EmergencyState,
     HdckState,
-    IOModuleRecord,
     MotionState,
     MstbState,
     ProgramNumbers,
-    RefType,
     RunState,
     StatusInfo,
     SysInfo,
     TmMode,
 )
+from focas_net.versamax import BoardId, IOModuleRecord, RefType
 
 __all__ = [
     "STATUS_FIELDS",

@@ -40,7 +40,6 @@ from ..protocol import (
     AlarmHistoryRequest,
     AlarmMsgRequest,
     DataRequest,
-    IOModuleRecord,
     MacroRequest,
     MacroValue,
     ParamValue,
@@ -56,6 +55,7 @@ from ..protocol import (
     VersaMaxRequest,
 )
 from ..protocol import Command as C
+from ..versamax import IOModuleRecord
 from ._locks import KeyedLocks
 from ._pmc import AreaLike, check_u16_range, read_pmc_chunk, read_pmc_range, write_pmc_range
 from .reconnect import Link, ReconnectPolicy, StateCallback

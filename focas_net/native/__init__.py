@@ -1,13 +1,12 @@
 """FANUC's own FOCAS/2 Ethernet protocol: the native front end of the simulated machine.
 
-:mod:`.codec` is the pure codec, :mod:`.adapter` answers data requests from a machine (pure too)
-and :mod:`.server` is the asyncio listener (:class:`NativeServer`, :func:`start_native`). See
-``docs/native-protocol.md`` for the wire format and the server's behaviour.
+:mod:`.codec` is the pure codec and :mod:`.server` the asyncio listener (:class:`NativeServer`,
+:func:`start_native`); :mod:`focas_net.adapters.native` answers data requests from a machine
+(pure too). See ``docs/native-protocol.md`` for the wire format and the server's behaviour.
 """
 
 from __future__ import annotations
 
-from .adapter import ITEM_TYPES, ITEM_TYPES_30I, POSITION_DECIMALS, NativeAdapter, macro_from_double
 from .codec import (
     CLIENT_VERSION,
     DEFAULT_MAX_BODY,
@@ -94,10 +93,7 @@ __all__ = [
     "DEFAULT_SERVER_VERSION",
     "HEADER",
     "HEADER_SIZE",
-    "ITEM_TYPES",
-    "ITEM_TYPES_30I",
     "MAGIC",
-    "POSITION_DECIMALS",
     "REQUEST_BLOCK_SIZE",
     "REQUEST_TYPES",
     "RESPONSE_BLOCK_SIZE",
@@ -117,7 +113,6 @@ __all__ = [
     "MacroDoubleWriteRequest",
     "MacroDoubles",
     "MacroReadRequest",
-    "NativeAdapter",
     "NativeCommand",
     "NativeConnection",
     "NativeFrame",
@@ -161,7 +156,6 @@ __all__ = [
     "encode_request_body",
     "encode_response",
     "encode_response_body",
-    "macro_from_double",
     "max_response_body",
     "resolve_position_kind",
     "start_native",

@@ -1,7 +1,7 @@
 """The native FOCAS/2 Ethernet listener: FANUC's own protocol in front of a simulated machine.
 
 :class:`NativeServer` is a plain :class:`asyncio.Protocol` listener (no task per connection or
-per request) around a :class:`~focas_net.native.adapter.NativeAdapter`::
+per request) around a :class:`~focas_net.adapters.native.NativeAdapter`::
 
     async with NativeServer(machine, port=0) as native:
         host, port = native.address
@@ -24,7 +24,8 @@ import logging
 import math
 from typing import TYPE_CHECKING, Final
 
-from .adapter import NativeAdapter
+from focas_net.adapters.native import NativeAdapter
+
 from .codec import (
     DEFAULT_MAX_BODY,
     DEFAULT_SERVER_VERSION,

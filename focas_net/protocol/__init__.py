@@ -60,16 +60,7 @@ from .values import (
     RunState,
     TmMode,
 )
-from .versamax import (
-    MAX_CONFIG_CHUNK,
-    BoardId,
-    IOModuleRecord,
-    ModuleType,
-    RefDesc,
-    RefType,
-    VersaMaxReply,
-    VersaMaxRequest,
-)
+from .versamax import MAX_CONFIG_CHUNK, VersaMaxReply, VersaMaxRequest
 
 __all__ = [
     "ALARM_TYPE_NAMES",
@@ -94,7 +85,6 @@ __all__ = [
     "AlarmType",
     "AutMode",
     "AxisPosition",
-    "BoardId",
     "ClearAlarms",
     "Command",
     "CommandSpec",
@@ -107,11 +97,9 @@ __all__ = [
     "Frame",
     "FrameDecoder",
     "HdckState",
-    "IOModuleRecord",
     "InjectFault",
     "MacroRequest",
     "MacroValue",
-    "ModuleType",
     "MotionState",
     "MstbState",
     "ParamValue",
@@ -124,8 +112,6 @@ __all__ = [
     "PositionRequest",
     "ProgramNumbers",
     "RaiseAlarm",
-    "RefDesc",
-    "RefType",
     "RunState",
     "SetPanel",
     "StatusInfo",

@@ -1,7 +1,7 @@
 """Counted alarm lists: ``cnc_rdalmmsg`` (0x0006) and ``cnc_rdalmhistry`` (0x0F1A).
 
 Both start with ``i16 count``; ``count = -1`` is followed by ``i16 ew`` and nothing else.
-Decoding follows the rules of PROTOCOL.md section 3 and never raises:
+Decoding follows the rules of ``docs/protocol.md`` section 3 and never raises:
 
 * a negative count gives no entries (``ew`` carries the code; ``EW_PROTOCOL`` when the count is
   negative but no code follows, or the count is below -1);

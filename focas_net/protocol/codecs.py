@@ -1,4 +1,4 @@
-"""Payload codecs of every command (PROTOCOL.md sections 3-5), declared once each.
+"""Payload codecs of every command (``docs/protocol.md`` sections 3-5), declared once each.
 
 Every payload is a frozen, slotted dataclass with ``encode()`` and ``decode(bytes)``; the
 request codec the client encodes with is the one the server decodes with, and the same holds
@@ -347,7 +347,7 @@ class PmcData:
 
     The answer of ``pmc_rdpmcrng`` and the request of ``pmc_wrpmcrng`` and ``set_pmc``. The
     decoder does not check the data length against the header (the server answers a mismatch
-    with EW_LENGTH, in the order of PROTOCOL.md).
+    with EW_LENGTH, in the order of ``docs/protocol.md``).
     """
 
     type_a: int

@@ -1,4 +1,5 @@
-"""Command ids of the packed protocol (PROTOCOL.md section 3). Append-only: never renumber."""
+"""Command ids of the packed protocol (``docs/protocol.md`` section 3); append-only, never
+renumber."""
 
 from __future__ import annotations
 

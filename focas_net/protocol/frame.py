@@ -1,4 +1,4 @@
-"""The frame of PROTOCOL.md section 1 and its incremental decoder.
+"""The frame of ``docs/protocol.md`` section 1 and its incremental decoder.
 
 ``u32 length`` (bytes after the field = 4 + payload), ``u16 command``, ``u16 request_id``,
 then the payload; all little-endian. The decoder is fed byte chunks of any size and returns

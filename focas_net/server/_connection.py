@@ -20,7 +20,6 @@ from typing import TYPE_CHECKING, Any, Final, cast
 
 from focas_net.errors import EW, FrameError
 from focas_net.protocol import HEADER, Frame, FrameDecoder, encode_ew
-from focas_net.sim.packed import error_payload, handle
 
 from .faults import FaultKind, FaultQueue, FaultScope, parse_inject
 
@@ -251,7 +250,7 @@ class Connection(asyncio.Protocol):
         rest is kept in the backlog) or the connection was closed."""
         transport = self._transport
         assert transport is not None
-        machine = self._machine
+        adapter = self._listener.adapter
         session = self._session
         shared = self._listener.faults
         budget = self._listener.server.write_buffer_high
@@ -275,7 +274,7 @@ class Connection(asyncio.Protocol):
                 answer = self._answer(command, payload)
             else:
                 try:
-                    answer = handle(machine, session, command, payload)  # type: ignore[arg-type]
+                    answer = adapter.answer(session, command, payload)  # type: ignore[arg-type]
                 except Exception:
                     answer = self._failed(command)
             out.append(_pack_header(len(answer) + 4, command, request_id))
@@ -337,7 +336,7 @@ class Connection(asyncio.Protocol):
 
     def _answer(self, command: int, payload: bytes) -> bytes:
         try:
-            return handle(self._machine, self._session, command, payload)  # type: ignore[arg-type]
+            return self._listener.adapter.answer(self._session, command, payload)  # type: ignore[arg-type]
         except Exception:
             return self._failed(command)
 
@@ -346,7 +345,7 @@ class Connection(asyncio.Protocol):
         _log.exception(
             "%s: command 0x%04X from %s failed", self._listener.label, command, self._peer
         )
-        return error_payload(command, EW.REJECT)
+        return self._listener.adapter.error_answer(command, EW.REJECT)
 
     def _take_fault(self) -> tuple[FaultKind, int] | None:
         """The fault for the next answer (this connection's first, then the machine's)."""
@@ -377,7 +376,7 @@ class Connection(asyncio.Protocol):
         transport = self._transport
         assert transport is not None
         if kind is _ERROR_KIND:
-            answer = error_payload(command, arg)
+            answer = self._listener.adapter.error_answer(command, arg)
             out.append(_pack_header(len(answer) + 4, command, request_id))
             out.append(answer)
             return out

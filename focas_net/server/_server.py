@@ -23,6 +23,7 @@ from typing import TYPE_CHECKING, Any, Final
 import anyio
 import anyio.lowlevel
 
+from focas_net.adapters import PackedAdapter
 from focas_net.protocol import DEFAULT_MAX_FRAME
 from focas_net.sim import Machine
 
@@ -71,6 +72,7 @@ class Listener:
         "_aserver",
         "accepted",
         "accepting",
+        "adapter",
         "address",
         "connections",
         "faults",
@@ -85,6 +87,8 @@ class Listener:
     def __init__(self, server: FocasServer, machine: Machine) -> None:
         self.server = server
         self.machine = machine
+        #: Answers the machine's requests (its answer caches are shared by the connections).
+        self.adapter = PackedAdapter(machine)
         self.label = machine.name
         #: Open connections.
         self.connections: set[Connection] = set()

@@ -1,12 +1,21 @@
-"""The simulated CNC: machine state, the packed-protocol adapter, machines built in and from
-files. Nothing here touches a socket or an event loop."""
+"""The simulated CNC in no protocol's terms: machine state and its operations, the machine built
+in and machines from files. Nothing here touches a socket or an event loop, and nothing here
+knows either wire protocol: :mod:`focas_net.adapters` translates (``docs/protocol.md``,
+``docs/native-protocol.md``)."""
 
 from .default import DEFAULT_NAME, default_machine
 from .machine import (
     AUT_MODES,
     DEFAULT_HISTORY_CAPACITY,
+    MAX_MACRO_DECIMALS,
+    PMC_AREAS,
+    POSITION_DECIMALS,
+    POSITION_KINDS,
+    Alarm,
     Clock,
     DataItem,
+    HistoryEntry,
+    Identity,
     Machine,
     MachineError,
     MacroRange,
@@ -14,17 +23,24 @@ from .machine import (
     Panel,
     PmcAreaSpec,
     Session,
+    Status,
     utc_now,
 )
 from .machinefile import MachineFileError, load_machine, machine_from_dict
-from .packed import error_payload, handle, handled_commands
 
 __all__ = [
     "AUT_MODES",
     "DEFAULT_HISTORY_CAPACITY",
     "DEFAULT_NAME",
+    "MAX_MACRO_DECIMALS",
+    "PMC_AREAS",
+    "POSITION_DECIMALS",
+    "POSITION_KINDS",
+    "Alarm",
     "Clock",
     "DataItem",
+    "HistoryEntry",
+    "Identity",
     "Machine",
     "MachineError",
     "MachineFileError",
@@ -33,10 +49,8 @@ __all__ = [
     "Panel",
     "PmcAreaSpec",
     "Session",
+    "Status",
     "default_machine",
-    "error_payload",
-    "handle",
-    "handled_commands",
     "load_machine",
     "machine_from_dict",
     "utc_now",

@@ -1,7 +1,7 @@
 """The built-in default machine: a three-axis milling control of the FANUC 0i-F class.
 
-It holds everything PROTOCOL.md section 7 promises (tests may rely on that part) and more, so
-that it reads like a real control. Values are in least input increments (0.001 mm).
+It holds everything ``docs/protocol.md`` section 7 promises (tests may rely on that part) and
+more, so that it reads like a real control. Values are in least input increments (0.001 mm).
 
 Parameters (number: type, axis or not, range, meaning)::
 
@@ -44,13 +44,16 @@ VersaMax rack 0: slot 1 the GNIU (IC200GBI001), slot 3 the IC200MDD844; every ot
 from __future__ import annotations
 
 import struct
+from decimal import Decimal
 from typing import Final
 
-from ..protocol import BoardId, IOModuleRecord, RefType, SysInfo
+from focas_net.versamax import BoardId, IOModuleRecord, RefType
+
 from .machine import (
     DEFAULT_HISTORY_CAPACITY,
     Clock,
     DataItem,
+    Identity,
     Machine,
     MacroRange,
     MotionData,
@@ -141,7 +144,7 @@ def _diags() -> list[DataItem]:
     ]
 
 
-#: Modal G codes at power-on, group -> (mcr_val, dec_val): G00 G17 G90 G22 G94 G21 G40 G49 G80
+#: Modal G codes at power-on, group -> (digits, decimals): G00 G17 G90 G22 G94 G21 G40 G49 G80
 #: G98 G50 G67 G97 G54 G64 G69 G15 G40.1 G25 G160 G13.1 G50.1.
 _MODAL_G: Final[dict[int, tuple[int, int]]] = {
     1: (0, 0), 2: (17, 0), 3: (90, 0), 4: (22, 0), 5: (94, 0), 6: (21, 0), 7: (40, 0),
@@ -151,7 +154,12 @@ _MODAL_G: Final[dict[int, tuple[int, int]]] = {
 }  # fmt: skip
 
 
-def _macros() -> tuple[list[MacroRange], dict[int, tuple[int, int]]]:
+def _decimal(digits: int, decimals: int) -> Decimal:
+    """``digits`` with ``decimals`` decimal places (``(0, 3)`` is ``0.000``)."""
+    return Decimal(f"{digits}E-{decimals}")
+
+
+def _macros() -> tuple[list[MacroRange], dict[int, Decimal]]:
     ranges = [
         MacroRange(0, 0, writable=False),
         MacroRange(1, 33),
@@ -162,18 +170,18 @@ def _macros() -> tuple[list[MacroRange], dict[int, tuple[int, int]]]:
         MacroRange(5001, 5003, writable=False),
         MacroRange(5021, 5023, writable=False),
     ]
-    values = {4000 + group: v for group, v in _MODAL_G.items()}
+    values = {4000 + group: _decimal(*v) for group, v in _MODAL_G.items()}
     values |= {
-        4107: (0, 0),  # D
-        4109: (0, 0),  # F
-        4111: (0, 0),  # H
-        4113: (0, 0),  # M
-        4114: (0, 0),  # N
-        4115: (1, 0),  # O
-        4119: (0, 0),  # S
-        4120: (0, 0),  # T
+        4107: Decimal(0),  # D
+        4109: Decimal(0),  # F
+        4111: Decimal(0),  # H
+        4113: Decimal(0),  # M
+        4114: Decimal(0),  # N
+        4115: Decimal(1),  # O
+        4119: Decimal(0),  # S
+        4120: Decimal(0),  # T
     }
-    values |= {n: (0, 3) for n in (5001, 5002, 5003, 5021, 5022, 5023)}
+    values |= {n: _decimal(0, 3) for n in (5001, 5002, 5003, 5021, 5022, 5023)}
     return ranges, values
 
 
@@ -207,7 +215,7 @@ def default_machine(
     return Machine(
         name,
         axes=axes,
-        sysinfo=SysInfo(2, 8, b" 0", b" M", b"D4F1", b"32.0", b"03"),
+        identity=Identity(2, 8, " 0", " M", "D4F1", "32.0", "03"),
         params=_params(len(axes)),
         diags=_diags(),
         macro_ranges=ranges,

@@ -1,26 +1,66 @@
-"""The simulated CNC: state and typed operations, with no sockets and no event loop.
+"""The simulated CNC: state and typed operations, in no protocol's terms.
 
 A :class:`Machine` holds everything a FOCAS client can see of one CNC: axes, parameters,
 diagnostics, macro variables, PMC areas, the operator panel, an optional parameter password,
-active alarms and the alarm history, the ``cnc_sysinfo`` identity, a VersaMax I/O station and
-the motion figures (positions, feed, spindle, program numbers) a native front end reports.
+active alarms and the alarm history, its identity (what ``cnc_sysinfo`` reports), a VersaMax I/O
+station and the motion figures (positions, feed, spindle, program numbers).
 
-Typed operations raise :class:`MachineError` carrying the FANUC ``EW_*`` code, with the checks
-in the order of PROTOCOL.md sections 3-5. Every write checks everything before it changes
-anything, so a failed write leaves the machine exactly as it was.
+Arguments and results are domain values, never wire types or payload bytes: PMC areas by letter
+(``"G"``, ``"D"``...) with data of any length, parameter values as ``int``, macro values as
+:class:`~decimal.Decimal` (``None`` for a vacant variable), timezone-aware UTC datetimes, and
+the frozen dataclasses :class:`Status`, :class:`Identity`, :class:`Alarm` and
+:class:`HistoryEntry`. Front ends translate: :mod:`focas_net.adapters` holds one pure adapter
+per protocol (the packed protocol of ``docs/protocol.md``, FANUC's native FOCAS/2 protocol of
+``docs/native-protocol.md``). Nothing here touches a socket or an event loop.
 
-Decisions where the contract leaves the order open (also in ``docs/protocol.md``):
+A refusal raises :class:`MachineError` carrying the FANUC ``EW_*`` code. Every write checks
+everything before it changes anything, so a failed write leaves the machine exactly as it was.
 
-* A read-only machine (``read_only = True``) answers EW_PROT to every write and every control
-  command right after the payload-size check and before any other check. Control commands on a
-  machine with control disabled answer EW_FUNC before anything else, payload size included.
-* ``raise_alarm`` checks, after the payload size: ``alm_type`` outside 0..31 -> EW_DATA, then a
-  negative ``alm_no`` -> EW_DATA (-1 means "any" to ``clear_alarms``, so such an alarm could not
-  be cleared on its own), then ``axis_no`` outside 0..axes -> EW_ATTRIB.
-* ``cnc_rdalmmsg`` with a ``type`` that is neither -1 nor an alarm type simply matches nothing.
-* ``cnc_wrunlockparam`` is connection state, not machine state: it works on a read-only machine.
+The CNC's rules and the wire's rules
+------------------------------------
+The machine enforces what the CNC itself refuses, each operation's checks written here once, in
+the order its docstring gives:
 
-The parameter password is compared in constant time and never logged or shown in ``repr``.
+* a read-only machine (``read_only = True``) answers EW_PROT to every write, before any other
+  check of the machine (:meth:`Machine.check_writable` asks only that);
+* parameters and diagnostics: unknown number -> EW_NUMBER, axis 0 for an axis item or an axis
+  for a non-axis item or an axis outside 1..n -> EW_ATTRIB, a value given in another width than
+  the parameter's type -> EW_LENGTH, write gate closed (PWE off, not MDI, password not unlocked
+  by this session) -> EW_PASSWD, value outside the parameter's range -> EW_DATA;
+* macro variables: unknown number -> EW_NUMBER, read-only variable -> EW_PROT, a value the
+  variable cannot hold -> EW_DATA. A variable holds a decimal of 0..9 decimal places (the
+  ``Decimal``'s exponent within -9..0, kept as given: ``Decimal("1.50")`` reads back as
+  ``1.50``) whose digits as an integer fit a signed 32-bit word; an ``int`` is a value with no
+  decimals; ``None`` makes the variable vacant;
+* PMC: an area this machine does not have -> EW_NOOPT (:meth:`Machine.check_pmc_area` asks only
+  that), addresses outside the area -> EW_NUMBER, writing a write-protected area -> EW_PROT
+  (``force``, the simulator's own write, ignores protection). Any length within the area;
+* alarms: ``alm_type`` outside 0..31 -> EW_DATA, a negative ``alm_no`` -> EW_DATA (-1 means
+  "any" to :meth:`Machine.clear_alarms`, so such an alarm could not be cleared on its own),
+  ``axis_no`` outside 0..axes -> EW_ATTRIB; the CNC keeps 32 characters of a message. The
+  history keeps ``history_capacity`` entries; active alarms and the history are read to any
+  depth;
+* positions: an unknown kind -> EW_ATTRIB, the skip position -> EW_NOOPT (no skip function),
+  an axis outside 1..n -> EW_ATTRIB;
+* the VersaMax station: an empty (or impossible) rack/slot -> EW_NUMBER, an offset outside the
+  record -> EW_NUMBER; a read returns what the record has from there, up to the length asked;
+* the operator panel: a mode that is not an ``aut`` value other than 2, ``pwe`` or
+  ``emergency`` other than 0/1 -> EW_DATA.
+
+What a wire cannot carry is its adapter's to refuse: payload sizes and layouts, unknown commands,
+the packed protocol's ``type_a`` codes and ``type_d``, its ceiling of 32 PMC bytes, 32 alarm
+messages, 250 history entries and 128 configuration bytes per call, the ``length`` word of its
+ODBM, its position type numbers; the native protocol's answer size and its own numbering. Where
+a wire's check sits in the middle of the order above, the adapter asks the machine for the
+checks before it (:meth:`Machine.check_writable`, :meth:`Machine.check_pmc_area`,
+:meth:`Machine.config_record`) and then calls the operation, which repeats them harmlessly.
+Whether simulator control commands are served (``control_enabled``) is a flag the adapters read.
+
+``unlock`` is session state, not machine state: it works on a read-only machine. The parameter
+password is compared in constant time and never logged or shown in ``repr``.
+
+Counters (:attr:`Machine.version` and the narrower ``*_version``) move on every change they
+cover, so front ends can key caches of their answers on them.
 """
 
 from __future__ import annotations
@@ -32,53 +72,40 @@ from collections import deque
 from collections.abc import Callable, Iterable, Mapping
 from dataclasses import dataclass, field
 from datetime import UTC, datetime
+from decimal import Decimal
 from itertools import islice
 from typing import Final
 
 from focas_net.errors import EW, FocasError
-
-from ..protocol import (
-    EW_OK_BYTES,
-    MAX_ALARM_MSG,
-    MAX_CONFIG_CHUNK,
-    MAX_HISTORY_DEPTH,
-    MAX_PMC_CHUNK,
-    ActiveAlarm,
-    AlarmHistory,
-    AlarmHistoryEntry,
-    IOModuleRecord,
-    MacroValue,
-    ParamValue,
-    Password,
-    PmcArea,
-    StatusInfo,
-    SysInfo,
-    VersaMaxReply,
-)
+from focas_net.versamax import IOModuleRecord
 
 __all__ = [
     "AUT_MODES",
     "DEFAULT_HISTORY_CAPACITY",
+    "MAX_MACRO_DECIMALS",
     "MDI",
     "MEM",
+    "PMC_AREAS",
     "POSITION_DECIMALS",
+    "POSITION_KINDS",
+    "Alarm",
     "Clock",
     "DataItem",
+    "HistoryEntry",
+    "Identity",
     "Machine",
     "MachineError",
     "MacroRange",
     "MotionData",
-    "PackedTable",
     "Panel",
     "PmcAreaSpec",
     "Session",
+    "Status",
     "utc_now",
 ]
 
 logger = logging.getLogger(__name__)
 
-#: Command id -> handler of one request payload (built by :mod:`focas_net.sim.packed`).
-PackedTable = dict[int, Callable[["Session", bytes], bytes]]
 #: A source of the current time; the machine stamps alarms with it (as UTC, whole seconds).
 Clock = Callable[[], datetime]
 
@@ -87,10 +114,20 @@ Clock = Callable[[], datetime]
 AUT_MODES: Final = frozenset({0, 1, 3, 4, 5, 6, 7, 8, 9, 10})
 MDI: Final = 0
 MEM: Final = 1
-#: Alarm history capacity of a FANUC 0i/30i (and the deepest ``cnc_rdalmhistry`` read).
-DEFAULT_HISTORY_CAPACITY: Final = MAX_HISTORY_DEPTH
+#: Alarm history capacity of a FANUC 0i/30i.
+DEFAULT_HISTORY_CAPACITY: Final = 250
+#: Letters of the PMC areas a machine can have.
+PMC_AREAS: Final = ("X", "Y", "F", "G", "R", "T", "C", "D", "K", "A", "E")
+#: Most decimal places a macro variable holds.
+MAX_MACRO_DECIMALS: Final = 9
+#: Decimals of the least input increment of the positions (0.001 mm, IS-B).
+POSITION_DECIMALS: Final = 3
+#: The position kinds :meth:`Machine.positions` serves (``"skip"`` answers EW_NOOPT).
+POSITION_KINDS: Final = ("absolute", "machine", "relative", "distance_to_go")
 #: Alarm type numbers a CNC can carry (``alm_type`` is a bit number in FANUC's masks).
 MAX_ALARM_TYPE: Final = 31
+#: Characters of an alarm message the CNC keeps.
+MAX_ALARM_TEXT: Final = 32
 #: Highest rack and slot of a VersaMax station.
 MAX_RACK: Final = 7
 MAX_SLOT: Final = 9
@@ -100,15 +137,13 @@ _WIDTH_RANGES: Final[dict[int, tuple[int, int]]] = {
     2: (-0x8000, 0x7FFF),
     4: (-0x8000_0000, 0x7FFF_FFFF),
 }
-#: Decimals of the least input increment of the positions (0.001 mm, IS-B).
-POSITION_DECIMALS: Final = 3
-#: ``cnc_rdposition`` types: 0 absolute, 1 machine, 2 relative, 3 distance to go.
-_POSITION_FIELDS: Final = ("absolute", "machine", "relative", "distance_to_go")
 _MOTION_SCALARS: Final = ("feed", "spindle_speed", "program_running", "program_main", "sequence")
+_SKIP: Final = "skip"
 _I32_MIN: Final = -0x8000_0000
 _I32_MAX: Final = 0x7FFF_FFFF
-_MACRO_LENGTH: Final = 8
-_VACANT: Final = (0, -1)
+_PASSWORD_SIZE: Final = 4
+#: Identity texts and their widths (ODBSYS).
+_IDENTITY_TEXTS: Final = (("cnc_type", 2), ("mt_type", 2), ("series", 4), ("version", 4))
 
 
 def utc_now() -> datetime:
@@ -116,8 +151,32 @@ def utc_now() -> datetime:
     return datetime.now(UTC)
 
 
+def _password(text: str | bytes) -> bytes:
+    """A parameter password as the CNC keeps it: 4 bytes, cut or padded with NUL."""
+    raw = text.encode("latin-1") if isinstance(text, str) else bytes(text)
+    return raw[:_PASSWORD_SIZE].ljust(_PASSWORD_SIZE, b"\x00")
+
+
+def _macro_value(value: Decimal | int) -> Decimal | None:
+    """``value`` as a macro variable holds it, or None when it cannot hold it."""
+    if isinstance(value, bool) or not isinstance(value, Decimal | int):
+        raise TypeError(f"a macro value is a Decimal, an int or None, got {value!r}")
+    if isinstance(value, int):
+        return Decimal(value) if _I32_MIN <= value <= _I32_MAX else None
+    if not value.is_finite():
+        return None
+    sign, digits, exponent = value.as_tuple()
+    assert isinstance(exponent, int)
+    if not -MAX_MACRO_DECIMALS <= exponent <= 0:
+        return None
+    coefficient = int("".join(map(str, digits)))
+    if not _I32_MIN <= (-coefficient if sign else coefficient) <= _I32_MAX:
+        return None
+    return value
+
+
 class MachineError(FocasError):
-    """A typed operation refused: ``ew`` is the FANUC ``EW_*`` code the CNC answers."""
+    """An operation refused: ``ew`` is the FANUC ``EW_*`` code the CNC answers."""
 
     def __init__(self, ew: int, detail: str = "") -> None:
         self.ew = int(ew)
@@ -133,6 +192,61 @@ class Session:
 
     unlocked: bool = False
     epoch: int = 0
+
+
+@dataclass(frozen=True, slots=True)
+class Status:
+    """The status of the CNC (FANUC's ODBST fields), derived from the panel and the alarms."""
+
+    hdck: int
+    tmmode: int
+    aut: int
+    run: int
+    motion: int
+    mstb: int
+    emergency: int
+    alarm: int
+    edit: int
+
+
+@dataclass(frozen=True, slots=True)
+class Identity:
+    """What the CNC says it is (FANUC's ODBSYS): ``cnc_type`` and ``mt_type`` 2 characters,
+    ``series`` and ``version`` 4, ``axes`` 2 (the number of axes, ``"03"``)."""
+
+    addinfo: int
+    max_axis: int
+    cnc_type: str
+    mt_type: str
+    series: str
+    version: str
+    axes: str
+
+
+@dataclass(frozen=True, slots=True)
+class Alarm:
+    """An active alarm."""
+
+    axis_no: int
+    alm_type: int
+    alm_no: int
+    msg: str
+
+    @property
+    def key(self) -> tuple[int, int, int]:
+        """The identity of an alarm: ``(axis_no, alm_type, alm_no)``."""
+        return (self.axis_no, self.alm_type, self.alm_no)
+
+
+@dataclass(frozen=True, slots=True)
+class HistoryEntry:
+    """One entry of the alarm history; ``occurred_at`` is timezone-aware UTC, whole seconds."""
+
+    occurred_at: datetime
+    axis_no: int
+    alm_type: int
+    alm_no: int
+    msg: str
 
 
 @dataclass(slots=True)
@@ -184,8 +298,8 @@ class MacroRange:
 
 @dataclass(frozen=True, slots=True)
 class PmcAreaSpec:
-    """A PMC area: its letter, its size in bytes, protection against ``pmc_wrpmcrng`` and its
-    initial bytes as ``{address: bytes}``."""
+    """A PMC area: its letter (one of :data:`PMC_AREAS`), its size in bytes, protection against
+    writes and its initial bytes as ``{address: bytes}``."""
 
     letter: str
     size: int
@@ -195,7 +309,7 @@ class PmcAreaSpec:
 
 @dataclass(slots=True)
 class Panel:
-    """The operator panel and the run state shown by ``cnc_rdcncstat``."""
+    """The operator panel and the run state shown by the status."""
 
     mode: int = MEM
     pwe: int = 0
@@ -210,8 +324,8 @@ class Panel:
 
 @dataclass(slots=True)
 class MotionData:
-    """Figures for a native front end: positions per axis in least input increments, actual
-    feed, spindle speed, program numbers and the sequence number."""
+    """Motion figures: positions per axis in least input increments (:data:`POSITION_DECIMALS`
+    decimals), actual feed, spindle speed, program numbers and the sequence number."""
 
     absolute: list[int]
     machine: list[int]
@@ -225,11 +339,12 @@ class MotionData:
 
 
 class _Area:
-    __slots__ = ("code", "data", "letter", "size", "write_protected")
+    __slots__ = ("data", "letter", "size", "write_protected")
 
     def __init__(self, spec: PmcAreaSpec) -> None:
-        self.letter = spec.letter.upper()
-        self.code = int(PmcArea[self.letter])
+        self.letter = spec.letter.strip().upper()
+        if self.letter not in PMC_AREAS:
+            raise ValueError(f"unknown PMC area {spec.letter!r} (one of {', '.join(PMC_AREAS)})")
         self.size = spec.size
         self.write_protected = spec.write_protected
         self.data = bytearray(spec.size)
@@ -251,11 +366,11 @@ class Machine:
         name: str,
         *,
         axes: Iterable[str] = ("X", "Y", "Z"),
-        sysinfo: SysInfo | None = None,
+        identity: Identity | None = None,
         params: Iterable[DataItem] = (),
         diags: Iterable[DataItem] = (),
         macro_ranges: Iterable[MacroRange] = (),
-        macro_values: Mapping[int, tuple[int, int]] | None = None,
+        macro_values: Mapping[int, Decimal | int | None] | None = None,
         pmc: Iterable[PmcAreaSpec] = (),
         panel: Panel | None = None,
         param_password: str | bytes | None = None,
@@ -271,12 +386,12 @@ class Machine:
         n = len(self.axes)
         if not 1 <= n <= 32:
             raise ValueError(f"a machine has 1..32 axes, got {n}")
+        #: Whether the simulator control commands of a front end are served.
         self.control_enabled = control_enabled
         self.read_only = read_only
         self.clock = clock
-        self._sysinfo = sysinfo or SysInfo(
-            2, max(n, 8), b" 0", b" M", b"D4F1", b"32.0", b"%02d" % n
-        )
+        self._identity = identity or Identity(2, max(n, 8), " 0", " M", "D4F1", "32.0", f"{n:02d}")
+        self._check_identity(self._identity)
         self._params = self._items(params, "parameter")
         self._diags = self._items(diags, "diagnostic")
         self._macro_ranges = tuple(sorted(macro_ranges, key=lambda r: r.first))
@@ -286,26 +401,25 @@ class Machine:
         for a, b in zip(self._macro_ranges, self._macro_ranges[1:], strict=False):
             if b.first <= a.last:
                 raise ValueError(f"macro ranges {a.first}..{a.last} and {b.first}.. overlap")
-        self._macros: dict[int, tuple[int, int]] = {}
-        for number, (mcr_val, dec_val) in (macro_values or {}).items():
+        self._macros: dict[int, Decimal] = {}
+        for number, value in (macro_values or {}).items():
             if self._macro_range(number) is None:
                 raise ValueError(f"macro #{number} is not in any macro range")
-            if (mcr_val, dec_val) != _VACANT:
-                if not -0x8000_0000 <= mcr_val <= 0x7FFF_FFFF or not 0 <= dec_val <= 9:
-                    raise ValueError(f"macro #{number}: value ({mcr_val}, {dec_val}) invalid")
-                self._macros[number] = (mcr_val, dec_val)
-        self._areas: dict[int, _Area] = {}
+            if value is not None:
+                held = _macro_value(value)
+                if held is None:
+                    raise ValueError(f"macro #{number}: value {value} invalid")
+                self._macros[number] = held
+        self._areas: dict[str, _Area] = {}
         for spec in pmc:
             area = _Area(spec)
-            if area.code in self._areas:
+            if area.letter in self._areas:
                 raise ValueError(f"PMC area {area.letter} given twice")
-            self._areas[area.code] = area
+            self._areas[area.letter] = area
         self.panel = panel or Panel()
         if self.panel.mode not in AUT_MODES:
             raise ValueError(f"panel mode {self.panel.mode} is not an aut value")
-        self._password: bytes | None = (
-            None if param_password is None else Password.from_text(param_password).password
-        )
+        self._password: bytes | None = None if param_password is None else _password(param_password)
         self._password_epoch = 0
         self._station: dict[tuple[int, int], bytes] = {}
         self._records: dict[tuple[int, int], IOModuleRecord] = {}
@@ -315,28 +429,37 @@ class Machine:
             self._records[rack, slot] = record
             self._station[rack, slot] = record.encode()
         self.motion = motion or MotionData([0] * n, [0] * n, [0] * n, [0] * n)
-        for key in _POSITION_FIELDS:
+        for key in POSITION_KINDS:
             if len(getattr(self.motion, key)) != n:
                 raise ValueError(
                     f"motion {key}: {len(getattr(self.motion, key))} values for {n} axes"
                 )
         if history_capacity < 1:
             raise ValueError("alarm history capacity must be at least 1")
-        self._active: dict[tuple[int, int, int], ActiveAlarm] = {}
-        self._history: deque[AlarmHistoryEntry] = deque(maxlen=history_capacity)
-        self._status_bytes: bytes | None = None
-        self._history_cache: dict[int, tuple[AlarmHistoryEntry, ...]] = {}
-        self._history_bytes: dict[int, bytes] = {}
-        #: Incremented on every change of machine state (front ends may key caches on it).
+        self._active: dict[tuple[int, int, int], Alarm] = {}
+        self._history: deque[HistoryEntry] = deque(maxlen=history_capacity)
+        #: Incremented on every change of machine state.
         self.version = 0
+        #: Incremented when the status changes (panel, run state, active alarms).
+        self.status_version = 0
         #: Incremented when a parameter or diagnostic value changes.
         self.data_version = 0
         #: Incremented when a macro variable changes.
         self.macro_version = 0
-        #: Incremented when the set of active alarms changes.
+        #: Incremented when the active alarms or the alarm history change.
         self.alarm_version = 0
-        #: Filled in by :mod:`focas_net.sim.packed` (its dispatch table for this machine).
-        self.packed_table: PackedTable | None = None
+        #: Incremented when PMC data changes.
+        self.pmc_version = 0
+        #: Incremented when the motion figures change.
+        self.motion_version = 0
+
+    @staticmethod
+    def _check_identity(identity: Identity) -> None:
+        texts = (*_IDENTITY_TEXTS, ("axes", 2))
+        for key, size in texts:
+            text = getattr(identity, key)
+            if not isinstance(text, str) or len(text) != size or not text.isascii():
+                raise ValueError(f"identity {key} must be {size} ASCII characters, got {text!r}")
 
     def _items(self, items: Iterable[DataItem], what: str) -> dict[int, DataItem]:
         table: dict[int, DataItem] = {}
@@ -353,6 +476,11 @@ class Machine:
     def __repr__(self) -> str:
         return f"Machine({self.name!r}, axes={''.join(self.axes)!r})"
 
+    def check_writable(self) -> None:
+        """EW_PROT when the machine is read-only: the first check of every write."""
+        if self.read_only:
+            raise MachineError(EW.PROT, "read-only machine")
+
     # -- sessions, status, identity ------------------------------------------------------
     def new_session(self) -> Session:
         """Per-connection state for a new connection (locked)."""
@@ -361,19 +489,19 @@ class Machine:
     def set_param_password(self, password: str | bytes | None) -> None:
         """Set (None: remove) the parameter password, cut at 4 bytes. Connections unlocked
         under the previous password are locked again."""
-        self._password = None if password is None else Password.from_text(password).password
+        self._password = None if password is None else _password(password)
         self._password_epoch += 1
         self.version += 1
 
     @property
     def has_password(self) -> bool:
-        """True when parameter writes need a per-connection unlock."""
+        """True when parameter writes need a per-session unlock."""
         return self._password is not None
 
-    def status(self) -> StatusInfo:
-        """ODBST derived from the panel and the active alarms."""
+    def status(self) -> Status:
+        """The status, derived from the panel and the active alarms."""
         p = self.panel
-        return StatusInfo(
+        return Status(
             p.hdck,
             p.tmmode,
             p.mode,
@@ -385,25 +513,13 @@ class Machine:
             p.edit,
         )
 
-    def status_payload(self) -> bytes:
-        """The whole ``cnc_rdcncstat`` answer payload (``ew`` then ODBST), cached until the
-        panel or the alarms change. Front ends may call this on their hot path."""
-        cached = self._status_bytes
-        if cached is None:
-            cached = self._status_bytes = EW_OK_BYTES + self.status().encode()
-        return cached
-
     def _status_changed(self) -> None:
-        self._status_bytes = None
+        self.status_version += 1
         self.version += 1
 
-    def sysinfo(self) -> SysInfo:
-        """The ``cnc_sysinfo`` identity."""
-        return self._sysinfo
-
-    def sysinfo_payload(self) -> bytes:
-        """The whole ``cnc_sysinfo`` answer payload."""
-        return EW_OK_BYTES + self._sysinfo.encode()
+    def identity(self) -> Identity:
+        """What the CNC says it is."""
+        return self._identity
 
     # -- parameters and diagnostics ------------------------------------------------------
     def _lookup(self, table: dict[int, DataItem], datano: int, axis: int) -> tuple[DataItem, int]:
@@ -434,18 +550,19 @@ class Machine:
         """The numbers of every diagnostic, ascending."""
         return tuple(sorted(self._diags))
 
-    def read_param(self, datano: int, axis: int) -> ParamValue:
-        """``cnc_rdparam``: EW_NUMBER, then EW_ATTRIB."""
+    def read_param(self, datano: int, axis: int) -> int:
+        """The value of parameter ``datano`` (``axis`` 0 for a non-axis item, else 1..n):
+        EW_NUMBER, then EW_ATTRIB. Its width is :meth:`param_item`'s."""
         item, i = self._lookup(self._params, datano, axis)
-        return ParamValue(datano, axis, item.values[i], item.width)
+        return item.values[i]
 
-    def read_diag(self, datano: int, axis: int) -> ParamValue:
-        """``cnc_rddiag``: EW_NUMBER, then EW_ATTRIB."""
+    def read_diag(self, datano: int, axis: int) -> int:
+        """The value of diagnostic ``datano``: EW_NUMBER, then EW_ATTRIB."""
         item, i = self._lookup(self._diags, datano, axis)
-        return ParamValue(datano, axis, item.values[i], item.width)
+        return item.values[i]
 
     def param_gate_open(self, session: Session) -> bool:
-        """PWE on, MDI mode, and (when there is a password) this connection unlocked."""
+        """PWE on, MDI mode, and (when there is a password) this session unlocked."""
         p = self.panel
         if p.pwe != 1 or p.mode != MDI:
             return False
@@ -453,13 +570,15 @@ class Machine:
             session.unlocked and session.epoch == self._password_epoch
         )
 
-    def write_param(self, session: Session, datano: int, axis: int, value: int, width: int) -> None:
-        """``cnc_wrparam``: EW_PROT (read-only machine), EW_NUMBER, EW_ATTRIB, EW_LENGTH (width),
-        EW_PASSWD (write gate), EW_DATA (range)."""
-        if self.read_only:
-            raise MachineError(EW.PROT, "read-only machine")
+    def write_param(
+        self, session: Session, datano: int, axis: int, value: int, *, width: int | None = None
+    ) -> None:
+        """Write parameter ``datano``; ``width`` is the width (1, 2, 4) the value was given in,
+        checked against the parameter's type when given. EW_PROT (read-only machine),
+        EW_NUMBER, EW_ATTRIB, EW_LENGTH (width), EW_PASSWD (write gate), EW_DATA (range)."""
+        self.check_writable()
         item, i = self._lookup(self._params, datano, axis)
-        if width != item.width:
+        if width is not None and width != item.width:
             raise MachineError(EW.LENGTH, f"parameter {datano} is {item.width} bytes wide")
         if not self.param_gate_open(session):
             raise MachineError(EW.PASSWD, "parameter write not enabled")
@@ -472,7 +591,8 @@ class Machine:
         self.version += 1
 
     def set_diag(self, datano: int, axis: int, value: int) -> None:
-        """Change a diagnostic value (for simulation code; not reachable over the wire)."""
+        """Change a diagnostic value (simulation code; a CNC has no diagnostic write):
+        EW_NUMBER, EW_ATTRIB, EW_DATA (range)."""
         item, i = self._lookup(self._diags, datano, axis)
         low, high = item.low, item.high
         assert low is not None and high is not None
@@ -496,136 +616,118 @@ class Machine:
         r = self._macro_range(number)
         return None if r is None else r.writable
 
-    def read_macro(self, number: int) -> MacroValue:
-        """``cnc_rdmacro``: EW_NUMBER for an unknown variable; vacant is (0, -1)."""
+    def read_macro(self, number: int) -> Decimal | None:
+        """The value of macro variable ``number``, None when vacant: EW_NUMBER for an unknown
+        variable."""
         if self._macro_range(number) is None:
             raise MachineError(EW.NUMBER, f"no macro variable #{number}")
-        mcr_val, dec_val = self._macros.get(number, _VACANT)
-        return MacroValue(number, _MACRO_LENGTH, mcr_val, dec_val)
+        return self._macros.get(number)
 
-    def write_macro(self, number: int, mcr_val: int, dec_val: int) -> None:
-        """``cnc_wrmacro``: EW_PROT (read-only machine), EW_NUMBER, EW_PROT (read-only
-        variable), EW_DATA (``dec_val`` outside 0..9)."""
-        if self.read_only:
-            raise MachineError(EW.PROT, "read-only machine")
+    def write_macro(self, number: int, value: Decimal | int | None) -> None:
+        """Set macro variable ``number`` to ``value`` (None: vacant). EW_PROT (read-only
+        machine), EW_NUMBER, EW_PROT (read-only variable), EW_DATA (a value the variable cannot
+        hold: see the module docstring). Making a vacant variable vacant changes nothing."""
+        self.check_writable()
         r = self._macro_range(number)
         if r is None:
             raise MachineError(EW.NUMBER, f"no macro variable #{number}")
         if not r.writable:
             raise MachineError(EW.PROT, f"macro variable #{number} is read-only")
-        if not 0 <= dec_val <= 9:
-            raise MachineError(EW.DATA, f"dec_val {dec_val} outside 0..9")
-        self._macros[number] = (mcr_val, dec_val)
+        if value is None:
+            if self._macros.pop(number, None) is not None:
+                self.macro_version += 1
+                self.version += 1
+            return
+        held = _macro_value(value)
+        if held is None:
+            raise MachineError(
+                EW.DATA,
+                f"#{number} = {value}: 0..{MAX_MACRO_DECIMALS} decimals, digits within 32 bits",
+            )
+        self._macros[number] = held
         self.macro_version += 1
         self.version += 1
-
-    def clear_macro(self, number: int) -> None:
-        """Make macro ``number`` vacant (what a native ``cnc_wrmacro`` of a null value does):
-        EW_PROT (read-only machine), EW_NUMBER, EW_PROT (read-only variable)."""
-        if self.read_only:
-            raise MachineError(EW.PROT, "read-only machine")
-        r = self._macro_range(number)
-        if r is None:
-            raise MachineError(EW.NUMBER, f"no macro variable #{number}")
-        if not r.writable:
-            raise MachineError(EW.PROT, f"macro variable #{number} is read-only")
-        if self._macros.pop(number, None) is not None:
-            self.macro_version += 1
-            self.version += 1
 
     # -- PMC -------------------------------------------------------------------------------
     def pmc_area(self, letter: str) -> tuple[int, bool] | None:
         """``(size, write_protected)`` of area ``letter``, or None when the machine has none
         (ValueError for a letter that is no PMC area at all)."""
-        area = self._areas.get(int(PmcArea.parse(letter)))
+        key = letter.strip().upper()
+        if key not in PMC_AREAS:
+            raise ValueError(f"unknown PMC area {letter!r}")
+        area = self._areas.get(key)
         return None if area is None else (area.size, area.write_protected)
 
-    def _pmc_check(self, type_a: int, type_d: int, start: int, end: int) -> _Area:
-        area = self._areas.get(type_a)
+    def _area(self, letter: str) -> _Area:
+        area = self._areas.get(letter) or self._areas.get(letter.upper())
         if area is None:
-            if type_a not in PmcArea._value2member_map_:
-                raise MachineError(EW.ATTRIB, f"unknown PMC area code {type_a}")
-            raise MachineError(EW.NOOPT, f"no PMC area {PmcArea(type_a).name}")
-        if type_d != 0:
-            raise MachineError(EW.ATTRIB, f"type_d {type_d}: only bytes (0)")
-        count = end - start + 1
-        if not 1 <= count <= MAX_PMC_CHUNK:
-            raise MachineError(EW.LENGTH, f"{count} bytes: one call carries 1..{MAX_PMC_CHUNK}")
+            raise MachineError(EW.NOOPT, f"no PMC area {letter}")
         return area
 
-    def read_pmc(self, type_a: int, type_d: int, start: int, end: int) -> bytes:
-        """``pmc_rdpmcrng``: EW_ATTRIB, EW_NOOPT, EW_ATTRIB, EW_LENGTH, EW_NUMBER."""
-        area = self._pmc_check(type_a, type_d, start, end)
-        if end >= area.size or start < 0:
-            raise MachineError(EW.NUMBER, f"{area.letter}{start}..{end} beyond {area.size} bytes")
-        return bytes(area.data[start : end + 1])
+    def check_pmc_area(self, letter: str) -> None:
+        """EW_NOOPT when the machine has no PMC area ``letter`` (whatever the letter)."""
+        self._area(letter)
 
-    def write_pmc(
-        self, type_a: int, type_d: int, start: int, end: int, data: bytes, *, force: bool = False
-    ) -> None:
-        """``pmc_wrpmcrng`` (``force`` = the control command set_pmc, which ignores write
-        protection): EW_PROT (read-only machine), EW_ATTRIB, EW_NOOPT, EW_ATTRIB, EW_LENGTH,
-        EW_LENGTH (data), EW_NUMBER, EW_PROT (area)."""
-        if self.read_only:
-            raise MachineError(EW.PROT, "read-only machine")
-        area = self._pmc_check(type_a, type_d, start, end)
-        if len(data) != end - start + 1:
-            raise MachineError(EW.LENGTH, f"{len(data)} data bytes for {end - start + 1}")
-        if end >= area.size or start < 0:
-            raise MachineError(EW.NUMBER, f"{area.letter}{start}..{end} beyond {area.size} bytes")
+    def read_pmc(self, letter: str, start: int, length: int) -> bytes:
+        """``length`` bytes of area ``letter`` from address ``start``: EW_NOOPT (no such area),
+        EW_NUMBER (addresses outside the area)."""
+        area = self._area(letter)
+        if length < 0:
+            raise ValueError(f"a PMC read of {length} bytes")
+        end = start + length
+        if start < 0 or end > area.size:
+            raise MachineError(
+                EW.NUMBER, f"{area.letter}{start}..{end - 1} beyond {area.size} bytes"
+            )
+        return bytes(area.data[start:end])
+
+    def write_pmc(self, letter: str, start: int, data: bytes, *, force: bool = False) -> None:
+        """Write ``data`` into area ``letter`` from address ``start`` (``force``: the
+        simulator's own write, which ignores write protection): EW_PROT (read-only machine),
+        EW_NOOPT, EW_NUMBER (addresses outside the area), EW_PROT (write-protected area)."""
+        self.check_writable()
+        area = self._area(letter)
+        end = start + len(data)
+        if start < 0 or end > area.size:
+            raise MachineError(
+                EW.NUMBER, f"{area.letter}{start}..{end - 1} beyond {area.size} bytes"
+            )
         if area.write_protected and not force:
             raise MachineError(EW.PROT, f"PMC area {area.letter} is write-protected")
-        area.data[start : end + 1] = data
+        area.data[start:end] = data
+        self.pmc_version += 1
         self.version += 1
 
     # -- password ------------------------------------------------------------------------
-    def unlock(self, session: Session, password: bytes) -> None:
-        """``cnc_wrunlockparam``: unlock parameter writes for ``session``; a mismatch answers
-        EW_PASSWD and locks the session again."""
+    def unlock(self, session: Session, password: str | bytes) -> None:
+        """Unlock parameter writes for ``session`` (4 bytes of ``password`` count, as for the
+        machine's); a mismatch answers EW_PASSWD and locks the session again."""
         expected = self._password
         session.epoch = self._password_epoch
         if expected is None:
             session.unlocked = True
             return
-        given = bytes(password[:4]).ljust(4, b"\x00")
-        if hmac.compare_digest(given, expected):
+        if hmac.compare_digest(_password(password), expected):
             session.unlocked = True
             return
         session.unlocked = False
         raise MachineError(EW.PASSWD, "parameter password mismatch")
 
     # -- alarms --------------------------------------------------------------------------
-    def active_alarms(self, alm_type: int = -1, max: int = 32) -> list[ActiveAlarm]:
-        """``cnc_rdalmmsg``: at most ``max`` (1..32, else EW_LENGTH) active alarms of
-        ``alm_type`` (-1 all), oldest raised first."""
-        if not 1 <= max <= 32:
-            raise MachineError(EW.LENGTH, f"max {max} outside 1..32")
+    def active_alarms(self, alm_type: int = -1, limit: int | None = None) -> list[Alarm]:
+        """The active alarms of ``alm_type`` (-1: every type; a type no alarm has matches
+        nothing), oldest raised first, at most ``limit`` of them (None: all)."""
         alarms = self._active.values()
-        if alm_type == -1:
-            return list(islice(alarms, max))
-        return list(islice((a for a in alarms if a.alm_type == alm_type), max))
+        chosen = alarms if alm_type == -1 else (a for a in alarms if a.alm_type == alm_type)
+        return list(chosen if limit is None else islice(chosen, limit))
 
-    def alarm_history(self, depth: int) -> tuple[AlarmHistoryEntry, ...]:
-        """``cnc_rdalmhistry``: the ``depth`` (1..250, else EW_LENGTH) newest entries, newest
-        first."""
-        if not 1 <= depth <= MAX_HISTORY_DEPTH:
-            raise MachineError(EW.LENGTH, f"depth {depth} outside 1..{MAX_HISTORY_DEPTH}")
-        cached = self._history_cache.get(depth)
-        if cached is None:
-            cached = self._history_cache[depth] = tuple(islice(self._history, depth))
-        return cached
-
-    def alarm_history_payload(self, depth: int) -> bytes:
-        """The whole ``cnc_rdalmhistry`` answer payload for ``depth``, cached until the next
-        alarm is raised (EW_LENGTH as :meth:`alarm_history`)."""
-        cached = self._history_bytes.get(depth)
-        if cached is None:
-            cached = AlarmHistory(self.alarm_history(depth)).encode()
-            self._history_bytes[depth] = cached
-        return cached
+    def alarm_history(self, depth: int | None = None) -> tuple[HistoryEntry, ...]:
+        """The ``depth`` newest entries of the history (None: all), newest first."""
+        return tuple(self._history if depth is None else islice(self._history, depth))
 
     @property
     def history_capacity(self) -> int:
+        """How many entries the alarm history keeps."""
         cap = self._history.maxlen
         assert cap is not None
         return cap
@@ -636,37 +738,36 @@ class Machine:
         t = t.replace(tzinfo=UTC) if t.tzinfo is None else t.astimezone(UTC)
         return t.replace(microsecond=0)
 
-    def raise_alarm(self, axis_no: int, alm_type: int, alm_no: int, msg: bytes) -> None:
+    def raise_alarm(self, axis_no: int, alm_type: int, alm_no: int, msg: str = "") -> None:
         """Make an alarm active and record it in the history (UTC, whole seconds). An alarm
-        already active (same axis_no, alm_type, alm_no) changes nothing. ``msg`` is cut at 32
-        bytes. EW_PROT (read-only machine), EW_DATA (alm_type, alm_no), EW_ATTRIB (axis_no)."""
-        if self.read_only:
-            raise MachineError(EW.PROT, "read-only machine")
+        already active (same axis_no, alm_type, alm_no) changes nothing. The CNC keeps 32
+        characters of ``msg``, single-byte (Latin-1) text. EW_PROT (read-only machine),
+        EW_DATA (alm_type, alm_no), EW_ATTRIB (axis_no), EW_DATA (a character beyond U+00FF)."""
+        self.check_writable()
         if not 0 <= alm_type <= MAX_ALARM_TYPE:
             raise MachineError(EW.DATA, f"alm_type {alm_type} outside 0..{MAX_ALARM_TYPE}")
         if alm_no < 0:
             raise MachineError(EW.DATA, f"alm_no {alm_no} is negative")
         if not 0 <= axis_no <= len(self.axes):
             raise MachineError(EW.ATTRIB, f"axis_no {axis_no} outside 0..{len(self.axes)}")
+        text = msg[:MAX_ALARM_TEXT]
+        if any(ord(c) > 0xFF for c in text):
+            raise MachineError(EW.DATA, f"alarm message {text!r} is not single-byte text")
         key = (axis_no, alm_type, alm_no)
         if key in self._active:
             return
-        text = bytes(msg[:MAX_ALARM_MSG]).decode("latin-1")
         logger.debug(
             "%s: alarm raised: axis %d type %d no %d", self.name, axis_no, alm_type, alm_no
         )
-        self._active[key] = ActiveAlarm(axis_no, alm_type, alm_no, text)
-        self._history.appendleft(AlarmHistoryEntry(self.now(), axis_no, alm_type, alm_no, text))
-        self._history_cache.clear()
-        self._history_bytes.clear()
+        self._active[key] = Alarm(axis_no, alm_type, alm_no, text)
+        self._history.appendleft(HistoryEntry(self.now(), axis_no, alm_type, alm_no, text))
         self.alarm_version += 1
         self._status_changed()
 
     def clear_alarms(self, alm_type: int = -1, alm_no: int = -1) -> int:
         """Remove the active alarms matching ``alm_type`` and ``alm_no`` (-1 = any); the
         history is kept. Returns how many were removed. EW_PROT on a read-only machine."""
-        if self.read_only:
-            raise MachineError(EW.PROT, "read-only machine")
+        self.check_writable()
         gone = [
             k
             for k in self._active
@@ -682,10 +783,9 @@ class Machine:
 
     # -- operator panel ------------------------------------------------------------------
     def set_panel(self, mode: int, pwe: int, emergency: int) -> None:
-        """The control command set_panel: ``mode`` an ``aut`` value other than 2, ``pwe`` and
+        """Set the operator panel: ``mode`` an ``aut`` value other than 2, ``pwe`` and
         ``emergency`` 0/1, else EW_DATA. EW_PROT on a read-only machine."""
-        if self.read_only:
-            raise MachineError(EW.PROT, "read-only machine")
+        self.check_writable()
         if mode not in AUT_MODES or pwe not in (0, 1) or emergency not in (0, 1):
             raise MachineError(EW.DATA, f"panel mode={mode} pwe={pwe} emergency={emergency}")
         p = self.panel
@@ -695,7 +795,7 @@ class Machine:
 
     def set_run(self, run: int, motion: int = 0) -> None:
         """Set the run state (0 reset, 1 STOP, 2 HOLD, 3 STRT, 4 MSTR) and motion (0, 1 MTN,
-        2 DWL) shown by ``cnc_rdcncstat`` (simulation code only)."""
+        2 DWL) shown by the status (simulation code only): EW_DATA otherwise."""
         if run not in range(5) or motion not in range(3):
             raise MachineError(EW.DATA, f"run={run} motion={motion}")
         self.panel.run, self.panel.motion = run, motion
@@ -724,7 +824,7 @@ class Machine:
         n = len(self.axes)
         lists: dict[str, list[int]] = {}
         for key, values in zip(
-            _POSITION_FIELDS, (absolute, machine, relative, distance_to_go), strict=True
+            POSITION_KINDS, (absolute, machine, relative, distance_to_go), strict=True
         ):
             if values is None:
                 continue
@@ -748,21 +848,23 @@ class Machine:
             setattr(m, key, got)
         for key, value in scalars.items():
             setattr(m, key, value)
+        self.motion_version += 1
         self.version += 1
 
-    def positions(self, kind: int, axis: int) -> list[tuple[str, int]]:
-        """``cnc_rdposition``: ``(axis name, value)`` of every axis (``axis = -1``) or of axis
-        ``axis`` (1..n), in least input increments (:data:`POSITION_DECIMALS` decimals).
-        ``kind`` 0 absolute, 1 machine, 2 relative, 3 distance to go. Checks, in order:
-        ``kind`` outside 0..3 -> EW_ATTRIB; ``axis`` 0, below -1 or above the axes ->
-        EW_ATTRIB."""
-        if not 0 <= kind < len(_POSITION_FIELDS):
-            raise MachineError(EW.ATTRIB, f"position type {kind} outside 0..3")
-        values: list[int] = getattr(self.motion, _POSITION_FIELDS[kind])
-        if axis == -1:
+    def positions(self, kind: str, axis: int | None = None) -> list[tuple[str, int]]:
+        """``(axis name, value)`` of every axis (``axis`` None) or of axis ``axis`` (1..n), in
+        least input increments (:data:`POSITION_DECIMALS` decimals). ``kind`` is one of
+        :data:`POSITION_KINDS`. Checks, in order: an unknown kind -> EW_ATTRIB; ``"skip"`` ->
+        EW_NOOPT (the machine has no skip function); ``axis`` outside 1..n -> EW_ATTRIB."""
+        if kind not in POSITION_KINDS:
+            if kind == _SKIP:
+                raise MachineError(EW.NOOPT, "no skip function")
+            raise MachineError(EW.ATTRIB, f"position kind {kind!r}")
+        values: list[int] = getattr(self.motion, kind)
+        if axis is None:
             return list(zip(self.axes, values, strict=True))
         if not 1 <= axis <= len(self.axes):
-            raise MachineError(EW.ATTRIB, f"axis {axis} outside -1, 1..{len(self.axes)}")
+            raise MachineError(EW.ATTRIB, f"axis {axis} outside 1..{len(self.axes)}")
         return [(self.axes[axis - 1], values[axis - 1])]
 
     # -- VersaMax ------------------------------------------------------------------------
@@ -770,17 +872,23 @@ class Machine:
         """The configuration record in ``rack``/``slot`` (None when empty)."""
         return self._records.get((rack, slot))
 
-    def versamax_read(self, rack: int, length: int, slot: int, offset: int) -> VersaMaxReply:
-        """Read Configuration: EW_NUMBER (empty or out-of-range rack/slot), EW_LENGTH (length
-        outside 1..128), EW_NUMBER (offset at or past the end of the record)."""
+    def config_record(self, rack: int, slot: int) -> bytes:
+        """The bytes of the configuration record in ``rack``/``slot``: EW_NUMBER when the slot
+        is empty or out of range."""
         record = self._station.get((rack, slot))
         if record is None:
             raise MachineError(EW.NUMBER, f"rack {rack} slot {slot} is empty")
-        if not 1 <= length <= MAX_CONFIG_CHUNK:
-            raise MachineError(EW.LENGTH, f"length {length} outside 1..{MAX_CONFIG_CHUNK}")
+        return record
+
+    def read_config(self, rack: int, slot: int, offset: int, length: int) -> bytes:
+        """Up to ``length`` bytes of the configuration record in ``rack``/``slot`` from
+        ``offset``: EW_NUMBER (empty slot), EW_NUMBER (offset outside the record)."""
+        record = self.config_record(rack, slot)
+        if length < 0:
+            raise ValueError(f"a configuration read of {length} bytes")
         if not 0 <= offset < len(record):
             raise MachineError(EW.NUMBER, f"offset {offset} past the {len(record)}-byte record")
-        return VersaMaxReply(rack, slot, offset, record[offset : offset + length])
+        return record[offset : offset + length]
 
     # -- whole-state view ----------------------------------------------------------------
     def state_digest(self) -> str:
@@ -798,8 +906,8 @@ class Machine:
                 put(t, n, it.width, it.axis, it.low, it.high, it.values)
         put("macro-ranges", [(r.first, r.last, r.writable) for r in self._macro_ranges])
         put("macros", sorted(self._macros.items()))
-        for code in sorted(self._areas):
-            a = self._areas[code]
+        for letter in sorted(self._areas):
+            a = self._areas[letter]
             put("pmc", a.letter, a.size, a.write_protected)
             h.update(a.data)
         p = self.panel
@@ -807,7 +915,7 @@ class Machine:
         put("password", hashlib.sha256(self._password or b"").hexdigest())
         put("active", list(self._active.values()))
         put("history", self.history_capacity, list(self._history))
-        put("sysinfo", self._sysinfo)
+        put("identity", self._identity)
         put("station", sorted(self._station.items()))
         m = self.motion
         put(

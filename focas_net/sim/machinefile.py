@@ -12,21 +12,24 @@ from __future__ import annotations
 import tomllib
 from collections.abc import Mapping
 from dataclasses import dataclass
+from decimal import Decimal
 from os import PathLike
 from pathlib import Path
 from typing import Any, Final, NoReturn
 
 from focas_net.errors import FocasError
+from focas_net.versamax import BoardId, IOModuleRecord, RefType
 
-from ..protocol import BoardId, IOModuleRecord, PmcArea, RefType, SysInfo
 from .default import gniu_record, mdd844_record
 from .machine import (
     AUT_MODES,
     DEFAULT_HISTORY_CAPACITY,
     MAX_RACK,
     MAX_SLOT,
+    PMC_AREAS,
     Clock,
     DataItem,
+    Identity,
     Machine,
     MacroRange,
     MotionData,
@@ -187,18 +190,18 @@ def _axes(ctx: _Ctx, value: Any) -> list[str]:
     return axes
 
 
-def _sysinfo(ctx: _Ctx, value: Any, n_axes: int) -> SysInfo:
+def _identity(ctx: _Ctx, value: Any, n_axes: int) -> Identity:
     t = _table(ctx, value)
     _only(ctx, t, ("addinfo", "max_axis", "cnc_type", "mt_type", "series", "version"))
     max_axis = _int(ctx.sub("max_axis"), t.get("max_axis", max(8, n_axes)), (n_axes, 32))
-    return SysInfo(
+    return Identity(
         _int(ctx.sub("addinfo"), t.get("addinfo", 2), _I16),
         max_axis,
-        _ascii(ctx.sub("cnc_type"), t.get("cnc_type", " 0"), 2).encode(),
-        _ascii(ctx.sub("mt_type"), t.get("mt_type", " M"), 2).encode(),
-        _ascii(ctx.sub("series"), t.get("series", "D4F1"), 4).encode(),
-        _ascii(ctx.sub("version"), t.get("version", "32.0"), 4).encode(),
-        b"%02d" % n_axes,
+        _ascii(ctx.sub("cnc_type"), t.get("cnc_type", " 0"), 2),
+        _ascii(ctx.sub("mt_type"), t.get("mt_type", " M"), 2),
+        _ascii(ctx.sub("series"), t.get("series", "D4F1"), 4),
+        _ascii(ctx.sub("version"), t.get("version", "32.0"), 4),
+        f"{n_axes:02d}",
     )
 
 
@@ -266,7 +269,7 @@ def _items(ctx: _Ctx, value: Any, n_axes: int) -> list[DataItem]:
     return items
 
 
-def _macros(ctx: _Ctx, value: Any) -> tuple[list[MacroRange], dict[int, tuple[int, int]]]:
+def _macros(ctx: _Ctx, value: Any) -> tuple[list[MacroRange], dict[int, Decimal]]:
     t = _table(ctx, value)
     _only(ctx, t, ("ranges", "values"))
     rc = ctx.sub("ranges")
@@ -287,7 +290,7 @@ def _macros(ctx: _Ctx, value: Any) -> tuple[list[MacroRange], dict[int, tuple[in
                 c.fail(f"overlaps {rc.key}[{j}] (#{other.first}..#{other.last})")
         ranges.append(MacroRange(first, last, _bool(c.sub("writable"), spec.get("writable", True))))
     vc = ctx.sub("values")
-    values: dict[int, tuple[int, int]] = {}
+    values: dict[int, Decimal] = {}
     for key, raw in _table(vc, t.get("values", {})).items():
         c = vc.sub(key)
         number = _number_key(c, key, _I16)
@@ -298,9 +301,11 @@ def _macros(ctx: _Ctx, value: Any) -> tuple[list[MacroRange], dict[int, tuple[in
         if isinstance(raw, list):
             if len(raw) != 2:
                 c.fail("must be an integer or [mcr_val, dec_val]")
-            values[number] = (_int(c.sub(0), raw[0], _I32), _int(c.sub(1), raw[1], (0, 9)))
+            digits = _int(c.sub(0), raw[0], _I32)
+            decimals = _int(c.sub(1), raw[1], (0, 9))
+            values[number] = Decimal(f"{digits}E-{decimals}")
         else:
-            values[number] = (_int(c, raw, _I32), 0)
+            values[number] = Decimal(_int(c, raw, _I32))
     return ranges, values
 
 
@@ -309,8 +314,8 @@ def _pmc(ctx: _Ctx, value: Any) -> list[PmcAreaSpec]:
     areas = []
     for letter, raw in t.items():
         c = ctx.sub(letter)
-        if letter not in PmcArea.__members__:
-            c.fail(f"unknown PMC area (expected one of: {', '.join(PmcArea.__members__)})")
+        if letter not in PMC_AREAS:
+            c.fail(f"unknown PMC area (expected one of: {', '.join(PMC_AREAS)})")
         spec = _table(c, raw)
         _only(c, spec, ("size", "write_protected", "values"))
         if "size" not in spec:
@@ -514,7 +519,7 @@ def _build(
     control: bool,
     capacity: int,
     ranges: list[MacroRange],
-    values: dict[int, tuple[int, int]],
+    values: dict[int, Decimal],
     clock: Clock,
 ) -> Machine:
     n = len(axes)
@@ -523,7 +528,7 @@ def _build(
     return Machine(
         name,
         axes=axes,
-        sysinfo=_sysinfo(root.sub("sysinfo"), top.get("sysinfo", {}), n),
+        identity=_identity(root.sub("sysinfo"), top.get("sysinfo", {}), n),
         params=_items(root.sub("parameters"), top.get("parameters", {}), n),
         diags=_items(root.sub("diagnostics"), top.get("diagnostics", {}), n),
         macro_ranges=ranges,

@@ -1,11 +1,12 @@
 """The native adapter: one data-request body in, the whole data-response frame out.
 
-Pure and synchronous, like :mod:`focas_net.sim.packed` on the packed side: a
-:class:`NativeAdapter` wraps one :class:`~focas_net.sim.Machine` and answers every request
-block with a response block, in order (device, path and command echoed, an EW code, the data).
-The asyncio shell (:mod:`focas_net.native.server`) only moves frames.
+Pure and synchronous, like :mod:`focas_net.adapters.packed` on the packed side: a
+:class:`NativeAdapter` wraps one protocol-neutral :class:`~focas_net.sim.Machine` and answers
+every request block with a response block, in order (device, path and command echoed, an EW
+code, the data). The asyncio shell (:mod:`focas_net.native.server`) only moves frames.
 
-Rules (also in ``docs/native-protocol.md``):
+Rules of this wire (``docs/native-protocol.md``; the CNC's rules are the machine's, see
+:mod:`focas_net.sim.machine`):
 
 * a block whose ``(device, command)`` is not served answers ``EW_FUNC``; a path other than 0
   or 1 answers ``EW_PATH`` (the machine has one path);
@@ -13,12 +14,20 @@ Rules (also in ``docs/native-protocol.md``):
 * every answer fits the body size the response version allows (1450 bytes for version 2):
   room for the 16-byte head of every later block is kept, and a block whose data would not fit
   what is left answers ``EW_LENGTH``. The size is computed from the arguments **before** any
-  data is gathered;
+  data is gathered (a position read asks the machine first: its EW_NOOPT for the skip position
+  and EW_ATTRIB for an axis it has not come before EW_LENGTH, as they always did);
 * a request with more blocks than the limit can answer even as bare heads (90 at version 2)
-  is a framing violation (:class:`NativeFrameError`): the connection is closed.
+  is a framing violation (:class:`NativeFrameError`): the connection is closed;
+* this wire's own numbering and limits: PMC ``adr_type`` codes (an unknown code -> EW_ATTRIB, a
+  letter the simulated CNC has no area for, M, N or Z, -> EW_NOOPT, both before the data type
+  is looked at; a machine without the area answers EW_NOOPT after the size checks), the PMC
+  data type (EW_ATTRIB) and a byte count that is not a whole number of items (EW_LENGTH), both
+  position numberings, at most 32 alarm messages per block, and no more data than one answer
+  can carry.
 
-Macro values written as doubles (0xA8) are stored as the machine's ``(mcr_val, dec_val)``
-pair by :func:`macro_from_double`.
+A macro value written as a double (0xA8) is the decimal :func:`macro_from_double` makes of it,
+written with the machine's own ``write_macro`` (a vacant double, a NaN, makes the variable
+vacant; a double with no such decimal is passed on as it is, for the machine to refuse).
 """
 
 from __future__ import annotations
@@ -28,14 +37,10 @@ import struct
 from bisect import bisect_left, bisect_right
 from collections.abc import Callable
 from decimal import ROUND_HALF_EVEN, Decimal
-from typing import TYPE_CHECKING, Final
+from typing import Final
 
 from focas_net.errors import EW
-from focas_net.protocol import MAX_PMC_CHUNK
-from focas_net.protocol import PmcArea as PackedPmcArea
-from focas_net.sim.machine import POSITION_DECIMALS as MACHINE_POSITION_DECIMALS
-
-from .codec import (
+from focas_net.native.codec import (
     _DOUBLE,
     _MAGIC_U32,
     _NAN_BITS,
@@ -73,21 +78,17 @@ from .codec import (
     max_response_body,
     resolve_position_kind,
 )
+from focas_net.sim import (
+    MAX_MACRO_DECIMALS,
+    PMC_AREAS,
+    POSITION_DECIMALS,
+    DataItem,
+    Machine,
+    MachineError,
+)
 
-if TYPE_CHECKING:
-    from focas_net.protocol import ParamValue
-    from focas_net.sim import Machine
+__all__ = ["ITEM_TYPES", "ITEM_TYPES_30I", "NativeAdapter", "macro_from_double"]
 
-__all__ = [
-    "ITEM_TYPES",
-    "ITEM_TYPES_30I",
-    "POSITION_DECIMALS",
-    "NativeAdapter",
-    "macro_from_double",
-]
-
-#: Decimals of the position records: the machine's least input increment (0.001 mm, IS-B).
-POSITION_DECIMALS: Final = MACHINE_POSITION_DECIMALS
 #: Item ``type`` word of 0x0E/0x30 records by value width in bytes (16i numbering).
 ITEM_TYPES: Final[dict[int, int]] = {1: 0, 2: 1, 4: 2}
 #: Item ``type`` word of 0x8D records by value width in bytes (30i numbering).
@@ -95,10 +96,18 @@ ITEM_TYPES_30I: Final[dict[int, int]] = {1: 1, 2: 2, 4: 3}
 
 _I32_MIN: Final = -(2**31)
 _I32_MAX: Final = 2**31 - 1
-_MAX_DECIMALS: Final = 9
-_QUANTA: Final = tuple(Decimal(1).scaleb(-d) for d in range(_MAX_DECIMALS + 1))
+_QUANTA: Final = tuple(Decimal(1).scaleb(-d) for d in range(MAX_MACRO_DECIMALS + 1))
 _SERVED_PATHS: Final = frozenset({0, 1})
+#: Most alarm messages one block answers.
 _MAX_ALARMS: Final = 32
+#: Kind of a position read -> the machine's position kind.
+_POSITION_KINDS: Final[dict[PositionKind, str]] = {
+    PositionKind.ABSOLUTE: "absolute",
+    PositionKind.MACHINE: "machine",
+    PositionKind.RELATIVE: "relative",
+    PositionKind.DISTANCE: "distance_to_go",
+    PositionKind.SKIP: "skip",
+}
 _ALARM_HEAD_SIZE: Final = 16
 _ITEM_HEAD_SIZE: Final = 8
 
@@ -111,8 +120,9 @@ _I32_ZERO: Final = bytes(4)
 
 
 def macro_from_double(value: float) -> tuple[int, int] | None:
-    """The ``(mcr_val, dec_val)`` a double written with 0xA8 is stored as; None when it cannot
-    be (infinite, NaN, or too large for a 32-bit mantissa even with no decimals).
+    """``(digits, decimals)`` of the decimal a double written with 0xA8 stands for (the value
+    is ``digits / 10**decimals``); None when there is none a macro variable can hold
+    (infinite, NaN, or too large for a 32-bit mantissa even with no decimals).
 
     Rule: take the shortest decimal that reads back as the same double (Python's ``repr``),
     round it half-even to at most 9 decimals, drop decimals (rounding again) until the mantissa
@@ -124,7 +134,7 @@ def macro_from_double(value: float) -> tuple[int, int] | None:
     exact = Decimal(repr(value))
     exponent = exact.as_tuple().exponent
     assert isinstance(exponent, int)
-    decimals = min(max(-exponent, 0), _MAX_DECIMALS)
+    decimals = min(max(-exponent, 0), MAX_MACRO_DECIMALS)
     while True:
         rounded = exact.quantize(_QUANTA[decimals], rounding=ROUND_HALF_EVEN)
         mantissa = int(rounded.scaleb(decimals))
@@ -156,13 +166,33 @@ def _need_room(size: int, room: int) -> None:
         raise _Refused(EW.LENGTH)
 
 
+def _macro_parts(value: Decimal | None) -> tuple[int, int]:
+    """``(mantissa, decimals)`` of a macro value (a machine's value has 0..9 decimals); vacant
+    is ``(0, -1)``."""
+    if value is None:
+        return 0, -1
+    sign, digits, exponent = value.as_tuple()
+    assert isinstance(exponent, int)
+    coefficient = int("".join(map(str, digits)))
+    return (-coefficient if sign else coefficient), -exponent
+
+
+def _macro_of_double(value: float) -> Decimal:
+    """The value :func:`macro_from_double` makes of ``value``, or ``value`` itself as a decimal
+    when there is none (for the machine to refuse with EW_DATA after its other checks)."""
+    stored = macro_from_double(value)
+    if stored is None:
+        return Decimal(repr(value))
+    mantissa, decimals = stored
+    return Decimal(f"{mantissa}E-{decimals}")
+
+
 class NativeAdapter:
     """Answers native data requests from one machine (see the module docstring)."""
 
     __slots__ = (
         "_diag_numbers",
         "_handlers",
-        "_machine_error",
         "_max_blocks",
         "_param_numbers",
         "_scaled_zero",
@@ -176,26 +206,17 @@ class NativeAdapter:
     )
 
     def __init__(self, machine: Machine, *, version: int = DEFAULT_SERVER_VERSION) -> None:
-        from focas_net.sim import MachineError
-
         self.machine = machine
         #: Version word of every answer; it sets :attr:`limit`.
         self.version = version
         #: Largest answer body (:func:`max_response_body` of the version).
         self.limit = max_response_body(version)
         self._max_blocks = (self.limit - 2) // RESPONSE_BLOCK_SIZE
-        self._machine_error = MachineError
-        si = machine.sysinfo()
+        i = machine.identity()
         #: Value slots per parameter/diagnostic record and position records for all axes.
-        self.max_axis = max(si.max_axis, len(machine.axes), 1)
+        self.max_axis = max(i.max_axis, len(machine.axes), 1)
         self._sysinfo = SysInfo(
-            si.addinfo,
-            si.max_axis,
-            si.cnc_type.decode("latin-1"),
-            si.mt_type.decode("latin-1"),
-            si.series.decode("latin-1"),
-            si.version.decode("latin-1"),
-            si.axes.decode("latin-1"),
+            i.addinfo, i.max_axis, i.cnc_type, i.mt_type, i.series, i.version, i.axes
         ).encode()
         self._status = b""
         self._status_version = -1
@@ -220,6 +241,9 @@ class NativeAdapter:
             (pmc, NativeCommand.PMC_RDPMCRNG): self._read_pmc,
         }
 
+    def __repr__(self) -> str:
+        return f"NativeAdapter({self.machine!r}, version={self.version})"
+
     @property
     def served(self) -> frozenset[tuple[int, int]]:
         """``(device, command)`` of every block this adapter answers with data."""
@@ -227,22 +251,31 @@ class NativeAdapter:
 
     # -- requests ------------------------------------------------------------------------
 
+    def _blocks(self, body: bytes) -> tuple[RequestBlock, ...]:
+        blocks = decode_request_body(body)
+        if len(blocks) > self._max_blocks:
+            raise NativeFrameError(
+                f"{len(blocks)} request blocks: at most {self._max_blocks} can be answered"
+            )
+        return blocks
+
+    def _frame(self, parts: list[bytes]) -> bytes:
+        """The data-response frame of ``parts`` (``parts[0]`` is the place of its header)."""
+        length = sum(map(len, parts))
+        parts[0] = HEADER.pack(_MAGIC_U32, self.version, FrameType.DATA_RESPONSE, length)
+        return b"".join(parts)
+
     def answer(self, body: bytes) -> bytes:
         """The whole data-response frame answering the data-request ``body``.
 
         Raises :class:`NativeFrameError` when the block list is broken or longer than an
         answer can hold; everything else is answered in its block.
         """
-        blocks = decode_request_body(body)
+        blocks = self._blocks(body)
         count = len(blocks)
-        if count > self._max_blocks:
-            raise NativeFrameError(
-                f"{count} request blocks: at most {self._max_blocks} can be answered"
-            )
         parts: list[bytes] = [b"", _U16.pack(count)]
         left = self.limit - 2 - RESPONSE_BLOCK_SIZE * count
         handlers = self._handlers
-        machine_error = self._machine_error
         for block in blocks:
             handler = handlers.get((block.device, block.command))
             ew = 0
@@ -254,7 +287,7 @@ class NativeAdapter:
             else:
                 try:
                     data = handler(block, left)
-                except machine_error as exc:
+                except MachineError as exc:
                     ew = exc.ew
                 except (NativePayloadError, _Refused) as exc:
                     ew = exc.ew
@@ -277,9 +310,19 @@ class NativeAdapter:
             )
             if size:
                 parts.append(data)
-        length = sum(map(len, parts))
-        parts[0] = HEADER.pack(_MAGIC_U32, self.version, FrameType.DATA_RESPONSE, length)
-        return b"".join(parts)
+        return self._frame(parts)
+
+    def forced_answer(self, body: bytes, ew: int) -> bytes:
+        """The data-response frame answering ``body`` with ``ew`` and no data in every block
+        (a forced EW code of fault injection: nothing runs). Raises :class:`NativeFrameError`
+        as :meth:`answer` does."""
+        blocks = self._blocks(body)
+        parts: list[bytes] = [b"", _U16.pack(len(blocks))]
+        parts.extend(
+            _pack_block(RESPONSE_BLOCK_SIZE, b.device, b.path, b.command, ew, 0, 0, 0)
+            for b in blocks
+        )
+        return self._frame(parts)
 
     # -- identity and status -------------------------------------------------------------
 
@@ -288,12 +331,12 @@ class NativeAdapter:
 
     def _read_status(self, block: RequestBlock, room: int) -> bytes:
         machine = self.machine
-        if self._status_version != machine.version:
+        if self._status_version != machine.status_version:
             s = machine.status()
             self._status = StatInfo(
                 s.aut, s.run, s.motion, s.mstb, s.emergency, s.alarm, s.edit
             ).encode()
-            self._status_version = machine.version
+            self._status_version = machine.status_version
         return self._status
 
     def status_info(self) -> StatInfo:
@@ -318,26 +361,15 @@ class NativeAdapter:
         kind = resolve_position_kind(req.kind)
         if kind is None:
             raise _Refused(EW.ATTRIB)
-        m = self.machine.motion
-        if kind is PositionKind.ABSOLUTE:
-            values = m.absolute
-        elif kind is PositionKind.MACHINE:
-            values = m.machine
-        elif kind is PositionKind.RELATIVE:
-            values = m.relative
-        elif kind is PositionKind.DISTANCE:
-            values = m.distance_to_go
-        else:  # skip position: the simulated machine has no skip function
-            raise _Refused(EW.NOOPT)
         axis = req.axis
+        # the machine's checks first: no skip function (EW_NOOPT), an axis it has not (EW_ATTRIB)
+        positions = self.machine.positions(_POSITION_KINDS[kind], None if axis == -1 else axis)
         if axis == -1:
             _need_room(SCALED_SIZE * self.max_axis, room)
-            parts = [_pack_scaled(v, 10, POSITION_DECIMALS) for v in values]
+            parts = [_pack_scaled(v, 10, POSITION_DECIMALS) for _, v in positions]
             parts.extend([self._scaled_zero] * (self.max_axis - len(parts)))
             return b"".join(parts)
-        if not 1 <= axis <= len(values):
-            raise _Refused(EW.ATTRIB)
-        return _pack_scaled(values[axis - 1], 10, POSITION_DECIMALS)
+        return _pack_scaled(positions[0][1], 10, POSITION_DECIMALS)
 
     # -- macro variables -----------------------------------------------------------------
 
@@ -350,8 +382,8 @@ class NativeAdapter:
         read = self.machine.read_macro
         parts = []
         for number in range(req.first, req.last + 1):
-            v = read(number)
-            parts.append(_pack_scaled(v.mcr_val, 10, v.dec_val))  # vacant: (0, -1)
+            mantissa, decimals = _macro_parts(read(number))
+            parts.append(_pack_scaled(mantissa, 10, decimals))  # vacant: (0, -1)
         return b"".join(parts)
 
     def _read_macro_doubles(self, block: RequestBlock, room: int) -> bytes:
@@ -362,29 +394,18 @@ class NativeAdapter:
         read = self.machine.read_macro
         parts = []
         for number in range(req.first, req.first + req.count):
-            v = read(number)
-            if v.dec_val < 0:
+            value = read(number)
+            if value is None:
                 parts.append(_NAN_BITS)
             else:
-                parts.append(_pack_double(v.mcr_val / 10**v.dec_val))
+                mantissa, decimals = _macro_parts(value)
+                parts.append(_pack_double(mantissa / 10**decimals))
         return b"".join(parts)
 
     def _write_macro_double(self, block: RequestBlock, room: int) -> bytes:
         req = MacroDoubleWriteRequest.from_block(block)
-        machine = self.machine
-        if req.value is None:
-            machine.clear_macro(req.number)
-            return b""
-        stored = macro_from_double(req.value)
-        if stored is None:
-            # the checks of a write come before the value's: EW_PROT, EW_NUMBER, EW_PROT
-            if machine.read_only:
-                raise _Refused(EW.PROT)
-            writable = machine.macro_writable(req.number)
-            if writable is None:
-                raise _Refused(EW.NUMBER)
-            raise _Refused(EW.DATA if writable else EW.PROT)
-        machine.write_macro(req.number, *stored)
+        value = None if req.value is None else _macro_of_double(req.value)
+        self.machine.write_macro(req.number, value)
         return b""
 
     # -- parameters and diagnostics ------------------------------------------------------
@@ -394,7 +415,8 @@ class NativeAdapter:
         block: RequestBlock,
         room: int,
         numbers: tuple[int, ...],
-        read: Callable[[int, int], ParamValue],
+        read: Callable[[int, int], int],
+        item_of: Callable[[int], DataItem | None],
         scaled: bool,
     ) -> bytes:
         args = block.args
@@ -415,7 +437,7 @@ class NativeAdapter:
             if axis == -1:
                 try:
                     first_value = read(number, 0)
-                except self._machine_error as exc:
+                except MachineError as exc:
                     if exc.ew != EW.ATTRIB:
                         raise
                     values = [read(number, a) for a in range(1, n_axes + 1)]
@@ -426,27 +448,32 @@ class NativeAdapter:
             else:
                 values = [read(number, axis)]
                 record_axis = axis
-            parts.append(_ITEM_HEAD_PACK(number, record_axis, types[values[0].width]))
+            item = item_of(number)
+            assert item is not None
+            parts.append(_ITEM_HEAD_PACK(number, record_axis, types[item.width]))
             if scaled:
-                parts.extend(_pack_scaled(v.value, 10, 0) for v in values)
+                parts.extend(_pack_scaled(v, 10, 0) for v in values)
                 zero = self._scaled_zero
             else:
-                parts.extend(_I32_PACK(v.value) for v in values)
+                parts.extend(_I32_PACK(v) for v in values)
                 zero = _I32_ZERO
             parts.extend([zero] * (max_axis - len(values)))
         return b"".join(parts)
 
     def _read_params(self, block: RequestBlock, room: int) -> bytes:
         ParamReadRequest.from_block(block)
-        return self._items(block, room, self._param_numbers, self.machine.read_param, False)
+        m = self.machine
+        return self._items(block, room, self._param_numbers, m.read_param, m.param_item, False)
 
     def _read_params_30i(self, block: RequestBlock, room: int) -> bytes:
         ParamRead3Request.from_block(block)
-        return self._items(block, room, self._param_numbers, self.machine.read_param, True)
+        m = self.machine
+        return self._items(block, room, self._param_numbers, m.read_param, m.param_item, True)
 
     def _read_diags(self, block: RequestBlock, room: int) -> bytes:
         DiagnosticRequest.from_block(block)
-        return self._items(block, room, self._diag_numbers, self.machine.read_diag, False)
+        m = self.machine
+        return self._items(block, room, self._diag_numbers, m.read_diag, m.diag_item, False)
 
     # -- PMC -----------------------------------------------------------------------------
 
@@ -456,8 +483,7 @@ class NativeAdapter:
             letter = PmcArea(req.area).name
         except ValueError:
             raise _Refused(EW.ATTRIB) from None
-        packed = PackedPmcArea.__members__.get(letter)
-        if packed is None:
+        if letter not in PMC_AREAS:  # an area the simulated CNC never has
             raise _Refused(EW.NOOPT)
         try:
             width = PmcDataType(req.data_type).width
@@ -467,13 +493,7 @@ class NativeAdapter:
         if count < 1 or count % width:
             raise _Refused(EW.LENGTH)
         _need_room(count, room)
-        read = self.machine.read_pmc
-        code = int(packed)
-        chunks = [
-            read(code, 0, start, min(start + MAX_PMC_CHUNK, req.last + 1) - 1)
-            for start in range(req.first, req.last + 1, MAX_PMC_CHUNK)
-        ]
-        raw = b"".join(chunks)
+        raw = self.machine.read_pmc(letter, req.first, count)
         if width == 1:
             return raw
         out = bytearray(len(raw))

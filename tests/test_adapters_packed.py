@@ -1,8 +1,10 @@
-"""The packed-protocol adapter, driven through ``handle`` with payloads made by the codecs."""
+"""The packed-protocol adapter, driven through ``PackedAdapter.answer`` with payloads made by the
+codecs."""
 
 from __future__ import annotations
 
 import struct
+import weakref
 from collections.abc import Iterator
 from datetime import UTC, datetime, timedelta, timezone
 from typing import Any
@@ -11,6 +13,7 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
+from focas_net.adapters import PackedAdapter
 from focas_net.errors import EW
 from focas_net.protocol import (
     COMMANDS,
@@ -22,7 +25,6 @@ from focas_net.protocol import (
     Command,
     DataRequest,
     EwReply,
-    IOModuleRecord,
     MacroRequest,
     MacroValue,
     ParamValue,
@@ -44,9 +46,9 @@ from focas_net.protocol.codecs import (
     PositionRequest,
     ProgramNumbers,
 )
-from focas_net.sim import Machine, Session, default_machine, handle, handled_commands
+from focas_net.sim import Machine, MachineError, MotionData, Session, default_machine
 from focas_net.sim.default import mdd844_record
-from focas_net.sim.machine import MachineError, MotionData
+from focas_net.versamax import IOModuleRecord
 
 MANUAL_REPLY = bytes.fromhex(
     "00 52 00 03 00 00 80 08 80 80 44 38 34 34 32 00"
@@ -86,9 +88,20 @@ def s(m: Machine) -> Session:
     return m.new_session()
 
 
+_ADAPTERS: weakref.WeakKeyDictionary[Machine, PackedAdapter] = weakref.WeakKeyDictionary()
+
+
+def answer(m: Machine, s: Session, command: int, payload: bytes) -> bytes:
+    """The answer of ``m``'s adapter (one per machine, as a server has one per listener)."""
+    adapter = _ADAPTERS.get(m)
+    if adapter is None:
+        adapter = _ADAPTERS[m] = PackedAdapter(m)
+    return adapter.answer(s, command, payload)
+
+
 def raw(m: Machine, s: Session, command: int, request: Any) -> bytes:
     payload = request if isinstance(request, bytes) else request.encode()
-    return handle(m, s, command, payload)
+    return answer(m, s, command, payload)
 
 
 def call(m: Machine, s: Session, command: int, request: Any = b"") -> Any:
@@ -756,8 +769,8 @@ def test_control_disabled_answers_func(clock: FakeClock, command: int, payload: 
     m = default_machine(clock=clock, control_enabled=False)
     s = m.new_session()
     before = m.state_digest()
-    assert handle(m, s, command, payload) == b"\x01\x00"
-    assert handle(m, s, command, b"\x00") == b"\x01\x00"  # before the payload size
+    assert answer(m, s, command, payload) == b"\x01\x00"
+    assert answer(m, s, command, b"\x00") == b"\x01\x00"  # before the payload size
     assert m.state_digest() == before
 
 
@@ -788,7 +801,7 @@ def test_read_only_machine_protects_every_write(
     m = default_machine(clock=clock, read_only=True)
     s = m.new_session()
     before = m.state_digest()
-    assert handle(m, s, command, payload) == b"\x07\x00"
+    assert answer(m, s, command, payload) == b"\x07\x00"
     assert m.state_digest() == before
 
 
@@ -803,12 +816,12 @@ def test_read_only_machine_still_reads(clock: FakeClock) -> None:
 
 @pytest.mark.parametrize("command", [0x0000, 0x000B, 0x0101, 0x0E00, 0x0E05, 0x0E06, 0xFFFF])
 def test_unknown_command(m: Machine, s: Session, command: int) -> None:
-    assert handle(m, s, command, b"") == b"\x01\x00"
-    assert handle(m, s, command, b"\x00" * 10) == b"\x01\x00"
+    assert answer(m, s, command, b"") == b"\x01\x00"
+    assert answer(m, s, command, b"\x00" * 10) == b"\x01\x00"
 
 
 def test_handled_commands_are_all_but_inject_fault() -> None:
-    assert handled_commands() == frozenset(COMMANDS) - {Command.SIM_INJECT_FAULT}
+    assert PackedAdapter.handled == frozenset(COMMANDS) - {Command.SIM_INJECT_FAULT}
 
 
 # -- robustness -------------------------------------------------------------------------------
@@ -827,19 +840,19 @@ def _all_commands() -> Iterator[int]:
     read_only=st.booleans(),
     control=st.booleans(),
 )
-def test_handle_never_raises(command: int, payload: bytes, read_only: bool, control: bool) -> None:
+def test_answer_never_raises(command: int, payload: bytes, read_only: bool, control: bool) -> None:
     m = default_machine(read_only=read_only, control_enabled=control)
     s = m.new_session()
     if control and not read_only:
         open_gate(m, s)
     before = m.state_digest()
-    answer = handle(m, s, command, payload)
-    assert isinstance(answer, bytes) and len(answer) >= 2
+    reply = answer(m, s, command, payload)
+    assert isinstance(reply, bytes) and len(reply) >= 2
     spec = COMMANDS.get(command)
     if spec is None or command == 0x0E05:
-        assert answer == b"\x01\x00"
+        assert reply == b"\x01\x00"
         return
-    decoded = spec.response.decode(answer)
+    decoded = spec.response.decode(reply)
     failed = isinstance(decoded, EwReply) or getattr(decoded, "ew", 0) != 0
     if failed:
         assert m.state_digest() == before  # all-or-nothing
@@ -880,25 +893,34 @@ def test_machines_do_not_share_answers(clock: FakeClock) -> None:
 @pytest.mark.parametrize("wrap", [bytearray, memoryview])
 def test_payload_of_another_bytes_type(m: Machine, s: Session, wrap: Any) -> None:
     payload = wrap(DataRequest(1320, 1).encode())
-    assert handle(m, s, Command.RDPARAM, payload) == raw(
+    assert answer(m, s, Command.RDPARAM, payload) == raw(
         m, s, Command.RDPARAM, DataRequest(1320, 1)
     )
-    assert handle(m, s, Command.RDPARAM, wrap(b"\x00")) == b"\x02\x00"
+    assert answer(m, s, Command.RDPARAM, wrap(b"\x00")) == b"\x02\x00"
 
 
 def test_changes_made_outside_the_adapter_are_seen(m: Machine, s: Session) -> None:
     """Another front end (native FOCAS/2) changes the same machine through its typed API."""
     assert ew_of(m, s, Command.WRMACRO, MacroValue(120, 8, 3, 0)) == 0
     assert not call(m, s, Command.RDMACRO, MacroRequest(120)).vacant
-    m.clear_macro(120)
+    m.write_macro(120, None)
     assert call(m, s, Command.RDMACRO, MacroRequest(120)).vacant
     assert rd_param(m, s, 3216, 0).value == 10
     m.set_panel(0, 1, 0)
-    m.write_param(s, 3216, 0, 20, 2)
+    m.write_param(s, 3216, 0, 20, width=2)
     assert rd_param(m, s, 3216, 0).value == 20
     assert alarms(m, s).entries == ()
-    m.raise_alarm(2, 6, 411, b"SV0411")
+    m.raise_alarm(2, 6, 411, "SV0411")
     assert [a.key for a in alarms(m, s).entries] == [(2, 6, 411)]
+    assert call(m, s, Command.RDCNCSTAT).alarm == 1
+    assert call(m, s, Command.RDPMCRNG, PmcRange(PmcArea.R, 0, 0, 1)).data == b"\x00\x00"
+    m.write_pmc("R", 1, b"\x07")
+    assert call(m, s, Command.RDPMCRNG, PmcRange(PmcArea.R, 0, 0, 1)).data == b"\x00\x07"
+    assert call(m, s, Command.RDPOSITION, PositionRequest(1, 2)).axes[0].value == 0
+    m.set_motion(machine=[0, -9, 0])
+    assert call(m, s, Command.RDPOSITION, PositionRequest(1, 2)).axes[0].value == -9
+    m.set_run(3, 1)
+    assert call(m, s, Command.RDCNCSTAT).run == 3
 
 
 _REQUESTS = st.one_of(
@@ -935,9 +957,9 @@ def test_write_sequences_are_all_or_nothing(requests: list[tuple[int, bytes]]) -
     s = m.new_session()
     for command, payload in requests:
         before = m.state_digest()
-        answer = handle(m, s, command, payload)
-        assert len(answer) == 2
-        if answer != b"\x00\x00":
+        reply = answer(m, s, command, payload)
+        assert len(reply) == 2
+        if reply != b"\x00\x00":
             assert m.state_digest() == before
     # the status always matches the panel and the alarms
     st_ = call(m, s, Command.RDCNCSTAT)

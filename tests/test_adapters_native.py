@@ -5,11 +5,13 @@ from __future__ import annotations
 
 import math
 import struct
+from decimal import Decimal
 
 import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
+from focas_net.adapters import NativeAdapter, macro_from_double
 from focas_net.errors import EW
 from focas_net.native import (
     REQUEST_TYPES,
@@ -17,16 +19,16 @@ from focas_net.native import (
     FrameType,
     MacroDoubleWriteRequest,
     MacroReadRequest,
-    NativeAdapter,
     NativeCommand,
     NativeFrameError,
+    PmcReadRequest,
     RequestBlock,
     SysInfoRequest,
     decode_frame,
     decode_response_body,
     encode_request_body,
-    macro_from_double,
 )
+from focas_net.native import PmcArea as NativePmcArea
 from focas_net.sim import default_machine
 
 
@@ -136,7 +138,7 @@ def _blocks(draw: st.DrawFn, keys: list[tuple[int, int]]) -> RequestBlock:
 @given(st.lists(_blocks(_READS), min_size=0, max_size=12))
 def test_arbitrary_reads_answer_every_block_and_change_nothing(blocks: list[RequestBlock]) -> None:
     machine = default_machine()
-    machine.raise_alarm(1, 2, 300, b"ALARM")
+    machine.raise_alarm(1, 2, 300, "ALARM")
     adapter = NativeAdapter(machine)
     before = machine.state_digest()
     raw = adapter.answer(encode_request_body(blocks)) if blocks else adapter.answer(b"")
@@ -176,7 +178,63 @@ def test_arbitrary_macro_writes(number: int, value: float, extra: bytes) -> None
         assert ew == EW.DATA
     else:
         assert ew == 0
-        stored = machine.read_macro(number)
-        assert (stored.mcr_val, stored.dec_val) == macro_from_double(value)
+        stored = macro_from_double(value)
+        assert stored is not None
+        assert machine.read_macro(number) == Decimal(stored[0]).scaleb(-stored[1])
     if len(extra) != 8:
         assert answers[0] == (EW.LENGTH, 0)
+
+
+def test_forced_answer_carries_the_code_in_every_block_and_runs_nothing() -> None:
+    machine = default_machine()
+    adapter = NativeAdapter(machine)
+    before = machine.state_digest()
+    blocks = [
+        SysInfoRequest().to_block(),
+        MacroDoubleWriteRequest(500, 1.5).to_block(),
+        RequestBlock(Device.CNC, 2, 0x7777, (0, 0, 0, 0, 0), b""),
+    ]
+    frame = decode_frame(adapter.forced_answer(encode_request_body(blocks), EW.BUSY))
+    assert frame.type == FrameType.DATA_RESPONSE and frame.version == adapter.version
+    answers = decode_response_body(frame.body)
+    assert [(a.device, a.path, a.command) for a in answers] == [
+        (b.device, b.path, b.command) for b in blocks
+    ]
+    assert all(a.ew == EW.BUSY and a.data == b"" for a in answers)
+    assert machine.state_digest() == before and machine.read_macro(500) is None
+    with pytest.raises(NativeFrameError):
+        adapter.forced_answer(encode_request_body([SysInfoRequest().to_block()] * 91), EW.BUSY)
+
+
+def test_double_writes_go_through_the_machine_write() -> None:
+    machine = default_machine(read_only=True)
+    adapter = NativeAdapter(machine)
+    # the machine's order: read-only first, whatever the number or the value
+    for number, value in ((9999, math.inf), (4001, 1.0), (500, None)):
+        block = MacroDoubleWriteRequest(number, value).to_block()
+        assert _answer(adapter, block)[1] == [(EW.PROT, 0)]
+    machine = default_machine()
+    adapter = NativeAdapter(machine)
+    assert _answer(adapter, MacroDoubleWriteRequest(500, 12.5).to_block())[1] == [(0, 0)]
+    assert str(machine.read_macro(500)) == "12.5"
+    assert _answer(adapter, MacroDoubleWriteRequest(500, None).to_block())[1] == [(0, 0)]
+    assert machine.read_macro(500) is None
+
+
+def test_pmc_reads_are_bounded_by_the_answer_only() -> None:
+    machine = default_machine()
+    data = bytes(i % 256 for i in range(1400))
+    machine.write_pmc("D", 100, data)
+    adapter = NativeAdapter(machine)
+    block = PmcReadRequest(100, 1499, NativePmcArea.D, 0).to_block()
+    frame = decode_frame(adapter.answer(encode_request_body([block])))
+    (reply,) = decode_response_body(frame.body)
+    assert (reply.ew, reply.data) == (0, data)  # one read of the machine, no 32-byte pieces
+    words = PmcReadRequest(100, 1499, NativePmcArea.D, 1).to_block()
+    frame = decode_frame(adapter.answer(encode_request_body([words])))
+    (reply,) = decode_response_body(frame.body)
+    assert reply.data[:4] == bytes([1, 0, 3, 2])  # little-endian PMC words, big-endian answer
+    too_long = PmcReadRequest(0, 1450, NativePmcArea.D, 0).to_block()
+    assert _answer(adapter, too_long)[1] == [(EW.LENGTH, 0)]
+    past_the_end = PmcReadRequest(9990, 10009, NativePmcArea.D, 0).to_block()
+    assert _answer(adapter, past_the_end)[1] == [(EW.NUMBER, 0)]

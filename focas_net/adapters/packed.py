@@ -1,0 +1,549 @@
+"""The packed-protocol adapter: one request payload in, the answer payload out.
+
+:class:`PackedAdapter` answers every command of ``docs/protocol.md`` sections 3-5 and the control
+commands 0x0E01..0x0E04 from a protocol-neutral :class:`~focas_net.sim.Machine`. The server adds
+the frame header (same command, same request id). 0x0E05 inject_fault is not handled here: faults
+are about I/O and the server answers that command itself (here it answers EW_FUNC). Pure and
+synchronous: no socket, no event loop.
+
+Every request is decoded and every answer encoded with the codecs of
+:data:`~focas_net.protocol.COMMANDS`; the machine gets domain values (PMC letters, ``Decimal``
+macro values, ``None`` for all axes) and gives them back.
+
+The wire's rules are here, the CNC's are the machine's (:mod:`focas_net.sim.machine`). Order of
+the checks, per command (each stops at the first that fails; ``docs/protocol.md`` section 8):
+
+* unknown command -> EW_FUNC;
+* control commands: control disabled -> EW_FUNC (before the payload is looked at);
+* a payload of the wrong size or layout -> EW_LENGTH (counted lists: ``count = -1, ew``);
+* writes and control commands on a read-only machine -> EW_PROT (the machine's first check;
+  asked first where a check of the wire would come before the machine's other checks);
+* then the command's own checks. Those of the wire, between the machine's:
+
+  - ``pmc_rdpmcrng``/``pmc_wrpmcrng``/``set_pmc``: an unknown ``type_a`` code -> EW_ATTRIB,
+    then the machine's EW_NOOPT (no such area), then ``type_d`` other than 0 -> EW_ATTRIB, a
+    count outside 1..32 -> EW_LENGTH, (writes) data length other than the count -> EW_LENGTH,
+    then the machine's EW_NUMBER and EW_PROT;
+  - ``cnc_wrmacro``: the ``length`` word other than 8 -> EW_LENGTH, before the machine's
+    checks. The value is ``mcr_val / 10**dec_val`` with ``dec_val`` decimals: a ``dec_val``
+    outside 0..9 is a value the machine refuses (EW_DATA, after EW_NUMBER and EW_PROT);
+  - ``cnc_rdalmmsg``: ``max`` outside 1..32 -> EW_LENGTH; ``cnc_rdalmhistry``: ``depth``
+    outside 1..250 -> EW_LENGTH;
+  - ``versamax_rdconfig``: the machine's EW_NUMBER for an empty slot, then ``length`` outside
+    1..128 -> EW_LENGTH, then the machine's EW_NUMBER for the offset;
+  - ``cnc_rdposition``: a ``type`` outside 0..3 -> EW_ATTRIB; ``axis`` -1 means every axis.
+
+:meth:`PackedAdapter.answer` never raises for anything a peer sends: a payload that does not
+decode answers EW_LENGTH and every refusal its EW code. The dispatch is a dict from command id to
+a bound handler, built once per adapter.
+
+Answers of successful reads are kept by the adapter, keyed by request payload, and dropped when
+the machine's counter of what they show moves (``status_version``, ``data_version``,
+``macro_version``, ``alarm_version``, ``pmc_version``, ``motion_version``): :class:`_Answers`
+owns that invalidation, the status (the hot path of a poller) has a slot of its own and the
+identity never changes. The machine keeps no answers of its own.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+from decimal import Decimal
+from typing import Any, ClassVar, Final
+
+from focas_net.errors import EW, PayloadError
+from focas_net.protocol import (
+    COMMANDS,
+    MAX_CONFIG_CHUNK,
+    MAX_HISTORY_DEPTH,
+    MAX_PMC_CHUNK,
+    ActiveAlarm,
+    ActiveAlarmList,
+    ActualValue,
+    AlarmHistory,
+    AlarmHistoryEntry,
+    AxisPosition,
+    Command,
+    MacroValue,
+    ParamValue,
+    PmcArea,
+    PmcData,
+    PositionData,
+    ProgramNumbers,
+    StatusInfo,
+    SysInfo,
+    VersaMaxReply,
+    encode_ew,
+)
+from focas_net.sim import POSITION_DECIMALS, POSITION_KINDS, Machine, MachineError, Session
+
+__all__ = ["PackedAdapter"]
+
+#: One handler: ``(session, payload) -> answer``; raises MachineError, PayloadError, _Refused.
+_Handler = Callable[[Session, bytes], bytes]
+
+#: ``type_a`` code -> PMC area letter.
+_AREA_LETTERS: Final[dict[int, str]] = {area.value: area.name for area in PmcArea}
+#: Most entries one ``cnc_rdalmmsg`` answer carries (``max`` 1..32).
+_MAX_ALARMS: Final = 32
+#: The ``length`` word of ODBM.
+_ODBM_LENGTH: Final = 8
+#: Entries each answer cache holds at most.
+_CACHE_LIMIT: Final = 1024
+#: Entries of the table of error answers at most.
+_ERROR_LIMIT: Final = 4096
+
+_EW_FUNC: Final = encode_ew(EW.FUNC)
+
+
+def _request(command: Command) -> Callable[[bytes], Any]:
+    return COMMANDS[command].request.decode
+
+
+def _response(command: Command) -> Callable[[Any], bytes]:
+    return COMMANDS[command].response.encode
+
+
+_OK: Final = _response(Command.WRPARAM)(None)
+
+
+def _macro_parts(value: Decimal | None) -> tuple[int, int]:
+    """``(mcr_val, dec_val)`` of a macro value (a machine's value has 0..9 decimals); vacant is
+    ``(0, -1)``."""
+    if value is None:
+        return 0, -1
+    sign, digits, exponent = value.as_tuple()
+    assert isinstance(exponent, int)
+    coefficient = int("".join(map(str, digits)))
+    return (-coefficient if sign else coefficient), -exponent
+
+
+class _Refused(Exception):
+    """A request refused by the wire's own rules: answer it with ``ew``."""
+
+    def __init__(self, ew: int) -> None:
+        super().__init__(ew)
+        self.ew = ew
+
+
+class _Answers:
+    """Answers of one read command keyed by request payload, valid while a machine counter
+    stays where it was when they were kept (:meth:`renew` drops them when it moved); at most
+    ``_CACHE_LIMIT`` of them. A handler checks :attr:`version` itself: the hit costs no call."""
+
+    __slots__ = ("answers", "version")
+
+    def __init__(self) -> None:
+        self.answers: dict[bytes, bytes] = {}
+        self.version = -1
+
+    def renew(self, version: int) -> None:
+        """The machine's counter is at ``version`` now: drop every answer kept before."""
+        self.answers.clear()
+        self.version = version
+
+    def keep(self, payload: bytes, answer: bytes) -> bytes:
+        """Keep ``answer`` for ``payload`` (shown by the machine at :attr:`version`)."""
+        if len(self.answers) < _CACHE_LIMIT:
+            self.answers[payload] = answer
+        return answer
+
+
+class PackedAdapter:
+    """Answers packed-protocol requests from one machine (see the module docstring)."""
+
+    #: The command ids :meth:`answer` answers (every command but 0x0E05).
+    handled: ClassVar[frozenset[int]] = frozenset(
+        int(c) for c in COMMANDS if c != Command.SIM_INJECT_FAULT
+    )
+
+    __slots__ = (
+        "_almmsg",
+        "_diags",
+        "_errors",
+        "_feed",
+        "_history",
+        "_macros",
+        "_params",
+        "_pmc",
+        "_positions",
+        "_prgnum",
+        "_spindle",
+        "_status",
+        "_status_version",
+        "_sysinfo",
+        "_table",
+        "machine",
+    )
+
+    def __init__(self, machine: Machine) -> None:
+        self.machine = machine
+        i = machine.identity()
+        self._sysinfo = _encode_sysinfo(
+            SysInfo(
+                i.addinfo,
+                i.max_axis,
+                i.cnc_type.encode("latin-1"),
+                i.mt_type.encode("latin-1"),
+                i.series.encode("latin-1"),
+                i.version.encode("latin-1"),
+                i.axes.encode("latin-1"),
+            )
+        )
+        self._status = b""
+        self._status_version = -1
+        self._params = _Answers()
+        self._diags = _Answers()
+        self._macros = _Answers()
+        self._almmsg = _Answers()
+        self._history = _Answers()
+        self._pmc = _Answers()
+        self._prgnum = _Answers()
+        self._feed = _Answers()
+        self._spindle = _Answers()
+        self._positions = _Answers()
+        self._errors: dict[tuple[int, int], bytes] = {}
+        by_id: dict[Command, _Handler] = {
+            Command.RDCNCSTAT: self._rdcncstat,
+            Command.RDPARAM: self._rdparam,
+            Command.RDMACRO: self._rdmacro,
+            Command.RDDIAG: self._rddiag,
+            Command.SYSINFO: self._sysinfo_answer,
+            Command.RDALMMSG: self._rdalmmsg,
+            Command.RDPRGNUM: self._rdprgnum,
+            Command.ACTF: self._actf,
+            Command.ACTS: self._acts,
+            Command.RDPOSITION: self._rdposition,
+            Command.RDPMCRNG: self._rdpmcrng,
+            Command.WRPARAM: self._wrparam,
+            Command.WRMACRO: self._wrmacro,
+            Command.WRPMCRNG: self._wrpmcrng,
+            Command.WRUNLOCKPARAM: self._unlock,
+            Command.VERSAMAX_RDCONFIG: self._versamax,
+            Command.SIM_SET_PANEL: self._set_panel,
+            Command.SIM_RAISE_ALARM: self._raise_alarm,
+            Command.SIM_CLEAR_ALARMS: self._clear_alarms,
+            Command.SIM_SET_PMC: self._set_pmc,
+            Command.RDALMHISTRY: self._rdalmhistry,
+        }
+        assert frozenset(by_id) == self.handled
+        # plain int keys: a lookup by int must not go through IntEnum hashing
+        self._table: dict[int, _Handler] = {int(k): v for k, v in by_id.items()}
+
+    def __repr__(self) -> str:
+        return f"PackedAdapter({self.machine!r})"
+
+    def answer(self, session: Session, command: int, payload: bytes) -> bytes:
+        """The complete answer payload of one request; never raises for what a peer sends."""
+        fn = self._table.get(command)
+        if fn is None:
+            return _EW_FUNC
+        if type(payload) is not bytes:  # the answer caches key on the payload: make it hashable
+            payload = bytes(payload)
+        try:
+            return fn(session, payload)
+        except (MachineError, _Refused) as exc:
+            return self.error_answer(command, exc.ew)
+        except PayloadError:
+            return self.error_answer(command, EW.LENGTH)
+
+    def error_answer(self, command: int, ew: int) -> bytes:
+        """The answer of ``command`` carrying only ``ew`` (``count = -1, ew`` for counted
+        lists): what a refusal answers, and a forced EW code of fault injection."""
+        key = (command, ew)
+        answer = self._errors.get(key)
+        if answer is None:
+            spec = COMMANDS.get(command)
+            answer = spec.error_payload(ew) if spec is not None else encode_ew(ew)
+            if len(self._errors) < _ERROR_LIMIT:
+                self._errors[key] = answer
+        return answer
+
+    # -- reads ---------------------------------------------------------------------------
+    def _rdcncstat(self, _session: Session, payload: bytes) -> bytes:
+        if payload:
+            _decode_empty(payload)  # raises: this request is empty
+        if self._status_version == self.machine.status_version:  # the hot path: one compare
+            return self._status
+        return self._new_status()
+
+    def _new_status(self) -> bytes:
+        m = self.machine
+        s = m.status()
+        info = StatusInfo(
+            s.hdck, s.tmmode, s.aut, s.run, s.motion, s.mstb, s.emergency, s.alarm, s.edit
+        )
+        self._status = _encode_status(info)
+        self._status_version = m.status_version
+        return self._status
+
+    def _sysinfo_answer(self, _session: Session, payload: bytes) -> bytes:
+        if payload:
+            _decode_empty(payload)
+        return self._sysinfo
+
+    def _rdparam(self, _session: Session, payload: bytes) -> bytes:
+        m = self.machine
+        cache = self._params
+        if cache.version != m.data_version:
+            cache.renew(m.data_version)
+        answer = cache.answers.get(payload)
+        if answer is None:
+            req = _decode_param_request(payload)
+            value = m.read_param(req.datano, req.axis)
+            item = m.param_item(req.datano)
+            assert item is not None
+            answer = cache.keep(
+                payload, _encode_param(ParamValue(req.datano, req.axis, value, item.width))
+            )
+        return answer
+
+    def _rddiag(self, _session: Session, payload: bytes) -> bytes:
+        m = self.machine
+        cache = self._diags
+        if cache.version != m.data_version:
+            cache.renew(m.data_version)
+        answer = cache.answers.get(payload)
+        if answer is None:
+            req = _decode_diag_request(payload)
+            value = m.read_diag(req.datano, req.axis)
+            item = m.diag_item(req.datano)
+            assert item is not None
+            answer = cache.keep(
+                payload, _encode_diag(ParamValue(req.datano, req.axis, value, item.width))
+            )
+        return answer
+
+    def _rdmacro(self, _session: Session, payload: bytes) -> bytes:
+        m = self.machine
+        cache = self._macros
+        if cache.version != m.macro_version:
+            cache.renew(m.macro_version)
+        answer = cache.answers.get(payload)
+        if answer is None:
+            number = _decode_macro_request(payload).number
+            mcr_val, dec_val = _macro_parts(m.read_macro(number))
+            answer = cache.keep(
+                payload, _encode_macro(MacroValue(number, _ODBM_LENGTH, mcr_val, dec_val))
+            )
+        return answer
+
+    def _rdalmmsg(self, _session: Session, payload: bytes) -> bytes:
+        m = self.machine
+        cache = self._almmsg
+        if cache.version != m.alarm_version:
+            cache.renew(m.alarm_version)
+        answer = cache.answers.get(payload)
+        if answer is None:
+            req = _decode_almmsg_request(payload)
+            if not 1 <= req.max <= _MAX_ALARMS:
+                raise _Refused(EW.LENGTH)
+            entries = tuple(
+                ActiveAlarm(a.axis_no, a.alm_type, a.alm_no, a.msg)
+                for a in m.active_alarms(req.type, req.max)
+            )
+            answer = cache.keep(payload, _encode_almmsg(ActiveAlarmList(entries)))
+        return answer
+
+    def _rdalmhistry(self, _session: Session, payload: bytes) -> bytes:
+        m = self.machine
+        cache = self._history
+        if cache.version != m.alarm_version:
+            cache.renew(m.alarm_version)
+        answer = cache.answers.get(payload)
+        if answer is None:
+            depth = _decode_history_request(payload).depth
+            if not 1 <= depth <= MAX_HISTORY_DEPTH:
+                raise _Refused(EW.LENGTH)
+            entries = tuple(
+                AlarmHistoryEntry(e.occurred_at, e.axis_no, e.alm_type, e.alm_no, e.msg)
+                for e in m.alarm_history(depth)
+            )
+            answer = cache.keep(payload, _encode_history(AlarmHistory(entries)))
+        return answer
+
+    def _rdprgnum(self, _session: Session, payload: bytes) -> bytes:
+        m = self.machine
+        cache = self._prgnum
+        if cache.version != m.motion_version:
+            cache.renew(m.motion_version)
+        answer = cache.answers.get(payload)
+        if answer is None:
+            _decode_prgnum_request(payload)
+            mo = m.motion
+            answer = _encode_prgnum(ProgramNumbers(mo.program_running, mo.program_main))
+            answer = cache.keep(payload, answer)
+        return answer
+
+    def _actf(self, _session: Session, payload: bytes) -> bytes:
+        m = self.machine
+        cache = self._feed
+        if cache.version != m.motion_version:
+            cache.renew(m.motion_version)
+        answer = cache.answers.get(payload)
+        if answer is None:
+            _decode_actf_request(payload)
+            answer = cache.keep(payload, _encode_actf(ActualValue(m.motion.feed)))
+        return answer
+
+    def _acts(self, _session: Session, payload: bytes) -> bytes:
+        m = self.machine
+        cache = self._spindle
+        if cache.version != m.motion_version:
+            cache.renew(m.motion_version)
+        answer = cache.answers.get(payload)
+        if answer is None:
+            _decode_acts_request(payload)
+            answer = _encode_acts(ActualValue(m.motion.spindle_speed))
+            answer = cache.keep(payload, answer)
+        return answer
+
+    def _rdposition(self, _session: Session, payload: bytes) -> bytes:
+        m = self.machine
+        cache = self._positions
+        if cache.version != m.motion_version:
+            cache.renew(m.motion_version)
+        answer = cache.answers.get(payload)
+        if answer is None:
+            req = _decode_position_request(payload)
+            if not 0 <= req.type < len(POSITION_KINDS):
+                raise _Refused(EW.ATTRIB)
+            axis = None if req.axis == -1 else req.axis
+            values = m.positions(POSITION_KINDS[req.type], axis)
+            axes = tuple(AxisPosition(name[:4], value) for name, value in values)
+            answer = cache.keep(payload, _encode_position(PositionData(POSITION_DECIMALS, axes)))
+        return answer
+
+    def _pmc_letter(self, type_a: int) -> str:
+        """The area of ``type_a``: EW_ATTRIB for an unknown code, EW_NOOPT for an area the
+        machine does not have."""
+        letter = _AREA_LETTERS.get(type_a)
+        if letter is None:
+            raise _Refused(EW.ATTRIB)
+        self.machine.check_pmc_area(letter)
+        return letter
+
+    @staticmethod
+    def _pmc_count(type_d: int, start: int, end: int) -> int:
+        if type_d != 0:
+            raise _Refused(EW.ATTRIB)
+        count = end - start + 1
+        if not 1 <= count <= MAX_PMC_CHUNK:
+            raise _Refused(EW.LENGTH)
+        return count
+
+    def _rdpmcrng(self, _session: Session, payload: bytes) -> bytes:
+        m = self.machine
+        cache = self._pmc
+        if cache.version != m.pmc_version:
+            cache.renew(m.pmc_version)
+        answer = cache.answers.get(payload)
+        if answer is None:
+            r = _decode_pmc_request(payload)
+            letter = self._pmc_letter(r.type_a)
+            count = self._pmc_count(r.type_d, r.datano_s, r.datano_e)
+            data = m.read_pmc(letter, r.datano_s, count)
+            answer = _encode_pmc(PmcData(r.type_a, r.type_d, r.datano_s, r.datano_e, data))
+            answer = cache.keep(payload, answer)
+        return answer
+
+    def _versamax(self, _session: Session, payload: bytes) -> bytes:
+        req = _decode_versamax_request(payload)
+        m = self.machine
+        m.config_record(req.rack, req.slot)
+        if not 1 <= req.length <= MAX_CONFIG_CHUNK:
+            raise _Refused(EW.LENGTH)
+        data = m.read_config(req.rack, req.slot, req.offset, req.length)
+        return _encode_versamax(VersaMaxReply(req.rack, req.slot, req.offset, data))
+
+    # -- writes --------------------------------------------------------------------------
+    def _wrparam(self, session: Session, payload: bytes) -> bytes:
+        pv = _decode_param_write(payload)
+        self.machine.write_param(session, pv.datano, pv.axis, pv.value, width=pv.width)
+        return _OK
+
+    def _wrmacro(self, _session: Session, payload: bytes) -> bytes:
+        mv = _decode_macro_write(payload)
+        if mv.length != _ODBM_LENGTH:
+            raise _Refused(EW.LENGTH)
+        self.machine.write_macro(mv.number, Decimal(f"{mv.mcr_val}E{-mv.dec_val}"))
+        return _OK
+
+    def _write_pmc(self, d: PmcData, *, force: bool) -> bytes:
+        m = self.machine
+        m.check_writable()
+        letter = self._pmc_letter(d.type_a)
+        count = self._pmc_count(d.type_d, d.datano_s, d.datano_e)
+        if len(d.data) != count:
+            raise _Refused(EW.LENGTH)
+        m.write_pmc(letter, d.datano_s, d.data, force=force)
+        return _OK
+
+    def _wrpmcrng(self, _session: Session, payload: bytes) -> bytes:
+        return self._write_pmc(_decode_pmc_write(payload), force=False)
+
+    def _unlock(self, session: Session, payload: bytes) -> bytes:
+        self.machine.unlock(session, _decode_password(payload).password)
+        return _OK
+
+    # -- simulator control (0x0E01..0x0E04) -------------------------------------------------
+    def _set_panel(self, _session: Session, payload: bytes) -> bytes:
+        if not self.machine.control_enabled:
+            return _EW_FUNC
+        p = _decode_set_panel(payload)
+        self.machine.set_panel(p.mode, p.pwe, p.emergency)
+        return _OK
+
+    def _raise_alarm(self, _session: Session, payload: bytes) -> bytes:
+        if not self.machine.control_enabled:
+            return _EW_FUNC
+        a = _decode_raise_alarm(payload)
+        self.machine.raise_alarm(a.axis_no, a.alm_type, a.alm_no, a.msg.decode("latin-1"))
+        return _OK
+
+    def _clear_alarms(self, _session: Session, payload: bytes) -> bytes:
+        if not self.machine.control_enabled:
+            return _EW_FUNC
+        c = _decode_clear_alarms(payload)
+        self.machine.clear_alarms(c.alm_type, c.alm_no)
+        return _OK
+
+    def _set_pmc(self, _session: Session, payload: bytes) -> bytes:
+        if not self.machine.control_enabled:
+            return _EW_FUNC
+        return self._write_pmc(_decode_set_pmc(payload), force=True)
+
+
+# The codecs of each command, looked up once.
+_decode_empty: Final = _request(Command.RDCNCSTAT)
+_encode_status: Final = _response(Command.RDCNCSTAT)
+_encode_sysinfo: Final = _response(Command.SYSINFO)
+_decode_param_request: Final = _request(Command.RDPARAM)
+_encode_param: Final = _response(Command.RDPARAM)
+_decode_diag_request: Final = _request(Command.RDDIAG)
+_encode_diag: Final = _response(Command.RDDIAG)
+_decode_macro_request: Final = _request(Command.RDMACRO)
+_encode_macro: Final = _response(Command.RDMACRO)
+_decode_almmsg_request: Final = _request(Command.RDALMMSG)
+_encode_almmsg: Final = _response(Command.RDALMMSG)
+_decode_history_request: Final = _request(Command.RDALMHISTRY)
+_encode_history: Final = _response(Command.RDALMHISTRY)
+_decode_prgnum_request: Final = _request(Command.RDPRGNUM)
+_encode_prgnum: Final = _response(Command.RDPRGNUM)
+_decode_actf_request: Final = _request(Command.ACTF)
+_encode_actf: Final = _response(Command.ACTF)
+_decode_acts_request: Final = _request(Command.ACTS)
+_encode_acts: Final = _response(Command.ACTS)
+_decode_position_request: Final = _request(Command.RDPOSITION)
+_encode_position: Final = _response(Command.RDPOSITION)
+_decode_pmc_request: Final = _request(Command.RDPMCRNG)
+_encode_pmc: Final = _response(Command.RDPMCRNG)
+_decode_versamax_request: Final = _request(Command.VERSAMAX_RDCONFIG)
+_encode_versamax: Final = _response(Command.VERSAMAX_RDCONFIG)
+_decode_param_write: Final = _request(Command.WRPARAM)
+_decode_macro_write: Final = _request(Command.WRMACRO)
+_decode_pmc_write: Final = _request(Command.WRPMCRNG)
+_decode_password: Final = _request(Command.WRUNLOCKPARAM)
+_decode_set_panel: Final = _request(Command.SIM_SET_PANEL)
+_decode_raise_alarm: Final = _request(Command.SIM_RAISE_ALARM)
+_decode_clear_alarms: Final = _request(Command.SIM_CLEAR_ALARMS)
+_decode_set_pmc: Final = _request(Command.SIM_SET_PMC)

@@ -1,0 +1,89 @@
+"""Who may import whom: the machine knows no protocol, each adapter knows the machine and its
+own codec only. Read from the source with ``ast``, so nothing is imported to find out."""
+
+from __future__ import annotations
+
+import ast
+import sys
+from pathlib import Path
+
+import pytest
+
+PACKAGE = Path(__file__).resolve().parent.parent / "focas_net"
+
+
+def _module_name(path: Path) -> str:
+    parts = list(path.relative_to(PACKAGE.parent).with_suffix("").parts)
+    if parts[-1] == "__init__":
+        parts.pop()
+    return ".".join(parts)
+
+
+def imports_of(path: Path) -> set[str]:
+    """Every module ``path`` imports, relative imports resolved (``from x import y`` counts as
+    ``x`` and, when ``x.y`` is a module of focas_net, as ``x.y`` too)."""
+    name = _module_name(path)
+    package = name if path.name == "__init__.py" else name.rpartition(".")[0]
+    found: set[str] = set()
+    for node in ast.walk(ast.parse(path.read_text(), str(path))):
+        if isinstance(node, ast.Import):
+            found.update(alias.name for alias in node.names)
+        elif isinstance(node, ast.ImportFrom):
+            if node.level:
+                base = package.split(".")
+                base = base[: len(base) - node.level + 1]
+                target = ".".join([*base, node.module] if node.module else base)
+            else:
+                assert node.module is not None
+                target = node.module
+            found.add(target)
+            for alias in node.names:
+                candidate = f"{target}.{alias.name}"
+                parts = candidate.split(".")
+                if (PACKAGE.parent.joinpath(*parts).with_suffix(".py")).exists():
+                    found.add(candidate)
+    return found
+
+
+def _allowed(module: str, prefixes: tuple[str, ...]) -> bool:
+    if module.split(".")[0] in sys.stdlib_module_names or module == "__future__":
+        return True
+    return any(module == p or module.startswith(p + ".") for p in prefixes)
+
+
+def _files(relative: str) -> list[Path]:
+    target = PACKAGE / relative
+    return sorted(target.rglob("*.py")) if target.is_dir() else [target]
+
+
+NEUTRAL = ("focas_net.errors", "focas_net.versamax")
+
+
+@pytest.mark.parametrize("path", _files("sim"), ids=lambda p: p.name)
+def test_the_machine_imports_no_protocol(path: Path) -> None:
+    found = imports_of(path)
+    assert {m for m in found if not _allowed(m, ("focas_net.sim", *NEUTRAL))} == set()
+    assert not any(m.startswith(("focas_net.protocol", "focas_net.native")) for m in found)
+
+
+def test_the_versamax_record_is_neutral() -> None:
+    found = imports_of(PACKAGE / "versamax.py")
+    assert {m for m in found if not _allowed(m, ("focas_net.errors",))} == set()
+
+
+def test_the_packed_adapter_imports_the_machine_and_its_codec_only() -> None:
+    found = imports_of(PACKAGE / "adapters" / "packed.py")
+    own = ("focas_net.sim", "focas_net.protocol", *NEUTRAL)
+    assert {m for m in found if not _allowed(m, own)} == set()
+
+
+def test_the_native_adapter_imports_the_machine_and_its_codec_only() -> None:
+    found = imports_of(PACKAGE / "adapters" / "native.py")
+    own = ("focas_net.sim", "focas_net.native.codec", *NEUTRAL)
+    assert {m for m in found if not _allowed(m, own)} == set()
+
+
+def test_the_import_reader_sees_relative_imports() -> None:
+    found = imports_of(PACKAGE / "sim" / "default.py")
+    assert "focas_net.sim.machine" in found and "focas_net.versamax" in found
+    assert "focas_net.protocol" in imports_of(PACKAGE / "client" / "client.py")
