@@ -456,10 +456,11 @@ class MacroDoubles:
 
 
 class ParamType(enum.IntEnum):
-    """The ``type`` word of parameter records (0x0E, 0x0F, 0x8D, 0x8E) and bits 0-1 of the
-    0x10 attribute word, as FANUC's library reads them [V]: it copies 1 byte per slot for
-    BIT and BYTE, 2 for WORD, 4 for TWO_WORD, and a value/decimals pair for REAL; any other
-    type copies nothing."""
+    """The ``type`` word of parameter records (0x0E, 0x0F, 0x8D, 0x8E) and of the 0x10
+    attribute word, as FANUC's library reads them [V]: it copies 1 byte per slot for BIT and
+    BYTE, 2 for WORD, 4 for TWO_WORD, and a value/decimals pair for REAL; any other type (5...)
+    copies nothing. At 16i class ``cnc_wrparam`` refuses every length with EW_LENGTH when 0x10
+    answers REAL, so REAL parameters are written only at 30i class (0xA0 type 4)."""
 
     BIT = 0
     BYTE = 1
@@ -478,7 +479,8 @@ _PARAM_BY_WIDTH: Final = {1: ParamType.BYTE, 2: ParamType.WORD, 4: ParamType.TWO
 
 class DiagType(enum.IntEnum):
     """The ``type`` word of diagnostic records (0x30, 0x93) [V]: 0 byte, 1 word, 2 two-word,
-    5 real (0x93). On 0x30 FANUC's library reads 3 as a byte and 4 or 5 as real."""
+    5 real (a value/decimals pair). FANUC's library reads 3 and 4 as a byte, on both
+    commands."""
 
     BYTE = 0
     WORD = 1
@@ -577,8 +579,11 @@ class ItemValues:
 
     records: tuple[ItemRecord, ...]
 
-    def encode(self, max_axis: int) -> bytes:
+    def encode(self, max_axis: int | None = None) -> bytes:
+        """The records, each with ``max_axis`` slots (default: as many as the first has)."""
         parts: list[bytes] = []
+        if max_axis is None and self.records:
+            max_axis = len(self.records[0].values)
         for r in self.records:
             if len(r.values) != max_axis:
                 raise ValueError(f"record {r.number} has {len(r.values)} slots, not {max_axis}")
@@ -639,8 +644,11 @@ class ScaledItemValues:
 
     records: tuple[ScaledItemRecord, ...]
 
-    def encode(self, max_axis: int) -> bytes:
+    def encode(self, max_axis: int | None = None) -> bytes:
+        """The records, each with ``max_axis`` slots (default: as many as the first has)."""
         parts: list[bytes] = []
+        if max_axis is None and self.records:
+            max_axis = len(self.records[0].values)
         for r in self.records:
             if len(r.values) != max_axis:
                 raise ValueError(f"record {r.number} has {len(r.values)} slots, not {max_axis}")
@@ -869,11 +877,12 @@ class AxisUnits(RecordArray[AxisUnit]):
 
 @dataclass(frozen=True, slots=True)
 class AxisDisplay(NativeRecord):
-    """One 4-byte entry of 0xA3 (``cnc_rdposition``, 30i class), per axis: display flags.
+    """One 4-byte entry of 0xA3 (``cnc_rdposition``, 30i class), per axis: display flags [V].
 
-    Four zero bytes are accepted (every ``disp`` comes back 0) [V]; ``flags`` (the last byte)
-    sets ``disp`` of the four positions [I] (0xFF made all four 1; 01020304 made only the
-    distance 1).
+    Only the last byte, ``flags``, is read: it sets the ``disp`` words of the axis's four
+    positions. Bit 0 shows the machine position, bit 1 the absolute and relative ones, bit 2
+    the distance to go, bit 3 absolute, relative and distance; bits 4-7 and the first three
+    bytes change nothing. Four zero bytes are accepted (every ``disp`` 0).
     """
 
     FORMAT: ClassVar[str] = ">3sB"

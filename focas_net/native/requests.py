@@ -6,7 +6,8 @@ answer type in ``ANSWER``. From that single declaration:
 
 * ``to_block(path)`` builds the block a client sends, ``from_block(block)`` reads it back (a
   field given twice, as in ``(n, n)``, is read from its first place);
-* ``decode_answer(data)`` reads the answer block's data (``ANSWER.decode``).
+* ``decode_answer(data)`` reads the answer block's data (``ANSWER.decode``) and
+  ``encode_answer(answer)`` writes it.
 
 The FOCAS functions that send each request are named in its docstring, per command set:
 "16i class" (open answer version <= 2) and "30i class" (version >= 3), see :mod:`.opening`.
@@ -16,7 +17,7 @@ from __future__ import annotations
 
 import enum
 from dataclasses import dataclass
-from typing import Any, ClassVar, Final, Generic, Self, TypeVar
+from typing import Any, ClassVar, Final, Generic, Self, TypeVar, cast
 
 from focas_net.errors import EW
 
@@ -233,6 +234,11 @@ class NativeRequest(Generic[A]):
         answer: A = self.ANSWER.decode(data)
         return answer
 
+    def encode_answer(self, answer: A) -> bytes:
+        """The answer data carrying ``answer`` (the inverse of :meth:`decode_answer`)."""
+        data: bytes = cast(Any, answer).encode()
+        return data
+
 
 # --------------------------------------------------------------------------------------------
 # Identity, status, programs
@@ -365,6 +371,9 @@ class AlarmMessageRequest(NativeRequest[AlarmMessages]):
 
     def decode_answer(self, data: bytes, max_axes: int | None = None) -> AlarmMessages:
         return AlarmMessages.decode(data, self.text_length)
+
+    def encode_answer(self, answer: AlarmMessages) -> bytes:
+        return answer.encode(self.text_length)
 
 
 @dataclass(frozen=True, slots=True)
