@@ -1323,6 +1323,10 @@ def run_float(lib: Any) -> dict[str, Any]:
         read_cases.append(
             (rng.randint(-(2**31), 2**31 - 1) >> rng.randint(0, 31), rng.randint(-40, 80))
         )
+    # very small values: the library's rounding then gives ten digits (1100000000)
+    read_cases += [(377, 95), (1, 95), (3, 120), (5, 200), (-377, 95), (2**31 - 1, 94)]
+    for _ in range(40):
+        read_cases.append((rng.randint(-(2**31), 2**31 - 1), rng.randint(80, 250)))
     write_cases = [
         (12345, 3),
         (-25, 1),

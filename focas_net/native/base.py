@@ -118,6 +118,11 @@ class NativeRecord(FixedPayload):
         order = tuple(wire.index(name) for name in fields)
         cls._order = None if order == tuple(range(len(order))) else order
 
+    @classmethod
+    def layout(cls) -> tuple[tuple[str, str], ...]:
+        """``(field, struct code)`` of every field, in wire order (``("mantissa", "i")``...)."""
+        return tuple(zip(cls._wire_names, _codes(cls.FORMAT), strict=True))
+
     # -- encode --------------------------------------------------------------------------------
 
     def _wire_values(self) -> tuple[Any, ...]:

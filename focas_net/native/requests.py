@@ -370,6 +370,8 @@ class AlarmMessageRequest(NativeRequest[AlarmMessages]):
     text_length: int = 64
 
     def decode_answer(self, data: bytes, max_axes: int | None = None) -> AlarmMessages:
+        if self.text_length < 0:
+            raise NativePayloadError(f"text length {self.text_length} is negative", EW.LENGTH)
         return AlarmMessages.decode(data, self.text_length)
 
     def encode_answer(self, answer: AlarmMessages) -> bytes:
