@@ -274,7 +274,7 @@ class Machine:
             return block.reply(ew=exc.ew)
         return block.reply(request.encode_answer(answer))
 
-    def answer_request(self, req: NativeRequest[Any]) -> Any:
+    def answer_request(self, req: NativeRequest) -> Any:
         r = requests
         if isinstance(req, r.SysInfoRequest):
             return self.sysinfo
@@ -423,7 +423,7 @@ class Machine:
         return table[number]
 
     def _read_items(
-        self, table: dict[int, Item], number: int, axis: int, real: int, req: NativeRequest[Any]
+        self, table: dict[int, Item], number: int, axis: int, real: int, req: NativeRequest
     ) -> ItemValues | ScaledItemValues:
         item = self._item(table, number)
         if item.axis:

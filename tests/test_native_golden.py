@@ -83,7 +83,7 @@ def data_exchanges(version: int) -> Iterator[tuple[dict[str, Any], bytes, bytes]
                 yield call, request, bytes.fromhex(ex["answer"])
 
 
-def _typed(block: RequestBlock) -> NativeRequest[Any]:
+def _typed(block: RequestBlock) -> NativeRequest:
     request = decode_request(block)
     assert request is not None, block
     return request

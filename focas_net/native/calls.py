@@ -14,7 +14,7 @@ from __future__ import annotations
 import enum
 from collections.abc import Sequence
 from dataclasses import dataclass
-from typing import Any, Final
+from typing import Final
 
 from .blocks import RequestBlock, encode_request
 from .records import ItemRecord, PmcData, ScaledItemRecord, ScaledNumber
@@ -90,7 +90,7 @@ class LibraryCall:
     """One call of a FOCAS function: its name and the requests of each frame it sends."""
 
     function: str
-    frames: tuple[tuple[NativeRequest[Any], ...], ...]
+    frames: tuple[tuple[NativeRequest, ...], ...]
 
     def blocks(self, path: int = 1) -> tuple[tuple[RequestBlock, ...], ...]:
         """The request blocks of each frame."""
@@ -101,7 +101,7 @@ class LibraryCall:
         return tuple(encode_request(blocks) for blocks in self.blocks(path))
 
 
-def _one(function: str, *requests: NativeRequest[Any]) -> LibraryCall:
+def _one(function: str, *requests: NativeRequest) -> LibraryCall:
     return LibraryCall(function, (tuple(requests),))
 
 
@@ -114,7 +114,7 @@ _16I: Final = CommandSet.FS16I
 def cnc_allclibhndl3(cs: CommandSet, paths: int = 1) -> LibraryCall:
     """The data requests of the connect: one 0x18 block per path present (path i + 1), then at
     16i class parameter 9968 (option bits; not with open-answer kind 2 or 3) [V]."""
-    frames: list[tuple[NativeRequest[Any], ...]] = [tuple(SysInfoRequest() for _ in range(paths))]
+    frames: list[tuple[NativeRequest, ...]] = [tuple(SysInfoRequest() for _ in range(paths))]
     if cs is _16I:
         frames.append((ParamReadRequest(OPTION_PARAMETER, OPTION_PARAMETER, 0),))
     return LibraryCall("cnc_allclibhndl3", tuple(frames))
@@ -151,7 +151,7 @@ def cnc_rdalmmsg2(cs: CommandSet, alarm_type: int, count: int) -> LibraryCall:
 def cnc_rdalmhistry(cs: CommandSet, first: int, last: int) -> LibraryCall:
     """0x6C ``(s, s + k - 1, 1)``, one frame per chunk of at most 23 records, up to ``last``
     [V]. The library stops early, quietly, when a chunk after the first answers EW_NUMBER."""
-    frames: list[tuple[NativeRequest[Any], ...]] = []
+    frames: list[tuple[NativeRequest, ...]] = []
     for start in range(first, last + 1, ALARM_HISTORY_CHUNK):
         stop = min(start + ALARM_HISTORY_CHUNK - 1, last)
         frames.append((AlarmHistoryRequest(start, stop, 1),))

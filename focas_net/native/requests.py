@@ -17,7 +17,7 @@ from __future__ import annotations
 
 import enum
 from dataclasses import dataclass
-from typing import Any, ClassVar, Final, Generic, Self, TypeVar, cast
+from typing import Any, ClassVar, Final, Self, cast
 
 from focas_net.errors import EW
 
@@ -157,11 +157,10 @@ class _ExtraLength:
 #: In ``ARGS``: this argument is the number of extra bytes (the fifth argument of writes).
 EXTRA_LENGTH: Final = _ExtraLength()
 
-A = TypeVar("A")
 _ArgSpec = str | int | _ExtraLength
 
 
-class NativeRequest(Generic[A]):
+class NativeRequest:
     """Base of the typed requests: a command with its arguments, as one frozen dataclass.
 
     Subclasses declare ``COMMAND`` (and ``DEVICE`` when not the CNC), ``ARGS`` and ``ANSWER``;
@@ -228,13 +227,12 @@ class NativeRequest(Generic[A]):
         fields.update(cls._extra_fields(block.extra))
         return cls(**fields)
 
-    def decode_answer(self, data: bytes, max_axes: int | None = None) -> A:
-        """The answer data of this request (``max_axes``: the slot count of multi-record
-        parameter and diagnostic answers, otherwise taken from the length)."""
-        answer: A = self.ANSWER.decode(data)
-        return answer
+    def decode_answer(self, data: bytes, max_axes: int | None = None) -> Any:
+        """The answer data of this request, an ``ANSWER`` (``max_axes``: the slot count of
+        multi-record parameter and diagnostic answers, otherwise taken from the length)."""
+        return self.ANSWER.decode(data)
 
-    def encode_answer(self, answer: A) -> bytes:
+    def encode_answer(self, answer: Any) -> bytes:
         """The answer data carrying ``answer`` (the inverse of :meth:`decode_answer`)."""
         data: bytes = cast(Any, answer).encode()
         return data
@@ -245,7 +243,7 @@ class NativeRequest(Generic[A]):
 
 
 @dataclass(frozen=True, slots=True)
-class SysInfoRequest(NativeRequest[SysInfo]):
+class SysInfoRequest(NativeRequest):
     """0x18, no arguments: :class:`SysInfo`. FANUC's library sends one per path while
     connecting (``cnc_allclibhndl3``) and answers ``cnc_sysinfo`` from it [V]."""
 
@@ -254,7 +252,7 @@ class SysInfoRequest(NativeRequest[SysInfo]):
 
 
 @dataclass(frozen=True, slots=True)
-class StatInfoRequest(NativeRequest[StatInfo]):
+class StatInfoRequest(NativeRequest):
     """0x19, no arguments: :class:`StatInfo`. ``cnc_statinfo`` sends it with 0xE1 and 0x98;
     ``cnc_rdposition`` (16i class) sends it first and last [V]."""
 
@@ -263,7 +261,7 @@ class StatInfoRequest(NativeRequest[StatInfo]):
 
 
 @dataclass(frozen=True, slots=True)
-class HdckRequest(NativeRequest[HdckStatus]):
+class HdckRequest(NativeRequest):
     """0xE1, no arguments: :class:`HdckStatus` (``cnc_statinfo``) [V]."""
 
     COMMAND: ClassVar[int] = NativeCommand.STAT_HDCK
@@ -271,7 +269,7 @@ class HdckRequest(NativeRequest[HdckStatus]):
 
 
 @dataclass(frozen=True, slots=True)
-class TmModeRequest(NativeRequest[TmModeStatus]):
+class TmModeRequest(NativeRequest):
     """0x98, no arguments: :class:`TmModeStatus` (``cnc_statinfo``) [V]."""
 
     COMMAND: ClassVar[int] = NativeCommand.STAT_TMMODE
@@ -279,7 +277,7 @@ class TmModeRequest(NativeRequest[TmModeStatus]):
 
 
 @dataclass(frozen=True, slots=True)
-class CncIdRequest(NativeRequest[CncId]):
+class CncIdRequest(NativeRequest):
     """0xE8, no arguments: :class:`CncId` (``cnc_rdcncid``) [V]."""
 
     COMMAND: ClassVar[int] = NativeCommand.RDCNCID
@@ -287,7 +285,7 @@ class CncIdRequest(NativeRequest[CncId]):
 
 
 @dataclass(frozen=True, slots=True)
-class TimerRequest(NativeRequest[TimerValue]):
+class TimerRequest(NativeRequest):
     """0x120, args ``type``: :class:`TimerValue` (``cnc_rdtimer``) [V]."""
 
     COMMAND: ClassVar[int] = NativeCommand.RDTIMER
@@ -297,7 +295,7 @@ class TimerRequest(NativeRequest[TimerValue]):
 
 
 @dataclass(frozen=True, slots=True)
-class ProgramNumberRequest(NativeRequest[ProgramNumbers]):
+class ProgramNumberRequest(NativeRequest):
     """0x1C, no arguments: :class:`ProgramNumbers` (``cnc_rdprgnum``, ``cnc_rdprgnumo8``,
     ``cnc_rddynamic2``) [V]."""
 
@@ -306,7 +304,7 @@ class ProgramNumberRequest(NativeRequest[ProgramNumbers]):
 
 
 @dataclass(frozen=True, slots=True)
-class SequenceNumberRequest(NativeRequest[SequenceNumber]):
+class SequenceNumberRequest(NativeRequest):
     """0x1D, no arguments: :class:`SequenceNumber` (``cnc_rdseqnum``, ``cnc_rddynamic2``) [V]."""
 
     COMMAND: ClassVar[int] = NativeCommand.RDSEQNUM
@@ -314,7 +312,7 @@ class SequenceNumberRequest(NativeRequest[SequenceNumber]):
 
 
 @dataclass(frozen=True, slots=True)
-class ExecutingProgramRequest(NativeRequest[ExecutingProgram]):
+class ExecutingProgramRequest(NativeRequest):
     """0xCF, no arguments: :class:`ExecutingProgram` (``cnc_exeprgname``) [V]."""
 
     COMMAND: ClassVar[int] = NativeCommand.EXEPRGNAME
@@ -322,7 +320,7 @@ class ExecutingProgramRequest(NativeRequest[ExecutingProgram]):
 
 
 @dataclass(frozen=True, slots=True)
-class ActualFeedRequest(NativeRequest[ScaledValues]):
+class ActualFeedRequest(NativeRequest):
     """0x24, no arguments: one :class:`ScaledNumber` (``cnc_actf``, ``cnc_rddynamic2``; the
     library takes the mantissa) [V]."""
 
@@ -331,7 +329,7 @@ class ActualFeedRequest(NativeRequest[ScaledValues]):
 
 
 @dataclass(frozen=True, slots=True)
-class ActualSpindleSpeedRequest(NativeRequest[ScaledValues]):
+class ActualSpindleSpeedRequest(NativeRequest):
     """0x25, no arguments: one :class:`ScaledNumber` (``cnc_acts``, ``cnc_rddynamic2``) [V]."""
 
     COMMAND: ClassVar[int] = NativeCommand.ACTS
@@ -343,7 +341,7 @@ class ActualSpindleSpeedRequest(NativeRequest[ScaledValues]):
 
 
 @dataclass(frozen=True, slots=True)
-class AlarmStatusRequest(NativeRequest[AlarmStatus]):
+class AlarmStatusRequest(NativeRequest):
     """0x1A, no arguments: :class:`AlarmStatus` (``cnc_alarm``, ``cnc_alarm2``,
     ``cnc_rddynamic2``) [V]."""
 
@@ -352,7 +350,7 @@ class AlarmStatusRequest(NativeRequest[AlarmStatus]):
 
 
 @dataclass(frozen=True, slots=True)
-class AlarmMessageRequest(NativeRequest[AlarmMessages]):
+class AlarmMessageRequest(NativeRequest):
     """0x23, args ``alarm_type, count, text_mode, text_length`` (``cnc_rdalmmsg`` sends
     ``(type, count, 2, 32)``, ``cnc_rdalmmsg2`` ``(type, count, 2, 64)``) [V].
 
@@ -379,7 +377,7 @@ class AlarmMessageRequest(NativeRequest[AlarmMessages]):
 
 
 @dataclass(frozen=True, slots=True)
-class AlarmHistoryRequest(NativeRequest[AlarmHistory]):
+class AlarmHistoryRequest(NativeRequest):
     """0x6C, args ``first, last, mode`` (``cnc_rdalmhistry(s, e)`` sends ``(s, s + k - 1, 1)``
     with k <= 23 records per request, looping to ``e``) [V]: :class:`AlarmHistory`."""
 
@@ -396,7 +394,7 @@ class AlarmHistoryRequest(NativeRequest[AlarmHistory]):
 
 
 @dataclass(frozen=True, slots=True)
-class MacroReadRequest(NativeRequest[ScaledValues]):
+class MacroReadRequest(NativeRequest):
     """0x15, args ``first, last`` (inclusive; ``cnc_rdmacro(n)`` sends ``(n, n)``) [V]:
     :class:`ScaledValues`, one record per variable."""
 
@@ -408,7 +406,7 @@ class MacroReadRequest(NativeRequest[ScaledValues]):
 
 
 @dataclass(frozen=True, slots=True)
-class MacroWriteRequest(NativeRequest[NoData]):
+class MacroWriteRequest(NativeRequest):
     """0x16, args ``(number, number, 0, 0, 8)``, extra: one :class:`ScaledNumber`
     (``cnc_wrmacro``) [V]: base 2 at 16i class, base 10 at 30i class, see
     :meth:`ScaledNumber.from_macro`. No answer data."""
@@ -432,7 +430,7 @@ class MacroWriteRequest(NativeRequest[NoData]):
 
 
 @dataclass(frozen=True, slots=True)
-class MacroDoubleReadRequest(NativeRequest[MacroDoubles]):
+class MacroDoubleReadRequest(NativeRequest):
     """0xA7, args ``first, count`` (a count, not a last number; ``cnc_rdmacror2``) [V]:
     :class:`MacroDoubles`."""
 
@@ -444,7 +442,7 @@ class MacroDoubleReadRequest(NativeRequest[MacroDoubles]):
 
 
 @dataclass(frozen=True, slots=True)
-class MacroDoubleWriteRequest(NativeRequest[NoData]):
+class MacroDoubleWriteRequest(NativeRequest):
     """0xA8, args ``(number, 0, 0, 0, 8)``, extra: the IEEE double (``cnc_wrmacror2``) [V].
 
     ``value`` None writes a vacant variable (sent as a quiet NaN, this project's choice).
@@ -483,7 +481,7 @@ def _item_slots(data: bytes, slot: int, max_axes: int | None, single: bool) -> i
 
 
 @dataclass(frozen=True, slots=True)
-class ParamReadRequest(NativeRequest[ItemValues]):
+class ParamReadRequest(NativeRequest):
     """0x0E, args ``first, last, axis`` (``cnc_rdparam(n, axis)``, 16i class, sends
     ``(n, n, axis)``, axis 0, k or -1) [V]: :class:`ItemValues` (4-byte slots, type numbering
     :class:`ParamType`). FANUC's library also reads parameter 9968 with it while connecting
@@ -502,7 +500,7 @@ class ParamReadRequest(NativeRequest[ItemValues]):
 
 
 @dataclass(frozen=True, slots=True)
-class ParamInfoRequest(NativeRequest[ParamInfo]):
+class ParamInfoRequest(NativeRequest):
     """0x10, args ``first, count`` (``cnc_wrparam`` at 16i class sends ``(n, 1)`` first;
     ``cnc_rdparainfo(s, n)`` sends ``(s, n)`` in both classes) [V]: :class:`ParamInfo`."""
 
@@ -514,7 +512,7 @@ class ParamInfoRequest(NativeRequest[ParamInfo]):
 
 
 @dataclass(frozen=True, slots=True)
-class ParamWriteRequest(NativeRequest[NoData]):
+class ParamWriteRequest(NativeRequest):
     """0x0F, args ``(0, 0, 0, 0, 8 + 4 * max_axes)``, extra: one :class:`ItemRecord` with
     ``max_axes`` slots (``cnc_wrparam``, 16i class, after 0x10) [V]. The value sits
     sign-extended in slot 0 (one axis) or slots 0..axes-1; unused slots hold whatever the
@@ -534,7 +532,7 @@ class ParamWriteRequest(NativeRequest[NoData]):
 
 
 @dataclass(frozen=True, slots=True)
-class ParamRead3Request(NativeRequest[ScaledItemValues]):
+class ParamRead3Request(NativeRequest):
     """0x8D, args ``first, last, axis`` (``cnc_rdparam``, 30i class) [V]:
     :class:`ScaledItemValues` (8-byte slots)."""
 
@@ -551,7 +549,7 @@ class ParamRead3Request(NativeRequest[ScaledItemValues]):
 
 
 @dataclass(frozen=True, slots=True)
-class ParamInfo3Request(NativeRequest[ParamInfo3]):
+class ParamInfo3Request(NativeRequest):
     """0xA0, args ``first, count`` (``cnc_wrparam``, 30i class, sends ``(n, 1)`` first) [V]:
     :class:`ParamInfo3` (28 bytes)."""
 
@@ -563,7 +561,7 @@ class ParamInfo3Request(NativeRequest[ParamInfo3]):
 
 
 @dataclass(frozen=True, slots=True)
-class ParamWrite3Request(NativeRequest[NoData]):
+class ParamWrite3Request(NativeRequest):
     """0x8E, args ``(0, 0, 0, 0, 8 + 8 * max_axes)``, extra: one :class:`ScaledItemRecord`
     with ``max_axes`` slots (``cnc_wrparam``, 30i class, after 0xA0) [V]. No answer data."""
 
@@ -581,7 +579,7 @@ class ParamWrite3Request(NativeRequest[NoData]):
 
 
 @dataclass(frozen=True, slots=True)
-class DiagnosticRequest(NativeRequest[ItemValues]):
+class DiagnosticRequest(NativeRequest):
     """0x30, args ``first, last, axis`` (``cnc_diagnoss``, 16i class) [V]: :class:`ItemValues`
     with the :class:`DiagType` numbering."""
 
@@ -598,7 +596,7 @@ class DiagnosticRequest(NativeRequest[ItemValues]):
 
 
 @dataclass(frozen=True, slots=True)
-class Diagnostic3Request(NativeRequest[ScaledItemValues]):
+class Diagnostic3Request(NativeRequest):
     """0x93, args ``first, last, axis`` (``cnc_diagnoss``, 30i class) [V]:
     :class:`ScaledItemValues` with the :class:`DiagType` numbering."""
 
@@ -638,7 +636,7 @@ class PmcArea(enum.IntEnum):
 
 
 @dataclass(frozen=True, slots=True)
-class PmcReadRequest(NativeRequest[PmcData]):
+class PmcReadRequest(NativeRequest):
     """Device PMC, 0x8001, args ``first, last, area, data_type`` (``pmc_rdpmcrng(a, t, s, e)``
     sends ``(s, e, a, t)``) [V].
 
@@ -657,7 +655,7 @@ class PmcReadRequest(NativeRequest[PmcData]):
 
 
 @dataclass(frozen=True, slots=True)
-class PmcWriteRequest(NativeRequest[NoData]):
+class PmcWriteRequest(NativeRequest):
     """Device PMC, 0x8002, args ``first, last, area, data_type, nbytes``, extra: the data,
     words and longs big-endian (``pmc_wrpmcrng``) [V]. No answer data."""
 
@@ -718,7 +716,7 @@ def resolve_position_kind(code: int) -> PositionKind | None:
 
 
 @dataclass(frozen=True, slots=True)
-class PositionRequest(NativeRequest[ScaledValues]):
+class PositionRequest(NativeRequest):
     """0x26, args ``kind, axis`` (axis -1 = all axes, n = axis n) [V]: :class:`ScaledValues`,
     one record per axis (for -1 send max-axes records: ``cnc_rddynamic2`` packs its four
     arrays with a stride of the number received)."""
@@ -735,7 +733,7 @@ class PositionRequest(NativeRequest[ScaledValues]):
 
 
 @dataclass(frozen=True, slots=True)
-class AxisNameRequest(NativeRequest[AxisNames | PositionAxisNames]):
+class AxisNameRequest(NativeRequest):
     """0x89, args ``kind``: 0 -> :class:`AxisNames` (4 bytes per axis; ``cnc_rdaxisname``,
     ``cnc_rdsvmeter``), -1 -> :class:`PositionAxisNames` (16 bytes per axis;
     ``cnc_rdposition``) [V]."""
@@ -754,7 +752,7 @@ class AxisNameRequest(NativeRequest[AxisNames | PositionAxisNames]):
 
 
 @dataclass(frozen=True, slots=True)
-class AxisUnitRequest(NativeRequest[AxisUnits]):
+class AxisUnitRequest(NativeRequest):
     """0x88, args ``kind`` (``cnc_rdposition``: 2 at 16i class, 1 then 2 at 30i class) [V]:
     :class:`AxisUnits`."""
 
@@ -765,7 +763,7 @@ class AxisUnitRequest(NativeRequest[AxisUnits]):
 
 
 @dataclass(frozen=True, slots=True)
-class AxisCountRequest(NativeRequest[AxisCount]):
+class AxisCountRequest(NativeRequest):
     """0xA4, args ``kind``: 0 axes (``cnc_rdposition``), 1 spindles (``cnc_rdspload``), 2 servo
     axes (``cnc_rdsvmeter``), 30i class; sent before and after the read [V]:
     :class:`AxisCount`."""
@@ -777,7 +775,7 @@ class AxisCountRequest(NativeRequest[AxisCount]):
 
 
 @dataclass(frozen=True, slots=True)
-class AxisDisplayRequest(NativeRequest[AxisDisplays]):
+class AxisDisplayRequest(NativeRequest):
     """0xA3, args ``(0, -1)`` (``cnc_rdposition``, 30i class) [V]: :class:`AxisDisplays`."""
 
     COMMAND: ClassVar[int] = NativeCommand.AXIS_DISPLAY
@@ -788,7 +786,7 @@ class AxisDisplayRequest(NativeRequest[AxisDisplays]):
 
 
 @dataclass(frozen=True, slots=True)
-class SpindleLoadRequest(NativeRequest[ScaledValues]):
+class SpindleLoadRequest(NativeRequest):
     """0x40, args ``(0, spindle)`` (``cnc_rdspload(sp)``, -1 all) [V]: :class:`ScaledValues`,
     one per spindle (the library keeps the low 16 bits of each mantissa)."""
 
@@ -800,7 +798,7 @@ class SpindleLoadRequest(NativeRequest[ScaledValues]):
 
 
 @dataclass(frozen=True, slots=True)
-class ServoMeterRequest(NativeRequest[ScaledValues]):
+class ServoMeterRequest(NativeRequest):
     """0x56, args ``(1)`` (``cnc_rdsvmeter``) [V]: :class:`ScaledValues`, one per axis (the
     library takes |mantissa| and the decimals; it does not check the length)."""
 
@@ -811,7 +809,7 @@ class ServoMeterRequest(NativeRequest[ScaledValues]):
 
 
 #: Every request this codec declares, keyed by ``(device, command)``.
-REQUEST_TYPES: Final[dict[tuple[int, int], type[NativeRequest[Any]]]] = {
+REQUEST_TYPES: Final[dict[tuple[int, int], type[NativeRequest]]] = {
     (cls.DEVICE, cls.COMMAND): cls
     for cls in (
         SysInfoRequest,
@@ -853,7 +851,7 @@ REQUEST_TYPES: Final[dict[tuple[int, int], type[NativeRequest[Any]]]] = {
 }
 
 
-def decode_request(block: RequestBlock) -> NativeRequest[Any] | None:
+def decode_request(block: RequestBlock) -> NativeRequest | None:
     """The typed request of ``block``; None when the command is not declared (answer it with
     EW_FUNC); :class:`NativePayloadError` when the block does not fit its command."""
     cls = REQUEST_TYPES.get((block.device, block.command))
