@@ -225,6 +225,11 @@ def test_calls_table_predicts_every_frame(version: int) -> None:
         expected = _expected_call(cs, call, requests)
         assert expected.function == call["function"]
         assert list(expected.encode()) == requests, call["function"]
+        decoded = [
+            tuple(_typed(block) for block in decode_request_body(decode_frame(raw).body))
+            for raw in requests
+        ]
+        assert decoded == list(expected.frames), call["function"]
 
 
 def test_calls_differ_between_command_sets() -> None:

@@ -267,12 +267,6 @@ class RecordArray(Generic[R]):
         return len(self.records)
 
 
-def check_size(data: bytes | bytearray | memoryview, size: int, what: str) -> None:
-    """Raise :class:`NativePayloadError` (EW_LENGTH) unless ``data`` is ``size`` bytes."""
-    if len(data) != size:
-        raise NativePayloadError(f"{what}: {len(data)} bytes, expected {size}", EW.LENGTH)
-
-
 def check_multiple(data: bytes | bytearray | memoryview, size: int, what: str) -> None:
     """Raise :class:`NativePayloadError` (EW_LENGTH) unless ``data`` is whole ``size`` records."""
     if size <= 0 or len(data) % size:

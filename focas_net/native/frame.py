@@ -1,4 +1,4 @@
-"""Frames of FANUC's FOCAS/2 Ethernet protocol, the open and close exchanges, and the errors.
+"""Frames of FANUC's FOCAS/2 Ethernet protocol, and the open and close exchanges.
 
 A frame is ``A0 A0 A0 A0``, ``u16 version``, ``u16 type``, ``u16 length`` (body bytes that
 follow), then the body; every integer is big-endian. FANUC's library builds the type word as
