@@ -1,0 +1,363 @@
+"""What each FOCAS function of FANUC's library puts on the wire, per command set.
+
+Each function here is named after the FOCAS function (``cnc_rdparam``...) and returns a
+:class:`LibraryCall`: the typed requests of every data-request frame the library sends for
+that call, in order (one tuple of blocks per frame). They were captured from libfwlib32 1.0.5
+(``tests/fwlib_capture.py``, data in ``tests/data/fwlib_v2.json`` and ``fwlib_v3.json``).
+
+The command set is picked by the version word of the open answer (:class:`CommandSet`): "16i
+class" up to version 2, "30i class" from version 3 (see :mod:`.opening`).
+"""
+
+from __future__ import annotations
+
+import enum
+from collections.abc import Sequence
+from dataclasses import dataclass
+from typing import Final
+
+from .blocks import RequestBlock, encode_request
+from .records import ItemRecord, PmcData, ScaledItemRecord, ScaledNumber
+from .requests import (
+    ActualFeedRequest,
+    ActualSpindleSpeedRequest,
+    AlarmHistoryRequest,
+    AlarmMessageRequest,
+    AlarmStatusRequest,
+    AxisCountRequest,
+    AxisDisplayRequest,
+    AxisNameRequest,
+    AxisUnitRequest,
+    CncIdRequest,
+    Diagnostic3Request,
+    DiagnosticRequest,
+    ExecutingProgramRequest,
+    HdckRequest,
+    MacroDoubleReadRequest,
+    MacroDoubleWriteRequest,
+    MacroReadRequest,
+    MacroWriteRequest,
+    NativeRequest,
+    ParamInfo3Request,
+    ParamInfoRequest,
+    ParamRead3Request,
+    ParamReadRequest,
+    ParamWrite3Request,
+    ParamWriteRequest,
+    PmcReadRequest,
+    PmcWriteRequest,
+    PositionRequest,
+    ProgramNumberRequest,
+    SequenceNumberRequest,
+    ServoMeterRequest,
+    SpindleLoadRequest,
+    StatInfoRequest,
+    SysInfoRequest,
+    TimerRequest,
+    TmModeRequest,
+)
+
+__all__ = [
+    "ALARM_HISTORY_CHUNK",
+    "OPTION_PARAMETER",
+    "POSITION_PARAMETER",
+    "CommandSet",
+    "LibraryCall",
+]
+
+#: The parameter FANUC's library reads while connecting at 16i class (its FOCAS option bits).
+OPTION_PARAMETER: Final = 9968
+#: The parameter ``cnc_rdposition`` reads at 16i class (display bits, one slot per axis).
+POSITION_PARAMETER: Final = 3115
+#: Most alarm history records ``cnc_rdalmhistry`` asks per request.
+ALARM_HISTORY_CHUNK: Final = 23
+
+
+class CommandSet(enum.Enum):
+    """The command set of a handle, picked by the open answer's version word."""
+
+    FS16I = "16i"
+    FS30I = "30i"
+
+    @classmethod
+    def for_version(cls, version: int) -> CommandSet:
+        """16i class up to version 2, 30i class from version 3."""
+        return cls.FS16I if version <= 2 else cls.FS30I
+
+
+@dataclass(frozen=True, slots=True)
+class LibraryCall:
+    """One call of a FOCAS function: its name and the requests of each frame it sends."""
+
+    function: str
+    frames: tuple[tuple[NativeRequest, ...], ...]
+
+    def blocks(self, path: int = 1) -> tuple[tuple[RequestBlock, ...], ...]:
+        """The request blocks of each frame."""
+        return tuple(tuple(r.to_block(path) for r in frame) for frame in self.frames)
+
+    def encode(self, path: int = 1) -> tuple[bytes, ...]:
+        """The whole data-request frames, as the library sends them (version 1)."""
+        return tuple(encode_request(blocks) for blocks in self.blocks(path))
+
+
+def _one(function: str, *requests: NativeRequest) -> LibraryCall:
+    return LibraryCall(function, (tuple(requests),))
+
+
+_16I: Final = CommandSet.FS16I
+
+
+# -- connection ---------------------------------------------------------------------------------
+
+
+def cnc_allclibhndl3(cs: CommandSet, paths: int = 1) -> LibraryCall:
+    """The data requests of the connect: one 0x18 block per path present (path i + 1), then at
+    16i class parameter 9968 (option bits; not with open-answer kind 2 or 3) [V]."""
+    frames: list[tuple[NativeRequest, ...]] = [tuple(SysInfoRequest() for _ in range(paths))]
+    if cs is _16I:
+        frames.append((ParamReadRequest(OPTION_PARAMETER, OPTION_PARAMETER, 0),))
+    return LibraryCall("cnc_allclibhndl3", tuple(frames))
+
+
+# -- status, programs, alarms ------------------------------------------------------------------
+
+
+def cnc_statinfo(cs: CommandSet) -> LibraryCall:
+    """0x19, 0xE1, 0x98 in one frame [V]."""
+    return _one("cnc_statinfo", StatInfoRequest(), HdckRequest(), TmModeRequest())
+
+
+def cnc_alarm(cs: CommandSet) -> LibraryCall:
+    """0x1A [V]."""
+    return _one("cnc_alarm", AlarmStatusRequest())
+
+
+def cnc_alarm2(cs: CommandSet) -> LibraryCall:
+    """0x1A [V]."""
+    return _one("cnc_alarm2", AlarmStatusRequest())
+
+
+def cnc_rdalmmsg(cs: CommandSet, alarm_type: int, count: int) -> LibraryCall:
+    """0x23 ``(type, count, 2, 32)`` [V]."""
+    return _one("cnc_rdalmmsg", AlarmMessageRequest(alarm_type, count, 2, 32))
+
+
+def cnc_rdalmmsg2(cs: CommandSet, alarm_type: int, count: int) -> LibraryCall:
+    """0x23 ``(type, count, 2, 64)`` [V]."""
+    return _one("cnc_rdalmmsg2", AlarmMessageRequest(alarm_type, count, 2, 64))
+
+
+def cnc_rdalmhistry(cs: CommandSet, first: int, last: int) -> LibraryCall:
+    """0x6C ``(s, s + k - 1, 1)``, one frame per chunk of at most 23 records, up to ``last``
+    [V]. The library stops early, quietly, when a chunk after the first answers EW_NUMBER."""
+    frames: list[tuple[NativeRequest, ...]] = []
+    for start in range(first, last + 1, ALARM_HISTORY_CHUNK):
+        stop = min(start + ALARM_HISTORY_CHUNK - 1, last)
+        frames.append((AlarmHistoryRequest(start, stop, 1),))
+    return LibraryCall("cnc_rdalmhistry", tuple(frames))
+
+
+def cnc_rdprgnum(cs: CommandSet) -> LibraryCall:
+    """0x1C [V]."""
+    return _one("cnc_rdprgnum", ProgramNumberRequest())
+
+
+def cnc_rdprgnumo8(cs: CommandSet) -> LibraryCall:
+    """0x1C [V]."""
+    return _one("cnc_rdprgnumo8", ProgramNumberRequest())
+
+
+def cnc_exeprgname(cs: CommandSet) -> LibraryCall:
+    """0xCF [V]."""
+    return _one("cnc_exeprgname", ExecutingProgramRequest())
+
+
+def cnc_rdseqnum(cs: CommandSet) -> LibraryCall:
+    """0x1D [V]."""
+    return _one("cnc_rdseqnum", SequenceNumberRequest())
+
+
+def cnc_rdcncid(cs: CommandSet) -> LibraryCall:
+    """0xE8 [V]."""
+    return _one("cnc_rdcncid", CncIdRequest())
+
+
+def cnc_rdtimer(cs: CommandSet, timer_type: int) -> LibraryCall:
+    """0x120 ``(type)`` [V]."""
+    return _one("cnc_rdtimer", TimerRequest(timer_type))
+
+
+# -- macro variables ---------------------------------------------------------------------------
+
+
+def cnc_rdmacro(cs: CommandSet, number: int) -> LibraryCall:
+    """0x15 ``(n, n)`` [V]."""
+    return _one("cnc_rdmacro", MacroReadRequest(number, number))
+
+
+def cnc_wrmacro(cs: CommandSet, number: int, mcr_val: int, dec_val: int) -> LibraryCall:
+    """0x16 ``(n, n, 0, 0, 8)`` + a binary record at 16i class, a base-10 one at 30i [V]."""
+    value = ScaledNumber.from_macro(mcr_val, dec_val, binary=cs is _16I)
+    return _one("cnc_wrmacro", MacroWriteRequest(number, value))
+
+
+def cnc_rdmacror2(cs: CommandSet, first: int, count: int) -> LibraryCall:
+    """0xA7 ``(first, count)`` [V]."""
+    return _one("cnc_rdmacror2", MacroDoubleReadRequest(first, count))
+
+
+def cnc_wrmacror2(cs: CommandSet, number: int, value: float) -> LibraryCall:
+    """0xA8 ``(n, 0, 0, 0, 8)`` + the double [V]."""
+    return _one("cnc_wrmacror2", MacroDoubleWriteRequest(number, value))
+
+
+# -- parameters and diagnostics ----------------------------------------------------------------
+
+
+def cnc_rdparam(cs: CommandSet, number: int, axis: int) -> LibraryCall:
+    """0x0E (16i) or 0x8D (30i) ``(n, n, axis)`` [V]."""
+    if cs is _16I:
+        return _one("cnc_rdparam", ParamReadRequest(number, number, axis))
+    return _one("cnc_rdparam", ParamRead3Request(number, number, axis))
+
+
+def cnc_wrparam(cs: CommandSet, record: ItemRecord | ScaledItemRecord) -> LibraryCall:
+    """Two frames: 0x10 ``(n, 1)`` then 0x0F + ``record`` (16i), or 0xA0 ``(n, 1)`` then
+    0x8E + ``record`` (30i); ``record`` holds max-axes slots [V]."""
+    number = record.number
+    if isinstance(record, ItemRecord):
+        return LibraryCall(
+            "cnc_wrparam", ((ParamInfoRequest(number, 1),), (ParamWriteRequest(record),))
+        )
+    return LibraryCall(
+        "cnc_wrparam", ((ParamInfo3Request(number, 1),), (ParamWrite3Request(record),))
+    )
+
+
+def cnc_rdparainfo(cs: CommandSet, first: int, count: int) -> LibraryCall:
+    """0x10 ``(s, n)`` in both command sets [V]."""
+    return _one("cnc_rdparainfo", ParamInfoRequest(first, count))
+
+
+def cnc_diagnoss(cs: CommandSet, number: int, axis: int) -> LibraryCall:
+    """0x30 (16i) or 0x93 (30i) ``(n, n, axis)`` [V]."""
+    if cs is _16I:
+        return _one("cnc_diagnoss", DiagnosticRequest(number, number, axis))
+    return _one("cnc_diagnoss", Diagnostic3Request(number, number, axis))
+
+
+# -- PMC ---------------------------------------------------------------------------------------
+
+
+def pmc_rdpmcrng(cs: CommandSet, area: int, data_type: int, first: int, last: int) -> LibraryCall:
+    """Device PMC, 0x8001 ``(s, e, area, type)`` [V]."""
+    return _one("pmc_rdpmcrng", PmcReadRequest(first, last, area, data_type))
+
+
+def pmc_wrpmcrng(
+    cs: CommandSet, area: int, data_type: int, first: int, last: int, values: Sequence[int]
+) -> LibraryCall:
+    """Device PMC, 0x8002 ``(s, e, area, type, nbytes)`` + the values, big-endian [V]."""
+    data = PmcData.from_values(data_type, values)
+    return _one("pmc_wrpmcrng", PmcWriteRequest(first, last, area, data_type, data))
+
+
+# -- positions, axes, spindles, feed -------------------------------------------------------------
+
+
+def cnc_actf(cs: CommandSet) -> LibraryCall:
+    """0x24 [V]."""
+    return _one("cnc_actf", ActualFeedRequest())
+
+
+def cnc_acts(cs: CommandSet) -> LibraryCall:
+    """0x25 [V]."""
+    return _one("cnc_acts", ActualSpindleSpeedRequest())
+
+
+def cnc_absolute(cs: CommandSet, axis: int) -> LibraryCall:
+    """0x26 ``(4, axis)`` [V]."""
+    return _one("cnc_absolute", PositionRequest(4, axis))
+
+
+def cnc_machine(cs: CommandSet, axis: int) -> LibraryCall:
+    """0x26 ``(1, axis)`` [V]."""
+    return _one("cnc_machine", PositionRequest(1, axis))
+
+
+def cnc_relative(cs: CommandSet, axis: int) -> LibraryCall:
+    """0x26 ``(6, axis)`` [V]."""
+    return _one("cnc_relative", PositionRequest(6, axis))
+
+
+def cnc_distance(cs: CommandSet, axis: int) -> LibraryCall:
+    """0x26 ``(7, axis)`` [V]."""
+    return _one("cnc_distance", PositionRequest(7, axis))
+
+
+def cnc_rdposition(cs: CommandSet) -> LibraryCall:
+    """One frame: at 16i class 0x19, 0x26 (0..3, -1), 0x89(-1), 0x0E 3115 (-1), 0x88(2),
+    0x19 (9 blocks); at 30i class 0xA4(0), 0x89(-1), 0x88(1), 0x88(2), 0xA3(0, -1), 0x26
+    (0..3, -1), 0xA4(0) (10 blocks) [V]."""
+    positions = tuple(PositionRequest(kind, -1) for kind in range(4))
+    if cs is _16I:
+        return _one(
+            "cnc_rdposition",
+            StatInfoRequest(),
+            *positions,
+            AxisNameRequest(-1),
+            ParamReadRequest(POSITION_PARAMETER, POSITION_PARAMETER, -1),
+            AxisUnitRequest(2),
+            StatInfoRequest(),
+        )
+    return _one(
+        "cnc_rdposition",
+        AxisCountRequest(0),
+        AxisNameRequest(-1),
+        AxisUnitRequest(1),
+        AxisUnitRequest(2),
+        AxisDisplayRequest(0, -1),
+        *positions,
+        AxisCountRequest(0),
+    )
+
+
+def cnc_rddynamic2(cs: CommandSet, axis: int) -> LibraryCall:
+    """One frame of 9 blocks: 0x1A, 0x1C, 0x1D, 0x24, 0x25, 0x26 (4, 1, 6, 7; axis) [V]."""
+    return _one(
+        "cnc_rddynamic2",
+        AlarmStatusRequest(),
+        ProgramNumberRequest(),
+        SequenceNumberRequest(),
+        ActualFeedRequest(),
+        ActualSpindleSpeedRequest(),
+        *(PositionRequest(kind, axis) for kind in (4, 1, 6, 7)),
+    )
+
+
+def cnc_rdaxisname(cs: CommandSet) -> LibraryCall:
+    """0x89 ``(0)`` [V]."""
+    return _one("cnc_rdaxisname", AxisNameRequest(0))
+
+
+def cnc_rdspload(cs: CommandSet, spindle: int) -> LibraryCall:
+    """0x40 ``(0, sp)``; at 30i class between two 0xA4(1) [V]."""
+    if cs is _16I:
+        return _one("cnc_rdspload", SpindleLoadRequest(0, spindle))
+    return _one(
+        "cnc_rdspload", AxisCountRequest(1), SpindleLoadRequest(0, spindle), AxisCountRequest(1)
+    )
+
+
+def cnc_rdsvmeter(cs: CommandSet) -> LibraryCall:
+    """0x56(1), 0x89(0) at 16i class; 0xA4(2), 0x89(0), 0x56(1), 0xA4(2) at 30i [V]."""
+    if cs is _16I:
+        return _one("cnc_rdsvmeter", ServoMeterRequest(1), AxisNameRequest(0))
+    return _one(
+        "cnc_rdsvmeter",
+        AxisCountRequest(2),
+        AxisNameRequest(0),
+        ServoMeterRequest(1),
+        AxisCountRequest(2),
+    )

@@ -1,0 +1,249 @@
+"""The open answer (frame type ``0x0102``) FANUC's library needs, in its two layouts.
+
+The library opens two TCP connections, A then B, and sends an open request on each. Both
+answers must pass a size check (otherwise ``PDU size mismatch at initiate time``, EW_PROTOCOL);
+only **B's** answer is read, and its **version word** picks the layout of the body and the
+whole command set of the handle [V]:
+
+* version <= 2, **"16i class"** (:class:`OpenHeadV2`, :class:`PathRecordV2`): a 16-byte head
+  and 8 bytes per path; body = ``16 + 8 * n`` with n = u16 at body[8:10]. Parameters use
+  0x0E/0x10/0x0F, diagnostics 0x30, ``cnc_wrmacro`` sends a binary record; the library then
+  reads parameter 9968 (0x0E) for its "FOCAS option bits".
+* version >= 3, **"30i class"** (:class:`OpenHeadV3`, :class:`PathRecordV3`): a 40-byte head
+  and 32 bytes per path; body = ``40 + 32 * n`` with n = u16 at body[10:12]. Parameters use
+  0x8D/0xA0/0x8E, diagnostics 0x93, spindle/servo/position reads come wrapped in 0xA4 blocks,
+  ``cnc_wrmacro`` sends base 10; the option bits are body[28:30].
+
+A path record whose machine-type characters are zero is no path. For every present path the
+library sends one 0x18 (sysinfo) block while connecting; with n = 0 that request has no block,
+and the library refuses the zero-block answer, so an open answer needs at least one path.
+Option bit 0 is required by ``cnc_rddynamic2`` (EW_NOOPT otherwise) [V].
+
+:func:`build_open_answer` makes a body of exactly the checked size from path descriptions;
+:func:`decode_open_answer` reads one back; :func:`open_answer_size` is the size the library
+checks.
+"""
+
+from __future__ import annotations
+
+import struct
+from collections.abc import Sequence
+from dataclasses import dataclass
+from typing import ClassVar, Final
+
+from .base import NativePayloadError, NativeRecord
+
+__all__ = [
+    "MACHINE_LATHE",
+    "MACHINE_MILL",
+    "NO_PATH",
+    "OpenAnswer",
+    "OpenHeadV2",
+    "OpenHeadV3",
+    "PathDescription",
+    "PathRecordV2",
+    "PathRecordV3",
+    "build_open_answer",
+    "decode_open_answer",
+    "open_answer_size",
+]
+
+#: Machine-type characters of a milling path and of a lathe path (the library marks " T" as a
+#: lathe), and of "no path".
+MACHINE_MILL: Final = " M"
+MACHINE_LATHE: Final = " T"
+NO_PATH: Final = "\x00\x00"
+
+
+@dataclass(frozen=True, slots=True)
+class OpenHeadV2(NativeRecord):
+    """The 16-byte head of a version <= 2 open answer.
+
+    ``max_axes`` (u16 at 4) is the CNC's max axes: the slot count of 0x0F write records
+    (8 + 4 * max_axes) and the length check of ``cnc_rddynamic2(-1)`` (>= 28 + 16 * max_axes)
+    [V]. ``paths`` (u16 at 8) is the number of path records [V]. ``kind`` (u16 at 2): 2 = FS15
+    family (other commands), 3 = option bits forced to 1 without reading parameter 9968, any
+    other value the 16i family [I]. The other words are stored by the library, use unknown;
+    0 works [V].
+    """
+
+    FORMAT: ClassVar[str] = ">8H"
+    word0: int
+    kind: int
+    max_axes: int
+    word3: int
+    paths: int
+    word5: int = 0
+    word6: int = 0
+    word7: int = 0
+
+
+@dataclass(frozen=True, slots=True)
+class PathRecordV2(NativeRecord):
+    """One 8-byte path record of a version <= 2 open answer [V]: the machine-type characters
+    (``" M"``, ``" T"``; two NULs = no path), a stored word of unknown use, the number of axes
+    of the path (the axis count of every per-axis read and check) and its number of spindles
+    (``cnc_rdspload``)."""
+
+    FORMAT: ClassVar[str] = ">2sHHH"
+    TEXT: ClassVar[frozenset[str]] = frozenset({"machine_type"})
+    machine_type: str
+    word1: int
+    axes: int
+    spindles: int
+
+
+@dataclass(frozen=True, slots=True)
+class OpenHeadV3(NativeRecord):
+    """The 40-byte head of a version >= 3 open answer.
+
+    ``record_format`` (u16 at 4, 1..3): how many optional path-record words the library reads
+    [I]. ``max_axes`` (u16 at 6): the per-path axis limit of every read and write length
+    (all-axes ``cnc_rdparam``/``cnc_diagnoss``/``cnc_wrparam`` need 4 + size * max_axes) [V].
+    ``max_spindles`` (u16 at 8) [I]. ``paths`` (u16 at 10) [V]. ``option_bits`` (u16 at 28):
+    the FOCAS option bits, bit 0 needed by ``cnc_rddynamic2`` [V]. ``words`` are the eight
+    u16 at 12..27 (the fourth, body[18:20], caps ``cnc_rdsvmeter`` when not 0 [I]); ``tail``
+    is body[30:40] (30..33 stored [I]).
+    """
+
+    FORMAT: ClassVar[str] = ">HHHHHH16sH10s"
+    word0: int
+    word1: int
+    record_format: int
+    max_axes: int
+    max_spindles: int
+    paths: int
+    words: bytes = bytes(16)
+    option_bits: int = 0
+    tail: bytes = bytes(10)
+
+
+@dataclass(frozen=True, slots=True)
+class PathRecordV3(NativeRecord):
+    """One 32-byte path record of a version >= 3 open answer: machine-type characters (not
+    zero = path present) [V], ``path_type`` (1 M, 2 T) [I], a stored word [I], the number of
+    axes of the path (u16 at 6) [V], a word at 8 [I], the number of spindles (u16 at 10) [V],
+    and 20 bytes read depending on the record format [I]."""
+
+    FORMAT: ClassVar[str] = ">2sHHHHH20s"
+    TEXT: ClassVar[frozenset[str]] = frozenset({"machine_type"})
+    machine_type: str
+    path_type: int
+    word2: int
+    axes: int
+    word4: int
+    spindles: int
+    reserved: bytes = bytes(20)
+
+
+_V2_COUNT: Final = struct.Struct(">H")
+
+
+def open_answer_size(body: bytes, version: int) -> int | None:
+    """The body size FANUC's library requires of an open answer with ``version`` whose body
+    starts like ``body``: ``16 + 8 * n`` (n = u16 at 8) up to version 2, ``40 + 32 * n``
+    (n = u16 at 10) above; None when ``body`` is too short to hold n."""
+    if version <= 2:
+        if len(body) < 10:
+            return None
+        (count,) = _V2_COUNT.unpack_from(body, 8)
+        return OpenHeadV2.SIZE + PathRecordV2.SIZE * int(count)
+    if len(body) < 12:
+        return None
+    (count,) = _V2_COUNT.unpack_from(body, 10)
+    return OpenHeadV3.SIZE + PathRecordV3.SIZE * int(count)
+
+
+@dataclass(frozen=True, slots=True)
+class PathDescription:
+    """What the open answer says of one path: machine type (``" M"``, ``" T"``), axes and
+    spindles."""
+
+    machine_type: str = MACHINE_MILL
+    axes: int = 3
+    spindles: int = 1
+
+    @property
+    def lathe(self) -> bool:
+        return self.machine_type == MACHINE_LATHE
+
+
+@dataclass(frozen=True, slots=True)
+class OpenAnswer:
+    """A decoded open answer: its version, its head (:class:`OpenHeadV2` or
+    :class:`OpenHeadV3`) and its path records."""
+
+    version: int
+    head: OpenHeadV2 | OpenHeadV3
+    paths: tuple[PathRecordV2, ...] | tuple[PathRecordV3, ...]
+
+    @property
+    def max_axes(self) -> int:
+        return self.head.max_axes
+
+    @property
+    def option_bits(self) -> int | None:
+        """The FOCAS option bits (version >= 3); None at version <= 2 (parameter 9968)."""
+        return self.head.option_bits if isinstance(self.head, OpenHeadV3) else None
+
+    def present(self) -> tuple[PathDescription, ...]:
+        """The paths the library sees (machine-type characters not zero), in order."""
+        return tuple(
+            PathDescription(p.machine_type, p.axes, p.spindles)
+            for p in self.paths
+            if p.machine_type != NO_PATH
+        )
+
+    def encode(self) -> bytes:
+        records: Sequence[NativeRecord] = self.paths
+        return self.head.encode() + b"".join(r.encode() for r in records)
+
+
+def build_open_answer(
+    paths: Sequence[PathDescription],
+    max_axes: int,
+    *,
+    option_bits: int = 1,
+    version: int = 2,
+    max_spindles: int | None = None,
+    kind: int = 0,
+    record_format: int = 1,
+) -> bytes:
+    """The body of an open answer FANUC's library accepts, for an answer carrying ``version``.
+
+    ``paths`` describe the paths (at least one, or the library fails to connect), ``max_axes``
+    the CNC's max axes (at least each path's axes). At version >= 3 ``option_bits`` go to
+    body[28:30] and ``max_spindles`` (default: the most spindles of a path) to body[8:10]; at
+    version <= 2 the option bits are not in the open answer (the library reads them from
+    parameter 9968 unless ``kind`` is 3) and ``kind`` goes to body[2:4].
+    """
+    if not paths:
+        raise ValueError("an open answer needs at least one path")
+    for p in paths:
+        if p.axes > max_axes:
+            raise ValueError(f"a path of {p.axes} axes exceeds max_axes {max_axes}")
+    if version <= 2:
+        head2 = OpenHeadV2(0, kind, max_axes, 0, len(paths))
+        recs2 = tuple(PathRecordV2(p.machine_type, 0, p.axes, p.spindles) for p in paths)
+        return OpenAnswer(version, head2, recs2).encode()
+    spindles = max(p.spindles for p in paths) if max_spindles is None else max_spindles
+    head3 = OpenHeadV3(0, 0, record_format, max_axes, spindles, len(paths), option_bits=option_bits)
+    recs3 = tuple(
+        PathRecordV3(p.machine_type, 2 if p.lathe else 1, 0, p.axes, 0, p.spindles) for p in paths
+    )
+    return OpenAnswer(version, head3, recs3).encode()
+
+
+def decode_open_answer(body: bytes, version: int) -> OpenAnswer:
+    """The open answer ``body`` received with ``version``; :class:`NativePayloadError` when its
+    size is not the one the library checks."""
+    size = open_answer_size(body, version)
+    if size is None or size != len(body):
+        raise NativePayloadError(
+            f"open answer of {len(body)} bytes, version {version}, expected {size}"
+        )
+    if version <= 2:
+        head2 = OpenHeadV2.decode_from(body)
+        return OpenAnswer(version, head2, PathRecordV2.decode_many(body[OpenHeadV2.SIZE :]))
+    head3 = OpenHeadV3.decode_from(body)
+    return OpenAnswer(version, head3, PathRecordV3.decode_many(body[OpenHeadV3.SIZE :]))
