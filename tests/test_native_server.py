@@ -750,4 +750,5 @@ async def test_focas_server_native_port_shares_the_machine() -> None:
                 client.socket.close()
 
         assert await asyncio.to_thread(native_read) == {521: 1.5}
-    assert listener.native is None  # closed with the server
+    native = listener.native
+    assert not native.accepting and not native.native_connections  # closed with the server

@@ -107,7 +107,7 @@ async def test_partial_frame_on_one_connection_does_not_block_another(server: Se
 async def test_machine_bug_answers_ew_reject_and_keeps_the_connection(
     server: Served, wire: Wire, monkeypatch: pytest.MonkeyPatch, caplog: pytest.LogCaptureFixture
 ) -> None:
-    import focas_net.server._connection as conn_module
+    import focas_net.server._packed as conn_module
 
     real = conn_module.handle  # type: ignore[attr-defined]
 

@@ -1,18 +1,31 @@
-"""The asyncio shell of the simulated CNC: listeners, connections, fault injection.
+"""The asyncio listener shell of the simulated CNC: listeners, connections, fault injection.
 
 :class:`FocasServer` serves one machine or a fleet, each machine on its own port with its own
-state. The machine logic lives in :mod:`focas_net.sim`; this package only moves frames.
+state; every port answers both the packed protocol (``docs/protocol.md``) and FANUC's native
+FOCAS/2 Ethernet protocol (``docs/native-protocol.md``). The machine logic lives in
+:mod:`focas_net.sim` and the native adapter; this package only moves frames.
+
+Modules: ``_server`` (the shell: :class:`FocasServer`, :class:`Listener`, the protocol sniff),
+``_base`` (what every connection shares: :class:`Limits`, backpressure, delays, faults,
+shutdown), ``_packed`` (:class:`Connection`) and ``_native`` (:class:`NativeConnection`), and
+:mod:`.faults` (the fault queues).
 """
 
-from ._connection import Connection
+from ._base import (
+    DEFAULT_MAX_DELAYED,
+    DEFAULT_WRITE_BUFFER_HIGH,
+    NATIVE_MAGIC_LENGTH,
+    BaseConnection,
+    Limits,
+)
+from ._native import NativeConnection, NativeFront, forced_answer
+from ._packed import Connection
 from ._server import (
     DEFAULT_GRACE_PERIOD,
     DEFAULT_HOST,
     DEFAULT_IDLE_TIMEOUT,
     DEFAULT_MAX_CONNECTIONS,
-    DEFAULT_MAX_DELAYED,
     DEFAULT_PORT,
-    DEFAULT_WRITE_BUFFER_HIGH,
     FocasServer,
     Listener,
 )
@@ -26,11 +39,17 @@ __all__ = [
     "DEFAULT_MAX_DELAYED",
     "DEFAULT_PORT",
     "DEFAULT_WRITE_BUFFER_HIGH",
+    "NATIVE_MAGIC_LENGTH",
+    "BaseConnection",
     "Connection",
     "Fault",
     "FaultKind",
     "FaultQueue",
     "FaultScope",
     "FocasServer",
+    "Limits",
     "Listener",
+    "NativeConnection",
+    "NativeFront",
+    "forced_answer",
 ]
