@@ -46,8 +46,7 @@ class NativeServer:
     :attr:`address`). ``version`` is the version word of every answer (2 keeps answers within
     1450 bytes); ``max_body`` bounds an incoming frame's body, checked on its header before any
     of it is buffered; ``max_connections`` open connections at most (more are closed at once);
-    ``idle_timeout`` seconds without a complete frame close a connection (0 = never). Faults
-    armed machine-wide (``docs/protocol.md`` section 4) apply to its answers too.
+    ``idle_timeout`` seconds without a complete frame close a connection (0 = never).
     """
 
     def __init__(
