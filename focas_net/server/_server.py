@@ -273,7 +273,9 @@ class Listener:
 
 class _Done:
     """The close callback of one listener's connections of one protocol (one per listener,
-    shared by its connections)."""
+    shared by its connections). The shell's own connection classes below also reach their
+    listener through it, to be admitted and to hand a transport over; the packed and native
+    connections only call it."""
 
     __slots__ = ("listener", "native")
 
