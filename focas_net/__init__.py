@@ -34,7 +34,6 @@ from .errors import (
     PayloadError,
     ProtocolError,
 )
-from .native import NativeServer, start_native
 from .protocol import (
     ActiveAlarm,
     AlarmHistory,
@@ -59,7 +58,7 @@ from .protocol import (
     SysInfo,
     TmMode,
 )
-from .server import FocasServer
+from .server import FocasServer, NativeServer, start_native
 from .sim import Machine, MachineError, MachineFileError, default_machine, load_machine
 from .versamax import BoardId, IOModuleRecord, RefType
 

@@ -204,6 +204,8 @@ def test_defaults() -> None:
         ("--idle-timeout", "-1"),
         ("--idle-timeout", "nan"),
         ("--max-frame", "3"),
+        ("--max-frame", "0xA0A0A0A0"),
+        ("--max-frame", "4294967296"),
         ("--log-level", "LOUD"),
         ("--param-password", "\u20acuro"),
         ("--param-password", ""),
@@ -256,4 +258,27 @@ async def test_serve_native_port_speaks_both_front_ends() -> None:
         async with await Wire.open("127.0.0.1", packed_port) as w:
             answer = await w.call(Command.RDMACRO, MacroRequest(510).encode())
         assert COMMANDS[Command.RDMACRO].response.decode(answer) == MacroValue(510, 8, 425, 1)
+        assert await stop(proc) == 0
+
+
+async def test_serve_port_answers_pyfocas_and_the_packed_protocol_alike() -> None:
+    from pyfocas.protocol.protocol import FOCAS
+
+    async with running() as (proc, ready):
+        port = int(ready[0]["port"])
+
+        def native_macro() -> Any:
+            client = FOCAS("127.0.0.1", port)
+            client.connect()
+            try:
+                client.write_macro_double(511, -3.5)
+                return client.read_macro(511)
+            finally:
+                client.socket.close()
+
+        async with asyncio.timeout(START_TIMEOUT):
+            assert await asyncio.to_thread(native_macro) == {511: -3.5}
+        async with await Wire.open("127.0.0.1", port) as w:
+            answer = await w.call(Command.RDMACRO, MacroRequest(511).encode())
+        assert COMMANDS[Command.RDMACRO].response.decode(answer) == MacroValue(511, 8, -35, 1)
         assert await stop(proc) == 0

@@ -36,7 +36,6 @@ from focas_net.client import (
     AlarmProjection,
     AlarmRaised,
     ClientState,
-    FaultKind,
     FocasClient,
     ProjectionMode,
     ReconnectPolicy,
@@ -49,6 +48,7 @@ from focas_net.errors import (
     FocasConnectionError,
     FocasTimeoutError,
 )
+from focas_net.protocol import FaultKind
 from focas_net.server import FocasServer
 from focas_net.sim import default_machine
 

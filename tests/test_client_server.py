@@ -12,7 +12,7 @@ from pathlib import Path
 import pytest
 from support import IO_TIMEOUT, Served, serving, wait_until
 
-from focas_net.client import ClientState, FaultKind, FaultScope, FocasClient, ReconnectPolicy
+from focas_net.client import ClientState, FocasClient, ReconnectPolicy
 from focas_net.client.client import Positions
 from focas_net.errors import (
     EW,
@@ -23,6 +23,8 @@ from focas_net.errors import (
     FocasTimeoutError,
 )
 from focas_net.protocol import (
+    FaultKind,
+    FaultScope,
     PmcArea,
     PositionKind,
     ProgramNumbers,

@@ -31,7 +31,7 @@ from focas_net.protocol import (
     RaiseAlarm,
     encode_frame,
 )
-from focas_net.server import Connection
+from focas_net.server import PackedConnection
 
 STATUS: Final = int(Command.RDCNCSTAT)
 RDPMC: Final = int(Command.RDPMCRNG)
@@ -82,7 +82,7 @@ async def raw_socket(
     return sock
 
 
-def connection_of(served: Served, sock: socket.socket) -> Connection:
+def connection_of(served: Served, sock: socket.socket) -> PackedConnection:
     """The server side of ``sock``."""
     me = sock.getsockname()[:2]
     (conn,) = [c for c in served.listener.connections if c.peer[:2] == me]

@@ -176,6 +176,4 @@ def test_client_names_have_one_home() -> None:
             homes.setdefault(n, []).append(name)
             assert getattr(client, n) is getattr(module, n), n
     assert {n: m for n, m in homes.items() if len(m) > 1} == {}
-    assert set(homes) | {"FaultKind", "FaultScope"} == set(client.__all__)
-    assert client.FaultKind is protocol.FaultKind
-    assert client.FaultScope is protocol.FaultScope
+    assert set(homes) == set(client.__all__)

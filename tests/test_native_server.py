@@ -36,7 +36,6 @@ from focas_net.native import (
     NativeCommand,
     NativeFrameDecoder,
     NativeRequest,
-    NativeServer,
     ParamRead3Request,
     ParamReadRequest,
     PmcArea,
@@ -58,7 +57,6 @@ from focas_net.native import (
     encode_frame,
     encode_open_request,
     encode_request,
-    start_native,
 )
 from focas_net.native.codec import ActualFeedRequest, ActualSpindleSpeedRequest
 from focas_net.native.codec import ProgramNumberRequest as PrgNumRequest
@@ -73,7 +71,7 @@ from focas_net.protocol import (
 )
 from focas_net.protocol import PmcData as PackedPmcData
 from focas_net.protocol import SysInfo as PackedSysInfo
-from focas_net.server import FocasServer
+from focas_net.server import FocasServer, NativeServer, start_native
 from focas_net.sim import Machine, default_machine
 
 TIMEOUT = 5.0
@@ -630,7 +628,7 @@ async def test_bad_input_closes_only_that_connection(
 ) -> None:
     bad = await NativeClient.connect(front, open_=opened)
     port = bad.local_port
-    with caplog.at_level(logging.WARNING, logger="focas_net.native.server"):
+    with caplog.at_level(logging.WARNING, logger="focas_net.server"):
         bad.writer.write(payload)
         await bad.writer.drain()
         assert await bad.closed_by_peer(), name
@@ -750,4 +748,5 @@ async def test_focas_server_native_port_shares_the_machine() -> None:
                 client.socket.close()
 
         assert await asyncio.to_thread(native_read) == {521: 1.5}
-    assert listener.native is None  # closed with the server
+    native = listener.native
+    assert not native.accepting and not native.native_connections  # closed with the server

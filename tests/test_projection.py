@@ -14,12 +14,12 @@ from focas_net.client import (
     AlarmHistoryEvent,
     AlarmProjection,
     AlarmRaised,
-    FaultKind,
     FocasClient,
     ProjectionMode,
     ReconnectPolicy,
 )
 from focas_net.errors import EW
+from focas_net.protocol import FaultKind
 from focas_net.server import FocasServer
 from focas_net.sim import default_machine
 

@@ -26,7 +26,7 @@ import pytest
 from support import IO_TIMEOUT, Served, serving
 
 from focas_net.cli import build_parser
-from focas_net.client import FaultKind, FocasClient
+from focas_net.client import FocasClient
 from focas_net.errors import (
     EW,
     AccessDeniedError,
@@ -35,6 +35,7 @@ from focas_net.errors import (
     FocasConnectionError,
     FocasTimeoutError,
 )
+from focas_net.protocol import FaultKind
 from focas_net.server import FocasServer
 from focas_net.sim import default_machine
 

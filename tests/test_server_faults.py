@@ -13,6 +13,8 @@ from focas_net.protocol import (
     AlarmHistoryRequest,
     Command,
     DataRequest,
+    FaultKind,
+    FaultScope,
     InjectFault,
     MacroRequest,
     MacroValue,
@@ -20,7 +22,7 @@ from focas_net.protocol import (
     StatusInfo,
     encode_frame,
 )
-from focas_net.server import Fault, FaultKind, FaultQueue, FaultScope
+from focas_net.server import Fault, FaultQueue
 from focas_net.server.faults import MAX_ARMED_FAULTS, parse_inject
 from focas_net.sim import default_machine
 

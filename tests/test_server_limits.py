@@ -289,6 +289,11 @@ async def test_bind_failure_closes_the_listeners_already_bound() -> None:
         {"grace_period": -1},
         {"port": 70_000},
         {"ports": [0, 0]},
+        {"max_frame": 0xA0A0A0A0},
+        {"port": None},  # nothing to serve without native_port
+        {"native_port": 70_000},
+        {"native_version": 0},
+        {"native_max_body": 0x10000},
     ],
 )
 def test_bad_arguments(kwargs: dict[str, object]) -> None:

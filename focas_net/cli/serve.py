@@ -1,14 +1,16 @@
 """``focas-net serve``: run simulated CNCs until SIGINT or SIGTERM.
 
-When every listener is bound it prints, flushed, one line per machine::
+Each machine's port answers both the packed protocol (``docs/protocol.md``) and FANUC's native
+FOCAS/2 Ethernet protocol (``docs/native-protocol.md``), as a real CNC's port 8193 does. When
+every listener is bound it prints, flushed, one line per machine::
 
     focas-net: <machine name> listening on HOST:PORT
 
 (then, with ``--native-port``, one ``focas-net: <machine name> (native FOCAS/2) listening on
-HOST:PORT`` line per machine) so scripts and tests can wait for it. A bad machine file, TLS
-file or option ends with a one-line error and exit code 2; a port that cannot be bound with
-exit code 1. SIGINT and SIGTERM shut down gracefully (stop accepting, answer what is in
-flight, close) and exit 0.
+HOST:PORT`` line per machine for the ports serving the native protocol only) so scripts and
+tests can wait for it. A bad machine file, TLS file or option ends with a one-line error and
+exit code 2; a port that cannot be bound with exit code 1. SIGINT and SIGTERM shut down
+gracefully (stop accepting, answer what is in flight, close) and exit 0.
 """
 
 from __future__ import annotations
@@ -29,6 +31,7 @@ from focas_net.server import (
     DEFAULT_IDLE_TIMEOUT,
     DEFAULT_MAX_CONNECTIONS,
     DEFAULT_PORT,
+    NATIVE_MAGIC_LENGTH,
     FocasServer,
 )
 
@@ -68,6 +71,13 @@ def _max_frame(text: str) -> int:
     value = POSITIVE(text)
     if value < 4:
         raise argparse.ArgumentTypeError(f"must be at least 4, got {value}")
+    if value >= NATIVE_MAGIC_LENGTH:
+        # A native FOCAS/2 frame opens with A0 A0 A0 A0: as a packed length that is 0xA0A0A0A0,
+        # which must stay a violation for both protocols to share a port.
+        raise argparse.ArgumentTypeError(
+            f"must be below 0xA0A0A0A0 ({NATIVE_MAGIC_LENGTH}, how the first four bytes of a "
+            f"native FOCAS/2 frame read as a length), got {text}"
+        )
     return value
 
 
@@ -76,7 +86,8 @@ def register(subparsers: Any) -> None:
     p = subparsers.add_parser(
         "serve",
         help="run a simulated CNC (or a fleet of them)",
-        description="Run simulated FANUC CNCs speaking the focas_net packed protocol.",
+        description="Run simulated FANUC CNCs speaking the focas_net packed protocol and "
+        "FANUC's native FOCAS/2 Ethernet protocol, both on each machine's port.",
     )
     p.add_argument("--host", default=DEFAULT_HOST, help="address to bind (default %(default)s)")
     p.add_argument(
@@ -132,8 +143,8 @@ def register(subparsers: Any) -> None:
         type=_max_frame,
         default=65_536,
         metavar="BYTES",
-        help="largest frame length accepted; a longer one closes the connection "
-        "(default %(default)s)",
+        help="largest packed frame length accepted, below 0xA0A0A0A0; a longer one closes the "
+        "connection (default %(default)s)",
     )
     p.add_argument(
         "--grace-period",
@@ -147,8 +158,8 @@ def register(subparsers: Any) -> None:
         type=LISTEN_PORT,
         default=None,
         metavar="PORT",
-        help="also speak FANUC's native FOCAS/2 Ethernet protocol on PORT (PORT+i for machine "
-        "i of a fleet; 0 = ephemeral); off by default",
+        help="also serve FANUC's native FOCAS/2 Ethernet protocol alone on PORT (PORT+i for "
+        "machine i of a fleet; 0 = ephemeral); off by default (the main port speaks it anyway)",
     )
     p.add_argument(
         "--uvloop",

@@ -2,12 +2,11 @@
 
 Each name below has one home: :mod:`.client` (the client and its results), :mod:`.reconnect`
 (states and the reconnect policy), :mod:`.sim_control` (``client.sim``), :mod:`.connection`
-(one pipelined connection), :mod:`.projection` (alarm events); ``FaultKind`` and
-``FaultScope``, the arguments of ``client.sim.inject_fault``, are those of
-:mod:`focas_net.protocol`.
+(one pipelined connection), :mod:`.projection` (alarm events). ``FaultKind`` and
+``FaultScope``, the arguments of ``client.sim.inject_fault``, are imported from
+:mod:`focas_net.protocol` (or :mod:`focas_net`).
 """
 
-from ..protocol import FaultKind, FaultScope
 from .client import FocasClient, Positions
 from .connection import Connection, NotSentError, open_connection
 from .projection import (
@@ -29,8 +28,6 @@ __all__ = [
     "AlarmRaised",
     "ClientState",
     "Connection",
-    "FaultKind",
-    "FaultScope",
     "FocasClient",
     "NotSentError",
     "Positions",

@@ -2,10 +2,9 @@
 
 :mod:`.codec` gathers the pure codec (split into :mod:`.base`, :mod:`.frame`, :mod:`.opening`,
 :mod:`.blocks`, :mod:`.records`, :mod:`.binfloat`, :mod:`.requests`; :mod:`.calls` lists what
-each function of FANUC's library sends) and :mod:`.server` is the asyncio listener
-(:class:`NativeServer`, :func:`start_native`); :mod:`focas_net.adapters.native` answers data
-requests from a machine (pure too). See ``docs/native-protocol.md`` for the wire format and the
-server's behaviour.
+each function of FANUC's library sends). :mod:`focas_net.adapters.native` answers data requests
+from a machine (pure too) and :mod:`focas_net.server` serves them. See
+``docs/native-protocol.md`` for the wire format and the server's behaviour.
 """
 
 from __future__ import annotations
@@ -152,19 +151,10 @@ from .codec import (
     open_answer_size,
     resolve_position_kind,
 )
-from .server import (
-    DEFAULT_NATIVE_IDLE_TIMEOUT,
-    DEFAULT_NATIVE_MAX_CONNECTIONS,
-    NativeConnection,
-    NativeServer,
-    start_native,
-)
 
 __all__ = [
     "CLIENT_VERSION",
     "DEFAULT_MAX_BODY",
-    "DEFAULT_NATIVE_IDLE_TIMEOUT",
-    "DEFAULT_NATIVE_MAX_CONNECTIONS",
     "DEFAULT_SERVER_VERSION",
     "EXTRA_LENGTH",
     "HEADER",
@@ -224,7 +214,6 @@ __all__ = [
     "MacroReadRequest",
     "MacroWriteRequest",
     "NativeCommand",
-    "NativeConnection",
     "NativeFrame",
     "NativeFrameDecoder",
     "NativeFrameError",
@@ -232,7 +221,6 @@ __all__ = [
     "NativeProtocolError",
     "NativeRecord",
     "NativeRequest",
-    "NativeServer",
     "NoData",
     "OpenAnswer",
     "OpenHeadV2",
@@ -305,5 +293,4 @@ __all__ = [
     "max_response_body",
     "open_answer_size",
     "resolve_position_kind",
-    "start_native",
 ]

@@ -1,4 +1,4 @@
-"""``FocasServer``: the listeners of one or more simulated machines.
+"""``FocasServer``: the listener shell of one or more simulated machines.
 
 One :class:`FocasServer` serves a fleet: each machine gets its own listening port and keeps its
 own state; nothing is global. The server is an async context manager::
@@ -7,8 +7,21 @@ own state; nothing is global. The server is an async context manager::
         host, port = server.listeners[0].address
         await server.serve_forever()
 
-It runs on asyncio (uvloop works too); anyio gives the structure (cancel scopes, timeouts) and
-the per-frame path stays a plain :class:`asyncio.Protocol` (see ``_connection.py``).
+Each machine's port speaks both protocols, as a real CNC's port 8193 does: the packed protocol
+of ``docs/protocol.md`` and FANUC's native FOCAS/2 Ethernet protocol of
+``docs/native-protocol.md``. The first four bytes of a connection decide: ``A0 A0 A0 A0`` opens
+every native frame, and as a packed little-endian length it is far above any ``max_frame``
+(which is kept below it). With ``native_port`` each machine also gets a port that serves the
+native protocol only.
+
+This module is the shell, written once for both protocols: binding, TLS, the connection limit,
+the idle sweep, graceful shutdown and the counters. The protocol of every socket accepted on a
+port serving both is a :class:`_SniffingConnection`: a packed connection that is admitted (or
+refused) by its listener and looks at the first bytes; once they say packed, its class becomes
+the plain :class:`~._packed.PackedConnection` the transport calls directly, and when they say native
+a :class:`~._native.NativeConnection` takes over the transport (``transport.set_protocol``).
+Connections know their limits (a frozen :class:`~._base.Limits`) and a close callback, never
+the server. It runs on asyncio (uvloop works too); anyio gives the structure.
 """
 
 from __future__ import annotations
@@ -17,20 +30,27 @@ import asyncio
 import logging
 import math
 import ssl as _ssl
-from collections.abc import Iterable, Sequence
-from typing import TYPE_CHECKING, Any, Final
+from collections.abc import Iterable, Iterator, Sequence
+from itertools import chain
+from typing import Any, Final, cast
 
 import anyio
 import anyio.lowlevel
 
 from focas_net.adapters import PackedAdapter
+from focas_net.native.codec import DEFAULT_MAX_BODY, DEFAULT_SERVER_VERSION, MAGIC
 from focas_net.protocol import DEFAULT_MAX_FRAME
 from focas_net.sim import Machine
 
-from ._connection import Connection
-
-if TYPE_CHECKING:
-    from focas_net.native import NativeServer
+from ._base import (
+    DEFAULT_MAX_DELAYED,
+    DEFAULT_WRITE_BUFFER_HIGH,
+    NATIVE_MAGIC_LENGTH,
+    BaseConnection,
+    Limits,
+)
+from ._native import NativeConnection, NativeFront
+from ._packed import PackedConnection
 from .faults import FaultQueue
 
 __all__ = [
@@ -54,22 +74,39 @@ DEFAULT_PORT: Final = 8193
 DEFAULT_MAX_CONNECTIONS: Final = 256
 #: Seconds without a complete request before a connection is closed (0 = never).
 DEFAULT_IDLE_TIMEOUT: Final = 300.0
-#: Delayed answers one connection may hold before the server stops reading from it.
-DEFAULT_MAX_DELAYED: Final = 1024
-#: High-water mark of each connection's write buffer; above it the server stops reading.
-DEFAULT_WRITE_BUFFER_HIGH: Final = 64 * 1024
 #: Seconds a graceful shutdown waits for delayed answers and unsent output.
 DEFAULT_GRACE_PERIOD: Final = 5.0
 
 #: The idle timeout is checked this many times per timeout period.
 _SWEEPS_PER_TIMEOUT: Final = 4
+_MAGIC_SIZE: Final = len(MAGIC)
+
+_AnyConnection = PackedConnection | NativeConnection
 
 
 class Listener:
-    """One machine's listening socket and its connections."""
+    """One listening port of one machine, and the connections it accepted.
+
+    A machine's main listener serves both protocols: :attr:`connections` holds its packed
+    connections (and those that have not sent four bytes yet), :attr:`native_connections` its
+    native ones. A listener with :attr:`native_only` set (a machine's :attr:`native` port)
+    serves the native protocol only. The machine-wide fault queue :attr:`faults` is shared by
+    every listener of the machine.
+
+    Counters: :attr:`accepted` packed connections (a connection counts as packed until its
+    first bytes turn out to be a native frame's, then it counts in :attr:`native_accepted`),
+    :attr:`refused` connections over the limit (before any byte is read), :attr:`violations`
+    and :attr:`native_violations` connections closed for a framing violation.
+    """
 
     __slots__ = (
         "_aserver",
+        "_front",
+        "_limits",
+        "_native_done",
+        "_native_label",
+        "_owner",
+        "_packed_done",
         "accepted",
         "accepting",
         "adapter",
@@ -78,32 +115,60 @@ class Listener:
         "faults",
         "label",
         "machine",
+        "max_connections",
         "native",
+        "native_accepted",
+        "native_connections",
+        "native_only",
+        "native_version",
+        "native_violations",
         "refused",
         "server",
         "violations",
     )
 
-    def __init__(self, server: FocasServer, machine: Machine) -> None:
+    def __init__(
+        self,
+        server: FocasServer,
+        machine: Machine,
+        *,
+        native_only: bool = False,
+        sibling: Listener | None = None,
+    ) -> None:
         self.server = server
         self.machine = machine
         #: Answers the machine's requests (its answer caches are shared by the connections).
         self.adapter = PackedAdapter(machine)
         self.label = machine.name
-        #: Open connections.
-        self.connections: set[Connection] = set()
+        self.native_only = native_only
+        self.max_connections = server.max_connections
+        self.native_version = server.native_version
+        self._limits = server.limits
+        #: Open packed connections (on a port serving both protocols).
+        self.connections: set[PackedConnection] = set()
+        #: Open native connections.
+        self.native_connections: set[NativeConnection] = set()
         #: Machine-wide faults (scope 1), one shared count.
-        self.faults = FaultQueue()
-        self.accepting = True
+        self.faults: FaultQueue = FaultQueue() if sibling is None else sibling.faults
+        #: The listener holding the machine's native front (built on first use).
+        self._owner: Listener = self if sibling is None else sibling
+        self._front: NativeFront | None = None
+        #: True from binding until the shutdown starts.
+        self.accepting = False
         #: ``(host, port)`` actually bound (port resolved when 0 was asked).
         self.address: tuple[str, int] = ("", 0)
-        #: Counters: connections accepted, refused by the limit, closed for framing violations.
         self.accepted = 0
         self.refused = 0
         self.violations = 0
+        self.native_accepted = 0
+        self.native_violations = 0
         self._aserver: asyncio.Server | None = None
-        #: The native FOCAS/2 listener on the same machine, when the server has one.
-        self.native: NativeServer | None = None
+        # The close callbacks, one per protocol, shared by every connection of this listener.
+        self._packed_done = _Done(self, native=False)
+        self._native_done = _Done(self, native=True)
+        self._native_label = f"native {self.label}"
+        #: The machine's native-only listener, when the server has ``native_port``.
+        self.native: Listener | None = None
 
     @property
     def host(self) -> str:
@@ -114,13 +179,171 @@ class Listener:
         return self.address[1]
 
     def __repr__(self) -> str:
-        return f"<Listener {self.label} {self.address_text} {len(self.connections)} conns>"
+        kind = " native" if self.native_only else ""
+        return (
+            f"<Listener{kind} {self.label} {self.address_text} "
+            f"{len(self.connections) + len(self.native_connections)} conns>"
+        )
 
     @property
     def address_text(self) -> str:
         """``HOST:PORT`` (``[HOST]:PORT`` for IPv6)."""
         host, port = self.address
         return f"[{host}]:{port}" if ":" in host else f"{host}:{port}"
+
+    @property
+    def connection_count(self) -> int:
+        """Open connections of either protocol."""
+        return len(self.connections) + len(self.native_connections)
+
+    def all_connections(self) -> Iterator[_AnyConnection]:
+        """Every open connection, packed then native."""
+        return chain(self.connections, self.native_connections)
+
+    # -- admission and the hand-over -------------------------------------------------------
+
+    @property
+    def _log_label(self) -> str:
+        return self._native_label if self.native_only else self.label
+
+    def _native_front(self) -> NativeFront:
+        owner = self._owner
+        front = owner._front
+        if front is None:
+            front = owner._front = NativeFront(self.machine, self.native_version)
+        return front
+
+    def _new_connection(self) -> PackedConnection | NativeConnection:
+        """The protocol of a socket just accepted (the factory of the asyncio server)."""
+        if self.native_only:
+            return _NativeOnlyConnection(
+                self._native_front(),
+                self.faults,
+                self._limits,
+                self._native_done,
+                self._native_label,
+            )
+        return _SniffingConnection(self.adapter, self.faults, self._limits, self._packed_done)
+
+    def _admit(
+        self, conn: PackedConnection | NativeConnection, transport: asyncio.Transport
+    ) -> bool:
+        """Count ``conn`` in, or refuse it (the transport is aborted, False)."""
+        if not self.accepting:
+            transport.abort()
+            return False
+        if self.connection_count >= self.max_connections:
+            _log.warning(
+                "%s: connection from %s refused: %d connections is the limit",
+                self._log_label,
+                transport.get_extra_info("peername"),
+                self.max_connections,
+            )
+            self.refused += 1
+            transport.abort()
+            return False
+        if isinstance(conn, NativeConnection):
+            self.native_connections.add(conn)
+            self.native_accepted += 1
+        else:
+            self.connections.add(conn)
+            self.accepted += 1
+        return True
+
+    def _to_native(
+        self, packed: PackedConnection, transport: asyncio.Transport, head: bytes
+    ) -> None:
+        """The first bytes of ``packed`` are a native frame's: a native connection takes over
+        its transport (and ``head``, the bytes received so far)."""
+        packed.detach()
+        self.connections.discard(packed)
+        self.accepted -= 1
+        conn = NativeConnection(
+            self._native_front(), self.faults, self._limits, self._native_done, self._native_label
+        )
+        self.native_connections.add(conn)
+        self.native_accepted += 1
+        transport.set_protocol(conn)
+        conn.connection_made(transport)
+        conn.data_received(head)
+
+    def _closed(self, conn: BaseConnection[Any], native: bool) -> None:
+        if native:
+            self.native_connections.discard(cast(NativeConnection, conn))
+            if conn.violated:
+                self.native_violations += 1
+        else:
+            self.connections.discard(cast(PackedConnection, conn))
+            if conn.violated:
+                self.violations += 1
+        self.server._connection_done()
+
+
+class _Done:
+    """The close callback of one listener's connections of one protocol (one per listener,
+    shared by its connections). The shell's own connection classes below also reach their
+    listener through it, to be admitted and to hand a transport over; the packed and native
+    connections only call it."""
+
+    __slots__ = ("listener", "native")
+
+    def __init__(self, listener: Listener, native: bool) -> None:
+        self.listener = listener
+        self.native = native
+
+    def __call__(self, conn: BaseConnection[Any]) -> None:
+        self.listener._closed(conn, self.native)
+
+
+class _SniffingConnection(PackedConnection):
+    """A connection on a port serving both protocols, until its first bytes are in.
+
+    It is admitted (counted, swept and shut down) as a packed connection. As soon as one of
+    its first four bytes differs from ``A0`` it is one: its class becomes :class:`PackedConnection`
+    and the transport calls the packed data path directly from then on, so the sniff costs
+    nothing after the first chunk. When the first four bytes are ``A0 A0 A0 A0`` (which the
+    packed protocol refuses as a length, ``max_frame`` being below it) a native connection
+    takes over the transport. Up to three ``A0`` bytes wait in the packed decoder; a peer that
+    stops there is closed by the idle sweep like any other.
+    """
+
+    __slots__ = ()
+
+    def connection_made(self, base: asyncio.BaseTransport) -> None:
+        # uvloop's transports do not subclass asyncio.Transport, but have its methods
+        if cast(_Done, self._on_close).listener._admit(self, cast(asyncio.Transport, base)):
+            super().connection_made(base)
+
+    def data_received(self, data: bytes) -> None:
+        if type(self) is not _SniffingConnection:  # a transport that kept the old method
+            PackedConnection.data_received(self, data)
+            return
+        transport = self._transport
+        if transport is None or self._closing:
+            return
+        decoder = self._decoder
+        held = decoder.buffered  # A0 bytes received so far, 0..3
+        need = _MAGIC_SIZE - held
+        if MAGIC[held:].startswith(data[:need]):
+            if len(data) < need:
+                decoder.feed(data)  # still fewer than four bytes, all A0: nothing decodes
+            else:
+                listener = cast(_Done, self._on_close).listener
+                listener._to_native(self, transport, MAGIC + data[need:])
+            return
+        self.__class__ = PackedConnection  # type: ignore[assignment]
+        transport.set_protocol(self)  # uvloop keeps the bound data_received: renew it
+        PackedConnection.data_received(self, data)
+
+
+class _NativeOnlyConnection(NativeConnection):
+    """A connection on a native-only port: admitted as a native connection."""
+
+    __slots__ = ()
+
+    def connection_made(self, base: asyncio.BaseTransport) -> None:
+        if cast(_Done, self._on_close).listener._admit(self, cast(asyncio.Transport, base)):
+            super().connection_made(base)
 
 
 def _machines(machines: Machine | Iterable[Machine] | None) -> list[Machine]:
@@ -137,26 +360,32 @@ def _machines(machines: Machine | Iterable[Machine] | None) -> list[Machine]:
 
 
 class FocasServer:
-    """Serve simulated machines over the packed protocol, one listening port per machine.
+    """Serve simulated machines over both protocols, one listening port per machine.
 
     ``machines`` is a machine, several (a fleet), or None for the default machine. With
     ``port`` 0 every machine gets an ephemeral port; otherwise machine *i* listens on
-    ``port + i``, or on ``ports[i]`` when ``ports`` is given.
+    ``port + i``, or on ``ports[i]`` when ``ports`` is given. Each such port answers the packed
+    protocol (``docs/protocol.md``) and FANUC's native FOCAS/2 Ethernet protocol
+    (``docs/native-protocol.md``) alike: the first four bytes of a connection decide.
 
-    Limits: ``max_frame`` (a longer or shorter length prefix closes that connection),
-    ``max_connections`` per machine (extra connections are closed at once and logged),
+    ``native_port`` (None = off) adds, for each machine, a port serving the native protocol
+    only: machine *i* on ``native_port + i``, or an ephemeral port for each when it is 0 (see
+    :attr:`Listener.native`). ``port=None`` (with no ``ports``) leaves the two-protocol ports
+    out, so that only the native ports are served. ``native_version`` is the version word of
+    every native answer (2 keeps answers within 1450 bytes), ``native_max_body`` the largest
+    native frame body accepted (checked on the header before any of the body is buffered).
+
+    Limits: ``max_frame`` (a longer or shorter packed length prefix closes that connection; at
+    least 4 and below 0xA0A0A0A0, which is how a native frame's first four bytes read),
+    ``max_connections`` per port (extra connections are closed at once and logged),
     ``idle_timeout`` seconds without a complete request (0 = never), ``max_delayed`` delayed
     answers per connection and ``write_buffer_high`` bytes of unsent output before reading
-    from that connection stops. ``ssl`` serves TLS. ``grace_period`` bounds the graceful
-    shutdown of :meth:`aclose` (``async with`` exit).
+    from that connection stops. ``ssl`` serves TLS (on the two-protocol ports). ``grace_period``
+    bounds the graceful shutdown of :meth:`aclose` (``async with`` exit).
 
     ``read_only`` and ``control``, when given, set those switches of every machine served
     (``Machine.read_only``: every write answers EW_PROT; ``Machine.control_enabled``: simulator
     control on or off); None leaves each machine as it is.
-
-    ``native_port`` (None = off) adds, for each machine, a listener speaking FANUC's native
-    FOCAS/2 Ethernet protocol on the same machine state (see ``docs/native-protocol.md``):
-    machine *i* on ``native_port + i``, or an ephemeral port for each when it is 0.
     """
 
     def __init__(
@@ -164,7 +393,7 @@ class FocasServer:
         machines: Machine | Iterable[Machine] | None = None,
         *,
         host: str = DEFAULT_HOST,
-        port: int = DEFAULT_PORT,
+        port: int | None = DEFAULT_PORT,
         ports: Sequence[int] | None = None,
         ssl: _ssl.SSLContext | None = None,
         max_frame: int = DEFAULT_MAX_FRAME,
@@ -175,11 +404,18 @@ class FocasServer:
         grace_period: float = DEFAULT_GRACE_PERIOD,
         backlog: int = 128,
         native_port: int | None = None,
+        native_version: int = DEFAULT_SERVER_VERSION,
+        native_max_body: int = DEFAULT_MAX_BODY,
         read_only: bool | None = None,
         control: bool | None = None,
     ) -> None:
         if max_frame < 4:
             raise ValueError(f"max_frame must be at least 4, got {max_frame}")
+        if max_frame >= NATIVE_MAGIC_LENGTH:
+            raise ValueError(
+                f"max_frame must be below 0xA0A0A0A0 ({NATIVE_MAGIC_LENGTH}), the length a "
+                f"native FOCAS/2 frame's first four bytes read as, got {max_frame}"
+            )
         if max_connections < 1:
             raise ValueError(f"max_connections must be at least 1, got {max_connections}")
         if idle_timeout < 0 or math.isnan(idle_timeout):
@@ -190,16 +426,25 @@ class FocasServer:
             raise ValueError(f"write_buffer_high must be at least 1, got {write_buffer_high}")
         if grace_period < 0:
             raise ValueError(f"grace_period must be >= 0, got {grace_period}")
+        if not 1 <= native_version <= 0xFFFF:
+            raise ValueError(f"native_version must be within 1..65535, got {native_version}")
+        if not 0 <= native_max_body <= 0xFFFF:
+            raise ValueError(f"native_max_body must be within 0..65535, got {native_max_body}")
         machine_list = _machines(machines)
         for m in machine_list:
             if read_only is not None:
                 m.read_only = read_only
             if control is not None:
                 m.control_enabled = control
+        self._ports: list[int] | None
         if ports is not None:
             if len(ports) != len(machine_list):
                 raise ValueError(f"{len(ports)} ports for {len(machine_list)} machines")
             self._ports = list(ports)
+        elif port is None:
+            if native_port is None:
+                raise ValueError("port=None serves nothing without native_port")
+            self._ports = None
         elif port == 0:
             self._ports = [0] * len(machine_list)
         else:
@@ -208,7 +453,7 @@ class FocasServer:
         if native_port is not None:
             step = 0 if native_port == 0 else 1
             self._native_ports = [native_port + i * step for i in range(len(machine_list))]
-        for p in self._ports + (self._native_ports or []):
+        for p in (self._ports or []) + (self._native_ports or []):
             if not 0 <= p <= 65_535:
                 raise ValueError(f"port {p} outside 0..65535")
         self.host = host
@@ -220,9 +465,21 @@ class FocasServer:
         self.write_buffer_high = write_buffer_high
         self.grace_period = float(grace_period)
         self.backlog = backlog
-        self.listeners: list[Listener] = [Listener(self, m) for m in machine_list]
-        self._loop: asyncio.AbstractEventLoop = None  # type: ignore[assignment]
-        self._tick = 0
+        self.native_version = native_version
+        self.native_max_body = native_max_body
+        #: The bounds every connection works within.
+        self.limits = Limits(max_frame, native_max_body, max_delayed, write_buffer_high)
+        #: One listener per machine, in machine order: its port serving both protocols (or,
+        #: with ``port=None``, its native-only port).
+        self.listeners: list[Listener] = []
+        for machine in machine_list:
+            if self._ports is None:
+                self.listeners.append(Listener(self, machine, native_only=True))
+                continue
+            listener = Listener(self, machine)
+            if self._native_ports is not None:
+                listener.native = Listener(self, machine, native_only=True, sibling=listener)
+            self.listeners.append(listener)
         self._sweeper: asyncio.TimerHandle | None = None
         self._started = False
         self._closed = False
@@ -237,59 +494,86 @@ class FocasServer:
     async def __aexit__(self, *exc_info: object) -> None:
         await self.aclose()
 
+    def _bindings(self) -> Iterator[tuple[Listener, int, _ssl.SSLContext | None]]:
+        """Every listener with the port it binds and its TLS context, machine by machine."""
+        if self._ports is None:
+            assert self._native_ports is not None
+            for listener, port in zip(self.listeners, self._native_ports, strict=True):
+                yield listener, port, None
+            return
+        for listener, port in zip(self.listeners, self._ports, strict=True):
+            yield listener, port, self.ssl
+        if self._native_ports is not None:
+            for listener, port in zip(self.listeners, self._native_ports, strict=True):
+                assert listener.native is not None
+                yield listener.native, port, None
+
+    def _all_listeners(self) -> Iterator[Listener]:
+        for listener in self.listeners:
+            yield listener
+            if listener.native is not None:
+                yield listener.native
+
     async def start(self) -> None:
         """Bind every listener. On failure the ones already bound are closed again."""
         if self._started:
             raise RuntimeError("FocasServer already started")
         self._started = True
-        self._loop = asyncio.get_running_loop()
+        loop = asyncio.get_running_loop()
         try:
-            for listener, port in zip(self.listeners, self._ports, strict=True):
-                await self._bind(listener, port)
-            if self._native_ports is not None:
-                from focas_net.native import start_native
-
-                for listener, port in zip(self.listeners, self._native_ports, strict=True):
-                    listener.native = await start_native(
-                        listener.machine,
-                        self.host,
-                        port,
-                        max_connections=self.max_connections,
-                        idle_timeout=self.idle_timeout,
-                        backlog=self.backlog,
-                    )
+            for listener, port, ssl in self._bindings():
+                await self._bind(loop, listener, port, ssl)
         except BaseException:
             with anyio.CancelScope(shield=True):
-                for listener in self.listeners:
-                    await self._unbind(listener)
+                for listener in self._all_listeners():
+                    self._unbind(listener)
+                for listener in self._all_listeners():
+                    await self._wait_unbound(listener)
             self._closed = True
             raise
         if self.idle_timeout > 0:
-            self._schedule_sweep()
+            self._schedule_sweep(loop)
         for listener in self.listeners:
+            if listener.native_only:
+                _log.info("%s: native FOCAS/2 on %s", listener.label, listener.address_text)
+                continue
             _log.info("%s listening on %s", listener.label, listener.address_text)
             if listener.native is not None:
                 _log.info("%s: native FOCAS/2 on %s", listener.label, listener.native.address_text)
 
-    async def _bind(self, listener: Listener, port: int) -> None:
-        def factory() -> Connection:
-            return Connection(listener)
-
-        aserver = await self._loop.create_server(
-            factory, self.host, port, ssl=self.ssl, backlog=self.backlog, start_serving=True
+    async def _bind(
+        self,
+        loop: asyncio.AbstractEventLoop,
+        listener: Listener,
+        port: int,
+        ssl: _ssl.SSLContext | None,
+    ) -> None:
+        aserver = await loop.create_server(
+            listener._new_connection,
+            self.host,
+            port,
+            ssl=ssl,
+            backlog=self.backlog,
+            start_serving=True,
         )
         listener._aserver = aserver
         sockname = aserver.sockets[0].getsockname()
         listener.address = (str(sockname[0]), int(sockname[1]))
+        listener.accepting = True
 
-    async def _unbind(self, listener: Listener) -> None:
+    @staticmethod
+    def _unbind(listener: Listener) -> None:
         listener.accepting = False
         aserver = listener._aserver
         if aserver is not None:
             aserver.close()
-        native, listener.native = listener.native, None
-        if native is not None:
-            await native.aclose(self.grace_period)
+
+    @staticmethod
+    async def _wait_unbound(listener: Listener) -> None:
+        aserver = listener._aserver
+        if aserver is not None:
+            listener._aserver = None
+            await aserver.wait_closed()
 
     async def serve_forever(self) -> None:
         """Wait until cancelled (the ``async with`` exit then shuts down gracefully)."""
@@ -300,10 +584,10 @@ class FocasServer:
     async def aclose(self, grace_period: float | None = None) -> None:
         """Graceful shutdown: stop accepting, answer what is in flight, close.
 
-        Reading stops on every connection; answers held by a delay fault go out when due, or
-        all at once when ``grace_period`` is over; each connection closes once its output is
-        flushed, and any still open another ``grace_period`` later (a peer that never reads)
-        is aborted. Shielded from cancellation.
+        Reading stops on every connection (both protocols, every port); answers held by a delay
+        fault go out when due, or all at once when ``grace_period`` is over; each connection
+        closes once its output is flushed, and any still open another ``grace_period`` later
+        (a peer that never reads) is aborted. Shielded from cancellation.
         """
         if self._closed or not self._started:
             self._closed = True
@@ -314,37 +598,36 @@ class FocasServer:
             if self._sweeper is not None:
                 self._sweeper.cancel()
                 self._sweeper = None
-            for listener in self.listeners:
-                await self._unbind(listener)
-            conns = [c for listener in self.listeners for c in listener.connections]
+            for listener in self._all_listeners():
+                self._unbind(listener)
+            conns = list(self._connections())
             if conns:
                 _log.info("shutting down: %d connections open", len(conns))
             self._all_closed = anyio.Event()
             for conn in conns:
                 conn.begin_shutdown()
             if not await self._wait_all_closed(grace):
-                for listener in self.listeners:
-                    for conn in list(listener.connections):
-                        conn.flush_delayed()
-                        conn.close()
+                for conn in list(self._connections()):
+                    conn.flush_delayed()
+                    conn.close()
                 if not await self._wait_all_closed(grace):
-                    for listener in self.listeners:
-                        for conn in list(listener.connections):
-                            _log.warning(
-                                "%s: connection from %s aborted at shutdown (output not read)",
-                                listener.label,
-                                conn.peer,
-                            )
-                            conn.abort()
+                    for conn in list(self._connections()):
+                        _log.warning(
+                            "%s: connection from %s aborted at shutdown (output not read)",
+                            conn.label,
+                            conn.peer_text,
+                        )
+                        conn.abort()
                     await self._wait_all_closed(1.0)
             # Let the transports' close callbacks run before the loop may be torn down.
             await anyio.lowlevel.checkpoint()
-            for listener in self.listeners:
-                aserver = listener._aserver
-                if aserver is not None:
-                    listener._aserver = None
-                    await aserver.wait_closed()
+            for listener in self._all_listeners():
+                await self._wait_unbound(listener)
             _log.info("server closed")
+
+    def _connections(self) -> Iterator[_AnyConnection]:
+        for listener in self._all_listeners():
+            yield from listener.all_connections()
 
     async def _wait_all_closed(self, within: float) -> bool:
         event = self._all_closed
@@ -355,43 +638,34 @@ class FocasServer:
             await event.wait()
         return not self.connection_count
 
-    def _connection_done(self, conn: Connection) -> None:
+    def _connection_done(self) -> None:
         event = self._all_closed
         if event is not None and not self.connection_count:
             event.set()
 
     # -- idle sweep ------------------------------------------------------------------------
 
-    def _schedule_sweep(self) -> None:
+    def _schedule_sweep(self, loop: asyncio.AbstractEventLoop) -> None:
         period = self.idle_timeout / _SWEEPS_PER_TIMEOUT
-        self._sweeper = self._loop.call_later(period, self._sweep)
+        self._sweeper = loop.call_later(period, self._sweep, loop)
 
-    def _sweep(self) -> None:
-        self._tick += 1
-        tick = self._tick
+    def _sweep(self, loop: asyncio.AbstractEventLoop) -> None:
         limit = _SWEEPS_PER_TIMEOUT + 1  # idle for at least one whole timeout
-        for listener in self.listeners:
-            idle = [
-                c
-                for c in listener.connections
-                if tick - c.last_tick >= limit and not c.delayed_count
-            ]
-            for conn in idle:
-                _log.info(
-                    "%s: closing the connection from %s: idle for %g s",
-                    listener.label,
-                    conn.peer,
-                    self.idle_timeout,
-                )
-                conn.abort()
-        self._schedule_sweep()
+        idle: list[_AnyConnection] = []
+        for conn in self._connections():
+            conn.idle_sweeps += 1
+            if conn.idle_sweeps >= limit and not conn.delayed_count:
+                idle.append(conn)
+        for conn in idle:
+            conn.close_idle(self.idle_timeout)
+        self._schedule_sweep(loop)
 
     # -- introspection ---------------------------------------------------------------------
 
     @property
     def connection_count(self) -> int:
-        """Open connections over all listeners."""
-        return sum(len(listener.connections) for listener in self.listeners)
+        """Open connections over all listeners, both protocols."""
+        return sum(listener.connection_count for listener in self._all_listeners())
 
     @property
     def machines(self) -> list[Machine]:
@@ -403,8 +677,8 @@ class FocasServer:
         return [listener.address for listener in self.listeners]
 
     def listener_for(self, port: int) -> Listener:
-        """The listener bound to ``port``."""
-        for listener in self.listeners:
+        """The listener bound to ``port`` (a native-only one too)."""
+        for listener in self._all_listeners():
             if listener.port == port:
                 return listener
         raise KeyError(port)
@@ -414,16 +688,26 @@ class FocasServer:
         return f"<FocasServer {state} {len(self.listeners)} machines>"
 
     def stats(self) -> dict[str, dict[str, Any]]:
-        """Per machine: address, open connections and the counters."""
-        return {
-            listener.label: {
+        """Per machine: address, open packed connections and the packed counters, the
+        machine-wide faults armed, and under ``"native"`` the same for native connections
+        (over the machine's ports; ``address`` is its native-only port when it has one)."""
+        result: dict[str, dict[str, Any]] = {}
+        for listener in self.listeners:
+            ports = [listener] if listener.native is None else [listener, listener.native]
+            native_port = next((p for p in ports if p.native_only), listener)
+            result[listener.label] = {
                 "address": listener.address_text,
                 "connections": len(listener.connections),
                 "accepted": listener.accepted,
-                "refused": listener.refused,
+                "refused": sum(p.refused for p in ports if not p.native_only),
                 "violations": listener.violations,
                 "faults": len(listener.faults),
-                **({"native": listener.native.stats()} if listener.native is not None else {}),
+                "native": {
+                    "address": native_port.address_text,
+                    "connections": sum(len(p.native_connections) for p in ports),
+                    "accepted": sum(p.native_accepted for p in ports),
+                    "refused": sum(p.refused for p in ports if p.native_only),
+                    "violations": sum(p.native_violations for p in ports),
+                },
             }
-            for listener in self.listeners
-        }
+        return result

@@ -1,13 +1,15 @@
-"""Fault injection (simulator control 0x0E05, PROTOCOL.md section 4): the pure part.
+"""Fault injection (simulator control 0x0E05, docs/protocol.md section 4): the pure part.
 
 ``inject_fault`` carries ``i16 kind, i16 scope, i16 count, i32 arg``. This module validates it
-and keeps the queues of armed faults; the connection protocol (``_connection.py``) applies a
-fault to the answers it sends.
+and keeps the queues of armed faults; the connections (``_base.py``, ``_packed.py``,
+``_native.py``) apply a fault to the answers they send, on packed and native connections alike
+(``docs/native-protocol.md`` says how a native answer carries each kind).
 
 * kind 1 :attr:`FaultKind.DELAY` - the answer is sent ``arg`` ms later (0..60,000); answers to
   later requests may overtake it.
 * kind 2 :attr:`FaultKind.ERROR` - the answer is replaced by the EW code ``arg`` (non-zero,
-  within i16); a counted list answers ``count = -1`` and that code.
+  within i16); a counted list answers ``count = -1`` and that code; a native data request
+  answers that code in every block, with no data.
 * kind 3 :attr:`FaultKind.DROP` - the connection is closed instead of answering.
 * kind 4 :attr:`FaultKind.SPLIT` - the answer is sent one byte per write.
 
@@ -17,8 +19,9 @@ count). ``count`` is 1..10,000. A bad kind, scope, count or arg answers ``EW_DAT
 
 Faults armed in one scope form a queue: the first fault applies to the next answers until its
 count is used up, then the next one takes over. When both scopes hold a fault, the connection's
-own fault applies (and only its count goes down). The answers of control commands are never
-faulted and never count.
+own fault applies (and only its count goes down). The answers of control commands, and the
+native open and close answers, are never faulted and never count. Faults are armed only with
+the packed command; a native connection sees the machine's (scope 1).
 """
 
 from __future__ import annotations

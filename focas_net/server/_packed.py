@@ -1,0 +1,253 @@
+"""A packed-protocol connection (``docs/protocol.md``): the per-frame data path of the server.
+
+Every chunk read from the socket goes through the incremental :class:`FrameDecoder`; each
+request is answered synchronously by the machine's packed adapter, and all answers produced by
+one chunk leave in one ``writelines`` call. Delayed answers (fault injection) are timer
+callbacks. Backpressure, the backlog, delays and shutdown are :class:`~._base.BaseConnection`'s.
+
+The machine is reached only through its :class:`~focas_net.adapters.PackedAdapter` (shared by
+the listener's connections, so they share its answer caches): ``answer`` and ``error_answer``.
+"""
+
+from __future__ import annotations
+
+import logging
+from typing import TYPE_CHECKING, Final
+
+from focas_net.errors import EW, FrameError
+from focas_net.protocol import HEADER, Frame, FrameDecoder, encode_ew
+
+from ._base import BaseConnection, CloseCallback, Limits
+from .faults import FaultKind, FaultQueue, FaultScope, parse_inject
+
+if TYPE_CHECKING:
+    import asyncio
+
+    from focas_net.adapters import PackedAdapter
+    from focas_net.sim import Session
+
+__all__ = ["PackedConnection"]
+
+_log = logging.getLogger("focas_net.server")
+
+_pack_header = HEADER.pack
+_CONTROL_FIRST: Final = 0x0E01
+_CONTROL_LAST: Final = 0x0E05
+_INJECT_FAULT: Final = 0x0E05
+_UNLOCK: Final = 0x0105
+_EW_OK: Final = encode_ew(EW.OK)
+_EW_FUNC: Final = encode_ew(EW.FUNC)
+_DEBUG: Final = logging.DEBUG
+_HEXDUMP_LIMIT: Final = 256
+_DELAY_KIND: Final = FaultKind.DELAY
+_ERROR_KIND: Final = FaultKind.ERROR
+_DROP_KIND: Final = FaultKind.DROP
+
+
+def _hexdump(data: bytes | bytearray | memoryview) -> str:
+    head = bytes(data[:_HEXDUMP_LIMIT]).hex(" ")
+    return head + (f" ... ({len(data)} bytes)" if len(data) > _HEXDUMP_LIMIT else "")
+
+
+def _dump_frames(frames: list[Frame]) -> str:
+    """Decoded frames for a DEBUG log; the payload of an unlock (the password) is never shown."""
+    return "; ".join(
+        f"0x{command:04X} #{request_id}: "
+        + ("<password redacted>" if command == _UNLOCK else _hexdump(payload))
+        for command, request_id, payload in frames
+    )
+
+
+class PackedConnection(BaseConnection[Frame]):
+    """One packed-protocol connection to ``machine``.
+
+    ``faults`` is the machine-wide fault queue, ``limits`` the server's bounds, ``on_close``
+    is called once when the transport is gone; ``label`` names the machine in logs.
+    """
+
+    __slots__ = ("_adapter", "_decoder", "_machine", "_session")
+
+    def __init__(
+        self,
+        adapter: PackedAdapter,
+        faults: FaultQueue,
+        limits: Limits,
+        on_close: CloseCallback,
+        label: str | None = None,
+    ) -> None:
+        machine = adapter.machine
+        super().__init__(machine.name if label is None else label, faults, limits, on_close)
+        self._adapter = adapter
+        self._machine = machine
+        self._session: Session | None = None
+        self._decoder = FrameDecoder(limits.max_frame)
+
+    @property
+    def buffered_input(self) -> int:
+        """Bytes received and not answered yet: a partial frame in the decoder, plus the
+        backlog held while backpressure stops the answering."""
+        held = self._decoder.buffered
+        backlog = self._backlog
+        if backlog is not None:
+            held += len(backlog.input)
+            if backlog.frames:
+                held += sum(8 + len(f.payload) for f in backlog.frames)
+        return held
+
+    # -- asyncio.Protocol ------------------------------------------------------------------
+
+    def connection_made(self, base: asyncio.BaseTransport) -> None:
+        super().connection_made(base)
+        self._session = self._machine.new_session()
+        _log.debug("%s: connection from %s", self._label, self._peer)
+
+    # -- the data path ---------------------------------------------------------------------
+
+    def _feed(self, chunk: bytes | memoryview) -> bool:
+        """Decode ``chunk`` and answer its frames; False when a framing violation closed the
+        connection or output backpressure stopped the answering part way."""
+        try:
+            frames = self._decoder.feed(chunk)
+        except FrameError as exc:
+            if exc.frames:
+                self._run(exc.frames)
+            self._framing_violation(exc, chunk)
+            return False
+        if not frames:
+            return True
+        if _log.isEnabledFor(_DEBUG):
+            _log.debug("%s: from %s: %s", self._label, self._peer, _dump_frames(frames))
+        self.idle_sweeps = 0
+        return self._run(frames)
+
+    def _run(self, frames: list[Frame]) -> bool:
+        """Answer ``frames`` in order; False when output backpressure stopped it part way (the
+        rest is kept in the backlog) or the connection was closed."""
+        transport = self._transport
+        assert transport is not None
+        adapter = self._adapter
+        session = self._session
+        shared = self._shared
+        budget = self._limits.write_buffer_high
+        out: list[bytes] = []
+        size = 0
+        for index, (command, request_id, payload) in enumerate(frames):
+            if command == _INJECT_FAULT:
+                answer = self._inject_fault(payload)
+            elif (shared.armed or self._faults is not None) and not (
+                _CONTROL_FIRST <= command <= _CONTROL_LAST
+            ):
+                fault = self._take_fault()
+                if fault is not None:
+                    written = self._apply_fault(fault, command, request_id, payload, out)
+                    if written is None:
+                        return False  # the connection was closed instead of answering
+                    out = written
+                    if self._write_paused or self._delayed_full():
+                        return self._stop_writing(frames, index + 1, out)
+                    continue
+                answer = self._answer(command, payload)
+            else:
+                try:
+                    answer = adapter.answer(session, command, payload)  # type: ignore[arg-type]
+                except Exception:
+                    answer = self._failed(command)
+            out.append(_pack_header(len(answer) + 4, command, request_id))
+            out.append(answer)
+            size += len(answer)
+            if size >= budget:
+                transport.writelines(out)
+                out = []
+                size = 0
+                if self._write_paused:  # the write buffer passed its high-water mark
+                    return self._stop_writing(frames, index + 1, out)
+        if out:
+            transport.writelines(out)
+        return True
+
+    def _stop_writing(self, frames: list[Frame], index: int, out: list[bytes]) -> bool:
+        transport = self._transport
+        assert transport is not None
+        if out:
+            transport.writelines(out)
+        return self._stop(frames, index)
+
+    # -- helpers ---------------------------------------------------------------------------
+
+    def _answer(self, command: int, payload: bytes) -> bytes:
+        try:
+            return self._adapter.answer(self._session, command, payload)  # type: ignore[arg-type]
+        except Exception:
+            return self._failed(command)
+
+    def _failed(self, command: int) -> bytes:
+        """A bug in the machine must not take the connection down: log it, answer EW_REJECT."""
+        _log.exception("%s: command 0x%04X from %s failed", self._label, command, self._peer)
+        return self._adapter.error_answer(command, EW.REJECT)
+
+    def _apply_fault(
+        self,
+        fault: tuple[FaultKind, int],
+        command: int,
+        request_id: int,
+        payload: bytes,
+        out: list[bytes],
+    ) -> list[bytes] | None:
+        """Answer one request under ``fault``; the answers still to write (None: closed).
+
+        A forced EW code (kind 2) and a dropped connection (kind 3) answer without running the
+        request, so the rule "an EW code other than 0 means nothing changed" holds; a delayed
+        (kind 1) or split (kind 4) answer is the real answer.
+        """
+        kind, arg = fault
+        transport = self._transport
+        assert transport is not None
+        if kind is _ERROR_KIND:
+            answer = self._adapter.error_answer(command, arg)
+            out.append(_pack_header(len(answer) + 4, command, request_id))
+            out.append(answer)
+            return out
+        if kind is _DROP_KIND:
+            if out:
+                transport.writelines(out)
+            self._drop()
+            return None
+        answer = self._answer(command, payload)
+        frame = _pack_header(len(answer) + 4, command, request_id) + answer
+        if kind is _DELAY_KIND:
+            self._delay(arg, frame)
+            return out
+        # SPLIT: what came before goes first, then this answer one byte per write
+        if out:
+            transport.writelines(out)
+        self._write_split(frame)
+        return []
+
+    def _framing_violation(self, exc: FrameError, data: bytes | memoryview) -> None:
+        _log.warning("%s: %s from %s: %s", self._label, "framing violation", self._peer, exc)
+        if _log.isEnabledFor(_DEBUG):
+            # Whole frames only: raw bytes could hold part of an unlock request's password.
+            _log.debug(
+                "%s: offending chunk from %s: %d bytes, whole frames before the violation: %s",
+                self._label,
+                self._peer,
+                len(data),
+                _dump_frames(exc.frames) or "none",
+            )
+        self.violated = True
+        self._close_now()
+
+    def _inject_fault(self, payload: bytes) -> bytes:
+        machine = self._machine
+        if not machine.control_enabled:
+            return _EW_FUNC
+        parsed = parse_inject(payload, read_only=machine.read_only)
+        if isinstance(parsed, int):
+            return encode_ew(parsed)
+        scope, fault = parsed
+        queue = self._shared if scope is FaultScope.MACHINE else self._own_faults()
+        ew = queue.arm(fault)
+        if ew:
+            return encode_ew(ew)
+        _log.info("%s: %s armed by %s (%s)", self._label, fault, self._peer, scope.name)
+        return _EW_OK
