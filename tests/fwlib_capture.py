@@ -42,7 +42,6 @@ from typing import Any
 
 from focas_net.errors import EW
 from focas_net.native import (
-    AlarmHistory,
     AlarmHistoryRecord,
     AlarmMessage,
     AlarmMessages,
@@ -62,10 +61,14 @@ from focas_net.native import (
     ItemRecord,
     ItemValues,
     MacroDoubles,
+    NativeAlarmHistory,
     NativeFrame,
     NativeFrameDecoder,
     NativePayloadError,
+    NativePmcData,
+    NativeProgramNumbers,
     NativeRequest,
+    NativeSysInfo,
     NoData,
     OpenRequest,
     ParamInfo,
@@ -73,10 +76,8 @@ from focas_net.native import (
     ParamInfoEntry,
     ParamType,
     PathDescription,
-    PmcData,
     PositionAxisName,
     PositionAxisNames,
-    ProgramNumbers,
     RequestBlock,
     ResponseBlock,
     ScaledItemRecord,
@@ -85,14 +86,13 @@ from focas_net.native import (
     ScaledValues,
     SequenceNumber,
     StatInfo,
-    SysInfo,
     TimerValue,
     TmModeStatus,
     build_open_answer,
     calls,
     decode_request,
     decode_request_body,
-    encode_frame,
+    encode_native_frame,
     encode_response_body,
     requests,
 )
@@ -166,7 +166,7 @@ def default_diags() -> dict[int, Item]:
     }
 
 
-_SYSINFO = SysInfo(0, MAX_AXES, " 0", " M", "D4G3", "28.0", "03")
+_SYSINFO = NativeSysInfo(0, MAX_AXES, " 0", " M", "D4G3", "28.0", "03")
 _STATUS = StatInfo(1, 3, 1, 0, 0, 1, 0)
 _FEED = ScaledNumber(1500, 0)
 _SPEED = ScaledNumber(3000, 0)
@@ -178,7 +178,7 @@ class Machine:
 
     version: int
     machine_type: str = " M"
-    sysinfo: SysInfo = _SYSINFO
+    sysinfo: NativeSysInfo = _SYSINFO
     status: StatInfo = _STATUS
     hdck: int = 0
     tmmode: int = 0
@@ -328,7 +328,7 @@ class Machine:
             mem = self._pmc_area(req.area)
             if not 0 <= req.first <= req.last < len(mem):
                 raise _Refused(EW.NUMBER)
-            return PmcData(bytes(mem[req.first : req.last + 1]))
+            return NativePmcData(bytes(mem[req.first : req.last + 1]))
         if isinstance(req, r.PmcWriteRequest):
             mem = self._pmc_area(req.area)
             if not 0 <= req.first <= req.last < len(mem):
@@ -345,7 +345,7 @@ class Machine:
         if isinstance(req, r.AlarmStatusRequest):
             return AlarmStatus(self.alarm_bits)
         if isinstance(req, r.ProgramNumberRequest):
-            return ProgramNumbers(self.running, self.main)
+            return NativeProgramNumbers(self.running, self.main)
         if isinstance(req, r.ExecutingProgramRequest):
             return ExecutingProgram(self.running, self.program_name)
         if isinstance(req, r.SequenceNumberRequest):
@@ -354,7 +354,7 @@ class Machine:
             return ScaledValues((self.feed,))
         if isinstance(req, r.ActualSpindleSpeedRequest):
             return ScaledValues((self.speed,))
-        if isinstance(req, r.PositionRequest):
+        if isinstance(req, r.NativePositionRequest):
             kind = req.position_kind
             if kind is None or kind.value not in self.positions:
                 raise _Refused(EW.ATTRIB)
@@ -387,10 +387,10 @@ class Machine:
             return AxisDisplays(tuple(AxisDisplay(bytes(3), f) for f in self.display_flags))
         if isinstance(req, r.CncIdRequest):
             return CncId(*self.cnc_id)
-        if isinstance(req, r.AlarmHistoryRequest):
+        if isinstance(req, r.NativeAlarmHistoryRequest):
             if not 1 <= req.first <= len(self.history) or req.last < req.first:
                 raise _Refused(EW.NUMBER)
-            return AlarmHistory(tuple(self.history[req.first - 1 : req.last]))
+            return NativeAlarmHistory(tuple(self.history[req.first - 1 : req.last]))
         if isinstance(req, r.TimerRequest):
             if req.type not in self.timers:
                 raise _Refused(EW.NUMBER)
@@ -567,7 +567,7 @@ class Responder:
                 if not chunk:
                     return
                 for frame in decoder.feed(chunk):
-                    raw = encode_frame(frame.type, frame.body, frame.version)
+                    raw = encode_native_frame(frame.type, frame.body, frame.version)
                     if frame.type == FrameType.OPEN_REQUEST:
                         name = "A" if OpenRequest.decode(frame.body).channel == 1 else "B"
                     answer = self._answer(frame)
@@ -580,9 +580,9 @@ class Responder:
 
     def _answer(self, frame: NativeFrame) -> bytes | None:
         if frame.type == FrameType.OPEN_REQUEST:
-            return encode_frame(FrameType.OPEN_RESPONSE, self.open_body, self.version)
+            return encode_native_frame(FrameType.OPEN_RESPONSE, self.open_body, self.version)
         if frame.type == FrameType.CLOSE_REQUEST:
-            return encode_frame(FrameType.CLOSE_RESPONSE, b"", self.version)
+            return encode_native_frame(FrameType.CLOSE_RESPONSE, b"", self.version)
         if frame.type != FrameType.DATA_REQUEST:
             return None
         if self.raw_hook is not None:
@@ -594,7 +594,9 @@ class Responder:
         for block in blocks:
             answer = self.hook(block) if self.hook is not None else None
             answers.append(answer if answer is not None else self.machine.answer(block))
-        return encode_frame(FrameType.DATA_RESPONSE, encode_response_body(answers), self.version)
+        return encode_native_frame(
+            FrameType.DATA_RESPONSE, encode_response_body(answers), self.version
+        )
 
 
 # ----------------------------------------------------------------------------------------------
@@ -718,7 +720,7 @@ def run_calls(lib: Any, version: int) -> dict[str, Any]:
     si = struct.unpack("<hh2s2s4s4s2s", b.raw)
     s.record("cnc_sysinfo", {}, rc, {"odbsys": [si[0], si[1], *(x.decode() for x in si[2:])]})
     s.check("cnc_sysinfo", (rc, s.last_requests()), (0, []))
-    s.check("ODBSYS", SysInfo(si[0], si[1], *(x.decode() for x in si[2:])), machine.sysinfo)
+    s.check("ODBSYS", NativeSysInfo(si[0], si[1], *(x.decode() for x in si[2:])), machine.sysinfo)
 
     b = buf(18)
     rc = L.cnc_statinfo(hd, b)

@@ -28,7 +28,7 @@ from focas_net.native import (
     decode_response_body,
     encode_request_body,
 )
-from focas_net.native import PmcArea as NativePmcArea
+from focas_net.native import NativePmcArea as NativePmcArea
 from focas_net.sim import default_machine
 
 

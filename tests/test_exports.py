@@ -119,7 +119,20 @@ HOMES = [
     "focas_net.native",
     "focas_net.protocol",
     "focas_net.errors",
+    "focas_net.client",
+    "focas_net.server",
+    "focas_net.cli",
 ]
+
+
+def test_each_name_is_exported_by_one_subpackage() -> None:
+    """A public name means one thing: no two subpackages export the same name (the top level
+    gathers some of them, as the same objects)."""
+    homes: dict[str, list[str]] = {}
+    for package in HOMES:
+        for name in importlib.import_module(package).__all__:
+            homes.setdefault(name, []).append(package)
+    assert {n: where for n, where in homes.items() if len(where) > 1} == {}
 
 
 def test_each_object_is_exported_by_one_subpackage() -> None:

@@ -33,19 +33,20 @@ from focas_net.native import (
     NativeFrameDecoder,
     NativeFrameError,
     NativePayloadError,
+    NativePmcArea,
+    NativePmcData,
+    NativePositionKind,
+    NativePositionRequest,
+    NativeProgramNumbers,
     NativeProtocolError,
     NativeRequest,
+    NativeSysInfo,
     OpenRequest,
     ParamRead3Request,
     ParamReadRequest,
-    PmcArea,
-    PmcData,
     PmcDataType,
     PmcReadRequest,
-    PositionKind,
-    PositionRequest,
     ProgramNumberRequest,
-    ProgramNumbers,
     RequestBlock,
     ResponseBlock,
     ScaledItemRecord,
@@ -54,7 +55,6 @@ from focas_net.native import (
     ScaledValues,
     StatInfo,
     StatInfoRequest,
-    SysInfo,
     SysInfoRequest,
     decode_frame,
     decode_request,
@@ -62,11 +62,11 @@ from focas_net.native import (
     decode_response_body,
     encode_close_request,
     encode_close_response,
-    encode_frame,
+    encode_native_frame,
+    encode_native_response,
     encode_open_request,
     encode_open_response,
     encode_request,
-    encode_response,
     max_response_body,
     resolve_position_kind,
 )
@@ -135,11 +135,11 @@ def test_open_response_default() -> None:
         (
             "a0a0a0a0 0001 2101 001e 0001 001c 0002 0001 8001 0000089c 0000089d 00000009"
             " 00000001 00000000",
-            PmcReadRequest(2204, 2205, PmcArea.D, PmcDataType.WORD),
+            PmcReadRequest(2204, 2205, NativePmcArea.D, PmcDataType.WORD),
         ),
         (
             "a0a0a0a0 0001 2101 001e 0001 001c 0001 0001 0026 00000004 ffffffff" + "00" * 12,
-            PositionRequest(4, -1),
+            NativePositionRequest(4, -1),
         ),
         (
             "a0a0a0a0 0001 2101 001e 0001 001c 0001 0001 0023 ffffffff 0000000a 00000002"
@@ -168,7 +168,7 @@ def test_request_golden(wire: str, expected: NativeRequest) -> None:
 
 def test_multi_block_request_golden() -> None:
     # a pyfanuc-style position read: ABS, REL, machine, distance in one frame
-    blocks = [PositionRequest(kind).to_block() for kind in (4, 6, 1, 7)]
+    blocks = [NativePositionRequest(kind).to_block() for kind in (4, 6, 1, 7)]
     wire = encode_request(blocks)
     assert wire[:12] == h("a0a0a0a0 0001 2101 0072 0004")
     assert wire[12:40] == h("001c 0001 0001 0026 00000004 ffffffff" + "00" * 12)
@@ -176,12 +176,12 @@ def test_multi_block_request_golden() -> None:
 
 
 def test_position_kinds() -> None:
-    assert PositionRequest(4).position_kind is PositionKind.ABSOLUTE
-    assert resolve_position_kind(0) is PositionKind.ABSOLUTE
-    assert resolve_position_kind(1) is PositionKind.MACHINE
-    assert resolve_position_kind(6) is PositionKind.RELATIVE
-    assert resolve_position_kind(7) is PositionKind.DISTANCE
-    assert resolve_position_kind(8) is PositionKind.SKIP
+    assert NativePositionRequest(4).position_kind is NativePositionKind.ABSOLUTE
+    assert resolve_position_kind(0) is NativePositionKind.ABSOLUTE
+    assert resolve_position_kind(1) is NativePositionKind.MACHINE
+    assert resolve_position_kind(6) is NativePositionKind.RELATIVE
+    assert resolve_position_kind(7) is NativePositionKind.DISTANCE
+    assert resolve_position_kind(8) is NativePositionKind.SKIP
     assert resolve_position_kind(5) is None
 
 
@@ -208,7 +208,7 @@ def test_empty_data_request_has_no_blocks() -> None:
 
 def test_status_response_golden() -> None:
     reply = StatInfoRequest().to_block().reply(StatInfo(1, 0, 0, 0, 0, 0, 0).encode())
-    wire = encode_response([reply])
+    wire = encode_native_response([reply])
     assert wire == h(
         "a0a0a0a0 0002 2102 0020 0001 001e 0001 0001 0019 0000 0000 0000 000e"
         " 0001 0000 0000 0000 0000 0000 0000"
@@ -219,18 +219,18 @@ def test_status_response_golden() -> None:
 
 def test_sysinfo_golden() -> None:
     data = h("0662 0020 2030 204d 44344733 32382e30 3033")
-    info = SysInfo(0x0662, 32, " 0", " M", "D4G3", "28.0", "03")
+    info = NativeSysInfo(0x0662, 32, " 0", " M", "D4G3", "28.0", "03")
     assert info.encode() == data
-    assert SysInfo.decode(data) == info
-    wire = encode_response([SysInfoRequest().to_block().reply(data)])
+    assert NativeSysInfo.decode(data) == info
+    wire = encode_native_response([SysInfoRequest().to_block().reply(data)])
     assert wire[:20] == h("a0a0a0a0 0002 2102 0024 0001 0022 0001 0001 0018")
 
 
 def test_sysinfo_rejects_bad_widths() -> None:
     with pytest.raises(ValueError):
-        SysInfo(0, 8, "0", " M", "D4G3", "28.0", "03").encode()
+        NativeSysInfo(0, 8, "0", " M", "D4G3", "28.0", "03").encode()
     with pytest.raises(NativePayloadError):
-        SysInfo.decode(bytes(17))
+        NativeSysInfo.decode(bytes(17))
 
 
 def test_mixed_response_golden() -> None:
@@ -243,15 +243,15 @@ def test_mixed_response_golden() -> None:
         " 0010 0001 0001 0026 0006 0000 0000 0000"
     )
     blocks = [
-        ProgramNumberRequest().to_block().reply(ProgramNumbers(3000, 3000).encode()),
+        ProgramNumberRequest().to_block().reply(NativeProgramNumbers(3000, 3000).encode()),
         ActualFeedRequest().to_block().reply(ScaledValues((ScaledNumber(0, 4),)).encode()),
         ActualSpindleSpeedRequest().to_block().reply(ew=EW.FUNC),
-        PositionRequest(7).to_block().reply(ew=EW.NOOPT),
+        NativePositionRequest(7).to_block().reply(ew=EW.NOOPT),
     ]
-    assert encode_response(blocks) == wire
+    assert encode_native_response(blocks) == wire
     decoded = decode_response_body(decode_frame(wire).body)
     assert decoded == tuple(blocks)
-    assert ProgramNumbers.decode(decoded[0].data) == ProgramNumbers(3000, 3000)
+    assert NativeProgramNumbers.decode(decoded[0].data) == NativeProgramNumbers(3000, 3000)
     assert ScaledValues.decode(decoded[1].data).values[0].to_float() == 0.0
     assert [b.ew for b in decoded] == [0, 0, EW.FUNC, EW.NOOPT]
 
@@ -311,14 +311,14 @@ def test_alarm_message_bad_length() -> None:
 
 
 def test_pmc_data_golden() -> None:
-    data = PmcData.from_values(PmcDataType.WORD, [0x1234, 0xFFFF])
+    data = NativePmcData.from_values(PmcDataType.WORD, [0x1234, 0xFFFF])
     assert data.raw == h("1234 ffff")
     assert data.values(PmcDataType.WORD) == (0x1234, 0xFFFF)
     assert data.values(PmcDataType.BYTE) == (0x12, 0x34, 0xFF, 0xFF)
     with pytest.raises(NativePayloadError):
         data.values(7)
     with pytest.raises(NativePayloadError):
-        PmcData(b"\x00").values(PmcDataType.WORD)
+        NativePmcData(b"\x00").values(PmcDataType.WORD)
 
 
 def test_macro_doubles_golden() -> None:
@@ -334,10 +334,13 @@ def test_response_version_limit() -> None:
     assert max_response_body(3) == 2910
     assert max_response_body(4) == 3470
     block = ResponseBlock(1, 1, 0x15, data=bytes(1432))  # body: 2 + 16 + 1432 = 1450
-    assert len(encode_response([block])) == 1460
+    assert len(encode_native_response([block])) == 1460
     with pytest.raises(ValueError):
-        encode_response([ResponseBlock(1, 1, 0x15, data=bytes(1433))])
-    assert len(encode_response([ResponseBlock(1, 1, 0x15, data=bytes(1433))], version=3)) == 1461
+        encode_native_response([ResponseBlock(1, 1, 0x15, data=bytes(1433))])
+    assert (
+        len(encode_native_response([ResponseBlock(1, 1, 0x15, data=bytes(1433))], version=3))
+        == 1461
+    )
 
 
 # ---------------------------------------------------------------------------------------------
@@ -346,11 +349,11 @@ def test_response_version_limit() -> None:
 
 def test_pyfocas_parses_our_replies() -> None:
     packet = pytest.importorskip("pyfocas.protocol.packet")
-    wire = encode_response(
+    wire = encode_native_response(
         [
             SysInfoRequest()
             .to_block()
-            .reply(SysInfo(0, 8, " 0", " M", "D4G3", "28.0", "03").encode())
+            .reply(NativeSysInfo(0, 8, " 0", " M", "D4G3", "28.0", "03").encode())
         ]
     )
     parsed = packet.extract_focas_packet(wire)
@@ -395,7 +398,7 @@ typed_requests = st.one_of(
     st.builds(DiagnosticRequest, i32, i32, i32),
     st.builds(PmcReadRequest, i32, i32, i32, i32),
     st.builds(AlarmMessageRequest, i32, i32, i32, i32),
-    st.builds(PositionRequest, i32, i32),
+    st.builds(NativePositionRequest, i32, i32),
 )
 
 
@@ -422,7 +425,7 @@ def test_request_body_round_trip(blocks: list[RequestBlock], version: int) -> No
 
 @given(st.lists(response_blocks, max_size=8))
 def test_response_body_round_trip(blocks: list[ResponseBlock]) -> None:
-    frame = decode_frame(encode_response(blocks))
+    frame = decode_frame(encode_native_response(blocks))
     assert decode_response_body(frame.body) == tuple(blocks)
 
 
@@ -438,8 +441,8 @@ def test_response_body_round_trip(blocks: list[ResponseBlock]) -> None:
 def test_sysinfo_round_trip(
     addinfo: int, max_axis: int, cnc: str, mt: str, series: str, version: str, axes: str
 ) -> None:
-    info = SysInfo(addinfo, max_axis, cnc, mt, series, version, axes)
-    assert SysInfo.decode(info.encode()) == info
+    info = NativeSysInfo(addinfo, max_axis, cnc, mt, series, version, axes)
+    assert NativeSysInfo.decode(info.encode()) == info
 
 
 @given(st.builds(StatInfo, i16, i16, i16, i16, i16, i16, i16))
@@ -447,9 +450,9 @@ def test_statinfo_round_trip(info: StatInfo) -> None:
     assert StatInfo.decode(info.encode()) == info
 
 
-@given(st.builds(ProgramNumbers, i32, i32))
-def test_program_numbers_round_trip(numbers: ProgramNumbers) -> None:
-    assert ProgramNumbers.decode(numbers.encode()) == numbers
+@given(st.builds(NativeProgramNumbers, i32, i32))
+def test_program_numbers_round_trip(numbers: NativeProgramNumbers) -> None:
+    assert NativeProgramNumbers.decode(numbers.encode()) == numbers
 
 
 @given(st.lists(scaled, max_size=40))
@@ -520,8 +523,8 @@ def test_alarm_messages_round_trip(case: tuple[int, list[AlarmMessage]]) -> None
 def test_pmc_data_round_trip(kind: PmcDataType, data: st.DataObject) -> None:
     top = (1 << (8 * kind.width)) - 1
     values = data.draw(st.lists(st.integers(0, top), max_size=32))
-    reply = PmcData.from_values(kind, values)
-    assert PmcData.decode(reply.encode()).values(kind) == tuple(values)
+    reply = NativePmcData.from_values(kind, values)
+    assert NativePmcData.decode(reply.encode()).values(kind) == tuple(values)
 
 
 # ---------------------------------------------------------------------------------------------
@@ -533,7 +536,7 @@ def _sample_stream() -> tuple[bytes, list[NativeFrame]]:
         encode_open_request(),
         encode_request([StatInfoRequest().to_block(), MacroReadRequest(100, 105).to_block()]),
         encode_request([MacroDoubleWriteRequest(500, -1.5).to_block()]),
-        encode_frame(FrameType.DATA_REQUEST, b""),
+        encode_native_frame(FrameType.DATA_REQUEST, b""),
         encode_close_request(),
     ]
     return b"".join(frames), [decode_frame(f) for f in frames]
@@ -596,7 +599,7 @@ def test_decoder_rejects_oversize_header_split_across_feeds() -> None:
 
 def test_decoder_accepts_exactly_the_maximum() -> None:
     decoder = NativeFrameDecoder(max_body=64)
-    wire = encode_frame(FrameType.DATA_REQUEST, bytes(64))
+    wire = encode_native_frame(FrameType.DATA_REQUEST, bytes(64))
     assert decoder.feed(wire) == [NativeFrame(1, FrameType.DATA_REQUEST, bytes(64))]
 
 
@@ -691,16 +694,16 @@ def test_fuzz_bodies(data: bytes) -> None:
     _only_native_errors(lambda: decode_request_body(data))
     _only_native_errors(lambda: decode_response_body(data))
     _only_native_errors(lambda: OpenRequest.decode(data))
-    _only_native_errors(lambda: SysInfo.decode(data))
+    _only_native_errors(lambda: NativeSysInfo.decode(data))
     _only_native_errors(lambda: StatInfo.decode(data))
-    _only_native_errors(lambda: ProgramNumbers.decode(data))
+    _only_native_errors(lambda: NativeProgramNumbers.decode(data))
     _only_native_errors(lambda: ScaledNumber.decode(data))
     _only_native_errors(lambda: ScaledValues.decode(data))
     _only_native_errors(lambda: MacroDoubles.decode(data))
     _only_native_errors(lambda: ItemValues.decode(data, 3))
     _only_native_errors(lambda: ScaledItemValues.decode(data, 3))
     _only_native_errors(lambda: AlarmMessages.decode(data, 32))
-    _only_native_errors(lambda: PmcData.decode(data).values(data[0] if data else 0))
+    _only_native_errors(lambda: NativePmcData.decode(data).values(data[0] if data else 0))
 
 
 @given(st.lists(request_blocks, min_size=1, max_size=3), st.sampled_from(sorted(REQUEST_TYPES)))

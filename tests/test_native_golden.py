@@ -22,11 +22,12 @@ from typing import Any
 import pytest
 
 from focas_net.native import (
-    AlarmHistory,
     AlarmMessages,
     FrameType,
     ItemValues,
+    NativeAlarmHistory,
     NativeRequest,
+    NativeSysInfo,
     OpenRequest,
     ParamType,
     ParamWrite3Request,
@@ -36,7 +37,6 @@ from focas_net.native import (
     RequestBlock,
     ScaledItemValues,
     ScaledValues,
-    SysInfo,
     answer_refusal,
     binary_to_decimal,
     build_open_answer,
@@ -49,10 +49,10 @@ from focas_net.native import (
     decode_response_body,
     encode_close_request,
     encode_close_response,
+    encode_native_response,
     encode_open_request,
     encode_open_response,
     encode_request,
-    encode_response,
     max_response_body,
     open_answer_size,
 )
@@ -257,7 +257,7 @@ def test_every_answer_decodes_and_reencodes(version: int) -> None:
         answers = decode_response_body(frame.body)
         assert answer_refusal(frame.body, len(blocks), version) is None
         assert len(answers) == len(blocks)
-        assert encode_response(answers, version) == answer
+        assert encode_native_response(answers, version) == answer
         for block, reply in zip(blocks, answers, strict=True):
             assert (reply.device, reply.path, reply.command) == (
                 block.device,
@@ -303,7 +303,9 @@ def test_values_the_library_read_back(version: int) -> None:
         decode_frame(bytes.fromhex(connect["exchanges"][2]["answer"])).body
     )[0]
     (sysinfo_call,) = [c for c in data["calls"] if c["function"] == "cnc_sysinfo"]
-    assert SysInfo.decode(sysinfo_answer.data) == SysInfo(*sysinfo_call["values"]["odbsys"])
+    assert NativeSysInfo.decode(sysinfo_answer.data) == NativeSysInfo(
+        *sysinfo_call["values"]["odbsys"]
+    )
 
     for call, (values,) in _answers(version, "cnc_rdmacro"):
         assert isinstance(values, ScaledValues)
@@ -330,7 +332,7 @@ def test_values_the_library_read_back(version: int) -> None:
             assert [_signed(x.mantissa, width) for x in rec.values[:count]] == v["data"]
 
     for call, (history,) in _answers(version, "cnc_rdalmhistry"):
-        assert isinstance(history, AlarmHistory)
+        assert isinstance(history, NativeAlarmHistory)
         # the last chunk fills the end of ODBAHIS
         rows = call["values"]["records"][-len(history.records) :]
         for r, row in zip(history.records, rows, strict=True):

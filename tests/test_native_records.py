@@ -35,9 +35,11 @@ from focas_net.native import (
     MacroWriteRequest,
     NativeFrameError,
     NativePayloadError,
+    NativePmcData,
     NativeProtocolError,
     NativeRecord,
     NativeRequest,
+    NativeSysInfo,
     NoData,
     OpenHeadV2,
     OpenHeadV3,
@@ -51,7 +53,6 @@ from focas_net.native import (
     PathDescription,
     PathRecordV2,
     PathRecordV3,
-    PmcData,
     PmcWriteRequest,
     PositionAxisName,
     PositionAxisNames,
@@ -61,7 +62,6 @@ from focas_net.native import (
     ScaledItemRecord,
     ScaledItemValues,
     ScaledNumber,
-    SysInfo,
     answer_refusal,
     base,
     binary_to_decimal,
@@ -180,7 +180,7 @@ def test_record_garbage_raises_only_the_codec_error(
 
 def test_decode_errors_are_the_codec_errors() -> None:
     with pytest.raises(NativePayloadError) as info:
-        SysInfo.decode(bytes(17))
+        NativeSysInfo.decode(bytes(17))
     assert info.value.ew == EW.LENGTH
     with pytest.raises(NativeFrameError):
         OpenRequest.decode(bytes(3))
@@ -204,7 +204,7 @@ def test_encode_errors_are_value_errors() -> None:
 
 
 def test_layouts_of_the_fact_sheet() -> None:
-    assert SysInfo.SIZE == 18
+    assert NativeSysInfo.SIZE == 18
     assert ScaledNumber.layout() == (("mantissa", "i"), ("base", "h"), ("decimals", "h"))
     assert ScaledNumber(-2500, 3).encode() == bytes.fromhex("fffff63c 000a 0003")
     assert VACANT.encode() == bytes.fromhex("00000000 000a ffff")
@@ -493,7 +493,7 @@ _SPECIAL: dict[type[NativeRequest], st.SearchStrategy[Any]] = {
         st.builds(ScaledItemRecord, i32, i16, i16, st.lists(scaled, max_size=10).map(tuple)),
     ),
     PmcWriteRequest: st.builds(
-        PmcWriteRequest, i32, i32, i32, i32, st.binary(max_size=20).map(PmcData)
+        PmcWriteRequest, i32, i32, i32, i32, st.binary(max_size=20).map(NativePmcData)
     ),
 }
 

@@ -35,14 +35,15 @@ from focas_net.native import (
     MacroReadRequest,
     NativeCommand,
     NativeFrameDecoder,
+    NativePmcArea,
+    NativePmcData,
+    NativePositionRequest,
+    NativeProgramNumbers,
     NativeRequest,
+    NativeSysInfo,
     ParamRead3Request,
     ParamReadRequest,
-    PmcArea,
-    PmcData,
     PmcReadRequest,
-    PositionRequest,
-    ProgramNumbers,
     RequestBlock,
     ResponseBlock,
     ScaledItemValues,
@@ -50,11 +51,10 @@ from focas_net.native import (
     ScaledValues,
     StatInfo,
     StatInfoRequest,
-    SysInfo,
     SysInfoRequest,
     decode_response_body,
     encode_close_request,
-    encode_frame,
+    encode_native_frame,
     encode_open_request,
     encode_request,
 )
@@ -346,8 +346,8 @@ async def test_status_and_sysinfo_agree_between_front_ends(
         assert (seen.aut, seen.emergency, seen.alarm) == (stat.aut, stat.emergency, stat.alarm)
     packed_si = await front.packed_call(Command.SYSINFO)
     assert isinstance(packed_si, PackedSysInfo)
-    si = SysInfo.decode(await native.ok(SysInfoRequest()))
-    assert si == SysInfo(
+    si = NativeSysInfo.decode(await native.ok(SysInfoRequest()))
+    assert si == NativeSysInfo(
         packed_si.addinfo,
         packed_si.max_axis,
         packed_si.cnc_type.decode(),
@@ -476,33 +476,40 @@ async def test_diagnostic_read(front: Front, native: NativeClient) -> None:
 async def test_pmc_read(front: Front, native: NativeClient) -> None:
     write = PackedPmcData(5, 0, 100, 103, b"\x01\x02\x03\x04")  # R100..R103, packed codes
     assert await front.packed_call(Command.WRPMCRNG, write.encode()) is None
-    assert await native.ok(PmcReadRequest(100, 103, PmcArea.R, 0)) == b"\x01\x02\x03\x04"
-    words = PmcData(await native.ok(PmcReadRequest(100, 103, PmcArea.R, 1)))
+    assert await native.ok(PmcReadRequest(100, 103, NativePmcArea.R, 0)) == b"\x01\x02\x03\x04"
+    words = NativePmcData(await native.ok(PmcReadRequest(100, 103, NativePmcArea.R, 1)))
     assert words.values(1) == (0x0201, 0x0403)  # PMC words are little-endian in memory
-    longs = PmcData(await native.ok(PmcReadRequest(100, 103, PmcArea.R, 2)))
+    longs = NativePmcData(await native.ok(PmcReadRequest(100, 103, NativePmcArea.R, 2)))
     assert longs.values(2) == (0x04030201,)
     # more than one packed chunk (32 bytes) in one native read
-    data = await native.ok(PmcReadRequest(0, 99, PmcArea.R, 0))
+    data = await native.ok(PmcReadRequest(0, 99, NativePmcArea.R, 0))
     assert len(data) == 100
     assert data == bytes(100)
-    assert await native.ok(PmcReadRequest(96, 103, PmcArea.R, 0)) == bytes(4) + b"\x01\x02\x03\x04"
+    assert (
+        await native.ok(PmcReadRequest(96, 103, NativePmcArea.R, 0))
+        == bytes(4) + b"\x01\x02\x03\x04"
+    )
     # refusals
-    assert await native.ew(PmcReadRequest(0, 1, PmcArea.E, 0)) == EW.NOOPT
-    assert await native.ew(PmcReadRequest(0, 1, PmcArea.M, 0)) == EW.NOOPT
+    assert await native.ew(PmcReadRequest(0, 1, NativePmcArea.E, 0)) == EW.NOOPT
+    assert await native.ew(PmcReadRequest(0, 1, NativePmcArea.M, 0)) == EW.NOOPT
     assert await native.ew(PmcReadRequest(0, 1, 99, 0)) == EW.ATTRIB
-    assert await native.ew(PmcReadRequest(0, 1, PmcArea.R, 7)) == EW.ATTRIB
-    assert await native.ew(PmcReadRequest(0, 2, PmcArea.R, 1)) == EW.LENGTH
-    assert await native.ew(PmcReadRequest(5, 4, PmcArea.R, 0)) == EW.LENGTH
-    assert await native.ew(PmcReadRequest(0, 4999, PmcArea.D, 0)) == EW.LENGTH
-    assert await native.ew(PmcReadRequest(7990, 8009, PmcArea.R, 0)) == EW.NUMBER
+    assert await native.ew(PmcReadRequest(0, 1, NativePmcArea.R, 7)) == EW.ATTRIB
+    assert await native.ew(PmcReadRequest(0, 2, NativePmcArea.R, 1)) == EW.LENGTH
+    assert await native.ew(PmcReadRequest(5, 4, NativePmcArea.R, 0)) == EW.LENGTH
+    assert await native.ew(PmcReadRequest(0, 4999, NativePmcArea.D, 0)) == EW.LENGTH
+    assert await native.ew(PmcReadRequest(7990, 8009, NativePmcArea.R, 0)) == EW.NUMBER
 
 
 async def test_program_numbers_feed_spindle(front: Front, native: NativeClient) -> None:
-    assert ProgramNumbers.decode(await native.ok(PrgNumRequest())) == ProgramNumbers(1, 1)
+    assert NativeProgramNumbers.decode(await native.ok(PrgNumRequest())) == NativeProgramNumbers(
+        1, 1
+    )
     motion = front.machine.motion
     motion.program_running, motion.program_main = 1234, 1000
     motion.feed, motion.spindle_speed = 1500, 8000
-    assert ProgramNumbers.decode(await native.ok(PrgNumRequest())) == ProgramNumbers(1234, 1000)
+    assert NativeProgramNumbers.decode(await native.ok(PrgNumRequest())) == NativeProgramNumbers(
+        1234, 1000
+    )
     feed = ScaledNumber.decode(await native.ok(ActualFeedRequest()))
     spindle = ScaledNumber.decode(await native.ok(ActualSpindleSpeedRequest()))
     assert (feed.to_float(), spindle.to_float()) == (1500.0, 8000.0)
@@ -522,17 +529,17 @@ async def test_positions(front: Front, native: NativeClient) -> None:
     }
     for kinds, values in expected.items():
         for kind in kinds:
-            got = ScaledValues.decode(await native.ok(PositionRequest(kind, -1))).values
+            got = ScaledValues.decode(await native.ok(NativePositionRequest(kind, -1))).values
             assert len(got) == 8  # max_axis records, the unused ones zero
             assert got[:3] == tuple(ScaledNumber(v, 3) for v in values)
             assert all(r.mantissa == 0 for r in got[3:])
-            one = ScaledValues.decode(await native.ok(PositionRequest(kind, 2))).values
+            one = ScaledValues.decode(await native.ok(NativePositionRequest(kind, 2))).values
             assert one == (ScaledNumber(values[1], 3),)
     assert ScaledNumber(-2500, 3).to_float() == -2.5
-    assert await native.ew(PositionRequest(8, -1)) == EW.NOOPT  # no skip function
-    assert await native.ew(PositionRequest(5, -1)) == EW.ATTRIB
-    assert await native.ew(PositionRequest(4, 4)) == EW.ATTRIB
-    assert await native.ew(PositionRequest(4, 0)) == EW.ATTRIB
+    assert await native.ew(NativePositionRequest(8, -1)) == EW.NOOPT  # no skip function
+    assert await native.ew(NativePositionRequest(5, -1)) == EW.ATTRIB
+    assert await native.ew(NativePositionRequest(4, 4)) == EW.ATTRIB
+    assert await native.ew(NativePositionRequest(4, 0)) == EW.ATTRIB
 
 
 # --------------------------------------------------------------------------------------------
@@ -554,7 +561,7 @@ async def test_unsupported_block_answers_ew_func_others_succeed(
     )
     answers = await native.blocks(*blocks)
     assert [a.ew for a in answers] == [0, EW.FUNC, 0, EW.FUNC, 0, EW.FUNC, EW.PATH]
-    assert SysInfo.decode(answers[0].data).max_axis == 8
+    assert NativeSysInfo.decode(answers[0].data).max_axis == 8
     assert StatInfo.decode(answers[2].data).aut == 1
     assert ScaledValues.decode(answers[4].data).values == (ScaledNumber(7, 0),)
     assert all(a.data == b"" for a in answers if a.ew)
@@ -567,7 +574,7 @@ async def test_unsupported_block_answers_ew_func_others_succeed(
 
 
 async def test_empty_data_request_answers_no_blocks(native: NativeClient) -> None:
-    _, frame_type, body = await native.exchange(encode_frame(FrameType.DATA_REQUEST, b""))
+    _, frame_type, body = await native.exchange(encode_native_frame(FrameType.DATA_REQUEST, b""))
     assert frame_type == FrameType.DATA_RESPONSE
     assert body == b"\x00\x00"
 
@@ -612,10 +619,18 @@ def _many_blocks(n: int) -> bytes:
         ("bad magic after open", b"\xa0\xa0\xa0\xa1" + bytes(6), True),
         ("oversize header only", b"\xa0\xa0\xa0\xa0\x00\x01\x21\x01\xff\xff", True),
         ("data before open", _many_blocks(1), False),
-        ("broken block list", encode_frame(FrameType.DATA_REQUEST, b"\x00\x02\x00\x1c"), True),
+        (
+            "broken block list",
+            encode_native_frame(FrameType.DATA_REQUEST, b"\x00\x02\x00\x1c"),
+            True,
+        ),
         ("too many blocks", _many_blocks(100), True),
-        ("frame type not served", encode_frame(0x1101, b"\x00\x01"), True),
-        ("open body of 3 bytes", encode_frame(FrameType.OPEN_REQUEST, b"\x00\x02\x00"), False),
+        ("frame type not served", encode_native_frame(0x1101, b"\x00\x01"), True),
+        (
+            "open body of 3 bytes",
+            encode_native_frame(FrameType.OPEN_REQUEST, b"\x00\x02\x00"),
+            False,
+        ),
     ],
 )
 async def test_bad_input_closes_only_that_connection(
@@ -637,7 +652,7 @@ async def test_bad_input_closes_only_that_connection(
     assert any(f"127.0.0.1:{port}" in w for w in warnings), warnings
     assert front.native.violations == 1
     # the other native connection and the packed side keep working, state untouched
-    si = SysInfo.decode(await native.ok(SysInfoRequest()))
+    si = NativeSysInfo.decode(await native.ok(SysInfoRequest()))
     assert si.max_axis == 8
     assert isinstance(await front.packed_call(Command.RDCNCSTAT), StatusInfo)
     assert len(front.native.connections) == 1

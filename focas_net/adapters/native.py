@@ -48,7 +48,7 @@ from focas_net.native.codec import (
     _SCALED,
     _U16,
     DEFAULT_SERVER_VERSION,
-    HEADER,
+    NATIVE_HEADER,
     RESPONSE_BLOCK_SIZE,
     SCALED_SIZE,
     AlarmMessage,
@@ -63,17 +63,17 @@ from focas_net.native.codec import (
     NativeCommand,
     NativeFrameError,
     NativePayloadError,
+    NativePmcArea,
+    NativePositionKind,
+    NativePositionRequest,
+    NativeProgramNumbers,
+    NativeSysInfo,
     ParamRead3Request,
     ParamReadRequest,
-    PmcArea,
     PmcDataType,
     PmcReadRequest,
-    PositionKind,
-    PositionRequest,
-    ProgramNumbers,
     RequestBlock,
     StatInfo,
-    SysInfo,
     decode_request_body,
     max_response_body,
     resolve_position_kind,
@@ -101,12 +101,12 @@ _SERVED_PATHS: Final = frozenset({0, 1})
 #: Most alarm messages one block answers.
 _MAX_ALARMS: Final = 32
 #: Kind of a position read -> the machine's position kind.
-_POSITION_KINDS: Final[dict[PositionKind, str]] = {
-    PositionKind.ABSOLUTE: "absolute",
-    PositionKind.MACHINE: "machine",
-    PositionKind.RELATIVE: "relative",
-    PositionKind.DISTANCE: "distance_to_go",
-    PositionKind.SKIP: "skip",
+_POSITION_KINDS: Final[dict[NativePositionKind, str]] = {
+    NativePositionKind.ABSOLUTE: "absolute",
+    NativePositionKind.MACHINE: "machine",
+    NativePositionKind.RELATIVE: "relative",
+    NativePositionKind.DISTANCE: "distance_to_go",
+    NativePositionKind.SKIP: "skip",
 }
 _ALARM_HEAD_SIZE: Final = 16
 _ITEM_HEAD_SIZE: Final = 8
@@ -215,7 +215,7 @@ class NativeAdapter:
         i = machine.identity()
         #: Value slots per parameter/diagnostic record and position records for all axes.
         self.max_axis = max(i.max_axis, len(machine.axes), 1)
-        self._sysinfo = SysInfo(
+        self._sysinfo = NativeSysInfo(
             i.addinfo, i.max_axis, i.cnc_type, i.mt_type, i.series, i.version, i.axes
         ).encode()
         self._status = b""
@@ -262,7 +262,7 @@ class NativeAdapter:
     def _frame(self, parts: list[bytes]) -> bytes:
         """The data-response frame of ``parts`` (``parts[0]`` is the place of its header)."""
         length = sum(map(len, parts))
-        parts[0] = HEADER.pack(_MAGIC_U32, self.version, FrameType.DATA_RESPONSE, length)
+        parts[0] = NATIVE_HEADER.pack(_MAGIC_U32, self.version, FrameType.DATA_RESPONSE, length)
         return b"".join(parts)
 
     def answer(self, body: bytes) -> bytes:
@@ -348,7 +348,7 @@ class NativeAdapter:
 
     def _read_program_numbers(self, block: RequestBlock, room: int) -> bytes:
         m = self.machine.motion
-        return ProgramNumbers(m.program_running, m.program_main).encode()
+        return NativeProgramNumbers(m.program_running, m.program_main).encode()
 
     def _read_feed(self, block: RequestBlock, room: int) -> bytes:
         return _pack_scaled(self.machine.motion.feed, 10, 0)
@@ -357,7 +357,7 @@ class NativeAdapter:
         return _pack_scaled(self.machine.motion.spindle_speed, 10, 0)
 
     def _read_positions(self, block: RequestBlock, room: int) -> bytes:
-        req = PositionRequest.from_block(block)
+        req = NativePositionRequest.from_block(block)
         kind = resolve_position_kind(req.kind)
         if kind is None:
             raise _Refused(EW.ATTRIB)
@@ -480,7 +480,7 @@ class NativeAdapter:
     def _read_pmc(self, block: RequestBlock, room: int) -> bytes:
         req = PmcReadRequest.from_block(block)
         try:
-            letter = PmcArea(req.area).name
+            letter = NativePmcArea(req.area).name
         except ValueError:
             raise _Refused(EW.ATTRIB) from None
         if letter not in PMC_AREAS:  # an area the simulated CNC never has

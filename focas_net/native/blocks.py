@@ -28,7 +28,7 @@ from .frame import (
     CLIENT_VERSION,
     DEFAULT_SERVER_VERSION,
     FrameType,
-    encode_frame,
+    encode_native_frame,
     max_response_body,
 )
 
@@ -44,9 +44,9 @@ __all__ = [
     "answer_refusal",
     "decode_request_body",
     "decode_response_body",
+    "encode_native_response",
     "encode_request",
     "encode_request_body",
-    "encode_response",
     "encode_response_body",
 ]
 
@@ -206,7 +206,7 @@ def encode_request_body(blocks: Sequence[RequestBlock]) -> bytes:
 
 def encode_request(blocks: Sequence[RequestBlock], version: int = CLIENT_VERSION) -> bytes:
     """A whole data-request frame carrying ``blocks``."""
-    return encode_frame(FrameType.DATA_REQUEST, encode_request_body(blocks), version)
+    return encode_native_frame(FrameType.DATA_REQUEST, encode_request_body(blocks), version)
 
 
 def decode_request_body(body: bytes) -> tuple[RequestBlock, ...]:
@@ -246,7 +246,7 @@ def encode_response_body(blocks: Sequence[ResponseBlock]) -> bytes:
     return _U16.pack(len(blocks)) + b"".join(block.encode() for block in blocks)
 
 
-def encode_response(
+def encode_native_response(
     blocks: Sequence[ResponseBlock], version: int = DEFAULT_SERVER_VERSION
 ) -> bytes:
     """A whole data-response frame; :class:`ValueError` if its body exceeds what ``version``
@@ -255,7 +255,7 @@ def encode_response(
     limit = max_response_body(version)
     if len(body) > limit:
         raise ValueError(f"response body of {len(body)} bytes exceeds {limit} (version {version})")
-    return encode_frame(FrameType.DATA_RESPONSE, body, version)
+    return encode_native_frame(FrameType.DATA_RESPONSE, body, version)
 
 
 def decode_response_body(body: bytes) -> tuple[ResponseBlock, ...]:

@@ -17,11 +17,10 @@ from dataclasses import dataclass
 from typing import Final
 
 from .blocks import RequestBlock, encode_request
-from .records import ItemRecord, PmcData, ScaledItemRecord, ScaledNumber
+from .records import ItemRecord, NativePmcData, ScaledItemRecord, ScaledNumber
 from .requests import (
     ActualFeedRequest,
     ActualSpindleSpeedRequest,
-    AlarmHistoryRequest,
     AlarmMessageRequest,
     AlarmStatusRequest,
     AxisCountRequest,
@@ -37,6 +36,8 @@ from .requests import (
     MacroDoubleWriteRequest,
     MacroReadRequest,
     MacroWriteRequest,
+    NativeAlarmHistoryRequest,
+    NativePositionRequest,
     NativeRequest,
     ParamInfo3Request,
     ParamInfoRequest,
@@ -46,7 +47,6 @@ from .requests import (
     ParamWriteRequest,
     PmcReadRequest,
     PmcWriteRequest,
-    PositionRequest,
     ProgramNumberRequest,
     SequenceNumberRequest,
     ServoMeterRequest,
@@ -154,7 +154,7 @@ def cnc_rdalmhistry(cs: CommandSet, first: int, last: int) -> LibraryCall:
     frames: list[tuple[NativeRequest, ...]] = []
     for start in range(first, last + 1, ALARM_HISTORY_CHUNK):
         stop = min(start + ALARM_HISTORY_CHUNK - 1, last)
-        frames.append((AlarmHistoryRequest(start, stop, 1),))
+        frames.append((NativeAlarmHistoryRequest(start, stop, 1),))
     return LibraryCall("cnc_rdalmhistry", tuple(frames))
 
 
@@ -259,7 +259,7 @@ def pmc_wrpmcrng(
     cs: CommandSet, area: int, data_type: int, first: int, last: int, values: Sequence[int]
 ) -> LibraryCall:
     """Device PMC, 0x8002 ``(s, e, area, type, nbytes)`` + the values, big-endian [V]."""
-    data = PmcData.from_values(data_type, values)
+    data = NativePmcData.from_values(data_type, values)
     return _one("pmc_wrpmcrng", PmcWriteRequest(first, last, area, data_type, data))
 
 
@@ -278,29 +278,29 @@ def cnc_acts(cs: CommandSet) -> LibraryCall:
 
 def cnc_absolute(cs: CommandSet, axis: int) -> LibraryCall:
     """0x26 ``(4, axis)`` [V]."""
-    return _one("cnc_absolute", PositionRequest(4, axis))
+    return _one("cnc_absolute", NativePositionRequest(4, axis))
 
 
 def cnc_machine(cs: CommandSet, axis: int) -> LibraryCall:
     """0x26 ``(1, axis)`` [V]."""
-    return _one("cnc_machine", PositionRequest(1, axis))
+    return _one("cnc_machine", NativePositionRequest(1, axis))
 
 
 def cnc_relative(cs: CommandSet, axis: int) -> LibraryCall:
     """0x26 ``(6, axis)`` [V]."""
-    return _one("cnc_relative", PositionRequest(6, axis))
+    return _one("cnc_relative", NativePositionRequest(6, axis))
 
 
 def cnc_distance(cs: CommandSet, axis: int) -> LibraryCall:
     """0x26 ``(7, axis)`` [V]."""
-    return _one("cnc_distance", PositionRequest(7, axis))
+    return _one("cnc_distance", NativePositionRequest(7, axis))
 
 
 def cnc_rdposition(cs: CommandSet) -> LibraryCall:
     """One frame: at 16i class 0x19, 0x26 (0..3, -1), 0x89(-1), 0x0E 3115 (-1), 0x88(2),
     0x19 (9 blocks); at 30i class 0xA4(0), 0x89(-1), 0x88(1), 0x88(2), 0xA3(0, -1), 0x26
     (0..3, -1), 0xA4(0) (10 blocks) [V]."""
-    positions = tuple(PositionRequest(kind, -1) for kind in range(4))
+    positions = tuple(NativePositionRequest(kind, -1) for kind in range(4))
     if cs is _16I:
         return _one(
             "cnc_rdposition",
@@ -332,7 +332,7 @@ def cnc_rddynamic2(cs: CommandSet, axis: int) -> LibraryCall:
         SequenceNumberRequest(),
         ActualFeedRequest(),
         ActualSpindleSpeedRequest(),
-        *(PositionRequest(kind, axis) for kind in (4, 1, 6, 7)),
+        *(NativePositionRequest(kind, axis) for kind in (4, 1, 6, 7)),
     )
 
 

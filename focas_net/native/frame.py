@@ -25,9 +25,9 @@ __all__ = [
     "CLIENT_VERSION",
     "DEFAULT_MAX_BODY",
     "DEFAULT_SERVER_VERSION",
-    "HEADER",
-    "HEADER_SIZE",
     "MAGIC",
+    "NATIVE_HEADER",
+    "NATIVE_HEADER_SIZE",
     "FrameType",
     "NativeFrame",
     "NativeFrameDecoder",
@@ -35,7 +35,7 @@ __all__ = [
     "decode_frame",
     "encode_close_request",
     "encode_close_response",
-    "encode_frame",
+    "encode_native_frame",
     "encode_open_request",
     "encode_open_response",
     "max_response_body",
@@ -50,8 +50,8 @@ __all__ = [
 MAGIC: Final = b"\xa0\xa0\xa0\xa0"
 _MAGIC_U32: Final = 0xA0A0A0A0
 #: ``magic, u16 version, u16 type, u16 length``.
-HEADER: Final = struct.Struct(">IHHH")
-HEADER_SIZE: Final = HEADER.size
+NATIVE_HEADER: Final = struct.Struct(">IHHH")
+NATIVE_HEADER_SIZE: Final = NATIVE_HEADER.size
 #: Version word clients send (pyfocas, pyfanuc and FANUC's library all send 1).
 CLIENT_VERSION: Final = 1
 #: Version word this codec puts on responses unless told otherwise (16i-series controls send 2,
@@ -102,11 +102,11 @@ def max_response_body(version: int) -> int:
     return 4950
 
 
-_pack_header = HEADER.pack
-_unpack_header_from = HEADER.unpack_from
+_pack_header = NATIVE_HEADER.pack
+_unpack_header_from = NATIVE_HEADER.unpack_from
 
 
-def encode_frame(frame_type: int, body: bytes = b"", version: int = CLIENT_VERSION) -> bytes:
+def encode_native_frame(frame_type: int, body: bytes = b"", version: int = CLIENT_VERSION) -> bytes:
     """The bytes of one frame."""
     if len(body) > _U16_MAX:
         raise ValueError(f"frame body of {len(body)} bytes exceeds {_U16_MAX}")
@@ -118,18 +118,18 @@ def encode_frame(frame_type: int, body: bytes = b"", version: int = CLIENT_VERSI
 
 def decode_frame(data: bytes, max_body: int = _U16_MAX) -> NativeFrame:
     """Decode exactly one whole frame (no trailing bytes); raises :class:`NativeFrameError`."""
-    if len(data) < HEADER_SIZE:
+    if len(data) < NATIVE_HEADER_SIZE:
         raise NativeFrameError(f"frame of {len(data)} bytes is shorter than its header")
     magic, version, frame_type, length = _unpack_header_from(data)
     if magic != _MAGIC_U32:
         raise NativeFrameError("frame does not start with A0 A0 A0 A0")
     if length > max_body:
         raise NativeFrameError(f"frame body length {length} exceeds {max_body}")
-    if len(data) != HEADER_SIZE + length:
+    if len(data) != NATIVE_HEADER_SIZE + length:
         raise NativeFrameError(
-            f"frame announces {length} body bytes but carries {len(data) - HEADER_SIZE}"
+            f"frame announces {length} body bytes but carries {len(data) - NATIVE_HEADER_SIZE}"
         )
-    return NativeFrame(version, frame_type, bytes(data[HEADER_SIZE:]))
+    return NativeFrame(version, frame_type, bytes(data[NATIVE_HEADER_SIZE:]))
 
 
 class NativeFrameDecoder:
@@ -168,12 +168,12 @@ class NativeFrameDecoder:
         buf = self._buf
         if buf:
             held = len(buf)
-            if held < HEADER_SIZE:
+            if held < NATIVE_HEADER_SIZE:
                 # Complete and check the pending header before taking in any body bytes.
-                need = HEADER_SIZE - held
+                need = NATIVE_HEADER_SIZE - held
                 buf += data[:need]
                 data = data[need:]
-                if len(buf) < HEADER_SIZE:
+                if len(buf) < NATIVE_HEADER_SIZE:
                     if not MAGIC.startswith(bytes(buf[:4])):
                         raise self._fail("frame does not start with A0 A0 A0 A0")
                     return []
@@ -192,7 +192,7 @@ class NativeFrameDecoder:
         max_body = self.max_body
         while pos < size:
             avail = size - pos
-            if avail < HEADER_SIZE:
+            if avail < NATIVE_HEADER_SIZE:
                 head = bytes(view[pos : pos + min(avail, 4)])
                 if not MAGIC.startswith(head):
                     raise self._fail("frame does not start with A0 A0 A0 A0")
@@ -202,10 +202,12 @@ class NativeFrameDecoder:
                 raise self._fail("frame does not start with A0 A0 A0 A0")
             if length > max_body:
                 raise self._fail(f"frame body length {length} exceeds {max_body}")
-            end = pos + HEADER_SIZE + length
+            end = pos + NATIVE_HEADER_SIZE + length
             if end > size:
                 break
-            frames.append(NativeFrame(version, frame_type, bytes(view[pos + HEADER_SIZE : end])))
+            frames.append(
+                NativeFrame(version, frame_type, bytes(view[pos + NATIVE_HEADER_SIZE : end]))
+            )
             pos = end
         if view is buf:
             if pos:
@@ -240,7 +242,7 @@ class OpenRequest(NativeRecord):
 
 def encode_open_request(channel: int = 2, version: int = CLIENT_VERSION) -> bytes:
     """A whole open-request frame (pyfocas sends ``A0A0A0A0 0001 0101 0002 0002``)."""
-    return encode_frame(FrameType.OPEN_REQUEST, OpenRequest(channel).encode(), version)
+    return encode_native_frame(FrameType.OPEN_REQUEST, OpenRequest(channel).encode(), version)
 
 
 def encode_open_response(
@@ -248,14 +250,14 @@ def encode_open_response(
 ) -> bytes:
     """A whole open-response frame (pyfocas and pyfanuc ignore its body; FANUC's library needs
     the one :func:`focas_net.native.build_open_answer` makes)."""
-    return encode_frame(FrameType.OPEN_RESPONSE, body, version)
+    return encode_native_frame(FrameType.OPEN_RESPONSE, body, version)
 
 
 def encode_close_request(version: int = CLIENT_VERSION) -> bytes:
     """A whole close-request frame: ``A0A0A0A0 0001 0201 0000``."""
-    return encode_frame(FrameType.CLOSE_REQUEST, b"", version)
+    return encode_native_frame(FrameType.CLOSE_REQUEST, b"", version)
 
 
 def encode_close_response(version: int = DEFAULT_SERVER_VERSION) -> bytes:
     """A whole close-response frame, empty body."""
-    return encode_frame(FrameType.CLOSE_RESPONSE, b"", version)
+    return encode_native_frame(FrameType.CLOSE_RESPONSE, b"", version)

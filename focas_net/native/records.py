@@ -25,7 +25,6 @@ from .binfloat import binary_to_decimal, decimal_to_binary
 __all__ = [
     "SCALED_SIZE",
     "VACANT",
-    "AlarmHistory",
     "AlarmHistoryRecord",
     "AlarmMessage",
     "AlarmMessageHead",
@@ -47,23 +46,24 @@ __all__ = [
     "ItemValues",
     "MacroDouble",
     "MacroDoubles",
+    "NativeAlarmHistory",
+    "NativePmcData",
+    "NativeProgramNumbers",
+    "NativeSysInfo",
     "NoData",
     "ParamInfo",
     "ParamInfo3",
     "ParamInfoEntry",
     "ParamType",
-    "PmcData",
     "PmcDataType",
     "PositionAxisName",
     "PositionAxisNames",
-    "ProgramNumbers",
     "ScaledItemRecord",
     "ScaledItemValues",
     "ScaledNumber",
     "ScaledValues",
     "SequenceNumber",
     "StatInfo",
-    "SysInfo",
     "TimerValue",
     "TmModeStatus",
 ]
@@ -79,7 +79,7 @@ class NoData(NativeRecord):
 
 
 @dataclass(frozen=True, slots=True)
-class SysInfo(NativeRecord):
+class NativeSysInfo(NativeRecord):
     """``cnc_sysinfo`` (0x18): ODBSYS, 18 bytes; the texts are fixed-width ASCII (space padded).
 
     FANUC's library asks it once per path while connecting and answers ``cnc_sysinfo`` from
@@ -166,7 +166,7 @@ class AxisCount(NativeRecord):
 
 
 @dataclass(frozen=True, slots=True)
-class ProgramNumbers(NativeRecord):
+class NativeProgramNumbers(NativeRecord):
     """``cnc_rdprgnum`` / ``cnc_rdprgnumo8`` (0x1C): ``i32 running, i32 main`` [V]. ODBPRO has
     short fields, so ``cnc_rdprgnum`` keeps the low 16 bits; ODBPROO8 keeps all 32."""
 
@@ -295,7 +295,7 @@ class AlarmHistoryRecord(NativeRecord):
 
 
 @dataclass(frozen=True, slots=True)
-class AlarmHistory(RecordArray[AlarmHistoryRecord]):
+class NativeAlarmHistory(RecordArray[AlarmHistoryRecord]):
     """``cnc_rdalmhistry`` (0x6C): a run of :class:`AlarmHistoryRecord`; the library counts
     them from the data length (length / 60) and asks at most 23 per request [V]."""
 
@@ -757,7 +757,7 @@ def _pmc_type(data_type: int) -> PmcDataType:
 
 
 @dataclass(frozen=True, slots=True)
-class PmcData:
+class NativePmcData:
     """``pmc_rdpmcrng`` answer (0x8001) and ``pmc_wrpmcrng`` extra (0x8002): the bytes of the
     range; words and longs big-endian (the library swaps them to host order) [V]."""
 
@@ -775,7 +775,7 @@ class PmcData:
         kind = _pmc_type(data_type)
         if len(self.raw) % kind.width:
             raise NativePayloadError(
-                f"PmcData: {len(self.raw)} bytes is not a multiple of {kind.width}", EW.LENGTH
+                f"NativePmcData: {len(self.raw)} bytes is not a multiple of {kind.width}", EW.LENGTH
             )
         fmt = _PMC_FORMATS[kind.width]
         return struct.unpack(f">{len(self.raw) // kind.width}{fmt}", self.raw)
@@ -788,7 +788,7 @@ class PmcData:
         try:
             return cls(struct.pack(f">{len(values)}{fmt}", *values))
         except struct.error as exc:
-            raise ValueError(f"PmcData: {exc}") from None
+            raise ValueError(f"NativePmcData: {exc}") from None
 
 
 # --------------------------------------------------------------------------------------------

@@ -24,7 +24,6 @@ from focas_net.errors import EW
 from .base import NativePayloadError
 from .blocks import Device, RequestBlock
 from .records import (
-    AlarmHistory,
     AlarmMessages,
     AlarmStatus,
     AxisCount,
@@ -39,19 +38,20 @@ from .records import (
     ItemValues,
     MacroDouble,
     MacroDoubles,
+    NativeAlarmHistory,
+    NativePmcData,
+    NativeProgramNumbers,
+    NativeSysInfo,
     NoData,
     ParamInfo,
     ParamInfo3,
-    PmcData,
     PositionAxisNames,
-    ProgramNumbers,
     ScaledItemRecord,
     ScaledItemValues,
     ScaledNumber,
     ScaledValues,
     SequenceNumber,
     StatInfo,
-    SysInfo,
     TimerValue,
     TmModeStatus,
     _pack_double,
@@ -63,7 +63,6 @@ __all__ = [
     "REQUEST_TYPES",
     "ActualFeedRequest",
     "ActualSpindleSpeedRequest",
-    "AlarmHistoryRequest",
     "AlarmMessageRequest",
     "AlarmStatusRequest",
     "AxisCountRequest",
@@ -79,7 +78,11 @@ __all__ = [
     "MacroDoubleWriteRequest",
     "MacroReadRequest",
     "MacroWriteRequest",
+    "NativeAlarmHistoryRequest",
     "NativeCommand",
+    "NativePmcArea",
+    "NativePositionKind",
+    "NativePositionRequest",
     "NativeRequest",
     "ParamInfo3Request",
     "ParamInfoRequest",
@@ -87,11 +90,8 @@ __all__ = [
     "ParamReadRequest",
     "ParamWrite3Request",
     "ParamWriteRequest",
-    "PmcArea",
     "PmcReadRequest",
     "PmcWriteRequest",
-    "PositionKind",
-    "PositionRequest",
     "ProgramNumberRequest",
     "SequenceNumberRequest",
     "ServoMeterRequest",
@@ -244,11 +244,11 @@ class NativeRequest:
 
 @dataclass(frozen=True, slots=True)
 class SysInfoRequest(NativeRequest):
-    """0x18, no arguments: :class:`SysInfo`. FANUC's library sends one per path while
+    """0x18, no arguments: :class:`NativeSysInfo`. FANUC's library sends one per path while
     connecting (``cnc_allclibhndl3``) and answers ``cnc_sysinfo`` from it [V]."""
 
     COMMAND: ClassVar[int] = NativeCommand.SYSINFO
-    ANSWER: ClassVar[Any] = SysInfo
+    ANSWER: ClassVar[Any] = NativeSysInfo
 
 
 @dataclass(frozen=True, slots=True)
@@ -296,11 +296,11 @@ class TimerRequest(NativeRequest):
 
 @dataclass(frozen=True, slots=True)
 class ProgramNumberRequest(NativeRequest):
-    """0x1C, no arguments: :class:`ProgramNumbers` (``cnc_rdprgnum``, ``cnc_rdprgnumo8``,
+    """0x1C, no arguments: :class:`NativeProgramNumbers` (``cnc_rdprgnum``, ``cnc_rdprgnumo8``,
     ``cnc_rddynamic2``) [V]."""
 
     COMMAND: ClassVar[int] = NativeCommand.RDPRGNUM
-    ANSWER: ClassVar[Any] = ProgramNumbers
+    ANSWER: ClassVar[Any] = NativeProgramNumbers
 
 
 @dataclass(frozen=True, slots=True)
@@ -377,13 +377,13 @@ class AlarmMessageRequest(NativeRequest):
 
 
 @dataclass(frozen=True, slots=True)
-class AlarmHistoryRequest(NativeRequest):
+class NativeAlarmHistoryRequest(NativeRequest):
     """0x6C, args ``first, last, mode`` (``cnc_rdalmhistry(s, e)`` sends ``(s, s + k - 1, 1)``
-    with k <= 23 records per request, looping to ``e``) [V]: :class:`AlarmHistory`."""
+    with k <= 23 records per request, looping to ``e``) [V]: :class:`NativeAlarmHistory`."""
 
     COMMAND: ClassVar[int] = NativeCommand.RDALMHISTRY
     ARGS: ClassVar[tuple[_ArgSpec, ...]] = ("first", "last", "mode")
-    ANSWER: ClassVar[Any] = AlarmHistory
+    ANSWER: ClassVar[Any] = NativeAlarmHistory
     first: int
     last: int
     mode: int = 1
@@ -616,7 +616,7 @@ class Diagnostic3Request(NativeRequest):
 # PMC
 
 
-class PmcArea(enum.IntEnum):
+class NativePmcArea(enum.IntEnum):
     """PMC address letters and their FOCAS ``adr_type`` numbers."""
 
     G = 0
@@ -641,13 +641,14 @@ class PmcReadRequest(NativeRequest):
     sends ``(s, e, a, t)``) [V].
 
     ``first`` and ``last`` are inclusive byte addresses (``last = first + width * count - 1``);
-    ``data_type`` 0 byte, 1 word, 2 long (:class:`PmcDataType`). Answered with :class:`PmcData`.
+    ``data_type`` 0 byte, 1 word, 2 long (:class:`PmcDataType`). Answered with
+    :class:`NativePmcData`.
     """
 
     DEVICE: ClassVar[int] = Device.PMC
     COMMAND: ClassVar[int] = NativeCommand.PMC_RDPMCRNG
     ARGS: ClassVar[tuple[_ArgSpec, ...]] = ("first", "last", "area", "data_type")
-    ANSWER: ClassVar[Any] = PmcData
+    ANSWER: ClassVar[Any] = NativePmcData
     first: int
     last: int
     area: int
@@ -667,14 +668,14 @@ class PmcWriteRequest(NativeRequest):
     last: int
     area: int
     data_type: int
-    data: PmcData
+    data: NativePmcData
 
     def extra(self) -> bytes:
         return self.data.raw
 
     @classmethod
     def _extra_fields(cls, extra: bytes) -> dict[str, Any]:
-        return {"data": PmcData(bytes(extra))}
+        return {"data": NativePmcData(bytes(extra))}
 
     def values(self) -> tuple[int, ...]:
         """The unsigned values written."""
@@ -685,7 +686,7 @@ class PmcWriteRequest(NativeRequest):
 # Positions, axes, spindles
 
 
-class PositionKind(enum.Enum):
+class NativePositionKind(enum.Enum):
     """What a position read (0x26) asks for."""
 
     ABSOLUTE = "absolute"
@@ -698,25 +699,25 @@ class PositionKind(enum.Enum):
 #: Both numberings FANUC's library sends [V]: 4/1/6/7 (``cnc_absolute``, ``cnc_machine``,
 #: ``cnc_relative``, ``cnc_distance``, ``cnc_rddynamic2``; 8 skip from public captures) and
 #: 0..3 (``cnc_rdposition``); 1 means the machine position in both.
-_POSITION_KINDS: Final[dict[int, PositionKind]] = {
-    0: PositionKind.ABSOLUTE,
-    1: PositionKind.MACHINE,
-    2: PositionKind.RELATIVE,
-    3: PositionKind.DISTANCE,
-    4: PositionKind.ABSOLUTE,
-    6: PositionKind.RELATIVE,
-    7: PositionKind.DISTANCE,
-    8: PositionKind.SKIP,
+_POSITION_KINDS: Final[dict[int, NativePositionKind]] = {
+    0: NativePositionKind.ABSOLUTE,
+    1: NativePositionKind.MACHINE,
+    2: NativePositionKind.RELATIVE,
+    3: NativePositionKind.DISTANCE,
+    4: NativePositionKind.ABSOLUTE,
+    6: NativePositionKind.RELATIVE,
+    7: NativePositionKind.DISTANCE,
+    8: NativePositionKind.SKIP,
 }
 
 
-def resolve_position_kind(code: int) -> PositionKind | None:
+def resolve_position_kind(code: int) -> NativePositionKind | None:
     """The position a 0x26 kind code asks for, or None for a code this codec does not know."""
     return _POSITION_KINDS.get(code)
 
 
 @dataclass(frozen=True, slots=True)
-class PositionRequest(NativeRequest):
+class NativePositionRequest(NativeRequest):
     """0x26, args ``kind, axis`` (axis -1 = all axes, n = axis n) [V]: :class:`ScaledValues`,
     one record per axis (for -1 send max-axes records: ``cnc_rddynamic2`` packs its four
     arrays with a stride of the number received)."""
@@ -728,7 +729,7 @@ class PositionRequest(NativeRequest):
     axis: int = -1
 
     @property
-    def position_kind(self) -> PositionKind | None:
+    def position_kind(self) -> NativePositionKind | None:
         return resolve_position_kind(self.kind)
 
 
@@ -825,7 +826,7 @@ REQUEST_TYPES: Final[dict[tuple[int, int], type[NativeRequest]]] = {
         ActualSpindleSpeedRequest,
         AlarmStatusRequest,
         AlarmMessageRequest,
-        AlarmHistoryRequest,
+        NativeAlarmHistoryRequest,
         MacroReadRequest,
         MacroWriteRequest,
         MacroDoubleReadRequest,
@@ -840,7 +841,7 @@ REQUEST_TYPES: Final[dict[tuple[int, int], type[NativeRequest]]] = {
         Diagnostic3Request,
         PmcReadRequest,
         PmcWriteRequest,
-        PositionRequest,
+        NativePositionRequest,
         AxisNameRequest,
         AxisUnitRequest,
         AxisCountRequest,
