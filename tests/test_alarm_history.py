@@ -1,4 +1,4 @@
-"""Counted alarm lists: the malformed-input rules of PROTOCOL.md sections 2 and 3.
+"""Counted alarm lists: the malformed-input rules of docs/protocol.md sections 2 and 3.
 
 ``cnc_rdalmhistry`` (0x0F1A) and ``cnc_rdalmmsg`` (0x0006). Decoding them never raises.
 """

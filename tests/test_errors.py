@@ -1,4 +1,4 @@
-"""EW codes, their OPC UA mapping (PROTOCOL.md section 2) and the exception tree."""
+"""EW codes, their OPC UA mapping (docs/protocol.md section 2) and the exception tree."""
 
 from __future__ import annotations
 
@@ -29,7 +29,7 @@ from focas_net.errors import (
     ew_name,
 )
 
-# The table of PROTOCOL.md section 2: code -> (canonical name, aliases).
+# The table of docs/protocol.md section 2: code -> (canonical name, aliases).
 CONTRACT_EW = {
     0: ("EW_OK", ()),
     1: ("EW_FUNC", ("EW_NOPMC",)),
@@ -56,7 +56,7 @@ CONTRACT_EW = {
     -17: ("EW_PROTOCOL", ()),
 }
 
-# The OPC UA statuses PROTOCOL.md section 2 names, with their values.
+# The OPC UA statuses docs/protocol.md section 2 names, with their values.
 CONTRACT_OPCUA = {
     0: ("Good", 0x00000000),
     17: ("BadUserAccessDenied", 0x801F0000),

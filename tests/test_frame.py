@@ -1,4 +1,4 @@
-"""The frame of PROTOCOL.md section 1 and its incremental decoder."""
+"""The frame of docs/protocol.md section 1 and its incremental decoder."""
 
 from __future__ import annotations
 

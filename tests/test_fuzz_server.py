@@ -13,7 +13,7 @@ properties:
 * the machine's state (``Machine.state_digest``) changes only through a write or control
   command that answered ``EW_OK``.
 
-The frame oracle here is written from PROTOCOL.md section 1, not taken from the decoder under
+The frame oracle here is written from docs/protocol.md section 1, not taken from the decoder under
 test. The default run fuzzes about 10,000 frames; the ``slow`` variants many more
 (``pytest -m slow tests/test_fuzz_server.py``). With ``FOCAS_NET_FUZZ_STATS=<file>`` set, the
 number of frames, streams and bytes sent is appended to that file as one JSON line per test.
@@ -41,7 +41,19 @@ from focas_net.protocol import COMMANDS, Command, encode_ew, encode_frame
 MAX_FRAME: Final = 65_536
 INJECT_FAULT: Final = int(Command.SIM_INJECT_FAULT)
 #: Commands that change machine state: the writes and the simulator control commands.
-STATE_CHANGING: Final = frozenset(int(c) for c in Command if c.is_write)
+STATE_CHANGING: Final = frozenset(
+    int(c)
+    for c in (
+        Command.WRPARAM,
+        Command.WRMACRO,
+        Command.WRPMCRNG,
+        Command.SIM_SET_PANEL,
+        Command.SIM_RAISE_ALARM,
+        Command.SIM_CLEAR_ALARMS,
+        Command.SIM_SET_PMC,
+        Command.SIM_INJECT_FAULT,
+    )
+)
 EW_FUNC_BYTES: Final = encode_ew(EW.FUNC)
 MARKER_COMMAND: Final = int(Command.RDCNCSTAT)
 
@@ -221,7 +233,7 @@ write_commands = sorted(STATE_CHANGING - {INJECT_FAULT})
 write_request = st.one_of(*[st.tuples(st.just(c), payload_for(c)) for c in write_commands])
 
 
-# -- the frame oracle (PROTOCOL.md section 1) ----------------------------------------------
+# -- the frame oracle (docs/protocol.md section 1) ----------------------------------------------
 
 
 def split_frames(

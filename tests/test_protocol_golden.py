@@ -1,4 +1,4 @@
-"""Golden bytes of every command of PROTOCOL.md sections 3, 4 and 5.
+"""Golden bytes of every command of docs/protocol.md sections 3, 4 and 5.
 
 Every hex literal below was written by hand from the contract (field by field, little-endian),
 never produced by the code under test. Each case is checked in both directions: encoding the
@@ -52,7 +52,7 @@ from focas_net.protocol.codecs import (
 )
 from focas_net.protocol.frame import Frame
 
-# The IC200MDD844 record of PROTOCOL.md section 5 (76 bytes, without the 6-byte datagram header).
+# The IC200MDD844 record of docs/protocol.md section 5 (76 bytes, without the datagram header).
 MDD844_RECORD_HEX = (
     "80 08 80 80 44 38 34 34 32 00"  # secondary id, primary id (MSB first), "D844", 50
     " 00 00 00 00 00 00 00 00 00 00 00 00 00 00 34 00"  # 14 unused, 52 (padded length)

@@ -1,6 +1,6 @@
-"""Every command of PROTOCOL.md sections 3-5 over real TCP, and every error path with its EW code.
+"""Every command of docs/protocol.md sections 3-5 over real TCP, and every error path with its EW.
 
-The machine logic is tested through ``handle`` elsewhere; here the same paths go through the
+The machine logic is tested through the packed adapter elsewhere; here the same paths go through the
 server: frames on a socket, answers matched by command and request id.
 """
 
@@ -42,7 +42,7 @@ from focas_net.sim import default_machine
 MDI, MEM, EDIT = 0, 1, 3
 R, X, F, E = 5, 1, 3, 12
 
-# The reply datagram of rack 0 slot 3 read from offset 0 (PROTOCOL.md section 5).
+# The reply datagram of rack 0 slot 3 read from offset 0 (docs/protocol.md section 5).
 MDD844_REPLY = bytes.fromhex(
     "00 52 00 03 00 00 80 08 80 80 44 38 34 34 32 00"
     "00 00 00 00 00 00 00 00 00 00 00 00 00 00 34 00"

@@ -26,7 +26,6 @@ __all__ = [
     "COMMANDS",
     "EW_OK_BYTES",
     "MAX_PMC_CHUNK",
-    "PMC_AREA_CODES",
     "ActualValue",
     "AlarmHistoryRequest",
     "AlarmMsgRequest",
@@ -485,7 +484,6 @@ class PmcArea(enum.IntEnum):
 
 
 #: letter -> type_a code.
-PMC_AREA_CODES: Final[dict[str, int]] = {a.name: a.value for a in PmcArea}
 
 
 # -- response wrapping -----------------------------------------------------------------------

@@ -33,16 +33,3 @@ class Command(enum.IntEnum):
     SIM_SET_PMC = 0x0E04  # simulator control: write PMC ignoring protection
     SIM_INJECT_FAULT = 0x0E05  # simulator control: fault injection
     RDALMHISTRY = 0x0F1A  # cnc_rdalmhistry: ODBAHIS
-
-    @property
-    def is_control(self) -> bool:
-        """True for the simulator control commands 0x0E01..0x0E05."""
-        return 0x0E01 <= self.value <= 0x0E05
-
-    @property
-    def is_write(self) -> bool:
-        """True for commands that change machine state (writes and control)."""
-        return self.value in _WRITES or self.is_control
-
-
-_WRITES = frozenset({0x0102, 0x0103, 0x0104})

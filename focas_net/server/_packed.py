@@ -15,7 +15,7 @@ import logging
 from typing import TYPE_CHECKING, Final
 
 from focas_net.errors import EW, FrameError
-from focas_net.protocol import HEADER, Frame, FrameDecoder, encode_ew
+from focas_net.protocol import HEADER, Command, Frame, FrameDecoder, encode_ew
 
 from ._base import BaseConnection, CloseCallback, Limits
 from .faults import FaultKind, FaultQueue, FaultScope, parse_inject
@@ -31,10 +31,10 @@ __all__ = ["PackedConnection"]
 _log = logging.getLogger("focas_net.server")
 
 _pack_header = HEADER.pack
-_CONTROL_FIRST: Final = 0x0E01
-_CONTROL_LAST: Final = 0x0E05
-_INJECT_FAULT: Final = 0x0E05
-_UNLOCK: Final = 0x0105
+_CONTROL_FIRST: Final = int(Command.SIM_SET_PANEL)
+_CONTROL_LAST: Final = int(Command.SIM_INJECT_FAULT)
+_INJECT_FAULT: Final = int(Command.SIM_INJECT_FAULT)
+_UNLOCK: Final = int(Command.WRUNLOCKPARAM)
 _EW_OK: Final = encode_ew(EW.OK)
 _EW_FUNC: Final = encode_ew(EW.FUNC)
 _DEBUG: Final = logging.DEBUG
