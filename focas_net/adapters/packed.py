@@ -74,7 +74,14 @@ from focas_net.protocol import (
     VersaMaxReply,
     encode_ew,
 )
-from focas_net.sim import POSITION_DECIMALS, POSITION_KINDS, Machine, MachineError, Session
+from focas_net.sim import (
+    POSITION_DECIMALS,
+    POSITION_KINDS,
+    DataItem,
+    Machine,
+    MachineError,
+    Session,
+)
 
 __all__ = ["PackedAdapter"]
 
@@ -283,33 +290,38 @@ class PackedAdapter:
 
     def _rdparam(self, _session: Session, payload: bytes) -> bytes:
         m = self.machine
-        cache = self._params
-        if cache.version != m.data_version:
-            cache.renew(m.data_version)
-        answer = cache.answers.get(payload)
-        if answer is None:
-            req = _decode_param_request(payload)
-            value = m.read_param(req.datano, req.axis)
-            item = m.param_item(req.datano)
-            assert item is not None
-            answer = cache.keep(
-                payload, _encode_param(ParamValue(req.datano, req.axis, value, item.width))
-            )
-        return answer
+        return self._item(
+            self._params, payload, _decode_param_request, m.read_param, m.param_item, _encode_param
+        )
 
     def _rddiag(self, _session: Session, payload: bytes) -> bytes:
         m = self.machine
-        cache = self._diags
-        if cache.version != m.data_version:
-            cache.renew(m.data_version)
+        return self._item(
+            self._diags, payload, _decode_diag_request, m.read_diag, m.diag_item, _encode_diag
+        )
+
+    def _item(
+        self,
+        cache: _Answers,
+        payload: bytes,
+        decode: Callable[[bytes], Any],
+        read: Callable[[int, int], int],
+        item_of: Callable[[int], DataItem | None],
+        encode: Callable[[ParamValue], bytes],
+    ) -> bytes:
+        """The answer of a parameter or diagnostic read (IODBPSD), kept until the machine's
+        data counter moves."""
+        version = self.machine.data_version
+        if cache.version != version:
+            cache.renew(version)
         answer = cache.answers.get(payload)
         if answer is None:
-            req = _decode_diag_request(payload)
-            value = m.read_diag(req.datano, req.axis)
-            item = m.diag_item(req.datano)
+            req = decode(payload)
+            value = read(req.datano, req.axis)
+            item = item_of(req.datano)
             assert item is not None
             answer = cache.keep(
-                payload, _encode_diag(ParamValue(req.datano, req.axis, value, item.width))
+                payload, encode(ParamValue(req.datano, req.axis, value, item.width))
             )
         return answer
 
