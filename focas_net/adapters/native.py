@@ -52,7 +52,6 @@ from decimal import ROUND_HALF_EVEN, Decimal
 from typing import Final
 
 from focas_net.errors import EW
-from focas_net.native.calls import OPTION_PARAMETER, POSITION_PARAMETER
 from focas_net.native.codec import (
     _DOUBLE,
     _MAGIC_U32,
@@ -63,6 +62,8 @@ from focas_net.native.codec import (
     MACHINE_LATHE,
     MACHINE_MILL,
     NATIVE_HEADER,
+    OPTION_PARAMETER,
+    POSITION_PARAMETER,
     RESPONSE_BLOCK_SIZE,
     SCALED_SIZE,
     AlarmHistoryRecord,
@@ -103,6 +104,7 @@ from focas_net.native.codec import (
     ScaledItemRecord,
     StatInfo,
     TimerRequest,
+    binary_to_decimal,
     build_open_answer,
     decode_request_body,
     encode_close_response,
@@ -110,7 +112,6 @@ from focas_net.native.codec import (
     max_response_body,
     resolve_position_kind,
 )
-from focas_net.native.binfloat import binary_to_decimal
 from focas_net.sim import (
     MAX_MACRO_DECIMALS,
     PMC_AREAS,
@@ -477,7 +478,7 @@ class NativeAdapter:
         """The data-response frame answering ``body`` with ``ew`` and no data in every block
         (a forced EW code of fault injection: nothing runs). Raises :class:`NativeFrameError`
         as :meth:`answer` does."""
-        blocks = self._blocks(body) or (RequestBlock(Device.CNC, 1, 0),)
+        blocks = self._blocks(body)
         parts: list[bytes] = [b"", _U16.pack(len(blocks))]
         parts.extend(
             _pack_block(RESPONSE_BLOCK_SIZE, b.device, b.path, b.command, ew, 0, 0, 0)

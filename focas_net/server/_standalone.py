@@ -44,9 +44,10 @@ class NativeServer:
     ``machine`` is shared: give a :class:`~focas_net.server.FocasServer` the same instance and
     what one front end writes, the other reads. ``port`` 0 picks an ephemeral port (see
     :attr:`address`). ``version`` overrides the version word of every answer, which the
-    machine's control class picks otherwise; ``max_body`` bounds an incoming frame's body, checked on its header before any
-    of it is buffered; ``max_connections`` open connections at most (more are closed at once);
-    ``idle_timeout`` seconds without a complete frame close a connection (0 = never).
+    machine's control class picks otherwise; ``max_body`` bounds an incoming frame's body,
+    checked on its header before any of it is buffered; ``max_connections`` open connections
+    at most (more are closed at once); ``idle_timeout`` seconds without a complete frame close
+    a connection (0 = never).
     """
 
     def __init__(
