@@ -48,71 +48,8 @@ EW_SOCKET = -16
 #: Seconds the library waits for an answer (its handle timeout).
 HANDLE_TIMEOUT = 3
 
-MACHINE_16I = """
-[machine]
-name = "fs16i"
-axes = ["X", "Y", "Z"]
-control_class = "16i"
-
-[sysinfo]
-cnc_type = "16"
-series = "B0H1"
-version = "14.0"
-
-[panel]
-mode = "MDI"
-pwe = true
-
-[parameters.20]
-type = "byte"
-range = [0, 35]
-value = 4
-[parameters.1320]
-type = "i32"
-axis = true
-value = [999999999, 888888888, -777777777]
-[parameters.1825]
-type = "i16"
-axis = true
-range = [1, 32767]
-value = 3000
-[parameters.3216]
-type = "i16"
-value = -7
-[parameters.6711]
-type = "i32"
-range = [0, 999999999]
-value = 123456789
-
-[diagnostics.300]
-type = "i32"
-axis = true
-value = [11, -22, 33]
-[diagnostics.308]
-type = "byte"
-axis = true
-value = [57, 58, 59]
-[diagnostics.410]
-type = "i16"
-value = 1234
-
-[macros]
-ranges = [
-  { first = 1, last = 33 },
-  { first = 100, last = 199 },
-  { first = 500, last = 999 },
-  { first = 4001, last = 4030, writable = false },
-]
-values = { 100 = [12345, 3], 4003 = 90 }
-
-[pmc.X]
-size = 128
-write_protected = true
-[pmc.R]
-size = 8000
-[pmc.D]
-size = 10000
-"""
+#: A 16i-class machine file (the 16i command set, open answer version 2).
+MACHINE_16I = Path(__file__).with_name("data") / "fwlib_16i_machine.toml"
 
 
 class _Library:
@@ -221,17 +158,15 @@ class Cnc:
         return await self.handle.call(name, *args)
 
 
-def machine_for(set_name: str, tmp_path: Path) -> Machine:
+def machine_for(set_name: str) -> Machine:
     if set_name == "30i":
         return default_machine()
-    path = tmp_path / "fs16i.toml"
-    path.write_text(MACHINE_16I)
-    return load_machine(path)
+    return load_machine(MACHINE_16I)
 
 
 @pytest.fixture(params=["30i", "16i"])
-async def cnc(request: pytest.FixtureRequest, tmp_path: Path) -> AsyncIterator[Cnc]:
-    machine = machine_for(request.param, tmp_path)
+async def cnc(request: pytest.FixtureRequest) -> AsyncIterator[Cnc]:
+    machine = machine_for(request.param)
     machine.set_panel(0, 1, 0)  # MDI, parameter writes enabled
     async with serving(machine) as served:
         async with FocasClient(served.host, served.port, timeout=IO_TIMEOUT) as packed:
