@@ -187,8 +187,11 @@ async def test_the_command_set_follows_the_control_class(cnc: Cnc) -> None:
     opt = ctypes.c_int64(0)
     assert await cnc.call("cnc_getfocas1opt", s16(0), ctypes.byref(opt)) == 0
     assert opt.value & 1  # what cnc_rddynamic2 needs
-    # a 16i-class handle writes parameters with 0x0F (4-byte slots), a 30i-class one with 0x8E
-    assert (cnc.set_name == "16i") == (cnc.machine.control_class == "16i")
+    # a 30i-class handle wants room for the open answer's max axes (8) in an all-axes read, a
+    # 16i-class one for the path's axes (3)
+    b = buf(4 + 8 * 32)
+    rc = await cnc.call("cnc_rdparam", s16(1320), s16(-1), s16(4 + 4 * 3), b)
+    assert rc == (0 if cnc.machine.control_class == "16i" else EW.LENGTH)
 
 
 async def test_sysinfo(cnc: Cnc) -> None:
@@ -514,9 +517,10 @@ async def test_cnc_id_timers_and_loads(cnc: Cnc) -> None:
         b = buf(8)
         assert await cnc.call("cnc_rdtimer", s16(kind), b) == 0
         assert struct.unpack("<ii", b.raw) == (0, 0)  # the machine keeps no timer
-    b = buf(4 + 2 * 8)
-    assert await cnc.call("cnc_rdspload", s16(-1), b) == 0
-    assert struct.unpack_from("<hh", b.raw) == (-1, 0)
+    for spindle in (-1, 1):
+        b = buf(4 + 2 * 8)
+        assert await cnc.call("cnc_rdspload", s16(spindle), b) == 0
+        assert struct.unpack_from("<hh", b.raw) == (spindle, 0)
     num = s16(8)
     b = buf(12 * 8)
     assert await cnc.call("cnc_rdsvmeter", ctypes.byref(num), b) == 0
@@ -571,6 +575,11 @@ async def test_positions(cnc: Cnc) -> None:
     assert arrays == [
         list(packed[k].increments.values()) for k in ("absolute", "machine", "relative", "distance")
     ]
+    b = buf(28 + 16 * 32)
+    assert await cnc.call("cnc_rddynamic2", s16(2), s16(44), b) == 0
+    one = struct.unpack_from("<hhiiiiiiiiii", b.raw)
+    want = [packed[k].increments["Y"] for k in ("absolute", "machine", "relative", "distance")]
+    assert (one[1], *one[8:]) == (2, *want)
     # an axis the machine has not
     b = buf(4 + 4 * 32)
     assert await cnc.call("cnc_absolute", s16(9), s16(8), b) == EW.ATTRIB
