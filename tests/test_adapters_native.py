@@ -11,25 +11,47 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from focas_net.adapters import NativeAdapter, macro_from_double
+from focas_net.adapters import NativeAdapter, command_set_of, macro_from_double
 from focas_net.errors import EW
 from focas_net.native import (
     REQUEST_TYPES,
+    VACANT,
+    AxisNameRequest,
+    CommandSet,
     Device,
     FrameType,
+    ItemRecord,
+    ItemValues,
     MacroDoubleWriteRequest,
     MacroReadRequest,
+    MacroWriteRequest,
+    NativeAlarmHistory,
+    NativeAlarmHistoryRequest,
     NativeCommand,
     NativeFrameError,
+    NativePmcData,
+    ParamInfo3,
+    ParamInfo3Request,
+    ParamInfoRequest,
+    ParamReadRequest,
+    ParamType,
+    ParamWrite3Request,
+    ParamWriteRequest,
+    PathDescription,
     PmcReadRequest,
+    PmcWriteRequest,
     RequestBlock,
+    ResponseBlock,
+    ScaledItemRecord,
+    ScaledNumber,
     SysInfoRequest,
     decode_frame,
+    decode_open_answer,
     decode_response_body,
     encode_request_body,
 )
 from focas_net.native import NativePmcArea as NativePmcArea
-from focas_net.sim import default_machine
+from focas_net.sim import Machine, MachineFileError, default_machine, machine_from_dict
 
 
 @pytest.mark.parametrize(
@@ -81,7 +103,7 @@ def _answer(adapter: NativeAdapter, *blocks: RequestBlock) -> tuple[int, list[tu
 
 
 def test_block_count_limit() -> None:
-    adapter = NativeAdapter(default_machine())
+    adapter = NativeAdapter(default_machine(), version=2)
     assert adapter.limit == 1450
     # 89 heads leave 24 bytes of data: the first block gets its 18, the others EW_LENGTH
     size, answers = _answer(adapter, *[SysInfoRequest().to_block()] * 89)
@@ -114,7 +136,8 @@ def test_vacant_write_on_vacant_variable_changes_nothing() -> None:
 
 
 _SERVED = sorted(REQUEST_TYPES)
-_READS = [key for key in _SERVED if key[1] != NativeCommand.WRMACRO_DOUBLE]
+_WRITES = {key for key, cls in REQUEST_TYPES.items() if cls.WRITE}
+_READS = [key for key in _SERVED if key not in _WRITES]
 _i32 = st.integers(-(2**31), 2**31 - 1)
 _small = st.integers(-3, 1100)
 _args = st.tuples(
@@ -128,20 +151,20 @@ def _blocks(draw: st.DrawFn, keys: list[tuple[int, int]]) -> RequestBlock:
         device, command = draw(st.sampled_from(keys))
     else:
         device = draw(st.integers(0, 3))
-        command = draw(st.integers(0, 0xFFFF))
+        command = draw(st.integers(0, 0xFFFF).filter(lambda c: (device, c) not in _WRITES))
     path = draw(st.sampled_from([1, 1, 1, 0, 2]))
     extra = draw(st.binary(max_size=12))
     return RequestBlock(device, path, command, draw(_args), extra)
 
 
 @settings(max_examples=300, deadline=None)
-@given(st.lists(_blocks(_READS), min_size=0, max_size=12))
+@given(st.lists(_blocks(_READS), min_size=1, max_size=12))
 def test_arbitrary_reads_answer_every_block_and_change_nothing(blocks: list[RequestBlock]) -> None:
     machine = default_machine()
     machine.raise_alarm(1, 2, 300, "ALARM")
     adapter = NativeAdapter(machine)
     before = machine.state_digest()
-    raw = adapter.answer(encode_request_body(blocks)) if blocks else adapter.answer(b"")
+    raw = adapter.answer(encode_request_body(blocks))
     frame = decode_frame(raw)
     assert len(frame.body) <= adapter.limit
     answers = decode_response_body(frame.body)
@@ -152,7 +175,8 @@ def test_arbitrary_reads_answer_every_block_and_change_nothing(blocks: list[Requ
             assert resp.ew == EW.FUNC
         if resp.ew:
             assert resp.data == b""
-        assert resp.detail1 == resp.detail2 == 0
+        if resp.ew != EW.NUMBER:
+            assert resp.detail1 == resp.detail2 == 0
     assert machine.state_digest() == before
 
 
@@ -203,7 +227,7 @@ def test_forced_answer_carries_the_code_in_every_block_and_runs_nothing() -> Non
     assert all(a.ew == EW.BUSY and a.data == b"" for a in answers)
     assert machine.state_digest() == before and machine.read_macro(500) is None
     with pytest.raises(NativeFrameError):
-        adapter.forced_answer(encode_request_body([SysInfoRequest().to_block()] * 91), EW.BUSY)
+        adapter.forced_answer(encode_request_body([SysInfoRequest().to_block()] * 182), EW.BUSY)
 
 
 def test_double_writes_go_through_the_machine_write() -> None:
@@ -234,7 +258,134 @@ def test_pmc_reads_are_bounded_by_the_answer_only() -> None:
     frame = decode_frame(adapter.answer(encode_request_body([words])))
     (reply,) = decode_response_body(frame.body)
     assert reply.data[:4] == bytes([1, 0, 3, 2])  # little-endian PMC words, big-endian answer
-    too_long = PmcReadRequest(0, 1450, NativePmcArea.D, 0).to_block()
+    assert adapter.limit == 2910
+    too_long = PmcReadRequest(0, 2910, NativePmcArea.D, 0).to_block()
     assert _answer(adapter, too_long)[1] == [(EW.LENGTH, 0)]
     past_the_end = PmcReadRequest(9990, 10009, NativePmcArea.D, 0).to_block()
     assert _answer(adapter, past_the_end)[1] == [(EW.NUMBER, 0)]
+
+
+# -- the control class, the open answer and the library's own reads -------------------------
+
+
+@pytest.mark.parametrize(
+    ("control_class", "command_set", "version"),
+    [("16i", CommandSet.FS16I, 2), ("0i-C", CommandSet.FS16I, 2), ("0i-F", CommandSet.FS30I, 3)],
+)
+def test_the_control_class_picks_the_command_set(
+    control_class: str, command_set: CommandSet, version: int
+) -> None:
+    machine = Machine("m", control_class=control_class)
+    adapter = NativeAdapter(machine)
+    assert command_set_of(machine) is adapter.command_set is command_set
+    assert adapter.version == version
+    frame = decode_frame(adapter.open_response())
+    assert (frame.type, frame.version) == (FrameType.OPEN_RESPONSE, version)
+    opened = decode_open_answer(frame.body, version)
+    assert opened.present() == (PathDescription(" M", 3, 1),)
+    assert opened.max_axes == 8
+    assert opened.option_bits == (None if version == 2 else 1)
+
+
+def test_an_unknown_control_class_is_named() -> None:
+    with pytest.raises(ValueError, match="'15i'"):
+        Machine("m", control_class="15i")
+    with pytest.raises(MachineFileError, match=r"machine\.control_class: .*'FS15'"):
+        machine_from_dict({"machine": {"name": "m", "axes": ["X"], "control_class": "FS15"}})
+    loaded = machine_from_dict({"machine": {"name": "m", "axes": ["X"], "control_class": "0I-c"}})
+    assert loaded.control_class == "0i-C"
+
+
+def test_the_option_parameter_and_the_position_display_bits() -> None:
+    adapter = NativeAdapter(Machine("m", control_class="16i"))
+    # 9968, read by the library while connecting: option bit 0 set
+    (reply,) = _replies(adapter, ParamReadRequest(9968, 9968, 0).to_block())
+    (record,) = ItemValues.decode(reply.data, 8).records
+    assert (reply.ew, record.number, record.values[0] & 1) == (0, 9968, 1)
+    # 3115 is answered only within the library's cnc_rdposition frame (with 0x89)
+    alone = ParamReadRequest(3115, 3115, -1).to_block()
+    assert _replies(adapter, alone)[0].ew == EW.NUMBER
+    names = AxisNameRequest(-1).to_block()
+    reply = _replies(adapter, names, alone)[1]
+    assert reply.ew == 0 and ItemValues.decode(reply.data, 8).records[0].values == (0,) * 8
+
+
+def test_parameter_writes_of_both_sets_reach_the_machine() -> None:
+    machine = default_machine()
+    machine.set_panel(0, 1, 0)
+    adapter = NativeAdapter(machine)
+    info = _replies(adapter, ParamInfoRequest(1320, 1).to_block())[0].data
+    assert struct.unpack(">iiii", info)[2:] == (1320, ParamType.TWO_WORD)
+    record = ItemRecord(1320, -1, ParamType.TWO_WORD, (1, -2, 3, 0x5555, 0, 0, 0, 0))
+    assert _replies(adapter, ParamWriteRequest(record).to_block())[0].ew == 0
+    assert [machine.read_param(1320, a) for a in (1, 2, 3)] == [1, -2, 3]
+    info3 = ParamInfo3.decode(_replies(adapter, ParamInfo3Request(1825).to_block())[0].data)
+    assert (info3.number, info3.type, info3.axis_kind) == (1825, ParamType.WORD, 2)
+    slots = (ScaledNumber(77, -1, 0),) + (ScaledNumber(0, 0),) * 7
+    write3 = ParamWrite3Request(ScaledItemRecord(1825, 2, ParamType.WORD, slots))
+    assert _replies(adapter, write3.to_block())[0].ew == 0
+    assert machine.read_param(1825, 2) == 77
+    # a refused all-axes write changes no axis
+    before = machine.state_digest()
+    bad = ItemRecord(1320, -1, ParamType.TWO_WORD, (5, 6, 2_000_000_000, 0, 0, 0, 0, 0))
+    assert _replies(adapter, ParamWriteRequest(bad).to_block())[0].ew == EW.DATA
+    assert machine.state_digest() == before
+    machine.set_panel(1, 0, 0)
+    assert _replies(adapter, ParamWriteRequest(record).to_block())[0].ew == EW.PASSWD
+
+
+def test_macro_writes_of_both_sets() -> None:
+    machine = default_machine()
+    adapter = NativeAdapter(machine)
+    binary = ScaledNumber.from_macro(12345, 3, binary=True)  # what a 16i-class handle sends
+    assert _replies(adapter, MacroWriteRequest(500, binary).to_block())[0].ew == 0
+    assert machine.read_macro(500) == Decimal("12.345")
+    decimal = ScaledNumber.from_macro(-25, 1)  # what a 30i-class handle sends
+    assert _replies(adapter, MacroWriteRequest(501, decimal).to_block())[0].ew == 0
+    assert machine.read_macro(501) == Decimal("-2.5")
+    assert _replies(adapter, MacroWriteRequest(501, VACANT).to_block())[0].ew == 0
+    assert machine.read_macro(501) is None
+    reply = _replies(adapter, MacroWriteRequest(9999, decimal).to_block())[0]
+    assert (reply.ew, reply.detail1, reply.detail2) == (EW.NUMBER, 1, 9999)
+
+
+def test_pmc_writes_are_big_endian_and_bounded_by_the_request_only() -> None:
+    machine = default_machine()
+    adapter = NativeAdapter(machine)
+    words = NativePmcData.from_values(1, [0x1234, 0xFFFE])
+    write = PmcWriteRequest(20, 23, NativePmcArea.D, 1, words)
+    assert _replies(adapter, write.to_block())[0].ew == 0
+    assert machine.read_pmc("D", 20, 4) == bytes([0x34, 0x12, 0xFE, 0xFF])
+    many = PmcWriteRequest(100, 1099, NativePmcArea.D, 0, NativePmcData(bytes(range(250)) * 4))
+    assert _replies(adapter, many.to_block())[0].ew == 0
+    assert machine.read_pmc("D", 100, 1000) == bytes(range(250)) * 4
+    odd = PmcWriteRequest(20, 22, NativePmcArea.D, 1, NativePmcData(b"\x01\x02\x03"))
+    assert _replies(adapter, odd.to_block())[0].ew == EW.LENGTH
+    protected = PmcWriteRequest(0, 0, NativePmcArea.X, 0, NativePmcData(b"\x01"))
+    assert _replies(adapter, protected.to_block())[0].ew == EW.PROT
+
+
+def test_alarm_bits_and_history() -> None:
+    machine = default_machine()
+    machine.raise_alarm(0, 2, 100, "A")
+    machine.raise_alarm(1, 4, 500, "B")
+    adapter = NativeAdapter(machine)
+    bits = _replies(adapter, RequestBlock(Device.CNC, 1, NativeCommand.ALARM))[0].data
+    assert struct.unpack(">i", bits) == (0b10100,)
+    reply = _replies(adapter, NativeAlarmHistoryRequest(1, 23).to_block())[0]
+    records = NativeAlarmHistory.decode(reply.data).records
+    assert [(r.alarm_no, r.group, r.axis, r.message) for r in records] == [
+        (500, 4, 1, b"B"),
+        (100, 2, 0, b"A"),
+    ]
+    assert _replies(adapter, NativeAlarmHistoryRequest(3, 25).to_block())[0].ew == EW.NUMBER
+
+
+def test_an_empty_request_is_answered_with_one_refused_block() -> None:
+    frame = decode_frame(NativeAdapter(default_machine()).answer(b""))
+    (reply,) = decode_response_body(frame.body)
+    assert reply.ew == EW.FUNC
+
+
+def _replies(adapter: NativeAdapter, *blocks: RequestBlock) -> tuple[ResponseBlock, ...]:
+    return decode_response_body(decode_frame(adapter.answer(encode_request_body(blocks))).body)

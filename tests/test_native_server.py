@@ -43,6 +43,7 @@ from focas_net.native import (
     NativeSysInfo,
     ParamRead3Request,
     ParamReadRequest,
+    ParamType,
     PmcReadRequest,
     RequestBlock,
     ResponseBlock,
@@ -135,7 +136,7 @@ class NativeClient:
         if open_:
             version, frame_type, _ = await client.exchange(encode_open_request())
             assert frame_type == FrameType.OPEN_RESPONSE
-            assert version == 2
+            assert version == 3  # the built-in machine is a 0i-F: the 30i command set
         return client
 
     @property
@@ -425,17 +426,17 @@ async def test_macro_commands(front: Front, native: NativeClient) -> None:
 async def test_parameter_reads(front: Front, native: NativeClient) -> None:
     data = await native.ok(ParamReadRequest(1420, 1420, -1))
     (rec,) = ItemValues.decode(data, 8).records
-    assert (rec.number, rec.axis, rec.type) == (1420, -1, 2)
+    assert (rec.number, rec.axis, rec.type) == (1420, -1, ParamType.TWO_WORD)
     assert rec.values == (24000, 24000, 24000, 0, 0, 0, 0, 0)
     (rec,) = ItemValues.decode(await native.ok(ParamReadRequest(20, 20, 0)), 8).records
-    assert (rec.number, rec.axis, rec.type, rec.values[0]) == (20, 0, 0, 4)
+    assert (rec.number, rec.axis, rec.type, rec.values[0]) == (20, 0, ParamType.BYTE, 4)
     (rec,) = ItemValues.decode(await native.ok(ParamReadRequest(1825, 1825, 2)), 8).records
-    assert (rec.axis, rec.type, rec.values) == (2, 1, (3000, 0, 0, 0, 0, 0, 0, 0))
+    assert (rec.axis, rec.type, rec.values) == (2, ParamType.WORD, (3000, 0, 0, 0, 0, 0, 0, 0))
     # a range reads the parameters that exist in it, in order
     records = ItemValues.decode(await native.ok(ParamReadRequest(1000, 1010, -1)), 8).records
     assert [r.number for r in records] == [1001, 1005, 1006]
     assert records[0].axis == 0  # a non-axis parameter read with axis -1
-    # 30i style: 8-byte scaled slots and the 30i type numbering
+    # 30i style: 8-byte scaled slots, the same type numbering
     data = await native.ok(ParamRead3Request(1825, 1825, -1))
     (srec,) = ScaledItemValues.decode(data, 8).records
     assert (srec.number, srec.axis, srec.type) == (1825, -1, 2)
@@ -448,7 +449,9 @@ async def test_parameter_reads(front: Front, native: NativeClient) -> None:
     assert await native.ew(ParamReadRequest(1420, 1420, 0)) == EW.ATTRIB
     assert await native.ew(ParamReadRequest(1420, 1420, 9)) == EW.ATTRIB
     assert await native.ew(ParamRead3Request(30, 20, 0)) == EW.LENGTH
-    assert await native.ew(ParamRead3Request(0, 9999, -1)) == EW.LENGTH  # too many records
+    # every parameter of the machine fits one answer of version 3 (2910 bytes)
+    every = ScaledItemValues.decode(await native.ok(ParamRead3Request(0, 9999, -1)), 8).records
+    assert [r.number for r in every] == list(front.machine.param_numbers())
 
 
 async def test_parameter_written_through_packed_reads_natively(
@@ -552,7 +555,7 @@ async def test_unsupported_block_answers_ew_func_others_succeed(
     front.machine.write_macro(1, 7)
     blocks = (
         SysInfoRequest().to_block(),
-        RequestBlock(Device.CNC, 1, 0xE1, (0, 0, 0, 0, 0)),  # remaining ODBST words
+        RequestBlock(Device.CNC, 1, 0xE1, (0, 0, 0, 0, 0)),  # ODBST hdck
         StatInfoRequest().to_block(),
         RequestBlock(Device.PMC, 1, NativeCommand.SYSINFO),  # right command, wrong device
         MacroReadRequest(1, 1).to_block(),
@@ -560,29 +563,31 @@ async def test_unsupported_block_answers_ew_func_others_succeed(
         RequestBlock(Device.CNC, 3, NativeCommand.SYSINFO),  # a path this machine lacks
     )
     answers = await native.blocks(*blocks)
-    assert [a.ew for a in answers] == [0, EW.FUNC, 0, EW.FUNC, 0, EW.FUNC, EW.PATH]
+    assert [a.ew for a in answers] == [0, 0, 0, EW.FUNC, 0, 0, EW.PATH]
     assert NativeSysInfo.decode(answers[0].data).max_axis == 8
     assert StatInfo.decode(answers[2].data).aut == 1
     assert ScaledValues.decode(answers[4].data).values == (ScaledNumber(7, 0),)
     assert all(a.data == b"" for a in answers if a.ew)
-    # the whole answer stays within what version 2 allows, even for many blocks
-    many = [MacroReadRequest(500, 520).to_block() for _ in range(10)]
+    # the whole answer stays within what version 3 allows, even for many blocks
+    many = [MacroReadRequest(500, 520).to_block() for _ in range(20)]
     answers = await native.blocks(*many)
     assert answers[0].ew == 0 and len(answers[0].data) == 21 * 8
-    assert sum(16 + len(a.data) for a in answers) + 2 <= 1450
+    assert sum(16 + len(a.data) for a in answers) + 2 <= 2910
     assert any(a.ew == EW.LENGTH for a in answers)
 
 
-async def test_empty_data_request_answers_no_blocks(native: NativeClient) -> None:
+async def test_empty_data_request_answers_one_refused_block(native: NativeClient) -> None:
+    # FANUC's library refuses an answer of no block: one EW_FUNC block instead
     _, frame_type, body = await native.exchange(encode_native_frame(FrameType.DATA_REQUEST, b""))
     assert frame_type == FrameType.DATA_RESPONSE
-    assert body == b"\x00\x00"
+    (block,) = decode_response_body(body)
+    assert (block.ew, block.data) == (EW.FUNC, b"")
 
 
 async def test_close_handshake(front: Front) -> None:
     client = await NativeClient.connect(front)
     version, frame_type, body = await client.exchange(encode_close_request())
-    assert (version, frame_type, body) == (2, FrameType.CLOSE_RESPONSE, b"")
+    assert (version, frame_type, body) == (3, FrameType.CLOSE_RESPONSE, b"")
     assert await client.closed_by_peer()
     await client.close()
     assert front.native.violations == 0
@@ -624,7 +629,7 @@ def _many_blocks(n: int) -> bytes:
             encode_native_frame(FrameType.DATA_REQUEST, b"\x00\x02\x00\x1c"),
             True,
         ),
-        ("too many blocks", _many_blocks(100), True),
+        ("too many blocks and bytes", _many_blocks(200), True),
         ("frame type not served", encode_native_frame(0x1101, b"\x00\x01"), True),
         (
             "open body of 3 bytes",

@@ -6,7 +6,20 @@ one protocol-neutral :class:`focas_net.sim.Machine`. Each imports the machine an
 only; the listeners (:mod:`focas_net.server`, :mod:`focas_net.native.server`) move the frames.
 """
 
-from .native import ITEM_TYPES, ITEM_TYPES_30I, NativeAdapter, macro_from_double
+from .native import (
+    NativeAdapter,
+    command_set_of,
+    macro_from_double,
+    native_diag_type,
+    native_param_type,
+)
 from .packed import PackedAdapter
 
-__all__ = ["ITEM_TYPES", "ITEM_TYPES_30I", "NativeAdapter", "PackedAdapter", "macro_from_double"]
+__all__ = [
+    "NativeAdapter",
+    "PackedAdapter",
+    "command_set_of",
+    "macro_from_double",
+    "native_diag_type",
+    "native_param_type",
+]

@@ -1,29 +1,40 @@
-"""The native adapter: one data-request body in, the whole data-response frame out.
+"""The native adapter: the open answer, and one data-request body in, the whole answer out.
 
 Pure and synchronous, like :mod:`focas_net.adapters.packed` on the packed side: a
-:class:`NativeAdapter` wraps one protocol-neutral :class:`~focas_net.sim.Machine` and answers
-every request block with a response block, in order (device, path and command echoed, an EW
-code, the data). The asyncio shell (:mod:`focas_net.native.server`) only moves frames.
+:class:`NativeAdapter` wraps one protocol-neutral :class:`~focas_net.sim.Machine` and speaks as
+a real control of the machine's class does to FANUC's library (``libfwlib32``):
 
-Rules of this wire (``docs/native-protocol.md``; the CNC's rules are the machine's, see
-:mod:`focas_net.sim.machine`):
+* **the command set** follows the machine's ``control_class``: a 16i, 18i, 21i or 0i-C answers
+  with version 2 (the "16i set": parameters 0x0E/0x10/0x0F, diagnostics 0x30, base-2 macro
+  writes), a 0i-D, 0i-F, 30i, 31i or 32i with version 3 (the "30i set": 0x8D/0xA0/0x8E, 0x93,
+  0xA4/0xA3 wrapping, base-10 macro writes); see :class:`focas_net.native.CommandSet`;
+* **the open answer** (:meth:`NativeAdapter.open_answer`) describes one path with the machine
+  type, its axes and spindles, and the CNC's max axes; the FOCAS option bits (bit 0, needed by
+  ``cnc_rddynamic2``) are in the open answer at version 3 and in parameter 9968 at version 2;
+* every request block is answered with a block, in order (device, path and command echoed, an
+  EW code, the data). Every command of both sets is served whichever set the handle uses.
+
+Rules of this wire (the CNC's rules are the machine's, see :mod:`focas_net.sim.machine`):
 
 * a block whose ``(device, command)`` is not served answers ``EW_FUNC``; a path other than 0
   or 1 answers ``EW_PATH`` (the machine has one path);
-* a refusal of the machine answers its EW code (``EW_NUMBER``, ``EW_ATTRIB``, ``EW_PROT``...);
-* every answer fits the body size the response version allows (1450 bytes for version 2):
-  room for the 16-byte head of every later block is kept, and a block whose data would not fit
-  what is left answers ``EW_LENGTH``. The size is computed from the arguments **before** any
-  data is gathered (a position read asks the machine first: its EW_NOOPT for the skip position
-  and EW_ATTRIB for an axis it has not come before EW_LENGTH, as they always did);
-* a request with more blocks than the limit can answer even as bare heads (90 at version 2)
-  is a framing violation (:class:`NativeFrameError`): the connection is closed;
-* this wire's own numbering and limits: PMC ``adr_type`` codes (an unknown code -> EW_ATTRIB, a
-  letter the simulated CNC has no area for, M, N or Z, -> EW_NOOPT, both before the data type
-  is looked at; a machine without the area answers EW_NOOPT after the size checks), the PMC
-  data type (EW_ATTRIB) and a byte count that is not a whole number of items (EW_LENGTH), both
-  position numberings, at most 32 alarm messages per block, and no more data than one answer
-  can carry.
+* a refusal of the machine answers its EW code (``EW_NUMBER``, ``EW_ATTRIB``, ``EW_PROT``,
+  ``EW_PASSWD``, ``EW_LENGTH``...), the code the packed protocol answers for the same request;
+  an ``EW_NUMBER`` block carries the detail words ``cnc_getdtailerr`` reads: 1 and the number
+  asked (this project's choice);
+* every answer fits the body size the answer's version allows (1450 bytes for version 2, 2910
+  for 3): room for the 16-byte head of every later block is kept, and a block whose data would
+  not fit what is left answers ``EW_LENGTH``. So PMC ranges are limited by one answer, not by
+  the packed protocol's 32 bytes;
+* a request with more blocks than the limit can answer even as bare heads is a framing
+  violation (:class:`NativeFrameError`): the connection is closed;
+* parameter and diagnostic records carry the type in the library's numbering
+  (:func:`native_param_type`, :func:`native_diag_type`);
+* the two parameters FANUC's library reads on its own, 9968 (its option bits, 16i set, while
+  connecting) and 3115 (position display bits, ``cnc_rdposition`` in the 16i set), are answered
+  from the machine when it has them, otherwise with option bit 0 set and every position shown;
+* figures the machine does not model (timers, spindle load, servo load, the CNC ID) answer the
+  values :class:`NativeAdapter` documents at each handler.
 
 A macro value written as a double (0xA8) is the decimal :func:`macro_from_double` makes of it,
 written with the machine's own ``write_macro`` (a vacant double, a NaN, makes the variable
@@ -32,6 +43,7 @@ vacant; a double with no such decimal is passed on as it is, for the machine to 
 
 from __future__ import annotations
 
+import hashlib
 import math
 import struct
 from bisect import bisect_left, bisect_right
@@ -47,19 +59,42 @@ from focas_net.native.codec import (
     _RESPONSE_BLOCK,
     _SCALED,
     _U16,
-    DEFAULT_SERVER_VERSION,
+    MACHINE_LATHE,
+    MACHINE_MILL,
     NATIVE_HEADER,
+    OPTION_PARAMETER,
+    POSITION_PARAMETER,
     RESPONSE_BLOCK_SIZE,
     SCALED_SIZE,
+    AlarmHistoryRecord,
     AlarmMessage,
     AlarmMessageRequest,
     AlarmMessages,
+    AlarmStatus,
+    AxisCount,
+    AxisCountRequest,
+    AxisDisplay,
+    AxisDisplayRequest,
+    AxisDisplays,
+    AxisName,
+    AxisNameRequest,
+    AxisNames,
+    AxisUnit,
+    AxisUnitRequest,
+    AxisUnits,
+    CncId,
+    CommandSet,
     Device,
-    DiagnosticRequest,
+    DiagType,
+    ExecutingProgram,
     FrameType,
+    HdckStatus,
+    ItemRecord,
     MacroDoubleReadRequest,
     MacroDoubleWriteRequest,
     MacroReadRequest,
+    MacroWriteRequest,
+    NativeAlarmHistoryRequest,
     NativeCommand,
     NativeFrameError,
     NativePayloadError,
@@ -68,13 +103,36 @@ from focas_net.native.codec import (
     NativePositionRequest,
     NativeProgramNumbers,
     NativeSysInfo,
-    ParamRead3Request,
-    ParamReadRequest,
+    ParamInfo,
+    ParamInfo3,
+    ParamInfo3Request,
+    ParamInfoEntry,
+    ParamInfoRequest,
+    ParamType,
+    ParamWrite3Request,
+    ParamWriteRequest,
+    PathDescription,
     PmcDataType,
     PmcReadRequest,
+    PmcWriteRequest,
+    PositionAxisName,
+    PositionAxisNames,
     RequestBlock,
+    ScaledItemRecord,
+    ScaledNumber,
+    ScaledValues,
+    SequenceNumber,
+    ServoMeterRequest,
+    SpindleLoadRequest,
     StatInfo,
+    TimerRequest,
+    TimerValue,
+    TmModeStatus,
+    binary_to_decimal,
+    build_open_answer,
     decode_request_body,
+    encode_close_response,
+    encode_open_response,
     max_response_body,
     resolve_position_kind,
 )
@@ -85,14 +143,28 @@ from focas_net.sim import (
     DataItem,
     Machine,
     MachineError,
+    Session,
 )
 
-__all__ = ["ITEM_TYPES", "ITEM_TYPES_30I", "NativeAdapter", "macro_from_double"]
+__all__ = [
+    "NativeAdapter",
+    "command_set_of",
+    "macro_from_double",
+    "native_diag_type",
+    "native_param_type",
+]
 
-#: Item ``type`` word of 0x0E/0x30 records by value width in bytes (16i numbering).
-ITEM_TYPES: Final[dict[int, int]] = {1: 0, 2: 1, 4: 2}
-#: Item ``type`` word of 0x8D records by value width in bytes (30i numbering).
-ITEM_TYPES_30I: Final[dict[int, int]] = {1: 1, 2: 2, 4: 3}
+#: Control classes that speak the 16i command set; every other class speaks the 30i set.
+_CLASSES_16I: Final = frozenset({"16i", "18i", "21i", "0i-C"})
+#: Version word of the answers of each command set (a 16i answers 2, a 0i-D 3).
+_SET_VERSIONS: Final = {CommandSet.FS16I: 2, CommandSet.FS30I: 3}
+#: FOCAS option bits of the open answer (30i set) and of parameter 9968 (16i set): bit 0 is
+#: what ``cnc_rddynamic2`` needs.
+OPTION_BITS: Final = 1
+#: Spindles of the path (the machine models one spindle speed).
+SPINDLES: Final = 1
+#: Flags of each axis in the 0xA3 answer: machine, absolute/relative and distance shown.
+_DISPLAY_FLAGS: Final = 0x07
 
 _I32_MIN: Final = -(2**31)
 _I32_MAX: Final = 2**31 - 1
@@ -110,6 +182,14 @@ _POSITION_KINDS: Final[dict[NativePositionKind, str]] = {
 }
 _ALARM_HEAD_SIZE: Final = 16
 _ITEM_HEAD_SIZE: Final = 8
+_HISTORY_SIZE: Final = AlarmHistoryRecord.SIZE
+#: Width in bytes of a value of each 16i/30i parameter type (BIT travels as a byte).
+_PARAM_WIDTHS: Final[dict[int, int]] = {
+    ParamType.BIT: 1,
+    ParamType.BYTE: 1,
+    ParamType.WORD: 2,
+    ParamType.TWO_WORD: 4,
+}
 
 _pack_block = _RESPONSE_BLOCK.pack
 _pack_scaled = _SCALED.pack
@@ -117,6 +197,25 @@ _pack_double = _DOUBLE.pack
 _ITEM_HEAD_PACK: Final = struct.Struct(">ihh").pack
 _I32_PACK: Final = struct.Struct(">i").pack
 _I32_ZERO: Final = bytes(4)
+_FOUR_U32: Final = struct.Struct(">4I")
+
+
+def command_set_of(machine: Machine) -> CommandSet:
+    """The command set a control of ``machine``'s class speaks to FANUC's library."""
+    return CommandSet.FS16I if machine.control_class in _CLASSES_16I else CommandSet.FS30I
+
+
+def native_param_type(item: DataItem) -> ParamType:
+    """The type word of parameter ``item`` in FANUC's library's numbering (0 bit, 1 byte,
+    2 word, 3 two-word, 4 real), from its width until the machine gives each parameter its
+    FANUC type."""
+    return ParamType.for_width(item.width)
+
+
+def native_diag_type(item: DataItem) -> DiagType:
+    """The type word of diagnostic ``item`` in FANUC's library's numbering (0 byte, 1 word,
+    2 two-word, 5 real)."""
+    return DiagType.for_width(item.width)
 
 
 def macro_from_double(value: float) -> tuple[int, int] | None:
@@ -143,7 +242,11 @@ def macro_from_double(value: float) -> tuple[int, int] | None:
         if decimals == 0:
             return None
         decimals -= 1
-    while decimals and mantissa % 10 == 0:
+    return _trimmed(mantissa, decimals)
+
+
+def _trimmed(mantissa: int, decimals: int) -> tuple[int, int]:
+    while decimals > 0 and mantissa % 10 == 0:
         mantissa //= 10
         decimals -= 1
     return mantissa, decimals
@@ -187,58 +290,108 @@ def _macro_of_double(value: float) -> Decimal:
     return Decimal(f"{mantissa}E-{decimals}")
 
 
+def _i16(value: int) -> int:
+    """``value`` as a signed 16-bit word (its low 16 bits)."""
+    return ((value + 0x8000) & 0xFFFF) - 0x8000
+
+
+def _axis_name(name: str) -> AxisName:
+    """The 4-byte name of an axis: its first character, then its second as the suffix."""
+    raw = name.encode("ascii", "replace")
+    return AxisName(raw[:1], raw[1:2] or b"\x00")
+
+
 class NativeAdapter:
-    """Answers native data requests from one machine (see the module docstring)."""
+    """Answers FANUC's library for one machine (see the module docstring).
+
+    ``version`` overrides the version word the machine's control class picks (it also picks
+    the command set: 16i up to 2, 30i from 3).
+    """
 
     __slots__ = (
+        "_axis_names",
         "_diag_numbers",
         "_handlers",
         "_max_blocks",
+        "_own_session",
         "_param_numbers",
+        "_position_frame",
         "_scaled_zero",
+        "_session",
         "_status",
         "_status_version",
         "_sysinfo",
+        "command_set",
         "limit",
         "machine",
         "max_axis",
         "version",
     )
 
-    def __init__(self, machine: Machine, *, version: int = DEFAULT_SERVER_VERSION) -> None:
+    def __init__(self, machine: Machine, *, version: int | None = None) -> None:
         self.machine = machine
-        #: Version word of every answer; it sets :attr:`limit`.
+        if version is None:
+            version = _SET_VERSIONS[command_set_of(machine)]
+        #: Version word of every answer; it sets :attr:`limit` and :attr:`command_set`.
         self.version = version
+        #: The command set FANUC's library uses with this adapter.
+        self.command_set = CommandSet.for_version(version)
         #: Largest answer body (:func:`max_response_body` of the version).
         self.limit = max_response_body(version)
         self._max_blocks = (self.limit - 2) // RESPONSE_BLOCK_SIZE
         i = machine.identity()
-        #: Value slots per parameter/diagnostic record and position records for all axes.
+        #: Value slots per parameter/diagnostic record and position records for all axes: the
+        #: open answer's max axes.
         self.max_axis = max(i.max_axis, len(machine.axes), 1)
         self._sysinfo = NativeSysInfo(
             i.addinfo, i.max_axis, i.cnc_type, i.mt_type, i.series, i.version, i.axes
         ).encode()
+        self._axis_names = [_axis_name(a) for a in machine.axes]
         self._status = b""
         self._status_version = -1
         self._param_numbers = machine.param_numbers()
         self._diag_numbers = machine.diag_numbers()
         self._scaled_zero = _pack_scaled(0, 10, 0)
-        cnc, pmc = Device.CNC, Device.PMC
+        self._own_session = machine.new_session()
+        self._session = self._own_session
+        self._position_frame = False
+        cnc, pmc, c = Device.CNC, Device.PMC, NativeCommand
         self._handlers: dict[tuple[int, int], _Handler] = {
-            (cnc, NativeCommand.SYSINFO): self._read_sysinfo,
-            (cnc, NativeCommand.STATINFO): self._read_status,
-            (cnc, NativeCommand.RDPRGNUM): self._read_program_numbers,
-            (cnc, NativeCommand.ACTF): self._read_feed,
-            (cnc, NativeCommand.ACTS): self._read_spindle,
-            (cnc, NativeCommand.RDMACRO): self._read_macros,
-            (cnc, NativeCommand.RDMACRO_DOUBLE): self._read_macro_doubles,
-            (cnc, NativeCommand.WRMACRO_DOUBLE): self._write_macro_double,
-            (cnc, NativeCommand.RDPARAM): self._read_params,
-            (cnc, NativeCommand.RDPARAM3): self._read_params_30i,
-            (cnc, NativeCommand.RDDIAG): self._read_diags,
-            (cnc, NativeCommand.RDALMMSG): self._read_alarms,
-            (cnc, NativeCommand.POSITION): self._read_positions,
-            (pmc, NativeCommand.PMC_RDPMCRNG): self._read_pmc,
+            (cnc, c.SYSINFO): self._read_sysinfo,
+            (cnc, c.STATINFO): self._read_status,
+            (cnc, c.STAT_HDCK): self._read_hdck,
+            (cnc, c.STAT_TMMODE): self._read_tmmode,
+            (cnc, c.RDCNCID): self._read_cnc_id,
+            (cnc, c.RDTIMER): self._read_timer,
+            (cnc, c.RDPRGNUM): self._read_program_numbers,
+            (cnc, c.RDSEQNUM): self._read_sequence,
+            (cnc, c.EXEPRGNAME): self._read_executing_program,
+            (cnc, c.ACTF): self._read_feed,
+            (cnc, c.ACTS): self._read_spindle,
+            (cnc, c.ALARM): self._read_alarm_bits,
+            (cnc, c.RDALMMSG): self._read_alarms,
+            (cnc, c.RDALMHISTRY): self._read_history,
+            (cnc, c.RDMACRO): self._read_macros,
+            (cnc, c.WRMACRO): self._write_macro,
+            (cnc, c.RDMACRO_DOUBLE): self._read_macro_doubles,
+            (cnc, c.WRMACRO_DOUBLE): self._write_macro_double,
+            (cnc, c.RDPARAM): self._read_params,
+            (cnc, c.RDPARAINFO): self._read_param_info,
+            (cnc, c.WRPARAM): self._write_param,
+            (cnc, c.RDPARAM3): self._read_params_30i,
+            (cnc, c.RDPARAINFO3): self._read_param_info_30i,
+            (cnc, c.WRPARAM3): self._write_param_30i,
+            (cnc, c.RDDIAG): self._read_diags,
+            (cnc, c.RDDIAG3): self._read_diags_30i,
+            (cnc, c.POSITION): self._read_positions,
+            (cnc, c.AXIS_NAME): self._read_axis_names,
+            (cnc, c.AXIS_UNIT): self._read_axis_units,
+            (cnc, c.AXIS_COUNT): self._read_axis_count,
+            (cnc, c.AXIS_DISPLAY): self._read_axis_display,
+            (cnc, c.RDSPLOAD): self._read_spindle_load,
+            (cnc, c.RDSVMETER): self._read_servo_meter,
+            (pmc, c.PMC_RDPMCRNG): self._read_pmc,
+            (pmc, c.PMC_WRPMCRNG): self._write_pmc,
         }
 
     def __repr__(self) -> str:
@@ -248,6 +401,26 @@ class NativeAdapter:
     def served(self) -> frozenset[tuple[int, int]]:
         """``(device, command)`` of every block this adapter answers with data."""
         return frozenset(self._handlers)
+
+    # -- open and close ------------------------------------------------------------------
+
+    def open_answer(self) -> bytes:
+        """The body of the open answer: one path (machine type from the identity, the
+        machine's axes, one spindle) and the CNC's max axes; at version 3 the option bits."""
+        mt = self.machine.identity().mt_type
+        machine_type = MACHINE_LATHE if mt.strip() == "T" else MACHINE_MILL
+        path = PathDescription(machine_type, len(self.machine.axes), SPINDLES)
+        return build_open_answer(
+            [path], self.max_axis, option_bits=OPTION_BITS, version=self.version
+        )
+
+    def open_response(self) -> bytes:
+        """The whole open-answer frame."""
+        return encode_open_response(self.open_answer(), self.version)
+
+    def close_response(self) -> bytes:
+        """The whole close-answer frame."""
+        return encode_close_response(self.version)
 
     # -- requests ------------------------------------------------------------------------
 
@@ -265,13 +438,21 @@ class NativeAdapter:
         parts[0] = NATIVE_HEADER.pack(_MAGIC_U32, self.version, FrameType.DATA_RESPONSE, length)
         return b"".join(parts)
 
-    def answer(self, body: bytes) -> bytes:
-        """The whole data-response frame answering the data-request ``body``.
+    def answer(self, body: bytes, session: Session | None = None) -> bytes:
+        """The whole data-response frame answering the data-request ``body``; ``session`` is
+        the connection's (parameter writes), the adapter's own when None.
 
         Raises :class:`NativeFrameError` when the block list is broken or longer than an
-        answer can hold; everything else is answered in its block.
+        answer can hold; everything else is answered in its block. A request of no block is
+        answered with one EW_FUNC block (FANUC's library refuses an answer of no block).
         """
         blocks = self._blocks(body)
+        if not blocks:
+            blocks = (RequestBlock(Device.CNC, 1, 0),)
+        self._session = self._own_session if session is None else session
+        self._position_frame = any(
+            b.command == NativeCommand.AXIS_NAME and b.device == Device.CNC for b in blocks
+        )
         count = len(blocks)
         parts: list[bytes] = [b"", _U16.pack(count)]
         left = self.limit - 2 - RESPONSE_BLOCK_SIZE * count
@@ -296,6 +477,9 @@ class NativeAdapter:
                         ew, data = EW.LENGTH, b""
             size = len(data)
             left -= size
+            detail1 = detail2 = 0
+            if ew == EW.NUMBER:
+                detail1, detail2 = 1, _i16(block.args[0])
             parts.append(
                 _pack_block(
                     RESPONSE_BLOCK_SIZE + size,
@@ -303,8 +487,8 @@ class NativeAdapter:
                     block.path,
                     block.command,
                     ew,
-                    0,
-                    0,
+                    detail1,
+                    detail2,
                     size,
                 )
             )
@@ -344,11 +528,39 @@ class NativeAdapter:
         self._read_status(RequestBlock(Device.CNC, 1, NativeCommand.STATINFO), self.limit)
         return StatInfo.decode(self._status)
 
+    def _read_hdck(self, block: RequestBlock, room: int) -> bytes:
+        return HdckStatus(self.machine.status().hdck).encode()
+
+    def _read_tmmode(self, block: RequestBlock, room: int) -> bytes:
+        return TmModeStatus(self.machine.status().tmmode).encode()
+
+    def _read_cnc_id(self, block: RequestBlock, room: int) -> bytes:
+        """The CNC ID: four words of the SHA-256 of the machine's name (stable per name)."""
+        digest = hashlib.sha256(self.machine.name.encode("utf-8")).digest()
+        return CncId(*_FOUR_U32.unpack(digest[:16])).encode()
+
+    def _read_timer(self, block: RequestBlock, room: int) -> bytes:
+        """Timers 0 power-on, 1 operating, 2 cutting, 3 cycle, 4 free: the machine keeps no
+        timer, so each reads 0 minutes 0 ms; another type answers EW_NUMBER."""
+        req = TimerRequest.from_block(block)
+        if not 0 <= req.type <= 4:
+            raise _Refused(EW.NUMBER)
+        return TimerValue(0, 0).encode()
+
     # -- motion figures ------------------------------------------------------------------
 
     def _read_program_numbers(self, block: RequestBlock, room: int) -> bytes:
         m = self.machine.motion
         return NativeProgramNumbers(m.program_running, m.program_main).encode()
+
+    def _read_sequence(self, block: RequestBlock, room: int) -> bytes:
+        return SequenceNumber(self.machine.motion.sequence).encode()
+
+    def _read_executing_program(self, block: RequestBlock, room: int) -> bytes:
+        """The running program: its O number and its name ``O<number>`` (four digits at
+        least)."""
+        number = self.machine.motion.program_running
+        return ExecutingProgram(number, f"O{number:04d}".encode("ascii")).encode()
 
     def _read_feed(self, block: RequestBlock, room: int) -> bytes:
         return _pack_scaled(self.machine.motion.feed, 10, 0)
@@ -371,6 +583,53 @@ class NativeAdapter:
             return b"".join(parts)
         return _pack_scaled(positions[0][1], 10, POSITION_DECIMALS)
 
+    def _read_axis_names(self, block: RequestBlock, room: int) -> bytes:
+        """0x89: 4 bytes per axis (argument 0) or 16 (-1: head, absolute, machine and
+        relative names)."""
+        req = AxisNameRequest.from_block(block)
+        names = self._axis_names
+        if req.kind == -1:
+            data = PositionAxisNames(tuple(PositionAxisName.of(n, n, n) for n in names)).encode()
+        else:
+            data = AxisNames(tuple(names)).encode()
+        _need_room(len(data), room)
+        return data
+
+    def _read_axis_units(self, block: RequestBlock, room: int) -> bytes:
+        """0x88: per axis, the unit of the positions and of the machine position (0, mm)."""
+        AxisUnitRequest.from_block(block)
+        _need_room(AxisUnit.SIZE * len(self._axis_names), room)
+        return AxisUnits((AxisUnit(0, 0),) * len(self._axis_names)).encode()
+
+    def _read_axis_count(self, block: RequestBlock, room: int) -> bytes:
+        """0xA4: the axes (0), spindles (1) or servo axes (2) of the path."""
+        req = AxisCountRequest.from_block(block)
+        if req.kind == 1:
+            return AxisCount(SPINDLES).encode()
+        if req.kind in (0, 2):
+            return AxisCount(len(self.machine.axes)).encode()
+        raise _Refused(EW.ATTRIB)
+
+    def _read_axis_display(self, block: RequestBlock, room: int) -> bytes:
+        """0xA3: every position of every axis shown."""
+        AxisDisplayRequest.from_block(block)
+        _need_room(AxisDisplay.SIZE * len(self._axis_names), room)
+        shown = AxisDisplay(bytes(3), _DISPLAY_FLAGS)
+        return AxisDisplays((shown,) * len(self._axis_names)).encode()
+
+    def _read_spindle_load(self, block: RequestBlock, room: int) -> bytes:
+        """0x40: the load of each spindle in percent; the machine models none, so 0."""
+        spindle = SpindleLoadRequest.from_block(block).spindle
+        if spindle != -1 and not 1 <= spindle <= SPINDLES:
+            raise _Refused(EW.NUMBER)
+        return ScaledValues((ScaledNumber(0, 0),) * SPINDLES).encode()
+
+    def _read_servo_meter(self, block: RequestBlock, room: int) -> bytes:
+        """0x56: the servo load of each axis in percent; the machine models none, so 0."""
+        ServoMeterRequest.from_block(block)
+        _need_room(SCALED_SIZE * len(self._axis_names), room)
+        return ScaledValues((ScaledNumber(0, 0),) * len(self._axis_names)).encode()
+
     # -- macro variables -----------------------------------------------------------------
 
     def _read_macros(self, block: RequestBlock, room: int) -> bytes:
@@ -385,6 +644,23 @@ class NativeAdapter:
             mantissa, decimals = _macro_parts(read(number))
             parts.append(_pack_scaled(mantissa, 10, decimals))  # vacant: (0, -1)
         return b"".join(parts)
+
+    def _write_macro(self, block: RequestBlock, room: int) -> bytes:
+        """0x16: a base-10 record as it is (decimals -1: vacant); a binary one (the 16i set)
+        as the decimal ``cnc_rdmacro`` shows of it, trailing zeros dropped (12.345 sent as
+        ``62C28F5C 0002 001B`` is written 12.345)."""
+        req = MacroWriteRequest.from_block(block)
+        v = req.value
+        value: Decimal | None
+        if v.vacant:
+            value = None
+        elif v.binary:
+            mantissa, decimals = _trimmed(*binary_to_decimal(v.mantissa, v.decimals))
+            value = Decimal(mantissa).scaleb(-decimals)
+        else:
+            value = Decimal(v.mantissa).scaleb(-v.decimals)
+        self.machine.write_macro(req.number, value)
+        return b""
 
     def _read_macro_doubles(self, block: RequestBlock, room: int) -> bytes:
         req = MacroDoubleReadRequest.from_block(block)
@@ -416,7 +692,7 @@ class NativeAdapter:
         room: int,
         numbers: tuple[int, ...],
         read: Callable[[int, int], int],
-        item_of: Callable[[int], DataItem | None],
+        type_of: Callable[[int], int],
         scaled: bool,
     ) -> bytes:
         args = block.args
@@ -431,7 +707,6 @@ class NativeAdapter:
         slot = SCALED_SIZE if scaled else 4
         _need_room((hi - lo) * (_ITEM_HEAD_SIZE + slot * max_axis), room)
         n_axes = len(self.machine.axes)
-        types = ITEM_TYPES_30I if scaled else ITEM_TYPES
         parts: list[bytes] = []
         for number in numbers[lo:hi]:
             if axis == -1:
@@ -448,9 +723,7 @@ class NativeAdapter:
             else:
                 values = [read(number, axis)]
                 record_axis = axis
-            item = item_of(number)
-            assert item is not None
-            parts.append(_ITEM_HEAD_PACK(number, record_axis, types[item.width]))
+            parts.append(_ITEM_HEAD_PACK(number, record_axis, type_of(number)))
             if scaled:
                 parts.extend(_pack_scaled(v, 10, 0) for v in values)
                 zero = self._scaled_zero
@@ -460,48 +733,177 @@ class NativeAdapter:
             parts.extend([zero] * (max_axis - len(values)))
         return b"".join(parts)
 
+    def _param_type(self, number: int) -> int:
+        item = self.machine.param_item(number)
+        assert item is not None
+        return native_param_type(item)
+
+    def _diag_type(self, number: int) -> int:
+        item = self.machine.diag_item(number)
+        assert item is not None
+        return native_diag_type(item)
+
+    def _library_param(self, block: RequestBlock, scaled: bool) -> bytes | None:
+        """The record of 9968 or 3115 when the machine has no such parameter and FANUC's
+        library asks for it on its own (9968 alone, 3115 within a ``cnc_rdposition``)."""
+        first, last, axis = block.args[0], block.args[1], block.args[2]
+        if first != last or self.machine.param_item(first) is not None:
+            return None
+        slot_zero = self._scaled_zero if scaled else _I32_ZERO
+        if first == OPTION_PARAMETER and axis == 0:
+            head = _ITEM_HEAD_PACK(first, 0, ParamType.BYTE)
+            value = _pack_scaled(OPTION_BITS, 10, 0) if scaled else _I32_PACK(OPTION_BITS)
+            return head + value + slot_zero * (self.max_axis - 1)
+        if first == POSITION_PARAMETER and axis == -1 and self._position_frame:
+            return _ITEM_HEAD_PACK(first, -1, ParamType.BIT) + slot_zero * self.max_axis
+        return None
+
     def _read_params(self, block: RequestBlock, room: int) -> bytes:
-        ParamReadRequest.from_block(block)
+        own = self._library_param(block, False)
+        if own is not None:
+            return own
         m = self.machine
-        return self._items(block, room, self._param_numbers, m.read_param, m.param_item, False)
+        return self._items(block, room, self._param_numbers, m.read_param, self._param_type, False)
 
     def _read_params_30i(self, block: RequestBlock, room: int) -> bytes:
-        ParamRead3Request.from_block(block)
+        own = self._library_param(block, True)
+        if own is not None:
+            return own
         m = self.machine
-        return self._items(block, room, self._param_numbers, m.read_param, m.param_item, True)
+        return self._items(block, room, self._param_numbers, m.read_param, self._param_type, True)
 
     def _read_diags(self, block: RequestBlock, room: int) -> bytes:
-        DiagnosticRequest.from_block(block)
         m = self.machine
-        return self._items(block, room, self._diag_numbers, m.read_diag, m.diag_item, False)
+        return self._items(block, room, self._diag_numbers, m.read_diag, self._diag_type, False)
+
+    def _read_diags_30i(self, block: RequestBlock, room: int) -> bytes:
+        m = self.machine
+        return self._items(block, room, self._diag_numbers, m.read_diag, self._diag_type, True)
+
+    def _info_items(self, first: int, count: int) -> tuple[int, int, list[DataItem]]:
+        """``prev, next`` and the parameters from ``first`` on, ``count`` of them."""
+        if count < 1:
+            raise _Refused(EW.LENGTH)
+        numbers = self._param_numbers
+        lo = bisect_left(numbers, first)
+        chosen = numbers[lo : lo + count]
+        if not chosen:
+            raise _Refused(EW.NUMBER)
+        prev_no = numbers[lo - 1] if lo else 0
+        end = lo + len(chosen)
+        next_no = numbers[end] if end < len(numbers) else 0
+        items = [self.machine.param_item(n) for n in chosen]
+        return prev_no, next_no, [i for i in items if i is not None]
+
+    def _read_param_info(self, block: RequestBlock, room: int) -> bytes:
+        """0x10: ``prev, next``, then per parameter from ``first`` on its number and attribute
+        (type in bits 0-1; bit 8, the axis bit, is left 0 as ``cnc_wrparam`` needs)."""
+        req = ParamInfoRequest.from_block(block)
+        prev_no, next_no, items = self._info_items(req.first, req.count)
+        _need_room(8 + ParamInfoEntry.SIZE * len(items), room)
+        entries = tuple(ParamInfoEntry(i.number, native_param_type(i) & 3) for i in items)
+        return ParamInfo(prev_no, next_no, entries).encode()
+
+    def _read_param_info_30i(self, block: RequestBlock, room: int) -> bytes:
+        """0xA0: 28 bytes of the parameter ``first``: its type (0..4) and 2 for an axis
+        parameter."""
+        req = ParamInfo3Request.from_block(block)
+        prev_no, next_no, items = self._info_items(req.first, 1)
+        item = items[0]
+        axis_kind = 2 if item.axis else 0
+        return ParamInfo3(
+            prev_no, next_no, item.number, native_param_type(item), axis_kind
+        ).encode()
+
+    def _write_items(self, number: int, axis: int, ptype: int, values: list[int]) -> None:
+        """Write parameter ``number`` (``axis`` 0, k or -1 for every axis, ``values`` one per
+        slot) given as type ``ptype``."""
+        m = self.machine
+        m.check_writable()
+        width = _PARAM_WIDTHS.get(ptype)
+        if width is None:
+            raise _Refused(EW.ATTRIB)
+        session = self._session
+        if axis == -1:
+            n = len(m.axes)
+            if len(values) < n:
+                raise _Refused(EW.LENGTH)
+            item = m.param_item(number)
+            if item is not None and not item.axis:
+                m.write_param(session, number, 0, values[0], width=width)
+                return
+            # the machine writes one axis at a time: an axis whose value it would refuse is
+            # written first, so that a refused write changes no axis
+            order = list(range(1, n + 1))
+            if item is not None and item.low is not None and item.high is not None:
+                low, high = item.low, item.high
+                order.sort(key=lambda a: low <= values[a - 1] <= high)
+            for a in order:
+                m.write_param(session, number, a, values[a - 1], width=width)
+            return
+        if not values:
+            raise _Refused(EW.LENGTH)
+        m.write_param(session, number, axis, values[0], width=width)
+
+    def _write_param(self, block: RequestBlock, room: int) -> bytes:
+        """0x0F: one record with 4-byte slots (16i set)."""
+        rec: ItemRecord = ParamWriteRequest.from_block(block).record
+        width = _PARAM_WIDTHS.get(rec.type, 4)
+        bits = 8 * width
+        values = [((v + (1 << (bits - 1))) % (1 << bits)) - (1 << (bits - 1)) for v in rec.values]
+        self._write_items(rec.number, rec.axis, rec.type, values)
+        return b""
+
+    def _write_param_30i(self, block: RequestBlock, room: int) -> bytes:
+        """0x8E: one record with 8-byte slots (30i set); the mantissa of each slot."""
+        rec: ScaledItemRecord = ParamWrite3Request.from_block(block).record
+        self._write_items(rec.number, rec.axis, rec.type, [v.mantissa for v in rec.values])
+        return b""
 
     # -- PMC -----------------------------------------------------------------------------
 
-    def _read_pmc(self, block: RequestBlock, room: int) -> bytes:
-        req = PmcReadRequest.from_block(block)
+    def _pmc_area(self, area: int, data_type: int) -> tuple[str, int]:
         try:
-            letter = NativePmcArea(req.area).name
+            letter = NativePmcArea(area).name
         except ValueError:
             raise _Refused(EW.ATTRIB) from None
         if letter not in PMC_AREAS:  # an area the simulated CNC never has
             raise _Refused(EW.NOOPT)
         try:
-            width = PmcDataType(req.data_type).width
+            width = PmcDataType(data_type).width
         except ValueError:
             raise _Refused(EW.ATTRIB) from None
+        return letter, width
+
+    def _read_pmc(self, block: RequestBlock, room: int) -> bytes:
+        req = PmcReadRequest.from_block(block)
+        letter, width = self._pmc_area(req.area, req.data_type)
         count = req.last - req.first + 1
         if count < 1 or count % width:
             raise _Refused(EW.LENGTH)
         _need_room(count, room)
         raw = self.machine.read_pmc(letter, req.first, count)
-        if width == 1:
-            return raw
-        out = bytearray(len(raw))
-        for i in range(width):  # PMC memory is little-endian; the native answer big-endian
-            out[i::width] = raw[width - 1 - i :: width]
-        return bytes(out)
+        return _swap(raw, width)
+
+    def _write_pmc(self, block: RequestBlock, room: int) -> bytes:
+        req = PmcWriteRequest.from_block(block)
+        self.machine.check_writable()
+        letter, width = self._pmc_area(req.area, req.data_type)
+        data = req.data.raw
+        count = req.last - req.first + 1
+        if count < 1 or count % width or len(data) != count:
+            raise _Refused(EW.LENGTH)
+        self.machine.write_pmc(letter, req.first, _swap(data, width))
+        return b""
 
     # -- alarms --------------------------------------------------------------------------
+
+    def _read_alarm_bits(self, block: RequestBlock, room: int) -> bytes:
+        """0x1A: bit n set when an alarm of type n is active."""
+        bits = 0
+        for a in self.machine.active_alarms():
+            bits |= 1 << a.alm_type
+        return AlarmStatus(bits - (1 << 32) if bits & 0x8000_0000 else bits).encode()
 
     def _read_alarms(self, block: RequestBlock, room: int) -> bytes:
         req = AlarmMessageRequest.from_block(block)
@@ -522,3 +924,44 @@ class NativeAdapter:
                 for a in alarms
             )
         ).encode(text_length)
+
+    def _read_history(self, block: RequestBlock, room: int) -> bytes:
+        """0x6C: entries ``first..last`` of the history (1 = the newest), 60 bytes each;
+        EW_NUMBER when ``first`` is past the last entry."""
+        req = NativeAlarmHistoryRequest.from_block(block)
+        if req.first < 1 or req.last < req.first:
+            raise _Refused(EW.NUMBER)
+        entries = self.machine.alarm_history(req.last)[req.first - 1 :]
+        if not entries:
+            raise _Refused(EW.NUMBER)
+        _need_room(_HISTORY_SIZE * len(entries), room)
+        parts = []
+        for e in entries:
+            t = e.occurred_at
+            text = e.msg.encode("latin-1", "replace")[:32]
+            parts.append(
+                AlarmHistoryRecord(
+                    e.alm_no,
+                    e.alm_type,
+                    e.axis_no,
+                    t.year,
+                    t.month,
+                    t.day,
+                    t.hour,
+                    t.minute,
+                    t.second,
+                    len(text),
+                    text,
+                ).encode()
+            )
+        return b"".join(parts)
+
+
+def _swap(raw: bytes, width: int) -> bytes:
+    """PMC memory is little-endian, the native wire big-endian: reverse each ``width`` item."""
+    if width == 1:
+        return raw
+    out = bytearray(len(raw))
+    for i in range(width):
+        out[i::width] = raw[width - 1 - i :: width]
+    return bytes(out)

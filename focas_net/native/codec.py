@@ -60,7 +60,13 @@ from .blocks import (
     encode_request_body,
     encode_response_body,
 )
-from .calls import CommandSet, LibraryCall
+from .calls import (
+    ALARM_HISTORY_CHUNK,
+    OPTION_PARAMETER,
+    POSITION_PARAMETER,
+    CommandSet,
+    LibraryCall,
+)
 from .frame import (
     CLIENT_VERSION,
     DEFAULT_MAX_BODY,
@@ -195,6 +201,7 @@ _DOUBLE: Final = _records._DOUBLE
 _NAN_BITS: Final = _records._NAN_BITS
 
 __all__ = [
+    "ALARM_HISTORY_CHUNK",
     "CLIENT_VERSION",
     "DEFAULT_MAX_BODY",
     "DEFAULT_SERVER_VERSION",
@@ -205,6 +212,8 @@ __all__ = [
     "NATIVE_HEADER",
     "NATIVE_HEADER_SIZE",
     "NO_PATH",
+    "OPTION_PARAMETER",
+    "POSITION_PARAMETER",
     "REQUEST_BLOCK_SIZE",
     "REQUEST_TYPES",
     "RESPONSE_BLOCK_SIZE",

@@ -22,14 +22,11 @@ from typing import TYPE_CHECKING, Final
 
 from focas_net.adapters import NativeAdapter
 from focas_net.native.codec import (
-    DEFAULT_SERVER_VERSION,
     FrameType,
     NativeFrame,
     NativeFrameDecoder,
     NativeFrameError,
     OpenRequest,
-    encode_close_response,
-    encode_open_response,
 )
 
 from ._base import BaseConnection, CloseCallback, Limits
@@ -38,7 +35,7 @@ from .faults import FaultKind, FaultQueue
 if TYPE_CHECKING:
     import asyncio
 
-    from focas_net.sim import Machine
+    from focas_net.sim import Machine, Session
 
 __all__ = ["NativeConnection", "NativeFront"]
 
@@ -56,21 +53,27 @@ _DROP_KIND: Final = FaultKind.DROP
 class NativeFront:
     """The native protocol in front of one machine: its answers and its fixed frames.
 
-    ``version`` is the version word of every answer (2 keeps answers within 1450 bytes).
+    ``version`` overrides the version word of every answer, which the machine's control class
+    picks otherwise (2 for a 16i-class control, 3 for a 0i-D/0i-F or 30i class one); it also
+    picks the command set FANUC's library uses.
     """
 
     __slots__ = ("_adapter", "close_response", "open_response", "version")
 
-    def __init__(self, machine: Machine, version: int = DEFAULT_SERVER_VERSION) -> None:
+    def __init__(self, machine: Machine, version: int | None = None) -> None:
         self._adapter = NativeAdapter(machine, version=version)
-        self.version = version
-        self.open_response = encode_open_response(version=version)
-        self.close_response = encode_close_response(version=version)
+        self.version = self._adapter.version
+        self.open_response = self._adapter.open_response()
+        self.close_response = self._adapter.close_response()
 
-    def answer(self, body: bytes) -> bytes:
+    @property
+    def machine(self) -> Machine:
+        return self._adapter.machine
+
+    def answer(self, body: bytes, session: Session | None = None) -> bytes:
         """The data-response frame answering a data-request body (NativeFrameError when the
-        block list is broken or too long)."""
-        return self._adapter.answer(body)
+        block list is broken or too long); ``session`` is the connection's."""
+        return self._adapter.answer(body, session)
 
     def forced_answer(self, body: bytes, ew: int) -> bytes:
         """The data-response frame answering every block of ``body`` with ``ew``."""
@@ -85,7 +88,7 @@ class NativeConnection(BaseConnection[NativeFrame]):
     names the connection's machine in logs.
     """
 
-    __slots__ = ("_decoder", "_front", "_opened")
+    __slots__ = ("_decoder", "_front", "_opened", "_session")
 
     def __init__(
         self,
@@ -99,6 +102,8 @@ class NativeConnection(BaseConnection[NativeFrame]):
         self._front = front
         self._decoder = NativeFrameDecoder(limits.max_body)
         self._opened = False
+        #: This connection's parameter-write state (FANUC's library has no unlock call).
+        self._session = front.machine.new_session()
 
     @property
     def peer_text(self) -> str:
@@ -159,7 +164,7 @@ class NativeConnection(BaseConnection[NativeFrame]):
                             return self._stop(frames, index + 1)
                         continue
                 try:
-                    answer = front.answer(body)
+                    answer = front.answer(body, self._session)
                 except NativeFrameError as exc:
                     self._violation(str(exc))
                     return False
@@ -206,7 +211,7 @@ class NativeConnection(BaseConnection[NativeFrame]):
             if kind is _ERROR_KIND:
                 self._write(self._front.forced_answer(body, arg))
                 return True
-            answer = self._front.answer(body)
+            answer = self._front.answer(body, self._session)
         except NativeFrameError as exc:
             self._violation(str(exc))
             return False

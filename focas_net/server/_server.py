@@ -38,7 +38,7 @@ import anyio
 import anyio.lowlevel
 
 from focas_net.adapters import PackedAdapter
-from focas_net.native.codec import DEFAULT_MAX_BODY, DEFAULT_SERVER_VERSION, MAGIC
+from focas_net.native.codec import DEFAULT_MAX_BODY, MAGIC
 from focas_net.protocol import DEFAULT_MAX_FRAME
 from focas_net.sim import Machine
 
@@ -371,8 +371,9 @@ class FocasServer:
     ``native_port`` (None = off) adds, for each machine, a port serving the native protocol
     only: machine *i* on ``native_port + i``, or an ephemeral port for each when it is 0 (see
     :attr:`Listener.native`). ``port=None`` (with no ``ports``) leaves the two-protocol ports
-    out, so that only the native ports are served. ``native_version`` is the version word of
-    every native answer (2 keeps answers within 1450 bytes), ``native_max_body`` the largest
+    out, so that only the native ports are served. ``native_version`` overrides the version word
+    of every native answer, which each machine's control class picks otherwise (it also picks
+    the command set FANUC's library uses), ``native_max_body`` the largest
     native frame body accepted (checked on the header before any of the body is buffered).
 
     Limits: ``max_frame`` (a longer or shorter packed length prefix closes that connection; at
@@ -404,7 +405,7 @@ class FocasServer:
         grace_period: float = DEFAULT_GRACE_PERIOD,
         backlog: int = 128,
         native_port: int | None = None,
-        native_version: int = DEFAULT_SERVER_VERSION,
+        native_version: int | None = None,
         native_max_body: int = DEFAULT_MAX_BODY,
         read_only: bool | None = None,
         control: bool | None = None,
@@ -426,7 +427,7 @@ class FocasServer:
             raise ValueError(f"write_buffer_high must be at least 1, got {write_buffer_high}")
         if grace_period < 0:
             raise ValueError(f"grace_period must be >= 0, got {grace_period}")
-        if not 1 <= native_version <= 0xFFFF:
+        if native_version is not None and not 1 <= native_version <= 0xFFFF:
             raise ValueError(f"native_version must be within 1..65535, got {native_version}")
         if not 0 <= native_max_body <= 0xFFFF:
             raise ValueError(f"native_max_body must be within 0..65535, got {native_max_body}")

@@ -17,7 +17,7 @@ from __future__ import annotations
 
 from typing import TYPE_CHECKING, Final
 
-from focas_net.native.codec import DEFAULT_MAX_BODY, DEFAULT_SERVER_VERSION
+from focas_net.native.codec import DEFAULT_MAX_BODY
 
 from ._native import NativeConnection
 from ._server import FocasServer
@@ -43,10 +43,11 @@ class NativeServer:
 
     ``machine`` is shared: give a :class:`~focas_net.server.FocasServer` the same instance and
     what one front end writes, the other reads. ``port`` 0 picks an ephemeral port (see
-    :attr:`address`). ``version`` is the version word of every answer (2 keeps answers within
-    1450 bytes); ``max_body`` bounds an incoming frame's body, checked on its header before any
-    of it is buffered; ``max_connections`` open connections at most (more are closed at once);
-    ``idle_timeout`` seconds without a complete frame close a connection (0 = never).
+    :attr:`address`). ``version`` overrides the version word of every answer, which the
+    machine's control class picks otherwise; ``max_body`` bounds an incoming frame's body,
+    checked on its header before any of it is buffered; ``max_connections`` open connections
+    at most (more are closed at once); ``idle_timeout`` seconds without a complete frame close
+    a connection (0 = never).
     """
 
     def __init__(
@@ -55,13 +56,13 @@ class NativeServer:
         host: str = "127.0.0.1",
         port: int = 0,
         *,
-        version: int = DEFAULT_SERVER_VERSION,
+        version: int | None = None,
         max_body: int = DEFAULT_MAX_BODY,
         max_connections: int = DEFAULT_NATIVE_MAX_CONNECTIONS,
         idle_timeout: float = DEFAULT_NATIVE_IDLE_TIMEOUT,
         backlog: int = 128,
     ) -> None:
-        if not 1 <= version <= 0xFFFF:
+        if version is not None and not 1 <= version <= 0xFFFF:
             raise ValueError(f"version must be within 1..65535, got {version}")
         if not 0 <= max_body <= 0xFFFF:
             raise ValueError(f"max_body must be within 0..65535, got {max_body}")
@@ -160,7 +161,7 @@ async def start_native(
     host: str = "127.0.0.1",
     port: int = 0,
     *,
-    version: int = DEFAULT_SERVER_VERSION,
+    version: int | None = None,
     max_body: int = DEFAULT_MAX_BODY,
     max_connections: int = DEFAULT_NATIVE_MAX_CONNECTIONS,
     idle_timeout: float = DEFAULT_NATIVE_IDLE_TIMEOUT,

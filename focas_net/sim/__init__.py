@@ -6,6 +6,8 @@ knows either wire protocol: :mod:`focas_net.adapters` translates (``docs/protoco
 from .default import DEFAULT_NAME, default_machine
 from .machine import (
     AUT_MODES,
+    CONTROL_CLASSES,
+    DEFAULT_CONTROL_CLASS,
     DEFAULT_HISTORY_CAPACITY,
     MAX_MACRO_DECIMALS,
     PMC_AREAS,
@@ -30,6 +32,8 @@ from .machinefile import MachineFileError, load_machine, machine_from_dict
 
 __all__ = [
     "AUT_MODES",
+    "CONTROL_CLASSES",
+    "DEFAULT_CONTROL_CLASS",
     "DEFAULT_HISTORY_CAPACITY",
     "DEFAULT_NAME",
     "MAX_MACRO_DECIMALS",

@@ -81,6 +81,8 @@ from focas_net.versamax import IOModuleRecord
 
 __all__ = [
     "AUT_MODES",
+    "CONTROL_CLASSES",
+    "DEFAULT_CONTROL_CLASS",
     "DEFAULT_HISTORY_CAPACITY",
     "MAX_MACRO_DECIMALS",
     "MDI",
@@ -128,6 +130,12 @@ POSITION_KINDS: Final = ("absolute", "machine", "relative", "distance_to_go")
 MAX_ALARM_TYPE: Final = 31
 #: Characters of an alarm message the CNC keeps.
 MAX_ALARM_TEXT: Final = 32
+#: The control classes a machine can be, as FANUC names its series; a front end speaks as that
+#: class of control does (FANUC's native protocol: the 16i command set for 16i, 18i, 21i and
+#: 0i-C, the 30i set for 0i-D, 0i-F, 30i, 31i and 32i).
+CONTROL_CLASSES: Final = ("16i", "18i", "21i", "0i-C", "0i-D", "0i-F", "30i", "31i", "32i")
+#: The control class of a machine that does not say (the built-in machine is a 0i-F).
+DEFAULT_CONTROL_CLASS: Final = "0i-F"
 #: Highest rack and slot of a VersaMax station.
 MAX_RACK: Final = 7
 MAX_SLOT: Final = 9
@@ -380,8 +388,15 @@ class Machine:
         clock: Clock = utc_now,
         control_enabled: bool = True,
         read_only: bool = False,
+        control_class: str = DEFAULT_CONTROL_CLASS,
     ) -> None:
         self.name = name
+        if control_class not in CONTROL_CLASSES:
+            raise ValueError(
+                f"unknown control class {control_class!r} (one of {', '.join(CONTROL_CLASSES)})"
+            )
+        #: Which class of FANUC control this machine is (one of :data:`CONTROL_CLASSES`).
+        self.control_class = control_class
         self.axes: list[str] = list(axes)
         n = len(self.axes)
         if not 1 <= n <= 32:

@@ -23,6 +23,8 @@ from focas_net.versamax import BoardId, IOModuleRecord, RefType
 from .default import gniu_record, mdd844_record
 from .machine import (
     AUT_MODES,
+    CONTROL_CLASSES,
+    DEFAULT_CONTROL_CLASS,
     DEFAULT_HISTORY_CAPACITY,
     MAX_RACK,
     MAX_SLOT,
@@ -477,7 +479,19 @@ def machine_from_dict(
     if "machine" not in top:
         mc.fail("missing (the [machine] table with at least name and axes)")
     head = _table(mc, top["machine"])
-    _only(mc, head, ("name", "axes", "param_password", "control", "read_only", "history_capacity"))
+    _only(
+        mc,
+        head,
+        (
+            "name",
+            "axes",
+            "param_password",
+            "control",
+            "read_only",
+            "history_capacity",
+            "control_class",
+        ),
+    )
     if "name" not in head:
         mc.sub("name").fail("missing")
     name = _str(mc.sub("name"), head["name"]).strip()
@@ -542,7 +556,18 @@ def _build(
         clock=clock,
         control_enabled=control,
         read_only=_bool(mc.sub("read_only"), head.get("read_only", False)),
+        control_class=_control_class(mc.sub("control_class"), head),
     )
+
+
+def _control_class(ctx: _Ctx, head: dict[str, Any]) -> str:
+    if "control_class" not in head:
+        return DEFAULT_CONTROL_CLASS
+    text = _str(ctx, head["control_class"]).strip()
+    for known in CONTROL_CLASSES:
+        if text.lower() == known.lower():
+            return known
+    ctx.fail(f"unknown control class {text!r} (expected one of: {', '.join(CONTROL_CLASSES)})")
 
 
 def load_machine(
