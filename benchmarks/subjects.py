@@ -88,7 +88,7 @@ def server_argv(subject: str, *, use_uvloop: bool, extra: tuple[str, ...] = ()) 
     """The command line of ``subject``'s server on 127.0.0.1, port 0."""
     py = sys.executable
     if subject == FLOOR:
-        return [py, "-m", "benchmarks.floor", "--port", "0", *(["--uvloop"] * use_uvloop)]
+        return [py, "-m", "benchmarks.floor", "--port", "0", *(["--uvloop"] * use_uvloop), *extra]
     if subject == PEER:
         return [py, "-m", "benchmarks.peer", "--port", "0", *(["--uvloop"] * use_uvloop)]
     if subject == FOCAS:
