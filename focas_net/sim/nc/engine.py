@@ -101,17 +101,17 @@ class Engine:
         self._relative_origin: list[float] = [0.0] * n
         self._zero_steps = 0
         self._single_block_pending = False
-        self.alarm: NcAlarm | None = None
+        self._alarm: NcAlarm | None = None
         self.events: list[EngineEvent] = []
         self.single_block = False
         self.feed_override = 100.0
         self.rapid_override = 100.0
         self.spindle_override = 100.0
-        self.parts_count = 0
-        self.parts_total = 0
-        self.operating_time = 0.0
-        self.cutting_time = 0.0
-        self.cycle_time = 0.0
+        self._parts_count = 0
+        self._parts_total = 0
+        self._operating_time = 0.0
+        self._cutting_time = 0.0
+        self._cycle_time = 0.0
 
     # --- commands -------------------------------------------------------------------------
 
@@ -119,8 +119,8 @@ class Engine:
         """Start the main program from its head (reset), continue it (stop) or resume it
         (hold). Refused with an alarm active or without a main program."""
         self.advance()
-        if self.alarm is not None:
-            raise NcStateError(f"cycle start refused: alarm {self.alarm.code} is active")
+        if self._alarm is not None:
+            raise NcStateError(f"cycle start refused: alarm {self._alarm.code} is active")
         if self._state is CycleState.START:
             return
         if self._state is CycleState.RESET:
@@ -129,7 +129,7 @@ class Engine:
                 raise NcStateError("cycle start refused: no main program is selected")
             self.interpreter.rewind(main)
             self.interpreter.position = list(self._position)
-            self.cycle_time = 0.0
+            self._cycle_time = 0.0
         self._state = CycleState.START
 
     def feed_hold(self) -> None:
@@ -144,7 +144,7 @@ class Engine:
         self.advance()
         self._stop_motion()
         self._state = CycleState.RESET
-        self.alarm = None
+        self._alarm = None
         it = self.interpreter
         it.rewind(None)
         it.spindle = 5
@@ -187,6 +187,52 @@ class Engine:
         return events
 
     # --- reads ----------------------------------------------------------------------------
+
+    @property
+    def alarm(self) -> NcAlarm | None:
+        """The alarm that stopped the cycle (cleared by reset)."""
+        self.advance()
+        return self._alarm
+
+    @property
+    def parts_count(self) -> int:
+        """Parts counted by M2/M30 (parameter 6711)."""
+        self.advance()
+        return self._parts_count
+
+    @parts_count.setter
+    def parts_count(self, value: int) -> None:
+        self.advance()
+        self._parts_count = value
+
+    @property
+    def parts_total(self) -> int:
+        """Total parts (parameter 6712)."""
+        self.advance()
+        return self._parts_total
+
+    @parts_total.setter
+    def parts_total(self, value: int) -> None:
+        self.advance()
+        self._parts_total = value
+
+    @property
+    def operating_time(self) -> float:
+        """Seconds of automatic operation (cycle start, not hold or stop)."""
+        self.advance()
+        return self._operating_time
+
+    @property
+    def cutting_time(self) -> float:
+        """Seconds of cutting feed (G1/G2/G3 moving)."""
+        self.advance()
+        return self._cutting_time
+
+    @property
+    def cycle_time(self) -> float:
+        """Seconds of automatic operation since the cycle start from reset."""
+        self.advance()
+        return self._cycle_time
 
     @property
     def state(self) -> CycleState:
@@ -302,11 +348,11 @@ class Engine:
         return 1.0
 
     def _account(self, dt: float) -> None:
-        self.operating_time += dt
-        self.cycle_time += dt
+        self._operating_time += dt
+        self._cycle_time += dt
         action = self._action
         if isinstance(action, Motion) and not action.rapid:
-            self.cutting_time += dt
+            self._cutting_time += dt
 
     def _current(self) -> Vector:
         action = self._action
@@ -337,7 +383,7 @@ class Engine:
             detail,
         )
         self._stop_motion()
-        self.alarm = alarm
+        self._alarm = alarm
         self._state = CycleState.STOP
         self.events.append(EngineEvent(self._time, "alarm", number, alarm))
 
@@ -373,7 +419,8 @@ class Engine:
         if isinstance(action, ProgramEnd):
             self._end(action)
             return False
-        self._zero_steps = 0
+        if not (isinstance(action, Wait) and action.code == "busy"):
+            self._zero_steps = 0
         self._start(action)
         return True
 
@@ -401,9 +448,9 @@ class Engine:
 
     def _end(self, action: ProgramEnd) -> None:
         if action.code is not None:
-            self.parts_count += 1
-            self.parts_total += 1
-            self.events.append(EngineEvent(self._time, "part", self.parts_count))
+            self._parts_count += 1
+            self._parts_total += 1
+            self.events.append(EngineEvent(self._time, "part", self._parts_count))
         self.events.append(EngineEvent(self._time, "end", action.code or 0))
         self._stop_motion()
         self._state = CycleState.RESET

@@ -526,7 +526,7 @@ class Interpreter:
                 target[i] = value
             self._rapid(step, start, tuple(target))
             return
-        if not axes and not self._hold and self.modal[1] in (0, 10):
+        if not axes and not self._hold:
             return
         group1 = self.modal[1]
         if group1 == 0:
