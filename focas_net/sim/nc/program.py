@@ -176,8 +176,7 @@ def _split_blocks(text: str) -> list[tuple[int, str]]:
             (i for i in range(first + 1, len(stripped)) if stripped[i].startswith("%")),
             len(stripped),
         )
-        head = [i for i in range(first) if stripped[i]]
-        numbered = [(i + 1, lines[i]) for i in (*head, *range(first + 1, end))]
+        numbered = [(i + 1, lines[i]) for i in range(first + 1, end)]
     else:
         numbered = [(i + 1, ln) for i, ln in enumerate(lines)]
     blocks: list[tuple[int, str]] = []
