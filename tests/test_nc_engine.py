@@ -18,6 +18,7 @@ from focas_net.sim.nc import (
     NcStateError,
     ProgramError,
     ProgramErrorReason,
+    RealTimeClock,
 )
 
 
@@ -510,3 +511,46 @@ def test_idle_engines_are_read_without_stepping() -> None:
     clock.advance(10.0)
     assert all(e.state is CycleState.RESET for e in engines)
     assert all(e.interpreter.program is None for e in engines)
+
+
+def test_settings_for_other_axes_and_their_checks() -> None:
+    lathe = NcSettings.for_axes(("X", "Z"), stroke_limits=((-10.0, 200.0), None))
+    assert lathe.rapid_rates == (24000.0, 24000.0)
+    clock = ManualClock()
+    engine = Engine(clock, lathe)
+    engine.store.store("O1\nG18 G0 X20. Z5.\nG2 X20. Z-5. R5. F300\nM30\n")
+    engine.store.select(1)
+    engine.cycle_start()
+    run_out(engine, clock, 0.1)
+    assert engine.alarm is None
+    assert engine.machine_position() == pytest.approx((20.0, -5.0))
+    with pytest.raises(ValueError, match="rapid_rates has 3 entries for 2 axes"):
+        NcSettings(axes=("X", "Z"))
+    with pytest.raises(ValueError, match="stroke limit"):
+        NcSettings(stroke_limits=((5.0, -5.0), None, None))
+
+
+def test_the_real_time_clock_runs_at_its_speed() -> None:
+    wall = [100.0]
+    clock = RealTimeClock(speed=10.0, source=lambda: wall[0])
+    wall[0] += 1.5
+    assert clock.now() == pytest.approx(15.0)
+    with pytest.raises(ValueError, match="positive"):
+        RealTimeClock(speed=0)
+
+
+def test_the_manual_clock_never_goes_back() -> None:
+    clock = ManualClock(5.0)
+    assert clock.advance(1.0) == 6.0
+    with pytest.raises(ValueError, match="cannot go back"):
+        clock.set(1.0)
+    with pytest.raises(ValueError, match="finite"):
+        clock.advance(-1.0)
+
+
+def test_overrides_are_checked() -> None:
+    engine = Engine(ManualClock())
+    with pytest.raises(ValueError, match="feed override is 0..254 %, got 300"):
+        engine.set_feed_override(300)
+    with pytest.raises(ValueError, match="rapid override"):
+        engine.set_rapid_override(-1)

@@ -145,6 +145,7 @@ class Engine:
         self._stop_motion()
         self._state = CycleState.RESET
         self._alarm = None
+        self._single_block_pending = False
         it = self.interpreter
         it.rewind(None)
         it.spindle = 5

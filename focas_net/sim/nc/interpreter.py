@@ -9,9 +9,9 @@ macro statements and modal changes take no time. It never raises anything but
 from __future__ import annotations
 
 import math
-from collections.abc import Mapping
+from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field
-from typing import Final
+from typing import Any, Final
 
 from .alarms import AlarmKind, AlarmRaised
 from .macro import Expr, NcVariables, Value, VariableRefused, evaluate, round_fanuc, variable_number
@@ -92,6 +92,18 @@ class NcSettings:
     #: (keeps an endless macro loop from hanging a read).
     zero_time_blocks: int = 10000
     busy_block_time: float = 0.001
+
+    @classmethod
+    def for_axes(cls, axes: Sequence[str], **values: Any) -> NcSettings:
+        """Settings for ``axes`` with the per-axis defaults repeated for each axis (24 m/min
+        rapids, no stroke limits, reference at 0); ``values`` override any field."""
+        n = len(axes)
+        defaults: dict[str, Any] = {
+            "rapid_rates": (24000.0,) * n,
+            "stroke_limits": (None,) * n,
+            "reference": (0.0,) * n,
+        }
+        return cls(axes=tuple(axes), **{**defaults, **values})
 
     def __post_init__(self) -> None:
         n = len(self.axes)
