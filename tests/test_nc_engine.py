@@ -550,7 +550,7 @@ def test_the_manual_clock_never_goes_back() -> None:
 
 def test_overrides_are_checked() -> None:
     engine = Engine(ManualClock())
-    with pytest.raises(ValueError, match="feed override is 0..254 %, got 300"):
+    with pytest.raises(ValueError, match=r"feed override is 0\.\.254 %, got 300"):
         engine.set_feed_override(300)
     with pytest.raises(ValueError, match="rapid override"):
         engine.set_rapid_override(-1)
