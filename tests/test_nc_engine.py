@@ -554,3 +554,36 @@ def test_overrides_are_checked() -> None:
         engine.set_feed_override(300)
     with pytest.raises(ValueError, match="rapid override"):
         engine.set_rapid_override(-1)
+
+
+def test_block_delete_skips_marked_blocks_only_with_the_switch() -> None:
+    for switch, expected in ((False, 2.0), (True, 1.0)):
+        engine = Engine(ManualClock())
+        engine.store.store("O1\nG91 G1 X1. F600\n/X1.\nM30\n")
+        engine.store.select(1)
+        engine.set_block_delete(switch)
+        engine.cycle_start()
+        run_out(engine, engine.clock, 0.1)  # type: ignore[arg-type]
+        assert engine.machine_position()[0] == pytest.approx(expected)
+
+
+def test_m99_in_a_main_program_runs_it_again() -> None:
+    engine, clock = started("O1\nG91 G1 X1. F600\nM99\n")
+    clock.set(0.35)  # three passes of 0.1 s each are done
+    assert engine.machine_position()[0] == pytest.approx(3.5)
+    assert engine.state is CycleState.START and engine.parts_count == 0
+
+
+def test_tool_length_compensation_moves_z_and_keeps_the_program_position() -> None:
+    clock = ManualClock()
+    engine = Engine(clock, tool_offsets={1: 100.0})
+    engine.store.store("O1\nG90 G0 Z50.\nG43 H1\nM0\nG0 Z10.\nM0\nG49\nM30\n")
+    engine.store.select(1)
+    engine.cycle_start()
+    seen = []
+    for _ in range(3):
+        run_out(engine, clock, 0.05)
+        seen.append((engine.machine_position()[2], engine.absolute_position()[2]))
+        engine.cycle_start()
+    expected = [(150.0, 50.0), (110.0, 10.0), (10.0, 10.0)]
+    assert seen == [pytest.approx(e) for e in expected]
