@@ -14,6 +14,7 @@ from focas_net.sim.nc import (
     Engine,
     ManualClock,
     MotionKind,
+    NcAlarm,
     NcSettings,
     NcStateError,
     ProgramError,
@@ -402,7 +403,8 @@ def test_tool_change_and_spindle() -> None:
         ("#4001 = 1", "PS0116"),
         ("#3000 = 12 (TOOL BROKEN)", "MC3012"),
         ("GOTO 777", "PS0128"),
-        ("X1.2.3", "PS0004"),
+        ("X1.2.3", "PS0007"),
+        ("X1. -5", "PS0004"),
         ("X1. $", "PS0009"),
         ("A10.", "PS0009"),
         ("G01 X", "PS0005"),
@@ -587,3 +589,15 @@ def test_tool_length_compensation_moves_z_and_keeps_the_program_position() -> No
         engine.cycle_start()
     expected = [(150.0, 50.0), (110.0, 10.0), (10.0, 10.0)]
     assert seen == [pytest.approx(e) for e in expected]
+
+
+def test_an_alarm_from_the_machine_stops_the_cycle() -> None:
+    engine, clock = started("O1\nG1 X60. F1200\nM30\n")
+    clock.set(1.0)
+    alarm = NcAlarm(AlarmKind.PS, 1000, "EMERGENCY STOP")
+    engine.alarm_stop(alarm)
+    clock.set(2.0)
+    assert engine.alarm == alarm and engine.state is CycleState.STOP
+    assert engine.machine_position()[0] == pytest.approx(20.0)
+    with pytest.raises(NcStateError, match="PS1000"):
+        engine.cycle_start()

@@ -16,7 +16,9 @@ implementing :class:`NcVariables` (``read_variable``/``write_variable`` over the
 - programs: ``store.directory()``, ``store.text(n)``, ``store.store(text)``,
   ``store.delete(n)``, ``store.select(n)``; refusals are :class:`ProgramError` with a
   ``reason`` (and FANUC's PS number in ``alarm``) for the front ends to map to EW codes;
-- control: ``cycle_start()`` (raises :class:`NcStateError`), ``feed_hold()``, ``reset()``,
+- control: ``cycle_start()`` (raises :class:`NcStateError`), ``feed_hold()`` (also pauses
+  a dwell or an M function's wait), ``reset()``, ``alarm_stop(alarm)`` (emergency stop or
+  any alarm of the machine's own),
   ``set_feed_override``/``set_rapid_override``/``set_spindle_override``,
   ``set_single_block``, ``set_optional_stop``, ``set_block_delete``;
 - reads (each advances lazily to the clock's time, O(1) when nothing is due): ``state``

@@ -152,6 +152,15 @@ class Engine:
         it.coolant = False
         it.position = list(self._position)
 
+    def alarm_stop(self, alarm: NcAlarm) -> None:
+        """An alarm raised outside the program (emergency stop, a servo or PMC alarm): the
+        cycle stops as for a program error, and cycle start is refused until reset."""
+        self.advance()
+        self._stop_motion()
+        self._alarm = alarm
+        if self._state is not CycleState.RESET:
+            self._state = CycleState.STOP
+
     def set_feed_override(self, percent: float) -> None:
         self.advance()
         self.feed_override = _percent(percent, 0, 254, "feed override")

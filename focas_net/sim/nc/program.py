@@ -271,7 +271,9 @@ def _words(cur: Cursor) -> list[Word]:
         c = cur.peek()
         if c == "#":
             raise AlarmRaised(127, f"an assignment after NC words at {cur.text[cur.pos :]!r}")
-        if c.isdigit() or c in "+-.":
+        if c == ".":
+            raise AlarmRaised(7, f"a second decimal point at {cur.text[cur.pos :]!r}")
+        if c.isdigit() or c in "+-":
             raise AlarmRaised(4, f"a value without an address at {cur.text[cur.pos :]!r}")
         if c not in ADDRESSES:
             raise AlarmRaised(9, f"{c!r}")
