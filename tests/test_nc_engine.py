@@ -6,6 +6,8 @@ from __future__ import annotations
 import math
 
 import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
 
 from focas_net.sim.nc import (
     AlarmKind,
@@ -601,3 +603,35 @@ def test_an_alarm_from_the_machine_stops_the_cycle() -> None:
     assert engine.machine_position()[0] == pytest.approx(20.0)
     with pytest.raises(NcStateError, match="PS1000"):
         engine.cycle_start()
+
+
+@settings(max_examples=40, deadline=None)
+@given(
+    st.sampled_from([("G17", 0, 1, "XYIJ"), ("G18", 2, 0, "ZXKI"), ("G19", 1, 2, "YZJK")]),
+    st.sampled_from(["G2", "G3"]),
+    st.floats(1.0, 50.0),
+    st.floats(0.0, 359.0),
+    st.floats(0.0, 359.0),
+)
+def test_random_arcs_keep_their_radius_and_reach_their_end(
+    plane: tuple[str, int, int, str], code: str, radius: float, start: float, end: float
+) -> None:
+    name, a, b, letters = plane
+    wa, wb, ca, cb = letters
+    sa, sb = radius * math.cos(math.radians(start)), radius * math.sin(math.radians(start))
+    ea, eb = radius * math.cos(math.radians(end)), radius * math.sin(math.radians(end))
+    text = (
+        f"O1\n{name} G90 G0 {wa}{sa:.4f} {wb}{sb:.4f}\n"
+        f"{code} {wa}{ea:.4f} {wb}{eb:.4f} {ca}{-sa:.4f} {cb}{-sb:.4f} F3000\nM30\n"
+    )
+    engine, clock = started(text)
+    for _ in range(2000):
+        if engine.state is not CycleState.START:
+            break
+        p = engine.machine_position()
+        if isinstance(engine._action, ArcMove):
+            assert math.hypot(p[a], p[b]) == pytest.approx(radius, abs=1e-3)
+        clock.advance(0.01)
+    assert engine.alarm is None
+    p = engine.machine_position()
+    assert (p[a], p[b]) == pytest.approx((round(ea, 4), round(eb, 4)), abs=1e-9)
