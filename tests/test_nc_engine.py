@@ -617,7 +617,7 @@ def test_random_arcs_keep_their_radius_and_reach_their_end(
     plane: tuple[str, int, int, str], code: str, radius: float, start: float, end: float
 ) -> None:
     name, a, b, letters = plane
-    wa, wb, ca, cb = letters
+    wa, wb, ca, cb = tuple(letters)
     sa, sb = radius * math.cos(math.radians(start)), radius * math.sin(math.radians(start))
     ea, eb = radius * math.cos(math.radians(end)), radius * math.sin(math.radians(end))
     text = (
