@@ -539,6 +539,10 @@ def test_the_real_time_clock_runs_at_its_speed() -> None:
     clock = RealTimeClock(speed=10.0, source=lambda: wall[0])
     wall[0] += 1.5
     assert clock.now() == pytest.approx(15.0)
+    clock.set_speed(2.0)
+    wall[0] += 1.0
+    assert clock.speed == 2.0
+    assert clock.now() == pytest.approx(17.0)
     with pytest.raises(ValueError, match="positive"):
         RealTimeClock(speed=0)
 

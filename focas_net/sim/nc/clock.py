@@ -26,14 +26,30 @@ class RealTimeClock:
     ten machine seconds per wall second). One clock can drive any number of engines."""
 
     def __init__(self, speed: float = 1.0, source: Callable[[], float] = time.monotonic):
-        if not (math.isfinite(speed) and speed > 0):
-            raise ValueError(f"the clock speed must be a positive number, got {speed!r}")
-        self.speed = speed
         self._source = source
         self._origin = source()
+        self._base = 0.0
+        self._speed = _checked_speed(speed)
+
+    @property
+    def speed(self) -> float:
+        return self._speed
+
+    def set_speed(self, speed: float) -> None:
+        """Change the speed from now on; the time goes on from where it is."""
+        speed = _checked_speed(speed)
+        self._base = self.now()
+        self._origin = self._source()
+        self._speed = speed
 
     def now(self) -> float:
-        return (self._source() - self._origin) * self.speed
+        return self._base + (self._source() - self._origin) * self._speed
+
+
+def _checked_speed(speed: float) -> float:
+    if not (math.isfinite(speed) and speed > 0):
+        raise ValueError(f"the clock speed must be a positive number, got {speed!r}")
+    return float(speed)
 
 
 class ManualClock:
