@@ -66,6 +66,11 @@ def test_the_machine_imports_no_protocol(path: Path) -> None:
     assert not any(m.startswith(("focas_net.protocol", "focas_net.native")) for m in found)
 
 
+@pytest.mark.parametrize("path", _files("sim/nc"), ids=lambda p: p.name)
+def test_the_part_program_package_needs_only_the_standard_library(path: Path) -> None:
+    assert {m for m in imports_of(path) if not _allowed(m, ("focas_net.sim.nc",))} == set()
+
+
 def test_the_versamax_record_is_neutral() -> None:
     found = imports_of(PACKAGE / "versamax.py")
     assert {m for m in found if not _allowed(m, ("focas_net.errors",))} == set()

@@ -1,0 +1,532 @@
+"""The execution engine: a program's blocks in machine time, computed when read.
+
+Nothing ticks. Every read (and every command) first advances the engine to its clock's time:
+the current action's progress moves at the override's rate, finished actions give way to the
+interpreter's next ones. A read with nothing to do costs a clock call and a comparison;
+running costs one interpreter step per block, whenever the blocks are read.
+"""
+
+from __future__ import annotations
+
+import math
+from collections import deque
+from collections.abc import Mapping, Sequence
+from dataclasses import dataclass
+from enum import Enum
+
+from .alarms import ALARM_MESSAGES, AlarmKind, AlarmRaised, NcAlarm
+from .clock import SimClock
+from .interpreter import Action, Dwell, Interpreter, NcSettings, ProgramEnd, Stop, Wait
+from .macro import MemoryVariables, NcVariables
+from .motion import Motion, Vector
+from .program import ProgramStore
+
+__all__ = ["CycleState", "Engine", "EngineEvent", "MotionKind", "NcStateError"]
+
+
+class CycleState(Enum):
+    """Automatic operation: reset (no program under way), stopped within a program (M0/M1,
+    single block, an alarm), feed hold, cycle start."""
+
+    RESET = "reset"
+    STOP = "stop"
+    HOLD = "hold"
+    START = "start"
+
+
+class MotionKind(Enum):
+    NONE = "none"
+    MOTION = "motion"
+    DWELL = "dwell"
+
+
+class NcStateError(ValueError):
+    """A command the engine's state refuses (cycle start without a main program, with an
+    alarm, ...); the message says why."""
+
+
+@dataclass(frozen=True, slots=True)
+class EngineEvent:
+    """Something the machine may want to record, at machine time ``time``: ``kind`` is
+    ``"alarm"`` (with ``alarm``), ``"part"`` (M2/M30; ``value`` the parts count),
+    ``"tool"`` (M6; ``value`` the tool number) or ``"end"`` (the program's end)."""
+
+    time: float
+    kind: str
+    value: int = 0
+    alarm: NcAlarm | None = None
+
+
+class Engine:
+    """One control's automatic operation. ``clock`` gives machine time; ``store`` holds the
+    programs (the engine tells it which are in use); ``variables`` serves #500-#999 and the
+    system variables the engine does not own; ``work_offsets`` ([0] external, [1..6]
+    G54..G59) and ``tool_offsets`` (H number -> length) may be shared with the machine."""
+
+    def __init__(
+        self,
+        clock: SimClock,
+        settings: NcSettings | None = None,
+        *,
+        store: ProgramStore | None = None,
+        variables: NcVariables | None = None,
+        work_offsets: Sequence[Sequence[float]] | None = None,
+        tool_offsets: Mapping[int, float] | None = None,
+    ) -> None:
+        self.clock = clock
+        self.settings = settings or NcSettings()
+        n = len(self.settings.axes)
+        self.store = store if store is not None else ProgramStore()
+        offsets = [list(row) for row in work_offsets] if work_offsets else [[0.0] * n] * 7
+        if len(offsets) != 7 or any(len(row) != n for row in offsets):
+            raise ValueError(f"work offsets are 7 rows (external, G54..G59) of {n} axes")
+        self.work_offsets = [list(row) for row in offsets]
+        self.tool_offsets: dict[int, float] = dict(tool_offsets or {})
+        self.interpreter = Interpreter(
+            self.settings,
+            self.store,
+            variables if variables is not None else MemoryVariables(),
+            self.work_offsets,
+            self.tool_offsets,
+        )
+        self.store.in_use = self._in_use
+        self._time = clock.now()
+        self._state = CycleState.RESET
+        self._queue: deque[Action] = deque()
+        self._action: Action | None = None
+        self._progress = 0.0
+        self._limit = 0.0  #: progress at which the action ends (earlier on an overtravel)
+        self._overtravel: NcAlarm | None = None
+        self._position: Vector = (0.0,) * n
+        self._relative_origin: list[float] = [0.0] * n
+        self._zero_steps = 0
+        self._single_block_pending = False
+        self._alarm: NcAlarm | None = None
+        self.events: list[EngineEvent] = []
+        self.single_block = False
+        self.feed_override = 100.0
+        self.rapid_override = 100.0
+        self.spindle_override = 100.0
+        self._parts_count = 0
+        self._parts_total = 0
+        self._operating_time = 0.0
+        self._cutting_time = 0.0
+        self._cycle_time = 0.0
+
+    # --- commands -------------------------------------------------------------------------
+
+    def cycle_start(self) -> None:
+        """Start the main program from its head (reset), continue it (stop) or resume it
+        (hold). Refused with an alarm active or without a main program."""
+        self.advance()
+        if self._alarm is not None:
+            raise NcStateError(f"cycle start refused: alarm {self._alarm.code} is active")
+        if self._state is CycleState.START:
+            return
+        if self._state is CycleState.RESET:
+            main = self.store.find(self.store.main) if self.store.main is not None else None
+            if main is None:
+                raise NcStateError("cycle start refused: no main program is selected")
+            self.interpreter.rewind(main)
+            self.interpreter.position = list(self._position)
+            self._cycle_time = 0.0
+        self._state = CycleState.START
+
+    def feed_hold(self) -> None:
+        """Stop the axes where they are; cycle start resumes."""
+        self.advance()
+        if self._state is CycleState.START:
+            self._state = CycleState.HOLD
+
+    def reset(self) -> None:
+        """Stop, clear the alarm, rewind to the head of the main program; the spindle and
+        coolant stop."""
+        self.advance()
+        self._stop_motion()
+        self._state = CycleState.RESET
+        self._alarm = None
+        self._single_block_pending = False
+        it = self.interpreter
+        it.rewind(None)
+        it.spindle = 5
+        it.coolant = False
+        it.position = list(self._position)
+
+    def alarm_stop(self, alarm: NcAlarm) -> None:
+        """An alarm raised outside the program (emergency stop, a servo or PMC alarm): the
+        cycle stops as for a program error, and cycle start is refused until reset."""
+        self.advance()
+        self._stop_motion()
+        self._alarm = alarm
+        if self._state is not CycleState.RESET:
+            self._state = CycleState.STOP
+
+    def set_feed_override(self, percent: float) -> None:
+        self.advance()
+        self.feed_override = _percent(percent, 0, 254, "feed override")
+
+    def set_rapid_override(self, percent: float) -> None:
+        self.advance()
+        self.rapid_override = _percent(percent, 0, 100, "rapid override")
+
+    def set_spindle_override(self, percent: float) -> None:
+        self.advance()
+        self.spindle_override = _percent(percent, 0, 254, "spindle override")
+
+    def set_optional_stop(self, on: bool) -> None:
+        self.advance()
+        self.interpreter.optional_stop = on
+
+    def set_block_delete(self, on: bool) -> None:
+        self.advance()
+        self.interpreter.block_delete = on
+
+    def set_single_block(self, on: bool) -> None:
+        self.advance()
+        self.single_block = on
+
+    def preset_relative(self, axis: int, value: float = 0.0) -> None:
+        """Set the relative position of ``axis`` (0-based) to ``value``."""
+        self.advance()
+        self._relative_origin[axis] = self._current()[axis] - value
+
+    def take_events(self) -> list[EngineEvent]:
+        """The events since the last call, oldest first."""
+        self.advance()
+        events, self.events = self.events, []
+        return events
+
+    # --- reads ----------------------------------------------------------------------------
+
+    @property
+    def alarm(self) -> NcAlarm | None:
+        """The alarm that stopped the cycle (cleared by reset)."""
+        self.advance()
+        return self._alarm
+
+    @property
+    def parts_count(self) -> int:
+        """Parts counted by M2/M30 (parameter 6711)."""
+        self.advance()
+        return self._parts_count
+
+    @parts_count.setter
+    def parts_count(self, value: int) -> None:
+        self.advance()
+        self._parts_count = value
+
+    @property
+    def parts_total(self) -> int:
+        """Total parts (parameter 6712)."""
+        self.advance()
+        return self._parts_total
+
+    @parts_total.setter
+    def parts_total(self, value: int) -> None:
+        self.advance()
+        self._parts_total = value
+
+    @property
+    def operating_time(self) -> float:
+        """Seconds of automatic operation (cycle start, not hold or stop)."""
+        self.advance()
+        return self._operating_time
+
+    @property
+    def cutting_time(self) -> float:
+        """Seconds of cutting feed (G1/G2/G3 moving)."""
+        self.advance()
+        return self._cutting_time
+
+    @property
+    def cycle_time(self) -> float:
+        """Seconds of automatic operation since the cycle start from reset."""
+        self.advance()
+        return self._cycle_time
+
+    @property
+    def state(self) -> CycleState:
+        self.advance()
+        return self._state
+
+    @property
+    def motion(self) -> MotionKind:
+        self.advance()
+        if self._state is not CycleState.START or self._action is None:
+            return MotionKind.NONE
+        return MotionKind.DWELL if isinstance(self._action, Dwell) else MotionKind.MOTION
+
+    def machine_position(self) -> Vector:
+        self.advance()
+        return self._current()
+
+    def absolute_position(self) -> Vector:
+        """Work coordinates: machine position less the offsets of the current block."""
+        current = self.machine_position()
+        it = self.interpreter
+        return tuple(p - it.offset(i) for i, p in enumerate(current))
+
+    def relative_position(self) -> Vector:
+        current = self.machine_position()
+        return tuple(p - o for p, o in zip(current, self._relative_origin, strict=True))
+
+    def distance_to_go(self) -> Vector:
+        current = self.machine_position()
+        action = self._action
+        if not isinstance(action, Motion):
+            return (0.0,) * len(current)
+        end = action.at(self._limit)
+        return tuple(e - c for e, c in zip(end, current, strict=True))
+
+    @property
+    def actual_feed(self) -> float:
+        """mm/min along the path now (0 when not moving)."""
+        self.advance()
+        action = self._action
+        if self._state is not CycleState.START or not isinstance(action, Motion):
+            return 0.0
+        return action.speed(self._progress) * self._rate(action)
+
+    @property
+    def actual_spindle_speed(self) -> float:
+        self.advance()
+        it = self.interpreter
+        if it.spindle not in (3, 4):
+            return 0.0
+        speed = it.spindle_command * self.spindle_override / 100.0
+        return min(speed, self.settings.max_spindle_speed)
+
+    @property
+    def program_number(self) -> int | None:
+        """The program being executed (the main program when reset)."""
+        self.advance()
+        program = self.interpreter.program
+        return program.number if program is not None else self.store.main
+
+    @property
+    def sequence_number(self) -> int | None:
+        self.advance()
+        return self.interpreter.sequence
+
+    def modal_groups(self) -> dict[int, float | None]:
+        """Groups 1..30 as #4001-#4030 read them (``None``: a group not modelled)."""
+        self.advance()
+        return {g: self.interpreter.read(4000 + g) for g in range(1, 31)}
+
+    # --- the lazy advance -----------------------------------------------------------------
+
+    def advance(self) -> None:
+        """Bring the state to the clock's time (every read and command calls this)."""
+        now = self.clock.now()
+        if now <= self._time and (self._action is not None or self._state is not CycleState.START):
+            return
+        budget = 1_000_000  # blocks per advance: bounds a read whatever the program
+        while budget > 0 and self._state is CycleState.START:
+            if self._time >= now and self._action is not None:
+                break
+            if self._action is None:
+                budget -= 1
+                if not self._next():
+                    continue
+                if self._action is None:
+                    continue
+            rate = self._rate(self._action)
+            if rate <= 0:
+                break
+            remaining = (self._limit - self._progress) / rate
+            if self._time + remaining <= now:
+                self._account(remaining)
+                self._time += remaining
+                self._progress = self._limit
+                self._finish()
+            else:
+                dt = now - self._time
+                self._account(dt)
+                self._progress += dt * rate
+                self._time = now
+        if self._state is not CycleState.START or self._rate_zero():
+            self._time = max(self._time, now)
+
+    def _rate_zero(self) -> bool:
+        return self._action is not None and self._rate(self._action) <= 0
+
+    def _rate(self, action: Action) -> float:
+        if self._state is not CycleState.START:
+            return 0.0
+        if isinstance(action, Motion):
+            return (self.rapid_override if action.rapid else self.feed_override) / 100.0
+        return 1.0
+
+    def _account(self, dt: float) -> None:
+        self._operating_time += dt
+        self._cycle_time += dt
+        action = self._action
+        if isinstance(action, Motion) and not action.rapid:
+            self._cutting_time += dt
+
+    def _current(self) -> Vector:
+        action = self._action
+        if isinstance(action, Motion):
+            return action.at(self._progress)
+        return self._position
+
+    def _stop_motion(self) -> None:
+        self._position = self._current()
+        self._action = None
+        self._queue.clear()
+        self._progress = self._limit = 0.0
+        self._overtravel = None
+
+    def _raise(self, number: int, detail: str, kind: AlarmKind, axis: int | None = None) -> None:
+        it = self.interpreter
+        program = it.program
+        message = ALARM_MESSAGES.get((kind, number), "MACRO ALARM" if kind is AlarmKind.MC else "")
+        if kind is AlarmKind.MC:
+            message, detail = detail or message, ""
+        alarm = NcAlarm(
+            kind,
+            number,
+            message,
+            program.number if program is not None else None,
+            it.sequence,
+            axis,
+            detail,
+        )
+        self._stop_motion()
+        self._alarm = alarm
+        self._state = CycleState.STOP
+        self.events.append(EngineEvent(self._time, "alarm", number, alarm))
+
+    def _next(self) -> bool:
+        """Take the next action (stepping the interpreter when the queue is empty); False
+        when the engine stopped instead."""
+        if not self._queue:
+            if self._single_block_pending and self.single_block:
+                self._single_block_pending = False
+                self._state = CycleState.STOP
+                return False
+            try:
+                step = self.interpreter.step()
+            except AlarmRaised as e:
+                self._raise(e.number, e.detail, e.kind)
+                return False
+            except (ArithmeticError, ValueError, IndexError, KeyError) as e:  # pragma: no cover
+                self._raise(114, f"{type(e).__name__}: {e}", AlarmKind.PS)
+                return False
+            self._single_block_pending = step.nc_block
+            self._queue.extend(step.actions)
+            if not step.actions:
+                self._zero_steps += 1
+                if self._zero_steps > self.settings.zero_time_blocks:
+                    self._queue.append(Wait(self.settings.busy_block_time, "busy"))
+                else:
+                    return True
+        action = self._queue.popleft()
+        if isinstance(action, Stop):
+            self._state = CycleState.STOP
+            self._single_block_pending = False
+            return False
+        if isinstance(action, ProgramEnd):
+            self._end(action)
+            return False
+        if not (isinstance(action, Wait) and action.code == "busy"):
+            self._zero_steps = 0
+        self._start(action)
+        return True
+
+    def _start(self, action: Action) -> None:
+        self._action = action
+        self._progress = 0.0
+        duration = action.duration if isinstance(action, Motion) else 0.0
+        if isinstance(action, Dwell | Wait):
+            duration = action.seconds
+        self._limit = duration
+        self._overtravel = None
+        if isinstance(action, Motion):
+            self._check_stroke(action)
+        if isinstance(action, Wait) and action.code.startswith("M6"):
+            self.events.append(EngineEvent(self._time, "tool", self.interpreter.tool))
+
+    def _finish(self) -> None:
+        action = self._action
+        if isinstance(action, Motion):
+            self._position = action.at(self._limit)
+        self._action = None
+        if self._overtravel is not None:
+            alarm = self._overtravel
+            self._raise(alarm.number, alarm.detail, alarm.kind, alarm.axis)
+
+    def _end(self, action: ProgramEnd) -> None:
+        if action.code is not None:
+            self._parts_count += 1
+            self._parts_total += 1
+            self.events.append(EngineEvent(self._time, "part", self._parts_count))
+        self.events.append(EngineEvent(self._time, "end", action.code or 0))
+        self._stop_motion()
+        self._state = CycleState.RESET
+        it = self.interpreter
+        it.rewind(None)
+        it.spindle = 5
+        it.coolant = False
+        it.position = list(self._position)
+
+    def _check_stroke(self, motion: Motion) -> None:
+        """Cut the motion short where it would leave a stroke limit: the axis stops on the
+        limit and the overtravel alarm follows (OT0500 plus side, OT0501 minus side)."""
+        limits = self.settings.stroke_limits
+        if all(limit is None for limit in limits):
+            return
+
+        def outside(p: float) -> tuple[int, int] | None:
+            for i, (value, limit) in enumerate(zip(motion.at(p), limits, strict=True)):
+                if limit is None:
+                    continue
+                if value > limit[1] + 1e-9:
+                    return i, 500
+                if value < limit[0] - 1e-9:
+                    return i, 501
+            return None
+
+        points = motion.critical()
+        previous = 0.0
+        if outside(0.0) is not None:
+            points = [0.0]
+        for p in points:
+            hit = outside(p)
+            if hit is None:
+                previous = p
+                continue
+            lo, hi = previous, p
+            if lo < hi:
+                for _ in range(60):
+                    mid = (lo + hi) / 2
+                    if outside(mid) is None:
+                        lo = mid
+                    else:
+                        hi = mid
+            hit = outside(hi) or hit
+            axis, number = hit
+            name = self.settings.axes[axis]
+            limit = limits[axis]
+            assert limit is not None
+            side = limit[1] if number == 500 else limit[0]
+            self._limit = lo
+            self._overtravel = NcAlarm(
+                AlarmKind.OT,
+                number,
+                ALARM_MESSAGES[(AlarmKind.OT, number)],
+                axis=axis + 1,
+                detail=f"{name} would pass its stroke limit {side:g}",
+            )
+            return
+
+    def _in_use(self) -> frozenset[int]:
+        if self._state is CycleState.RESET:
+            return frozenset()
+        return self.interpreter.programs_in_use()
+
+
+def _percent(value: float, low: float, high: float, what: str) -> float:
+    if not (math.isfinite(value) and low <= value <= high):
+        raise ValueError(f"{what} is {low:g}..{high:g} %, got {value!r}")
+    return float(value)

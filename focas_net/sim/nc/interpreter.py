@@ -1,0 +1,639 @@
+"""The interpreter: one block at a time, from the program store to timed actions.
+
+:meth:`Interpreter.step` executes the block at the program pointer and answers the actions
+it asks of the machine (motion, dwell, an M/T function's wait, a stop, the program's end);
+macro statements and modal changes take no time. It never raises anything but
+:class:`~focas_net.sim.nc.alarms.AlarmRaised` (turned into an alarm by the engine).
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Mapping, Sequence
+from dataclasses import dataclass, field
+from typing import Any, Final
+
+from .alarms import AlarmKind, AlarmRaised
+from .macro import Expr, NcVariables, Value, VariableRefused, evaluate, round_fanuc, variable_number
+from .motion import ArcMove, LinearMove, Motion, RapidMove, Vector
+from .program import Assign, Bad, End, Goto, IfGoto, IfThen, Program, While, Words
+from .program import ProgramStore as _Store
+
+__all__ = ["DEFAULT_MODAL", "G_CODE_GROUPS", "NcSettings"]
+
+INCH: Final = 25.4
+
+#: Each G code the interpreter accepts (value x 10) and its group; group 0 is one-shot.
+G_CODE_GROUPS: Final[dict[int, int]] = {
+    0: 1, 10: 1, 20: 1, 30: 1,
+    40: 0, 280: 0, 530: 0,
+    170: 2, 180: 2, 190: 2,
+    900: 3, 910: 3,
+    220: 4, 230: 4,
+    940: 5,
+    200: 6, 210: 6,
+    400: 7,
+    430: 8, 440: 8, 490: 8,
+    800: 9,
+    980: 10, 990: 10,
+    500: 11,
+    670: 12,
+    970: 13,
+    540: 14, 550: 14, 560: 14, 570: 14, 580: 14, 590: 14,
+    610: 15, 620: 15, 630: 15, 640: 15,
+    690: 16,
+    150: 17,
+    501: 18,
+    401: 19,
+}  # fmt: skip
+
+#: The power-on state of each modal group (value x 10), as #4001-#4019 read it.
+DEFAULT_MODAL: Final[dict[int, int]] = {
+    1: 0, 2: 170, 3: 900, 4: 220, 5: 940, 6: 210, 7: 400, 8: 490, 9: 800, 10: 980,
+    11: 500, 12: 670, 13: 970, 14: 540, 15: 640, 16: 690, 17: 150, 18: 501, 19: 401,
+}  # fmt: skip
+
+_ADDRESSES_OTHER: Final = frozenset("FGHDILJKMPRST")
+_PLANES: Final = {170: ("X", "Y", "I", "J"), 180: ("Z", "X", "K", "I"), 190: ("Y", "Z", "J", "K")}
+_CENTER: Final = {"X": "I", "Y": "J", "Z": "K"}
+
+
+@dataclass(frozen=True, slots=True)
+class NcSettings:
+    """What the control's parameters say about execution. Lengths in mm, feeds in mm/min,
+    times in seconds; per-axis tuples follow ``axes``."""
+
+    axes: tuple[str, ...] = ("X", "Y", "Z")
+    #: Rapid traverse rate per axis (parameter 1420).
+    rapid_rates: tuple[float, ...] = (24000.0, 24000.0, 24000.0)
+    #: Upper limit of cutting feed (parameter 1430/1432).
+    max_cutting_feed: float = 10000.0
+    #: Stored stroke limit 1 per axis, (minus, plus) in machine coordinates (parameters
+    #: 1320/1321); ``None``: no limit on that axis.
+    stroke_limits: tuple[tuple[float, float] | None, ...] = (None, None, None)
+    #: Reference position per axis in machine coordinates (parameter 1240).
+    reference: tuple[float, ...] = (0.0, 0.0, 0.0)
+    #: Least input increment of axis words without a decimal point (IS-B): 0.001 mm,
+    #: 0.0001 inch; the same increment in seconds for a dwell's X.
+    increment_mm: float = 0.001
+    increment_inch: float = 0.0001
+    #: Limit of the difference between start and end radius of an arc (parameter 3410).
+    arc_tolerance: float = 0.02
+    #: Largest spindle speed (parameter 3772), min^-1.
+    max_spindle_speed: float = 6000.0
+    #: Seconds an M6 tool change and any other M function take.
+    tool_change_time: float = 4.0
+    m_function_time: float = 0.5
+    #: Deepest subprogram nesting (M98 within M98).
+    max_subprogram_nesting: int = 10
+    #: Highest tool length offset number H.
+    max_offset_number: int = 400
+    #: Blocks executed in zero time in a row before each further one takes ``busy_block_time``
+    #: (keeps an endless macro loop from hanging a read).
+    zero_time_blocks: int = 10000
+    busy_block_time: float = 0.001
+
+    @classmethod
+    def for_axes(cls, axes: Sequence[str], **values: Any) -> NcSettings:
+        """Settings for ``axes`` with the per-axis defaults repeated for each axis (24 m/min
+        rapids, no stroke limits, reference at 0); ``values`` override any field."""
+        n = len(axes)
+        defaults: dict[str, Any] = {
+            "rapid_rates": (24000.0,) * n,
+            "stroke_limits": (None,) * n,
+            "reference": (0.0,) * n,
+        }
+        return cls(axes=tuple(axes), **{**defaults, **values})
+
+    def __post_init__(self) -> None:
+        n = len(self.axes)
+        if not 1 <= n <= 20 or len(set(self.axes)) != n:
+            raise ValueError(f"1..20 distinct axis names are needed, got {self.axes!r}")
+        for name, value in (
+            ("rapid_rates", self.rapid_rates),
+            ("stroke_limits", self.stroke_limits),
+            ("reference", self.reference),
+        ):
+            if len(value) != n:
+                raise ValueError(f"{name} has {len(value)} entries for {n} axes")
+        if any(not (math.isfinite(r) and r > 0) for r in self.rapid_rates):
+            raise ValueError(f"rapid rates must be positive, got {self.rapid_rates!r}")
+        for limit in self.stroke_limits:
+            if limit is not None and not limit[0] <= limit[1]:
+                raise ValueError(f"a stroke limit is (minus, plus), got {limit!r}")
+
+
+@dataclass(frozen=True, slots=True)
+class Dwell:
+    seconds: float
+
+
+@dataclass(frozen=True, slots=True)
+class Wait:
+    """An M, T or tool-change function: the program waits ``seconds`` for its completion."""
+
+    seconds: float
+    code: str
+
+
+@dataclass(frozen=True, slots=True)
+class Stop:
+    """M0, or M1 with the optional stop switch on."""
+
+    code: int
+
+
+@dataclass(frozen=True, slots=True)
+class ProgramEnd:
+    """M2/M30 (``code``), or the program's last block (``code`` None): counts a part when
+    ``code`` is set."""
+
+    code: int | None
+
+
+Action = Motion | Dwell | Wait | Stop | ProgramEnd
+
+
+@dataclass(slots=True)
+class _Frame:
+    program: Program
+    index: int
+    repeats: int = 1  #: runs left of this subprogram, this one included
+
+
+@dataclass(slots=True)
+class Step:
+    """What one block asked for: the actions in order, and whether it was an NC block (a
+    single-block stop follows those, not macro statements)."""
+
+    actions: list[Action] = field(default_factory=list)
+    nc_block: bool = False
+
+
+class Interpreter:
+    """Program pointer, modal state and variables of one control."""
+
+    def __init__(
+        self,
+        settings: NcSettings,
+        store: _Store,
+        variables: NcVariables,
+        work_offsets: list[list[float]],
+        tool_offsets: Mapping[int, float],
+    ) -> None:
+        self.settings = settings
+        self.store = store
+        self.variables = variables
+        #: [0] external offset, [1..6] G54..G59, each a list per axis (shared with the engine).
+        self.work_offsets = work_offsets
+        self.tool_offsets = tool_offsets
+        n = len(settings.axes)
+        self.axis_index = {name: i for i, name in enumerate(settings.axes)}
+        self.length_axis = self.axis_index.get("Z", n - 1)
+        self.position: list[float] = [0.0] * n  #: machine coordinates at the end of the block
+        self.modal: dict[int, int] = dict(DEFAULT_MODAL)
+        self.feed = 0.0
+        self.spindle_command = 0.0
+        self.spindle = 5  #: 3, 4 or 5 (M3/M4/M5)
+        self.coolant = False
+        self.tool = 0
+        self.next_tool = 0
+        self.h_number = 0
+        self.tool_length = 0.0
+        self.last_m = 0
+        self.optional_stop = False
+        self.block_delete = False
+        self.locals: dict[int, float | None] = {}
+        self.commons: dict[int, float | None] = {}
+        self.frames: list[_Frame] = []
+        self.sequence: int | None = None
+        self.block: int | None = None  #: index of the block being executed
+        self._hold: dict[int, float] = {}  #: axes kept at a work position this block
+
+    # --- program pointer ------------------------------------------------------------------
+
+    @property
+    def program(self) -> Program | None:
+        return self.frames[-1].program if self.frames else None
+
+    def programs_in_use(self) -> frozenset[int]:
+        return frozenset(f.program.number for f in self.frames)
+
+    def rewind(self, main: Program | None) -> None:
+        """Back to the head of ``main``; locals and commons #100-#199 cleared (parameter
+        6001 CLV/CCV = 0), subprogram calls forgotten."""
+        self.frames = [_Frame(main, 0)] if main is not None else []
+        self.locals.clear()
+        self.commons.clear()
+        self.block = None
+
+    # --- coordinates ----------------------------------------------------------------------
+
+    def offset(self, axis: int) -> float:
+        """Machine coordinate of the work zero on ``axis`` (work + external + tool length)."""
+        total = self.work_offsets[0][axis] + self.work_offsets[self.modal[14] // 10 - 53][axis]
+        return total + (self.tool_length if axis == self.length_axis else 0.0)
+
+    def work_position(self) -> list[float]:
+        return [p - self.offset(i) for i, p in enumerate(self.position)]
+
+    # --- variables ------------------------------------------------------------------------
+
+    def read(self, number: int) -> Value:
+        if number == 0:
+            return None
+        if 1 <= number <= 33:
+            return self.locals.get(number)
+        if 100 <= number <= 199:
+            return self.commons.get(number)
+        n = len(self.settings.axes)
+        if 4001 <= number <= 4030:
+            group = self.modal.get(number - 4000)
+            return None if group is None else group / 10
+        special = {
+            4107: 0.0, 4109: self.feed, 4111: float(self.h_number), 4113: float(self.last_m),
+            4114: float(self.sequence or 0),
+            4115: float(self.program.number) if self.program else 0.0,
+            4119: self.spindle_command, 4120: float(self.next_tool),
+        }  # fmt: skip
+        if number in special:
+            return special[number]
+        for base, values in (
+            (5001, self.work_position()),
+            (5021, self.position),
+            (5041, self.work_position()),
+        ):
+            if base <= number < base + n:
+                return values[number - base]
+        offset = self._offset_variable(number)
+        if offset is not None:
+            return self.work_offsets[offset[0]][offset[1]]
+        try:
+            return self.variables.read_variable(number)
+        except VariableRefused as e:
+            raise AlarmRaised(e.alarm, str(e) or f"#{number}") from None
+
+    def _offset_variable(self, number: int) -> tuple[int, int] | None:
+        """#5201+: external offset; #5221+, #5241+ ... #5321+: G54..G59, 20 apart."""
+        if 5201 <= number <= 5340:
+            table, axis = divmod(number - 5201, 20)
+            if axis < len(self.settings.axes):
+                return table, axis
+        return None
+
+    def write(self, number: int, value: Value, comment: str) -> None:
+        if 1 <= number <= 33:
+            self.locals[number] = value
+        elif 100 <= number <= 199:
+            self.commons[number] = value
+        elif number == 3000:
+            n = 0 if value is None else round_fanuc(value)
+            if not 0 <= n <= 200:
+                raise AlarmRaised(119, f"#3000 = {n} is outside 0..200")
+            raise AlarmRaised(3000 + n, comment, AlarmKind.MC)
+        elif number == 0 or 4000 <= number <= 5200:
+            raise AlarmRaised(116, f"#{number}")
+        elif (offset := self._offset_variable(number)) is not None:
+            self.work_offsets[offset[0]][offset[1]] = 0.0 if value is None else value
+        else:
+            try:
+                self.variables.write_variable(number, value)
+            except VariableRefused as e:
+                raise AlarmRaised(e.alarm, str(e) or f"#{number}") from None
+
+    # --- execution ------------------------------------------------------------------------
+
+    def step(self) -> Step:
+        """Execute the block at the pointer (the program's end when past the last one)."""
+        frame = self.frames[-1]
+        program = frame.program
+        if frame.index >= len(program.blocks):
+            self.block = None
+            if len(self.frames) == 1:
+                return Step([ProgramEnd(None)], True)
+            self._return(None)
+            return Step()
+        index = frame.index
+        block = program.blocks[index]
+        frame.index += 1
+        if block.deletable and self.block_delete:
+            return Step()
+        self.block = index
+        if block.sequence is not None:
+            self.sequence = block.sequence
+        st = block.statement
+        if isinstance(st, Bad):
+            raise AlarmRaised(st.alarm, st.detail)
+        if isinstance(st, Words):
+            return self._words(st, block.comment)
+        if index in program.loop_errors:
+            number, detail = program.loop_errors[index]
+            raise AlarmRaised(number, detail)
+        if isinstance(st, Assign):
+            self._assign(st, block.comment)
+        elif isinstance(st, IfThen):
+            if self._true(st.condition):
+                self._assign(st.then, block.comment)
+        elif isinstance(st, Goto | IfGoto):
+            if isinstance(st, Goto) or self._true(st.condition):
+                self._goto(frame, evaluate(st.target, self.read))
+        elif isinstance(st, While):
+            if st.condition is not None and not self._true(st.condition):
+                frame.index = program.loops[index] + 1
+        elif isinstance(st, End):
+            frame.index = program.loops[index]
+        return Step()
+
+    def _true(self, condition: Expr) -> bool:
+        value = evaluate(condition, self.read)
+        return value is not None and value != 0
+
+    def _assign(self, st: Assign, comment: str) -> None:
+        number = variable_number(evaluate(st.target.index, self.read))
+        self.write(number, evaluate(st.value, self.read), comment)
+
+    def _goto(self, frame: _Frame, target: Value) -> None:
+        n = 0 if target is None else round_fanuc(target)
+        index = frame.program.sequences.get(n) if 1 <= n <= 99999 else None
+        if index is None:
+            raise AlarmRaised(128, f"GOTO {n}: no block N{n} in O{frame.program.number:04d}")
+        frame.index = index
+
+    def _return(self, sequence: int | None) -> None:
+        frame = self.frames[-1]
+        if frame.repeats > 1:
+            frame.repeats -= 1
+            frame.index = 0
+            return
+        self.frames.pop()
+        if sequence is not None:
+            caller = self.frames[-1]
+            index = caller.program.sequences.get(sequence)
+            if index is None:
+                raise AlarmRaised(78, f"M99 P{sequence}: no N{sequence} in the calling program")
+            caller.index = index
+
+    def _words(self, st: Words, comment: str) -> Step:
+        s = self.settings
+        values: list[tuple[str, float, bool]] = []
+        for word in st.words:
+            if word.address not in self.axis_index and word.address not in _ADDRESSES_OTHER:
+                raise AlarmRaised(9, f"address {word.address} (axes are {''.join(s.axes)})")
+            value = evaluate(word.value, self.read)
+            if value is not None:
+                values.append((word.address, value, word.integer_literal))
+        modal = dict(self.modal)
+        one_shot: int | None = None
+        for address, value, _ in values:
+            if address == "G":
+                code = round_fanuc(value * 10)
+                group = G_CODE_GROUPS.get(code)
+                if group is None or abs(code - value * 10) > 1e-6:
+                    raise AlarmRaised(10, f"G{value:g}")
+                if group == 0:
+                    one_shot = code
+                else:
+                    modal[group] = code
+        inch = modal[6] == 200
+        scale = INCH if inch else 1.0
+        increment = s.increment_inch if inch else s.increment_mm
+        axes: dict[int, float] = {}
+        other: dict[str, tuple[float, bool]] = {}
+        m_codes: list[int] = []
+        for address, value, literal in values:
+            if address in self.axis_index:
+                axes[self.axis_index[address]] = (value * increment if literal else value) * scale
+                other.setdefault(address, (value, literal))  # X of a dwell
+            elif address == "M":
+                m_codes.append(self._integer(address, value))
+            elif address != "G":
+                other[address] = (value, literal)
+        if "F" in other:
+            feed = other["F"][0]
+            if feed < 0:
+                raise AlarmRaised(6, f"F{feed:g}")
+            self.feed = min(feed * scale, s.max_cutting_feed)
+        if "S" in other:
+            self.spindle_command = float(self._integer("S", other["S"][0]))
+        if "T" in other:
+            self.next_tool = self._integer("T", other["T"][0])
+        length_changed = False
+        work = self.work_position()
+        if "H" in other or modal[8] != self.modal[8]:
+            h = self._integer("H", other["H"][0]) if "H" in other else self.h_number
+            if h > s.max_offset_number:
+                raise AlarmRaised(30, f"H{h} (1..{s.max_offset_number})")
+            self.h_number = h
+            sign = {430: 1.0, 440: -1.0}.get(modal[8], 0.0)
+            new_length = sign * self.tool_offsets.get(h, 0.0)
+            length_changed = new_length != self.tool_length
+            self.tool_length = new_length
+        self.modal = modal
+        self._hold = {}
+        if length_changed and self.length_axis not in axes and one_shot is None:
+            # the compensation moves the axis; the program position stays
+            self._hold[self.length_axis] = work[self.length_axis]
+        step = Step(nc_block=True)
+        for m in m_codes:
+            if m in (0, 1, 2, 30, 98, 99):
+                continue
+            self.last_m = m
+            if m in (3, 4, 5):
+                self.spindle = m
+            elif m in (8, 9):
+                self.coolant = m == 8
+            if m == 6:
+                self.tool = self.next_tool
+                step.actions.append(Wait(s.tool_change_time, f"M6 T{self.tool}"))
+            else:
+                step.actions.append(Wait(s.m_function_time, f"M{m}"))
+        self._motion(step, one_shot, axes, other)
+        for m in m_codes:
+            if m in (0, 1, 2, 30, 98, 99):
+                self.last_m = m
+            if m == 0 or (m == 1 and self.optional_stop):
+                step.actions.append(Stop(m))
+            elif m in (2, 30):
+                step.actions.append(ProgramEnd(m))
+            elif m == 98:
+                self._call(other)
+            elif m == 99:
+                p = other.get("P")
+                sequence = self._integer("P", p[0]) if p else None
+                if len(self.frames) > 1:
+                    self._return(sequence)
+                else:
+                    frame = self.frames[0]
+                    index = 0 if sequence is None else frame.program.sequences.get(sequence)
+                    if index is None:
+                        raise AlarmRaised(78, f"M99 P{sequence}: no N{sequence}")
+                    frame.index = index
+        return step
+
+    @staticmethod
+    def _integer(address: str, value: float) -> int:
+        if value < 0:
+            raise AlarmRaised(6, f"{address}{value:g}")
+        if value != math.floor(value):
+            raise AlarmRaised(7, f"{address}{value:g}")
+        return int(value)
+
+    def _call(self, other: Mapping[str, tuple[float, bool]]) -> None:
+        if "P" not in other:
+            raise AlarmRaised(76, "M98 without P")
+        p = self._integer("P", other["P"][0])
+        repeats = self._integer("L", other["L"][0]) if "L" in other else 1
+        if "L" not in other and p > 9999:
+            repeats, p = divmod(p, 10000)
+        if repeats == 0:
+            return
+        program = self.store.find(p)
+        if program is None:
+            raise AlarmRaised(78, f"M98 P{p}: no program O{p:04d}")
+        if len(self.frames) > self.settings.max_subprogram_nesting:
+            raise AlarmRaised(77, f"more than {self.settings.max_subprogram_nesting} levels")
+        self.frames.append(_Frame(program, 0, repeats))
+
+    def _targets(self, axes: Mapping[int, float], incremental: bool) -> list[float]:
+        target = list(self.position)
+        for i, value in axes.items():
+            target[i] = self.position[i] + value if incremental else value + self.offset(i)
+        for i, value in self._hold.items():
+            target[i] = value + self.offset(i)
+        return target
+
+    def _motion(
+        self,
+        step: Step,
+        one_shot: int | None,
+        axes: dict[int, float],
+        other: Mapping[str, tuple[float, bool]],
+    ) -> None:
+        s = self.settings
+        incremental = self.modal[3] == 910
+        start = tuple(self.position)
+        if one_shot == 40:
+            if "P" in other:
+                seconds = self._integer("P", other["P"][0]) / 1000.0
+            elif "X" in other:
+                value, literal = other["X"]
+                if value < 0:
+                    raise AlarmRaised(6, f"G4 X{value:g}")
+                seconds = value * s.increment_mm if literal else value
+            else:
+                seconds = 0.0
+            step.actions.append(Dwell(seconds))
+            return
+        if one_shot == 280:
+            middle = self._targets(axes, incremental)
+            home = list(middle)
+            for i in axes:
+                home[i] = s.reference[i]
+            self._rapid(step, start, tuple(middle))
+            self._rapid(step, tuple(middle), tuple(home))
+            return
+        if one_shot == 530:
+            target = list(self.position)
+            for i, value in axes.items():
+                target[i] = value
+            self._rapid(step, start, tuple(target))
+            return
+        if not axes and not self._hold:
+            return
+        group1 = self.modal[1]
+        if group1 == 0:
+            self._rapid(step, start, tuple(self._targets(axes, incremental)))
+            return
+        if self.feed <= 0:
+            raise AlarmRaised(11, "no feed rate (F) for cutting feed")
+        if group1 == 10:
+            end = tuple(self._targets(axes, incremental))
+            if end != start:
+                step.actions.append(LinearMove.plan(start, end, self.feed))
+            self.position = list(end)
+            return
+        self._arc(step, start, axes, other, incremental, clockwise=group1 == 20)
+
+    def _rapid(self, step: Step, start: Vector, end: Vector) -> None:
+        if end != start:
+            step.actions.append(RapidMove.plan(start, end, self.settings.rapid_rates))
+        self.position = list(end)
+
+    def _arc(
+        self,
+        step: Step,
+        start: Vector,
+        axes: Mapping[int, float],
+        other: Mapping[str, tuple[float, bool]],
+        incremental: bool,
+        *,
+        clockwise: bool,
+    ) -> None:
+        s = self.settings
+        plane = _PLANES[self.modal[2]]
+        a_name, b_name, ca_word, cb_word = plane
+        if a_name not in self.axis_index or b_name not in self.axis_index:
+            raise AlarmRaised(21, f"plane G{self.modal[2] // 10} needs axes {a_name}{b_name}")
+        a, b = self.axis_index[a_name], self.axis_index[b_name]
+        for word in _CENTER.values():
+            if word in other and word not in (ca_word, cb_word):
+                raise AlarmRaised(21, f"{word} is not a center word of G{self.modal[2] // 10}")
+        end = tuple(self._targets(axes, incremental))
+        inch = self.modal[6] == 200
+        scale = INCH if inch else 1.0
+        increment = s.increment_inch if inch else s.increment_mm
+
+        def length(word: str) -> float:
+            value, literal = other[word]
+            return (value * increment if literal else value) * scale
+
+        sa, sb, ea, eb = start[a], start[b], end[a], end[b]
+        if "R" in other:
+            r = length("R")
+            chord = math.hypot(ea - sa, eb - sb)
+            if chord == 0:
+                self.position = list(end)  # an arc of 0 degrees: no motion
+                return
+            if r == 0 or abs(r) * 2 < chord - 1e-9:
+                raise AlarmRaised(20, f"R{abs(r):g} is less than half of the chord {chord:g}")
+            h = math.sqrt(max(r * r - chord * chord / 4, 0.0))
+            ux, uy = (ea - sa) / chord, (eb - sb) / chord
+            left = (r > 0) != clockwise  # small arc counter-clockwise: center to the left
+            sign = 1.0 if left else -1.0
+            center = ((sa + ea) / 2 - sign * h * uy, (sb + eb) / 2 + sign * h * ux)
+        elif ca_word in other or cb_word in other:
+            ci = length(ca_word) if ca_word in other else 0.0
+            cj = length(cb_word) if cb_word in other else 0.0
+            center = (sa + ci, sb + cj)
+        else:
+            raise AlarmRaised(22, f"G{2 if clockwise else 3} without R or {ca_word}/{cb_word}")
+        r0 = math.hypot(sa - center[0], sb - center[1])
+        r1 = math.hypot(ea - center[0], eb - center[1])
+        if abs(r1 - r0) > s.arc_tolerance:
+            raise AlarmRaised(20, f"start radius {r0:.4f} and end radius {r1:.4f} differ")
+        t0 = math.atan2(sb - center[1], sa - center[0])
+        t1 = math.atan2(eb - center[1], ea - center[0])
+        full = math.tau
+        if clockwise:
+            sweep = -((t0 - t1) % full)
+            if "R" not in other and abs(sweep) < 1e-9:
+                sweep = -full
+        else:
+            sweep = (t1 - t0) % full
+            if "R" not in other and abs(sweep) < 1e-9:
+                sweep = full
+        arc_length = abs(sweep) * (r0 + r1) / 2
+        linear = math.sqrt(
+            sum(
+                (e - st) ** 2
+                for i, (st, e) in enumerate(zip(start, end, strict=True))
+                if i not in (a, b)
+            )
+        )
+        path = arc_length if arc_length > 0 else linear
+        duration = path / self.feed * 60.0
+        if path > 0:
+            step.actions.append(
+                ArcMove(start, end, self.feed, duration, a, b, center, t0, sweep, r0, r1)
+            )
+        self.position = list(end)

@@ -1,0 +1,477 @@
+"""Part programs: FANUC program text parsed into blocks, and the program store.
+
+A program is ``O`` and its number (``:`` is accepted for ``O``), an optional name in
+parentheses, then blocks, each ended by a new line or ``;`` (EOB). ``%`` lines are tape marks:
+text before the first and after the second is ignored. In a block: spaces are ignored, text
+in parentheses is a comment, a leading ``/`` marks the block for block delete, ``N`` and
+digits is the sequence number. Letters outside comments are read in upper case.
+
+Block content is parsed when the program is stored, but a malformed block is kept with its
+alarm and raises it only when executed, as on a CNC.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable, Collection
+from dataclasses import dataclass, field
+from typing import Final
+
+from .alarms import AlarmRaised, ProgramError, ProgramErrorReason
+from .macro import Cursor, Expr, Neg, Num, Var, bracketed, parse_expression, parse_number, variable
+
+__all__ = [
+    "Block",
+    "Program",
+    "ProgramInfo",
+    "ProgramStore",
+    "Word",
+    "parse_program",
+]
+
+#: Word addresses a block may carry (O and N are handled apart).
+ADDRESSES: Final = frozenset("ABCDEFGHIJKLMPQRSTUVWXYZ")
+
+
+@dataclass(frozen=True, slots=True)
+class Word:
+    """One address and its value; ``integer_literal`` is true for a literal number written
+    without a decimal point (FANUC reads those in least input increments on axis words)."""
+
+    address: str
+    value: Expr
+    integer_literal: bool
+
+
+@dataclass(frozen=True, slots=True)
+class Assign:
+    target: Var
+    value: Expr
+
+
+@dataclass(frozen=True, slots=True)
+class Goto:
+    target: Expr
+
+
+@dataclass(frozen=True, slots=True)
+class IfGoto:
+    condition: Expr
+    target: Expr
+
+
+@dataclass(frozen=True, slots=True)
+class IfThen:
+    condition: Expr
+    then: Assign
+
+
+@dataclass(frozen=True, slots=True)
+class While:
+    condition: Expr | None  #: ``None`` for a bare ``DO m`` (an endless loop)
+    loop: int
+
+
+@dataclass(frozen=True, slots=True)
+class End:
+    loop: int
+
+
+@dataclass(frozen=True, slots=True)
+class Words:
+    words: tuple[Word, ...]
+
+
+@dataclass(frozen=True, slots=True)
+class Bad:
+    """A block that could not be parsed: its alarm number and what was wrong."""
+
+    alarm: int
+    detail: str
+
+
+Statement = Assign | Goto | IfGoto | IfThen | While | End | Words | Bad
+
+
+@dataclass(frozen=True, slots=True)
+class Block:
+    """One block: its line in the program text (1-based), the sequence number written in it,
+    whether it carries the block delete mark, its comment (the text of its first parenthesis,
+    the message of ``#3000``), its statement and its text as written."""
+
+    line: int
+    sequence: int | None
+    deletable: bool
+    comment: str
+    statement: Statement
+    text: str
+
+    @property
+    def is_macro(self) -> bool:
+        """Whether this is a macro statement rather than an NC block."""
+        return not isinstance(self.statement, Words | Bad)
+
+
+@dataclass(frozen=True, slots=True)
+class Program:
+    """A parsed program: number, name (the comment of the O line), the text as stored, the
+    blocks, and the indices the interpreter jumps by."""
+
+    number: int
+    name: str
+    text: str
+    blocks: tuple[Block, ...]
+    #: First block index of each sequence number.
+    sequences: dict[int, int] = field(default_factory=dict)
+    #: For each WHILE/DO block index its END index, and the reverse; ``-1`` when unmatched.
+    loops: dict[int, int] = field(default_factory=dict)
+    #: Block index -> alarm for DO/END blocks that do not pair (PS0124/PS0126).
+    loop_errors: dict[int, tuple[int, str]] = field(default_factory=dict)
+
+    @property
+    def size(self) -> int:
+        """Characters stored (the text with one EOB per line)."""
+        return len(self.text)
+
+
+@dataclass(frozen=True, slots=True)
+class ProgramInfo:
+    """One program directory entry."""
+
+    number: int
+    name: str
+    size: int
+
+
+def _strip_comments(line: str) -> tuple[str, str]:
+    """Split a block into its code (spaces removed, upper case) and its first comment."""
+    code: list[str] = []
+    comment: str | None = None
+    depth = 0
+    current: list[str] = []
+    for c in line:
+        if depth:
+            if c == ")":
+                depth = 0
+                if comment is None:
+                    comment = "".join(current).strip()
+                current = []
+            else:
+                current.append(c)
+        elif c == "(":
+            depth = 1
+        elif not c.isspace():
+            code.append(c.upper())
+    if depth and comment is None:
+        comment = "".join(current).strip()
+    return "".join(code), comment or ""
+
+
+def _split_blocks(text: str) -> list[tuple[int, str]]:
+    """Lines of the text between tape marks, each split at ``;`` outside comments."""
+    lines = text.replace("\r\n", "\n").replace("\r", "\n").split("\n")
+    stripped = [ln.strip() for ln in lines]
+    if any(s.startswith("%") for s in stripped):
+        first = next(i for i, s in enumerate(stripped) if s.startswith("%"))
+        end = next(
+            (i for i in range(first + 1, len(stripped)) if stripped[i].startswith("%")),
+            len(stripped),
+        )
+        numbered = [(i + 1, lines[i]) for i in range(first + 1, end)]
+    else:
+        numbered = [(i + 1, ln) for i, ln in enumerate(lines)]
+    blocks: list[tuple[int, str]] = []
+    for number, line in numbered:
+        depth = 0
+        start = 0
+        for pos, c in enumerate(line):
+            if c == "(":
+                depth = 1
+            elif c == ")":
+                depth = 0
+            elif c == ";" and not depth:
+                blocks.append((number, line[start:pos]))
+                start = pos + 1
+        blocks.append((number, line[start:]))
+    return [(n, b) for n, b in blocks if b.strip()]
+
+
+def parse_block(line: int, raw: str) -> Block:
+    """One block of text (no EOB) as a :class:`Block`; never raises."""
+    code, comment = _strip_comments(raw)
+    cur = Cursor(code)
+    deletable = cur.take("/")
+    while cur.peek().isdigit():  # /1 .. /9: the switch number is not modelled
+        cur.pos += 1
+    sequence: int | None = None
+    try:
+        if cur.take("N"):
+            value, point, _ = parse_number(cur)
+            if point:
+                raise AlarmRaised(7, f"N{value}")
+            sequence = int(value)
+        statement = _statement(cur)
+    except AlarmRaised as e:
+        statement = Bad(e.number, e.detail)
+    return Block(line, sequence, deletable, comment, statement, raw.strip())
+
+
+def _statement(cur: Cursor) -> Statement:
+    if cur.at("#"):
+        return _assignment(cur)
+    if cur.take("GOTO"):
+        target = parse_expression(cur)
+        _end(cur)
+        return Goto(target)
+    if cur.take("IF"):
+        condition = bracketed(cur)
+        if cur.take("GOTO"):
+            target = parse_expression(cur)
+            _end(cur)
+            return IfGoto(condition, target)
+        if cur.take("THEN"):
+            return IfThen(condition, _assignment(cur))
+        raise AlarmRaised(114, f"IF without GOTO or THEN at {cur.text[cur.pos :]!r}")
+    if cur.take("WHILE"):
+        condition = bracketed(cur)
+        cur.expect("DO")
+        return While(condition, _loop_number(cur))
+    if cur.take("DO"):
+        return While(None, _loop_number(cur))
+    if cur.take("END"):
+        return End(_loop_number(cur))
+    return Words(tuple(_words(cur)))
+
+
+def _end(cur: Cursor) -> None:
+    if not cur.done():
+        raise AlarmRaised(114, f"unexpected {cur.text[cur.pos :]!r}")
+
+
+def _assignment(cur: Cursor) -> Assign:
+    target = variable(cur)
+    cur.expect("=")
+    value = parse_expression(cur)
+    _end(cur)
+    return Assign(target, value)
+
+
+def _loop_number(cur: Cursor) -> int:
+    if not cur.peek().isdigit():
+        raise AlarmRaised(126, f"loop number missing at {cur.text[cur.pos :]!r}")
+    value, point, _ = parse_number(cur)
+    _end(cur)
+    if point or not 1 <= value <= 3:
+        raise AlarmRaised(126, f"loop number {value:g} is not 1, 2 or 3")
+    return int(value)
+
+
+def _words(cur: Cursor) -> list[Word]:
+    words: list[Word] = []
+    while not cur.done():
+        c = cur.peek()
+        if c == "#":
+            raise AlarmRaised(127, f"an assignment after NC words at {cur.text[cur.pos :]!r}")
+        if c == ".":
+            raise AlarmRaised(7, f"a second decimal point at {cur.text[cur.pos :]!r}")
+        if c.isdigit() or c in "+-":
+            raise AlarmRaised(4, f"a value without an address at {cur.text[cur.pos :]!r}")
+        if c not in ADDRESSES:
+            raise AlarmRaised(9, f"{c!r}")
+        cur.pos += 1
+        words.append(_word_value(cur, c))
+    return words
+
+
+def _word_value(cur: Cursor, address: str) -> Word:
+    negative = cur.take("-")
+    if not negative:
+        cur.take("+")
+    c = cur.peek()
+    value: Expr
+    literal = False
+    if c == "#":
+        value = variable(cur)
+    elif c == "[":
+        value = bracketed(cur)
+    elif c.isdigit() or c == ".":
+        number, point, _ = parse_number(cur)
+        value = Num(number)
+        literal = not point
+    else:
+        raise AlarmRaised(5, f"{address} has no value")
+    if negative:
+        value = Num(-value.value) if isinstance(value, Num) else Neg(value)
+    return Word(address, value, literal)
+
+
+def parse_program(text: str, max_number: int = 9999) -> Program:
+    """Parse one program; raises :class:`ProgramError` (FORMAT or RANGE) when the text does
+    not start with an O-number in 1..``max_number``."""
+    blocks_text = _split_blocks(text)
+    if not blocks_text:
+        raise ProgramError(ProgramErrorReason.FORMAT, "the program text is empty")
+    line, first = blocks_text[0]
+    code, name = _strip_comments(first)
+    if not code or code[0] not in "O:":
+        shown = first.strip()[:40]
+        raise ProgramError(
+            ProgramErrorReason.FORMAT, f"a program starts with O and its number, not {shown!r}"
+        )
+    digits = ""
+    pos = 1
+    while pos < len(code) and code[pos].isdigit():
+        digits += code[pos]
+        pos += 1
+    if not digits:
+        raise ProgramError(
+            ProgramErrorReason.FORMAT, f"no program number after O in {first.strip()[:40]!r}"
+        )
+    number = int(digits)
+    if not 1 <= number <= max_number:
+        raise ProgramError(
+            ProgramErrorReason.RANGE,
+            f"program number O{digits} is outside O1..O{max_number}",
+            number,
+        )
+    rest = first[first.upper().index(digits) + len(digits) :]
+    rest_code, _ = _strip_comments(rest)
+    parsed: list[Block] = []
+    if rest_code:
+        parsed.append(parse_block(line, rest))
+    parsed.extend(parse_block(n, b) for n, b in blocks_text[1:])
+    lines = [f"O{number:04d}" + (f" ({name})" if name else "")]
+    lines.extend(b.text for b in parsed)
+    return _indexed(number, name, "\n".join(lines) + "\n", tuple(parsed))
+
+
+def _indexed(number: int, name: str, text: str, blocks: tuple[Block, ...]) -> Program:
+    sequences: dict[int, int] = {}
+    loops: dict[int, int] = {}
+    errors: dict[int, tuple[int, str]] = {}
+    open_loops: list[tuple[int, int]] = []  # (loop number, block index)
+    for i, block in enumerate(blocks):
+        if block.sequence is not None:
+            sequences.setdefault(block.sequence, i)
+        st = block.statement
+        if isinstance(st, While):
+            if any(m == st.loop for m, _ in open_loops) or len(open_loops) >= 3:
+                errors[i] = (126, f"DO{st.loop} nested in a loop of the same number or too deep")
+            open_loops.append((st.loop, i))
+        elif isinstance(st, End):
+            if open_loops and open_loops[-1][0] == st.loop:
+                _, start = open_loops.pop()
+                loops[start] = i
+                loops[i] = start
+            else:
+                errors[i] = (124, f"END{st.loop} without its DO{st.loop}")
+    for m, start in open_loops:
+        errors[start] = (124, f"DO{m} without END{m}")
+    return Program(number, name, text, blocks, sequences, loops, errors)
+
+
+class ProgramStore:
+    """Programs keyed by O-number, with a CNC's checks: number range, duplicates, capacity
+    (characters and count), and no deleting or replacing a program in use. ``in_use`` answers
+    the numbers being executed (the engine's call stack); the main program is the one
+    selected for cycle start."""
+
+    def __init__(
+        self,
+        *,
+        max_number: int = 9999,
+        capacity: int = 512_000,
+        max_programs: int = 400,
+        in_use: Callable[[], Collection[int]] = frozenset,
+    ) -> None:
+        self.max_number = max_number
+        self.capacity = capacity
+        self.max_programs = max_programs
+        self.in_use = in_use
+        self._programs: dict[int, Program] = {}
+        self.main: int | None = None
+        #: Incremented on every change; a cache of the directory compares it.
+        self.version = 0
+
+    def __contains__(self, number: object) -> bool:
+        return number in self._programs
+
+    def __len__(self) -> int:
+        return len(self._programs)
+
+    def directory(self) -> list[ProgramInfo]:
+        """Every stored program, by number."""
+        return [ProgramInfo(p.number, p.name, p.size) for _, p in sorted(self._programs.items())]
+
+    def get(self, number: int) -> Program:
+        """The program ``number``; :class:`ProgramError` NOT_FOUND when absent."""
+        try:
+            return self._programs[number]
+        except KeyError:
+            raise ProgramError(
+                ProgramErrorReason.NOT_FOUND, f"no program O{number:04d}", number
+            ) from None
+
+    def find(self, number: int) -> Program | None:
+        return self._programs.get(number)
+
+    def text(self, number: int) -> str:
+        """The program's text as stored (from its O line, one block per line, no ``%``)."""
+        return self.get(number).text
+
+    def store(self, text: str, *, replace: bool = False) -> Program:
+        """Parse and store one program; refuses a number already stored unless ``replace``
+        (and never one in use), and text beyond the capacity or count."""
+        program = parse_program(text, self.max_number)
+        number = program.number
+        old = self._programs.get(number)
+        if old is not None and not replace:
+            raise ProgramError(
+                ProgramErrorReason.DUPLICATE, f"program O{number:04d} is already stored", number
+            )
+        if old is not None and number in self.in_use():
+            raise ProgramError(
+                ProgramErrorReason.IN_USE, f"program O{number:04d} is being executed", number
+            )
+        if old is None and len(self._programs) >= self.max_programs:
+            raise ProgramError(
+                ProgramErrorReason.TOO_MANY,
+                f"the store holds its maximum of {self.max_programs} programs",
+                number,
+            )
+        used = sum(p.size for p in self._programs.values()) - (old.size if old else 0)
+        if used + program.size > self.capacity:
+            raise ProgramError(
+                ProgramErrorReason.NO_SPACE,
+                f"O{number:04d} needs {program.size} characters, "
+                f"{self.capacity - used} of {self.capacity} are free",
+                number,
+            )
+        self._programs[number] = program
+        self.version += 1
+        return program
+
+    def delete(self, number: int) -> None:
+        """Delete one program (not one in use); deleting the main program unselects it."""
+        self.get(number)
+        if number in self.in_use():
+            raise ProgramError(
+                ProgramErrorReason.IN_USE, f"program O{number:04d} is being executed", number
+            )
+        del self._programs[number]
+        if self.main == number:
+            self.main = None
+        self.version += 1
+
+    def select(self, number: int) -> Program:
+        """Make ``number`` the main program (not while another one is executing)."""
+        program = self.get(number)
+        busy = self.in_use()
+        if busy and number not in busy:
+            raise ProgramError(
+                ProgramErrorReason.IN_USE,
+                f"cannot select O{number:04d} while a program is being executed",
+                number,
+            )
+        self.main = number
+        self.version += 1
+        return program
