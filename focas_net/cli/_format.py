@@ -38,6 +38,7 @@ from focas_net.versamax import BoardId, IOModuleRecord, RefType
 __all__ = [
     "STATUS_FIELDS",
     "FieldValues",
+    "address_text",
     "alarm_code",
     "alarm_dict",
     "error_line",
@@ -547,6 +548,11 @@ def parse_ew(text: str) -> int:
 
 
 # -- errors --------------------------------------------------------------------------------
+
+
+def address_text(host: str, port: int) -> str:
+    """``HOST:PORT``; an IPv6 address in brackets, ``[::1]:8193``."""
+    return f"[{host}]:{port}" if ":" in host else f"{host}:{port}"
 
 
 def error_line(exc: BaseException) -> str:

@@ -18,10 +18,11 @@ from focas_net.client import (
     FocasClient,
     ProjectionMode,
 )
+from focas_net.errors import FocasError
 from focas_net.protocol import ParamValue, PmcArea, PositionKind
 
 from . import _format as fmt
-from ._run import Go, Output, write
+from ._run import FOLLOW_MAX_FAILURES, Go, HintedError, Output, write
 
 __all__ = [
     "alarms",
@@ -214,7 +215,9 @@ def _alarms_follow(args: argparse.Namespace) -> Go:
     interval = 1.0 if args.interval is None else args.interval
 
     async def go(cnc: FocasClient) -> None:
-        projection = AlarmProjection(cnc, mode, interval=interval, depth=args.history or 50)
+        projection = AlarmProjection(
+            cnc, mode, interval=interval, depth=args.history or 50, max_failures=FOLLOW_MAX_FAILURES
+        )
         loop = asyncio.get_running_loop()
         installed = []
         for signum in (signal.SIGINT, signal.SIGTERM):
@@ -223,8 +226,8 @@ def _alarms_follow(args: argparse.Namespace) -> Go:
             except (NotImplementedError, RuntimeError, ValueError):
                 continue  # not the main thread, or no signal support: Ctrl-C still ends it
             installed.append(signum)
+        printed = 0
         try:
-            printed = 0
             async for event in projection:
                 out = _event_output(event)
                 if args.json:
@@ -234,6 +237,10 @@ def _alarms_follow(args: argparse.Namespace) -> Go:
                 printed += 1
                 if args.count is not None and printed >= args.count:
                     break
+        except FocasError as exc:
+            raise HintedError(
+                exc, f"alarms --follow gave up after {projection.failed_polls} failed poll(s)"
+            ) from exc
         finally:
             for signum in installed:
                 loop.remove_signal_handler(signum)
