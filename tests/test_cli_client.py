@@ -321,9 +321,10 @@ async def test_alarms_and_history(cli: Cli) -> None:
     datetime.strptime(data["history"][0]["occurred_at"], "%Y-%m-%dT%H:%M:%SZ")
 
     out = await cli.ok("sim", "clear", "PS")
-    assert out.strip() == "cleared PS; 1 still active"
+    assert out.strip() == "cleared PS0100; 1 still active"
     data = await cli.json("sim", "clear")
-    assert data == {"cleared": "all", "active": []}
+    assert data["cleared"] == "all" and data["active"] == []
+    assert [a["code"] for a in data["alarms"]] == ["SV0401"]
     assert "history" not in await cli.json("alarms")
 
 
@@ -452,15 +453,20 @@ async def test_versamax(cli: Cli) -> None:
 
 async def test_sim_fault_error(cli: Cli) -> None:
     out = await cli.ok("sim", "fault", "error", "--arg", "EW_BUSY")
-    assert (
-        out.strip()
-        == "the next 1 answer(s) of this machine: answered with EW_BUSY (-1): busy, retry"
-    )
+    assert out.strip() == "the next answer of this machine: answered with EW_BUSY (-1): busy, retry"
     err = await cli.fails(EXIT_CNC, "status")
     assert err == "focas-net: EW_BUSY (-1): busy, retry (cnc_rdcncstat)"
     await cli.ok("status")  # the fault was used up
     data = await cli.json("sim", "fault", "error", "--arg", "7", "--count", "2")
-    assert data == {"kind": "error", "scope": "machine", "count": 2, "arg": 7}
+    assert data == {
+        "kind": "error",
+        "scope": "machine",
+        "count": 2,
+        "arg": 7,
+        "queued_behind": 0,
+        "first_answer": 1,
+        "last_answer": 2,
+    }
     for _ in range(2):
         err = await cli.fails(EXIT_CNC, "sysinfo")
         assert err.startswith("focas-net: EW_PROT (7)")

@@ -42,6 +42,7 @@ __all__ = [
     "alarm_code",
     "alarm_dict",
     "error_line",
+    "ew_text",
     "field_name",
     "format_active_alarm",
     "format_history_entry",
@@ -548,6 +549,11 @@ def parse_ew(text: str) -> int:
 
 
 # -- errors --------------------------------------------------------------------------------
+
+
+def ew_text(ew: int) -> str:
+    """``EW_BUSY (-1)``: an EW code's name and number."""
+    return f"{ew_info(ew).name} ({ew})"
 
 
 def address_text(host: str, port: int) -> str:

@@ -382,6 +382,25 @@ COMMANDS: Final[tuple[Cmd | Group, ...]] = (
                     ),
                 ),
             ),
+            Cmd(
+                "faults",
+                "list the pending faults, first to apply first (or remove them with --clear)",
+                sim_cmds.faults,
+                (
+                    arg(
+                        "--clear",
+                        action="store_true",
+                        help="remove every pending fault of the scope",
+                    ),
+                    arg(
+                        "--scope",
+                        choices=sorted(sim_cmds.FAULT_SCOPES),
+                        default="machine",
+                        help="machine: the machine's queue (default); connection: this "
+                        "command's own connection (always empty)",
+                    ),
+                ),
+            ),
         ),
     ),
 )
