@@ -22,12 +22,14 @@ import pytest
 from peers import ScriptedPeer, turns
 from support import IO_TIMEOUT, Served, serving
 
-from focas_net.cli import EXIT_CONNECTION, EXIT_OK, EXIT_PROTOCOL, EXIT_USAGE, serve
+from focas_net import __version__ as focas_net_version
+from focas_net.cli import EXIT_CNC, EXIT_CONNECTION, EXIT_OK, EXIT_PROTOCOL, EXIT_USAGE, serve
 from focas_net.client import AlarmProjection, ClientState, FocasClient, ReconnectPolicy
 from focas_net.errors import EW, CncError, FocasConnectionError, ProtocolError
 from focas_net.protocol import Frame
 
 CLI_TIMEOUT = 6 * IO_TIMEOUT
+FLEET_POLL = Path(__file__).resolve().parent.parent / "examples" / "fleet_poll.py"
 HTTP_ANSWER = b"HTTP/1.1 400 Bad Request\r\nContent-Length: 0\r\n\r\n"
 
 
@@ -272,3 +274,61 @@ async def test_ipv6_addresses_print_in_brackets() -> None:
 async def test_follow_interval_is_bounded_below() -> None:
     code, _out, err = await focas_net("alarms", "--follow", "--interval", "1e-9")
     assert code == EXIT_USAGE and "at least 0.05" in err
+
+
+# -- 13. small things ----------------------------------------------------------------------
+
+
+async def test_version() -> None:
+    code, out, err = await focas_net("--version")
+    assert (code, err) == (EXIT_OK, "")
+    assert out.strip() == f"focas-net {focas_net_version}"
+
+
+async def test_status_names_tmmode_by_the_machine_series(server: Served) -> None:
+    code, out, err = await focas_net("status", *at(server))
+    assert (code, err) == (EXIT_OK, "")
+    (row,) = [line.split() for line in out.splitlines() if line.startswith("tmmode")]
+    assert row[:3] == ["tmmode", "0", "M"] and "T mode" not in out
+    code, out, _err = await focas_net("status", "--json", *at(server))
+    assert json.loads(out)["tmmode"] == {
+        "value": 0,
+        "name": "M",
+        "meaning": "M series machine (no T/M mode selection)",
+    }
+
+
+async def test_fleet_poll_error_rows_do_not_widen_the_columns(server: Served) -> None:
+    async with serving() as gone:
+        dead = gone.port
+    proc = await asyncio.create_subprocess_exec(
+        sys.executable, str(FLEET_POLL), "--ports", f"{server.port},{dead}", "--rounds", "1",
+        stdout=asyncio.subprocess.PIPE, stderr=asyncio.subprocess.PIPE,
+    )  # fmt: skip
+    async with asyncio.timeout(CLI_TIMEOUT):
+        out, _err = await proc.communicate()
+    header, good, bad, *_ = out.decode().splitlines()
+    assert header.index("alarm") - header.index("run") == len("**** ") + 1  # as wide as ****
+    assert good.split()[3:5] == ["MEM", "****"]
+    assert bad.split()[2:4] == ["ERROR", "unreachable:"] and len(bad) <= len(header) + 60
+
+
+async def test_axis_hints(server: Served) -> None:
+    code, _out, err = await focas_net("param", "get", "1420", *at(server))
+    assert code == EXIT_CNC
+    assert one_line(err).endswith("parameter 1420 is an axis parameter: give --axis 1..3")
+    code, _out, err = await focas_net("param", "get", "1420", "--axis", "7", *at(server))
+    assert one_line(err).endswith("the machine has 3 axes: give --axis 1..3")
+    code, _out, err = await focas_net("diag", "300", *at(server))
+    assert one_line(err).endswith("diagnostic 300 is an axis diagnostic: give --axis 1..3")
+
+
+async def test_pmc_write_of_many_bytes_is_summarised(server: Served) -> None:
+    values = " ".join(str(i % 256) for i in range(300))
+    code, out, err = await focas_net("pmc", "write", "R", "0", values, *at(server))
+    assert (code, err) == (EXIT_OK, "")
+    assert out.strip() == (
+        "wrote 300 bytes to R0..R299: 00 01 02 03 04 05 06 07 08 09 0a 0b 0c 0d 0e 0f "
+        "... (300 bytes)"
+    )
+    assert server.machine.read_pmc("R", 0, 300) == bytes(i % 256 for i in range(300))

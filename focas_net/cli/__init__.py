@@ -49,12 +49,15 @@ __all__ = [
 
 def build_parser() -> argparse.ArgumentParser:
     """The ``focas-net`` parser: ``serve``, then the client commands of the table."""
+    from focas_net import __version__
+
     from . import _table, serve
 
     parser = argparse.ArgumentParser(
         prog=PROG,
         description="A simulated FANUC CNC (focas-net serve) and a FOCAS client for the terminal.",
     )
+    parser.add_argument("--version", action="version", version=f"%(prog)s {__version__}")
     sub = parser.add_subparsers(dest="command", required=True, metavar="COMMAND")
     serve.register(sub)
     _table.register(sub)

@@ -41,6 +41,7 @@ __all__ = [
     "address_text",
     "alarm_code",
     "alarm_dict",
+    "bytes_summary",
     "error_line",
     "ew_text",
     "field_name",
@@ -117,24 +118,46 @@ def status_summary(status: StatusInfo) -> str:
     return " ".join(f"{f}={field_name(fields[f], getattr(status, f))[0]}" for f in _SUMMARY_FIELDS)
 
 
-def status_rows(status: StatusInfo) -> list[tuple[str, str, str, str]]:
-    """``(field, value, name, meaning)`` for every ODBST field."""
+#: ``mt_type`` (ODBSYS) of a compound machine, whose ODBST ``tmmode`` selects T or M.
+_COMPOUND: Final = "MT"
+
+
+def _tmmode_name(value: int, mt_type: str | None) -> tuple[str, str]:
+    """``tmmode`` as the operator reads it: the T/M selection on a compound machine; on any
+    other machine (where the field is 0 and selects nothing) the machine's own series."""
+    if mt_type is None or mt_type == _COMPOUND:
+        return field_name(TmMode, value)
+    series = mt_type[:1]
+    if series in ("M", "T"):
+        return series, f"{series} series machine (no T/M mode selection)"
+    return "-", "no T/M mode selection"
+
+
+def _status_fields(status: StatusInfo, mt_type: str | None) -> list[tuple[str, int, str, str]]:
     rows = []
     for f, values in STATUS_FIELDS:
         value = getattr(status, f)
-        name, meaning = field_name(values, value)
-        rows.append((f, str(value), name, meaning))
+        if f == "tmmode":
+            name, meaning = _tmmode_name(value, mt_type)
+        else:
+            name, meaning = field_name(values, value)
+        rows.append((f, value, name, meaning))
     return rows
 
 
-def status_dict(status: StatusInfo) -> dict[str, dict[str, Any]]:
-    """``{field: {"value": n, "name": ..., "meaning": ...}}`` for every ODBST field."""
-    out: dict[str, dict[str, Any]] = {}
-    for f, values in STATUS_FIELDS:
-        value = getattr(status, f)
-        name, meaning = field_name(values, value)
-        out[f] = {"value": value, "name": name, "meaning": meaning}
-    return out
+def status_rows(status: StatusInfo, mt_type: str | None = None) -> list[tuple[str, str, str, str]]:
+    """``(field, value, name, meaning)`` for every ODBST field; with the machine's ``mt_type``
+    (ODBSYS), ``tmmode`` of a machine that is not compound names its series."""
+    return [(f, str(v), name, meaning) for f, v, name, meaning in _status_fields(status, mt_type)]
+
+
+def status_dict(status: StatusInfo, mt_type: str | None = None) -> dict[str, dict[str, Any]]:
+    """``{field: {"value": n, "name": ..., "meaning": ...}}`` for every ODBST field (``mt_type``
+    as for :func:`status_rows`)."""
+    return {
+        f: {"value": v, "name": name, "meaning": meaning}
+        for f, v, name, meaning in _status_fields(status, mt_type)
+    }
 
 
 # -- ODBSYS --------------------------------------------------------------------------------
@@ -444,6 +467,17 @@ def render_table(headers: Sequence[str] | None, rows: Iterable[Sequence[str]]) -
         cells = [c.ljust(widths[i]) for i, c in enumerate(r)]
         lines.append("  ".join(cells).rstrip())
     return "\n".join(lines)
+
+
+#: Most bytes a one-line summary shows (``pmc write``).
+SUMMARY_BYTES: Final = 16
+
+
+def bytes_summary(data: bytes, limit: int = SUMMARY_BYTES) -> str:
+    """``01 02 03`` for a few bytes; the first ``limit`` then ``... (8000 bytes)`` for more."""
+    if len(data) <= limit:
+        return data.hex(" ")
+    return f"{data[:limit].hex(' ')} ... ({len(data)} bytes)"
 
 
 def hexdump(area: str, start: int, data: bytes, per_line: int = 16) -> str:

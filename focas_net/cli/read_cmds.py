@@ -18,7 +18,7 @@ from focas_net.client import (
     FocasClient,
     ProjectionMode,
 )
-from focas_net.errors import FocasError
+from focas_net.errors import EW, CncError, FocasError
 from focas_net.protocol import ParamValue, PmcArea, PositionKind
 
 from . import _format as fmt
@@ -26,6 +26,7 @@ from ._run import FOLLOW_MAX_FAILURES, Go, HintedError, Output, write
 
 __all__ = [
     "alarms",
+    "axis_hint",
     "diag",
     "item_name",
     "macro_dict",
@@ -47,8 +48,10 @@ __all__ = [
 def status(args: argparse.Namespace) -> Go:
     async def go(cnc: FocasClient) -> Output:
         st = await cnc.read_status()
-        table = fmt.render_table(("field", "value", "name", "meaning"), fmt.status_rows(st))
-        return Output(fmt.status_dict(st), f"{fmt.status_summary(st)}\n\n{table}")
+        mt_type = fmt.sysinfo_dict(await cnc.read_sysinfo())["mt_type"]  # names tmmode
+        rows = fmt.status_rows(st, mt_type)
+        table = fmt.render_table(("field", "value", "name", "meaning"), rows)
+        return Output(fmt.status_dict(st, mt_type), f"{fmt.status_summary(st)}\n\n{table}")
 
     return go
 
@@ -91,6 +94,27 @@ def position(args: argparse.Namespace) -> Go:
 # -- parameters, diagnostics, macros --------------------------------------------------------
 
 
+async def axis_hint(
+    cnc: FocasClient, exc: CncError, kind: str, number: int, axis: int
+) -> FocasError:
+    """``exc`` with advice when it is ``EW_ATTRIB`` for the axis of parameter or diagnostic
+    ``number`` (``kind``): an axis item read without ``--axis``, an axis past the machine's,
+    or ``--axis`` on an item of no axis; the axis count is the machine's (ODBSYS)."""
+    if exc.ew != EW.ATTRIB:
+        return exc
+    axes = await _axis_count(cnc)
+    if axis == 0:
+        return HintedError(exc, f"{kind} {number} is an axis {kind}: give --axis 1..{axes}")
+    if axis > axes:
+        return HintedError(exc, f"the machine has {axes} axes: give --axis 1..{axes}")
+    return HintedError(exc, f"{kind} {number} is not an axis {kind}: leave out --axis")
+
+
+async def _axis_count(cnc: FocasClient) -> int:
+    info = await cnc.read_sysinfo()
+    return info.axes_count if info.axes_count is not None else info.max_axis
+
+
 def item_name(number: int, bit: int | None, axis: int) -> str:
     """``1815.4 axis 1``: a parameter or diagnostic, its bit and its axis."""
     name = f"{number}" if bit is None else f"{number}.{bit}"
@@ -122,7 +146,10 @@ def param_get(args: argparse.Namespace) -> Go:
     number, bit = fmt.parse_number_bit(args.number)
 
     async def go(cnc: FocasClient) -> Output:
-        pv = await cnc.read_param_value(number, axis=args.axis)
+        try:
+            pv = await cnc.read_param_value(number, axis=args.axis)
+        except CncError as exc:
+            raise await axis_hint(cnc, exc, "parameter", number, args.axis) from exc
         if bit is not None and not 0 <= bit < 8 * pv.width:
             raise ValueError(f"bit {bit} outside 0..{8 * pv.width - 1} of parameter {number}")
         data, whole, bit_text = param_output(number, bit, args.axis, pv)
@@ -133,7 +160,10 @@ def param_get(args: argparse.Namespace) -> Go:
 
 def diag(args: argparse.Namespace) -> Go:
     async def go(cnc: FocasClient) -> Output:
-        value = await cnc.read_diag(args.number, axis=args.axis)
+        try:
+            value = await cnc.read_diag(args.number, axis=args.axis)
+        except CncError as exc:
+            raise await axis_hint(cnc, exc, "diagnostic", args.number, args.axis) from exc
         data = {"number": args.number, "axis": args.axis, "value": value}
         return Output(data, f"{item_name(args.number, None, args.axis)} = {value}")
 
