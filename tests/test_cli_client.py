@@ -129,7 +129,9 @@ async def test_sysinfo(cli: Cli) -> None:
     assert "D4F1" in out and "Series 0i" in out and "3 controlled axes" in out
     data = await cli.json("sysinfo")
     assert data["series"] == "D4F1" and data["version"] == "32.0"
-    assert data["axes_count"] == 3 and data["mt_type"] == "M"
+    assert data["axes_count"] == 3
+    assert data["mt_type"] == {"value": "M", "meaning": "machining center (M series)"}
+    assert data["cnc_type"] == {"value": "0", "meaning": "Series 0i"}
 
 
 # -- parameters, diagnostics, macros --------------------------------------------------------

@@ -23,7 +23,15 @@ from peers import ScriptedPeer, turns
 from support import IO_TIMEOUT, Served, serving
 
 from focas_net import __version__ as focas_net_version
-from focas_net.cli import EXIT_CNC, EXIT_CONNECTION, EXIT_OK, EXIT_PROTOCOL, EXIT_USAGE, serve
+from focas_net.cli import (
+    EXIT_CNC,
+    EXIT_CONNECTION,
+    EXIT_OK,
+    EXIT_PROTOCOL,
+    EXIT_USAGE,
+    main,
+    serve,
+)
 from focas_net.client import AlarmProjection, ClientState, FocasClient, ReconnectPolicy
 from focas_net.errors import EW, CncError, FocasConnectionError, ProtocolError
 from focas_net.protocol import Frame
@@ -168,7 +176,7 @@ async def test_cli_tls_options(certificate: tuple[Path, Path]) -> None:
         assert out.startswith("aut=MEM ")
         code, out, err = await focas_net("sysinfo", "--tls-insecure", "--json", *at(served))
         assert (code, err) == (EXIT_OK, "")
-        assert json.loads(out)["mt_type"] == "M"
+        assert json.loads(out)["mt_type"]["value"] == "M"
         code, out, err = await focas_net("status", "--tls", *at(served))  # self-signed
         assert code == EXIT_CONNECTION
         line = one_line(err)
@@ -332,3 +340,69 @@ async def test_pmc_write_of_many_bytes_is_summarised(server: Served) -> None:
         "... (300 bytes)"
     )
     assert server.machine.read_pmc("R", 0, 300) == bytes(i % 256 for i in range(300))
+
+
+# -- 12. one JSON shape per thing ----------------------------------------------------------
+
+ALARM_KEYS = {"code", "axis_no", "alm_type", "alm_no", "msg"}
+
+
+async def json_of(capsys: pytest.CaptureFixture[str], served: Served, *argv: str) -> Any:
+    capsys.readouterr()
+    args = [*argv, "--json", "--port", str(served.port)]
+    code = await asyncio.wait_for(asyncio.to_thread(main, args), CLI_TIMEOUT)
+    out, err = capsys.readouterr()
+    assert (code, err) == (EXIT_OK, ""), argv
+    lines = out.splitlines()
+    return json.loads(out) if argv[:2] != ("alarms", "--follow") else [json.loads(x) for x in lines]
+
+
+def assert_plain_or_object(value: Any, where: str) -> None:
+    """Every value is a number, a string, a bool, null, an object or a list of such."""
+    if isinstance(value, dict):
+        for key, inner in value.items():
+            assert isinstance(key, str)
+            assert_plain_or_object(inner, f"{where}.{key}")
+    elif isinstance(value, list):
+        for i, inner in enumerate(value):
+            assert_plain_or_object(inner, f"{where}[{i}]")
+    else:
+        assert value is None or isinstance(value, str | int | float | bool), where
+
+
+async def test_json_shapes_are_consistent(
+    server: Served, capsys: pytest.CaptureFixture[str]
+) -> None:
+    server.machine.raise_alarm(0, 3, 100, "PARAMETER WRITE ENABLE")
+    server.machine.raise_alarm(2, 6, 401, "SERVO V-READY OFF")
+    status = await json_of(capsys, server, "status")
+    sysinfo = await json_of(capsys, server, "sysinfo")
+    alarms = await json_of(capsys, server, "alarms", "--history", "2")
+    raised = await json_of(capsys, server, "sim", "alarm", "OT0500")
+    follow = await json_of(capsys, server, "alarms", "--follow", "--count", "3")
+    cleared = await json_of(capsys, server, "sim", "clear", "SV")
+    panel = await json_of(capsys, server, "sim", "panel", "--mode", "MEM")
+    everything = [status, sysinfo, alarms, raised, cleared, panel]
+    for argv in (("program",), ("position",), ("macro", "get", "100"), ("pmc", "read", "R", "0")):
+        everything.append(await json_of(capsys, server, *argv))
+    for i, data in enumerate(everything):
+        assert isinstance(data, dict)
+        assert_plain_or_object(data, f"document {i}")
+    # a coded field is {value, name, meaning} in status, {value, meaning} in sysinfo
+    assert all(set(v) == {"value", "name", "meaning"} for v in status.values())
+    assert set(sysinfo["cnc_type"]) == set(sysinfo["mt_type"]) == {"value", "meaning"}
+    assert isinstance(sysinfo["series"], str) and isinstance(sysinfo["max_axis"], int)
+    # an alarm has one shape wherever it appears; a history entry adds occurred_at
+    alarm_objects = [
+        *alarms["active"],
+        raised["raised"],
+        *cleared["alarms"],
+        *cleared["active"],
+        *(e["alarm"] for e in follow),
+    ]
+    assert len(alarm_objects) >= 8
+    assert all(set(a) == ALARM_KEYS for a in alarm_objects)
+    assert all(set(h) == ALARM_KEYS | {"occurred_at"} for h in alarms["history"])
+    # a status inside another command is the status object
+    assert set(panel["status"]) == set(status)
+    assert all(set(v) == {"value", "name", "meaning"} for v in panel["status"].values())

@@ -70,6 +70,7 @@ __all__ = [
     "status_rows",
     "status_summary",
     "sysinfo_dict",
+    "sysinfo_json",
     "sysinfo_rows",
     "utc_text",
 ]
@@ -198,6 +199,16 @@ def sysinfo_dict(info: SysInfo) -> dict[str, Any]:
         "axes": _ascii(info.axes),
         "axes_count": info.axes_count,
     }
+
+
+def sysinfo_json(info: SysInfo) -> dict[str, Any]:
+    """``sysinfo --json``: the ODBSYS fields as text and numbers; the two coded fields,
+    ``cnc_type`` and ``mt_type``, as ``{"value": ..., "meaning": ...}`` like the ODBST fields
+    of ``status --json``."""
+    data = sysinfo_dict(info)
+    data["cnc_type"] = {"value": data["cnc_type"], "meaning": _cnc_type_text(data["cnc_type"])}
+    data["mt_type"] = {"value": data["mt_type"], "meaning": _MT_TYPES.get(data["mt_type"], "")}
+    return data
 
 
 def sysinfo_rows(info: SysInfo) -> list[tuple[str, str, str]]:

@@ -60,7 +60,7 @@ def sysinfo(args: argparse.Namespace) -> Go:
     async def go(cnc: FocasClient) -> Output:
         info = await cnc.read_sysinfo()
         table = fmt.render_table(("field", "value", "meaning"), fmt.sysinfo_rows(info))
-        return Output(fmt.sysinfo_dict(info), table)
+        return Output(fmt.sysinfo_json(info), table)
 
     return go
 
