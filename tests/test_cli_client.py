@@ -150,7 +150,10 @@ async def test_param_get(cli: Cli) -> None:
 
 async def test_param_get_errors(cli: Cli) -> None:
     err = await cli.fails(EXIT_CNC, "param", "get", "1320")  # axis item without an axis
-    assert err == "focas-net: EW_ATTRIB (4): data attribute / data type error (cnc_rdparam)"
+    assert err == (
+        "focas-net: EW_ATTRIB (4): data attribute / data type error (cnc_rdparam); "
+        "parameter 1320 is an axis parameter: give --axis 1..3"
+    )
     err = await cli.fails(EXIT_CNC, "param", "get", "9999")
     assert err.startswith("focas-net: EW_NUMBER (3): data number / address range error")
     err = await cli.fails(EXIT_USAGE, "param", "get", "1815.8", "--axis", "1")
