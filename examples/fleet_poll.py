@@ -82,12 +82,24 @@ async def connect(cnc: FocasClient, row: Row) -> bool:
     return True
 
 
+#: Longest error text a row shows; a longer one is cut with "...".
+ERROR_WIDTH = 60
+
+
+def error_text(error: str) -> str:
+    """``error`` on one line, at most :data:`ERROR_WIDTH` characters."""
+    text = " ".join(error.split())
+    return text if len(text) <= ERROR_WIDTH else text[: ERROR_WIDTH - 3] + "..."
+
+
 def render(rows: list[Row]) -> str:
+    """The table; a failed machine shows ERROR as its mode and its error in the last column,
+    which is not padded, so an error never widens the columns of the other rows."""
     headers = ("machine", "address", "cnc", "mode", "run", "alarm", "parts", "ms")
     table = [headers] + [
         (r.name, r.address, r.cnc, r.mode, r.run, r.alarm, r.parts, r.ms)
         if not r.error
-        else (r.name, r.address, r.cnc, "ERROR", r.error, "", "", "")
+        else (r.name, r.address, r.cnc, "ERROR", "", "", "", error_text(r.error))
         for r in rows
     ]
     widths = [max(len(line[i]) for line in table) for i in range(len(headers) - 1)]
@@ -100,7 +112,10 @@ def render(rows: list[Row]) -> str:
 
 
 async def poll_fleet(targets: list[tuple[str, str, int]], args: argparse.Namespace) -> int:
-    rows = [Row(name, f"{host}:{port}") for name, host, port in targets]
+    rows = [
+        Row(name, f"[{host}]:{port}" if ":" in host else f"{host}:{port}")
+        for name, host, port in targets
+    ]
     clients = [FocasClient(host, port, timeout=args.timeout) for _, host, port in targets]
     failures = 0
     started = time.perf_counter()

@@ -820,8 +820,12 @@ def test_unknown_command(m: Machine, s: Session, command: int) -> None:
     assert answer(m, s, command, b"\x00" * 10) == b"\x01\x00"
 
 
-def test_handled_commands_are_all_but_inject_fault() -> None:
-    assert PackedAdapter.handled == frozenset(COMMANDS) - {Command.SIM_INJECT_FAULT}
+def test_handled_commands_are_all_but_the_fault_queues() -> None:
+    assert PackedAdapter.handled == frozenset(COMMANDS) - {
+        Command.SIM_INJECT_FAULT,
+        Command.SIM_LIST_FAULTS,
+        Command.SIM_CLEAR_FAULTS,
+    }
 
 
 # -- robustness -------------------------------------------------------------------------------

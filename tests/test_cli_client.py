@@ -129,7 +129,9 @@ async def test_sysinfo(cli: Cli) -> None:
     assert "D4F1" in out and "Series 0i" in out and "3 controlled axes" in out
     data = await cli.json("sysinfo")
     assert data["series"] == "D4F1" and data["version"] == "32.0"
-    assert data["axes_count"] == 3 and data["mt_type"] == "M"
+    assert data["axes_count"] == 3
+    assert data["mt_type"] == {"value": "M", "meaning": "machining center (M series)"}
+    assert data["cnc_type"] == {"value": "0", "meaning": "Series 0i"}
 
 
 # -- parameters, diagnostics, macros --------------------------------------------------------
@@ -148,7 +150,10 @@ async def test_param_get(cli: Cli) -> None:
 
 async def test_param_get_errors(cli: Cli) -> None:
     err = await cli.fails(EXIT_CNC, "param", "get", "1320")  # axis item without an axis
-    assert err == "focas-net: EW_ATTRIB (4): data attribute / data type error (cnc_rdparam)"
+    assert err == (
+        "focas-net: EW_ATTRIB (4): data attribute / data type error (cnc_rdparam); "
+        "parameter 1320 is an axis parameter: give --axis 1..3"
+    )
     err = await cli.fails(EXIT_CNC, "param", "get", "9999")
     assert err.startswith("focas-net: EW_NUMBER (3): data number / address range error")
     err = await cli.fails(EXIT_USAGE, "param", "get", "1815.8", "--axis", "1")
@@ -321,9 +326,10 @@ async def test_alarms_and_history(cli: Cli) -> None:
     datetime.strptime(data["history"][0]["occurred_at"], "%Y-%m-%dT%H:%M:%SZ")
 
     out = await cli.ok("sim", "clear", "PS")
-    assert out.strip() == "cleared PS; 1 still active"
+    assert out.strip() == "cleared PS0100; 1 still active"
     data = await cli.json("sim", "clear")
-    assert data == {"cleared": "all", "active": []}
+    assert data["cleared"] == "all" and data["active"] == []
+    assert [a["code"] for a in data["alarms"]] == ["SV0401"]
     assert "history" not in await cli.json("alarms")
 
 
@@ -452,15 +458,20 @@ async def test_versamax(cli: Cli) -> None:
 
 async def test_sim_fault_error(cli: Cli) -> None:
     out = await cli.ok("sim", "fault", "error", "--arg", "EW_BUSY")
-    assert (
-        out.strip()
-        == "the next 1 answer(s) of this machine: answered with EW_BUSY (-1): busy, retry"
-    )
+    assert out.strip() == "the next answer of this machine: answered with EW_BUSY (-1): busy, retry"
     err = await cli.fails(EXIT_CNC, "status")
     assert err == "focas-net: EW_BUSY (-1): busy, retry (cnc_rdcncstat)"
     await cli.ok("status")  # the fault was used up
     data = await cli.json("sim", "fault", "error", "--arg", "7", "--count", "2")
-    assert data == {"kind": "error", "scope": "machine", "count": 2, "arg": 7}
+    assert data == {
+        "kind": "error",
+        "scope": "machine",
+        "count": 2,
+        "arg": 7,
+        "queued_behind": 0,
+        "first_answer": 1,
+        "last_answer": 2,
+    }
     for _ in range(2):
         err = await cli.fails(EXIT_CNC, "sysinfo")
         assert err.startswith("focas-net: EW_PROT (7)")

@@ -94,7 +94,7 @@ def test_the_parser_is_the_recorded_one() -> None:
 
 def test_the_record_covers_every_client_command() -> None:
     leaves = _leaves(json.loads(RECORD.read_text()))
-    assert len(leaves) == 19
+    assert len(leaves) == 20
     assert ("status",) in leaves and ("sim", "fault") in leaves and ("pmc", "bit") in leaves
 
 

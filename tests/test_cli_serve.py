@@ -20,7 +20,10 @@ from focas_net.cli import serve
 from focas_net.errors import EW
 from focas_net.protocol import COMMANDS, Command, InjectFault, MacroRequest, MacroValue, SetPanel
 
-READY = re.compile(r"^focas-net: (?P<name>\S+) listening on (?P<host>[\d.]+):(?P<port>\d+)$")
+READY = re.compile(
+    r"^focas-net: (?P<name>\S+)(?: \((?P<modes>[^)]*)\))? listening on "
+    r"(?P<host>[\d.]+):(?P<port>\d+)$"
+)
 STATUS = (Command.RDCNCSTAT, b"")
 START_TIMEOUT = 30.0
 
@@ -94,12 +97,14 @@ async def test_serve_sigint_exits_zero() -> None:
 async def test_serve_fleet_no_control_read_only() -> None:
     async with running("--fleet", "3", "--no-control") as (proc, ready):
         assert [m["name"] for m in ready] == [f"focas-sim-0i-{i}" for i in (1, 2, 3)]
+        assert [m["modes"] for m in ready] == [None, None, None]
         assert len({m["port"] for m in ready}) == 3
         async with await Wire.open("127.0.0.1", int(ready[1]["port"])) as w:
             assert await w.ew(Command.SIM_SET_PANEL, SetPanel(0, 1, 0).encode()) == EW.FUNC
             assert await w.ew(Command.WRMACRO, MacroValue(100, 8, 1, 0).encode()) == 0
         assert await stop(proc) == 0
     async with running("--read-only") as (proc, ready):
+        assert ready[0]["modes"] == "read-only"
         async with await Wire.open("127.0.0.1", int(ready[0]["port"])) as w:
             assert await w.ew(Command.WRMACRO, MacroValue(100, 8, 1, 0).encode()) == EW.PROT
             assert (await w.request(Command.RDMACRO, MacroRequest(100))).vacant

@@ -170,7 +170,7 @@ async def test_framing_violation_closes_and_fails_pending(
     task = asyncio.create_task(client.read_status(timeout=60))
     await peer.wait_received(1)
     peer.send_raw(struct.pack("<I", 2))  # length below 4
-    with pytest.raises(FocasConnectionError):
+    with pytest.raises(ProtocolError, match="does not speak the FOCAS protocol"):
         await task
     assert client.state is ClientState.DISCONNECTED
 

@@ -21,10 +21,14 @@ from focas_net.protocol import (
     AlarmHistoryEntry,
     AlarmHistoryRequest,
     AlarmMsgRequest,
+    ArmedFault,
     ClearAlarms,
     Command,
     DataRequest,
     EwReply,
+    FaultList,
+    FaultsCleared,
+    FaultsRequest,
     FrameDecoder,
     InjectFault,
     MacroRequest,
@@ -343,6 +347,23 @@ GOLDEN: list[Golden] = [
     ),
     Golden("inject-ok", Command.SIM_INJECT_FAULT, RSP, "0000", None),
     Golden("inject-data", Command.SIM_INJECT_FAULT, RSP, "0500", EwReply(5)),
+    # -- 0x0E06 list_faults ------------------------------------------------------------------------
+    Golden("list-faults-machine", Command.SIM_LIST_FAULTS, REQ, "0100", FaultsRequest(1)),
+    Golden("list-faults-connection", Command.SIM_LIST_FAULTS, REQ, "0000", FaultsRequest(0)),
+    Golden(
+        "list-faults-two",
+        Command.SIM_LIST_FAULTS,
+        RSP,
+        # ew 0, count 2; delay, 3 answers left, 500 ms; error, 1 answer left, EW_BUSY
+        "0000 0200 0100 0300 f4010000 0200 0100 ffffffff",
+        FaultList((ArmedFault(1, 3, 500), ArmedFault(2, 1, -1))),
+    ),
+    Golden("list-faults-none", Command.SIM_LIST_FAULTS, RSP, "0000 0000", FaultList(())),
+    Golden("list-faults-func", Command.SIM_LIST_FAULTS, RSP, "0100", EwReply(1)),
+    # -- 0x0E07 clear_faults -----------------------------------------------------------------------
+    Golden("clear-faults-machine", Command.SIM_CLEAR_FAULTS, REQ, "0100", FaultsRequest(1)),
+    Golden("clear-faults-five", Command.SIM_CLEAR_FAULTS, RSP, "0000 0500", FaultsCleared(5)),
+    Golden("clear-faults-prot", Command.SIM_CLEAR_FAULTS, RSP, "0700", EwReply(7)),
     # -- 0x0007 cnc_rdprgnum -----------------------------------------------------------------------
     Golden("rdprgnum", Command.RDPRGNUM, REQ, "", None),
     Golden(
@@ -479,6 +500,8 @@ def test_the_command_table_covers_every_command_id() -> None:
         0x0E03,
         0x0E04,
         0x0E05,
+        0x0E06,
+        0x0E07,
         0x0F1A,
     }
     for number, spec in COMMANDS.items():
@@ -509,6 +532,8 @@ ERROR_PAYLOADS = [
     (Command.SIM_CLEAR_ALARMS, 1, "0100"),
     (Command.SIM_SET_PMC, 6, "0600"),
     (Command.SIM_INJECT_FAULT, 5, "0500"),
+    (Command.SIM_LIST_FAULTS, 1, "0100"),
+    (Command.SIM_CLEAR_FAULTS, 7, "0700"),
     (Command.RDALMHISTRY, -1, "ffff ffff"),
 ]
 

@@ -20,10 +20,14 @@ from focas_net.protocol import (
     AlarmHistoryEntry,
     AlarmHistoryRequest,
     AlarmMsgRequest,
+    ArmedFault,
     ClearAlarms,
     Command,
     DataRequest,
     EwReply,
+    FaultList,
+    FaultsCleared,
+    FaultsRequest,
     FrameDecoder,
     InjectFault,
     MacroRequest,
@@ -116,6 +120,8 @@ def ew_or(inner: st.SearchStrategy[Any]) -> st.SearchStrategy[Any]:
 
 
 OK_ONLY = ew_or(st.none())
+armed_faults = st.builds(ArmedFault, i16, i16, i32)
+fault_lists = st.builds(FaultList, st.lists(armed_faults, max_size=70).map(tuple))
 
 REQUESTS: dict[Command, st.SearchStrategy[Any]] = {
     Command.RDCNCSTAT: st.none(),
@@ -139,6 +145,8 @@ REQUESTS: dict[Command, st.SearchStrategy[Any]] = {
     Command.SIM_CLEAR_ALARMS: st.builds(ClearAlarms, i16, i16),
     Command.SIM_SET_PMC: pmc_data,
     Command.SIM_INJECT_FAULT: st.builds(InjectFault, i16, i16, i16, i32),
+    Command.SIM_LIST_FAULTS: st.builds(FaultsRequest, i16),
+    Command.SIM_CLEAR_FAULTS: st.builds(FaultsRequest, i16),
     Command.RDALMHISTRY: st.builds(AlarmHistoryRequest, i16),
 }
 
@@ -164,6 +172,8 @@ RESPONSES: dict[Command, st.SearchStrategy[Any]] = {
     Command.SIM_CLEAR_ALARMS: OK_ONLY,
     Command.SIM_SET_PMC: OK_ONLY,
     Command.SIM_INJECT_FAULT: OK_ONLY,
+    Command.SIM_LIST_FAULTS: ew_or(fault_lists),
+    Command.SIM_CLEAR_FAULTS: ew_or(st.builds(FaultsCleared, i16)),
     Command.RDALMHISTRY: histories,
 }
 
@@ -233,6 +243,10 @@ PAYLOAD_CLASSES: dict[type[Any], st.SearchStrategy[Any]] = {
     SetPanel: st.builds(SetPanel, i16, i16, i16),
     ClearAlarms: st.builds(ClearAlarms, i16, i16),
     InjectFault: st.builds(InjectFault, i16, i16, i16, i32),
+    FaultsRequest: st.builds(FaultsRequest, i16),
+    ArmedFault: armed_faults,
+    FaultList: fault_lists,
+    FaultsCleared: st.builds(FaultsCleared, i16),
     ParamValue: param_values,
     PmcData: pmc_data,
     RaiseAlarm: raise_alarms,

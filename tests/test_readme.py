@@ -1,13 +1,18 @@
-"""The README stays true: its opening commands and its client example."""
+"""The README stays true: its opening commands, its client example, and its command-line
+session, which must be what the built-in machine prints."""
 
 from __future__ import annotations
 
 import asyncio
 import re
+import shlex
 import sys
 from pathlib import Path
 
+import pytest
+
 from focas_net import FocasServer, default_machine
+from focas_net.cli import main
 
 README = Path(__file__).resolve().parent.parent / "README.md"
 
@@ -45,3 +50,36 @@ async def test_readme_client_example_runs(tmp_path: Path) -> None:
     assert lines[0] == "mode MEM run ****"
     assert "#500 = 12.345" in lines
     assert server.machines[0].read_pmc("R", 100, 1) == bytes([0b1000])
+
+
+def _session() -> list[tuple[list[str], list[str]]]:
+    """The commands of the README's ``console`` block and the lines each prints."""
+    (block,) = _blocks("console")
+    steps: list[tuple[list[str], list[str]]] = []
+    for line in block.splitlines():
+        if line.startswith("$ focas-net "):
+            steps.append((shlex.split(line.removeprefix("$ focas-net ")), []))
+        else:
+            assert steps, f"output before any command: {line!r}"
+            steps[-1][1].append(line)
+    return steps
+
+
+def test_readme_session_has_commands_and_outputs() -> None:
+    steps = _session()
+    assert len(steps) >= 15
+    assert all(lines for _, lines in steps)
+
+
+async def test_readme_cli_examples_are_what_the_built_in_machine_prints(
+    capsys: pytest.CaptureFixture[str],
+) -> None:
+    async with FocasServer(default_machine(), host="127.0.0.1", port=0) as server:
+        _host, port = server.addresses[0]
+        for argv, expected in _session():
+            capsys.readouterr()
+            code = await asyncio.wait_for(asyncio.to_thread(main, [*argv, "--port", str(port)]), 30)
+            out, err = capsys.readouterr()
+            printed = (out + err).rstrip("\n").split("\n")
+            assert printed == expected, f"focas-net {' '.join(argv)} (exit {code})"
+            assert (code == 0) == (err == ""), f"focas-net {' '.join(argv)}: exit {code}"

@@ -200,7 +200,7 @@ async def test_wrong_size_is_ew_length(wire: Wire, command: Command, payload: by
         assert answer == struct.pack("<h", EW.LENGTH)
 
 
-@pytest.mark.parametrize("command", [0x0000, 0x000B, 0x0101, 0x0E00, 0x0E06, 0x0F19, 0xFFFF])
+@pytest.mark.parametrize("command", [0x0000, 0x000B, 0x0101, 0x0E00, 0x0E08, 0x0F19, 0xFFFF])
 async def test_unknown_command_is_ew_func(wire: Wire, command: int) -> None:
     rid = wire.send(command, b"\x01\x02\x03")
     frame = await wire.recv()

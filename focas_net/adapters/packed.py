@@ -2,8 +2,9 @@
 
 :class:`PackedAdapter` answers every command of ``docs/protocol.md`` sections 3-5 and the control
 commands 0x0E01..0x0E04 from a protocol-neutral :class:`~focas_net.sim.Machine`. The server adds
-the frame header (same command, same request id). 0x0E05 inject_fault is not handled here: faults
-are about I/O and the server answers that command itself (here it answers EW_FUNC). Pure and
+the frame header (same command, same request id). 0x0E05..0x0E07 (the fault queues) are not
+handled here: faults are about I/O and the server answers those commands itself (here they
+answer EW_FUNC). Pure and
 synchronous: no socket, no event loop.
 
 Every request is decoded and every answer encoded with the codecs of
@@ -53,6 +54,7 @@ from typing import Any, ClassVar, Final
 from focas_net.errors import EW, PayloadError
 from focas_net.protocol import (
     COMMANDS,
+    FAULT_COMMANDS,
     MAX_CONFIG_CHUNK,
     MAX_HISTORY_DEPTH,
     MAX_PMC_CHUNK,
@@ -158,9 +160,9 @@ class _Answers:
 class PackedAdapter:
     """Answers packed-protocol requests from one machine (see the module docstring)."""
 
-    #: The command ids :meth:`answer` answers (every command but 0x0E05).
+    #: The command ids :meth:`answer` answers (every command but the fault queues' 0x0E05..7).
     handled: ClassVar[frozenset[int]] = frozenset(
-        int(c) for c in COMMANDS if c != Command.SIM_INJECT_FAULT
+        int(c) for c in COMMANDS if c not in FAULT_COMMANDS
     )
 
     __slots__ = (

@@ -3,13 +3,14 @@
 ``focas-net serve`` runs simulated CNCs (:mod:`.serve`). The client commands read and write a
 CNC from the terminal: ``status``, ``sysinfo``, ``program``, ``position``, ``param get|set``,
 ``macro get|set``, ``diag``, ``pmc read|write|bit``, ``alarms``, ``unlock``, ``versamax`` and
-``sim panel|alarm|clear|fault``. They are one table (:mod:`._table`) of handlers from
+``sim panel|alarm|clear|fault|faults``. They are one table (:mod:`._table`) of handlers from
 :mod:`.read_cmds`, :mod:`.write_cmds` and :mod:`.sim_cmds`, run by :mod:`._run`; what all
 commands share (exit codes, argument types, the one-line error) is in :mod:`._args`.
 
 Every client command takes ``--host`` (default 127.0.0.1), ``--port`` (8193), ``--timeout``
-(seconds, 3) and ``--json``; the commands that write also take ``--password`` (sent with
-``cnc_wrunlockparam`` right after connecting).
+(seconds, 3), ``--json`` and the TLS options ``--tls``, ``--tls-ca FILE``, ``--tls-insecure``;
+the commands that write also take ``--password`` (sent with ``cnc_wrunlockparam`` right after
+connecting).
 
 Output is a readable table by default (FOCAS names and their meanings); ``--json`` prints one
 JSON document instead (``alarms --follow --json`` prints one JSON object per line). A failure
@@ -25,7 +26,10 @@ prints one line on stderr, ``focas-net: EW_PASSWD (17): protection / password er
 ====  ==========================================================================
 
 ``alarms --follow`` polls until interrupted (Ctrl-C or SIGTERM end it cleanly with exit 0), or
-until ``--count`` events were printed; it reconnects when the connection is lost.
+until ``--count`` events were printed; it reconnects when the connection is lost, and gives up
+with one line when it cannot make progress (a peer that is not a FOCAS server, 10 failed
+reconnect attempts after one loss, or 20 failed polls in a row). ``docs/cli.md`` has the
+details and every ``--json`` shape.
 """
 
 from __future__ import annotations
@@ -49,12 +53,15 @@ __all__ = [
 
 def build_parser() -> argparse.ArgumentParser:
     """The ``focas-net`` parser: ``serve``, then the client commands of the table."""
+    from focas_net import __version__
+
     from . import _table, serve
 
     parser = argparse.ArgumentParser(
         prog=PROG,
         description="A simulated FANUC CNC (focas-net serve) and a FOCAS client for the terminal.",
     )
+    parser.add_argument("--version", action="version", version=f"%(prog)s {__version__}")
     sub = parser.add_subparsers(dest="command", required=True, metavar="COMMAND")
     serve.register(sub)
     _table.register(sub)

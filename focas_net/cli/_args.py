@@ -8,6 +8,7 @@ what the user typed) wrapped by :func:`argument_type` for ``argparse``, which th
 from __future__ import annotations
 
 import argparse
+import ipaddress
 import sys
 from collections.abc import Callable
 from functools import partial
@@ -27,8 +28,11 @@ __all__ = [
     "EXIT_PROTOCOL",
     "EXIT_USAGE",
     "HISTORY_DEPTH",
+    "HOST",
     "INT",
+    "INTERVAL",
     "LISTEN_PORT",
+    "MIN_INTERVAL",
     "NON_NEGATIVE",
     "PORT",
     "POSITIVE",
@@ -37,6 +41,8 @@ __all__ = [
     "argument_type",
     "parse_area",
     "parse_history_depth",
+    "parse_host",
+    "parse_interval",
     "parse_non_negative",
     "parse_port",
     "parse_positive",
@@ -131,6 +137,50 @@ def parse_seconds(text: str) -> float:
     return value
 
 
+#: Shortest poll interval of ``alarms --follow``, in seconds: polling faster only loads the
+#: client and the CNC.
+MIN_INTERVAL: Final = 0.05
+
+
+def parse_interval(text: str) -> float:
+    """A poll interval: seconds, at least :data:`MIN_INTERVAL`."""
+    value = parse_seconds(text)
+    if value < MIN_INTERVAL:
+        raise ValueError(f"must be at least {MIN_INTERVAL:g} s, got {text}")
+    return value
+
+
+def _shown(text: str, limit: int = 40) -> str:
+    return repr(text) if len(text) <= limit else f"{text[:limit]!r}... ({len(text)} characters)"
+
+
+def parse_host(text: str) -> str:
+    """A host to connect to: a name (at most 253 characters, labels of 1..63), an IPv4 address
+    or an IPv6 address (with or without brackets: ``[::1]``)."""
+    host = text.strip()
+    if host.startswith("[") and host.endswith("]"):
+        host = host[1:-1]
+        if ":" not in host:
+            raise ValueError(f"brackets are for IPv6 addresses, got {_shown(text)}")
+    if not host:
+        raise ValueError("empty host")
+    if ":" in host:
+        try:
+            ipaddress.IPv6Address(host)
+        except ValueError:
+            raise ValueError(f"not an IPv6 address: {_shown(text)}") from None
+        return host
+    if len(host) > 253:
+        raise ValueError(f"host name too long: {_shown(text)}; at most 253 characters")
+    for label in host.removesuffix(".").split("."):
+        if not 1 <= len(label) <= 63:
+            raise ValueError(
+                f"host name {_shown(text)} has a part of {len(label)} characters; "
+                "each part between dots must have 1..63"
+            )
+    return host
+
+
 def parse_history_depth(text: str) -> int:
     """How many alarm history entries to read, 1..250."""
     value = fmt.parse_int(text)
@@ -156,6 +206,8 @@ INT: Final = argument_type(fmt.parse_int, "integer")
 POSITIVE: Final = argument_type(parse_positive, "count")
 NON_NEGATIVE: Final = argument_type(parse_non_negative, "count")
 SECONDS: Final = argument_type(parse_seconds, "seconds")
+INTERVAL: Final = argument_type(parse_interval, "seconds")
+HOST: Final = argument_type(parse_host, "host")
 BOOL: Final = argument_type(fmt.parse_bool, "on/off")
 AREA: Final = argument_type(parse_area, "area")
 HISTORY_DEPTH: Final = argument_type(parse_history_depth, "depth")

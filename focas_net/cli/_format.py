@@ -38,9 +38,12 @@ from focas_net.versamax import BoardId, IOModuleRecord, RefType
 __all__ = [
     "STATUS_FIELDS",
     "FieldValues",
+    "address_text",
     "alarm_code",
     "alarm_dict",
+    "bytes_summary",
     "error_line",
+    "ew_text",
     "field_name",
     "format_active_alarm",
     "format_history_entry",
@@ -67,6 +70,7 @@ __all__ = [
     "status_rows",
     "status_summary",
     "sysinfo_dict",
+    "sysinfo_json",
     "sysinfo_rows",
     "utc_text",
 ]
@@ -115,24 +119,46 @@ def status_summary(status: StatusInfo) -> str:
     return " ".join(f"{f}={field_name(fields[f], getattr(status, f))[0]}" for f in _SUMMARY_FIELDS)
 
 
-def status_rows(status: StatusInfo) -> list[tuple[str, str, str, str]]:
-    """``(field, value, name, meaning)`` for every ODBST field."""
+#: ``mt_type`` (ODBSYS) of a compound machine, whose ODBST ``tmmode`` selects T or M.
+_COMPOUND: Final = "MT"
+
+
+def _tmmode_name(value: int, mt_type: str | None) -> tuple[str, str]:
+    """``tmmode`` as the operator reads it: the T/M selection on a compound machine; on any
+    other machine (where the field is 0 and selects nothing) the machine's own series."""
+    if mt_type is None or mt_type == _COMPOUND:
+        return field_name(TmMode, value)
+    series = mt_type[:1]
+    if series in ("M", "T"):
+        return series, f"{series} series machine (no T/M mode selection)"
+    return "-", "no T/M mode selection"
+
+
+def _status_fields(status: StatusInfo, mt_type: str | None) -> list[tuple[str, int, str, str]]:
     rows = []
     for f, values in STATUS_FIELDS:
         value = getattr(status, f)
-        name, meaning = field_name(values, value)
-        rows.append((f, str(value), name, meaning))
+        if f == "tmmode":
+            name, meaning = _tmmode_name(value, mt_type)
+        else:
+            name, meaning = field_name(values, value)
+        rows.append((f, value, name, meaning))
     return rows
 
 
-def status_dict(status: StatusInfo) -> dict[str, dict[str, Any]]:
-    """``{field: {"value": n, "name": ..., "meaning": ...}}`` for every ODBST field."""
-    out: dict[str, dict[str, Any]] = {}
-    for f, values in STATUS_FIELDS:
-        value = getattr(status, f)
-        name, meaning = field_name(values, value)
-        out[f] = {"value": value, "name": name, "meaning": meaning}
-    return out
+def status_rows(status: StatusInfo, mt_type: str | None = None) -> list[tuple[str, str, str, str]]:
+    """``(field, value, name, meaning)`` for every ODBST field; with the machine's ``mt_type``
+    (ODBSYS), ``tmmode`` of a machine that is not compound names its series."""
+    return [(f, str(v), name, meaning) for f, v, name, meaning in _status_fields(status, mt_type)]
+
+
+def status_dict(status: StatusInfo, mt_type: str | None = None) -> dict[str, dict[str, Any]]:
+    """``{field: {"value": n, "name": ..., "meaning": ...}}`` for every ODBST field (``mt_type``
+    as for :func:`status_rows`)."""
+    return {
+        f: {"value": v, "name": name, "meaning": meaning}
+        for f, v, name, meaning in _status_fields(status, mt_type)
+    }
 
 
 # -- ODBSYS --------------------------------------------------------------------------------
@@ -173,6 +199,16 @@ def sysinfo_dict(info: SysInfo) -> dict[str, Any]:
         "axes": _ascii(info.axes),
         "axes_count": info.axes_count,
     }
+
+
+def sysinfo_json(info: SysInfo) -> dict[str, Any]:
+    """``sysinfo --json``: the ODBSYS fields as text and numbers; the two coded fields,
+    ``cnc_type`` and ``mt_type``, as ``{"value": ..., "meaning": ...}`` like the ODBST fields
+    of ``status --json``."""
+    data = sysinfo_dict(info)
+    data["cnc_type"] = {"value": data["cnc_type"], "meaning": _cnc_type_text(data["cnc_type"])}
+    data["mt_type"] = {"value": data["mt_type"], "meaning": _MT_TYPES.get(data["mt_type"], "")}
+    return data
 
 
 def sysinfo_rows(info: SysInfo) -> list[tuple[str, str, str]]:
@@ -444,6 +480,17 @@ def render_table(headers: Sequence[str] | None, rows: Iterable[Sequence[str]]) -
     return "\n".join(lines)
 
 
+#: Most bytes a one-line summary shows (``pmc write``).
+SUMMARY_BYTES: Final = 16
+
+
+def bytes_summary(data: bytes, limit: int = SUMMARY_BYTES) -> str:
+    """``01 02 03`` for a few bytes; the first ``limit`` then ``... (8000 bytes)`` for more."""
+    if len(data) <= limit:
+        return data.hex(" ")
+    return f"{data[:limit].hex(' ')} ... ({len(data)} bytes)"
+
+
 def hexdump(area: str, start: int, data: bytes, per_line: int = 16) -> str:
     """``R0100  01 02 03 ...`` lines, ``per_line`` bytes each, addressed by their first byte."""
     width = max(4, len(str(start + max(len(data) - 1, 0))))
@@ -547,6 +594,16 @@ def parse_ew(text: str) -> int:
 
 
 # -- errors --------------------------------------------------------------------------------
+
+
+def ew_text(ew: int) -> str:
+    """``EW_BUSY (-1)``: an EW code's name and number."""
+    return f"{ew_info(ew).name} ({ew})"
+
+
+def address_text(host: str, port: int) -> str:
+    """``HOST:PORT``; an IPv6 address in brackets, ``[::1]:8193``."""
+    return f"[{host}]:{port}" if ":" in host else f"{host}:{port}"
 
 
 def error_line(exc: BaseException) -> str:

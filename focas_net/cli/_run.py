@@ -11,12 +11,13 @@ import argparse
 import asyncio
 import json
 import os
+import ssl
 import sys
 from collections.abc import Awaitable, Callable
 from dataclasses import dataclass
-from typing import Any
+from typing import Any, Final
 
-from focas_net.client import ClientState, FocasClient
+from focas_net.client import ClientState, FocasClient, ReconnectPolicy
 from focas_net.errors import (
     ChunkedWriteError,
     CncError,
@@ -36,7 +37,18 @@ from ._args import (
     print_error,
 )
 
-__all__ = ["Go", "Handler", "HintedError", "Output", "runner", "write"]
+__all__ = [
+    "FOLLOW_MAX_FAILURES",
+    "FOLLOW_RECONNECT_ATTEMPTS",
+    "Go",
+    "Handler",
+    "HintedError",
+    "Output",
+    "runner",
+    "tls_context",
+    "tls_context_wanted",
+    "write",
+]
 
 
 @dataclass(frozen=True, slots=True)
@@ -99,15 +111,45 @@ def _exit_code(exc: BaseException) -> int:
     return EXIT_CNC
 
 
-async def _session(args: argparse.Namespace, go: Go, reconnect: bool) -> Output | None:
+#: ``alarms --follow``: reconnect attempts after one loss before the follower gives up (with
+#: the default backoff, about 40 s without a connection).
+FOLLOW_RECONNECT_ATTEMPTS: Final = 10
+#: ``alarms --follow``: polls failing in a row before the follower gives up.
+FOLLOW_MAX_FAILURES: Final = 20
+
+
+def tls_context(args: argparse.Namespace) -> ssl.SSLContext | None:
+    """The client's TLS context from ``--tls``, ``--tls-ca`` and ``--tls-insecure`` (None:
+    plain TCP); a CA file that cannot be loaded is a usage error (``ValueError``)."""
+    ca, insecure = getattr(args, "tls_ca", None), getattr(args, "tls_insecure", False)
+    if not (getattr(args, "tls", False) or ca is not None or insecure):
+        return None
+    if ca is not None and insecure:
+        raise ValueError("--tls-ca and --tls-insecure exclude each other")
+    if insecure:
+        ctx = ssl.SSLContext(ssl.PROTOCOL_TLS_CLIENT)
+        ctx.check_hostname = False
+        ctx.verify_mode = ssl.CERT_NONE
+        return ctx
+    try:
+        return ssl.create_default_context(cafile=ca)
+    except (OSError, ssl.SSLError) as exc:
+        reason = exc.strerror if isinstance(exc, OSError) and exc.strerror else str(exc)
+        raise ValueError(f"--tls-ca {ca}: {reason}") from None
+
+
+async def _session(
+    args: argparse.Namespace, go: Go, follow: bool, context: ssl.SSLContext | None
+) -> Output | None:
     client = FocasClient(
         args.host,
         args.port,
         timeout=args.timeout,
         password=getattr(args, "password", None),
-        reconnect=reconnect,
+        reconnect=ReconnectPolicy(max_attempts=FOLLOW_RECONNECT_ATTEMPTS) if follow else False,
+        ssl=context,
     )
-    if reconnect:
+    if follow:
         client.add_state_callback(_report_state(client))
     async with client:
         return await go(client)
@@ -115,17 +157,44 @@ async def _session(args: argparse.Namespace, go: Go, reconnect: bool) -> Output 
 
 def _report_state(client: FocasClient) -> Callable[[ClientState], None]:
     lost = False
+    where = fmt.address_text(client.host, client.port)
 
     def report(state: ClientState) -> None:
         nonlocal lost
         if state is ClientState.RECONNECTING:
             lost = True
-            _print_one_line(f"connection to {client.host}:{client.port} lost; reconnecting")
+            _print_one_line(f"connection to {where} lost; reconnecting")
         elif state is ClientState.CONNECTED and lost:
             lost = False
-            _print_one_line(f"reconnected to {client.host}:{client.port}")
+            _print_one_line(f"reconnected to {where}")
 
     return report
+
+
+def _tls_hint(args: argparse.Namespace, exc: BaseException) -> str | None:
+    """Advice when TLS on one side only is the likely cause of ``exc``."""
+    tls = tls_context_wanted(args)
+    cause = exc.__cause__
+    if isinstance(cause, ssl.SSLCertVerificationError):
+        return "give --tls-ca FILE (the server's certificate or its CA) or --tls-insecure"
+    text = str(exc)
+    if tls and isinstance(exc, FocasConnectionError) and "TLS handshake failed" in text:
+        return "if the server is plain TCP, drop --tls"
+    if not tls and (
+        (isinstance(exc, FocasConnectionError) and "before any answer" in text)
+        or (isinstance(exc, ProtocolError) and "TLS record" in text)
+    ):
+        return "if the server uses TLS, give --tls (with --tls-ca FILE or --tls-insecure)"
+    return None
+
+
+def tls_context_wanted(args: argparse.Namespace) -> bool:
+    """Whether the TLS options ask for TLS."""
+    return bool(
+        getattr(args, "tls", False)
+        or getattr(args, "tls_ca", None) is not None
+        or getattr(args, "tls_insecure", False)
+    )
 
 
 def _failure_text(args: argparse.Namespace, exc: BaseException) -> str:
@@ -133,18 +202,21 @@ def _failure_text(args: argparse.Namespace, exc: BaseException) -> str:
         return f"{_failure_text(args, exc.cause)}; {exc.hint}"
     text = fmt.error_line(exc)
     if isinstance(exc, FocasTimeoutError):
-        return f"timed out after {args.timeout:g} s ({args.host}:{args.port}): {text}"
-    return text
+        where = fmt.address_text(args.host, args.port)
+        return f"timed out after {args.timeout:g} s ({where}): {text}"
+    hint = _tls_hint(args, exc)
+    return text if hint is None else f"{text}; {hint}"
 
 
 def runner(handler: Handler) -> Callable[[argparse.Namespace], int]:
     """``args -> exit code``: parse, connect, run, print; failures become one line."""
 
     def run(args: argparse.Namespace) -> int:
-        reconnect = bool(getattr(args, "follow", False))
+        follow = bool(getattr(args, "follow", False))
         try:
             go = handler(args)
-            out = asyncio.run(_session(args, go, reconnect))
+            context = tls_context(args)
+            out = asyncio.run(_session(args, go, follow, context))
         except (FocasError, ValueError, OSError) as exc:
             _print_one_line(_failure_text(args, exc))
             return _exit_code(exc)

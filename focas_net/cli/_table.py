@@ -20,7 +20,9 @@ from ._args import (
     BOOL,
     EXIT_CODES,
     HISTORY_DEPTH,
+    HOST,
     INT,
+    INTERVAL,
     NON_NEGATIVE,
     PORT,
     POSITIVE,
@@ -79,7 +81,7 @@ class Group:
 # -- shared arguments -----------------------------------------------------------------------
 
 _CONNECTION: Final = (
-    arg("--host", default="127.0.0.1", help="CNC address (default %(default)s)"),
+    arg("--host", type=HOST, default="127.0.0.1", help="CNC address (default %(default)s)"),
     arg("--port", type=PORT, default=8193, help="CNC port (default %(default)s)"),
     arg(
         "--timeout",
@@ -89,6 +91,21 @@ _CONNECTION: Final = (
         help="per-call timeout (default %(default)s)",
     ),
     arg("--json", action="store_true", help="print JSON instead of a table"),
+    arg(
+        "--tls",
+        action="store_true",
+        help="connect with TLS, checking the server's certificate against the system's CAs",
+    ),
+    arg(
+        "--tls-ca",
+        metavar="FILE",
+        help="trust the certificates in FILE (PEM) to check the server's; implies --tls",
+    ),
+    arg(
+        "--tls-insecure",
+        action="store_true",
+        help="TLS without checking the server's certificate (testing only); implies --tls",
+    ),
 )
 _PASSWORD: Final = arg(
     "--password",
@@ -262,7 +279,10 @@ COMMANDS: Final[tuple[Cmd | Group, ...]] = (
                 "too)",
             ),
             arg(
-                "--interval", type=SECONDS, metavar="SECONDS", help="poll interval of --follow (1)"
+                "--interval",
+                type=INTERVAL,
+                metavar="SECONDS",
+                help="poll interval of --follow, at least 0.05 (default 1)",
             ),
             arg("--count", type=POSITIVE, metavar="N", help="stop --follow after N events"),
         ),
@@ -359,6 +379,25 @@ COMMANDS: Final[tuple[Cmd | Group, ...]] = (
                         default="machine",
                         help="machine: the next answers on any connection (default); "
                         "connection: only this command's own connection",
+                    ),
+                ),
+            ),
+            Cmd(
+                "faults",
+                "list the pending faults, first to apply first (or remove them with --clear)",
+                sim_cmds.faults,
+                (
+                    arg(
+                        "--clear",
+                        action="store_true",
+                        help="remove every pending fault of the scope",
+                    ),
+                    arg(
+                        "--scope",
+                        choices=sorted(sim_cmds.FAULT_SCOPES),
+                        default="machine",
+                        help="machine: the machine's queue (default); connection: this "
+                        "command's own connection (always empty)",
                     ),
                 ),
             ),

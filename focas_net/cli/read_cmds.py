@@ -18,13 +18,15 @@ from focas_net.client import (
     FocasClient,
     ProjectionMode,
 )
+from focas_net.errors import EW, CncError, FocasError
 from focas_net.protocol import ParamValue, PmcArea, PositionKind
 
 from . import _format as fmt
-from ._run import Go, Output, write
+from ._run import FOLLOW_MAX_FAILURES, Go, HintedError, Output, write
 
 __all__ = [
     "alarms",
+    "axis_hint",
     "diag",
     "item_name",
     "macro_dict",
@@ -46,8 +48,10 @@ __all__ = [
 def status(args: argparse.Namespace) -> Go:
     async def go(cnc: FocasClient) -> Output:
         st = await cnc.read_status()
-        table = fmt.render_table(("field", "value", "name", "meaning"), fmt.status_rows(st))
-        return Output(fmt.status_dict(st), f"{fmt.status_summary(st)}\n\n{table}")
+        mt_type = fmt.sysinfo_dict(await cnc.read_sysinfo())["mt_type"]  # names tmmode
+        rows = fmt.status_rows(st, mt_type)
+        table = fmt.render_table(("field", "value", "name", "meaning"), rows)
+        return Output(fmt.status_dict(st, mt_type), f"{fmt.status_summary(st)}\n\n{table}")
 
     return go
 
@@ -56,7 +60,7 @@ def sysinfo(args: argparse.Namespace) -> Go:
     async def go(cnc: FocasClient) -> Output:
         info = await cnc.read_sysinfo()
         table = fmt.render_table(("field", "value", "meaning"), fmt.sysinfo_rows(info))
-        return Output(fmt.sysinfo_dict(info), table)
+        return Output(fmt.sysinfo_json(info), table)
 
     return go
 
@@ -90,6 +94,27 @@ def position(args: argparse.Namespace) -> Go:
 # -- parameters, diagnostics, macros --------------------------------------------------------
 
 
+async def axis_hint(
+    cnc: FocasClient, exc: CncError, kind: str, number: int, axis: int
+) -> FocasError:
+    """``exc`` with advice when it is ``EW_ATTRIB`` for the axis of parameter or diagnostic
+    ``number`` (``kind``): an axis item read without ``--axis``, an axis past the machine's,
+    or ``--axis`` on an item of no axis; the axis count is the machine's (ODBSYS)."""
+    if exc.ew != EW.ATTRIB:
+        return exc
+    axes = await _axis_count(cnc)
+    if axis == 0:
+        return HintedError(exc, f"{kind} {number} is an axis {kind}: give --axis 1..{axes}")
+    if axis > axes:
+        return HintedError(exc, f"the machine has {axes} axes: give --axis 1..{axes}")
+    return HintedError(exc, f"{kind} {number} is not an axis {kind}: leave out --axis")
+
+
+async def _axis_count(cnc: FocasClient) -> int:
+    info = await cnc.read_sysinfo()
+    return info.axes_count if info.axes_count is not None else info.max_axis
+
+
 def item_name(number: int, bit: int | None, axis: int) -> str:
     """``1815.4 axis 1``: a parameter or diagnostic, its bit and its axis."""
     name = f"{number}" if bit is None else f"{number}.{bit}"
@@ -121,7 +146,10 @@ def param_get(args: argparse.Namespace) -> Go:
     number, bit = fmt.parse_number_bit(args.number)
 
     async def go(cnc: FocasClient) -> Output:
-        pv = await cnc.read_param_value(number, axis=args.axis)
+        try:
+            pv = await cnc.read_param_value(number, axis=args.axis)
+        except CncError as exc:
+            raise await axis_hint(cnc, exc, "parameter", number, args.axis) from exc
         if bit is not None and not 0 <= bit < 8 * pv.width:
             raise ValueError(f"bit {bit} outside 0..{8 * pv.width - 1} of parameter {number}")
         data, whole, bit_text = param_output(number, bit, args.axis, pv)
@@ -132,7 +160,10 @@ def param_get(args: argparse.Namespace) -> Go:
 
 def diag(args: argparse.Namespace) -> Go:
     async def go(cnc: FocasClient) -> Output:
-        value = await cnc.read_diag(args.number, axis=args.axis)
+        try:
+            value = await cnc.read_diag(args.number, axis=args.axis)
+        except CncError as exc:
+            raise await axis_hint(cnc, exc, "diagnostic", args.number, args.axis) from exc
         data = {"number": args.number, "axis": args.axis, "value": value}
         return Output(data, f"{item_name(args.number, None, args.axis)} = {value}")
 
@@ -214,7 +245,9 @@ def _alarms_follow(args: argparse.Namespace) -> Go:
     interval = 1.0 if args.interval is None else args.interval
 
     async def go(cnc: FocasClient) -> None:
-        projection = AlarmProjection(cnc, mode, interval=interval, depth=args.history or 50)
+        projection = AlarmProjection(
+            cnc, mode, interval=interval, depth=args.history or 50, max_failures=FOLLOW_MAX_FAILURES
+        )
         loop = asyncio.get_running_loop()
         installed = []
         for signum in (signal.SIGINT, signal.SIGTERM):
@@ -223,8 +256,8 @@ def _alarms_follow(args: argparse.Namespace) -> Go:
             except (NotImplementedError, RuntimeError, ValueError):
                 continue  # not the main thread, or no signal support: Ctrl-C still ends it
             installed.append(signum)
+        printed = 0
         try:
-            printed = 0
             async for event in projection:
                 out = _event_output(event)
                 if args.json:
@@ -234,6 +267,10 @@ def _alarms_follow(args: argparse.Namespace) -> Go:
                 printed += 1
                 if args.count is not None and printed >= args.count:
                     break
+        except FocasError as exc:
+            raise HintedError(
+                exc, f"alarms --follow gave up after {projection.failed_polls} failed poll(s)"
+            ) from exc
         finally:
             for signum in installed:
                 loop.remove_signal_handler(signum)

@@ -6,10 +6,12 @@ every listener is bound it prints, flushed, one line per machine::
 
     focas-net: <machine name> listening on HOST:PORT
 
-(then, with ``--native-port``, one ``focas-net: <machine name> (native FOCAS/2) listening on
-HOST:PORT`` line per machine for the ports serving the native protocol only) so scripts and
-tests can wait for it. A bad machine file, TLS file or option ends with a one-line error and
-exit code 2; a port that cannot be bound with exit code 1. SIGINT and SIGTERM shut down
+(``<machine name> (TLS, read-only) listening on`` when those apply; then, with
+``--native-port``, one ``focas-net: <machine name> (native FOCAS/2) listening on HOST:PORT``
+line per machine for the ports serving the native protocol only) so scripts and tests can wait
+for it; the address is always the line's last word. A bad machine file, TLS file or option
+ends with a one-line error and exit code 2 (options are all checked before anything is
+allocated); a port that cannot be bound with exit code 1. SIGINT and SIGTERM shut down
 gracefully (stop accepting, answer what is in flight, close) and exit 0.
 """
 
@@ -21,7 +23,7 @@ import logging
 import signal
 import ssl
 import sys
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING, Any, Final
 
 import anyio
 
@@ -40,11 +42,18 @@ from ._args import EXIT_CNC, EXIT_USAGE, LISTEN_PORT, POSITIVE, PROG, print_erro
 if TYPE_CHECKING:
     from focas_net.sim import Machine
 
-__all__ = ["build_machines", "register", "run"]
+__all__ = ["MAX_FLEET", "build_machines", "check_options", "register", "run"]
 
 _log = logging.getLogger("focas_net.cli.serve")
 
 _ERROR_PREFIX = f"{PROG} serve: error"  # as argparse words its usage errors
+
+
+#: Most machines one ``serve --fleet`` runs.
+MAX_FLEET: Final = 10_000
+#: Files a server keeps for itself besides its listening sockets (standard streams, the event
+#: loop, a few connections).
+_RESERVED_FILES: Final = 32
 
 
 class ConfigError(Exception):
@@ -106,7 +115,8 @@ def register(subparsers: Any) -> None:
         type=POSITIVE,
         default=1,
         metavar="N",
-        help="serve N independent machines on ports PORT..PORT+N-1 (or N ephemeral ports)",
+        help="serve N independent machines (1..10000) on ports PORT..PORT+N-1 (or N ephemeral "
+        "ports)",
     )
     p.add_argument(
         "--param-password",
@@ -117,7 +127,7 @@ def register(subparsers: Any) -> None:
     p.add_argument(
         "--no-control",
         action="store_true",
-        help="answer simulator control commands 0x0E01..0x0E05 with EW_FUNC, like a real CNC",
+        help="answer simulator control commands 0x0E01..0x0E07 with EW_FUNC, like a real CNC",
     )
     p.add_argument(
         "--read-only",
@@ -178,6 +188,47 @@ def register(subparsers: Any) -> None:
     p.set_defaults(func=run)
 
 
+def check_options(args: argparse.Namespace) -> None:
+    """Check the options that bound what ``serve`` allocates, before it allocates anything:
+    the fleet's size and port ranges, the files a fleet needs, ``--uvloop``. Raises
+    :class:`ConfigError`."""
+    fleet = args.fleet
+    if fleet > MAX_FLEET:
+        raise ConfigError(f"--fleet {fleet}: at most {MAX_FLEET} machines")
+    ranges = [("--port", args.port)]
+    if args.native_port is not None:
+        ranges.append(("--native-port", args.native_port))
+    for option, first in ranges:
+        if first and first + fleet - 1 > 65_535:
+            raise ConfigError(
+                f"--fleet {fleet} from {option} {first} runs past 65535 "
+                f"(the last machine would get port {first + fleet - 1})"
+            )
+    if args.port and args.native_port and abs(args.port - args.native_port) < fleet:
+        raise ConfigError(
+            f"--native-port {args.native_port} overlaps the ports "
+            f"{args.port}..{args.port + fleet - 1} of --fleet {fleet}"
+        )
+    sockets = fleet * (2 if args.native_port is not None else 1)
+    limit = _open_files_limit()
+    if limit is not None and sockets + _RESERVED_FILES > limit:
+        raise ConfigError(
+            f"--fleet {fleet} needs {sockets} listening sockets, but this process may open "
+            f"{limit} files (ulimit -n)"
+        )
+    if args.uvloop and importlib.util.find_spec("uvloop") is None:
+        raise ConfigError("--uvloop: uvloop is not installed")
+
+
+def _open_files_limit() -> int | None:
+    try:
+        import resource
+    except ImportError:  # pragma: no cover - not on POSIX
+        return None
+    soft, _ = resource.getrlimit(resource.RLIMIT_NOFILE)
+    return None if soft == resource.RLIM_INFINITY else int(soft)
+
+
 def build_machines(args: argparse.Namespace) -> list[Machine]:
     """The machines described by the options; raises :class:`ConfigError`."""
     from focas_net.sim import MachineFileError, default_machine, load_machine
@@ -225,16 +276,9 @@ def run(args: argparse.Namespace) -> int:
         stream=sys.stderr,
     )
     try:
-        machines = build_machines(args)
+        check_options(args)  # every option, before anything is allocated
         ssl_context = _ssl_context(args)
-        if args.port and args.port + args.fleet - 1 > 65_535:
-            raise ConfigError(f"--fleet {args.fleet} from port {args.port} runs past 65535")
-        if args.native_port and args.native_port + args.fleet - 1 > 65_535:
-            raise ConfigError(
-                f"--fleet {args.fleet} from --native-port {args.native_port} runs past 65535"
-            )
-        if args.uvloop and importlib.util.find_spec("uvloop") is None:
-            raise ConfigError("--uvloop: uvloop is not installed")
+        machines = build_machines(args)
     except ConfigError as exc:
         print_error(str(exc), _ERROR_PREFIX)
         return EXIT_USAGE
@@ -251,7 +295,12 @@ def run(args: argparse.Namespace) -> int:
     )
     try:
         return anyio.run(
-            _serve, server, backend="asyncio", backend_options={"use_uvloop": args.uvloop}
+            _serve,
+            server,
+            ssl_context is not None,
+            bool(args.read_only),
+            backend="asyncio",
+            backend_options={"use_uvloop": args.uvloop},
         )
     except OSError as exc:
         print_error(
@@ -260,16 +309,26 @@ def run(args: argparse.Namespace) -> int:
         return EXIT_CNC
 
 
-async def _serve(server: FocasServer) -> int:
+def _modes(tls: bool, read_only: bool, *first: str) -> str:
+    """`` (TLS, read-only)``: what the ready line says about a listener, or nothing."""
+    modes = [*first, *(["TLS"] if tls else []), *(["read-only"] if read_only else [])]
+    return f" ({', '.join(modes)})" if modes else ""
+
+
+async def _serve(server: FocasServer, tls: bool, read_only: bool) -> int:
     with anyio.open_signal_receiver(signal.SIGINT, signal.SIGTERM) as signals:
         async with server:
             out = sys.stdout
             for listener in server.listeners:
-                out.write(f"focas-net: {listener.label} listening on {listener.address_text}\n")
+                out.write(
+                    f"focas-net: {listener.label}{_modes(tls, read_only)} listening on "
+                    f"{listener.address_text}\n"
+                )
             for listener in server.listeners:
                 if listener.native is not None:
+                    native_modes = _modes(False, read_only, "native FOCAS/2")
                     out.write(
-                        f"focas-net: {listener.label} (native FOCAS/2) listening on "
+                        f"focas-net: {listener.label}{native_modes} listening on "
                         f"{listener.native.address_text}\n"
                     )
             out.flush()

@@ -1,22 +1,41 @@
-"""Driving a simulated CNC: ``sim panel``, ``sim alarm``, ``sim clear`` and ``sim fault``.
+"""Driving a simulated CNC: ``sim panel``, ``sim alarm``, ``sim clear``, ``sim fault`` and
+``sim faults``.
 
-These use the simulator's control commands (0x0E01..0x0E05); a real CNC, or a server started
+These use the simulator's control commands (0x0E01..0x0E07); a real CNC, or a server started
 with ``--no-control``, answers them with ``EW_FUNC``.
+
+Faults queue first in, first out in their scope: ``sim fault`` says which answers the new
+fault applies to (``queued behind 2 pending faults: answers 4..5 of this machine from now``),
+``sim faults`` lists the pending faults and ``sim faults --clear`` removes them.
 """
 
 from __future__ import annotations
 
 import argparse
-from typing import Final
+from typing import Any, Final
 
 from focas_net.client import FocasClient
-from focas_net.errors import CncError
-from focas_net.protocol import MAX_ALARM_MSG, EmergencyState, FaultKind, FaultScope
+from focas_net.errors import CncError, FocasError
+from focas_net.protocol import MAX_ALARM_MSG, ArmedFault, EmergencyState, FaultKind, FaultScope
 
 from . import _format as fmt
 from ._run import Go, Output
 
-__all__ = ["FAULT_KINDS", "FAULT_SCOPES", "alarm", "clear", "fault", "panel"]
+__all__ = [
+    "FAULT_KINDS",
+    "FAULT_SCOPES",
+    "NothingMatched",
+    "alarm",
+    "clear",
+    "fault",
+    "faults",
+    "panel",
+]
+
+
+class NothingMatched(FocasError):
+    """A command found nothing to act on (``sim clear PS9999`` with no such alarm): exit 1."""
+
 
 #: ``sim fault KIND``: the fault kinds by their command-line names.
 FAULT_KINDS: Final = {k.name.lower(): k for k in FaultKind}
@@ -72,13 +91,54 @@ def alarm(args: argparse.Namespace) -> Go:
 def clear(args: argparse.Namespace) -> Go:
     alm_type, alm_no = fmt.parse_alarm_filter(args.alarm)
 
+    def matches(a: Any) -> bool:
+        return alm_type in (-1, a.alm_type) and alm_no in (-1, a.alm_no)
+
     async def go(cnc: FocasClient) -> Output:
+        before = await cnc.read_alarms()
         await cnc.sim.clear_alarms(alm_type, alm_no)
         remaining = await cnc.read_alarms()
-        data = {"cleared": args.alarm or "all", "active": [fmt.alarm_dict(a) for a in remaining]}
-        return Output(data, f"cleared {args.alarm or 'all alarms'}; {len(remaining)} still active")
+        gone = [a for a in before if matches(a) and a not in remaining]
+        if args.alarm is not None and not gone:
+            raise NothingMatched(f"no active alarm matches {args.alarm}; nothing cleared")
+        data = {
+            "cleared": args.alarm or "all",
+            "alarms": [fmt.alarm_dict(a) for a in gone],
+            "active": [fmt.alarm_dict(a) for a in remaining],
+        }
+        if not gone:
+            return Output(data, "no active alarms; nothing to clear")
+        what = ", ".join(fmt.alarm_code(a.alm_type, a.alm_no) for a in gone)
+        return Output(data, f"cleared {what}; {len(remaining)} still active")
 
     return go
+
+
+def _whose(scope: FaultScope) -> str:
+    return "of this machine" if scope is FaultScope.MACHINE else "on this connection"
+
+
+def _answers(first: int, count: int) -> str:
+    return f"answer {first}" if count == 1 else f"answers {first}..{first + count - 1}"
+
+
+def _fault_rows(pending: tuple[ArmedFault, ...]) -> list[dict[str, Any]]:
+    """The pending faults with the answers each applies to, counted from the next one."""
+    rows = []
+    first = 1
+    for f in pending:
+        kind = f.kind.name.lower() if isinstance(f.kind, FaultKind) else str(f.kind)
+        rows.append(
+            {
+                "kind": kind,
+                "arg": f.arg,
+                "remaining": f.remaining,
+                "first_answer": first,
+                "last_answer": first + f.remaining - 1,
+            }
+        )
+        first += f.remaining
+    return rows
 
 
 def fault(args: argparse.Namespace) -> Go:
@@ -94,24 +154,80 @@ def fault(args: argparse.Namespace) -> Go:
         arg = fmt.parse_int(args.arg)
     else:
         arg = 0 if args.arg is None else fmt.parse_int(args.arg)
-    effect = {
-        FaultKind.DELAY: f"delayed {arg} ms",
-        FaultKind.ERROR: f"answered with {fmt.error_line(CncError(arg))}"
-        if arg
-        else "answered with EW 0",
-        FaultKind.DROP: "dropped (connection closed)",
-        FaultKind.SPLIT: "sent one byte per write",
-    }[kind]
-    whose = "of this machine" if scope is FaultScope.MACHINE else "on this connection"
+    effect = _effect(kind, arg)
+    whose = _whose(scope)
 
     async def go(cnc: FocasClient) -> Output:
         await cnc.sim.inject_fault(kind, count=args.count, arg=arg, scope=scope)
+        pending = _fault_rows(await cnc.sim.list_faults(scope))
+        ahead = pending[:-1]  # the new fault is the last of its queue
+        first = pending[-1]["first_answer"] if pending else 1
         data = {
             "kind": kind.name.lower(),
             "scope": scope.name.lower(),
             "count": args.count,
             "arg": arg,
+            "queued_behind": len(ahead),
+            "first_answer": first,
+            "last_answer": first + args.count - 1,
         }
-        return Output(data, f"the next {args.count} answer(s) {whose}: {effect}")
+        if not ahead:
+            which = "the next answer" if args.count == 1 else f"the next {args.count} answers"
+            return Output(data, f"{which} {whose}: {effect}")
+        behind = f"queued behind {len(ahead)} pending fault{'s' * (len(ahead) > 1)}"
+        return Output(data, f"{behind}: {_answers(first, args.count)} {whose} from now: {effect}")
 
     return go
+
+
+def _effect(kind: FaultKind, arg: int) -> str:
+    if kind is FaultKind.DELAY:
+        return f"delayed {arg} ms"
+    if kind is FaultKind.ERROR:
+        return f"answered with {fmt.error_line(CncError(arg))}" if arg else "answered with EW 0"
+    if kind is FaultKind.DROP:
+        return "dropped (connection closed)"
+    return "sent one byte per write"
+
+
+def faults(args: argparse.Namespace) -> Go:
+    scope = FAULT_SCOPES[args.scope]
+    whose = _whose(scope)
+
+    async def go(cnc: FocasClient) -> Output:
+        if args.clear:
+            cleared = await cnc.sim.clear_faults(scope)
+            data: dict[str, Any] = {"scope": scope.name.lower(), "cleared": cleared}
+            if not cleared:
+                return Output(data, f"no pending faults {whose}; nothing to clear")
+            return Output(data, f"cleared {cleared} pending fault{'s' * (cleared > 1)} {whose}")
+        pending = await cnc.sim.list_faults(scope)
+        rows = _fault_rows(pending)
+        data = {"scope": scope.name.lower(), "faults": rows}
+        if not rows:
+            return Output(data, f"no pending faults {whose}")
+        table = fmt.render_table(
+            ("#", "kind", "arg", "remaining", "applies to"),
+            [
+                (
+                    str(i),
+                    r["kind"],
+                    _arg_text(r["kind"], r["arg"]),
+                    str(r["remaining"]),
+                    _answers(r["first_answer"], r["remaining"]),
+                )
+                for i, r in enumerate(rows, 1)
+            ],
+        )
+        head = f"{len(rows)} pending fault{'s' * (len(rows) > 1)} {whose}, first in, first out:"
+        return Output(data, f"{head}\n{table}")
+
+    return go
+
+
+def _arg_text(kind: str, arg: int) -> str:
+    if kind == "delay":
+        return f"{arg} ms"
+    if kind == "error":
+        return fmt.ew_text(arg)
+    return "-"

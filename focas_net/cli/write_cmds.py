@@ -79,7 +79,8 @@ def pmc_write(args: argparse.Namespace) -> Go:
         where = f"{area.name}{args.start}" + (f"..{area.name}{last}" if last > args.start else "")
         return Output(
             data,
-            f"wrote {len(payload)} byte{'s' * (len(payload) > 1)} to {where}: {payload.hex(' ')}",
+            f"wrote {len(payload)} byte{'s' * (len(payload) > 1)} to {where}: "
+            + fmt.bytes_summary(payload),
         )
 
     return go

@@ -16,6 +16,10 @@ Rules it keeps:
   every overdue request when it fires;
 * when the connection is lost, every pending call fails at once with
   :class:`FocasConnectionError`;
+* when the peer breaks the framing (a length prefix outside ``4..max_frame``: a peer that is
+  not a FOCAS server, an HTTP server for example), the connection is aborted and every pending
+  call fails with :class:`ProtocolError` naming the peer and what it sent
+  (:attr:`Connection.violation`); the client does not reconnect after it;
 * frames written during one event-loop turn leave in one ``transport.writelines`` call;
 * :class:`asyncio.CancelledError` is never swallowed.
 
@@ -33,7 +37,13 @@ from collections import deque
 from collections.abc import Callable, Sequence
 from typing import Final, cast
 
-from focas_net.errors import FocasConnectionError, FocasTimeoutError, FrameError, ProtocolError
+from focas_net.errors import (
+    FocasConnectionError,
+    FocasError,
+    FocasTimeoutError,
+    FrameError,
+    ProtocolError,
+)
 
 from ..protocol import DEFAULT_MAX_FRAME, HEADER, Frame, FrameDecoder
 
@@ -131,6 +141,8 @@ class Connection(asyncio.Protocol):
         self._closed_exc: FocasConnectionError | None = None
         self._lost: asyncio.Future[None] = self._loop.create_future()
         self._on_lost = on_lost
+        self._violation: ProtocolError | None = None
+        self._answered = False  # any byte received yet
         self.peer: str = "?"
 
     # -- state ---------------------------------------------------------------------------
@@ -138,6 +150,11 @@ class Connection(asyncio.Protocol):
     def closed(self) -> bool:
         """True once the connection is closing or closed."""
         return self._closed_exc is not None
+
+    @property
+    def violation(self) -> ProtocolError | None:
+        """Why the connection was aborted, when the peer broke the wire protocol."""
+        return self._violation
 
     @property
     def in_flight(self) -> int:
@@ -155,15 +172,18 @@ class Connection(asyncio.Protocol):
         self._transport = cast(asyncio.Transport, transport)
         peer = transport.get_extra_info("peername")
         if peer:
-            self.peer = f"{peer[0]}:{peer[1]}"
+            self.peer = _address_text(peer[0], peer[1])
 
     def data_received(self, data: bytes | bytearray | memoryview) -> None:
+        self._answered = True
         try:
             frames = self._decoder.feed(data)
         except FrameError as exc:
             self._deliver(exc.frames)  # answers that arrived whole before the violation
-            logger.warning("closing connection to %s: %s", self.peer, exc)
-            self._abort(exc)
+            violation = _violation_error(self.peer, exc, bytes(data[:16]))
+            logger.warning("closing connection to %s: %s", self.peer, violation)
+            self._violation = violation
+            self._abort(violation)
             return
         self._deliver(frames)
 
@@ -221,7 +241,10 @@ class Connection(asyncio.Protocol):
         # a later loop turn. Calls made until then must not be written into the closing
         # transport (where they would vanish and fail as maybe sent): they fail as not sent.
         if self._closed_exc is None:
-            self._closed_exc = FocasConnectionError(f"connection closed by {self.peer}")
+            self._closed_exc = FocasConnectionError(
+                f"connection closed by {self.peer}"
+                + ("" if self._answered else " before any answer")
+            )
         return None  # close the transport
 
     # -- requests ------------------------------------------------------------------------
@@ -537,11 +560,17 @@ class Connection(asyncio.Protocol):
         unsent = {_HEADER.unpack_from(frame)[2] for frame in self._wbuf}
         self._wbuf.clear()
         reason = self._closed_exc
+        violation = self._violation
         for request_id, entry in pending.items():
             if entry is not None and not entry.future.done():
-                kind = NotSentError if request_id in unsent else FocasConnectionError
-                err = kind(f"request {request_id}: {reason}")
-                err.__cause__ = reason
+                err: FocasError
+                if violation is not None:
+                    err = ProtocolError(str(violation))
+                    err.__cause__ = violation
+                else:
+                    kind = NotSentError if request_id in unsent else FocasConnectionError
+                    err = kind(f"request {request_id}: {reason}")
+                    err.__cause__ = reason
                 entry.future.set_exception(err)
 
     def _abort(self, exc: BaseException) -> None:
@@ -613,6 +642,25 @@ class _Missing:
 _MISSING: Final = _Missing()
 
 
+#: The first byte of a TLS record (change_cipher_spec, alert, handshake, application_data),
+#: which a TLS peer sends where a frame's length should be; its second byte is 3 (TLS 1.x).
+_TLS_RECORD_TYPES: Final = frozenset({0x14, 0x15, 0x16, 0x17})
+
+
+def _violation_error(peer: str, exc: FrameError, head: bytes) -> ProtocolError:
+    """The error of a framing violation by ``peer``: it does not speak the FOCAS protocol.
+
+    ``head`` (the first bytes of the offending chunk) is shown as text, so that an HTTP
+    answer reads as one; a TLS record is named as such.
+    """
+    if len(head) >= 2 and head[0] in _TLS_RECORD_TYPES and head[1] == 3:
+        what = "it sent a TLS record: the server expects TLS"
+    else:
+        what = f"it sent {head[:8]!r}"
+    reason = str(exc).removesuffix("; closing the connection")
+    return ProtocolError(f"{peer} does not speak the FOCAS protocol ({reason}; {what})")
+
+
 def _lost_error(peer: str, exc: BaseException | None) -> FocasConnectionError:
     if isinstance(exc, FocasConnectionError):
         return exc
@@ -659,7 +707,31 @@ async def open_connection(
                 server_hostname=(server_hostname or host) if ssl is not None else None,
             )
     except TimeoutError:
-        raise FocasTimeoutError(f"connecting to {host}:{port} timed out") from None
+        raise FocasTimeoutError(f"connecting to {_address_text(host, port)} timed out") from None
     except (OSError, _ssl.SSLError) as exc:
-        raise FocasConnectionError(f"cannot connect to {host}:{port}: {exc}") from exc
+        raise FocasConnectionError(
+            f"cannot connect to {_address_text(host, port)}: {_connect_reason(exc, ssl)}"
+        ) from exc
+    except UnicodeError as exc:  # the idna codec refusing a host name (a label over 63)
+        raise FocasConnectionError(
+            f"cannot connect to {_address_text(host, port)}: not a valid host name ({exc})"
+        ) from exc
     return protocol
+
+
+def _address_text(host: str, port: int) -> str:
+    """``host:port``, an IPv6 address in brackets (``[::1]:8193``)."""
+    return f"[{host}]:{port}" if ":" in host else f"{host}:{port}"
+
+
+def _connect_reason(exc: BaseException, ssl: _ssl.SSLContext | None) -> str:
+    """Why a connect failed, never empty; a failed TLS handshake says so."""
+    text = str(exc)
+    if isinstance(exc, _ssl.SSLCertVerificationError):
+        return f"TLS certificate not trusted: {exc.verify_message or text}"
+    if ssl is not None and isinstance(exc, _ssl.SSLError | ConnectionError):
+        detail = text if isinstance(exc, _ssl.SSLError) and text else "the peer closed it"
+        return f"TLS handshake failed ({detail}): the peer may not speak TLS"
+    if not text:
+        return type(exc).__name__
+    return text

@@ -9,8 +9,15 @@
 
 A poll that fails (an error answer, a timeout, a lost connection, a client still
 reconnecting) yields nothing and the next tick tries again; the projection's state is only
-changed by complete polls. Polling happens inside ``__anext__``: there is no background task,
-and :meth:`AlarmProjection.stop` (or leaving ``async with``) ends the iteration at once.
+changed by complete polls. The iteration gives up, raising the error of the poll that failed,
+when it cannot make progress any more: when the client is ``DISCONNECTED`` after a failed poll
+because its reconnect policy used up its ``max_attempts`` or because the peer broke the wire
+protocol (which is never retried), or after ``max_failures`` polls in a row failed (when
+given). A client without a reconnect policy that lost its connection is polled on (its owner
+may connect it again) unless ``max_failures`` bounds it.
+
+Polling happens inside ``__anext__``: there is no background task, and
+:meth:`AlarmProjection.stop` (or leaving ``async with``) ends the iteration at once.
 """
 
 from __future__ import annotations
@@ -24,7 +31,7 @@ from datetime import datetime
 from types import TracebackType
 from typing import Final, Self
 
-from focas_net.errors import FocasError
+from focas_net.errors import FocasError, PayloadError, ProtocolError
 
 from ..protocol import ActiveAlarm, AlarmHistoryEntry
 from .client import FocasClient
@@ -83,6 +90,9 @@ class AlarmProjection:
     The first poll reports every alarm already active as :class:`AlarmRaised` and, unless
     ``replay_history`` is False, every history entry within ``depth`` as
     :class:`AlarmHistoryEvent`. ``timeout`` bounds each poll (default: the client's).
+    ``max_failures`` (None: no bound) ends the iteration, raising the last error, once that
+    many polls in a row have failed; a client left ``DISCONNECTED`` by a protocol violation or
+    by its reconnect policy giving up ends it at once.
     """
 
     def __init__(
@@ -94,9 +104,12 @@ class AlarmProjection:
         *,
         replay_history: bool = True,
         timeout: float | None = None,
+        max_failures: int | None = None,
     ) -> None:
-        if interval <= 0:
+        if not interval > 0:
             raise ValueError(f"interval must be positive, got {interval}")
+        if max_failures is not None and max_failures < 1:
+            raise ValueError(f"max_failures must be at least 1 (or None), got {max_failures}")
         if not 1 <= depth <= 250:
             raise ValueError(f"depth must be within 1..250, got {depth}")
         self.client = client
@@ -104,7 +117,10 @@ class AlarmProjection:
         self.interval = interval
         self.depth = depth
         self.timeout = timeout
+        self.max_failures = max_failures
         self._replay_history = replay_history
+        self._failures_in_row = 0
+        self._last_error: FocasError | None = None
         self._active: dict[tuple[int, int, int], ActiveAlarm] = {}
         self._seen: dict[_HistoryKey, None] = {}  # insertion-ordered: oldest first
         self._memory = max(4 * depth, MIN_HISTORY_MEMORY)
@@ -164,7 +180,28 @@ class AlarmProjection:
                     pass
                 continue
             self._next_poll = loop.time() + self.interval
+            polls = self.polls
             queue.extend(await self.poll())
+            if self.polls != polls:
+                self._failures_in_row = 0
+                continue
+            self._failures_in_row += 1
+            error = self._last_error
+            if error is not None and (
+                self._gave_up(error)
+                or (self.max_failures is not None and self._failures_in_row >= self.max_failures)
+            ):
+                raise error
+
+    def _gave_up(self, error: FocasError) -> bool:
+        """Whether the client can no longer make progress: disconnected after its reconnect
+        policy gave up, or after the peer broke the protocol (which is never retried). A
+        client without a policy may still be connected again by its owner."""
+        client = self.client
+        if client.state is not ClientState.DISCONNECTED:
+            return False
+        violation = isinstance(error, ProtocolError) and not isinstance(error, PayloadError)
+        return violation or client.reconnect_policy is not None
 
     async def poll(self) -> list[AlarmEvent]:
         """Poll once and return the new events (also usable without iterating)."""
@@ -179,6 +216,7 @@ class AlarmProjection:
             )
         except FocasError as exc:
             self.failed_polls += 1
+            self._last_error = exc
             logger.debug("alarm poll of %s:%s failed: %s", client.host, client.port, exc)
             return []
         first = not self._polled

@@ -5,7 +5,8 @@
 
 * the :class:`ClientState` machine (``DISCONNECTED``, ``CONNECTED``, ``RECONNECTING``,
   ``CLOSED``) and the state callbacks;
-* the :class:`ReconnectPolicy` and its backoff, run by one reconnect task per loss;
+* the :class:`ReconnectPolicy` and its backoff, run by one reconnect task per loss (not after
+  a protocol violation: a peer that is not a FOCAS server is not connected to again);
 * the password: sent with ``cnc_wrunlockparam`` after every connect, and before the one retry
   of a call answered ``EW_PASSWD``;
 * :meth:`Link._request`, the one path every call takes (connect or wait for the reconnect,
@@ -27,11 +28,18 @@ from dataclasses import dataclass
 from types import TracebackType
 from typing import Any, Final, Self
 
-from focas_net.errors import EW, CncError, FocasConnectionError, FocasTimeoutError
+from focas_net.errors import (
+    EW,
+    CncError,
+    FocasConnectionError,
+    FocasTimeoutError,
+    PayloadError,
+    ProtocolError,
+)
 
 from ..protocol import COMMANDS, CommandSpec, EwReply, Password
 from ..protocol import Command as C
-from .connection import MAX_IN_FLIGHT, Connection, NotSentError, open_connection
+from .connection import MAX_IN_FLIGHT, Connection, NotSentError, _address_text, open_connection
 
 __all__ = ["ClientState", "ReconnectPolicy"]
 
@@ -151,6 +159,8 @@ class Link:
         # ``stable_after`` seconds) and when the current connection was installed.
         self._backoff = 0
         self._up_since = 0.0
+        # Why the client stopped without reconnecting, when the peer broke the protocol.
+        self._violation: ProtocolError | None = None
 
     def __repr__(self) -> str:
         return f"<{type(self).__name__} {self.host}:{self.port} {self._state.value}>"
@@ -214,6 +224,7 @@ class Link:
         if self._ready is None:
             self._ready = asyncio.Event()
         conn = await self._open(self._deadline(None), strict=True)
+        self._violation = None
         if self.state is ClientState.CLOSED:  # closed while connecting
             conn.close()
             await conn.wait_closed()
@@ -294,6 +305,13 @@ class Link:
         self._conn = None
         if self._state is ClientState.CLOSED:
             return
+        if conn.violation is not None:
+            # Not a lost connection: the peer is not a FOCAS server, and connecting again
+            # would meet the same peer. The reconnect policy does not apply.
+            logger.warning("%s; not reconnecting", conn.violation)
+            self._violation = conn.violation
+            self._set_state(ClientState.DISCONNECTED)
+            return
         if self._policy is None:
             logger.warning("connection to %s:%s lost: %s", self.host, self.port, exc or "closed")
             self._set_state(ClientState.DISCONNECTED)
@@ -321,6 +339,16 @@ class Link:
                 except (FocasConnectionError, FocasTimeoutError) as exc:
                     logger.debug("reconnect attempt %d to %s:%s: %s", attempt, *self._addr, exc)
                     continue
+                except ProtocolError as exc:
+                    if isinstance(exc, PayloadError):  # an unlock answer that does not decode
+                        logger.warning(
+                            "reconnect attempt %d to %s:%s: %r", attempt, *self._addr, exc
+                        )
+                        continue
+                    logger.warning("%s; not reconnecting", exc)  # not a FOCAS server
+                    self._violation = exc
+                    self._set_state(ClientState.DISCONNECTED)
+                    return
                 except Exception as exc:  # e.g. an unlock answer that does not decode
                     logger.warning("reconnect attempt %d to %s:%s: %r", attempt, *self._addr, exc)
                     continue
@@ -342,7 +370,8 @@ class Link:
         """The live connection, waiting (until ``deadline``) while reconnecting.
 
         Raises :class:`FocasConnectionError` when there is none to wait for (not connected
-        and no reconnect under way, or closed) or when ``deadline`` passes first.
+        and no reconnect under way, or closed) or when ``deadline`` passes first;
+        :class:`ProtocolError` when the connection ended because the peer broke the protocol.
         """
         while True:
             conn = self._conn
@@ -361,13 +390,15 @@ class Link:
                 or task is None
                 or task.done()
             ):
-                raise FocasConnectionError(f"not connected to {self.host}:{self.port}")
+                if self._violation is not None:
+                    raise ProtocolError(str(self._violation))
+                raise FocasConnectionError(f"not connected to {_address_text(*self._addr)}")
             try:
                 async with asyncio.timeout_at(deadline):
                     await self._ready.wait()
             except TimeoutError:
                 raise FocasConnectionError(
-                    f"still reconnecting to {self.host}:{self.port} when the call timed out"
+                    f"still reconnecting to {_address_text(*self._addr)} when the call timed out"
                 ) from None
 
     # -- the request path ----------------------------------------------------------------

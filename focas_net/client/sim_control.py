@@ -9,10 +9,12 @@ from typing import TYPE_CHECKING, Final
 
 from ..protocol import (
     COMMANDS,
+    ArmedFault,
     AutMode,
     ClearAlarms,
     FaultKind,
     FaultScope,
+    FaultsRequest,
     InjectFault,
     RaiseAlarm,
     SetPanel,
@@ -30,10 +32,12 @@ _RAISE_ALARM: Final = COMMANDS[C.SIM_RAISE_ALARM]
 _CLEAR_ALARMS: Final = COMMANDS[C.SIM_CLEAR_ALARMS]
 _SET_PMC: Final = COMMANDS[C.SIM_SET_PMC]
 _INJECT_FAULT: Final = COMMANDS[C.SIM_INJECT_FAULT]
+_LIST_FAULTS: Final = COMMANDS[C.SIM_LIST_FAULTS]
+_CLEAR_FAULTS: Final = COMMANDS[C.SIM_CLEAR_FAULTS]
 
 
 class SimControl:
-    """The simulator control commands (0x0E01..0x0E05), as ``client.sim``.
+    """The simulator control commands (0x0E01..0x0E07), as ``client.sim``.
 
     A real CNC, or a server with control disabled, answers them with ``EW_FUNC``.
     """
@@ -101,7 +105,48 @@ class SimControl:
         scope: FaultScope | int = FaultScope.CONNECTION,
         timeout: float | None = None,
     ) -> None:
-        """Make the next ``count`` answers misbehave (see :class:`FaultKind`)."""
+        """Make the next ``count`` answers misbehave (see :class:`FaultKind`).
+
+        Faults queue first in, first out in their scope: a fault armed behind others applies
+        once those are used up (:meth:`list_faults` shows the queue).
+        """
         payload = _INJECT_FAULT.request.encode(InjectFault(int(kind), int(scope), count, arg))
         client = self._client
         await client._request(_INJECT_FAULT, payload, client._deadline(timeout))
+
+    async def list_faults(
+        self, scope: FaultScope | int = FaultScope.CONNECTION, *, timeout: float | None = None
+    ) -> tuple[ArmedFault, ...]:
+        """The pending faults of ``scope``, the one applying to the next answer first; each
+        with its ``kind`` (a :class:`FaultKind` when known), the answers it still applies to
+        (``remaining``) and its ``arg``."""
+        payload = _LIST_FAULTS.request.encode(FaultsRequest(_scope(scope)))
+        client = self._client
+        listing = await client._request(_LIST_FAULTS, payload, client._deadline(timeout))
+        return tuple(_typed(f) for f in listing.faults)
+
+    async def clear_faults(
+        self, scope: FaultScope | int = FaultScope.CONNECTION, *, timeout: float | None = None
+    ) -> int:
+        """Remove the pending faults of ``scope``; returns how many were removed."""
+        payload = _CLEAR_FAULTS.request.encode(FaultsRequest(_scope(scope)))
+        client = self._client
+        answer = await client._request(_CLEAR_FAULTS, payload, client._deadline(timeout))
+        return int(answer.cleared)
+
+
+def _scope(scope: FaultScope | int) -> int:
+    try:
+        return int(FaultScope(scope))
+    except ValueError:
+        raise ValueError(
+            f"fault scope must be 0 (connection) or 1 (machine), got {scope!r}"
+        ) from None
+
+
+def _typed(fault: ArmedFault) -> ArmedFault:
+    try:
+        kind = FaultKind(fault.kind)
+    except ValueError:
+        return fault  # a kind this client does not know: its number
+    return ArmedFault(kind, fault.remaining, fault.arg)

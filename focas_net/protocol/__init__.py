@@ -44,7 +44,8 @@ from .codecs import (
     encode_ew,
     encode_response,
 )
-from .commands import Command
+from .commands import FAULT_COMMANDS, Command
+from .faults import ArmedFault, FaultList, FaultsCleared, FaultsRequest
 from .frame import DEFAULT_MAX_FRAME, HEADER, HEADER_SIZE, Frame, FrameDecoder, encode_frame
 from .values import (
     AlarmState,
@@ -66,6 +67,7 @@ __all__ = [
     "COMMANDS",
     "DEFAULT_MAX_FRAME",
     "EW_OK_BYTES",
+    "FAULT_COMMANDS",
     "HEADER",
     "HEADER_SIZE",
     "MAX_ALARM_MSG",
@@ -81,6 +83,7 @@ __all__ = [
     "AlarmMsgRequest",
     "AlarmState",
     "AlarmType",
+    "ArmedFault",
     "AutMode",
     "AxisPosition",
     "ClearAlarms",
@@ -91,7 +94,10 @@ __all__ = [
     "EmergencyState",
     "EwReply",
     "FaultKind",
+    "FaultList",
     "FaultScope",
+    "FaultsCleared",
+    "FaultsRequest",
     "Frame",
     "FrameDecoder",
     "HdckState",

@@ -20,6 +20,7 @@ from ..errors import PayloadError
 from ._base import I16, INT_RANGES, Codec, FixedPayload
 from .alarms import ActiveAlarmList, AlarmHistory
 from .commands import Command
+from .faults import FaultList, FaultsCleared, FaultsRequest
 from .versamax import VersaMaxReply, VersaMaxRequest
 
 __all__ = [
@@ -622,6 +623,18 @@ COMMANDS: Final[dict[int, CommandSpec]] = {
         _spec(Command.SIM_CLEAR_ALARMS, "sim_clear_alarms", ClearAlarms.codec(), _OK_ONLY),
         _spec(Command.SIM_SET_PMC, "sim_set_pmc", _PMC_DATA, _OK_ONLY),
         _spec(Command.SIM_INJECT_FAULT, "sim_inject_fault", InjectFault.codec(), _OK_ONLY),
+        _spec(
+            Command.SIM_LIST_FAULTS,
+            "sim_list_faults",
+            FaultsRequest.codec(),
+            _ew_response(Codec("FaultList", FaultList.encode, FaultList.decode)),
+        ),
+        _spec(
+            Command.SIM_CLEAR_FAULTS,
+            "sim_clear_faults",
+            FaultsRequest.codec(),
+            _ew_response(FaultsCleared.codec()),
+        ),
         _spec(
             Command.RDALMHISTRY,
             "cnc_rdalmhistry",

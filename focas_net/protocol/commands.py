@@ -5,7 +5,7 @@ from __future__ import annotations
 
 import enum
 
-__all__ = ["Command"]
+__all__ = ["FAULT_COMMANDS", "Command"]
 
 
 class Command(enum.IntEnum):
@@ -32,4 +32,13 @@ class Command(enum.IntEnum):
     SIM_CLEAR_ALARMS = 0x0E03  # simulator control: clear active alarms
     SIM_SET_PMC = 0x0E04  # simulator control: write PMC ignoring protection
     SIM_INJECT_FAULT = 0x0E05  # simulator control: fault injection
+    SIM_LIST_FAULTS = 0x0E06  # simulator control: the pending faults of one scope
+    SIM_CLEAR_FAULTS = 0x0E07  # simulator control: remove the pending faults of one scope
     RDALMHISTRY = 0x0F1A  # cnc_rdalmhistry: ODBAHIS
+
+
+#: The fault-queue commands, answered by the server's connections (which hold the queues), not
+#: by a machine's adapter.
+FAULT_COMMANDS: frozenset[Command] = frozenset(
+    {Command.SIM_INJECT_FAULT, Command.SIM_LIST_FAULTS, Command.SIM_CLEAR_FAULTS}
+)

@@ -15,10 +15,18 @@ import logging
 from typing import TYPE_CHECKING, Final
 
 from focas_net.errors import EW, FrameError
-from focas_net.protocol import HEADER, Command, Frame, FrameDecoder, encode_ew
+from focas_net.protocol import (
+    COMMANDS,
+    HEADER,
+    Command,
+    FaultsCleared,
+    Frame,
+    FrameDecoder,
+    encode_ew,
+)
 
 from ._base import BaseConnection, CloseCallback, Limits
-from .faults import FaultKind, FaultQueue, FaultScope, parse_inject
+from .faults import FaultKind, FaultQueue, FaultScope, parse_inject, parse_scope
 
 if TYPE_CHECKING:
     import asyncio
@@ -32,8 +40,12 @@ _log = logging.getLogger("focas_net.server")
 
 _pack_header = HEADER.pack
 _CONTROL_FIRST: Final = int(Command.SIM_SET_PANEL)
-_CONTROL_LAST: Final = int(Command.SIM_INJECT_FAULT)
+_CONTROL_LAST: Final = int(Command.SIM_CLEAR_FAULTS)
 _INJECT_FAULT: Final = int(Command.SIM_INJECT_FAULT)
+_LIST_FAULTS: Final = int(Command.SIM_LIST_FAULTS)
+_CLEAR_FAULTS: Final = int(Command.SIM_CLEAR_FAULTS)
+_LIST_ANSWER: Final = COMMANDS[Command.SIM_LIST_FAULTS].response.encode
+_CLEAR_ANSWER: Final = COMMANDS[Command.SIM_CLEAR_FAULTS].response.encode
 _UNLOCK: Final = int(Command.WRUNLOCKPARAM)
 _EW_OK: Final = encode_ew(EW.OK)
 _EW_FUNC: Final = encode_ew(EW.FUNC)
@@ -134,6 +146,8 @@ class PackedConnection(BaseConnection[Frame]):
         for index, (command, request_id, payload) in enumerate(frames):
             if command == _INJECT_FAULT:
                 answer = self._inject_fault(payload)
+            elif command == _LIST_FAULTS or command == _CLEAR_FAULTS:
+                answer = self._fault_queue(command, payload)
             elif (shared.armed or self._faults is not None) and not (
                 _CONTROL_FIRST <= command <= _CONTROL_LAST
             ):
@@ -251,3 +265,28 @@ class PackedConnection(BaseConnection[Frame]):
             return encode_ew(ew)
         _log.info("%s: %s armed by %s (%s)", self._label, fault, self._peer, scope.name)
         return _EW_OK
+
+    def _fault_queue(self, command: int, payload: bytes) -> bytes:
+        """0x0E06 list_faults and 0x0E07 clear_faults (listing is a read: it answers on a
+        read-only machine; clearing answers EW_PROT there, like every control write)."""
+        machine = self._machine
+        if not machine.control_enabled:
+            return _EW_FUNC
+        clear = command == _CLEAR_FAULTS
+        scope = parse_scope(payload, refused=clear and machine.read_only)
+        if not isinstance(scope, FaultScope):
+            return encode_ew(scope)
+        if scope is FaultScope.MACHINE:
+            queue: FaultQueue | None = self._shared
+        else:
+            queue = self._faults
+        if not clear:
+            return _LIST_ANSWER(FaultQueue().listing() if queue is None else queue.listing())
+        cleared = 0 if queue is None else queue.clear()
+        if queue is not None and queue is self._faults:
+            self._faults = None
+        if cleared:
+            _log.info(
+                "%s: %d fault(s) cleared by %s (%s)", self._label, cleared, self._peer, scope.name
+            )
+        return _CLEAR_ANSWER(FaultsCleared(cleared))

@@ -17,8 +17,11 @@ and keeps the queues of armed faults; the connections (``_base.py``, ``_packed.p
 command; scope 1 for the next ``count`` answers of the machine on any connection (one shared
 count). ``count`` is 1..10,000. A bad kind, scope, count or arg answers ``EW_DATA``.
 
-Faults armed in one scope form a queue: the first fault applies to the next answers until its
-count is used up, then the next one takes over. When both scopes hold a fault, the connection's
+Faults armed in one scope form a queue, first in, first out: the first fault applies to the
+next answers until its count is used up, then the next one takes over (a fault armed behind
+three pending delays of one answer each applies to the fourth answer). 0x0E06 list_faults
+answers a scope's queue in that order, each fault with the answers it still applies to; 0x0E07
+clear_faults empties it. When both scopes hold a fault, the connection's
 own fault applies (and only its count goes down). The answers of control commands, and the
 native open and close answers, are never faulted and never count. Faults are armed only with
 the packed command; a native connection sees the machine's (scope 1).
@@ -30,7 +33,14 @@ from collections import deque
 from typing import Final
 
 from focas_net.errors import EW, PayloadError
-from focas_net.protocol import FaultKind, FaultScope, InjectFault
+from focas_net.protocol import (
+    ArmedFault,
+    FaultKind,
+    FaultList,
+    FaultScope,
+    FaultsRequest,
+    InjectFault,
+)
 
 __all__ = [
     "MAX_ARMED_FAULTS",
@@ -41,6 +51,7 @@ __all__ = [
     "FaultQueue",
     "FaultScope",
     "parse_inject",
+    "parse_scope",
 ]
 
 #: Longest delay a fault may ask for, in milliseconds.
@@ -101,8 +112,33 @@ class FaultQueue:
             faults.popleft()
         return fault.kind, fault.arg
 
-    def clear(self) -> None:
+    def clear(self) -> int:
+        """Remove every armed fault; returns how many there were."""
+        count = len(self.armed)
         self.armed.clear()
+        return count
+
+    def listing(self) -> FaultList:
+        """The armed faults in the order they apply, as 0x0E06 carries them."""
+        return FaultList(tuple(ArmedFault(int(f.kind), f.remaining, f.arg) for f in self.armed))
+
+
+def parse_scope(payload: bytes, *, refused: bool = False) -> FaultScope | int:
+    """Validate the ``i16 scope`` request of 0x0E06 list_faults or 0x0E07 clear_faults.
+
+    Returns the scope, or the EW code to answer, in the order of every control command:
+    ``EW_LENGTH`` for a payload that is not 2 bytes, ``EW_PROT`` when ``refused`` (a clear on
+    a read-only machine), ``EW_DATA`` for a scope other than 0 and 1.
+    """
+    try:
+        req = FaultsRequest.decode(payload)
+    except PayloadError:
+        return EW.LENGTH
+    if refused:
+        return EW.PROT
+    if req.scope not in _SCOPES:
+        return EW.DATA
+    return FaultScope(req.scope)
 
 
 def parse_inject(payload: bytes, *, read_only: bool = False) -> tuple[FaultScope, Fault] | int:

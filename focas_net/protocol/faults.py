@@ -1,0 +1,66 @@
+"""Payloads of the fault-queue commands: 0x0E06 list_faults and 0x0E07 clear_faults
+(``docs/protocol.md`` section 8, "Extensions: the fault queues")."""
+
+from __future__ import annotations
+
+import struct
+from dataclasses import dataclass
+from typing import ClassVar, Final, Self
+
+from ..errors import PayloadError
+from ._base import I16, FixedPayload
+
+__all__ = ["ArmedFault", "FaultList", "FaultsCleared", "FaultsRequest"]
+
+
+@dataclass(frozen=True, slots=True)
+class FaultsRequest(FixedPayload):
+    """Request of 0x0E06 and 0x0E07: ``i16 scope`` (0 this connection, 1 the machine)."""
+
+    FORMAT: ClassVar[str] = "<h"
+    scope: int
+
+
+@dataclass(frozen=True, slots=True)
+class ArmedFault(FixedPayload):
+    """One pending fault of a 0x0E06 answer: ``i16 kind, i16 remaining, i32 arg``."""
+
+    FORMAT: ClassVar[str] = "<hhi"
+    kind: int
+    remaining: int  #: answers it still applies to
+    arg: int
+
+
+_ENTRY: Final = ArmedFault.STRUCT
+
+
+@dataclass(frozen=True, slots=True)
+class FaultList:
+    """Answer of 0x0E06 after ``ew``: ``i16 count``, then ``count`` :class:`ArmedFault`
+    entries of 8 bytes, the one applying to the next answer first."""
+
+    faults: tuple[ArmedFault, ...]
+
+    def encode(self) -> bytes:
+        try:
+            head = I16.pack(len(self.faults))
+        except struct.error:
+            raise ValueError(f"FaultList: {len(self.faults)} faults do not fit i16") from None
+        return head + b"".join(f.encode() for f in self.faults)
+
+    @classmethod
+    def decode(cls, data: bytes) -> Self:
+        if len(data) < 2:
+            raise PayloadError(f"fault list of {len(data)} bytes has no count")
+        (count,) = I16.unpack_from(data, 0)
+        if count < 0 or len(data) != 2 + count * _ENTRY.size:
+            raise PayloadError(f"fault list of {len(data)} bytes for count {count}")
+        return cls(tuple(ArmedFault(*e) for e in _ENTRY.iter_unpack(data[2:])))
+
+
+@dataclass(frozen=True, slots=True)
+class FaultsCleared(FixedPayload):
+    """Answer of 0x0E07 after ``ew``: ``i16 cleared``, the number of faults removed."""
+
+    FORMAT: ClassVar[str] = "<h"
+    cleared: int
