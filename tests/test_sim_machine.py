@@ -235,11 +235,13 @@ def test_unlock_per_session_and_constant_time_compare(caplog: pytest.LogCaptureF
     assert "Q7#z" not in caplog.text and "Q7#z" not in repr(m)
 
 
-def test_password_longer_than_four_is_cut() -> None:
-    m = default_machine(param_password="secret")
+def test_password_longer_than_four_is_refused_never_cut() -> None:
+    with pytest.raises(ValueError, match="'secret'"):
+        default_machine(param_password="secret")
+    m = default_machine(param_password="secr")
     s = m.new_session()
-    m.unlock(s, b"secrXXXX")  # only 4 bytes count, on both sides
-    assert s.unlocked
+    assert ew_of(lambda: m.unlock(s, b"secrXXXX")) == EW.PASSWD
+    assert not s.unlocked
 
 
 def test_write_param_order(m: Machine) -> None:

@@ -31,7 +31,9 @@ the checks, per command (each stops at the first that fails; ``docs/protocol.md`
     outside 1..250 -> EW_LENGTH;
   - ``versamax_rdconfig``: the machine's EW_NUMBER for an empty slot, then ``length`` outside
     1..128 -> EW_LENGTH, then the machine's EW_NUMBER for the offset;
-  - ``cnc_rdposition``: a ``type`` outside 0..3 -> EW_ATTRIB; ``axis`` -1 means every axis.
+  - ``cnc_rdposition``: a ``type`` outside 0..3 -> EW_ATTRIB; ``axis`` -1 means every axis;
+  - ``cnc_wrunlockparam``: a payload longer than 4 bytes is a wrong password (EW_PASSWD, the
+    session locked), shorter is EW_LENGTH.
 
 :meth:`PackedAdapter.answer` never raises for anything a peer sends: a payload that does not
 decode answers EW_LENGTH and every refusal its EW code. The dispatch is a dict from command id to
@@ -56,6 +58,7 @@ from focas_net.protocol import (
     MAX_CONFIG_CHUNK,
     MAX_HISTORY_DEPTH,
     MAX_PMC_CHUNK,
+    PASSWORD_SIZE,
     ActiveAlarm,
     ActiveAlarmList,
     ActualValue,
@@ -494,6 +497,10 @@ class PackedAdapter:
         return self._write_pmc(_decode_pmc_write(payload), force=False)
 
     def _unlock(self, session: Session, payload: bytes) -> bytes:
+        # A password longer than the 4 bytes of the payload is a wrong one (EW_PASSWD, the
+        # session locked), never cut to its first 4 bytes; a shorter payload is EW_LENGTH.
+        if len(payload) > PASSWORD_SIZE:
+            self.machine.unlock(session, payload)
         self.machine.unlock(session, _decode_password(payload).password)
         return _OK
 

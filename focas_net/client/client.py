@@ -167,7 +167,7 @@ class FocasClient(Link):
     ``reconnect`` is ``False`` (a lost connection stays lost), ``True`` (the default
     :class:`ReconnectPolicy`) or a :class:`ReconnectPolicy`. ``password`` is sent with
     ``cnc_wrunlockparam`` after every connect and again, followed by one retry, when a call
-    answers ``EW_PASSWD``.
+    answers ``EW_PASSWD``; it is 1..4 ASCII characters (:class:`ValueError` otherwise).
     """
 
     def __init__(
@@ -184,6 +184,8 @@ class FocasClient(Link):
         server_hostname: str | None = None,
         on_state_change: StateCallback | None = None,
     ) -> None:
+        if password is not None:
+            Password.from_text(password)  # ValueError, naming it, unless 1..4 ASCII characters
         super().__init__(
             host,
             port,
@@ -436,7 +438,8 @@ class FocasClient(Link):
         """``cnc_wrunlockparam``: unlock parameter writes on this connection.
 
         On success the password is kept and sent again after every reconnect. A refused
-        password raises :class:`AccessDeniedError` (and the connection is locked).
+        password raises :class:`AccessDeniedError` (and the connection is locked); one that is
+        not 1..4 ASCII characters raises :class:`ValueError` before anything is sent.
         """
         payload = _UNLOCK.request.encode(Password.from_text(password))
         await self._request(_UNLOCK, payload, self._deadline(timeout))

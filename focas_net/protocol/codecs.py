@@ -26,6 +26,7 @@ __all__ = [
     "COMMANDS",
     "EW_OK_BYTES",
     "MAX_PMC_CHUNK",
+    "PASSWORD_SIZE",
     "ActualValue",
     "AlarmHistoryRequest",
     "AlarmMsgRequest",
@@ -56,6 +57,8 @@ __all__ = [
 
 #: Most data bytes one PMC range call carries.
 MAX_PMC_CHUNK: Final = 32
+#: Bytes of a parameter password (``cnc_wrunlockparam``): 1..4 ASCII characters.
+PASSWORD_SIZE: Final = 4
 #: ``i16 ew = 0``, the start of every successful read or write answer.
 EW_OK_BYTES: Final = b"\x00\x00"
 
@@ -196,15 +199,23 @@ class PmcRange(FixedPayload):
 
 @dataclass(frozen=True, slots=True)
 class Password(FixedPayload):
-    """``cnc_wrunlockparam``: ``byte password[4]``, ASCII right-padded with NUL, cut at 4."""
+    """``cnc_wrunlockparam``: ``byte password[4]``, ASCII right-padded with NUL.
+
+    A parameter password is 1..4 ASCII characters: :meth:`from_text` refuses anything else
+    (a longer one is never cut: ``docs/protocol.md``)."""
 
     FORMAT: ClassVar[str] = "<4s"
     password: bytes
 
     @classmethod
     def from_text(cls, text: str | bytes) -> Self:
-        raw = text.encode("latin-1") if isinstance(text, str) else text
-        return cls(raw[:4].ljust(4, b"\x00"))
+        """The payload of ``text``; ValueError, naming it, unless 1..4 ASCII characters."""
+        shown = text if isinstance(text, str) else bytes(text).decode("latin-1")
+        if not (1 <= len(shown) <= PASSWORD_SIZE and shown.isascii() and "\x00" not in shown):
+            raise ValueError(
+                f"parameter password {shown!r}: must be 1..{PASSWORD_SIZE} ASCII characters"
+            )
+        return cls(shown.encode("ascii").ljust(PASSWORD_SIZE, b"\x00"))
 
 
 @dataclass(frozen=True, slots=True)

@@ -57,7 +57,9 @@ checks before it (:meth:`Machine.check_writable`, :meth:`Machine.check_pmc_area`
 Whether simulator control commands are served (``control_enabled``) is a flag the adapters read.
 
 ``unlock`` is session state, not machine state: it works on a read-only machine. The parameter
-password is compared in constant time and never logged or shown in ``repr``.
+password is 1..4 ASCII characters; only an exact match unlocks (a longer password offered is
+wrong, never cut to a prefix). It is compared in constant time and never logged or shown in
+``repr``.
 
 Counters (:attr:`Machine.version` and the narrower ``*_version``) move on every change they
 cover, so front ends can key caches of their answers on them.
@@ -152,9 +154,23 @@ def utc_now() -> datetime:
 
 
 def _password(text: str | bytes) -> bytes:
-    """A parameter password as the CNC keeps it: 4 bytes, cut or padded with NUL."""
-    raw = text.encode("latin-1") if isinstance(text, str) else bytes(text)
-    return raw[:_PASSWORD_SIZE].ljust(_PASSWORD_SIZE, b"\x00")
+    """A parameter password as the CNC keeps it: 1..4 ASCII characters (no NUL), padded to 4
+    bytes with NUL. ValueError, naming what was given, for anything else."""
+    shown = text if isinstance(text, str) else text.decode("latin-1")
+    if not (1 <= len(shown) <= _PASSWORD_SIZE and shown.isascii() and "\x00" not in shown):
+        raise ValueError(
+            f"parameter password {shown!r}: must be 1..{_PASSWORD_SIZE} ASCII characters"
+        )
+    return shown.encode("ascii").ljust(_PASSWORD_SIZE, b"\x00")
+
+
+def _offered(text: str | bytes) -> bytes | None:
+    """The 4 bytes a password offered to :meth:`Machine.unlock` stands for, or None when it can
+    match no password (longer than 4 bytes: never cut to a prefix)."""
+    raw = text.encode("latin-1", "replace") if isinstance(text, str) else bytes(text)
+    if len(raw) > _PASSWORD_SIZE:
+        return None
+    return raw.ljust(_PASSWORD_SIZE, b"\x00")
 
 
 def _macro_value(value: Decimal | int) -> Decimal | None:
@@ -487,8 +503,8 @@ class Machine:
         return Session(False, self._password_epoch)
 
     def set_param_password(self, password: str | bytes | None) -> None:
-        """Set (None: remove) the parameter password, cut at 4 bytes. Connections unlocked
-        under the previous password are locked again."""
+        """Set (None: remove) the parameter password, 1..4 ASCII characters (ValueError
+        otherwise). Connections unlocked under the previous password are locked again."""
         self._password = None if password is None else _password(password)
         self._password_epoch += 1
         self.version += 1
@@ -700,14 +716,17 @@ class Machine:
 
     # -- password ------------------------------------------------------------------------
     def unlock(self, session: Session, password: str | bytes) -> None:
-        """Unlock parameter writes for ``session`` (4 bytes of ``password`` count, as for the
-        machine's); a mismatch answers EW_PASSWD and locks the session again."""
+        """Unlock parameter writes for ``session``. ``password`` matches only when it is the
+        machine's exactly (as 4 bytes padded with NUL: ``b"12\\0\\0"`` is ``"12"``); a longer
+        one never matches, not even when it starts with the machine's. A mismatch answers
+        EW_PASSWD and locks the session again. A machine without a password unlocks any."""
         expected = self._password
         session.epoch = self._password_epoch
         if expected is None:
             session.unlocked = True
             return
-        if hmac.compare_digest(_password(password), expected):
+        offered = _offered(password)
+        if offered is not None and hmac.compare_digest(offered, expected):
             session.unlocked = True
             return
         session.unlocked = False

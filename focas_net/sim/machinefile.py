@@ -76,6 +76,8 @@ _I32: Final = _SPANS[4]
 _MODULES: Final = {"IC200GBI001": gniu_record, "IC200MDD844": mdd844_record}
 _REF_TYPES: Final[dict[str, RefType]] = {"I": RefType.I, "Q": RefType.Q, "AI": RefType.AI}
 _REF_TYPES["AQ"] = RefType.AQ
+#: The UTF-8 byte-order mark some editors write at the start of a file.
+_BOM: Final = b"\xef\xbb\xbf"
 
 
 @dataclass(frozen=True, slots=True)
@@ -545,6 +547,19 @@ def _build(
     )
 
 
+def _text(name: str, raw: bytes) -> str:
+    """The text of a machine file: UTF-8, with or without a byte-order mark."""
+    skip = len(_BOM) if raw.startswith(_BOM) else 0
+    try:
+        return raw[skip:].decode("utf-8")
+    except UnicodeDecodeError as exc:
+        where = skip + exc.start
+        bad = raw[where : where + 1].hex().upper()
+        raise MachineFileError(
+            name, "", f"not UTF-8 text: byte 0x{bad} at byte {where} (save the file as UTF-8)"
+        ) from None
+
+
 def load_machine(
     path: str | PathLike[str],
     *,
@@ -556,10 +571,11 @@ def load_machine(
     p = Path(path)
     name = str(path)
     try:
-        with p.open("rb") as f:
-            data = tomllib.load(f)
+        raw = p.read_bytes()
     except OSError as exc:
         raise MachineFileError(name, "", f"cannot read: {exc.strerror or exc}") from None
+    try:
+        data = tomllib.loads(_text(name, raw))
     except tomllib.TOMLDecodeError as exc:
         raise MachineFileError(name, "", f"not valid TOML: {exc}") from None
     return machine_from_dict(
