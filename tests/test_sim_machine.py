@@ -593,3 +593,18 @@ def test_parameter_width_is_checked_only_when_given(m: Machine) -> None:
     m.write_param(s, 3216, 0, 5)
     m.write_param(s, 3216, 0, 6, width=2)
     assert m.read_param(3216, 0) == 6
+
+
+def test_raising_an_active_alarm_again_keeps_the_first_message() -> None:
+    """A CNC shows one entry per alarm: raised again while active, even with another message,
+    the alarm stays as it was and the history gets no second entry; raise_alarm says so."""
+    m = default_machine()
+    assert m.raise_alarm(0, 3, 100, "FIRST") is True
+    version = m.version
+    assert m.raise_alarm(0, 3, 100, "SECOND MESSAGE") is False
+    assert [a.msg for a in m.active_alarms()] == ["FIRST"]
+    assert [e.msg for e in m.alarm_history()] == ["FIRST"]
+    assert m.version == version
+    m.clear_alarms(3, 100)
+    assert m.raise_alarm(0, 3, 100, "SECOND MESSAGE") is True  # cleared, then raised anew
+    assert [e.msg for e in m.alarm_history()] == ["SECOND MESSAGE", "FIRST"]

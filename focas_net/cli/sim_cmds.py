@@ -52,8 +52,20 @@ def alarm(args: argparse.Namespace) -> Go:
     kept = msg[:MAX_ALARM_MSG]  # the CNC keeps the first 32 characters of a message
 
     async def go(cnc: FocasClient) -> Output:
-        await cnc.sim.raise_alarm(alm_type, alm_no, msg, axis_no=args.axis)
+        # A CNC shows one entry per alarm: raised again while active, the alarm keeps its
+        # message and nothing changes (docs/protocol.md section 8). Say so rather than "raised".
         code = fmt.alarm_code(alm_type, alm_no)
+        axis = f" (axis {args.axis})" if args.axis else ""
+        key = (args.axis, alm_type, alm_no)
+        active = [a for a in await cnc.read_alarms(alm_type=alm_type) if a.key == key]
+        if active:
+            data = {"raised": None, "active": fmt.alarm_dict(active[0])}
+            return Output(
+                data,
+                f"{code}{axis} is already active: {active[0].msg} (a CNC shows one entry per "
+                "alarm: clear it first to raise it with another message)",
+            )
+        await cnc.sim.raise_alarm(alm_type, alm_no, msg, axis_no=args.axis)
         data = {
             "raised": {
                 "code": code,
@@ -63,7 +75,6 @@ def alarm(args: argparse.Namespace) -> Go:
                 "msg": kept,
             }
         }
-        axis = f" (axis {args.axis})" if args.axis else ""
         return Output(data, f"raised {code}{axis} {kept}".rstrip())
 
     return go

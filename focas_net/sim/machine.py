@@ -757,11 +757,16 @@ class Machine:
         t = t.replace(tzinfo=UTC) if t.tzinfo is None else t.astimezone(UTC)
         return t.replace(microsecond=0)
 
-    def raise_alarm(self, axis_no: int, alm_type: int, alm_no: int, msg: str = "") -> None:
-        """Make an alarm active and record it in the history (UTC, whole seconds). An alarm
-        already active (same axis_no, alm_type, alm_no) changes nothing. The CNC keeps 32
-        characters of ``msg``, single-byte (Latin-1) text. EW_PROT (read-only machine),
-        EW_DATA (alm_type, alm_no), EW_ATTRIB (axis_no), EW_DATA (a character beyond U+00FF)."""
+    def raise_alarm(self, axis_no: int, alm_type: int, alm_no: int, msg: str = "") -> bool:
+        """Make an alarm active and record it in the history (UTC, whole seconds); True when it
+        was raised.
+
+        A CNC shows one entry per alarm: an alarm already active (same axis_no, alm_type,
+        alm_no) changes nothing, whatever ``msg`` says: it keeps the message it was raised
+        with, the history gets no second entry, and the answer is False. Clear it first to raise
+        it with another message. The CNC keeps 32 characters of ``msg``, single-byte (Latin-1)
+        text. EW_PROT (read-only machine), EW_DATA (alm_type, alm_no), EW_ATTRIB (axis_no),
+        EW_DATA (a character beyond U+00FF)."""
         self.check_writable()
         if not 0 <= alm_type <= MAX_ALARM_TYPE:
             raise MachineError(EW.DATA, f"alm_type {alm_type} outside 0..{MAX_ALARM_TYPE}")
@@ -774,7 +779,7 @@ class Machine:
             raise MachineError(EW.DATA, f"alarm message {text!r} is not single-byte text")
         key = (axis_no, alm_type, alm_no)
         if key in self._active:
-            return
+            return False
         logger.debug(
             "%s: alarm raised: axis %d type %d no %d", self.name, axis_no, alm_type, alm_no
         )
@@ -782,6 +787,7 @@ class Machine:
         self._history.appendleft(HistoryEntry(self.now(), axis_no, alm_type, alm_no, text))
         self.alarm_version += 1
         self._status_changed()
+        return True
 
     def clear_alarms(self, alm_type: int = -1, alm_no: int = -1) -> int:
         """Remove the active alarms matching ``alm_type`` and ``alm_no`` (-1 = any); the
