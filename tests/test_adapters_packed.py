@@ -686,12 +686,30 @@ def test_clear_alarms_matching(m: Machine, s: Session) -> None:
 
 
 @pytest.mark.parametrize(
-    "panel", [(2, 0, 0), (11, 0, 0), (-1, 0, 0), (0, 2, 0), (0, -1, 0), (0, 0, 2), (1, 1, -1)]
+    "panel", [(2, 0, 0), (11, 0, 0), (-2, 0, 0), (0, 2, 0), (0, -2, 0), (0, 0, 2), (1, 1, -2)]
 )
 def test_set_panel_bad_values(m: Machine, s: Session, panel: tuple[int, int, int]) -> None:
     before = m.state_digest()
     assert raw(m, s, Command.SIM_SET_PANEL, SetPanel(*panel)) == b"\x05\x00"
     assert m.state_digest() == before
+
+
+def test_set_panel_minus_one_leaves_a_switch_unchanged(m: Machine, s: Session) -> None:
+    assert ew_of(m, s, Command.SIM_SET_PANEL, SetPanel(0, 1, 0)) == 0
+    assert ew_of(m, s, Command.SIM_SET_PANEL, SetPanel(-1, -1, 1)) == 0
+    assert (m.panel.mode, m.panel.pwe, m.panel.emergency) == (0, 1, 1)
+    assert ew_of(m, s, Command.SIM_SET_PANEL, SetPanel(5, -1, -1)) == 0
+    assert (m.panel.mode, m.panel.pwe, m.panel.emergency) == (5, 1, 1)
+    assert call(m, s, Command.SIM_READ_PANEL) == SetPanel(5, 1, 1)
+
+
+def test_read_panel_changes_nothing(m: Machine, s: Session) -> None:
+    before = m.state_digest()
+    assert raw(m, s, Command.SIM_READ_PANEL, b"") == bytes.fromhex("0000 0100 0000 0000")
+    assert m.state_digest() == before
+    assert raw(m, s, Command.SIM_READ_PANEL, b"\x00") == b"\x02\x00"
+    m.control_enabled = False
+    assert raw(m, s, Command.SIM_READ_PANEL, b"") == b"\x01\x00"
 
 
 @pytest.mark.parametrize("mode", [0, 1, 3, 4, 5, 6, 7, 8, 9, 10])

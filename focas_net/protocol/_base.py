@@ -76,18 +76,23 @@ class FixedPayload:
             raise ValueError(self._explain(exc)) from None
 
     def _explain(self, exc: struct.error) -> str:
-        """Which field does not fit, and its range."""
-        name = type(self).__name__
+        """Which field does not fit, and its range, in the field's own words (``count
+        100000 is outside -32768..32767``): callers check their arguments in the user's terms
+        first, so this names only what they did not check."""
         codes = [c for c in self.FORMAT if c.isalpha()]
         fields = [f for f in inspect.get_annotations(type(self)) if f.islower()]
         for field, code in zip(fields, codes, strict=False):
             value = getattr(self, field)
             bounds = INT_RANGES.get(code)
             if bounds is not None and not (
-                isinstance(value, int) and bounds[0] <= value <= bounds[1]
+                isinstance(value, int)
+                and not isinstance(value, bool)
+                and bounds[0] <= value <= bounds[1]
             ):
-                return f"{name}.{field} = {value!r} does not fit ({bounds[0]}..{bounds[1]})"
-        return f"{name}: {exc}"
+                if not isinstance(value, int):
+                    return f"{field} must be an integer, got {value!r}"
+                return f"{field} {value!r} is outside {bounds[0]}..{bounds[1]}"
+        return f"a value does not fit its field: {exc}"
 
     @classmethod
     def decode(cls, data: bytes) -> Self:

@@ -22,6 +22,7 @@ class Command(enum.IntEnum):
     ACTS = 0x0009  # cnc_acts: actual spindle speed
     RDPOSITION = 0x000A  # cnc_rdposition: positions in least input increments
     RDPMCRNG = 0x0010  # pmc_rdpmcrng: IODBPMC
+    RDPARAINFO = 0x0020  # cnc_rdparainfo: a parameter's type, axis flag, decimals and range
     WRPARAM = 0x0102  # cnc_wrparam: IODBPSD
     WRMACRO = 0x0103  # cnc_wrmacro: ODBM
     WRPMCRNG = 0x0104  # pmc_wrpmcrng: IODBPMC
@@ -32,4 +33,5 @@ class Command(enum.IntEnum):
     SIM_CLEAR_ALARMS = 0x0E03  # simulator control: clear active alarms
     SIM_SET_PMC = 0x0E04  # simulator control: write PMC ignoring protection
     SIM_INJECT_FAULT = 0x0E05  # simulator control: fault injection
+    SIM_READ_PANEL = 0x0E10  # simulator control: read the operator panel
     RDALMHISTRY = 0x0F1A  # cnc_rdalmhistry: ODBAHIS
