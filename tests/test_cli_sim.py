@@ -8,6 +8,8 @@ import pytest
 from support import serving
 from test_cli_client import Cli
 
+from focas_net.client import FocasClient, PanelSwitches
+from focas_net.protocol import AutMode
 from focas_net.sim import default_machine
 
 
@@ -36,3 +38,37 @@ async def test_sim_alarm_again_says_it_is_already_active(cli: Cli) -> None:
     # on another axis it is another alarm
     out = await cli.ok("sim", "alarm", "PS0100", "CCCC", "--axis", "2")
     assert out.strip() == "raised PS0100 (axis 2) CCCC"
+
+
+async def test_sim_panel_changes_only_the_switches_given(cli: Cli) -> None:
+    machine = cli.served.machine
+    await cli.ok("sim", "panel", "--mode", "MDI", "--pwe", "on")
+    assert (machine.panel.mode, machine.panel.pwe, machine.panel.emergency) == (0, 1, 0)
+    out = await cli.ok("sim", "panel", "--emergency", "on")
+    assert (machine.panel.mode, machine.panel.pwe, machine.panel.emergency) == (0, 1, 1)
+    assert out.startswith("aut=MDI ") and "emergency=EMG" in out and out.endswith(" pwe=on\n")
+    await cli.ok("sim", "panel", "--pwe", "off")
+    assert (machine.panel.mode, machine.panel.pwe, machine.panel.emergency) == (0, 0, 1)
+
+
+async def test_bare_sim_panel_reads_without_writing(cli: Cli) -> None:
+    machine = cli.served.machine
+    machine.set_panel(0, 1, 0)
+    version = machine.version
+    out = await cli.ok("sim", "panel")
+    assert out.startswith("aut=MDI ") and "emergency=****" in out and out.endswith(" pwe=on\n")
+    data = await cli.json("sim", "panel")
+    assert (data["mode"], data["pwe"], data["emergency"]) == (0, 1, 0)
+    assert data["status"]["aut"]["name"] == "MDI"
+    assert machine.version == version
+
+
+async def test_client_set_panel_leaves_what_is_not_given(cli: Cli) -> None:
+    served = cli.served
+    async with FocasClient(served.host, served.port) as cnc:
+        await cnc.sim.set_panel("MDI", pwe=True)
+        await cnc.sim.set_panel(emergency=True)
+        assert await cnc.sim.read_panel() == PanelSwitches(AutMode.MDI, pwe=True, emergency=True)
+        await cnc.sim.set_panel("EDIT")
+        panel = await cnc.sim.read_panel()
+        assert (panel.mode, panel.pwe, panel.emergency) == (AutMode.EDIT, True, True)

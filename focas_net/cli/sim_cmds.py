@@ -11,7 +11,7 @@ from typing import Final
 
 from focas_net.client import FocasClient
 from focas_net.errors import CncError
-from focas_net.protocol import MAX_ALARM_MSG, EmergencyState, FaultKind, FaultScope
+from focas_net.protocol import MAX_ALARM_MSG, FaultKind, FaultScope
 
 from . import _format as fmt
 from ._run import Go, Output
@@ -26,22 +26,22 @@ FAULT_SCOPES: Final = {s.name.lower(): s for s in FaultScope}
 
 def panel(args: argparse.Namespace) -> Go:
     mode = None if args.mode is None else fmt.parse_aut(args.mode)
+    writes = mode is not None or args.pwe is not None or args.emergency is not None
 
     async def go(cnc: FocasClient) -> Output:
-        before = await cnc.read_status()
-        new_mode = before.aut if mode is None else int(mode)
-        emergency = (
-            before.emergency == EmergencyState.EMG if args.emergency is None else args.emergency
-        )
-        await cnc.sim.set_panel(new_mode, pwe=bool(args.pwe), emergency=emergency)
+        # Only the switches given change (the others travel as -1, "unchanged"); with none
+        # given nothing is written and the panel is only read.
+        if writes:
+            await cnc.sim.set_panel(mode, pwe=args.pwe, emergency=args.emergency)
+        p = await cnc.sim.read_panel()
         st = await cnc.read_status()
         data = {
-            "mode": new_mode,
-            "pwe": int(bool(args.pwe)),
-            "emergency": int(emergency),
+            "mode": int(p.mode),
+            "pwe": int(p.pwe),
+            "emergency": int(p.emergency),
             "status": fmt.status_dict(st),
         }
-        return Output(data, f"{fmt.status_summary(st)} pwe={'on' if args.pwe else 'off'}")
+        return Output(data, f"{fmt.status_summary(st)} pwe={'on' if p.pwe else 'off'}")
 
     return go
 
