@@ -40,6 +40,7 @@ from ..protocol import (
     AlarmHistory,
     AlarmHistoryRequest,
     AlarmMsgRequest,
+    AlarmType,
     DataRequest,
     MacroRequest,
     MacroValue,
@@ -63,7 +64,7 @@ from ..versamax import IOModuleRecord
 from ._locks import KeyedLocks
 from ._pmc import AreaLike, check_u16_range, read_pmc_chunk, read_pmc_range, write_pmc_range
 from .reconnect import Link, ReconnectPolicy, StateCallback
-from .sim_control import SimControl
+from .sim_control import SimControl, alarm_type_number
 
 __all__ = ["FocasClient", "Positions"]
 
@@ -92,6 +93,7 @@ _I32_MAX: Final = 2**31 - 1
 _MAX_MACRO_DECIMALS: Final = 9
 _U16_LIMIT: Final = 0x10000
 _I16_MAX: Final = 0x7FFF
+_U8_MAX: Final = 0xFF
 #: The IODBPSD width of a real parameter's REALPRM.
 _REAL_WIDTH: Final = 8
 
@@ -122,6 +124,15 @@ def _check_item(number: int, axis: int, what: str) -> None:
         raise ValueError(f"{what} number {number!r} is outside 0..{_I16_MAX}")
     if isinstance(axis, bool) or not isinstance(axis, int) or not 0 <= axis <= _I16_MAX:
         raise ValueError(f"axis {axis!r} is outside 0..{_I16_MAX} (0: not an axis {what})")
+
+
+def _check(what: str, value: int, low: int, high: int) -> None:
+    if isinstance(value, bool) or not isinstance(value, int) or not low <= value <= high:
+        raise ValueError(f"{what} {value!r} is outside {low}..{high}")
+
+
+def _check_macro(number: int) -> None:
+    _check("macro variable number", number, -_I16_MAX - 1, _I16_MAX)
 
 
 def _param_int(number: int, value: int | Decimal | str) -> int:
@@ -305,8 +316,8 @@ class FocasClient(Link):
         is sent; an axis the CNC does not have answers EW_ATTRIB (:class:`CncError`).
         """
         which = PositionKind.parse(kind)
-        if axis is not None and not 1 <= axis <= 0x7FFF:
-            raise ValueError(f"axis must be 1..n (None for every axis), got {axis}")
+        if axis is not None and not 1 <= axis <= _I16_MAX:
+            raise ValueError(f"axis {axis} is outside 1..{_I16_MAX} (or leave it out: every axis)")
         payload = _RDPOSITION.request.encode(PositionRequest(which, -1 if axis is None else axis))
         data: PositionData = await self._request(_RDPOSITION, payload, self._deadline(timeout))
         dec = data.dec
@@ -473,6 +484,7 @@ class FocasClient(Link):
 
     async def read_diag(self, number: int, *, axis: int = 0, timeout: float | None = None) -> int:
         """``cnc_rddiag``: the value of diagnostic ``number``."""
+        _check_item(number, axis, "diagnostic")
         payload = _RDDIAG.request.encode(DataRequest(number, axis))
         value: ParamValue = await self._request(_RDDIAG, payload, self._deadline(timeout))
         return value.value
@@ -480,6 +492,7 @@ class FocasClient(Link):
     # -- macros --------------------------------------------------------------------------
     async def read_macro(self, number: int, *, timeout: float | None = None) -> Decimal | None:
         """``cnc_rdmacro``: the value of ``#number`` as a Decimal, or None when vacant."""
+        _check_macro(number)
         payload = _RDMACRO.request.encode(MacroRequest(number))
         value: MacroValue = await self._request(_RDMACRO, payload, self._deadline(timeout))
         return macro_from_wire(value.mcr_val, value.dec_val)
@@ -491,6 +504,7 @@ class FocasClient(Link):
 
         A value that cannot be carried raises :class:`ValueError` before anything is sent.
         """
+        _check_macro(number)
         mcr_val, dec_val = macro_to_wire(value)
         payload = _WRMACRO.request.encode(MacroValue(number, 8, mcr_val, dec_val))
         await self._request(_WRMACRO, payload, self._deadline(timeout))
@@ -545,11 +559,17 @@ class FocasClient(Link):
 
     # -- alarms --------------------------------------------------------------------------
     async def read_alarms(
-        self, *, alm_type: int = -1, timeout: float | None = None
+        self, *, alm_type: AlarmType | str | int = -1, timeout: float | None = None
     ) -> tuple[ActiveAlarm, ...]:
-        """``cnc_rdalmmsg``: the active alarms (all types, or only ``alm_type``), oldest
-        first. An error answer (count = -1) raises :class:`CncError`."""
-        payload = _RDALMMSG.request.encode(AlarmMsgRequest(alm_type, _MAX_ACTIVE_ALARMS))
+        """``cnc_rdalmmsg``: the active alarms (all types, -1, or only ``alm_type``: by name,
+        ``"PS"``, an :class:`AlarmType` or a number), oldest first. An error answer
+        (count = -1) raises :class:`CncError`."""
+        if isinstance(alm_type, str):
+            t = alarm_type_number(alm_type)
+        else:
+            _check("alarm type", alm_type, -1, _I16_MAX)
+            t = int(alm_type)
+        payload = _RDALMMSG.request.encode(AlarmMsgRequest(t, _MAX_ACTIVE_ALARMS))
         result: ActiveAlarmList = await self._request(_RDALMMSG, payload, self._deadline(timeout))
         if result.ew:
             raise CncError.from_ew(result.ew, _RDALMMSG.focas_name)
@@ -584,6 +604,8 @@ class FocasClient(Link):
     async def _config_chunk(
         self, rack: int, slot: int, offset: int, deadline: float | None
     ) -> bytes:
+        _check("rack", rack, 0, _U8_MAX)
+        _check("slot", slot, 0, _U8_MAX)
         request = VersaMaxRequest(rack, MAX_CONFIG_CHUNK, slot, offset)
         reply: VersaMaxReply = await self._request(
             _RDCONFIG, _RDCONFIG.request.encode(request), deadline

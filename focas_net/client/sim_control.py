@@ -55,7 +55,7 @@ def _switch(what: str, value: bool | None) -> int:
     return int(value)
 
 
-def _alarm_type(alm_type: AlarmType | str | int) -> int:
+def alarm_type_number(alm_type: AlarmType | str | int) -> int:
     """An alarm type number from its name (``"PS"``), an :class:`AlarmType` or 0..31."""
     if isinstance(alm_type, str):
         try:
@@ -129,7 +129,7 @@ class SimControl:
 
         A CNC shows one entry per alarm: when the same ``(axis_no, alm_type, alm_no)`` is
         active, nothing changes (it keeps its first message)."""
-        t = _alarm_type(alm_type)
+        t = alarm_type_number(alm_type)
         _check("alarm number", alm_no, 0, _I16_MAX)
         _check("axis", axis_no, 0, _I16_MAX)
         try:
@@ -149,7 +149,7 @@ class SimControl:
     ) -> None:
         """Clear the matching active alarms (-1 matches any; ``alm_type`` also by name,
         ``"PS"``); the history is kept."""
-        t = -1 if alm_type == -1 else _alarm_type(alm_type)
+        t = -1 if alm_type == -1 else alarm_type_number(alm_type)
         if alm_no != -1:
             _check("alarm number", alm_no, 0, _I16_MAX)
         payload = _CLEAR_ALARMS.request.encode(ClearAlarms(t, alm_no))

@@ -10,7 +10,7 @@ from typing import Any, ClassVar, Final, Generic, Self, TypeVar
 
 from ..errors import PayloadError
 
-__all__ = ["I16", "INT_RANGES", "Codec", "FixedPayload"]
+__all__ = ["I16", "INT_RANGES", "Codec", "FixedPayload", "field_error"]
 
 T = TypeVar("T")
 
@@ -25,6 +25,20 @@ INT_RANGES: Final[dict[str, tuple[int, int]]] = {
     "i": (-(2**31), 2**31 - 1),
     "I": (0, 2**32 - 1),
 }
+
+
+def field_error(fields: tuple[tuple[str, object, str], ...], exc: struct.error) -> str:
+    """The message of a value that does not fit: the first ``(name, value, struct code)`` out
+    of its range, in the field's own words (``slot 70000 is outside 0..255``)."""
+    for name, value, code in fields:
+        bounds = INT_RANGES.get(code)
+        if bounds is None:
+            continue
+        if isinstance(value, bool) or not isinstance(value, int):
+            return f"{name} must be an integer, got {value!r}"
+        if not bounds[0] <= value <= bounds[1]:
+            return f"{name} {value!r} is outside {bounds[0]}..{bounds[1]}"
+    return f"a value does not fit its field: {exc}"
 
 
 class Codec(Generic[T]):

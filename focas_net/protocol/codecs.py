@@ -18,7 +18,7 @@ from decimal import Decimal
 from typing import Any, ClassVar, Final, Self
 
 from ..errors import PayloadError
-from ._base import I16, INT_RANGES, Codec, FixedPayload
+from ._base import I16, INT_RANGES, Codec, FixedPayload, field_error
 from .alarms import ActiveAlarmList, AlarmHistory
 from .commands import Command
 from .versamax import VersaMaxReply, VersaMaxRequest
@@ -445,7 +445,13 @@ class PmcData:
                 self.data
             )
         except struct.error as exc:
-            raise ValueError(f"PmcData: {exc}") from None
+            fields: tuple[tuple[str, object, str], ...] = (
+                ("type_a", self.type_a, "h"),
+                ("type_d", self.type_d, "h"),
+                ("start address", self.datano_s, "H"),
+                ("end address", self.datano_e, "H"),
+            )
+            raise ValueError(field_error(fields, exc)) from None
 
     @classmethod
     def decode(cls, data: bytes) -> Self:
@@ -471,7 +477,13 @@ class RaiseAlarm:
         try:
             head = _RAISE_HEAD.pack(self.axis_no, self.alm_type, self.alm_no, len(self.msg))
         except struct.error as exc:
-            raise ValueError(f"RaiseAlarm: {exc}") from None
+            fields: tuple[tuple[str, object, str], ...] = (
+                ("axis", self.axis_no, "h"),
+                ("alarm type", self.alm_type, "h"),
+                ("alarm number", self.alm_no, "h"),
+                ("message length", len(self.msg), "h"),
+            )
+            raise ValueError(field_error(fields, exc)) from None
         return head + self.msg
 
     @classmethod
@@ -515,7 +527,7 @@ class PositionData:
                     raise ValueError(f"axis name {a.name!r}: 0..4 characters, no NUL")
                 parts.append(_POS_ENTRY.pack(a.value, raw))
         except (struct.error, UnicodeEncodeError) as exc:
-            raise ValueError(f"PositionData: {exc}") from None
+            raise ValueError(f"position answer: {exc}") from None
         return b"".join(parts)
 
     @classmethod
