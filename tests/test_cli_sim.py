@@ -9,7 +9,8 @@ from support import serving
 from test_cli_client import Cli
 
 from focas_net.client import FocasClient, PanelSwitches
-from focas_net.protocol import AutMode
+from focas_net.errors import EW, CncError
+from focas_net.protocol import AutMode, FaultKind
 from focas_net.sim import default_machine
 
 
@@ -72,3 +73,14 @@ async def test_client_set_panel_leaves_what_is_not_given(cli: Cli) -> None:
         await cnc.sim.set_panel("EDIT")
         panel = await cnc.sim.read_panel()
         assert (panel.mode, panel.pwe, panel.emergency) == (AutMode.EDIT, True, True)
+
+
+async def test_read_panel_is_a_control_answer_never_faulted(cli: Cli) -> None:
+    served = cli.served
+    async with FocasClient(served.host, served.port) as cnc:
+        await cnc.sim.inject_fault(FaultKind.ERROR, arg=int(EW.BUSY))
+        panel = await cnc.sim.read_panel()  # not faulted, and the fault stays armed
+        assert panel.mode == AutMode.MEM
+        with pytest.raises(CncError) as exc:
+            await cnc.read_status()
+        assert exc.value.ew == EW.BUSY

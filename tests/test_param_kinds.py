@@ -3,6 +3,7 @@ real parameters a mantissa with decimals (REALPRM on the wire)."""
 
 from __future__ import annotations
 
+import re
 from collections.abc import AsyncIterator
 from decimal import Decimal
 from pathlib import Path
@@ -227,3 +228,16 @@ async def test_cli_real_parameter(
         assert out.strip() == "1420 axis 1 = 2.250 (real, 3 decimals) (written)"
         data = await cli.json("param", "get", "1420", "--axis", "1")
         assert data["value"] == "2.250" and data["type"] == "real" and data["decimals"] == 3
+
+
+def test_machine_file_doc_parameter_examples_load(tmp_path: Path) -> None:
+    doc = (Path(__file__).resolve().parent.parent / "docs" / "machine-file.md").read_text()
+    blocks = [b for b in re.findall(r"```toml\n(.*?)```", doc, re.S) if "[parameters." in b]
+    assert len(blocks) == 2
+    path = tmp_path / "doc.toml"
+    head = '[machine]\nname = "doc"\naxes = ["X", "Y", "Z"]\n'
+    path.write_text(head + "\n".join(blocks), encoding="utf-8")
+    m = load_machine(path)
+    assert [m.read_param(1815, a) for a in (1, 2, 3)] == [48, 48, 49]
+    assert m.read_param(1430, 0) == 2_500_500
+    assert m.param_item(1420).kind is ParamKind.TWO_WORD  # type: ignore[union-attr]

@@ -1,7 +1,8 @@
 """The packed-protocol adapter: one request payload in, the answer payload out.
 
-:class:`PackedAdapter` answers every command of ``docs/protocol.md`` sections 3-5 and the control
-commands 0x0E01..0x0E04 from a protocol-neutral :class:`~focas_net.sim.Machine`. The server adds
+:class:`PackedAdapter` answers every command of ``docs/protocol.md`` sections 3-5 and 8 and the
+control commands 0x0E01..0x0E04 and 0x0E10 from a protocol-neutral
+:class:`~focas_net.sim.Machine`. The server adds
 the frame header (same command, same request id). 0x0E05 inject_fault is not handled here: faults
 are about I/O and the server answers that command itself (here it answers EW_FUNC). Pure and
 synchronous: no socket, no event loop.
@@ -33,7 +34,10 @@ the checks, per command (each stops at the first that fails; ``docs/protocol.md`
     1..128 -> EW_LENGTH, then the machine's EW_NUMBER for the offset;
   - ``cnc_rdposition``: a ``type`` outside 0..3 -> EW_ATTRIB; ``axis`` -1 means every axis;
   - ``cnc_wrunlockparam``: a payload longer than 4 bytes is a wrong password (EW_PASSWD, the
-    session locked), shorter is EW_LENGTH.
+    session locked), shorter is EW_LENGTH;
+  - ``cnc_rdparam``/``cnc_wrparam``: a bit parameter's 0..255 travels as the signed byte of
+    the same bits, a real parameter as REALPRM (width 8: mantissa and decimals);
+  - ``set_panel``: a field of -1 leaves its switch as it is.
 
 :meth:`PackedAdapter.answer` never raises for anything a peer sends: a payload that does not
 decode answers EW_LENGTH and every refusal its EW code. The dispatch is a dict from command id to

@@ -32,7 +32,7 @@ _log = logging.getLogger("focas_net.server")
 
 _pack_header = HEADER.pack
 _CONTROL_FIRST: Final = int(Command.SIM_SET_PANEL)
-_CONTROL_LAST: Final = int(Command.SIM_INJECT_FAULT)
+_CONTROL_LAST: Final = 0x0EFF  # every simulator control id is 0x0Exx (0x0E10 read_panel too)
 _INJECT_FAULT: Final = int(Command.SIM_INJECT_FAULT)
 _UNLOCK: Final = int(Command.WRUNLOCKPARAM)
 _EW_OK: Final = encode_ew(EW.OK)
