@@ -479,8 +479,8 @@ async def test_raise_alarm_errors(wire: Wire, payload: bytes, ew: int) -> None:
 
 
 @pytest.mark.parametrize(
-    "panel", [SetPanel(2, 0, 0), SetPanel(11, 0, 0), SetPanel(-1, 0, 0), SetPanel(0, 2, 0),
-              SetPanel(0, 0, 2), SetPanel(0, -1, 0)]
+    "panel", [SetPanel(2, 0, 0), SetPanel(11, 0, 0), SetPanel(-2, 0, 0), SetPanel(0, 2, 0),
+              SetPanel(0, 0, 2), SetPanel(0, -2, 0)]
 )  # fmt: skip
 async def test_set_panel_bad_values(wire: Wire, panel: SetPanel) -> None:
     assert await wire.ew(Command.SIM_SET_PANEL, panel.encode()) == EW.DATA
