@@ -169,6 +169,8 @@ async def test_wire_and_client_real_parameter(real_machine: Machine) -> None:
             with pytest.raises(CncError) as exc:
                 await cnc.write_param(1420, "1.2345", axis=2)  # 4 decimals: no exact mantissa
             assert exc.value.ew == EW.DATA
+            with pytest.raises(ValueError, match="real parameter: it has no bits"):
+                await cnc.write_param_bit(1420, 0, True, axis=1)
             attrs = await cnc.read_param_attributes(1420)
             assert attrs.type is ParamDataType.REAL and attrs.decimals == 3
 
@@ -226,6 +228,8 @@ async def test_cli_real_parameter(
         await cli.ok("sim", "panel", "--mode", "MDI", "--pwe", "on")
         out = await cli.ok("param", "set", "1420", "2.25", "--axis", "1")
         assert out.strip() == "1420 axis 1 = 2.250 (real, 3 decimals) (written)"
+        err = await cli.fails(EXIT_USAGE, "param", "get", "1420.1", "--axis", "1")
+        assert "real parameter: it has no bits" in err
         data = await cli.json("param", "get", "1420", "--axis", "1")
         assert data["value"] == "2.250" and data["type"] == "real" and data["decimals"] == 3
 

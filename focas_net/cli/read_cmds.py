@@ -131,7 +131,9 @@ def param_get(args: argparse.Namespace) -> Go:
 
     async def go(cnc: FocasClient) -> Output:
         pv = await cnc.read_param_value(number, axis=args.axis)
-        bits = 8 * min(pv.width, 4)
+        bits = 8 * pv.width
+        if bit is not None and pv.width == fmt.REAL_WIDTH:
+            raise ValueError(f"parameter {number} is a real parameter: it has no bits")
         if bit is not None and not 0 <= bit < bits:
             raise ValueError(f"bit {bit} outside 0..{bits - 1} of parameter {number}")
         kind = await param_kind(cnc, number, pv)

@@ -473,6 +473,8 @@ class FocasClient(Link):
         async with self._param_locks.hold((number, axis), deadline):
             current = await self._read_param_value(number, axis, deadline)
             width = current.width
+            if width == _REAL_WIDTH:
+                raise ValueError(f"parameter {number} is a real parameter: it has no bits")
             _check_bit(bit, width)
             bits = 8 * width
             raw = current.value & ((1 << bits) - 1)
