@@ -46,7 +46,7 @@ the order its docstring gives:
 * the VersaMax station: an empty (or impossible) rack/slot -> EW_NUMBER, an offset outside the
   record -> EW_NUMBER; a read returns what the record has from there, up to the length asked;
 * the operator panel: a mode that is not an ``aut`` value other than 2, ``pwe`` or
-  ``emergency`` other than 0/1 -> EW_DATA.
+  ``emergency`` other than 0/1 -> EW_DATA; a switch given as None stays as it is.
 
 What a wire cannot carry is its adapter's to refuse: payload sizes and layouts, unknown commands,
 the packed protocol's ``type_a`` codes and ``type_d``, its ceiling of 32 PMC bytes, 32 alarm
