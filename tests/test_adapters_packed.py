@@ -319,7 +319,7 @@ def test_param_write_errors_in_order(
 
 @pytest.fixture
 def locked(clock: FakeClock) -> Machine:
-    return default_machine(param_password="secret", clock=clock)
+    return default_machine(param_password="secr", clock=clock)
 
 
 def unlock(m: Machine, s: Session, text: str) -> int:
@@ -330,11 +330,12 @@ def test_unlock_is_per_session(locked: Machine) -> None:
     a, b = locked.new_session(), locked.new_session()
     open_gate(locked, a)
     assert wr_param(locked, a, 6711, 0, 1, 4) == ew(EW.PASSWD)
-    assert unlock(locked, a, "secr") == 0  # the password is cut at 4 bytes
+    assert unlock(locked, a, "secr") == 0
     assert wr_param(locked, a, 6711, 0, 2, 4) == 0
     assert wr_param(locked, b, 6711, 0, 3, 4) == ew(EW.PASSWD)
     assert rd_param(locked, b, 6711, 0).value == 2
-    assert unlock(locked, b, "secret") == 0
+    assert ew_of(locked, b, Command.WRUNLOCKPARAM, b"secret") == ew(EW.PASSWD)  # never a prefix
+    assert unlock(locked, b, "secr") == 0
     assert wr_param(locked, b, 6711, 0, 3, 4) == 0
     assert locked.new_session().unlocked is False
 
@@ -345,21 +346,30 @@ def test_failed_unlock_locks_again(locked: Machine) -> None:
     assert unlock(locked, s, "secr") == 0
     assert unlock(locked, s, "nope") == ew(EW.PASSWD)
     assert wr_param(locked, s, 6711, 0, 1, 4) == ew(EW.PASSWD)
-    assert unlock(locked, s, "") == ew(EW.PASSWD)
+    assert ew_of(locked, s, Command.WRUNLOCKPARAM, b"\x00" * 4) == ew(EW.PASSWD)
     assert unlock(locked, s, "sec") == ew(EW.PASSWD)
     assert unlock(locked, s, "secr") == 0
     assert wr_param(locked, s, 6711, 0, 1, 4) == 0
 
 
 def test_unlock_without_a_password(m: Machine, s: Session) -> None:
-    assert unlock(m, s, "anything") == 0
-    assert unlock(m, s, "") == 0
+    assert unlock(m, s, "any") == 0
+    assert ew_of(m, s, Command.WRUNLOCKPARAM, b"\x00" * 4) == 0
 
 
-@pytest.mark.parametrize("payload", [b"", b"abc", b"abcde"])
-def test_unlock_wrong_size(locked: Machine, payload: bytes) -> None:
+@pytest.mark.parametrize("payload", [b"", b"abc"])
+def test_unlock_short_payload(locked: Machine, payload: bytes) -> None:
     s = locked.new_session()
     assert raw(locked, s, Command.WRUNLOCKPARAM, payload) == b"\x02\x00"
+
+
+@pytest.mark.parametrize("payload", [b"secrX", b"secret", b"secr\x00"])
+def test_unlock_long_payload_is_a_wrong_password(locked: Machine, payload: bytes) -> None:
+    s = locked.new_session()
+    open_gate(locked, s)
+    assert unlock(locked, s, "secr") == 0
+    assert ew_of(locked, s, Command.WRUNLOCKPARAM, payload) == ew(EW.PASSWD)
+    assert wr_param(locked, s, 6711, 0, 1, 4) == ew(EW.PASSWD)  # and the session is locked
 
 
 def test_short_password_is_padded_with_nul(clock: FakeClock) -> None:
@@ -676,12 +686,30 @@ def test_clear_alarms_matching(m: Machine, s: Session) -> None:
 
 
 @pytest.mark.parametrize(
-    "panel", [(2, 0, 0), (11, 0, 0), (-1, 0, 0), (0, 2, 0), (0, -1, 0), (0, 0, 2), (1, 1, -1)]
+    "panel", [(2, 0, 0), (11, 0, 0), (-2, 0, 0), (0, 2, 0), (0, -2, 0), (0, 0, 2), (1, 1, -2)]
 )
 def test_set_panel_bad_values(m: Machine, s: Session, panel: tuple[int, int, int]) -> None:
     before = m.state_digest()
     assert raw(m, s, Command.SIM_SET_PANEL, SetPanel(*panel)) == b"\x05\x00"
     assert m.state_digest() == before
+
+
+def test_set_panel_minus_one_leaves_a_switch_unchanged(m: Machine, s: Session) -> None:
+    assert ew_of(m, s, Command.SIM_SET_PANEL, SetPanel(0, 1, 0)) == 0
+    assert ew_of(m, s, Command.SIM_SET_PANEL, SetPanel(-1, -1, 1)) == 0
+    assert (m.panel.mode, m.panel.pwe, m.panel.emergency) == (0, 1, 1)
+    assert ew_of(m, s, Command.SIM_SET_PANEL, SetPanel(5, -1, -1)) == 0
+    assert (m.panel.mode, m.panel.pwe, m.panel.emergency) == (5, 1, 1)
+    assert call(m, s, Command.SIM_READ_PANEL) == SetPanel(5, 1, 1)
+
+
+def test_read_panel_changes_nothing(m: Machine, s: Session) -> None:
+    before = m.state_digest()
+    assert raw(m, s, Command.SIM_READ_PANEL, b"") == bytes.fromhex("0000 0100 0000 0000")
+    assert m.state_digest() == before
+    assert raw(m, s, Command.SIM_READ_PANEL, b"\x00") == b"\x02\x00"
+    m.control_enabled = False
+    assert raw(m, s, Command.SIM_READ_PANEL, b"") == b"\x01\x00"
 
 
 @pytest.mark.parametrize("mode", [0, 1, 3, 4, 5, 6, 7, 8, 9, 10])

@@ -176,7 +176,7 @@ async def test_param_set_needs_mdi_and_pwe(cli: Cli) -> None:
     data = await cli.json("param", "set", "1815.0", "1", "--axis", "2")
     assert (data["value"], data["bit_value"]) == (0b0011_0001, 1)
     out = await cli.ok("param", "set", "1815.5", "off", "--axis", "2")
-    assert out.startswith("1815.5 axis 2 = 0; 1815 axis 2 = 17 (0x11, 0b00010001)")
+    assert out.startswith("1815.5 axis 2 = 0; 1815 axis 2 = 17 (00010001), bit parameter")
     assert cli.served.machine.read_param(1815, 1) == 0b0011_0000  # other axes untouched
 
     err = await cli.fails(EXIT_CNC, "param", "set", "3216", "5", "--width", "4")

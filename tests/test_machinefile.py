@@ -347,3 +347,33 @@ write_protected = true
     assert m.read_param(1320, 2) == d.read_param(1320, 2)
     assert m.pmc_area("F") == d.pmc_area("F")
     assert m.status() == d.status()
+
+
+# -- encoding ---------------------------------------------------------------------------------
+
+
+def test_utf8_byte_order_mark_is_accepted(tmp_path: Path) -> None:
+    """Windows Notepad saves UTF-8 with a byte-order mark: the file loads as without one."""
+    path = tmp_path / "bom.toml"
+    path.write_bytes(b"\xef\xbb\xbf" + MINIMAL.lstrip().encode())
+    assert load_machine(path).name == "tiny"
+
+
+@pytest.mark.parametrize(
+    ("raw", "offset"),
+    [
+        # Latin-1 text: the e-acute of "Fraise" is the byte 0xE9
+        (b'[machine]\nname = "Fraise \xe9"\naxes = ["X"]\n', 25),
+        # binary junk
+        (b"\x00\x01\xff\xfe\x80", 2),
+    ],
+)
+def test_not_utf8_names_the_file_and_the_offset(tmp_path: Path, raw: bytes, offset: int) -> None:
+    path = tmp_path / "latin1.toml"
+    path.write_bytes(raw)
+    with pytest.raises(MachineFileError) as exc:
+        load_machine(path)
+    message = str(exc.value)
+    assert message.startswith(f"{path}: ")
+    assert f"byte {offset}" in message and "UTF-8" in message
+    assert "\n" not in message

@@ -33,6 +33,8 @@ from focas_net.protocol import (
     InjectFault,
     MacroRequest,
     MacroValue,
+    ParamAttributes,
+    ParamAttributesRequest,
     ParamValue,
     Password,
     PmcData,
@@ -129,6 +131,20 @@ GOLDEN: list[Golden] = [
         RSP,
         "0000 1400 0000 fd",  # 20, signed byte -3
         ParamValue(20, 0, -3, 1),
+    ),
+    Golden(
+        "rdparam-bit",
+        Command.RDPARAM,
+        RSP,
+        "0000 1707 0100 b0",  # 1815 axis 1, bits 10110000: the signed byte -80
+        ParamValue(1815, 1, -80, 1),
+    ),
+    Golden(
+        "rdparam-real",
+        Command.RDPARAM,
+        RSP,
+        "0000 8c05 0000 39300000 03000000",  # 1420, REALPRM 12345 with 3 decimals: 12.345
+        ParamValue(1420, 0, 12345, 8, 3),
     ),
     Golden("rdparam-number", Command.RDPARAM, RSP, "0300", EwReply(3)),
     Golden("rdparam-attrib", Command.RDPARAM, RSP, "0400", EwReply(4)),
@@ -296,7 +312,30 @@ GOLDEN: list[Golden] = [
     # -- 0x0E01 set_panel -------------------------------------------------------------------------
     Golden("set-panel-mdi-pwe", Command.SIM_SET_PANEL, REQ, "0000 0100 0000", SetPanel(0, 1, 0)),
     Golden("set-panel-emg", Command.SIM_SET_PANEL, REQ, "0500 0000 0100", SetPanel(5, 0, 1)),
+    Golden(
+        "set-panel-emergency-only",  # -1: leave mode and PWE as they are
+        Command.SIM_SET_PANEL,
+        REQ,
+        "ffff ffff 0100",
+        SetPanel(-1, -1, 1),
+    ),
     Golden("set-panel-ok", Command.SIM_SET_PANEL, RSP, "0000", None),
+    # -- 0x0E10 read_panel ------------------------------------------------------------------------
+    Golden("read-panel", Command.SIM_READ_PANEL, REQ, "", None),
+    Golden(
+        "read-panel-mdi-pwe", Command.SIM_READ_PANEL, RSP, "0000 0000 0100 0000", SetPanel(0, 1, 0)
+    ),
+    Golden("read-panel-func", Command.SIM_READ_PANEL, RSP, "0100", EwReply(1)),
+    # -- 0x0020 cnc_rdparainfo --------------------------------------------------------------------
+    Golden("rdparainfo-1815", Command.RDPARAINFO, REQ, "1707", ParamAttributesRequest(1815)),
+    Golden(
+        "rdparainfo-bit-axis",
+        Command.RDPARAINFO,
+        RSP,
+        "0000 1707 0000 0100 0000 00000000 ff000000",  # bit, axis, 0 decimals, 0..255
+        ParamAttributes(1815, 0, 1, 0, 0, 255),
+    ),
+    Golden("rdparainfo-number", Command.RDPARAINFO, RSP, "0300", EwReply(3)),
     Golden("set-panel-data", Command.SIM_SET_PANEL, RSP, "0500", EwReply(5)),
     # -- 0x0E02 raise_alarm -----------------------------------------------------------------------
     Golden(
@@ -490,6 +529,7 @@ def test_the_command_table_covers_every_command_id() -> None:
         0x0009,
         0x000A,
         0x0010,
+        0x0020,
         0x0102,
         0x0103,
         0x0104,
@@ -502,6 +542,7 @@ def test_the_command_table_covers_every_command_id() -> None:
         0x0E05,
         0x0E06,
         0x0E07,
+        0x0E10,
         0x0F1A,
     }
     for number, spec in COMMANDS.items():
@@ -528,6 +569,8 @@ ERROR_PAYLOADS = [
     (Command.WRUNLOCKPARAM, 17, "1100"),
     (Command.VERSAMAX_RDCONFIG, 3, "0300"),
     (Command.SIM_SET_PANEL, 5, "0500"),
+    (Command.SIM_READ_PANEL, 1, "0100"),
+    (Command.RDPARAINFO, 3, "0300"),
     (Command.SIM_RAISE_ALARM, 2, "0200"),
     (Command.SIM_CLEAR_ALARMS, 1, "0100"),
     (Command.SIM_SET_PMC, 6, "0600"),
@@ -570,10 +613,12 @@ def test_ew_reply_with_code_zero_cannot_be_encoded() -> None:
         COMMANDS[0x0001].response.encode(EwReply(0))
 
 
-def test_from_text_pads_and_cuts_the_password() -> None:
+def test_from_text_pads_the_password_and_never_cuts_it() -> None:
     assert Password.from_text("ab").encode() == bytes.fromhex("6162 0000")
-    assert Password.from_text("secret").encode() == bytes.fromhex("7365 6372")  # "secr"
-    assert Password.from_text(b"").encode() == bytes.fromhex("0000 0000")
+    assert Password.from_text(b"secr").encode() == bytes.fromhex("7365 6372")
+    for bad in ("secret", b"", "ab\x00"):
+        with pytest.raises(ValueError, match=r"1\.\.4 ASCII characters"):
+            Password.from_text(bad)
 
 
 def test_pmc_range_count_is_inclusive() -> None:

@@ -32,6 +32,8 @@ from focas_net.protocol import (
     InjectFault,
     MacroRequest,
     MacroValue,
+    ParamAttributes,
+    ParamAttributesRequest,
     ParamValue,
     Password,
     PmcData,
@@ -68,6 +70,7 @@ param_values = st.one_of(
     st.builds(ParamValue, i16, i16, i8, st.just(1)),
     st.builds(ParamValue, i16, i16, i16, st.just(2)),
     st.builds(ParamValue, i16, i16, i32, st.just(4)),
+    st.builds(ParamValue, i16, i16, i32, st.just(8), st.integers(0, 9)),
 )
 macro_values = st.builds(MacroValue, i16, i16, i32, i16)
 sysinfos = st.builds(
@@ -148,6 +151,8 @@ REQUESTS: dict[Command, st.SearchStrategy[Any]] = {
     Command.SIM_LIST_FAULTS: st.builds(FaultsRequest, i16),
     Command.SIM_CLEAR_FAULTS: st.builds(FaultsRequest, i16),
     Command.RDALMHISTRY: st.builds(AlarmHistoryRequest, i16),
+    Command.RDPARAINFO: st.builds(ParamAttributesRequest, i16),
+    Command.SIM_READ_PANEL: st.none(),
 }
 
 RESPONSES: dict[Command, st.SearchStrategy[Any]] = {
@@ -175,6 +180,8 @@ RESPONSES: dict[Command, st.SearchStrategy[Any]] = {
     Command.SIM_LIST_FAULTS: ew_or(fault_lists),
     Command.SIM_CLEAR_FAULTS: ew_or(st.builds(FaultsCleared, i16)),
     Command.RDALMHISTRY: histories,
+    Command.RDPARAINFO: ew_or(st.builds(ParamAttributes, i16, i16, i16, i16, i32, i32)),
+    Command.SIM_READ_PANEL: ew_or(st.builds(SetPanel, i16, i16, i16)),
 }
 
 
@@ -474,9 +481,11 @@ def test_encode_errors_name_the_field_and_its_range() -> None:
         ParamValue(3216, 0, 99999, 2).encode()
     with pytest.raises(ValueError, match=r"value 200 does not fit a 1-byte parameter \(-128"):
         ParamValue(20, 0, 200, 1).encode()
-    with pytest.raises(ValueError, match=r"MacroValue\.mcr_val = 2147483648 does not fit"):
+    with pytest.raises(
+        ValueError, match=r"^mcr_val 2147483648 is outside -2147483648..2147483647$"
+    ):
         MacroValue(1, 8, 2**31, 0).encode()
-    with pytest.raises(ValueError, match=r"SetPanel\.mode = 70000 does not fit \(-32768..32767\)"):
+    with pytest.raises(ValueError, match=r"^mode 70000 is outside -32768..32767$"):
         SetPanel(70000, 0, 0).encode()
 
 

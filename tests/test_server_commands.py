@@ -268,7 +268,7 @@ async def test_wrparam_width_checked_before_gate_and_range_after(wire: Wire) -> 
 
 
 async def test_password_unlock_per_connection() -> None:
-    async with serving(default_machine(param_password="AB12XYZ")) as served:
+    async with serving(default_machine(param_password="AB12")) as served:
         a = await served.connect()
         b = await served.connect()
         async with a, b:
@@ -279,7 +279,8 @@ async def test_password_unlock_per_connection() -> None:
                 EW.PASSWD
             )
             assert await a.ew(Command.WRPARAM, write) == EW.PASSWD
-            # the password is cut at 4 bytes on both sides
+            # a longer password is wrong, never cut to a prefix
+            assert await a.ew(Command.WRUNLOCKPARAM, b"AB12XYZ") == EW.PASSWD
             assert await a.ew(Command.WRUNLOCKPARAM, Password.from_text("AB12").encode()) == 0
             assert await a.ew(Command.WRPARAM, write) == 0
             # the unlock does not leak to another connection
@@ -478,8 +479,8 @@ async def test_raise_alarm_errors(wire: Wire, payload: bytes, ew: int) -> None:
 
 
 @pytest.mark.parametrize(
-    "panel", [SetPanel(2, 0, 0), SetPanel(11, 0, 0), SetPanel(-1, 0, 0), SetPanel(0, 2, 0),
-              SetPanel(0, 0, 2), SetPanel(0, -1, 0)]
+    "panel", [SetPanel(2, 0, 0), SetPanel(11, 0, 0), SetPanel(-2, 0, 0), SetPanel(0, 2, 0),
+              SetPanel(0, 0, 2), SetPanel(0, -2, 0)]
 )  # fmt: skip
 async def test_set_panel_bad_values(wire: Wire, panel: SetPanel) -> None:
     assert await wire.ew(Command.SIM_SET_PANEL, panel.encode()) == EW.DATA

@@ -235,11 +235,13 @@ def test_unlock_per_session_and_constant_time_compare(caplog: pytest.LogCaptureF
     assert "Q7#z" not in caplog.text and "Q7#z" not in repr(m)
 
 
-def test_password_longer_than_four_is_cut() -> None:
-    m = default_machine(param_password="secret")
+def test_password_longer_than_four_is_refused_never_cut() -> None:
+    with pytest.raises(ValueError, match="'secret'"):
+        default_machine(param_password="secret")
+    m = default_machine(param_password="secr")
     s = m.new_session()
-    m.unlock(s, b"secrXXXX")  # only 4 bytes count, on both sides
-    assert s.unlocked
+    assert ew_of(lambda: m.unlock(s, b"secrXXXX")) == EW.PASSWD
+    assert not s.unlocked
 
 
 def test_write_param_order(m: Machine) -> None:
@@ -591,3 +593,18 @@ def test_parameter_width_is_checked_only_when_given(m: Machine) -> None:
     m.write_param(s, 3216, 0, 5)
     m.write_param(s, 3216, 0, 6, width=2)
     assert m.read_param(3216, 0) == 6
+
+
+def test_raising_an_active_alarm_again_keeps_the_first_message() -> None:
+    """A CNC shows one entry per alarm: raised again while active, even with another message,
+    the alarm stays as it was and the history gets no second entry; raise_alarm says so."""
+    m = default_machine()
+    assert m.raise_alarm(0, 3, 100, "FIRST") is True
+    version = m.version
+    assert m.raise_alarm(0, 3, 100, "SECOND MESSAGE") is False
+    assert [a.msg for a in m.active_alarms()] == ["FIRST"]
+    assert [e.msg for e in m.alarm_history()] == ["FIRST"]
+    assert m.version == version
+    m.clear_alarms(3, 100)
+    assert m.raise_alarm(0, 3, 100, "SECOND MESSAGE") is True  # cleared, then raised anew
+    assert [e.msg for e in m.alarm_history()] == ["SECOND MESSAGE", "FIRST"]

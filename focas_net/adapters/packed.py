@@ -1,10 +1,10 @@
 """The packed-protocol adapter: one request payload in, the answer payload out.
 
-:class:`PackedAdapter` answers every command of ``docs/protocol.md`` sections 3-5 and the control
-commands 0x0E01..0x0E04 from a protocol-neutral :class:`~focas_net.sim.Machine`. The server adds
-the frame header (same command, same request id). 0x0E05..0x0E07 (the fault queues) are not
-handled here: faults are about I/O and the server answers those commands itself (here they
-answer EW_FUNC). Pure and
+:class:`PackedAdapter` answers every command of ``docs/protocol.md`` sections 3-5 and 8 and the
+control commands 0x0E01..0x0E04 and 0x0E10 from a protocol-neutral
+:class:`~focas_net.sim.Machine`. The server adds the frame header (same command, same request
+id). 0x0E05..0x0E07 (the fault queues) are not handled here: faults are about I/O and the
+server answers those commands itself (here they answer EW_FUNC). Pure and
 synchronous: no socket, no event loop.
 
 Every request is decoded and every answer encoded with the codecs of
@@ -32,7 +32,12 @@ the checks, per command (each stops at the first that fails; ``docs/protocol.md`
     outside 1..250 -> EW_LENGTH;
   - ``versamax_rdconfig``: the machine's EW_NUMBER for an empty slot, then ``length`` outside
     1..128 -> EW_LENGTH, then the machine's EW_NUMBER for the offset;
-  - ``cnc_rdposition``: a ``type`` outside 0..3 -> EW_ATTRIB; ``axis`` -1 means every axis.
+  - ``cnc_rdposition``: a ``type`` outside 0..3 -> EW_ATTRIB; ``axis`` -1 means every axis;
+  - ``cnc_wrunlockparam``: a payload longer than 4 bytes is a wrong password (EW_PASSWD, the
+    session locked), shorter is EW_LENGTH;
+  - ``cnc_rdparam``/``cnc_wrparam``: a bit parameter's 0..255 travels as the signed byte of
+    the same bits, a real parameter as REALPRM (width 8: mantissa and decimals);
+  - ``set_panel``: a field of -1 leaves its switch as it is.
 
 :meth:`PackedAdapter.answer` never raises for anything a peer sends: a payload that does not
 decode answers EW_LENGTH and every refusal its EW code. The dispatch is a dict from command id to
@@ -58,6 +63,7 @@ from focas_net.protocol import (
     MAX_CONFIG_CHUNK,
     MAX_HISTORY_DEPTH,
     MAX_PMC_CHUNK,
+    PASSWORD_SIZE,
     ActiveAlarm,
     ActiveAlarmList,
     ActualValue,
@@ -66,11 +72,13 @@ from focas_net.protocol import (
     AxisPosition,
     Command,
     MacroValue,
+    ParamAttributes,
     ParamValue,
     PmcArea,
     PmcData,
     PositionData,
     ProgramNumbers,
+    SetPanel,
     StatusInfo,
     SysInfo,
     VersaMaxReply,
@@ -82,6 +90,7 @@ from focas_net.sim import (
     DataItem,
     Machine,
     MachineError,
+    ParamKind,
     Session,
 )
 
@@ -102,6 +111,18 @@ _CACHE_LIMIT: Final = 1024
 _ERROR_LIMIT: Final = 4096
 
 _EW_FUNC: Final = encode_ew(EW.FUNC)
+#: A ``set_panel`` field that leaves its switch as it is.
+_UNCHANGED: Final = -1
+#: The IODBPSD width of a real parameter (REALPRM: mantissa and decimals).
+_REAL_WIDTH: Final = 8
+
+
+def _param_value(datano: int, axis: int, value: int, item: DataItem) -> ParamValue:
+    """The IODBPSD of ``value`` of ``item``: a bit item's 0..255 as the signed byte of the
+    same eight bits, a real item's mantissa with its decimals."""
+    if item.kind is ParamKind.BIT and value > 0x7F:
+        value -= 0x100
+    return ParamValue(datano, axis, value, item.width, item.decimals)
 
 
 def _request(command: Command) -> Callable[[bytes], Any]:
@@ -233,6 +254,8 @@ class PackedAdapter:
             Command.SIM_CLEAR_ALARMS: self._clear_alarms,
             Command.SIM_SET_PMC: self._set_pmc,
             Command.RDALMHISTRY: self._rdalmhistry,
+            Command.RDPARAINFO: self._rdparainfo,
+            Command.SIM_READ_PANEL: self._read_panel,
         }
         assert frozenset(by_id) == self.handled
         # plain int keys: a lookup by int must not go through IntEnum hashing
@@ -322,10 +345,19 @@ class PackedAdapter:
             value = read(req.datano, req.axis)
             item = item_of(req.datano)
             assert item is not None
-            answer = cache.keep(
-                payload, encode(ParamValue(req.datano, req.axis, value, item.width))
-            )
+            answer = cache.keep(payload, encode(_param_value(req.datano, req.axis, value, item)))
         return answer
+
+    def _rdparainfo(self, _session: Session, payload: bytes) -> bytes:
+        datano = _decode_parainfo_request(payload).datano
+        item = self.machine.param_item(datano)
+        if item is None:
+            raise MachineError(EW.NUMBER, f"no parameter {datano}")
+        assert item.kind is not None and item.low is not None and item.high is not None
+        info = ParamAttributes(
+            datano, int(item.kind), int(item.axis), item.decimals, item.low, item.high
+        )
+        return _encode_parainfo(info)
 
     def _rdmacro(self, _session: Session, payload: bytes) -> bytes:
         m = self.machine
@@ -472,7 +504,13 @@ class PackedAdapter:
     # -- writes --------------------------------------------------------------------------
     def _wrparam(self, session: Session, payload: bytes) -> bytes:
         pv = _decode_param_write(payload)
-        self.machine.write_param(session, pv.datano, pv.axis, pv.value, width=pv.width)
+        m = self.machine
+        item = m.param_item(pv.datano)
+        value = pv.value
+        if item is not None and item.kind is ParamKind.BIT and pv.width == 1:
+            value &= 0xFF  # the signed byte carries the eight bits #7..#0
+        decimals = pv.decimals if pv.width == _REAL_WIDTH else None
+        m.write_param(session, pv.datano, pv.axis, value, width=pv.width, decimals=decimals)
         return _OK
 
     def _wrmacro(self, _session: Session, payload: bytes) -> bytes:
@@ -496,6 +534,10 @@ class PackedAdapter:
         return self._write_pmc(_decode_pmc_write(payload), force=False)
 
     def _unlock(self, session: Session, payload: bytes) -> bytes:
+        # A password longer than the 4 bytes of the payload is a wrong one (EW_PASSWD, the
+        # session locked), never cut to its first 4 bytes; a shorter payload is EW_LENGTH.
+        if len(payload) > PASSWORD_SIZE:
+            self.machine.unlock(session, payload)
         self.machine.unlock(session, _decode_password(payload).password)
         return _OK
 
@@ -504,8 +546,21 @@ class PackedAdapter:
         if not self.machine.control_enabled:
             return _EW_FUNC
         p = _decode_set_panel(payload)
-        self.machine.set_panel(p.mode, p.pwe, p.emergency)
+        # -1 leaves a switch as it is (docs/protocol.md section 8)
+        self.machine.set_panel(
+            None if p.mode == _UNCHANGED else p.mode,
+            None if p.pwe == _UNCHANGED else p.pwe,
+            None if p.emergency == _UNCHANGED else p.emergency,
+        )
         return _OK
+
+    def _read_panel(self, _session: Session, payload: bytes) -> bytes:
+        if not self.machine.control_enabled:
+            return _EW_FUNC
+        if payload:
+            _decode_empty(payload)
+        p = self.machine.panel
+        return _encode_panel(SetPanel(p.mode, p.pwe, p.emergency))
 
     def _raise_alarm(self, _session: Session, payload: bytes) -> bytes:
         if not self.machine.control_enabled:
@@ -558,6 +613,9 @@ _decode_macro_write: Final = _request(Command.WRMACRO)
 _decode_pmc_write: Final = _request(Command.WRPMCRNG)
 _decode_password: Final = _request(Command.WRUNLOCKPARAM)
 _decode_set_panel: Final = _request(Command.SIM_SET_PANEL)
+_encode_panel: Final = _response(Command.SIM_READ_PANEL)
+_decode_parainfo_request: Final = _request(Command.RDPARAINFO)
+_encode_parainfo: Final = _response(Command.RDPARAINFO)
 _decode_raise_alarm: Final = _request(Command.SIM_RAISE_ALARM)
 _decode_clear_alarms: Final = _request(Command.SIM_CLEAR_ALARMS)
 _decode_set_pmc: Final = _request(Command.SIM_SET_PMC)

@@ -27,6 +27,8 @@ from focas_net.protocol import (
     HdckState,
     MotionState,
     MstbState,
+    ParamDataType,
+    ParamValue,
     ProgramNumbers,
     RunState,
     StatusInfo,
@@ -501,7 +503,64 @@ def hexdump(area: str, start: int, data: bytes, per_line: int = 16) -> str:
     return "\n".join(lines)
 
 
+# -- parameters ----------------------------------------------------------------------------
+
+#: The IODBPSD width of a real parameter (REALPRM).
+REAL_WIDTH: Final = 8
+
+
+def param_text(pv: ParamValue, kind: ParamDataType | None = None) -> str:
+    """A parameter value as the CNC screen would show it: a bit parameter as unsigned and as
+    its bits #7..#0 (``176 (10110000), bit parameter``), a real parameter with its decimals
+    (``12.345 (real, 3 decimals)``), the others signed with their hex (and a byte's bits)."""
+    if pv.width == REAL_WIDTH:
+        return f"{pv.real} (real, {pv.decimals} decimal{'s' * (pv.decimals != 1)})"
+    if kind is ParamDataType.BIT and pv.width == 1:
+        return f"{pv.bits} ({pv.bits:08b}), bit parameter"
+    width = pv.width
+    text = f"{pv.value} (0x{pv.bits:0{2 * width}X}"
+    if width == 1:
+        text += f", 0b{pv.bits:08b}"
+    return f"{text}), {width} byte{'s' if width > 1 else ''}"
+
+
+def param_dict(
+    number: int, axis: int, pv: ParamValue, kind: ParamDataType | None = None
+) -> dict[str, Any]:
+    """The JSON data of a parameter value: ``value`` unsigned for a bit parameter (with its
+    ``bits``), a decimal string for a real one (with its ``decimals``); ``type`` when known."""
+    data: dict[str, Any] = {"number": number, "axis": axis, "value": pv.value, "width": pv.width}
+    if kind is not None:
+        data["type"] = kind.name.lower().replace("_", "-")
+    if pv.width == REAL_WIDTH:
+        data["value"] = str(pv.real)
+        data["decimals"] = pv.decimals
+    elif kind is ParamDataType.BIT:
+        data["value"] = pv.bits
+        data["bits"] = f"{pv.bits:08b}"
+    return data
+
+
 # -- parsers -------------------------------------------------------------------------------
+
+
+def parse_param_value(text: str) -> int | Decimal:
+    """A parameter value typed on the command line: an integer (decimal, ``0x`` hex, ``0b``
+    bits #7 first, ``0o`` octal) or, for a real parameter, a decimal number (``12.345``)."""
+    try:
+        return parse_int(text)
+    except ValueError:
+        pass
+    try:
+        value = Decimal(text.strip())
+    except ArithmeticError:
+        value = Decimal("NaN")
+    if not value.is_finite():
+        raise ValueError(
+            f"not a parameter value: {text!r} (an integer such as 42, 0x2A or 0b00101010, "
+            "or a decimal number for a real parameter)"
+        )
+    return value
 
 
 def parse_int(text: str) -> int:

@@ -308,7 +308,8 @@ COMMANDS: Final[tuple[Cmd | Group, ...]] = (
         (
             Cmd(
                 "panel",
-                "set the operator panel: mode, PWE, emergency stop",
+                "set the operator panel's switches given (mode, PWE, emergency stop), or "
+                "show them when none is given",
                 sim_cmds.panel,
                 (
                     arg(
@@ -319,10 +320,8 @@ COMMANDS: Final[tuple[Cmd | Group, ...]] = (
                     arg(
                         "--pwe",
                         type=BOOL,
-                        default=False,
                         metavar="on|off",
-                        help="parameter write enable (default off: the panel's PWE cannot be "
-                        "read back)",
+                        help="parameter write enable (default: unchanged)",
                     ),
                     arg(
                         "--emergency",

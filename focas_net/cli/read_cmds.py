@@ -19,7 +19,7 @@ from focas_net.client import (
     ProjectionMode,
 )
 from focas_net.errors import EW, CncError, FocasError
-from focas_net.protocol import ParamValue, PmcArea, PositionKind
+from focas_net.protocol import ParamDataType, ParamValue, PmcArea, PositionKind
 
 from . import _format as fmt
 from ._run import FOLLOW_MAX_FAILURES, Go, HintedError, Output, write
@@ -121,25 +121,33 @@ def item_name(number: int, bit: int | None, axis: int) -> str:
     return f"{name} axis {axis}" if axis else name
 
 
-def _value_text(value: int, width: int) -> str:
-    raw = value & ((1 << 8 * width) - 1)
-    text = f"{value} (0x{raw:0{2 * width}X}"
-    if width == 1:
-        text += f", 0b{raw:08b}"
-    return f"{text}), {width} byte{'s' if width > 1 else ''}"
-
-
 def param_output(
-    number: int, bit: int | None, axis: int, pv: ParamValue
+    number: int, bit: int | None, axis: int, pv: ParamValue, kind: ParamDataType | None = None
 ) -> tuple[dict[str, Any], str, str | None]:
-    """The JSON data of a parameter read, its text, and the text of its bit (when one)."""
-    data: dict[str, Any] = {"number": number, "axis": axis, "value": pv.value, "width": pv.width}
-    whole = f"{item_name(number, None, axis)} = {_value_text(pv.value, pv.width)}"
+    """The JSON data of a parameter read, its text, and the text of its bit (when one);
+    ``kind`` is the parameter's type when known (a bit parameter is shown as its bits)."""
+    data: dict[str, Any] = fmt.param_dict(number, axis, pv, kind)
+    whole = f"{item_name(number, None, axis)} = {fmt.param_text(pv, kind)}"
     if bit is None:
         return data, whole, None
     data["bit"] = bit
-    data["bit_value"] = pv.value >> bit & 1
+    data["bit_value"] = pv.bits >> bit & 1
     return data, whole, f"{item_name(number, bit, axis)} = {data['bit_value']}"
+
+
+async def param_kind(cnc: FocasClient, number: int, pv: ParamValue) -> ParamDataType | None:
+    """The type of a parameter read as ``pv``: asked (``cnc_rdparainfo``) for a 1-byte value,
+    which may be a bit or a byte parameter; None when the CNC cannot tell."""
+    if pv.width == fmt.REAL_WIDTH:
+        return ParamDataType.REAL
+    if pv.width != 1:
+        return None
+    try:
+        return (await cnc.read_param_attributes(number)).type
+    except CncError as exc:
+        if exc.ew != EW.FUNC:
+            raise
+        return None
 
 
 def param_get(args: argparse.Namespace) -> Go:
@@ -150,9 +158,13 @@ def param_get(args: argparse.Namespace) -> Go:
             pv = await cnc.read_param_value(number, axis=args.axis)
         except CncError as exc:
             raise await axis_hint(cnc, exc, "parameter", number, args.axis) from exc
-        if bit is not None and not 0 <= bit < 8 * pv.width:
-            raise ValueError(f"bit {bit} outside 0..{8 * pv.width - 1} of parameter {number}")
-        data, whole, bit_text = param_output(number, bit, args.axis, pv)
+        bits = 8 * pv.width
+        if bit is not None and pv.width == fmt.REAL_WIDTH:
+            raise ValueError(f"parameter {number} is a real parameter: it has no bits")
+        if bit is not None and not 0 <= bit < bits:
+            raise ValueError(f"bit {bit} outside 0..{bits - 1} of parameter {number}")
+        kind = await param_kind(cnc, number, pv)
+        data, whole, bit_text = param_output(number, bit, args.axis, pv, kind)
         return Output(data, whole if bit_text is None else bit_text)
 
     return go

@@ -27,6 +27,7 @@ from typing import TYPE_CHECKING, Any, Final
 
 import anyio
 
+from focas_net.protocol import PASSWORD_SIZE
 from focas_net.server import (
     DEFAULT_GRACE_PERIOD,
     DEFAULT_HOST,
@@ -71,8 +72,10 @@ def _seconds(text: str) -> float:
 
 
 def _password(text: str) -> str:
-    if not text or not text.isascii():
-        raise argparse.ArgumentTypeError(f"must be ASCII and not empty, got {text!r}")
+    if not 1 <= len(text) <= PASSWORD_SIZE or not text.isascii() or "\x00" in text:
+        raise argparse.ArgumentTypeError(
+            f"must be 1..{PASSWORD_SIZE} ASCII characters, got {text!r}"
+        )
     return text
 
 
@@ -122,7 +125,7 @@ def register(subparsers: Any) -> None:
         "--param-password",
         type=_password,
         metavar="TEXT",
-        help="parameter-write password (cnc_wrunlockparam), ASCII; at most 4 characters are used",
+        help="parameter-write password (cnc_wrunlockparam), 1..4 ASCII characters",
     )
     p.add_argument(
         "--no-control",

@@ -16,7 +16,7 @@ from typing import Any, Final
 
 from focas_net.client import FocasClient
 from focas_net.errors import CncError, FocasError
-from focas_net.protocol import MAX_ALARM_MSG, ArmedFault, EmergencyState, FaultKind, FaultScope
+from focas_net.protocol import MAX_ALARM_MSG, ArmedFault, FaultKind, FaultScope
 
 from . import _format as fmt
 from ._run import Go, Output
@@ -45,22 +45,22 @@ FAULT_SCOPES: Final = {s.name.lower(): s for s in FaultScope}
 
 def panel(args: argparse.Namespace) -> Go:
     mode = None if args.mode is None else fmt.parse_aut(args.mode)
+    writes = mode is not None or args.pwe is not None or args.emergency is not None
 
     async def go(cnc: FocasClient) -> Output:
-        before = await cnc.read_status()
-        new_mode = before.aut if mode is None else int(mode)
-        emergency = (
-            before.emergency == EmergencyState.EMG if args.emergency is None else args.emergency
-        )
-        await cnc.sim.set_panel(new_mode, pwe=bool(args.pwe), emergency=emergency)
+        # Only the switches given change (the others travel as -1, "unchanged"); with none
+        # given nothing is written and the panel is only read.
+        if writes:
+            await cnc.sim.set_panel(mode, pwe=args.pwe, emergency=args.emergency)
+        p = await cnc.sim.read_panel()
         st = await cnc.read_status()
         data = {
-            "mode": new_mode,
-            "pwe": int(bool(args.pwe)),
-            "emergency": int(emergency),
+            "mode": int(p.mode),
+            "pwe": int(p.pwe),
+            "emergency": int(p.emergency),
             "status": fmt.status_dict(st),
         }
-        return Output(data, f"{fmt.status_summary(st)} pwe={'on' if args.pwe else 'off'}")
+        return Output(data, f"{fmt.status_summary(st)} pwe={'on' if p.pwe else 'off'}")
 
     return go
 
@@ -71,8 +71,20 @@ def alarm(args: argparse.Namespace) -> Go:
     kept = msg[:MAX_ALARM_MSG]  # the CNC keeps the first 32 characters of a message
 
     async def go(cnc: FocasClient) -> Output:
-        await cnc.sim.raise_alarm(alm_type, alm_no, msg, axis_no=args.axis)
+        # A CNC shows one entry per alarm: raised again while active, the alarm keeps its
+        # message and nothing changes (docs/protocol.md section 8). Say so rather than "raised".
         code = fmt.alarm_code(alm_type, alm_no)
+        axis = f" (axis {args.axis})" if args.axis else ""
+        key = (args.axis, alm_type, alm_no)
+        active = [a for a in await cnc.read_alarms(alm_type=alm_type) if a.key == key]
+        if active:
+            data = {"raised": None, "active": fmt.alarm_dict(active[0])}
+            return Output(
+                data,
+                f"{code}{axis} is already active: {active[0].msg} (a CNC shows one entry per "
+                "alarm: clear it first to raise it with another message)",
+            )
+        await cnc.sim.raise_alarm(alm_type, alm_no, msg, axis_no=args.axis)
         data = {
             "raised": {
                 "code": code,
@@ -82,7 +94,6 @@ def alarm(args: argparse.Namespace) -> Go:
                 "msg": kept,
             }
         }
-        axis = f" (axis {args.axis})" if args.axis else ""
         return Output(data, f"raised {code}{axis} {kept}".rstrip())
 
     return go

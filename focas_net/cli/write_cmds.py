@@ -12,7 +12,7 @@ from focas_net.protocol import PmcArea
 
 from . import _format as fmt
 from ._run import Go, HintedError, Output
-from .read_cmds import macro_dict, param_output
+from .read_cmds import macro_dict, param_kind, param_output
 
 __all__ = ["macro_set", "param_set", "pmc_bit", "pmc_write", "unlock"]
 
@@ -29,7 +29,7 @@ def param_set(args: argparse.Namespace) -> Go:
             raise ValueError("--width does not apply to a bit write (NUMBER.BIT)")
         bit_value = fmt.parse_bool(args.value)
     else:
-        value = fmt.parse_int(args.value)
+        value = fmt.parse_param_value(args.value)
 
     async def go(cnc: FocasClient) -> Output:
         try:
@@ -40,7 +40,8 @@ def param_set(args: argparse.Namespace) -> Go:
         except AccessDeniedError as exc:
             raise HintedError(exc, _PASSWD_HINT) from exc
         pv = await cnc.read_param_value(number, axis=args.axis)
-        data, whole, bit_text = param_output(number, bit, args.axis, pv)
+        kind = await param_kind(cnc, number, pv)
+        data, whole, bit_text = param_output(number, bit, args.axis, pv, kind)
         text = whole if bit_text is None else f"{bit_text}; {whole}"
         return Output(data, f"{text} (written)")
 

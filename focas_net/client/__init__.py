@@ -18,7 +18,7 @@ from .projection import (
     ProjectionMode,
 )
 from .reconnect import ClientState, ReconnectPolicy
-from .sim_control import SimControl
+from .sim_control import PanelSwitches, SimControl
 
 __all__ = [
     "AlarmCleared",
@@ -30,6 +30,7 @@ __all__ = [
     "Connection",
     "FocasClient",
     "NotSentError",
+    "PanelSwitches",
     "Positions",
     "ProjectionMode",
     "ReconnectPolicy",

@@ -33,15 +33,20 @@ from ..protocol import (
     DEFAULT_MAX_FRAME,
     MAX_CONFIG_CHUNK,
     MAX_HISTORY_DEPTH,
+    MAX_REAL_DECIMALS,
     ActiveAlarm,
     ActiveAlarmList,
     ActualValue,
     AlarmHistory,
     AlarmHistoryRequest,
     AlarmMsgRequest,
+    AlarmType,
     DataRequest,
     MacroRequest,
     MacroValue,
+    ParamAttributes,
+    ParamAttributesRequest,
+    ParamDataType,
     ParamValue,
     Password,
     PmcArea,
@@ -59,7 +64,7 @@ from ..versamax import IOModuleRecord
 from ._locks import KeyedLocks
 from ._pmc import AreaLike, check_u16_range, read_pmc_chunk, read_pmc_range, write_pmc_range
 from .reconnect import Link, ReconnectPolicy, StateCallback
-from .sim_control import SimControl
+from .sim_control import SimControl, alarm_type_number
 
 __all__ = ["FocasClient", "Positions"]
 
@@ -79,6 +84,7 @@ _RDPRGNUM: Final = COMMANDS[C.RDPRGNUM]
 _ACTF: Final = COMMANDS[C.ACTF]
 _ACTS: Final = COMMANDS[C.ACTS]
 _RDPOSITION: Final = COMMANDS[C.RDPOSITION]
+_RDPARAINFO: Final = COMMANDS[C.RDPARAINFO]
 
 _EMPTY: Final = b""
 _MAX_ACTIVE_ALARMS: Final = 32
@@ -86,6 +92,10 @@ _I32_MIN: Final = -(2**31)
 _I32_MAX: Final = 2**31 - 1
 _MAX_MACRO_DECIMALS: Final = 9
 _U16_LIMIT: Final = 0x10000
+_I16_MAX: Final = 0x7FFF
+_U8_MAX: Final = 0xFF
+#: The IODBPSD width of a real parameter's REALPRM.
+_REAL_WIDTH: Final = 8
 
 
 @dataclass(frozen=True, slots=True)
@@ -106,6 +116,66 @@ class Positions:
 def _check_bit(bit: int, width: int = 1) -> None:
     if not 0 <= bit < 8 * width:
         raise ValueError(f"bit {bit} outside 0..{8 * width - 1}")
+
+
+def _check_item(number: int, axis: int, what: str) -> None:
+    """ValueError, in the caller's terms, for a number or an axis the wire cannot carry."""
+    if isinstance(number, bool) or not isinstance(number, int) or not 0 <= number <= _I16_MAX:
+        raise ValueError(f"{what} number {number!r} is outside 0..{_I16_MAX}")
+    if isinstance(axis, bool) or not isinstance(axis, int) or not 0 <= axis <= _I16_MAX:
+        raise ValueError(f"axis {axis!r} is outside 0..{_I16_MAX} (0: not an axis {what})")
+
+
+def _check(what: str, value: int, low: int, high: int) -> None:
+    if isinstance(value, bool) or not isinstance(value, int) or not low <= value <= high:
+        raise ValueError(f"{what} {value!r} is outside {low}..{high}")
+
+
+def _check_macro(number: int) -> None:
+    _check("macro variable number", number, -_I16_MAX - 1, _I16_MAX)
+
+
+def _param_int(number: int, value: int | Decimal | str) -> int:
+    """An integer parameter value from ``value`` (text: decimal, ``0x``, ``0b`` or ``0o``)."""
+    if isinstance(value, str):
+        try:
+            return int(value.strip().replace("_", ""), 0)
+        except ValueError:
+            raise ValueError(f"parameter {number}: not an integer: {value!r}") from None
+    if isinstance(value, bool) or not isinstance(value, int | Decimal):
+        raise ValueError(f"parameter {number}: a value is an integer, got {value!r}")
+    if isinstance(value, Decimal):
+        if value != value.to_integral_value():
+            raise ValueError(f"parameter {number} is not a real parameter: {value} is no integer")
+        return int(value)
+    return value
+
+
+def _byte_to_wire(number: int, value: int, kind: ParamDataType | None) -> int:
+    """The signed byte of a 1-byte parameter's ``value``: a bit parameter's 0..255 as the byte
+    of the same eight bits, a byte parameter's -128..127 as it is."""
+    if kind is ParamDataType.BIT:
+        if not 0 <= value <= 0xFF:
+            raise ValueError(
+                f"bit parameter {number} holds 0..255 (0b00000000..0b11111111), got {value}"
+            )
+        return value - 0x100 if value > 0x7F else value
+    if not -0x80 <= value <= 0x7F:
+        raise ValueError(f"parameter {number} is a byte parameter: {value} is outside -128..127")
+    return value
+
+
+def _real_to_wire(number: int, value: int | Decimal | str) -> tuple[int, int]:
+    """``(prm_val, dec_val)`` of a real parameter's value."""
+    if isinstance(value, bool) or not isinstance(value, int | Decimal | str):
+        raise ValueError(f"parameter {number}: a real value is a number, got {value!r}")
+    try:
+        return macro_to_wire(value)
+    except ValueError:
+        raise ValueError(
+            f"real parameter {number}: {value!r} cannot be carried as an i32 mantissa with "
+            f"0..{MAX_REAL_DECIMALS} decimals"
+        ) from None
 
 
 def macro_to_wire(value: int | Decimal | float | str) -> tuple[int, int]:
@@ -167,7 +237,7 @@ class FocasClient(Link):
     ``reconnect`` is ``False`` (a lost connection stays lost), ``True`` (the default
     :class:`ReconnectPolicy`) or a :class:`ReconnectPolicy`. ``password`` is sent with
     ``cnc_wrunlockparam`` after every connect and again, followed by one retry, when a call
-    answers ``EW_PASSWD``.
+    answers ``EW_PASSWD``; it is 1..4 ASCII characters (:class:`ValueError` otherwise).
     """
 
     def __init__(
@@ -184,6 +254,8 @@ class FocasClient(Link):
         server_hostname: str | None = None,
         on_state_change: StateCallback | None = None,
     ) -> None:
+        if password is not None:
+            Password.from_text(password)  # ValueError, naming it, unless 1..4 ASCII characters
         super().__init__(
             host,
             port,
@@ -197,6 +269,7 @@ class FocasClient(Link):
             on_state_change=on_state_change,
         )
         self._param_widths: dict[int, int] = {}
+        self._param_types: dict[int, ParamDataType | None] = {}
         self._pmc_locks: KeyedLocks[tuple[int, int]] = KeyedLocks()
         self._param_locks: KeyedLocks[tuple[int, int]] = KeyedLocks()
         self.sim = SimControl(self)
@@ -243,8 +316,8 @@ class FocasClient(Link):
         is sent; an axis the CNC does not have answers EW_ATTRIB (:class:`CncError`).
         """
         which = PositionKind.parse(kind)
-        if axis is not None and not 1 <= axis <= 0x7FFF:
-            raise ValueError(f"axis must be 1..n (None for every axis), got {axis}")
+        if axis is not None and not 1 <= axis <= _I16_MAX:
+            raise ValueError(f"axis {axis} is outside 1..{_I16_MAX} (or leave it out: every axis)")
         payload = _RDPOSITION.request.encode(PositionRequest(which, -1 if axis is None else axis))
         data: PositionData = await self._request(_RDPOSITION, payload, self._deadline(timeout))
         dec = data.dec
@@ -257,36 +330,102 @@ class FocasClient(Link):
 
     # -- parameters and diagnostics ------------------------------------------------------
     async def _read_param_value(self, number: int, axis: int, deadline: float | None) -> ParamValue:
+        _check_item(number, axis, "parameter")
         payload = _RDPARAM.request.encode(DataRequest(number, axis))
         value: ParamValue = await self._request(_RDPARAM, payload, deadline)
         self._param_widths[number] = value.width
         return value
 
+    async def _param_type(self, number: int, deadline: float | None) -> ParamDataType | None:
+        """The type of parameter ``number`` (``cnc_rdparainfo``, asked once, then cached);
+        None when the CNC cannot tell (it answers ``cnc_rdparainfo`` with EW_FUNC)."""
+        if number in self._param_types:
+            return self._param_types[number]
+        try:
+            attrs = await self._read_param_attributes(number, deadline)
+        except CncError as exc:
+            if exc.ew != EW.FUNC:
+                raise
+            kind = None
+        else:
+            kind = attrs.type
+        self._param_types[number] = kind
+        return kind
+
+    async def _read_param_attributes(self, number: int, deadline: float | None) -> ParamAttributes:
+        _check_item(number, 0, "parameter")
+        payload = _RDPARAINFO.request.encode(ParamAttributesRequest(number))
+        attrs: ParamAttributes = await self._request(_RDPARAINFO, payload, deadline)
+        self._param_types[number] = attrs.type
+        return attrs
+
+    async def read_param_attributes(
+        self, number: int, *, timeout: float | None = None
+    ) -> ParamAttributes:
+        """``cnc_rdparainfo``: the type of parameter ``number`` (:class:`ParamDataType`: bit,
+        byte, word, two-word, real), whether it is an axis parameter, the decimals of a real
+        one and the range it accepts."""
+        return await self._read_param_attributes(number, self._deadline(timeout))
+
     async def read_param_value(
         self, number: int, *, axis: int = 0, timeout: float | None = None
     ) -> ParamValue:
-        """``cnc_rdparam`` as an IODBPSD: the value and its width (1, 2 or 4 bytes)."""
+        """``cnc_rdparam`` as an IODBPSD: the value as the wire carries it and its width (1, 2,
+        4 bytes, or 8 for a real parameter's REALPRM with its ``decimals``)."""
         return await self._read_param_value(number, axis, self._deadline(timeout))
 
     async def read_param(self, number: int, *, axis: int = 0, timeout: float | None = None) -> int:
-        """``cnc_rdparam``: the value of parameter ``number`` (``axis`` 1..n for axis items)."""
-        value = await self._read_param_value(number, axis, self._deadline(timeout))
+        """``cnc_rdparam``: the value of parameter ``number`` (``axis`` 1..n for axis items).
+
+        A bit parameter reads as its eight bits, 0..255 (``0b10110000`` is 176); the others as
+        the signed integer they hold. The type of a 1-byte parameter is asked once
+        (``cnc_rdparainfo``) and cached. A real parameter raises :class:`ValueError` (its value
+        has decimals: read it with :meth:`read_param_real`).
+        """
+        deadline = self._deadline(timeout)
+        value = await self._read_param_value(number, axis, deadline)
+        if value.width == _REAL_WIDTH:
+            raise ValueError(
+                f"parameter {number} is a real parameter ({value.real}): read it with "
+                "read_param_real"
+            )
+        if value.width == 1 and await self._param_type(number, deadline) is ParamDataType.BIT:
+            return value.bits
         return value.value
+
+    async def read_param_real(
+        self, number: int, *, axis: int = 0, timeout: float | None = None
+    ) -> Decimal:
+        """``cnc_rdparam``: the value of parameter ``number`` as a :class:`~decimal.Decimal`:
+        a real parameter with its decimals (``12.345``), any other as its integer value."""
+        deadline = self._deadline(timeout)
+        value = await self._read_param_value(number, axis, deadline)
+        if value.width == _REAL_WIDTH:
+            return value.real
+        if value.width == 1 and await self._param_type(number, deadline) is ParamDataType.BIT:
+            return Decimal(value.bits)
+        return Decimal(value.value)
 
     async def write_param(
         self,
         number: int,
-        value: int,
+        value: int | Decimal | str,
         *,
         axis: int = 0,
         width: int | None = None,
         timeout: float | None = None,
     ) -> None:
-        """``cnc_wrparam``: write ``value`` with ``width`` bytes (1, 2 or 4).
+        """``cnc_wrparam``: write ``value`` with ``width`` bytes (1, 2 or 4; 8 for a real
+        parameter).
 
         With ``width=None`` the width is the one the CNC reported for this parameter; the
-        first time it is learnt by one read and then cached.
+        first time it is learnt by one read and then cached. A bit parameter takes 0..255 or its
+        bits as text, #7 first (``"0b10110000"``, the same as 176); a real parameter a number
+        with decimals (``Decimal("12.345")``, ``"12.345"``, an ``int``); text is an integer
+        (``"42"``, ``"0x2A"``) otherwise. A value that cannot be carried raises
+        :class:`ValueError`, naming it, before anything is sent.
         """
+        _check_item(number, axis, "parameter")
         deadline = self._deadline(timeout)
         learnt = False
         if width is None:
@@ -296,9 +435,18 @@ class FocasClient(Link):
                 learnt = True
             else:
                 width = cached
-        elif width not in (1, 2, 4):
-            raise ValueError(f"parameter width must be 1, 2 or 4, got {width}")
-        payload = _WRPARAM.request.encode(ParamValue(number, axis, value, width))
+        elif width not in (1, 2, 4, _REAL_WIDTH):
+            raise ValueError(f"parameter width must be 1, 2, 4 or 8 (real), got {width}")
+        if width == _REAL_WIDTH:
+            mantissa, decimals = _real_to_wire(number, value)
+            pv = ParamValue(number, axis, mantissa, width, decimals)
+        else:
+            raw = _param_int(number, value)
+            if width == 1:
+                kind = await self._param_type(number, deadline)
+                raw = _byte_to_wire(number, raw, kind)
+            pv = ParamValue(number, axis, raw, width)
+        payload = _WRPARAM.request.encode(pv)
         try:
             await self._request(_WRPARAM, payload, deadline)
         except CncError as exc:
@@ -325,6 +473,8 @@ class FocasClient(Link):
         async with self._param_locks.hold((number, axis), deadline):
             current = await self._read_param_value(number, axis, deadline)
             width = current.width
+            if width == _REAL_WIDTH:
+                raise ValueError(f"parameter {number} is a real parameter: it has no bits")
             _check_bit(bit, width)
             bits = 8 * width
             raw = current.value & ((1 << bits) - 1)
@@ -336,6 +486,7 @@ class FocasClient(Link):
 
     async def read_diag(self, number: int, *, axis: int = 0, timeout: float | None = None) -> int:
         """``cnc_rddiag``: the value of diagnostic ``number``."""
+        _check_item(number, axis, "diagnostic")
         payload = _RDDIAG.request.encode(DataRequest(number, axis))
         value: ParamValue = await self._request(_RDDIAG, payload, self._deadline(timeout))
         return value.value
@@ -343,6 +494,7 @@ class FocasClient(Link):
     # -- macros --------------------------------------------------------------------------
     async def read_macro(self, number: int, *, timeout: float | None = None) -> Decimal | None:
         """``cnc_rdmacro``: the value of ``#number`` as a Decimal, or None when vacant."""
+        _check_macro(number)
         payload = _RDMACRO.request.encode(MacroRequest(number))
         value: MacroValue = await self._request(_RDMACRO, payload, self._deadline(timeout))
         return macro_from_wire(value.mcr_val, value.dec_val)
@@ -354,6 +506,7 @@ class FocasClient(Link):
 
         A value that cannot be carried raises :class:`ValueError` before anything is sent.
         """
+        _check_macro(number)
         mcr_val, dec_val = macro_to_wire(value)
         payload = _WRMACRO.request.encode(MacroValue(number, 8, mcr_val, dec_val))
         await self._request(_WRMACRO, payload, self._deadline(timeout))
@@ -408,11 +561,17 @@ class FocasClient(Link):
 
     # -- alarms --------------------------------------------------------------------------
     async def read_alarms(
-        self, *, alm_type: int = -1, timeout: float | None = None
+        self, *, alm_type: AlarmType | str | int = -1, timeout: float | None = None
     ) -> tuple[ActiveAlarm, ...]:
-        """``cnc_rdalmmsg``: the active alarms (all types, or only ``alm_type``), oldest
-        first. An error answer (count = -1) raises :class:`CncError`."""
-        payload = _RDALMMSG.request.encode(AlarmMsgRequest(alm_type, _MAX_ACTIVE_ALARMS))
+        """``cnc_rdalmmsg``: the active alarms (all types, -1, or only ``alm_type``: by name,
+        ``"PS"``, an :class:`AlarmType` or a number), oldest first. An error answer
+        (count = -1) raises :class:`CncError`."""
+        if isinstance(alm_type, str):
+            t = alarm_type_number(alm_type)
+        else:
+            _check("alarm type", alm_type, -1, _I16_MAX)
+            t = int(alm_type)
+        payload = _RDALMMSG.request.encode(AlarmMsgRequest(t, _MAX_ACTIVE_ALARMS))
         result: ActiveAlarmList = await self._request(_RDALMMSG, payload, self._deadline(timeout))
         if result.ew:
             raise CncError.from_ew(result.ew, _RDALMMSG.focas_name)
@@ -436,7 +595,8 @@ class FocasClient(Link):
         """``cnc_wrunlockparam``: unlock parameter writes on this connection.
 
         On success the password is kept and sent again after every reconnect. A refused
-        password raises :class:`AccessDeniedError` (and the connection is locked).
+        password raises :class:`AccessDeniedError` (and the connection is locked); one that is
+        not 1..4 ASCII characters raises :class:`ValueError` before anything is sent.
         """
         payload = _UNLOCK.request.encode(Password.from_text(password))
         await self._request(_UNLOCK, payload, self._deadline(timeout))
@@ -446,6 +606,8 @@ class FocasClient(Link):
     async def _config_chunk(
         self, rack: int, slot: int, offset: int, deadline: float | None
     ) -> bytes:
+        _check("rack", rack, 0, _U8_MAX)
+        _check("slot", slot, 0, _U8_MAX)
         request = VersaMaxRequest(rack, MAX_CONFIG_CHUNK, slot, offset)
         reply: VersaMaxReply = await self._request(
             _RDCONFIG, _RDCONFIG.request.encode(request), deadline

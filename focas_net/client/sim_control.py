@@ -5,10 +5,12 @@
 
 from __future__ import annotations
 
+from dataclasses import dataclass
 from typing import TYPE_CHECKING, Final
 
 from ..protocol import (
     COMMANDS,
+    AlarmType,
     ArmedFault,
     AutMode,
     ClearAlarms,
@@ -25,9 +27,52 @@ from ._pmc import AreaLike, write_pmc_range
 if TYPE_CHECKING:
     from .client import FocasClient
 
-__all__ = ["SimControl"]
+__all__ = ["PanelSwitches", "SimControl"]
+
+_UNCHANGED: Final = -1
+_I16_MAX: Final = 0x7FFF
+_MAX_ALARM_TYPE: Final = 31
+
+
+@dataclass(frozen=True, slots=True)
+class PanelSwitches:
+    """The operator panel's switches (:meth:`SimControl.read_panel`): ``mode`` an
+    :class:`~focas_net.protocol.AutMode` (an ``int`` for a number it has no member for)."""
+
+    mode: AutMode | int
+    pwe: bool
+    emergency: bool
+
+
+def _check(what: str, value: int, low: int, high: int) -> None:
+    if isinstance(value, bool) or not isinstance(value, int) or not low <= value <= high:
+        raise ValueError(f"{what} {value!r} is outside {low}..{high}")
+
+
+def _switch(what: str, value: bool | None) -> int:
+    if value is None:
+        return _UNCHANGED
+    if not isinstance(value, bool | int) or value not in (0, 1):
+        raise ValueError(f"{what} must be True, False or None (unchanged), got {value!r}")
+    return int(value)
+
+
+def alarm_type_number(alm_type: AlarmType | str | int) -> int:
+    """An alarm type number from its name (``"PS"``), an :class:`AlarmType` or 0..31."""
+    if isinstance(alm_type, str):
+        try:
+            return int(AlarmType[alm_type.strip().upper()])
+        except KeyError:
+            names = " ".join(t.name for t in AlarmType)
+            raise ValueError(
+                f"unknown alarm type {alm_type!r} (one of {names}, or 0..31)"
+            ) from None
+    _check("alarm type", alm_type, 0, _MAX_ALARM_TYPE)
+    return int(alm_type)
+
 
 _SET_PANEL: Final = COMMANDS[C.SIM_SET_PANEL]
+_READ_PANEL: Final = COMMANDS[C.SIM_READ_PANEL]
 _RAISE_ALARM: Final = COMMANDS[C.SIM_RAISE_ALARM]
 _CLEAR_ALARMS: Final = COMMANDS[C.SIM_CLEAR_ALARMS]
 _SET_PMC: Final = COMMANDS[C.SIM_SET_PMC]
@@ -37,7 +82,7 @@ _CLEAR_FAULTS: Final = COMMANDS[C.SIM_CLEAR_FAULTS]
 
 
 class SimControl:
-    """The simulator control commands (0x0E01..0x0E07), as ``client.sim``.
+    """The simulator control commands (0x0E01..0x0E07 and 0x0E10), as ``client.sim``.
 
     A real CNC, or a server with control disabled, answers them with ``EW_FUNC``.
     """
@@ -49,42 +94,69 @@ class SimControl:
 
     async def set_panel(
         self,
-        mode: AutMode | str | int,
+        mode: AutMode | str | int | None = None,
         *,
-        pwe: bool = False,
-        emergency: bool = False,
+        pwe: bool | None = None,
+        emergency: bool | None = None,
         timeout: float | None = None,
     ) -> None:
         """Set the operator panel: ``mode`` (an ``aut`` value or name: ``"MDI"``, ``AutMode.MEM``,
-        ``3``...), parameter write enable and emergency stop (all three are set)."""
-        aut = AutMode.parse(mode)
-        payload = _SET_PANEL.request.encode(SetPanel(int(aut), int(pwe), int(emergency)))
+        ``3``...), parameter write enable and emergency stop. A switch not given (None) stays
+        as it is (the command carries -1 for it: ``docs/protocol.md`` section 8)."""
+        aut = _UNCHANGED if mode is None else int(AutMode.parse(mode))
+        if aut == AutMode.NOSEL:
+            raise ValueError(f"mode {mode!r} is not a mode the panel can select")
+        payload = _SET_PANEL.request.encode(
+            SetPanel(aut, _switch("pwe", pwe), _switch("emergency", emergency))
+        )
         client = self._client
         await client._request(_SET_PANEL, payload, client._deadline(timeout))
 
+    async def read_panel(self, *, timeout: float | None = None) -> PanelSwitches:
+        """The operator panel's switches: mode, parameter write enable, emergency stop."""
+        client = self._client
+        panel: SetPanel = await client._request(_READ_PANEL, b"", client._deadline(timeout))
+        mode = AutMode(panel.mode) if panel.mode in AutMode._value2member_map_ else panel.mode
+        return PanelSwitches(mode, bool(panel.pwe), bool(panel.emergency))
+
     async def raise_alarm(
         self,
-        alm_type: int,
+        alm_type: AlarmType | str | int,
         alm_no: int,
         msg: str = "",
         *,
         axis_no: int = 0,
         timeout: float | None = None,
     ) -> None:
-        """Raise an alarm (a no-op when the same ``(axis_no, alm_type, alm_no)`` is active)."""
+        """Raise an alarm: ``alm_type`` by name (``"PS"``), as an :class:`AlarmType` or a
+        number 0..31; ``alm_no`` 0..32767; ``axis_no`` 0 (the whole CNC) or 1..n.
+
+        A CNC shows one entry per alarm: when the same ``(axis_no, alm_type, alm_no)`` is
+        active, nothing changes (it keeps its first message)."""
+        t = alarm_type_number(alm_type)
+        _check("alarm number", alm_no, 0, _I16_MAX)
+        _check("axis", axis_no, 0, _I16_MAX)
         try:
             raw = msg.encode("ascii")
         except UnicodeEncodeError:
             raise ValueError(f"alarm message must be ASCII: {msg!r}") from None
-        payload = _RAISE_ALARM.request.encode(RaiseAlarm(axis_no, alm_type, alm_no, raw))
+        payload = _RAISE_ALARM.request.encode(RaiseAlarm(axis_no, t, alm_no, raw))
         client = self._client
         await client._request(_RAISE_ALARM, payload, client._deadline(timeout))
 
     async def clear_alarms(
-        self, alm_type: int = -1, alm_no: int = -1, *, timeout: float | None = None
+        self,
+        alm_type: AlarmType | str | int = -1,
+        alm_no: int = -1,
+        *,
+        timeout: float | None = None,
     ) -> None:
-        """Clear the matching active alarms (-1 matches any); the history is kept."""
-        payload = _CLEAR_ALARMS.request.encode(ClearAlarms(alm_type, alm_no))
+        """Clear the matching active alarms (-1 matches any; ``alm_type`` also by name,
+        ``"PS"``); the history is kept."""
+        t = -1 if alm_type == -1 else alarm_type_number(alm_type)
+        if alm_no != -1:
+            _check("alarm number", alm_no, 0, _I16_MAX)
+        payload = _CLEAR_ALARMS.request.encode(ClearAlarms(t, alm_no))
         client = self._client
         await client._request(_CLEAR_ALARMS, payload, client._deadline(timeout))
 

@@ -10,7 +10,7 @@ from typing import Any, ClassVar, Final, Generic, Self, TypeVar
 
 from ..errors import PayloadError
 
-__all__ = ["I16", "INT_RANGES", "Codec", "FixedPayload"]
+__all__ = ["I16", "INT_RANGES", "Codec", "FixedPayload", "field_error"]
 
 T = TypeVar("T")
 
@@ -25,6 +25,20 @@ INT_RANGES: Final[dict[str, tuple[int, int]]] = {
     "i": (-(2**31), 2**31 - 1),
     "I": (0, 2**32 - 1),
 }
+
+
+def field_error(fields: tuple[tuple[str, object, str], ...], exc: struct.error) -> str:
+    """The message of a value that does not fit: the first ``(name, value, struct code)`` out
+    of its range, in the field's own words (``slot 70000 is outside 0..255``)."""
+    for name, value, code in fields:
+        bounds = INT_RANGES.get(code)
+        if bounds is None:
+            continue
+        if isinstance(value, bool) or not isinstance(value, int):
+            return f"{name} must be an integer, got {value!r}"
+        if not bounds[0] <= value <= bounds[1]:
+            return f"{name} {value!r} is outside {bounds[0]}..{bounds[1]}"
+    return f"a value does not fit its field: {exc}"
 
 
 class Codec(Generic[T]):
@@ -76,18 +90,23 @@ class FixedPayload:
             raise ValueError(self._explain(exc)) from None
 
     def _explain(self, exc: struct.error) -> str:
-        """Which field does not fit, and its range."""
-        name = type(self).__name__
+        """Which field does not fit, and its range, in the field's own words (``count
+        100000 is outside -32768..32767``): callers check their arguments in the user's terms
+        first, so this names only what they did not check."""
         codes = [c for c in self.FORMAT if c.isalpha()]
         fields = [f for f in inspect.get_annotations(type(self)) if f.islower()]
         for field, code in zip(fields, codes, strict=False):
             value = getattr(self, field)
             bounds = INT_RANGES.get(code)
             if bounds is not None and not (
-                isinstance(value, int) and bounds[0] <= value <= bounds[1]
+                isinstance(value, int)
+                and not isinstance(value, bool)
+                and bounds[0] <= value <= bounds[1]
             ):
-                return f"{name}.{field} = {value!r} does not fit ({bounds[0]}..{bounds[1]})"
-        return f"{name}: {exc}"
+                if not isinstance(value, int):
+                    return f"{field} must be an integer, got {value!r}"
+                return f"{field} {value!r} is outside {bounds[0]}..{bounds[1]}"
+        return f"a value does not fit its field: {exc}"
 
     @classmethod
     def decode(cls, data: bytes) -> Self:

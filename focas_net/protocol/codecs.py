@@ -14,10 +14,11 @@ from __future__ import annotations
 import enum
 import struct
 from dataclasses import dataclass
+from decimal import Decimal
 from typing import Any, ClassVar, Final, Self
 
 from ..errors import PayloadError
-from ._base import I16, INT_RANGES, Codec, FixedPayload
+from ._base import I16, INT_RANGES, Codec, FixedPayload, field_error
 from .alarms import ActiveAlarmList, AlarmHistory
 from .commands import Command
 from .faults import FaultList, FaultsCleared, FaultsRequest
@@ -27,6 +28,8 @@ __all__ = [
     "COMMANDS",
     "EW_OK_BYTES",
     "MAX_PMC_CHUNK",
+    "MAX_REAL_DECIMALS",
+    "PASSWORD_SIZE",
     "ActualValue",
     "AlarmHistoryRequest",
     "AlarmMsgRequest",
@@ -38,6 +41,9 @@ __all__ = [
     "InjectFault",
     "MacroRequest",
     "MacroValue",
+    "ParamAttributes",
+    "ParamAttributesRequest",
+    "ParamDataType",
     "ParamValue",
     "Password",
     "PmcArea",
@@ -57,6 +63,8 @@ __all__ = [
 
 #: Most data bytes one PMC range call carries.
 MAX_PMC_CHUNK: Final = 32
+#: Bytes of a parameter password (``cnc_wrunlockparam``): 1..4 ASCII characters.
+PASSWORD_SIZE: Final = 4
 #: ``i16 ew = 0``, the start of every successful read or write answer.
 EW_OK_BYTES: Final = b"\x00\x00"
 
@@ -197,15 +205,23 @@ class PmcRange(FixedPayload):
 
 @dataclass(frozen=True, slots=True)
 class Password(FixedPayload):
-    """``cnc_wrunlockparam``: ``byte password[4]``, ASCII right-padded with NUL, cut at 4."""
+    """``cnc_wrunlockparam``: ``byte password[4]``, ASCII right-padded with NUL.
+
+    A parameter password is 1..4 ASCII characters: :meth:`from_text` refuses anything else
+    (a longer one is never cut: ``docs/protocol.md``)."""
 
     FORMAT: ClassVar[str] = "<4s"
     password: bytes
 
     @classmethod
     def from_text(cls, text: str | bytes) -> Self:
-        raw = text.encode("latin-1") if isinstance(text, str) else text
-        return cls(raw[:4].ljust(4, b"\x00"))
+        """The payload of ``text``; ValueError, naming it, unless 1..4 ASCII characters."""
+        shown = text if isinstance(text, str) else bytes(text).decode("latin-1")
+        if not (1 <= len(shown) <= PASSWORD_SIZE and shown.isascii() and "\x00" not in shown):
+            raise ValueError(
+                f"parameter password {shown!r}: must be 1..{PASSWORD_SIZE} ASCII characters"
+            )
+        return cls(shown.encode("ascii").ljust(PASSWORD_SIZE, b"\x00"))
 
 
 @dataclass(frozen=True, slots=True)
@@ -296,46 +312,110 @@ _WIDTH_FORMATS: Final[dict[int, struct.Struct]] = {
     1: struct.Struct("<hhb"),
     2: struct.Struct("<hhh"),
     4: struct.Struct("<hhi"),
+    8: struct.Struct("<hhii"),
 }
+_WIDTH_CODES: Final[dict[int, str]] = {1: "b", 2: "h", 4: "i", 8: "i"}
+#: Most decimals of a real parameter value (REALPRM ``dec_val``).
+MAX_REAL_DECIMALS: Final = 9
 
 
 @dataclass(frozen=True, slots=True)
 class ParamValue:
-    """IODBPSD: ``i16 datano, i16 axis``, then the value as signed byte, i16 or i32.
+    """IODBPSD: ``i16 datano, i16 axis``, then the value as signed byte, i16 or i32, or for a
+    real parameter FANUC's REALPRM: ``i32 prm_val, i32 dec_val`` (``docs/protocol.md`` section
+    8), value ``prm_val / 10**dec_val``.
 
-    The width (1, 2 or 4) is implied by the payload length. Used by the answer of
-    ``cnc_rdparam``/``cnc_rddiag`` and by the request of ``cnc_wrparam``.
+    The width (1, 2, 4 or 8) is implied by the payload length; ``decimals`` is the REALPRM's
+    ``dec_val`` (0 for the other widths). Used by the answer of ``cnc_rdparam``/``cnc_rddiag``
+    and by the request of ``cnc_wrparam``. A bit parameter travels as the signed byte holding
+    its eight bits (``0b10110000`` is -80 here; see :attr:`bits`).
     """
 
     datano: int
     axis: int
     value: int
     width: int
+    decimals: int = 0
+
+    @property
+    def bits(self) -> int:
+        """The value as unsigned bits (a 1-byte value -80 is 176, ``0b10110000``)."""
+        return self.value & ((1 << 8 * min(self.width, 4)) - 1)
+
+    @property
+    def real(self) -> Decimal:
+        """The value as a decimal number: ``value / 10**decimals``."""
+        return Decimal(self.value).scaleb(-self.decimals)
 
     def encode(self) -> bytes:
         st = _WIDTH_FORMATS.get(self.width)
         if st is None:
-            raise ValueError(f"parameter width must be 1, 2 or 4, got {self.width}")
-        try:
-            return st.pack(self.datano, self.axis, self.value)
-        except struct.error:
-            lo, hi = INT_RANGES[{1: "b", 2: "h", 4: "i"}[self.width]]
-            if not lo <= self.value <= hi:
-                raise ValueError(
-                    f"value {self.value} does not fit a {self.width}-byte parameter ({lo}..{hi})"
-                ) from None
-            raise ValueError(
-                f"data number {self.datano} / axis {self.axis} outside -32768..32767"
-            ) from None
+            raise ValueError(f"parameter width must be 1, 2, 4 or 8, got {self.width}")
+        lo, hi = INT_RANGES[_WIDTH_CODES[self.width]]
+        if not (isinstance(self.value, int) and lo <= self.value <= hi):
+            kind = (
+                "real parameter's mantissa" if self.width == 8 else f"{self.width}-byte parameter"
+            )
+            raise ValueError(f"value {self.value!r} does not fit a {kind} ({lo}..{hi})")
+        for what, field in (("parameter number", self.datano), ("axis", self.axis)):
+            if not (isinstance(field, int) and -0x8000 <= field <= 0x7FFF):
+                raise ValueError(f"{what} {field!r} is outside -32768..32767")
+        if self.width == 8:
+            if not 0 <= self.decimals <= MAX_REAL_DECIMALS:
+                raise ValueError(f"decimals {self.decimals} outside 0..{MAX_REAL_DECIMALS}")
+            return st.pack(self.datano, self.axis, self.value, self.decimals)
+        return st.pack(self.datano, self.axis, self.value)
 
     @classmethod
     def decode(cls, data: bytes) -> Self:
         width = len(data) - 4
         st = _WIDTH_FORMATS.get(width)
         if st is None:
-            raise PayloadError(f"IODBPSD of {len(data)} bytes (expected 5, 6 or 8)")
+            raise PayloadError(f"IODBPSD of {len(data)} bytes (expected 5, 6, 8 or 12)")
+        if width == 8:
+            datano, axis, value, decimals = st.unpack(data)
+            return cls(datano, axis, value, width, decimals)
         datano, axis, value = st.unpack(data)
         return cls(datano, axis, value, width)
+
+
+class ParamDataType(enum.IntEnum):
+    """``kind`` of ``cnc_rdparainfo``: a parameter's data type, FANUC's numbering."""
+
+    BIT = 0
+    BYTE = 1
+    WORD = 2
+    TWO_WORD = 3
+    REAL = 4
+
+
+@dataclass(frozen=True, slots=True)
+class ParamAttributesRequest(FixedPayload):
+    """Request of ``cnc_rdparainfo``: ``i16 datano``."""
+
+    FORMAT: ClassVar[str] = "<h"
+    datano: int
+
+
+@dataclass(frozen=True, slots=True)
+class ParamAttributes(FixedPayload):
+    """Answer of ``cnc_rdparainfo`` (one parameter): ``i16 datano, i16 kind`` (a
+    :class:`ParamDataType`), ``i16 axis`` (1: an axis parameter, 0: not), ``i16 decimals`` (of a
+    real parameter, else 0), ``i32 low, i32 high``: the range it accepts (a real parameter's
+    in mantissas, a bit parameter's 0..255)."""
+
+    FORMAT: ClassVar[str] = "<hhhhii"
+    datano: int
+    kind: int
+    axis: int
+    decimals: int
+    low: int
+    high: int
+
+    @property
+    def type(self) -> ParamDataType | None:
+        """:attr:`kind` as a :class:`ParamDataType` (None for a number it does not have)."""
+        return ParamDataType(self.kind) if self.kind in ParamDataType._value2member_map_ else None
 
 
 _PMC_HEAD: Final = PmcRange.STRUCT
@@ -366,7 +446,13 @@ class PmcData:
                 self.data
             )
         except struct.error as exc:
-            raise ValueError(f"PmcData: {exc}") from None
+            fields: tuple[tuple[str, object, str], ...] = (
+                ("type_a", self.type_a, "h"),
+                ("type_d", self.type_d, "h"),
+                ("start address", self.datano_s, "H"),
+                ("end address", self.datano_e, "H"),
+            )
+            raise ValueError(field_error(fields, exc)) from None
 
     @classmethod
     def decode(cls, data: bytes) -> Self:
@@ -392,7 +478,13 @@ class RaiseAlarm:
         try:
             head = _RAISE_HEAD.pack(self.axis_no, self.alm_type, self.alm_no, len(self.msg))
         except struct.error as exc:
-            raise ValueError(f"RaiseAlarm: {exc}") from None
+            fields: tuple[tuple[str, object, str], ...] = (
+                ("axis", self.axis_no, "h"),
+                ("alarm type", self.alm_type, "h"),
+                ("alarm number", self.alm_no, "h"),
+                ("message length", len(self.msg), "h"),
+            )
+            raise ValueError(field_error(fields, exc)) from None
         return head + self.msg
 
     @classmethod
@@ -436,7 +528,7 @@ class PositionData:
                     raise ValueError(f"axis name {a.name!r}: 0..4 characters, no NUL")
                 parts.append(_POS_ENTRY.pack(a.value, raw))
         except (struct.error, UnicodeEncodeError) as exc:
-            raise ValueError(f"PositionData: {exc}") from None
+            raise ValueError(f"position answer: {exc}") from None
         return b"".join(parts)
 
     @classmethod
@@ -614,6 +706,18 @@ COMMANDS: Final[dict[int, CommandSpec]] = {
             _ew_response(Codec("VersaMaxReply", VersaMaxReply.encode, VersaMaxReply.decode)),
         ),
         _spec(Command.SIM_SET_PANEL, "sim_set_panel", SetPanel.codec(), _OK_ONLY),
+        _spec(
+            Command.SIM_READ_PANEL,
+            "sim_read_panel",
+            EMPTY,
+            _ew_response(SetPanel.codec()),
+        ),
+        _spec(
+            Command.RDPARAINFO,
+            "cnc_rdparainfo",
+            ParamAttributesRequest.codec(),
+            _ew_response(ParamAttributes.codec(), _MEMO),
+        ),
         _spec(
             Command.SIM_RAISE_ALARM,
             "sim_raise_alarm",

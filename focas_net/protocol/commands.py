@@ -22,6 +22,7 @@ class Command(enum.IntEnum):
     ACTS = 0x0009  # cnc_acts: actual spindle speed
     RDPOSITION = 0x000A  # cnc_rdposition: positions in least input increments
     RDPMCRNG = 0x0010  # pmc_rdpmcrng: IODBPMC
+    RDPARAINFO = 0x0020  # cnc_rdparainfo: a parameter's type, axis flag, decimals and range
     WRPARAM = 0x0102  # cnc_wrparam: IODBPSD
     WRMACRO = 0x0103  # cnc_wrmacro: ODBM
     WRPMCRNG = 0x0104  # pmc_wrpmcrng: IODBPMC
@@ -34,6 +35,7 @@ class Command(enum.IntEnum):
     SIM_INJECT_FAULT = 0x0E05  # simulator control: fault injection
     SIM_LIST_FAULTS = 0x0E06  # simulator control: the pending faults of one scope
     SIM_CLEAR_FAULTS = 0x0E07  # simulator control: remove the pending faults of one scope
+    SIM_READ_PANEL = 0x0E10  # simulator control: read the operator panel
     RDALMHISTRY = 0x0F1A  # cnc_rdalmhistry: ODBAHIS
 
 

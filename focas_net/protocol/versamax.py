@@ -12,6 +12,7 @@ from dataclasses import dataclass
 from typing import Final, Self
 
 from ..errors import PayloadError
+from ._base import field_error
 
 __all__ = ["MAX_CONFIG_CHUNK", "VersaMaxReply", "VersaMaxRequest"]
 
@@ -34,7 +35,13 @@ class VersaMaxRequest:
         try:
             return _REQUEST.pack(self.rack, self.length, self.slot, self.offset)
         except struct.error as exc:
-            raise ValueError(f"VersaMaxRequest: {exc}") from None
+            fields: tuple[tuple[str, object, str], ...] = (
+                ("rack", self.rack, "B"),
+                ("length", self.length, "H"),
+                ("slot", self.slot, "B"),
+                ("offset", self.offset, "H"),
+            )
+            raise ValueError(field_error(fields, exc)) from None
 
     @classmethod
     def decode(cls, data: bytes) -> Self:
@@ -62,7 +69,13 @@ class VersaMaxReply:
                 + self.data
             )
         except struct.error as exc:
-            raise ValueError(f"VersaMaxReply: {exc}") from None
+            fields: tuple[tuple[str, object, str], ...] = (
+                ("rack", self.rack, "B"),
+                ("length", _REQUEST.size + len(self.data), "H"),
+                ("slot", self.slot, "B"),
+                ("offset", self.offset, "H"),
+            )
+            raise ValueError(field_error(fields, exc)) from None
 
     @classmethod
     def decode(cls, data: bytes) -> Self:

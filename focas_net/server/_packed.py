@@ -40,7 +40,7 @@ _log = logging.getLogger("focas_net.server")
 
 _pack_header = HEADER.pack
 _CONTROL_FIRST: Final = int(Command.SIM_SET_PANEL)
-_CONTROL_LAST: Final = int(Command.SIM_CLEAR_FAULTS)
+_CONTROL_LAST: Final = 0x0EFF  # every simulator control id is 0x0Exx (0x0E10 read_panel too)
 _INJECT_FAULT: Final = int(Command.SIM_INJECT_FAULT)
 _LIST_FAULTS: Final = int(Command.SIM_LIST_FAULTS)
 _CLEAR_FAULTS: Final = int(Command.SIM_CLEAR_FAULTS)

@@ -3,30 +3,31 @@
 It holds everything ``docs/protocol.md`` section 7 promises (tests may rely on that part) and
 more, so that it reads like a real control. Values are in least input increments (0.001 mm).
 
-Parameters (number: type, axis or not, range, meaning)::
+Parameters (number: type, axis or not, range, meaning); a bit parameter holds 0..255, bits #7..#0
+(:class:`~focas_net.sim.ParamKind`)::
 
     20    byte  -      0..35              I/O channel
-    1001  byte  -      full               bit parameter (INM: inch machine)
-    1005  byte  axis   full               bit parameter (ZRN, HJZ, ...)
-    1006  byte  axis   full               bit parameter (ROT, DIA, ZMI, ...)
+    1001  bit   -      full               bit parameter (INM: inch machine)
+    1005  bit   axis   full               bit parameter (ZRN, HJZ, ...)
+    1006  bit   axis   full               bit parameter (ROT, DIA, ZMI, ...)
     1020  byte  axis   65..90             program axis name ('X', 'Y', 'Z')
     1320  i32   axis   -999999999..999999999  stored stroke limit 1, positive side
     1321  i32   axis   -999999999..999999999  stored stroke limit 1, negative side
     1410  i32   -      0..999999999       dry run rate
     1420  i32   axis   0..999999999       rapid traverse rate
     1422  i32   -      0..999999999       maximum cutting feedrate
-    1815  byte  axis   full               bit parameter (APC, APZ, OPT, ...)
+    1815  bit   axis   full               bit parameter (APC, APZ, OPT, ...)
     1825  i16   axis   1..32767           servo loop gain
     1826  i32   axis   0..99999999        in-position width
     1828  i32   axis   0..99999999        positional deviation limit in movement
     3216  i16   -      0..9999            increment of automatic sequence numbers
-    3401  byte  -      full               bit parameter (DPI: decimal point input)
+    3401  bit   -      full               bit parameter (DPI: decimal point input)
     6711  i32   -      0..999999999       parts count
     6712  i32   -      0..999999999       total parts
     6713  i32   -      0..999999999       parts required
     8130  byte  -      1..8               number of controlled axes
 
-Diagnostics: 0 (byte, status bits), 300 (i32 axis, position error), 301 (i32 axis, machine
+Diagnostics: 0 (bit, status bits), 300 (i32 axis, position error), 301 (i32 axis, machine
 position error), 308 (byte axis, servo motor temperature C), 309 (byte axis, pulse coder
 temperature C), 403 (byte, spindle motor temperature C), 410 (i16, spindle load %).
 
@@ -58,6 +59,7 @@ from .machine import (
     MacroRange,
     MotionData,
     Panel,
+    ParamKind,
     PmcAreaSpec,
     utc_now,
 )
@@ -68,6 +70,7 @@ __all__ = ["DEFAULT_NAME", "default_machine", "gniu_record", "mdd844_record"]
 DEFAULT_NAME: Final = "focas-sim-0i"
 
 _STROKE: Final = 999_999_999
+_BIT: Final = ParamKind.BIT
 _GNIU_DATA: Final = struct.Struct("<BBHHHH")  # bus address, baud code, %I, %Q, %AI, %AQ bytes
 
 
@@ -110,21 +113,21 @@ def _params(n: int) -> list[DataItem]:
     names = [ord(c) for c in "XYZABCUVW"[:n]] if n <= 9 else [88] * n
     return [
         DataItem(20, 1, False, 0, 35, [4], "I/O channel"),
-        DataItem(1001, 1, False, None, None, [0], "INM"),
-        DataItem(1005, 1, True, None, None, [0], "ZRN HJZ"),
-        DataItem(1006, 1, True, None, None, [0], "ROT DIA ZMI"),
+        DataItem(1001, 1, False, None, None, [0], "INM", _BIT),
+        DataItem(1005, 1, True, None, None, [0], "ZRN HJZ", _BIT),
+        DataItem(1006, 1, True, None, None, [0], "ROT DIA ZMI", _BIT),
         DataItem(1020, 1, True, 65, 90, names, "program axis name"),
         DataItem(1320, 4, True, -_STROKE, _STROKE, [_STROKE], "stroke limit +"),
         DataItem(1321, 4, True, -_STROKE, _STROKE, [-_STROKE], "stroke limit -"),
         DataItem(1410, 4, False, 0, _STROKE, [5000], "dry run rate"),
         DataItem(1420, 4, True, 0, _STROKE, [24000], "rapid traverse rate"),
         DataItem(1422, 4, False, 0, _STROKE, [10000], "maximum cutting feedrate"),
-        DataItem(1815, 1, True, None, None, [0b0011_0000], "APC APZ"),
+        DataItem(1815, 1, True, None, None, [0b0011_0000], "APC APZ", _BIT),
         DataItem(1825, 2, True, 1, 32767, [3000], "servo loop gain"),
         DataItem(1826, 4, True, 0, 99_999_999, [20], "in-position width"),
         DataItem(1828, 4, True, 0, 99_999_999, [7000], "deviation limit in movement"),
         DataItem(3216, 2, False, 0, 9999, [10], "sequence number increment"),
-        DataItem(3401, 1, False, None, None, [1], "DPI"),
+        DataItem(3401, 1, False, None, None, [1], "DPI", _BIT),
         DataItem(6711, 4, False, 0, _STROKE, [0], "parts count"),
         DataItem(6712, 4, False, 0, _STROKE, [0], "total parts"),
         DataItem(6713, 4, False, 0, _STROKE, [0], "parts required"),
@@ -134,7 +137,7 @@ def _params(n: int) -> list[DataItem]:
 
 def _diags() -> list[DataItem]:
     return [
-        DataItem(0, 1, False, None, None, [0], "status"),
+        DataItem(0, 1, False, None, None, [0], "status", _BIT),
         DataItem(300, 4, True, None, None, [0], "position error"),
         DataItem(301, 4, True, None, None, [0], "machine position error"),
         DataItem(308, 1, True, 0, 127, [31], "servo motor temperature"),

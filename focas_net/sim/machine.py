@@ -23,7 +23,8 @@ the order its docstring gives:
 
 * a read-only machine (``read_only = True``) answers EW_PROT to every write, before any other
   check of the machine (:meth:`Machine.check_writable` asks only that);
-* parameters and diagnostics: unknown number -> EW_NUMBER, axis 0 for an axis item or an axis
+* parameters and diagnostics: each has a FANUC type (:class:`ParamKind`: bit, byte, word,
+  two-word, real). Unknown number -> EW_NUMBER, axis 0 for an axis item or an axis
   for a non-axis item or an axis outside 1..n -> EW_ATTRIB, a value given in another width than
   the parameter's type -> EW_LENGTH, write gate closed (PWE off, not MDI, password not unlocked
   by this session) -> EW_PASSWD, value outside the parameter's range -> EW_DATA;
@@ -45,7 +46,7 @@ the order its docstring gives:
 * the VersaMax station: an empty (or impossible) rack/slot -> EW_NUMBER, an offset outside the
   record -> EW_NUMBER; a read returns what the record has from there, up to the length asked;
 * the operator panel: a mode that is not an ``aut`` value other than 2, ``pwe`` or
-  ``emergency`` other than 0/1 -> EW_DATA.
+  ``emergency`` other than 0/1 -> EW_DATA; a switch given as None stays as it is.
 
 What a wire cannot carry is its adapter's to refuse: payload sizes and layouts, unknown commands,
 the packed protocol's ``type_a`` codes and ``type_d``, its ceiling of 32 PMC bytes, 32 alarm
@@ -57,7 +58,9 @@ checks before it (:meth:`Machine.check_writable`, :meth:`Machine.check_pmc_area`
 Whether simulator control commands are served (``control_enabled``) is a flag the adapters read.
 
 ``unlock`` is session state, not machine state: it works on a read-only machine. The parameter
-password is compared in constant time and never logged or shown in ``repr``.
+password is 1..4 ASCII characters; only an exact match unlocks (a longer password offered is
+wrong, never cut to a prefix). It is compared in constant time and never logged or shown in
+``repr``.
 
 Counters (:attr:`Machine.version` and the narrower ``*_version``) move on every change they
 cover, so front ends can key caches of their answers on them.
@@ -65,6 +68,7 @@ cover, so front ends can key caches of their answers on them.
 
 from __future__ import annotations
 
+import enum
 import hashlib
 import hmac
 import logging
@@ -100,6 +104,7 @@ __all__ = [
     "MacroRange",
     "MotionData",
     "Panel",
+    "ParamKind",
     "PmcAreaSpec",
     "Session",
     "Status",
@@ -140,11 +145,6 @@ DEFAULT_CONTROL_CLASS: Final = "0i-F"
 MAX_RACK: Final = 7
 MAX_SLOT: Final = 9
 
-_WIDTH_RANGES: Final[dict[int, tuple[int, int]]] = {
-    1: (-0x80, 0x7F),
-    2: (-0x8000, 0x7FFF),
-    4: (-0x8000_0000, 0x7FFF_FFFF),
-}
 _MOTION_SCALARS: Final = ("feed", "spindle_speed", "program_running", "program_main", "sequence")
 _SKIP: Final = "skip"
 _I32_MIN: Final = -0x8000_0000
@@ -160,9 +160,23 @@ def utc_now() -> datetime:
 
 
 def _password(text: str | bytes) -> bytes:
-    """A parameter password as the CNC keeps it: 4 bytes, cut or padded with NUL."""
-    raw = text.encode("latin-1") if isinstance(text, str) else bytes(text)
-    return raw[:_PASSWORD_SIZE].ljust(_PASSWORD_SIZE, b"\x00")
+    """A parameter password as the CNC keeps it: 1..4 ASCII characters (no NUL), padded to 4
+    bytes with NUL. ValueError, naming what was given, for anything else."""
+    shown = text if isinstance(text, str) else text.decode("latin-1")
+    if not (1 <= len(shown) <= _PASSWORD_SIZE and shown.isascii() and "\x00" not in shown):
+        raise ValueError(
+            f"parameter password {shown!r}: must be 1..{_PASSWORD_SIZE} ASCII characters"
+        )
+    return shown.encode("ascii").ljust(_PASSWORD_SIZE, b"\x00")
+
+
+def _offered(text: str | bytes) -> bytes | None:
+    """The 4 bytes a password offered to :meth:`Machine.unlock` stands for, or None when it can
+    match no password (longer than 4 bytes: never cut to a prefix)."""
+    raw = text.encode("latin-1", "replace") if isinstance(text, str) else bytes(text)
+    if len(raw) > _PASSWORD_SIZE:
+        return None
+    return raw.ljust(_PASSWORD_SIZE, b"\x00")
 
 
 def _macro_value(value: Decimal | int) -> Decimal | None:
@@ -257,26 +271,97 @@ class HistoryEntry:
     msg: str
 
 
+class ParamKind(enum.IntEnum):
+    """The data type of a parameter (or diagnostic), numbered as FANUC numbers them.
+
+    ``BIT`` is eight bits ``#7..#0`` held as 0..255; ``BYTE`` a signed byte, ``WORD`` an i16,
+    ``TWO_WORD`` an i32; ``REAL`` a real value kept as FANUC's REALPRM keeps it: an i32 mantissa
+    with the parameter's fixed number of decimals (:attr:`DataItem.decimals`), so ``12.345``
+    with 3 decimals is the mantissa ``12345``.
+    """
+
+    BIT = 0
+    BYTE = 1
+    WORD = 2
+    TWO_WORD = 3
+    REAL = 4
+
+    @property
+    def width(self) -> int:
+        """Bytes of a value of this kind on a wire: 1, 1, 2, 4, and 8 for REAL (REALPRM: the
+        i32 mantissa and the i32 number of decimals)."""
+        return _KIND_WIDTHS[self]
+
+    @property
+    def span(self) -> tuple[int, int]:
+        """The values a parameter of this kind can hold (REAL: its mantissa)."""
+        return _KIND_SPANS[self]
+
+
+_KIND_WIDTHS: Final[dict[int, int]] = {0: 1, 1: 1, 2: 2, 3: 4, 4: 8}
+_KIND_SPANS: Final[dict[int, tuple[int, int]]] = {
+    0: (0, 0xFF),
+    1: (-0x80, 0x7F),
+    2: (-0x8000, 0x7FFF),
+    3: (-0x8000_0000, 0x7FFF_FFFF),
+    4: (-0x8000_0000, 0x7FFF_FFFF),
+}
+#: The kind of an item given by its width only.
+_KIND_OF_WIDTH: Final[dict[int, ParamKind]] = {
+    1: ParamKind.BYTE,
+    2: ParamKind.WORD,
+    4: ParamKind.TWO_WORD,
+}
+#: Most decimals of a real parameter (REALPRM ``dec_val``).
+MAX_REAL_DECIMALS: Final = 9
+
+
 @dataclass(slots=True)
 class DataItem:
-    """A parameter or a diagnostic: number, width (1 byte, 2 i16, 4 i32), per-axis or not,
-    allowed range (inclusive) and its value(s): one value, or one per axis."""
+    """A parameter or a diagnostic: number, type, per-axis or not, allowed range (inclusive)
+    and its value(s): one value, or one per axis.
+
+    The type is ``kind`` (a :class:`ParamKind`); ``width`` follows from it (bit and byte 1,
+    word 2, two-word 4, real 8). An item given only a ``width`` (1, 2 or 4) is a byte, word or
+    two-word item. A ``REAL`` item holds mantissas with ``decimals`` decimals (0..9): its range
+    and values are mantissas too. A ``BIT`` item holds 0..255 (bit ``#n`` is ``1 << n``).
+    """
 
     number: int
-    width: int
+    width: int = 0
     axis: bool = False
     low: int | None = None
     high: int | None = None
     values: list[int] = field(default_factory=lambda: [0])
     name: str = ""
+    kind: ParamKind | None = None
+    decimals: int = 0
 
     def check(self, axes: int) -> None:
-        """Raise ValueError when the item is not consistent (for machine builders)."""
+        """Raise ValueError when the item is not consistent (for machine builders); fills in
+        ``kind`` (from ``width``), ``width`` (from ``kind``) and the range (the kind's)."""
         if not -0x8000 <= self.number <= 0x7FFF:
             raise ValueError(f"number {self.number} is outside i16")
-        span = _WIDTH_RANGES.get(self.width)
-        if span is None:
-            raise ValueError(f"width must be 1, 2 or 4, got {self.width}")
+        if self.kind is None:
+            kind = _KIND_OF_WIDTH.get(self.width)
+            if kind is None:
+                raise ValueError(f"width must be 1, 2 or 4, got {self.width}")
+            self.kind = kind
+        else:
+            self.kind = ParamKind(self.kind)
+            if self.width == 0:
+                self.width = self.kind.width
+            elif self.width != self.kind.width:
+                raise ValueError(
+                    f"a {self.kind.name.lower()} item is {self.kind.width} bytes wide, "
+                    f"width {self.width} given"
+                )
+        if self.kind is ParamKind.REAL:
+            if not 0 <= self.decimals <= MAX_REAL_DECIMALS:
+                raise ValueError(f"decimals {self.decimals} outside 0..{MAX_REAL_DECIMALS}")
+        elif self.decimals:
+            raise ValueError(f"decimals apply to a real item only, got {self.decimals}")
+        span = self.kind.span
         if self.low is None:
             self.low = span[0]
         if self.high is None:
@@ -502,8 +587,8 @@ class Machine:
         return Session(False, self._password_epoch)
 
     def set_param_password(self, password: str | bytes | None) -> None:
-        """Set (None: remove) the parameter password, cut at 4 bytes. Connections unlocked
-        under the previous password are locked again."""
+        """Set (None: remove) the parameter password, 1..4 ASCII characters (ValueError
+        otherwise). Connections unlocked under the previous password are locked again."""
         self._password = None if password is None else _password(password)
         self._password_epoch += 1
         self.version += 1
@@ -586,11 +671,24 @@ class Machine:
         )
 
     def write_param(
-        self, session: Session, datano: int, axis: int, value: int, *, width: int | None = None
+        self,
+        session: Session,
+        datano: int,
+        axis: int,
+        value: int,
+        *,
+        width: int | None = None,
+        decimals: int | None = None,
     ) -> None:
-        """Write parameter ``datano``; ``width`` is the width (1, 2, 4) the value was given in,
-        checked against the parameter's type when given. EW_PROT (read-only machine),
-        EW_NUMBER, EW_ATTRIB, EW_LENGTH (width), EW_PASSWD (write gate), EW_DATA (range)."""
+        """Write parameter ``datano``; ``width`` is the width (1, 2, 4, 8 for a real) the value
+        was given in, checked against the parameter's type when given. ``value`` is in the
+        parameter's terms: 0..255 for a bit parameter, the mantissa of a real one. EW_PROT
+        (read-only machine), EW_NUMBER, EW_ATTRIB, EW_LENGTH (width), EW_PASSWD (write gate),
+        EW_DATA (range).
+
+        ``decimals`` (a real parameter only) says how many decimals the mantissa ``value``
+        has: it is rescaled to the parameter's own, and a value that does not have an exact
+        mantissa there (``1.2345`` for a 3-decimal parameter) is EW_DATA."""
         self.check_writable()
         item, i = self._lookup(self._params, datano, axis)
         if width is not None and width != item.width:
@@ -599,6 +697,18 @@ class Machine:
             raise MachineError(EW.PASSWD, "parameter write not enabled")
         low, high = item.low, item.high
         assert low is not None and high is not None
+        if decimals is not None and item.kind is ParamKind.REAL and decimals != item.decimals:
+            if not 0 <= decimals <= MAX_REAL_DECIMALS:
+                raise MachineError(EW.DATA, f"parameter {datano}: {decimals} decimals")
+            shift = item.decimals - decimals
+            if shift > 0:
+                value *= 10**shift
+            elif value % 10**-shift:
+                raise MachineError(
+                    EW.DATA, f"parameter {datano} has {item.decimals} decimals, {value}E-{decimals}"
+                )
+            else:
+                value //= 10**-shift
         if not low <= value <= high:
             raise MachineError(EW.DATA, f"parameter {datano}: {value} outside {low}..{high}")
         item.values[i] = value
@@ -715,14 +825,17 @@ class Machine:
 
     # -- password ------------------------------------------------------------------------
     def unlock(self, session: Session, password: str | bytes) -> None:
-        """Unlock parameter writes for ``session`` (4 bytes of ``password`` count, as for the
-        machine's); a mismatch answers EW_PASSWD and locks the session again."""
+        """Unlock parameter writes for ``session``. ``password`` matches only when it is the
+        machine's exactly (as 4 bytes padded with NUL: ``b"12\\0\\0"`` is ``"12"``); a longer
+        one never matches, not even when it starts with the machine's. A mismatch answers
+        EW_PASSWD and locks the session again. A machine without a password unlocks any."""
         expected = self._password
         session.epoch = self._password_epoch
         if expected is None:
             session.unlocked = True
             return
-        if hmac.compare_digest(_password(password), expected):
+        offered = _offered(password)
+        if offered is not None and hmac.compare_digest(offered, expected):
             session.unlocked = True
             return
         session.unlocked = False
@@ -753,11 +866,16 @@ class Machine:
         t = t.replace(tzinfo=UTC) if t.tzinfo is None else t.astimezone(UTC)
         return t.replace(microsecond=0)
 
-    def raise_alarm(self, axis_no: int, alm_type: int, alm_no: int, msg: str = "") -> None:
-        """Make an alarm active and record it in the history (UTC, whole seconds). An alarm
-        already active (same axis_no, alm_type, alm_no) changes nothing. The CNC keeps 32
-        characters of ``msg``, single-byte (Latin-1) text. EW_PROT (read-only machine),
-        EW_DATA (alm_type, alm_no), EW_ATTRIB (axis_no), EW_DATA (a character beyond U+00FF)."""
+    def raise_alarm(self, axis_no: int, alm_type: int, alm_no: int, msg: str = "") -> bool:
+        """Make an alarm active and record it in the history (UTC, whole seconds); True when it
+        was raised.
+
+        A CNC shows one entry per alarm: an alarm already active (same axis_no, alm_type,
+        alm_no) changes nothing, whatever ``msg`` says: it keeps the message it was raised
+        with, the history gets no second entry, and the answer is False. Clear it first to raise
+        it with another message. The CNC keeps 32 characters of ``msg``, single-byte (Latin-1)
+        text. EW_PROT (read-only machine), EW_DATA (alm_type, alm_no), EW_ATTRIB (axis_no),
+        EW_DATA (a character beyond U+00FF)."""
         self.check_writable()
         if not 0 <= alm_type <= MAX_ALARM_TYPE:
             raise MachineError(EW.DATA, f"alm_type {alm_type} outside 0..{MAX_ALARM_TYPE}")
@@ -770,7 +888,7 @@ class Machine:
             raise MachineError(EW.DATA, f"alarm message {text!r} is not single-byte text")
         key = (axis_no, alm_type, alm_no)
         if key in self._active:
-            return
+            return False
         logger.debug(
             "%s: alarm raised: axis %d type %d no %d", self.name, axis_no, alm_type, alm_no
         )
@@ -778,6 +896,7 @@ class Machine:
         self._history.appendleft(HistoryEntry(self.now(), axis_no, alm_type, alm_no, text))
         self.alarm_version += 1
         self._status_changed()
+        return True
 
     def clear_alarms(self, alm_type: int = -1, alm_no: int = -1) -> int:
         """Remove the active alarms matching ``alm_type`` and ``alm_no`` (-1 = any); the
@@ -797,13 +916,19 @@ class Machine:
         return len(gone)
 
     # -- operator panel ------------------------------------------------------------------
-    def set_panel(self, mode: int, pwe: int, emergency: int) -> None:
+    def set_panel(
+        self, mode: int | None = None, pwe: int | None = None, emergency: int | None = None
+    ) -> None:
         """Set the operator panel: ``mode`` an ``aut`` value other than 2, ``pwe`` and
-        ``emergency`` 0/1, else EW_DATA. EW_PROT on a read-only machine."""
+        ``emergency`` 0/1, else EW_DATA; a switch given as None stays as it is. EW_PROT on a
+        read-only machine."""
         self.check_writable()
+        p = self.panel
+        mode = p.mode if mode is None else mode
+        pwe = p.pwe if pwe is None else pwe
+        emergency = p.emergency if emergency is None else emergency
         if mode not in AUT_MODES or pwe not in (0, 1) or emergency not in (0, 1):
             raise MachineError(EW.DATA, f"panel mode={mode} pwe={pwe} emergency={emergency}")
-        p = self.panel
         p.mode, p.pwe, p.emergency = mode, pwe, emergency
         logger.debug("%s: panel mode %d pwe %d emergency %d", self.name, mode, pwe, emergency)
         self._status_changed()
@@ -918,7 +1043,7 @@ class Machine:
         for t, table in (("param", self._params), ("diag", self._diags)):
             for n in sorted(table):
                 it = table[n]
-                put(t, n, it.width, it.axis, it.low, it.high, it.values)
+                put(t, n, it.width, it.kind, it.decimals, it.axis, it.low, it.high, it.values)
         put("macro-ranges", [(r.first, r.last, r.writable) for r in self._macro_ranges])
         put("macros", sorted(self._macros.items()))
         for letter in sorted(self._areas):

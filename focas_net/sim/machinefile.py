@@ -27,6 +27,7 @@ from .machine import (
     DEFAULT_CONTROL_CLASS,
     DEFAULT_HISTORY_CAPACITY,
     MAX_RACK,
+    MAX_REAL_DECIMALS,
     MAX_SLOT,
     PMC_AREAS,
     Clock,
@@ -36,6 +37,7 @@ from .machine import (
     MacroRange,
     MotionData,
     Panel,
+    ParamKind,
     PmcAreaSpec,
     utc_now,
 )
@@ -67,17 +69,26 @@ MODE_NAMES: Final[dict[str, int]] = {
     "REF": 9,
     "RMT": 10,
 }
-_TYPES: Final[dict[str, int]] = {"byte": 1, "i16": 2, "i32": 4}
-_SPANS: Final[dict[int, tuple[int, int]]] = {
-    1: (-0x80, 0x7F),
-    2: (-0x8000, 0x7FFF),
-    4: (-0x8000_0000, 0x7FFF_FFFF),
+#: ``type`` names of a parameter or diagnostic (``i16`` and ``i32``, the width names of older
+#: files, are ``word`` and ``2-word``).
+_TYPES: Final[dict[str, ParamKind]] = {
+    "bit": ParamKind.BIT,
+    "byte": ParamKind.BYTE,
+    "word": ParamKind.WORD,
+    "i16": ParamKind.WORD,
+    "2-word": ParamKind.TWO_WORD,
+    "two-word": ParamKind.TWO_WORD,
+    "i32": ParamKind.TWO_WORD,
+    "real": ParamKind.REAL,
 }
+_TYPE_NAMES: Final = '"bit", "byte", "word", "2-word" (or "two-word"), "real"'
 _I16: Final = (-0x8000, 0x7FFF)
-_I32: Final = _SPANS[4]
+_I32: Final = (-0x8000_0000, 0x7FFF_FFFF)
 _MODULES: Final = {"IC200GBI001": gniu_record, "IC200MDD844": mdd844_record}
 _REF_TYPES: Final[dict[str, RefType]] = {"I": RefType.I, "Q": RefType.Q, "AI": RefType.AI}
 _REF_TYPES["AQ"] = RefType.AQ
+#: The UTF-8 byte-order mark some editors write at the start of a file.
+_BOM: Final = b"\xef\xbb\xbf"
 
 
 @dataclass(frozen=True, slots=True)
@@ -237,14 +248,20 @@ def _items(ctx: _Ctx, value: Any, n_axes: int) -> list[DataItem]:
         if any(item.number == number for item in items):
             c.fail(f"number {number} is given twice")
         spec = _table(c, raw)
-        _only(c, spec, ("type", "axis", "range", "value", "name"))
+        _only(c, spec, ("type", "axis", "range", "value", "name", "decimals"))
         if "type" not in spec:
-            c.sub("type").fail('missing (one of "byte", "i16", "i32")')
+            c.sub("type").fail(f"missing (one of {_TYPE_NAMES})")
         type_name = _str(c.sub("type"), spec["type"])
-        if type_name not in _TYPES:
-            c.sub("type").fail(f'unknown type {type_name!r} (expected "byte", "i16" or "i32")')
-        width = _TYPES[type_name]
-        span = _SPANS[width]
+        kind = _TYPES.get(type_name.strip().lower())
+        if kind is None:
+            c.sub("type").fail(f"unknown type {type_name!r} (expected one of {_TYPE_NAMES})")
+        decimals = 0
+        if kind is ParamKind.REAL:
+            decimals = _int(c.sub("decimals"), spec.get("decimals", 0), (0, MAX_REAL_DECIMALS))
+        elif "decimals" in spec:
+            c.sub("decimals").fail('applies to type = "real" only')
+        span = kind.span
+
         is_axis = _bool(c.sub("axis"), spec.get("axis", False))
         low, high = span
         if "range" in spec:
@@ -252,23 +269,59 @@ def _items(ctx: _Ctx, value: Any, n_axes: int) -> list[DataItem]:
             bounds = _list(rc, spec["range"])
             if len(bounds) != 2:
                 rc.fail("must be [low, high]")
-            low = _int(rc.sub(0), bounds[0], span)
-            high = _int(rc.sub(1), bounds[1], span)
+            low = _item_value(rc.sub(0), bounds[0], kind, decimals, span)
+            high = _item_value(rc.sub(1), bounds[1], kind, decimals, span)
             if low > high:
-                rc.fail(f"low {low} is above high {high}")
+                rc.fail(f"low {bounds[0]} is above high {bounds[1]}")
         vc = c.sub("value")
         raw_value = spec.get("value", 0 if low <= 0 <= high else low)
+        if "value" not in spec and kind is ParamKind.REAL:
+            raw_value = Decimal(raw_value).scaleb(-decimals)
         if isinstance(raw_value, list):
             if not is_axis:
                 vc.fail("a list of values needs axis = true")
             if len(raw_value) != n_axes:
                 vc.fail(f"{len(raw_value)} values for {n_axes} axes")
-            values = [_int(vc.sub(i), v, (low, high)) for i, v in enumerate(raw_value)]
+            values = [
+                _item_value(vc.sub(i), v, kind, decimals, (low, high))
+                for i, v in enumerate(raw_value)
+            ]
         else:
-            values = [_int(vc, raw_value, (low, high))] * (n_axes if is_axis else 1)
+            values = [_item_value(vc, raw_value, kind, decimals, (low, high))] * (
+                n_axes if is_axis else 1
+            )
         name = _str(c.sub("name"), spec.get("name", ""))
-        items.append(DataItem(number, width, is_axis, low, high, values, name))
+        items.append(DataItem(number, kind.width, is_axis, low, high, values, name, kind, decimals))
     return items
+
+
+def _item_value(
+    ctx: _Ctx, value: Any, kind: ParamKind, decimals: int, bounds: tuple[int, int]
+) -> int:
+    """A value of a parameter of ``kind`` as the machine holds it: a bit parameter's integer
+    0..255 or bit string (``"10110000"``, ``"0b10110000"``: #7 first); a real parameter's
+    number (``12.345``, ``"12.345"``) as its mantissa with ``decimals`` decimals."""
+    if kind is ParamKind.BIT and isinstance(value, str):
+        digits = value.strip().lower().removeprefix("0b").replace("_", "")
+        if not 1 <= len(digits) <= 8 or set(digits) - {"0", "1"}:
+            ctx.fail(f'{value!r} is not 8 bits (#7..#0, e.g. "10110000" or "0b10110000")')
+        value = int(digits, 2)
+    if kind is ParamKind.REAL and not isinstance(value, bool | list | dict):
+        if isinstance(value, str | int | float):
+            try:
+                number = Decimal(str(value).strip())
+            except ArithmeticError:
+                ctx.fail(f"must be a number, got {_kind(value)}")
+            scaled = number.scaleb(decimals)
+            if not number.is_finite() or scaled != scaled.to_integral_value():
+                ctx.fail(f"{value} does not have {decimals} decimals or fewer")
+            mantissa = int(scaled)
+            if not bounds[0] <= mantissa <= bounds[1]:
+                low = Decimal(bounds[0]).scaleb(-decimals)
+                high = Decimal(bounds[1]).scaleb(-decimals)
+                ctx.fail(f"{value} is outside {low}..{high}")
+            return mantissa
+    return _int(ctx, value, bounds)
 
 
 def _macros(ctx: _Ctx, value: Any) -> tuple[list[MacroRange], dict[int, Decimal]]:
@@ -570,6 +623,19 @@ def _control_class(ctx: _Ctx, head: dict[str, Any]) -> str:
     ctx.fail(f"unknown control class {text!r} (expected one of: {', '.join(CONTROL_CLASSES)})")
 
 
+def _text(name: str, raw: bytes) -> str:
+    """The text of a machine file: UTF-8, with or without a byte-order mark."""
+    skip = len(_BOM) if raw.startswith(_BOM) else 0
+    try:
+        return raw[skip:].decode("utf-8")
+    except UnicodeDecodeError as exc:
+        where = skip + exc.start
+        bad = raw[where : where + 1].hex().upper()
+        raise MachineFileError(
+            name, "", f"not UTF-8 text: byte 0x{bad} at byte {where} (save the file as UTF-8)"
+        ) from None
+
+
 def load_machine(
     path: str | PathLike[str],
     *,
@@ -581,10 +647,11 @@ def load_machine(
     p = Path(path)
     name = str(path)
     try:
-        with p.open("rb") as f:
-            data = tomllib.load(f)
+        raw = p.read_bytes()
     except OSError as exc:
         raise MachineFileError(name, "", f"cannot read: {exc.strerror or exc}") from None
+    try:
+        data = tomllib.loads(_text(name, raw))
     except tomllib.TOMLDecodeError as exc:
         raise MachineFileError(name, "", f"not valid TOML: {exc}") from None
     return machine_from_dict(

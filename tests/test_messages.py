@@ -1,0 +1,123 @@
+"""Messages name what the user typed, never a payload class, a struct code or a field path."""
+
+from __future__ import annotations
+
+import re
+from collections.abc import AsyncIterator, Awaitable, Callable
+from typing import Any
+
+import pytest
+from support import Served, serving
+from test_cli_client import Cli
+
+from focas_net.cli import EXIT_USAGE
+from focas_net.client import FocasClient
+from focas_net.protocol import (
+    AlarmType,
+    DataRequest,
+    InjectFault,
+    PmcData,
+    RaiseAlarm,
+    VersaMaxRequest,
+)
+from focas_net.sim import default_machine
+
+#: What a message must never show: payload classes, dotted fields, struct's wording.
+INTERNAL = re.compile(
+    r"[A-Z][a-zA-Z]+(Request|Value|Alarm|Fault|Data|Reply|Range|Panel)\b|\.\w+ = |format requires"
+    r"|None for every axis|required argument"
+)
+
+
+@pytest.fixture
+async def cli(capsys: pytest.CaptureFixture[str]) -> AsyncIterator[Cli]:
+    async with serving(default_machine()) as served:
+        yield Cli(served, capsys)
+
+
+@pytest.mark.parametrize(
+    ("argv", "expected"),
+    [
+        (("param", "get", "40000"), "parameter number 40000 is outside 0..32767"),
+        (("param", "set", "40000", "1"), "parameter number 40000 is outside 0..32767"),
+        (("param", "get", "1420", "--axis", "40000"), "axis 40000 is outside 0..32767"),
+        (("diag", "40000"), "diagnostic number 40000 is outside 0..32767"),
+        (("macro", "get", "40000"), "macro variable number 40000 is outside -32768..32767"),
+        (("macro", "set", "40000", "1"), "macro variable number 40000 is outside -32768..32767"),
+        (("versamax", "0", "70000"), "slot 70000 is outside 0..255"),
+        (("versamax", "300", "1"), "rack 300 is outside 0..255"),
+        (("sim", "alarm", "PS99999"), "alarm number 99999 is outside 0..32767"),
+        (("sim", "alarm", "PS0100", "--axis", "40000"), "axis 40000 is outside 0..32767"),
+        (("sim", "clear", "PS99999"), "alarm number 99999 is outside 0..32767"),
+        (("position", "--axis", "40000"), "axis 40000 is outside 1..32767"),
+        (("sim", "fault", "drop", "--count", "100000000000"), "count 100000000000 is outside"),
+        (("sim", "fault", "delay", "--arg", "10000000000"), "arg 10000000000 is outside"),
+    ],
+)
+async def test_cli_messages_name_what_was_typed(
+    cli: Cli, argv: tuple[str, ...], expected: str
+) -> None:
+    err = await cli.fails(EXIT_USAGE, *argv)
+    assert expected in err
+    assert not INTERNAL.search(err), err
+
+
+Call = Callable[[FocasClient], Awaitable[Any]]
+
+
+@pytest.mark.parametrize(
+    ("call", "expected"),
+    [
+        (lambda c: c.read_param(40000), "parameter number 40000 is outside 0..32767"),
+        (lambda c: c.read_param(1420, axis=-2), "axis -2 is outside 0..32767"),
+        (lambda c: c.read_diag(40000), "diagnostic number 40000 is outside 0..32767"),
+        (lambda c: c.write_param(40000, 1), "parameter number 40000 is outside 0..32767"),
+        (lambda c: c.read_macro(40000), "macro variable number 40000 is outside"),
+        (lambda c: c.read_positions(axis=0), "axis 0 is outside 1..32767"),
+        (lambda c: c.read_module_config(0, 70000), "slot 70000 is outside 0..255"),
+        (lambda c: c.read_alarms(alm_type=40000), "alarm type 40000 is outside -1..32767"),
+        (lambda c: c.read_alarms(alm_type="XX"), "unknown alarm type 'XX'"),
+        (lambda c: c.sim.raise_alarm("PS", 99999), "alarm number 99999 is outside 0..32767"),
+        (lambda c: c.sim.raise_alarm("XX", 1), "unknown alarm type 'XX'"),
+        (lambda c: c.sim.raise_alarm(40, 1), "alarm type 40 is outside 0..31"),
+        (lambda c: c.sim.inject_fault(1, count=100_000_000_000), "count 100000000000 is outside"),
+    ],
+)
+async def test_client_messages_name_the_argument(server: Served, call: Call, expected: str) -> None:
+    async with FocasClient(server.host, server.port) as cnc:
+        with pytest.raises(ValueError) as exc:
+            await call(cnc)
+    assert expected in str(exc.value)
+    assert not INTERNAL.search(str(exc.value)), str(exc.value)
+
+
+async def test_client_takes_alarm_types_by_name(server: Served) -> None:
+    async with FocasClient(server.host, server.port) as cnc:
+        await cnc.sim.raise_alarm("PS", 100, "BY NAME")
+        await cnc.sim.raise_alarm(AlarmType.OT, 500)
+        await cnc.sim.raise_alarm("sv", 401, axis_no=1)
+        assert [(a.alm_type, a.alm_no) for a in await cnc.read_alarms()] == [
+            (3, 100), (4, 500), (6, 401)
+        ]  # fmt: skip
+        assert [a.alm_no for a in await cnc.read_alarms(alm_type="OT")] == [500]
+        await cnc.sim.clear_alarms("PS")
+        assert [a.alm_no for a in await cnc.read_alarms()] == [500, 401]
+
+
+@pytest.mark.parametrize(
+    ("payload", "expected"),
+    [
+        (lambda: VersaMaxRequest(0, 128, 70000, 0).encode(), "slot 70000 is outside 0..255"),
+        (lambda: RaiseAlarm(0, 3, 99999, b"").encode(), "alarm number 99999 is outside"),
+        (lambda: PmcData(5, 0, 70000, 70001, b"").encode(), "start address 70000 is outside"),
+        (lambda: InjectFault(1, 0, 10**11, 0).encode(), "count 100000000000 is outside"),
+        (lambda: DataRequest(40000, 0).encode(), "datano 40000 is outside -32768..32767"),
+    ],
+)
+def test_codec_messages_name_the_field_not_the_class(
+    payload: Callable[[], bytes], expected: str
+) -> None:
+    with pytest.raises(ValueError) as exc:
+        payload()
+    assert str(exc.value).startswith(expected)
+    assert not INTERNAL.search(str(exc.value)), str(exc.value)
