@@ -388,7 +388,9 @@ async def _open_handle(host: str, port: int, deadline: float | None) -> _Handle:
                     if request.COMMAND == NativeCommand.SYSINFO and handle.sysinfo is None:
                         handle.sysinfo = request.decode_answer(block.data)
                     elif request.COMMAND == NativeCommand.RDPARAM:
-                        handle.option_bits = block.data[8] if len(block.data) > 8 else 0
+                        handle.option_bits = (
+                            block.data[11] if len(block.data) >= 12 else 0
+                        )  # slot 0's low byte
             if isinstance(opened.head, OpenHeadV2) and opened.head.kind == 3:
                 handle.option_bits = 1
     except TimeoutError:
