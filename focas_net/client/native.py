@@ -57,7 +57,13 @@ from focas_net.errors import (
 )
 
 from ..native import calls
-from ..native.blocks import ResponseBlock, answer_refusal, decode_response_body, encode_request
+from ..native.blocks import (
+    REQUEST_BLOCK_SIZE,
+    ResponseBlock,
+    answer_refusal,
+    decode_response_body,
+    encode_request,
+)
 from ..native.calls import CommandSet, LibraryCall
 from ..native.frame import (
     MAGIC,
@@ -263,6 +269,12 @@ class _Handle:
     def pmc_chunk(self) -> int:
         """Most PMC bytes one answer carries."""
         return self.limit - 2 - _ANSWER_HEAD
+
+    @property
+    def pmc_write_chunk(self) -> int:
+        """Most PMC bytes one write request carries (request bodies are kept within the same
+        size as answers)."""
+        return self.limit - 2 - REQUEST_BLOCK_SIZE
 
     async def exchange(self, requests: Sequence[NativeRequest]) -> tuple[ResponseBlock, ...]:
         """One data frame on B and its answer (used while connecting, before the pump)."""
@@ -777,7 +789,7 @@ class NativeClient:
         queue = self._queue
         batch: list[_Job] = []
         blocks = 0
-        size = 2
+        size = sent = 2  # answer and request bodies: the block count, then the blocks
         while queue:
             job = queue[0]
             if job.future.done():
@@ -791,12 +803,18 @@ class NativeClient:
                 continue
             count = len(job.requests)
             need = sum(_answer_size(r, handle.max_axes) for r in job.requests)
-            if batch and (blocks + count > self.max_blocks or size + need > handle.limit):
+            send = sum(REQUEST_BLOCK_SIZE + len(r.extra()) for r in job.requests)
+            if batch and (
+                blocks + count > self.max_blocks
+                or size + need > handle.limit
+                or sent + send > handle.limit
+            ):
                 break
             queue.popleft()
             batch.append(job)
             blocks += count
             size += need
+            sent += send
         return batch
 
     async def _pump(self, handle: _Handle) -> None:
@@ -808,7 +826,7 @@ class NativeClient:
             while True:
                 while not self._queue:
                     wake.clear()
-                    await wake.wait()
+                    await self._idle(handle, wake)
                 batch = self._take(handle)
                 if not batch:
                     continue
@@ -851,6 +869,26 @@ class NativeClient:
         except asyncio.CancelledError:
             _fail(batch, lambda: FocasConnectionError("client is closed"))
             raise
+
+    @staticmethod
+    async def _idle(handle: _Handle, wake: asyncio.Event) -> None:
+        """Wait for a call while watching B: a CNC closing it (or sending what nobody asked
+        for) ends the connection now, not at the next call."""
+        watch = asyncio.ensure_future(handle.reader_b.read(1))
+        waiter = asyncio.ensure_future(wake.wait())
+        try:
+            await asyncio.wait((watch, waiter), return_when=asyncio.FIRST_COMPLETED)
+        finally:
+            waiter.cancel()
+            if not watch.done():
+                watch.cancel()
+            await asyncio.wait((watch, waiter))
+        if watch.cancelled():
+            return
+        exc = watch.exception()
+        if exc is not None:
+            raise _Lost(f"connection closed ({exc!r})")
+        raise _Lost("unsolicited data on B" if watch.result() else "connection closed by the CNC")
 
     # -- status and identity -------------------------------------------------------------
     async def read_status(self, *, timeout: float | None = None) -> StatusInfo:
@@ -1321,7 +1359,7 @@ class NativeClient:
         self._range(start, len(data))
         deadline = self._deadline(timeout)
         handle = await self._live(deadline)
-        step = handle.pmc_chunk
+        step = handle.pmc_write_chunk
         chunks = [
             (s, data[s - start : s - start + step]) for s in range(start, start + len(data), step)
         ]
