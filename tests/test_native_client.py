@@ -503,3 +503,14 @@ async def test_connect_refuses_what_is_not_a_cnc() -> None:
     finally:
         server.close()
         await server.wait_closed()
+
+
+def test_the_native_client_never_sees_the_machine() -> None:
+    """The client reaches the CNC through the codecs only: no machine, adapter or server."""
+    from test_layering import PACKAGE, imports_of
+
+    found = imports_of(PACKAGE / "client" / "native.py")
+    assert "focas_net.native.calls" in found
+    assert not any(
+        m.startswith(("focas_net.sim", "focas_net.adapters", "focas_net.server")) for m in found
+    )
