@@ -41,6 +41,7 @@ from focas_net.native import (
 )
 from focas_net.native.calls import CommandSet
 from focas_net.native.requests import NativeCommand
+from focas_net.protocol import FaultKind, FaultScope
 from focas_net.server import FocasServer
 from focas_net.sim import Machine, default_machine, load_machine
 from focas_net.sim.machine import MDI
@@ -514,3 +515,29 @@ def test_the_native_client_never_sees_the_machine() -> None:
     assert not any(
         m.startswith(("focas_net.sim", "focas_net.adapters", "focas_net.server")) for m in found
     )
+
+
+@pytest.mark.parametrize("kind", [FaultKind.DELAY, FaultKind.ERROR, FaultKind.DROP])
+async def test_server_faults_on_the_native_transport(served: Served, kind: FaultKind) -> None:
+    """A delayed answer times the call out, an injected EW code fails the call, a dropped
+    connection fails it; with a reconnect policy the next call works on a new connection."""
+    policy = ReconnectPolicy(initial_delay=0.01, max_delay=0.05, jitter=0)
+    served.machine.write_macro(100, 5)
+    async with (
+        FocasClient(served.host, served.port, timeout=IO_TIMEOUT) as packed,
+        NativeClient(served.host, served.port, timeout=IO_TIMEOUT, reconnect=policy) as native,
+    ):
+        arg = {FaultKind.DELAY: 3000, FaultKind.ERROR: int(EW.DATA), FaultKind.DROP: 0}[kind]
+        await packed.sim.inject_fault(kind, arg=arg, scope=FaultScope.MACHINE)
+        if kind is FaultKind.DELAY:
+            with pytest.raises(FocasTimeoutError):
+                await native.read_macro(100, timeout=0.1)
+        elif kind is FaultKind.ERROR:
+            with pytest.raises(CncError) as caught:
+                await native.read_macro(100)
+            assert caught.value.ew == EW.DATA
+        else:
+            with pytest.raises(FocasConnectionError):
+                await native.read_macro(100)
+        assert await native.read_macro(100) == 5
+        assert native.state is ClientState.CONNECTED
