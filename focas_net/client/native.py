@@ -686,7 +686,7 @@ class NativeClient:
                 attempt += 1
                 try:
                     handle = await _open_handle(self.host, self.port, self._deadline(None))
-                except (FocasConnectionError, FocasTimeoutError, CncError) as exc:
+                except Exception as exc:  # refused, unreachable, or an answer that does not decode
                     logger.debug(
                         "reconnect attempt %d to %s:%s: %s", attempt, self.host, self.port, exc
                     )
