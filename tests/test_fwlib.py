@@ -48,71 +48,8 @@ EW_SOCKET = -16
 #: Seconds the library waits for an answer (its handle timeout).
 HANDLE_TIMEOUT = 3
 
-MACHINE_16I = """
-[machine]
-name = "fs16i"
-axes = ["X", "Y", "Z"]
-control_class = "16i"
-
-[sysinfo]
-cnc_type = "16"
-series = "B0H1"
-version = "14.0"
-
-[panel]
-mode = "MDI"
-pwe = true
-
-[parameters.20]
-type = "byte"
-range = [0, 35]
-value = 4
-[parameters.1320]
-type = "i32"
-axis = true
-value = [999999999, 888888888, -777777777]
-[parameters.1825]
-type = "i16"
-axis = true
-range = [1, 32767]
-value = 3000
-[parameters.3216]
-type = "i16"
-value = -7
-[parameters.6711]
-type = "i32"
-range = [0, 999999999]
-value = 123456789
-
-[diagnostics.300]
-type = "i32"
-axis = true
-value = [11, -22, 33]
-[diagnostics.308]
-type = "byte"
-axis = true
-value = [57, 58, 59]
-[diagnostics.410]
-type = "i16"
-value = 1234
-
-[macros]
-ranges = [
-  { first = 1, last = 33 },
-  { first = 100, last = 199 },
-  { first = 500, last = 999 },
-  { first = 4001, last = 4030, writable = false },
-]
-values = { 100 = [12345, 3], 4003 = 90 }
-
-[pmc.X]
-size = 128
-write_protected = true
-[pmc.R]
-size = 8000
-[pmc.D]
-size = 10000
-"""
+#: A 16i-class machine file (the 16i command set, open answer version 2).
+MACHINE_16I = Path(__file__).with_name("data") / "fwlib_16i_machine.toml"
 
 
 class _Library:
@@ -221,17 +158,15 @@ class Cnc:
         return await self.handle.call(name, *args)
 
 
-def machine_for(set_name: str, tmp_path: Path) -> Machine:
+def machine_for(set_name: str) -> Machine:
     if set_name == "30i":
         return default_machine()
-    path = tmp_path / "fs16i.toml"
-    path.write_text(MACHINE_16I)
-    return load_machine(path)
+    return load_machine(MACHINE_16I)
 
 
 @pytest.fixture(params=["30i", "16i"])
-async def cnc(request: pytest.FixtureRequest, tmp_path: Path) -> AsyncIterator[Cnc]:
-    machine = machine_for(request.param, tmp_path)
+async def cnc(request: pytest.FixtureRequest) -> AsyncIterator[Cnc]:
+    machine = machine_for(request.param)
     machine.set_panel(0, 1, 0)  # MDI, parameter writes enabled
     async with serving(machine) as served:
         async with FocasClient(served.host, served.port, timeout=IO_TIMEOUT) as packed:
@@ -252,8 +187,11 @@ async def test_the_command_set_follows_the_control_class(cnc: Cnc) -> None:
     opt = ctypes.c_int64(0)
     assert await cnc.call("cnc_getfocas1opt", s16(0), ctypes.byref(opt)) == 0
     assert opt.value & 1  # what cnc_rddynamic2 needs
-    # a 16i-class handle writes parameters with 0x0F (4-byte slots), a 30i-class one with 0x8E
-    assert (cnc.set_name == "16i") == (cnc.machine.control_class == "16i")
+    # a 30i-class handle wants room for the open answer's max axes (8) in an all-axes read, a
+    # 16i-class one for the path's axes (3)
+    b = buf(4 + 8 * 32)
+    rc = await cnc.call("cnc_rdparam", s16(1320), s16(-1), s16(4 + 4 * 3), b)
+    assert rc == (0 if cnc.machine.control_class == "16i" else EW.LENGTH)
 
 
 async def test_sysinfo(cnc: Cnc) -> None:
@@ -579,9 +517,10 @@ async def test_cnc_id_timers_and_loads(cnc: Cnc) -> None:
         b = buf(8)
         assert await cnc.call("cnc_rdtimer", s16(kind), b) == 0
         assert struct.unpack("<ii", b.raw) == (0, 0)  # the machine keeps no timer
-    b = buf(4 + 2 * 8)
-    assert await cnc.call("cnc_rdspload", s16(-1), b) == 0
-    assert struct.unpack_from("<hh", b.raw) == (-1, 0)
+    for spindle in (-1, 1):
+        b = buf(4 + 2 * 8)
+        assert await cnc.call("cnc_rdspload", s16(spindle), b) == 0
+        assert struct.unpack_from("<hh", b.raw) == (spindle, 0)
     num = s16(8)
     b = buf(12 * 8)
     assert await cnc.call("cnc_rdsvmeter", ctypes.byref(num), b) == 0
@@ -636,6 +575,11 @@ async def test_positions(cnc: Cnc) -> None:
     assert arrays == [
         list(packed[k].increments.values()) for k in ("absolute", "machine", "relative", "distance")
     ]
+    b = buf(28 + 16 * 32)
+    assert await cnc.call("cnc_rddynamic2", s16(2), s16(44), b) == 0
+    one = struct.unpack_from("<hhiiiiiiiiii", b.raw)
+    want = [packed[k].increments["Y"] for k in ("absolute", "machine", "relative", "distance")]
+    assert (one[1], *one[8:]) == (2, *want)
     # an axis the machine has not
     b = buf(4 + 4 * 32)
     assert await cnc.call("cnc_absolute", s16(9), s16(8), b) == EW.ATTRIB
