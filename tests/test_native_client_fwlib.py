@@ -16,7 +16,8 @@ from pathlib import Path
 
 import pytest
 from support import IO_TIMEOUT, serving
-from test_fwlib import LIBRARY, Handle, buf, connect, machine_for, s16, us
+from test_fwlib import LIBRARY, Handle, buf, connect, s16, us
+from test_native_client import _machine
 
 from focas_net.client.native import NativeClient
 
@@ -31,7 +32,7 @@ pytestmark = pytest.mark.skipif(
 async def pair(
     request: pytest.FixtureRequest, tmp_path: Path
 ) -> AsyncIterator[tuple[Handle, NativeClient]]:
-    machine = machine_for(request.param, tmp_path)
+    machine = _machine(request.param, tmp_path)
     machine.set_panel(0, 1, 0)
     machine.write_macro(101, Decimal("-2.5"))
     machine.write_pmc("R", 100, bytes(range(1, 41)))
