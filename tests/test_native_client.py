@@ -27,6 +27,7 @@ from focas_net.errors import EW, CncError, FocasConnectionError, FocasTimeoutErr
 from focas_net.native import (
     FrameType,
     NativeFrameDecoder,
+    ParamInfo3,
     PathDescription,
     RequestBlock,
     ResponseBlock,
@@ -386,6 +387,8 @@ class NativePeer:
         self.held: list[tuple[asyncio.StreamWriter, bytes]] = []
         self.data_frames = 0
         self.connections = 0
+        #: A command after whose answer the connection is closed.
+        self.close_after: int | None = None
         self._server: asyncio.Server | None = None
         self.port = 0
 
@@ -402,6 +405,8 @@ class NativePeer:
     def _answer(self, block: RequestBlock) -> ResponseBlock:
         if block.command == NativeCommand.RDMACRO:
             return block.reply(ScaledValues((ScaledNumber(block.args[0], 0),)).encode())
+        if block.command == NativeCommand.RDPARAINFO3:
+            return block.reply(ParamInfo3(0, 0, block.args[0], 3, 0).encode())
         if block.command == NativeCommand.SYSINFO:
             return block.reply(bytes(4) + b" 0 MD4F132.003")
         return block.reply(ew=EW.FUNC)
@@ -428,6 +433,10 @@ class NativePeer:
                                 self.held.append((writer, answer))
                                 continue
                         writer.write(answer)
+                        if any(b.command == self.close_after for b in blocks):
+                            await writer.drain()
+                            writer.transport.abort()
+                            return
         except ConnectionError:
             pass
         finally:
@@ -490,6 +499,16 @@ async def test_a_call_that_times_out_queued_is_never_sent() -> None:
             assert await first == 1
             assert await native.read_macro(4) == 4
             assert peer.data_frames == 2  # macro 2 never left
+
+
+async def test_a_loss_between_two_frames_of_one_call_fails_it_at_once() -> None:
+    async with NativePeer() as peer:
+        async with NativeClient("127.0.0.1", peer.port, timeout=None) as native:
+            peer.close_after = NativeCommand.RDPARAINFO3
+            async with asyncio.timeout(IO_TIMEOUT):  # a safety net: it must fail, not hang
+                with pytest.raises(FocasConnectionError):
+                    await native.write_param(6711, 1)
+            assert native.state is ClientState.DISCONNECTED
 
 
 async def test_connect_refuses_what_is_not_a_cnc() -> None:

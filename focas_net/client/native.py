@@ -741,6 +741,11 @@ class NativeClient:
         self, requests: tuple[NativeRequest, ...], command_set: CommandSet, deadline: float | None
     ) -> tuple[ResponseBlock, ...]:
         """Queue one frame's worth of blocks of one call and wait for its answer blocks."""
+        if self._handle is None and self._state is not ClientState.RECONNECTING:
+            # lost between two frames of one call, with no reconnect to wait for
+            if self._state is ClientState.CLOSED:
+                raise FocasConnectionError("client is closed")
+            raise FocasConnectionError(f"not connected to {self.host}:{self.port}")
         loop = self._loop or asyncio.get_running_loop()
         job = _Job(requests, command_set, deadline, loop.create_future())
         self._queue.append(job)
@@ -763,17 +768,6 @@ class NativeClient:
         finally:
             if not job.future.done():
                 job.future.cancel()
-
-    async def _call(
-        self, build: Callable[[CommandSet], LibraryCall], deadline: float | None
-    ) -> tuple[_Handle, list[tuple[ResponseBlock, ...]]]:
-        """Every frame of one library call, in order, and their answer blocks."""
-        handle = await self._live(deadline)
-        library_call = build(handle.command_set)
-        answers = []
-        for frame in library_call.frames:
-            answers.append(await self._send(frame, handle.command_set, deadline))
-        return handle, answers
 
     async def _one(
         self, build: Callable[[CommandSet], LibraryCall], deadline: float | None
