@@ -2,13 +2,15 @@
 
 Each name below has one home: :mod:`.client` (the client and its results), :mod:`.reconnect`
 (states and the reconnect policy), :mod:`.sim_control` (``client.sim``), :mod:`.connection`
-(one pipelined connection), :mod:`.projection` (alarm events). ``FaultKind`` and
+(one pipelined connection), :mod:`.projection` (alarm events), :mod:`.native` (the FOCAS/2
+Ethernet client, :class:`NativeClient`). ``FaultKind`` and
 ``FaultScope``, the arguments of ``client.sim.inject_fault``, are imported from
 :mod:`focas_net.protocol` (or :mod:`focas_net`).
 """
 
 from .client import FocasClient, Positions
 from .connection import Connection, NotSentError, open_connection
+from .native import DynamicData, NativeClient, NativeUnsupportedError, ServoLoad
 from .projection import (
     AlarmCleared,
     AlarmEvent,
@@ -28,12 +30,16 @@ __all__ = [
     "AlarmRaised",
     "ClientState",
     "Connection",
+    "DynamicData",
     "FocasClient",
+    "NativeClient",
+    "NativeUnsupportedError",
     "NotSentError",
     "PanelSwitches",
     "Positions",
     "ProjectionMode",
     "ReconnectPolicy",
+    "ServoLoad",
     "SimControl",
     "open_connection",
 ]

@@ -1,0 +1,1495 @@
+"""The asyncio client of FANUC's FOCAS/2 Ethernet protocol: :class:`NativeClient`.
+
+It speaks to a CNC the way FANUC's own library (libfwlib32) does, frame for frame (see
+``docs/native-client.md`` and ``docs/native-protocol.md``):
+
+* **two TCP connections**, A then B, each opened with an open request (channel 1 on A, 2 on B);
+  B's open answer picks the command set (16i class up to version 2, 30i class from 3), the
+  max axes, the paths and (30i class) the FOCAS option bits;
+* while connecting, on B, one 0x18 (system info) block per present path, and at 16i class
+  parameter 9968 (the option bits); ``read_sysinfo`` is answered from that store;
+* every call sends the blocks :mod:`focas_net.native.calls` lists for it in the handle's
+  command set, on B;
+* closing sends a close request on A, waits for its answer, then the same on B.
+
+**One frame in flight.** FOCAS/2 carries no request id: the answer to a data request is the
+next data answer on B. So B never has more than one request frame outstanding. Calls made
+while a frame is out wait in a queue, and the next frame carries as many of them as fit: at
+most ``max_blocks`` blocks (FANUC's library sends up to ten) and an answer no larger than the
+open answer's version allows (1450 bytes at version 2). Each call receives its own blocks back;
+an EW code in one block fails only the call that block belongs to.
+
+**Timeouts and cancellation.** A call that times out or is cancelled before its frame was sent
+is simply taken out of the queue. Once sent, its blocks are part of a frame whose answer is
+still awaited for the other calls of that frame, until the latest deadline among them; the
+answer's blocks of a call that gave up are dropped. If that latest deadline passes without an
+answer, no later answer could be told apart from the answer to the next frame, so the
+connection pair is closed (as FANUC's library declares its handle dead) and, with a
+:class:`ReconnectPolicy`, opened again; calls still queued then go out on the new connection.
+"""
+
+# Every call takes a per-call ``timeout=`` by contract (one deadline per call covers its
+# frames, its lock waits and its wait for a reconnect), so ASYNC109 does not apply here.
+# ruff: noqa: ASYNC109
+
+from __future__ import annotations
+
+import asyncio
+import logging
+import struct
+from collections import deque
+from collections.abc import Callable, Sequence
+from dataclasses import dataclass
+from datetime import UTC, datetime
+from decimal import Decimal
+from types import TracebackType
+from typing import Any, Final, Self
+
+from focas_net.errors import (
+    EW,
+    ChunkedWriteError,
+    CncError,
+    FocasConnectionError,
+    FocasError,
+    FocasTimeoutError,
+    PayloadError,
+    ProtocolError,
+)
+
+from ..native import calls
+from ..native.blocks import (
+    REQUEST_BLOCK_SIZE,
+    ResponseBlock,
+    answer_refusal,
+    decode_response_body,
+    encode_request,
+)
+from ..native.calls import CommandSet, LibraryCall
+from ..native.frame import (
+    MAGIC,
+    NATIVE_HEADER,
+    NATIVE_HEADER_SIZE,
+    FrameType,
+    encode_close_request,
+    encode_open_request,
+    max_response_body,
+)
+from ..native.opening import OpenAnswer, OpenHeadV2, decode_open_answer
+from ..native.records import (
+    AlarmMessages,
+    AlarmStatus,
+    AxisNames,
+    CncId,
+    ExecutingProgram,
+    ItemRecord,
+    ItemValues,
+    NativeAlarmHistory,
+    NativePmcData,
+    NativeProgramNumbers,
+    NativeSysInfo,
+    ParamInfo,
+    ParamInfo3,
+    ParamType,
+    PositionAxisNames,
+    ScaledItemRecord,
+    ScaledItemValues,
+    ScaledNumber,
+    ScaledValues,
+    SequenceNumber,
+    StatInfo,
+    TimerValue,
+)
+from ..native.requests import (
+    AlarmMessageRequest,
+    MacroReadRequest,
+    NativeAlarmHistoryRequest,
+    NativeCommand,
+    NativePmcArea,
+    NativeRequest,
+    ParamInfo3Request,
+    ParamInfoRequest,
+    PmcReadRequest,
+)
+from ..protocol import (
+    MAX_HISTORY_DEPTH,
+    ActiveAlarm,
+    AlarmHistory,
+    AlarmHistoryEntry,
+    ParamValue,
+    PmcArea,
+    PositionKind,
+    ProgramNumbers,
+    StatusInfo,
+    SysInfo,
+)
+from ._locks import KeyedLocks
+from .client import Positions, macro_from_wire, macro_to_wire
+from .reconnect import ClientState, ReconnectPolicy, StateCallback
+
+__all__ = [
+    "DynamicData",
+    "NativeClient",
+    "NativeUnsupportedError",
+    "ServoLoad",
+]
+
+logger = logging.getLogger(__name__)
+
+#: Most blocks FANUC's library puts in one request frame; the default of ``max_blocks``.
+LIBRARY_MAX_BLOCKS: Final = 10
+_PATH: Final = 1
+_CLOSE_GRACE: Final = 2.0
+_ANSWER_HEAD: Final = 16
+_MAX_ACTIVE_ALARMS: Final = 32
+_ALARM_TEXT: Final = 64
+_U16_LIMIT: Final = 0x10000
+_DATA_ANSWER: Final = FrameType.DATA_RESPONSE >> 8
+_I32: Final = struct.Struct(">i")
+_ERROR_WORDS: Final = struct.Struct(">hhhh")
+_PARAM_WIDTH: Final[dict[int, int]] = {
+    ParamType.BIT: 1,
+    ParamType.BYTE: 1,
+    ParamType.WORD: 2,
+    ParamType.TWO_WORD: 4,
+}
+_DIAG_WIDTH: Final[dict[int, int]] = {0: 1, 1: 2, 2: 4, 3: 1, 4: 1}
+#: The two position numberings: ``cnc_rdposition`` arrays (0..3) and the single reads.
+_SINGLE_KIND: Final = {
+    PositionKind.ABSOLUTE: 4,
+    PositionKind.MACHINE: 1,
+    PositionKind.RELATIVE: 6,
+    PositionKind.DISTANCE: 7,
+}
+
+
+class NativeUnsupportedError(FocasError, NotImplementedError):
+    """The call exists on the packed transport but FOCAS/2 Ethernet cannot carry it."""
+
+    def __init__(self, method: str, why: str) -> None:
+        super().__init__(
+            f"{method} is not available on the native (FOCAS/2 Ethernet) transport: {why}"
+        )
+        self.method = method
+
+
+@dataclass(frozen=True, slots=True)
+class DynamicData:
+    """``cnc_rddynamic2``: alarm bits, program numbers, sequence number, actual feed and
+    spindle speed, and the four positions (increments, one per axis or the one asked)."""
+
+    alarm: int
+    running: int
+    main: int
+    sequence: int
+    feed: int
+    spindle_speed: int
+    absolute: tuple[int, ...]
+    machine: tuple[int, ...]
+    relative: tuple[int, ...]
+    distance: tuple[int, ...]
+
+
+@dataclass(frozen=True, slots=True)
+class ServoLoad:
+    """One entry of ``cnc_rdsvmeter``: the axis name and its servo load meter (percent)."""
+
+    name: str
+    load: Decimal
+
+
+# -- frames ------------------------------------------------------------------------------------
+
+
+class _Lost(Exception):
+    """The connection pair cannot carry any further frame."""
+
+
+async def _read_frame(reader: asyncio.StreamReader) -> tuple[int, int, bytes]:
+    """``(version, type, body)`` of the next frame; :class:`_Lost` when it is not one."""
+    try:
+        head = await reader.readexactly(NATIVE_HEADER_SIZE)
+        magic, version, frame_type, length = NATIVE_HEADER.unpack(head)
+        if magic != int.from_bytes(MAGIC, "big"):
+            raise _Lost("answer does not start with A0 A0 A0 A0")
+        body = await reader.readexactly(length)
+    except (asyncio.IncompleteReadError, ConnectionError, OSError) as exc:
+        raise _Lost(f"connection closed ({exc!r})") from exc
+    return version, frame_type, body
+
+
+def _answer_size(request: NativeRequest, max_axes: int) -> int:
+    """The most answer bytes (block head included) ``request`` can be answered with."""
+    size: int
+    if isinstance(request, MacroReadRequest):
+        size = 8 * max(request.last - request.first + 1, 1)
+    elif isinstance(request, PmcReadRequest):
+        size = max(request.last - request.first + 1, 0)
+    elif isinstance(request, AlarmMessageRequest):
+        size = request.count * (16 + request.text_length)
+    elif isinstance(request, NativeAlarmHistoryRequest):
+        size = 60 * max(request.last - request.first + 1, 1)
+    else:
+        fixed = getattr(request.ANSWER, "SIZE", None)
+        size = fixed if isinstance(fixed, int) else 8 + 16 * max_axes
+    return _ANSWER_HEAD + size
+
+
+# -- one handle: the A/B pair --------------------------------------------------------------------
+
+
+class _Handle:
+    """One open A/B connection pair and what its open answer said."""
+
+    def __init__(
+        self,
+        a: tuple[asyncio.StreamReader, asyncio.StreamWriter],
+        b: tuple[asyncio.StreamReader, asyncio.StreamWriter],
+        opened: OpenAnswer,
+    ) -> None:
+        self.reader_a, self.writer_a = a
+        self.reader_b, self.writer_b = b
+        self.opened = opened
+        self.version = opened.version
+        self.command_set = CommandSet.for_version(opened.version)
+        self.limit = max_response_body(opened.version)
+        self.max_axes = opened.max_axes
+        present = opened.present()
+        self.axes = present[0].axes if present else 0
+        self.spindles = present[0].spindles if present else 0
+        self.paths = len(present)
+        self.option_bits = opened.option_bits or 0
+        self.sysinfo: NativeSysInfo | None = None
+        self.closed = False
+        # The library's write buffer: cnc_wrparam leaves the slots it does not write as the
+        # previous write left them, and so does this client, byte for byte.
+        self.param_slots: list[int] = [0] * max(self.max_axes, 1)
+        self.param3_slots: list[ScaledNumber] = [ScaledNumber(0, 0, 0)] * max(self.max_axes, 1)
+
+    @property
+    def pmc_chunk(self) -> int:
+        """Most PMC bytes one answer carries."""
+        return self.limit - 2 - _ANSWER_HEAD
+
+    @property
+    def pmc_write_chunk(self) -> int:
+        """Most PMC bytes one write request carries (request bodies are kept within the same
+        size as answers)."""
+        return self.limit - 2 - REQUEST_BLOCK_SIZE
+
+    async def exchange(self, requests: Sequence[NativeRequest]) -> tuple[ResponseBlock, ...]:
+        """One data frame on B and its answer (used while connecting, before the pump)."""
+        self.writer_b.write(encode_request([r.to_block(_PATH) for r in requests]))
+        return self.check_answer(await _read_frame(self.reader_b), len(requests))
+
+    def check_answer(self, frame: tuple[int, int, bytes], count: int) -> tuple[ResponseBlock, ...]:
+        """The blocks of a data answer, checked as FANUC's library checks them."""
+        version, frame_type, body = frame
+        if frame_type >> 8 != _DATA_ANSWER:
+            raise _Lost(f"answer of frame type 0x{frame_type:04X} to a data request")
+        if frame_type == FrameType.DATA_ERROR:
+            if len(body) < _ERROR_WORDS.size:
+                raise _Lost(f"error answer of {len(body)} bytes")
+            _, code, _, _ = _ERROR_WORDS.unpack_from(body)
+            raise CncError.from_ew(code, "error answer (0x2103) to the request frame")
+        refusal = answer_refusal(body, count, version)
+        if refusal is not None:
+            raise _Lost(f"data answer refused: {refusal}")
+        try:
+            return decode_response_body(body)
+        except ProtocolError as exc:
+            raise _Lost(str(exc)) from exc
+
+    def abort(self) -> None:
+        self.closed = True
+        for writer in (self.writer_a, self.writer_b):
+            writer.transport.abort()
+
+    async def close(self, grace: float) -> None:
+        """Close A then B with the close exchange, as the library does; then the sockets."""
+        if self.closed:
+            return
+        self.closed = True
+        try:
+            async with asyncio.timeout(grace):
+                for reader, writer in (
+                    (self.reader_a, self.writer_a),
+                    (self.reader_b, self.writer_b),
+                ):
+                    writer.write(encode_close_request())
+                    _, frame_type, _ = await _read_frame(reader)
+                    if frame_type != FrameType.CLOSE_RESPONSE:
+                        break
+        except (TimeoutError, _Lost, OSError):
+            pass
+        for writer in (self.writer_a, self.writer_b):
+            writer.close()
+        for writer in (self.writer_a, self.writer_b):
+            try:
+                async with asyncio.timeout(grace):
+                    await writer.wait_closed()
+            except (TimeoutError, OSError):
+                writer.transport.abort()
+
+
+async def _open_tcp(
+    host: str, port: int, deadline: float | None
+) -> tuple[asyncio.StreamReader, asyncio.StreamWriter]:
+    try:
+        async with asyncio.timeout_at(deadline):
+            return await asyncio.open_connection(host, port)
+    except TimeoutError:
+        raise FocasTimeoutError(f"connecting to {host}:{port} timed out") from None
+    except OSError as exc:
+        raise FocasConnectionError(f"cannot connect to {host}:{port}: {exc}") from exc
+
+
+async def _open_channel(
+    host: str, port: int, channel: int, deadline: float | None
+) -> tuple[tuple[asyncio.StreamReader, asyncio.StreamWriter], int, bytes]:
+    pair = await _open_tcp(host, port, deadline)
+    reader, writer = pair
+    try:
+        writer.write(encode_open_request(channel))
+        async with asyncio.timeout_at(deadline):
+            version, frame_type, body = await _read_frame(reader)
+    except BaseException:
+        writer.transport.abort()
+        raise
+    if frame_type != FrameType.OPEN_RESPONSE:
+        writer.transport.abort()
+        raise FocasConnectionError(f"{host}:{port} answered the open with type 0x{frame_type:04X}")
+    return pair, version, body
+
+
+async def _open_handle(host: str, port: int, deadline: float | None) -> _Handle:
+    """Open A and B and run the connect-time requests of ``cnc_allclibhndl3``."""
+    where = f"{host}:{port}"
+    try:
+        a, version_a, body_a = await _open_channel(host, port, 1, deadline)
+    except TimeoutError:
+        raise FocasTimeoutError(f"no open answer from {where}") from None
+    except _Lost as exc:
+        raise FocasConnectionError(f"{where}: {exc}") from None
+    try:
+        b, version, body = await _open_channel(host, port, 2, deadline)
+    except BaseException as exc:
+        a[1].transport.abort()
+        if isinstance(exc, TimeoutError):
+            raise FocasTimeoutError(f"no open answer from {where}") from None
+        if isinstance(exc, _Lost):
+            raise FocasConnectionError(f"{where}: {exc}") from None
+        raise
+    try:
+        try:
+            decode_open_answer(body_a, version_a)
+            opened = decode_open_answer(body, version)
+        except ProtocolError as exc:
+            raise FocasConnectionError(f"{where}: open answer refused: {exc}") from None
+        if isinstance(opened.head, OpenHeadV2) and opened.head.kind == 2:
+            raise FocasConnectionError(f"{where}: an FS15-family control (kind 2) is not supported")
+        handle = _Handle(a, b, opened)
+        if not handle.paths:
+            raise FocasConnectionError(f"{where}: the open answer announces no path")
+        async with asyncio.timeout_at(deadline):
+            connect = calls.cnc_allclibhndl3(handle.command_set, handle.paths)
+            for frame in connect.frames:
+                blocks = await handle.exchange(frame)
+                for request, block in zip(frame, blocks, strict=True):
+                    if block.ew:
+                        raise CncError.from_ew(block.ew, "cnc_allclibhndl3")
+                    if request.COMMAND == NativeCommand.SYSINFO and handle.sysinfo is None:
+                        handle.sysinfo = request.decode_answer(block.data)
+                    elif request.COMMAND == NativeCommand.RDPARAM:
+                        handle.option_bits = (
+                            block.data[11] if len(block.data) >= 12 else 0
+                        )  # slot 0's low byte
+            if isinstance(opened.head, OpenHeadV2) and opened.head.kind == 3:
+                handle.option_bits = 1
+    except TimeoutError:
+        _abort(a, b)
+        raise FocasTimeoutError(f"{where}: the connect requests were not answered") from None
+    except _Lost as exc:
+        _abort(a, b)
+        raise FocasConnectionError(f"{where}: {exc}") from None
+    except BaseException:
+        _abort(a, b)
+        raise
+    return handle
+
+
+def _abort(*pairs: tuple[asyncio.StreamReader, asyncio.StreamWriter]) -> None:
+    for _, writer in pairs:
+        writer.transport.abort()
+
+
+# -- jobs: one frame's worth of one call --------------------------------------------------------
+
+
+class _Job:
+    """The blocks of one frame of one call, waiting to be sent or answered."""
+
+    __slots__ = ("command_set", "deadline", "future", "requests", "sent")
+
+    def __init__(
+        self,
+        requests: tuple[NativeRequest, ...],
+        command_set: CommandSet,
+        deadline: float | None,
+        future: asyncio.Future[tuple[ResponseBlock, ...]],
+    ) -> None:
+        self.requests = requests
+        self.command_set = command_set
+        self.deadline = deadline
+        self.future = future
+        self.sent = False
+
+
+def _fail(jobs: Sequence[_Job], make: Callable[..., BaseException], *args: Any) -> None:
+    """Fail every job of ``jobs`` still waiting with a fresh ``make(*args)``."""
+    for job in jobs:
+        if not job.future.done():
+            job.future.set_exception(make(*args))
+
+
+def _check(block: ResponseBlock, function: str) -> bytes:
+    """The data of ``block``; :class:`CncError` for its EW code."""
+    if block.ew:
+        raise CncError.from_ew(block.ew, function)
+    return block.data
+
+
+def _decode(request: NativeRequest, block: ResponseBlock, function: str, max_axes: int) -> Any:
+    data = _check(block, function)
+    try:
+        return request.decode_answer(data, max_axes)
+    except (ProtocolError, ValueError, struct.error) as exc:
+        raise PayloadError(
+            f"{function}: answer to 0x{request.COMMAND:X} does not decode: {exc}"
+        ) from None
+
+
+def _text(raw: bytes | str) -> str:
+    if isinstance(raw, str):
+        return raw.rstrip("\x00")
+    return raw.split(b"\x00", 1)[0].decode("latin-1")
+
+
+def _name(entry: bytes) -> str:
+    """The axis name of a 4-byte name entry (its first character; the suffix only tells
+    which position a display shows)."""
+    return entry[:1].replace(b"\x00", b"").decode("latin-1").strip()
+
+
+class NativeClient:
+    """An asyncio client of FANUC's FOCAS/2 Ethernet protocol (port 8193 on a real control).
+
+    It has the methods of :class:`~focas_net.client.FocasClient` that FOCAS/2 carries, with
+    the same results, exceptions, per-call ``timeout=`` and :class:`ReconnectPolicy`, plus
+    :meth:`read_dynamic`, :meth:`read_timer`, :meth:`read_spindle_loads`,
+    :meth:`read_servo_meters`, :meth:`read_cnc_id`, :meth:`read_sequence_number`,
+    :meth:`read_program_name` and :meth:`read_alarm_status`. Concurrent calls are gathered
+    into frames of at most ``max_blocks`` blocks (see the module docstring).
+    """
+
+    def __init__(
+        self,
+        host: str,
+        port: int = 8193,
+        *,
+        timeout: float | None = 3.0,
+        reconnect: bool | ReconnectPolicy = False,
+        max_blocks: int = LIBRARY_MAX_BLOCKS,
+        on_state_change: StateCallback | None = None,
+    ) -> None:
+        if timeout is not None and timeout <= 0:
+            raise ValueError(f"timeout must be positive, got {timeout}")
+        if not 1 <= max_blocks <= 0xFFFF:
+            raise ValueError(f"max_blocks must be within 1..65535, got {max_blocks}")
+        self.host = host
+        self.port = port
+        self.timeout = timeout
+        self.max_blocks = max_blocks
+        if reconnect is True:
+            self._policy: ReconnectPolicy | None = ReconnectPolicy()
+        elif reconnect is False:
+            self._policy = None
+        else:
+            self._policy = reconnect
+        self._state = ClientState.DISCONNECTED
+        self._callbacks: list[StateCallback] = []
+        if on_state_change is not None:
+            self._callbacks.append(on_state_change)
+        self._handle: _Handle | None = None
+        self._pump_task: asyncio.Task[None] | None = None
+        self._reconnect_task: asyncio.Task[None] | None = None
+        self._loop: asyncio.AbstractEventLoop | None = None
+        self._ready: asyncio.Event | None = None
+        self._wake: asyncio.Event | None = None
+        self._queue: deque[_Job] = deque()
+        self._backoff = 0
+        self._up_since = 0.0
+        self._param_widths: dict[int, int] = {}
+        self._pmc_locks: KeyedLocks[tuple[int, int]] = KeyedLocks()
+        self._param_locks: KeyedLocks[tuple[int, int]] = KeyedLocks()
+        #: Frames sent and blocks carried since the client was made (for batching checks).
+        self.frames_sent = 0
+        self.blocks_sent = 0
+
+    def __repr__(self) -> str:
+        return f"<{type(self).__name__} {self.host}:{self.port} {self._state.value}>"
+
+    # -- lifecycle -----------------------------------------------------------------------
+    @property
+    def state(self) -> ClientState:
+        """The current :class:`ClientState`."""
+        return self._state
+
+    @property
+    def connected(self) -> bool:
+        return self._state is ClientState.CONNECTED
+
+    @property
+    def reconnect_policy(self) -> ReconnectPolicy | None:
+        return self._policy
+
+    @property
+    def command_set(self) -> CommandSet | None:
+        """The command set of the open handle (16i or 30i class), None when not connected."""
+        return None if self._handle is None else self._handle.command_set
+
+    @property
+    def max_axes(self) -> int | None:
+        """The CNC's max axes from the open answer, None when not connected."""
+        return None if self._handle is None else self._handle.max_axes
+
+    def add_state_callback(self, callback: StateCallback) -> None:
+        """Call ``callback(state)`` on every state change (exceptions are logged)."""
+        self._callbacks.append(callback)
+
+    def remove_state_callback(self, callback: StateCallback) -> None:
+        self._callbacks.remove(callback)
+
+    def _set_state(self, state: ClientState) -> None:
+        if state is self._state:
+            return
+        self._state = state
+        logger.info("%s:%s %s", self.host, self.port, state.value)
+        for callback in tuple(self._callbacks):
+            try:
+                callback(state)
+            except Exception:
+                logger.exception("state callback %r failed", callback)
+
+    async def __aenter__(self) -> Self:
+        await self.connect()
+        return self
+
+    async def __aexit__(
+        self,
+        exc_type: type[BaseException] | None,
+        exc: BaseException | None,
+        tb: TracebackType | None,
+    ) -> None:
+        await self.aclose()
+
+    async def connect(self) -> None:
+        """Open the A/B pair and run the connect-time requests (``cnc_allclibhndl3``).
+
+        Raises :class:`FocasConnectionError` (or :class:`FocasTimeoutError`) when the CNC
+        cannot be reached or its open answer is refused; the first connect is not retried.
+        """
+        if self._state is ClientState.CLOSED:
+            raise FocasConnectionError("client is closed")
+        if self._handle is not None and not self._handle.closed:
+            return
+        self._loop = asyncio.get_running_loop()
+        if self._ready is None:
+            self._ready = asyncio.Event()
+            self._wake = asyncio.Event()
+        handle = await _open_handle(self.host, self.port, self._deadline(None))
+        if self.state is ClientState.CLOSED:  # closed while connecting
+            handle.abort()
+            raise FocasConnectionError("client is closed")
+        if self._handle is not None and not self._handle.closed:
+            handle.abort()
+            return
+        self._install(handle)
+
+    async def aclose(self) -> None:
+        """Close the handle (close exchange on A, then B); pending calls fail with
+        :class:`FocasConnectionError`."""
+        self._set_state(ClientState.CLOSED)
+        task, self._reconnect_task = self._reconnect_task, None
+        if task is not None and not task.done():
+            task.cancel()
+            await asyncio.wait([task])
+        pump, self._pump_task = self._pump_task, None
+        if pump is not None and not pump.done():
+            pump.cancel()
+            await asyncio.wait([pump])
+        queued = list(self._queue)
+        self._queue.clear()
+        _fail(queued, lambda: FocasConnectionError("client is closed"))
+        handle, self._handle = self._handle, None
+        if self._ready is not None:
+            self._ready.set()
+        if handle is not None:
+            await handle.close(_CLOSE_GRACE)
+
+    def _install(self, handle: _Handle) -> None:
+        task = self._reconnect_task
+        if task is not None and not task.done() and task is not asyncio.current_task():
+            task.cancel()
+        loop = self._loop or asyncio.get_running_loop()
+        self._handle = handle
+        self._up_since = loop.time()
+        self._pump_task = loop.create_task(self._pump(handle), name=f"focas-native {self.host}")
+        self._set_state(ClientState.CONNECTED)
+        assert self._ready is not None and self._wake is not None
+        self._ready.set()
+        self._wake.set()
+
+    def _on_lost(self, handle: _Handle, exc: BaseException | None) -> None:
+        if handle is not self._handle:
+            return
+        self._handle = None
+        handle.abort()
+        if self._state is ClientState.CLOSED:
+            return
+        if self._policy is None:
+            logger.warning("connection to %s:%s lost: %s", self.host, self.port, exc or "closed")
+            queued = list(self._queue)
+            self._queue.clear()
+            _fail(
+                queued,
+                lambda: FocasConnectionError(
+                    f"connection to {self.host}:{self.port} lost before the request was sent"
+                ),
+            )
+            self._set_state(ClientState.DISCONNECTED)
+            return
+        logger.warning("connection to %s:%s lost (%s); reconnecting", self.host, self.port, exc)
+        assert self._ready is not None and self._loop is not None
+        if self._loop.time() - self._up_since >= self._policy.stable_after:
+            self._backoff = 0
+        self._ready.clear()
+        self._set_state(ClientState.RECONNECTING)
+        if self._reconnect_task is None or self._reconnect_task.done():
+            self._reconnect_task = self._loop.create_task(self._reconnect(self._policy))
+
+    async def _reconnect(self, policy: ReconnectPolicy) -> None:
+        attempt = 0
+        try:
+            while policy.max_attempts is None or attempt < policy.max_attempts:
+                await asyncio.sleep(policy.delay(self._backoff))
+                self._backoff += 1
+                attempt += 1
+                try:
+                    handle = await _open_handle(self.host, self.port, self._deadline(None))
+                except Exception as exc:  # refused, unreachable, or an answer that does not decode
+                    logger.debug(
+                        "reconnect attempt %d to %s:%s: %s", attempt, self.host, self.port, exc
+                    )
+                    continue
+                self._install(handle)
+                return
+            logger.warning(
+                "giving up reconnecting to %s:%s after %d attempts", self.host, self.port, attempt
+            )
+            self._set_state(ClientState.DISCONNECTED)
+        finally:
+            if self._state is ClientState.RECONNECTING and self._handle is None:
+                self._set_state(ClientState.DISCONNECTED)
+            if self._state is ClientState.DISCONNECTED:
+                queued = list(self._queue)
+                self._queue.clear()
+                _fail(
+                    queued,
+                    lambda: FocasConnectionError(f"could not reconnect to {self.host}:{self.port}"),
+                )
+            if self._ready is not None:
+                self._ready.set()
+
+    # -- the request path ----------------------------------------------------------------
+    def _deadline(self, timeout: float | None) -> float | None:
+        t = self.timeout if timeout is None else timeout
+        if t is None:
+            return None
+        if t <= 0:
+            raise ValueError(f"timeout must be positive, got {t}")
+        return (self._loop or asyncio.get_running_loop()).time() + t
+
+    async def _live(self, deadline: float | None) -> _Handle:
+        """The open handle, waiting (until ``deadline``) while reconnecting."""
+        while True:
+            handle = self._handle
+            if handle is not None and not handle.closed:
+                return handle
+            if self._state is ClientState.CLOSED:
+                raise FocasConnectionError("client is closed")
+            if self._state is not ClientState.RECONNECTING or self._ready is None:
+                raise FocasConnectionError(f"not connected to {self.host}:{self.port}")
+            try:
+                async with asyncio.timeout_at(deadline):
+                    await self._ready.wait()
+            except TimeoutError:
+                raise FocasConnectionError(
+                    f"still reconnecting to {self.host}:{self.port} when the call timed out"
+                ) from None
+
+    async def _send(
+        self, requests: tuple[NativeRequest, ...], command_set: CommandSet, deadline: float | None
+    ) -> tuple[ResponseBlock, ...]:
+        """Queue one frame's worth of blocks of one call and wait for its answer blocks."""
+        if self._handle is None and self._state is not ClientState.RECONNECTING:
+            # lost between two frames of one call, with no reconnect to wait for
+            if self._state is ClientState.CLOSED:
+                raise FocasConnectionError("client is closed")
+            raise FocasConnectionError(f"not connected to {self.host}:{self.port}")
+        loop = self._loop or asyncio.get_running_loop()
+        job = _Job(requests, command_set, deadline, loop.create_future())
+        self._queue.append(job)
+        assert self._wake is not None
+        self._wake.set()
+        try:
+            async with asyncio.timeout_at(deadline):
+                return await job.future
+        except TimeoutError:
+            if job.future.done() and not job.future.cancelled():
+                raise
+            if not job.sent and self._state is ClientState.RECONNECTING:
+                raise FocasConnectionError(
+                    f"still reconnecting to {self.host}:{self.port} when the call timed out"
+                ) from None
+            raise FocasTimeoutError(
+                f"no answer from {self.host}:{self.port} within the call's timeout"
+                + ("" if job.sent else " (the request was never sent)")
+            ) from None
+        finally:
+            if not job.future.done():
+                job.future.cancel()
+
+    async def _one(
+        self, build: Callable[[CommandSet], LibraryCall], deadline: float | None
+    ) -> tuple[_Handle, LibraryCall, tuple[ResponseBlock, ...]]:
+        """A one-frame library call: its handle, the call and its answer blocks."""
+        handle = await self._live(deadline)
+        library_call = build(handle.command_set)
+        (frame,) = library_call.frames
+        return handle, library_call, await self._send(frame, handle.command_set, deadline)
+
+    def _take(self, handle: _Handle) -> list[_Job]:
+        """The queued jobs the next frame carries (at least one unless the queue is empty)."""
+        queue = self._queue
+        batch: list[_Job] = []
+        blocks = 0
+        size = sent = 2  # answer and request bodies: the block count, then the blocks
+        while queue:
+            job = queue[0]
+            if job.future.done():
+                queue.popleft()
+                continue
+            if job.command_set is not handle.command_set:
+                queue.popleft()
+                job.future.set_exception(
+                    FocasConnectionError("the CNC's command set changed on reconnect; call again")
+                )
+                continue
+            count = len(job.requests)
+            need = sum(_answer_size(r, handle.max_axes) for r in job.requests)
+            send = sum(REQUEST_BLOCK_SIZE + len(r.extra()) for r in job.requests)
+            if batch and (
+                blocks + count > self.max_blocks
+                or size + need > handle.limit
+                or sent + send > handle.limit
+            ):
+                break
+            queue.popleft()
+            batch.append(job)
+            blocks += count
+            size += need
+            sent += send
+        return batch
+
+    async def _pump(self, handle: _Handle) -> None:
+        """Send the queued jobs, one frame in flight, and hand each its answer blocks."""
+        wake = self._wake
+        assert wake is not None
+        batch: list[_Job] = []
+        try:
+            while True:
+                while not self._queue:
+                    wake.clear()
+                    await self._idle(handle, wake)
+                batch = self._take(handle)
+                if not batch:
+                    continue
+                requests = [r for job in batch for r in job.requests]
+                handle.writer_b.write(encode_request([r.to_block(_PATH) for r in requests]))
+                for job in batch:
+                    job.sent = True
+                self.frames_sent += 1
+                self.blocks_sent += len(requests)
+                deadlines = [job.deadline for job in batch]
+                deadline = None if None in deadlines else max(d for d in deadlines if d is not None)
+                try:
+                    async with asyncio.timeout_at(deadline):
+                        frame = await _read_frame(handle.reader_b)
+                except TimeoutError:
+                    _fail(
+                        batch,
+                        lambda: FocasTimeoutError(
+                            f"no answer from {self.host}:{self.port}; the connection is closed"
+                        ),
+                    )
+                    raise _Lost("no answer within the timeout") from None
+                try:
+                    blocks = handle.check_answer(frame, len(requests))
+                except CncError as exc:
+                    _fail(batch, CncError.from_ew, exc.ew, exc.detail)
+                    batch = []
+                    continue
+                pos = 0
+                for job in batch:
+                    count = len(job.requests)
+                    if not job.future.done():
+                        job.future.set_result(blocks[pos : pos + count])
+                    pos += count
+                batch = []
+        except _Lost as exc:
+            lost = f"connection to {self.host}:{self.port} lost after the request was sent ({exc})"
+            _fail(batch, FocasConnectionError, lost)
+            self._on_lost(handle, exc)
+        except asyncio.CancelledError:
+            _fail(batch, lambda: FocasConnectionError("client is closed"))
+            raise
+
+    @staticmethod
+    async def _idle(handle: _Handle, wake: asyncio.Event) -> None:
+        """Wait for a call while watching B: a CNC closing it (or sending what nobody asked
+        for) ends the connection now, not at the next call."""
+        watch = asyncio.ensure_future(handle.reader_b.read(1))
+        waiter = asyncio.ensure_future(wake.wait())
+        try:
+            await asyncio.wait((watch, waiter), return_when=asyncio.FIRST_COMPLETED)
+        finally:
+            waiter.cancel()
+            if not watch.done():
+                watch.cancel()
+            await asyncio.wait((watch, waiter))
+        if watch.cancelled():
+            return
+        exc = watch.exception()
+        if exc is not None:
+            raise _Lost(f"connection closed ({exc!r})")
+        raise _Lost("unsolicited data on B" if watch.result() else "connection closed by the CNC")
+
+    # -- status and identity -------------------------------------------------------------
+    async def read_status(self, *, timeout: float | None = None) -> StatusInfo:
+        """``cnc_statinfo``: the ODBST status (0x19; hdck 0xE1 and tmmode 0x98 read 0 when
+        the CNC refuses them, as the library reads them)."""
+        handle, call, (st, hd, tm) = await self._one(calls.cnc_statinfo, self._deadline(timeout))
+        stat: StatInfo = _decode(call.frames[0][0], st, "cnc_statinfo", handle.max_axes)
+        hdck = 0 if hd.ew else _decode(call.frames[0][1], hd, "cnc_statinfo", 0).hdck
+        tmmode = 0 if tm.ew else _decode(call.frames[0][2], tm, "cnc_statinfo", 0).tmmode
+        return StatusInfo(
+            hdck, tmmode, stat.aut, stat.run, stat.motion, stat.mstb, stat.emergency,
+            stat.alarm, stat.edit,
+        )  # fmt: skip
+
+    async def read_sysinfo(self, *, timeout: float | None = None) -> SysInfo:
+        """``cnc_sysinfo``: ODBSYS as the CNC answered it while connecting (nothing is sent,
+        like FANUC's library)."""
+        handle = await self._live(self._deadline(timeout))
+        info = handle.sysinfo
+        if info is None:
+            raise PayloadError("cnc_sysinfo: the connect-time system information is missing")
+
+        def raw(text: str, size: int) -> bytes:
+            return text.encode("latin-1")[:size].ljust(size, b"\x00")
+
+        return SysInfo(
+            info.addinfo, info.max_axis, raw(info.cnc_type, 2), raw(info.mt_type, 2),
+            raw(info.series, 4), raw(info.version, 4), raw(info.axes, 2),
+        )  # fmt: skip
+
+    async def read_cnc_id(self, *, timeout: float | None = None) -> tuple[int, int, int, int]:
+        """``cnc_rdcncid``: the four 32-bit words of the CNC ID."""
+        handle, call, (block,) = await self._one(calls.cnc_rdcncid, self._deadline(timeout))
+        cid: CncId = _decode(call.frames[0][0], block, "cnc_rdcncid", handle.max_axes)
+        return (cid.id1, cid.id2, cid.id3, cid.id4)
+
+    async def read_timer(self, timer_type: int, *, timeout: float | None = None) -> TimerValue:
+        """``cnc_rdtimer``: a timer (0 power-on, 1 operating, 2 cutting, 3 cycle, 4 free) as
+        minutes and milliseconds."""
+        handle, call, (block,) = await self._one(
+            lambda cs: calls.cnc_rdtimer(cs, timer_type), self._deadline(timeout)
+        )
+        value: TimerValue = _decode(call.frames[0][0], block, "cnc_rdtimer", handle.max_axes)
+        return value
+
+    # -- program, feed, spindle ----------------------------------------------------------
+    async def read_program_numbers(self, *, timeout: float | None = None) -> ProgramNumbers:
+        """``cnc_rdprgnumo8``: the running and the main program numbers (0 = none)."""
+        _, call, (block,) = await self._one(calls.cnc_rdprgnumo8, self._deadline(timeout))
+        value: NativeProgramNumbers = _decode(call.frames[0][0], block, "cnc_rdprgnumo8", 0)
+        return ProgramNumbers(value.running, value.main)
+
+    async def read_program_name(self, *, timeout: float | None = None) -> tuple[int, str]:
+        """``cnc_exeprgname``: the O number and the name of the executing program."""
+        _, call, (block,) = await self._one(calls.cnc_exeprgname, self._deadline(timeout))
+        value: ExecutingProgram = _decode(call.frames[0][0], block, "cnc_exeprgname", 0)
+        return value.o_num, _text(value.name)
+
+    async def read_sequence_number(self, *, timeout: float | None = None) -> int:
+        """``cnc_rdseqnum``: the sequence number being executed."""
+        _, call, (block,) = await self._one(calls.cnc_rdseqnum, self._deadline(timeout))
+        value: SequenceNumber = _decode(call.frames[0][0], block, "cnc_rdseqnum", 0)
+        return value.number
+
+    async def read_feed(self, *, timeout: float | None = None) -> int:
+        """``cnc_actf``: the actual feed rate."""
+        _, call, (block,) = await self._one(calls.cnc_actf, self._deadline(timeout))
+        value: ScaledValues = _decode(call.frames[0][0], block, "cnc_actf", 0)
+        return value.values[0].mantissa if value.values else 0
+
+    async def read_spindle_speed(self, *, timeout: float | None = None) -> int:
+        """``cnc_acts``: the actual spindle speed."""
+        _, call, (block,) = await self._one(calls.cnc_acts, self._deadline(timeout))
+        value: ScaledValues = _decode(call.frames[0][0], block, "cnc_acts", 0)
+        return value.values[0].mantissa if value.values else 0
+
+    async def read_spindle_loads(
+        self, spindle: int = -1, *, timeout: float | None = None
+    ) -> tuple[int, ...]:
+        """``cnc_rdspload``: the load of every spindle (``spindle=-1``) or of one (1..n)."""
+        if spindle != -1 and not 1 <= spindle <= 0x7FFF:
+            raise ValueError(f"spindle must be 1..n or -1 for every spindle, got {spindle}")
+        handle, call, blocks = await self._one(
+            lambda cs: calls.cnc_rdspload(cs, spindle), self._deadline(timeout)
+        )
+        frame = call.frames[0]
+        for request, block in zip(frame, blocks, strict=True):
+            _check(block, "cnc_rdspload")
+            if request.COMMAND == NativeCommand.AXIS_COUNT:
+                count = _decode(request, block, "cnc_rdspload", 0).count
+                if count == 0:
+                    raise CncError.from_ew(EW.NOOPT, "cnc_rdspload: no spindle")
+        index = 0 if handle.command_set is CommandSet.FS16I else 1
+        loads: ScaledValues = _decode(frame[index], blocks[index], "cnc_rdspload", 0)
+        limit = handle.spindles if spindle == -1 else 1
+        return tuple(
+            int.from_bytes((v.mantissa & 0xFFFF).to_bytes(2, "big"), "big", signed=True)
+            for v in loads.values[: max(limit, 1)]
+        )
+
+    async def read_servo_meters(self, *, timeout: float | None = None) -> tuple[ServoLoad, ...]:
+        """``cnc_rdsvmeter``: the servo load meter of every axis, with its name."""
+        handle, call, blocks = await self._one(calls.cnc_rdsvmeter, self._deadline(timeout))
+        names: AxisNames | None = None
+        loads: ScaledValues | None = None
+        for request, block in zip(call.frames[0], blocks, strict=True):
+            value = _decode(request, block, "cnc_rdsvmeter", handle.max_axes)
+            if request.COMMAND == NativeCommand.AXIS_NAME:
+                names = value
+            elif request.COMMAND == NativeCommand.RDSVMETER:
+                loads = value
+        assert names is not None and loads is not None
+        count = min(handle.axes, len(loads.values), len(names.records))
+        return tuple(
+            ServoLoad(
+                _name(names.records[i].encode()),
+                Decimal(abs(loads.values[i].mantissa)).scaleb(-max(loads.values[i].decimals, 0)),
+            )
+            for i in range(count)
+        )
+
+    async def read_axis_names(self, *, timeout: float | None = None) -> tuple[str, ...]:
+        """``cnc_rdaxisname``: the names of the path's axes, in order."""
+        handle, call, (block,) = await self._one(calls.cnc_rdaxisname, self._deadline(timeout))
+        names: AxisNames = _decode(call.frames[0][0], block, "cnc_rdaxisname", handle.max_axes)
+        return tuple(_name(n.encode()) for n in names.records[: handle.axes])
+
+    async def read_dynamic(self, axis: int = -1, *, timeout: float | None = None) -> DynamicData:
+        """``cnc_rddynamic2``: alarm bits, program numbers, sequence number, feed, spindle
+        speed and the four positions of every axis (``axis=-1``) or of one (1..n), in one
+        frame. Needs the CNC's FOCAS option bit 0, as in FANUC's library (EW_NOOPT)."""
+        if axis != -1 and not 1 <= axis <= 0x7FFF:
+            raise ValueError(f"axis must be 1..n or -1 for every axis, got {axis}")
+        deadline = self._deadline(timeout)
+        handle = await self._live(deadline)
+        if not handle.option_bits & 1:
+            raise CncError.from_ew(EW.NOOPT, "cnc_rddynamic2: the CNC lacks FOCAS option bit 0")
+        if axis > handle.axes:
+            raise CncError.from_ew(EW.ATTRIB, f"cnc_rddynamic2: axis {axis} of {handle.axes}")
+        call = calls.cnc_rddynamic2(handle.command_set, axis)
+        frame = call.frames[0]
+        blocks = await self._send(frame, handle.command_set, deadline)
+        values = [
+            _decode(r, b, "cnc_rddynamic2", handle.max_axes)
+            for r, b in zip(frame, blocks, strict=True)
+        ]
+        alarm: AlarmStatus = values[0]
+        prg: NativeProgramNumbers = values[1]
+        seq: SequenceNumber = values[2]
+        count = handle.axes if axis == -1 else 1
+
+        def mantissas(v: ScaledValues) -> tuple[int, ...]:
+            return tuple(x.mantissa for x in v.values[:count])
+
+        feed: ScaledValues = values[3]
+        speed: ScaledValues = values[4]
+        return DynamicData(
+            alarm.alarm & 0xFFFF, prg.running, prg.main, seq.number,
+            feed.values[0].mantissa if feed.values else 0,
+            speed.values[0].mantissa if speed.values else 0,
+            mantissas(values[5]), mantissas(values[6]), mantissas(values[7]), mantissas(values[8]),
+        )  # fmt: skip
+
+    async def read_positions(
+        self,
+        kind: str | int | PositionKind = PositionKind.ABSOLUTE,
+        *,
+        axis: int | None = None,
+        timeout: float | None = None,
+    ) -> Positions:
+        """``cnc_rdposition``: positions of every axis (``axis=None``) or of axis ``axis``
+        (1..n), with the axis names; the frame reads all four kinds, as the library does.
+
+        An unknown ``kind`` or an ``axis`` below 1 raises :class:`ValueError` before anything
+        is sent; an axis the CNC does not have raises EW_ATTRIB (:class:`CncError`).
+        """
+        which = PositionKind.parse(kind)
+        if axis is not None and not 1 <= axis <= 0x7FFF:
+            raise ValueError(f"axis must be 1..n (None for every axis), got {axis}")
+        deadline = self._deadline(timeout)
+        handle = await self._live(deadline)
+        if axis is not None and axis > handle.axes:
+            raise CncError.from_ew(EW.ATTRIB, f"cnc_rdposition: axis {axis} of {handle.axes}")
+        call = calls.cnc_rdposition(handle.command_set)
+        frame = call.frames[0]
+        blocks = await self._send(frame, handle.command_set, deadline)
+        names: PositionAxisNames | None = None
+        positions: ScaledValues | None = None
+        for request, block in zip(frame, blocks, strict=True):
+            command = request.COMMAND
+            if command == NativeCommand.AXIS_NAME:
+                names = _decode(request, block, "cnc_rdposition", handle.max_axes)
+            elif (
+                command == NativeCommand.POSITION and getattr(request, "kind", None) == which.value
+            ):
+                positions = _decode(request, block, "cnc_rdposition", handle.max_axes)
+            elif command in (
+                NativeCommand.POSITION,
+                NativeCommand.AXIS_COUNT,
+                NativeCommand.STATINFO,
+            ):
+                _check(block, "cnc_rdposition")
+        assert names is not None and positions is not None
+        count = min(handle.axes, len(positions.values), len(names.records))
+        picked = range(count) if axis is None else [axis - 1]
+        values: dict[str, Decimal] = {}
+        increments: dict[str, int] = {}
+        decimals = 0
+        for i in picked:
+            entry = names.records[i]
+            raw = (
+                entry.machine
+                if which is PositionKind.MACHINE
+                else (entry.relative if which is PositionKind.RELATIVE else entry.absolute)
+            )
+            record = positions.values[i]
+            decimals = record.decimals
+            name = _name(raw) or f"axis{i + 1}"
+            values[name] = Decimal(record.mantissa).scaleb(-record.decimals)
+            increments[name] = record.mantissa
+        return Positions(which, decimals, values, increments)
+
+    # -- parameters and diagnostics ------------------------------------------------------
+    async def _read_item(
+        self, number: int, axis: int, deadline: float | None, *, diagnostic: bool
+    ) -> ParamValue:
+        function = "cnc_diagnoss" if diagnostic else "cnc_rdparam"
+        if not 0 <= number <= 0x7FFFFFFF:
+            raise ValueError(f"{function}: number {number} is negative")
+        if axis < 0:
+            raise ValueError(f"axis must be 0 (no axis) or 1..n, got {axis}")
+        handle = await self._live(deadline)
+        if axis > handle.axes:
+            raise CncError.from_ew(EW.ATTRIB, f"{function}: axis {axis} of {handle.axes}")
+        build = calls.cnc_diagnoss if diagnostic else calls.cnc_rdparam
+        call = build(handle.command_set, number, axis)
+        frame = call.frames[0]
+        (block,) = await self._send(frame, handle.command_set, deadline)
+        items: ItemValues | ScaledItemValues = _decode(frame[0], block, function, handle.max_axes)
+        if not items.records:
+            raise PayloadError(f"{function}: answer for {number} carries no record")
+        record = items.records[0]
+        widths = _DIAG_WIDTH if diagnostic else _PARAM_WIDTH
+        width = widths.get(record.type)
+        if width is None:
+            raise PayloadError(
+                f"{function}: {number} is a real number (type {record.type}); "
+                "this call carries integers only"
+            )
+        first = record.values[0]
+        raw = first.mantissa if isinstance(first, ScaledNumber) else first
+        bits = 8 * width
+        raw &= (1 << bits) - 1
+        if raw >= 1 << (bits - 1):
+            raw -= 1 << bits
+        return ParamValue(number, axis, raw, width)
+
+    async def _read_param_value(self, number: int, axis: int, deadline: float | None) -> ParamValue:
+        value = await self._read_item(number, axis, deadline, diagnostic=False)
+        self._param_widths[number] = value.width
+        return value
+
+    async def read_param_value(
+        self, number: int, *, axis: int = 0, timeout: float | None = None
+    ) -> ParamValue:
+        """``cnc_rdparam`` as an IODBPSD: the value and its width (1, 2 or 4 bytes)."""
+        return await self._read_param_value(number, axis, self._deadline(timeout))
+
+    async def read_param(self, number: int, *, axis: int = 0, timeout: float | None = None) -> int:
+        """``cnc_rdparam``: the value of parameter ``number`` (``axis`` 1..n for axis items)."""
+        return (await self._read_param_value(number, axis, self._deadline(timeout))).value
+
+    async def read_diag(self, number: int, *, axis: int = 0, timeout: float | None = None) -> int:
+        """``cnc_diagnoss``: the value of diagnostic ``number``."""
+        value = await self._read_item(number, axis, self._deadline(timeout), diagnostic=True)
+        return value.value
+
+    async def write_param(
+        self,
+        number: int,
+        value: int,
+        *,
+        axis: int = 0,
+        width: int | None = None,
+        timeout: float | None = None,
+    ) -> None:
+        """``cnc_wrparam``: write ``value`` (two frames, as the library sends them: the
+        parameter's information, then the write).
+
+        The width is the CNC's (its parameter information); a ``width`` given that differs
+        raises EW_LENGTH before the write is sent, as ``cnc_wrparam`` does.
+        """
+        if width is not None and width not in (1, 2, 4):
+            raise ValueError(f"parameter width must be 1, 2 or 4, got {width}")
+        await self._write_param(number, value, axis, width, self._deadline(timeout))
+
+    async def _write_param(
+        self, number: int, value: int, axis: int, width: int | None, deadline: float | None
+    ) -> None:
+        if not 0 <= number <= 0x7FFFFFFF:
+            raise ValueError(f"cnc_wrparam: number {number} is negative")
+        if axis < 0:
+            raise ValueError(f"axis must be 0 (no axis) or 1..n, got {axis}")
+        handle = await self._live(deadline)
+        if axis > handle.axes:
+            raise CncError.from_ew(EW.ATTRIB, f"cnc_wrparam: axis {axis} of {handle.axes}")
+        cs = handle.command_set
+        if not -(2**31) <= value < 2**31:
+            raise ValueError(f"value {value} does not fit a parameter (i32)")
+        info_request: tuple[NativeRequest, ...] = (
+            (ParamInfoRequest(number, 1),)
+            if cs is CommandSet.FS16I
+            else (ParamInfo3Request(number, 1),)
+        )
+        (block,) = await self._send(info_request, cs, deadline)
+        info = _decode(info_request[0], block, "cnc_wrparam", handle.max_axes)
+        if isinstance(info, ParamInfo3):
+            ptype = info.type
+        else:
+            assert isinstance(info, ParamInfo)
+            if not info.entries:
+                raise PayloadError(f"cnc_wrparam: no information on parameter {number}")
+            ptype = info.entries[0].attribute & 3
+        size = _PARAM_WIDTH.get(ptype)
+        if size is None:
+            raise PayloadError(
+                f"cnc_wrparam: {number} is a real parameter (type {ptype}); "
+                "this call writes integers"
+            )
+        if width is not None and width != size:
+            self._param_widths.pop(number, None)
+            raise CncError.from_ew(
+                EW.LENGTH, f"cnc_wrparam: {number} is {size} bytes wide, not {width}"
+            )
+        bits = 8 * size
+        if not -(1 << (bits - 1)) <= value < 1 << bits:
+            raise ValueError(f"value {value} does not fit a {size}-byte parameter")
+        if value >= 1 << (bits - 1):
+            value -= 1 << bits
+        record = self._param_record(handle, number, axis, ptype, value)
+        write = calls.cnc_wrparam(cs, record).frames[1]
+        (done,) = await self._send(write, cs, deadline)
+        _check(done, "cnc_wrparam")
+
+    def _param_record(
+        self, handle: _Handle, number: int, axis: int, ptype: int, value: int
+    ) -> ItemRecord | ScaledItemRecord:
+        """The write record, slot 0 holding ``value`` and the other slots what the previous
+        write left there (the library's buffer)."""
+        if handle.command_set is CommandSet.FS16I:
+            slots = handle.param_slots
+            slots[0] = value
+            return ItemRecord(number, axis, ptype, tuple(slots))
+        scaled = handle.param3_slots
+        scaled[0] = ScaledNumber(value, -1, 0)
+        return ScaledItemRecord(number, axis, ptype, tuple(scaled))
+
+    async def write_param_bit(
+        self,
+        number: int,
+        bit: int,
+        value: bool,
+        *,
+        axis: int = 0,
+        timeout: float | None = None,
+    ) -> None:
+        """Set or clear one bit of a parameter by read-modify-write under the lock of
+        ``(number, axis)``, like the packed client."""
+        if not 0 <= bit < 32:
+            raise ValueError(f"bit {bit} outside 0..31")
+        deadline = self._deadline(timeout)
+        async with self._param_locks.hold((number, axis), deadline):
+            current = await self._read_param_value(number, axis, deadline)
+            width = current.width
+            if bit >= 8 * width:
+                raise ValueError(f"bit {bit} outside 0..{8 * width - 1}")
+            bits = 8 * width
+            raw = current.value & ((1 << bits) - 1)
+            raw = raw | (1 << bit) if value else raw & ~(1 << bit)
+            if raw >= 1 << (bits - 1):
+                raw -= 1 << bits
+            await self._write_param(number, raw, axis, width, deadline)
+
+    # -- macros --------------------------------------------------------------------------
+    async def read_macro(self, number: int, *, timeout: float | None = None) -> Decimal | None:
+        """``cnc_rdmacro``: the value of ``#number`` as a Decimal, or None when vacant
+        (binary records converted as the library converts them)."""
+        _, call, (block,) = await self._one(
+            lambda cs: calls.cnc_rdmacro(cs, number), self._deadline(timeout)
+        )
+        values: ScaledValues = _decode(call.frames[0][0], block, "cnc_rdmacro", 0)
+        if not values.values:
+            raise PayloadError(f"cnc_rdmacro: answer for #{number} carries no value")
+        mcr_val, dec_val = values.values[0].to_macro()
+        return macro_from_wire(mcr_val, dec_val)
+
+    async def write_macro(
+        self, number: int, value: int | Decimal | float | str, *, timeout: float | None = None
+    ) -> None:
+        """``cnc_wrmacro``: write ``#number`` (a binary record at 16i class, base 10 at 30i,
+        as the library sends it); see :func:`~focas_net.client.client.macro_to_wire`."""
+        mcr_val, dec_val = macro_to_wire(value)
+        _, _, (block,) = await self._one(
+            lambda cs: calls.cnc_wrmacro(cs, number, mcr_val, dec_val), self._deadline(timeout)
+        )
+        _check(block, "cnc_wrmacro")
+
+    # -- PMC -----------------------------------------------------------------------------
+    @staticmethod
+    def _area(area: str | int | PmcArea) -> tuple[PmcArea, int]:
+        a = PmcArea.parse(area)
+        try:
+            return a, NativePmcArea[a.name].value
+        except KeyError:
+            raise ValueError(f"PMC area {a.name} has no FOCAS/2 address type") from None
+
+    @staticmethod
+    def _range(start: int, count: int) -> None:
+        if not 0 <= start < _U16_LIMIT:
+            raise ValueError(f"start address {start} outside 0..65535")
+        if count < 1 or start + count > _U16_LIMIT:
+            raise ValueError(f"count {count} at {start}: must be at least 1 and end by 65535")
+
+    async def _read_pmc_chunk(
+        self, code: int, start: int, count: int, deadline: float | None
+    ) -> bytes:
+        _, call, (block,) = await self._one(
+            lambda cs: calls.pmc_rdpmcrng(cs, code, 0, start, start + count - 1), deadline
+        )
+        data: NativePmcData = _decode(call.frames[0][0], block, "pmc_rdpmcrng", 0)
+        if len(data.raw) != count:
+            raise PayloadError(f"pmc_rdpmcrng answer: {len(data.raw)} bytes, asked {count}")
+        return data.raw
+
+    async def read_pmc(
+        self, area: str | int | PmcArea, start: int, count: int, *, timeout: float | None = None
+    ) -> bytes:
+        """``pmc_rdpmcrng``: ``count`` bytes of ``area`` from ``start``; a range longer than
+        one answer carries is read as several calls issued together."""
+        _, code = self._area(area)
+        self._range(start, count)
+        deadline = self._deadline(timeout)
+        handle = await self._live(deadline)
+        step = handle.pmc_chunk
+        if count <= step:
+            return await self._read_pmc_chunk(code, start, count, deadline)
+        parts = [
+            self._read_pmc_chunk(code, s, min(step, start + count - s), deadline)
+            for s in range(start, start + count, step)
+        ]
+        tasks = [asyncio.ensure_future(p) for p in parts]
+        try:
+            return b"".join(await asyncio.gather(*tasks))
+        finally:
+            for t in tasks:
+                if not t.done():
+                    t.cancel()
+            await asyncio.wait(tasks)
+
+    async def write_pmc(
+        self, area: str | int | PmcArea, start: int, data: bytes, *, timeout: float | None = None
+    ) -> None:
+        """``pmc_wrpmcrng``: write ``data`` to ``area`` from ``start``. Longer than one frame
+        carries, the write is split into calls issued together; if any fails,
+        :class:`ChunkedWriteError` lists the ranges written, not written and uncertain."""
+        a, code = self._area(area)
+        data = bytes(data)
+        self._range(start, len(data))
+        deadline = self._deadline(timeout)
+        handle = await self._live(deadline)
+        step = handle.pmc_write_chunk
+        chunks = [
+            (s, data[s - start : s - start + step]) for s in range(start, start + len(data), step)
+        ]
+
+        async def one(first: int, part: bytes) -> None:
+            _, _, (block,) = await self._one(
+                lambda cs: calls.pmc_wrpmcrng(cs, code, 0, first, first + len(part) - 1, part),
+                deadline,
+            )
+            _check(block, "pmc_wrpmcrng")
+
+        if len(chunks) == 1:
+            await one(*chunks[0])
+            return
+        results = await asyncio.gather(*(one(s, p) for s, p in chunks), return_exceptions=True)
+        errors = [r for r in results if isinstance(r, BaseException)]
+        if not errors:
+            return
+        for r in errors:
+            if not isinstance(r, Exception):
+                raise r
+        written: list[tuple[int, int]] = []
+        not_written: list[tuple[int, int]] = []
+        uncertain: list[tuple[int, int]] = []
+        for (first, part), outcome in zip(chunks, results, strict=True):
+            span = (first, first + len(part) - 1)
+            if outcome is None:
+                written.append(span)
+            elif isinstance(outcome, FocasTimeoutError | FocasConnectionError):
+                uncertain.append(span)
+            else:
+                not_written.append(span)
+        cause = errors[0]
+        assert isinstance(cause, Exception)
+        raise ChunkedWriteError(a.name, written, not_written, cause, uncertain) from cause
+
+    async def read_pmc_bit(
+        self, area: str | int | PmcArea, byte: int, bit: int, *, timeout: float | None = None
+    ) -> bool:
+        """One bit of a PMC byte (``R100.3`` is ``read_pmc_bit("R", 100, 3)``)."""
+        if not 0 <= bit < 8:
+            raise ValueError(f"bit {bit} outside 0..7")
+        data = await self.read_pmc(area, byte, 1, timeout=timeout)
+        return bool(data[0] >> bit & 1)
+
+    async def write_pmc_bit(
+        self,
+        area: str | int | PmcArea,
+        byte: int,
+        bit: int,
+        value: bool,
+        *,
+        timeout: float | None = None,
+    ) -> None:
+        """Set or clear one PMC bit by read-modify-write under the lock of ``(area, byte)``,
+        so that concurrent bit writes never lose one another."""
+        a, code = self._area(area)
+        if not 0 <= bit < 8:
+            raise ValueError(f"bit {bit} outside 0..7")
+        self._range(byte, 1)
+        deadline = self._deadline(timeout)
+        async with self._pmc_locks.hold((a.value, byte), deadline):
+            current = (await self._read_pmc_chunk(code, byte, 1, deadline))[0]
+            new = current | (1 << bit) if value else current & ~(1 << bit)
+            _, _, (block,) = await self._one(
+                lambda cs: calls.pmc_wrpmcrng(cs, code, 0, byte, byte, bytes((new,))), deadline
+            )
+            _check(block, "pmc_wrpmcrng")
+
+    # -- alarms --------------------------------------------------------------------------
+    async def read_alarm_status(self, *, timeout: float | None = None) -> int:
+        """``cnc_alarm2``: the alarm bits (bit n set while an alarm of type n is active)."""
+        _, call, (block,) = await self._one(calls.cnc_alarm2, self._deadline(timeout))
+        value: AlarmStatus = _decode(call.frames[0][0], block, "cnc_alarm2", 0)
+        return value.alarm
+
+    async def read_alarms(
+        self, *, alm_type: int = -1, count: int = _MAX_ACTIVE_ALARMS, timeout: float | None = None
+    ) -> tuple[ActiveAlarm, ...]:
+        """``cnc_rdalmmsg2``: up to ``count`` active alarms (all types, or only ``alm_type``)."""
+        if not 1 <= count <= 0x7FFF:
+            raise ValueError(f"count must be within 1..32767, got {count}")
+        _, call, (block,) = await self._one(
+            lambda cs: calls.cnc_rdalmmsg2(cs, alm_type, count),
+            self._deadline(timeout),
+        )
+        value: AlarmMessages = _decode(call.frames[0][0], block, "cnc_rdalmmsg2", 0)
+        return tuple(
+            ActiveAlarm(a.axis, a.alarm_type, a.number, _text(a.message)) for a in value.alarms
+        )
+
+    async def read_alarm_history(
+        self, depth: int = 10, *, timeout: float | None = None
+    ) -> AlarmHistory:
+        """``cnc_rdalmhistry``: up to ``depth`` (clamped to 1..250) most recent entries,
+        newest first, read 23 at a time as the library does. An error on the first chunk
+        raises :class:`CncError`; EW_NUMBER on a later one ends the list."""
+        depth = min(max(int(depth), 1), MAX_HISTORY_DEPTH)
+        deadline = self._deadline(timeout)
+        handle = await self._live(deadline)
+        call = calls.cnc_rdalmhistry(handle.command_set, 1, depth)
+        entries: list[AlarmHistoryEntry] = []
+        for frame in call.frames:
+            (block,) = await self._send(frame, handle.command_set, deadline)
+            if block.ew == EW.NUMBER:
+                break  # no entry from here on (from the first: the history is empty)
+            history: NativeAlarmHistory = _decode(frame[0], block, "cnc_rdalmhistry", 0)
+            for r in history.records:
+                try:
+                    when = datetime(r.year, r.month, r.day, r.hour, r.minute, r.second, tzinfo=UTC)
+                except ValueError as exc:
+                    raise PayloadError(f"cnc_rdalmhistry: bad date in an entry: {exc}") from None
+                text = r.text[: max(min(r.length, len(r.text)), 0)]
+                entries.append(AlarmHistoryEntry(when, r.axis, r.group, r.alarm_no, _text(text)))
+            if len(history.records) < frame[0].last - frame[0].first + 1:  # type: ignore[attr-defined]
+                break
+        return AlarmHistory(tuple(entries[:depth]))
+
+    # -- what FOCAS/2 does not carry -----------------------------------------------------
+    async def unlock(self, password: str | bytes, *, timeout: float | None = None) -> None:
+        """Not carried: FOCAS/2 has no ``cnc_wrunlockparam`` (FANUC's library lacks it)."""
+        raise NativeUnsupportedError("unlock", "FOCAS/2 has no cnc_wrunlockparam")
+
+    async def read_config_record(
+        self, rack: int, slot: int, *, timeout: float | None = None
+    ) -> bytes:
+        """Not carried: ``versamax_rdconfig`` is a packed-protocol command only."""
+        raise NativeUnsupportedError("read_config_record", "versamax_rdconfig is packed-only")
+
+    async def read_module_config(
+        self, rack: int, slot: int, *, timeout: float | None = None
+    ) -> Any:
+        """Not carried: ``versamax_rdconfig`` is a packed-protocol command only."""
+        raise NativeUnsupportedError("read_module_config", "versamax_rdconfig is packed-only")
+
+    @property
+    def sim(self) -> Any:
+        """Not carried: the simulator's control commands exist on the packed protocol only."""
+        raise NativeUnsupportedError("sim", "the simulator controls are packed-protocol commands")

@@ -1,0 +1,562 @@
+"""The native client against the real server (both command sets) and against a scripted peer.
+
+Against :class:`FocasServer` on 127.0.0.1: the built-in machine answers the 30i command set, a
+machine file with ``control_class = "16i"`` the 16i set. Every read is cross-checked with the
+packed client on the same server; writes are read back through it. Batching, the error of one
+block, PMC chunking, bit storms, cancellation storms, connection loss and a reconnect after a
+server restart follow.
+
+A scripted FOCAS/2 peer (:class:`NativePeer`) holds answers back on demand, for timeouts and
+late answers. Tests check outcomes, never durations.
+"""
+
+from __future__ import annotations
+
+import asyncio
+import math
+from collections.abc import AsyncIterator, Callable
+from decimal import Decimal
+from pathlib import Path
+
+import pytest
+from support import IO_TIMEOUT, Served, serving, wait_until
+
+from focas_net.client import ClientState, FocasClient, ReconnectPolicy
+from focas_net.client.native import NativeClient, NativeUnsupportedError
+from focas_net.errors import EW, CncError, FocasConnectionError, FocasTimeoutError
+from focas_net.native import (
+    FrameType,
+    NativeFrameDecoder,
+    ParamInfo3,
+    PathDescription,
+    RequestBlock,
+    ResponseBlock,
+    ScaledNumber,
+    ScaledValues,
+    build_open_answer,
+    decode_request_body,
+    encode_close_response,
+    encode_native_response,
+    encode_open_response,
+    max_response_body,
+)
+from focas_net.native.calls import CommandSet
+from focas_net.native.requests import NativeCommand
+from focas_net.protocol import FaultKind, FaultScope
+from focas_net.server import FocasServer
+from focas_net.sim import Machine, default_machine, load_machine
+from focas_net.sim.machine import MDI
+
+MACHINE_16I = """
+[machine]
+name = "fs16i"
+axes = ["X", "Y", "Z"]
+control_class = "16i"
+
+[sysinfo]
+cnc_type = "16"
+series = "B0H1"
+version = "14.0"
+
+[panel]
+mode = "MDI"
+pwe = true
+
+[parameters.1320]
+type = "i32"
+axis = true
+value = [999999999, 888888888, -777777777]
+[parameters.3216]
+type = "i16"
+value = -7
+[parameters.6711]
+type = "i32"
+value = 123456789
+
+[diagnostics.300]
+type = "i32"
+axis = true
+value = [11, -22, 33]
+
+[macros]
+ranges = [{ first = 1, last = 33 }, { first = 100, last = 999 }]
+values = { 100 = [12345, 3] }
+
+[pmc.R]
+size = 8000
+[pmc.D]
+size = 10000
+"""
+
+CLASSES = ("30i", "16i")
+
+
+def _machine(control_class: str, tmp_path: Path) -> Machine:
+    if control_class == "30i":
+        machine = default_machine()
+        machine.set_panel(MDI, 1, 0)
+        return machine
+    path = tmp_path / "fs16i.toml"
+    path.write_text(MACHINE_16I)
+    return load_machine(path)
+
+
+@pytest.fixture(params=CLASSES)
+async def served(request: pytest.FixtureRequest, tmp_path: Path) -> AsyncIterator[Served]:
+    async with serving(_machine(request.param, tmp_path)) as s:
+        yield s
+
+
+@pytest.fixture
+async def both(served: Served) -> AsyncIterator[tuple[NativeClient, FocasClient]]:
+    async with (
+        NativeClient(served.host, served.port, timeout=IO_TIMEOUT) as native,
+        FocasClient(served.host, served.port, timeout=IO_TIMEOUT) as packed,
+    ):
+        yield native, packed
+
+
+def _expected_set(served: Served) -> CommandSet:
+    return CommandSet.FS16I if served.machine.control_class == "16i" else CommandSet.FS30I
+
+
+# -- reads and writes against the real server --------------------------------------------------
+
+
+async def test_command_set_follows_the_control(
+    served: Served, both: tuple[NativeClient, FocasClient]
+) -> None:
+    native, _ = both
+    assert native.command_set is _expected_set(served)
+    assert native.state is ClientState.CONNECTED
+
+
+async def test_reads_equal_the_packed_clients(
+    served: Served, both: tuple[NativeClient, FocasClient]
+) -> None:
+    native, packed = both
+    m = served.machine
+    m.raise_alarm(1, 4, 500, "OVER TRAVEL +X")
+    m.raise_alarm(0, 2, 1001, "SPINDLE ALARM")
+    m.clear_alarms(2, 1001)
+    m.write_macro(101, Decimal("-2.5"))
+    m.write_pmc("R", 10, bytes(range(40)))
+    assert await native.read_status() == await packed.read_status()
+    assert await native.read_sysinfo() == await packed.read_sysinfo()
+    assert await native.read_program_numbers() == await packed.read_program_numbers()
+    assert await native.read_feed() == await packed.read_feed()
+    assert await native.read_spindle_speed() == await packed.read_spindle_speed()
+    for kind in ("absolute", "machine", "relative", "distance"):
+        assert await native.read_positions(kind) == await packed.read_positions(kind)
+        assert await native.read_positions(kind, axis=2) == await packed.read_positions(
+            kind, axis=2
+        )
+    for number in (100, 101, 102):
+        assert await native.read_macro(number) == await packed.read_macro(number)
+    assert await native.read_pmc("R", 10, 40) == await packed.read_pmc("R", 10, 40)
+    assert await native.read_pmc_bit("R", 11, 0) == await packed.read_pmc_bit("R", 11, 0)
+    for number, axis in ((1320, 1), (1320, 3), (3216, 0), (6711, 0)):
+        assert await native.read_param_value(number, axis=axis) == await packed.read_param_value(
+            number, axis=axis
+        )
+    assert await native.read_diag(300, axis=2) == await packed.read_diag(300, axis=2)
+    assert await native.read_alarms() == await packed.read_alarms()
+    assert await native.read_alarm_history(5) == await packed.read_alarm_history(5)
+    assert await native.read_axis_names() == tuple(m.axes)
+
+
+async def test_native_only_reads(served: Served, both: tuple[NativeClient, FocasClient]) -> None:
+    native, packed = both
+    dynamic = await native.read_dynamic()
+    absolute = await packed.read_positions("absolute")
+    assert dynamic.absolute == tuple(absolute.increments.values())
+    programs = await packed.read_program_numbers()
+    assert (dynamic.running, dynamic.main) == (programs.running, programs.main)
+    one = await native.read_dynamic(2)
+    assert one.absolute == (absolute.increments[served.machine.axes[1]],)
+    assert len(await native.read_cnc_id()) == 4
+    timer = await native.read_timer(0)
+    assert timer.minute >= 0 and 0 <= timer.msec
+    assert len(await native.read_spindle_loads()) >= 1
+    meters = await native.read_servo_meters()
+    assert tuple(s.name for s in meters) == tuple(served.machine.axes)
+    o_num, name = await native.read_program_name()
+    assert o_num == (await packed.read_program_numbers()).running and name
+    assert await native.read_sequence_number() >= 0
+    served.machine.raise_alarm(0, 3, 10, "X")
+    assert await native.read_alarm_status() & (1 << 3)
+
+
+async def test_writes_reach_the_machine(both: tuple[NativeClient, FocasClient]) -> None:
+    native, packed = both
+    for value in ("12.345", -2.5, 100, Decimal("0.000"), 0):
+        await native.write_macro(500, value)
+        assert await packed.read_macro(500) == await native.read_macro(500)
+        assert await packed.read_macro(500) == Decimal(str(value))
+    await native.write_param(6711, 987654321)
+    assert await packed.read_param(6711) == 987654321
+    await native.write_param(1320, 42, axis=2)
+    assert await packed.read_param(1320, axis=2) == 42
+    with pytest.raises(CncError) as caught:
+        await native.write_param(6711, 1, width=2)
+    assert caught.value.ew == EW.LENGTH
+    data = bytes((i * 7) % 256 for i in range(5000))
+    await native.write_pmc("D", 100, data)
+    assert await packed.read_pmc("D", 100, len(data)) == data
+    assert await native.read_pmc("D", 100, len(data)) == data
+
+
+async def test_refusals_raise_cnc_error(both: tuple[NativeClient, FocasClient]) -> None:
+    native, packed = both
+    for call in (native.read_macro, packed.read_macro):
+        with pytest.raises(CncError) as caught:
+            await call(30000)
+        assert caught.value.ew == EW.NUMBER
+    with pytest.raises(CncError) as axis:
+        await native.read_positions(axis=9)
+    assert axis.value.ew == EW.ATTRIB
+
+
+async def test_what_the_native_transport_cannot_carry(
+    both: tuple[NativeClient, FocasClient],
+) -> None:
+    native, _ = both
+    checks: list[Callable[[], object]] = [
+        lambda: native.sim,
+    ]
+    for check in checks:
+        with pytest.raises(NativeUnsupportedError, match="native"):
+            check()
+    with pytest.raises(NativeUnsupportedError, match="native"):
+        await native.unlock("secret")
+    with pytest.raises(NativeUnsupportedError, match="native"):
+        await native.read_config_record(0, 1)
+    with pytest.raises(NativeUnsupportedError, match="native"):
+        await native.read_module_config(0, 1)
+
+
+# -- batching ---------------------------------------------------------------------------------
+
+
+async def test_concurrent_calls_share_frames(
+    served: Served, both: tuple[NativeClient, FocasClient]
+) -> None:
+    native, _ = both
+    for n in range(100, 164):
+        served.machine.write_macro(n, n)
+    frames = native.frames_sent
+    values = await asyncio.gather(*(native.read_macro(n) for n in range(100, 164)))
+    assert values == [Decimal(n) for n in range(100, 164)]
+    assert native.frames_sent - frames == math.ceil(64 / native.max_blocks)
+
+
+async def test_frames_split_by_the_answer_size(served: Served) -> None:
+    async with NativeClient(served.host, served.port, max_blocks=200) as native:
+        for n in range(100, 164):
+            served.machine.write_macro(n, -n)
+        frames = native.frames_sent
+        values = await asyncio.gather(*(native.read_macro(n) for n in range(100, 164)))
+        assert values == [Decimal(-n) for n in range(100, 164)]
+        handle = native._handle
+        assert handle is not None
+        per_frame = (max_response_body(handle.version) - 2) // (16 + 8)
+        assert native.frames_sent - frames == math.ceil(64 / per_frame)
+
+
+async def test_an_error_fails_its_own_call_only(both: tuple[NativeClient, FocasClient]) -> None:
+    native, packed = both
+    frames = native.frames_sent
+    results = await asyncio.gather(
+        native.read_macro(100), native.read_macro(30000), native.read_status(),
+        return_exceptions=True,
+    )  # fmt: skip
+    assert native.frames_sent - frames == 1
+    assert results[0] == await packed.read_macro(100)
+    assert isinstance(results[1], CncError) and results[1].ew == EW.NUMBER
+    assert results[2] == await packed.read_status()
+
+
+async def test_pmc_ranges_chunked_by_the_answer(
+    served: Served, both: tuple[NativeClient, FocasClient]
+) -> None:
+    native, packed = both
+    handle = native._handle
+    assert handle is not None
+    data = bytes((i * 13) % 251 for i in range(6000))
+    served.machine.write_pmc("D", 0, data)
+    frames = native.frames_sent
+    assert await native.read_pmc("D", 0, len(data)) == data
+    assert native.frames_sent - frames == math.ceil(len(data) / handle.pmc_chunk)
+    assert await packed.read_pmc("D", 0, len(data)) == data
+    assert handle.pmc_chunk == max_response_body(handle.version) - 2 - 16
+
+
+# -- locks, storms, losses --------------------------------------------------------------------
+
+
+async def test_pmc_bit_storm_loses_no_bit(both: tuple[NativeClient, FocasClient]) -> None:
+    native, packed = both
+    await packed.write_pmc("R", 200, bytes(8))
+    await asyncio.gather(
+        *(native.write_pmc_bit("R", 200 + byte, bit, True) for bit in range(8) for byte in range(8))
+    )
+    assert await packed.read_pmc("R", 200, 8) == b"\xff" * 8
+    await asyncio.gather(*(native.write_pmc_bit("R", 203, bit, False) for bit in range(0, 8, 2)))
+    assert (await packed.read_pmc("R", 203, 1))[0] == 0b10101010
+
+
+async def test_param_bit_storm_loses_no_bit(both: tuple[NativeClient, FocasClient]) -> None:
+    native, packed = both
+    await packed.write_param(6711, 0)
+    await asyncio.gather(*(native.write_param_bit(6711, bit, True) for bit in range(16)))
+    assert await packed.read_param(6711) == 0xFFFF
+
+
+async def test_cancellation_storm_misroutes_nothing(
+    served: Served, both: tuple[NativeClient, FocasClient]
+) -> None:
+    native, _ = both
+    for n in range(500, 700):
+        served.machine.write_macro(n, n)
+    for round_ in range(3):
+        tasks = [asyncio.ensure_future(native.read_macro(n)) for n in range(500, 700)]
+        for _ in range(round_ + 1):
+            await asyncio.sleep(0)
+        for i, task in enumerate(tasks):
+            if i % 3 == round_ % 3:
+                task.cancel()
+        await asyncio.wait(tasks)
+        for n, task in zip(range(500, 700), tasks, strict=True):
+            if not task.cancelled():
+                assert task.result() == Decimal(n)
+    assert native.state is ClientState.CONNECTED
+    assert await asyncio.gather(*(native.read_macro(n) for n in range(500, 530))) == [
+        Decimal(n) for n in range(500, 530)
+    ]
+
+
+async def test_connection_loss_fails_pending_calls() -> None:
+    async with NativePeer() as peer:
+        async with NativeClient("127.0.0.1", peer.port, timeout=IO_TIMEOUT) as native:
+            peer.hold = True
+            calls = [asyncio.ensure_future(native.read_macro(n)) for n in range(1, 31)]
+            await wait_until(lambda: peer.data_frames == 1)
+            peer.drop()
+            results = await asyncio.gather(*calls, return_exceptions=True)
+            sent = [r for r in results[: native.max_blocks]]
+            queued = results[native.max_blocks :]
+            assert all(isinstance(r, FocasConnectionError) for r in sent)
+            assert all("after the request was sent" in str(r) for r in sent)
+            assert all("before the request was sent" in str(r) for r in queued)
+            assert native.state is ClientState.DISCONNECTED
+            with pytest.raises(FocasConnectionError, match="not connected"):
+                await native.read_macro(1)
+
+
+async def test_reconnects_after_a_server_restart(tmp_path: Path) -> None:
+    machine = _machine("30i", tmp_path)
+    policy = ReconnectPolicy(initial_delay=0.01, max_delay=0.05, jitter=0)
+    async with FocasServer(machine, host="127.0.0.1", port=0, grace_period=1.0) as first:
+        host, port = first.listeners[0].address
+        native = NativeClient(host, port, timeout=IO_TIMEOUT, reconnect=policy)
+        await native.connect()
+        machine.write_macro(100, 7)
+        assert await native.read_macro(100) == 7
+    try:
+        await wait_until(lambda: native.state is ClientState.RECONNECTING)
+        async with FocasServer(machine, host=host, port=port, grace_period=1.0):
+            machine.write_macro(100, 8)
+            assert await native.read_macro(100) == 8
+            assert native.state is ClientState.CONNECTED
+    finally:
+        await native.aclose()
+    states: set[ClientState] = {native.state}
+    assert states == {ClientState.CLOSED}
+
+
+# -- a scripted peer: timeouts and late answers ---------------------------------------------
+
+
+class NativePeer:
+    """A FOCAS/2 peer answering macro reads with the variable's number; holds answers while
+    ``hold`` is set, and releases them in order with :meth:`release`."""
+
+    def __init__(self, version: int = 3) -> None:
+        self.version = version
+        self.hold = False
+        self.held: list[tuple[asyncio.StreamWriter, bytes]] = []
+        self.data_frames = 0
+        self.connections = 0
+        #: A command after whose answer the connection is closed.
+        self.close_after: int | None = None
+        self._server: asyncio.Server | None = None
+        self.port = 0
+
+    async def __aenter__(self) -> NativePeer:
+        self._server = await asyncio.start_server(self._serve, "127.0.0.1", 0)
+        self.port = self._server.sockets[0].getsockname()[1]
+        return self
+
+    async def __aexit__(self, *exc: object) -> None:
+        assert self._server is not None
+        self._server.close()
+        await self._server.wait_closed()
+
+    def _answer(self, block: RequestBlock) -> ResponseBlock:
+        if block.command == NativeCommand.RDMACRO:
+            return block.reply(ScaledValues((ScaledNumber(block.args[0], 0),)).encode())
+        if block.command == NativeCommand.RDPARAINFO3:
+            return block.reply(ParamInfo3(0, 0, block.args[0], 3, 0).encode())
+        if block.command == NativeCommand.SYSINFO:
+            return block.reply(bytes(4) + b" 0 MD4F132.003")
+        return block.reply(ew=EW.FUNC)
+
+    async def _serve(self, reader: asyncio.StreamReader, writer: asyncio.StreamWriter) -> None:
+        self.connections += 1
+        decoder = NativeFrameDecoder()
+        body = build_open_answer([PathDescription()], 8, version=self.version)
+        try:
+            while data := await reader.read(65536):
+                for frame in decoder.feed(data):
+                    if frame.type == FrameType.OPEN_REQUEST:
+                        writer.write(encode_open_response(body, self.version))
+                    elif frame.type == FrameType.CLOSE_REQUEST:
+                        writer.write(encode_close_response(self.version))
+                    else:
+                        blocks = decode_request_body(frame.body)
+                        answer = encode_native_response(
+                            [self._answer(b) for b in blocks], self.version
+                        )
+                        if any(b.command == NativeCommand.RDMACRO for b in blocks):
+                            self.data_frames += 1
+                            if self.hold:
+                                self.held.append((writer, answer))
+                                continue
+                        writer.write(answer)
+                        if any(b.command == self.close_after for b in blocks):
+                            await writer.drain()
+                            writer.transport.abort()
+                            return
+        except ConnectionError:
+            pass
+        finally:
+            writer.close()
+
+    def drop(self) -> None:
+        """Close every connection that has answers held."""
+        for writer, _ in self.held:
+            writer.transport.abort()
+        self.held.clear()
+
+    def release(self) -> None:
+        for writer, answer in self.held:
+            if not writer.is_closing():
+                writer.write(answer)
+        self.held.clear()
+
+
+async def test_a_late_answer_never_reaches_another_call() -> None:
+    policy = ReconnectPolicy(initial_delay=0.01, max_delay=0.05, jitter=0)
+    async with NativePeer() as peer:
+        async with NativeClient("127.0.0.1", peer.port, reconnect=policy) as native:
+            assert await native.read_macro(5) == 5
+            peer.hold = True
+            with pytest.raises(FocasTimeoutError):
+                await native.read_macro(1, timeout=0.05)
+            peer.release()  # the late answer goes to a connection already closed
+            peer.hold = False
+            assert await native.read_macro(2, timeout=IO_TIMEOUT) == 2
+            assert peer.connections == 4  # A and B, twice
+            assert native.state is ClientState.CONNECTED
+
+
+async def test_a_timed_out_call_does_not_fail_its_frame_partners() -> None:
+    async with NativePeer() as peer:
+        async with NativeClient("127.0.0.1", peer.port, timeout=IO_TIMEOUT) as native:
+            peer.hold = True
+            short = asyncio.ensure_future(native.read_macro(1, timeout=0.05))
+            long = asyncio.ensure_future(native.read_macro(2))
+            with pytest.raises(FocasTimeoutError):
+                await short
+            assert peer.data_frames == 1  # both in one frame
+            peer.hold = False
+            peer.release()
+            assert await long == 2
+            assert native.state is ClientState.CONNECTED
+            assert await native.read_macro(3) == 3
+
+
+async def test_a_call_that_times_out_queued_is_never_sent() -> None:
+    async with NativePeer() as peer:
+        async with NativeClient("127.0.0.1", peer.port, timeout=IO_TIMEOUT) as native:
+            peer.hold = True
+            first = asyncio.ensure_future(native.read_macro(1))
+            await wait_until(lambda: peer.data_frames == 1)
+            with pytest.raises(FocasTimeoutError, match="never sent"):
+                await native.read_macro(2, timeout=0.05)
+            peer.hold = False
+            peer.release()
+            assert await first == 1
+            assert await native.read_macro(4) == 4
+            assert peer.data_frames == 2  # macro 2 never left
+
+
+async def test_a_loss_between_two_frames_of_one_call_fails_it_at_once() -> None:
+    async with NativePeer() as peer:
+        async with NativeClient("127.0.0.1", peer.port, timeout=None) as native:
+            peer.close_after = NativeCommand.RDPARAINFO3
+            async with asyncio.timeout(IO_TIMEOUT):  # a safety net: it must fail, not hang
+                with pytest.raises(FocasConnectionError):
+                    await native.write_param(6711, 1)
+            assert native.state is ClientState.DISCONNECTED
+
+
+async def test_connect_refuses_what_is_not_a_cnc() -> None:
+    async def close_at_once(r: asyncio.StreamReader, w: asyncio.StreamWriter) -> None:
+        w.close()
+
+    server = await asyncio.start_server(close_at_once, "127.0.0.1", 0)
+    port = server.sockets[0].getsockname()[1]
+    try:
+        with pytest.raises(FocasConnectionError):
+            await NativeClient("127.0.0.1", port).connect()
+    finally:
+        server.close()
+        await server.wait_closed()
+
+
+def test_the_native_client_never_sees_the_machine() -> None:
+    """The client reaches the CNC through the codecs only: no machine, adapter or server."""
+    from test_layering import PACKAGE, imports_of
+
+    found = imports_of(PACKAGE / "client" / "native.py")
+    assert "focas_net.native.calls" in found
+    assert not any(
+        m.startswith(("focas_net.sim", "focas_net.adapters", "focas_net.server")) for m in found
+    )
+
+
+@pytest.mark.parametrize("kind", [FaultKind.DELAY, FaultKind.ERROR, FaultKind.DROP])
+async def test_server_faults_on_the_native_transport(served: Served, kind: FaultKind) -> None:
+    """A delayed answer times the call out, an injected EW code fails the call, a dropped
+    connection fails it; with a reconnect policy the next call works on a new connection."""
+    policy = ReconnectPolicy(initial_delay=0.01, max_delay=0.05, jitter=0)
+    served.machine.write_macro(100, 5)
+    async with (
+        FocasClient(served.host, served.port, timeout=IO_TIMEOUT) as packed,
+        NativeClient(served.host, served.port, timeout=IO_TIMEOUT, reconnect=policy) as native,
+    ):
+        arg = {FaultKind.DELAY: 3000, FaultKind.ERROR: int(EW.DATA), FaultKind.DROP: 0}[kind]
+        await packed.sim.inject_fault(kind, arg=arg, scope=FaultScope.MACHINE)
+        if kind is FaultKind.DELAY:
+            with pytest.raises(FocasTimeoutError):
+                await native.read_macro(100, timeout=0.1)
+        elif kind is FaultKind.ERROR:
+            with pytest.raises(CncError) as caught:
+                await native.read_macro(100)
+            assert caught.value.ew == EW.DATA
+        else:
+            with pytest.raises(FocasConnectionError):
+                await native.read_macro(100)
+        assert await native.read_macro(100) == 5
+        assert native.state is ClientState.CONNECTED
