@@ -15,7 +15,10 @@ uses, and writes:
   exchanged (request and answer, hex);
 * ``tests/data/fwlib_float.json``: binary macro records and what the library made of them, both
   ways (``cnc_rdmacro`` of base-2 records, ``cnc_wrmacro`` at 16i class);
-* ``tests/data/fwlib_probes.json``: the answers to questions the fact sheet left inferred.
+* ``tests/data/fwlib_probes.json``: the answers to questions the fact sheet left inferred;
+* ``tests/data/fwlib_sim.json``: the library against the simulator itself (a real
+  ``FocasServer``, both command sets): every data request of each call, the simulator's
+  answer and the call's return code.
 
 The capture checks, as it goes, that the library sent exactly the frames
 ``focas_net.native.calls`` says it sends and returned the values the model holds; any
@@ -25,6 +28,7 @@ difference stops it. The test files read the data without the library
 
 from __future__ import annotations
 
+import asyncio
 import ctypes
 import json
 import os
@@ -37,6 +41,8 @@ import threading
 from collections.abc import Callable, Iterator
 from contextlib import contextmanager
 from dataclasses import dataclass, field
+from datetime import UTC, datetime
+from decimal import Decimal
 from pathlib import Path
 from typing import Any
 
@@ -97,6 +103,10 @@ from focas_net.native import (
     requests,
 )
 from focas_net.native.calls import CommandSet, LibraryCall
+from focas_net.server import FocasServer, NativeFront
+from focas_net.sim import Machine as SimMachine
+from focas_net.sim import Session as SimSession
+from focas_net.sim import default_machine, load_machine
 
 #: Where the data goes (``FOCAS_NET_FWLIB_OUT`` overrides it, as the live test does).
 DATA = Path(os.environ.get("FOCAS_NET_FWLIB_OUT") or Path(__file__).with_name("data"))
@@ -1718,6 +1728,181 @@ def run_probes(lib: Any) -> dict[str, Any]:
     return {"library": LIBRARY, "probes": results}
 
 
+# ----------------------------------------------------------------------------------------------
+# The simulator's own answers (fwlib_sim.json)
+
+#: The clock of the machines whose answers are captured (alarm history stamps).
+SIM_TIME = datetime(2026, 12, 1, 12, 30, 45, tzinfo=UTC)
+#: The 16i-class machine file of the live tests.
+SIM_16I = Path(__file__).with_name("data") / "fwlib_16i_machine.toml"
+
+
+def simulator_machine(set_name: str) -> SimMachine:
+    """The machine whose answers ``fwlib_sim.json`` holds: the built-in 0i-F (30i set) or the
+    16i-class machine file (16i set), in MDI with parameter writes on, with motion figures,
+    macro values and alarms set (the same every time)."""
+    clock = lambda: SIM_TIME  # noqa: E731
+    m = default_machine(clock=clock) if set_name == "30i" else load_machine(SIM_16I, clock=clock)
+    m.set_panel(0, 1, 0)
+    m.set_motion(
+        absolute=[12345, -2500, 100000],
+        machine=[22345, -12500, 90000],
+        relative=[345, 500, -1000],
+        distance_to_go=[10, 0, -20],
+        feed=1500,
+        spindle_speed=3000,
+        program_running=1234,
+        program_main=1000,
+        sequence=56,
+    )
+    m.write_macro(101, Decimal("-2.5"))
+    m.write_pmc("R", 100, bytes(range(1, 17)))
+    m.raise_alarm(1, 4, 500, "OVER TRAVEL +X")
+    m.raise_alarm(0, 2, 1001, "SPINDLE ALARM")
+    return m
+
+
+def _sim_calls(set_name: str) -> list[tuple[str, dict[str, Any], tuple[Any, ...]]]:
+    """The calls of the simulator capture: name, arguments, the ctypes arguments."""
+    slots = AXES if set_name == "16i" else MAX_AXES
+    out: list[tuple[str, dict[str, Any], tuple[Any, ...]]] = []
+
+    def add(name: str, arguments: dict[str, Any], args: tuple[Any, ...]) -> None:
+        out.append((name, arguments, args))
+
+    add("cnc_sysinfo", {}, (buf(18),))
+    add("cnc_statinfo", {}, (buf(18),))
+    for n in (100, 101, 102, 9999):
+        add("cnc_rdmacro", {"number": n}, (s16(n), s16(10), buf(12)))
+    add("cnc_wrmacro", {"number": 500, "mcr_val": 12345, "dec_val": 3},
+        (s16(500), s16(10), i32(12345), s16(3)))  # fmt: skip
+    add("cnc_rdmacro", {"number": 500}, (s16(500), s16(10), buf(12)))
+    three, one = ctypes.c_uint64(3), ctypes.c_uint64(1)
+    add("cnc_rdmacror2", {"first": 500, "count": 3},
+        (ctypes.c_ulong(500), ctypes.byref(three), (ctypes.c_double * 3)()))  # fmt: skip
+    add("cnc_wrmacror2", {"number": 503, "value": 0.125},
+        (ctypes.c_ulong(503), ctypes.byref(one), (ctypes.c_double * 1)(0.125)))  # fmt: skip
+    sizes = {1: 1, 2: 2, 4: 4}
+    for number, width, axis_item in _SIM_PARAMS[set_name]:
+        for axis in (2, -1) if axis_item else (0,):
+            length = 4 + sizes[width] * (slots if axis == -1 else 1)
+            add("cnc_rdparam", {"number": number, "axis": axis, "length": length},
+                (s16(number), s16(axis), s16(length), buf(4 + 8 * 32)))  # fmt: skip
+    for number, axis, width, value in ((20, 0, 1, 7), (1825, 2, 2, 1234), (6711, 0, 4, 42)):
+        b = buf(4 + 8 * 32)
+        struct.pack_into("<hh", b, 0, number, axis)
+        struct.pack_into({1: "<b", 2: "<h", 4: "<i"}[width], b, 4, value)
+        add("cnc_wrparam", {"number": number, "axis": axis, "value": value}, (s16(4 + width), b))
+    add("cnc_rdparam", {"number": 9999, "axis": 0, "length": 8},
+        (s16(9999), s16(0), s16(8), buf(4 + 8 * 32)))  # fmt: skip
+    for number, width, axis_item in _SIM_DIAGS:
+        for axis in (2, -1) if axis_item else (0,):
+            length = 4 + sizes[width] * (slots if axis == -1 else 1)
+            add("cnc_diagnoss", {"number": number, "axis": axis, "length": length},
+                (s16(number), s16(axis), s16(length), buf(4 + 8 * 32)))  # fmt: skip
+    for data_type in (0, 1, 2):
+        add("pmc_rdpmcrng", {"area": 5, "data_type": data_type, "first": 100, "last": 107},
+            (s16(5), s16(data_type), us(100), us(107), us(16), buf(16)))  # fmt: skip
+
+    def pmc_write() -> tuple[Any, ...]:
+        b = buf(12)
+        struct.pack_into("<hhHH2H", b, 0, 9, 1, 20, 23, 0x1234, 0xFFFE)
+        return (us(12), b)
+
+    add("pmc_wrpmcrng", {"area": 9, "data_type": 1, "first": 20, "last": 23}, pmc_write())
+    add("pmc_rdpmcrng", {"area": 9, "data_type": 0, "first": 0, "last": 999},
+        (s16(9), s16(0), us(0), us(999), us(1008), buf(1008)))  # fmt: skip
+    add("cnc_rdalmmsg", {"type": -1, "count": 10},
+        (s16(-1), ctypes.byref(s16(10)), buf(44 * 10)))  # fmt: skip
+    add("cnc_rdalmmsg2", {"type": -1, "count": 10},
+        (s16(-1), ctypes.byref(s16(10)), buf(76 * 10)))  # fmt: skip
+    add("cnc_alarm", {}, (buf(8),))
+    add("cnc_alarm2", {}, (ctypes.byref(ctypes.c_int64(0)),))
+    add("cnc_rdprgnum", {}, (buf(8),))
+    add("cnc_rdprgnumo8", {}, (buf(12),))
+    add("cnc_exeprgname", {}, (buf(40),))
+    add("cnc_rdseqnum", {}, (buf(8),))
+    add("cnc_rdcncid", {}, (buf(16),))
+    add("cnc_rdtimer", {"type": 0}, (s16(0), buf(8)))
+    add("cnc_rdalmhistry", {"first": 1, "last": 2, "length": 102},
+        (us(1), us(2), us(102), buf(102)))  # fmt: skip
+    add("cnc_actf", {}, (buf(8),))
+    add("cnc_acts", {}, (buf(8),))
+    for fn in ("cnc_absolute", "cnc_machine", "cnc_relative", "cnc_distance"):
+        add(fn, {"axis": 2, "length": 8}, (s16(2), s16(8), buf(4 + 4 * 32)))
+        add(fn, {"axis": -1, "length": 4 + 4 * slots},
+            (s16(-1), s16(4 + 4 * slots), buf(4 + 4 * 32)))  # fmt: skip
+    add("cnc_rdposition", {"type": -1, "data_num": 8},
+        (s16(-1), ctypes.byref(s16(8)), buf(48 * 8)))  # fmt: skip
+    add("cnc_rddynamic2", {"axis": -1, "length": 28 + 16 * MAX_AXES},
+        (s16(-1), s16(28 + 16 * MAX_AXES), buf(28 + 16 * 32)))  # fmt: skip
+    add("cnc_rddynamic2", {"axis": 1, "length": 44}, (s16(1), s16(44), buf(28 + 16 * 32)))
+    add("cnc_rdspload", {"spindle": -1}, (s16(-1), buf(4 + 2 * 8)))
+    add("cnc_rdsvmeter", {"data_num": 8}, (ctypes.byref(s16(8)), buf(12 * 8)))
+    return out
+
+
+#: Parameters read in the simulator capture (number, width, axis item), per command set.
+_SIM_PARAMS: dict[str, list[tuple[int, int, bool]]] = {
+    "30i": [(20, 1, False), (1320, 4, True), (1825, 2, True), (3216, 2, False), (6711, 4, False)],
+    "16i": [(20, 1, False), (1320, 4, True), (1825, 2, True), (3216, 2, False), (6711, 4, False)],
+}
+#: Diagnostics read in the simulator capture (number, width, axis item).
+_SIM_DIAGS: list[tuple[int, int, bool]] = [(300, 4, True), (308, 1, True), (410, 2, False)]
+
+
+def run_simulator(lib: Any) -> dict[str, Any]:
+    """FANUC's library against the simulator itself, both command sets: every data request
+    and the simulator's answer, per call, with the call's return code."""
+    sets = [_simulate(lib, set_name) for set_name in ("30i", "16i")]
+    return {"library": LIBRARY, "time": SIM_TIME.isoformat(), "sets": sets}
+
+
+def _simulate(lib: Any, set_name: str) -> dict[str, Any]:
+    machine = simulator_machine(set_name)
+    records: list[tuple[bytes, bytes]] = []
+    original = NativeFront.answer
+
+    def recording(self: NativeFront, body: bytes, session: SimSession | None = None) -> bytes:
+        answer = original(self, body, session)
+        records.append((body, answer))
+        return answer
+
+    entries: list[dict[str, Any]] = []
+
+    def entry(name: str, arguments: dict[str, Any], rc: int) -> None:
+        exchanges = [{"request": h(body), "answer": h(answer)} for body, answer in records]
+        entries.append(
+            {"function": name, "arguments": arguments, "return": rc, "exchanges": exchanges}
+        )
+        records.clear()
+
+    NativeFront.answer = recording  # type: ignore[method-assign]
+    loop = asyncio.new_event_loop()
+    server = FocasServer(machine, host="127.0.0.1", port=0)
+    loop.run_until_complete(server.start())
+    thread = threading.Thread(target=loop.run_forever, daemon=True)
+    thread.start()
+    try:
+        port = server.listeners[0].address[1]
+        handle = us()
+        rc = lib.cnc_allclibhndl3(b"127.0.0.1", us(port), i32(TIMEOUT_S), ctypes.byref(handle))
+        if rc != 0:
+            raise SystemExit(f"cnc_allclibhndl3 returned {rc} ({set_name})")
+        entry("cnc_allclibhndl3", {}, rc)
+        for name, arguments, args in _sim_calls(set_name):
+            entry(name, arguments, getattr(lib, name)(handle, *args))
+        entry("cnc_freelibhndl", {}, lib.cnc_freelibhndl(handle))
+        front = server.listeners[0]._native_front()
+        return {"command_set": set_name, "open_response": h(front.open_response), "calls": entries}
+    finally:
+        NativeFront.answer = original  # type: ignore[method-assign]
+        asyncio.run_coroutine_threadsafe(server.aclose(), loop).result(30)
+        loop.call_soon_threadsafe(loop.stop)
+        thread.join(30)
+        loop.close()
+
+
 def main() -> None:
     """Every output (or those named on the command line), each in a process of its own so
     that the library starts afresh (its handle numbers count up within a process)."""
@@ -1728,6 +1913,7 @@ def main() -> None:
         "fwlib_v3.json": lambda: run_calls(lib, 3),
         "fwlib_float.json": lambda: run_float(lib),
         "fwlib_probes.json": lambda: run_probes(lib),
+        "fwlib_sim.json": lambda: run_simulator(lib),
     }
     args = sys.argv[1:]
     if args[:1] == ["--probe"]:

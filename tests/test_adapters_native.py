@@ -11,25 +11,47 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from focas_net.adapters import NativeAdapter, macro_from_double
+from focas_net.adapters import NativeAdapter, command_set_of, macro_from_double
 from focas_net.errors import EW
 from focas_net.native import (
     REQUEST_TYPES,
+    VACANT,
+    AxisNameRequest,
+    CommandSet,
     Device,
     FrameType,
+    ItemRecord,
+    ItemValues,
     MacroDoubleWriteRequest,
     MacroReadRequest,
+    MacroWriteRequest,
+    NativeAlarmHistory,
+    NativeAlarmHistoryRequest,
     NativeCommand,
     NativeFrameError,
+    NativePmcData,
+    ParamInfo3,
+    ParamInfo3Request,
+    ParamInfoRequest,
+    ParamReadRequest,
+    ParamType,
+    ParamWrite3Request,
+    ParamWriteRequest,
+    PathDescription,
     PmcReadRequest,
+    PmcWriteRequest,
     RequestBlock,
+    ResponseBlock,
+    ScaledItemRecord,
+    ScaledNumber,
     SysInfoRequest,
     decode_frame,
+    decode_open_answer,
     decode_response_body,
     encode_request_body,
 )
 from focas_net.native import NativePmcArea as NativePmcArea
-from focas_net.sim import default_machine
+from focas_net.sim import Machine, MachineFileError, default_machine, machine_from_dict
 
 
 @pytest.mark.parametrize(
@@ -241,3 +263,129 @@ def test_pmc_reads_are_bounded_by_the_answer_only() -> None:
     assert _answer(adapter, too_long)[1] == [(EW.LENGTH, 0)]
     past_the_end = PmcReadRequest(9990, 10009, NativePmcArea.D, 0).to_block()
     assert _answer(adapter, past_the_end)[1] == [(EW.NUMBER, 0)]
+
+
+# -- the control class, the open answer and the library's own reads -------------------------
+
+
+@pytest.mark.parametrize(
+    ("control_class", "command_set", "version"),
+    [("16i", CommandSet.FS16I, 2), ("0i-C", CommandSet.FS16I, 2), ("0i-F", CommandSet.FS30I, 3)],
+)
+def test_the_control_class_picks_the_command_set(
+    control_class: str, command_set: CommandSet, version: int
+) -> None:
+    machine = Machine("m", control_class=control_class)
+    adapter = NativeAdapter(machine)
+    assert command_set_of(machine) is adapter.command_set is command_set
+    assert adapter.version == version
+    frame = decode_frame(adapter.open_response())
+    assert (frame.type, frame.version) == (FrameType.OPEN_RESPONSE, version)
+    opened = decode_open_answer(frame.body, version)
+    assert opened.present() == (PathDescription(" M", 3, 1),)
+    assert opened.max_axes == 8
+    assert opened.option_bits == (None if version == 2 else 1)
+
+
+def test_an_unknown_control_class_is_named() -> None:
+    with pytest.raises(ValueError, match="'15i'"):
+        Machine("m", control_class="15i")
+    with pytest.raises(MachineFileError, match=r"machine\.control_class: .*'FS15'"):
+        machine_from_dict({"machine": {"name": "m", "axes": ["X"], "control_class": "FS15"}})
+    loaded = machine_from_dict({"machine": {"name": "m", "axes": ["X"], "control_class": "0I-c"}})
+    assert loaded.control_class == "0i-C"
+
+
+def test_the_option_parameter_and_the_position_display_bits() -> None:
+    adapter = NativeAdapter(Machine("m", control_class="16i"))
+    # 9968, read by the library while connecting: option bit 0 set
+    (reply,) = _replies(adapter, ParamReadRequest(9968, 9968, 0).to_block())
+    (record,) = ItemValues.decode(reply.data, 8).records
+    assert (reply.ew, record.number, record.values[0] & 1) == (0, 9968, 1)
+    # 3115 is answered only within the library's cnc_rdposition frame (with 0x89)
+    alone = ParamReadRequest(3115, 3115, -1).to_block()
+    assert _replies(adapter, alone)[0].ew == EW.NUMBER
+    names = AxisNameRequest(-1).to_block()
+    reply = _replies(adapter, names, alone)[1]
+    assert reply.ew == 0 and ItemValues.decode(reply.data, 8).records[0].values == (0,) * 8
+
+
+def test_parameter_writes_of_both_sets_reach_the_machine() -> None:
+    machine = default_machine()
+    machine.set_panel(0, 1, 0)
+    adapter = NativeAdapter(machine)
+    info = _replies(adapter, ParamInfoRequest(1320, 1).to_block())[0].data
+    assert struct.unpack(">iiii", info)[2:] == (1320, ParamType.TWO_WORD)
+    record = ItemRecord(1320, -1, ParamType.TWO_WORD, (1, -2, 3, 0x5555, 0, 0, 0, 0))
+    assert _replies(adapter, ParamWriteRequest(record).to_block())[0].ew == 0
+    assert [machine.read_param(1320, a) for a in (1, 2, 3)] == [1, -2, 3]
+    info3 = ParamInfo3.decode(_replies(adapter, ParamInfo3Request(1825).to_block())[0].data)
+    assert (info3.number, info3.type, info3.axis_kind) == (1825, ParamType.WORD, 2)
+    slots = (ScaledNumber(77, -1, 0),) + (ScaledNumber(0, 0),) * 7
+    write3 = ParamWrite3Request(ScaledItemRecord(1825, 2, ParamType.WORD, slots))
+    assert _replies(adapter, write3.to_block())[0].ew == 0
+    assert machine.read_param(1825, 2) == 77
+    # a refused all-axes write changes no axis
+    before = machine.state_digest()
+    bad = ItemRecord(1320, -1, ParamType.TWO_WORD, (5, 6, 2_000_000_000, 0, 0, 0, 0, 0))
+    assert _replies(adapter, ParamWriteRequest(bad).to_block())[0].ew == EW.DATA
+    assert machine.state_digest() == before
+    machine.set_panel(1, 0, 0)
+    assert _replies(adapter, ParamWriteRequest(record).to_block())[0].ew == EW.PASSWD
+
+
+def test_macro_writes_of_both_sets() -> None:
+    machine = default_machine()
+    adapter = NativeAdapter(machine)
+    binary = ScaledNumber.from_macro(12345, 3, binary=True)  # what a 16i-class handle sends
+    assert _replies(adapter, MacroWriteRequest(500, binary).to_block())[0].ew == 0
+    assert machine.read_macro(500) == Decimal("12.345")
+    decimal = ScaledNumber.from_macro(-25, 1)  # what a 30i-class handle sends
+    assert _replies(adapter, MacroWriteRequest(501, decimal).to_block())[0].ew == 0
+    assert machine.read_macro(501) == Decimal("-2.5")
+    assert _replies(adapter, MacroWriteRequest(501, VACANT).to_block())[0].ew == 0
+    assert machine.read_macro(501) is None
+    reply = _replies(adapter, MacroWriteRequest(9999, decimal).to_block())[0]
+    assert (reply.ew, reply.detail1, reply.detail2) == (EW.NUMBER, 1, 9999)
+
+
+def test_pmc_writes_are_big_endian_and_bounded_by_the_request_only() -> None:
+    machine = default_machine()
+    adapter = NativeAdapter(machine)
+    words = NativePmcData.from_values(1, [0x1234, 0xFFFE])
+    write = PmcWriteRequest(20, 23, NativePmcArea.D, 1, words)
+    assert _replies(adapter, write.to_block())[0].ew == 0
+    assert machine.read_pmc("D", 20, 4) == bytes([0x34, 0x12, 0xFE, 0xFF])
+    many = PmcWriteRequest(100, 1099, NativePmcArea.D, 0, NativePmcData(bytes(range(250)) * 4))
+    assert _replies(adapter, many.to_block())[0].ew == 0
+    assert machine.read_pmc("D", 100, 1000) == bytes(range(250)) * 4
+    odd = PmcWriteRequest(20, 22, NativePmcArea.D, 1, NativePmcData(b"\x01\x02\x03"))
+    assert _replies(adapter, odd.to_block())[0].ew == EW.LENGTH
+    protected = PmcWriteRequest(0, 0, NativePmcArea.X, 0, NativePmcData(b"\x01"))
+    assert _replies(adapter, protected.to_block())[0].ew == EW.PROT
+
+
+def test_alarm_bits_and_history() -> None:
+    machine = default_machine()
+    machine.raise_alarm(0, 2, 100, "A")
+    machine.raise_alarm(1, 4, 500, "B")
+    adapter = NativeAdapter(machine)
+    bits = _replies(adapter, RequestBlock(Device.CNC, 1, NativeCommand.ALARM))[0].data
+    assert struct.unpack(">i", bits) == (0b10100,)
+    reply = _replies(adapter, NativeAlarmHistoryRequest(1, 23).to_block())[0]
+    records = NativeAlarmHistory.decode(reply.data).records
+    assert [(r.alarm_no, r.group, r.axis, r.message) for r in records] == [
+        (500, 4, 1, b"B"),
+        (100, 2, 0, b"A"),
+    ]
+    assert _replies(adapter, NativeAlarmHistoryRequest(3, 25).to_block())[0].ew == EW.NUMBER
+
+
+def test_an_empty_request_is_answered_with_one_refused_block() -> None:
+    frame = decode_frame(NativeAdapter(default_machine()).answer(b""))
+    (reply,) = decode_response_body(frame.body)
+    assert reply.ew == EW.FUNC
+
+
+def _replies(adapter: NativeAdapter, *blocks: RequestBlock) -> tuple[ResponseBlock, ...]:
+    return decode_response_body(decode_frame(adapter.answer(encode_request_body(blocks))).body)

@@ -24,7 +24,8 @@ pytestmark = pytest.mark.skipif(
 
 
 @pytest.mark.parametrize(
-    "name", ["fwlib_v2.json", "fwlib_v3.json", "fwlib_float.json", "fwlib_probes.json"]
+    "name",
+    ["fwlib_v2.json", "fwlib_v3.json", "fwlib_float.json", "fwlib_probes.json", "fwlib_sim.json"],
 )
 def test_capture_reproduces_the_golden_data(name: str, tmp_path: Path) -> None:
     env = dict(os.environ, FOCAS_NET_FWLIB_OUT=str(tmp_path))

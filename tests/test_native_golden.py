@@ -8,7 +8,10 @@ tests need no library. For both command sets (answer version 2, "16i class", and
   and ``focas_net.native.calls`` predicts it from the call's arguments;
 * every answer that made the library return EW_OK decodes to its record and re-encodes byte
   for byte, passes the library's checks, and carries the values the library read back;
-* the binary macro conversions agree with the library on every captured case.
+* the binary macro conversions agree with the library on every captured case;
+* the simulator's own answers, captured with the library against a real server in both command
+  sets (``fwlib_sim.json``), are what the native adapter answers to the same requests today,
+  and pass the library's checks.
 """
 
 from __future__ import annotations
@@ -20,7 +23,10 @@ from pathlib import Path
 from typing import Any
 
 import pytest
+from fwlib_capture import simulator_machine
 
+from focas_net.adapters import NativeAdapter
+from focas_net.errors import EW
 from focas_net.native import (
     AlarmMessages,
     FrameType,
@@ -447,3 +453,44 @@ def test_probe_results() -> None:
     assert real == [[2, 1], [2, 1], [2, 1], [0, 2]]
     # a lathe path connects in both classes
     assert [note["result"] for note in probes["lathe"]] == [[0, 0], [0, 0]]
+
+
+# ---------------------------------------------------------------------------------------------
+# The simulator's own answers, as FANUC's library took them (fwlib_sim.json)
+
+SIM_SETS = ("30i", "16i")
+#: Every function of FANUC's library the simulator answers, in both command sets.
+SIM_FUNCTIONS = {
+    "cnc_allclibhndl3", "cnc_sysinfo", "cnc_statinfo", "cnc_rdmacro", "cnc_wrmacro",
+    "cnc_rdmacror2", "cnc_wrmacror2", "cnc_rdparam", "cnc_wrparam", "cnc_diagnoss",
+    "pmc_rdpmcrng", "pmc_wrpmcrng", "cnc_rdalmmsg", "cnc_rdalmmsg2", "cnc_alarm", "cnc_alarm2",
+    "cnc_rdprgnum", "cnc_rdprgnumo8", "cnc_exeprgname", "cnc_rdseqnum", "cnc_rdcncid",
+    "cnc_rdtimer", "cnc_rdalmhistry", "cnc_actf", "cnc_acts", "cnc_absolute", "cnc_machine",
+    "cnc_relative", "cnc_distance", "cnc_rdposition", "cnc_rddynamic2", "cnc_rdspload",
+    "cnc_rdsvmeter", "cnc_freelibhndl",
+}  # fmt: skip
+
+
+def _sim_set(set_name: str) -> dict[str, Any]:
+    (found,) = [s for s in _json("fwlib_sim.json")["sets"] if s["command_set"] == set_name]
+    return dict(found)
+
+
+@pytest.mark.parametrize("set_name", SIM_SETS)
+def test_simulator_answers_every_captured_request_as_the_library_took_it(set_name: str) -> None:
+    data = _sim_set(set_name)
+    assert {c["function"] for c in data["calls"]} == SIM_FUNCTIONS
+    adapter = NativeAdapter(simulator_machine(set_name))
+    assert adapter.command_set.value == set_name
+    assert adapter.open_response().hex() == data["open_response"]
+    for call in data["calls"]:
+        # the library returned EW_OK, except for the refusals captured on purpose (EW_NUMBER)
+        assert call["return"] in (0, EW.NUMBER), call["function"]
+        if call["function"] not in ("cnc_sysinfo", "cnc_freelibhndl"):
+            assert call["exchanges"], call["function"]
+        for ex in call["exchanges"]:
+            body = bytes.fromhex(ex["request"])
+            answer = adapter.answer(body)
+            assert answer.hex() == ex["answer"], (call["function"], call["arguments"])
+            frame = decode_frame(answer)
+            assert answer_refusal(frame.body, len(decode_request_body(body)), frame.version) is None

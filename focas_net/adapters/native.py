@@ -293,6 +293,7 @@ class NativeAdapter:
         "_diag_numbers",
         "_handlers",
         "_max_blocks",
+        "_own_session",
         "_param_numbers",
         "_position_frame",
         "_scaled_zero",
@@ -331,7 +332,8 @@ class NativeAdapter:
         self._param_numbers = machine.param_numbers()
         self._diag_numbers = machine.diag_numbers()
         self._scaled_zero = _pack_scaled(0, 10, 0)
-        self._session = machine.new_session()
+        self._own_session = machine.new_session()
+        self._session = self._own_session
         self._position_frame = False
         cnc, pmc, c = Device.CNC, Device.PMC, NativeCommand
         self._handlers: dict[tuple[int, int], _Handler] = {
@@ -427,7 +429,7 @@ class NativeAdapter:
         blocks = self._blocks(body)
         if not blocks:
             blocks = (RequestBlock(Device.CNC, 1, 0),)
-        self._session = self._session if session is None else session
+        self._session = self._own_session if session is None else session
         self._position_frame = any(
             b.command == NativeCommand.AXIS_NAME and b.device == Device.CNC for b in blocks
         )
@@ -806,10 +808,13 @@ class NativeAdapter:
             if item is not None and not item.axis:
                 m.write_param(session, number, 0, values[0], width=width)
                 return
-            # every axis checked before any is written
-            for a in range(1, n + 1):
-                m.read_param(number, a)
-            for a in range(1, n + 1):
+            # the machine writes one axis at a time: an axis whose value it would refuse is
+            # written first, so that a refused write changes no axis
+            order = list(range(1, n + 1))
+            if item is not None and item.low is not None and item.high is not None:
+                low, high = item.low, item.high
+                order.sort(key=lambda a: low <= values[a - 1] <= high)
+            for a in order:
                 m.write_param(session, number, a, values[a - 1], width=width)
             return
         if not values:

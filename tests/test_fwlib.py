@@ -1,0 +1,665 @@
+"""FANUC's own FOCAS library against a real :class:`FocasServer`, through ``ctypes``.
+
+Skipped unless ``FOCAS_NET_FWLIB`` names FANUC's libfwlib32 (x86-64 Linux, never part of this
+repository). Each test serves one machine on 127.0.0.1 (an ephemeral port; both protocols on
+that one port) and drives the library in worker threads (it blocks), while the packed
+:class:`FocasClient` reads the same server on the event loop: every value the library returns
+is checked against what the packed protocol answers for the same machine, or against the
+machine where the packed protocol has no such function. Both command sets are covered: the
+built-in 0i-F machine (the 30i set, open answer version 3) and a 16i-class machine file (the
+16i set, version 2). ``FOCAS_NET_FWLIB_LOG`` names a file for the library's own log.
+"""
+
+from __future__ import annotations
+
+import asyncio
+import ctypes
+import os
+import struct
+import threading
+from collections.abc import AsyncIterator, Callable
+from concurrent.futures import ThreadPoolExecutor
+from dataclasses import dataclass
+from decimal import Decimal
+from pathlib import Path
+from typing import Any, TypeVar
+
+import pytest
+from support import IO_TIMEOUT, Served, serving, wait_until
+
+from focas_net.client import FocasClient
+from focas_net.errors import EW, CncError
+from focas_net.protocol import FaultKind, FaultScope
+from focas_net.sim import Machine, default_machine, load_machine
+
+LIBRARY = os.environ.get("FOCAS_NET_FWLIB")
+
+pytestmark = pytest.mark.skipif(
+    not LIBRARY,
+    reason="set FOCAS_NET_FWLIB to the path of FANUC's libfwlib32 (e.g. libfwlib32.so.1) "
+    "to run FANUC's library against the simulator",
+)
+
+T = TypeVar("T")
+
+us, s16, i32 = ctypes.c_ushort, ctypes.c_short, ctypes.c_int32
+#: The library's socket error (the call's answer never came, or the connection is gone).
+EW_SOCKET = -16
+#: Seconds the library waits for an answer (its handle timeout).
+HANDLE_TIMEOUT = 3
+
+#: A 16i-class machine file (the 16i command set, open answer version 2).
+MACHINE_16I = Path(__file__).with_name("data") / "fwlib_16i_machine.toml"
+
+
+class _Library:
+    """FANUC's library with every function returning a C ``short`` (the EW code)."""
+
+    def __init__(self, path: str) -> None:
+        self._cdll = ctypes.cdll.LoadLibrary(path)
+
+    def __getattr__(self, name: str) -> Any:
+        function = getattr(self._cdll, name)
+        function.restype = ctypes.c_short
+        setattr(self, name, function)
+        return function
+
+
+_LIB: _Library | None = None
+_LIB_LOCK = threading.Lock()
+
+
+def library() -> _Library:
+    """The library, loaded and started once per test run."""
+    global _LIB
+    with _LIB_LOCK:
+        if _LIB is None:
+            assert LIBRARY is not None
+            lib = _Library(LIBRARY)
+            log = os.environ.get("FOCAS_NET_FWLIB_LOG")
+            lib.cnc_startupprocess(3 if log else 0, (log or "/dev/null").encode())
+            _LIB = lib
+        return _LIB
+
+
+def buf(size: int) -> ctypes.Array[ctypes.c_char]:
+    return ctypes.create_string_buffer(size)
+
+
+class Handle:
+    """A handle of FANUC's library, opened, used and freed on one thread of its own (the
+    library ties a handle to the thread that made it)."""
+
+    def __init__(self) -> None:
+        self._executor = ThreadPoolExecutor(max_workers=1)
+        self.number = 0
+
+    async def run(self, function: Callable[..., T], *args: Any) -> T:
+        """``function(*args)`` on this handle's thread, bounded."""
+        loop = asyncio.get_running_loop()
+        async with asyncio.timeout(HANDLE_TIMEOUT * 4 + IO_TIMEOUT):
+            return await loop.run_in_executor(self._executor, function, *args)
+
+    async def call(self, name: str, *args: Any) -> int:
+        """``name(handle, *args)``; its return code."""
+        rc: int = await self.run(getattr(library(), name), us(self.number), *args)
+        return rc
+
+    async def open(self, served: Served, seconds: int = HANDLE_TIMEOUT) -> int:
+        """``cnc_allclibhndl3`` to ``served``; its return code."""
+        handle = us()
+        rc: int = await self.run(
+            library().cnc_allclibhndl3,
+            b"127.0.0.1",
+            us(served.port),
+            i32(seconds),
+            ctypes.byref(handle),
+        )
+        self.number = handle.value
+        return rc
+
+    async def free(self) -> int:
+        """``cnc_freelibhndl``, then the thread ends."""
+        try:
+            return await self.call("cnc_freelibhndl")
+        finally:
+            self._executor.shutdown(wait=False)
+
+
+async def connect(served: Served, seconds: int = HANDLE_TIMEOUT) -> Handle:
+    """A new handle on ``served`` (asserts EW_OK)."""
+    handle = Handle()
+    rc = await handle.open(served, seconds)
+    assert rc == 0, f"cnc_allclibhndl3 returned {rc}"
+    return handle
+
+
+@dataclass
+class Cnc:
+    """One handle of FANUC's library on a served machine, and a packed client of the same."""
+
+    served: Served
+    packed: FocasClient
+    handle: Handle
+    set_name: str
+
+    @property
+    def machine(self) -> Machine:
+        return self.served.machine
+
+    @property
+    def slots(self) -> int:
+        """Values an all-axes read must make room for: the path's axes at 16i class, the
+        open answer's max axes at 30i class."""
+        return 3 if self.set_name == "16i" else 8
+
+    async def call(self, name: str, *args: Any) -> int:
+        """``name(handle, *args)`` on the handle's thread; its return code."""
+        return await self.handle.call(name, *args)
+
+
+def machine_for(set_name: str) -> Machine:
+    if set_name == "30i":
+        return default_machine()
+    return load_machine(MACHINE_16I)
+
+
+@pytest.fixture(params=["30i", "16i"])
+async def cnc(request: pytest.FixtureRequest) -> AsyncIterator[Cnc]:
+    machine = machine_for(request.param)
+    machine.set_panel(0, 1, 0)  # MDI, parameter writes enabled
+    async with serving(machine) as served:
+        async with FocasClient(served.host, served.port, timeout=IO_TIMEOUT) as packed:
+            handle = await connect(served)
+            try:
+                yield Cnc(served, packed, handle, request.param)
+            finally:
+                await handle.free()
+
+
+# --------------------------------------------------------------------------------------------
+# The handshake, identity and status
+
+
+async def test_the_command_set_follows_the_control_class(cnc: Cnc) -> None:
+    listener = cnc.served.listener
+    await wait_until(lambda: len(listener.native_connections) == 2)  # connections A and B
+    opt = ctypes.c_int64(0)
+    assert await cnc.call("cnc_getfocas1opt", s16(0), ctypes.byref(opt)) == 0
+    assert opt.value & 1  # what cnc_rddynamic2 needs
+    # a 30i-class handle wants room for the open answer's max axes (8) in an all-axes read, a
+    # 16i-class one for the path's axes (3)
+    b = buf(4 + 8 * 32)
+    rc = await cnc.call("cnc_rdparam", s16(1320), s16(-1), s16(4 + 4 * 3), b)
+    assert rc == (0 if cnc.machine.control_class == "16i" else EW.LENGTH)
+
+
+async def test_sysinfo(cnc: Cnc) -> None:
+    b = buf(18)
+    assert await cnc.call("cnc_sysinfo", b) == 0
+    addinfo, max_axis, *texts = struct.unpack("<hh2s2s4s4s2s", b.raw)
+    si = await cnc.packed.read_sysinfo()
+    assert (addinfo, max_axis) == (si.addinfo, si.max_axis)
+    assert texts == [si.cnc_type, si.mt_type, si.series, si.version, si.axes]
+
+
+async def test_statinfo(cnc: Cnc) -> None:
+    await cnc.packed.sim.set_panel("MEM", emergency=True)
+    await cnc.packed.sim.raise_alarm(2, 100, "ALARM")
+    b = buf(18)
+    assert await cnc.call("cnc_statinfo", b) == 0
+    st = await cnc.packed.read_status()
+    assert list(struct.unpack("<9h", b.raw)) == [
+        st.hdck,
+        st.tmmode,
+        st.aut,
+        st.run,
+        st.motion,
+        st.mstb,
+        st.emergency,
+        st.alarm,
+        st.edit,
+    ]
+    assert (st.aut, st.emergency, st.alarm) == (1, 1, 1)
+
+
+# --------------------------------------------------------------------------------------------
+# Macro variables
+
+
+async def rdmacro(cnc: Cnc, number: int) -> tuple[int, int, int]:
+    b = buf(12)
+    rc = await cnc.call("cnc_rdmacro", s16(number), s16(10), b)
+    datano, _, mcr, dec = struct.unpack("<hhih2x", b.raw)
+    if rc == 0:
+        assert datano == number
+    return rc, mcr, dec
+
+
+async def test_macros(cnc: Cnc) -> None:
+    await cnc.packed.write_macro(101, Decimal("-2.5"))
+    for n in (100, 101, 102):
+        rc, mcr, dec = await rdmacro(cnc, n)
+        value = await cnc.packed.read_macro(n)
+        parts = (0, -1) if value is None else _parts(value)
+        assert (rc, mcr, dec) == (0, *parts)
+    # written through the library, read through the packed protocol
+    for number, mcr, dec, written in (
+        (500, 12345, 3, Decimal("12.345")),
+        (501, -25, 1, Decimal("-2.5")),
+        (502, 100, 0, Decimal(100)),
+    ):
+        assert await cnc.call("cnc_wrmacro", s16(number), s16(10), i32(mcr), s16(dec)) == 0
+        assert await cnc.packed.read_macro(number) == written
+        assert await rdmacro(cnc, number) == (0, *_parts(written))
+    # doubles
+    num = ctypes.c_uint64(3)
+    d = (ctypes.c_double * 3)()
+    assert await cnc.call("cnc_rdmacror2", ctypes.c_ulong(500), ctypes.byref(num), d) == 0
+    assert list(d) == [12.345, -2.5, 100.0]
+    one = ctypes.c_uint64(1)
+    assert (
+        await cnc.call(
+            "cnc_wrmacror2", ctypes.c_ulong(503), ctypes.byref(one), (ctypes.c_double * 1)(0.125)
+        )
+        == 0
+    )
+    assert await cnc.packed.read_macro(503) == Decimal("0.125")
+    # refusals: the codes the packed protocol answers for the same request
+    assert (
+        (await rdmacro(cnc, 9999))[0] == EW.NUMBER == await _packed_ew(cnc.packed.read_macro(9999))
+    )
+    assert await cnc.call("cnc_wrmacro", s16(4003), s16(10), i32(1), s16(0)) == EW.PROT
+    assert await _packed_ew(cnc.packed.write_macro(4003, 1)) == EW.PROT
+    assert await cnc.call("cnc_wrmacro", s16(9999), s16(10), i32(1), s16(0)) == EW.NUMBER
+    err = buf(4)
+    assert await cnc.call("cnc_getdtailerr", err) == 0
+    assert struct.unpack("<hh", err.raw) == (1, 9999)
+
+
+def _parts(value: Decimal) -> tuple[int, int]:
+    sign, digits, exponent = value.as_tuple()
+    assert isinstance(exponent, int)
+    mantissa = int("".join(map(str, digits)))
+    return (-mantissa if sign else mantissa), max(-exponent, 0)
+
+
+async def _packed_ew(call: Any) -> int:
+    try:
+        await call
+    except CncError as exc:
+        return exc.ew
+    return 0
+
+
+# --------------------------------------------------------------------------------------------
+# Parameters and diagnostics
+
+_SIZES = {1: 1, 2: 2, 4: 4}
+_FORMATS = {1: "b", 2: "h", 4: "i"}
+
+
+async def rdparam(
+    cnc: Cnc, number: int, axis: int, fn: str = "cnc_rdparam"
+) -> tuple[int, list[int]]:
+    item = (cnc.machine.param_item if fn == "cnc_rdparam" else cnc.machine.diag_item)(number)
+    assert item is not None
+    size = _SIZES[item.width]
+    count = cnc.slots if axis == -1 and item.axis else 1
+    b = buf(4 + 8 * 32)
+    rc = await cnc.call(fn, s16(number), s16(axis), s16(4 + size * count), b)
+    datano, kind = struct.unpack_from("<hh", b.raw)
+    n = len(cnc.machine.axes) if axis == -1 and item.axis else 1
+    values = list(struct.unpack_from(f"<{n}{_FORMATS[size]}", b.raw, 4))
+    if rc == 0:
+        assert (datano, kind) == (number, axis if item.axis else 0)
+    return rc, values
+
+
+async def test_parameters_read_as_the_packed_protocol_reads_them(cnc: Cnc) -> None:
+    for number in cnc.machine.param_numbers():
+        item = cnc.machine.param_item(number)
+        assert item is not None
+        if item.axis:
+            for axis in (2, -1):
+                rc, got = await rdparam(cnc, number, axis)
+                axes = (2,) if axis == 2 else range(1, len(cnc.machine.axes) + 1)
+                want = [await cnc.packed.read_param(number, axis=a) for a in axes]
+                assert (rc, got) == (0, want), number
+        else:
+            rc, got = await rdparam(cnc, number, 0)
+            assert (rc, got) == (0, [await cnc.packed.read_param(number)]), number
+
+
+async def test_parameters_written_through_either_protocol(cnc: Cnc) -> None:
+    async def wrparam(number: int, axis: int, values: list[int]) -> int:
+        item = cnc.machine.param_item(number)
+        assert item is not None
+        size = _SIZES[item.width]
+        b = buf(4 + 8 * 32)
+        struct.pack_into("<hh", b, 0, number, axis)
+        for i, v in enumerate(values):
+            struct.pack_into(f"<{_FORMATS[size]}", b, 4 + i * size, v)
+        length = 4 + size * (cnc.slots if axis == -1 else 1)
+        return await cnc.call("cnc_wrparam", s16(length), b)
+
+    assert await wrparam(20, 0, [7]) == 0
+    assert await cnc.packed.read_param(20) == 7
+    assert await wrparam(1825, 2, [1234]) == 0
+    assert await cnc.packed.read_param(1825, axis=2) == 1234
+    assert await wrparam(1320, -1, [1, -2, 3]) == 0
+    assert [await cnc.packed.read_param(1320, axis=a) for a in (1, 2, 3)] == [1, -2, 3]
+    assert await wrparam(6711, 0, [42]) == 0
+    assert await cnc.packed.read_param(6711) == 42
+    await cnc.packed.write_param(3216, 300)
+    assert await rdparam(cnc, 3216, 0) == (0, [300])
+    # refusals, as the packed protocol refuses them
+    assert (
+        await wrparam(6711, 0, [-1])
+        == EW.DATA
+        == await _packed_ew(cnc.packed.write_param(6711, -1))
+    )
+    assert (await rdparam(cnc, 1320, 0))[0] == EW.ATTRIB
+    assert await _packed_ew(cnc.packed.read_param(1320)) == EW.ATTRIB
+    b = buf(4 + 8 * 32)
+    assert await cnc.call("cnc_rdparam", s16(9999), s16(0), s16(8), b) == EW.NUMBER
+    assert await _packed_ew(cnc.packed.read_param(9999)) == EW.NUMBER
+    await cnc.packed.sim.set_panel("MEM")  # PWE off: the write gate is closed
+    assert await wrparam(20, 0, [8]) == EW.PASSWD
+    assert await _packed_ew(cnc.packed.write_param(20, 8)) == EW.PASSWD
+    assert cnc.machine.read_param(20, 0) == 7
+
+
+async def test_diagnostics(cnc: Cnc) -> None:
+    for number in cnc.machine.diag_numbers():
+        item = cnc.machine.diag_item(number)
+        assert item is not None
+        for axis in (2, -1) if item.axis else (0,):
+            rc, got = await rdparam(cnc, number, axis, "cnc_diagnoss")
+            axes = (axis,) if axis != -1 else range(1, len(cnc.machine.axes) + 1)
+            want = [await cnc.packed.read_diag(number, axis=a) for a in axes]
+            assert (rc, got) == (0, want), number
+
+
+# --------------------------------------------------------------------------------------------
+# PMC
+
+
+async def rdpmc(
+    cnc: Cnc, area: int, data_type: int, first: int, count: int
+) -> tuple[int, list[int]]:
+    width = 1 << data_type
+    last = first + width * count - 1
+    b = buf(8 + width * count)
+    rc = await cnc.call(
+        "pmc_rdpmcrng", s16(area), s16(data_type), us(first), us(last), us(8 + width * count), b
+    )
+    fmt = {1: "B", 2: "H", 4: "I"}[width]
+    return rc, list(struct.unpack_from(f"<{count}{fmt}", b.raw, 8))
+
+
+async def wrpmc(cnc: Cnc, area: int, data_type: int, first: int, values: list[int]) -> int:
+    width = 1 << data_type
+    last = first + width * len(values) - 1
+    b = buf(8 + width * len(values))
+    struct.pack_into("<hhHH", b, 0, area, data_type, first, last)
+    fmt = {1: "B", 2: "H", 4: "I"}[width]
+    struct.pack_into(f"<{len(values)}{fmt}", b, 8, *values)
+    rc: int = await cnc.call("pmc_wrpmcrng", us(8 + width * len(values)), b)
+    return rc
+
+
+async def test_pmc(cnc: Cnc) -> None:
+    R, D, X = 5, 9, 3
+    await cnc.packed.write_pmc("R", 100, bytes([1, 2, 3, 4, 5, 6, 7, 8]))
+    assert await rdpmc(cnc, R, 0, 100, 8) == (0, [1, 2, 3, 4, 5, 6, 7, 8])
+    # words and longs: the machine's little-endian memory, the host's values
+    assert await rdpmc(cnc, R, 1, 100, 4) == (0, [0x0201, 0x0403, 0x0605, 0x0807])
+    assert await rdpmc(cnc, R, 2, 100, 2) == (0, [0x04030201, 0x08070605])
+    assert await wrpmc(cnc, D, 1, 20, [0x1234, 0xFFFE]) == 0
+    assert await cnc.packed.read_pmc("D", 20, 4) == bytes([0x34, 0x12, 0xFE, 0xFF])
+    assert await wrpmc(cnc, D, 2, 40, [0xDEADBEEF]) == 0
+    assert await cnc.packed.read_pmc("D", 40, 4) == bytes([0xEF, 0xBE, 0xAD, 0xDE])
+    # one answer carries far more than the packed protocol's 32 bytes
+    data = bytes(i % 251 for i in range(1000))
+    await cnc.packed.write_pmc("D", 1000, data)
+    assert await rdpmc(cnc, D, 0, 1000, 1000) == (0, list(data))
+    assert await wrpmc(cnc, D, 0, 3000, list(data)) == 0
+    assert await cnc.packed.read_pmc("D", 3000, 1000) == data
+    # refusals
+    assert (
+        await wrpmc(cnc, X, 0, 0, [1])
+        == EW.PROT
+        == await _packed_ew(cnc.packed.write_pmc("X", 0, b"\x01"))
+    )
+    assert (await rdpmc(cnc, D, 0, 9999, 4))[0] == EW.NUMBER
+    assert await _packed_ew(cnc.packed.read_pmc("D", 9999, 4)) == EW.NUMBER
+    assert (await rdpmc(cnc, 12, 0, 0, 1))[0] == EW.NOOPT  # no E area
+
+
+# --------------------------------------------------------------------------------------------
+# Alarms and programs
+
+
+async def test_alarms(cnc: Cnc) -> None:
+    await cnc.packed.sim.raise_alarm(4, 500, "OVER TRAVEL +X", axis_no=1)
+    await cnc.packed.sim.raise_alarm(2, 1001, "SPINDLE ALARM")
+    active = await cnc.packed.read_alarms()
+    for fn, text in (("cnc_rdalmmsg", 32), ("cnc_rdalmmsg2", 64)):
+        size = 12 + text
+        num = s16(10)
+        b = buf(size * 10)
+        assert await cnc.call(fn, s16(-1), ctypes.byref(num), b) == 0
+        got = []
+        for i in range(num.value):
+            alm_no, kind, axis, _, length = struct.unpack_from("<ihhhh", b.raw, i * size)
+            msg = b.raw[i * size + 12 : i * size + 12 + length].decode()
+            got.append((axis, kind, alm_no, msg))
+        assert got == [(a.axis_no, a.alm_type, a.alm_no, a.msg) for a in active]
+    bits = sum(1 << t for t in {a.alm_type for a in active})
+    b = buf(8)
+    assert await cnc.call("cnc_alarm", b) == 0
+    assert struct.unpack_from("<h", b.raw, 4)[0] == bits
+    v = ctypes.c_int64(0)
+    assert await cnc.call("cnc_alarm2", ctypes.byref(v)) == 0
+    assert v.value & 0xFFFFFFFF == bits
+    # the history, newest first, in chunks of 23 records
+    for i in range(30):
+        await cnc.packed.sim.raise_alarm(3, 2000 + i, f"ALARM {i}")
+    history = (await cnc.packed.read_alarm_history(40)).entries
+    assert len(history) == 32
+    b = buf(6 + 48 * 30)
+    assert await cnc.call("cnc_rdalmhistry", us(1), us(30), us(6 + 48 * 30), b) == 0
+    s_no, _, e_no = struct.unpack_from("<HhH", b.raw)
+    assert (s_no, e_no) == (1, 30)
+    for i, e in enumerate(history[:30]):
+        f = struct.unpack_from("<hhhbbbbbbbbh32s", b.raw, 6 + 48 * i)
+        t = e.occurred_at
+        assert (f[1], f[2], f[3]) == (e.alm_type, e.alm_no, e.axis_no)
+        assert f[4:10] == (t.year % 100, t.month, t.day, t.hour, t.minute, t.second)
+        assert f[12][: f[11]].decode() == e.msg
+
+
+async def test_programs_feed_and_spindle(cnc: Cnc) -> None:
+    cnc.machine.set_motion(
+        program_running=1234, program_main=1000, sequence=56, feed=1500, spindle_speed=3000
+    )
+    pn = await cnc.packed.read_program_numbers()
+    b = buf(8)
+    assert await cnc.call("cnc_rdprgnum", b) == 0
+    assert list(struct.unpack_from("<hh", b.raw, 4)) == [pn.running, pn.main]
+    b = buf(12)
+    assert await cnc.call("cnc_rdprgnumo8", b) == 0
+    assert list(struct.unpack_from("<ii", b.raw, 4)) == [pn.running, pn.main]
+    b = buf(40)
+    assert await cnc.call("cnc_exeprgname", b) == 0
+    assert (b.raw[:36].rstrip(b"\0"), struct.unpack_from("<i", b.raw, 36)[0]) == (b"O1234", 1234)
+    b = buf(8)
+    assert await cnc.call("cnc_rdseqnum", b) == 0
+    assert struct.unpack_from("<i", b.raw, 4)[0] == cnc.machine.motion.sequence == 56
+    for fn, want in (
+        ("cnc_actf", await cnc.packed.read_feed()),
+        ("cnc_acts", await cnc.packed.read_spindle_speed()),
+    ):
+        b = buf(8)
+        assert await cnc.call(fn, b) == 0
+        assert struct.unpack_from("<i", b.raw, 4)[0] == want
+    assert want == 3000
+
+
+async def test_cnc_id_timers_and_loads(cnc: Cnc) -> None:
+    b = buf(16)
+    assert await cnc.call("cnc_rdcncid", b) == 0
+    ids = struct.unpack("<4I", b.raw)
+    assert any(ids)
+    assert await cnc.call("cnc_rdcncid", b) == 0 and struct.unpack("<4I", b.raw) == ids
+    for kind in range(5):
+        b = buf(8)
+        assert await cnc.call("cnc_rdtimer", s16(kind), b) == 0
+        assert struct.unpack("<ii", b.raw) == (0, 0)  # the machine keeps no timer
+    for spindle in (-1, 1):
+        b = buf(4 + 2 * 8)
+        assert await cnc.call("cnc_rdspload", s16(spindle), b) == 0
+        assert struct.unpack_from("<hh", b.raw) == (spindle, 0)
+    num = s16(8)
+    b = buf(12 * 8)
+    assert await cnc.call("cnc_rdsvmeter", ctypes.byref(num), b) == 0
+    assert num.value == len(cnc.machine.axes)
+    names = [b.raw[12 * i + 8 : 12 * i + 9].decode() for i in range(num.value)]
+    assert names == cnc.machine.axes
+    assert [struct.unpack_from("<i", b.raw, 12 * i)[0] for i in range(num.value)] == [0, 0, 0]
+
+
+# --------------------------------------------------------------------------------------------
+# Positions
+
+
+_KINDS = (("cnc_absolute", "absolute"), ("cnc_machine", "machine"), ("cnc_relative", "relative"))
+
+
+async def test_positions(cnc: Cnc) -> None:
+    cnc.machine.set_motion(
+        absolute=[12345, -2500, 100000],
+        machine=[22345, -12500, 90000],
+        relative=[345, 500, -1000],
+        distance_to_go=[10, 0, -20],
+    )
+    packed = {k: await cnc.packed.read_positions(k) for k in ("absolute", "machine", "relative")}
+    packed["distance"] = await cnc.packed.read_positions("distance")
+    n = len(cnc.machine.axes)
+    for fn, kind in (*_KINDS, ("cnc_distance", "distance")):
+        want = list(packed[kind].increments.values())
+        b = buf(4 + 4 * 32)
+        assert await cnc.call(fn, s16(2), s16(8), b) == 0
+        assert struct.unpack_from("<hhi", b.raw)[1:] == (2, want[1])
+        b = buf(4 + 4 * 32)
+        assert await cnc.call(fn, s16(-1), s16(4 + 4 * cnc.slots), b) == 0
+        assert list(struct.unpack_from(f"<{n}i", b.raw, 4)) == want
+    # cnc_rdposition: four positions of every axis, with the names
+    num = s16(8)
+    b = buf(48 * 8)
+    assert await cnc.call("cnc_rdposition", s16(-1), ctypes.byref(num), b) == 0
+    assert num.value == n
+    for i, name in enumerate(cnc.machine.axes):
+        for k, kind in enumerate(("absolute", "machine", "relative", "distance")):
+            d, dec, _, _, nm, _ = struct.unpack_from("<ihhhcc", b.raw, 48 * i + 12 * k)
+            assert (d, dec, nm.decode()) == (packed[kind].increments[name], 3, name)
+    # cnc_rddynamic2: alarm, programs, feed, spindle and the four positions at once
+    cnc.machine.set_motion(program_running=7, program_main=8, sequence=9, feed=10, spindle_speed=11)
+    length = 28 + 16 * 8
+    b = buf(28 + 16 * 32)
+    assert await cnc.call("cnc_rddynamic2", s16(-1), s16(length), b) == 0
+    head = struct.unpack_from("<hhiiiiii", b.raw)
+    assert head[1:] == (-1, 0, 7, 8, 9, 10, 11)
+    arrays = [list(struct.unpack_from(f"<{n}i", b.raw, 28 + 4 * 8 * k)) for k in range(4)]
+    assert arrays == [
+        list(packed[k].increments.values()) for k in ("absolute", "machine", "relative", "distance")
+    ]
+    b = buf(28 + 16 * 32)
+    assert await cnc.call("cnc_rddynamic2", s16(2), s16(44), b) == 0
+    one = struct.unpack_from("<hhiiiiiiiiii", b.raw)
+    want = [packed[k].increments["Y"] for k in ("absolute", "machine", "relative", "distance")]
+    assert (one[1], *one[8:]) == (2, *want)
+    # an axis the machine has not
+    b = buf(4 + 4 * 32)
+    assert await cnc.call("cnc_absolute", s16(9), s16(8), b) == EW.ATTRIB
+
+
+# --------------------------------------------------------------------------------------------
+# Faults, threads, handles
+
+
+async def test_forced_code_is_the_return_value(cnc: Cnc) -> None:
+    await cnc.packed.sim.inject_fault(FaultKind.ERROR, arg=EW.BUSY, scope=FaultScope.MACHINE)
+    assert (await rdmacro(cnc, 100))[0] == EW.BUSY
+    assert (await rdmacro(cnc, 100))[0] == 0  # the fault applied once
+
+
+@pytest.mark.parametrize("kind", [FaultKind.DELAY, FaultKind.DROP])
+async def test_a_lost_answer_kills_the_handle(kind: FaultKind) -> None:
+    async with serving(default_machine()) as served:
+        async with FocasClient(served.host, served.port, timeout=IO_TIMEOUT) as packed:
+            handle = await connect(served, seconds=1)
+            arg = 4000 if kind is FaultKind.DELAY else 0
+            await packed.sim.inject_fault(kind, arg=arg, scope=FaultScope.MACHINE)
+            b = buf(12)
+            assert await handle.call("cnc_rdmacro", s16(100), s16(10), b) == EW_SOCKET
+            # the handle is dead: every later call fails the same way
+            assert await handle.call("cnc_rdmacro", s16(100), s16(10), b) == EW_SOCKET
+            await handle.free()
+            await wait_until(lambda: not served.listener.native_connections, within=10)
+            # the server is fine: a new handle works
+            again = await connect(served)
+            assert await again.call("cnc_rdmacro", s16(100), s16(10), b) == 0
+            assert await again.free() == 0
+
+
+async def test_two_handles_in_two_threads() -> None:
+    machine = default_machine()
+    for n in range(500, 520):
+        machine.write_macro(n, n * 10)
+    async with serving(machine) as served:
+        handles = [await connect(served), await connect(served)]
+        lib = library()
+        errors: list[str] = []
+
+        def work(handle: int, numbers: range) -> None:
+            for _ in range(5):
+                for n in numbers:
+                    b = buf(12)
+                    rc = lib.cnc_rdmacro(us(handle), s16(n), s16(10), b)
+                    _, _, mcr, dec = struct.unpack("<hhih2x", b.raw)
+                    if (rc, mcr, dec) != (0, n * 10, 0):
+                        errors.append(f"#{n}: {(rc, mcr, dec)}")
+
+        await asyncio.gather(
+            handles[0].run(work, handles[0].number, range(500, 510)),
+            handles[1].run(work, handles[1].number, range(510, 520)),
+        )
+        assert errors == []
+        for h in handles:
+            assert await h.free() == 0
+        await wait_until(lambda: not served.listener.native_connections)
+
+
+async def test_a_handle_opened_and_freed_100_times_leaves_no_connection() -> None:
+    async with serving(default_machine()) as served:
+        lib = library()
+
+        def cycle() -> list[int]:
+            codes = []
+            for _ in range(100):
+                handle = us()
+                codes.append(
+                    lib.cnc_allclibhndl3(
+                        b"127.0.0.1", us(served.port), i32(HANDLE_TIMEOUT), ctypes.byref(handle)
+                    )
+                )
+                codes.append(lib.cnc_freelibhndl(handle))
+            return codes
+
+        async with asyncio.timeout(120):
+            codes = await asyncio.to_thread(cycle)
+        assert codes == [0] * 200
+        await wait_until(lambda: not served.listener.native_connections)
+        assert served.listener.native_accepted == 200
