@@ -70,13 +70,25 @@ from focas_net.native.codec import (
     AlarmMessage,
     AlarmMessageRequest,
     AlarmMessages,
+    AlarmStatus,
+    AxisCount,
     AxisCountRequest,
+    AxisDisplay,
+    AxisDisplayRequest,
+    AxisDisplays,
     AxisName,
     AxisNameRequest,
+    AxisNames,
+    AxisUnit,
+    AxisUnitRequest,
+    AxisUnits,
+    CncId,
     CommandSet,
     Device,
     DiagType,
+    ExecutingProgram,
     FrameType,
+    HdckStatus,
     ItemRecord,
     MacroDoubleReadRequest,
     MacroDoubleWriteRequest,
@@ -91,7 +103,10 @@ from focas_net.native.codec import (
     NativePositionRequest,
     NativeProgramNumbers,
     NativeSysInfo,
+    ParamInfo,
+    ParamInfo3,
     ParamInfo3Request,
+    ParamInfoEntry,
     ParamInfoRequest,
     ParamType,
     ParamWrite3Request,
@@ -100,10 +115,19 @@ from focas_net.native.codec import (
     PmcDataType,
     PmcReadRequest,
     PmcWriteRequest,
+    PositionAxisName,
+    PositionAxisNames,
     RequestBlock,
     ScaledItemRecord,
+    ScaledNumber,
+    ScaledValues,
+    SequenceNumber,
+    ServoMeterRequest,
+    SpindleLoadRequest,
     StatInfo,
     TimerRequest,
+    TimerValue,
+    TmModeStatus,
     binary_to_decimal,
     build_open_answer,
     decode_request_body,
@@ -173,11 +197,7 @@ _pack_double = _DOUBLE.pack
 _ITEM_HEAD_PACK: Final = struct.Struct(">ihh").pack
 _I32_PACK: Final = struct.Struct(">i").pack
 _I32_ZERO: Final = bytes(4)
-_TWO_I32: Final = struct.Struct(">ii")
 _FOUR_U32: Final = struct.Struct(">4I")
-_AXIS_COUNT: Final = struct.Struct(">H")
-_PARAM_INFO_16I: Final = struct.Struct(">iiii")
-_PARAM_INFO_30I: Final = struct.Struct(">iiiHH12s")
 
 
 def command_set_of(machine: Machine) -> CommandSet:
@@ -509,15 +529,15 @@ class NativeAdapter:
         return StatInfo.decode(self._status)
 
     def _read_hdck(self, block: RequestBlock, room: int) -> bytes:
-        return struct.pack(">h", self.machine.status().hdck)
+        return HdckStatus(self.machine.status().hdck).encode()
 
     def _read_tmmode(self, block: RequestBlock, room: int) -> bytes:
-        return struct.pack(">h", self.machine.status().tmmode)
+        return TmModeStatus(self.machine.status().tmmode).encode()
 
     def _read_cnc_id(self, block: RequestBlock, room: int) -> bytes:
         """The CNC ID: four words of the SHA-256 of the machine's name (stable per name)."""
         digest = hashlib.sha256(self.machine.name.encode("utf-8")).digest()
-        return _FOUR_U32.pack(*struct.unpack(">4I", digest[:16]))
+        return CncId(*_FOUR_U32.unpack(digest[:16])).encode()
 
     def _read_timer(self, block: RequestBlock, room: int) -> bytes:
         """Timers 0 power-on, 1 operating, 2 cutting, 3 cycle, 4 free: the machine keeps no
@@ -525,7 +545,7 @@ class NativeAdapter:
         req = TimerRequest.from_block(block)
         if not 0 <= req.type <= 4:
             raise _Refused(EW.NUMBER)
-        return _TWO_I32.pack(0, 0)
+        return TimerValue(0, 0).encode()
 
     # -- motion figures ------------------------------------------------------------------
 
@@ -534,13 +554,13 @@ class NativeAdapter:
         return NativeProgramNumbers(m.program_running, m.program_main).encode()
 
     def _read_sequence(self, block: RequestBlock, room: int) -> bytes:
-        return _I32_PACK(self.machine.motion.sequence)
+        return SequenceNumber(self.machine.motion.sequence).encode()
 
     def _read_executing_program(self, block: RequestBlock, room: int) -> bytes:
         """The running program: its O number and its name ``O<number>`` (four digits at
         least)."""
         number = self.machine.motion.program_running
-        return struct.pack(">i36s", number, f"O{number:04d}".encode("ascii"))
+        return ExecutingProgram(number, f"O{number:04d}".encode("ascii")).encode()
 
     def _read_feed(self, block: RequestBlock, room: int) -> bytes:
         return _pack_scaled(self.machine.motion.feed, 10, 0)
@@ -567,43 +587,48 @@ class NativeAdapter:
         """0x89: 4 bytes per axis (argument 0) or 16 (-1: head, absolute, machine and
         relative names)."""
         req = AxisNameRequest.from_block(block)
-        names = [n.encode() for n in self._axis_names]
+        names = self._axis_names
         if req.kind == -1:
-            names = [bytes(4) + n * 3 for n in names]
-        data = b"".join(names)
+            data = PositionAxisNames(tuple(PositionAxisName.of(n, n, n) for n in names)).encode()
+        else:
+            data = AxisNames(tuple(names)).encode()
         _need_room(len(data), room)
         return data
 
     def _read_axis_units(self, block: RequestBlock, room: int) -> bytes:
         """0x88: per axis, the unit of the positions and of the machine position (0, mm)."""
-        _need_room(4 * len(self._axis_names), room)
-        return bytes(4 * len(self._axis_names))
+        AxisUnitRequest.from_block(block)
+        _need_room(AxisUnit.SIZE * len(self._axis_names), room)
+        return AxisUnits((AxisUnit(0, 0),) * len(self._axis_names)).encode()
 
     def _read_axis_count(self, block: RequestBlock, room: int) -> bytes:
         """0xA4: the axes (0), spindles (1) or servo axes (2) of the path."""
         req = AxisCountRequest.from_block(block)
         if req.kind == 1:
-            return _AXIS_COUNT.pack(SPINDLES)
+            return AxisCount(SPINDLES).encode()
         if req.kind in (0, 2):
-            return _AXIS_COUNT.pack(len(self.machine.axes))
+            return AxisCount(len(self.machine.axes)).encode()
         raise _Refused(EW.ATTRIB)
 
     def _read_axis_display(self, block: RequestBlock, room: int) -> bytes:
         """0xA3: every position of every axis shown."""
-        _need_room(4 * len(self._axis_names), room)
-        return struct.pack(">3xB", _DISPLAY_FLAGS) * len(self._axis_names)
+        AxisDisplayRequest.from_block(block)
+        _need_room(AxisDisplay.SIZE * len(self._axis_names), room)
+        shown = AxisDisplay(bytes(3), _DISPLAY_FLAGS)
+        return AxisDisplays((shown,) * len(self._axis_names)).encode()
 
     def _read_spindle_load(self, block: RequestBlock, room: int) -> bytes:
         """0x40: the load of each spindle in percent; the machine models none, so 0."""
-        spindle = block.args[1]
+        spindle = SpindleLoadRequest.from_block(block).spindle
         if spindle != -1 and not 1 <= spindle <= SPINDLES:
             raise _Refused(EW.NUMBER)
-        return _pack_scaled(0, 10, 0) * SPINDLES
+        return ScaledValues((ScaledNumber(0, 0),) * SPINDLES).encode()
 
     def _read_servo_meter(self, block: RequestBlock, room: int) -> bytes:
         """0x56: the servo load of each axis in percent; the machine models none, so 0."""
+        ServoMeterRequest.from_block(block)
         _need_room(SCALED_SIZE * len(self._axis_names), room)
-        return _pack_scaled(0, 10, 0) * len(self._axis_names)
+        return ScaledValues((ScaledNumber(0, 0),) * len(self._axis_names)).encode()
 
     # -- macro variables -----------------------------------------------------------------
 
@@ -775,10 +800,9 @@ class NativeAdapter:
         (type in bits 0-1; bit 8, the axis bit, is left 0 as ``cnc_wrparam`` needs)."""
         req = ParamInfoRequest.from_block(block)
         prev_no, next_no, items = self._info_items(req.first, req.count)
-        _need_room(8 + 8 * len(items), room)
-        parts = [_TWO_I32.pack(prev_no, next_no)]
-        parts.extend(_TWO_I32.pack(i.number, native_param_type(i) & 3) for i in items)
-        return b"".join(parts)
+        _need_room(8 + ParamInfoEntry.SIZE * len(items), room)
+        entries = tuple(ParamInfoEntry(i.number, native_param_type(i) & 3) for i in items)
+        return ParamInfo(prev_no, next_no, entries).encode()
 
     def _read_param_info_30i(self, block: RequestBlock, room: int) -> bytes:
         """0xA0: 28 bytes of the parameter ``first``: its type (0..4) and 2 for an axis
@@ -787,9 +811,9 @@ class NativeAdapter:
         prev_no, next_no, items = self._info_items(req.first, 1)
         item = items[0]
         axis_kind = 2 if item.axis else 0
-        return _PARAM_INFO_30I.pack(
-            prev_no, next_no, item.number, native_param_type(item), axis_kind, bytes(12)
-        )
+        return ParamInfo3(
+            prev_no, next_no, item.number, native_param_type(item), axis_kind
+        ).encode()
 
     def _write_items(self, number: int, axis: int, ptype: int, values: list[int]) -> None:
         """Write parameter ``number`` (``axis`` 0, k or -1 for every axis, ``values`` one per
@@ -879,7 +903,7 @@ class NativeAdapter:
         bits = 0
         for a in self.machine.active_alarms():
             bits |= 1 << a.alm_type
-        return _I32_PACK(bits - (1 << 32) if bits & 0x8000_0000 else bits)
+        return AlarmStatus(bits - (1 << 32) if bits & 0x8000_0000 else bits).encode()
 
     def _read_alarms(self, block: RequestBlock, room: int) -> bytes:
         req = AlarmMessageRequest.from_block(block)
