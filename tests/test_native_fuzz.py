@@ -592,8 +592,8 @@ class Expected:
     violation: bool
     closed: bool
     tail: bytes
-    #: Bytes follow the violating frame or the close request: the server closes with them
-    #: unread, so the peer may see a reset and lose answers not yet read.
+    #: Bytes follow the violating frame or the close request: the server may close with some
+    #: of them unread, and the peer may then see a reset and lose answers not yet read.
     lossy: bool = False
 
 
@@ -721,9 +721,9 @@ async def stream_property(native: Native, stream: bytes, cuts: list[int]) -> Non
                     assert got_kind == DATA_ANSWER
                     changed |= wrote(content, check_data_answer(version, content, body))
         except (asyncio.IncompleteReadError, ConnectionError):
-            # A violation closes the connection at once (answers to the frames that came in
-            # the same read as the violating one go with it), and a close with bytes after it
-            # may reach the peer as a reset.
+            # The server answers every frame before a violation or a close request, then
+            # closes; bytes it has not read by then make the close a reset, which may cost
+            # this end answers it has not read yet.
             assert expected.lossy, f"closed after {got} of {len(expected.answers)} answers"
         if expected.closed:
             assert await wire.closed_by_peer()
@@ -780,3 +780,32 @@ def test_the_oracle_reads_the_documented_cases() -> None:
     assert expect(opened + tail + completion(tail), 3).answers[-1] == (DATA, [])
     many = frame(DATA, request_body([Block(1, 1, 0x19)] * 91))
     assert expect(opened + many, 2).violation and not expect(opened + many, 3).violation
+
+
+# -- frames before a violation in the same read --------------------------------------------
+
+
+async def test_frames_before_a_violation_in_one_write_are_answered(
+    native: Native, errors: pytest.LogCaptureFixture
+) -> None:
+    status = frame(DATA, request_body([Block(1, 1, NativeCommand.STATINFO)]))
+    violations = native.violations
+    async with await native.connect() as wire:
+        wire.send(frame(OPEN, b"\x00\x02") + status + b"\xa0\xa0\x00\x00")
+        kinds = [(await wire.recv())[0] for _ in range(2)]
+        assert kinds == [OPEN_ANSWER, DATA_ANSWER]
+        assert await wire.closed_by_peer()
+    assert native.violations == violations + 1
+
+
+async def test_nothing_after_a_close_request_is_read(
+    native: Native, errors: pytest.LogCaptureFixture
+) -> None:
+    violations = native.violations
+    async with await native.connect() as wire:
+        oversize = frame(DATA)[:8] + struct.pack(">H", DEFAULT_MAX_BODY + 1)
+        wire.send(frame(OPEN, b"\x00\x02") + frame(CLOSE) + oversize)
+        kinds = [(await wire.recv())[0] for _ in range(2)]
+        assert kinds == [OPEN_ANSWER, CLOSE_ANSWER]
+        assert await wire.closed_by_peer()
+    assert native.violations == violations
