@@ -692,15 +692,14 @@ streams = st.tuples(
 
 async def stream_property(native: Native, stream: bytes, cuts: list[int]) -> None:
     machine = native.machine
+    if not stream.startswith(MAGIC):
+        stream = MAGIC + stream  # a native connection (any other start is a packed one)
     expected = expect(stream, native.version)
     if expected.tail:
         stream += completion(expected.tail)
         expected = expect(stream, native.version)
     assert not expected.tail
     violations = native.violations
-    if not stream.startswith(MAGIC):
-        stream = MAGIC + stream
-        expected = expect(stream, native.version)
     before = machine.state_digest()
     async with await native.connect() as wire:
         changed = False
