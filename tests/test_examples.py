@@ -3,15 +3,17 @@
 from __future__ import annotations
 
 import asyncio
+import os
 import re
 import sys
+from decimal import Decimal
 from pathlib import Path
 
 import pytest
-from support import IO_TIMEOUT, Served, serving
+from support import IO_TIMEOUT, Served, serving, wait_until
 
 from focas_net.server import FocasServer
-from focas_net.sim import default_machine
+from focas_net.sim import Machine, default_machine, load_machine
 
 EXAMPLES = Path(__file__).resolve().parent.parent / "examples"
 #: Upper bound of one example run (they all finish by themselves well before).
@@ -49,6 +51,7 @@ def test_every_example_is_tested() -> None:
         "alarm_watch.py",
         "fleet_poll.py",
         "versamax_config.py",
+        "fwlib_client.py",
     }
     assert {p.name for p in EXAMPLES.glob("*.py")} == tested
 
@@ -220,3 +223,117 @@ async def test_examples_document_their_options(name: str) -> None:
     code, out, _ = await run_example(name, "--help")
     assert code == 0
     assert "--host" in out and "--port" in out
+
+
+# -- fwlib_client.py: FANUC's own library, when it is there ----------------------------------
+
+FWLIB = os.environ.get("FOCAS_NET_FWLIB")
+needs_fwlib = pytest.mark.skipif(
+    not FWLIB,
+    reason="set FOCAS_NET_FWLIB to the path of FANUC's libfwlib32 (e.g. libfwlib32.so.1) "
+    "to run examples/fwlib_client.py against the simulator",
+)
+MACHINE_16I = Path(__file__).with_name("data") / "fwlib_16i_machine.toml"
+
+
+def fwlib_expected(machine: Machine) -> list[str]:
+    """What ``fwlib_client.py --macro 500 --pmc D0:4`` prints for ``machine``, from the
+    machine's own state (the handle number aside)."""
+    i, st = machine.identity(), machine.status()
+    macro = machine.read_macro(500)
+    alarm_bits = 0
+    for a in machine.active_alarms():
+        alarm_bits |= 1 << a.alm_type
+    m = machine.motion
+    lines = [
+        f"cnc: type {i.cnc_type.strip()}{i.mt_type.strip()} series {i.series} version "
+        f"{i.version}, {len(machine.axes)} axes",
+        f"status: aut={st.aut} run={st.run} motion={st.motion} mstb={st.mstb} "
+        f"emergency={st.emergency} alarm={st.alarm} edit={st.edit}",
+        f"macro #500: {'<vacant>' if macro is None else macro}",
+        f"pmc D0..D3: {machine.read_pmc('D', 0, 4).hex(' ')}",
+        f"dynamic: alarm={alarm_bits} program=O{m.program_running} main=O{m.program_main} "
+        f"sequence=N{m.sequence} feed={m.feed} spindle={m.spindle_speed}",
+    ]
+    for kind, name in (
+        ("absolute", "absolute"),
+        ("machine", "machine"),
+        ("relative", "relative"),
+        ("distance_to_go", "distance"),
+    ):
+        values = " ".join(str(v) for _, v in machine.positions(kind))
+        lines.append(f"{name}: {values}")
+    return lines
+
+
+def busy(machine: Machine) -> None:
+    """Give every figure the example prints a value that is not its default."""
+    machine.write_macro(500, Decimal("-12.345"))
+    machine.write_pmc("D", 0, bytes([0x01, 0x80, 0xFE, 0x7F]))
+    machine.set_run(3, 1)
+    machine.raise_alarm(0, 3, 100, "PARAMETER WRITE ENABLE")
+    machine.set_motion(
+        absolute=[1000, -2000, 30000],
+        machine=[1100, -2100, 31000],
+        relative=[-5, 6, 7],
+        distance_to_go=[10, 0, -10],
+        feed=1500,
+        spindle_speed=2400,
+        program_running=1234,
+        program_main=1000,
+        sequence=42,
+    )
+
+
+@needs_fwlib
+@pytest.mark.parametrize("control", ["0i-F", "16i"])
+async def test_fwlib_client(control: str) -> None:
+    machine = default_machine() if control == "0i-F" else load_machine(MACHINE_16I)
+    busy(machine)
+    assert FWLIB is not None
+    async with serving(machine) as served:
+        code, out, err = await run_example(
+            "fwlib_client.py", "--library", FWLIB, *port_args(served), "--macro", "500",
+            "--pmc", "D0:4",
+        )  # fmt: skip
+        lines = out.splitlines()
+        assert (code, err) == (0, ""), out
+        assert re.fullmatch(rf"handle \d+ to {re.escape(served.host)}:{served.port}", lines[0])
+        assert lines[1:] == fwlib_expected(machine)
+        # cnc_freelibhndl closed both of the library's connections
+        await wait_until(lambda: not served.listener.connections)
+
+
+@needs_fwlib
+async def test_fwlib_client_exits_with_the_ew_code() -> None:
+    async with serving() as served:
+        args = port_args(served)
+    assert FWLIB is not None
+    code, out, err = await run_example(
+        "fwlib_client.py", "--library", FWLIB, *args, "--timeout", "1"
+    )
+    assert out == ""
+    assert err == "fwlib_client: cnc_allclibhndl3 returned EW -16\n"
+    assert code == 256 - 16  # EW_SOCKET, as an exit status
+
+
+async def test_fwlib_client_needs_the_library(monkeypatch: pytest.MonkeyPatch) -> None:
+    monkeypatch.delenv("FOCAS_NET_FWLIB", raising=False)
+    code, out, err = await run_example("fwlib_client.py", "--port", "1")
+    assert (code, out) == (2, "")
+    assert "name FANUC's library with --library or FOCAS_NET_FWLIB" in err
+
+
+async def test_fwlib_client_names_a_library_it_cannot_load(tmp_path: Path) -> None:
+    missing = tmp_path / "libfwlib32.so.1"
+    code, out, err = await run_example("fwlib_client.py", "--library", str(missing))
+    assert (code, out) == (1, "")
+    assert err.startswith(f"fwlib_client: cannot load {str(missing)!r}")
+
+
+async def test_fwlib_client_names_a_bad_pmc_range(tmp_path: Path) -> None:
+    code, out, err = await run_example(
+        "fwlib_client.py", "--library", str(tmp_path / "x.so"), "--pmc", "Q7"
+    )
+    assert (code, out) == (2, "")
+    assert "--pmc 'Q7': area 'Q' is not one of" in err

@@ -415,16 +415,13 @@ raw_streams = st.one_of(
 async def stream_property(
     served: Served, errors: ErrorLog, stats: Counter[str], stream: bytes, cuts: list[int]
 ) -> None:
-    # A0 A0 A0 A0 first hands the connection to the native protocol (a shared port): no packed
-    # framing violation then
+    # a stream opening with A0 A0 A0 A0 is a native connection (tests/test_native_fuzz.py)
     assume(not stream.startswith(b"\xa0\xa0\xa0\xa0"))
     frames, rest_at, violated = split_frames(stream)
     if not violated:
         stream += completion(stream[rest_at:])
         frames, rest_at, violated = split_frames(stream)
     assume(not arms_fault(frames))
-    # a stream opening with A0 A0 A0 A0 is handed to the native protocol on a shared port
-    assume(not stream.startswith(b"\xa0\xa0\xa0\xa0"))
     marker = (MARKER_COMMAND, 0xFEED)
     if violated:
         # nothing after the bad length prefix: bytes the server never reads would make its

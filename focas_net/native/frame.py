@@ -138,8 +138,10 @@ class NativeFrameDecoder:
     ``feed(chunk)`` returns every frame completed by ``chunk`` (possibly none) and keeps the
     trailing partial frame. The magic is checked byte by byte as it arrives, and the length word
     against ``max_body`` as soon as the 10-byte header is in, before any of the body is
-    buffered. A violation raises :class:`NativeFrameError`; the decoder is then poisoned and
-    every further ``feed`` raises the same error (the connection must be closed).
+    buffered. A violation raises :class:`NativeFrameError`, whose ``frames`` are the frames the
+    same ``feed`` completed before it (to be answered before closing, as the packed decoder
+    does); the decoder is then poisoned and every further ``feed`` raises the same error (the
+    connection must be closed).
     """
 
     __slots__ = ("_buf", "_error", "max_body")
@@ -156,10 +158,12 @@ class NativeFrameDecoder:
         """Bytes held for a frame not yet complete."""
         return len(self._buf)
 
-    def _fail(self, message: str) -> NativeFrameError:
+    def _fail(self, message: str, frames: list[NativeFrame] | None = None) -> NativeFrameError:
+        """Poison the decoder; the error raised carries the ``frames`` this ``feed`` completed
+        before the violation (a later ``feed`` raises the error alone)."""
         self._buf.clear()
         self._error = NativeFrameError(message)
-        return self._error
+        return NativeFrameError(message, frames)
 
     def feed(self, data: bytes | bytearray | memoryview) -> list[NativeFrame]:
         """Add ``data`` and return every frame now complete, in order."""
@@ -195,13 +199,13 @@ class NativeFrameDecoder:
             if avail < NATIVE_HEADER_SIZE:
                 head = bytes(view[pos : pos + min(avail, 4)])
                 if not MAGIC.startswith(head):
-                    raise self._fail("frame does not start with A0 A0 A0 A0")
+                    raise self._fail("frame does not start with A0 A0 A0 A0", frames)
                 break
             magic, version, frame_type, length = _unpack_header_from(view, pos)
             if magic != _MAGIC_U32:
-                raise self._fail("frame does not start with A0 A0 A0 A0")
+                raise self._fail("frame does not start with A0 A0 A0 A0", frames)
             if length > max_body:
-                raise self._fail(f"frame body length {length} exceeds {max_body}")
+                raise self._fail(f"frame body length {length} exceeds {max_body}", frames)
             end = pos + NATIVE_HEADER_SIZE + length
             if end > size:
                 break

@@ -138,7 +138,10 @@ class NativeConnection(BaseConnection[NativeFrame]):
         try:
             frames = self._decoder.feed(chunk)
         except NativeFrameError as exc:
-            self._violation(str(exc))
+            # The frames before the violation are answered first; a close request among them
+            # ends the connection before the violating bytes are read.
+            if not exc.frames or self._run(exc.frames) or not self._closing:
+                self._violation(str(exc))
             return False
         if not frames:
             return True
@@ -229,4 +232,4 @@ class NativeConnection(BaseConnection[NativeFrame]):
         self._cancel_delayed()
         transport = self._transport
         if transport is not None:
-            transport.abort()
+            transport.close()  # what was written already is still sent
