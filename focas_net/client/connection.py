@@ -45,7 +45,7 @@ from focas_net.errors import (
     ProtocolError,
 )
 
-from ..protocol import DEFAULT_MAX_FRAME, HEADER, Frame, FrameDecoder
+from ..protocol import DEFAULT_MAX_FRAME, HEADER, FrameDecoder, RawFrame
 
 __all__ = ["Connection", "NotSentError", "open_connection"]
 
@@ -177,7 +177,7 @@ class Connection(asyncio.Protocol):
     def data_received(self, data: bytes | bytearray | memoryview) -> None:
         self._answered = True
         try:
-            frames = self._decoder.feed(data)
+            frames = self._decoder.feed_raw(data)
         except FrameError as exc:
             self._deliver(exc.frames)  # answers that arrived whole before the violation
             violation = _violation_error(self.peer, exc, bytes(data[:16]))
@@ -187,7 +187,7 @@ class Connection(asyncio.Protocol):
             return
         self._deliver(frames)
 
-    def _deliver(self, frames: list[Frame]) -> None:
+    def _deliver(self, frames: list[RawFrame]) -> None:
         pending = self._pending
         for command, request_id, payload in frames:
             entry = pending.pop(request_id, _MISSING)

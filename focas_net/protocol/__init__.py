@@ -51,7 +51,15 @@ from .codecs import (
 )
 from .commands import FAULT_COMMANDS, Command
 from .faults import ArmedFault, FaultList, FaultsCleared, FaultsRequest
-from .frame import DEFAULT_MAX_FRAME, HEADER, HEADER_SIZE, Frame, FrameDecoder, encode_frame
+from .frame import (
+    DEFAULT_MAX_FRAME,
+    HEADER,
+    HEADER_SIZE,
+    Frame,
+    FrameDecoder,
+    RawFrame,
+    encode_frame,
+)
 from .values import (
     AlarmState,
     AutMode,
@@ -126,6 +134,7 @@ __all__ = [
     "PositionRequest",
     "ProgramNumbers",
     "RaiseAlarm",
+    "RawFrame",
     "RunState",
     "SetPanel",
     "StatusInfo",

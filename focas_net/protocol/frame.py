@@ -19,6 +19,7 @@ __all__ = [
     "HEADER_SIZE",
     "Frame",
     "FrameDecoder",
+    "RawFrame",
     "encode_frame",
 ]
 
@@ -39,6 +40,12 @@ class Frame(NamedTuple):
     command: int
     request_id: int
     payload: bytes
+
+
+#: A decoded frame as a plain tuple ``(command, request_id, payload)``: what
+#: :meth:`FrameDecoder.feed_raw` returns. The same fields as :class:`Frame`, which costs a
+#: NamedTuple construction per frame; the server's and the client's data paths use this.
+RawFrame = tuple[int, int, bytes]
 
 
 def encode_frame(command: int, request_id: int, payload: bytes = b"") -> bytes:
@@ -73,14 +80,24 @@ class FrameDecoder:
         """Bytes held for a frame not yet complete."""
         return len(self._buf)
 
-    def _violation(self, length: int, frames: list[Frame]) -> FrameError:
+    def _violation(self, length: int, frames: list[RawFrame]) -> FrameError:
         self._buf.clear()
         message = f"frame length {length} outside 4..{self.max_frame}; closing the connection"
         self._error = FrameError(message)
         return FrameError(message, frames)
 
     def feed(self, data: bytes | bytearray | memoryview) -> list[Frame]:
-        """Add ``data`` and return every frame now complete, in order."""
+        """Add ``data`` and return every frame now complete, in order (see :meth:`feed_raw`;
+        the frames of a :class:`FrameError` are :class:`Frame` too)."""
+        try:
+            raw = self.feed_raw(data)
+        except FrameError as exc:
+            exc.frames = [_new_frame(Frame, f) for f in exc.frames]
+            raise
+        return [_new_frame(Frame, f) for f in raw]
+
+    def feed_raw(self, data: bytes | bytearray | memoryview) -> list[RawFrame]:
+        """Add ``data`` and return every frame now complete, in order, as plain tuples."""
         if self._error is not None:
             raise FrameError(str(self._error))
         buf = self._buf
@@ -88,7 +105,7 @@ class FrameDecoder:
             if type(data) is bytes:
                 # The usual case: whole frames in a fresh chunk; a slice of bytes is the one
                 # copy of each payload.
-                frames, pos, bad = self._frames(data, data)
+                frames, pos, bad = self._frames(data, None)
                 if bad >= 0:
                     raise self._violation(bad, frames)
                 if pos < len(data):
@@ -108,11 +125,12 @@ class FrameDecoder:
         return frames
 
     def _frames(
-        self, data: bytes | bytearray, view: bytes | memoryview
-    ) -> tuple[list[Frame], int, int]:
-        """The whole frames at the start of ``data`` (``view`` slices it), where they end, and
-        the length prefix that violates the bounds (-1: none)."""
-        frames: list[Frame] = []
+        self, data: bytes | bytearray, view: memoryview | None
+    ) -> tuple[list[RawFrame], int, int]:
+        """The whole frames at the start of ``data``, where they end, and the length prefix
+        that violates the bounds (-1: none). Payloads are slices of ``data`` when it is
+        ``bytes`` (``view`` None), else copies out of ``view``, a view of it."""
+        frames: list[RawFrame] = []
         append = frames.append
         size = len(data)
         pos = 0
@@ -124,7 +142,10 @@ class FrameDecoder:
             end = pos + 4 + length
             if end > size:
                 return frames, pos, -1
-            append(_new_frame(Frame, (command, request_id, bytes(view[pos + 8 : end]))))
+            if view is None:
+                append((command, request_id, data[pos + 8 : end]))  # type: ignore[arg-type]
+            else:
+                append((command, request_id, bytes(view[pos + 8 : end])))
             pos = end
         if size - pos >= 4:  # a length prefix alone is checked as soon as it is complete
             (length,) = _unpack_length_from(data, pos)

@@ -20,8 +20,8 @@ from focas_net.protocol import (
     HEADER,
     Command,
     FaultsCleared,
-    Frame,
     FrameDecoder,
+    RawFrame,
     encode_ew,
 )
 
@@ -50,6 +50,8 @@ _UNLOCK: Final = int(Command.WRUNLOCKPARAM)
 _EW_OK: Final = encode_ew(EW.OK)
 _EW_FUNC: Final = encode_ew(EW.FUNC)
 _DEBUG: Final = logging.DEBUG
+#: The commands the connection answers itself, from its fault queues.
+_FAULT_COMMANDS: Final = frozenset((_INJECT_FAULT, _LIST_FAULTS, _CLEAR_FAULTS))
 _HEXDUMP_LIMIT: Final = 256
 _DELAY_KIND: Final = FaultKind.DELAY
 _ERROR_KIND: Final = FaultKind.ERROR
@@ -61,7 +63,7 @@ def _hexdump(data: bytes | bytearray | memoryview) -> str:
     return head + (f" ... ({len(data)} bytes)" if len(data) > _HEXDUMP_LIMIT else "")
 
 
-def _dump_frames(frames: list[Frame]) -> str:
+def _dump_frames(frames: list[RawFrame]) -> str:
     """Decoded frames for a DEBUG log; the payload of an unlock (the password) is never shown."""
     return "; ".join(
         f"0x{command:04X} #{request_id}: "
@@ -70,7 +72,7 @@ def _dump_frames(frames: list[Frame]) -> str:
     )
 
 
-class PackedConnection(BaseConnection[Frame]):
+class PackedConnection(BaseConnection[RawFrame]):
     """One packed-protocol connection to ``machine``.
 
     ``faults`` is the machine-wide fault queue, ``limits`` the server's bounds, ``on_close``
@@ -103,7 +105,7 @@ class PackedConnection(BaseConnection[Frame]):
         if backlog is not None:
             held += len(backlog.input)
             if backlog.frames:
-                held += sum(8 + len(f.payload) for f in backlog.frames)
+                held += sum(8 + len(payload) for _, _, payload in backlog.frames)
         return held
 
     # -- asyncio.Protocol ------------------------------------------------------------------
@@ -119,7 +121,7 @@ class PackedConnection(BaseConnection[Frame]):
         """Decode ``chunk`` and answer its frames; False when a framing violation closed the
         connection or output backpressure stopped the answering part way."""
         try:
-            frames = self._decoder.feed(chunk)
+            frames = self._decoder.feed_raw(chunk)
         except FrameError as exc:
             if exc.frames:
                 self._run(exc.frames)
@@ -132,18 +134,55 @@ class PackedConnection(BaseConnection[Frame]):
         self.idle_sweeps = 0
         return self._run(frames)
 
-    def _run(self, frames: list[Frame]) -> bool:
+    def _run(self, frames: list[RawFrame]) -> bool:
         """Answer ``frames`` in order; False when output backpressure stopped it part way (the
-        rest is kept in the backlog) or the connection was closed."""
+        rest is kept in the backlog) or the connection was closed.
+
+        The usual case, no fault armed, is this one loop: each request straight to the
+        adapter. A fault command, or a fault armed, hands the rest to :meth:`_run_from`.
+        """
+        if self._shared.armed or self._faults is not None:
+            return self._run_from(frames, 0, [], 0)
+        transport = self._transport
+        assert transport is not None
+        answer_of = self._adapter.answer
+        session = self._session
+        budget = self._limits.write_buffer_high
+        out: list[bytes] = []
+        append = out.append
+        size = 0
+        for index, (command, request_id, payload) in enumerate(frames):
+            if command in _FAULT_COMMANDS:
+                return self._run_from(frames, index, out, size)
+            try:
+                answer = answer_of(session, command, payload)  # type: ignore[arg-type]
+            except Exception:
+                answer = self._failed(command)
+            append(_pack_header(len(answer) + 4, command, request_id))
+            append(answer)
+            size += len(answer)
+            if size >= budget:
+                transport.writelines(out)
+                out = []
+                append = out.append
+                size = 0
+                if self._write_paused:  # the write buffer passed its high-water mark
+                    return self._stop_writing(frames, index + 1, out)
+        if out:
+            transport.writelines(out)
+        return True
+
+    def _run_from(self, frames: list[RawFrame], start: int, out: list[bytes], size: int) -> bool:
+        """:meth:`_run` from ``frames[start]`` on, with ``out`` (``size`` payload bytes)
+        answered and not written yet: fault commands, and faults taken for every answer."""
         transport = self._transport
         assert transport is not None
         adapter = self._adapter
         session = self._session
         shared = self._shared
         budget = self._limits.write_buffer_high
-        out: list[bytes] = []
-        size = 0
-        for index, (command, request_id, payload) in enumerate(frames):
+        for index in range(start, len(frames)):
+            command, request_id, payload = frames[index]
             if command == _INJECT_FAULT:
                 answer = self._inject_fault(payload)
             elif command == _LIST_FAULTS or command == _CLEAR_FAULTS:
@@ -179,7 +218,7 @@ class PackedConnection(BaseConnection[Frame]):
             transport.writelines(out)
         return True
 
-    def _stop_writing(self, frames: list[Frame], index: int, out: list[bytes]) -> bool:
+    def _stop_writing(self, frames: list[RawFrame], index: int, out: list[bytes]) -> bool:
         transport = self._transport
         assert transport is not None
         if out:
