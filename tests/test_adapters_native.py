@@ -414,6 +414,12 @@ def test_bit_and_real_parameters_written_in_either_set() -> None:
     assert _replies(adapter, ParamWrite3Request(inexact).to_block())[0].ew == EW.DATA
     info3 = ParamInfo3.decode(_replies(adapter, ParamInfo3Request(1451).to_block())[0].data)
     assert (info3.type, info3.axis_kind) == (ParamType.REAL, 0)
+    # a refused all-axes real write (the last axis inexact at 1 decimal) changes no axis
+    before = machine.state_digest()
+    reals = (ScaledNumber(1, 0), ScaledNumber(2, 0), ScaledNumber(305, 2))
+    bad = ScaledItemRecord(1420, -1, ParamType.REAL, (*reals, *zeros[:5]))
+    assert _replies(adapter, ParamWrite3Request(bad).to_block())[0].ew == EW.DATA
+    assert machine.state_digest() == before
     # the 16i set: a bit byte is written as 0..255; a real parameter cannot be written
     machine = _kinds_machine("16i")
     adapter = NativeAdapter(machine)

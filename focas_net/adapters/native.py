@@ -153,6 +153,7 @@ from focas_net.sim import (
     ParamKind,
     Session,
 )
+from focas_net.sim.machine import MAX_REAL_DECIMALS
 
 __all__ = [
     "NativeAdapter",
@@ -270,6 +271,23 @@ def _trimmed(mantissa: int, decimals: int) -> tuple[int, int]:
         mantissa //= 10
         decimals -= 1
     return mantissa, decimals
+
+
+def _acceptable(item: DataItem, value: int, decimals: list[int] | None, i: int) -> bool:
+    """Whether the machine takes ``value`` for ``item`` (a real one's mantissa with
+    ``decimals[i]`` decimals, rescaled to the item's own exactly), as to its range."""
+    if decimals is not None and item.kind is ParamKind.REAL:
+        if not 0 <= decimals[i] <= MAX_REAL_DECIMALS:
+            return False
+        shift = item.decimals - decimals[i]
+        if shift >= 0:
+            value *= 10**shift
+        elif value % 10**-shift:
+            return False
+        else:
+            value //= 10**-shift
+    assert item.low is not None and item.high is not None
+    return item.low <= value <= item.high
 
 
 class _Refused(Exception):
@@ -861,9 +879,8 @@ class NativeAdapter:
             # the machine writes one axis at a time: an axis whose value it would refuse is
             # written first, so that a refused write changes no axis
             order = list(range(1, n + 1))
-            if item is not None and item.low is not None and item.high is not None:
-                low, high = item.low, item.high
-                order.sort(key=lambda a: low <= values[a - 1] <= high)
+            if item is not None:
+                order.sort(key=lambda a: _acceptable(item, values[a - 1], decimals, a - 1))
             for a in order:
                 write(a, a - 1)
             return
