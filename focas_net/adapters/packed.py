@@ -1,7 +1,7 @@
 """The packed-protocol adapter: one request payload in, the answer payload out.
 
 :class:`PackedAdapter` answers every command of ``docs/protocol.md`` sections 3-5 and 8 and the
-control commands 0x0E01..0x0E04 and 0x0E10 from a protocol-neutral
+control commands 0x0E01..0x0E04, 0x0E10 and 0x0E11 from a protocol-neutral
 :class:`~focas_net.sim.Machine`. The server adds the frame header (same command, same request
 id). 0x0E05..0x0E07 (the fault queues) are not handled here: faults are about I/O and the
 server answers those commands itself (here they answer EW_FUNC). Pure and
