@@ -11,17 +11,16 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from focas_net.adapters import NativeAdapter, command_set_of, macro_from_double
+from focas_net.adapters import NativeAdapter, PackedAdapter, command_set_of, macro_from_double
 from focas_net.errors import EW
 from focas_net.native import (
     REQUEST_TYPES,
     VACANT,
-    AxisNameRequest,
     CommandSet,
     Device,
     FrameType,
+    ItemHead,
     ItemRecord,
-    ItemValues,
     MacroDoubleWriteRequest,
     MacroReadRequest,
     MacroWriteRequest,
@@ -33,6 +32,7 @@ from focas_net.native import (
     ParamInfo3,
     ParamInfo3Request,
     ParamInfoRequest,
+    ParamRead3Request,
     ParamReadRequest,
     ParamType,
     ParamWrite3Request,
@@ -51,6 +51,7 @@ from focas_net.native import (
     encode_request_body,
 )
 from focas_net.native import NativePmcArea as NativePmcArea
+from focas_net.protocol import COMMANDS, Command, DataRequest, ParamValue
 from focas_net.sim import Machine, MachineFileError, default_machine, machine_from_dict
 
 
@@ -296,18 +297,144 @@ def test_an_unknown_control_class_is_named() -> None:
     assert loaded.control_class == "0i-C"
 
 
-def test_the_option_parameter_and_the_position_display_bits() -> None:
-    adapter = NativeAdapter(Machine("m", control_class="16i"))
-    # 9968, read by the library while connecting: option bit 0 set
-    (reply,) = _replies(adapter, ParamReadRequest(9968, 9968, 0).to_block())
-    (record,) = ItemValues.decode(reply.data, 8).records
-    assert (reply.ew, record.number, record.values[0] & 1) == (0, 9968, 1)
-    # 3115 is answered only within the library's cnc_rdposition frame (with 0x89)
-    alone = ParamReadRequest(3115, 3115, -1).to_block()
-    assert _replies(adapter, alone)[0].ew == EW.NUMBER
-    names = AxisNameRequest(-1).to_block()
-    reply = _replies(adapter, names, alone)[1]
-    assert reply.ew == 0 and ItemValues.decode(reply.data, 8).records[0].values == (0,) * 8
+def _packed_param(machine: Machine, number: int, axis: int) -> tuple[int, int]:
+    """``(ew, value)`` of the packed protocol's cnc_rdparam of the same machine."""
+    raw = PackedAdapter(machine).answer(
+        machine.new_session(), Command.RDPARAM, DataRequest(number, axis).encode()
+    )
+    ew = struct.unpack_from("<h", raw)[0]
+    if ew:
+        return ew, 0
+    value: ParamValue = COMMANDS[Command.RDPARAM].response.decode(raw)
+    return 0, value.bits
+
+
+@pytest.mark.parametrize("control_class", ["16i", "0i-F"])
+def test_the_parameters_the_library_reads_at_connect_are_the_machines(control_class: str) -> None:
+    adapter = NativeAdapter(Machine("m", control_class=control_class))
+    scaled = adapter.command_set is CommandSet.FS30I
+    read = ParamRead3Request if scaled else ParamReadRequest
+    # 9968 (option bits, bit 0 set) and 3115 (display bits of each axis, 0): bit parameters of
+    # every machine, read the same through both protocols
+    for number, axis, want in ((9968, 0, 1), (3115, 2, 0)):
+        (reply,) = _replies(adapter, read(number, number, axis).to_block())
+        head = ItemHead.decode_from(reply.data)
+        first = struct.unpack_from(">i", reply.data, ItemHead.SIZE)[0]
+        assert (reply.ew, head.number, head.type, first) == (0, number, ParamType.BIT, want)
+        assert _packed_param(adapter.machine, number, axis) == (0, want)
+    # 3115 alone, outside cnc_rdposition's frame, is answered like any parameter
+    (reply,) = _replies(adapter, read(3115, 3115, -1).to_block())
+    assert reply.ew == 0 and ItemHead.decode_from(reply.data).axis == -1
+
+
+def test_the_option_bits_are_parameter_9968() -> None:
+    loaded = machine_from_dict(
+        {
+            "machine": {"name": "m", "axes": ["X"]},
+            "parameters": {"9968": {"type": "bit", "value": "00000000"}},
+        }
+    )
+    adapter = NativeAdapter(loaded)
+    assert decode_open_answer(adapter.open_answer(), adapter.version).option_bits == 0
+    assert _packed_param(loaded, 9968, 0) == (0, 0)
+    assert (
+        NativeAdapter(default_machine()).open_answer()
+        == NativeAdapter(default_machine()).open_answer()
+    )
+    assert decode_open_answer(NativeAdapter(default_machine()).open_answer(), 3).option_bits == 1
+
+
+def _kinds_machine(control_class: str) -> Machine:
+    machine = machine_from_dict(
+        {
+            "machine": {"name": "m", "axes": ["X", "Y", "Z"], "control_class": control_class},
+            "panel": {"mode": "MDI", "pwe": True},
+            "parameters": {
+                "1815": {"type": "bit", "axis": True, "value": ["10110000", 1, 0xFF]},
+                "3216": {"type": "byte", "value": -5},
+                "3202": {"type": "word", "value": -300},
+                "6711": {"type": "2-word", "value": 123456789},
+                "1451": {"type": "real", "decimals": 3, "value": 12.345},
+                "1420": {"type": "real", "decimals": 1, "axis": True, "value": [1.5, -2, 3.1]},
+            },
+        }
+    )
+    return machine
+
+
+@pytest.mark.parametrize("control_class", ["16i", "0i-F"])
+def test_parameter_records_carry_the_machines_kind(control_class: str) -> None:
+    adapter = NativeAdapter(_kinds_machine(control_class))
+    scaled = adapter.command_set is CommandSet.FS30I
+    read = ParamRead3Request if scaled else ParamReadRequest
+    slot = 8 if scaled else 4
+
+    def record(number: int, axis: int) -> tuple[int, int, bytes]:
+        (reply,) = _replies(adapter, read(number, number, axis).to_block())
+        assert reply.ew == 0 and len(reply.data) == ItemHead.SIZE + slot * 8
+        head = ItemHead.decode_from(reply.data)
+        assert head.number == number
+        return head.axis, head.type, reply.data[ItemHead.SIZE :]
+
+    # a bit parameter: its byte of bits in the slot's low byte (0xB0 for 10110000)
+    axis, kind, slots = record(1815, -1)
+    assert (axis, kind) == (-1, ParamType.BIT)
+    values = struct.unpack_from(">iii" if not scaled else ">ixxxxixxxxi", slots)
+    assert [v & 0xFF for v in values] == [0xB0, 1, 0xFF]
+    for number, ptype, want in (
+        (3216, ParamType.BYTE, -5),
+        (3202, ParamType.WORD, -300),
+        (6711, ParamType.TWO_WORD, 123456789),
+    ):
+        axis, kind, slots = record(number, 0)
+        assert (axis, kind, struct.unpack_from(">i", slots)[0]) == (0, ptype, want)
+    # a real parameter: REALPRM (mantissa, 10, decimals), two 4-byte slots or one 8-byte slot
+    axis, kind, slots = record(1451, 0)
+    assert (kind, ScaledNumber.decode(slots[:8])) == (ParamType.REAL, ScaledNumber(12345, 3))
+    axis, kind, slots = record(1420, -1)
+    reals = [ScaledNumber.decode(slots[i : i + 8]) for i in (0, 8, 16)]
+    assert reals == [ScaledNumber(15, 1), ScaledNumber(-20, 1), ScaledNumber(31, 1)]
+    empty = ScaledNumber(0, 0).encode() if scaled else bytes(4)  # (0, 10, 0) or a zero i32
+    assert slots[24:] == empty * ((len(slots) - 24) // len(empty))
+
+
+def test_bit_and_real_parameters_written_in_either_set() -> None:
+    machine = _kinds_machine("0i-F")
+    adapter = NativeAdapter(machine)
+    zeros = (ScaledNumber(0, 0),) * 7
+    # a bit parameter: the library sends the signed byte of the bits (-80 for 0xB0)
+    bit = ScaledItemRecord(1815, 2, ParamType.BIT, (ScaledNumber(-80, -1, 0), *zeros))
+    assert _replies(adapter, ParamWrite3Request(bit).to_block())[0].ew == 0
+    assert machine.read_param(1815, 2) == 0xB0
+    # a real parameter: (value, 10, decimals), rescaled to the parameter's decimals
+    real = ScaledItemRecord(1451, 0, ParamType.REAL, (ScaledNumber(-15, 1), *zeros))
+    assert _replies(adapter, ParamWrite3Request(real).to_block())[0].ew == 0
+    assert machine.read_param(1451, 0) == -1500
+    inexact = ScaledItemRecord(1451, 0, ParamType.REAL, (ScaledNumber(12345, 4), *zeros))
+    assert _replies(adapter, ParamWrite3Request(inexact).to_block())[0].ew == EW.DATA
+    info3 = ParamInfo3.decode(_replies(adapter, ParamInfo3Request(1451).to_block())[0].data)
+    assert (info3.type, info3.axis_kind) == (ParamType.REAL, 0)
+    # a refused all-axes real write (the last axis inexact at 1 decimal) changes no axis
+    before = machine.state_digest()
+    reals = (ScaledNumber(1, 0), ScaledNumber(2, 0), ScaledNumber(305, 2))
+    bad = ScaledItemRecord(1420, -1, ParamType.REAL, (*reals, *zeros[:5]))
+    assert _replies(adapter, ParamWrite3Request(bad).to_block())[0].ew == EW.DATA
+    assert machine.state_digest() == before
+    # the 16i set: a bit byte is written as 0..255; a real parameter cannot be written
+    machine = _kinds_machine("16i")
+    adapter = NativeAdapter(machine)
+    record = ItemRecord(1815, -1, ParamType.BIT, (-1, 0x7F, -128, 0, 0, 0, 0, 0))
+    assert _replies(adapter, ParamWriteRequest(record).to_block())[0].ew == 0
+    assert [machine.read_param(1815, a) for a in (1, 2, 3)] == [0xFF, 0x7F, 0x80]
+    info = _replies(adapter, ParamInfoRequest(1451, 1).to_block())[0].data
+    assert struct.unpack(">iiii", info)[2:] == (1451, ParamType.BIT)  # bits 0-1 of REAL
+    before = machine.state_digest()
+    for rec in (
+        ItemRecord(1451, 0, ParamType.BIT, (5,) + (0,) * 7),  # what the library sends
+        ItemRecord.real(1451, 0, (ScaledNumber(1, 0),), 8),
+    ):
+        assert _replies(adapter, ParamWriteRequest(rec).to_block())[0].ew == EW.LENGTH
+    assert machine.state_digest() == before
 
 
 def test_parameter_writes_of_both_sets_reach_the_machine() -> None:

@@ -13,6 +13,7 @@ built-in 0i-F machine (the 30i set, open answer version 3) and a 16i-class machi
 from __future__ import annotations
 
 import asyncio
+import contextlib
 import ctypes
 import os
 import struct
@@ -30,7 +31,7 @@ from support import IO_TIMEOUT, Served, serving, wait_until
 from focas_net.client import FocasClient
 from focas_net.errors import EW, CncError
 from focas_net.protocol import FaultKind, FaultScope
-from focas_net.sim import Machine, default_machine, load_machine
+from focas_net.sim import DataItem, Machine, ParamKind, default_machine, load_machine
 
 LIBRARY = os.environ.get("FOCAS_NET_FWLIB")
 
@@ -50,6 +51,8 @@ HANDLE_TIMEOUT = 3
 
 #: A 16i-class machine file (the 16i command set, open answer version 2).
 MACHINE_16I = Path(__file__).with_name("data") / "fwlib_16i_machine.toml"
+#: The same parameters on a 0i-F (the 30i command set): bit, byte, word, two-word and real.
+MACHINE_30I = Path(__file__).with_name("data") / "fwlib_30i_machine.toml"
 
 
 class _Library:
@@ -161,20 +164,35 @@ class Cnc:
 def machine_for(set_name: str) -> Machine:
     if set_name == "30i":
         return default_machine()
+    if set_name == "30i-file":
+        return load_machine(MACHINE_30I)
     return load_machine(MACHINE_16I)
 
 
-@pytest.fixture(params=["30i", "16i"])
-async def cnc(request: pytest.FixtureRequest) -> AsyncIterator[Cnc]:
-    machine = machine_for(request.param)
+@contextlib.asynccontextmanager
+async def served_cnc(set_name: str) -> AsyncIterator[Cnc]:
+    machine = machine_for(set_name)
     machine.set_panel(0, 1, 0)  # MDI, parameter writes enabled
     async with serving(machine) as served:
         async with FocasClient(served.host, served.port, timeout=IO_TIMEOUT) as packed:
             handle = await connect(served)
             try:
-                yield Cnc(served, packed, handle, request.param)
+                yield Cnc(served, packed, handle, set_name)
             finally:
                 await handle.free()
+
+
+@pytest.fixture(params=["30i", "16i"])
+async def cnc(request: pytest.FixtureRequest) -> AsyncIterator[Cnc]:
+    async with served_cnc(request.param) as served:
+        yield served
+
+
+@pytest.fixture(params=["30i-file", "16i"])
+async def kinds_cnc(request: pytest.FixtureRequest) -> AsyncIterator[Cnc]:
+    """A machine with bit, byte, word, two-word and real parameters, in either set."""
+    async with served_cnc(request.param) as served:
+        yield served
 
 
 # --------------------------------------------------------------------------------------------
@@ -295,13 +313,24 @@ async def _packed_ew(call: Any) -> int:
 # --------------------------------------------------------------------------------------------
 # Parameters and diagnostics
 
-_SIZES = {1: 1, 2: 2, 4: 4}
+_SIZES = {1: 1, 2: 2, 4: 4, 8: 8}
 _FORMATS = {1: "b", 2: "h", 4: "i"}
+
+
+def _value_format(item: DataItem) -> str:
+    """How the library gives one value of ``item`` in IODBPSD: a bit parameter's byte as its
+    eight bits, a real parameter's REALPRM ``(prm_val, dec_val)``."""
+    if item.kind is ParamKind.REAL:
+        return "ii"
+    if item.kind is ParamKind.BIT:
+        return "B"
+    return _FORMATS[item.width]
 
 
 async def rdparam(
     cnc: Cnc, number: int, axis: int, fn: str = "cnc_rdparam"
-) -> tuple[int, list[int]]:
+) -> tuple[int, list[Any]]:
+    """The library's values: integers, or ``Decimal`` for a real parameter."""
     item = (cnc.machine.param_item if fn == "cnc_rdparam" else cnc.machine.diag_item)(number)
     assert item is not None
     size = _SIZES[item.width]
@@ -310,10 +339,23 @@ async def rdparam(
     rc = await cnc.call(fn, s16(number), s16(axis), s16(4 + size * count), b)
     datano, kind = struct.unpack_from("<hh", b.raw)
     n = len(cnc.machine.axes) if axis == -1 and item.axis else 1
-    values = list(struct.unpack_from(f"<{n}{_FORMATS[size]}", b.raw, 4))
+    fmt = _value_format(item)
+    raw = struct.unpack_from(f"<{n * len(fmt)}{fmt[0]}", b.raw, 4)
+    values: list[Any] = list(raw)
+    if item.kind is ParamKind.REAL:
+        values = [Decimal(raw[i]).scaleb(-raw[i + 1]) for i in range(0, len(raw), 2)]
     if rc == 0:
         assert (datano, kind) == (number, axis if item.axis else 0)
     return rc, values
+
+
+async def packed_param(cnc: Cnc, number: int, axis: int = 0) -> Any:
+    """The packed protocol's value of parameter ``number``: a Decimal for a real one."""
+    item = cnc.machine.param_item(number)
+    assert item is not None
+    if item.kind is ParamKind.REAL:
+        return await cnc.packed.read_param_real(number, axis=axis)
+    return await cnc.packed.read_param(number, axis=axis)
 
 
 async def test_parameters_read_as_the_packed_protocol_reads_them(cnc: Cnc) -> None:
@@ -324,11 +366,90 @@ async def test_parameters_read_as_the_packed_protocol_reads_them(cnc: Cnc) -> No
             for axis in (2, -1):
                 rc, got = await rdparam(cnc, number, axis)
                 axes = (2,) if axis == 2 else range(1, len(cnc.machine.axes) + 1)
-                want = [await cnc.packed.read_param(number, axis=a) for a in axes]
+                want = [await packed_param(cnc, number, a) for a in axes]
                 assert (rc, got) == (0, want), number
         else:
             rc, got = await rdparam(cnc, number, 0)
-            assert (rc, got) == (0, [await cnc.packed.read_param(number)]), number
+            assert (rc, got) == (0, [await packed_param(cnc, number)]), number
+
+
+async def test_every_kind_of_parameter_read_as_the_packed_protocol_reads_it(
+    kinds_cnc: Cnc,
+) -> None:
+    cnc = kinds_cnc
+    kinds = set()
+    for number in cnc.machine.param_numbers():
+        item = cnc.machine.param_item(number)
+        assert item is not None
+        kinds.add(item.kind)
+        for axis in (2, -1) if item.axis else (0,):
+            rc, got = await rdparam(cnc, number, axis)
+            axes = (axis,) if axis != -1 else range(1, len(cnc.machine.axes) + 1)
+            want = [await packed_param(cnc, number, a) for a in axes]
+            assert (rc, got) == (0, want), number
+    assert kinds == set(ParamKind)
+    assert (await rdparam(cnc, 1815, -1))[1] == [0b10110000, 0b00000001, 0b11111111]
+    assert (await rdparam(cnc, 1451, 0))[1] == [Decimal("12.345")]
+    assert (await rdparam(cnc, 1420, -1))[1] == [Decimal("1.5"), Decimal(-2), Decimal("3.1")]
+
+
+async def wrparam(cnc: Cnc, number: int, axis: int, values: list[Any], length: int = 0) -> int:
+    """``cnc_wrparam`` of ``values`` (integers, or ``(prm_val, dec_val)`` for a real
+    parameter); ``length`` defaults to the one the parameter's type needs."""
+    item = cnc.machine.param_item(number)
+    assert item is not None
+    size = _SIZES[item.width]
+    b = buf(4 + 8 * 32)
+    struct.pack_into("<hh", b, 0, number, axis)
+    fmt = _value_format(item)
+    for i, v in enumerate(values):
+        struct.pack_into(f"<{fmt}", b, 4 + i * size, *(v if isinstance(v, tuple) else (v,)))
+    length = length or 4 + size * (cnc.slots if axis == -1 else 1)
+    return await cnc.call("cnc_wrparam", s16(length), b)
+
+
+async def test_every_kind_of_parameter_written_through_the_library(kinds_cnc: Cnc) -> None:
+    cnc = kinds_cnc
+    m = cnc.machine
+    # a bit parameter, as its eight bits
+    assert await wrparam(cnc, 1815, 2, [0b11000011]) == 0
+    assert await cnc.packed.read_param(1815, axis=2) == 0b11000011 == m.read_param(1815, 2)
+    assert await wrparam(cnc, 1815, -1, [0x80, 0x7F, 0]) == 0
+    assert [await cnc.packed.read_param(1815, axis=a) for a in (1, 2, 3)] == [0x80, 0x7F, 0]
+    assert await wrparam(cnc, 3401, 0, [0xFE]) == 0
+    assert await cnc.packed.read_param(3401) == 0xFE
+    # byte, word, two-word
+    for number, value in ((20, 9), (3216, -2), (6711, 987654321)):
+        assert await wrparam(cnc, number, 0, [value]) == 0
+        assert await cnc.packed.read_param(number) == value
+    # refusals of each kind are the packed protocol's
+    assert (
+        await wrparam(cnc, 20, 0, [36])
+        == EW.DATA
+        == await _packed_ew(cnc.packed.write_param(20, 36))
+    )
+    assert await wrparam(cnc, 1815, 4, [1]) == EW.ATTRIB  # the library checks the axis
+    before = m.state_digest()
+    if cnc.set_name == "16i":
+        # the 16i set cannot write a real parameter: every length answers EW_LENGTH
+        for length in (0, 5, 8, 12):
+            assert await wrparam(cnc, 1451, 0, [(5, 1)], length) == EW.LENGTH, length
+        assert m.state_digest() == before
+        return
+    # the 30i set: REALPRM (value, decimals), rescaled to the parameter's decimals
+    assert await wrparam(cnc, 1451, 0, [(-15, 1)]) == 0
+    assert await cnc.packed.read_param_real(1451) == Decimal("-1.500")
+    assert await wrparam(cnc, 1420, -1, [(7, 0), (25, 1), (-5, 1)]) == 0
+    got = [await cnc.packed.read_param_real(1420, axis=a) for a in (1, 2, 3)]
+    assert got == [Decimal(7), Decimal("2.5"), Decimal("-0.5")]
+    # a value with more decimals than the parameter has is EW_DATA through both protocols
+    before = m.state_digest()
+    assert await wrparam(cnc, 1451, 0, [(12345, 4)]) == EW.DATA
+    assert await _packed_ew(cnc.packed.write_param(1451, Decimal("1.2345"))) == EW.DATA
+    assert m.state_digest() == before
+    await cnc.packed.sim.set_panel("MEM")
+    assert await wrparam(cnc, 1451, 0, [(1, 0)]) == EW.PASSWD
+    assert await wrparam(cnc, 1815, 1, [1]) == EW.PASSWD
 
 
 async def test_parameters_written_through_either_protocol(cnc: Cnc) -> None:

@@ -13,13 +13,16 @@ import struct
 from collections.abc import AsyncIterator
 from decimal import Decimal
 from pathlib import Path
+from typing import Any
 
 import pytest
 from support import IO_TIMEOUT, serving
-from test_fwlib import LIBRARY, Handle, buf, connect, s16, us
+from test_fwlib import LIBRARY, Handle, buf, connect, rdparam, s16, served_cnc, us, wrparam
 from test_native_client import _machine
 
 from focas_net.client.native import NativeClient
+from focas_net.errors import EW, CncError
+from focas_net.sim import ParamKind
 
 pytestmark = pytest.mark.skipif(
     not LIBRARY,
@@ -110,3 +113,34 @@ async def test_reads_equal_the_librarys(pair: tuple[Handle, NativeClient]) -> No
     assert [struct.unpack_from("<i", b.raw, 12 * i)[0] for i in range(num.value)] == [
         int(m.load) for m in meters
     ]
+
+
+@pytest.mark.parametrize("set_name", ["30i-file", "16i"])
+async def test_every_kind_of_parameter_equals_the_librarys(set_name: str) -> None:
+    async with served_cnc(set_name) as cnc:
+        async with NativeClient(cnc.served.host, cnc.served.port, timeout=IO_TIMEOUT) as native:
+            for number in cnc.machine.param_numbers():
+                item = cnc.machine.param_item(number)
+                assert item is not None
+                axis = 2 if item.axis else 0
+                rc, got = await rdparam(cnc, number, axis)
+                if item.kind is ParamKind.REAL:
+                    want: Any = await native.read_param_real(number, axis=axis)
+                else:
+                    want = await native.read_param(number, axis=axis)
+                assert (rc, got) == (0, [want]), number
+            # a bit parameter written by either, read by the other, as its eight bits
+            await native.write_param(1815, 0xA5, axis=1)
+            assert await rdparam(cnc, 1815, 1) == (0, [0xA5])
+            assert await wrparam(cnc, 3401, 0, [0x96]) == 0
+            assert await native.read_param(3401) == 0x96
+            if set_name == "16i":  # no real parameter write in the 16i set, from either
+                assert await wrparam(cnc, 1451, 0, [(7125, 3)]) == EW.LENGTH
+                with pytest.raises(CncError) as refused:
+                    await native.write_param(1451, 7)
+                assert refused.value.ew == EW.LENGTH
+                return
+            await native.write_param(1451, Decimal("7.125"))
+            assert await rdparam(cnc, 1451, 0) == (0, [Decimal("7.125")])
+            assert await wrparam(cnc, 1420, 3, [(-35, 1)]) == 0
+            assert await native.read_param_real(1420, axis=3) == Decimal("-3.5")

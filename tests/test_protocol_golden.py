@@ -43,6 +43,7 @@ from focas_net.protocol import (
     SetPanel,
     StatusInfo,
     SysInfo,
+    VacateMacro,
     VersaMaxReply,
     VersaMaxRequest,
     encode_ew,
@@ -326,6 +327,11 @@ GOLDEN: list[Golden] = [
         "read-panel-mdi-pwe", Command.SIM_READ_PANEL, RSP, "0000 0000 0100 0000", SetPanel(0, 1, 0)
     ),
     Golden("read-panel-func", Command.SIM_READ_PANEL, RSP, "0100", EwReply(1)),
+    # -- 0x0E11 vacate_macro ----------------------------------------------------------------------
+    Golden("vacate-macro-100", Command.SIM_VACATE_MACRO, REQ, "6400", VacateMacro(100)),
+    Golden("vacate-macro-4001", Command.SIM_VACATE_MACRO, REQ, "a10f", VacateMacro(4001)),
+    Golden("vacate-macro-ok", Command.SIM_VACATE_MACRO, RSP, "0000", None),
+    Golden("vacate-macro-prot", Command.SIM_VACATE_MACRO, RSP, "0700", EwReply(7)),
     # -- 0x0020 cnc_rdparainfo --------------------------------------------------------------------
     Golden("rdparainfo-1815", Command.RDPARAINFO, REQ, "1707", ParamAttributesRequest(1815)),
     Golden(
@@ -543,6 +549,7 @@ def test_the_command_table_covers_every_command_id() -> None:
         0x0E06,
         0x0E07,
         0x0E10,
+        0x0E11,
         0x0F1A,
     }
     for number, spec in COMMANDS.items():
@@ -570,6 +577,7 @@ ERROR_PAYLOADS = [
     (Command.VERSAMAX_RDCONFIG, 3, "0300"),
     (Command.SIM_SET_PANEL, 5, "0500"),
     (Command.SIM_READ_PANEL, 1, "0100"),
+    (Command.SIM_VACATE_MACRO, 3, "0300"),
     (Command.RDPARAINFO, 3, "0300"),
     (Command.SIM_RAISE_ALARM, 2, "0200"),
     (Command.SIM_CLEAR_ALARMS, 1, "0100"),

@@ -42,6 +42,7 @@ from focas_net.protocol import (
     SetPanel,
     StatusInfo,
     SysInfo,
+    VacateMacro,
     VersaMaxReply,
     VersaMaxRequest,
     encode_frame,
@@ -153,6 +154,7 @@ REQUESTS: dict[Command, st.SearchStrategy[Any]] = {
     Command.RDALMHISTRY: st.builds(AlarmHistoryRequest, i16),
     Command.RDPARAINFO: st.builds(ParamAttributesRequest, i16),
     Command.SIM_READ_PANEL: st.none(),
+    Command.SIM_VACATE_MACRO: st.builds(VacateMacro, i16),
 }
 
 RESPONSES: dict[Command, st.SearchStrategy[Any]] = {
@@ -182,6 +184,7 @@ RESPONSES: dict[Command, st.SearchStrategy[Any]] = {
     Command.RDALMHISTRY: histories,
     Command.RDPARAINFO: ew_or(st.builds(ParamAttributes, i16, i16, i16, i16, i32, i32)),
     Command.SIM_READ_PANEL: ew_or(st.builds(SetPanel, i16, i16, i16)),
+    Command.SIM_VACATE_MACRO: OK_ONLY,
 }
 
 

@@ -28,11 +28,19 @@ Rules of this wire (the CNC's rules are the machine's, see :mod:`focas_net.sim.m
   the packed protocol's 32 bytes;
 * a request with more blocks than the limit can answer even as bare heads is a framing
   violation (:class:`NativeFrameError`): the connection is closed;
-* parameter and diagnostic records carry the type in the library's numbering
-  (:func:`native_param_type`, :func:`native_diag_type`);
-* the two parameters FANUC's library reads on its own, 9968 (its option bits, 16i set, while
-  connecting) and 3115 (position display bits, ``cnc_rdposition`` in the 16i set), are answered
-  from the machine when it has them, otherwise with option bit 0 set and every position shown;
+* parameter and diagnostic records carry the machine's type (:attr:`DataItem.kind`) in the
+  library's numbering (:func:`native_param_type`, :func:`native_diag_type`). A real value is
+  FANUC's REALPRM, ``(mantissa, 10, decimals)``: one 8-byte slot in the 30i set, two 4-byte
+  slots in the 16i set. A bit parameter travels as the byte of its bits (0xB0 for 10110000) and
+  is written back as 0..255;
+* the 16i set has no way to write a real parameter: 0x10 answers type bits 0-1 of the real type
+  (0, a bit parameter), so ``cnc_wrparam`` refuses every length but 5 with EW_LENGTH itself, and
+  a 0x0F record of a real parameter (1-byte or REAL slots) answers EW_LENGTH too: FANUC's
+  library returns EW_LENGTH (2) for a real parameter in the 16i set, whatever the length;
+* the parameters FANUC's library reads on its own, 9968 (its option bits, 16i set, while
+  connecting; also the open answer's option bits in the 30i set) and 3115 (position display
+  bits, ``cnc_rdposition`` in the 16i set), are the machine's own: every machine has them
+  (:class:`~focas_net.sim.Machine` gives the defaults), so both protocols read the same values;
 * figures the machine does not model (timers, spindle load, servo load, the CNC ID) answer the
   values :class:`NativeAdapter` documents at each handler.
 
@@ -63,7 +71,6 @@ from focas_net.native.codec import (
     MACHINE_MILL,
     NATIVE_HEADER,
     OPTION_PARAMETER,
-    POSITION_PARAMETER,
     RESPONSE_BLOCK_SIZE,
     SCALED_SIZE,
     AlarmHistoryRecord,
@@ -143,8 +150,10 @@ from focas_net.sim import (
     DataItem,
     Machine,
     MachineError,
+    ParamKind,
     Session,
 )
+from focas_net.sim.machine import MAX_REAL_DECIMALS
 
 __all__ = [
     "NativeAdapter",
@@ -158,8 +167,8 @@ __all__ = [
 _CLASSES_16I: Final = frozenset({"16i", "18i", "21i", "0i-C"})
 #: Version word of the answers of each command set (a 16i answers 2, a 0i-D 3).
 _SET_VERSIONS: Final = {CommandSet.FS16I: 2, CommandSet.FS30I: 3}
-#: FOCAS option bits of the open answer (30i set) and of parameter 9968 (16i set): bit 0 is
-#: what ``cnc_rddynamic2`` needs.
+#: FOCAS option bits of a machine whose parameter 9968 is an axis parameter (otherwise the
+#: open answer of the 30i set carries 9968's value): bit 0 is what ``cnc_rddynamic2`` needs.
 OPTION_BITS: Final = 1
 #: Spindles of the path (the machine models one spindle speed).
 SPINDLES: Final = 1
@@ -183,12 +192,22 @@ _POSITION_KINDS: Final[dict[NativePositionKind, str]] = {
 _ALARM_HEAD_SIZE: Final = 16
 _ITEM_HEAD_SIZE: Final = 8
 _HISTORY_SIZE: Final = AlarmHistoryRecord.SIZE
-#: Width in bytes of a value of each 16i/30i parameter type (BIT travels as a byte).
+#: Width in bytes of a value of each 16i/30i parameter type (BIT travels as a byte, REAL as
+#: REALPRM).
 _PARAM_WIDTHS: Final[dict[int, int]] = {
     ParamType.BIT: 1,
     ParamType.BYTE: 1,
     ParamType.WORD: 2,
     ParamType.TWO_WORD: 4,
+    ParamType.REAL: 8,
+}
+#: Diagnostic type word of each kind (the library reads no bit type in a diagnostic).
+_DIAG_TYPES: Final[dict[ParamKind, DiagType]] = {
+    ParamKind.BIT: DiagType.BYTE,
+    ParamKind.BYTE: DiagType.BYTE,
+    ParamKind.WORD: DiagType.WORD,
+    ParamKind.TWO_WORD: DiagType.TWO_WORD,
+    ParamKind.REAL: DiagType.REAL,
 }
 
 _pack_block = _RESPONSE_BLOCK.pack
@@ -207,15 +226,17 @@ def command_set_of(machine: Machine) -> CommandSet:
 
 def native_param_type(item: DataItem) -> ParamType:
     """The type word of parameter ``item`` in FANUC's library's numbering (0 bit, 1 byte,
-    2 word, 3 two-word, 4 real), from its width until the machine gives each parameter its
-    FANUC type."""
-    return ParamType.for_width(item.width)
+    2 word, 3 two-word, 4 real): its :attr:`~focas_net.sim.DataItem.kind`, which FANUC numbers
+    the same way."""
+    assert item.kind is not None
+    return ParamType(int(item.kind))
 
 
 def native_diag_type(item: DataItem) -> DiagType:
     """The type word of diagnostic ``item`` in FANUC's library's numbering (0 byte, 1 word,
-    2 two-word, 5 real)."""
-    return DiagType.for_width(item.width)
+    2 two-word, 5 real); a bit diagnostic is a byte."""
+    assert item.kind is not None
+    return _DIAG_TYPES[item.kind]
 
 
 def macro_from_double(value: float) -> tuple[int, int] | None:
@@ -250,6 +271,23 @@ def _trimmed(mantissa: int, decimals: int) -> tuple[int, int]:
         mantissa //= 10
         decimals -= 1
     return mantissa, decimals
+
+
+def _acceptable(item: DataItem, value: int, decimals: list[int] | None, i: int) -> bool:
+    """Whether the machine takes ``value`` for ``item`` (a real one's mantissa with
+    ``decimals[i]`` decimals, rescaled to the item's own exactly), as to its range."""
+    if decimals is not None and item.kind is ParamKind.REAL:
+        if not 0 <= decimals[i] <= MAX_REAL_DECIMALS:
+            return False
+        shift = item.decimals - decimals[i]
+        if shift >= 0:
+            value *= 10**shift
+        elif value % 10**-shift:
+            return False
+        else:
+            value //= 10**-shift
+    assert item.low is not None and item.high is not None
+    return item.low <= value <= item.high
 
 
 class _Refused(Exception):
@@ -315,7 +353,6 @@ class NativeAdapter:
         "_max_blocks",
         "_own_session",
         "_param_numbers",
-        "_position_frame",
         "_scaled_zero",
         "_session",
         "_status",
@@ -354,7 +391,6 @@ class NativeAdapter:
         self._scaled_zero = _pack_scaled(0, 10, 0)
         self._own_session = machine.new_session()
         self._session = self._own_session
-        self._position_frame = False
         cnc, pmc, c = Device.CNC, Device.PMC, NativeCommand
         self._handlers: dict[tuple[int, int], _Handler] = {
             (cnc, c.SYSINFO): self._read_sysinfo,
@@ -411,8 +447,16 @@ class NativeAdapter:
         machine_type = MACHINE_LATHE if mt.strip() == "T" else MACHINE_MILL
         path = PathDescription(machine_type, len(self.machine.axes), SPINDLES)
         return build_open_answer(
-            [path], self.max_axis, option_bits=OPTION_BITS, version=self.version
+            [path], self.max_axis, option_bits=self._option_bits(), version=self.version
         )
+
+    def _option_bits(self) -> int:
+        """The FOCAS option bits: parameter 9968 of the machine (read by the library itself in
+        the 16i set)."""
+        item = self.machine.param_item(OPTION_PARAMETER)
+        if item is None or item.axis:
+            return OPTION_BITS
+        return item.values[0] & 0xFFFF
 
     def open_response(self) -> bytes:
         """The whole open-answer frame."""
@@ -450,9 +494,6 @@ class NativeAdapter:
         if not blocks:
             blocks = (RequestBlock(Device.CNC, 1, 0),)
         self._session = self._own_session if session is None else session
-        self._position_frame = any(
-            b.command == NativeCommand.AXIS_NAME and b.device == Device.CNC for b in blocks
-        )
         count = len(blocks)
         parts: list[bytes] = [b"", _U16.pack(count)]
         left = self.limit - 2 - RESPONSE_BLOCK_SIZE * count
@@ -692,9 +733,13 @@ class NativeAdapter:
         room: int,
         numbers: tuple[int, ...],
         read: Callable[[int, int], int],
-        type_of: Callable[[int], int],
+        item_of: Callable[[int], DataItem | None],
+        type_of: Callable[[DataItem], int],
         scaled: bool,
     ) -> bytes:
+        """Records of the items ``first..last`` (``axis`` 0, k or -1): 4-byte slots (16i set)
+        or 8-byte slots (30i set), ``max_axis`` of them; a real value is ``(mantissa, 10,
+        decimals)``, two 4-byte slots or one 8-byte slot."""
         args = block.args
         first, last, axis = args[0], args[1], args[2]
         if last < first:
@@ -705,8 +750,10 @@ class NativeAdapter:
             raise _Refused(EW.NUMBER)
         max_axis = self.max_axis
         slot = SCALED_SIZE if scaled else 4
-        _need_room((hi - lo) * (_ITEM_HEAD_SIZE + slot * max_axis), room)
         n_axes = len(self.machine.axes)
+        # a real record of the 16i set takes two slots per value
+        _need_room((hi - lo) * (_ITEM_HEAD_SIZE + slot * max(max_axis, 2 * n_axes)), room)
+        slots_size = slot * max_axis
         parts: list[bytes] = []
         for number in numbers[lo:hi]:
             if axis == -1:
@@ -723,62 +770,45 @@ class NativeAdapter:
             else:
                 values = [read(number, axis)]
                 record_axis = axis
-            parts.append(_ITEM_HEAD_PACK(number, record_axis, type_of(number)))
-            if scaled:
-                parts.extend(_pack_scaled(v, 10, 0) for v in values)
-                zero = self._scaled_zero
+            item = item_of(number)
+            assert item is not None
+            parts.append(_ITEM_HEAD_PACK(number, record_axis, type_of(item)))
+            if item.kind is ParamKind.REAL:
+                decimals = item.decimals
+                data = b"".join(_pack_scaled(v, 10, decimals) for v in values)
+            elif scaled:
+                data = b"".join(_pack_scaled(v, 10, 0) for v in values)
             else:
-                parts.extend(_I32_PACK(v) for v in values)
-                zero = _I32_ZERO
-            parts.extend([zero] * (max_axis - len(values)))
+                data = b"".join(map(_I32_PACK, values))
+            parts.append(data)
+            if len(data) < slots_size:  # empty slots: (0, 10, 0) or a zero i32
+                empty = self._scaled_zero if scaled else _I32_ZERO
+                parts.append(empty * ((slots_size - len(data)) // len(empty)))
         return b"".join(parts)
 
-    def _param_type(self, number: int) -> int:
-        item = self.machine.param_item(number)
-        assert item is not None
-        return native_param_type(item)
-
-    def _diag_type(self, number: int) -> int:
-        item = self.machine.diag_item(number)
-        assert item is not None
-        return native_diag_type(item)
-
-    def _library_param(self, block: RequestBlock, scaled: bool) -> bytes | None:
-        """The record of 9968 or 3115 when the machine has no such parameter and FANUC's
-        library asks for it on its own (9968 alone, 3115 within a ``cnc_rdposition``)."""
-        first, last, axis = block.args[0], block.args[1], block.args[2]
-        if first != last or self.machine.param_item(first) is not None:
-            return None
-        slot_zero = self._scaled_zero if scaled else _I32_ZERO
-        if first == OPTION_PARAMETER and axis == 0:
-            head = _ITEM_HEAD_PACK(first, 0, ParamType.BYTE)
-            value = _pack_scaled(OPTION_BITS, 10, 0) if scaled else _I32_PACK(OPTION_BITS)
-            return head + value + slot_zero * (self.max_axis - 1)
-        if first == POSITION_PARAMETER and axis == -1 and self._position_frame:
-            return _ITEM_HEAD_PACK(first, -1, ParamType.BIT) + slot_zero * self.max_axis
-        return None
-
     def _read_params(self, block: RequestBlock, room: int) -> bytes:
-        own = self._library_param(block, False)
-        if own is not None:
-            return own
         m = self.machine
-        return self._items(block, room, self._param_numbers, m.read_param, self._param_type, False)
+        numbers = self._param_numbers
+        return self._items(
+            block, room, numbers, m.read_param, m.param_item, native_param_type, False
+        )
 
     def _read_params_30i(self, block: RequestBlock, room: int) -> bytes:
-        own = self._library_param(block, True)
-        if own is not None:
-            return own
         m = self.machine
-        return self._items(block, room, self._param_numbers, m.read_param, self._param_type, True)
+        numbers = self._param_numbers
+        return self._items(
+            block, room, numbers, m.read_param, m.param_item, native_param_type, True
+        )
 
     def _read_diags(self, block: RequestBlock, room: int) -> bytes:
         m = self.machine
-        return self._items(block, room, self._diag_numbers, m.read_diag, self._diag_type, False)
+        numbers = self._diag_numbers
+        return self._items(block, room, numbers, m.read_diag, m.diag_item, native_diag_type, False)
 
     def _read_diags_30i(self, block: RequestBlock, room: int) -> bytes:
         m = self.machine
-        return self._items(block, room, self._diag_numbers, m.read_diag, self._diag_type, True)
+        numbers = self._diag_numbers
+        return self._items(block, room, numbers, m.read_diag, m.diag_item, native_diag_type, True)
 
     def _info_items(self, first: int, count: int) -> tuple[int, int, list[DataItem]]:
         """``prev, next`` and the parameters from ``first`` on, ``count`` of them."""
@@ -815,39 +845,56 @@ class NativeAdapter:
             prev_no, next_no, item.number, native_param_type(item), axis_kind
         ).encode()
 
-    def _write_items(self, number: int, axis: int, ptype: int, values: list[int]) -> None:
+    def _write_items(
+        self,
+        number: int,
+        axis: int,
+        ptype: int,
+        values: list[int],
+        decimals: list[int] | None = None,
+    ) -> None:
         """Write parameter ``number`` (``axis`` 0, k or -1 for every axis, ``values`` one per
-        slot) given as type ``ptype``."""
+        slot) given as type ``ptype`` (a real one's mantissas, each with its ``decimals``)."""
         m = self.machine
         m.check_writable()
         width = _PARAM_WIDTHS.get(ptype)
         if width is None:
             raise _Refused(EW.ATTRIB)
+        item = m.param_item(number)
+        if item is not None and item.kind is ParamKind.BIT and width == 1:
+            values = [v & 0xFF for v in values]  # the byte carries the eight bits #7..#0
         session = self._session
+
+        def write(a: int, i: int) -> None:
+            d = None if decimals is None else decimals[i]
+            m.write_param(session, number, a, values[i], width=width, decimals=d)
+
         if axis == -1:
             n = len(m.axes)
             if len(values) < n:
                 raise _Refused(EW.LENGTH)
-            item = m.param_item(number)
             if item is not None and not item.axis:
-                m.write_param(session, number, 0, values[0], width=width)
+                write(0, 0)
                 return
             # the machine writes one axis at a time: an axis whose value it would refuse is
             # written first, so that a refused write changes no axis
             order = list(range(1, n + 1))
-            if item is not None and item.low is not None and item.high is not None:
-                low, high = item.low, item.high
-                order.sort(key=lambda a: low <= values[a - 1] <= high)
+            if item is not None:
+                order.sort(key=lambda a: _acceptable(item, values[a - 1], decimals, a - 1))
             for a in order:
-                m.write_param(session, number, a, values[a - 1], width=width)
+                write(a, a - 1)
             return
         if not values:
             raise _Refused(EW.LENGTH)
-        m.write_param(session, number, axis, values[0], width=width)
+        write(axis, 0)
 
     def _write_param(self, block: RequestBlock, room: int) -> bytes:
-        """0x0F: one record with 4-byte slots (16i set)."""
+        """0x0F: one record with 4-byte slots (16i set). A real value cannot be given in it:
+        a REAL record answers EW_LENGTH (as a 1-byte value of a real parameter does)."""
         rec: ItemRecord = ParamWriteRequest.from_block(block).record
+        if rec.type == ParamType.REAL:
+            self.machine.check_writable()
+            raise _Refused(EW.LENGTH)
         width = _PARAM_WIDTHS.get(rec.type, 4)
         bits = 8 * width
         values = [((v + (1 << (bits - 1))) % (1 << bits)) - (1 << (bits - 1)) for v in rec.values]
@@ -855,9 +902,15 @@ class NativeAdapter:
         return b""
 
     def _write_param_30i(self, block: RequestBlock, room: int) -> bytes:
-        """0x8E: one record with 8-byte slots (30i set); the mantissa of each slot."""
+        """0x8E: one record with 8-byte slots (30i set); the mantissa of each slot, and of a
+        REAL record the decimals of each slot."""
         rec: ScaledItemRecord = ParamWrite3Request.from_block(block).record
-        self._write_items(rec.number, rec.axis, rec.type, [v.mantissa for v in rec.values])
+        decimals = None
+        if rec.type == ParamType.REAL:
+            decimals = [v.decimals for v in rec.values]
+        self._write_items(
+            rec.number, rec.axis, rec.type, [v.mantissa for v in rec.values], decimals
+        )
         return b""
 
     # -- PMC -----------------------------------------------------------------------------

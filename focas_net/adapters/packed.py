@@ -1,7 +1,7 @@
 """The packed-protocol adapter: one request payload in, the answer payload out.
 
 :class:`PackedAdapter` answers every command of ``docs/protocol.md`` sections 3-5 and 8 and the
-control commands 0x0E01..0x0E04 and 0x0E10 from a protocol-neutral
+control commands 0x0E01..0x0E04, 0x0E10 and 0x0E11 from a protocol-neutral
 :class:`~focas_net.sim.Machine`. The server adds the frame header (same command, same request
 id). 0x0E05..0x0E07 (the fault queues) are not handled here: faults are about I/O and the
 server answers those commands itself (here they answer EW_FUNC). Pure and
@@ -256,6 +256,7 @@ class PackedAdapter:
             Command.RDALMHISTRY: self._rdalmhistry,
             Command.RDPARAINFO: self._rdparainfo,
             Command.SIM_READ_PANEL: self._read_panel,
+            Command.SIM_VACATE_MACRO: self._vacate_macro,
         }
         assert frozenset(by_id) == self.handled
         # plain int keys: a lookup by int must not go through IntEnum hashing
@@ -562,6 +563,12 @@ class PackedAdapter:
         p = self.machine.panel
         return _encode_panel(SetPanel(p.mode, p.pwe, p.emergency))
 
+    def _vacate_macro(self, _session: Session, payload: bytes) -> bytes:
+        if not self.machine.control_enabled:
+            return _EW_FUNC
+        self.machine.write_macro(_decode_vacate_macro(payload).number, None)
+        return _OK
+
     def _raise_alarm(self, _session: Session, payload: bytes) -> bytes:
         if not self.machine.control_enabled:
             return _EW_FUNC
@@ -619,3 +626,4 @@ _encode_parainfo: Final = _response(Command.RDPARAINFO)
 _decode_raise_alarm: Final = _request(Command.SIM_RAISE_ALARM)
 _decode_clear_alarms: Final = _request(Command.SIM_CLEAR_ALARMS)
 _decode_set_pmc: Final = _request(Command.SIM_SET_PMC)
+_decode_vacate_macro: Final = _request(Command.SIM_VACATE_MACRO)

@@ -195,6 +195,12 @@ COMMANDS: Final[tuple[Cmd | Group, ...]] = (
                 (_MACRO_NUMBER, arg("value", metavar="VALUE", help="decimal value, e.g. 12.5")),
                 writes=True,
             ),
+            Cmd(
+                "clear",
+                "make a macro variable vacant (simulator control 0x0E11; a real CNC has none)",
+                write_cmds.macro_clear,
+                (_MACRO_NUMBER,),
+            ),
         ),
     ),
     Cmd(

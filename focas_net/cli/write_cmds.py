@@ -14,7 +14,7 @@ from . import _format as fmt
 from ._run import Go, HintedError, Output
 from .read_cmds import macro_dict, param_kind, param_output
 
-__all__ = ["macro_set", "param_set", "pmc_bit", "pmc_write", "unlock"]
+__all__ = ["macro_clear", "macro_set", "param_set", "pmc_bit", "pmc_write", "unlock"]
 
 _PASSWD_HINT: Final = (
     "parameter writes need MDI mode and PWE on (focas-net sim panel --mode MDI --pwe on) "
@@ -56,6 +56,19 @@ def macro_set(args: argparse.Namespace) -> Go:
         return Output(
             macro_dict(args.number, value),
             f"#{args.number} = {fmt.macro_text(value)} (written)",
+        )
+
+    return go
+
+
+def macro_clear(args: argparse.Namespace) -> Go:
+    # a simulator control command (0x0E11): a real CNC answers EW_FUNC
+    async def go(cnc: FocasClient) -> Output:
+        await cnc.sim.vacate_macro(args.number)
+        value = await cnc.read_macro(args.number)
+        return Output(
+            macro_dict(args.number, value),
+            f"#{args.number} = {fmt.macro_text(value)} (cleared)",
         )
 
     return go

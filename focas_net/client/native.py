@@ -80,6 +80,7 @@ from ..native.records import (
     AlarmStatus,
     AxisNames,
     CncId,
+    DiagType,
     ExecutingProgram,
     ItemRecord,
     ItemValues,
@@ -115,6 +116,7 @@ from ..protocol import (
     ActiveAlarm,
     AlarmHistory,
     AlarmHistoryEntry,
+    ParamDataType,
     ParamValue,
     PmcArea,
     PositionKind,
@@ -123,7 +125,14 @@ from ..protocol import (
     SysInfo,
 )
 from ._locks import KeyedLocks
-from .client import Positions, macro_from_wire, macro_to_wire
+from .client import (
+    Positions,
+    _byte_to_wire,
+    _param_int,
+    _real_to_wire,
+    macro_from_wire,
+    macro_to_wire,
+)
 from .reconnect import ClientState, ReconnectPolicy, StateCallback
 
 __all__ = [
@@ -153,6 +162,8 @@ _PARAM_WIDTH: Final[dict[int, int]] = {
     ParamType.TWO_WORD: 4,
 }
 _DIAG_WIDTH: Final[dict[int, int]] = {0: 1, 1: 2, 2: 4, 3: 1, 4: 1}
+#: Width of a real value (FANUC's REALPRM, as the packed client's ``ParamValue``).
+_REAL_WIDTH: Final = 8
 #: The two position numberings: ``cnc_rdposition`` arrays (0..3) and the single reads.
 _SINGLE_KIND: Final = {
     PositionKind.ABSOLUTE: 4,
@@ -529,6 +540,8 @@ class NativeClient:
         self._backoff = 0
         self._up_since = 0.0
         self._param_widths: dict[int, int] = {}
+        #: The type word (0 bit .. 4 real) of each parameter read or written.
+        self._param_types: dict[int, int] = {}
         self._pmc_locks: KeyedLocks[tuple[int, int]] = KeyedLocks()
         self._param_locks: KeyedLocks[tuple[int, int]] = KeyedLocks()
         #: Frames sent and blocks carried since the client was made (for batching checks).
@@ -1125,13 +1138,22 @@ class NativeClient:
         if not items.records:
             raise PayloadError(f"{function}: answer for {number} carries no record")
         record = items.records[0]
+        if not diagnostic:
+            self._param_types[number] = record.type
+        real = DiagType.REAL if diagnostic else ParamType.REAL
+        if record.type == real:  # REALPRM: (mantissa, 10, decimals)
+            if isinstance(record, ItemRecord):
+                reals = record.reals()
+                if not reals:
+                    raise PayloadError(f"{function}: real record of {number} has one slot")
+                value = reals[0]
+            else:
+                value = record.values[0]
+            return ParamValue(number, axis, value.mantissa, _REAL_WIDTH, value.decimals)
         widths = _DIAG_WIDTH if diagnostic else _PARAM_WIDTH
         width = widths.get(record.type)
         if width is None:
-            raise PayloadError(
-                f"{function}: {number} is a real number (type {record.type}); "
-                "this call carries integers only"
-            )
+            raise PayloadError(f"{function}: {number} has type {record.type}, which has no value")
         first = record.values[0]
         raw = first.mantissa if isinstance(first, ScaledNumber) else first
         bits = 8 * width
@@ -1148,12 +1170,40 @@ class NativeClient:
     async def read_param_value(
         self, number: int, *, axis: int = 0, timeout: float | None = None
     ) -> ParamValue:
-        """``cnc_rdparam`` as an IODBPSD: the value and its width (1, 2 or 4 bytes)."""
+        """``cnc_rdparam`` as an IODBPSD: the value as the wire carries it and its width (1, 2,
+        4 bytes, or 8 for a real parameter's REALPRM with its ``decimals``), as the packed
+        client gives it."""
         return await self._read_param_value(number, axis, self._deadline(timeout))
 
     async def read_param(self, number: int, *, axis: int = 0, timeout: float | None = None) -> int:
-        """``cnc_rdparam``: the value of parameter ``number`` (``axis`` 1..n for axis items)."""
-        return (await self._read_param_value(number, axis, self._deadline(timeout))).value
+        """``cnc_rdparam``: the value of parameter ``number`` (``axis`` 1..n for axis items).
+
+        A bit parameter reads as its eight bits, 0..255 (the record's type says so); the others
+        as the signed integer they hold. A real parameter raises :class:`ValueError`: read it
+        with :meth:`read_param_real`.
+        """
+        value = await self._read_param_value(number, axis, self._deadline(timeout))
+        if value.width == _REAL_WIDTH:
+            raise ValueError(
+                f"parameter {number} is a real parameter ({value.real}): read it with "
+                "read_param_real"
+            )
+        if self._param_types.get(number) == ParamType.BIT:
+            return value.bits
+        return value.value
+
+    async def read_param_real(
+        self, number: int, *, axis: int = 0, timeout: float | None = None
+    ) -> Decimal:
+        """``cnc_rdparam``: the value of parameter ``number`` as a :class:`~decimal.Decimal`:
+        a real parameter with its decimals (``12.345``), any other as its integer value (a bit
+        parameter as 0..255)."""
+        value = await self._read_param_value(number, axis, self._deadline(timeout))
+        if value.width == _REAL_WIDTH:
+            return value.real
+        if self._param_types.get(number) == ParamType.BIT:
+            return Decimal(value.bits)
+        return Decimal(value.value)
 
     async def read_diag(self, number: int, *, axis: int = 0, timeout: float | None = None) -> int:
         """``cnc_diagnoss``: the value of diagnostic ``number``."""
@@ -1163,7 +1213,7 @@ class NativeClient:
     async def write_param(
         self,
         number: int,
-        value: int,
+        value: int | Decimal | str,
         *,
         axis: int = 0,
         width: int | None = None,
@@ -1173,14 +1223,24 @@ class NativeClient:
         parameter's information, then the write).
 
         The width is the CNC's (its parameter information); a ``width`` given that differs
-        raises EW_LENGTH before the write is sent, as ``cnc_wrparam`` does.
+        raises EW_LENGTH before the write is sent, as ``cnc_wrparam`` does. As with the packed
+        client, a bit parameter takes 0..255 or its bits as text, #7 first (``"0b10110000"``),
+        and a real parameter a number with decimals (``Decimal("12.345")``, ``"12.345"``, an
+        ``int``), width 8. The 16i command set has no way to write a real parameter: its
+        parameter information gives a real parameter as a bit one, and the CNC answers the
+        write EW_LENGTH, as FANUC's library returns.
         """
-        if width is not None and width not in (1, 2, 4):
-            raise ValueError(f"parameter width must be 1, 2 or 4, got {width}")
+        if width is not None and width not in (1, 2, 4, _REAL_WIDTH):
+            raise ValueError(f"parameter width must be 1, 2, 4 or 8 (real), got {width}")
         await self._write_param(number, value, axis, width, self._deadline(timeout))
 
     async def _write_param(
-        self, number: int, value: int, axis: int, width: int | None, deadline: float | None
+        self,
+        number: int,
+        value: int | Decimal | str,
+        axis: int,
+        width: int | None,
+        deadline: float | None,
     ) -> None:
         if not 0 <= number <= 0x7FFFFFFF:
             raise ValueError(f"cnc_wrparam: number {number} is negative")
@@ -1190,8 +1250,6 @@ class NativeClient:
         if axis > handle.axes:
             raise CncError.from_ew(EW.ATTRIB, f"cnc_wrparam: axis {axis} of {handle.axes}")
         cs = handle.command_set
-        if not -(2**31) <= value < 2**31:
-            raise ValueError(f"value {value} does not fit a parameter (i32)")
         info_request: tuple[NativeRequest, ...] = (
             (ParamInfoRequest(number, 1),)
             if cs is CommandSet.FS16I
@@ -1206,38 +1264,53 @@ class NativeClient:
             if not info.entries:
                 raise PayloadError(f"cnc_wrparam: no information on parameter {number}")
             ptype = info.entries[0].attribute & 3
-        size = _PARAM_WIDTH.get(ptype)
+        self._param_types[number] = ptype
+        size = _REAL_WIDTH if ptype == ParamType.REAL else _PARAM_WIDTH.get(ptype)
         if size is None:
-            raise PayloadError(
-                f"cnc_wrparam: {number} is a real parameter (type {ptype}); "
-                "this call writes integers"
-            )
+            raise PayloadError(f"cnc_wrparam: {number} has type {ptype}, which has no value")
         if width is not None and width != size:
             self._param_widths.pop(number, None)
             raise CncError.from_ew(
                 EW.LENGTH, f"cnc_wrparam: {number} is {size} bytes wide, not {width}"
             )
-        bits = 8 * size
-        if not -(1 << (bits - 1)) <= value < 1 << bits:
-            raise ValueError(f"value {value} does not fit a {size}-byte parameter")
-        if value >= 1 << (bits - 1):
-            value -= 1 << bits
-        record = self._param_record(handle, number, axis, ptype, value)
+        if ptype == ParamType.REAL:
+            mantissa, decimals = _real_to_wire(number, value)
+            record = self._param_record(handle, number, axis, ptype, mantissa, decimals)
+        else:
+            raw = _param_int(number, value)
+            if ptype == ParamType.BIT:
+                raw = _byte_to_wire(number, raw, ParamDataType.BIT)
+            else:
+                bits = 8 * size
+                if not -(1 << (bits - 1)) <= raw < 1 << bits:
+                    raise ValueError(f"value {raw} does not fit a {size}-byte parameter")
+                if raw >= 1 << (bits - 1):
+                    raw -= 1 << bits
+            record = self._param_record(handle, number, axis, ptype, raw)
         write = calls.cnc_wrparam(cs, record).frames[1]
         (done,) = await self._send(write, cs, deadline)
         _check(done, "cnc_wrparam")
 
     def _param_record(
-        self, handle: _Handle, number: int, axis: int, ptype: int, value: int
+        self,
+        handle: _Handle,
+        number: int,
+        axis: int,
+        ptype: int,
+        value: int,
+        decimals: int | None = None,
     ) -> ItemRecord | ScaledItemRecord:
-        """The write record, slot 0 holding ``value`` and the other slots what the previous
-        write left there (the library's buffer)."""
+        """The write record, slot 0 holding ``value`` (a real one's mantissa with
+        ``decimals``) and the other slots what the previous write left there (the library's
+        buffer)."""
         if handle.command_set is CommandSet.FS16I:
             slots = handle.param_slots
             slots[0] = value
             return ItemRecord(number, axis, ptype, tuple(slots))
         scaled = handle.param3_slots
-        scaled[0] = ScaledNumber(value, -1, 0)
+        scaled[0] = (
+            ScaledNumber(value, -1, 0) if decimals is None else ScaledNumber(value, decimals, 10)
+        )
         return ScaledItemRecord(number, axis, ptype, tuple(scaled))
 
     async def write_param_bit(
@@ -1257,12 +1330,14 @@ class NativeClient:
         async with self._param_locks.hold((number, axis), deadline):
             current = await self._read_param_value(number, axis, deadline)
             width = current.width
+            if width == _REAL_WIDTH:
+                raise ValueError(f"parameter {number} is a real parameter: it has no bits")
             if bit >= 8 * width:
                 raise ValueError(f"bit {bit} outside 0..{8 * width - 1}")
             bits = 8 * width
             raw = current.value & ((1 << bits) - 1)
             raw = raw | (1 << bit) if value else raw & ~(1 << bit)
-            if raw >= 1 << (bits - 1):
+            if raw >= 1 << (bits - 1) and self._param_types.get(number) != ParamType.BIT:
                 raw -= 1 << bits
             await self._write_param(number, raw, axis, width, deadline)
 

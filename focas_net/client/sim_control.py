@@ -20,6 +20,7 @@ from ..protocol import (
     InjectFault,
     RaiseAlarm,
     SetPanel,
+    VacateMacro,
 )
 from ..protocol import Command as C
 from ._pmc import AreaLike, write_pmc_range
@@ -79,10 +80,11 @@ _SET_PMC: Final = COMMANDS[C.SIM_SET_PMC]
 _INJECT_FAULT: Final = COMMANDS[C.SIM_INJECT_FAULT]
 _LIST_FAULTS: Final = COMMANDS[C.SIM_LIST_FAULTS]
 _CLEAR_FAULTS: Final = COMMANDS[C.SIM_CLEAR_FAULTS]
+_VACATE_MACRO: Final = COMMANDS[C.SIM_VACATE_MACRO]
 
 
 class SimControl:
-    """The simulator control commands (0x0E01..0x0E07 and 0x0E10), as ``client.sim``.
+    """The simulator control commands (0x0E01..0x0E07, 0x0E10 and 0x0E11), as ``client.sim``.
 
     A real CNC, or a server with control disabled, answers them with ``EW_FUNC``.
     """
@@ -118,6 +120,15 @@ class SimControl:
         panel: SetPanel = await client._request(_READ_PANEL, b"", client._deadline(timeout))
         mode = AutMode(panel.mode) if panel.mode in AutMode._value2member_map_ else panel.mode
         return PanelSwitches(mode, bool(panel.pwe), bool(panel.emergency))
+
+    async def vacate_macro(self, number: int, *, timeout: float | None = None) -> None:
+        """Make macro variable ``#number`` vacant (``cnc_wrmacro`` has no way to write a vacant
+        value). EW_NUMBER for an unknown variable, EW_PROT for a read-only one or a read-only
+        server."""
+        _check("macro variable number", number, -0x8000, 0x7FFF)
+        payload = _VACATE_MACRO.request.encode(VacateMacro(number))
+        client = self._client
+        await client._request(_VACATE_MACRO, payload, client._deadline(timeout))
 
     async def raise_alarm(
         self,

@@ -46,6 +46,7 @@ from .codecs import (
     SetPanel,
     StatusInfo,
     SysInfo,
+    VacateMacro,
     encode_ew,
     encode_response,
 )
@@ -140,6 +141,7 @@ __all__ = [
     "StatusInfo",
     "SysInfo",
     "TmMode",
+    "VacateMacro",
     "VersaMaxReply",
     "VersaMaxRequest",
     "encode_ew",

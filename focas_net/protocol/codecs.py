@@ -57,6 +57,7 @@ __all__ = [
     "SetPanel",
     "StatusInfo",
     "SysInfo",
+    "VacateMacro",
     "encode_ew",
     "encode_response",
 ]
@@ -128,6 +129,14 @@ class DataRequest(FixedPayload):
 @dataclass(frozen=True, slots=True)
 class MacroRequest(FixedPayload):
     """Request of ``cnc_rdmacro``: ``i16 number``."""
+
+    FORMAT: ClassVar[str] = "<h"
+    number: int
+
+
+@dataclass(frozen=True, slots=True)
+class VacateMacro(FixedPayload):
+    """Request of ``sim_vacate_macro`` (0x0E11): ``i16 number``, the variable made vacant."""
 
     FORMAT: ClassVar[str] = "<h"
     number: int
@@ -712,6 +721,7 @@ COMMANDS: Final[dict[int, CommandSpec]] = {
             EMPTY,
             _ew_response(SetPanel.codec()),
         ),
+        _spec(Command.SIM_VACATE_MACRO, "sim_vacate_macro", VacateMacro.codec(), _OK_ONLY),
         _spec(
             Command.RDPARAINFO,
             "cnc_rdparainfo",

@@ -36,6 +36,7 @@ class Command(enum.IntEnum):
     SIM_LIST_FAULTS = 0x0E06  # simulator control: the pending faults of one scope
     SIM_CLEAR_FAULTS = 0x0E07  # simulator control: remove the pending faults of one scope
     SIM_READ_PANEL = 0x0E10  # simulator control: read the operator panel
+    SIM_VACATE_MACRO = 0x0E11  # simulator control: make a macro variable vacant
     RDALMHISTRY = 0x0F1A  # cnc_rdalmhistry: ODBAHIS
 
 

@@ -380,6 +380,16 @@ class DataItem:
                 raise ValueError(f"value {v} is outside {self.low}..{self.high}")
 
 
+def _connect_params() -> tuple[DataItem, ...]:
+    """The parameters a FOCAS client reads on its own, with their defaults for a machine that
+    does not give them: 9968, the FOCAS option bits (#0 set: ``cnc_rddynamic2`` is there), and
+    3115, the position display bits of each axis (0: every position shown)."""
+    return (
+        DataItem(9968, kind=ParamKind.BIT, values=[0b0000_0001], name="FOCAS option bits"),
+        DataItem(3115, axis=True, kind=ParamKind.BIT, values=[0], name="position display"),
+    )
+
+
 @dataclass(frozen=True, slots=True)
 class MacroRange:
     """Macro variables ``first..last`` (inclusive), writable or read-only."""
@@ -493,6 +503,10 @@ class Machine:
         self._identity = identity or Identity(2, max(n, 8), " 0", " M", "D4F1", "32.0", f"{n:02d}")
         self._check_identity(self._identity)
         self._params = self._items(params, "parameter")
+        for item in _connect_params():  # what a FOCAS client reads at connect, when not given
+            if item.number not in self._params:
+                item.check(n)
+                self._params[item.number] = item
         self._diags = self._items(diags, "diagnostic")
         self._macro_ranges = tuple(sorted(macro_ranges, key=lambda r: r.first))
         for r in self._macro_ranges:
