@@ -16,10 +16,10 @@ import sys
 from collections.abc import AsyncIterator
 from datetime import UTC, datetime
 from decimal import Decimal
-from typing import Any
 
 import pytest
-from support import IO_TIMEOUT, Served, serving
+from cli_support import CLI_TIMEOUT, Cli
+from support import Served, serving
 
 from focas_net.cli import (
     EXIT_CNC,
@@ -45,41 +45,6 @@ from focas_net.protocol import (
 )
 from focas_net.sim import default_machine
 from focas_net.sim.default import mdd844_record
-
-CLI_TIMEOUT = 4 * IO_TIMEOUT
-
-
-class Cli:
-    """Runs ``focas-net`` commands against one server and captures what they print."""
-
-    def __init__(self, served: Served, capsys: pytest.CaptureFixture[str]) -> None:
-        self.served = served
-        self.capsys = capsys
-
-    async def run(self, *argv: str, port: int | None = None) -> tuple[int, str, str]:
-        args = [*argv, "--host", self.served.host, "--port", str(port or self.served.port)]
-        self.capsys.readouterr()
-        code = await asyncio.wait_for(asyncio.to_thread(main, args), CLI_TIMEOUT)
-        out, err = self.capsys.readouterr()
-        return code, out, err
-
-    async def ok(self, *argv: str) -> str:
-        code, out, err = await self.run(*argv)
-        assert code == EXIT_OK, f"{argv}: exit {code}, stderr {err!r}"
-        assert err == ""
-        return out
-
-    async def json(self, *argv: str) -> Any:
-        return json.loads(await self.ok(*argv, "--json"))
-
-    async def fails(self, expected_code: int, *argv: str) -> str:
-        """Run a failing command; its stderr must be one ``focas-net:`` line, stdout empty."""
-        code, out, err = await self.run(*argv)
-        assert code == expected_code, f"{argv}: exit {code}, stderr {err!r}"
-        assert out == ""
-        assert err.startswith("focas-net: ") and err.endswith("\n")
-        assert err.count("\n") == 1
-        return err.strip()
 
 
 @pytest.fixture

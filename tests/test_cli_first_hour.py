@@ -19,6 +19,7 @@ from pathlib import Path
 from typing import Any
 
 import pytest
+from cli_support import run_focas_net
 from peers import ScriptedPeer, turns
 from support import IO_TIMEOUT, Served, serving
 
@@ -39,23 +40,6 @@ from focas_net.protocol import Frame
 CLI_TIMEOUT = 6 * IO_TIMEOUT
 FLEET_POLL = Path(__file__).resolve().parent.parent / "examples" / "fleet_poll.py"
 HTTP_ANSWER = b"HTTP/1.1 400 Bad Request\r\nContent-Length: 0\r\n\r\n"
-
-
-async def focas_net(*argv: str) -> tuple[int, str, str]:
-    """``python -m focas_net ARGV``: exit code, stdout, stderr."""
-    proc = await asyncio.create_subprocess_exec(
-        sys.executable, "-m", "focas_net", *argv,
-        stdout=asyncio.subprocess.PIPE, stderr=asyncio.subprocess.PIPE,
-    )  # fmt: skip
-    try:
-        async with asyncio.timeout(CLI_TIMEOUT):
-            out, err = await proc.communicate()
-    finally:
-        if proc.returncode is None:
-            proc.kill()
-            await proc.wait()
-    assert proc.returncode is not None
-    return proc.returncode, out.decode(), err.decode()
 
 
 def one_line(err: str) -> str:
@@ -86,7 +70,7 @@ async def http_peer() -> AsyncIterator[ScriptedPeer]:
 
 
 async def test_a_command_against_a_non_focas_peer_exits_4(http_peer: ScriptedPeer) -> None:
-    code, out, err = await focas_net("status", *at(http_peer))
+    code, out, err = await run_focas_net("status", *at(http_peer))
     assert code == EXIT_PROTOCOL, err
     assert out == ""
     line = one_line(err)
@@ -95,7 +79,7 @@ async def test_a_command_against_a_non_focas_peer_exits_4(http_peer: ScriptedPee
 
 
 async def test_follow_against_a_non_focas_peer_gives_up(http_peer: ScriptedPeer) -> None:
-    code, out, err = await focas_net("alarms", "--follow", "--count", "2", *at(http_peer))
+    code, out, err = await run_focas_net("alarms", "--follow", "--count", "2", *at(http_peer))
     assert code == EXIT_PROTOCOL, err
     assert out == ""
     line = one_line(err)
@@ -171,13 +155,13 @@ async def tls_served(certificate: tuple[Path, Path]) -> AsyncIterator[Served]:
 async def test_cli_tls_options(certificate: tuple[Path, Path]) -> None:
     cert, _key = certificate
     async with tls_served(certificate) as served:
-        code, out, err = await focas_net("status", "--tls-ca", str(cert), *at(served))
+        code, out, err = await run_focas_net("status", "--tls-ca", str(cert), *at(served))
         assert (code, err) == (EXIT_OK, "")
         assert out.startswith("aut=MEM ")
-        code, out, err = await focas_net("sysinfo", "--tls-insecure", "--json", *at(served))
+        code, out, err = await run_focas_net("sysinfo", "--tls-insecure", "--json", *at(served))
         assert (code, err) == (EXIT_OK, "")
         assert json.loads(out)["mt_type"]["value"] == "M"
-        code, out, err = await focas_net("status", "--tls", *at(served))  # self-signed
+        code, out, err = await run_focas_net("status", "--tls", *at(served))  # self-signed
         assert code == EXIT_CONNECTION
         line = one_line(err)
         assert "certificate not trusted" in line and "--tls-ca" in line
@@ -187,7 +171,7 @@ async def test_plain_client_against_a_tls_server_says_why(
     certificate: tuple[Path, Path],
 ) -> None:
     async with tls_served(certificate) as served:
-        code, out, err = await focas_net("status", *at(served))
+        code, out, err = await run_focas_net("status", *at(served))
     assert code == EXIT_CONNECTION and out == ""
     line = one_line(err)
     assert "before any answer" in line and "give --tls" in line
@@ -197,7 +181,7 @@ async def test_tls_client_against_a_plain_server_says_why(
     server: Served, certificate: tuple[Path, Path]
 ) -> None:
     cert, _key = certificate
-    code, out, err = await focas_net("status", "--tls-ca", str(cert), *at(server))
+    code, out, err = await run_focas_net("status", "--tls-ca", str(cert), *at(server))
     assert code == EXIT_CONNECTION and out == ""
     line = one_line(err)
     assert line.startswith(f"focas-net: cannot connect to 127.0.0.1:{server.port}: TLS handshake")
@@ -206,9 +190,9 @@ async def test_tls_client_against_a_plain_server_says_why(
 
 
 async def test_tls_option_errors_are_usage_errors(tmp_path: Path) -> None:
-    code, _out, err = await focas_net("status", "--tls-ca", str(tmp_path / "missing.pem"))
+    code, _out, err = await run_focas_net("status", "--tls-ca", str(tmp_path / "missing.pem"))
     assert code == EXIT_USAGE and "missing.pem" in one_line(err)
-    code, _out, err = await focas_net("status", "--tls-ca", "x.pem", "--tls-insecure")
+    code, _out, err = await run_focas_net("status", "--tls-ca", "x.pem", "--tls-insecure")
     assert code == EXIT_USAGE and "exclude" in one_line(err)
 
 
@@ -242,7 +226,7 @@ async def test_serve_ready_line_says_tls_and_read_only(certificate: tuple[Path, 
     ],
 )
 async def test_serve_checks_options_first(argv: tuple[str, ...], words: str) -> None:
-    code, out, err = await focas_net("serve", *argv)
+    code, out, err = await run_focas_net("serve", *argv)
     assert code == EXIT_USAGE and out == ""
     assert err.count("\n") == 1 and words in err, err
 
@@ -262,10 +246,10 @@ def test_serve_builds_no_machine_for_bad_options(monkeypatch: pytest.MonkeyPatch
 
 
 async def test_a_long_host_is_a_clear_usage_error() -> None:
-    code, _out, err = await focas_net("status", "--host", "a" * 300)
+    code, _out, err = await run_focas_net("status", "--host", "a" * 300)
     assert code == EXIT_USAGE
     assert "host name too long" in err and "idna" not in err
-    code, _out, err = await focas_net("status", "--host", "a" * 64 + ".example")
+    code, _out, err = await run_focas_net("status", "--host", "a" * 64 + ".example")
     assert code == EXIT_USAGE and "1..63" in err
 
 
@@ -274,13 +258,13 @@ async def test_ipv6_addresses_print_in_brackets() -> None:
     port = blocker.sockets[0].getsockname()[1]
     blocker.close()
     await blocker.wait_closed()
-    code, _out, err = await focas_net("status", "--host", "::1", "--port", str(port))
+    code, _out, err = await run_focas_net("status", "--host", "::1", "--port", str(port))
     assert code == EXIT_CONNECTION
     assert f"[::1]:{port}" in one_line(err)
 
 
 async def test_follow_interval_is_bounded_below() -> None:
-    code, _out, err = await focas_net("alarms", "--follow", "--interval", "1e-9")
+    code, _out, err = await run_focas_net("alarms", "--follow", "--interval", "1e-9")
     assert code == EXIT_USAGE and "at least 0.05" in err
 
 
@@ -288,17 +272,17 @@ async def test_follow_interval_is_bounded_below() -> None:
 
 
 async def test_version() -> None:
-    code, out, err = await focas_net("--version")
+    code, out, err = await run_focas_net("--version")
     assert (code, err) == (EXIT_OK, "")
     assert out.strip() == f"focas-net {focas_net_version}"
 
 
 async def test_status_names_tmmode_by_the_machine_series(server: Served) -> None:
-    code, out, err = await focas_net("status", *at(server))
+    code, out, err = await run_focas_net("status", *at(server))
     assert (code, err) == (EXIT_OK, "")
     (row,) = [line.split() for line in out.splitlines() if line.startswith("tmmode")]
     assert row[:3] == ["tmmode", "0", "M"] and "T mode" not in out
-    code, out, _err = await focas_net("status", "--json", *at(server))
+    code, out, _err = await run_focas_net("status", "--json", *at(server))
     assert json.loads(out)["tmmode"] == {
         "value": 0,
         "name": "M",
@@ -322,18 +306,18 @@ async def test_fleet_poll_error_rows_do_not_widen_the_columns(server: Served) ->
 
 
 async def test_axis_hints(server: Served) -> None:
-    code, _out, err = await focas_net("param", "get", "1420", *at(server))
+    code, _out, err = await run_focas_net("param", "get", "1420", *at(server))
     assert code == EXIT_CNC
     assert one_line(err).endswith("parameter 1420 is an axis parameter: give --axis 1..3")
-    code, _out, err = await focas_net("param", "get", "1420", "--axis", "7", *at(server))
+    code, _out, err = await run_focas_net("param", "get", "1420", "--axis", "7", *at(server))
     assert one_line(err).endswith("the machine has 3 axes: give --axis 1..3")
-    code, _out, err = await focas_net("diag", "300", *at(server))
+    code, _out, err = await run_focas_net("diag", "300", *at(server))
     assert one_line(err).endswith("diagnostic 300 is an axis diagnostic: give --axis 1..3")
 
 
 async def test_pmc_write_of_many_bytes_is_summarised(server: Served) -> None:
     values = " ".join(str(i % 256) for i in range(300))
-    code, out, err = await focas_net("pmc", "write", "R", "0", values, *at(server))
+    code, out, err = await run_focas_net("pmc", "write", "R", "0", values, *at(server))
     assert (code, err) == (EXIT_OK, "")
     assert out.strip() == (
         "wrote 300 bytes to R0..R299: 00 01 02 03 04 05 06 07 08 09 0a 0b 0c 0d 0e 0f "

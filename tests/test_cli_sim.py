@@ -5,8 +5,8 @@ from __future__ import annotations
 from collections.abc import AsyncIterator
 
 import pytest
+from cli_support import Cli
 from support import serving
-from test_cli_client import Cli
 
 from focas_net.client import FocasClient, PanelSwitches
 from focas_net.errors import EW, CncError

@@ -13,173 +13,42 @@ built-in 0i-F machine (the 30i set, open answer version 3) and a 16i-class machi
 from __future__ import annotations
 
 import asyncio
-import contextlib
 import ctypes
-import os
 import struct
-import threading
-from collections.abc import AsyncIterator, Callable
-from concurrent.futures import ThreadPoolExecutor
-from dataclasses import dataclass
+from collections.abc import AsyncIterator
 from decimal import Decimal
-from pathlib import Path
-from typing import Any, TypeVar
+from typing import Any
 
 import pytest
-from support import IO_TIMEOUT, Served, serving, wait_until
+from fwlib_support import (
+    _FORMATS,
+    _SIZES,
+    EW_SOCKET,
+    HANDLE_TIMEOUT,
+    LIBRARY,
+    Cnc,
+    buf,
+    connect,
+    i32,
+    library,
+    rdparam,
+    s16,
+    served_cnc,
+    us,
+    wrparam,
+)
+from support import IO_TIMEOUT, serving, wait_until
 
 from focas_net.client import FocasClient
 from focas_net.errors import EW, CncError
 from focas_net.protocol import FaultKind, FaultScope
-from focas_net.sim import DataItem, Machine, ParamKind, default_machine, load_machine
-
-LIBRARY = os.environ.get("FOCAS_NET_FWLIB")
+from focas_net.sim import ParamKind, default_machine
 
 pytestmark = pytest.mark.skipif(
     not LIBRARY,
     reason="set FOCAS_NET_FWLIB to the path of FANUC's libfwlib32 (e.g. libfwlib32.so.1) "
     "to run FANUC's library against the simulator",
 )
-
-T = TypeVar("T")
-
-us, s16, i32 = ctypes.c_ushort, ctypes.c_short, ctypes.c_int32
-#: The library's socket error (the call's answer never came, or the connection is gone).
-EW_SOCKET = -16
-#: Seconds the library waits for an answer (its handle timeout).
-HANDLE_TIMEOUT = 3
-
-#: A 16i-class machine file (the 16i command set, open answer version 2).
-MACHINE_16I = Path(__file__).with_name("data") / "fwlib_16i_machine.toml"
-#: The same parameters on a 0i-F (the 30i command set): bit, byte, word, two-word and real.
-MACHINE_30I = Path(__file__).with_name("data") / "fwlib_30i_machine.toml"
-
-
-class _Library:
-    """FANUC's library with every function returning a C ``short`` (the EW code)."""
-
-    def __init__(self, path: str) -> None:
-        self._cdll = ctypes.cdll.LoadLibrary(path)
-
-    def __getattr__(self, name: str) -> Any:
-        function = getattr(self._cdll, name)
-        function.restype = ctypes.c_short
-        setattr(self, name, function)
-        return function
-
-
-_LIB: _Library | None = None
-_LIB_LOCK = threading.Lock()
-
-
-def library() -> _Library:
-    """The library, loaded and started once per test run."""
-    global _LIB
-    with _LIB_LOCK:
-        if _LIB is None:
-            assert LIBRARY is not None
-            lib = _Library(LIBRARY)
-            log = os.environ.get("FOCAS_NET_FWLIB_LOG")
-            lib.cnc_startupprocess(3 if log else 0, (log or "/dev/null").encode())
-            _LIB = lib
-        return _LIB
-
-
-def buf(size: int) -> ctypes.Array[ctypes.c_char]:
-    return ctypes.create_string_buffer(size)
-
-
-class Handle:
-    """A handle of FANUC's library, opened, used and freed on one thread of its own (the
-    library ties a handle to the thread that made it)."""
-
-    def __init__(self) -> None:
-        self._executor = ThreadPoolExecutor(max_workers=1)
-        self.number = 0
-
-    async def run(self, function: Callable[..., T], *args: Any) -> T:
-        """``function(*args)`` on this handle's thread, bounded."""
-        loop = asyncio.get_running_loop()
-        async with asyncio.timeout(HANDLE_TIMEOUT * 4 + IO_TIMEOUT):
-            return await loop.run_in_executor(self._executor, function, *args)
-
-    async def call(self, name: str, *args: Any) -> int:
-        """``name(handle, *args)``; its return code."""
-        rc: int = await self.run(getattr(library(), name), us(self.number), *args)
-        return rc
-
-    async def open(self, served: Served, seconds: int = HANDLE_TIMEOUT) -> int:
-        """``cnc_allclibhndl3`` to ``served``; its return code."""
-        handle = us()
-        rc: int = await self.run(
-            library().cnc_allclibhndl3,
-            b"127.0.0.1",
-            us(served.port),
-            i32(seconds),
-            ctypes.byref(handle),
-        )
-        self.number = handle.value
-        return rc
-
-    async def free(self) -> int:
-        """``cnc_freelibhndl``, then the thread ends."""
-        try:
-            return await self.call("cnc_freelibhndl")
-        finally:
-            self._executor.shutdown(wait=False)
-
-
-async def connect(served: Served, seconds: int = HANDLE_TIMEOUT) -> Handle:
-    """A new handle on ``served`` (asserts EW_OK)."""
-    handle = Handle()
-    rc = await handle.open(served, seconds)
-    assert rc == 0, f"cnc_allclibhndl3 returned {rc}"
-    return handle
-
-
-@dataclass
-class Cnc:
-    """One handle of FANUC's library on a served machine, and a packed client of the same."""
-
-    served: Served
-    packed: FocasClient
-    handle: Handle
-    set_name: str
-
-    @property
-    def machine(self) -> Machine:
-        return self.served.machine
-
-    @property
-    def slots(self) -> int:
-        """Values an all-axes read must make room for: the path's axes at 16i class, the
-        open answer's max axes at 30i class."""
-        return 3 if self.set_name == "16i" else 8
-
-    async def call(self, name: str, *args: Any) -> int:
-        """``name(handle, *args)`` on the handle's thread; its return code."""
-        return await self.handle.call(name, *args)
-
-
-def machine_for(set_name: str) -> Machine:
-    if set_name == "30i":
-        return default_machine()
-    if set_name == "30i-file":
-        return load_machine(MACHINE_30I)
-    return load_machine(MACHINE_16I)
-
-
-@contextlib.asynccontextmanager
-async def served_cnc(set_name: str) -> AsyncIterator[Cnc]:
-    machine = machine_for(set_name)
-    machine.set_panel(0, 1, 0)  # MDI, parameter writes enabled
-    async with serving(machine) as served:
-        async with FocasClient(served.host, served.port, timeout=IO_TIMEOUT) as packed:
-            handle = await connect(served)
-            try:
-                yield Cnc(served, packed, handle, set_name)
-            finally:
-                await handle.free()
 
 
 @pytest.fixture(params=["30i", "16i"])
@@ -313,41 +182,6 @@ async def _packed_ew(call: Any) -> int:
 # --------------------------------------------------------------------------------------------
 # Parameters and diagnostics
 
-_SIZES = {1: 1, 2: 2, 4: 4, 8: 8}
-_FORMATS = {1: "b", 2: "h", 4: "i"}
-
-
-def _value_format(item: DataItem) -> str:
-    """How the library gives one value of ``item`` in IODBPSD: a bit parameter's byte as its
-    eight bits, a real parameter's REALPRM ``(prm_val, dec_val)``."""
-    if item.kind is ParamKind.REAL:
-        return "ii"
-    if item.kind is ParamKind.BIT:
-        return "B"
-    return _FORMATS[item.width]
-
-
-async def rdparam(
-    cnc: Cnc, number: int, axis: int, fn: str = "cnc_rdparam"
-) -> tuple[int, list[Any]]:
-    """The library's values: integers, or ``Decimal`` for a real parameter."""
-    item = (cnc.machine.param_item if fn == "cnc_rdparam" else cnc.machine.diag_item)(number)
-    assert item is not None
-    size = _SIZES[item.width]
-    count = cnc.slots if axis == -1 and item.axis else 1
-    b = buf(4 + 8 * 32)
-    rc = await cnc.call(fn, s16(number), s16(axis), s16(4 + size * count), b)
-    datano, kind = struct.unpack_from("<hh", b.raw)
-    n = len(cnc.machine.axes) if axis == -1 and item.axis else 1
-    fmt = _value_format(item)
-    raw = struct.unpack_from(f"<{n * len(fmt)}{fmt[0]}", b.raw, 4)
-    values: list[Any] = list(raw)
-    if item.kind is ParamKind.REAL:
-        values = [Decimal(raw[i]).scaleb(-raw[i + 1]) for i in range(0, len(raw), 2)]
-    if rc == 0:
-        assert (datano, kind) == (number, axis if item.axis else 0)
-    return rc, values
-
 
 async def packed_param(cnc: Cnc, number: int, axis: int = 0) -> Any:
     """The packed protocol's value of parameter ``number``: a Decimal for a real one."""
@@ -391,21 +225,6 @@ async def test_every_kind_of_parameter_read_as_the_packed_protocol_reads_it(
     assert (await rdparam(cnc, 1815, -1))[1] == [0b10110000, 0b00000001, 0b11111111]
     assert (await rdparam(cnc, 1451, 0))[1] == [Decimal("12.345")]
     assert (await rdparam(cnc, 1420, -1))[1] == [Decimal("1.5"), Decimal(-2), Decimal("3.1")]
-
-
-async def wrparam(cnc: Cnc, number: int, axis: int, values: list[Any], length: int = 0) -> int:
-    """``cnc_wrparam`` of ``values`` (integers, or ``(prm_val, dec_val)`` for a real
-    parameter); ``length`` defaults to the one the parameter's type needs."""
-    item = cnc.machine.param_item(number)
-    assert item is not None
-    size = _SIZES[item.width]
-    b = buf(4 + 8 * 32)
-    struct.pack_into("<hh", b, 0, number, axis)
-    fmt = _value_format(item)
-    for i, v in enumerate(values):
-        struct.pack_into(f"<{fmt}", b, 4 + i * size, *(v if isinstance(v, tuple) else (v,)))
-    length = length or 4 + size * (cnc.slots if axis == -1 else 1)
-    return await cnc.call("cnc_wrparam", s16(length), b)
 
 
 async def test_every_kind_of_parameter_written_through_the_library(kinds_cnc: Cnc) -> None:

@@ -92,3 +92,20 @@ def test_the_import_reader_sees_relative_imports() -> None:
     found = imports_of(PACKAGE / "sim" / "default.py")
     assert "focas_net.sim.machine" in found and "focas_net.versamax" in found
     assert "focas_net.protocol" in imports_of(PACKAGE / "client" / "client.py")
+
+
+TESTS = Path(__file__).resolve().parent
+
+
+@pytest.mark.parametrize("path", sorted(TESTS.glob("*.py")), ids=lambda p: p.name)
+def test_no_test_module_imports_another_or_conftest(path: Path) -> None:
+    """Shared test helpers live in support modules (``support``, ``peers``, ``cli_support``,
+    ``fwlib_support``), never in a test module or ``conftest``."""
+    imported: set[str] = set()
+    for node in ast.walk(ast.parse(path.read_text(), str(path))):
+        if isinstance(node, ast.Import):
+            imported.update(alias.name for alias in node.names)
+        elif isinstance(node, ast.ImportFrom) and node.module and not node.level:
+            imported.add(node.module)
+    offending = {m for m in imported if m.startswith("test_") or m == "conftest"}
+    assert not offending, f"{path.name} imports {sorted(offending)}"

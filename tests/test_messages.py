@@ -7,8 +7,8 @@ from collections.abc import AsyncIterator, Awaitable, Callable
 from typing import Any
 
 import pytest
+from cli_support import Cli
 from support import Served, serving
-from test_cli_client import Cli
 
 from focas_net.cli import EXIT_USAGE
 from focas_net.client import FocasClient

@@ -1,6 +1,6 @@
 """The native client's reads equal FANUC's library's on the same server, in both command sets.
 
-Skipped unless ``FOCAS_NET_FWLIB`` names FANUC's libfwlib32 (see ``tests/test_fwlib.py``,
+Skipped unless ``FOCAS_NET_FWLIB`` names FANUC's libfwlib32 (see ``tests/fwlib_support.py``,
 whose handle helpers run the library on a thread of its own). One server per command set (the
 built-in 30i-class machine, a 16i-class machine file); the library's handle and a
 :class:`NativeClient` are open at the same time, and every value must agree.
@@ -16,9 +16,19 @@ from pathlib import Path
 from typing import Any
 
 import pytest
+from fwlib_support import (
+    LIBRARY,
+    Handle,
+    buf,
+    connect,
+    machine_for,
+    rdparam,
+    s16,
+    served_cnc,
+    us,
+    wrparam,
+)
 from support import IO_TIMEOUT, serving
-from test_fwlib import LIBRARY, Handle, buf, connect, rdparam, s16, served_cnc, us, wrparam
-from test_native_client import _machine
 
 from focas_net.client.native import NativeClient
 from focas_net.errors import EW, CncError
@@ -35,7 +45,7 @@ pytestmark = pytest.mark.skipif(
 async def pair(
     request: pytest.FixtureRequest, tmp_path: Path
 ) -> AsyncIterator[tuple[Handle, NativeClient]]:
-    machine = _machine(request.param, tmp_path)
+    machine = machine_for(request.param)
     machine.set_panel(0, 1, 0)
     machine.write_macro(101, Decimal("-2.5"))
     machine.write_pmc("R", 100, bytes(range(1, 41)))

@@ -9,8 +9,8 @@ from decimal import Decimal
 from pathlib import Path
 
 import pytest
+from cli_support import Cli
 from support import serving
-from test_cli_client import Cli
 
 from focas_net.cli import EXIT_CNC, EXIT_USAGE
 from focas_net.client import FocasClient

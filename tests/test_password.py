@@ -12,8 +12,8 @@ import sys
 from collections.abc import AsyncIterator
 
 import pytest
+from cli_support import Cli
 from support import Served, serving
-from test_cli_client import Cli
 
 from focas_net.cli import EXIT_CNC, EXIT_USAGE
 from focas_net.client import FocasClient

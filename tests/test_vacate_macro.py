@@ -7,8 +7,8 @@ import json
 from decimal import Decimal
 
 import pytest
+from cli_support import run_focas_net
 from support import IO_TIMEOUT, serving
-from test_cli_first_hour import focas_net
 
 from focas_net.adapters import PackedAdapter
 from focas_net.cli import EXIT_CNC, EXIT_OK, EXIT_USAGE
@@ -61,21 +61,21 @@ async def test_macro_clear_exits_and_says_what_it_did() -> None:
     async with serving() as served:
         at = ["--host", "127.0.0.1", "--port", str(served.port)]
         served.machine.write_macro(100, Decimal("7.25"))
-        code, out, err = await focas_net("macro", "clear", "100", *at)
+        code, out, err = await run_focas_net("macro", "clear", "100", *at)
         assert (code, err) == (EXIT_OK, "")
         assert out.strip() == "#100 = <vacant> (cleared)"
         assert served.machine.read_macro(100) is None
-        code, out, err = await focas_net("macro", "clear", "100", "--json", *at)
+        code, out, err = await run_focas_net("macro", "clear", "100", "--json", *at)
         assert (code, err, json.loads(out)) == (EXIT_OK, "", {"number": 100, "value": None})
-        code, out, err = await focas_net("macro", "clear", "4001", *at)
+        code, out, err = await run_focas_net("macro", "clear", "4001", *at)
         assert (code, out) == (EXIT_CNC, "") and "EW_PROT" in err
-        code, out, err = await focas_net("macro", "clear", "9999", *at)
+        code, out, err = await run_focas_net("macro", "clear", "9999", *at)
         assert (code, out) == (EXIT_CNC, "") and "EW_NUMBER" in err
-        code, out, err = await focas_net("macro", "clear", "x", *at)
+        code, out, err = await run_focas_net("macro", "clear", "x", *at)
         assert (code, out) == (EXIT_USAGE, "") and "'x'" in err
     machine = default_machine()
     machine.control_enabled = False
     async with serving(machine) as served:
         at = ["--host", "127.0.0.1", "--port", str(served.port)]
-        code, out, err = await focas_net("macro", "clear", "100", *at)
+        code, out, err = await run_focas_net("macro", "clear", "100", *at)
         assert (code, out) == (EXIT_CNC, "") and "EW_FUNC" in err

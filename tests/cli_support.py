@@ -1,0 +1,69 @@
+"""Running ``focas-net`` in tests: in-process against one server (:class:`Cli`), or as a
+subprocess (:func:`run_focas_net`). Shared by the CLI test modules."""
+
+from __future__ import annotations
+
+import asyncio
+import json
+import sys
+from typing import Any
+
+import pytest
+from support import IO_TIMEOUT, Served
+
+from focas_net.cli import EXIT_OK, main
+
+#: Upper bound of one in-process command.
+CLI_TIMEOUT = 4 * IO_TIMEOUT
+#: Upper bound of one subprocess run (it starts an interpreter).
+SUBPROCESS_TIMEOUT = 6 * IO_TIMEOUT
+
+
+class Cli:
+    """Runs ``focas-net`` commands against one server and captures what they print."""
+
+    def __init__(self, served: Served, capsys: pytest.CaptureFixture[str]) -> None:
+        self.served = served
+        self.capsys = capsys
+
+    async def run(self, *argv: str, port: int | None = None) -> tuple[int, str, str]:
+        args = [*argv, "--host", self.served.host, "--port", str(port or self.served.port)]
+        self.capsys.readouterr()
+        code = await asyncio.wait_for(asyncio.to_thread(main, args), CLI_TIMEOUT)
+        out, err = self.capsys.readouterr()
+        return code, out, err
+
+    async def ok(self, *argv: str) -> str:
+        code, out, err = await self.run(*argv)
+        assert code == EXIT_OK, f"{argv}: exit {code}, stderr {err!r}"
+        assert err == ""
+        return out
+
+    async def json(self, *argv: str) -> Any:
+        return json.loads(await self.ok(*argv, "--json"))
+
+    async def fails(self, expected_code: int, *argv: str) -> str:
+        """Run a failing command; its stderr must be one ``focas-net:`` line, stdout empty."""
+        code, out, err = await self.run(*argv)
+        assert code == expected_code, f"{argv}: exit {code}, stderr {err!r}"
+        assert out == ""
+        assert err.startswith("focas-net: ") and err.endswith("\n")
+        assert err.count("\n") == 1
+        return err.strip()
+
+
+async def run_focas_net(*argv: str) -> tuple[int, str, str]:
+    """``python -m focas_net ARGV``: exit code, stdout, stderr."""
+    proc = await asyncio.create_subprocess_exec(
+        sys.executable, "-m", "focas_net", *argv,
+        stdout=asyncio.subprocess.PIPE, stderr=asyncio.subprocess.PIPE,
+    )  # fmt: skip
+    try:
+        async with asyncio.timeout(SUBPROCESS_TIMEOUT):
+            out, err = await proc.communicate()
+    finally:
+        if proc.returncode is None:
+            proc.kill()
+            await proc.wait()
+    assert proc.returncode is not None
+    return proc.returncode, out.decode(), err.decode()
