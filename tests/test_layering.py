@@ -94,6 +94,16 @@ def test_the_import_reader_sees_relative_imports() -> None:
     assert "focas_net.protocol" in imports_of(PACKAGE / "client" / "client.py")
 
 
+def test_the_native_client_never_sees_the_machine() -> None:
+    """The native client reaches the CNC through the codecs only: no machine, adapter or
+    server."""
+    found = imports_of(PACKAGE / "client" / "native.py")
+    assert "focas_net.native.calls" in found
+    assert not any(
+        m.startswith(("focas_net.sim", "focas_net.adapters", "focas_net.server")) for m in found
+    )
+
+
 TESTS = Path(__file__).resolve().parent
 
 

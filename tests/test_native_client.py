@@ -525,17 +525,6 @@ async def test_connect_refuses_what_is_not_a_cnc() -> None:
         await server.wait_closed()
 
 
-def test_the_native_client_never_sees_the_machine() -> None:
-    """The client reaches the CNC through the codecs only: no machine, adapter or server."""
-    from test_layering import PACKAGE, imports_of
-
-    found = imports_of(PACKAGE / "client" / "native.py")
-    assert "focas_net.native.calls" in found
-    assert not any(
-        m.startswith(("focas_net.sim", "focas_net.adapters", "focas_net.server")) for m in found
-    )
-
-
 @pytest.mark.parametrize("kind", [FaultKind.DELAY, FaultKind.ERROR, FaultKind.DROP])
 async def test_server_faults_on_the_native_transport(served: Served, kind: FaultKind) -> None:
     """A delayed answer times the call out, an injected EW code fails the call, a dropped
