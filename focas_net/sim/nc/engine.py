@@ -252,9 +252,16 @@ class Engine:
     @property
     def motion(self) -> MotionKind:
         self.advance()
-        if self._state is not CycleState.START or self._action is None:
+        action = self._action
+        if self._state is not CycleState.START or action is None or isinstance(action, Wait):
             return MotionKind.NONE
-        return MotionKind.DWELL if isinstance(self._action, Dwell) else MotionKind.MOTION
+        return MotionKind.DWELL if isinstance(action, Dwell) else MotionKind.MOTION
+
+    @property
+    def waiting(self) -> bool:
+        """Whether an M, S or T function is waiting for its completion (FIN)."""
+        self.advance()
+        return self._state is CycleState.START and isinstance(self._action, Wait)
 
     def machine_position(self) -> Vector:
         self.advance()
