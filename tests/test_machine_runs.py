@@ -5,12 +5,13 @@ from __future__ import annotations
 from collections.abc import AsyncIterator
 from datetime import UTC, datetime
 from decimal import Decimal
+from typing import Any
 
 import pytest
 
 from focas_net.client import FocasClient
 from focas_net.client.native import NativeClient
-from focas_net.errors import EW
+from focas_net.errors import EW, CncError
 from focas_net.sim import Machine, MachineError, default_machine
 from focas_net.sim.nc import ManualClock
 from tests.support import IO_TIMEOUT, Served, serving
@@ -222,3 +223,72 @@ def test_set_motion_wins_until_the_next_cycle_start(machine: Machine, clock: Man
     assert machine.motion.feed == 77 and not machine.driven
     start(machine, clock)
     assert machine.driven and machine.motion.feed == 1200  # back in N20
+
+
+# -- the same through the protocol: programs and the cycle ------------------------------------
+
+LOADED = """O0300 (LOADED)
+N10 G90 G21 S500 M3
+N20 G1 X10. F600
+N30 M30
+"""
+
+
+async def test_load_select_start_hold_reset_through_the_client(
+    machine: Machine, clock: ManualClock, client: FocasClient
+) -> None:
+    assert await client.write_program(LOADED) == 300
+    assert [(p.number, p.name) for p in await client.read_program_directory()] == [
+        (100, "RUN TEST"),
+        (200, "BAD"),
+        (300, "LOADED"),
+    ]
+    assert await client.read_program(300) == machine.programs.text(300)
+    await client.select_program(300)
+    assert (await client.read_program_numbers()).main == 300
+    await client.sim.cycle_start()
+    clock.advance(SPINDLE_START + 0.5)  # 5 mm at F600
+    assert (await client.read_status()).run == 3
+    assert (await client.read_positions("absolute")).increments["X"] == 5000
+    assert await client.read_feed() == 600
+    await client.sim.feed_hold()
+    clock.advance(1.0)
+    assert (await client.read_status()).run == 2
+    assert (await client.read_positions("absolute")).increments["X"] == 5000
+    await client.sim.set_overrides(feed=50)
+    await client.sim.cycle_start()
+    clock.advance(0.5)  # 2.5 mm at half the feed
+    assert (await client.read_positions("absolute")).increments["X"] == 7500
+    assert await client.read_feed() == 300
+    info = await client.read_run_info()
+    assert (info.feed, info.cutting_ms) == (50, 1000)
+    await client.sim.reset()
+    assert (await client.read_status()).run == 0
+
+
+async def test_program_refusals_answer_their_ew_codes(
+    machine: Machine, clock: ManualClock, client: FocasClient
+) -> None:
+    async def ew_of(call: Any) -> int:
+        with pytest.raises(CncError) as refused:
+            await call
+        return refused.value.ew
+
+    assert await ew_of(client.write_program(PROGRAM)) == EW.REJECT  # O0100 is stored
+    assert await ew_of(client.write_program("G1 X1.")) == EW.DATA  # no O number
+    assert await ew_of(client.read_program(4321)) == EW.NUMBER
+    assert await ew_of(client.delete_program(4321)) == EW.NUMBER
+    assert await ew_of(client.select_program(4321)) == EW.NUMBER
+    await client.sim.cycle_start()  # O0100, the main program
+    clock.advance(SPINDLE_START)
+    assert await ew_of(client.delete_program(100)) == EW.BUSY
+    assert await ew_of(client.write_program(PROGRAM, replace=True)) == EW.BUSY
+    assert await ew_of(client.select_program(200)) == EW.BUSY
+    await client.sim.reset()
+    await client.sim.set_panel("MDI")
+    assert await ew_of(client.sim.cycle_start()) == EW.MODE
+    assert await ew_of(client.select_program(200)) == EW.MODE
+    await client.sim.set_panel("MEM")
+    await client.delete_program(100)
+    assert 100 not in machine.programs
+    assert await ew_of(client.sim.cycle_start()) == EW.DATA  # the main program is gone

@@ -93,6 +93,9 @@ from .nc import (
     NcAlarm,
     NcSettings,
     NcStateError,
+    ProgramError,
+    ProgramErrorReason,
+    ProgramInfo,
     ProgramStore,
     RealTimeClock,
     SimClock,
@@ -139,6 +142,7 @@ Clock = Callable[[], datetime]
 AUT_MODES: Final = frozenset({0, 1, 3, 4, 5, 6, 7, 8, 9, 10})
 MDI: Final = 0
 MEM: Final = 1
+EDIT: Final = 3
 #: Alarm history capacity of a FANUC 0i/30i.
 DEFAULT_HISTORY_CAPACITY: Final = 250
 #: Letters of the PMC areas a machine can have.
@@ -308,6 +312,22 @@ class _Variables:
             m._macros[number] = held
         m._macro_version += 1
         m._version += 1
+
+
+#: The EW code of each refusal of the program store.
+_PROGRAM_EW: Final = {
+    ProgramErrorReason.FORMAT: EW.DATA,
+    ProgramErrorReason.RANGE: EW.NUMBER,
+    ProgramErrorReason.DUPLICATE: EW.REJECT,
+    ProgramErrorReason.NOT_FOUND: EW.NUMBER,
+    ProgramErrorReason.IN_USE: EW.BUSY,
+    ProgramErrorReason.NO_SPACE: EW.OVRFLOW,
+    ProgramErrorReason.TOO_MANY: EW.OVRFLOW,
+}
+
+
+def _program_refusal(exc: ProgramError) -> MachineError:
+    return MachineError(_PROGRAM_EW[exc.reason], str(exc))
 
 
 class MachineError(FocasError):
@@ -1275,7 +1295,8 @@ class Machine:
     @property
     def driven(self) -> bool:
         """Whether the engine shows the run state and the motion figures: from a cycle start
-        until :meth:`set_motion` or :meth:`set_run` sets them by hand."""
+        or a program selection until :meth:`set_motion` or :meth:`set_run` sets them by hand
+        (before, the figures given to the constructor or by hand are shown)."""
         return self._driven
 
     def _sync(self) -> None:
@@ -1405,6 +1426,11 @@ class Machine:
             e.set_spindle_override(spindle)
         self._settled(True)
 
+    def parts_counts(self) -> tuple[int, int]:
+        """Parts count and total parts (M2/M30 count them; parameters 6711 and 6712)."""
+        self._sync()
+        return self.engine.parts_count, self.engine.parts_total
+
     def overrides(self) -> tuple[int, int, int]:
         """Feed, rapid and spindle override in percent."""
         e = self.engine
@@ -1463,6 +1489,64 @@ class Machine:
             except AlarmRaised:
                 return self._macros.get(number)
         return _system_value(value, POSITION_DECIMALS if number >= 5001 else 0)
+
+    # -- the program store ---------------------------------------------------------------
+    def program_directory(self) -> list[ProgramInfo]:
+        """Every stored program (number, name, characters), by number."""
+        return self.programs.directory()
+
+    def program_text(self, number: int) -> str:
+        """The text of program ``number`` as stored: EW_NUMBER when there is none."""
+        try:
+            return self.programs.text(number)
+        except ProgramError as exc:
+            raise _program_refusal(exc) from None
+
+    def store_program(self, text: str, *, replace: bool = False) -> int:
+        """Store one program (its O number is returned). EW_PROT (read-only machine), EW_DATA
+        (not one O-number program), EW_NUMBER (number outside the store's range), EW_REJECT
+        (the number is stored and ``replace`` is false), EW_BUSY (replacing a program being
+        executed), EW_OVRFLOW (memory or directory full)."""
+        self.check_writable()
+        self._sync()
+        try:
+            number = self.programs.store(text, replace=replace).number
+        except ProgramError as exc:
+            raise _program_refusal(exc) from None
+        self._programs_changed()
+        return number
+
+    def delete_program(self, number: int) -> None:
+        """Delete program ``number``: EW_PROT (read-only machine), EW_NUMBER (no such
+        program), EW_BUSY (being executed). Deleting the main program unselects it."""
+        self.check_writable()
+        self._sync()
+        try:
+            self.programs.delete(number)
+        except ProgramError as exc:
+            raise _program_refusal(exc) from None
+        self._programs_changed()
+
+    def select_program(self, number: int) -> None:
+        """Make ``number`` the main program (a program search): EW_PROT (read-only
+        machine), EW_MODE (a mode other than MEM and EDIT), EW_NUMBER (no such program),
+        EW_BUSY (another program is being executed)."""
+        self.check_writable()
+        self._sync()
+        if self.panel.mode not in (MEM, EDIT):
+            raise MachineError(EW.MODE, f"program search in mode {self.panel.mode}: MEM or EDIT")
+        try:
+            self.programs.select(number)
+        except ProgramError as exc:
+            raise _program_refusal(exc) from None
+        self._driven = True
+        self._programs_changed()
+        self._settled(True, force=True)
+
+    def _programs_changed(self) -> None:
+        self._figures = None
+        self._motion_version += 1
+        self._version += 1
 
     # -- VersaMax ------------------------------------------------------------------------
     def module_record(self, rack: int, slot: int) -> IOModuleRecord | None:
