@@ -8,13 +8,13 @@ from decimal import Decimal
 from typing import Any
 
 import pytest
+from support import IO_TIMEOUT, Served, serving
 
 from focas_net.client import FocasClient
 from focas_net.client.native import NativeClient
 from focas_net.errors import EW, CncError
 from focas_net.sim import Machine, MachineError, default_machine
 from focas_net.sim.nc import ManualClock
-from tests.support import IO_TIMEOUT, Served, serving
 
 #: The spindle started (an M function's 0.5 s), X from 0 to 60 at F1200 (3.0 s), a one-second
 #: dwell, a part.
