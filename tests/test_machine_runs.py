@@ -10,11 +10,13 @@ from typing import Any
 import pytest
 from support import IO_TIMEOUT, Served, serving
 
+from focas_net.adapters import PackedAdapter
 from focas_net.client import FocasClient
 from focas_net.client.native import NativeClient
 from focas_net.errors import EW, CncError
+from focas_net.protocol import Command
 from focas_net.sim import Machine, MachineError, default_machine
-from focas_net.sim.nc import ManualClock
+from focas_net.sim.nc import CycleState, ManualClock
 
 #: The spindle started (an M function's 0.5 s), X from 0 to 60 at F1200 (3.0 s), a one-second
 #: dwell, a part.
@@ -292,3 +294,21 @@ async def test_program_refusals_answer_their_ew_codes(
     await client.delete_program(100)
     assert 100 not in machine.programs
     assert await ew_of(client.sim.cycle_start()) == EW.DATA  # the main program is gone
+
+
+def test_cycle_control_checks_in_order() -> None:
+    def answer(machine: Machine, command: int, payload: bytes) -> bytes:
+        adapter = PackedAdapter(machine)
+        return adapter.answer(machine.new_session(), command, payload)
+
+    off = default_machine(control_enabled=False)
+    assert answer(off, Command.SIM_CYCLE, b"\x00") == b"\x01\x00"  # EW_FUNC before the size
+    running = default_machine(sim_clock=ManualClock())
+    assert answer(running, Command.SIM_CYCLE, b"\x00") == b"\x02\x00"  # EW_LENGTH
+    assert answer(running, Command.SIM_CYCLE, b"\x03\x00") == b"\x05\x00"  # EW_DATA
+    assert answer(running, Command.SIM_SET_OVERRIDES, b"\xff\x00\xff\xff\xff\xff") == b"\x05\x00"
+    frozen = default_machine(read_only=True)
+    assert answer(frozen, Command.SIM_CYCLE, b"\x03\x00") == b"\x07\x00"  # EW_PROT first
+    assert answer(frozen, Command.WRPROGRAM, b"\x00\x00\x02\x00O1") == b"\x07\x00"
+    assert answer(running, Command.SIM_CYCLE, b"\x00\x00") == b"\x00\x00"
+    assert running.engine.state is CycleState.START
