@@ -312,3 +312,62 @@ def test_cycle_control_checks_in_order() -> None:
     assert answer(frozen, Command.WRPROGRAM, b"\x00\x00\x02\x00O1") == b"\x07\x00"
     assert answer(running, Command.SIM_CYCLE, b"\x00\x00") == b"\x00\x00"
     assert running.engine.state is CycleState.START
+
+
+# -- the PMC signals a ladder uses ----------------------------------------------------------
+
+
+def _bit(machine: Machine, area: str, byte: int, bit: int) -> int:
+    return machine.read_pmc(area, byte, 1)[0] >> bit & 1
+
+
+def _set_bit(machine: Machine, area: str, byte: int, bit: int, on: bool) -> None:
+    old = machine.read_pmc(area, byte, 1)[0]
+    new = old | 1 << bit if on else old & ~(1 << bit)
+    machine.write_pmc(area, byte, bytes([new]))
+
+
+def test_g_signals_drive_the_cycle_and_f_signals_show_it(
+    machine: Machine, clock: ManualClock
+) -> None:
+    _set_bit(machine, "G", 8, 5, True)  # *SP off (negative logic: 1 = no feed hold)
+    _set_bit(machine, "G", 7, 2, True)  # ST pressed: nothing yet
+    assert machine.status().run == 0
+    _set_bit(machine, "G", 7, 2, False)  # ST released: cycle start
+    clock.advance(SPINDLE_START + 1.0)
+    assert machine.status().run == 3 and machine.motion.absolute[0] == 20000
+    assert (_bit(machine, "F", 0, 7), _bit(machine, "F", 0, 5), _bit(machine, "F", 0, 4)) == (
+        1,
+        1,
+        0,
+    )  # OP, STL, SPL
+    _set_bit(machine, "G", 8, 5, False)  # *SP on: feed hold
+    clock.advance(1.0)
+    assert machine.status().run == 2 and machine.motion.absolute[0] == 20000
+    assert (_bit(machine, "F", 0, 5), _bit(machine, "F", 0, 4)) == (0, 1)
+    _set_bit(machine, "G", 8, 5, True)
+    _set_bit(machine, "G", 7, 2, True)
+    _set_bit(machine, "G", 7, 2, False)  # resumes
+    clock.advance(0.5)
+    assert machine.status().run == 3 and machine.motion.absolute[0] == 30000
+    machine.write_pmc("G", 12, bytes([255 - 50]))  # feed override 50 %
+    assert machine.overrides()[0] == 50
+    _set_bit(machine, "G", 8, 7, True)  # ERS: reset, RST on while it is held
+    assert machine.status().run == 0 and _bit(machine, "F", 1, 1) == 1
+    assert _bit(machine, "F", 0, 7) == 0
+    _set_bit(machine, "G", 8, 7, False)
+    assert _bit(machine, "F", 1, 1) == 0
+    machine.write_pmc("G", 43, b"\x03")  # MD1 MD2: EDIT
+    assert machine.panel.mode == 3
+    machine.write_pmc("G", 43, b"\x01")  # MD1: MEM
+    assert machine.panel.mode == 1
+
+
+async def test_f_signals_are_not_served_from_a_stale_cache(
+    machine: Machine, clock: ManualClock, client: FocasClient
+) -> None:
+    assert (await client.read_pmc("F", 0, 1))[0] == 0
+    start(machine, clock)
+    assert (await client.read_pmc("F", 0, 1))[0] >> 5 & 1 == 1  # STL
+    clock.advance(10.0)  # past M30
+    assert (await client.read_pmc("F", 0, 1))[0] == 0

@@ -108,6 +108,8 @@ __all__ = [
     "CONTROL_CLASSES",
     "DEFAULT_CONTROL_CLASS",
     "DEFAULT_HISTORY_CAPACITY",
+    "F_SIGNALS",
+    "G_SIGNALS",
     "MAX_MACRO_DECIMALS",
     "MDI",
     "MEM",
@@ -185,6 +187,36 @@ _PARTS_VARIABLES: Final = {3901: PARTS_COUNT, 3902: PARTS_TOTAL}
 _ENGINE_VARIABLES: Final = (range(4001, 4031), range(4102, 4131), range(5001, 5044))
 _MM: Final = 10**POSITION_DECIMALS
 _MACRO_STEP: Final = Decimal(1).scaleb(-MAX_MACRO_DECIMALS)
+
+#: The G signals the machine reads (FANUC Series 0i addresses): (byte, bit).
+_ST: Final = (7, 2)  #: cycle start, G7.2 (its falling edge starts)
+_SP: Final = (8, 5)  #: feed hold *SP, G8.5 (negative logic: its falling edge holds)
+_ERS: Final = (8, 7)  #: external reset, G8.7
+_MD: Final = 43  #: mode select MD1 MD2 MD4 (G43.0-.2), DNCI (G43.5), ZRN (G43.7)
+_MD_BITS: Final = 0b1010_0111
+_FV: Final = 12  #: feed override *FV0-*FV7, G12 (negative logic: 255 - G12 percent)
+_MAX_FEED_OVERRIDE: Final = 254
+#: G43 (MD1 MD2 MD4, DNCI, ZRN) -> the panel mode.
+_MODE_OF_G43: Final = {
+    0b0000_0000: MDI,
+    0b0000_0001: MEM,
+    0b0010_0001: 10,  # RMT (DNC)
+    0b0000_0011: 3,  # EDIT
+    0b0000_0100: 4,  # HND
+    0b0000_0101: 5,  # JOG
+    0b1000_0101: 9,  # REF
+}
+#: The F signals the machine sets (F0.7 OP, F0.5 STL, F0.4 SPL, F1.1 RST): bit numbers.
+_OP: Final = 7
+_STL: Final = 5
+_SPL: Final = 4
+_RST: Final = 1
+_F0_MASK: Final = 1 << _OP | 1 << _STL | 1 << _SPL
+#: The PMC signals of automatic operation the machine reads, ``name: (area, byte, bit)``
+#: (G43 mode select and G12 feed override are whole bytes).
+G_SIGNALS: Final = {"ST": ("G", 7, 2), "*SP": ("G", 8, 5), "ERS": ("G", 8, 7)}
+#: The PMC signals the machine sets, ``name: (area, byte, bit)``.
+F_SIGNALS: Final = {"OP": ("F", 0, 7), "STL": ("F", 0, 5), "SPL": ("F", 0, 4), "RST": ("F", 1, 1)}
 
 _MOTION_SCALARS: Final = ("feed", "spindle_speed", "program_running", "program_main", "sequence")
 _SKIP: Final = "skip"
@@ -1001,6 +1033,8 @@ class Machine:
         area = self._area(letter)
         if length < 0:
             raise ValueError(f"a PMC read of {length} bytes")
+        if area.letter == "F":
+            self._sync()  # the F signals follow the run state
         end = start + length
         if start < 0 or end > area.size:
             raise MachineError(
@@ -1021,9 +1055,12 @@ class Machine:
             )
         if area.write_protected and not force:
             raise MachineError(EW.PROT, f"PMC area {area.letter} is write-protected")
+        before = bytes(area.data[start:end])
         area.data[start:end] = data
         self._pmc_version += 1
         self._version += 1
+        if area.letter == "G" and before != data:
+            self._g_signals(start, before)
 
     # -- password ------------------------------------------------------------------------
     def unlock(self, session: Session, password: str | bytes) -> None:
@@ -1320,12 +1357,73 @@ class Machine:
         if waiting != self._mstb:
             self._mstb = waiting
             changed = True
+        self._f_signals()
         if force or (self._driven and (changed or moved)):
             self._motion_version += 1
             self._macro_version += 1
             self._version += 1
             if force or changed:
                 self._status_version += 1
+
+    def _g_signals(self, start: int, before: bytes) -> None:
+        """Act on the G signals a write changed (see :data:`G_SIGNALS`): the rising edge of
+        ERS resets, the falling edge of *SP holds the feed, a change of the mode bits of G43
+        selects the mode, a change of G12 sets the feed override, the falling edge of ST
+        starts the cycle (with *SP on). What the CNC refuses (cycle start with an alarm ...)
+        is ignored, as a CNC ignores the signal."""
+
+        def old(address: int) -> int | None:
+            i = address - start
+            return before[i] if 0 <= i < len(before) else None
+
+        g = self._areas["G"].data
+
+        def fell(address: int, bit: int) -> bool:
+            was = old(address)
+            return was is not None and bool(was >> bit & 1) and not g[address] >> bit & 1
+
+        def rose(address: int, bit: int) -> bool:
+            was = old(address)
+            return was is not None and not was >> bit & 1 and bool(g[address] >> bit & 1)
+
+        try:
+            if rose(*_ERS):
+                self.reset()
+            if fell(*_SP):
+                self.feed_hold()
+            if old(_MD) is not None and old(_MD) != g[_MD]:
+                mode = _MODE_OF_G43.get(g[_MD] & _MD_BITS)
+                if mode is not None and mode != self.panel.mode:
+                    self.set_panel(mode=mode)
+            if old(_FV) is not None and old(_FV) != g[_FV]:
+                self.set_overrides(feed=min(_MAX_FEED_OVERRIDE, 0xFF - g[_FV]))
+            if fell(*_ST) and g[_SP[0]] >> _SP[1] & 1:
+                self.cycle_start()
+        except MachineError as exc:
+            logger.debug("%s: G signal ignored: %s", self.name, exc)
+        self._f_signals()
+
+    def _f_signals(self) -> None:
+        """Set the F signals a ladder reads from the run state (see :data:`F_SIGNALS`) while
+        the engine drives the machine (:attr:`driven`); before, F is as written."""
+        area = self._areas.get("F")
+        if area is None or area.size < 2 or not self._driven:
+            return
+        state = self._engine_key[0]
+        g = self._areas.get("G")
+        resetting = g is not None and g.size > _ERS[0] and bool(g.data[_ERS[0]] >> _ERS[1] & 1)
+        f0 = area.data[0] & ~_F0_MASK
+        if state is not CycleState.RESET:
+            f0 |= 1 << _OP
+        if state is CycleState.START:
+            f0 |= 1 << _STL
+        if state is CycleState.HOLD:
+            f0 |= 1 << _SPL
+        f1 = area.data[1] & ~(1 << _RST) | (1 << _RST if resetting else 0)
+        if (f0, f1) != (area.data[0], area.data[1]):
+            area.data[0], area.data[1] = f0, f1
+            self._pmc_version += 1
+            self._version += 1
 
     def _engine_event(self, event: EngineEvent, now: float) -> None:
         if event.kind == "part":
