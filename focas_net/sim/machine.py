@@ -1457,11 +1457,15 @@ class Machine:
             self.engine.parts_total = value
         self._store_parts(number, value)
 
-    def cycle_start(self) -> None:
+    def cycle_start(self, *, repeat: bool | None = None) -> None:
         """Cycle start: run the main program from its head (reset), go on (stop) or resume
         (feed hold). EW_PROT (read-only machine), EW_ALARM (emergency stop, an active alarm,
         or an alarm that stopped the cycle and wants a reset), EW_MODE (not MEM), EW_DATA (no
-        main program). From here the engine shows the run state and the figures."""
+        main program). From here the engine shows the run state and the figures.
+
+        ``repeat`` True: production, the main program starts again at once after each M2/M30
+        (a part counted each time) until ``repeat`` False is given or an alarm stops it; None
+        leaves the setting as it is."""
         self.check_writable()
         self._sync()
         if self.panel.emergency:
@@ -1470,6 +1474,8 @@ class Machine:
             raise MachineError(EW.ALARM, "cycle start refused: an alarm is active")
         if self.panel.mode != MEM:
             raise MachineError(EW.MODE, f"cycle start refused: mode {self.panel.mode} is not MEM")
+        if repeat is not None:
+            self.engine.repeat = repeat
         try:
             self.engine.cycle_start()
         except NcStateError as exc:
