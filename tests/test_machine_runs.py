@@ -3,7 +3,7 @@
 from __future__ import annotations
 
 from collections.abc import AsyncIterator
-from datetime import UTC, datetime
+from datetime import UTC, datetime, timedelta
 from decimal import Decimal
 from typing import Any
 
@@ -149,6 +149,8 @@ async def test_program_error_raises_its_alarm_and_stops(
     assert [(a.alm_type, a.alm_no) for a in alarms] == [(3, 10)]
     history = await client.read_alarm_history()
     assert [(e.alm_type, e.alm_no) for e in history.entries][:1] == [(3, 10)]
+    # raised at 1.0 s of machine time (N10 takes 1 s), recorded at 5.0 s: stamped 4 s back
+    assert history.entries[0].occurred_at == STAMP - timedelta(seconds=4)
     with pytest.raises(MachineError) as refused:
         machine.cycle_start()
     assert refused.value.ew == EW.ALARM

@@ -64,6 +64,29 @@ wrong, never cut to a prefix). It is compared in constant time and never logged 
 
 Counters (:attr:`Machine.version` and the narrower ``*_version``) move on every change they
 cover, so front ends can key caches of their answers on them.
+
+Part programs and their execution
+---------------------------------
+The machine owns a :class:`~focas_net.sim.nc.ProgramStore` (:attr:`Machine.programs`) and an
+:class:`~focas_net.sim.nc.Engine` (:attr:`Machine.engine`) on its ``sim_clock``: machine time in
+seconds, ``RealTimeClock()`` unless given (``serve --speed`` shares one ``RealTimeClock(speed)``
+across a fleet; a test gives a :class:`~focas_net.sim.nc.ManualClock` and steps it). The other
+clock, ``clock``, gives the datetimes of alarm stamps only: an alarm the program raises is
+stamped ``clock()`` less the machine time between the alarm and the read that recorded it.
+
+Nothing ticks: every read and every counter first brings the engine to the clock's time
+(:meth:`Machine._sync`): program alarms go into the active alarms and the history, parts into
+parameters 6711/6712; while a program runs, the motion and macro counters move whenever time
+moved, so no front end serves a cached answer of a moving machine. ``cycle_start()``,
+``feed_hold()``, ``reset()``, ``set_overrides()`` and the G signals control it.
+
+Which figures are shown: those of the constructor (the ``[motion]`` table) and of
+:meth:`Machine.set_motion` / :meth:`Machine.set_run` until the first cycle start or program
+selection; from then on the engine's, until ``set_motion`` or ``set_run`` is called again. The
+CNC's rules of the cycle: cycle start only in MEM, not with the emergency stop or an alarm
+(EW_ALARM; an alarm that stopped the cycle wants a reset), not without a main program
+(EW_DATA); leaving MEM holds the feed; the emergency stop resets; any alarm stops the cycle;
+reset clears the alarms the program raised.
 """
 
 from __future__ import annotations
@@ -1434,7 +1457,7 @@ class Machine:
             late = timedelta(seconds=max(0.0, now - event.time))
             key = (alarm.axis or 0, _NC_ALARM_TYPES[alarm.kind], alarm.number)
             text = alarm.message[:MAX_ALARM_TEXT].encode("latin-1", "replace").decode("latin-1")
-            if self._add_alarm(key, text, self.now() - late):
+            if self._add_alarm(key, text, (self.now() - late).replace(microsecond=0)):
                 self._engine_alarms.add(key)
 
     def _parts(self, number: int) -> int:
