@@ -58,6 +58,18 @@ from focas_net.protocol.codecs import (
     ProgramNumbers,
 )
 from focas_net.protocol.frame import Frame
+from focas_net.protocol.programs import (
+    CycleControl,
+    DirectoryRequest,
+    Overrides,
+    ProgramChunk,
+    ProgramChunkRequest,
+    ProgramDirectory,
+    ProgramEntry,
+    ProgramNumber,
+    ProgramText,
+    RunInfo,
+)
 
 # The IC200MDD844 record of docs/protocol.md section 5 (76 bytes, without the datagram header).
 MDD844_RECORD_HEX = (
@@ -332,6 +344,65 @@ GOLDEN: list[Golden] = [
     Golden("vacate-macro-4001", Command.SIM_VACATE_MACRO, REQ, "a10f", VacateMacro(4001)),
     Golden("vacate-macro-ok", Command.SIM_VACATE_MACRO, RSP, "0000", None),
     Golden("vacate-macro-prot", Command.SIM_VACATE_MACRO, RSP, "0700", EwReply(7)),
+    # -- 0x0030..0x0032, 0x0110..0x0112 part programs -------------------------------------------
+    Golden("rdprogdir", Command.RDPROGDIR, REQ, "01000000 4000", DirectoryRequest(1, 64)),
+    Golden(
+        "rdprogdir-two",
+        Command.RDPROGDIR,
+        RSP,
+        # O1 of 20 characters named "DEMO", O100 of 9 characters without a name
+        "0000 0200 01000000 14000000 0400 44454d4f 64000000 09000000 0000",
+        ProgramDirectory((ProgramEntry(1, 20, "DEMO"), ProgramEntry(100, 9, ""))),
+    ),
+    Golden("rdprogdir-empty", Command.RDPROGDIR, RSP, "0000 0000", ProgramDirectory(())),
+    Golden("rdprogdir-length", Command.RDPROGDIR, RSP, "0200", EwReply(2)),
+    Golden("rdprogram", Command.RDPROGRAM, REQ, "64000000 00000000", ProgramChunkRequest(100, 0)),
+    Golden(
+        "rdprogram-text",
+        Command.RDPROGRAM,
+        RSP,
+        "0000 07000000 0700 4f310a4d33300a",  # 7 characters in all: "O1\nM30\n"
+        ProgramChunk(7, "O1\nM30\n"),
+    ),
+    Golden("rdprogram-number", Command.RDPROGRAM, RSP, "0300", EwReply(3)),
+    Golden("rdruninfo", Command.RDRUNINFO, REQ, "", None),
+    Golden(
+        "rdruninfo-figures",
+        Command.RDRUNINFO,
+        RSP,
+        # overrides 100 50 100 %, 5 and 12 parts, 60 s, 30 s, 20 s, 1.5 s
+        "0000 6400 3200 6400 05000000 0c000000 60ea000000000000 3075000000000000"
+        " 204e000000000000 dc05000000000000",
+        RunInfo(100, 50, 100, 5, 12, 60000, 30000, 20000, 1500),
+    ),
+    Golden("rdruninfo-length", Command.RDRUNINFO, RSP, "0200", EwReply(2)),
+    Golden(
+        "wrprogram",
+        Command.WRPROGRAM,
+        REQ,
+        "0000 0700 4f310a4d33300a",
+        ProgramText(0, "O1\nM30\n"),
+    ),
+    Golden("wrprogram-replace", Command.WRPROGRAM, REQ, "0100 0300 4f3132", ProgramText(1, "O12")),
+    Golden("wrprogram-stored", Command.WRPROGRAM, RSP, "0000 01000000", ProgramNumber(1)),
+    Golden("wrprogram-duplicate", Command.WRPROGRAM, RSP, "0d00", EwReply(13)),
+    Golden("delprogram", Command.DELPROGRAM, REQ, "64000000", ProgramNumber(100)),
+    Golden("delprogram-ok", Command.DELPROGRAM, RSP, "0000", None),
+    Golden("delprogram-busy", Command.DELPROGRAM, RSP, "ffff", EwReply(-1)),
+    Golden("selprogram", Command.SELPROGRAM, REQ, "01000000", ProgramNumber(1)),
+    Golden("selprogram-ok", Command.SELPROGRAM, RSP, "0000", None),
+    Golden("selprogram-mode", Command.SELPROGRAM, RSP, "0c00", EwReply(12)),
+    # -- 0x0E20 cycle, 0x0E21 overrides -----------------------------------------------------------
+    Golden("cycle-start", Command.SIM_CYCLE, REQ, "0000", CycleControl(0)),
+    Golden("cycle-hold", Command.SIM_CYCLE, REQ, "0100", CycleControl(1)),
+    Golden("cycle-reset", Command.SIM_CYCLE, REQ, "0200", CycleControl(2)),
+    Golden("cycle-ok", Command.SIM_CYCLE, RSP, "0000", None),
+    Golden("cycle-alarm", Command.SIM_CYCLE, RSP, "0f00", EwReply(15)),
+    Golden(
+        "overrides-feed", Command.SIM_SET_OVERRIDES, REQ, "3200 ffff ffff", Overrides(50, -1, -1)
+    ),
+    Golden("overrides-ok", Command.SIM_SET_OVERRIDES, RSP, "0000", None),
+    Golden("overrides-data", Command.SIM_SET_OVERRIDES, RSP, "0500", EwReply(5)),
     # -- 0x0020 cnc_rdparainfo --------------------------------------------------------------------
     Golden("rdparainfo-1815", Command.RDPARAINFO, REQ, "1707", ParamAttributesRequest(1815)),
     Golden(
@@ -536,10 +607,16 @@ def test_the_command_table_covers_every_command_id() -> None:
         0x000A,
         0x0010,
         0x0020,
+        0x0030,
+        0x0031,
+        0x0032,
         0x0102,
         0x0103,
         0x0104,
         0x0105,
+        0x0110,
+        0x0111,
+        0x0112,
         0x0201,
         0x0E01,
         0x0E02,
@@ -550,6 +627,8 @@ def test_the_command_table_covers_every_command_id() -> None:
         0x0E07,
         0x0E10,
         0x0E11,
+        0x0E20,
+        0x0E21,
         0x0F1A,
     }
     for number, spec in COMMANDS.items():
@@ -586,6 +665,14 @@ ERROR_PAYLOADS = [
     (Command.SIM_LIST_FAULTS, 1, "0100"),
     (Command.SIM_CLEAR_FAULTS, 7, "0700"),
     (Command.RDALMHISTRY, -1, "ffff ffff"),
+    (Command.RDPROGDIR, 2, "0200"),
+    (Command.RDPROGRAM, 3, "0300"),
+    (Command.RDRUNINFO, 2, "0200"),
+    (Command.WRPROGRAM, 13, "0d00"),
+    (Command.DELPROGRAM, -1, "ffff"),
+    (Command.SELPROGRAM, 12, "0c00"),
+    (Command.SIM_CYCLE, 15, "0f00"),
+    (Command.SIM_SET_OVERRIDES, 5, "0500"),
 ]
 
 

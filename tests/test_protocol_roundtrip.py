@@ -55,6 +55,20 @@ from focas_net.protocol.codecs import (
     PositionRequest,
     ProgramNumbers,
 )
+from focas_net.protocol.programs import (
+    MAX_PROGRAM_CHUNK,
+    MAX_PROGRAM_NAME,
+    CycleControl,
+    DirectoryRequest,
+    Overrides,
+    ProgramChunk,
+    ProgramChunkRequest,
+    ProgramDirectory,
+    ProgramEntry,
+    ProgramNumber,
+    ProgramText,
+    RunInfo,
+)
 from focas_net.versamax import BoardId, IOModuleRecord, ModuleType, RefDesc, RefType
 
 u8 = st.integers(0, 0xFF)
@@ -127,6 +141,20 @@ OK_ONLY = ew_or(st.none())
 armed_faults = st.builds(ArmedFault, i16, i16, i32)
 fault_lists = st.builds(FaultList, st.lists(armed_faults, max_size=70).map(tuple))
 
+ascii_text = st.text(st.characters(max_codepoint=0x7F))
+i64 = st.integers(-(2**63), 2**63 - 1)
+program_entries = st.builds(ProgramEntry, i32, i32, ascii_text.filter(lambda t: len(t) <= 60))
+directories = st.builds(ProgramDirectory, st.lists(program_entries, max_size=8).map(tuple))
+chunks = st.builds(
+    ProgramChunk, i32, st.text(st.characters(max_codepoint=0x7F), max_size=MAX_PROGRAM_CHUNK)
+)
+program_texts = st.builds(
+    ProgramText, i16, st.text(st.characters(max_codepoint=0x7F), max_size=600)
+)
+run_infos = st.builds(RunInfo, i16, i16, i16, i32, i32, i64, i64, i64, i64)
+overrides = st.builds(Overrides, i16, i16, i16)
+program_numbers_i32 = st.builds(ProgramNumber, i32)
+
 REQUESTS: dict[Command, st.SearchStrategy[Any]] = {
     Command.RDCNCSTAT: st.none(),
     Command.RDPARAM: data_requests,
@@ -155,6 +183,14 @@ REQUESTS: dict[Command, st.SearchStrategy[Any]] = {
     Command.RDPARAINFO: st.builds(ParamAttributesRequest, i16),
     Command.SIM_READ_PANEL: st.none(),
     Command.SIM_VACATE_MACRO: st.builds(VacateMacro, i16),
+    Command.RDPROGDIR: st.builds(DirectoryRequest, i32, i16),
+    Command.RDPROGRAM: st.builds(ProgramChunkRequest, i32, i32),
+    Command.RDRUNINFO: st.none(),
+    Command.WRPROGRAM: program_texts,
+    Command.DELPROGRAM: program_numbers_i32,
+    Command.SELPROGRAM: program_numbers_i32,
+    Command.SIM_CYCLE: st.builds(CycleControl, i16),
+    Command.SIM_SET_OVERRIDES: overrides,
 }
 
 RESPONSES: dict[Command, st.SearchStrategy[Any]] = {
@@ -185,6 +221,14 @@ RESPONSES: dict[Command, st.SearchStrategy[Any]] = {
     Command.RDPARAINFO: ew_or(st.builds(ParamAttributes, i16, i16, i16, i16, i32, i32)),
     Command.SIM_READ_PANEL: ew_or(st.builds(SetPanel, i16, i16, i16)),
     Command.SIM_VACATE_MACRO: OK_ONLY,
+    Command.RDPROGDIR: ew_or(directories),
+    Command.RDPROGRAM: ew_or(chunks),
+    Command.RDRUNINFO: ew_or(run_infos),
+    Command.WRPROGRAM: ew_or(program_numbers_i32),
+    Command.DELPROGRAM: OK_ONLY,
+    Command.SELPROGRAM: OK_ONLY,
+    Command.SIM_CYCLE: OK_ONLY,
+    Command.SIM_SET_OVERRIDES: OK_ONLY,
 }
 
 
@@ -269,6 +313,15 @@ PAYLOAD_CLASSES: dict[type[Any], st.SearchStrategy[Any]] = {
     ActualValue: actual_values,
     PositionRequest: position_requests,
     PositionData: position_data,
+    DirectoryRequest: st.builds(DirectoryRequest, i32, i16),
+    ProgramDirectory: directories,
+    ProgramChunkRequest: st.builds(ProgramChunkRequest, i32, i32),
+    ProgramChunk: chunks,
+    ProgramText: program_texts,
+    ProgramNumber: program_numbers_i32,
+    CycleControl: st.builds(CycleControl, i16),
+    Overrides: overrides,
+    RunInfo: run_infos,
 }
 
 NUMBERS = sorted(COMMANDS)
@@ -513,3 +566,25 @@ def test_position_kind_parse(given: str | int | PositionKind, kind: PositionKind
 def test_position_kind_parse_rejects(given: str | int) -> None:
     with pytest.raises(ValueError):
         PositionKind.parse(given)
+
+
+# -- program payloads: what cannot go on the wire ----------------------------------------------
+
+
+def test_program_payloads_refuse_what_the_wire_cannot_carry() -> None:
+    with pytest.raises(ValueError, match="ASCII"):
+        ProgramText(0, "O1 (\u00e9)").encode()
+    with pytest.raises(ValueError, match="at most"):
+        ProgramChunk(1, "x" * (MAX_PROGRAM_CHUNK + 1)).encode()
+    with pytest.raises(ValueError, match="at most"):
+        ProgramDirectory((ProgramEntry(1, 1, "n" * (MAX_PROGRAM_NAME + 1)),)).encode()
+
+
+@given(st.binary(max_size=40))
+def test_program_decoders_raise_only_payload_errors(data: bytes) -> None:
+    for cls in (ProgramDirectory, ProgramChunk, ProgramText):
+        try:
+            value = cls.decode(data)
+        except PayloadError:
+            continue
+        assert value.encode() == data  # what decodes is exactly what encodes to these bytes

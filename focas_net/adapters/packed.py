@@ -1,7 +1,8 @@
 """The packed-protocol adapter: one request payload in, the answer payload out.
 
-:class:`PackedAdapter` answers every command of ``docs/protocol.md`` sections 3-5 and 8 and the
-control commands 0x0E01..0x0E04, 0x0E10 and 0x0E11 from a protocol-neutral
+:class:`PackedAdapter` answers every command of ``docs/protocol.md`` sections 3-5 and 8 (the
+part programs 0x0030..0x0032 and 0x0110..0x0112 among them) and the control commands
+0x0E01..0x0E04, 0x0E10, 0x0E11, 0x0E20 and 0x0E21 from a protocol-neutral
 :class:`~focas_net.sim.Machine`. The server adds the frame header (same command, same request
 id). 0x0E05..0x0E07 (the fault queues) are not handled here: faults are about I/O and the
 server answers those commands itself (here they answer EW_FUNC). Pure and
@@ -61,8 +62,10 @@ from focas_net.protocol import (
     COMMANDS,
     FAULT_COMMANDS,
     MAX_CONFIG_CHUNK,
+    MAX_DIRECTORY_ENTRIES,
     MAX_HISTORY_DEPTH,
     MAX_PMC_CHUNK,
+    MAX_PROGRAM_CHUNK,
     PASSWORD_SIZE,
     ActiveAlarm,
     ActiveAlarmList,
@@ -71,13 +74,19 @@ from focas_net.protocol import (
     AlarmHistoryEntry,
     AxisPosition,
     Command,
+    CycleAction,
     MacroValue,
     ParamAttributes,
     ParamValue,
     PmcArea,
     PmcData,
     PositionData,
+    ProgramChunk,
+    ProgramDirectory,
+    ProgramEntry,
+    ProgramNumber,
     ProgramNumbers,
+    RunInfo,
     SetPanel,
     StatusInfo,
     SysInfo,
@@ -87,6 +96,7 @@ from focas_net.protocol import (
 from focas_net.sim import (
     POSITION_DECIMALS,
     POSITION_KINDS,
+    TIMER_KINDS,
     DataItem,
     Machine,
     MachineError,
@@ -257,6 +267,14 @@ class PackedAdapter:
             Command.RDPARAINFO: self._rdparainfo,
             Command.SIM_READ_PANEL: self._read_panel,
             Command.SIM_VACATE_MACRO: self._vacate_macro,
+            Command.RDPROGDIR: self._rdprogdir,
+            Command.RDPROGRAM: self._rdprogram,
+            Command.RDRUNINFO: self._rdruninfo,
+            Command.WRPROGRAM: self._wrprogram,
+            Command.DELPROGRAM: self._delprogram,
+            Command.SELPROGRAM: self._selprogram,
+            Command.SIM_CYCLE: self._cycle,
+            Command.SIM_SET_OVERRIDES: self._set_overrides,
         }
         assert frozenset(by_id) == self.handled
         # plain int keys: a lookup by int must not go through IntEnum hashing
@@ -542,6 +560,79 @@ class PackedAdapter:
         self.machine.unlock(session, _decode_password(payload).password)
         return _OK
 
+    # -- part programs (0x0030..0x0032, 0x0110..0x0112) ----------------------------------------
+    def _rdprogdir(self, _session: Session, payload: bytes) -> bytes:
+        req = _decode_dir_request(payload)
+        if not 1 <= req.max <= MAX_DIRECTORY_ENTRIES:
+            raise _Refused(EW.LENGTH)
+        chosen = [p for p in self.machine.program_directory() if p.number >= req.first]
+        entries = tuple(
+            ProgramEntry(p.number, p.size, p.name.encode("ascii", "replace").decode("ascii"))
+            for p in chosen[: req.max]
+        )
+        return _encode_dir(ProgramDirectory(entries))
+
+    def _rdprogram(self, _session: Session, payload: bytes) -> bytes:
+        req = _decode_chunk_request(payload)
+        raw = self.machine.program_text(req.number).encode("ascii", "replace")
+        if not 0 <= req.offset <= len(raw):
+            raise _Refused(EW.DATA)
+        chunk = raw[req.offset : req.offset + MAX_PROGRAM_CHUNK].decode("ascii")
+        return _encode_chunk(ProgramChunk(len(raw), chunk))
+
+    def _rdruninfo(self, _session: Session, payload: bytes) -> bytes:
+        if payload:
+            _decode_empty(payload)
+        m = self.machine
+        feed, rapid, spindle = m.overrides()
+        timers = [round(m.timer(k) * 1000) for k in range(len(TIMER_KINDS))]
+        count, total = m.parts_counts()
+        return _encode_runinfo(RunInfo(feed, rapid, spindle, count, total, *timers))
+
+    def _wrprogram(self, _session: Session, payload: bytes) -> bytes:
+        req = _decode_program_text(payload)
+        self.machine.check_writable()
+        if req.replace not in (0, 1):
+            raise _Refused(EW.DATA)
+        number = self.machine.store_program(req.text, replace=bool(req.replace))
+        return _encode_stored(ProgramNumber(number))
+
+    def _delprogram(self, _session: Session, payload: bytes) -> bytes:
+        self.machine.delete_program(_decode_program_number(payload).number)
+        return _OK
+
+    def _selprogram(self, _session: Session, payload: bytes) -> bytes:
+        self.machine.select_program(_decode_program_number(payload).number)
+        return _OK
+
+    # -- simulator control: the cycle (0x0E20, 0x0E21) -------------------------------------
+    def _cycle(self, _session: Session, payload: bytes) -> bytes:
+        if not self.machine.control_enabled:
+            return _EW_FUNC
+        action = _decode_cycle(payload).action
+        m = self.machine
+        m.check_writable()
+        if action == CycleAction.START:
+            m.cycle_start()
+        elif action == CycleAction.HOLD:
+            m.feed_hold()
+        elif action == CycleAction.RESET:
+            m.reset()
+        else:
+            raise _Refused(EW.DATA)
+        return _OK
+
+    def _set_overrides(self, _session: Session, payload: bytes) -> bytes:
+        if not self.machine.control_enabled:
+            return _EW_FUNC
+        o = _decode_overrides(payload)
+        self.machine.set_overrides(
+            None if o.feed == _UNCHANGED else o.feed,
+            None if o.rapid == _UNCHANGED else o.rapid,
+            None if o.spindle == _UNCHANGED else o.spindle,
+        )
+        return _OK
+
     # -- simulator control (0x0E01..0x0E04) -------------------------------------------------
     def _set_panel(self, _session: Session, payload: bytes) -> bytes:
         if not self.machine.control_enabled:
@@ -627,3 +718,13 @@ _decode_raise_alarm: Final = _request(Command.SIM_RAISE_ALARM)
 _decode_clear_alarms: Final = _request(Command.SIM_CLEAR_ALARMS)
 _decode_set_pmc: Final = _request(Command.SIM_SET_PMC)
 _decode_vacate_macro: Final = _request(Command.SIM_VACATE_MACRO)
+_decode_dir_request: Final = _request(Command.RDPROGDIR)
+_encode_dir: Final = _response(Command.RDPROGDIR)
+_decode_chunk_request: Final = _request(Command.RDPROGRAM)
+_encode_chunk: Final = _response(Command.RDPROGRAM)
+_encode_runinfo: Final = _response(Command.RDRUNINFO)
+_decode_program_text: Final = _request(Command.WRPROGRAM)
+_encode_stored: Final = _response(Command.WRPROGRAM)
+_decode_program_number: Final = _request(Command.DELPROGRAM)
+_decode_cycle: Final = _request(Command.SIM_CYCLE)
+_decode_overrides: Final = _request(Command.SIM_SET_OVERRIDES)

@@ -14,7 +14,7 @@ from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 from typing import Any, Final, Literal, TypedDict, Unpack
 
-from . import read_cmds, sim_cmds, write_cmds
+from . import program_cmds, read_cmds, sim_cmds, write_cmds
 from ._args import (
     AREA,
     BOOL,
@@ -136,8 +136,25 @@ COMMANDS: Final[tuple[Cmd | Group, ...]] = (
     Cmd("sysinfo", "read the CNC identity (cnc_sysinfo, ODBSYS)", read_cmds.sysinfo),
     Cmd(
         "program",
-        "read the program numbers, feed and spindle speed (cnc_rdprgnum, cnc_actf, cnc_acts)",
-        read_cmds.program,
+        "read the program numbers, feed and spindle speed (cnc_rdprgnum, cnc_actf, cnc_acts), "
+        "or list, show, load, delete or select part programs",
+        program_cmds.program,
+        (
+            arg(
+                "action",
+                nargs="?",
+                choices=program_cmds.PROGRAM_ACTIONS,
+                help="list: the program directory; show N: a program's text; load FILE: store "
+                "a program; delete N; select N: make N the main program (default: read the "
+                "numbers, feed and spindle speed)",
+            ),
+            arg("target", nargs="?", metavar="N|FILE", help="program number (O1000) or file"),
+            arg(
+                "--replace",
+                action="store_true",
+                help="load: replace a stored program of the same number",
+            ),
+        ),
     ),
     Cmd(
         "position",
@@ -357,6 +374,27 @@ COMMANDS: Final[tuple[Cmd | Group, ...]] = (
                         nargs="?",
                         metavar="ALARM",
                         help="PS0100, or PS for a whole type (default all)",
+                    ),
+                ),
+            ),
+            Cmd(
+                "cycle",
+                "cycle start, feed hold or reset of the part program",
+                program_cmds.cycle,
+                (arg("action", choices=program_cmds.CYCLE_ACTIONS, help="what to press"),),
+            ),
+            Cmd(
+                "override",
+                "set the overrides given (percent), or show them when none is given",
+                program_cmds.override,
+                (
+                    arg("--feed", type=NON_NEGATIVE, metavar="PCT", help="feed override 0..254"),
+                    arg("--rapid", type=NON_NEGATIVE, metavar="PCT", help="rapid override 0..100"),
+                    arg(
+                        "--spindle",
+                        type=NON_NEGATIVE,
+                        metavar="PCT",
+                        help="spindle override 0..254",
                     ),
                 ),
             ),

@@ -50,6 +50,8 @@ _log = logging.getLogger("focas_net.cli.serve")
 _ERROR_PREFIX = f"{PROG} serve: error"  # as argparse words its usage errors
 
 
+#: Fastest ``serve --speed``.
+MAX_SPEED: Final = 10_000.0
 #: Most machines one ``serve --fleet`` runs.
 MAX_FLEET: Final = 10_000
 #: Files a server keeps for itself besides its listening sockets (standard streams, the event
@@ -77,6 +79,16 @@ def _password(text: str) -> str:
             f"must be 1..{PASSWORD_SIZE} ASCII characters, got {text!r}"
         )
     return text
+
+
+def _speed(text: str) -> float:
+    try:
+        value = float(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"not a speed factor: {text!r}") from None
+    if not 0 < value <= MAX_SPEED:
+        raise argparse.ArgumentTypeError(f"must be above 0 and at most {MAX_SPEED:g}, got {text}")
+    return value
 
 
 def _max_frame(text: str) -> int:
@@ -182,6 +194,19 @@ def register(subparsers: Any) -> None:
     p.add_argument("--tls-cert", metavar="FILE", help="serve TLS with this certificate (PEM)")
     p.add_argument("--tls-key", metavar="FILE", help="private key of --tls-cert (PEM)")
     p.add_argument(
+        "--speed",
+        type=_speed,
+        default=1.0,
+        metavar="FACTOR",
+        help="machine time runs FACTOR times as fast as the wall clock (default %(default)s)",
+    )
+    p.add_argument(
+        "--run",
+        action="store_true",
+        help="every machine starts its main program at once and repeats it forever, a part "
+        "counted each time (production)",
+    )
+    p.add_argument(
         "--log-level",
         default="WARNING",
         type=str.upper,
@@ -234,23 +259,32 @@ def _open_files_limit() -> int | None:
 
 def build_machines(args: argparse.Namespace) -> list[Machine]:
     """The machines described by the options; raises :class:`ConfigError`."""
-    from focas_net.sim import MachineFileError, default_machine, load_machine
+    from focas_net.sim import MachineError, MachineFileError, default_machine, load_machine
+    from focas_net.sim.nc import RealTimeClock
 
+    clock = RealTimeClock(getattr(args, "speed", 1.0))  # one machine time for the whole fleet
     machines: list[Machine] = []
     for i in range(args.fleet):
         if args.machine is not None:
             try:
-                machine = load_machine(args.machine, param_password=args.param_password)
+                machine = load_machine(
+                    args.machine, param_password=args.param_password, sim_clock=clock
+                )
             except MachineFileError as exc:
                 raise ConfigError(str(exc)) from None
             except OSError as exc:
                 raise ConfigError(f"{args.machine}: {exc.strerror or exc}") from None
         else:
-            machine = default_machine(param_password=args.param_password)
+            machine = default_machine(param_password=args.param_password, sim_clock=clock)
         if args.fleet > 1:
             machine.name = f"{machine.name}-{i + 1}"
         if args.no_control:
             machine.control_enabled = False
+        if getattr(args, "run", False):
+            try:
+                machine.cycle_start(repeat=True)
+            except MachineError as exc:
+                raise ConfigError(f"--run: {machine.name}: {exc}") from None
         if args.read_only:
             machine.read_only = True
         machines.append(machine)

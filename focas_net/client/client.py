@@ -32,6 +32,7 @@ from ..protocol import (
     COMMANDS,
     DEFAULT_MAX_FRAME,
     MAX_CONFIG_CHUNK,
+    MAX_DIRECTORY_ENTRIES,
     MAX_HISTORY_DEPTH,
     MAX_REAL_DECIMALS,
     ActiveAlarm,
@@ -42,6 +43,7 @@ from ..protocol import (
     AlarmMsgRequest,
     AlarmType,
     DataRequest,
+    DirectoryRequest,
     MacroRequest,
     MacroValue,
     ParamAttributes,
@@ -53,7 +55,14 @@ from ..protocol import (
     PositionData,
     PositionKind,
     PositionRequest,
+    ProgramChunk,
+    ProgramChunkRequest,
+    ProgramDirectory,
+    ProgramEntry,
+    ProgramNumber,
     ProgramNumbers,
+    ProgramText,
+    RunInfo,
     StatusInfo,
     SysInfo,
     VersaMaxReply,
@@ -85,6 +94,15 @@ _ACTF: Final = COMMANDS[C.ACTF]
 _ACTS: Final = COMMANDS[C.ACTS]
 _RDPOSITION: Final = COMMANDS[C.RDPOSITION]
 _RDPARAINFO: Final = COMMANDS[C.RDPARAINFO]
+_RDPROGDIR: Final = COMMANDS[C.RDPROGDIR]
+_RDPROGRAM: Final = COMMANDS[C.RDPROGRAM]
+_RDRUNINFO: Final = COMMANDS[C.RDRUNINFO]
+_WRPROGRAM: Final = COMMANDS[C.WRPROGRAM]
+_DELPROGRAM: Final = COMMANDS[C.DELPROGRAM]
+_SELPROGRAM: Final = COMMANDS[C.SELPROGRAM]
+#: Bounds of the paged reads of programs (a directory of 400 programs, 512,000 characters).
+_MAX_DIRECTORY_PAGES: Final = 1024
+_MAX_PROGRAM_CHUNKS: Final = 1024
 
 _EMPTY: Final = b""
 _MAX_ACTIVE_ALARMS: Final = 32
@@ -601,6 +619,69 @@ class FocasClient(Link):
         payload = _UNLOCK.request.encode(Password.from_text(password))
         await self._request(_UNLOCK, payload, self._deadline(timeout))
         self._password = password
+
+    # -- part programs -------------------------------------------------------------------
+    async def read_program_directory(
+        self, *, first: int = 0, timeout: float | None = None
+    ) -> tuple[ProgramEntry, ...]:
+        """``cnc_rdprogdir``: every stored program from O number ``first`` on (number, size in
+        characters, name), by number, read 64 entries per request."""
+        _check("first program number", first, 0, _I32_MAX)
+        deadline = self._deadline(timeout)
+        entries: list[ProgramEntry] = []
+        for _ in range(_MAX_DIRECTORY_PAGES):
+            request = _RDPROGDIR.request.encode(DirectoryRequest(first, MAX_DIRECTORY_ENTRIES))
+            page: ProgramDirectory = await self._request(_RDPROGDIR, request, deadline)
+            entries.extend(page.entries)
+            if len(page.entries) < MAX_DIRECTORY_ENTRIES or page.entries[-1].number >= _I32_MAX:
+                break
+            first = page.entries[-1].number + 1
+        return tuple(entries)
+
+    async def read_program(self, number: int, *, timeout: float | None = None) -> str:
+        """``cnc_upload``: the text of program ``number`` as stored (EW_NUMBER: no such
+        program), read 4096 characters per request and joined."""
+        _check("program number", number, 0, _I32_MAX)
+        deadline = self._deadline(timeout)
+        parts: list[str] = []
+        offset = 0
+        for _ in range(_MAX_PROGRAM_CHUNKS):
+            request = _RDPROGRAM.request.encode(ProgramChunkRequest(number, offset))
+            chunk: ProgramChunk = await self._request(_RDPROGRAM, request, deadline)
+            parts.append(chunk.text)
+            offset += len(chunk.text)
+            if not chunk.text or offset >= chunk.total:
+                break
+        return "".join(parts)
+
+    async def write_program(
+        self, text: str, *, replace: bool = False, timeout: float | None = None
+    ) -> int:
+        """``cnc_download``: store one O-number program; returns its number. A number already
+        stored answers EW_REJECT unless ``replace``; a program being executed EW_BUSY; text
+        that is not one program EW_DATA; a full memory EW_OVRFLOW."""
+        payload = _WRPROGRAM.request.encode(ProgramText(int(replace), text))
+        stored: ProgramNumber = await self._request(_WRPROGRAM, payload, self._deadline(timeout))
+        return stored.number
+
+    async def delete_program(self, number: int, *, timeout: float | None = None) -> None:
+        """``cnc_delete``: delete program ``number`` (EW_NUMBER: none; EW_BUSY: executing)."""
+        _check("program number", number, 0, _I32_MAX)
+        payload = _DELPROGRAM.request.encode(ProgramNumber(number))
+        await self._request(_DELPROGRAM, payload, self._deadline(timeout))
+
+    async def select_program(self, number: int, *, timeout: float | None = None) -> None:
+        """``cnc_search``: make ``number`` the main program (EW_NUMBER: none; EW_MODE: not MEM
+        or EDIT; EW_BUSY: another program is executing)."""
+        _check("program number", number, 0, _I32_MAX)
+        payload = _SELPROGRAM.request.encode(ProgramNumber(number))
+        await self._request(_SELPROGRAM, payload, self._deadline(timeout))
+
+    async def read_run_info(self, *, timeout: float | None = None) -> RunInfo:
+        """Overrides (%), parts count and total parts, and the power-on, operating, cutting
+        and cycle timers (ms) of the simulated machine."""
+        info: RunInfo = await self._request(_RDRUNINFO, _EMPTY, self._deadline(timeout))
+        return info
 
     # -- VersaMax ------------------------------------------------------------------------
     async def _config_chunk(

@@ -14,10 +14,13 @@ from ..protocol import (
     ArmedFault,
     AutMode,
     ClearAlarms,
+    CycleAction,
+    CycleControl,
     FaultKind,
     FaultScope,
     FaultsRequest,
     InjectFault,
+    Overrides,
     RaiseAlarm,
     SetPanel,
     VacateMacro,
@@ -74,6 +77,8 @@ def alarm_type_number(alm_type: AlarmType | str | int) -> int:
 
 _SET_PANEL: Final = COMMANDS[C.SIM_SET_PANEL]
 _READ_PANEL: Final = COMMANDS[C.SIM_READ_PANEL]
+_CYCLE: Final = COMMANDS[C.SIM_CYCLE]
+_OVERRIDES: Final = COMMANDS[C.SIM_SET_OVERRIDES]
 _RAISE_ALARM: Final = COMMANDS[C.SIM_RAISE_ALARM]
 _CLEAR_ALARMS: Final = COMMANDS[C.SIM_CLEAR_ALARMS]
 _SET_PMC: Final = COMMANDS[C.SIM_SET_PMC]
@@ -84,7 +89,8 @@ _VACATE_MACRO: Final = COMMANDS[C.SIM_VACATE_MACRO]
 
 
 class SimControl:
-    """The simulator control commands (0x0E01..0x0E07, 0x0E10 and 0x0E11), as ``client.sim``.
+    """The simulator control commands (0x0E01..0x0E07, 0x0E10, 0x0E11, 0x0E20 and 0x0E21), as
+    ``client.sim``.
 
     A real CNC, or a server with control disabled, answers them with ``EW_FUNC``.
     """
@@ -170,6 +176,50 @@ class SimControl:
         payload = _CLEAR_ALARMS.request.encode(ClearAlarms(t, alm_no))
         client = self._client
         await client._request(_CLEAR_ALARMS, payload, client._deadline(timeout))
+
+    async def _cycle(self, action: CycleAction, timeout: float | None) -> None:
+        client = self._client
+        payload = _CYCLE.request.encode(CycleControl(action))
+        await client._request(_CYCLE, payload, client._deadline(timeout))
+
+    async def cycle_start(self, *, timeout: float | None = None) -> None:
+        """Cycle start (0x0E20): run the main program, continue it, or resume after a feed
+        hold. EW_MODE outside MEM, EW_ALARM with an alarm or emergency stop (reset first),
+        EW_DATA without a main program."""
+        await self._cycle(CycleAction.START, timeout)
+
+    async def feed_hold(self, *, timeout: float | None = None) -> None:
+        """Feed hold (0x0E20): the axes stop where they are; cycle start resumes."""
+        await self._cycle(CycleAction.HOLD, timeout)
+
+    async def reset(self, *, timeout: float | None = None) -> None:
+        """Reset (0x0E20): stop and rewind; the program's alarms are cleared."""
+        await self._cycle(CycleAction.RESET, timeout)
+
+    async def set_overrides(
+        self,
+        *,
+        feed: int | None = None,
+        rapid: int | None = None,
+        spindle: int | None = None,
+        timeout: float | None = None,
+    ) -> None:
+        """Feed override 0..254 %, rapid override 0..100 %, spindle override 0..254 % (0x0E21);
+        an override not given stays as it is."""
+        values = []
+        for what, value, high in (
+            ("feed", feed, 254),
+            ("rapid", rapid, 100),
+            ("spindle", spindle, 254),
+        ):
+            if value is None:
+                values.append(_UNCHANGED)
+            else:
+                _check(f"{what} override", value, 0, high)
+                values.append(value)
+        client = self._client
+        payload = _OVERRIDES.request.encode(Overrides(*values))
+        await client._request(_OVERRIDES, payload, client._deadline(timeout))
 
     async def set_pmc(
         self, area: AreaLike, start: int, data: bytes, *, timeout: float | None = None

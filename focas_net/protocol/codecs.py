@@ -22,6 +22,17 @@ from ._base import I16, INT_RANGES, Codec, FixedPayload, field_error
 from .alarms import ActiveAlarmList, AlarmHistory
 from .commands import Command
 from .faults import FaultList, FaultsCleared, FaultsRequest
+from .programs import (
+    CycleControl,
+    DirectoryRequest,
+    Overrides,
+    ProgramChunk,
+    ProgramChunkRequest,
+    ProgramDirectory,
+    ProgramNumber,
+    ProgramText,
+    RunInfo,
+)
 from .versamax import VersaMaxReply, VersaMaxRequest
 
 __all__ = [
@@ -673,6 +684,33 @@ _ACTUAL: Final = ActualValue.codec()
 #: Entries of the decoded-answer memo of each read command (see :func:`_ew_response`).
 _MEMO: Final = 256
 
+#: Part programs and the cycle (``protocol/programs.py``).
+_PROGRAM_SPECS: Final = (
+    _spec(
+        Command.RDPROGDIR,
+        "cnc_rdprogdir",
+        DirectoryRequest.codec(),
+        _ew_response(Codec("ProgramDirectory", ProgramDirectory.encode, ProgramDirectory.decode)),
+    ),
+    _spec(
+        Command.RDPROGRAM,
+        "cnc_upload",
+        ProgramChunkRequest.codec(),
+        _ew_response(Codec("ProgramChunk", ProgramChunk.encode, ProgramChunk.decode)),
+    ),
+    _spec(Command.RDRUNINFO, "cnc_rdtimer", EMPTY, _ew_response(RunInfo.codec())),
+    _spec(
+        Command.WRPROGRAM,
+        "cnc_download",
+        Codec("ProgramText", ProgramText.encode, ProgramText.decode),
+        _ew_response(ProgramNumber.codec()),
+    ),
+    _spec(Command.DELPROGRAM, "cnc_delete", ProgramNumber.codec(), _OK_ONLY),
+    _spec(Command.SELPROGRAM, "cnc_search", ProgramNumber.codec(), _OK_ONLY),
+    _spec(Command.SIM_CYCLE, "sim_cycle", CycleControl.codec(), _OK_ONLY),
+    _spec(Command.SIM_SET_OVERRIDES, "sim_set_overrides", Overrides.codec(), _OK_ONLY),
+)
+
 #: command id -> request and response codecs.
 COMMANDS: Final[dict[int, CommandSpec]] = {
     s.command.value: s
@@ -756,5 +794,6 @@ COMMANDS: Final[dict[int, CommandSpec]] = {
             _counted(AlarmHistory),
             counted=True,
         ),
+        *_PROGRAM_SPECS,
     )
 }

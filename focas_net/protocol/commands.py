@@ -23,10 +23,16 @@ class Command(enum.IntEnum):
     RDPOSITION = 0x000A  # cnc_rdposition: positions in least input increments
     RDPMCRNG = 0x0010  # pmc_rdpmcrng: IODBPMC
     RDPARAINFO = 0x0020  # cnc_rdparainfo: a parameter's type, axis flag, decimals and range
+    RDPROGDIR = 0x0030  # cnc_rdprogdir: the program directory
+    RDPROGRAM = 0x0031  # cnc_upload: a program's text
+    RDRUNINFO = 0x0032  # overrides, parts counts and timers [cnc_rdtimer]
     WRPARAM = 0x0102  # cnc_wrparam: IODBPSD
     WRMACRO = 0x0103  # cnc_wrmacro: ODBM
     WRPMCRNG = 0x0104  # pmc_wrpmcrng: IODBPMC
     WRUNLOCKPARAM = 0x0105  # cnc_wrunlockparam
+    WRPROGRAM = 0x0110  # cnc_download: store a program
+    DELPROGRAM = 0x0111  # cnc_delete: delete a program
+    SELPROGRAM = 0x0112  # cnc_search: select the main program
     VERSAMAX_RDCONFIG = 0x0201  # VersaMax GNIU Read Configuration datagram
     SIM_SET_PANEL = 0x0E01  # simulator control: operator panel
     SIM_RAISE_ALARM = 0x0E02  # simulator control: raise an alarm
@@ -37,6 +43,8 @@ class Command(enum.IntEnum):
     SIM_CLEAR_FAULTS = 0x0E07  # simulator control: remove the pending faults of one scope
     SIM_READ_PANEL = 0x0E10  # simulator control: read the operator panel
     SIM_VACATE_MACRO = 0x0E11  # simulator control: make a macro variable vacant
+    SIM_CYCLE = 0x0E20  # simulator control: cycle start, feed hold, reset
+    SIM_SET_OVERRIDES = 0x0E21  # simulator control: feed, rapid and spindle override
     RDALMHISTRY = 0x0F1A  # cnc_rdalmhistry: ODBAHIS
 
 

@@ -3,16 +3,19 @@ in and machines from files. Nothing here touches a socket or an event loop, and 
 knows either wire protocol: :mod:`focas_net.adapters` translates (``docs/protocol.md``,
 ``docs/native-protocol.md``)."""
 
-from .default import DEFAULT_NAME, default_machine
+from .default import DEFAULT_NAME, DEMO_PROGRAM, default_machine
 from .machine import (
     AUT_MODES,
     CONTROL_CLASSES,
     DEFAULT_CONTROL_CLASS,
     DEFAULT_HISTORY_CAPACITY,
+    F_SIGNALS,
+    G_SIGNALS,
     MAX_MACRO_DECIMALS,
     PMC_AREAS,
     POSITION_DECIMALS,
     POSITION_KINDS,
+    TIMER_KINDS,
     Alarm,
     Clock,
     DataItem,
@@ -37,10 +40,14 @@ __all__ = [
     "DEFAULT_CONTROL_CLASS",
     "DEFAULT_HISTORY_CAPACITY",
     "DEFAULT_NAME",
+    "DEMO_PROGRAM",
+    "F_SIGNALS",
+    "G_SIGNALS",
     "MAX_MACRO_DECIMALS",
     "PMC_AREAS",
     "POSITION_DECIMALS",
     "POSITION_KINDS",
+    "TIMER_KINDS",
     "Alarm",
     "Clock",
     "DataItem",

@@ -39,12 +39,20 @@ position, #5021..#5023 machine coordinates (EW_PROT on write).
 PMC: X 128 and F 768 bytes (write-protected for pmc_wrpmcrng), Y 128, G 768, R 8000, D 10000,
 K 100, A 250, T 500, C 400; no E area.
 
+Macro variables #3901 (parts count, parameter 6711) and #3902 (total parts, 6712) are
+writable; #5041..#5043 (current position, work coordinates) read-only.
+
+Programs: the demo program :data:`DEMO_PROGRAM`, O0001, is the main program: a tool change,
+the spindle at 3000 min^-1 and a 80 x 60 mm contour with an arc at F1200, about 25 s of
+machine time per part; cycle start runs it once, M30 counts a part.
+
 VersaMax rack 0: slot 1 the GNIU (IC200GBI001), slot 3 the IC200MDD844; every other slot empty.
 """
 
 from __future__ import annotations
 
 import struct
+from collections.abc import Iterable
 from decimal import Decimal
 from typing import Final
 
@@ -63,11 +71,30 @@ from .machine import (
     PmcAreaSpec,
     utc_now,
 )
+from .nc import SimClock
 
-__all__ = ["DEFAULT_NAME", "default_machine", "gniu_record", "mdd844_record"]
+__all__ = ["DEFAULT_NAME", "DEMO_PROGRAM", "default_machine", "gniu_record", "mdd844_record"]
 
 #: The name of the built-in machine (used in the server's ready line).
 DEFAULT_NAME: Final = "focas-sim-0i"
+
+#: The built-in machine's main program.
+DEMO_PROGRAM: Final = """O0001 (DEMO CONTOUR)
+N10 G21 G17 G40 G49 G80 G90
+N20 G54 G0 X0 Y0 Z50.
+N30 T1 M6
+N40 S3000 M3
+N50 G0 Z5. M8
+N60 G1 Z-2. F300
+N70 X80. F1200
+N80 Y40.
+N90 G3 X60. Y60. R20.
+N100 G1 X0
+N110 Y0
+N120 G0 Z50. M9
+N130 M5
+N140 M30
+"""
 
 _STROKE: Final = 999_999_999
 _BIT: Final = ParamKind.BIT
@@ -168,10 +195,12 @@ def _macros() -> tuple[list[MacroRange], dict[int, Decimal]]:
         MacroRange(1, 33),
         MacroRange(100, 199),
         MacroRange(500, 999),
+        MacroRange(3901, 3902),
         MacroRange(4001, 4030, writable=False),
         MacroRange(4102, 4130, writable=False),
         MacroRange(5001, 5003, writable=False),
         MacroRange(5021, 5023, writable=False),
+        MacroRange(5041, 5043, writable=False),
     ]
     values = {4000 + group: _decimal(*v) for group, v in _MODAL_G.items()}
     values |= {
@@ -184,7 +213,7 @@ def _macros() -> tuple[list[MacroRange], dict[int, Decimal]]:
         4119: Decimal(0),  # S
         4120: Decimal(0),  # T
     }
-    values |= {n: _decimal(0, 3) for n in (5001, 5002, 5003, 5021, 5022, 5023)}
+    values |= {n: _decimal(0, 3) for n in (5001, 5002, 5003, 5021, 5022, 5023, 5041, 5042, 5043)}
     return ranges, values
 
 
@@ -211,8 +240,12 @@ def default_machine(
     control_enabled: bool = True,
     read_only: bool = False,
     history_capacity: int = DEFAULT_HISTORY_CAPACITY,
+    sim_clock: SimClock | None = None,
+    programs: Iterable[str] = (DEMO_PROGRAM,),
 ) -> Machine:
-    """A fresh default machine (each call returns independent state)."""
+    """A fresh default machine (each call returns independent state). ``sim_clock`` drives
+    the execution of its programs (a :class:`~focas_net.sim.nc.ManualClock` in tests);
+    ``programs`` replace the demo program (the first is the main program)."""
     axes = ("X", "Y", "Z")
     ranges, values = _macros()
     return Machine(
@@ -234,4 +267,6 @@ def default_machine(
         clock=clock,
         control_enabled=control_enabled,
         read_only=read_only,
+        programs=programs,
+        sim_clock=sim_clock,
     )

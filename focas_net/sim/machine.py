@@ -64,6 +64,29 @@ wrong, never cut to a prefix). It is compared in constant time and never logged 
 
 Counters (:attr:`Machine.version` and the narrower ``*_version``) move on every change they
 cover, so front ends can key caches of their answers on them.
+
+Part programs and their execution
+---------------------------------
+The machine owns a :class:`~focas_net.sim.nc.ProgramStore` (:attr:`Machine.programs`) and an
+:class:`~focas_net.sim.nc.Engine` (:attr:`Machine.engine`) on its ``sim_clock``: machine time in
+seconds, ``RealTimeClock()`` unless given (``serve --speed`` shares one ``RealTimeClock(speed)``
+across a fleet; a test gives a :class:`~focas_net.sim.nc.ManualClock` and steps it). The other
+clock, ``clock``, gives the datetimes of alarm stamps only: an alarm the program raises is
+stamped ``clock()`` less the machine time between the alarm and the read that recorded it.
+
+Nothing ticks: every read and every counter first brings the engine to the clock's time
+(:meth:`Machine._sync`): program alarms go into the active alarms and the history, parts into
+parameters 6711/6712; while a program runs, the motion and macro counters move whenever time
+moved, so no front end serves a cached answer of a moving machine. ``cycle_start()``,
+``feed_hold()``, ``reset()``, ``set_overrides()`` and the G signals control it.
+
+Which figures are shown: those of the constructor (the ``[motion]`` table) and of
+:meth:`Machine.set_motion` / :meth:`Machine.set_run` until the first cycle start or program
+selection; from then on the engine's, until ``set_motion`` or ``set_run`` is called again. The
+CNC's rules of the cycle: cycle start only in MEM, not with the emergency stop or an alarm
+(EW_ALARM; an alarm that stopped the cycle wants a reset), not without a main program
+(EW_DATA); leaving MEM holds the feed; the emergency stop resets; any alarm stops the cycle;
+reset clears the alarms the program raised.
 """
 
 from __future__ import annotations
@@ -72,28 +95,51 @@ import enum
 import hashlib
 import hmac
 import logging
+import math
 from collections import deque
 from collections.abc import Callable, Iterable, Mapping
 from dataclasses import dataclass, field
-from datetime import UTC, datetime
-from decimal import Decimal
+from datetime import UTC, datetime, timedelta
+from decimal import Decimal, InvalidOperation
 from itertools import islice
 from typing import Final
 
 from focas_net.errors import EW, FocasError
 from focas_net.versamax import IOModuleRecord
 
+from .nc import (
+    AlarmKind,
+    CycleState,
+    Engine,
+    EngineEvent,
+    MotionKind,
+    NcAlarm,
+    NcSettings,
+    NcStateError,
+    ProgramError,
+    ProgramErrorReason,
+    ProgramInfo,
+    ProgramStore,
+    RealTimeClock,
+    SimClock,
+    VariableRefused,
+)
+from .nc.alarms import AlarmRaised
+
 __all__ = [
     "AUT_MODES",
     "CONTROL_CLASSES",
     "DEFAULT_CONTROL_CLASS",
     "DEFAULT_HISTORY_CAPACITY",
+    "F_SIGNALS",
+    "G_SIGNALS",
     "MAX_MACRO_DECIMALS",
     "MDI",
     "MEM",
     "PMC_AREAS",
     "POSITION_DECIMALS",
     "POSITION_KINDS",
+    "TIMER_KINDS",
     "Alarm",
     "Clock",
     "DataItem",
@@ -121,6 +167,7 @@ Clock = Callable[[], datetime]
 AUT_MODES: Final = frozenset({0, 1, 3, 4, 5, 6, 7, 8, 9, 10})
 MDI: Final = 0
 MEM: Final = 1
+EDIT: Final = 3
 #: Alarm history capacity of a FANUC 0i/30i.
 DEFAULT_HISTORY_CAPACITY: Final = 250
 #: Letters of the PMC areas a machine can have.
@@ -144,6 +191,55 @@ DEFAULT_CONTROL_CLASS: Final = "0i-F"
 #: Highest rack and slot of a VersaMax station.
 MAX_RACK: Final = 7
 MAX_SLOT: Final = 9
+
+#: The timers :meth:`Machine.timer` reads, by FANUC's ``cnc_rdtimer`` type number.
+TIMER_KINDS: Final = ("power_on", "operating", "cutting", "cycle")
+#: Alarm type numbers of the alarms the program raises (FANUC 0i-D/F, 30i numbering).
+_NC_ALARM_TYPES: Final = {AlarmKind.PS: 3, AlarmKind.OT: 4, AlarmKind.MC: 8}
+_ALARM_KINDS: Final = {3: AlarmKind.PS, 4: AlarmKind.OT, 8: AlarmKind.MC}
+#: The run state (ODBST ``run``) and motion of each engine state.
+_RUN: Final = {CycleState.RESET: 0, CycleState.STOP: 1, CycleState.HOLD: 2, CycleState.START: 3}
+_MOTION: Final = {MotionKind.NONE: 0, MotionKind.MOTION: 1, MotionKind.DWELL: 2}
+#: Parts count, total parts, parts required (parameters) and their macro variables.
+PARTS_COUNT: Final = 6711
+PARTS_TOTAL: Final = 6712
+PARTS_REQUIRED: Final = 6713
+_PARTS_VARIABLES: Final = {3901: PARTS_COUNT, 3902: PARTS_TOTAL}
+#: System variables that come from the engine while it drives the figures: modal G codes
+#: #4001-#4030, the last block's codes #4102-#4130, positions #5001-#5043.
+_ENGINE_VARIABLES: Final = (range(4001, 4031), range(4102, 4131), range(5001, 5044))
+_MM: Final = 10**POSITION_DECIMALS
+_MACRO_STEP: Final = Decimal(1).scaleb(-MAX_MACRO_DECIMALS)
+
+#: The G signals the machine reads (FANUC Series 0i addresses): (byte, bit).
+_ST: Final = (7, 2)  #: cycle start, G7.2 (its falling edge starts)
+_SP: Final = (8, 5)  #: feed hold *SP, G8.5 (negative logic: its falling edge holds)
+_ERS: Final = (8, 7)  #: external reset, G8.7
+_MD: Final = 43  #: mode select MD1 MD2 MD4 (G43.0-.2), DNCI (G43.5), ZRN (G43.7)
+_MD_BITS: Final = 0b1010_0111
+_FV: Final = 12  #: feed override *FV0-*FV7, G12 (negative logic: 255 - G12 percent)
+_MAX_FEED_OVERRIDE: Final = 254
+#: G43 (MD1 MD2 MD4, DNCI, ZRN) -> the panel mode.
+_MODE_OF_G43: Final = {
+    0b0000_0000: MDI,
+    0b0000_0001: MEM,
+    0b0010_0001: 10,  # RMT (DNC)
+    0b0000_0011: 3,  # EDIT
+    0b0000_0100: 4,  # HND
+    0b0000_0101: 5,  # JOG
+    0b1000_0101: 9,  # REF
+}
+#: The F signals the machine sets (F0.7 OP, F0.5 STL, F0.4 SPL, F1.1 RST): bit numbers.
+_OP: Final = 7
+_STL: Final = 5
+_SPL: Final = 4
+_RST: Final = 1
+_F0_MASK: Final = 1 << _OP | 1 << _STL | 1 << _SPL
+#: The PMC signals of automatic operation the machine reads, ``name: (area, byte, bit)``
+#: (G43 mode select and G12 feed override are whole bytes).
+G_SIGNALS: Final = {"ST": ("G", 7, 2), "*SP": ("G", 8, 5), "ERS": ("G", 8, 7)}
+#: The PMC signals the machine sets, ``name: (area, byte, bit)``.
+F_SIGNALS: Final = {"OP": ("F", 0, 7), "STL": ("F", 0, 5), "SPL": ("F", 0, 4), "RST": ("F", 1, 1)}
 
 _MOTION_SCALARS: Final = ("feed", "spindle_speed", "program_running", "program_main", "sequence")
 _SKIP: Final = "skip"
@@ -195,6 +291,98 @@ def _macro_value(value: Decimal | int) -> Decimal | None:
     if not _I32_MIN <= (-coefficient if sign else coefficient) <= _I32_MAX:
         return None
     return value
+
+
+def _float_macro(value: float) -> Decimal | None:
+    """The macro value a float of the program stands for (at most 9 decimals), or None when
+    a variable cannot hold it."""
+    if not math.isfinite(value):
+        return None
+    try:
+        d = Decimal(repr(float(value))).quantize(_MACRO_STEP).normalize()
+        exponent = d.as_tuple().exponent
+        if isinstance(exponent, int) and exponent > 0:
+            d = d.quantize(Decimal(1))
+    except InvalidOperation:
+        return None
+    return _macro_value(d)
+
+
+def _increments(values: Iterable[float]) -> list[int]:
+    """Positions in mm as i32 least input increments."""
+    return [max(_I32_MIN, min(_I32_MAX, round(v * _MM))) for v in values]
+
+
+def _figure(value: float | int | None) -> int:
+    return 0 if value is None else max(0, min(_I32_MAX, round(value)))
+
+
+def _system_value(value: float | None, decimals: int) -> Decimal | None:
+    """A system variable the engine reads as a float, as the machine shows it: positions
+    with 3 decimals, codes as integers (40.1: one decimal)."""
+    if value is None:
+        return None
+    if decimals:
+        return Decimal(round(value * _MM)).scaleb(-decimals)
+    if value == int(value):
+        return Decimal(int(value))
+    return _float_macro(value)
+
+
+class _Variables:
+    """The machine's variables as the interpreter reads and writes them: #3901/#3902 (parts),
+    the machine's macro ranges (#500-#999 and whatever else it has); 115 for a number the
+    machine lacks, 116 for a read-only one, 111 for a value a variable cannot hold."""
+
+    __slots__ = ("_machine",)
+
+    def __init__(self, machine: Machine) -> None:
+        self._machine = machine
+
+    def read_variable(self, number: int) -> float | None:
+        m = self._machine
+        if number in _PARTS_VARIABLES:
+            return float(m._parts(_PARTS_VARIABLES[number]))
+        if m._macro_range(number) is None:
+            raise VariableRefused(115, f"#{number}")
+        value = m._macros.get(number)
+        return None if value is None else float(value)
+
+    def write_variable(self, number: int, value: float | None) -> None:
+        m = self._machine
+        if number in _PARTS_VARIABLES:
+            m._set_parts(_PARTS_VARIABLES[number], 0 if value is None else round(value))
+            return
+        r = m._macro_range(number)
+        if r is None:
+            raise VariableRefused(115, f"#{number}")
+        if not r.writable:
+            raise VariableRefused(116, f"#{number}")
+        if value is None:
+            m._macros.pop(number, None)
+        else:
+            held = _float_macro(value)
+            if held is None:
+                raise VariableRefused(111, f"#{number} = {value!r}")
+            m._macros[number] = held
+        m._macro_version += 1
+        m._version += 1
+
+
+#: The EW code of each refusal of the program store.
+_PROGRAM_EW: Final = {
+    ProgramErrorReason.FORMAT: EW.DATA,
+    ProgramErrorReason.RANGE: EW.NUMBER,
+    ProgramErrorReason.DUPLICATE: EW.REJECT,
+    ProgramErrorReason.NOT_FOUND: EW.NUMBER,
+    ProgramErrorReason.IN_USE: EW.BUSY,
+    ProgramErrorReason.NO_SPACE: EW.OVRFLOW,
+    ProgramErrorReason.TOO_MANY: EW.OVRFLOW,
+}
+
+
+def _program_refusal(exc: ProgramError) -> MachineError:
+    return MachineError(_PROGRAM_EW[exc.reason], str(exc))
 
 
 class MachineError(FocasError):
@@ -484,6 +672,9 @@ class Machine:
         control_enabled: bool = True,
         read_only: bool = False,
         control_class: str = DEFAULT_CONTROL_CLASS,
+        programs: Iterable[str] = (),
+        main_program: int | None = None,
+        sim_clock: SimClock | None = None,
     ) -> None:
         self.name = name
         if control_class not in CONTROL_CLASSES:
@@ -542,30 +733,31 @@ class Machine:
                 raise ValueError(f"VersaMax rack {rack} slot {slot} is out of range")
             self._records[rack, slot] = record
             self._station[rack, slot] = record.encode()
-        self.motion = motion or MotionData([0] * n, [0] * n, [0] * n, [0] * n)
+        self._motion = motion or MotionData([0] * n, [0] * n, [0] * n, [0] * n)
         for key in POSITION_KINDS:
-            if len(getattr(self.motion, key)) != n:
+            if len(getattr(self._motion, key)) != n:
                 raise ValueError(
-                    f"motion {key}: {len(getattr(self.motion, key))} values for {n} axes"
+                    f"motion {key}: {len(getattr(self._motion, key))} values for {n} axes"
                 )
         if history_capacity < 1:
             raise ValueError("alarm history capacity must be at least 1")
         self._active: dict[tuple[int, int, int], Alarm] = {}
         self._history: deque[HistoryEntry] = deque(maxlen=history_capacity)
         #: Incremented on every change of machine state.
-        self.version = 0
+        self._version = 0
         #: Incremented when the status changes (panel, run state, active alarms).
-        self.status_version = 0
+        self._status_version = 0
         #: Incremented when a parameter or diagnostic value changes.
-        self.data_version = 0
+        self._data_version = 0
         #: Incremented when a macro variable changes.
-        self.macro_version = 0
+        self._macro_version = 0
         #: Incremented when the active alarms or the alarm history change.
-        self.alarm_version = 0
+        self._alarm_version = 0
         #: Incremented when PMC data changes.
-        self.pmc_version = 0
+        self._pmc_version = 0
         #: Incremented when the motion figures change.
-        self.motion_version = 0
+        self._motion_version = 0
+        self._build_engine(programs, main_program, sim_clock)
 
     @staticmethod
     def _check_identity(identity: Identity) -> None:
@@ -590,6 +782,51 @@ class Machine:
     def __repr__(self) -> str:
         return f"Machine({self.name!r}, axes={''.join(self.axes)!r})"
 
+    # -- counters (each brings the engine to the clock's time first) ---------------------
+    @property
+    def version(self) -> int:
+        """Incremented on every change of machine state."""
+        self._sync()
+        return self._version
+
+    @property
+    def status_version(self) -> int:
+        """Incremented when the status changes (panel, run state, motion, active alarms)."""
+        self._sync()
+        return self._status_version
+
+    @property
+    def data_version(self) -> int:
+        """Incremented when a parameter or diagnostic value changes (parts counts too)."""
+        self._sync()
+        return self._data_version
+
+    @property
+    def macro_version(self) -> int:
+        """Incremented when a macro variable changes (while a program runs: whenever machine
+        time moved, for the system variables follow the engine)."""
+        self._sync()
+        return self._macro_version
+
+    @property
+    def alarm_version(self) -> int:
+        """Incremented when the active alarms or the alarm history change."""
+        self._sync()
+        return self._alarm_version
+
+    @property
+    def pmc_version(self) -> int:
+        """Incremented when PMC data changes."""
+        self._sync()
+        return self._pmc_version
+
+    @property
+    def motion_version(self) -> int:
+        """Incremented when the motion figures change: while a program runs, whenever machine
+        time moved."""
+        self._sync()
+        return self._motion_version
+
     def check_writable(self) -> None:
         """EW_PROT when the machine is read-only: the first check of every write."""
         if self.read_only:
@@ -605,7 +842,7 @@ class Machine:
         otherwise). Connections unlocked under the previous password are locked again."""
         self._password = None if password is None else _password(password)
         self._password_epoch += 1
-        self.version += 1
+        self._version += 1
 
     @property
     def has_password(self) -> bool:
@@ -613,23 +850,29 @@ class Machine:
         return self._password is not None
 
     def status(self) -> Status:
-        """The status, derived from the panel and the active alarms."""
+        """The status, derived from the panel, the active alarms and (while it drives the
+        figures) the engine's run state and motion."""
+        self._sync()
         p = self.panel
+        run, motion, mstb = p.run, p.motion, p.mstb
+        if self._driven:
+            run, motion = _RUN[self._engine_key[0]], _MOTION[self._engine_key[1]]
+            mstb = self._mstb
         return Status(
             p.hdck,
             p.tmmode,
             p.mode,
-            p.run,
-            p.motion,
-            p.mstb,
+            run,
+            motion,
+            mstb,
             p.emergency,
             1 if self._active else 0,
             p.edit,
         )
 
     def _status_changed(self) -> None:
-        self.status_version += 1
-        self.version += 1
+        self._status_version += 1
+        self._version += 1
 
     def identity(self) -> Identity:
         """What the CNC says it is."""
@@ -667,6 +910,7 @@ class Machine:
     def read_param(self, datano: int, axis: int) -> int:
         """The value of parameter ``datano`` (``axis`` 0 for a non-axis item, else 1..n):
         EW_NUMBER, then EW_ATTRIB. Its width is :meth:`param_item`'s."""
+        self._sync()
         item, i = self._lookup(self._params, datano, axis)
         return item.values[i]
 
@@ -726,8 +970,10 @@ class Machine:
         if not low <= value <= high:
             raise MachineError(EW.DATA, f"parameter {datano}: {value} outside {low}..{high}")
         item.values[i] = value
-        self.data_version += 1
-        self.version += 1
+        if datano in (PARTS_COUNT, PARTS_TOTAL):
+            self._set_parts(datano, value)
+        self._data_version += 1
+        self._version += 1
 
     def set_diag(self, datano: int, axis: int, value: int) -> None:
         """Change a diagnostic value (simulation code; a CNC has no diagnostic write):
@@ -738,8 +984,8 @@ class Machine:
         if not low <= value <= high:
             raise MachineError(EW.DATA, f"diagnostic {datano}: {value} outside {low}..{high}")
         item.values[i] = value
-        self.data_version += 1
-        self.version += 1
+        self._data_version += 1
+        self._version += 1
 
     # -- macro variables -----------------------------------------------------------------
     def _macro_range(self, number: int) -> MacroRange | None:
@@ -760,6 +1006,11 @@ class Machine:
         variable."""
         if self._macro_range(number) is None:
             raise MachineError(EW.NUMBER, f"no macro variable #{number}")
+        self._sync()
+        if number in _PARTS_VARIABLES:
+            return Decimal(self._parts(_PARTS_VARIABLES[number]))
+        if self._driven and any(number in r for r in _ENGINE_VARIABLES):
+            return self._engine_variable(number)
         return self._macros.get(number)
 
     def write_macro(self, number: int, value: Decimal | int | None) -> None:
@@ -772,10 +1023,16 @@ class Machine:
             raise MachineError(EW.NUMBER, f"no macro variable #{number}")
         if not r.writable:
             raise MachineError(EW.PROT, f"macro variable #{number} is read-only")
+        if number in _PARTS_VARIABLES:
+            held_parts = None if value is None else _macro_value(value)
+            if held_parts is None or held_parts != held_parts.to_integral_value() or held_parts < 0:
+                raise MachineError(EW.DATA, f"#{number} = {value}: a count of parts")
+            self._set_parts(_PARTS_VARIABLES[number], int(held_parts))
+            return
         if value is None:
             if self._macros.pop(number, None) is not None:
-                self.macro_version += 1
-                self.version += 1
+                self._macro_version += 1
+                self._version += 1
             return
         held = _macro_value(value)
         if held is None:
@@ -784,8 +1041,8 @@ class Machine:
                 f"#{number} = {value}: 0..{MAX_MACRO_DECIMALS} decimals, digits within 32 bits",
             )
         self._macros[number] = held
-        self.macro_version += 1
-        self.version += 1
+        self._macro_version += 1
+        self._version += 1
 
     # -- PMC -------------------------------------------------------------------------------
     def pmc_area(self, letter: str) -> tuple[int, bool] | None:
@@ -813,6 +1070,8 @@ class Machine:
         area = self._area(letter)
         if length < 0:
             raise ValueError(f"a PMC read of {length} bytes")
+        if area.letter == "F":
+            self._sync()  # the F signals follow the run state
         end = start + length
         if start < 0 or end > area.size:
             raise MachineError(
@@ -833,9 +1092,12 @@ class Machine:
             )
         if area.write_protected and not force:
             raise MachineError(EW.PROT, f"PMC area {area.letter} is write-protected")
+        before = bytes(area.data[start:end])
         area.data[start:end] = data
-        self.pmc_version += 1
-        self.version += 1
+        self._pmc_version += 1
+        self._version += 1
+        if area.letter == "G" and before != data:
+            self._g_signals(start, before)
 
     # -- password ------------------------------------------------------------------------
     def unlock(self, session: Session, password: str | bytes) -> None:
@@ -859,12 +1121,14 @@ class Machine:
     def active_alarms(self, alm_type: int = -1, limit: int | None = None) -> list[Alarm]:
         """The active alarms of ``alm_type`` (-1: every type; a type no alarm has matches
         nothing), oldest raised first, at most ``limit`` of them (None: all)."""
+        self._sync()
         alarms = self._active.values()
         chosen = alarms if alm_type == -1 else (a for a in alarms if a.alm_type == alm_type)
         return list(chosen if limit is None else islice(chosen, limit))
 
     def alarm_history(self, depth: int | None = None) -> tuple[HistoryEntry, ...]:
         """The ``depth`` newest entries of the history (None: all), newest first."""
+        self._sync()
         return tuple(self._history if depth is None else islice(self._history, depth))
 
     @property
@@ -900,15 +1164,27 @@ class Machine:
         text = msg[:MAX_ALARM_TEXT]
         if any(ord(c) > 0xFF for c in text):
             raise MachineError(EW.DATA, f"alarm message {text!r} is not single-byte text")
+        self._sync()
         key = (axis_no, alm_type, alm_no)
+        if not self._add_alarm(key, text, self.now()):
+            return False
+        if self.engine.state is not CycleState.RESET:
+            # any alarm stops the cycle; cycle start wants a reset after it
+            kind = _ALARM_KINDS.get(alm_type, AlarmKind.PS)
+            self.engine.alarm_stop(NcAlarm(kind, alm_no, text, axis=axis_no or None))
+            self._settled(True)
+        return True
+
+    def _add_alarm(self, key: tuple[int, int, int], text: str, when: datetime) -> bool:
         if key in self._active:
             return False
+        axis_no, alm_type, alm_no = key
         logger.debug(
             "%s: alarm raised: axis %d type %d no %d", self.name, axis_no, alm_type, alm_no
         )
         self._active[key] = Alarm(axis_no, alm_type, alm_no, text)
-        self._history.appendleft(HistoryEntry(self.now(), axis_no, alm_type, alm_no, text))
-        self.alarm_version += 1
+        self._history.appendleft(HistoryEntry(when, axis_no, alm_type, alm_no, text))
+        self._alarm_version += 1
         self._status_changed()
         return True
 
@@ -925,7 +1201,7 @@ class Machine:
             del self._active[k]
         if gone:
             logger.debug("%s: %d alarm(s) cleared", self.name, len(gone))
-            self.alarm_version += 1
+            self._alarm_version += 1
             self._status_changed()
         return len(gone)
 
@@ -943,9 +1219,17 @@ class Machine:
         emergency = p.emergency if emergency is None else emergency
         if mode not in AUT_MODES or pwe not in (0, 1) or emergency not in (0, 1):
             raise MachineError(EW.DATA, f"panel mode={mode} pwe={pwe} emergency={emergency}")
+        self._sync()
+        leaving_mem = p.mode == MEM and mode != MEM
+        stop = emergency and not p.emergency
         p.mode, p.pwe, p.emergency = mode, pwe, emergency
         logger.debug("%s: panel mode %d pwe %d emergency %d", self.name, mode, pwe, emergency)
+        if stop:
+            self.engine.reset()  # emergency stop resets the control
+        elif leaving_mem:
+            self.engine.feed_hold()  # automatic operation stops outside MEM
         self._status_changed()
+        self._settled(stop or leaving_mem)
 
     def set_run(self, run: int, motion: int = 0) -> None:
         """Set the run state (0 reset, 1 STOP, 2 HOLD, 3 STRT, 4 MSTR) and motion (0, 1 MTN,
@@ -953,6 +1237,7 @@ class Machine:
         if run not in range(5) or motion not in range(3):
             raise MachineError(EW.DATA, f"run={run} motion={motion}")
         self.panel.run, self.panel.motion = run, motion
+        self._driven = False
         self._status_changed()
 
     # -- motion figures ------------------------------------------------------------------
@@ -997,13 +1282,17 @@ class Machine:
             if type(value) is not int or not 0 <= value <= _I32_MAX:
                 raise MachineError(EW.DATA, f"{key} = {value!r} outside 0..{_I32_MAX}")
             scalars[key] = value
-        m = self.motion
+        m = self._motion
+        self._sync()
+        if self._driven:
+            self._driven = False
+            self._status_changed()
         for key, got in lists.items():
             setattr(m, key, got)
         for key, value in scalars.items():
             setattr(m, key, value)
-        self.motion_version += 1
-        self.version += 1
+        self._motion_version += 1
+        self._version += 1
 
     def positions(self, kind: str, axis: int | None = None) -> list[tuple[str, int]]:
         """``(axis name, value)`` of every axis (``axis`` None) or of axis ``axis`` (1..n), in
@@ -1020,6 +1309,385 @@ class Machine:
         if not 1 <= axis <= len(self.axes):
             raise MachineError(EW.ATTRIB, f"axis {axis} outside 1..{len(self.axes)}")
         return [(self.axes[axis - 1], values[axis - 1])]
+
+    # -- part programs and their execution ---------------------------------------------
+    def _build_engine(
+        self, programs: Iterable[str], main_program: int | None, sim_clock: SimClock | None
+    ) -> None:
+        #: Machine time (seconds) of the engine: ``RealTimeClock()`` unless given; a test
+        #: gives a :class:`~focas_net.sim.nc.ManualClock` and steps it.
+        self.sim_clock: SimClock = sim_clock if sim_clock is not None else RealTimeClock()
+        self._powered_at = self.sim_clock.now()
+        #: The programs in the machine's memory (the engine marks those in use).
+        self.programs = ProgramStore()
+        first: int | None = None
+        for text in programs:
+            number = self.programs.store(text).number
+            first = number if first is None else first
+        self.engine = Engine(
+            self.sim_clock, self._nc_settings(), store=self.programs, variables=_Variables(self)
+        )
+        self.engine.parts_count = self._param_or(PARTS_COUNT, 0)
+        self.engine.parts_total = self._param_or(PARTS_TOTAL, 0)
+        main = main_program if main_program is not None else first
+        if main is not None:
+            self.programs.select(main)
+        self._driven = False
+        self._synced_at = math.nan
+        self._engine_key = (CycleState.RESET, MotionKind.NONE)
+        self._engine_alarms: set[tuple[int, int, int]] = set()
+        self._figures: tuple[int, MotionData] | None = None
+        self._mstb = 0
+
+    def _param_or(self, number: int, default: int, axis: int = 0) -> int:
+        item = self._params.get(number)
+        if item is None or (axis == 0) == item.axis:
+            return default
+        return item.values[max(axis - 1, 0)]
+
+    def _nc_settings(self) -> NcSettings:
+        """Execution settings from the parameters, read when the machine is built: rapid
+        traverse 1420 (mm/min), maximum cutting feed 1422, stroke limit 1 1320/1321 (0.001 mm;
+        no limit on an axis where plus is not above minus), reference position 1240."""
+        n = len(self.axes)
+        rapid = tuple(float(self._param_or(1420, 24000, a) or 24000) for a in range(1, n + 1))
+        limits: list[tuple[float, float] | None] = []
+        for a in range(1, n + 1):
+            plus, minus = self._param_or(1320, 0, a), self._param_or(1321, 0, a)
+            limits.append((minus / _MM, plus / _MM) if plus > minus else None)
+        reference = tuple(self._param_or(1240, 0, a) / _MM for a in range(1, n + 1))
+        values: dict[str, object] = {
+            "rapid_rates": rapid,
+            "stroke_limits": tuple(limits),
+            "reference": reference,
+        }
+        feed = self._param_or(1422, 0)
+        if feed > 0:
+            values["max_cutting_feed"] = float(feed)
+        return NcSettings.for_axes(self.axes, **values)
+
+    @property
+    def driven(self) -> bool:
+        """Whether the engine shows the run state and the motion figures: from a cycle start
+        or a program selection until :meth:`set_motion` or :meth:`set_run` sets them by hand
+        (before, the figures given to the constructor or by hand are shown)."""
+        return self._driven
+
+    def _sync(self) -> None:
+        """Bring the engine to the clock's time: record its alarms and parts, and move the
+        counters of what it shows. Costs a clock call when the time has not moved."""
+        now = self.sim_clock.now()
+        if now == self._synced_at:
+            return
+        self._synced_at = now
+        moved = self._engine_key[0] is CycleState.START
+        for event in self.engine.take_events():
+            self._engine_event(event, now)
+        self._settled(moved)
+
+    def _settled(self, moved: bool, force: bool = False) -> None:
+        e = self.engine
+        key = (e.state, e.motion)
+        changed = key != self._engine_key
+        self._engine_key = key
+        waiting = 1 if key[0] is CycleState.START and e.waiting else 0
+        if waiting != self._mstb:
+            self._mstb = waiting
+            changed = True
+        self._f_signals()
+        if force or (self._driven and (changed or moved)):
+            self._motion_version += 1
+            self._macro_version += 1
+            self._version += 1
+            if force or changed:
+                self._status_version += 1
+
+    def _g_signals(self, start: int, before: bytes) -> None:
+        """Act on the G signals a write changed (see :data:`G_SIGNALS`): the rising edge of
+        ERS resets, the falling edge of *SP holds the feed, a change of the mode bits of G43
+        selects the mode, a change of G12 sets the feed override, the falling edge of ST
+        starts the cycle (with *SP on). What the CNC refuses (cycle start with an alarm ...)
+        is ignored, as a CNC ignores the signal."""
+
+        def old(address: int) -> int | None:
+            i = address - start
+            return before[i] if 0 <= i < len(before) else None
+
+        g = self._areas["G"].data
+
+        def fell(address: int, bit: int) -> bool:
+            was = old(address)
+            return was is not None and bool(was >> bit & 1) and not g[address] >> bit & 1
+
+        def rose(address: int, bit: int) -> bool:
+            was = old(address)
+            return was is not None and not was >> bit & 1 and bool(g[address] >> bit & 1)
+
+        try:
+            if rose(*_ERS):
+                self.reset()
+            if fell(*_SP):
+                self.feed_hold()
+            if old(_MD) is not None and old(_MD) != g[_MD]:
+                mode = _MODE_OF_G43.get(g[_MD] & _MD_BITS)
+                if mode is not None and mode != self.panel.mode:
+                    self.set_panel(mode=mode)
+            if old(_FV) is not None and old(_FV) != g[_FV]:
+                self.set_overrides(feed=min(_MAX_FEED_OVERRIDE, 0xFF - g[_FV]))
+            if fell(*_ST) and g[_SP[0]] >> _SP[1] & 1:
+                self.cycle_start()
+        except MachineError as exc:
+            logger.debug("%s: G signal ignored: %s", self.name, exc)
+        self._f_signals()
+
+    def _f_signals(self) -> None:
+        """Set the F signals a ladder reads from the run state (see :data:`F_SIGNALS`) while
+        the engine drives the machine (:attr:`driven`); before, F is as written."""
+        area = self._areas.get("F")
+        if area is None or area.size < 2 or not self._driven:
+            return
+        state = self._engine_key[0]
+        g = self._areas.get("G")
+        resetting = g is not None and g.size > _ERS[0] and bool(g.data[_ERS[0]] >> _ERS[1] & 1)
+        f0 = area.data[0] & ~_F0_MASK
+        if state is not CycleState.RESET:
+            f0 |= 1 << _OP
+        if state is CycleState.START:
+            f0 |= 1 << _STL
+        if state is CycleState.HOLD:
+            f0 |= 1 << _SPL
+        f1 = area.data[1] & ~(1 << _RST) | (1 << _RST if resetting else 0)
+        if (f0, f1) != (area.data[0], area.data[1]):
+            area.data[0], area.data[1] = f0, f1
+            self._pmc_version += 1
+            self._version += 1
+
+    def _engine_event(self, event: EngineEvent, now: float) -> None:
+        if event.kind == "part":
+            self._store_parts(PARTS_COUNT, self.engine.parts_count)
+            self._store_parts(PARTS_TOTAL, self.engine.parts_total)
+        elif event.kind == "alarm" and event.alarm is not None:
+            alarm = event.alarm
+            late = timedelta(seconds=max(0.0, now - event.time))
+            key = (alarm.axis or 0, _NC_ALARM_TYPES[alarm.kind], alarm.number)
+            text = alarm.message[:MAX_ALARM_TEXT].encode("latin-1", "replace").decode("latin-1")
+            if self._add_alarm(key, text, (self.now() - late).replace(microsecond=0)):
+                self._engine_alarms.add(key)
+
+    def _parts(self, number: int) -> int:
+        return self.engine.parts_count if number == PARTS_COUNT else self.engine.parts_total
+
+    def _store_parts(self, number: int, value: int) -> None:
+        item = self._params.get(number)
+        if item is None:
+            return
+        assert item.high is not None and item.low is not None
+        item.values[0] = max(item.low, min(item.high, value))
+        self._data_version += 1
+        self._macro_version += 1
+        self._version += 1
+
+    def _set_parts(self, number: int, value: int) -> None:
+        if number == PARTS_COUNT:
+            self.engine.parts_count = value
+        else:
+            self.engine.parts_total = value
+        self._store_parts(number, value)
+
+    def cycle_start(self, *, repeat: bool | None = None) -> None:
+        """Cycle start: run the main program from its head (reset), go on (stop) or resume
+        (feed hold). EW_PROT (read-only machine), EW_ALARM (emergency stop, an active alarm,
+        or an alarm that stopped the cycle and wants a reset), EW_MODE (not MEM), EW_DATA (no
+        main program). From here the engine shows the run state and the figures.
+
+        ``repeat`` True: production, the main program starts again at once after each M2/M30
+        (a part counted each time) until ``repeat`` False is given or an alarm stops it; None
+        leaves the setting as it is."""
+        self.check_writable()
+        self._sync()
+        if self.panel.emergency:
+            raise MachineError(EW.ALARM, "cycle start refused: emergency stop")
+        if self._active:
+            raise MachineError(EW.ALARM, "cycle start refused: an alarm is active")
+        if self.panel.mode != MEM:
+            raise MachineError(EW.MODE, f"cycle start refused: mode {self.panel.mode} is not MEM")
+        if repeat is not None:
+            self.engine.repeat = repeat
+        try:
+            self.engine.cycle_start()
+        except NcStateError as exc:
+            ew = EW.ALARM if self.engine.alarm is not None else EW.DATA
+            raise MachineError(ew, str(exc)) from None
+        self._driven = True
+        self._settled(True, force=True)
+
+    def feed_hold(self) -> None:
+        """Feed hold: the axes stop where they are (HOLD); cycle start resumes. EW_PROT on a
+        read-only machine."""
+        self.check_writable()
+        self._sync()
+        self.engine.feed_hold()
+        self._settled(True)
+
+    def reset(self) -> None:
+        """Reset: the cycle stops and rewinds, the alarms the program raised are cleared (the
+        history keeps them). EW_PROT on a read-only machine."""
+        self.check_writable()
+        self._sync()
+        self.engine.reset()
+        gone = [k for k in self._engine_alarms if k in self._active]
+        for k in gone:
+            del self._active[k]
+        self._engine_alarms.clear()
+        if gone:
+            self._alarm_version += 1
+            self._status_changed()
+        self._settled(True)
+
+    def set_overrides(
+        self, feed: int | None = None, rapid: int | None = None, spindle: int | None = None
+    ) -> None:
+        """Feed override 0..254 %, rapid override 0..100 %, spindle override 0..254 % (None:
+        unchanged): EW_PROT (read-only machine), EW_DATA (a value outside its range)."""
+        self.check_writable()
+        self._sync()
+        for value, low, high, what in (
+            (feed, 0, 254, "feed"),
+            (rapid, 0, 100, "rapid"),
+            (spindle, 0, 254, "spindle"),
+        ):
+            if value is not None and not low <= value <= high:
+                raise MachineError(EW.DATA, f"{what} override {value} outside {low}..{high} %")
+        e = self.engine
+        if feed is not None:
+            e.set_feed_override(feed)
+        if rapid is not None:
+            e.set_rapid_override(rapid)
+        if spindle is not None:
+            e.set_spindle_override(spindle)
+        self._settled(True)
+
+    def parts_counts(self) -> tuple[int, int]:
+        """Parts count and total parts (M2/M30 count them; parameters 6711 and 6712)."""
+        self._sync()
+        return self.engine.parts_count, self.engine.parts_total
+
+    def overrides(self) -> tuple[int, int, int]:
+        """Feed, rapid and spindle override in percent."""
+        e = self.engine
+        return round(e.feed_override), round(e.rapid_override), round(e.spindle_override)
+
+    def timer(self, kind: int) -> float:
+        """Seconds of timer ``kind`` (FANUC's ``cnc_rdtimer`` types): 0 power-on (machine
+        time since the machine was built), 1 operating, 2 cutting, 3 cycle (this cycle's time
+        since its start from reset); EW_NUMBER for another kind."""
+        if not 0 <= kind < len(TIMER_KINDS):
+            raise MachineError(EW.NUMBER, f"timer {kind} outside 0..{len(TIMER_KINDS) - 1}")
+        self._sync()
+        e = self.engine
+        if kind == 0:
+            return self.sim_clock.now() - self._powered_at
+        return (e.operating_time, e.cutting_time, e.cycle_time)[kind - 1]
+
+    @property
+    def motion(self) -> MotionData:
+        """The motion figures: the engine's while it drives them (:attr:`driven`), else those
+        :meth:`set_motion` set."""
+        self._sync()
+        if not self._driven:
+            return self._motion
+        version = self._motion_version
+        if self._figures is not None and self._figures[0] == version:
+            return self._figures[1]
+        e = self.engine
+        figures = MotionData(
+            _increments(e.absolute_position()),
+            _increments(e.machine_position()),
+            _increments(e.relative_position()),
+            _increments(e.distance_to_go()),
+            feed=_figure(e.actual_feed),
+            spindle_speed=_figure(e.actual_spindle_speed),
+            program_running=_figure(e.program_number),
+            program_main=_figure(self.programs.main),
+            sequence=_figure(e.sequence_number),
+        )
+        self._figures = (version, figures)
+        return figures
+
+    def _engine_variable(self, number: int) -> Decimal | None:
+        """#4001-#4030, #4102-#4130 and #5001+ (block end) as the interpreter reads them;
+        #5021+ (machine) and #5041+ (work coordinates) at the axes' current position."""
+        e = self.engine
+        n = len(self.axes)
+        value: float | None
+        if 5021 <= number < 5021 + n:
+            value = e.machine_position()[number - 5021]
+        elif 5041 <= number < 5041 + n:
+            value = e.absolute_position()[number - 5041]
+        else:
+            try:
+                value = e.interpreter.read(number)
+            except AlarmRaised:
+                return self._macros.get(number)
+        return _system_value(value, POSITION_DECIMALS if number >= 5001 else 0)
+
+    # -- the program store ---------------------------------------------------------------
+    def program_directory(self) -> list[ProgramInfo]:
+        """Every stored program (number, name, characters), by number."""
+        return self.programs.directory()
+
+    def program_text(self, number: int) -> str:
+        """The text of program ``number`` as stored: EW_NUMBER when there is none."""
+        try:
+            return self.programs.text(number)
+        except ProgramError as exc:
+            raise _program_refusal(exc) from None
+
+    def store_program(self, text: str, *, replace: bool = False) -> int:
+        """Store one program (its O number is returned). EW_PROT (read-only machine), EW_DATA
+        (not one O-number program), EW_NUMBER (number outside the store's range), EW_REJECT
+        (the number is stored and ``replace`` is false), EW_BUSY (replacing a program being
+        executed), EW_OVRFLOW (memory or directory full)."""
+        self.check_writable()
+        self._sync()
+        try:
+            number = self.programs.store(text, replace=replace).number
+        except ProgramError as exc:
+            raise _program_refusal(exc) from None
+        self._programs_changed()
+        return number
+
+    def delete_program(self, number: int) -> None:
+        """Delete program ``number``: EW_PROT (read-only machine), EW_NUMBER (no such
+        program), EW_BUSY (being executed). Deleting the main program unselects it."""
+        self.check_writable()
+        self._sync()
+        try:
+            self.programs.delete(number)
+        except ProgramError as exc:
+            raise _program_refusal(exc) from None
+        self._programs_changed()
+
+    def select_program(self, number: int) -> None:
+        """Make ``number`` the main program (a program search): EW_PROT (read-only
+        machine), EW_MODE (a mode other than MEM and EDIT), EW_NUMBER (no such program),
+        EW_BUSY (another program is being executed)."""
+        self.check_writable()
+        self._sync()
+        if self.panel.mode not in (MEM, EDIT):
+            raise MachineError(EW.MODE, f"program search in mode {self.panel.mode}: MEM or EDIT")
+        try:
+            self.programs.select(number)
+        except ProgramError as exc:
+            raise _program_refusal(exc) from None
+        self._driven = True
+        self._programs_changed()
+        self._settled(True, force=True)
+
+    def _programs_changed(self) -> None:
+        self._figures = None
+        self._motion_version += 1
+        self._version += 1
 
     # -- VersaMax ------------------------------------------------------------------------
     def module_record(self, rack: int, slot: int) -> IOModuleRecord | None:

@@ -41,6 +41,7 @@ from .machine import (
     PmcAreaSpec,
     utc_now,
 )
+from .nc import ProgramError, SimClock, parse_program
 
 __all__ = ["MODE_NAMES", "MachineFileError", "load_machine", "machine_from_dict"]
 
@@ -501,6 +502,45 @@ def _motion(ctx: _Ctx, value: Any, n_axes: int) -> MotionData:
     return MotionData(positions[0], positions[1], positions[2], positions[3], *nums)
 
 
+def _programs(ctx: _Ctx, value: Any, base: Path | None) -> tuple[list[str], int | None]:
+    """The ``[[program]]`` entries: each ``text`` (inline) or ``file`` (a path relative to
+    the machine file), ``main = true`` on at most one. Each text is checked as the store
+    will parse it; returns the texts and the main program's number (None: the first)."""
+    texts: list[str] = []
+    main: int | None = None
+    numbers: set[int] = set()
+    for i, raw in enumerate(_list(ctx, value)):
+        c = ctx.sub(i)
+        t = _table(c, raw)
+        _only(c, t, ("text", "file", "main"))
+        if ("text" in t) == ("file" in t):
+            c.fail("give either text (the program inline) or file (a path to it)")
+        if "text" in t:
+            key = c.sub("text")
+            text = _str(key, t["text"])
+        else:
+            key = c.sub("file")
+            given = Path(_str(key, t["file"]))
+            where = given if given.is_absolute() or base is None else base / given
+            try:
+                text = _text(str(where), where.read_bytes())
+            except OSError as exc:
+                key.fail(f"cannot read {str(where)!r}: {exc.strerror or exc}")
+        try:
+            program = parse_program(text)
+        except ProgramError as exc:
+            key.fail(str(exc))
+        if program.number in numbers:
+            key.fail(f"program O{program.number:04d} is given twice")
+        numbers.add(program.number)
+        if _bool(c.sub("main"), t.get("main", False)):
+            if main is not None:
+                c.sub("main").fail(f"O{main:04d} is already the main program")
+            main = program.number
+        texts.append(text)
+    return texts, main
+
+
 _TOP: Final = (
     "machine",
     "sysinfo",
@@ -511,6 +551,7 @@ _TOP: Final = (
     "pmc",
     "versamax",
     "motion",
+    "program",
 )
 
 
@@ -521,10 +562,14 @@ def machine_from_dict(
     clock: Clock = utc_now,
     param_password: str | None = None,
     control_enabled: bool | None = None,
+    sim_clock: SimClock | None = None,
+    base: Path | None = None,
 ) -> Machine:
     """Build a machine from the parsed TOML ``data``; ``path`` names it in error messages.
 
-    ``param_password`` and ``control_enabled``, when given, override the file."""
+    ``param_password`` and ``control_enabled``, when given, override the file. ``sim_clock``
+    drives its programs; ``base`` is the folder a program's ``file`` is relative to (None:
+    the current folder)."""
     root = _Ctx(path, "")
     top = _table(root, dict(data))
     _only(root, top, _TOP)
@@ -570,7 +615,21 @@ def machine_from_dict(
     )
     ranges, values = _macros(root.sub("macros"), top.get("macros", {}))
     try:
-        return _build(root, top, name, axes, password, control, capacity, ranges, values, clock)
+        programs = _programs(root.sub("program"), top.get("program", []), base)
+        return _build(
+            root,
+            top,
+            name,
+            axes,
+            password,
+            control,
+            capacity,
+            ranges,
+            values,
+            clock,
+            programs=programs,
+            sim_clock=sim_clock,
+        )
     except MachineFileError:
         raise
     except ValueError as exc:  # a check of the machine itself that the file checks missed
@@ -588,6 +647,9 @@ def _build(
     ranges: list[MacroRange],
     values: dict[int, Decimal],
     clock: Clock,
+    *,
+    programs: tuple[list[str], int | None] = ([], None),
+    sim_clock: SimClock | None = None,
 ) -> Machine:
     n = len(axes)
     mc = root.sub("machine")
@@ -610,6 +672,9 @@ def _build(
         control_enabled=control,
         read_only=_bool(mc.sub("read_only"), head.get("read_only", False)),
         control_class=_control_class(mc.sub("control_class"), head),
+        programs=programs[0],
+        main_program=programs[1],
+        sim_clock=sim_clock,
     )
 
 
@@ -642,8 +707,10 @@ def load_machine(
     clock: Clock = utc_now,
     param_password: str | None = None,
     control_enabled: bool | None = None,
+    sim_clock: SimClock | None = None,
 ) -> Machine:
-    """Read the machine file at ``path`` (TOML). Raises :class:`MachineFileError`."""
+    """Read the machine file at ``path`` (TOML). Raises :class:`MachineFileError`. A
+    program's ``file`` is relative to the machine file's folder."""
     p = Path(path)
     name = str(path)
     try:
@@ -660,4 +727,6 @@ def load_machine(
         clock=clock,
         param_password=param_password,
         control_enabled=control_enabled,
+        sim_clock=sim_clock,
+        base=p.parent,
     )

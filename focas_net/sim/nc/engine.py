@@ -104,6 +104,8 @@ class Engine:
         self._alarm: NcAlarm | None = None
         self.events: list[EngineEvent] = []
         self.single_block = False
+        #: Production: after M2/M30 the main program starts again at once (no reset between).
+        self.repeat = False
         self.feed_override = 100.0
         self.rapid_override = 100.0
         self.spindle_override = 100.0
@@ -252,9 +254,16 @@ class Engine:
     @property
     def motion(self) -> MotionKind:
         self.advance()
-        if self._state is not CycleState.START or self._action is None:
+        action = self._action
+        if self._state is not CycleState.START or action is None or isinstance(action, Wait):
             return MotionKind.NONE
-        return MotionKind.DWELL if isinstance(self._action, Dwell) else MotionKind.MOTION
+        return MotionKind.DWELL if isinstance(action, Dwell) else MotionKind.MOTION
+
+    @property
+    def waiting(self) -> bool:
+        """Whether an M, S or T function is waiting for its completion (FIN)."""
+        self.advance()
+        return self._state is CycleState.START and isinstance(self._action, Wait)
 
     def machine_position(self) -> Vector:
         self.advance()
@@ -469,6 +478,13 @@ class Engine:
         it.spindle = 5
         it.coolant = False
         it.position = list(self._position)
+        main = self.store.find(self.store.main) if self.store.main is not None else None
+        if self.repeat and action.code is not None and main is not None:
+            # production: the next part starts at once, from the head of the main program
+            it.rewind(main)
+            it.position = list(self._position)
+            self._cycle_time = 0.0
+            self._state = CycleState.START
 
     def _check_stroke(self, motion: Motion) -> None:
         """Cut the motion short where it would leave a stroke limit: the axis stops on the

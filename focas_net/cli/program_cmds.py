@@ -1,0 +1,159 @@
+"""Part programs and the cycle at the command line: ``program list|show|load|delete|select``
+and ``sim cycle start|hold|reset`` (``docs/protocol.md`` section 8, "Extensions: part
+programs" and "Simulator control: the cycle"). A bare ``program`` reads the program numbers,
+feed and spindle speed (:func:`focas_net.cli.read_cmds.program`)."""
+
+from __future__ import annotations
+
+import argparse
+from pathlib import Path
+from typing import Any, Final
+
+from focas_net.client import FocasClient
+
+from . import _format as fmt
+from . import read_cmds
+from ._run import Go, Output
+
+__all__ = ["CYCLE_ACTIONS", "PROGRAM_ACTIONS", "cycle", "override", "program"]
+
+#: ``program ACTION``: what each action does (a bare ``program`` reads the numbers).
+PROGRAM_ACTIONS: Final = ("list", "show", "load", "delete", "select")
+#: ``sim cycle ACTION``.
+CYCLE_ACTIONS: Final = ("start", "hold", "reset")
+
+
+def _number(action: str, target: str | None) -> int:
+    """The O number of ``program show|delete|select`` (``1000``, ``O1000``): ValueError naming
+    what was typed."""
+    if target is None:
+        raise ValueError(f"program {action}: give the program number, e.g. O1000")
+    text = target.strip().upper().removeprefix("O")
+    if not text.isdigit() or not 1 <= int(text) <= 99_999_999:
+        raise ValueError(f"program {action}: {target!r} is not a program number (e.g. O1000)")
+    return int(text)
+
+
+def _text_of(target: str | None) -> tuple[str, str]:
+    """The program text of ``program load FILE`` and the file's name."""
+    if target is None:
+        raise ValueError("program load: give the file of the program, e.g. o1000.nc")
+    path = Path(target)
+    try:
+        raw = path.read_bytes()
+    except OSError as exc:
+        raise ValueError(f"program load: cannot read {target!r}: {exc.strerror or exc}") from None
+    try:
+        return raw.decode("ascii"), target
+    except UnicodeDecodeError as exc:
+        raise ValueError(
+            f"program load: {target!r} is not ASCII text (byte {exc.start}); "
+            "a part program is written in ASCII"
+        ) from None
+
+
+def program(args: argparse.Namespace) -> Go:
+    action: str | None = args.action
+    if action is None and args.replace:
+        raise ValueError("program: --replace goes with program load only")
+    if action is None:
+        if args.target is not None:
+            raise ValueError(
+                f"program: {args.target!r} needs an action ({', '.join(PROGRAM_ACTIONS)})"
+            )
+        return read_cmds.program(args)
+    if args.replace and action != "load":
+        raise ValueError(f"program {action}: --replace goes with program load only")
+    if action == "list":
+        return _list()
+    if action == "load":
+        text, name = _text_of(args.target)
+        return _load(text, name, args.replace)
+    number = _number(action, args.target)
+    if action == "show":
+        return _show(number)
+    if action == "delete":
+        return _delete(number)
+    return _select(number)
+
+
+def _list() -> Go:
+    async def go(cnc: FocasClient) -> Output:
+        entries = await cnc.read_program_directory()
+        main = (await cnc.read_program_numbers()).main
+        data: list[dict[str, Any]] = [
+            {"number": e.number, "name": e.name, "size": e.size, "main": e.number == main}
+            for e in entries
+        ]
+        rows = [
+            (f"O{e.number:04d}", e.name, str(e.size), "main" if e.number == main else "")
+            for e in entries
+        ]
+        if not rows:
+            return Output(data, "no programs")
+        return Output(data, fmt.render_table(("program", "name", "size", ""), rows))
+
+    return go
+
+
+def _show(number: int) -> Go:
+    async def go(cnc: FocasClient) -> Output:
+        text = await cnc.read_program(number)
+        return Output({"number": number, "text": text}, text)
+
+    return go
+
+
+def _load(text: str, name: str, replace: bool) -> Go:
+    async def go(cnc: FocasClient) -> Output:
+        number = await cnc.write_program(text, replace=replace)
+        verb = "stored or replaced" if replace else "stored"
+        return Output({"number": number, "file": name}, f"{verb} O{number:04d} from {name}")
+
+    return go
+
+
+def _delete(number: int) -> Go:
+    async def go(cnc: FocasClient) -> Output:
+        await cnc.delete_program(number)
+        return Output({"deleted": number}, f"deleted O{number:04d}")
+
+    return go
+
+
+def _select(number: int) -> Go:
+    async def go(cnc: FocasClient) -> Output:
+        await cnc.select_program(number)
+        return Output({"main": number}, f"O{number:04d} is the main program")
+
+    return go
+
+
+def cycle(args: argparse.Namespace) -> Go:
+    action: str = args.action
+
+    async def go(cnc: FocasClient) -> Output:
+        if action == "start":
+            await cnc.sim.cycle_start()
+        elif action == "hold":
+            await cnc.sim.feed_hold()
+        else:
+            await cnc.sim.reset()
+        st = await cnc.read_status()
+        return Output(
+            {"action": action, "status": fmt.status_dict(st)},
+            f"{action}: {fmt.status_summary(st)}",
+        )
+
+    return go
+
+
+def override(args: argparse.Namespace) -> Go:
+    async def go(cnc: FocasClient) -> Output:
+        if args.feed is not None or args.rapid is not None or args.spindle is not None:
+            await cnc.sim.set_overrides(feed=args.feed, rapid=args.rapid, spindle=args.spindle)
+        info = await cnc.read_run_info()
+        data = {"feed": info.feed, "rapid": info.rapid, "spindle": info.spindle}
+        return Output(data, f"feed {info.feed} %, rapid {info.rapid} %, spindle {info.spindle} %")
+
+    return go
