@@ -209,6 +209,8 @@ _PARTS_VARIABLES: Final = {3901: PARTS_COUNT, 3902: PARTS_TOTAL}
 #: #4001-#4030, the last block's codes #4102-#4130, positions #5001-#5043.
 _ENGINE_VARIABLES: Final = (range(4001, 4031), range(4102, 4131), range(5001, 5044))
 _MM: Final = 10**POSITION_DECIMALS
+#: Rapid traverse (mm/min) of an axis whose parameter 1420 gives no positive rate.
+_DEFAULT_RAPID: Final = 24000.0
 _MACRO_STEP: Final = Decimal(1).scaleb(-MAX_MACRO_DECIMALS)
 
 #: The G signals the machine reads (FANUC Series 0i addresses): (byte, bit).
@@ -1345,17 +1347,35 @@ class Machine:
             return default
         return item.values[max(axis - 1, 0)]
 
+    def _param_float(self, number: int, default: float, axis: int, unit: float) -> float:
+        """Parameter ``number`` of ``axis`` as a number: a real parameter's value as it reads
+        (mantissa over its decimals), an integer one's times ``unit``; ``default`` when the
+        machine has no such parameter."""
+        item = self._params.get(number)
+        if item is None or (axis == 0) == item.axis:
+            return default
+        raw = item.values[max(axis - 1, 0)]
+        if item.kind is ParamKind.REAL:
+            return raw / float(10**item.decimals)
+        return raw * unit
+
     def _nc_settings(self) -> NcSettings:
         """Execution settings from the parameters, read when the machine is built: rapid
-        traverse 1420 (mm/min), maximum cutting feed 1422, stroke limit 1 1320/1321 (0.001 mm;
-        no limit on an axis where plus is not above minus), reference position 1240."""
+        traverse 1420 (mm/min; an axis whose rate is not above 0 traverses at 24,000), maximum
+        cutting feed 1422, stroke limit 1 1320/1321 (0.001 mm, or mm for a real parameter; no
+        limit on an axis where plus is not above minus), reference position 1240."""
         n = len(self.axes)
-        rapid = tuple(float(self._param_or(1420, 24000, a) or 24000) for a in range(1, n + 1))
+        axes = range(1, n + 1)
+        rapid = tuple(
+            rate if rate > 0 else _DEFAULT_RAPID
+            for rate in (self._param_float(1420, _DEFAULT_RAPID, a, 1.0) for a in axes)
+        )
         limits: list[tuple[float, float] | None] = []
-        for a in range(1, n + 1):
-            plus, minus = self._param_or(1320, 0, a), self._param_or(1321, 0, a)
-            limits.append((minus / _MM, plus / _MM) if plus > minus else None)
-        reference = tuple(self._param_or(1240, 0, a) / _MM for a in range(1, n + 1))
+        for a in axes:
+            plus = self._param_float(1320, 0.0, a, 1 / _MM)
+            minus = self._param_float(1321, 0.0, a, 1 / _MM)
+            limits.append((minus, plus) if plus > minus else None)
+        reference = tuple(self._param_float(1240, 0.0, a, 1 / _MM) for a in axes)
         values: dict[str, object] = {
             "rapid_rates": rapid,
             "stroke_limits": tuple(limits),
