@@ -15,7 +15,7 @@ from focas_net.client import FocasClient
 from focas_net.client.native import NativeClient
 from focas_net.errors import EW, CncError
 from focas_net.protocol import Command
-from focas_net.sim import Machine, MachineError, default_machine
+from focas_net.sim import DataItem, Machine, MachineError, ParamKind, default_machine
 from focas_net.sim.nc import CycleState, ManualClock
 
 #: The spindle started (an M function's 0.5 s), X from 0 to 60 at F1200 (3.0 s), a one-second
@@ -373,3 +373,26 @@ async def test_f_signals_are_not_served_from_a_stale_cache(
     assert (await client.read_pmc("F", 0, 1))[0] >> 5 & 1 == 1  # STL
     clock.advance(10.0)  # past M30
     assert (await client.read_pmc("F", 0, 1))[0] == 0
+
+
+@pytest.mark.parametrize(
+    ("decimals", "values", "expected"),
+    [
+        (1, [15000, 20000, 31000], (1500.0, 2000.0, 3100.0)),  # a real 1420: mm/min as it reads
+        (0, [-5, 0, 8000], (24000.0, 24000.0, 8000.0)),  # not above 0: the default rate
+    ],
+)
+def test_rapid_rates_come_from_parameter_1420_as_it_reads(
+    decimals: int, values: list[int], expected: tuple[float, ...]
+) -> None:
+    item = DataItem(
+        1420,
+        kind=ParamKind.REAL,
+        axis=True,
+        low=-99999999,
+        high=99999999,
+        values=values,
+        decimals=decimals,
+    )
+    machine = Machine("rates", axes=("X", "Y", "Z"), params=[item], sim_clock=ManualClock())
+    assert machine.engine.settings.rapid_rates == expected
