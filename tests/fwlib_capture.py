@@ -107,6 +107,7 @@ from focas_net.server import FocasServer, NativeFront
 from focas_net.sim import Machine as SimMachine
 from focas_net.sim import Session as SimSession
 from focas_net.sim import default_machine, load_machine
+from focas_net.sim.nc import ManualClock
 
 #: Where the data goes (``FOCAS_NET_FWLIB_OUT`` overrides it, as the live test does).
 DATA = Path(os.environ.get("FOCAS_NET_FWLIB_OUT") or Path(__file__).with_name("data"))
@@ -1751,12 +1752,13 @@ def simulator_machine(set_name: str) -> SimMachine:
     """The machine whose answers ``fwlib_sim.json`` holds: the built-in 0i-F (30i set), the
     16i-class machine file (16i set) or the 0i-F machine file (``30i-file``), in MDI with
     parameter writes on, with motion figures, macro values and alarms set (the same every
-    time)."""
+    time: a machine clock that stands still, so the timers read 0)."""
     clock = lambda: SIM_TIME  # noqa: E731
     if set_name == "30i":
-        m = default_machine(clock=clock)
+        m = default_machine(clock=clock, sim_clock=ManualClock())
     else:
-        m = load_machine(SIM_16I if set_name == "16i" else SIM_30I_FILE, clock=clock)
+        path = SIM_16I if set_name == "16i" else SIM_30I_FILE
+        m = load_machine(path, clock=clock, sim_clock=ManualClock())
     m.set_panel(0, 1, 0)
     m.set_motion(
         absolute=[12345, -2500, 100000],

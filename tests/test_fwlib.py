@@ -453,10 +453,17 @@ async def test_cnc_id_timers_and_loads(cnc: Cnc) -> None:
     ids = struct.unpack("<4I", b.raw)
     assert any(ids)
     assert await cnc.call("cnc_rdcncid", b) == 0 and struct.unpack("<4I", b.raw) == ids
-    for kind in range(5):
+    for kind in range(5):  # 0 power-on, 1 operating, 2 cutting, 3 cycle, 4 free purpose
+        before = (await cnc.packed.read_run_info()) if kind == 0 else None
         b = buf(8)
         assert await cnc.call("cnc_rdtimer", s16(kind), b) == 0
-        assert struct.unpack("<ii", b.raw) == (0, 0)  # the machine keeps no timer
+        minute, msec = struct.unpack("<ii", b.raw)
+        assert 0 <= msec < 60_000
+        if before is None:  # an idle machine: no operation, no cutting, no cycle; no free timer
+            assert (minute, msec) == (0, 0)
+        else:  # power-on time moves: between the packed reads before and after
+            after = await cnc.packed.read_run_info()
+            assert before.power_on_ms <= 60_000 * minute + msec <= after.power_on_ms
     for spindle in (-1, 1):
         b = buf(4 + 2 * 8)
         assert await cnc.call("cnc_rdspload", s16(spindle), b) == 0

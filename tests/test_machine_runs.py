@@ -207,6 +207,12 @@ async def test_native_reads_give_the_same_numbers(
         assert await native.read_macro(5021) == Decimal("30.000")
         clock.advance(10.0)
         assert await native.read_param(6711) == await client.read_param(6711) == 1
+        info = await client.read_run_info()
+        packed_ms = (info.power_on_ms, info.operating_ms, info.cutting_ms, info.cycle_ms)
+        assert info.cutting_ms == 3000  # the 3 s of G1
+        for kind, ms in enumerate(packed_ms):  # cnc_rdtimer: whole minutes and the ms past them
+            timer = await native.read_timer(kind)
+            assert 60_000 * timer.minute + timer.msec == ms
 
 
 async def test_a_moving_machine_is_never_served_a_cached_answer(

@@ -41,8 +41,8 @@ Rules of this wire (the CNC's rules are the machine's, see :mod:`focas_net.sim.m
   connecting; also the open answer's option bits in the 30i set) and 3115 (position display
   bits, ``cnc_rdposition`` in the 16i set), are the machine's own: every machine has them
   (:class:`~focas_net.sim.Machine` gives the defaults), so both protocols read the same values;
-* figures the machine does not model (timers, spindle load, servo load, the CNC ID) answer the
-  values :class:`NativeAdapter` documents at each handler.
+* figures the machine does not model (the free purpose timer, spindle load, servo load, the
+  CNC ID) answer the values :class:`NativeAdapter` documents at each handler.
 
 A macro value written as a double (0xA8) is the decimal :func:`macro_from_double` makes of it,
 written with the machine's own ``write_macro`` (a vacant double, a NaN, makes the variable
@@ -581,12 +581,18 @@ class NativeAdapter:
         return CncId(*_FOUR_U32.unpack(digest[:16])).encode()
 
     def _read_timer(self, block: RequestBlock, room: int) -> bytes:
-        """Timers 0 power-on, 1 operating, 2 cutting, 3 cycle, 4 free: the machine keeps no
-        timer, so each reads 0 minutes 0 ms; another type answers EW_NUMBER."""
+        """Timers 0 power-on, 1 operating, 2 cutting, 3 cycle: the machine's (``Machine.timer``,
+        machine time) as IODBTIME, whole minutes and the milliseconds past them; 4 (the free
+        purpose timer, which the machine does not keep) reads 0; another type answers
+        EW_NUMBER."""
         req = TimerRequest.from_block(block)
         if not 0 <= req.type <= 4:
             raise _Refused(EW.NUMBER)
-        return TimerValue(0, 0).encode()
+        if req.type == 4:
+            return TimerValue(0, 0).encode()
+        ms = int(self.machine.timer(req.type) * 1000)
+        minute, msec = divmod(ms, 60_000)
+        return TimerValue(minute, msec).encode()
 
     # -- motion figures ------------------------------------------------------------------
 
