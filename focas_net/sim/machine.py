@@ -211,6 +211,12 @@ _ENGINE_VARIABLES: Final = (range(4001, 4031), range(4102, 4131), range(5001, 50
 _MM: Final = 10**POSITION_DECIMALS
 #: Rapid traverse (mm/min) of an axis whose parameter 1420 gives no positive rate.
 _DEFAULT_RAPID: Final = 24000.0
+#: The cycle states as plain constants: an enum member read through its class is slow on the
+#: read path of every status answer.
+_START: Final = CycleState.START
+_RESET: Final = CycleState.RESET
+_HOLD: Final = CycleState.HOLD
+_STOP: Final = CycleState.STOP
 _MACRO_STEP: Final = Decimal(1).scaleb(-MAX_MACRO_DECIMALS)
 
 #: The G signals the machine reads (FANUC Series 0i addresses): (byte, bit).
@@ -788,45 +794,52 @@ class Machine:
     @property
     def version(self) -> int:
         """Incremented on every change of machine state."""
-        self._sync()
+        if self._engine_key[0] is _START:  # only a running cycle moves with time
+            self._sync()
         return self._version
 
     @property
     def status_version(self) -> int:
         """Incremented when the status changes (panel, run state, motion, active alarms)."""
-        self._sync()
+        if self._engine_key[0] is _START:  # only a running cycle moves with time
+            self._sync()
         return self._status_version
 
     @property
     def data_version(self) -> int:
         """Incremented when a parameter or diagnostic value changes (parts counts too)."""
-        self._sync()
+        if self._engine_key[0] is _START:  # only a running cycle moves with time
+            self._sync()
         return self._data_version
 
     @property
     def macro_version(self) -> int:
         """Incremented when a macro variable changes (while a program runs: whenever machine
         time moved, for the system variables follow the engine)."""
-        self._sync()
+        if self._engine_key[0] is _START:  # only a running cycle moves with time
+            self._sync()
         return self._macro_version
 
     @property
     def alarm_version(self) -> int:
         """Incremented when the active alarms or the alarm history change."""
-        self._sync()
+        if self._engine_key[0] is _START:  # only a running cycle moves with time
+            self._sync()
         return self._alarm_version
 
     @property
     def pmc_version(self) -> int:
         """Incremented when PMC data changes."""
-        self._sync()
+        if self._engine_key[0] is _START:  # only a running cycle moves with time
+            self._sync()
         return self._pmc_version
 
     @property
     def motion_version(self) -> int:
         """Incremented when the motion figures change: while a program runs, whenever machine
         time moved."""
-        self._sync()
+        if self._engine_key[0] is _START:  # only a running cycle moves with time
+            self._sync()
         return self._motion_version
 
     def check_writable(self) -> None:
@@ -1170,7 +1183,7 @@ class Machine:
         key = (axis_no, alm_type, alm_no)
         if not self._add_alarm(key, text, self.now()):
             return False
-        if self.engine.state is not CycleState.RESET:
+        if self.engine.state is not _RESET:
             # any alarm stops the cycle; cycle start wants a reset after it
             kind = _ALARM_KINDS.get(alm_type, AlarmKind.PS)
             self.engine.alarm_stop(NcAlarm(kind, alm_no, text, axis=axis_no or None))
@@ -1336,7 +1349,7 @@ class Machine:
             self.programs.select(main)
         self._driven = False
         self._synced_at = math.nan
-        self._engine_key = (CycleState.RESET, MotionKind.NONE)
+        self._engine_key = (_RESET, MotionKind.NONE)
         self._engine_alarms: set[tuple[int, int, int]] = set()
         self._figures: tuple[int, MotionData] | None = None
         self._mstb = 0
@@ -1395,12 +1408,16 @@ class Machine:
 
     def _sync(self) -> None:
         """Bring the engine to the clock's time: record its alarms and parts, and move the
-        counters of what it shows. Costs a clock call when the time has not moved."""
+        counters of what it shows. Costs one comparison while the cycle is not running (time
+        then changes nothing the engine shows: every command that starts or changes the cycle
+        settles the counters itself) and a clock call when the time has not moved."""
+        if self._engine_key[0] is not _START:
+            return
         now = self.sim_clock.now()
         if now == self._synced_at:
             return
         self._synced_at = now
-        moved = self._engine_key[0] is CycleState.START
+        moved = self._engine_key[0] is _START
         for event in self.engine.take_events():
             self._engine_event(event, now)
         self._settled(moved)
@@ -1410,7 +1427,7 @@ class Machine:
         key = (e.state, e.motion)
         changed = key != self._engine_key
         self._engine_key = key
-        waiting = 1 if key[0] is CycleState.START and e.waiting else 0
+        waiting = 1 if key[0] is _START and e.waiting else 0
         if waiting != self._mstb:
             self._mstb = waiting
             changed = True
@@ -1470,11 +1487,11 @@ class Machine:
         g = self._areas.get("G")
         resetting = g is not None and g.size > _ERS[0] and bool(g.data[_ERS[0]] >> _ERS[1] & 1)
         f0 = area.data[0] & ~_F0_MASK
-        if state is not CycleState.RESET:
+        if state is not _RESET:
             f0 |= 1 << _OP
-        if state is CycleState.START:
+        if state is _START:
             f0 |= 1 << _STL
-        if state is CycleState.HOLD:
+        if state is _HOLD:
             f0 |= 1 << _SPL
         f1 = area.data[1] & ~(1 << _RST) | (1 << _RST if resetting else 0)
         if (f0, f1) != (area.data[0], area.data[1]):
