@@ -42,8 +42,7 @@ from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 from datetime import UTC, datetime
 from decimal import Decimal
-from types import TracebackType
-from typing import Any, Final, Self
+from typing import Any, Final
 
 from focas_net.errors import (
     EW,
@@ -133,7 +132,7 @@ from .client import (
     macro_from_wire,
     macro_to_wire,
 )
-from .reconnect import ClientState, ReconnectPolicy, StateCallback
+from .reconnect import ClientState, ReconnectPolicy, StateCallback, _Lifecycle
 
 __all__ = [
     "DynamicData",
@@ -491,7 +490,7 @@ def _name(entry: bytes) -> str:
     return entry[:1].replace(b"\x00", b"").decode("latin-1").strip()
 
 
-class NativeClient:
+class NativeClient(_Lifecycle):
     """An asyncio client of FANUC's FOCAS/2 Ethernet protocol (port 8193 on a real control).
 
     It has the methods of :class:`~focas_net.client.FocasClient` that FOCAS/2 carries, with
@@ -501,6 +500,8 @@ class NativeClient:
     :meth:`read_program_name` and :meth:`read_alarm_status`. Concurrent calls are gathered
     into frames of at most ``max_blocks`` blocks (see the module docstring).
     """
+
+    _logger = logger
 
     def __init__(
         self,
@@ -516,20 +517,9 @@ class NativeClient:
             raise ValueError(f"timeout must be positive, got {timeout}")
         if not 1 <= max_blocks <= 0xFFFF:
             raise ValueError(f"max_blocks must be within 1..65535, got {max_blocks}")
-        self.host = host
-        self.port = port
+        super().__init__(host, port, reconnect, on_state_change)
         self.timeout = timeout
         self.max_blocks = max_blocks
-        if reconnect is True:
-            self._policy: ReconnectPolicy | None = ReconnectPolicy()
-        elif reconnect is False:
-            self._policy = None
-        else:
-            self._policy = reconnect
-        self._state = ClientState.DISCONNECTED
-        self._callbacks: list[StateCallback] = []
-        if on_state_change is not None:
-            self._callbacks.append(on_state_change)
         self._handle: _Handle | None = None
         self._pump_task: asyncio.Task[None] | None = None
         self._reconnect_task: asyncio.Task[None] | None = None
@@ -548,23 +538,7 @@ class NativeClient:
         self.frames_sent = 0
         self.blocks_sent = 0
 
-    def __repr__(self) -> str:
-        return f"<{type(self).__name__} {self.host}:{self.port} {self._state.value}>"
-
     # -- lifecycle -----------------------------------------------------------------------
-    @property
-    def state(self) -> ClientState:
-        """The current :class:`ClientState`."""
-        return self._state
-
-    @property
-    def connected(self) -> bool:
-        return self._state is ClientState.CONNECTED
-
-    @property
-    def reconnect_policy(self) -> ReconnectPolicy | None:
-        return self._policy
-
     @property
     def command_set(self) -> CommandSet | None:
         """The command set of the open handle (16i or 30i class), None when not connected."""
@@ -574,36 +548,6 @@ class NativeClient:
     def max_axes(self) -> int | None:
         """The CNC's max axes from the open answer, None when not connected."""
         return None if self._handle is None else self._handle.max_axes
-
-    def add_state_callback(self, callback: StateCallback) -> None:
-        """Call ``callback(state)`` on every state change (exceptions are logged)."""
-        self._callbacks.append(callback)
-
-    def remove_state_callback(self, callback: StateCallback) -> None:
-        self._callbacks.remove(callback)
-
-    def _set_state(self, state: ClientState) -> None:
-        if state is self._state:
-            return
-        self._state = state
-        logger.info("%s:%s %s", self.host, self.port, state.value)
-        for callback in tuple(self._callbacks):
-            try:
-                callback(state)
-            except Exception:
-                logger.exception("state callback %r failed", callback)
-
-    async def __aenter__(self) -> Self:
-        await self.connect()
-        return self
-
-    async def __aexit__(
-        self,
-        exc_type: type[BaseException] | None,
-        exc: BaseException | None,
-        tb: TracebackType | None,
-    ) -> None:
-        await self.aclose()
 
     async def connect(self) -> None:
         """Open the A/B pair and run the connect-time requests (``cnc_allclibhndl3``).

@@ -106,7 +106,88 @@ class ReconnectPolicy:
 StateCallback = Callable[[ClientState], None]
 
 
-class Link:
+class _Lifecycle:
+    """What both clients' lifecycles share: the address, the reconnect policy, the
+    :class:`ClientState` with its callbacks, and ``async with`` (``connect`` ... ``aclose``).
+    A subclass sets ``_logger`` (state changes are logged there) and implements ``connect`` and
+    ``aclose``."""
+
+    _logger: logging.Logger = logger
+
+    def __init__(
+        self,
+        host: str,
+        port: int,
+        reconnect: bool | ReconnectPolicy,
+        on_state_change: StateCallback | None,
+    ) -> None:
+        self.host = host
+        self.port = port
+        if reconnect is True:
+            self._policy: ReconnectPolicy | None = ReconnectPolicy()
+        elif reconnect is False:
+            self._policy = None
+        else:
+            self._policy = reconnect
+        self._state = ClientState.DISCONNECTED
+        self._callbacks: list[StateCallback] = []
+        if on_state_change is not None:
+            self._callbacks.append(on_state_change)
+
+    def __repr__(self) -> str:
+        return f"<{type(self).__name__} {self.host}:{self.port} {self._state.value}>"
+
+    @property
+    def state(self) -> ClientState:
+        """The current :class:`ClientState`."""
+        return self._state
+
+    @property
+    def connected(self) -> bool:
+        return self._state is ClientState.CONNECTED
+
+    @property
+    def reconnect_policy(self) -> ReconnectPolicy | None:
+        return self._policy
+
+    def add_state_callback(self, callback: StateCallback) -> None:
+        """Call ``callback(state)`` on every state change (exceptions are logged)."""
+        self._callbacks.append(callback)
+
+    def remove_state_callback(self, callback: StateCallback) -> None:
+        self._callbacks.remove(callback)
+
+    def _set_state(self, state: ClientState) -> None:
+        if state is self._state:
+            return
+        self._state = state
+        self._logger.info("%s:%s %s", self.host, self.port, state.value)
+        for callback in tuple(self._callbacks):
+            try:
+                callback(state)
+            except Exception:
+                self._logger.exception("state callback %r failed", callback)
+
+    async def connect(self) -> None:
+        raise NotImplementedError
+
+    async def aclose(self) -> None:
+        raise NotImplementedError
+
+    async def __aenter__(self) -> Self:
+        await self.connect()
+        return self
+
+    async def __aexit__(
+        self,
+        exc_type: type[BaseException] | None,
+        exc: BaseException | None,
+        tb: TracebackType | None,
+    ) -> None:
+        await self.aclose()
+
+
+class Link(_Lifecycle):
     """The connection of a client, its state machine, its reconnects and its request path.
 
     The arguments are those of :class:`~focas_net.client.FocasClient`, which is a
@@ -133,24 +214,13 @@ class Link:
             )
         if timeout is not None and timeout <= 0:
             raise ValueError(f"timeout must be positive, got {timeout}")
-        self.host = host
-        self.port = port
+        super().__init__(host, port, reconnect, on_state_change)
         self.timeout = timeout
         self.max_in_flight = max_in_flight
         self.max_frame = max_frame
         self._ssl = ssl
         self._server_hostname = server_hostname
         self._password = password
-        if reconnect is True:
-            self._policy: ReconnectPolicy | None = ReconnectPolicy()
-        elif reconnect is False:
-            self._policy = None
-        else:
-            self._policy = reconnect
-        self._state = ClientState.DISCONNECTED
-        self._callbacks: list[StateCallback] = []
-        if on_state_change is not None:
-            self._callbacks.append(on_state_change)
         self._conn: Connection | None = None
         self._loop: asyncio.AbstractEventLoop | None = None
         self._ready: asyncio.Event | None = None
@@ -162,53 +232,7 @@ class Link:
         # Why the client stopped without reconnecting, when the peer broke the protocol.
         self._violation: ProtocolError | None = None
 
-    def __repr__(self) -> str:
-        return f"<{type(self).__name__} {self.host}:{self.port} {self._state.value}>"
-
     # -- lifecycle -----------------------------------------------------------------------
-    @property
-    def state(self) -> ClientState:
-        """The current :class:`ClientState`."""
-        return self._state
-
-    @property
-    def connected(self) -> bool:
-        return self._state is ClientState.CONNECTED
-
-    @property
-    def reconnect_policy(self) -> ReconnectPolicy | None:
-        return self._policy
-
-    def add_state_callback(self, callback: StateCallback) -> None:
-        """Call ``callback(state)`` on every state change (exceptions are logged)."""
-        self._callbacks.append(callback)
-
-    def remove_state_callback(self, callback: StateCallback) -> None:
-        self._callbacks.remove(callback)
-
-    def _set_state(self, state: ClientState) -> None:
-        if state is self._state:
-            return
-        self._state = state
-        logger.info("%s:%s %s", self.host, self.port, state.value)
-        for callback in tuple(self._callbacks):
-            try:
-                callback(state)
-            except Exception:
-                logger.exception("state callback %r failed", callback)
-
-    async def __aenter__(self) -> Self:
-        await self.connect()
-        return self
-
-    async def __aexit__(
-        self,
-        exc_type: type[BaseException] | None,
-        exc: BaseException | None,
-        tb: TracebackType | None,
-    ) -> None:
-        await self.aclose()
-
     async def connect(self) -> None:
         """Open the connection (and unlock when a password was given).
 
