@@ -128,6 +128,34 @@ class ProgramChunkRequest(FixedPayload):
     offset: int
 
 
+#: How the two text payloads name themselves in messages: (the payload, a text too long).
+_TEXT_NAMES: Final = {"chunk": ("program chunk", "a chunk"), "text": ("program text", "a program")}
+
+
+def _pack_text(head: struct.Struct, first: int, text: str, limit: int, kind: str) -> bytes:
+    """``head`` (``first``, the text's length), then the ASCII text, at most ``limit`` bytes;
+    ``kind`` (``chunk`` or ``text``) names the payload in messages."""
+    name, too_long = _TEXT_NAMES[kind]
+    raw = _raw(text, "program text")
+    if len(raw) > limit:
+        raise ValueError(f"{too_long} of {len(raw)} bytes: {limit} at most")
+    try:
+        return head.pack(first, len(raw)) + raw
+    except struct.error as exc:
+        raise ValueError(f"{name}: {exc}") from None
+
+
+def _unpack_text(head: struct.Struct, data: bytes, limit: int, kind: str) -> tuple[int, str]:
+    """The inverse of :func:`_pack_text`: the head's first field and the text."""
+    name = _TEXT_NAMES[kind][0]
+    if len(data) < head.size:
+        raise PayloadError(f"{name} of {len(data)} bytes is shorter than its head")
+    first, length = head.unpack_from(data, 0)
+    if len(data) != head.size + length or length > limit:
+        raise PayloadError(f"{name} of {len(data)} bytes for length {length}")
+    return first, _ascii(data[head.size :], "program text")
+
+
 @dataclass(frozen=True, slots=True)
 class ProgramChunk:
     """0x0031 answer after ``ew``: ``i32 total`` (characters of the program), ``u16 length``,
@@ -137,22 +165,11 @@ class ProgramChunk:
     text: str
 
     def encode(self) -> bytes:
-        raw = _raw(self.text, "program text")
-        if len(raw) > MAX_PROGRAM_CHUNK:
-            raise ValueError(f"a chunk of {len(raw)} bytes: {MAX_PROGRAM_CHUNK} at most")
-        try:
-            return _CHUNK_HEAD.pack(self.total, len(raw)) + raw
-        except struct.error as exc:
-            raise ValueError(f"program chunk: {exc}") from None
+        return _pack_text(_CHUNK_HEAD, self.total, self.text, MAX_PROGRAM_CHUNK, "chunk")
 
     @classmethod
     def decode(cls, data: bytes) -> Self:
-        if len(data) < _CHUNK_HEAD.size:
-            raise PayloadError(f"program chunk of {len(data)} bytes is shorter than its head")
-        total, length = _CHUNK_HEAD.unpack_from(data, 0)
-        if len(data) != _CHUNK_HEAD.size + length or length > MAX_PROGRAM_CHUNK:
-            raise PayloadError(f"program chunk of {len(data)} bytes for length {length}")
-        return cls(total, _ascii(data[_CHUNK_HEAD.size :], "program text"))
+        return cls(*_unpack_text(_CHUNK_HEAD, data, MAX_PROGRAM_CHUNK, "chunk"))
 
 
 @dataclass(frozen=True, slots=True)
@@ -165,22 +182,11 @@ class ProgramText:
     text: str
 
     def encode(self) -> bytes:
-        raw = _raw(self.text, "program text")
-        if len(raw) > MAX_PROGRAM_TEXT:
-            raise ValueError(f"a program of {len(raw)} bytes: {MAX_PROGRAM_TEXT} at most")
-        try:
-            return _TEXT_HEAD.pack(self.replace, len(raw)) + raw
-        except struct.error as exc:
-            raise ValueError(f"program text: {exc}") from None
+        return _pack_text(_TEXT_HEAD, self.replace, self.text, MAX_PROGRAM_TEXT, "text")
 
     @classmethod
     def decode(cls, data: bytes) -> Self:
-        if len(data) < _TEXT_HEAD.size:
-            raise PayloadError(f"program text of {len(data)} bytes is shorter than its head")
-        replace, length = _TEXT_HEAD.unpack_from(data, 0)
-        if len(data) != _TEXT_HEAD.size + length or length > MAX_PROGRAM_TEXT:
-            raise PayloadError(f"program text of {len(data)} bytes for length {length}")
-        return cls(replace, _ascii(data[_TEXT_HEAD.size :], "program text"))
+        return cls(*_unpack_text(_TEXT_HEAD, data, MAX_PROGRAM_TEXT, "text"))
 
 
 @dataclass(frozen=True, slots=True)
