@@ -1763,8 +1763,14 @@ class Machine:
     @property
     def scenario_running(self) -> bool:
         """Whether a scenario drives the machine (until its parts are made)."""
+        return self.active_scenario is not None
+
+    @property
+    def active_scenario(self) -> Scenario | None:
+        """The scenario driving the machine (as started, its seed the machine's own), None
+        when none does."""
         self._sync()
-        return self._run is not None
+        return None if self._run is None else self._run.scenario
 
     def _play(self, run: _ScenarioRun, now: float) -> None:
         """Apply the scenario's events and ends due by ``now``, each at its own machine time

@@ -580,7 +580,7 @@ def _run(ctx: _Ctx, value: Any) -> Scenario:
         if isinstance(raw, bool) or not isinstance(raw, int | float):
             c.fail(f"must be a number, got {_kind(raw)}")
         if not math.isfinite(raw) or raw < 0 or raw > _MAX_RUN_NUMBER:
-            c.fail(f"{raw} is outside 0..{_MAX_RUN_NUMBER:g}")
+            c.fail(f"{raw} is outside 0..{_MAX_RUN_NUMBER:.0f}")
         given[key] = float(raw)
     return Scenario(**given)
 
