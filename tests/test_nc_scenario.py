@@ -449,3 +449,24 @@ def test_bad_run_option_values_are_usage_errors(
     assert exc.value.code == 2
     err = capsys.readouterr().err
     assert option in err and argv[1] in err
+
+
+def test_a_machine_started_with_a_phase_is_where_one_started_that_long_before_is() -> None:
+    scenario = Scenario(
+        seed=21, phase=0.0, pause_rate=30.0, pause_time=20.0, tool_rate=15.0, tool_time=20.0
+    )
+    clock = ManualClock()
+    before = machine_with(clock)
+    before.start_scenario(scenario)
+    clock.advance(600.0)
+    now = machine_with(clock)
+    now.start_scenario(replace(scenario, phase=600.0))  # the same schedule: from machine time 0
+    for _ in range(60):
+        assert (now.status(), now.motion.machine, now.parts_counts()) == (
+            before.status(),
+            before.motion.machine,
+            before.parts_counts(),
+        )
+        clock.advance(7.0)
+    assert list(now.scenario_log) == list(before.scenario_log)
+    assert len(before.scenario_log) > 10

@@ -404,29 +404,26 @@ def _program_refusal(exc: ProgramError) -> MachineError:
 
 
 class _HeldClock:
-    """The engine's clock while a scenario runs: the machine's clock, or a machine time it
-    is held at while the scenario applies an event at its own time."""
+    """The engine's clock while a scenario applies an event: the event's machine time."""
 
-    __slots__ = ("held", "source")
+    __slots__ = ("at",)
 
-    def __init__(self, source: SimClock) -> None:
-        self.source = source
-        self.held: float | None = None
+    def __init__(self) -> None:
+        self.at = 0.0
 
     def now(self) -> float:
-        held = self.held
-        return self.source.now() if held is None else held
+        return self.at
 
 
 class _ScenarioRun:
     """A scenario under way: its schedule, the event in progress (until its end)."""
 
-    __slots__ = ("clock", "current", "ends_at", "free_at", "scenario", "schedule")
+    __slots__ = ("current", "ends_at", "free_at", "held", "scenario", "schedule")
 
-    def __init__(self, scenario: Scenario, schedule: Schedule, clock: _HeldClock) -> None:
+    def __init__(self, scenario: Scenario, schedule: Schedule) -> None:
         self.scenario = scenario
         self.schedule = schedule
-        self.clock = clock
+        self.held = _HeldClock()
         self.current: ScenarioEvent | None = None
         self.ends_at = math.inf  #: when the current event ends
         self.free_at = -math.inf  #: when the last event ended
@@ -1726,8 +1723,6 @@ class Machine:
         e.reset()
         now = self.sim_clock.now()
         origin = now - chosen.start_phase()
-        clock = _HeldClock(self.sim_clock)
-        e.clock = clock
         e.repeat = True
         if chosen.parts == "required":
             required = self._param_or(PARTS_REQUIRED, 0)
@@ -1737,17 +1732,21 @@ class Machine:
         self.seed = chosen.seed
         self._hardness = 0.85 + 0.15 * (noise(chosen.seed, 0.0, -1) + 1.0)
         self._powered_at = min(self._powered_at, origin)
-        self._run = _ScenarioRun(chosen, Schedule(chosen, origin, len(self.axes)), clock)
-        clock.held = origin
-        try:
+        run = _ScenarioRun(chosen, Schedule(chosen, origin, len(self.axes)))
+        self._run = run
+        e.clock = run.held
+        run.held.at = origin
+        try:  # the cycle starts at the origin; the events since then follow in their order
             e.cycle_start(since=origin)
+            self._driven = True
+            self._synced_at = math.nan
+            self._settled(True, force=True)
         except NcStateError as exc:  # pragma: no cover - the checks above cover it
-            clock.held = None
+            self._run = None
             raise MachineError(EW.DATA, str(exc)) from None
-        clock.held = None
-        self._driven = True
-        self._synced_at = math.nan
-        self._settled(True, force=True)
+        finally:
+            e.clock = self.sim_clock
+        self._sync()
 
     def stop_scenario(self) -> None:
         """Stop running on its own: the cycle goes on as it is (production without the
@@ -1757,7 +1756,6 @@ class Machine:
         if run is None:
             return
         self._run = None
-        self.engine.clock = self.sim_clock
         self.engine.parts_to_go = None
 
     @property
@@ -1774,14 +1772,15 @@ class Machine:
 
     def _play(self, run: _ScenarioRun, now: float) -> None:
         """Apply the scenario's events and ends due by ``now``, each at its own machine time
-        (the engine's clock held there). An event due while another is under way begins when
-        that one ends."""
+        (the engine's clock held there meanwhile). An event due while another is under way
+        begins when that one ends."""
         e = self.engine
-        clock = run.clock
+        held = run.held
+        e.clock = held
         try:
             while run.next_time <= now:
                 when = run.next_time
-                clock.held = when
+                held.at = when
                 for happened in e.take_events():
                     self._engine_event(happened, now)
                 current = run.current
@@ -1798,7 +1797,7 @@ class Machine:
                 run.current = event
                 run.ends_at = when + event.duration
         finally:
-            clock.held = None
+            e.clock = self.sim_clock
 
     def _scenario_begin(self, event: ScenarioEvent, when: float, now: float) -> None:
         e = self.engine
