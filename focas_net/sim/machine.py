@@ -87,6 +87,17 @@ CNC's rules of the cycle: cycle start only in MEM, not with the emergency stop o
 (EW_ALARM; an alarm that stopped the cycle wants a reset), not without a main program
 (EW_DATA); leaving MEM holds the feed; the emergency stop resets; any alarm stops the cycle;
 reset clears the alarms the program raised.
+
+At work on its own
+------------------
+:meth:`Machine.start_scenario` runs a :class:`~focas_net.sim.nc.scenario.Scenario` (a machine
+file's ``[run]``; ``serve --run`` gives the default one): the main program repeated for a
+number of parts or forever, with seeded operator pauses (feed hold), tool-change waits (the
+cycle stopped) and alarms (the cycle stopped until the repair time is over, then reset and a
+new cycle). No timer runs: the scenario's events are machine times drawn from the seed, and a
+read applies those that are due, each at its own machine time, before it reads the engine.
+:meth:`Machine.spindle_loads` and :meth:`Machine.servo_loads` follow the cutting, with a noise
+fixed by :attr:`Machine.seed` and the machine time.
 """
 
 from __future__ import annotations
