@@ -470,3 +470,44 @@ def test_a_machine_started_with_a_phase_is_where_one_started_that_long_before_is
         clock.advance(7.0)
     assert list(now.scenario_log) == list(before.scenario_log)
     assert len(before.scenario_log) > 10
+
+
+RUN_FILE = """
+[machine]
+name = "cell"
+axes = ["X", "Y", "Z"]
+
+[panel]
+mode = "{mode}"
+
+[[program]]
+text = "O0010\\nN10 S3000 M3\\nN20 G1 X20. F1200\\nN30 G0 X0\\nN40 M30\\n"
+
+[run]
+seed = 31
+parts = 7
+phase = 0
+"""
+
+
+def test_a_machine_file_with_run_runs_when_served_without_the_run_option(
+    tmp_path: Any,
+) -> None:
+    path = tmp_path / "cell.toml"
+    path.write_text(RUN_FILE.format(mode="MEM"), encoding="utf-8")
+    machines = serve.build_machines(_parse("--machine", str(path), "--fleet", "2"))
+    assert [m.seed for m in machines] == [fleet_seed(31, 0), fleet_seed(31, 1)]
+    for m in machines:
+        scenario = m.active_scenario
+        assert scenario is not None and scenario.parts == 7
+    (other,) = serve.build_machines(_parse("--machine", str(path), "--seed", "2"))
+    assert other.seed == fleet_seed(2, 0)
+
+
+def test_a_run_section_the_machine_cannot_start_names_the_file_and_the_machine(
+    tmp_path: Any,
+) -> None:
+    path = tmp_path / "cell.toml"
+    path.write_text(RUN_FILE.format(mode="EDIT"), encoding="utf-8")
+    with pytest.raises(serve.ConfigError, match=r"cell\.toml: \[run\]: cell: .*mode 3 is not MEM"):
+        serve.build_machines(_parse("--machine", str(path)))
