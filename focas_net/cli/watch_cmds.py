@@ -37,7 +37,6 @@ from focas_net.protocol import (
     MotionState,
     MstbState,
     PositionKind,
-    ProgramEntry,
     ProgramNumbers,
     RunInfo,
     RunState,
@@ -326,85 +325,61 @@ def frame_dict(frame: Frame) -> dict[str, Any]:
 _CONNECTION_ERRORS: Final = (FocasConnectionError, FocasTimeoutError, OSError)
 
 
-def _result(value: T | BaseException) -> T | None:
-    """A read's value; None for an EW answer; a connection failure or anything else raised."""
-    if isinstance(value, CncError):
+async def _or_none(read: Awaitable[T]) -> T | None:
+    """What ``read`` answered, None when it was an EW code (the field shows ``-``)."""
+    try:
+        return await read
+    except CncError:
         return None
-    if isinstance(value, BaseException):
-        raise value
-    return value
-
-
-def _raise_first_connection_error(results: Sequence[object]) -> None:
-    for r in results:
-        if isinstance(r, _CONNECTION_ERRORS):
-            raise r
-    for r in results:
-        if isinstance(r, BaseException) and not isinstance(r, CncError):
-            raise r
-
-
-def _name_of(entries: Sequence[ProgramEntry], number: int) -> str | None:
-    for e in entries:
-        if e.number == number:
-            return e.name
-    return None
 
 
 async def poll(cnc: FocasClient, names: dict[int, str], *, directory: bool) -> WatchState:
     """One frame's reads, all sent at once. ``names`` caches program names by number; the
     program directory is read in the same batch when ``directory`` (the first frame, or a
     program whose name is not cached). An EW answer leaves its field None; a connection
-    failure is raised."""
-    reads: list[Awaitable[object]] = [
-        cnc.read_status(),
-        cnc.read_program_numbers(),
-        cnc.read_macro(SEQUENCE_VARIABLE),
-        *(cnc.read_positions(kind) for kind, _ in POSITION_KINDS),
-        cnc.read_feed(),
-        cnc.read_spindle_speed(),
-        cnc.read_run_info(),
-        cnc.read_param(PARTS_REQUIRED),
-        cnc.read_alarms(),
-    ]
-    if directory:
-        reads.append(cnc.read_program_directory())
+    failure is raised (and the other reads are cancelled)."""
+    task = asyncio.ensure_future
+    status = task(_or_none(cnc.read_status()))
+    numbers = task(_or_none(cnc.read_program_numbers()))
+    sequence = task(_or_none(cnc.read_macro(SEQUENCE_VARIABLE)))
+    positions = [task(_or_none(cnc.read_positions(kind))) for kind, _ in POSITION_KINDS]
+    feed = task(_or_none(cnc.read_feed()))
+    spindle = task(_or_none(cnc.read_spindle_speed()))
+    run_info = task(_or_none(cnc.read_run_info()))
+    required = task(_or_none(cnc.read_param(PARTS_REQUIRED)))
+    alarms = task(_or_none(cnc.read_alarms()))
+    entries = task(_or_none(cnc.read_program_directory())) if directory else None
     read_loads: Callable[[], Awaitable[object]] | None = getattr(cnc, "read_loads", None)
-    if read_loads is not None:
-        reads.append(read_loads())
-    results = await asyncio.gather(*reads, return_exceptions=True)
-    _raise_first_connection_error(results)
-    it: Iterator[object] = iter(results)
-    status = _result(next(it))
-    numbers = _result(next(it))
-    sequence = _result(next(it))
-    positions = tuple(_result(next(it)) for _ in POSITION_KINDS)
-    feed, spindle, run_info, required, alarms = (_result(next(it)) for _ in range(5))
-    if directory:
-        entries = _result(next(it))
-        if isinstance(entries, tuple):
-            names.clear()
-            names.update((e.number, e.name) for e in entries if isinstance(e, ProgramEntry))
-    loads = _result(next(it)) if read_loads is not None else None
-    assert status is None or isinstance(status, StatusInfo)
-    assert numbers is None or isinstance(numbers, ProgramNumbers)
-    assert run_info is None or isinstance(run_info, RunInfo)
-    assert isinstance(alarms, list | tuple | None)
-    name = None
-    if numbers is not None:
-        name = names.get(numbers.running or numbers.main)
+    loads = task(_or_none(read_loads())) if read_loads is not None else None
+    reads: list[asyncio.Future[Any]] = [
+        status, numbers, sequence, *positions, feed, spindle, run_info, required, alarms,
+        *(f for f in (entries, loads) if f is not None),
+    ]  # fmt: skip
+    try:
+        await asyncio.gather(*reads)
+    except BaseException:
+        for r in reads:
+            r.cancel()
+        raise
+    listed = None if entries is None else entries.result()
+    if listed is not None:
+        names.clear()
+        names.update((e.number, e.name) for e in listed)
+    nums = numbers.result()
+    seq = sequence.result()
+    active = alarms.result()
     return WatchState(
-        status=status,
-        numbers=numbers,
-        program_name=name,
-        sequence=None if not isinstance(sequence, Decimal) else int(sequence),
-        positions=tuple(p if isinstance(p, Positions) else None for p in positions),
-        feed=feed if isinstance(feed, int) else None,
-        spindle=spindle if isinstance(spindle, int) else None,
-        run_info=run_info,
-        parts_required=required if isinstance(required, int) else None,
-        alarms=None if alarms is None else tuple(a for a in alarms if isinstance(a, ActiveAlarm)),
-        loads=loads,
+        status=status.result(),
+        numbers=nums,
+        program_name=None if nums is None else names.get(nums.running or nums.main),
+        sequence=None if seq is None else int(seq),
+        positions=tuple(p.result() for p in positions),
+        feed=feed.result(),
+        spindle=spindle.result(),
+        run_info=run_info.result(),
+        parts_required=required.result(),
+        alarms=None if active is None else tuple(active),
+        loads=None if loads is None else loads.result(),
     )
 
 
