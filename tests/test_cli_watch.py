@@ -11,6 +11,7 @@ import signal
 import sys
 from collections.abc import AsyncIterator
 from decimal import Decimal
+from pathlib import Path
 from typing import Any
 
 import pytest
@@ -41,7 +42,7 @@ from focas_net.protocol import (
     StatusInfo,
 )
 from focas_net.server import FocasServer
-from focas_net.sim import Machine, default_machine
+from focas_net.sim import Machine, default_machine, load_machine
 
 # -- the frame, without a server ------------------------------------------------------------
 
@@ -418,3 +419,20 @@ async def test_on_a_terminal_frames_are_drawn_in_place_and_the_cursor_comes_back
     assert shown.endswith(CLEAR_TO_END + SHOW_CURSOR)
     assert shown.count(CURSOR_HOME) == 2  # two frames, each drawn from the top
     assert "frame 2" in shown.split(CURSOR_HOME)[2]
+
+
+async def test_a_read_the_cnc_refuses_leaves_only_its_field_out(
+    capsys: pytest.CaptureFixture[str], tmp_path: Path
+) -> None:
+    path = tmp_path / "bare.toml"
+    path.write_text('[machine]\nname = "bare"\naxes = ["X", "Z"]\n')  # no parameter 6713
+    async with serving(load_machine(path)) as served:
+        cli = Cli(served, capsys)
+        frame = json.loads(await cli.ok("watch", "--count", "1", "--json"))
+        text = await cli.ok("watch", "--count", "1")
+    state = frame["state"]
+    assert frame["problem"] is None
+    assert state["parts"]["required"] is None
+    assert state["status"]["run"]["name"] == "****"
+    assert set(state["positions"]["absolute"]) == {"X", "Z"}
+    assert "parts 0  total 0  required -" in text.splitlines()
