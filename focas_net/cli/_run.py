@@ -141,12 +141,16 @@ def tls_context(args: argparse.Namespace) -> ssl.SSLContext | None:
 async def _session(
     args: argparse.Namespace, go: Go, follow: bool, context: ssl.SSLContext | None
 ) -> Output | None:
+    # A command's handler may set its own policy (``watch`` reconnects for ever).
+    policy: ReconnectPolicy | None = getattr(args, "reconnect_policy", None)
+    if policy is None and follow:
+        policy = ReconnectPolicy(max_attempts=FOLLOW_RECONNECT_ATTEMPTS)
     client = FocasClient(
         args.host,
         args.port,
         timeout=args.timeout,
         password=getattr(args, "password", None),
-        reconnect=ReconnectPolicy(max_attempts=FOLLOW_RECONNECT_ATTEMPTS) if follow else False,
+        reconnect=policy if policy is not None else False,
         ssl=context,
     )
     if follow:
