@@ -36,6 +36,7 @@ from focas_net.cli.watch_cmds import (
 from focas_net.client import FocasClient, Positions
 from focas_net.protocol import (
     ActiveAlarm,
+    LoadMeters,
     PositionKind,
     ProgramNumbers,
     RunInfo,
@@ -104,7 +105,7 @@ def test_a_field_the_cnc_refused_is_a_dash_and_loads_show_when_read() -> None:
     state = WatchState(
         numbers=ProgramNumbers(running=0, main=0),
         positions=(_positions(PositionKind.ABSOLUTE, "1.000", "2.000"), None, None, None),
-        loads={"S1": 42, "X": 7},
+        loads=LoadMeters(spindle=(42,), servo=(7, 0, 3)),
         alarms=(),
     )
     assert render_frame(Frame(1, "[::1]:8193", state)) == [
@@ -118,10 +119,13 @@ def test_a_field_the_cnc_refused_is_a_dash_and_loads_show_when_read() -> None:
         "override -",
         "parts -  required -",
         "time -",
-        "load S1 42  X 7",
+        "load spindle 42%  servo X 7%  Z 0%  3 3%",
         "alarms none",
     ]
-    assert frame_dict(Frame(1, "[::1]:8193", state))["state"]["loads"] == {"S1": 42, "X": 7}
+    assert frame_dict(Frame(1, "[::1]:8193", state))["state"]["loads"] == {
+        "spindle": [42],
+        "servo": [7, 0, 3],
+    }
     assert "loads" not in frame_dict(Frame(1, "h:1", STATE))["state"]
 
 
@@ -283,25 +287,23 @@ async def test_an_unreachable_machine_is_one_line() -> None:
     assert code == EXIT_CONNECTION
 
 
-class LoadsClient(FocasClient):
-    """A client with ``read_loads`` (which a later change adds to the real one)."""
-
-    async def read_loads(self) -> dict[str, int]:
-        return {"S1": 35}
-
-
-async def test_poll_reads_the_loads_when_the_client_has_them() -> None:
+async def test_poll_reads_the_loads_and_names_the_program() -> None:
     async with serving(running_machine()) as served:
-        async with LoadsClient(served.host, served.port, timeout=IO_TIMEOUT) as cnc:
-            names: dict[int, str] = {}
-            with_loads = await poll(cnc, names, directory=True)
         async with FocasClient(served.host, served.port, timeout=IO_TIMEOUT) as cnc:
-            without = await poll(cnc, {}, directory=False)
-    assert with_loads.loads == {"S1": 35}
+            names: dict[int, str] = {}
+            first = await poll(cnc, names, directory=True)
+            again = await poll(cnc, {}, directory=False)
     assert names == {1: "DEMO CONTOUR", 500: "WATCH"}
-    assert with_loads.program_name == "WATCH"
-    assert without.loads is None and without.program_name is None
-    assert "load S1 35" in render_frame(Frame(1, "h:1", with_loads))
+    assert first.program_name == "WATCH"
+    assert again.program_name is None  # no directory read, no cached name
+    loads = first.loads
+    assert loads is not None
+    assert (len(loads.spindle), len(loads.servo)) == (1, 3)
+    assert loads.spindle[0] > 0  # the spindle turns (M3) while X cuts
+    servo = "  ".join(f"{axis} {v}%" for axis, v in zip("XYZ", loads.servo, strict=True))
+    assert f"load spindle {loads.spindle[0]}%  servo {servo}" in render_frame(
+        Frame(1, "h:1", first)
+    )
 
 
 # -- as a process: a lost connection, then Ctrl-C --------------------------------------------

@@ -22,7 +22,7 @@ import json
 import os
 import signal
 import sys
-from collections.abc import Awaitable, Callable, Iterator, Mapping, Sequence
+from collections.abc import Awaitable, Iterator, Mapping, Sequence
 from dataclasses import dataclass
 from decimal import Decimal
 from typing import Any, Final, TypeVar
@@ -34,6 +34,7 @@ from focas_net.protocol import (
     AlarmState,
     AutMode,
     EmergencyState,
+    LoadMeters,
     MotionState,
     MstbState,
     PositionKind,
@@ -109,8 +110,7 @@ class WatchState:
     run_info: RunInfo | None = None
     parts_required: int | None = None
     alarms: tuple[ActiveAlarm, ...] | None = None
-    #: What ``read_loads()`` answered, when the client has it.
-    loads: object = None
+    loads: LoadMeters | None = None
 
 
 @dataclass(frozen=True, slots=True)
@@ -198,12 +198,14 @@ def _position_lines(positions: Sequence[Positions | None]) -> list[str]:
     return lines
 
 
-def _loads_text(loads: object) -> str:
-    if isinstance(loads, Mapping):
-        return "  ".join(f"{k} {v}" for k, v in loads.items())
-    if isinstance(loads, list | tuple):
-        return "  ".join(map(str, loads))
-    return str(loads)
+def _loads_text(loads: LoadMeters, axes: Sequence[str]) -> str:
+    """``spindle 42%  servo X 7%  Z 0%``: servo loads named by the axes the positions gave
+    (by number past them)."""
+    spindles = "  ".join(f"{v}%" for v in loads.spindle) or "-"
+    servos = "  ".join(
+        f"{axes[i] if i < len(axes) else i + 1} {v}%" for i, v in enumerate(loads.servo)
+    )
+    return f"spindle {spindles}  servo {servos or '-'}"
 
 
 def _state_lines(s: WatchState) -> list[str]:
@@ -222,7 +224,7 @@ def _state_lines(s: WatchState) -> list[str]:
             f"  power on {duration_text(info.power_on_ms)}",
         ]
     if s.loads is not None:
-        lines.append(f"load {_loads_text(s.loads)}")
+        lines.append(f"load {_loads_text(s.loads, _axis_names(s.positions))}")
     if s.alarms is None:
         lines.append("alarms -")
     elif not s.alarms:
@@ -314,7 +316,7 @@ def frame_dict(frame: Frame) -> dict[str, Any]:
         "alarms": None if s.alarms is None else [fmt.alarm_dict(a) for a in s.alarms],
     }
     if s.loads is not None:
-        state["loads"] = _json_value(s.loads)
+        state["loads"] = {"spindle": list(s.loads.spindle), "servo": list(s.loads.servo)}
     data["state"] = state
     return data
 
@@ -349,11 +351,10 @@ async def poll(cnc: FocasClient, names: dict[int, str], *, directory: bool) -> W
     required = task(_or_none(cnc.read_param(PARTS_REQUIRED)))
     alarms = task(_or_none(cnc.read_alarms()))
     entries = task(_or_none(cnc.read_program_directory())) if directory else None
-    read_loads: Callable[[], Awaitable[object]] | None = getattr(cnc, "read_loads", None)
-    loads = task(_or_none(read_loads())) if read_loads is not None else None
+    loads = task(_or_none(cnc.read_loads()))
     reads: list[asyncio.Future[Any]] = [
         status, numbers, sequence, *positions, feed, spindle, run_info, required, alarms,
-        *(f for f in (entries, loads) if f is not None),
+        loads, *([] if entries is None else [entries]),
     ]  # fmt: skip
     try:
         await asyncio.gather(*reads)
@@ -379,7 +380,7 @@ async def poll(cnc: FocasClient, names: dict[int, str], *, directory: bool) -> W
         run_info=run_info.result(),
         parts_required=required.result(),
         alarms=None if active is None else tuple(active),
-        loads=None if loads is None else loads.result(),
+        loads=loads.result(),
     )
 
 
