@@ -23,6 +23,8 @@ import logging
 import signal
 import ssl
 import sys
+from collections.abc import AsyncIterator
+from contextlib import asynccontextmanager
 from typing import TYPE_CHECKING, Any, Final
 
 import anyio
@@ -42,6 +44,7 @@ from ._args import EXIT_CNC, EXIT_USAGE, LISTEN_PORT, POSITIVE, PROG, print_erro
 
 if TYPE_CHECKING:
     from focas_net.sim import Machine
+    from focas_net.web import Dashboard
 
 __all__ = ["MAX_FLEET", "build_machines", "check_options", "register", "run"]
 
@@ -103,6 +106,21 @@ def _max_frame(text: str) -> int:
             f"native FOCAS/2 frame read as a length), got {text}"
         )
     return value
+
+
+def _web_address(text: str) -> tuple[str, int]:
+    """``--web [HOST:]PORT``: checked here, aiohttp's presence too."""
+    from focas_net.web import parse_web_address
+
+    try:
+        address = parse_web_address(text)
+    except ValueError as exc:
+        raise argparse.ArgumentTypeError(str(exc)) from None
+    if importlib.util.find_spec("aiohttp") is None:
+        raise argparse.ArgumentTypeError(
+            f"{text}: the web dashboard needs aiohttp: pip install 'focas-net[web]'"
+        )
+    return address
 
 
 def register(subparsers: Any) -> None:
@@ -205,6 +223,13 @@ def register(subparsers: Any) -> None:
         action="store_true",
         help="every machine starts its main program at once and repeats it forever, a part "
         "counted each time (production)",
+    )
+    p.add_argument(
+        "--web",
+        type=_web_address,
+        metavar="[HOST:]PORT",
+        help="also serve the web dashboard on HOST:PORT (HOST 127.0.0.1 unless given; 0 = "
+        "ephemeral port; pip install 'focas-net[web]'); --read-only makes it read-only",
     )
     p.add_argument(
         "--log-level",
@@ -336,6 +361,7 @@ def run(args: argparse.Namespace) -> int:
             server,
             ssl_context is not None,
             bool(args.read_only),
+            getattr(args, "web", None),
             backend="asyncio",
             backend_options={"use_uvloop": args.uvloop},
         )
@@ -352,9 +378,13 @@ def _modes(tls: bool, read_only: bool, *first: str) -> str:
     return f" ({', '.join(modes)})" if modes else ""
 
 
-async def _serve(server: FocasServer, tls: bool, read_only: bool) -> int:
+async def _serve(
+    server: FocasServer, tls: bool, read_only: bool, web: tuple[str, int] | None = None
+) -> int:
     with anyio.open_signal_receiver(signal.SIGINT, signal.SIGTERM) as signals:
-        async with server:
+        async with server, _dashboard(server, web, read_only) as dashboard:
+            if dashboard is None and web is not None:
+                return EXIT_CNC
             out = sys.stdout
             for listener in server.listeners:
                 out.write(
@@ -368,8 +398,42 @@ async def _serve(server: FocasServer, tls: bool, read_only: bool) -> int:
                         f"focas-net: {listener.label}{native_modes} listening on "
                         f"{listener.native.address_text}\n"
                     )
+            if dashboard is not None:
+                out.write(
+                    f"focas-net: web dashboard{_modes(False, read_only)} on {dashboard.url}\n"
+                )
             out.flush()
             async for signum in signals:
                 _log.info("%s received: shutting down", signal.Signals(signum).name)
                 break
     return 0
+
+
+@asynccontextmanager
+async def _dashboard(
+    server: FocasServer, web: tuple[str, int] | None, read_only: bool
+) -> AsyncIterator[Dashboard | None]:
+    """The web dashboard of ``--web`` while the machines are served (None without it, or
+    when it cannot listen: that is reported here)."""
+    if web is None:
+        yield None
+        return
+    from focas_net.web import Dashboard, is_loopback, stations_of
+
+    host, port = web
+    if not is_loopback(host):
+        sys.stderr.write(
+            f"{PROG} serve: warning: the web dashboard listens on {host}, beyond loopback, "
+            "with no authentication\n"
+        )
+    dashboard = Dashboard(stations_of(server), host=host, port=port, read_only=read_only)
+    try:
+        await dashboard.start()
+    except OSError as exc:
+        print_error(f"--web {host}:{port}: cannot listen: {exc.strerror or exc}", _ERROR_PREFIX)
+        yield None
+        return
+    try:
+        yield dashboard
+    finally:
+        await dashboard.stop()
