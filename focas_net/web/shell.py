@@ -57,7 +57,6 @@ STATIC_DIR: Final = Path(__file__).resolve().parent / "static"
 _SHUTDOWN_TIMEOUT: Final = 2.0
 
 
-
 class WebUnavailableError(ImportError):
     """aiohttp is not installed: the dashboard needs ``pip install 'focas-net[web]'``."""
 

@@ -78,6 +78,8 @@ _STATUS: Final = (
     ("alarm", AlarmState),
     ("edit", EditState),
 )
+#: ``mt_type`` of a compound machine, whose ``tmmode`` selects T or M.
+_COMPOUND: Final = "MT"
 _MODE_LABELS: Final = {m.value: m.label for m in AutMode}
 _RUN_LABELS: Final = {m.value: m.label for m in RunState}
 
@@ -93,10 +95,14 @@ def _label(values: Any, value: int) -> tuple[str, str]:
 def status_fields(machine: Machine) -> list[JsonDict]:
     """The ODBST fields: ``{"field": "run", "value": 3, "label": "STRT", "meaning": ...}``."""
     status = machine.status()
+    series = machine.identity().mt_type.strip()
     rows = []
     for name, values in _STATUS:
         value = int(getattr(status, name))
         label, meaning = _label(values, value)
+        if name == "tmmode" and series != _COMPOUND:
+            # only a compound machine selects T or M; any other is of its own series
+            label, meaning = series or "-", f"{series} series machine (no T/M mode selection)"
         rows.append({"field": name, "value": value, "label": label, "meaning": meaning})
     return rows
 

@@ -41,6 +41,7 @@ function route() {
   if (m) {
     state.machine = Number(m[1]);
     state.view = null;
+    state.dirKey = state.progKey = state.pmcKey = null;
     $("message").textContent = "";
     loadParams();
     loadMacros();
@@ -84,23 +85,50 @@ function connect() {
 }
 
 // -- fleet view ----------------------------------------------------------------------------
+// Tiles are made once per machine and updated in place, so a click is never lost to a redraw.
+const tiles = new Map();
+
+function tileOf(t) {
+  let tile = tiles.get(t.index);
+  if (!tile) {
+    const parts = { name: el("div", { class: "name" }), port: el("span"), mode: el("span"),
+      run: el("span", { class: "run" }), program: el("span"), sequence: el("span"),
+      parts: el("span", { class: "parts" }), alarm: el("div", { class: "alm" }) };
+    const node = el("a", { href: `#/machine/${t.index}`, "data-index": String(t.index) },
+      parts.name, el("div", { class: "row" }, parts.port, parts.mode, parts.run),
+      el("div", { class: "row" }, parts.program, parts.sequence, parts.parts), parts.alarm);
+    tile = { node, parts };
+    tiles.set(t.index, tile);
+  }
+  return tile;
+}
+
+function setText(node, text) { if (node.textContent !== text) node.textContent = text; }
+
 function renderFleet(data) {
-  $("fleet-summary").textContent =
-    `${data.count} machines, ${data.running} running, ${data.alarmed} in alarm`;
+  setText($("fleet-summary"),
+    `${data.count} machines, ${data.running} running, ${data.alarmed} in alarm`);
   const filter = $("fleet-filter").value.trim().toLowerCase();
+  const shown = [];
+  for (const t of data.machines) {
+    if (filter && !t.name.toLowerCase().includes(filter)) continue;
+    const { node, parts } = tileOf(t);
+    const cls = `tile ${t.run === "****" ? "RESET" : t.run}${t.alarms ? " alarm" : ""}`;
+    if (node.className !== cls) node.className = cls;
+    setText(parts.name, t.name);
+    setText(parts.port, `:${t.port}`);
+    setText(parts.mode, t.mode);
+    setText(parts.run, t.run);
+    setText(parts.program, `O${String(t.program).padStart(4, "0")}`);
+    setText(parts.sequence, `N${t.sequence}`);
+    setText(parts.parts, `${t.parts} parts`);
+    setText(parts.alarm, t.alarm ? `ALM ${t.alarm}` : (t.emergency ? "EMG" : "\u00a0"));
+    shown.push(node);
+  }
   const box = $("fleet");
-  const tiles = data.machines
-    .filter((t) => !filter || t.name.toLowerCase().includes(filter))
-    .map((t) => el("a",
-      { class: `tile ${t.run === "****" ? "RESET" : t.run}${t.alarms ? " alarm" : ""}`,
-        href: `#/machine/${t.index}`, "data-index": String(t.index) },
-      el("div", { class: "name" }, t.name),
-      el("div", { class: "row" }, el("span", {}, `:${t.port}`),
-        el("span", {}, t.mode), el("span", { class: "run" }, t.run)),
-      el("div", { class: "row" }, el("span", {}, `O${String(t.program).padStart(4, "0")}`),
-        el("span", {}, `N${t.sequence}`), el("span", { class: "parts" }, `${t.parts} parts`)),
-      el("div", { class: "alm" }, t.alarm ? `ALM ${t.alarm}` : (t.emergency ? "EMG" : "\u00a0"))));
-  box.replaceChildren(...tiles);
+  if (box.children.length !== shown.length || shown.some((n, i) => box.children[i] !== n)) {
+    box.replaceChildren(...shown);
+  }
 }
 
 // -- machine view --------------------------------------------------------------------------
@@ -176,19 +204,36 @@ function renderMachine(v) {
   $("history").replaceChildren(...v.history.map((h) =>
     el("li", {}, `${h.time.replace("T", " ").replace("+00:00", "Z")}  type ${h.alm_type} no. ${h.alm_no} ${h.msg}`)));
 
-  $("programs").replaceChildren(...v.programs.map((p) =>
-    el("li", { class: p.main ? "main" : "" },
-      `O${String(p.number).padStart(4, "0")} ${p.name} (${p.size} chars)${p.running ? " - running" : ""}${p.main ? " - main" : ""} `,
-      el("button", { class: "small", "data-write": "", disabled: state.readOnly,
-        onclick: () => act("select_program", { number: p.number }) }, "select"))));
+  const dirKey = JSON.stringify(v.programs);
+  if (state.dirKey !== dirKey) {
+    state.dirKey = dirKey;
+    $("programs").replaceChildren(...v.programs.map((p) =>
+      el("li", { class: p.main ? "main" : "" },
+        `O${String(p.number).padStart(4, "0")} ${p.name} (${p.size} chars)${p.running ? " - running" : ""}${p.main ? " - main" : ""} `,
+        el("button", { class: "small", "data-write": "", disabled: state.readOnly,
+          onclick: () => act("select_program", { number: p.number }) }, "select"))));
+  }
   const prog = v.program;
   const pre = $("program-text");
   if (prog) {
-    pre.replaceChildren(...prog.lines.map((line, i) =>
-      el("span", { class: i + 1 === prog.line ? "cur" : "" }, line + "\n")));
+    const key = `${prog.number}:${prog.lines.length}:${prog.lines.join("\n").length}`;
+    if (state.progKey !== key) {
+      state.progKey = key;
+      pre.replaceChildren(...prog.lines.map((line) => el("span", {}, line + "\n")));
+    }
+    const want = prog.line ? pre.children[prog.line - 1] : null;
     const cur = pre.querySelector(".cur");
-    if (cur) pre.scrollTop = Math.max(0, cur.offsetTop - pre.offsetTop - 60);
-  } else pre.textContent = "no main program";
+    if (cur !== want) {
+      if (cur) cur.className = "";
+      if (want) {
+        want.className = "cur";
+        pre.scrollTop = Math.max(0, want.offsetTop - pre.offsetTop - 60);
+      }
+    }
+  } else {
+    state.progKey = null;
+    pre.textContent = "no main program";
+  }
 
   $("faults").replaceChildren(...(v.faults.length ? v.faults.map((f) =>
     el("li", {}, `${f.kind} arg ${f.arg}: ${f.remaining} answer(s) left`))
@@ -225,25 +270,42 @@ function renderPmc(p) {
   if (!p || p.error) {
     $("pmc-note").textContent = p ? p.error : "";
     grid.replaceChildren();
+    state.pmcKey = null;
     return;
   }
   const forced = p.area === "X" || p.area === "F";
-  $("pmc-note").textContent = p.write_protected && !forced ? "write-protected" :
-    (forced ? "bits set as the simulator" : "");
-  const head = el("tr", {}, el("th", {}, "addr"),
-    ...[7, 6, 5, 4, 3, 2, 1, 0].map((b) => el("th", {}, `.${b}`)), el("th", {}, "hex"));
-  const rows = p.bytes.map((byte, i) => {
+  setText($("pmc-note"), p.write_protected && !forced ? "write-protected" :
+    (forced ? "bits set as the simulator" : ""));
+  const bits = [7, 6, 5, 4, 3, 2, 1, 0];
+  const key = `${p.area}:${p.start}:${p.bytes.length}`;
+  if (state.pmcKey !== key) {
+    state.pmcKey = key;
+    const head = el("tr", {}, el("th", {}, "addr"), ...bits.map((b) => el("th", {}, `.${b}`)),
+      el("th", {}, "hex"));
+    const rows = p.bytes.map((_, i) => {
+      const address = p.start + i;
+      return el("tr", {}, el("th", {}, `${p.area}${address}`),
+        ...bits.map((b) => el("td", {
+          class: "bit", id: `pmc-${p.area}${address}-${b}`,
+          "data-address": String(address), "data-bit": String(b), "data-write": "",
+          onclick: () => state.readOnly ? show("read-only dashboard", false)
+            : act("pmc_bit", { area: p.area, address, bit: b }),
+        }, "0")),
+        el("td", { id: `pmc-${p.area}${address}-hex` }, "00"));
+    });
+    grid.replaceChildren(head, ...rows);
+  }
+  p.bytes.forEach((byte, i) => {
     const address = p.start + i;
-    return el("tr", {}, el("th", {}, `${p.area}${address}`),
-      ...[7, 6, 5, 4, 3, 2, 1, 0].map((b) => el("td", {
-        class: `bit${byte & (1 << b) ? " on" : ""}`, id: `pmc-${p.area}${address}-${b}`,
-        "data-address": String(address), "data-bit": String(b), "data-write": "",
-        onclick: () => state.readOnly ? show("read-only dashboard", false)
-          : act("pmc_bit", { area: p.area, address, bit: b }),
-      }, byte & (1 << b) ? "1" : "0")),
-      el("td", {}, byte.toString(16).padStart(2, "0")));
+    for (const b of bits) {
+      const cell = $(`pmc-${p.area}${address}-${b}`);
+      const on = (byte & (1 << b)) !== 0;
+      const cls = on ? "bit on" : "bit";
+      if (cell.className !== cls) cell.className = cls;
+      setText(cell, on ? "1" : "0");
+    }
+    setText($(`pmc-${p.area}${address}-hex`), byte.toString(16).padStart(2, "0"));
   });
-  grid.replaceChildren(head, ...rows);
 }
 
 // -- parameters and macros -----------------------------------------------------------------
@@ -324,7 +386,7 @@ function wire() {
   $("pmc-start").onchange = subscribe;
   $("param-search").oninput = loadParams;
   $("macro-search").oninput = loadMacros;
-  $("fleet-filter").oninput = () => {};
+  $("fleet-filter").oninput = () => fetch("/api/fleet").then((r) => r.json()).then(renderFleet);
   window.addEventListener("hashchange", route);
 }
 
