@@ -434,18 +434,23 @@ def test_one_tick_computes_each_view_once_for_every_page() -> None:
 def test_no_page_no_view() -> None:
     b = Broadcaster(fleet(3, ManualClock()))
     assert b.tick() == 0 and b.views_computed == 0
+    assert all(not s.trail.points for s in b.stations)  # no page: no machine is read
 
 
-def test_the_paths_move_with_machine_time() -> None:
+@pytest.mark.parametrize("topic", [FLEET, machine_topic(0)])
+def test_the_paths_move_with_machine_time(topic: tuple[str, ...]) -> None:
+    """The fleet view records every machine's path, a machine view its own."""
     clock = ManualClock()
-    stations = fleet(1, clock)
+    stations = fleet(2, clock)
     b = Broadcaster(stations)
+    b.subscribe(topic)
     for _ in range(20):
         clock.advance(0.5)
         b.tick()
     points = stations[0].trail.points
     assert len(points) > 5
     assert points[-1] == tuple(v / 1000 for v in stations[0].machine.motion.absolute)
+    assert bool(stations[1].trail.points) == (topic == FLEET)
 
 
 def test_a_slow_page_drops_its_oldest_frames_and_holds_up_no_one() -> None:

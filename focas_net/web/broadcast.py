@@ -1,8 +1,8 @@
 """Live updates: one broadcaster computes each view once per tick and offers it to every page.
 
 A page subscribes to a :data:`Topic`: the fleet, or one machine (with the PMC window its viewer
-shows). Each :meth:`Broadcaster.tick` records every machine's tool path, then computes the
-fleet view once (when a page watches it) and each watched machine's view once, serialises
+shows). Each :meth:`Broadcaster.tick` computes the fleet view once (when a page watches it;
+it records every machine's tool path on the way) and each watched machine's view once, serialises
 each topic's frame once, and offers it to the topic's subscriptions. An offer never waits: a
 subscription keeps at most ``depth`` frames and drops the oldest, so a slow page skips
 frames and never holds up the others. :meth:`Broadcaster.run` ticks every ``interval``
@@ -14,6 +14,7 @@ from __future__ import annotations
 import asyncio
 import json
 import logging
+import time
 from collections import deque
 from collections.abc import Sequence
 from typing import Final
@@ -31,6 +32,9 @@ _log = logging.getLogger(__name__)
 DEFAULT_INTERVAL: Final = 0.25
 #: Frames a subscription keeps for a page that has not taken them (the oldest is dropped).
 DEFAULT_DEPTH: Final = 2
+
+#: Seconds of pause per second a tick took (the updates take at most 1/(1+4) of the loop).
+_IDLE_PER_BUSY: Final = 4.0
 
 #: ``("fleet",)`` or ``("machine", index, pmc area, pmc start)``.
 Topic = tuple[str, ...] | tuple[str, int, str, int]
@@ -133,7 +137,8 @@ class Broadcaster:
         if topic[0] == "fleet":
             self.views_computed += 1
             entries = ((s.index, s.machine, s.port) for s in self.stations)
-            return {"type": "fleet", "data": fleet_view(entries)}
+            trails = [s.trail for s in self.stations]
+            return {"type": "fleet", "data": fleet_view(entries, trails)}
         _, index, area, start = topic
         assert isinstance(index, int) and isinstance(area, str) and isinstance(start, int)
         if not 0 <= index < len(self.stations):
@@ -159,10 +164,10 @@ class Broadcaster:
             s.trail.record(s.machine.motion.absolute)
 
     def tick(self) -> int:
-        """Record the paths, then compute each subscribed topic's frame once (each machine's
-        view once) and offer it to its subscriptions; returns how many frames were made."""
+        """Compute each subscribed topic's frame once (each machine's view once) and offer it
+        to its subscriptions; returns how many frames were made. The views record the tool
+        paths of the machines they read; with no page open nothing is read."""
         self.ticks += 1
-        self.record_paths()
         by_topic: dict[Topic, list[Subscription]] = {}
         for sub in self.subscriptions:
             by_topic.setdefault(sub.topic, []).append(sub)
@@ -174,10 +179,14 @@ class Broadcaster:
         return len(by_topic)
 
     async def run(self) -> None:
-        """Tick every :attr:`interval` seconds until cancelled."""
+        """Tick every :attr:`interval` seconds until cancelled. A tick that takes long (a
+        large fleet of running machines) stretches the pause after it, so the updates take
+        at most a fifth of the event loop's time from the machines' connections."""
         while True:
+            started = time.perf_counter()
             try:
                 self.tick()
             except Exception:  # a view that fails must not end the live updates
                 _log.exception("dashboard update failed")
-            await asyncio.sleep(self.interval)
+            busy = time.perf_counter() - started
+            await asyncio.sleep(max(self.interval, busy * _IDLE_PER_BUSY))

@@ -111,19 +111,19 @@ def _mm(value: int) -> float:
     return value / _MM
 
 
-def _first_alarm(machine: Machine) -> str | None:
-    alarms = machine.active_alarms(limit=1)
-    if not alarms:
-        return None
-    a = alarms[0]
-    return f"{a.alm_no} {a.msg}".strip()
-
-
-def machine_tile(index: int, machine: Machine, port: int) -> JsonDict:
-    """One tile of the fleet view: name, port, mode, run state, program, parts, alarm."""
+def machine_tile(
+    index: int, machine: Machine, port: int, trail: PathTrail | None = None
+) -> JsonDict:
+    """One tile of the fleet view: name, port, mode, run state, program, parts, alarm. The
+    machine is read once per figure (a read of a running machine moves its engine); the
+    absolute position read goes into ``trail`` when given."""
     status = machine.status()
     motion = machine.motion
+    if trail is not None:
+        trail.record(motion.absolute)
     count, total = machine.parts_counts()
+    alarms = machine.active_alarms()
+    first = alarms[0] if alarms else None
     return {
         "index": index,
         "name": machine.name,
@@ -135,14 +135,19 @@ def machine_tile(index: int, machine: Machine, port: int) -> JsonDict:
         "sequence": motion.sequence,
         "parts": count,
         "parts_total": total,
-        "alarm": _first_alarm(machine),
-        "alarms": len(machine.active_alarms()),
+        "alarm": None if first is None else f"{first.alm_no} {first.msg}".strip(),
+        "alarms": len(alarms),
     }
 
 
-def fleet_view(entries: Iterable[tuple[int, Machine, int]]) -> JsonDict:
-    """The fleet view: a tile per ``(index, machine, port)`` and the counts of each run state."""
-    tiles = [machine_tile(i, m, port) for i, m, port in entries]
+def fleet_view(
+    entries: Iterable[tuple[int, Machine, int]], trails: Sequence[PathTrail] | None = None
+) -> JsonDict:
+    """The fleet view: a tile per ``(index, machine, port)`` and the counts of each run state;
+    ``trails[index]``, when given, records each machine's tool path on the way."""
+    tiles = [
+        machine_tile(i, m, port, None if trails is None else trails[i]) for i, m, port in entries
+    ]
     running = sum(1 for t in tiles if t["run"] == "STRT")
     alarmed = sum(1 for t in tiles if t["alarms"])
     return {"machines": tiles, "count": len(tiles), "running": running, "alarmed": alarmed}
@@ -208,9 +213,12 @@ def machine_view(
     faults: Iterable[tuple[str, int, int]] = (),
 ) -> JsonDict:
     """Everything the machine view shows, at one moment. ``faults`` are the machine-wide
-    armed faults as ``(kind name, answers left, arg)``."""
+    armed faults as ``(kind name, answers left, arg)``; the absolute position read goes into
+    ``trail`` (the tool path shown) when given."""
     status = machine.status()
     motion = machine.motion
+    if trail is not None:
+        trail.record(motion.absolute)
     count, total = machine.parts_counts()
     feed_ov, rapid_ov, spindle_ov = machine.overrides()
     panel = machine.panel
