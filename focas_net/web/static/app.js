@@ -385,6 +385,7 @@ function wire() {
   $("pmc-area").onchange = subscribe;
   $("pmc-start").onchange = subscribe;
   $("param-search").oninput = loadParams;
+  $("param-unlock").onclick = () => act("unlock", { password: $("param-password").value });
   $("macro-search").oninput = loadMacros;
   $("fleet-filter").oninput = () => fetch("/api/fleet").then((r) => r.json()).then(renderFleet);
   window.addEventListener("hashchange", route);
