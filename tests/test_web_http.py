@@ -201,6 +201,21 @@ async def test_pages_share_one_broadcaster_and_the_stop_closes_them() -> None:
             await session.get(web.url)
 
 
+async def test_a_page_that_never_reads_holds_up_no_other() -> None:
+    async with dashboard() as (_, web), aiohttp.ClientSession() as session:
+        slow = await session.ws_connect(f"{web.url}ws")
+        await slow.send_json({"subscribe": "machine", "index": 0})
+        async with session.ws_connect(f"{web.url}ws") as fast:
+            await fast.send_json({"subscribe": "machine", "index": 0})
+            ticks = web.broadcaster.ticks
+            for _ in range(20):  # twenty frames while the other page reads none
+                await receive(fast, "machine")
+            assert web.broadcaster.ticks >= ticks + 19
+        subs = web.broadcaster.subscriptions
+        assert subs and all(len(sub) <= sub.depth for sub in subs)  # what waits is bounded
+        await slow.close()
+
+
 # -- focas-net serve --web ----------------------------------------------------------------
 def _parse(*argv: str) -> argparse.Namespace:
     parser = argparse.ArgumentParser()

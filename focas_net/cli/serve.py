@@ -13,6 +13,9 @@ for it; the address is always the line's last word. A bad machine file, TLS file
 ends with a one-line error and exit code 2 (options are all checked before anything is
 allocated); a port that cannot be bound with exit code 1. SIGINT and SIGTERM shut down
 gracefully (stop accepting, answer what is in flight, close) and exit 0.
+
+With ``--web`` one more line follows the machines', ``focas-net: web dashboard on
+http://HOST:PORT/`` (``docs/web.md``).
 """
 
 from __future__ import annotations
