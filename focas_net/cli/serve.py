@@ -13,6 +13,9 @@ for it; the address is always the line's last word. A bad machine file, TLS file
 ends with a one-line error and exit code 2 (options are all checked before anything is
 allocated); a port that cannot be bound with exit code 1. SIGINT and SIGTERM shut down
 gracefully (stop accepting, answer what is in flight, close) and exit 0.
+
+With ``--web`` one more line follows the machines', ``focas-net: web dashboard on
+http://HOST:PORT/`` (``docs/web.md``).
 """
 
 from __future__ import annotations
@@ -23,6 +26,8 @@ import logging
 import signal
 import ssl
 import sys
+from collections.abc import AsyncIterator
+from contextlib import asynccontextmanager
 from dataclasses import replace
 from typing import TYPE_CHECKING, Any, Final
 
@@ -44,6 +49,7 @@ from ._args import EXIT_CNC, EXIT_USAGE, LISTEN_PORT, NON_NEGATIVE, POSITIVE, PR
 if TYPE_CHECKING:
     from focas_net.sim import Machine
     from focas_net.sim.nc import Scenario
+    from focas_net.web import Dashboard
 
 __all__ = ["DEFAULT_SEED", "MAX_FLEET", "build_machines", "check_options", "register", "run"]
 
@@ -120,6 +126,21 @@ def _max_frame(text: str) -> int:
             f"native FOCAS/2 frame read as a length), got {text}"
         )
     return value
+
+
+def _web_address(text: str) -> tuple[str, int]:
+    """``--web [HOST:]PORT``: checked here, aiohttp's presence too."""
+    from focas_net.web import parse_web_address
+
+    try:
+        address = parse_web_address(text)
+    except ValueError as exc:
+        raise argparse.ArgumentTypeError(str(exc)) from None
+    if importlib.util.find_spec("aiohttp") is None:
+        raise argparse.ArgumentTypeError(
+            f"{text}: the web dashboard needs aiohttp: pip install 'focas-net[web]'"
+        )
+    return address
 
 
 def register(subparsers: Any) -> None:
@@ -249,6 +270,13 @@ def register(subparsers: Any) -> None:
         help="multiply the rates of pauses, tool-change waits and alarms of the running "
         "machines by FACTOR (0..100); 0 = production without interruptions (default "
         "%(default)s)",
+    )
+    p.add_argument(
+        "--web",
+        type=_web_address,
+        metavar="[HOST:]PORT",
+        help="also serve the web dashboard on HOST:PORT (HOST 127.0.0.1 unless given; 0 = "
+        "ephemeral port; pip install 'focas-net[web]'); --read-only makes it read-only",
     )
     p.add_argument(
         "--log-level",
@@ -422,6 +450,7 @@ def run(args: argparse.Namespace) -> int:
             server,
             ssl_context is not None,
             bool(args.read_only),
+            getattr(args, "web", None),
             backend="asyncio",
             backend_options={"use_uvloop": args.uvloop},
         )
@@ -438,9 +467,13 @@ def _modes(tls: bool, read_only: bool, *first: str) -> str:
     return f" ({', '.join(modes)})" if modes else ""
 
 
-async def _serve(server: FocasServer, tls: bool, read_only: bool) -> int:
+async def _serve(
+    server: FocasServer, tls: bool, read_only: bool, web: tuple[str, int] | None = None
+) -> int:
     with anyio.open_signal_receiver(signal.SIGINT, signal.SIGTERM) as signals:
-        async with server:
+        async with server, _dashboard(server, web, read_only) as dashboard:
+            if dashboard is None and web is not None:
+                return EXIT_CNC
             out = sys.stdout
             for listener in server.listeners:
                 out.write(
@@ -454,8 +487,42 @@ async def _serve(server: FocasServer, tls: bool, read_only: bool) -> int:
                         f"focas-net: {listener.label}{native_modes} listening on "
                         f"{listener.native.address_text}\n"
                     )
+            if dashboard is not None:
+                out.write(
+                    f"focas-net: web dashboard{_modes(False, read_only)} on {dashboard.url}\n"
+                )
             out.flush()
             async for signum in signals:
                 _log.info("%s received: shutting down", signal.Signals(signum).name)
                 break
     return 0
+
+
+@asynccontextmanager
+async def _dashboard(
+    server: FocasServer, web: tuple[str, int] | None, read_only: bool
+) -> AsyncIterator[Dashboard | None]:
+    """The web dashboard of ``--web`` while the machines are served (None without it, or
+    when it cannot listen: that is reported here)."""
+    if web is None:
+        yield None
+        return
+    from focas_net.web import Dashboard, is_loopback, stations_of
+
+    host, port = web
+    if not is_loopback(host):
+        sys.stderr.write(
+            f"{PROG} serve: warning: the web dashboard listens on {host}, beyond loopback, "
+            "with no authentication\n"
+        )
+    dashboard = Dashboard(stations_of(server), host=host, port=port, read_only=read_only)
+    try:
+        await dashboard.start()
+    except OSError as exc:
+        print_error(f"--web {host}:{port}: cannot listen: {exc.strerror or exc}", _ERROR_PREFIX)
+        yield None
+        return
+    try:
+        yield dashboard
+    finally:
+        await dashboard.stop()
