@@ -10,7 +10,7 @@ increments over ``10**POSITION_DECIMALS``), times in seconds. Status fields carr
 from __future__ import annotations
 
 from collections import deque
-from collections.abc import Callable, Iterable, Sequence
+from collections.abc import Iterable, Sequence
 from decimal import Decimal
 from typing import Any, Final
 
@@ -173,18 +173,6 @@ class PathTrail:
         self.points.clear()
 
 
-def _loads(machine: Machine, method: str) -> list[float] | None:
-    """The machine's ``spindle_loads()``/``servo_loads()`` figures when it models them."""
-    read: Callable[[], Iterable[Any]] | None = getattr(machine, method, None)
-    if read is None or not callable(read):
-        return None
-    values = []
-    for v in read():
-        figure = getattr(v, "load", v)  # a record with a load, or a plain figure
-        values.append(float(figure))
-    return values
-
-
 def _program(machine: Machine) -> JsonDict | None:
     """The running (else the main) program: its lines and the line of the block executing."""
     engine = machine.engine
@@ -253,8 +241,8 @@ def machine_view(
         "program_main": motion.program_main,
         "overrides": {"feed": feed_ov, "rapid": rapid_ov, "spindle": spindle_ov},
         "loads": {
-            "spindle": _loads(machine, "spindle_loads"),
-            "servo": _loads(machine, "servo_loads"),
+            "spindle": list(machine.spindle_loads()),
+            "servo": list(machine.servo_loads()),
         },
         "timers": {kind: machine.timer(k) for k, kind in enumerate(TIMER_KINDS)},
         "parts": {"count": count, "total": total, "required": required},

@@ -183,10 +183,9 @@ function renderMachine(v) {
   $("m-spindle").textContent = v.spindle_speed;
   $("m-program").textContent = `O${String(v.program_running).padStart(4, "0")}`;
   $("m-sequence").textContent = v.sequence;
-  const loads = [];
-  if (v.loads.spindle) loads.push(`spindle load ${v.loads.spindle.map((x) => x + " %").join(", ")}`);
-  if (v.loads.servo) loads.push(`servo load ${v.loads.servo.map((x) => x + " %").join(", ")}`);
-  $("loads").textContent = loads.length ? loads.join(" | ") : "loads: not modelled by this machine";
+  $("loads").textContent =
+    `spindle load ${v.loads.spindle.map((x) => x + " %").join(", ")}` +
+    ` | servo load ${v.loads.servo.map((x) => x + " %").join(", ")}`;
 
   const t = v.timers;
   $("timer-table").replaceChildren(
