@@ -1411,6 +1411,9 @@ class Machine:
             self.programs.select(main)
         self._driven = False
         self._synced_at = math.nan
+        #: The engine's clock while :meth:`_sync` reads it: the one time the read synced to, so
+        #: the engine advances once per sync however many of its figures the sync reads.
+        self._sync_clock = _HeldClock()
         self._engine_key = (_RESET, MotionKind.NONE)
         self._engine_alarms: set[tuple[int, int, int]] = set()
         self._figures: tuple[int, MotionData] | None = None
@@ -1493,15 +1496,22 @@ class Machine:
             if now == self._synced_at:
                 return
         self._synced_at = now
-        moved = self._engine_key[0] is _START
-        if run is not None and run.next_time <= now:
-            self._play(run, now)
-            moved = True
-        for event in self.engine.take_events():
-            self._engine_event(event, now)
-        self._settled(moved)
-        if run is not None and run.finished(self.engine):
-            self._run = None
+        e = self.engine
+        clock = e.clock
+        self._sync_clock.at = now
+        e.clock = self._sync_clock
+        try:
+            moved = self._engine_key[0] is _START
+            if run is not None and run.next_time <= now:
+                self._play(run, now)
+                moved = True
+            for event in e.take_events():
+                self._engine_event(event, now)
+            self._settled(moved)
+            if run is not None and run.finished(e):
+                self._run = None
+        finally:
+            e.clock = clock
 
     def _settled(self, moved: bool, force: bool = False) -> None:
         e = self.engine
@@ -1787,6 +1797,7 @@ class Machine:
         begins when that one ends."""
         e = self.engine
         held = run.held
+        outer = e.clock
         e.clock = held
         try:
             while run.next_time <= now:
@@ -1808,7 +1819,7 @@ class Machine:
                 run.current = event
                 run.ends_at = when + event.duration
         finally:
-            e.clock = self.sim_clock
+            e.clock = outer
 
     def _scenario_begin(self, event: ScenarioEvent, when: float, now: float) -> None:
         e = self.engine
