@@ -14,6 +14,7 @@ each repetition, with one caller and with 64 concurrent callers on one connectio
 from __future__ import annotations
 
 import os
+import statistics
 import time
 from pathlib import Path
 from typing import TYPE_CHECKING
@@ -90,6 +91,21 @@ def tree_rss_kib(pid: int) -> int:
     return total
 
 
+def cpu_pressure() -> float | None:
+    """The share of the last 10 s in which some runnable task waited for a CPU
+    (``/proc/pressure/cpu``, "some avg10"), or None where the kernel does not say."""
+    try:
+        with open("/proc/pressure/cpu", encoding="ascii") as f:
+            first = f.readline().split()
+    except OSError:
+        return None
+    for field in first[1:]:
+        key, _, value = field.partition("=")
+        if key == "avg10":
+            return float(value) / 100
+    return None
+
+
 def _serve_extra(size: int, workers: int, running: bool) -> tuple[str, ...]:
     extra = ["--fleet", str(size), "--max-connections", "4"]
     if workers > 1:
@@ -128,12 +144,22 @@ def plant(suite: Suite) -> None:
             achieved: list[float] = []
             client: list[float] = []
             served: list[float] = []
+            client_us: list[float] = []
+            server_us: list[float] = []
+            pressure: list[float] = []
             errors = 0
             worst = 0.0
             for _ in range(cfg.reps):
                 cpu0 = tree_cpu_seconds(server.pid)
                 r = worker.call("plant_poll", interval=interval, duration=cfg.plant_duration)
-                served.append((tree_cpu_seconds(server.pid) - cpu0) / float(r["wall"]))
+                cpu = tree_cpu_seconds(server.pid) - cpu0
+                served.append(cpu / float(r["wall"]))
+                polls = max(1, int(r["polls"]))
+                client_us.append(1e6 * float(r["cpu"]) / polls)
+                server_us.append(1e6 * cpu / polls)
+                waited = cpu_pressure()
+                if waited is not None:
+                    pressure.append(waited)
                 rates.append(r["polls"] / r["duration"])
                 achieved.append(r["polls"] / r["due"])
                 client.append(r["cpu"] / r["wall"])
@@ -143,6 +169,7 @@ def plant(suite: Suite) -> None:
         finally:
             server.stop()
         nominal = n * cfg.plant_hz
+        contended = f", CPU pressure {statistics.median(pressure):.0%}" if pressure else ""
         suite.add(
             Row(
                 f"{name}_rate",
@@ -151,12 +178,34 @@ def plant(suite: Suite) -> None:
                 rates,
                 ratio_to=f"nominal {nominal:g}/s",
                 ratios=achieved,
-                note=f"{errors} errors, slowest poll {worst * 1e3:.1f} ms",
+                note=f"{errors} errors, slowest poll {worst * 1e3:.1f} ms{contended}",
                 extra={"errors": errors, "worst_ms": worst * 1e3},
             )
         )
-        suite.add(Row(f"{name}_client", FOCAS, "cores", client, note="client process_time / wall"))
-        suite.add(Row(f"{name}_server", FOCAS, "cores", served, note=f"{how}, from /proc"))
+        per_poll = statistics.median(client_us)
+        suite.add(
+            Row(
+                f"{name}_client",
+                FOCAS,
+                "cores",
+                client,
+                note=f"client process_time / wall; {per_poll:.1f} us per poll, "
+                f"{per_poll * nominal / 1e6:.2f} core at the nominal rate",
+                extra={"us_per_poll": per_poll},
+            )
+        )
+        per_poll = statistics.median(server_us)
+        suite.add(
+            Row(
+                f"{name}_server",
+                FOCAS,
+                "cores",
+                served,
+                note=f"{how}, from /proc; {per_poll:.1f} us per poll, "
+                f"{per_poll * nominal / 1e6:.2f} core at the nominal rate",
+                extra={"us_per_poll": per_poll},
+            )
+        )
     ready(suite)
 
 
