@@ -191,7 +191,7 @@ async def test_a_killed_parent_leaves_no_worker() -> None:
         await wait_until(lambda: not any(alive(k) for k in kids), within=START_TIMEOUT)
 
 
-async def test_a_worker_failing_at_start_is_reported_with_its_code(tmp_path: Path) -> None:
+async def test_a_bad_machine_file_is_reported_once_before_any_worker(tmp_path: Path) -> None:
     bad = tmp_path / "bad.toml"
     bad.write_text("this is not toml =\n")
     proc = await asyncio.create_subprocess_exec(
@@ -201,5 +201,22 @@ async def test_a_worker_failing_at_start_is_reported_with_its_code(tmp_path: Pat
     )  # fmt: skip
     code, err = await stopped(proc)
     assert code == 2
-    assert "before it was ready; stopping the other workers" in err
-    assert str(bad) in err
+    assert err.count(str(bad)) == 1
+    assert "worker" not in err
+
+
+async def test_a_worker_failing_at_start_stops_the_others_with_its_code() -> None:
+    first = free_block(2)
+    with socket.socket() as taken:  # the second worker's port is taken
+        taken.bind(("127.0.0.1", first + 1))
+        taken.listen()
+        proc = await asyncio.create_subprocess_exec(
+            sys.executable, "-m", "focas_net", "serve", "--host", "127.0.0.1",
+            "--port", str(first), "--fleet", "2", "--workers", "2",
+            stdout=asyncio.subprocess.PIPE, stderr=asyncio.subprocess.PIPE,
+        )  # fmt: skip
+        code, err = await stopped(proc)
+    assert code == 1  # the worker's own: a port that cannot be bound
+    assert f"cannot listen on 127.0.0.1:{first + 1}" in err
+    assert "worker 2 (machine 2, pid " in err
+    assert "exited with code 1 before it was ready; stopping the other workers" in err

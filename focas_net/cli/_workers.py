@@ -145,7 +145,16 @@ def _pump(worker: int, stream: IO[bytes], events: queue.Queue[tuple[int, str | N
 
 
 def run_workers(args: argparse.Namespace) -> int:
-    """Serve the fleet of ``args`` over ``args.workers`` processes; returns the exit code."""
+    """Serve the fleet of ``args`` over ``args.workers`` processes; returns the exit code.
+
+    The first machine is built here first, so that a bad machine file (or a ``--run`` the
+    machine refuses) is reported once, as ``serve``'s own ConfigError, before any worker
+    starts."""
+    from .serve import build_machines
+
+    probe = copy.copy(args)
+    probe.fleet_slice = range(1)
+    build_machines(probe)
     slices = fleet_slices(args.fleet, args.workers)
     per_machine = 2 if args.native_port is not None else 1
     events: queue.Queue[tuple[int, str | None]] = queue.Queue()
