@@ -123,6 +123,8 @@ def plant(suite: Suite) -> None:
     n = cfg.plant_size
     workers = cfg.plant_workers
     how = f"{workers} worker processes" if workers > 1 else "one process"
+    if cfg.plant_slots:
+        how += f", polls in {cfg.plant_slots} slots"
     interval = 1.0 / cfg.plant_hz
     worker = suite.workers[FOCAS]
     for running in (False, True):
@@ -139,7 +141,13 @@ def plant(suite: Suite) -> None:
             if len(targets) < n:
                 raise RuntimeError(f"plant server announced {len(targets)} of {n} machines")
             worker.call("plant_open", targets=targets)
-            worker.call("plant_poll", interval=interval, duration=min(1.0, cfg.plant_duration))
+            slots = cfg.plant_slots
+            worker.call(
+                "plant_poll",
+                interval=interval,
+                duration=min(1.0, cfg.plant_duration),
+                slots=slots,
+            )
             rates: list[float] = []
             achieved: list[float] = []
             client: list[float] = []
@@ -151,7 +159,9 @@ def plant(suite: Suite) -> None:
             worst = 0.0
             for _ in range(cfg.reps):
                 cpu0 = tree_cpu_seconds(server.pid)
-                r = worker.call("plant_poll", interval=interval, duration=cfg.plant_duration)
+                r = worker.call(
+                    "plant_poll", interval=interval, duration=cfg.plant_duration, slots=slots
+                )
                 cpu = tree_cpu_seconds(server.pid) - cpu0
                 served.append(cpu / float(r["wall"]))
                 polls = max(1, int(r["polls"]))

@@ -79,6 +79,8 @@ class Config:
     plant_duration: float = 3.0
     #: ``serve --workers`` of the plant's server (0 or 1: one process).
     plant_workers: int = 0
+    #: Start times per interval of the plant's polls (0: one for each machine).
+    plant_slots: int = 0
     ready_size: int = 5000
     use_uvloop: bool = False
 
@@ -634,6 +636,12 @@ def parse_args(argv: Sequence[str] | None) -> argparse.Namespace:
         metavar="N",
         help="serve the plant's fleets with serve --workers N (default: one process)",
     )
+    parser.add_argument(
+        "--plant-slots",
+        type=int,
+        metavar="N",
+        help="poll the plant's machines in N groups per interval (default: each at its own time)",
+    )
     parser.add_argument("--strict", action="store_true", help="exit 1 when a target fails")
     return parser.parse_args(argv)
 
@@ -655,6 +663,8 @@ def main(argv: Sequence[str] | None = None) -> int:
         overrides["duration"] = args.duration
     if args.plant_workers is not None:
         overrides["plant_workers"] = max(0, args.plant_workers)
+    if args.plant_slots is not None:
+        overrides["plant_slots"] = max(0, args.plant_slots)
     if overrides:
         cfg = Config(**{**asdict(cfg), **overrides})
     prog = ["python", "-m", "benchmarks"] if __package__ else ["python", "benchmarks/run.py"]

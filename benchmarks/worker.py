@@ -171,10 +171,14 @@ async def open_fleet(targets: list[list[Any]]) -> list[FocasConn]:
     return conns
 
 
-async def poll_fleet(conns: list[FocasConn], interval: float, duration: float) -> dict[str, float]:
+async def poll_fleet(
+    conns: list[FocasConn], interval: float, duration: float, slots: int = 0
+) -> dict[str, float]:
     """Poll every connection's status every ``interval`` s for ``duration`` s, one task each,
-    starts staggered; a tick missed because the previous poll ran late is skipped, not
-    caught up. Returns polls done, polls due, the slowest poll and the client's CPU time."""
+    starts staggered (over ``slots`` start times per interval, the machines of a slot polled
+    together; 0: a start time of its own for each machine); a tick missed because the
+    previous poll ran late is skipped, not caught up. Returns polls done, polls due, the
+    slowest poll and the client's CPU time."""
     loop = asyncio.get_running_loop()
     ticks = round(duration / interval)
     polls = [0] * len(conns)
@@ -184,8 +188,11 @@ async def poll_fleet(conns: list[FocasConn], interval: float, duration: float) -
     cpu0 = time.process_time()
     wall0 = _perf()
 
+    count = len(conns)
+    groups = slots if 0 < slots < count else count
+
     async def poll(i: int, conn: FocasConn) -> None:
-        base = t0 + interval * i / len(conns)
+        base = t0 + interval * (i * groups // count) / groups
         read_status = conn.client.read_status
         tick = 0
         while tick < ticks:
@@ -293,7 +300,9 @@ class Worker:
             self.plant = await open_fleet(cmd["targets"])
             return {"open": len(self.plant)}
         if op == "plant_poll":
-            return await poll_fleet(self.plant, cmd["interval"], cmd["duration"])
+            return await poll_fleet(
+                self.plant, cmd["interval"], cmd["duration"], cmd.get("slots", 0)
+            )
         if op == "plant_close":
             await close_conns(self.plant)
             self.plant = []
