@@ -287,8 +287,12 @@ class Connection(asyncio.Protocol):
                 self._transport.write(frame)
             if deadline is not None:
                 queue = self._by_deadline
-                if queue and self._timer is not None and queue[-1].deadline <= deadline:
-                    queue.append(entry)  # in send order, behind a timer armed earlier
+                if (
+                    self._timer is not None
+                    and self._timer_when <= deadline
+                    and (not queue or queue[-1].deadline <= deadline)
+                ):
+                    queue.append(entry)  # in send order, the timer armed for an earlier one
                 else:
                     self._track(entry, deadline)
             return await future
