@@ -220,3 +220,26 @@ async def test_a_worker_failing_at_start_stops_the_others_with_its_code() -> Non
     assert f"cannot listen on 127.0.0.1:{first + 1}" in err
     assert "worker 2 (machine 2, pid " in err
     assert "exited with code 1 before it was ready; stopping the other workers" in err
+
+
+async def test_sigint_to_the_whole_group_stops_every_worker_once() -> None:
+    """A terminal's Ctrl-C: SIGINT to the parent's process group."""
+    proc = await asyncio.create_subprocess_exec(
+        sys.executable, "-m", "focas_net", "serve", "--host", "127.0.0.1", "--port", "0",
+        "--fleet", "4", "--workers", "2",
+        stdout=asyncio.subprocess.PIPE, stderr=asyncio.subprocess.PIPE,
+        start_new_session=True,
+    )  # fmt: skip
+    assert proc.stdout is not None
+    try:
+        async with asyncio.timeout(START_TIMEOUT):
+            for _ in range(4):
+                assert READY.match((await proc.stdout.readline()).decode().rstrip("\n"))
+        kids = children(proc.pid)
+        os.killpg(proc.pid, signal.SIGINT)
+        assert await stopped(proc) == (0, "")
+        await wait_until(lambda: not any(alive(k) for k in kids), within=START_TIMEOUT)
+    finally:
+        if proc.returncode is None:
+            proc.kill()
+            await proc.wait()

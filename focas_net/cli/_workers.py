@@ -15,8 +15,10 @@ line, as one process would) and then:
 * a worker that exits on its own: stops the others, prints which worker and how it ended,
   and exits 1 (or the worker's own exit code if it failed before it was ready).
 
-A worker whose standard input reaches end of file (the parent is gone, however it ended)
-stops itself, so no worker outlives its parent.
+The workers run in sessions of their own, so that a terminal's Ctrl-C (SIGINT to the whole
+foreground process group) reaches the parent alone and each worker gets one SIGTERM. A worker
+whose standard input reaches end of file (the parent is gone, however it ended) stops itself,
+so no worker outlives its parent.
 """
 
 from __future__ import annotations
@@ -185,6 +187,9 @@ def run_workers(args: argparse.Namespace) -> int:
                 [sys.executable, "-c", _WORKER_CODE],
                 stdin=subprocess.PIPE,
                 stdout=subprocess.PIPE,
+                # Its own session: a terminal's Ctrl-C reaches the parent alone, which passes
+                # one SIGTERM on (a second signal would cut the worker's shutdown short).
+                start_new_session=True,
             )
             workers.append(_Worker(k, served, proc, per_machine * len(served), []))
             assert proc.stdin is not None and proc.stdout is not None
