@@ -29,6 +29,7 @@ ROOT = Path(__file__).resolve().parent.parent
 if __package__ in (None, ""):  # run as a script: make ``benchmarks`` importable
     sys.path.insert(0, str(ROOT))
 
+from benchmarks import plant  # noqa: E402
 from benchmarks._loop import uvloop_available  # noqa: E402
 from benchmarks.report import (  # noqa: E402
     FLOOR,
@@ -49,7 +50,7 @@ from benchmarks.subjects import (  # noqa: E402
     server_argv,
 )
 
-SCENARIOS = (*THROUGHPUT_MODES, "pmc4k", "bitstorm", "fleet", "memory")
+SCENARIOS = (*THROUGHPUT_MODES, "pmc4k", "bitstorm", "native", "fleet", "plant", "memory")
 #: (connections, concurrent callers per connection) of each throughput mode.
 MODES: dict[str, tuple[int, int]] = {"seq": (1, 1), "pipe64": (1, 64), "conc100": (100, 1)}
 DEFAULT_JSON = ROOT / "benchmarks" / "results" / "latest.json"
@@ -73,6 +74,14 @@ class Config:
     storm_bytes: int = 8
     pmc_big: int = 4096
     pmc_small: int = 32
+    plant_size: int = 1000
+    plant_hz: float = 10.0
+    plant_duration: float = 3.0
+    #: ``serve --workers`` of the plant's server (0 or 1: one process).
+    plant_workers: int = 0
+    #: Start times per interval of the plant's polls (0: one for each machine).
+    plant_slots: int = 0
+    ready_size: int = 5000
     use_uvloop: bool = False
 
     @classmethod
@@ -83,6 +92,9 @@ class Config:
             warmup=0.1,
             fleet_duration=1.0,
             idle_conns=200,
+            plant_size=100,
+            plant_duration=1.0,
+            ready_size=200,
             use_uvloop=use_uvloop,
         )
 
@@ -104,6 +116,7 @@ class ServerProcess:
     def __init__(self, name: str, argv: list[str]) -> None:
         self.name = name
         self.argv = argv
+        self.started_at = time.monotonic()
         self.proc = subprocess.Popen(
             argv,
             cwd=ROOT,
@@ -117,6 +130,8 @@ class ServerProcess:
         self.endpoints: list[tuple[str, int]] = []
         self._cond = threading.Condition()
         self._last = time.monotonic()
+        #: When the latest ``listening on`` line came.
+        self.ready_at = self._last
         threading.Thread(target=self._drain, daemon=True).start()
 
     @property
@@ -131,7 +146,7 @@ class ServerProcess:
                 match = _LISTEN.search(line)
                 if match:
                     self.endpoints.append((match["host"].strip("[]"), int(match["port"])))
-                    self._last = time.monotonic()
+                    self._last = self.ready_at = time.monotonic()
                 self._cond.notify_all()
         with self._cond:
             self._cond.notify_all()
@@ -180,11 +195,15 @@ class ServerProcess:
 
 
 def start_server(
-    subject: str, cfg: Config, extra: tuple[str, ...] = (), count: int = 1
+    subject: str,
+    cfg: Config,
+    extra: tuple[str, ...] = (),
+    count: int = 1,
+    timeout: float = 30.0,
 ) -> ServerProcess:
     server = ServerProcess(subject, server_argv(subject, use_uvloop=cfg.use_uvloop, extra=extra))
     try:
-        server.wait_ready(count)
+        server.wait_ready(count, timeout=timeout, settle=timeout if count > 1 else 1.0)
     except BaseException:
         server.stop()
         raise
@@ -326,8 +345,10 @@ class Suite:
                     self.guarded("pmc4k", self.pmc4k)
                 if "bitstorm" in self.scenarios:
                     self.guarded("bitstorm", self.bitstorm)
+                if "native" in self.scenarios:
+                    self.guarded("native", functools.partial(plant.native, self))
             else:
-                for name in ("pmc4k", "bitstorm"):
+                for name in ("pmc4k", "bitstorm", "native"):
                     if name in self.scenarios:
                         self.skip(f"{name} skipped: focas_net is not available")
         finally:
@@ -339,6 +360,11 @@ class Suite:
                 self.guarded("fleet", self.fleet)
             else:
                 self.skip("fleet skipped: focas_net is not available")
+        if "plant" in self.scenarios:
+            if FOCAS in self.subjects:
+                self.guarded("plant", functools.partial(plant.plant, self))
+            else:
+                self.skip("plant skipped: focas_net is not available")
         try:
             if "memory" in self.scenarios:
                 self.guarded("memory", self.memory)
@@ -604,6 +630,18 @@ def parse_args(argv: Sequence[str] | None) -> argparse.Namespace:
         default=",".join(SCENARIOS),
         help=f"comma-separated subset of {','.join(SCENARIOS)}",
     )
+    parser.add_argument(
+        "--plant-workers",
+        type=int,
+        metavar="N",
+        help="serve the plant's fleets with serve --workers N (default: one process)",
+    )
+    parser.add_argument(
+        "--plant-slots",
+        type=int,
+        metavar="N",
+        help="poll the plant's machines in N groups per interval (default: each at its own time)",
+    )
     parser.add_argument("--strict", action="store_true", help="exit 1 when a target fails")
     return parser.parse_args(argv)
 
@@ -623,6 +661,10 @@ def main(argv: Sequence[str] | None = None) -> int:
         overrides["reps"] = max(1, args.reps)
     if args.duration is not None:
         overrides["duration"] = args.duration
+    if args.plant_workers is not None:
+        overrides["plant_workers"] = max(0, args.plant_workers)
+    if args.plant_slots is not None:
+        overrides["plant_slots"] = max(0, args.plant_slots)
     if overrides:
         cfg = Config(**{**asdict(cfg), **overrides})
     prog = ["python", "-m", "benchmarks"] if __package__ else ["python", "benchmarks/run.py"]
@@ -630,6 +672,7 @@ def main(argv: Sequence[str] | None = None) -> int:
     results = Results(machine_info(cfg), command, asdict(cfg))
     Suite(cfg, scenarios, results).run()
     results.checks = evaluate(results, fleet_size=cfg.fleet_size, fleet_hz=cfg.fleet_hz)
+    results.checks += plant.evaluate_plant(results, size=cfg.plant_size, ready_size=cfg.ready_size)
     m = results.machine
     print(
         f"machine: {m['nproc']} x {m['cpu']}, {m['implementation']} {m['python']},"

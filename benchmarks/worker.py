@@ -13,7 +13,7 @@ import asyncio
 import json
 import sys
 import time
-from collections.abc import Awaitable, Callable
+from collections.abc import Awaitable, Callable, Sequence
 from typing import Any
 
 from benchmarks._loop import make_runner
@@ -38,7 +38,7 @@ async def open_conns(
     return conns
 
 
-async def close_conns(conns: list[StatusConn]) -> None:
+async def close_conns(conns: Sequence[StatusConn]) -> None:
     await asyncio.gather(*(c.close() for c in conns), return_exceptions=True)
 
 
@@ -156,10 +156,8 @@ async def bitstorm(
     return {"calls": 2 * calls, "elapsed": elapsed, "lost": lost, "errors": errors}
 
 
-async def fleet(targets: list[list[Any]], interval: float, duration: float) -> dict[str, float]:
-    """Poll every target's status every ``interval`` s for ``duration`` s, one task each,
-    starts staggered; a tick missed because the previous poll ran late is skipped, not
-    caught up. Returns polls done, polls due, and the client's CPU time."""
+async def open_fleet(targets: list[list[Any]]) -> list[FocasConn]:
+    """One connection per target, opened 50 at a time, each used once."""
     conns: list[FocasConn] = []
     try:
         for i in range(0, len(targets), 50):
@@ -167,40 +165,58 @@ async def fleet(targets: list[list[Any]], interval: float, duration: float) -> d
                 *(FocasConn.connect(str(h), int(p)) for h, p in targets[i : i + 50])
             )
         await asyncio.gather(*(c.read_status() for c in conns))
-        loop = asyncio.get_running_loop()
-        ticks = round(duration / interval)
-        polls = [0] * len(conns)
-        errors = [0] * len(conns)
-        worst = [0.0] * len(conns)
-        t0 = loop.time() + 0.05
-        cpu0 = time.process_time()
-        wall0 = _perf()
+    except BaseException:
+        await close_conns(conns)
+        raise
+    return conns
 
-        async def poll(i: int, conn: FocasConn) -> None:
-            base = t0 + interval * i / len(conns)
-            tick = 0
-            while tick < ticks:
-                due = base + tick * interval
-                now = loop.time()
-                if now >= due + interval:  # the whole slot went by: that poll is missed
-                    tick += int((now - due) // interval)
-                    continue
-                if due > now:
-                    await asyncio.sleep(due - now)
-                began = loop.time()
-                try:
-                    await conn.read_status()
-                    polls[i] += 1
-                except Exception:
-                    errors[i] += 1
-                worst[i] = max(worst[i], loop.time() - began)
-                tick += 1
 
-        await asyncio.gather(*(poll(i, c) for i, c in enumerate(conns)))
-        wall = _perf() - wall0
-        cpu = time.process_time() - cpu0
-    finally:
-        await asyncio.gather(*(c.close() for c in conns), return_exceptions=True)
+async def poll_fleet(
+    conns: list[FocasConn], interval: float, duration: float, slots: int = 0
+) -> dict[str, float]:
+    """Poll every connection's status every ``interval`` s for ``duration`` s, one task each,
+    starts staggered (over ``slots`` start times per interval, the machines of a slot polled
+    together; 0: a start time of its own for each machine); a tick missed because the
+    previous poll ran late is skipped, not caught up. Returns polls done, polls due, the
+    slowest poll and the client's CPU time."""
+    loop = asyncio.get_running_loop()
+    ticks = round(duration / interval)
+    polls = [0] * len(conns)
+    errors = [0] * len(conns)
+    worst = [0.0] * len(conns)
+    t0 = loop.time() + 0.05
+    cpu0 = time.process_time()
+    wall0 = _perf()
+
+    count = len(conns)
+    groups = slots if 0 < slots < count else count
+
+    async def poll(i: int, conn: FocasConn) -> None:
+        base = t0 + interval * (i * groups // count) / groups
+        read_status = conn.client.read_status
+        tick = 0
+        while tick < ticks:
+            due = base + tick * interval
+            now = loop.time()
+            if now >= due + interval:  # the whole slot went by: that poll is missed
+                tick += int((now - due) // interval)
+                continue
+            if due > now:
+                await asyncio.sleep(due - now)
+            began = loop.time()
+            try:
+                await read_status()
+                polls[i] += 1
+            except Exception:
+                errors[i] += 1
+            took = loop.time() - began
+            if took > worst[i]:
+                worst[i] = took
+            tick += 1
+
+    await asyncio.gather(*(poll(i, c) for i, c in enumerate(conns)))
+    wall = _perf() - wall0
+    cpu = time.process_time() - cpu0
     return {
         "polls": sum(polls),
         "due": ticks * len(conns),
@@ -212,10 +228,47 @@ async def fleet(targets: list[list[Any]], interval: float, duration: float) -> d
     }
 
 
+async def fleet(targets: list[list[Any]], interval: float, duration: float) -> dict[str, float]:
+    """:func:`poll_fleet` over fresh connections to ``targets``, closed afterwards."""
+    conns = await open_fleet(targets)
+    try:
+        return await poll_fleet(conns, interval, duration)
+    finally:
+        await close_conns(conns)
+
+
+async def native_throughput(
+    host: str, port: int, callers: int, duration: float
+) -> dict[str, float]:
+    """``callers`` loops calling :meth:`NativeClient.read_status` (FOCAS/2 statinfo) on one
+    connection pair until the deadline."""
+    from focas_net.client import NativeClient
+
+    counts: list[int] = []
+    async with NativeClient(host, port) as client:
+        await client.read_status()
+
+        async def caller(deadline: float) -> None:
+            read_status = client.read_status
+            n = 0
+            while _perf() < deadline:
+                await read_status()
+                n += 1
+            counts.append(n)
+
+        cpu0 = time.process_time()
+        t0 = _perf()
+        await asyncio.gather(*(caller(t0 + duration) for _ in range(callers)))
+        elapsed = _perf() - t0
+        cpu = time.process_time() - cpu0
+    return {"ops": sum(counts), "elapsed": elapsed, "cpu": cpu}
+
+
 class Worker:
     def __init__(self, subject: str) -> None:
         self.subject = subject
         self.idle: list[StatusConn] = []
+        self.plant: list[FocasConn] = []
 
     async def handle(self, cmd: dict[str, Any]) -> dict[str, Any]:
         op = cmd["op"]
@@ -242,6 +295,22 @@ class Worker:
             )
         if op == "fleet":
             return await fleet(cmd["targets"], cmd["interval"], cmd["duration"])
+        if op == "plant_open":
+            await close_conns(self.plant)
+            self.plant = await open_fleet(cmd["targets"])
+            return {"open": len(self.plant)}
+        if op == "plant_poll":
+            return await poll_fleet(
+                self.plant, cmd["interval"], cmd["duration"], cmd.get("slots", 0)
+            )
+        if op == "plant_close":
+            await close_conns(self.plant)
+            self.plant = []
+            return {"open": 0}
+        if op == "native_throughput":
+            return await native_throughput(
+                cmd["host"], cmd["port"], cmd["callers"], cmd["duration"]
+            )
         if op == "idle_open":
             self.idle += await open_conns(
                 connector(self.subject), cmd["host"], cmd["port"], cmd["count"]
@@ -274,8 +343,8 @@ def main() -> int:
                 answer = {"ok": False, "error": f"{type(exc).__name__}: {exc}"}
             sys.stdout.write(json.dumps(answer) + "\n")
             sys.stdout.flush()
-        if worker.idle:
-            runner.run(close_conns(worker.idle))
+        if worker.idle or worker.plant:
+            runner.run(close_conns([*worker.idle, *worker.plant]))
     return 0
 
 

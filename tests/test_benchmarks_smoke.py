@@ -9,13 +9,19 @@ from __future__ import annotations
 import asyncio
 import json
 import math
+import os
 import struct
+import subprocess
+import sys
 from collections.abc import AsyncIterator
 from pathlib import Path
+from subprocess import PIPE
+from typing import Any
 
 import pytest
+from support import IO_TIMEOUT
 
-from benchmarks import run, worker
+from benchmarks import plant, run, worker
 from benchmarks.floor import HEADER, STATUS, STATUS_PAYLOAD, VARIANTS, FloorClient, Variant, serve
 from benchmarks.report import (
     FLOOR,
@@ -30,6 +36,8 @@ from benchmarks.report import (
     render_checks,
     render_table,
 )
+from focas_net.server import FocasServer
+from focas_net.sim import default_machine
 
 HOST = "127.0.0.1"
 
@@ -245,3 +253,85 @@ def test_floor_server_and_client_processes(tmp_path: Path) -> None:
         server.stop()
     assert server.proc.returncode is not None
     assert client.proc.returncode == 0
+
+
+def test_process_tree_cpu_and_rss_count_the_children() -> None:
+    child = subprocess.Popen([sys.executable, "-c", "import sys; sys.stdin.read()"], stdin=PIPE)
+    try:
+        me = os.getpid()
+        assert child.pid in plant.process_tree(me)
+        assert plant.tree_rss_kib(me) > plant.tree_rss_kib(child.pid) > 0
+        assert plant.tree_cpu_seconds(me) >= plant.tree_cpu_seconds(child.pid) >= 0.0
+    finally:
+        assert child.stdin is not None
+        child.stdin.close()
+        child.wait(IO_TIMEOUT)
+    assert child.pid not in plant.process_tree(os.getpid())
+    waited = plant.cpu_pressure()
+    assert waited is None or 0.0 <= waited <= 1.0
+
+
+def _plant_rows(achieved: float, worst_ms: float, client: float, server: float) -> list[Row]:
+    rows = []
+    for name in ("plant", "plant_run"):
+        rows += [
+            Row(f"{name}_rate", FOCAS, "polls/s", [10_000 * achieved], "nominal", [achieved],
+                extra={"worst_ms": worst_ms}),
+            Row(f"{name}_client", FOCAS, "cores", [client]),
+            Row(f"{name}_server", FOCAS, "cores", [server]),
+        ]  # fmt: skip
+    return rows
+
+
+@pytest.mark.parametrize(
+    ("achieved", "worst_ms", "client", "server", "verdicts"),
+    [
+        (1.0, 10.0, 0.3, 0.3, ("PASS", "PASS")),
+        (0.98, 10.0, 0.3, 0.3, ("FAIL", "FAIL")),  # polls missed
+        (1.0, 60.0, 0.3, 0.3, ("FAIL", "FAIL")),  # a poll slower than 50 ms
+        (1.0, 10.0, 0.6, 0.3, ("FAIL", "FAIL")),  # the client over half a core
+        (1.0, 10.0, 0.3, 0.7, ("FAIL", "PASS")),  # the idle server over half a core
+    ],
+)
+def test_evaluate_plant_holds_every_target(
+    achieved: float, worst_ms: float, client: float, server: float, verdicts: tuple[str, str]
+) -> None:
+    rows = _plant_rows(achieved, worst_ms, client, server)
+    checks = plant.evaluate_plant(_results(rows), size=1000, ready_size=5000)
+    got = {c.name.split(":")[0]: c.verdict for c in checks}
+    assert (got["plant"], got["plant_run"]) == verdicts
+    assert got["plant_ready"] == "SKIP"
+    assert got["native seq"] == got["native pipe64"] == "SKIP"
+
+
+def test_evaluate_plant_start_and_native() -> None:
+    rows = [
+        Row("plant_ready", FOCAS, "s", [9.0, 16.0]),  # the slowest start counts
+        Row("plant_rss", FOCAS, "MiB", [300.0]),
+        Row("native_seq_server", FOCAS, "us/req", [60.0], "packed", [1.4]),
+        Row("native_pipe64_server", FOCAS, "us/req", [60.0], "packed", [1.6]),
+    ]
+    checks = {
+        c.name.split(":")[0]: c for c in plant.evaluate_plant(_results(rows), size=1, ready_size=2)
+    }
+    assert checks["plant_ready"].verdict == "FAIL"
+    assert "slowest start 16.0 s" in checks["plant_ready"].detail
+    assert checks["native seq"].verdict == "PASS"
+    assert checks["native pipe64"].verdict == "FAIL"
+    assert checks["plant"].verdict == "SKIP"
+
+
+async def test_worker_polls_a_fleet_over_connections_opened_once() -> None:
+    async with FocasServer([default_machine(), default_machine()], host=HOST, port=0) as server:
+        targets: list[list[Any]] = [[HOST, port] for _, port in server.addresses]
+        conns = await worker.open_fleet(targets)
+        try:
+            staggered = await worker.poll_fleet(conns, interval=0.05, duration=0.2)
+            together = await worker.poll_fleet(conns, interval=0.05, duration=0.2, slots=1)
+        finally:
+            await worker.close_conns(conns)
+    for r in (staggered, together):
+        assert r["due"] == 2 * 4  # 2 machines, 4 ticks each
+        assert 0 < r["polls"] <= r["due"]  # a tick that went by under load is skipped
+        assert r["errors"] == 0
+        assert r["worst_latency"] > 0.0

@@ -180,6 +180,17 @@ _I32_MIN: Final = -(2**31)
 _I32_MAX: Final = 2**31 - 1
 _QUANTA: Final = tuple(Decimal(1).scaleb(-d) for d in range(MAX_MACRO_DECIMALS + 1))
 _SERVED_PATHS: Final = frozenset({0, 1})
+#: Blocks whose answer follows the machine's status alone (``Machine.status_version``): a
+#: request of these only is answered from a memo while that version holds.
+_STATUS_BLOCKS: Final = frozenset(
+    (Device.CNC, command)
+    for command in (
+        NativeCommand.SYSINFO,
+        NativeCommand.STATINFO,
+        NativeCommand.STAT_HDCK,
+        NativeCommand.STAT_TMMODE,
+    )
+)
 #: Most alarm messages one block answers.
 _MAX_ALARMS: Final = 32
 #: Kind of a position read -> the machine's position kind.
@@ -352,6 +363,7 @@ class NativeAdapter:
         "_diag_numbers",
         "_handlers",
         "_max_blocks",
+        "_memo",
         "_own_session",
         "_param_numbers",
         "_scaled_zero",
@@ -387,6 +399,8 @@ class NativeAdapter:
         self._axis_names = [_axis_name(a) for a in machine.axes]
         self._status = b""
         self._status_version = -1
+        #: The last answer made of status blocks only: (request body, status version, frame).
+        self._memo: tuple[bytes, int, bytes] | None = None
         self._param_numbers = machine.param_numbers()
         self._diag_numbers = machine.diag_numbers()
         self._scaled_zero = _pack_scaled(0, 10, 0)
@@ -491,9 +505,21 @@ class NativeAdapter:
         answer can hold; everything else is answered in its block. A request of no block is
         answered with one EW_FUNC block (FANUC's library refuses an answer of no block).
         """
+        memo = self._memo
+        if memo is not None and memo[0] == body and memo[1] == self.machine.status_version:
+            return memo[2]  # a poller's cnc_statinfo again, the status unchanged
         blocks = self._blocks(body)
         if not blocks:
             blocks = (RequestBlock(Device.CNC, 1, 0),)
+        if all((b.device, b.command) in _STATUS_BLOCKS for b in blocks):
+            # Read before answering: a status that moves meanwhile only makes the memo miss.
+            version = self.machine.status_version
+            frame = self._answer(blocks, session)
+            self._memo = (bytes(body), version, frame)
+            return frame
+        return self._answer(blocks, session)
+
+    def _answer(self, blocks: tuple[RequestBlock, ...], session: Session | None) -> bytes:
         self._session = self._own_session if session is None else session
         count = len(blocks)
         parts: list[bytes] = [b"", _U16.pack(count)]

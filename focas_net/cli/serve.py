@@ -45,6 +45,7 @@ from focas_net.server import (
 )
 
 from ._args import EXIT_CNC, EXIT_USAGE, LISTEN_PORT, NON_NEGATIVE, POSITIVE, PROG, print_error
+from ._workers import MAX_WORKERS, fleet_indices, machines_per_process, run_workers
 
 if TYPE_CHECKING:
     from focas_net.sim import Machine
@@ -172,6 +173,14 @@ def register(subparsers: Any) -> None:
         "ports)",
     )
     p.add_argument(
+        "--workers",
+        type=POSITIVE,
+        default=1,
+        metavar="N",
+        help=f"serve the fleet from N processes (1..{MAX_WORKERS}), each the machines of a "
+        "contiguous slice of its ports (default %(default)s: this process)",
+    )
+    p.add_argument(
         "--param-password",
         type=_password,
         metavar="TEXT",
@@ -295,21 +304,28 @@ def check_options(args: argparse.Namespace) -> None:
     fleet = args.fleet
     if fleet > MAX_FLEET:
         raise ConfigError(f"--fleet {fleet}: at most {MAX_FLEET} machines")
+    workers = getattr(args, "workers", 1)
+    if workers > min(fleet, MAX_WORKERS):
+        raise ConfigError(
+            f"--workers {workers}: at most {MAX_WORKERS}, and no more than the {fleet} "
+            f"machine{'s' if fleet > 1 else ''} of --fleet"
+        )
     ranges = [("--port", args.port)]
     if args.native_port is not None:
         ranges.append(("--native-port", args.native_port))
+    served = len(fleet_indices(args))  # a worker checks the ports of its own slice
     for option, first in ranges:
-        if first and first + fleet - 1 > 65_535:
+        if first and first + served - 1 > 65_535:
             raise ConfigError(
                 f"--fleet {fleet} from {option} {first} runs past 65535 "
-                f"(the last machine would get port {first + fleet - 1})"
+                f"(the last machine would get port {first + served - 1})"
             )
     if args.port and args.native_port and abs(args.port - args.native_port) < fleet:
         raise ConfigError(
             f"--native-port {args.native_port} overlaps the ports "
             f"{args.port}..{args.port + fleet - 1} of --fleet {fleet}"
         )
-    sockets = fleet * (2 if args.native_port is not None else 1)
+    sockets = machines_per_process(args) * (2 if args.native_port is not None else 1)
     limit = _open_files_limit()
     if limit is not None and sockets + _RESERVED_FILES > limit:
         raise ConfigError(
@@ -341,7 +357,7 @@ def build_machines(args: argparse.Namespace) -> list[Machine]:
 
     clock = RealTimeClock(getattr(args, "speed", 1.0))  # one machine time for the whole fleet
     machines: list[Machine] = []
-    for i in range(args.fleet):
+    for i in fleet_indices(args):
         if args.machine is not None:
             try:
                 machine = load_machine(
@@ -429,6 +445,8 @@ def run(args: argparse.Namespace) -> int:
     try:
         check_options(args)  # every option, before anything is allocated
         ssl_context = _ssl_context(args)
+        if getattr(args, "workers", 1) > 1:
+            return run_workers(args)
         machines = build_machines(args)
     except ConfigError as exc:
         print_error(str(exc), _ERROR_PREFIX)

@@ -260,6 +260,9 @@ class Connection(asyncio.Protocol):
             self._slots_taken += 1  # a free slot: taken without suspending
         else:
             await self._wait_for_slot(command, deadline)
+        # The usual case is inlined (one call per request costs): _write's, _track's and
+        # _release_slot's fast paths, each falling back to the method otherwise.
+        entry: _Pending | None = None
         try:
             if self._closed_exc is not None:
                 raise NotSentError(str(self._closed_exc))
@@ -269,24 +272,39 @@ class Connection(asyncio.Protocol):
                 request_id = (request_id + 1) & _ID_MASK
             self._next_id = (request_id + 1) & _ID_MASK
             future: asyncio.Future[bytes] = self._loop.create_future()
-            if deadline is None:
-                entry = _Pending(future, command, request_id, _INF)
-                pending[request_id] = entry
-                self._write(_pack_header(len(payload) + 4, command, request_id) + payload)
+            entry = _Pending(future, command, request_id, _INF if deadline is None else deadline)
+            pending[request_id] = entry
+            frame = _pack_header(len(payload) + 4, command, request_id) + payload
+            buf = self._wbuf
+            if self._batch and (buf or len(pending) - self._abandoned > 1):
+                # Others in flight: frames written during this loop turn leave together.
+                buf.append(frame)
+                if len(buf) == 1:
+                    self._loop.call_soon(self._flush)
             else:
-                entry = _Pending(future, command, request_id, deadline)
-                pending[request_id] = entry
-                self._write(_pack_header(len(payload) + 4, command, request_id) + payload)
-                self._track(entry, deadline)
-            try:
-                return await future
-            finally:
-                # Still registered (on this connection, not one failed by a close): the
-                # caller gave up.
-                if self._pending.get(request_id) is entry:
-                    self._give_up(request_id)
+                # A lone request (sequential use) goes out at once.
+                assert self._transport is not None
+                self._transport.write(frame)
+            if deadline is not None:
+                queue = self._by_deadline
+                if (
+                    self._timer is not None
+                    and self._timer_when <= deadline
+                    and (not queue or queue[-1].deadline <= deadline)
+                ):
+                    queue.append(entry)  # in send order, the timer armed for an earlier one
+                else:
+                    self._track(entry, deadline)
+            return await future
         finally:
-            self._release_slot()
+            # Still registered (on this connection, not one failed by a close): the caller
+            # gave up.
+            if entry is not None and self._pending.get(entry.request_id) is entry:
+                self._give_up(entry.request_id)
+            if self._slot_waiters:
+                self._release_slot()  # hands the slot to the first in line
+            else:
+                self._slots_taken -= 1
 
     async def request_all(
         self,

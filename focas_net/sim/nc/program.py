@@ -12,6 +12,7 @@ alarm and raises it only when executed, as on a CNC.
 
 from __future__ import annotations
 
+import functools
 from collections.abc import Callable, Collection
 from dataclasses import dataclass, field
 from typing import Final
@@ -369,6 +370,10 @@ def _indexed(number: int, name: str, text: str, blocks: tuple[Block, ...]) -> Pr
     return Program(number, name, text, blocks, sequences, loops, errors)
 
 
+#: Parsed programs are immutable: a fleet of machines storing the same text shares one parse.
+_parse_shared: Final = functools.lru_cache(maxsize=32)(parse_program)
+
+
 class ProgramStore:
     """Programs keyed by O-number, with a CNC's checks: number range, duplicates, capacity
     (characters and count), and no deleting or replacing a program in use. ``in_use`` answers
@@ -421,7 +426,7 @@ class ProgramStore:
     def store(self, text: str, *, replace: bool = False) -> Program:
         """Parse and store one program; refuses a number already stored unless ``replace``
         (and never one in use), and text beyond the capacity or count."""
-        program = parse_program(text, self.max_number)
+        program = _parse_shared(text, self.max_number)
         number = program.number
         old = self._programs.get(number)
         if old is not None and not replace:
