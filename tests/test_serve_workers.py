@@ -113,6 +113,10 @@ def _options(*argv: str) -> argparse.Namespace:
         (("--fleet", "2", "--workers", "3"), "--workers 3: at most 64, and no more than the 2 "),
         (("--workers", "2"), "no more than the 1 machine of --fleet"),
         (("--fleet", "100", "--workers", "65"), "--workers 65: at most 64"),
+        (
+            ("--fleet", "4", "--workers", "2", "--web", "0"),
+            "--web shows the machines of one process, not of --workers 2",
+        ),
     ],
 )
 def test_too_many_workers_is_refused_naming_it(argv: tuple[str, ...], message: str) -> None:

@@ -310,6 +310,11 @@ def check_options(args: argparse.Namespace) -> None:
             f"--workers {workers}: at most {MAX_WORKERS}, and no more than the {fleet} "
             f"machine{'s' if fleet > 1 else ''} of --fleet"
         )
+    if workers > 1 and getattr(args, "web", None) is not None:
+        raise ConfigError(
+            f"--web shows the machines of one process, not of --workers {workers}: serve the "
+            "dashboard from a fleet without --workers"
+        )
     ranges = [("--port", args.port)]
     if args.native_port is not None:
         ranges.append(("--native-port", args.native_port))
