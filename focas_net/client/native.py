@@ -497,7 +497,8 @@ class NativeClient(_Lifecycle):
     the same results, exceptions, per-call ``timeout=`` and :class:`ReconnectPolicy`, plus
     :meth:`read_dynamic`, :meth:`read_timer`, :meth:`read_spindle_loads`,
     :meth:`read_servo_meters`, :meth:`read_cnc_id`, :meth:`read_sequence_number`,
-    :meth:`read_program_name` and :meth:`read_alarm_status`. Concurrent calls are gathered
+    :meth:`read_program_name`, :meth:`read_alarm_status` and :meth:`read_param_type` (in
+    place of ``read_param_attributes``). Concurrent calls are gathered
     into frames of at most ``max_blocks`` blocks (see the module docstring).
     """
 
@@ -1118,6 +1119,19 @@ class NativeClient(_Lifecycle):
         4 bytes, or 8 for a real parameter's REALPRM with its ``decimals``), as the packed
         client gives it."""
         return await self._read_param_value(number, axis, self._deadline(timeout))
+
+    async def read_param_type(
+        self, number: int, *, axis: int = 0, timeout: float | None = None
+    ) -> ParamDataType | None:
+        """The data type of parameter ``number`` (bit, byte, word, two-word, real) from the
+        type word of its ``cnc_rdparam`` record, None for a word FANUC does not number.
+
+        This stands in for the packed client's ``read_param_attributes``: FOCAS/2's
+        ``cnc_rdparainfo`` answer has the type in two bits (no real type), and no decimals or
+        range, while the record of ``cnc_rdparam`` names all five types."""
+        await self._read_param_value(number, axis, self._deadline(timeout))
+        ptype = self._param_types[number]
+        return ParamDataType(ptype) if ptype in ParamDataType._value2member_map_ else None
 
     async def read_param(self, number: int, *, axis: int = 0, timeout: float | None = None) -> int:
         """``cnc_rdparam``: the value of parameter ``number`` (``axis`` 1..n for axis items).
