@@ -14,7 +14,8 @@ checker matches them by their methods.
 from __future__ import annotations
 
 from decimal import Decimal
-from typing import Protocol
+from types import TracebackType
+from typing import Protocol, Self
 
 from ..protocol import (
     ActiveAlarm,
@@ -54,6 +55,15 @@ class CncClient(Protocol):
     async def connect(self) -> None: ...
 
     async def aclose(self) -> None: ...
+
+    async def __aenter__(self) -> Self: ...
+
+    async def __aexit__(
+        self,
+        exc_type: type[BaseException] | None,
+        exc: BaseException | None,
+        tb: TracebackType | None,
+    ) -> None: ...
 
     async def read_status(self, *, timeout: float | None = None) -> StatusInfo: ...
 
