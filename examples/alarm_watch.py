@@ -9,7 +9,8 @@ and "history" events, each history entry exactly once. Unless ``--watch-only`` i
 script also drives the simulated CNC: it raises two alarms and clears them again through
 simulator control (a packed-protocol client of its own; with ``--protocol native`` the
 projection follows over FOCAS/2 Ethernet, as it would a real control). It stops after
-``--events`` events, or with exit code 1 when they do not all arrive within ``--seconds``. """
+``--events`` events, or with exit code 1 when they do not all arrive within ``--seconds``.
+"""
 
 from __future__ import annotations
 

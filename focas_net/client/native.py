@@ -152,6 +152,8 @@ _MAX_ACTIVE_ALARMS: Final = 32
 _ALARM_TEXT: Final = 64
 _U16_LIMIT: Final = 0x10000
 _DATA_ANSWER: Final = FrameType.DATA_RESPONSE >> 8
+#: The read buffer limit of each connection (``asyncio.open_connection``'s default).
+_STREAM_LIMIT: Final = 2**16
 _I32: Final = struct.Struct(">i")
 _ERROR_WORDS: Final = struct.Struct(">hhhh")
 _PARAM_WIDTH: Final[dict[int, int]] = {
@@ -214,6 +216,33 @@ class _Lost(Exception):
     """The connection pair cannot carry any further frame."""
 
 
+class _Watched(asyncio.StreamReaderProtocol):
+    """A stream protocol that counts the bytes it received and calls ``notify`` (when set) on
+    data, end of file and loss: the pump of an idle connection waits on that, not on a read."""
+
+    def __init__(self, reader: asyncio.StreamReader) -> None:
+        super().__init__(reader)
+        self.received = 0
+        self.notify: Callable[[], None] | None = None
+
+    def data_received(self, data: bytes) -> None:
+        super().data_received(data)
+        self.received += len(data)
+        if self.notify is not None:
+            self.notify()
+
+    def eof_received(self) -> bool:
+        keep_open = super().eof_received()
+        if self.notify is not None:
+            self.notify()
+        return keep_open
+
+    def connection_lost(self, exc: Exception | None) -> None:
+        super().connection_lost(exc)
+        if self.notify is not None:
+            self.notify()
+
+
 async def _read_frame(reader: asyncio.StreamReader) -> tuple[int, int, bytes]:
     """``(version, type, body)`` of the next frame; :class:`_Lost` when it is not one."""
     try:
@@ -258,6 +287,12 @@ class _Handle:
     ) -> None:
         self.reader_a, self.writer_a = a
         self.reader_b, self.writer_b = b
+        protocol = self.writer_b.transport.get_protocol()
+        assert isinstance(protocol, _Watched)
+        self.protocol_b = protocol
+        #: Bytes of B's frames read so far (the open answer, read whole, included): more
+        #: received than this is what nobody asked for.
+        self.consumed_b = protocol.received
         self.opened = opened
         self.version = opened.version
         self.command_set = CommandSet.for_version(opened.version)
@@ -286,10 +321,27 @@ class _Handle:
         size as answers)."""
         return self.limit - 2 - REQUEST_BLOCK_SIZE
 
+    async def read_b(self) -> tuple[int, int, bytes]:
+        """The next frame on B, counted."""
+        frame = await _read_frame(self.reader_b)
+        self.consumed_b += NATIVE_HEADER_SIZE + len(frame[2])
+        return frame
+
+    def check_idle(self) -> None:
+        """:class:`_Lost` when B, with no frame in flight, was closed or received bytes."""
+        reader = self.reader_b
+        if self.protocol_b.received > self.consumed_b:
+            raise _Lost("unsolicited data on B")
+        exc = reader.exception()
+        if exc is not None:
+            raise _Lost(f"connection closed ({exc!r})")
+        if reader.at_eof():
+            raise _Lost("connection closed by the CNC")
+
     async def exchange(self, requests: Sequence[NativeRequest]) -> tuple[ResponseBlock, ...]:
         """One data frame on B and its answer (used while connecting, before the pump)."""
         self.writer_b.write(encode_request([r.to_block(_PATH) for r in requests]))
-        return self.check_answer(await _read_frame(self.reader_b), len(requests))
+        return self.check_answer(await self.read_b(), len(requests))
 
     def check_answer(self, frame: tuple[int, int, bytes], count: int) -> tuple[ResponseBlock, ...]:
         """The blocks of a data answer, checked as FANUC's library checks them."""
@@ -346,7 +398,11 @@ async def _open_tcp(
 ) -> tuple[asyncio.StreamReader, asyncio.StreamWriter]:
     try:
         async with asyncio.timeout_at(deadline):
-            return await asyncio.open_connection(host, port)
+            loop = asyncio.get_running_loop()
+            reader = asyncio.StreamReader(limit=_STREAM_LIMIT, loop=loop)
+            protocol = _Watched(reader)
+            transport, _ = await loop.create_connection(lambda: protocol, host, port)
+            return reader, asyncio.StreamWriter(transport, protocol, reader, loop)
     except TimeoutError:
         raise FocasTimeoutError(f"connecting to {host}:{port} timed out") from None
     except OSError as exc:
@@ -600,6 +656,8 @@ class NativeClient(_Lifecycle):
             task.cancel()
         loop = self._loop or asyncio.get_running_loop()
         self._handle = handle
+        assert self._wake is not None
+        handle.protocol_b.notify = self._wake.set
         self._up_since = loop.time()
         self._pump_task = loop.create_task(self._pump(handle), name=f"focas-native {self.host}")
         self._set_state(ClientState.CONNECTED)
@@ -777,8 +835,9 @@ class NativeClient(_Lifecycle):
         try:
             while True:
                 while not self._queue:
+                    handle.check_idle()
                     wake.clear()
-                    await self._idle(handle, wake)
+                    await wake.wait()  # set by a call, or by B's data, end or loss
                 batch = self._take(handle)
                 if not batch:
                     continue
@@ -792,7 +851,7 @@ class NativeClient(_Lifecycle):
                 deadline = None if None in deadlines else max(d for d in deadlines if d is not None)
                 try:
                     async with asyncio.timeout_at(deadline):
-                        frame = await _read_frame(handle.reader_b)
+                        frame = await handle.read_b()
                 except TimeoutError:
                     _fail(
                         batch,
@@ -821,26 +880,6 @@ class NativeClient(_Lifecycle):
         except asyncio.CancelledError:
             _fail(batch, lambda: FocasConnectionError("client is closed"))
             raise
-
-    @staticmethod
-    async def _idle(handle: _Handle, wake: asyncio.Event) -> None:
-        """Wait for a call while watching B: a CNC closing it (or sending what nobody asked
-        for) ends the connection now, not at the next call."""
-        watch = asyncio.ensure_future(handle.reader_b.read(1))
-        waiter = asyncio.ensure_future(wake.wait())
-        try:
-            await asyncio.wait((watch, waiter), return_when=asyncio.FIRST_COMPLETED)
-        finally:
-            waiter.cancel()
-            if not watch.done():
-                watch.cancel()
-            await asyncio.wait((watch, waiter))
-        if watch.cancelled():
-            return
-        exc = watch.exception()
-        if exc is not None:
-            raise _Lost(f"connection closed ({exc!r})")
-        raise _Lost("unsolicited data on B" if watch.result() else "connection closed by the CNC")
 
     # -- status and identity -------------------------------------------------------------
     async def read_status(self, *, timeout: float | None = None) -> StatusInfo:
