@@ -242,6 +242,10 @@ class Worker:
             )
         if op == "fleet":
             return await fleet(cmd["targets"], cmd["interval"], cmd["duration"])
+        if op.startswith("native_"):  # the native FOCAS/2 suite (benchmarks/native.py)
+            from benchmarks import native
+
+            return await native.handle(self.subject, cmd)
         if op == "idle_open":
             self.idle += await open_conns(
                 connector(self.subject), cmd["host"], cmd["port"], cmd["count"]

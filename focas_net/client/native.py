@@ -58,6 +58,7 @@ from focas_net.errors import (
 from ..native import calls
 from ..native.blocks import (
     REQUEST_BLOCK_SIZE,
+    BlockCount,
     ResponseBlock,
     answer_refusal,
     decode_response_body,
@@ -65,11 +66,13 @@ from ..native.blocks import (
 )
 from ..native.calls import CommandSet, LibraryCall
 from ..native.frame import (
+    CLIENT_VERSION,
     MAGIC,
     NATIVE_HEADER,
     NATIVE_HEADER_SIZE,
     FrameType,
     encode_close_request,
+    encode_native_frame,
     encode_open_request,
     max_response_body,
 )
@@ -155,6 +158,7 @@ _DATA_ANSWER: Final = FrameType.DATA_RESPONSE >> 8
 #: The read buffer limit of each connection (``asyncio.open_connection``'s default).
 _STREAM_LIMIT: Final = 2**16
 _I32: Final = struct.Struct(">i")
+_COUNT: Final = BlockCount.STRUCT
 _ERROR_WORDS: Final = struct.Struct(">hhhh")
 _PARAM_WIDTH: Final[dict[int, int]] = {
     ParamType.BIT: 1,
@@ -216,6 +220,15 @@ class _Lost(Exception):
     """The connection pair cannot carry any further frame."""
 
 
+class _Expired(Exception):
+    """A deadline passed: a call's (set on its future) or a frame's (set on B's reader)."""
+
+
+def _expire(future: asyncio.Future[Any]) -> None:
+    if not future.done():
+        future.set_exception(_Expired())
+
+
 class _Watched(asyncio.StreamReaderProtocol):
     """A stream protocol that counts the bytes it received and calls ``notify`` (when set) on
     data, end of file and loss: the pump of an idle connection waits on that, not on a read."""
@@ -231,7 +244,7 @@ class _Watched(asyncio.StreamReaderProtocol):
         if self.notify is not None:
             self.notify()
 
-    def eof_received(self) -> bool:
+    def eof_received(self) -> bool | None:
         keep_open = super().eof_received()
         if self.notify is not None:
             self.notify()
@@ -254,6 +267,57 @@ async def _read_frame(reader: asyncio.StreamReader) -> tuple[int, int, bytes]:
     except (asyncio.IncompleteReadError, ConnectionError, OSError) as exc:
         raise _Lost(f"connection closed ({exc!r})") from exc
     return version, frame_type, body
+
+
+class _Memo:
+    """A bounded memo of pure results (emptied when full): the encoded block of a request,
+    the blocks of an answer body, the decoded data of an answer block. Requests, bodies and
+    decoded records are immutable, so a poll that repeats the same call and gets the same
+    answer encodes and decodes nothing again."""
+
+    __slots__ = ("_items", "_size")
+
+    def __init__(self, size: int) -> None:
+        self._items: dict[Any, Any] = {}
+        self._size = size
+
+    def get(self, key: Any) -> Any:
+        return self._items.get(key)
+
+    def put(self, key: Any, value: Any) -> None:
+        if len(self._items) >= self._size:
+            self._items.clear()
+        self._items[key] = value
+
+
+#: (request, max axes) -> (its block's bytes, the most answer bytes, the request bytes).
+_BLOCKS: Final = _Memo(1024)
+#: answer body -> its blocks.
+_BODIES: Final = _Memo(512)
+#: (request, max axes, answer data) -> the decoded answer.
+_ANSWERS: Final = _Memo(1024)
+
+
+def _block_of(request: NativeRequest, max_axes: int) -> tuple[bytes, int, int]:
+    """The bytes of ``request``'s block, the most answer bytes it can get and its size."""
+    key: tuple[NativeRequest, int] | None = (request, max_axes)
+    try:
+        known: tuple[bytes, int, int] | None = _BLOCKS.get(key)
+    except TypeError:  # a request with an unhashable field: not remembered
+        key, known = None, None
+    if known is not None:
+        return known
+    encoded = request.to_block(_PATH).encode()
+    value = (encoded, _answer_size(request, max_axes), len(encoded))
+    if key is not None:
+        _BLOCKS.put(key, value)
+    return value
+
+
+def _frame_of(requests: Sequence[NativeRequest], max_axes: int) -> bytes:
+    """The data-request frame carrying ``requests`` (as :func:`encode_request` builds it)."""
+    body = _COUNT.pack(len(requests)) + b"".join(_block_of(r, max_axes)[0] for r in requests)
+    return encode_native_frame(FrameType.DATA_REQUEST, body, CLIENT_VERSION)
 
 
 def _answer_size(request: NativeRequest, max_axes: int) -> int:
@@ -327,6 +391,10 @@ class _Handle:
         self.consumed_b += NATIVE_HEADER_SIZE + len(frame[2])
         return frame
 
+    def expire_b(self) -> None:
+        """The deadline of the frame in flight passed: B's pending read raises _Expired."""
+        self.reader_b.set_exception(_Expired())
+
     def check_idle(self) -> None:
         """:class:`_Lost` when B, with no frame in flight, was closed or received bytes."""
         reader = self.reader_b
@@ -356,10 +424,15 @@ class _Handle:
         refusal = answer_refusal(body, count, version)
         if refusal is not None:
             raise _Lost(f"data answer refused: {refusal}")
+        known: tuple[ResponseBlock, ...] | None = _BODIES.get(body)
+        if known is not None:
+            return known
         try:
-            return decode_response_body(body)
+            blocks = decode_response_body(body)
         except ProtocolError as exc:
             raise _Lost(str(exc)) from exc
+        _BODIES.put(body, blocks)
+        return blocks
 
     def abort(self) -> None:
         self.closed = True
@@ -526,12 +599,22 @@ def _check(block: ResponseBlock, function: str) -> bytes:
 
 def _decode(request: NativeRequest, block: ResponseBlock, function: str, max_axes: int) -> Any:
     data = _check(block, function)
+    key: tuple[NativeRequest, int, bytes] | None = (request, max_axes, data)
     try:
-        return request.decode_answer(data, max_axes)
+        known = _ANSWERS.get(key)
+    except TypeError:  # a request with an unhashable field: not remembered
+        key, known = None, None
+    if known is not None:
+        return known
+    try:
+        value = request.decode_answer(data, max_axes)
     except (ProtocolError, ValueError, struct.error) as exc:
         raise PayloadError(
             f"{function}: answer to 0x{request.COMMAND:X} does not decode: {exc}"
         ) from None
+    if key is not None:
+        _ANSWERS.put(key, value)
+    return value
 
 
 def _text(raw: bytes | str) -> str:
@@ -767,12 +850,11 @@ class NativeClient(_Lifecycle):
         self._queue.append(job)
         assert self._wake is not None
         self._wake.set()
+        # One timer per call (cheaper than a timeout scope): it fails the job's future.
+        timer = None if deadline is None else loop.call_at(deadline, _expire, job.future)
         try:
-            async with asyncio.timeout_at(deadline):
-                return await job.future
-        except TimeoutError:
-            if job.future.done() and not job.future.cancelled():
-                raise
+            return await job.future
+        except _Expired:
             if not job.sent and self._state is ClientState.RECONNECTING:
                 raise FocasConnectionError(
                     f"still reconnecting to {self.host}:{self.port} when the call timed out"
@@ -782,6 +864,8 @@ class NativeClient(_Lifecycle):
                 + ("" if job.sent else " (the request was never sent)")
             ) from None
         finally:
+            if timer is not None:
+                timer.cancel()
             if not job.future.done():
                 job.future.cancel()
 
@@ -812,8 +896,11 @@ class NativeClient(_Lifecycle):
                 )
                 continue
             count = len(job.requests)
-            need = sum(_answer_size(r, handle.max_axes) for r in job.requests)
-            send = sum(REQUEST_BLOCK_SIZE + len(r.extra()) for r in job.requests)
+            need = send = 0
+            for r in job.requests:
+                _, answer_size, request_size = _block_of(r, handle.max_axes)
+                need += answer_size
+                send += request_size
             if batch and (
                 blocks + count > self.max_blocks
                 or size + need > handle.limit
@@ -831,6 +918,7 @@ class NativeClient(_Lifecycle):
         """Send the queued jobs, one frame in flight, and hand each its answer blocks."""
         wake = self._wake
         assert wake is not None
+        loop = asyncio.get_running_loop()
         batch: list[_Job] = []
         try:
             while True:
@@ -842,17 +930,18 @@ class NativeClient(_Lifecycle):
                 if not batch:
                     continue
                 requests = [r for job in batch for r in job.requests]
-                handle.writer_b.write(encode_request([r.to_block(_PATH) for r in requests]))
+                handle.writer_b.write(_frame_of(requests, handle.max_axes))
                 for job in batch:
                     job.sent = True
                 self.frames_sent += 1
                 self.blocks_sent += len(requests)
                 deadlines = [job.deadline for job in batch]
                 deadline = None if None in deadlines else max(d for d in deadlines if d is not None)
+                # The frame's deadline makes B's reader raise _Expired (then B is closed).
+                timer = None if deadline is None else loop.call_at(deadline, handle.expire_b)
                 try:
-                    async with asyncio.timeout_at(deadline):
-                        frame = await handle.read_b()
-                except TimeoutError:
+                    frame = await handle.read_b()
+                except _Expired:
                     _fail(
                         batch,
                         lambda: FocasTimeoutError(
@@ -860,6 +949,9 @@ class NativeClient(_Lifecycle):
                         ),
                     )
                     raise _Lost("no answer within the timeout") from None
+                finally:
+                    if timer is not None:
+                        timer.cancel()
                 try:
                     blocks = handle.check_answer(frame, len(requests))
                 except CncError as exc:
