@@ -1,8 +1,8 @@
-"""The native client's pump between frames: what an idle connection costs and what it notices.
+"""The native client between frames: what an idle connection costs and what it notices.
 
-While no call is queued the pump watches connection B, so a CNC that closes it, or sends what
-nobody asked for, ends the connection at once rather than at the next call; a call costs no
-task of its own.
+B's bytes are parsed as they arrive, so a CNC that closes B, or sends what nobody asked for
+while no frame is in flight, ends the connection at once rather than at the next call; a call
+costs no task of its own.
 """
 
 from __future__ import annotations

@@ -42,6 +42,7 @@ from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 from datetime import UTC, datetime
 from decimal import Decimal
+from functools import partial
 from typing import Any, Final
 
 from focas_net.errors import (
@@ -159,6 +160,7 @@ _DATA_ANSWER: Final = FrameType.DATA_RESPONSE >> 8
 _STREAM_LIMIT: Final = 2**16
 _I32: Final = struct.Struct(">i")
 _COUNT: Final = BlockCount.STRUCT
+_MAGIC: Final = int.from_bytes(MAGIC, "big")
 _ERROR_WORDS: Final = struct.Struct(">hhhh")
 _PARAM_WIDTH: Final[dict[int, int]] = {
     ParamType.BIT: 1,
@@ -230,30 +232,31 @@ def _expire(future: asyncio.Future[Any]) -> None:
 
 
 class _Watched(asyncio.StreamReaderProtocol):
-    """A stream protocol that counts the bytes it received and calls ``notify`` (when set) on
-    data, end of file and loss: the pump of an idle connection waits on that, not on a read."""
+    """A stream protocol whose data, once ``on_data`` is set, goes to the client's frame
+    parser instead of the stream reader (the reader serves the open and close exchanges); end
+    of file and loss are reported to ``on_end``."""
 
     def __init__(self, reader: asyncio.StreamReader) -> None:
         super().__init__(reader)
-        self.received = 0
-        self.notify: Callable[[], None] | None = None
+        self.on_data: Callable[[bytes], None] | None = None
+        self.on_end: Callable[[Exception | None], None] | None = None
 
     def data_received(self, data: bytes) -> None:
-        super().data_received(data)
-        self.received += len(data)
-        if self.notify is not None:
-            self.notify()
+        if self.on_data is not None:
+            self.on_data(data)
+        else:
+            super().data_received(data)
 
     def eof_received(self) -> bool | None:
         keep_open = super().eof_received()
-        if self.notify is not None:
-            self.notify()
+        if self.on_end is not None:
+            self.on_end(None)
         return keep_open
 
     def connection_lost(self, exc: Exception | None) -> None:
         super().connection_lost(exc)
-        if self.notify is not None:
-            self.notify()
+        if self.on_end is not None:
+            self.on_end(exc)
 
 
 async def _read_frame(reader: asyncio.StreamReader) -> tuple[int, int, bytes]:
@@ -292,7 +295,7 @@ class _Memo:
 
 #: (request, max axes) -> (its block's bytes, the most answer bytes, the request bytes).
 _BLOCKS: Final = _Memo(1024)
-#: answer body -> its blocks.
+#: (answer frame, request block count) -> its blocks, as checked.
 _BODIES: Final = _Memo(512)
 #: (request, max axes, answer data) -> the decoded answer.
 _ANSWERS: Final = _Memo(1024)
@@ -354,9 +357,12 @@ class _Handle:
         protocol = self.writer_b.transport.get_protocol()
         assert isinstance(protocol, _Watched)
         self.protocol_b = protocol
-        #: Bytes of B's frames read so far (the open answer, read whole, included): more
-        #: received than this is what nobody asked for.
-        self.consumed_b = protocol.received
+        #: The frame in flight on B: its jobs, its block count, its deadline's timer; and the
+        #: bytes of B received and not yet parsed into a frame.
+        self.inflight: list[_Job] | None = None
+        self.inflight_blocks = 0
+        self.timer: asyncio.TimerHandle | None = None
+        self.rx = bytearray()
         self.opened = opened
         self.version = opened.version
         self.command_set = CommandSet.for_version(opened.version)
@@ -385,34 +391,29 @@ class _Handle:
         size as answers)."""
         return self.limit - 2 - REQUEST_BLOCK_SIZE
 
-    async def read_b(self) -> tuple[int, int, bytes]:
-        """The next frame on B, counted."""
-        frame = await _read_frame(self.reader_b)
-        self.consumed_b += NATIVE_HEADER_SIZE + len(frame[2])
-        return frame
-
-    def expire_b(self) -> None:
-        """The deadline of the frame in flight passed: B's pending read raises _Expired."""
-        self.reader_b.set_exception(_Expired())
-
-    def check_idle(self) -> None:
-        """:class:`_Lost` when B, with no frame in flight, was closed or received bytes."""
-        reader = self.reader_b
-        if self.protocol_b.received > self.consumed_b:
-            raise _Lost("unsolicited data on B")
-        exc = reader.exception()
-        if exc is not None:
-            raise _Lost(f"connection closed ({exc!r})")
-        if reader.at_eof():
-            raise _Lost("connection closed by the CNC")
+    def detach(self) -> list[_Job]:
+        """Stop parsing B's frames (its data goes to the reader again, for the close
+        exchange); the jobs of the frame in flight, now nobody's."""
+        self.protocol_b.on_data = self.protocol_b.on_end = None
+        if self.timer is not None:
+            self.timer.cancel()
+            self.timer = None
+        batch, self.inflight = self.inflight or [], None
+        return batch
 
     async def exchange(self, requests: Sequence[NativeRequest]) -> tuple[ResponseBlock, ...]:
-        """One data frame on B and its answer (used while connecting, before the pump)."""
+        """One data frame on B and its answer (used while connecting, before frames are
+        parsed by the client)."""
         self.writer_b.write(encode_request([r.to_block(_PATH) for r in requests]))
-        return self.check_answer(await self.read_b(), len(requests))
+        return self.check_answer(await _read_frame(self.reader_b), len(requests))
 
     def check_answer(self, frame: tuple[int, int, bytes], count: int) -> tuple[ResponseBlock, ...]:
-        """The blocks of a data answer, checked as FANUC's library checks them."""
+        """The blocks of a data answer, checked as FANUC's library checks them (an answer
+        already taken is taken again without a second walk)."""
+        key = (frame, count)
+        known: tuple[ResponseBlock, ...] | None = _BODIES.get(key)
+        if known is not None:
+            return known
         version, frame_type, body = frame
         if frame_type >> 8 != _DATA_ANSWER:
             raise _Lost(f"answer of frame type 0x{frame_type:04X} to a data request")
@@ -424,14 +425,11 @@ class _Handle:
         refusal = answer_refusal(body, count, version)
         if refusal is not None:
             raise _Lost(f"data answer refused: {refusal}")
-        known: tuple[ResponseBlock, ...] | None = _BODIES.get(body)
-        if known is not None:
-            return known
         try:
             blocks = decode_response_body(body)
         except ProtocolError as exc:
             raise _Lost(str(exc)) from exc
-        _BODIES.put(body, blocks)
+        _BODIES.put(key, blocks)
         return blocks
 
     def abort(self) -> None:
@@ -661,12 +659,11 @@ class NativeClient(_Lifecycle):
         self.timeout = timeout
         self.max_blocks = max_blocks
         self._handle: _Handle | None = None
-        self._pump_task: asyncio.Task[None] | None = None
         self._reconnect_task: asyncio.Task[None] | None = None
         self._loop: asyncio.AbstractEventLoop | None = None
         self._ready: asyncio.Event | None = None
-        self._wake: asyncio.Event | None = None
         self._queue: deque[_Job] = deque()
+        self._kick_soon = False
         self._backoff = 0
         self._up_since = 0.0
         self._param_widths: dict[int, int] = {}
@@ -702,7 +699,6 @@ class NativeClient(_Lifecycle):
         self._loop = asyncio.get_running_loop()
         if self._ready is None:
             self._ready = asyncio.Event()
-            self._wake = asyncio.Event()
         handle = await _open_handle(self.host, self.port, self._deadline(None))
         if self.state is ClientState.CLOSED:  # closed while connecting
             handle.abort()
@@ -720,14 +716,12 @@ class NativeClient(_Lifecycle):
         if task is not None and not task.done():
             task.cancel()
             await asyncio.wait([task])
-        pump, self._pump_task = self._pump_task, None
-        if pump is not None and not pump.done():
-            pump.cancel()
-            await asyncio.wait([pump])
+        handle, self._handle = self._handle, None
+        if handle is not None:
+            _fail(handle.detach(), lambda: FocasConnectionError("client is closed"))
         queued = list(self._queue)
         self._queue.clear()
         _fail(queued, lambda: FocasConnectionError("client is closed"))
-        handle, self._handle = self._handle, None
         if self._ready is not None:
             self._ready.set()
         if handle is not None:
@@ -739,14 +733,18 @@ class NativeClient(_Lifecycle):
             task.cancel()
         loop = self._loop or asyncio.get_running_loop()
         self._handle = handle
-        assert self._wake is not None
-        handle.protocol_b.notify = self._wake.set
+        protocol = handle.protocol_b
+        protocol.on_data = partial(self._on_data, handle)
+        protocol.on_end = partial(self._on_end, handle)
         self._up_since = loop.time()
-        self._pump_task = loop.create_task(self._pump(handle), name=f"focas-native {self.host}")
         self._set_state(ClientState.CONNECTED)
-        assert self._ready is not None and self._wake is not None
+        assert self._ready is not None
         self._ready.set()
-        self._wake.set()
+        reader = handle.reader_b
+        if reader.exception() is not None or reader.at_eof():  # B ended while connecting
+            self._lose(handle, _Lost("connection closed by the CNC"))
+            return
+        self._kick(handle)
 
     def _on_lost(self, handle: _Handle, exc: BaseException | None) -> None:
         if handle is not self._handle:
@@ -848,8 +846,11 @@ class NativeClient(_Lifecycle):
         loop = self._loop or asyncio.get_running_loop()
         job = _Job(requests, command_set, deadline, loop.create_future())
         self._queue.append(job)
-        assert self._wake is not None
-        self._wake.set()
+        handle = self._handle
+        if handle is not None and handle.inflight is None and not self._kick_soon:
+            # at the end of this loop turn, so that calls made together share the frame
+            self._kick_soon = True
+            loop.call_soon(self._kick_later, handle)
         # One timer per call (cheaper than a timeout scope): it fails the job's future.
         timer = None if deadline is None else loop.call_at(deadline, _expire, job.future)
         try:
@@ -914,64 +915,103 @@ class NativeClient(_Lifecycle):
             sent += send
         return batch
 
-    async def _pump(self, handle: _Handle) -> None:
-        """Send the queued jobs, one frame in flight, and hand each its answer blocks."""
-        wake = self._wake
-        assert wake is not None
-        loop = asyncio.get_running_loop()
-        batch: list[_Job] = []
+    def _kick_later(self, handle: _Handle) -> None:
+        self._kick_soon = False
+        self._kick(handle)
+
+    def _kick(self, handle: _Handle) -> None:
+        """Send the next frame of queued jobs on ``handle`` unless one is in flight."""
+        if handle.inflight is not None or handle is not self._handle or handle.closed:
+            return
+        batch = self._take(handle)
+        if not batch:
+            return
+        requests = [r for job in batch for r in job.requests]
+        handle.writer_b.write(_frame_of(requests, handle.max_axes))
+        for job in batch:
+            job.sent = True
+        self.frames_sent += 1
+        self.blocks_sent += len(requests)
+        handle.inflight = batch
+        handle.inflight_blocks = len(requests)
+        deadlines = [job.deadline for job in batch]
+        if None not in deadlines:
+            deadline = max(d for d in deadlines if d is not None)
+            loop = self._loop or asyncio.get_running_loop()
+            handle.timer = loop.call_at(deadline, self._frame_expired, handle)
+
+    def _on_data(self, handle: _Handle, data: bytes) -> None:
+        """B's bytes: complete the frame in flight with its answer, then send the next one.
+        Bytes while no frame is in flight are what nobody asked for: the connection ends."""
+        rx = handle.rx
+        rx += data
+        while len(rx) >= NATIVE_HEADER_SIZE:
+            magic, version, frame_type, length = NATIVE_HEADER.unpack_from(rx)
+            if magic != _MAGIC:
+                self._lose(handle, _Lost("answer does not start with A0 A0 A0 A0"))
+                return
+            end = NATIVE_HEADER_SIZE + length
+            if len(rx) < end:
+                break
+            body = bytes(rx[NATIVE_HEADER_SIZE:end])
+            del rx[:end]
+            if handle.inflight is None:
+                self._lose(handle, _Lost("unsolicited data on B"))
+                return
+            self._complete(handle, (version, frame_type, body))
+            if handle is not self._handle:
+                return
+        if rx and handle.inflight is None:
+            self._lose(handle, _Lost("unsolicited data on B"))
+            return
+        self._kick(handle)
+
+    def _complete(self, handle: _Handle, frame: tuple[int, int, bytes]) -> None:
+        """Hand each job of the frame in flight its answer blocks."""
+        batch = handle.inflight or []
+        if handle.timer is not None:
+            handle.timer.cancel()
+            handle.timer = None
         try:
-            while True:
-                while not self._queue:
-                    handle.check_idle()
-                    wake.clear()
-                    await wake.wait()  # set by a call, or by B's data, end or loss
-                batch = self._take(handle)
-                if not batch:
-                    continue
-                requests = [r for job in batch for r in job.requests]
-                handle.writer_b.write(_frame_of(requests, handle.max_axes))
-                for job in batch:
-                    job.sent = True
-                self.frames_sent += 1
-                self.blocks_sent += len(requests)
-                deadlines = [job.deadline for job in batch]
-                deadline = None if None in deadlines else max(d for d in deadlines if d is not None)
-                # The frame's deadline makes B's reader raise _Expired (then B is closed).
-                timer = None if deadline is None else loop.call_at(deadline, handle.expire_b)
-                try:
-                    frame = await handle.read_b()
-                except _Expired:
-                    _fail(
-                        batch,
-                        lambda: FocasTimeoutError(
-                            f"no answer from {self.host}:{self.port}; the connection is closed"
-                        ),
-                    )
-                    raise _Lost("no answer within the timeout") from None
-                finally:
-                    if timer is not None:
-                        timer.cancel()
-                try:
-                    blocks = handle.check_answer(frame, len(requests))
-                except CncError as exc:
-                    _fail(batch, CncError.from_ew, exc.ew, exc.detail)
-                    batch = []
-                    continue
-                pos = 0
-                for job in batch:
-                    count = len(job.requests)
-                    if not job.future.done():
-                        job.future.set_result(blocks[pos : pos + count])
-                    pos += count
-                batch = []
+            blocks = handle.check_answer(frame, handle.inflight_blocks)
+        except CncError as exc:
+            handle.inflight = None
+            _fail(batch, CncError.from_ew, exc.ew, exc.detail)
+            return
         except _Lost as exc:
-            lost = f"connection to {self.host}:{self.port} lost after the request was sent ({exc})"
-            _fail(batch, FocasConnectionError, lost)
-            self._on_lost(handle, exc)
-        except asyncio.CancelledError:
-            _fail(batch, lambda: FocasConnectionError("client is closed"))
-            raise
+            self._lose(handle, exc)
+            return
+        handle.inflight = None
+        pos = 0
+        for job in batch:
+            count = len(job.requests)
+            if not job.future.done():
+                job.future.set_result(blocks[pos : pos + count])
+            pos += count
+
+    def _frame_expired(self, handle: _Handle) -> None:
+        """The latest deadline of the frame in flight passed without its answer: no later
+        answer could be told from the next frame's, so the connection is closed."""
+        handle.timer = None
+        batch, handle.inflight = handle.inflight or [], None
+        _fail(
+            batch,
+            lambda: FocasTimeoutError(
+                f"no answer from {self.host}:{self.port}; the connection is closed"
+            ),
+        )
+        self._lose(handle, _Lost("no answer within the timeout"))
+
+    def _on_end(self, handle: _Handle, exc: Exception | None) -> None:
+        why = f"connection closed ({exc!r})" if exc is not None else "connection closed by the CNC"
+        self._lose(handle, _Lost(why))
+
+    def _lose(self, handle: _Handle, exc: _Lost) -> None:
+        """``handle`` can carry no further frame: its frame in flight fails, and the client
+        reconnects (or not) as its policy says."""
+        lost = f"connection to {self.host}:{self.port} lost after the request was sent ({exc})"
+        _fail(handle.detach(), FocasConnectionError, lost)
+        self._on_lost(handle, exc)
 
     # -- status and identity -------------------------------------------------------------
     async def read_status(self, *, timeout: float | None = None) -> StatusInfo:
