@@ -42,7 +42,7 @@ from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 from datetime import UTC, datetime
 from decimal import Decimal
-from functools import partial
+from functools import lru_cache, partial
 from typing import Any, Final
 
 from focas_net.errors import (
@@ -295,6 +295,8 @@ class _Memo:
 
 #: (request, max axes) -> (its block's bytes, the most answer bytes, the request bytes).
 _BLOCKS: Final = _Memo(1024)
+#: (a job's requests, max axes) -> their blocks' bytes, the most answer bytes, their size.
+_PARTS: Final = _Memo(1024)
 #: (answer frame, request block count) -> its blocks, as checked.
 _BODIES: Final = _Memo(512)
 #: (request, max axes, answer data) -> the decoded answer.
@@ -317,10 +319,27 @@ def _block_of(request: NativeRequest, max_axes: int) -> tuple[bytes, int, int]:
     return value
 
 
-def _frame_of(requests: Sequence[NativeRequest], max_axes: int) -> bytes:
-    """The data-request frame carrying ``requests`` (as :func:`encode_request` builds it)."""
-    body = _COUNT.pack(len(requests)) + b"".join(_block_of(r, max_axes)[0] for r in requests)
-    return encode_native_frame(FrameType.DATA_REQUEST, body, CLIENT_VERSION)
+def _part_of(requests: tuple[NativeRequest, ...], max_axes: int) -> tuple[bytes, int, int]:
+    """The blocks of one job's ``requests`` as bytes, the most answer bytes they can get and
+    their size."""
+    key: tuple[tuple[NativeRequest, ...], int] | None = (requests, max_axes)
+    try:
+        known: tuple[bytes, int, int] | None = _PARTS.get(key)
+    except TypeError:  # a request with an unhashable field: not remembered
+        key, known = None, None
+    if known is not None:
+        return known
+    parts = [_block_of(r, max_axes) for r in requests]
+    value = (b"".join(p[0] for p in parts), sum(p[1] for p in parts), sum(p[2] for p in parts))
+    if key is not None:
+        _PARTS.put(key, value)
+    return value
+
+
+#: The library calls a poll repeats, built once per command set and arguments.
+_statinfo: Final = lru_cache(maxsize=8)(calls.cnc_statinfo)
+_rddynamic2: Final = lru_cache(maxsize=256)(calls.cnc_rddynamic2)
+_rdmacro: Final = lru_cache(maxsize=1024)(calls.cnc_rdmacro)
 
 
 def _answer_size(request: NativeRequest, max_axes: int) -> int:
@@ -565,7 +584,7 @@ def _abort(*pairs: tuple[asyncio.StreamReader, asyncio.StreamWriter]) -> None:
 class _Job:
     """The blocks of one frame of one call, waiting to be sent or answered."""
 
-    __slots__ = ("command_set", "deadline", "future", "requests", "sent")
+    __slots__ = ("command_set", "deadline", "encoded", "future", "requests", "sent")
 
     def __init__(
         self,
@@ -579,6 +598,8 @@ class _Job:
         self.deadline = deadline
         self.future = future
         self.sent = False
+        #: The bytes of its blocks, once a frame takes it.
+        self.encoded = b""
 
 
 def _fail(jobs: Sequence[_Job], make: Callable[..., BaseException], *args: Any) -> None:
@@ -897,11 +918,7 @@ class NativeClient(_Lifecycle):
                 )
                 continue
             count = len(job.requests)
-            need = send = 0
-            for r in job.requests:
-                _, answer_size, request_size = _block_of(r, handle.max_axes)
-                need += answer_size
-                send += request_size
+            job.encoded, need, send = _part_of(job.requests, handle.max_axes)
             if batch and (
                 blocks + count > self.max_blocks
                 or size + need > handle.limit
@@ -926,14 +943,15 @@ class NativeClient(_Lifecycle):
         batch = self._take(handle)
         if not batch:
             return
-        requests = [r for job in batch for r in job.requests]
-        handle.writer_b.write(_frame_of(requests, handle.max_axes))
+        blocks = sum(len(job.requests) for job in batch)
+        body = _COUNT.pack(blocks) + b"".join(job.encoded for job in batch)
+        handle.writer_b.write(encode_native_frame(FrameType.DATA_REQUEST, body, CLIENT_VERSION))
         for job in batch:
             job.sent = True
         self.frames_sent += 1
-        self.blocks_sent += len(requests)
+        self.blocks_sent += blocks
         handle.inflight = batch
-        handle.inflight_blocks = len(requests)
+        handle.inflight_blocks = blocks
         deadlines = [job.deadline for job in batch]
         if None not in deadlines:
             deadline = max(d for d in deadlines if d is not None)
@@ -1017,7 +1035,7 @@ class NativeClient(_Lifecycle):
     async def read_status(self, *, timeout: float | None = None) -> StatusInfo:
         """``cnc_statinfo``: the ODBST status (0x19; hdck 0xE1 and tmmode 0x98 read 0 when
         the CNC refuses them, as the library reads them)."""
-        handle, call, (st, hd, tm) = await self._one(calls.cnc_statinfo, self._deadline(timeout))
+        handle, call, (st, hd, tm) = await self._one(_statinfo, self._deadline(timeout))
         stat: StatInfo = _decode(call.frames[0][0], st, "cnc_statinfo", handle.max_axes)
         hdck = 0 if hd.ew else _decode(call.frames[0][1], hd, "cnc_statinfo", 0).hdck
         tmmode = 0 if tm.ew else _decode(call.frames[0][2], tm, "cnc_statinfo", 0).tmmode
@@ -1151,7 +1169,7 @@ class NativeClient(_Lifecycle):
             raise CncError.from_ew(EW.NOOPT, "cnc_rddynamic2: the CNC lacks FOCAS option bit 0")
         if axis > handle.axes:
             raise CncError.from_ew(EW.ATTRIB, f"cnc_rddynamic2: axis {axis} of {handle.axes}")
-        call = calls.cnc_rddynamic2(handle.command_set, axis)
+        call = _rddynamic2(handle.command_set, axis)
         frame = call.frames[0]
         blocks = await self._send(frame, handle.command_set, deadline)
         values = [
@@ -1475,7 +1493,7 @@ class NativeClient(_Lifecycle):
         """``cnc_rdmacro``: the value of ``#number`` as a Decimal, or None when vacant
         (binary records converted as the library converts them)."""
         _, call, (block,) = await self._one(
-            lambda cs: calls.cnc_rdmacro(cs, number), self._deadline(timeout)
+            lambda cs: _rdmacro(cs, number), self._deadline(timeout)
         )
         values: ScaledValues = _decode(call.frames[0][0], block, "cnc_rdmacro", 0)
         if not values.values:
