@@ -167,8 +167,11 @@ def machine_for(set_name: str) -> Machine:
 
 
 @contextlib.asynccontextmanager
-async def served_cnc(set_name: str) -> AsyncIterator[Cnc]:
-    machine = machine_for(set_name)
+async def served_cnc(set_name: str, machine: Machine | None = None) -> AsyncIterator[Cnc]:
+    """``machine`` (else one of ``set_name``) in MDI with parameter writes enabled, served,
+    with the packed client and one library handle on it."""
+    if machine is None:
+        machine = machine_for(set_name)
     machine.set_panel(0, 1, 0)  # MDI, parameter writes enabled
     async with serving(machine) as served:
         async with FocasClient(served.host, served.port, timeout=IO_TIMEOUT) as packed:

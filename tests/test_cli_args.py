@@ -168,8 +168,8 @@ def test_the_table_names_every_client_command_once() -> None:
     assert names == [
         "status", "sysinfo", "program", "position", "param get", "param set", "macro get",
         "macro set", "macro clear", "diag", "pmc read", "pmc write", "pmc bit", "alarms",
-        "unlock", "versamax", "sim panel", "sim alarm", "sim clear", "sim cycle", "sim override",
-        "sim fault", "sim faults",
+        "watch", "unlock", "versamax", "sim panel", "sim alarm", "sim clear", "sim cycle",
+        "sim override", "sim fault", "sim faults",
     ]  # fmt: skip
     writes = [name for name, cmd in _leaves(_table.COMMANDS) if cmd.writes]
     assert writes == ["param set", "macro set", "pmc write", "pmc bit"]

@@ -137,6 +137,7 @@ PACKED_ONLY = [
     (("sim", "override"), "sim override", "packed-protocol"),
     (("sim", "fault", "drop"), "sim fault", "simulator controls"),
     (("sim", "faults"), "sim faults", "simulator controls"),
+    (("watch", "--count", "1"), "watch", "run info"),
     (("param", "set", "1320", "1", "--axis", "1", "--password", "x"), "param set", "--password"),
 ]
 

@@ -94,10 +94,11 @@ def test_the_parser_is_the_recorded_one() -> None:
 
 def test_the_record_covers_every_client_command() -> None:
     leaves = _leaves(json.loads(RECORD.read_text()))
-    assert len(leaves) == 23
+    assert len(leaves) == 24
     assert ("status",) in leaves and ("sim", "fault") in leaves and ("pmc", "bit") in leaves
     assert ("macro", "clear") in leaves
     assert ("sim", "cycle") in leaves and ("sim", "override") in leaves
+    assert ("watch",) in leaves
 
 
 if __name__ == "__main__":  # pragma: no cover

@@ -14,6 +14,7 @@ from support import IO_TIMEOUT, Served, serving, wait_until
 
 from focas_net.server import FocasServer
 from focas_net.sim import Machine, default_machine, load_machine
+from focas_net.sim.nc import RealTimeClock
 
 EXAMPLES = Path(__file__).resolve().parent.parent / "examples"
 #: Upper bound of one example run (they all finish by themselves well before).
@@ -52,6 +53,8 @@ def test_every_example_is_tested() -> None:
         "fleet_poll.py",
         "versamax_config.py",
         "fwlib_client.py",
+        "run_program.py",
+        "fleet_dashboard.py",
     }
     assert {p.name for p in EXAMPLES.glob("*.py")} == tested
 
@@ -223,6 +226,101 @@ async def test_fleet_poll_reports_unreachable_machines(server: Served) -> None:
     assert rows[0][3] == "MEM"
     assert rows[1][2:4] == ["ERROR", "unreachable:"]
     assert "1 failed" in out.splitlines()[-1]
+
+
+# -- run_program.py and fleet_dashboard.py: machines at work ---------------------------------
+
+#: Machine time runs this many times as fast as the wall clock on the servers of these tests.
+FAST = 20.0
+
+
+async def test_run_program_runs_a_part_end_to_end() -> None:
+    machine = default_machine(sim_clock=RealTimeClock(FAST))
+    async with serving(machine) as served:
+        code, out, err = await run_example(
+            "run_program.py", *port_args(served), "--interval", "0.02", "--seconds", "30"
+        )
+    assert (code, err) == (0, "")
+    lines = out.splitlines()
+    assert lines[0] == f"O7001 stored and selected on {served.host}:{served.port}; cycle start"
+    trace = [line.split() for line in lines[1:-1]]
+    sequences = [int(t[2].removeprefix("N")) for t in trace]
+    assert sequences == sorted(sequences) and set(sequences) <= set(range(10, 111, 10))
+    assert any(t[3] == "STRT" for t in trace)
+    cutting = 3 / 600 * 60 + 4 * 30 / 1800 * 60  # Z-1 at F600, then the square's sides at F1800
+    assert lines[-1].startswith("O7001 finished after ")
+    assert lines[-1].endswith(f"parts 0 -> 1, cutting {cutting:.2f} s")
+    assert machine.parts_counts()[0] == 1
+    assert machine.programs.text(7001).startswith("O7001 (EXAMPLE SQUARE)")
+
+
+async def test_run_program_stops_at_an_alarm(tmp_path: Path) -> None:
+    program = tmp_path / "bad.nc"
+    program.write_text("O7002 (BAD)\nN10 G1 X5. F6000\nN20 G07\nN30 M30\n")
+    async with serving(default_machine(sim_clock=RealTimeClock(FAST))) as served:
+        code, out, err = await run_example(
+            "run_program.py", *port_args(served), "--program", str(program), "--interval", "0.02"
+        )
+        assert served.machine.active_alarms()[0].alm_no == 10
+    assert code == 1 and out.startswith("O7002 stored and selected")
+    assert err.startswith("run_program: O7002 stopped by an alarm: PS0010")
+
+
+async def test_run_program_leaves_a_running_machine_alone() -> None:
+    machine = default_machine(sim_clock=RealTimeClock(FAST))
+    machine.cycle_start(repeat=True)
+    async with serving(machine) as served:
+        code, out, err = await run_example("run_program.py", *port_args(served))
+    assert (code, out) == (1, "")
+    assert err.strip() == (
+        "run_program: the CNC is running a program: reset it first (focas-net sim cycle reset)"
+    )
+    assert 7001 not in {p.number for p in machine.program_directory()}
+
+
+def _dashboard_tables(out: str) -> list[list[list[str]]]:
+    tables = [table.splitlines() for table in out.rstrip("\n").split("\n\n")]
+    for lines in tables:
+        assert lines[0].split() == [
+            "machine", "run", "program", "seq", "parts", "feed", "spindle", "alarm"
+        ]  # fmt: skip
+    return [[line.split() for line in lines[1:]] for lines in tables]
+
+
+async def test_fleet_dashboard_of_ports_given() -> None:
+    clock = RealTimeClock(FAST)
+    machines = [default_machine(f"cell-{i}", sim_clock=clock) for i in range(3)]
+    for machine in machines:
+        machine.cycle_start(repeat=True)
+    machines[1].raise_alarm(1, 4, 500, "OVER TRAVEL")
+    async with FocasServer(machines, host="127.0.0.1", port=0, grace_period=1.0) as server:
+        async with serving() as gone:
+            dead = gone.port
+        ports = [lst.port for lst in server.listeners]
+        code, out, err = await run_example(
+            "fleet_dashboard.py", "--ports", ",".join(map(str, [*ports, dead])), "--count", "3",
+            "--interval", "0.05", "--timeout", "1",
+        )  # fmt: skip
+    assert (code, err) == (0, "")
+    assert "\x1b" not in out  # piped: no control sequences
+    tables = _dashboard_tables(out)
+    assert len(tables) == 3
+    for rows in tables:
+        assert [r[0] for r in rows] == [f"127.0.0.1:{p}" for p in [*ports, dead]]
+        assert [r[1] for r in rows[:3]] == ["STRT", "STOP", "STRT"]  # the alarm stopped cell-1
+        assert all(r[2] == "O0001" for r in rows[:3])
+        assert [r[7] for r in rows[:3]] == ["-", "OT0500", "-"]
+        assert rows[3][1] == "ERROR:"
+
+
+async def test_fleet_dashboard_simulates_its_own_fleet() -> None:
+    code, out, err = await run_example(
+        "fleet_dashboard.py", "--simulate", "5", "--count", "2", "--interval", "0.05"
+    )
+    assert (code, err) == (0, "")
+    tables = _dashboard_tables(out)
+    assert [len(rows) for rows in tables] == [5, 5]
+    assert all(r[1] == "STRT" and r[2] == "O0001" for rows in tables for r in rows)
 
 
 @pytest.mark.parametrize("name", sorted(p.name for p in EXAMPLES.glob("*.py")))

@@ -17,6 +17,7 @@ import ctypes
 import struct
 from collections.abc import AsyncIterator
 from decimal import Decimal
+from pathlib import Path
 from typing import Any
 
 import pytest
@@ -26,6 +27,7 @@ from fwlib_support import (
     EW_SOCKET,
     HANDLE_TIMEOUT,
     LIBRARY,
+    MACHINE_16I,
     Cnc,
     buf,
     connect,
@@ -42,7 +44,8 @@ from support import IO_TIMEOUT, serving, wait_until
 from focas_net.client import FocasClient
 from focas_net.errors import EW, CncError
 from focas_net.protocol import FaultKind, FaultScope
-from focas_net.sim import ParamKind, default_machine
+from focas_net.sim import POSITION_DECIMALS, ParamKind, default_machine, load_machine
+from focas_net.sim.nc import ManualClock
 
 pytestmark = pytest.mark.skipif(
     not LIBRARY,
@@ -530,6 +533,76 @@ async def test_positions(cnc: Cnc) -> None:
     # an axis the machine has not
     b = buf(4 + 4 * 32)
     assert await cnc.call("cnc_absolute", s16(9), s16(8), b) == EW.ATTRIB
+
+
+LINE = "O0100 (LINE)\nN10 G90 G21 G1 X60. F1200\nN20 M30\n"
+G, F = 0, 1  # pmc_rdpmcrng/pmc_wrpmcrng area codes
+
+
+async def statinfo(cnc: Cnc) -> list[int]:
+    b = buf(18)
+    assert await cnc.call("cnc_statinfo", b) == 0
+    return list(struct.unpack("<9h", b.raw))
+
+
+async def dynamic_x(cnc: Cnc) -> tuple[int, int]:
+    """cnc_rddynamic2 of axis 1: its absolute position and the actual feed."""
+    b = buf(44)
+    assert await cnc.call("cnc_rddynamic2", s16(1), s16(44), b) == 0
+    one = struct.unpack_from("<hhiiiiiiiiii", b.raw)
+    return one[8], one[6]
+
+
+@pytest.mark.parametrize("set_name", ["30i", "16i"])
+async def test_the_library_runs_a_program_through_the_g_signals(
+    set_name: str, tmp_path: Path
+) -> None:
+    """Mode select, cycle start and feed hold written as a ladder writes them (G43, G7.2
+    ST, G8.5 *SP), the cycle read back through cnc_statinfo, the F signals, cnc_rddynamic2
+    and the packed client, on a clock the test steps."""
+    clock = ManualClock()
+    if set_name == "30i":
+        machine = default_machine(sim_clock=clock)
+    else:  # the 16i-class file, with the G and F areas a ladder has
+        path = tmp_path / "16i.toml"
+        areas = "\n[pmc.G]\nsize = 768\n[pmc.F]\nsize = 768\n"
+        path.write_text(MACHINE_16I.read_text(encoding="utf-8") + areas, encoding="utf-8")
+        machine = load_machine(path, sim_clock=clock)
+    async with served_cnc(set_name, machine) as cnc:
+        machine = cnc.machine
+        machine.store_program(LINE)
+        count, total = machine.parts_counts()
+        assert await wrpmc(cnc, G, 0, 43, [0b001]) == 0  # MD1: MEM
+        assert (await statinfo(cnc))[2] == 1
+        machine.select_program(100)
+        assert await wrpmc(cnc, G, 0, 8, [0x20]) == 0  # *SP on (not holding)
+        assert await wrpmc(cnc, G, 0, 7, [0x04]) == 0  # ST pressed ...
+        assert (await statinfo(cnc))[3] != 3
+        assert await wrpmc(cnc, G, 0, 7, [0x00]) == 0  # ... and released: cycle start
+        status = await statinfo(cnc)
+        assert status[3] == 3 and status[4] == 1  # run STRT, motion MTN
+        rc, (f0,) = await rdpmc(cnc, F, 0, 0, 1)
+        assert rc == 0 and f0 & 0b1010_0000 == 0b1010_0000  # OP and STL lit
+        clock.advance(1.5)
+        x, feed = await dynamic_x(cnc)
+        packed = await cnc.packed.read_positions("absolute")
+        assert x == packed.increments["X"] == 30 * 10**POSITION_DECIMALS
+        assert feed == 1200 == await cnc.packed.read_feed()
+        assert await wrpmc(cnc, G, 0, 8, [0x00]) == 0  # *SP off: feed hold
+        assert (await statinfo(cnc))[3] == 2  # HOLD
+        rc, (f0,) = await rdpmc(cnc, F, 0, 0, 1)
+        assert f0 & 0b0011_0000 == 0b0001_0000  # SPL lit, STL out
+        clock.advance(5.0)
+        assert (await dynamic_x(cnc))[0] == x  # held: X stays
+        assert await wrpmc(cnc, G, 0, 8, [0x20]) == 0
+        assert await wrpmc(cnc, G, 0, 7, [0x04]) == 0
+        assert await wrpmc(cnc, G, 0, 7, [0x00]) == 0  # cycle start resumes
+        assert (await statinfo(cnc))[3] == 3
+        clock.advance(1.5)  # the rest of the line, then M30
+        assert (await dynamic_x(cnc))[0] == 60 * 10**POSITION_DECIMALS
+        assert (await statinfo(cnc))[3] == 0  # reset after M30
+        assert machine.parts_counts() == (count + 1, total + 1)
+        assert (await cnc.packed.read_run_info()).parts_count == count + 1
 
 
 # --------------------------------------------------------------------------------------------

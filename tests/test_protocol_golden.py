@@ -13,6 +13,7 @@ from typing import Any
 
 import pytest
 
+from focas_net.errors import PayloadError
 from focas_net.protocol import (
     COMMANDS,
     ActiveAlarm,
@@ -61,6 +62,7 @@ from focas_net.protocol.frame import Frame
 from focas_net.protocol.programs import (
     CycleControl,
     DirectoryRequest,
+    LoadMeters,
     Overrides,
     ProgramChunk,
     ProgramChunkRequest,
@@ -376,6 +378,17 @@ GOLDEN: list[Golden] = [
         RunInfo(100, 50, 100, 5, 12, 60000, 30000, 20000, 1500),
     ),
     Golden("rdruninfo-length", Command.RDRUNINFO, RSP, "0200", EwReply(2)),
+    Golden("rdloads", Command.RDLOADS, REQ, "", None),
+    Golden(
+        "rdloads-cutting",
+        Command.RDLOADS,
+        RSP,
+        # one spindle at 48 %, X 25 % Y 0 % Z 3 %
+        "0000 01 03 3000 1900 0000 0300",
+        LoadMeters((48,), (25, 0, 3)),
+    ),
+    Golden("rdloads-none", Command.RDLOADS, RSP, "0000 00 00", LoadMeters((), ())),
+    Golden("rdloads-length", Command.RDLOADS, RSP, "0200", EwReply(2)),
     Golden(
         "wrprogram",
         Command.WRPROGRAM,
@@ -610,6 +623,7 @@ def test_the_command_table_covers_every_command_id() -> None:
         0x0030,
         0x0031,
         0x0032,
+        0x0033,
         0x0102,
         0x0103,
         0x0104,
@@ -668,6 +682,7 @@ ERROR_PAYLOADS = [
     (Command.RDPROGDIR, 2, "0200"),
     (Command.RDPROGRAM, 3, "0300"),
     (Command.RDRUNINFO, 2, "0200"),
+    (Command.RDLOADS, 2, "0200"),
     (Command.WRPROGRAM, 13, "0d00"),
     (Command.DELPROGRAM, -1, "ffff"),
     (Command.SELPROGRAM, 12, "0c00"),
@@ -783,3 +798,28 @@ def test_whole_status_frame_decodes_to_status() -> None:
         0, 0, 1, 3, 1, 0, 0, 1, 0
     )
     assert 0x7777 not in COMMANDS
+
+
+@pytest.mark.parametrize(
+    "hex_",
+    ["", "01", "0103 3000", "0100 3000 00", "0001 0000 0000"],
+    ids=["empty", "one-count", "short", "long", "missing-servo"],
+)
+def test_a_loads_answer_that_does_not_fit_its_counts_is_a_payload_error(hex_: str) -> None:
+    with pytest.raises(PayloadError, match="loads answer"):
+        LoadMeters.decode(bytes.fromhex(hex_))
+
+
+@pytest.mark.parametrize(
+    ("loads", "message"),
+    [
+        (LoadMeters((40000,), ()), r"spindle load \[0\] 40000 is outside -32768\.\.32767"),
+        (LoadMeters((), (1, 2.5)), r"servo load \[1\] must be an integer"),  # type: ignore[arg-type]
+        (LoadMeters((), (0,) * 256), "256 servo loads: at most 255"),
+    ],
+)
+def test_loads_that_do_not_fit_the_wire_are_refused_with_their_name(
+    loads: LoadMeters, message: str
+) -> None:
+    with pytest.raises(ValueError, match=message):
+        loads.encode()

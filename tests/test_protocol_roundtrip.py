@@ -60,6 +60,7 @@ from focas_net.protocol.programs import (
     MAX_PROGRAM_NAME,
     CycleControl,
     DirectoryRequest,
+    LoadMeters,
     Overrides,
     ProgramChunk,
     ProgramChunkRequest,
@@ -151,6 +152,11 @@ chunks = st.builds(
 program_texts = st.builds(
     ProgramText, i16, st.text(st.characters(max_codepoint=0x7F), max_size=600)
 )
+load_meters = st.builds(
+    LoadMeters,
+    st.lists(i16, max_size=255).map(tuple),
+    st.lists(i16, max_size=255).map(tuple),
+)
 run_infos = st.builds(RunInfo, i16, i16, i16, i32, i32, i64, i64, i64, i64)
 overrides = st.builds(Overrides, i16, i16, i16)
 program_numbers_i32 = st.builds(ProgramNumber, i32)
@@ -186,6 +192,7 @@ REQUESTS: dict[Command, st.SearchStrategy[Any]] = {
     Command.RDPROGDIR: st.builds(DirectoryRequest, i32, i16),
     Command.RDPROGRAM: st.builds(ProgramChunkRequest, i32, i32),
     Command.RDRUNINFO: st.none(),
+    Command.RDLOADS: st.none(),
     Command.WRPROGRAM: program_texts,
     Command.DELPROGRAM: program_numbers_i32,
     Command.SELPROGRAM: program_numbers_i32,
@@ -224,6 +231,7 @@ RESPONSES: dict[Command, st.SearchStrategy[Any]] = {
     Command.RDPROGDIR: ew_or(directories),
     Command.RDPROGRAM: ew_or(chunks),
     Command.RDRUNINFO: ew_or(run_infos),
+    Command.RDLOADS: ew_or(load_meters),
     Command.WRPROGRAM: ew_or(program_numbers_i32),
     Command.DELPROGRAM: OK_ONLY,
     Command.SELPROGRAM: OK_ONLY,
@@ -322,6 +330,7 @@ PAYLOAD_CLASSES: dict[type[Any], st.SearchStrategy[Any]] = {
     CycleControl: st.builds(CycleControl, i16),
     Overrides: overrides,
     RunInfo: run_infos,
+    LoadMeters: load_meters,
 }
 
 NUMBERS = sorted(COMMANDS)

@@ -41,8 +41,9 @@ Rules of this wire (the CNC's rules are the machine's, see :mod:`focas_net.sim.m
   connecting; also the open answer's option bits in the 30i set) and 3115 (position display
   bits, ``cnc_rdposition`` in the 16i set), are the machine's own: every machine has them
   (:class:`~focas_net.sim.Machine` gives the defaults), so both protocols read the same values;
-* figures the machine does not model (the free purpose timer, spindle load, servo load, the
-  CNC ID) answer the values :class:`NativeAdapter` documents at each handler.
+* figures the machine does not model (the free purpose timer, the CNC ID) answer the values
+  :class:`NativeAdapter` documents at each handler; the spindle and servo loads are the
+  machine's (:meth:`~focas_net.sim.Machine.spindle_loads`, ``servo_loads``).
 
 A macro value written as a double (0xA8) is the decimal :func:`macro_from_double` makes of it,
 written with the machine's own ``write_macro`` (a vacant double, a NaN, makes the variable
@@ -665,17 +666,19 @@ class NativeAdapter:
         return AxisDisplays((shown,) * len(self._axis_names)).encode()
 
     def _read_spindle_load(self, block: RequestBlock, room: int) -> bytes:
-        """0x40: the load of each spindle in percent; the machine models none, so 0."""
+        """0x40: the load of each spindle in percent (:meth:`Machine.spindle_loads`)."""
         spindle = SpindleLoadRequest.from_block(block).spindle
         if spindle != -1 and not 1 <= spindle <= SPINDLES:
             raise _Refused(EW.NUMBER)
-        return ScaledValues((ScaledNumber(0, 0),) * SPINDLES).encode()
+        loads = self.machine.spindle_loads()[:SPINDLES]
+        return ScaledValues(tuple(ScaledNumber(v, 0) for v in loads)).encode()
 
     def _read_servo_meter(self, block: RequestBlock, room: int) -> bytes:
-        """0x56: the servo load of each axis in percent; the machine models none, so 0."""
+        """0x56: the servo load of each axis in percent (:meth:`Machine.servo_loads`)."""
         ServoMeterRequest.from_block(block)
         _need_room(SCALED_SIZE * len(self._axis_names), room)
-        return ScaledValues((ScaledNumber(0, 0),) * len(self._axis_names)).encode()
+        loads = self.machine.servo_loads()
+        return ScaledValues(tuple(ScaledNumber(v, 0) for v in loads)).encode()
 
     # -- macro variables -----------------------------------------------------------------
 

@@ -75,6 +75,7 @@ from focas_net.protocol import (
     AxisPosition,
     Command,
     CycleAction,
+    LoadMeters,
     MacroValue,
     ParamAttributes,
     ParamValue,
@@ -270,6 +271,7 @@ class PackedAdapter:
             Command.RDPROGDIR: self._rdprogdir,
             Command.RDPROGRAM: self._rdprogram,
             Command.RDRUNINFO: self._rdruninfo,
+            Command.RDLOADS: self._rdloads,
             Command.WRPROGRAM: self._wrprogram,
             Command.DELPROGRAM: self._delprogram,
             Command.SELPROGRAM: self._selprogram,
@@ -589,6 +591,12 @@ class PackedAdapter:
         count, total = m.parts_counts()
         return _encode_runinfo(RunInfo(feed, rapid, spindle, count, total, *timers))
 
+    def _rdloads(self, _session: Session, payload: bytes) -> bytes:
+        if payload:
+            _decode_empty(payload)
+        m = self.machine
+        return _encode_loads(LoadMeters(m.spindle_loads(), m.servo_loads()))
+
     def _wrprogram(self, _session: Session, payload: bytes) -> bytes:
         req = _decode_program_text(payload)
         self.machine.check_writable()
@@ -723,6 +731,7 @@ _encode_dir: Final = _response(Command.RDPROGDIR)
 _decode_chunk_request: Final = _request(Command.RDPROGRAM)
 _encode_chunk: Final = _response(Command.RDPROGRAM)
 _encode_runinfo: Final = _response(Command.RDRUNINFO)
+_encode_loads: Final = _response(Command.RDLOADS)
 _decode_program_text: Final = _request(Command.WRPROGRAM)
 _encode_stored: Final = _response(Command.WRPROGRAM)
 _decode_program_number: Final = _request(Command.DELPROGRAM)

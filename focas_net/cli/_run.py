@@ -180,7 +180,11 @@ def tls_context(args: argparse.Namespace) -> ssl.SSLContext | None:
 async def _session(
     args: argparse.Namespace, go: Go | PackedOnly, follow: bool, context: ssl.SSLContext | None
 ) -> Output | None:
-    reconnect = ReconnectPolicy(max_attempts=FOLLOW_RECONNECT_ATTEMPTS) if follow else False
+    # A command's handler may set its own policy (``watch`` reconnects for ever).
+    policy: ReconnectPolicy | None = getattr(args, "reconnect_policy", None)
+    if policy is None and follow:
+        policy = ReconnectPolicy(max_attempts=FOLLOW_RECONNECT_ATTEMPTS)
+    reconnect: ReconnectPolicy | bool = policy if policy is not None else False
     if isinstance(go, PackedOnly) or _protocol(args) == PACKED:
         packed = FocasClient(
             args.host,

@@ -14,7 +14,7 @@ from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 from typing import Any, Final, Literal, TypedDict, Unpack
 
-from . import program_cmds, read_cmds, sim_cmds, write_cmds
+from . import program_cmds, read_cmds, sim_cmds, watch_cmds, write_cmds
 from ._args import (
     AREA,
     BOOL,
@@ -315,6 +315,22 @@ COMMANDS: Final[tuple[Cmd | Group, ...]] = (
                 help="poll interval of --follow, at least 0.05 (default 1)",
             ),
             arg("--count", type=POSITIVE, metavar="N", help="stop --follow after N events"),
+        ),
+    ),
+    Cmd(
+        "watch",
+        "show the machine's state live (run state, program, positions, feed, spindle, "
+        "overrides, parts, timers, alarms), refreshed in place, until Ctrl-C",
+        watch_cmds.watch,
+        (
+            arg(
+                "--interval",
+                type=INTERVAL,
+                default=watch_cmds.DEFAULT_INTERVAL,
+                metavar="SECONDS",
+                help="seconds between frames, at least 0.05 (default %(default)s)",
+            ),
+            arg("--count", type=POSITIVE, metavar="N", help="stop after N frames"),
         ),
     ),
     Cmd(

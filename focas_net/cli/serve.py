@@ -13,6 +13,9 @@ for it; the address is always the line's last word. A bad machine file, TLS file
 ends with a one-line error and exit code 2 (options are all checked before anything is
 allocated); a port that cannot be bound with exit code 1. SIGINT and SIGTERM shut down
 gracefully (stop accepting, answer what is in flight, close) and exit 0.
+
+With ``--web`` one more line follows the machines', ``focas-net: web dashboard on
+http://HOST:PORT/`` (``docs/web.md``).
 """
 
 from __future__ import annotations
@@ -23,6 +26,9 @@ import logging
 import signal
 import ssl
 import sys
+from collections.abc import AsyncIterator
+from contextlib import asynccontextmanager
+from dataclasses import replace
 from typing import TYPE_CHECKING, Any, Final
 
 import anyio
@@ -38,12 +44,14 @@ from focas_net.server import (
     FocasServer,
 )
 
-from ._args import EXIT_CNC, EXIT_USAGE, LISTEN_PORT, POSITIVE, PROG, print_error
+from ._args import EXIT_CNC, EXIT_USAGE, LISTEN_PORT, NON_NEGATIVE, POSITIVE, PROG, print_error
 
 if TYPE_CHECKING:
     from focas_net.sim import Machine
+    from focas_net.sim.nc import Scenario
+    from focas_net.web import Dashboard
 
-__all__ = ["MAX_FLEET", "build_machines", "check_options", "register", "run"]
+__all__ = ["DEFAULT_SEED", "MAX_FLEET", "build_machines", "check_options", "register", "run"]
 
 _log = logging.getLogger("focas_net.cli.serve")
 
@@ -54,6 +62,11 @@ _ERROR_PREFIX = f"{PROG} serve: error"  # as argparse words its usage errors
 MAX_SPEED: Final = 10_000.0
 #: Most machines one ``serve --fleet`` runs.
 MAX_FLEET: Final = 10_000
+#: Largest ``serve --downtime`` factor.
+MAX_DOWNTIME: Final = 100.0
+#: The fleet seed of ``serve --run`` when ``--seed`` is not given (and the machine file's
+#: ``[run]`` gives none): the same fleet on every run.
+DEFAULT_SEED: Final = 0
 #: Files a server keeps for itself besides its listening sockets (standard streams, the event
 #: loop, a few connections).
 _RESERVED_FILES: Final = 32
@@ -91,6 +104,16 @@ def _speed(text: str) -> float:
     return value
 
 
+def _downtime(text: str) -> float:
+    try:
+        value = float(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"not a factor: {text!r}") from None
+    if not 0 <= value <= MAX_DOWNTIME:
+        raise argparse.ArgumentTypeError(f"must be 0..{MAX_DOWNTIME:g}, got {text}")
+    return value
+
+
 def _max_frame(text: str) -> int:
     value = POSITIVE(text)
     if value < 4:
@@ -103,6 +126,21 @@ def _max_frame(text: str) -> int:
             f"native FOCAS/2 frame read as a length), got {text}"
         )
     return value
+
+
+def _web_address(text: str) -> tuple[str, int]:
+    """``--web [HOST:]PORT``: checked here, aiohttp's presence too."""
+    from focas_net.web import parse_web_address
+
+    try:
+        address = parse_web_address(text)
+    except ValueError as exc:
+        raise argparse.ArgumentTypeError(str(exc)) from None
+    if importlib.util.find_spec("aiohttp") is None:
+        raise argparse.ArgumentTypeError(
+            f"{text}: the web dashboard needs aiohttp: pip install 'focas-net[web]'"
+        )
+    return address
 
 
 def register(subparsers: Any) -> None:
@@ -204,7 +242,41 @@ def register(subparsers: Any) -> None:
         "--run",
         action="store_true",
         help="every machine starts its main program at once and repeats it forever, a part "
-        "counted each time (production)",
+        "counted each time, with the seeded operator pauses, tool-change waits and alarms of "
+        "its machine file's [run] section or of the default scenario (production; a machine "
+        "file with [run] runs without --run too)",
+    )
+    p.add_argument(
+        "--seed",
+        type=NON_NEGATIVE,
+        default=None,
+        metavar="N",
+        help="fleet seed of the running machines' events and loads; machine i gets a seed of "
+        f"its own derived from N and i (default: the [run] seed, else {DEFAULT_SEED})",
+    )
+    p.add_argument(
+        "--run-parts",
+        type=NON_NEGATIVE,
+        default=None,
+        metavar="N",
+        help="each running machine makes N parts, then stops in reset; 0 = forever (default: "
+        "the [run] parts, else forever)",
+    )
+    p.add_argument(
+        "--downtime",
+        type=_downtime,
+        default=1.0,
+        metavar="FACTOR",
+        help="multiply the rates of pauses, tool-change waits and alarms of the running "
+        "machines by FACTOR (0..100); 0 = production without interruptions (default "
+        "%(default)s)",
+    )
+    p.add_argument(
+        "--web",
+        type=_web_address,
+        metavar="[HOST:]PORT",
+        help="also serve the web dashboard on HOST:PORT (HOST 127.0.0.1 unless given; 0 = "
+        "ephemeral port; pip install 'focas-net[web]'); --read-only makes it read-only",
     )
     p.add_argument(
         "--log-level",
@@ -258,7 +330,12 @@ def _open_files_limit() -> int | None:
 
 
 def build_machines(args: argparse.Namespace) -> list[Machine]:
-    """The machines described by the options; raises :class:`ConfigError`."""
+    """The machines described by the options; raises :class:`ConfigError`.
+
+    A machine runs on its own (:meth:`~focas_net.sim.Machine.start_scenario`) with
+    ``--run`` (its file's ``[run]`` scenario, else the default one) or when its file has a
+    ``[run]`` section; machine ``i`` gets the seed ``fleet_seed(seed, i)``, ``seed`` being
+    ``--seed`` or the scenario's own."""
     from focas_net.sim import MachineError, MachineFileError, default_machine, load_machine
     from focas_net.sim.nc import RealTimeClock
 
@@ -280,15 +357,52 @@ def build_machines(args: argparse.Namespace) -> list[Machine]:
             machine.name = f"{machine.name}-{i + 1}"
         if args.no_control:
             machine.control_enabled = False
-        if getattr(args, "run", False):
+        scenario = _scenario(args, machine, i)
+        if scenario is not None:
             try:
-                machine.cycle_start(repeat=True)
+                machine.start_scenario(scenario)
             except MachineError as exc:
-                raise ConfigError(f"--run: {machine.name}: {exc}") from None
+                option = "--run" if getattr(args, "run", False) else f"{args.machine}: [run]"
+                raise ConfigError(f"{option}: {machine.name}: {exc}") from None
         if args.read_only:
             machine.read_only = True
         machines.append(machine)
     return machines
+
+
+def _scenario(args: argparse.Namespace, machine: Machine, index: int) -> Scenario | None:
+    """How machine ``index`` runs on its own (None: it does not)."""
+    from focas_net.sim.nc import DEFAULT_SCENARIO, fleet_seed
+
+    run = bool(getattr(args, "run", False))
+    seed: int | None = getattr(args, "seed", None)
+    parts: int | None = getattr(args, "run_parts", None)
+    downtime: float = getattr(args, "downtime", 1.0)
+    base = machine.scenario
+    if base is None:
+        if not run:
+            for option, value in (("--seed", seed), ("--run-parts", parts)):
+                if value is not None:
+                    raise ConfigError(
+                        f"{option} {value}: the machines do not run (give --run, or a machine "
+                        "file with a [run] section)"
+                    )
+            if downtime != 1.0:
+                raise ConfigError(
+                    f"--downtime {downtime:g}: the machines do not run (give --run, or a "
+                    "machine file with a [run] section)"
+                )
+            return None
+        base = DEFAULT_SCENARIO
+    fleet = base.seed if seed is None else seed
+    return replace(
+        base,
+        seed=fleet_seed(fleet, index),
+        parts=base.parts if parts is None else parts,
+        pause_rate=base.pause_rate * downtime,
+        tool_rate=base.tool_rate * downtime,
+        alarm_rate=base.alarm_rate * downtime,
+    )
 
 
 def _ssl_context(args: argparse.Namespace) -> ssl.SSLContext | None:
@@ -336,6 +450,7 @@ def run(args: argparse.Namespace) -> int:
             server,
             ssl_context is not None,
             bool(args.read_only),
+            getattr(args, "web", None),
             backend="asyncio",
             backend_options={"use_uvloop": args.uvloop},
         )
@@ -352,9 +467,13 @@ def _modes(tls: bool, read_only: bool, *first: str) -> str:
     return f" ({', '.join(modes)})" if modes else ""
 
 
-async def _serve(server: FocasServer, tls: bool, read_only: bool) -> int:
+async def _serve(
+    server: FocasServer, tls: bool, read_only: bool, web: tuple[str, int] | None = None
+) -> int:
     with anyio.open_signal_receiver(signal.SIGINT, signal.SIGTERM) as signals:
-        async with server:
+        async with server, _dashboard(server, web, read_only) as dashboard:
+            if dashboard is None and web is not None:
+                return EXIT_CNC
             out = sys.stdout
             for listener in server.listeners:
                 out.write(
@@ -368,8 +487,42 @@ async def _serve(server: FocasServer, tls: bool, read_only: bool) -> int:
                         f"focas-net: {listener.label}{native_modes} listening on "
                         f"{listener.native.address_text}\n"
                     )
+            if dashboard is not None:
+                out.write(
+                    f"focas-net: web dashboard{_modes(False, read_only)} on {dashboard.url}\n"
+                )
             out.flush()
             async for signum in signals:
                 _log.info("%s received: shutting down", signal.Signals(signum).name)
                 break
     return 0
+
+
+@asynccontextmanager
+async def _dashboard(
+    server: FocasServer, web: tuple[str, int] | None, read_only: bool
+) -> AsyncIterator[Dashboard | None]:
+    """The web dashboard of ``--web`` while the machines are served (None without it, or
+    when it cannot listen: that is reported here)."""
+    if web is None:
+        yield None
+        return
+    from focas_net.web import Dashboard, is_loopback, stations_of
+
+    host, port = web
+    if not is_loopback(host):
+        sys.stderr.write(
+            f"{PROG} serve: warning: the web dashboard listens on {host}, beyond loopback, "
+            "with no authentication\n"
+        )
+    dashboard = Dashboard(stations_of(server), host=host, port=port, read_only=read_only)
+    try:
+        await dashboard.start()
+    except OSError as exc:
+        print_error(f"--web {host}:{port}: cannot listen: {exc.strerror or exc}", _ERROR_PREFIX)
+        yield None
+        return
+    try:
+        yield dashboard
+    finally:
+        await dashboard.stop()

@@ -44,6 +44,7 @@ from ..protocol import (
     AlarmType,
     DataRequest,
     DirectoryRequest,
+    LoadMeters,
     MacroRequest,
     MacroValue,
     ParamAttributes,
@@ -97,6 +98,7 @@ _RDPARAINFO: Final = COMMANDS[C.RDPARAINFO]
 _RDPROGDIR: Final = COMMANDS[C.RDPROGDIR]
 _RDPROGRAM: Final = COMMANDS[C.RDPROGRAM]
 _RDRUNINFO: Final = COMMANDS[C.RDRUNINFO]
+_RDLOADS: Final = COMMANDS[C.RDLOADS]
 _WRPROGRAM: Final = COMMANDS[C.WRPROGRAM]
 _DELPROGRAM: Final = COMMANDS[C.DELPROGRAM]
 _SELPROGRAM: Final = COMMANDS[C.SELPROGRAM]
@@ -682,6 +684,12 @@ class FocasClient(Link):
         and cycle timers (ms) of the simulated machine."""
         info: RunInfo = await self._request(_RDRUNINFO, _EMPTY, self._deadline(timeout))
         return info
+
+    async def read_loads(self, *, timeout: float | None = None) -> LoadMeters:
+        """The load of each spindle and the servo load of each axis, in percent
+        (``cnc_rdspload`` and ``cnc_rdsvmeter`` in one request)."""
+        loads: LoadMeters = await self._request(_RDLOADS, _EMPTY, self._deadline(timeout))
+        return loads
 
     # -- VersaMax ------------------------------------------------------------------------
     async def _config_chunk(

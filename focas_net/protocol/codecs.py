@@ -25,6 +25,7 @@ from .faults import FaultList, FaultsCleared, FaultsRequest
 from .programs import (
     CycleControl,
     DirectoryRequest,
+    LoadMeters,
     Overrides,
     ProgramChunk,
     ProgramChunkRequest,
@@ -699,6 +700,12 @@ _PROGRAM_SPECS: Final = (
         _ew_response(Codec("ProgramChunk", ProgramChunk.encode, ProgramChunk.decode)),
     ),
     _spec(Command.RDRUNINFO, "cnc_rdtimer", EMPTY, _ew_response(RunInfo.codec())),
+    _spec(
+        Command.RDLOADS,
+        "cnc_rdspload",
+        EMPTY,
+        _ew_response(Codec("LoadMeters", LoadMeters.encode, LoadMeters.decode), _MEMO),
+    ),
     _spec(
         Command.WRPROGRAM,
         "cnc_download",

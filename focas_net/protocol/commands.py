@@ -26,6 +26,7 @@ class Command(enum.IntEnum):
     RDPROGDIR = 0x0030  # cnc_rdprogdir: the program directory
     RDPROGRAM = 0x0031  # cnc_upload: a program's text
     RDRUNINFO = 0x0032  # overrides, parts counts and timers [cnc_rdtimer]
+    RDLOADS = 0x0033  # cnc_rdspload and cnc_rdsvmeter: spindle and servo loads
     WRPARAM = 0x0102  # cnc_wrparam: IODBPSD
     WRMACRO = 0x0103  # cnc_wrmacro: ODBM
     WRPMCRNG = 0x0104  # pmc_wrpmcrng: IODBPMC

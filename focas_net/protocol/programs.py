@@ -1,6 +1,7 @@
 """Payloads of the part-program commands and of the cycle's simulator control
 (``docs/protocol.md`` section 8, "Extensions: part programs" and "Simulator control: the
-cycle"): 0x0030 program directory, 0x0031 program text, 0x0032 run figures, 0x0110 store,
+cycle"): 0x0030 program directory, 0x0031 program text, 0x0032 run figures, 0x0033 loads,
+0x0110 store,
 0x0111 delete, 0x0112 select main, 0x0E20 cycle, 0x0E21 overrides."""
 
 from __future__ import annotations
@@ -21,6 +22,7 @@ __all__ = [
     "CycleAction",
     "CycleControl",
     "DirectoryRequest",
+    "LoadMeters",
     "Overrides",
     "ProgramChunk",
     "ProgramChunkRequest",
@@ -43,6 +45,8 @@ MAX_PROGRAM_TEXT: Final = 60_000
 _ENTRY_HEAD: Final = struct.Struct("<iiH")  # number, size, name_len
 _CHUNK_HEAD: Final = struct.Struct("<iH")  # total, length
 _TEXT_HEAD: Final = struct.Struct("<hH")  # replace, length
+_LOADS_HEAD: Final = struct.Struct("<BB")  # spindles, axes
+_LOAD: Final = struct.Struct("<h")
 
 
 def _ascii(raw: bytes, what: str) -> str:
@@ -240,3 +244,39 @@ class RunInfo(FixedPayload):
     operating_ms: int
     cutting_ms: int
     cycle_ms: int
+
+
+@dataclass(frozen=True, slots=True)
+class LoadMeters:
+    """0x0033 answer after ``ew``: ``u8 spindles, u8 axes``, then ``i16`` load (%) of each
+    spindle and ``i16`` servo load (%) of each axis."""
+
+    spindle: tuple[int, ...]
+    servo: tuple[int, ...]
+
+    def encode(self) -> bytes:
+        for what, values in (("spindle", self.spindle), ("servo", self.servo)):
+            if len(values) > 0xFF:
+                raise ValueError(f"{len(values)} {what} loads: at most 255")
+            for i, v in enumerate(values):
+                if isinstance(v, bool) or not isinstance(v, int):
+                    raise ValueError(f"{what} load [{i}] must be an integer, got {v!r}")
+                if not -0x8000 <= v <= 0x7FFF:
+                    raise ValueError(f"{what} load [{i}] {v} is outside -32768..32767")
+        values = (*self.spindle, *self.servo)
+        head = _LOADS_HEAD.pack(len(self.spindle), len(self.servo))
+        return head + struct.pack(f"<{len(values)}h", *values)
+
+    @classmethod
+    def decode(cls, data: bytes) -> Self:
+        if len(data) < _LOADS_HEAD.size:
+            raise PayloadError(f"loads answer of {len(data)} bytes has no counts")
+        spindles, axes = _LOADS_HEAD.unpack_from(data, 0)
+        want = _LOADS_HEAD.size + (spindles + axes) * _LOAD.size
+        if len(data) != want:
+            raise PayloadError(
+                f"loads answer of {len(data)} bytes for {spindles} spindles and {axes} axes "
+                f"({want} expected)"
+            )
+        values = struct.unpack_from(f"<{spindles + axes}h", data, _LOADS_HEAD.size)
+        return cls(tuple(values[:spindles]), tuple(values[spindles:]))

@@ -87,6 +87,17 @@ CNC's rules of the cycle: cycle start only in MEM, not with the emergency stop o
 (EW_ALARM; an alarm that stopped the cycle wants a reset), not without a main program
 (EW_DATA); leaving MEM holds the feed; the emergency stop resets; any alarm stops the cycle;
 reset clears the alarms the program raised.
+
+At work on its own
+------------------
+:meth:`Machine.start_scenario` runs a :class:`~focas_net.sim.nc.scenario.Scenario` (a machine
+file's ``[run]``; ``serve --run`` gives the default one): the main program repeated for a
+number of parts or forever, with seeded operator pauses (feed hold), tool-change waits (the
+cycle stopped) and alarms (the cycle stopped until the repair time is over, then reset and a
+new cycle). No timer runs: the scenario's events are machine times drawn from the seed, and a
+read applies those that are due, each at its own machine time, before it reads the engine.
+:meth:`Machine.spindle_loads` and :meth:`Machine.servo_loads` follow the cutting, with a noise
+fixed by :attr:`Machine.seed` and the machine time.
 """
 
 from __future__ import annotations
@@ -125,6 +136,16 @@ from .nc import (
     VariableRefused,
 )
 from .nc.alarms import AlarmRaised
+from .nc.scenario import (
+    DEFAULT_SCENARIO,
+    SCENARIO_ALARMS,
+    Scenario,
+    ScenarioEvent,
+    Schedule,
+    noise,
+    servo_load,
+    spindle_load,
+)
 
 __all__ = [
     "AUT_MODES",
@@ -391,6 +412,43 @@ _PROGRAM_EW: Final = {
 
 def _program_refusal(exc: ProgramError) -> MachineError:
     return MachineError(_PROGRAM_EW[exc.reason], str(exc))
+
+
+class _HeldClock:
+    """The engine's clock while a scenario applies an event: the event's machine time."""
+
+    __slots__ = ("at",)
+
+    def __init__(self) -> None:
+        self.at = 0.0
+
+    def now(self) -> float:
+        return self.at
+
+
+class _ScenarioRun:
+    """A scenario under way: its schedule, the event in progress (until its end)."""
+
+    __slots__ = ("current", "ends_at", "free_at", "held", "scenario", "schedule")
+
+    def __init__(self, scenario: Scenario, schedule: Schedule) -> None:
+        self.scenario = scenario
+        self.schedule = schedule
+        self.held = _HeldClock()
+        self.current: ScenarioEvent | None = None
+        self.ends_at = math.inf  #: when the current event ends
+        self.free_at = -math.inf  #: when the last event ended
+
+    @property
+    def next_time(self) -> float:
+        """Machine time of the next begin or end."""
+        if self.current is not None:
+            return self.ends_at
+        return max(self.schedule.next_time, self.free_at)
+
+    def finished(self, engine: Engine) -> bool:
+        """The parts are made (the cycle ended in reset with none to go)."""
+        return engine.parts_to_go == 0 and engine.state is _RESET
 
 
 class MachineError(FocasError):
@@ -683,8 +741,12 @@ class Machine:
         programs: Iterable[str] = (),
         main_program: int | None = None,
         sim_clock: SimClock | None = None,
+        scenario: Scenario | None = None,
     ) -> None:
         self.name = name
+        #: How the machine runs on its own when it is told to (:meth:`start_scenario`;
+        #: ``serve`` starts it): a machine file's ``[run]``, None when it has none.
+        self.scenario = scenario
         if control_class not in CONTROL_CLASSES:
             raise ValueError(
                 f"unknown control class {control_class!r} (one of {', '.join(CONTROL_CLASSES)})"
@@ -794,21 +856,21 @@ class Machine:
     @property
     def version(self) -> int:
         """Incremented on every change of machine state."""
-        if self._engine_key[0] is _START:  # only a running cycle moves with time
+        if self._engine_key[0] is _START or self._run is not None:  # what moves with time
             self._sync()
         return self._version
 
     @property
     def status_version(self) -> int:
         """Incremented when the status changes (panel, run state, motion, active alarms)."""
-        if self._engine_key[0] is _START:  # only a running cycle moves with time
+        if self._engine_key[0] is _START or self._run is not None:  # what moves with time
             self._sync()
         return self._status_version
 
     @property
     def data_version(self) -> int:
         """Incremented when a parameter or diagnostic value changes (parts counts too)."""
-        if self._engine_key[0] is _START:  # only a running cycle moves with time
+        if self._engine_key[0] is _START or self._run is not None:  # what moves with time
             self._sync()
         return self._data_version
 
@@ -816,21 +878,21 @@ class Machine:
     def macro_version(self) -> int:
         """Incremented when a macro variable changes (while a program runs: whenever machine
         time moved, for the system variables follow the engine)."""
-        if self._engine_key[0] is _START:  # only a running cycle moves with time
+        if self._engine_key[0] is _START or self._run is not None:  # what moves with time
             self._sync()
         return self._macro_version
 
     @property
     def alarm_version(self) -> int:
         """Incremented when the active alarms or the alarm history change."""
-        if self._engine_key[0] is _START:  # only a running cycle moves with time
+        if self._engine_key[0] is _START or self._run is not None:  # what moves with time
             self._sync()
         return self._alarm_version
 
     @property
     def pmc_version(self) -> int:
         """Incremented when PMC data changes."""
-        if self._engine_key[0] is _START:  # only a running cycle moves with time
+        if self._engine_key[0] is _START or self._run is not None:  # what moves with time
             self._sync()
         return self._pmc_version
 
@@ -838,7 +900,7 @@ class Machine:
     def motion_version(self) -> int:
         """Incremented when the motion figures change: while a program runs, whenever machine
         time moved."""
-        if self._engine_key[0] is _START:  # only a running cycle moves with time
+        if self._engine_key[0] is _START or self._run is not None:  # what moves with time
             self._sync()
         return self._motion_version
 
@@ -1349,10 +1411,20 @@ class Machine:
             self.programs.select(main)
         self._driven = False
         self._synced_at = math.nan
+        #: The engine's clock while :meth:`_sync` reads it: the one time the read synced to, so
+        #: the engine advances once per sync however many of its figures the sync reads.
+        self._sync_clock = _HeldClock()
         self._engine_key = (_RESET, MotionKind.NONE)
         self._engine_alarms: set[tuple[int, int, int]] = set()
         self._figures: tuple[int, MotionData] | None = None
         self._mstb = 0
+        self._run: _ScenarioRun | None = None
+        #: The seed of the loads' noise (a scenario's seed once one runs).
+        self.seed = 0
+        self._hardness = 1.0
+        #: The scenario's events as they were applied: ``(event, "begin" | "end" |
+        #: "skipped")``, the newest 1000.
+        self.scenario_log: deque[tuple[ScenarioEvent, str]] = deque(maxlen=1000)
 
     def _param_or(self, number: int, default: int, axis: int = 0) -> int:
         item = self._params.get(number)
@@ -1408,19 +1480,38 @@ class Machine:
 
     def _sync(self) -> None:
         """Bring the engine to the clock's time: record its alarms and parts, and move the
-        counters of what it shows. Costs one comparison while the cycle is not running (time
-        then changes nothing the engine shows: every command that starts or changes the cycle
-        settles the counters itself) and a clock call when the time has not moved."""
+        counters of what it shows. Costs one comparison while the cycle is not running and no
+        scenario drives the machine (time then changes nothing the engine shows: every command
+        that starts or changes the cycle settles the counters itself), a clock call when the
+        time has not moved or a scenario's next event is not due."""
+        run = self._run
         if self._engine_key[0] is not _START:
-            return
-        now = self.sim_clock.now()
-        if now == self._synced_at:
-            return
+            if run is None:
+                return
+            now = self.sim_clock.now()
+            if now < run.next_time or now == self._synced_at:
+                return
+        else:
+            now = self.sim_clock.now()
+            if now == self._synced_at:
+                return
         self._synced_at = now
-        moved = self._engine_key[0] is _START
-        for event in self.engine.take_events():
-            self._engine_event(event, now)
-        self._settled(moved)
+        e = self.engine
+        clock = e.clock
+        self._sync_clock.at = now
+        e.clock = self._sync_clock
+        try:
+            moved = self._engine_key[0] is _START
+            if run is not None and run.next_time <= now:
+                self._play(run, now)
+                moved = True
+            for event in e.take_events():
+                self._engine_event(event, now)
+            self._settled(moved)
+            if run is not None and run.finished(e):
+                self._run = None
+        finally:
+            e.clock = clock
 
     def _settled(self, moved: bool, force: bool = False) -> None:
         e = self.engine
@@ -1571,6 +1662,10 @@ class Machine:
         history keeps them). EW_PROT on a read-only machine."""
         self.check_writable()
         self._sync()
+        self._reset_cycle()
+        self._settled(True)
+
+    def _reset_cycle(self) -> None:
         self.engine.reset()
         gone = [k for k in self._engine_alarms if k in self._active]
         for k in gone:
@@ -1579,7 +1674,6 @@ class Machine:
         if gone:
             self._alarm_version += 1
             self._status_changed()
-        self._settled(True)
 
     def set_overrides(
         self, feed: int | None = None, rapid: int | None = None, spindle: int | None = None
@@ -1625,6 +1719,177 @@ class Machine:
         if kind == 0:
             return self.sim_clock.now() - self._powered_at
         return (e.operating_time, e.cutting_time, e.cycle_time)[kind - 1]
+
+    # -- production on its own: scenarios, loads -----------------------------------------
+    def start_scenario(self, scenario: Scenario | None = None) -> None:
+        """Run on its own: the main program from its head, repeated for the scenario's parts
+        (or forever) with its pauses, tool-change waits and alarms, from ``scenario.phase``
+        seconds ago (see :mod:`focas_net.sim.nc.scenario`). ``scenario`` None: the machine's
+        own (:attr:`scenario`, a machine file's ``[run]``), else the default. The cycle
+        rewinds first. Refused as cycle start is: EW_ALARM (emergency stop, an active alarm),
+        EW_MODE (not MEM), EW_DATA (no main program); a read-only machine runs it too (the
+        machine works, clients only read it)."""
+        chosen = scenario or self.scenario or DEFAULT_SCENARIO
+        self._sync()
+        if self.panel.emergency:
+            raise MachineError(EW.ALARM, "a scenario cannot start: emergency stop")
+        if self._active:
+            raise MachineError(EW.ALARM, "a scenario cannot start: an alarm is active")
+        if self.panel.mode != MEM:
+            mode = self.panel.mode
+            raise MachineError(EW.MODE, f"a scenario cannot start: mode {mode} is not MEM")
+        if self.programs.main is None:
+            raise MachineError(EW.DATA, "a scenario cannot start: no main program is selected")
+        e = self.engine
+        e.reset()
+        now = self.sim_clock.now()
+        origin = now - chosen.start_phase()
+        e.repeat = True
+        if chosen.parts == "required":
+            required = self._param_or(PARTS_REQUIRED, 0)
+            e.parts_to_go = max(0, required - e.parts_count) if required > 0 else None
+        else:
+            e.parts_to_go = chosen.parts or None
+        self.seed = chosen.seed
+        self._hardness = 0.85 + 0.15 * (noise(chosen.seed, 0.0, -1) + 1.0)
+        self._powered_at = min(self._powered_at, origin)
+        run = _ScenarioRun(chosen, Schedule(chosen, origin, len(self.axes)))
+        self._run = run
+        e.clock = run.held
+        run.held.at = origin
+        try:  # the cycle starts at the origin; the events since then follow in their order
+            e.cycle_start(since=origin)
+            self._driven = True
+            self._synced_at = math.nan
+            self._settled(True, force=True)
+        except NcStateError as exc:  # pragma: no cover - the checks above cover it
+            self._run = None
+            raise MachineError(EW.DATA, str(exc)) from None
+        finally:
+            e.clock = self.sim_clock
+        self._sync()
+
+    def stop_scenario(self) -> None:
+        """Stop running on its own: the cycle goes on as it is (production without the
+        scenario's events and part limit)."""
+        self._sync()
+        run = self._run
+        if run is None:
+            return
+        self._run = None
+        self.engine.parts_to_go = None
+
+    @property
+    def scenario_running(self) -> bool:
+        """Whether a scenario drives the machine (until its parts are made)."""
+        return self.active_scenario is not None
+
+    @property
+    def active_scenario(self) -> Scenario | None:
+        """The scenario driving the machine (as started, its seed the machine's own), None
+        when none does."""
+        self._sync()
+        return None if self._run is None else self._run.scenario
+
+    def _play(self, run: _ScenarioRun, now: float) -> None:
+        """Apply the scenario's events and ends due by ``now``, each at its own machine time
+        (the engine's clock held there meanwhile). An event due while another is under way
+        begins when that one ends."""
+        e = self.engine
+        held = run.held
+        outer = e.clock
+        e.clock = held
+        try:
+            while run.next_time <= now:
+                when = run.next_time
+                held.at = when
+                for happened in e.take_events():
+                    self._engine_event(happened, now)
+                current = run.current
+                if current is not None:
+                    run.current = None
+                    run.free_at = when
+                    self._scenario_end(current, now)
+                    continue
+                event = run.schedule.pop()
+                if e.state is not _START or run.finished(e):
+                    self.scenario_log.append((event, "skipped"))
+                    continue
+                self._scenario_begin(event, when, now)
+                run.current = event
+                run.ends_at = when + event.duration
+        finally:
+            e.clock = outer
+
+    def _scenario_begin(self, event: ScenarioEvent, when: float, now: float) -> None:
+        e = self.engine
+        self.scenario_log.append((event, "begin"))
+        if event.kind == "pause":
+            e.feed_hold()
+        elif event.kind == "tool":
+            e.program_stop()
+        else:
+            spec = SCENARIO_ALARMS[event.alarm]
+            key = (event.axis, spec.alm_type, spec.alm_no)
+            late = timedelta(seconds=max(0.0, now - when))
+            text = spec.message[:MAX_ALARM_TEXT]
+            self._add_alarm(key, text, (self.now() - late).replace(microsecond=0))
+            kind = _ALARM_KINDS.get(spec.alm_type, AlarmKind.PS)
+            e.alarm_stop(NcAlarm(kind, spec.alm_no, text, axis=event.axis or None))
+        self._settled(True, force=True)
+
+    def _scenario_end(self, event: ScenarioEvent, now: float) -> None:
+        e = self.engine
+        self.scenario_log.append((event, "end"))
+        if event.kind == "alarm":
+            spec = SCENARIO_ALARMS[event.alarm]
+            key = (event.axis, spec.alm_type, spec.alm_no)
+            if key not in self._active:
+                return  # cleared by hand: the operator takes it from here
+            del self._active[key]
+            self._alarm_version += 1
+            self._status_changed()
+            self._reset_cycle()
+        elif (event.kind == "pause" and e.state is not _HOLD) or (
+            event.kind == "tool" and e.state is not _STOP
+        ):
+            return  # someone else changed the cycle meanwhile
+        if not self._active and not self.panel.emergency and self.panel.mode == MEM:
+            try:
+                e.cycle_start()
+            except NcStateError:
+                pass
+        self._settled(True, force=True)
+
+    def spindle_loads(self) -> tuple[int, ...]:
+        """The load of each spindle (one) in percent: 0 with the spindle stopped, a few
+        percent turning without cutting, rising with the feed and the spindle speed while
+        the program cuts, with a small noise that depends on :attr:`seed` and the machine
+        time only (0 while the figures are set by hand)."""
+        self._sync()
+        if not self._driven:
+            return (0,)
+        e = self.engine
+        wiggle = noise(self.seed, e.clock.now(), 0)
+        speed = e.actual_spindle_speed
+        top = e.settings.max_spindle_speed
+        return (spindle_load(e.cutting, e.actual_feed, speed, top, wiggle, self._hardness),)
+
+    def servo_loads(self) -> tuple[int, ...]:
+        """The servo load of each axis in percent: 0 at rest, rising with the axis's speed
+        and more while it cuts, with a small noise as :meth:`spindle_loads` has."""
+        self._sync()
+        n = len(self.axes)
+        if not self._driven:
+            return (0,) * n
+        e = self.engine
+        when = e.clock.now()
+        cutting, feed = e.cutting, e.actual_feed
+        rapid = e.settings.rapid_rates
+        return tuple(
+            servo_load(v, rapid[i], cutting, feed, noise(self.seed, when, i + 1))
+            for i, v in enumerate(e.axis_speeds())
+        )
 
     @property
     def motion(self) -> MotionData:

@@ -9,6 +9,7 @@ are errors too, so a misspelt key never passes silently.
 
 from __future__ import annotations
 
+import math
 import tomllib
 from collections.abc import Mapping
 from dataclasses import dataclass
@@ -41,7 +42,7 @@ from .machine import (
     PmcAreaSpec,
     utc_now,
 )
-from .nc import ProgramError, SimClock, parse_program
+from .nc import ProgramError, Scenario, SimClock, parse_program
 
 __all__ = ["MODE_NAMES", "MachineFileError", "load_machine", "machine_from_dict"]
 
@@ -541,6 +542,49 @@ def _programs(ctx: _Ctx, value: Any, base: Path | None) -> tuple[list[str], int 
     return texts, main
 
 
+#: Largest number a ``[run]`` rate or time may be (events per hour, seconds: a year).
+_MAX_RUN_NUMBER: Final = 31_536_000.0
+#: The keys of ``[run]`` that are numbers of seconds or events per hour (>= 0).
+_RUN_NUMBERS: Final = (
+    "phase",
+    "pause_rate",
+    "pause_time",
+    "tool_rate",
+    "tool_time",
+    "alarm_rate",
+    "alarm_time",
+)
+
+
+def _run(ctx: _Ctx, value: Any) -> Scenario:
+    """The ``[run]`` table: how the machine runs on its own when served."""
+    t = _table(ctx, value)
+    _only(ctx, t, ("parts", "seed", *_RUN_NUMBERS))
+    given: dict[str, Any] = {}
+    if "parts" in t:
+        c = ctx.sub("parts")
+        raw = t["parts"]
+        if isinstance(raw, str):
+            if raw.strip().lower() != "required":
+                c.fail(f'must be a count >= 0 or "required", got {raw!r}')
+            given["parts"] = "required"
+        else:
+            given["parts"] = _int(c, raw, (0, _I32[1]))
+    if "seed" in t:
+        given["seed"] = _int(ctx.sub("seed"), t["seed"], (0, 2**63 - 1))
+    for key in _RUN_NUMBERS:
+        if key not in t:
+            continue
+        c = ctx.sub(key)
+        raw = t[key]
+        if isinstance(raw, bool) or not isinstance(raw, int | float):
+            c.fail(f"must be a number, got {_kind(raw)}")
+        if not math.isfinite(raw) or raw < 0 or raw > _MAX_RUN_NUMBER:
+            c.fail(f"{raw} is outside 0..{_MAX_RUN_NUMBER:.0f}")
+        given[key] = float(raw)
+    return Scenario(**given)
+
+
 _TOP: Final = (
     "machine",
     "sysinfo",
@@ -552,6 +596,7 @@ _TOP: Final = (
     "versamax",
     "motion",
     "program",
+    "run",
 )
 
 
@@ -675,6 +720,7 @@ def _build(
         programs=programs[0],
         main_program=programs[1],
         sim_clock=sim_clock,
+        scenario=_run(root.sub("run"), top["run"]) if "run" in top else None,
     )
 
 

@@ -3,7 +3,9 @@ only, pure and synchronous, no protocol).
 
 Modules: :mod:`.program` (parsing, the program store), :mod:`.macro` (custom macro B
 expressions and the variable interface), :mod:`.interpreter` (blocks to actions),
-:mod:`.motion` (segments), :mod:`.engine` (actions in time), :mod:`.clock`, :mod:`.alarms`.
+:mod:`.motion` (segments), :mod:`.engine` (actions in time), :mod:`.clock`, :mod:`.alarms`,
+:mod:`.scenario` (a machine at work on its own: seeded pauses, tool changes and alarms; the
+loads of cutting).
 
 Wiring into a machine
 ---------------------
@@ -80,12 +82,23 @@ from .interpreter import DEFAULT_MODAL, G_CODE_GROUPS, NcSettings
 from .macro import MACRO_FUNCTIONS, MemoryVariables, NcVariables, VariableRefused
 from .motion import ArcMove, LinearMove, Motion, RapidMove
 from .program import Block, Program, ProgramInfo, ProgramStore, Word, parse_program
+from .scenario import (
+    DEFAULT_SCENARIO,
+    SCENARIO_ALARMS,
+    Scenario,
+    ScenarioAlarm,
+    ScenarioEvent,
+    Schedule,
+    fleet_seed,
+)
 
 __all__ = [
     "ALARM_MESSAGES",
     "DEFAULT_MODAL",
+    "DEFAULT_SCENARIO",
     "G_CODE_GROUPS",
     "MACRO_FUNCTIONS",
+    "SCENARIO_ALARMS",
     "AlarmKind",
     "ArcMove",
     "Block",
@@ -108,8 +121,13 @@ __all__ = [
     "ProgramStore",
     "RapidMove",
     "RealTimeClock",
+    "Scenario",
+    "ScenarioAlarm",
+    "ScenarioEvent",
+    "Schedule",
     "SimClock",
     "VariableRefused",
     "Word",
+    "fleet_seed",
     "parse_program",
 ]

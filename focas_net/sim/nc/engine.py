@@ -13,6 +13,7 @@ from collections import deque
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
 from enum import Enum
+from typing import Final
 
 from .alarms import ALARM_MESSAGES, AlarmKind, AlarmRaised, NcAlarm
 from .clock import SimClock
@@ -106,6 +107,9 @@ class Engine:
         self.single_block = False
         #: Production: after M2/M30 the main program starts again at once (no reset between).
         self.repeat = False
+        #: With :attr:`repeat`: how many more parts to make before production stops (the
+        #: cycle then ends in reset as without ``repeat``); None: no limit.
+        self.parts_to_go: int | None = None
         self.feed_override = 100.0
         self.rapid_override = 100.0
         self.spindle_override = 100.0
@@ -117,9 +121,13 @@ class Engine:
 
     # --- commands -------------------------------------------------------------------------
 
-    def cycle_start(self) -> None:
+    def cycle_start(self, *, since: float | None = None) -> None:
         """Start the main program from its head (reset), continue it (stop) or resume it
-        (hold). Refused with an alarm active or without a main program."""
+        (hold). Refused with an alarm active or without a main program.
+
+        ``since`` (from reset only): the machine time the cycle started, earlier than now
+        for a machine that has been at work for a while when it is first read; the next
+        read runs the program from then."""
         self.advance()
         if self._alarm is not None:
             raise NcStateError(f"cycle start refused: alarm {self._alarm.code} is active")
@@ -132,6 +140,10 @@ class Engine:
             self.interpreter.rewind(main)
             self.interpreter.position = list(self._position)
             self._cycle_time = 0.0
+            if since is not None:
+                if not math.isfinite(since):
+                    raise ValueError(f"a cycle starts at a finite machine time, got {since!r}")
+                self._time = min(self._time, since)
         self._state = CycleState.START
 
     def feed_hold(self) -> None:
@@ -153,6 +165,12 @@ class Engine:
         it.spindle = 5
         it.coolant = False
         it.position = list(self._position)
+
+    def program_stop(self) -> None:
+        """Stop the cycle where it is, as M0 would (STOP; cycle start goes on from there)."""
+        self.advance()
+        if self._state in (CycleState.START, CycleState.HOLD):
+            self._state = CycleState.STOP
 
     def alarm_stop(self, alarm: NcAlarm) -> None:
         """An alarm raised outside the program (emergency stop, a servo or PMC alarm): the
@@ -295,6 +313,33 @@ class Engine:
         if self._state is not CycleState.START or not isinstance(action, Motion):
             return 0.0
         return action.speed(self._progress) * self._rate(action)
+
+    @property
+    def cutting(self) -> bool:
+        """Whether a cutting feed (G1/G2/G3) is moving the axes now."""
+        self.advance()
+        action = self._action
+        return (
+            self._state is CycleState.START
+            and isinstance(action, Motion)
+            and not action.rapid
+            and self._progress < self._limit
+        )
+
+    def axis_speeds(self) -> Vector:
+        """mm/min of each axis now (unsigned; 0 when not moving)."""
+        self.advance()
+        action = self._action
+        n = len(self._position)
+        if self._state is not CycleState.START or not isinstance(action, Motion):
+            return (0.0,) * n
+        p, end = self._progress, self._limit
+        if p >= end:
+            return (0.0,) * n
+        h = min(_SPEED_STEP, end - p)
+        a, b = action.at(p), action.at(p + h)
+        scale = 60.0 * self._rate(action) / h
+        return tuple(abs(y - x) * scale for x, y in zip(a, b, strict=True))
 
     @property
     def actual_spindle_speed(self) -> float:
@@ -479,7 +524,10 @@ class Engine:
         it.coolant = False
         it.position = list(self._position)
         main = self.store.find(self.store.main) if self.store.main is not None else None
-        if self.repeat and action.code is not None and main is not None:
+        if self.parts_to_go is not None and action.code is not None:
+            self.parts_to_go = max(0, self.parts_to_go - 1)
+        more = self.parts_to_go is None or self.parts_to_go > 0
+        if self.repeat and more and action.code is not None and main is not None:
             # production: the next part starts at once, from the head of the main program
             it.rewind(main)
             it.position = list(self._position)
@@ -540,6 +588,10 @@ class Engine:
         if self._state is CycleState.RESET:
             return frozenset()
         return self.interpreter.programs_in_use()
+
+
+#: Nominal seconds over which :meth:`Engine.axis_speeds` measures the axes' speed.
+_SPEED_STEP: Final = 0.01
 
 
 def _percent(value: float, low: float, high: float, what: str) -> float:

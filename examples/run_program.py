@@ -1,0 +1,156 @@
+"""Run a part program on a CNC end to end: store it, select it, press cycle start, follow it.
+
+    focas-net serve --speed 10 &
+    python examples/run_program.py --host 127.0.0.1 --port 8193
+    python examples/run_program.py --port 8193 --program my_part.nc --seconds 300
+
+The script stores the program through the client (``cnc_download``, replacing a program of
+the same number), makes it the main program (``cnc_search``), switches the panel to MEM when
+it is not, and presses cycle start (simulator control). Then it polls, all reads of a poll at
+once on one connection: the status, the absolute positions, the actual feed, the sequence
+number (system variable #4114) and the run information (parts count, timers). It prints a
+line whenever the block or the run state changes, and ends when the program's M30 has counted
+a part. Exit code 0 then; 1 when an alarm stops the program, the CNC is already running a
+program, or the program does not finish within ``--seconds``.
+"""
+
+from __future__ import annotations
+
+import argparse
+import asyncio
+import sys
+import time
+from decimal import Decimal
+from pathlib import Path
+
+from focas_net import FocasClient
+from focas_net.errors import FocasError
+from focas_net.protocol import ALARM_TYPE_NAMES, AutMode, RunInfo, RunState, StatusInfo
+
+#: A small part: face down 1 mm and cut a 30 mm square at F1800, about 6 s of machine time.
+PROGRAM = """\
+O7001 (EXAMPLE SQUARE)
+N10 G90 G21 G17 G54
+N20 S1500 M3
+N30 G0 X0. Y0. Z2.
+N40 G1 Z-1. F600
+N50 X30. F1800
+N60 Y30.
+N70 X0.
+N80 Y0.
+N90 G0 Z2.
+N100 M5
+N110 M30
+"""
+#: System variable of the sequence number being executed.
+SEQUENCE = 4114
+RUN = {0: "****", 1: "STOP", 2: "HOLD", 3: "STRT", 4: "MSTR"}
+
+
+class Failed(Exception):
+    """The program did not run to its end; the message says why."""
+
+
+def trace_line(
+    machine_s: float, sequence: int, status: StatusInfo, axes: dict[str, Decimal], feed: int
+) -> str:
+    """``    1.25 s  N50    STRT  X    12.500  Y     0.000  Z    -1.000  F1800``."""
+    where = "  ".join(f"{name} {value:>9}" for name, value in axes.items())
+    run = RUN.get(status.run, str(status.run))
+    return f"{machine_s:8.2f} s  N{sequence:<5} {run:4}  {where}  F{feed}"
+
+
+async def poll(cnc: FocasClient) -> tuple[StatusInfo, dict[str, Decimal], int, int, RunInfo]:
+    """One poll: every read goes out at once."""
+    status, positions, feed, sequence, info = await asyncio.gather(
+        cnc.read_status(),
+        cnc.read_positions("absolute"),
+        cnc.read_feed(),
+        cnc.read_macro(SEQUENCE),
+        cnc.read_run_info(),
+    )
+    return status, positions.values, feed, int(sequence or 0), info
+
+
+async def alarm_text(cnc: FocasClient) -> str:
+    alarms = await cnc.read_alarms()
+    return ", ".join(
+        f"{ALARM_TYPE_NAMES.get(a.alm_type, a.alm_type)}{a.alm_no:04d} {a.msg}".strip()
+        for a in alarms
+    )
+
+
+async def run_program(args: argparse.Namespace, text: str) -> None:
+    async with FocasClient(args.host, args.port, timeout=args.timeout) as cnc:
+        status = await cnc.read_status()
+        if status.run in (RunState.STRT, RunState.HOLD):
+            raise Failed("the CNC is running a program: reset it first (focas-net sim cycle reset)")
+        number = await cnc.write_program(text, replace=True)
+        if status.aut != AutMode.MEM:
+            await cnc.sim.set_panel(mode=AutMode.MEM)
+            print("panel switched to MEM")
+        await cnc.select_program(number)
+        before = await cnc.read_run_info()
+        await cnc.sim.cycle_start()
+        print(f"O{number:04d} stored and selected on {args.host}:{args.port}; cycle start")
+        deadline = time.monotonic() + args.seconds
+        last: tuple[int, int] | None = None
+        while True:
+            status, axes, feed, sequence, info = await poll(cnc)
+            machine_s = (info.operating_ms - before.operating_ms) / 1000
+            if (sequence, status.run) != last:
+                print(trace_line(machine_s, sequence, status, axes, feed))
+                last = (sequence, status.run)
+            if status.alarm:
+                raise Failed(f"O{number:04d} stopped by an alarm: {await alarm_text(cnc)}")
+            if info.parts_count > before.parts_count and status.run != RunState.STRT:
+                break
+            if status.run in (RunState.RESET, RunState.STOP):
+                raise Failed(
+                    f"O{number:04d} stopped at N{sequence} before its end (M0, M1 or a reset)"
+                )
+            if time.monotonic() > deadline:
+                raise Failed(f"O{number:04d} did not finish within {args.seconds:g} s")
+            await asyncio.sleep(args.interval)
+    print(
+        f"O{number:04d} finished after {machine_s:.2f} s of machine time: parts "
+        f"{before.parts_count} -> {info.parts_count}, cutting "
+        f"{(info.cutting_ms - before.cutting_ms) / 1000:.2f} s"
+    )
+
+
+def positive(text: str) -> float:
+    value = float(text)
+    if not value > 0:
+        raise argparse.ArgumentTypeError(f"must be a positive number of seconds, got {text}")
+    return value
+
+
+def main() -> int:
+    parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    parser.add_argument("--host", default="127.0.0.1")
+    parser.add_argument("--port", type=int, default=8193)
+    parser.add_argument("--timeout", type=positive, default=3.0, help="seconds per call")
+    parser.add_argument("--program", type=Path, help="part program file (default: a square)")
+    parser.add_argument(
+        "--interval", type=positive, default=0.1, help="seconds between polls (default 0.1)"
+    )
+    parser.add_argument(
+        "--seconds", type=positive, default=120.0, help="give up after this long (default 120)"
+    )
+    args = parser.parse_args()
+    try:
+        text = PROGRAM if args.program is None else args.program.read_text()
+    except OSError as exc:
+        print(f"run_program: cannot read {args.program}: {exc.strerror}", file=sys.stderr)
+        return 2
+    try:
+        asyncio.run(run_program(args, text))
+    except (Failed, FocasError) as exc:
+        print(f"run_program: {exc}", file=sys.stderr)
+        return 1
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

@@ -1,0 +1,44 @@
+"""The ``[HOST:]PORT`` of the dashboard, parsed and checked (pure)."""
+
+from __future__ import annotations
+
+import ipaddress
+from typing import Final
+
+__all__ = ["DEFAULT_WEB_HOST", "is_loopback", "parse_web_address"]
+
+#: Where the dashboard listens when ``--web`` gives a port only.
+DEFAULT_WEB_HOST: Final = "127.0.0.1"
+
+_LOOPBACK_NAMES: Final = frozenset({"localhost", "localhost.localdomain", "ip6-localhost"})
+
+
+def parse_web_address(text: str) -> tuple[str, int]:
+    """``(host, port)`` of ``"PORT"``, ``"HOST:PORT"`` or ``"[IPv6]:PORT"``; the host is
+    :data:`DEFAULT_WEB_HOST` when not given, port 0 asks for an ephemeral one. ValueError,
+    naming ``text``, for anything else."""
+    raw = text.strip()
+    host, sep, port_text = raw.rpartition(":")
+    if not sep:
+        host, port_text = DEFAULT_WEB_HOST, raw
+    elif host.startswith("[") and host.endswith("]"):
+        host = host[1:-1]
+    elif ":" in host:
+        raise ValueError(f"{text!r}: write an IPv6 host in brackets, [HOST]:PORT")
+    if not host:
+        raise ValueError(f"{text!r}: no host before ':' (write PORT or HOST:PORT)")
+    if not port_text.isdigit() or not 0 <= int(port_text) <= 65_535:
+        raise ValueError(f"{text!r}: the port must be a number 0..65535 ([HOST:]PORT)")
+    if any(c.isspace() for c in host):
+        raise ValueError(f"{text!r}: a host name has no spaces")
+    return host, int(port_text)
+
+
+def is_loopback(host: str) -> bool:
+    """Whether ``host`` is a loopback address (or the name ``localhost``)."""
+    if host.lower() in _LOOPBACK_NAMES:
+        return True
+    try:
+        return ipaddress.ip_address(host).is_loopback
+    except ValueError:
+        return False

@@ -1,0 +1,300 @@
+"""The dashboard's thin aiohttp shell: routes, the WebSocket, start and stop.
+
+aiohttp is imported when the dashboard starts (``pip install 'focas-net[web]'``), so the rest
+of focas_net needs only anyio. It runs in the caller's event loop, beside the
+:class:`~focas_net.server.FocasServer` whose machines it shows.
+
+Routes::
+
+    GET  /                                   the page (static/index.html)
+    GET  /static/<file>                      its script and style sheet
+    GET  /api/info                           {"read_only", "machines"}
+    GET  /api/fleet                          the fleet view
+    GET  /api/machines/<i>                   machine i's view
+    GET  /api/machines/<i>/params?q=TEXT     parameters (number prefix or name)
+    GET  /api/machines/<i>/macros?q=N[-M]    macro variables
+    GET  /api/machines/<i>/pmc?area=X&start=0  16 bytes of a PMC area
+    POST /api/machines/<i>/actions/<action>  a page action (JSON object of arguments)
+    GET  /ws                                 live frames; send {"subscribe": "fleet"} or
+                                             {"subscribe": "machine", "index": i,
+                                              "pmc_area": "X", "pmc_start": 0}
+
+An action answers 200 ``{"ok": true, ...}``; a refusal 409 (403 on a read-only dashboard)
+``{"ok": false, "ew": 5, "ew_name": "EW_PASSWD", "error": ...}``; a bad argument 400
+``{"ok": false, "error": ...}``; an unknown machine 404.
+"""
+
+from __future__ import annotations
+
+import asyncio
+import contextlib
+import json
+import logging
+from collections.abc import Sequence
+from pathlib import Path
+from typing import TYPE_CHECKING, Any, Final
+
+from focas_net.errors import EW
+from focas_net.sim import MachineError
+
+from .address import DEFAULT_WEB_HOST
+from .broadcast import DEFAULT_INTERVAL, FLEET, Broadcaster, Topic, machine_topic
+from .operations import ActionError, Station, perform, refusal
+from .view import JsonDict, fleet_view, machine_view, macro_rows, param_rows, pmc_window
+
+if TYPE_CHECKING:
+    from aiohttp import web
+
+    from focas_net.server import FocasServer
+
+__all__ = ["STATIC_DIR", "Dashboard", "WebUnavailableError", "stations_of"]
+
+_log = logging.getLogger(__name__)
+
+#: The page's files, shipped in the package.
+STATIC_DIR: Final = Path(__file__).resolve().parent / "static"
+#: How long the stop waits for requests in flight.
+_SHUTDOWN_TIMEOUT: Final = 2.0
+
+
+class WebUnavailableError(ImportError):
+    """aiohttp is not installed: the dashboard needs ``pip install 'focas-net[web]'``."""
+
+
+def _aiohttp() -> Any:
+    try:
+        from aiohttp import web
+    except ImportError:
+        raise WebUnavailableError(
+            "the web dashboard needs aiohttp: pip install 'focas-net[web]'"
+        ) from None
+    return web
+
+
+def stations_of(server: FocasServer) -> list[Station]:
+    """A station per machine of ``server`` (its port once bound, its machine-wide faults)."""
+    return [
+        Station(i, listener.machine, listener.faults, listener.port)
+        for i, listener in enumerate(server.listeners)
+    ]
+
+
+class Dashboard:
+    """The web dashboard of ``stations`` (see :func:`stations_of`) on ``host:port``.
+
+    ``async with Dashboard(...) as d:`` starts it (:attr:`url` is then its address) and
+    stops it: the broadcaster ends, open WebSockets are closed, the port is released.
+    ``read_only`` disables the page's controls and refuses every action with ``EW_PROT``.
+    Raises :class:`WebUnavailableError` on start when aiohttp is missing, OSError when the
+    port cannot be bound."""
+
+    def __init__(
+        self,
+        stations: Sequence[Station],
+        *,
+        host: str = DEFAULT_WEB_HOST,
+        port: int = 0,
+        read_only: bool = False,
+        interval: float = DEFAULT_INTERVAL,
+    ) -> None:
+        self.stations = list(stations)
+        self.host = host
+        self.port = port
+        self.read_only = read_only
+        self.broadcaster = Broadcaster(self.stations, interval=interval)
+        self.address: tuple[str, int] = (host, port)
+        self._runner: web.AppRunner | None = None
+        self._task: asyncio.Task[None] | None = None
+        self._sockets: set[web.WebSocketResponse] = set()
+
+    @property
+    def url(self) -> str:
+        host, port = self.address
+        shown = f"[{host}]" if ":" in host else host
+        return f"http://{shown}:{port}/"
+
+    async def __aenter__(self) -> Dashboard:
+        await self.start()
+        return self
+
+    async def __aexit__(self, *exc: object) -> None:
+        await self.stop()
+
+    # -- lifecycle ------------------------------------------------------------------------
+    async def start(self) -> None:
+        aw = _aiohttp()
+        app = aw.Application()
+        app.router.add_get("/", self._index)
+        app.router.add_static("/static/", STATIC_DIR, show_index=False)
+        app.router.add_get("/api/info", self._info)
+        app.router.add_get("/api/fleet", self._fleet)
+        app.router.add_get("/api/machines/{index}", self._machine)
+        app.router.add_get("/api/machines/{index}/params", self._params)
+        app.router.add_get("/api/machines/{index}/macros", self._macros)
+        app.router.add_get("/api/machines/{index}/pmc", self._pmc)
+        app.router.add_post("/api/machines/{index}/actions/{action}", self._action)
+        app.router.add_get("/ws", self._ws)
+        app.on_shutdown.append(self._close_sockets)
+        runner = aw.AppRunner(app, shutdown_timeout=_SHUTDOWN_TIMEOUT, access_log=None)
+        await runner.setup()
+        try:
+            site = aw.TCPSite(runner, self.host, self.port)
+            await site.start()
+        except BaseException:
+            await runner.cleanup()
+            raise
+        self._runner = runner
+        addresses = runner.addresses  # the port actually bound (port 0: an ephemeral one)
+        if addresses:
+            self.address = (str(addresses[0][0]), int(addresses[0][1]))
+        self._task = asyncio.get_running_loop().create_task(self.broadcaster.run())
+
+    async def stop(self) -> None:
+        """Stop the live updates, close the pages' sockets and the listener (idempotent)."""
+        task, self._task = self._task, None
+        if task is not None:
+            task.cancel()
+            with contextlib.suppress(asyncio.CancelledError):
+                await task
+        self.broadcaster.close()
+        runner, self._runner = self._runner, None
+        if runner is not None:
+            await runner.cleanup()
+
+    async def _close_sockets(self, _app: Any) -> None:
+        from aiohttp import WSCloseCode
+
+        for ws in list(self._sockets):
+            await ws.close(code=WSCloseCode.GOING_AWAY, message=b"server shutdown")
+
+    # -- helpers --------------------------------------------------------------------------
+    @staticmethod
+    def _json(data: JsonDict, status: int = 200) -> web.Response:
+        aw = _aiohttp()
+        response: web.Response = aw.json_response(data, status=status)
+        return response
+
+    def _station(self, request: web.Request) -> Station:
+        text = request.match_info["index"]
+        if not text.isdigit() or not int(text) < len(self.stations):
+            aw = _aiohttp()
+            raise aw.HTTPNotFound(
+                text=json.dumps({"ok": False, "error": f"no machine {text!r}"}),
+                content_type="application/json",
+            )
+        return self.stations[int(text)]
+
+    # -- handlers -------------------------------------------------------------------------
+    async def _index(self, _request: web.Request) -> web.StreamResponse:
+        aw = _aiohttp()
+        response: web.FileResponse = aw.FileResponse(STATIC_DIR / "index.html")
+        return response
+
+    async def _info(self, _request: web.Request) -> web.Response:
+        return self._json({"read_only": self.read_only, "machines": len(self.stations)})
+
+    async def _fleet(self, _request: web.Request) -> web.Response:
+        entries = ((s.index, s.machine, s.port) for s in self.stations)
+        return self._json(fleet_view(entries))
+
+    async def _machine(self, request: web.Request) -> web.Response:
+        s = self._station(request)
+        view = machine_view(s.index, s.machine, s.port, trail=s.trail, faults=s.fault_listing())
+        return self._json(view)
+
+    async def _params(self, request: web.Request) -> web.Response:
+        s = self._station(request)
+        return self._json({"params": param_rows(s.machine, request.query.get("q", ""))})
+
+    async def _macros(self, request: web.Request) -> web.Response:
+        s = self._station(request)
+        query = request.query.get("q", "")
+        try:
+            rows = macro_rows(s.machine, s.macro_numbers(), query)
+        except ValueError as exc:
+            return self._json({"ok": False, "error": str(exc)}, 400)
+        return self._json({"macros": rows})
+
+    async def _pmc(self, request: web.Request) -> web.Response:
+        s = self._station(request)
+        area = request.query.get("area", "X")
+        start = request.query.get("start", "0")
+        if not start.isdigit():
+            return self._json({"ok": False, "error": f"start: not an address: {start!r}"}, 400)
+        try:
+            return self._json(pmc_window(s.machine, area, int(start)))
+        except MachineError as exc:
+            return self._json(refusal(exc), 409)
+
+    async def _action(self, request: web.Request) -> web.Response:
+        s = self._station(request)
+        action = request.match_info["action"]
+        try:
+            args = await request.json() if request.can_read_body else {}
+        except ValueError:
+            return self._json({"ok": False, "error": "the body is not JSON"}, 400)
+        if not isinstance(args, dict):
+            return self._json({"ok": False, "error": "the body must be a JSON object"}, 400)
+        try:
+            result = perform(s, action, args, read_only=self.read_only)
+        except ActionError as exc:
+            return self._json({"ok": False, "error": str(exc)}, 400)
+        except MachineError as exc:
+            status = 403 if exc.ew == EW.PROT and (self.read_only or s.machine.read_only) else 409
+            return self._json(refusal(exc), status)
+        _log.info("%s: page action %s %s", s.machine.name, action, args)
+        return self._json(result)
+
+    def _topic(self, message: str) -> Topic | None:
+        try:
+            wanted = json.loads(message)
+        except ValueError:
+            return None
+        if not isinstance(wanted, dict):
+            return None
+        if wanted.get("subscribe") == "fleet":
+            return FLEET
+        if wanted.get("subscribe") == "machine":
+            index, area, start = (
+                wanted.get("index"),
+                wanted.get("pmc_area", "X"),
+                wanted.get("pmc_start", 0),
+            )
+            if isinstance(index, int) and isinstance(area, str) and isinstance(start, int):
+                return machine_topic(index, area, start)
+        return None
+
+    async def _ws(self, request: web.Request) -> web.StreamResponse:
+        aw = _aiohttp()
+        from aiohttp import WSMsgType
+
+        ws: web.WebSocketResponse = aw.WebSocketResponse(heartbeat=30.0)
+        await ws.prepare(request)
+        self._sockets.add(ws)
+        sub = self.broadcaster.subscribe(FLEET)
+        sender = asyncio.get_running_loop().create_task(self._send(ws, sub))
+        try:
+            async for msg in ws:
+                if msg.type != WSMsgType.TEXT:
+                    continue
+                topic = self._topic(msg.data)
+                if topic is None:
+                    await ws.send_str(json.dumps({"type": "error", "error": "bad subscription"}))
+                    continue
+                sub.topic = topic
+                sub.offer(self.broadcaster.frame(topic))  # at once, not at the next tick
+        finally:
+            self.broadcaster.unsubscribe(sub)
+            self._sockets.discard(ws)
+            sender.cancel()
+            with contextlib.suppress(asyncio.CancelledError):
+                await sender
+        return ws
+
+    @staticmethod
+    async def _send(ws: web.WebSocketResponse, sub: Any) -> None:
+        with contextlib.suppress(ConnectionError):
+            while (frame := await sub.next()) is not None:
+                if ws.closed:
+                    return
+                await ws.send_str(frame)

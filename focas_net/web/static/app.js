@@ -1,0 +1,402 @@
+// focas-net dashboard: one WebSocket of live frames, REST calls for the actions.
+"use strict";
+
+const $ = (id) => document.getElementById(id);
+const state = { readOnly: false, ws: null, topic: null, machine: null, view: null };
+
+function el(tag, attrs = {}, ...children) {
+  const node = document.createElement(tag);
+  for (const [k, v] of Object.entries(attrs)) {
+    if (k === "class") node.className = v;
+    else if (k.startsWith("data-")) node.setAttribute(k, v);
+    else node[k] = v;
+  }
+  for (const c of children) node.append(c);
+  return node;
+}
+
+function show(text, ok) {
+  const m = $("message");
+  m.textContent = text;
+  m.className = ok ? "ok" : "error";
+}
+
+async function act(action, args) {
+  const res = await fetch(`/api/machines/${state.machine}/actions/${action}`, {
+    method: "POST",
+    headers: { "Content-Type": "application/json" },
+    body: JSON.stringify(args || {}),
+  });
+  const body = await res.json();
+  if (body.ok) show(`${action}: done`, true);
+  else show(`${action} refused: ${body.ew_name ? body.ew_name + " " : ""}${body.error || ""}`, false);
+  return body;
+}
+
+// -- routing and the live link -------------------------------------------------------------
+function route() {
+  const m = location.hash.match(/^#\/machine\/(\d+)/);
+  $("fleet-view").hidden = !!m;
+  $("machine-view").hidden = !m;
+  if (m) {
+    state.machine = Number(m[1]);
+    state.view = null;
+    state.dirKey = state.progKey = state.pmcKey = null;
+    $("message").textContent = "";
+    loadParams();
+    loadMacros();
+  } else {
+    state.machine = null;
+    $("crumb").textContent = "fleet";
+  }
+  subscribe();
+}
+
+function subscribe() {
+  if (!state.ws || state.ws.readyState !== WebSocket.OPEN) return;
+  const msg = state.machine === null
+    ? { subscribe: "fleet" }
+    : { subscribe: "machine", index: state.machine, pmc_area: $("pmc-area").value || "X",
+        pmc_start: Number($("pmc-start").value) || 0 };
+  state.ws.send(JSON.stringify(msg));
+}
+
+function connect() {
+  const ws = new WebSocket(`${location.protocol === "https:" ? "wss" : "ws"}://${location.host}/ws`);
+  state.ws = ws;
+  ws.onopen = () => {
+    $("link-state").textContent = "live";
+    $("link-state").className = "link up";
+    subscribe();
+  };
+  ws.onclose = () => {
+    $("link-state").textContent = "disconnected";
+    $("link-state").className = "link down";
+    setTimeout(connect, 1000);
+  };
+  ws.onmessage = (ev) => {
+    const msg = JSON.parse(ev.data);
+    if (msg.type === "fleet" && state.machine === null) renderFleet(msg.data);
+    else if (msg.type === "machine" && msg.data.index === state.machine) {
+      renderMachine(msg.data);
+      renderPmc(msg.pmc);
+    }
+  };
+}
+
+// -- fleet view ----------------------------------------------------------------------------
+// Tiles are made once per machine and updated in place, so a click is never lost to a redraw.
+const tiles = new Map();
+
+function tileOf(t) {
+  let tile = tiles.get(t.index);
+  if (!tile) {
+    const parts = { name: el("div", { class: "name" }), port: el("span"), mode: el("span"),
+      run: el("span", { class: "run" }), program: el("span"), sequence: el("span"),
+      parts: el("span", { class: "parts" }), alarm: el("div", { class: "alm" }) };
+    const node = el("a", { href: `#/machine/${t.index}`, "data-index": String(t.index) },
+      parts.name, el("div", { class: "row" }, parts.port, parts.mode, parts.run),
+      el("div", { class: "row" }, parts.program, parts.sequence, parts.parts), parts.alarm);
+    tile = { node, parts };
+    tiles.set(t.index, tile);
+  }
+  return tile;
+}
+
+function setText(node, text) { if (node.textContent !== text) node.textContent = text; }
+
+function renderFleet(data) {
+  setText($("fleet-summary"),
+    `${data.count} machines, ${data.running} running, ${data.alarmed} in alarm`);
+  const filter = $("fleet-filter").value.trim().toLowerCase();
+  const shown = [];
+  for (const t of data.machines) {
+    if (filter && !t.name.toLowerCase().includes(filter)) continue;
+    const { node, parts } = tileOf(t);
+    const cls = `tile ${t.run === "****" ? "RESET" : t.run}${t.alarms ? " alarm" : ""}`;
+    if (node.className !== cls) node.className = cls;
+    setText(parts.name, t.name);
+    setText(parts.port, `:${t.port}`);
+    setText(parts.mode, t.mode);
+    setText(parts.run, t.run);
+    setText(parts.program, `O${String(t.program).padStart(4, "0")}`);
+    setText(parts.sequence, `N${t.sequence}`);
+    setText(parts.parts, `${t.parts} parts`);
+    setText(parts.alarm, t.alarm ? `ALM ${t.alarm}` : (t.emergency ? "EMG" : "\u00a0"));
+    shown.push(node);
+  }
+  const box = $("fleet");
+  if (box.children.length !== shown.length || shown.some((n, i) => box.children[i] !== n)) {
+    box.replaceChildren(...shown);
+  }
+}
+
+// -- machine view --------------------------------------------------------------------------
+function setIfIdle(input, value) {
+  if (document.activeElement !== input) {
+    if (input.type === "checkbox") input.checked = !!value;
+    else input.value = value;
+  }
+}
+
+function fmt(v, d = 3) { return Number(v).toFixed(d); }
+
+function clock(seconds) {
+  const s = Math.floor(seconds);
+  const h = Math.floor(s / 3600), m = Math.floor((s % 3600) / 60);
+  return `${h}:${String(m).padStart(2, "0")}:${String(s % 60).padStart(2, "0")}`;
+}
+
+function renderMachine(v) {
+  const first = state.view === null;
+  state.view = v;
+  $("crumb").textContent = `${v.name}  :${v.port}  (${v.control_class})`;
+  $("m-mode").textContent = v.mode;
+  const run = $("run-state");
+  run.textContent = v.run;
+  run.className = v.run;
+  $("status-table").replaceChildren(el("tr", {}, el("th", {}, "field"), el("th", {}, "value"),
+    el("th", {}, "")), ...v.status.map((f) => el("tr", {}, el("td", {}, f.field),
+    el("td", {}, `${f.value} ${f.label}`), el("td", {}, el("small", {}, f.meaning)))));
+
+  if (first) {
+    $("mode").replaceChildren(...v.modes.map(([n, label]) =>
+      el("option", { value: String(n) }, label)));
+    $("pmc-area").replaceChildren(...v.pmc_areas.map((a) =>
+      el("option", { value: a.area }, `${a.area} (${a.size})`)));
+    $("pmc-area").value = "X";
+    applyReadOnly();
+  }
+  setIfIdle($("mode"), String(v.panel.mode));
+  setIfIdle($("pwe"), v.panel.pwe);
+  setIfIdle($("emergency"), v.panel.emergency);
+  setIfIdle($("feed-ov"), v.overrides.feed);
+  $("feed-ov-text").textContent = `${v.overrides.feed} %`;
+  setIfIdle($("rapid-ov"), String(v.overrides.rapid));
+
+  const kinds = ["absolute", "machine", "relative", "distance_to_go"];
+  $("pos-table").replaceChildren(
+    el("tr", {}, el("th", {}, ""), ...kinds.map((k) => el("th", {}, k.replaceAll("_", " ")))),
+    ...v.positions.map((p) => el("tr", {}, el("th", {}, p.axis),
+      ...kinds.map((k) => el("td", {}, fmt(p[k]))))));
+  $("m-feed").textContent = v.feed;
+  $("m-spindle").textContent = v.spindle_speed;
+  $("m-program").textContent = `O${String(v.program_running).padStart(4, "0")}`;
+  $("m-sequence").textContent = v.sequence;
+  $("loads").textContent =
+    `spindle load ${v.loads.spindle.map((x) => x + " %").join(", ")}` +
+    ` | servo load ${v.loads.servo.map((x) => x + " %").join(", ")}`;
+
+  const t = v.timers;
+  $("timer-table").replaceChildren(
+    el("tr", {}, el("td", {}, "power on"), el("td", {}, clock(t.power_on))),
+    el("tr", {}, el("td", {}, "operating"), el("td", {}, clock(t.operating))),
+    el("tr", {}, el("td", {}, "cutting"), el("td", {}, clock(t.cutting))),
+    el("tr", {}, el("td", {}, "cycle"), el("td", {}, clock(t.cycle))),
+    el("tr", {}, el("td", {}, "parts count"), el("td", { id: "parts-count" }, String(v.parts.count))),
+    el("tr", {}, el("td", {}, "total parts"), el("td", {}, String(v.parts.total))),
+    el("tr", {}, el("td", {}, "parts required"), el("td", {}, String(v.parts.required ?? "-"))));
+
+  $("alarms").replaceChildren(...(v.alarms.length ? v.alarms.map((a) =>
+    el("li", { class: "alarm" }, `type ${a.alm_type} no. ${a.alm_no}${a.axis_no ? " axis " + a.axis_no : ""} ${a.msg}`))
+    : [el("li", { class: "none" }, "no active alarm")]));
+  $("history").replaceChildren(...v.history.map((h) =>
+    el("li", {}, `${h.time.replace("T", " ").replace("+00:00", "Z")}  type ${h.alm_type} no. ${h.alm_no} ${h.msg}`)));
+
+  const dirKey = JSON.stringify(v.programs);
+  if (state.dirKey !== dirKey) {
+    state.dirKey = dirKey;
+    $("programs").replaceChildren(...v.programs.map((p) =>
+      el("li", { class: p.main ? "main" : "" },
+        `O${String(p.number).padStart(4, "0")} ${p.name} (${p.size} chars)${p.running ? " - running" : ""}${p.main ? " - main" : ""} `,
+        el("button", { class: "small", "data-write": "", disabled: state.readOnly,
+          onclick: () => act("select_program", { number: p.number }) }, "select"))));
+  }
+  const prog = v.program;
+  const pre = $("program-text");
+  if (prog) {
+    const key = `${prog.number}:${prog.lines.length}:${prog.lines.join("\n").length}`;
+    if (state.progKey !== key) {
+      state.progKey = key;
+      pre.replaceChildren(...prog.lines.map((line) => el("span", {}, line + "\n")));
+    }
+    const want = prog.line ? pre.children[prog.line - 1] : null;
+    const cur = pre.querySelector(".cur");
+    if (cur !== want) {
+      if (cur) cur.className = "";
+      if (want) {
+        want.className = "cur";
+        pre.scrollTop = Math.max(0, want.offsetTop - pre.offsetTop - 60);
+      }
+    }
+  } else {
+    state.progKey = null;
+    pre.textContent = "no main program";
+  }
+
+  $("faults").replaceChildren(...(v.faults.length ? v.faults.map((f) =>
+    el("li", {}, `${f.kind} arg ${f.arg}: ${f.remaining} answer(s) left`))
+    : [el("li", {}, "no fault armed")]));
+  plot(v);
+}
+
+function plot(v) {
+  const c = $("plot"), g = c.getContext("2d");
+  g.clearRect(0, 0, c.width, c.height);
+  const pts = v.path;
+  if (!pts.length) return;
+  let [x0, y0, x1, y1] = [Infinity, Infinity, -Infinity, -Infinity];
+  for (const p of pts) {
+    x0 = Math.min(x0, p[0]); x1 = Math.max(x1, p[0]);
+    y0 = Math.min(y0, p[1] ?? 0); y1 = Math.max(y1, p[1] ?? 0);
+  }
+  const pad = 20, w = c.width - 2 * pad, h = c.height - 2 * pad;
+  const scale = Math.min(w / Math.max(x1 - x0, 1), h / Math.max(y1 - y0, 1));
+  const X = (x) => pad + (x - x0) * scale, Y = (y) => c.height - pad - (y - y0) * scale;
+  g.strokeStyle = "#c5ccd6"; g.strokeRect(pad - 4, pad - 4, w + 8, h + 8);
+  g.fillStyle = "#6b7480"; g.font = "11px sans-serif";
+  g.fillText(`X ${fmt(x0, 1)}..${fmt(x1, 1)}  Y ${fmt(y0, 1)}..${fmt(y1, 1)} mm`, pad, 12);
+  g.strokeStyle = "#2563eb"; g.lineWidth = 2; g.beginPath();
+  pts.forEach((p, i) => (i ? g.lineTo(X(p[0]), Y(p[1] ?? 0)) : g.moveTo(X(p[0]), Y(p[1] ?? 0))));
+  g.stroke();
+  const last = pts[pts.length - 1];
+  g.fillStyle = "#d0312d"; g.beginPath();
+  g.arc(X(last[0]), Y(last[1] ?? 0), 5, 0, 2 * Math.PI); g.fill();
+}
+
+function renderPmc(p) {
+  const grid = $("pmc-grid");
+  if (!p || p.error) {
+    $("pmc-note").textContent = p ? p.error : "";
+    grid.replaceChildren();
+    state.pmcKey = null;
+    return;
+  }
+  const forced = p.area === "X" || p.area === "F";
+  setText($("pmc-note"), p.write_protected && !forced ? "write-protected" :
+    (forced ? "bits set as the simulator" : ""));
+  const bits = [7, 6, 5, 4, 3, 2, 1, 0];
+  const key = `${p.area}:${p.start}:${p.bytes.length}`;
+  if (state.pmcKey !== key) {
+    state.pmcKey = key;
+    const head = el("tr", {}, el("th", {}, "addr"), ...bits.map((b) => el("th", {}, `.${b}`)),
+      el("th", {}, "hex"));
+    const rows = p.bytes.map((_, i) => {
+      const address = p.start + i;
+      return el("tr", {}, el("th", {}, `${p.area}${address}`),
+        ...bits.map((b) => el("td", {
+          class: "bit", id: `pmc-${p.area}${address}-${b}`,
+          "data-address": String(address), "data-bit": String(b), "data-write": "",
+          onclick: () => state.readOnly ? show("read-only dashboard", false)
+            : act("pmc_bit", { area: p.area, address, bit: b }),
+        }, "0")),
+        el("td", { id: `pmc-${p.area}${address}-hex` }, "00"));
+    });
+    grid.replaceChildren(head, ...rows);
+  }
+  p.bytes.forEach((byte, i) => {
+    const address = p.start + i;
+    for (const b of bits) {
+      const cell = $(`pmc-${p.area}${address}-${b}`);
+      const on = (byte & (1 << b)) !== 0;
+      const cls = on ? "bit on" : "bit";
+      if (cell.className !== cls) cell.className = cls;
+      setText(cell, on ? "1" : "0");
+    }
+    setText($(`pmc-${p.area}${address}-hex`), byte.toString(16).padStart(2, "0"));
+  });
+}
+
+// -- parameters and macros -----------------------------------------------------------------
+async function loadParams() {
+  if (state.machine === null) return;
+  const q = encodeURIComponent($("param-search").value);
+  const body = await (await fetch(`/api/machines/${state.machine}/params?q=${q}`)).json();
+  $("params").replaceChildren(
+    el("tr", {}, el("th", {}, "no."), el("th", {}, "name"), el("th", {}, "type"),
+      el("th", {}, "value(s)")),
+    ...body.params.map((p) => el("tr", {}, el("td", {}, String(p.number)),
+      el("td", {}, p.name), el("td", {}, p.kind),
+      el("td", {}, ...p.values.map((val, i) => {
+        const axis = p.axis ? i + 1 : 0;
+        const input = el("input", { value: val, id: `param-${p.number}-${axis}`,
+          "data-write": "", disabled: state.readOnly, title: `${p.low}..${p.high}` });
+        input.addEventListener("keydown", (ev) => {
+          if (ev.key === "Enter") writeParam(p.number, axis, input.value);
+        });
+        const save = el("button", { class: "small", id: `param-save-${p.number}-${axis}`,
+          "data-write": "", disabled: state.readOnly,
+          onclick: () => writeParam(p.number, axis, input.value) }, "write");
+        return el("span", {}, input, save);
+      })))));
+}
+
+async function writeParam(number, axis, value) {
+  const body = await act("write_param", { number, axis, value });
+  if (body.ok) loadParams();
+}
+
+async function loadMacros() {
+  if (state.machine === null) return;
+  const q = encodeURIComponent($("macro-search").value);
+  const res = await fetch(`/api/machines/${state.machine}/macros?q=${q}`);
+  const body = await res.json();
+  if (!res.ok) { show(body.error, false); return; }
+  $("macros").replaceChildren(
+    el("tr", {}, el("th", {}, "#"), el("th", {}, "value")),
+    ...body.macros.map((m) => {
+      const input = el("input", { value: m.value, placeholder: "vacant", id: `macro-${m.number}`,
+        "data-write": "", disabled: state.readOnly || !m.writable });
+      const save = el("button", { class: "small", "data-write": "",
+        disabled: state.readOnly || !m.writable, onclick: async () => {
+          const r = await act("write_macro", { number: m.number, value: input.value });
+          if (r.ok) input.value = r.value;
+        } }, "write");
+      return el("tr", {}, el("td", {}, `#${m.number}`), el("td", {}, input, save));
+    }));
+}
+
+// -- controls ------------------------------------------------------------------------------
+function applyReadOnly() {
+  document.body.classList.toggle("read-only", state.readOnly);
+  $("ro-banner").hidden = !state.readOnly;
+  for (const node of document.querySelectorAll("[data-write]")) {
+    if ("disabled" in node) node.disabled = state.readOnly;
+  }
+}
+
+function wire() {
+  $("cycle-start").onclick = () => act("cycle", { action: "start" });
+  $("feed-hold").onclick = () => act("cycle", { action: "hold" });
+  $("reset").onclick = () => act("cycle", { action: "reset" });
+  $("mode").onchange = (e) => act("panel", { mode: Number(e.target.value) });
+  $("pwe").onchange = (e) => act("panel", { pwe: e.target.checked ? 1 : 0 });
+  $("emergency").onchange = (e) => act("panel", { emergency: e.target.checked ? 1 : 0 });
+  $("feed-ov").onchange = (e) => act("overrides", { feed: Number(e.target.value) });
+  $("rapid-ov").onchange = (e) => act("overrides", { rapid: Number(e.target.value) });
+  $("alarm-raise").onclick = () => act("raise_alarm", {
+    alm_type: $("alarm-type").value, alm_no: $("alarm-no").value, msg: $("alarm-msg").value });
+  $("alarm-clear").onclick = () => act("clear_alarms", {});
+  $("fault-inject").onclick = () => act("inject_fault", {
+    kind: $("fault-kind").value, count: $("fault-count").value, arg: $("fault-arg").value });
+  $("fault-clear").onclick = () => act("clear_faults", {});
+  $("clear-path").onclick = () => act("clear_path", {});
+  $("pmc-area").onchange = subscribe;
+  $("pmc-start").onchange = subscribe;
+  $("param-search").oninput = loadParams;
+  $("param-unlock").onclick = () => act("unlock", { password: $("param-password").value });
+  $("macro-search").oninput = loadMacros;
+  $("fleet-filter").oninput = () => fetch("/api/fleet").then((r) => r.json()).then(renderFleet);
+  window.addEventListener("hashchange", route);
+}
+
+async function main() {
+  const info = await (await fetch("/api/info")).json();
+  state.readOnly = info.read_only;
+  applyReadOnly();
+  wire();
+  route();
+  connect();
+}
+
+main();

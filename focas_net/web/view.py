@@ -1,0 +1,386 @@
+"""The dashboard's view model: machines as JSON-able dicts (pure functions, no I/O).
+
+Each function reads a :class:`~focas_net.sim.Machine` through its public methods, exactly as
+the protocol adapters do, and answers plain ``dict``/``list``/``str``/``int``/``float``/``bool``
+values the shell sends as JSON. Positions are in millimetres (the machine's least input
+increments over ``10**POSITION_DECIMALS``), times in seconds. Status fields carry their FOCAS
+(ODBST) names and the labels a FANUC screen shows.
+"""
+
+from __future__ import annotations
+
+from collections import deque
+from collections.abc import Iterable, Sequence
+from decimal import Decimal
+from typing import Any, Final
+
+from focas_net.errors import EW, ew_name
+from focas_net.protocol import (
+    AlarmState,
+    AutMode,
+    EditState,
+    EmergencyState,
+    HdckState,
+    MotionState,
+    MstbState,
+    RunState,
+    TmMode,
+)
+from focas_net.sim import (
+    AUT_MODES,
+    PMC_AREAS,
+    POSITION_DECIMALS,
+    POSITION_KINDS,
+    TIMER_KINDS,
+    DataItem,
+    Machine,
+    MachineError,
+    ParamKind,
+)
+
+__all__ = [
+    "HISTORY_SHOWN",
+    "PATH_POINTS",
+    "PMC_ROW_BYTES",
+    "JsonDict",
+    "PathTrail",
+    "fleet_view",
+    "machine_tile",
+    "machine_view",
+    "macro_rows",
+    "param_rows",
+    "pmc_window",
+    "status_fields",
+]
+
+JsonDict = dict[str, Any]
+
+#: Points of the tool path a :class:`PathTrail` keeps.
+PATH_POINTS: Final = 1500
+#: Alarm history entries the machine view shows (newest first).
+HISTORY_SHOWN: Final = 50
+#: Bytes of a PMC area the viewer shows at a time.
+PMC_ROW_BYTES: Final = 16
+#: Most lines of a program the machine view carries.
+PROGRAM_LINES: Final = 2000
+
+_MM: Final = 10**POSITION_DECIMALS
+
+#: The ODBST fields in FANUC's order, with the enumeration that names their values.
+_STATUS: Final = (
+    ("hdck", HdckState),
+    ("tmmode", TmMode),
+    ("aut", AutMode),
+    ("run", RunState),
+    ("motion", MotionState),
+    ("mstb", MstbState),
+    ("emergency", EmergencyState),
+    ("alarm", AlarmState),
+    ("edit", EditState),
+)
+#: ``mt_type`` of a compound machine, whose ``tmmode`` selects T or M.
+_COMPOUND: Final = "MT"
+_MODE_LABELS: Final = {m.value: m.label for m in AutMode}
+_RUN_LABELS: Final = {m.value: m.label for m in RunState}
+
+
+def _label(values: Any, value: int) -> tuple[str, str]:
+    try:
+        member = values(value)
+    except ValueError:
+        return str(value), "unknown value"
+    return str(member.label), str(member.meaning)
+
+
+def status_fields(machine: Machine) -> list[JsonDict]:
+    """The ODBST fields: ``{"field": "run", "value": 3, "label": "STRT", "meaning": ...}``."""
+    status = machine.status()
+    series = machine.identity().mt_type.strip()
+    rows = []
+    for name, values in _STATUS:
+        value = int(getattr(status, name))
+        label, meaning = _label(values, value)
+        if name == "tmmode" and series != _COMPOUND:
+            # only a compound machine selects T or M; any other is of its own series
+            label, meaning = series or "-", f"{series} series machine (no T/M mode selection)"
+        rows.append({"field": name, "value": value, "label": label, "meaning": meaning})
+    return rows
+
+
+def _mm(value: int) -> float:
+    return value / _MM
+
+
+def machine_tile(
+    index: int, machine: Machine, port: int, trail: PathTrail | None = None
+) -> JsonDict:
+    """One tile of the fleet view: name, port, mode, run state, program, parts, alarm. The
+    machine is read once per figure (a read of a running machine moves its engine); the
+    absolute position read goes into ``trail`` when given."""
+    status = machine.status()
+    motion = machine.motion
+    if trail is not None:
+        trail.record(motion.absolute)
+    count, total = machine.parts_counts()
+    alarms = machine.active_alarms()
+    first = alarms[0] if alarms else None
+    return {
+        "index": index,
+        "name": machine.name,
+        "port": port,
+        "mode": _MODE_LABELS.get(status.aut, str(status.aut)),
+        "run": _RUN_LABELS.get(status.run, str(status.run)),
+        "emergency": bool(status.emergency),
+        "program": motion.program_running,
+        "sequence": motion.sequence,
+        "parts": count,
+        "parts_total": total,
+        "alarm": None if first is None else f"{first.alm_no} {first.msg}".strip(),
+        "alarms": len(alarms),
+    }
+
+
+def fleet_view(
+    entries: Iterable[tuple[int, Machine, int]], trails: Sequence[PathTrail] | None = None
+) -> JsonDict:
+    """The fleet view: a tile per ``(index, machine, port)`` and the counts of each run state;
+    ``trails[index]``, when given, records each machine's tool path on the way."""
+    tiles = [
+        machine_tile(i, m, port, None if trails is None else trails[i]) for i, m, port in entries
+    ]
+    running = sum(1 for t in tiles if t["run"] == "STRT")
+    alarmed = sum(1 for t in tiles if t["alarms"])
+    return {"machines": tiles, "count": len(tiles), "running": running, "alarmed": alarmed}
+
+
+class PathTrail:
+    """The tool path: the newest :data:`PATH_POINTS` absolute positions seen, in millimetres.
+
+    The shell records the positions a few times per second; a position equal to the last one
+    is not recorded twice, so a machine at rest keeps its path."""
+
+    __slots__ = ("points",)
+
+    def __init__(self, size: int = PATH_POINTS) -> None:
+        self.points: deque[tuple[float, ...]] = deque(maxlen=size)
+
+    def record(self, absolute: Sequence[int]) -> None:
+        point = tuple(_mm(v) for v in absolute)
+        if not self.points or self.points[-1] != point:
+            self.points.append(point)
+
+    def clear(self) -> None:
+        self.points.clear()
+
+
+def _program(machine: Machine) -> JsonDict | None:
+    """The running (else the main) program: its lines and the line of the block executing."""
+    engine = machine.engine
+    interpreter = engine.interpreter
+    program = interpreter.program
+    line: int | None = None
+    if program is not None and interpreter.block is not None:
+        if 0 <= interpreter.block < len(program.blocks):
+            line = program.blocks[interpreter.block].line
+    number = program.number if program is not None else machine.programs.main
+    if number is None:
+        return None
+    try:
+        text = machine.program_text(number)
+    except MachineError:
+        return None
+    return {"number": number, "lines": text.splitlines()[:PROGRAM_LINES], "line": line}
+
+
+def machine_view(
+    index: int,
+    machine: Machine,
+    port: int,
+    *,
+    trail: PathTrail | None = None,
+    faults: Iterable[tuple[str, int, int]] = (),
+) -> JsonDict:
+    """Everything the machine view shows, at one moment. ``faults`` are the machine-wide
+    armed faults as ``(kind name, answers left, arg)``; the absolute position read goes into
+    ``trail`` (the tool path shown) when given."""
+    status = machine.status()
+    motion = machine.motion
+    if trail is not None:
+        trail.record(motion.absolute)
+    count, total = machine.parts_counts()
+    feed_ov, rapid_ov, spindle_ov = machine.overrides()
+    panel = machine.panel
+    positions = []
+    for axis_index, axis in enumerate(machine.axes):
+        row: JsonDict = {"axis": axis}
+        for kind in POSITION_KINDS:
+            row[kind] = _mm(getattr(motion, kind)[axis_index])
+        positions.append(row)
+    try:
+        required = machine.read_param(6713, 0)
+    except MachineError:
+        required = None
+    main = machine.programs.main
+    running = motion.program_running
+    return {
+        "index": index,
+        "name": machine.name,
+        "port": port,
+        "control_class": machine.control_class,
+        "read_only": machine.read_only,
+        "axes": list(machine.axes),
+        "status": status_fields(machine),
+        "mode": _MODE_LABELS.get(status.aut, str(status.aut)),
+        "run": _RUN_LABELS.get(status.run, str(status.run)),
+        "positions": positions,
+        "path": [list(p) for p in trail.points] if trail is not None else [],
+        "feed": motion.feed,
+        "spindle_speed": motion.spindle_speed,
+        "sequence": motion.sequence,
+        "program_running": running,
+        "program_main": motion.program_main,
+        "overrides": {"feed": feed_ov, "rapid": rapid_ov, "spindle": spindle_ov},
+        "loads": {
+            "spindle": list(machine.spindle_loads()),
+            "servo": list(machine.servo_loads()),
+        },
+        "timers": {kind: machine.timer(k) for k, kind in enumerate(TIMER_KINDS)},
+        "parts": {"count": count, "total": total, "required": required},
+        "panel": {"mode": panel.mode, "pwe": panel.pwe, "emergency": panel.emergency},
+        "modes": [[m, _MODE_LABELS[m]] for m in sorted(AUT_MODES)],
+        "alarms": [
+            {"axis_no": a.axis_no, "alm_type": a.alm_type, "alm_no": a.alm_no, "msg": a.msg}
+            for a in machine.active_alarms()
+        ],
+        "history": [
+            {
+                "time": h.occurred_at.isoformat(),
+                "axis_no": h.axis_no,
+                "alm_type": h.alm_type,
+                "alm_no": h.alm_no,
+                "msg": h.msg,
+            }
+            for h in machine.alarm_history(HISTORY_SHOWN)
+        ],
+        "programs": [
+            {
+                "number": p.number,
+                "name": p.name,
+                "size": p.size,
+                "main": p.number == main,
+                "running": p.number == running and status.run != 0,
+            }
+            for p in machine.program_directory()
+        ],
+        "program": _program(machine),
+        "pmc_areas": _pmc_areas(machine),
+        "faults": [{"kind": k, "remaining": n, "arg": arg} for k, n, arg in faults],
+        "versions": {"data": machine.data_version, "macro": machine.macro_version},
+    }
+
+
+def _pmc_areas(machine: Machine) -> list[JsonDict]:
+    areas = []
+    for letter in PMC_AREAS:
+        info = machine.pmc_area(letter)
+        if info is not None:
+            size, protected = info
+            areas.append({"area": letter, "size": size, "write_protected": protected})
+    return areas
+
+
+def pmc_window(machine: Machine, area: str, start: int, length: int = PMC_ROW_BYTES) -> JsonDict:
+    """``length`` bytes of PMC area ``area`` from ``start`` (cut to the area's end), with the
+    area's size. MachineError (EW_NOOPT, EW_NUMBER) for an area or address it does not have."""
+    letter = area.strip().upper()
+    info = machine.pmc_area(letter) if letter in PMC_AREAS else None
+    if info is None:
+        raise MachineError(EW.NOOPT if letter in PMC_AREAS else EW.NUMBER, f"no PMC area {area!r}")
+    size, protected = info
+    if not 0 <= start < size:
+        raise MachineError(EW.NUMBER, f"{letter}{start} is outside {letter}0..{letter}{size - 1}")
+    data = machine.read_pmc(letter, start, min(length, size - start))
+    return {
+        "area": letter,
+        "start": start,
+        "size": size,
+        "write_protected": protected,
+        "bytes": list(data),
+    }
+
+
+def _param_text(item: DataItem, value: int) -> str:
+    if item.kind is ParamKind.REAL and item.decimals:
+        return str(Decimal(value).scaleb(-item.decimals))
+    return str(value)
+
+
+def param_rows(machine: Machine, query: str = "", limit: int = 200) -> list[JsonDict]:
+    """The parameters whose number starts with ``query`` or whose name contains it (case
+    insensitive), at most ``limit`` of them, by number."""
+    q = query.strip().lower()
+    rows: list[JsonDict] = []
+    for number in machine.param_numbers():
+        item = machine.param_item(number)
+        assert item is not None
+        if q and not (str(number).startswith(q) or q in item.name.lower()):
+            continue
+        kind = item.kind.name.lower() if item.kind is not None else ""
+        rows.append(
+            {
+                "number": number,
+                "name": item.name,
+                "kind": kind,
+                "axis": item.axis,
+                "low": item.low,
+                "high": item.high,
+                "decimals": item.decimals,
+                "values": [
+                    _param_text(item, machine.read_param(number, axis))
+                    for axis in (range(1, len(machine.axes) + 1) if item.axis else (0,))
+                ],
+            }
+        )
+        if len(rows) >= limit:
+            break
+    return rows
+
+
+def _macro_text(value: Decimal | None) -> str:
+    return "" if value is None else str(value)
+
+
+def macro_rows(
+    machine: Machine, numbers: Sequence[int], query: str = "", limit: int = 200
+) -> list[JsonDict]:
+    """Macro variables among ``numbers`` (the machine's, ascending): all from the first when
+    ``query`` is empty, those from ``N`` for ``"N"``, ``N..M`` for ``"N-M"``; at most
+    ``limit``. ValueError, naming ``query``, for another query."""
+    q = query.strip().lstrip("#")
+    low, high = -0x8000, 0x7FFF
+    if q:
+        first, sep, last = q.partition("-")
+        try:
+            low = int(first)
+            high = int(last.lstrip("#")) if sep else 0x7FFF
+        except ValueError:
+            raise ValueError(f"macro search {query!r}: write N or N-M (variable numbers)") from None
+    rows: list[JsonDict] = []
+    for number in numbers:
+        if not low <= number <= high:
+            continue
+        try:
+            value = machine.read_macro(number)
+        except MachineError as exc:
+            rows.append({"number": number, "value": "", "error": ew_name(exc.ew)})
+            continue
+        rows.append(
+            {
+                "number": number,
+                "value": _macro_text(value),
+                "writable": bool(machine.macro_writable(number)),
+            }
+        )
+        if len(rows) >= limit:
+            break
+    return rows

@@ -1,0 +1,361 @@
+"""The dashboard in a real browser: headless Chromium driven by Selenium.
+
+Each test serves its own machines and dashboard on 127.0.0.1 ephemeral ports, works the page
+as a user would, and reads the result back over FOCAS (the packed client, and for alarms the
+native FOCAS/2 client too). Every wait is a ``WebDriverWait`` with a timeout. Screenshots go to
+the test's tmp directory, or to ``$FOCAS_NET_SCREENSHOTS`` when set (how ``docs/web-*.png``
+are made).
+
+Needs Debian's ``chromium`` and ``chromium-driver`` (``.ci/run`` installs them) and the
+``selenium`` and ``aiohttp`` packages; the tests skip, saying which is missing, without them.
+"""
+
+from __future__ import annotations
+
+import asyncio
+import os
+import shutil
+from collections.abc import AsyncIterator, Callable, Iterator
+from contextlib import asynccontextmanager
+from pathlib import Path
+from typing import Any
+
+import pytest
+from support import IO_TIMEOUT
+
+from focas_net.client import FocasClient, NativeClient
+from focas_net.server import FocasServer
+from focas_net.sim import Machine, default_machine
+from focas_net.sim.machine import MDI
+from focas_net.sim.nc import ManualClock
+from focas_net.web import Dashboard, stations_of
+
+pytest.importorskip("aiohttp", reason="the web dashboard needs aiohttp (pip install '.[web]')")
+selenium = pytest.importorskip("selenium", reason="the browser tests need selenium")
+
+from selenium import webdriver  # noqa: E402
+from selenium.common.exceptions import (  # noqa: E402
+    StaleElementReferenceException,
+    WebDriverException,
+)
+from selenium.webdriver.chrome.service import Service  # noqa: E402
+from selenium.webdriver.common.by import By  # noqa: E402
+from selenium.webdriver.remote.webdriver import WebDriver  # noqa: E402
+from selenium.webdriver.support.select import Select  # noqa: E402
+from selenium.webdriver.support.ui import WebDriverWait  # noqa: E402
+
+CHROMIUM = shutil.which("chromium") or "/usr/bin/chromium"
+CHROMEDRIVER = shutil.which("chromedriver") or "/usr/bin/chromedriver"
+#: Longest wait for the page to show something.
+WAIT = 15.0
+#: Ticks of the live updates (fast: the page never waits long for a frame).
+INTERVAL = 0.05
+
+if not (os.access(CHROMIUM, os.X_OK) and os.access(CHROMEDRIVER, os.X_OK)):
+    pytest.skip(
+        f"the browser tests need Chromium ({CHROMIUM}) and chromedriver ({CHROMEDRIVER}): "
+        "apt-get install chromium chromium-driver",
+        allow_module_level=True,
+    )
+
+
+@pytest.fixture(scope="module")
+def browser() -> Iterator[WebDriver]:
+    """One headless Chromium for the module (each test opens its own dashboard in it)."""
+    options = webdriver.ChromeOptions()
+    options.binary_location = CHROMIUM
+    for arg in (
+        "--headless=new",
+        "--no-sandbox",
+        "--disable-gpu",
+        "--disable-dev-shm-usage",
+        "--window-size=1500,1000",
+        "--hide-scrollbars",
+    ):
+        options.add_argument(arg)
+    try:
+        driver = webdriver.Chrome(service=Service(CHROMEDRIVER), options=options)
+    except WebDriverException as exc:
+        pytest.skip(f"Chromium does not start here: {exc.msg}")
+    driver.set_page_load_timeout(WAIT)
+    driver.set_script_timeout(WAIT)
+    try:
+        yield driver
+    finally:
+        driver.quit()
+
+
+class Page:
+    """The browser, driven from the event loop: each call runs in a thread, so the machines
+    and the dashboard keep being served meanwhile."""
+
+    def __init__(self, driver: WebDriver, base: str, shots: Path) -> None:
+        self.driver = driver
+        self.base = base
+        self.shots = shots
+
+    async def call(self, fn: Callable[..., Any], *args: Any) -> Any:
+        return await asyncio.to_thread(fn, *args)
+
+    async def open(self, fragment: str = "") -> None:
+        await self.call(self.driver.get, f"{self.base}#/{fragment}")
+
+    async def until(self, condition: Callable[[WebDriver], Any], what: str) -> Any:
+        wait = WebDriverWait(
+            self.driver,
+            WAIT,
+            poll_frequency=0.05,
+            ignored_exceptions=(StaleElementReferenceException,),
+        )
+        return await self.call(wait.until, condition, f"page never showed {what}")
+
+    async def text_of(self, element_id: str, wanted: Callable[[str], bool], what: str) -> str:
+        def check(d: WebDriver) -> str | bool:
+            text = str(d.find_element(By.ID, element_id).text)
+            return text if wanted(text) else False
+
+        result: str = await self.until(check, what)
+        return result
+
+    async def click(self, element_id: str) -> None:
+        """Click the element; the live updates may redraw it meanwhile, then click the new
+        one (a bounded number of tries)."""
+
+        def do() -> None:
+            for _ in range(20):
+                try:
+                    self.driver.find_element(By.ID, element_id).click()
+                    return
+                except StaleElementReferenceException:
+                    continue
+            pytest.fail(f"{element_id} kept being redrawn")
+
+        await self.call(do)
+
+    async def type(self, element_id: str, text: str) -> None:
+        def do() -> None:
+            field = self.driver.find_element(By.ID, element_id)
+            field.clear()
+            field.send_keys(text)
+
+        await self.call(do)
+
+    async def screenshot(self, name: str) -> Path:
+        path = self.shots / name
+        ok = await self.call(self.driver.save_screenshot, str(path))
+        assert ok and path.stat().st_size > 0
+        return path
+
+
+@asynccontextmanager
+async def dashboard(
+    browser: WebDriver,
+    tmp_path: Path,
+    machines: list[Machine] | None = None,
+    *,
+    read_only: bool = False,
+) -> AsyncIterator[tuple[FocasServer, Dashboard, Page]]:
+    """Machines and their dashboard on 127.0.0.1 ephemeral ports, and the browser on it."""
+    fleet = machines if machines is not None else [default_machine()]
+    shots = Path(os.environ.get("FOCAS_NET_SCREENSHOTS") or tmp_path)
+    async with FocasServer(fleet, host="127.0.0.1", port=0, grace_period=1.0) as server:
+        async with Dashboard(
+            stations_of(server), port=0, read_only=read_only, interval=INTERVAL
+        ) as web:
+            page = Page(browser, web.url, shots)
+            try:
+                yield server, web, page
+            finally:
+                await page.call(browser.get, "about:blank")  # the page lets go of the socket
+
+
+def client_of(server: FocasServer, index: int = 0) -> FocasClient:
+    host, port = server.listeners[index].address
+    return FocasClient(host, port, timeout=IO_TIMEOUT)
+
+
+async def test_the_fleet_view_shows_every_machine(browser: WebDriver, tmp_path: Path) -> None:
+    machines = [default_machine() for _ in range(12)]
+    for i, m in enumerate(machines):
+        m.name = f"lathe-{i + 1:02d}"
+    async with dashboard(browser, tmp_path, machines) as (server, _, page):
+        await page.open()
+
+        def tiles(d: WebDriver) -> list[Any] | bool:
+            found = d.find_elements(By.CSS_SELECTOR, "#fleet .tile")
+            return found if len(found) == len(machines) else False
+
+        await page.until(tiles, "a tile per machine")
+        shown = await page.call(
+            page.driver.execute_script,
+            """return [...document.querySelectorAll('#fleet .tile')].map(t =>
+                [t.querySelector('.name').textContent, t.querySelector('.row').textContent])""",
+        )
+        assert [name for name, _ in shown] == [m.name for m in machines]
+        ports = [f":{listener.port}" for listener in server.listeners]
+        assert [row.split("MEM")[0] for _, row in shown] == ports
+        summary = await page.text_of("fleet-summary", lambda t: "12 machines" in t, "the count")
+        assert "0 running" in summary
+        await page.screenshot("fleet.png")
+
+
+async def test_cycle_start_on_the_page_runs_the_machine(browser: WebDriver, tmp_path: Path) -> None:
+    async with dashboard(browser, tmp_path) as (server, _, page):
+        async with client_of(server) as cnc:
+            assert (await cnc.read_status()).run == 0
+            await page.open("machine/0")
+            await page.text_of("run-state", lambda t: t == "****", "the reset state")
+            await page.click("cycle-start")
+            await page.text_of("run-state", lambda t: t == "STRT", "STRT")
+            assert (await cnc.read_status()).run == 3  # STRT through the packed protocol
+            await page.screenshot("machine-running.png")
+
+
+async def test_an_alarm_raised_on_the_page_reaches_both_protocols(
+    browser: WebDriver, tmp_path: Path
+) -> None:
+    async with dashboard(browser, tmp_path) as (server, _, page):
+        await page.open("machine/0")
+        await page.text_of("alarms", lambda t: "no active alarm" in t, "no alarm")
+        await page.type("alarm-type", "2")
+        await page.type("alarm-no", "1234")
+        await page.type("alarm-msg", "RAISED ON THE PAGE")
+        await page.click("alarm-raise")
+        await page.text_of("alarms", lambda t: "RAISED ON THE PAGE" in t, "the alarm")
+        async with client_of(server) as cnc:
+            packed = await cnc.read_alarms()
+        host, port = server.listeners[0].address
+        async with NativeClient(host, port, timeout=IO_TIMEOUT) as native:
+            focas2 = await native.read_alarms()
+        expected = (0, 2, 1234, "RAISED ON THE PAGE")
+        assert [(a.axis_no, a.alm_type, a.alm_no, a.msg) for a in packed] == [expected]
+        assert [(a.axis_no, a.alm_type, a.alm_no, a.msg) for a in focas2] == [expected]
+
+
+async def test_a_pmc_bit_toggled_on_the_page_is_read_back(
+    browser: WebDriver, tmp_path: Path
+) -> None:
+    async with dashboard(browser, tmp_path) as (server, _, page):
+        async with client_of(server) as cnc:
+            assert await cnc.read_pmc_bit("X", 4, 3) is False
+            await page.open("machine/0")
+            await page.until(lambda d: d.find_elements(By.ID, "pmc-X4-3"), "the X area")
+            await page.click("pmc-X4-3")  # X is set as the simulator sets it
+            await page.until(
+                lambda d: "on" in str(d.find_element(By.ID, "pmc-X4-3").get_attribute("class")),
+                "X4.3 on",
+            )
+            assert await cnc.read_pmc_bit("X", 4, 3) is True
+            await page.call(
+                lambda: Select(page.driver.find_element(By.ID, "pmc-area")).select_by_value("R")
+            )
+            await page.until(lambda d: d.find_elements(By.ID, "pmc-R0-7"), "the R area")
+            await page.click("pmc-R0-7")
+            await page.until(
+                lambda d: "on" in str(d.find_element(By.ID, "pmc-R0-7").get_attribute("class")),
+                "R0.7 on",
+            )
+            assert await cnc.read_pmc_bit("R", 0, 7) is True
+
+
+async def test_a_refused_parameter_write_shows_its_ew_name(
+    browser: WebDriver, tmp_path: Path
+) -> None:
+    async with dashboard(browser, tmp_path) as (server, _, page):
+        await page.open("machine/0")
+        await page.until(lambda d: d.find_elements(By.ID, "param-6713-0"), "parameter 6713")
+        await page.type("param-search", "6713")
+        await page.until(
+            lambda d: len(d.find_elements(By.CSS_SELECTOR, "#params tr")) == 2, "one parameter"
+        )
+        await page.type("param-6713-0", "25")
+        await page.click("param-save-6713-0")
+        message = await page.text_of("message", lambda t: "refused" in t, "the refusal")
+        assert "EW_PASSWD" in message
+        async with client_of(server) as cnc:
+            assert await cnc.read_param(6713) == 0
+        await page.screenshot("refused.png")
+
+
+async def test_the_panel_opens_the_parameter_write(browser: WebDriver, tmp_path: Path) -> None:
+    machine = default_machine()
+    machine.set_panel(mode=MDI)
+    async with dashboard(browser, tmp_path, [machine]) as (server, _, page):
+        await page.open("machine/0")
+        await page.until(lambda d: d.find_elements(By.ID, "param-6713-0"), "parameter 6713")
+        await page.click("pwe")
+        await page.text_of("message", lambda t: "panel: done" in t, "PWE on")
+        await page.type("param-6713-0", "25")
+        await page.click("param-save-6713-0")
+        await page.text_of("message", lambda t: "write_param: done" in t, "the write")
+        async with client_of(server) as cnc:
+            assert await cnc.read_param(6713) == 25
+
+
+async def test_read_only_disables_the_controls_and_refuses(
+    browser: WebDriver, tmp_path: Path
+) -> None:
+    machine = default_machine()
+    before = machine.state_digest()
+    async with dashboard(browser, tmp_path, [machine], read_only=True) as (_, web, page):
+        await page.open("machine/0")
+        await page.text_of("run-state", lambda t: t == "****", "the machine")
+        await page.until(lambda d: d.find_element(By.ID, "ro-banner").is_displayed(), "banner")
+        for control in ("cycle-start", "feed-hold", "reset", "pwe", "alarm-raise"):
+            enabled = await page.call(
+                lambda c=control: page.driver.find_element(By.ID, c).is_enabled()
+            )
+            assert not enabled, control
+        status = await page.call(
+            page.driver.execute_async_script,
+            """const done = arguments[arguments.length - 1];
+            fetch('/api/machines/0/actions/cycle', {method: 'POST',
+                headers: {'Content-Type': 'application/json'},
+                body: JSON.stringify({action: 'start'})})
+              .then(async r => done([r.status, (await r.json()).ew_name]));""",
+        )
+        assert status == [403, "EW_PROT"]
+        assert web.read_only
+    assert machine.state_digest() == before
+
+
+async def test_screenshots_of_a_fleet_at_work(browser: WebDriver, tmp_path: Path) -> None:
+    """Twenty machines on one hand-stepped clock, started one after another, some in alarm,
+    held or in MDI: the pictures of docs/web-fleet.png and docs/web-machine.png."""
+    clock = ManualClock()
+    machines = [default_machine(sim_clock=clock) for _ in range(20)]
+    for i, m in enumerate(machines):
+        m.name = f"focas-sim-0i-{i + 1}"
+        m.cycle_start(repeat=True)
+        clock.advance(1.7)
+    machines[2].raise_alarm(0, 2, 1001, "LUBRICANT LOW")  # some history on the machine shown
+    machines[2].clear_alarms()
+    machines[2].reset()
+    machines[2].cycle_start(repeat=True)
+    async with dashboard(browser, tmp_path, machines) as (_, web, page):
+        for _ in range(200):  # about a part and a half of machine time, the path recorded
+            clock.advance(0.25)
+            web.broadcaster.record_paths()
+        machines[6].raise_alarm(0, 2, 1001, "LUBRICANT LOW")
+        machines[11].feed_hold()
+        machines[15].reset()
+        machines[15].set_panel(mode=MDI)
+        await page.call(page.driver.set_window_size, 1500, 1000)
+        await page.open()
+        await page.text_of("fleet-summary", lambda t: "20 machines" in t, "the fleet")
+        await page.until(lambda d: len(d.find_elements(By.CSS_SELECTOR, ".tile")) == 20, "tiles")
+        summary = await page.text_of("fleet-summary", lambda t: "17 running" in t, "17 running")
+        assert "1 in alarm" in summary
+        fleet_png = await page.screenshot("web-fleet.png")
+        await page.call(page.driver.set_window_size, 1500, 1900)
+        await page.open("machine/2")
+        await page.text_of("run-state", lambda t: t == "STRT", "the machine at work")
+        await page.until(
+            lambda d: d.execute_script(
+                "return document.querySelector('#program-text .cur') !== null"
+            ),
+            "the running block",
+        )
+        machine_png = await page.screenshot("web-machine.png")
+        await page.call(page.driver.set_window_size, 1500, 1000)
+    assert fleet_png.stat().st_size > 10_000 and machine_png.stat().st_size > 10_000

@@ -1,0 +1,316 @@
+"""The dashboard's aiohttp shell against real machines: the REST actions, the WebSocket of live
+frames, read-only, a clean stop; ``focas-net serve --web``."""
+
+from __future__ import annotations
+
+import argparse
+import asyncio
+import importlib.util
+import json
+import os
+import re
+import signal
+import sys
+from collections.abc import AsyncIterator
+from contextlib import asynccontextmanager
+from typing import Any
+
+import pytest
+from support import IO_TIMEOUT, wait_until
+
+from focas_net.cli import serve
+from focas_net.client import FocasClient
+from focas_net.server import FocasServer
+from focas_net.sim import Machine, default_machine
+from focas_net.web import Dashboard, stations_of
+
+aiohttp = pytest.importorskip("aiohttp", reason="the web dashboard tests need aiohttp")
+
+#: Ticks of the live updates in these tests (fast, so a frame is never far away).
+INTERVAL = 0.02
+
+
+@asynccontextmanager
+async def dashboard(
+    machines: list[Machine] | None = None, *, read_only: bool = False
+) -> AsyncIterator[tuple[FocasServer, Dashboard]]:
+    """Machines on 127.0.0.1 ephemeral ports and their dashboard on another."""
+    fleet = machines if machines is not None else [default_machine()]
+    async with FocasServer(fleet, host="127.0.0.1", port=0, grace_period=1.0) as server:
+        web = Dashboard(stations_of(server), port=0, read_only=read_only, interval=INTERVAL)
+        async with web:
+            yield server, web
+
+
+async def post(
+    session: Any, web: Dashboard, action: str, args: dict[str, Any], index: int = 0
+) -> tuple[int, dict[str, Any]]:
+    url = f"{web.url}api/machines/{index}/actions/{action}"
+    async with session.post(url, json=args) as response:
+        return response.status, await response.json()
+
+
+async def get(session: Any, url: str) -> tuple[int, Any]:
+    async with session.get(url) as response:
+        return response.status, await response.json()
+
+
+async def test_the_dashboard_listens_on_loopback_and_serves_the_page() -> None:
+    async with dashboard() as (_, web), aiohttp.ClientSession() as session:
+        host, port = web.address
+        assert host == "127.0.0.1" and port > 0 and web.url == f"http://127.0.0.1:{port}/"
+        async with session.get(web.url) as response:
+            assert response.status == 200
+            page = await response.text()
+        assert "/static/app.js" in page and "cycle-start" in page
+        for name, kind in (("app.js", "javascript"), ("style.css", "css")):
+            async with session.get(f"{web.url}static/{name}") as response:
+                assert response.status == 200 and kind in response.content_type
+        assert await get(session, f"{web.url}api/info") == (
+            200,
+            {"read_only": False, "machines": 1},
+        )
+
+
+async def test_cycle_start_from_the_page_is_read_through_the_packed_client() -> None:
+    async with dashboard() as (server, web), aiohttp.ClientSession() as session:
+        host, port = server.listeners[0].address
+        async with FocasClient(host, port, timeout=IO_TIMEOUT) as cnc:
+            assert (await cnc.read_status()).run == 0
+            assert await post(session, web, "cycle", {"action": "start"}) == (200, {"ok": True})
+            assert (await cnc.read_status()).run == 3  # STRT
+            assert await post(session, web, "cycle", {"action": "hold"}) == (200, {"ok": True})
+            assert (await cnc.read_status()).run == 2  # HOLD
+
+
+async def test_a_refused_parameter_write_answers_its_ew_name() -> None:
+    async with dashboard() as (_, web), aiohttp.ClientSession() as session:
+        status, body = await post(session, web, "write_param", {"number": 6713, "value": "5"})
+        assert status == 409
+        assert (body["ok"], body["ew_name"]) == (False, "EW_PASSWD")
+        status, body = await post(session, web, "write_param", {"number": 6713, "value": "x"})
+        assert status == 400 and "'x'" in body["error"]
+
+
+async def test_bad_requests_are_answered_not_crashed() -> None:
+    async with dashboard() as (_, web), aiohttp.ClientSession() as session:
+        status, body = await get(session, f"{web.url}api/machines/5")
+        assert status == 404 and "'5'" in body["error"]
+        url = f"{web.url}api/machines/0/actions/cycle"
+        async with session.post(url, data=b"{not json") as response:
+            assert response.status == 400
+            assert "JSON" in (await response.json())["error"]
+        async with session.post(url, json=[1, 2]) as response:
+            assert response.status == 400
+        status, body = await get(session, f"{web.url}api/machines/0/pmc?area=E")
+        assert status == 409 and body["ew_name"] == "EW_NOOPT"
+        status, body = await get(session, f"{web.url}api/machines/0/macros?q=zz")
+        assert status == 400 and "'zz'" in body["error"]
+
+
+async def test_the_rest_reads() -> None:
+    machine = default_machine()
+    machine.write_macro(100, 7)
+    async with dashboard([machine]) as (_, web), aiohttp.ClientSession() as session:
+        status, body = await get(session, f"{web.url}api/machines/0/params?q=6711")
+        assert status == 200 and [p["number"] for p in body["params"]] == [6711]
+        status, body = await get(session, f"{web.url}api/machines/0/macros?q=100-101")
+        assert [m["value"] for m in body["macros"]] == ["7", ""]
+        status, body = await get(session, f"{web.url}api/machines/0/pmc?area=G&start=8")
+        assert (body["area"], body["start"], len(body["bytes"])) == ("G", 8, 16)
+        status, body = await get(session, f"{web.url}api/fleet")
+        assert [t["name"] for t in body["machines"]] == [machine.name]
+        status, body = await get(session, f"{web.url}api/machines/0")
+        assert body["name"] == machine.name and len(body["positions"]) == 3
+
+
+async def test_a_read_only_dashboard_refuses_and_changes_nothing() -> None:
+    machine = default_machine()
+    before = machine.state_digest()
+    async with dashboard([machine], read_only=True) as (_, web):
+        async with aiohttp.ClientSession() as session:
+            assert (await get(session, f"{web.url}api/info"))[1]["read_only"] is True
+            for action, args in (
+                ("cycle", {"action": "start"}),
+                ("raise_alarm", {"alm_type": 2, "alm_no": 1}),
+                ("pmc_bit", {"area": "X", "address": 0, "bit": 0}),
+                ("panel", {"pwe": 1}),
+            ):
+                status, body = await post(session, web, action, args)
+                assert (status, body["ew_name"]) == (403, "EW_PROT"), action
+    assert machine.state_digest() == before
+
+
+async def receive(ws: Any, kind: str) -> dict[str, Any]:
+    """The next frame of type ``kind`` (a bounded number of frames, each within the timeout)."""
+    for _ in range(50):
+        msg = await ws.receive(timeout=IO_TIMEOUT)
+        assert msg.type == aiohttp.WSMsgType.TEXT, msg
+        frame: dict[str, Any] = json.loads(msg.data)
+        if frame["type"] == kind:
+            return frame
+    pytest.fail(f"no {kind} frame in 50")
+
+
+async def test_the_websocket_pushes_the_fleet_and_a_machine() -> None:
+    machines = [default_machine() for _ in range(3)]
+    for i, m in enumerate(machines):
+        m.name = f"cell-{i}"
+    async with dashboard(machines) as (server, web), aiohttp.ClientSession() as session:
+        async with session.ws_connect(f"{web.url}ws") as ws:
+            await ws.send_json({"subscribe": "fleet"})
+            fleet = await receive(ws, "fleet")
+            assert [t["name"] for t in fleet["data"]["machines"]] == ["cell-0", "cell-1", "cell-2"]
+            ports = [listener.port for listener in server.listeners]
+            assert [t["port"] for t in fleet["data"]["machines"]] == ports
+            await ws.send_json({"subscribe": "machine", "index": 2, "pmc_area": "R"})
+            frame = await receive(ws, "machine")
+            assert frame["data"]["name"] == "cell-2" and frame["pmc"]["area"] == "R"
+            machines[2].raise_alarm(0, 2, 500, "PUSHED")
+            for _ in range(50):  # later ticks carry the change
+                frame = await receive(ws, "machine")
+                if frame["data"]["alarms"]:
+                    break
+            assert frame["data"]["alarms"][0]["msg"] == "PUSHED"
+            await ws.send_str("nonsense")
+            assert (await receive(ws, "error"))["error"] == "bad subscription"
+        await wait_until(lambda: not web.broadcaster.subscriptions)
+
+
+async def test_pages_share_one_broadcaster_and_the_stop_closes_them() -> None:
+    async with dashboard() as (_, web), aiohttp.ClientSession() as session:
+        sockets = [await session.ws_connect(f"{web.url}ws") for _ in range(3)]
+        for ws in sockets:
+            await ws.send_json({"subscribe": "fleet"})
+        for ws in sockets:
+            await receive(ws, "fleet")
+        assert len(web.broadcaster.subscriptions) == 3
+        ticks = web.broadcaster.ticks
+        await wait_until(lambda: web.broadcaster.ticks >= ticks + 3)
+        # one fleet view per tick, whatever the number of pages (plus one per subscription)
+        assert web.broadcaster.views_computed <= web.broadcaster.ticks + 3
+        await web.stop()
+        for ws in sockets:
+            msg = await ws.receive(timeout=IO_TIMEOUT)
+            while msg.type == aiohttp.WSMsgType.TEXT:
+                msg = await ws.receive(timeout=IO_TIMEOUT)
+            assert msg.type in (aiohttp.WSMsgType.CLOSE, aiohttp.WSMsgType.CLOSED)
+            await ws.close()
+        assert web.broadcaster.subscriptions == set()
+        with pytest.raises(aiohttp.ClientConnectionError):
+            await session.get(web.url)
+
+
+async def test_a_page_that_never_reads_holds_up_no_other() -> None:
+    async with dashboard() as (_, web), aiohttp.ClientSession() as session:
+        slow = await session.ws_connect(f"{web.url}ws")
+        await slow.send_json({"subscribe": "machine", "index": 0})
+        async with session.ws_connect(f"{web.url}ws") as fast:
+            await fast.send_json({"subscribe": "machine", "index": 0})
+            ticks = web.broadcaster.ticks
+            for _ in range(20):  # twenty frames while the other page reads none
+                await receive(fast, "machine")
+            assert web.broadcaster.ticks >= ticks + 19
+        subs = web.broadcaster.subscriptions
+        assert subs and all(len(sub) <= sub.depth for sub in subs)  # what waits is bounded
+        await slow.close()
+
+
+# -- focas-net serve --web ----------------------------------------------------------------
+def _parse(*argv: str) -> argparse.Namespace:
+    parser = argparse.ArgumentParser()
+    serve.register(parser.add_subparsers())
+    return parser.parse_args(["serve", *argv])
+
+
+def test_the_web_option() -> None:
+    assert _parse().web is None
+    assert _parse("--web", "8080").web == ("127.0.0.1", 8080)
+    assert _parse("--web", "0.0.0.0:80").web == ("0.0.0.0", 80)
+
+
+@pytest.mark.parametrize("value", ["http", "70000", "host:", "::1:80"])
+def test_a_bad_web_value_is_named(value: str, capsys: pytest.CaptureFixture[str]) -> None:
+    with pytest.raises(SystemExit) as exc:
+        _parse("--web", value)
+    assert exc.value.code == 2
+    err = capsys.readouterr().err
+    assert "--web" in err and repr(value) in err
+
+
+def test_a_missing_aiohttp_is_named(
+    monkeypatch: pytest.MonkeyPatch, capsys: pytest.CaptureFixture[str]
+) -> None:
+    real = importlib.util.find_spec
+
+    def find_spec(name: str, *args: Any) -> Any:
+        return None if name == "aiohttp" else real(name, *args)
+
+    monkeypatch.setattr(importlib.util, "find_spec", find_spec)
+    with pytest.raises(SystemExit):
+        _parse("--web", "8080")
+    assert "pip install 'focas-net[web]'" in capsys.readouterr().err
+
+
+READY_WEB = re.compile(r"^focas-net: web dashboard(?P<modes> \([^)]*\))? on (?P<url>http://\S+)$")
+
+
+@asynccontextmanager
+async def serving_web(*args: str) -> AsyncIterator[tuple[asyncio.subprocess.Process, str]]:
+    """``focas-net serve --port 0 ARGS --web 0`` until the dashboard's ready line."""
+    proc = await asyncio.create_subprocess_exec(
+        sys.executable, "-m", "focas_net", "serve", "--port", "0", *args, "--web", "0",
+        stdout=asyncio.subprocess.PIPE, stderr=asyncio.subprocess.PIPE, env={**os.environ},
+    )  # fmt: skip
+    assert proc.stdout is not None
+    try:
+        async with asyncio.timeout(30.0):
+            for _ in range(100):
+                line = (await proc.stdout.readline()).decode().rstrip("\n")
+                assert line, "serve ended before the dashboard's ready line"
+                match = READY_WEB.match(line)
+                if match:
+                    yield proc, match["url"]
+                    break
+    finally:
+        if proc.returncode is None:
+            proc.kill()
+            await proc.wait()
+
+
+async def test_serve_web_prints_the_url_and_stops_on_sigterm() -> None:
+    async with serving_web("--fleet", "2", "--run", "--read-only") as (proc, url):
+        assert url.startswith("http://127.0.0.1:")
+        async with aiohttp.ClientSession() as session:
+            status, fleet = await get(session, f"{url}api/fleet")
+            assert status == 200 and fleet["count"] == 2 and fleet["running"] == 2
+            assert (await get(session, f"{url}api/info"))[1]["read_only"] is True
+            status, body = await post_url(session, f"{url}api/machines/0/actions/cycle")
+            assert (status, body["ew_name"]) == (403, "EW_PROT")
+        proc.send_signal(signal.SIGTERM)
+        async with asyncio.timeout(30.0):
+            assert await proc.wait() == 0
+
+
+async def post_url(session: Any, url: str) -> tuple[int, dict[str, Any]]:
+    async with session.post(url, json={"action": "reset"}) as response:
+        return response.status, await response.json()
+
+
+async def test_serve_web_beyond_loopback_warns_and_a_bind_failure_is_one_line() -> None:
+    """192.0.2.1 (TEST-NET-1) is no address of this host: the warning, then the error."""
+    proc = await asyncio.create_subprocess_exec(
+        sys.executable, "-m", "focas_net", "serve", "--port", "0", "--web", "192.0.2.1:0",
+        stdout=asyncio.subprocess.PIPE, stderr=asyncio.subprocess.PIPE,
+    )  # fmt: skip
+    try:
+        async with asyncio.timeout(30.0):
+            out, err = await proc.communicate()
+    finally:
+        if proc.returncode is None:
+            proc.kill()
+            await proc.wait()
+    assert proc.returncode == 1 and out == b""
+    warning, error = err.decode().splitlines()
+    assert "warning" in warning and "192.0.2.1" in warning and "beyond loopback" in warning
+    assert error.startswith("focas-net serve: error: --web 192.0.2.1:0: cannot listen")
