@@ -223,7 +223,7 @@ class _Lost(Exception):
 
 
 class _Expired(Exception):
-    """A deadline passed: a call's (set on its future) or a frame's (set on B's reader)."""
+    """A call's deadline passed (set on its future by the call's timer)."""
 
 
 def _expire(future: asyncio.Future[Any]) -> None:
