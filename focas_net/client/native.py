@@ -295,11 +295,12 @@ class _Memo:
 
 #: (request, max axes) -> (its block's bytes, the most answer bytes, the request bytes).
 _BLOCKS: Final = _Memo(1024)
-#: (a job's requests, max axes) -> their blocks' bytes, the most answer bytes, their size.
+#: (identity of a job's requests, max axes) -> the requests, and their blocks' bytes, the most
+#: answer bytes and their size.
 _PARTS: Final = _Memo(1024)
 #: (answer frame, request block count) -> its blocks, as checked.
 _BODIES: Final = _Memo(512)
-#: (request, max axes, answer data) -> the decoded answer.
+#: (identity of a request, max axes, answer data) -> the request and its decoded answer.
 _ANSWERS: Final = _Memo(1024)
 
 
@@ -321,18 +322,16 @@ def _block_of(request: NativeRequest, max_axes: int) -> tuple[bytes, int, int]:
 
 def _part_of(requests: tuple[NativeRequest, ...], max_axes: int) -> tuple[bytes, int, int]:
     """The blocks of one job's ``requests`` as bytes, the most answer bytes they can get and
-    their size."""
-    key: tuple[tuple[NativeRequest, ...], int] | None = (requests, max_axes)
-    try:
-        known: tuple[bytes, int, int] | None = _PARTS.get(key)
-    except TypeError:  # a request with an unhashable field: not remembered
-        key, known = None, None
-    if known is not None:
-        return known
+    their size. Remembered by the identity of the tuple (the entry holds it, so the identity
+    stays its own): the library calls a poll repeats are built once, and hashing nine
+    requests would cost more than encoding them."""
+    key = (id(requests), max_axes)
+    known: tuple[tuple[NativeRequest, ...], tuple[bytes, int, int]] | None = _PARTS.get(key)
+    if known is not None and known[0] is requests:
+        return known[1]
     parts = [_block_of(r, max_axes) for r in requests]
     value = (b"".join(p[0] for p in parts), sum(p[1] for p in parts), sum(p[2] for p in parts))
-    if key is not None:
-        _PARTS.put(key, value)
+    _PARTS.put(key, (requests, value))
     return value
 
 
@@ -618,21 +617,18 @@ def _check(block: ResponseBlock, function: str) -> bytes:
 
 def _decode(request: NativeRequest, block: ResponseBlock, function: str, max_axes: int) -> Any:
     data = _check(block, function)
-    key: tuple[NativeRequest, int, bytes] | None = (request, max_axes, data)
-    try:
-        known = _ANSWERS.get(key)
-    except TypeError:  # a request with an unhashable field: not remembered
-        key, known = None, None
-    if known is not None:
-        return known
+    # by the request's identity (the entry holds it), as _part_of
+    key = (id(request), max_axes, data)
+    known: tuple[NativeRequest, Any] | None = _ANSWERS.get(key)
+    if known is not None and known[0] is request:
+        return known[1]
     try:
         value = request.decode_answer(data, max_axes)
     except (ProtocolError, ValueError, struct.error) as exc:
         raise PayloadError(
             f"{function}: answer to 0x{request.COMMAND:X} does not decode: {exc}"
         ) from None
-    if key is not None:
-        _ANSWERS.put(key, value)
+    _ANSWERS.put(key, (request, value))
     return value
 
 
