@@ -29,7 +29,7 @@ ROOT = Path(__file__).resolve().parent.parent
 if __package__ in (None, ""):  # run as a script: make ``benchmarks`` importable
     sys.path.insert(0, str(ROOT))
 
-from benchmarks import plant  # noqa: E402
+from benchmarks import native, plant  # noqa: E402
 from benchmarks._loop import uvloop_available  # noqa: E402
 from benchmarks.report import (  # noqa: E402
     FLOOR,
@@ -50,7 +50,16 @@ from benchmarks.subjects import (  # noqa: E402
     server_argv,
 )
 
-SCENARIOS = (*THROUGHPUT_MODES, "pmc4k", "bitstorm", "native", "fleet", "plant", "memory")
+SCENARIOS = (
+    *THROUGHPUT_MODES,
+    "pmc4k",
+    "bitstorm",
+    "native",
+    "fleet",
+    "plant",
+    "memory",
+    *native.SCENARIOS,
+)
 #: (connections, concurrent callers per connection) of each throughput mode.
 MODES: dict[str, tuple[int, int]] = {"seq": (1, 1), "pipe64": (1, 64), "conc100": (100, 1)}
 DEFAULT_JSON = ROOT / "benchmarks" / "results" / "latest.json"
@@ -371,6 +380,7 @@ class Suite:
         finally:
             for worker in self.workers.values():
                 worker.stop()
+        native.run_native(self)
 
     def _sample(self, subject: str, mode: str, duration: float) -> tuple[float, float, float]:
         """Requests per second, and server and client CPU microseconds per request; for the
@@ -673,6 +683,8 @@ def main(argv: Sequence[str] | None = None) -> int:
     Suite(cfg, scenarios, results).run()
     results.checks = evaluate(results, fleet_size=cfg.fleet_size, fleet_hz=cfg.fleet_hz)
     results.checks += plant.evaluate_plant(results, size=cfg.plant_size, ready_size=cfg.ready_size)
+    if any(s in native.SCENARIOS for s in scenarios):
+        results.checks += native.checks(results)
     m = results.machine
     print(
         f"machine: {m['nproc']} x {m['cpu']}, {m['implementation']} {m['python']},"

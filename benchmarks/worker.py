@@ -311,6 +311,10 @@ class Worker:
             return await native_throughput(
                 cmd["host"], cmd["port"], cmd["callers"], cmd["duration"]
             )
+        if op.startswith("native_"):  # the native FOCAS/2 suite (benchmarks/native.py)
+            from benchmarks import native
+
+            return await native.handle(self.subject, cmd)
         if op == "idle_open":
             self.idle += await open_conns(
                 connector(self.subject), cmd["host"], cmd["port"], cmd["count"]

@@ -2,12 +2,14 @@
 
     python examples/alarm_watch.py --port 8193 --events 6
     python examples/alarm_watch.py --port 8193 --watch-only --events 1 --seconds 60
+    python examples/alarm_watch.py --port 8193 --protocol native
 
-The projection polls the active alarm list and the alarm history and yields "raised",
-"cleared" and "history" events, each history entry exactly once. Unless ``--watch-only`` is
-given, the script also drives the simulated CNC: it raises two alarms and clears them again
-through simulator control. It stops after ``--events`` events, or with exit code 1 when they
-do not all arrive within ``--seconds``.
+The projection polls the active alarm list and the alarm history and yields "raised", "cleared"
+and "history" events, each history entry exactly once. Unless ``--watch-only`` is given, the
+script also drives the simulated CNC: it raises two alarms and clears them again through
+simulator control (a packed-protocol client of its own; with ``--protocol native`` the
+projection follows over FOCAS/2 Ethernet, as it would a real control). It stops after
+``--events`` events, or with exit code 1 when they do not all arrive within ``--seconds``.
 """
 
 from __future__ import annotations
@@ -22,7 +24,9 @@ from focas_net.client import (
     AlarmHistoryEvent,
     AlarmProjection,
     AlarmRaised,
+    CncClient,
     FocasClient,
+    NativeClient,
     ProjectionMode,
 )
 from focas_net.errors import FocasError
@@ -52,8 +56,14 @@ def describe(event: AlarmEvent) -> str:
     return f"{kind}  {code(a.alm_type, a.alm_no)}{axis} {a.msg}"
 
 
-async def drive(cnc: FocasClient, pause: float) -> None:
-    """Raise the demonstration alarms, then clear them, a few polls apart."""
+async def drive(host: str, port: int, call_timeout: float, pause: float) -> None:
+    """Raise the demonstration alarms, then clear them, a few polls apart (simulator control,
+    on a packed-protocol connection)."""
+    async with FocasClient(host, port, timeout=call_timeout) as cnc:
+        await _drive(cnc, pause)
+
+
+async def _drive(cnc: FocasClient, pause: float) -> None:
     for alm_type, alm_no, msg, axis in DEMO_ALARMS:
         await cnc.sim.raise_alarm(alm_type, alm_no, msg, axis_no=axis)
         await asyncio.sleep(pause)
@@ -62,9 +72,16 @@ async def drive(cnc: FocasClient, pause: float) -> None:
         await asyncio.sleep(pause)
 
 
+def client(args: argparse.Namespace) -> CncClient:
+    """The packed client or the FOCAS/2 one: the projection polls either."""
+    if args.protocol == "native":
+        return NativeClient(args.host, args.port, timeout=args.timeout, reconnect=True)
+    return FocasClient(args.host, args.port, timeout=args.timeout, reconnect=True)
+
+
 async def watch(args: argparse.Namespace) -> int:
     seen = 0
-    async with FocasClient(args.host, args.port, timeout=args.timeout, reconnect=True) as cnc:
+    async with client(args) as cnc:
         projection = AlarmProjection(
             cnc,
             ProjectionMode.ACTIVE_PLUS_HISTORY,
@@ -79,7 +96,9 @@ async def watch(args: argparse.Namespace) -> int:
                 # older history is not); only then does the demonstration start.
                 events = await projection.poll()
                 if not args.watch_only:
-                    driver = asyncio.create_task(drive(cnc, 2 * args.interval))
+                    driver = asyncio.create_task(
+                        drive(args.host, args.port, args.timeout, 2 * args.interval)
+                    )
                 for event in events:
                     seen += 1
                     print(f"{seen:3d}  {describe(event)}", flush=True)
@@ -111,6 +130,12 @@ def main() -> int:
     parser.add_argument("--events", type=int, default=6, help="stop after this many (6)")
     parser.add_argument("--seconds", type=float, default=20.0, help="give up after (20 s)")
     parser.add_argument("--watch-only", action="store_true", help="do not raise alarms, only watch")
+    parser.add_argument(
+        "--protocol",
+        choices=("packed", "native"),
+        default="packed",
+        help="packed (default) or native: FOCAS/2 Ethernet, as a real control speaks it",
+    )
     args = parser.parse_args()
     if args.events < 1 or args.interval <= 0 or args.seconds <= 0:
         parser.error("--events, --interval and --seconds must be positive")

@@ -4,13 +4,16 @@
     python examples/fleet_poll.py --simulate 100 --rounds 5
     python examples/fleet_poll.py --host 10.0.0.5 --port 8193 --machines 20   # 8193..8212
     python examples/fleet_poll.py --ports 8193,8194,9000
+    python examples/fleet_poll.py --protocol native --simulate 100   # over FOCAS/2 Ethernet
 
-Each machine gets its own FocasClient; a poll reads the status, the parts count (parameter
-6711) and the active alarms of every machine at once, all machines concurrently. A machine
-that cannot be reached, or does not answer in time, shows its error in the table and the others
-go on. With ``--simulate N`` (the default when no port is given) the script starts N simulated
-machines itself on ephemeral ports and gives them different modes, alarms and part counts.
-Exit code 0 when every poll succeeded, 1 otherwise.
+Each machine gets its own client (``FocasClient``, or ``NativeClient`` with ``--protocol
+native``: FOCAS/2 Ethernet as real controls speak it; the simulated machines answer both on
+their one port, and are prepared over the packed protocol's simulator control); a poll reads
+the status, the parts count (parameter 6711) and the active alarms of every machine at once,
+all machines concurrently. A machine that cannot be reached, or does not answer in time, shows
+its error in the table and the others go on. With ``--simulate N`` (the default when no port is
+given) the script starts N simulated machines itself on ephemeral ports and gives them
+different modes, alarms and part counts. Exit code 0 when every poll succeeded, 1 otherwise.
 """
 
 from __future__ import annotations
@@ -23,7 +26,7 @@ import time
 from collections.abc import AsyncIterator
 from dataclasses import dataclass
 
-from focas_net import FocasClient
+from focas_net import CncClient, FocasClient, NativeClient
 from focas_net.errors import FocasError
 from focas_net.protocol import ALARM_TYPE_NAMES
 from focas_net.server import FocasServer
@@ -47,7 +50,7 @@ class Row:
     error: str = ""
 
 
-async def poll(cnc: FocasClient, row: Row) -> bool:
+async def poll(cnc: CncClient, row: Row) -> bool:
     """One poll of one machine into ``row``; False when it failed."""
     started = time.perf_counter()
     try:
@@ -71,7 +74,7 @@ async def poll(cnc: FocasClient, row: Row) -> bool:
     return True
 
 
-async def connect(cnc: FocasClient, row: Row) -> bool:
+async def connect(cnc: CncClient, row: Row) -> bool:
     try:
         await cnc.connect()
         info = await cnc.read_sysinfo()
@@ -111,12 +114,19 @@ def render(rows: list[Row]) -> str:
     )
 
 
+def client(protocol: str, host: str, port: int, call_timeout: float) -> CncClient:
+    """The packed client or the FOCAS/2 one: a poll makes the same calls on both."""
+    if protocol == "native":
+        return NativeClient(host, port, timeout=call_timeout)
+    return FocasClient(host, port, timeout=call_timeout)
+
+
 async def poll_fleet(targets: list[tuple[str, str, int]], args: argparse.Namespace) -> int:
     rows = [
         Row(name, f"[{host}]:{port}" if ":" in host else f"{host}:{port}")
         for name, host, port in targets
     ]
-    clients = [FocasClient(host, port, timeout=args.timeout) for _, host, port in targets]
+    clients = [client(args.protocol, host, port, args.timeout) for _, host, port in targets]
     failures = 0
     started = time.perf_counter()
     try:
@@ -194,6 +204,12 @@ def main() -> int:
     parser.add_argument("--rounds", type=int, default=3, help="polls of the whole fleet (3)")
     parser.add_argument("--interval", type=float, default=0.5, help="seconds between rounds")
     parser.add_argument("--timeout", type=float, default=3.0, help="seconds per call")
+    parser.add_argument(
+        "--protocol",
+        choices=("packed", "native"),
+        default="packed",
+        help="packed (default) or native: FOCAS/2 Ethernet, as real controls speak it",
+    )
     args = parser.parse_args()
     if args.rounds < 1 or args.machines < 1 or args.simulate < 1:
         parser.error("--rounds, --machines and --simulate must be at least 1")

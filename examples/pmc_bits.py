@@ -1,12 +1,14 @@
 """Concurrent PMC bit writes that never lose one another.
 
     python examples/pmc_bits.py --port 8193 --area R --start 100 --bytes 4
+    python examples/pmc_bits.py --port 8193 --protocol native
 
 Every bit of ``--bytes`` consecutive bytes is written by its own concurrent call of
 ``write_pmc_bit`` (a read-modify-write of the byte). The client serialises the calls that touch
 the same byte with a per-byte lock, and lets different bytes proceed in parallel, so the final
 bytes are exactly the pattern written. The script starts from the inverted pattern, writes, and
-checks the result with one range read.
+checks the result with one range read. With ``--protocol native`` the same calls go over
+FOCAS/2 Ethernet (``NativeClient``), whose bit writes take the same per-byte locks.
 """
 
 from __future__ import annotations
@@ -15,7 +17,7 @@ import argparse
 import asyncio
 import sys
 
-from focas_net import FocasClient
+from focas_net import CncClient, FocasClient, NativeClient
 from focas_net.errors import FocasError
 
 
@@ -24,9 +26,16 @@ def pattern(n: int) -> bytes:
     return bytes((0b1010_0101 ^ (37 * i)) & 0xFF for i in range(n))
 
 
+def client(args: argparse.Namespace) -> CncClient:
+    """The packed client or the FOCAS/2 one: the calls below are the same on both."""
+    if args.protocol == "native":
+        return NativeClient(args.host, args.port, timeout=args.timeout)
+    return FocasClient(args.host, args.port, timeout=args.timeout)
+
+
 async def write_bits(args: argparse.Namespace) -> int:
     target = pattern(args.bytes)
-    async with FocasClient(args.host, args.port, timeout=args.timeout) as cnc:
+    async with client(args) as cnc:
         await cnc.write_pmc(args.area, args.start, bytes(~b & 0xFF for b in target))
         writes = [
             cnc.write_pmc_bit(args.area, args.start + i, bit, bool(byte >> bit & 1))
@@ -55,6 +64,12 @@ def main() -> int:
     parser.add_argument("--area", default="R", help="PMC area letter (R)")
     parser.add_argument("--start", type=int, default=100, help="first byte (100)")
     parser.add_argument("--bytes", type=int, default=4, help="number of bytes (4)")
+    parser.add_argument(
+        "--protocol",
+        choices=("packed", "native"),
+        default="packed",
+        help="packed (default) or native: FOCAS/2 Ethernet, as a real control speaks it",
+    )
     args = parser.parse_args()
     if args.bytes < 1:
         parser.error("--bytes must be at least 1")

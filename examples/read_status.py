@@ -1,9 +1,11 @@
 """Read the status, identity and active alarms of a CNC.
 
     python examples/read_status.py --host 127.0.0.1 --port 8193
+    python examples/read_status.py --host 192.168.1.10 --protocol native
 
-The three reads go out at once on one connection (``asyncio.gather``): the client matches
-the answers by request id.
+The three reads go out at once on one connection (``asyncio.gather``): on the packed protocol
+the client matches the answers by request id; on FOCAS/2 (``--protocol native``, what a real
+control speaks on port 8193) the native client sends them as one frame of three blocks.
 """
 
 from __future__ import annotations
@@ -12,7 +14,7 @@ import argparse
 import asyncio
 import sys
 
-from focas_net import FocasClient
+from focas_net import CncClient, FocasClient, NativeClient
 from focas_net.errors import FocasError
 from focas_net.protocol import ALARM_TYPE_NAMES
 
@@ -22,8 +24,15 @@ RUN = {0: "****", 1: "STOP", 2: "HOLD", 3: "STRT", 4: "MSTR"}
 EMERGENCY = {0: "****", 1: "EMG", 2: "RESET"}
 
 
-async def read_status(host: str, port: int, call_timeout: float) -> None:
-    async with FocasClient(host, port, timeout=call_timeout) as cnc:
+def client(protocol: str, host: str, port: int, call_timeout: float) -> CncClient:
+    """The packed client or the FOCAS/2 one: the reads below are the same calls on both."""
+    if protocol == "native":
+        return NativeClient(host, port, timeout=call_timeout)
+    return FocasClient(host, port, timeout=call_timeout)
+
+
+async def read_status(host: str, port: int, call_timeout: float, protocol: str) -> None:
+    async with client(protocol, host, port, call_timeout) as cnc:
         status, info, alarms = await asyncio.gather(
             cnc.read_status(), cnc.read_sysinfo(), cnc.read_alarms()
         )
@@ -45,9 +54,15 @@ def main() -> int:
     parser.add_argument("--host", default="127.0.0.1")
     parser.add_argument("--port", type=int, default=8193)
     parser.add_argument("--timeout", type=float, default=3.0, help="seconds per call")
+    parser.add_argument(
+        "--protocol",
+        choices=("packed", "native"),
+        default="packed",
+        help="packed (default) or native: FOCAS/2 Ethernet, as a real control speaks it",
+    )
     args = parser.parse_args()
     try:
-        asyncio.run(read_status(args.host, args.port, args.timeout))
+        asyncio.run(read_status(args.host, args.port, args.timeout, args.protocol))
     except FocasError as exc:
         print(f"read_status: {exc}", file=sys.stderr)
         return 1

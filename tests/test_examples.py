@@ -59,9 +59,10 @@ def test_every_example_is_tested() -> None:
     assert {p.name for p in EXAMPLES.glob("*.py")} == tested
 
 
-async def test_read_status(server: Served) -> None:
+@pytest.mark.parametrize("protocol", ["packed", "native"])
+async def test_read_status(server: Served, protocol: str) -> None:
     server.machine.raise_alarm(0, 3, 100, "PARAMETER WRITE ENABLE")
-    code, out, err = await run_example("read_status.py", *port_args(server))
+    code, out, err = await run_example("read_status.py", *port_args(server), "--protocol", protocol)
     assert (code, err) == (0, "")
     lines = out.splitlines()
     assert lines[0] == f"CNC {server.host}:{server.port}: series D4F1 version 32.0, 3 axes"
@@ -112,10 +113,12 @@ async def test_write_param_with_password() -> None:
         assert code == 1 and err.startswith("write_param_with_unlock: EW_PROT (7)")
 
 
-async def test_pmc_bits(server: Served) -> None:
+@pytest.mark.parametrize("protocol", ["packed", "native"])
+async def test_pmc_bits(server: Served, protocol: str) -> None:
     code, out, err = await run_example(
-        "pmc_bits.py", *port_args(server), "--area", "D", "--start", "500", "--bytes", "16"
-    )
+        "pmc_bits.py", *port_args(server), "--area", "D", "--start", "500", "--bytes", "16",
+        "--protocol", protocol,
+    )  # fmt: skip
     assert (code, err) == (0, "")
     assert out.startswith("128 concurrent bit writes to D500..")
     assert out.splitlines()[-1] == "every bit as written"
@@ -127,10 +130,12 @@ async def test_pmc_bits(server: Served) -> None:
     assert all(r[1] == r[2] for r in rows)
 
 
-async def test_alarm_watch(server: Served) -> None:
+@pytest.mark.parametrize("protocol", ["packed", "native"])
+async def test_alarm_watch(server: Served, protocol: str) -> None:
     code, out, err = await run_example(
-        "alarm_watch.py", *port_args(server), "--interval", "0.05", "--events", "6"
-    )
+        "alarm_watch.py", *port_args(server), "--interval", "0.05", "--events", "6",
+        "--protocol", protocol,
+    )  # fmt: skip
     assert (code, err) == (0, "")
     lines = out.splitlines()
     assert lines[-1].startswith("6 events; polls: ")
@@ -176,10 +181,12 @@ def _table_rows(out: str) -> list[list[str]]:
     return [line.split() for line in lines[1:-1]]
 
 
-async def test_fleet_poll_simulates_its_own_fleet() -> None:
+@pytest.mark.parametrize("protocol", ["packed", "native"])
+async def test_fleet_poll_simulates_its_own_fleet(protocol: str) -> None:
     code, out, err = await run_example(
-        "fleet_poll.py", "--simulate", "21", "--rounds", "2", "--interval", "0.05"
-    )
+        "fleet_poll.py", "--simulate", "21", "--rounds", "2", "--interval", "0.05",
+        "--protocol", protocol,
+    )  # fmt: skip
     assert (code, err) == (0, "")
     rows = _table_rows(out)
     assert [r[0] for r in rows] == [f"sim-{i:03d}" for i in range(1, 22)]

@@ -2,7 +2,12 @@
 
 A command's handler is ``args -> Go``: it checks and converts its arguments (a
 ``ValueError`` is a usage error, reported before anything is sent), then returns the coroutine
-function that talks to the CNC and returns what to print.
+function that talks to the CNC and returns what to print. A :data:`Go` takes a
+:class:`~focas_net.client.CncClient` and runs on either transport (``--protocol packed``, the
+default, or ``--protocol native``: FOCAS/2 Ethernet); a handler whose command needs calls only
+the packed protocol carries (simulator control, the program store, ``cnc_wrunlockparam``,
+VersaMax) returns a :class:`PackedOnly` instead, and with ``--protocol native`` the command
+fails with one line naming the command and the transport (exit 2, before connecting).
 """
 
 from __future__ import annotations
@@ -17,7 +22,14 @@ from collections.abc import Awaitable, Callable
 from dataclasses import dataclass
 from typing import Any, Final
 
-from focas_net.client import ClientState, FocasClient, ReconnectPolicy
+from focas_net.client import (
+    ClientState,
+    CncClient,
+    FocasClient,
+    NativeClient,
+    NativeUnsupportedError,
+    ReconnectPolicy,
+)
 from focas_net.errors import (
     ChunkedWriteError,
     CncError,
@@ -40,10 +52,16 @@ from ._args import (
 __all__ = [
     "FOLLOW_MAX_FAILURES",
     "FOLLOW_RECONNECT_ATTEMPTS",
+    "NATIVE",
+    "PACKED",
+    "PROTOCOLS",
     "Go",
     "Handler",
     "HintedError",
     "Output",
+    "PackedGo",
+    "PackedOnly",
+    "command_name",
     "runner",
     "tls_context",
     "tls_context_wanted",
@@ -59,10 +77,29 @@ class Output:
     text: str
 
 
-#: Talks to the CNC; returns what to print (None: the command printed as it went).
-Go = Callable[[FocasClient], Awaitable[Output | None]]
+#: Talks to the CNC on either transport; returns what to print (None: the command printed as
+#: it went).
+Go = Callable[[CncClient], Awaitable[Output | None]]
+#: Talks to the CNC with calls only the packed protocol carries.
+PackedGo = Callable[[FocasClient], Awaitable[Output | None]]
+
+#: ``--protocol``: the packed protocol (this project's servers) or FOCAS/2 Ethernet (real
+#: controls, and ``focas-net serve`` on the same port).
+PACKED: Final = "packed"
+NATIVE: Final = "native"
+PROTOCOLS: Final = (PACKED, NATIVE)
+
+
+@dataclass(frozen=True, slots=True)
+class PackedOnly:
+    """A command's talk that only the packed transport carries, and why (the calls it needs)."""
+
+    go: PackedGo
+    why: str
+
+
 #: A client command: its parsed arguments -> the talk to the CNC.
-Handler = Callable[[argparse.Namespace], Go]
+Handler = Callable[[argparse.Namespace], Go | PackedOnly]
 
 
 class HintedError(FocasError):
@@ -100,6 +137,8 @@ def _emit(args: argparse.Namespace, out: Output) -> None:
 def _exit_code(exc: BaseException) -> int:
     if isinstance(exc, HintedError | ChunkedWriteError):
         return _exit_code(exc.cause)
+    if isinstance(exc, NativeUnsupportedError):
+        return EXIT_USAGE
     if isinstance(exc, CncError):
         return EXIT_CNC
     if isinstance(exc, FocasConnectionError | FocasTimeoutError | OSError):
@@ -139,27 +178,73 @@ def tls_context(args: argparse.Namespace) -> ssl.SSLContext | None:
 
 
 async def _session(
-    args: argparse.Namespace, go: Go, follow: bool, context: ssl.SSLContext | None
+    args: argparse.Namespace, go: Go | PackedOnly, follow: bool, context: ssl.SSLContext | None
 ) -> Output | None:
     # A command's handler may set its own policy (``watch`` reconnects for ever).
     policy: ReconnectPolicy | None = getattr(args, "reconnect_policy", None)
     if policy is None and follow:
         policy = ReconnectPolicy(max_attempts=FOLLOW_RECONNECT_ATTEMPTS)
-    client = FocasClient(
-        args.host,
-        args.port,
-        timeout=args.timeout,
-        password=getattr(args, "password", None),
-        reconnect=policy if policy is not None else False,
-        ssl=context,
-    )
+    reconnect: ReconnectPolicy | bool = policy if policy is not None else False
+    if isinstance(go, PackedOnly) or _protocol(args) == PACKED:
+        packed = FocasClient(
+            args.host,
+            args.port,
+            timeout=args.timeout,
+            password=getattr(args, "password", None),
+            reconnect=reconnect,
+            ssl=context,
+        )
+        if follow:
+            packed.add_state_callback(_report_state(packed))
+        async with packed:
+            return await (go.go(packed) if isinstance(go, PackedOnly) else go(packed))
+    native = NativeClient(args.host, args.port, timeout=args.timeout, reconnect=reconnect)
     if follow:
-        client.add_state_callback(_report_state(client))
-    async with client:
-        return await go(client)
+        native.add_state_callback(_report_state(native))
+    async with native:
+        return await go(native)
 
 
-def _report_state(client: FocasClient) -> Callable[[ClientState], None]:
+def _protocol(args: argparse.Namespace) -> str:
+    return str(getattr(args, "protocol", PACKED))
+
+
+def command_name(args: argparse.Namespace) -> str:
+    """The command as typed: ``param set``, ``status``, ``program list``, ``sim cycle start``."""
+    name = str(getattr(args, "command", "?"))
+    words = [name, getattr(args, f"{name}_command", None), getattr(args, "action", None)]
+    return " ".join(w for w in words if isinstance(w, str))
+
+
+def _check_native(args: argparse.Namespace, go: Go | PackedOnly) -> None:
+    """With ``--protocol native``: a ``ValueError`` (exit 2) naming the command, or the option,
+    that FOCAS/2 Ethernet cannot carry."""
+    if _protocol(args) != NATIVE:
+        return
+    where = "with --protocol native (FOCAS/2 Ethernet)"
+    if isinstance(go, PackedOnly):
+        raise ValueError(f"{command_name(args)} is not available {where}: {go.why}")
+    if tls_context_wanted(args):
+        flag = next(
+            f
+            for f, on in (
+                ("--tls", getattr(args, "tls", False)),
+                ("--tls-ca", getattr(args, "tls_ca", None) is not None),
+                ("--tls-insecure", getattr(args, "tls_insecure", False)),
+            )
+            if on
+        )
+        raise ValueError(
+            f"{flag} does not apply {where}: FOCAS/2 has no TLS; use --protocol packed for TLS"
+        )
+    if getattr(args, "password", None) is not None:
+        raise ValueError(
+            f"{command_name(args)} --password is not available {where}: "
+            "FOCAS/2 has no cnc_wrunlockparam"
+        )
+
+
+def _report_state(client: CncClient) -> Callable[[ClientState], None]:
     lost = False
     where = fmt.address_text(client.host, client.port)
 
@@ -208,7 +293,7 @@ def _failure_text(args: argparse.Namespace, exc: BaseException) -> str:
     if isinstance(exc, FocasTimeoutError):
         where = fmt.address_text(args.host, args.port)
         return f"timed out after {args.timeout:g} s ({where}): {text}"
-    hint = _tls_hint(args, exc)
+    hint = None if _protocol(args) == NATIVE else _tls_hint(args, exc)
     return text if hint is None else f"{text}; {hint}"
 
 
@@ -219,6 +304,7 @@ def runner(handler: Handler) -> Callable[[argparse.Namespace], int]:
         follow = bool(getattr(args, "follow", False))
         try:
             go = handler(args)
+            _check_native(args, go)
             context = tls_context(args)
             out = asyncio.run(_session(args, go, follow, context))
         except (FocasError, ValueError, OSError) as exc:

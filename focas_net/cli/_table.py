@@ -3,8 +3,8 @@
 Each row is a :class:`Cmd` (name, help, handler, arguments; ``writes`` adds ``--password``) or
 a :class:`Group` of them (``param get``, ``param set``, ...). An argument is an :func:`arg`:
 the flags and keyword options of one ``add_argument`` call. Every command also gets the
-``connection`` options (``--host``, ``--port``, ``--timeout``, ``--json``), a description made
-from its help, and the exit codes as its epilog.
+``connection`` options (``--host``, ``--port``, ``--timeout``, ``--protocol``, ``--json``, the
+TLS options), a description made from its help, and the exit codes as its epilog.
 """
 
 from __future__ import annotations
@@ -28,7 +28,7 @@ from ._args import (
     POSITIVE,
     SECONDS,
 )
-from ._run import Handler, runner
+from ._run import PACKED, PROTOCOLS, Handler, runner
 
 __all__ = ["COMMANDS", "Arg", "ArgOptions", "Cmd", "Group", "arg", "register"]
 
@@ -89,6 +89,13 @@ _CONNECTION: Final = (
         default=3.0,
         metavar="SECONDS",
         help="per-call timeout (default %(default)s)",
+    ),
+    arg(
+        "--protocol",
+        choices=PROTOCOLS,
+        default=PACKED,
+        help="packed: this project's protocol (default); native: FOCAS/2 Ethernet, as FANUC's "
+        "library speaks it to a real control (and to focas-net serve on the same port)",
     ),
     arg("--json", action="store_true", help="print JSON instead of a table"),
     arg(

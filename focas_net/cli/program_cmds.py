@@ -13,7 +13,7 @@ from focas_net.client import FocasClient
 
 from . import _format as fmt
 from . import read_cmds
-from ._run import Go, Output
+from ._run import Go, Output, PackedOnly
 
 __all__ = ["CYCLE_ACTIONS", "PROGRAM_ACTIONS", "cycle", "override", "program"]
 
@@ -21,6 +21,7 @@ __all__ = ["CYCLE_ACTIONS", "PROGRAM_ACTIONS", "cycle", "override", "program"]
 PROGRAM_ACTIONS: Final = ("list", "show", "load", "delete", "select")
 #: ``sim cycle ACTION``.
 CYCLE_ACTIONS: Final = ("start", "hold", "reset")
+_WHY: Final = "the program store and the cycle are packed-protocol commands"
 
 
 def _number(action: str, target: str | None) -> int:
@@ -52,7 +53,7 @@ def _text_of(target: str | None) -> tuple[str, str]:
         ) from None
 
 
-def program(args: argparse.Namespace) -> Go:
+def program(args: argparse.Namespace) -> Go | PackedOnly:
     action: str | None = args.action
     if action is None and args.replace:
         raise ValueError("program: --replace goes with program load only")
@@ -77,7 +78,7 @@ def program(args: argparse.Namespace) -> Go:
     return _select(number)
 
 
-def _list() -> Go:
+def _list() -> PackedOnly:
     async def go(cnc: FocasClient) -> Output:
         entries = await cnc.read_program_directory()
         main = (await cnc.read_program_numbers()).main
@@ -93,43 +94,43 @@ def _list() -> Go:
             return Output(data, "no programs")
         return Output(data, fmt.render_table(("program", "name", "size", ""), rows))
 
-    return go
+    return PackedOnly(go, _WHY)
 
 
-def _show(number: int) -> Go:
+def _show(number: int) -> PackedOnly:
     async def go(cnc: FocasClient) -> Output:
         text = await cnc.read_program(number)
         return Output({"number": number, "text": text}, text)
 
-    return go
+    return PackedOnly(go, _WHY)
 
 
-def _load(text: str, name: str, replace: bool) -> Go:
+def _load(text: str, name: str, replace: bool) -> PackedOnly:
     async def go(cnc: FocasClient) -> Output:
         number = await cnc.write_program(text, replace=replace)
         verb = "stored or replaced" if replace else "stored"
         return Output({"number": number, "file": name}, f"{verb} O{number:04d} from {name}")
 
-    return go
+    return PackedOnly(go, _WHY)
 
 
-def _delete(number: int) -> Go:
+def _delete(number: int) -> PackedOnly:
     async def go(cnc: FocasClient) -> Output:
         await cnc.delete_program(number)
         return Output({"deleted": number}, f"deleted O{number:04d}")
 
-    return go
+    return PackedOnly(go, _WHY)
 
 
-def _select(number: int) -> Go:
+def _select(number: int) -> PackedOnly:
     async def go(cnc: FocasClient) -> Output:
         await cnc.select_program(number)
         return Output({"main": number}, f"O{number:04d} is the main program")
 
-    return go
+    return PackedOnly(go, _WHY)
 
 
-def cycle(args: argparse.Namespace) -> Go:
+def cycle(args: argparse.Namespace) -> PackedOnly:
     action: str = args.action
 
     async def go(cnc: FocasClient) -> Output:
@@ -145,10 +146,10 @@ def cycle(args: argparse.Namespace) -> Go:
             f"{action}: {fmt.status_summary(st)}",
         )
 
-    return go
+    return PackedOnly(go, _WHY)
 
 
-def override(args: argparse.Namespace) -> Go:
+def override(args: argparse.Namespace) -> PackedOnly:
     async def go(cnc: FocasClient) -> Output:
         if args.feed is not None or args.rapid is not None or args.spindle is not None:
             await cnc.sim.set_overrides(feed=args.feed, rapid=args.rapid, spindle=args.spindle)
@@ -156,4 +157,4 @@ def override(args: argparse.Namespace) -> Go:
         data = {"feed": info.feed, "rapid": info.rapid, "spindle": info.spindle}
         return Output(data, f"feed {info.feed} %, rapid {info.rapid} %, spindle {info.spindle} %")
 
-    return go
+    return PackedOnly(go, _WHY)

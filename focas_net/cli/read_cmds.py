@@ -15,14 +15,16 @@ from focas_net.client import (
     AlarmHistoryEvent,
     AlarmProjection,
     AlarmRaised,
+    CncClient,
     FocasClient,
+    NativeClient,
     ProjectionMode,
 )
 from focas_net.errors import EW, CncError, FocasError
 from focas_net.protocol import ParamDataType, ParamValue, PmcArea, PositionKind
 
 from . import _format as fmt
-from ._run import FOLLOW_MAX_FAILURES, Go, HintedError, Output, write
+from ._run import FOLLOW_MAX_FAILURES, Go, HintedError, Output, PackedOnly, write
 
 __all__ = [
     "alarms",
@@ -46,7 +48,7 @@ __all__ = [
 
 
 def status(args: argparse.Namespace) -> Go:
-    async def go(cnc: FocasClient) -> Output:
+    async def go(cnc: CncClient) -> Output:
         st = await cnc.read_status()
         mt_type = fmt.sysinfo_dict(await cnc.read_sysinfo())["mt_type"]  # names tmmode
         rows = fmt.status_rows(st, mt_type)
@@ -57,7 +59,7 @@ def status(args: argparse.Namespace) -> Go:
 
 
 def sysinfo(args: argparse.Namespace) -> Go:
-    async def go(cnc: FocasClient) -> Output:
+    async def go(cnc: CncClient) -> Output:
         info = await cnc.read_sysinfo()
         table = fmt.render_table(("field", "value", "meaning"), fmt.sysinfo_rows(info))
         return Output(fmt.sysinfo_json(info), table)
@@ -69,7 +71,7 @@ def sysinfo(args: argparse.Namespace) -> Go:
 
 
 def program(args: argparse.Namespace) -> Go:
-    async def go(cnc: FocasClient) -> Output:
+    async def go(cnc: CncClient) -> Output:
         numbers = await cnc.read_program_numbers()
         feed = await cnc.read_feed()
         speed = await cnc.read_spindle_speed()
@@ -82,7 +84,7 @@ def program(args: argparse.Namespace) -> Go:
 def position(args: argparse.Namespace) -> Go:
     kind = PositionKind.parse(args.kind)
 
-    async def go(cnc: FocasClient) -> Output:
+    async def go(cnc: CncClient) -> Output:
         pos = await cnc.read_positions(kind, axis=args.axis)
         data = fmt.positions_dict(pos.kind.name.lower(), pos.decimals, pos.values, pos.increments)
         table = fmt.render_table(("axis", "position", "increments"), fmt.positions_rows(data))
@@ -94,9 +96,7 @@ def position(args: argparse.Namespace) -> Go:
 # -- parameters, diagnostics, macros --------------------------------------------------------
 
 
-async def axis_hint(
-    cnc: FocasClient, exc: CncError, kind: str, number: int, axis: int
-) -> FocasError:
+async def axis_hint(cnc: CncClient, exc: CncError, kind: str, number: int, axis: int) -> FocasError:
     """``exc`` with advice when it is ``EW_ATTRIB`` for the axis of parameter or diagnostic
     ``number`` (``kind``): an axis item read without ``--axis``, an axis past the machine's,
     or ``--axis`` on an item of no axis; the axis count is the machine's (ODBSYS)."""
@@ -110,7 +110,7 @@ async def axis_hint(
     return HintedError(exc, f"{kind} {number} is not an axis {kind}: leave out --axis")
 
 
-async def _axis_count(cnc: FocasClient) -> int:
+async def _axis_count(cnc: CncClient) -> int:
     info = await cnc.read_sysinfo()
     return info.axes_count if info.axes_count is not None else info.max_axis
 
@@ -135,12 +135,16 @@ def param_output(
     return data, whole, f"{item_name(number, bit, axis)} = {data['bit_value']}"
 
 
-async def param_kind(cnc: FocasClient, number: int, pv: ParamValue) -> ParamDataType | None:
+async def param_kind(cnc: CncClient, number: int, pv: ParamValue) -> ParamDataType | None:
     """The type of a parameter read as ``pv``: asked (``cnc_rdparainfo``) for a 1-byte value,
     which may be a bit or a byte parameter; None when the CNC cannot tell."""
     if pv.width == fmt.REAL_WIDTH:
         return ParamDataType.REAL
     if pv.width != 1:
+        return None
+    if isinstance(cnc, NativeClient):  # FOCAS/2: the type word of the cnc_rdparam record
+        return await cnc.read_param_type(number, axis=pv.axis)
+    if not isinstance(cnc, FocasClient):
         return None
     try:
         return (await cnc.read_param_attributes(number)).type
@@ -153,7 +157,7 @@ async def param_kind(cnc: FocasClient, number: int, pv: ParamValue) -> ParamData
 def param_get(args: argparse.Namespace) -> Go:
     number, bit = fmt.parse_number_bit(args.number)
 
-    async def go(cnc: FocasClient) -> Output:
+    async def go(cnc: CncClient) -> Output:
         try:
             pv = await cnc.read_param_value(number, axis=args.axis)
         except CncError as exc:
@@ -171,7 +175,7 @@ def param_get(args: argparse.Namespace) -> Go:
 
 
 def diag(args: argparse.Namespace) -> Go:
-    async def go(cnc: FocasClient) -> Output:
+    async def go(cnc: CncClient) -> Output:
         try:
             value = await cnc.read_diag(args.number, axis=args.axis)
         except CncError as exc:
@@ -188,7 +192,7 @@ def macro_dict(number: int, value: Decimal | None) -> dict[str, Any]:
 
 
 def macro_get(args: argparse.Namespace) -> Go:
-    async def go(cnc: FocasClient) -> Output:
+    async def go(cnc: CncClient) -> Output:
         value = await cnc.read_macro(args.number)
         return Output(macro_dict(args.number, value), f"#{args.number} = {fmt.macro_text(value)}")
 
@@ -201,7 +205,7 @@ def macro_get(args: argparse.Namespace) -> Go:
 def pmc_read(args: argparse.Namespace) -> Go:
     area: PmcArea = args.area
 
-    async def go(cnc: FocasClient) -> Output:
+    async def go(cnc: CncClient) -> Output:
         data = await cnc.read_pmc(area, args.start, args.count)
         out = {
             "area": area.name,
@@ -224,7 +228,7 @@ def alarms(args: argparse.Namespace) -> Go:
     if args.count is not None or args.interval is not None:
         raise ValueError("--count and --interval apply to --follow")
 
-    async def go(cnc: FocasClient) -> Output:
+    async def go(cnc: CncClient) -> Output:
         active = await cnc.read_alarms()
         data: dict[str, Any] = {"active": [fmt.alarm_dict(a) for a in active]}
         lines = [f"active alarms: {len(active)}"]
@@ -256,7 +260,7 @@ def _alarms_follow(args: argparse.Namespace) -> Go:
     mode = ProjectionMode.ACTIVE_PLUS_HISTORY if args.history else ProjectionMode.ACTIVE
     interval = 1.0 if args.interval is None else args.interval
 
-    async def go(cnc: FocasClient) -> None:
+    async def go(cnc: CncClient) -> None:
         projection = AlarmProjection(
             cnc, mode, interval=interval, depth=args.history or 50, max_failures=FOLLOW_MAX_FAILURES
         )
@@ -294,7 +298,7 @@ def _alarms_follow(args: argparse.Namespace) -> Go:
 # -- VersaMax -------------------------------------------------------------------------------
 
 
-def versamax(args: argparse.Namespace) -> Go:
+def versamax(args: argparse.Namespace) -> PackedOnly:
     async def go(cnc: FocasClient) -> Output:
         record = await cnc.read_module_config(args.rack, args.slot)
         return Output(
@@ -302,4 +306,4 @@ def versamax(args: argparse.Namespace) -> Go:
             "\n\n".join(fmt.module_lines(args.rack, args.slot, record)),
         )
 
-    return go
+    return PackedOnly(go, "versamax_rdconfig is a packed-protocol command")

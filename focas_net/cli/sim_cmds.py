@@ -19,7 +19,7 @@ from focas_net.errors import CncError, FocasError
 from focas_net.protocol import MAX_ALARM_MSG, ArmedFault, FaultKind, FaultScope
 
 from . import _format as fmt
-from ._run import Go, Output
+from ._run import Output, PackedOnly
 
 __all__ = [
     "FAULT_KINDS",
@@ -41,9 +41,10 @@ class NothingMatched(FocasError):
 FAULT_KINDS: Final = {k.name.lower(): k for k in FaultKind}
 #: ``sim fault --scope``: the fault scopes by their command-line names.
 FAULT_SCOPES: Final = {s.name.lower(): s for s in FaultScope}
+_WHY: Final = "the simulator controls are packed-protocol commands"
 
 
-def panel(args: argparse.Namespace) -> Go:
+def panel(args: argparse.Namespace) -> PackedOnly:
     mode = None if args.mode is None else fmt.parse_aut(args.mode)
     writes = mode is not None or args.pwe is not None or args.emergency is not None
 
@@ -62,10 +63,10 @@ def panel(args: argparse.Namespace) -> Go:
         }
         return Output(data, f"{fmt.status_summary(st)} pwe={'on' if p.pwe else 'off'}")
 
-    return go
+    return PackedOnly(go, _WHY)
 
 
-def alarm(args: argparse.Namespace) -> Go:
+def alarm(args: argparse.Namespace) -> PackedOnly:
     alm_type, alm_no = fmt.parse_alarm(args.alarm)
     msg = " ".join(args.message)
     kept = msg[:MAX_ALARM_MSG]  # the CNC keeps the first 32 characters of a message
@@ -96,10 +97,10 @@ def alarm(args: argparse.Namespace) -> Go:
         }
         return Output(data, f"raised {code}{axis} {kept}".rstrip())
 
-    return go
+    return PackedOnly(go, _WHY)
 
 
-def clear(args: argparse.Namespace) -> Go:
+def clear(args: argparse.Namespace) -> PackedOnly:
     alm_type, alm_no = fmt.parse_alarm_filter(args.alarm)
 
     def matches(a: Any) -> bool:
@@ -122,7 +123,7 @@ def clear(args: argparse.Namespace) -> Go:
         what = ", ".join(fmt.alarm_code(a.alm_type, a.alm_no) for a in gone)
         return Output(data, f"cleared {what}; {len(remaining)} still active")
 
-    return go
+    return PackedOnly(go, _WHY)
 
 
 def _whose(scope: FaultScope) -> str:
@@ -152,7 +153,7 @@ def _fault_rows(pending: tuple[ArmedFault, ...]) -> list[dict[str, Any]]:
     return rows
 
 
-def fault(args: argparse.Namespace) -> Go:
+def fault(args: argparse.Namespace) -> PackedOnly:
     kind = FAULT_KINDS[args.kind]
     scope = FAULT_SCOPES[args.scope]
     if kind is FaultKind.ERROR:
@@ -188,7 +189,7 @@ def fault(args: argparse.Namespace) -> Go:
         behind = f"queued behind {len(ahead)} pending fault{'s' * (len(ahead) > 1)}"
         return Output(data, f"{behind}: {_answers(first, args.count)} {whose} from now: {effect}")
 
-    return go
+    return PackedOnly(go, _WHY)
 
 
 def _effect(kind: FaultKind, arg: int) -> str:
@@ -201,7 +202,7 @@ def _effect(kind: FaultKind, arg: int) -> str:
     return "sent one byte per write"
 
 
-def faults(args: argparse.Namespace) -> Go:
+def faults(args: argparse.Namespace) -> PackedOnly:
     scope = FAULT_SCOPES[args.scope]
     whose = _whose(scope)
 
@@ -233,7 +234,7 @@ def faults(args: argparse.Namespace) -> Go:
         head = f"{len(rows)} pending fault{'s' * (len(rows) > 1)} {whose}, first in, first out:"
         return Output(data, f"{head}\n{table}")
 
-    return go
+    return PackedOnly(go, _WHY)
 
 
 def _arg_text(kind: str, arg: int) -> str:

@@ -45,7 +45,7 @@ from focas_net.protocol import (
 )
 
 from . import _format as fmt
-from ._run import Go
+from ._run import PackedOnly
 
 __all__ = [
     "CLEAR_TO_END",
@@ -456,7 +456,7 @@ async def _poll_or_problem(
         return _problem(exc, address)
 
 
-def watch(args: argparse.Namespace) -> Go:
+def watch(args: argparse.Namespace) -> PackedOnly:
     """``focas-net watch``: frames every ``--interval`` seconds until Ctrl-C or ``--count``."""
     interval: float = args.interval
     count: int | None = args.count
@@ -500,7 +500,9 @@ def watch(args: argparse.Namespace) -> Go:
                 if tty:
                     _put(SHOW_CURSOR)
 
-    return go
+    return PackedOnly(
+        go, "it reads the run info, the program directory and the load meters (packed only)"
+    )
 
 
 def _needs_directory(state: WatchState | None, names: Mapping[int, str]) -> bool:

@@ -6,12 +6,12 @@ from __future__ import annotations
 import argparse
 from typing import Final
 
-from focas_net.client import FocasClient
+from focas_net.client import CncClient, FocasClient
 from focas_net.errors import AccessDeniedError
 from focas_net.protocol import PmcArea
 
 from . import _format as fmt
-from ._run import Go, HintedError, Output
+from ._run import Go, HintedError, Output, PackedOnly
 from .read_cmds import macro_dict, param_kind, param_output
 
 __all__ = ["macro_clear", "macro_set", "param_set", "pmc_bit", "pmc_write", "unlock"]
@@ -31,7 +31,7 @@ def param_set(args: argparse.Namespace) -> Go:
     else:
         value = fmt.parse_param_value(args.value)
 
-    async def go(cnc: FocasClient) -> Output:
+    async def go(cnc: CncClient) -> Output:
         try:
             if bit is None:
                 await cnc.write_param(number, value, axis=args.axis, width=args.width)
@@ -50,7 +50,7 @@ def param_set(args: argparse.Namespace) -> Go:
 
 def macro_set(args: argparse.Namespace) -> Go:
     # A value that cannot be carried raises ValueError before anything is sent (exit 2).
-    async def go(cnc: FocasClient) -> Output:
+    async def go(cnc: CncClient) -> Output:
         await cnc.write_macro(args.number, args.value)
         value = await cnc.read_macro(args.number)
         return Output(
@@ -61,7 +61,7 @@ def macro_set(args: argparse.Namespace) -> Go:
     return go
 
 
-def macro_clear(args: argparse.Namespace) -> Go:
+def macro_clear(args: argparse.Namespace) -> PackedOnly:
     # a simulator control command (0x0E11): a real CNC answers EW_FUNC
     async def go(cnc: FocasClient) -> Output:
         await cnc.sim.vacate_macro(args.number)
@@ -71,10 +71,10 @@ def macro_clear(args: argparse.Namespace) -> Go:
             f"#{args.number} = {fmt.macro_text(value)} (cleared)",
         )
 
-    return go
+    return PackedOnly(go, "vacating a variable is a simulator control command (0x0E11)")
 
 
-def pmc_write(args: argparse.Namespace) -> Go:
+def pmc_write(args: argparse.Namespace) -> Go | PackedOnly:
     area: PmcArea = args.area
     if args.hex is not None and args.values:
         raise ValueError("give the bytes either as values or with --hex, not both")
@@ -83,11 +83,7 @@ def pmc_write(args: argparse.Namespace) -> Go:
     else:
         payload = fmt.parse_byte_list(args.values)
 
-    async def go(cnc: FocasClient) -> Output:
-        if args.force:
-            await cnc.sim.set_pmc(area, args.start, payload)
-        else:
-            await cnc.write_pmc(area, args.start, payload)
+    def written() -> Output:
         last = args.start + len(payload) - 1
         data = {"area": area.name, "start": args.start, "count": len(payload), "hex": payload.hex()}
         where = f"{area.name}{args.start}" + (f"..{area.name}{last}" if last > args.start else "")
@@ -97,6 +93,16 @@ def pmc_write(args: argparse.Namespace) -> Go:
             + fmt.bytes_summary(payload),
         )
 
+    async def force(cnc: FocasClient) -> Output:
+        await cnc.sim.set_pmc(area, args.start, payload)
+        return written()
+
+    async def go(cnc: CncClient) -> Output:
+        await cnc.write_pmc(area, args.start, payload)
+        return written()
+
+    if args.force:
+        return PackedOnly(force, "--force writes through a simulator control command (0x0E05)")
     return go
 
 
@@ -114,7 +120,7 @@ def pmc_bit(args: argparse.Namespace) -> Go:
     byte, bit = _parse_byte_bit(args.address)
     value = None if args.value is None else fmt.parse_bool(args.value)
 
-    async def go(cnc: FocasClient) -> Output:
+    async def go(cnc: CncClient) -> Output:
         if value is not None:
             await cnc.write_pmc_bit(area, byte, bit, value)
         current = await cnc.read_pmc_bit(area, byte, bit)
@@ -125,7 +131,7 @@ def pmc_bit(args: argparse.Namespace) -> Go:
     return go
 
 
-def unlock(args: argparse.Namespace) -> Go:
+def unlock(args: argparse.Namespace) -> PackedOnly:
     async def go(cnc: FocasClient) -> Output:
         await cnc.unlock(args.secret)
         return Output(
@@ -134,4 +140,4 @@ def unlock(args: argparse.Namespace) -> Go:
             "the commands that write parameters)",
         )
 
-    return go
+    return PackedOnly(go, "FOCAS/2 has no cnc_wrunlockparam")

@@ -3,12 +3,14 @@
 Each name below has one home: :mod:`.client` (the client and its results), :mod:`.reconnect`
 (states and the reconnect policy), :mod:`.sim_control` (``client.sim``), :mod:`.connection`
 (one pipelined connection), :mod:`.projection` (alarm events), :mod:`.native` (the FOCAS/2
-Ethernet client, :class:`NativeClient`). ``FaultKind`` and
+Ethernet client, :class:`NativeClient`), :mod:`.cnc` (:class:`CncClient`, the calls both
+clients carry, as a static type). ``FaultKind`` and
 ``FaultScope``, the arguments of ``client.sim.inject_fault``, are imported from
 :mod:`focas_net.protocol` (or :mod:`focas_net`).
 """
 
 from .client import FocasClient, Positions
+from .cnc import CncClient
 from .connection import Connection, NotSentError, open_connection
 from .native import DynamicData, NativeClient, NativeUnsupportedError, ServoLoad
 from .projection import (
@@ -29,6 +31,7 @@ __all__ = [
     "AlarmProjection",
     "AlarmRaised",
     "ClientState",
+    "CncClient",
     "Connection",
     "DynamicData",
     "FocasClient",

@@ -42,6 +42,7 @@ from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 from datetime import UTC, datetime
 from decimal import Decimal
+from functools import lru_cache, partial
 from typing import Any, Final
 
 from focas_net.errors import (
@@ -58,6 +59,7 @@ from focas_net.errors import (
 from ..native import calls
 from ..native.blocks import (
     REQUEST_BLOCK_SIZE,
+    BlockCount,
     ResponseBlock,
     answer_refusal,
     decode_response_body,
@@ -65,11 +67,13 @@ from ..native.blocks import (
 )
 from ..native.calls import CommandSet, LibraryCall
 from ..native.frame import (
+    CLIENT_VERSION,
     MAGIC,
     NATIVE_HEADER,
     NATIVE_HEADER_SIZE,
     FrameType,
     encode_close_request,
+    encode_native_frame,
     encode_open_request,
     max_response_body,
 )
@@ -152,7 +156,11 @@ _MAX_ACTIVE_ALARMS: Final = 32
 _ALARM_TEXT: Final = 64
 _U16_LIMIT: Final = 0x10000
 _DATA_ANSWER: Final = FrameType.DATA_RESPONSE >> 8
+#: The read buffer limit of each connection (``asyncio.open_connection``'s default).
+_STREAM_LIMIT: Final = 2**16
 _I32: Final = struct.Struct(">i")
+_COUNT: Final = BlockCount.STRUCT
+_MAGIC: Final = int.from_bytes(MAGIC, "big")
 _ERROR_WORDS: Final = struct.Struct(">hhhh")
 _PARAM_WIDTH: Final[dict[int, int]] = {
     ParamType.BIT: 1,
@@ -214,6 +222,43 @@ class _Lost(Exception):
     """The connection pair cannot carry any further frame."""
 
 
+class _Expired(Exception):
+    """A call's deadline passed (set on its future by the call's timer)."""
+
+
+def _expire(future: asyncio.Future[Any]) -> None:
+    if not future.done():
+        future.set_exception(_Expired())
+
+
+class _Watched(asyncio.StreamReaderProtocol):
+    """A stream protocol whose data, once ``on_data`` is set, goes to the client's frame
+    parser instead of the stream reader (the reader serves the open and close exchanges); end
+    of file and loss are reported to ``on_end``."""
+
+    def __init__(self, reader: asyncio.StreamReader) -> None:
+        super().__init__(reader)
+        self.on_data: Callable[[bytes], None] | None = None
+        self.on_end: Callable[[Exception | None], None] | None = None
+
+    def data_received(self, data: bytes) -> None:
+        if self.on_data is not None:
+            self.on_data(data)
+        else:
+            super().data_received(data)
+
+    def eof_received(self) -> bool | None:
+        keep_open = super().eof_received()
+        if self.on_end is not None:
+            self.on_end(None)
+        return keep_open
+
+    def connection_lost(self, exc: Exception | None) -> None:
+        super().connection_lost(exc)
+        if self.on_end is not None:
+            self.on_end(exc)
+
+
 async def _read_frame(reader: asyncio.StreamReader) -> tuple[int, int, bytes]:
     """``(version, type, body)`` of the next frame; :class:`_Lost` when it is not one."""
     try:
@@ -225,6 +270,75 @@ async def _read_frame(reader: asyncio.StreamReader) -> tuple[int, int, bytes]:
     except (asyncio.IncompleteReadError, ConnectionError, OSError) as exc:
         raise _Lost(f"connection closed ({exc!r})") from exc
     return version, frame_type, body
+
+
+class _Memo:
+    """A bounded memo of pure results (emptied when full): the encoded block of a request,
+    the blocks of an answer body, the decoded data of an answer block. Requests, bodies and
+    decoded records are immutable, so a poll that repeats the same call and gets the same
+    answer encodes and decodes nothing again."""
+
+    __slots__ = ("_items", "_size")
+
+    def __init__(self, size: int) -> None:
+        self._items: dict[Any, Any] = {}
+        self._size = size
+
+    def get(self, key: Any) -> Any:
+        return self._items.get(key)
+
+    def put(self, key: Any, value: Any) -> None:
+        if len(self._items) >= self._size:
+            self._items.clear()
+        self._items[key] = value
+
+
+#: (request, max axes) -> (its block's bytes, the most answer bytes, the request bytes).
+_BLOCKS: Final = _Memo(1024)
+#: (identity of a job's requests, max axes) -> the requests, and their blocks' bytes, the most
+#: answer bytes and their size.
+_PARTS: Final = _Memo(1024)
+#: (answer frame, request block count) -> its blocks, as checked.
+_BODIES: Final = _Memo(512)
+#: (identity of a request, max axes, answer data) -> the request and its decoded answer.
+_ANSWERS: Final = _Memo(1024)
+
+
+def _block_of(request: NativeRequest, max_axes: int) -> tuple[bytes, int, int]:
+    """The bytes of ``request``'s block, the most answer bytes it can get and its size."""
+    key: tuple[NativeRequest, int] | None = (request, max_axes)
+    try:
+        known: tuple[bytes, int, int] | None = _BLOCKS.get(key)
+    except TypeError:  # a request with an unhashable field: not remembered
+        key, known = None, None
+    if known is not None:
+        return known
+    encoded = request.to_block(_PATH).encode()
+    value = (encoded, _answer_size(request, max_axes), len(encoded))
+    if key is not None:
+        _BLOCKS.put(key, value)
+    return value
+
+
+def _part_of(requests: tuple[NativeRequest, ...], max_axes: int) -> tuple[bytes, int, int]:
+    """The blocks of one job's ``requests`` as bytes, the most answer bytes they can get and
+    their size. Remembered by the identity of the tuple (the entry holds it, so the identity
+    stays its own): the library calls a poll repeats are built once, and hashing nine
+    requests would cost more than encoding them."""
+    key = (id(requests), max_axes)
+    known: tuple[tuple[NativeRequest, ...], tuple[bytes, int, int]] | None = _PARTS.get(key)
+    if known is not None and known[0] is requests:
+        return known[1]
+    parts = [_block_of(r, max_axes) for r in requests]
+    value = (b"".join(p[0] for p in parts), sum(p[1] for p in parts), sum(p[2] for p in parts))
+    _PARTS.put(key, (requests, value))
+    return value
+
+
+#: The library calls a poll repeats, built once per command set and arguments.
+_statinfo: Final = lru_cache(maxsize=8)(calls.cnc_statinfo)
+_rddynamic2: Final = lru_cache(maxsize=256)(calls.cnc_rddynamic2)
+_rdmacro: Final = lru_cache(maxsize=1024)(calls.cnc_rdmacro)
 
 
 def _answer_size(request: NativeRequest, max_axes: int) -> int:
@@ -258,6 +372,15 @@ class _Handle:
     ) -> None:
         self.reader_a, self.writer_a = a
         self.reader_b, self.writer_b = b
+        protocol = self.writer_b.transport.get_protocol()
+        assert isinstance(protocol, _Watched)
+        self.protocol_b = protocol
+        #: The frame in flight on B: its jobs, its block count, its deadline's timer; and the
+        #: bytes of B received and not yet parsed into a frame.
+        self.inflight: list[_Job] | None = None
+        self.inflight_blocks = 0
+        self.timer: asyncio.TimerHandle | None = None
+        self.rx = bytearray()
         self.opened = opened
         self.version = opened.version
         self.command_set = CommandSet.for_version(opened.version)
@@ -286,13 +409,29 @@ class _Handle:
         size as answers)."""
         return self.limit - 2 - REQUEST_BLOCK_SIZE
 
+    def detach(self) -> list[_Job]:
+        """Stop parsing B's frames (its data goes to the reader again, for the close
+        exchange); the jobs of the frame in flight, now nobody's."""
+        self.protocol_b.on_data = self.protocol_b.on_end = None
+        if self.timer is not None:
+            self.timer.cancel()
+            self.timer = None
+        batch, self.inflight = self.inflight or [], None
+        return batch
+
     async def exchange(self, requests: Sequence[NativeRequest]) -> tuple[ResponseBlock, ...]:
-        """One data frame on B and its answer (used while connecting, before the pump)."""
+        """One data frame on B and its answer (used while connecting, before frames are
+        parsed by the client)."""
         self.writer_b.write(encode_request([r.to_block(_PATH) for r in requests]))
         return self.check_answer(await _read_frame(self.reader_b), len(requests))
 
     def check_answer(self, frame: tuple[int, int, bytes], count: int) -> tuple[ResponseBlock, ...]:
-        """The blocks of a data answer, checked as FANUC's library checks them."""
+        """The blocks of a data answer, checked as FANUC's library checks them (an answer
+        already taken is taken again without a second walk)."""
+        key = (frame, count)
+        known: tuple[ResponseBlock, ...] | None = _BODIES.get(key)
+        if known is not None:
+            return known
         version, frame_type, body = frame
         if frame_type >> 8 != _DATA_ANSWER:
             raise _Lost(f"answer of frame type 0x{frame_type:04X} to a data request")
@@ -305,9 +444,11 @@ class _Handle:
         if refusal is not None:
             raise _Lost(f"data answer refused: {refusal}")
         try:
-            return decode_response_body(body)
+            blocks = decode_response_body(body)
         except ProtocolError as exc:
             raise _Lost(str(exc)) from exc
+        _BODIES.put(key, blocks)
+        return blocks
 
     def abort(self) -> None:
         self.closed = True
@@ -346,7 +487,11 @@ async def _open_tcp(
 ) -> tuple[asyncio.StreamReader, asyncio.StreamWriter]:
     try:
         async with asyncio.timeout_at(deadline):
-            return await asyncio.open_connection(host, port)
+            loop = asyncio.get_running_loop()
+            reader = asyncio.StreamReader(limit=_STREAM_LIMIT, loop=loop)
+            protocol = _Watched(reader)
+            transport, _ = await loop.create_connection(lambda: protocol, host, port)
+            return reader, asyncio.StreamWriter(transport, protocol, reader, loop)
     except TimeoutError:
         raise FocasTimeoutError(f"connecting to {host}:{port} timed out") from None
     except OSError as exc:
@@ -438,7 +583,7 @@ def _abort(*pairs: tuple[asyncio.StreamReader, asyncio.StreamWriter]) -> None:
 class _Job:
     """The blocks of one frame of one call, waiting to be sent or answered."""
 
-    __slots__ = ("command_set", "deadline", "future", "requests", "sent")
+    __slots__ = ("command_set", "deadline", "encoded", "future", "requests", "sent")
 
     def __init__(
         self,
@@ -452,6 +597,8 @@ class _Job:
         self.deadline = deadline
         self.future = future
         self.sent = False
+        #: The bytes of its blocks, once a frame takes it.
+        self.encoded = b""
 
 
 def _fail(jobs: Sequence[_Job], make: Callable[..., BaseException], *args: Any) -> None:
@@ -470,12 +617,19 @@ def _check(block: ResponseBlock, function: str) -> bytes:
 
 def _decode(request: NativeRequest, block: ResponseBlock, function: str, max_axes: int) -> Any:
     data = _check(block, function)
+    # by the request's identity (the entry holds it), as _part_of
+    key = (id(request), max_axes, data)
+    known: tuple[NativeRequest, Any] | None = _ANSWERS.get(key)
+    if known is not None and known[0] is request:
+        return known[1]
     try:
-        return request.decode_answer(data, max_axes)
+        value = request.decode_answer(data, max_axes)
     except (ProtocolError, ValueError, struct.error) as exc:
         raise PayloadError(
             f"{function}: answer to 0x{request.COMMAND:X} does not decode: {exc}"
         ) from None
+    _ANSWERS.put(key, (request, value))
+    return value
 
 
 def _text(raw: bytes | str) -> str:
@@ -497,7 +651,8 @@ class NativeClient(_Lifecycle):
     the same results, exceptions, per-call ``timeout=`` and :class:`ReconnectPolicy`, plus
     :meth:`read_dynamic`, :meth:`read_timer`, :meth:`read_spindle_loads`,
     :meth:`read_servo_meters`, :meth:`read_cnc_id`, :meth:`read_sequence_number`,
-    :meth:`read_program_name` and :meth:`read_alarm_status`. Concurrent calls are gathered
+    :meth:`read_program_name`, :meth:`read_alarm_status` and :meth:`read_param_type` (in
+    place of ``read_param_attributes``). Concurrent calls are gathered
     into frames of at most ``max_blocks`` blocks (see the module docstring).
     """
 
@@ -521,12 +676,11 @@ class NativeClient(_Lifecycle):
         self.timeout = timeout
         self.max_blocks = max_blocks
         self._handle: _Handle | None = None
-        self._pump_task: asyncio.Task[None] | None = None
         self._reconnect_task: asyncio.Task[None] | None = None
         self._loop: asyncio.AbstractEventLoop | None = None
         self._ready: asyncio.Event | None = None
-        self._wake: asyncio.Event | None = None
         self._queue: deque[_Job] = deque()
+        self._kick_soon = False
         self._backoff = 0
         self._up_since = 0.0
         self._param_widths: dict[int, int] = {}
@@ -562,7 +716,6 @@ class NativeClient(_Lifecycle):
         self._loop = asyncio.get_running_loop()
         if self._ready is None:
             self._ready = asyncio.Event()
-            self._wake = asyncio.Event()
         handle = await _open_handle(self.host, self.port, self._deadline(None))
         if self.state is ClientState.CLOSED:  # closed while connecting
             handle.abort()
@@ -580,14 +733,12 @@ class NativeClient(_Lifecycle):
         if task is not None and not task.done():
             task.cancel()
             await asyncio.wait([task])
-        pump, self._pump_task = self._pump_task, None
-        if pump is not None and not pump.done():
-            pump.cancel()
-            await asyncio.wait([pump])
+        handle, self._handle = self._handle, None
+        if handle is not None:
+            _fail(handle.detach(), lambda: FocasConnectionError("client is closed"))
         queued = list(self._queue)
         self._queue.clear()
         _fail(queued, lambda: FocasConnectionError("client is closed"))
-        handle, self._handle = self._handle, None
         if self._ready is not None:
             self._ready.set()
         if handle is not None:
@@ -599,12 +750,18 @@ class NativeClient(_Lifecycle):
             task.cancel()
         loop = self._loop or asyncio.get_running_loop()
         self._handle = handle
+        protocol = handle.protocol_b
+        protocol.on_data = partial(self._on_data, handle)
+        protocol.on_end = partial(self._on_end, handle)
         self._up_since = loop.time()
-        self._pump_task = loop.create_task(self._pump(handle), name=f"focas-native {self.host}")
         self._set_state(ClientState.CONNECTED)
-        assert self._ready is not None and self._wake is not None
+        assert self._ready is not None
         self._ready.set()
-        self._wake.set()
+        reader = handle.reader_b
+        if reader.exception() is not None or reader.at_eof():  # B ended while connecting
+            self._lose(handle, _Lost("connection closed by the CNC"))
+            return
+        self._kick(handle)
 
     def _on_lost(self, handle: _Handle, exc: BaseException | None) -> None:
         if handle is not self._handle:
@@ -706,14 +863,16 @@ class NativeClient(_Lifecycle):
         loop = self._loop or asyncio.get_running_loop()
         job = _Job(requests, command_set, deadline, loop.create_future())
         self._queue.append(job)
-        assert self._wake is not None
-        self._wake.set()
+        handle = self._handle
+        if handle is not None and handle.inflight is None and not self._kick_soon:
+            # at the end of this loop turn, so that calls made together share the frame
+            self._kick_soon = True
+            loop.call_soon(self._kick_later, handle)
+        # One timer per call (cheaper than a timeout scope): it fails the job's future.
+        timer = None if deadline is None else loop.call_at(deadline, _expire, job.future)
         try:
-            async with asyncio.timeout_at(deadline):
-                return await job.future
-        except TimeoutError:
-            if job.future.done() and not job.future.cancelled():
-                raise
+            return await job.future
+        except _Expired:
             if not job.sent and self._state is ClientState.RECONNECTING:
                 raise FocasConnectionError(
                     f"still reconnecting to {self.host}:{self.port} when the call timed out"
@@ -723,6 +882,8 @@ class NativeClient(_Lifecycle):
                 + ("" if job.sent else " (the request was never sent)")
             ) from None
         finally:
+            if timer is not None:
+                timer.cancel()
             if not job.future.done():
                 job.future.cancel()
 
@@ -753,8 +914,7 @@ class NativeClient(_Lifecycle):
                 )
                 continue
             count = len(job.requests)
-            need = sum(_answer_size(r, handle.max_axes) for r in job.requests)
-            send = sum(REQUEST_BLOCK_SIZE + len(r.extra()) for r in job.requests)
+            job.encoded, need, send = _part_of(job.requests, handle.max_axes)
             if batch and (
                 blocks + count > self.max_blocks
                 or size + need > handle.limit
@@ -768,84 +928,110 @@ class NativeClient(_Lifecycle):
             sent += send
         return batch
 
-    async def _pump(self, handle: _Handle) -> None:
-        """Send the queued jobs, one frame in flight, and hand each its answer blocks."""
-        wake = self._wake
-        assert wake is not None
-        batch: list[_Job] = []
-        try:
-            while True:
-                while not self._queue:
-                    wake.clear()
-                    await self._idle(handle, wake)
-                batch = self._take(handle)
-                if not batch:
-                    continue
-                requests = [r for job in batch for r in job.requests]
-                handle.writer_b.write(encode_request([r.to_block(_PATH) for r in requests]))
-                for job in batch:
-                    job.sent = True
-                self.frames_sent += 1
-                self.blocks_sent += len(requests)
-                deadlines = [job.deadline for job in batch]
-                deadline = None if None in deadlines else max(d for d in deadlines if d is not None)
-                try:
-                    async with asyncio.timeout_at(deadline):
-                        frame = await _read_frame(handle.reader_b)
-                except TimeoutError:
-                    _fail(
-                        batch,
-                        lambda: FocasTimeoutError(
-                            f"no answer from {self.host}:{self.port}; the connection is closed"
-                        ),
-                    )
-                    raise _Lost("no answer within the timeout") from None
-                try:
-                    blocks = handle.check_answer(frame, len(requests))
-                except CncError as exc:
-                    _fail(batch, CncError.from_ew, exc.ew, exc.detail)
-                    batch = []
-                    continue
-                pos = 0
-                for job in batch:
-                    count = len(job.requests)
-                    if not job.future.done():
-                        job.future.set_result(blocks[pos : pos + count])
-                    pos += count
-                batch = []
-        except _Lost as exc:
-            lost = f"connection to {self.host}:{self.port} lost after the request was sent ({exc})"
-            _fail(batch, FocasConnectionError, lost)
-            self._on_lost(handle, exc)
-        except asyncio.CancelledError:
-            _fail(batch, lambda: FocasConnectionError("client is closed"))
-            raise
+    def _kick_later(self, handle: _Handle) -> None:
+        self._kick_soon = False
+        self._kick(handle)
 
-    @staticmethod
-    async def _idle(handle: _Handle, wake: asyncio.Event) -> None:
-        """Wait for a call while watching B: a CNC closing it (or sending what nobody asked
-        for) ends the connection now, not at the next call."""
-        watch = asyncio.ensure_future(handle.reader_b.read(1))
-        waiter = asyncio.ensure_future(wake.wait())
-        try:
-            await asyncio.wait((watch, waiter), return_when=asyncio.FIRST_COMPLETED)
-        finally:
-            waiter.cancel()
-            if not watch.done():
-                watch.cancel()
-            await asyncio.wait((watch, waiter))
-        if watch.cancelled():
+    def _kick(self, handle: _Handle) -> None:
+        """Send the next frame of queued jobs on ``handle`` unless one is in flight."""
+        if handle.inflight is not None or handle is not self._handle or handle.closed:
             return
-        exc = watch.exception()
-        if exc is not None:
-            raise _Lost(f"connection closed ({exc!r})")
-        raise _Lost("unsolicited data on B" if watch.result() else "connection closed by the CNC")
+        batch = self._take(handle)
+        if not batch:
+            return
+        blocks = sum(len(job.requests) for job in batch)
+        body = _COUNT.pack(blocks) + b"".join(job.encoded for job in batch)
+        handle.writer_b.write(encode_native_frame(FrameType.DATA_REQUEST, body, CLIENT_VERSION))
+        for job in batch:
+            job.sent = True
+        self.frames_sent += 1
+        self.blocks_sent += blocks
+        handle.inflight = batch
+        handle.inflight_blocks = blocks
+        deadlines = [job.deadline for job in batch]
+        if None not in deadlines:
+            deadline = max(d for d in deadlines if d is not None)
+            loop = self._loop or asyncio.get_running_loop()
+            handle.timer = loop.call_at(deadline, self._frame_expired, handle)
+
+    def _on_data(self, handle: _Handle, data: bytes) -> None:
+        """B's bytes: complete the frame in flight with its answer, then send the next one.
+        Bytes while no frame is in flight are what nobody asked for: the connection ends."""
+        rx = handle.rx
+        rx += data
+        while len(rx) >= NATIVE_HEADER_SIZE:
+            magic, version, frame_type, length = NATIVE_HEADER.unpack_from(rx)
+            if magic != _MAGIC:
+                self._lose(handle, _Lost("answer does not start with A0 A0 A0 A0"))
+                return
+            end = NATIVE_HEADER_SIZE + length
+            if len(rx) < end:
+                break
+            body = bytes(rx[NATIVE_HEADER_SIZE:end])
+            del rx[:end]
+            if handle.inflight is None:
+                self._lose(handle, _Lost("unsolicited data on B"))
+                return
+            self._complete(handle, (version, frame_type, body))
+            if handle is not self._handle:
+                return
+        if rx and handle.inflight is None:
+            self._lose(handle, _Lost("unsolicited data on B"))
+            return
+        self._kick(handle)
+
+    def _complete(self, handle: _Handle, frame: tuple[int, int, bytes]) -> None:
+        """Hand each job of the frame in flight its answer blocks."""
+        batch = handle.inflight or []
+        if handle.timer is not None:
+            handle.timer.cancel()
+            handle.timer = None
+        try:
+            blocks = handle.check_answer(frame, handle.inflight_blocks)
+        except CncError as exc:
+            handle.inflight = None
+            _fail(batch, CncError.from_ew, exc.ew, exc.detail)
+            return
+        except _Lost as exc:
+            self._lose(handle, exc)
+            return
+        handle.inflight = None
+        pos = 0
+        for job in batch:
+            count = len(job.requests)
+            if not job.future.done():
+                job.future.set_result(blocks[pos : pos + count])
+            pos += count
+
+    def _frame_expired(self, handle: _Handle) -> None:
+        """The latest deadline of the frame in flight passed without its answer: no later
+        answer could be told from the next frame's, so the connection is closed."""
+        handle.timer = None
+        batch, handle.inflight = handle.inflight or [], None
+        _fail(
+            batch,
+            lambda: FocasTimeoutError(
+                f"no answer from {self.host}:{self.port}; the connection is closed"
+            ),
+        )
+        self._lose(handle, _Lost("no answer within the timeout"))
+
+    def _on_end(self, handle: _Handle, exc: Exception | None) -> None:
+        why = f"connection closed ({exc!r})" if exc is not None else "connection closed by the CNC"
+        self._lose(handle, _Lost(why))
+
+    def _lose(self, handle: _Handle, exc: _Lost) -> None:
+        """``handle`` can carry no further frame: its frame in flight fails, and the client
+        reconnects (or not) as its policy says."""
+        lost = f"connection to {self.host}:{self.port} lost after the request was sent ({exc})"
+        _fail(handle.detach(), FocasConnectionError, lost)
+        self._on_lost(handle, exc)
 
     # -- status and identity -------------------------------------------------------------
     async def read_status(self, *, timeout: float | None = None) -> StatusInfo:
         """``cnc_statinfo``: the ODBST status (0x19; hdck 0xE1 and tmmode 0x98 read 0 when
         the CNC refuses them, as the library reads them)."""
-        handle, call, (st, hd, tm) = await self._one(calls.cnc_statinfo, self._deadline(timeout))
+        handle, call, (st, hd, tm) = await self._one(_statinfo, self._deadline(timeout))
         stat: StatInfo = _decode(call.frames[0][0], st, "cnc_statinfo", handle.max_axes)
         hdck = 0 if hd.ew else _decode(call.frames[0][1], hd, "cnc_statinfo", 0).hdck
         tmmode = 0 if tm.ew else _decode(call.frames[0][2], tm, "cnc_statinfo", 0).tmmode
@@ -979,7 +1165,7 @@ class NativeClient(_Lifecycle):
             raise CncError.from_ew(EW.NOOPT, "cnc_rddynamic2: the CNC lacks FOCAS option bit 0")
         if axis > handle.axes:
             raise CncError.from_ew(EW.ATTRIB, f"cnc_rddynamic2: axis {axis} of {handle.axes}")
-        call = calls.cnc_rddynamic2(handle.command_set, axis)
+        call = _rddynamic2(handle.command_set, axis)
         frame = call.frames[0]
         blocks = await self._send(frame, handle.command_set, deadline)
         values = [
@@ -1118,6 +1304,19 @@ class NativeClient(_Lifecycle):
         4 bytes, or 8 for a real parameter's REALPRM with its ``decimals``), as the packed
         client gives it."""
         return await self._read_param_value(number, axis, self._deadline(timeout))
+
+    async def read_param_type(
+        self, number: int, *, axis: int = 0, timeout: float | None = None
+    ) -> ParamDataType | None:
+        """The data type of parameter ``number`` (bit, byte, word, two-word, real) from the
+        type word of its ``cnc_rdparam`` record, None for a word FANUC does not number.
+
+        This stands in for the packed client's ``read_param_attributes``: FOCAS/2's
+        ``cnc_rdparainfo`` answer has the type in two bits (no real type), and no decimals or
+        range, while the record of ``cnc_rdparam`` names all five types."""
+        await self._read_param_value(number, axis, self._deadline(timeout))
+        ptype = self._param_types[number]
+        return ParamDataType(ptype) if ptype in ParamDataType._value2member_map_ else None
 
     async def read_param(self, number: int, *, axis: int = 0, timeout: float | None = None) -> int:
         """``cnc_rdparam``: the value of parameter ``number`` (``axis`` 1..n for axis items).
@@ -1290,7 +1489,7 @@ class NativeClient(_Lifecycle):
         """``cnc_rdmacro``: the value of ``#number`` as a Decimal, or None when vacant
         (binary records converted as the library converts them)."""
         _, call, (block,) = await self._one(
-            lambda cs: calls.cnc_rdmacro(cs, number), self._deadline(timeout)
+            lambda cs: _rdmacro(cs, number), self._deadline(timeout)
         )
         values: ScaledValues = _decode(call.frames[0][0], block, "cnc_rdmacro", 0)
         if not values.values:

@@ -34,7 +34,7 @@ from typing import Final, Self
 from focas_net.errors import FocasError, PayloadError, ProtocolError
 
 from ..protocol import ActiveAlarm, AlarmHistoryEntry
-from .client import FocasClient
+from .cnc import CncClient
 from .reconnect import ClientState
 
 __all__ = [
@@ -97,7 +97,7 @@ class AlarmProjection:
 
     def __init__(
         self,
-        client: FocasClient,
+        client: CncClient,
         mode: ProjectionMode = ProjectionMode.ACTIVE,
         interval: float = 1.0,
         depth: int = 50,

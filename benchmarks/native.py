@@ -1,0 +1,580 @@
+"""Native FOCAS/2: :class:`~focas_net.client.NativeClient` against FANUC's library and pyfocas.
+
+The server is ``focas-net serve`` in its own process (FOCAS/2 on the same port as the packed
+protocol); each subject's client runs in a worker process of its own (``benchmarks.worker``,
+ops ``native_*`` below), like the packed suite's. Subjects:
+
+* ``native_client``: :class:`~focas_net.client.NativeClient`, asyncio;
+* ``fwlib``: FANUC's library (``FOCAS_NET_FWLIB``) through :mod:`ctypes`, one handle opened
+  with ``cnc_allclibhndl3`` and every call on that handle. A handle belongs to the thread that
+  opened it (another thread gets EW_HANDLE), so "64 concurrent callers on one handle" are the
+  same sequential calls: the handle can carry one call at a time from one thread;
+* ``pyfocas``: pyfocas (pure Python, blocking sockets), one ``FOCAS`` object; its 64
+  concurrent callers are 64 threads taking turns on it behind a lock (it is not thread-safe).
+  pyfocas has ``read_macro`` and ``get_status_info`` but no ``cnc_rddynamic2``: its poll reads
+  ``get_status_info``, its nearest call.
+
+Scenarios: ``native_seq`` (sequential ``read_macro`` and ``read_status``: calls per second),
+``native_pipe64`` (64 concurrent ``read_macro`` on one connection) and ``native_poll100``
+(100 machines of ``serve --fleet 100``, each read with ``cnc_rddynamic2`` at 10 Hz: the client
+process's CPU per poll).
+"""
+
+from __future__ import annotations
+
+import asyncio
+import ctypes
+import importlib.util
+import os
+import statistics
+import sys
+import threading
+import time
+from collections.abc import Callable
+from functools import partial
+from typing import TYPE_CHECKING, Any, Final
+
+from benchmarks.report import FOCAS, Check, Results, Row, pairwise_ratios
+
+if TYPE_CHECKING:
+    from benchmarks.run import Suite, WorkerProcess
+
+NATIVE: Final = "native_client"
+FWLIB: Final = "fwlib"
+PYFOCAS: Final = "pyfocas"
+SUBJECTS: Final = (NATIVE, FWLIB, PYFOCAS)
+SCENARIOS: Final = ("native_seq", "native_pipe64", "native_poll100")
+#: The calls of ``native_seq``: the row name's suffix and the call.
+SEQ_CALLS: Final = (("macro", "read_macro"), ("status", "read_status"))
+CALLERS: Final = 64
+FLEET: Final = 100
+POLL_HZ: Final = 10.0
+#: The macro variable read (written once before the runs: pyfocas cannot read a vacant one).
+MACRO: Final = 100
+MACRO_VALUE: Final = "12.5"
+#: Targets: pipe64 read_macro against the library, sequential calls against the library.
+PIPE64_TARGET: Final = 10.0
+SEQ_TARGET: Final = 0.7
+
+_perf = time.perf_counter
+
+
+def fwlib_path() -> str | None:
+    return os.environ.get("FOCAS_NET_FWLIB") or None
+
+
+def fwlib_missing() -> str | None:
+    """None when FANUC's library can be loaded, else why not."""
+    path = fwlib_path()
+    if path is None:
+        return "FOCAS_NET_FWLIB is not set (the path of FANUC's libfwlib32)"
+    if not os.path.exists(path):
+        return f"FOCAS_NET_FWLIB={path}: no such file"
+    return None
+
+
+def pyfocas_missing() -> str | None:
+    """None when pyfocas is installed, else why not."""
+    if importlib.util.find_spec("pyfocas") is None:
+        return "pyfocas is not installed (pip install focas-net[bench])"
+    return None
+
+
+# -- the subjects' clients, in the worker process ---------------------------------------------
+
+
+class _Library:
+    """FANUC's library, loaded and started once per process; every function returns a C
+    ``short`` (the EW code)."""
+
+    _lib: Any = None
+
+    @classmethod
+    def get(cls) -> Any:
+        if cls._lib is None:
+            path = fwlib_path()
+            if path is None:
+                raise RuntimeError("FOCAS_NET_FWLIB is not set")
+            lib = ctypes.cdll.LoadLibrary(path)
+            for name in (
+                "cnc_startupprocess",
+                "cnc_allclibhndl3",
+                "cnc_freelibhndl",
+                "cnc_rdmacro",
+                "cnc_statinfo",
+                "cnc_rddynamic2",
+            ):
+                getattr(lib, name).restype = ctypes.c_short
+            lib.cnc_startupprocess(0, b"/dev/null")
+            cls._lib = lib
+        return cls._lib
+
+
+class FwlibHandle:
+    """One handle of FANUC's library, used only from the thread that opened it."""
+
+    def __init__(self, host: str, port: int) -> None:
+        self.lib = _Library.get()
+        handle = ctypes.c_ushort()
+        rc = self.lib.cnc_allclibhndl3(
+            host.encode(), ctypes.c_ushort(port), ctypes.c_int32(10), ctypes.byref(handle)
+        )
+        if rc != 0:
+            raise RuntimeError(f"cnc_allclibhndl3 to {host}:{port} returned {rc}")
+        self.handle = handle
+        self._macro = ctypes.create_string_buffer(16)
+        self._stat = ctypes.create_string_buffer(64)
+        self._dynamic = ctypes.create_string_buffer(28 + 16 * 32)
+
+    def _check(self, rc: int, name: str) -> None:
+        if rc != 0:
+            raise RuntimeError(f"{name} returned {rc}")
+
+    def read_macro(self) -> None:
+        rc = self.lib.cnc_rdmacro(
+            self.handle, ctypes.c_short(MACRO), ctypes.c_short(10), self._macro
+        )
+        self._check(rc, "cnc_rdmacro")
+
+    def read_status(self) -> None:
+        self._check(self.lib.cnc_statinfo(self.handle, self._stat), "cnc_statinfo")
+
+    def read_dynamic(self) -> None:
+        rc = self.lib.cnc_rddynamic2(
+            self.handle, ctypes.c_short(-1), ctypes.c_short(28 + 16 * 8), self._dynamic
+        )
+        self._check(rc, "cnc_rddynamic2")
+
+    def close(self) -> None:
+        self.lib.cnc_freelibhndl(self.handle)
+
+
+class PyfocasConn:
+    """One pyfocas connection."""
+
+    def __init__(self, host: str, port: int) -> None:
+        from pyfocas.protocol.protocol import FOCAS
+
+        self.client = FOCAS(host, port)
+        if not self.client.connect():
+            raise RuntimeError(f"pyfocas could not connect to {host}:{port}")
+
+    def read_macro(self) -> None:
+        if MACRO not in self.client.read_macro(MACRO):
+            raise RuntimeError(f"pyfocas read_macro({MACRO}) gave no value")
+
+    def read_status(self) -> None:
+        self.client.get_status_info()
+
+    #: pyfocas has no cnc_rddynamic2: its poll reads the status, its nearest call.
+    read_dynamic = read_status
+
+    def close(self) -> None:
+        if self.client.socket is not None:
+            self.client.socket.close()
+
+
+Blocking = FwlibHandle | PyfocasConn
+
+
+def _blocking(subject: str, host: str, port: int) -> Blocking:
+    if subject == FWLIB:
+        return FwlibHandle(host, port)
+    if subject == PYFOCAS:
+        return PyfocasConn(host, port)
+    raise ValueError(f"not a blocking subject: {subject!r}")
+
+
+def _timed(run: Callable[[], int]) -> dict[str, float]:
+    cpu = time.process_time()
+    start = _perf()
+    ops = run()
+    return {"ops": ops, "elapsed": _perf() - start, "cpu": time.process_time() - cpu}
+
+
+def _loop_calls(call: Callable[[], None], duration: float) -> int:
+    n = 0
+    deadline = _perf() + duration
+    while _perf() < deadline:
+        call()
+        n += 1
+    return n
+
+
+def _threads_on_one(call: Callable[[], None], callers: int, duration: float) -> int:
+    """``callers`` threads calling ``call`` in turns behind one lock until the deadline."""
+    lock = threading.Lock()
+    counts = [0] * callers
+    errors: list[BaseException] = []
+    deadline = _perf() + duration
+
+    def caller(i: int) -> None:
+        try:
+            while _perf() < deadline:
+                with lock:
+                    call()
+                counts[i] += 1
+        except BaseException as exc:  # reported below, not lost in the thread
+            errors.append(exc)
+
+    threads = [threading.Thread(target=caller, args=(i,)) for i in range(callers)]
+    for t in threads:
+        t.start()
+    for t in threads:
+        t.join()
+    if errors:
+        raise RuntimeError(f"{len(errors)} caller(s) failed: {errors[0]!r}")
+    return sum(counts)
+
+
+def blocking_run(
+    subject: str, host: str, port: int, call: str, callers: int, duration: float
+) -> dict[str, float]:
+    """Sequential calls (``callers`` 1) or concurrent callers on one connection or handle."""
+    conn = _blocking(subject, host, port)
+    try:
+        fn: Callable[[], None] = getattr(conn, call)
+        fn()
+        if callers == 1 or subject == FWLIB:  # a handle serves its own thread only
+            return _timed(lambda: _loop_calls(fn, duration))
+        return _timed(lambda: _threads_on_one(fn, callers, duration))
+    finally:
+        conn.close()
+
+
+def blocking_poll(
+    subject: str, targets: list[list[Any]], interval: float, duration: float
+) -> dict[str, float]:
+    """Every target read once per ``interval`` from one thread, in turn; a tick whose whole
+    interval went by is skipped."""
+    conns: list[Blocking] = []
+    try:
+        for host, port in targets:
+            conns.append(_blocking(subject, str(host), int(port)))
+        for c in conns:
+            c.read_dynamic()
+        ticks = round(duration / interval)
+        polls = errors = 0
+        cpu0, wall0 = time.process_time(), _perf()
+        t0 = time.monotonic()
+        tick = 0
+        while tick < ticks:
+            due = t0 + tick * interval
+            now = time.monotonic()
+            if now >= due + interval:
+                tick += int((now - due) // interval)
+                continue
+            if due > now:
+                time.sleep(due - now)
+            for c in conns:
+                try:
+                    c.read_dynamic()
+                    polls += 1
+                except Exception:
+                    errors += 1
+            tick += 1
+        wall, cpu = _perf() - wall0, time.process_time() - cpu0
+    finally:
+        for c in conns:
+            c.close()
+    return {"polls": polls, "due": ticks * len(targets), "errors": errors, "wall": wall, "cpu": cpu}
+
+
+async def native_run(
+    host: str, port: int, call: str, callers: int, duration: float
+) -> dict[str, float]:
+    """:class:`NativeClient`: ``callers`` coroutines calling ``call`` on one client."""
+    from focas_net.client import NativeClient
+
+    async with NativeClient(host, port, timeout=10.0) as client:
+        fn: Callable[[], Any] = (
+            (lambda: client.read_macro(MACRO)) if call == "read_macro" else client.read_status
+        )
+        await fn()
+        counts: list[int] = []
+        deadline = _perf() + duration
+
+        async def caller() -> None:
+            n = 0
+            while _perf() < deadline:
+                await fn()
+                n += 1
+            counts.append(n)
+
+        frames = client.frames_sent
+        cpu = time.process_time()
+        start = _perf()
+        await asyncio.gather(*(caller() for _ in range(callers)))
+        elapsed = _perf() - start
+        cpu = time.process_time() - cpu
+        frames = client.frames_sent - frames
+    return {"ops": sum(counts), "elapsed": elapsed, "cpu": cpu, "frames": frames}
+
+
+async def native_poll(
+    targets: list[list[Any]], interval: float, duration: float
+) -> dict[str, float]:
+    """100 :class:`NativeClient` (one per machine), one task each, ``read_dynamic`` every
+    ``interval``, starts staggered; a tick whose whole interval went by is skipped."""
+    from focas_net.client import NativeClient
+
+    clients = [NativeClient(str(h), int(p), timeout=10.0) for h, p in targets]
+    try:
+        for i in range(0, len(clients), 25):
+            await asyncio.gather(*(c.connect() for c in clients[i : i + 25]))
+        await asyncio.gather(*(c.read_dynamic() for c in clients))
+        loop = asyncio.get_running_loop()
+        ticks = round(duration / interval)
+        polls = [0] * len(clients)
+        errors = [0] * len(clients)
+        t0 = loop.time() + 0.05
+        cpu0, wall0 = time.process_time(), _perf()
+
+        async def poll(i: int, client: NativeClient) -> None:
+            base = t0 + interval * i / len(clients)
+            tick = 0
+            while tick < ticks:
+                due = base + tick * interval
+                now = loop.time()
+                if now >= due + interval:
+                    tick += int((now - due) // interval)
+                    continue
+                if due > now:
+                    await asyncio.sleep(due - now)
+                try:
+                    await client.read_dynamic()
+                    polls[i] += 1
+                except Exception:
+                    errors[i] += 1
+                tick += 1
+
+        await asyncio.gather(*(poll(i, c) for i, c in enumerate(clients)))
+        wall, cpu = _perf() - wall0, time.process_time() - cpu0
+    finally:
+        await asyncio.gather(*(c.aclose() for c in clients), return_exceptions=True)
+    return {
+        "polls": sum(polls),
+        "due": ticks * len(clients),
+        "errors": sum(errors),
+        "wall": wall,
+        "cpu": cpu,
+    }
+
+
+async def native_prepare(host: str, port: int) -> dict[str, float]:
+    """Write the macro variable the runs read (through the native client)."""
+    from focas_net.client import NativeClient
+
+    async with NativeClient(host, port, timeout=10.0) as client:
+        await client.write_macro(MACRO, MACRO_VALUE)
+    return {}
+
+
+async def handle(subject: str, cmd: dict[str, Any]) -> dict[str, float]:
+    """A worker's ``native_*`` op for ``subject``."""
+    op = cmd["op"]
+    if op == "native_prepare":
+        return await native_prepare(cmd["host"], cmd["port"])
+    if op == "native_run":
+        args = (cmd["host"], cmd["port"], cmd["call"], cmd["callers"], cmd["duration"])
+        if subject == NATIVE:
+            return await native_run(*args)
+        return blocking_run(subject, *args)
+    if op == "native_poll":
+        if subject == NATIVE:
+            return await native_poll(cmd["targets"], cmd["interval"], cmd["duration"])
+        return blocking_poll(subject, cmd["targets"], cmd["interval"], cmd["duration"])
+    raise ValueError(f"unknown op {op!r}")
+
+
+# -- the orchestration, in the suite's process ------------------------------------------------
+
+
+def _ratio_rows(
+    scenario: str, unit: str, samples: dict[str, list[float]], note: dict[str, str]
+) -> list[Row]:
+    """One row per subject; the others' ratios to FANUC's library, pair by pair, when it ran."""
+    base = samples.get(FWLIB)
+    rows = []
+    for subject, values in samples.items():
+        vs = FWLIB if base is not None and subject != FWLIB else None
+        ratios = pairwise_ratios(values, base) if vs is not None and base is not None else None
+        rows.append(Row(scenario, subject, unit, values, vs, ratios, note.get(subject, "")))
+    return rows
+
+
+def run_native(suite: Suite) -> None:
+    """The ``native_*`` scenarios the suite was asked for, each subject in its own process."""
+    from benchmarks.run import WorkerProcess, start_server
+
+    cfg = suite.cfg
+    wanted = [s for s in SCENARIOS if s in suite.scenarios]
+    if not wanted:
+        return
+    subjects = [NATIVE]
+    for subject, missing in ((FWLIB, fwlib_missing()), (PYFOCAS, pyfocas_missing())):
+        if missing is None:
+            subjects.append(subject)
+        else:
+            suite.skip(f"{subject} rows skipped: {missing}")
+    workers: dict[str, WorkerProcess] = {}
+    try:
+        for subject in subjects:
+            workers[subject] = WorkerProcess(subject, cfg)
+        if "native_seq" in wanted or "native_pipe64" in wanted:
+            server = start_server(FOCAS, cfg)
+            try:
+                host, port = server.endpoint
+                workers[NATIVE].call("native_prepare", host=host, port=port)
+                if "native_seq" in wanted:
+                    for suffix, call in SEQ_CALLS:
+                        scenario = f"native_seq_{suffix}"
+                        suite.guarded(
+                            scenario,
+                            partial(_throughput, suite, workers, scenario, host, port, call, 1),
+                        )
+                if "native_pipe64" in wanted:
+                    suite.guarded(
+                        "native_pipe64",
+                        lambda: _throughput(
+                            suite, workers, "native_pipe64", host, port, "read_macro", CALLERS
+                        ),
+                    )
+            finally:
+                server.stop()
+        if "native_poll100" in wanted:
+            suite.guarded("native_poll100", lambda: _poll(suite, workers))
+    finally:
+        for worker in workers.values():
+            worker.stop()
+
+
+def _turns(subjects: list[str], rep: int) -> list[str]:
+    return subjects if rep % 2 == 0 else subjects[::-1]
+
+
+def _throughput(
+    suite: Suite,
+    workers: dict[str, WorkerProcess],
+    scenario: str,
+    host: str,
+    port: int,
+    call: str,
+    callers: int,
+) -> None:
+    cfg = suite.cfg
+    subjects = list(workers)
+    print(
+        f"{scenario}: {callers} caller(s) of {call}, warm-up, then {cfg.reps} x "
+        f"{cfg.duration:g} s per subject",
+        file=sys.stderr,
+        flush=True,
+    )
+    kwargs = {"host": host, "port": port, "call": call, "callers": callers}
+    for subject in subjects:
+        workers[subject].call("native_run", duration=cfg.warmup, **kwargs)
+    rates: dict[str, list[float]] = {s: [] for s in subjects}
+    cpu: dict[str, list[float]] = {s: [] for s in subjects}
+    frames: list[float] = []
+    for rep in range(cfg.reps):
+        for subject in _turns(subjects, rep):
+            r = workers[subject].call("native_run", duration=cfg.duration, **kwargs)
+            rates[subject].append(r["ops"] / r["elapsed"])
+            cpu[subject].append(1e6 * r["cpu"] / r["ops"])
+            if subject == NATIVE:
+                frames.append(r["ops"] / max(r["frames"], 1))
+    note = {s: f"client CPU {statistics.median(cpu[s]):.0f} us/call" for s in subjects}
+    if callers > 1:
+        note[NATIVE] += f", {statistics.median(frames):.1f} calls per frame"
+        if FWLIB in note:
+            note[FWLIB] += ", sequential on its one handle"
+        if PYFOCAS in note:
+            note[PYFOCAS] += f", {callers} threads taking turns"
+    for row in _ratio_rows(scenario, "calls/s", rates, note):
+        suite.add(row)
+
+
+def _poll(suite: Suite, workers: dict[str, WorkerProcess]) -> None:
+    from benchmarks.run import start_server
+
+    cfg = suite.cfg
+    print(
+        f"native_poll100: {FLEET} machines, read_dynamic at {POLL_HZ:g} Hz, "
+        f"{cfg.reps} x {cfg.fleet_duration:g} s per subject",
+        file=sys.stderr,
+        flush=True,
+    )
+    server = start_server(FOCAS, cfg, extra=("--fleet", str(FLEET)), count=FLEET)
+    try:
+        targets = [list(e) for e in server.endpoints]
+        if len(targets) < FLEET:
+            raise RuntimeError(f"fleet server announced {len(targets)} of {FLEET} machines")
+        subjects = list(workers)
+        interval = 1.0 / POLL_HZ
+        for subject in subjects:
+            workers[subject].call(
+                "native_poll", targets=targets, interval=interval, duration=min(1.0, cfg.warmup * 4)
+            )
+        per_poll: dict[str, list[float]] = {s: [] for s in subjects}
+        achieved: dict[str, list[float]] = {s: [] for s in subjects}
+        errors = dict.fromkeys(subjects, 0)
+        for rep in range(cfg.reps):
+            for subject in _turns(subjects, rep):
+                r = workers[subject].call(
+                    "native_poll", targets=targets, interval=interval, duration=cfg.fleet_duration
+                )
+                per_poll[subject].append(1e6 * r["cpu"] / max(r["polls"], 1))
+                achieved[subject].append(r["polls"] / r["due"])
+                errors[subject] += int(r["errors"])
+    finally:
+        server.stop()
+    note = {
+        s: f"{statistics.median(achieved[s]):.1%} of the polls due, {errors[s]} errors"
+        + (" (get_status_info: pyfocas has no cnc_rddynamic2)" if s == PYFOCAS else "")
+        for s in per_poll
+    }
+    for row in _ratio_rows("native_poll100", "us/poll", per_poll, note):
+        suite.add(row)
+
+
+# -- the targets ----------------------------------------------------------------------------
+
+
+def _ratio_check(name: str, row: Row | None, low: float) -> Check:
+    if row is None or row.ratio is None:
+        return Check(name, None, "not measured")
+    value = row.ratio.median
+    return Check(name, value >= low, f"median {value:.2f} x FANUC's library")
+
+
+def checks(results: Results) -> list[Check]:
+    """The native targets, each PASS, FAIL or SKIP: pipe64 ``read_macro`` at least 10 x the
+    library on one handle, sequential calls at least 0.7 x, ahead of pyfocas in every mode."""
+    out = [
+        _ratio_check(
+            f"native_pipe64 read_macro >= {PIPE64_TARGET:g} x FANUC's library on one handle",
+            results.find("native_pipe64", NATIVE),
+            PIPE64_TARGET,
+        )
+    ]
+    for suffix, call in SEQ_CALLS:
+        out.append(
+            _ratio_check(
+                f"native_seq {call} >= {SEQ_TARGET:g} x FANUC's library",
+                results.find(f"native_seq_{suffix}", NATIVE),
+                SEQ_TARGET,
+            )
+        )
+    for scenario in ("native_seq_macro", "native_seq_status", "native_pipe64", "native_poll100"):
+        name = f"{scenario}: ahead of pyfocas"
+        ours, theirs = results.find(scenario, NATIVE), results.find(scenario, PYFOCAS)
+        if ours is None or theirs is None:
+            out.append(Check(name, None, "not measured"))
+            continue
+        if scenario == "native_poll100":  # CPU per poll: less is ahead
+            value = statistics.median(pairwise_ratios(theirs.samples, ours.samples))
+            out.append(Check(name, value > 1.0, f"pyfocas uses {value:.2f} x the CPU per poll"))
+        else:
+            value = statistics.median(pairwise_ratios(ours.samples, theirs.samples))
+            out.append(Check(name, value > 1.0, f"{value:.2f} x pyfocas"))
+    return out

@@ -1,0 +1,128 @@
+"""The native FOCAS/2 benchmark's own logic on a tiny scale: its worker ops against a served
+machine, and its targets' arithmetic. Nothing here asserts a speed."""
+
+from __future__ import annotations
+
+import asyncio
+import os
+from collections.abc import Callable
+from typing import Any, TypeVar
+
+import pytest
+from support import serving
+
+from benchmarks import native
+from benchmarks.report import Results, Row, pairwise_ratios
+from benchmarks.worker import Worker
+
+T = TypeVar("T")
+
+
+def _results(rows: list[Row]) -> Results:
+    return Results({"nproc": "2"}, "python -m benchmarks", {}, rows=rows)
+
+
+def _vs_fwlib(scenario: str, subject: str, samples: list[float], fwlib: list[float]) -> Row:
+    return Row(scenario, subject, "calls/s", samples, native.FWLIB, pairwise_ratios(samples, fwlib))
+
+
+def test_checks_pass_and_fail_each_target() -> None:
+    lib = [100.0, 100.0, 100.0]
+    rows = [
+        Row("native_pipe64", native.FWLIB, "calls/s", lib),
+        _vs_fwlib("native_pipe64", native.NATIVE, [1100.0, 900.0, 1200.0], lib),  # 11 x
+        _vs_fwlib("native_pipe64", native.PYFOCAS, [50.0, 50.0, 50.0], lib),
+        Row("native_seq_macro", native.FWLIB, "calls/s", lib),
+        _vs_fwlib("native_seq_macro", native.NATIVE, [60.0, 65.0, 90.0], lib),  # 0.65 x
+        _vs_fwlib("native_seq_macro", native.PYFOCAS, [70.0, 70.0, 70.0], lib),  # ahead of us
+        Row("native_poll100", native.NATIVE, "us/poll", [50.0, 60.0]),
+        Row("native_poll100", native.PYFOCAS, "us/poll", [100.0, 90.0]),
+    ]
+    verdicts = {c.name: c.verdict for c in native.checks(_results(rows))}
+    assert verdicts == {
+        "native_pipe64 read_macro >= 10 x FANUC's library on one handle": "PASS",
+        "native_seq read_macro >= 0.7 x FANUC's library": "FAIL",
+        "native_seq read_status >= 0.7 x FANUC's library": "SKIP",
+        "native_seq_macro: ahead of pyfocas": "FAIL",
+        "native_seq_status: ahead of pyfocas": "SKIP",
+        "native_pipe64: ahead of pyfocas": "PASS",
+        "native_poll100: ahead of pyfocas": "PASS",  # less CPU per poll
+    }
+
+
+def test_rows_take_their_ratio_to_the_library_pair_by_pair() -> None:
+    rows = native._ratio_rows(
+        "native_seq_macro",
+        "calls/s",
+        {native.NATIVE: [4.0, 9.0], native.FWLIB: [2.0, 3.0], native.PYFOCAS: [1.0, 6.0]},
+        {native.NATIVE: "n"},
+    )
+    by_subject = {r.subject: r for r in rows}
+    assert by_subject[native.FWLIB].ratios is None
+    assert by_subject[native.NATIVE].ratios == [2.0, 3.0]
+    assert by_subject[native.PYFOCAS].ratios == [0.5, 2.0]
+    assert by_subject[native.NATIVE].note == "n"
+    alone = native._ratio_rows("native_pipe64", "calls/s", {native.NATIVE: [1.0]}, {})
+    assert alone[0].ratios is None and alone[0].ratio_to is None
+
+
+@pytest.mark.parametrize("callers", [1, 4])
+async def test_the_native_client_worker_ops(callers: int) -> None:
+    w = Worker(native.NATIVE)
+    async with serving() as served:
+        host, port = served.host, served.port
+        assert await w.handle({"op": "native_prepare", "host": host, "port": port}) == {}
+        assert str(served.machine.read_macro(native.MACRO)) == native.MACRO_VALUE
+        cmd = {"host": host, "port": port, "call": "read_macro", "callers": callers}
+        result = await w.handle({"op": "native_run", "duration": 0.02, **cmd})
+        assert result["ops"] >= callers and result["elapsed"] > 0
+        assert 1 <= result["frames"] <= result["ops"]
+        poll = await w.handle(
+            {"op": "native_poll", "targets": [[host, port]] * 3, "interval": 0.01, "duration": 0.03}
+        )
+    assert poll["due"] == 9 and poll["errors"] == 0
+    assert 0 < poll["polls"] <= poll["due"]
+
+
+@pytest.mark.skipif(native.pyfocas_missing() is not None, reason="pyfocas is not installed")
+@pytest.mark.parametrize("callers", [1, 3])
+async def test_the_pyfocas_worker_ops(callers: int) -> None:
+    async with serving() as served:
+        served.machine.write_macro(native.MACRO, 5)
+        host, port = served.host, served.port
+        result = await _in_thread(
+            native.blocking_run, native.PYFOCAS, host, port, "read_macro", callers, 0.02
+        )
+        assert result["ops"] >= callers
+        poll = await _in_thread(
+            native.blocking_poll, native.PYFOCAS, [[host, port]] * 2, 0.01, 0.02
+        )
+    assert poll["due"] == 4 and poll["errors"] == 0
+
+
+@pytest.mark.skipif(native.fwlib_missing() is not None, reason="set FOCAS_NET_FWLIB")
+async def test_the_fwlib_worker_ops() -> None:
+    async with serving() as served:
+        served.machine.write_macro(native.MACRO, 5)
+        host, port = served.host, served.port
+
+        def both() -> tuple[dict[str, float], dict[str, float]]:
+            run = native.blocking_run(native.FWLIB, host, port, "read_status", 64, 0.02)
+            poll = native.blocking_poll(native.FWLIB, [[host, port]] * 2, 0.01, 0.02)
+            return run, poll
+
+        run, poll = await _in_thread(both)
+    assert run["ops"] >= 1  # 64 callers on one handle: its one thread, in turn
+    assert poll["due"] == 4 and poll["errors"] == 0
+
+
+def test_missing_subjects_say_why(monkeypatch: pytest.MonkeyPatch) -> None:
+    monkeypatch.delenv("FOCAS_NET_FWLIB", raising=False)
+    assert native.fwlib_missing() == "FOCAS_NET_FWLIB is not set (the path of FANUC's libfwlib32)"
+    monkeypatch.setenv("FOCAS_NET_FWLIB", os.path.join("/nonexistent", "libfwlib32.so"))
+    assert "no such file" in (native.fwlib_missing() or "")
+
+
+async def _in_thread(fn: Callable[..., T], *args: Any) -> T:
+    """A blocking subject's op off the loop (the served machine answers on the loop)."""
+    return await asyncio.wait_for(asyncio.to_thread(fn, *args), 30)

@@ -1,0 +1,130 @@
+"""The native client between frames: what an idle connection costs and what it notices.
+
+B's bytes are parsed as they arrive, so a CNC that closes B, or sends what nobody asked for
+while no frame is in flight, ends the connection at once rather than at the next call; a call
+costs no task of its own.
+"""
+
+from __future__ import annotations
+
+import asyncio
+from collections.abc import Coroutine, Generator
+from typing import Any
+
+from support import IO_TIMEOUT, serving, wait_until
+
+from focas_net.client import ClientState, NativeClient
+from focas_net.native import (
+    FrameType,
+    NativeFrameDecoder,
+    PathDescription,
+    ResponseBlock,
+    ScaledNumber,
+    ScaledValues,
+    build_open_answer,
+    decode_request_body,
+    encode_close_response,
+    encode_native_response,
+    encode_open_response,
+)
+from focas_net.native.requests import NativeCommand
+
+
+class _TrailingPeer:
+    """A FOCAS/2 peer (30i class) answering macro reads with the variable's number; with
+    ``trailing`` set, it sends those bytes right after the next macro answer."""
+
+    def __init__(self) -> None:
+        self.trailing = b""
+        self.macro_frames = 0
+        self.port = 0
+        self._server: asyncio.Server | None = None
+
+    async def __aenter__(self) -> _TrailingPeer:
+        self._server = await asyncio.start_server(self._serve, "127.0.0.1", 0)
+        self.port = self._server.sockets[0].getsockname()[1]
+        return self
+
+    async def __aexit__(self, *exc: object) -> None:
+        assert self._server is not None
+        self._server.close()
+        await self._server.wait_closed()
+
+    async def _serve(self, reader: asyncio.StreamReader, writer: asyncio.StreamWriter) -> None:
+        decoder = NativeFrameDecoder()
+        try:
+            while data := await reader.read(65536):
+                for frame in decoder.feed(data):
+                    if frame.type == FrameType.OPEN_REQUEST:
+                        body = build_open_answer([PathDescription()], 8, version=3)
+                        writer.write(encode_open_response(body, 3))
+                    elif frame.type == FrameType.CLOSE_REQUEST:
+                        writer.write(encode_close_response(3))
+                    else:
+                        blocks = decode_request_body(frame.body)
+                        answers: list[ResponseBlock] = []
+                        for b in blocks:
+                            if b.command == NativeCommand.RDMACRO:
+                                value = ScaledValues((ScaledNumber(b.args[0], 0),))
+                                answers.append(b.reply(value.encode()))
+                            elif b.command == NativeCommand.SYSINFO:
+                                answers.append(b.reply(bytes(4) + b" 0 MD4F132.003"))
+                            else:
+                                answers.append(b.reply(ew=1))
+                        writer.write(encode_native_response(answers, 3))
+                        if any(b.command == NativeCommand.RDMACRO for b in blocks):
+                            self.macro_frames += 1
+                            writer.write(self.trailing)
+                            self.trailing = b""
+        except ConnectionError:
+            pass
+        finally:
+            writer.close()
+
+
+async def test_sequential_calls_start_no_task() -> None:
+    created = 0
+
+    def factory(
+        loop: asyncio.AbstractEventLoop,
+        coro: Generator[Any, None, Any] | Coroutine[Any, Any, Any],
+        **kwargs: Any,
+    ) -> asyncio.Task[Any]:
+        nonlocal created
+        created += 1
+        return asyncio.Task(coro, loop=loop, **kwargs)
+
+    loop = asyncio.get_running_loop()
+    async with serving() as served:
+        async with NativeClient(served.host, served.port, timeout=IO_TIMEOUT) as native:
+            served.machine.write_macro(100, 7)
+            await native.read_macro(100)
+            loop.set_task_factory(factory)
+            try:
+                values = [await native.read_macro(100) for _ in range(50)]
+            finally:
+                loop.set_task_factory(None)
+    assert values == [7] * 50
+    assert created == 0
+
+
+async def test_a_server_that_goes_away_is_noticed_without_a_call() -> None:
+    native = NativeClient("127.0.0.1", 0, timeout=IO_TIMEOUT)
+    async with serving() as served:
+        native.port = served.port
+        await native.connect()
+        assert await native.read_macro(100) is None
+    try:
+        await wait_until(lambda: native.state is ClientState.DISCONNECTED)
+    finally:
+        await native.aclose()
+
+
+async def test_unsolicited_bytes_on_b_end_the_connection_without_a_call() -> None:
+    async with _TrailingPeer() as peer:
+        async with NativeClient("127.0.0.1", peer.port, timeout=IO_TIMEOUT) as native:
+            assert await native.read_macro(5) == 5
+            peer.trailing = b"\xa0"
+            assert await native.read_macro(6) == 6
+            await wait_until(lambda: native.state is ClientState.DISCONNECTED)
+            assert peer.macro_frames == 2
