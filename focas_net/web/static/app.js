@@ -4,6 +4,16 @@
 const $ = (id) => document.getElementById(id);
 const state = { readOnly: false, ws: null, topic: null, machine: null, view: null };
 
+// Searches answer out of order when typed fast: each kind of list draws only the answer to the
+// last search it sent.
+const latest = { params: 0, macros: 0, fleet: 0 };
+async function newest(kind, url) {
+  const ticket = ++latest[kind];
+  const res = await fetch(url);
+  const body = await res.json();
+  return ticket === latest[kind] ? { res, body } : null;
+}
+
 function el(tag, attrs = {}, ...children) {
   const node = document.createElement(tag);
   for (const [k, v] of Object.entries(attrs)) {
@@ -311,7 +321,9 @@ function renderPmc(p) {
 async function loadParams() {
   if (state.machine === null) return;
   const q = encodeURIComponent($("param-search").value);
-  const body = await (await fetch(`/api/machines/${state.machine}/params?q=${q}`)).json();
+  const answer = await newest("params", `/api/machines/${state.machine}/params?q=${q}`);
+  if (answer === null) return;  // a later search is under way
+  const body = answer.body;
   $("params").replaceChildren(
     el("tr", {}, el("th", {}, "no."), el("th", {}, "name"), el("th", {}, "type"),
       el("th", {}, "value(s)")),
@@ -339,8 +351,9 @@ async function writeParam(number, axis, value) {
 async function loadMacros() {
   if (state.machine === null) return;
   const q = encodeURIComponent($("macro-search").value);
-  const res = await fetch(`/api/machines/${state.machine}/macros?q=${q}`);
-  const body = await res.json();
+  const answer = await newest("macros", `/api/machines/${state.machine}/macros?q=${q}`);
+  if (answer === null) return;  // a later search is under way
+  const { res, body } = answer;
   if (!res.ok) { show(body.error, false); return; }
   $("macros").replaceChildren(
     el("tr", {}, el("th", {}, "#"), el("th", {}, "value")),
@@ -386,7 +399,8 @@ function wire() {
   $("param-search").oninput = loadParams;
   $("param-unlock").onclick = () => act("unlock", { password: $("param-password").value });
   $("macro-search").oninput = loadMacros;
-  $("fleet-filter").oninput = () => fetch("/api/fleet").then((r) => r.json()).then(renderFleet);
+  $("fleet-filter").oninput = () =>
+    newest("fleet", "/api/fleet").then((answer) => answer && renderFleet(answer.body));
   window.addEventListener("hashchange", route);
 }
 
