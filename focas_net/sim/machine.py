@@ -1514,11 +1514,11 @@ class Machine:
             e.clock = clock
 
     def _settled(self, moved: bool, force: bool = False) -> None:
-        e = self.engine
-        key = (e.state, e.motion)
+        state, motion, wait = self.engine.flags()
+        key = (state, motion)
         changed = key != self._engine_key
         self._engine_key = key
-        waiting = 1 if key[0] is _START and e.waiting else 0
+        waiting = 1 if wait else 0
         if waiting != self._mstb:
             self._mstb = waiting
             changed = True

@@ -283,6 +283,16 @@ class Engine:
         self.advance()
         return self._state is CycleState.START and isinstance(self._action, Wait)
 
+    def flags(self) -> tuple[CycleState, MotionKind, bool]:
+        """:attr:`state`, :attr:`motion` and :attr:`waiting` at once, from one advance."""
+        self.advance()
+        state, action = self._state, self._action
+        if state is not CycleState.START or action is None:
+            return state, MotionKind.NONE, False
+        if isinstance(action, Wait):
+            return state, MotionKind.NONE, True
+        return state, MotionKind.DWELL if isinstance(action, Dwell) else MotionKind.MOTION, False
+
     def machine_position(self) -> Vector:
         self.advance()
         return self._current()
