@@ -61,6 +61,20 @@ from decimal import ROUND_HALF_EVEN, Decimal
 from typing import Final
 
 from focas_net.errors import EW
+from focas_net.native import (
+    PROGRAM_CHUNK,
+    ProgramDeleteRequest,
+    ProgramDirEntry,
+    ProgramDirRequest,
+    ProgramMemory,
+    ProgramSearchRequest,
+    TransferError,
+    TransferFrame,
+    TransferStart,
+    encode_native_frame,
+    error_frame_type,
+    parse_program_range,
+)
 from focas_net.native.codec import (
     _DOUBLE,
     _MAGIC_U32,
@@ -158,6 +172,7 @@ from focas_net.sim.machine import MAX_REAL_DECIMALS
 
 __all__ = [
     "NativeAdapter",
+    "ProgramTransfer",
     "command_set_of",
     "macro_from_double",
     "native_diag_type",
@@ -340,6 +355,32 @@ def _axis_name(name: str) -> AxisName:
     return AxisName(raw[:1], raw[1:2] or b"\x00")
 
 
+#: Most bytes of one download (a larger one answers EW_OVRFLOW at its end).
+MAX_DOWNLOAD: Final = 1 << 20
+
+
+class ProgramTransfer:
+    """One connection's program download (``cnc_dwnstart``... ``cnc_dwnend``): whether one
+    is under way and the text received so far. The server keeps one per connection, so a
+    connection dropped in the middle of a download stores nothing; the machine sees only the
+    whole program, at the download's end."""
+
+    __slots__ = ("downloading", "overflow", "received")
+
+    def __init__(self) -> None:
+        #: Whether a download was started and not ended.
+        self.downloading = False
+        #: Whether the download went past :data:`MAX_DOWNLOAD` (its bytes were dropped).
+        self.overflow = False
+        #: The download's bytes so far.
+        self.received = bytearray()
+
+    def reset(self) -> None:
+        self.downloading = False
+        self.overflow = False
+        self.received.clear()
+
+
 class NativeAdapter:
     """Answers FANUC's library for one machine (see the module docstring).
 
@@ -427,6 +468,10 @@ class NativeAdapter:
             (cnc, c.AXIS_DISPLAY): self._read_axis_display,
             (cnc, c.RDSPLOAD): self._read_spindle_load,
             (cnc, c.RDSVMETER): self._read_servo_meter,
+            (cnc, c.RDPROGDIR): self._read_program_directory,
+            (cnc, c.RDPROGINFO): self._read_program_memory,
+            (cnc, c.DELETE): self._delete_program,
+            (cnc, c.SEARCH): self._search_program,
             (pmc, c.PMC_RDPMCRNG): self._read_pmc,
             (pmc, c.PMC_WRPMCRNG): self._write_pmc,
         }
@@ -679,6 +724,134 @@ class NativeAdapter:
         _need_room(SCALED_SIZE * len(self._axis_names), room)
         loads = self.machine.servo_loads()
         return ScaledValues(tuple(ScaledNumber(v, 0) for v in loads)).encode()
+
+    # -- part programs -------------------------------------------------------------------
+
+    def _read_program_directory(self, block: RequestBlock, room: int) -> bytes:
+        """0x06: the programs from O number ``top`` on, by number, at most ``count`` (and what
+        the answer holds), 72 bytes each; none from ``top`` on is no data (the end)."""
+        req = ProgramDirRequest.from_block(block)
+        if req.count < 1:
+            raise _Refused(EW.LENGTH)
+        most = min(req.count, room // ProgramDirEntry.SIZE)
+        entries = [e for e in self.machine.program_directory() if e.number >= req.top][:most]
+        return b"".join(
+            ProgramDirEntry(e.number, e.size, _program_comment(e.name)).encode() for e in entries
+        )
+
+    def _read_program_memory(self, block: RequestBlock, room: int) -> bytes:
+        """0x07: programs stored and the room for more, characters used and free (the
+        machine's program store: its directory, capacity and most programs)."""
+        machine = self.machine
+        directory = machine.program_directory()
+        store = machine.programs
+        used = sum(e.size for e in directory)
+        return ProgramMemory(
+            len(directory),
+            max(store.max_programs - len(directory), 0),
+            used,
+            max(store.capacity - used, 0),
+        ).encode()
+
+    def _delete_program(self, block: RequestBlock, room: int) -> bytes:
+        """0x05: the machine's ``delete_program`` (EW_PROT, EW_NUMBER, EW_BUSY)."""
+        self.machine.delete_program(ProgramDeleteRequest.from_block(block).number)
+        return b""
+
+    def _search_program(self, block: RequestBlock, room: int) -> bytes:
+        """0x03: the machine's ``select_program`` (EW_PROT, EW_MODE, EW_NUMBER, EW_BUSY)."""
+        self.machine.select_program(ProgramSearchRequest.from_block(block).number)
+        return b""
+
+    def transfer(self, frame_type: int, body: bytes, state: ProgramTransfer) -> list[bytes] | None:
+        """The frames answering one program-transfer frame of a connection whose transfer
+        state is ``state`` (see :mod:`focas_net.native.programs`); None when ``frame_type``
+        is not a transfer request (the connection's violation).
+
+        * ``0x1501`` upload: ``0x1502``, the text as ``%``, newline, each program's text,
+          ``%`` in ``0x1604`` frames of at most :data:`PROGRAM_CHUNK` bytes, then ``0x1701``;
+          ``0x1702`` and ``0x1804`` (the library's end and abort) answer nothing;
+        * ``0x1101`` download start: ``0x1102`` (EW_PROT on a read-only machine); ``0x1204``
+          data is kept in ``state``; ``0x1301`` stores the program, ``0x1302``.
+
+        A refusal is a ``0x..03`` frame carrying the EW code (:class:`TransferError`), the
+        code the packed protocol gives for the same program operation.
+        """
+        try:
+            kind = TransferFrame(frame_type)
+        except ValueError:
+            return None
+        try:
+            if kind is TransferFrame.UPLOAD_START:
+                return self._upload(body)
+            if kind is TransferFrame.DOWNLOAD_START:
+                TransferStart.decode(body)
+                state.reset()
+                self.machine.check_writable()
+                state.downloading = True
+                return [self._transfer_frame(TransferFrame.DOWNLOAD_START_ANSWER)]
+            if kind is TransferFrame.DOWNLOAD_DATA:
+                if state.downloading and not state.overflow:
+                    if len(state.received) + len(body) > MAX_DOWNLOAD:
+                        state.overflow = True
+                        state.received.clear()
+                    else:
+                        state.received += body
+                return []
+            if kind is TransferFrame.DOWNLOAD_END:
+                return self._download_end(state)
+        except MachineError as exc:
+            return [self._transfer_refusal(frame_type, exc.ew)]
+        except (NativePayloadError, _Refused) as exc:
+            return [self._transfer_refusal(frame_type, exc.ew)]
+        if kind in (TransferFrame.UPLOAD_END_ANSWER, TransferFrame.UPLOAD_ABORT):
+            return []
+        return None  # an answer type: never sent to a CNC
+
+    def _transfer_frame(self, frame_type: int, body: bytes = b"") -> bytes:
+        return encode_native_frame(frame_type, body, self.version)
+
+    def _transfer_refusal(self, frame_type: int, ew: int) -> bytes:
+        return self._transfer_frame(
+            error_frame_type(frame_type), TransferError(0, ew, 0, 0).encode()
+        )
+
+    def _upload(self, body: bytes) -> list[bytes]:
+        first, last = parse_program_range(TransferStart.decode(body).name)
+        machine = self.machine
+        if first == last:
+            texts = [machine.program_text(first)]  # EW_NUMBER when there is none
+        else:
+            numbers = [e.number for e in machine.program_directory() if first <= e.number <= last]
+            if not numbers:
+                raise _Refused(EW.NUMBER)
+            texts = [machine.program_text(n) for n in numbers]
+        data = ("%\n" + "".join(texts) + "%").encode("latin-1", "replace")
+        frames = [self._transfer_frame(TransferFrame.UPLOAD_START_ANSWER)]
+        frames.extend(
+            self._transfer_frame(TransferFrame.UPLOAD_DATA, data[i : i + PROGRAM_CHUNK])
+            for i in range(0, len(data), PROGRAM_CHUNK)
+        )
+        frames.append(self._transfer_frame(TransferFrame.UPLOAD_END))
+        return frames
+
+    def _download_end(self, state: ProgramTransfer) -> list[bytes]:
+        """Store the downloaded program: EW_FUNC when no download was started, EW_OVRFLOW
+        past :data:`MAX_DOWNLOAD`, EW_DATA for text that is not ASCII, then the machine's
+        ``store_program`` refusals (EW_PROT, EW_DATA, EW_NUMBER, EW_REJECT, EW_OVRFLOW)."""
+        downloading, overflow = state.downloading, state.overflow
+        raw = bytes(state.received)
+        state.reset()
+        if not downloading:
+            raise _Refused(EW.FUNC)
+        if overflow:
+            raise _Refused(EW.OVRFLOW)
+        try:
+            text = raw.decode("ascii")
+        except UnicodeDecodeError:
+            raise _Refused(EW.DATA) from None
+        self.machine.store_program(_downloaded_program(text))
+        return [self._transfer_frame(TransferFrame.DOWNLOAD_END_ANSWER)]
 
     # -- macro variables -----------------------------------------------------------------
 
@@ -1017,6 +1190,24 @@ class NativeAdapter:
                 ).encode()
             )
         return b"".join(parts)
+
+
+def _program_comment(name: str) -> bytes:
+    """A directory entry's comment: the program's name in parentheses, as a control shows it
+    (at most 63 bytes, so a NUL always ends it); empty without a name."""
+    if not name:
+        return b""
+    return f"({name[:61]})".encode("latin-1", "replace")
+
+
+def _downloaded_program(text: str) -> str:
+    """The program of a download's text: without a first ``%`` (and the blank lines around
+    it) and without anything from the ending ``%`` on, as a control reads punched tape."""
+    text = text.lstrip()
+    if text.startswith("%"):
+        text = text[1:].lstrip()
+    end = text.find("%")
+    return text if end < 0 else text[:end]
 
 
 def _swap(raw: bytes, width: int) -> bytes:

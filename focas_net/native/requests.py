@@ -108,6 +108,10 @@ __all__ = [
 class NativeCommand(enum.IntEnum):
     """Command words of the requests this codec declares (the FOCAS functions sending them)."""
 
+    SEARCH = 0x03  # cnc_search / cnc_searcho8 (focas_net.native.programs)
+    DELETE = 0x05  # cnc_delete / cnc_deleteo8
+    RDPROGDIR = 0x06  # cnc_rdprogdir / cnc_rdprogdir2 / cnc_rdprogdir3
+    RDPROGINFO = 0x07  # cnc_rdproginfo
     WRPARAM = 0x0F  # cnc_wrparam, 16i class (after 0x10)
     RDPARAM = 0x0E  # cnc_rdparam, 16i class (4-byte value slots)
     RDPARAINFO = 0x10  # cnc_rdparainfo; cnc_wrparam, 16i class
