@@ -281,6 +281,7 @@ async def test_a_download_is_listed_read_and_runs(
         text = await cnc.packed.read_program(321)
         assert text == NEW_PROGRAM  # stored as sent (already one block per line)
         rc, data = await upload(cnc, 321)
+        assert rc == 0
         assert unpunched(data) == text
         # it runs: search (MEM mode) through the library, cycle start through the packed client
         cnc.machine.set_panel(1)
@@ -294,7 +295,7 @@ async def test_a_download_is_listed_read_and_runs(
         clock.advance(10.0)  # X10 at F600 takes 1 s; then M30
         assert (await cnc.packed.read_run_info()).parts_count == parts + 1
         position = await cnc.packed.read_positions("absolute")
-        assert list(position.increments.values())[0] == 10_000
+        assert next(iter(position.increments.values())) == 10_000
 
 
 async def test_a_long_download_in_many_frames(cnc: Cnc) -> None:
@@ -374,19 +375,29 @@ async def scenario(cnc: Cnc) -> list[dict[str, Any]]:
 
 async def record(set_name: str) -> dict[str, Any]:
     """The scenario's frames in ``set_name``: per frame the library sent after connecting,
-    its type, body and the frames answered."""
+    its type, the machine's mode when it came, its body and the frames answered."""
     exchanges: list[dict[str, Any]] = []
     original_answer, original_transfer = NativeFront.answer, NativeFront.transfer
 
     def answer(self: NativeFront, body: bytes, session: Any = None) -> bytes:
         out = original_answer(self, body, session)
-        exchanges.append({"type": 0x2101, "request": body.hex(), "answers": [out.hex()]})
+        exchanges.append(
+            {
+                "type": 0x2101,
+                "mode": self.machine.panel.mode,
+                "request": body.hex(),
+                "answers": [out.hex()],
+            }
+        )
         return out
 
     def transfer(self: NativeFront, frame_type: int, body: bytes, state: Any) -> Any:
         out = original_transfer(self, frame_type, body, state)
         answers = None if out is None else [a.hex() for a in out]
-        exchanges.append({"type": frame_type, "request": body.hex(), "answers": answers})
+        mode = self.machine.panel.mode
+        exchanges.append(
+            {"type": frame_type, "mode": mode, "request": body.hex(), "answers": answers}
+        )
         return out
 
     async with program_cnc(set_name) as cnc:
