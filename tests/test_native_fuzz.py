@@ -66,6 +66,8 @@ WRITES: Final = frozenset(
         (Device.CNC, NativeCommand.WRPARAM),
         (Device.CNC, NativeCommand.WRPARAM3),
         (Device.PMC, NativeCommand.PMC_WRPMCRNG),
+        (Device.CNC, NativeCommand.DELETE),
+        (Device.CNC, NativeCommand.SEARCH),
     }
 )
 EW_CODES: Final = frozenset(int(e) for e in EW)
@@ -407,6 +409,9 @@ SHAPED: Final[dict[int, st.SearchStrategy[Shape]]] = {
     C.RDSPLOAD: plain(st.integers(-1, 2), st.integers(-2, 3)),
     C.RDSVMETER: plain(st.integers(-1, 2)),
     C.RDTIMER: plain(st.integers(-1, 5)),
+    C.RDPROGDIR: plain(st.integers(-1, 10), st.integers(-1, 60), st.integers(0, 2)),
+    C.DELETE: plain(st.sampled_from([0, 1, 2, 9999, -1])),
+    C.SEARCH: plain(st.sampled_from([0, 1, 2, 9999, -1])),
     C.PMC_RDPMCRNG: pmc_range(write=False),
     C.PMC_WRPMCRNG: pmc_range(write=True),
 }

@@ -61,20 +61,6 @@ from decimal import ROUND_HALF_EVEN, Decimal
 from typing import Final
 
 from focas_net.errors import EW
-from focas_net.native import (
-    PROGRAM_CHUNK,
-    ProgramDeleteRequest,
-    ProgramDirEntry,
-    ProgramDirRequest,
-    ProgramMemory,
-    ProgramSearchRequest,
-    TransferError,
-    TransferFrame,
-    TransferStart,
-    encode_native_frame,
-    error_frame_type,
-    parse_program_range,
-)
 from focas_net.native.codec import (
     _DOUBLE,
     _MAGIC_U32,
@@ -86,6 +72,7 @@ from focas_net.native.codec import (
     MACHINE_MILL,
     NATIVE_HEADER,
     OPTION_PARAMETER,
+    PROGRAM_CHUNK,
     RESPONSE_BLOCK_SIZE,
     SCALED_SIZE,
     AlarmHistoryRecord,
@@ -139,6 +126,11 @@ from focas_net.native.codec import (
     PmcWriteRequest,
     PositionAxisName,
     PositionAxisNames,
+    ProgramDeleteRequest,
+    ProgramDirEntry,
+    ProgramDirRequest,
+    ProgramMemory,
+    ProgramSearchRequest,
     RequestBlock,
     ScaledItemRecord,
     ScaledNumber,
@@ -150,12 +142,18 @@ from focas_net.native.codec import (
     TimerRequest,
     TimerValue,
     TmModeStatus,
+    TransferError,
+    TransferFrame,
+    TransferStart,
     binary_to_decimal,
     build_open_answer,
     decode_request_body,
     encode_close_response,
+    encode_native_frame,
     encode_open_response,
+    error_frame_type,
     max_response_body,
+    parse_program_range,
     resolve_position_kind,
 )
 from focas_net.sim import (

@@ -26,7 +26,7 @@ from typing import Any, ClassVar, Final
 from ..errors import EW
 from .base import NativePayloadError, NativeRecord, RecordArray
 from .records import NoData
-from .requests import NativeCommand, NativeRequest
+from .requests import REQUEST_TYPES, NativeCommand, NativeRequest
 
 __all__ = [
     "PROGRAM_CHUNK",
@@ -178,6 +178,19 @@ class TransferError(NativeRecord):
     detail1: int
     detail2: int
 
+
+#: The program requests join the codec's table of typed requests.
+REQUEST_TYPES.update(
+    {
+        (cls.DEVICE, cls.COMMAND): cls
+        for cls in (
+            ProgramDirRequest,
+            ProgramMemoryRequest,
+            ProgramDeleteRequest,
+            ProgramSearchRequest,
+        )
+    }
+)
 
 _RANGE: Final = re.compile(r"O(\d{1,8})(?:-O(\d{1,8}))?")
 
