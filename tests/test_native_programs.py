@@ -25,6 +25,7 @@ from focas_net.adapters import NativeAdapter, ProgramTransfer
 from focas_net.errors import EW
 from focas_net.native import (
     PROGRAM_CHUNK,
+    CommandSet,
     Device,
     NativeCommand,
     NativePayloadError,
@@ -39,6 +40,7 @@ from focas_net.native import (
     TransferError,
     TransferFrame,
     TransferStart,
+    calls,
     decode_frame,
     decode_response_body,
     encode_native_frame,
@@ -133,6 +135,25 @@ def test_the_recorded_calls_all_did_what_the_tests_expect() -> None:
         assert ("cnc_upstart", EW.NUMBER) in returns
         assert ("cnc_dwnstart3/cnc_download3/cnc_dwnend3", EW.REJECT) in returns
         assert returns[-2:] == [("cnc_delete", 0), ("cnc_delete", EW.NUMBER)]
+
+
+def test_the_call_table_sends_what_the_library_sent() -> None:
+    for recorded in GOLDEN["sets"]:
+        cs = CommandSet(recorded["command_set"])
+        sent = [bytes.fromhex(e["request"]) for e in recorded["exchanges"] if e["type"] == 0x2101]
+        expected = [
+            *(calls.cnc_rdprogdir2(cs, kind, 0, 10) for kind in (0, 1, 2)),
+            calls.cnc_rdprogdir3(cs, 2, 0, 10),
+            calls.cnc_rdprogdir(cs, 1, 0),
+            calls.cnc_rdprogdir(cs, 1, 124),  # the next page, from the last number + 1
+            calls.cnc_rdproginfo(cs),
+            calls.cnc_search(cs, 321),
+            calls.cnc_search(cs, 321),
+            calls.cnc_delete(cs, 321),
+            calls.cnc_delete(cs, 321),
+        ]
+        frames = [f for call in expected for f in call.encode()]
+        assert [decode_frame(f).body for f in frames] == sent
 
 
 # --------------------------------------------------------------------------------------------
