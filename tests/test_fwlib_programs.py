@@ -178,6 +178,45 @@ async def download3(cnc: Cnc, data: bytes) -> int:
     return await cnc.call("cnc_dwnend3")
 
 
+async def upload4(cnc: Cnc, number: int) -> tuple[int, bytes]:
+    """``cnc_upstart4(0, "O<n>")``, ``cnc_upload4`` until it ends, ``cnc_upend4``."""
+    name = ctypes.create_string_buffer(f"O{number:04d}".encode())
+    rc = await cnc.call("cnc_upstart4", s16(0), name)
+    if rc:
+        return rc, b""
+    out = b""
+    b = buf(2048)
+    for _ in range(200):
+        n = i32(1024)
+        rc = await cnc.call("cnc_upload4", ctypes.byref(n), b)
+        if rc:
+            break
+        out += b.raw[: n.value]
+    assert rc == -2, f"cnc_upload4 ended with {rc}"
+    assert await cnc.call("cnc_upend4") == 0
+    return 0, out
+
+
+async def download4(cnc: Cnc, data: bytes) -> int:
+    """``cnc_dwnstart4(0, folder)``, ``cnc_download4``, ``cnc_dwnend4``."""
+    folder = ctypes.create_string_buffer(b"//CNC_MEM/USER/PATH1/")
+    rc = await cnc.call("cnc_dwnstart4", s16(0), folder)
+    if rc:
+        return rc
+    n = i32(len(data))
+    rc = await cnc.call("cnc_download4", ctypes.byref(n), ctypes.create_string_buffer(data))
+    assert rc == 0 and n.value == len(data), f"cnc_download4 returned {rc}, took {n.value}"
+    return await cnc.call("cnc_dwnend4")
+
+
+async def rdexecprog(cnc: Cnc, length: int = 256) -> tuple[int, int, bytes]:
+    """``cnc_rdexecprog``: (return, blknum, the text)."""
+    b = buf(1024)
+    n, blocks = us(length), s16(0)
+    rc = await cnc.call("cnc_rdexecprog", ctypes.byref(n), ctypes.byref(blocks), b)
+    return rc, blocks.value, b.raw[: n.value]
+
+
 def unpunched(data: bytes) -> str:
     """An upload's text without its ``%`` lines."""
     text = data.decode("ascii")
@@ -245,7 +284,7 @@ async def test_program_memory(cnc: Cnc) -> None:
 # Upload
 
 
-@pytest.mark.parametrize("reader", [upload, upload3])
+@pytest.mark.parametrize("reader", [upload, upload3, upload4])
 async def test_an_upload_is_the_packed_read(cnc: Cnc, reader: Callable[[Cnc, int], Any]) -> None:
     cnc.machine.store_program(LONG_PROGRAM)
     for number in (1, 400):
@@ -269,7 +308,7 @@ async def test_an_upload_of_no_program_is_ew_number(cnc: Cnc) -> None:
 
 
 @pytest.mark.parametrize("set_name", SETS)
-@pytest.mark.parametrize("writer", [download, download3])
+@pytest.mark.parametrize("writer", [download, download3, download4])
 async def test_a_download_is_listed_read_and_runs(
     set_name: str, writer: Callable[[Cnc, bytes], Any]
 ) -> None:
@@ -296,6 +335,23 @@ async def test_a_download_is_listed_read_and_runs(
         assert (await cnc.packed.read_run_info()).parts_count == parts + 1
         position = await cnc.packed.read_positions("absolute")
         assert next(iter(position.increments.values())) == 10_000
+
+
+@pytest.mark.parametrize("set_name", SETS)
+async def test_the_blocks_being_executed(set_name: str) -> None:
+    clock = ManualClock()
+    async with program_cnc(set_name, clock) as cnc:
+        cnc.machine.set_panel(1)
+        await cnc.packed.select_program(1)
+        await cnc.packed.sim.cycle_start()
+        clock.advance(2.0)
+        sequence = cnc.machine.motion.sequence
+        assert sequence > 0
+        rc, blocks, text = await rdexecprog(cnc, 64)
+        lines = await cnc.packed.read_program(1)
+        rest = lines[lines.index(f"\nN{sequence} ") + 1 :]
+        assert rc == 0 and rest.startswith(text.decode())
+        assert blocks == text.count(b"\n") and 0 < len(text) <= 64
 
 
 async def test_a_long_download_in_many_frames(cnc: Cnc) -> None:
@@ -370,6 +426,11 @@ async def scenario(cnc: Cnc) -> list[dict[str, Any]]:
     await note("cnc_search", await cnc.call("cnc_search", s16(321)), number=321, mode="MEM")
     await note("cnc_delete", await cnc.call("cnc_delete", s16(321)), number=321)
     await note("cnc_delete", await cnc.call("cnc_delete", s16(321)), number=321)
+    rc, _ = await upload4(cnc, 123)
+    await note("cnc_upstart4/cnc_upload4/cnc_upend4", rc, name="O0123")
+    await note("cnc_dwnstart4/cnc_download4/cnc_dwnend4", await download4(cnc, NEW_PUNCHED))
+    rc, blocks, _ = await rdexecprog(cnc)
+    await note("cnc_rdexecprog", rc, blknum=blocks)
     return calls
 
 

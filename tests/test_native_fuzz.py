@@ -411,6 +411,7 @@ SHAPED: Final[dict[int, st.SearchStrategy[Shape]]] = {
     C.RDTIMER: plain(st.integers(-1, 5)),
     C.RDPROGDIR: plain(st.integers(-1, 10), st.integers(-1, 60), st.integers(0, 2)),
     C.DELETE: plain(st.sampled_from([0, 1, 2, 9999, -1])),
+    C.RDEXECPROG: plain(st.integers(-1, 3000)),
     C.SEARCH: plain(st.sampled_from([0, 1, 2, 9999, -1])),
     C.PMC_RDPMCRNG: pmc_range(write=False),
     C.PMC_WRPMCRNG: pmc_range(write=True),

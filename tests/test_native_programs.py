@@ -27,6 +27,8 @@ from focas_net.native import (
     PROGRAM_CHUNK,
     CommandSet,
     Device,
+    ExecutingBlocks,
+    ExecutingBlocksRequest,
     NativeCommand,
     NativePayloadError,
     ProgramDeleteRequest,
@@ -134,7 +136,9 @@ def test_the_recorded_calls_all_did_what_the_tests_expect() -> None:
         returns = [(c["function"], c["return"]) for c in recorded["calls"]]
         assert ("cnc_upstart", EW.NUMBER) in returns
         assert ("cnc_dwnstart3/cnc_download3/cnc_dwnend3", EW.REJECT) in returns
-        assert returns[-2:] == [("cnc_delete", 0), ("cnc_delete", EW.NUMBER)]
+        i = returns.index(("cnc_delete", 0))
+        assert returns[i + 1] == ("cnc_delete", EW.NUMBER)
+        assert ("cnc_dwnstart4/cnc_download4/cnc_dwnend4", 0) in returns
 
 
 def test_the_call_table_sends_what_the_library_sent() -> None:
@@ -151,6 +155,7 @@ def test_the_call_table_sends_what_the_library_sent() -> None:
             calls.cnc_search(cs, 321),
             calls.cnc_delete(cs, 321),
             calls.cnc_delete(cs, 321),
+            calls.cnc_rdexecprog(cs, 256),
         ]
         frames = [f for call in expected for f in call.encode()]
         assert [decode_frame(f).body for f in frames] == sent
@@ -204,13 +209,20 @@ def test_program_requests_take_their_number() -> None:
 
 
 @pytest.mark.parametrize(
-    ("text", "expected"), [(b"O1-O1", (1, 1)), (b"O12", (12, 12)), (b"O0100-O0200", (100, 200))]
+    ("text", "expected"),
+    [
+        (b"O1-O1", (1, 1)),
+        (b"O12", (12, 12)),
+        (b"O0100-O0200", (100, 200)),
+        (b"N:O0001", (1, 1)),  # cnc_upstart4
+        (b"N://CNC_MEM/USER/PATH1/O0123", (123, 123)),
+    ],
 )
 def test_program_ranges(text: bytes, expected: tuple[int, int]) -> None:
     assert parse_program_range(text) == expected
 
 
-@pytest.mark.parametrize("text", [b"", b"1-2", b"O5-O2", b"OX", b"O1-"])
+@pytest.mark.parametrize("text", [b"", b"1-2", b"O5-O2", b"OX", b"O1-", b"N:", b"N://X/"])
 def test_a_bad_range_names_what_was_sent(text: bytes) -> None:
     with pytest.raises(NativePayloadError) as info:
         parse_program_range(text)
@@ -497,3 +509,41 @@ async def test_an_upload_over_a_connection(served_machine: Any) -> None:
     await writer.wait_closed()
     assert kinds[0] == TransferFrame.UPLOAD_START_ANSWER
     assert text.decode() == "%\n" + served_machine.machine.program_text(1) + "%"
+
+
+def test_the_blocks_being_executed_follow_the_sequence_number() -> None:
+    clock = ManualClock()
+    machine = default_machine(sim_clock=clock)
+    adapter = NativeAdapter(machine)
+    text = machine.program_text(1)
+    request = ExecutingBlocksRequest(4096).to_block()
+    ew, data = data_block(adapter, request)
+    shown = ExecutingBlocks.decode(data)
+    body = text.split("\n", 1)[1]  # the blocks after the O line
+    assert ew == 0 and shown == ExecutingBlocks(body.count("\n"), body.encode())
+    machine.set_panel(1)
+    machine.select_program(1)
+    machine.cycle_start()
+    clock.advance(2.0)
+    sequence = machine.motion.sequence
+    assert sequence > 0
+    _, data = data_block(adapter, ExecutingBlocksRequest(30).to_block())
+    shown = ExecutingBlocks.decode(data)
+    rest = text[text.index(f"\nN{sequence} ") + 1 :]
+    assert rest.startswith(shown.text.decode()) and shown.text.startswith(f"N{sequence} ".encode())
+    assert len(shown.text) <= 30 and shown.blocks == shown.text.count(b"\n")
+    assert data_block(adapter, ExecutingBlocksRequest(0).to_block()) == (EW.LENGTH, b"")
+
+
+def test_executing_blocks_golden_and_round_trip() -> None:
+    raw = ExecutingBlocks(2, b"N30 T1 M6\nN40 S3000 M3\n").encode()
+    assert raw == bytes.fromhex("00000002") + b"N30 T1 M6\nN40 S3000 M3\n"
+    assert ExecutingBlocks.decode(raw) == ExecutingBlocks(2, b"N30 T1 M6\nN40 S3000 M3\n")
+    with pytest.raises(NativePayloadError):
+        ExecutingBlocks.decode(b"\x00\x01")
+
+
+@given(i32, st.binary(max_size=300))
+def test_executing_blocks_round_trip(blocks: int, text: bytes) -> None:
+    value = ExecutingBlocks(blocks, text)
+    assert ExecutingBlocks.decode(value.encode()) == value

@@ -54,6 +54,7 @@ from __future__ import annotations
 
 import hashlib
 import math
+import re
 import struct
 from bisect import bisect_left, bisect_right
 from collections.abc import Callable
@@ -95,6 +96,8 @@ from focas_net.native.codec import (
     CommandSet,
     Device,
     DiagType,
+    ExecutingBlocks,
+    ExecutingBlocksRequest,
     ExecutingProgram,
     FrameType,
     HdckStatus,
@@ -223,6 +226,9 @@ _DIAG_TYPES: Final[dict[ParamKind, DiagType]] = {
     ParamKind.TWO_WORD: DiagType.TWO_WORD,
     ParamKind.REAL: DiagType.REAL,
 }
+
+#: The sequence number a block starts with.
+_SEQUENCE: Final = re.compile(r"\s*N(\d+)")
 
 _pack_block = _RESPONSE_BLOCK.pack
 _pack_scaled = _SCALED.pack
@@ -470,6 +476,7 @@ class NativeAdapter:
             (cnc, c.RDPROGINFO): self._read_program_memory,
             (cnc, c.DELETE): self._delete_program,
             (cnc, c.SEARCH): self._search_program,
+            (cnc, c.RDEXECPROG): self._read_executing_blocks,
             (pmc, c.PMC_RDPMCRNG): self._read_pmc,
             (pmc, c.PMC_WRPMCRNG): self._write_pmc,
         }
@@ -760,6 +767,38 @@ class NativeAdapter:
         """0x03: the machine's ``select_program`` (EW_PROT, EW_MODE, EW_NUMBER, EW_BUSY)."""
         self.machine.select_program(ProgramSearchRequest.from_block(block).number)
         return b""
+
+    def _read_executing_blocks(self, block: RequestBlock, room: int) -> bytes:
+        """0x20: the blocks of the running program from the one being executed on (the block
+        of the sequence number the machine shows, else the program's first block), whole
+        blocks of at most ``length`` characters and what the answer holds; the block count
+        first. No running program is no block."""
+        req = ExecutingBlocksRequest.from_block(block)
+        if req.length < 1:
+            raise _Refused(EW.LENGTH)
+        motion = self.machine.motion
+        try:
+            text = self.machine.program_text(motion.program_running)
+        except MachineError:
+            return ExecutingBlocks(0, b"").encode()
+        lines = text.splitlines()[1:]  # after the O line
+        start = 0
+        if motion.sequence > 0:
+            for i, line in enumerate(lines):
+                match = _SEQUENCE.match(line)
+                if match is not None and int(match.group(1)) == motion.sequence:
+                    start = i
+                    break
+        most = min(req.length, room - 4)
+        out: list[bytes] = []
+        size = 0
+        for line in lines[start:]:
+            raw = (line + "\n").encode("latin-1", "replace")
+            if size + len(raw) > most:
+                break
+            out.append(raw)
+            size += len(raw)
+        return ExecutingBlocks(len(out), b"".join(out)).encode()
 
     def transfer(self, frame_type: int, body: bytes, state: ProgramTransfer) -> list[bytes] | None:
         """The frames answering one program-transfer frame of a connection whose transfer

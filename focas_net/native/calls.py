@@ -18,6 +18,7 @@ from typing import Final
 
 from .blocks import RequestBlock, encode_request
 from .programs import (
+    ExecutingBlocksRequest,
     ProgramDeleteRequest,
     ProgramDirRequest,
     ProgramMemoryRequest,
@@ -228,6 +229,11 @@ def cnc_delete(cs: CommandSet, number: int) -> LibraryCall:
 def cnc_search(cs: CommandSet, number: int) -> LibraryCall:
     """0x03 ``(number)`` [V]."""
     return _one("cnc_search", ProgramSearchRequest(number))
+
+
+def cnc_rdexecprog(cs: CommandSet, length: int) -> LibraryCall:
+    """0x20 ``(length)`` [V]."""
+    return _one("cnc_rdexecprog", ExecutingBlocksRequest(length))
 
 
 # -- macro variables ---------------------------------------------------------------------------

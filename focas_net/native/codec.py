@@ -102,6 +102,8 @@ from .opening import (
 )
 from .programs import (
     PROGRAM_CHUNK,
+    ExecutingBlocks,
+    ExecutingBlocksRequest,
     ProgramDeleteRequest,
     ProgramDirEntries,
     ProgramDirEntry,
@@ -264,6 +266,8 @@ __all__ = [
     "DiagType",
     "Diagnostic3Request",
     "DiagnosticRequest",
+    "ExecutingBlocks",
+    "ExecutingBlocksRequest",
     "ExecutingProgram",
     "ExecutingProgramRequest",
     "FrameType",

@@ -5,7 +5,8 @@ sets (the same frames in the 16i and the 30i set):
 
 * **data requests** on the data connection: 0x06 program directory (``cnc_rdprogdir``,
   ``cnc_rdprogdir2``, ``cnc_rdprogdir3``), 0x07 program memory (``cnc_rdproginfo``), 0x05
-  delete (``cnc_delete``), 0x03 search (``cnc_search``);
+  delete (``cnc_delete``), 0x03 search (``cnc_search``), 0x20 the blocks being executed
+  (``cnc_rdexecprog``);
 * **transfer frames** on the library's first connection (connection A), frame types of their
   own: upload (``cnc_upstart``/``cnc_upload``/``cnc_upend`` and the ``3``/``4`` forms)
   ``0x1501`` -> ``0x1502``, then the CNC sends ``0x1604`` data frames and ``0x1701``, which the
@@ -20,6 +21,7 @@ from __future__ import annotations
 
 import enum
 import re
+import struct
 from dataclasses import dataclass
 from typing import Any, ClassVar, Final
 
@@ -30,6 +32,8 @@ from .requests import REQUEST_TYPES, NativeCommand, NativeRequest
 
 __all__ = [
     "PROGRAM_CHUNK",
+    "ExecutingBlocks",
+    "ExecutingBlocksRequest",
     "ProgramDeleteRequest",
     "ProgramDirEntries",
     "ProgramDirEntry",
@@ -43,6 +47,8 @@ __all__ = [
     "error_frame_type",
     "parse_program_range",
 ]
+
+_I32: Final = struct.Struct(">i")
 
 #: Most program bytes one upload data frame (``0x1604``) carries.
 PROGRAM_CHUNK: Final = 1280
@@ -154,6 +160,41 @@ class ProgramSearchRequest(NativeRequest):
 
 
 @dataclass(frozen=True, slots=True)
+class ExecutingBlocksRequest(NativeRequest):
+    """0x20 ``(length)``: the blocks being executed, at most ``length`` characters
+    (``cnc_rdexecprog``) [V]."""
+
+    COMMAND: ClassVar[int] = NativeCommand.RDEXECPROG
+    ARGS: ClassVar[tuple[str, ...]] = ("length",)
+    ANSWER: ClassVar[Any] = None  # ExecutingBlocks, set below
+    length: int
+
+
+@dataclass(frozen=True, slots=True)
+class ExecutingBlocks:
+    """0x20 answer: ``i32 blocks`` (``blknum``), then the text; the library gives the text's
+    length as ``length`` [V]."""
+
+    blocks: int
+    text: bytes
+
+    def encode(self) -> bytes:
+        return _I32.pack(self.blocks) + self.text
+
+    @classmethod
+    def decode(cls, data: bytes) -> ExecutingBlocks:
+        if len(data) < _I32.size:
+            raise NativePayloadError(
+                f"ExecutingBlocks: {len(data)} bytes, at least {_I32.size}", EW.LENGTH
+            )
+        (blocks,) = _I32.unpack_from(data)
+        return cls(blocks, bytes(data[_I32.size :]))
+
+
+ExecutingBlocksRequest.ANSWER = ExecutingBlocks
+
+
+@dataclass(frozen=True, slots=True)
 class TransferStart(NativeRecord):
     """Body of ``0x1501`` and ``0x1101``, 516 bytes: ``u16 data_type`` (0, NC programs, as
     sent by ``cnc_upstart(3)`` and ``cnc_dwnstart(3)`` with type 0), ``u16 unit`` (1), then
@@ -188,6 +229,7 @@ REQUEST_TYPES.update(
             ProgramMemoryRequest,
             ProgramDeleteRequest,
             ProgramSearchRequest,
+            ExecutingBlocksRequest,
         )
     }
 )
@@ -196,11 +238,15 @@ _RANGE: Final = re.compile(r"O(\d{1,8})(?:-O(\d{1,8}))?")
 
 
 def parse_program_range(name: bytes) -> tuple[int, int]:
-    """``(first, last)`` of an upload's program range: ``O1-O1`` or ``O12`` (the library
-    sends the first form). Raises :class:`NativePayloadError` (EW_DATA) naming the text
-    received otherwise."""
+    """``(first, last)`` of an upload's program range: ``O1-O1`` (``cnc_upstart``,
+    ``cnc_upstart3``) or a file name ``N:O0001``, maybe with a folder (``cnc_upstart4`` sends
+    ``N:`` and the name given) [V]. Raises :class:`NativePayloadError` (EW_DATA) naming the
+    text received otherwise."""
     text = name.decode("latin-1")
-    match = _RANGE.fullmatch(text.strip())
+    program = text.strip()
+    if program.startswith("N:"):
+        program = program[2:].rsplit("/", 1)[-1]
+    match = _RANGE.fullmatch(program)
     if match is None:
         raise NativePayloadError(f"upload range {text[:40]!r}: expected O<n>-O<m>", EW.DATA)
     first = int(match.group(1))

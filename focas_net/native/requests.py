@@ -122,6 +122,7 @@ class NativeCommand(enum.IntEnum):
     ALARM = 0x1A  # cnc_alarm / cnc_alarm2 / cnc_rddynamic2: alarm bits
     RDPRGNUM = 0x1C  # cnc_rdprgnum / cnc_rdprgnumo8 / cnc_rddynamic2
     RDSEQNUM = 0x1D  # cnc_rdseqnum / cnc_rddynamic2
+    RDEXECPROG = 0x20  # cnc_rdexecprog (focas_net.native.programs)
     RDALMMSG = 0x23  # cnc_rdalmmsg / cnc_rdalmmsg2: alarm messages
     ACTF = 0x24  # cnc_actf / cnc_rddynamic2: actual feed rate
     ACTS = 0x25  # cnc_acts / cnc_rddynamic2: actual spindle speed
