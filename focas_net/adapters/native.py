@@ -12,7 +12,10 @@ a real control of the machine's class does to FANUC's library (``libfwlib32``):
   type, its axes and spindles, and the CNC's max axes; the FOCAS option bits (bit 0, needed by
   ``cnc_rddynamic2``) are in the open answer at version 3 and in parameter 9968 at version 2;
 * every request block is answered with a block, in order (device, path and command echoed, an
-  EW code, the data). Every command of both sets is served whichever set the handle uses.
+  EW code, the data). Every command of both sets is served whichever set the handle uses;
+* part programs: directory, memory, delete, search and the blocks being executed are data
+  requests; uploads and downloads are frames of their own (:meth:`NativeAdapter.transfer`),
+  a download kept in the connection's :class:`ProgramTransfer` and stored at its end only.
 
 Rules of this wire (the CNC's rules are the machine's, see :mod:`focas_net.sim.machine`):
 
