@@ -3,9 +3,10 @@
 Per connection: an open request (``0x0101``) is answered with an open response; data requests
 (``0x2101``) are answered block for block, each answer in one ``transport.write``; program
 transfer frames (uploads and downloads) are answered by the adapter with this connection's
-transfer state; a close request (``0x0201``) is answered and the connection closed. A framing violation (bad magic, a
-body longer than ``max_body``, a broken block list, a data request before the open, a frame type
-not served) closes that connection only and is logged at WARNING with the peer's address.
+transfer state; a close request (``0x0201``) is answered and the connection closed. A
+framing violation (bad magic, a body longer than ``max_body``, a broken block list, a data
+request before the open, a frame type not served) closes that connection only and is logged
+at WARNING with the peer's address.
 
 Fault injection applies to data-request answers (the open and close answers are never faulted
 and never count): a forced EW code answers every block of the request with that code and no
