@@ -27,8 +27,21 @@ from pathlib import Path
 from typing import Any
 
 import pytest
-from fwlib_support import LIBRARY, MACHINE_16I, Cnc, buf, i32, library, s16, served_cnc, us
+from fwlib_support import (
+    LIBRARY,
+    MACHINE_16I,
+    Cnc,
+    buf,
+    connect,
+    i32,
+    library,
+    s16,
+    served_cnc,
+    us,
+)
+from support import IO_TIMEOUT, serving
 
+from focas_net.client import FocasClient
 from focas_net.errors import EW, CncError
 from focas_net.native import TransferFrame
 from focas_net.server import NativeFront
@@ -250,6 +263,7 @@ async def test_the_directory_is_the_packed_directory(cnc: Cnc) -> None:
         assert [(g[0], g[1], _comment(g[2])) for g in got] == want
     got3 = await rdprogdir3(cnc, 2)
     assert [(g[0], g[1], _comment(g[3])) for g in got3] == expected
+    assert all(g[4:] == (0,) * 12 for g in got3)  # no dates: the entries carry none
     assert await rdprogdir_text(cnc, 0) == "O1O123%"
     assert await rdprogdir_text(cnc, 1) == "%\nO1(DEMO CONTOUR)\nO123(SECOND ONE)\n%"
 
@@ -386,6 +400,25 @@ async def test_search_and_delete(cnc: Cnc) -> None:
     assert [e.number for e in await cnc.packed.read_program_directory()] == [1]
     assert await cnc.call("cnc_delete", s16(321)) == EW.NUMBER
     assert await packed_ew(cnc.packed.delete_program(321)) == EW.NUMBER
+
+
+async def test_a_read_only_machine_refuses_changes_and_uploads() -> None:
+    machine = default_machine(read_only=True)
+    async with serving(machine) as served:
+        async with FocasClient(served.host, served.port, timeout=IO_TIMEOUT) as packed:
+            handle = await connect(served)
+            cnc = Cnc(served, packed, handle, "30i")
+            try:
+                assert await packed_ew(packed.write_program(NEW_PROGRAM)) == EW.PROT
+                assert await cnc.call("cnc_dwnstart") == EW.PROT
+                assert await packed_ew(packed.delete_program(1)) == EW.PROT
+                assert await cnc.call("cnc_delete", s16(1)) == EW.PROT
+                assert await cnc.call("cnc_search", s16(1)) == EW.PROT
+                rc, data = await upload(cnc, 1)
+                assert rc == 0 and unpunched(data) == await packed.read_program(1)
+            finally:
+                await handle.free()
+    assert [e.number for e in machine.program_directory()] == [1]
 
 
 async def test_a_running_program_is_busy(cnc: Cnc) -> None:
