@@ -49,7 +49,13 @@ REQUEST_HEAD: Final = struct.Struct(">HHHH5i")
 ANSWER_HEAD: Final = struct.Struct(">HHHHhhhH")
 OPEN, CLOSE, DATA = 0x0101, 0x0201, 0x2101
 OPEN_ANSWER, CLOSE_ANSWER, DATA_ANSWER = 0x0102, 0x0202, 0x2102
-SERVED_TYPES: Final = frozenset({OPEN, CLOSE, DATA})
+#: Program transfer requests (docs/native-protocol.md, "Programs"): served after the open.
+UPLOAD, DOWNLOAD, DOWNLOAD_DATA, DOWNLOAD_END = 0x1501, 0x1101, 0x1204, 0x1301
+UPLOAD_END_ANSWER, UPLOAD_ABORT = 0x1702, 0x1804
+TRANSFERS: Final = frozenset(
+    {UPLOAD, DOWNLOAD, DOWNLOAD_DATA, DOWNLOAD_END, UPLOAD_END_ANSWER, UPLOAD_ABORT}
+)
+SERVED_TYPES: Final = frozenset({OPEN, CLOSE, DATA}) | TRANSFERS
 #: The control classes fuzzed, by the version word they answer.
 CLASSES: Final = {"0i-F": 3, "16i": 2}
 MAX_AXES: Final = 8
@@ -66,6 +72,8 @@ WRITES: Final = frozenset(
         (Device.CNC, NativeCommand.WRPARAM),
         (Device.CNC, NativeCommand.WRPARAM3),
         (Device.PMC, NativeCommand.PMC_WRPMCRNG),
+        (Device.CNC, NativeCommand.DELETE),
+        (Device.CNC, NativeCommand.SEARCH),
     }
 )
 EW_CODES: Final = frozenset(int(e) for e in EW)
@@ -407,6 +415,10 @@ SHAPED: Final[dict[int, st.SearchStrategy[Shape]]] = {
     C.RDSPLOAD: plain(st.integers(-1, 2), st.integers(-2, 3)),
     C.RDSVMETER: plain(st.integers(-1, 2)),
     C.RDTIMER: plain(st.integers(-1, 5)),
+    C.RDPROGDIR: plain(st.integers(-1, 10), st.integers(-1, 60), st.integers(0, 2)),
+    C.DELETE: plain(st.sampled_from([0, 1, 2, 9999, -1])),
+    C.RDEXECPROG: plain(st.integers(-1, 3000)),
+    C.SEARCH: plain(st.sampled_from([0, 1, 2, 9999, -1])),
     C.PMC_RDPMCRNG: pmc_range(write=False),
     C.PMC_WRPMCRNG: pmc_range(write=True),
 }
@@ -649,6 +661,11 @@ def expect(stream: bytes, version: int, max_body: int = DEFAULT_MAX_BODY) -> Exp
         elif kind == CLOSE:
             answers.append((CLOSE, None))
             return Expected(answers, False, True, b"", pos < len(stream))
+        elif kind in TRANSFERS:
+            if not opened:
+                return Expected(answers, True, True, b"", True)
+            if kind in (UPLOAD, DOWNLOAD, DOWNLOAD_END):
+                answers.append((kind, None))  # answered; the others answer nothing
         else:
             content = walk_blocks(body)
             if not opened or content is None or len(content) > max_blocks:
@@ -680,6 +697,21 @@ segment = st.one_of(
         st.binary(max_size=40),
     ),
     st.builds(lambda body: frame(DATA, body), st.binary(max_size=80)),
+    st.builds(
+        frame,
+        st.sampled_from(sorted(TRANSFERS)),
+        st.one_of(
+            st.binary(max_size=16),
+            st.sampled_from(
+                [
+                    b"\x00\x00\x00\x01O1-O1".ljust(516, b"\x00"),
+                    b"\x00\x00\x00\x01O7-O9".ljust(516, b"\x00"),
+                    b"\x00\x00\x00\x01".ljust(516, b"\x00"),
+                    b"\nO0777 (FUZZ)\nM30\n%",
+                ]
+            ),
+        ),
+    ),
     st.builds(lambda body: frame(OPEN, body), st.binary(max_size=4)),
     st.builds(lambda n: frame(DATA, b"")[:8] + struct.pack(">H", n), st.integers(4000, 0xFFFF)),
     st.binary(min_size=1, max_size=24),
@@ -688,6 +720,26 @@ streams = st.tuples(
     st.sampled_from([[frame(OPEN, b"\x00\x02")], [frame(OPEN, b"\x00\x02")], [MAGIC], []]),
     st.lists(segment, max_size=10),
 ).map(lambda t: b"".join(t[0] + t[1]))
+
+
+async def check_transfer(wire: NativeWire, kind: int, got_kind: int, body: bytes) -> bool:
+    """Check the answer of a transfer request (the first frame received, then the rest of an
+    upload): the request's kind with direction 2, or direction 3 and 8 bytes; True when a
+    download was stored."""
+    refused = (kind & 0xFF00) | 0x03
+    if got_kind == refused:
+        assert len(body) == 8
+        return False
+    assert got_kind == kind + 1, f"0x{kind:04X} answered 0x{got_kind:04X}"
+    if kind == UPLOAD:
+        for _ in range(200):
+            got_kind, _, body = await wire.recv()
+            if got_kind == 0x1701:
+                break
+            assert got_kind == 0x1604 and 0 < len(body) <= 1280
+        else:
+            pytest.fail("an upload without its end")
+    return kind == DOWNLOAD_END
 
 
 async def stream_property(native: Native, stream: bytes, cuts: list[int]) -> None:
@@ -715,6 +767,8 @@ async def stream_property(native: Native, stream: bytes, cuts: list[int]) -> Non
                     check_open_answer(version, body)
                 elif kind == CLOSE:
                     assert (got_kind, body) == (CLOSE_ANSWER, b"")
+                elif kind in TRANSFERS:
+                    changed |= await check_transfer(wire, kind, got_kind, body)
                 else:
                     assert content is not None
                     assert got_kind == DATA_ANSWER
@@ -724,6 +778,11 @@ async def stream_property(native: Native, stream: bytes, cuts: list[int]) -> Non
             # closes; bytes it has not read by then make the close a reset, which may cost
             # this end answers it has not read yet.
             assert expected.lossy, f"closed after {got} of {len(expected.answers)} answers"
+            # a write whose answer was lost may have been made (a deleted program stays gone)
+            changed |= any(
+                kind == DOWNLOAD_END or any((b.device, b.command) in WRITES for b in content or ())
+                for kind, content in expected.answers[max(got - 1, 0) :]
+            )
         if expected.closed:
             assert await wire.closed_by_peer()
         else:

@@ -550,6 +550,8 @@ def test_typed_request_garbage(
 def test_write_requests_are_marked() -> None:
     writes = {cls.__name__ for cls in REQUEST_TYPES.values() if cls.WRITE}
     assert writes == {
+        "ProgramDeleteRequest",
+        "ProgramSearchRequest",
         "MacroWriteRequest",
         "MacroDoubleWriteRequest",
         "ParamWriteRequest",

@@ -630,7 +630,7 @@ def _many_blocks(n: int) -> bytes:
             True,
         ),
         ("too many blocks and bytes", _many_blocks(200), True),
-        ("frame type not served", encode_native_frame(0x1101, b"\x00\x01"), True),
+        ("frame type not served", encode_native_frame(0x1901, b"\x00\x01"), True),
         (
             "open body of 3 bytes",
             encode_native_frame(FrameType.OPEN_REQUEST, b"\x00\x02\x00"),

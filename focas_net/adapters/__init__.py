@@ -8,6 +8,7 @@ only; the listeners (:mod:`focas_net.server`, :mod:`focas_net.native.server`) mo
 
 from .native import (
     NativeAdapter,
+    ProgramTransfer,
     command_set_of,
     macro_from_double,
     native_diag_type,
@@ -18,6 +19,7 @@ from .packed import PackedAdapter
 __all__ = [
     "NativeAdapter",
     "PackedAdapter",
+    "ProgramTransfer",
     "command_set_of",
     "macro_from_double",
     "native_diag_type",

@@ -12,7 +12,10 @@ a real control of the machine's class does to FANUC's library (``libfwlib32``):
   type, its axes and spindles, and the CNC's max axes; the FOCAS option bits (bit 0, needed by
   ``cnc_rddynamic2``) are in the open answer at version 3 and in parameter 9968 at version 2;
 * every request block is answered with a block, in order (device, path and command echoed, an
-  EW code, the data). Every command of both sets is served whichever set the handle uses.
+  EW code, the data). Every command of both sets is served whichever set the handle uses;
+* part programs: directory, memory, delete, search and the blocks being executed are data
+  requests; uploads and downloads are frames of their own (:meth:`NativeAdapter.transfer`),
+  a download kept in the connection's :class:`ProgramTransfer` and stored at its end only.
 
 Rules of this wire (the CNC's rules are the machine's, see :mod:`focas_net.sim.machine`):
 
@@ -54,6 +57,7 @@ from __future__ import annotations
 
 import hashlib
 import math
+import re
 import struct
 from bisect import bisect_left, bisect_right
 from collections.abc import Callable
@@ -72,6 +76,7 @@ from focas_net.native.codec import (
     MACHINE_MILL,
     NATIVE_HEADER,
     OPTION_PARAMETER,
+    PROGRAM_CHUNK,
     RESPONSE_BLOCK_SIZE,
     SCALED_SIZE,
     AlarmHistoryRecord,
@@ -94,6 +99,8 @@ from focas_net.native.codec import (
     CommandSet,
     Device,
     DiagType,
+    ExecutingBlocks,
+    ExecutingBlocksRequest,
     ExecutingProgram,
     FrameType,
     HdckStatus,
@@ -125,6 +132,11 @@ from focas_net.native.codec import (
     PmcWriteRequest,
     PositionAxisName,
     PositionAxisNames,
+    ProgramDeleteRequest,
+    ProgramDirEntry,
+    ProgramDirRequest,
+    ProgramMemory,
+    ProgramSearchRequest,
     RequestBlock,
     ScaledItemRecord,
     ScaledNumber,
@@ -136,12 +148,18 @@ from focas_net.native.codec import (
     TimerRequest,
     TimerValue,
     TmModeStatus,
+    TransferError,
+    TransferFrame,
+    TransferStart,
     binary_to_decimal,
     build_open_answer,
     decode_request_body,
     encode_close_response,
+    encode_native_frame,
     encode_open_response,
+    error_frame_type,
     max_response_body,
+    parse_program_range,
     resolve_position_kind,
 )
 from focas_net.sim import (
@@ -158,6 +176,7 @@ from focas_net.sim.machine import MAX_REAL_DECIMALS
 
 __all__ = [
     "NativeAdapter",
+    "ProgramTransfer",
     "command_set_of",
     "macro_from_double",
     "native_diag_type",
@@ -221,6 +240,9 @@ _DIAG_TYPES: Final[dict[ParamKind, DiagType]] = {
     ParamKind.TWO_WORD: DiagType.TWO_WORD,
     ParamKind.REAL: DiagType.REAL,
 }
+
+#: The sequence number a block starts with.
+_SEQUENCE: Final = re.compile(r"\s*N(\d+)")
 
 _pack_block = _RESPONSE_BLOCK.pack
 _pack_scaled = _SCALED.pack
@@ -351,6 +373,32 @@ def _axis_name(name: str) -> AxisName:
     return AxisName(raw[:1], raw[1:2] or b"\x00")
 
 
+#: Most bytes of one download (a larger one answers EW_OVRFLOW at its end).
+MAX_DOWNLOAD: Final = 1 << 20
+
+
+class ProgramTransfer:
+    """One connection's program download (``cnc_dwnstart``... ``cnc_dwnend``): whether one
+    is under way and the text received so far. The server keeps one per connection, so a
+    connection dropped in the middle of a download stores nothing; the machine sees only the
+    whole program, at the download's end."""
+
+    __slots__ = ("downloading", "overflow", "received")
+
+    def __init__(self) -> None:
+        #: Whether a download was started and not ended.
+        self.downloading = False
+        #: Whether the download went past :data:`MAX_DOWNLOAD` (its bytes were dropped).
+        self.overflow = False
+        #: The download's bytes so far.
+        self.received = bytearray()
+
+    def reset(self) -> None:
+        self.downloading = False
+        self.overflow = False
+        self.received.clear()
+
+
 class NativeAdapter:
     """Answers FANUC's library for one machine (see the module docstring).
 
@@ -441,6 +489,11 @@ class NativeAdapter:
             (cnc, c.AXIS_DISPLAY): self._read_axis_display,
             (cnc, c.RDSPLOAD): self._read_spindle_load,
             (cnc, c.RDSVMETER): self._read_servo_meter,
+            (cnc, c.RDPROGDIR): self._read_program_directory,
+            (cnc, c.RDPROGINFO): self._read_program_memory,
+            (cnc, c.DELETE): self._delete_program,
+            (cnc, c.SEARCH): self._search_program,
+            (cnc, c.RDEXECPROG): self._read_executing_blocks,
             (pmc, c.PMC_RDPMCRNG): self._read_pmc,
             (pmc, c.PMC_WRPMCRNG): self._write_pmc,
         }
@@ -705,6 +758,166 @@ class NativeAdapter:
         _need_room(SCALED_SIZE * len(self._axis_names), room)
         loads = self.machine.servo_loads()
         return ScaledValues(tuple(ScaledNumber(v, 0) for v in loads)).encode()
+
+    # -- part programs -------------------------------------------------------------------
+
+    def _read_program_directory(self, block: RequestBlock, room: int) -> bytes:
+        """0x06: the programs from O number ``top`` on, by number, at most ``count`` (and what
+        the answer holds), 72 bytes each; none from ``top`` on is no data (the end)."""
+        req = ProgramDirRequest.from_block(block)
+        if req.count < 1:
+            raise _Refused(EW.LENGTH)
+        most = min(req.count, room // ProgramDirEntry.SIZE)
+        entries = [e for e in self.machine.program_directory() if e.number >= req.top][:most]
+        return b"".join(
+            ProgramDirEntry(e.number, e.size, _program_comment(e.name)).encode() for e in entries
+        )
+
+    def _read_program_memory(self, block: RequestBlock, room: int) -> bytes:
+        """0x07: programs stored and the room for more, characters used and free (the
+        machine's program store: its directory, capacity and most programs)."""
+        machine = self.machine
+        directory = machine.program_directory()
+        store = machine.programs
+        used = sum(e.size for e in directory)
+        return ProgramMemory(
+            len(directory),
+            max(store.max_programs - len(directory), 0),
+            used,
+            max(store.capacity - used, 0),
+        ).encode()
+
+    def _delete_program(self, block: RequestBlock, room: int) -> bytes:
+        """0x05: the machine's ``delete_program`` (EW_PROT, EW_NUMBER, EW_BUSY)."""
+        self.machine.delete_program(ProgramDeleteRequest.from_block(block).number)
+        return b""
+
+    def _search_program(self, block: RequestBlock, room: int) -> bytes:
+        """0x03: the machine's ``select_program`` (EW_PROT, EW_MODE, EW_NUMBER, EW_BUSY)."""
+        self.machine.select_program(ProgramSearchRequest.from_block(block).number)
+        return b""
+
+    def _read_executing_blocks(self, block: RequestBlock, room: int) -> bytes:
+        """0x20: the blocks of the running program from the one being executed on (the block
+        of the sequence number the machine shows, else the program's first block), whole
+        blocks of at most ``length`` characters and what the answer holds; the block count
+        first. No running program is no block."""
+        req = ExecutingBlocksRequest.from_block(block)
+        if req.length < 1:
+            raise _Refused(EW.LENGTH)
+        motion = self.machine.motion
+        try:
+            text = self.machine.program_text(motion.program_running)
+        except MachineError:
+            return ExecutingBlocks(0, b"").encode()
+        lines = text.splitlines()[1:]  # after the O line
+        start = 0
+        if motion.sequence > 0:
+            for i, line in enumerate(lines):
+                match = _SEQUENCE.match(line)
+                if match is not None and int(match.group(1)) == motion.sequence:
+                    start = i
+                    break
+        most = min(req.length, room - 4)
+        out: list[bytes] = []
+        size = 0
+        for line in lines[start:]:
+            raw = (line + "\n").encode("latin-1", "replace")
+            if size + len(raw) > most:
+                break
+            out.append(raw)
+            size += len(raw)
+        return ExecutingBlocks(len(out), b"".join(out)).encode()
+
+    def transfer(self, frame_type: int, body: bytes, state: ProgramTransfer) -> list[bytes] | None:
+        """The frames answering one program-transfer frame of a connection whose transfer
+        state is ``state`` (see :mod:`focas_net.native.programs`); None when ``frame_type``
+        is not a transfer request (the connection's violation).
+
+        * ``0x1501`` upload: ``0x1502``, the text as ``%``, newline, each program's text,
+          ``%`` in ``0x1604`` frames of at most :data:`PROGRAM_CHUNK` bytes, then ``0x1701``;
+          ``0x1702`` and ``0x1804`` (the library's end and abort) answer nothing;
+        * ``0x1101`` download start: ``0x1102`` (EW_PROT on a read-only machine); ``0x1204``
+          data is kept in ``state``; ``0x1301`` stores the program, ``0x1302``.
+
+        A refusal is a ``0x..03`` frame carrying the EW code (:class:`TransferError`), the
+        code the packed protocol gives for the same program operation.
+        """
+        try:
+            kind = TransferFrame(frame_type)
+        except ValueError:
+            return None
+        try:
+            if kind is TransferFrame.UPLOAD_START:
+                return self._upload(body)
+            if kind is TransferFrame.DOWNLOAD_START:
+                TransferStart.decode(body)
+                state.reset()
+                self.machine.check_writable()
+                state.downloading = True
+                return [self._transfer_frame(TransferFrame.DOWNLOAD_START_ANSWER)]
+            if kind is TransferFrame.DOWNLOAD_DATA:
+                if state.downloading and not state.overflow:
+                    if len(state.received) + len(body) > MAX_DOWNLOAD:
+                        state.overflow = True
+                        state.received.clear()
+                    else:
+                        state.received += body
+                return []
+            if kind is TransferFrame.DOWNLOAD_END:
+                return self._download_end(state)
+        except MachineError as exc:
+            return [self._transfer_refusal(frame_type, exc.ew)]
+        except (NativePayloadError, _Refused) as exc:
+            return [self._transfer_refusal(frame_type, exc.ew)]
+        if kind in (TransferFrame.UPLOAD_END_ANSWER, TransferFrame.UPLOAD_ABORT):
+            return []
+        return None  # an answer type: never sent to a CNC
+
+    def _transfer_frame(self, frame_type: int, body: bytes = b"") -> bytes:
+        return encode_native_frame(frame_type, body, self.version)
+
+    def _transfer_refusal(self, frame_type: int, ew: int) -> bytes:
+        return self._transfer_frame(
+            error_frame_type(frame_type), TransferError(0, ew, 0, 0).encode()
+        )
+
+    def _upload(self, body: bytes) -> list[bytes]:
+        first, last = parse_program_range(TransferStart.decode(body).name)
+        machine = self.machine
+        if first == last:
+            texts = [machine.program_text(first)]  # EW_NUMBER when there is none
+        else:
+            numbers = [e.number for e in machine.program_directory() if first <= e.number <= last]
+            if not numbers:
+                raise _Refused(EW.NUMBER)
+            texts = [machine.program_text(n) for n in numbers]
+        data = ("%\n" + "".join(texts) + "%").encode("latin-1", "replace")
+        frames = [self._transfer_frame(TransferFrame.UPLOAD_START_ANSWER)]
+        frames.extend(
+            self._transfer_frame(TransferFrame.UPLOAD_DATA, data[i : i + PROGRAM_CHUNK])
+            for i in range(0, len(data), PROGRAM_CHUNK)
+        )
+        frames.append(self._transfer_frame(TransferFrame.UPLOAD_END))
+        return frames
+
+    def _download_end(self, state: ProgramTransfer) -> list[bytes]:
+        """Store the downloaded program: EW_FUNC when no download was started, EW_OVRFLOW
+        past :data:`MAX_DOWNLOAD`, EW_DATA for text that is not ASCII, then the machine's
+        ``store_program`` refusals (EW_PROT, EW_DATA, EW_NUMBER, EW_REJECT, EW_OVRFLOW)."""
+        downloading, overflow = state.downloading, state.overflow
+        raw = bytes(state.received)
+        state.reset()
+        if not downloading:
+            raise _Refused(EW.FUNC)
+        if overflow:
+            raise _Refused(EW.OVRFLOW)
+        try:
+            text = raw.decode("ascii")
+        except UnicodeDecodeError:
+            raise _Refused(EW.DATA) from None
+        self.machine.store_program(_downloaded_program(text))
+        return [self._transfer_frame(TransferFrame.DOWNLOAD_END_ANSWER)]
 
     # -- macro variables -----------------------------------------------------------------
 
@@ -1043,6 +1256,24 @@ class NativeAdapter:
                 ).encode()
             )
         return b"".join(parts)
+
+
+def _program_comment(name: str) -> bytes:
+    """A directory entry's comment: the program's name in parentheses, as a control shows it
+    (at most 63 bytes, so a NUL always ends it); empty without a name."""
+    if not name:
+        return b""
+    return f"({name[:61]})".encode("latin-1", "replace")
+
+
+def _downloaded_program(text: str) -> str:
+    """The program of a download's text: without a first ``%`` (and the blank lines around
+    it) and without anything from the ending ``%`` on, as a control reads punched tape."""
+    text = text.lstrip()
+    if text.startswith("%"):
+        text = text[1:].lstrip()
+    end = text.find("%")
+    return text if end < 0 else text[:end]
 
 
 def _swap(raw: bytes, width: int) -> bytes:

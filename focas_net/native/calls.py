@@ -17,6 +17,13 @@ from dataclasses import dataclass
 from typing import Final
 
 from .blocks import RequestBlock, encode_request
+from .programs import (
+    ExecutingBlocksRequest,
+    ProgramDeleteRequest,
+    ProgramDirRequest,
+    ProgramMemoryRequest,
+    ProgramSearchRequest,
+)
 from .records import ItemRecord, NativePmcData, ScaledItemRecord, ScaledNumber
 from .requests import (
     ActualFeedRequest,
@@ -186,6 +193,47 @@ def cnc_rdcncid(cs: CommandSet) -> LibraryCall:
 def cnc_rdtimer(cs: CommandSet, timer_type: int) -> LibraryCall:
     """0x120 ``(type)`` [V]."""
     return _one("cnc_rdtimer", TimerRequest(timer_type))
+
+
+# -- part programs -----------------------------------------------------------------------------
+# The same frames in both command sets; uploads and downloads use frames of their own on the
+# first connection (focas_net.native.programs), not data requests.
+
+
+def cnc_rdprogdir2(cs: CommandSet, kind: int, top: int, count: int) -> LibraryCall:
+    """0x06 ``(top, count, type)`` [V: types 0, 1, 2]."""
+    return _one("cnc_rdprogdir2", ProgramDirRequest(top, count, kind))
+
+
+def cnc_rdprogdir3(cs: CommandSet, kind: int, top: int, count: int) -> LibraryCall:
+    """0x06 ``(top, count, type)``, type 2 (with the dates) sent as 3 [V: types 1, 2]."""
+    return _one("cnc_rdprogdir3", ProgramDirRequest(top, count, 3 if kind == 2 else kind))
+
+
+def cnc_rdprogdir(cs: CommandSet, kind: int, start: int) -> LibraryCall:
+    """0x06 ``(start, 19, type)``, one page: the library asks 19 entries a frame and sends
+    the next page from the last number + 1 until a page has no entry [V]."""
+    return _one("cnc_rdprogdir", ProgramDirRequest(start, 19, kind))
+
+
+def cnc_rdproginfo(cs: CommandSet) -> LibraryCall:
+    """0x07, no arguments, for either type [V]."""
+    return _one("cnc_rdproginfo", ProgramMemoryRequest())
+
+
+def cnc_delete(cs: CommandSet, number: int) -> LibraryCall:
+    """0x05 ``(number)`` [V]."""
+    return _one("cnc_delete", ProgramDeleteRequest(number))
+
+
+def cnc_search(cs: CommandSet, number: int) -> LibraryCall:
+    """0x03 ``(number)`` [V]."""
+    return _one("cnc_search", ProgramSearchRequest(number))
+
+
+def cnc_rdexecprog(cs: CommandSet, length: int) -> LibraryCall:
+    """0x20 ``(length)`` [V]."""
+    return _one("cnc_rdexecprog", ExecutingBlocksRequest(length))
 
 
 # -- macro variables ---------------------------------------------------------------------------

@@ -100,6 +100,23 @@ from .opening import (
     decode_open_answer,
     open_answer_size,
 )
+from .programs import (
+    PROGRAM_CHUNK,
+    ExecutingBlocks,
+    ExecutingBlocksRequest,
+    ProgramDeleteRequest,
+    ProgramDirEntries,
+    ProgramDirEntry,
+    ProgramDirRequest,
+    ProgramMemory,
+    ProgramMemoryRequest,
+    ProgramSearchRequest,
+    TransferError,
+    TransferFrame,
+    TransferStart,
+    error_frame_type,
+    parse_program_range,
+)
 from .records import (
     SCALED_SIZE,
     VACANT,
@@ -200,6 +217,7 @@ _SCALED: Final = _records._SCALED
 _DOUBLE: Final = _records._DOUBLE
 _NAN_BITS: Final = _records._NAN_BITS
 
+
 __all__ = [
     "ALARM_HISTORY_CHUNK",
     "CLIENT_VERSION",
@@ -214,6 +232,7 @@ __all__ = [
     "NO_PATH",
     "OPTION_PARAMETER",
     "POSITION_PARAMETER",
+    "PROGRAM_CHUNK",
     "REQUEST_BLOCK_SIZE",
     "REQUEST_TYPES",
     "RESPONSE_BLOCK_SIZE",
@@ -247,6 +266,8 @@ __all__ = [
     "DiagType",
     "Diagnostic3Request",
     "DiagnosticRequest",
+    "ExecutingBlocks",
+    "ExecutingBlocksRequest",
     "ExecutingProgram",
     "ExecutingProgramRequest",
     "FrameType",
@@ -301,7 +322,14 @@ __all__ = [
     "PmcWriteRequest",
     "PositionAxisName",
     "PositionAxisNames",
+    "ProgramDeleteRequest",
+    "ProgramDirEntries",
+    "ProgramDirEntry",
+    "ProgramDirRequest",
+    "ProgramMemory",
+    "ProgramMemoryRequest",
     "ProgramNumberRequest",
+    "ProgramSearchRequest",
     "RecordArray",
     "RequestBlock",
     "RequestBlockHead",
@@ -322,6 +350,9 @@ __all__ = [
     "TimerValue",
     "TmModeRequest",
     "TmModeStatus",
+    "TransferError",
+    "TransferFrame",
+    "TransferStart",
     "answer_refusal",
     "binary_to_decimal",
     "build_open_answer",
@@ -340,7 +371,9 @@ __all__ = [
     "encode_request",
     "encode_request_body",
     "encode_response_body",
+    "error_frame_type",
     "max_response_body",
     "open_answer_size",
+    "parse_program_range",
     "resolve_position_kind",
 ]

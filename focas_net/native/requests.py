@@ -108,6 +108,10 @@ __all__ = [
 class NativeCommand(enum.IntEnum):
     """Command words of the requests this codec declares (the FOCAS functions sending them)."""
 
+    SEARCH = 0x03  # cnc_search / cnc_searcho8 (focas_net.native.programs)
+    DELETE = 0x05  # cnc_delete / cnc_deleteo8
+    RDPROGDIR = 0x06  # cnc_rdprogdir / cnc_rdprogdir2 / cnc_rdprogdir3
+    RDPROGINFO = 0x07  # cnc_rdproginfo
     WRPARAM = 0x0F  # cnc_wrparam, 16i class (after 0x10)
     RDPARAM = 0x0E  # cnc_rdparam, 16i class (4-byte value slots)
     RDPARAINFO = 0x10  # cnc_rdparainfo; cnc_wrparam, 16i class
@@ -118,6 +122,7 @@ class NativeCommand(enum.IntEnum):
     ALARM = 0x1A  # cnc_alarm / cnc_alarm2 / cnc_rddynamic2: alarm bits
     RDPRGNUM = 0x1C  # cnc_rdprgnum / cnc_rdprgnumo8 / cnc_rddynamic2
     RDSEQNUM = 0x1D  # cnc_rdseqnum / cnc_rddynamic2
+    RDEXECPROG = 0x20  # cnc_rdexecprog (focas_net.native.programs)
     RDALMMSG = 0x23  # cnc_rdalmmsg / cnc_rdalmmsg2: alarm messages
     ACTF = 0x24  # cnc_actf / cnc_rddynamic2: actual feed rate
     ACTS = 0x25  # cnc_acts / cnc_rddynamic2: actual spindle speed

@@ -1,10 +1,12 @@
 """A native FOCAS/2 Ethernet connection (``docs/native-protocol.md``).
 
 Per connection: an open request (``0x0101``) is answered with an open response; data requests
-(``0x2101``) are answered block for block, each answer in one ``transport.write``; a close
-request (``0x0201``) is answered and the connection closed. A framing violation (bad magic, a
-body longer than ``max_body``, a broken block list, a data request before the open, a frame type
-not served) closes that connection only and is logged at WARNING with the peer's address.
+(``0x2101``) are answered block for block, each answer in one ``transport.write``; program
+transfer frames (uploads and downloads) are answered by the adapter with this connection's
+transfer state; a close request (``0x0201``) is answered and the connection closed. A
+framing violation (bad magic, a body longer than ``max_body``, a broken block list, a data
+request before the open, a frame type not served) closes that connection only and is logged
+at WARNING with the peer's address.
 
 Fault injection applies to data-request answers (the open and close answers are never faulted
 and never count): a forced EW code answers every block of the request with that code and no
@@ -20,7 +22,7 @@ from __future__ import annotations
 import logging
 from typing import TYPE_CHECKING, Final
 
-from focas_net.adapters import NativeAdapter
+from focas_net.adapters import NativeAdapter, ProgramTransfer
 from focas_net.native.codec import (
     FrameType,
     NativeFrame,
@@ -79,6 +81,15 @@ class NativeFront:
         """The data-response frame answering every block of ``body`` with ``ew``."""
         return self._adapter.forced_answer(body, ew)
 
+    def new_transfer(self) -> ProgramTransfer:
+        """A connection's program-transfer state (nothing under way)."""
+        return ProgramTransfer()
+
+    def transfer(self, frame_type: int, body: bytes, state: ProgramTransfer) -> list[bytes] | None:
+        """The frames answering a program-transfer frame (upload, download); None when
+        ``frame_type`` is not one (a violation)."""
+        return self._adapter.transfer(frame_type, body, state)
+
 
 class NativeConnection(BaseConnection[NativeFrame]):
     """One native connection: frames in, answers out.
@@ -88,7 +99,7 @@ class NativeConnection(BaseConnection[NativeFrame]):
     names the connection's machine in logs.
     """
 
-    __slots__ = ("_decoder", "_front", "_opened", "_session")
+    __slots__ = ("_decoder", "_front", "_opened", "_session", "_transfer")
 
     def __init__(
         self,
@@ -104,6 +115,8 @@ class NativeConnection(BaseConnection[NativeFrame]):
         self._opened = False
         #: This connection's parameter-write state (FANUC's library has no unlock call).
         self._session = front.machine.new_session()
+        #: This connection's program transfer (upload, download), if one is under way.
+        self._transfer = front.new_transfer()
 
     @property
     def peer_text(self) -> str:
@@ -189,8 +202,12 @@ class NativeConnection(BaseConnection[NativeFrame]):
                     transport.close()
                 return False
             else:
-                self._violation(f"frame type 0x{frame_type:04X} (version {version}) not served")
-                return False
+                answers = front.transfer(frame_type, body, self._transfer) if self._opened else None
+                if answers is None:
+                    self._violation(f"frame type 0x{frame_type:04X} (version {version}) not served")
+                    return False
+                for answer in answers:
+                    self._write(answer)
             if self._write_paused:
                 return self._stop(frames, index + 1)
         return True
