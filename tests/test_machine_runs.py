@@ -402,3 +402,22 @@ def test_rapid_rates_come_from_parameter_1420_as_it_reads(
     )
     machine = Machine("rates", axes=("X", "Y", "Z"), params=[item], sim_clock=ManualClock())
     assert machine.engine.settings.rapid_rates == expected
+
+
+async def test_both_protocols_count_the_same_whole_milliseconds_of_a_timer() -> None:
+    """A timer shows the milliseconds that have gone by: 61.2349 s is 61234 ms, never rounded
+    up to 61235, and the packed 0x0032 and the native cnc_rdtimer answer the same figure."""
+    clock = ManualClock()
+    machine = default_machine(sim_clock=clock)
+    async with serving(machine) as served:
+        async with (
+            FocasClient(served.host, served.port, timeout=IO_TIMEOUT) as packed,
+            NativeClient(served.host, served.port, timeout=IO_TIMEOUT) as native,
+        ):
+            for seconds in (0.0009, 1.234, 61.2349, 120.0):
+                clock.set(seconds)
+                want = machine.timer_ms(0)
+                assert want == int(Decimal(str(seconds)) * 1000)
+                assert (await packed.read_run_info()).power_on_ms == want
+                value = await native.read_timer(0)
+                assert 60_000 * value.minute + value.msec == want

@@ -670,7 +670,7 @@ class NativeAdapter:
             raise _Refused(EW.NUMBER)
         if req.type == 4:
             return TimerValue(0, 0).encode()
-        ms = int(self.machine.timer(req.type) * 1000)
+        ms = self.machine.timer_ms(req.type)
         minute, msec = divmod(ms, 60_000)
         return TimerValue(minute, msec).encode()
 

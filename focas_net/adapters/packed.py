@@ -587,7 +587,7 @@ class PackedAdapter:
             _decode_empty(payload)
         m = self.machine
         feed, rapid, spindle = m.overrides()
-        timers = [round(m.timer(k) * 1000) for k in range(len(TIMER_KINDS))]
+        timers = [m.timer_ms(k) for k in range(len(TIMER_KINDS))]
         count, total = m.parts_counts()
         return _encode_runinfo(RunInfo(feed, rapid, spindle, count, total, *timers))
 

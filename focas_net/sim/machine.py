@@ -1720,6 +1720,11 @@ class Machine:
             return self.sim_clock.now() - self._powered_at
         return (e.operating_time, e.cutting_time, e.cycle_time)[kind - 1]
 
+    def timer_ms(self, kind: int) -> int:
+        """Whole milliseconds of timer ``kind`` (:meth:`timer`), as a counter shows them: the
+        millisecond under way is not counted yet. Both protocols answer this figure."""
+        return math.floor(self.timer(kind) * 1000 + 1e-6)  # 1e-6 ms: 1.234 s * 1000 is 1233.99..
+
     # -- production on its own: scenarios, loads -----------------------------------------
     def start_scenario(self, scenario: Scenario | None = None) -> None:
         """Run on its own: the main program from its head, repeated for the scenario's parts
