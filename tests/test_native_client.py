@@ -501,6 +501,38 @@ async def test_a_call_that_times_out_queued_is_never_sent() -> None:
             assert peer.data_frames == 2  # macro 2 never left
 
 
+async def test_calls_left_out_of_a_full_frame_keep_their_timeouts() -> None:
+    async with NativePeer() as peer:
+        async with NativeClient("127.0.0.1", peer.port, timeout=IO_TIMEOUT, max_blocks=2) as native:
+            peer.hold = True
+            # issued in one loop turn: the frame takes two, the third waits in the queue
+            first = asyncio.ensure_future(native.read_macro(1))
+            second = asyncio.ensure_future(native.read_macro(2))
+            third = asyncio.ensure_future(native.read_macro(3, timeout=0.05))
+            with pytest.raises(FocasTimeoutError, match="never sent"):
+                await third
+            assert peer.data_frames == 1
+            peer.hold = False
+            peer.release()
+            assert await asyncio.gather(first, second) == [1, 2]
+            assert await native.read_macro(4) == 4
+            assert peer.data_frames == 2  # macro 3 never left
+            assert native.state is ClientState.CONNECTED
+
+
+async def test_calls_made_as_answers_arrive_share_a_frame() -> None:
+    async with NativePeer() as peer:
+        async with NativeClient("127.0.0.1", peer.port, timeout=IO_TIMEOUT) as native:
+
+            async def twice(n: int) -> list[Decimal | None]:
+                return [await native.read_macro(n), await native.read_macro(n + 10)]
+
+            frames = native.frames_sent
+            results = await asyncio.gather(*(twice(n) for n in range(3)))
+            assert results == [[n, n + 10] for n in range(3)]
+            assert native.frames_sent - frames == 2
+
+
 async def test_a_loss_between_two_frames_of_one_call_fails_it_at_once() -> None:
     async with NativePeer() as peer:
         async with NativeClient("127.0.0.1", peer.port, timeout=None) as native:

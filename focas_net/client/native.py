@@ -59,7 +59,6 @@ from focas_net.errors import (
 from ..native import calls
 from ..native.blocks import (
     REQUEST_BLOCK_SIZE,
-    BlockCount,
     ResponseBlock,
     answer_refusal,
     decode_response_body,
@@ -73,7 +72,6 @@ from ..native.frame import (
     NATIVE_HEADER_SIZE,
     FrameType,
     encode_close_request,
-    encode_native_frame,
     encode_open_request,
     max_response_body,
 )
@@ -159,7 +157,9 @@ _DATA_ANSWER: Final = FrameType.DATA_RESPONSE >> 8
 #: The read buffer limit of each connection (``asyncio.open_connection``'s default).
 _STREAM_LIMIT: Final = 2**16
 _I32: Final = struct.Struct(">i")
-_COUNT: Final = BlockCount.STRUCT
+#: A data request frame's header and its block count.
+_REQUEST_HEAD: Final = struct.Struct(">IHHHH")
+_DATA_REQUEST: Final = int(FrameType.DATA_REQUEST)
 _MAGIC: Final = int.from_bytes(MAGIC, "big")
 _ERROR_WORDS: Final = struct.Struct(">hhhh")
 _PARAM_WIDTH: Final[dict[int, int]] = {
@@ -372,6 +372,7 @@ class _Handle:
     ) -> None:
         self.reader_a, self.writer_a = a
         self.reader_b, self.writer_b = b
+        self.transport_b = self.writer_b.transport
         protocol = self.writer_b.transport.get_protocol()
         assert isinstance(protocol, _Watched)
         self.protocol_b = protocol
@@ -583,7 +584,17 @@ def _abort(*pairs: tuple[asyncio.StreamReader, asyncio.StreamWriter]) -> None:
 class _Job:
     """The blocks of one frame of one call, waiting to be sent or answered."""
 
-    __slots__ = ("command_set", "deadline", "encoded", "future", "requests", "sent")
+    __slots__ = (
+        "command_set",
+        "count",
+        "deadline",
+        "encoded",
+        "future",
+        "requests",
+        "sent",
+        "timer",
+        "unarmed",
+    )
 
     def __init__(
         self,
@@ -593,12 +604,17 @@ class _Job:
         future: asyncio.Future[tuple[ResponseBlock, ...]],
     ) -> None:
         self.requests = requests
+        self.count = len(requests)
         self.command_set = command_set
         self.deadline = deadline
         self.future = future
         self.sent = False
         #: The bytes of its blocks, once a frame takes it.
         self.encoded = b""
+        #: Its deadline's timer (None while the deadline of its frame stands for it).
+        self.timer: asyncio.TimerHandle | None = None
+        #: Queued for the frame the coming kick sends, its timer not yet decided.
+        self.unarmed = False
 
 
 def _fail(jobs: Sequence[_Job], make: Callable[..., BaseException], *args: Any) -> None:
@@ -681,6 +697,8 @@ class NativeClient(_Lifecycle):
         self._ready: asyncio.Event | None = None
         self._queue: deque[_Job] = deque()
         self._kick_soon = False
+        #: Jobs queued for the coming kick whose timers that kick decides (see ``_send``).
+        self._unarmed: list[_Job] = []
         self._backoff = 0
         self._up_since = 0.0
         self._param_widths: dict[int, int] = {}
@@ -861,17 +879,25 @@ class NativeClient(_Lifecycle):
                 raise FocasConnectionError("client is closed")
             raise FocasConnectionError(f"not connected to {self.host}:{self.port}")
         loop = self._loop or asyncio.get_running_loop()
-        job = _Job(requests, command_set, deadline, loop.create_future())
+        future: asyncio.Future[tuple[ResponseBlock, ...]] = loop.create_future()
+        job = _Job(requests, command_set, deadline, future)
         self._queue.append(job)
         handle = self._handle
-        if handle is not None and handle.inflight is None and not self._kick_soon:
-            # at the end of this loop turn, so that calls made together share the frame
-            self._kick_soon = True
-            loop.call_soon(self._kick_later, handle)
-        # One timer per call (cheaper than a timeout scope): it fails the job's future.
-        timer = None if deadline is None else loop.call_at(deadline, _expire, job.future)
+        if handle is not None and handle.inflight is None:
+            if not self._kick_soon:
+                # at the end of this loop turn, so that calls made together share the frame
+                self._kick_soon = True
+                loop.call_soon(self._kick_later, handle)
+            if deadline is not None:
+                # The kick decides: a job whose deadline is its frame's needs no timer of its
+                # own (the frame's fails it at that deadline); any other gets one there.
+                job.unarmed = True
+                self._unarmed.append(job)
+        elif deadline is not None:
+            # One timer per call (cheaper than a timeout scope): it fails the job's future.
+            job.timer = loop.call_at(deadline, _expire, future)
         try:
-            return await job.future
+            return await future
         except _Expired:
             if not job.sent and self._state is ClientState.RECONNECTING:
                 raise FocasConnectionError(
@@ -882,16 +908,19 @@ class NativeClient(_Lifecycle):
                 + ("" if job.sent else " (the request was never sent)")
             ) from None
         finally:
+            timer = job.timer
             if timer is not None:
                 timer.cancel()
-            if not job.future.done():
-                job.future.cancel()
+            if not future.done():
+                future.cancel()
 
     async def _one(
         self, build: Callable[[CommandSet], LibraryCall], deadline: float | None
     ) -> tuple[_Handle, LibraryCall, tuple[ResponseBlock, ...]]:
         """A one-frame library call: its handle, the call and its answer blocks."""
-        handle = await self._live(deadline)
+        handle = self._handle
+        if handle is None or handle.closed:
+            handle = await self._live(deadline)
         library_call = build(handle.command_set)
         (frame,) = library_call.frames
         return handle, library_call, await self._send(frame, handle.command_set, deadline)
@@ -913,7 +942,7 @@ class NativeClient(_Lifecycle):
                     FocasConnectionError("the CNC's command set changed on reconnect; call again")
                 )
                 continue
-            count = len(job.requests)
+            count = job.count
             job.encoded, need, send = _part_of(job.requests, handle.max_axes)
             if batch and (
                 blocks + count > self.max_blocks
@@ -931,6 +960,16 @@ class NativeClient(_Lifecycle):
     def _kick_later(self, handle: _Handle) -> None:
         self._kick_soon = False
         self._kick(handle)
+        unarmed = self._unarmed
+        if unarmed:
+            # left in the queue (the frame was full, or no frame could be sent): their own timers
+            loop = self._loop or asyncio.get_running_loop()
+            for job in unarmed:
+                if job.unarmed:
+                    job.unarmed = False
+                    if not job.future.done() and job.deadline is not None:
+                        job.timer = loop.call_at(job.deadline, _expire, job.future)
+            unarmed.clear()
 
     def _kick(self, handle: _Handle) -> None:
         """Send the next frame of queued jobs on ``handle`` unless one is in flight."""
@@ -939,20 +978,43 @@ class NativeClient(_Lifecycle):
         batch = self._take(handle)
         if not batch:
             return
-        blocks = sum(len(job.requests) for job in batch)
-        body = _COUNT.pack(blocks) + b"".join(job.encoded for job in batch)
-        handle.writer_b.write(encode_native_frame(FrameType.DATA_REQUEST, body, CLIENT_VERSION))
+        blocks = 0
+        latest: float | None = 0.0
         for job in batch:
             job.sent = True
+            blocks += job.count
+            deadline = job.deadline
+            if deadline is None:
+                latest = None
+            elif latest is not None and deadline > latest:
+                latest = deadline
+        body_size = 2 + sum(len(job.encoded) for job in batch) if len(batch) > 1 else 0
+        if body_size:
+            parts = [_REQUEST_HEAD.pack(_MAGIC, CLIENT_VERSION, _DATA_REQUEST, body_size, blocks)]
+            parts += [job.encoded for job in batch]
+            frame = b"".join(parts)
+        else:
+            encoded = batch[0].encoded
+            frame = (
+                _REQUEST_HEAD.pack(_MAGIC, CLIENT_VERSION, _DATA_REQUEST, 2 + len(encoded), blocks)
+                + encoded
+            )
+        handle.transport_b.write(frame)
         self.frames_sent += 1
         self.blocks_sent += blocks
         handle.inflight = batch
         handle.inflight_blocks = blocks
-        deadlines = [job.deadline for job in batch]
-        if None not in deadlines:
-            deadline = max(d for d in deadlines if d is not None)
-            loop = self._loop or asyncio.get_running_loop()
-            handle.timer = loop.call_at(deadline, self._frame_expired, handle)
+        loop = self._loop or asyncio.get_running_loop()
+        if latest is not None:
+            handle.timer = loop.call_at(latest, self._frame_expired, handle)
+        for job in batch:
+            if job.unarmed:
+                # Its deadline is the frame's: the frame's timer fails it then (and ends the
+                # connection, as it would for any frame unanswered at its latest deadline).
+                job.unarmed = False
+                if latest is None or job.deadline != latest:
+                    assert job.deadline is not None
+                    job.timer = loop.call_at(job.deadline, _expire, job.future)
 
     def _on_data(self, handle: _Handle, data: bytes) -> None:
         """B's bytes: complete the frame in flight with its answer, then send the next one.
@@ -978,7 +1040,15 @@ class NativeClient(_Lifecycle):
         if rx and handle.inflight is None:
             self._lose(handle, _Lost("unsolicited data on B"))
             return
-        self._kick(handle)
+        if self._queue or handle.inflight is not None:
+            self._kick(handle)
+        elif not self._kick_soon:
+            # Nothing queued: the callers just answered will likely call again in the turn
+            # their futures wake them in. Sending after them (rather than from a callback each
+            # new call schedules) gathers those calls into one frame and saves a loop turn.
+            self._kick_soon = True
+            loop = self._loop or asyncio.get_running_loop()
+            loop.call_soon(self._kick_later, handle)
 
     def _complete(self, handle: _Handle, frame: tuple[int, int, bytes]) -> None:
         """Hand each job of the frame in flight its answer blocks."""
