@@ -514,7 +514,7 @@ async def test_calls_left_out_of_a_full_frame_keep_their_timeouts() -> None:
             assert peer.data_frames == 1
             peer.hold = False
             peer.release()
-            assert await asyncio.gather(first, second) == [1, 2]
+            assert list(await asyncio.gather(first, second)) == [Decimal(1), Decimal(2)]
             assert await native.read_macro(4) == 4
             assert peer.data_frames == 2  # macro 3 never left
             assert native.state is ClientState.CONNECTED
