@@ -187,6 +187,28 @@ async def test_native_only_reads(served: Served, both: tuple[NativeClient, Focas
     assert await native.read_alarm_status() & (1 << 3)
 
 
+async def test_a_repeated_answer_and_a_changed_one(
+    served: Served, both: tuple[NativeClient, FocasClient]
+) -> None:
+    native, packed = both
+    machine = served.machine
+    n = len(machine.axes)
+    machine.write_macro(500, 7)
+    machine.set_motion(absolute=range(10, 10 + n), feed=40)
+    first = (await native.read_macro(500), await native.read_status(), await native.read_dynamic())
+    again = (await native.read_macro(500), await native.read_status(), await native.read_dynamic())
+    assert again == first
+    machine.write_macro(500, 8)
+    machine.set_run(3, 1)
+    machine.set_motion(absolute=range(20, 20 + n), feed=41)
+    assert await native.read_macro(500) == Decimal(8)
+    status = await native.read_status()
+    assert status == await packed.read_status() and status != first[1]
+    dynamic = await native.read_dynamic()
+    assert dynamic.absolute == tuple(range(20, 20 + n)) and dynamic.feed == 41
+    assert (await native.read_dynamic(1)).absolute == (20,)
+
+
 async def test_writes_reach_the_machine(both: tuple[NativeClient, FocasClient]) -> None:
     native, packed = both
     for value in ("12.345", -2.5, 100, Decimal("0.000"), 0):

@@ -335,6 +335,27 @@ def _part_of(requests: tuple[NativeRequest, ...], max_axes: int) -> tuple[bytes,
     return value
 
 
+#: (identity of a call's first answer block) -> its blocks, what else the result depends on
+#: (the call, the axes) and the call's result: a poll whose answer repeats gets the very
+#: block objects of ``_BODIES`` again, and builds its result once.
+_RESULTS: Final = _Memo(1024)
+
+
+def _known_result(blocks: tuple[ResponseBlock, ...], extra: Any) -> Any:
+    """The result remembered for ``blocks`` (the same objects, so the comparison is one of
+    identities) and ``extra``, else None."""
+    known: tuple[tuple[ResponseBlock, ...], Any, Any] | None = _RESULTS.get(id(blocks[0]))
+    if known is not None and known[0] == blocks and known[1] == extra:
+        return known[2]
+    return None
+
+
+def _remember_result(blocks: tuple[ResponseBlock, ...], extra: Any, value: Any) -> None:
+    """Remember ``value`` as the result for ``blocks`` and ``extra`` (the entry holds the
+    blocks, so the identity of the first stays its own)."""
+    _RESULTS.put(id(blocks[0]), (blocks, extra, value))
+
+
 #: The library calls a poll repeats, built once per command set and arguments.
 _statinfo: Final = lru_cache(maxsize=8)(calls.cnc_statinfo)
 _rddynamic2: Final = lru_cache(maxsize=256)(calls.cnc_rddynamic2)
@@ -1101,14 +1122,21 @@ class NativeClient(_Lifecycle):
     async def read_status(self, *, timeout: float | None = None) -> StatusInfo:
         """``cnc_statinfo``: the ODBST status (0x19; hdck 0xE1 and tmmode 0x98 read 0 when
         the CNC refuses them, as the library reads them)."""
-        handle, call, (st, hd, tm) = await self._one(_statinfo, self._deadline(timeout))
+        handle, call, blocks = await self._one(_statinfo, self._deadline(timeout))
+        extra = (call, handle.max_axes)
+        known: StatusInfo | None = _known_result(blocks, extra)
+        if known is not None:
+            return known
+        st, hd, tm = blocks
         stat: StatInfo = _decode(call.frames[0][0], st, "cnc_statinfo", handle.max_axes)
         hdck = 0 if hd.ew else _decode(call.frames[0][1], hd, "cnc_statinfo", 0).hdck
         tmmode = 0 if tm.ew else _decode(call.frames[0][2], tm, "cnc_statinfo", 0).tmmode
-        return StatusInfo(
+        status = StatusInfo(
             hdck, tmmode, stat.aut, stat.run, stat.motion, stat.mstb, stat.emergency,
             stat.alarm, stat.edit,
         )  # fmt: skip
+        _remember_result(blocks, extra, status)
+        return status
 
     async def read_sysinfo(self, *, timeout: float | None = None) -> SysInfo:
         """``cnc_sysinfo``: ODBSYS as the CNC answered it while connecting (nothing is sent,
@@ -1238,6 +1266,11 @@ class NativeClient(_Lifecycle):
         call = _rddynamic2(handle.command_set, axis)
         frame = call.frames[0]
         blocks = await self._send(frame, handle.command_set, deadline)
+        count = handle.axes if axis == -1 else 1
+        extra = (call, handle.max_axes, count)
+        known: DynamicData | None = _known_result(blocks, extra)
+        if known is not None:
+            return known
         values = [
             _decode(r, b, "cnc_rddynamic2", handle.max_axes)
             for r, b in zip(frame, blocks, strict=True)
@@ -1245,19 +1278,20 @@ class NativeClient(_Lifecycle):
         alarm: AlarmStatus = values[0]
         prg: NativeProgramNumbers = values[1]
         seq: SequenceNumber = values[2]
-        count = handle.axes if axis == -1 else 1
 
         def mantissas(v: ScaledValues) -> tuple[int, ...]:
             return tuple(x.mantissa for x in v.values[:count])
 
         feed: ScaledValues = values[3]
         speed: ScaledValues = values[4]
-        return DynamicData(
+        dynamic = DynamicData(
             alarm.alarm & 0xFFFF, prg.running, prg.main, seq.number,
             feed.values[0].mantissa if feed.values else 0,
             speed.values[0].mantissa if speed.values else 0,
             mantissas(values[5]), mantissas(values[6]), mantissas(values[7]), mantissas(values[8]),
         )  # fmt: skip
+        _remember_result(blocks, extra, dynamic)
+        return dynamic
 
     async def read_positions(
         self,
@@ -1558,14 +1592,18 @@ class NativeClient(_Lifecycle):
     async def read_macro(self, number: int, *, timeout: float | None = None) -> Decimal | None:
         """``cnc_rdmacro``: the value of ``#number`` as a Decimal, or None when vacant
         (binary records converted as the library converts them)."""
-        _, call, (block,) = await self._one(
-            lambda cs: _rdmacro(cs, number), self._deadline(timeout)
-        )
+        _, call, blocks = await self._one(lambda cs: _rdmacro(cs, number), self._deadline(timeout))
+        known: tuple[Decimal | None] | None = _known_result(blocks, call)
+        if known is not None:
+            return known[0]
+        (block,) = blocks
         values: ScaledValues = _decode(call.frames[0][0], block, "cnc_rdmacro", 0)
         if not values.values:
             raise PayloadError(f"cnc_rdmacro: answer for #{number} carries no value")
         mcr_val, dec_val = values.values[0].to_macro()
-        return macro_from_wire(mcr_val, dec_val)
+        value = macro_from_wire(mcr_val, dec_val)
+        _remember_result(blocks, call, (value,))
+        return value
 
     async def write_macro(
         self, number: int, value: int | Decimal | float | str, *, timeout: float | None = None
