@@ -42,7 +42,7 @@ from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 from datetime import UTC, datetime
 from decimal import Decimal
-from functools import lru_cache, partial
+from functools import partial
 from typing import Any, Final
 
 from focas_net.errors import (
@@ -356,10 +356,24 @@ def _remember_result(blocks: tuple[ResponseBlock, ...], extra: Any, value: Any) 
     _RESULTS.put(id(blocks[0]), (blocks, extra, value))
 
 
-#: The library calls a poll repeats, built once per command set and arguments.
-_statinfo: Final = lru_cache(maxsize=8)(calls.cnc_statinfo)
-_rddynamic2: Final = lru_cache(maxsize=256)(calls.cnc_rddynamic2)
-_rdmacro: Final = lru_cache(maxsize=1024)(calls.cnc_rdmacro)
+#: Most library calls a handle keeps built for each of the calls a poll repeats.
+_CALL_MEMO: Final = 1024
+
+
+def _memo_call(
+    memo: dict[int, LibraryCall],
+    key: int,
+    build: Callable[[CommandSet, int], LibraryCall],
+    cs: CommandSet,
+) -> LibraryCall:
+    """The library call ``build(cs, key)``, built once per handle (``memo`` is the handle's,
+    whose command set is ``cs``)."""
+    call = memo.get(key)
+    if call is None:
+        if len(memo) >= _CALL_MEMO:
+            memo.clear()
+        call = memo[key] = build(cs, key)
+    return call
 
 
 def _answer_size(request: NativeRequest, max_axes: int) -> int:
@@ -415,6 +429,10 @@ class _Handle:
         self.option_bits = opened.option_bits or 0
         self.sysinfo: NativeSysInfo | None = None
         self.closed = False
+        #: The library calls a poll repeats, built once for this handle's command set.
+        self.status_call = calls.cnc_statinfo(self.command_set)
+        self.macro_calls: dict[int, LibraryCall] = {}
+        self.dynamic_calls: dict[int, LibraryCall] = {}
         # The library's write buffer: cnc_wrparam leaves the slots it does not write as the
         # previous write left them, and so does this client, byte for byte.
         self.param_slots: list[int] = [0] * max(self.max_axes, 1)
@@ -1122,7 +1140,12 @@ class NativeClient(_Lifecycle):
     async def read_status(self, *, timeout: float | None = None) -> StatusInfo:
         """``cnc_statinfo``: the ODBST status (0x19; hdck 0xE1 and tmmode 0x98 read 0 when
         the CNC refuses them, as the library reads them)."""
-        handle, call, blocks = await self._one(_statinfo, self._deadline(timeout))
+        deadline = self._deadline(timeout)
+        handle = self._handle
+        if handle is None or handle.closed:
+            handle = await self._live(deadline)
+        call = handle.status_call
+        blocks = await self._send(call.frames[0], handle.command_set, deadline)
         extra = (call, handle.max_axes)
         known: StatusInfo | None = _known_result(blocks, extra)
         if known is not None:
@@ -1263,7 +1286,7 @@ class NativeClient(_Lifecycle):
             raise CncError.from_ew(EW.NOOPT, "cnc_rddynamic2: the CNC lacks FOCAS option bit 0")
         if axis > handle.axes:
             raise CncError.from_ew(EW.ATTRIB, f"cnc_rddynamic2: axis {axis} of {handle.axes}")
-        call = _rddynamic2(handle.command_set, axis)
+        call = _memo_call(handle.dynamic_calls, axis, calls.cnc_rddynamic2, handle.command_set)
         frame = call.frames[0]
         blocks = await self._send(frame, handle.command_set, deadline)
         count = handle.axes if axis == -1 else 1
@@ -1592,8 +1615,13 @@ class NativeClient(_Lifecycle):
     async def read_macro(self, number: int, *, timeout: float | None = None) -> Decimal | None:
         """``cnc_rdmacro``: the value of ``#number`` as a Decimal, or None when vacant
         (binary records converted as the library converts them)."""
-        _, call, blocks = await self._one(lambda cs: _rdmacro(cs, number), self._deadline(timeout))
-        known: tuple[Decimal | None] | None = _known_result(blocks, call)
+        deadline = self._deadline(timeout)
+        handle = self._handle
+        if handle is None or handle.closed:
+            handle = await self._live(deadline)
+        call = _memo_call(handle.macro_calls, number, calls.cnc_rdmacro, handle.command_set)
+        blocks = await self._send(call.frames[0], handle.command_set, deadline)
+        known: tuple[Decimal | None] | None = _known_result(blocks, (call,))
         if known is not None:
             return known[0]
         (block,) = blocks
@@ -1602,7 +1630,7 @@ class NativeClient(_Lifecycle):
             raise PayloadError(f"cnc_rdmacro: answer for #{number} carries no value")
         mcr_val, dec_val = values.values[0].to_macro()
         value = macro_from_wire(mcr_val, dec_val)
-        _remember_result(blocks, call, (value,))
+        _remember_result(blocks, (call,), (value,))
         return value
 
     async def write_macro(
