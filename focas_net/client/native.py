@@ -1059,6 +1059,14 @@ class NativeClient(_Lifecycle):
         """B's bytes: complete the frame in flight with its answer, then send the next one.
         Bytes while no frame is in flight are what nobody asked for: the connection ends."""
         rx = handle.rx
+        if not rx and handle.inflight is not None and len(data) >= NATIVE_HEADER_SIZE:
+            # the usual case: the whole answer in one read, nothing held
+            magic, version, frame_type, length = NATIVE_HEADER.unpack_from(data)
+            if magic == _MAGIC and len(data) == NATIVE_HEADER_SIZE + length:
+                self._complete(handle, (version, frame_type, bytes(data[NATIVE_HEADER_SIZE:])))
+                if handle is self._handle:
+                    self._next(handle)
+                return
         rx += data
         while len(rx) >= NATIVE_HEADER_SIZE:
             magic, version, frame_type, length = NATIVE_HEADER.unpack_from(rx)
@@ -1079,6 +1087,11 @@ class NativeClient(_Lifecycle):
         if rx and handle.inflight is None:
             self._lose(handle, _Lost("unsolicited data on B"))
             return
+        self._next(handle)
+
+    def _next(self, handle: _Handle) -> None:
+        """After an answer: send the next frame now if calls wait, else once the callers the
+        answer woke have run."""
         if self._queue or handle.inflight is not None:
             self._kick(handle)
         elif not self._kick_soon:
