@@ -523,6 +523,21 @@ async def test_a_call_that_times_out_queued_is_never_sent() -> None:
             assert peer.data_frames == 2  # macro 2 never left
 
 
+async def test_an_earlier_calls_deadline_does_not_expire_a_later_frame() -> None:
+    async with NativePeer() as peer:
+        async with NativeClient("127.0.0.1", peer.port, timeout=IO_TIMEOUT) as native:
+            assert await native.read_macro(1, timeout=0.05) == 1
+            peer.hold = True
+            later = asyncio.ensure_future(native.read_macro(2))
+            await wait_until(lambda: peer.data_frames == 2)
+            await asyncio.sleep(0.1)  # the first call's deadline passes while this one is out
+            peer.hold = False
+            peer.release()
+            assert await later == 2
+            assert native.state is ClientState.CONNECTED
+            assert peer.connections == 2  # the same A and B
+
+
 async def test_calls_left_out_of_a_full_frame_keep_their_timeouts() -> None:
     async with NativePeer() as peer:
         async with NativeClient("127.0.0.1", peer.port, timeout=IO_TIMEOUT, max_blocks=2) as native:

@@ -411,11 +411,14 @@ class _Handle:
         protocol = self.writer_b.transport.get_protocol()
         assert isinstance(protocol, _Watched)
         self.protocol_b = protocol
-        #: The frame in flight on B: its jobs, its block count, its deadline's timer; and the
+        #: The frame in flight on B: its jobs, its block count and its (latest) deadline; the
+        #: timer that watches the deadlines of frames in flight and when it fires; and the
         #: bytes of B received and not yet parsed into a frame.
         self.inflight: list[_Job] | None = None
         self.inflight_blocks = 0
+        self.deadline: float | None = None
         self.timer: asyncio.TimerHandle | None = None
+        self.timer_at = 0.0
         self.rx = bytearray()
         self.opened = opened
         self.version = opened.version
@@ -1044,8 +1047,17 @@ class NativeClient(_Lifecycle):
         handle.inflight = batch
         handle.inflight_blocks = blocks
         loop = self._loop or asyncio.get_running_loop()
+        handle.deadline = latest
         if latest is not None:
-            handle.timer = loop.call_at(latest, self._frame_expired, handle)
+            # One timer watches the frames in flight one after another: one set for an
+            # earlier frame's deadline, which is no later than this one's, is moved on when it
+            # fires (so sequential calls do not set a timer each).
+            timer = handle.timer
+            if timer is None or handle.timer_at > latest:
+                if timer is not None:
+                    timer.cancel()
+                handle.timer = loop.call_at(latest, self._frame_timer, handle)
+                handle.timer_at = latest
         for job in batch:
             if job.unarmed:
                 # Its deadline is the frame's: the frame's timer fails it then (and ends the
@@ -1105,9 +1117,6 @@ class NativeClient(_Lifecycle):
     def _complete(self, handle: _Handle, frame: tuple[int, int, bytes]) -> None:
         """Hand each job of the frame in flight its answer blocks."""
         batch = handle.inflight or []
-        if handle.timer is not None:
-            handle.timer.cancel()
-            handle.timer = None
         try:
             blocks = handle.check_answer(frame, handle.inflight_blocks)
         except CncError as exc:
@@ -1125,10 +1134,24 @@ class NativeClient(_Lifecycle):
                 job.future.set_result(blocks[pos : pos + count])
             pos += count
 
+    def _frame_timer(self, handle: _Handle) -> None:
+        """The frame timer fired: nothing to do with no frame in flight (or one without a
+        deadline); moved on to the deadline of the frame in flight if that is later; else
+        that frame has expired."""
+        handle.timer = None
+        deadline = handle.deadline
+        if handle.inflight is None or deadline is None:
+            return
+        if deadline > handle.timer_at:
+            loop = self._loop or asyncio.get_running_loop()
+            handle.timer = loop.call_at(deadline, self._frame_timer, handle)
+            handle.timer_at = deadline
+            return
+        self._frame_expired(handle)
+
     def _frame_expired(self, handle: _Handle) -> None:
         """The latest deadline of the frame in flight passed without its answer: no later
         answer could be told from the next frame's, so the connection is closed."""
-        handle.timer = None
         batch, handle.inflight = handle.inflight or [], None
         _fail(
             batch,
