@@ -187,6 +187,28 @@ async def test_native_only_reads(served: Served, both: tuple[NativeClient, Focas
     assert await native.read_alarm_status() & (1 << 3)
 
 
+async def test_a_repeated_answer_and_a_changed_one(
+    served: Served, both: tuple[NativeClient, FocasClient]
+) -> None:
+    native, packed = both
+    machine = served.machine
+    n = len(machine.axes)
+    machine.write_macro(500, 7)
+    machine.set_motion(absolute=range(10, 10 + n), feed=40)
+    first = (await native.read_macro(500), await native.read_status(), await native.read_dynamic())
+    again = (await native.read_macro(500), await native.read_status(), await native.read_dynamic())
+    assert again == first
+    machine.write_macro(500, 8)
+    machine.set_run(3, 1)
+    machine.set_motion(absolute=range(20, 20 + n), feed=41)
+    assert await native.read_macro(500) == Decimal(8)
+    status = await native.read_status()
+    assert status == await packed.read_status() and status != first[1]
+    dynamic = await native.read_dynamic()
+    assert dynamic.absolute == tuple(range(20, 20 + n)) and dynamic.feed == 41
+    assert (await native.read_dynamic(1)).absolute == (20,)
+
+
 async def test_writes_reach_the_machine(both: tuple[NativeClient, FocasClient]) -> None:
     native, packed = both
     for value in ("12.345", -2.5, 100, Decimal("0.000"), 0):
@@ -499,6 +521,53 @@ async def test_a_call_that_times_out_queued_is_never_sent() -> None:
             assert await first == 1
             assert await native.read_macro(4) == 4
             assert peer.data_frames == 2  # macro 2 never left
+
+
+async def test_an_earlier_calls_deadline_does_not_expire_a_later_frame() -> None:
+    async with NativePeer() as peer:
+        async with NativeClient("127.0.0.1", peer.port, timeout=IO_TIMEOUT) as native:
+            assert await native.read_macro(1, timeout=0.05) == 1
+            peer.hold = True
+            later = asyncio.ensure_future(native.read_macro(2))
+            await wait_until(lambda: peer.data_frames == 2)
+            await asyncio.sleep(0.1)  # the first call's deadline passes while this one is out
+            peer.hold = False
+            peer.release()
+            assert await later == 2
+            assert native.state is ClientState.CONNECTED
+            assert peer.connections == 2  # the same A and B
+
+
+async def test_calls_left_out_of_a_full_frame_keep_their_timeouts() -> None:
+    async with NativePeer() as peer:
+        async with NativeClient("127.0.0.1", peer.port, timeout=IO_TIMEOUT, max_blocks=2) as native:
+            peer.hold = True
+            # issued in one loop turn: the frame takes two, the third waits in the queue
+            first = asyncio.ensure_future(native.read_macro(1))
+            second = asyncio.ensure_future(native.read_macro(2))
+            third = asyncio.ensure_future(native.read_macro(3, timeout=0.05))
+            with pytest.raises(FocasTimeoutError, match="never sent"):
+                await third
+            assert peer.data_frames == 1
+            peer.hold = False
+            peer.release()
+            assert list(await asyncio.gather(first, second)) == [Decimal(1), Decimal(2)]
+            assert await native.read_macro(4) == 4
+            assert peer.data_frames == 2  # macro 3 never left
+            assert native.state is ClientState.CONNECTED
+
+
+async def test_calls_made_as_answers_arrive_share_a_frame() -> None:
+    async with NativePeer() as peer:
+        async with NativeClient("127.0.0.1", peer.port, timeout=IO_TIMEOUT) as native:
+
+            async def twice(n: int) -> list[Decimal | None]:
+                return [await native.read_macro(n), await native.read_macro(n + 10)]
+
+            frames = native.frames_sent
+            results = await asyncio.gather(*(twice(n) for n in range(3)))
+            assert results == [[n, n + 10] for n in range(3)]
+            assert native.frames_sent - frames == 2
 
 
 async def test_a_loss_between_two_frames_of_one_call_fails_it_at_once() -> None:

@@ -36,6 +36,8 @@ class _TrailingPeer:
 
     def __init__(self) -> None:
         self.trailing = b""
+        #: With ``split`` set, macro answers go out in pieces of this many bytes.
+        self.split = 0
         self.macro_frames = 0
         self.port = 0
         self._server: asyncio.Server | None = None
@@ -71,8 +73,16 @@ class _TrailingPeer:
                                 answers.append(b.reply(bytes(4) + b" 0 MD4F132.003"))
                             else:
                                 answers.append(b.reply(ew=1))
-                        writer.write(encode_native_response(answers, 3))
-                        if any(b.command == NativeCommand.RDMACRO for b in blocks):
+                        answer = encode_native_response(answers, 3)
+                        macro = any(b.command == NativeCommand.RDMACRO for b in blocks)
+                        if macro and self.split:
+                            for i in range(0, len(answer), self.split):
+                                writer.write(answer[i : i + self.split])
+                                await writer.drain()
+                                await asyncio.sleep(0.001)
+                        else:
+                            writer.write(answer)
+                        if macro:
                             self.macro_frames += 1
                             writer.write(self.trailing)
                             self.trailing = b""
@@ -128,3 +138,15 @@ async def test_unsolicited_bytes_on_b_end_the_connection_without_a_call() -> Non
             assert await native.read_macro(6) == 6
             await wait_until(lambda: native.state is ClientState.DISCONNECTED)
             assert peer.macro_frames == 2
+
+
+async def test_an_answer_in_pieces_reaches_its_call() -> None:
+    async with _TrailingPeer() as peer:
+        async with NativeClient("127.0.0.1", peer.port, timeout=IO_TIMEOUT) as native:
+            assert await native.read_macro(5) == 5
+            for split in (1, 3, 11):
+                peer.split = split
+                assert await native.read_macro(split) == split
+            peer.split = 0
+            assert await native.read_macro(6) == 6
+            assert native.state is ClientState.CONNECTED

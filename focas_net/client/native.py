@@ -42,7 +42,7 @@ from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 from datetime import UTC, datetime
 from decimal import Decimal
-from functools import lru_cache, partial
+from functools import partial
 from typing import Any, Final
 
 from focas_net.errors import (
@@ -59,7 +59,6 @@ from focas_net.errors import (
 from ..native import calls
 from ..native.blocks import (
     REQUEST_BLOCK_SIZE,
-    BlockCount,
     ResponseBlock,
     answer_refusal,
     decode_response_body,
@@ -73,7 +72,6 @@ from ..native.frame import (
     NATIVE_HEADER_SIZE,
     FrameType,
     encode_close_request,
-    encode_native_frame,
     encode_open_request,
     max_response_body,
 )
@@ -159,7 +157,9 @@ _DATA_ANSWER: Final = FrameType.DATA_RESPONSE >> 8
 #: The read buffer limit of each connection (``asyncio.open_connection``'s default).
 _STREAM_LIMIT: Final = 2**16
 _I32: Final = struct.Struct(">i")
-_COUNT: Final = BlockCount.STRUCT
+#: A data request frame's header and its block count.
+_REQUEST_HEAD: Final = struct.Struct(">IHHHH")
+_DATA_REQUEST: Final = int(FrameType.DATA_REQUEST)
 _MAGIC: Final = int.from_bytes(MAGIC, "big")
 _ERROR_WORDS: Final = struct.Struct(">hhhh")
 _PARAM_WIDTH: Final[dict[int, int]] = {
@@ -335,10 +335,45 @@ def _part_of(requests: tuple[NativeRequest, ...], max_axes: int) -> tuple[bytes,
     return value
 
 
-#: The library calls a poll repeats, built once per command set and arguments.
-_statinfo: Final = lru_cache(maxsize=8)(calls.cnc_statinfo)
-_rddynamic2: Final = lru_cache(maxsize=256)(calls.cnc_rddynamic2)
-_rdmacro: Final = lru_cache(maxsize=1024)(calls.cnc_rdmacro)
+#: (identity of a call's first answer block) -> its blocks, what else the result depends on
+#: (the call, the axes) and the call's result: a poll whose answer repeats gets the very
+#: block objects of ``_BODIES`` again, and builds its result once.
+_RESULTS: Final = _Memo(1024)
+
+
+def _known_result(blocks: tuple[ResponseBlock, ...], extra: Any) -> Any:
+    """The result remembered for ``blocks`` (the same objects, so the comparison is one of
+    identities) and ``extra``, else None."""
+    known: tuple[tuple[ResponseBlock, ...], Any, Any] | None = _RESULTS.get(id(blocks[0]))
+    if known is not None and known[0] == blocks and known[1] == extra:
+        return known[2]
+    return None
+
+
+def _remember_result(blocks: tuple[ResponseBlock, ...], extra: Any, value: Any) -> None:
+    """Remember ``value`` as the result for ``blocks`` and ``extra`` (the entry holds the
+    blocks, so the identity of the first stays its own)."""
+    _RESULTS.put(id(blocks[0]), (blocks, extra, value))
+
+
+#: Most library calls a handle keeps built for each of the calls a poll repeats.
+_CALL_MEMO: Final = 1024
+
+
+def _memo_call(
+    memo: dict[int, LibraryCall],
+    key: int,
+    build: Callable[[CommandSet, int], LibraryCall],
+    cs: CommandSet,
+) -> LibraryCall:
+    """The library call ``build(cs, key)``, built once per handle (``memo`` is the handle's,
+    whose command set is ``cs``)."""
+    call = memo.get(key)
+    if call is None:
+        if len(memo) >= _CALL_MEMO:
+            memo.clear()
+        call = memo[key] = build(cs, key)
+    return call
 
 
 def _answer_size(request: NativeRequest, max_axes: int) -> int:
@@ -372,14 +407,18 @@ class _Handle:
     ) -> None:
         self.reader_a, self.writer_a = a
         self.reader_b, self.writer_b = b
+        self.transport_b = self.writer_b.transport
         protocol = self.writer_b.transport.get_protocol()
         assert isinstance(protocol, _Watched)
         self.protocol_b = protocol
-        #: The frame in flight on B: its jobs, its block count, its deadline's timer; and the
+        #: The frame in flight on B: its jobs, its block count and its (latest) deadline; the
+        #: timer that watches the deadlines of frames in flight and when it fires; and the
         #: bytes of B received and not yet parsed into a frame.
         self.inflight: list[_Job] | None = None
         self.inflight_blocks = 0
+        self.deadline: float | None = None
         self.timer: asyncio.TimerHandle | None = None
+        self.timer_at = 0.0
         self.rx = bytearray()
         self.opened = opened
         self.version = opened.version
@@ -393,6 +432,10 @@ class _Handle:
         self.option_bits = opened.option_bits or 0
         self.sysinfo: NativeSysInfo | None = None
         self.closed = False
+        #: The library calls a poll repeats, built once for this handle's command set.
+        self.status_call = calls.cnc_statinfo(self.command_set)
+        self.macro_calls: dict[int, LibraryCall] = {}
+        self.dynamic_calls: dict[int, LibraryCall] = {}
         # The library's write buffer: cnc_wrparam leaves the slots it does not write as the
         # previous write left them, and so does this client, byte for byte.
         self.param_slots: list[int] = [0] * max(self.max_axes, 1)
@@ -583,7 +626,17 @@ def _abort(*pairs: tuple[asyncio.StreamReader, asyncio.StreamWriter]) -> None:
 class _Job:
     """The blocks of one frame of one call, waiting to be sent or answered."""
 
-    __slots__ = ("command_set", "deadline", "encoded", "future", "requests", "sent")
+    __slots__ = (
+        "command_set",
+        "count",
+        "deadline",
+        "encoded",
+        "future",
+        "requests",
+        "sent",
+        "timer",
+        "unarmed",
+    )
 
     def __init__(
         self,
@@ -593,12 +646,17 @@ class _Job:
         future: asyncio.Future[tuple[ResponseBlock, ...]],
     ) -> None:
         self.requests = requests
+        self.count = len(requests)
         self.command_set = command_set
         self.deadline = deadline
         self.future = future
         self.sent = False
         #: The bytes of its blocks, once a frame takes it.
         self.encoded = b""
+        #: Its deadline's timer (None while the deadline of its frame stands for it).
+        self.timer: asyncio.TimerHandle | None = None
+        #: Queued for the frame the coming kick sends, its timer not yet decided.
+        self.unarmed = False
 
 
 def _fail(jobs: Sequence[_Job], make: Callable[..., BaseException], *args: Any) -> None:
@@ -681,6 +739,8 @@ class NativeClient(_Lifecycle):
         self._ready: asyncio.Event | None = None
         self._queue: deque[_Job] = deque()
         self._kick_soon = False
+        #: Jobs queued for the coming kick whose timers that kick decides (see ``_send``).
+        self._unarmed: list[_Job] = []
         self._backoff = 0
         self._up_since = 0.0
         self._param_widths: dict[int, int] = {}
@@ -861,17 +921,25 @@ class NativeClient(_Lifecycle):
                 raise FocasConnectionError("client is closed")
             raise FocasConnectionError(f"not connected to {self.host}:{self.port}")
         loop = self._loop or asyncio.get_running_loop()
-        job = _Job(requests, command_set, deadline, loop.create_future())
+        future: asyncio.Future[tuple[ResponseBlock, ...]] = loop.create_future()
+        job = _Job(requests, command_set, deadline, future)
         self._queue.append(job)
         handle = self._handle
-        if handle is not None and handle.inflight is None and not self._kick_soon:
-            # at the end of this loop turn, so that calls made together share the frame
-            self._kick_soon = True
-            loop.call_soon(self._kick_later, handle)
-        # One timer per call (cheaper than a timeout scope): it fails the job's future.
-        timer = None if deadline is None else loop.call_at(deadline, _expire, job.future)
+        if handle is not None and handle.inflight is None:
+            if not self._kick_soon:
+                # at the end of this loop turn, so that calls made together share the frame
+                self._kick_soon = True
+                loop.call_soon(self._kick_later, handle)
+            if deadline is not None:
+                # The kick decides: a job whose deadline is its frame's needs no timer of its
+                # own (the frame's fails it at that deadline); any other gets one there.
+                job.unarmed = True
+                self._unarmed.append(job)
+        elif deadline is not None:
+            # One timer per call (cheaper than a timeout scope): it fails the job's future.
+            job.timer = loop.call_at(deadline, _expire, future)
         try:
-            return await job.future
+            return await future
         except _Expired:
             if not job.sent and self._state is ClientState.RECONNECTING:
                 raise FocasConnectionError(
@@ -882,16 +950,19 @@ class NativeClient(_Lifecycle):
                 + ("" if job.sent else " (the request was never sent)")
             ) from None
         finally:
+            timer = job.timer
             if timer is not None:
                 timer.cancel()
-            if not job.future.done():
-                job.future.cancel()
+            if not future.done():
+                future.cancel()
 
     async def _one(
         self, build: Callable[[CommandSet], LibraryCall], deadline: float | None
     ) -> tuple[_Handle, LibraryCall, tuple[ResponseBlock, ...]]:
         """A one-frame library call: its handle, the call and its answer blocks."""
-        handle = await self._live(deadline)
+        handle = self._handle
+        if handle is None or handle.closed:
+            handle = await self._live(deadline)
         library_call = build(handle.command_set)
         (frame,) = library_call.frames
         return handle, library_call, await self._send(frame, handle.command_set, deadline)
@@ -913,7 +984,7 @@ class NativeClient(_Lifecycle):
                     FocasConnectionError("the CNC's command set changed on reconnect; call again")
                 )
                 continue
-            count = len(job.requests)
+            count = job.count
             job.encoded, need, send = _part_of(job.requests, handle.max_axes)
             if batch and (
                 blocks + count > self.max_blocks
@@ -931,6 +1002,16 @@ class NativeClient(_Lifecycle):
     def _kick_later(self, handle: _Handle) -> None:
         self._kick_soon = False
         self._kick(handle)
+        unarmed = self._unarmed
+        if unarmed:
+            # left in the queue (the frame was full, or no frame could be sent): their own timers
+            loop = self._loop or asyncio.get_running_loop()
+            for job in unarmed:
+                if job.unarmed:
+                    job.unarmed = False
+                    if not job.future.done() and job.deadline is not None:
+                        job.timer = loop.call_at(job.deadline, _expire, job.future)
+            unarmed.clear()
 
     def _kick(self, handle: _Handle) -> None:
         """Send the next frame of queued jobs on ``handle`` unless one is in flight."""
@@ -939,25 +1020,65 @@ class NativeClient(_Lifecycle):
         batch = self._take(handle)
         if not batch:
             return
-        blocks = sum(len(job.requests) for job in batch)
-        body = _COUNT.pack(blocks) + b"".join(job.encoded for job in batch)
-        handle.writer_b.write(encode_native_frame(FrameType.DATA_REQUEST, body, CLIENT_VERSION))
+        blocks = 0
+        latest: float | None = 0.0
         for job in batch:
             job.sent = True
+            blocks += job.count
+            deadline = job.deadline
+            if deadline is None:
+                latest = None
+            elif latest is not None and deadline > latest:
+                latest = deadline
+        body_size = 2 + sum(len(job.encoded) for job in batch) if len(batch) > 1 else 0
+        if body_size:
+            parts = [_REQUEST_HEAD.pack(_MAGIC, CLIENT_VERSION, _DATA_REQUEST, body_size, blocks)]
+            parts += [job.encoded for job in batch]
+            frame = b"".join(parts)
+        else:
+            encoded = batch[0].encoded
+            frame = (
+                _REQUEST_HEAD.pack(_MAGIC, CLIENT_VERSION, _DATA_REQUEST, 2 + len(encoded), blocks)
+                + encoded
+            )
+        handle.transport_b.write(frame)
         self.frames_sent += 1
         self.blocks_sent += blocks
         handle.inflight = batch
         handle.inflight_blocks = blocks
-        deadlines = [job.deadline for job in batch]
-        if None not in deadlines:
-            deadline = max(d for d in deadlines if d is not None)
-            loop = self._loop or asyncio.get_running_loop()
-            handle.timer = loop.call_at(deadline, self._frame_expired, handle)
+        loop = self._loop or asyncio.get_running_loop()
+        handle.deadline = latest
+        if latest is not None:
+            # One timer watches the frames in flight one after another: one set for an
+            # earlier frame's deadline, which is no later than this one's, is moved on when it
+            # fires (so sequential calls do not set a timer each).
+            timer = handle.timer
+            if timer is None or handle.timer_at > latest:
+                if timer is not None:
+                    timer.cancel()
+                handle.timer = loop.call_at(latest, self._frame_timer, handle)
+                handle.timer_at = latest
+        for job in batch:
+            if job.unarmed:
+                # Its deadline is the frame's: the frame's timer fails it then (and ends the
+                # connection, as it would for any frame unanswered at its latest deadline).
+                job.unarmed = False
+                if latest is None or job.deadline != latest:
+                    assert job.deadline is not None
+                    job.timer = loop.call_at(job.deadline, _expire, job.future)
 
     def _on_data(self, handle: _Handle, data: bytes) -> None:
         """B's bytes: complete the frame in flight with its answer, then send the next one.
         Bytes while no frame is in flight are what nobody asked for: the connection ends."""
         rx = handle.rx
+        if not rx and handle.inflight is not None and len(data) >= NATIVE_HEADER_SIZE:
+            # the usual case: the whole answer in one read, nothing held
+            magic, version, frame_type, length = NATIVE_HEADER.unpack_from(data)
+            if magic == _MAGIC and len(data) == NATIVE_HEADER_SIZE + length:
+                self._complete(handle, (version, frame_type, bytes(data[NATIVE_HEADER_SIZE:])))
+                if handle is self._handle:
+                    self._next(handle)
+                return
         rx += data
         while len(rx) >= NATIVE_HEADER_SIZE:
             magic, version, frame_type, length = NATIVE_HEADER.unpack_from(rx)
@@ -978,14 +1099,24 @@ class NativeClient(_Lifecycle):
         if rx and handle.inflight is None:
             self._lose(handle, _Lost("unsolicited data on B"))
             return
-        self._kick(handle)
+        self._next(handle)
+
+    def _next(self, handle: _Handle) -> None:
+        """After an answer: send the next frame now if calls wait, else once the callers the
+        answer woke have run."""
+        if self._queue or handle.inflight is not None:
+            self._kick(handle)
+        elif not self._kick_soon:
+            # Nothing queued: the callers just answered will likely call again in the turn
+            # their futures wake them in. Sending after them (rather than from a callback each
+            # new call schedules) gathers those calls into one frame and saves a loop turn.
+            self._kick_soon = True
+            loop = self._loop or asyncio.get_running_loop()
+            loop.call_soon(self._kick_later, handle)
 
     def _complete(self, handle: _Handle, frame: tuple[int, int, bytes]) -> None:
         """Hand each job of the frame in flight its answer blocks."""
         batch = handle.inflight or []
-        if handle.timer is not None:
-            handle.timer.cancel()
-            handle.timer = None
         try:
             blocks = handle.check_answer(frame, handle.inflight_blocks)
         except CncError as exc:
@@ -1003,10 +1134,24 @@ class NativeClient(_Lifecycle):
                 job.future.set_result(blocks[pos : pos + count])
             pos += count
 
+    def _frame_timer(self, handle: _Handle) -> None:
+        """The frame timer fired: nothing to do with no frame in flight (or one without a
+        deadline); moved on to the deadline of the frame in flight if that is later; else
+        that frame has expired."""
+        handle.timer = None
+        deadline = handle.deadline
+        if handle.inflight is None or deadline is None:
+            return
+        if deadline > handle.timer_at:
+            loop = self._loop or asyncio.get_running_loop()
+            handle.timer = loop.call_at(deadline, self._frame_timer, handle)
+            handle.timer_at = deadline
+            return
+        self._frame_expired(handle)
+
     def _frame_expired(self, handle: _Handle) -> None:
         """The latest deadline of the frame in flight passed without its answer: no later
         answer could be told from the next frame's, so the connection is closed."""
-        handle.timer = None
         batch, handle.inflight = handle.inflight or [], None
         _fail(
             batch,
@@ -1031,14 +1176,26 @@ class NativeClient(_Lifecycle):
     async def read_status(self, *, timeout: float | None = None) -> StatusInfo:
         """``cnc_statinfo``: the ODBST status (0x19; hdck 0xE1 and tmmode 0x98 read 0 when
         the CNC refuses them, as the library reads them)."""
-        handle, call, (st, hd, tm) = await self._one(_statinfo, self._deadline(timeout))
+        deadline = self._deadline(timeout)
+        handle = self._handle
+        if handle is None or handle.closed:
+            handle = await self._live(deadline)
+        call = handle.status_call
+        blocks = await self._send(call.frames[0], handle.command_set, deadline)
+        extra = (call, handle.max_axes)
+        known: StatusInfo | None = _known_result(blocks, extra)
+        if known is not None:
+            return known
+        st, hd, tm = blocks
         stat: StatInfo = _decode(call.frames[0][0], st, "cnc_statinfo", handle.max_axes)
         hdck = 0 if hd.ew else _decode(call.frames[0][1], hd, "cnc_statinfo", 0).hdck
         tmmode = 0 if tm.ew else _decode(call.frames[0][2], tm, "cnc_statinfo", 0).tmmode
-        return StatusInfo(
+        status = StatusInfo(
             hdck, tmmode, stat.aut, stat.run, stat.motion, stat.mstb, stat.emergency,
             stat.alarm, stat.edit,
         )  # fmt: skip
+        _remember_result(blocks, extra, status)
+        return status
 
     async def read_sysinfo(self, *, timeout: float | None = None) -> SysInfo:
         """``cnc_sysinfo``: ODBSYS as the CNC answered it while connecting (nothing is sent,
@@ -1165,9 +1322,14 @@ class NativeClient(_Lifecycle):
             raise CncError.from_ew(EW.NOOPT, "cnc_rddynamic2: the CNC lacks FOCAS option bit 0")
         if axis > handle.axes:
             raise CncError.from_ew(EW.ATTRIB, f"cnc_rddynamic2: axis {axis} of {handle.axes}")
-        call = _rddynamic2(handle.command_set, axis)
+        call = _memo_call(handle.dynamic_calls, axis, calls.cnc_rddynamic2, handle.command_set)
         frame = call.frames[0]
         blocks = await self._send(frame, handle.command_set, deadline)
+        count = handle.axes if axis == -1 else 1
+        extra = (call, handle.max_axes, count)
+        known: DynamicData | None = _known_result(blocks, extra)
+        if known is not None:
+            return known
         values = [
             _decode(r, b, "cnc_rddynamic2", handle.max_axes)
             for r, b in zip(frame, blocks, strict=True)
@@ -1175,19 +1337,20 @@ class NativeClient(_Lifecycle):
         alarm: AlarmStatus = values[0]
         prg: NativeProgramNumbers = values[1]
         seq: SequenceNumber = values[2]
-        count = handle.axes if axis == -1 else 1
 
         def mantissas(v: ScaledValues) -> tuple[int, ...]:
             return tuple(x.mantissa for x in v.values[:count])
 
         feed: ScaledValues = values[3]
         speed: ScaledValues = values[4]
-        return DynamicData(
+        dynamic = DynamicData(
             alarm.alarm & 0xFFFF, prg.running, prg.main, seq.number,
             feed.values[0].mantissa if feed.values else 0,
             speed.values[0].mantissa if speed.values else 0,
             mantissas(values[5]), mantissas(values[6]), mantissas(values[7]), mantissas(values[8]),
         )  # fmt: skip
+        _remember_result(blocks, extra, dynamic)
+        return dynamic
 
     async def read_positions(
         self,
@@ -1488,14 +1651,23 @@ class NativeClient(_Lifecycle):
     async def read_macro(self, number: int, *, timeout: float | None = None) -> Decimal | None:
         """``cnc_rdmacro``: the value of ``#number`` as a Decimal, or None when vacant
         (binary records converted as the library converts them)."""
-        _, call, (block,) = await self._one(
-            lambda cs: _rdmacro(cs, number), self._deadline(timeout)
-        )
+        deadline = self._deadline(timeout)
+        handle = self._handle
+        if handle is None or handle.closed:
+            handle = await self._live(deadline)
+        call = _memo_call(handle.macro_calls, number, calls.cnc_rdmacro, handle.command_set)
+        blocks = await self._send(call.frames[0], handle.command_set, deadline)
+        known: tuple[Decimal | None] | None = _known_result(blocks, (call,))
+        if known is not None:
+            return known[0]
+        (block,) = blocks
         values: ScaledValues = _decode(call.frames[0][0], block, "cnc_rdmacro", 0)
         if not values.values:
             raise PayloadError(f"cnc_rdmacro: answer for #{number} carries no value")
         mcr_val, dec_val = values.values[0].to_macro()
-        return macro_from_wire(mcr_val, dec_val)
+        value = macro_from_wire(mcr_val, dec_val)
+        _remember_result(blocks, (call,), (value,))
+        return value
 
     async def write_macro(
         self, number: int, value: int | Decimal | float | str, *, timeout: float | None = None
