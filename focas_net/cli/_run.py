@@ -111,8 +111,9 @@ class HintedError(FocasError):
         self.hint = hint
 
 
-def write(text: str) -> None:
-    """``text`` on stdout, flushed; a reader that went away (``| head``) ends the output."""
+def write(text: str) -> bool:
+    """``text`` on stdout, flushed; a reader that went away (``| head``) ends the output:
+    False from then on."""
     try:
         sys.stdout.write(text)
         sys.stdout.flush()
@@ -121,6 +122,8 @@ def write(text: str) -> None:
         devnull = os.open(os.devnull, os.O_WRONLY)
         os.dup2(devnull, sys.stdout.fileno())
         os.close(devnull)
+        return False
+    return True
 
 
 def _print_one_line(message: str) -> None:

@@ -19,7 +19,6 @@ import argparse
 import asyncio
 import contextlib
 import json
-import os
 import signal
 import sys
 from collections.abc import Awaitable, Iterator, Mapping, Sequence
@@ -45,7 +44,7 @@ from focas_net.protocol import (
 )
 
 from . import _format as fmt
-from ._run import PackedOnly
+from ._run import PackedOnly, write
 
 __all__ = [
     "CLEAR_TO_END",
@@ -387,19 +386,6 @@ async def poll(cnc: FocasClient, names: dict[int, str], *, directory: bool) -> W
 # -- the command ----------------------------------------------------------------------------
 
 
-def _put(text: str) -> bool:
-    """``text`` on stdout, flushed; False once the reader went away (``| head``)."""
-    try:
-        sys.stdout.write(text)
-        sys.stdout.flush()
-    except BrokenPipeError:
-        devnull = os.open(os.devnull, os.O_WRONLY)
-        os.dup2(devnull, sys.stdout.fileno())
-        os.close(devnull)
-        return False
-    return True
-
-
 def _is_tty() -> bool:
     try:
         return sys.stdout.isatty()
@@ -474,7 +460,7 @@ def watch(args: argparse.Namespace) -> PackedOnly:
         number = 0
         with _stop_on_signals(stop):
             if tty:
-                _put(HIDE_CURSOR)
+                write(HIDE_CURSOR)
             try:
                 next_at = loop.time()
                 while count is None or number < count:
@@ -498,7 +484,7 @@ def watch(args: argparse.Namespace) -> PackedOnly:
                         break
             finally:
                 if tty:
-                    _put(SHOW_CURSOR)
+                    write(SHOW_CURSOR)
 
     return PackedOnly(
         go, "it reads the run info, the program directory and the load meters (packed only)"
@@ -514,5 +500,5 @@ def _needs_directory(state: WatchState | None, names: Mapping[int, str]) -> bool
 
 def _show(frame: Frame, *, tty: bool, json_lines: bool, first: bool) -> bool:
     if json_lines:
-        return _put(json.dumps(frame_dict(frame)) + "\n")
-    return _put(screen_text(render_frame(frame), tty=tty, first=first))
+        return write(json.dumps(frame_dict(frame)) + "\n")
+    return write(screen_text(render_frame(frame), tty=tty, first=first))
