@@ -14,11 +14,13 @@ from __future__ import annotations
 
 import argparse
 import asyncio
+import contextlib
 import json
 import os
+import signal
 import ssl
 import sys
-from collections.abc import Awaitable, Callable
+from collections.abc import Awaitable, Callable, Iterator
 from dataclasses import dataclass
 from typing import Any, Final
 
@@ -63,6 +65,7 @@ __all__ = [
     "PackedOnly",
     "command_name",
     "runner",
+    "stopping_on_signals",
     "tls_context",
     "tls_context_wanted",
     "write",
@@ -109,6 +112,26 @@ class HintedError(FocasError):
         super().__init__(f"{cause}; {hint}")
         self.cause = cause
         self.hint = hint
+
+
+@contextlib.contextmanager
+def stopping_on_signals(stop: Callable[[], None]) -> Iterator[None]:
+    """``stop()`` on SIGINT or SIGTERM while the block runs (a command that runs until told:
+    it ends cleanly, exit 0, no traceback); off the main thread, or without signal support,
+    Ctrl-C still ends it as usual."""
+    loop = asyncio.get_running_loop()
+    installed = []
+    for signum in (signal.SIGINT, signal.SIGTERM):
+        try:
+            loop.add_signal_handler(signum, stop)
+        except (NotImplementedError, RuntimeError, ValueError):
+            continue
+        installed.append(signum)
+    try:
+        yield
+    finally:
+        for signum in installed:
+            loop.remove_signal_handler(signum)
 
 
 def write(text: str) -> bool:

@@ -4,9 +4,7 @@
 from __future__ import annotations
 
 import argparse
-import asyncio
 import json
-import signal
 from decimal import Decimal
 from typing import Any
 
@@ -24,7 +22,15 @@ from focas_net.errors import EW, CncError, FocasError
 from focas_net.protocol import ParamDataType, ParamValue, PmcArea, PositionKind
 
 from . import _format as fmt
-from ._run import FOLLOW_MAX_FAILURES, Go, HintedError, Output, PackedOnly, write
+from ._run import (
+    FOLLOW_MAX_FAILURES,
+    Go,
+    HintedError,
+    Output,
+    PackedOnly,
+    stopping_on_signals,
+    write,
+)
 
 __all__ = [
     "alarms",
@@ -264,33 +270,24 @@ def _alarms_follow(args: argparse.Namespace) -> Go:
         projection = AlarmProjection(
             cnc, mode, interval=interval, depth=args.history or 50, max_failures=FOLLOW_MAX_FAILURES
         )
-        loop = asyncio.get_running_loop()
-        installed = []
-        for signum in (signal.SIGINT, signal.SIGTERM):
-            try:
-                loop.add_signal_handler(signum, projection.stop)
-            except (NotImplementedError, RuntimeError, ValueError):
-                continue  # not the main thread, or no signal support: Ctrl-C still ends it
-            installed.append(signum)
         printed = 0
-        try:
-            async for event in projection:
-                out = _event_output(event)
-                if args.json:
-                    write(json.dumps(out.data) + "\n")
-                else:
-                    write(out.text + "\n")
-                printed += 1
-                if args.count is not None and printed >= args.count:
-                    break
-        except FocasError as exc:
-            raise HintedError(
-                exc, f"alarms --follow gave up after {projection.failed_polls} failed poll(s)"
-            ) from exc
-        finally:
-            for signum in installed:
-                loop.remove_signal_handler(signum)
-            projection.stop()
+        with stopping_on_signals(projection.stop):
+            try:
+                async for event in projection:
+                    out = _event_output(event)
+                    if args.json:
+                        write(json.dumps(out.data) + "\n")
+                    else:
+                        write(out.text + "\n")
+                    printed += 1
+                    if args.count is not None and printed >= args.count:
+                        break
+            except FocasError as exc:
+                raise HintedError(
+                    exc, f"alarms --follow gave up after {projection.failed_polls} failed poll(s)"
+                ) from exc
+            finally:
+                projection.stop()
 
     return go
 

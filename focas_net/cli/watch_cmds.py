@@ -19,9 +19,8 @@ import argparse
 import asyncio
 import contextlib
 import json
-import signal
 import sys
-from collections.abc import Awaitable, Iterator, Mapping, Sequence
+from collections.abc import Awaitable, Mapping, Sequence
 from dataclasses import dataclass
 from decimal import Decimal
 from typing import Any, Final, TypeVar
@@ -44,7 +43,7 @@ from focas_net.protocol import (
 )
 
 from . import _format as fmt
-from ._run import PackedOnly, write
+from ._run import PackedOnly, stopping_on_signals, write
 
 __all__ = [
     "CLEAR_TO_END",
@@ -393,23 +392,6 @@ def _is_tty() -> bool:
         return False
 
 
-@contextlib.contextmanager
-def _stop_on_signals(stop: asyncio.Event) -> Iterator[None]:
-    loop = asyncio.get_running_loop()
-    installed = []
-    for signum in (signal.SIGINT, signal.SIGTERM):
-        try:
-            loop.add_signal_handler(signum, stop.set)
-        except (NotImplementedError, RuntimeError, ValueError):
-            continue  # not the main thread, or no signal support: Ctrl-C still ends it
-        installed.append(signum)
-    try:
-        yield
-    finally:
-        for signum in installed:
-            loop.remove_signal_handler(signum)
-
-
 async def _unless_stopped(aw: Awaitable[T], stop: asyncio.Event) -> tuple[bool, T | None]:
     """``(True, result)`` of ``aw``, or ``(False, None)`` when ``stop`` is set first (``aw``
     is then cancelled)."""
@@ -458,7 +440,7 @@ def watch(args: argparse.Namespace) -> PackedOnly:
         state: WatchState | None = None
         directory = True
         number = 0
-        with _stop_on_signals(stop):
+        with stopping_on_signals(stop.set):
             if tty:
                 write(HIDE_CURSOR)
             try:
