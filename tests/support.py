@@ -7,7 +7,10 @@ built on it are in ``conftest.py``.
 from __future__ import annotations
 
 import asyncio
+import os
+import re
 import struct
+import sys
 from collections.abc import AsyncIterator, Iterable
 from contextlib import asynccontextmanager
 from dataclasses import dataclass
@@ -19,7 +22,17 @@ from focas_net.protocol import COMMANDS, Frame, FrameDecoder, encode_frame
 from focas_net.server import FocasServer, Listener
 from focas_net.sim import Machine, default_machine
 
-__all__ = ["IO_TIMEOUT", "Served", "Wire", "ew_of", "frame_bytes", "serving", "wait_until"]
+__all__ = [
+    "IO_TIMEOUT",
+    "SERVE_READY",
+    "Served",
+    "Wire",
+    "ew_of",
+    "frame_bytes",
+    "serve_process",
+    "serving",
+    "wait_until",
+]
 
 #: Upper bound of any single wait on the network in a test (a hang fails, it never blocks).
 IO_TIMEOUT = 5.0
@@ -172,3 +185,38 @@ async def wait_until(predicate: Any, within: float = IO_TIMEOUT) -> None:
             return
         await asyncio.sleep(step)
     pytest.fail(f"condition not met within {within} s: {predicate}")
+
+
+#: A ready line of ``focas-net serve``: the machine's name, its modes, its address.
+SERVE_READY = re.compile(
+    r"^focas-net: (?P<name>\S+)(?: \((?P<modes>[^)]*)\))? listening on "
+    r"(?P<host>[\d.]+):(?P<port>\d+)$"
+)
+
+
+@asynccontextmanager
+async def serve_process(
+    *args: str, lines: int, start_timeout: float
+) -> AsyncIterator[tuple[asyncio.subprocess.Process, list[re.Match[str]]]]:
+    """``python -m focas_net serve --host 127.0.0.1 --port 0 ARGS`` until ``lines`` ready
+    lines came (each must be one, within ``start_timeout`` in all); killed at the end if it
+    is still running."""
+    proc = await asyncio.create_subprocess_exec(
+        sys.executable, "-m", "focas_net", "serve", "--host", "127.0.0.1", "--port", "0", *args,
+        stdout=asyncio.subprocess.PIPE, stderr=asyncio.subprocess.PIPE,
+        env={**os.environ, "PYTHONUNBUFFERED": "0"},
+    )  # fmt: skip
+    assert proc.stdout is not None
+    ready: list[re.Match[str]] = []
+    try:
+        async with asyncio.timeout(start_timeout):
+            for _ in range(lines):
+                line = (await proc.stdout.readline()).decode().rstrip("\n")
+                match = SERVE_READY.match(line)
+                assert match is not None, f"unexpected output: {line!r}"
+                ready.append(match)
+        yield proc, ready
+    finally:
+        if proc.returncode is None:
+            proc.kill()
+            await proc.wait()

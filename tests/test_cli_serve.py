@@ -4,55 +4,31 @@ from __future__ import annotations
 
 import argparse
 import asyncio
-import os
 import re
 import signal
 import sys
-from collections.abc import AsyncIterator
-from contextlib import asynccontextmanager
+from contextlib import AbstractAsyncContextManager
 from pathlib import Path
 from typing import Any
 
 import pytest
-from support import Wire
+from support import SERVE_READY, Wire, serve_process
 
 from focas_net.cli import serve
 from focas_net.errors import EW
 from focas_net.protocol import COMMANDS, Command, InjectFault, MacroRequest, MacroValue, SetPanel
 
-READY = re.compile(
-    r"^focas-net: (?P<name>\S+)(?: \((?P<modes>[^)]*)\))? listening on "
-    r"(?P<host>[\d.]+):(?P<port>\d+)$"
-)
+READY = SERVE_READY
 STATUS = (Command.RDCNCSTAT, b"")
 START_TIMEOUT = 30.0
 
 
-@asynccontextmanager
-async def running(
+def running(
     *args: str,
-) -> AsyncIterator[tuple[asyncio.subprocess.Process, list[re.Match[str]]]]:
+) -> AbstractAsyncContextManager[tuple[asyncio.subprocess.Process, list[re.Match[str]]]]:
     """``python -m focas_net serve --port 0 ARGS``, until its ready lines are printed."""
     fleet = int(args[args.index("--fleet") + 1]) if "--fleet" in args else 1
-    proc = await asyncio.create_subprocess_exec(
-        sys.executable, "-m", "focas_net", "serve", "--port", "0", *args,
-        stdout=asyncio.subprocess.PIPE, stderr=asyncio.subprocess.PIPE,
-        env={**os.environ, "PYTHONUNBUFFERED": "0"},
-    )  # fmt: skip
-    assert proc.stdout is not None
-    ready: list[re.Match[str]] = []
-    try:
-        async with asyncio.timeout(START_TIMEOUT):
-            for _ in range(fleet):
-                line = (await proc.stdout.readline()).decode().rstrip("\n")
-                match = READY.match(line)
-                assert match is not None, f"unexpected output: {line!r}"
-                ready.append(match)
-        yield proc, ready
-    finally:
-        if proc.returncode is None:
-            proc.kill()
-            await proc.wait()
+    return serve_process(*args, lines=fleet, start_timeout=START_TIMEOUT)
 
 
 async def stop(proc: asyncio.subprocess.Process) -> int:

@@ -11,45 +11,25 @@ import signal
 import socket
 import struct
 import sys
-from collections.abc import AsyncIterator
-from contextlib import asynccontextmanager
+from contextlib import AbstractAsyncContextManager
 from pathlib import Path
 
 import pytest
-from support import IO_TIMEOUT, wait_until
+from support import IO_TIMEOUT, SERVE_READY, serve_process, wait_until
 
 from focas_net.cli import _workers, serve
 from focas_net.client import NativeClient
 
-READY = re.compile(
-    r"^focas-net: (?P<name>\S+)(?: \((?P<modes>[^)]*)\))? listening on "
-    r"(?P<host>[\d.]+):(?P<port>\d+)$"
-)
+READY = SERVE_READY
 START_TIMEOUT = 60.0
 Proc = asyncio.subprocess.Process
 
 
-@asynccontextmanager
-async def workers(*args: str, lines: int) -> AsyncIterator[tuple[Proc, list[re.Match[str]]]]:
+def workers(
+    *args: str, lines: int
+) -> AbstractAsyncContextManager[tuple[Proc, list[re.Match[str]]]]:
     """``python -m focas_net serve --port 0 ARGS`` until its ``lines`` ready lines came."""
-    proc = await asyncio.create_subprocess_exec(
-        sys.executable, "-m", "focas_net", "serve", "--host", "127.0.0.1", "--port", "0", *args,
-        stdout=asyncio.subprocess.PIPE, stderr=asyncio.subprocess.PIPE,
-    )  # fmt: skip
-    assert proc.stdout is not None
-    ready: list[re.Match[str]] = []
-    try:
-        async with asyncio.timeout(START_TIMEOUT):
-            for _ in range(lines):
-                line = (await proc.stdout.readline()).decode().rstrip("\n")
-                match = READY.match(line)
-                assert match is not None, f"unexpected output: {line!r}"
-                ready.append(match)
-        yield proc, ready
-    finally:
-        if proc.returncode is None:
-            proc.kill()
-            await proc.wait()
+    return serve_process(*args, lines=lines, start_timeout=START_TIMEOUT)
 
 
 def children(pid: int) -> list[int]:
