@@ -734,15 +734,10 @@ class NativeClient(_Lifecycle):
         self.timeout = timeout
         self.max_blocks = max_blocks
         self._handle: _Handle | None = None
-        self._reconnect_task: asyncio.Task[None] | None = None
-        self._loop: asyncio.AbstractEventLoop | None = None
-        self._ready: asyncio.Event | None = None
         self._queue: deque[_Job] = deque()
         self._kick_soon = False
         #: Jobs queued for the coming kick whose timers that kick decides (see ``_send``).
         self._unarmed: list[_Job] = []
-        self._backoff = 0
-        self._up_since = 0.0
         self._param_widths: dict[int, int] = {}
         #: The type word (0 bit .. 4 real) of each parameter read or written.
         self._param_types: dict[int, int] = {}
@@ -842,47 +837,28 @@ class NativeClient(_Lifecycle):
             )
             self._set_state(ClientState.DISCONNECTED)
             return
-        logger.warning("connection to %s:%s lost (%s); reconnecting", self.host, self.port, exc)
-        assert self._ready is not None and self._loop is not None
-        if self._loop.time() - self._up_since >= self._policy.stable_after:
-            self._backoff = 0
-        self._ready.clear()
-        self._set_state(ClientState.RECONNECTING)
-        if self._reconnect_task is None or self._reconnect_task.done():
-            self._reconnect_task = self._loop.create_task(self._reconnect(self._policy))
+        self._reconnecting(exc)
 
-    async def _reconnect(self, policy: ReconnectPolicy) -> None:
-        attempt = 0
+    async def _reconnect_attempt(self, attempt: int) -> bool:
         try:
-            while policy.max_attempts is None or attempt < policy.max_attempts:
-                await asyncio.sleep(policy.delay(self._backoff))
-                self._backoff += 1
-                attempt += 1
-                try:
-                    handle = await _open_handle(self.host, self.port, self._deadline(None))
-                except Exception as exc:  # refused, unreachable, or an answer that does not decode
-                    logger.debug(
-                        "reconnect attempt %d to %s:%s: %s", attempt, self.host, self.port, exc
-                    )
-                    continue
-                self._install(handle)
-                return
-            logger.warning(
-                "giving up reconnecting to %s:%s after %d attempts", self.host, self.port, attempt
+            handle = await _open_handle(self.host, self.port, self._deadline(None))
+        except Exception as exc:  # refused, unreachable, or an answer that does not decode
+            logger.debug("reconnect attempt %d to %s:%s: %s", attempt, self.host, self.port, exc)
+            return False
+        self._install(handle)
+        return True
+
+    def _linked(self) -> bool:
+        return self._handle is not None
+
+    def _reconnect_ended(self) -> None:
+        if self._state is ClientState.DISCONNECTED:
+            queued = list(self._queue)
+            self._queue.clear()
+            _fail(
+                queued,
+                lambda: FocasConnectionError(f"could not reconnect to {self.host}:{self.port}"),
             )
-            self._set_state(ClientState.DISCONNECTED)
-        finally:
-            if self._state is ClientState.RECONNECTING and self._handle is None:
-                self._set_state(ClientState.DISCONNECTED)
-            if self._state is ClientState.DISCONNECTED:
-                queued = list(self._queue)
-                self._queue.clear()
-                _fail(
-                    queued,
-                    lambda: FocasConnectionError(f"could not reconnect to {self.host}:{self.port}"),
-                )
-            if self._ready is not None:
-                self._ready.set()
 
     # -- the request path ----------------------------------------------------------------
     def _deadline(self, timeout: float | None) -> float | None:

@@ -133,6 +133,14 @@ class _Lifecycle:
         self._callbacks: list[StateCallback] = []
         if on_state_change is not None:
             self._callbacks.append(on_state_change)
+        self._loop: asyncio.AbstractEventLoop | None = None
+        #: Set while a call need not wait: connected, or no reconnect under way.
+        self._ready: asyncio.Event | None = None
+        self._reconnect_task: asyncio.Task[None] | None = None
+        # Backoff step of the next reconnect attempt (reset by a connection that stayed up
+        # ``stable_after`` seconds) and when the current connection was installed.
+        self._backoff = 0
+        self._up_since = 0.0
 
     def __repr__(self) -> str:
         return f"<{type(self).__name__} {self.host}:{self.port} {self._state.value}>"
@@ -167,6 +175,58 @@ class _Lifecycle:
                 callback(state)
             except Exception:
                 self._logger.exception("state callback %r failed", callback)
+
+    # -- the reconnect, shared by both transports ----------------------------------------
+    def _reconnecting(self, exc: BaseException | None) -> None:
+        """The link was lost and the policy reconnects: RECONNECTING, calls wait on
+        ``_ready``, and one reconnect task (the backoff starts again after a stable link)."""
+        policy = self._policy
+        assert policy is not None and self._ready is not None and self._loop is not None
+        self._logger.warning(
+            "connection to %s:%s lost (%s); reconnecting", self.host, self.port, exc or "closed"
+        )
+        if self._loop.time() - self._up_since >= policy.stable_after:
+            self._backoff = 0  # a stable connection: the backoff starts again from the start
+        self._ready.clear()
+        self._set_state(ClientState.RECONNECTING)
+        if self._reconnect_task is None or self._reconnect_task.done():
+            self._reconnect_task = self._loop.create_task(
+                self._reconnect(policy), name=f"focas-reconnect {self.host}:{self.port}"
+            )
+
+    async def _reconnect(self, policy: ReconnectPolicy) -> None:
+        """Attempts after the policy's delays until one ends it (:meth:`_reconnect_attempt`)
+        or the policy gives up (DISCONNECTED); then calls waiting on ``_ready`` go on."""
+        attempt = 0
+        try:
+            while policy.max_attempts is None or attempt < policy.max_attempts:
+                await asyncio.sleep(policy.delay(self._backoff))
+                self._backoff += 1
+                attempt += 1
+                if await self._reconnect_attempt(attempt):
+                    return
+            self._logger.warning(
+                "giving up reconnecting to %s:%s after %d attempts", self.host, self.port, attempt
+            )
+            self._set_state(ClientState.DISCONNECTED)
+        finally:
+            if self._state is ClientState.RECONNECTING and not self._linked():
+                self._set_state(ClientState.DISCONNECTED)  # ended without a connection
+            self._reconnect_ended()
+            if self._ready is not None:
+                self._ready.set()
+
+    async def _reconnect_attempt(self, attempt: int) -> bool:
+        """One attempt: True when it ended the reconnect (a link installed, or a reason not
+        to go on), False to try again."""
+        raise NotImplementedError
+
+    def _linked(self) -> bool:
+        """Whether a link is installed."""
+        raise NotImplementedError
+
+    def _reconnect_ended(self) -> None:
+        """What a transport does when a reconnect ends, before waiting calls go on."""
 
     async def connect(self) -> None:
         raise NotImplementedError
@@ -222,13 +282,6 @@ class Link(_Lifecycle):
         self._server_hostname = server_hostname
         self._password = password
         self._conn: Connection | None = None
-        self._loop: asyncio.AbstractEventLoop | None = None
-        self._ready: asyncio.Event | None = None
-        self._reconnect_task: asyncio.Task[None] | None = None
-        # Backoff step of the next reconnect attempt (reset by a connection that stayed up
-        # ``stable_after`` seconds) and when the current connection was installed.
-        self._backoff = 0
-        self._up_since = 0.0
         # Why the client stopped without reconnecting, when the peer broke the protocol.
         self._violation: ProtocolError | None = None
 
@@ -340,55 +393,32 @@ class Link(_Lifecycle):
             logger.warning("connection to %s:%s lost: %s", self.host, self.port, exc or "closed")
             self._set_state(ClientState.DISCONNECTED)
             return
-        logger.warning("connection to %s:%s lost (%s); reconnecting", *self._addr, exc or "closed")
-        assert self._ready is not None and self._loop is not None
-        if self._loop.time() - self._up_since >= self._policy.stable_after:
-            self._backoff = 0  # a stable connection: the backoff starts again from the start
-        self._ready.clear()
-        self._set_state(ClientState.RECONNECTING)
-        if self._reconnect_task is None or self._reconnect_task.done():
-            self._reconnect_task = self._loop.create_task(
-                self._reconnect(self._policy), name=f"focas-reconnect {self.host}:{self.port}"
-            )
+        self._reconnecting(exc)
 
-    async def _reconnect(self, policy: ReconnectPolicy) -> None:
-        attempt = 0
+    async def _reconnect_attempt(self, attempt: int) -> bool:
         try:
-            while policy.max_attempts is None or attempt < policy.max_attempts:
-                await asyncio.sleep(policy.delay(self._backoff))
-                self._backoff += 1
-                attempt += 1
-                try:
-                    conn = await self._open(self._deadline(None), strict=False)
-                except (FocasConnectionError, FocasTimeoutError) as exc:
-                    logger.debug("reconnect attempt %d to %s:%s: %s", attempt, *self._addr, exc)
-                    continue
-                except ProtocolError as exc:
-                    if isinstance(exc, PayloadError):  # an unlock answer that does not decode
-                        logger.warning(
-                            "reconnect attempt %d to %s:%s: %r", attempt, *self._addr, exc
-                        )
-                        continue
-                    logger.warning("%s; not reconnecting", exc)  # not a FOCAS server
-                    self._violation = exc
-                    self._set_state(ClientState.DISCONNECTED)
-                    return
-                except Exception as exc:  # e.g. an unlock answer that does not decode
-                    logger.warning("reconnect attempt %d to %s:%s: %r", attempt, *self._addr, exc)
-                    continue
-                if conn.closed:
-                    continue
-                self._install(conn)
-                return
-            logger.warning(
-                "giving up reconnecting to %s:%s after %d attempts", *self._addr, attempt
-            )
+            conn = await self._open(self._deadline(None), strict=False)
+        except (FocasConnectionError, FocasTimeoutError) as exc:
+            logger.debug("reconnect attempt %d to %s:%s: %s", attempt, *self._addr, exc)
+            return False
+        except ProtocolError as exc:
+            if isinstance(exc, PayloadError):  # an unlock answer that does not decode
+                logger.warning("reconnect attempt %d to %s:%s: %r", attempt, *self._addr, exc)
+                return False
+            logger.warning("%s; not reconnecting", exc)  # not a FOCAS server
+            self._violation = exc
             self._set_state(ClientState.DISCONNECTED)
-        finally:
-            if self._state is ClientState.RECONNECTING and self._conn is None:
-                self._set_state(ClientState.DISCONNECTED)  # ended without a connection
-            if self._ready is not None:
-                self._ready.set()
+            return True
+        except Exception as exc:  # e.g. an unlock answer that does not decode
+            logger.warning("reconnect attempt %d to %s:%s: %r", attempt, *self._addr, exc)
+            return False
+        if conn.closed:
+            return False
+        self._install(conn)
+        return True
+
+    def _linked(self) -> bool:
+        return self._conn is not None
 
     async def _connection(self, deadline: float | None) -> Connection:
         """The live connection, waiting (until ``deadline``) while reconnecting.
