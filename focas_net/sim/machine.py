@@ -862,9 +862,15 @@ class Machine:
 
     @property
     def status_version(self) -> int:
-        """Incremented when the status changes (panel, run state, motion, active alarms)."""
+        """Incremented when the status changes (panel, run state, motion, active alarms).
+        While the cycle runs, time changes the status only when an action ends or a scenario
+        event is due, so until then a read costs a clock call and two compares."""
         if self._engine_key[0] is _START or self._run is not None:  # what moves with time
-            self._sync()
+            if (
+                self.sim_clock.now() >= self._steady_until
+                or self.engine.revision != self._steady_revision
+            ):
+                self._sync()
         return self._status_version
 
     @property
@@ -1411,6 +1417,10 @@ class Machine:
             self.programs.select(main)
         self._driven = False
         self._synced_at = math.nan
+        #: Until this machine time (and while the engine's revision is this one) time alone
+        #: changes nothing of the status (see :attr:`status_version`).
+        self._steady_until = -math.inf
+        self._steady_revision = -1
         #: The engine's clock while :meth:`_sync` reads it: the one time the read synced to, so
         #: the engine advances once per sync however many of its figures the sync reads.
         self._sync_clock = _HeldClock()
@@ -1523,6 +1533,13 @@ class Machine:
             self._mstb = waiting
             changed = True
         self._f_signals()
+        e = self.engine
+        steady = e.steady_until()
+        run = self._run
+        if run is not None and run.next_time < steady:
+            steady = run.next_time
+        self._steady_until = steady
+        self._steady_revision = e.revision
         if force or (self._driven and (changed or moved)):
             self._motion_version += 1
             self._macro_version += 1

@@ -110,9 +110,12 @@ class Engine:
         #: With :attr:`repeat`: how many more parts to make before production stops (the
         #: cycle then ends in reset as without ``repeat``); None: no limit.
         self.parts_to_go: int | None = None
-        self.feed_override = 100.0
-        self.rapid_override = 100.0
+        self._feed_override = 100.0
+        self._rapid_override = 100.0
         self.spindle_override = 100.0
+        #: Moves on every command that can change when the current action ends or what
+        #: follows it (see :meth:`steady_until`).
+        self.revision = 0
         self._parts_count = 0
         self._parts_total = 0
         self._operating_time = 0.0
@@ -129,6 +132,7 @@ class Engine:
         for a machine that has been at work for a while when it is first read; the next
         read runs the program from then."""
         self.advance()
+        self.revision += 1
         if self._alarm is not None:
             raise NcStateError(f"cycle start refused: alarm {self._alarm.code} is active")
         if self._state is CycleState.START:
@@ -149,6 +153,7 @@ class Engine:
     def feed_hold(self) -> None:
         """Stop the axes where they are; cycle start resumes."""
         self.advance()
+        self.revision += 1
         if self._state is CycleState.START:
             self._state = CycleState.HOLD
 
@@ -156,6 +161,7 @@ class Engine:
         """Stop, clear the alarm, rewind to the head of the main program; the spindle and
         coolant stop."""
         self.advance()
+        self.revision += 1
         self._stop_motion()
         self._state = CycleState.RESET
         self._alarm = None
@@ -169,6 +175,7 @@ class Engine:
     def program_stop(self) -> None:
         """Stop the cycle where it is, as M0 would (STOP; cycle start goes on from there)."""
         self.advance()
+        self.revision += 1
         if self._state in (CycleState.START, CycleState.HOLD):
             self._state = CycleState.STOP
 
@@ -176,18 +183,41 @@ class Engine:
         """An alarm raised outside the program (emergency stop, a servo or PMC alarm): the
         cycle stops as for a program error, and cycle start is refused until reset."""
         self.advance()
+        self.revision += 1
         self._stop_motion()
         self._alarm = alarm
         if self._state is not CycleState.RESET:
             self._state = CycleState.STOP
 
     def set_feed_override(self, percent: float) -> None:
-        self.advance()
-        self.feed_override = _percent(percent, 0, 254, "feed override")
+        self.feed_override = percent
 
     def set_rapid_override(self, percent: float) -> None:
+        self.rapid_override = percent
+
+    @property
+    def feed_override(self) -> float:
+        """Feed override (0..254 %), which scales the cutting feeds from now on."""
+        return self._feed_override
+
+    @feed_override.setter
+    def feed_override(self, percent: float) -> None:
+        value = _percent(percent, 0, 254, "feed override")
         self.advance()
-        self.rapid_override = _percent(percent, 0, 100, "rapid override")
+        self._feed_override = value
+        self.revision += 1
+
+    @property
+    def rapid_override(self) -> float:
+        """Rapid traverse override (0..100 %)."""
+        return self._rapid_override
+
+    @rapid_override.setter
+    def rapid_override(self, percent: float) -> None:
+        value = _percent(percent, 0, 100, "rapid override")
+        self.advance()
+        self._rapid_override = value
+        self.revision += 1
 
     def set_spindle_override(self, percent: float) -> None:
         self.advance()
@@ -203,6 +233,7 @@ class Engine:
 
     def set_single_block(self, on: bool) -> None:
         self.advance()
+        self.revision += 1
         self.single_block = on
 
     def preset_relative(self, axis: int, value: float = 0.0) -> None:
@@ -292,6 +323,22 @@ class Engine:
         if isinstance(action, Wait):
             return state, MotionKind.NONE, True
         return state, MotionKind.DWELL if isinstance(action, Dwell) else MotionKind.MOTION, False
+
+    def steady_until(self) -> float:
+        """The machine time before which time alone changes none of :meth:`flags` and
+        raises no event: the end of the current action at the current overrides; infinite
+        while the cycle does not run (or a zero override holds the action); until a command
+        (:attr:`revision` moves). Brings the engine to the clock's time first."""
+        self.advance()
+        if self._state is not CycleState.START:
+            return math.inf
+        action = self._action
+        if action is None:  # between actions: the next advance takes one
+            return -math.inf
+        rate = self._rate(action)
+        if rate <= 0:
+            return math.inf
+        return self._time + (self._limit - self._progress) / rate
 
     def machine_position(self) -> Vector:
         self.advance()
@@ -418,7 +465,7 @@ class Engine:
         if self._state is not CycleState.START:
             return 0.0
         if isinstance(action, Motion):
-            return (self.rapid_override if action.rapid else self.feed_override) / 100.0
+            return (self._rapid_override if action.rapid else self._feed_override) / 100.0
         return 1.0
 
     def _account(self, dt: float) -> None:
