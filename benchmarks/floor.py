@@ -6,9 +6,9 @@ other command gets ``EW_FUNC``), one answer write per read: a ``BufferedProtocol
 (:class:`FloorPlainServer`, handed a fresh ``bytes`` per read). Neither wins everywhere (the
 buffered one with many connections, the plain one with many frames per read), so the suite
 runs both and takes the faster in each mode and repetition as the floor. The client matches
-answers to callers by request id and gathers the frames written in one event-loop turn into
-one transport write. No codecs, no machine, no checks beyond the length bounds: whatever the
-real library spends above this is its own overhead.
+answers to callers by request id, gathers the frames written in one event-loop turn into one
+transport write and reads into its own buffer. No codecs, no machine, no checks beyond the
+length bounds: whatever the real library spends above this is its own overhead.
 
 ``python -m benchmarks.floor --port 0 [--variant buffered|plain]`` serves until killed and
 prints ``floor: listening on HOST:PORT`` when ready.
@@ -111,12 +111,14 @@ class FloorPlainServer(asyncio.Protocol):
         self._transport = None
 
 
-class FloorClient(asyncio.Protocol):
+class FloorClient(asyncio.BufferedProtocol):
     """The floor client: one connection, many requests in flight, matched by request id; the
-    frames written in one event-loop turn leave in one transport write."""
+    frames written in one event-loop turn leave in one transport write; answers are read into
+    its own buffer (``recv_into``, no allocation per read)."""
 
     def __init__(self) -> None:
-        self._buf = bytearray()
+        self._buf = bytearray(4096)
+        self._end = 0
         self._pending: dict[int, asyncio.Future[bytes]] = {}
         self._next_id = 0
         self._transport: asyncio.Transport | None = None
@@ -132,19 +134,28 @@ class FloorClient(asyncio.Protocol):
     def connection_made(self, transport: asyncio.BaseTransport) -> None:
         self._transport = cast(asyncio.Transport, transport)  # uvloop's does not subclass it
 
-    def data_received(self, data: bytes) -> None:
-        buf = self._buf
-        buf += data
-        pos, size = 0, len(buf)
+    def get_buffer(self, sizehint: int) -> memoryview:
+        if len(self._buf) - self._end < 1024:  # an answer larger than the buffer: grow it
+            self._buf = self._buf + bytes(len(self._buf))
+        return memoryview(self._buf)[self._end :]
+
+    def buffer_updated(self, nbytes: int) -> None:
+        buf, size = self._buf, self._end + nbytes
+        pending = self._pending
+        pos = 0
         while size - pos >= 8:
             length, _command, request_id = HEADER.unpack_from(buf, pos)
             if size - pos < 4 + length:
                 break
-            future = self._pending.pop(request_id, None)
+            future = pending.pop(request_id, None)
             if future is not None and not future.done():
                 future.set_result(bytes(buf[pos + 8 : pos + 4 + length]))
             pos += 4 + length
-        del buf[:pos]
+        if pos == size:
+            self._end = 0
+        else:  # keep the partial answer at the front
+            buf[: size - pos] = buf[pos:size]
+            self._end = size - pos
 
     def _flush(self) -> None:
         out, self._out = self._out, bytearray()

@@ -1,8 +1,9 @@
 """One pipelined connection to a packed-protocol peer: request ids, answers, timeouts.
 
-:class:`Connection` is an :class:`asyncio.Protocol`. It only pumps frames: a call registers a
-future under a fresh request id, the frame goes out, and :meth:`Connection.data_received`
-resolves the future whose id the answer carries. There is no task per request.
+:class:`Connection` is an :class:`asyncio.Protocol`, read through :mod:`focas_net._receive`.
+It only pumps frames: a call registers a future under a fresh request id, the frame goes out,
+and :meth:`Connection.data_received` resolves the future whose id the answer carries. There is
+no task per request.
 
 Rules it keeps:
 
@@ -37,6 +38,7 @@ from collections import deque
 from collections.abc import Callable, Sequence
 from typing import Final, cast
 
+from focas_net._receive import Received
 from focas_net.errors import (
     FocasConnectionError,
     FocasError,
@@ -97,7 +99,7 @@ def _timed_out(entry: _Pending) -> None:
     )
 
 
-class Connection(asyncio.Protocol):
+class Connection(Received, asyncio.Protocol):
     """A pipelined packed-protocol connection (create it with :func:`open_connection`).
 
     ``on_lost(connection, exc)`` is called once when the connection goes away, after every

@@ -45,6 +45,7 @@ from decimal import Decimal
 from functools import partial
 from typing import Any, Final
 
+from focas_net._receive import Received
 from focas_net.errors import (
     EW,
     ChunkedWriteError,
@@ -231,7 +232,7 @@ def _expire(future: asyncio.Future[Any]) -> None:
         future.set_exception(_Expired())
 
 
-class _Watched(asyncio.StreamReaderProtocol):
+class _Watched(Received, asyncio.StreamReaderProtocol):
     """A stream protocol whose data, once ``on_data`` is set, goes to the client's frame
     parser instead of the stream reader (the reader serves the open and close exchanges); end
     of file and loss are reported to ``on_end``."""

@@ -1,11 +1,12 @@
 """What every connection of the listener shell shares, whichever protocol it speaks.
 
-A connection is a plain :class:`asyncio.Protocol` (no task per connection, no task per
-request). It holds a frozen :class:`Limits`, the machine-wide fault queue, its own fault queue
-(armed by its own requests) and a close callback; it never sees the server. The shell
-(``_server.py``) accepts, counts, sweeps idle connections and shuts down; the protocol modules
-(``_packed.py`` for ``docs/protocol.md``, ``_native.py`` for ``docs/native-protocol.md``) decode
-frames and answer them. This module holds the machinery in between:
+A connection is an :class:`asyncio.Protocol` read into the thread's receive buffer
+(:mod:`focas_net._receive`): no task per connection, no task per request. It holds a frozen
+:class:`Limits`, the machine-wide fault queue, its own fault queue (armed by its own requests)
+and a close callback; it never sees the server. The shell (``_server.py``) accepts, counts,
+sweeps idle connections and shuts down; the protocol modules (``_packed.py`` for
+``docs/protocol.md``, ``_native.py`` for ``docs/native-protocol.md``) decode frames and answer
+them. This module holds the machinery in between:
 
 * **Input in slices.** Input is decoded at most :data:`SLICE` bytes at a time; when output
   backpressure stops the answering part way, the requests not answered yet and the bytes not
@@ -29,6 +30,7 @@ from collections.abc import Callable
 from dataclasses import dataclass
 from typing import Any, Final, Generic, TypeVar, cast
 
+from focas_net._receive import Received
 from focas_net.native.codec import DEFAULT_MAX_BODY
 from focas_net.protocol import DEFAULT_MAX_FRAME
 
@@ -108,7 +110,7 @@ class _Backlog(Generic[F]):
         self.input: bytes | memoryview = data
 
 
-class BaseConnection(asyncio.Protocol, Generic[F]):
+class BaseConnection(Received, asyncio.Protocol, Generic[F]):
     """The part of a connection that does not depend on the protocol.
 
     A subclass decodes with :meth:`_feed` (a chunk of at most :data:`SLICE` bytes; False when
