@@ -3,7 +3,9 @@
 ``plant``: one client process polls the status of every machine of one ``focas-net serve
 --fleet 1000`` (its own process, or a parent and ``--workers`` processes) every 100 ms, first
 idle, then with ``--run`` (the machines running programs), over connections opened once; the
-server's CPU is that of its whole process tree, from ``/proc``. Then ``serve --fleet 5000``:
+server's CPU is that of its whole process tree, from ``/proc``. The floor's client
+(``benchmarks/floor.py``) polls the same machines over connections of its own, taking turns
+with focas_net's client: what a poll costs a client at the least. Then ``serve --fleet 5000``:
 the time from its start to its last ready line, and the RSS of its process tree then.
 
 ``native``: the server's CPU per request of FANUC's FOCAS/2 statinfo (the project's
@@ -19,10 +21,10 @@ import time
 from pathlib import Path
 from typing import TYPE_CHECKING
 
-from benchmarks.report import FOCAS, Check, Results, Row, pairwise_ratios
+from benchmarks.report import FLOOR, FOCAS, Check, Results, Row, pairwise_ratios
 
 if TYPE_CHECKING:
-    from benchmarks.run import Suite
+    from benchmarks.run import Suite, WorkerProcess
 
 #: Polls per second the plant's client must keep up, as a share of those due.
 PLANT_ACHIEVED = 0.99
@@ -115,6 +117,14 @@ def _serve_extra(size: int, workers: int, running: bool) -> tuple[str, ...]:
     return tuple(extra)
 
 
+def _floor_poll(
+    worker: WorkerProcess, interval: float, duration: float, slots: int
+) -> tuple[float, float]:
+    """One poll run of the floor's client over the plant: its cores and CPU us per poll."""
+    r = worker.call("plant_poll", interval=interval, duration=duration, slots=slots, floor=True)
+    return r["cpu"] / r["wall"], 1e6 * float(r["cpu"]) / max(1, int(r["polls"]))
+
+
 def plant(suite: Suite) -> None:
     """The ``plant`` scenario: the 1,000-machine poll idle and running, then the 5,000 start."""
     from benchmarks.run import log, start_server
@@ -140,14 +150,16 @@ def plant(suite: Suite) -> None:
             targets = [list(e) for e in server.endpoints]
             if len(targets) < n:
                 raise RuntimeError(f"plant server announced {len(targets)} of {n} machines")
-            worker.call("plant_open", targets=targets)
+            worker.call("plant_open", targets=targets, floor=True)
             slots = cfg.plant_slots
-            worker.call(
-                "plant_poll",
-                interval=interval,
-                duration=min(1.0, cfg.plant_duration),
-                slots=slots,
-            )
+            for floor in (False, True):
+                worker.call(
+                    "plant_poll",
+                    interval=interval,
+                    duration=min(1.0, cfg.plant_duration),
+                    slots=slots,
+                    floor=floor,
+                )
             rates: list[float] = []
             achieved: list[float] = []
             client: list[float] = []
@@ -155,9 +167,13 @@ def plant(suite: Suite) -> None:
             client_us: list[float] = []
             server_us: list[float] = []
             pressure: list[float] = []
+            floor_samples: list[tuple[float, float]] = []  # (cores, us per poll)
             errors = 0
             worst = 0.0
-            for _ in range(cfg.reps):
+
+            for rep in range(cfg.reps):
+                if rep % 2 == 0:  # side by side, the order alternating
+                    floor_samples.append(_floor_poll(worker, interval, cfg.plant_duration, slots))
                 cpu0 = tree_cpu_seconds(server.pid)
                 r = worker.call(
                     "plant_poll", interval=interval, duration=cfg.plant_duration, slots=slots
@@ -175,6 +191,8 @@ def plant(suite: Suite) -> None:
                 client.append(r["cpu"] / r["wall"])
                 errors += int(r["errors"])
                 worst = max(worst, float(r["worst_latency"]))
+                if rep % 2 != 0:
+                    floor_samples.append(_floor_poll(worker, interval, cfg.plant_duration, slots))
             worker.call("plant_close")
         finally:
             server.stop()
@@ -201,6 +219,20 @@ def plant(suite: Suite) -> None:
                 client,
                 note=f"client process_time / wall; {per_poll:.1f} us per poll, "
                 f"{per_poll * nominal / 1e6:.2f} core at the nominal rate",
+                extra={"us_per_poll": per_poll},
+            )
+        )
+        floor_client = [cores for cores, _ in floor_samples]
+        per_poll = statistics.median(us for _, us in floor_samples)
+        suite.add(
+            Row(
+                f"{name}_floor_client",
+                FLOOR,
+                "cores",
+                floor_client,
+                ratio_to="focas_net's client",
+                ratios=pairwise_ratios(floor_client, client),
+                note=f"the floor's client polling the same machines; {per_poll:.1f} us per poll",
                 extra={"us_per_poll": per_poll},
             )
         )

@@ -17,6 +17,7 @@ from collections.abc import Awaitable, Callable, Sequence
 from typing import Any
 
 from benchmarks._loop import make_runner
+from benchmarks.report import FLOOR
 from benchmarks.subjects import FocasConn, StatusConn, connector
 
 _perf = time.perf_counter
@@ -156,13 +157,17 @@ async def bitstorm(
     return {"calls": 2 * calls, "elapsed": elapsed, "lost": lost, "errors": errors}
 
 
-async def open_fleet(targets: list[list[Any]]) -> list[FocasConn]:
-    """One connection per target, opened 50 at a time, each used once."""
-    conns: list[FocasConn] = []
+async def open_fleet(
+    targets: list[list[Any]],
+    connect: Callable[[str, int], Awaitable[StatusConn]] = FocasConn.connect,
+) -> list[StatusConn]:
+    """One connection per target (focas_net's client unless ``connect`` says otherwise),
+    opened 50 at a time, each used once."""
+    conns: list[StatusConn] = []
     try:
         for i in range(0, len(targets), 50):
             conns += await asyncio.gather(
-                *(FocasConn.connect(str(h), int(p)) for h, p in targets[i : i + 50])
+                *(connect(str(h), int(p)) for h, p in targets[i : i + 50])
             )
         await asyncio.gather(*(c.read_status() for c in conns))
     except BaseException:
@@ -172,7 +177,7 @@ async def open_fleet(targets: list[list[Any]]) -> list[FocasConn]:
 
 
 async def poll_fleet(
-    conns: list[FocasConn], interval: float, duration: float, slots: int = 0
+    conns: Sequence[StatusConn], interval: float, duration: float, slots: int = 0
 ) -> dict[str, float]:
     """Poll every connection's status every ``interval`` s for ``duration`` s, one task each,
     starts staggered (over ``slots`` start times per interval, the machines of a slot polled
@@ -191,9 +196,10 @@ async def poll_fleet(
     count = len(conns)
     groups = slots if 0 < slots < count else count
 
-    async def poll(i: int, conn: FocasConn) -> None:
+    async def poll(i: int, conn: StatusConn) -> None:
         base = t0 + interval * (i * groups // count) / groups
-        read_status = conn.client.read_status
+        # focas_net's client called directly, not through the benchmark's wrapper
+        read_status = conn.client.read_status if isinstance(conn, FocasConn) else conn.read_status
         tick = 0
         while tick < ticks:
             due = base + tick * interval
@@ -268,7 +274,9 @@ class Worker:
     def __init__(self, subject: str) -> None:
         self.subject = subject
         self.idle: list[StatusConn] = []
-        self.plant: list[FocasConn] = []
+        #: The plant's connections: focas_net's client, and the floor's client.
+        self.plant: list[StatusConn] = []
+        self.plant_floor: list[StatusConn] = []
 
     async def handle(self, cmd: dict[str, Any]) -> dict[str, Any]:
         op = cmd["op"]
@@ -296,16 +304,19 @@ class Worker:
         if op == "fleet":
             return await fleet(cmd["targets"], cmd["interval"], cmd["duration"])
         if op == "plant_open":
-            await close_conns(self.plant)
+            await close_conns(self.plant + self.plant_floor)
+            self.plant_floor = []
             self.plant = await open_fleet(cmd["targets"])
-            return {"open": len(self.plant)}
+            if cmd.get("floor"):
+                self.plant_floor = await open_fleet(cmd["targets"], connector(FLOOR))
+            return {"open": len(self.plant) + len(self.plant_floor)}
         if op == "plant_poll":
-            return await poll_fleet(
-                self.plant, cmd["interval"], cmd["duration"], cmd.get("slots", 0)
-            )
+            conns = self.plant_floor if cmd.get("floor") else self.plant
+            return await poll_fleet(conns, cmd["interval"], cmd["duration"], cmd.get("slots", 0))
         if op == "plant_close":
-            await close_conns(self.plant)
+            await close_conns(self.plant + self.plant_floor)
             self.plant = []
+            self.plant_floor = []
             return {"open": 0}
         if op == "native_throughput":
             return await native_throughput(
