@@ -103,6 +103,12 @@ class FrameDecoder:
         buf = self._buf
         if not buf:
             if type(data) is bytes:
+                size = len(data)
+                if size >= 8:
+                    # The commonest case, one whole frame and nothing else, without the loop.
+                    length, command, request_id = _unpack_header_from(data)
+                    if size == 4 + length and _MIN_LENGTH <= length <= self.max_frame:
+                        return [(command, request_id, data[8:])]
                 # The usual case: whole frames in a fresh chunk; a slice of bytes is the one
                 # copy of each payload.
                 frames, pos, bad = self._frames(data, None)

@@ -147,6 +147,16 @@ class PackedConnection(BaseConnection[RawFrame]):
         assert transport is not None
         answer_of = self._adapter.answer
         session = self._session
+        if len(frames) == 1:
+            # One request in the read (sequential use, or one per connection): one write.
+            command, request_id, payload = frames[0]
+            if command not in _FAULT_COMMANDS:
+                try:
+                    answer = answer_of(session, command, payload)  # type: ignore[arg-type]
+                except Exception:
+                    answer = self._failed(command)
+                transport.write(_pack_header(len(answer) + 4, command, request_id) + answer)
+                return True  # a write past the high-water mark pauses reading (pause_writing)
         budget = self._limits.write_buffer_high
         out: list[bytes] = []
         append = out.append
