@@ -3,10 +3,11 @@
 asyncio's selector transports read a plain :class:`asyncio.Protocol`'s data with
 ``recv(256 KiB)``: every read allocates a 256 KiB ``bytes`` object and shrinks it to what
 arrived. glibc serves an allocation that large with ``mmap`` and the shrink with ``mremap``
-until its dynamic threshold has been raised by some earlier large free, so in a process that
-has not done one, each read of a small answer costs three system calls and a page fault (about
-15 us of system time per read on the benchmark machine, more than the rest of a poll). A
-:class:`asyncio.BufferedProtocol` is read with ``recv_into`` instead.
+(and the free with ``munmap``) until its dynamic threshold has been raised by some earlier
+large free, so in a process that has not done one, each read of a small answer costs system
+calls and page faults of its own (about 15 us of system time per read on the benchmark
+machine, more than the rest of a poll). A :class:`asyncio.BufferedProtocol` is read with
+``recv_into`` instead.
 
 :class:`Received` makes a protocol a buffered one that still sees its input as
 ``data_received(bytes)``: the transport reads into a buffer of :data:`SIZE` bytes owned by the
