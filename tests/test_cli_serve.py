@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import argparse
 import asyncio
+import gc
 import re
 import signal
 import sys
@@ -17,6 +18,7 @@ from support import SERVE_READY, Wire, serve_process
 from focas_net.cli import serve
 from focas_net.errors import EW
 from focas_net.protocol import COMMANDS, Command, InjectFault, MacroRequest, MacroValue, SetPanel
+from focas_net.sim import default_machine
 
 READY = SERVE_READY
 STATUS = (Command.RDCNCSTAT, b"")
@@ -264,3 +266,23 @@ async def test_serve_port_answers_pyfocas_and_the_packed_protocol_alike() -> Non
             answer = await w.call(Command.RDMACRO, MacroRequest(511).encode())
         assert COMMANDS[Command.RDMACRO].response.decode(answer) == MacroValue(511, 8, -35, 1)
         assert await stop(proc) == 0
+
+
+def test_serving_freezes_what_was_built_and_still_collects_new_garbage() -> None:
+    built = [default_machine() for _ in range(3)]
+    try:
+        serve._freeze_what_was_built()
+        assert gc.get_freeze_count() > 0
+        frozen = gc.get_freeze_count()
+
+        class Node:
+            other: Any = None
+
+        a, b = Node(), Node()
+        a.other, b.other = b, a  # a cycle made after the freeze
+        del a, b
+        assert gc.collect() >= 2  # still collected
+        assert gc.get_freeze_count() == frozen  # and the built machines stay out of reach
+        assert all(m.status() is not None for m in built)
+    finally:
+        gc.unfreeze()

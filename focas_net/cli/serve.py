@@ -21,6 +21,7 @@ http://HOST:PORT/`` (``docs/web.md``).
 from __future__ import annotations
 
 import argparse
+import gc
 import importlib.util
 import logging
 import signal
@@ -490,6 +491,15 @@ def _modes(tls: bool, read_only: bool, *first: str) -> str:
     return f" ({', '.join(modes)})" if modes else ""
 
 
+def _freeze_what_was_built() -> None:
+    """Move what the process holds once it serves (the machines, their programs and tables,
+    the listeners) out of the garbage collector's reach: it lives as long as the process, and
+    a full collection would otherwise walk all of it while every request in flight waits
+    (about 70 ms with 1,000 machines). Garbage made afterwards is collected as before."""
+    gc.collect()
+    gc.freeze()
+
+
 async def _serve(
     server: FocasServer, tls: bool, read_only: bool, web: tuple[str, int] | None = None
 ) -> int:
@@ -497,6 +507,7 @@ async def _serve(
         async with server, _dashboard(server, web, read_only) as dashboard:
             if dashboard is None and web is not None:
                 return EXIT_CNC
+            _freeze_what_was_built()
             out = sys.stdout
             for listener in server.listeners:
                 out.write(
