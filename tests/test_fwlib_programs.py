@@ -150,22 +150,28 @@ async def upload(cnc: Cnc, number: int) -> tuple[int, bytes]:
     return 0, out
 
 
+async def _upload_to_end(cnc: Cnc, form: str) -> bytes:
+    """``cnc_upload3``/``cnc_upload4`` (``form`` "3" or "4") in 1024-byte pieces until it
+    ends (-2), then ``cnc_upend3``/``4``: the bytes."""
+    out = b""
+    b = buf(2048)
+    for _ in range(200):
+        n = i32(1024)
+        rc = await cnc.call(f"cnc_upload{form}", ctypes.byref(n), b)
+        if rc:
+            break
+        out += b.raw[: n.value]
+    assert rc == -2, f"cnc_upload{form} ended with {rc}"
+    assert await cnc.call(f"cnc_upend{form}") == 0
+    return out
+
+
 async def upload3(cnc: Cnc, number: int) -> tuple[int, bytes]:
     """``cnc_upstart3(0, n, n)``, ``cnc_upload3`` until it ends, ``cnc_upend3``."""
     rc = await cnc.call("cnc_upstart3", s16(0), i32(number), i32(number))
     if rc:
         return rc, b""
-    out = b""
-    b = buf(2048)
-    for _ in range(200):
-        n = i32(1024)
-        rc = await cnc.call("cnc_upload3", ctypes.byref(n), b)
-        if rc:
-            break
-        out += b.raw[: n.value]
-    assert rc == -2, f"cnc_upload3 ended with {rc}"
-    assert await cnc.call("cnc_upend3") == 0
-    return 0, out
+    return 0, await _upload_to_end(cnc, "3")
 
 
 async def download(cnc: Cnc, data: bytes) -> int:
@@ -197,17 +203,7 @@ async def upload4(cnc: Cnc, number: int) -> tuple[int, bytes]:
     rc = await cnc.call("cnc_upstart4", s16(0), name)
     if rc:
         return rc, b""
-    out = b""
-    b = buf(2048)
-    for _ in range(200):
-        n = i32(1024)
-        rc = await cnc.call("cnc_upload4", ctypes.byref(n), b)
-        if rc:
-            break
-        out += b.raw[: n.value]
-    assert rc == -2, f"cnc_upload4 ended with {rc}"
-    assert await cnc.call("cnc_upend4") == 0
-    return 0, out
+    return 0, await _upload_to_end(cnc, "4")
 
 
 async def download4(cnc: Cnc, data: bytes) -> int:
