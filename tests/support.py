@@ -14,7 +14,7 @@ import sys
 from collections.abc import AsyncIterator, Iterable
 from contextlib import asynccontextmanager
 from dataclasses import dataclass
-from typing import Any
+from typing import Any, Self
 
 import pytest
 
@@ -175,6 +175,33 @@ async def serving(machine: Machine | None = None, **kwargs: Any) -> AsyncIterato
     async with FocasServer(machine, host="127.0.0.1", port=0, **kwargs) as srv:
         host, port = srv.listeners[0].address
         yield Served(srv, host, port, machine)
+
+
+class LoopbackPeer:
+    """A stream server on 127.0.0.1, an ephemeral port, answering with :meth:`_serve`
+    (a subclass's): started and stopped by ``async with`` or :meth:`start`/:meth:`stop`."""
+
+    port = 0
+    _server: asyncio.Server | None = None
+
+    async def _serve(self, reader: asyncio.StreamReader, writer: asyncio.StreamWriter) -> None:
+        raise NotImplementedError
+
+    async def start(self) -> None:
+        self._server = await asyncio.start_server(self._serve, "127.0.0.1", 0)
+        self.port = self._server.sockets[0].getsockname()[1]
+
+    async def stop(self) -> None:
+        assert self._server is not None
+        self._server.close()
+        await self._server.wait_closed()
+
+    async def __aenter__(self) -> Self:
+        await self.start()
+        return self
+
+    async def __aexit__(self, *exc: object) -> None:
+        await self.stop()
 
 
 async def wait_until(predicate: Any, within: float = IO_TIMEOUT) -> None:

@@ -19,7 +19,7 @@ from decimal import Decimal
 from pathlib import Path
 
 import pytest
-from support import IO_TIMEOUT, Served, serving, wait_until
+from support import IO_TIMEOUT, LoopbackPeer, Served, serving, wait_until
 
 from focas_net.client import ClientState, FocasClient, ReconnectPolicy
 from focas_net.client.native import NativeClient, NativeUnsupportedError
@@ -399,7 +399,7 @@ async def test_reconnects_after_a_server_restart(tmp_path: Path) -> None:
 # -- a scripted peer: timeouts and late answers ---------------------------------------------
 
 
-class NativePeer:
+class NativePeer(LoopbackPeer):
     """A FOCAS/2 peer answering macro reads with the variable's number; holds answers while
     ``hold`` is set, and releases them in order with :meth:`release`."""
 
@@ -411,18 +411,6 @@ class NativePeer:
         self.connections = 0
         #: A command after whose answer the connection is closed.
         self.close_after: int | None = None
-        self._server: asyncio.Server | None = None
-        self.port = 0
-
-    async def __aenter__(self) -> NativePeer:
-        self._server = await asyncio.start_server(self._serve, "127.0.0.1", 0)
-        self.port = self._server.sockets[0].getsockname()[1]
-        return self
-
-    async def __aexit__(self, *exc: object) -> None:
-        assert self._server is not None
-        self._server.close()
-        await self._server.wait_closed()
 
     def _answer(self, block: RequestBlock) -> ResponseBlock:
         if block.command == NativeCommand.RDMACRO:

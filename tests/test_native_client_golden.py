@@ -25,7 +25,7 @@ from pathlib import Path
 from typing import Any
 
 import pytest
-from support import IO_TIMEOUT
+from support import IO_TIMEOUT, LoopbackPeer
 
 from focas_net.client.native import NativeClient
 from focas_net.errors import CncError, PayloadError
@@ -41,7 +41,7 @@ def capture(version: int) -> dict[str, Any]:
     return data
 
 
-class ReplayPeer:
+class ReplayPeer(LoopbackPeer):
     """Answers each frame with the captured answer; records what each connection received."""
 
     def __init__(self, opens: dict[int, bytes], closes: dict[str, bytes]) -> None:
@@ -50,17 +50,6 @@ class ReplayPeer:
         self.answers: deque[bytes] = deque()
         self.received: dict[str, list[bytes]] = {"A": [], "B": []}
         self.unexpected: list[bytes] = []
-        self._server: asyncio.Server | None = None
-        self.port = 0
-
-    async def start(self) -> None:
-        self._server = await asyncio.start_server(self._serve, "127.0.0.1", 0)
-        self.port = self._server.sockets[0].getsockname()[1]
-
-    async def stop(self) -> None:
-        assert self._server is not None
-        self._server.close()
-        await self._server.wait_closed()
 
     async def _serve(self, reader: asyncio.StreamReader, writer: asyncio.StreamWriter) -> None:
         side = "?"

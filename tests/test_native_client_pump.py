@@ -11,7 +11,7 @@ import asyncio
 from collections.abc import Coroutine, Generator
 from typing import Any
 
-from support import IO_TIMEOUT, serving, wait_until
+from support import IO_TIMEOUT, LoopbackPeer, serving, wait_until
 
 from focas_net.client import ClientState, NativeClient
 from focas_net.native import (
@@ -30,7 +30,7 @@ from focas_net.native import (
 from focas_net.native.requests import NativeCommand
 
 
-class _TrailingPeer:
+class _TrailingPeer(LoopbackPeer):
     """A FOCAS/2 peer (30i class) answering macro reads with the variable's number; with
     ``trailing`` set, it sends those bytes right after the next macro answer."""
 
@@ -39,18 +39,6 @@ class _TrailingPeer:
         #: With ``split`` set, macro answers go out in pieces of this many bytes.
         self.split = 0
         self.macro_frames = 0
-        self.port = 0
-        self._server: asyncio.Server | None = None
-
-    async def __aenter__(self) -> _TrailingPeer:
-        self._server = await asyncio.start_server(self._serve, "127.0.0.1", 0)
-        self.port = self._server.sockets[0].getsockname()[1]
-        return self
-
-    async def __aexit__(self, *exc: object) -> None:
-        assert self._server is not None
-        self._server.close()
-        await self._server.wait_closed()
 
     async def _serve(self, reader: asyncio.StreamReader, writer: asyncio.StreamWriter) -> None:
         decoder = NativeFrameDecoder()
