@@ -169,7 +169,8 @@ class FloorClient(asyncio.BufferedProtocol):
                 future.set_exception(ConnectionError("floor connection lost"))
         self._pending.clear()
 
-    async def request(self, command: int, payload: bytes = b"") -> bytes:
+    def send(self, command: int, payload: bytes = b"") -> asyncio.Future[bytes]:
+        """Send one request (with the others of this loop turn) and return its answer's future."""
         if self._transport is None:
             raise ConnectionError("floor connection closed")
         request_id = self._next_id
@@ -182,7 +183,10 @@ class FloorClient(asyncio.BufferedProtocol):
             self._loop.call_soon(self._flush)
         self._out += HEADER.pack(4 + len(payload), command, request_id)
         self._out += payload
-        return await future
+        return future
+
+    async def request(self, command: int, payload: bytes = b"") -> bytes:
+        return await self.send(command, payload)
 
     async def read_status(self) -> bytes:
         return await self.request(STATUS)

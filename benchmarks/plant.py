@@ -135,6 +135,8 @@ def plant(suite: Suite) -> None:
     how = f"{workers} worker processes" if workers > 1 else "one process"
     if cfg.plant_slots:
         how += f", polls in {cfg.plant_slots} slots"
+    else:
+        how += ", a task per machine"
     interval = 1.0 / cfg.plant_hz
     worker = suite.workers[FOCAS]
     for running in (False, True):

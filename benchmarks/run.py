@@ -88,8 +88,9 @@ class Config:
     plant_duration: float = 3.0
     #: ``serve --workers`` of the plant's server (0 or 1: one process).
     plant_workers: int = 0
-    #: Start times per interval of the plant's polls (0: one for each machine).
-    plant_slots: int = 0
+    #: Slots per interval of the plant's polls, each slot's machines read together by one
+    #: task (0: a task for each machine, at a start time of its own).
+    plant_slots: int = 10
     ready_size: int = 5000
     use_uvloop: bool = False
 
@@ -650,7 +651,8 @@ def parse_args(argv: Sequence[str] | None) -> argparse.Namespace:
         "--plant-slots",
         type=int,
         metavar="N",
-        help="poll the plant's machines in N groups per interval (default: each at its own time)",
+        help="poll the plant's machines in N slots per interval, each slot's machines read "
+        "together by one task (default: 10; 0: a task per machine, each at its own time)",
     )
     parser.add_argument("--strict", action="store_true", help="exit 1 when a target fails")
     return parser.parse_args(argv)

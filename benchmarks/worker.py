@@ -14,13 +14,20 @@ import json
 import sys
 import time
 from collections.abc import Awaitable, Callable, Sequence
-from typing import Any
+from typing import Any, cast
 
 from benchmarks._loop import make_runner
+from benchmarks.floor import STATUS, FloorClient
 from benchmarks.report import FLOOR
 from benchmarks.subjects import FocasConn, StatusConn, connector
 
 _perf = time.perf_counter
+
+
+def _read_status(conn: StatusConn) -> Callable[[], Awaitable[object]]:
+    """``conn``'s status read; focas_net's client's own method, not the benchmark's wrapper
+    around it (a coroutine more per call that the other subjects do not pay)."""
+    return conn.client.read_status if isinstance(conn, FocasConn) else conn.read_status
 
 
 async def open_conns(
@@ -51,7 +58,7 @@ async def throughput(
     counts: list[int] = []
 
     async def caller(conn: StatusConn, deadline: float) -> None:
-        read_status = conn.read_status
+        read_status = _read_status(conn)
         n = 0
         while _perf() < deadline:
             await read_status()
@@ -179,27 +186,29 @@ async def open_fleet(
 async def poll_fleet(
     conns: Sequence[StatusConn], interval: float, duration: float, slots: int = 0
 ) -> dict[str, float]:
-    """Poll every connection's status every ``interval`` s for ``duration`` s, one task each,
-    starts staggered (over ``slots`` start times per interval, the machines of a slot polled
-    together; 0: a start time of its own for each machine); a tick missed because the
-    previous poll ran late is skipped, not caught up. Returns polls done, polls due, the
-    slowest poll and the client's CPU time."""
+    """Poll every connection's status every ``interval`` s for ``duration`` s. With ``slots``
+    0, one task per machine, each at a start time of its own within the interval; with
+    ``slots`` > 0, the machines dealt into that many slots (start times spread over the
+    interval), one task per slot reading its machines together: focas_net's clients with
+    :func:`focas_net.client.read_status_all`, the floor's by sending every request and then
+    awaiting the answers in turn (:meth:`FloorClient.send`), the same shape. A tick missed
+    because the previous poll ran late is skipped, not caught up. Returns polls done, polls
+    due, the slowest poll (of a slot: its slowest machine) and the client's CPU time."""
     loop = asyncio.get_running_loop()
     ticks = round(duration / interval)
-    polls = [0] * len(conns)
-    errors = [0] * len(conns)
-    worst = [0.0] * len(conns)
+    count = len(conns)
+    groups = slots if 0 < slots < count else count
+    polls = [0] * groups
+    errors = [0] * groups
+    worst = [0.0] * groups
     t0 = loop.time() + 0.05
     cpu0 = time.process_time()
     wall0 = _perf()
 
-    count = len(conns)
-    groups = slots if 0 < slots < count else count
-
-    async def poll(i: int, conn: StatusConn) -> None:
-        base = t0 + interval * (i * groups // count) / groups
-        # focas_net's client called directly, not through the benchmark's wrapper
-        read_status = conn.client.read_status if isinstance(conn, FocasConn) else conn.read_status
+    async def poll_slot(k: int, read: Callable[[], Awaitable[tuple[int, int]]]) -> None:
+        """Poll slot ``k`` with ``read`` (the polls that succeeded and failed) every
+        ``interval``."""
+        base = t0 + interval * k / groups
         tick = 0
         while tick < ticks:
             due = base + tick * interval
@@ -211,21 +220,56 @@ async def poll_fleet(
                 await asyncio.sleep(due - now)
             began = loop.time()
             try:
-                await read_status()
-                polls[i] += 1
+                done, failed = await read()
+                polls[k] += done
+                errors[k] += failed
             except Exception:
-                errors[i] += 1
+                errors[k] += 1
             took = loop.time() - began
-            if took > worst[i]:
-                worst[i] = took
+            if took > worst[k]:
+                worst[k] = took
             tick += 1
 
-    await asyncio.gather(*(poll(i, c) for i, c in enumerate(conns)))
+    def reader(members: Sequence[StatusConn]) -> Callable[[], Awaitable[tuple[int, int]]]:
+        if len(members) == 1:
+            read_status = _read_status(members[0])
+
+            async def read_one() -> tuple[int, int]:
+                await read_status()
+                return 1, 0
+
+            return read_one
+        if all(isinstance(c, FloorClient) for c in members):
+            floor = cast(Sequence[FloorClient], members)
+
+            async def read_floor() -> tuple[int, int]:
+                futures = [c.send(STATUS) for c in floor]
+                for future in futures:
+                    await future
+                return len(futures), 0
+
+            return read_floor
+        from focas_net.client import read_status_all
+
+        clients = [cast(FocasConn, c).client for c in members]
+
+        async def read_focas() -> tuple[int, int]:
+            results = await read_status_all(clients)
+            failed = sum(isinstance(r, Exception) for r in results)
+            return len(results) - failed, failed
+
+        return read_focas
+
+    members = [conns[k::groups] for k in range(groups)] if groups < count else None
+    if members is None:
+        await asyncio.gather(*(poll_slot(i, reader([c])) for i, c in enumerate(conns)))
+    else:
+        await asyncio.gather(*(poll_slot(k, reader(m)) for k, m in enumerate(members)))
     wall = _perf() - wall0
     cpu = time.process_time() - cpu0
     return {
         "polls": sum(polls),
-        "due": ticks * len(conns),
+        "due": ticks * count,
         "errors": sum(errors),
         "wall": wall,
         "cpu": cpu,

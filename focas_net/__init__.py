@@ -22,6 +22,7 @@ from .client import (
     Positions,
     ProjectionMode,
     ReconnectPolicy,
+    read_status_all,
 )
 from .errors import (
     EW,
@@ -128,5 +129,6 @@ __all__ = [
     "__version__",
     "default_machine",
     "load_machine",
+    "read_status_all",
     "start_native",
 ]

@@ -173,7 +173,16 @@ def test_top_level_exceptions_share_one_base() -> None:
     assert issubclass(focas_net.NotSentError, focas_net.FocasConnectionError)
 
 
-CLIENT_MODULES = ["client", "cnc", "connection", "native", "projection", "reconnect", "sim_control"]
+CLIENT_MODULES = [
+    "client",
+    "cnc",
+    "connection",
+    "many",
+    "native",
+    "projection",
+    "reconnect",
+    "sim_control",
+]
 
 
 def test_client_names_have_one_home() -> None:

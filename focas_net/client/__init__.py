@@ -3,7 +3,8 @@
 Each name below has one home: :mod:`.client` (the client and its results), :mod:`.reconnect`
 (states and the reconnect policy), :mod:`.sim_control` (``client.sim``), :mod:`.connection`
 (one pipelined connection), :mod:`.projection` (alarm events), :mod:`.native` (the FOCAS/2
-Ethernet client, :class:`NativeClient`), :mod:`.cnc` (:class:`CncClient`, the calls both
+Ethernet client, :class:`NativeClient`), :mod:`.many` (:func:`read_status_all`, many
+clients read from one task), :mod:`.cnc` (:class:`CncClient`, the calls both
 clients carry, as a static type). ``FaultKind`` and
 ``FaultScope``, the arguments of ``client.sim.inject_fault``, are imported from
 :mod:`focas_net.protocol` (or :mod:`focas_net`).
@@ -12,6 +13,7 @@ clients carry, as a static type). ``FaultKind`` and
 from .client import FocasClient, Positions
 from .cnc import CncClient
 from .connection import Connection, NotSentError, open_connection
+from .many import read_status_all
 from .native import DynamicData, NativeClient, NativeUnsupportedError, ServoLoad
 from .projection import (
     AlarmCleared,
@@ -45,4 +47,5 @@ __all__ = [
     "ServoLoad",
     "SimControl",
     "open_connection",
+    "read_status_all",
 ]

@@ -258,12 +258,35 @@ class Connection(Received, asyncio.Protocol):
         connection is lost first (:class:`NotSentError` if the request never left), and
         :class:`ProtocolError` for an answer carrying the wrong command.
         """
-        if self._slots_taken < self._max_in_flight and not self._slot_waiters:
-            self._slots_taken += 1  # a free slot: taken without suspending
-        else:
+        entry = self.try_send(command, payload, deadline)
+        if entry is None:
             await self._wait_for_slot(command, deadline)
-        # The usual case is inlined (one call per request costs): _write's, _track's and
-        # _release_slot's fast paths, each falling back to the method otherwise.
+            entry = self._sent_in_slot(command, payload, deadline)
+        try:
+            return await entry.future
+        finally:
+            self.finish(entry)
+
+    def try_send(self, command: int, payload: bytes, deadline: float | None) -> _Pending | None:
+        """:meth:`request` without its coroutine, for a caller that awaits the answer itself.
+
+        With a slot free and nobody waiting for one, the request is registered and sent and
+        its entry returned: the caller awaits ``entry.future`` and must then call
+        :meth:`finish` with the entry (in a ``finally``), answered or not. With no slot free
+        it returns None and takes nothing: the caller uses :meth:`request`. Raises
+        :class:`NotSentError` when the connection is closed (nothing taken).
+        """
+        if self._closed_exc is not None:
+            raise NotSentError(str(self._closed_exc))
+        if self._slots_taken >= self._max_in_flight or self._slot_waiters:
+            return None
+        self._slots_taken += 1  # a free slot: taken without suspending
+        return self._sent_in_slot(command, payload, deadline)
+
+    def _sent_in_slot(self, command: int, payload: bytes, deadline: float | None) -> _Pending:
+        """Register and send one request in a slot already taken (released on failure)."""
+        # The usual case is inlined (one call per request costs): _write's and _track's fast
+        # paths, each falling back to the method otherwise.
         entry: _Pending | None = None
         try:
             if self._closed_exc is not None:
@@ -297,16 +320,25 @@ class Connection(Received, asyncio.Protocol):
                     queue.append(entry)  # in send order, the timer armed for an earlier one
                 else:
                     self._track(entry, deadline)
-            return await future
-        finally:
-            # Still registered (on this connection, not one failed by a close): the caller
-            # gave up.
-            if entry is not None and self._pending.get(entry.request_id) is entry:
-                self._give_up(entry.request_id)
-            if self._slot_waiters:
-                self._release_slot()  # hands the slot to the first in line
+        except BaseException:
+            if entry is None:
+                self._release_slot()
             else:
-                self._slots_taken -= 1
+                self.finish(entry)
+            raise
+        return entry
+
+    def finish(self, entry: _Pending) -> None:
+        """The caller of ``entry`` (from :meth:`try_send`) stopped waiting, answered or not:
+        its id stays reserved if it is still unanswered, and its slot is released."""
+        # Still registered (on this connection, not one failed by a close): the caller gave
+        # up.
+        if self._pending.get(entry.request_id) is entry:
+            self._give_up(entry.request_id)
+        if self._slot_waiters:
+            self._release_slot()  # hands the slot to the first in line
+        else:
+            self._slots_taken -= 1
 
     async def request_all(
         self,
