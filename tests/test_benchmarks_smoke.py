@@ -325,12 +325,14 @@ async def test_worker_polls_a_fleet_over_connections_opened_once() -> None:
     async with FocasServer([default_machine(), default_machine()], host=HOST, port=0) as server:
         targets: list[list[Any]] = [[HOST, port] for _, port in server.addresses]
         conns = await worker.open_fleet(targets)
+        floors = await worker.open_fleet(targets, FloorClient.connect)
         try:
             staggered = await worker.poll_fleet(conns, interval=0.05, duration=0.2)
             together = await worker.poll_fleet(conns, interval=0.05, duration=0.2, slots=1)
+            floor_slot = await worker.poll_fleet(floors, interval=0.05, duration=0.2, slots=1)
         finally:
-            await worker.close_conns(conns)
-    for r in (staggered, together):
+            await worker.close_conns(conns + floors)
+    for r in (staggered, together, floor_slot):
         assert r["due"] == 2 * 4  # 2 machines, 4 ticks each
         assert 0 < r["polls"] <= r["due"]  # a tick that went by under load is skipped
         assert r["errors"] == 0

@@ -15,6 +15,7 @@ Every test talks to real servers on 127.0.0.1 (port 0) in this process. Properti
 from __future__ import annotations
 
 import asyncio
+import random
 from collections.abc import AsyncIterator
 from contextlib import AsyncExitStack, asynccontextmanager
 from decimal import Decimal
@@ -156,3 +157,34 @@ async def test_cancelling_the_caller_gives_up_every_unanswered_read() -> None:
         assert [leftovers(c) for c in clients] == [(0, 1)] * 3
         await wait_until(lambda: all(leftovers(c) == (0, 0) for c in clients))
         assert all(isinstance(s, StatusInfo) for s in await read_status_all(clients))
+
+
+async def test_a_storm_of_reads_cancelled_at_random_leaves_nothing_behind() -> None:
+    """Rounds of ``read_status_all`` over 8 clients of one machine, some answers delayed,
+    about half the rounds cancelled at a random point: every round that ends returns a status
+    or a timeout per client, and once the late answers are in nothing is left in flight."""
+    rng = random.Random(1505)
+    async with serving() as served, AsyncExitStack() as stack:
+        clients = [
+            await stack.enter_async_context(
+                FocasClient(served.host, served.port, timeout=IO_TIMEOUT, max_in_flight=2)
+            )
+            for _ in range(8)
+        ]
+        for _ in range(40):
+            for cnc in rng.sample(clients, 2):
+                await cnc.sim.inject_fault(FaultKind.DELAY, count=1, arg=rng.randint(1, 30))
+            reading = asyncio.ensure_future(read_status_all(clients, timeout=0.5))
+            if rng.random() < 0.5:
+                for _ in range(rng.randint(0, 3)):
+                    await asyncio.sleep(0)
+                reading.cancel()
+            try:
+                got = await reading
+            except asyncio.CancelledError:
+                continue
+            assert len(got) == len(clients)
+            assert all(isinstance(s, StatusInfo | FocasTimeoutError) for s in got), got
+        await wait_until(lambda: all(leftovers(c) == (0, 0) for c in clients))
+        final = await read_status_all(clients)
+        assert all(isinstance(s, StatusInfo) for s in final)
