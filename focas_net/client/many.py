@@ -23,6 +23,7 @@ from focas_net.errors import FocasError
 from ..protocol import COMMANDS, StatusInfo
 from ..protocol import Command as C
 from .connection import NotSentError
+from .reconnect import _UNLOCK_AND_RETRY
 
 if TYPE_CHECKING:
     from .client import FocasClient
@@ -80,11 +81,11 @@ async def read_status_all(
             client = clients[i]
             if raw is not None:
                 try:
-                    settled, value = client._answer(_RDCNCSTAT, raw)
+                    value = client._answer(_RDCNCSTAT, raw)
                 except FocasError as exc:
                     results[i] = exc
                     continue
-                if settled:
+                if value is not _UNLOCK_AND_RETRY:
                     results[i] = value
                     continue
             # Never sent, or to be unlocked and sent again: the call made the usual way, within

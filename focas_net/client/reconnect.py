@@ -54,6 +54,8 @@ __all__ = ["ClientState", "ReconnectPolicy"]
 logger = logging.getLogger("focas_net.client.client")
 
 _UNLOCK: Final = COMMANDS[C.WRUNLOCKPARAM]
+#: What :meth:`Link._answer` gives for an ``EW_PASSWD`` answer to unlock and send again.
+_UNLOCK_AND_RETRY: Final = object()
 _CLOSE_GRACE: Final = 2.0
 
 
@@ -506,11 +508,9 @@ class Link(_Lifecycle):
                 if self._policy is None:
                     raise
                 continue  # never reached the peer: safe to send on the next connection
-            value = spec.response.decode(raw)
-            if type(value) is not EwReply:
+            value = self._answer(spec, raw, retried)
+            if value is not _UNLOCK_AND_RETRY:
                 return value
-            if retried or not self._retries_after_unlock(spec, value.ew):
-                raise CncError.from_ew(value.ew, spec.focas_name)
             await self._unlock_for_retry(conn, deadline)
             retried = True
 
@@ -531,17 +531,17 @@ class Link(_Lifecycle):
             return None
         return None if entry is None else (conn, entry)
 
-    def _answer(self, spec: CommandSpec, raw: bytes) -> tuple[bool, Any]:
-        """The second half of :meth:`_request`: ``(True, value)`` for an answer it settles
-        (raising :class:`CncError` for an EW code), ``(False, None)`` for an ``EW_PASSWD``
-        answer that :meth:`_request` would unlock and send again (the caller does that by
-        making the call the usual way)."""
+    def _answer(self, spec: CommandSpec, raw: bytes, retried: bool = False) -> Any:
+        """The decoded answer of a call of ``spec``: its value, :class:`CncError` raised for
+        an EW code, or ``_UNLOCK_AND_RETRY`` for an ``EW_PASSWD`` answer to unlock and send
+        once more (never after ``retried``, the answer to that retry). The one rule of
+        :meth:`_request` and of those awaiting many answers in one task."""
         value = spec.response.decode(raw)
         if type(value) is not EwReply:
-            return True, value
-        if self._retries_after_unlock(spec, value.ew):
-            return False, None
-        raise CncError.from_ew(value.ew, spec.focas_name)
+            return value
+        if retried or not self._retries_after_unlock(spec, value.ew):
+            raise CncError.from_ew(value.ew, spec.focas_name)
+        return _UNLOCK_AND_RETRY
 
     def _retries_after_unlock(self, spec: CommandSpec, ew: int) -> bool:
         """Whether a call of ``spec`` answered ``ew`` is unlocked and sent once more."""
