@@ -251,7 +251,9 @@ async def poll_fleet(
             return read_floor
         from focas_net.client import read_status_all
 
-        clients = [cast(FocasConn, c).client for c in members]
+        clients = [c.client for c in members if isinstance(c, FocasConn)]
+        if len(clients) != len(members):
+            raise TypeError("a slot is read together by focas_net's or the floor's clients only")
 
         async def read_focas() -> tuple[int, int]:
             results = await read_status_all(clients)
