@@ -9,8 +9,15 @@ with focas_net's client: what a poll costs a client at the least. Then ``serve -
 the time from its start to its last ready line, and the RSS of its process tree then.
 
 ``native``: the server's CPU per request of FANUC's FOCAS/2 statinfo (the project's
-``NativeClient``) against that of a packed status request, on the same server, turn about in
-each repetition, with one caller and with 64 concurrent callers on one connection.
+``NativeClient``, which sends the frames FANUC's library sends) against that of a packed status
+request, on the same server, turn about in each repetition, in three modes: one caller on one
+connection (``seq``); 64 connections with one caller each (``conc64``); 64 concurrent callers on
+one connection (``pipe64``). The target applies to ``seq`` and ``conc64``, the two ways FANUC's
+library and pyfocas use a server: each of their handles has one call, so one frame, in flight,
+and more load means more handles. ``pipe64`` is reported and not held to the target: FOCAS/2
+carries one frame in flight per connection (a statinfo is three blocks, so a frame of ten blocks
+holds three calls), while the packed protocol pipelines all 64 requests, so the comparison there
+is of the two protocols' framing, not of the server's work per request.
 """
 
 from __future__ import annotations
@@ -39,8 +46,9 @@ READY_SECONDS = 15.0
 READY_RSS_KIB = 1024 * 1024
 #: Server CPU per native request against per packed request, at most.
 NATIVE_TARGET = 1.5
-#: (name, concurrent callers on one connection) of the native scenario's modes.
-NATIVE_MODES = (("seq", 1), ("pipe64", 64))
+#: (name, connections, concurrent callers on each, held to NATIVE_TARGET) of the native
+#: scenario's modes.
+NATIVE_MODES = (("seq", 1, 1, True), ("conc64", 64, 1, True), ("pipe64", 1, 64, False))
 
 
 def process_tree(pid: int) -> list[int]:
@@ -291,30 +299,24 @@ def native(suite: Suite) -> None:
     host, port = server.endpoint
     log(f"native: statinfo against packed status, {cfg.reps} x {cfg.duration:g} s each")
 
-    def sample(native: bool, callers: int, duration: float) -> tuple[float, float]:
+    def sample(native: bool, conns: int, callers: int, duration: float) -> tuple[float, float]:
+        op = "native_throughput" if native else "throughput"
         cpu = server.cpu_seconds()
-        if native:
-            r = worker.call(
-                "native_throughput", host=host, port=port, callers=callers, duration=duration
-            )
-        else:
-            r = worker.call(
-                "throughput", host=host, port=port, conns=1, callers=callers, duration=duration
-            )
+        r = worker.call(op, host=host, port=port, conns=conns, callers=callers, duration=duration)
         cpu = server.cpu_seconds() - cpu
         ops = float(r["ops"])
         return ops / float(r["elapsed"]), 1e6 * cpu / ops
 
-    for mode, callers in NATIVE_MODES:
-        sample(True, callers, cfg.warmup)
-        sample(False, callers, cfg.warmup)
+    for mode, conns, callers, held in NATIVE_MODES:
+        sample(True, conns, callers, cfg.warmup)
+        sample(False, conns, callers, cfg.warmup)
         native_us: list[float] = []
         packed_us: list[float] = []
         native_rate: list[float] = []
         for rep in range(cfg.reps):
             order = (True, False) if rep % 2 == 0 else (False, True)
             for is_native in order:
-                rate, us = sample(is_native, callers, cfg.duration)
+                rate, us = sample(is_native, conns, callers, cfg.duration)
                 (native_us if is_native else packed_us).append(us)
                 if is_native:
                     native_rate.append(rate)
@@ -327,7 +329,7 @@ def native(suite: Suite) -> None:
                 native_us,
                 ratio_to="packed",
                 ratios=pairwise_ratios(native_us, packed_us),
-                note="server CPU per statinfo",
+                note="server CPU per statinfo" + ("" if held else ", no target"),
             )
         )
         suite.add(
@@ -379,7 +381,9 @@ def evaluate_plant(results: Results, *, size: int, ready_size: int) -> list[Chec
         s, mib = seconds.summary.max, rss.summary.max
         ok = s < READY_SECONDS and mib * 1024 < READY_RSS_KIB
         checks.append(Check(label, ok, f"slowest start {s:.1f} s, largest RSS {mib:.0f} MiB"))
-    for mode, _ in NATIVE_MODES:
+    for mode, _, _, held in NATIVE_MODES:
+        if not held:
+            continue
         row = results.find(f"native_{mode}_server", FOCAS)
         label = f"native {mode}: server CPU per statinfo <= {NATIVE_TARGET:g} x per packed status"
         if row is None or row.ratio is None:

@@ -290,17 +290,20 @@ async def fleet(targets: list[list[Any]], interval: float, duration: float) -> d
 
 
 async def native_throughput(
-    host: str, port: int, callers: int, duration: float
+    host: str, port: int, conns: int, callers: int, duration: float
 ) -> dict[str, float]:
-    """``callers`` loops calling :meth:`NativeClient.read_status` (FOCAS/2 statinfo) on one
-    connection pair until the deadline."""
+    """``callers`` loops per connection pair calling :meth:`NativeClient.read_status`
+    (FOCAS/2 statinfo) on ``conns`` connection pairs until the deadline."""
     from focas_net.client import NativeClient
 
     counts: list[int] = []
-    async with NativeClient(host, port) as client:
-        await client.read_status()
+    clients = [NativeClient(host, port) for _ in range(conns)]
+    try:
+        for client in clients:
+            await client.connect()
+            await client.read_status()
 
-        async def caller(deadline: float) -> None:
+        async def caller(client: NativeClient, deadline: float) -> None:
             read_status = client.read_status
             n = 0
             while _perf() < deadline:
@@ -310,9 +313,13 @@ async def native_throughput(
 
         cpu0 = time.process_time()
         t0 = _perf()
-        await asyncio.gather(*(caller(t0 + duration) for _ in range(callers)))
+        deadline = t0 + duration
+        await asyncio.gather(*(caller(c, deadline) for c in clients for _ in range(callers)))
         elapsed = _perf() - t0
         cpu = time.process_time() - cpu0
+    finally:
+        for client in clients:
+            await client.aclose()
     return {"ops": sum(counts), "elapsed": elapsed, "cpu": cpu}
 
 
@@ -366,7 +373,7 @@ class Worker:
             return {"open": 0}
         if op == "native_throughput":
             return await native_throughput(
-                cmd["host"], cmd["port"], cmd["callers"], cmd["duration"]
+                cmd["host"], cmd["port"], cmd["conns"], cmd["callers"], cmd["duration"]
             )
         if op.startswith("native_"):  # the native FOCAS/2 suite (benchmarks/native.py)
             from benchmarks import native

@@ -301,7 +301,8 @@ def test_evaluate_plant_holds_every_target(
     got = {c.name.split(":")[0]: c.verdict for c in checks}
     assert (got["plant"], got["plant_run"]) == verdicts
     assert got["plant_ready"] == "SKIP"
-    assert got["native seq"] == got["native pipe64"] == "SKIP"
+    assert got["native seq"] == got["native conc64"] == "SKIP"
+    assert "native pipe64" not in got  # reported, not held to the target
 
 
 def test_evaluate_plant_start_and_native() -> None:
@@ -309,7 +310,8 @@ def test_evaluate_plant_start_and_native() -> None:
         Row("plant_ready", FOCAS, "s", [9.0, 16.0]),  # the slowest start counts
         Row("plant_rss", FOCAS, "MiB", [300.0]),
         Row("native_seq_server", FOCAS, "us/req", [60.0], "packed", [1.4]),
-        Row("native_pipe64_server", FOCAS, "us/req", [60.0], "packed", [1.6]),
+        Row("native_conc64_server", FOCAS, "us/req", [60.0], "packed", [1.6]),
+        Row("native_pipe64_server", FOCAS, "us/req", [60.0], "packed", [8.0]),
     ]
     checks = {
         c.name.split(":")[0]: c for c in plant.evaluate_plant(_results(rows), size=1, ready_size=2)
@@ -317,7 +319,9 @@ def test_evaluate_plant_start_and_native() -> None:
     assert checks["plant_ready"].verdict == "FAIL"
     assert "slowest start 16.0 s" in checks["plant_ready"].detail
     assert checks["native seq"].verdict == "PASS"
-    assert checks["native pipe64"].verdict == "FAIL"
+    assert checks["native conc64"].verdict == "FAIL"
+    assert "median ratio 1.60" in checks["native conc64"].detail
+    assert "native pipe64" not in checks
     assert checks["plant"].verdict == "SKIP"
 
 
@@ -337,3 +341,12 @@ async def test_worker_polls_a_fleet_over_connections_opened_once() -> None:
         assert 0 < r["polls"] <= r["due"]  # a tick that went by under load is skipped
         assert r["errors"] == 0
         assert r["worst_latency"] > 0.0
+
+
+async def test_worker_native_throughput_over_many_connection_pairs() -> None:
+    async with FocasServer([default_machine()], host=HOST, port=0) as server:
+        ((_, port),) = server.addresses
+        r = await worker.native_throughput(HOST, port, conns=3, callers=2, duration=0.1)
+    assert r["ops"] >= 3 * 2  # every caller finished at least one statinfo after the deadline
+    assert r["elapsed"] > 0.0
+    assert r["cpu"] > 0.0
