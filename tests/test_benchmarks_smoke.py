@@ -22,7 +22,16 @@ import pytest
 from support import IO_TIMEOUT
 
 from benchmarks import plant, run, worker
-from benchmarks.floor import HEADER, STATUS, STATUS_PAYLOAD, VARIANTS, FloorClient, Variant, serve
+from benchmarks.floor import (
+    HEADER,
+    STATUS,
+    STATUS_PAYLOAD,
+    VARIANTS,
+    WRITE_CHUNK,
+    FloorClient,
+    Variant,
+    serve,
+)
 from benchmarks.report import (
     FLOOR,
     FOCAS,
@@ -87,6 +96,27 @@ async def test_floor_client_matches_pipelined_answers(floor_port: int) -> None:
         answers = await asyncio.gather(*(client.read_status() for _ in range(200)))
         assert answers == [STATUS_PAYLOAD] * 200
         assert await client.request(0x7777) == struct.pack("<h", 1)  # unknown: EW_FUNC
+    finally:
+        await client.close()
+
+
+async def test_floor_client_writes_a_turns_frames_in_chunks(floor_port: int) -> None:
+    client = await FloorClient.connect(HOST, floor_port)
+    transport = client._transport
+    assert transport is not None
+    sizes: list[int] = []
+    write = transport.write
+
+    def counting(data: bytes | bytearray | memoryview) -> None:
+        sizes.append(len(data))
+        write(data)
+
+    transport.write = counting  # type: ignore[method-assign]
+    try:
+        futures = [client.send(STATUS) for _ in range(2 * WRITE_CHUNK + 3)]  # one loop turn
+        answers = await asyncio.gather(*futures)
+        assert answers == [STATUS_PAYLOAD] * (2 * WRITE_CHUNK + 3)
+        assert sizes == [8 * WRITE_CHUNK, 8 * WRITE_CHUNK, 8 * 3]  # 8-byte request frames
     finally:
         await client.close()
 

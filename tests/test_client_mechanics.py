@@ -32,7 +32,7 @@ from peers import (
 from support import IO_TIMEOUT, serving, wait_until
 
 from focas_net.client import ClientState, FocasClient, ReconnectPolicy
-from focas_net.client.connection import Connection, NotSentError, open_connection
+from focas_net.client.connection import WRITE_CHUNK, Connection, NotSentError, open_connection
 from focas_net.errors import (
     EW,
     AccessDeniedError,
@@ -386,6 +386,30 @@ async def test_slot_storm_with_random_cancellations(peer: ScriptedPeer, conn: Co
 
 
 # -- chunked reads: one batch -------------------------------------------------------------------
+
+
+async def test_calls_of_one_turn_leave_in_writes_of_at_most_write_chunk_frames(
+    peer: ScriptedPeer,
+) -> None:
+    """A lone call is written at once; the calls made in one loop turn while it is in flight
+    leave in writes of WRITE_CHUNK frames, in order, and every one gets its own answer."""
+    async with FocasClient("127.0.0.1", peer.port, timeout=BOUND, max_in_flight=64) as client:
+        counting = count_writes(client)
+        peer.hold = True
+        first = asyncio.create_task(client.read_param_value(9000))
+        await peer.wait_received(1)
+        assert counting.writes == 1
+        more = 2 * WRITE_CHUNK + 3
+        tasks = [asyncio.create_task(client.read_param_value(9001 + i)) for i in range(more)]
+        await peer.wait_received(1 + more)
+        assert counting.writes == 1 + 3  # two full writes, then the rest at the turn's end
+        assert [param_number(f) for f in peer.received] == list(range(9000, 9001 + more))
+        peer.hold = False
+        peer.release()
+        async with asyncio.timeout(BOUND):
+            values = await asyncio.gather(first, *tasks)
+        assert [v.value for v in values] == list(range(9000, 9001 + more))
+        assert_idle(connection_of(client))
 
 
 @pytest.fixture

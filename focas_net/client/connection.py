@@ -21,7 +21,10 @@ Rules it keeps:
   not a FOCAS server, an HTTP server for example), the connection is aborted and every pending
   call fails with :class:`ProtocolError` naming the peer and what it sent
   (:attr:`Connection.violation`); the client does not reconnect after it;
-* frames written during one event-loop turn leave in one ``transport.writelines`` call;
+* a lone request (nothing else in flight) is written at once; frames written while others are
+  in flight are gathered during the event-loop turn and leave together, in writes of
+  :data:`WRITE_CHUNK` frames at most (so that the peer starts answering the first of them
+  while this turn's callers are still making the rest);
 * :class:`asyncio.CancelledError` is never swallowed.
 
 Transport exceptions are translated here, once: callers see :class:`FocasConnectionError`
@@ -59,6 +62,8 @@ MAX_ABANDONED: Final = 16_384
 #: Most calls one connection may have waiting for an answer (``max_in_flight``): with the
 #: abandoned ids and the overshoot of a chunked batch it stays well inside the 65,536 ids.
 MAX_IN_FLIGHT: Final = 32_768
+#: Most frames gathered in one loop turn that leave in one write (see the module docstring).
+WRITE_CHUNK: Final = 16
 _ID_MASK: Final = 0xFFFF
 _HEADER: Final = HEADER
 _pack_header = HEADER.pack
@@ -302,10 +307,15 @@ class Connection(Received, asyncio.Protocol):
             frame = _pack_header(len(payload) + 4, command, request_id) + payload
             buf = self._wbuf
             if self._batch and (buf or len(pending) - self._abandoned > 1):
-                # Others in flight: frames written during this loop turn leave together.
+                # Others in flight: frames written during this loop turn leave together, in
+                # writes of WRITE_CHUNK frames at most, so that the peer starts on the first
+                # ones while the callers of this turn are still making the rest.
                 buf.append(frame)
-                if len(buf) == 1:
+                queued = len(buf)
+                if queued == 1:
                     self._loop.call_soon(self._flush)
+                elif queued >= WRITE_CHUNK:
+                    self._flush()
             else:
                 # A lone request (sequential use) goes out at once.
                 assert self._transport is not None
