@@ -11,13 +11,15 @@ ops ``native_*`` below), like the packed suite's. Subjects:
   same sequential calls: the handle can carry one call at a time from one thread;
 * ``pyfocas``: pyfocas (pure Python, blocking sockets), one ``FOCAS`` object; its 64
   concurrent callers are 64 threads taking turns on it behind a lock (it is not thread-safe).
-  pyfocas has ``read_macro`` and ``get_status_info`` but no ``cnc_rddynamic2``: its poll reads
-  ``get_status_info``, its nearest call.
+  pyfocas has ``read_macro`` and ``get_status_info`` but no ``cnc_rddynamic2``: it takes part
+  in the status poll, not in the ``cnc_rddynamic2`` one.
 
 Scenarios: ``native_seq`` (sequential ``read_macro`` and ``read_status``: calls per second),
 ``native_pipe64`` (64 concurrent ``read_macro`` on one connection) and ``native_poll100``
-(100 machines of ``serve --fleet 100``, each read with ``cnc_rddynamic2`` at 10 Hz: the client
-process's CPU per poll).
+(100 machines of ``serve --fleet 100``, each read at 10 Hz: the client process's CPU per poll;
+rows ``native_poll100`` with ``cnc_rddynamic2``, the library and focas_net, and
+``native_poll100_status`` with ``cnc_statinfo``, the call all three subjects have, which is the
+like-for-like comparison with pyfocas).
 """
 
 from __future__ import annotations
@@ -30,7 +32,7 @@ import statistics
 import sys
 import threading
 import time
-from collections.abc import Callable
+from collections.abc import Awaitable, Callable
 from functools import partial
 from typing import TYPE_CHECKING, Any, Final
 
@@ -52,6 +54,16 @@ POLL_HZ: Final = 10.0
 #: The macro variable read (written once before the runs: pyfocas cannot read a vacant one).
 MACRO: Final = 100
 MACRO_VALUE: Final = "12.5"
+#: The polls of ``native_poll100``: the row name and the call. pyfocas has no
+#: ``cnc_rddynamic2``, so it takes part in the status poll only.
+POLL_CALLS: Final = (("native_poll100", "read_dynamic"), ("native_poll100_status", "read_status"))
+#: The rows of the "ahead of pyfocas" targets: each mode, with the call pyfocas has.
+PYFOCAS_MODES: Final = (
+    "native_seq_macro",
+    "native_seq_status",
+    "native_pipe64",
+    "native_poll100_status",
+)
 #: Targets: pipe64 read_macro against the library, sequential calls against the library.
 PIPE64_TARGET: Final = 10.0
 SEQ_TARGET: Final = 0.7
@@ -166,9 +178,6 @@ class PyfocasConn:
     def read_status(self) -> None:
         self.client.get_status_info()
 
-    #: pyfocas has no cnc_rddynamic2: its poll reads the status, its nearest call.
-    read_dynamic = read_status
-
     def close(self) -> None:
         if self.client.socket is not None:
             self.client.socket.close()
@@ -243,16 +252,17 @@ def blocking_run(
 
 
 def blocking_poll(
-    subject: str, targets: list[list[Any]], interval: float, duration: float
+    subject: str, targets: list[list[Any]], call: str, interval: float, duration: float
 ) -> dict[str, float]:
-    """Every target read once per ``interval`` from one thread, in turn; a tick whose whole
-    interval went by is skipped."""
+    """Every target read with ``call`` once per ``interval`` from one thread, in turn; a tick
+    whose whole interval went by is skipped."""
     conns: list[Blocking] = []
     try:
         for host, port in targets:
             conns.append(_blocking(subject, str(host), int(port)))
-        for c in conns:
-            c.read_dynamic()
+        calls: list[Callable[[], None]] = [getattr(c, call) for c in conns]
+        for fn in calls:
+            fn()
         ticks = round(duration / interval)
         polls = errors = 0
         cpu0, wall0 = time.process_time(), _perf()
@@ -266,9 +276,9 @@ def blocking_poll(
                 continue
             if due > now:
                 time.sleep(due - now)
-            for c in conns:
+            for fn in calls:
                 try:
-                    c.read_dynamic()
+                    fn()
                     polls += 1
                 except Exception:
                     errors += 1
@@ -312,21 +322,21 @@ async def native_run(
 
 
 async def native_poll(
-    targets: list[list[Any]], interval: float, duration: float
+    targets: list[list[Any]], call: str, interval: float, duration: float
 ) -> dict[str, float]:
-    """100 :class:`NativeClient` (one per machine), one task each, ``read_dynamic`` every
-    ``interval``; a tick whose whole interval went by is skipped. Every machine's poll is due
-    at the start of the tick, the schedule of the blocking subjects (:func:`blocking_poll`
-    reads every machine in turn at each tick), so one wake-up starts a tick's polls; with
-    starts staggered over the interval each poll is a wake-up of its own, about twice the
-    CPU per poll on a 2-core box."""
+    """100 :class:`NativeClient` (one per machine), one task each, ``call`` (``read_dynamic``
+    or ``read_status``) every ``interval``; a tick whose whole interval went by is skipped.
+    Every machine's poll is due at the start of the tick, the schedule of the blocking subjects
+    (:func:`blocking_poll` reads every machine in turn at each tick), so one wake-up starts a
+    tick's polls; with starts staggered over the interval each poll is a wake-up of its own,
+    about twice the CPU per poll on a 2-core box."""
     from focas_net.client import NativeClient
 
     clients = [NativeClient(str(h), int(p), timeout=10.0) for h, p in targets]
     try:
         for i in range(0, len(clients), 25):
             await asyncio.gather(*(c.connect() for c in clients[i : i + 25]))
-        await asyncio.gather(*(c.read_dynamic() for c in clients))
+        await asyncio.gather(*(getattr(c, call)() for c in clients))
         loop = asyncio.get_running_loop()
         ticks = round(duration / interval)
         polls = [0] * len(clients)
@@ -335,6 +345,7 @@ async def native_poll(
         cpu0, wall0 = time.process_time(), _perf()
 
         async def poll(i: int, client: NativeClient) -> None:
+            read: Callable[[], Awaitable[object]] = getattr(client, call)
             tick = 0
             while tick < ticks:
                 due = t0 + tick * interval
@@ -345,7 +356,7 @@ async def native_poll(
                 if due > now:
                     await asyncio.sleep(due - now)
                 try:
-                    await client.read_dynamic()
+                    await read()
                     polls[i] += 1
                 except Exception:
                     errors[i] += 1
@@ -384,9 +395,10 @@ async def handle(subject: str, cmd: dict[str, Any]) -> dict[str, float]:
             return await native_run(*args)
         return blocking_run(subject, *args)
     if op == "native_poll":
+        poll = (cmd["targets"], cmd["call"], cmd["interval"], cmd["duration"])
         if subject == NATIVE:
-            return await native_poll(cmd["targets"], cmd["interval"], cmd["duration"])
-        return blocking_poll(subject, cmd["targets"], cmd["interval"], cmd["duration"])
+            return await native_poll(*poll)
+        return blocking_poll(subject, *poll)
     raise ValueError(f"unknown op {op!r}")
 
 
@@ -446,7 +458,8 @@ def run_native(suite: Suite) -> None:
             finally:
                 server.stop()
         if "native_poll100" in wanted:
-            suite.guarded("native_poll100", lambda: _poll(suite, workers))
+            for scenario, call in POLL_CALLS:
+                suite.guarded(scenario, partial(_poll, suite, workers, scenario, call))
     finally:
         for worker in workers.values():
             worker.stop()
@@ -497,12 +510,14 @@ def _throughput(
         suite.add(row)
 
 
-def _poll(suite: Suite, workers: dict[str, WorkerProcess]) -> None:
+def _poll(suite: Suite, workers: dict[str, WorkerProcess], scenario: str, call: str) -> None:
     from benchmarks.run import start_server
 
     cfg = suite.cfg
+    # pyfocas has no cnc_rddynamic2: it polls the status only
+    subjects = [s for s in workers if call != "read_dynamic" or s != PYFOCAS]
     print(
-        f"native_poll100: {FLEET} machines, read_dynamic at {POLL_HZ:g} Hz, "
+        f"{scenario}: {FLEET} machines, {call} at {POLL_HZ:g} Hz, "
         f"{cfg.reps} x {cfg.fleet_duration:g} s per subject",
         file=sys.stderr,
         flush=True,
@@ -512,11 +527,14 @@ def _poll(suite: Suite, workers: dict[str, WorkerProcess]) -> None:
         targets = [list(e) for e in server.endpoints]
         if len(targets) < FLEET:
             raise RuntimeError(f"fleet server announced {len(targets)} of {FLEET} machines")
-        subjects = list(workers)
         interval = 1.0 / POLL_HZ
         for subject in subjects:
             workers[subject].call(
-                "native_poll", targets=targets, interval=interval, duration=min(1.0, cfg.warmup * 4)
+                "native_poll",
+                targets=targets,
+                call=call,
+                interval=interval,
+                duration=min(1.0, cfg.warmup * 4),
             )
         per_poll: dict[str, list[float]] = {s: [] for s in subjects}
         achieved: dict[str, list[float]] = {s: [] for s in subjects}
@@ -524,7 +542,11 @@ def _poll(suite: Suite, workers: dict[str, WorkerProcess]) -> None:
         for rep in range(cfg.reps):
             for subject in _turns(subjects, rep):
                 r = workers[subject].call(
-                    "native_poll", targets=targets, interval=interval, duration=cfg.fleet_duration
+                    "native_poll",
+                    targets=targets,
+                    call=call,
+                    interval=interval,
+                    duration=cfg.fleet_duration,
                 )
                 per_poll[subject].append(1e6 * r["cpu"] / max(r["polls"], 1))
                 achieved[subject].append(r["polls"] / r["due"])
@@ -533,10 +555,9 @@ def _poll(suite: Suite, workers: dict[str, WorkerProcess]) -> None:
         server.stop()
     note = {
         s: f"{statistics.median(achieved[s]):.1%} of the polls due, {errors[s]} errors"
-        + (" (get_status_info: pyfocas has no cnc_rddynamic2)" if s == PYFOCAS else "")
         for s in per_poll
     }
-    for row in _ratio_rows("native_poll100", "us/poll", per_poll, note):
+    for row in _ratio_rows(scenario, "us/poll", per_poll, note):
         suite.add(row)
 
 
@@ -568,13 +589,13 @@ def checks(results: Results) -> list[Check]:
                 SEQ_TARGET,
             )
         )
-    for scenario in ("native_seq_macro", "native_seq_status", "native_pipe64", "native_poll100"):
+    for scenario in PYFOCAS_MODES:
         name = f"{scenario}: ahead of pyfocas"
         ours, theirs = results.find(scenario, NATIVE), results.find(scenario, PYFOCAS)
         if ours is None or theirs is None:
             out.append(Check(name, None, "not measured"))
             continue
-        if scenario == "native_poll100":  # CPU per poll: less is ahead
+        if scenario.startswith("native_poll100"):  # CPU per poll: less is ahead
             value = statistics.median(pairwise_ratios(theirs.samples, ours.samples))
             out.append(Check(name, value > 1.0, f"pyfocas uses {value:.2f} x the CPU per poll"))
         else:

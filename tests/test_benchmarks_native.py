@@ -35,8 +35,9 @@ def test_checks_pass_and_fail_each_target() -> None:
         Row("native_seq_macro", native.FWLIB, "calls/s", lib),
         _vs_fwlib("native_seq_macro", native.NATIVE, [60.0, 65.0, 90.0], lib),  # 0.65 x
         _vs_fwlib("native_seq_macro", native.PYFOCAS, [70.0, 70.0, 70.0], lib),  # ahead of us
-        Row("native_poll100", native.NATIVE, "us/poll", [50.0, 60.0]),
-        Row("native_poll100", native.PYFOCAS, "us/poll", [100.0, 90.0]),
+        Row("native_poll100", native.NATIVE, "us/poll", [500.0, 600.0]),  # not pyfocas's call
+        Row("native_poll100_status", native.NATIVE, "us/poll", [50.0, 60.0]),
+        Row("native_poll100_status", native.PYFOCAS, "us/poll", [100.0, 90.0]),
     ]
     verdicts = {c.name: c.verdict for c in native.checks(_results(rows))}
     assert verdicts == {
@@ -46,7 +47,7 @@ def test_checks_pass_and_fail_each_target() -> None:
         "native_seq_macro: ahead of pyfocas": "FAIL",
         "native_seq_status: ahead of pyfocas": "SKIP",
         "native_pipe64: ahead of pyfocas": "PASS",
-        "native_poll100: ahead of pyfocas": "PASS",  # less CPU per poll
+        "native_poll100_status: ahead of pyfocas": "PASS",  # less CPU per poll
     }
 
 
@@ -77,11 +78,21 @@ async def test_the_native_client_worker_ops(callers: int) -> None:
         result = await w.handle({"op": "native_run", "duration": 0.02, **cmd})
         assert result["ops"] >= callers and result["elapsed"] > 0
         assert 1 <= result["frames"] <= result["ops"]
-        poll = await w.handle(
-            {"op": "native_poll", "targets": [[host, port]] * 3, "interval": 0.01, "duration": 0.03}
-        )
-    assert poll["due"] == 9 and poll["errors"] == 0
-    assert 0 < poll["polls"] <= poll["due"]
+        polls = [
+            await w.handle(
+                {
+                    "op": "native_poll",
+                    "targets": [[host, port]] * 3,
+                    "call": call,
+                    "interval": 0.01,
+                    "duration": 0.03,
+                }
+            )
+            for call in ("read_dynamic", "read_status")
+        ]
+    for poll in polls:
+        assert poll["due"] == 9 and poll["errors"] == 0
+        assert 0 < poll["polls"] <= poll["due"]
 
 
 @pytest.mark.skipif(native.pyfocas_missing() is not None, reason="pyfocas is not installed")
@@ -95,7 +106,7 @@ async def test_the_pyfocas_worker_ops(callers: int) -> None:
         )
         assert result["ops"] >= callers
         poll = await _in_thread(
-            native.blocking_poll, native.PYFOCAS, [[host, port]] * 2, 0.01, 0.02
+            native.blocking_poll, native.PYFOCAS, [[host, port]] * 2, "read_status", 0.01, 0.02
         )
     assert poll["due"] == 4 and poll["errors"] == 0
 
@@ -108,7 +119,13 @@ async def test_the_fwlib_worker_ops() -> None:
 
         def both() -> tuple[dict[str, float], dict[str, float]]:
             run = native.blocking_run(native.FWLIB, host, port, "read_status", 64, 0.02)
-            poll = native.blocking_poll(native.FWLIB, [[host, port]] * 2, 0.01, 0.02)
+            poll = native.blocking_poll(
+                native.FWLIB, [[host, port]] * 2, "read_dynamic", 0.01, 0.02
+            )
+            status = native.blocking_poll(
+                native.FWLIB, [[host, port]] * 2, "read_status", 0.01, 0.02
+            )
+            assert status["due"] == 4 and status["errors"] == 0
             return run, poll
 
         run, poll = await _in_thread(both)
