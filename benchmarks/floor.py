@@ -9,8 +9,8 @@ runs both and takes the faster in each mode and repetition as the floor. The cli
 answers to callers by request id, gathers the frames written in one event-loop turn into
 writes of at most 16 frames (the server starts on the first while the callers of the turn make
 the rest: about 30 % more requests per second with 64 in flight than one write per turn) and
-reads into its own buffer. No codecs, no machine, no checks beyond the
-length bounds: whatever the real library spends above this is its own overhead.
+reads into its own buffer. No codecs, no machine, no checks beyond the length bounds: whatever
+the real library spends above this is its own overhead.
 
 ``python -m benchmarks.floor --port 0 [--variant buffered|plain]`` serves until killed and
 prints ``floor: listening on HOST:PORT`` when ready.
