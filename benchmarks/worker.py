@@ -262,11 +262,9 @@ async def poll_fleet(
 
         return read_focas
 
-    members = [conns[k::groups] for k in range(groups)] if groups < count else None
-    if members is None:
-        await asyncio.gather(*(poll_slot(i, reader([c])) for i, c in enumerate(conns)))
-    else:
-        await asyncio.gather(*(poll_slot(k, reader(m)) for k, m in enumerate(members)))
+    # slot k holds every groups-th machine from k on (one machine each when groups == count)
+    members = [conns[k::groups] for k in range(groups)]
+    await asyncio.gather(*(poll_slot(k, reader(m)) for k, m in enumerate(members)))
     wall = _perf() - wall0
     cpu = time.process_time() - cpu0
     return {
