@@ -273,25 +273,23 @@ async def _read_frame(reader: asyncio.StreamReader) -> tuple[int, int, bytes]:
     return version, frame_type, body
 
 
-class _Memo:
+class _Memo(dict[Any, Any]):
     """A bounded memo of pure results (emptied when full): the encoded block of a request,
     the blocks of an answer body, the decoded data of an answer block. Requests, bodies and
     decoded records are immutable, so a poll that repeats the same call and gets the same
-    answer encodes and decodes nothing again."""
+    answer encodes and decodes nothing again. A dict, so that a look-up (``get``) is the
+    dict's own."""
 
-    __slots__ = ("_items", "_size")
+    __slots__ = ("_size",)
 
     def __init__(self, size: int) -> None:
-        self._items: dict[Any, Any] = {}
+        super().__init__()
         self._size = size
 
-    def get(self, key: Any) -> Any:
-        return self._items.get(key)
-
     def put(self, key: Any, value: Any) -> None:
-        if len(self._items) >= self._size:
-            self._items.clear()
-        self._items[key] = value
+        if len(self) >= self._size:
+            self.clear()
+        self[key] = value
 
 
 #: (request, max axes) -> (its block's bytes, the most answer bytes, the request bytes).
@@ -321,19 +319,32 @@ def _block_of(request: NativeRequest, max_axes: int) -> tuple[bytes, int, int]:
     return value
 
 
-def _part_of(requests: tuple[NativeRequest, ...], max_axes: int) -> tuple[bytes, int, int]:
-    """The blocks of one job's ``requests`` as bytes, the most answer bytes they can get and
-    their size. Remembered by the identity of the tuple (the entry holds it, so the identity
-    stays its own): the library calls a poll repeats are built once, and hashing nine
-    requests would cost more than encoding them."""
+#: One job's blocks: their bytes, the most answer bytes they can get, their size, how many
+#: they are and the request frame that carries them alone.
+_Part = tuple[bytes, int, int, int, bytes]
+
+
+def _part_of(requests: tuple[NativeRequest, ...], max_axes: int) -> _Part:
+    """The blocks of one job's ``requests`` (see :data:`_Part`). Remembered by the identity of
+    the tuple (the entry holds it, so the identity stays its own): the library calls a poll
+    repeats are built once, and hashing nine requests would cost more than encoding them."""
     key = (id(requests), max_axes)
-    known: tuple[tuple[NativeRequest, ...], tuple[bytes, int, int]] | None = _PARTS.get(key)
+    known: tuple[tuple[NativeRequest, ...], _Part] | None = _PARTS.get(key)
     if known is not None and known[0] is requests:
         return known[1]
     parts = [_block_of(r, max_axes) for r in requests]
-    value = (b"".join(p[0] for p in parts), sum(p[1] for p in parts), sum(p[2] for p in parts))
+    encoded = b"".join(p[0] for p in parts)
+    count = len(requests)
+    alone = _frame_of(encoded, count)
+    value = (encoded, sum(p[1] for p in parts), sum(p[2] for p in parts), count, alone)
     _PARTS.put(key, (requests, value))
     return value
+
+
+def _frame_of(blocks: bytes, count: int) -> bytes:
+    """The data request frame of ``count`` encoded ``blocks``."""
+    head = _REQUEST_HEAD.pack(_MAGIC, CLIENT_VERSION, _DATA_REQUEST, 2 + len(blocks), count)
+    return head + blocks
 
 
 #: (identity of a call's first answer block) -> its blocks, what else the result depends on
@@ -625,19 +636,17 @@ def _abort(*pairs: tuple[asyncio.StreamReader, asyncio.StreamWriter]) -> None:
 
 
 class _Job:
-    """The blocks of one frame of one call, waiting to be sent or answered."""
+    """The blocks of one frame of one call, waiting to be sent or answered. (No slots: a job
+    lives for one round trip, and the attributes most jobs keep at their defaults are the
+    class's, so making one sets four.)"""
 
-    __slots__ = (
-        "command_set",
-        "count",
-        "deadline",
-        "encoded",
-        "future",
-        "requests",
-        "sent",
-        "timer",
-        "unarmed",
-    )
+    #: Its blocks as :func:`_part_of` gives them, once a frame takes it.
+    part: _Part = (b"", 0, 0, 0, b"")
+    sent = False
+    #: Its deadline's timer (None while the deadline of its frame stands for it).
+    timer: asyncio.TimerHandle | None = None
+    #: Queued for the frame the coming kick sends, its timer not yet decided.
+    unarmed = False
 
     def __init__(
         self,
@@ -647,17 +656,9 @@ class _Job:
         future: asyncio.Future[tuple[ResponseBlock, ...]],
     ) -> None:
         self.requests = requests
-        self.count = len(requests)
         self.command_set = command_set
         self.deadline = deadline
         self.future = future
-        self.sent = False
-        #: The bytes of its blocks, once a frame takes it.
-        self.encoded = b""
-        #: Its deadline's timer (None while the deadline of its frame stands for it).
-        self.timer: asyncio.TimerHandle | None = None
-        #: Queued for the frame the coming kick sends, its timer not yet decided.
-        self.unarmed = False
 
 
 def _fail(jobs: Sequence[_Job], make: Callable[..., BaseException], *args: Any) -> None:
@@ -961,8 +962,8 @@ class NativeClient(_Lifecycle):
                     FocasConnectionError("the CNC's command set changed on reconnect; call again")
                 )
                 continue
-            count = job.count
-            job.encoded, need, send = _part_of(job.requests, handle.max_axes)
+            part = job.part = _part_of(job.requests, handle.max_axes)
+            _, need, send, count, _ = part
             if batch and (
                 blocks + count > self.max_blocks
                 or size + need > handle.limit
@@ -1001,23 +1002,16 @@ class NativeClient(_Lifecycle):
         latest: float | None = 0.0
         for job in batch:
             job.sent = True
-            blocks += job.count
+            blocks += job.part[3]
             deadline = job.deadline
             if deadline is None:
                 latest = None
             elif latest is not None and deadline > latest:
                 latest = deadline
-        body_size = 2 + sum(len(job.encoded) for job in batch) if len(batch) > 1 else 0
-        if body_size:
-            parts = [_REQUEST_HEAD.pack(_MAGIC, CLIENT_VERSION, _DATA_REQUEST, body_size, blocks)]
-            parts += [job.encoded for job in batch]
-            frame = b"".join(parts)
+        if len(batch) > 1:
+            frame = _frame_of(b"".join([job.part[0] for job in batch]), blocks)
         else:
-            encoded = batch[0].encoded
-            frame = (
-                _REQUEST_HEAD.pack(_MAGIC, CLIENT_VERSION, _DATA_REQUEST, 2 + len(encoded), blocks)
-                + encoded
-            )
+            frame = batch[0].part[4]
         handle.transport_b.write(frame)
         self.frames_sent += 1
         self.blocks_sent += blocks
