@@ -272,6 +272,43 @@ async def test_concurrent_calls_share_frames(
     assert native.frames_sent - frames == math.ceil(64 / native.max_blocks)
 
 
+class _WriteSpy:
+    """A stand-in for B's transport that notes which task wrote each frame."""
+
+    def __init__(self, transport: asyncio.WriteTransport) -> None:
+        self.transport = transport
+        self.writers: list[asyncio.Task[object] | None] = []
+
+    def write(self, data: bytes) -> None:
+        self.writers.append(asyncio.current_task())
+        self.transport.write(data)
+
+
+async def test_a_lone_callers_next_call_leaves_at_once(
+    served: Served, both: tuple[NativeClient, FocasClient]
+) -> None:
+    native, _ = both
+    served.machine.write_macro(100, 7)
+    handle = native._handle
+    assert handle is not None
+    spy = _WriteSpy(handle.transport_b)
+    handle.transport_b = spy  # type: ignore[assignment]
+    try:
+        # Each call after the first was alone in the frame answered last, so its task
+        # writes it itself (not a callback at the end of the loop turn).
+        assert [await native.read_macro(100) for _ in range(3)] == [7, 7, 7]
+        this = asyncio.current_task()
+        assert spy.writers[1:] == [this, this]
+        # Calls of other tasks made together still share one frame, sent from a callback.
+        frames = native.frames_sent
+        values = await asyncio.gather(*(native.read_macro(100) for _ in range(native.max_blocks)))
+        assert values == [7] * native.max_blocks
+        assert native.frames_sent - frames == 1
+        assert spy.writers[-1] is None
+    finally:
+        handle.transport_b = spy.transport
+
+
 async def test_frames_split_by_the_answer_size(served: Served) -> None:
     async with NativeClient(served.host, served.port, max_blocks=200) as native:
         for n in range(100, 164):

@@ -659,6 +659,7 @@ class _Job:
         self.command_set = command_set
         self.deadline = deadline
         self.future = future
+        self.task = asyncio.current_task()
 
 
 def _fail(jobs: Sequence[_Job], make: Callable[..., BaseException], *args: Any) -> None:
@@ -738,6 +739,10 @@ class NativeClient(_Lifecycle):
         self._handle: _Handle | None = None
         self._queue: deque[_Job] = deque()
         self._kick_soon = False
+        #: The task whose call was alone in the frame last answered: that answer woke no
+        #: other caller of this client to gather with, so the task's next call is sent at
+        #: once (with whatever else is queued) rather than at the end of the loop turn.
+        self._direct: asyncio.Task[Any] | None = None
         #: Jobs queued for the coming kick whose timers that kick decides (see ``_send``).
         self._unarmed: list[_Job] = []
         self._param_widths: dict[int, int] = {}
@@ -791,6 +796,7 @@ class NativeClient(_Lifecycle):
             task.cancel()
             await asyncio.wait([task])
         handle, self._handle = self._handle, None
+        self._direct = None
         if handle is not None:
             _fail(handle.detach(), lambda: FocasConnectionError("client is closed"))
         queued = list(self._queue)
@@ -824,6 +830,7 @@ class NativeClient(_Lifecycle):
         if handle is not self._handle:
             return
         self._handle = None
+        self._direct = None
         handle.abort()
         if self._state is ClientState.CLOSED:
             return
@@ -904,15 +911,18 @@ class NativeClient(_Lifecycle):
         self._queue.append(job)
         handle = self._handle
         if handle is not None and handle.inflight is None:
-            if not self._kick_soon:
-                # at the end of this loop turn, so that calls made together share the frame
-                self._kick_soon = True
-                loop.call_soon(self._kick_later, handle)
             if deadline is not None:
                 # The kick decides: a job whose deadline is its frame's needs no timer of its
                 # own (the frame's fails it at that deadline); any other gets one there.
                 job.unarmed = True
                 self._unarmed.append(job)
+            if job.task is self._direct and job.task is not None:
+                self._direct = None
+                self._kick_later(handle)
+            elif not self._kick_soon:
+                # at the end of this loop turn, so that calls made together share the frame
+                self._kick_soon = True
+                loop.call_soon(self._kick_later, handle)
         elif deadline is not None:
             # One timer per call (cheaper than a timeout scope): it fails the job's future.
             job.timer = loop.call_at(deadline, _expire, future)
@@ -1077,7 +1087,7 @@ class NativeClient(_Lifecycle):
         answer woke have run."""
         if self._queue or handle.inflight is not None:
             self._kick(handle)
-        elif not self._kick_soon:
+        elif self._direct is None and not self._kick_soon:
             # Nothing queued: the callers just answered will likely call again in the turn
             # their futures wake them in. Sending after them (rather than from a callback each
             # new call schedules) gathers those calls into one frame and saves a loop turn.
@@ -1098,6 +1108,7 @@ class NativeClient(_Lifecycle):
             self._lose(handle, exc)
             return
         handle.inflight = None
+        self._direct = batch[0].task if len(batch) == 1 else None
         pos = 0
         for job in batch:
             count = len(job.requests)
