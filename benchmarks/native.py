@@ -12,7 +12,12 @@ ops ``native_*`` below), like the packed suite's. Subjects:
 * ``pyfocas``: pyfocas (pure Python, blocking sockets), one ``FOCAS`` object; its 64
   concurrent callers are 64 threads taking turns on it behind a lock (it is not thread-safe).
   pyfocas has ``read_macro`` and ``get_status_info`` but no ``cnc_rddynamic2``: it takes part
-  in the status poll, not in the ``cnc_rddynamic2`` one.
+  in the status poll, not in the ``cnc_rddynamic2`` one;
+* ``asyncio_floor`` (sequential rows only): the least an asyncio client of these frames costs
+  per call (:class:`FloorProtocol`): one connection opened as pyfocas opens it, the call's
+  request frame built once, and per call one write and one future completed by the answer
+  taken as a whole frame, nothing decoded. It is the bound the event loop itself sets on a
+  sequential asyncio client, measured beside the others.
 
 Scenarios: ``native_seq`` (sequential ``read_macro`` and ``read_status``: calls per second),
 ``native_pipe64`` (64 concurrent ``read_macro`` on one connection) and ``native_poll100``
@@ -44,7 +49,8 @@ if TYPE_CHECKING:
 NATIVE: Final = "native_client"
 FWLIB: Final = "fwlib"
 PYFOCAS: Final = "pyfocas"
-SUBJECTS: Final = (NATIVE, FWLIB, PYFOCAS)
+FLOOR: Final = "asyncio_floor"
+SUBJECTS: Final = (NATIVE, FWLIB, PYFOCAS, FLOOR)
 SCENARIOS: Final = ("native_seq", "native_pipe64", "native_poll100")
 #: The calls of ``native_seq``: the row name's suffix and the call.
 SEQ_CALLS: Final = (("macro", "read_macro"), ("status", "read_status"))
@@ -181,6 +187,91 @@ class PyfocasConn:
     def close(self) -> None:
         if self.client.socket is not None:
             self.client.socket.close()
+
+
+class FloorProtocol(asyncio.Protocol):
+    """The asyncio floor's connection: each answer, taken as one whole frame (its 10-byte
+    header's length word), completes the one call waiting."""
+
+    def __init__(self) -> None:
+        self.transport: asyncio.Transport | None = None
+        self.waiter: asyncio.Future[bytes] | None = None
+        self.buffer = bytearray()
+
+    def connection_made(self, transport: asyncio.BaseTransport) -> None:
+        assert isinstance(transport, asyncio.Transport)
+        self.transport = transport
+
+    def data_received(self, data: bytes) -> None:
+        buffer = self.buffer
+        if not buffer and len(data) >= 10 and len(data) == 10 + int.from_bytes(data[8:10]):
+            self._answer(data)
+            return
+        buffer += data
+        while len(buffer) >= 10:
+            size = 10 + int.from_bytes(buffer[8:10])
+            if len(buffer) < size:
+                break
+            self._answer(bytes(buffer[:size]))
+            del buffer[:size]
+
+    def _answer(self, frame: bytes) -> None:
+        waiter, self.waiter = self.waiter, None
+        if waiter is not None and not waiter.done():
+            waiter.set_result(frame)
+
+    def connection_lost(self, exc: Exception | None) -> None:
+        waiter, self.waiter = self.waiter, None
+        if waiter is not None and not waiter.done():
+            waiter.set_exception(ConnectionError(f"connection lost: {exc}"))
+
+    async def call(self, frame: bytes) -> bytes:
+        assert self.transport is not None
+        waiter: asyncio.Future[bytes] = asyncio.get_running_loop().create_future()
+        self.waiter = waiter
+        self.transport.write(frame)
+        return await waiter
+
+
+async def floor_run(host: str, port: int, call: str, duration: float) -> dict[str, float]:
+    """The asyncio floor: sequential calls of ``call``'s request frame, as
+    :func:`native_run` makes them with one caller. The first answer is decoded and checked
+    (outside the timed loop); the timed ones are not."""
+    from focas_net.native import (
+        CommandSet,
+        FrameType,
+        calls,
+        decode_frame,
+        decode_response_body,
+        encode_open_request,
+    )
+
+    loop = asyncio.get_running_loop()
+    transport, proto = await loop.create_connection(FloorProtocol, host, port)
+    try:
+        opened = decode_frame(await proto.call(encode_open_request(2)))
+        if opened.type != FrameType.OPEN_RESPONSE:
+            raise RuntimeError(f"open answered with type 0x{opened.type:04X}")
+        cs = CommandSet.for_version(opened.version)
+        library = calls.cnc_rdmacro(cs, MACRO) if call == "read_macro" else calls.cnc_statinfo(cs)
+        (frame,) = library.encode()
+        answer = decode_frame(await proto.call(frame))
+        blocks = decode_response_body(answer.body)
+        if len(blocks) != len(library.frames[0]) or any(b.ew for b in blocks):
+            raise RuntimeError(f"{library.function} answered {blocks!r}")
+        fn = proto.call
+        n = 0
+        deadline = _perf() + duration
+        cpu = time.process_time()
+        start = _perf()
+        while _perf() < deadline:
+            await fn(frame)
+            n += 1
+        elapsed = _perf() - start
+        cpu = time.process_time() - cpu
+    finally:
+        transport.close()
+    return {"ops": n, "elapsed": elapsed, "cpu": cpu}
 
 
 Blocking = FwlibHandle | PyfocasConn
@@ -393,6 +484,10 @@ async def handle(subject: str, cmd: dict[str, Any]) -> dict[str, float]:
         args = (cmd["host"], cmd["port"], cmd["call"], cmd["callers"], cmd["duration"])
         if subject == NATIVE:
             return await native_run(*args)
+        if subject == FLOOR:
+            if cmd["callers"] != 1:
+                raise ValueError(f"the asyncio floor makes sequential calls, not {cmd['callers']}")
+            return await floor_run(cmd["host"], cmd["port"], cmd["call"], cmd["duration"])
         return blocking_run(subject, *args)
     if op == "native_poll":
         poll = (cmd["targets"], cmd["call"], cmd["interval"], cmd["duration"])
@@ -432,6 +527,8 @@ def run_native(suite: Suite) -> None:
             subjects.append(subject)
         else:
             suite.skip(f"{subject} rows skipped: {missing}")
+    if "native_seq" in wanted:
+        subjects.append(FLOOR)
     workers: dict[str, WorkerProcess] = {}
     try:
         for subject in subjects:
@@ -479,7 +576,8 @@ def _throughput(
     callers: int,
 ) -> None:
     cfg = suite.cfg
-    subjects = list(workers)
+    # the asyncio floor makes sequential calls only
+    subjects = [s for s in workers if callers == 1 or s != FLOOR]
     print(
         f"{scenario}: {callers} caller(s) of {call}, warm-up, then {cfg.reps} x "
         f"{cfg.duration:g} s per subject",
@@ -500,6 +598,12 @@ def _throughput(
             if subject == NATIVE:
                 frames.append(r["ops"] / max(r["frames"], 1))
     note = {s: f"client CPU {statistics.median(cpu[s]):.0f} us/call" for s in subjects}
+    if FLOOR in rates:
+        to_floor = statistics.median(pairwise_ratios(rates[NATIVE], rates[FLOOR]))
+        note[NATIVE] += f", {to_floor:.2f} x the asyncio floor"
+        if PYFOCAS in rates:
+            floor_to_pyfocas = statistics.median(pairwise_ratios(rates[FLOOR], rates[PYFOCAS]))
+            note[FLOOR] += f", {floor_to_pyfocas:.2f} x pyfocas"
     if callers > 1:
         note[NATIVE] += f", {statistics.median(frames):.1f} calls per frame"
         if FWLIB in note:
@@ -514,8 +618,8 @@ def _poll(suite: Suite, workers: dict[str, WorkerProcess], scenario: str, call: 
     from benchmarks.run import start_server
 
     cfg = suite.cfg
-    # pyfocas has no cnc_rddynamic2: it polls the status only
-    subjects = [s for s in workers if call != "read_dynamic" or s != PYFOCAS]
+    # pyfocas has no cnc_rddynamic2: it polls the status only; the asyncio floor does not poll
+    subjects = [s for s in workers if s != FLOOR and (call != "read_dynamic" or s != PYFOCAS)]
     print(
         f"{scenario}: {FLEET} machines, {call} at {POLL_HZ:g} Hz, "
         f"{cfg.reps} x {cfg.fleet_duration:g} s per subject",

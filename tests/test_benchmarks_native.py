@@ -95,6 +95,50 @@ async def test_the_native_client_worker_ops(callers: int) -> None:
         assert 0 < poll["polls"] <= poll["due"]
 
 
+@pytest.mark.parametrize("call", ["read_macro", "read_status"])
+async def test_the_asyncio_floor_worker_op(call: str) -> None:
+    w = Worker(native.FLOOR)
+    async with serving() as served:
+        served.machine.write_macro(native.MACRO, 5)
+        cmd = {"op": "native_run", "host": served.host, "port": served.port, "call": call}
+        result = await w.handle({**cmd, "callers": 1, "duration": 0.02})
+        assert result["ops"] >= 1 and result["elapsed"] > 0 and result["cpu"] >= 0
+        with pytest.raises(ValueError, match="sequential calls, not 64"):
+            await w.handle({**cmd, "callers": 64, "duration": 0.02})
+
+
+async def test_the_asyncio_floor_refuses_an_error_answer(monkeypatch: pytest.MonkeyPatch) -> None:
+    # a variable number the machine has not is answered with EW_NUMBER: the floor must not
+    # time calls that fail
+    monkeypatch.setattr(native, "MACRO", 99_999_999)
+    async with serving() as served:
+        with pytest.raises(RuntimeError, match="cnc_rdmacro answered"):
+            await native.floor_run(served.host, served.port, "read_macro", 0.02)
+
+
+def test_the_floor_protocol_takes_frames_whole_or_in_pieces() -> None:
+    loop = asyncio.new_event_loop()
+    try:
+        proto = native.FloorProtocol()
+        first = bytes.fromhex("a0a0a0a0 0002 2102 0002") + b"xy"
+        second = bytes.fromhex("a0a0a0a0 0002 2102 0000")
+        answers = []
+        for data in (first, first[:5], first[5:], second + first[:11], first[11:]):
+            if proto.waiter is None:
+                proto.waiter = loop.create_future()
+                answers.append(proto.waiter)
+            proto.data_received(data)
+        # whole, in two pieces, then a frame and the start of the next in one read
+        assert [a.result() for a in answers] == [first, first, second, first]
+        assert proto.waiter is None and not proto.buffer
+        waiter = proto.waiter = loop.create_future()
+        proto.connection_lost(None)
+        with pytest.raises(ConnectionError, match="connection lost"):
+            waiter.result()
+    finally:
+        loop.close()
+
+
 @pytest.mark.skipif(native.pyfocas_missing() is not None, reason="pyfocas is not installed")
 @pytest.mark.parametrize("callers", [1, 3])
 async def test_the_pyfocas_worker_ops(callers: int) -> None:
