@@ -582,6 +582,68 @@ async def test_calls_left_out_of_a_full_frame_keep_their_timeouts() -> None:
             assert native.state is ClientState.CONNECTED
 
 
+async def test_a_queued_call_with_an_earlier_deadline_than_those_ahead_times_out_first() -> None:
+    async with NativePeer() as peer:
+        async with NativeClient("127.0.0.1", peer.port, timeout=IO_TIMEOUT) as native:
+            peer.hold = True
+            first = asyncio.ensure_future(native.read_macro(1))
+            await wait_until(lambda: peer.data_frames == 1)
+            patient = asyncio.ensure_future(native.read_macro(2))  # queued, a long deadline
+            await asyncio.sleep(0)
+            with pytest.raises(FocasTimeoutError, match="never sent"):
+                await native.read_macro(3, timeout=0.05)  # queued after, due first
+            assert not patient.done()
+            peer.hold = False
+            peer.release()
+            assert await first == 1
+            assert await patient == 2
+            assert peer.data_frames == 2  # macro 3 never left
+            assert native.state is ClientState.CONNECTED
+
+
+async def test_the_watch_moves_on_past_calls_answered_before_their_deadline() -> None:
+    async with NativePeer() as peer:
+        async with NativeClient("127.0.0.1", peer.port, timeout=IO_TIMEOUT) as native:
+            peer.hold = True
+            first = asyncio.ensure_future(native.read_macro(1))
+            await wait_until(lambda: peer.data_frames == 1)
+            # queued with a short deadline: the watch is armed for it
+            quick = asyncio.ensure_future(native.read_macro(2, timeout=0.1))
+            await asyncio.sleep(0)
+            peer.hold = False
+            peer.release()
+            assert await first == 1
+            assert await quick == 2  # answered well before its deadline
+            peer.hold = True
+            held = asyncio.ensure_future(native.read_macro(3))
+            await wait_until(lambda: peer.data_frames == 3)
+            # queued behind the held frame, due after the answered call's deadline
+            with pytest.raises(FocasTimeoutError, match="never sent"):
+                await native.read_macro(4, timeout=0.2)
+            peer.hold = False
+            peer.release()
+            assert await held == 3
+            assert await native.read_macro(5) == 5
+            assert native.state is ClientState.CONNECTED
+
+
+async def test_closing_stops_the_watch() -> None:
+    async with NativePeer() as peer:
+        native = NativeClient("127.0.0.1", peer.port, timeout=IO_TIMEOUT)
+        await native.connect()
+        peer.hold = True
+        first = asyncio.ensure_future(native.read_macro(1))
+        await wait_until(lambda: peer.data_frames == 1)
+        queued = asyncio.ensure_future(native.read_macro(2))
+        await asyncio.sleep(0)
+        assert native._watch_timer is not None  # the queued call is watched
+        await native.aclose()
+        for call in (first, queued):
+            with pytest.raises(FocasConnectionError, match="closed"):
+                await call
+        assert native._watch_timer is None
+
+
 async def test_calls_made_as_answers_arrive_share_a_frame() -> None:
     async with NativePeer() as peer:
         async with NativeClient("127.0.0.1", peer.port, timeout=IO_TIMEOUT) as native:

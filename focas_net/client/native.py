@@ -149,6 +149,8 @@ logger = logging.getLogger(__name__)
 #: Most blocks FANUC's library puts in one request frame; the default of ``max_blocks``.
 LIBRARY_MAX_BLOCKS: Final = 10
 _PATH: Final = 1
+#: No deadline (the watch timer not set).
+_INF: Final = float("inf")
 _CLOSE_GRACE: Final = 2.0
 _ANSWER_HEAD: Final = 16
 _MAX_ACTIVE_ALARMS: Final = 32
@@ -643,9 +645,8 @@ class _Job:
     #: Its blocks as :func:`_part_of` gives them, once a frame takes it.
     part: _Part = (b"", 0, 0, 0, b"")
     sent = False
-    #: Its deadline's timer (None while the deadline of its frame stands for it).
-    timer: asyncio.TimerHandle | None = None
-    #: Queued for the frame the coming kick sends, its timer not yet decided.
+    #: Queued for the frame the coming kick sends, whether its deadline is watched not yet
+    #: decided.
     unarmed = False
 
     def __init__(
@@ -743,8 +744,12 @@ class NativeClient(_Lifecycle):
         #: other caller of this client to gather with, so the task's next call is sent at
         #: once (with whatever else is queued) rather than at the end of the loop turn.
         self._direct: asyncio.Task[Any] | None = None
-        #: Jobs queued for the coming kick whose timers that kick decides (see ``_send``).
+        #: Jobs queued for the coming kick whose watch that kick decides (see ``_send``).
         self._unarmed: list[_Job] = []
+        #: One timer for the deadlines of calls queued, or in flight in a frame whose own
+        #: deadline is later (see ``_watch``), and when it fires (inf: not set).
+        self._watch_timer: asyncio.TimerHandle | None = None
+        self._watch_at = _INF
         self._param_widths: dict[int, int] = {}
         #: The type word (0 bit .. 4 real) of each parameter read or written.
         self._param_types: dict[int, int] = {}
@@ -802,6 +807,10 @@ class NativeClient(_Lifecycle):
         queued = list(self._queue)
         self._queue.clear()
         _fail(queued, lambda: FocasConnectionError("client is closed"))
+        if self._watch_timer is not None:
+            self._watch_timer.cancel()
+            self._watch_timer = None
+            self._watch_at = _INF
         if self._ready is not None:
             self._ready.set()
         if handle is not None:
@@ -923,9 +932,10 @@ class NativeClient(_Lifecycle):
                 # at the end of this loop turn, so that calls made together share the frame
                 self._kick_soon = True
                 loop.call_soon(self._kick_later, handle)
-        elif deadline is not None:
-            # One timer per call (cheaper than a timeout scope): it fails the job's future.
-            job.timer = loop.call_at(deadline, _expire, future)
+        elif deadline is not None and deadline < self._watch_at:
+            # Queued behind a frame in flight: the client's one watch timer covers it (it
+            # is armed already for an earlier deadline in the usual case).
+            self._watch(deadline)
         try:
             return await future
         except _Expired:
@@ -938,9 +948,6 @@ class NativeClient(_Lifecycle):
                 + ("" if job.sent else " (the request was never sent)")
             ) from None
         finally:
-            timer = job.timer
-            if timer is not None:
-                timer.cancel()
             if not future.done():
                 future.cancel()
 
@@ -992,13 +999,12 @@ class NativeClient(_Lifecycle):
         self._kick(handle)
         unarmed = self._unarmed
         if unarmed:
-            # left in the queue (the frame was full, or no frame could be sent): their own timers
-            loop = self._loop or asyncio.get_running_loop()
+            # left in the queue (the frame was full, or no frame could be sent): watched
             for job in unarmed:
                 if job.unarmed:
                     job.unarmed = False
                     if not job.future.done() and job.deadline is not None:
-                        job.timer = loop.call_at(job.deadline, _expire, job.future)
+                        self._watch(job.deadline)
             unarmed.clear()
 
     def _kick(self, handle: _Handle) -> None:
@@ -1043,10 +1049,11 @@ class NativeClient(_Lifecycle):
             if job.unarmed:
                 # Its deadline is the frame's: the frame's timer fails it then (and ends the
                 # connection, as it would for any frame unanswered at its latest deadline).
+                # An earlier one is watched.
                 job.unarmed = False
                 if latest is None or job.deadline != latest:
                     assert job.deadline is not None
-                    job.timer = loop.call_at(job.deadline, _expire, job.future)
+                    self._watch(job.deadline)
 
     def _on_data(self, handle: _Handle, data: bytes) -> None:
         """B's bytes: complete the frame in flight with its answer, then send the next one.
@@ -1115,6 +1122,45 @@ class NativeClient(_Lifecycle):
             if not job.future.done():
                 job.future.set_result(blocks[pos : pos + count])
             pos += count
+
+    def _watch(self, deadline: float) -> None:
+        """Have the watch timer fire no later than ``deadline``."""
+        if deadline < self._watch_at:
+            if self._watch_timer is not None:
+                self._watch_timer.cancel()
+            loop = self._loop or asyncio.get_running_loop()
+            self._watch_timer = loop.call_at(deadline, self._watch_fired)
+            self._watch_at = deadline
+
+    def _watch_fired(self) -> None:
+        """Fail every call queued, or in flight before its frame's deadline, whose own
+        deadline has passed; arm again for the earliest deadline left. (Calls answered since
+        the timer was armed are simply gone: the timer fires about once a timeout while
+        calls flow, and looks at the calls waiting then, no others.)"""
+        self._watch_timer = None
+        self._watch_at = _INF
+        loop = self._loop or asyncio.get_running_loop()
+        now = loop.time()
+        nxt = _INF
+        handle = self._handle
+        waiting: list[_Job] = list(self._queue)
+        frame_deadline = _INF
+        if handle is not None and handle.inflight is not None:
+            waiting += handle.inflight
+            if handle.deadline is not None:
+                frame_deadline = handle.deadline
+        for job in waiting:
+            deadline = job.deadline
+            if deadline is None or job.future.done():
+                continue
+            if job.sent and deadline >= frame_deadline:
+                continue  # its frame's timer fails it (and ends the connection)
+            if deadline <= now:
+                _expire(job.future)
+            elif deadline < nxt:
+                nxt = deadline
+        if nxt != _INF:
+            self._watch(nxt)
 
     def _frame_timer(self, handle: _Handle) -> None:
         """The frame timer fired: nothing to do with no frame in flight (or one without a
