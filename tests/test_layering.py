@@ -56,7 +56,8 @@ def _files(relative: str) -> list[Path]:
     return sorted(target.rglob("*.py")) if target.is_dir() else [target]
 
 
-NEUTRAL = ("focas_net.errors", "focas_net.versamax")
+#: Modules that know no protocol and no machine: anyone may import them.
+NEUTRAL = ("focas_net.errors", "focas_net.versamax", "focas_net._memo")
 
 
 @pytest.mark.parametrize("path", _files("sim"), ids=lambda p: p.name)

@@ -61,9 +61,10 @@ import re
 import struct
 from bisect import bisect_left, bisect_right
 from collections.abc import Callable
-from decimal import ROUND_HALF_EVEN, Decimal
+from decimal import MAX_EMAX, MAX_PREC, MIN_EMIN, ROUND_HALF_EVEN, Context, Decimal
 from typing import Final
 
+from focas_net._memo import Memo
 from focas_net.errors import EW
 from focas_net.native.codec import (
     _DOUBLE,
@@ -244,6 +245,12 @@ _DIAG_TYPES: Final[dict[ParamKind, DiagType]] = {
 #: The sequence number a block starts with.
 _SEQUENCE: Final = re.compile(r"\s*N(\d+)")
 
+#: data-request body -> its request blocks (a poll sends the same body again and again).
+_REQUEST_BODIES: Final = Memo(512)
+
+#: A context that neither rounds nor overflows: scaling a coefficient by its exponent is exact.
+_EXACT: Final = Context(prec=MAX_PREC, Emax=MAX_EMAX, Emin=MIN_EMIN)
+
 _pack_block = _RESPONSE_BLOCK.pack
 _pack_scaled = _SCALED.pack
 _pack_double = _DOUBLE.pack
@@ -346,10 +353,9 @@ def _macro_parts(value: Decimal | None) -> tuple[int, int]:
     is ``(0, -1)``."""
     if value is None:
         return 0, -1
-    sign, digits, exponent = value.as_tuple()
+    exponent = value.as_tuple()[2]
     assert isinstance(exponent, int)
-    coefficient = int("".join(map(str, digits)))
-    return (-coefficient if sign else coefficient), -exponent
+    return int(value.scaleb(-exponent, _EXACT)), -exponent
 
 
 def _macro_of_double(value: float) -> Decimal:
@@ -536,8 +542,13 @@ class NativeAdapter:
 
     # -- requests ------------------------------------------------------------------------
 
-    def _blocks(self, body: bytes) -> tuple[RequestBlock, ...]:
-        blocks = decode_request_body(body)
+    def _blocks(self, data: bytes | bytearray | memoryview) -> tuple[RequestBlock, ...]:
+        # a bytearray or a view is looked up as bytes: a memo key is immutable
+        body = data if type(data) is bytes else bytes(data)
+        blocks: tuple[RequestBlock, ...] | None = _REQUEST_BODIES.get(body)
+        if blocks is None:
+            blocks = decode_request_body(body)
+            _REQUEST_BODIES.put(body, blocks)
         if len(blocks) > self._max_blocks:
             raise NativeFrameError(
                 f"{len(blocks)} request blocks: at most {self._max_blocks} can be answered"
@@ -599,7 +610,7 @@ class NativeAdapter:
             size = len(data)
             left -= size
             detail1 = detail2 = 0
-            if ew == EW.NUMBER:
+            if ew and ew == EW.NUMBER:
                 detail1, detail2 = 1, _i16(block.args[0])
             parts.append(
                 _pack_block(

@@ -45,6 +45,7 @@ from decimal import Decimal
 from functools import partial
 from typing import Any, Final
 
+from focas_net._memo import Memo
 from focas_net._receive import Received
 from focas_net.errors import (
     EW,
@@ -275,34 +276,15 @@ async def _read_frame(reader: asyncio.StreamReader) -> tuple[int, int, bytes]:
     return version, frame_type, body
 
 
-class _Memo(dict[Any, Any]):
-    """A bounded memo of pure results (emptied when full): the encoded block of a request,
-    the blocks of an answer body, the decoded data of an answer block. Requests, bodies and
-    decoded records are immutable, so a poll that repeats the same call and gets the same
-    answer encodes and decodes nothing again. A dict, so that a look-up (``get``) is the
-    dict's own."""
-
-    __slots__ = ("_size",)
-
-    def __init__(self, size: int) -> None:
-        super().__init__()
-        self._size = size
-
-    def put(self, key: Any, value: Any) -> None:
-        if len(self) >= self._size:
-            self.clear()
-        self[key] = value
-
-
 #: (request, max axes) -> (its block's bytes, the most answer bytes, the request bytes).
-_BLOCKS: Final = _Memo(1024)
+_BLOCKS: Final = Memo(1024)
 #: (identity of a job's requests, max axes) -> the requests, and their blocks' bytes, the most
 #: answer bytes and their size.
-_PARTS: Final = _Memo(1024)
+_PARTS: Final = Memo(1024)
 #: (answer frame, request block count) -> its blocks, as checked.
-_BODIES: Final = _Memo(512)
+_BODIES: Final = Memo(512)
 #: (identity of a request, max axes, answer data) -> the request and its decoded answer.
-_ANSWERS: Final = _Memo(1024)
+_ANSWERS: Final = Memo(1024)
 
 
 def _block_of(request: NativeRequest, max_axes: int) -> tuple[bytes, int, int]:
@@ -352,7 +334,7 @@ def _frame_of(blocks: bytes, count: int) -> bytes:
 #: (identity of a call's first answer block) -> its blocks, what else the result depends on
 #: (the call, the axes) and the call's result: a poll whose answer repeats gets the very
 #: block objects of ``_BODIES`` again, and builds its result once.
-_RESULTS: Final = _Memo(1024)
+_RESULTS: Final = Memo(1024)
 
 
 def _known_result(blocks: tuple[ResponseBlock, ...], extra: Any) -> Any:

@@ -21,6 +21,7 @@ from typing import Any, ClassVar, Final, Self, cast
 
 from focas_net.errors import EW
 
+from .._memo import Memo
 from .base import NativePayloadError
 from .blocks import Device, RequestBlock
 from .records import (
@@ -164,6 +165,9 @@ EXTRA_LENGTH: Final = _ExtraLength()
 
 _ArgSpec = str | int | _ExtraLength
 
+#: (request type, arguments of a block of no extra bytes) -> the typed request it carries.
+_READS: Final = Memo(1024)
+
 
 class NativeRequest:
     """Base of the typed requests: a command with its arguments, as one frozen dataclass.
@@ -226,11 +230,20 @@ class NativeRequest:
 
     @classmethod
     def from_block(cls, block: RequestBlock) -> Self:
-        """The typed request carried by ``block``."""
+        """The typed request carried by ``block`` (a block of no extra bytes, a read, decodes
+        once: the same block is answered with the same immutable request again)."""
+        extra = block.extra
         args = block.args
+        if not extra:
+            known: Self | None = _READS.get((cls, args))
+            if known is not None:
+                return known
         fields = {name: args[i] for i, name in cls._arg_places}
-        fields.update(cls._extra_fields(block.extra))
-        return cls(**fields)
+        fields.update(cls._extra_fields(extra))
+        request = cls(**fields)
+        if not extra:
+            _READS.put((cls, args), request)
+        return request
 
     def decode_answer(self, data: bytes, max_axes: int | None = None) -> Any:
         """The answer data of this request, an ``ANSWER`` (``max_axes``: the slot count of
