@@ -272,6 +272,23 @@ async def test_concurrent_calls_share_frames(
     assert native.frames_sent - frames == math.ceil(64 / native.max_blocks)
 
 
+async def test_interleaved_methods_share_frames_and_keep_their_answers(
+    served: Served, both: tuple[NativeClient, FocasClient]
+) -> None:
+    native, packed = both
+    for n in range(100, 130):
+        served.machine.write_macro(n, n)
+    status = await native.read_status()
+    frames = native.frames_sent
+    # macro, macro, status, macro, macro, status...: runs of equal calls and changes of call
+    calls = [native.read_status() if i % 3 == 2 else native.read_macro(100 + i) for i in range(30)]
+    got = await asyncio.gather(*calls)
+    assert got == [status if i % 3 == 2 else Decimal(100 + i) for i in range(30)]
+    # 20 blocks of macros and 30 of statuses, ten to a frame, in the order of the calls
+    assert native.frames_sent - frames == 5
+    assert status == await packed.read_status()
+
+
 class _WriteSpy:
     """A stand-in for B's transport that notes which task wrote each frame."""
 

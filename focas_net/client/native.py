@@ -308,6 +308,10 @@ def _block_of(request: NativeRequest, max_axes: int) -> tuple[bytes, int, int]:
 _Part = tuple[bytes, int, int, int, bytes]
 
 
+#: The part of a job no frame has taken.
+_NO_PART: Final[_Part] = (b"", 0, 0, 0, b"")
+
+
 def _part_of(requests: tuple[NativeRequest, ...], max_axes: int) -> _Part:
     """The blocks of one job's ``requests`` (see :data:`_Part`). Remembered by the identity of
     the tuple (the entry holds it, so the identity stays its own): the library calls a poll
@@ -625,7 +629,7 @@ class _Job:
     class's, so making one sets four.)"""
 
     #: Its blocks as :func:`_part_of` gives them, once a frame takes it.
-    part: _Part = (b"", 0, 0, 0, b"")
+    part: _Part = _NO_PART
     sent = False
     #: Queued for the frame the coming kick sends, whether its deadline is watched not yet
     #: decided.
@@ -950,6 +954,10 @@ class NativeClient(_Lifecycle):
         batch: list[_Job] = []
         blocks = 0
         size = sent = 2  # answer and request bodies: the block count, then the blocks
+        # the previous job's requests and part: concurrent callers of one method share both
+        last: tuple[NativeRequest, ...] | None = None
+        part = _NO_PART
+        need = send = count = 0
         while queue:
             job = queue[0]
             if job.future.done():
@@ -961,8 +969,12 @@ class NativeClient(_Lifecycle):
                     FocasConnectionError("the CNC's command set changed on reconnect; call again")
                 )
                 continue
-            part = job.part = _part_of(job.requests, handle.max_axes)
-            _, need, send, count, _ = part
+            requests = job.requests
+            if requests is not last:
+                part = _part_of(requests, handle.max_axes)
+                _, need, send, count, _ = part
+                last = requests
+            job.part = part
             if batch and (
                 blocks + count > self.max_blocks
                 or size + need > handle.limit
@@ -1045,8 +1057,10 @@ class NativeClient(_Lifecycle):
             # the usual case: the whole answer in one read, nothing held
             magic, version, frame_type, length = NATIVE_HEADER.unpack_from(data)
             if magic == _MAGIC and len(data) == NATIVE_HEADER_SIZE + length:
-                self._complete(handle, (version, frame_type, bytes(data[NATIVE_HEADER_SIZE:])))
-                if handle is self._handle:
+                current = handle is self._handle
+                body = bytes(data[NATIVE_HEADER_SIZE:])
+                self._complete(handle, (version, frame_type, body), current)
+                if current:
                     self._next(handle)
                 return
         rx += data
@@ -1084,8 +1098,12 @@ class NativeClient(_Lifecycle):
             loop = self._loop or asyncio.get_running_loop()
             loop.call_soon(self._kick_later, handle)
 
-    def _complete(self, handle: _Handle, frame: tuple[int, int, bytes]) -> None:
-        """Hand each job of the frame in flight its answer blocks."""
+    def _complete(
+        self, handle: _Handle, frame: tuple[int, int, bytes], send_next: bool = False
+    ) -> None:
+        """Hand each job of the frame in flight its answer blocks; with ``send_next`` (the
+        answer was all the bytes read), send the next frame of queued calls first: it leaves
+        before the results are handed out (the callers run after this callback either way)."""
         batch = handle.inflight or []
         try:
             blocks = handle.check_answer(frame, handle.inflight_blocks)
@@ -1098,6 +1116,8 @@ class NativeClient(_Lifecycle):
             return
         handle.inflight = None
         self._direct = batch[0].task if len(batch) == 1 else None
+        if send_next and self._queue:
+            self._kick(handle)
         pos = 0
         for job in batch:
             count = len(job.requests)
