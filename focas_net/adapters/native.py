@@ -610,7 +610,7 @@ class NativeAdapter:
             size = len(data)
             left -= size
             detail1 = detail2 = 0
-            if ew and ew == EW.NUMBER:
+            if ew == EW.NUMBER:
                 detail1, detail2 = 1, _i16(block.args[0])
             parts.append(
                 _pack_block(

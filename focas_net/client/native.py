@@ -1057,10 +1057,9 @@ class NativeClient(_Lifecycle):
             # the usual case: the whole answer in one read, nothing held
             magic, version, frame_type, length = NATIVE_HEADER.unpack_from(data)
             if magic == _MAGIC and len(data) == NATIVE_HEADER_SIZE + length:
-                current = handle is self._handle
                 body = bytes(data[NATIVE_HEADER_SIZE:])
-                self._complete(handle, (version, frame_type, body), current)
-                if current:
+                self._complete(handle, (version, frame_type, body), send_next=True)
+                if handle is self._handle:
                     self._next(handle)
                 return
         rx += data
