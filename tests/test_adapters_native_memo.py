@@ -1,16 +1,24 @@
-"""The native adapter's memo of status answers: a poller's repeated ``cnc_statinfo`` is
-answered from it while the status holds, and never with a status that changed."""
+"""The native adapter's memo of read answers: a poller's repeated request is answered from it
+while the machine counters its reads follow hold, and never with anything that changed. The
+memo's answers are checked against a fresh adapter's after every kind of change a machine has:
+writes of each kind, the panel, alarms, the motion figures, a program running in machine
+time."""
 
 from __future__ import annotations
 
+from decimal import Decimal
+
+import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
+import focas_net.adapters.native as adapter_module
 from focas_net.adapters import NativeAdapter
 from focas_net.native import (
     CommandSet,
     Device,
     NativeCommand,
+    NativePmcArea,
     RequestBlock,
     StatInfo,
     decode_frame,
@@ -18,14 +26,57 @@ from focas_net.native import (
     encode_request_body,
 )
 from focas_net.native import calls as native_calls
-from focas_net.sim import default_machine
+from focas_net.sim import MachineError, default_machine
 from focas_net.sim.nc import ManualClock
 
 #: cnc_statinfo's frame (0x19, 0xE1, 0x98) and a system information block.
 STATINFO = encode_request_body(native_calls.cnc_statinfo(CommandSet.FS30I).blocks()[0])
 SYSINFO = encode_request_body([RequestBlock(Device.CNC, 1, NativeCommand.SYSINFO)])
 
-#: What changes a status: (action, argument) steps applied to the machine.
+
+def _body(*calls: native_calls.LibraryCall) -> bytes:
+    """One request body of the first frame of each call, in order."""
+    return encode_request_body([b for call in calls for b in call.blocks()[0]])
+
+
+def _bodies(cs: CommandSet) -> list[bytes]:
+    """Requests of every read the memo keeps, alone and mixed, in command set ``cs``."""
+    c = native_calls
+    pmc = NativePmcArea
+    alone = [
+        c.cnc_statinfo(cs),
+        c.cnc_rdmacro(cs, 3901),
+        c.cnc_rdmacror2(cs, 100, 4),
+        c.cnc_rdparam(cs, 6711, 0),
+        c.cnc_rdparam(cs, 1320, -1),
+        c.cnc_diagnoss(cs, 410, 0),
+        c.pmc_rdpmcrng(cs, pmc.R, 0, 0, 7),
+        c.cnc_alarm(cs),
+        c.cnc_rdalmmsg(cs, -1, 4),
+        c.cnc_rdalmhistry(cs, 1, 3),
+        c.cnc_rdprgnum(cs),
+        c.cnc_exeprgname(cs),
+        c.cnc_rdseqnum(cs),
+        c.cnc_actf(cs),
+        c.cnc_acts(cs),
+        c.cnc_absolute(cs, -1),
+        c.cnc_rdcncid(cs),
+        c.cnc_rdaxisname(cs),
+    ]
+    return [
+        *(_body(call) for call in alone),
+        _body(c.cnc_rdmacro(cs, 100), c.cnc_rdmacro(cs, 101), c.cnc_rdmacro(cs, 3901)),
+        _body(c.cnc_actf(cs), c.cnc_acts(cs), c.cnc_absolute(cs, -1), c.cnc_machine(cs, 1)),
+        _body(c.cnc_rddynamic2(cs, -1)),
+        _body(c.cnc_rdmacro(cs, 100), c.cnc_statinfo(cs), c.pmc_rdpmcrng(cs, pmc.G, 0, 0, 1)),
+        encode_request_body([RequestBlock(Device.CNC, 1, NativeCommand.STATINFO)]),
+        # reads never kept: time moves them, or the program store
+        _body(c.cnc_rdtimer(cs, 0), c.cnc_rdmacro(cs, 100)),
+        _body(c.cnc_rdspload(cs, 1), c.cnc_rdproginfo(cs)),
+    ]
+
+
+#: What changes a machine: (action, argument) steps.
 STEPS = st.lists(
     st.one_of(
         st.tuples(st.just("mode"), st.sampled_from([0, 1, 3, 4, 5])),
@@ -33,38 +84,109 @@ STEPS = st.lists(
         st.tuples(st.just("alarm"), st.integers(1, 999)),
         st.tuples(st.just("clear"), st.just(0)),
         st.tuples(st.just("start"), st.just(0)),
+        st.tuples(st.just("reset"), st.just(0)),
         st.tuples(st.just("time"), st.floats(0.0, 30.0)),
+        st.tuples(st.just("macro"), st.integers(100, 101)),
+        st.tuples(st.just("param"), st.integers(0, 9999)),
+        st.tuples(st.just("diag"), st.integers(0, 9999)),
+        st.tuples(st.just("pmc"), st.integers(0, 255)),
+        st.tuples(st.just("motion"), st.integers(-9999, 9999)),
     ),
     max_size=12,
 )
 
 
-@settings(max_examples=60, deadline=None)
-@given(STEPS)
-def test_memo_answers_what_a_fresh_adapter_answers(steps: list[tuple[str, float]]) -> None:
-    clock = ManualClock()
-    machine = default_machine(sim_clock=clock)
-    adapter = NativeAdapter(machine)
-    for action, arg in steps:
-        adapter.answer(STATINFO)  # the memo holds the answer before this step
+def _change(machine: adapter_module.Machine, clock: ManualClock, action: str, arg: float) -> None:
+    """Apply one step; a step the machine refuses in its state changes nothing."""
+    n = int(arg)
+    try:
         if action == "mode":
-            machine.set_panel(mode=int(arg))
+            machine.set_panel(mode=n)
         elif action == "emergency":
-            machine.set_panel(emergency=int(arg))
+            machine.set_panel(emergency=n)
         elif action == "alarm":
-            machine.raise_alarm(0, 2, int(arg), "memo")
+            machine.raise_alarm(0, 2, n, "memo")
         elif action == "clear":
             machine.clear_alarms()
         elif action == "start":
-            try:
-                machine.cycle_start()
-            except Exception:  # refused in this state (an alarm, not MEM): nothing changed
-                pass
-        else:
+            machine.set_panel(mode=1)
+            machine.cycle_start()
+        elif action == "reset":
+            machine.reset()
+        elif action == "time":
             clock.advance(arg)
-        fresh = NativeAdapter(machine).answer(STATINFO)
-        assert adapter.answer(STATINFO) == fresh
-        assert adapter.answer(SYSINFO) == NativeAdapter(machine).answer(SYSINFO)
+        elif action == "macro":
+            machine.write_macro(n, Decimal(n) / 8 + machine.sim_clock.now().__floor__())
+        elif action == "param":
+            machine.set_panel(pwe=1)
+            machine.write_param(machine.new_session(), 6711, 0, n)
+        elif action == "diag":
+            machine.set_diag(410, 0, n)
+        elif action == "pmc":
+            machine.write_pmc("R", 3, bytes([n]))
+        else:
+            machine.set_motion(
+                feed=abs(n), absolute=[n, -n, 2 * n], sequence=abs(n), program_running=abs(n)
+            )
+    except MachineError:
+        pass
+
+
+@pytest.mark.parametrize("version", [2, 3])
+@settings(max_examples=40, deadline=None)
+@given(steps=STEPS)
+def test_memo_answers_what_a_fresh_adapter_answers(
+    version: int, steps: list[tuple[str, float]]
+) -> None:
+    clock = ManualClock()
+    machine = default_machine(sim_clock=clock)
+    machine.raise_alarm(0, 2, 1, "history")  # so that the history has a record to read
+    adapter = NativeAdapter(machine, version=version)
+    bodies = _bodies(adapter.command_set)
+    for body in bodies:
+        adapter.answer(body)
+    # the memo holds the answers of every kept read before the first step
+    assert [body in adapter._answers for body in bodies] == [True] * (len(bodies) - 2) + [
+        False,
+        False,
+    ]
+    for action, arg in steps:
+        _change(machine, clock, action, arg)
+        for body in bodies:
+            fresh = NativeAdapter(machine, version=version).answer(body)
+            assert adapter.answer(body) == fresh, (action, arg, body.hex())
+        assert adapter.answer(SYSINFO) == NativeAdapter(machine, version=version).answer(SYSINFO)
+
+
+def test_a_repeated_read_is_answered_from_the_memo_and_a_timer_never() -> None:
+    adapter = NativeAdapter(default_machine())
+    cs = adapter.command_set
+    macros = _body(native_calls.cnc_rdmacro(cs, 100), native_calls.cnc_rdparam(cs, 6711, 0))
+    assert adapter.answer(macros) is adapter.answer(macros)
+    timer = _body(native_calls.cnc_rdtimer(cs, 0), native_calls.cnc_rdmacro(cs, 100))
+    assert adapter.answer(timer) is not adapter.answer(timer)
+    assert timer not in adapter._answers
+
+
+def test_an_answer_with_an_ew_code_is_not_kept() -> None:
+    machine = default_machine()
+    adapter = NativeAdapter(machine)
+    body = _body(native_calls.cnc_rdmacro(adapter.command_set, 100))
+    unknown = _body(native_calls.cnc_rdmacro(adapter.command_set, 29999))
+    first = adapter.answer(unknown)
+    assert decode_response_body(decode_frame(first)[2])[0].ew != 0
+    assert unknown not in adapter._answers
+    assert adapter.answer(unknown) == first
+    adapter.answer(body)
+    assert body in adapter._answers
+
+
+def test_the_memo_keeps_a_bounded_number_of_answers() -> None:
+    adapter = NativeAdapter(default_machine())
+    cs = adapter.command_set
+    for number in range(100, 100 + 3 * adapter_module._KEPT_ANSWERS):
+        adapter.answer(_body(native_calls.cnc_rdmacro(cs, number)))
+        assert len(adapter._answers) <= adapter_module._KEPT_ANSWERS
 
 
 def test_the_memo_follows_an_alarm() -> None:

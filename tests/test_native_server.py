@@ -507,9 +507,7 @@ async def test_program_numbers_feed_spindle(front: Front, native: NativeClient) 
     assert NativeProgramNumbers.decode(await native.ok(PrgNumRequest())) == NativeProgramNumbers(
         1, 1
     )
-    motion = front.machine.motion
-    motion.program_running, motion.program_main = 1234, 1000
-    motion.feed, motion.spindle_speed = 1500, 8000
+    front.machine.set_motion(program_running=1234, program_main=1000, feed=1500, spindle_speed=8000)
     assert NativeProgramNumbers.decode(await native.ok(PrgNumRequest())) == NativeProgramNumbers(
         1234, 1000
     )
@@ -519,11 +517,13 @@ async def test_program_numbers_feed_spindle(front: Front, native: NativeClient) 
 
 
 async def test_positions(front: Front, native: NativeClient) -> None:
+    front.machine.set_motion(
+        absolute=[1000, -2500, 300],
+        machine=[11000, 7500, -300],
+        relative=[1, 2, 3],
+        distance_to_go=[0, 0, -50],
+    )
     motion = front.machine.motion
-    motion.absolute[:] = [1000, -2500, 300]
-    motion.machine[:] = [11000, 7500, -300]
-    motion.relative[:] = [1, 2, 3]
-    motion.distance_to_go[:] = [0, 0, -50]
     expected = {
         (4, 0): motion.absolute,
         (1,): motion.machine,

@@ -48,6 +48,13 @@ Rules of this wire (the CNC's rules are the machine's, see :mod:`focas_net.sim.m
   :class:`NativeAdapter` documents at each handler; the spindle and servo loads are the
   machine's (:meth:`~focas_net.sim.Machine.spindle_loads`, ``servo_loads``).
 
+Answers of reads are kept: a request made of the reads in :data:`_COUNTERS` only, every block
+answered without an EW code, is answered again from a memo keyed by its body for as long as the
+machine counters those reads follow (``status_version``, ``data_version``, ``macro_version``,
+``alarm_version``, ``pmc_version``, ``motion_version``; none for what never changes) stay where
+they were before it was answered, as :mod:`focas_net.adapters.packed` keeps its answers. A
+poller's repeated frame then costs one look-up and a compare.
+
 A macro value written as a double (0xA8) is the decimal :func:`macro_from_double` makes of it,
 written with the machine's own ``write_macro`` (a vacant double, a NaN, makes the variable
 vacant; a double with no such decimal is passed on as it is, for the machine to refuse).
@@ -62,7 +69,8 @@ import struct
 from bisect import bisect_left, bisect_right
 from collections.abc import Callable
 from decimal import MAX_EMAX, MAX_PREC, MIN_EMIN, ROUND_HALF_EVEN, Context, Decimal
-from typing import Final
+from operator import attrgetter
+from typing import Any, Final
 
 from focas_net._memo import Memo
 from focas_net.errors import EW
@@ -200,17 +208,49 @@ _I32_MIN: Final = -(2**31)
 _I32_MAX: Final = 2**31 - 1
 _QUANTA: Final = tuple(Decimal(1).scaleb(-d) for d in range(MAX_MACRO_DECIMALS + 1))
 _SERVED_PATHS: Final = frozenset({0, 1})
-#: Blocks whose answer follows the machine's status alone (``Machine.status_version``): a
-#: request of these only is answered from a memo while that version holds.
-_STATUS_BLOCKS: Final = frozenset(
-    (Device.CNC, command)
-    for command in (
-        NativeCommand.SYSINFO,
-        NativeCommand.STATINFO,
-        NativeCommand.STAT_HDCK,
-        NativeCommand.STAT_TMMODE,
-    )
-)
+#: The machine counter the answer of each read block follows ("" for what never changes: the
+#: identity, the axes): a request of these only is answered from a memo while those counters
+#: hold. Absent are writes, and reads that move with time alone or with the program store
+#: (timers, loads, servo meters, program directory and memory, the blocks being executed).
+_COUNTERS: Final[dict[tuple[int, int], str]] = {
+    (Device.CNC, NativeCommand.SYSINFO): "",
+    (Device.CNC, NativeCommand.RDCNCID): "",
+    (Device.CNC, NativeCommand.AXIS_NAME): "",
+    (Device.CNC, NativeCommand.AXIS_UNIT): "",
+    (Device.CNC, NativeCommand.AXIS_COUNT): "",
+    (Device.CNC, NativeCommand.AXIS_DISPLAY): "",
+    (Device.CNC, NativeCommand.STATINFO): "status_version",
+    (Device.CNC, NativeCommand.STAT_HDCK): "status_version",
+    (Device.CNC, NativeCommand.STAT_TMMODE): "status_version",
+    (Device.CNC, NativeCommand.RDPARAM): "data_version",
+    (Device.CNC, NativeCommand.RDPARAINFO): "data_version",
+    (Device.CNC, NativeCommand.RDPARAM3): "data_version",
+    (Device.CNC, NativeCommand.RDPARAINFO3): "data_version",
+    (Device.CNC, NativeCommand.RDDIAG): "data_version",
+    (Device.CNC, NativeCommand.RDDIAG3): "data_version",
+    (Device.CNC, NativeCommand.RDMACRO): "macro_version",
+    (Device.CNC, NativeCommand.RDMACRO_DOUBLE): "macro_version",
+    (Device.CNC, NativeCommand.ALARM): "alarm_version",
+    (Device.CNC, NativeCommand.RDALMMSG): "alarm_version",
+    (Device.CNC, NativeCommand.RDALMHISTRY): "alarm_version",
+    (Device.PMC, NativeCommand.PMC_RDPMCRNG): "pmc_version",
+    (Device.CNC, NativeCommand.RDPRGNUM): "motion_version",
+    (Device.CNC, NativeCommand.RDSEQNUM): "motion_version",
+    (Device.CNC, NativeCommand.EXEPRGNAME): "motion_version",
+    (Device.CNC, NativeCommand.ACTF): "motion_version",
+    (Device.CNC, NativeCommand.ACTS): "motion_version",
+    (Device.CNC, NativeCommand.POSITION): "motion_version",
+}
+#: Answers one adapter keeps: the request bodies a poller repeats. An answer is 1.5 KiB at most
+#: (2.9 at version 3), so a machine keeps under 100 KiB of them at worst.
+_KEPT_ANSWERS: Final = 32
+
+
+def _no_counters(machine: Machine) -> tuple[()]:
+    """The counters of a request whose answer never changes: none."""
+    return ()
+
+
 #: Most alarm messages one block answers.
 _MAX_ALARMS: Final = 32
 #: Kind of a position read -> the machine's position kind.
@@ -413,11 +453,11 @@ class NativeAdapter:
     """
 
     __slots__ = (
+        "_answers",
         "_axis_names",
         "_diag_numbers",
         "_handlers",
         "_max_blocks",
-        "_memo",
         "_own_session",
         "_param_numbers",
         "_scaled_zero",
@@ -453,8 +493,8 @@ class NativeAdapter:
         self._axis_names = [_axis_name(a) for a in machine.axes]
         self._status = b""
         self._status_version = -1
-        #: The last answer made of status blocks only: (request body, status version, frame).
-        self._memo: tuple[bytes, int, bytes] | None = None
+        #: request body -> (the counters its answer follows, their values then, the frame)
+        self._answers = Memo(_KEPT_ANSWERS)
         self._param_numbers = machine.param_numbers()
         self._diag_numbers = machine.diag_numbers()
         self._scaled_zero = _pack_scaled(0, 10, 0)
@@ -569,26 +609,38 @@ class NativeAdapter:
         answer can hold; everything else is answered in its block. A request of no block is
         answered with one EW_FUNC block (FANUC's library refuses an answer of no block).
         """
-        memo = self._memo
-        if memo is not None and memo[0] == body and memo[1] == self.machine.status_version:
-            return memo[2]  # a poller's cnc_statinfo again, the status unchanged
-        blocks = self._blocks(body)
+        key = body if type(body) is bytes else bytes(body)
+        kept: tuple[Callable[[Machine], Any], Any, bytes] | None = self._answers.get(key)
+        machine = self.machine
+        if kept is not None and kept[0](machine) == kept[1]:
+            return kept[2]  # a poller's request again, what it reads unchanged
+        blocks = self._blocks(key)
         if not blocks:
             blocks = (RequestBlock(Device.CNC, 1, 0),)
-        if all((b.device, b.command) in _STATUS_BLOCKS for b in blocks):
-            # Read before answering: a status that moves meanwhile only makes the memo miss.
-            version = self.machine.status_version
-            frame = self._answer(blocks, session)
-            self._memo = (bytes(body), version, frame)
-            return frame
-        return self._answer(blocks, session)
+        kinds = [_COUNTERS.get((b.device, b.command)) for b in blocks]
+        if None in kinds:
+            return self._answer(blocks, session)[0]
+        names = sorted({k for k in kinds if k})
+        counters: Callable[[Machine], Any] = (
+            attrgetter(names[0], *names[1:]) if names else _no_counters
+        )
+        # Read before answering: a machine that moves meanwhile only makes the memo miss.
+        seen = counters(machine)
+        frame, failed = self._answer(blocks, session)
+        if not failed:
+            self._answers.put(key, (counters, seen, frame))
+        return frame
 
-    def _answer(self, blocks: tuple[RequestBlock, ...], session: Session | None) -> bytes:
+    def _answer(
+        self, blocks: tuple[RequestBlock, ...], session: Session | None
+    ) -> tuple[bytes, bool]:
+        """The answer frame of ``blocks``, and whether a block of it answered an EW code."""
         self._session = self._own_session if session is None else session
         count = len(blocks)
         parts: list[bytes] = [b"", _U16.pack(count)]
         left = self.limit - 2 - RESPONSE_BLOCK_SIZE * count
         handlers = self._handlers
+        failed = False
         for block in blocks:
             handler = handlers.get((block.device, block.command))
             ew = 0
@@ -610,8 +662,10 @@ class NativeAdapter:
             size = len(data)
             left -= size
             detail1 = detail2 = 0
-            if ew == EW.NUMBER:
-                detail1, detail2 = 1, _i16(block.args[0])
+            if ew:
+                failed = True
+                if ew == EW.NUMBER:
+                    detail1, detail2 = 1, _i16(block.args[0])
             parts.append(
                 _pack_block(
                     RESPONSE_BLOCK_SIZE + size,
@@ -626,7 +680,7 @@ class NativeAdapter:
             )
             if size:
                 parts.append(data)
-        return self._frame(parts)
+        return self._frame(parts), failed
 
     def forced_answer(self, body: bytes, ew: int) -> bytes:
         """The data-response frame answering ``body`` with ``ew`` and no data in every block
