@@ -359,6 +359,10 @@ def _remember_result(blocks: tuple[ResponseBlock, ...], extra: Any, value: Any) 
 #: Most library calls a handle keeps built for each of the calls a poll repeats.
 _CALL_MEMO: Final = 1024
 
+#: (build, command set, key) -> the library call: equal calls of every handle are one object,
+#: so a result remembered by one client is found by the next with a compare of identities.
+_CALLS: Final = Memo(4096)
+
 
 def _memo_call(
     memo: dict[int, LibraryCall],
@@ -366,14 +370,30 @@ def _memo_call(
     build: Callable[[CommandSet, int], LibraryCall],
     cs: CommandSet,
 ) -> LibraryCall:
-    """The library call ``build(cs, key)``, built once per handle (``memo`` is the handle's,
-    whose command set is ``cs``)."""
+    """The library call ``build(cs, key)``, built once (``memo`` is the handle's, whose
+    command set is ``cs``)."""
     call = memo.get(key)
     if call is None:
         if len(memo) >= _CALL_MEMO:
             memo.clear()
-        call = memo[key] = build(cs, key)
+        call = memo[key] = _shared_call(build, cs, key)
     return call
+
+
+def _shared_call(
+    build: Callable[[CommandSet, int], LibraryCall], cs: CommandSet, key: int
+) -> LibraryCall:
+    """``build(cs, key)``, the one object of every handle."""
+    shared = (build, cs, key)
+    call: LibraryCall | None = _CALLS.get(shared)
+    if call is None:
+        call = build(cs, key)
+        _CALLS.put(shared, call)
+    return call
+
+
+def _statinfo(cs: CommandSet, key: int) -> LibraryCall:
+    return calls.cnc_statinfo(cs)
 
 
 def _answer_size(request: NativeRequest, max_axes: int) -> int:
@@ -433,7 +453,7 @@ class _Handle:
         self.sysinfo: NativeSysInfo | None = None
         self.closed = False
         #: The library calls a poll repeats, built once for this handle's command set.
-        self.status_call = calls.cnc_statinfo(self.command_set)
+        self.status_call = _shared_call(_statinfo, self.command_set, 0)
         self.macro_calls: dict[int, LibraryCall] = {}
         self.dynamic_calls: dict[int, LibraryCall] = {}
         # The library's write buffer: cnc_wrparam leaves the slots it does not write as the
