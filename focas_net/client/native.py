@@ -923,8 +923,46 @@ class NativeClient(_Lifecycle):
         loop = self._loop or asyncio.get_running_loop()
         future: asyncio.Future[tuple[ResponseBlock, ...]] = loop.create_future()
         job = _Job(requests, command_set, deadline, future)
-        self._queue.append(job)
         handle = self._handle
+        task = job.task
+        if (
+            task is self._direct
+            and task is not None
+            and handle is not None
+            and handle.inflight is None
+            and not self._queue
+            and not handle.closed
+            and command_set is handle.command_set
+        ):
+            # The caller just answered calls again with nothing else waiting (a sequential
+            # caller): its frame leaves now, its deadline the frame's.
+            self._direct = None
+            job.part = _part_of(requests, handle.max_axes)
+            self._send_batch(handle, [job])
+        else:
+            self._queue.append(job)
+            self._queue_job(job, handle, loop)
+        try:
+            return await future
+        except _Expired:
+            if not job.sent and self._state is ClientState.RECONNECTING:
+                raise FocasConnectionError(
+                    f"still reconnecting to {self.host}:{self.port} when the call timed out"
+                ) from None
+            raise FocasTimeoutError(
+                f"no answer from {self.host}:{self.port} within the call's timeout"
+                + ("" if job.sent else " (the request was never sent)")
+            ) from None
+        finally:
+            if not future.done():
+                future.cancel()
+
+    def _queue_job(
+        self, job: _Job, handle: _Handle | None, loop: asyncio.AbstractEventLoop
+    ) -> None:
+        """Have ``job``, queued, sent: now (its caller is the one just answered), at the end
+        of this loop turn, or after the frame in flight."""
+        deadline = job.deadline
         if handle is not None and handle.inflight is None:
             if deadline is not None:
                 # The kick decides: a job whose deadline is its frame's needs no timer of its
@@ -942,20 +980,6 @@ class NativeClient(_Lifecycle):
             # Queued behind a frame in flight: the client's one watch timer covers it (it
             # is armed already for an earlier deadline in the usual case).
             self._watch(deadline)
-        try:
-            return await future
-        except _Expired:
-            if not job.sent and self._state is ClientState.RECONNECTING:
-                raise FocasConnectionError(
-                    f"still reconnecting to {self.host}:{self.port} when the call timed out"
-                ) from None
-            raise FocasTimeoutError(
-                f"no answer from {self.host}:{self.port} within the call's timeout"
-                + ("" if job.sent else " (the request was never sent)")
-            ) from None
-        finally:
-            if not future.done():
-                future.cancel()
 
     async def _one(
         self, build: Callable[[CommandSet], LibraryCall], deadline: float | None
@@ -1026,8 +1050,11 @@ class NativeClient(_Lifecycle):
         if handle.inflight is not None or handle is not self._handle or handle.closed:
             return
         batch = self._take(handle)
-        if not batch:
-            return
+        if batch:
+            self._send_batch(handle, batch)
+
+    def _send_batch(self, handle: _Handle, batch: list[_Job]) -> None:
+        """Send the frame of ``batch`` (taken, each with its part) on ``handle``, idle."""
         blocks = 0
         latest: float | None = 0.0
         for job in batch:
