@@ -107,6 +107,19 @@ async def test_the_asyncio_floor_worker_op(call: str) -> None:
             await w.handle({**cmd, "callers": 64, "duration": 0.02})
 
 
+def test_the_asyncio_floor_runs_on_uvloop() -> None:
+    # uvloop's transports are not subclasses of asyncio.Transport
+    uvloop = pytest.importorskip("uvloop")
+
+    async def main() -> float:
+        async with serving() as served:
+            served.machine.write_macro(native.MACRO, 5)
+            result = await native.floor_run(served.host, served.port, "read_macro", 0.02)
+            return result["ops"]
+
+    assert uvloop.run(main()) >= 1
+
+
 async def test_the_asyncio_floor_refuses_an_error_answer(monkeypatch: pytest.MonkeyPatch) -> None:
     # a variable number the machine has not is answered with EW_NUMBER: the floor must not
     # time calls that fail
