@@ -26,7 +26,7 @@ from focas_net.native import (
     encode_request_body,
 )
 from focas_net.native import calls as native_calls
-from focas_net.sim import MachineError, default_machine
+from focas_net.sim import Machine, MachineError, default_machine
 from focas_net.sim.nc import ManualClock
 
 #: cnc_statinfo's frame (0x19, 0xE1, 0x98) and a system information block.
@@ -96,7 +96,7 @@ STEPS = st.lists(
 )
 
 
-def _change(machine: adapter_module.Machine, clock: ManualClock, action: str, arg: float) -> None:
+def _change(machine: Machine, clock: ManualClock, action: str, arg: float) -> None:
     """Apply one step; a step the machine refuses in its state changes nothing."""
     n = int(arg)
     try:
