@@ -329,14 +329,14 @@ def _lose_after_next_answer(client: FocasClient) -> None:
     """Abort the client's connection right after it receives its next answer, before the
     caller runs again: whatever the caller sends next on it is never sent."""
     c = connection_of(client)
-    original = c._deliver
+    original = c.data_received
 
-    def deliver(frames: list[Any]) -> None:
-        original(frames)
-        c._deliver = original  # type: ignore[method-assign]
+    def received(data: bytes | bytearray | memoryview) -> None:
+        original(data)
+        c.data_received = original  # type: ignore[method-assign]
         c.abort()
 
-    c._deliver = deliver  # type: ignore[method-assign]
+    c.data_received = received  # type: ignore[method-assign]
 
 
 @pytest.mark.parametrize("unlock_sent", [False, True])
@@ -412,18 +412,19 @@ async def test_chunked_write_resends_refused_chunks_after_the_reconnect(
             peer.hold_commands = {UNLOCK}
         else:
             c = connection_of(client)
-            original = c._deliver
+            original = c.data_received
             answered = 0
 
-            def deliver(frames: list[Any]) -> None:
+            def received(data: bytes | bytearray | memoryview) -> None:
                 nonlocal answered
-                original(frames)
-                answered += len(frames)
+                waiting = c.in_flight
+                original(data)
+                answered += waiting - c.in_flight
                 if answered >= 4:  # every chunk answered: lost before the unlock leaves
-                    c._deliver = original  # type: ignore[method-assign]
+                    c.data_received = original  # type: ignore[method-assign]
                     c.abort()
 
-            c._deliver = deliver  # type: ignore[method-assign]
+            c.data_received = received  # type: ignore[method-assign]
         write = asyncio.create_task(client.write_pmc("R", 0, data))
         if unlock_sent:
             await wait_until(lambda: any(f.command == UNLOCK for f, _ in peer.held), BOUND)

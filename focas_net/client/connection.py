@@ -13,8 +13,9 @@ Rules it keeps:
 * at most ``max_in_flight`` calls wait for answers at once (a counter, and a first-in first-out
   line of waiters when every slot is taken; the wait for a slot counts towards the call's
   deadline);
-* one timer per connection, armed for the earliest deadline of the requests in flight, fails
-  every overdue request when it fires;
+* one timer per connection, armed no later than the earliest deadline of the requests in
+  flight, fails every overdue request when it fires and is armed again for the earliest
+  deadline left (a request costs no bookkeeping of its own for its deadline);
 * when the connection is lost, every pending call fails at once with
   :class:`FocasConnectionError`;
 * when the peer breaks the framing (a length prefix outside ``4..max_frame``: a peer that is
@@ -34,7 +35,6 @@ Transport exceptions are translated here, once: callers see :class:`FocasConnect
 from __future__ import annotations
 
 import asyncio
-import heapq
 import logging
 import ssl as _ssl
 from collections import deque
@@ -67,8 +67,8 @@ WRITE_CHUNK: Final = 16
 _ID_MASK: Final = 0xFFFF
 _HEADER: Final = HEADER
 _pack_header = HEADER.pack
+_unpack_header_from = HEADER.unpack_from
 _INF: Final = float("inf")
-_COMPACT_MIN: Final = 1024
 
 
 class NotSentError(FocasConnectionError):
@@ -91,9 +91,6 @@ class _Pending:
         self.command = command
         self.request_id = request_id
         self.deadline = deadline
-
-    def __lt__(self, other: _Pending) -> bool:  # heap order of the odd deadlines
-        return self.deadline < other.deadline
 
 
 def _timed_out(entry: _Pending) -> None:
@@ -134,15 +131,11 @@ class Connection(Received, asyncio.Protocol):
         self._max_in_flight = max_in_flight
         self._slots_taken = 0
         self._slot_waiters: deque[asyncio.Future[None]] = deque()
-        # Deadlines of the requests in flight, earliest first: those sent with deadlines in
-        # send order (the usual case, one timeout for every call) in a deque, the others in a
-        # heap. One timer per connection is armed for the earliest; entries whose future is
-        # done are dropped lazily.
-        self._by_deadline: deque[_Pending] = deque()
-        self._odd_deadlines: list[_Pending] = []
+        # One timer per connection, armed (at _timer_when; infinite: none) no later than the
+        # earliest deadline of the requests in flight. Requests are not tracked one by one:
+        # the timer, when it fires, looks at those in flight then (see _expire).
         self._timer: asyncio.TimerHandle | None = None
-        self._timer_when = 0.0
-        self._compact_at = _COMPACT_MIN
+        self._timer_when = _INF
         self._wbuf: list[bytes] = []
         self._batch = batch_writes
         self._closed_exc: FocasConnectionError | None = None
@@ -183,6 +176,30 @@ class Connection(Received, asyncio.Protocol):
 
     def data_received(self, data: bytes | bytearray | memoryview) -> None:
         self._answered = True
+        if type(data) is bytes and self._violation is None and not self._decoder.buffered:
+            # The usual read: whole frames, each answer handed to its caller as it is parsed
+            # (no list of frames in between). What is left, a frame not yet complete or a
+            # length out of bounds, goes through the decoder as below.
+            pending = self._pending
+            size = len(data)
+            pos = 0
+            max_frame = self._decoder.max_frame
+            while size - pos >= 8:
+                length, command, request_id = _unpack_header_from(data, pos)
+                end = pos + 4 + length
+                if length < 4 or length > max_frame or end > size:
+                    break
+                entry = pending.pop(request_id, _MISSING)
+                if type(entry) is _Pending and command == entry.command:
+                    future = entry.future
+                    if not future.done():
+                        future.set_result(data[pos + 8 : end])
+                else:
+                    self._unmatched(entry, command, request_id)
+                pos = end
+            if pos == size:
+                return
+            data = data[pos:]
         try:
             frames = self._decoder.feed_raw(data)
         except FrameError as exc:
@@ -198,36 +215,31 @@ class Connection(Received, asyncio.Protocol):
         pending = self._pending
         for command, request_id, payload in frames:
             entry = pending.pop(request_id, _MISSING)
-            if isinstance(entry, _Pending):
+            if type(entry) is _Pending and command == entry.command:
                 future = entry.future
-                if future.done():
-                    continue
-                if command == entry.command:
+                if not future.done():
                     future.set_result(payload)
-                else:
-                    future.set_exception(
-                        ProtocolError(
-                            f"answer to request {request_id} carries command 0x{command:04X}, "
-                            f"expected 0x{entry.command:04X}"
-                        )
-                    )
-            elif entry is None:
-                self._abandoned -= 1
-                logger.debug("dropped late answer to request %d", request_id)
             else:
-                logger.debug(
-                    "dropped unsolicited frame (command 0x%04X, id %d)", command, request_id
+                self._unmatched(entry, command, request_id)
+
+    def _unmatched(self, entry: _Pending | _Missing | None, command: int, request_id: int) -> None:
+        """An answer that completes no call as it is: one carrying another command than its
+        request (the call fails, unless it already ended), a late answer to an id whose caller
+        gave up (dropped, the id free again) or one to an id nobody sent (dropped)."""
+        if isinstance(entry, _Pending):
+            future = entry.future
+            if not future.done():
+                future.set_exception(
+                    ProtocolError(
+                        f"answer to request {request_id} carries command 0x{command:04X}, "
+                        f"expected 0x{entry.command:04X}"
+                    )
                 )
-        # Answered requests leave the front of the deadline queue now, not when the timer
-        # fires; if one slow request holds the front, the queue is compacted once it has grown
-        # to twice its size after the last compaction.
-        queue = self._by_deadline
-        while queue and queue[0].future.done():
-            queue.popleft()
-        if len(queue) > self._compact_at:
-            live = deque(e for e in queue if not e.future.done())
-            self._by_deadline = live
-            self._compact_at = max(_COMPACT_MIN, 2 * len(live))
+        elif entry is None:
+            self._abandoned -= 1
+            logger.debug("dropped late answer to request %d", request_id)
+        else:
+            logger.debug("dropped unsolicited frame (command 0x%04X, id %d)", command, request_id)
 
     def connection_lost(self, exc: Exception | None) -> None:
         if self._closed_exc is None:
@@ -266,36 +278,38 @@ class Connection(Received, asyncio.Protocol):
         entry = self.try_send(command, payload, deadline)
         if entry is None:
             await self._wait_for_slot(command, deadline)
-            entry = self._sent_in_slot(command, payload, deadline)
+            entry = self.try_send(command, payload, deadline, slot_taken=True)
+            assert entry is not None  # sent in the slot taken, or raised
         try:
             return await entry.future
         finally:
             self.finish(entry)
 
-    def try_send(self, command: int, payload: bytes, deadline: float | None) -> _Pending | None:
+    def try_send(
+        self, command: int, payload: bytes, deadline: float | None, *, slot_taken: bool = False
+    ) -> _Pending | None:
         """:meth:`request` without its coroutine, for a caller that awaits the answer itself.
 
         With a slot free and nobody waiting for one, the request is registered and sent and
         its entry returned: the caller awaits ``entry.future`` and must then call
         :meth:`finish` with the entry (in a ``finally``), answered or not. With no slot free
         it returns None and takes nothing: the caller uses :meth:`request`. Raises
-        :class:`NotSentError` when the connection is closed (nothing taken).
+        :class:`NotSentError` when the connection is closed (nothing taken). With
+        ``slot_taken`` the caller already holds a slot (it waited for one): the request is
+        sent in it, and the slot is released if that fails.
         """
         if self._closed_exc is not None:
+            if slot_taken:
+                self._release_slot()
             raise NotSentError(str(self._closed_exc))
-        if self._slots_taken >= self._max_in_flight or self._slot_waiters:
-            return None
-        self._slots_taken += 1  # a free slot: taken without suspending
-        return self._sent_in_slot(command, payload, deadline)
-
-    def _sent_in_slot(self, command: int, payload: bytes, deadline: float | None) -> _Pending:
-        """Register and send one request in a slot already taken (released on failure)."""
-        # The usual case is inlined (one call per request costs): _write's and _track's fast
-        # paths, each falling back to the method otherwise.
+        if not slot_taken:
+            if self._slots_taken >= self._max_in_flight or self._slot_waiters:
+                return None
+            self._slots_taken += 1  # a free slot: taken without suspending
+        # Register and send (the usual case of _write inlined: one call per request costs),
+        # the slot released on failure.
         entry: _Pending | None = None
         try:
-            if self._closed_exc is not None:
-                raise NotSentError(str(self._closed_exc))
             pending = self._pending
             request_id = self._next_id
             while request_id in pending:
@@ -320,16 +334,8 @@ class Connection(Received, asyncio.Protocol):
                 # A lone request (sequential use) goes out at once.
                 assert self._transport is not None
                 self._transport.write(frame)
-            if deadline is not None:
-                queue = self._by_deadline
-                if (
-                    self._timer is not None
-                    and self._timer_when <= deadline
-                    and (not queue or queue[-1].deadline <= deadline)
-                ):
-                    queue.append(entry)  # in send order, the timer armed for an earlier one
-                else:
-                    self._track(entry, deadline)
+            if deadline is not None and deadline < self._timer_when:
+                self._arm(deadline)  # else the timer armed for an earlier one covers it
         except BaseException:
             if entry is None:
                 self._release_slot()
@@ -460,9 +466,8 @@ class Connection(Received, asyncio.Protocol):
         else:
             assert self._transport is not None
             self._transport.write(b"".join(frames))
-        if deadline is not None:
-            for entry in entries:
-                self._track(entry, deadline)
+        if deadline is not None and deadline < self._timer_when:
+            self._arm(deadline)
 
     def _end_batch(self, entries: list[_Pending], count: int) -> None:
         """Give up the requests of a batch still unanswered and release its slots."""
@@ -538,51 +543,33 @@ class Connection(Received, asyncio.Protocol):
         self._slots_taken -= 1
 
     # -- deadlines -----------------------------------------------------------------------
-    def _track(self, entry: _Pending, deadline: float) -> None:
-        queue = self._by_deadline
-        if not queue or queue[-1].deadline <= deadline:
-            queue.append(entry)
-        else:
-            heapq.heappush(self._odd_deadlines, entry)
-        timer = self._timer
-        if timer is None:
-            self._timer_when = deadline
-            self._timer = self._loop.call_at(deadline, self._expire)
-        elif deadline < self._timer_when:
-            timer.cancel()
-            self._timer_when = deadline
-            self._timer = self._loop.call_at(deadline, self._expire)
+    def _arm(self, when: float) -> None:
+        """Have the timer fire at ``when`` (earlier than it is armed for, or not armed)."""
+        if self._timer is not None:
+            self._timer.cancel()
+        self._timer_when = when
+        self._timer = self._loop.call_at(when, self._expire)
 
     def _expire(self) -> None:
-        """Fail every request whose deadline passed; arm the timer for the next one."""
+        """Fail every request in flight whose deadline passed; arm the timer for the
+        earliest deadline left. While answers flow it fires about once a timeout (armed for
+        the deadline of a request long answered, it finds the next one's) and looks at no
+        more requests than are in flight then."""
         self._timer = None
+        self._timer_when = _INF
         now = self._loop.time()
-        queue = self._by_deadline
-        odd = self._odd_deadlines
         nxt = _INF
-        while queue:
-            entry = queue[0]
-            if entry.future.done():
-                queue.popleft()
-            elif entry.deadline > now:
-                nxt = entry.deadline
-                break
-            else:
-                queue.popleft()
+        # (a future's callbacks run on a later loop turn: failing one changes no entry here)
+        for entry in self._pending.values():
+            if entry is None or entry.future.done():
+                continue  # an abandoned id awaiting its late answer, or a call just ended
+            deadline = entry.deadline
+            if deadline <= now:
                 _timed_out(entry)
-        while odd:
-            entry = odd[0]
-            if entry.future.done():
-                heapq.heappop(odd)
-            elif entry.deadline > now:
-                nxt = min(nxt, entry.deadline)
-                break
-            else:
-                heapq.heappop(odd)
-                _timed_out(entry)
+            elif deadline < nxt:
+                nxt = deadline
         if nxt != _INF and self._closed_exc is None:
-            self._timer_when = nxt
-            self._timer = self._loop.call_at(nxt, self._expire)
+            self._arm(nxt)
 
     def _write(self, frame: bytes) -> None:
         buf = self._wbuf
@@ -613,11 +600,10 @@ class Connection(Received, asyncio.Protocol):
     def _fail_all(self) -> None:
         pending, self._pending = self._pending, {}
         self._abandoned = 0
-        self._by_deadline.clear()
-        self._odd_deadlines.clear()
         if self._timer is not None:
             self._timer.cancel()
             self._timer = None
+            self._timer_when = _INF
         # Frames still in the write buffer never reached the peer.
         unsent = {_HEADER.unpack_from(frame)[2] for frame in self._wbuf}
         self._wbuf.clear()
