@@ -488,7 +488,38 @@ class Link(_Lifecycle):
         Every other failure (a timeout, a connection lost after the request left, an answer
         that does not decode) is raised as it is.
         """
-        retried = False
+        conn = self._conn
+        if conn is not None:
+            # The usual call, a slot free on the live connection: sent at once, its answer
+            # decoded here. Anything else (no connection, closed, no slot, not sent, an EW
+            # code) is the general path's below, which starts over from the state it finds.
+            try:
+                entry = conn.try_send(spec.command, payload, deadline)
+            except NotSentError:
+                entry = None
+            if entry is not None:
+                try:
+                    raw = await entry.future
+                except NotSentError:
+                    if self._policy is None:
+                        raise
+                    raw = None  # never reached the peer: sent again on the next connection
+                finally:
+                    conn.finish(entry)
+                if raw is not None:
+                    value = spec.response.decode(raw)
+                    if type(value) is not EwReply:
+                        return value
+                    self._raise_unless_unlock(spec, value.ew, False)
+                    await self._unlock_for_retry(conn, deadline)
+                    return await self._request_from(spec, payload, deadline, True)
+        return await self._request_from(spec, payload, deadline, False)
+
+    async def _request_from(
+        self, spec: CommandSpec, payload: bytes, deadline: float | None, retried: bool
+    ) -> Any:
+        """:meth:`_request`'s general path (``retried``: the answer to come is the one to
+        a retry after an unlock)."""
         while True:
             conn = self._conn
             if conn is None or conn.closed:
@@ -539,9 +570,14 @@ class Link(_Lifecycle):
         value = spec.response.decode(raw)
         if type(value) is not EwReply:
             return value
-        if retried or not self._retries_after_unlock(spec, value.ew):
-            raise CncError.from_ew(value.ew, spec.focas_name)
+        self._raise_unless_unlock(spec, value.ew, retried)
         return _UNLOCK_AND_RETRY
+
+    def _raise_unless_unlock(self, spec: CommandSpec, ew: int, retried: bool) -> None:
+        """Raise :class:`CncError` for a call of ``spec`` answered ``ew``, unless it is to be
+        unlocked and sent once more (never after ``retried``)."""
+        if retried or not self._retries_after_unlock(spec, ew):
+            raise CncError.from_ew(ew, spec.focas_name)
 
     def _retries_after_unlock(self, spec: CommandSpec, ew: int) -> bool:
         """Whether a call of ``spec`` answered ``ew`` is unlocked and sent once more."""
