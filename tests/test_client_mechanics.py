@@ -142,7 +142,7 @@ async def test_short_timeout_behind_long_ones_times_out_first(
     peer.hold = True
     long_a = asyncio.create_task(ask(conn, 1, BOUND))
     no_deadline = asyncio.create_task(ask(conn, 2, None))
-    short = asyncio.create_task(ask(conn, 3, SHORT))  # behind a later deadline: the heap
+    short = asyncio.create_task(ask(conn, 3, SHORT))  # behind a later deadline: timer moved
     long_b = asyncio.create_task(ask(conn, 4, 2 * BOUND))
     await peer.wait_received(4)
     with pytest.raises(FocasTimeoutError):
