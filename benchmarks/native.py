@@ -416,11 +416,12 @@ async def native_poll(
     targets: list[list[Any]], call: str, interval: float, duration: float
 ) -> dict[str, float]:
     """100 :class:`NativeClient` (one per machine), one task each, ``call`` (``read_dynamic``
-    or ``read_status``) every ``interval``; a tick whose whole interval went by is skipped.
-    Every machine's poll is due at the start of the tick, the schedule of the blocking subjects
-    (:func:`blocking_poll` reads every machine in turn at each tick), so one wake-up starts a
-    tick's polls; with starts staggered over the interval each poll is a wake-up of its own,
-    about twice the CPU per poll on a 2-core box."""
+    or ``read_status``) once a tick, every ``interval``; a tick whose whole interval went by
+    is skipped. Every machine's poll is due at the start of the tick, the schedule of the
+    blocking subjects (:func:`blocking_poll` sleeps once a tick, then reads every machine in
+    turn): one ticker sleeps once a tick and wakes every machine's task with one future, so a
+    tick costs one timer, as it does them, not one per machine. A task still reading when the
+    next tick starts reads at the tick after it."""
     from focas_net.client import NativeClient
 
     clients = [NativeClient(str(h), int(p), timeout=10.0) for h, p in targets]
@@ -433,10 +434,11 @@ async def native_poll(
         polls = [0] * len(clients)
         errors = [0] * len(clients)
         t0 = loop.time() + 0.05
+        # the future the next tick resolves (with its number; -1 once the run is over)
+        next_tick: list[asyncio.Future[int]] = [loop.create_future()]
         cpu0, wall0 = time.process_time(), _perf()
 
-        async def poll(i: int, client: NativeClient) -> None:
-            read: Callable[[], Awaitable[object]] = getattr(client, call)
+        async def ticker() -> None:
             tick = 0
             while tick < ticks:
                 due = t0 + tick * interval
@@ -446,14 +448,21 @@ async def native_poll(
                     continue
                 if due > now:
                     await asyncio.sleep(due - now)
+                started, next_tick[0] = next_tick[0], loop.create_future()
+                started.set_result(tick)
+                tick += 1
+            next_tick[0].set_result(-1)
+
+        async def poll(i: int, client: NativeClient) -> None:
+            read: Callable[[], Awaitable[object]] = getattr(client, call)
+            while await next_tick[0] >= 0:
                 try:
                     await read()
                     polls[i] += 1
                 except Exception:
                     errors[i] += 1
-                tick += 1
 
-        await asyncio.gather(*(poll(i, c) for i, c in enumerate(clients)))
+        await asyncio.gather(ticker(), *(poll(i, c) for i, c in enumerate(clients)))
         wall, cpu = _perf() - wall0, time.process_time() - cpu0
     finally:
         await asyncio.gather(*(c.aclose() for c in clients), return_exceptions=True)
