@@ -6,6 +6,10 @@ records every frame (and which frames arrived in one receive), holds answers bac
 answer one byte per write, send raw bytes, or drop its connections. Tests check outcomes and
 ordering, never durations.
 
+:func:`hand_driven` gives a connection with no peer at all: a clock the test sets and timers
+it fires (:class:`ManualLoop`), a transport that keeps what is written (:class:`Sink`), and
+answers fed to ``data_received`` by the test.
+
 A plain module (not ``conftest``), so that test modules and mypy can import it; the ``peer``
 fixture (a started :class:`ScriptedPeer`) is in ``conftest.py``.
 """
@@ -39,10 +43,13 @@ __all__ = [
     "RDPARAM",
     "STATUS",
     "Answer",
+    "ManualLoop",
     "PeerSide",
     "ScriptedPeer",
+    "Sink",
     "assert_idle",
     "connection_of",
+    "hand_driven",
     "param_request",
     "tiny_cnc",
     "turns",
@@ -260,3 +267,82 @@ def assert_idle(c: Connection) -> None:
     assert c.abandoned == 0
     assert c._slots_taken == 0
     assert not c._slot_waiters
+
+
+class _Timer:
+    """A timer :class:`ManualLoop` recorded instead of arming it."""
+
+    def __init__(self, when: float, callback: Callable[[], None]) -> None:
+        self.when = when
+        self.callback = callback
+        self.cancelled = False
+
+    def cancel(self) -> None:
+        self.cancelled = True
+
+
+class ManualLoop:
+    """The running loop, but with a clock set by hand and timers fired by hand."""
+
+    def __init__(self, loop: asyncio.AbstractEventLoop) -> None:
+        self._loop = loop
+        self.now = 0.0
+        self.timers: list[_Timer] = []
+
+    def time(self) -> float:
+        return self.now
+
+    def call_at(self, when: float, callback: Callable[[], None]) -> _Timer:
+        timer = _Timer(when, callback)
+        self.timers.append(timer)
+        return timer
+
+    def armed(self) -> list[float]:
+        return [t.when for t in self.timers if not t.cancelled]
+
+    def fire(self) -> None:
+        """Move the clock to the one armed timer and run it."""
+        (timer,) = [t for t in self.timers if not t.cancelled]
+        self.timers.remove(timer)
+        self.now = max(self.now, timer.when)
+        timer.callback()
+
+    def __getattr__(self, name: str) -> Any:
+        return getattr(self._loop, name)
+
+
+class Sink:
+    """A transport that keeps what is written."""
+
+    def __init__(self) -> None:
+        self.frames: list[bytes] = []
+
+    def write(self, data: bytes) -> None:
+        self.frames.append(bytes(data))
+
+    def writelines(self, chunks: list[bytes]) -> None:
+        self.frames.extend(bytes(c) for c in chunks)
+
+    def is_closing(self) -> bool:
+        return False
+
+    def get_extra_info(self, name: str, default: Any = None) -> Any:
+        return default
+
+    def close(self) -> None:
+        pass
+
+    def abort(self) -> None:
+        pass
+
+
+def hand_driven(max_in_flight: int = 64) -> tuple[Connection, ManualLoop, Sink]:
+    """A connection driven by hand: its loop's clock is a :class:`ManualLoop`'s, its
+    transport a :class:`Sink`, its frames written at once (no gathering per loop turn), and
+    its answers whatever the test feeds to ``data_received``."""
+    conn = Connection(max_in_flight=max_in_flight, batch_writes=False)
+    clock = ManualLoop(asyncio.get_running_loop())
+    conn._loop = clock  # type: ignore[assignment]
+    sink = Sink()
+    conn.connection_made(sink)  # type: ignore[arg-type]
+    return conn, clock, sink

@@ -10,10 +10,9 @@ fires, and what it is armed for next.
 from __future__ import annotations
 
 import asyncio
-from collections.abc import Callable
-from typing import Any
 
 import pytest
+from peers import ManualLoop, Sink, hand_driven
 
 from focas_net.client.connection import Connection
 from focas_net.errors import FocasTimeoutError
@@ -22,85 +21,15 @@ from focas_net.protocol import HEADER, encode_frame
 COMMAND = 0x0001
 
 
-class _Timer:
-    def __init__(self, when: float, callback: Callable[[], None]) -> None:
-        self.when = when
-        self.callback = callback
-        self.cancelled = False
-
-    def cancel(self) -> None:
-        self.cancelled = True
-
-
-class ManualLoop:
-    """The running loop, but with a clock set by hand and timers fired by hand."""
-
-    def __init__(self, loop: asyncio.AbstractEventLoop) -> None:
-        self._loop = loop
-        self.now = 0.0
-        self.timers: list[_Timer] = []
-
-    def time(self) -> float:
-        return self.now
-
-    def call_at(self, when: float, callback: Callable[[], None]) -> _Timer:
-        timer = _Timer(when, callback)
-        self.timers.append(timer)
-        return timer
-
-    def armed(self) -> list[float]:
-        return [t.when for t in self.timers if not t.cancelled]
-
-    def fire(self) -> None:
-        """Move the clock to the one armed timer and run it."""
-        (timer,) = [t for t in self.timers if not t.cancelled]
-        self.timers.remove(timer)
-        self.now = max(self.now, timer.when)
-        timer.callback()
-
-    def __getattr__(self, name: str) -> Any:
-        return getattr(self._loop, name)
-
-
-class Sink:
-    """A transport that keeps what is written."""
-
-    def __init__(self) -> None:
-        self.frames: list[bytes] = []
-
-    def write(self, data: bytes) -> None:
-        self.frames.append(bytes(data))
-
-    def writelines(self, chunks: list[bytes]) -> None:
-        self.frames.extend(bytes(c) for c in chunks)
-
-    def is_closing(self) -> bool:
-        return False
-
-    def get_extra_info(self, name: str, default: Any = None) -> Any:
-        return default
-
-    def close(self) -> None:
-        pass
-
-    def abort(self) -> None:
-        pass
-
-
 @pytest.fixture
 async def timed() -> tuple[Connection, ManualLoop, Sink]:
-    conn = Connection(batch_writes=False)
-    clock = ManualLoop(asyncio.get_running_loop())
-    conn._loop = clock  # type: ignore[assignment]
-    sink = Sink()
-    conn.connection_made(sink)  # type: ignore[arg-type]
-    return conn, clock, sink
+    return hand_driven()
 
 
 def _send(conn: Connection, deadline: float | None) -> tuple[int, asyncio.Future[bytes]]:
     entry = conn.try_send(COMMAND, b"", deadline)
     assert entry is not None
-    return entry.request_id, entry.future
+    return entry[2], entry[0]
 
 
 def _answer(conn: Connection, request_id: int) -> None:
@@ -186,7 +115,7 @@ async def test_a_given_up_id_is_skipped_and_its_late_answer_dropped(
     _, other = _send(conn, 30.0)
     clock.fire()
     with pytest.raises(FocasTimeoutError):
-        entry.future.result()
+        entry[0].result()
     conn.finish(entry)  # the caller gives up: the id stays reserved
     assert conn.abandoned == 1
     assert clock.armed() == [30.0]

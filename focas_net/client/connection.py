@@ -12,7 +12,9 @@ Rules it keeps:
   late answer is dropped, so no caller ever receives another call's answer;
 * at most ``max_in_flight`` calls wait for answers at once (a counter, and a first-in first-out
   line of waiters when every slot is taken; the wait for a slot counts towards the call's
-  deadline);
+  deadline); a slot is freed once, when its request leaves the table of requests in flight
+  (answered, failed by its answer, given up by its caller, failed by a close), and goes
+  straight to the first in line;
 * one timer per connection, armed no later than the earliest deadline of the requests in
   flight, fails every overdue request when it fires and is armed again for the earliest
   deadline left (a request costs no bookkeeping of its own for its deadline);
@@ -78,26 +80,16 @@ class NotSentError(FocasConnectionError):
     """
 
 
-class _Pending:
-    """An unanswered request: its future, the command its answer must carry, its id and its
-    deadline (``loop.time()`` units; infinite for none)."""
-
-    __slots__ = ("command", "deadline", "future", "request_id")
-
-    def __init__(
-        self, future: asyncio.Future[bytes], command: int, request_id: int, deadline: float
-    ) -> None:
-        self.future = future
-        self.command = command
-        self.request_id = request_id
-        self.deadline = deadline
+#: An unanswered request: ``(future, command, request_id, deadline)``, the future of its
+#: answer, the command that answer must carry, its id and its deadline (``loop.time()`` units;
+#: infinite for none). A plain tuple: made once per call, it is the cheapest record there is.
+_Pending = tuple["asyncio.Future[bytes]", int, int, float]
 
 
 def _timed_out(entry: _Pending) -> None:
-    entry.future.set_exception(
-        FocasTimeoutError(
-            f"no answer to command 0x{entry.command:04X} (request {entry.request_id})"
-        )
+    future, command, request_id, _ = entry
+    future.set_exception(
+        FocasTimeoutError(f"no answer to command 0x{command:04X} (request {request_id})")
     )
 
 
@@ -176,11 +168,12 @@ class Connection(Received, asyncio.Protocol):
 
     def data_received(self, data: bytes | bytearray | memoryview) -> None:
         self._answered = True
+        pending = self._pending
+        live = len(pending) - self._abandoned  # calls in flight: their slots are freed below
         if type(data) is bytes and self._violation is None and not self._decoder.buffered:
             # The usual read: whole frames, each answer handed to its caller as it is parsed
             # (no list of frames in between). What is left, a frame not yet complete or a
             # length out of bounds, goes through the decoder as below.
-            pending = self._pending
             size = len(data)
             pos = 0
             max_frame = self._decoder.max_frame
@@ -190,33 +183,41 @@ class Connection(Received, asyncio.Protocol):
                 if length < 4 or length > max_frame or end > size:
                     break
                 entry = pending.pop(request_id, _MISSING)
-                if type(entry) is _Pending and command == entry.command:
-                    future = entry.future
+                if type(entry) is tuple and command == entry[1]:
+                    future = entry[0]
                     if not future.done():
                         future.set_result(data[pos + 8 : end])
                 else:
                     self._unmatched(entry, command, request_id)
                 pos = end
             if pos == size:
+                # The slots of the calls answered (or failed) by this read: free again.
+                freed = live - (len(pending) - self._abandoned)
+                if self._slot_waiters:
+                    self._release_slots(freed)
+                else:
+                    self._slots_taken -= freed
                 return
             data = data[pos:]
         try:
             frames = self._decoder.feed_raw(data)
         except FrameError as exc:
             self._deliver(exc.frames)  # answers that arrived whole before the violation
+            self._release_slots(live - (len(pending) - self._abandoned))
             violation = _violation_error(self.peer, exc, bytes(data[:16]))
             logger.warning("closing connection to %s: %s", self.peer, violation)
             self._violation = violation
             self._abort(violation)
             return
         self._deliver(frames)
+        self._release_slots(live - (len(pending) - self._abandoned))
 
     def _deliver(self, frames: list[RawFrame]) -> None:
         pending = self._pending
         for command, request_id, payload in frames:
             entry = pending.pop(request_id, _MISSING)
-            if type(entry) is _Pending and command == entry.command:
-                future = entry.future
+            if type(entry) is tuple and command == entry[1]:
+                future = entry[0]
                 if not future.done():
                     future.set_result(payload)
             else:
@@ -226,13 +227,13 @@ class Connection(Received, asyncio.Protocol):
         """An answer that completes no call as it is: one carrying another command than its
         request (the call fails, unless it already ended), a late answer to an id whose caller
         gave up (dropped, the id free again) or one to an id nobody sent (dropped)."""
-        if isinstance(entry, _Pending):
-            future = entry.future
+        if type(entry) is tuple:
+            future, expected = entry[0], entry[1]
             if not future.done():
                 future.set_exception(
                     ProtocolError(
                         f"answer to request {request_id} carries command 0x{command:04X}, "
-                        f"expected 0x{entry.command:04X}"
+                        f"expected 0x{expected:04X}"
                     )
                 )
         elif entry is None:
@@ -281,7 +282,7 @@ class Connection(Received, asyncio.Protocol):
             entry = self.try_send(command, payload, deadline, slot_taken=True)
             assert entry is not None  # sent in the slot taken, or raised
         try:
-            return await entry.future
+            return await entry[0]
         finally:
             self.finish(entry)
 
@@ -291,8 +292,9 @@ class Connection(Received, asyncio.Protocol):
         """:meth:`request` without its coroutine, for a caller that awaits the answer itself.
 
         With a slot free and nobody waiting for one, the request is registered and sent and
-        its entry returned: the caller awaits ``entry.future`` and must then call
-        :meth:`finish` with the entry (in a ``finally``), answered or not. With no slot free
+        its entry returned: the caller awaits the entry's future (``entry[0]``) and calls
+        :meth:`finish` with the entry unless the future gave its result (a timeout, a
+        cancellation, a failure: the request's slot and id are settled there). With no slot free
         it returns None and takes nothing: the caller uses :meth:`request`. Raises
         :class:`NotSentError` when the connection is closed (nothing taken). With
         ``slot_taken`` the caller already holds a slot (it waited for one): the request is
@@ -316,8 +318,13 @@ class Connection(Received, asyncio.Protocol):
                 request_id = (request_id + 1) & _ID_MASK
             self._next_id = (request_id + 1) & _ID_MASK
             future: asyncio.Future[bytes] = self._loop.create_future()
-            entry = _Pending(future, command, request_id, _INF if deadline is None else deadline)
-            pending[request_id] = entry
+            # (entry is set once it is registered: until then a failure releases the slot)
+            pending[request_id] = entry = (
+                future,
+                command,
+                request_id,
+                _INF if deadline is None else deadline,
+            )
             frame = _pack_header(len(payload) + 4, command, request_id) + payload
             buf = self._wbuf
             if self._batch and (buf or len(pending) - self._abandoned > 1):
@@ -345,16 +352,15 @@ class Connection(Received, asyncio.Protocol):
         return entry
 
     def finish(self, entry: _Pending) -> None:
-        """The caller of ``entry`` (from :meth:`try_send`) stopped waiting, answered or not:
-        its id stays reserved if it is still unanswered, and its slot is released."""
-        # Still registered (on this connection, not one failed by a close): the caller gave
-        # up.
-        if self._pending.get(entry.request_id) is entry:
-            self._give_up(entry.request_id)
-        if self._slot_waiters:
-            self._release_slot()  # hands the slot to the first in line
-        else:
-            self._slots_taken -= 1
+        """The caller of ``entry`` (from :meth:`try_send`) stopped waiting: if the request is
+        still unanswered its id stays reserved (its late answer is dropped) and its slot is
+        released. An entry that left the table (answered, failed by the answer or by a close)
+        freed its slot then, and this does nothing: a caller whose future gave its result may
+        skip it."""
+        request_id = entry[2]
+        if self._pending.get(request_id) is entry:
+            self._give_up(request_id)
+            self._release_slot()
 
     async def request_all(
         self,
@@ -382,7 +388,7 @@ class Connection(Received, asyncio.Protocol):
             answers: list[bytes | None] = []
             failure: BaseException | None = None
             for entry in entries:
-                future = entry.future
+                future = entry[0]
                 if not future.done() or future.cancelled():
                     answers.append(None)
                     continue
@@ -420,7 +426,7 @@ class Connection(Received, asyncio.Protocol):
             await _settled(self._loop, entries, False, None)
             results: list[bytes | BaseException] = []
             for entry in entries:
-                future = entry.future
+                future = entry[0]
                 exc = future.exception()
                 results.append(future.result() if exc is None else exc)
             return results
@@ -455,7 +461,7 @@ class Connection(Received, asyncio.Protocol):
         for payload in payloads:
             while request_id in pending:
                 request_id = (request_id + 1) & _ID_MASK
-            entry = _Pending(loop.create_future(), command, request_id, when)
+            entry = (loop.create_future(), command, request_id, when)
             pending[request_id] = entry
             entries.append(entry)
             frames.append(_pack_header(len(payload) + 4, command, request_id) + payload)
@@ -470,18 +476,18 @@ class Connection(Received, asyncio.Protocol):
             self._arm(deadline)
 
     def _end_batch(self, entries: list[_Pending], count: int) -> None:
-        """Give up the requests of a batch still unanswered and release its slots."""
-        current = self._pending
+        """Give up the requests of a batch still unanswered and release their slots (those
+        answered freed theirs then), and the slots of requests of it never registered."""
         for entry in entries:
-            future = entry.future
+            future = entry[0]
             if not future.done():
                 future.cancel()
             elif not future.cancelled():
                 future.exception()  # retrieved, so that no failure is reported as unseen
-            if current.get(entry.request_id) is entry:
-                self._give_up(entry.request_id)
-        for _ in range(count):
-            self._release_slot()
+            # (looked up afresh: a give-up crossing MAX_ABANDONED closes the connection, whose
+            # close frees the slots of every request then in flight)
+            self.finish(entry)
+        self._release_slots(count - len(entries))
 
     def _give_up(self, request_id: int) -> None:
         """The caller of ``request_id`` stopped waiting (timeout or cancellation)."""
@@ -530,6 +536,10 @@ class Connection(Received, asyncio.Protocol):
         except ValueError:
             pass
 
+    def _release_slots(self, count: int) -> None:
+        for _ in range(count):
+            self._release_slot()
+
     def _release_slot(self) -> None:
         waiters = self._slot_waiters
         if self._slots_taken > self._max_in_flight:  # over the bound (a batch): no hand-over
@@ -561,9 +571,9 @@ class Connection(Received, asyncio.Protocol):
         nxt = _INF
         # (a future's callbacks run on a later loop turn: failing one changes no entry here)
         for entry in self._pending.values():
-            if entry is None or entry.future.done():
+            if entry is None or entry[0].done():
                 continue  # an abandoned id awaiting its late answer, or a call just ended
-            deadline = entry.deadline
+            deadline = entry[3]
             if deadline <= now:
                 _timed_out(entry)
             elif deadline < nxt:
@@ -599,6 +609,7 @@ class Connection(Received, asyncio.Protocol):
     # -- closing -------------------------------------------------------------------------
     def _fail_all(self) -> None:
         pending, self._pending = self._pending, {}
+        live = len(pending) - self._abandoned
         self._abandoned = 0
         if self._timer is not None:
             self._timer.cancel()
@@ -610,7 +621,7 @@ class Connection(Received, asyncio.Protocol):
         reason = self._closed_exc
         violation = self._violation
         for request_id, entry in pending.items():
-            if entry is not None and not entry.future.done():
+            if entry is not None and not entry[0].done():
                 err: FocasError
                 if violation is not None:
                     err = ProtocolError(str(violation))
@@ -619,7 +630,8 @@ class Connection(Received, asyncio.Protocol):
                     kind = NotSentError if request_id in unsent else FocasConnectionError
                     err = kind(f"request {request_id}: {reason}")
                     err.__cause__ = reason
-                entry.future.set_exception(err)
+                entry[0].set_exception(err)
+        self._release_slots(live)  # the calls in flight end here, and so do their slots
 
     def _abort(self, exc: BaseException) -> None:
         if self._closed_exc is None:
@@ -675,12 +687,12 @@ async def _settled(
             done.set_result(None)
 
     for entry in entries:
-        entry.future.add_done_callback(settled)
+        entry[0].add_done_callback(settled)
     try:
         await done
     finally:
         for entry in entries:
-            entry.future.remove_done_callback(settled)
+            entry[0].remove_done_callback(settled)
 
 
 class _Missing:

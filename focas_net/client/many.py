@@ -69,7 +69,7 @@ async def read_status_all(
                 started.append((i, sent[0], sent[1]))
         for i, conn, entry in started:
             try:
-                raw = await entry.future
+                raw = await entry[0]
             except NotSentError:
                 raw = None
             except FocasError as exc:

@@ -499,13 +499,15 @@ class Link(_Lifecycle):
                 entry = None
             if entry is not None:
                 try:
-                    raw = await entry.future
+                    raw = await entry[0]
                 except NotSentError:
+                    conn.finish(entry)
                     if self._policy is None:
                         raise
                     raw = None  # never reached the peer: sent again on the next connection
-                finally:
-                    conn.finish(entry)
+                except BaseException:
+                    conn.finish(entry)  # a timeout, a cancellation, a failure
+                    raise
                 if raw is not None:
                     value = spec.response.decode(raw)
                     if type(value) is not EwReply:
@@ -532,7 +534,7 @@ class Link(_Lifecycle):
                     raw = await conn.request(spec.command, payload, deadline)
                 else:
                     try:
-                        raw = await entry.future
+                        raw = await entry[0]
                     finally:
                         conn.finish(entry)
             except NotSentError:
