@@ -1,0 +1,118 @@
+"""The packed server's fast path (one whole request in a read, answered from the receive
+buffer) answers exactly as its general path (the decoder, one frame among others) does.
+
+Both connections serve one machine through one adapter, on a transport that keeps what is
+written; each request is read by the first alone (the fast path) and by the second behind a
+status request in the same read (the general path). Only commands that change nothing are
+generated, and the machine's clocks stand still, so the two answers must be the same bytes.
+"""
+
+from __future__ import annotations
+
+from datetime import UTC, datetime
+from typing import Any, Final
+
+from hypothesis import given, settings
+from hypothesis import strategies as st
+
+from focas_net._receive import receive_buffer
+from focas_net.adapters import PackedAdapter
+from focas_net.protocol import COMMANDS, HEADER, Command, encode_frame
+from focas_net.server._base import Limits
+from focas_net.server._packed import PackedConnection
+from focas_net.server.faults import FaultQueue
+from focas_net.sim import default_machine
+from focas_net.sim.nc import ManualClock
+
+STATUS: Final = int(Command.RDCNCSTAT)
+_NOON: Final = datetime(2026, 1, 1, 12, tzinfo=UTC)
+#: Reads only: no write, program change, simulator control or fault command.
+READS: Final = sorted(
+    int(c) for c in COMMANDS if not Command(c).name.startswith(("WR", "DEL", "SEL", "SIM_"))
+)
+
+
+class _Kept:
+    """A transport that keeps every byte written."""
+
+    def __init__(self) -> None:
+        self.data = bytearray()
+
+    def write(self, data: bytes) -> None:
+        self.data += data
+
+    def writelines(self, chunks: list[bytes]) -> None:
+        for chunk in chunks:
+            self.data += chunk
+
+    def get_extra_info(self, name: str, default: Any = None) -> Any:
+        return ("127.0.0.1", 1) if name == "peername" else default
+
+    def set_write_buffer_limits(self, high: int | None = None, low: int | None = None) -> None:
+        pass
+
+    def is_closing(self) -> bool:
+        return False
+
+
+def _connection(adapter: PackedAdapter) -> tuple[PackedConnection, _Kept]:
+    conn = PackedConnection(adapter, FaultQueue(), Limits(), lambda _: None)
+    kept = _Kept()
+    conn.connection_made(kept)  # type: ignore[arg-type]
+    return conn, kept
+
+
+def _read(conn: PackedConnection, data: bytes) -> None:
+    """What the transport does with a read of ``data``."""
+    buf = conn.get_buffer(len(data))
+    assert len(buf) >= len(data) and buf is receive_buffer()
+    buf[: len(data)] = data
+    conn.buffer_updated(len(data))
+
+
+def _frames(data: bytes) -> list[tuple[int, int, bytes]]:
+    out = []
+    pos = 0
+    while pos < len(data):
+        length, command, request_id = HEADER.unpack_from(data, pos)
+        out.append((command, request_id, bytes(data[pos + 8 : pos + 4 + length])))
+        pos += 4 + length
+    return out
+
+
+#: One machine for both connections, on clocks that do not move: its reads answer the same
+#: bytes each time.
+ADAPTER: Final = PackedAdapter(default_machine(clock=lambda: _NOON, sim_clock=ManualClock()))
+
+
+@settings(max_examples=300, deadline=None)
+@given(
+    command=st.sampled_from([*READS, 0x0BAD]),  # 0x0BAD: an id nobody answers (EW_FUNC)
+    payload=st.one_of(st.just(b""), st.binary(max_size=24)),
+    request_id=st.integers(0, 0xFFFF),
+)
+def test_a_request_alone_in_a_read_is_answered_as_one_among_others(
+    command: int, payload: bytes, request_id: int
+) -> None:
+    alone, alone_out = _connection(ADAPTER)
+    among, among_out = _connection(ADAPTER)
+    request = encode_frame(command, request_id, payload)
+
+    _read(alone, request)
+    _read(among, encode_frame(STATUS, request_id ^ 1, b"") + request)
+
+    (fast,) = _frames(bytes(alone_out.data))
+    status, general = _frames(bytes(among_out.data))
+    assert status[0] == STATUS and status[1] == request_id ^ 1
+    assert fast == general
+    assert fast[:2] == (command, request_id)
+
+
+def test_a_request_split_over_reads_and_one_behind_it_are_answered_in_order() -> None:
+    conn, out = _connection(ADAPTER)
+    first = encode_frame(STATUS, 1, b"")
+    second = encode_frame(STATUS, 2, b"")
+    _read(conn, first[:5])  # a partial frame, held by the decoder (the general path) ...
+    _read(conn, first[5:])  # ... and completed by the rest
+    _read(conn, second)  # nothing held any more: the fast path
+    assert [(c, r) for c, r, _ in _frames(bytes(out.data))] == [(STATUS, 1), (STATUS, 2)]
