@@ -12,7 +12,7 @@ import asyncio
 from collections.abc import Callable
 
 import pytest
-from peers import ManualLoop, Sink, hand_driven
+from peers import hand_driven
 
 from focas_net.client.connection import Connection, NotSentError
 from focas_net.errors import FocasConnectionError, FocasTimeoutError, ProtocolError
@@ -23,10 +23,6 @@ TURNS = 20
 
 
 COMMAND = 0x0001
-
-
-def _connection(max_in_flight: int) -> tuple[Connection, ManualLoop, Sink]:
-    return hand_driven(max_in_flight)
 
 
 def _answer(conn: Connection, request_id: int, command: int = COMMAND) -> None:
@@ -42,7 +38,7 @@ async def _turns_until(what: str, check: Callable[[], bool]) -> None:
 
 
 async def test_an_answer_hands_its_slot_to_the_first_in_line_as_it_is_read() -> None:
-    conn, _, sink = _connection(1)
+    conn, _, sink = hand_driven(1)
     first = conn.try_send(COMMAND, b"", None)
     assert first is not None
     second = asyncio.create_task(conn.request(COMMAND, b"", None))
@@ -64,7 +60,7 @@ async def test_an_answer_hands_its_slot_to_the_first_in_line_as_it_is_read() -> 
 
 
 async def test_a_caller_that_gives_up_frees_its_slot_once_and_the_late_answer_frees_none() -> None:
-    conn, clock, _ = _connection(2)
+    conn, clock, _ = hand_driven(2)
     entry = conn.try_send(COMMAND, b"", 5.0)
     assert entry is not None
     clock.fire()
@@ -81,7 +77,7 @@ async def test_a_caller_that_gives_up_frees_its_slot_once_and_the_late_answer_fr
 
 
 async def test_an_answer_with_the_wrong_command_fails_the_call_and_frees_its_slot() -> None:
-    conn, _, _ = _connection(2)
+    conn, _, _ = hand_driven(2)
     entry = conn.try_send(COMMAND, b"", None)
     assert entry is not None
     _answer(conn, entry[2], command=COMMAND + 1)
@@ -93,7 +89,7 @@ async def test_an_answer_with_the_wrong_command_fails_the_call_and_frees_its_slo
 
 
 async def test_a_close_frees_the_slots_of_every_call_in_flight_once() -> None:
-    conn, _, _ = _connection(3)
+    conn, _, _ = hand_driven(3)
     entries = [conn.try_send(COMMAND, b"", None) for _ in range(3)]
     waiting = asyncio.create_task(conn.request(COMMAND, b"", None))
     await _turns_until("a fourth call waits for a slot", lambda: len(conn._slot_waiters) == 1)

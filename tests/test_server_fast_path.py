@@ -10,10 +10,11 @@ generated, and the machine's clocks stand still, so the two answers must be the 
 from __future__ import annotations
 
 from datetime import UTC, datetime
-from typing import Any, Final
+from typing import Final
 
 from hypothesis import given, settings
 from hypothesis import strategies as st
+from peers import Sink
 
 from focas_net._receive import receive_buffer
 from focas_net.adapters import PackedAdapter
@@ -32,34 +33,11 @@ READS: Final = sorted(
 )
 
 
-class _Kept:
-    """A transport that keeps every byte written."""
-
-    def __init__(self) -> None:
-        self.data = bytearray()
-
-    def write(self, data: bytes) -> None:
-        self.data += data
-
-    def writelines(self, chunks: list[bytes]) -> None:
-        for chunk in chunks:
-            self.data += chunk
-
-    def get_extra_info(self, name: str, default: Any = None) -> Any:
-        return ("127.0.0.1", 1) if name == "peername" else default
-
-    def set_write_buffer_limits(self, high: int | None = None, low: int | None = None) -> None:
-        pass
-
-    def is_closing(self) -> bool:
-        return False
-
-
-def _connection(adapter: PackedAdapter) -> tuple[PackedConnection, _Kept]:
+def _connection(adapter: PackedAdapter) -> tuple[PackedConnection, Sink]:
     conn = PackedConnection(adapter, FaultQueue(), Limits(), lambda _: None)
-    kept = _Kept()
-    conn.connection_made(kept)  # type: ignore[arg-type]
-    return conn, kept
+    sink = Sink()
+    conn.connection_made(sink)  # type: ignore[arg-type]
+    return conn, sink
 
 
 def _read(conn: PackedConnection, data: bytes) -> None:
@@ -101,8 +79,8 @@ def test_a_request_alone_in_a_read_is_answered_as_one_among_others(
     _read(alone, request)
     _read(among, encode_frame(STATUS, request_id ^ 1, b"") + request)
 
-    (fast,) = _frames(bytes(alone_out.data))
-    status, general = _frames(bytes(among_out.data))
+    (fast,) = _frames(b"".join(alone_out.frames))
+    status, general = _frames(b"".join(among_out.frames))
     assert status[0] == STATUS and status[1] == request_id ^ 1
     assert fast == general
     assert fast[:2] == (command, request_id)
@@ -115,4 +93,4 @@ def test_a_request_split_over_reads_and_one_behind_it_are_answered_in_order() ->
     _read(conn, first[:5])  # a partial frame, held by the decoder (the general path) ...
     _read(conn, first[5:])  # ... and completed by the rest
     _read(conn, second)  # nothing held any more: the fast path
-    assert [(c, r) for c, r, _ in _frames(bytes(out.data))] == [(STATUS, 1), (STATUS, 2)]
+    assert [(c, r) for c, r, _ in _frames(b"".join(out.frames))] == [(STATUS, 1), (STATUS, 2)]

@@ -168,12 +168,12 @@ class Connection(Received, asyncio.Protocol):
 
     def data_received(self, data: bytes | bytearray | memoryview) -> None:
         self._answered = True
-        pending = self._pending
-        live = len(pending) - self._abandoned  # calls in flight: their slots are freed below
+        live = self.in_flight  # the slots of those answered by this read are freed below
         if type(data) is bytes and self._violation is None and not self._decoder.buffered:
             # The usual read: whole frames, each answer handed to its caller as it is parsed
             # (no list of frames in between). What is left, a frame not yet complete or a
             # length out of bounds, goes through the decoder as below.
+            pending = self._pending
             size = len(data)
             pos = 0
             max_frame = self._decoder.max_frame
@@ -191,26 +191,21 @@ class Connection(Received, asyncio.Protocol):
                     self._unmatched(entry, command, request_id)
                 pos = end
             if pos == size:
-                # The slots of the calls answered (or failed) by this read: free again.
-                freed = live - (len(pending) - self._abandoned)
-                if self._slot_waiters:
-                    self._release_slots(freed)
-                else:
-                    self._slots_taken -= freed
+                self._release_slots(live - self.in_flight)
                 return
             data = data[pos:]
         try:
             frames = self._decoder.feed_raw(data)
         except FrameError as exc:
             self._deliver(exc.frames)  # answers that arrived whole before the violation
-            self._release_slots(live - (len(pending) - self._abandoned))
+            self._release_slots(live - self.in_flight)
             violation = _violation_error(self.peer, exc, bytes(data[:16]))
             logger.warning("closing connection to %s: %s", self.peer, violation)
             self._violation = violation
             self._abort(violation)
             return
         self._deliver(frames)
-        self._release_slots(live - (len(pending) - self._abandoned))
+        self._release_slots(live - self.in_flight)
 
     def _deliver(self, frames: list[RawFrame]) -> None:
         pending = self._pending
@@ -537,6 +532,9 @@ class Connection(Received, asyncio.Protocol):
             pass
 
     def _release_slots(self, count: int) -> None:
+        if not self._slot_waiters:  # nobody to hand a slot to: what _release_slot does
+            self._slots_taken -= count
+            return
         for _ in range(count):
             self._release_slot()
 
@@ -608,8 +606,8 @@ class Connection(Received, asyncio.Protocol):
 
     # -- closing -------------------------------------------------------------------------
     def _fail_all(self) -> None:
+        live = self.in_flight
         pending, self._pending = self._pending, {}
-        live = len(pending) - self._abandoned
         self._abandoned = 0
         if self._timer is not None:
             self._timer.cancel()

@@ -142,11 +142,7 @@ class PackedConnection(BaseConnection[RawFrame]):
                 and not _log.isEnabledFor(_DEBUG)
             ):
                 self.idle_sweeps = 0
-                payload = bytes(view[8:nbytes]) if length > 4 else b""
-                try:
-                    answer = self._adapter.answer(self._session, command, payload)  # type: ignore[arg-type]
-                except Exception:
-                    answer = self._failed(command)
+                answer = self._answer(command, bytes(view[8:nbytes]) if length > 4 else b"")
                 transport.write(_pack_header(len(answer) + 4, command, request_id) + answer)
                 return
         self.data_received(bytes(view[:nbytes]))
@@ -185,10 +181,7 @@ class PackedConnection(BaseConnection[RawFrame]):
             # One request in the read (sequential use, or one per connection): one write.
             command, request_id, payload = frames[0]
             if command not in _FAULT_COMMANDS:
-                try:
-                    answer = answer_of(session, command, payload)  # type: ignore[arg-type]
-                except Exception:
-                    answer = self._failed(command)
+                answer = self._answer(command, payload)
                 transport.write(_pack_header(len(answer) + 4, command, request_id) + answer)
                 return True  # a write past the high-water mark pauses reading (pause_writing)
         budget = self._limits.write_buffer_high
