@@ -16,6 +16,7 @@ from __future__ import annotations
 
 import asyncio
 import random
+import time
 from collections.abc import AsyncIterator, Callable, Iterable
 from typing import Any
 
@@ -33,6 +34,7 @@ from support import IO_TIMEOUT, serving, wait_until
 
 from focas_net.client import ClientState, FocasClient, ReconnectPolicy
 from focas_net.client.connection import WRITE_CHUNK, Connection, NotSentError, open_connection
+from focas_net.client.reconnect import _clock_of
 from focas_net.errors import (
     EW,
     AccessDeniedError,
@@ -831,3 +833,31 @@ async def test_set_pmc_is_batched_against_the_simulator() -> None:
         assert await cnc.read_pmc("F", 0, 300) == data
         assert await cnc.read_pmc("D", 100, 300) == data
         assert_idle(connection_of(cnc))
+
+
+class _SteppedLoop(asyncio.SelectorEventLoop):
+    """A loop with a clock of its own, set by hand."""
+
+    now = 100.0
+
+    def time(self) -> float:
+        return self.now
+
+
+def test_deadlines_read_the_loops_own_clock_unless_it_is_the_stock_one() -> None:
+    stock = asyncio.new_event_loop()
+    patched = asyncio.new_event_loop()
+    stepped = _SteppedLoop()
+    try:
+        # Stock asyncio's loop.time is time.monotonic behind a Python method: read directly.
+        assert _clock_of(stock) is time.monotonic
+        # A loop whose clock is its own, by subclass or on the instance, is asked every time.
+        clock = _clock_of(stepped)
+        assert clock() == 100.0
+        stepped.now = 107.5
+        assert clock() == 107.5
+        patched.time = lambda: 42.0  # type: ignore[method-assign]
+        assert _clock_of(patched)() == 42.0
+    finally:
+        for loop in (stock, patched, stepped):
+            loop.close()

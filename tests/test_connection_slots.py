@@ -107,3 +107,24 @@ async def test_a_close_frees_the_slots_of_every_call_in_flight_once() -> None:
     with pytest.raises(NotSentError):
         await waiting
     assert conn._slots_taken == 0 and not conn._slot_waiters and conn.in_flight == 0
+
+
+async def test_an_answer_to_a_call_already_ended_is_dropped_and_frees_its_slot_once() -> None:
+    conn, clock, _ = hand_driven(2)
+    timed_out = conn.try_send(COMMAND, b"", 5.0)
+    cancelled = conn.try_send(COMMAND, b"", None)
+    assert timed_out is not None and cancelled is not None
+    clock.fire()  # the first one's deadline passed
+    cancelled[0].cancel()  # the second one's caller was cancelled
+    # Both answers arrive in one read before either caller resumed to finish its entry.
+    conn.data_received(
+        encode_frame(COMMAND, timed_out[2], b"\x00\x00")
+        + encode_frame(COMMAND, cancelled[2], b"\x00\x00")
+    )
+    with pytest.raises(FocasTimeoutError):
+        timed_out[0].result()
+    assert cancelled[0].cancelled()
+    assert conn._slots_taken == 0 and conn.in_flight == 0
+    conn.finish(timed_out)
+    conn.finish(cancelled)  # the answers left the table: nothing reserved, nothing freed twice
+    assert conn._slots_taken == 0 and conn.abandoned == 0

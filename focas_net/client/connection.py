@@ -184,9 +184,10 @@ class Connection(Received, asyncio.Protocol):
                     break
                 entry = pending.pop(request_id, _MISSING)
                 if type(entry) is tuple and command == entry[1]:
-                    future = entry[0]
-                    if not future.done():
-                        future.set_result(data[pos + 8 : end])
+                    try:
+                        entry[0].set_result(data[pos + 8 : end])
+                    except asyncio.InvalidStateError:
+                        pass  # its caller gave up (cancelled) before it was finished
                 else:
                     self._unmatched(entry, command, request_id)
                 pos = end

@@ -136,7 +136,7 @@ from .client import (
     macro_from_wire,
     macro_to_wire,
 )
-from .reconnect import ClientState, ReconnectPolicy, StateCallback, _Lifecycle
+from .reconnect import ClientState, ReconnectPolicy, StateCallback, _clock_of, _Lifecycle
 
 __all__ = [
     "DynamicData",
@@ -787,6 +787,7 @@ class NativeClient(_Lifecycle):
         if self._handle is not None and not self._handle.closed:
             return
         self._loop = asyncio.get_running_loop()
+        self._clock = _clock_of(self._loop)
         if self._ready is None:
             self._ready = asyncio.Event()
         handle = await _open_handle(self.host, self.port, self._deadline(None))
@@ -891,7 +892,10 @@ class NativeClient(_Lifecycle):
             return None
         if t <= 0:
             raise ValueError(f"timeout must be positive, got {t}")
-        return (self._loop or asyncio.get_running_loop()).time() + t
+        clock = self._clock
+        if clock is None:
+            clock = asyncio.get_running_loop().time
+        return clock() + t
 
     async def _live(self, deadline: float | None) -> _Handle:
         """The open handle, waiting (until ``deadline``) while reconnecting."""

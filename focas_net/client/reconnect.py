@@ -23,6 +23,7 @@ import enum
 import logging
 import random
 import ssl as _ssl
+import time
 from collections.abc import Callable
 from dataclasses import dataclass
 from types import TracebackType
@@ -57,6 +58,15 @@ _UNLOCK: Final = COMMANDS[C.WRUNLOCKPARAM]
 #: What :meth:`Link._answer` gives for an ``EW_PASSWD`` answer to unlock and send again.
 _UNLOCK_AND_RETRY: Final = object()
 _CLOSE_GRACE: Final = 2.0
+
+
+def _clock_of(loop: asyncio.AbstractEventLoop) -> Callable[[], float]:
+    """``loop.time`` itself, or the clock it reads when that is the stock one (asyncio's
+    ``BaseEventLoop.time`` is a Python method around ``time.monotonic``: one call less per
+    deadline). A loop whose clock is its own (uvloop's, a test's) is asked every time."""
+    if getattr(loop.time, "__func__", None) is asyncio.BaseEventLoop.time:
+        return time.monotonic
+    return loop.time
 
 
 class ClientState(enum.Enum):
@@ -143,6 +153,7 @@ class _Lifecycle:
         if on_state_change is not None:
             self._callbacks.append(on_state_change)
         self._loop: asyncio.AbstractEventLoop | None = None
+        self._clock: Callable[[], float] | None = None  # the loop's clock, once connected
         #: Set while a call need not wait: connected, or no reconnect under way.
         self._ready: asyncio.Event | None = None
         self._reconnect_task: asyncio.Task[None] | None = None
@@ -307,6 +318,7 @@ class Link(_Lifecycle):
         if self._conn is not None and not self._conn.closed:
             return
         self._loop = asyncio.get_running_loop()
+        self._clock = _clock_of(self._loop)
         if self._ready is None:
             self._ready = asyncio.Event()
         conn = await self._open(self._deadline(None), strict=True)
@@ -470,8 +482,10 @@ class Link(_Lifecycle):
         t = self.timeout if timeout is None else timeout
         if t is None:
             return None
-        loop = self._loop or asyncio.get_running_loop()
-        return loop.time() + t
+        clock = self._clock
+        if clock is None:
+            clock = asyncio.get_running_loop().time
+        return clock() + t
 
     async def _request(self, spec: CommandSpec, payload: bytes, deadline: float | None) -> Any:
         """Send one request and return its decoded answer: the one path of every call.
