@@ -187,7 +187,7 @@ class Connection(Received, asyncio.Protocol):
                     try:
                         entry[0].set_result(data[pos + 8 : end])
                     except asyncio.InvalidStateError:
-                        pass  # its caller gave up (cancelled) before it was finished
+                        pass  # its call already ended (timed out, cancelled), not yet finished
                 else:
                     self._unmatched(entry, command, request_id)
                 pos = end
