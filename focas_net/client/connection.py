@@ -213,9 +213,10 @@ class Connection(Received, asyncio.Protocol):
         for command, request_id, payload in frames:
             entry = pending.pop(request_id, _MISSING)
             if type(entry) is tuple and command == entry[1]:
-                future = entry[0]
-                if not future.done():
-                    future.set_result(payload)
+                try:
+                    entry[0].set_result(payload)
+                except asyncio.InvalidStateError:
+                    pass  # its call already ended (timed out, cancelled), not yet finished
             else:
                 self._unmatched(entry, command, request_id)
 

@@ -136,7 +136,7 @@ from .client import (
     macro_from_wire,
     macro_to_wire,
 )
-from .reconnect import ClientState, ReconnectPolicy, StateCallback, _clock_of, _Lifecycle
+from .reconnect import ClientState, ReconnectPolicy, StateCallback, _Lifecycle
 
 __all__ = [
     "DynamicData",
@@ -786,8 +786,7 @@ class NativeClient(_Lifecycle):
             raise FocasConnectionError("client is closed")
         if self._handle is not None and not self._handle.closed:
             return
-        self._loop = asyncio.get_running_loop()
-        self._clock = _clock_of(self._loop)
+        self._bind_loop()
         if self._ready is None:
             self._ready = asyncio.Event()
         handle = await _open_handle(self.host, self.port, self._deadline(None))

@@ -185,6 +185,11 @@ class _Lifecycle:
     def remove_state_callback(self, callback: StateCallback) -> None:
         self._callbacks.remove(callback)
 
+    def _bind_loop(self) -> None:
+        """Serve the running loop from now on: calls and deadlines use it and its clock."""
+        self._loop = asyncio.get_running_loop()
+        self._clock = _clock_of(self._loop)
+
     def _set_state(self, state: ClientState) -> None:
         if state is self._state:
             return
@@ -317,8 +322,7 @@ class Link(_Lifecycle):
             raise FocasConnectionError("client is closed")
         if self._conn is not None and not self._conn.closed:
             return
-        self._loop = asyncio.get_running_loop()
-        self._clock = _clock_of(self._loop)
+        self._bind_loop()
         if self._ready is None:
             self._ready = asyncio.Event()
         conn = await self._open(self._deadline(None), strict=True)
