@@ -2,9 +2,10 @@
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from typing import Any
 
-__all__ = ["Memo"]
+__all__ = ["Memo", "Memoized"]
 
 
 class Memo(dict[Any, Any]):
@@ -26,3 +27,20 @@ class Memo(dict[Any, Any]):
         if len(self) >= self._size:
             self.clear()
         self[key] = value
+
+
+class Memoized(Memo):
+    """A :class:`Memo` of ``compute(key)`` that fills itself: ``memo[key]`` is the value kept,
+    or ``compute(key)`` kept now (what ``compute`` raises is raised, nothing kept). A hit is
+    the dict's own look-up, no Python code: ``memo.__getitem__`` is the memoized function."""
+
+    __slots__ = ("_compute",)
+
+    def __init__(self, size: int, compute: Callable[[Any], Any]) -> None:
+        super().__init__(size)
+        self._compute = compute
+
+    def __missing__(self, key: Any) -> Any:
+        value = self._compute(key)
+        self.put(key, value)
+        return value

@@ -514,6 +514,28 @@ def test_mutated_encodings_raise_only_payload_error(number: int, data: st.DataOb
     _decode_or_payload_error(spec.response, response, never_raises=spec.counted)
 
 
+def _outcome(decode: Any, data: bytes | bytearray) -> Any:
+    """What ``decode(data)`` gives: its value, or the type and text of the PayloadError."""
+    try:
+        return decode(data)
+    except PayloadError as exc:
+        return (type(exc), str(exc))
+
+
+@pytest.mark.parametrize("number", NUMBERS, ids=IDS)
+@given(data=st.data())
+def test_decode_bytes_agrees_with_decode(number: int, data: st.DataObject) -> None:
+    """``decode_bytes`` (the client's path, a memo's own look-up where the codec keeps one)
+    gives what ``decode`` gives, the first time and again, and ``decode`` still takes a
+    bytearray (which no memo can key on)."""
+    codec = COMMANDS[number].response
+    wire = data.draw(mutated(RESPONSES[Command(number)].map(codec.encode)), label="response")
+    expected = _outcome(codec.decode, wire)
+    assert _outcome(codec.decode_bytes, wire) == expected
+    assert _outcome(codec.decode_bytes, bytes(wire)) == expected  # a hit, where kept
+    assert _outcome(codec.decode, bytearray(wire)) == expected
+
+
 @given(blob=st.binary(max_size=300))
 def test_module_record_arbitrary_bytes_raise_only_payload_error(blob: bytes) -> None:
     _decode_or_payload_error(IOModuleRecord, blob, never_raises=False)

@@ -297,28 +297,28 @@ class FocasClient(Link):
     # -- status --------------------------------------------------------------------------
     async def read_status(self, *, timeout: float | None = None) -> StatusInfo:
         """``cnc_rdcncstat``: the ODBST status (mode, run state, alarm, emergency, ...)."""
-        result: StatusInfo = await self._request(_RDCNCSTAT, _EMPTY, self._deadline(timeout))
+        result: StatusInfo = await self._request(_RDCNCSTAT, _EMPTY, timeout)
         return result
 
     async def read_sysinfo(self, *, timeout: float | None = None) -> SysInfo:
         """``cnc_sysinfo``: ODBSYS (CNC type, series, version, axes)."""
-        result: SysInfo = await self._request(_SYSINFO, _EMPTY, self._deadline(timeout))
+        result: SysInfo = await self._request(_SYSINFO, _EMPTY, timeout)
         return result
 
     # -- program, feed, spindle, positions ------------------------------------------------
     async def read_program_numbers(self, *, timeout: float | None = None) -> ProgramNumbers:
         """``cnc_rdprgnum``: the running and the main program numbers (0 = none)."""
-        result: ProgramNumbers = await self._request(_RDPRGNUM, _EMPTY, self._deadline(timeout))
+        result: ProgramNumbers = await self._request(_RDPRGNUM, _EMPTY, timeout)
         return result
 
     async def read_feed(self, *, timeout: float | None = None) -> int:
         """``cnc_actf``: the actual feed rate (the machine's feed unit, e.g. mm/min)."""
-        value: ActualValue = await self._request(_ACTF, _EMPTY, self._deadline(timeout))
+        value: ActualValue = await self._request(_ACTF, _EMPTY, timeout)
         return value.data
 
     async def read_spindle_speed(self, *, timeout: float | None = None) -> int:
         """``cnc_acts``: the actual spindle speed (min^-1)."""
-        value: ActualValue = await self._request(_ACTS, _EMPTY, self._deadline(timeout))
+        value: ActualValue = await self._request(_ACTS, _EMPTY, timeout)
         return value.data
 
     async def read_positions(
@@ -339,7 +339,7 @@ class FocasClient(Link):
         if axis is not None and not 1 <= axis <= _I16_MAX:
             raise ValueError(f"axis {axis} is outside 1..{_I16_MAX} (or leave it out: every axis)")
         payload = _RDPOSITION.request.encode(PositionRequest(which, -1 if axis is None else axis))
-        data: PositionData = await self._request(_RDPOSITION, payload, self._deadline(timeout))
+        data: PositionData = await self._request(_RDPOSITION, payload, timeout)
         dec = data.dec
         return Positions(
             which,
@@ -352,7 +352,7 @@ class FocasClient(Link):
     async def _read_param_value(self, number: int, axis: int, deadline: float | None) -> ParamValue:
         _check_item(number, axis, "parameter")
         payload = _RDPARAM.request.encode(DataRequest(number, axis))
-        value: ParamValue = await self._request(_RDPARAM, payload, deadline)
+        value: ParamValue = await self._request(_RDPARAM, payload, None, deadline)
         self._param_widths[number] = value.width
         return value
 
@@ -375,7 +375,7 @@ class FocasClient(Link):
     async def _read_param_attributes(self, number: int, deadline: float | None) -> ParamAttributes:
         _check_item(number, 0, "parameter")
         payload = _RDPARAINFO.request.encode(ParamAttributesRequest(number))
-        attrs: ParamAttributes = await self._request(_RDPARAINFO, payload, deadline)
+        attrs: ParamAttributes = await self._request(_RDPARAINFO, payload, None, deadline)
         self._param_types[number] = attrs.type
         return attrs
 
@@ -468,7 +468,7 @@ class FocasClient(Link):
             pv = ParamValue(number, axis, raw, width)
         payload = _WRPARAM.request.encode(pv)
         try:
-            await self._request(_WRPARAM, payload, deadline)
+            await self._request(_WRPARAM, payload, None, deadline)
         except CncError as exc:
             if exc.ew == EW.LENGTH and not learnt:
                 self._param_widths.pop(number, None)  # stale width: learn it again next time
@@ -502,13 +502,13 @@ class FocasClient(Link):
             if raw >= 1 << (bits - 1):
                 raw -= 1 << bits
             payload = _WRPARAM.request.encode(ParamValue(number, axis, raw, width))
-            await self._request(_WRPARAM, payload, deadline)
+            await self._request(_WRPARAM, payload, None, deadline)
 
     async def read_diag(self, number: int, *, axis: int = 0, timeout: float | None = None) -> int:
         """``cnc_rddiag``: the value of diagnostic ``number``."""
         _check_item(number, axis, "diagnostic")
         payload = _RDDIAG.request.encode(DataRequest(number, axis))
-        value: ParamValue = await self._request(_RDDIAG, payload, self._deadline(timeout))
+        value: ParamValue = await self._request(_RDDIAG, payload, timeout)
         return value.value
 
     # -- macros --------------------------------------------------------------------------
@@ -516,7 +516,7 @@ class FocasClient(Link):
         """``cnc_rdmacro``: the value of ``#number`` as a Decimal, or None when vacant."""
         _check_macro(number)
         payload = _RDMACRO.request.encode(MacroRequest(number))
-        value: MacroValue = await self._request(_RDMACRO, payload, self._deadline(timeout))
+        value: MacroValue = await self._request(_RDMACRO, payload, timeout)
         return macro_from_wire(value.mcr_val, value.dec_val)
 
     async def write_macro(
@@ -529,7 +529,7 @@ class FocasClient(Link):
         _check_macro(number)
         mcr_val, dec_val = macro_to_wire(value)
         payload = _WRMACRO.request.encode(MacroValue(number, 8, mcr_val, dec_val))
-        await self._request(_WRMACRO, payload, self._deadline(timeout))
+        await self._request(_WRMACRO, payload, timeout)
 
     # -- PMC -----------------------------------------------------------------------------
     async def read_pmc(
@@ -592,7 +592,7 @@ class FocasClient(Link):
             _check("alarm type", alm_type, -1, _I16_MAX)
             t = int(alm_type)
         payload = _RDALMMSG.request.encode(AlarmMsgRequest(t, _MAX_ACTIVE_ALARMS))
-        result: ActiveAlarmList = await self._request(_RDALMMSG, payload, self._deadline(timeout))
+        result: ActiveAlarmList = await self._request(_RDALMMSG, payload, timeout)
         if result.ew:
             raise CncError.from_ew(result.ew, _RDALMMSG.focas_name)
         return result.entries
@@ -605,7 +605,7 @@ class FocasClient(Link):
         :meth:`read_alarms`: a failed read is never mistaken for an empty history."""
         depth = min(max(int(depth), 1), MAX_HISTORY_DEPTH)
         payload = _RDALMHISTRY.request.encode(AlarmHistoryRequest(depth))
-        result: AlarmHistory = await self._request(_RDALMHISTRY, payload, self._deadline(timeout))
+        result: AlarmHistory = await self._request(_RDALMHISTRY, payload, timeout)
         if result.ew:
             raise CncError.from_ew(result.ew, _RDALMHISTRY.focas_name)
         return result
@@ -619,7 +619,7 @@ class FocasClient(Link):
         not 1..4 ASCII characters raises :class:`ValueError` before anything is sent.
         """
         payload = _UNLOCK.request.encode(Password.from_text(password))
-        await self._request(_UNLOCK, payload, self._deadline(timeout))
+        await self._request(_UNLOCK, payload, timeout)
         self._password = password
 
     # -- part programs -------------------------------------------------------------------
@@ -633,7 +633,7 @@ class FocasClient(Link):
         entries: list[ProgramEntry] = []
         for _ in range(_MAX_DIRECTORY_PAGES):
             request = _RDPROGDIR.request.encode(DirectoryRequest(first, MAX_DIRECTORY_ENTRIES))
-            page: ProgramDirectory = await self._request(_RDPROGDIR, request, deadline)
+            page: ProgramDirectory = await self._request(_RDPROGDIR, request, None, deadline)
             entries.extend(page.entries)
             if len(page.entries) < MAX_DIRECTORY_ENTRIES or page.entries[-1].number >= _I32_MAX:
                 break
@@ -649,7 +649,7 @@ class FocasClient(Link):
         offset = 0
         for _ in range(_MAX_PROGRAM_CHUNKS):
             request = _RDPROGRAM.request.encode(ProgramChunkRequest(number, offset))
-            chunk: ProgramChunk = await self._request(_RDPROGRAM, request, deadline)
+            chunk: ProgramChunk = await self._request(_RDPROGRAM, request, None, deadline)
             parts.append(chunk.text)
             offset += len(chunk.text)
             if not chunk.text or offset >= chunk.total:
@@ -663,32 +663,32 @@ class FocasClient(Link):
         stored answers EW_REJECT unless ``replace``; a program being executed EW_BUSY; text
         that is not one program EW_DATA; a full memory EW_OVRFLOW."""
         payload = _WRPROGRAM.request.encode(ProgramText(int(replace), text))
-        stored: ProgramNumber = await self._request(_WRPROGRAM, payload, self._deadline(timeout))
+        stored: ProgramNumber = await self._request(_WRPROGRAM, payload, timeout)
         return stored.number
 
     async def delete_program(self, number: int, *, timeout: float | None = None) -> None:
         """``cnc_delete``: delete program ``number`` (EW_NUMBER: none; EW_BUSY: executing)."""
         _check("program number", number, 0, _I32_MAX)
         payload = _DELPROGRAM.request.encode(ProgramNumber(number))
-        await self._request(_DELPROGRAM, payload, self._deadline(timeout))
+        await self._request(_DELPROGRAM, payload, timeout)
 
     async def select_program(self, number: int, *, timeout: float | None = None) -> None:
         """``cnc_search``: make ``number`` the main program (EW_NUMBER: none; EW_MODE: not MEM
         or EDIT; EW_BUSY: another program is executing)."""
         _check("program number", number, 0, _I32_MAX)
         payload = _SELPROGRAM.request.encode(ProgramNumber(number))
-        await self._request(_SELPROGRAM, payload, self._deadline(timeout))
+        await self._request(_SELPROGRAM, payload, timeout)
 
     async def read_run_info(self, *, timeout: float | None = None) -> RunInfo:
         """Overrides (%), parts count and total parts, and the power-on, operating, cutting
         and cycle timers (ms) of the simulated machine."""
-        info: RunInfo = await self._request(_RDRUNINFO, _EMPTY, self._deadline(timeout))
+        info: RunInfo = await self._request(_RDRUNINFO, _EMPTY, timeout)
         return info
 
     async def read_loads(self, *, timeout: float | None = None) -> LoadMeters:
         """The load of each spindle and the servo load of each axis, in percent
         (``cnc_rdspload`` and ``cnc_rdsvmeter`` in one request)."""
-        loads: LoadMeters = await self._request(_RDLOADS, _EMPTY, self._deadline(timeout))
+        loads: LoadMeters = await self._request(_RDLOADS, _EMPTY, timeout)
         return loads
 
     # -- VersaMax ------------------------------------------------------------------------
@@ -699,7 +699,7 @@ class FocasClient(Link):
         _check("slot", slot, 0, _U8_MAX)
         request = VersaMaxRequest(rack, MAX_CONFIG_CHUNK, slot, offset)
         reply: VersaMaxReply = await self._request(
-            _RDCONFIG, _RDCONFIG.request.encode(request), deadline
+            _RDCONFIG, _RDCONFIG.request.encode(request), None, deadline
         )
         if (reply.rack, reply.slot, reply.offset) != (rack, slot, offset):
             raise PayloadError(

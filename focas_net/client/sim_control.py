@@ -118,12 +118,12 @@ class SimControl:
             SetPanel(aut, _switch("pwe", pwe), _switch("emergency", emergency))
         )
         client = self._client
-        await client._request(_SET_PANEL, payload, client._deadline(timeout))
+        await client._request(_SET_PANEL, payload, timeout)
 
     async def read_panel(self, *, timeout: float | None = None) -> PanelSwitches:
         """The operator panel's switches: mode, parameter write enable, emergency stop."""
         client = self._client
-        panel: SetPanel = await client._request(_READ_PANEL, b"", client._deadline(timeout))
+        panel: SetPanel = await client._request(_READ_PANEL, b"", timeout)
         mode = AutMode(panel.mode) if panel.mode in AutMode._value2member_map_ else panel.mode
         return PanelSwitches(mode, bool(panel.pwe), bool(panel.emergency))
 
@@ -134,7 +134,7 @@ class SimControl:
         _check("macro variable number", number, -0x8000, 0x7FFF)
         payload = _VACATE_MACRO.request.encode(VacateMacro(number))
         client = self._client
-        await client._request(_VACATE_MACRO, payload, client._deadline(timeout))
+        await client._request(_VACATE_MACRO, payload, timeout)
 
     async def raise_alarm(
         self,
@@ -159,7 +159,7 @@ class SimControl:
             raise ValueError(f"alarm message must be ASCII: {msg!r}") from None
         payload = _RAISE_ALARM.request.encode(RaiseAlarm(axis_no, t, alm_no, raw))
         client = self._client
-        await client._request(_RAISE_ALARM, payload, client._deadline(timeout))
+        await client._request(_RAISE_ALARM, payload, timeout)
 
     async def clear_alarms(
         self,
@@ -175,12 +175,12 @@ class SimControl:
             _check("alarm number", alm_no, 0, _I16_MAX)
         payload = _CLEAR_ALARMS.request.encode(ClearAlarms(t, alm_no))
         client = self._client
-        await client._request(_CLEAR_ALARMS, payload, client._deadline(timeout))
+        await client._request(_CLEAR_ALARMS, payload, timeout)
 
     async def _cycle(self, action: CycleAction, timeout: float | None) -> None:
         client = self._client
         payload = _CYCLE.request.encode(CycleControl(action))
-        await client._request(_CYCLE, payload, client._deadline(timeout))
+        await client._request(_CYCLE, payload, timeout)
 
     async def cycle_start(self, *, timeout: float | None = None) -> None:
         """Cycle start (0x0E20): run the main program, continue it, or resume after a feed
@@ -219,7 +219,7 @@ class SimControl:
                 values.append(value)
         client = self._client
         payload = _OVERRIDES.request.encode(Overrides(*values))
-        await client._request(_OVERRIDES, payload, client._deadline(timeout))
+        await client._request(_OVERRIDES, payload, timeout)
 
     async def set_pmc(
         self, area: AreaLike, start: int, data: bytes, *, timeout: float | None = None
@@ -245,7 +245,7 @@ class SimControl:
         """
         payload = _INJECT_FAULT.request.encode(InjectFault(int(kind), int(scope), count, arg))
         client = self._client
-        await client._request(_INJECT_FAULT, payload, client._deadline(timeout))
+        await client._request(_INJECT_FAULT, payload, timeout)
 
     async def list_faults(
         self, scope: FaultScope | int = FaultScope.CONNECTION, *, timeout: float | None = None
@@ -255,7 +255,7 @@ class SimControl:
         (``remaining``) and its ``arg``."""
         payload = _LIST_FAULTS.request.encode(FaultsRequest(_scope(scope)))
         client = self._client
-        listing = await client._request(_LIST_FAULTS, payload, client._deadline(timeout))
+        listing = await client._request(_LIST_FAULTS, payload, timeout)
         return tuple(_typed(f) for f in listing.faults)
 
     async def clear_faults(
@@ -264,7 +264,7 @@ class SimControl:
         """Remove the pending faults of ``scope``; returns how many were removed."""
         payload = _CLEAR_FAULTS.request.encode(FaultsRequest(_scope(scope)))
         client = self._client
-        answer = await client._request(_CLEAR_FAULTS, payload, client._deadline(timeout))
+        answer = await client._request(_CLEAR_FAULTS, payload, timeout)
         return int(answer.cleared)
 
 

@@ -46,16 +46,25 @@ class Codec(Generic[T]):
 
     ``decode`` raises :class:`PayloadError` and nothing else on bytes that do not fit;
     ``encode`` raises :class:`ValueError` on a value that cannot be put on the wire.
+    ``decode_bytes`` is ``decode`` for a payload of type ``bytes`` exactly (not a bytearray or
+    a view), as the client's connection hands answers over: the same values and errors, and
+    for a codec that remembers what it decoded, a payload seen before is answered by a dict
+    look-up alone. It is ``decode`` unless given.
     """
 
-    __slots__ = ("decode", "encode", "name")
+    __slots__ = ("decode", "decode_bytes", "encode", "name")
 
     def __init__(
-        self, name: str, encode: Callable[[T], bytes], decode: Callable[[bytes], T]
+        self,
+        name: str,
+        encode: Callable[[T], bytes],
+        decode: Callable[[bytes], T],
+        decode_bytes: Callable[[bytes], T] | None = None,
     ) -> None:
         self.name = name
         self.encode = encode
         self.decode = decode
+        self.decode_bytes = decode if decode_bytes is None else decode_bytes
 
     def __repr__(self) -> str:
         return f"Codec({self.name})"

@@ -17,6 +17,7 @@ from dataclasses import dataclass
 from decimal import Decimal
 from typing import Any, ClassVar, Final, Self
 
+from .._memo import Memoized
 from ..errors import PayloadError
 from ._base import I16, INT_RANGES, Codec, FixedPayload, field_error
 from .alarms import ActiveAlarmList, AlarmHistory
@@ -610,7 +611,8 @@ def _ew_response(inner: Codec[Any], memo: int = 0) -> Codec[Any]:
     ``decode`` keeps the values it decoded from ``bytes`` payloads in a dict keyed by the
     payload, emptied whenever it reaches ``memo`` entries: a poller reading the same status
     again and again gets the value it decoded before (equal, and as immutable) without
-    building a new one.
+    building a new one. Its ``decode_bytes`` is that dict's own look-up (a payload not seen
+    yet is decoded and kept by the dict's ``__missing__``).
     """
     inner_encode, inner_decode = inner.encode, inner.decode
 
@@ -630,21 +632,15 @@ def _ew_response(inner: Codec[Any], memo: int = 0) -> Codec[Any]:
 
     if memo <= 0:
         return Codec(f"EW+{inner.name}", encode, decode)
-    values: dict[bytes, Any] = {}
-    get = values.get
+    values = Memoized(memo, decode)
+    decoded = values.__getitem__
 
     def memo_decode(data: bytes) -> Any:
         if type(data) is not bytes:  # bytearray, memoryview: not hashable (or not stable)
             return decode(data)
-        value = get(data)
-        if value is None:
-            value = decode(data)
-            if len(values) >= memo:
-                values.clear()
-            values[data] = value
-        return value
+        return decoded(data)
 
-    return Codec(f"EW+{inner.name}", encode, memo_decode)
+    return Codec(f"EW+{inner.name}", encode, memo_decode, decoded)
 
 
 def encode_response(command: int, value: Any) -> bytes:
