@@ -46,7 +46,7 @@ from functools import partial
 from typing import Any, Final
 
 from focas_net._memo import Memo
-from focas_net._receive import Received
+from focas_net._receive import Received, _local
 from focas_net.errors import (
     EW,
     ChunkedWriteError,
@@ -152,6 +152,7 @@ LIBRARY_MAX_BLOCKS: Final = 10
 _PATH: Final = 1
 #: No deadline (the watch timer not set).
 _INF: Final = float("inf")
+_current_task: Final = asyncio.current_task
 _CLOSE_GRACE: Final = 2.0
 _ANSWER_HEAD: Final = 16
 _MAX_ACTIVE_ALARMS: Final = 32
@@ -245,6 +246,15 @@ class _Watched(Received, asyncio.StreamReaderProtocol):
         self.on_data: Callable[[bytes], None] | None = None
         self.on_end: Callable[[Exception | None], None] | None = None
 
+    def buffer_updated(self, nbytes: int) -> None:
+        # Received.buffer_updated and data_received in one: one call less per answer
+        data = bytes(_local.view[:nbytes])
+        on_data = self.on_data
+        if on_data is not None:
+            on_data(data)
+        else:
+            asyncio.StreamReaderProtocol.data_received(self, data)
+
     def data_received(self, data: bytes) -> None:
         if self.on_data is not None:
             self.on_data(data)
@@ -281,8 +291,9 @@ _BLOCKS: Final = Memo(1024)
 #: (identity of a job's requests, max axes) -> the requests, and their blocks' bytes, the most
 #: answer bytes and their size.
 _PARTS: Final = Memo(1024)
-#: (answer frame, request block count) -> its blocks, as checked.
-_BODIES: Final = Memo(512)
+#: (a whole answer frame, its header included; the request's block count) -> its blocks, as
+#: checked.
+_FRAMES: Final = Memo(512)
 #: (identity of a request, max axes, answer data) -> the request and its decoded answer.
 _ANSWERS: Final = Memo(1024)
 
@@ -337,15 +348,19 @@ def _frame_of(blocks: bytes, count: int) -> bytes:
 
 #: (identity of a call's first answer block) -> its blocks, what else the result depends on
 #: (the call, the axes) and the call's result: a poll whose answer repeats gets the very
-#: block objects of ``_BODIES`` again, and builds its result once.
+#: block objects of ``_FRAMES`` again, and builds its result once.
 _RESULTS: Final = Memo(1024)
 
 
 def _known_result(blocks: tuple[ResponseBlock, ...], extra: Any) -> Any:
     """The result remembered for ``blocks`` (the same objects, so the comparison is one of
-    identities) and ``extra``, else None."""
+    identities) and ``extra`` (the same object, or an equal tuple), else None."""
     known: tuple[tuple[ResponseBlock, ...], Any, Any] | None = _RESULTS.get(id(blocks[0]))
-    if known is not None and known[0] == blocks and known[1] == extra:
+    if (
+        known is not None
+        and (known[0] is blocks or known[0] == blocks)
+        and (known[1] is extra or known[1] == extra)
+    ):
         return known[2]
     return None
 
@@ -489,12 +504,7 @@ class _Handle:
         return self.check_answer(await _read_frame(self.reader_b), len(requests))
 
     def check_answer(self, frame: tuple[int, int, bytes], count: int) -> tuple[ResponseBlock, ...]:
-        """The blocks of a data answer, checked as FANUC's library checks them (an answer
-        already taken is taken again without a second walk)."""
-        key = (frame, count)
-        known: tuple[ResponseBlock, ...] | None = _BODIES.get(key)
-        if known is not None:
-            return known
+        """The blocks of a data answer, checked as FANUC's library checks them."""
         version, frame_type, body = frame
         if frame_type >> 8 != _DATA_ANSWER:
             raise _Lost(f"answer of frame type 0x{frame_type:04X} to a data request")
@@ -507,10 +517,21 @@ class _Handle:
         if refusal is not None:
             raise _Lost(f"data answer refused: {refusal}")
         try:
-            blocks = decode_response_body(body)
+            return decode_response_body(body)
         except ProtocolError as exc:
             raise _Lost(str(exc)) from exc
-        _BODIES.put(key, blocks)
+
+    def blocks_of(self, raw: bytes, count: int) -> tuple[ResponseBlock, ...]:
+        """:meth:`check_answer` of the whole answer frame ``raw`` (header included) to a
+        request of ``count`` blocks; an answer already taken is taken again without a second
+        walk (the blocks are the same objects, which :func:`_known_result` relies on)."""
+        key = (raw, count)
+        known: tuple[ResponseBlock, ...] | None = _FRAMES.get(key)
+        if known is not None:
+            return known
+        _, version, frame_type, _ = NATIVE_HEADER.unpack_from(raw)
+        blocks = self.check_answer((version, frame_type, raw[NATIVE_HEADER_SIZE:]), count)
+        _FRAMES.put(key, blocks)
         return blocks
 
     def abort(self) -> None:
@@ -661,12 +682,13 @@ class _Job:
         command_set: CommandSet,
         deadline: float | None,
         future: asyncio.Future[tuple[ResponseBlock, ...]],
+        task: asyncio.Task[Any] | None,
     ) -> None:
         self.requests = requests
         self.command_set = command_set
         self.deadline = deadline
         self.future = future
-        self.task = asyncio.current_task()
+        self.task = task
 
 
 def _fail(jobs: Sequence[_Job], make: Callable[..., BaseException], *args: Any) -> None:
@@ -886,15 +908,16 @@ class NativeClient(_Lifecycle):
 
     # -- the request path ----------------------------------------------------------------
     def _deadline(self, timeout: float | None) -> float | None:
-        t = self.timeout if timeout is None else timeout
-        if t is None:
-            return None
-        if t <= 0:
-            raise ValueError(f"timeout must be positive, got {t}")
+        if timeout is None:
+            timeout = self.timeout  # checked when the client was made
+            if timeout is None:
+                return None
+        elif timeout <= 0:
+            raise ValueError(f"timeout must be positive, got {timeout}")
         clock = self._clock
         if clock is None:
             clock = asyncio.get_running_loop().time
-        return clock() + t
+        return clock() + timeout
 
     async def _live(self, deadline: float | None) -> _Handle:
         """The open handle, waiting (until ``deadline``) while reconnecting."""
@@ -925,9 +948,9 @@ class NativeClient(_Lifecycle):
             raise FocasConnectionError(f"not connected to {self.host}:{self.port}")
         loop = self._loop or asyncio.get_running_loop()
         future: asyncio.Future[tuple[ResponseBlock, ...]] = loop.create_future()
-        job = _Job(requests, command_set, deadline, future)
+        task = _current_task(loop)
+        job = _Job(requests, command_set, deadline, future, task)
         handle = self._handle
-        task = job.task
         if (
             task is self._direct
             and task is not None
@@ -941,7 +964,7 @@ class NativeClient(_Lifecycle):
             # caller): its frame leaves now, its deadline the frame's.
             self._direct = None
             job.part = _part_of(requests, handle.max_axes)
-            self._send_batch(handle, [job])
+            self._send_one(handle, job)
         else:
             self._queue.append(job)
             self._queue_job(job, handle, loop)
@@ -1058,6 +1081,9 @@ class NativeClient(_Lifecycle):
 
     def _send_batch(self, handle: _Handle, batch: list[_Job]) -> None:
         """Send the frame of ``batch`` (taken, each with its part) on ``handle``, idle."""
+        if len(batch) == 1:
+            self._send_one(handle, batch[0])
+            return
         blocks = 0
         latest: float | None = 0.0
         for job in batch:
@@ -1068,27 +1094,14 @@ class NativeClient(_Lifecycle):
                 latest = None
             elif latest is not None and deadline > latest:
                 latest = deadline
-        if len(batch) > 1:
-            frame = _frame_of(b"".join([job.part[0] for job in batch]), blocks)
-        else:
-            frame = batch[0].part[4]
-        handle.transport_b.write(frame)
+        handle.transport_b.write(_frame_of(b"".join([job.part[0] for job in batch]), blocks))
         self.frames_sent += 1
         self.blocks_sent += blocks
         handle.inflight = batch
         handle.inflight_blocks = blocks
-        loop = self._loop or asyncio.get_running_loop()
         handle.deadline = latest
-        if latest is not None:
-            # One timer watches the frames in flight one after another: one set for an
-            # earlier frame's deadline, which is no later than this one's, is moved on when it
-            # fires (so sequential calls do not set a timer each).
-            timer = handle.timer
-            if timer is None or handle.timer_at > latest:
-                if timer is not None:
-                    timer.cancel()
-                handle.timer = loop.call_at(latest, self._frame_timer, handle)
-                handle.timer_at = latest
+        if latest is not None and (handle.timer is None or handle.timer_at > latest):
+            self._arm_frame(handle, latest)
         for job in batch:
             if job.unarmed:
                 # Its deadline is the frame's: the frame's timer fails it then (and ends the
@@ -1099,34 +1112,62 @@ class NativeClient(_Lifecycle):
                     assert job.deadline is not None
                     self._watch(job.deadline)
 
+    def _send_one(self, handle: _Handle, job: _Job) -> None:
+        """:meth:`_send_batch` of one job: its frame is the one its part keeps, its deadline
+        the frame's."""
+        job.sent = True
+        part = job.part
+        handle.transport_b.write(part[4])
+        self.frames_sent += 1
+        self.blocks_sent += part[3]
+        handle.inflight = [job]
+        handle.inflight_blocks = part[3]
+        deadline = handle.deadline = job.deadline
+        if deadline is not None and (handle.timer is None or handle.timer_at > deadline):
+            self._arm_frame(handle, deadline)
+        if job.unarmed:
+            job.unarmed = False  # the frame's timer fails it at its deadline
+
+    def _arm_frame(self, handle: _Handle, deadline: float) -> None:
+        """Set ``handle``'s frame timer for ``deadline``, earlier than it is set for (or not
+        set). One timer watches the frames in flight one after another: one set for an
+        earlier frame's deadline, which is no later than the next one's, is moved on when it
+        fires (so sequential calls do not set a timer each)."""
+        if handle.timer is not None:
+            handle.timer.cancel()
+        loop = self._loop or asyncio.get_running_loop()
+        handle.timer = loop.call_at(deadline, self._frame_timer, handle)
+        handle.timer_at = deadline
+
     def _on_data(self, handle: _Handle, data: bytes) -> None:
         """B's bytes: complete the frame in flight with its answer, then send the next one.
         Bytes while no frame is in flight are what nobody asked for: the connection ends."""
         rx = handle.rx
         if not rx and handle.inflight is not None and len(data) >= NATIVE_HEADER_SIZE:
             # the usual case: the whole answer in one read, nothing held
-            magic, version, frame_type, length = NATIVE_HEADER.unpack_from(data)
+            magic, _, _, length = NATIVE_HEADER.unpack_from(data)
             if magic == _MAGIC and len(data) == NATIVE_HEADER_SIZE + length:
-                body = bytes(data[NATIVE_HEADER_SIZE:])
-                self._complete(handle, (version, frame_type, body), send_next=True)
-                if handle is self._handle:
+                self._complete(handle, data, send_next=True)
+                # (a lone call answered with nothing queued: its caller sends its next call
+                # itself, so there is nothing to kick)
+                if handle is self._handle and (self._queue or self._direct is None):
                     self._next(handle)
                 return
         rx += data
         while len(rx) >= NATIVE_HEADER_SIZE:
-            magic, version, frame_type, length = NATIVE_HEADER.unpack_from(rx)
+            magic, _, _, length = NATIVE_HEADER.unpack_from(rx)
             if magic != _MAGIC:
                 self._lose(handle, _Lost("answer does not start with A0 A0 A0 A0"))
                 return
             end = NATIVE_HEADER_SIZE + length
             if len(rx) < end:
                 break
-            body = bytes(rx[NATIVE_HEADER_SIZE:end])
+            raw = bytes(rx[:end])
             del rx[:end]
             if handle.inflight is None:
                 self._lose(handle, _Lost("unsolicited data on B"))
                 return
-            self._complete(handle, (version, frame_type, body))
+            self._complete(handle, raw)
             if handle is not self._handle:
                 return
         if rx and handle.inflight is None:
@@ -1147,24 +1188,37 @@ class NativeClient(_Lifecycle):
             loop = self._loop or asyncio.get_running_loop()
             loop.call_soon(self._kick_later, handle)
 
-    def _complete(
-        self, handle: _Handle, frame: tuple[int, int, bytes], send_next: bool = False
-    ) -> None:
-        """Hand each job of the frame in flight its answer blocks; with ``send_next`` (the
-        answer was all the bytes read), send the next frame of queued calls first: it leaves
-        before the results are handed out (the callers run after this callback either way)."""
-        batch = handle.inflight or []
-        try:
-            blocks = handle.check_answer(frame, handle.inflight_blocks)
-        except CncError as exc:
-            handle.inflight = None
-            _fail(batch, CncError.from_ew, exc.ew, exc.detail)
-            return
-        except _Lost as exc:
-            self._lose(handle, exc)
-            return
+    def _complete(self, handle: _Handle, raw: bytes, send_next: bool = False) -> None:
+        """Hand each job of the frame in flight (``handle.inflight``, not None) its answer
+        blocks from the whole answer frame ``raw``; with ``send_next`` (the answer was all the
+        bytes read), send the next frame of queued calls first: it leaves before the results
+        are handed out (the callers run after this callback either way)."""
+        batch = handle.inflight
+        assert batch is not None
+        count = handle.inflight_blocks
+        blocks: tuple[ResponseBlock, ...] | None = _FRAMES.get((raw, count))
+        if blocks is None:
+            try:
+                blocks = handle.blocks_of(raw, count)
+            except CncError as exc:
+                handle.inflight = None
+                _fail(batch, CncError.from_ew, exc.ew, exc.detail)
+                return
+            except _Lost as exc:
+                self._lose(handle, exc)
+                return
         handle.inflight = None
-        self._direct = batch[0].task if len(batch) == 1 else None
+        if len(batch) == 1:
+            # a lone call: its blocks are the whole answer's
+            job = batch[0]
+            self._direct = job.task
+            if send_next and self._queue:
+                self._kick(handle)
+            future = job.future
+            if not future.done():
+                future.set_result(blocks)
+            return
+        self._direct = None
         if send_next and self._queue:
             self._kick(handle)
         pos = 0
@@ -1222,9 +1276,7 @@ class NativeClient(_Lifecycle):
         if handle.inflight is None or deadline is None:
             return
         if deadline > handle.timer_at:
-            loop = self._loop or asyncio.get_running_loop()
-            handle.timer = loop.call_at(deadline, self._frame_timer, handle)
-            handle.timer_at = deadline
+            self._arm_frame(handle, deadline)
             return
         self._frame_expired(handle)
 
@@ -1734,9 +1786,11 @@ class NativeClient(_Lifecycle):
         handle = self._handle
         if handle is None or handle.closed:
             handle = await self._live(deadline)
-        call = _memo_call(handle.macro_calls, number, calls.cnc_rdmacro, handle.command_set)
+        call = handle.macro_calls.get(number)
+        if call is None:
+            call = _memo_call(handle.macro_calls, number, calls.cnc_rdmacro, handle.command_set)
         blocks = await self._send(call.frames[0], handle.command_set, deadline)
-        known: tuple[Decimal | None] | None = _known_result(blocks, (call,))
+        known: tuple[Decimal | None] | None = _known_result(blocks, call)
         if known is not None:
             return known[0]
         (block,) = blocks
@@ -1745,7 +1799,7 @@ class NativeClient(_Lifecycle):
             raise PayloadError(f"cnc_rdmacro: answer for #{number} carries no value")
         mcr_val, dec_val = values.values[0].to_macro()
         value = macro_from_wire(mcr_val, dec_val)
-        _remember_result(blocks, (call,), (value,))
+        _remember_result(blocks, call, (value,))
         return value
 
     async def write_macro(
