@@ -45,7 +45,11 @@ class Received(asyncio.BufferedProtocol):
     __slots__ = ()
 
     def get_buffer(self, sizehint: int) -> memoryview:
-        return receive_buffer()
+        try:
+            view: memoryview = _local.view  # receive_buffer() without its call
+        except AttributeError:
+            view = receive_buffer()
+        return view
 
     def buffer_updated(self, nbytes: int) -> None:
         self.data_received(bytes(_local.view[:nbytes]))

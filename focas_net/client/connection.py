@@ -114,6 +114,8 @@ class Connection(Received, asyncio.Protocol):
             )
         self._loop = asyncio.get_running_loop()
         self._decoder = FrameDecoder(max_frame)
+        self._max_frame = max_frame
+        self._held = self._decoder.held  # the start of a frame the decoder holds
         self._transport: asyncio.Transport | None = None
         # request id -> pending call, or None for an abandoned id awaiting its late answer
         self._pending: dict[int, _Pending | None] = {}
@@ -168,15 +170,15 @@ class Connection(Received, asyncio.Protocol):
 
     def data_received(self, data: bytes | bytearray | memoryview) -> None:
         self._answered = True
-        live = self.in_flight  # the slots of those answered by this read are freed below
-        if type(data) is bytes and self._violation is None and not self._decoder.buffered:
+        pending = self._pending
+        live = len(pending) - self._abandoned  # the slots of those answered are freed below
+        if type(data) is bytes and self._violation is None and not self._held:
             # The usual read: whole frames, each answer handed to its caller as it is parsed
             # (no list of frames in between). What is left, a frame not yet complete or a
             # length out of bounds, goes through the decoder as below.
-            pending = self._pending
             size = len(data)
             pos = 0
-            max_frame = self._decoder.max_frame
+            max_frame = self._max_frame
             while size - pos >= 8:
                 length, command, request_id = _unpack_header_from(data, pos)
                 end = pos + 4 + length
@@ -192,11 +194,16 @@ class Connection(Received, asyncio.Protocol):
                     self._unmatched(entry, command, request_id)
                 pos = end
             if pos == size:
-                self._release_slots(live - self.in_flight)
+                freed = live - len(pending) + self._abandoned
+                if self._slot_waiters:
+                    self._release_slots(freed)
+                else:
+                    self._slots_taken -= freed  # (what _release_slots does with nobody waiting)
                 return
             data = data[pos:]
+        decoder = self._decoder
         try:
-            frames = self._decoder.feed_raw(data)
+            frames = decoder.feed_raw(data)
         except FrameError as exc:
             self._deliver(exc.frames)  # answers that arrived whole before the violation
             self._release_slots(live - self.in_flight)
@@ -284,8 +291,8 @@ class Connection(Received, asyncio.Protocol):
             self.finish(entry)
 
     def try_send(
-        self, command: int, payload: bytes, deadline: float | None, *, slot_taken: bool = False
-    ) -> _Pending | None:
+        self, command: int, payload: bytes, deadline: float | None, slot_taken: bool = False
+    ) -> _Pending | None:  # (slot_taken is not keyword-only: such a default costs every call)
         """:meth:`request` without its coroutine, for a caller that awaits the answer itself.
 
         With a slot free and nobody waiting for one, the request is registered and sent and
@@ -315,31 +322,27 @@ class Connection(Received, asyncio.Protocol):
                 request_id = (request_id + 1) & _ID_MASK
             self._next_id = (request_id + 1) & _ID_MASK
             future: asyncio.Future[bytes] = self._loop.create_future()
+            when = _INF if deadline is None else deadline
             # (entry is set once it is registered: until then a failure releases the slot)
-            pending[request_id] = entry = (
-                future,
-                command,
-                request_id,
-                _INF if deadline is None else deadline,
-            )
+            pending[request_id] = entry = (future, command, request_id, when)
             frame = _pack_header(len(payload) + 4, command, request_id) + payload
             buf = self._wbuf
-            if self._batch and (buf or len(pending) - self._abandoned > 1):
+            if buf:
                 # Others in flight: frames written during this loop turn leave together, in
                 # writes of WRITE_CHUNK frames at most, so that the peer starts on the first
                 # ones while the callers of this turn are still making the rest.
                 buf.append(frame)
-                queued = len(buf)
-                if queued == 1:
-                    self._loop.call_soon(self._flush)
-                elif queued >= WRITE_CHUNK:
+                if len(buf) >= WRITE_CHUNK:
                     self._flush()
+            elif self._batch and len(pending) - self._abandoned > 1:
+                buf.append(frame)  # the first frame of this loop turn's
+                self._loop.call_soon(self._flush)
             else:
                 # A lone request (sequential use) goes out at once.
                 assert self._transport is not None
                 self._transport.write(frame)
-            if deadline is not None and deadline < self._timer_when:
-                self._arm(deadline)  # else the timer armed for an earlier one covers it
+            if when < self._timer_when:
+                self._arm(when)  # else the timer armed for an earlier one covers it
         except BaseException:
             if entry is None:
                 self._release_slot()

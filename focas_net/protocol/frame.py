@@ -66,13 +66,17 @@ class FrameDecoder:
     further ``feed`` raises again, with no frames (the connection must be closed).
     """
 
-    __slots__ = ("_buf", "_error", "max_frame")
+    __slots__ = ("_buf", "_error", "held", "max_frame")
 
     def __init__(self, max_frame: int = DEFAULT_MAX_FRAME) -> None:
         if max_frame < _MIN_LENGTH:
             raise ValueError(f"max_frame must be at least {_MIN_LENGTH}, got {max_frame}")
         self.max_frame = max_frame
         self._buf = bytearray()
+        #: The bytes held for a frame not yet complete (empty, so false, when none): the
+        #: decoder's own buffer, to be read, never changed. A test of it is an attribute
+        #: read, where :attr:`buffered` is a call.
+        self.held = self._buf
         self._error: FrameError | None = None
 
     @property

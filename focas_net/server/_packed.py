@@ -14,7 +14,7 @@ from __future__ import annotations
 import logging
 from typing import TYPE_CHECKING, Final
 
-from focas_net._receive import receive_buffer
+from focas_net._receive import _local, receive_buffer
 from focas_net.errors import EW, FrameError
 from focas_net.protocol import (
     COMMANDS,
@@ -123,13 +123,16 @@ class PackedConnection(BaseConnection[RawFrame]):
         # The usual read of a poller: one whole request, nothing held from earlier input, no
         # fault armed, no debug log. It is answered from the receive buffer in one write, the
         # decoder, the backlog and the fault path left out. Anything else takes data_received.
-        view = receive_buffer()
+        try:
+            view: memoryview = _local.view  # receive_buffer() without its call
+        except AttributeError:
+            view = receive_buffer()
         if (
             nbytes >= 8
             and self._backlog is None
             and self._faults is None
             and not self._shared.armed
-            and not self._decoder.buffered
+            and not self._decoder.held
             and not self._closing
         ):
             length, command, request_id = _unpack_header_from(view)
