@@ -82,7 +82,7 @@ async def read_pmc_chunk(
 ) -> bytes:
     """One ``pmc_rdpmcrng`` call (``count`` at most 32)."""
     payload = _RDPMCRNG.request.encode(PmcRange(area, 0, start, start + count - 1))
-    value: PmcData = await link._request(_RDPMCRNG, payload, None, deadline)
+    value: PmcData = await link._request_at(_RDPMCRNG, payload, deadline)
     return _checked(value, start, count)
 
 
@@ -173,7 +173,7 @@ async def write_pmc_range(
     check_u16_range(start, len(data))
     if len(data) <= MAX_PMC_CHUNK:
         payload = spec.request.encode(PmcData(a, 0, start, start + len(data) - 1, data))
-        await link._request(spec, payload, None, deadline)
+        await link._request_at(spec, payload, deadline)
         return
     chunks = _chunks(start, len(data))
     encode = spec.request.encode

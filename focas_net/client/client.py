@@ -352,7 +352,7 @@ class FocasClient(Link):
     async def _read_param_value(self, number: int, axis: int, deadline: float | None) -> ParamValue:
         _check_item(number, axis, "parameter")
         payload = _RDPARAM.request.encode(DataRequest(number, axis))
-        value: ParamValue = await self._request(_RDPARAM, payload, None, deadline)
+        value: ParamValue = await self._request_at(_RDPARAM, payload, deadline)
         self._param_widths[number] = value.width
         return value
 
@@ -375,7 +375,7 @@ class FocasClient(Link):
     async def _read_param_attributes(self, number: int, deadline: float | None) -> ParamAttributes:
         _check_item(number, 0, "parameter")
         payload = _RDPARAINFO.request.encode(ParamAttributesRequest(number))
-        attrs: ParamAttributes = await self._request(_RDPARAINFO, payload, None, deadline)
+        attrs: ParamAttributes = await self._request_at(_RDPARAINFO, payload, deadline)
         self._param_types[number] = attrs.type
         return attrs
 
@@ -468,7 +468,7 @@ class FocasClient(Link):
             pv = ParamValue(number, axis, raw, width)
         payload = _WRPARAM.request.encode(pv)
         try:
-            await self._request(_WRPARAM, payload, None, deadline)
+            await self._request_at(_WRPARAM, payload, deadline)
         except CncError as exc:
             if exc.ew == EW.LENGTH and not learnt:
                 self._param_widths.pop(number, None)  # stale width: learn it again next time
@@ -502,7 +502,7 @@ class FocasClient(Link):
             if raw >= 1 << (bits - 1):
                 raw -= 1 << bits
             payload = _WRPARAM.request.encode(ParamValue(number, axis, raw, width))
-            await self._request(_WRPARAM, payload, None, deadline)
+            await self._request_at(_WRPARAM, payload, deadline)
 
     async def read_diag(self, number: int, *, axis: int = 0, timeout: float | None = None) -> int:
         """``cnc_rddiag``: the value of diagnostic ``number``."""
@@ -633,7 +633,7 @@ class FocasClient(Link):
         entries: list[ProgramEntry] = []
         for _ in range(_MAX_DIRECTORY_PAGES):
             request = _RDPROGDIR.request.encode(DirectoryRequest(first, MAX_DIRECTORY_ENTRIES))
-            page: ProgramDirectory = await self._request(_RDPROGDIR, request, None, deadline)
+            page: ProgramDirectory = await self._request_at(_RDPROGDIR, request, deadline)
             entries.extend(page.entries)
             if len(page.entries) < MAX_DIRECTORY_ENTRIES or page.entries[-1].number >= _I32_MAX:
                 break
@@ -649,7 +649,7 @@ class FocasClient(Link):
         offset = 0
         for _ in range(_MAX_PROGRAM_CHUNKS):
             request = _RDPROGRAM.request.encode(ProgramChunkRequest(number, offset))
-            chunk: ProgramChunk = await self._request(_RDPROGRAM, request, None, deadline)
+            chunk: ProgramChunk = await self._request_at(_RDPROGRAM, request, deadline)
             parts.append(chunk.text)
             offset += len(chunk.text)
             if not chunk.text or offset >= chunk.total:
@@ -698,8 +698,8 @@ class FocasClient(Link):
         _check("rack", rack, 0, _U8_MAX)
         _check("slot", slot, 0, _U8_MAX)
         request = VersaMaxRequest(rack, MAX_CONFIG_CHUNK, slot, offset)
-        reply: VersaMaxReply = await self._request(
-            _RDCONFIG, _RDCONFIG.request.encode(request), None, deadline
+        reply: VersaMaxReply = await self._request_at(
+            _RDCONFIG, _RDCONFIG.request.encode(request), deadline
         )
         if (reply.rack, reply.slot, reply.offset) != (rack, slot, offset):
             raise PayloadError(

@@ -60,16 +60,6 @@ _UNLOCK_AND_RETRY: Final = object()
 _CLOSE_GRACE: Final = 2.0
 
 
-class _ByTimeout(enum.Enum):
-    """The type of :data:`_BY_TIMEOUT`."""
-
-    BY_TIMEOUT = enum.auto()
-
-
-#: :meth:`Link._request` without a ``deadline``: the call's own, from its ``timeout``.
-_BY_TIMEOUT: Final = _ByTimeout.BY_TIMEOUT
-
-
 def _clock_of(loop: asyncio.AbstractEventLoop) -> Callable[[], float]:
     """``loop.time`` itself, or the clock it reads when that is the stock one (asyncio's
     ``BaseEventLoop.time`` is a Python method around ``time.monotonic``: one call less per
@@ -501,21 +491,14 @@ class Link(_Lifecycle):
             clock = asyncio.get_running_loop().time
         return clock() + t
 
-    async def _request(
-        self,
-        spec: CommandSpec,
-        payload: bytes,
-        call_timeout: float | None,
-        deadline: float | _ByTimeout | None = _BY_TIMEOUT,
-    ) -> Any:
-        """Send one request and return its decoded answer: the one path of every call.
-
-        Its deadline is ``deadline`` when one is given (a call of several requests shares
-        one), else ``call_timeout`` (the call's ``timeout=``; None: the client's) from now,
-        as :meth:`_deadline` gives it, worked out here: one call less per request.
+    async def _request(self, spec: CommandSpec, payload: bytes, call_timeout: float | None) -> Any:
+        """Send one request and return its decoded answer: the one path of every call of one
+        request. Its deadline is ``call_timeout`` (the call's ``timeout=``; None: the
+        client's) from now, as :meth:`_deadline` gives it, worked out here: one call less per
+        request. A call of several requests shares one deadline: :meth:`_request_at`.
 
         * The live connection is used at once; while reconnecting the call waits for the next
-          one (until ``deadline``); with no connection to wait for it raises
+          one (until the deadline); with no connection to wait for it raises
           :class:`FocasConnectionError`.
         * A request that never left (:class:`NotSentError`) goes out again on the next
           connection when a reconnect policy is set, and is raised otherwise.
@@ -526,13 +509,12 @@ class Link(_Lifecycle):
         Every other failure (a timeout, a connection lost after the request left, an answer
         that does not decode) is raised as it is.
         """
-        if deadline is _BY_TIMEOUT:
-            t = self.timeout if call_timeout is None else call_timeout
-            if t is None:
-                deadline = None
-            else:
-                clock = self._clock
-                deadline = (asyncio.get_running_loop().time if clock is None else clock)() + t
+        t = self.timeout if call_timeout is None else call_timeout
+        if t is None:
+            deadline = None
+        else:
+            clock = self._clock
+            deadline = (asyncio.get_running_loop().time if clock is None else clock)() + t
         conn = self._conn
         if conn is not None:
             # The usual call, a slot free on the live connection: sent at once, its answer
@@ -549,24 +531,26 @@ class Link(_Lifecycle):
                     conn.finish(entry)
                     if self._policy is None:
                         raise
-                    raw = None  # never reached the peer: sent again on the next connection
+                    # never reached the peer: sent again on the next connection
+                    return await self._request_at(spec, payload, deadline)
                 except BaseException:
                     conn.finish(entry)  # a timeout, a cancellation, a failure
                     raise
-                if raw is not None:
-                    value = spec.response.decode_bytes(raw)  # the connection's are bytes
-                    if type(value) is not EwReply:
-                        return value
-                    self._raise_unless_unlock(spec, value.ew, False)
-                    await self._unlock_for_retry(conn, deadline)
-                    return await self._request_from(spec, payload, deadline, True)
-        return await self._request_from(spec, payload, deadline, False)
+                value = spec.response.decode_bytes(raw)  # the connection's are bytes
+                if type(value) is not EwReply:
+                    return value
+                self._raise_unless_unlock(spec, value.ew, False)
+                await self._unlock_for_retry(conn, deadline)
+                return await self._request_at(spec, payload, deadline, True)
+        return await self._request_at(spec, payload, deadline)
 
-    async def _request_from(
-        self, spec: CommandSpec, payload: bytes, deadline: float | None, retried: bool
+    async def _request_at(
+        self, spec: CommandSpec, payload: bytes, deadline: float | None, retried: bool = False
     ) -> Any:
-        """:meth:`_request`'s general path (``retried``: the answer to come is the one to
-        a retry after an unlock)."""
+        """:meth:`_request` by ``deadline`` (in the loop's clock; None: none): the path of a
+        call of several requests, which share one deadline, and the general path of
+        :meth:`_request` (``retried``: the answer to come is the one to a retry after an
+        unlock)."""
         while True:
             conn = self._conn
             if conn is None or conn.closed:
