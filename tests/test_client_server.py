@@ -3,8 +3,10 @@
 from __future__ import annotations
 
 import asyncio
+import inspect
 import random
 import ssl
+import sys
 from collections.abc import AsyncIterator
 from decimal import Decimal
 from pathlib import Path
@@ -494,3 +496,30 @@ async def test_motion_reads_surface_injected_errors(cnc: FocasClient) -> None:
         await cnc.read_positions()
     assert info.value.ew == EW.BUSY
     assert await cnc.read_feed() == 0
+
+
+PLAIN_READS = ("read_status", "read_sysinfo", "read_program_numbers", "read_run_info", "read_loads")
+
+
+@pytest.mark.parametrize("name", PLAIN_READS)
+async def test_plain_reads_are_awaited_scheduled_and_gathered_as_coroutines(
+    cnc: FocasClient, name: str
+) -> None:
+    # These reads are plain methods returning the request's coroutine: a call sends nothing
+    # until it is awaited or scheduled, as an ``async def`` would.
+    conn = cnc._conn
+    assert conn is not None
+    method = getattr(cnc, name)
+    pending = method()
+    assert asyncio.iscoroutine(pending)
+    await asyncio.sleep(0)
+    assert conn.in_flight == 0
+    awaited = await pending
+    scheduled = await asyncio.create_task(method(timeout=LONG))
+    gathered = await asyncio.gather(method(), method(timeout=LONG))
+    assert {type(awaited), type(scheduled), type(gathered[0]), type(gathered[1])} == {type(awaited)}
+    if name != "read_run_info":  # (its timers move between two reads)
+        assert awaited == scheduled == gathered[0] == gathered[1]
+    method().close()  # dropped unawaited: never sent, nothing left behind
+    assert conn.in_flight == 0 and cnc.connected
+    assert inspect.iscoroutinefunction(method) is (sys.version_info >= (3, 12))
