@@ -153,6 +153,15 @@ _PATH: Final = 1
 #: No deadline (the watch timer not set).
 _INF: Final = float("inf")
 _current_task: Final = asyncio.current_task
+
+
+class _Nobody:
+    """The type of :data:`_NOBODY`."""
+
+
+#: ``NativeClient._direct`` after the answer to a lone call of no task (one of many clients
+#: read from one task): no caller to send the next frame, and nothing to kick for one.
+_NOBODY: Final = _Nobody()
 _CLOSE_GRACE: Final = 2.0
 _ANSWER_HEAD: Final = 16
 _MAX_ACTIVE_ALARMS: Final = 32
@@ -722,6 +731,13 @@ def _decode(request: NativeRequest, block: ResponseBlock, function: str, max_axe
     return value
 
 
+def _check_dynamic_axis(axis: int) -> None:
+    """:class:`ValueError` unless ``axis`` is -1 (every axis) or 1..0x7FFF, as
+    ``cnc_rddynamic2`` takes it."""
+    if axis != -1 and not 1 <= axis <= 0x7FFF:
+        raise ValueError(f"axis must be 1..n or -1 for every axis, got {axis}")
+
+
 def _text(raw: bytes | str) -> str:
     if isinstance(raw, str):
         return raw.rstrip("\x00")
@@ -770,8 +786,9 @@ class NativeClient(_Lifecycle):
         self._kick_soon = False
         #: The task whose call was alone in the frame last answered: that answer woke no
         #: other caller of this client to gather with, so the task's next call is sent at
-        #: once (with whatever else is queued) rather than at the end of the loop turn.
-        self._direct: asyncio.Task[Any] | None = None
+        #: once (with whatever else is queued) rather than at the end of the loop turn
+        #: (``_NOBODY``: the lone call had no task of its own, see ``_start_job``).
+        self._direct: asyncio.Task[Any] | _Nobody | None = None
         #: Jobs queued for the coming kick whose watch that kick decides (see ``_send``).
         self._unarmed: list[_Job] = []
         #: One timer for the deadlines of calls queued, or in flight in a frame whose own
@@ -971,17 +988,40 @@ class NativeClient(_Lifecycle):
         try:
             return await future
         except _Expired:
-            if not job.sent and self._state is ClientState.RECONNECTING:
-                raise FocasConnectionError(
-                    f"still reconnecting to {self.host}:{self.port} when the call timed out"
-                ) from None
-            raise FocasTimeoutError(
-                f"no answer from {self.host}:{self.port} within the call's timeout"
-                + ("" if job.sent else " (the request was never sent)")
-            ) from None
+            raise self._expired(job) from None
         finally:
             if not future.done():
                 future.cancel()
+
+    def _expired(self, job: _Job) -> FocasError:
+        """What a call whose job's deadline passed raises."""
+        if not job.sent and self._state is ClientState.RECONNECTING:
+            return FocasConnectionError(
+                f"still reconnecting to {self.host}:{self.port} when the call timed out"
+            )
+        return FocasTimeoutError(
+            f"no answer from {self.host}:{self.port} within the call's timeout"
+            + ("" if job.sent else " (the request was never sent)")
+        )
+
+    def _start_job(
+        self, handle: _Handle, requests: tuple[NativeRequest, ...], deadline: float | None
+    ) -> _Job:
+        """:meth:`_send` without its coroutine, for a caller awaiting many answers in one task
+        (:mod:`focas_net.client.many`): the frame of ``requests`` (of ``handle``'s command
+        set) sent now when ``handle`` is idle, else queued for the next frame. The caller
+        awaits ``job.future`` (:class:`_Expired` becomes :meth:`_expired`'s error) and
+        cancels it if it gives up first (a queued job is then dropped, a sent one's blocks
+        ignored)."""
+        loop = self._loop or asyncio.get_running_loop()
+        job = _Job(requests, handle.command_set, deadline, loop.create_future(), None)
+        if handle.inflight is None and not self._queue:
+            job.part = _part_of(requests, handle.max_axes)
+            self._send_one(handle, job)
+        else:
+            self._queue.append(job)
+            self._queue_job(job, handle, loop)
+        return job
 
     def _queue_job(
         self, job: _Job, handle: _Handle | None, loop: asyncio.AbstractEventLoop
@@ -1211,7 +1251,8 @@ class NativeClient(_Lifecycle):
         if len(batch) == 1:
             # a lone call: its blocks are the whole answer's
             job = batch[0]
-            self._direct = job.task
+            # (a job of no task, a caller reading many clients, sends nothing more here)
+            self._direct = _NOBODY if job.task is None else job.task
             if send_next and self._queue:
                 self._kick(handle)
             future = job.future
@@ -1311,8 +1352,21 @@ class NativeClient(_Lifecycle):
         handle = self._handle
         if handle is None or handle.closed:
             handle = await self._live(deadline)
+        blocks = await self._send(handle.status_call.frames[0], handle.command_set, deadline)
+        return self._status_of(handle, blocks)
+
+    def _start_status(self, deadline: float | None) -> tuple[_Handle, _Job] | None:
+        """:meth:`read_status`'s frame started by :meth:`_start_job` (None: no open
+        handle); its blocks make the status by :meth:`_status_of`."""
+        handle = self._handle
+        if handle is None or handle.closed:
+            return None
+        return handle, self._start_job(handle, handle.status_call.frames[0], deadline)
+
+    @staticmethod
+    def _status_of(handle: _Handle, blocks: tuple[ResponseBlock, ...]) -> StatusInfo:
+        """The status of ``cnc_statinfo``'s answer ``blocks`` on ``handle``."""
         call = handle.status_call
-        blocks = await self._send(call.frames[0], handle.command_set, deadline)
         extra = (call, handle.max_axes)
         known: StatusInfo | None = _known_result(blocks, extra)
         if known is not None:
@@ -1445,17 +1499,43 @@ class NativeClient(_Lifecycle):
         """``cnc_rddynamic2``: alarm bits, program numbers, sequence number, feed, spindle
         speed and the four positions of every axis (``axis=-1``) or of one (1..n), in one
         frame. Needs the CNC's FOCAS option bit 0, as in FANUC's library (EW_NOOPT)."""
-        if axis != -1 and not 1 <= axis <= 0x7FFF:
-            raise ValueError(f"axis must be 1..n or -1 for every axis, got {axis}")
+        _check_dynamic_axis(axis)
         deadline = self._deadline(timeout)
         handle = await self._live(deadline)
+        call = self._dynamic_call(handle, axis)
+        blocks = await self._send(call.frames[0], handle.command_set, deadline)
+        return self._dynamic_of(handle, call, axis, blocks)
+
+    def _start_dynamic(
+        self, axis: int, deadline: float | None
+    ) -> tuple[_Handle, LibraryCall, _Job] | None:
+        """:meth:`read_dynamic`'s frame started by :meth:`_start_job` (None: no open handle;
+        ``axis`` checked by :func:`_check_dynamic_axis`); its blocks make the result by
+        :meth:`_dynamic_of`. Raises :class:`CncError` as :meth:`read_dynamic` does, nothing
+        sent."""
+        handle = self._handle
+        if handle is None or handle.closed:
+            return None
+        call = self._dynamic_call(handle, axis)
+        return handle, call, self._start_job(handle, call.frames[0], deadline)
+
+    @staticmethod
+    def _dynamic_call(handle: _Handle, axis: int) -> LibraryCall:
+        """The ``cnc_rddynamic2`` call of ``axis`` on ``handle``; :class:`CncError` when the
+        CNC lacks the option or the axis."""
         if not handle.option_bits & 1:
             raise CncError.from_ew(EW.NOOPT, "cnc_rddynamic2: the CNC lacks FOCAS option bit 0")
         if axis > handle.axes:
             raise CncError.from_ew(EW.ATTRIB, f"cnc_rddynamic2: axis {axis} of {handle.axes}")
-        call = _memo_call(handle.dynamic_calls, axis, calls.cnc_rddynamic2, handle.command_set)
+        return _memo_call(handle.dynamic_calls, axis, calls.cnc_rddynamic2, handle.command_set)
+
+    @staticmethod
+    def _dynamic_of(
+        handle: _Handle, call: LibraryCall, axis: int, blocks: tuple[ResponseBlock, ...]
+    ) -> DynamicData:
+        """The result of the ``cnc_rddynamic2`` ``call`` of ``axis`` from its answer
+        ``blocks`` on ``handle``."""
         frame = call.frames[0]
-        blocks = await self._send(frame, handle.command_set, deadline)
         count = handle.axes if axis == -1 else 1
         extra = (call, handle.max_axes, count)
         known: DynamicData | None = _known_result(blocks, extra)
