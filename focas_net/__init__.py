@@ -22,6 +22,7 @@ from .client import (
     Positions,
     ProjectionMode,
     ReconnectPolicy,
+    read_dynamic_all,
     read_status_all,
 )
 from .errors import (
@@ -129,6 +130,7 @@ __all__ = [
     "__version__",
     "default_machine",
     "load_machine",
+    "read_dynamic_all",
     "read_status_all",
     "start_native",
 ]

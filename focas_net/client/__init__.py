@@ -3,17 +3,17 @@
 Each name below has one home: :mod:`.client` (the client and its results), :mod:`.reconnect`
 (states and the reconnect policy), :mod:`.sim_control` (``client.sim``), :mod:`.connection`
 (one pipelined connection), :mod:`.projection` (alarm events), :mod:`.native` (the FOCAS/2
-Ethernet client, :class:`NativeClient`), :mod:`.many` (:func:`read_status_all`, many
-clients read from one task), :mod:`.cnc` (:class:`CncClient`, the calls both
-clients carry, as a static type). ``FaultKind`` and
-``FaultScope``, the arguments of ``client.sim.inject_fault``, are imported from
-:mod:`focas_net.protocol` (or :mod:`focas_net`).
+Ethernet client, :class:`NativeClient`), :mod:`.many` (:func:`read_status_all`,
+:func:`read_dynamic_all`: many clients read from one task), :mod:`.cnc` (:class:`CncClient`,
+the calls both clients carry, as a static type). ``FaultKind`` and ``FaultScope``, the
+arguments of ``client.sim.inject_fault``, are imported from :mod:`focas_net.protocol` (or
+:mod:`focas_net`).
 """
 
 from .client import FocasClient, Positions
 from .cnc import CncClient
 from .connection import Connection, NotSentError, open_connection
-from .many import read_status_all
+from .many import read_dynamic_all, read_status_all
 from .native import DynamicData, NativeClient, NativeUnsupportedError, ServoLoad
 from .projection import (
     AlarmCleared,
@@ -47,5 +47,6 @@ __all__ = [
     "ServoLoad",
     "SimControl",
     "open_connection",
+    "read_dynamic_all",
     "read_status_all",
 ]
