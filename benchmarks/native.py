@@ -37,7 +37,7 @@ import statistics
 import sys
 import threading
 import time
-from collections.abc import Awaitable, Callable
+from collections.abc import Callable, Sequence
 from functools import partial
 from typing import TYPE_CHECKING, Any, Final, cast
 
@@ -415,61 +415,53 @@ async def native_run(
 async def native_poll(
     targets: list[list[Any]], call: str, interval: float, duration: float
 ) -> dict[str, float]:
-    """100 :class:`NativeClient` (one per machine), one task each, ``call`` (``read_dynamic``
-    or ``read_status``) once a tick, every ``interval``; a tick whose whole interval went by
-    is skipped. Every machine's poll is due at the start of the tick, the schedule of the
+    """100 :class:`NativeClient` (one per machine) read from one task once a tick, every
+    ``interval`` (a tick whose whole interval went by is skipped), the schedule of the
     blocking subjects (:func:`blocking_poll` sleeps once a tick, then reads every machine in
-    turn): one ticker sleeps once a tick and wakes every machine's task with one future, so a
-    tick costs one timer, as it does them, not one per machine. A task still reading when the
-    next tick starts reads at the tick after it."""
-    from focas_net.client import NativeClient
+    turn from its one thread): ``call`` ``read_status`` by
+    :func:`~focas_net.client.read_status_all`, ``read_dynamic`` by
+    :func:`~focas_net.client.read_dynamic_all`, every machine's request sent before any
+    answer is awaited."""
+    from focas_net.client import NativeClient, read_dynamic_all, read_status_all
 
     clients = [NativeClient(str(h), int(p), timeout=10.0) for h, p in targets]
+
+    async def read_all(clients: list[NativeClient]) -> Sequence[object]:
+        if call == "read_status":
+            return await read_status_all(clients)
+        return await read_dynamic_all(clients)
+
     try:
         for i in range(0, len(clients), 25):
             await asyncio.gather(*(c.connect() for c in clients[i : i + 25]))
-        await asyncio.gather(*(getattr(c, call)() for c in clients))
+        await read_all(clients)
         loop = asyncio.get_running_loop()
         ticks = round(duration / interval)
-        polls = [0] * len(clients)
-        errors = [0] * len(clients)
-        t0 = loop.time() + 0.05
-        # the future the next tick resolves (with its number; -1 once the run is over)
-        next_tick: list[asyncio.Future[int]] = [loop.create_future()]
+        polls = errors = 0
         cpu0, wall0 = time.process_time(), _perf()
-
-        async def ticker() -> None:
-            tick = 0
-            while tick < ticks:
-                due = t0 + tick * interval
-                now = loop.time()
-                if now >= due + interval:
-                    tick += int((now - due) // interval)
-                    continue
-                if due > now:
-                    await asyncio.sleep(due - now)
-                started, next_tick[0] = next_tick[0], loop.create_future()
-                started.set_result(tick)
-                tick += 1
-            next_tick[0].set_result(-1)
-
-        async def poll(i: int, client: NativeClient) -> None:
-            read: Callable[[], Awaitable[object]] = getattr(client, call)
-            while await next_tick[0] >= 0:
-                try:
-                    await read()
-                    polls[i] += 1
-                except Exception:
-                    errors[i] += 1
-
-        await asyncio.gather(ticker(), *(poll(i, c) for i, c in enumerate(clients)))
+        t0 = loop.time()
+        tick = 0
+        while tick < ticks:
+            due = t0 + tick * interval
+            now = loop.time()
+            if now >= due + interval:
+                tick += int((now - due) // interval)
+                continue
+            if due > now:
+                await asyncio.sleep(due - now)
+            for result in await read_all(clients):
+                if isinstance(result, Exception):
+                    errors += 1
+                else:
+                    polls += 1
+            tick += 1
         wall, cpu = _perf() - wall0, time.process_time() - cpu0
     finally:
         await asyncio.gather(*(c.aclose() for c in clients), return_exceptions=True)
     return {
-        "polls": sum(polls),
+        "polls": polls,
         "due": ticks * len(clients),
-        "errors": sum(errors),
+        "errors": errors,
         "wall": wall,
         "cpu": cpu,
     }
