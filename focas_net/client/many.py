@@ -25,7 +25,7 @@ from focas_net.errors import FocasError
 from ..protocol import COMMANDS, StatusInfo
 from ..protocol import Command as C
 from .connection import NotSentError
-from .native import DynamicData, NativeClient, _check_dynamic_axis, _Expired
+from .native import DynamicData, NativeClient, _check_dynamic_axis
 from .reconnect import _UNLOCK_AND_RETRY
 
 if TYPE_CHECKING:
@@ -114,8 +114,6 @@ async def read_status_all(
         for i, native, handle, job in queued:
             try:
                 results[i] = native._status_of(handle, await job.future)
-            except _Expired:
-                results[i] = native._expired(job)
             except FocasError as exc:
                 results[i] = exc
         await _await_tasks(others, results)
@@ -163,8 +161,6 @@ async def read_dynamic_all(
         for i, native, handle, call, job in queued:
             try:
                 results[i] = native._dynamic_of(handle, call, axis, await job.future)
-            except _Expired:
-                results[i] = native._expired(job)
             except FocasError as exc:
                 results[i] = exc
         await _await_tasks(others, results)

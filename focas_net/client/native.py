@@ -236,15 +236,6 @@ class _Lost(Exception):
     """The connection pair cannot carry any further frame."""
 
 
-class _Expired(Exception):
-    """A call's deadline passed (set on its future by the call's timer)."""
-
-
-def _expire(future: asyncio.Future[Any]) -> None:
-    if not future.done():
-        future.set_exception(_Expired())
-
-
 class _Watched(Received, asyncio.StreamReaderProtocol):
     """A stream protocol whose data, once ``on_data`` is set, goes to the client's frame
     parser instead of the stream reader (the reader serves the open and close exchanges); end
@@ -954,10 +945,14 @@ class NativeClient(_Lifecycle):
                     f"still reconnecting to {self.host}:{self.port} when the call timed out"
                 ) from None
 
-    async def _send(
+    def _send(
         self, requests: tuple[NativeRequest, ...], command_set: CommandSet, deadline: float | None
-    ) -> tuple[ResponseBlock, ...]:
-        """Queue one frame's worth of blocks of one call and wait for its answer blocks."""
+    ) -> asyncio.Future[tuple[ResponseBlock, ...]]:
+        """Queue one frame's worth of blocks of one call; the future its caller awaits for
+        the answer blocks. A plain method, so that a call is one coroutine (the caller's):
+        the future fails with the call's own error (a timeout set by the watch or the frame
+        timer, a lost connection, an error answer), and a caller that gives up (cancelled)
+        cancels it, which drops a call still queued and ignores the blocks of one sent."""
         if self._handle is None and self._state is not ClientState.RECONNECTING:
             # lost between two frames of one call, with no reconnect to wait for
             if self._state is ClientState.CLOSED:
@@ -985,13 +980,7 @@ class NativeClient(_Lifecycle):
         else:
             self._queue.append(job)
             self._queue_job(job, handle, loop)
-        try:
-            return await future
-        except _Expired:
-            raise self._expired(job) from None
-        finally:
-            if not future.done():
-                future.cancel()
+        return future
 
     def _expired(self, job: _Job) -> FocasError:
         """What a call whose job's deadline passed raises."""
@@ -1007,12 +996,11 @@ class NativeClient(_Lifecycle):
     def _start_job(
         self, handle: _Handle, requests: tuple[NativeRequest, ...], deadline: float | None
     ) -> _Job:
-        """:meth:`_send` without its coroutine, for a caller awaiting many answers in one task
+        """:meth:`_send` for a caller awaiting many clients' answers in one task
         (:mod:`focas_net.client.many`): the frame of ``requests`` (of ``handle``'s command
-        set) sent now when ``handle`` is idle, else queued for the next frame. The caller
-        awaits ``job.future`` (:class:`_Expired` becomes :meth:`_expired`'s error) and
-        cancels it if it gives up first (a queued job is then dropped, a sent one's blocks
-        ignored)."""
+        set) sent now when ``handle`` is idle, whoever called last, else queued for the next
+        frame; the job, whose future is what :meth:`_send` returns. The caller cancels the
+        future if it gives up first."""
         loop = self._loop or asyncio.get_running_loop()
         job = _Job(requests, handle.command_set, deadline, loop.create_future(), None)
         if handle.inflight is None and not self._queue:
@@ -1302,7 +1290,7 @@ class NativeClient(_Lifecycle):
             if job.sent and deadline >= frame_deadline:
                 continue  # its frame's timer fails it (and ends the connection)
             if deadline <= now:
-                _expire(job.future)
+                job.future.set_exception(self._expired(job))
             elif deadline < nxt:
                 nxt = deadline
         if nxt != _INF:
