@@ -66,17 +66,19 @@ def test_several_frames_in_one_chunk_with_a_partial_tail() -> None:
     chunk = STATUS_REQUEST + PARAM_REQUEST + MACRO_ANSWER[:5]
     assert decoder.feed(chunk) == THREE_FRAMES[:2]
     assert decoder.buffered == 5
+    assert decoder.held == MACRO_ANSWER[:5]  # the same bytes, read without a call
     assert decoder.feed(MACRO_ANSWER[5:]) == THREE_FRAMES[2:]
     assert decoder.buffered == 0
+    assert not decoder.held
 
 
 @pytest.mark.parametrize("cut", [1, 2, 3, 4, 5, 6, 7])
 def test_chunk_ending_mid_header(cut: int) -> None:
     decoder = FrameDecoder()
     assert decoder.feed(PARAM_REQUEST[:cut]) == []
-    assert decoder.buffered == cut
+    assert decoder.buffered == len(decoder.held) == cut
     assert decoder.feed(PARAM_REQUEST[cut:]) == [THREE_FRAMES[1]]
-    assert decoder.buffered == 0
+    assert decoder.buffered == len(decoder.held) == 0
 
 
 @pytest.mark.parametrize("cut", [8, 9, 12, 19])
