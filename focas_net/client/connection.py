@@ -201,9 +201,8 @@ class Connection(Received, asyncio.Protocol):
                     self._slots_taken -= freed  # (what _release_slots does with nobody waiting)
                 return
             data = data[pos:]
-        decoder = self._decoder
         try:
-            frames = decoder.feed_raw(data)
+            frames = self._decoder.feed_raw(data)
         except FrameError as exc:
             self._deliver(exc.frames)  # answers that arrived whole before the violation
             self._release_slots(live - self.in_flight)
