@@ -1047,9 +1047,16 @@ class NativeClient(_Lifecycle):
         return handle, library_call, await self._send(frame, handle.command_set, deadline)
 
     def _take(self, handle: _Handle) -> list[_Job]:
-        """The queued jobs the next frame carries (at least one unless the queue is empty)."""
+        """The queued jobs the next frame carries (at least one unless the queue is empty),
+        each with its part."""
         queue = self._queue
+        popleft = queue.popleft
         batch: list[_Job] = []
+        append = batch.append
+        command_set = handle.command_set
+        max_axes = handle.max_axes
+        max_blocks = self.max_blocks
+        limit = handle.limit
         blocks = 0
         size = sent = 2  # answer and request bodies: the block count, then the blocks
         # the previous job's requests and part: concurrent callers of one method share both
@@ -1059,28 +1066,26 @@ class NativeClient(_Lifecycle):
         while queue:
             job = queue[0]
             if job.future.done():
-                queue.popleft()
+                popleft()
                 continue
-            if job.command_set is not handle.command_set:
-                queue.popleft()
+            if job.command_set is not command_set:
+                popleft()
                 job.future.set_exception(
                     FocasConnectionError("the CNC's command set changed on reconnect; call again")
                 )
                 continue
             requests = job.requests
             if requests is not last:
-                part = _part_of(requests, handle.max_axes)
+                part = _part_of(requests, max_axes)
                 _, need, send, count, _ = part
                 last = requests
-            job.part = part
             if batch and (
-                blocks + count > self.max_blocks
-                or size + need > handle.limit
-                or sent + send > handle.limit
+                blocks + count > max_blocks or size + need > limit or sent + send > limit
             ):
                 break
-            queue.popleft()
-            batch.append(job)
+            job.part = part
+            popleft()
+            append(job)
             blocks += count
             size += need
             sent += send
@@ -1114,15 +1119,19 @@ class NativeClient(_Lifecycle):
             return
         blocks = 0
         latest: float | None = 0.0
+        parts: list[bytes] = []
+        add = parts.append
         for job in batch:
             job.sent = True
-            blocks += job.part[3]
+            part = job.part
+            add(part[0])
+            blocks += part[3]
             deadline = job.deadline
             if deadline is None:
                 latest = None
             elif latest is not None and deadline > latest:
                 latest = deadline
-        handle.transport_b.write(_frame_of(b"".join([job.part[0] for job in batch]), blocks))
+        handle.transport_b.write(_frame_of(b"".join(parts), blocks))
         self.frames_sent += 1
         self.blocks_sent += blocks
         handle.inflight = batch
@@ -1252,10 +1261,11 @@ class NativeClient(_Lifecycle):
             self._kick(handle)
         pos = 0
         for job in batch:
-            count = len(job.requests)
-            if not job.future.done():
-                job.future.set_result(blocks[pos : pos + count])
-            pos += count
+            end = pos + job.part[3]
+            future = job.future
+            if not future.done():
+                future.set_result(blocks[pos:end])
+            pos = end
 
     def _watch(self, deadline: float) -> None:
         """Have the watch timer fire no later than ``deadline``."""
