@@ -1,10 +1,12 @@
-"""The packed server's fast path (one whole request in a read, answered from the receive
-buffer) answers exactly as its general path (the decoder, one frame among others) does.
+"""The packed server's fast path (whole requests in a read, answered from the receive buffer)
+answers exactly as its general path (the decoder's frames, ``data_received``) does.
 
-Both connections serve one machine through one adapter, on a transport that keeps what is
-written; each request is read by the first alone (the fast path) and by the second behind a
-status request in the same read (the general path). Only commands that change nothing are
-generated, and the machine's clocks stand still, so the two answers must be the same bytes.
+Connections serve one machine through one adapter, on a transport that keeps what is written;
+each request is read alone (the fast path's one request), behind a status request in the same
+read (the fast path's many) and through ``data_received`` behind that status request (the
+general path). Only commands that change nothing are generated, and the machine's clocks stand
+still, so the answers must be the same bytes. What the fast path leaves (a fault command, a
+length out of bounds, a partial request, answers past the write budget) goes on in order.
 """
 
 from __future__ import annotations
@@ -74,15 +76,19 @@ def test_a_request_alone_in_a_read_is_answered_as_one_among_others(
 ) -> None:
     alone, alone_out = _connection(ADAPTER)
     among, among_out = _connection(ADAPTER)
+    general, general_out = _connection(ADAPTER)
     request = encode_frame(command, request_id, payload)
+    behind_status = encode_frame(STATUS, request_id ^ 1, b"") + request
 
     _read(alone, request)
-    _read(among, encode_frame(STATUS, request_id ^ 1, b"") + request)
+    _read(among, behind_status)
+    general.data_received(behind_status)
 
     (fast,) = _frames(b"".join(alone_out.frames))
-    status, general = _frames(b"".join(among_out.frames))
+    status, fast_among = _frames(b"".join(among_out.frames))
+    assert _frames(b"".join(general_out.frames)) == [status, fast_among]
     assert status[0] == STATUS and status[1] == request_id ^ 1
-    assert fast == general
+    assert fast == fast_among
     assert fast[:2] == (command, request_id)
 
 
@@ -94,3 +100,63 @@ def test_a_request_split_over_reads_and_one_behind_it_are_answered_in_order() ->
     _read(conn, first[5:])  # ... and completed by the rest
     _read(conn, second)  # nothing held any more: the fast path
     assert [(c, r) for c, r, _ in _frames(b"".join(out.frames))] == [(STATUS, 1), (STATUS, 2)]
+
+
+def _ids(out: Sink) -> list[tuple[int, int]]:
+    return [(c, r) for c, r, _ in _frames(b"".join(out.frames))]
+
+
+def test_many_requests_in_a_read_are_answered_in_order_in_one_write() -> None:
+    class FastOnly(PackedConnection):
+        __slots__ = ()
+
+        def data_received(self, data: bytes) -> None:
+            raise AssertionError(f"{len(data)} bytes left to the general path")
+
+    conn = FastOnly(ADAPTER, FaultQueue(), Limits(), lambda _: None)
+    out = Sink()
+    conn.connection_made(out)  # type: ignore[arg-type]
+    requests = [encode_frame(STATUS, n, b"") for n in range(64)]
+    _read(conn, b"".join(requests))
+    assert _ids(out) == [(STATUS, n) for n in range(64)]
+    assert len(out.frames) == 2 * 64  # one writelines of a header and an answer each
+
+
+def test_requests_then_a_partial_one_the_rest_completes_it() -> None:
+    conn, out = _connection(ADAPTER)
+    third = encode_frame(STATUS, 3, b"")
+    _read(conn, encode_frame(STATUS, 1, b"") + encode_frame(STATUS, 2, b"") + third[:6])
+    assert _ids(out) == [(STATUS, 1), (STATUS, 2)]
+    _read(conn, third[6:] + encode_frame(STATUS, 4, b""))
+    assert _ids(out) == [(STATUS, n) for n in (1, 2, 3, 4)]
+
+
+def test_a_fault_command_among_requests_keeps_their_order() -> None:
+    conn, out = _connection(ADAPTER)
+    listing = int(Command.SIM_LIST_FAULTS)
+    scope = bytes(2)  # the connection's own faults
+    data = (
+        encode_frame(STATUS, 1, b"")
+        + encode_frame(listing, 2, scope)
+        + encode_frame(STATUS, 3, b"")
+    )
+    _read(conn, data)
+    assert _ids(out) == [(STATUS, 1), (listing, 2), (STATUS, 3)]
+
+
+def test_a_length_out_of_bounds_after_requests_closes_after_their_answers() -> None:
+    conn, out = _connection(ADAPTER)
+    closed: list[bool] = []
+    out.close = lambda: closed.append(True)  # type: ignore[method-assign]
+    bad = HEADER.pack(3, STATUS, 9)  # a length below 4
+    _read(conn, encode_frame(STATUS, 1, b"") + encode_frame(STATUS, 2, b"") + bad)
+    assert _ids(out) == [(STATUS, 1), (STATUS, 2)]  # written before the close, still sent
+    assert conn.violated and closed == [True]
+
+
+def test_answers_past_the_write_budget_go_on_in_order() -> None:
+    conn = PackedConnection(ADAPTER, FaultQueue(), Limits(write_buffer_high=64), lambda _: None)
+    out = Sink()
+    conn.connection_made(out)  # type: ignore[arg-type]
+    _read(conn, b"".join(encode_frame(STATUS, n, b"") for n in range(40)))
+    assert _ids(out) == [(STATUS, n) for n in range(40)]
