@@ -37,7 +37,7 @@ import statistics
 import sys
 import threading
 import time
-from collections.abc import Callable, Sequence
+from collections.abc import Callable, Iterator, Sequence
 from functools import partial
 from typing import TYPE_CHECKING, Any, Final, cast
 
@@ -342,6 +342,22 @@ def blocking_run(
         conn.close()
 
 
+def _waits(ticks: int, interval: float) -> Iterator[float]:
+    """The seconds to wait before each tick of a poll of ``ticks`` ticks, one every
+    ``interval`` from now, taken as each tick's work is done (``time.monotonic``); a tick
+    whose whole interval went by is skipped, not caught up."""
+    t0 = time.monotonic()
+    tick = 0
+    while tick < ticks:
+        due = t0 + tick * interval
+        now = time.monotonic()
+        if now >= due + interval:
+            tick += int((now - due) // interval)
+            continue
+        yield due - now
+        tick += 1
+
+
 def blocking_poll(
     subject: str, targets: list[list[Any]], call: str, interval: float, duration: float
 ) -> dict[str, float]:
@@ -357,23 +373,15 @@ def blocking_poll(
         ticks = round(duration / interval)
         polls = errors = 0
         cpu0, wall0 = time.process_time(), _perf()
-        t0 = time.monotonic()
-        tick = 0
-        while tick < ticks:
-            due = t0 + tick * interval
-            now = time.monotonic()
-            if now >= due + interval:
-                tick += int((now - due) // interval)
-                continue
-            if due > now:
-                time.sleep(due - now)
+        for wait in _waits(ticks, interval):
+            if wait > 0:
+                time.sleep(wait)
             for fn in calls:
                 try:
                     fn()
                     polls += 1
                 except Exception:
                     errors += 1
-            tick += 1
         wall, cpu = _perf() - wall0, time.process_time() - cpu0
     finally:
         for c in conns:
@@ -435,26 +443,17 @@ async def native_poll(
         for i in range(0, len(clients), 25):
             await asyncio.gather(*(c.connect() for c in clients[i : i + 25]))
         await read_all(clients)
-        loop = asyncio.get_running_loop()
         ticks = round(duration / interval)
         polls = errors = 0
         cpu0, wall0 = time.process_time(), _perf()
-        t0 = loop.time()
-        tick = 0
-        while tick < ticks:
-            due = t0 + tick * interval
-            now = loop.time()
-            if now >= due + interval:
-                tick += int((now - due) // interval)
-                continue
-            if due > now:
-                await asyncio.sleep(due - now)
+        for wait in _waits(ticks, interval):
+            if wait > 0:
+                await asyncio.sleep(wait)
             for result in await read_all(clients):
                 if isinstance(result, Exception):
                     errors += 1
                 else:
                     polls += 1
-            tick += 1
         wall, cpu = _perf() - wall0, time.process_time() - cpu0
     finally:
         await asyncio.gather(*(c.aclose() for c in clients), return_exceptions=True)
