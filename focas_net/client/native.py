@@ -521,17 +521,15 @@ class _Handle:
         except ProtocolError as exc:
             raise _Lost(str(exc)) from exc
 
-    def blocks_of(self, raw: bytes, count: int) -> tuple[ResponseBlock, ...]:
+    def keep_answer(self, raw: bytes, count: int) -> tuple[ResponseBlock, ...]:
         """:meth:`check_answer` of the whole answer frame ``raw`` (header included) to a
-        request of ``count`` blocks; an answer already taken is taken again without a second
-        walk (the blocks are the same objects, which :func:`_known_result` relies on)."""
-        key = (raw, count)
-        known: tuple[ResponseBlock, ...] | None = _FRAMES.get(key)
-        if known is not None:
-            return known
+        request of ``count`` blocks, kept in ``_FRAMES`` under ``(raw, count)``: an answer
+        already taken is looked up there (by ``NativeClient._complete``) and taken again
+        without a second walk (the blocks are the same objects, which
+        :func:`_known_result` relies on)."""
         _, version, frame_type, _ = NATIVE_HEADER.unpack_from(raw)
         blocks = self.check_answer((version, frame_type, raw[NATIVE_HEADER_SIZE:]), count)
-        _FRAMES.put(key, blocks)
+        _FRAMES.put((raw, count), blocks)
         return blocks
 
     def abort(self) -> None:
@@ -1236,7 +1234,7 @@ class NativeClient(_Lifecycle):
         blocks: tuple[ResponseBlock, ...] | None = _FRAMES.get((raw, count))
         if blocks is None:
             try:
-                blocks = handle.blocks_of(raw, count)
+                blocks = handle.keep_answer(raw, count)  # an answer not seen before
             except CncError as exc:
                 handle.inflight = None
                 _fail(batch, CncError.from_ew, exc.ew, exc.detail)
