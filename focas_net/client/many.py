@@ -120,10 +120,7 @@ async def read_status_all(
     finally:
         for _, conn, entry in started[finished:]:
             conn.finish(entry)
-        for _, _, _, job in queued:
-            if not job.future.done():
-                job.future.cancel()  # a queued call is dropped, a sent one's blocks ignored
-        _cancel(others)
+        _give_up(queued, others)
     return cast(list[StatusInfo | FocasError], results)
 
 
@@ -165,10 +162,7 @@ async def read_dynamic_all(
                 results[i] = exc
         await _await_tasks(others, results)
     finally:
-        for _, _, _, _, job in queued:
-            if not job.future.done():
-                job.future.cancel()  # a queued call is dropped, a sent one's blocks ignored
-        _cancel(others)
+        _give_up(queued, others)
     return cast(list[DynamicData | FocasError], results)
 
 
@@ -183,9 +177,17 @@ async def _await_tasks(
             results[i] = exc
 
 
-def _cancel(others: list[tuple[int, asyncio.Task[Any]]]) -> None:
-    """The caller is done: tasks not done are cancelled, the failures of those done
-    retrieved (so that none is reported unseen)."""
+def _give_up(
+    queued: Sequence[tuple[Any, ...]], others: list[tuple[int, asyncio.Task[Any]]]
+) -> None:
+    """The caller is done: the native jobs of ``queued`` (each entry's last item) not answered
+    are given up as their own caller gives them up (a queued one is dropped, a sent one's
+    blocks ignored), tasks not done are cancelled, and the failures of those done retrieved
+    (so that none is reported unseen)."""
+    for entry in queued:
+        job: _Job = entry[-1]
+        if not job.future.done():
+            job.future.cancel()
     for _, task in others:
         if not task.done():
             task.cancel()
