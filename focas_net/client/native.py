@@ -663,16 +663,11 @@ def _abort(*pairs: tuple[asyncio.StreamReader, asyncio.StreamWriter]) -> None:
 
 
 class _Job:
-    """The blocks of one frame of one call, waiting to be sent or answered. (No slots: a job
-    lives for one round trip, and the attributes most jobs keep at their defaults are the
-    class's, so making one sets four.)"""
+    """The blocks of one frame of one call, waiting to be sent or answered. Slotted, every
+    attribute set when it is made: an instance dict would be built for each job otherwise
+    (attributes first set after the first few instances of a class force one)."""
 
-    #: Its blocks as :func:`_part_of` gives them, once a frame takes it.
-    part: _Part = _NO_PART
-    sent = False
-    #: Queued for the frame the coming kick sends, whether its deadline is watched not yet
-    #: decided.
-    unarmed = False
+    __slots__ = ("command_set", "deadline", "future", "part", "requests", "task", "unarmed")
 
     def __init__(
         self,
@@ -687,6 +682,16 @@ class _Job:
         self.deadline = deadline
         self.future = future
         self.task = task
+        #: Its blocks as :func:`_part_of` gives them, once a frame takes it (and is sent).
+        self.part: _Part = _NO_PART
+        #: Queued for the frame the coming kick sends, whether its deadline is watched not
+        #: yet decided.
+        self.unarmed = False
+
+    @property
+    def sent(self) -> bool:
+        """Whether a frame carrying it was sent."""
+        return self.part is not _NO_PART
 
 
 def _fail(jobs: Sequence[_Job], make: Callable[..., BaseException], *args: Any) -> None:
@@ -1044,51 +1049,6 @@ class NativeClient(_Lifecycle):
         (frame,) = library_call.frames
         return handle, library_call, await self._send(frame, handle.command_set, deadline)
 
-    def _take(self, handle: _Handle) -> list[_Job]:
-        """The queued jobs the next frame carries (at least one unless the queue is empty),
-        each with its part."""
-        queue = self._queue
-        popleft = queue.popleft
-        batch: list[_Job] = []
-        append = batch.append
-        command_set = handle.command_set
-        max_axes = handle.max_axes
-        max_blocks = self.max_blocks
-        limit = handle.limit
-        blocks = 0
-        size = sent = 2  # answer and request bodies: the block count, then the blocks
-        # the previous job's requests and part: concurrent callers of one method share both
-        last: tuple[NativeRequest, ...] | None = None
-        part = _NO_PART
-        need = send = count = 0
-        while queue:
-            job = queue[0]
-            if job.future.done():
-                popleft()
-                continue
-            if job.command_set is not command_set:
-                popleft()
-                job.future.set_exception(
-                    FocasConnectionError("the CNC's command set changed on reconnect; call again")
-                )
-                continue
-            requests = job.requests
-            if requests is not last:
-                part = _part_of(requests, max_axes)
-                _, need, send, count, _ = part
-                last = requests
-            if batch and (
-                blocks + count > max_blocks or size + need > limit or sent + send > limit
-            ):
-                break
-            job.part = part
-            popleft()
-            append(job)
-            blocks += count
-            size += need
-            sent += send
-        return batch
-
     def _kick_later(self, handle: _Handle) -> None:
         self._kick_soon = False
         self._kick(handle)
@@ -1103,32 +1063,73 @@ class NativeClient(_Lifecycle):
             unarmed.clear()
 
     def _kick(self, handle: _Handle) -> None:
-        """Send the next frame of queued jobs on ``handle`` unless one is in flight."""
+        """Send the next frame of queued jobs on ``handle`` unless one is in flight: the jobs
+        at the queue's head that one frame carries (at least one), within the block limit and
+        the answer and request sizes the open answer allows. Jobs of one call in a row share
+        their part, so the room for them is reckoned once a run, not once a job."""
         if handle.inflight is not None or handle is not self._handle or handle.closed:
             return
-        batch = self._take(handle)
-        if batch:
-            self._send_batch(handle, batch)
-
-    def _send_batch(self, handle: _Handle, batch: list[_Job]) -> None:
-        """Send the frame of ``batch`` (taken, each with its part) on ``handle``, idle."""
-        if len(batch) == 1:
-            self._send_one(handle, batch[0])
-            return
-        blocks = 0
-        latest: float | None = 0.0
+        queue = self._queue
+        popleft = queue.popleft
+        command_set = handle.command_set
+        max_axes = handle.max_axes
+        blocks_left = self.max_blocks
+        # answer and request bodies: the block count (2 bytes), then the blocks
+        answer_left = send_left = handle.limit - 2
+        batch: list[_Job] = []
+        append = batch.append
         parts: list[bytes] = []
-        add = parts.append
-        for job in batch:
-            job.sent = True
-            part = job.part
-            add(part[0])
-            blocks += part[3]
+        # the run of jobs of one call: its requests, its part, how many of it still fit and
+        # how many the frame takes
+        last: tuple[NativeRequest, ...] | None = None
+        part = _NO_PART
+        room = taken = 0
+        latest: float | None = 0.0
+        while queue:
+            job = popleft()
+            if job.future.done():
+                continue
+            if job.command_set is not command_set:
+                job.future.set_exception(
+                    FocasConnectionError("the CNC's command set changed on reconnect; call again")
+                )
+                continue
+            requests = job.requests
+            if requests is not last:
+                if taken:
+                    parts.append(part[0] * taken if taken > 1 else part[0])
+                    blocks_left -= taken * part[3]
+                    answer_left -= taken * part[1]
+                    send_left -= taken * part[2]
+                part = _part_of(requests, max_axes)
+                last = requests
+                room = min(blocks_left // part[3], answer_left // part[1], send_left // part[2])
+                taken = 0
+                if room <= 0:
+                    if batch:
+                        queue.appendleft(job)
+                        break
+                    room = 1  # alone in its frame, whatever its size
+            elif taken == room:
+                queue.appendleft(job)
+                break
+            taken += 1
+            job.part = part
+            append(job)
             deadline = job.deadline
             if deadline is None:
                 latest = None
             elif latest is not None and deadline > latest:
                 latest = deadline
+        if not batch:
+            return
+        if len(batch) == 1:
+            self._send_one(handle, batch[0])
+            return
+        if taken:  # (none when the frame ended at a new run that did not fit)
+            parts.append(part[0] * taken if taken > 1 else part[0])
+            blocks_left -= taken * part[3]
+        blocks = self.max_blocks - blocks_left
         handle.transport_b.write(_frame_of(b"".join(parts), blocks))
         self.frames_sent += 1
         self.blocks_sent += blocks
@@ -1137,20 +1138,20 @@ class NativeClient(_Lifecycle):
         handle.deadline = latest
         if latest is not None and (handle.timer is None or handle.timer_at > latest):
             self._arm_frame(handle, latest)
-        for job in batch:
-            if job.unarmed:
-                # Its deadline is the frame's: the frame's timer fails it then (and ends the
-                # connection, as it would for any frame unanswered at its latest deadline).
-                # An earlier one is watched.
-                job.unarmed = False
-                if latest is None or job.deadline != latest:
-                    assert job.deadline is not None
-                    self._watch(job.deadline)
+        if self._unarmed:
+            for job in batch:
+                if job.unarmed:
+                    # Its deadline is the frame's: the frame's timer fails it then (and ends
+                    # the connection, as it would for any frame unanswered at its latest
+                    # deadline). An earlier one is watched.
+                    job.unarmed = False
+                    if latest is None or job.deadline != latest:
+                        assert job.deadline is not None
+                        self._watch(job.deadline)
 
     def _send_one(self, handle: _Handle, job: _Job) -> None:
-        """:meth:`_send_batch` of one job: its frame is the one its part keeps, its deadline
-        the frame's."""
-        job.sent = True
+        """Send the frame of ``job`` alone (with its part) on ``handle``, idle: the frame is
+        the one its part keeps, its deadline the frame's."""
         part = job.part
         handle.transport_b.write(part[4])
         self.frames_sent += 1
