@@ -346,6 +346,10 @@ def _frame_of(blocks: bytes, count: int) -> bytes:
     return head + blocks
 
 
+#: (identity of an answer's blocks, from ``_FRAMES``) -> those blocks and a tuple of each of
+#: them alone: the blocks handed to the calls of one block each that shared the frame.
+_SINGLES: Final = Memo(512)
+
 #: (identity of a call's first answer block) -> its blocks, what else the result depends on
 #: (the call, the axes) and the call's result: a poll whose answer repeats gets the very
 #: block objects of ``_FRAMES`` again, and builds its result once.
@@ -956,7 +960,8 @@ class NativeClient(_Lifecycle):
         the future fails with the call's own error (a timeout set by the watch or the frame
         timer, a lost connection, an error answer), and a caller that gives up (cancelled)
         cancels it, which drops a call still queued and ignores the blocks of one sent."""
-        if self._handle is None and self._state is not ClientState.RECONNECTING:
+        handle = self._handle
+        if handle is None and self._state is not ClientState.RECONNECTING:
             # lost between two frames of one call, with no reconnect to wait for
             if self._state is ClientState.CLOSED:
                 raise FocasConnectionError("client is closed")
@@ -965,12 +970,16 @@ class NativeClient(_Lifecycle):
         future: asyncio.Future[tuple[ResponseBlock, ...]] = loop.create_future()
         task = _current_task(loop)
         job = _Job(requests, command_set, deadline, future, task)
-        handle = self._handle
-        if (
+        if handle is not None and handle.inflight is not None:
+            # Queued behind the frame in flight (calls pipelined): the client's one watch
+            # timer covers it (it is armed already for an earlier deadline in the usual case).
+            self._queue.append(job)
+            if deadline is not None and deadline < self._watch_at:
+                self._watch(deadline)
+        elif (
             task is self._direct
             and task is not None
             and handle is not None
-            and handle.inflight is None
             and not self._queue
             and not handle.closed
             and command_set is handle.command_set
@@ -1258,6 +1267,18 @@ class NativeClient(_Lifecycle):
         self._direct = None
         if send_next and self._queue:
             self._kick(handle)
+        if count == len(batch):
+            # every job one block: each its own block alone, the very tuples of the last time
+            # this answer came (so a result remembered for them is found by identity)
+            singles = _SINGLES.get(id(blocks))
+            if singles is None or singles[0] is not blocks:
+                singles = (blocks, tuple([(block,) for block in blocks]))
+                _SINGLES.put(id(blocks), singles)
+            for job, one in zip(batch, singles[1], strict=True):
+                future = job.future
+                if not future.done():
+                    future.set_result(one)
+            return
         pos = 0
         for job in batch:
             end = pos + job.part[3]
@@ -1859,7 +1880,11 @@ class NativeClient(_Lifecycle):
     async def read_macro(self, number: int, *, timeout: float | None = None) -> Decimal | None:
         """``cnc_rdmacro``: the value of ``#number`` as a Decimal, or None when vacant
         (binary records converted as the library converts them)."""
-        deadline = self._deadline(timeout)
+        clock = self._clock
+        if timeout is None and clock is not None and (wait := self.timeout) is not None:
+            deadline: float | None = clock() + wait  # (the usual case of _deadline, inline)
+        else:
+            deadline = self._deadline(timeout)
         handle = self._handle
         if handle is None or handle.closed:
             handle = await self._live(deadline)
@@ -1867,9 +1892,12 @@ class NativeClient(_Lifecycle):
         if call is None:
             call = _memo_call(handle.macro_calls, number, calls.cnc_rdmacro, handle.command_set)
         blocks = await self._send(call.frames[0], handle.command_set, deadline)
-        known: tuple[Decimal | None] | None = _known_result(blocks, call)
-        if known is not None:
-            return known[0]
+        known: tuple[Any, Any, tuple[Decimal | None]] | None = _RESULTS.get(id(blocks[0]))
+        if known is not None and known[0] is blocks and known[1] is call:
+            return known[2][0]  # (the usual case of _known_result, inline)
+        known_value: tuple[Decimal | None] | None = _known_result(blocks, call)
+        if known_value is not None:
+            return known_value[0]
         (block,) = blocks
         values: ScaledValues = _decode(call.frames[0][0], block, "cnc_rdmacro", 0)
         if not values.values:
