@@ -116,3 +116,29 @@ def test_concurrent_calls_are_packed_greedily_in_call_order(
     names: list[str], max_blocks: int
 ) -> None:
     asyncio.run(_check(names, max_blocks))
+
+
+async def test_a_call_queued_behind_a_frame_in_flight_has_its_whole_job() -> None:
+    async with serving() as served:
+        served.machine.write_macro(100, 7)
+        async with NativeClient(served.host, served.port, timeout=5.0) as native:
+            handle = native._handle
+            assert handle is not None
+            first = asyncio.ensure_future(native.read_macro(100))
+            for _ in range(10):  # the first call's frame leaves at the end of a loop turn
+                if handle.inflight is not None:
+                    break
+                await asyncio.sleep(0)
+            assert handle.inflight is not None
+            later = [asyncio.ensure_future(native.read_macro(100)) for _ in range(3)]
+            await asyncio.sleep(0)  # the three calls are made, behind the frame in flight
+            queued = list(native._queue)
+            assert len(queued) == 3
+            for job in queued:
+                made = {name: getattr(job, name) for name in native_module._Job.__slots__}
+                assert made["task"] is None and made["unarmed"] is False
+                assert made["part"] is native_module._NO_PART and not job.sent
+                assert made["command_set"] is handle.command_set
+                assert isinstance(made["deadline"], float) and not made["future"].done()
+                assert made["requests"] is handle.macro_calls[100].frames[0]
+            assert await asyncio.gather(first, *later) == [7] * 4
