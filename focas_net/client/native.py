@@ -474,6 +474,8 @@ class _Handle:
         self.closed = False
         #: The library calls a poll repeats, built once for this handle's command set.
         self.status_call = _shared_call(_statinfo, self.command_set, 0)
+        #: What a status result depends on besides the answer (see :func:`_known_result`).
+        self.status_key = (self.status_call, self.max_axes)
         self.macro_calls: dict[int, LibraryCall] = {}
         self.dynamic_calls: dict[int, LibraryCall] = {}
         # The library's write buffer: cnc_wrparam leaves the slots it does not write as the
@@ -1381,7 +1383,11 @@ class NativeClient(_Lifecycle):
     async def read_status(self, *, timeout: float | None = None) -> StatusInfo:
         """``cnc_statinfo``: the ODBST status (0x19; hdck 0xE1 and tmmode 0x98 read 0 when
         the CNC refuses them, as the library reads them)."""
-        deadline = self._deadline(timeout)
+        clock = self._clock
+        if timeout is None and clock is not None and (wait := self.timeout) is not None:
+            deadline: float | None = clock() + wait  # (the usual case of _deadline, inline)
+        else:
+            deadline = self._deadline(timeout)
         handle = self._handle
         if handle is None or handle.closed:
             handle = await self._live(deadline)
@@ -1400,7 +1406,7 @@ class NativeClient(_Lifecycle):
     def _status_of(handle: _Handle, blocks: tuple[ResponseBlock, ...]) -> StatusInfo:
         """The status of ``cnc_statinfo``'s answer ``blocks`` on ``handle``."""
         call = handle.status_call
-        extra = (call, handle.max_axes)
+        extra = handle.status_key
         known: StatusInfo | None = _known_result(blocks, extra)
         if known is not None:
             return known
