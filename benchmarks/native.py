@@ -40,7 +40,7 @@ import struct
 import sys
 import threading
 import time
-from collections.abc import Callable, Iterator, Sequence
+from collections.abc import Awaitable, Callable, Iterator, Sequence
 from functools import partial
 from typing import TYPE_CHECKING, Any, Final, cast
 
@@ -48,6 +48,7 @@ from benchmarks.report import FOCAS, Check, Results, Row, pairwise_ratios
 
 if TYPE_CHECKING:
     from benchmarks.run import Suite, WorkerProcess
+    from focas_net.native.calls import LibraryCall
 
 NATIVE: Final = "native_client"
 FWLIB: Final = "fwlib"
@@ -293,73 +294,70 @@ async def floor_pipe_run(
 ) -> dict[str, float]:
     """The asyncio floor with ``callers`` concurrent callers of ``call`` on one connection
     (:class:`PipeFloorProtocol`), as :func:`native_run` makes them."""
-    from focas_net.native import (
-        CLIENT_VERSION,
-        CommandSet,
-        FrameType,
-        calls,
-        decode_frame,
-        encode_open_request,
-    )
+    from focas_net.native import CLIENT_VERSION
 
     loop = asyncio.get_running_loop()
     transport, proto = await loop.create_connection(PipeFloorProtocol, host, port)
     proto.version = CLIENT_VERSION
     try:
-        opened = decode_frame(await proto.call(encode_open_request(2)))
-        if opened.type != FrameType.OPEN_RESPONSE:
-            raise RuntimeError(f"open answered with type 0x{opened.type:04X}")
-        cs = CommandSet.for_version(opened.version)
-        library = calls.cnc_rdmacro(cs, MACRO) if call == "read_macro" else calls.cnc_statinfo(cs)
+        library = await _floor_open(proto, call)
         (frame,) = library.encode()
         block = frame[12:]
         if int.from_bytes(frame[10:12]) != 1:
             raise RuntimeError(f"{library.function} is not one block")
-        fn = proto.block
-        answer = await fn(block)
+        answer = await proto.block(block)
         if int.from_bytes(answer[8:10]) != 0:  # the block's EW code
             raise RuntimeError(f"{library.function} answered {answer!r}")
-        counts: list[int] = []
-        deadline = _perf() + duration
-
-        async def caller() -> None:
-            n = 0
-            while _perf() < deadline:
-                await fn(block)
-                n += 1
-            counts.append(n)
-
-        cpu = time.process_time()
-        start = _perf()
-        await asyncio.gather(*(caller() for _ in range(callers)))
-        elapsed = _perf() - start
-        cpu = time.process_time() - cpu
+        return await _callers_timed(callers, duration, proto.block, block)
     finally:
         transport.close()
-    return {"ops": sum(counts), "elapsed": elapsed, "cpu": cpu}
+
+
+async def _floor_open(proto: FloorProtocol, call: str) -> LibraryCall:
+    """Open the floor's connection ``proto`` (as pyfocas opens one); the library call of
+    ``call`` in the command set the open answer picks."""
+    from focas_net.native import CommandSet, FrameType, calls, decode_frame, encode_open_request
+
+    opened = decode_frame(await proto.call(encode_open_request(2)))
+    if opened.type != FrameType.OPEN_RESPONSE:
+        raise RuntimeError(f"open answered with type 0x{opened.type:04X}")
+    cs = CommandSet.for_version(opened.version)
+    return calls.cnc_rdmacro(cs, MACRO) if call == "read_macro" else calls.cnc_statinfo(cs)
+
+
+async def _callers_timed(
+    callers: int, duration: float, fn: Callable[..., Awaitable[object]], *args: object
+) -> dict[str, float]:
+    """``callers`` coroutines each awaiting ``fn(*args)`` again and again for ``duration``
+    seconds (the same loop for every asyncio subject): the calls made, the wall time and the
+    process's CPU time."""
+    counts: list[int] = []
+    deadline = _perf() + duration
+
+    async def caller() -> None:
+        n = 0
+        while _perf() < deadline:
+            await fn(*args)
+            n += 1
+        counts.append(n)
+
+    cpu = time.process_time()
+    start = _perf()
+    await asyncio.gather(*(caller() for _ in range(callers)))
+    elapsed = _perf() - start
+    return {"ops": sum(counts), "elapsed": elapsed, "cpu": time.process_time() - cpu}
 
 
 async def floor_run(host: str, port: int, call: str, duration: float) -> dict[str, float]:
     """The asyncio floor: sequential calls of ``call``'s request frame, as
     :func:`native_run` makes them with one caller. The first answer is decoded and checked
     (outside the timed loop); the timed ones are not."""
-    from focas_net.native import (
-        CommandSet,
-        FrameType,
-        calls,
-        decode_frame,
-        decode_response_body,
-        encode_open_request,
-    )
+    from focas_net.native import decode_frame, decode_response_body
 
     loop = asyncio.get_running_loop()
     transport, proto = await loop.create_connection(FloorProtocol, host, port)
     try:
-        opened = decode_frame(await proto.call(encode_open_request(2)))
-        if opened.type != FrameType.OPEN_RESPONSE:
-            raise RuntimeError(f"open answered with type 0x{opened.type:04X}")
-        cs = CommandSet.for_version(opened.version)
-        library = calls.cnc_rdmacro(cs, MACRO) if call == "read_macro" else calls.cnc_statinfo(cs)
+        library = await _floor_open(proto, call)
         (frame,) = library.encode()
         answer = decode_frame(await proto.call(frame))
         blocks = decode_response_body(answer.body)
@@ -506,24 +504,10 @@ async def native_run(
             (lambda: client.read_macro(MACRO)) if call == "read_macro" else client.read_status
         )
         await fn()
-        counts: list[int] = []
-        deadline = _perf() + duration
-
-        async def caller() -> None:
-            n = 0
-            while _perf() < deadline:
-                await fn()
-                n += 1
-            counts.append(n)
-
         frames = client.frames_sent
-        cpu = time.process_time()
-        start = _perf()
-        await asyncio.gather(*(caller() for _ in range(callers)))
-        elapsed = _perf() - start
-        cpu = time.process_time() - cpu
-        frames = client.frames_sent - frames
-    return {"ops": sum(counts), "elapsed": elapsed, "cpu": cpu, "frames": frames}
+        result = await _callers_timed(callers, duration, fn)
+        result["frames"] = client.frames_sent - frames
+    return result
 
 
 async def native_poll(
