@@ -14,6 +14,7 @@ import asyncio
 from collections.abc import Awaitable, Callable
 from typing import Any
 
+import pytest
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 from support import serving
@@ -70,12 +71,6 @@ def _greedy(parts: list[tuple[int, int, int]], max_blocks: int, limit: int) -> l
 async def _check(names: list[str], max_blocks: int) -> None:
     parts: dict[str, native_module._Part] = {}
     seen: list[native_module._Part] = []
-    part_of = native_module._part_of
-
-    def noting(requests: tuple[Any, ...], max_axes: int) -> native_module._Part:
-        part = part_of(requests, max_axes)
-        seen.append(part)
-        return part
 
     async with serving() as served:
         served.machine.write_macro(100, 7)
@@ -85,7 +80,14 @@ async def _check(names: list[str], max_blocks: int) -> None:
             assert handle is not None
             spy = _FrameSpy(handle.transport_b)
             handle.transport_b = spy  # type: ignore[assignment]
-            native_module._part_of = noting
+            send_one = native._send_one
+
+            def noting(handle: Any, job: Any) -> None:
+                # a lone call's frame leaves through _send_one, its part taken
+                seen.append(job.part)
+                send_one(handle, job)
+
+            native._send_one = noting  # type: ignore[method-assign]
             try:
                 alone = {}
                 for name in set(names):
@@ -98,7 +100,7 @@ async def _check(names: list[str], max_blocks: int) -> None:
                 got = await asyncio.gather(*(_MENU[name](native) for name in names))
                 sent = list(spy.counts)
             finally:
-                native_module._part_of = part_of
+                del native._send_one
                 handle.transport_b = spy.transport
             assert got == [alone[name] for name in names]
             expected = _greedy(
@@ -118,19 +120,23 @@ def test_concurrent_calls_are_packed_greedily_in_call_order(
     asyncio.run(_check(names, max_blocks))
 
 
-async def test_a_call_queued_behind_a_frame_in_flight_has_its_whole_job() -> None:
+@pytest.mark.parametrize("call", ["read_macro", "read_feed"])
+async def test_a_call_queued_behind_a_frame_in_flight_has_its_whole_job(call: str) -> None:
+    """read_macro builds such a job itself, the other calls through ``_send``."""
     async with serving() as served:
         served.machine.write_macro(100, 7)
         async with NativeClient(served.host, served.port, timeout=5.0) as native:
             handle = native._handle
             assert handle is not None
-            first = asyncio.ensure_future(native.read_macro(100))
+            make = (lambda: native.read_macro(100)) if call == "read_macro" else native.read_feed
+            alone = await make()
+            first = asyncio.ensure_future(make())
             for _ in range(10):  # the first call's frame leaves at the end of a loop turn
                 if handle.inflight is not None:
                     break
                 await asyncio.sleep(0)
             assert handle.inflight is not None
-            later = [asyncio.ensure_future(native.read_macro(100)) for _ in range(3)]
+            later = [asyncio.ensure_future(make()) for _ in range(3)]
             await asyncio.sleep(0)  # the three calls are made, behind the frame in flight
             queued = list(native._queue)
             assert len(queued) == 3
@@ -140,5 +146,7 @@ async def test_a_call_queued_behind_a_frame_in_flight_has_its_whole_job() -> Non
                 assert made["part"] is native_module._NO_PART and not job.sent
                 assert made["command_set"] is handle.command_set
                 assert isinstance(made["deadline"], float) and not made["future"].done()
-                assert made["requests"] is handle.macro_calls[100].frames[0]
-            assert await asyncio.gather(first, *later) == [7] * 4
+                assert made["requests"] == handle.inflight[0].requests
+            assert await asyncio.gather(first, *later) == [alone] * 4
+            if call == "read_macro":
+                assert alone == 7

@@ -1003,7 +1003,13 @@ class NativeClient(_Lifecycle):
             # The caller just answered calls again with nothing else waiting (a sequential
             # caller): its frame leaves now, its deadline the frame's.
             self._direct = None
-            job.part = _part_of(requests, handle.max_axes)
+            known: tuple[tuple[NativeRequest, ...], _Part] | None = _PARTS.get(
+                (id(requests), handle.max_axes)
+            )
+            if known is not None and known[0] is requests:
+                job.part = known[1]  # (the usual case of _part_of, inline)
+            else:
+                job.part = _part_of(requests, handle.max_axes)
             self._send_one(handle, job)
         else:
             self._queue.append(job)
@@ -1114,13 +1120,16 @@ class NativeClient(_Lifecycle):
             job = popleft()
             if job.future.done():
                 continue
-            if job.command_set is not command_set:
-                job.future.set_exception(
-                    FocasConnectionError("the CNC's command set changed on reconnect; call again")
-                )
-                continue
             requests = job.requests
             if requests is not last:
+                # (requests are built for one command set: a run shares its job's)
+                if job.command_set is not command_set:
+                    job.future.set_exception(
+                        FocasConnectionError(
+                            "the CNC's command set changed on reconnect; call again"
+                        )
+                    )
+                    continue
                 if taken:
                     parts.append(part[0] * taken if taken > 1 else part[0])
                     blocks_left -= taken * part[3]
@@ -1208,6 +1217,20 @@ class NativeClient(_Lifecycle):
             # the usual case: the whole answer in one read, nothing held
             magic, _, _, length = NATIVE_HEADER.unpack_from(data)
             if magic == _MAGIC and len(data) == NATIVE_HEADER_SIZE + length:
+                batch = handle.inflight
+                if len(batch) == 1 and not self._queue:
+                    # A lone call answered with nothing queued (a sequential caller): its
+                    # blocks are the answer's, known if it came before (else _complete).
+                    blocks = _FRAMES.get((data, handle.inflight_blocks))
+                    if blocks is not None:
+                        handle.inflight = None
+                        job = batch[0]
+                        task = job.task
+                        self._direct = _NOBODY if task is None else task
+                        future = job.future
+                        if not future.done():
+                            future.set_result(blocks)
+                        return
                 self._complete(handle, data, send_next=True)
                 # (a lone call answered with nothing queued: its caller sends its next call
                 # itself, so there is nothing to kick)
@@ -1912,7 +1935,22 @@ class NativeClient(_Lifecycle):
         call = handle.macro_calls.get(number)
         if call is None:
             call = _memo_call(handle.macro_calls, number, calls.cnc_rdmacro, handle.command_set)
-        blocks = await self._send(call.frames[0], handle.command_set, deadline)
+        if handle.inflight is not None:
+            future = (self._loop or asyncio.get_running_loop()).create_future()
+            job: _Job = _new(_Job)
+            job.requests = call.frames[0]
+            job.command_set = handle.command_set
+            job.deadline = deadline
+            job.future = future
+            job.task = None
+            job.part = _NO_PART
+            job.unarmed = False
+            self._queue.append(job)
+            if deadline is not None and deadline < self._watch_at:
+                self._watch(deadline)
+            blocks = await future
+        else:
+            blocks = await self._send(call.frames[0], handle.command_set, deadline)
         known: tuple[Any, Any, tuple[Decimal | None]] | None = _RESULTS.get(id(blocks[0]))
         if known is not None and known[0] is blocks and known[1] is call:
             return known[2][0]  # (the usual case of _known_result, inline)
