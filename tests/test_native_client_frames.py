@@ -42,9 +42,11 @@ class _FrameSpy:
     def __init__(self, transport: asyncio.WriteTransport) -> None:
         self.transport = transport
         self.counts: list[int] = []
+        self.frames: list[bytes] = []
 
     def write(self, data: bytes) -> None:
         self.counts.append(int.from_bytes(data[NATIVE_HEADER_SIZE : NATIVE_HEADER_SIZE + 2]))
+        self.frames.append(data)
         self.transport.write(data)
 
 
@@ -70,7 +72,6 @@ def _greedy(parts: list[tuple[int, int, int]], max_blocks: int, limit: int) -> l
 
 async def _check(names: list[str], max_blocks: int) -> None:
     parts: dict[str, native_module._Part] = {}
-    seen: list[native_module._Part] = []
 
     async with serving() as served:
         served.machine.write_macro(100, 7)
@@ -80,27 +81,23 @@ async def _check(names: list[str], max_blocks: int) -> None:
             assert handle is not None
             spy = _FrameSpy(handle.transport_b)
             handle.transport_b = spy  # type: ignore[assignment]
-            send_one = native._send_one
-
-            def noting(handle: Any, job: Any) -> None:
-                # a lone call's frame leaves through _send_one, its part taken
-                seen.append(job.part)
-                send_one(handle, job)
-
-            native._send_one = noting  # type: ignore[method-assign]
             try:
                 alone = {}
                 for name in set(names):
                     spy.counts.clear()
-                    seen.clear()
+                    spy.frames.clear()
                     alone[name] = await _MENU[name](native)
                     assert len(spy.counts) == 1, "each drawn call is one frame"
-                    parts[name] = seen[-1]
+                    # its part: the one whose frame alone is the frame written
+                    (parts[name],) = {
+                        part
+                        for _, part in native_module._PARTS.values()
+                        if part[4] == spy.frames[0]
+                    }
                 spy.counts.clear()
                 got = await asyncio.gather(*(_MENU[name](native) for name in names))
                 sent = list(spy.counts)
             finally:
-                del native._send_one
                 handle.transport_b = spy.transport
             assert got == [alone[name] for name in names]
             expected = _greedy(

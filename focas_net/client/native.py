@@ -971,27 +971,26 @@ class NativeClient(_Lifecycle):
             raise FocasConnectionError(f"not connected to {self.host}:{self.port}")
         loop = self._loop or asyncio.get_running_loop()
         future: asyncio.Future[tuple[ResponseBlock, ...]] = loop.create_future()
+        # _Job(requests, command_set, deadline, future, task) without the class call, a good
+        # part of a call's cost (every slot is set on each path: tested)
+        job: _Job = _new(_Job)
+        job.requests = requests
+        job.command_set = command_set
+        job.deadline = deadline
+        job.future = future
+        job.part = _NO_PART
+        job.unarmed = False
         if handle is not None and handle.inflight is not None:
             # Queued behind the frame in flight (calls pipelined): the client's one watch
             # timer covers it (it is armed already for an earlier deadline in the usual case).
             # No task noted: one that ends up alone in a frame sends its next call after the
             # answer's callbacks, like the calls of many clients read from one task.
-            # _Job(requests, command_set, deadline, future, None) without the class call,
-            # the most of this path's cost (every slot is set: tested)
-            job: _Job = _new(_Job)
-            job.requests = requests
-            job.command_set = command_set
-            job.deadline = deadline
-            job.future = future
             job.task = None
-            job.part = _NO_PART
-            job.unarmed = False
             self._queue.append(job)
             if deadline is not None and deadline < self._watch_at:
                 self._watch(deadline)
             return future
-        task = _current_task(loop)
-        job = _Job(requests, command_set, deadline, future, task)
+        job.task = task = _current_task(loop)
         if (
             task is self._direct
             and task is not None
@@ -1001,16 +1000,24 @@ class NativeClient(_Lifecycle):
             and command_set is handle.command_set
         ):
             # The caller just answered calls again with nothing else waiting (a sequential
-            # caller): its frame leaves now, its deadline the frame's.
+            # caller): its frame leaves now, its deadline the frame's (_send_one, inline).
             self._direct = None
             known: tuple[tuple[NativeRequest, ...], _Part] | None = _PARTS.get(
                 (id(requests), handle.max_axes)
             )
             if known is not None and known[0] is requests:
-                job.part = known[1]  # (the usual case of _part_of, inline)
+                part = known[1]  # (the usual case of _part_of, inline)
             else:
-                job.part = _part_of(requests, handle.max_axes)
-            self._send_one(handle, job)
+                part = _part_of(requests, handle.max_axes)
+            job.part = part
+            handle.transport_b.write(part[4])
+            self.frames_sent += 1
+            self.blocks_sent += part[3]
+            handle.inflight = [job]
+            handle.inflight_blocks = part[3]
+            handle.deadline = deadline
+            if deadline is not None and (handle.timer is None or handle.timer_at > deadline):
+                self._arm_frame(handle, deadline)
         else:
             self._queue.append(job)
             self._queue_job(job, handle, loop)
