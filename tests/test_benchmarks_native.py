@@ -39,7 +39,9 @@ def test_checks_pass_and_fail_each_target() -> None:
         Row("native_poll100_status", native.NATIVE, "us/poll", [50.0, 60.0]),
         Row("native_poll100_status", native.PYFOCAS, "us/poll", [100.0, 90.0]),
     ]
-    verdicts = {c.name: c.verdict for c in native.checks(_results(rows))}
+    checks = native.checks(_results(rows))
+    verdicts = {c.name: c.verdict for c in checks}
+    assert all("floor" not in c.detail for c in checks)  # no floor measured, none named
     assert verdicts == {
         "native_pipe64 read_macro >= 10 x FANUC's library on one handle": "PASS",
         "native_seq read_macro >= 0.7 x FANUC's library": "FAIL",
@@ -49,6 +51,32 @@ def test_checks_pass_and_fail_each_target() -> None:
         "native_pipe64: ahead of pyfocas": "PASS",
         "native_poll100_status: ahead of pyfocas": "PASS",  # less CPU per poll
     }
+
+
+def test_checks_say_where_the_asyncio_floor_stood() -> None:
+    lib = [100.0, 100.0]
+    rows = [
+        Row("native_pipe64", native.FWLIB, "calls/s", lib),
+        _vs_fwlib("native_pipe64", native.NATIVE, [600.0, 700.0], lib),
+        _vs_fwlib("native_pipe64", native.FLOOR, [800.0, 900.0], lib),
+        Row("native_seq_status", native.FWLIB, "calls/s", lib),
+        _vs_fwlib("native_seq_status", native.NATIVE, [60.0, 60.0], lib),
+        _vs_fwlib("native_seq_status", native.FLOOR, [70.0, 80.0], lib),
+        _vs_fwlib("native_seq_status", native.PYFOCAS, [80.0, 80.0], lib),
+    ]
+    details = {c.name: (c.verdict, c.detail) for c in native.checks(_results(rows))}
+    assert details["native_pipe64 read_macro >= 10 x FANUC's library on one handle"] == (
+        "FAIL",
+        "median 6.50 x FANUC's library (the asyncio floor: 8.50 x)",
+    )
+    assert details["native_seq read_status >= 0.7 x FANUC's library"] == (
+        "FAIL",
+        "median 0.60 x FANUC's library (the asyncio floor: 0.75 x)",
+    )
+    assert details["native_seq_status: ahead of pyfocas"] == (
+        "FAIL",
+        "0.75 x pyfocas (the asyncio floor: 0.94 x)",
+    )
 
 
 def test_rows_take_their_ratio_to_the_library_pair_by_pair() -> None:
