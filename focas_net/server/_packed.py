@@ -2,8 +2,12 @@
 
 Every chunk read from the socket goes through the incremental :class:`FrameDecoder`; each
 request is answered synchronously by the machine's packed adapter, and all answers produced by
-one chunk leave in one ``writelines`` call. Delayed answers (fault injection) are timer
-callbacks. Backpressure, the backlog, delays and shutdown are :class:`~._base.BaseConnection`'s.
+one chunk leave in one write, joined. (asyncio's own ``writelines`` on CPython 3.12.0-3.12.8
+and 3.13.0-3.13.1 skips the write buffer's high-water check, CPython gh-127655: with it
+``pause_writing`` never came, and a peer that never read held the server's memory without
+bound. Joining and writing is what ``writelines`` did before 3.12.) Delayed answers (fault
+injection) are timer callbacks. Backpressure, the backlog, delays and shutdown are
+:class:`~._base.BaseConnection`'s.
 
 The machine is reached only through its :class:`~focas_net.adapters.PackedAdapter` (shared by
 the listener's connections, so they share its answer caches): ``answer`` and ``error_answer``.
@@ -41,6 +45,8 @@ _log = logging.getLogger("focas_net.server")
 
 _pack_header = HEADER.pack
 _unpack_header_from = HEADER.unpack_from
+#: A chunk's answers as one write (see the module's docstring for why not ``writelines``).
+_join: Final = b"".join
 _CONTROL_FIRST: Final = int(Command.SIM_SET_PANEL)
 _CONTROL_LAST: Final = 0x0EFF  # every simulator control id is 0x0Exx (0x0E10 read_panel too)
 _INJECT_FAULT: Final = int(Command.SIM_INJECT_FAULT)
@@ -194,7 +200,7 @@ class PackedConnection(BaseConnection[RawFrame]):
             append(answer)
             size += len(answer)
             pos = end
-        transport.writelines(out)
+        transport.write(_join(out))
         return pos
 
     def _feed(self, chunk: bytes | memoryview) -> bool:
@@ -249,14 +255,14 @@ class PackedConnection(BaseConnection[RawFrame]):
             append(answer)
             size += len(answer)
             if size >= budget:
-                transport.writelines(out)
+                transport.write(_join(out))
                 out = []
                 append = out.append
                 size = 0
                 if self._write_paused:  # the write buffer passed its high-water mark
                     return self._stop_writing(frames, index + 1, out)
         if out:
-            transport.writelines(out)
+            transport.write(_join(out))
         return True
 
     def _run_from(self, frames: list[RawFrame], start: int, out: list[bytes], size: int) -> bool:
@@ -296,20 +302,20 @@ class PackedConnection(BaseConnection[RawFrame]):
             out.append(answer)
             size += len(answer)
             if size >= budget:
-                transport.writelines(out)
+                transport.write(_join(out))
                 out = []
                 size = 0
                 if self._write_paused:  # the write buffer passed its high-water mark
                     return self._stop_writing(frames, index + 1, out)
         if out:
-            transport.writelines(out)
+            transport.write(_join(out))
         return True
 
     def _stop_writing(self, frames: list[RawFrame], index: int, out: list[bytes]) -> bool:
         transport = self._transport
         assert transport is not None
         if out:
-            transport.writelines(out)
+            transport.write(_join(out))
         return self._stop(frames, index)
 
     # -- helpers ---------------------------------------------------------------------------
@@ -349,7 +355,7 @@ class PackedConnection(BaseConnection[RawFrame]):
             return out
         if kind is _DROP_KIND:
             if out:
-                transport.writelines(out)
+                transport.write(_join(out))
             self._drop()
             return None
         answer = self._answer(command, payload)
@@ -359,7 +365,7 @@ class PackedConnection(BaseConnection[RawFrame]):
             return out
         # SPLIT: what came before goes first, then this answer one byte per write
         if out:
-            transport.writelines(out)
+            transport.write(_join(out))
         self._write_split(frame)
         return []
 
