@@ -1471,7 +1471,10 @@ def probe_body_limits(lib: Any, version: int, size: int) -> Notes:
 
     responder.hook = hook
     with handle_on(lib, responder) as (rc, hd):
-        got = lib.cnc_rdcncid(hd, buf(16)) if rc == 0 else f"connect {rc}"
+        # The library copies the whole answer's data into the caller's buffer: one of the
+        # answer's size keeps that copy in the probe's own memory (a 16-byte ODBCID was
+        # overrun, and the process crashed later, in its garbage collection).
+        got = lib.cnc_rdcncid(hd, buf(size)) if rc == 0 else f"connect {rc}"
     _note(notes, f"version {version}: cnc_rdcncid answered with a {size}-byte body", got)
     return notes
 
@@ -1713,9 +1716,9 @@ def run_probes(lib: Any) -> dict[str, Any]:
     del lib
     results: list[dict[str, Any]] = []
     for name in PROBES:
-        # FANUC's library sometimes crashes (SIGSEGV) on an answer of exactly its body limit
-        # at version 4, depending on the process's memory layout: such a probe is run again,
-        # at most three times in all
+        # a probe whose process crashed (SIGSEGV: FANUC's library overran a buffer of the
+        # probe's, which depends on the process's memory layout) is run again, at most three
+        # times in all
         for _ in range(3):
             done = subprocess.run(
                 [sys.executable, __file__, "--probe", name],
