@@ -8,6 +8,9 @@ server restart follow.
 
 A scripted FOCAS/2 peer (:class:`NativePeer`) holds answers back on demand, for timeouts and
 late answers. Tests check outcomes, never durations.
+
+Every test runs twice: with the client's connections on sockets it reads itself (asyncio's
+selector loop, the default) and on the loop's transports (as on uvloop or the proactor loop).
 """
 
 from __future__ import annotations
@@ -21,7 +24,8 @@ from pathlib import Path
 import pytest
 from support import IO_TIMEOUT, LoopbackPeer, Served, serving, wait_until
 
-from focas_net.client import ClientState, FocasClient, ReconnectPolicy
+from focas_net.client import ClientState, FocasClient, ReconnectPolicy, _channel
+from focas_net.client._channel import Channel
 from focas_net.client.native import NativeClient, NativeUnsupportedError
 from focas_net.errors import EW, CncError, FocasConnectionError, FocasTimeoutError
 from focas_net.native import (
@@ -46,6 +50,16 @@ from focas_net.protocol import FaultKind, FaultScope
 from focas_net.server import FocasServer
 from focas_net.sim import Machine, default_machine, load_machine
 from focas_net.sim.machine import MDI
+
+
+@pytest.fixture(autouse=True, params=["sockets", "transports"])
+def channel_kind(request: pytest.FixtureRequest, monkeypatch: pytest.MonkeyPatch) -> str:
+    """The kind of connection every client of the test opens."""
+    kind: str = request.param
+    if kind == "transports":
+        monkeypatch.setattr(_channel, "own_sockets", lambda loop: False)
+    return kind
+
 
 MACHINE_16I = """
 [machine]
@@ -114,6 +128,17 @@ async def both(served: Served) -> AsyncIterator[tuple[NativeClient, FocasClient]
         FocasClient(served.host, served.port, timeout=IO_TIMEOUT) as packed,
     ):
         yield native, packed
+
+
+async def test_the_connections_are_of_the_kind_chosen(
+    both: tuple[NativeClient, FocasClient], channel_kind: str
+) -> None:
+    native, _ = both
+    handle = native._handle
+    assert handle is not None
+    kind = _channel.SocketChannel if channel_kind == "sockets" else _channel.TransportChannel
+    assert type(handle.a) is kind
+    assert type(handle.b) is kind
 
 
 def _expected_set(served: Served) -> CommandSet:
@@ -290,9 +315,9 @@ async def test_interleaved_methods_share_frames_and_keep_their_answers(
 
 
 class _WriteSpy:
-    """A stand-in for B's transport that notes which task wrote each frame."""
+    """A stand-in for B's channel that notes which task wrote each frame."""
 
-    def __init__(self, transport: asyncio.WriteTransport) -> None:
+    def __init__(self, transport: Channel) -> None:
         self.transport = transport
         self.writers: list[asyncio.Task[object] | None] = []
 
@@ -308,8 +333,8 @@ async def test_a_lone_callers_next_call_leaves_at_once(
     served.machine.write_macro(100, 7)
     handle = native._handle
     assert handle is not None
-    spy = _WriteSpy(handle.transport_b)
-    handle.transport_b = spy  # type: ignore[assignment]
+    spy = _WriteSpy(handle.b)
+    handle.b = spy  # type: ignore[assignment]
     try:
         # Each call after the first was alone in the frame answered last, so its task
         # writes it itself (not a callback at the end of the loop turn).
@@ -323,7 +348,7 @@ async def test_a_lone_callers_next_call_leaves_at_once(
         assert native.frames_sent - frames == 1
         assert spy.writers[-1] is None
     finally:
-        handle.transport_b = spy.transport
+        handle.b = spy.transport
 
 
 async def test_frames_split_by_the_answer_size(served: Served) -> None:

@@ -20,6 +20,7 @@ from hypothesis import strategies as st
 from support import serving
 
 from focas_net.client import native as native_module
+from focas_net.client._channel import Channel
 from focas_net.client.native import NativeClient
 from focas_net.native.frame import NATIVE_HEADER_SIZE
 
@@ -37,9 +38,9 @@ _MENU: dict[str, _Call] = {
 
 
 class _FrameSpy:
-    """Stands in for B's transport: keeps each request frame's block count."""
+    """Stands in for B's channel: keeps each request frame's block count."""
 
-    def __init__(self, transport: asyncio.WriteTransport) -> None:
+    def __init__(self, transport: Channel) -> None:
         self.transport = transport
         self.counts: list[int] = []
         self.frames: list[bytes] = []
@@ -79,8 +80,8 @@ async def _check(names: list[str], max_blocks: int) -> None:
         async with NativeClient(served.host, served.port, max_blocks=max_blocks) as native:
             handle = native._handle
             assert handle is not None
-            spy = _FrameSpy(handle.transport_b)
-            handle.transport_b = spy  # type: ignore[assignment]
+            spy = _FrameSpy(handle.b)
+            handle.b = spy  # type: ignore[assignment]
             try:
                 alone = {}
                 for name in set(names):
@@ -98,7 +99,7 @@ async def _check(names: list[str], max_blocks: int) -> None:
                 got = await asyncio.gather(*(_MENU[name](native) for name in names))
                 sent = list(spy.counts)
             finally:
-                handle.transport_b = spy.transport
+                handle.b = spy.transport
             assert got == [alone[name] for name in names]
             expected = _greedy(
                 [(parts[n][3], parts[n][1], parts[n][2]) for n in names], max_blocks, handle.limit

@@ -1,5 +1,6 @@
 """The shared receive side: one buffer per thread, each read handed on as bytes of its size,
-and every connection class of the package read through it (``recv_into``, not ``recv``)."""
+and every protocol class of the package read through it (``recv_into``, not ``recv``). (The
+native client reads its own sockets: ``tests/test_native_channel.py``.)"""
 
 from __future__ import annotations
 
@@ -12,7 +13,6 @@ from support import IO_TIMEOUT, serving
 from focas_net._receive import SIZE, Received, receive_buffer
 from focas_net.client import FocasClient
 from focas_net.client.connection import Connection
-from focas_net.client.native import _Watched
 from focas_net.server._base import BaseConnection
 from focas_net.sim import default_machine
 
@@ -49,7 +49,7 @@ def test_the_buffer_is_the_threads_own() -> None:
     assert theirs[0].obj is not mine.obj
 
 
-@pytest.mark.parametrize("cls", [Connection, BaseConnection, _Watched])
+@pytest.mark.parametrize("cls", [Connection, BaseConnection])
 def test_every_connection_class_is_a_buffered_protocol(cls: type) -> None:
     # asyncio's transports read a BufferedProtocol with recv_into, never recv(256 KiB)
     assert issubclass(cls, asyncio.BufferedProtocol)

@@ -46,7 +46,6 @@ from functools import partial
 from typing import Any, Final
 
 from focas_net._memo import Memo
-from focas_net._receive import Received, _local
 from focas_net.errors import (
     EW,
     ChunkedWriteError,
@@ -127,6 +126,7 @@ from ..protocol import (
     StatusInfo,
     SysInfo,
 )
+from ._channel import Channel, open_channel
 from ._locks import KeyedLocks
 from .client import (
     Positions,
@@ -169,8 +169,6 @@ _MAX_ACTIVE_ALARMS: Final = 32
 _ALARM_TEXT: Final = 64
 _U16_LIMIT: Final = 0x10000
 _DATA_ANSWER: Final = FrameType.DATA_RESPONSE >> 8
-#: The read buffer limit of each connection (``asyncio.open_connection``'s default).
-_STREAM_LIMIT: Final = 2**16
 _I32: Final = struct.Struct(">i")
 #: A data request frame's header and its block count.
 _REQUEST_HEAD: Final = struct.Struct(">IHHHH")
@@ -237,51 +235,14 @@ class _Lost(Exception):
     """The connection pair cannot carry any further frame."""
 
 
-class _Watched(Received, asyncio.StreamReaderProtocol):
-    """A stream protocol whose data, once ``on_data`` is set, goes to the client's frame
-    parser instead of the stream reader (the reader serves the open and close exchanges); end
-    of file and loss are reported to ``on_end``."""
-
-    def __init__(self, reader: asyncio.StreamReader) -> None:
-        super().__init__(reader)
-        self.on_data: Callable[[bytes], None] | None = None
-        self.on_end: Callable[[Exception | None], None] | None = None
-
-    def buffer_updated(self, nbytes: int) -> None:
-        # Received.buffer_updated and data_received in one: one call less per answer
-        data = bytes(_local.view[:nbytes])
-        on_data = self.on_data
-        if on_data is not None:
-            on_data(data)
-        else:
-            asyncio.StreamReaderProtocol.data_received(self, data)
-
-    def data_received(self, data: bytes) -> None:
-        if self.on_data is not None:
-            self.on_data(data)
-        else:
-            super().data_received(data)
-
-    def eof_received(self) -> bool | None:
-        keep_open = super().eof_received()
-        if self.on_end is not None:
-            self.on_end(None)
-        return keep_open
-
-    def connection_lost(self, exc: Exception | None) -> None:
-        super().connection_lost(exc)
-        if self.on_end is not None:
-            self.on_end(exc)
-
-
-async def _read_frame(reader: asyncio.StreamReader) -> tuple[int, int, bytes]:
+async def _read_frame(channel: Channel) -> tuple[int, int, bytes]:
     """``(version, type, body)`` of the next frame; :class:`_Lost` when it is not one."""
     try:
-        head = await reader.readexactly(NATIVE_HEADER_SIZE)
+        head = await channel.readexactly(NATIVE_HEADER_SIZE)
         magic, version, frame_type, length = NATIVE_HEADER.unpack(head)
         if magic != int.from_bytes(MAGIC, "big"):
             raise _Lost("answer does not start with A0 A0 A0 A0")
-        body = await reader.readexactly(length)
+        body = await channel.readexactly(length)
     except (asyncio.IncompleteReadError, ConnectionError, OSError) as exc:
         raise _Lost(f"connection closed ({exc!r})") from exc
     return version, frame_type, body
@@ -439,18 +400,10 @@ def _answer_size(request: NativeRequest, max_axes: int) -> int:
 class _Handle:
     """One open A/B connection pair and what its open answer said."""
 
-    def __init__(
-        self,
-        a: tuple[asyncio.StreamReader, asyncio.StreamWriter],
-        b: tuple[asyncio.StreamReader, asyncio.StreamWriter],
-        opened: OpenAnswer,
-    ) -> None:
-        self.reader_a, self.writer_a = a
-        self.reader_b, self.writer_b = b
-        self.transport_b = self.writer_b.transport
-        protocol = self.writer_b.transport.get_protocol()
-        assert isinstance(protocol, _Watched)
-        self.protocol_b = protocol
+    def __init__(self, a: Channel, b: Channel, opened: OpenAnswer) -> None:
+        #: The two connections: A (the open and the close only) and B (every data frame).
+        self.a = a
+        self.b = b
         #: The frame in flight on B: its jobs, its block count and its (latest) deadline; the
         #: timer that watches the deadlines of frames in flight and when it fires; and the
         #: bytes of B received and not yet parsed into a frame.
@@ -495,9 +448,9 @@ class _Handle:
         return self.limit - 2 - REQUEST_BLOCK_SIZE
 
     def detach(self) -> list[_Job]:
-        """Stop parsing B's frames (its data goes to the reader again, for the close
-        exchange); the jobs of the frame in flight, now nobody's."""
-        self.protocol_b.on_data = self.protocol_b.on_end = None
+        """Stop parsing B's frames (its bytes are kept again, for the close exchange); the
+        jobs of the frame in flight, now nobody's."""
+        self.b.stop()
         if self.timer is not None:
             self.timer.cancel()
             self.timer = None
@@ -507,8 +460,8 @@ class _Handle:
     async def exchange(self, requests: Sequence[NativeRequest]) -> tuple[ResponseBlock, ...]:
         """One data frame on B and its answer (used while connecting, before frames are
         parsed by the client)."""
-        self.writer_b.write(encode_request([r.to_block(_PATH) for r in requests]))
-        return self.check_answer(await _read_frame(self.reader_b), len(requests))
+        self.b.write(encode_request([r.to_block(_PATH) for r in requests]))
+        return self.check_answer(await _read_frame(self.b), len(requests))
 
     def check_answer(self, frame: tuple[int, int, bytes], count: int) -> tuple[ResponseBlock, ...]:
         """The blocks of a data answer, checked as FANUC's library checks them."""
@@ -541,8 +494,8 @@ class _Handle:
 
     def abort(self) -> None:
         self.closed = True
-        for writer in (self.writer_a, self.writer_b):
-            writer.transport.abort()
+        self.a.close()
+        self.b.close()
 
     async def close(self, grace: float) -> None:
         """Close A then B with the close exchange, as the library does; then the sockets."""
@@ -551,58 +504,39 @@ class _Handle:
         self.closed = True
         try:
             async with asyncio.timeout(grace):
-                for reader, writer in (
-                    (self.reader_a, self.writer_a),
-                    (self.reader_b, self.writer_b),
-                ):
-                    writer.write(encode_close_request())
-                    _, frame_type, _ = await _read_frame(reader)
+                for channel in (self.a, self.b):
+                    channel.write(encode_close_request())
+                    _, frame_type, _ = await _read_frame(channel)
                     if frame_type != FrameType.CLOSE_RESPONSE:
                         break
         except (TimeoutError, _Lost, OSError):
             pass
-        for writer in (self.writer_a, self.writer_b):
-            writer.close()
-        for writer in (self.writer_a, self.writer_b):
-            try:
-                async with asyncio.timeout(grace):
-                    await writer.wait_closed()
-            except (TimeoutError, OSError):
-                writer.transport.abort()
-
-
-async def _open_tcp(
-    host: str, port: int, deadline: float | None
-) -> tuple[asyncio.StreamReader, asyncio.StreamWriter]:
-    try:
-        async with asyncio.timeout_at(deadline):
-            loop = asyncio.get_running_loop()
-            reader = asyncio.StreamReader(limit=_STREAM_LIMIT, loop=loop)
-            protocol = _Watched(reader)
-            transport, _ = await loop.create_connection(lambda: protocol, host, port)
-            return reader, asyncio.StreamWriter(transport, protocol, reader, loop)
-    except TimeoutError:
-        raise FocasTimeoutError(f"connecting to {host}:{port} timed out") from None
-    except OSError as exc:
-        raise FocasConnectionError(f"cannot connect to {host}:{port}: {exc}") from exc
+        self.a.close()
+        self.b.close()
 
 
 async def _open_channel(
     host: str, port: int, channel: int, deadline: float | None
-) -> tuple[tuple[asyncio.StreamReader, asyncio.StreamWriter], int, bytes]:
-    pair = await _open_tcp(host, port, deadline)
-    reader, writer = pair
+) -> tuple[Channel, int, bytes]:
+    """Connection ``channel`` (1: A, 2: B), opened: the version and body of its open answer."""
     try:
-        writer.write(encode_open_request(channel))
         async with asyncio.timeout_at(deadline):
-            version, frame_type, body = await _read_frame(reader)
+            conn = await open_channel(host, port)
+    except TimeoutError:
+        raise FocasTimeoutError(f"connecting to {host}:{port} timed out") from None
+    except OSError as exc:
+        raise FocasConnectionError(f"cannot connect to {host}:{port}: {exc}") from exc
+    try:
+        conn.write(encode_open_request(channel))
+        async with asyncio.timeout_at(deadline):
+            version, frame_type, body = await _read_frame(conn)
     except BaseException:
-        writer.transport.abort()
+        conn.close()
         raise
     if frame_type != FrameType.OPEN_RESPONSE:
-        writer.transport.abort()
+        conn.close()
         raise FocasConnectionError(f"{host}:{port} answered the open with type 0x{frame_type:04X}")
-    return pair, version, body
+    return conn, version, body
 
 
 async def _open_handle(host: str, port: int, deadline: float | None) -> _Handle:
@@ -617,7 +551,7 @@ async def _open_handle(host: str, port: int, deadline: float | None) -> _Handle:
     try:
         b, version, body = await _open_channel(host, port, 2, deadline)
     except BaseException as exc:
-        a[1].transport.abort()
+        a.close()
         if isinstance(exc, TimeoutError):
             raise FocasTimeoutError(f"no open answer from {where}") from None
         if isinstance(exc, _Lost):
@@ -661,9 +595,9 @@ async def _open_handle(host: str, port: int, deadline: float | None) -> _Handle:
     return handle
 
 
-def _abort(*pairs: tuple[asyncio.StreamReader, asyncio.StreamWriter]) -> None:
-    for _, writer in pairs:
-        writer.transport.abort()
+def _abort(*channels: Channel) -> None:
+    for channel in channels:
+        channel.close()
 
 
 # -- jobs: one frame's worth of one call --------------------------------------------------------
@@ -868,17 +802,12 @@ class NativeClient(_Lifecycle):
             task.cancel()
         loop = self._loop or asyncio.get_running_loop()
         self._handle = handle
-        protocol = handle.protocol_b
-        protocol.on_data = partial(self._on_data, handle)
-        protocol.on_end = partial(self._on_end, handle)
         self._up_since = loop.time()
         self._set_state(ClientState.CONNECTED)
         assert self._ready is not None
         self._ready.set()
-        reader = handle.reader_b
-        if reader.exception() is not None or reader.at_eof():  # B ended while connecting
-            self._lose(handle, _Lost("connection closed by the CNC"))
-            return
+        # (B ended while connecting: the end is told at once, and the handle lost)
+        handle.b.start(partial(self._on_data, handle), partial(self._on_end, handle))
         self._kick(handle)
 
     def _on_lost(self, handle: _Handle, exc: BaseException | None) -> None:
@@ -1010,7 +939,7 @@ class NativeClient(_Lifecycle):
             else:
                 part = _part_of(requests, handle.max_axes)
             job.part = part
-            handle.transport_b.write(part[4])
+            handle.b.write(part[4])
             self.frames_sent += 1
             self.blocks_sent += part[3]
             handle.inflight = [job]
@@ -1171,7 +1100,7 @@ class NativeClient(_Lifecycle):
             parts.append(part[0] * taken if taken > 1 else part[0])
             blocks_left -= taken * part[3]
         blocks = self.max_blocks - blocks_left
-        handle.transport_b.write(_frame_of(b"".join(parts), blocks))
+        handle.b.write(_frame_of(b"".join(parts), blocks))
         self.frames_sent += 1
         self.blocks_sent += blocks
         handle.inflight = batch
@@ -1194,7 +1123,7 @@ class NativeClient(_Lifecycle):
         """Send the frame of ``job`` alone (with its part) on ``handle``, idle: the frame is
         the one its part keeps, its deadline the frame's."""
         part = job.part
-        handle.transport_b.write(part[4])
+        handle.b.write(part[4])
         self.frames_sent += 1
         self.blocks_sent += part[3]
         handle.inflight = [job]

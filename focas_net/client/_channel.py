@@ -1,0 +1,333 @@
+"""The native client's TCP connections: :class:`Channel`, opened by :func:`open_channel`.
+
+FOCAS/2 keeps one request frame in flight on a connection, so every call of a sequential
+caller is a round trip of its own, and what the event loop spends on each read and write is
+spent once a call. A channel hands each read to one callback and takes each write as one call,
+in one of two ways, whichever costs the loop less:
+
+* :class:`SocketChannel`, on asyncio's selector loops (the default on Linux and macOS): the
+  channel owns its non-blocking socket. The loop calls it when the socket is readable, and it
+  reads with one ``recv``; a write is one ``send``. asyncio's own transport, written in Python,
+  adds its buffering checks to each write and ``get_buffer``, ``recv_into`` and
+  ``buffer_updated`` to each read.
+* :class:`TransportChannel`, on any other loop (uvloop, asyncio's proactor loop): the loop's own
+  transport, read as a buffered protocol (``focas_net/_receive.py``). uvloop's transports are
+  compiled and do their system calls without giving up the GIL, which costs less than calling
+  a socket from Python.
+
+Before :meth:`Channel.start` and after :meth:`Channel.stop` the bytes read are kept for
+:meth:`Channel.readexactly` (the open and close exchanges); in between they go to the
+``on_data`` callback. The end of the connection (end of file, a failed read or write) is told
+to ``on_end`` once, or, while not started, raised by ``readexactly``. Neither kind ever calls
+``on_end`` from inside :meth:`Channel.write`.
+"""
+
+from __future__ import annotations
+
+import asyncio
+import ipaddress
+import socket
+from collections import deque
+from collections.abc import Callable
+from typing import Any, Final, cast
+
+from focas_net._receive import Received, _local
+
+#: Bytes one read of a :class:`SocketChannel` may bring: a whole answer frame (at most 10 +
+#: 65535 bytes) in one or two.
+READ_SIZE: Final = 65536
+#: Most bytes kept for :meth:`Channel.readexactly` before the peer is taken as faulty: two of
+#: the largest frames.
+KEEP_LIMIT: Final = 2 * (10 + 0xFFFF)
+
+
+class Channel:
+    """What both kinds of channel share: the bytes kept while not started, the end."""
+
+    on_data: Callable[[bytes], None] | None
+    on_end: Callable[[Exception | None], None] | None
+    ended: bool
+    closed: bool
+    _kept: bytearray
+    _waiter: asyncio.Future[None] | None
+    _error: Exception | None
+
+    def _init_channel(self) -> None:
+        #: Where the bytes read go once started, and who hears of the end.
+        self.on_data = None
+        self.on_end = None
+        #: Bytes read while not started, and the :meth:`readexactly` waiting for more.
+        self._kept = bytearray()
+        self._waiter = None
+        #: The connection ended (end of file, or ``_error``); the channel closed.
+        self.ended = False
+        self.closed = False
+        self._error = None
+
+    def write(self, data: bytes) -> None:
+        """Send ``data`` (after any write still under way)."""
+        raise NotImplementedError
+
+    def close(self) -> None:
+        """Close the connection now: nothing more is read or written (writes still queued are
+        dropped); the end is not told."""
+        raise NotImplementedError
+
+    def _keep(self, data: bytes) -> None:
+        kept = self._kept
+        kept += data
+        if len(kept) > KEEP_LIMIT:
+            self._end(ConnectionError(f"the peer sent {len(kept)} bytes nobody asked for"))
+            return
+        self._wake()
+
+    def _wake(self) -> None:
+        waiter = self._waiter
+        if waiter is not None and not waiter.done():
+            waiter.set_result(None)
+
+    def _end(self, exc: Exception | None) -> None:
+        """The connection ended (``exc``: why, None at end of file): nothing more is read; the
+        end is told once."""
+        if self.ended:
+            return
+        self.ended = True
+        if exc is not None:
+            self._error = exc
+        self._stop_reading()
+        on_end = self.on_end
+        if on_end is not None:
+            on_end(exc)
+        else:
+            self._wake()
+
+    def _stop_reading(self) -> None:
+        """Read nothing more from the connection."""
+
+    async def readexactly(self, n: int) -> bytes:
+        """The next ``n`` bytes read (before :meth:`start` or after :meth:`stop`).
+
+        :raises asyncio.IncompleteReadError: the connection ended first (its error instead,
+            an :class:`OSError`, when it failed).
+        """
+        kept = self._kept
+        while len(kept) < n:
+            if self.ended or self.closed:
+                if self._error is not None:
+                    raise self._error
+                raise asyncio.IncompleteReadError(bytes(kept), n)
+            waiter = self._waiter = asyncio.get_running_loop().create_future()
+            try:
+                await waiter
+            finally:
+                self._waiter = None
+        data = bytes(kept[:n])
+        del kept[:n]
+        return data
+
+    def start(
+        self, on_data: Callable[[bytes], None], on_end: Callable[[Exception | None], None]
+    ) -> None:
+        """Hand every read to ``on_data`` from now on (the bytes kept first), and the end to
+        ``on_end`` (at once if the connection has ended already)."""
+        self.on_data = on_data
+        self.on_end = on_end
+        if self._kept:
+            kept = bytes(self._kept)
+            self._kept.clear()
+            on_data(kept)
+        if self.ended and self.on_end is on_end:
+            on_end(self._error)
+
+    def stop(self) -> None:
+        """Keep the bytes read for :meth:`readexactly` again; tell the end to nobody."""
+        self.on_data = self.on_end = None
+
+
+class SocketChannel(Channel):
+    """A connected non-blocking TCP socket read and written by the channel itself, watched
+    by a selector loop from when the channel is made."""
+
+    def __init__(self, sock: socket.socket, loop: asyncio.AbstractEventLoop) -> None:
+        self._init_channel()
+        self.sock = sock
+        self._loop = loop
+        self._recv = sock.recv
+        self._send = sock.send
+        #: Writes waiting behind one the kernel did not take whole (it holds far more than a
+        #: frame: only a peer that stops reading makes one), and the task sending them.
+        self._pending: deque[bytes] = deque()
+        self._flusher: asyncio.Task[None] | None = None
+        loop.add_reader(sock.fileno(), self._readable)
+        self._watched = True
+
+    def _readable(self) -> None:
+        try:
+            data = self._recv(READ_SIZE)
+        except (BlockingIOError, InterruptedError):
+            return
+        except OSError as exc:
+            self._end(exc)
+            return
+        if data:
+            on_data = self.on_data
+            if on_data is not None:
+                on_data(data)
+            else:
+                self._keep(data)
+        else:
+            self._end(None)
+
+    def _stop_reading(self) -> None:
+        if self._watched:
+            self._watched = False
+            self._loop.remove_reader(self.sock.fileno())
+
+    def write(self, data: bytes) -> None:
+        """Send ``data`` (after any write still under way). A failed send ends the
+        connection from a callback of its own."""
+        if self._pending or self.closed or self._error is not None:
+            if self._flusher is not None:
+                self._pending.append(data)
+            return
+        try:
+            sent = self._send(data)
+        except (BlockingIOError, InterruptedError):
+            sent = 0
+        except OSError as exc:
+            self._error = exc  # later writes are dropped
+            self._loop.call_soon(self._end, exc)
+            return
+        if sent < len(data):
+            self._pending.append(data[sent:])
+            self._flusher = self._loop.create_task(self._flush())
+
+    async def _flush(self) -> None:
+        pending = self._pending
+        try:
+            while pending:
+                await self._loop.sock_sendall(self.sock, pending[0])
+                pending.popleft()
+        except OSError as exc:
+            pending.clear()
+            self._end(exc)
+        finally:
+            self._flusher = None
+
+    def close(self) -> None:
+        if self.closed:
+            return
+        self.on_data = self.on_end = None
+        self._stop_reading()
+        self.closed = True
+        flusher, self._flusher = self._flusher, None
+        if flusher is not None:
+            flusher.cancel()
+        self._pending.clear()
+        self.sock.close()
+        self._wake()
+
+
+class TransportChannel(Received, asyncio.Protocol, Channel):
+    """A channel over the loop's own stream transport, read as a buffered protocol."""
+
+    def __init__(self) -> None:
+        self._init_channel()
+        self.transport: asyncio.Transport | None = None
+
+    def connection_made(self, transport: asyncio.BaseTransport) -> None:
+        # a stream transport (uvloop's is not a subclass of asyncio.Transport)
+        self.transport = stream = cast(asyncio.Transport, transport)
+        self.write = stream.write  # type: ignore[method-assign]  # (a call less per write)
+
+    def buffer_updated(self, nbytes: int) -> None:
+        # Received.buffer_updated and data_received in one: one call less per read
+        data = bytes(_local.view[:nbytes])
+        on_data = self.on_data
+        if on_data is not None:
+            on_data(data)
+        else:
+            self._keep(data)
+
+    def data_received(self, data: bytes) -> None:  # (a transport reading unbuffered)
+        on_data = self.on_data
+        if on_data is not None:
+            on_data(data)
+        else:
+            self._keep(data)
+
+    def eof_received(self) -> bool:
+        self._end(None)
+        return False  # the transport closes itself
+
+    def connection_lost(self, exc: Exception | None) -> None:
+        if not self.closed:
+            self._end(exc if exc is not None else None)
+
+    def _stop_reading(self) -> None:
+        pass  # (the transport closes at the end; bytes after it are not read)
+
+    def close(self) -> None:
+        if self.closed:
+            return
+        self.on_data = self.on_end = None
+        self.closed = True
+        if self.transport is not None:
+            self.transport.abort()
+        self._wake()
+
+
+def own_sockets(loop: asyncio.AbstractEventLoop) -> bool:
+    """Whether :func:`open_channel` opens a :class:`SocketChannel` on ``loop`` (an asyncio
+    selector loop), not a :class:`TransportChannel`."""
+    return isinstance(loop, asyncio.SelectorEventLoop)
+
+
+def _literal(host: str, port: int) -> tuple[socket.AddressFamily, tuple[str, int]] | None:
+    """The address of an IPv4 ``host`` written as a number (nothing to resolve), else None."""
+    try:
+        ip = ipaddress.ip_address(host)
+    except ValueError:
+        return None
+    if ip.version == 4:
+        return socket.AF_INET, (host, port)
+    return None  # (IPv6: resolved, which also finds its scope)
+
+
+async def open_channel(host: str, port: int) -> Channel:
+    """A channel connected to ``host``:``port`` (each address ``host`` resolves to, in turn).
+
+    :raises OSError: no address could be connected (the error of the one tried, or of each).
+    """
+    loop = asyncio.get_running_loop()
+    if not own_sockets(loop):
+        _, channel = await loop.create_connection(TransportChannel, host, port)
+        return channel
+    literal = _literal(host, port)
+    if literal is not None:
+        targets: list[tuple[socket.AddressFamily, int, int, tuple[Any, ...]]] = [
+            (literal[0], socket.SOCK_STREAM, 0, literal[1])
+        ]
+    else:
+        infos = await loop.getaddrinfo(host, port, type=socket.SOCK_STREAM)
+        targets = [(family, kind, proto, address) for family, kind, proto, _, address in infos]
+        if not targets:
+            raise OSError(f"{host!r} resolves to no address")
+    errors: list[OSError] = []
+    for family, kind, proto, address in targets:
+        sock = socket.socket(family, kind, proto)
+        try:
+            sock.setblocking(False)
+            sock.setsockopt(socket.IPPROTO_TCP, socket.TCP_NODELAY, 1)
+            await loop.sock_connect(sock, address)
+        except OSError as exc:
+            sock.close()
+            errors.append(exc)
+            continue
+        except BaseException:
+            sock.close()
+            raise
+        return SocketChannel(sock, loop)
+    if len({str(exc) for exc in errors}) == 1:
+        raise errors[0]
+    raise OSError("; ".join(f"{exc}" for exc in errors))
