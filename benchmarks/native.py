@@ -14,8 +14,9 @@ ops ``native_*`` below), like the packed suite's. Subjects:
   pyfocas has ``read_macro`` and ``get_status_info`` but no ``cnc_rddynamic2``: it takes part
   in the status poll, not in the ``cnc_rddynamic2`` one;
 * ``asyncio_floor``: the least an asyncio client of these frames costs per call
-  (:class:`FloorProtocol`): one connection opened as pyfocas opens it, the call's request
-  frame built once, and per call one write and one future completed by the answer taken as a
+  (:class:`FloorProtocol`): one connection opened as pyfocas opens it and read and written as
+  the native client reads and writes its own (``focas_net.client._channel``), the call's
+  request frame built once, and per call one write and one future completed by the answer taken as a
   whole frame, nothing decoded. It is the bound the event loop itself sets on a sequential
   asyncio client, measured beside the others. In ``native_pipe64`` its 64 callers queue one
   block each and frames of up to ten leave one at a time (:class:`PipeFloorProtocol`): no
@@ -48,6 +49,7 @@ from benchmarks.report import FOCAS, Check, Results, Row, pairwise_ratios
 
 if TYPE_CHECKING:
     from benchmarks.run import Suite, WorkerProcess
+    from focas_net.client._channel import Channel
     from focas_net.native.calls import LibraryCall
 
 NATIVE: Final = "native_client"
@@ -195,10 +197,11 @@ class PyfocasConn:
 
 class FloorProtocol(asyncio.Protocol):
     """The asyncio floor's connection: each answer, taken as one whole frame (its 10-byte
-    header's length word), completes the one call waiting."""
+    header's length word), completes the one call waiting. It reads and writes through the
+    native client's own connections (:func:`_floor_connect`)."""
 
     def __init__(self) -> None:
-        self.transport: asyncio.Transport | None = None
+        self.transport: asyncio.Transport | Channel | None = None
         self.waiter: asyncio.Future[bytes] | None = None
         self.buffer = bytearray()
 
@@ -289,6 +292,18 @@ FLOOR_MAX_BLOCKS: Final = 10
 _FLOOR_HEAD: Final = struct.Struct(">IHHHH")
 
 
+async def _floor_connect(proto: FloorProtocol, host: str, port: int) -> Channel:
+    """``proto`` connected to ``host``:``port`` on the connection the native client would
+    open on this loop (its own socket on asyncio's selector loop, the loop's transport on
+    uvloop): the floor leaves out the client's work, not what its I/O costs."""
+    from focas_net.client._channel import open_channel
+
+    channel = await open_channel(host, port)
+    proto.transport = channel
+    channel.start(proto.data_received, proto.connection_lost)
+    return channel
+
+
 async def floor_pipe_run(
     host: str, port: int, call: str, callers: int, duration: float
 ) -> dict[str, float]:
@@ -296,8 +311,8 @@ async def floor_pipe_run(
     (:class:`PipeFloorProtocol`), as :func:`native_run` makes them."""
     from focas_net.native import CLIENT_VERSION
 
-    loop = asyncio.get_running_loop()
-    transport, proto = await loop.create_connection(PipeFloorProtocol, host, port)
+    proto = PipeFloorProtocol()
+    transport = await _floor_connect(proto, host, port)
     proto.version = CLIENT_VERSION
     try:
         library = await _floor_open(proto, call)
@@ -354,8 +369,8 @@ async def floor_run(host: str, port: int, call: str, duration: float) -> dict[st
     (outside the timed loop); the timed ones are not."""
     from focas_net.native import decode_frame, decode_response_body
 
-    loop = asyncio.get_running_loop()
-    transport, proto = await loop.create_connection(FloorProtocol, host, port)
+    proto = FloorProtocol()
+    transport = await _floor_connect(proto, host, port)
     try:
         library = await _floor_open(proto, call)
         (frame,) = library.encode()
