@@ -183,6 +183,12 @@ async def test_a_peer_sending_more_than_is_kept_ends_the_channel(kind: type[Chan
             with pytest.raises(ConnectionError, match="nobody asked for"):
                 await asyncio.wait_for(channel.readexactly(KEEP_LIMIT + 2), IO_TIMEOUT)
             assert channel.ended
+            kept = len(channel._kept)
+            writer.write(bytes(KEEP_LIMIT))
+            await writer.drain()
+            for _ in range(20):
+                await asyncio.sleep(0)
+            assert len(channel._kept) == kept  # nothing more is kept
         finally:
             channel.close()
 
@@ -247,6 +253,30 @@ async def test_a_failed_write_ends_the_channel_from_a_callback_of_its_own() -> N
             assert isinstance(heard.ends[0], BrokenPipeError)
             assert sent == [b"frame"]
         finally:
+            channel.close()
+
+
+async def test_a_handler_that_fails_ends_the_connection_and_is_reported() -> None:
+    async with peer() as p:
+        channel, _, writer = await _open(p)
+        assert isinstance(channel, SocketChannel)
+        loop = asyncio.get_running_loop()
+        reported: list[dict[str, object]] = []
+        loop.set_exception_handler(lambda loop, context: reported.append(context))
+        heard = Heard()
+
+        def fails(data: bytes) -> None:
+            raise KeyError("a bug")
+
+        try:
+            channel.start(fails, heard.on_end)
+            writer.write(b"x")
+            await wait_until(lambda: heard.ends)
+            assert isinstance(heard.ends[0], KeyError)
+            assert [type(c["exception"]) for c in reported] == [KeyError]
+            assert channel.ended
+        finally:
+            loop.set_exception_handler(None)
             channel.close()
 
 

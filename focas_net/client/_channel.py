@@ -74,6 +74,8 @@ class Channel:
         raise NotImplementedError
 
     def _keep(self, data: bytes) -> None:
+        if self.ended:
+            return  # (a transport may still read after the peer was taken as faulty)
         kept = self._kept
         kept += data
         if len(kept) > KEEP_LIMIT:
@@ -172,11 +174,19 @@ class SocketChannel(Channel):
         if data:
             on_data = self.on_data
             if on_data is not None:
-                on_data(data)
+                try:
+                    on_data(data)
+                except Exception as exc:  # as asyncio's transports treat their protocol's
+                    self._failed(exc, "the handler of a read failed")
             else:
                 self._keep(data)
         else:
             self._end(None)
+
+    def _failed(self, exc: Exception, message: str) -> None:
+        """``exc`` escaped a callback: it is reported to the loop and the connection ends."""
+        self._loop.call_exception_handler({"message": message, "exception": exc})
+        self._end(exc)
 
     def _stop_reading(self) -> None:
         if self._watched:
