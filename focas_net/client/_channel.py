@@ -160,6 +160,9 @@ class SocketChannel(Channel):
         #: frame: only a peer that stops reading makes one), and the task sending them.
         self._pending: deque[bytes] = deque()
         self._flusher: asyncio.Task[None] | None = None
+        #: A write is sent at once (False while one is under way, after a failed one, once
+        #: closed).
+        self._direct = True
         loop.add_reader(sock.fileno(), self._readable)
         self._watched = True
 
@@ -196,19 +199,21 @@ class SocketChannel(Channel):
     def write(self, data: bytes) -> None:
         """Send ``data`` (after any write still under way). A failed send ends the
         connection from a callback of its own."""
-        if self._pending or self.closed or self._error is not None:
+        if not self._direct:
             if self._flusher is not None:
                 self._pending.append(data)
-            return
+            return  # (closed or failed: dropped)
         try:
             sent = self._send(data)
         except (BlockingIOError, InterruptedError):
             sent = 0
         except OSError as exc:
-            self._error = exc  # later writes are dropped
+            self._direct = False  # later writes are dropped
+            self._error = exc
             self._loop.call_soon(self._end, exc)
             return
-        if sent < len(data):
+        if sent != len(data):
+            self._direct = False
             self._pending.append(data[sent:])
             self._flusher = self._loop.create_task(self._flush())
 
@@ -220,7 +225,10 @@ class SocketChannel(Channel):
                 pending.popleft()
         except OSError as exc:
             pending.clear()
+            self._error = exc
             self._end(exc)
+        else:
+            self._direct = not self.closed
         finally:
             self._flusher = None
 
@@ -230,6 +238,7 @@ class SocketChannel(Channel):
         self.on_data = self.on_end = None
         self._stop_reading()
         self.closed = True
+        self._direct = False
         flusher, self._flusher = self._flusher, None
         if flusher is not None:
             flusher.cancel()
