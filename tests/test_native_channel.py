@@ -383,3 +383,27 @@ def test_the_native_client_on_uvloop_reconnects_after_the_connection_is_lost() -
                 await native.read_macro(100)
 
     _on_uvloop(main)
+
+
+async def test_a_call_whose_frame_cannot_be_sent_fails_and_the_next_reconnects() -> None:
+    # The socket refuses the frame (the kernel says the connection is gone): the call fails
+    # as for any lost connection, never hangs, and the reconnect policy opens a new pair.
+    policy = ReconnectPolicy(initial_delay=0.01, max_delay=0.05, max_attempts=200)
+    async with serving() as served:
+        served.machine.write_macro(100, 4)
+        async with NativeClient(
+            served.host, served.port, timeout=IO_TIMEOUT, reconnect=policy
+        ) as native:
+            assert await native.read_macro(100) == Decimal(4)
+            handle = native._handle
+            assert handle is not None
+            assert isinstance(handle.b, SocketChannel)
+
+            def refused(data: object, flags: int = 0) -> int:
+                raise ConnectionResetError("connection reset by peer")
+
+            handle.b._send = refused
+            with pytest.raises(FocasConnectionError, match="lost after the request was sent"):
+                await asyncio.wait_for(native.read_macro(100), IO_TIMEOUT)
+            await wait_until(lambda: native._handle not in (None, handle))
+            assert await native.read_macro(100) == Decimal(4)
