@@ -6,10 +6,12 @@ tried; and the native client on uvloop, where it uses the loop's transports."""
 from __future__ import annotations
 
 import asyncio
+import errno
 import socket
 from collections.abc import AsyncIterator, Callable
 from contextlib import asynccontextmanager
 from decimal import Decimal
+from typing import Any
 
 import pytest
 from support import IO_TIMEOUT, serving, wait_until
@@ -324,6 +326,82 @@ async def test_a_name_is_resolved_and_each_address_tried(kind: type[Channel]) ->
             await p.conn()
         finally:
             channel.close()
+
+
+async def test_an_address_family_the_kernel_has_not_is_passed_over(
+    monkeypatch: pytest.MonkeyPatch,
+) -> None:
+    # A name resolving to ::1 first on a kernel without IPv6: 127.0.0.1 is tried next, as
+    # asyncio's own create_connection does.
+    class NoIPv6(socket.socket):
+        def __init__(self, family: int = -1, *args: Any, **kwargs: Any) -> None:
+            if family == socket.AF_INET6:
+                raise OSError(errno.EAFNOSUPPORT, "Address family not supported by protocol")
+            super().__init__(family, *args, **kwargs)
+
+    async with peer() as p:
+        loop = asyncio.get_running_loop()
+
+        async def resolve(host: str, port: int, **kwargs: Any) -> list[Any]:
+            assert host == "cnc.example"
+            return [
+                (socket.AF_INET6, socket.SOCK_STREAM, 6, "", ("::1", port, 0, 0)),
+                (socket.AF_INET, socket.SOCK_STREAM, 6, "", ("127.0.0.1", port)),
+            ]
+
+        monkeypatch.setattr(loop, "getaddrinfo", resolve)
+        monkeypatch.setattr(socket, "socket", NoIPv6)
+        channel = await asyncio.wait_for(open_channel("cnc.example", p.port), IO_TIMEOUT)
+        monkeypatch.undo()
+        try:
+            await p.conn()
+        finally:
+            channel.close()
+
+
+async def test_a_connection_made_right_after_closing_one_mid_write_works() -> None:
+    # Closing a channel whose flushing task is sending: a socket made in the same step gets
+    # the same fd number, and the closed one's watch must not linger over it.
+    accepted: list[socket.socket] = []
+    with socket.socket() as listener:
+        listener.setsockopt(socket.SOL_SOCKET, socket.SO_RCVBUF, 4096)
+        listener.bind(("127.0.0.1", 0))
+        listener.listen(4)
+        listener.setblocking(False)
+        port = listener.getsockname()[1]
+        loop = asyncio.get_running_loop()
+        first = await asyncio.wait_for(open_channel("127.0.0.1", port), IO_TIMEOUT)
+        assert isinstance(first, SocketChannel)
+        conn, _ = await asyncio.wait_for(loop.sock_accept(listener), IO_TIMEOUT)
+        accepted.append(conn)  # never read
+        try:
+            first.sock.setsockopt(socket.SOL_SOCKET, socket.SO_SNDBUF, 4096)
+            first.write(bytes(8 * 1024 * 1024))
+            assert first._flusher is not None
+            await asyncio.sleep(0)  # the flushing task's first step: its send waits
+            assert first._flusher is not None and not first._flusher.done()
+            fd = first.sock.fileno()
+            first.close()
+            async with asyncio.timeout(IO_TIMEOUT):  # (in this task: no loop turn between)
+                second = await open_channel("127.0.0.1", port)
+            try:
+                assert isinstance(second, SocketChannel)
+                assert second.sock.fileno() == fd  # (the case this guards)
+                conn, _ = await asyncio.wait_for(loop.sock_accept(listener), IO_TIMEOUT)
+                accepted.append(conn)
+                conn.setblocking(False)
+                heard = Heard()
+                second.start(heard.on_data, heard.on_end)
+                await loop.sock_sendall(conn, b"hello")
+                await wait_until(lambda: heard.data == b"hello")
+                second.write(b"back")
+                got = await asyncio.wait_for(loop.sock_recv(conn, 4), IO_TIMEOUT)
+                assert got == b"back"
+            finally:
+                second.close()
+        finally:
+            for c in accepted:
+                c.close()
 
 
 async def test_nothing_listening_raises_oserror_naming_the_address(kind: type[Channel]) -> None:

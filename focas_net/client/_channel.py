@@ -242,6 +242,9 @@ class SocketChannel(Channel):
         flusher, self._flusher = self._flusher, None
         if flusher is not None:
             flusher.cancel()
+            # Its send's watch of the socket goes now, not a loop turn later: a socket made
+            # before then may get the same fd number, whose watch that would remove.
+            self._loop.remove_writer(self.sock.fileno())
         self._pending.clear()
         self.sock.close()
         self._wake()
@@ -334,7 +337,11 @@ async def open_channel(host: str, port: int) -> Channel:
             raise OSError(f"{host!r} resolves to no address")
     errors: list[OSError] = []
     for family, kind, proto, address in targets:
-        sock = socket.socket(family, kind, proto)
+        try:
+            sock = socket.socket(family, kind, proto)
+        except OSError as exc:  # (a family the kernel does not have: the next address)
+            errors.append(exc)
+            continue
         try:
             sock.setblocking(False)
             sock.setsockopt(socket.IPPROTO_TCP, socket.TCP_NODELAY, 1)
