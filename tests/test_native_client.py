@@ -490,6 +490,9 @@ class NativePeer(LoopbackPeer):
         self.connections = 0
         #: A command after whose answer the connection is closed.
         self.close_after: int | None = None
+        #: How many of the next connections send a byte nobody asked for, with the answer to
+        #: the connect-time system information.
+        self.stray = 0
 
     def _answer(self, block: RequestBlock) -> ResponseBlock:
         if block.command == NativeCommand.RDMACRO:
@@ -521,6 +524,9 @@ class NativePeer(LoopbackPeer):
                             if self.hold:
                                 self.held.append((writer, answer))
                                 continue
+                        if self.stray and blocks[0].command == NativeCommand.SYSINFO:
+                            self.stray -= 1
+                            answer += b"\x00"  # in the same write: read with the answer
                         writer.write(answer)
                         if any(b.command == self.close_after for b in blocks):
                             await writer.drain()
@@ -542,6 +548,29 @@ class NativePeer(LoopbackPeer):
             if not writer.is_closing():
                 writer.write(answer)
         self.held.clear()
+
+
+async def test_a_reconnect_whose_connection_is_lost_as_it_is_installed_goes_on() -> None:
+    # B sends a byte nobody asked for with its connect-time answer: the new pair is lost as
+    # soon as it is installed, and the reconnect tries again rather than giving up.
+    policy = ReconnectPolicy(initial_delay=0.01, max_delay=0.05, jitter=0)
+    async with NativePeer() as peer:
+        async with NativeClient(
+            "127.0.0.1", peer.port, timeout=IO_TIMEOUT, reconnect=policy
+        ) as native:
+            assert await native.read_macro(5) == 5
+            peer.stray = 2
+            peer.hold = True
+            call = asyncio.ensure_future(native.read_macro(1))
+            await wait_until(lambda: peer.data_frames == 2)
+            peer.hold = False
+            peer.drop()
+            with pytest.raises(FocasConnectionError):
+                await asyncio.wait_for(call, IO_TIMEOUT)
+            assert await native.read_macro(2) == 2
+            assert peer.stray == 0
+            assert peer.connections == 8  # A and B, four times
+            assert native.state is ClientState.CONNECTED
 
 
 async def test_a_late_answer_never_reaches_another_call() -> None:

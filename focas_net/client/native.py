@@ -839,7 +839,9 @@ class NativeClient(_Lifecycle):
             logger.debug("reconnect attempt %d to %s:%s: %s", attempt, self.host, self.port, exc)
             return False
         self._install(handle)
-        return True
+        # (lost again while installed, for bytes nobody asked for or the end of B: the next
+        # attempt follows)
+        return self._handle is handle
 
     def _linked(self) -> bool:
         return self._handle is not None
