@@ -104,7 +104,8 @@ class Channel:
             self._wake()
 
     def _stop_reading(self) -> None:
-        """Read nothing more from the connection."""
+        """Read nothing more from the connection (a transport closes itself at the end, and
+        bytes after the peer was taken as faulty are not kept)."""
 
     async def readexactly(self, n: int) -> bytes:
         """The next ``n`` bytes read (before :meth:`start` or after :meth:`stop`).
@@ -179,17 +180,15 @@ class SocketChannel(Channel):
             if on_data is not None:
                 try:
                     on_data(data)
-                except Exception as exc:  # as asyncio's transports treat their protocol's
-                    self._failed(exc, "the handler of a read failed")
+                except Exception as exc:  # reported, and the end, as by asyncio's transports
+                    self._loop.call_exception_handler(
+                        {"message": "the handler of a read failed", "exception": exc}
+                    )
+                    self._end(exc)
             else:
                 self._keep(data)
         else:
             self._end(None)
-
-    def _failed(self, exc: Exception, message: str) -> None:
-        """``exc`` escaped a callback: it is reported to the loop and the connection ends."""
-        self._loop.call_exception_handler({"message": message, "exception": exc})
-        self._end(exc)
 
     def _stop_reading(self) -> None:
         if self._watched:
@@ -225,7 +224,6 @@ class SocketChannel(Channel):
                 pending.popleft()
         except OSError as exc:
             pending.clear()
-            self._error = exc
             self._end(exc)
         else:
             self._direct = not self.closed
@@ -284,10 +282,7 @@ class TransportChannel(Received, asyncio.Protocol, Channel):
 
     def connection_lost(self, exc: Exception | None) -> None:
         if not self.closed:
-            self._end(exc if exc is not None else None)
-
-    def _stop_reading(self) -> None:
-        pass  # (the transport closes at the end; bytes after it are not read)
+            self._end(exc)
 
     def close(self) -> None:
         if self.closed:
@@ -305,14 +300,19 @@ def own_sockets(loop: asyncio.AbstractEventLoop) -> bool:
     return isinstance(loop, asyncio.SelectorEventLoop)
 
 
-def _literal(host: str, port: int) -> tuple[socket.AddressFamily, tuple[str, int]] | None:
-    """The address of an IPv4 ``host`` written as a number (nothing to resolve), else None."""
+#: Where to connect: family, socket type, protocol, address (what ``getaddrinfo`` gives).
+_Target = tuple[socket.AddressFamily, int, int, tuple[Any, ...]]
+
+
+def _literal(host: str, port: int) -> _Target | None:
+    """Where to connect for an IPv4 ``host`` written as a number (nothing to resolve), else
+    None."""
     try:
         ip = ipaddress.ip_address(host)
     except ValueError:
         return None
     if ip.version == 4:
-        return socket.AF_INET, (host, port)
+        return socket.AF_INET, socket.SOCK_STREAM, 0, (host, port)
     return None  # (IPv6: resolved, which also finds its scope)
 
 
@@ -326,10 +326,9 @@ async def open_channel(host: str, port: int) -> Channel:
         _, channel = await loop.create_connection(TransportChannel, host, port)
         return channel
     literal = _literal(host, port)
+    targets: list[_Target]
     if literal is not None:
-        targets: list[tuple[socket.AddressFamily, int, int, tuple[Any, ...]]] = [
-            (literal[0], socket.SOCK_STREAM, 0, literal[1])
-        ]
+        targets = [literal]
     else:
         infos = await loop.getaddrinfo(host, port, type=socket.SOCK_STREAM)
         targets = [(family, kind, proto, address) for family, kind, proto, _, address in infos]
