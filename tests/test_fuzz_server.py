@@ -11,7 +11,8 @@ properties:
 * only a connection that breaks framing (a length prefix outside ``4..max_frame``) is closed,
   and it is closed after the answers to the frames before the violation;
 * the machine's state (``Machine.state_digest``) changes only through a write or control
-  command that answered ``EW_OK``.
+  command that answered ``EW_OK``. The machine's time stands still (a ``ManualClock`` nobody
+  steps), so a program a cycle start set running does not move between two reads.
 
 The frame oracle here is written from docs/protocol.md section 1, not taken from the decoder under
 test. The default run fuzzes about 10,000 frames; the ``slow`` variants many more
@@ -37,21 +38,30 @@ from support import IO_TIMEOUT, Served, Wire, ew_of, serving
 
 from focas_net.errors import EW, PayloadError
 from focas_net.protocol import COMMANDS, Command, encode_ew, encode_frame
+from focas_net.sim import default_machine
+from focas_net.sim.nc import ManualClock
 
 MAX_FRAME: Final = 65_536
 INJECT_FAULT: Final = int(Command.SIM_INJECT_FAULT)
-#: Commands that change machine state: the writes and the simulator control commands.
+#: Commands that change machine state: the writes, the program store and the simulator
+#: control commands.
 STATE_CHANGING: Final = frozenset(
     int(c)
     for c in (
         Command.WRPARAM,
         Command.WRMACRO,
         Command.WRPMCRNG,
+        Command.WRPROGRAM,
+        Command.DELPROGRAM,
+        Command.SELPROGRAM,
         Command.SIM_SET_PANEL,
         Command.SIM_RAISE_ALARM,
         Command.SIM_CLEAR_ALARMS,
         Command.SIM_SET_PMC,
         Command.SIM_INJECT_FAULT,
+        Command.SIM_VACATE_MACRO,
+        Command.SIM_CYCLE,
+        Command.SIM_SET_OVERRIDES,
     )
 )
 EW_FUNC_BYTES: Final = encode_ew(EW.FUNC)
@@ -103,7 +113,7 @@ def errors() -> Iterator[ErrorLog]:
 
 @pytest.fixture
 async def fuzz_server() -> AsyncIterator[Served]:
-    async with serving(max_frame=MAX_FRAME) as served:
+    async with serving(default_machine(sim_clock=ManualClock()), max_frame=MAX_FRAME) as served:
         yield served
         await assert_still_serving(served)
 
