@@ -515,12 +515,15 @@ async def native_run(
     from focas_net.client import NativeClient
 
     async with NativeClient(host, port, timeout=10.0) as client:
-        fn: Callable[[], Any] = (
-            (lambda: client.read_macro(MACRO)) if call == "read_macro" else client.read_status
+        # called as the floor's callers call it: the method and its arguments, no wrapper
+        fn: Callable[..., Awaitable[object]]
+        args: tuple[int, ...]
+        fn, args = (
+            (client.read_macro, (MACRO,)) if call == "read_macro" else (client.read_status, ())
         )
-        await fn()
+        await fn(*args)
         frames = client.frames_sent
-        result = await _callers_timed(callers, duration, fn)
+        result = await _callers_timed(callers, duration, fn, *args)
         result["frames"] = client.frames_sent - frames
     return result
 
