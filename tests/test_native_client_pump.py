@@ -138,3 +138,20 @@ async def test_an_answer_in_pieces_reaches_its_call() -> None:
             peer.split = 0
             assert await native.read_macro(6) == 6
             assert native.state is ClientState.CONNECTED
+
+
+async def test_an_answer_seen_before_reaches_its_call_whole_in_pieces_and_followed() -> None:
+    # The same answer bytes, for the same call, arrive whole (known by then), in pieces
+    # (no piece is a whole answer), then followed by a byte nobody asked for.
+    async with _TrailingPeer() as peer:
+        async with NativeClient("127.0.0.1", peer.port, timeout=IO_TIMEOUT) as native:
+            assert [await native.read_macro(5) for _ in range(3)] == [5, 5, 5]
+            peer.split = 3
+            assert await native.read_macro(5) == 5
+            peer.split = 0
+            assert await native.read_macro(5) == 5
+            assert native.state is ClientState.CONNECTED
+            peer.trailing = b"\xa0"
+            assert await native.read_macro(5) == 5
+            await wait_until(lambda: native.state is ClientState.DISCONNECTED)
+            assert peer.macro_frames == 6

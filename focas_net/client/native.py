@@ -1151,30 +1151,32 @@ class NativeClient(_Lifecycle):
         """B's bytes: complete the frame in flight with its answer, then send the next one.
         Bytes while no frame is in flight are what nobody asked for: the connection ends."""
         rx = handle.rx
-        if not rx and handle.inflight is not None and len(data) >= NATIVE_HEADER_SIZE:
-            # the usual case: the whole answer in one read, nothing held
-            magic, _, _, length = NATIVE_HEADER.unpack_from(data)
-            if magic == _MAGIC and len(data) == NATIVE_HEADER_SIZE + length:
-                batch = handle.inflight
-                if len(batch) == 1 and not self._queue:
-                    # A lone call answered with nothing queued (a sequential caller): its
-                    # blocks are the answer's, known if it came before (else _complete).
-                    blocks = _FRAMES.get((data, handle.inflight_blocks))
-                    if blocks is not None:
-                        handle.inflight = None
-                        job = batch[0]
-                        task = job.task
-                        self._direct = _NOBODY if task is None else task
-                        future = job.future
-                        if not future.done():
-                            future.set_result(blocks)
-                        return
-                self._complete(handle, data, send_next=True)
-                # (a lone call answered with nothing queued: its caller sends its next call
-                # itself, so there is nothing to kick)
-                if handle is self._handle and (self._queue or self._direct is None):
-                    self._next(handle)
-                return
+        batch = handle.inflight
+        if not rx and batch is not None:
+            if len(batch) == 1 and not self._queue:
+                # A lone call answered with nothing queued (a sequential caller): bytes that
+                # are a whole answer that came before for as many blocks (only whole, checked
+                # answers are kept) are its answer, and their blocks its blocks.
+                blocks = _FRAMES.get((data, handle.inflight_blocks))
+                if blocks is not None:
+                    handle.inflight = None
+                    job = batch[0]
+                    task = job.task
+                    self._direct = _NOBODY if task is None else task
+                    future = job.future
+                    if not future.done():
+                        future.set_result(blocks)
+                    return
+            if len(data) >= NATIVE_HEADER_SIZE:
+                # the usual case: the whole answer in one read, nothing held
+                magic, _, _, length = NATIVE_HEADER.unpack_from(data)
+                if magic == _MAGIC and len(data) == NATIVE_HEADER_SIZE + length:
+                    self._complete(handle, data, send_next=True)
+                    # (a lone call answered with nothing queued: its caller sends its next
+                    # call itself, so there is nothing to kick)
+                    if handle is self._handle and (self._queue or self._direct is None):
+                        self._next(handle)
+                    return
         rx += data
         while len(rx) >= NATIVE_HEADER_SIZE:
             magic, _, _, length = NATIVE_HEADER.unpack_from(rx)
