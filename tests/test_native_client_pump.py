@@ -150,7 +150,8 @@ async def test_an_answer_seen_before_reaches_its_call_whole_in_pieces_and_follow
             assert await native.read_macro(5) == 5
             peer.split = 0
             assert await native.read_macro(5) == 5
-            assert native.state is ClientState.CONNECTED
+            state_then: ClientState = native.state
+            assert state_then is ClientState.CONNECTED
             peer.trailing = b"\xa0"
             assert await native.read_macro(5) == 5
             await wait_until(lambda: native.state is ClientState.DISCONNECTED)
