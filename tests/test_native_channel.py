@@ -11,7 +11,7 @@ import socket
 from collections.abc import AsyncIterator, Callable
 from contextlib import asynccontextmanager
 from decimal import Decimal
-from typing import Any
+from typing import Any, Final, TypeVar
 
 import pytest
 from support import IO_TIMEOUT, serving, wait_until
@@ -24,7 +24,7 @@ from focas_net.client._channel import (
     TransportChannel,
     open_channel,
 )
-from focas_net.client.native import NativeClient
+from focas_net.client.native import NativeClient, _Handle
 from focas_net.errors import FocasConnectionError
 
 
@@ -415,6 +415,21 @@ async def test_nothing_listening_raises_oserror_naming_the_address(kind: type[Ch
 # -- the native client on uvloop ------------------------------------------------------------------
 
 
+_C = TypeVar("_C", bound=Channel)
+
+#: A reconnect that follows a lost connection at once.
+_PROMPT: Final = ReconnectPolicy(initial_delay=0.01, max_delay=0.05, max_attempts=200)
+
+
+def _open_pair(native: NativeClient, kind: type[_C]) -> tuple[_Handle, _C]:
+    """``native``'s open connection pair and its B, which is a ``kind`` exactly."""
+    handle = native._handle
+    assert handle is not None
+    b = handle.b
+    assert type(b) is kind and isinstance(b, kind)
+    return handle, b
+
+
 def _on_uvloop(main: Callable[[], object]) -> None:
     uvloop = pytest.importorskip("uvloop")
     with asyncio.Runner(loop_factory=uvloop.new_event_loop) as runner:
@@ -427,9 +442,7 @@ def test_the_native_client_on_uvloop_uses_its_transports() -> None:
         async with serving() as served:
             served.machine.write_macro(100, 7)
             async with NativeClient(served.host, served.port, timeout=IO_TIMEOUT) as native:
-                handle = native._handle
-                assert handle is not None
-                assert type(handle.b) is TransportChannel
+                _open_pair(native, TransportChannel)
                 assert [await native.read_macro(100) for _ in range(3)] == [Decimal(7)] * 3
                 frames = native.frames_sent
                 got = await asyncio.gather(*(native.read_macro(100) for _ in range(25)))
@@ -443,18 +456,15 @@ def test_the_native_client_on_uvloop_uses_its_transports() -> None:
 
 def test_the_native_client_on_uvloop_reconnects_after_the_connection_is_lost() -> None:
     async def main() -> None:
-        policy = ReconnectPolicy(initial_delay=0.01, max_delay=0.05, max_attempts=200)
         async with serving() as served:
             served.machine.write_macro(100, 3)
             async with NativeClient(
-                served.host, served.port, timeout=IO_TIMEOUT, reconnect=policy
+                served.host, served.port, timeout=IO_TIMEOUT, reconnect=_PROMPT
             ) as native:
                 assert await native.read_macro(100) == Decimal(3)
-                handle = native._handle
-                assert handle is not None
-                assert isinstance(handle.b, TransportChannel)
-                assert handle.b.transport is not None
-                handle.b.transport.abort()  # the connection drops
+                handle, b = _open_pair(native, TransportChannel)
+                assert b.transport is not None
+                b.transport.abort()  # the connection drops
                 await wait_until(lambda: native._handle not in (None, handle))
                 assert await native.read_macro(100) == Decimal(3)
             with pytest.raises(FocasConnectionError):
@@ -466,21 +476,18 @@ def test_the_native_client_on_uvloop_reconnects_after_the_connection_is_lost() -
 async def test_a_call_whose_frame_cannot_be_sent_fails_and_the_next_reconnects() -> None:
     # The socket refuses the frame (the kernel says the connection is gone): the call fails
     # as for any lost connection, never hangs, and the reconnect policy opens a new pair.
-    policy = ReconnectPolicy(initial_delay=0.01, max_delay=0.05, max_attempts=200)
     async with serving() as served:
         served.machine.write_macro(100, 4)
         async with NativeClient(
-            served.host, served.port, timeout=IO_TIMEOUT, reconnect=policy
+            served.host, served.port, timeout=IO_TIMEOUT, reconnect=_PROMPT
         ) as native:
             assert await native.read_macro(100) == Decimal(4)
-            handle = native._handle
-            assert handle is not None
-            assert isinstance(handle.b, SocketChannel)
+            handle, b = _open_pair(native, SocketChannel)
 
             def refused(data: object, flags: int = 0) -> int:
                 raise ConnectionResetError("connection reset by peer")
 
-            handle.b._send = refused
+            b._send = refused
             with pytest.raises(FocasConnectionError, match="lost after the request was sent"):
                 await asyncio.wait_for(native.read_macro(100), IO_TIMEOUT)
             await wait_until(lambda: native._handle not in (None, handle))

@@ -71,6 +71,15 @@ class Channel:
     def close(self) -> None:
         """Close the connection now: nothing more is read or written (writes still queued are
         dropped); the end is not told."""
+        if self.closed:
+            return
+        self.on_data = self.on_end = None
+        self.closed = True
+        self._shut()
+        self._wake()
+
+    def _shut(self) -> None:
+        """Close the connection itself (:meth:`close`, once)."""
         raise NotImplementedError
 
     def _keep(self, data: bytes) -> None:
@@ -230,12 +239,8 @@ class SocketChannel(Channel):
         finally:
             self._flusher = None
 
-    def close(self) -> None:
-        if self.closed:
-            return
-        self.on_data = self.on_end = None
+    def _shut(self) -> None:
         self._stop_reading()
-        self.closed = True
         self._direct = False
         flusher, self._flusher = self._flusher, None
         if flusher is not None:
@@ -245,7 +250,6 @@ class SocketChannel(Channel):
             self._loop.remove_writer(self.sock.fileno())
         self._pending.clear()
         self.sock.close()
-        self._wake()
 
 
 class TransportChannel(Received, asyncio.Protocol, Channel):
@@ -284,14 +288,9 @@ class TransportChannel(Received, asyncio.Protocol, Channel):
         if not self.closed:
             self._end(exc)
 
-    def close(self) -> None:
-        if self.closed:
-            return
-        self.on_data = self.on_end = None
-        self.closed = True
+    def _shut(self) -> None:
         if self.transport is not None:
             self.transport.abort()
-        self._wake()
 
 
 def own_sockets(loop: asyncio.AbstractEventLoop) -> bool:
