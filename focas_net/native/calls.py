@@ -12,9 +12,12 @@ class" up to version 2, "30i class" from version 3 (see :mod:`.opening`).
 from __future__ import annotations
 
 import enum
-from collections.abc import Sequence
-from dataclasses import dataclass
-from typing import Final
+import functools
+from collections.abc import Callable, Sequence
+from dataclasses import dataclass, field
+from typing import Final, ParamSpec
+
+from focas_net._memo import Memo
 
 from .blocks import RequestBlock, encode_request
 from .programs import (
@@ -63,6 +66,7 @@ from .requests import (
     TimerRequest,
     TmModeRequest,
 )
+from .session import Part, encode_part
 
 __all__ = [
     "ALARM_HISTORY_CHUNK",
@@ -94,10 +98,20 @@ class CommandSet(enum.Enum):
 
 @dataclass(frozen=True, slots=True)
 class LibraryCall:
-    """One call of a FOCAS function: its name and the requests of each frame it sends."""
+    """One call of a FOCAS function: its name, the requests of each frame it sends and, for a
+    client, those frames' blocks encoded (one :class:`~focas_net.native.session.Part` per
+    frame, path 1).
+
+    :raises ValueError: a request whose fields do not fit its block (made with arguments the
+        wire cannot carry).
+    """
 
     function: str
     frames: tuple[tuple[NativeRequest, ...], ...]
+    parts: tuple[Part, ...] = field(init=False, repr=False, compare=False)
+
+    def __post_init__(self) -> None:
+        object.__setattr__(self, "parts", tuple(encode_part(frame) for frame in self.frames))
 
     def blocks(self, path: int = 1) -> tuple[tuple[RequestBlock, ...], ...]:
         """The request blocks of each frame."""
@@ -112,12 +126,39 @@ def _one(function: str, *requests: NativeRequest) -> LibraryCall:
     return LibraryCall(function, (tuple(requests),))
 
 
+_P = ParamSpec("_P")
+#: Most calls each function keeps built.
+_MEMO_SIZE: Final = 1024
+
+
+def _memoized(build: Callable[_P, LibraryCall]) -> Callable[_P, LibraryCall]:
+    """``build``, each call made once for equal arguments (kept by their values, bounded): a
+    poll that repeats a call encodes its frames once. Unhashable arguments (a list of PMC
+    values) are built each time."""
+    memo = Memo(_MEMO_SIZE)
+
+    @functools.wraps(build)
+    def cached(*args: _P.args, **kwargs: _P.kwargs) -> LibraryCall:
+        key = (args, tuple(kwargs.items())) if kwargs else args
+        try:
+            known: LibraryCall | None = memo.get(key)
+        except TypeError:
+            return build(*args, **kwargs)
+        if known is None:
+            known = build(*args, **kwargs)
+            memo.put(key, known)
+        return known
+
+    return cached
+
+
 _16I: Final = CommandSet.FS16I
 
 
 # -- connection ---------------------------------------------------------------------------------
 
 
+@_memoized
 def cnc_allclibhndl3(cs: CommandSet, paths: int = 1) -> LibraryCall:
     """The data requests of the connect: one 0x18 block per path present (path i + 1), then at
     16i class parameter 9968 (option bits; not with open-answer kind 2 or 3) [V]."""
@@ -130,31 +171,37 @@ def cnc_allclibhndl3(cs: CommandSet, paths: int = 1) -> LibraryCall:
 # -- status, programs, alarms ------------------------------------------------------------------
 
 
+@_memoized
 def cnc_statinfo(cs: CommandSet) -> LibraryCall:
     """0x19, 0xE1, 0x98 in one frame [V]."""
     return _one("cnc_statinfo", StatInfoRequest(), HdckRequest(), TmModeRequest())
 
 
+@_memoized
 def cnc_alarm(cs: CommandSet) -> LibraryCall:
     """0x1A [V]."""
     return _one("cnc_alarm", AlarmStatusRequest())
 
 
+@_memoized
 def cnc_alarm2(cs: CommandSet) -> LibraryCall:
     """0x1A [V]."""
     return _one("cnc_alarm2", AlarmStatusRequest())
 
 
+@_memoized
 def cnc_rdalmmsg(cs: CommandSet, alarm_type: int, count: int) -> LibraryCall:
     """0x23 ``(type, count, 2, 32)`` [V]."""
     return _one("cnc_rdalmmsg", AlarmMessageRequest(alarm_type, count, 2, 32))
 
 
+@_memoized
 def cnc_rdalmmsg2(cs: CommandSet, alarm_type: int, count: int) -> LibraryCall:
     """0x23 ``(type, count, 2, 64)`` [V]."""
     return _one("cnc_rdalmmsg2", AlarmMessageRequest(alarm_type, count, 2, 64))
 
 
+@_memoized
 def cnc_rdalmhistry(cs: CommandSet, first: int, last: int) -> LibraryCall:
     """0x6C ``(s, s + k - 1, 1)``, one frame per chunk of at most 23 records, up to ``last``
     [V]. The library stops early, quietly, when a chunk after the first answers EW_NUMBER."""
@@ -165,31 +212,37 @@ def cnc_rdalmhistry(cs: CommandSet, first: int, last: int) -> LibraryCall:
     return LibraryCall("cnc_rdalmhistry", tuple(frames))
 
 
+@_memoized
 def cnc_rdprgnum(cs: CommandSet) -> LibraryCall:
     """0x1C [V]."""
     return _one("cnc_rdprgnum", ProgramNumberRequest())
 
 
+@_memoized
 def cnc_rdprgnumo8(cs: CommandSet) -> LibraryCall:
     """0x1C [V]."""
     return _one("cnc_rdprgnumo8", ProgramNumberRequest())
 
 
+@_memoized
 def cnc_exeprgname(cs: CommandSet) -> LibraryCall:
     """0xCF [V]."""
     return _one("cnc_exeprgname", ExecutingProgramRequest())
 
 
+@_memoized
 def cnc_rdseqnum(cs: CommandSet) -> LibraryCall:
     """0x1D [V]."""
     return _one("cnc_rdseqnum", SequenceNumberRequest())
 
 
+@_memoized
 def cnc_rdcncid(cs: CommandSet) -> LibraryCall:
     """0xE8 [V]."""
     return _one("cnc_rdcncid", CncIdRequest())
 
 
+@_memoized
 def cnc_rdtimer(cs: CommandSet, timer_type: int) -> LibraryCall:
     """0x120 ``(type)`` [V]."""
     return _one("cnc_rdtimer", TimerRequest(timer_type))
@@ -200,37 +253,44 @@ def cnc_rdtimer(cs: CommandSet, timer_type: int) -> LibraryCall:
 # first connection (focas_net.native.programs), not data requests.
 
 
+@_memoized
 def cnc_rdprogdir2(cs: CommandSet, kind: int, top: int, count: int) -> LibraryCall:
     """0x06 ``(top, count, type)`` [V: types 0, 1, 2]."""
     return _one("cnc_rdprogdir2", ProgramDirRequest(top, count, kind))
 
 
+@_memoized
 def cnc_rdprogdir3(cs: CommandSet, kind: int, top: int, count: int) -> LibraryCall:
     """0x06 ``(top, count, type)``, type 2 (with the dates) sent as 3 [V: types 1, 2]."""
     return _one("cnc_rdprogdir3", ProgramDirRequest(top, count, 3 if kind == 2 else kind))
 
 
+@_memoized
 def cnc_rdprogdir(cs: CommandSet, kind: int, start: int) -> LibraryCall:
     """0x06 ``(start, 19, type)``, one page: the library asks 19 entries a frame and sends
     the next page from the last number + 1 until a page has no entry [V]."""
     return _one("cnc_rdprogdir", ProgramDirRequest(start, 19, kind))
 
 
+@_memoized
 def cnc_rdproginfo(cs: CommandSet) -> LibraryCall:
     """0x07, no arguments, for either type [V]."""
     return _one("cnc_rdproginfo", ProgramMemoryRequest())
 
 
+@_memoized
 def cnc_delete(cs: CommandSet, number: int) -> LibraryCall:
     """0x05 ``(number)`` [V]."""
     return _one("cnc_delete", ProgramDeleteRequest(number))
 
 
+@_memoized
 def cnc_search(cs: CommandSet, number: int) -> LibraryCall:
     """0x03 ``(number)`` [V]."""
     return _one("cnc_search", ProgramSearchRequest(number))
 
 
+@_memoized
 def cnc_rdexecprog(cs: CommandSet, length: int) -> LibraryCall:
     """0x20 ``(length)`` [V]."""
     return _one("cnc_rdexecprog", ExecutingBlocksRequest(length))
@@ -239,22 +299,26 @@ def cnc_rdexecprog(cs: CommandSet, length: int) -> LibraryCall:
 # -- macro variables ---------------------------------------------------------------------------
 
 
+@_memoized
 def cnc_rdmacro(cs: CommandSet, number: int) -> LibraryCall:
     """0x15 ``(n, n)`` [V]."""
     return _one("cnc_rdmacro", MacroReadRequest(number, number))
 
 
+@_memoized
 def cnc_wrmacro(cs: CommandSet, number: int, mcr_val: int, dec_val: int) -> LibraryCall:
     """0x16 ``(n, n, 0, 0, 8)`` + a binary record at 16i class, a base-10 one at 30i [V]."""
     value = ScaledNumber.from_macro(mcr_val, dec_val, binary=cs is _16I)
     return _one("cnc_wrmacro", MacroWriteRequest(number, value))
 
 
+@_memoized
 def cnc_rdmacror2(cs: CommandSet, first: int, count: int) -> LibraryCall:
     """0xA7 ``(first, count)`` [V]."""
     return _one("cnc_rdmacror2", MacroDoubleReadRequest(first, count))
 
 
+@_memoized
 def cnc_wrmacror2(cs: CommandSet, number: int, value: float) -> LibraryCall:
     """0xA8 ``(n, 0, 0, 0, 8)`` + the double [V]."""
     return _one("cnc_wrmacror2", MacroDoubleWriteRequest(number, value))
@@ -263,6 +327,7 @@ def cnc_wrmacror2(cs: CommandSet, number: int, value: float) -> LibraryCall:
 # -- parameters and diagnostics ----------------------------------------------------------------
 
 
+@_memoized
 def cnc_rdparam(cs: CommandSet, number: int, axis: int) -> LibraryCall:
     """0x0E (16i) or 0x8D (30i) ``(n, n, axis)`` [V]."""
     if cs is _16I:
@@ -270,24 +335,33 @@ def cnc_rdparam(cs: CommandSet, number: int, axis: int) -> LibraryCall:
     return _one("cnc_rdparam", ParamRead3Request(number, number, axis))
 
 
+@_memoized
 def cnc_wrparam(cs: CommandSet, record: ItemRecord | ScaledItemRecord) -> LibraryCall:
     """Two frames: 0x10 ``(n, 1)`` then 0x0F + ``record`` (16i), or 0xA0 ``(n, 1)`` then
     0x8E + ``record`` (30i); ``record`` holds max-axes slots [V]."""
-    number = record.number
+    info = wrparam_info(cs, record.number).frames[0]
     if isinstance(record, ItemRecord):
-        return LibraryCall(
-            "cnc_wrparam", ((ParamInfoRequest(number, 1),), (ParamWriteRequest(record),))
-        )
-    return LibraryCall(
-        "cnc_wrparam", ((ParamInfo3Request(number, 1),), (ParamWrite3Request(record),))
-    )
+        return LibraryCall("cnc_wrparam", (info, (ParamWriteRequest(record),)))
+    return LibraryCall("cnc_wrparam", (info, (ParamWrite3Request(record),)))
 
 
+@_memoized
+def wrparam_info(cs: CommandSet, number: int) -> LibraryCall:
+    """The first frame of ``cnc_wrparam`` alone: the parameter's information, 0x10 ``(n, 1)``
+    at 16i class or 0xA0 ``(n, 1)`` at 30i, which the library reads before it builds the
+    write [V]."""
+    if cs is _16I:
+        return _one("cnc_wrparam", ParamInfoRequest(number, 1))
+    return _one("cnc_wrparam", ParamInfo3Request(number, 1))
+
+
+@_memoized
 def cnc_rdparainfo(cs: CommandSet, first: int, count: int) -> LibraryCall:
     """0x10 ``(s, n)`` in both command sets [V]."""
     return _one("cnc_rdparainfo", ParamInfoRequest(first, count))
 
 
+@_memoized
 def cnc_diagnoss(cs: CommandSet, number: int, axis: int) -> LibraryCall:
     """0x30 (16i) or 0x93 (30i) ``(n, n, axis)`` [V]."""
     if cs is _16I:
@@ -298,11 +372,13 @@ def cnc_diagnoss(cs: CommandSet, number: int, axis: int) -> LibraryCall:
 # -- PMC ---------------------------------------------------------------------------------------
 
 
+@_memoized
 def pmc_rdpmcrng(cs: CommandSet, area: int, data_type: int, first: int, last: int) -> LibraryCall:
     """Device PMC, 0x8001 ``(s, e, area, type)`` [V]."""
     return _one("pmc_rdpmcrng", PmcReadRequest(first, last, area, data_type))
 
 
+@_memoized
 def pmc_wrpmcrng(
     cs: CommandSet, area: int, data_type: int, first: int, last: int, values: Sequence[int]
 ) -> LibraryCall:
@@ -314,36 +390,43 @@ def pmc_wrpmcrng(
 # -- positions, axes, spindles, feed -------------------------------------------------------------
 
 
+@_memoized
 def cnc_actf(cs: CommandSet) -> LibraryCall:
     """0x24 [V]."""
     return _one("cnc_actf", ActualFeedRequest())
 
 
+@_memoized
 def cnc_acts(cs: CommandSet) -> LibraryCall:
     """0x25 [V]."""
     return _one("cnc_acts", ActualSpindleSpeedRequest())
 
 
+@_memoized
 def cnc_absolute(cs: CommandSet, axis: int) -> LibraryCall:
     """0x26 ``(4, axis)`` [V]."""
     return _one("cnc_absolute", NativePositionRequest(4, axis))
 
 
+@_memoized
 def cnc_machine(cs: CommandSet, axis: int) -> LibraryCall:
     """0x26 ``(1, axis)`` [V]."""
     return _one("cnc_machine", NativePositionRequest(1, axis))
 
 
+@_memoized
 def cnc_relative(cs: CommandSet, axis: int) -> LibraryCall:
     """0x26 ``(6, axis)`` [V]."""
     return _one("cnc_relative", NativePositionRequest(6, axis))
 
 
+@_memoized
 def cnc_distance(cs: CommandSet, axis: int) -> LibraryCall:
     """0x26 ``(7, axis)`` [V]."""
     return _one("cnc_distance", NativePositionRequest(7, axis))
 
 
+@_memoized
 def cnc_rdposition(cs: CommandSet) -> LibraryCall:
     """One frame: at 16i class 0x19, 0x26 (0..3, -1), 0x89(-1), 0x0E 3115 (-1), 0x88(2),
     0x19 (9 blocks); at 30i class 0xA4(0), 0x89(-1), 0x88(1), 0x88(2), 0xA3(0, -1), 0x26
@@ -371,6 +454,7 @@ def cnc_rdposition(cs: CommandSet) -> LibraryCall:
     )
 
 
+@_memoized
 def cnc_rddynamic2(cs: CommandSet, axis: int) -> LibraryCall:
     """One frame of 9 blocks: 0x1A, 0x1C, 0x1D, 0x24, 0x25, 0x26 (4, 1, 6, 7; axis) [V]."""
     return _one(
@@ -384,11 +468,13 @@ def cnc_rddynamic2(cs: CommandSet, axis: int) -> LibraryCall:
     )
 
 
+@_memoized
 def cnc_rdaxisname(cs: CommandSet) -> LibraryCall:
     """0x89 ``(0)`` [V]."""
     return _one("cnc_rdaxisname", AxisNameRequest(0))
 
 
+@_memoized
 def cnc_rdspload(cs: CommandSet, spindle: int) -> LibraryCall:
     """0x40 ``(0, sp)``; at 30i class between two 0xA4(1) [V]."""
     if cs is _16I:
@@ -398,6 +484,7 @@ def cnc_rdspload(cs: CommandSet, spindle: int) -> LibraryCall:
     )
 
 
+@_memoized
 def cnc_rdsvmeter(cs: CommandSet) -> LibraryCall:
     """0x56(1), 0x89(0) at 16i class; 0xA4(2), 0x89(0), 0x56(1), 0xA4(2) at 30i [V]."""
     if cs is _16I:
