@@ -247,3 +247,35 @@ async def serve_process(
         if proc.returncode is None:
             proc.kill()
             await proc.wait()
+
+
+class ChannelLog:
+    """The connections the native client opens, as it opens them (A, B, A, B...): installed
+    over the module function the client connects with, so a test can watch or break them
+    without reaching into the client."""
+
+    def __init__(self, monkeypatch: pytest.MonkeyPatch) -> None:
+        from focas_net.client import _native_link
+        from focas_net.client._channel import open_channel as real
+
+        self.opened: list[Any] = []
+
+        async def recording(host: str, port: int) -> Any:
+            channel = await real(host, port)
+            self.opened.append(channel)
+            return channel
+
+        monkeypatch.setattr(_native_link, "open_channel", recording)
+
+    @property
+    def b(self) -> Any:
+        """Connection B of the pair opened last."""
+        assert len(self.opened) >= 2, "no connection pair opened yet"
+        return self.opened[-1]
+
+
+def drop_native(served: Served) -> None:
+    """The server ends every native connection it has (as a CNC that goes away)."""
+    for listener in served.server.listeners:
+        for conn in list(listener.native_connections):
+            conn.abort()

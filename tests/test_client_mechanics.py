@@ -33,8 +33,8 @@ from peers import (
 from support import IO_TIMEOUT, serving, wait_until
 
 from focas_net.client import ClientState, FocasClient, ReconnectPolicy
+from focas_net.client._lifecycle import clock_of
 from focas_net.client.connection import WRITE_CHUNK, Connection, NotSentError, open_connection
-from focas_net.client.reconnect import _clock_of
 from focas_net.errors import (
     EW,
     AccessDeniedError,
@@ -850,14 +850,14 @@ def test_deadlines_read_the_loops_own_clock_unless_it_is_the_stock_one() -> None
     stepped = _SteppedLoop()
     try:
         # Stock asyncio's loop.time is time.monotonic behind a Python method: read directly.
-        assert _clock_of(stock) is time.monotonic
+        assert clock_of(stock) is time.monotonic
         # A loop whose clock is its own, by subclass or on the instance, is asked every time.
-        clock = _clock_of(stepped)
+        clock = clock_of(stepped)
         assert clock() == 100.0
         stepped.now = 107.5
         assert clock() == 107.5
         patched.time = lambda: 42.0  # type: ignore[method-assign]
-        assert _clock_of(patched)() == 42.0
+        assert clock_of(patched)() == 42.0
     finally:
         for loop in (stock, patched, stepped):
             loop.close()

@@ -14,8 +14,7 @@ from pathlib import Path
 import pytest
 from support import IO_TIMEOUT, Served, serving, wait_until
 
-from focas_net.client import ClientState, FocasClient, ReconnectPolicy
-from focas_net.client.client import Positions
+from focas_net.client import ClientState, FocasClient, Positions, ReconnectPolicy
 from focas_net.errors import (
     EW,
     AccessDeniedError,

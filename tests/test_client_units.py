@@ -8,10 +8,10 @@ from decimal import Decimal
 import pytest
 
 from focas_net.client import FocasClient, ReconnectPolicy
+from focas_net.client._composite import chunked_write_error
 from focas_net.client._locks import KeyedLocks
-from focas_net.client._pmc import _chunks, _merge
-from focas_net.client.client import macro_from_wire, macro_to_wire
-from focas_net.errors import FocasTimeoutError
+from focas_net.client._values import macro_from_wire, macro_to_wire
+from focas_net.errors import EW, CncError, FocasConnectionError, FocasTimeoutError
 
 
 @pytest.mark.parametrize(
@@ -36,11 +36,16 @@ def test_macro_to_wire(value: int | Decimal | float | str, wire: tuple[int, int]
 
 
 @pytest.mark.parametrize(
-    "value",
-    [2**31, -(2**31) - 1, 1e20, float("nan"), float("inf"), "abc", "0.0000000001", True, None],
+    "value", [2**31, -(2**31) - 1, 1e20, float("nan"), float("inf"), "abc", "0.0000000001"]
 )
 def test_macro_values_that_cannot_be_carried(value: object) -> None:
     with pytest.raises(ValueError):
+        macro_to_wire(value)  # type: ignore[arg-type]
+
+
+@pytest.mark.parametrize("value", [True, None, b"1", [1]])
+def test_macro_values_that_are_not_numbers(value: object) -> None:
+    with pytest.raises(TypeError, match="a macro value must be"):
         macro_to_wire(value)  # type: ignore[arg-type]
 
 
@@ -64,12 +69,21 @@ def test_reconnect_policy_backoff_is_capped_with_jitter() -> None:
         ReconnectPolicy(max_attempts=0)
 
 
-def test_chunks_and_merge() -> None:
-    assert _chunks(0, 32) == [(0, 32)]
-    assert _chunks(10, 70) == [(10, 32), (42, 32), (74, 6)]
-    assert sum(n for _, n in _chunks(0, 4096)) == 4096 and len(_chunks(0, 4096)) == 128
-    assert _merge([(0, 31), (32, 63), (96, 127)]) == [(0, 63), (96, 127)]
-    assert _merge([]) == []
+def test_a_chunked_write_error_is_one_rule_for_both_transports() -> None:
+    """Written when confirmed, uncertain when sent and unanswered, not written otherwise;
+    touching ranges of one kind merged, the first failure the cause."""
+    spans = [(0, 31), (32, 63), (64, 95), (96, 127), (128, 159), (160, 163)]
+    refused = CncError.from_ew(EW.PROT, "pmc_wrpmcrng")
+    lost = FocasConnectionError("lost after the request was sent")
+    never = FocasConnectionError("lost before the request was sent")
+    outcomes = [None, None, (refused, False), (lost, True), (never, False), (lost, True)]
+    error = chunked_write_error("D", spans, outcomes)
+    assert error is not None
+    assert error.written == [(0, 63)]
+    assert error.not_written == [(64, 95), (128, 159)]
+    assert error.uncertain == [(96, 127), (160, 163)]
+    assert error.cause is refused and error.__cause__ is refused
+    assert chunked_write_error("D", spans[:2], [None, None]) is None
 
 
 async def test_keyed_locks_serialise_and_are_dropped_when_idle() -> None:

@@ -182,6 +182,8 @@ CLIENT_MODULES = [
     "projection",
     "reconnect",
     "sim_control",
+    "_started",
+    "_values",
 ]
 
 

@@ -75,7 +75,7 @@ Call = Callable[[FocasClient], Awaitable[Any]]
         (lambda c: c.read_macro(40000), "macro variable number 40000 is outside"),
         (lambda c: c.read_positions(axis=0), "axis 0 is outside 1..32767"),
         (lambda c: c.read_module_config(0, 70000), "slot 70000 is outside 0..255"),
-        (lambda c: c.read_alarms(alm_type=40000), "alarm type 40000 is outside -1..32767"),
+        (lambda c: c.read_alarms(alm_type=40000), "alarm type 40000 is outside -1..31"),
         (lambda c: c.read_alarms(alm_type="XX"), "unknown alarm type 'XX'"),
         (lambda c: c.sim.raise_alarm("PS", 99999), "alarm number 99999 is outside 0..32767"),
         (lambda c: c.sim.raise_alarm("XX", 1), "unknown alarm type 'XX'"),

@@ -14,9 +14,9 @@ from decimal import Decimal
 from typing import Any, Final, TypeVar
 
 import pytest
-from support import IO_TIMEOUT, serving, wait_until
+from support import IO_TIMEOUT, ChannelLog, serving, wait_until
 
-from focas_net.client import ReconnectPolicy, _channel
+from focas_net.client import ClientState, ReconnectPolicy, _channel
 from focas_net.client._channel import (
     KEEP_LIMIT,
     Channel,
@@ -24,7 +24,7 @@ from focas_net.client._channel import (
     TransportChannel,
     open_channel,
 )
-from focas_net.client.native import NativeClient, _Handle
+from focas_net.client.native import NativeClient
 from focas_net.errors import FocasConnectionError
 
 
@@ -421,13 +421,22 @@ _C = TypeVar("_C", bound=Channel)
 _PROMPT: Final = ReconnectPolicy(initial_delay=0.01, max_delay=0.05, max_attempts=200)
 
 
-def _open_pair(native: NativeClient, kind: type[_C]) -> tuple[_Handle, _C]:
-    """``native``'s open connection pair and its B, which is a ``kind`` exactly."""
-    handle = native._handle
-    assert handle is not None
-    b = handle.b
+def _b_of(log: ChannelLog, kind: type[_C]) -> _C:
+    """B of the pair the client opened last, which is a ``kind`` exactly."""
+    b = log.b
     assert type(b) is kind and isinstance(b, kind)
-    return handle, b
+    return b
+
+
+async def _reconnected(native: NativeClient, states: list[ClientState]) -> None:
+    """Wait until ``native`` went through RECONNECTING back to CONNECTED."""
+    await wait_until(
+        lambda: (
+            ClientState.RECONNECTING in states
+            and states[-1] is ClientState.CONNECTED
+            and native.state is ClientState.CONNECTED
+        )
+    )
 
 
 def _on_uvloop(main: Callable[[], object]) -> None:
@@ -436,13 +445,15 @@ def _on_uvloop(main: Callable[[], object]) -> None:
         runner.run(main())  # type: ignore[arg-type]
 
 
-def test_the_native_client_on_uvloop_uses_its_transports() -> None:
+def test_the_native_client_on_uvloop_uses_its_transports(monkeypatch: pytest.MonkeyPatch) -> None:
+    log = ChannelLog(monkeypatch)
+
     async def main() -> None:
         assert not _channel.own_sockets(asyncio.get_running_loop())
         async with serving() as served:
             served.machine.write_macro(100, 7)
             async with NativeClient(served.host, served.port, timeout=IO_TIMEOUT) as native:
-                _open_pair(native, TransportChannel)
+                _b_of(log, TransportChannel)
                 assert [await native.read_macro(100) for _ in range(3)] == [Decimal(7)] * 3
                 frames = native.frames_sent
                 got = await asyncio.gather(*(native.read_macro(100) for _ in range(25)))
@@ -454,18 +465,24 @@ def test_the_native_client_on_uvloop_uses_its_transports() -> None:
     _on_uvloop(main)
 
 
-def test_the_native_client_on_uvloop_reconnects_after_the_connection_is_lost() -> None:
+def test_the_native_client_on_uvloop_reconnects_after_the_connection_is_lost(
+    monkeypatch: pytest.MonkeyPatch,
+) -> None:
+    log = ChannelLog(monkeypatch)
+
     async def main() -> None:
         async with serving() as served:
             served.machine.write_macro(100, 3)
+            states: list[ClientState] = []
             async with NativeClient(
-                served.host, served.port, timeout=IO_TIMEOUT, reconnect=_PROMPT
-            ) as native:
+                served.host, served.port, timeout=IO_TIMEOUT, reconnect=_PROMPT,
+                on_state_change=states.append,
+            ) as native:  # fmt: skip
                 assert await native.read_macro(100) == Decimal(3)
-                handle, b = _open_pair(native, TransportChannel)
+                b = _b_of(log, TransportChannel)
                 assert b.transport is not None
                 b.transport.abort()  # the connection drops
-                await wait_until(lambda: native._handle not in (None, handle))
+                await _reconnected(native, states)
                 assert await native.read_macro(100) == Decimal(3)
             with pytest.raises(FocasConnectionError):
                 await native.read_macro(100)
@@ -473,16 +490,21 @@ def test_the_native_client_on_uvloop_reconnects_after_the_connection_is_lost() -
     _on_uvloop(main)
 
 
-async def test_a_call_whose_frame_cannot_be_sent_fails_and_the_next_reconnects() -> None:
+async def test_a_call_whose_frame_cannot_be_sent_fails_and_the_next_reconnects(
+    monkeypatch: pytest.MonkeyPatch,
+) -> None:
     # The socket refuses the frame (the kernel says the connection is gone): the call fails
     # as for any lost connection, never hangs, and the reconnect policy opens a new pair.
+    log = ChannelLog(monkeypatch)
     async with serving() as served:
         served.machine.write_macro(100, 4)
+        states: list[ClientState] = []
         async with NativeClient(
-            served.host, served.port, timeout=IO_TIMEOUT, reconnect=_PROMPT
-        ) as native:
+            served.host, served.port, timeout=IO_TIMEOUT, reconnect=_PROMPT,
+            on_state_change=states.append,
+        ) as native:  # fmt: skip
             assert await native.read_macro(100) == Decimal(4)
-            handle, b = _open_pair(native, SocketChannel)
+            b = _b_of(log, SocketChannel)
 
             def refused(data: object, flags: int = 0) -> int:
                 raise ConnectionResetError("connection reset by peer")
@@ -490,5 +512,5 @@ async def test_a_call_whose_frame_cannot_be_sent_fails_and_the_next_reconnects()
             b._send = refused
             with pytest.raises(FocasConnectionError, match="lost after the request was sent"):
                 await asyncio.wait_for(native.read_macro(100), IO_TIMEOUT)
-            await wait_until(lambda: native._handle not in (None, handle))
+            await _reconnected(native, states)
             assert await native.read_macro(100) == Decimal(4)

@@ -22,10 +22,9 @@ from decimal import Decimal
 from pathlib import Path
 
 import pytest
-from support import IO_TIMEOUT, LoopbackPeer, Served, serving, wait_until
+from support import IO_TIMEOUT, ChannelLog, LoopbackPeer, Served, serving, wait_until
 
 from focas_net.client import ClientState, FocasClient, ReconnectPolicy, _channel
-from focas_net.client._channel import Channel
 from focas_net.client.native import NativeClient, NativeUnsupportedError
 from focas_net.errors import EW, CncError, FocasConnectionError, FocasTimeoutError
 from focas_net.native import (
@@ -131,14 +130,13 @@ async def both(served: Served) -> AsyncIterator[tuple[NativeClient, FocasClient]
 
 
 async def test_the_connections_are_of_the_kind_chosen(
-    both: tuple[NativeClient, FocasClient], channel_kind: str
+    served: Served, channel_kind: str, monkeypatch: pytest.MonkeyPatch
 ) -> None:
-    native, _ = both
-    handle = native._handle
-    assert handle is not None
+    log = ChannelLog(monkeypatch)
+    async with NativeClient(served.host, served.port, timeout=IO_TIMEOUT) as native:
+        assert await native.read_status() is not None
     kind = _channel.SocketChannel if channel_kind == "sockets" else _channel.TransportChannel
-    assert type(handle.a) is kind
-    assert type(handle.b) is kind
+    assert [type(c) for c in log.opened] == [kind, kind]
 
 
 def _expected_set(served: Served) -> CommandSet:
@@ -314,41 +312,32 @@ async def test_interleaved_methods_share_frames_and_keep_their_answers(
     assert status == await packed.read_status()
 
 
-class _WriteSpy:
-    """A stand-in for B's channel that notes which task wrote each frame."""
-
-    def __init__(self, transport: Channel) -> None:
-        self.transport = transport
-        self.writers: list[asyncio.Task[object] | None] = []
-
-    def write(self, data: bytes) -> None:
-        self.writers.append(asyncio.current_task())
-        self.transport.write(data)
-
-
 async def test_a_lone_callers_next_call_leaves_at_once(
-    served: Served, both: tuple[NativeClient, FocasClient]
+    served: Served, monkeypatch: pytest.MonkeyPatch
 ) -> None:
-    native, _ = both
     served.machine.write_macro(100, 7)
-    handle = native._handle
-    assert handle is not None
-    spy = _WriteSpy(handle.b)
-    handle.b = spy  # type: ignore[assignment]
-    try:
+    log = ChannelLog(monkeypatch)
+    async with NativeClient(served.host, served.port, timeout=IO_TIMEOUT) as native:
+        b = log.b
+        write = b.write
+        writers: list[asyncio.Task[object] | None] = []
+
+        def spy(data: bytes) -> None:
+            writers.append(asyncio.current_task())
+            write(data)
+
+        b.write = spy
         # Each call after the first was alone in the frame answered last, so its task
         # writes it itself (not a callback at the end of the loop turn).
         assert [await native.read_macro(100) for _ in range(3)] == [7, 7, 7]
         this = asyncio.current_task()
-        assert spy.writers[1:] == [this, this]
+        assert writers[1:] == [this, this]
         # Calls of other tasks made together still share one frame, sent from a callback.
         frames = native.frames_sent
         values = await asyncio.gather(*(native.read_macro(100) for _ in range(native.max_blocks)))
         assert values == [7] * native.max_blocks
         assert native.frames_sent - frames == 1
-        assert spy.writers[-1] is None
-    finally:
-        handle.b = spy.transport
+        assert writers[-1] is None
 
 
 async def test_frames_split_by_the_answer_size(served: Served) -> None:
@@ -358,9 +347,8 @@ async def test_frames_split_by_the_answer_size(served: Served) -> None:
         frames = native.frames_sent
         values = await asyncio.gather(*(native.read_macro(n) for n in range(100, 164)))
         assert values == [Decimal(-n) for n in range(100, 164)]
-        handle = native._handle
-        assert handle is not None
-        per_frame = (max_response_body(handle.version) - 2) // (16 + 8)
+        assert native.version is not None
+        per_frame = (max_response_body(native.version) - 2) // (16 + 8)
         assert native.frames_sent - frames == math.ceil(64 / per_frame)
 
 
@@ -381,15 +369,14 @@ async def test_pmc_ranges_chunked_by_the_answer(
     served: Served, both: tuple[NativeClient, FocasClient]
 ) -> None:
     native, packed = both
-    handle = native._handle
-    assert handle is not None
+    assert native.version is not None
     data = bytes((i * 13) % 251 for i in range(6000))
     served.machine.write_pmc("D", 0, data)
     frames = native.frames_sent
     assert await native.read_pmc("D", 0, len(data)) == data
-    assert native.frames_sent - frames == math.ceil(len(data) / handle.pmc_chunk)
+    per_answer = max_response_body(native.version) - 2 - 16  # a block's head and the count
+    assert native.frames_sent - frames == math.ceil(len(data) / per_answer)
     assert await packed.read_pmc("D", 0, len(data)) == data
-    assert handle.pmc_chunk == max_response_body(handle.version) - 2 - 16
 
 
 # -- locks, storms, losses --------------------------------------------------------------------
@@ -707,12 +694,11 @@ async def test_closing_stops_the_watch() -> None:
         await wait_until(lambda: peer.data_frames == 1)
         queued = asyncio.ensure_future(native.read_macro(2))
         await asyncio.sleep(0)
-        assert native._watch_timer is not None  # the queued call is watched
         await native.aclose()
         for call in (first, queued):
             with pytest.raises(FocasConnectionError, match="closed"):
                 await call
-        assert native._watch_timer is None
+        assert native.idle
 
 
 async def test_calls_made_as_answers_arrive_share_a_frame() -> None:

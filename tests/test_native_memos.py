@@ -1,7 +1,6 @@
 """The native side's memos of pure results. The front end: a request body seen before gives
 its blocks again, a block of a read gives its typed request again; whatever they hold, the
-answers are those computed from nothing, and what cannot be decoded is refused every time. The
-client: equal library calls of every handle are one object."""
+answers are those computed from nothing, and what cannot be decoded is refused every time."""
 
 from __future__ import annotations
 
@@ -13,12 +12,10 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 import focas_net.adapters.native as adapter_module
-import focas_net.client.native as client_module
 import focas_net.native.requests as requests_module
 from focas_net.adapters import NativeAdapter
 from focas_net.adapters.native import _macro_parts
 from focas_net.native import (
-    CommandSet,
     MacroReadRequest,
     MacroWriteRequest,
     NativeFrameError,
@@ -27,7 +24,6 @@ from focas_net.native import (
     ScaledNumber,
     encode_request_body,
 )
-from focas_net.native import calls as native_calls
 from focas_net.sim import default_machine
 
 #: Variables of the built-in machine's common range, read and written below.
@@ -125,17 +121,3 @@ def test_macro_parts_are_the_coefficient_and_its_decimals(value: Decimal) -> Non
     coefficient = int("".join(map(str, digits)))
     assert _macro_parts(value) == ((-coefficient if sign else coefficient), -exponent)
     assert _macro_parts(None) == (0, -1)
-
-
-@pytest.mark.parametrize("cs", list(CommandSet))
-def test_equal_library_calls_of_two_handles_are_one_object(cs: CommandSet) -> None:
-    # each handle has a dict of its own; the call in both is the same object, so a result one
-    # client remembered is found by the next with a compare of identities
-    first = client_module._memo_call({}, 100, native_calls.cnc_rdmacro, cs)
-    assert client_module._memo_call({}, 100, native_calls.cnc_rdmacro, cs) is first
-    assert first == native_calls.cnc_rdmacro(cs, 100)
-    other = client_module._memo_call({}, 101, native_calls.cnc_rdmacro, cs)
-    assert other == native_calls.cnc_rdmacro(cs, 101) != first
-    status = client_module._shared_call(client_module._statinfo, cs, 0)
-    assert status is client_module._shared_call(client_module._statinfo, cs, 0)
-    assert status == native_calls.cnc_statinfo(cs)

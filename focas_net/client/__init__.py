@@ -1,16 +1,20 @@
 """The asyncio client of the packed FOCAS protocol (``docs/client.md``, ``docs/protocol.md``).
 
-Each name below has one home: :mod:`.client` (the client and its results), :mod:`.reconnect`
+Each name below has one home: :mod:`.client` (the packed client), :mod:`._values`
+(:class:`Positions`, and the checks and conversions both clients share), :mod:`.reconnect`
 (states and the reconnect policy), :mod:`.sim_control` (``client.sim``), :mod:`.connection`
 (one pipelined connection), :mod:`.projection` (alarm events), :mod:`.native` (the FOCAS/2
-Ethernet client, :class:`NativeClient`), :mod:`.many` (:func:`read_status_all`,
+Ethernet client, :class:`NativeClient`), :mod:`._started` (:class:`StartedCall`, a read
+started now and finished later), :mod:`.many` (:func:`read_status_all`,
 :func:`read_dynamic_all`: many clients read from one task), :mod:`.cnc` (:class:`CncClient`,
 the calls both clients carry, as a static type). ``FaultKind`` and ``FaultScope``, the
 arguments of ``client.sim.inject_fault``, are imported from :mod:`focas_net.protocol` (or
 :mod:`focas_net`).
 """
 
-from .client import FocasClient, Positions
+from ._started import StartedCall
+from ._values import Positions
+from .client import FocasClient
 from .cnc import CncClient
 from .connection import Connection, NotSentError, open_connection
 from .many import read_dynamic_all, read_status_all
@@ -46,6 +50,7 @@ __all__ = [
     "ReconnectPolicy",
     "ServoLoad",
     "SimControl",
+    "StartedCall",
     "open_connection",
     "read_dynamic_all",
     "read_status_all",

@@ -1,4 +1,4 @@
-"""PMC ranges over 32-byte calls: chunked reads and writes, and their failure semantics.
+"""The packed client's PMC primitives: ranges over 32-byte calls.
 
 A ``pmc_rdpmcrng`` or ``pmc_wrpmcrng`` call carries at most 32 data bytes
 (``docs/protocol.md``). A longer range is split into consecutive 32-byte chunks sent as one
@@ -8,8 +8,9 @@ batch in one write on the live connection, with no task per chunk:
   back to one :meth:`Link._request` per chunk when the batch cannot complete on this
   connection (not sent and a reconnect is due, or ``EW_PASSWD`` with a password known):
   reads are safe to repeat;
-* a write waits for every chunk and, if any failed, raises :class:`ChunkedWriteError` naming
-  the byte ranges written, not written and uncertain (sent, never answered).
+* a write waits for every chunk and gives each one's outcome (written, or its error and
+  whether it was sent); :mod:`._composite` makes of them the call's
+  :class:`~focas_net.errors.ChunkedWriteError`.
 
 Chunks follow the rules of the single request path: never sent -> sent again on the next
 connection with a reconnect policy; ``EW_PASSWD`` with a password -> one unlock, one retry.
@@ -22,7 +23,6 @@ from collections.abc import Sequence
 from typing import Any, Final
 
 from focas_net.errors import (
-    ChunkedWriteError,
     CncError,
     FocasConnectionError,
     FocasTimeoutError,
@@ -31,39 +31,19 @@ from focas_net.errors import (
 
 from ..protocol import COMMANDS, MAX_PMC_CHUNK, CommandSpec, EwReply, PmcArea, PmcData, PmcRange
 from ..protocol import Command as C
+from ._composite import ChunkOutcome, write_chunked
+from ._link import Link
 from .connection import Connection, NotSentError
-from .reconnect import Link
 
-__all__ = ["AreaLike", "check_u16_range", "read_pmc_chunk", "read_pmc_range", "write_pmc_range"]
+__all__ = ["read_pmc_range", "write_pmc_chunks", "write_pmc_range"]
 
 _RDPMCRNG: Final = COMMANDS[C.RDPMCRNG]
 _U16_LIMIT: Final = 0x10000
-
-AreaLike = str | int | PmcArea
-
-
-def check_u16_range(start: int, count: int) -> None:
-    """:class:`ValueError` unless ``count`` (at least 1) bytes from ``start`` end by 65535."""
-    if not 0 <= start < _U16_LIMIT:
-        raise ValueError(f"start address {start} outside 0..65535")
-    if count < 1 or start + count > _U16_LIMIT:
-        raise ValueError(f"count {count} at {start}: must be at least 1 and end by 65535")
 
 
 def _chunks(start: int, count: int) -> list[tuple[int, int]]:
     """``(first, count)`` of consecutive chunks of at most 32 bytes."""
     return [(a, min(MAX_PMC_CHUNK, start + count - a)) for a in range(start, start + count, 32)]
-
-
-def _merge(spans: list[tuple[int, int]]) -> list[tuple[int, int]]:
-    """Merge sorted inclusive ``(first, last)`` spans that touch."""
-    merged: list[tuple[int, int]] = []
-    for first, last in spans:
-        if merged and merged[-1][1] + 1 == first:
-            merged[-1] = (merged[-1][0], last)
-        else:
-            merged.append((first, last))
-    return merged
 
 
 def _checked(value: PmcData, start: int, count: int) -> bytes:
@@ -77,7 +57,7 @@ def _checked(value: PmcData, start: int, count: int) -> bytes:
 
 
 # -- reads ---------------------------------------------------------------------------------------
-async def read_pmc_chunk(
+async def _read_pmc_chunk(
     link: Link, area: PmcArea, start: int, count: int, deadline: float | None
 ) -> bytes:
     """One ``pmc_rdpmcrng`` call (``count`` at most 32)."""
@@ -92,14 +72,14 @@ async def read_pmc_range(
     """``count`` bytes of ``area`` from ``start`` (a checked range): one call up to 32 bytes,
     else one batch of 32-byte chunks (or one call per chunk, see the module)."""
     if count <= MAX_PMC_CHUNK:
-        return await read_pmc_chunk(link, area, start, count, deadline)
+        return await _read_pmc_chunk(link, area, start, count, deadline)
     conn = link._conn
     if conn is not None and not conn.closed:
         data = await _read_batch(link, conn, area, start, count, deadline)
         if data is not None:
             return data
     parts = await _all_or_first_error(
-        [read_pmc_chunk(link, area, s, n, deadline) for s, n in _chunks(start, count)]
+        [_read_pmc_chunk(link, area, s, n, deadline) for s, n in _chunks(start, count)]
     )
     return b"".join(parts)
 
@@ -163,42 +143,30 @@ async def _all_or_first_error(coros: Sequence[Any]) -> list[Any]:
 
 # -- writes --------------------------------------------------------------------------------------
 async def write_pmc_range(
-    link: Link, spec: CommandSpec, area: AreaLike, start: int, data: bytes, deadline: float | None
+    link: Link, spec: CommandSpec, area: PmcArea, start: int, data: bytes, deadline: float | None
 ) -> None:
-    """Write ``data`` to ``area`` from ``start`` with ``spec`` (``pmc_wrpmcrng`` or the
-    simulator's ``set_pmc``): one call up to 32 bytes, else one batch of 32-byte chunks whose
-    failure raises :class:`ChunkedWriteError`."""
-    a = PmcArea.parse(area)
-    data = bytes(data)
-    check_u16_range(start, len(data))
-    if len(data) <= MAX_PMC_CHUNK:
-        payload = spec.request.encode(PmcData(a, 0, start, start + len(data) - 1, data))
-        await link._request_at(spec, payload, deadline)
-        return
-    chunks = _chunks(start, len(data))
+    """Write ``data`` (a checked range) to ``area`` from ``start`` with ``spec``
+    (``pmc_wrpmcrng`` or the simulator's ``set_pmc``) in 32-byte chunks."""
+
+    async def write(chunks: Sequence[tuple[int, bytes]]) -> list[ChunkOutcome]:
+        return await write_pmc_chunks(link, spec, area, chunks, deadline)
+
+    await write_chunked(area, start, data, MAX_PMC_CHUNK, write)
+
+
+async def write_pmc_chunks(
+    link: Link,
+    spec: CommandSpec,
+    area: PmcArea,
+    chunks: Sequence[tuple[int, bytes]],
+    deadline: float | None,
+) -> list[ChunkOutcome]:
+    """Write each ``(first, data)`` chunk (32 bytes at most) with ``spec``: one request alone,
+    several as batches; the outcome of each chunk."""
     encode = spec.request.encode
-    payloads = [
-        encode(PmcData(a, 0, first, first + n - 1, data[first - start : first - start + n]))
-        for first, n in chunks
-    ]
+    payloads = [encode(PmcData(area, 0, first, first + len(d) - 1, d)) for first, d in chunks]
     errors, unanswered = await _write_chunks(link, spec, payloads, deadline)
-    cause = next((e for e in errors if e is not None), None)
-    if cause is None:
-        return
-    written: list[tuple[int, int]] = []
-    not_written: list[tuple[int, int]] = []
-    uncertain: list[tuple[int, int]] = []
-    for (first, n), error, unsure in zip(chunks, errors, unanswered, strict=True):
-        span = (first, first + n - 1)
-        if error is None:
-            written.append(span)
-        elif unsure:
-            uncertain.append(span)  # sent, never answered: the CNC may have applied it
-        else:
-            not_written.append(span)
-    raise ChunkedWriteError(
-        a.name, _merge(written), _merge(not_written), cause, _merge(uncertain)
-    ) from cause
+    return [None if e is None else (e, u) for e, u in zip(errors, unanswered, strict=True)]
 
 
 async def _write_chunks(

@@ -8,10 +8,13 @@ is ``docs/protocol.md``, the client ``docs/client.md``.
 The client is built from these parts of ``focas_net.client``:
 
 * :mod:`.connection`: one pipelined connection (request ids, slots, deadlines);
-* :mod:`.reconnect`: the :class:`~.reconnect.Link` every :class:`FocasClient` is: the
-  connection's lifecycle, the state machine, the reconnect backoff, the unlock-and-retry and
-  the one request path (``_request``) every call below takes;
-* :mod:`._pmc`: PMC ranges over 32-byte chunks and :class:`ChunkedWriteError`;
+* :mod:`._link`: the :class:`~._link.Link` every :class:`FocasClient` is: the connection's
+  lifecycle (:mod:`._lifecycle`: the state machine, the reconnect backoff, deadlines), the
+  unlock-and-retry and the one request path (``_request``) every call below takes;
+* :mod:`._composite`: what both clients build on a few primitives (typed parameter reads,
+  bit read-modify-write, PMC ranges and :class:`ChunkedWriteError`); :mod:`._pmc` gives the
+  packed PMC primitives (32-byte chunks);
+* :mod:`._values`: the checks of every argument and the value conversions;
 * :mod:`.sim_control`: the simulator control commands, as ``client.sim``.
 """
 
@@ -22,11 +25,9 @@ The client is built from these parts of ``focas_net.client``:
 from __future__ import annotations
 
 import inspect
-import math
 import ssl as _ssl
-from collections.abc import Callable, Coroutine
-from dataclasses import dataclass
-from decimal import Decimal, InvalidOperation
+from collections.abc import Callable, Coroutine, Sequence
+from decimal import Decimal
 from typing import Any, Final, TypeVar
 
 from focas_net.errors import EW, CncError, PayloadError
@@ -36,8 +37,7 @@ from ..protocol import (
     DEFAULT_MAX_FRAME,
     MAX_CONFIG_CHUNK,
     MAX_DIRECTORY_ENTRIES,
-    MAX_HISTORY_DEPTH,
-    MAX_REAL_DECIMALS,
+    MAX_PMC_CHUNK,
     ActiveAlarm,
     ActiveAlarmList,
     ActualValue,
@@ -74,12 +74,31 @@ from ..protocol import (
 )
 from ..protocol import Command as C
 from ..versamax import IOModuleRecord
-from ._locks import KeyedLocks
-from ._pmc import AreaLike, check_u16_range, read_pmc_chunk, read_pmc_range, write_pmc_range
-from .reconnect import Link, ReconnectPolicy, StateCallback
-from .sim_control import SimControl, alarm_type_number
+from ._composite import ChunkOutcome
+from ._link import UNLOCK_AND_RETRY, Link
+from ._pmc import read_pmc_range, write_pmc_chunks
+from ._started import StartedCall
+from ._values import (
+    I32_MAX,
+    REAL_WIDTH,
+    Positions,
+    alarm_type_number,
+    byte_to_wire,
+    check_axis,
+    check_int,
+    check_item,
+    check_macro,
+    history_depth,
+    macro_from_wire,
+    macro_to_wire,
+    param_int,
+    real_to_wire,
+)
+from .connection import NotSentError
+from .reconnect import ReconnectPolicy, StateCallback
+from .sim_control import SimControl
 
-__all__ = ["FocasClient", "Positions"]
+__all__ = ["FocasClient"]
 
 _RDCNCSTAT: Final = COMMANDS[C.RDCNCSTAT]
 _SYSINFO: Final = COMMANDS[C.SYSINFO]
@@ -111,14 +130,8 @@ _MAX_PROGRAM_CHUNKS: Final = 1024
 
 _EMPTY: Final = b""
 _MAX_ACTIVE_ALARMS: Final = 32
-_I32_MIN: Final = -(2**31)
-_I32_MAX: Final = 2**31 - 1
-_MAX_MACRO_DECIMALS: Final = 9
-_U16_LIMIT: Final = 0x10000
-_I16_MAX: Final = 0x7FFF
 _U8_MAX: Final = 0xFF
-#: The IODBPSD width of a real parameter's REALPRM.
-_REAL_WIDTH: Final = 8
+_U16_LIMIT: Final = 0x10000
 
 
 _F = TypeVar("_F", bound=Callable[..., Any])
@@ -133,134 +146,6 @@ def _awaitable(method: _F) -> _F:
     if _MARK is not None:
         _MARK(method)
     return method
-
-
-@dataclass(frozen=True, slots=True)
-class Positions:
-    """The answer of :meth:`FocasClient.read_positions`.
-
-    ``values`` maps each axis name to its position (``increments / 10**decimals``, a Decimal
-    with ``decimals`` places); ``increments`` holds the raw least-input-increment counts. Both
-    keep the CNC's axis order.
-    """
-
-    kind: PositionKind
-    decimals: int
-    values: dict[str, Decimal]
-    increments: dict[str, int]
-
-
-def _check_bit(bit: int, width: int = 1) -> None:
-    if not 0 <= bit < 8 * width:
-        raise ValueError(f"bit {bit} outside 0..{8 * width - 1}")
-
-
-def _check_item(number: int, axis: int, what: str) -> None:
-    """ValueError, in the caller's terms, for a number or an axis the wire cannot carry."""
-    if isinstance(number, bool) or not isinstance(number, int) or not 0 <= number <= _I16_MAX:
-        raise ValueError(f"{what} number {number!r} is outside 0..{_I16_MAX}")
-    if isinstance(axis, bool) or not isinstance(axis, int) or not 0 <= axis <= _I16_MAX:
-        raise ValueError(f"axis {axis!r} is outside 0..{_I16_MAX} (0: not an axis {what})")
-
-
-def _check(what: str, value: int, low: int, high: int) -> None:
-    if isinstance(value, bool) or not isinstance(value, int) or not low <= value <= high:
-        raise ValueError(f"{what} {value!r} is outside {low}..{high}")
-
-
-def _check_macro(number: int) -> None:
-    _check("macro variable number", number, -_I16_MAX - 1, _I16_MAX)
-
-
-def _param_int(number: int, value: int | Decimal | str) -> int:
-    """An integer parameter value from ``value`` (text: decimal, ``0x``, ``0b`` or ``0o``)."""
-    if isinstance(value, str):
-        try:
-            return int(value.strip().replace("_", ""), 0)
-        except ValueError:
-            raise ValueError(f"parameter {number}: not an integer: {value!r}") from None
-    if isinstance(value, bool) or not isinstance(value, int | Decimal):
-        raise ValueError(f"parameter {number}: a value is an integer, got {value!r}")
-    if isinstance(value, Decimal):
-        if value != value.to_integral_value():
-            raise ValueError(f"parameter {number} is not a real parameter: {value} is no integer")
-        return int(value)
-    return value
-
-
-def _byte_to_wire(number: int, value: int, kind: ParamDataType | None) -> int:
-    """The signed byte of a 1-byte parameter's ``value``: a bit parameter's 0..255 as the byte
-    of the same eight bits, a byte parameter's -128..127 as it is."""
-    if kind is ParamDataType.BIT:
-        if not 0 <= value <= 0xFF:
-            raise ValueError(
-                f"bit parameter {number} holds 0..255 (0b00000000..0b11111111), got {value}"
-            )
-        return value - 0x100 if value > 0x7F else value
-    if not -0x80 <= value <= 0x7F:
-        raise ValueError(f"parameter {number} is a byte parameter: {value} is outside -128..127")
-    return value
-
-
-def _real_to_wire(number: int, value: int | Decimal | str) -> tuple[int, int]:
-    """``(prm_val, dec_val)`` of a real parameter's value."""
-    if isinstance(value, bool) or not isinstance(value, int | Decimal | str):
-        raise ValueError(f"parameter {number}: a real value is a number, got {value!r}")
-    try:
-        return macro_to_wire(value)
-    except ValueError:
-        raise ValueError(
-            f"real parameter {number}: {value!r} cannot be carried as an i32 mantissa with "
-            f"0..{MAX_REAL_DECIMALS} decimals"
-        ) from None
-
-
-def macro_to_wire(value: int | Decimal | float | str) -> tuple[int, int]:
-    """``(mcr_val, dec_val)`` for ``value``; :class:`ValueError` when it cannot be carried.
-
-    An ``int`` keeps ``dec_val = 0``; a ``Decimal`` or string keeps the digits it was given
-    (``"1.50"`` -> ``(150, 2)``) when they fit, else the fewest that represent it exactly; a
-    ``float`` uses its shortest decimal form (``0.1`` -> ``(1, 1)``). ``dec_val`` is 0..9 and
-    ``mcr_val`` an i32.
-    """
-    if isinstance(value, bool):
-        raise ValueError("a macro value must be a number, not a bool")
-    if isinstance(value, int):
-        if not _I32_MIN <= value <= _I32_MAX:
-            raise ValueError(f"macro value {value} does not fit mcr_val (i32)")
-        return value, 0
-    if isinstance(value, float):
-        if not math.isfinite(value):
-            raise ValueError(f"macro value {value} is not finite")
-        dec = Decimal(repr(value))
-    elif isinstance(value, Decimal):
-        dec = value
-    elif isinstance(value, str):
-        try:
-            dec = Decimal(value.strip())
-        except InvalidOperation:
-            raise ValueError(f"not a number: {value!r}") from None
-    else:
-        raise ValueError(f"a macro value must be int, Decimal, float or str, not {value!r}")
-    if not dec.is_finite():
-        raise ValueError(f"macro value {value} is not finite")
-    for candidate in (dec, dec.normalize()):
-        exponent = candidate.as_tuple().exponent
-        assert isinstance(exponent, int)
-        places = max(0, -exponent)
-        if places > _MAX_MACRO_DECIMALS:
-            continue
-        mcr = int(candidate.scaleb(places))
-        if _I32_MIN <= mcr <= _I32_MAX:
-            return mcr, places
-    raise ValueError(f"macro value {value} cannot be carried as mcr_val (i32) / 10**dec_val (0..9)")
-
-
-def macro_from_wire(mcr_val: int, dec_val: int) -> Decimal | None:
-    """The value of an ODBM: ``mcr_val / 10**dec_val``, or None when vacant."""
-    if mcr_val == 0 and dec_val == -1:
-        return None
-    return Decimal(mcr_val).scaleb(-dec_val)
 
 
 class FocasClient(Link):
@@ -305,10 +190,7 @@ class FocasClient(Link):
             server_hostname=server_hostname,
             on_state_change=on_state_change,
         )
-        self._param_widths: dict[int, int] = {}
         self._param_types: dict[int, ParamDataType | None] = {}
-        self._pmc_locks: KeyedLocks[tuple[int, int]] = KeyedLocks()
-        self._param_locks: KeyedLocks[tuple[int, int]] = KeyedLocks()
         self.sim = SimControl(self)
 
     # -- status --------------------------------------------------------------------------
@@ -319,6 +201,33 @@ class FocasClient(Link):
     def read_status(self, *, timeout: float | None = None) -> Coroutine[Any, Any, StatusInfo]:
         """``cnc_rdcncstat``: the ODBST status (mode, run state, alarm, emergency, ...)."""
         return self._request(_RDCNCSTAT, _EMPTY, timeout)
+
+    def start_read_status(self, *, timeout: float | None = None) -> StartedCall[StatusInfo]:
+        """:meth:`read_status` started now (its request sent at once on the live connection
+        when a slot is free, else run as the call itself in a task of its own) and finished by
+        awaiting :meth:`StartedCall.result` (see :func:`~focas_net.client.read_status_all`).
+        A request that never left, or one answered ``EW_PASSWD`` while a password is known,
+        is made again the usual way within what is left of its deadline."""
+        deadline = self._deadline(timeout)
+        sent = self._start(_RDCNCSTAT, _EMPTY, deadline)
+        if sent is None:
+            return StartedCall.running(self.read_status(timeout=timeout))
+        conn, entry = sent
+
+        async def finish() -> StatusInfo:
+            try:
+                raw = await entry[0]
+            except NotSentError:
+                raw = None
+            if raw is not None:
+                value = self._answer(_RDCNCSTAT, raw)
+                if value is not UNLOCK_AND_RETRY:
+                    result: StatusInfo = value
+                    return result
+            again: StatusInfo = await self._request_at(_RDCNCSTAT, _EMPTY, deadline)
+            return again
+
+        return StartedCall(finish, lambda: conn.finish(entry))
 
     @_awaitable
     def read_sysinfo(self, *, timeout: float | None = None) -> Coroutine[Any, Any, SysInfo]:
@@ -358,8 +267,7 @@ class FocasClient(Link):
         is sent; an axis the CNC does not have answers EW_ATTRIB (:class:`CncError`).
         """
         which = PositionKind.parse(kind)
-        if axis is not None and not 1 <= axis <= _I16_MAX:
-            raise ValueError(f"axis {axis} is outside 1..{_I16_MAX} (or leave it out: every axis)")
+        check_axis(axis)
         payload = _RDPOSITION.request.encode(PositionRequest(which, -1 if axis is None else axis))
         data: PositionData = await self._request(_RDPOSITION, payload, timeout)
         dec = data.dec
@@ -372,11 +280,13 @@ class FocasClient(Link):
 
     # -- parameters and diagnostics ------------------------------------------------------
     async def _read_param_value(self, number: int, axis: int, deadline: float | None) -> ParamValue:
-        _check_item(number, axis, "parameter")
         payload = _RDPARAM.request.encode(DataRequest(number, axis))
         value: ParamValue = await self._request_at(_RDPARAM, payload, deadline)
         self._param_widths[number] = value.width
         return value
+
+    async def _is_bit(self, number: int, value: ParamValue, deadline: float | None) -> bool:
+        return value.width == 1 and await self._param_type(number, deadline) is ParamDataType.BIT
 
     async def _param_type(self, number: int, deadline: float | None) -> ParamDataType | None:
         """The type of parameter ``number`` (``cnc_rdparainfo``, asked once, then cached);
@@ -395,7 +305,6 @@ class FocasClient(Link):
         return kind
 
     async def _read_param_attributes(self, number: int, deadline: float | None) -> ParamAttributes:
-        _check_item(number, 0, "parameter")
         payload = _RDPARAINFO.request.encode(ParamAttributesRequest(number))
         attrs: ParamAttributes = await self._request_at(_RDPARAINFO, payload, deadline)
         self._param_types[number] = attrs.type
@@ -407,68 +316,19 @@ class FocasClient(Link):
         """``cnc_rdparainfo``: the type of parameter ``number`` (:class:`ParamDataType`: bit,
         byte, word, two-word, real), whether it is an axis parameter, the decimals of a real
         one and the range it accepts."""
+        check_item(number, 0, "parameter")
         return await self._read_param_attributes(number, self._deadline(timeout))
 
-    async def read_param_value(
-        self, number: int, *, axis: int = 0, timeout: float | None = None
-    ) -> ParamValue:
-        """``cnc_rdparam`` as an IODBPSD: the value as the wire carries it and its width (1, 2,
-        4 bytes, or 8 for a real parameter's REALPRM with its ``decimals``)."""
-        return await self._read_param_value(number, axis, self._deadline(timeout))
-
-    async def read_param(self, number: int, *, axis: int = 0, timeout: float | None = None) -> int:
-        """``cnc_rdparam``: the value of parameter ``number`` (``axis`` 1..n for axis items).
-
-        A bit parameter reads as its eight bits, 0..255 (``0b10110000`` is 176); the others as
-        the signed integer they hold. The type of a 1-byte parameter is asked once
-        (``cnc_rdparainfo``) and cached. A real parameter raises :class:`ValueError` (its value
-        has decimals: read it with :meth:`read_param_real`).
-        """
-        deadline = self._deadline(timeout)
-        value = await self._read_param_value(number, axis, deadline)
-        if value.width == _REAL_WIDTH:
-            raise ValueError(
-                f"parameter {number} is a real parameter ({value.real}): read it with "
-                "read_param_real"
-            )
-        if value.width == 1 and await self._param_type(number, deadline) is ParamDataType.BIT:
-            return value.bits
-        return value.value
-
-    async def read_param_real(
-        self, number: int, *, axis: int = 0, timeout: float | None = None
-    ) -> Decimal:
-        """``cnc_rdparam``: the value of parameter ``number`` as a :class:`~decimal.Decimal`:
-        a real parameter with its decimals (``12.345``), any other as its integer value."""
-        deadline = self._deadline(timeout)
-        value = await self._read_param_value(number, axis, deadline)
-        if value.width == _REAL_WIDTH:
-            return value.real
-        if value.width == 1 and await self._param_type(number, deadline) is ParamDataType.BIT:
-            return Decimal(value.bits)
-        return Decimal(value.value)
-
-    async def write_param(
+    async def _write_param(
         self,
         number: int,
         value: int | Decimal | str,
-        *,
-        axis: int = 0,
-        width: int | None = None,
-        timeout: float | None = None,
+        axis: int,
+        width: int | None,
+        deadline: float | None,
     ) -> None:
-        """``cnc_wrparam``: write ``value`` with ``width`` bytes (1, 2 or 4; 8 for a real
-        parameter).
-
-        With ``width=None`` the width is the one the CNC reported for this parameter; the
-        first time it is learnt by one read and then cached. A bit parameter takes 0..255 or its
-        bits as text, #7 first (``"0b10110000"``, the same as 176); a real parameter a number
-        with decimals (``Decimal("12.345")``, ``"12.345"``, an ``int``); text is an integer
-        (``"42"``, ``"0x2A"``) otherwise. A value that cannot be carried raises
-        :class:`ValueError`, naming it, before anything is sent.
-        """
-        _check_item(number, axis, "parameter")
-        deadline = self._deadline(timeout)
+        """With ``width=None`` the width is the one the CNC reported for this parameter; the
+        first time it is learnt by one read and then cached."""
         learnt = False
         if width is None:
             cached = self._param_widths.get(number)
@@ -477,16 +337,14 @@ class FocasClient(Link):
                 learnt = True
             else:
                 width = cached
-        elif width not in (1, 2, 4, _REAL_WIDTH):
-            raise ValueError(f"parameter width must be 1, 2, 4 or 8 (real), got {width}")
-        if width == _REAL_WIDTH:
-            mantissa, decimals = _real_to_wire(number, value)
+        if width == REAL_WIDTH:
+            mantissa, decimals = real_to_wire(number, value)
             pv = ParamValue(number, axis, mantissa, width, decimals)
         else:
-            raw = _param_int(number, value)
+            raw = param_int(number, value)
             if width == 1:
                 kind = await self._param_type(number, deadline)
-                raw = _byte_to_wire(number, raw, kind)
+                raw = byte_to_wire(number, raw, kind)
             pv = ParamValue(number, axis, raw, width)
         payload = _WRPARAM.request.encode(pv)
         try:
@@ -496,39 +354,17 @@ class FocasClient(Link):
                 self._param_widths.pop(number, None)  # stale width: learn it again next time
             raise
 
-    async def write_param_bit(
-        self,
-        number: int,
-        bit: int,
-        value: bool,
-        *,
-        axis: int = 0,
-        timeout: float | None = None,
+    async def _write_param_bits(
+        self, number: int, axis: int, bits: int, width: int, deadline: float | None
     ) -> None:
-        """Set or clear one bit of a bit-type parameter (``1815.0``) by read-modify-write.
-
-        Writes to the same ``(number, axis)`` are serialised by a lock; others run in
-        parallel.
-        """
-        _check_bit(bit, 4)
-        deadline = self._deadline(timeout)
-        async with self._param_locks.hold((number, axis), deadline):
-            current = await self._read_param_value(number, axis, deadline)
-            width = current.width
-            if width == _REAL_WIDTH:
-                raise ValueError(f"parameter {number} is a real parameter: it has no bits")
-            _check_bit(bit, width)
-            bits = 8 * width
-            raw = current.value & ((1 << bits) - 1)
-            raw = raw | (1 << bit) if value else raw & ~(1 << bit)
-            if raw >= 1 << (bits - 1):
-                raw -= 1 << bits
-            payload = _WRPARAM.request.encode(ParamValue(number, axis, raw, width))
-            await self._request_at(_WRPARAM, payload, deadline)
+        size = 8 * width
+        raw = bits - (1 << size) if bits >= 1 << (size - 1) else bits
+        payload = _WRPARAM.request.encode(ParamValue(number, axis, raw, width))
+        await self._request_at(_WRPARAM, payload, deadline)
 
     async def read_diag(self, number: int, *, axis: int = 0, timeout: float | None = None) -> int:
         """``cnc_rddiag``: the value of diagnostic ``number``."""
-        _check_item(number, axis, "diagnostic")
+        check_item(number, axis, "diagnostic")
         payload = _RDDIAG.request.encode(DataRequest(number, axis))
         value: ParamValue = await self._request(_RDDIAG, payload, timeout)
         return value.value
@@ -536,7 +372,7 @@ class FocasClient(Link):
     # -- macros --------------------------------------------------------------------------
     async def read_macro(self, number: int, *, timeout: float | None = None) -> Decimal | None:
         """``cnc_rdmacro``: the value of ``#number`` as a Decimal, or None when vacant."""
-        _check_macro(number)
+        check_macro(number)
         payload = _RDMACRO.request.encode(MacroRequest(number))
         value: MacroValue = await self._request(_RDMACRO, payload, timeout)
         return macro_from_wire(value.mcr_val, value.dec_val)
@@ -548,58 +384,24 @@ class FocasClient(Link):
 
         A value that cannot be carried raises :class:`ValueError` before anything is sent.
         """
-        _check_macro(number)
+        check_macro(number)
         mcr_val, dec_val = macro_to_wire(value)
         payload = _WRMACRO.request.encode(MacroValue(number, 8, mcr_val, dec_val))
         await self._request(_WRMACRO, payload, timeout)
 
     # -- PMC -----------------------------------------------------------------------------
-    async def read_pmc(
-        self, area: AreaLike, start: int, count: int, *, timeout: float | None = None
+    async def _read_pmc(
+        self, area: PmcArea, start: int, count: int, deadline: float | None
     ) -> bytes:
-        """``pmc_rdpmcrng``: ``count`` bytes of ``area`` (``"R"`` or :class:`PmcArea`) from
-        ``start``. Ranges over 32 bytes are read as 32-byte calls sent as one batch."""
-        a = PmcArea.parse(area)
-        check_u16_range(start, count)
-        return await read_pmc_range(self, a, start, count, self._deadline(timeout))
+        return await read_pmc_range(self, area, start, count, deadline)
 
-    async def write_pmc(
-        self, area: AreaLike, start: int, data: bytes, *, timeout: float | None = None
-    ) -> None:
-        """``pmc_wrpmcrng``: write ``data`` to ``area`` from ``start``.
+    def _pmc_write_chunk(self) -> int:
+        return MAX_PMC_CHUNK
 
-        Over 32 bytes the write is split into 32-byte calls sent as one batch; if any fails,
-        :class:`ChunkedWriteError` lists the byte ranges written, not written and uncertain.
-        """
-        await write_pmc_range(self, _WRPMCRNG, area, start, data, self._deadline(timeout))
-
-    async def read_pmc_bit(
-        self, area: AreaLike, byte: int, bit: int, *, timeout: float | None = None
-    ) -> bool:
-        """One bit of a PMC byte (``R100.3`` is ``read_pmc_bit("R", 100, 3)``)."""
-        _check_bit(bit)
-        data = await self.read_pmc(area, byte, 1, timeout=timeout)
-        return bool(data[0] >> bit & 1)
-
-    async def write_pmc_bit(
-        self,
-        area: AreaLike,
-        byte: int,
-        bit: int,
-        value: bool,
-        *,
-        timeout: float | None = None,
-    ) -> None:
-        """Set or clear one PMC bit: read the byte, change the bit, write the byte back,
-        under a lock of ``(area, byte)`` so that concurrent bit writes never lose one another."""
-        a = PmcArea.parse(area)
-        _check_bit(bit)
-        check_u16_range(byte, 1)
-        deadline = self._deadline(timeout)
-        async with self._pmc_locks.hold((a.value, byte), deadline):
-            current = (await read_pmc_chunk(self, a, byte, 1, deadline))[0]
-            new = current | (1 << bit) if value else current & ~(1 << bit)
-            await write_pmc_range(self, _WRPMCRNG, a, byte, bytes((new,)), deadline)
+    async def _write_pmc_chunks(
+        self, area: PmcArea, chunks: Sequence[tuple[int, bytes]], deadline: float | None
+    ) -> list[ChunkOutcome]:
+        return await write_pmc_chunks(self, _WRPMCRNG, area, chunks, deadline)
 
     # -- alarms --------------------------------------------------------------------------
     async def read_alarms(
@@ -608,11 +410,7 @@ class FocasClient(Link):
         """``cnc_rdalmmsg``: the active alarms (all types, -1, or only ``alm_type``: by name,
         ``"PS"``, an :class:`AlarmType` or a number), oldest first. An error answer
         (count = -1) raises :class:`CncError`."""
-        if isinstance(alm_type, str):
-            t = alarm_type_number(alm_type)
-        else:
-            _check("alarm type", alm_type, -1, _I16_MAX)
-            t = int(alm_type)
+        t = alarm_type_number(alm_type, every=True)
         payload = _RDALMMSG.request.encode(AlarmMsgRequest(t, _MAX_ACTIVE_ALARMS))
         result: ActiveAlarmList = await self._request(_RDALMMSG, payload, timeout)
         if result.ew:
@@ -625,7 +423,7 @@ class FocasClient(Link):
         """``cnc_rdalmhistry``: up to ``depth`` (clamped to 1..250) most recent entries,
         newest first. An error answer (a negative count) raises :class:`CncError`, like
         :meth:`read_alarms`: a failed read is never mistaken for an empty history."""
-        depth = min(max(int(depth), 1), MAX_HISTORY_DEPTH)
+        depth = history_depth(depth)
         payload = _RDALMHISTRY.request.encode(AlarmHistoryRequest(depth))
         result: AlarmHistory = await self._request(_RDALMHISTRY, payload, timeout)
         if result.ew:
@@ -650,14 +448,14 @@ class FocasClient(Link):
     ) -> tuple[ProgramEntry, ...]:
         """``cnc_rdprogdir``: every stored program from O number ``first`` on (number, size in
         characters, name), by number, read 64 entries per request."""
-        _check("first program number", first, 0, _I32_MAX)
+        check_int("first program number", first, 0, I32_MAX)
         deadline = self._deadline(timeout)
         entries: list[ProgramEntry] = []
         for _ in range(_MAX_DIRECTORY_PAGES):
             request = _RDPROGDIR.request.encode(DirectoryRequest(first, MAX_DIRECTORY_ENTRIES))
             page: ProgramDirectory = await self._request_at(_RDPROGDIR, request, deadline)
             entries.extend(page.entries)
-            if len(page.entries) < MAX_DIRECTORY_ENTRIES or page.entries[-1].number >= _I32_MAX:
+            if len(page.entries) < MAX_DIRECTORY_ENTRIES or page.entries[-1].number >= I32_MAX:
                 break
             first = page.entries[-1].number + 1
         return tuple(entries)
@@ -665,7 +463,7 @@ class FocasClient(Link):
     async def read_program(self, number: int, *, timeout: float | None = None) -> str:
         """``cnc_upload``: the text of program ``number`` as stored (EW_NUMBER: no such
         program), read 4096 characters per request and joined."""
-        _check("program number", number, 0, _I32_MAX)
+        check_int("program number", number, 0, I32_MAX)
         deadline = self._deadline(timeout)
         parts: list[str] = []
         offset = 0
@@ -684,20 +482,22 @@ class FocasClient(Link):
         """``cnc_download``: store one O-number program; returns its number. A number already
         stored answers EW_REJECT unless ``replace``; a program being executed EW_BUSY; text
         that is not one program EW_DATA; a full memory EW_OVRFLOW."""
-        payload = _WRPROGRAM.request.encode(ProgramText(int(replace), text))
+        if not isinstance(text, str):
+            raise TypeError(f"a program is text, got {text!r}")
+        payload = _WRPROGRAM.request.encode(ProgramText(int(bool(replace)), text))
         stored: ProgramNumber = await self._request(_WRPROGRAM, payload, timeout)
         return stored.number
 
     async def delete_program(self, number: int, *, timeout: float | None = None) -> None:
         """``cnc_delete``: delete program ``number`` (EW_NUMBER: none; EW_BUSY: executing)."""
-        _check("program number", number, 0, _I32_MAX)
+        check_int("program number", number, 0, I32_MAX)
         payload = _DELPROGRAM.request.encode(ProgramNumber(number))
         await self._request(_DELPROGRAM, payload, timeout)
 
     async def select_program(self, number: int, *, timeout: float | None = None) -> None:
         """``cnc_search``: make ``number`` the main program (EW_NUMBER: none; EW_MODE: not MEM
         or EDIT; EW_BUSY: another program is executing)."""
-        _check("program number", number, 0, _I32_MAX)
+        check_int("program number", number, 0, I32_MAX)
         payload = _SELPROGRAM.request.encode(ProgramNumber(number))
         await self._request(_SELPROGRAM, payload, timeout)
 
@@ -717,8 +517,8 @@ class FocasClient(Link):
     async def _config_chunk(
         self, rack: int, slot: int, offset: int, deadline: float | None
     ) -> bytes:
-        _check("rack", rack, 0, _U8_MAX)
-        _check("slot", slot, 0, _U8_MAX)
+        check_int("rack", rack, 0, _U8_MAX)
+        check_int("slot", slot, 0, _U8_MAX)
         request = VersaMaxRequest(rack, MAX_CONFIG_CHUNK, slot, offset)
         reply: VersaMaxReply = await self._request_at(
             _RDCONFIG, _RDCONFIG.request.encode(request), deadline

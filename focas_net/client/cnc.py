@@ -27,7 +27,7 @@ from ..protocol import (
     StatusInfo,
     SysInfo,
 )
-from .client import Positions
+from ._values import Positions
 from .reconnect import ClientState, ReconnectPolicy, StateCallback
 
 __all__ = ["CncClient"]

@@ -21,12 +21,14 @@ from ..protocol import (
     FaultsRequest,
     InjectFault,
     Overrides,
+    PmcArea,
     RaiseAlarm,
     SetPanel,
     VacateMacro,
 )
 from ..protocol import Command as C
-from ._pmc import AreaLike, write_pmc_range
+from ._pmc import write_pmc_range
+from ._values import AreaLike, alarm_type_number, check_int, pmc_data
 
 if TYPE_CHECKING:
     from .client import FocasClient
@@ -35,7 +37,6 @@ __all__ = ["PanelSwitches", "SimControl"]
 
 _UNCHANGED: Final = -1
 _I16_MAX: Final = 0x7FFF
-_MAX_ALARM_TYPE: Final = 31
 
 
 @dataclass(frozen=True, slots=True)
@@ -48,31 +49,12 @@ class PanelSwitches:
     emergency: bool
 
 
-def _check(what: str, value: int, low: int, high: int) -> None:
-    if isinstance(value, bool) or not isinstance(value, int) or not low <= value <= high:
-        raise ValueError(f"{what} {value!r} is outside {low}..{high}")
-
-
 def _switch(what: str, value: bool | None) -> int:
     if value is None:
         return _UNCHANGED
     if not isinstance(value, bool | int) or value not in (0, 1):
         raise ValueError(f"{what} must be True, False or None (unchanged), got {value!r}")
     return int(value)
-
-
-def alarm_type_number(alm_type: AlarmType | str | int) -> int:
-    """An alarm type number from its name (``"PS"``), an :class:`AlarmType` or 0..31."""
-    if isinstance(alm_type, str):
-        try:
-            return int(AlarmType[alm_type.strip().upper()])
-        except KeyError:
-            names = " ".join(t.name for t in AlarmType)
-            raise ValueError(
-                f"unknown alarm type {alm_type!r} (one of {names}, or 0..31)"
-            ) from None
-    _check("alarm type", alm_type, 0, _MAX_ALARM_TYPE)
-    return int(alm_type)
 
 
 _SET_PANEL: Final = COMMANDS[C.SIM_SET_PANEL]
@@ -131,7 +113,7 @@ class SimControl:
         """Make macro variable ``#number`` vacant (``cnc_wrmacro`` has no way to write a vacant
         value). EW_NUMBER for an unknown variable, EW_PROT for a read-only one or a read-only
         server."""
-        _check("macro variable number", number, -0x8000, 0x7FFF)
+        check_int("macro variable number", number, -0x8000, 0x7FFF)
         payload = _VACATE_MACRO.request.encode(VacateMacro(number))
         client = self._client
         await client._request(_VACATE_MACRO, payload, timeout)
@@ -151,8 +133,8 @@ class SimControl:
         A CNC shows one entry per alarm: when the same ``(axis_no, alm_type, alm_no)`` is
         active, nothing changes (it keeps its first message)."""
         t = alarm_type_number(alm_type)
-        _check("alarm number", alm_no, 0, _I16_MAX)
-        _check("axis", axis_no, 0, _I16_MAX)
+        check_int("alarm number", alm_no, 0, _I16_MAX)
+        check_int("axis", axis_no, 0, _I16_MAX)
         try:
             raw = msg.encode("ascii")
         except UnicodeEncodeError:
@@ -170,9 +152,9 @@ class SimControl:
     ) -> None:
         """Clear the matching active alarms (-1 matches any; ``alm_type`` also by name,
         ``"PS"``); the history is kept."""
-        t = -1 if alm_type == -1 else alarm_type_number(alm_type)
+        t = alarm_type_number(alm_type, every=True)
         if alm_no != -1:
-            _check("alarm number", alm_no, 0, _I16_MAX)
+            check_int("alarm number", alm_no, 0, _I16_MAX)
         payload = _CLEAR_ALARMS.request.encode(ClearAlarms(t, alm_no))
         client = self._client
         await client._request(_CLEAR_ALARMS, payload, timeout)
@@ -215,7 +197,7 @@ class SimControl:
             if value is None:
                 values.append(_UNCHANGED)
             else:
-                _check(f"{what} override", value, 0, high)
+                check_int(f"{what} override", value, 0, high)
                 values.append(value)
         client = self._client
         payload = _OVERRIDES.request.encode(Overrides(*values))
@@ -226,8 +208,10 @@ class SimControl:
     ) -> None:
         """Write PMC bytes ignoring write protection (to drive X and F inputs); chunked like
         :meth:`FocasClient.write_pmc`."""
+        a = PmcArea.parse(area)
+        raw = pmc_data(start, data)
         client = self._client
-        await write_pmc_range(client, _SET_PMC, area, start, data, client._deadline(timeout))
+        await write_pmc_range(client, _SET_PMC, a, start, raw, client._deadline(timeout))
 
     async def inject_fault(
         self,

@@ -1,0 +1,315 @@
+"""The calls both clients make of a few primitives: :class:`CompositeCalls`.
+
+A parameter read typed as FANUC types it, a bit of a parameter or of a PMC byte changed by
+read-modify-write under a per-key lock, and a PMC range read or written over calls of one
+transport's size, with :class:`~focas_net.errors.ChunkedWriteError` meaning the same on both
+transports. Each transport gives the primitives (reading and writing one parameter, its type,
+reading a PMC range, writing PMC chunks) and everything above them is written here once.
+
+A bit write is atomic against the bit writes **of the same client object** only: the lock is
+the client's, and neither protocol has a bit operation, so two clients (or a client and
+FANUC's library) writing bits of one byte at once can undo each other's change, as two
+programs using FANUC's library can. Share one client among the tasks that write bits.
+"""
+
+# Every call takes a per-call ``timeout=`` by contract, so ASYNC109 does not apply here.
+# ruff: noqa: ASYNC109
+
+from __future__ import annotations
+
+from collections.abc import Awaitable, Callable, Sequence
+from decimal import Decimal
+
+from focas_net.errors import ChunkedWriteError
+
+from ..protocol import ParamValue, PmcArea
+from ._lifecycle import Lifecycle
+from ._locks import KeyedLocks
+from ._values import REAL_WIDTH, AreaLike, check_bit, check_item, check_pmc_range, pmc_data
+
+__all__ = ["ChunkOutcome", "CompositeCalls", "chunked_write_error", "write_chunked"]
+
+#: What became of one chunk of a chunked write: None (written, the CNC said so), or the
+#: exception it ended with and whether it is *unanswered*: its request left and no answer
+#: came (its deadline passed, or the connection was lost after it left).
+ChunkOutcome = tuple[Exception, bool] | None
+
+
+def _merge(spans: list[tuple[int, int]]) -> list[tuple[int, int]]:
+    """Merge sorted inclusive ``(first, last)`` spans that touch."""
+    merged: list[tuple[int, int]] = []
+    for first, last in spans:
+        if merged and merged[-1][1] + 1 == first:
+            merged[-1] = (merged[-1][0], last)
+        else:
+            merged.append((first, last))
+    return merged
+
+
+def chunked_write_error(
+    area: str, spans: Sequence[tuple[int, int]], outcomes: Sequence[ChunkOutcome]
+) -> ChunkedWriteError | None:
+    """The :class:`ChunkedWriteError` of a write of ``area`` whose chunk ``spans`` (inclusive
+    byte ranges, in order) ended with ``outcomes``; None when every chunk was written.
+
+    A chunk is *written* when the CNC confirmed it, *uncertain* when it is unanswered (sent,
+    and no answer came: the CNC may have applied it), and *not written* otherwise (refused
+    with an EW code, or never sent).
+    """
+    written: list[tuple[int, int]] = []
+    not_written: list[tuple[int, int]] = []
+    uncertain: list[tuple[int, int]] = []
+    cause: Exception | None = None
+    for span, outcome in zip(spans, outcomes, strict=True):
+        if outcome is None:
+            written.append(span)
+            continue
+        error, unanswered = outcome
+        cause = cause or error
+        if unanswered:
+            uncertain.append(span)
+        else:
+            not_written.append(span)
+    if cause is None:
+        return None
+    error = ChunkedWriteError(area, _merge(written), _merge(not_written), cause, _merge(uncertain))
+    error.__cause__ = cause
+    return error
+
+
+async def write_chunked(
+    area: PmcArea,
+    start: int,
+    data: bytes,
+    step: int,
+    write: Callable[[Sequence[tuple[int, bytes]]], Awaitable[list[ChunkOutcome]]],
+) -> None:
+    """Write ``data`` to ``area`` from ``start`` (a checked range) in chunks of at most
+    ``step`` bytes with ``write`` (every chunk at once, their outcomes in order): the one
+    chunk's failure as it is, or :class:`ChunkedWriteError` when a chunk of several fails."""
+    chunks = [
+        (s, data[s - start : s - start + step]) for s in range(start, start + len(data), step)
+    ]
+    outcomes = await write(chunks)
+    if len(chunks) == 1:
+        if outcomes[0] is not None:
+            raise outcomes[0][0]
+        return
+    spans = [(first, first + len(part) - 1) for first, part in chunks]
+    error = chunked_write_error(area.name, spans, outcomes)
+    if error is not None:
+        raise error
+
+
+class CompositeCalls(Lifecycle):
+    """The calls written once over a transport's primitives (see the module docstring)."""
+
+    def _init_composite(self) -> None:
+        #: The width of each parameter read or written (the transport's to fill).
+        self._param_widths: dict[int, int] = {}
+        self._pmc_locks: KeyedLocks[tuple[int, int]] = KeyedLocks()
+        self._param_locks: KeyedLocks[tuple[int, int]] = KeyedLocks()
+
+    # -- the primitives each transport gives -----------------------------------------------
+    async def _read_param_value(self, number: int, axis: int, deadline: float | None) -> ParamValue:
+        """``cnc_rdparam`` of a checked number and axis."""
+        raise NotImplementedError
+
+    async def _is_bit(self, number: int, value: ParamValue, deadline: float | None) -> bool:
+        """Whether parameter ``number``, just read as ``value``, is a bit parameter."""
+        raise NotImplementedError
+
+    async def _write_param(
+        self,
+        number: int,
+        value: int | Decimal | str,
+        axis: int,
+        width: int | None,
+        deadline: float | None,
+    ) -> None:
+        """``cnc_wrparam`` of a checked number, axis and width (a bit parameter's value is its
+        0..255)."""
+        raise NotImplementedError
+
+    async def _write_param_bits(
+        self, number: int, axis: int, bits: int, width: int, deadline: float | None
+    ) -> None:
+        """``cnc_wrparam`` of the ``8 * width`` bits ``bits`` (unsigned) of a checked number
+        and axis, whatever the parameter's integer type."""
+        raise NotImplementedError
+
+    def _pmc_area(self, area: AreaLike) -> PmcArea:
+        """``area`` as a :class:`PmcArea` this transport can address (ValueError otherwise)."""
+        return PmcArea.parse(area)
+
+    async def _read_pmc(
+        self, area: PmcArea, start: int, count: int, deadline: float | None
+    ) -> bytes:
+        """``count`` bytes of ``area`` from ``start`` (a checked range), in as many calls as
+        the transport needs."""
+        raise NotImplementedError
+
+    def _pmc_write_chunk(self) -> int:
+        """Most PMC bytes one write call carries."""
+        raise NotImplementedError
+
+    async def _write_pmc_chunks(
+        self, area: PmcArea, chunks: Sequence[tuple[int, bytes]], deadline: float | None
+    ) -> list[ChunkOutcome]:
+        """Write each ``(first address, data)`` chunk; the outcome of each, in order."""
+        raise NotImplementedError
+
+    # -- parameters ------------------------------------------------------------------------
+    async def read_param_value(
+        self, number: int, *, axis: int = 0, timeout: float | None = None
+    ) -> ParamValue:
+        """``cnc_rdparam`` as an IODBPSD: the value as the wire carries it and its width (1, 2,
+        4 bytes, or 8 for a real parameter's REALPRM with its ``decimals``)."""
+        check_item(number, axis, "parameter")
+        return await self._read_param_value(number, axis, self._deadline(timeout))
+
+    async def read_param(self, number: int, *, axis: int = 0, timeout: float | None = None) -> int:
+        """``cnc_rdparam``: the value of parameter ``number`` (``axis`` 1..n for axis items).
+
+        A bit parameter reads as its eight bits, 0..255 (``0b10110000`` is 176); the others as
+        the signed integer they hold. A real parameter raises :class:`ValueError` (its value
+        has decimals: read it with :meth:`read_param_real`).
+        """
+        check_item(number, axis, "parameter")
+        deadline = self._deadline(timeout)
+        value = await self._read_param_value(number, axis, deadline)
+        if value.width == REAL_WIDTH:
+            raise ValueError(
+                f"parameter {number} is a real parameter ({value.real}): read it with "
+                "read_param_real"
+            )
+        if await self._is_bit(number, value, deadline):
+            return value.bits
+        return value.value
+
+    async def read_param_real(
+        self, number: int, *, axis: int = 0, timeout: float | None = None
+    ) -> Decimal:
+        """``cnc_rdparam``: the value of parameter ``number`` as a :class:`~decimal.Decimal`:
+        a real parameter with its decimals (``12.345``), any other as its integer value (a bit
+        parameter as 0..255)."""
+        check_item(number, axis, "parameter")
+        deadline = self._deadline(timeout)
+        value = await self._read_param_value(number, axis, deadline)
+        if value.width == REAL_WIDTH:
+            return value.real
+        if await self._is_bit(number, value, deadline):
+            return Decimal(value.bits)
+        return Decimal(value.value)
+
+    async def write_param(
+        self,
+        number: int,
+        value: int | Decimal | str,
+        *,
+        axis: int = 0,
+        width: int | None = None,
+        timeout: float | None = None,
+    ) -> None:
+        """``cnc_wrparam``: write ``value``.
+
+        A bit parameter takes 0..255 or its bits as text, #7 first (``"0b10110000"``, the same
+        as 176); a real parameter a number with decimals (``Decimal("12.345")``, ``"12.345"``,
+        an ``int``), width 8; text is an integer (``"42"``, ``"0x2A"``) otherwise. ``width``
+        (1, 2, 4 or 8) is the parameter's; left out, it is the one the CNC reports. A value
+        that cannot be carried raises :class:`ValueError` (:class:`TypeError` for one that is
+        not a number), naming it, before the write is sent.
+        """
+        check_item(number, axis, "parameter")
+        if width is not None and width not in (1, 2, 4, REAL_WIDTH):
+            raise ValueError(f"parameter width must be 1, 2, 4 or 8 (real), got {width!r}")
+        if isinstance(value, bool) or not isinstance(value, int | Decimal | str):
+            raise TypeError(f"parameter {number}: a value is a number or its text, got {value!r}")
+        await self._write_param(number, value, axis, width, self._deadline(timeout))
+
+    async def write_param_bit(
+        self,
+        number: int,
+        bit: int,
+        value: bool,
+        *,
+        axis: int = 0,
+        timeout: float | None = None,
+    ) -> None:
+        """Set or clear one bit of a parameter (``1815.0``) by read-modify-write.
+
+        Writes of this client to the same ``(number, axis)`` are serialised by a lock; others
+        run in parallel (see the module docstring for writes of other clients).
+        """
+        check_item(number, axis, "parameter")
+        check_bit(bit, 4)
+        deadline = self._deadline(timeout)
+        async with self._param_locks.hold((number, axis), deadline):
+            current = await self._read_param_value(number, axis, deadline)
+            width = current.width
+            if width == REAL_WIDTH:
+                raise ValueError(f"parameter {number} is a real parameter: it has no bits")
+            check_bit(bit, width)
+            bits = 8 * width
+            raw = current.value & ((1 << bits) - 1)
+            raw = raw | (1 << bit) if value else raw & ~(1 << bit)
+            await self._write_param_bits(number, axis, raw, width, deadline)
+
+    # -- PMC -------------------------------------------------------------------------------
+    async def read_pmc(
+        self, area: AreaLike, start: int, count: int, *, timeout: float | None = None
+    ) -> bytes:
+        """``pmc_rdpmcrng``: ``count`` bytes of ``area`` (``"R"`` or :class:`PmcArea`) from
+        ``start``; a range longer than one call carries is read in several, sent together."""
+        a = self._pmc_area(area)
+        check_pmc_range(start, count)
+        return await self._read_pmc(a, start, count, self._deadline(timeout))
+
+    async def write_pmc(
+        self, area: AreaLike, start: int, data: bytes, *, timeout: float | None = None
+    ) -> None:
+        """``pmc_wrpmcrng``: write ``data`` to ``area`` from ``start``.
+
+        A range longer than one call carries is written in several calls sent together; if any
+        fails, :class:`ChunkedWriteError` lists the byte ranges written, not written and
+        uncertain (sent, never answered).
+        """
+        a = self._pmc_area(area)
+        data = pmc_data(start, data)
+        deadline = self._deadline(timeout)
+
+        async def write(chunks: Sequence[tuple[int, bytes]]) -> list[ChunkOutcome]:
+            return await self._write_pmc_chunks(a, chunks, deadline)
+
+        await write_chunked(a, start, data, self._pmc_write_chunk(), write)
+
+    async def read_pmc_bit(
+        self, area: AreaLike, byte: int, bit: int, *, timeout: float | None = None
+    ) -> bool:
+        """One bit of a PMC byte (``R100.3`` is ``read_pmc_bit("R", 100, 3)``)."""
+        check_bit(bit)
+        data = await self.read_pmc(area, byte, 1, timeout=timeout)
+        return bool(data[0] >> bit & 1)
+
+    async def write_pmc_bit(
+        self,
+        area: AreaLike,
+        byte: int,
+        bit: int,
+        value: bool,
+        *,
+        timeout: float | None = None,
+    ) -> None:
+        """Set or clear one PMC bit: read the byte, change the bit, write the byte back, under
+        the lock of ``(area, byte)``, so that this client's bit writes never lose one another
+        (see the module docstring for writes of other clients)."""
+        a = self._pmc_area(area)
+        check_bit(bit)
+        check_pmc_range(byte, 1)
+        deadline = self._deadline(timeout)
+        async with self._pmc_locks.hold((a.value, byte), deadline):
+            current = (await self._read_pmc(a, byte, 1, deadline))[0]
+            new = current | (1 << bit) if value else current & ~(1 << bit)
+            (outcome,) = await self._write_pmc_chunks(a, [(byte, bytes((new,)))], deadline)
+            if outcome is not None:
+                raise outcome[0]

@@ -1,0 +1,273 @@
+"""What both clients' lifecycles share: :class:`Lifecycle`.
+
+The address, the :class:`~focas_net.client.ClientState` with its callbacks, ``async with``
+(``connect`` ... ``aclose``), the reconnect loop with its backoff (each transport gives only its
+attempt), every call's deadline, and the wait for the connection while reconnecting. A
+transport subclasses it with its link (the packed :class:`~focas_net.client._link.Link`, the
+native :class:`~focas_net.client._native_link.NativeLink`).
+"""
+
+from __future__ import annotations
+
+import asyncio
+import logging
+import time
+from collections.abc import Callable
+from types import TracebackType
+from typing import Self
+
+from focas_net.errors import FocasConnectionError
+
+from ._values import check_timeout
+from .reconnect import ClientState, ReconnectPolicy, StateCallback
+
+__all__ = ["Lifecycle", "address_text", "clock_of"]
+
+logger = logging.getLogger("focas_net.client.client")
+
+
+def clock_of(loop: asyncio.AbstractEventLoop) -> Callable[[], float]:
+    """``loop.time`` itself, or the clock it reads when that is the stock one (asyncio's
+    ``BaseEventLoop.time`` is a Python method around ``time.monotonic``: one call less per
+    deadline). A loop whose clock is its own (uvloop's, a test's) is asked every time."""
+    if getattr(loop.time, "__func__", None) is asyncio.BaseEventLoop.time:
+        return time.monotonic
+    return loop.time
+
+
+def address_text(host: str, port: int) -> str:
+    """``host:port``, an IPv6 address in brackets (``[::1]:8193``)."""
+    return f"[{host}]:{port}" if ":" in host else f"{host}:{port}"
+
+
+class Lifecycle:
+    """The state, the reconnect and the deadlines of a client (see the module docstring).
+
+    A subclass sets ``_logger`` (state changes are logged there) and implements ``connect``,
+    ``aclose``, :meth:`_linked` and :meth:`_reconnect_attempt`.
+    """
+
+    _logger: logging.Logger = logger
+
+    def __init__(
+        self,
+        host: str,
+        port: int,
+        *,
+        timeout: float | None,
+        reconnect: bool | ReconnectPolicy,
+        on_state_change: StateCallback | None,
+    ) -> None:
+        if not isinstance(host, str):
+            raise TypeError(f"host must be a str, got {host!r}")
+        if isinstance(port, bool) or not isinstance(port, int) or not 0 <= port <= 0xFFFF:
+            raise ValueError(f"port must be an integer within 0..65535, got {port!r}")
+        #: The default ``timeout`` of every call, seconds (None: none).
+        self.timeout = check_timeout(timeout)
+        self.host = host
+        self.port = port
+        if reconnect is True:
+            self._policy: ReconnectPolicy | None = ReconnectPolicy()
+        elif reconnect is False:
+            self._policy = None
+        elif isinstance(reconnect, ReconnectPolicy):
+            self._policy = reconnect
+        else:
+            raise TypeError(f"reconnect must be a bool or a ReconnectPolicy, got {reconnect!r}")
+        self._state = ClientState.DISCONNECTED
+        self._callbacks: list[StateCallback] = []
+        if on_state_change is not None:
+            self._callbacks.append(on_state_change)
+        self._loop: asyncio.AbstractEventLoop | None = None
+        self._clock: Callable[[], float] | None = None  # the loop's clock, once connected
+        #: Set while a call need not wait: connected, or no reconnect under way.
+        self._ready: asyncio.Event | None = None
+        self._reconnect_task: asyncio.Task[None] | None = None
+        # Backoff step of the next reconnect attempt (reset by a connection that stayed up
+        # ``stable_after`` seconds) and when the current connection was installed.
+        self._backoff = 0
+        self._up_since = 0.0
+
+    def __repr__(self) -> str:
+        return f"<{type(self).__name__} {self.address} {self._state.value}>"
+
+    @property
+    def address(self) -> str:
+        """``host:port`` (an IPv6 host in brackets)."""
+        return address_text(self.host, self.port)
+
+    @property
+    def state(self) -> ClientState:
+        """The current :class:`ClientState`."""
+        return self._state
+
+    @property
+    def connected(self) -> bool:
+        return self._state is ClientState.CONNECTED
+
+    @property
+    def reconnect_policy(self) -> ReconnectPolicy | None:
+        return self._policy
+
+    def add_state_callback(self, callback: StateCallback) -> None:
+        """Call ``callback(state)`` on every state change (exceptions are logged)."""
+        self._callbacks.append(callback)
+
+    def remove_state_callback(self, callback: StateCallback) -> None:
+        self._callbacks.remove(callback)
+
+    def _bind_loop(self) -> None:
+        """Serve the running loop from now on: calls and deadlines use it and its clock."""
+        self._loop = asyncio.get_running_loop()
+        self._clock = clock_of(self._loop)
+        if self._ready is None:
+            self._ready = asyncio.Event()
+
+    def _set_state(self, state: ClientState) -> None:
+        if state is self._state:
+            return
+        self._state = state
+        self._logger.info("%s %s", self.address, state.value)
+        for callback in tuple(self._callbacks):
+            try:
+                callback(state)
+            except Exception:
+                self._logger.exception("state callback %r failed", callback)
+
+    # -- deadlines and the wait for the link -------------------------------------------------
+    def _deadline(self, timeout: float | None) -> float | None:
+        """The deadline (the loop's clock) of a call given ``timeout=`` (None: the client's),
+        or None for none; :class:`TypeError` or :class:`ValueError` for a ``timeout`` that is
+        not a positive number."""
+        t = self.timeout if timeout is None else check_timeout(timeout)
+        if t is None:
+            return None
+        clock = self._clock
+        if clock is None:
+            clock = asyncio.get_running_loop().time
+        return clock() + t
+
+    def _linked(self) -> bool:
+        """Whether a link is installed and open."""
+        raise NotImplementedError
+
+    def _nothing_to_wait_for(self) -> Exception:
+        """What a call raises when there is no link and none coming."""
+        return FocasConnectionError(f"not connected to {self.address}")
+
+    async def _wait_linked(self, deadline: float | None) -> None:
+        """Return once a link is open, waiting (until ``deadline``) while reconnecting.
+
+        :raises FocasConnectionError: closed, not connected with no reconnect under way, or
+            still reconnecting when ``deadline`` passed.
+        """
+        while not self._linked():
+            state = self._state
+            if state is ClientState.CLOSED:
+                raise FocasConnectionError("client is closed")
+            task = self._reconnect_task
+            if (
+                state is not ClientState.RECONNECTING
+                or self._ready is None
+                or task is None
+                or task.done()
+            ):
+                raise self._nothing_to_wait_for()
+            try:
+                async with asyncio.timeout_at(deadline):
+                    await self._ready.wait()
+            except TimeoutError:
+                raise FocasConnectionError(
+                    f"still reconnecting to {self.address} when the call timed out"
+                ) from None
+
+    # -- the reconnect, shared by both transports ----------------------------------------
+    def _reconnecting(self, exc: BaseException | None) -> None:
+        """The link was lost and the policy reconnects: RECONNECTING, calls wait on
+        ``_ready``, and one reconnect task (the backoff starts again after a stable link)."""
+        policy = self._policy
+        assert policy is not None and self._ready is not None and self._loop is not None
+        self._logger.warning(
+            "connection to %s lost (%s); reconnecting", self.address, exc or "closed"
+        )
+        if self._loop.time() - self._up_since >= policy.stable_after:
+            self._backoff = 0  # a stable connection: the backoff starts again from the start
+        self._ready.clear()
+        self._set_state(ClientState.RECONNECTING)
+        if self._reconnect_task is None or self._reconnect_task.done():
+            self._reconnect_task = self._loop.create_task(
+                self._reconnect(policy), name=f"focas-reconnect {self.address}"
+            )
+
+    async def _reconnect(self, policy: ReconnectPolicy) -> None:
+        """Attempts after the policy's delays until one ends it (:meth:`_reconnect_attempt`)
+        or the policy gives up (DISCONNECTED); then calls waiting on ``_ready`` go on."""
+        attempt = 0
+        try:
+            while policy.max_attempts is None or attempt < policy.max_attempts:
+                await asyncio.sleep(policy.delay(self._backoff))
+                self._backoff += 1
+                attempt += 1
+                if await self._reconnect_attempt(attempt):
+                    return
+            self._logger.warning(
+                "giving up reconnecting to %s after %d attempts", self.address, attempt
+            )
+            self._set_state(ClientState.DISCONNECTED)
+        finally:
+            if self._state is ClientState.RECONNECTING and not self._linked():
+                self._set_state(ClientState.DISCONNECTED)  # ended without a connection
+            self._reconnect_ended()
+            if self._ready is not None:
+                self._ready.set()
+
+    async def _reconnect_attempt(self, attempt: int) -> bool:
+        """One attempt: True when it ended the reconnect (a link installed, or a reason not
+        to go on), False to try again."""
+        raise NotImplementedError
+
+    def _reconnect_ended(self) -> None:
+        """What a transport does when a reconnect ends, before waiting calls go on."""
+
+    def _linked_now(self) -> None:
+        """A link was installed: CONNECTED, and calls waiting go on (a reconnect still under
+        way, from a ``connect()`` that won, is cancelled)."""
+        task = self._reconnect_task
+        if task is not None and not task.done() and task is not asyncio.current_task():
+            task.cancel()
+        loop = self._loop or asyncio.get_running_loop()
+        self._up_since = loop.time()
+        self._set_state(ClientState.CONNECTED)
+        if self._ready is not None:
+            self._ready.set()
+
+    async def _stop_reconnecting(self) -> None:
+        """CLOSED, and the reconnect task (if any) ended and its failure logged."""
+        self._set_state(ClientState.CLOSED)
+        task, self._reconnect_task = self._reconnect_task, None
+        if task is not None:
+            if not task.done():
+                task.cancel()
+                await asyncio.wait([task])
+            if not task.cancelled() and task.exception() is not None:
+                self._logger.warning("reconnect to %s failed: %r", self.address, task.exception())
+        if self._ready is not None:
+            self._ready.set()
+
+    async def connect(self) -> None:
+        raise NotImplementedError
+
+    async def aclose(self) -> None:
+        raise NotImplementedError
+
+    async def __aenter__(self) -> Self:
+        await self.connect()
+        return self
+
+    async def __aexit__(
+        self,
+        exc_type: type[BaseException] | None,
+        exc: BaseException | None,
+        tb: TracebackType | None,
+    ) -> None:
+        await self.aclose()

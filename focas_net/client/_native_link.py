@@ -1,0 +1,526 @@
+"""The native client's asyncio shell: :class:`NativeLink`, over a
+:class:`~focas_net.native.session.NativeSession`.
+
+FANUC's library opens a handle as two TCP connections (``docs/native-client.md``): A, opened
+and closed, and B, which carries every data frame. :func:`open_handle` opens both, reads the
+open answers and sends the connect-time requests; :class:`Handle` keeps what they said. The
+link then only moves bytes and time between B, one timer and the session:
+
+* a call's blocks (encoded by the caller) are submitted as a job whose token is a future; the
+  caller awaits the future, and a caller that gives up abandons its job;
+* a frame leaves when the session is idle: at once when its caller is the task whose lone
+  call was just answered (a sequential caller), else at the end of the loop turn, so that
+  calls made together, or by the callers an answer just woke, share one frame; when an answer
+  comes and calls wait, the next frame leaves before the results are handed out;
+* one timer, armed no later than the earliest deadline the session has (moved only when an
+  earlier one comes), ends what expired; a frame unanswered past its last deadline, bytes no
+  request asked for, or an answer the library refuses end the connection, and the client
+  reconnects as its policy says (calls still queued wait for the next connection).
+
+The session decides; the link turns each ended job into the call's result or exception.
+"""
+
+from __future__ import annotations
+
+import asyncio
+import logging
+from functools import partial
+from typing import Any, Final
+
+from focas_net.errors import (
+    CncError,
+    FocasConnectionError,
+    FocasError,
+    FocasTimeoutError,
+    ProtocolError,
+)
+
+from ..native import calls
+from ..native.blocks import ResponseBlock
+from ..native.calls import CommandSet
+from ..native.frame import (
+    MAGIC,
+    NATIVE_HEADER,
+    NATIVE_HEADER_SIZE,
+    FrameType,
+    encode_close_request,
+    encode_open_request,
+)
+from ..native.opening import OpenAnswer, OpenHeadV2, decode_open_answer
+from ..native.records import NativeSysInfo, ScaledNumber
+from ..native.requests import NativeCommand
+from ..native.session import AnswerRefused, Ending, Job, NativeSession, Part, answer_blocks
+from ._channel import Channel, open_channel
+from ._composite import CompositeCalls
+from .connection import NotSentError
+from .reconnect import ClientState, ReconnectPolicy, StateCallback
+
+__all__ = ["Handle", "NativeLink", "open_handle"]
+
+logger = logging.getLogger("focas_net.client.native")
+
+_NEVER: Final = float("inf")
+_CLOSE_GRACE: Final = 2.0
+_MAGIC: Final = int.from_bytes(MAGIC, "big")
+
+Future = asyncio.Future[tuple[ResponseBlock, ...]]
+#: A job's token: the future its caller awaits, and the caller's task.
+Token = tuple[Future, "asyncio.Task[Any] | None"]
+
+
+class _Lost(Exception):
+    """The connection pair cannot carry any further frame."""
+
+
+async def _read_frame(channel: Channel) -> bytes:
+    """The next whole frame (header included) read from ``channel`` before it is started."""
+    try:
+        head = await channel.readexactly(NATIVE_HEADER_SIZE)
+        magic, _, _, length = NATIVE_HEADER.unpack(head)
+        if magic != _MAGIC:
+            raise _Lost("answer does not start with A0 A0 A0 A0")
+        return head + await channel.readexactly(length)
+    except (asyncio.IncompleteReadError, ConnectionError, OSError) as exc:
+        raise _Lost(f"connection closed ({exc})") from exc
+
+
+class Handle:
+    """One open A/B connection pair and what its open answer and connect requests said."""
+
+    def __init__(self, a: Channel, b: Channel, opened: OpenAnswer) -> None:
+        self.a = a
+        self.b = b
+        self.opened = opened
+        self.version = opened.version
+        self.command_set = CommandSet.for_version(opened.version)
+        self.max_axes = opened.max_axes
+        present = opened.present()
+        self.axes = present[0].axes if present else 0
+        self.spindles = present[0].spindles if present else 0
+        self.paths = len(present)
+        self.option_bits = opened.option_bits or 0
+        self.sysinfo: NativeSysInfo | None = None
+        self.closed = False
+        # FANUC's library's write buffer: cnc_wrparam leaves the slots it does not write as
+        # the previous write left them, and so does this client, byte for byte.
+        self.param_slots: list[int] = [0] * max(self.max_axes, 1)
+        self.param3_slots: list[ScaledNumber] = [ScaledNumber(0, 0, 0)] * max(self.max_axes, 1)
+
+    async def exchange(self, part: Part) -> tuple[ResponseBlock, ...]:
+        """One data frame on B, read back before the client takes B over (the connect)."""
+        self.b.write(part.frame)
+        try:
+            blocks = answer_blocks(await _read_frame(self.b), part.count)
+        except AnswerRefused as exc:
+            raise _Lost(str(exc)) from None
+        if isinstance(blocks, int):
+            raise CncError.from_ew(blocks, "error answer (0x2103) to the connect requests")
+        return blocks
+
+    def abort(self) -> None:
+        self.closed = True
+        self.a.close()
+        self.b.close()
+
+    async def close(self, grace: float) -> None:
+        """Close A then B with the close exchange, as the library does; then the sockets."""
+        if self.closed:
+            return
+        self.closed = True
+        try:
+            async with asyncio.timeout(grace):
+                for channel in (self.a, self.b):
+                    channel.write(encode_close_request())
+                    raw = await _read_frame(channel)
+                    if NATIVE_HEADER.unpack_from(raw)[2] != FrameType.CLOSE_RESPONSE:
+                        break
+        except (TimeoutError, _Lost, OSError):
+            pass
+        self.a.close()
+        self.b.close()
+
+
+async def _open_channel(
+    host: str, port: int, channel: int, deadline: float | None
+) -> tuple[Channel, bytes]:
+    """Connection ``channel`` (1: A, 2: B), opened: it and its open answer frame."""
+    where = f"{host}:{port}"
+    try:
+        async with asyncio.timeout_at(deadline):
+            conn = await open_channel(host, port)
+    except TimeoutError:
+        raise FocasTimeoutError(f"connecting to {where} timed out") from None
+    except OSError as exc:
+        raise FocasConnectionError(f"cannot connect to {where}: {exc}") from exc
+    try:
+        conn.write(encode_open_request(channel))
+        async with asyncio.timeout_at(deadline):
+            raw = await _read_frame(conn)
+    except BaseException:
+        conn.close()
+        raise
+    if NATIVE_HEADER.unpack_from(raw)[2] != FrameType.OPEN_RESPONSE:
+        conn.close()
+        kind = NATIVE_HEADER.unpack_from(raw)[2]
+        raise FocasConnectionError(f"{where} answered the open with type 0x{kind:04X}")
+    return conn, raw
+
+
+def _opened(raw: bytes) -> OpenAnswer:
+    _, version, _, _ = NATIVE_HEADER.unpack_from(raw)
+    return decode_open_answer(raw[NATIVE_HEADER_SIZE:], version)
+
+
+async def open_handle(host: str, port: int, deadline: float | None) -> Handle:
+    """Open A and B and send the connect-time requests of ``cnc_allclibhndl3``."""
+    where = f"{host}:{port}"
+    channels: list[Channel] = []
+    try:
+        a, raw_a = await _open_channel(host, port, 1, deadline)
+        channels.append(a)
+        b, raw_b = await _open_channel(host, port, 2, deadline)
+        channels.append(b)
+        try:
+            _opened(raw_a)
+            opened = _opened(raw_b)
+        except ProtocolError as exc:
+            raise FocasConnectionError(f"{where}: open answer refused: {exc}") from None
+        if isinstance(opened.head, OpenHeadV2) and opened.head.kind == 2:
+            raise FocasConnectionError(f"{where}: an FS15-family control (kind 2) is not supported")
+        handle = Handle(a, b, opened)
+        if not handle.paths:
+            raise FocasConnectionError(f"{where}: the open answer announces no path")
+        async with asyncio.timeout_at(deadline):
+            await _connect_requests(handle)
+        if isinstance(opened.head, OpenHeadV2) and opened.head.kind == 3:
+            handle.option_bits = 1
+    except TimeoutError:
+        _abort(channels)
+        raise FocasTimeoutError(f"{where}: no answer to the open or connect requests") from None
+    except _Lost as exc:
+        _abort(channels)
+        raise FocasConnectionError(f"{where}: {exc}") from None
+    except BaseException:
+        _abort(channels)
+        raise
+    return handle
+
+
+async def _connect_requests(handle: Handle) -> None:
+    """The frames ``cnc_allclibhndl3`` sends once connected: the system information of each
+    path and, at 16i class, the FOCAS option bits (parameter 9968)."""
+    connect = calls.cnc_allclibhndl3(handle.command_set, handle.paths)
+    for frame, part in zip(connect.frames, connect.parts, strict=True):
+        blocks = await handle.exchange(part)
+        for request, block in zip(frame, blocks, strict=True):
+            if block.ew:
+                raise CncError.from_ew(block.ew, "cnc_allclibhndl3")
+            if request.COMMAND == NativeCommand.SYSINFO and handle.sysinfo is None:
+                handle.sysinfo = request.decode_answer(block.data)
+            elif request.COMMAND == NativeCommand.RDPARAM:
+                # slot 0's low byte
+                handle.option_bits = block.data[11] if len(block.data) >= 12 else 0
+
+
+def _abort(channels: list[Channel]) -> None:
+    for channel in channels:
+        channel.close()
+
+
+class NativeLink(CompositeCalls):
+    """The connection pair of a :class:`~focas_net.client.NativeClient`, its session and its
+    lifecycle (see the module docstring). The arguments are the client's."""
+
+    _logger = logger
+
+    def __init__(
+        self,
+        host: str,
+        port: int,
+        *,
+        timeout: float | None,
+        reconnect: bool | ReconnectPolicy,
+        max_blocks: int,
+        on_state_change: StateCallback | None,
+    ) -> None:
+        super().__init__(
+            host, port, timeout=timeout, reconnect=reconnect, on_state_change=on_state_change
+        )
+        self._init_composite()
+        self._session: NativeSession[Token] = NativeSession(max_blocks)
+        self._handle: Handle | None = None
+        #: The task whose lone call was answered last: its next call is sent at once; any
+        #: other at the end of the loop turn (``_flush_soon`` set while that is scheduled).
+        self._sequential: asyncio.Task[Any] | None = None
+        self._flush_soon = False
+        #: The one timer, and when it fires (``inf``: not set).
+        self._timer: asyncio.TimerHandle | None = None
+        self._timer_at = _NEVER
+        #: Why jobs that end LOST ended (the last connection's end, or the close).
+        self._why = "closed"
+
+    # -- what the client shows -------------------------------------------------------------
+    @property
+    def max_blocks(self) -> int:
+        """Most blocks one frame carries."""
+        return self._session.max_blocks
+
+    @property
+    def frames_sent(self) -> int:
+        """Data frames sent since the client was made."""
+        return self._session.frames_sent
+
+    @property
+    def blocks_sent(self) -> int:
+        """Blocks those frames carried."""
+        return self._session.blocks_sent
+
+    @property
+    def command_set(self) -> CommandSet | None:
+        """The command set of the open handle (16i or 30i class), None when not connected."""
+        return None if self._handle is None else self._handle.command_set
+
+    @property
+    def version(self) -> int | None:
+        """The version word of the open answer (it sets the command set and the most bytes
+        of an answer body), None when not connected."""
+        return None if self._handle is None else self._handle.version
+
+    @property
+    def max_axes(self) -> int | None:
+        """The CNC's max axes from the open answer, None when not connected."""
+        return None if self._handle is None else self._handle.max_axes
+
+    @property
+    def idle(self) -> bool:
+        """Whether no call of this client is queued or in flight."""
+        session = self._session
+        return session.in_flight is None and not any(j.ending is None for j in session.queue)
+
+    # -- lifecycle -----------------------------------------------------------------------
+    async def connect(self) -> None:
+        """Open the A/B pair and send the connect-time requests (``cnc_allclibhndl3``).
+
+        Raises :class:`FocasConnectionError` (or :class:`FocasTimeoutError`) when the CNC
+        cannot be reached or its open answer is refused; the first connect is not retried.
+        """
+        if self._state is ClientState.CLOSED:
+            raise FocasConnectionError("client is closed")
+        if self._linked():
+            return
+        self._bind_loop()
+        handle = await open_handle(self.host, self.port, self._deadline(None))
+        if self.state is ClientState.CLOSED:  # closed while connecting
+            handle.abort()
+            raise FocasConnectionError("client is closed")
+        if self._linked():  # a concurrent connect() won
+            handle.abort()
+            return
+        self._install(handle)
+
+    async def aclose(self) -> None:
+        """Close the handle (close exchange on A, then B); pending calls fail with
+        :class:`FocasConnectionError`."""
+        await self._stop_reconnecting()
+        handle, self._handle = self._handle, None
+        self._why = "client is closed"
+        self._complete(self._session.close())
+        if self._timer is not None:
+            self._timer.cancel()
+            self._timer, self._timer_at = None, _NEVER
+        if handle is not None:
+            handle.b.stop()
+            await handle.close(_CLOSE_GRACE)
+
+    def _linked(self) -> bool:
+        handle = self._handle
+        return handle is not None and not handle.closed
+
+    async def _handle_for(self, deadline: float | None) -> Handle:
+        """The open handle, waiting (until ``deadline``) while reconnecting."""
+        handle = self._handle
+        if handle is None or handle.closed:
+            await self._wait_linked(deadline)
+            handle = self._handle
+            assert handle is not None
+        return handle
+
+    def _install(self, handle: Handle) -> None:
+        self._handle = handle
+        stale = self._session.connected(handle.command_set, handle.version, handle.max_axes)
+        self._sequential = None
+        self._linked_now()
+        self._complete(stale)
+        # (B ended while connecting: the end is told at once, and the handle lost)
+        handle.b.start(partial(self._on_data, handle), partial(self._on_end, handle))
+        if handle is self._handle:
+            self._send()
+
+    async def _reconnect_attempt(self, attempt: int) -> bool:
+        try:
+            handle = await open_handle(self.host, self.port, self._deadline(None))
+        except Exception as exc:  # refused, unreachable, or an answer that does not decode
+            logger.debug("reconnect attempt %d to %s: %s", attempt, self.address, exc)
+            return False
+        self._install(handle)
+        # (lost again while installed, for bytes nobody asked for or the end of B: the next
+        # attempt follows)
+        return self._handle is handle
+
+    def _reconnect_ended(self) -> None:
+        if self._state is ClientState.DISCONNECTED:
+            self._why = f"could not reconnect to {self.address}"
+            self._complete(self._session.lost(keep_queued=False))
+
+    def _lose(self, handle: Handle, why: str) -> None:
+        """``handle`` can carry no further frame: its jobs in flight end, and the client
+        reconnects (its queued jobs wait) or not (they end too), as its policy says."""
+        if handle is not self._handle:
+            return
+        self._handle = None
+        handle.abort()
+        keep = self._policy is not None and self._state is not ClientState.CLOSED
+        self._why = why
+        self._complete(self._session.lost(keep_queued=keep))
+        if self._state is ClientState.CLOSED:
+            return
+        if not keep:
+            logger.warning("connection to %s lost: %s", self.address, why)
+            self._set_state(ClientState.DISCONNECTED)
+            return
+        self._reconnecting(_Lost(why))
+
+    # -- jobs ----------------------------------------------------------------------------
+    async def _exchange(
+        self, part: Part, command_set: CommandSet, deadline: float | None
+    ) -> tuple[ResponseBlock, ...]:
+        """One frame's worth of one call: its answer blocks (an EW code in a block is the
+        caller's to raise)."""
+        job = self._submit(part, command_set, deadline)
+        try:
+            return await job.token[0]
+        except asyncio.CancelledError:
+            self._session.abandon(job)
+            raise
+
+    def _submit(self, part: Part, command_set: CommandSet, deadline: float | None) -> Job[Token]:
+        """Queue a job and have it sent (see the module docstring); the caller awaits its
+        token, or abandons it."""
+        if self._handle is None and self._state is not ClientState.RECONNECTING:
+            # (between two frames of one call, the connection lost with nothing to wait for)
+            raise (
+                self._nothing_to_wait_for()
+                if self._state is not ClientState.CLOSED
+                else (FocasConnectionError("client is closed"))
+            )
+        loop = self._loop or asyncio.get_running_loop()
+        session = self._session
+        task = asyncio.current_task(loop)
+        token = (loop.create_future(), task)
+        job = session.submit(part, _NEVER if deadline is None else deadline, command_set, token)
+        if job.ending is not None:
+            self._complete([job])
+            return job
+        if session.wake_at < self._timer_at:
+            self._arm(session.wake_at)
+        if session.idle and not self._flush_soon:
+            if task is not None and task is self._sequential:
+                self._sequential = None
+                self._send()
+            else:
+                self._flush_soon = True
+                loop.call_soon(self._flush)
+        return job
+
+    def _send(self) -> None:
+        """Write the next frame, if the session has one to send now."""
+        frame = self._session.next_frame()
+        if frame is not None:
+            assert self._handle is not None
+            self._handle.b.write(frame)
+
+    def _flush(self) -> None:
+        self._flush_soon = False
+        self._send()
+
+    def _on_data(self, handle: Handle, data: bytes) -> None:
+        """B's bytes: the answer hands the calls of the frame their blocks; calls waiting go
+        in the next frame, sent first."""
+        session = self._session
+        in_flight = session.in_flight
+        ended = session.receive(data)
+        if session.failure is not None:
+            self._complete(ended)
+            self._lose(handle, session.failure)
+            return
+        if session.queue:
+            self._send()
+        lone = in_flight is not None and len(in_flight) == 1
+        self._sequential = in_flight[0].token[1] if lone and in_flight is not None else None
+        self._complete(ended)
+        if not lone and not self._flush_soon and session.idle:
+            # the callers just answered will likely call again when they wake: their calls
+            # leave together, after them
+            self._flush_soon = True
+            (self._loop or asyncio.get_running_loop()).call_soon(self._flush)
+
+    def _on_end(self, handle: Handle, exc: Exception | None) -> None:
+        self._lose(handle, f"connection closed ({exc})" if exc else "connection closed by the CNC")
+
+    def _arm(self, when: float) -> None:
+        if self._timer is not None:
+            self._timer.cancel()
+        loop = self._loop or asyncio.get_running_loop()
+        self._timer = loop.call_at(when, self._expire)
+        self._timer_at = when
+
+    def _expire(self) -> None:
+        """The timer fired: end what expired; arm it again for the earliest deadline left."""
+        loop = self._loop or asyncio.get_running_loop()
+        now = max(loop.time(), self._timer_at)
+        self._timer, self._timer_at = None, _NEVER
+        session = self._session
+        ended = session.expire(now)
+        self._complete(ended)
+        handle = self._handle
+        if session.failure is not None and handle is not None:
+            self._lose(handle, session.failure)
+        if session.wake_at < _NEVER:
+            self._arm(session.wake_at)
+
+    def _complete(self, jobs: list[Job[Token]]) -> None:
+        """Hand each ended job's caller its blocks or its exception."""
+        for job in jobs:
+            future = job.token[0]
+            if future.done():
+                continue
+            if job.ending is Ending.ANSWERED:
+                future.set_result(job.blocks)
+            else:
+                future.set_exception(self._failure(job))
+
+    def _failure(self, job: Job[Token]) -> FocasError:
+        """The exception of a job that ended without its answer."""
+        ending = job.ending
+        if ending is Ending.TIMED_OUT:
+            if not job.sent and self._state is ClientState.RECONNECTING:
+                return FocasConnectionError(
+                    f"still reconnecting to {self.address} when the call timed out"
+                )
+            return FocasTimeoutError(
+                f"no answer from {self.address} within the call's timeout"
+                + ("" if job.sent else " (the request was never sent)")
+            )
+        if ending is Ending.REFUSED:
+            return CncError.from_ew(job.ew, "error answer (0x2103) to the request frame")
+        if ending is Ending.STALE:
+            return FocasConnectionError("the CNC's command set changed on reconnect; call again")
+        if self._state is ClientState.CLOSED:
+            return FocasConnectionError("client is closed")
+        if job.sent:
+            return FocasConnectionError(
+                f"connection to {self.address} lost after the request was sent ({self._why})"
+            )
+        return NotSentError(
+            f"connection to {self.address} lost before the request was sent ({self._why})"
+        )

@@ -1,0 +1,246 @@
+"""What both clients check and convert, written once: a call's arguments, macro and parameter
+values, positions.
+
+Every public method of :class:`~focas_net.client.FocasClient` and
+:class:`~focas_net.client.NativeClient` checks its arguments with these functions in the
+caller's own frame, before anything is queued or sent: a value of the wrong type raises
+:class:`TypeError`, a value the wire cannot carry :class:`ValueError`, each naming what was
+given. The conversions are pure: a macro value to FANUC's ``(mcr_val, dec_val)`` and back, a
+parameter value to what its type carries.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from decimal import Decimal, InvalidOperation
+from typing import Final
+
+from ..protocol import (
+    MAX_HISTORY_DEPTH,
+    MAX_REAL_DECIMALS,
+    AlarmType,
+    ParamDataType,
+    PmcArea,
+    PositionKind,
+)
+
+#: The public name of this module (exported by ``focas_net.client``); the checks and the
+#: conversions are the clients' own.
+__all__ = ["Positions"]
+
+I16_MAX: Final = 0x7FFF
+I32_MIN: Final = -(2**31)
+I32_MAX: Final = 2**31 - 1
+_U16_LIMIT: Final = 0x10000
+_MAX_MACRO_DECIMALS: Final = 9
+_MAX_ALARM_TYPE: Final = 31
+_MAX_HISTORY_DEPTH: Final = MAX_HISTORY_DEPTH
+#: The IODBPSD width of a real parameter's REALPRM.
+REAL_WIDTH: Final = 8
+
+AreaLike = str | int | PmcArea
+
+
+@dataclass(frozen=True, slots=True)
+class Positions:
+    """The answer of ``read_positions``.
+
+    ``values`` maps each axis name to its position (``increments / 10**decimals``, a Decimal
+    with ``decimals`` places); ``increments`` holds the raw least-input-increment counts. Both
+    keep the CNC's axis order.
+    """
+
+    kind: PositionKind
+    decimals: int
+    values: dict[str, Decimal]
+    increments: dict[str, int]
+
+
+# -- arguments -----------------------------------------------------------------------------------
+def check_int(what: str, value: object, low: int, high: int) -> int:
+    """``value`` when it is an ``int`` (not a ``bool``) within ``low..high``.
+
+    :raises TypeError: not an integer (naming ``what`` and the value given).
+    :raises ValueError: outside the range (naming ``what`` and the value given).
+    """
+    if isinstance(value, bool) or not isinstance(value, int):
+        raise TypeError(f"{what} must be an integer, got {value!r}")
+    if not low <= value <= high:
+        raise ValueError(f"{what} {value} is outside {low}..{high}")
+    return value
+
+
+def check_timeout(timeout: object) -> float | None:
+    """A call's or a client's ``timeout``: None (no deadline) or a positive number of seconds
+    (``inf`` is no deadline either)."""
+    if timeout is None:
+        return None
+    if isinstance(timeout, bool) or not isinstance(timeout, int | float):
+        raise TypeError(f"timeout must be a number of seconds or None, got {timeout!r}")
+    if not timeout > 0:  # (also NaN)
+        raise ValueError(f"timeout must be positive, got {timeout}")
+    return None if math.isinf(timeout) else float(timeout)
+
+
+def check_macro(number: object) -> int:
+    """A macro variable number (``cnc_rdmacro`` takes a C ``short``)."""
+    return check_int("macro variable number", number, -I16_MAX - 1, I16_MAX)
+
+
+def check_item(number: object, axis: object, what: str) -> None:
+    """A parameter's or a diagnostic's number and axis (0: not an axis item)."""
+    check_int(f"{what} number", number, 0, I16_MAX)
+    if isinstance(axis, bool) or not isinstance(axis, int):
+        raise TypeError(f"axis must be an integer (0: not an axis {what}), got {axis!r}")
+    if not 0 <= axis <= I16_MAX:
+        raise ValueError(f"axis {axis} is outside 0..{I16_MAX} (0: not an axis {what})")
+
+
+def check_axis(axis: object, what: str = "axis", *, every: int | None = None) -> int | None:
+    """One axis (or spindle) 1..n, or ``every`` (None, or -1) for all of them (returned as
+    None)."""
+    if axis is every or (every is not None and axis == every and not isinstance(axis, bool)):
+        return None
+    if isinstance(axis, bool) or not isinstance(axis, int):
+        raise TypeError(f"{what} must be an integer, got {axis!r}")
+    if not 1 <= axis <= I16_MAX:
+        every_one = f" ({every}: every {what})" if every is not None else ""
+        raise ValueError(f"{what} {axis} is outside 1..{I16_MAX}{every_one}")
+    return axis
+
+
+def check_bit(bit: object, width: int = 1) -> int:
+    """A bit number of a value ``width`` bytes wide."""
+    return check_int("bit", bit, 0, 8 * width - 1)
+
+
+def check_pmc_range(start: object, count: object) -> tuple[int, int]:
+    """``count`` (at least 1) PMC bytes from ``start``, ending by 65535."""
+    first = check_int("PMC start address", start, 0, _U16_LIMIT - 1)
+    size = check_int("PMC byte count", count, 1, _U16_LIMIT)
+    if first + size > _U16_LIMIT:
+        raise ValueError(f"{size} PMC bytes from {first} do not end by 65535")
+    return first, size
+
+
+def history_depth(depth: object) -> int:
+    """The alarm history entries to read: ``depth`` clamped to 1..250."""
+    return min(max(check_int("history depth", depth, -(2**63), 2**63), 1), _MAX_HISTORY_DEPTH)
+
+
+def alarm_type_number(alm_type: object, *, every: bool = False) -> int:
+    """An alarm type number from its name (``"PS"``), an :class:`AlarmType` or 0..31 (and -1,
+    every type, with ``every``)."""
+    if isinstance(alm_type, str):
+        try:
+            return int(AlarmType[alm_type.strip().upper()])
+        except KeyError:
+            names = " ".join(t.name for t in AlarmType)
+            raise ValueError(
+                f"unknown alarm type {alm_type!r} (one of {names}, or 0..31)"
+            ) from None
+    return check_int("alarm type", alm_type, -1 if every else 0, _MAX_ALARM_TYPE)
+
+
+def pmc_data(start: object, data: object) -> bytes:
+    """PMC bytes to write from ``start``: bytes-like, at least one, ending by 65535."""
+    if not isinstance(data, bytes | bytearray | memoryview):
+        raise TypeError(f"PMC data must be bytes, got {data!r}")
+    raw = bytes(data)
+    check_pmc_range(start, len(raw))
+    return raw
+
+
+# -- macro values ----------------------------------------------------------------------------
+def macro_to_wire(value: int | Decimal | float | str) -> tuple[int, int]:
+    """``(mcr_val, dec_val)`` for ``value``; :class:`ValueError` when it cannot be carried,
+    :class:`TypeError` when it is not a number.
+
+    An ``int`` keeps ``dec_val = 0``; a ``Decimal`` or string keeps the digits it was given
+    (``"1.50"`` -> ``(150, 2)``) when they fit, else the fewest that represent it exactly; a
+    ``float`` uses its shortest decimal form (``0.1`` -> ``(1, 1)``). ``dec_val`` is 0..9 and
+    ``mcr_val`` an i32.
+    """
+    if isinstance(value, bool):
+        raise TypeError("a macro value must be a number, not a bool")
+    if isinstance(value, int):
+        if not I32_MIN <= value <= I32_MAX:
+            raise ValueError(f"macro value {value} does not fit mcr_val (i32)")
+        return value, 0
+    if isinstance(value, float):
+        if not math.isfinite(value):
+            raise ValueError(f"macro value {value} is not finite")
+        dec = Decimal(repr(value))
+    elif isinstance(value, Decimal):
+        dec = value
+    elif isinstance(value, str):
+        try:
+            dec = Decimal(value.strip())
+        except InvalidOperation:
+            raise ValueError(f"not a number: {value!r}") from None
+    else:
+        raise TypeError(f"a macro value must be int, Decimal, float or str, not {value!r}")
+    if not dec.is_finite():
+        raise ValueError(f"macro value {value} is not finite")
+    for candidate in (dec, dec.normalize()):
+        exponent = candidate.as_tuple().exponent
+        assert isinstance(exponent, int)
+        places = max(0, -exponent)
+        if places > _MAX_MACRO_DECIMALS:
+            continue
+        mcr = int(candidate.scaleb(places))
+        if I32_MIN <= mcr <= I32_MAX:
+            return mcr, places
+    raise ValueError(f"macro value {value} cannot be carried as mcr_val (i32) / 10**dec_val (0..9)")
+
+
+def macro_from_wire(mcr_val: int, dec_val: int) -> Decimal | None:
+    """The value of an ODBM: ``mcr_val / 10**dec_val``, or None when vacant."""
+    if mcr_val == 0 and dec_val == -1:
+        return None
+    return Decimal(mcr_val).scaleb(-dec_val)
+
+
+# -- parameter values --------------------------------------------------------------------------
+def param_int(number: int, value: object) -> int:
+    """An integer parameter value from ``value`` (text: decimal, ``0x``, ``0b`` or ``0o``)."""
+    if isinstance(value, str):
+        try:
+            return int(value.strip().replace("_", ""), 0)
+        except ValueError:
+            raise ValueError(f"parameter {number}: not an integer: {value!r}") from None
+    if isinstance(value, bool) or not isinstance(value, int | Decimal):
+        raise TypeError(f"parameter {number}: a value is an integer, got {value!r}")
+    if isinstance(value, Decimal):
+        if not value.is_finite() or value != value.to_integral_value():
+            raise ValueError(f"parameter {number} is not a real parameter: {value} is no integer")
+        return int(value)
+    return value
+
+
+def byte_to_wire(number: int, value: int, kind: ParamDataType | None) -> int:
+    """The signed byte of a 1-byte parameter's ``value``: a bit parameter's 0..255 as the byte
+    of the same eight bits, a byte parameter's -128..127 as it is."""
+    if kind is ParamDataType.BIT:
+        if not 0 <= value <= 0xFF:
+            raise ValueError(
+                f"bit parameter {number} holds 0..255 (0b00000000..0b11111111), got {value}"
+            )
+        return value - 0x100 if value > 0x7F else value
+    if not -0x80 <= value <= 0x7F:
+        raise ValueError(f"parameter {number} is a byte parameter: {value} is outside -128..127")
+    return value
+
+
+def real_to_wire(number: int, value: object) -> tuple[int, int]:
+    """``(prm_val, dec_val)`` of a real parameter's value."""
+    if isinstance(value, bool) or not isinstance(value, int | Decimal | str):
+        raise TypeError(f"parameter {number}: a real value is a number, got {value!r}")
+    try:
+        return macro_to_wire(value)
+    except ValueError:
+        raise ValueError(
+            f"real parameter {number}: {value!r} cannot be carried as an i32 mantissa with "
+            f"0..{MAX_REAL_DECIMALS} decimals"
+        ) from None
