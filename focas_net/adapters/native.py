@@ -74,15 +74,10 @@ from typing import Any, Final
 
 from focas_net._memo import Memo
 from focas_net.errors import EW
-from focas_net.native.codec import (
-    _DOUBLE,
-    _MAGIC_U32,
-    _NAN_BITS,
-    _RESPONSE_BLOCK,
-    _SCALED,
-    _U16,
+from focas_net.native import (
     MACHINE_LATHE,
     MACHINE_MILL,
+    MAGIC_WORD,
     NATIVE_HEADER,
     OPTION_PARAMETER,
     PROGRAM_CHUNK,
@@ -104,6 +99,7 @@ from focas_net.native.codec import (
     AxisUnit,
     AxisUnitRequest,
     AxisUnits,
+    BlockCount,
     CncId,
     CommandSet,
     Device,
@@ -114,7 +110,9 @@ from focas_net.native.codec import (
     FrameType,
     HdckStatus,
     ItemRecord,
+    MacroDouble,
     MacroDoubleReadRequest,
+    MacroDoubles,
     MacroDoubleWriteRequest,
     MacroReadRequest,
     MacroWriteRequest,
@@ -147,6 +145,7 @@ from focas_net.native.codec import (
     ProgramMemory,
     ProgramSearchRequest,
     RequestBlock,
+    ResponseBlockHead,
     ScaledItemRecord,
     ScaledNumber,
     ScaledValues,
@@ -291,9 +290,9 @@ _REQUEST_BODIES: Final = Memo(512)
 #: A context that neither rounds nor overflows: scaling a coefficient by its exponent is exact.
 _EXACT: Final = Context(prec=MAX_PREC, Emax=MAX_EMAX, Emin=MIN_EMIN)
 
-_pack_block = _RESPONSE_BLOCK.pack
-_pack_scaled = _SCALED.pack
-_pack_double = _DOUBLE.pack
+_pack_block = ResponseBlockHead.STRUCT.pack
+_pack_scaled = ScaledNumber.STRUCT.pack
+_pack_count = BlockCount.STRUCT.pack
 _ITEM_HEAD_PACK: Final = struct.Struct(">ihh").pack
 _I32_PACK: Final = struct.Struct(">i").pack
 _I32_ZERO: Final = bytes(4)
@@ -598,7 +597,7 @@ class NativeAdapter:
     def _frame(self, parts: list[bytes]) -> bytes:
         """The data-response frame of ``parts`` (``parts[0]`` is the place of its header)."""
         length = sum(map(len, parts))
-        parts[0] = NATIVE_HEADER.pack(_MAGIC_U32, self.version, FrameType.DATA_RESPONSE, length)
+        parts[0] = NATIVE_HEADER.pack(MAGIC_WORD, self.version, FrameType.DATA_RESPONSE, length)
         return b"".join(parts)
 
     def answer(self, body: bytes, session: Session | None = None) -> bytes:
@@ -637,7 +636,7 @@ class NativeAdapter:
         """The answer frame of ``blocks``, and whether a block of it answered an EW code."""
         self._session = self._own_session if session is None else session
         count = len(blocks)
-        parts: list[bytes] = [b"", _U16.pack(count)]
+        parts: list[bytes] = [b"", _pack_count(count)]
         left = self.limit - 2 - RESPONSE_BLOCK_SIZE * count
         handlers = self._handlers
         failed = False
@@ -687,7 +686,7 @@ class NativeAdapter:
         (a forced EW code of fault injection: nothing runs). Raises :class:`NativeFrameError`
         as :meth:`answer` does."""
         blocks = self._blocks(body)
-        parts: list[bytes] = [b"", _U16.pack(len(blocks))]
+        parts: list[bytes] = [b"", _pack_count(len(blocks))]
         parts.extend(
             _pack_block(RESPONSE_BLOCK_SIZE, b.device, b.path, b.command, ew, 0, 0, 0)
             for b in blocks
@@ -1020,17 +1019,17 @@ class NativeAdapter:
         req = MacroDoubleReadRequest.from_block(block)
         if req.count < 1:
             raise _Refused(EW.LENGTH)
-        _need_room(_DOUBLE.size * req.count, room)
+        _need_room(MacroDouble.SIZE * req.count, room)
         read = self.machine.read_macro
-        parts = []
+        values: list[float | None] = []
         for number in range(req.first, req.first + req.count):
             value = read(number)
             if value is None:
-                parts.append(_NAN_BITS)
+                values.append(None)  # a quiet NaN
             else:
                 mantissa, decimals = _macro_parts(value)
-                parts.append(_pack_double(mantissa / 10**decimals))
-        return b"".join(parts)
+                values.append(mantissa / 10**decimals)
+        return MacroDoubles(tuple(values)).encode()
 
     def _write_macro_double(self, block: RequestBlock, room: int) -> bytes:
         req = MacroDoubleWriteRequest.from_block(block)
