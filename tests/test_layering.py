@@ -77,9 +77,14 @@ def test_the_versamax_record_is_neutral() -> None:
     assert {m for m in found if not _allowed(m, ("focas_net.errors",))} == set()
 
 
+def test_what_the_adapters_share_knows_no_protocol() -> None:
+    found = imports_of(PACKAGE / "adapters" / "_common.py")
+    assert {m for m in found if not _allowed(m, ("focas_net.sim", *NEUTRAL))} == set()
+
+
 def test_the_packed_adapter_imports_the_machine_and_its_codec_only() -> None:
     found = imports_of(PACKAGE / "adapters" / "packed.py")
-    own = ("focas_net.sim", "focas_net.protocol", *NEUTRAL)
+    own = ("focas_net.sim", "focas_net.protocol", "focas_net.adapters._common", *NEUTRAL)
     assert {m for m in found if not _allowed(m, own)} == set()
 
 
