@@ -35,8 +35,6 @@ Decoding arbitrary bytes raises nothing else. Encoding a value that cannot be pu
 raises :class:`ValueError` (a programming error, not a peer error).
 """
 
-from __future__ import annotations
-
 from . import calls
 from .base import (
     NativeFrameError,
