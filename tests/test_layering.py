@@ -77,15 +77,32 @@ def test_the_versamax_record_is_neutral() -> None:
     assert {m for m in found if not _allowed(m, ("focas_net.errors",))} == set()
 
 
+def test_what_the_adapters_share_knows_no_protocol() -> None:
+    found = imports_of(PACKAGE / "adapters" / "_common.py")
+    assert {m for m in found if not _allowed(m, ("focas_net.sim", *NEUTRAL))} == set()
+
+
 def test_the_packed_adapter_imports_the_machine_and_its_codec_only() -> None:
     found = imports_of(PACKAGE / "adapters" / "packed.py")
-    own = ("focas_net.sim", "focas_net.protocol", *NEUTRAL)
+    own = ("focas_net.sim", "focas_net.protocol", "focas_net.adapters._common", *NEUTRAL)
     assert {m for m in found if not _allowed(m, own)} == set()
 
 
-def test_the_native_adapter_imports_the_machine_and_its_codec_only() -> None:
-    found = imports_of(PACKAGE / "adapters" / "native.py")
-    own = ("focas_net.sim", "focas_net.native.codec", *NEUTRAL)
+NATIVE_ADAPTER = sorted(
+    [PACKAGE / "adapters" / "native.py", *(PACKAGE / "adapters").glob("_native_*.py")]
+)
+
+
+@pytest.mark.parametrize("path", NATIVE_ADAPTER, ids=lambda p: p.name)
+def test_the_native_adapter_imports_the_machine_and_its_codec_only(path: Path) -> None:
+    found = imports_of(path)
+    own = (
+        "focas_net.sim",
+        "focas_net.native",
+        "focas_net.adapters._common",
+        *(f"focas_net.adapters.{p.stem}" for p in NATIVE_ADAPTER),
+        *NEUTRAL,
+    )
     assert {m for m in found if not _allowed(m, own)} == set()
 
 

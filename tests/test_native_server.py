@@ -23,6 +23,8 @@ from pyfocas.protocol.protocol import FOCAS
 from focas_net.client.connection import Connection, open_connection
 from focas_net.errors import EW
 from focas_net.native import (
+    ActualFeedRequest,
+    ActualSpindleSpeedRequest,
     AlarmMessageRequest,
     AlarmMessages,
     Device,
@@ -59,8 +61,7 @@ from focas_net.native import (
     encode_open_request,
     encode_request,
 )
-from focas_net.native.codec import ActualFeedRequest, ActualSpindleSpeedRequest
-from focas_net.native.codec import ProgramNumberRequest as PrgNumRequest
+from focas_net.native import ProgramNumberRequest as PrgNumRequest
 from focas_net.protocol import (
     COMMANDS,
     Command,

@@ -44,11 +44,12 @@ the checks, per command (each stops at the first that fails; ``docs/protocol.md`
 decode answers EW_LENGTH and every refusal its EW code. The dispatch is a dict from command id to
 a bound handler, built once per adapter.
 
-Answers of successful reads are kept by the adapter, keyed by request payload, and dropped when
-the machine's counter of what they show moves (``status_version``, ``data_version``,
-``macro_version``, ``alarm_version``, ``pmc_version``, ``motion_version``): :class:`_Answers`
-owns that invalidation, the status (the hot path of a poller) has a slot of its own and the
-identity never changes. The machine keeps no answers of its own.
+Answers of successful reads are kept by the adapter, keyed by command and request payload,
+while the machine counter of what they show (:data:`_COUNTERS`: ``status_version``,
+``data_version``, ``macro_version``, ``alarm_version``, ``pmc_version``, ``motion_version``)
+stays where it was, with the native adapter's mechanism (:mod:`focas_net.adapters._common`): a
+poller's repeated request costs one look-up and a compare. The machine keeps no answers of its
+own.
 """
 
 from __future__ import annotations
@@ -57,7 +58,7 @@ from collections.abc import Callable
 from decimal import Decimal
 from typing import Any, ClassVar, Final
 
-from focas_net.errors import EW, PayloadError
+from focas_net.errors import EW
 from focas_net.protocol import (
     COMMANDS,
     FAULT_COMMANDS,
@@ -105,9 +106,11 @@ from focas_net.sim import (
     Session,
 )
 
+from ._common import REFUSALS, AnswerMemo, Counters, Refused, counters_of, refusal_code
+
 __all__ = ["PackedAdapter"]
 
-#: One handler: ``(session, payload) -> answer``; raises MachineError, PayloadError, _Refused.
+#: One handler: ``(session, payload) -> answer``; raises one of :data:`REFUSALS`.
 _Handler = Callable[[Session, bytes], bytes]
 
 #: ``type_a`` code -> PMC area letter.
@@ -116,8 +119,27 @@ _AREA_LETTERS: Final[dict[int, str]] = {area.value: area.name for area in PmcAre
 _MAX_ALARMS: Final = 32
 #: The ``length`` word of ODBM.
 _ODBM_LENGTH: Final = 8
-#: Entries each answer cache holds at most.
-_CACHE_LIMIT: Final = 1024
+#: The machine counter the answer of each read follows: its answers are kept while it holds.
+#: Absent are writes, control commands and reads that move with time alone or with the
+#: program store (run info, loads, the program directory and text, VersaMax configuration).
+_COUNTERS: Final[dict[Command, str]] = {
+    Command.RDCNCSTAT: "status_version",
+    Command.RDPARAM: "data_version",
+    Command.RDDIAG: "data_version",
+    Command.RDMACRO: "macro_version",
+    Command.RDALMMSG: "alarm_version",
+    Command.RDALMHISTRY: "alarm_version",
+    Command.RDPMCRNG: "pmc_version",
+    Command.RDPRGNUM: "motion_version",
+    Command.ACTF: "motion_version",
+    Command.ACTS: "motion_version",
+    Command.RDPOSITION: "motion_version",
+}
+#: Command id -> the reader of the counter its answers follow.
+_FOLLOWS: Final[dict[int, Counters]] = {int(k): counters_of([v]) for k, v in _COUNTERS.items()}
+#: Answers one adapter keeps per command (a few dozen bytes each, a position read of every
+#: axis a few hundred).
+_KEPT_ANSWERS: Final = 1024
 #: Entries of the table of error answers at most.
 _ERROR_LIMIT: Final = 4096
 
@@ -134,6 +156,21 @@ def _param_value(datano: int, axis: int, value: int, item: DataItem) -> ParamVal
     if item.kind is ParamKind.BIT and value > 0x7F:
         value -= 0x100
     return ParamValue(datano, axis, value, item.width, item.decimals)
+
+
+def _item(
+    payload: bytes,
+    decode: Callable[[bytes], Any],
+    read: Callable[[int, int], int],
+    item_of: Callable[[int], DataItem | None],
+    encode: Callable[[ParamValue], bytes],
+) -> bytes:
+    """The answer of a parameter or diagnostic read (IODBPSD)."""
+    req = decode(payload)
+    value = read(req.datano, req.axis)
+    item = item_of(req.datano)
+    assert item is not None
+    return encode(_param_value(req.datano, req.axis, value, item))
 
 
 def _request(command: Command) -> Callable[[bytes], Any]:
@@ -158,37 +195,6 @@ def _macro_parts(value: Decimal | None) -> tuple[int, int]:
     return (-coefficient if sign else coefficient), -exponent
 
 
-class _Refused(Exception):
-    """A request refused by the wire's own rules: answer it with ``ew``."""
-
-    def __init__(self, ew: int) -> None:
-        super().__init__(ew)
-        self.ew = ew
-
-
-class _Answers:
-    """Answers of one read command keyed by request payload, valid while a machine counter
-    stays where it was when they were kept (:meth:`renew` drops them when it moved); at most
-    ``_CACHE_LIMIT`` of them. A handler checks :attr:`version` itself: the hit costs no call."""
-
-    __slots__ = ("answers", "version")
-
-    def __init__(self) -> None:
-        self.answers: dict[bytes, bytes] = {}
-        self.version = -1
-
-    def renew(self, version: int) -> None:
-        """The machine's counter is at ``version`` now: drop every answer kept before."""
-        self.answers.clear()
-        self.version = version
-
-    def keep(self, payload: bytes, answer: bytes) -> bytes:
-        """Keep ``answer`` for ``payload`` (shown by the machine at :attr:`version`)."""
-        if len(self.answers) < _CACHE_LIMIT:
-            self.answers[payload] = answer
-        return answer
-
-
 class PackedAdapter:
     """Answers packed-protocol requests from one machine (see the module docstring)."""
 
@@ -197,24 +203,7 @@ class PackedAdapter:
         int(c) for c in COMMANDS if c not in FAULT_COMMANDS
     )
 
-    __slots__ = (
-        "_almmsg",
-        "_diags",
-        "_errors",
-        "_feed",
-        "_history",
-        "_macros",
-        "_params",
-        "_pmc",
-        "_positions",
-        "_prgnum",
-        "_spindle",
-        "_status",
-        "_status_version",
-        "_sysinfo",
-        "_table",
-        "machine",
-    )
+    __slots__ = ("_errors", "_kept", "_sysinfo", "_table", "machine")
 
     def __init__(self, machine: Machine) -> None:
         self.machine = machine
@@ -230,18 +219,8 @@ class PackedAdapter:
                 i.axes.encode("latin-1"),
             )
         )
-        self._status = b""
-        self._status_version = -1
-        self._params = _Answers()
-        self._diags = _Answers()
-        self._macros = _Answers()
-        self._almmsg = _Answers()
-        self._history = _Answers()
-        self._pmc = _Answers()
-        self._prgnum = _Answers()
-        self._feed = _Answers()
-        self._spindle = _Answers()
-        self._positions = _Answers()
+        #: command -> its kept answers: payload -> (its counter, the counter's value then, answer)
+        self._kept: dict[int, AnswerMemo] = {c: AnswerMemo(_KEPT_ANSWERS) for c in _FOLLOWS}
         self._errors: dict[tuple[int, int], bytes] = {}
         by_id: dict[Command, _Handler] = {
             Command.RDCNCSTAT: self._rdcncstat,
@@ -287,17 +266,27 @@ class PackedAdapter:
 
     def answer(self, session: Session, command: int, payload: bytes) -> bytes:
         """The complete answer payload of one request; never raises for what a peer sends."""
+        if type(payload) is not bytes:  # kept answers key on the payload: make it hashable
+            payload = bytes(payload)
+        memo = self._kept.get(command)
+        if memo is not None:
+            kept: tuple[Counters, Any, bytes] | None = memo.get(payload)
+            if kept is not None and kept[0](self.machine) == kept[1]:
+                return kept[2]  # a poller's request again, what it reads unchanged
         fn = self._table.get(command)
         if fn is None:
             return _EW_FUNC
-        if type(payload) is not bytes:  # the answer caches key on the payload: make it hashable
-            payload = bytes(payload)
         try:
-            return fn(session, payload)
-        except (MachineError, _Refused) as exc:
-            return self.error_answer(command, exc.ew)
-        except PayloadError:
-            return self.error_answer(command, EW.LENGTH)
+            if memo is None:
+                return fn(session, payload)
+            counters = _FOLLOWS[command]
+            # Read before answering: a machine that moves meanwhile only makes the next miss.
+            seen = counters(self.machine)
+            answer = fn(session, payload)
+        except REFUSALS as exc:
+            return self.error_answer(command, refusal_code(exc))
+        memo.keep(payload, counters, seen, answer)
+        return answer
 
     def error_answer(self, command: int, ew: int) -> bytes:
         """The answer of ``command`` carrying only ``ew`` (``count = -1, ew`` for counted
@@ -315,19 +304,11 @@ class PackedAdapter:
     def _rdcncstat(self, _session: Session, payload: bytes) -> bytes:
         if payload:
             _decode_empty(payload)  # raises: this request is empty
-        if self._status_version == self.machine.status_version:  # the hot path: one compare
-            return self._status
-        return self._new_status()
-
-    def _new_status(self) -> bytes:
-        m = self.machine
-        s = m.status()
+        s = self.machine.status()
         info = StatusInfo(
             s.hdck, s.tmmode, s.aut, s.run, s.motion, s.mstb, s.emergency, s.alarm, s.edit
         )
-        self._status = _encode_status(info)
-        self._status_version = m.status_version
-        return self._status
+        return _encode_status(info)
 
     def _sysinfo_answer(self, _session: Session, payload: bytes) -> bytes:
         if payload:
@@ -336,38 +317,11 @@ class PackedAdapter:
 
     def _rdparam(self, _session: Session, payload: bytes) -> bytes:
         m = self.machine
-        return self._item(
-            self._params, payload, _decode_param_request, m.read_param, m.param_item, _encode_param
-        )
+        return _item(payload, _decode_param_request, m.read_param, m.param_item, _encode_param)
 
     def _rddiag(self, _session: Session, payload: bytes) -> bytes:
         m = self.machine
-        return self._item(
-            self._diags, payload, _decode_diag_request, m.read_diag, m.diag_item, _encode_diag
-        )
-
-    def _item(
-        self,
-        cache: _Answers,
-        payload: bytes,
-        decode: Callable[[bytes], Any],
-        read: Callable[[int, int], int],
-        item_of: Callable[[int], DataItem | None],
-        encode: Callable[[ParamValue], bytes],
-    ) -> bytes:
-        """The answer of a parameter or diagnostic read (IODBPSD), kept until the machine's
-        data counter moves."""
-        version = self.machine.data_version
-        if cache.version != version:
-            cache.renew(version)
-        answer = cache.answers.get(payload)
-        if answer is None:
-            req = decode(payload)
-            value = read(req.datano, req.axis)
-            item = item_of(req.datano)
-            assert item is not None
-            answer = cache.keep(payload, encode(_param_value(req.datano, req.axis, value, item)))
-        return answer
+        return _item(payload, _decode_diag_request, m.read_diag, m.diag_item, _encode_diag)
 
     def _rdparainfo(self, _session: Session, payload: bytes) -> bytes:
         datano = _decode_parainfo_request(payload).datano
@@ -381,144 +335,83 @@ class PackedAdapter:
         return _encode_parainfo(info)
 
     def _rdmacro(self, _session: Session, payload: bytes) -> bytes:
-        m = self.machine
-        cache = self._macros
-        if cache.version != m.macro_version:
-            cache.renew(m.macro_version)
-        answer = cache.answers.get(payload)
-        if answer is None:
-            number = _decode_macro_request(payload).number
-            mcr_val, dec_val = _macro_parts(m.read_macro(number))
-            answer = cache.keep(
-                payload, _encode_macro(MacroValue(number, _ODBM_LENGTH, mcr_val, dec_val))
-            )
-        return answer
+        number = _decode_macro_request(payload).number
+        mcr_val, dec_val = _macro_parts(self.machine.read_macro(number))
+        return _encode_macro(MacroValue(number, _ODBM_LENGTH, mcr_val, dec_val))
 
     def _rdalmmsg(self, _session: Session, payload: bytes) -> bytes:
-        m = self.machine
-        cache = self._almmsg
-        if cache.version != m.alarm_version:
-            cache.renew(m.alarm_version)
-        answer = cache.answers.get(payload)
-        if answer is None:
-            req = _decode_almmsg_request(payload)
-            if not 1 <= req.max <= _MAX_ALARMS:
-                raise _Refused(EW.LENGTH)
-            entries = tuple(
-                ActiveAlarm(a.axis_no, a.alm_type, a.alm_no, a.msg)
-                for a in m.active_alarms(req.type, req.max)
-            )
-            answer = cache.keep(payload, _encode_almmsg(ActiveAlarmList(entries)))
-        return answer
+        req = _decode_almmsg_request(payload)
+        if not 1 <= req.max <= _MAX_ALARMS:
+            raise Refused(EW.LENGTH)
+        entries = tuple(
+            ActiveAlarm(a.axis_no, a.alm_type, a.alm_no, a.msg)
+            for a in self.machine.active_alarms(req.type, req.max)
+        )
+        return _encode_almmsg(ActiveAlarmList(entries))
 
     def _rdalmhistry(self, _session: Session, payload: bytes) -> bytes:
-        m = self.machine
-        cache = self._history
-        if cache.version != m.alarm_version:
-            cache.renew(m.alarm_version)
-        answer = cache.answers.get(payload)
-        if answer is None:
-            depth = _decode_history_request(payload).depth
-            if not 1 <= depth <= MAX_HISTORY_DEPTH:
-                raise _Refused(EW.LENGTH)
-            entries = tuple(
-                AlarmHistoryEntry(e.occurred_at, e.axis_no, e.alm_type, e.alm_no, e.msg)
-                for e in m.alarm_history(depth)
-            )
-            answer = cache.keep(payload, _encode_history(AlarmHistory(entries)))
-        return answer
+        depth = _decode_history_request(payload).depth
+        if not 1 <= depth <= MAX_HISTORY_DEPTH:
+            raise Refused(EW.LENGTH)
+        entries = tuple(
+            AlarmHistoryEntry(e.occurred_at, e.axis_no, e.alm_type, e.alm_no, e.msg)
+            for e in self.machine.alarm_history(depth)
+        )
+        return _encode_history(AlarmHistory(entries))
 
     def _rdprgnum(self, _session: Session, payload: bytes) -> bytes:
-        m = self.machine
-        cache = self._prgnum
-        if cache.version != m.motion_version:
-            cache.renew(m.motion_version)
-        answer = cache.answers.get(payload)
-        if answer is None:
-            _decode_prgnum_request(payload)
-            mo = m.motion
-            answer = _encode_prgnum(ProgramNumbers(mo.program_running, mo.program_main))
-            answer = cache.keep(payload, answer)
-        return answer
+        _decode_prgnum_request(payload)
+        mo = self.machine.motion
+        return _encode_prgnum(ProgramNumbers(mo.program_running, mo.program_main))
 
     def _actf(self, _session: Session, payload: bytes) -> bytes:
-        m = self.machine
-        cache = self._feed
-        if cache.version != m.motion_version:
-            cache.renew(m.motion_version)
-        answer = cache.answers.get(payload)
-        if answer is None:
-            _decode_actf_request(payload)
-            answer = cache.keep(payload, _encode_actf(ActualValue(m.motion.feed)))
-        return answer
+        _decode_actf_request(payload)
+        return _encode_actf(ActualValue(self.machine.motion.feed))
 
     def _acts(self, _session: Session, payload: bytes) -> bytes:
-        m = self.machine
-        cache = self._spindle
-        if cache.version != m.motion_version:
-            cache.renew(m.motion_version)
-        answer = cache.answers.get(payload)
-        if answer is None:
-            _decode_acts_request(payload)
-            answer = _encode_acts(ActualValue(m.motion.spindle_speed))
-            answer = cache.keep(payload, answer)
-        return answer
+        _decode_acts_request(payload)
+        return _encode_acts(ActualValue(self.machine.motion.spindle_speed))
 
     def _rdposition(self, _session: Session, payload: bytes) -> bytes:
-        m = self.machine
-        cache = self._positions
-        if cache.version != m.motion_version:
-            cache.renew(m.motion_version)
-        answer = cache.answers.get(payload)
-        if answer is None:
-            req = _decode_position_request(payload)
-            if not 0 <= req.type < len(POSITION_KINDS):
-                raise _Refused(EW.ATTRIB)
-            axis = None if req.axis == -1 else req.axis
-            values = m.positions(POSITION_KINDS[req.type], axis)
-            axes = tuple(AxisPosition(name[:4], value) for name, value in values)
-            answer = cache.keep(payload, _encode_position(PositionData(POSITION_DECIMALS, axes)))
-        return answer
+        req = _decode_position_request(payload)
+        if not 0 <= req.type < len(POSITION_KINDS):
+            raise Refused(EW.ATTRIB)
+        axis = None if req.axis == -1 else req.axis
+        values = self.machine.positions(POSITION_KINDS[req.type], axis)
+        axes = tuple(AxisPosition(name[:4], value) for name, value in values)
+        return _encode_position(PositionData(POSITION_DECIMALS, axes))
 
     def _pmc_letter(self, type_a: int) -> str:
         """The area of ``type_a``: EW_ATTRIB for an unknown code, EW_NOOPT for an area the
         machine does not have."""
         letter = _AREA_LETTERS.get(type_a)
         if letter is None:
-            raise _Refused(EW.ATTRIB)
+            raise Refused(EW.ATTRIB)
         self.machine.check_pmc_area(letter)
         return letter
 
     @staticmethod
     def _pmc_count(type_d: int, start: int, end: int) -> int:
         if type_d != 0:
-            raise _Refused(EW.ATTRIB)
+            raise Refused(EW.ATTRIB)
         count = end - start + 1
         if not 1 <= count <= MAX_PMC_CHUNK:
-            raise _Refused(EW.LENGTH)
+            raise Refused(EW.LENGTH)
         return count
 
     def _rdpmcrng(self, _session: Session, payload: bytes) -> bytes:
-        m = self.machine
-        cache = self._pmc
-        if cache.version != m.pmc_version:
-            cache.renew(m.pmc_version)
-        answer = cache.answers.get(payload)
-        if answer is None:
-            r = _decode_pmc_request(payload)
-            letter = self._pmc_letter(r.type_a)
-            count = self._pmc_count(r.type_d, r.datano_s, r.datano_e)
-            data = m.read_pmc(letter, r.datano_s, count)
-            answer = _encode_pmc(PmcData(r.type_a, r.type_d, r.datano_s, r.datano_e, data))
-            answer = cache.keep(payload, answer)
-        return answer
+        r = _decode_pmc_request(payload)
+        letter = self._pmc_letter(r.type_a)
+        count = self._pmc_count(r.type_d, r.datano_s, r.datano_e)
+        data = self.machine.read_pmc(letter, r.datano_s, count)
+        return _encode_pmc(PmcData(r.type_a, r.type_d, r.datano_s, r.datano_e, data))
 
     def _versamax(self, _session: Session, payload: bytes) -> bytes:
         req = _decode_versamax_request(payload)
         m = self.machine
         m.config_record(req.rack, req.slot)
         if not 1 <= req.length <= MAX_CONFIG_CHUNK:
-            raise _Refused(EW.LENGTH)
+            raise Refused(EW.LENGTH)
         data = m.read_config(req.rack, req.slot, req.offset, req.length)
         return _encode_versamax(VersaMaxReply(req.rack, req.slot, req.offset, data))
 
@@ -537,7 +430,7 @@ class PackedAdapter:
     def _wrmacro(self, _session: Session, payload: bytes) -> bytes:
         mv = _decode_macro_write(payload)
         if mv.length != _ODBM_LENGTH:
-            raise _Refused(EW.LENGTH)
+            raise Refused(EW.LENGTH)
         self.machine.write_macro(mv.number, Decimal(f"{mv.mcr_val}E{-mv.dec_val}"))
         return _OK
 
@@ -547,7 +440,7 @@ class PackedAdapter:
         letter = self._pmc_letter(d.type_a)
         count = self._pmc_count(d.type_d, d.datano_s, d.datano_e)
         if len(d.data) != count:
-            raise _Refused(EW.LENGTH)
+            raise Refused(EW.LENGTH)
         m.write_pmc(letter, d.datano_s, d.data, force=force)
         return _OK
 
@@ -566,7 +459,7 @@ class PackedAdapter:
     def _rdprogdir(self, _session: Session, payload: bytes) -> bytes:
         req = _decode_dir_request(payload)
         if not 1 <= req.max <= MAX_DIRECTORY_ENTRIES:
-            raise _Refused(EW.LENGTH)
+            raise Refused(EW.LENGTH)
         chosen = [p for p in self.machine.program_directory() if p.number >= req.first]
         entries = tuple(
             ProgramEntry(p.number, p.size, p.name.encode("ascii", "replace").decode("ascii"))
@@ -578,7 +471,7 @@ class PackedAdapter:
         req = _decode_chunk_request(payload)
         raw = self.machine.program_text(req.number).encode("ascii", "replace")
         if not 0 <= req.offset <= len(raw):
-            raise _Refused(EW.DATA)
+            raise Refused(EW.DATA)
         chunk = raw[req.offset : req.offset + MAX_PROGRAM_CHUNK].decode("ascii")
         return _encode_chunk(ProgramChunk(len(raw), chunk))
 
@@ -601,7 +494,7 @@ class PackedAdapter:
         req = _decode_program_text(payload)
         self.machine.check_writable()
         if req.replace not in (0, 1):
-            raise _Refused(EW.DATA)
+            raise Refused(EW.DATA)
         number = self.machine.store_program(req.text, replace=bool(req.replace))
         return _encode_stored(ProgramNumber(number))
 
@@ -627,7 +520,7 @@ class PackedAdapter:
         elif action == CycleAction.RESET:
             m.reset()
         else:
-            raise _Refused(EW.DATA)
+            raise Refused(EW.DATA)
         return _OK
 
     def _set_overrides(self, _session: Session, payload: bytes) -> bytes:

@@ -24,6 +24,7 @@ from __future__ import annotations
 
 import asyncio
 import logging
+from collections.abc import Callable
 from functools import partial
 from typing import Any, Final
 
@@ -37,7 +38,7 @@ from focas_net.errors import (
 
 from ..native import calls
 from ..native.blocks import ResponseBlock
-from ..native.calls import CommandSet
+from ..native.calls import CommandSet, LibraryCall
 from ..native.frame import (
     MAGIC,
     NATIVE_HEADER,
@@ -389,6 +390,17 @@ class NativeLink(CompositeCalls):
             self._set_state(ClientState.DISCONNECTED)
             return
         self._reconnecting(_Lost(why))
+
+    # -- one library call of one frame ----------------------------------------------------
+    async def _single(
+        self, deadline: float | None, build: Callable[..., LibraryCall], *args: Any
+    ) -> tuple[Handle, LibraryCall, tuple[ResponseBlock, ...]]:
+        """A call of one frame, ``build(command set, *args)``: its handle, the call and its
+        answer blocks."""
+        handle = await self._handle_for(deadline)
+        call = build(handle.command_set, *args)
+        blocks = await self._exchange(call.parts[0], handle.command_set, deadline)
+        return handle, call, blocks
 
     # -- jobs ----------------------------------------------------------------------------
     async def _exchange(

@@ -15,7 +15,7 @@ One call, ``read_macro(100)``::
     handle = await self._handle_for(...)   the open handle (waits while reconnecting)
     call = calls.cnc_rdmacro(cs, 100)      the library's frame, encoded once for these values
     blocks = await self._exchange(...)     queued, packed into a frame, answered (the link)
-    _decoded(request, block, ...)          EW code -> CncError; the answer's value
+    decoded(request, block, ...)          EW code -> CncError; the answer's value
 """
 
 # Every call takes a per-call ``timeout=`` by contract (one deadline per call covers its
@@ -25,15 +25,13 @@ One call, ``read_macro(100)``::
 from __future__ import annotations
 
 import asyncio
-import struct
-from collections.abc import Callable, Sequence
+from collections.abc import Sequence
 from dataclasses import dataclass
 from datetime import UTC, datetime
 from decimal import Decimal
 from typing import Any, Final
 
-from focas_net._memo import Memo
-from focas_net.errors import EW, CncError, FocasError, PayloadError, ProtocolError
+from focas_net.errors import EW, CncError, FocasError, PayloadError
 
 from ..native import calls
 from ..native.blocks import REQUEST_BLOCK_SIZE, ResponseBlock
@@ -44,20 +42,11 @@ from ..native.records import (
     AlarmStatus,
     AxisNames,
     CncId,
-    DiagType,
     ExecutingProgram,
-    ItemRecord,
-    ItemValues,
     NativeAlarmHistory,
     NativePmcData,
     NativeProgramNumbers,
-    ParamInfo,
-    ParamInfo3,
-    ParamType,
     PositionAxisNames,
-    ScaledItemRecord,
-    ScaledItemValues,
-    ScaledNumber,
     ScaledValues,
     SequenceNumber,
     StatInfo,
@@ -67,7 +56,6 @@ from ..native.requests import (
     NativeAlarmHistoryRequest,
     NativeCommand,
     NativePmcArea,
-    NativeRequest,
 )
 from ..native.session import Ending
 from ..protocol import (
@@ -75,8 +63,6 @@ from ..protocol import (
     AlarmHistory,
     AlarmHistoryEntry,
     AlarmType,
-    ParamDataType,
-    ParamValue,
     PmcArea,
     PositionKind,
     ProgramNumbers,
@@ -84,24 +70,20 @@ from ..protocol import (
     SysInfo,
 )
 from ._composite import ChunkOutcome
-from ._native_link import Handle, NativeLink
+from ._native_items import NativeItems, axis_name, block_data, decoded, signed, text
+from ._native_link import Handle
 from ._started import StartedCall
 from ._values import (
     I16_MAX,
-    REAL_WIDTH,
     AreaLike,
     Positions,
     alarm_type_number,
-    byte_to_wire,
     check_axis,
     check_int,
-    check_item,
     check_macro,
     history_depth,
     macro_from_wire,
     macro_to_wire,
-    param_int,
-    real_to_wire,
 )
 from .reconnect import ReconnectPolicy, StateCallback
 
@@ -111,16 +93,7 @@ __all__ = ["DynamicData", "NativeClient", "NativeUnsupportedError", "ServoLoad"]
 LIBRARY_MAX_BLOCKS: Final = 10
 _MAX_ACTIVE_ALARMS: Final = 32
 _ANSWER_HEAD: Final = 16
-_PARAM_WIDTH: Final[dict[int, int]] = {
-    ParamType.BIT: 1,
-    ParamType.BYTE: 1,
-    ParamType.WORD: 2,
-    ParamType.TWO_WORD: 4,
-}
-_DIAG_WIDTH: Final[dict[int, int]] = {0: 1, 1: 2, 2: 4, 3: 1, 4: 1}
 _TIMER_TYPES: Final = 4
-#: (a request, the max axes, the answer data) -> the decoded answer.
-_DECODED: Final = Memo(2048)
 
 
 class NativeUnsupportedError(FocasError, NotImplementedError):
@@ -158,59 +131,14 @@ class ServoLoad:
     load: Decimal
 
 
-# -- answers -----------------------------------------------------------------------------------
-def _data(block: ResponseBlock, function: str) -> bytes:
-    """The data of ``block``; :class:`CncError` for its EW code."""
-    if block.ew:
-        raise CncError.from_ew(block.ew, function)
-    return block.data
-
-
-def _decoded(request: NativeRequest, block: ResponseBlock, function: str, max_axes: int) -> Any:
-    """The answer of ``request`` in ``block`` (kept by the values it depends on: a poll whose
-    answer repeats decodes it once); :class:`CncError` for its EW code, :class:`PayloadError`
-    for data that does not decode."""
-    data = _data(block, function)
-    key = (request, max_axes, data)
-    value = _DECODED.get(key)
-    if value is None:
-        try:
-            value = request.decode_answer(data, max_axes)
-        except (ProtocolError, ValueError, struct.error) as exc:
-            raise PayloadError(
-                f"{function}: answer to 0x{request.COMMAND:X} does not decode: {exc}"
-            ) from None
-        _DECODED.put(key, value)
-    return value
-
-
-def _text(raw: bytes | str) -> str:
-    if isinstance(raw, str):
-        return raw.rstrip("\x00")
-    return raw.split(b"\x00", 1)[0].decode("latin-1")
-
-
-def _name(entry: bytes) -> str:
-    """The axis name of a 4-byte name entry (its first character; the suffix only tells
-    which position a display shows)."""
-    return entry[:1].replace(b"\x00", b"").decode("latin-1").strip()
-
-
-def _signed(raw: int, width: int) -> int:
-    """The signed integer of the ``8 * width`` bits of ``raw``."""
-    bits = 8 * width
-    raw &= (1 << bits) - 1
-    return raw - (1 << bits) if raw >= 1 << (bits - 1) else raw
-
-
 def _status(handle: Handle, call: LibraryCall, blocks: tuple[ResponseBlock, ...]) -> StatusInfo:
     """The status of ``cnc_statinfo``'s answer ``blocks`` (hdck and tmmode read 0 when the CNC
     refuses them, as the library reads them)."""
     frame = call.frames[0]
     st, hd, tm = blocks
-    stat: StatInfo = _decoded(frame[0], st, "cnc_statinfo", handle.max_axes)
-    hdck = 0 if hd.ew else _decoded(frame[1], hd, "cnc_statinfo", 0).hdck
-    tmmode = 0 if tm.ew else _decoded(frame[2], tm, "cnc_statinfo", 0).tmmode
+    stat: StatInfo = decoded(frame[0], st, "cnc_statinfo", handle.max_axes)
+    hdck = 0 if hd.ew else decoded(frame[1], hd, "cnc_statinfo", 0).hdck
+    tmmode = 0 if tm.ew else decoded(frame[2], tm, "cnc_statinfo", 0).tmmode
     return StatusInfo(
         hdck, tmmode, stat.aut, stat.run, stat.motion, stat.mstb, stat.emergency, stat.alarm,
         stat.edit,
@@ -222,7 +150,7 @@ def _dynamic(
 ) -> DynamicData:
     """The result of the ``cnc_rddynamic2`` ``call`` of ``axis`` from its answer ``blocks``."""
     values = [
-        _decoded(r, b, "cnc_rddynamic2", handle.max_axes)
+        decoded(r, b, "cnc_rddynamic2", handle.max_axes)
         for r, b in zip(call.frames[0], blocks, strict=True)
     ]
     count = handle.axes if axis == -1 else 1
@@ -248,7 +176,7 @@ def _check_dynamic_axis(axis: object) -> None:
     check_axis(axis, every=-1)
 
 
-class NativeClient(NativeLink):
+class NativeClient(NativeItems):
     """An asyncio client of FANUC's FOCAS/2 Ethernet protocol (port 8193 on a real control).
 
     It has the methods of :class:`~focas_net.client.FocasClient` that FOCAS/2 carries, with
@@ -278,25 +206,7 @@ class NativeClient(NativeLink):
             max_blocks=max_blocks,
             on_state_change=on_state_change,
         )
-        #: The type word (0 bit .. 4 real) of each parameter read or written.
-        self._param_types: dict[int, int] = {}
-
-    async def _single(
-        self, deadline: float | None, build: Callable[..., LibraryCall], *args: Any
-    ) -> tuple[Handle, LibraryCall, tuple[ResponseBlock, ...]]:
-        """A call of one frame, ``build(command set, *args)``: its handle, the call and its
-        answer blocks."""
-        handle = await self._handle_for(deadline)
-        call = build(handle.command_set, *args)
-        blocks = await self._exchange(call.parts[0], handle.command_set, deadline)
-        return handle, call, blocks
-
-    async def _one(
-        self, deadline: float | None, build: Callable[..., LibraryCall], *args: Any
-    ) -> Any:
-        """The decoded answer of a call of one frame of one block."""
-        handle, call, (block,) = await self._single(deadline, build, *args)
-        return _decoded(call.frames[0][0], block, call.function, handle.max_axes)
+        self._init_items()
 
     # -- status and identity -------------------------------------------------------------
     async def read_status(self, *, timeout: float | None = None) -> StatusInfo:
@@ -358,7 +268,7 @@ class NativeClient(NativeLink):
     async def read_program_name(self, *, timeout: float | None = None) -> tuple[int, str]:
         """``cnc_exeprgname``: the O number and the name of the executing program."""
         value: ExecutingProgram = await self._one(self._deadline(timeout), calls.cnc_exeprgname)
-        return value.o_num, _text(value.name)
+        return value.o_num, text(value.name)
 
     async def read_sequence_number(self, *, timeout: float | None = None) -> int:
         """``cnc_rdseqnum``: the sequence number being executed."""
@@ -385,14 +295,14 @@ class NativeClient(NativeLink):
         )
         frame = call.frames[0]
         for request, block in zip(frame, blocks, strict=True):
-            _data(block, "cnc_rdspload")
+            block_data(block, "cnc_rdspload")
             if request.COMMAND == NativeCommand.AXIS_COUNT:
-                if _decoded(request, block, "cnc_rdspload", 0).count == 0:
+                if decoded(request, block, "cnc_rdspload", 0).count == 0:
                     raise CncError.from_ew(EW.NOOPT, "cnc_rdspload: no spindle")
         index = 0 if handle.command_set is CommandSet.FS16I else 1
-        loads: ScaledValues = _decoded(frame[index], blocks[index], "cnc_rdspload", 0)
+        loads: ScaledValues = decoded(frame[index], blocks[index], "cnc_rdspload", 0)
         limit = handle.spindles if spindle == -1 else 1
-        return tuple(_signed(v.mantissa, 2) for v in loads.values[: max(limit, 1)])
+        return tuple(signed(v.mantissa, 2) for v in loads.values[: max(limit, 1)])
 
     async def read_servo_meters(self, *, timeout: float | None = None) -> tuple[ServoLoad, ...]:
         """``cnc_rdsvmeter``: the servo load meter of every axis, with its name."""
@@ -400,7 +310,7 @@ class NativeClient(NativeLink):
         names: AxisNames | None = None
         loads: ScaledValues | None = None
         for request, block in zip(call.frames[0], blocks, strict=True):
-            value = _decoded(request, block, "cnc_rdsvmeter", handle.max_axes)
+            value = decoded(request, block, "cnc_rdsvmeter", handle.max_axes)
             if request.COMMAND == NativeCommand.AXIS_NAME:
                 names = value
             elif request.COMMAND == NativeCommand.RDSVMETER:
@@ -409,7 +319,7 @@ class NativeClient(NativeLink):
         count = min(handle.axes, len(loads.values), len(names.records))
         return tuple(
             ServoLoad(
-                _name(names.records[i].encode()),
+                axis_name(names.records[i].encode()),
                 Decimal(abs(loads.values[i].mantissa)).scaleb(-max(loads.values[i].decimals, 0)),
             )
             for i in range(count)
@@ -418,8 +328,8 @@ class NativeClient(NativeLink):
     async def read_axis_names(self, *, timeout: float | None = None) -> tuple[str, ...]:
         """``cnc_rdaxisname``: the names of the path's axes, in order."""
         handle, call, (block,) = await self._single(self._deadline(timeout), calls.cnc_rdaxisname)
-        names: AxisNames = _decoded(call.frames[0][0], block, "cnc_rdaxisname", handle.max_axes)
-        return tuple(_name(n.encode()) for n in names.records[: handle.axes])
+        names: AxisNames = decoded(call.frames[0][0], block, "cnc_rdaxisname", handle.max_axes)
+        return tuple(axis_name(n.encode()) for n in names.records[: handle.axes])
 
     async def read_dynamic(self, axis: int = -1, *, timeout: float | None = None) -> DynamicData:
         """``cnc_rddynamic2``: alarm bits, program numbers, sequence number, feed, spindle
@@ -489,17 +399,17 @@ class NativeClient(NativeLink):
         for request, block in zip(call.frames[0], blocks, strict=True):
             command = request.COMMAND
             if command == NativeCommand.AXIS_NAME:
-                names = _decoded(request, block, "cnc_rdposition", handle.max_axes)
+                names = decoded(request, block, "cnc_rdposition", handle.max_axes)
             elif (
                 command == NativeCommand.POSITION and getattr(request, "kind", None) == which.value
             ):
-                positions = _decoded(request, block, "cnc_rdposition", handle.max_axes)
+                positions = decoded(request, block, "cnc_rdposition", handle.max_axes)
             elif command in (
                 NativeCommand.POSITION,
                 NativeCommand.AXIS_COUNT,
                 NativeCommand.STATINFO,
             ):
-                _data(block, "cnc_rdposition")
+                block_data(block, "cnc_rdposition")
         assert names is not None and positions is not None
         count = min(handle.axes, len(positions.values), len(names.records))
         picked = range(count) if axis is None else [axis - 1]
@@ -513,187 +423,10 @@ class NativeClient(NativeLink):
             )
             record = positions.values[i]
             decimals = record.decimals
-            name = _name(raw) or f"axis{i + 1}"
+            name = axis_name(raw) or f"axis{i + 1}"
             values[name] = Decimal(record.mantissa).scaleb(-record.decimals)
             increments[name] = record.mantissa
         return Positions(which, decimals, values, increments)
-
-    # -- parameters and diagnostics ------------------------------------------------------
-    @staticmethod
-    def _check_axis_of(handle: Handle, axis: int, function: str) -> None:
-        if axis > handle.axes:
-            raise CncError.from_ew(EW.ATTRIB, f"{function}: axis {axis} of {handle.axes}")
-
-    async def _read_item(
-        self, number: int, axis: int, deadline: float | None, *, diagnostic: bool
-    ) -> ParamValue:
-        """``cnc_rdparam`` or ``cnc_diagnoss`` of a checked number and axis as a
-        :class:`ParamValue`."""
-        function = "cnc_diagnoss" if diagnostic else "cnc_rdparam"
-        handle = await self._handle_for(deadline)
-        self._check_axis_of(handle, axis, function)
-        build = calls.cnc_diagnoss if diagnostic else calls.cnc_rdparam
-        call = build(handle.command_set, number, axis)
-        (block,) = await self._exchange(call.parts[0], handle.command_set, deadline)
-        items: ItemValues | ScaledItemValues = _decoded(
-            call.frames[0][0], block, function, handle.max_axes
-        )
-        if not items.records:
-            raise PayloadError(f"{function}: answer for {number} carries no record")
-        record = items.records[0]
-        if not diagnostic:
-            self._param_types[number] = record.type
-        if record.type == (DiagType.REAL if diagnostic else ParamType.REAL):
-            # REALPRM: (mantissa, 10, decimals)
-            if isinstance(record, ItemRecord):
-                reals = record.reals()
-                if not reals:
-                    raise PayloadError(f"{function}: real record of {number} has one slot")
-                value = reals[0]
-            else:
-                value = record.values[0]
-            return ParamValue(number, axis, value.mantissa, REAL_WIDTH, value.decimals)
-        width = (_DIAG_WIDTH if diagnostic else _PARAM_WIDTH).get(record.type)
-        if width is None:
-            raise PayloadError(f"{function}: {number} has type {record.type}, which has no value")
-        first = record.values[0]
-        raw = first.mantissa if isinstance(first, ScaledNumber) else first
-        return ParamValue(number, axis, _signed(raw, width), width)
-
-    async def _read_param_value(self, number: int, axis: int, deadline: float | None) -> ParamValue:
-        value = await self._read_item(number, axis, deadline, diagnostic=False)
-        self._param_widths[number] = value.width
-        return value
-
-    async def _is_bit(self, number: int, value: ParamValue, deadline: float | None) -> bool:
-        return self._param_types.get(number) == ParamType.BIT
-
-    async def read_param_type(
-        self, number: int, *, axis: int = 0, timeout: float | None = None
-    ) -> ParamDataType | None:
-        """The data type of parameter ``number`` (bit, byte, word, two-word, real) from the
-        type word of its ``cnc_rdparam`` record, None for a word FANUC does not number (an
-        axis parameter needs its ``axis``).
-
-        This stands in for the packed client's ``read_param_attributes``: FOCAS/2's
-        ``cnc_rdparainfo`` answer has the type in two bits (no real type), and no decimals or
-        range, while the record of ``cnc_rdparam`` names all five types."""
-        check_item(number, axis, "parameter")
-        await self._read_param_value(number, axis, self._deadline(timeout))
-        ptype = self._param_types[number]
-        return ParamDataType(ptype) if ptype in ParamDataType._value2member_map_ else None
-
-    async def read_diag(self, number: int, *, axis: int = 0, timeout: float | None = None) -> int:
-        """``cnc_diagnoss``: the value of diagnostic ``number``."""
-        check_item(number, axis, "diagnostic")
-        value = await self._read_item(number, axis, self._deadline(timeout), diagnostic=True)
-        return value.value
-
-    async def _param_info(
-        self, handle: Handle, number: int, width: int | None, deadline: float | None
-    ) -> tuple[int, int]:
-        """The first frame of ``cnc_wrparam``: the parameter's type word and its width;
-        EW_LENGTH (before anything is written) when ``width`` differs, as the library."""
-        call = calls.wrparam_info(handle.command_set, number)
-        (block,) = await self._exchange(call.parts[0], handle.command_set, deadline)
-        info = _decoded(call.frames[0][0], block, "cnc_wrparam", handle.max_axes)
-        if isinstance(info, ParamInfo3):
-            ptype = info.type
-        else:
-            assert isinstance(info, ParamInfo)
-            if not info.entries:
-                raise PayloadError(f"cnc_wrparam: no information on parameter {number}")
-            ptype = info.entries[0].attribute & 3
-        self._param_types[number] = ptype
-        size = REAL_WIDTH if ptype == ParamType.REAL else _PARAM_WIDTH.get(ptype)
-        if size is None:
-            raise PayloadError(f"cnc_wrparam: {number} has type {ptype}, which has no value")
-        if width is not None and width != size:
-            self._param_widths.pop(number, None)
-            raise CncError.from_ew(
-                EW.LENGTH, f"cnc_wrparam: {number} is {size} bytes wide, not {width}"
-            )
-        return ptype, size
-
-    async def _write_param(
-        self,
-        number: int,
-        value: int | Decimal | str,
-        axis: int,
-        width: int | None,
-        deadline: float | None,
-    ) -> None:
-        # both readings of the value, before anything is sent: one is refused only if the
-        # parameter's type turns out to be the one it does not fit
-        as_int: int | ValueError
-        as_real: tuple[int, int] | ValueError
-        try:
-            as_int = param_int(number, value)
-        except ValueError as exc:
-            as_int = exc
-        try:
-            as_real = real_to_wire(number, value)
-        except ValueError as exc:
-            as_real = exc
-        if isinstance(as_int, ValueError) and isinstance(as_real, ValueError):
-            raise ValueError(
-                f"parameter {number}: {value!r} is not a value of any parameter type (an "
-                "integer, or a real value within an i32 mantissa and 0..9 decimals)"
-            )
-        handle = await self._handle_for(deadline)
-        self._check_axis_of(handle, axis, "cnc_wrparam")
-        ptype, size = await self._param_info(handle, number, width, deadline)
-        if ptype == ParamType.REAL:
-            if isinstance(as_real, ValueError):
-                raise as_real
-            record = self._param_record(handle, number, axis, ptype, *as_real)
-        else:
-            if isinstance(as_int, ValueError):
-                raise as_int
-            if ptype == ParamType.BIT:
-                raw = byte_to_wire(number, as_int, ParamDataType.BIT)
-            else:
-                bits = 8 * size
-                if not -(1 << (bits - 1)) <= as_int < 1 << bits:
-                    raise ValueError(f"value {as_int} does not fit a {size}-byte parameter")
-                raw = _signed(as_int, size)
-            record = self._param_record(handle, number, axis, ptype, raw)
-        await self._write_record(handle, record, deadline)
-
-    async def _write_param_bits(
-        self, number: int, axis: int, bits: int, width: int, deadline: float | None
-    ) -> None:
-        handle = await self._handle_for(deadline)
-        self._check_axis_of(handle, axis, "cnc_wrparam")
-        ptype, _ = await self._param_info(handle, number, width, deadline)
-        raw = byte_to_wire(number, bits, ParamDataType.BIT) if ptype == ParamType.BIT else bits
-        record = self._param_record(handle, number, axis, ptype, _signed(raw, width))
-        await self._write_record(handle, record, deadline)
-
-    async def _write_record(
-        self, handle: Handle, record: ItemRecord | ScaledItemRecord, deadline: float | None
-    ) -> None:
-        """The second frame of ``cnc_wrparam``: the write of ``record``."""
-        call = calls.cnc_wrparam(handle.command_set, record)
-        (done,) = await self._exchange(call.parts[1], handle.command_set, deadline)
-        _data(done, "cnc_wrparam")
-
-    @staticmethod
-    def _param_record(
-        handle: Handle, number: int, axis: int, ptype: int, value: int, decimals: int | None = None
-    ) -> ItemRecord | ScaledItemRecord:
-        """The write record, slot 0 holding ``value`` (a real one's mantissa with
-        ``decimals``) and the other slots what the previous write left there (the library's
-        buffer)."""
-        if handle.command_set is CommandSet.FS16I:
-            slots = handle.param_slots
-            slots[0] = value
-            return ItemRecord(number, axis, ptype, tuple(slots))
-        scaled = handle.param3_slots
-        scaled[0] = (
-            ScaledNumber(value, -1, 0) if decimals is None else ScaledNumber(value, decimals, 10)
-        )
-        return ScaledItemRecord(number, axis, ptype, tuple(scaled))
 
     # -- macros --------------------------------------------------------------------------
     async def read_macro(self, number: int, *, timeout: float | None = None) -> Decimal | None:
@@ -715,7 +448,7 @@ class NativeClient(NativeLink):
         _, _, (block,) = await self._single(
             self._deadline(timeout), calls.cnc_wrmacro, number, mcr_val, dec_val
         )
-        _data(block, "cnc_wrmacro")
+        block_data(block, "cnc_wrmacro")
 
     # -- PMC -----------------------------------------------------------------------------
     def _pmc_area(self, area: AreaLike) -> PmcArea:
@@ -777,7 +510,7 @@ class NativeClient(NativeLink):
             for job in jobs:
                 try:
                     (block,) = await job.token[0]
-                    _data(block, "pmc_wrpmcrng")
+                    block_data(block, "pmc_wrpmcrng")
                 except FocasError as exc:
                     unanswered = job.sent and job.ending in (Ending.TIMED_OUT, Ending.LOST)
                     outcomes.append((exc, unanswered))
@@ -809,7 +542,7 @@ class NativeClient(NativeLink):
             self._deadline(timeout), calls.cnc_rdalmmsg2, t, count
         )
         return tuple(
-            ActiveAlarm(a.axis, a.alarm_type, a.number, _text(a.message)) for a in value.alarms
+            ActiveAlarm(a.axis, a.alarm_type, a.number, text(a.message)) for a in value.alarms
         )
 
     async def read_alarm_history(
@@ -827,14 +560,14 @@ class NativeClient(NativeLink):
             (block,) = await self._exchange(part, handle.command_set, deadline)
             if block.ew == EW.NUMBER:
                 break  # no entry from here on (from the first: the history is empty)
-            history: NativeAlarmHistory = _decoded(frame[0], block, "cnc_rdalmhistry", 0)
+            history: NativeAlarmHistory = decoded(frame[0], block, "cnc_rdalmhistry", 0)
             for r in history.records:
                 try:
                     when = datetime(r.year, r.month, r.day, r.hour, r.minute, r.second, tzinfo=UTC)
                 except ValueError as exc:
                     raise PayloadError(f"cnc_rdalmhistry: bad date in an entry: {exc}") from None
-                text = r.text[: max(min(r.length, len(r.text)), 0)]
-                entries.append(AlarmHistoryEntry(when, r.axis, r.group, r.alarm_no, _text(text)))
+                message = text(r.text[: max(min(r.length, len(r.text)), 0)])
+                entries.append(AlarmHistoryEntry(when, r.axis, r.group, r.alarm_no, message))
             request = frame[0]
             assert isinstance(request, NativeAlarmHistoryRequest)
             if len(history.records) < request.last - request.first + 1:

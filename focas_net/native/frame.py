@@ -26,6 +26,7 @@ __all__ = [
     "DEFAULT_MAX_BODY",
     "DEFAULT_SERVER_VERSION",
     "MAGIC",
+    "MAGIC_WORD",
     "NATIVE_HEADER",
     "NATIVE_HEADER_SIZE",
     "FrameType",
@@ -48,7 +49,8 @@ __all__ = [
 
 #: The four sync bytes that open every frame.
 MAGIC: Final = b"\xa0\xa0\xa0\xa0"
-_MAGIC_U32: Final = 0xA0A0A0A0
+#: :data:`MAGIC` as the ``u32`` that opens :data:`NATIVE_HEADER`.
+MAGIC_WORD: Final = 0xA0A0A0A0
 #: ``magic, u16 version, u16 type, u16 length``.
 NATIVE_HEADER: Final = struct.Struct(">IHHH")
 NATIVE_HEADER_SIZE: Final = NATIVE_HEADER.size
@@ -111,7 +113,7 @@ def encode_native_frame(frame_type: int, body: bytes = b"", version: int = CLIEN
     if len(body) > _U16_MAX:
         raise ValueError(f"frame body of {len(body)} bytes exceeds {_U16_MAX}")
     try:
-        return _pack_header(_MAGIC_U32, version, frame_type, len(body)) + body
+        return _pack_header(MAGIC_WORD, version, frame_type, len(body)) + body
     except struct.error as exc:
         raise ValueError(f"frame header: {exc}") from None
 
@@ -121,7 +123,7 @@ def decode_frame(data: bytes, max_body: int = _U16_MAX) -> NativeFrame:
     if len(data) < NATIVE_HEADER_SIZE:
         raise NativeFrameError(f"frame of {len(data)} bytes is shorter than its header")
     magic, version, frame_type, length = _unpack_header_from(data)
-    if magic != _MAGIC_U32:
+    if magic != MAGIC_WORD:
         raise NativeFrameError("frame does not start with A0 A0 A0 A0")
     if length > max_body:
         raise NativeFrameError(f"frame body length {length} exceeds {max_body}")
@@ -182,7 +184,7 @@ class NativeFrameDecoder:
                         raise self._fail("frame does not start with A0 A0 A0 A0")
                     return []
                 magic, _, _, length = _unpack_header_from(buf)
-                if magic != _MAGIC_U32:
+                if magic != MAGIC_WORD:
                     raise self._fail("frame does not start with A0 A0 A0 A0")
                 if length > self.max_body:
                     raise self._fail(f"frame body length {length} exceeds {self.max_body}")
@@ -202,7 +204,7 @@ class NativeFrameDecoder:
                     raise self._fail("frame does not start with A0 A0 A0 A0", frames)
                 break
             magic, version, frame_type, length = _unpack_header_from(view, pos)
-            if magic != _MAGIC_U32:
+            if magic != MAGIC_WORD:
                 raise self._fail("frame does not start with A0 A0 A0 A0", frames)
             if length > max_body:
                 raise self._fail(f"frame body length {length} exceeds {max_body}", frames)

@@ -443,9 +443,13 @@ class NativeSession(Generic[T]):
         jobs = self.in_flight
         if jobs is not None:
             for job in jobs:
-                if job.ending is None and job.deadline <= now:
+                if job.ending is not None:
+                    continue
+                if job.deadline <= now:
                     job.ending = Ending.TIMED_OUT
                     ended.append(job)
+                elif job.deadline < earliest:
+                    earliest = job.deadline
             if self.frame_deadline <= now:
                 ended += self._fail("no answer within the timeout")
             elif self.frame_deadline < earliest:

@@ -31,7 +31,7 @@ from dataclasses import dataclass
 from typing import Any, Final, Generic, TypeVar, cast
 
 from focas_net._receive import Received
-from focas_net.native.codec import DEFAULT_MAX_BODY
+from focas_net.native import DEFAULT_MAX_BODY
 from focas_net.protocol import DEFAULT_MAX_FRAME
 
 from .faults import FaultKind, FaultQueue

@@ -23,7 +23,7 @@ import logging
 from typing import TYPE_CHECKING, Final
 
 from focas_net.adapters import NativeAdapter, ProgramTransfer
-from focas_net.native.codec import (
+from focas_net.native import (
     FrameType,
     NativeFrame,
     NativeFrameDecoder,

@@ -39,7 +39,7 @@ import anyio.lowlevel
 
 from focas_net._receive import Received
 from focas_net.adapters import PackedAdapter
-from focas_net.native.codec import DEFAULT_MAX_BODY, MAGIC
+from focas_net.native import DEFAULT_MAX_BODY, MAGIC
 from focas_net.protocol import DEFAULT_MAX_FRAME
 from focas_net.sim import Machine
 

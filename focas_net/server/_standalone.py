@@ -17,7 +17,7 @@ from __future__ import annotations
 
 from typing import TYPE_CHECKING, Final
 
-from focas_net.native.codec import DEFAULT_MAX_BODY
+from focas_net.native import DEFAULT_MAX_BODY
 
 from ._native import NativeConnection
 from ._server import FocasServer

@@ -1,8 +1,9 @@
-"""The native adapter's memo of read answers: a poller's repeated request is answered from it
-while the machine counters its reads follow hold, and never with anything that changed. The
-memo's answers are checked against a fresh adapter's after every kind of change a machine has:
-writes of each kind, the panel, alarms, the motion figures, a program running in machine
-time."""
+"""The answers both adapters keep: a poller's repeated request is answered again as it was (the
+same object) while the machine counters its reads follow hold, and never with anything that
+changed. Kept answers are checked against a fresh adapter's after every kind of change a
+machine has: writes of each kind, the panel, alarms, the motion figures, a program running in
+machine time. Reads that move with time alone or with the program store are never kept, nor
+refusals."""
 
 from __future__ import annotations
 
@@ -12,8 +13,7 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-import focas_net.adapters.native as adapter_module
-from focas_net.adapters import NativeAdapter
+from focas_net.adapters import NativeAdapter, PackedAdapter
 from focas_net.native import (
     CommandSet,
     Device,
@@ -26,6 +26,15 @@ from focas_net.native import (
     encode_request_body,
 )
 from focas_net.native import calls as native_calls
+from focas_net.protocol import (
+    Command,
+    DataRequest,
+    MacroRequest,
+    PmcArea,
+    PmcRange,
+    PositionRequest,
+)
+from focas_net.protocol.codecs import AlarmHistoryRequest, AlarmMsgRequest
 from focas_net.sim import Machine, MachineError, default_machine
 from focas_net.sim.nc import ManualClock
 
@@ -143,13 +152,10 @@ def test_memo_answers_what_a_fresh_adapter_answers(
     machine.raise_alarm(0, 2, 1, "history")  # so that the history has a record to read
     adapter = NativeAdapter(machine, version=version)
     bodies = _bodies(adapter.command_set)
-    for body in bodies:
-        adapter.answer(body)
-    # the memo holds the answers of every kept read before the first step
-    assert [body in adapter._answers for body in bodies] == [True] * (len(bodies) - 2) + [
-        False,
-        False,
-    ]
+    # every kept read is answered again as it was before the first step, the others afresh
+    assert [adapter.answer(body) is adapter.answer(body) for body in bodies] == [True] * (
+        len(bodies) - 2
+    ) + [False, False]
     for action, arg in steps:
         _change(machine, clock, action, arg)
         for body in bodies:
@@ -165,7 +171,7 @@ def test_a_repeated_read_is_answered_from_the_memo_and_a_timer_never() -> None:
     assert adapter.answer(macros) is adapter.answer(macros)
     timer = _body(native_calls.cnc_rdtimer(cs, 0), native_calls.cnc_rdmacro(cs, 100))
     assert adapter.answer(timer) is not adapter.answer(timer)
-    assert timer not in adapter._answers
+    assert adapter.answer(timer) == adapter.answer(timer)
 
 
 def test_an_answer_with_an_ew_code_is_not_kept() -> None:
@@ -175,18 +181,23 @@ def test_an_answer_with_an_ew_code_is_not_kept() -> None:
     unknown = _body(native_calls.cnc_rdmacro(adapter.command_set, 29999))
     first = adapter.answer(unknown)
     assert decode_response_body(decode_frame(first)[2])[0].ew != 0
-    assert unknown not in adapter._answers
-    assert adapter.answer(unknown) == first
-    adapter.answer(body)
-    assert body in adapter._answers
+    again = adapter.answer(unknown)
+    assert again == first and again is not first
+    assert adapter.answer(body) is adapter.answer(body)
 
 
 def test_the_memo_keeps_a_bounded_number_of_answers() -> None:
+    """Of a hundred different reads, the first is no longer kept at the end."""
     adapter = NativeAdapter(default_machine())
     cs = adapter.command_set
-    for number in range(100, 100 + 3 * adapter_module._KEPT_ANSWERS):
-        adapter.answer(_body(native_calls.cnc_rdmacro(cs, number)))
-        assert len(adapter._answers) <= adapter_module._KEPT_ANSWERS
+    bodies = [_body(native_calls.cnc_rdmacro(cs, number)) for number in range(100, 200)]
+    first = adapter.answer(bodies[0])
+    assert adapter.answer(bodies[0]) is first
+    for body in bodies[1:]:
+        adapter.answer(body)
+    assert adapter.answer(bodies[-1]) is adapter.answer(bodies[-1])
+    again = adapter.answer(bodies[0])
+    assert again == first and again is not first
 
 
 def test_the_memo_follows_an_alarm() -> None:
@@ -202,3 +213,69 @@ def test_the_memo_follows_an_alarm() -> None:
     assert adapter.answer(STATINFO) is adapter.answer(STATINFO)  # served from the memo
     machine.raise_alarm(0, 2, 100, "memo")
     assert alarm_field() == 1
+
+
+#: Packed requests: (command, request payload) of every read the packed adapter keeps.
+PACKED_KEPT = [
+    (Command.RDCNCSTAT, b""),
+    (Command.RDPARAM, DataRequest(6711, 0).encode()),
+    (Command.RDPARAM, DataRequest(1320, 1).encode()),
+    (Command.RDDIAG, DataRequest(410, 0).encode()),
+    (Command.RDMACRO, MacroRequest(100).encode()),
+    (Command.RDMACRO, MacroRequest(3901).encode()),
+    (Command.RDALMMSG, AlarmMsgRequest(-1, 4).encode()),
+    (Command.RDALMHISTRY, AlarmHistoryRequest(3).encode()),
+    (Command.RDPMCRNG, PmcRange(PmcArea.R, 0, 0, 7).encode()),
+    (Command.RDPRGNUM, b""),
+    (Command.ACTF, b""),
+    (Command.ACTS, b""),
+    (Command.RDPOSITION, PositionRequest(0, -1).encode()),
+    (Command.RDPOSITION, PositionRequest(1, 2).encode()),
+]
+#: Packed reads never kept: timers and parts counts move with time, loads too.
+PACKED_AFRESH = [(Command.RDRUNINFO, b""), (Command.RDLOADS, b"")]
+
+
+@settings(max_examples=40, deadline=None)
+@given(steps=STEPS)
+def test_packed_kept_answers_are_what_a_fresh_adapter_answers(
+    steps: list[tuple[str, float]],
+) -> None:
+    clock = ManualClock()
+    machine = default_machine(sim_clock=clock)
+    machine.raise_alarm(0, 2, 1, "history")
+    session = machine.new_session()
+    adapter = PackedAdapter(machine)
+    requests = PACKED_KEPT + PACKED_AFRESH
+    kept = [adapter.answer(session, c, p) is adapter.answer(session, c, p) for c, p in requests]
+    assert kept == [True] * len(PACKED_KEPT) + [False] * len(PACKED_AFRESH)
+    for action, arg in steps:
+        _change(machine, clock, action, arg)
+        for command, payload in requests:
+            fresh = PackedAdapter(machine).answer(session, command, payload)
+            assert adapter.answer(session, command, payload) == fresh, (action, arg, command)
+
+
+def test_packed_answers_kept_are_bounded() -> None:
+    """Of two thousand different PMC reads, the first is no longer kept at the end."""
+    machine = default_machine()
+    session = machine.new_session()
+    adapter = PackedAdapter(machine)
+    payloads = [PmcRange(PmcArea.R, 0, start, start).encode() for start in range(2000)]
+    first = adapter.answer(session, Command.RDPMCRNG, payloads[0])
+    for payload in payloads[1:]:
+        adapter.answer(session, Command.RDPMCRNG, payload)
+    again = adapter.answer(session, Command.RDPMCRNG, payloads[0])
+    assert again == first and again is not first
+
+
+def test_packed_status_follows_the_panel() -> None:
+    machine = default_machine()
+    session = machine.new_session()
+    adapter = PackedAdapter(machine)
+    before = adapter.answer(session, Command.RDCNCSTAT, b"")
+    assert adapter.answer(session, Command.RDCNCSTAT, b"") is before
+    machine.set_panel(emergency=1)
+    after = adapter.answer(session, Command.RDCNCSTAT, b"")
+    assert after != before
+    assert after == PackedAdapter(machine).answer(session, Command.RDCNCSTAT, b"")

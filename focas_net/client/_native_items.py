@@ -1,0 +1,287 @@
+"""What the native client decodes from answer blocks, and its parameter and diagnostic calls.
+
+:class:`NativeItems` is the part of :class:`~focas_net.client.NativeClient` that reads and
+writes parameters and diagnostics (``cnc_rdparam``, ``cnc_diagnoss``, ``cnc_wrparam``: the
+primitives of :class:`~focas_net.client._composite.CompositeCalls` on FOCAS/2); the functions
+turn an answer block into its value, an EW code into :class:`CncError`.
+"""
+
+# Every call takes a per-call ``timeout=`` by contract, so ASYNC109 does not apply here.
+# ruff: noqa: ASYNC109
+
+from __future__ import annotations
+
+import struct
+from collections.abc import Callable
+from decimal import Decimal
+from typing import Any, Final
+
+from focas_net._memo import Memo
+from focas_net.errors import EW, CncError, PayloadError, ProtocolError
+
+from ..native import calls
+from ..native.blocks import ResponseBlock
+from ..native.calls import CommandSet, LibraryCall
+from ..native.records import (
+    DiagType,
+    ItemRecord,
+    ItemValues,
+    ParamInfo,
+    ParamInfo3,
+    ParamType,
+    ScaledItemRecord,
+    ScaledItemValues,
+    ScaledNumber,
+)
+from ..native.requests import NativeRequest
+from ..protocol import ParamDataType, ParamValue
+from ._native_link import Handle, NativeLink
+from ._values import REAL_WIDTH, byte_to_wire, check_item, param_int, real_to_wire
+
+__all__: list[str] = []
+
+_PARAM_WIDTH: Final[dict[int, int]] = {
+    ParamType.BIT: 1,
+    ParamType.BYTE: 1,
+    ParamType.WORD: 2,
+    ParamType.TWO_WORD: 4,
+}
+_DIAG_WIDTH: Final[dict[int, int]] = {0: 1, 1: 2, 2: 4, 3: 1, 4: 1}
+#: (a request, the max axes, the answer data) -> the decoded answer.
+_DECODED: Final = Memo(2048)
+
+
+def block_data(block: ResponseBlock, function: str) -> bytes:
+    """The data of ``block``; :class:`CncError` for its EW code."""
+    if block.ew:
+        raise CncError.from_ew(block.ew, function)
+    return block.data
+
+
+def decoded(request: NativeRequest, block: ResponseBlock, function: str, max_axes: int) -> Any:
+    """The answer of ``request`` in ``block`` (kept by the values it depends on: a poll whose
+    answer repeats decodes it once); :class:`CncError` for its EW code, :class:`PayloadError`
+    for data that does not decode."""
+    data = block_data(block, function)
+    key = (request, max_axes, data)
+    value = _DECODED.get(key)
+    if value is None:
+        try:
+            value = request.decode_answer(data, max_axes)
+        except (ProtocolError, ValueError, struct.error) as exc:
+            raise PayloadError(
+                f"{function}: answer to 0x{request.COMMAND:X} does not decode: {exc}"
+            ) from None
+        _DECODED.put(key, value)
+    return value
+
+
+def text(raw: bytes | str) -> str:
+    if isinstance(raw, str):
+        return raw.rstrip("\x00")
+    return raw.split(b"\x00", 1)[0].decode("latin-1")
+
+
+def axis_name(entry: bytes) -> str:
+    """The axis name of a 4-byte name entry (its first character; the suffix only tells
+    which position a display shows)."""
+    return entry[:1].replace(b"\x00", b"").decode("latin-1").strip()
+
+
+def signed(raw: int, width: int) -> int:
+    """The signed integer of the ``8 * width`` bits of ``raw``."""
+    bits = 8 * width
+    raw &= (1 << bits) - 1
+    return raw - (1 << bits) if raw >= 1 << (bits - 1) else raw
+
+
+class NativeItems(NativeLink):
+    """Parameters and diagnostics over FOCAS/2 (see the module docstring)."""
+
+    def _init_items(self) -> None:
+        #: The type word (0 bit .. 4 real) of each parameter read or written.
+        self._param_types: dict[int, int] = {}
+
+    async def _one(
+        self, deadline: float | None, build: Callable[..., LibraryCall], *args: Any
+    ) -> Any:
+        """The decoded answer of a call of one frame of one block."""
+        handle, call, (block,) = await self._single(deadline, build, *args)
+        return decoded(call.frames[0][0], block, call.function, handle.max_axes)
+
+    # -- parameters and diagnostics ------------------------------------------------------
+    @staticmethod
+    def _check_axis_of(handle: Handle, axis: int, function: str) -> None:
+        if axis > handle.axes:
+            raise CncError.from_ew(EW.ATTRIB, f"{function}: axis {axis} of {handle.axes}")
+
+    async def _read_item(
+        self, number: int, axis: int, deadline: float | None, *, diagnostic: bool
+    ) -> ParamValue:
+        """``cnc_rdparam`` or ``cnc_diagnoss`` of a checked number and axis as a
+        :class:`ParamValue`."""
+        function = "cnc_diagnoss" if diagnostic else "cnc_rdparam"
+        handle = await self._handle_for(deadline)
+        self._check_axis_of(handle, axis, function)
+        build = calls.cnc_diagnoss if diagnostic else calls.cnc_rdparam
+        call = build(handle.command_set, number, axis)
+        (block,) = await self._exchange(call.parts[0], handle.command_set, deadline)
+        items: ItemValues | ScaledItemValues = decoded(
+            call.frames[0][0], block, function, handle.max_axes
+        )
+        if not items.records:
+            raise PayloadError(f"{function}: answer for {number} carries no record")
+        record = items.records[0]
+        if not diagnostic:
+            self._param_types[number] = record.type
+        if record.type == (DiagType.REAL if diagnostic else ParamType.REAL):
+            # REALPRM: (mantissa, 10, decimals)
+            if isinstance(record, ItemRecord):
+                reals = record.reals()
+                if not reals:
+                    raise PayloadError(f"{function}: real record of {number} has one slot")
+                value = reals[0]
+            else:
+                value = record.values[0]
+            return ParamValue(number, axis, value.mantissa, REAL_WIDTH, value.decimals)
+        width = (_DIAG_WIDTH if diagnostic else _PARAM_WIDTH).get(record.type)
+        if width is None:
+            raise PayloadError(f"{function}: {number} has type {record.type}, which has no value")
+        first = record.values[0]
+        raw = first.mantissa if isinstance(first, ScaledNumber) else first
+        return ParamValue(number, axis, signed(raw, width), width)
+
+    async def _read_param_value(self, number: int, axis: int, deadline: float | None) -> ParamValue:
+        value = await self._read_item(number, axis, deadline, diagnostic=False)
+        self._param_widths[number] = value.width
+        return value
+
+    async def _is_bit(self, number: int, value: ParamValue, deadline: float | None) -> bool:
+        return self._param_types.get(number) == ParamType.BIT
+
+    async def read_param_type(
+        self, number: int, *, axis: int = 0, timeout: float | None = None
+    ) -> ParamDataType | None:
+        """The data type of parameter ``number`` (bit, byte, word, two-word, real) from the
+        type word of its ``cnc_rdparam`` record, None for a word FANUC does not number (an
+        axis parameter needs its ``axis``).
+
+        This stands in for the packed client's ``read_param_attributes``: FOCAS/2's
+        ``cnc_rdparainfo`` answer has the type in two bits (no real type), and no decimals or
+        range, while the record of ``cnc_rdparam`` names all five types."""
+        check_item(number, axis, "parameter")
+        await self._read_param_value(number, axis, self._deadline(timeout))
+        ptype = self._param_types[number]
+        return ParamDataType(ptype) if ptype in ParamDataType._value2member_map_ else None
+
+    async def read_diag(self, number: int, *, axis: int = 0, timeout: float | None = None) -> int:
+        """``cnc_diagnoss``: the value of diagnostic ``number``."""
+        check_item(number, axis, "diagnostic")
+        value = await self._read_item(number, axis, self._deadline(timeout), diagnostic=True)
+        return value.value
+
+    async def _param_info(
+        self, handle: Handle, number: int, width: int | None, deadline: float | None
+    ) -> tuple[int, int]:
+        """The first frame of ``cnc_wrparam``: the parameter's type word and its width;
+        EW_LENGTH (before anything is written) when ``width`` differs, as the library."""
+        call = calls.wrparam_info(handle.command_set, number)
+        (block,) = await self._exchange(call.parts[0], handle.command_set, deadline)
+        info = decoded(call.frames[0][0], block, "cnc_wrparam", handle.max_axes)
+        if isinstance(info, ParamInfo3):
+            ptype = info.type
+        else:
+            assert isinstance(info, ParamInfo)
+            if not info.entries:
+                raise PayloadError(f"cnc_wrparam: no information on parameter {number}")
+            ptype = info.entries[0].attribute & 3
+        self._param_types[number] = ptype
+        size = REAL_WIDTH if ptype == ParamType.REAL else _PARAM_WIDTH.get(ptype)
+        if size is None:
+            raise PayloadError(f"cnc_wrparam: {number} has type {ptype}, which has no value")
+        if width is not None and width != size:
+            self._param_widths.pop(number, None)
+            raise CncError.from_ew(
+                EW.LENGTH, f"cnc_wrparam: {number} is {size} bytes wide, not {width}"
+            )
+        return ptype, size
+
+    async def _write_param(
+        self,
+        number: int,
+        value: int | Decimal | str,
+        axis: int,
+        width: int | None,
+        deadline: float | None,
+    ) -> None:
+        # both readings of the value, before anything is sent: one is refused only if the
+        # parameter's type turns out to be the one it does not fit
+        as_int: int | ValueError
+        as_real: tuple[int, int] | ValueError
+        try:
+            as_int = param_int(number, value)
+        except ValueError as exc:
+            as_int = exc
+        try:
+            as_real = real_to_wire(number, value)
+        except ValueError as exc:
+            as_real = exc
+        if isinstance(as_int, ValueError) and isinstance(as_real, ValueError):
+            raise ValueError(
+                f"parameter {number}: {value!r} is not a value of any parameter type (an "
+                "integer, or a real value within an i32 mantissa and 0..9 decimals)"
+            )
+        handle = await self._handle_for(deadline)
+        self._check_axis_of(handle, axis, "cnc_wrparam")
+        ptype, size = await self._param_info(handle, number, width, deadline)
+        if ptype == ParamType.REAL:
+            if isinstance(as_real, ValueError):
+                raise as_real
+            record = self._param_record(handle, number, axis, ptype, *as_real)
+        else:
+            if isinstance(as_int, ValueError):
+                raise as_int
+            if ptype == ParamType.BIT:
+                raw = byte_to_wire(number, as_int, ParamDataType.BIT)
+            else:
+                bits = 8 * size
+                if not -(1 << (bits - 1)) <= as_int < 1 << bits:
+                    raise ValueError(f"value {as_int} does not fit a {size}-byte parameter")
+                raw = signed(as_int, size)
+            record = self._param_record(handle, number, axis, ptype, raw)
+        await self._write_record(handle, record, deadline)
+
+    async def _write_param_bits(
+        self, number: int, axis: int, bits: int, width: int, deadline: float | None
+    ) -> None:
+        handle = await self._handle_for(deadline)
+        self._check_axis_of(handle, axis, "cnc_wrparam")
+        ptype, _ = await self._param_info(handle, number, width, deadline)
+        raw = byte_to_wire(number, bits, ParamDataType.BIT) if ptype == ParamType.BIT else bits
+        record = self._param_record(handle, number, axis, ptype, signed(raw, width))
+        await self._write_record(handle, record, deadline)
+
+    async def _write_record(
+        self, handle: Handle, record: ItemRecord | ScaledItemRecord, deadline: float | None
+    ) -> None:
+        """The second frame of ``cnc_wrparam``: the write of ``record``."""
+        call = calls.cnc_wrparam(handle.command_set, record)
+        (done,) = await self._exchange(call.parts[1], handle.command_set, deadline)
+        block_data(done, "cnc_wrparam")
+
+    @staticmethod
+    def _param_record(
+        handle: Handle, number: int, axis: int, ptype: int, value: int, decimals: int | None = None
+    ) -> ItemRecord | ScaledItemRecord:
+        """The write record, slot 0 holding ``value`` (a real one's mantissa with
+        ``decimals``) and the other slots what the previous write left there (the library's
+        buffer)."""
+        if handle.command_set is CommandSet.FS16I:
+            slots = handle.param_slots
+            slots[0] = value
+            return ItemRecord(number, axis, ptype, tuple(slots))
+        scaled = handle.param3_slots
+        scaled[0] = (
+            ScaledNumber(value, -1, 0) if decimals is None else ScaledNumber(value, decimals, 10)
+        )
+        return ScaledItemRecord(number, axis, ptype, tuple(scaled))
