@@ -115,9 +115,10 @@ from decimal import Decimal, InvalidOperation
 from itertools import islice
 from typing import Final
 
-from focas_net.errors import EW, FocasError
+from focas_net.errors import EW
 from focas_net.versamax import IOModuleRecord
 
+from ._base import I32_MAX, I32_MIN, Counters, MachineError
 from .nc import (
     AlarmKind,
     CycleState,
@@ -272,8 +273,6 @@ F_SIGNALS: Final = {"OP": ("F", 0, 7), "STL": ("F", 0, 5), "SPL": ("F", 0, 4), "
 
 _MOTION_SCALARS: Final = ("feed", "spindle_speed", "program_running", "program_main", "sequence")
 _SKIP: Final = "skip"
-_I32_MIN: Final = -0x8000_0000
-_I32_MAX: Final = 0x7FFF_FFFF
 _PASSWORD_SIZE: Final = 4
 #: Identity texts and their widths (ODBSYS).
 _IDENTITY_TEXTS: Final = (("cnc_type", 2), ("mt_type", 2), ("series", 4), ("version", 4))
@@ -309,7 +308,7 @@ def _macro_value(value: Decimal | int) -> Decimal | None:
     if isinstance(value, bool) or not isinstance(value, Decimal | int):
         raise TypeError(f"a macro value is a Decimal, an int or None, got {value!r}")
     if isinstance(value, int):
-        return Decimal(value) if _I32_MIN <= value <= _I32_MAX else None
+        return Decimal(value) if I32_MIN <= value <= I32_MAX else None
     if not value.is_finite():
         return None
     sign, digits, exponent = value.as_tuple()
@@ -317,7 +316,7 @@ def _macro_value(value: Decimal | int) -> Decimal | None:
     if not -MAX_MACRO_DECIMALS <= exponent <= 0:
         return None
     coefficient = int("".join(map(str, digits)))
-    if not _I32_MIN <= (-coefficient if sign else coefficient) <= _I32_MAX:
+    if not I32_MIN <= (-coefficient if sign else coefficient) <= I32_MAX:
         return None
     return value
 
@@ -339,11 +338,11 @@ def _float_macro(value: float) -> Decimal | None:
 
 def _increments(values: Iterable[float]) -> list[int]:
     """Positions in mm as i32 least input increments."""
-    return [max(_I32_MIN, min(_I32_MAX, round(v * _MM))) for v in values]
+    return [max(I32_MIN, min(I32_MAX, round(v * _MM))) for v in values]
 
 
 def _figure(value: float | int | None) -> int:
-    return 0 if value is None else max(0, min(_I32_MAX, round(value)))
+    return 0 if value is None else max(0, min(I32_MAX, round(value)))
 
 
 def _system_value(value: float | None, decimals: int) -> Decimal | None:
@@ -394,8 +393,8 @@ class _Variables:
             if held is None:
                 raise VariableRefused(111, f"#{number} = {value!r}")
             m._macros[number] = held
-        m._macro_version += 1
-        m._version += 1
+        m._counters.macro += 1
+        m._counters.version += 1
 
 
 #: The EW code of each refusal of the program store.
@@ -449,16 +448,6 @@ class _ScenarioRun:
     def finished(self, engine: Engine) -> bool:
         """The parts are made (the cycle ended in reset with none to go)."""
         return engine.parts_to_go == 0 and engine.state is _RESET
-
-
-class MachineError(FocasError):
-    """An operation refused: ``ew`` is the FANUC ``EW_*`` code the CNC answers."""
-
-    def __init__(self, ew: int, detail: str = "") -> None:
-        self.ew = int(ew)
-        self.detail = detail
-        name = EW(self.ew).name if self.ew in EW._value2member_map_ else str(self.ew)
-        super().__init__(f"EW_{name}: {detail}" if detail else f"EW_{name}")
 
 
 @dataclass(slots=True)
@@ -813,20 +802,7 @@ class Machine:
             raise ValueError("alarm history capacity must be at least 1")
         self._active: dict[tuple[int, int, int], Alarm] = {}
         self._history: deque[HistoryEntry] = deque(maxlen=history_capacity)
-        #: Incremented on every change of machine state.
-        self._version = 0
-        #: Incremented when the status changes (panel, run state, active alarms).
-        self._status_version = 0
-        #: Incremented when a parameter or diagnostic value changes.
-        self._data_version = 0
-        #: Incremented when a macro variable changes.
-        self._macro_version = 0
-        #: Incremented when the active alarms or the alarm history change.
-        self._alarm_version = 0
-        #: Incremented when PMC data changes.
-        self._pmc_version = 0
-        #: Incremented when the motion figures change.
-        self._motion_version = 0
+        self._counters = Counters()
         self._build_engine(programs, main_program, sim_clock)
 
     @staticmethod
@@ -858,7 +834,7 @@ class Machine:
         """Incremented on every change of machine state."""
         if self._engine_key[0] is _START or self._run is not None:  # what moves with time
             self._sync()
-        return self._version
+        return self._counters.version
 
     @property
     def status_version(self) -> int:
@@ -871,14 +847,14 @@ class Machine:
                 or self.engine.revision != self._steady_revision
             ):
                 self._sync()
-        return self._status_version
+        return self._counters.status
 
     @property
     def data_version(self) -> int:
         """Incremented when a parameter or diagnostic value changes (parts counts too)."""
         if self._engine_key[0] is _START or self._run is not None:  # what moves with time
             self._sync()
-        return self._data_version
+        return self._counters.data
 
     @property
     def macro_version(self) -> int:
@@ -886,21 +862,21 @@ class Machine:
         time moved, for the system variables follow the engine)."""
         if self._engine_key[0] is _START or self._run is not None:  # what moves with time
             self._sync()
-        return self._macro_version
+        return self._counters.macro
 
     @property
     def alarm_version(self) -> int:
         """Incremented when the active alarms or the alarm history change."""
         if self._engine_key[0] is _START or self._run is not None:  # what moves with time
             self._sync()
-        return self._alarm_version
+        return self._counters.alarm
 
     @property
     def pmc_version(self) -> int:
         """Incremented when PMC data changes."""
         if self._engine_key[0] is _START or self._run is not None:  # what moves with time
             self._sync()
-        return self._pmc_version
+        return self._counters.pmc
 
     @property
     def motion_version(self) -> int:
@@ -908,7 +884,7 @@ class Machine:
         time moved."""
         if self._engine_key[0] is _START or self._run is not None:  # what moves with time
             self._sync()
-        return self._motion_version
+        return self._counters.motion
 
     def check_writable(self) -> None:
         """EW_PROT when the machine is read-only: the first check of every write."""
@@ -925,7 +901,7 @@ class Machine:
         otherwise). Connections unlocked under the previous password are locked again."""
         self._password = None if password is None else _password(password)
         self._password_epoch += 1
-        self._version += 1
+        self._counters.version += 1
 
     @property
     def has_password(self) -> bool:
@@ -952,10 +928,6 @@ class Machine:
             1 if self._active else 0,
             p.edit,
         )
-
-    def _status_changed(self) -> None:
-        self._status_version += 1
-        self._version += 1
 
     def identity(self) -> Identity:
         """What the CNC says it is."""
@@ -1055,8 +1027,8 @@ class Machine:
         item.values[i] = value
         if datano in (PARTS_COUNT, PARTS_TOTAL):
             self._set_parts(datano, value)
-        self._data_version += 1
-        self._version += 1
+        self._counters.data += 1
+        self._counters.version += 1
 
     def set_diag(self, datano: int, axis: int, value: int) -> None:
         """Change a diagnostic value (simulation code; a CNC has no diagnostic write):
@@ -1067,8 +1039,8 @@ class Machine:
         if not low <= value <= high:
             raise MachineError(EW.DATA, f"diagnostic {datano}: {value} outside {low}..{high}")
         item.values[i] = value
-        self._data_version += 1
-        self._version += 1
+        self._counters.data += 1
+        self._counters.version += 1
 
     # -- macro variables -----------------------------------------------------------------
     def _macro_range(self, number: int) -> MacroRange | None:
@@ -1114,8 +1086,8 @@ class Machine:
             return
         if value is None:
             if self._macros.pop(number, None) is not None:
-                self._macro_version += 1
-                self._version += 1
+                self._counters.macro += 1
+                self._counters.version += 1
             return
         held = _macro_value(value)
         if held is None:
@@ -1124,8 +1096,8 @@ class Machine:
                 f"#{number} = {value}: 0..{MAX_MACRO_DECIMALS} decimals, digits within 32 bits",
             )
         self._macros[number] = held
-        self._macro_version += 1
-        self._version += 1
+        self._counters.macro += 1
+        self._counters.version += 1
 
     # -- PMC -------------------------------------------------------------------------------
     def pmc_area(self, letter: str) -> tuple[int, bool] | None:
@@ -1177,8 +1149,8 @@ class Machine:
             raise MachineError(EW.PROT, f"PMC area {area.letter} is write-protected")
         before = bytes(area.data[start:end])
         area.data[start:end] = data
-        self._pmc_version += 1
-        self._version += 1
+        self._counters.pmc += 1
+        self._counters.version += 1
         if area.letter == "G" and before != data:
             self._g_signals(start, before)
 
@@ -1267,8 +1239,8 @@ class Machine:
         )
         self._active[key] = Alarm(axis_no, alm_type, alm_no, text)
         self._history.appendleft(HistoryEntry(when, axis_no, alm_type, alm_no, text))
-        self._alarm_version += 1
-        self._status_changed()
+        self._counters.alarm += 1
+        self._counters.status_changed()
         return True
 
     def clear_alarms(self, alm_type: int = -1, alm_no: int = -1) -> int:
@@ -1284,8 +1256,8 @@ class Machine:
             del self._active[k]
         if gone:
             logger.debug("%s: %d alarm(s) cleared", self.name, len(gone))
-            self._alarm_version += 1
-            self._status_changed()
+            self._counters.alarm += 1
+            self._counters.status_changed()
         return len(gone)
 
     # -- operator panel ------------------------------------------------------------------
@@ -1311,7 +1283,7 @@ class Machine:
             self.engine.reset()  # emergency stop resets the control
         elif leaving_mem:
             self.engine.feed_hold()  # automatic operation stops outside MEM
-        self._status_changed()
+        self._counters.status_changed()
         self._settled(stop or leaving_mem)
 
     def set_run(self, run: int, motion: int = 0) -> None:
@@ -1321,7 +1293,7 @@ class Machine:
             raise MachineError(EW.DATA, f"run={run} motion={motion}")
         self.panel.run, self.panel.motion = run, motion
         self._driven = False
-        self._status_changed()
+        self._counters.status_changed()
 
     # -- motion figures ------------------------------------------------------------------
     def set_motion(
@@ -1351,7 +1323,7 @@ class Machine:
             if values is None:
                 continue
             got = list(values)
-            if len(got) != n or not all(type(v) is int and _I32_MIN <= v <= _I32_MAX for v in got):
+            if len(got) != n or not all(type(v) is int and I32_MIN <= v <= I32_MAX for v in got):
                 raise MachineError(EW.DATA, f"{key}: {n} i32 values expected, got {got!r}")
             lists[key] = got
         scalars: dict[str, int] = {}
@@ -1362,20 +1334,20 @@ class Machine:
         ):
             if value is None:
                 continue
-            if type(value) is not int or not 0 <= value <= _I32_MAX:
-                raise MachineError(EW.DATA, f"{key} = {value!r} outside 0..{_I32_MAX}")
+            if type(value) is not int or not 0 <= value <= I32_MAX:
+                raise MachineError(EW.DATA, f"{key} = {value!r} outside 0..{I32_MAX}")
             scalars[key] = value
         m = self._motion
         self._sync()
         if self._driven:
             self._driven = False
-            self._status_changed()
+            self._counters.status_changed()
         for key, got in lists.items():
             setattr(m, key, got)
         for key, value in scalars.items():
             setattr(m, key, value)
-        self._motion_version += 1
-        self._version += 1
+        self._counters.motion += 1
+        self._counters.version += 1
 
     def positions(self, kind: str, axis: int | None = None) -> list[tuple[str, int]]:
         """``(axis name, value)`` of every axis (``axis`` None) or of axis ``axis`` (1..n), in
@@ -1541,11 +1513,11 @@ class Machine:
         self._steady_until = steady
         self._steady_revision = e.revision
         if force or (self._driven and (changed or moved)):
-            self._motion_version += 1
-            self._macro_version += 1
-            self._version += 1
+            self._counters.motion += 1
+            self._counters.macro += 1
+            self._counters.version += 1
             if force or changed:
-                self._status_version += 1
+                self._counters.status += 1
 
     def _g_signals(self, start: int, before: bytes) -> None:
         """Act on the G signals a write changed (see :data:`G_SIGNALS`): the rising edge of
@@ -1604,8 +1576,8 @@ class Machine:
         f1 = area.data[1] & ~(1 << _RST) | (1 << _RST if resetting else 0)
         if (f0, f1) != (area.data[0], area.data[1]):
             area.data[0], area.data[1] = f0, f1
-            self._pmc_version += 1
-            self._version += 1
+            self._counters.pmc += 1
+            self._counters.version += 1
 
     def _engine_event(self, event: EngineEvent, now: float) -> None:
         if event.kind == "part":
@@ -1628,9 +1600,9 @@ class Machine:
             return
         assert item.high is not None and item.low is not None
         item.values[0] = max(item.low, min(item.high, value))
-        self._data_version += 1
-        self._macro_version += 1
-        self._version += 1
+        self._counters.data += 1
+        self._counters.macro += 1
+        self._counters.version += 1
 
     def _set_parts(self, number: int, value: int) -> None:
         if number == PARTS_COUNT:
@@ -1689,8 +1661,8 @@ class Machine:
             del self._active[k]
         self._engine_alarms.clear()
         if gone:
-            self._alarm_version += 1
-            self._status_changed()
+            self._counters.alarm += 1
+            self._counters.status_changed()
 
     def set_overrides(
         self, feed: int | None = None, rapid: int | None = None, spindle: int | None = None
@@ -1869,8 +1841,8 @@ class Machine:
             if key not in self._active:
                 return  # cleared by hand: the operator takes it from here
             del self._active[key]
-            self._alarm_version += 1
-            self._status_changed()
+            self._counters.alarm += 1
+            self._counters.status_changed()
             self._reset_cycle()
         elif (event.kind == "pause" and e.state is not _HOLD) or (
             event.kind == "tool" and e.state is not _STOP
@@ -1920,7 +1892,7 @@ class Machine:
         self._sync()
         if not self._driven:
             return self._motion
-        version = self._motion_version
+        version = self._counters.motion
         if self._figures is not None and self._figures[0] == version:
             return self._figures[1]
         e = self.engine
@@ -2010,8 +1982,8 @@ class Machine:
 
     def _programs_changed(self) -> None:
         self._figures = None
-        self._motion_version += 1
-        self._version += 1
+        self._counters.motion += 1
+        self._counters.version += 1
 
     # -- VersaMax ------------------------------------------------------------------------
     def module_record(self, rack: int, slot: int) -> IOModuleRecord | None:
