@@ -119,6 +119,7 @@ from focas_net.errors import EW
 from focas_net.versamax import IOModuleRecord
 
 from ._base import I32_MAX, I32_MIN, Counters, MachineError
+from ._station import Station
 from .nc import (
     AlarmKind,
     CycleState,
@@ -210,9 +211,6 @@ MAX_ALARM_TEXT: Final = 32
 CONTROL_CLASSES: Final = ("16i", "18i", "21i", "0i-C", "0i-D", "0i-F", "30i", "31i", "32i")
 #: The control class of a machine that does not say (the built-in machine is a 0i-F).
 DEFAULT_CONTROL_CLASS: Final = "0i-F"
-#: Highest rack and slot of a VersaMax station.
-MAX_RACK: Final = 7
-MAX_SLOT: Final = 9
 
 #: The timers :meth:`Machine.timer` reads, by FANUC's ``cnc_rdtimer`` type number.
 TIMER_KINDS: Final = ("power_on", "operating", "cutting", "cycle")
@@ -785,13 +783,7 @@ class Machine:
             raise ValueError(f"panel mode {self.panel.mode} is not an aut value")
         self._password: bytes | None = None if param_password is None else _password(param_password)
         self._password_epoch = 0
-        self._station: dict[tuple[int, int], bytes] = {}
-        self._records: dict[tuple[int, int], IOModuleRecord] = {}
-        for (rack, slot), record in (station or {}).items():
-            if not (0 <= rack <= MAX_RACK and 0 <= slot <= MAX_SLOT):
-                raise ValueError(f"VersaMax rack {rack} slot {slot} is out of range")
-            self._records[rack, slot] = record
-            self._station[rack, slot] = record.encode()
+        self._station = Station(station or {})
         self._motion = motion or MotionData([0] * n, [0] * n, [0] * n, [0] * n)
         for key in POSITION_KINDS:
             if len(getattr(self._motion, key)) != n:
@@ -1988,25 +1980,17 @@ class Machine:
     # -- VersaMax ------------------------------------------------------------------------
     def module_record(self, rack: int, slot: int) -> IOModuleRecord | None:
         """The configuration record in ``rack``/``slot`` (None when empty)."""
-        return self._records.get((rack, slot))
+        return self._station.records.get((rack, slot))
 
     def config_record(self, rack: int, slot: int) -> bytes:
         """The bytes of the configuration record in ``rack``/``slot``: EW_NUMBER when the slot
         is empty or out of range."""
-        record = self._station.get((rack, slot))
-        if record is None:
-            raise MachineError(EW.NUMBER, f"rack {rack} slot {slot} is empty")
-        return record
+        return self._station.config_record(rack, slot)
 
     def read_config(self, rack: int, slot: int, offset: int, length: int) -> bytes:
         """Up to ``length`` bytes of the configuration record in ``rack``/``slot`` from
         ``offset``: EW_NUMBER (empty slot), EW_NUMBER (offset outside the record)."""
-        record = self.config_record(rack, slot)
-        if length < 0:
-            raise ValueError(f"a configuration read of {length} bytes")
-        if not 0 <= offset < len(record):
-            raise MachineError(EW.NUMBER, f"offset {offset} past the {len(record)}-byte record")
-        return record[offset : offset + length]
+        return self._station.read(rack, slot, offset, length)
 
     # -- whole-state view ----------------------------------------------------------------
     def state_digest(self) -> str:
@@ -2034,7 +2018,7 @@ class Machine:
         put("active", list(self._active.values()))
         put("history", self.history_capacity, list(self._history))
         put("identity", self._identity)
-        put("station", sorted(self._station.items()))
+        put("station", sorted(self._station.encoded.items()))
         m = self.motion
         put(
             "motion",
