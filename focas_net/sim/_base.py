@@ -7,11 +7,15 @@ for every change they make.
 
 from __future__ import annotations
 
+import logging
 from typing import Final
 
 from focas_net.errors import EW, FocasError
 
-__all__ = ["I32_MAX", "I32_MIN", "Counters", "MachineError"]
+__all__ = ["I32_MAX", "I32_MIN", "Counters", "MachineError", "logger"]
+
+#: The machine's logger, one name for all its components.
+logger = logging.getLogger("focas_net.sim.machine")
 
 I32_MIN: Final = -0x8000_0000
 I32_MAX: Final = 0x7FFF_FFFF

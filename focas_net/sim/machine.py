@@ -105,20 +105,27 @@ from __future__ import annotations
 import enum
 import hashlib
 import hmac
-import logging
 import math
 from collections import deque
-from collections.abc import Callable, Iterable, Mapping
+from collections.abc import Iterable, Mapping
 from dataclasses import dataclass, field
-from datetime import UTC, datetime, timedelta
+from datetime import datetime
 from decimal import Decimal, InvalidOperation
-from itertools import islice
 from typing import Final
 
 from focas_net.errors import EW
 from focas_net.versamax import IOModuleRecord
 
-from ._base import I32_MAX, I32_MIN, Counters, MachineError
+from ._alarms import (
+    DEFAULT_HISTORY_CAPACITY,
+    MAX_ALARM_TEXT,
+    Alarm,
+    Alarms,
+    Clock,
+    HistoryEntry,
+    utc_now,
+)
+from ._base import I32_MAX, I32_MIN, Counters, MachineError, logger
 from ._station import Station
 from .nc import (
     AlarmKind,
@@ -180,10 +187,6 @@ __all__ = [
     "utc_now",
 ]
 
-logger = logging.getLogger(__name__)
-
-#: A source of the current time; the machine stamps alarms with it (as UTC, whole seconds).
-Clock = Callable[[], datetime]
 
 #: ``aut`` values: 0 MDI, 1 MEM, 3 EDIT, 4 HND, 5 JOG, 6 Teach-in JOG, 7 Teach-in HND, 8 INC,
 #: 9 REF, 10 RMT (2 is not a mode).
@@ -191,8 +194,6 @@ AUT_MODES: Final = frozenset({0, 1, 3, 4, 5, 6, 7, 8, 9, 10})
 MDI: Final = 0
 MEM: Final = 1
 EDIT: Final = 3
-#: Alarm history capacity of a FANUC 0i/30i.
-DEFAULT_HISTORY_CAPACITY: Final = 250
 #: Letters of the PMC areas a machine can have.
 PMC_AREAS: Final = ("X", "Y", "F", "G", "R", "T", "C", "D", "K", "A", "E")
 #: Most decimal places a macro variable holds.
@@ -201,10 +202,6 @@ MAX_MACRO_DECIMALS: Final = 9
 POSITION_DECIMALS: Final = 3
 #: The position kinds :meth:`Machine.positions` serves (``"skip"`` answers EW_NOOPT).
 POSITION_KINDS: Final = ("absolute", "machine", "relative", "distance_to_go")
-#: Alarm type numbers a CNC can carry (``alm_type`` is a bit number in FANUC's masks).
-MAX_ALARM_TYPE: Final = 31
-#: Characters of an alarm message the CNC keeps.
-MAX_ALARM_TEXT: Final = 32
 #: The control classes a machine can be, as FANUC names its series; a front end speaks as that
 #: class of control does (FANUC's native protocol: the 16i command set for 16i, 18i, 21i and
 #: 0i-C, the 30i set for 0i-D, 0i-F, 30i, 31i and 32i).
@@ -274,11 +271,6 @@ _SKIP: Final = "skip"
 _PASSWORD_SIZE: Final = 4
 #: Identity texts and their widths (ODBSYS).
 _IDENTITY_TEXTS: Final = (("cnc_type", 2), ("mt_type", 2), ("series", 4), ("version", 4))
-
-
-def utc_now() -> datetime:
-    """The default clock: now, timezone-aware UTC."""
-    return datetime.now(UTC)
 
 
 def _password(text: str | bytes) -> bytes:
@@ -484,32 +476,6 @@ class Identity:
     series: str
     version: str
     axes: str
-
-
-@dataclass(frozen=True, slots=True)
-class Alarm:
-    """An active alarm."""
-
-    axis_no: int
-    alm_type: int
-    alm_no: int
-    msg: str
-
-    @property
-    def key(self) -> tuple[int, int, int]:
-        """The identity of an alarm: ``(axis_no, alm_type, alm_no)``."""
-        return (self.axis_no, self.alm_type, self.alm_no)
-
-
-@dataclass(frozen=True, slots=True)
-class HistoryEntry:
-    """One entry of the alarm history; ``occurred_at`` is timezone-aware UTC, whole seconds."""
-
-    occurred_at: datetime
-    axis_no: int
-    alm_type: int
-    alm_no: int
-    msg: str
 
 
 class ParamKind(enum.IntEnum):
@@ -730,7 +696,7 @@ class Machine:
         sim_clock: SimClock | None = None,
         scenario: Scenario | None = None,
     ) -> None:
-        self.name = name
+        self._name = name
         #: How the machine runs on its own when it is told to (:meth:`start_scenario`;
         #: ``serve`` starts it): a machine file's ``[run]``, None when it has none.
         self.scenario = scenario
@@ -747,7 +713,6 @@ class Machine:
         #: Whether the simulator control commands of a front end are served.
         self.control_enabled = control_enabled
         self.read_only = read_only
-        self.clock = clock
         self._identity = identity or Identity(2, max(n, 8), " 0", " M", "D4F1", "32.0", f"{n:02d}")
         self._check_identity(self._identity)
         self._params = self._items(params, "parameter")
@@ -790,11 +755,8 @@ class Machine:
                 raise ValueError(
                     f"motion {key}: {len(getattr(self._motion, key))} values for {n} axes"
                 )
-        if history_capacity < 1:
-            raise ValueError("alarm history capacity must be at least 1")
-        self._active: dict[tuple[int, int, int], Alarm] = {}
-        self._history: deque[HistoryEntry] = deque(maxlen=history_capacity)
         self._counters = Counters()
+        self._alarms = Alarms(name, history_capacity, clock, self._counters)
         self._build_engine(programs, main_program, sim_clock)
 
     @staticmethod
@@ -816,6 +778,15 @@ class Machine:
                 raise ValueError(f"{what} {item.number} given twice")
             table[item.number] = item
         return table
+
+    @property
+    def name(self) -> str:
+        """The machine's name (the server's ready line, the logs)."""
+        return self._name
+
+    @name.setter
+    def name(self, name: str) -> None:
+        self._name = self._alarms.name = name
 
     def __repr__(self) -> str:
         return f"Machine({self.name!r}, axes={''.join(self.axes)!r})"
@@ -917,7 +888,7 @@ class Machine:
             motion,
             mstb,
             p.emergency,
-            1 if self._active else 0,
+            1 if self._alarms.active else 0,
             p.edit,
         )
 
@@ -1169,27 +1140,30 @@ class Machine:
         """The active alarms of ``alm_type`` (-1: every type; a type no alarm has matches
         nothing), oldest raised first, at most ``limit`` of them (None: all)."""
         self._sync()
-        alarms = self._active.values()
-        chosen = alarms if alm_type == -1 else (a for a in alarms if a.alm_type == alm_type)
-        return list(chosen if limit is None else islice(chosen, limit))
+        return self._alarms.read(alm_type, limit)
 
     def alarm_history(self, depth: int | None = None) -> tuple[HistoryEntry, ...]:
         """The ``depth`` newest entries of the history (None: all), newest first."""
         self._sync()
-        return tuple(self._history if depth is None else islice(self._history, depth))
+        return self._alarms.read_history(depth)
 
     @property
     def history_capacity(self) -> int:
         """How many entries the alarm history keeps."""
-        cap = self._history.maxlen
-        assert cap is not None
-        return cap
+        return self._alarms.capacity
+
+    @property
+    def clock(self) -> Clock:
+        """The wall clock the machine stamps alarms with (:meth:`now`)."""
+        return self._alarms.clock
+
+    @clock.setter
+    def clock(self, clock: Clock) -> None:
+        self._alarms.clock = clock
 
     def now(self) -> datetime:
         """The clock, as aware UTC cut to whole seconds."""
-        t = self.clock()
-        t = t.replace(tzinfo=UTC) if t.tzinfo is None else t.astimezone(UTC)
-        return t.replace(microsecond=0)
+        return self._alarms.now()
 
     def raise_alarm(self, axis_no: int, alm_type: int, alm_no: int, msg: str = "") -> bool:
         """Make an alarm active and record it in the history (UTC, whole seconds); True when it
@@ -1202,18 +1176,10 @@ class Machine:
         text. EW_PROT (read-only machine), EW_DATA (alm_type, alm_no), EW_ATTRIB (axis_no),
         EW_DATA (a character beyond U+00FF)."""
         self.check_writable()
-        if not 0 <= alm_type <= MAX_ALARM_TYPE:
-            raise MachineError(EW.DATA, f"alm_type {alm_type} outside 0..{MAX_ALARM_TYPE}")
-        if alm_no < 0:
-            raise MachineError(EW.DATA, f"alm_no {alm_no} is negative")
-        if not 0 <= axis_no <= len(self.axes):
-            raise MachineError(EW.ATTRIB, f"axis_no {axis_no} outside 0..{len(self.axes)}")
-        text = msg[:MAX_ALARM_TEXT]
-        if any(ord(c) > 0xFF for c in text):
-            raise MachineError(EW.DATA, f"alarm message {text!r} is not single-byte text")
+        text = self._alarms.checked(axis_no, alm_type, alm_no, msg, len(self.axes))
         self._sync()
         key = (axis_no, alm_type, alm_no)
-        if not self._add_alarm(key, text, self.now()):
+        if not self._alarms.add(key, text, self.now()):
             return False
         if self.engine.state is not _RESET:
             # any alarm stops the cycle; cycle start wants a reset after it
@@ -1222,35 +1188,11 @@ class Machine:
             self._settled(True)
         return True
 
-    def _add_alarm(self, key: tuple[int, int, int], text: str, when: datetime) -> bool:
-        if key in self._active:
-            return False
-        axis_no, alm_type, alm_no = key
-        logger.debug(
-            "%s: alarm raised: axis %d type %d no %d", self.name, axis_no, alm_type, alm_no
-        )
-        self._active[key] = Alarm(axis_no, alm_type, alm_no, text)
-        self._history.appendleft(HistoryEntry(when, axis_no, alm_type, alm_no, text))
-        self._counters.alarm += 1
-        self._counters.status_changed()
-        return True
-
     def clear_alarms(self, alm_type: int = -1, alm_no: int = -1) -> int:
         """Remove the active alarms matching ``alm_type`` and ``alm_no`` (-1 = any); the
         history is kept. Returns how many were removed. EW_PROT on a read-only machine."""
         self.check_writable()
-        gone = [
-            k
-            for k in self._active
-            if (alm_type == -1 or k[1] == alm_type) and (alm_no == -1 or k[2] == alm_no)
-        ]
-        for k in gone:
-            del self._active[k]
-        if gone:
-            logger.debug("%s: %d alarm(s) cleared", self.name, len(gone))
-            self._counters.alarm += 1
-            self._counters.status_changed()
-        return len(gone)
+        return self._alarms.clear(alm_type, alm_no)
 
     # -- operator panel ------------------------------------------------------------------
     def set_panel(
@@ -1577,10 +1519,9 @@ class Machine:
             self._store_parts(PARTS_TOTAL, self.engine.parts_total)
         elif event.kind == "alarm" and event.alarm is not None:
             alarm = event.alarm
-            late = timedelta(seconds=max(0.0, now - event.time))
             key = (alarm.axis or 0, _NC_ALARM_TYPES[alarm.kind], alarm.number)
             text = alarm.message[:MAX_ALARM_TEXT].encode("latin-1", "replace").decode("latin-1")
-            if self._add_alarm(key, text, (self.now() - late).replace(microsecond=0)):
+            if self._alarms.add(key, text, self._alarms.stamp(now - event.time)):
                 self._engine_alarms.add(key)
 
     def _parts(self, number: int) -> int:
@@ -1616,7 +1557,7 @@ class Machine:
         self._sync()
         if self.panel.emergency:
             raise MachineError(EW.ALARM, "cycle start refused: emergency stop")
-        if self._active:
+        if self._alarms.active:
             raise MachineError(EW.ALARM, "cycle start refused: an alarm is active")
         if self.panel.mode != MEM:
             raise MachineError(EW.MODE, f"cycle start refused: mode {self.panel.mode} is not MEM")
@@ -1648,13 +1589,8 @@ class Machine:
 
     def _reset_cycle(self) -> None:
         self.engine.reset()
-        gone = [k for k in self._engine_alarms if k in self._active]
-        for k in gone:
-            del self._active[k]
+        self._alarms.remove(self._engine_alarms)
         self._engine_alarms.clear()
-        if gone:
-            self._counters.alarm += 1
-            self._counters.status_changed()
 
     def set_overrides(
         self, feed: int | None = None, rapid: int | None = None, spindle: int | None = None
@@ -1719,7 +1655,7 @@ class Machine:
         self._sync()
         if self.panel.emergency:
             raise MachineError(EW.ALARM, "a scenario cannot start: emergency stop")
-        if self._active:
+        if self._alarms.active:
             raise MachineError(EW.ALARM, "a scenario cannot start: an alarm is active")
         if self.panel.mode != MEM:
             mode = self.panel.mode
@@ -1817,9 +1753,8 @@ class Machine:
         else:
             spec = SCENARIO_ALARMS[event.alarm]
             key = (event.axis, spec.alm_type, spec.alm_no)
-            late = timedelta(seconds=max(0.0, now - when))
             text = spec.message[:MAX_ALARM_TEXT]
-            self._add_alarm(key, text, (self.now() - late).replace(microsecond=0))
+            self._alarms.add(key, text, self._alarms.stamp(now - when))
             kind = _ALARM_KINDS.get(spec.alm_type, AlarmKind.PS)
             e.alarm_stop(NcAlarm(kind, spec.alm_no, text, axis=event.axis or None))
         self._settled(True, force=True)
@@ -1830,17 +1765,14 @@ class Machine:
         if event.kind == "alarm":
             spec = SCENARIO_ALARMS[event.alarm]
             key = (event.axis, spec.alm_type, spec.alm_no)
-            if key not in self._active:
+            if not self._alarms.remove((key,)):
                 return  # cleared by hand: the operator takes it from here
-            del self._active[key]
-            self._counters.alarm += 1
-            self._counters.status_changed()
             self._reset_cycle()
         elif (event.kind == "pause" and e.state is not _HOLD) or (
             event.kind == "tool" and e.state is not _STOP
         ):
             return  # someone else changed the cycle meanwhile
-        if not self._active and not self.panel.emergency and self.panel.mode == MEM:
+        if not self._alarms.active and not self.panel.emergency and self.panel.mode == MEM:
             try:
                 e.cycle_start()
             except NcStateError:
@@ -2015,8 +1947,8 @@ class Machine:
         p = self.panel
         put("panel", p.mode, p.pwe, p.emergency, p.run, p.motion, p.mstb, p.edit, p.hdck, p.tmmode)
         put("password", hashlib.sha256(self._password or b"").hexdigest())
-        put("active", list(self._active.values()))
-        put("history", self.history_capacity, list(self._history))
+        put("active", list(self._alarms.active.values()))
+        put("history", self.history_capacity, list(self._alarms.history))
         put("identity", self._identity)
         put("station", sorted(self._station.encoded.items()))
         m = self.motion
