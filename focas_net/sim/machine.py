@@ -102,9 +102,7 @@ fixed by :attr:`Machine.seed` and the machine time.
 
 from __future__ import annotations
 
-import enum
 import hashlib
-import hmac
 import math
 from collections import deque
 from collections.abc import Iterable, Mapping
@@ -126,6 +124,16 @@ from ._alarms import (
     utc_now,
 )
 from ._base import I32_MAX, I32_MIN, Counters, MachineError, logger
+from ._items import MAX_REAL_DECIMALS as MAX_REAL_DECIMALS  # the native adapter's
+from ._items import (
+    PARTS_COUNT,
+    PARTS_REQUIRED,
+    PARTS_TOTAL,
+    DataItem,
+    Items,
+    ParamKind,
+)
+from ._password import ParamLock, Session
 from ._station import Station
 from .nc import (
     AlarmKind,
@@ -217,10 +225,7 @@ _ALARM_KINDS: Final = {3: AlarmKind.PS, 4: AlarmKind.OT, 8: AlarmKind.MC}
 #: The run state (ODBST ``run``) and motion of each engine state.
 _RUN: Final = {CycleState.RESET: 0, CycleState.STOP: 1, CycleState.HOLD: 2, CycleState.START: 3}
 _MOTION: Final = {MotionKind.NONE: 0, MotionKind.MOTION: 1, MotionKind.DWELL: 2}
-#: Parts count, total parts, parts required (parameters) and their macro variables.
-PARTS_COUNT: Final = 6711
-PARTS_TOTAL: Final = 6712
-PARTS_REQUIRED: Final = 6713
+#: The macro variables of the parts count and the total parts.
 _PARTS_VARIABLES: Final = {3901: PARTS_COUNT, 3902: PARTS_TOTAL}
 #: System variables that come from the engine while it drives the figures: modal G codes
 #: #4001-#4030, the last block's codes #4102-#4130, positions #5001-#5043.
@@ -268,29 +273,8 @@ F_SIGNALS: Final = {"OP": ("F", 0, 7), "STL": ("F", 0, 5), "SPL": ("F", 0, 4), "
 
 _MOTION_SCALARS: Final = ("feed", "spindle_speed", "program_running", "program_main", "sequence")
 _SKIP: Final = "skip"
-_PASSWORD_SIZE: Final = 4
 #: Identity texts and their widths (ODBSYS).
 _IDENTITY_TEXTS: Final = (("cnc_type", 2), ("mt_type", 2), ("series", 4), ("version", 4))
-
-
-def _password(text: str | bytes) -> bytes:
-    """A parameter password as the CNC keeps it: 1..4 ASCII characters (no NUL), padded to 4
-    bytes with NUL. ValueError, naming what was given, for anything else."""
-    shown = text if isinstance(text, str) else text.decode("latin-1")
-    if not (1 <= len(shown) <= _PASSWORD_SIZE and shown.isascii() and "\x00" not in shown):
-        raise ValueError(
-            f"parameter password {shown!r}: must be 1..{_PASSWORD_SIZE} ASCII characters"
-        )
-    return shown.encode("ascii").ljust(_PASSWORD_SIZE, b"\x00")
-
-
-def _offered(text: str | bytes) -> bytes | None:
-    """The 4 bytes a password offered to :meth:`Machine.unlock` stands for, or None when it can
-    match no password (longer than 4 bytes: never cut to a prefix)."""
-    raw = text.encode("latin-1", "replace") if isinstance(text, str) else bytes(text)
-    if len(raw) > _PASSWORD_SIZE:
-        return None
-    return raw.ljust(_PASSWORD_SIZE, b"\x00")
 
 
 def _macro_value(value: Decimal | int) -> Decimal | None:
@@ -440,15 +424,6 @@ class _ScenarioRun:
         return engine.parts_to_go == 0 and engine.state is _RESET
 
 
-@dataclass(slots=True)
-class Session:
-    """Per-connection state: whether this connection unlocked the parameter password (and
-    under which password: ``epoch`` counts :meth:`Machine.set_param_password` calls)."""
-
-    unlocked: bool = False
-    epoch: int = 0
-
-
 @dataclass(frozen=True, slots=True)
 class Status:
     """The status of the CNC (FANUC's ODBST fields), derived from the panel and the alarms."""
@@ -476,125 +451,6 @@ class Identity:
     series: str
     version: str
     axes: str
-
-
-class ParamKind(enum.IntEnum):
-    """The data type of a parameter (or diagnostic), numbered as FANUC numbers them.
-
-    ``BIT`` is eight bits ``#7..#0`` held as 0..255; ``BYTE`` a signed byte, ``WORD`` an i16,
-    ``TWO_WORD`` an i32; ``REAL`` a real value kept as FANUC's REALPRM keeps it: an i32 mantissa
-    with the parameter's fixed number of decimals (:attr:`DataItem.decimals`), so ``12.345``
-    with 3 decimals is the mantissa ``12345``.
-    """
-
-    BIT = 0
-    BYTE = 1
-    WORD = 2
-    TWO_WORD = 3
-    REAL = 4
-
-    @property
-    def width(self) -> int:
-        """Bytes of a value of this kind on a wire: 1, 1, 2, 4, and 8 for REAL (REALPRM: the
-        i32 mantissa and the i32 number of decimals)."""
-        return _KIND_WIDTHS[self]
-
-    @property
-    def span(self) -> tuple[int, int]:
-        """The values a parameter of this kind can hold (REAL: its mantissa)."""
-        return _KIND_SPANS[self]
-
-
-_KIND_WIDTHS: Final[dict[int, int]] = {0: 1, 1: 1, 2: 2, 3: 4, 4: 8}
-_KIND_SPANS: Final[dict[int, tuple[int, int]]] = {
-    0: (0, 0xFF),
-    1: (-0x80, 0x7F),
-    2: (-0x8000, 0x7FFF),
-    3: (-0x8000_0000, 0x7FFF_FFFF),
-    4: (-0x8000_0000, 0x7FFF_FFFF),
-}
-#: The kind of an item given by its width only.
-_KIND_OF_WIDTH: Final[dict[int, ParamKind]] = {
-    1: ParamKind.BYTE,
-    2: ParamKind.WORD,
-    4: ParamKind.TWO_WORD,
-}
-#: Most decimals of a real parameter (REALPRM ``dec_val``).
-MAX_REAL_DECIMALS: Final = 9
-
-
-@dataclass(slots=True)
-class DataItem:
-    """A parameter or a diagnostic: number, type, per-axis or not, allowed range (inclusive)
-    and its value(s): one value, or one per axis.
-
-    The type is ``kind`` (a :class:`ParamKind`); ``width`` follows from it (bit and byte 1,
-    word 2, two-word 4, real 8). An item given only a ``width`` (1, 2 or 4) is a byte, word or
-    two-word item. A ``REAL`` item holds mantissas with ``decimals`` decimals (0..9): its range
-    and values are mantissas too. A ``BIT`` item holds 0..255 (bit ``#n`` is ``1 << n``).
-    """
-
-    number: int
-    width: int = 0
-    axis: bool = False
-    low: int | None = None
-    high: int | None = None
-    values: list[int] = field(default_factory=lambda: [0])
-    name: str = ""
-    kind: ParamKind | None = None
-    decimals: int = 0
-
-    def check(self, axes: int) -> None:
-        """Raise ValueError when the item is not consistent (for machine builders); fills in
-        ``kind`` (from ``width``), ``width`` (from ``kind``) and the range (the kind's)."""
-        if not -0x8000 <= self.number <= 0x7FFF:
-            raise ValueError(f"number {self.number} is outside i16")
-        if self.kind is None:
-            kind = _KIND_OF_WIDTH.get(self.width)
-            if kind is None:
-                raise ValueError(f"width must be 1, 2 or 4, got {self.width}")
-            self.kind = kind
-        else:
-            self.kind = ParamKind(self.kind)
-            if self.width == 0:
-                self.width = self.kind.width
-            elif self.width != self.kind.width:
-                raise ValueError(
-                    f"a {self.kind.name.lower()} item is {self.kind.width} bytes wide, "
-                    f"width {self.width} given"
-                )
-        if self.kind is ParamKind.REAL:
-            if not 0 <= self.decimals <= MAX_REAL_DECIMALS:
-                raise ValueError(f"decimals {self.decimals} outside 0..{MAX_REAL_DECIMALS}")
-        elif self.decimals:
-            raise ValueError(f"decimals apply to a real item only, got {self.decimals}")
-        span = self.kind.span
-        if self.low is None:
-            self.low = span[0]
-        if self.high is None:
-            self.high = span[1]
-        if not span[0] <= self.low <= self.high <= span[1]:
-            raise ValueError(
-                f"range {self.low}..{self.high} is empty or outside the type ({span[0]}..{span[1]})"
-            )
-        want = axes if self.axis else 1
-        if self.axis and len(self.values) == 1 and want > 1:
-            self.values = self.values * want
-        if len(self.values) != want:
-            raise ValueError(f"{len(self.values)} values given, {want} expected")
-        for v in self.values:
-            if not self.low <= v <= self.high:
-                raise ValueError(f"value {v} is outside {self.low}..{self.high}")
-
-
-def _connect_params() -> tuple[DataItem, ...]:
-    """The parameters a FOCAS client reads on its own, with their defaults for a machine that
-    does not give them: 9968, the FOCAS option bits (#0 set: ``cnc_rddynamic2`` is there), and
-    3115, the position display bits of each axis (0: every position shown)."""
-    return (
-        DataItem(9968, kind=ParamKind.BIT, values=[0b0000_0001], name="FOCAS option bits"),
-        DataItem(3115, axis=True, kind=ParamKind.BIT, values=[0], name="position display"),
-    )
 
 
 @dataclass(frozen=True, slots=True)
@@ -715,12 +571,6 @@ class Machine:
         self.read_only = read_only
         self._identity = identity or Identity(2, max(n, 8), " 0", " M", "D4F1", "32.0", f"{n:02d}")
         self._check_identity(self._identity)
-        self._params = self._items(params, "parameter")
-        for item in _connect_params():  # what a FOCAS client reads at connect, when not given
-            if item.number not in self._params:
-                item.check(n)
-                self._params[item.number] = item
-        self._diags = self._items(diags, "diagnostic")
         self._macro_ranges = tuple(sorted(macro_ranges, key=lambda r: r.first))
         for r in self._macro_ranges:
             if not -0x8000 <= r.first <= r.last <= 0x7FFF:
@@ -746,8 +596,7 @@ class Machine:
         self.panel = panel or Panel()
         if self.panel.mode not in AUT_MODES:
             raise ValueError(f"panel mode {self.panel.mode} is not an aut value")
-        self._password: bytes | None = None if param_password is None else _password(param_password)
-        self._password_epoch = 0
+        self._lock = ParamLock(param_password)
         self._station = Station(station or {})
         self._motion = motion or MotionData([0] * n, [0] * n, [0] * n, [0] * n)
         for key in POSITION_KINDS:
@@ -756,6 +605,7 @@ class Machine:
                     f"motion {key}: {len(getattr(self._motion, key))} values for {n} axes"
                 )
         self._counters = Counters()
+        self._items = Items(params, diags, n, self._counters)
         self._alarms = Alarms(name, history_capacity, clock, self._counters)
         self._build_engine(programs, main_program, sim_clock)
 
@@ -766,18 +616,6 @@ class Machine:
             text = getattr(identity, key)
             if not isinstance(text, str) or len(text) != size or not text.isascii():
                 raise ValueError(f"identity {key} must be {size} ASCII characters, got {text!r}")
-
-    def _items(self, items: Iterable[DataItem], what: str) -> dict[int, DataItem]:
-        table: dict[int, DataItem] = {}
-        for item in items:
-            try:
-                item.check(len(self.axes))
-            except ValueError as exc:
-                raise ValueError(f"{what} {item.number}: {exc}") from None
-            if item.number in table:
-                raise ValueError(f"{what} {item.number} given twice")
-            table[item.number] = item
-        return table
 
     @property
     def name(self) -> str:
@@ -857,19 +695,18 @@ class Machine:
     # -- sessions, status, identity ------------------------------------------------------
     def new_session(self) -> Session:
         """Per-connection state for a new connection (locked)."""
-        return Session(False, self._password_epoch)
+        return Session(False, self._lock.epoch)
 
     def set_param_password(self, password: str | bytes | None) -> None:
         """Set (None: remove) the parameter password, 1..4 ASCII characters (ValueError
         otherwise). Connections unlocked under the previous password are locked again."""
-        self._password = None if password is None else _password(password)
-        self._password_epoch += 1
+        self._lock.set(password)
         self._counters.version += 1
 
     @property
     def has_password(self) -> bool:
         """True when parameter writes need a per-session unlock."""
-        return self._password is not None
+        return self._lock.is_set
 
     def status(self) -> Status:
         """The status, derived from the panel, the active alarms and (while it drives the
@@ -897,44 +734,34 @@ class Machine:
         return self._identity
 
     # -- parameters and diagnostics ------------------------------------------------------
-    def _lookup(self, table: dict[int, DataItem], datano: int, axis: int) -> tuple[DataItem, int]:
-        item = table.get(datano)
-        if item is None:
-            raise MachineError(EW.NUMBER, f"no item {datano}")
-        if item.axis:
-            if not 1 <= axis <= len(self.axes):
-                raise MachineError(EW.ATTRIB, f"item {datano} needs an axis 1..{len(self.axes)}")
-            return item, axis - 1
-        if axis != 0:
-            raise MachineError(EW.ATTRIB, f"item {datano} is not an axis item")
-        return item, 0
-
     def param_item(self, datano: int) -> DataItem | None:
         """The description of parameter ``datano`` (None when the machine has none)."""
-        return self._params.get(datano)
+        return self._items.params.get(datano)
 
     def diag_item(self, datano: int) -> DataItem | None:
         """The description of diagnostic ``datano`` (None when the machine has none)."""
-        return self._diags.get(datano)
+        return self._items.diags.get(datano)
 
     def param_numbers(self) -> tuple[int, ...]:
         """The numbers of every parameter, ascending."""
-        return tuple(sorted(self._params))
+        return tuple(sorted(self._items.params))
 
     def diag_numbers(self) -> tuple[int, ...]:
         """The numbers of every diagnostic, ascending."""
-        return tuple(sorted(self._diags))
+        return tuple(sorted(self._items.diags))
 
     def read_param(self, datano: int, axis: int) -> int:
         """The value of parameter ``datano`` (``axis`` 0 for a non-axis item, else 1..n):
         EW_NUMBER, then EW_ATTRIB. Its width is :meth:`param_item`'s."""
         self._sync()
-        item, i = self._lookup(self._params, datano, axis)
+        items = self._items
+        item, i = items.lookup(items.params, datano, axis)
         return item.values[i]
 
     def read_diag(self, datano: int, axis: int) -> int:
         """The value of diagnostic ``datano``: EW_NUMBER, then EW_ATTRIB."""
-        item, i = self._lookup(self._diags, datano, axis)
+        items = self._items
+        item, i = items.lookup(items.diags, datano, axis)
         return item.values[i]
 
     def param_gate_open(self, session: Session) -> bool:
@@ -942,9 +769,7 @@ class Machine:
         p = self.panel
         if p.pwe != 1 or p.mode != MDI:
             return False
-        return self._password is None or (
-            session.unlocked and session.epoch == self._password_epoch
-        )
+        return self._lock.admits(session)
 
     def write_param(
         self,
@@ -966,44 +791,23 @@ class Machine:
         has: it is rescaled to the parameter's own, and a value that does not have an exact
         mantissa there (``1.2345`` for a 3-decimal parameter) is EW_DATA."""
         self.check_writable()
-        item, i = self._lookup(self._params, datano, axis)
+        items = self._items
+        item, i = items.lookup(items.params, datano, axis)
         if width is not None and width != item.width:
             raise MachineError(EW.LENGTH, f"parameter {datano} is {item.width} bytes wide")
         if not self.param_gate_open(session):
             raise MachineError(EW.PASSWD, "parameter write not enabled")
-        low, high = item.low, item.high
-        assert low is not None and high is not None
-        if decimals is not None and item.kind is ParamKind.REAL and decimals != item.decimals:
-            if not 0 <= decimals <= MAX_REAL_DECIMALS:
-                raise MachineError(EW.DATA, f"parameter {datano}: {decimals} decimals")
-            shift = item.decimals - decimals
-            if shift > 0:
-                value *= 10**shift
-            elif value % 10**-shift:
-                raise MachineError(
-                    EW.DATA, f"parameter {datano} has {item.decimals} decimals, {value}E-{decimals}"
-                )
-            else:
-                value //= 10**-shift
-        if not low <= value <= high:
-            raise MachineError(EW.DATA, f"parameter {datano}: {value} outside {low}..{high}")
-        item.values[i] = value
+        value = items.rescaled(item, value, decimals)
+        items.set(item, i, value, "parameter")
         if datano in (PARTS_COUNT, PARTS_TOTAL):
             self._set_parts(datano, value)
-        self._counters.data += 1
-        self._counters.version += 1
 
     def set_diag(self, datano: int, axis: int, value: int) -> None:
         """Change a diagnostic value (simulation code; a CNC has no diagnostic write):
         EW_NUMBER, EW_ATTRIB, EW_DATA (range)."""
-        item, i = self._lookup(self._diags, datano, axis)
-        low, high = item.low, item.high
-        assert low is not None and high is not None
-        if not low <= value <= high:
-            raise MachineError(EW.DATA, f"diagnostic {datano}: {value} outside {low}..{high}")
-        item.values[i] = value
-        self._counters.data += 1
-        self._counters.version += 1
+        items = self._items
+        item, i = items.lookup(items.diags, datano, axis)
+        items.set(item, i, value, "diagnostic")
 
     # -- macro variables -----------------------------------------------------------------
     def _macro_range(self, number: int) -> MacroRange | None:
@@ -1123,17 +927,7 @@ class Machine:
         machine's exactly (as 4 bytes padded with NUL: ``b"12\\0\\0"`` is ``"12"``); a longer
         one never matches, not even when it starts with the machine's. A mismatch answers
         EW_PASSWD and locks the session again. A machine without a password unlocks any."""
-        expected = self._password
-        session.epoch = self._password_epoch
-        if expected is None:
-            session.unlocked = True
-            return
-        offered = _offered(password)
-        if offered is not None and hmac.compare_digest(offered, expected):
-            session.unlocked = True
-            return
-        session.unlocked = False
-        raise MachineError(EW.PASSWD, "parameter password mismatch")
+        self._lock.unlock(session, password)
 
     # -- alarms --------------------------------------------------------------------------
     def active_alarms(self, alm_type: int = -1, limit: int | None = None) -> list[Alarm]:
@@ -1316,8 +1110,8 @@ class Machine:
         self.engine = Engine(
             self.sim_clock, self._nc_settings(), store=self.programs, variables=_Variables(self)
         )
-        self.engine.parts_count = self._param_or(PARTS_COUNT, 0)
-        self.engine.parts_total = self._param_or(PARTS_TOTAL, 0)
+        self.engine.parts_count = self._items.param_or(PARTS_COUNT, 0)
+        self.engine.parts_total = self._items.param_or(PARTS_TOTAL, 0)
         main = main_program if main_program is not None else first
         if main is not None:
             self.programs.select(main)
@@ -1342,24 +1136,6 @@ class Machine:
         #: "skipped")``, the newest 1000.
         self.scenario_log: deque[tuple[ScenarioEvent, str]] = deque(maxlen=1000)
 
-    def _param_or(self, number: int, default: int, axis: int = 0) -> int:
-        item = self._params.get(number)
-        if item is None or (axis == 0) == item.axis:
-            return default
-        return item.values[max(axis - 1, 0)]
-
-    def _param_float(self, number: int, default: float, axis: int, unit: float) -> float:
-        """Parameter ``number`` of ``axis`` as a number: a real parameter's value as it reads
-        (mantissa over its decimals), an integer one's times ``unit``; ``default`` when the
-        machine has no such parameter."""
-        item = self._params.get(number)
-        if item is None or (axis == 0) == item.axis:
-            return default
-        raw = item.values[max(axis - 1, 0)]
-        if item.kind is ParamKind.REAL:
-            return raw / float(10**item.decimals)
-        return raw * unit
-
     def _nc_settings(self) -> NcSettings:
         """Execution settings from the parameters, read when the machine is built: rapid
         traverse 1420 (mm/min; an axis whose rate is not above 0 traverses at 24,000), maximum
@@ -1369,20 +1145,20 @@ class Machine:
         axes = range(1, n + 1)
         rapid = tuple(
             rate if rate > 0 else _DEFAULT_RAPID
-            for rate in (self._param_float(1420, _DEFAULT_RAPID, a, 1.0) for a in axes)
+            for rate in (self._items.param_float(1420, _DEFAULT_RAPID, a, 1.0) for a in axes)
         )
         limits: list[tuple[float, float] | None] = []
         for a in axes:
-            plus = self._param_float(1320, 0.0, a, 1 / _MM)
-            minus = self._param_float(1321, 0.0, a, 1 / _MM)
+            plus = self._items.param_float(1320, 0.0, a, 1 / _MM)
+            minus = self._items.param_float(1321, 0.0, a, 1 / _MM)
             limits.append((minus, plus) if plus > minus else None)
-        reference = tuple(self._param_float(1240, 0.0, a, 1 / _MM) for a in axes)
+        reference = tuple(self._items.param_float(1240, 0.0, a, 1 / _MM) for a in axes)
         values: dict[str, object] = {
             "rapid_rates": rapid,
             "stroke_limits": tuple(limits),
             "reference": reference,
         }
-        feed = self._param_or(1422, 0)
+        feed = self._items.param_or(1422, 0)
         if feed > 0:
             values["max_cutting_feed"] = float(feed)
         return NcSettings.for_axes(self.axes, **values)
@@ -1528,14 +1304,8 @@ class Machine:
         return self.engine.parts_count if number == PARTS_COUNT else self.engine.parts_total
 
     def _store_parts(self, number: int, value: int) -> None:
-        item = self._params.get(number)
-        if item is None:
-            return
-        assert item.high is not None and item.low is not None
-        item.values[0] = max(item.low, min(item.high, value))
-        self._counters.data += 1
-        self._counters.macro += 1
-        self._counters.version += 1
+        if self._items.clamp(number, value):
+            self._counters.macro += 1
 
     def _set_parts(self, number: int, value: int) -> None:
         if number == PARTS_COUNT:
@@ -1668,7 +1438,7 @@ class Machine:
         origin = now - chosen.start_phase()
         e.repeat = True
         if chosen.parts == "required":
-            required = self._param_or(PARTS_REQUIRED, 0)
+            required = self._items.param_or(PARTS_REQUIRED, 0)
             e.parts_to_go = max(0, required - e.parts_count) if required > 0 else None
         else:
             e.parts_to_go = chosen.parts or None
@@ -1934,7 +1704,7 @@ class Machine:
             h.update(b"\n")
 
         put("axes", self.axes, self.read_only, self.control_enabled)
-        for t, table in (("param", self._params), ("diag", self._diags)):
+        for t, table in (("param", self._items.params), ("diag", self._items.diags)):
             for n in sorted(table):
                 it = table[n]
                 put(t, n, it.width, it.kind, it.decimals, it.axis, it.low, it.high, it.values)
@@ -1946,7 +1716,7 @@ class Machine:
             h.update(a.data)
         p = self.panel
         put("panel", p.mode, p.pwe, p.emergency, p.run, p.motion, p.mstb, p.edit, p.hdck, p.tmmode)
-        put("password", hashlib.sha256(self._password or b"").hexdigest())
+        put("password", self._lock.digest())
         put("active", list(self._alarms.active.values()))
         put("history", self.history_capacity, list(self._alarms.history))
         put("identity", self._identity)
