@@ -108,7 +108,7 @@ from collections import deque
 from collections.abc import Iterable, Mapping
 from dataclasses import dataclass, field
 from datetime import datetime
-from decimal import Decimal, InvalidOperation
+from decimal import Decimal
 from typing import Final
 
 from focas_net.errors import EW
@@ -133,6 +133,7 @@ from ._items import (
     Items,
     ParamKind,
 )
+from ._macros import MAX_MACRO_DECIMALS, MacroRange, Macros, float_macro, macro_value
 from ._password import ParamLock, Session
 from ._station import Station
 from .nc import (
@@ -204,8 +205,6 @@ MEM: Final = 1
 EDIT: Final = 3
 #: Letters of the PMC areas a machine can have.
 PMC_AREAS: Final = ("X", "Y", "F", "G", "R", "T", "C", "D", "K", "A", "E")
-#: Most decimal places a macro variable holds.
-MAX_MACRO_DECIMALS: Final = 9
 #: Decimals of the least input increment of the positions (0.001 mm, IS-B).
 POSITION_DECIMALS: Final = 3
 #: The position kinds :meth:`Machine.positions` serves (``"skip"`` answers EW_NOOPT).
@@ -239,7 +238,6 @@ _START: Final = CycleState.START
 _RESET: Final = CycleState.RESET
 _HOLD: Final = CycleState.HOLD
 _STOP: Final = CycleState.STOP
-_MACRO_STEP: Final = Decimal(1).scaleb(-MAX_MACRO_DECIMALS)
 
 #: The G signals the machine reads (FANUC Series 0i addresses): (byte, bit).
 _ST: Final = (7, 2)  #: cycle start, G7.2 (its falling edge starts)
@@ -277,39 +275,6 @@ _SKIP: Final = "skip"
 _IDENTITY_TEXTS: Final = (("cnc_type", 2), ("mt_type", 2), ("series", 4), ("version", 4))
 
 
-def _macro_value(value: Decimal | int) -> Decimal | None:
-    """``value`` as a macro variable holds it, or None when it cannot hold it."""
-    if isinstance(value, bool) or not isinstance(value, Decimal | int):
-        raise TypeError(f"a macro value is a Decimal, an int or None, got {value!r}")
-    if isinstance(value, int):
-        return Decimal(value) if I32_MIN <= value <= I32_MAX else None
-    if not value.is_finite():
-        return None
-    sign, digits, exponent = value.as_tuple()
-    assert isinstance(exponent, int)
-    if not -MAX_MACRO_DECIMALS <= exponent <= 0:
-        return None
-    coefficient = int("".join(map(str, digits)))
-    if not I32_MIN <= (-coefficient if sign else coefficient) <= I32_MAX:
-        return None
-    return value
-
-
-def _float_macro(value: float) -> Decimal | None:
-    """The macro value a float of the program stands for (at most 9 decimals), or None when
-    a variable cannot hold it."""
-    if not math.isfinite(value):
-        return None
-    try:
-        d = Decimal(repr(float(value))).quantize(_MACRO_STEP).normalize()
-        exponent = d.as_tuple().exponent
-        if isinstance(exponent, int) and exponent > 0:
-            d = d.quantize(Decimal(1))
-    except InvalidOperation:
-        return None
-    return _macro_value(d)
-
-
 def _increments(values: Iterable[float]) -> list[int]:
     """Positions in mm as i32 least input increments."""
     return [max(I32_MIN, min(I32_MAX, round(v * _MM))) for v in values]
@@ -328,7 +293,7 @@ def _system_value(value: float | None, decimals: int) -> Decimal | None:
         return Decimal(round(value * _MM)).scaleb(-decimals)
     if value == int(value):
         return Decimal(int(value))
-    return _float_macro(value)
+    return float_macro(value)
 
 
 class _Variables:
@@ -345,9 +310,9 @@ class _Variables:
         m = self._machine
         if number in _PARTS_VARIABLES:
             return float(m._parts(_PARTS_VARIABLES[number]))
-        if m._macro_range(number) is None:
+        if m._macros.range_of(number) is None:
             raise VariableRefused(115, f"#{number}")
-        value = m._macros.get(number)
+        value = m._macros.values.get(number)
         return None if value is None else float(value)
 
     def write_variable(self, number: int, value: float | None) -> None:
@@ -355,20 +320,20 @@ class _Variables:
         if number in _PARTS_VARIABLES:
             m._set_parts(_PARTS_VARIABLES[number], 0 if value is None else round(value))
             return
-        r = m._macro_range(number)
+        macros = m._macros
+        r = macros.range_of(number)
         if r is None:
             raise VariableRefused(115, f"#{number}")
         if not r.writable:
             raise VariableRefused(116, f"#{number}")
         if value is None:
-            m._macros.pop(number, None)
+            macros.values.pop(number, None)
         else:
-            held = _float_macro(value)
+            held = float_macro(value)
             if held is None:
                 raise VariableRefused(111, f"#{number} = {value!r}")
-            m._macros[number] = held
-        m._counters.macro += 1
-        m._counters.version += 1
+            macros.values[number] = held
+        macros.changed()
 
 
 #: The EW code of each refusal of the program store.
@@ -451,15 +416,6 @@ class Identity:
     series: str
     version: str
     axes: str
-
-
-@dataclass(frozen=True, slots=True)
-class MacroRange:
-    """Macro variables ``first..last`` (inclusive), writable or read-only."""
-
-    first: int
-    last: int
-    writable: bool = True
 
 
 @dataclass(frozen=True, slots=True)
@@ -571,22 +527,6 @@ class Machine:
         self.read_only = read_only
         self._identity = identity or Identity(2, max(n, 8), " 0", " M", "D4F1", "32.0", f"{n:02d}")
         self._check_identity(self._identity)
-        self._macro_ranges = tuple(sorted(macro_ranges, key=lambda r: r.first))
-        for r in self._macro_ranges:
-            if not -0x8000 <= r.first <= r.last <= 0x7FFF:
-                raise ValueError(f"macro range {r.first}..{r.last} is empty or outside i16")
-        for a, b in zip(self._macro_ranges, self._macro_ranges[1:], strict=False):
-            if b.first <= a.last:
-                raise ValueError(f"macro ranges {a.first}..{a.last} and {b.first}.. overlap")
-        self._macros: dict[int, Decimal] = {}
-        for number, value in (macro_values or {}).items():
-            if self._macro_range(number) is None:
-                raise ValueError(f"macro #{number} is not in any macro range")
-            if value is not None:
-                held = _macro_value(value)
-                if held is None:
-                    raise ValueError(f"macro #{number}: value {value} invalid")
-                self._macros[number] = held
         self._areas: dict[str, _Area] = {}
         for spec in pmc:
             area = _Area(spec)
@@ -606,6 +546,7 @@ class Machine:
                 )
         self._counters = Counters()
         self._items = Items(params, diags, n, self._counters)
+        self._macros = Macros(macro_ranges, macro_values or {}, self._counters)
         self._alarms = Alarms(name, history_capacity, clock, self._counters)
         self._build_engine(programs, main_program, sim_clock)
 
@@ -810,61 +751,37 @@ class Machine:
         items.set(item, i, value, "diagnostic")
 
     # -- macro variables -----------------------------------------------------------------
-    def _macro_range(self, number: int) -> MacroRange | None:
-        for r in self._macro_ranges:
-            if number < r.first:
-                return None
-            if number <= r.last:
-                return r
-        return None
-
     def macro_writable(self, number: int) -> bool | None:
         """True/False for a writable/read-only variable; None when there is no such variable."""
-        r = self._macro_range(number)
+        r = self._macros.range_of(number)
         return None if r is None else r.writable
 
     def read_macro(self, number: int) -> Decimal | None:
         """The value of macro variable ``number``, None when vacant: EW_NUMBER for an unknown
         variable."""
-        if self._macro_range(number) is None:
+        macros = self._macros
+        if macros.range_of(number) is None:
             raise MachineError(EW.NUMBER, f"no macro variable #{number}")
         self._sync()
         if number in _PARTS_VARIABLES:
             return Decimal(self._parts(_PARTS_VARIABLES[number]))
         if self._driven and any(number in r for r in _ENGINE_VARIABLES):
             return self._engine_variable(number)
-        return self._macros.get(number)
+        return macros.values.get(number)
 
     def write_macro(self, number: int, value: Decimal | int | None) -> None:
         """Set macro variable ``number`` to ``value`` (None: vacant). EW_PROT (read-only
         machine), EW_NUMBER, EW_PROT (read-only variable), EW_DATA (a value the variable cannot
         hold: see the module docstring). Making a vacant variable vacant changes nothing."""
         self.check_writable()
-        r = self._macro_range(number)
-        if r is None:
-            raise MachineError(EW.NUMBER, f"no macro variable #{number}")
-        if not r.writable:
-            raise MachineError(EW.PROT, f"macro variable #{number} is read-only")
+        self._macros.check_write(number)
         if number in _PARTS_VARIABLES:
-            held_parts = None if value is None else _macro_value(value)
+            held_parts = None if value is None else macro_value(value)
             if held_parts is None or held_parts != held_parts.to_integral_value() or held_parts < 0:
                 raise MachineError(EW.DATA, f"#{number} = {value}: a count of parts")
             self._set_parts(_PARTS_VARIABLES[number], int(held_parts))
             return
-        if value is None:
-            if self._macros.pop(number, None) is not None:
-                self._counters.macro += 1
-                self._counters.version += 1
-            return
-        held = _macro_value(value)
-        if held is None:
-            raise MachineError(
-                EW.DATA,
-                f"#{number} = {value}: 0..{MAX_MACRO_DECIMALS} decimals, digits within 32 bits",
-            )
-        self._macros[number] = held
-        self._counters.macro += 1
-        self._counters.version += 1
+        self._macros.write(number, value)
 
     # -- PMC -------------------------------------------------------------------------------
     def pmc_area(self, letter: str) -> tuple[int, bool] | None:
@@ -1618,7 +1535,7 @@ class Machine:
             try:
                 value = e.interpreter.read(number)
             except AlarmRaised:
-                return self._macros.get(number)
+                return self._macros.values.get(number)
         return _system_value(value, POSITION_DECIMALS if number >= 5001 else 0)
 
     # -- the program store ---------------------------------------------------------------
@@ -1708,8 +1625,8 @@ class Machine:
             for n in sorted(table):
                 it = table[n]
                 put(t, n, it.width, it.kind, it.decimals, it.axis, it.low, it.high, it.values)
-        put("macro-ranges", [(r.first, r.last, r.writable) for r in self._macro_ranges])
-        put("macros", sorted(self._macros.items()))
+        put("macro-ranges", [(r.first, r.last, r.writable) for r in self._macros.ranges])
+        put("macros", sorted(self._macros.values.items()))
         for letter in sorted(self._areas):
             a = self._areas[letter]
             put("pmc", a.letter, a.size, a.write_protected)
