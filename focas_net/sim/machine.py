@@ -106,7 +106,7 @@ import hashlib
 import math
 from collections import deque
 from collections.abc import Iterable, Mapping
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 from datetime import datetime
 from decimal import Decimal
 from typing import Final
@@ -135,6 +135,7 @@ from ._items import (
 )
 from ._macros import MAX_MACRO_DECIMALS, MacroRange, Macros, float_macro, macro_value
 from ._password import ParamLock, Session
+from ._pmc import F_SIGNALS, G_SIGNALS, PMC_AREAS, GRequest, Pmc, PmcAreaSpec
 from ._station import Station
 from .nc import (
     AlarmKind,
@@ -203,8 +204,6 @@ AUT_MODES: Final = frozenset({0, 1, 3, 4, 5, 6, 7, 8, 9, 10})
 MDI: Final = 0
 MEM: Final = 1
 EDIT: Final = 3
-#: Letters of the PMC areas a machine can have.
-PMC_AREAS: Final = ("X", "Y", "F", "G", "R", "T", "C", "D", "K", "A", "E")
 #: Decimals of the least input increment of the positions (0.001 mm, IS-B).
 POSITION_DECIMALS: Final = 3
 #: The position kinds :meth:`Machine.positions` serves (``"skip"`` answers EW_NOOPT).
@@ -238,36 +237,6 @@ _START: Final = CycleState.START
 _RESET: Final = CycleState.RESET
 _HOLD: Final = CycleState.HOLD
 _STOP: Final = CycleState.STOP
-
-#: The G signals the machine reads (FANUC Series 0i addresses): (byte, bit).
-_ST: Final = (7, 2)  #: cycle start, G7.2 (its falling edge starts)
-_SP: Final = (8, 5)  #: feed hold *SP, G8.5 (negative logic: its falling edge holds)
-_ERS: Final = (8, 7)  #: external reset, G8.7
-_MD: Final = 43  #: mode select MD1 MD2 MD4 (G43.0-.2), DNCI (G43.5), ZRN (G43.7)
-_MD_BITS: Final = 0b1010_0111
-_FV: Final = 12  #: feed override *FV0-*FV7, G12 (negative logic: 255 - G12 percent)
-_MAX_FEED_OVERRIDE: Final = 254
-#: G43 (MD1 MD2 MD4, DNCI, ZRN) -> the panel mode.
-_MODE_OF_G43: Final = {
-    0b0000_0000: MDI,
-    0b0000_0001: MEM,
-    0b0010_0001: 10,  # RMT (DNC)
-    0b0000_0011: 3,  # EDIT
-    0b0000_0100: 4,  # HND
-    0b0000_0101: 5,  # JOG
-    0b1000_0101: 9,  # REF
-}
-#: The F signals the machine sets (F0.7 OP, F0.5 STL, F0.4 SPL, F1.1 RST): bit numbers.
-_OP: Final = 7
-_STL: Final = 5
-_SPL: Final = 4
-_RST: Final = 1
-_F0_MASK: Final = 1 << _OP | 1 << _STL | 1 << _SPL
-#: The PMC signals of automatic operation the machine reads, ``name: (area, byte, bit)``
-#: (G43 mode select and G12 feed override are whole bytes).
-G_SIGNALS: Final = {"ST": ("G", 7, 2), "*SP": ("G", 8, 5), "ERS": ("G", 8, 7)}
-#: The PMC signals the machine sets, ``name: (area, byte, bit)``.
-F_SIGNALS: Final = {"OP": ("F", 0, 7), "STL": ("F", 0, 5), "SPL": ("F", 0, 4), "RST": ("F", 1, 1)}
 
 _MOTION_SCALARS: Final = ("feed", "spindle_speed", "program_running", "program_main", "sequence")
 _SKIP: Final = "skip"
@@ -418,17 +387,6 @@ class Identity:
     axes: str
 
 
-@dataclass(frozen=True, slots=True)
-class PmcAreaSpec:
-    """A PMC area: its letter (one of :data:`PMC_AREAS`), its size in bytes, protection against
-    writes and its initial bytes as ``{address: bytes}``."""
-
-    letter: str
-    size: int
-    write_protected: bool = False
-    initial: Mapping[int, bytes] = field(default_factory=dict)
-
-
 @dataclass(slots=True)
 class Panel:
     """The operator panel and the run state shown by the status."""
@@ -458,22 +416,6 @@ class MotionData:
     program_running: int = 0
     program_main: int = 0
     sequence: int = 0
-
-
-class _Area:
-    __slots__ = ("data", "letter", "size", "write_protected")
-
-    def __init__(self, spec: PmcAreaSpec) -> None:
-        self.letter = spec.letter.strip().upper()
-        if self.letter not in PMC_AREAS:
-            raise ValueError(f"unknown PMC area {spec.letter!r} (one of {', '.join(PMC_AREAS)})")
-        self.size = spec.size
-        self.write_protected = spec.write_protected
-        self.data = bytearray(spec.size)
-        for address, raw in spec.initial.items():
-            if address < 0 or address + len(raw) > spec.size:
-                raise ValueError(f"initial bytes at {address} run past the {spec.size}-byte area")
-            self.data[address : address + len(raw)] = raw
 
 
 class Machine:
@@ -527,12 +469,6 @@ class Machine:
         self.read_only = read_only
         self._identity = identity or Identity(2, max(n, 8), " 0", " M", "D4F1", "32.0", f"{n:02d}")
         self._check_identity(self._identity)
-        self._areas: dict[str, _Area] = {}
-        for spec in pmc:
-            area = _Area(spec)
-            if area.letter in self._areas:
-                raise ValueError(f"PMC area {area.letter} given twice")
-            self._areas[area.letter] = area
         self.panel = panel or Panel()
         if self.panel.mode not in AUT_MODES:
             raise ValueError(f"panel mode {self.panel.mode} is not an aut value")
@@ -547,6 +483,7 @@ class Machine:
         self._counters = Counters()
         self._items = Items(params, diags, n, self._counters)
         self._macros = Macros(macro_ranges, macro_values or {}, self._counters)
+        self._pmc = Pmc(pmc, self._counters)
         self._alarms = Alarms(name, history_capacity, clock, self._counters)
         self._build_engine(programs, main_program, sim_clock)
 
@@ -787,35 +724,23 @@ class Machine:
     def pmc_area(self, letter: str) -> tuple[int, bool] | None:
         """``(size, write_protected)`` of area ``letter``, or None when the machine has none
         (ValueError for a letter that is no PMC area at all)."""
-        key = letter.strip().upper()
-        if key not in PMC_AREAS:
-            raise ValueError(f"unknown PMC area {letter!r}")
-        area = self._areas.get(key)
-        return None if area is None else (area.size, area.write_protected)
-
-    def _area(self, letter: str) -> _Area:
-        area = self._areas.get(letter) or self._areas.get(letter.upper())
-        if area is None:
-            raise MachineError(EW.NOOPT, f"no PMC area {letter}")
-        return area
+        return self._pmc.info(letter)
 
     def check_pmc_area(self, letter: str) -> None:
         """EW_NOOPT when the machine has no PMC area ``letter`` (whatever the letter)."""
-        self._area(letter)
+        self._pmc.area(letter)
 
     def read_pmc(self, letter: str, start: int, length: int) -> bytes:
         """``length`` bytes of area ``letter`` from address ``start``: EW_NOOPT (no such area),
         EW_NUMBER (addresses outside the area)."""
-        area = self._area(letter)
+        area = self._pmc.area(letter)
         if length < 0:
             raise ValueError(f"a PMC read of {length} bytes")
         if area.letter == "F":
             self._sync()  # the F signals follow the run state
         end = start + length
         if start < 0 or end > area.size:
-            raise MachineError(
-                EW.NUMBER, f"{area.letter}{start}..{end - 1} beyond {area.size} bytes"
-            )
+            raise area.beyond(start, end)
         return bytes(area.data[start:end])
 
     def write_pmc(self, letter: str, start: int, data: bytes, *, force: bool = False) -> None:
@@ -823,20 +748,9 @@ class Machine:
         simulator's own write, which ignores write protection): EW_PROT (read-only machine),
         EW_NOOPT, EW_NUMBER (addresses outside the area), EW_PROT (write-protected area)."""
         self.check_writable()
-        area = self._area(letter)
-        end = start + len(data)
-        if start < 0 or end > area.size:
-            raise MachineError(
-                EW.NUMBER, f"{area.letter}{start}..{end - 1} beyond {area.size} bytes"
-            )
-        if area.write_protected and not force:
-            raise MachineError(EW.PROT, f"PMC area {area.letter} is write-protected")
-        before = bytes(area.data[start:end])
-        area.data[start:end] = data
-        self._counters.pmc += 1
-        self._counters.version += 1
-        if area.letter == "G" and before != data:
-            self._g_signals(start, before)
+        asked = self._pmc.write(letter, start, data, force)
+        if asked is not None:
+            self._g_signals(asked)
 
     # -- password ------------------------------------------------------------------------
     def unlock(self, session: Session, password: str | bytes) -> None:
@@ -1146,39 +1060,22 @@ class Machine:
             if force or changed:
                 self._counters.status += 1
 
-    def _g_signals(self, start: int, before: bytes) -> None:
+    def _g_signals(self, asked: GRequest) -> None:
         """Act on the G signals a write changed (see :data:`G_SIGNALS`): the rising edge of
         ERS resets, the falling edge of *SP holds the feed, a change of the mode bits of G43
         selects the mode, a change of G12 sets the feed override, the falling edge of ST
         starts the cycle (with *SP on). What the CNC refuses (cycle start with an alarm ...)
         is ignored, as a CNC ignores the signal."""
-
-        def old(address: int) -> int | None:
-            i = address - start
-            return before[i] if 0 <= i < len(before) else None
-
-        g = self._areas["G"].data
-
-        def fell(address: int, bit: int) -> bool:
-            was = old(address)
-            return was is not None and bool(was >> bit & 1) and not g[address] >> bit & 1
-
-        def rose(address: int, bit: int) -> bool:
-            was = old(address)
-            return was is not None and not was >> bit & 1 and bool(g[address] >> bit & 1)
-
         try:
-            if rose(*_ERS):
+            if asked.reset:
                 self.reset()
-            if fell(*_SP):
+            if asked.hold:
                 self.feed_hold()
-            if old(_MD) is not None and old(_MD) != g[_MD]:
-                mode = _MODE_OF_G43.get(g[_MD] & _MD_BITS)
-                if mode is not None and mode != self.panel.mode:
-                    self.set_panel(mode=mode)
-            if old(_FV) is not None and old(_FV) != g[_FV]:
-                self.set_overrides(feed=min(_MAX_FEED_OVERRIDE, 0xFF - g[_FV]))
-            if fell(*_ST) and g[_SP[0]] >> _SP[1] & 1:
+            if asked.mode is not None and asked.mode != self.panel.mode:
+                self.set_panel(mode=asked.mode)
+            if asked.feed_override is not None:
+                self.set_overrides(feed=asked.feed_override)
+            if asked.start:
                 self.cycle_start()
         except MachineError as exc:
             logger.debug("%s: G signal ignored: %s", self.name, exc)
@@ -1187,24 +1084,8 @@ class Machine:
     def _f_signals(self) -> None:
         """Set the F signals a ladder reads from the run state (see :data:`F_SIGNALS`) while
         the engine drives the machine (:attr:`driven`); before, F is as written."""
-        area = self._areas.get("F")
-        if area is None or area.size < 2 or not self._driven:
-            return
-        state = self._engine_key[0]
-        g = self._areas.get("G")
-        resetting = g is not None and g.size > _ERS[0] and bool(g.data[_ERS[0]] >> _ERS[1] & 1)
-        f0 = area.data[0] & ~_F0_MASK
-        if state is not _RESET:
-            f0 |= 1 << _OP
-        if state is _START:
-            f0 |= 1 << _STL
-        if state is _HOLD:
-            f0 |= 1 << _SPL
-        f1 = area.data[1] & ~(1 << _RST) | (1 << _RST if resetting else 0)
-        if (f0, f1) != (area.data[0], area.data[1]):
-            area.data[0], area.data[1] = f0, f1
-            self._counters.pmc += 1
-            self._counters.version += 1
+        if self._driven:
+            self._pmc.show_cycle(self._engine_key[0])
 
     def _engine_event(self, event: EngineEvent, now: float) -> None:
         if event.kind == "part":
@@ -1627,8 +1508,8 @@ class Machine:
                 put(t, n, it.width, it.kind, it.decimals, it.axis, it.low, it.high, it.values)
         put("macro-ranges", [(r.first, r.last, r.writable) for r in self._macros.ranges])
         put("macros", sorted(self._macros.values.items()))
-        for letter in sorted(self._areas):
-            a = self._areas[letter]
+        for letter in sorted(self._pmc.areas):
+            a = self._pmc.areas[letter]
             put("pmc", a.letter, a.size, a.write_protected)
             h.update(a.data)
         p = self.panel
