@@ -105,7 +105,7 @@ from __future__ import annotations
 import hashlib
 import math
 from collections import deque
-from collections.abc import Iterable, Mapping
+from collections.abc import Callable, Iterable, Mapping
 from dataclasses import dataclass
 from datetime import datetime
 from decimal import Decimal
@@ -322,7 +322,7 @@ def _program_refusal(exc: ProgramError) -> MachineError:
 
 
 class _HeldClock:
-    """The engine's clock while a scenario applies an event: the event's machine time."""
+    """Machine time held at one moment."""
 
     __slots__ = ("at",)
 
@@ -333,15 +333,42 @@ class _HeldClock:
         return self.at
 
 
+class _MachineTime:
+    """The engine's clock for its whole life: machine time from the machine's clock (the one
+    :meth:`Machine.set_clock` sets), or held at one moment while the machine applies what
+    happened then (a sync, a scenario's event). While nothing is held, ``now`` is the
+    clock's own method: the engine reads it at the cost of the clock alone."""
+
+    __slots__ = ("_held", "_held_now", "now", "source")
+    now: Callable[[], float]
+
+    def __init__(self, source: SimClock) -> None:
+        self._held = _HeldClock()
+        self._held_now = self._held.now
+        self.set_source(source)
+
+    def set_source(self, source: SimClock) -> None:
+        """Read machine time from ``source`` from now on (nothing held)."""
+        self.source = source
+        self.now = source.now
+
+    def hold(self, at: float) -> None:
+        """Machine time stands at ``at`` until :meth:`release`."""
+        self._held.at = at
+        self.now = self._held_now
+
+    def release(self) -> None:
+        self.now = self.source.now
+
+
 class _ScenarioRun:
     """A scenario under way: its schedule, the event in progress (until its end)."""
 
-    __slots__ = ("current", "ends_at", "free_at", "held", "scenario", "schedule")
+    __slots__ = ("current", "ends_at", "free_at", "scenario", "schedule")
 
     def __init__(self, scenario: Scenario, schedule: Schedule) -> None:
         self.scenario = scenario
         self.schedule = schedule
-        self.held = _HeldClock()
         self.current: ScenarioEvent | None = None
         self.ends_at = math.inf  #: when the current event ends
         self.free_at = -math.inf  #: when the last event ended
@@ -522,7 +549,7 @@ class Machine:
         event is due, so until then a read costs a clock call and two compares."""
         if self._engine_key[0] is _START or self._run is not None:  # what moves with time
             if (
-                self.sim_clock.now() >= self._steady_until
+                self._time.now() >= self._steady_until
                 or self.engine.revision != self._steady_revision
             ):
                 self._sync()
@@ -925,13 +952,29 @@ class Machine:
         return [(self.axes[axis - 1], values[axis - 1])]
 
     # -- part programs and their execution ---------------------------------------------
+    @property
+    def sim_clock(self) -> SimClock:
+        """The clock of machine time (seconds): ``RealTimeClock()`` unless the constructor or
+        :meth:`set_clock` gave another."""
+        return self._time.source
+
+    def set_clock(self, clock: SimClock) -> None:
+        """Take machine time from ``clock`` from now on: the engine, the timers and a running
+        scenario read it (a fleet shares one: ``serve --speed``; a test gives a
+        :class:`~focas_net.sim.nc.ManualClock` and steps it). This is the one way the
+        engine's clock is set after the constructor's ``sim_clock``. The machine goes on from
+        where it is, so ``clock`` may not be behind the machine's time (ValueError); the time
+        it is ahead passes at once, as if the machine had been left alone that long."""
+        behind = self._time.now() - clock.now()
+        if behind > 0:
+            raise ValueError(f"the clock is {behind} s behind the machine's time")
+        self._time.set_source(clock)
+
     def _build_engine(
         self, programs: Iterable[str], main_program: int | None, sim_clock: SimClock | None
     ) -> None:
-        #: Machine time (seconds) of the engine: ``RealTimeClock()`` unless given; a test
-        #: gives a :class:`~focas_net.sim.nc.ManualClock` and steps it.
-        self.sim_clock: SimClock = sim_clock if sim_clock is not None else RealTimeClock()
-        self._powered_at = self.sim_clock.now()
+        self._time = _MachineTime(sim_clock if sim_clock is not None else RealTimeClock())
+        self._powered_at = self._time.now()
         #: The programs in the machine's memory (the engine marks those in use).
         self.programs = ProgramStore()
         first: int | None = None
@@ -939,7 +982,7 @@ class Machine:
             number = self.programs.store(text).number
             first = number if first is None else first
         self.engine = Engine(
-            self.sim_clock, self._nc_settings(), store=self.programs, variables=_Variables(self)
+            self._time, self._nc_settings(), store=self.programs, variables=_Variables(self)
         )
         self.engine.parts_count = self._items.param_or(PARTS_COUNT, 0)
         self.engine.parts_total = self._items.param_or(PARTS_TOTAL, 0)
@@ -952,9 +995,6 @@ class Machine:
         #: changes nothing of the status (see :attr:`status_version`).
         self._steady_until = -math.inf
         self._steady_revision = -1
-        #: The engine's clock while :meth:`_sync` reads it: the one time the read synced to, so
-        #: the engine advances once per sync however many of its figures the sync reads.
-        self._sync_clock = _HeldClock()
         self._engine_key = (_RESET, MotionKind.NONE)
         self._engine_alarms: set[tuple[int, int, int]] = set()
         self._figures: tuple[int, MotionData] | None = None
@@ -1011,18 +1051,16 @@ class Machine:
         if self._engine_key[0] is not _START:
             if run is None:
                 return
-            now = self.sim_clock.now()
+            now = self._time.now()
             if now < run.next_time or now == self._synced_at:
                 return
         else:
-            now = self.sim_clock.now()
+            now = self._time.now()
             if now == self._synced_at:
                 return
         self._synced_at = now
         e = self.engine
-        clock = e.clock
-        self._sync_clock.at = now
-        e.clock = self._sync_clock
+        self._time.hold(now)  # the engine advances once, however many figures are read
         try:
             moved = self._engine_key[0] is _START
             if run is not None and run.next_time <= now:
@@ -1034,7 +1072,7 @@ class Machine:
             if run is not None and run.finished(e):
                 self._run = None
         finally:
-            e.clock = clock
+            self._time.release()
 
     def _settled(self, moved: bool, force: bool = False) -> None:
         state, motion, wait = self.engine.flags()
@@ -1202,7 +1240,7 @@ class Machine:
         self._sync()
         e = self.engine
         if kind == 0:
-            return self.sim_clock.now() - self._powered_at
+            return self._time.now() - self._powered_at
         return (e.operating_time, e.cutting_time, e.cycle_time)[kind - 1]
 
     def timer_ms(self, kind: int) -> int:
@@ -1232,7 +1270,7 @@ class Machine:
             raise MachineError(EW.DATA, "a scenario cannot start: no main program is selected")
         e = self.engine
         e.reset()
-        now = self.sim_clock.now()
+        now = self._time.now()
         origin = now - chosen.start_phase()
         e.repeat = True
         if chosen.parts == "required":
@@ -1245,8 +1283,7 @@ class Machine:
         self._powered_at = min(self._powered_at, origin)
         run = _ScenarioRun(chosen, Schedule(chosen, origin, len(self.axes)))
         self._run = run
-        e.clock = run.held
-        run.held.at = origin
+        self._time.hold(origin)
         try:  # the cycle starts at the origin; the events since then follow in their order
             e.cycle_start(since=origin)
             self._driven = True
@@ -1256,7 +1293,7 @@ class Machine:
             self._run = None
             raise MachineError(EW.DATA, str(exc)) from None
         finally:
-            e.clock = self.sim_clock
+            self._time.release()
         self._sync()
 
     def stop_scenario(self) -> None:
@@ -1283,16 +1320,14 @@ class Machine:
 
     def _play(self, run: _ScenarioRun, now: float) -> None:
         """Apply the scenario's events and ends due by ``now``, each at its own machine time
-        (the engine's clock held there meanwhile). An event due while another is under way
-        begins when that one ends."""
+        (the engine's clock held there meanwhile, then at ``now`` again: this runs within
+        :meth:`_sync`). An event due while another is under way begins when that one ends."""
         e = self.engine
-        held = run.held
-        outer = e.clock
-        e.clock = held
+        time = self._time
         try:
             while run.next_time <= now:
                 when = run.next_time
-                held.at = when
+                time.hold(when)
                 for happened in e.take_events():
                     self._engine_event(happened, now)
                 current = run.current
@@ -1309,7 +1344,7 @@ class Machine:
                 run.current = event
                 run.ends_at = when + event.duration
         finally:
-            e.clock = outer
+            time.hold(now)
 
     def _scenario_begin(self, event: ScenarioEvent, when: float, now: float) -> None:
         e = self.engine
@@ -1356,7 +1391,7 @@ class Machine:
         if not self._driven:
             return (0,)
         e = self.engine
-        wiggle = noise(self.seed, e.clock.now(), 0)
+        wiggle = noise(self.seed, self._time.now(), 0)
         speed = e.actual_spindle_speed
         top = e.settings.max_spindle_speed
         return (spindle_load(e.cutting, e.actual_feed, speed, top, wiggle, self._hardness),)
@@ -1369,7 +1404,7 @@ class Machine:
         if not self._driven:
             return (0,) * n
         e = self.engine
-        when = e.clock.now()
+        when = self._time.now()
         cutting, feed = e.cutting, e.actual_feed
         rapid = e.settings.rapid_rates
         return tuple(
