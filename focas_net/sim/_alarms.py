@@ -12,16 +12,19 @@ from typing import Final
 from focas_net.errors import EW
 
 from ._base import Counters, MachineError, logger
+from .nc import AlarmKind, NcAlarm
 
 __all__ = [
     "DEFAULT_HISTORY_CAPACITY",
     "MAX_ALARM_TEXT",
     "MAX_ALARM_TYPE",
+    "NC_ALARM_TYPES",
     "Alarm",
     "AlarmKey",
     "Alarms",
     "Clock",
     "HistoryEntry",
+    "nc_alarm",
     "utc_now",
 ]
 
@@ -36,6 +39,9 @@ DEFAULT_HISTORY_CAPACITY: Final = 250
 MAX_ALARM_TYPE: Final = 31
 #: Characters of an alarm message the CNC keeps.
 MAX_ALARM_TEXT: Final = 32
+#: Alarm type numbers of the alarms a program raises (FANUC 0i-D/F, 30i numbering).
+NC_ALARM_TYPES: Final = {AlarmKind.PS: 3, AlarmKind.OT: 4, AlarmKind.MC: 8}
+_NC_ALARM_KINDS: Final = {number: kind for kind, number in NC_ALARM_TYPES.items()}
 
 
 def utc_now() -> datetime:
@@ -67,6 +73,14 @@ class HistoryEntry:
     alm_type: int
     alm_no: int
     msg: str
+
+
+def nc_alarm(key: AlarmKey, text: str) -> NcAlarm:
+    """The engine's alarm for the machine's alarm ``key``: the kind of its type (PS for a
+    type no program raises)."""
+    axis_no, alm_type, alm_no = key
+    kind = _NC_ALARM_KINDS.get(alm_type, AlarmKind.PS)
+    return NcAlarm(kind, alm_no, text, axis=axis_no or None)
 
 
 class Alarms:
