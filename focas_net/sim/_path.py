@@ -6,9 +6,16 @@ its own mode, status and program alarms, while the PMC, the parameters, the macr
 the machine's alarms are shared: a :class:`Path` is given those, and owns the rest. The machine
 has one path today and answers every read and command of a path through it.
 
-Nothing ticks: :meth:`Path.sync` brings the engine to the clock's time, the engine's clock held
-there while the path reads it, records the program's alarms and parts and moves the counters of
-what the engine shows.
+Nothing ticks: every read and every counter of the machine first brings the engine to the
+clock's time (:meth:`Path.sync`, the engine's clock held there while the path reads it):
+program alarms go into the active alarms and the history, parts into parameters 6711/6712;
+while a program runs, the motion and macro counters move whenever time moved, so no front end
+serves a cached answer of a moving machine. The engine keeps one clock object for life
+(:class:`MachineTime`): :meth:`Machine.set_clock` changes where it reads the time from.
+
+Which figures are shown: those of the constructor (the ``[motion]`` table) and of
+``Machine.set_motion`` / ``Machine.set_run`` until the first cycle start or program selection;
+from then on the engine's, until ``set_motion`` or ``set_run`` is called again.
 """
 
 from __future__ import annotations

@@ -56,7 +56,11 @@ the order its docstring gives:
 * the VersaMax station: an empty (or impossible) rack/slot -> EW_NUMBER, an offset outside the
   record -> EW_NUMBER; a read returns what the record has from there, up to the length asked;
 * the operator panel: a mode that is not an ``aut`` value other than 2, ``pwe`` or
-  ``emergency`` other than 0/1 -> EW_DATA; a switch given as None stays as it is.
+  ``emergency`` other than 0/1 -> EW_DATA; a switch given as None stays as it is;
+* the cycle: cycle start only in MEM, not with the emergency stop or an alarm (EW_ALARM; an
+  alarm that stopped the cycle wants a reset), not without a main program (EW_DATA); program
+  search only in MEM or EDIT (EW_MODE); leaving MEM holds the feed; the emergency stop resets;
+  any alarm stops the cycle; reset clears the alarms the program raised.
 
 What a wire cannot carry is its adapter's to refuse: payload sizes and layouts, unknown commands,
 the packed protocol's ``type_a`` codes and ``type_d``, its ceiling of 32 PMC bytes, 32 alarm
@@ -67,46 +71,23 @@ checks before it (:meth:`Machine.check_writable`, :meth:`Machine.check_pmc_area`
 :meth:`Machine.config_record`) and then calls the operation, which repeats them harmlessly.
 Whether simulator control commands are served (``control_enabled``) is a flag the adapters read.
 
-``unlock`` is session state, not machine state: it works on a read-only machine. The parameter
-password is 1..4 ASCII characters; only an exact match unlocks (a longer password offered is
-wrong, never cut to a prefix). It is compared in constant time and never logged or shown in
-``repr``.
+``unlock`` is session state, not machine state: it works on a read-only machine (the password's
+rules: :mod:`focas_net.sim._password`).
 
 Counters (:attr:`Machine.version` and the narrower ``*_version``) move on every change they
 cover, so front ends can key caches of their answers on them.
 
-Part programs and their execution
----------------------------------
-The machine's path owns a :class:`~focas_net.sim.nc.ProgramStore` (:attr:`Machine.programs`)
-and an :class:`~focas_net.sim.nc.Engine` (:attr:`Machine.engine`) on its ``sim_clock``: machine
-time in seconds, ``RealTimeClock()`` unless given (``serve --speed`` shares one
-``RealTimeClock(speed)`` across a fleet; a test gives a :class:`~focas_net.sim.nc.ManualClock`
-and steps it). :meth:`Machine.set_clock` is the one way to change it afterwards; the engine
-keeps one clock object for life, which the path holds at one machine time while it applies
-what happened then. The other clock, ``clock``, gives the datetimes of alarm stamps only: an
-alarm the program raises is stamped ``clock()`` less the machine time between the alarm and
-the read that recorded it.
-
-Nothing ticks: every read and every counter first brings the engine to the clock's time (the
-path's sync): program alarms go into the active alarms and the history, parts into parameters
-6711/6712; while a program runs, the motion and macro counters move whenever time moved, so no
-front end serves a cached answer of a moving machine. ``cycle_start()``, ``feed_hold()``,
-``reset()``, ``set_overrides()`` and the G signals control it.
-
-Which figures are shown: those of the constructor (the ``[motion]`` table) and of
-:meth:`Machine.set_motion` / :meth:`Machine.set_run` until the first cycle start or program
-selection; from then on the engine's, until ``set_motion`` or ``set_run`` is called again. The
-CNC's rules of the cycle: cycle start only in MEM, not with the emergency stop or an alarm
-(EW_ALARM; an alarm that stopped the cycle wants a reset), not without a main program
-(EW_DATA); leaving MEM holds the feed; the emergency stop resets; any alarm stops the cycle;
-reset clears the alarms the program raised.
-
-At work on its own
-------------------
-:meth:`Machine.start_scenario` runs a :class:`~focas_net.sim.nc.scenario.Scenario` (a machine
-file's ``[run]``; ``serve --run`` gives the default one) on the path: see
-:mod:`focas_net.sim._production`. :meth:`Machine.spindle_loads` and :meth:`Machine.servo_loads`
-follow the cutting, with a noise fixed by :attr:`Machine.seed` and the machine time.
+Machine time
+------------
+The path's :class:`~focas_net.sim.nc.Engine` (:attr:`Machine.engine`) runs the programs of
+:attr:`Machine.programs` on ``sim_clock``: machine time in seconds, ``RealTimeClock()`` unless
+given (``serve --speed`` shares one ``RealTimeClock(speed)`` across a fleet; a test gives a
+:class:`~focas_net.sim.nc.ManualClock` and steps it); :meth:`Machine.set_clock` is the one way
+to change it afterwards. Nothing ticks: every read and every counter first brings the engine
+to the clock's time (see :mod:`focas_net.sim._path`), and a scenario's events are applied then
+(:meth:`Machine.start_scenario`, :mod:`focas_net.sim._production`). The other clock,
+``clock``, gives the datetimes of alarm stamps only: an alarm the program raises is stamped
+``clock()`` less the machine time between the alarm and the read that recorded it.
 """
 
 from __future__ import annotations
@@ -115,7 +96,7 @@ import hashlib
 import math
 from collections import deque
 from collections.abc import Iterable, Mapping
-from dataclasses import dataclass
+from dataclasses import astuple, dataclass
 from datetime import datetime
 from decimal import Decimal
 from typing import Final
@@ -856,23 +837,11 @@ class Machine:
             put("pmc", a.letter, a.size, a.write_protected)
             h.update(a.data)
         p = self.panel
-        put("panel", p.mode, p.pwe, p.emergency, p.run, p.motion, p.mstb, p.edit, p.hdck, p.tmmode)
+        put("panel", *astuple(p))
         put("password", self._lock.digest())
         put("active", list(self._alarms.active.values()))
         put("history", self.history_capacity, list(self._alarms.history))
         put("identity", self._identity)
         put("station", sorted(self._station.encoded.items()))
-        m = self.motion
-        put(
-            "motion",
-            m.absolute,
-            m.machine,
-            m.relative,
-            m.distance_to_go,
-            m.feed,
-            m.spindle_speed,
-            m.program_running,
-            m.program_main,
-            m.sequence,
-        )
+        put("motion", *astuple(self.motion))
         return h.hexdigest()
