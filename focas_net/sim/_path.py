@@ -31,7 +31,7 @@ from focas_net.errors import EW
 from ._alarms import MAX_ALARM_TEXT, NC_ALARM_TYPES, AlarmKey, Alarms, nc_alarm
 from ._base import I32_MAX, I32_MIN, Counters, MachineError, logger
 from ._items import PARTS_COUNT, PARTS_TOTAL, Items
-from ._macros import Macros, float_macro
+from ._macros import Macros, float_macro, macro_value
 from ._pmc import GRequest, Pmc
 from ._production import Production
 from .nc import (
@@ -466,6 +466,14 @@ class Path:
             self.engine.parts_total = value
         self._store_parts(number, value)
 
+    def write_parts(self, variable: int, value: Decimal | int | None) -> None:
+        """Write the parts count or the total parts through its macro variable: EW_DATA for
+        anything but a whole number >= 0."""
+        held = None if value is None else macro_value(value)
+        if held is None or held != held.to_integral_value() or held < 0:
+            raise MachineError(EW.DATA, f"#{variable} = {value}: a count of parts")
+        self.set_parts(PARTS_VARIABLES[variable], int(held))
+
     # -- status and panel ----------------------------------------------------------------
     def status(self, alarm: int) -> Status:
         """The status once synced; ``alarm`` is the machine's alarm flag."""
@@ -476,11 +484,16 @@ class Path:
             mstb = self.mstb
         return Status(p.hdck, p.tmmode, p.mode, run, motion, mstb, p.emergency, alarm, p.edit)
 
-    def set_panel(self, mode: int, pwe: int, emergency: int) -> None:
-        """Switch the panel (values checked): leaving MEM holds the feed, the emergency stop
-        resets."""
-        self.sync()
+    def set_panel(self, mode: int | None, pwe: int | None, emergency: int | None) -> None:
+        """Switch the panel (None: as it is): EW_DATA for a value it has not; leaving MEM
+        holds the feed, the emergency stop resets."""
         p = self.panel
+        mode = p.mode if mode is None else mode
+        pwe = p.pwe if pwe is None else pwe
+        emergency = p.emergency if emergency is None else emergency
+        if mode not in AUT_MODES or pwe not in (0, 1) or emergency not in (0, 1):
+            raise MachineError(EW.DATA, f"panel mode={mode} pwe={pwe} emergency={emergency}")
+        self.sync()
         leaving_mem = p.mode == MEM and mode != MEM
         stop = emergency and not p.emergency
         p.mode, p.pwe, p.emergency = mode, pwe, emergency
@@ -493,6 +506,9 @@ class Path:
         self.settled(bool(stop or leaving_mem))
 
     def set_run(self, run: int, motion: int) -> None:
+        """The run state and motion the status shows by hand: EW_DATA for a value it has not."""
+        if run not in range(5) or motion not in range(3):
+            raise MachineError(EW.DATA, f"run={run} motion={motion}")
         self.panel.run, self.panel.motion = run, motion
         self.driven = False
         self.counters.status_changed()
@@ -662,9 +678,8 @@ class Path:
                 self.reset()
             if asked.hold:
                 self.feed_hold()
-            p = self.panel
-            if asked.mode is not None and asked.mode != p.mode:
-                self.set_panel(asked.mode, p.pwe, p.emergency)
+            if asked.mode is not None and asked.mode != self.panel.mode:
+                self.set_panel(asked.mode, None, None)
             if asked.feed_override is not None:
                 self.set_overrides(asked.feed_override, None, None)
             if asked.start:

@@ -80,14 +80,11 @@ cover, so front ends can key caches of their answers on them.
 Machine time
 ------------
 The path's :class:`~focas_net.sim.nc.Engine` (:attr:`Machine.engine`) runs the programs of
-:attr:`Machine.programs` on ``sim_clock``: machine time in seconds, ``RealTimeClock()`` unless
-given (``serve --speed`` shares one ``RealTimeClock(speed)`` across a fleet; a test gives a
-:class:`~focas_net.sim.nc.ManualClock` and steps it); :meth:`Machine.set_clock` is the one way
-to change it afterwards. Nothing ticks: every read and every counter first brings the engine
-to the clock's time (see :mod:`focas_net.sim._path`), and a scenario's events are applied then
-(:meth:`Machine.start_scenario`, :mod:`focas_net.sim._production`). The other clock,
-``clock``, gives the datetimes of alarm stamps only: an alarm the program raises is stamped
-``clock()`` less the machine time between the alarm and the read that recorded it.
+:attr:`Machine.programs` on ``sim_clock``, machine time in seconds (``RealTimeClock()`` unless
+given; :meth:`Machine.set_clock` changes it). Nothing ticks: every read and every counter
+first brings the engine to the clock's time (:mod:`focas_net.sim._path`), a scenario's events
+included (:mod:`focas_net.sim._production`). The other clock, ``clock``, stamps the alarms: one
+the program raises is stamped ``clock()`` less the machine time since it was raised.
 """
 
 from __future__ import annotations
@@ -96,19 +93,19 @@ import hashlib
 import math
 from collections import deque
 from collections.abc import Iterable, Mapping
-from dataclasses import astuple, dataclass
+from dataclasses import astuple
 from datetime import datetime
 from decimal import Decimal
-from typing import Final
 
 from focas_net.errors import EW
 from focas_net.versamax import IOModuleRecord
 
 from ._alarms import DEFAULT_HISTORY_CAPACITY, Alarm, Alarms, Clock, HistoryEntry, utc_now
 from ._base import Counters, MachineError
+from ._identity import CONTROL_CLASSES, DEFAULT_CONTROL_CLASS, Identity, checked_identity
 from ._items import MAX_REAL_DECIMALS as MAX_REAL_DECIMALS  # the native adapter's
 from ._items import PARTS_COUNT, PARTS_TOTAL, DataItem, Items, ParamKind
-from ._macros import MAX_MACRO_DECIMALS, MacroRange, Macros, macro_value
+from ._macros import MAX_MACRO_DECIMALS, MacroRange, Macros
 from ._password import ParamLock, Session
 from ._path import (
     AUT_MODES,
@@ -160,29 +157,6 @@ __all__ = [
     "utc_now",
 ]
 
-#: The control classes a machine can be, as FANUC names its series; a front end speaks as that
-#: class of control does (FANUC's native protocol: the 16i command set for 16i, 18i, 21i and
-#: 0i-C, the 30i set for 0i-D, 0i-F, 30i, 31i and 32i).
-CONTROL_CLASSES: Final = ("16i", "18i", "21i", "0i-C", "0i-D", "0i-F", "30i", "31i", "32i")
-#: The control class of a machine that does not say (the built-in machine is a 0i-F).
-DEFAULT_CONTROL_CLASS: Final = "0i-F"
-#: Identity texts and their widths (ODBSYS).
-_IDENTITY_TEXTS: Final = (("cnc_type", 2), ("mt_type", 2), ("series", 4), ("version", 4))
-
-
-@dataclass(frozen=True, slots=True)
-class Identity:
-    """What the CNC says it is (FANUC's ODBSYS): ``cnc_type`` and ``mt_type`` 2 characters,
-    ``series`` and ``version`` 4, ``axes`` 2 (the number of axes, ``"03"``)."""
-
-    addinfo: int
-    max_axis: int
-    cnc_type: str
-    mt_type: str
-    series: str
-    version: str
-    axes: str
-
 
 class Machine:
     """One simulated CNC.
@@ -220,24 +194,14 @@ class Machine:
         #: How the machine runs on its own when it is told to (:meth:`start_scenario`;
         #: ``serve`` starts it): a machine file's ``[run]``, None when it has none.
         self.scenario = scenario
-        if control_class not in CONTROL_CLASSES:
-            raise ValueError(
-                f"unknown control class {control_class!r} (one of {', '.join(CONTROL_CLASSES)})"
-            )
-        #: Which class of FANUC control this machine is (one of :data:`CONTROL_CLASSES`).
-        self.control_class = control_class
         self.axes: list[str] = list(axes)
         n = len(self.axes)
-        if not 1 <= n <= 32:
-            raise ValueError(f"a machine has 1..32 axes, got {n}")
+        self._identity = checked_identity(identity, control_class, n)
+        #: Which class of FANUC control this machine is (one of :data:`CONTROL_CLASSES`).
+        self.control_class = control_class
         #: Whether the simulator control commands of a front end are served.
         self.control_enabled = control_enabled
         self.read_only = read_only
-        self._identity = identity or Identity(2, max(n, 8), " 0", " M", "D4F1", "32.0", f"{n:02d}")
-        for key, size in (*_IDENTITY_TEXTS, ("axes", 2)):
-            text = getattr(self._identity, key)
-            if not isinstance(text, str) or len(text) != size or not text.isascii():
-                raise ValueError(f"identity {key} must be {size} ASCII characters, got {text!r}")
         panel = panel or Panel()
         if panel.mode not in AUT_MODES:
             raise ValueError(f"panel mode {panel.mode} is not an aut value")
@@ -368,7 +332,7 @@ class Machine:
 
     def unlock(self, session: Session, password: str | bytes) -> None:
         """Unlock parameter writes for ``session``. ``password`` matches only when it is the
-        machine's exactly (as 4 bytes padded with NUL: ``b"12\\\\0\\\\0"`` is ``"12"``); a longer
+        machine's exactly (as 4 bytes padded with NUL: ``b"12\\0\\0"`` is ``"12"``); a longer
         one never matches, not even when it starts with the machine's. A mismatch answers
         EW_PASSWD and locks the session again. A machine without a password unlocks any."""
         self._lock.unlock(session, password)
@@ -490,12 +454,9 @@ class Machine:
         self.check_writable()
         self._macros.check_write(number)
         if number in PARTS_VARIABLES:
-            held = None if value is None else macro_value(value)
-            if held is None or held != held.to_integral_value() or held < 0:
-                raise MachineError(EW.DATA, f"#{number} = {value}: a count of parts")
-            self._path.set_parts(PARTS_VARIABLES[number], int(held))
-            return
-        self._macros.write(number, value)
+            self._path.write_parts(number, value)
+        else:
+            self._macros.write(number, value)
 
     # -- PMC -------------------------------------------------------------------------------
     def pmc_area(self, letter: str) -> tuple[int, bool] | None:
@@ -594,19 +555,11 @@ class Machine:
         ``emergency`` 0/1, else EW_DATA; a switch given as None stays as it is. EW_PROT on a
         read-only machine. Leaving MEM holds the feed; the emergency stop resets."""
         self.check_writable()
-        p = self.panel
-        mode = p.mode if mode is None else mode
-        pwe = p.pwe if pwe is None else pwe
-        emergency = p.emergency if emergency is None else emergency
-        if mode not in AUT_MODES or pwe not in (0, 1) or emergency not in (0, 1):
-            raise MachineError(EW.DATA, f"panel mode={mode} pwe={pwe} emergency={emergency}")
         self._path.set_panel(mode, pwe, emergency)
 
     def set_run(self, run: int, motion: int = 0) -> None:
         """Set the run state (0 reset, 1 STOP, 2 HOLD, 3 STRT, 4 MSTR) and motion (0, 1 MTN,
         2 DWL) shown by the status (simulation code only): EW_DATA otherwise."""
-        if run not in range(5) or motion not in range(3):
-            raise MachineError(EW.DATA, f"run={run} motion={motion}")
         self._path.set_run(run, motion)
 
     def set_motion(
