@@ -21,7 +21,7 @@ from then on the engine's, until ``set_motion`` or ``set_run`` is called again.
 from __future__ import annotations
 
 import math
-from collections.abc import Callable, Iterable
+from collections.abc import Iterable
 from dataclasses import dataclass
 from decimal import Decimal
 from typing import Final
@@ -34,6 +34,7 @@ from ._items import PARTS_COUNT, PARTS_TOTAL, Items
 from ._macros import Macros, float_macro, macro_value
 from ._pmc import GRequest, Pmc
 from ._production import Production
+from ._time import MachineTime
 from .nc import (
     CycleState,
     Engine,
@@ -61,6 +62,7 @@ __all__ = [
     "MotionData",
     "Panel",
     "Path",
+    "Shared",
     "Status",
 ]
 
@@ -177,46 +179,6 @@ def _program_refusal(exc: ProgramError) -> MachineError:
     return MachineError(_PROGRAM_EW[exc.reason], str(exc))
 
 
-class _HeldClock:
-    """Machine time held at one moment."""
-
-    __slots__ = ("at",)
-
-    def __init__(self) -> None:
-        self.at = 0.0
-
-    def now(self) -> float:
-        return self.at
-
-
-class MachineTime:
-    """The engine's clock for its whole life: machine time from the machine's clock (the one
-    :meth:`Machine.set_clock` sets), or held at one moment while the path applies what
-    happened then (a sync, a scenario's event). While nothing is held, ``now`` is the
-    clock's own method: the engine reads it at the cost of the clock alone."""
-
-    __slots__ = ("_held", "_held_now", "now", "source")
-    now: Callable[[], float]
-
-    def __init__(self, source: SimClock) -> None:
-        self._held = _HeldClock()
-        self._held_now = self._held.now
-        self.set_source(source)
-
-    def set_source(self, source: SimClock) -> None:
-        """Read machine time from ``source`` from now on (nothing held)."""
-        self.source = source
-        self.now = source.now
-
-    def hold(self, at: float) -> None:
-        """Machine time stands at ``at`` until :meth:`release`."""
-        self._held.at = at
-        self.now = self._held_now
-
-    def release(self) -> None:
-        self.now = self.source.now
-
-
 class _Variables:
     """The variables as a path's interpreter reads and writes them: #3901/#3902 (the path's
     parts), the machine's macro ranges (#500-#999 and whatever else it has); 115 for a number
@@ -256,20 +218,58 @@ class _Variables:
         macros.changed()
 
 
+@dataclass(frozen=True, slots=True)
+class Shared:
+    """What the paths of a machine share: its version counters, its parameters, its macro
+    variables, its alarms and its PMC."""
+
+    counters: Counters
+    items: Items
+    macros: Macros
+    alarms: Alarms
+    pmc: Pmc
+
+
 class Path:
     """One path: its program store, its engine, its panel, its figures, its production
-    (``panel`` and ``motion`` checked by the machine).
+    (``panel`` and ``motion`` checked by the machine), and what it shares with the machine's
+    other paths (:class:`Shared`).
 
-    ``items``, ``macros``, ``alarms``, ``pmc`` and ``counters`` are the machine's, shared with
-    any other path. The machine's version counters read :attr:`live` first: while it is
-    false, time alone changes nothing the path shows (every command that starts or changes
-    the cycle settles the counters itself)."""
+    The machine's version counters read :attr:`live` first: while it is false, time alone
+    changes nothing the path shows (every command that starts or changes the cycle settles
+    the counters itself)."""
+
+    __slots__ = (
+        "_figures",
+        "alarms",
+        "axes",
+        "counters",
+        "driven",
+        "engine",
+        "engine_alarms",
+        "items",
+        "key",
+        "live",
+        "macros",
+        "manual",
+        "mstb",
+        "name",
+        "panel",
+        "pmc",
+        "powered_at",
+        "production",
+        "programs",
+        "steady_revision",
+        "steady_until",
+        "synced_at",
+        "time",
+    )
 
     def __init__(
         self,
         name: str,
         axes: list[str],
-        shared: tuple[Counters, Items, Macros, Alarms, Pmc],
+        shared: Shared,
         *,
         panel: Panel,
         motion: MotionData,
@@ -279,7 +279,11 @@ class Path:
     ) -> None:
         self.name = name
         self.axes = axes
-        self.counters, self.items, self.macros, self.alarms, self.pmc = shared
+        self.counters = shared.counters
+        self.items = shared.items
+        self.macros = shared.macros
+        self.alarms = shared.alarms
+        self.pmc = shared.pmc
         self.panel = panel
         #: The figures given to the constructor or by hand (shown until :attr:`driven`).
         self.manual = motion
@@ -687,6 +691,14 @@ class Path:
         except MachineError as exc:
             logger.debug("%s: G signal ignored: %s", self.name, exc)
         self.show_cycle()
+
+    def parts_counts(self) -> tuple[int, int]:
+        self.sync()
+        return self.engine.parts_count, self.engine.parts_total
+
+    def overrides(self) -> tuple[int, int, int]:
+        e = self.engine
+        return round(e.feed_override), round(e.rapid_override), round(e.spindle_override)
 
     def timer(self, kind: int) -> float:
         if not 0 <= kind < len(TIMER_KINDS):

@@ -6,14 +6,15 @@ active alarms and the alarm history, its identity (what ``cnc_sysinfo`` reports)
 station and the motion figures (positions, feed, spindle, program numbers).
 
 The machine is a facade over components, each of one concern, in private modules beside this
-one: parameters and diagnostics (``_items``), the parameter password and sessions
-(``_password``), macro variables (``_macros``), PMC areas and the G/F signals of automatic
-operation (``_pmc``), active alarms and the history (``_alarms``), the VersaMax station
-(``_station``), and the path (``_path``): programs, NC engine, panel, status and figures, with
-its production on its own (``_production``). A component keeps its own state and checks and
-moves the version counters it shares with the others (``_base``); the machine builds them,
-asks for the checks in each operation's order and answers its reads through them. A control
-with several paths would hold one path each, sharing the rest.
+one: identity and control class (``_identity``), parameters and diagnostics (``_items``), the
+parameter password and sessions (``_password``), macro variables (``_macros``), PMC areas and
+the G/F signals of automatic operation (``_pmc``), active alarms and the history
+(``_alarms``), the VersaMax station (``_station``), and the path (``_path``): programs, NC
+engine on machine time (``_time``), panel, status and figures, and its production on its own
+(``_production``). A component keeps its own state and checks and moves the version counters
+it shares with the others (``_base``); the machine builds them, asks for the checks in each
+operation's order and answers its reads through them. A control with several paths would hold
+one path each, sharing the rest.
 
 Arguments and results are domain values, never wire types or payload bytes: PMC areas by letter
 (``"G"``, ``"D"``...) with data of any length, parameter values as ``int``, macro values as
@@ -119,6 +120,7 @@ from ._path import (
     MotionData,
     Panel,
     Path,
+    Shared,
     Status,
 )
 from ._pmc import F_SIGNALS, G_SIGNALS, PMC_AREAS, Pmc, PmcAreaSpec
@@ -217,7 +219,7 @@ class Machine:
         self._path = Path(
             name,
             self.axes,
-            (c, self._items, self._macros, self._alarms, self._pmc),
+            Shared(c, self._items, self._macros, self._alarms, self._pmc),
             panel=panel,
             motion=motion,
             programs=programs,
@@ -656,14 +658,11 @@ class Machine:
 
     def parts_counts(self) -> tuple[int, int]:
         """Parts count and total parts (M2/M30 count them; parameters 6711 and 6712)."""
-        path = self._path
-        path.sync()
-        return path.engine.parts_count, path.engine.parts_total
+        return self._path.parts_counts()
 
     def overrides(self) -> tuple[int, int, int]:
         """Feed, rapid and spindle override in percent."""
-        e = self.engine
-        return round(e.feed_override), round(e.rapid_override), round(e.spindle_override)
+        return self._path.overrides()
 
     def timer(self, kind: int) -> float:
         """Seconds of timer ``kind`` (FANUC's ``cnc_rdtimer`` types): 0 power-on (machine
