@@ -53,6 +53,7 @@ from .nc.alarms import AlarmRaised
 __all__ = [
     "AUT_MODES",
     "EDIT",
+    "ENGINE_VARIABLES",
     "MDI",
     "MEM",
     "PARTS_VARIABLES",

@@ -128,7 +128,7 @@ class ScenarioRun:
         ):
             return  # someone else changed the cycle meanwhile
         try:
-            path.check_ready("the cycle goes on")
+            path.check_ready("the scenario's cycle cannot go on")
             e.cycle_start()
         except (MachineError, NcStateError):
             pass

@@ -29,8 +29,8 @@ everything before it changes anything, so a failed write leaves the machine exac
 
 The CNC's rules and the wire's rules
 ------------------------------------
-The machine enforces what the CNC itself refuses, each operation's checks written here once, in
-the order its docstring gives:
+The machine enforces what the CNC itself refuses, each check written once (here or in the
+component whose state it guards) and asked in the order the operation's docstring gives:
 
 * a read-only machine (``read_only = True``) answers EW_PROT to every write, before any other
   check of the machine (:meth:`Machine.check_writable` asks only that);
