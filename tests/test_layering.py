@@ -67,6 +67,31 @@ def test_the_machine_imports_no_protocol(path: Path) -> None:
     assert not any(m.startswith(("focas_net.protocol", "focas_net.native")) for m in found)
 
 
+#: The machine's components: ``sim/machine.py`` is a facade over them.
+COMPONENTS = sorted((PACKAGE / "sim").glob("_[a-z]*.py"))
+#: What builds machines or is the facade itself: no component imports them.
+FACADE = (
+    "focas_net.sim",
+    "focas_net.sim.machine",
+    "focas_net.sim.default",
+    "focas_net.sim.machinefile",
+)
+
+
+def test_every_component_is_part_of_the_machine() -> None:
+    """Each component is imported by the machine or by another component: none is left over."""
+    users = imports_of(PACKAGE / "sim" / "machine.py").union(*map(imports_of, COMPONENTS))
+    assert COMPONENTS
+    assert {f"focas_net.sim.{p.stem}" for p in COMPONENTS} - users == set()
+
+
+@pytest.mark.parametrize("path", COMPONENTS, ids=lambda p: p.name)
+def test_a_machine_component_never_imports_the_facade(path: Path) -> None:
+    """Components import each other, :mod:`focas_net.sim.nc` and the neutral modules; the
+    machine imports them, never the other way round."""
+    assert set(imports_of(path)) & set(FACADE) == set()
+
+
 @pytest.mark.parametrize("path", _files("sim/nc"), ids=lambda p: p.name)
 def test_the_part_program_package_needs_only_the_standard_library(path: Path) -> None:
     assert {m for m in imports_of(path) if not _allowed(m, ("focas_net.sim.nc",))} == set()

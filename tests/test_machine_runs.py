@@ -235,6 +235,32 @@ def test_set_motion_wins_until_the_next_cycle_start(machine: Machine, clock: Man
     assert machine.driven and machine.motion.feed == 1200  # back in N20
 
 
+def test_a_machine_goes_on_from_where_it_is_on_the_clock_it_is_given(
+    machine: Machine, clock: ManualClock
+) -> None:
+    start(machine, clock)
+    clock.advance(1.0)  # X20. of N20's X60. at 20 mm/s
+    assert machine.motion.absolute[0] == 20000
+    ahead = ManualClock(clock.now() + 0.5)
+    machine.set_clock(ahead)
+    assert machine.sim_clock is ahead
+    clock.advance(10.0)  # the clock it had moves it no more
+    assert machine.motion.absolute[0] == 30000  # the half second ahead went by at once
+    version = machine.status_version
+    ahead.advance(2.0)  # N20 ended at 3.5 s: the dwell of N30
+    assert machine.status_version != version and machine.status().motion == 2
+    assert machine.timer(0) == ahead.now()
+
+
+def test_a_clock_behind_the_machine_is_refused(machine: Machine, clock: ManualClock) -> None:
+    start(machine, clock)
+    clock.advance(1.0)
+    before = machine.state_digest()
+    with pytest.raises(ValueError, match="behind"):
+        machine.set_clock(ManualClock(clock.now() - 0.001))
+    assert machine.sim_clock is clock and machine.state_digest() == before
+
+
 # -- the same through the protocol: programs and the cycle ------------------------------------
 
 LOADED = """O0300 (LOADED)

@@ -5,6 +5,17 @@ diagnostics, macro variables, PMC areas, the operator panel, an optional paramet
 active alarms and the alarm history, its identity (what ``cnc_sysinfo`` reports), a VersaMax I/O
 station and the motion figures (positions, feed, spindle, program numbers).
 
+The machine is a facade over components, each of one concern, in private modules beside this
+one: identity and control class (``_identity``), parameters and diagnostics (``_items``), the
+parameter password and sessions (``_password``), macro variables (``_macros``), PMC areas and
+the G/F signals of automatic operation (``_pmc``), active alarms and the history
+(``_alarms``), the VersaMax station (``_station``), and the path (``_path``): programs, NC
+engine on machine time (``_time``), panel, status and figures, and its production on its own
+(``_production``). A component keeps its own state and checks and moves the version counters
+it shares with the others (``_base``); the machine builds them, asks for the checks in each
+operation's order and answers its reads through them. A control with several paths would hold
+one path each, sharing the rest.
+
 Arguments and results are domain values, never wire types or payload bytes: PMC areas by letter
 (``"G"``, ``"D"``...) with data of any length, parameter values as ``int``, macro values as
 :class:`~decimal.Decimal` (``None`` for a vacant variable), timezone-aware UTC datetimes, and
@@ -18,8 +29,8 @@ everything before it changes anything, so a failed write leaves the machine exac
 
 The CNC's rules and the wire's rules
 ------------------------------------
-The machine enforces what the CNC itself refuses, each operation's checks written here once, in
-the order its docstring gives:
+The machine enforces what the CNC itself refuses, each check written once (here or in the
+component whose state it guards) and asked in the order the operation's docstring gives:
 
 * a read-only machine (``read_only = True``) answers EW_PROT to every write, before any other
   check of the machine (:meth:`Machine.check_writable` asks only that);
@@ -46,7 +57,11 @@ the order its docstring gives:
 * the VersaMax station: an empty (or impossible) rack/slot -> EW_NUMBER, an offset outside the
   record -> EW_NUMBER; a read returns what the record has from there, up to the length asked;
 * the operator panel: a mode that is not an ``aut`` value other than 2, ``pwe`` or
-  ``emergency`` other than 0/1 -> EW_DATA; a switch given as None stays as it is.
+  ``emergency`` other than 0/1 -> EW_DATA; a switch given as None stays as it is;
+* the cycle: cycle start only in MEM, not with the emergency stop or an alarm (EW_ALARM; an
+  alarm that stopped the cycle wants a reset), not without a main program (EW_DATA); program
+  search only in MEM or EDIT (EW_MODE); leaving MEM holds the feed; the emergency stop resets;
+  any alarm stops the cycle; reset clears the alarms the program raised.
 
 What a wire cannot carry is its adapter's to refuse: payload sizes and layouts, unknown commands,
 the packed protocol's ``type_a`` codes and ``type_d``, its ceiling of 32 PMC bytes, 32 alarm
@@ -57,95 +72,61 @@ checks before it (:meth:`Machine.check_writable`, :meth:`Machine.check_pmc_area`
 :meth:`Machine.config_record`) and then calls the operation, which repeats them harmlessly.
 Whether simulator control commands are served (``control_enabled``) is a flag the adapters read.
 
-``unlock`` is session state, not machine state: it works on a read-only machine. The parameter
-password is 1..4 ASCII characters; only an exact match unlocks (a longer password offered is
-wrong, never cut to a prefix). It is compared in constant time and never logged or shown in
-``repr``.
+``unlock`` is session state, not machine state: it works on a read-only machine (the password's
+rules: :mod:`focas_net.sim._password`).
 
 Counters (:attr:`Machine.version` and the narrower ``*_version``) move on every change they
 cover, so front ends can key caches of their answers on them.
 
-Part programs and their execution
----------------------------------
-The machine owns a :class:`~focas_net.sim.nc.ProgramStore` (:attr:`Machine.programs`) and an
-:class:`~focas_net.sim.nc.Engine` (:attr:`Machine.engine`) on its ``sim_clock``: machine time in
-seconds, ``RealTimeClock()`` unless given (``serve --speed`` shares one ``RealTimeClock(speed)``
-across a fleet; a test gives a :class:`~focas_net.sim.nc.ManualClock` and steps it). The other
-clock, ``clock``, gives the datetimes of alarm stamps only: an alarm the program raises is
-stamped ``clock()`` less the machine time between the alarm and the read that recorded it.
-
-Nothing ticks: every read and every counter first brings the engine to the clock's time
-(:meth:`Machine._sync`): program alarms go into the active alarms and the history, parts into
-parameters 6711/6712; while a program runs, the motion and macro counters move whenever time
-moved, so no front end serves a cached answer of a moving machine. ``cycle_start()``,
-``feed_hold()``, ``reset()``, ``set_overrides()`` and the G signals control it.
-
-Which figures are shown: those of the constructor (the ``[motion]`` table) and of
-:meth:`Machine.set_motion` / :meth:`Machine.set_run` until the first cycle start or program
-selection; from then on the engine's, until ``set_motion`` or ``set_run`` is called again. The
-CNC's rules of the cycle: cycle start only in MEM, not with the emergency stop or an alarm
-(EW_ALARM; an alarm that stopped the cycle wants a reset), not without a main program
-(EW_DATA); leaving MEM holds the feed; the emergency stop resets; any alarm stops the cycle;
-reset clears the alarms the program raised.
-
-At work on its own
-------------------
-:meth:`Machine.start_scenario` runs a :class:`~focas_net.sim.nc.scenario.Scenario` (a machine
-file's ``[run]``; ``serve --run`` gives the default one): the main program repeated for a
-number of parts or forever, with seeded operator pauses (feed hold), tool-change waits (the
-cycle stopped) and alarms (the cycle stopped until the repair time is over, then reset and a
-new cycle). No timer runs: the scenario's events are machine times drawn from the seed, and a
-read applies those that are due, each at its own machine time, before it reads the engine.
-:meth:`Machine.spindle_loads` and :meth:`Machine.servo_loads` follow the cutting, with a noise
-fixed by :attr:`Machine.seed` and the machine time.
+Machine time
+------------
+The path's :class:`~focas_net.sim.nc.Engine` (:attr:`Machine.engine`) runs the programs of
+:attr:`Machine.programs` on ``sim_clock``, machine time in seconds (``RealTimeClock()`` unless
+given; :meth:`Machine.set_clock` changes it). Nothing ticks: every read and every counter
+first brings the engine to the clock's time (:mod:`focas_net.sim._path`), a scenario's events
+included (:mod:`focas_net.sim._production`). The other clock, ``clock``, stamps the alarms: one
+the program raises is stamped ``clock()`` less the machine time since it was raised.
 """
 
 from __future__ import annotations
 
-import enum
 import hashlib
-import hmac
-import logging
 import math
 from collections import deque
-from collections.abc import Callable, Iterable, Mapping
-from dataclasses import dataclass, field
-from datetime import UTC, datetime, timedelta
-from decimal import Decimal, InvalidOperation
-from itertools import islice
-from typing import Final
+from collections.abc import Iterable, Mapping
+from dataclasses import astuple
+from datetime import datetime
+from decimal import Decimal
 
-from focas_net.errors import EW, FocasError
+from focas_net.errors import EW
 from focas_net.versamax import IOModuleRecord
 
-from .nc import (
-    AlarmKind,
-    CycleState,
-    Engine,
-    EngineEvent,
-    MotionKind,
-    NcAlarm,
-    NcSettings,
-    NcStateError,
-    ProgramError,
-    ProgramErrorReason,
-    ProgramInfo,
-    ProgramStore,
-    RealTimeClock,
-    SimClock,
-    VariableRefused,
+from ._alarms import DEFAULT_HISTORY_CAPACITY, Alarm, Alarms, Clock, HistoryEntry, utc_now
+from ._base import Counters, MachineError
+from ._identity import CONTROL_CLASSES, DEFAULT_CONTROL_CLASS, Identity, checked_identity
+from ._items import MAX_REAL_DECIMALS as MAX_REAL_DECIMALS  # the native adapter's
+from ._items import PARTS_COUNT, PARTS_TOTAL, DataItem, Items, ParamKind
+from ._macros import MAX_MACRO_DECIMALS, MacroRange, Macros
+from ._password import ParamLock, Session
+from ._path import (
+    AUT_MODES,
+    ENGINE_VARIABLES,
+    MDI,
+    MEM,
+    PARTS_VARIABLES,
+    POSITION_DECIMALS,
+    POSITION_KINDS,
+    TIMER_KINDS,
+    MotionData,
+    Panel,
+    Path,
+    Shared,
+    Status,
 )
-from .nc.alarms import AlarmRaised
-from .nc.scenario import (
-    DEFAULT_SCENARIO,
-    SCENARIO_ALARMS,
-    Scenario,
-    ScenarioEvent,
-    Schedule,
-    noise,
-    servo_load,
-    spindle_load,
-)
+from ._pmc import F_SIGNALS, G_SIGNALS, PMC_AREAS, Pmc, PmcAreaSpec
+from ._station import Station
+from .nc import Engine, ProgramInfo, ProgramStore, RealTimeClock, SimClock
+from .nc.scenario import DEFAULT_SCENARIO, Scenario, ScenarioEvent
 
 __all__ = [
     "AUT_MODES",
@@ -177,538 +158,6 @@ __all__ = [
     "Status",
     "utc_now",
 ]
-
-logger = logging.getLogger(__name__)
-
-#: A source of the current time; the machine stamps alarms with it (as UTC, whole seconds).
-Clock = Callable[[], datetime]
-
-#: ``aut`` values: 0 MDI, 1 MEM, 3 EDIT, 4 HND, 5 JOG, 6 Teach-in JOG, 7 Teach-in HND, 8 INC,
-#: 9 REF, 10 RMT (2 is not a mode).
-AUT_MODES: Final = frozenset({0, 1, 3, 4, 5, 6, 7, 8, 9, 10})
-MDI: Final = 0
-MEM: Final = 1
-EDIT: Final = 3
-#: Alarm history capacity of a FANUC 0i/30i.
-DEFAULT_HISTORY_CAPACITY: Final = 250
-#: Letters of the PMC areas a machine can have.
-PMC_AREAS: Final = ("X", "Y", "F", "G", "R", "T", "C", "D", "K", "A", "E")
-#: Most decimal places a macro variable holds.
-MAX_MACRO_DECIMALS: Final = 9
-#: Decimals of the least input increment of the positions (0.001 mm, IS-B).
-POSITION_DECIMALS: Final = 3
-#: The position kinds :meth:`Machine.positions` serves (``"skip"`` answers EW_NOOPT).
-POSITION_KINDS: Final = ("absolute", "machine", "relative", "distance_to_go")
-#: Alarm type numbers a CNC can carry (``alm_type`` is a bit number in FANUC's masks).
-MAX_ALARM_TYPE: Final = 31
-#: Characters of an alarm message the CNC keeps.
-MAX_ALARM_TEXT: Final = 32
-#: The control classes a machine can be, as FANUC names its series; a front end speaks as that
-#: class of control does (FANUC's native protocol: the 16i command set for 16i, 18i, 21i and
-#: 0i-C, the 30i set for 0i-D, 0i-F, 30i, 31i and 32i).
-CONTROL_CLASSES: Final = ("16i", "18i", "21i", "0i-C", "0i-D", "0i-F", "30i", "31i", "32i")
-#: The control class of a machine that does not say (the built-in machine is a 0i-F).
-DEFAULT_CONTROL_CLASS: Final = "0i-F"
-#: Highest rack and slot of a VersaMax station.
-MAX_RACK: Final = 7
-MAX_SLOT: Final = 9
-
-#: The timers :meth:`Machine.timer` reads, by FANUC's ``cnc_rdtimer`` type number.
-TIMER_KINDS: Final = ("power_on", "operating", "cutting", "cycle")
-#: Alarm type numbers of the alarms the program raises (FANUC 0i-D/F, 30i numbering).
-_NC_ALARM_TYPES: Final = {AlarmKind.PS: 3, AlarmKind.OT: 4, AlarmKind.MC: 8}
-_ALARM_KINDS: Final = {3: AlarmKind.PS, 4: AlarmKind.OT, 8: AlarmKind.MC}
-#: The run state (ODBST ``run``) and motion of each engine state.
-_RUN: Final = {CycleState.RESET: 0, CycleState.STOP: 1, CycleState.HOLD: 2, CycleState.START: 3}
-_MOTION: Final = {MotionKind.NONE: 0, MotionKind.MOTION: 1, MotionKind.DWELL: 2}
-#: Parts count, total parts, parts required (parameters) and their macro variables.
-PARTS_COUNT: Final = 6711
-PARTS_TOTAL: Final = 6712
-PARTS_REQUIRED: Final = 6713
-_PARTS_VARIABLES: Final = {3901: PARTS_COUNT, 3902: PARTS_TOTAL}
-#: System variables that come from the engine while it drives the figures: modal G codes
-#: #4001-#4030, the last block's codes #4102-#4130, positions #5001-#5043.
-_ENGINE_VARIABLES: Final = (range(4001, 4031), range(4102, 4131), range(5001, 5044))
-_MM: Final = 10**POSITION_DECIMALS
-#: Rapid traverse (mm/min) of an axis whose parameter 1420 gives no positive rate.
-_DEFAULT_RAPID: Final = 24000.0
-#: The cycle states as plain constants: an enum member read through its class is slow on the
-#: read path of every status answer.
-_START: Final = CycleState.START
-_RESET: Final = CycleState.RESET
-_HOLD: Final = CycleState.HOLD
-_STOP: Final = CycleState.STOP
-_MACRO_STEP: Final = Decimal(1).scaleb(-MAX_MACRO_DECIMALS)
-
-#: The G signals the machine reads (FANUC Series 0i addresses): (byte, bit).
-_ST: Final = (7, 2)  #: cycle start, G7.2 (its falling edge starts)
-_SP: Final = (8, 5)  #: feed hold *SP, G8.5 (negative logic: its falling edge holds)
-_ERS: Final = (8, 7)  #: external reset, G8.7
-_MD: Final = 43  #: mode select MD1 MD2 MD4 (G43.0-.2), DNCI (G43.5), ZRN (G43.7)
-_MD_BITS: Final = 0b1010_0111
-_FV: Final = 12  #: feed override *FV0-*FV7, G12 (negative logic: 255 - G12 percent)
-_MAX_FEED_OVERRIDE: Final = 254
-#: G43 (MD1 MD2 MD4, DNCI, ZRN) -> the panel mode.
-_MODE_OF_G43: Final = {
-    0b0000_0000: MDI,
-    0b0000_0001: MEM,
-    0b0010_0001: 10,  # RMT (DNC)
-    0b0000_0011: 3,  # EDIT
-    0b0000_0100: 4,  # HND
-    0b0000_0101: 5,  # JOG
-    0b1000_0101: 9,  # REF
-}
-#: The F signals the machine sets (F0.7 OP, F0.5 STL, F0.4 SPL, F1.1 RST): bit numbers.
-_OP: Final = 7
-_STL: Final = 5
-_SPL: Final = 4
-_RST: Final = 1
-_F0_MASK: Final = 1 << _OP | 1 << _STL | 1 << _SPL
-#: The PMC signals of automatic operation the machine reads, ``name: (area, byte, bit)``
-#: (G43 mode select and G12 feed override are whole bytes).
-G_SIGNALS: Final = {"ST": ("G", 7, 2), "*SP": ("G", 8, 5), "ERS": ("G", 8, 7)}
-#: The PMC signals the machine sets, ``name: (area, byte, bit)``.
-F_SIGNALS: Final = {"OP": ("F", 0, 7), "STL": ("F", 0, 5), "SPL": ("F", 0, 4), "RST": ("F", 1, 1)}
-
-_MOTION_SCALARS: Final = ("feed", "spindle_speed", "program_running", "program_main", "sequence")
-_SKIP: Final = "skip"
-_I32_MIN: Final = -0x8000_0000
-_I32_MAX: Final = 0x7FFF_FFFF
-_PASSWORD_SIZE: Final = 4
-#: Identity texts and their widths (ODBSYS).
-_IDENTITY_TEXTS: Final = (("cnc_type", 2), ("mt_type", 2), ("series", 4), ("version", 4))
-
-
-def utc_now() -> datetime:
-    """The default clock: now, timezone-aware UTC."""
-    return datetime.now(UTC)
-
-
-def _password(text: str | bytes) -> bytes:
-    """A parameter password as the CNC keeps it: 1..4 ASCII characters (no NUL), padded to 4
-    bytes with NUL. ValueError, naming what was given, for anything else."""
-    shown = text if isinstance(text, str) else text.decode("latin-1")
-    if not (1 <= len(shown) <= _PASSWORD_SIZE and shown.isascii() and "\x00" not in shown):
-        raise ValueError(
-            f"parameter password {shown!r}: must be 1..{_PASSWORD_SIZE} ASCII characters"
-        )
-    return shown.encode("ascii").ljust(_PASSWORD_SIZE, b"\x00")
-
-
-def _offered(text: str | bytes) -> bytes | None:
-    """The 4 bytes a password offered to :meth:`Machine.unlock` stands for, or None when it can
-    match no password (longer than 4 bytes: never cut to a prefix)."""
-    raw = text.encode("latin-1", "replace") if isinstance(text, str) else bytes(text)
-    if len(raw) > _PASSWORD_SIZE:
-        return None
-    return raw.ljust(_PASSWORD_SIZE, b"\x00")
-
-
-def _macro_value(value: Decimal | int) -> Decimal | None:
-    """``value`` as a macro variable holds it, or None when it cannot hold it."""
-    if isinstance(value, bool) or not isinstance(value, Decimal | int):
-        raise TypeError(f"a macro value is a Decimal, an int or None, got {value!r}")
-    if isinstance(value, int):
-        return Decimal(value) if _I32_MIN <= value <= _I32_MAX else None
-    if not value.is_finite():
-        return None
-    sign, digits, exponent = value.as_tuple()
-    assert isinstance(exponent, int)
-    if not -MAX_MACRO_DECIMALS <= exponent <= 0:
-        return None
-    coefficient = int("".join(map(str, digits)))
-    if not _I32_MIN <= (-coefficient if sign else coefficient) <= _I32_MAX:
-        return None
-    return value
-
-
-def _float_macro(value: float) -> Decimal | None:
-    """The macro value a float of the program stands for (at most 9 decimals), or None when
-    a variable cannot hold it."""
-    if not math.isfinite(value):
-        return None
-    try:
-        d = Decimal(repr(float(value))).quantize(_MACRO_STEP).normalize()
-        exponent = d.as_tuple().exponent
-        if isinstance(exponent, int) and exponent > 0:
-            d = d.quantize(Decimal(1))
-    except InvalidOperation:
-        return None
-    return _macro_value(d)
-
-
-def _increments(values: Iterable[float]) -> list[int]:
-    """Positions in mm as i32 least input increments."""
-    return [max(_I32_MIN, min(_I32_MAX, round(v * _MM))) for v in values]
-
-
-def _figure(value: float | int | None) -> int:
-    return 0 if value is None else max(0, min(_I32_MAX, round(value)))
-
-
-def _system_value(value: float | None, decimals: int) -> Decimal | None:
-    """A system variable the engine reads as a float, as the machine shows it: positions
-    with 3 decimals, codes as integers (40.1: one decimal)."""
-    if value is None:
-        return None
-    if decimals:
-        return Decimal(round(value * _MM)).scaleb(-decimals)
-    if value == int(value):
-        return Decimal(int(value))
-    return _float_macro(value)
-
-
-class _Variables:
-    """The machine's variables as the interpreter reads and writes them: #3901/#3902 (parts),
-    the machine's macro ranges (#500-#999 and whatever else it has); 115 for a number the
-    machine lacks, 116 for a read-only one, 111 for a value a variable cannot hold."""
-
-    __slots__ = ("_machine",)
-
-    def __init__(self, machine: Machine) -> None:
-        self._machine = machine
-
-    def read_variable(self, number: int) -> float | None:
-        m = self._machine
-        if number in _PARTS_VARIABLES:
-            return float(m._parts(_PARTS_VARIABLES[number]))
-        if m._macro_range(number) is None:
-            raise VariableRefused(115, f"#{number}")
-        value = m._macros.get(number)
-        return None if value is None else float(value)
-
-    def write_variable(self, number: int, value: float | None) -> None:
-        m = self._machine
-        if number in _PARTS_VARIABLES:
-            m._set_parts(_PARTS_VARIABLES[number], 0 if value is None else round(value))
-            return
-        r = m._macro_range(number)
-        if r is None:
-            raise VariableRefused(115, f"#{number}")
-        if not r.writable:
-            raise VariableRefused(116, f"#{number}")
-        if value is None:
-            m._macros.pop(number, None)
-        else:
-            held = _float_macro(value)
-            if held is None:
-                raise VariableRefused(111, f"#{number} = {value!r}")
-            m._macros[number] = held
-        m._macro_version += 1
-        m._version += 1
-
-
-#: The EW code of each refusal of the program store.
-_PROGRAM_EW: Final = {
-    ProgramErrorReason.FORMAT: EW.DATA,
-    ProgramErrorReason.RANGE: EW.NUMBER,
-    ProgramErrorReason.DUPLICATE: EW.REJECT,
-    ProgramErrorReason.NOT_FOUND: EW.NUMBER,
-    ProgramErrorReason.IN_USE: EW.BUSY,
-    ProgramErrorReason.NO_SPACE: EW.OVRFLOW,
-    ProgramErrorReason.TOO_MANY: EW.OVRFLOW,
-}
-
-
-def _program_refusal(exc: ProgramError) -> MachineError:
-    return MachineError(_PROGRAM_EW[exc.reason], str(exc))
-
-
-class _HeldClock:
-    """The engine's clock while a scenario applies an event: the event's machine time."""
-
-    __slots__ = ("at",)
-
-    def __init__(self) -> None:
-        self.at = 0.0
-
-    def now(self) -> float:
-        return self.at
-
-
-class _ScenarioRun:
-    """A scenario under way: its schedule, the event in progress (until its end)."""
-
-    __slots__ = ("current", "ends_at", "free_at", "held", "scenario", "schedule")
-
-    def __init__(self, scenario: Scenario, schedule: Schedule) -> None:
-        self.scenario = scenario
-        self.schedule = schedule
-        self.held = _HeldClock()
-        self.current: ScenarioEvent | None = None
-        self.ends_at = math.inf  #: when the current event ends
-        self.free_at = -math.inf  #: when the last event ended
-
-    @property
-    def next_time(self) -> float:
-        """Machine time of the next begin or end."""
-        if self.current is not None:
-            return self.ends_at
-        return max(self.schedule.next_time, self.free_at)
-
-    def finished(self, engine: Engine) -> bool:
-        """The parts are made (the cycle ended in reset with none to go)."""
-        return engine.parts_to_go == 0 and engine.state is _RESET
-
-
-class MachineError(FocasError):
-    """An operation refused: ``ew`` is the FANUC ``EW_*`` code the CNC answers."""
-
-    def __init__(self, ew: int, detail: str = "") -> None:
-        self.ew = int(ew)
-        self.detail = detail
-        name = EW(self.ew).name if self.ew in EW._value2member_map_ else str(self.ew)
-        super().__init__(f"EW_{name}: {detail}" if detail else f"EW_{name}")
-
-
-@dataclass(slots=True)
-class Session:
-    """Per-connection state: whether this connection unlocked the parameter password (and
-    under which password: ``epoch`` counts :meth:`Machine.set_param_password` calls)."""
-
-    unlocked: bool = False
-    epoch: int = 0
-
-
-@dataclass(frozen=True, slots=True)
-class Status:
-    """The status of the CNC (FANUC's ODBST fields), derived from the panel and the alarms."""
-
-    hdck: int
-    tmmode: int
-    aut: int
-    run: int
-    motion: int
-    mstb: int
-    emergency: int
-    alarm: int
-    edit: int
-
-
-@dataclass(frozen=True, slots=True)
-class Identity:
-    """What the CNC says it is (FANUC's ODBSYS): ``cnc_type`` and ``mt_type`` 2 characters,
-    ``series`` and ``version`` 4, ``axes`` 2 (the number of axes, ``"03"``)."""
-
-    addinfo: int
-    max_axis: int
-    cnc_type: str
-    mt_type: str
-    series: str
-    version: str
-    axes: str
-
-
-@dataclass(frozen=True, slots=True)
-class Alarm:
-    """An active alarm."""
-
-    axis_no: int
-    alm_type: int
-    alm_no: int
-    msg: str
-
-    @property
-    def key(self) -> tuple[int, int, int]:
-        """The identity of an alarm: ``(axis_no, alm_type, alm_no)``."""
-        return (self.axis_no, self.alm_type, self.alm_no)
-
-
-@dataclass(frozen=True, slots=True)
-class HistoryEntry:
-    """One entry of the alarm history; ``occurred_at`` is timezone-aware UTC, whole seconds."""
-
-    occurred_at: datetime
-    axis_no: int
-    alm_type: int
-    alm_no: int
-    msg: str
-
-
-class ParamKind(enum.IntEnum):
-    """The data type of a parameter (or diagnostic), numbered as FANUC numbers them.
-
-    ``BIT`` is eight bits ``#7..#0`` held as 0..255; ``BYTE`` a signed byte, ``WORD`` an i16,
-    ``TWO_WORD`` an i32; ``REAL`` a real value kept as FANUC's REALPRM keeps it: an i32 mantissa
-    with the parameter's fixed number of decimals (:attr:`DataItem.decimals`), so ``12.345``
-    with 3 decimals is the mantissa ``12345``.
-    """
-
-    BIT = 0
-    BYTE = 1
-    WORD = 2
-    TWO_WORD = 3
-    REAL = 4
-
-    @property
-    def width(self) -> int:
-        """Bytes of a value of this kind on a wire: 1, 1, 2, 4, and 8 for REAL (REALPRM: the
-        i32 mantissa and the i32 number of decimals)."""
-        return _KIND_WIDTHS[self]
-
-    @property
-    def span(self) -> tuple[int, int]:
-        """The values a parameter of this kind can hold (REAL: its mantissa)."""
-        return _KIND_SPANS[self]
-
-
-_KIND_WIDTHS: Final[dict[int, int]] = {0: 1, 1: 1, 2: 2, 3: 4, 4: 8}
-_KIND_SPANS: Final[dict[int, tuple[int, int]]] = {
-    0: (0, 0xFF),
-    1: (-0x80, 0x7F),
-    2: (-0x8000, 0x7FFF),
-    3: (-0x8000_0000, 0x7FFF_FFFF),
-    4: (-0x8000_0000, 0x7FFF_FFFF),
-}
-#: The kind of an item given by its width only.
-_KIND_OF_WIDTH: Final[dict[int, ParamKind]] = {
-    1: ParamKind.BYTE,
-    2: ParamKind.WORD,
-    4: ParamKind.TWO_WORD,
-}
-#: Most decimals of a real parameter (REALPRM ``dec_val``).
-MAX_REAL_DECIMALS: Final = 9
-
-
-@dataclass(slots=True)
-class DataItem:
-    """A parameter or a diagnostic: number, type, per-axis or not, allowed range (inclusive)
-    and its value(s): one value, or one per axis.
-
-    The type is ``kind`` (a :class:`ParamKind`); ``width`` follows from it (bit and byte 1,
-    word 2, two-word 4, real 8). An item given only a ``width`` (1, 2 or 4) is a byte, word or
-    two-word item. A ``REAL`` item holds mantissas with ``decimals`` decimals (0..9): its range
-    and values are mantissas too. A ``BIT`` item holds 0..255 (bit ``#n`` is ``1 << n``).
-    """
-
-    number: int
-    width: int = 0
-    axis: bool = False
-    low: int | None = None
-    high: int | None = None
-    values: list[int] = field(default_factory=lambda: [0])
-    name: str = ""
-    kind: ParamKind | None = None
-    decimals: int = 0
-
-    def check(self, axes: int) -> None:
-        """Raise ValueError when the item is not consistent (for machine builders); fills in
-        ``kind`` (from ``width``), ``width`` (from ``kind``) and the range (the kind's)."""
-        if not -0x8000 <= self.number <= 0x7FFF:
-            raise ValueError(f"number {self.number} is outside i16")
-        if self.kind is None:
-            kind = _KIND_OF_WIDTH.get(self.width)
-            if kind is None:
-                raise ValueError(f"width must be 1, 2 or 4, got {self.width}")
-            self.kind = kind
-        else:
-            self.kind = ParamKind(self.kind)
-            if self.width == 0:
-                self.width = self.kind.width
-            elif self.width != self.kind.width:
-                raise ValueError(
-                    f"a {self.kind.name.lower()} item is {self.kind.width} bytes wide, "
-                    f"width {self.width} given"
-                )
-        if self.kind is ParamKind.REAL:
-            if not 0 <= self.decimals <= MAX_REAL_DECIMALS:
-                raise ValueError(f"decimals {self.decimals} outside 0..{MAX_REAL_DECIMALS}")
-        elif self.decimals:
-            raise ValueError(f"decimals apply to a real item only, got {self.decimals}")
-        span = self.kind.span
-        if self.low is None:
-            self.low = span[0]
-        if self.high is None:
-            self.high = span[1]
-        if not span[0] <= self.low <= self.high <= span[1]:
-            raise ValueError(
-                f"range {self.low}..{self.high} is empty or outside the type ({span[0]}..{span[1]})"
-            )
-        want = axes if self.axis else 1
-        if self.axis and len(self.values) == 1 and want > 1:
-            self.values = self.values * want
-        if len(self.values) != want:
-            raise ValueError(f"{len(self.values)} values given, {want} expected")
-        for v in self.values:
-            if not self.low <= v <= self.high:
-                raise ValueError(f"value {v} is outside {self.low}..{self.high}")
-
-
-def _connect_params() -> tuple[DataItem, ...]:
-    """The parameters a FOCAS client reads on its own, with their defaults for a machine that
-    does not give them: 9968, the FOCAS option bits (#0 set: ``cnc_rddynamic2`` is there), and
-    3115, the position display bits of each axis (0: every position shown)."""
-    return (
-        DataItem(9968, kind=ParamKind.BIT, values=[0b0000_0001], name="FOCAS option bits"),
-        DataItem(3115, axis=True, kind=ParamKind.BIT, values=[0], name="position display"),
-    )
-
-
-@dataclass(frozen=True, slots=True)
-class MacroRange:
-    """Macro variables ``first..last`` (inclusive), writable or read-only."""
-
-    first: int
-    last: int
-    writable: bool = True
-
-
-@dataclass(frozen=True, slots=True)
-class PmcAreaSpec:
-    """A PMC area: its letter (one of :data:`PMC_AREAS`), its size in bytes, protection against
-    writes and its initial bytes as ``{address: bytes}``."""
-
-    letter: str
-    size: int
-    write_protected: bool = False
-    initial: Mapping[int, bytes] = field(default_factory=dict)
-
-
-@dataclass(slots=True)
-class Panel:
-    """The operator panel and the run state shown by the status."""
-
-    mode: int = MEM
-    pwe: int = 0
-    emergency: int = 0
-    run: int = 0
-    motion: int = 0
-    mstb: int = 0
-    edit: int = 0
-    hdck: int = 0
-    tmmode: int = 0
-
-
-@dataclass(slots=True)
-class MotionData:
-    """Motion figures: positions per axis in least input increments (:data:`POSITION_DECIMALS`
-    decimals), actual feed, spindle speed, program numbers and the sequence number."""
-
-    absolute: list[int]
-    machine: list[int]
-    relative: list[int]
-    distance_to_go: list[int]
-    feed: int = 0
-    spindle_speed: int = 0
-    program_running: int = 0
-    program_main: int = 0
-    sequence: int = 0
-
-
-class _Area:
-    __slots__ = ("data", "letter", "size", "write_protected")
-
-    def __init__(self, spec: PmcAreaSpec) -> None:
-        self.letter = spec.letter.strip().upper()
-        if self.letter not in PMC_AREAS:
-            raise ValueError(f"unknown PMC area {spec.letter!r} (one of {', '.join(PMC_AREAS)})")
-        self.size = spec.size
-        self.write_protected = spec.write_protected
-        self.data = bytearray(spec.size)
-        for address, raw in spec.initial.items():
-            if address < 0 or address + len(raw) > spec.size:
-                raise ValueError(f"initial bytes at {address} run past the {spec.size}-byte area")
-            self.data[address : address + len(raw)] = raw
 
 
 class Machine:
@@ -743,111 +192,58 @@ class Machine:
         sim_clock: SimClock | None = None,
         scenario: Scenario | None = None,
     ) -> None:
-        self.name = name
+        self._name = name
         #: How the machine runs on its own when it is told to (:meth:`start_scenario`;
         #: ``serve`` starts it): a machine file's ``[run]``, None when it has none.
         self.scenario = scenario
-        if control_class not in CONTROL_CLASSES:
-            raise ValueError(
-                f"unknown control class {control_class!r} (one of {', '.join(CONTROL_CLASSES)})"
-            )
-        #: Which class of FANUC control this machine is (one of :data:`CONTROL_CLASSES`).
-        self.control_class = control_class
         self.axes: list[str] = list(axes)
         n = len(self.axes)
-        if not 1 <= n <= 32:
-            raise ValueError(f"a machine has 1..32 axes, got {n}")
+        self._identity = checked_identity(identity, control_class, n)
+        #: Which class of FANUC control this machine is (one of :data:`CONTROL_CLASSES`).
+        self.control_class = control_class
         #: Whether the simulator control commands of a front end are served.
         self.control_enabled = control_enabled
         self.read_only = read_only
-        self.clock = clock
-        self._identity = identity or Identity(2, max(n, 8), " 0", " M", "D4F1", "32.0", f"{n:02d}")
-        self._check_identity(self._identity)
-        self._params = self._items(params, "parameter")
-        for item in _connect_params():  # what a FOCAS client reads at connect, when not given
-            if item.number not in self._params:
-                item.check(n)
-                self._params[item.number] = item
-        self._diags = self._items(diags, "diagnostic")
-        self._macro_ranges = tuple(sorted(macro_ranges, key=lambda r: r.first))
-        for r in self._macro_ranges:
-            if not -0x8000 <= r.first <= r.last <= 0x7FFF:
-                raise ValueError(f"macro range {r.first}..{r.last} is empty or outside i16")
-        for a, b in zip(self._macro_ranges, self._macro_ranges[1:], strict=False):
-            if b.first <= a.last:
-                raise ValueError(f"macro ranges {a.first}..{a.last} and {b.first}.. overlap")
-        self._macros: dict[int, Decimal] = {}
-        for number, value in (macro_values or {}).items():
-            if self._macro_range(number) is None:
-                raise ValueError(f"macro #{number} is not in any macro range")
-            if value is not None:
-                held = _macro_value(value)
-                if held is None:
-                    raise ValueError(f"macro #{number}: value {value} invalid")
-                self._macros[number] = held
-        self._areas: dict[str, _Area] = {}
-        for spec in pmc:
-            area = _Area(spec)
-            if area.letter in self._areas:
-                raise ValueError(f"PMC area {area.letter} given twice")
-            self._areas[area.letter] = area
-        self.panel = panel or Panel()
-        if self.panel.mode not in AUT_MODES:
-            raise ValueError(f"panel mode {self.panel.mode} is not an aut value")
-        self._password: bytes | None = None if param_password is None else _password(param_password)
-        self._password_epoch = 0
-        self._station: dict[tuple[int, int], bytes] = {}
-        self._records: dict[tuple[int, int], IOModuleRecord] = {}
-        for (rack, slot), record in (station or {}).items():
-            if not (0 <= rack <= MAX_RACK and 0 <= slot <= MAX_SLOT):
-                raise ValueError(f"VersaMax rack {rack} slot {slot} is out of range")
-            self._records[rack, slot] = record
-            self._station[rack, slot] = record.encode()
-        self._motion = motion or MotionData([0] * n, [0] * n, [0] * n, [0] * n)
-        for key in POSITION_KINDS:
-            if len(getattr(self._motion, key)) != n:
-                raise ValueError(
-                    f"motion {key}: {len(getattr(self._motion, key))} values for {n} axes"
-                )
-        if history_capacity < 1:
-            raise ValueError("alarm history capacity must be at least 1")
-        self._active: dict[tuple[int, int, int], Alarm] = {}
-        self._history: deque[HistoryEntry] = deque(maxlen=history_capacity)
-        #: Incremented on every change of machine state.
-        self._version = 0
-        #: Incremented when the status changes (panel, run state, active alarms).
-        self._status_version = 0
-        #: Incremented when a parameter or diagnostic value changes.
-        self._data_version = 0
-        #: Incremented when a macro variable changes.
-        self._macro_version = 0
-        #: Incremented when the active alarms or the alarm history change.
-        self._alarm_version = 0
-        #: Incremented when PMC data changes.
-        self._pmc_version = 0
-        #: Incremented when the motion figures change.
-        self._motion_version = 0
-        self._build_engine(programs, main_program, sim_clock)
+        panel = panel or Panel()
+        if panel.mode not in AUT_MODES:
+            raise ValueError(f"panel mode {panel.mode} is not an aut value")
+        self._lock = ParamLock(param_password)
+        self._station = Station(station or {})
+        motion = motion or MotionData([0] * n, [0] * n, [0] * n, [0] * n)
+        Path.check_motion(motion, n)
+        c = self._counters = Counters()
+        self._items = Items(params, diags, n, c)
+        self._macros = Macros(macro_ranges, macro_values or {}, c)
+        self._pmc = Pmc(pmc, c)
+        self._alarms = Alarms(name, history_capacity, clock, c)
+        self._path = Path(
+            name,
+            self.axes,
+            Shared(c, self._items, self._macros, self._alarms, self._pmc),
+            panel=panel,
+            motion=motion,
+            programs=programs,
+            main_program=main_program,
+            clock=sim_clock if sim_clock is not None else RealTimeClock(),
+        )
+        #: The operator panel and the run state it shows (the path's).
+        self.panel: Panel = self._path.panel
+        #: The programs in the machine's memory (the engine marks those in use).
+        self.programs: ProgramStore = self._path.programs
+        #: The NC engine that runs them.
+        self.engine: Engine = self._path.engine
+        #: The scenario's events as they were applied: ``(event, "begin" | "end" |
+        #: "skipped")``, the newest 1000.
+        self.scenario_log: deque[tuple[ScenarioEvent, str]] = self._path.production.log
 
-    @staticmethod
-    def _check_identity(identity: Identity) -> None:
-        texts = (*_IDENTITY_TEXTS, ("axes", 2))
-        for key, size in texts:
-            text = getattr(identity, key)
-            if not isinstance(text, str) or len(text) != size or not text.isascii():
-                raise ValueError(f"identity {key} must be {size} ASCII characters, got {text!r}")
+    @property
+    def name(self) -> str:
+        """The machine's name (the server's ready line, the logs)."""
+        return self._name
 
-    def _items(self, items: Iterable[DataItem], what: str) -> dict[int, DataItem]:
-        table: dict[int, DataItem] = {}
-        for item in items:
-            try:
-                item.check(len(self.axes))
-            except ValueError as exc:
-                raise ValueError(f"{what} {item.number}: {exc}") from None
-            if item.number in table:
-                raise ValueError(f"{what} {item.number} given twice")
-            table[item.number] = item
-        return table
+    @name.setter
+    def name(self, name: str) -> None:
+        self._name = self._alarms.name = self._path.name = name
 
     def __repr__(self) -> str:
         return f"Machine({self.name!r}, axes={''.join(self.axes)!r})"
@@ -856,59 +252,64 @@ class Machine:
     @property
     def version(self) -> int:
         """Incremented on every change of machine state."""
-        if self._engine_key[0] is _START or self._run is not None:  # what moves with time
-            self._sync()
-        return self._version
+        path = self._path
+        if path.live:  # what moves with time
+            path.sync()
+        return self._counters.version
 
     @property
     def status_version(self) -> int:
         """Incremented when the status changes (panel, run state, motion, active alarms).
         While the cycle runs, time changes the status only when an action ends or a scenario
         event is due, so until then a read costs a clock call and two compares."""
-        if self._engine_key[0] is _START or self._run is not None:  # what moves with time
-            if (
-                self.sim_clock.now() >= self._steady_until
-                or self.engine.revision != self._steady_revision
-            ):
-                self._sync()
-        return self._status_version
+        path = self._path
+        if path.live and (
+            path.time.now() >= path.steady_until or path.engine.revision != path.steady_revision
+        ):
+            path.sync()
+        return self._counters.status
 
     @property
     def data_version(self) -> int:
         """Incremented when a parameter or diagnostic value changes (parts counts too)."""
-        if self._engine_key[0] is _START or self._run is not None:  # what moves with time
-            self._sync()
-        return self._data_version
+        path = self._path
+        if path.live:
+            path.sync()
+        return self._counters.data
 
     @property
     def macro_version(self) -> int:
         """Incremented when a macro variable changes (while a program runs: whenever machine
         time moved, for the system variables follow the engine)."""
-        if self._engine_key[0] is _START or self._run is not None:  # what moves with time
-            self._sync()
-        return self._macro_version
+        path = self._path
+        if path.live:
+            path.sync()
+        return self._counters.macro
 
     @property
     def alarm_version(self) -> int:
         """Incremented when the active alarms or the alarm history change."""
-        if self._engine_key[0] is _START or self._run is not None:  # what moves with time
-            self._sync()
-        return self._alarm_version
+        path = self._path
+        if path.live:
+            path.sync()
+        return self._counters.alarm
 
     @property
     def pmc_version(self) -> int:
         """Incremented when PMC data changes."""
-        if self._engine_key[0] is _START or self._run is not None:  # what moves with time
-            self._sync()
-        return self._pmc_version
+        path = self._path
+        if path.live:
+            path.sync()
+        return self._counters.pmc
 
     @property
     def motion_version(self) -> int:
         """Incremented when the motion figures change: while a program runs, whenever machine
         time moved."""
-        if self._engine_key[0] is _START or self._run is not None:  # what moves with time
-            self._sync()
-        return self._motion_version
+        path = self._path
+        if path.live:
+            path.sync()
+        return self._counters.motion
 
     def check_writable(self) -> None:
         """EW_PROT when the machine is read-only: the first check of every write."""
@@ -918,88 +319,68 @@ class Machine:
     # -- sessions, status, identity ------------------------------------------------------
     def new_session(self) -> Session:
         """Per-connection state for a new connection (locked)."""
-        return Session(False, self._password_epoch)
+        return Session(False, self._lock.epoch)
 
     def set_param_password(self, password: str | bytes | None) -> None:
         """Set (None: remove) the parameter password, 1..4 ASCII characters (ValueError
         otherwise). Connections unlocked under the previous password are locked again."""
-        self._password = None if password is None else _password(password)
-        self._password_epoch += 1
-        self._version += 1
+        self._lock.set(password)
+        self._counters.version += 1
 
     @property
     def has_password(self) -> bool:
         """True when parameter writes need a per-session unlock."""
-        return self._password is not None
+        return self._lock.is_set
+
+    def unlock(self, session: Session, password: str | bytes) -> None:
+        """Unlock parameter writes for ``session``. ``password`` matches only when it is the
+        machine's exactly (as 4 bytes padded with NUL: ``b"12\\0\\0"`` is ``"12"``); a longer
+        one never matches, not even when it starts with the machine's. A mismatch answers
+        EW_PASSWD and locks the session again. A machine without a password unlocks any."""
+        self._lock.unlock(session, password)
 
     def status(self) -> Status:
         """The status, derived from the panel, the active alarms and (while it drives the
         figures) the engine's run state and motion."""
-        self._sync()
-        p = self.panel
-        run, motion, mstb = p.run, p.motion, p.mstb
-        if self._driven:
-            run, motion = _RUN[self._engine_key[0]], _MOTION[self._engine_key[1]]
-            mstb = self._mstb
-        return Status(
-            p.hdck,
-            p.tmmode,
-            p.mode,
-            run,
-            motion,
-            mstb,
-            p.emergency,
-            1 if self._active else 0,
-            p.edit,
-        )
-
-    def _status_changed(self) -> None:
-        self._status_version += 1
-        self._version += 1
+        path = self._path
+        if path.live:
+            path.sync()
+        return path.status(1 if self._alarms.active else 0)
 
     def identity(self) -> Identity:
         """What the CNC says it is."""
         return self._identity
 
     # -- parameters and diagnostics ------------------------------------------------------
-    def _lookup(self, table: dict[int, DataItem], datano: int, axis: int) -> tuple[DataItem, int]:
-        item = table.get(datano)
-        if item is None:
-            raise MachineError(EW.NUMBER, f"no item {datano}")
-        if item.axis:
-            if not 1 <= axis <= len(self.axes):
-                raise MachineError(EW.ATTRIB, f"item {datano} needs an axis 1..{len(self.axes)}")
-            return item, axis - 1
-        if axis != 0:
-            raise MachineError(EW.ATTRIB, f"item {datano} is not an axis item")
-        return item, 0
-
     def param_item(self, datano: int) -> DataItem | None:
         """The description of parameter ``datano`` (None when the machine has none)."""
-        return self._params.get(datano)
+        return self._items.params.get(datano)
 
     def diag_item(self, datano: int) -> DataItem | None:
         """The description of diagnostic ``datano`` (None when the machine has none)."""
-        return self._diags.get(datano)
+        return self._items.diags.get(datano)
 
     def param_numbers(self) -> tuple[int, ...]:
         """The numbers of every parameter, ascending."""
-        return tuple(sorted(self._params))
+        return tuple(sorted(self._items.params))
 
     def diag_numbers(self) -> tuple[int, ...]:
         """The numbers of every diagnostic, ascending."""
-        return tuple(sorted(self._diags))
+        return tuple(sorted(self._items.diags))
 
     def read_param(self, datano: int, axis: int) -> int:
         """The value of parameter ``datano`` (``axis`` 0 for a non-axis item, else 1..n):
         EW_NUMBER, then EW_ATTRIB. Its width is :meth:`param_item`'s."""
-        self._sync()
-        item, i = self._lookup(self._params, datano, axis)
+        if self._path.live:
+            self._path.sync()
+        items = self._items
+        item, i = items.lookup(items.params, datano, axis)
         return item.values[i]
 
     def read_diag(self, datano: int, axis: int) -> int:
         """The value of diagnostic ``datano``: EW_NUMBER, then EW_ATTRIB."""
-        item, i = self._lookup(self._diags, datano, axis)
+        items = self._items
+        item, i = items.lookup(items.diags, datano, axis)
         return item.values[i]
 
     def param_gate_open(self, session: Session) -> bool:
@@ -1007,9 +388,7 @@ class Machine:
         p = self.panel
         if p.pwe != 1 or p.mode != MDI:
             return False
-        return self._password is None or (
-            session.unlocked and session.epoch == self._password_epoch
-        )
+        return self._lock.admits(session)
 
     def write_param(
         self,
@@ -1031,201 +410,119 @@ class Machine:
         has: it is rescaled to the parameter's own, and a value that does not have an exact
         mantissa there (``1.2345`` for a 3-decimal parameter) is EW_DATA."""
         self.check_writable()
-        item, i = self._lookup(self._params, datano, axis)
+        items = self._items
+        item, i = items.lookup(items.params, datano, axis)
         if width is not None and width != item.width:
             raise MachineError(EW.LENGTH, f"parameter {datano} is {item.width} bytes wide")
         if not self.param_gate_open(session):
             raise MachineError(EW.PASSWD, "parameter write not enabled")
-        low, high = item.low, item.high
-        assert low is not None and high is not None
-        if decimals is not None and item.kind is ParamKind.REAL and decimals != item.decimals:
-            if not 0 <= decimals <= MAX_REAL_DECIMALS:
-                raise MachineError(EW.DATA, f"parameter {datano}: {decimals} decimals")
-            shift = item.decimals - decimals
-            if shift > 0:
-                value *= 10**shift
-            elif value % 10**-shift:
-                raise MachineError(
-                    EW.DATA, f"parameter {datano} has {item.decimals} decimals, {value}E-{decimals}"
-                )
-            else:
-                value //= 10**-shift
-        if not low <= value <= high:
-            raise MachineError(EW.DATA, f"parameter {datano}: {value} outside {low}..{high}")
-        item.values[i] = value
+        value = items.rescaled(item, value, decimals)
+        items.set(item, i, value, "parameter")
         if datano in (PARTS_COUNT, PARTS_TOTAL):
-            self._set_parts(datano, value)
-        self._data_version += 1
-        self._version += 1
+            self._path.set_parts(datano, value)
 
     def set_diag(self, datano: int, axis: int, value: int) -> None:
         """Change a diagnostic value (simulation code; a CNC has no diagnostic write):
         EW_NUMBER, EW_ATTRIB, EW_DATA (range)."""
-        item, i = self._lookup(self._diags, datano, axis)
-        low, high = item.low, item.high
-        assert low is not None and high is not None
-        if not low <= value <= high:
-            raise MachineError(EW.DATA, f"diagnostic {datano}: {value} outside {low}..{high}")
-        item.values[i] = value
-        self._data_version += 1
-        self._version += 1
+        items = self._items
+        item, i = items.lookup(items.diags, datano, axis)
+        items.set(item, i, value, "diagnostic")
 
     # -- macro variables -----------------------------------------------------------------
-    def _macro_range(self, number: int) -> MacroRange | None:
-        for r in self._macro_ranges:
-            if number < r.first:
-                return None
-            if number <= r.last:
-                return r
-        return None
-
     def macro_writable(self, number: int) -> bool | None:
         """True/False for a writable/read-only variable; None when there is no such variable."""
-        r = self._macro_range(number)
+        r = self._macros.range_of(number)
         return None if r is None else r.writable
 
     def read_macro(self, number: int) -> Decimal | None:
         """The value of macro variable ``number``, None when vacant: EW_NUMBER for an unknown
         variable."""
-        if self._macro_range(number) is None:
+        macros = self._macros
+        if macros.range_of(number) is None:
             raise MachineError(EW.NUMBER, f"no macro variable #{number}")
-        self._sync()
-        if number in _PARTS_VARIABLES:
-            return Decimal(self._parts(_PARTS_VARIABLES[number]))
-        if self._driven and any(number in r for r in _ENGINE_VARIABLES):
-            return self._engine_variable(number)
-        return self._macros.get(number)
+        path = self._path
+        if path.live:
+            path.sync()
+        if number in PARTS_VARIABLES:
+            return Decimal(path.parts(PARTS_VARIABLES[number]))
+        if path.driven and any(number in r for r in ENGINE_VARIABLES):
+            return path.engine_variable(number)
+        return macros.values.get(number)
 
     def write_macro(self, number: int, value: Decimal | int | None) -> None:
         """Set macro variable ``number`` to ``value`` (None: vacant). EW_PROT (read-only
         machine), EW_NUMBER, EW_PROT (read-only variable), EW_DATA (a value the variable cannot
         hold: see the module docstring). Making a vacant variable vacant changes nothing."""
         self.check_writable()
-        r = self._macro_range(number)
-        if r is None:
-            raise MachineError(EW.NUMBER, f"no macro variable #{number}")
-        if not r.writable:
-            raise MachineError(EW.PROT, f"macro variable #{number} is read-only")
-        if number in _PARTS_VARIABLES:
-            held_parts = None if value is None else _macro_value(value)
-            if held_parts is None or held_parts != held_parts.to_integral_value() or held_parts < 0:
-                raise MachineError(EW.DATA, f"#{number} = {value}: a count of parts")
-            self._set_parts(_PARTS_VARIABLES[number], int(held_parts))
-            return
-        if value is None:
-            if self._macros.pop(number, None) is not None:
-                self._macro_version += 1
-                self._version += 1
-            return
-        held = _macro_value(value)
-        if held is None:
-            raise MachineError(
-                EW.DATA,
-                f"#{number} = {value}: 0..{MAX_MACRO_DECIMALS} decimals, digits within 32 bits",
-            )
-        self._macros[number] = held
-        self._macro_version += 1
-        self._version += 1
+        self._macros.check_write(number)
+        if number in PARTS_VARIABLES:
+            self._path.write_parts(number, value)
+        else:
+            self._macros.write(number, value)
 
     # -- PMC -------------------------------------------------------------------------------
     def pmc_area(self, letter: str) -> tuple[int, bool] | None:
         """``(size, write_protected)`` of area ``letter``, or None when the machine has none
         (ValueError for a letter that is no PMC area at all)."""
-        key = letter.strip().upper()
-        if key not in PMC_AREAS:
-            raise ValueError(f"unknown PMC area {letter!r}")
-        area = self._areas.get(key)
-        return None if area is None else (area.size, area.write_protected)
-
-    def _area(self, letter: str) -> _Area:
-        area = self._areas.get(letter) or self._areas.get(letter.upper())
-        if area is None:
-            raise MachineError(EW.NOOPT, f"no PMC area {letter}")
-        return area
+        return self._pmc.info(letter)
 
     def check_pmc_area(self, letter: str) -> None:
         """EW_NOOPT when the machine has no PMC area ``letter`` (whatever the letter)."""
-        self._area(letter)
+        self._pmc.area(letter)
 
     def read_pmc(self, letter: str, start: int, length: int) -> bytes:
         """``length`` bytes of area ``letter`` from address ``start``: EW_NOOPT (no such area),
         EW_NUMBER (addresses outside the area)."""
-        area = self._area(letter)
+        area = self._pmc.area(letter)
         if length < 0:
             raise ValueError(f"a PMC read of {length} bytes")
-        if area.letter == "F":
-            self._sync()  # the F signals follow the run state
+        if area.letter == "F" and self._path.live:
+            self._path.sync()  # the F signals follow the run state
         end = start + length
         if start < 0 or end > area.size:
-            raise MachineError(
-                EW.NUMBER, f"{area.letter}{start}..{end - 1} beyond {area.size} bytes"
-            )
+            raise area.beyond(start, end)
         return bytes(area.data[start:end])
 
     def write_pmc(self, letter: str, start: int, data: bytes, *, force: bool = False) -> None:
         """Write ``data`` into area ``letter`` from address ``start`` (``force``: the
         simulator's own write, which ignores write protection): EW_PROT (read-only machine),
-        EW_NOOPT, EW_NUMBER (addresses outside the area), EW_PROT (write-protected area)."""
+        EW_NOOPT, EW_NUMBER (addresses outside the area), EW_PROT (write-protected area).
+        A write that changes G signals of automatic operation (:data:`G_SIGNALS`) acts on
+        them as the CNC does."""
         self.check_writable()
-        area = self._area(letter)
-        end = start + len(data)
-        if start < 0 or end > area.size:
-            raise MachineError(
-                EW.NUMBER, f"{area.letter}{start}..{end - 1} beyond {area.size} bytes"
-            )
-        if area.write_protected and not force:
-            raise MachineError(EW.PROT, f"PMC area {area.letter} is write-protected")
-        before = bytes(area.data[start:end])
-        area.data[start:end] = data
-        self._pmc_version += 1
-        self._version += 1
-        if area.letter == "G" and before != data:
-            self._g_signals(start, before)
-
-    # -- password ------------------------------------------------------------------------
-    def unlock(self, session: Session, password: str | bytes) -> None:
-        """Unlock parameter writes for ``session``. ``password`` matches only when it is the
-        machine's exactly (as 4 bytes padded with NUL: ``b"12\\0\\0"`` is ``"12"``); a longer
-        one never matches, not even when it starts with the machine's. A mismatch answers
-        EW_PASSWD and locks the session again. A machine without a password unlocks any."""
-        expected = self._password
-        session.epoch = self._password_epoch
-        if expected is None:
-            session.unlocked = True
-            return
-        offered = _offered(password)
-        if offered is not None and hmac.compare_digest(offered, expected):
-            session.unlocked = True
-            return
-        session.unlocked = False
-        raise MachineError(EW.PASSWD, "parameter password mismatch")
+        asked = self._pmc.write(letter, start, data, force)
+        if asked is not None:
+            self._path.apply(asked)
 
     # -- alarms --------------------------------------------------------------------------
     def active_alarms(self, alm_type: int = -1, limit: int | None = None) -> list[Alarm]:
         """The active alarms of ``alm_type`` (-1: every type; a type no alarm has matches
         nothing), oldest raised first, at most ``limit`` of them (None: all)."""
-        self._sync()
-        alarms = self._active.values()
-        chosen = alarms if alm_type == -1 else (a for a in alarms if a.alm_type == alm_type)
-        return list(chosen if limit is None else islice(chosen, limit))
+        self._path.sync()
+        return self._alarms.read(alm_type, limit)
 
     def alarm_history(self, depth: int | None = None) -> tuple[HistoryEntry, ...]:
         """The ``depth`` newest entries of the history (None: all), newest first."""
-        self._sync()
-        return tuple(self._history if depth is None else islice(self._history, depth))
+        self._path.sync()
+        return self._alarms.read_history(depth)
 
     @property
     def history_capacity(self) -> int:
         """How many entries the alarm history keeps."""
-        cap = self._history.maxlen
-        assert cap is not None
-        return cap
+        return self._alarms.capacity
+
+    @property
+    def clock(self) -> Clock:
+        """The wall clock the machine stamps alarms with (:meth:`now`)."""
+        return self._alarms.clock
+
+    @clock.setter
+    def clock(self, clock: Clock) -> None:
+        self._alarms.clock = clock
 
     def now(self) -> datetime:
         """The clock, as aware UTC cut to whole seconds."""
-        t = self.clock()
-        t = t.replace(tzinfo=UTC) if t.tzinfo is None else t.astimezone(UTC)
-        return t.replace(microsecond=0)
+        return self._alarms.now()
 
     def raise_alarm(self, axis_no: int, alm_type: int, alm_no: int, msg: str = "") -> bool:
         """Make an alarm active and record it in the history (UTC, whole seconds); True when it
@@ -1236,94 +533,37 @@ class Machine:
         with, the history gets no second entry, and the answer is False. Clear it first to raise
         it with another message. The CNC keeps 32 characters of ``msg``, single-byte (Latin-1)
         text. EW_PROT (read-only machine), EW_DATA (alm_type, alm_no), EW_ATTRIB (axis_no),
-        EW_DATA (a character beyond U+00FF)."""
+        EW_DATA (a character beyond U+00FF). Any alarm stops the cycle."""
         self.check_writable()
-        if not 0 <= alm_type <= MAX_ALARM_TYPE:
-            raise MachineError(EW.DATA, f"alm_type {alm_type} outside 0..{MAX_ALARM_TYPE}")
-        if alm_no < 0:
-            raise MachineError(EW.DATA, f"alm_no {alm_no} is negative")
-        if not 0 <= axis_no <= len(self.axes):
-            raise MachineError(EW.ATTRIB, f"axis_no {axis_no} outside 0..{len(self.axes)}")
-        text = msg[:MAX_ALARM_TEXT]
-        if any(ord(c) > 0xFF for c in text):
-            raise MachineError(EW.DATA, f"alarm message {text!r} is not single-byte text")
-        self._sync()
+        text = self._alarms.checked(axis_no, alm_type, alm_no, msg, len(self.axes))
+        self._path.sync()
         key = (axis_no, alm_type, alm_no)
-        if not self._add_alarm(key, text, self.now()):
+        if not self._alarms.add(key, text, self.now()):
             return False
-        if self.engine.state is not _RESET:
-            # any alarm stops the cycle; cycle start wants a reset after it
-            kind = _ALARM_KINDS.get(alm_type, AlarmKind.PS)
-            self.engine.alarm_stop(NcAlarm(kind, alm_no, text, axis=axis_no or None))
-            self._settled(True)
-        return True
-
-    def _add_alarm(self, key: tuple[int, int, int], text: str, when: datetime) -> bool:
-        if key in self._active:
-            return False
-        axis_no, alm_type, alm_no = key
-        logger.debug(
-            "%s: alarm raised: axis %d type %d no %d", self.name, axis_no, alm_type, alm_no
-        )
-        self._active[key] = Alarm(axis_no, alm_type, alm_no, text)
-        self._history.appendleft(HistoryEntry(when, axis_no, alm_type, alm_no, text))
-        self._alarm_version += 1
-        self._status_changed()
+        self._path.alarm_stop(key, text)
         return True
 
     def clear_alarms(self, alm_type: int = -1, alm_no: int = -1) -> int:
         """Remove the active alarms matching ``alm_type`` and ``alm_no`` (-1 = any); the
         history is kept. Returns how many were removed. EW_PROT on a read-only machine."""
         self.check_writable()
-        gone = [
-            k
-            for k in self._active
-            if (alm_type == -1 or k[1] == alm_type) and (alm_no == -1 or k[2] == alm_no)
-        ]
-        for k in gone:
-            del self._active[k]
-        if gone:
-            logger.debug("%s: %d alarm(s) cleared", self.name, len(gone))
-            self._alarm_version += 1
-            self._status_changed()
-        return len(gone)
+        return self._alarms.clear(alm_type, alm_no)
 
-    # -- operator panel ------------------------------------------------------------------
+    # -- operator panel and motion figures -----------------------------------------------
     def set_panel(
         self, mode: int | None = None, pwe: int | None = None, emergency: int | None = None
     ) -> None:
         """Set the operator panel: ``mode`` an ``aut`` value other than 2, ``pwe`` and
         ``emergency`` 0/1, else EW_DATA; a switch given as None stays as it is. EW_PROT on a
-        read-only machine."""
+        read-only machine. Leaving MEM holds the feed; the emergency stop resets."""
         self.check_writable()
-        p = self.panel
-        mode = p.mode if mode is None else mode
-        pwe = p.pwe if pwe is None else pwe
-        emergency = p.emergency if emergency is None else emergency
-        if mode not in AUT_MODES or pwe not in (0, 1) or emergency not in (0, 1):
-            raise MachineError(EW.DATA, f"panel mode={mode} pwe={pwe} emergency={emergency}")
-        self._sync()
-        leaving_mem = p.mode == MEM and mode != MEM
-        stop = emergency and not p.emergency
-        p.mode, p.pwe, p.emergency = mode, pwe, emergency
-        logger.debug("%s: panel mode %d pwe %d emergency %d", self.name, mode, pwe, emergency)
-        if stop:
-            self.engine.reset()  # emergency stop resets the control
-        elif leaving_mem:
-            self.engine.feed_hold()  # automatic operation stops outside MEM
-        self._status_changed()
-        self._settled(stop or leaving_mem)
+        self._path.set_panel(mode, pwe, emergency)
 
     def set_run(self, run: int, motion: int = 0) -> None:
         """Set the run state (0 reset, 1 STOP, 2 HOLD, 3 STRT, 4 MSTR) and motion (0, 1 MTN,
         2 DWL) shown by the status (simulation code only): EW_DATA otherwise."""
-        if run not in range(5) or motion not in range(3):
-            raise MachineError(EW.DATA, f"run={run} motion={motion}")
-        self.panel.run, self.panel.motion = run, motion
-        self._driven = False
-        self._status_changed()
+        self._path.set_run(run, motion)
 
-    # -- motion figures ------------------------------------------------------------------
     def set_motion(
         self,
         *,
@@ -1343,301 +583,46 @@ class Machine:
         0..2**31-1. EW_DATA (and nothing changes) when a value does not fit or a position list
         does not have one value per axis.
         """
-        n = len(self.axes)
-        lists: dict[str, list[int]] = {}
-        for key, values in zip(
-            POSITION_KINDS, (absolute, machine, relative, distance_to_go), strict=True
-        ):
-            if values is None:
-                continue
-            got = list(values)
-            if len(got) != n or not all(type(v) is int and _I32_MIN <= v <= _I32_MAX for v in got):
-                raise MachineError(EW.DATA, f"{key}: {n} i32 values expected, got {got!r}")
-            lists[key] = got
-        scalars: dict[str, int] = {}
-        for key, value in zip(
-            _MOTION_SCALARS,
+        self._path.set_motion(
+            (absolute, machine, relative, distance_to_go),
             (feed, spindle_speed, program_running, program_main, sequence),
-            strict=True,
-        ):
-            if value is None:
-                continue
-            if type(value) is not int or not 0 <= value <= _I32_MAX:
-                raise MachineError(EW.DATA, f"{key} = {value!r} outside 0..{_I32_MAX}")
-            scalars[key] = value
-        m = self._motion
-        self._sync()
-        if self._driven:
-            self._driven = False
-            self._status_changed()
-        for key, got in lists.items():
-            setattr(m, key, got)
-        for key, value in scalars.items():
-            setattr(m, key, value)
-        self._motion_version += 1
-        self._version += 1
+        )
+
+    @property
+    def motion(self) -> MotionData:
+        """The motion figures: the engine's while it drives them (:attr:`driven`), else those
+        :meth:`set_motion` set."""
+        return self._path.figures()
 
     def positions(self, kind: str, axis: int | None = None) -> list[tuple[str, int]]:
         """``(axis name, value)`` of every axis (``axis`` None) or of axis ``axis`` (1..n), in
         least input increments (:data:`POSITION_DECIMALS` decimals). ``kind`` is one of
         :data:`POSITION_KINDS`. Checks, in order: an unknown kind -> EW_ATTRIB; ``"skip"`` ->
         EW_NOOPT (the machine has no skip function); ``axis`` outside 1..n -> EW_ATTRIB."""
-        if kind not in POSITION_KINDS:
-            if kind == _SKIP:
-                raise MachineError(EW.NOOPT, "no skip function")
-            raise MachineError(EW.ATTRIB, f"position kind {kind!r}")
-        values: list[int] = getattr(self.motion, kind)
-        if axis is None:
-            return list(zip(self.axes, values, strict=True))
-        if not 1 <= axis <= len(self.axes):
-            raise MachineError(EW.ATTRIB, f"axis {axis} outside 1..{len(self.axes)}")
-        return [(self.axes[axis - 1], values[axis - 1])]
-
-    # -- part programs and their execution ---------------------------------------------
-    def _build_engine(
-        self, programs: Iterable[str], main_program: int | None, sim_clock: SimClock | None
-    ) -> None:
-        #: Machine time (seconds) of the engine: ``RealTimeClock()`` unless given; a test
-        #: gives a :class:`~focas_net.sim.nc.ManualClock` and steps it.
-        self.sim_clock: SimClock = sim_clock if sim_clock is not None else RealTimeClock()
-        self._powered_at = self.sim_clock.now()
-        #: The programs in the machine's memory (the engine marks those in use).
-        self.programs = ProgramStore()
-        first: int | None = None
-        for text in programs:
-            number = self.programs.store(text).number
-            first = number if first is None else first
-        self.engine = Engine(
-            self.sim_clock, self._nc_settings(), store=self.programs, variables=_Variables(self)
-        )
-        self.engine.parts_count = self._param_or(PARTS_COUNT, 0)
-        self.engine.parts_total = self._param_or(PARTS_TOTAL, 0)
-        main = main_program if main_program is not None else first
-        if main is not None:
-            self.programs.select(main)
-        self._driven = False
-        self._synced_at = math.nan
-        #: Until this machine time (and while the engine's revision is this one) time alone
-        #: changes nothing of the status (see :attr:`status_version`).
-        self._steady_until = -math.inf
-        self._steady_revision = -1
-        #: The engine's clock while :meth:`_sync` reads it: the one time the read synced to, so
-        #: the engine advances once per sync however many of its figures the sync reads.
-        self._sync_clock = _HeldClock()
-        self._engine_key = (_RESET, MotionKind.NONE)
-        self._engine_alarms: set[tuple[int, int, int]] = set()
-        self._figures: tuple[int, MotionData] | None = None
-        self._mstb = 0
-        self._run: _ScenarioRun | None = None
-        #: The seed of the loads' noise (a scenario's seed once one runs).
-        self.seed = 0
-        self._hardness = 1.0
-        #: The scenario's events as they were applied: ``(event, "begin" | "end" |
-        #: "skipped")``, the newest 1000.
-        self.scenario_log: deque[tuple[ScenarioEvent, str]] = deque(maxlen=1000)
-
-    def _param_or(self, number: int, default: int, axis: int = 0) -> int:
-        item = self._params.get(number)
-        if item is None or (axis == 0) == item.axis:
-            return default
-        return item.values[max(axis - 1, 0)]
-
-    def _param_float(self, number: int, default: float, axis: int, unit: float) -> float:
-        """Parameter ``number`` of ``axis`` as a number: a real parameter's value as it reads
-        (mantissa over its decimals), an integer one's times ``unit``; ``default`` when the
-        machine has no such parameter."""
-        item = self._params.get(number)
-        if item is None or (axis == 0) == item.axis:
-            return default
-        raw = item.values[max(axis - 1, 0)]
-        if item.kind is ParamKind.REAL:
-            return raw / float(10**item.decimals)
-        return raw * unit
-
-    def _nc_settings(self) -> NcSettings:
-        """Execution settings from the parameters, read when the machine is built: rapid
-        traverse 1420 (mm/min; an axis whose rate is not above 0 traverses at 24,000), maximum
-        cutting feed 1422, stroke limit 1 1320/1321 (0.001 mm, or mm for a real parameter; no
-        limit on an axis where plus is not above minus), reference position 1240."""
-        n = len(self.axes)
-        axes = range(1, n + 1)
-        rapid = tuple(
-            rate if rate > 0 else _DEFAULT_RAPID
-            for rate in (self._param_float(1420, _DEFAULT_RAPID, a, 1.0) for a in axes)
-        )
-        limits: list[tuple[float, float] | None] = []
-        for a in axes:
-            plus = self._param_float(1320, 0.0, a, 1 / _MM)
-            minus = self._param_float(1321, 0.0, a, 1 / _MM)
-            limits.append((minus, plus) if plus > minus else None)
-        reference = tuple(self._param_float(1240, 0.0, a, 1 / _MM) for a in axes)
-        values: dict[str, object] = {
-            "rapid_rates": rapid,
-            "stroke_limits": tuple(limits),
-            "reference": reference,
-        }
-        feed = self._param_or(1422, 0)
-        if feed > 0:
-            values["max_cutting_feed"] = float(feed)
-        return NcSettings.for_axes(self.axes, **values)
+        return self._path.positions(kind, axis)
 
     @property
     def driven(self) -> bool:
         """Whether the engine shows the run state and the motion figures: from a cycle start
         or a program selection until :meth:`set_motion` or :meth:`set_run` sets them by hand
         (before, the figures given to the constructor or by hand are shown)."""
-        return self._driven
+        return self._path.driven
 
-    def _sync(self) -> None:
-        """Bring the engine to the clock's time: record its alarms and parts, and move the
-        counters of what it shows. Costs one comparison while the cycle is not running and no
-        scenario drives the machine (time then changes nothing the engine shows: every command
-        that starts or changes the cycle settles the counters itself), a clock call when the
-        time has not moved or a scenario's next event is not due."""
-        run = self._run
-        if self._engine_key[0] is not _START:
-            if run is None:
-                return
-            now = self.sim_clock.now()
-            if now < run.next_time or now == self._synced_at:
-                return
-        else:
-            now = self.sim_clock.now()
-            if now == self._synced_at:
-                return
-        self._synced_at = now
-        e = self.engine
-        clock = e.clock
-        self._sync_clock.at = now
-        e.clock = self._sync_clock
-        try:
-            moved = self._engine_key[0] is _START
-            if run is not None and run.next_time <= now:
-                self._play(run, now)
-                moved = True
-            for event in e.take_events():
-                self._engine_event(event, now)
-            self._settled(moved)
-            if run is not None and run.finished(e):
-                self._run = None
-        finally:
-            e.clock = clock
+    # -- machine time and the cycle ------------------------------------------------------
+    @property
+    def sim_clock(self) -> SimClock:
+        """The clock of machine time (seconds): ``RealTimeClock()`` unless the constructor or
+        :meth:`set_clock` gave another."""
+        return self._path.time.source
 
-    def _settled(self, moved: bool, force: bool = False) -> None:
-        state, motion, wait = self.engine.flags()
-        key = (state, motion)
-        changed = key != self._engine_key
-        self._engine_key = key
-        waiting = 1 if wait else 0
-        if waiting != self._mstb:
-            self._mstb = waiting
-            changed = True
-        self._f_signals()
-        e = self.engine
-        steady = e.steady_until()
-        run = self._run
-        if run is not None and run.next_time < steady:
-            steady = run.next_time
-        self._steady_until = steady
-        self._steady_revision = e.revision
-        if force or (self._driven and (changed or moved)):
-            self._motion_version += 1
-            self._macro_version += 1
-            self._version += 1
-            if force or changed:
-                self._status_version += 1
-
-    def _g_signals(self, start: int, before: bytes) -> None:
-        """Act on the G signals a write changed (see :data:`G_SIGNALS`): the rising edge of
-        ERS resets, the falling edge of *SP holds the feed, a change of the mode bits of G43
-        selects the mode, a change of G12 sets the feed override, the falling edge of ST
-        starts the cycle (with *SP on). What the CNC refuses (cycle start with an alarm ...)
-        is ignored, as a CNC ignores the signal."""
-
-        def old(address: int) -> int | None:
-            i = address - start
-            return before[i] if 0 <= i < len(before) else None
-
-        g = self._areas["G"].data
-
-        def fell(address: int, bit: int) -> bool:
-            was = old(address)
-            return was is not None and bool(was >> bit & 1) and not g[address] >> bit & 1
-
-        def rose(address: int, bit: int) -> bool:
-            was = old(address)
-            return was is not None and not was >> bit & 1 and bool(g[address] >> bit & 1)
-
-        try:
-            if rose(*_ERS):
-                self.reset()
-            if fell(*_SP):
-                self.feed_hold()
-            if old(_MD) is not None and old(_MD) != g[_MD]:
-                mode = _MODE_OF_G43.get(g[_MD] & _MD_BITS)
-                if mode is not None and mode != self.panel.mode:
-                    self.set_panel(mode=mode)
-            if old(_FV) is not None and old(_FV) != g[_FV]:
-                self.set_overrides(feed=min(_MAX_FEED_OVERRIDE, 0xFF - g[_FV]))
-            if fell(*_ST) and g[_SP[0]] >> _SP[1] & 1:
-                self.cycle_start()
-        except MachineError as exc:
-            logger.debug("%s: G signal ignored: %s", self.name, exc)
-        self._f_signals()
-
-    def _f_signals(self) -> None:
-        """Set the F signals a ladder reads from the run state (see :data:`F_SIGNALS`) while
-        the engine drives the machine (:attr:`driven`); before, F is as written."""
-        area = self._areas.get("F")
-        if area is None or area.size < 2 or not self._driven:
-            return
-        state = self._engine_key[0]
-        g = self._areas.get("G")
-        resetting = g is not None and g.size > _ERS[0] and bool(g.data[_ERS[0]] >> _ERS[1] & 1)
-        f0 = area.data[0] & ~_F0_MASK
-        if state is not _RESET:
-            f0 |= 1 << _OP
-        if state is _START:
-            f0 |= 1 << _STL
-        if state is _HOLD:
-            f0 |= 1 << _SPL
-        f1 = area.data[1] & ~(1 << _RST) | (1 << _RST if resetting else 0)
-        if (f0, f1) != (area.data[0], area.data[1]):
-            area.data[0], area.data[1] = f0, f1
-            self._pmc_version += 1
-            self._version += 1
-
-    def _engine_event(self, event: EngineEvent, now: float) -> None:
-        if event.kind == "part":
-            self._store_parts(PARTS_COUNT, self.engine.parts_count)
-            self._store_parts(PARTS_TOTAL, self.engine.parts_total)
-        elif event.kind == "alarm" and event.alarm is not None:
-            alarm = event.alarm
-            late = timedelta(seconds=max(0.0, now - event.time))
-            key = (alarm.axis or 0, _NC_ALARM_TYPES[alarm.kind], alarm.number)
-            text = alarm.message[:MAX_ALARM_TEXT].encode("latin-1", "replace").decode("latin-1")
-            if self._add_alarm(key, text, (self.now() - late).replace(microsecond=0)):
-                self._engine_alarms.add(key)
-
-    def _parts(self, number: int) -> int:
-        return self.engine.parts_count if number == PARTS_COUNT else self.engine.parts_total
-
-    def _store_parts(self, number: int, value: int) -> None:
-        item = self._params.get(number)
-        if item is None:
-            return
-        assert item.high is not None and item.low is not None
-        item.values[0] = max(item.low, min(item.high, value))
-        self._data_version += 1
-        self._macro_version += 1
-        self._version += 1
-
-    def _set_parts(self, number: int, value: int) -> None:
-        if number == PARTS_COUNT:
-            self.engine.parts_count = value
-        else:
-            self.engine.parts_total = value
-        self._store_parts(number, value)
+    def set_clock(self, clock: SimClock) -> None:
+        """Take machine time from ``clock`` from now on: the engine, the timers and a running
+        scenario read it (a fleet shares one: ``serve --speed``; a test gives a
+        :class:`~focas_net.sim.nc.ManualClock` and steps it). This is the one way the
+        engine's clock is set after the constructor's ``sim_clock``. The machine goes on from
+        where it is, so ``clock`` may not be behind the machine's time (ValueError); the time
+        it is ahead passes at once, as if the machine had been left alone that long."""
+        self._path.set_clock(clock)
 
     def cycle_start(self, *, repeat: bool | None = None) -> None:
         """Cycle start: run the main program from its head (reset), go on (stop) or resume
@@ -1649,48 +634,19 @@ class Machine:
         (a part counted each time) until ``repeat`` False is given or an alarm stops it; None
         leaves the setting as it is."""
         self.check_writable()
-        self._sync()
-        if self.panel.emergency:
-            raise MachineError(EW.ALARM, "cycle start refused: emergency stop")
-        if self._active:
-            raise MachineError(EW.ALARM, "cycle start refused: an alarm is active")
-        if self.panel.mode != MEM:
-            raise MachineError(EW.MODE, f"cycle start refused: mode {self.panel.mode} is not MEM")
-        if repeat is not None:
-            self.engine.repeat = repeat
-        try:
-            self.engine.cycle_start()
-        except NcStateError as exc:
-            ew = EW.ALARM if self.engine.alarm is not None else EW.DATA
-            raise MachineError(ew, str(exc)) from None
-        self._driven = True
-        self._settled(True, force=True)
+        self._path.cycle_start(repeat)
 
     def feed_hold(self) -> None:
         """Feed hold: the axes stop where they are (HOLD); cycle start resumes. EW_PROT on a
         read-only machine."""
         self.check_writable()
-        self._sync()
-        self.engine.feed_hold()
-        self._settled(True)
+        self._path.feed_hold()
 
     def reset(self) -> None:
         """Reset: the cycle stops and rewinds, the alarms the program raised are cleared (the
         history keeps them). EW_PROT on a read-only machine."""
         self.check_writable()
-        self._sync()
-        self._reset_cycle()
-        self._settled(True)
-
-    def _reset_cycle(self) -> None:
-        self.engine.reset()
-        gone = [k for k in self._engine_alarms if k in self._active]
-        for k in gone:
-            del self._active[k]
-        self._engine_alarms.clear()
-        if gone:
-            self._alarm_version += 1
-            self._status_changed()
+        self._path.reset()
 
     def set_overrides(
         self, feed: int | None = None, rapid: int | None = None, spindle: int | None = None
@@ -1698,44 +654,21 @@ class Machine:
         """Feed override 0..254 %, rapid override 0..100 %, spindle override 0..254 % (None:
         unchanged): EW_PROT (read-only machine), EW_DATA (a value outside its range)."""
         self.check_writable()
-        self._sync()
-        for value, low, high, what in (
-            (feed, 0, 254, "feed"),
-            (rapid, 0, 100, "rapid"),
-            (spindle, 0, 254, "spindle"),
-        ):
-            if value is not None and not low <= value <= high:
-                raise MachineError(EW.DATA, f"{what} override {value} outside {low}..{high} %")
-        e = self.engine
-        if feed is not None:
-            e.set_feed_override(feed)
-        if rapid is not None:
-            e.set_rapid_override(rapid)
-        if spindle is not None:
-            e.set_spindle_override(spindle)
-        self._settled(True)
+        self._path.set_overrides(feed, rapid, spindle)
 
     def parts_counts(self) -> tuple[int, int]:
         """Parts count and total parts (M2/M30 count them; parameters 6711 and 6712)."""
-        self._sync()
-        return self.engine.parts_count, self.engine.parts_total
+        return self._path.parts_counts()
 
     def overrides(self) -> tuple[int, int, int]:
         """Feed, rapid and spindle override in percent."""
-        e = self.engine
-        return round(e.feed_override), round(e.rapid_override), round(e.spindle_override)
+        return self._path.overrides()
 
     def timer(self, kind: int) -> float:
         """Seconds of timer ``kind`` (FANUC's ``cnc_rdtimer`` types): 0 power-on (machine
         time since the machine was built), 1 operating, 2 cutting, 3 cycle (this cycle's time
         since its start from reset); EW_NUMBER for another kind."""
-        if not 0 <= kind < len(TIMER_KINDS):
-            raise MachineError(EW.NUMBER, f"timer {kind} outside 0..{len(TIMER_KINDS) - 1}")
-        self._sync()
-        e = self.engine
-        if kind == 0:
-            return self.sim_clock.now() - self._powered_at
-        return (e.operating_time, e.cutting_time, e.cycle_time)[kind - 1]
+        return self._path.timer(kind)
 
     def timer_ms(self, kind: int) -> int:
         """Whole milliseconds of timer ``kind`` (:meth:`timer`), as a counter shows them: the
@@ -1751,55 +684,12 @@ class Machine:
         rewinds first. Refused as cycle start is: EW_ALARM (emergency stop, an active alarm),
         EW_MODE (not MEM), EW_DATA (no main program); a read-only machine runs it too (the
         machine works, clients only read it)."""
-        chosen = scenario or self.scenario or DEFAULT_SCENARIO
-        self._sync()
-        if self.panel.emergency:
-            raise MachineError(EW.ALARM, "a scenario cannot start: emergency stop")
-        if self._active:
-            raise MachineError(EW.ALARM, "a scenario cannot start: an alarm is active")
-        if self.panel.mode != MEM:
-            mode = self.panel.mode
-            raise MachineError(EW.MODE, f"a scenario cannot start: mode {mode} is not MEM")
-        if self.programs.main is None:
-            raise MachineError(EW.DATA, "a scenario cannot start: no main program is selected")
-        e = self.engine
-        e.reset()
-        now = self.sim_clock.now()
-        origin = now - chosen.start_phase()
-        e.repeat = True
-        if chosen.parts == "required":
-            required = self._param_or(PARTS_REQUIRED, 0)
-            e.parts_to_go = max(0, required - e.parts_count) if required > 0 else None
-        else:
-            e.parts_to_go = chosen.parts or None
-        self.seed = chosen.seed
-        self._hardness = 0.85 + 0.15 * (noise(chosen.seed, 0.0, -1) + 1.0)
-        self._powered_at = min(self._powered_at, origin)
-        run = _ScenarioRun(chosen, Schedule(chosen, origin, len(self.axes)))
-        self._run = run
-        e.clock = run.held
-        run.held.at = origin
-        try:  # the cycle starts at the origin; the events since then follow in their order
-            e.cycle_start(since=origin)
-            self._driven = True
-            self._synced_at = math.nan
-            self._settled(True, force=True)
-        except NcStateError as exc:  # pragma: no cover - the checks above cover it
-            self._run = None
-            raise MachineError(EW.DATA, str(exc)) from None
-        finally:
-            e.clock = self.sim_clock
-        self._sync()
+        self._path.production.start(scenario or self.scenario or DEFAULT_SCENARIO)
 
     def stop_scenario(self) -> None:
         """Stop running on its own: the cycle goes on as it is (production without the
         scenario's events and part limit)."""
-        self._sync()
-        run = self._run
-        if run is None:
-            return
-        self._run = None
-        self.engine.parts_to_go = None
+        self._path.production.stop()
 
     @property
     def scenario_running(self) -> bool:
@@ -1810,150 +700,28 @@ class Machine:
     def active_scenario(self) -> Scenario | None:
         """The scenario driving the machine (as started, its seed the machine's own), None
         when none does."""
-        self._sync()
-        return None if self._run is None else self._run.scenario
+        return self._path.production.active()
 
-    def _play(self, run: _ScenarioRun, now: float) -> None:
-        """Apply the scenario's events and ends due by ``now``, each at its own machine time
-        (the engine's clock held there meanwhile). An event due while another is under way
-        begins when that one ends."""
-        e = self.engine
-        held = run.held
-        outer = e.clock
-        e.clock = held
-        try:
-            while run.next_time <= now:
-                when = run.next_time
-                held.at = when
-                for happened in e.take_events():
-                    self._engine_event(happened, now)
-                current = run.current
-                if current is not None:
-                    run.current = None
-                    run.free_at = when
-                    self._scenario_end(current, now)
-                    continue
-                event = run.schedule.pop()
-                if e.state is not _START or run.finished(e):
-                    self.scenario_log.append((event, "skipped"))
-                    continue
-                self._scenario_begin(event, when, now)
-                run.current = event
-                run.ends_at = when + event.duration
-        finally:
-            e.clock = outer
+    @property
+    def seed(self) -> int:
+        """The seed of the loads' noise (a scenario's seed once one runs)."""
+        return self._path.production.seed
 
-    def _scenario_begin(self, event: ScenarioEvent, when: float, now: float) -> None:
-        e = self.engine
-        self.scenario_log.append((event, "begin"))
-        if event.kind == "pause":
-            e.feed_hold()
-        elif event.kind == "tool":
-            e.program_stop()
-        else:
-            spec = SCENARIO_ALARMS[event.alarm]
-            key = (event.axis, spec.alm_type, spec.alm_no)
-            late = timedelta(seconds=max(0.0, now - when))
-            text = spec.message[:MAX_ALARM_TEXT]
-            self._add_alarm(key, text, (self.now() - late).replace(microsecond=0))
-            kind = _ALARM_KINDS.get(spec.alm_type, AlarmKind.PS)
-            e.alarm_stop(NcAlarm(kind, spec.alm_no, text, axis=event.axis or None))
-        self._settled(True, force=True)
-
-    def _scenario_end(self, event: ScenarioEvent, now: float) -> None:
-        e = self.engine
-        self.scenario_log.append((event, "end"))
-        if event.kind == "alarm":
-            spec = SCENARIO_ALARMS[event.alarm]
-            key = (event.axis, spec.alm_type, spec.alm_no)
-            if key not in self._active:
-                return  # cleared by hand: the operator takes it from here
-            del self._active[key]
-            self._alarm_version += 1
-            self._status_changed()
-            self._reset_cycle()
-        elif (event.kind == "pause" and e.state is not _HOLD) or (
-            event.kind == "tool" and e.state is not _STOP
-        ):
-            return  # someone else changed the cycle meanwhile
-        if not self._active and not self.panel.emergency and self.panel.mode == MEM:
-            try:
-                e.cycle_start()
-            except NcStateError:
-                pass
-        self._settled(True, force=True)
+    @seed.setter
+    def seed(self, seed: int) -> None:
+        self._path.production.seed = seed
 
     def spindle_loads(self) -> tuple[int, ...]:
         """The load of each spindle (one) in percent: 0 with the spindle stopped, a few
         percent turning without cutting, rising with the feed and the spindle speed while
         the program cuts, with a small noise that depends on :attr:`seed` and the machine
         time only (0 while the figures are set by hand)."""
-        self._sync()
-        if not self._driven:
-            return (0,)
-        e = self.engine
-        wiggle = noise(self.seed, e.clock.now(), 0)
-        speed = e.actual_spindle_speed
-        top = e.settings.max_spindle_speed
-        return (spindle_load(e.cutting, e.actual_feed, speed, top, wiggle, self._hardness),)
+        return self._path.production.spindle_loads()
 
     def servo_loads(self) -> tuple[int, ...]:
         """The servo load of each axis in percent: 0 at rest, rising with the axis's speed
         and more while it cuts, with a small noise as :meth:`spindle_loads` has."""
-        self._sync()
-        n = len(self.axes)
-        if not self._driven:
-            return (0,) * n
-        e = self.engine
-        when = e.clock.now()
-        cutting, feed = e.cutting, e.actual_feed
-        rapid = e.settings.rapid_rates
-        return tuple(
-            servo_load(v, rapid[i], cutting, feed, noise(self.seed, when, i + 1))
-            for i, v in enumerate(e.axis_speeds())
-        )
-
-    @property
-    def motion(self) -> MotionData:
-        """The motion figures: the engine's while it drives them (:attr:`driven`), else those
-        :meth:`set_motion` set."""
-        self._sync()
-        if not self._driven:
-            return self._motion
-        version = self._motion_version
-        if self._figures is not None and self._figures[0] == version:
-            return self._figures[1]
-        e = self.engine
-        figures = MotionData(
-            _increments(e.absolute_position()),
-            _increments(e.machine_position()),
-            _increments(e.relative_position()),
-            _increments(e.distance_to_go()),
-            feed=_figure(e.actual_feed),
-            spindle_speed=_figure(e.actual_spindle_speed),
-            program_running=_figure(e.program_number),
-            program_main=_figure(self.programs.main),
-            sequence=_figure(e.sequence_number),
-        )
-        self._figures = (version, figures)
-        return figures
-
-    def _engine_variable(self, number: int) -> Decimal | None:
-        """#4001-#4030, #4102-#4130 and #5001+ (block end) as the interpreter reads them;
-        #5021+ (machine) and #5041+ (work coordinates) at the axes' current position."""
-        e = self.engine
-        n = len(self.axes)
-        value: float | None
-        if 5021 <= number < 5021 + n:
-            value = e.machine_position()[number - 5021]
-        elif 5041 <= number < 5041 + n:
-            value = e.absolute_position()[number - 5041]
-        else:
-            try:
-                value = e.interpreter.read(number)
-            except AlarmRaised:
-                return self._macros.get(number)
-        return _system_value(value, POSITION_DECIMALS if number >= 5001 else 0)
+        return self._path.production.servo_loads()
 
     # -- the program store ---------------------------------------------------------------
     def program_directory(self) -> list[ProgramInfo]:
@@ -1962,10 +730,7 @@ class Machine:
 
     def program_text(self, number: int) -> str:
         """The text of program ``number`` as stored: EW_NUMBER when there is none."""
-        try:
-            return self.programs.text(number)
-        except ProgramError as exc:
-            raise _program_refusal(exc) from None
+        return self._path.program_text(number)
 
     def store_program(self, text: str, *, replace: bool = False) -> int:
         """Store one program (its O number is returned). EW_PROT (read-only machine), EW_DATA
@@ -1973,68 +738,35 @@ class Machine:
         (the number is stored and ``replace`` is false), EW_BUSY (replacing a program being
         executed), EW_OVRFLOW (memory or directory full)."""
         self.check_writable()
-        self._sync()
-        try:
-            number = self.programs.store(text, replace=replace).number
-        except ProgramError as exc:
-            raise _program_refusal(exc) from None
-        self._programs_changed()
-        return number
+        return self._path.store_program(text, replace)
 
     def delete_program(self, number: int) -> None:
         """Delete program ``number``: EW_PROT (read-only machine), EW_NUMBER (no such
         program), EW_BUSY (being executed). Deleting the main program unselects it."""
         self.check_writable()
-        self._sync()
-        try:
-            self.programs.delete(number)
-        except ProgramError as exc:
-            raise _program_refusal(exc) from None
-        self._programs_changed()
+        self._path.delete_program(number)
 
     def select_program(self, number: int) -> None:
         """Make ``number`` the main program (a program search): EW_PROT (read-only
         machine), EW_MODE (a mode other than MEM and EDIT), EW_NUMBER (no such program),
         EW_BUSY (another program is being executed)."""
         self.check_writable()
-        self._sync()
-        if self.panel.mode not in (MEM, EDIT):
-            raise MachineError(EW.MODE, f"program search in mode {self.panel.mode}: MEM or EDIT")
-        try:
-            self.programs.select(number)
-        except ProgramError as exc:
-            raise _program_refusal(exc) from None
-        self._driven = True
-        self._programs_changed()
-        self._settled(True, force=True)
-
-    def _programs_changed(self) -> None:
-        self._figures = None
-        self._motion_version += 1
-        self._version += 1
+        self._path.select_program(number)
 
     # -- VersaMax ------------------------------------------------------------------------
     def module_record(self, rack: int, slot: int) -> IOModuleRecord | None:
         """The configuration record in ``rack``/``slot`` (None when empty)."""
-        return self._records.get((rack, slot))
+        return self._station.records.get((rack, slot))
 
     def config_record(self, rack: int, slot: int) -> bytes:
         """The bytes of the configuration record in ``rack``/``slot``: EW_NUMBER when the slot
         is empty or out of range."""
-        record = self._station.get((rack, slot))
-        if record is None:
-            raise MachineError(EW.NUMBER, f"rack {rack} slot {slot} is empty")
-        return record
+        return self._station.config_record(rack, slot)
 
     def read_config(self, rack: int, slot: int, offset: int, length: int) -> bytes:
         """Up to ``length`` bytes of the configuration record in ``rack``/``slot`` from
         ``offset``: EW_NUMBER (empty slot), EW_NUMBER (offset outside the record)."""
-        record = self.config_record(rack, slot)
-        if length < 0:
-            raise ValueError(f"a configuration read of {length} bytes")
-        if not 0 <= offset < len(record):
-            raise MachineError(EW.NUMBER, f"offset {offset} past the {len(record)}-byte record")
-        return record[offset : offset + length]
+        return self._station.read(rack, slot, offset, length)
 
     # -- whole-state view ----------------------------------------------------------------
     def state_digest(self) -> str:
@@ -2046,34 +778,22 @@ class Machine:
             h.update(b"\n")
 
         put("axes", self.axes, self.read_only, self.control_enabled)
-        for t, table in (("param", self._params), ("diag", self._diags)):
+        for t, table in (("param", self._items.params), ("diag", self._items.diags)):
             for n in sorted(table):
                 it = table[n]
                 put(t, n, it.width, it.kind, it.decimals, it.axis, it.low, it.high, it.values)
-        put("macro-ranges", [(r.first, r.last, r.writable) for r in self._macro_ranges])
-        put("macros", sorted(self._macros.items()))
-        for letter in sorted(self._areas):
-            a = self._areas[letter]
+        put("macro-ranges", [(r.first, r.last, r.writable) for r in self._macros.ranges])
+        put("macros", sorted(self._macros.values.items()))
+        for letter in sorted(self._pmc.areas):
+            a = self._pmc.areas[letter]
             put("pmc", a.letter, a.size, a.write_protected)
             h.update(a.data)
         p = self.panel
-        put("panel", p.mode, p.pwe, p.emergency, p.run, p.motion, p.mstb, p.edit, p.hdck, p.tmmode)
-        put("password", hashlib.sha256(self._password or b"").hexdigest())
-        put("active", list(self._active.values()))
-        put("history", self.history_capacity, list(self._history))
+        put("panel", *astuple(p))
+        put("password", self._lock.digest())
+        put("active", list(self._alarms.active.values()))
+        put("history", self.history_capacity, list(self._alarms.history))
         put("identity", self._identity)
-        put("station", sorted(self._station.items()))
-        m = self.motion
-        put(
-            "motion",
-            m.absolute,
-            m.machine,
-            m.relative,
-            m.distance_to_go,
-            m.feed,
-            m.spindle_speed,
-            m.program_running,
-            m.program_main,
-            m.sequence,
-        )
+        put("station", sorted(self._station.encoded.items()))
+        put("motion", *astuple(self.motion))
         return h.hexdigest()

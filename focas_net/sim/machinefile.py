@@ -21,15 +21,14 @@ from typing import Any, Final, NoReturn
 from focas_net.errors import FocasError
 from focas_net.versamax import BoardId, IOModuleRecord, RefType
 
+from ._station import MAX_RACK, MAX_SLOT
 from .default import gniu_record, mdd844_record
 from .machine import (
     AUT_MODES,
     CONTROL_CLASSES,
     DEFAULT_CONTROL_CLASS,
     DEFAULT_HISTORY_CAPACITY,
-    MAX_RACK,
     MAX_REAL_DECIMALS,
-    MAX_SLOT,
     PMC_AREAS,
     Clock,
     DataItem,

@@ -1,0 +1,174 @@
+"""The machine's alarms: the active ones and the history, stamped by the wall clock."""
+
+from __future__ import annotations
+
+from collections import deque
+from collections.abc import Callable, Iterable
+from dataclasses import dataclass
+from datetime import UTC, datetime, timedelta
+from itertools import islice
+from typing import Final
+
+from focas_net.errors import EW
+
+from ._base import Counters, MachineError, logger
+from .nc import AlarmKind, NcAlarm
+
+__all__ = [
+    "DEFAULT_HISTORY_CAPACITY",
+    "MAX_ALARM_TEXT",
+    "MAX_ALARM_TYPE",
+    "NC_ALARM_TYPES",
+    "Alarm",
+    "AlarmKey",
+    "Alarms",
+    "Clock",
+    "HistoryEntry",
+    "nc_alarm",
+    "utc_now",
+]
+
+#: A source of the current time; the machine stamps alarms with it (as UTC, whole seconds).
+Clock = Callable[[], datetime]
+#: An alarm's identity: ``(axis_no, alm_type, alm_no)``.
+AlarmKey = tuple[int, int, int]
+
+#: Alarm history capacity of a FANUC 0i/30i.
+DEFAULT_HISTORY_CAPACITY: Final = 250
+#: Alarm type numbers a CNC can carry (``alm_type`` is a bit number in FANUC's masks).
+MAX_ALARM_TYPE: Final = 31
+#: Characters of an alarm message the CNC keeps.
+MAX_ALARM_TEXT: Final = 32
+#: Alarm type numbers of the alarms a program raises (FANUC 0i-D/F, 30i numbering).
+NC_ALARM_TYPES: Final = {AlarmKind.PS: 3, AlarmKind.OT: 4, AlarmKind.MC: 8}
+_NC_ALARM_KINDS: Final = {number: kind for kind, number in NC_ALARM_TYPES.items()}
+
+
+def utc_now() -> datetime:
+    """The default clock: now, timezone-aware UTC."""
+    return datetime.now(UTC)
+
+
+@dataclass(frozen=True, slots=True)
+class Alarm:
+    """An active alarm."""
+
+    axis_no: int
+    alm_type: int
+    alm_no: int
+    msg: str
+
+    @property
+    def key(self) -> AlarmKey:
+        """The identity of an alarm: ``(axis_no, alm_type, alm_no)``."""
+        return (self.axis_no, self.alm_type, self.alm_no)
+
+
+@dataclass(frozen=True, slots=True)
+class HistoryEntry:
+    """One entry of the alarm history; ``occurred_at`` is timezone-aware UTC, whole seconds."""
+
+    occurred_at: datetime
+    axis_no: int
+    alm_type: int
+    alm_no: int
+    msg: str
+
+
+def nc_alarm(key: AlarmKey, text: str) -> NcAlarm:
+    """The engine's alarm for the machine's alarm ``key``: the kind of its type (PS for a
+    type no program raises)."""
+    axis_no, alm_type, alm_no = key
+    kind = _NC_ALARM_KINDS.get(alm_type, AlarmKind.PS)
+    return NcAlarm(kind, alm_no, text, axis=axis_no or None)
+
+
+class Alarms:
+    """The active alarms by key (oldest raised first) and the history (newest first, at most
+    ``capacity`` entries). Every change moves the alarm and the status counters."""
+
+    __slots__ = ("active", "clock", "counters", "history", "name")
+
+    def __init__(self, name: str, capacity: int, clock: Clock, counters: Counters) -> None:
+        if capacity < 1:
+            raise ValueError("alarm history capacity must be at least 1")
+        self.name = name
+        self.clock = clock
+        self.counters = counters
+        self.active: dict[AlarmKey, Alarm] = {}
+        self.history: deque[HistoryEntry] = deque(maxlen=capacity)
+
+    @property
+    def capacity(self) -> int:
+        cap = self.history.maxlen
+        assert cap is not None
+        return cap
+
+    def now(self) -> datetime:
+        """The clock as aware UTC, cut to whole seconds."""
+        t = self.clock()
+        t = t.replace(tzinfo=UTC) if t.tzinfo is None else t.astimezone(UTC)
+        return t.replace(microsecond=0)
+
+    def stamp(self, late: float) -> datetime:
+        """The stamp of an alarm raised ``late`` seconds of machine time ago."""
+        return (self.now() - timedelta(seconds=max(0.0, late))).replace(microsecond=0)
+
+    @staticmethod
+    def checked(axis_no: int, alm_type: int, alm_no: int, msg: str, axes: int) -> str:
+        """The text an alarm keeps, once its numbers are checked: EW_DATA (alm_type, alm_no),
+        EW_ATTRIB (axis_no), EW_DATA (a character beyond U+00FF)."""
+        if not 0 <= alm_type <= MAX_ALARM_TYPE:
+            raise MachineError(EW.DATA, f"alm_type {alm_type} outside 0..{MAX_ALARM_TYPE}")
+        if alm_no < 0:
+            raise MachineError(EW.DATA, f"alm_no {alm_no} is negative")
+        if not 0 <= axis_no <= axes:
+            raise MachineError(EW.ATTRIB, f"axis_no {axis_no} outside 0..{axes}")
+        text = msg[:MAX_ALARM_TEXT]
+        if any(ord(c) > 0xFF for c in text):
+            raise MachineError(EW.DATA, f"alarm message {text!r} is not single-byte text")
+        return text
+
+    def add(self, key: AlarmKey, text: str, when: datetime) -> bool:
+        """Raise an alarm and record it in the history; False when it is active already."""
+        if key in self.active:
+            return False
+        axis_no, alm_type, alm_no = key
+        logger.debug(
+            "%s: alarm raised: axis %d type %d no %d", self.name, axis_no, alm_type, alm_no
+        )
+        self.active[key] = Alarm(axis_no, alm_type, alm_no, text)
+        self.history.appendleft(HistoryEntry(when, axis_no, alm_type, alm_no, text))
+        self.counters.alarm += 1
+        self.counters.status_changed()
+        return True
+
+    def clear(self, alm_type: int, alm_no: int) -> int:
+        """Remove the active alarms matching ``alm_type`` and ``alm_no`` (-1 = any)."""
+        gone = [
+            k
+            for k in self.active
+            if (alm_type == -1 or k[1] == alm_type) and (alm_no == -1 or k[2] == alm_no)
+        ]
+        if self.remove(gone):
+            logger.debug("%s: %d alarm(s) cleared", self.name, len(gone))
+        return len(gone)
+
+    def remove(self, keys: Iterable[AlarmKey]) -> bool:
+        """Remove those of ``keys`` that are active; True when one was."""
+        gone = [k for k in keys if k in self.active]
+        for k in gone:
+            del self.active[k]
+        if gone:
+            self.counters.alarm += 1
+            self.counters.status_changed()
+        return bool(gone)
+
+    def read(self, alm_type: int, limit: int | None) -> list[Alarm]:
+        """The active alarms of ``alm_type`` (-1: every type), at most ``limit``."""
+        alarms = self.active.values()
+        chosen = alarms if alm_type == -1 else (a for a in alarms if a.alm_type == alm_type)
+        return list(chosen if limit is None else islice(chosen, limit))
+
+    def read_history(self, depth: int | None) -> tuple[HistoryEntry, ...]:
+        return tuple(self.history if depth is None else islice(self.history, depth))

@@ -1,0 +1,60 @@
+"""What every component of the machine shares: its refusal and its version counters.
+
+The machine (:mod:`focas_net.sim.machine`) is a facade over components, one concern each; they
+raise :class:`MachineError` for what the CNC refuses and move the :class:`Counters` they share
+for every change they make.
+"""
+
+from __future__ import annotations
+
+import logging
+from typing import Final
+
+from focas_net.errors import EW, FocasError
+
+__all__ = ["I32_MAX", "I32_MIN", "Counters", "MachineError", "logger"]
+
+#: The machine's logger, one name for all its components.
+logger = logging.getLogger("focas_net.sim.machine")
+
+I32_MIN: Final = -0x8000_0000
+I32_MAX: Final = 0x7FFF_FFFF
+
+
+class MachineError(FocasError):
+    """An operation refused: ``ew`` is the FANUC ``EW_*`` code the CNC answers."""
+
+    def __init__(self, ew: int, detail: str = "") -> None:
+        self.ew = int(ew)
+        self.detail = detail
+        name = EW(self.ew).name if self.ew in EW._value2member_map_ else str(self.ew)
+        super().__init__(f"EW_{name}: {detail}" if detail else f"EW_{name}")
+
+
+class Counters:
+    """The version counters of one machine, shared by its components. Each moves on every
+    change it covers (front ends key caches of their answers on them); ``version`` moves on
+    every change of machine state, so a component that moves a narrower counter moves it too."""
+
+    __slots__ = ("alarm", "data", "macro", "motion", "pmc", "status", "version")
+
+    def __init__(self) -> None:
+        #: Every change of machine state.
+        self.version = 0
+        #: The status: panel, run state, motion, active alarms.
+        self.status = 0
+        #: A parameter or diagnostic value.
+        self.data = 0
+        #: A macro variable.
+        self.macro = 0
+        #: The active alarms or the alarm history.
+        self.alarm = 0
+        #: PMC data.
+        self.pmc = 0
+        #: The motion figures.
+        self.motion = 0
+
+    def status_changed(self) -> None:
+        """The status changed (and so the machine's state)."""
+        self.status += 1
+        self.version += 1

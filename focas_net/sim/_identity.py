@@ -1,0 +1,55 @@
+"""What the machine says it is: its identity (``cnc_sysinfo``) and its class of FANUC control."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Final
+
+__all__ = ["CONTROL_CLASSES", "DEFAULT_CONTROL_CLASS", "Identity", "checked_identity"]
+
+#: The control classes a machine can be, as FANUC names its series; a front end speaks as that
+#: class of control does (FANUC's native protocol: the 16i command set for 16i, 18i, 21i and
+#: 0i-C, the 30i set for 0i-D, 0i-F, 30i, 31i and 32i).
+CONTROL_CLASSES: Final = ("16i", "18i", "21i", "0i-C", "0i-D", "0i-F", "30i", "31i", "32i")
+#: The control class of a machine that does not say (the built-in machine is a 0i-F).
+DEFAULT_CONTROL_CLASS: Final = "0i-F"
+#: Identity texts and their widths (ODBSYS).
+_IDENTITY_TEXTS: Final = (
+    ("cnc_type", 2),
+    ("mt_type", 2),
+    ("series", 4),
+    ("version", 4),
+    ("axes", 2),
+)
+
+
+@dataclass(frozen=True, slots=True)
+class Identity:
+    """What the CNC says it is (FANUC's ODBSYS): ``cnc_type`` and ``mt_type`` 2 characters,
+    ``series`` and ``version`` 4, ``axes`` 2 (the number of axes, ``"03"``)."""
+
+    addinfo: int
+    max_axis: int
+    cnc_type: str
+    mt_type: str
+    series: str
+    version: str
+    axes: str
+
+
+def checked_identity(identity: Identity | None, control_class: str, axes: int) -> Identity:
+    """``identity`` (the default one of a machine with ``axes`` axes when None), once it and
+    ``control_class`` are checked: ValueError for an unknown class or a text of another width
+    or not ASCII."""
+    if control_class not in CONTROL_CLASSES:
+        raise ValueError(
+            f"unknown control class {control_class!r} (one of {', '.join(CONTROL_CLASSES)})"
+        )
+    if not 1 <= axes <= 32:
+        raise ValueError(f"a machine has 1..32 axes, got {axes}")
+    identity = identity or Identity(2, max(axes, 8), " 0", " M", "D4F1", "32.0", f"{axes:02d}")
+    for key, size in _IDENTITY_TEXTS:
+        text = getattr(identity, key)
+        if not isinstance(text, str) or len(text) != size or not text.isascii():
+            raise ValueError(f"identity {key} must be {size} ASCII characters, got {text!r}")
+    return identity

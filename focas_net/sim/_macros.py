@@ -1,0 +1,133 @@
+"""The machine's macro variables: the ranges it has and the values they hold.
+
+A variable holds a decimal of 0..9 decimal places (kept as given) whose digits as an integer
+fit a signed 32-bit word, or nothing (vacant).
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Iterable, Mapping
+from dataclasses import dataclass
+from decimal import Decimal, InvalidOperation
+from typing import Final
+
+from focas_net.errors import EW
+
+from ._base import I32_MAX, I32_MIN, Counters, MachineError
+
+__all__ = ["MAX_MACRO_DECIMALS", "MacroRange", "Macros", "float_macro", "macro_value"]
+
+#: Most decimal places a macro variable holds.
+MAX_MACRO_DECIMALS: Final = 9
+_MACRO_STEP: Final = Decimal(1).scaleb(-MAX_MACRO_DECIMALS)
+
+
+@dataclass(frozen=True, slots=True)
+class MacroRange:
+    """Macro variables ``first..last`` (inclusive), writable or read-only."""
+
+    first: int
+    last: int
+    writable: bool = True
+
+
+def macro_value(value: Decimal | int) -> Decimal | None:
+    """``value`` as a macro variable holds it, or None when it cannot hold it."""
+    if isinstance(value, bool) or not isinstance(value, Decimal | int):
+        raise TypeError(f"a macro value is a Decimal, an int or None, got {value!r}")
+    if isinstance(value, int):
+        return Decimal(value) if I32_MIN <= value <= I32_MAX else None
+    if not value.is_finite():
+        return None
+    sign, digits, exponent = value.as_tuple()
+    assert isinstance(exponent, int)
+    if not -MAX_MACRO_DECIMALS <= exponent <= 0:
+        return None
+    coefficient = int("".join(map(str, digits)))
+    if not I32_MIN <= (-coefficient if sign else coefficient) <= I32_MAX:
+        return None
+    return value
+
+
+def float_macro(value: float) -> Decimal | None:
+    """The macro value a float of the program stands for (at most 9 decimals), or None when
+    a variable cannot hold it."""
+    if not math.isfinite(value):
+        return None
+    try:
+        d = Decimal(repr(float(value))).quantize(_MACRO_STEP).normalize()
+        exponent = d.as_tuple().exponent
+        if isinstance(exponent, int) and exponent > 0:
+            d = d.quantize(Decimal(1))
+    except InvalidOperation:
+        return None
+    return macro_value(d)
+
+
+class Macros:
+    """The variables of a machine: its ranges (ascending, none overlapping) and the values of
+    those that are not vacant. Every change moves the macro counter."""
+
+    __slots__ = ("counters", "ranges", "values")
+
+    def __init__(
+        self,
+        ranges: Iterable[MacroRange],
+        values: Mapping[int, Decimal | int | None],
+        counters: Counters,
+    ) -> None:
+        self.counters = counters
+        self.ranges = tuple(sorted(ranges, key=lambda r: r.first))
+        for r in self.ranges:
+            if not -0x8000 <= r.first <= r.last <= 0x7FFF:
+                raise ValueError(f"macro range {r.first}..{r.last} is empty or outside i16")
+        for a, b in zip(self.ranges, self.ranges[1:], strict=False):
+            if b.first <= a.last:
+                raise ValueError(f"macro ranges {a.first}..{a.last} and {b.first}.. overlap")
+        self.values: dict[int, Decimal] = {}
+        for number, value in values.items():
+            if self.range_of(number) is None:
+                raise ValueError(f"macro #{number} is not in any macro range")
+            if value is not None:
+                held = macro_value(value)
+                if held is None:
+                    raise ValueError(f"macro #{number}: value {value} invalid")
+                self.values[number] = held
+
+    def range_of(self, number: int) -> MacroRange | None:
+        """The range variable ``number`` is in, None when the machine has no such variable."""
+        for r in self.ranges:
+            if number < r.first:
+                return None
+            if number <= r.last:
+                return r
+        return None
+
+    def check_write(self, number: int) -> None:
+        """EW_NUMBER (no such variable), EW_PROT (a read-only one)."""
+        r = self.range_of(number)
+        if r is None:
+            raise MachineError(EW.NUMBER, f"no macro variable #{number}")
+        if not r.writable:
+            raise MachineError(EW.PROT, f"macro variable #{number} is read-only")
+
+    def write(self, number: int, value: Decimal | int | None) -> None:
+        """Set a variable (None: vacant; a vacant one made vacant changes nothing): EW_DATA
+        for a value it cannot hold."""
+        if value is None:
+            if self.values.pop(number, None) is not None:
+                self.changed()
+            return
+        held = macro_value(value)
+        if held is None:
+            raise MachineError(
+                EW.DATA,
+                f"#{number} = {value}: 0..{MAX_MACRO_DECIMALS} decimals, digits within 32 bits",
+            )
+        self.values[number] = held
+        self.changed()
+
+    def changed(self) -> None:
+        self.counters.macro += 1
+        self.counters.version += 1

@@ -1,0 +1,94 @@
+"""The parameter password and the per-connection sessions it unlocks.
+
+The password is 1..4 ASCII characters; only an exact match unlocks (a longer password offered
+is wrong, never cut to a prefix). It is compared in constant time and never logged or shown.
+"""
+
+from __future__ import annotations
+
+import hashlib
+import hmac
+from dataclasses import dataclass
+from typing import Final
+
+from focas_net.errors import EW
+
+from ._base import MachineError
+
+__all__ = ["ParamLock", "Session"]
+
+_PASSWORD_SIZE: Final = 4
+
+
+@dataclass(slots=True)
+class Session:
+    """Per-connection state: whether this connection unlocked the parameter password (and
+    under which password: ``epoch`` counts :meth:`Machine.set_param_password` calls)."""
+
+    unlocked: bool = False
+    epoch: int = 0
+
+
+def _password(text: str | bytes) -> bytes:
+    """A parameter password as the CNC keeps it: 1..4 ASCII characters (no NUL), padded to 4
+    bytes with NUL. ValueError, naming what was given, for anything else."""
+    shown = text if isinstance(text, str) else text.decode("latin-1")
+    if not (1 <= len(shown) <= _PASSWORD_SIZE and shown.isascii() and "\x00" not in shown):
+        raise ValueError(
+            f"parameter password {shown!r}: must be 1..{_PASSWORD_SIZE} ASCII characters"
+        )
+    return shown.encode("ascii").ljust(_PASSWORD_SIZE, b"\x00")
+
+
+def _offered(text: str | bytes) -> bytes | None:
+    """The 4 bytes a password offered to :meth:`Machine.unlock` stands for, or None when it can
+    match no password (longer than 4 bytes: never cut to a prefix)."""
+    raw = text.encode("latin-1", "replace") if isinstance(text, str) else bytes(text)
+    if len(raw) > _PASSWORD_SIZE:
+        return None
+    return raw.ljust(_PASSWORD_SIZE, b"\x00")
+
+
+class ParamLock:
+    """The machine's parameter password (None: none) and its epoch, which moves with every
+    change of the password so that sessions unlocked under an older one are locked again."""
+
+    __slots__ = ("_password", "epoch")
+
+    def __init__(self, password: str | bytes | None) -> None:
+        self._password = None if password is None else _password(password)
+        self.epoch = 0
+
+    def __repr__(self) -> str:
+        return f"ParamLock(set={self._password is not None})"
+
+    @property
+    def is_set(self) -> bool:
+        return self._password is not None
+
+    def set(self, password: str | bytes | None) -> None:
+        self._password = None if password is None else _password(password)
+        self.epoch += 1
+
+    def admits(self, session: Session) -> bool:
+        """No password, or ``session`` unlocked under the current one."""
+        return self._password is None or (session.unlocked and session.epoch == self.epoch)
+
+    def unlock(self, session: Session, password: str | bytes) -> None:
+        """Unlock ``session`` (any password when there is none); EW_PASSWD, the session locked
+        again, on a mismatch."""
+        expected = self._password
+        session.epoch = self.epoch
+        if expected is None:
+            session.unlocked = True
+            return
+        offered = _offered(password)
+        if offered is not None and hmac.compare_digest(offered, expected):
+            session.unlocked = True
+            return
+        session.unlocked = False
+        raise MachineError(EW.PASSWD, "parameter password mismatch")
+
+    def digest(self) -> str:
+        """A digest of the password, for the machine's state digest."""
+        return hashlib.sha256(self._password or b"").hexdigest()

@@ -1,0 +1,752 @@
+"""One path of the machine: its programs, its NC engine on the machine's time, its operator
+panel and status, its motion figures and its production (:mod:`._production`).
+
+A FANUC control with several paths (a twin-turret lathe) runs one program on each, each with
+its own mode, status and program alarms, while the PMC, the parameters, the macro variables and
+the machine's alarms are shared: a :class:`Path` is given those, and owns the rest. The machine
+has one path today and answers every read and command of a path through it.
+
+Nothing ticks: every read and every counter of the machine first brings the engine to the
+clock's time (:meth:`Path.sync`, the engine's clock held there while the path reads it):
+program alarms go into the active alarms and the history, parts into parameters 6711/6712;
+while a program runs, the motion and macro counters move whenever time moved, so no front end
+serves a cached answer of a moving machine. The engine keeps one clock object for life
+(:class:`MachineTime`): :meth:`Machine.set_clock` changes where it reads the time from.
+
+Which figures are shown: those of the constructor (the ``[motion]`` table) and of
+``Machine.set_motion`` / ``Machine.set_run`` until the first cycle start or program selection;
+from then on the engine's, until ``set_motion`` or ``set_run`` is called again.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Iterable
+from dataclasses import dataclass
+from decimal import Decimal
+from typing import Final
+
+from focas_net.errors import EW
+
+from ._alarms import MAX_ALARM_TEXT, NC_ALARM_TYPES, AlarmKey, Alarms, nc_alarm
+from ._base import I32_MAX, I32_MIN, Counters, MachineError, logger
+from ._items import PARTS_COUNT, PARTS_TOTAL, Items
+from ._macros import Macros, float_macro, macro_value
+from ._pmc import GRequest, Pmc
+from ._production import Production
+from ._time import MachineTime
+from .nc import (
+    CycleState,
+    Engine,
+    EngineEvent,
+    MotionKind,
+    NcSettings,
+    NcStateError,
+    ProgramError,
+    ProgramErrorReason,
+    ProgramStore,
+    SimClock,
+    VariableRefused,
+)
+from .nc.alarms import AlarmRaised
+
+__all__ = [
+    "AUT_MODES",
+    "EDIT",
+    "ENGINE_VARIABLES",
+    "MDI",
+    "MEM",
+    "PARTS_VARIABLES",
+    "POSITION_DECIMALS",
+    "POSITION_KINDS",
+    "TIMER_KINDS",
+    "MotionData",
+    "Panel",
+    "Path",
+    "Shared",
+    "Status",
+]
+
+#: ``aut`` values: 0 MDI, 1 MEM, 3 EDIT, 4 HND, 5 JOG, 6 Teach-in JOG, 7 Teach-in HND, 8 INC,
+#: 9 REF, 10 RMT (2 is not a mode).
+AUT_MODES: Final = frozenset({0, 1, 3, 4, 5, 6, 7, 8, 9, 10})
+MDI: Final = 0
+MEM: Final = 1
+EDIT: Final = 3
+#: Decimals of the least input increment of the positions (0.001 mm, IS-B).
+POSITION_DECIMALS: Final = 3
+#: The position kinds :meth:`Machine.positions` serves (``"skip"`` answers EW_NOOPT).
+POSITION_KINDS: Final = ("absolute", "machine", "relative", "distance_to_go")
+#: The timers :meth:`Machine.timer` reads, by FANUC's ``cnc_rdtimer`` type number.
+TIMER_KINDS: Final = ("power_on", "operating", "cutting", "cycle")
+#: The macro variables of the parts count and the total parts.
+PARTS_VARIABLES: Final = {3901: PARTS_COUNT, 3902: PARTS_TOTAL}
+#: System variables that come from the engine while it drives the figures: modal G codes
+#: #4001-#4030, the last block's codes #4102-#4130, positions #5001-#5043.
+ENGINE_VARIABLES: Final = (range(4001, 4031), range(4102, 4131), range(5001, 5044))
+
+#: The run state (ODBST ``run``) and motion of each engine state.
+_RUN: Final = {CycleState.RESET: 0, CycleState.STOP: 1, CycleState.HOLD: 2, CycleState.START: 3}
+_MOTION: Final = {MotionKind.NONE: 0, MotionKind.MOTION: 1, MotionKind.DWELL: 2}
+_MM: Final = 10**POSITION_DECIMALS
+#: Rapid traverse (mm/min) of an axis whose parameter 1420 gives no positive rate.
+_DEFAULT_RAPID: Final = 24000.0
+#: The cycle states as plain constants: an enum member read through its class is slow on the
+#: read path of every status answer.
+_START: Final = CycleState.START
+_RESET: Final = CycleState.RESET
+_MOTION_SCALARS: Final = ("feed", "spindle_speed", "program_running", "program_main", "sequence")
+_SKIP: Final = "skip"
+#: The EW code of each refusal of the program store.
+_PROGRAM_EW: Final = {
+    ProgramErrorReason.FORMAT: EW.DATA,
+    ProgramErrorReason.RANGE: EW.NUMBER,
+    ProgramErrorReason.DUPLICATE: EW.REJECT,
+    ProgramErrorReason.NOT_FOUND: EW.NUMBER,
+    ProgramErrorReason.IN_USE: EW.BUSY,
+    ProgramErrorReason.NO_SPACE: EW.OVRFLOW,
+    ProgramErrorReason.TOO_MANY: EW.OVRFLOW,
+}
+
+
+@dataclass(frozen=True, slots=True)
+class Status:
+    """The status of the CNC (FANUC's ODBST fields), derived from the panel and the alarms."""
+
+    hdck: int
+    tmmode: int
+    aut: int
+    run: int
+    motion: int
+    mstb: int
+    emergency: int
+    alarm: int
+    edit: int
+
+
+@dataclass(slots=True)
+class Panel:
+    """The operator panel and the run state shown by the status."""
+
+    mode: int = MEM
+    pwe: int = 0
+    emergency: int = 0
+    run: int = 0
+    motion: int = 0
+    mstb: int = 0
+    edit: int = 0
+    hdck: int = 0
+    tmmode: int = 0
+
+
+@dataclass(slots=True)
+class MotionData:
+    """Motion figures: positions per axis in least input increments (:data:`POSITION_DECIMALS`
+    decimals), actual feed, spindle speed, program numbers and the sequence number."""
+
+    absolute: list[int]
+    machine: list[int]
+    relative: list[int]
+    distance_to_go: list[int]
+    feed: int = 0
+    spindle_speed: int = 0
+    program_running: int = 0
+    program_main: int = 0
+    sequence: int = 0
+
+
+def _increments(values: Iterable[float]) -> list[int]:
+    """Positions in mm as i32 least input increments."""
+    return [max(I32_MIN, min(I32_MAX, round(v * _MM))) for v in values]
+
+
+def _figure(value: float | int | None) -> int:
+    return 0 if value is None else max(0, min(I32_MAX, round(value)))
+
+
+def _system_value(value: float | None, decimals: int) -> Decimal | None:
+    """A system variable the engine reads as a float, as the machine shows it: positions
+    with 3 decimals, codes as integers (40.1: one decimal)."""
+    if value is None:
+        return None
+    if decimals:
+        return Decimal(round(value * _MM)).scaleb(-decimals)
+    if value == int(value):
+        return Decimal(int(value))
+    return float_macro(value)
+
+
+def _program_refusal(exc: ProgramError) -> MachineError:
+    return MachineError(_PROGRAM_EW[exc.reason], str(exc))
+
+
+class _Variables:
+    """The variables as a path's interpreter reads and writes them: #3901/#3902 (the path's
+    parts), the machine's macro ranges (#500-#999 and whatever else it has); 115 for a number
+    the machine lacks, 116 for a read-only one, 111 for a value a variable cannot hold."""
+
+    __slots__ = ("_macros", "_path")
+
+    def __init__(self, path: Path, macros: Macros) -> None:
+        self._path = path
+        self._macros = macros
+
+    def read_variable(self, number: int) -> float | None:
+        if number in PARTS_VARIABLES:
+            return float(self._path.parts(PARTS_VARIABLES[number]))
+        if self._macros.range_of(number) is None:
+            raise VariableRefused(115, f"#{number}")
+        value = self._macros.values.get(number)
+        return None if value is None else float(value)
+
+    def write_variable(self, number: int, value: float | None) -> None:
+        if number in PARTS_VARIABLES:
+            self._path.set_parts(PARTS_VARIABLES[number], 0 if value is None else round(value))
+            return
+        macros = self._macros
+        r = macros.range_of(number)
+        if r is None:
+            raise VariableRefused(115, f"#{number}")
+        if not r.writable:
+            raise VariableRefused(116, f"#{number}")
+        if value is None:
+            macros.values.pop(number, None)
+        else:
+            held = float_macro(value)
+            if held is None:
+                raise VariableRefused(111, f"#{number} = {value!r}")
+            macros.values[number] = held
+        macros.changed()
+
+
+@dataclass(frozen=True, slots=True)
+class Shared:
+    """What the paths of a machine share: its version counters, its parameters, its macro
+    variables, its alarms and its PMC."""
+
+    counters: Counters
+    items: Items
+    macros: Macros
+    alarms: Alarms
+    pmc: Pmc
+
+
+class Path:
+    """One path: its program store, its engine, its panel, its figures, its production
+    (``panel`` and ``motion`` checked by the machine), and what it shares with the machine's
+    other paths (:class:`Shared`).
+
+    The machine's version counters read :attr:`live` first: while it is false, time alone
+    changes nothing the path shows (every command that starts or changes the cycle settles
+    the counters itself)."""
+
+    __slots__ = (
+        "_figures",
+        "alarms",
+        "axes",
+        "counters",
+        "driven",
+        "engine",
+        "engine_alarms",
+        "items",
+        "key",
+        "live",
+        "macros",
+        "manual",
+        "mstb",
+        "name",
+        "panel",
+        "pmc",
+        "powered_at",
+        "production",
+        "programs",
+        "steady_revision",
+        "steady_until",
+        "synced_at",
+        "time",
+    )
+
+    def __init__(
+        self,
+        name: str,
+        axes: list[str],
+        shared: Shared,
+        *,
+        panel: Panel,
+        motion: MotionData,
+        programs: Iterable[str],
+        main_program: int | None,
+        clock: SimClock,
+    ) -> None:
+        self.name = name
+        self.axes = axes
+        self.counters = shared.counters
+        self.items = shared.items
+        self.macros = shared.macros
+        self.alarms = shared.alarms
+        self.pmc = shared.pmc
+        self.panel = panel
+        #: The figures given to the constructor or by hand (shown until :attr:`driven`).
+        self.manual = motion
+        self.time = MachineTime(clock)
+        self.powered_at = self.time.now()
+        #: The programs in the path's memory (the engine marks those in use).
+        self.programs = ProgramStore()
+        first: int | None = None
+        for text in programs:
+            number = self.programs.store(text).number
+            first = number if first is None else first
+        self.engine = Engine(
+            self.time,
+            self._nc_settings(),
+            store=self.programs,
+            variables=_Variables(self, self.macros),
+        )
+        self.engine.parts_count = self.items.param_or(PARTS_COUNT, 0)
+        self.engine.parts_total = self.items.param_or(PARTS_TOTAL, 0)
+        main = main_program if main_program is not None else first
+        if main is not None:
+            self.programs.select(main)
+        #: Whether the engine shows the run state and the figures (see ``Machine.driven``).
+        self.driven = False
+        #: Whether time alone may change what the path shows: the cycle runs or a scenario
+        #: drives the path.
+        self.live = False
+        self.synced_at = math.nan
+        #: Until this machine time (and while the engine's revision is this one) time alone
+        #: changes nothing of the status (see ``Machine.status_version``).
+        self.steady_until = -math.inf
+        self.steady_revision = -1
+        #: The engine's state and motion as last settled, and its FIN wait (ODBST ``mstb``).
+        self.key = (_RESET, MotionKind.NONE)
+        self.mstb = 0
+        #: The active alarms the program raised (a reset clears them).
+        self.engine_alarms: set[AlarmKey] = set()
+        self._figures: tuple[int, MotionData] | None = None
+        self.production = Production(self)
+
+    @staticmethod
+    def check_motion(motion: MotionData, axes: int) -> None:
+        """ValueError unless each position list has one value per axis (for machine
+        builders)."""
+        for key in POSITION_KINDS:
+            if len(getattr(motion, key)) != axes:
+                raise ValueError(
+                    f"motion {key}: {len(getattr(motion, key))} values for {axes} axes"
+                )
+
+    def _nc_settings(self) -> NcSettings:
+        """Execution settings from the parameters, read when the machine is built: rapid
+        traverse 1420 (mm/min; an axis whose rate is not above 0 traverses at 24,000), maximum
+        cutting feed 1422, stroke limit 1 1320/1321 (0.001 mm, or mm for a real parameter; no
+        limit on an axis where plus is not above minus), reference position 1240."""
+        items = self.items
+        axes = range(1, len(self.axes) + 1)
+        rapid = tuple(
+            rate if rate > 0 else _DEFAULT_RAPID
+            for rate in (items.param_float(1420, _DEFAULT_RAPID, a, 1.0) for a in axes)
+        )
+        limits: list[tuple[float, float] | None] = []
+        for a in axes:
+            plus = items.param_float(1320, 0.0, a, 1 / _MM)
+            minus = items.param_float(1321, 0.0, a, 1 / _MM)
+            limits.append((minus, plus) if plus > minus else None)
+        reference = tuple(items.param_float(1240, 0.0, a, 1 / _MM) for a in axes)
+        values: dict[str, object] = {
+            "rapid_rates": rapid,
+            "stroke_limits": tuple(limits),
+            "reference": reference,
+        }
+        feed = items.param_or(1422, 0)
+        if feed > 0:
+            values["max_cutting_feed"] = float(feed)
+        return NcSettings.for_axes(self.axes, **values)
+
+    # -- time ----------------------------------------------------------------------------
+    def set_clock(self, clock: SimClock) -> None:
+        behind = self.time.now() - clock.now()
+        if behind > 0:
+            raise ValueError(f"the clock is {behind} s behind the machine's time")
+        self.time.set_source(clock)
+
+    def sync(self) -> None:
+        """Bring the engine to the clock's time: apply a scenario's due events, record the
+        program's alarms and parts, and move the counters of what the engine shows. Costs one
+        comparison while not :attr:`live`, a clock call when the time has not moved or a
+        scenario's next event is not due."""
+        run = self.production.run
+        if self.key[0] is not _START:
+            if run is None:
+                return
+            now = self.time.now()
+            if now < run.next_time or now == self.synced_at:
+                return
+        else:
+            now = self.time.now()
+            if now == self.synced_at:
+                return
+        self.synced_at = now
+        e = self.engine
+        self.time.hold(now)  # the engine advances once, however many figures are read
+        try:
+            moved = self.key[0] is _START
+            if run is not None and run.next_time <= now:
+                run.play(now)
+                moved = True
+            for event in e.take_events():
+                self.engine_event(event, now)
+            self.settled(moved)
+            if run is not None and run.finished(e):
+                self.production.run = None
+                self.moving()
+        finally:
+            self.time.release()
+
+    def settled(self, moved: bool, force: bool = False) -> None:
+        """Take the engine's state after a command or a sync, and move the counters of what
+        changed: while :attr:`driven`, the figures and the system variables whenever time
+        ``moved``, the status when the state did (``force``: all of them)."""
+        e = self.engine
+        state, motion, wait = e.flags()
+        key = (state, motion)
+        changed = key != self.key
+        self.key = key
+        waiting = 1 if wait else 0
+        if waiting != self.mstb:
+            self.mstb = waiting
+            changed = True
+        if self.driven:  # the F signals of the run state (as :meth:`show_cycle`)
+            self.pmc.show_cycle(state)
+        steady = e.steady_until()
+        run = self.production.run
+        if run is not None and run.next_time < steady:
+            steady = run.next_time
+        self.steady_until = steady
+        self.steady_revision = e.revision
+        self.live = state is _START or run is not None  # as :meth:`moving`
+        if force or (self.driven and (changed or moved)):
+            c = self.counters
+            c.motion += 1
+            c.macro += 1
+            c.version += 1
+            if force or changed:
+                c.status += 1
+
+    def moving(self) -> None:
+        """Set :attr:`live` from the settled state and the production."""
+        self.live = self.key[0] is _START or self.production.run is not None
+
+    def show_cycle(self) -> None:
+        """The F signals of the run state, while the engine drives the path (before, F is as
+        written)."""
+        if self.driven:
+            self.pmc.show_cycle(self.key[0])
+
+    def engine_event(self, event: EngineEvent, now: float) -> None:
+        """Record what the engine reports at machine time ``now``: a part into the parts
+        parameters, an alarm into the machine's alarms (stamped when it was raised)."""
+        if event.kind == "part":
+            self._store_parts(PARTS_COUNT, self.engine.parts_count)
+            self._store_parts(PARTS_TOTAL, self.engine.parts_total)
+        elif event.kind == "alarm" and event.alarm is not None:
+            alarm = event.alarm
+            key = (alarm.axis or 0, NC_ALARM_TYPES[alarm.kind], alarm.number)
+            text = alarm.message[:MAX_ALARM_TEXT].encode("latin-1", "replace").decode("latin-1")
+            if self.alarms.add(key, text, self.alarms.stamp(now - event.time)):
+                self.engine_alarms.add(key)
+
+    # -- parts ---------------------------------------------------------------------------
+    def parts(self, number: int) -> int:
+        return self.engine.parts_count if number == PARTS_COUNT else self.engine.parts_total
+
+    def _store_parts(self, number: int, value: int) -> None:
+        if self.items.clamp(number, value):
+            self.counters.macro += 1
+
+    def set_parts(self, number: int, value: int) -> None:
+        """Set the parts count or the total parts (parameter ``number``)."""
+        if number == PARTS_COUNT:
+            self.engine.parts_count = value
+        else:
+            self.engine.parts_total = value
+        self._store_parts(number, value)
+
+    def write_parts(self, variable: int, value: Decimal | int | None) -> None:
+        """Write the parts count or the total parts through its macro variable: EW_DATA for
+        anything but a whole number >= 0."""
+        held = None if value is None else macro_value(value)
+        if held is None or held != held.to_integral_value() or held < 0:
+            raise MachineError(EW.DATA, f"#{variable} = {value}: a count of parts")
+        self.set_parts(PARTS_VARIABLES[variable], int(held))
+
+    # -- status and panel ----------------------------------------------------------------
+    def status(self, alarm: int) -> Status:
+        """The status once synced; ``alarm`` is the machine's alarm flag."""
+        p = self.panel
+        run, motion, mstb = p.run, p.motion, p.mstb
+        if self.driven:
+            run, motion = _RUN[self.key[0]], _MOTION[self.key[1]]
+            mstb = self.mstb
+        return Status(p.hdck, p.tmmode, p.mode, run, motion, mstb, p.emergency, alarm, p.edit)
+
+    def set_panel(self, mode: int | None, pwe: int | None, emergency: int | None) -> None:
+        """Switch the panel (None: as it is): EW_DATA for a value it has not; leaving MEM
+        holds the feed, the emergency stop resets."""
+        p = self.panel
+        mode = p.mode if mode is None else mode
+        pwe = p.pwe if pwe is None else pwe
+        emergency = p.emergency if emergency is None else emergency
+        if mode not in AUT_MODES or pwe not in (0, 1) or emergency not in (0, 1):
+            raise MachineError(EW.DATA, f"panel mode={mode} pwe={pwe} emergency={emergency}")
+        self.sync()
+        leaving_mem = p.mode == MEM and mode != MEM
+        stop = emergency and not p.emergency
+        p.mode, p.pwe, p.emergency = mode, pwe, emergency
+        logger.debug("%s: panel mode %d pwe %d emergency %d", self.name, mode, pwe, emergency)
+        if stop:
+            self.engine.reset()  # emergency stop resets the control
+        elif leaving_mem:
+            self.engine.feed_hold()  # automatic operation stops outside MEM
+        self.counters.status_changed()
+        self.settled(bool(stop or leaving_mem))
+
+    def set_run(self, run: int, motion: int) -> None:
+        """The run state and motion the status shows by hand: EW_DATA for a value it has not."""
+        if run not in range(5) or motion not in range(3):
+            raise MachineError(EW.DATA, f"run={run} motion={motion}")
+        self.panel.run, self.panel.motion = run, motion
+        self.driven = False
+        self.counters.status_changed()
+
+    # -- motion figures ------------------------------------------------------------------
+    def set_motion(
+        self, positions: tuple[Iterable[int] | None, ...], scalars: tuple[int | None, ...]
+    ) -> None:
+        """Set the figures given (positions in :data:`POSITION_KINDS` order, then the
+        scalars): EW_DATA, nothing changed, when a value does not fit."""
+        n = len(self.axes)
+        lists: dict[str, list[int]] = {}
+        for key, values in zip(POSITION_KINDS, positions, strict=True):
+            if values is None:
+                continue
+            got = list(values)
+            if len(got) != n or not all(type(v) is int and I32_MIN <= v <= I32_MAX for v in got):
+                raise MachineError(EW.DATA, f"{key}: {n} i32 values expected, got {got!r}")
+            lists[key] = got
+        numbers: dict[str, int] = {}
+        for key, value in zip(_MOTION_SCALARS, scalars, strict=True):
+            if value is None:
+                continue
+            if type(value) is not int or not 0 <= value <= I32_MAX:
+                raise MachineError(EW.DATA, f"{key} = {value!r} outside 0..{I32_MAX}")
+            numbers[key] = value
+        m = self.manual
+        self.sync()
+        if self.driven:
+            self.driven = False
+            self.counters.status_changed()
+        for key, got in lists.items():
+            setattr(m, key, got)
+        for key, number in numbers.items():
+            setattr(m, key, number)
+        self.counters.motion += 1
+        self.counters.version += 1
+
+    def figures(self) -> MotionData:
+        """The motion figures: the engine's while it drives them, else the manual ones."""
+        if self.live:
+            self.sync()
+        if not self.driven:
+            return self.manual
+        version = self.counters.motion
+        if self._figures is not None and self._figures[0] == version:
+            return self._figures[1]
+        e = self.engine
+        figures = MotionData(
+            _increments(e.absolute_position()),
+            _increments(e.machine_position()),
+            _increments(e.relative_position()),
+            _increments(e.distance_to_go()),
+            feed=_figure(e.actual_feed),
+            spindle_speed=_figure(e.actual_spindle_speed),
+            program_running=_figure(e.program_number),
+            program_main=_figure(self.programs.main),
+            sequence=_figure(e.sequence_number),
+        )
+        self._figures = (version, figures)
+        return figures
+
+    def positions(self, kind: str, axis: int | None) -> list[tuple[str, int]]:
+        """``(axis name, value)`` of every axis or of one: EW_ATTRIB (kind), EW_NOOPT (skip),
+        EW_ATTRIB (axis)."""
+        if kind not in POSITION_KINDS:
+            if kind == _SKIP:
+                raise MachineError(EW.NOOPT, "no skip function")
+            raise MachineError(EW.ATTRIB, f"position kind {kind!r}")
+        values: list[int] = getattr(self.figures(), kind)
+        if axis is None:
+            return list(zip(self.axes, values, strict=True))
+        if not 1 <= axis <= len(self.axes):
+            raise MachineError(EW.ATTRIB, f"axis {axis} outside 1..{len(self.axes)}")
+        return [(self.axes[axis - 1], values[axis - 1])]
+
+    def engine_variable(self, number: int) -> Decimal | None:
+        """#4001-#4030, #4102-#4130 and #5001+ (block end) as the interpreter reads them;
+        #5021+ (machine) and #5041+ (work coordinates) at the axes' current position."""
+        e = self.engine
+        n = len(self.axes)
+        value: float | None
+        if 5021 <= number < 5021 + n:
+            value = e.machine_position()[number - 5021]
+        elif 5041 <= number < 5041 + n:
+            value = e.absolute_position()[number - 5041]
+        else:
+            try:
+                value = e.interpreter.read(number)
+            except AlarmRaised:
+                return self.macros.values.get(number)
+        return _system_value(value, POSITION_DECIMALS if number >= 5001 else 0)
+
+    # -- the cycle -----------------------------------------------------------------------
+    def check_ready(self, refused: str) -> None:
+        """What automatic operation needs: EW_ALARM (emergency stop, an active alarm),
+        EW_MODE (not MEM); ``refused`` begins the message."""
+        p = self.panel
+        if p.emergency:
+            raise MachineError(EW.ALARM, f"{refused}: emergency stop")
+        if self.alarms.active:
+            raise MachineError(EW.ALARM, f"{refused}: an alarm is active")
+        if p.mode != MEM:
+            raise MachineError(EW.MODE, f"{refused}: mode {p.mode} is not MEM")
+
+    def cycle_start(self, repeat: bool | None) -> None:
+        self.sync()
+        self.check_ready("cycle start refused")
+        if repeat is not None:
+            self.engine.repeat = repeat
+        try:
+            self.engine.cycle_start()
+        except NcStateError as exc:
+            ew = EW.ALARM if self.engine.alarm is not None else EW.DATA
+            raise MachineError(ew, str(exc)) from None
+        self.driven = True
+        self.settled(True, force=True)
+
+    def feed_hold(self) -> None:
+        self.sync()
+        self.engine.feed_hold()
+        self.settled(True)
+
+    def reset(self) -> None:
+        self.sync()
+        self.reset_cycle()
+        self.settled(True)
+
+    def reset_cycle(self) -> None:
+        """The engine reset, the alarms the program raised cleared."""
+        self.engine.reset()
+        self.alarms.remove(self.engine_alarms)
+        self.engine_alarms.clear()
+
+    def alarm_stop(self, key: AlarmKey, text: str) -> None:
+        """An alarm raised outside the program stops the cycle (cycle start wants a reset)."""
+        if self.engine.state is not _RESET:
+            self.engine.alarm_stop(nc_alarm(key, text))
+            self.settled(True)
+
+    def set_overrides(self, feed: int | None, rapid: int | None, spindle: int | None) -> None:
+        self.sync()
+        for value, low, high, what in (
+            (feed, 0, 254, "feed"),
+            (rapid, 0, 100, "rapid"),
+            (spindle, 0, 254, "spindle"),
+        ):
+            if value is not None and not low <= value <= high:
+                raise MachineError(EW.DATA, f"{what} override {value} outside {low}..{high} %")
+        e = self.engine
+        if feed is not None:
+            e.set_feed_override(feed)
+        if rapid is not None:
+            e.set_rapid_override(rapid)
+        if spindle is not None:
+            e.set_spindle_override(spindle)
+        self.settled(True)
+
+    def apply(self, asked: GRequest) -> None:
+        """Act on what a write of G signals asks (the machine checked it may be written): the
+        rising edge of ERS resets, the falling edge of *SP holds the feed, a change of the mode
+        bits of G43 selects the mode, a change of G12 sets the feed override, the falling edge
+        of ST starts the cycle (with *SP on). What the CNC refuses (cycle start with an alarm
+        ...) is ignored, as a CNC ignores the signal."""
+        try:
+            if asked.reset:
+                self.reset()
+            if asked.hold:
+                self.feed_hold()
+            if asked.mode is not None and asked.mode != self.panel.mode:
+                self.set_panel(asked.mode, None, None)
+            if asked.feed_override is not None:
+                self.set_overrides(asked.feed_override, None, None)
+            if asked.start:
+                self.cycle_start(None)
+        except MachineError as exc:
+            logger.debug("%s: G signal ignored: %s", self.name, exc)
+        self.show_cycle()
+
+    def parts_counts(self) -> tuple[int, int]:
+        self.sync()
+        return self.engine.parts_count, self.engine.parts_total
+
+    def overrides(self) -> tuple[int, int, int]:
+        e = self.engine
+        return round(e.feed_override), round(e.rapid_override), round(e.spindle_override)
+
+    def timer(self, kind: int) -> float:
+        if not 0 <= kind < len(TIMER_KINDS):
+            raise MachineError(EW.NUMBER, f"timer {kind} outside 0..{len(TIMER_KINDS) - 1}")
+        self.sync()
+        e = self.engine
+        if kind == 0:
+            return self.time.now() - self.powered_at
+        return (e.operating_time, e.cutting_time, e.cycle_time)[kind - 1]
+
+    # -- the program store ---------------------------------------------------------------
+    def program_text(self, number: int) -> str:
+        try:
+            return self.programs.text(number)
+        except ProgramError as exc:
+            raise _program_refusal(exc) from None
+
+    def store_program(self, text: str, replace: bool) -> int:
+        self.sync()
+        try:
+            number = self.programs.store(text, replace=replace).number
+        except ProgramError as exc:
+            raise _program_refusal(exc) from None
+        self._programs_changed()
+        return number
+
+    def delete_program(self, number: int) -> None:
+        self.sync()
+        try:
+            self.programs.delete(number)
+        except ProgramError as exc:
+            raise _program_refusal(exc) from None
+        self._programs_changed()
+
+    def select_program(self, number: int) -> None:
+        self.sync()
+        if self.panel.mode not in (MEM, EDIT):
+            raise MachineError(EW.MODE, f"program search in mode {self.panel.mode}: MEM or EDIT")
+        try:
+            self.programs.select(number)
+        except ProgramError as exc:
+            raise _program_refusal(exc) from None
+        self.driven = True
+        self._programs_changed()
+        self.settled(True, force=True)
+
+    def _programs_changed(self) -> None:
+        self._figures = None
+        self.counters.motion += 1
+        self.counters.version += 1

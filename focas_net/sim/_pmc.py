@@ -1,0 +1,198 @@
+"""The machine's PMC: its areas by letter, and the signals of automatic operation wired to them.
+
+The machine reads some G signals (what the ladder asks of the CNC: cycle start, feed hold,
+reset, the mode, the feed override) and sets some F signals (what the CNC tells the ladder: in
+operation, cycle start lamp, feed hold lamp, resetting), at FANUC Series 0i addresses.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Iterable, Mapping
+from dataclasses import dataclass, field
+from typing import Final
+
+from focas_net.errors import EW
+
+from ._base import Counters, MachineError
+from .nc import CycleState
+
+__all__ = ["F_SIGNALS", "G_SIGNALS", "PMC_AREAS", "Area", "GRequest", "Pmc", "PmcAreaSpec"]
+
+#: Letters of the PMC areas a machine can have.
+PMC_AREAS: Final = ("X", "Y", "F", "G", "R", "T", "C", "D", "K", "A", "E")
+
+#: The G signals the machine reads (FANUC Series 0i addresses): (byte, bit).
+_ST: Final = (7, 2)  #: cycle start, G7.2 (its falling edge starts)
+_SP: Final = (8, 5)  #: feed hold *SP, G8.5 (negative logic: its falling edge holds)
+_ERS: Final = (8, 7)  #: external reset, G8.7
+_MD: Final = 43  #: mode select MD1 MD2 MD4 (G43.0-.2), DNCI (G43.5), ZRN (G43.7)
+_MD_BITS: Final = 0b1010_0111
+_FV: Final = 12  #: feed override *FV0-*FV7, G12 (negative logic: 255 - G12 percent)
+_MAX_FEED_OVERRIDE: Final = 254
+#: G43 (MD1 MD2 MD4, DNCI, ZRN) -> the panel mode (an ``aut`` value).
+_MODE_OF_G43: Final = {
+    0b0000_0000: 0,  # MDI
+    0b0000_0001: 1,  # MEM
+    0b0010_0001: 10,  # RMT (DNC)
+    0b0000_0011: 3,  # EDIT
+    0b0000_0100: 4,  # HND
+    0b0000_0101: 5,  # JOG
+    0b1000_0101: 9,  # REF
+}
+#: The F signals the machine sets (F0.7 OP, F0.5 STL, F0.4 SPL, F1.1 RST): bit numbers.
+_OP: Final = 7
+_STL: Final = 5
+_SPL: Final = 4
+_RST: Final = 1
+_F0_MASK: Final = 1 << _OP | 1 << _STL | 1 << _SPL
+#: The PMC signals of automatic operation the machine reads, ``name: (area, byte, bit)``
+#: (G43 mode select and G12 feed override are whole bytes).
+G_SIGNALS: Final = {"ST": ("G", 7, 2), "*SP": ("G", 8, 5), "ERS": ("G", 8, 7)}
+#: The PMC signals the machine sets, ``name: (area, byte, bit)``.
+F_SIGNALS: Final = {"OP": ("F", 0, 7), "STL": ("F", 0, 5), "SPL": ("F", 0, 4), "RST": ("F", 1, 1)}
+
+_START: Final = CycleState.START
+_RESET: Final = CycleState.RESET
+_HOLD: Final = CycleState.HOLD
+
+
+@dataclass(frozen=True, slots=True)
+class PmcAreaSpec:
+    """A PMC area: its letter (one of :data:`PMC_AREAS`), its size in bytes, protection against
+    writes and its initial bytes as ``{address: bytes}``."""
+
+    letter: str
+    size: int
+    write_protected: bool = False
+    initial: Mapping[int, bytes] = field(default_factory=dict)
+
+
+@dataclass(frozen=True, slots=True)
+class GRequest:
+    """What a write of the G area asks of automatic operation, in the order the machine acts:
+    reset (ERS rose), feed hold (*SP fell), a mode (G43's mode bits changed to a known one),
+    a feed override (G12 changed), cycle start (ST fell with *SP on)."""
+
+    reset: bool = False
+    hold: bool = False
+    mode: int | None = None
+    feed_override: int | None = None
+    start: bool = False
+
+
+class Area:
+    """One PMC area: its bytes, its size, whether it refuses writes."""
+
+    __slots__ = ("data", "letter", "size", "write_protected")
+
+    def __init__(self, spec: PmcAreaSpec) -> None:
+        self.letter = spec.letter.strip().upper()
+        if self.letter not in PMC_AREAS:
+            raise ValueError(f"unknown PMC area {spec.letter!r} (one of {', '.join(PMC_AREAS)})")
+        self.size = spec.size
+        self.write_protected = spec.write_protected
+        self.data = bytearray(spec.size)
+        for address, raw in spec.initial.items():
+            if address < 0 or address + len(raw) > spec.size:
+                raise ValueError(f"initial bytes at {address} run past the {spec.size}-byte area")
+            self.data[address : address + len(raw)] = raw
+
+    def beyond(self, start: int, end: int) -> MachineError:
+        """The refusal of addresses ``start..end - 1`` outside the area."""
+        return MachineError(EW.NUMBER, f"{self.letter}{start}..{end - 1} beyond {self.size} bytes")
+
+
+class Pmc:
+    """The PMC areas of a machine by letter. Every change moves the PMC counter."""
+
+    __slots__ = ("areas", "counters")
+
+    def __init__(self, specs: Iterable[PmcAreaSpec], counters: Counters) -> None:
+        self.counters = counters
+        self.areas: dict[str, Area] = {}
+        for spec in specs:
+            area = Area(spec)
+            if area.letter in self.areas:
+                raise ValueError(f"PMC area {area.letter} given twice")
+            self.areas[area.letter] = area
+
+    def info(self, letter: str) -> tuple[int, bool] | None:
+        """``(size, write_protected)``, None when the machine has no such area (ValueError for
+        a letter that is no PMC area)."""
+        key = letter.strip().upper()
+        if key not in PMC_AREAS:
+            raise ValueError(f"unknown PMC area {letter!r}")
+        area = self.areas.get(key)
+        return None if area is None else (area.size, area.write_protected)
+
+    def area(self, letter: str) -> Area:
+        """Area ``letter``: EW_NOOPT when the machine has none."""
+        area = self.areas.get(letter) or self.areas.get(letter.upper())
+        if area is None:
+            raise MachineError(EW.NOOPT, f"no PMC area {letter}")
+        return area
+
+    def write(self, letter: str, start: int, data: bytes, force: bool) -> GRequest | None:
+        """Write ``data`` from ``start``: EW_NOOPT, EW_NUMBER (addresses outside the area),
+        EW_PROT (write-protected, unless ``force``). A write that changed G bytes returns what
+        it asks of automatic operation."""
+        area = self.area(letter)
+        end = start + len(data)
+        if start < 0 or end > area.size:
+            raise area.beyond(start, end)
+        if area.write_protected and not force:
+            raise MachineError(EW.PROT, f"PMC area {area.letter} is write-protected")
+        before = bytes(area.data[start:end])
+        area.data[start:end] = data
+        self.counters.pmc += 1
+        self.counters.version += 1
+        if area.letter == "G" and before != data:
+            return self._g_request(start, before)
+        return None
+
+    def _g_request(self, start: int, before: bytes) -> GRequest:
+        """What a write of the G area from ``start``, which replaced ``before``, asks (see
+        :data:`G_SIGNALS`): only the signals within the written bytes count."""
+
+        def old(address: int) -> int | None:
+            i = address - start
+            return before[i] if 0 <= i < len(before) else None
+
+        g = self.areas["G"].data
+
+        def fell(address: int, bit: int) -> bool:
+            was = old(address)
+            return was is not None and bool(was >> bit & 1) and not g[address] >> bit & 1
+
+        def rose(address: int, bit: int) -> bool:
+            was = old(address)
+            return was is not None and not was >> bit & 1 and bool(g[address] >> bit & 1)
+
+        mode = feed = None
+        if old(_MD) is not None and old(_MD) != g[_MD]:
+            mode = _MODE_OF_G43.get(g[_MD] & _MD_BITS)
+        if old(_FV) is not None and old(_FV) != g[_FV]:
+            feed = min(_MAX_FEED_OVERRIDE, 0xFF - g[_FV])
+        start_edge = fell(*_ST) and bool(g[_SP[0]] >> _SP[1] & 1)
+        return GRequest(rose(*_ERS), fell(*_SP), mode, feed, start_edge)
+
+    def show_cycle(self, state: CycleState) -> None:
+        """Set the F signals a ladder reads from the cycle's ``state`` (see
+        :data:`F_SIGNALS`; RST follows ERS)."""
+        area = self.areas.get("F")
+        if area is None or area.size < 2:
+            return
+        g = self.areas.get("G")
+        resetting = g is not None and g.size > _ERS[0] and bool(g.data[_ERS[0]] >> _ERS[1] & 1)
+        f0 = area.data[0] & ~_F0_MASK
+        if state is not _RESET:
+            f0 |= 1 << _OP
+        if state is _START:
+            f0 |= 1 << _STL
+        if state is _HOLD:
+            f0 |= 1 << _SPL
+        f1 = area.data[1] & ~(1 << _RST) | (1 << _RST if resetting else 0)
+        if (f0, f1) != (area.data[0], area.data[1]):
+            area.data[0], area.data[1] = f0, f1
+            self.counters.pmc += 1
+            self.counters.version += 1
