@@ -19,21 +19,22 @@ from typing import Any, Final
 from focas_net._memo import Memo
 from focas_net.errors import EW, CncError, PayloadError, ProtocolError
 
-from ..native import calls
-from ..native.blocks import ResponseBlock
-from ..native.calls import CommandSet, LibraryCall
-from ..native.records import (
+from ..native import (
+    CommandSet,
     DiagType,
     ItemRecord,
     ItemValues,
+    LibraryCall,
+    NativeRequest,
     ParamInfo,
     ParamInfo3,
     ParamType,
+    ResponseBlock,
     ScaledItemRecord,
     ScaledItemValues,
     ScaledNumber,
+    calls,
 )
-from ..native.requests import NativeRequest
 from ..protocol import ParamDataType, ParamValue
 from ._native_link import Handle, NativeLink
 from ._values import REAL_WIDTH, byte_to_wire, check_item, param_int, real_to_wire

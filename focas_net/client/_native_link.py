@@ -36,21 +36,30 @@ from focas_net.errors import (
     ProtocolError,
 )
 
-from ..native import calls
-from ..native.blocks import ResponseBlock
-from ..native.calls import CommandSet, LibraryCall
-from ..native.frame import (
+from ..native import (
     MAGIC,
     NATIVE_HEADER,
     NATIVE_HEADER_SIZE,
+    AnswerRefused,
+    CommandSet,
+    Ending,
     FrameType,
+    Job,
+    LibraryCall,
+    NativeCommand,
+    NativeSession,
+    NativeSysInfo,
+    OpenAnswer,
+    OpenHeadV2,
+    Part,
+    ResponseBlock,
+    ScaledNumber,
+    answer_blocks,
+    calls,
+    decode_open_answer,
     encode_close_request,
     encode_open_request,
 )
-from ..native.opening import OpenAnswer, OpenHeadV2, decode_open_answer
-from ..native.records import NativeSysInfo, ScaledNumber
-from ..native.requests import NativeCommand
-from ..native.session import AnswerRefused, Ending, Job, NativeSession, Part, answer_blocks
 from ._channel import Channel, open_channel
 from ._composite import CompositeCalls
 from .connection import NotSentError

@@ -33,31 +33,31 @@ from typing import Any, Final
 
 from focas_net.errors import EW, CncError, FocasError, PayloadError
 
-from ..native import calls
-from ..native.blocks import REQUEST_BLOCK_SIZE, ResponseBlock
-from ..native.calls import CommandSet, LibraryCall
-from ..native.frame import max_response_body
-from ..native.records import (
+from ..native import (
+    REQUEST_BLOCK_SIZE,
     AlarmMessages,
     AlarmStatus,
     AxisNames,
     CncId,
+    CommandSet,
+    Ending,
     ExecutingProgram,
+    LibraryCall,
     NativeAlarmHistory,
+    NativeAlarmHistoryRequest,
+    NativeCommand,
+    NativePmcArea,
     NativePmcData,
     NativeProgramNumbers,
     PositionAxisNames,
+    ResponseBlock,
     ScaledValues,
     SequenceNumber,
     StatInfo,
     TimerValue,
+    calls,
+    max_response_body,
 )
-from ..native.requests import (
-    NativeAlarmHistoryRequest,
-    NativeCommand,
-    NativePmcArea,
-)
-from ..native.session import Ending
 from ..protocol import (
     ActiveAlarm,
     AlarmHistory,
