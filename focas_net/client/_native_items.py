@@ -12,11 +12,9 @@ turn an answer block into its value, an EW code into :class:`CncError`.
 from __future__ import annotations
 
 import struct
-from collections.abc import Callable
 from decimal import Decimal
 from typing import Any, Final
 
-from focas_net._memo import Memo
 from focas_net.errors import EW, CncError, PayloadError, ProtocolError
 
 from ..native import (
@@ -25,7 +23,6 @@ from ..native import (
     ItemRecord,
     ItemValues,
     LibraryCall,
-    NativeRequest,
     ParamInfo,
     ParamInfo3,
     ParamType,
@@ -48,8 +45,11 @@ _PARAM_WIDTH: Final[dict[int, int]] = {
     ParamType.TWO_WORD: 4,
 }
 _DIAG_WIDTH: Final[dict[int, int]] = {0: 1, 1: 2, 2: 4, 3: 1, 4: 1}
-#: (a request, the max axes, the answer data) -> the decoded answer.
-_DECODED: Final = Memo(2048)
+
+
+def only_answer(handle: Handle, call: LibraryCall, blocks: tuple[ResponseBlock, ...]) -> Any:
+    """The decoded answer of ``call``, a call of one frame of one block, on ``handle``."""
+    return decoded(call, blocks, 0, handle.max_axes)
 
 
 def block_data(block: ResponseBlock, function: str) -> bytes:
@@ -59,22 +59,24 @@ def block_data(block: ResponseBlock, function: str) -> bytes:
     return block.data
 
 
-def decoded(request: NativeRequest, block: ResponseBlock, function: str, max_axes: int) -> Any:
-    """The answer of ``request`` in ``block`` (kept by the values it depends on: a poll whose
-    answer repeats decodes it once); :class:`CncError` for its EW code, :class:`PayloadError`
-    for data that does not decode."""
-    data = block_data(block, function)
-    key = (request, max_axes, data)
-    value = _DECODED.get(key)
-    if value is None:
-        try:
-            value = request.decode_answer(data, max_axes)
-        except (ProtocolError, ValueError, struct.error) as exc:
-            raise PayloadError(
-                f"{function}: answer to 0x{request.COMMAND:X} does not decode: {exc}"
-            ) from None
-        _DECODED.put(key, value)
-    return value
+def decoded(
+    call: LibraryCall,
+    blocks: tuple[ResponseBlock, ...],
+    index: int,
+    max_axes: int,
+    frame: int = 0,
+) -> Any:
+    """The answer in ``blocks[index]`` to request ``index`` of frame ``frame`` of ``call``
+    (decoded once for the same bytes, :meth:`LibraryCall.answer`); :class:`CncError` for its
+    EW code, :class:`PayloadError` for data that does not decode."""
+    data = block_data(blocks[index], call.function)
+    try:
+        return call.answer(frame, index, data, max_axes)
+    except (ProtocolError, ValueError, struct.error) as exc:
+        command = call.frames[frame][index].COMMAND
+        raise PayloadError(
+            f"{call.function}: answer to 0x{command:X} does not decode: {exc}"
+        ) from None
 
 
 def text(raw: bytes | str) -> str:
@@ -103,13 +105,6 @@ class NativeItems(NativeLink):
         #: The type word (0 bit .. 4 real) of each parameter read or written.
         self._param_types: dict[int, int] = {}
 
-    async def _one(
-        self, deadline: float | None, build: Callable[..., LibraryCall], *args: Any
-    ) -> Any:
-        """The decoded answer of a call of one frame of one block."""
-        handle, call, (block,) = await self._single(deadline, build, *args)
-        return decoded(call.frames[0][0], block, call.function, handle.max_axes)
-
     # -- parameters and diagnostics ------------------------------------------------------
     @staticmethod
     def _check_axis_of(handle: Handle, axis: int, function: str) -> None:
@@ -127,9 +122,7 @@ class NativeItems(NativeLink):
         build = calls.cnc_diagnoss if diagnostic else calls.cnc_rdparam
         call = build(handle.command_set, number, axis)
         (block,) = await self._exchange(call.parts[0], handle.command_set, deadline)
-        items: ItemValues | ScaledItemValues = decoded(
-            call.frames[0][0], block, function, handle.max_axes
-        )
+        items: ItemValues | ScaledItemValues = decoded(call, (block,), 0, handle.max_axes)
         if not items.records:
             raise PayloadError(f"{function}: answer for {number} carries no record")
         record = items.records[0]
@@ -188,7 +181,7 @@ class NativeItems(NativeLink):
         EW_LENGTH (before anything is written) when ``width`` differs, as the library."""
         call = calls.wrparam_info(handle.command_set, number)
         (block,) = await self._exchange(call.parts[0], handle.command_set, deadline)
-        info = decoded(call.frames[0][0], block, "cnc_wrparam", handle.max_axes)
+        info = decoded(call, (block,), 0, handle.max_axes)
         if isinstance(info, ParamInfo3):
             ptype = info.type
         else:

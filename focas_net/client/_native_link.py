@@ -78,6 +78,11 @@ Future = asyncio.Future[tuple[ResponseBlock, ...]]
 Token = tuple[Future, "asyncio.Task[Any] | None"]
 
 
+def _cancelled(token: Token) -> bool:
+    """Whether the caller of a job gave up: its future is cancelled."""
+    return token[0].cancelled()
+
+
 class _Lost(Exception):
     """The connection pair cannot carry any further frame."""
 
@@ -257,7 +262,7 @@ class NativeLink(CompositeCalls):
             host, port, timeout=timeout, reconnect=reconnect, on_state_change=on_state_change
         )
         self._init_composite()
-        self._session: NativeSession[Token] = NativeSession(max_blocks)
+        self._session: NativeSession[Token] = NativeSession(max_blocks, _cancelled)
         self._handle: Handle | None = None
         #: The task whose lone call was answered last: its next call is sent at once; any
         #: other at the end of the loop turn (``_flush_soon`` set while that is scheduled).
@@ -406,23 +411,19 @@ class NativeLink(CompositeCalls):
     ) -> tuple[Handle, LibraryCall, tuple[ResponseBlock, ...]]:
         """A call of one frame, ``build(command set, *args)``: its handle, the call and its
         answer blocks."""
-        handle = await self._handle_for(deadline)
+        handle = self._handle
+        if handle is None or handle.closed:
+            handle = await self._handle_for(deadline)
         call = build(handle.command_set, *args)
         blocks = await self._exchange(call.parts[0], handle.command_set, deadline)
         return handle, call, blocks
 
     # -- jobs ----------------------------------------------------------------------------
-    async def _exchange(
-        self, part: Part, command_set: CommandSet, deadline: float | None
-    ) -> tuple[ResponseBlock, ...]:
-        """One frame's worth of one call: its answer blocks (an EW code in a block is the
-        caller's to raise)."""
-        job = self._submit(part, command_set, deadline)
-        try:
-            return await job.token[0]
-        except asyncio.CancelledError:
-            self._session.abandon(job)
-            raise
+    def _exchange(self, part: Part, command_set: CommandSet, deadline: float | None) -> Future:
+        """One frame's worth of one call, submitted: the future of its answer blocks (an EW
+        code in a block is the caller's to raise). A caller that gives up cancels the future
+        (awaiting it does): queued, the job is then never sent; sent, its blocks are dropped."""
+        return self._submit(part, command_set, deadline).token[0]
 
     def _submit(self, part: Part, command_set: CommandSet, deadline: float | None) -> Job[Token]:
         """Queue a job and have it sent (see the module docstring); the caller awaits its

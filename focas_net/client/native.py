@@ -70,7 +70,15 @@ from ..protocol import (
     SysInfo,
 )
 from ._composite import ChunkOutcome
-from ._native_items import NativeItems, axis_name, block_data, decoded, signed, text
+from ._native_items import (
+    NativeItems,
+    axis_name,
+    block_data,
+    decoded,
+    only_answer,
+    signed,
+    text,
+)
 from ._native_link import Handle
 from ._started import StartedCall
 from ._values import (
@@ -134,11 +142,10 @@ class ServoLoad:
 def _status(handle: Handle, call: LibraryCall, blocks: tuple[ResponseBlock, ...]) -> StatusInfo:
     """The status of ``cnc_statinfo``'s answer ``blocks`` (hdck and tmmode read 0 when the CNC
     refuses them, as the library reads them)."""
-    frame = call.frames[0]
-    st, hd, tm = blocks
-    stat: StatInfo = decoded(frame[0], st, "cnc_statinfo", handle.max_axes)
-    hdck = 0 if hd.ew else decoded(frame[1], hd, "cnc_statinfo", 0).hdck
-    tmmode = 0 if tm.ew else decoded(frame[2], tm, "cnc_statinfo", 0).tmmode
+    _, hd, tm = blocks
+    stat: StatInfo = decoded(call, blocks, 0, handle.max_axes)
+    hdck = 0 if hd.ew else decoded(call, blocks, 1, 0).hdck
+    tmmode = 0 if tm.ew else decoded(call, blocks, 2, 0).tmmode
     return StatusInfo(
         hdck, tmmode, stat.aut, stat.run, stat.motion, stat.mstb, stat.emergency, stat.alarm,
         stat.edit,
@@ -149,10 +156,7 @@ def _dynamic(
     handle: Handle, call: LibraryCall, axis: int, blocks: tuple[ResponseBlock, ...]
 ) -> DynamicData:
     """The result of the ``cnc_rddynamic2`` ``call`` of ``axis`` from its answer ``blocks``."""
-    values = [
-        decoded(r, b, "cnc_rddynamic2", handle.max_axes)
-        for r, b in zip(call.frames[0], blocks, strict=True)
-    ]
+    values = [decoded(call, blocks, i, handle.max_axes) for i in range(len(blocks))]
     count = handle.axes if axis == -1 else 1
     alarm: AlarmStatus = values[0]
     prg: NativeProgramNumbers = values[1]
@@ -249,40 +253,52 @@ class NativeClient(NativeItems):
 
     async def read_cnc_id(self, *, timeout: float | None = None) -> tuple[int, int, int, int]:
         """``cnc_rdcncid``: the four 32-bit words of the CNC ID."""
-        cid: CncId = await self._one(self._deadline(timeout), calls.cnc_rdcncid)
+        cid: CncId = only_answer(*await self._single(self._deadline(timeout), calls.cnc_rdcncid))
         return (cid.id1, cid.id2, cid.id3, cid.id4)
 
     async def read_timer(self, timer_type: int, *, timeout: float | None = None) -> TimerValue:
         """``cnc_rdtimer``: a timer (0 power-on, 1 operating, 2 cutting, 3 cycle, 4 free) as
         minutes and milliseconds."""
         check_int("timer type", timer_type, 0, _TIMER_TYPES)
-        value: TimerValue = await self._one(self._deadline(timeout), calls.cnc_rdtimer, timer_type)
+        value: TimerValue = only_answer(
+            *await self._single(self._deadline(timeout), calls.cnc_rdtimer, timer_type)
+        )
         return value
 
     # -- program, feed, spindle ----------------------------------------------------------
     async def read_program_numbers(self, *, timeout: float | None = None) -> ProgramNumbers:
         """``cnc_rdprgnumo8``: the running and the main program numbers (0 = none)."""
-        value: NativeProgramNumbers = await self._one(self._deadline(timeout), calls.cnc_rdprgnumo8)
+        value: NativeProgramNumbers = only_answer(
+            *await self._single(self._deadline(timeout), calls.cnc_rdprgnumo8)
+        )
         return ProgramNumbers(value.running, value.main)
 
     async def read_program_name(self, *, timeout: float | None = None) -> tuple[int, str]:
         """``cnc_exeprgname``: the O number and the name of the executing program."""
-        value: ExecutingProgram = await self._one(self._deadline(timeout), calls.cnc_exeprgname)
+        value: ExecutingProgram = only_answer(
+            *await self._single(self._deadline(timeout), calls.cnc_exeprgname)
+        )
         return value.o_num, text(value.name)
 
     async def read_sequence_number(self, *, timeout: float | None = None) -> int:
         """``cnc_rdseqnum``: the sequence number being executed."""
-        value: SequenceNumber = await self._one(self._deadline(timeout), calls.cnc_rdseqnum)
+        value: SequenceNumber = only_answer(
+            *await self._single(self._deadline(timeout), calls.cnc_rdseqnum)
+        )
         return value.number
 
     async def read_feed(self, *, timeout: float | None = None) -> int:
         """``cnc_actf``: the actual feed rate."""
-        value: ScaledValues = await self._one(self._deadline(timeout), calls.cnc_actf)
+        value: ScaledValues = only_answer(
+            *await self._single(self._deadline(timeout), calls.cnc_actf)
+        )
         return value.values[0].mantissa if value.values else 0
 
     async def read_spindle_speed(self, *, timeout: float | None = None) -> int:
         """``cnc_acts``: the actual spindle speed."""
-        value: ScaledValues = await self._one(self._deadline(timeout), calls.cnc_acts)
+        value: ScaledValues = only_answer(
+            *await self._single(self._deadline(timeout), calls.cnc_acts)
+        )
         return value.values[0].mantissa if value.values else 0
 
     async def read_spindle_loads(
@@ -293,14 +309,13 @@ class NativeClient(NativeItems):
         handle, call, blocks = await self._single(
             self._deadline(timeout), calls.cnc_rdspload, spindle
         )
-        frame = call.frames[0]
-        for request, block in zip(frame, blocks, strict=True):
-            block_data(block, "cnc_rdspload")
+        for i, request in enumerate(call.frames[0]):
+            block_data(blocks[i], "cnc_rdspload")
             if request.COMMAND == NativeCommand.AXIS_COUNT:
-                if decoded(request, block, "cnc_rdspload", 0).count == 0:
+                if decoded(call, blocks, i, 0).count == 0:
                     raise CncError.from_ew(EW.NOOPT, "cnc_rdspload: no spindle")
         index = 0 if handle.command_set is CommandSet.FS16I else 1
-        loads: ScaledValues = decoded(frame[index], blocks[index], "cnc_rdspload", 0)
+        loads: ScaledValues = decoded(call, blocks, index, 0)
         limit = handle.spindles if spindle == -1 else 1
         return tuple(signed(v.mantissa, 2) for v in loads.values[: max(limit, 1)])
 
@@ -309,8 +324,8 @@ class NativeClient(NativeItems):
         handle, call, blocks = await self._single(self._deadline(timeout), calls.cnc_rdsvmeter)
         names: AxisNames | None = None
         loads: ScaledValues | None = None
-        for request, block in zip(call.frames[0], blocks, strict=True):
-            value = decoded(request, block, "cnc_rdsvmeter", handle.max_axes)
+        for i, request in enumerate(call.frames[0]):
+            value = decoded(call, blocks, i, handle.max_axes)
             if request.COMMAND == NativeCommand.AXIS_NAME:
                 names = value
             elif request.COMMAND == NativeCommand.RDSVMETER:
@@ -327,8 +342,8 @@ class NativeClient(NativeItems):
 
     async def read_axis_names(self, *, timeout: float | None = None) -> tuple[str, ...]:
         """``cnc_rdaxisname``: the names of the path's axes, in order."""
-        handle, call, (block,) = await self._single(self._deadline(timeout), calls.cnc_rdaxisname)
-        names: AxisNames = decoded(call.frames[0][0], block, "cnc_rdaxisname", handle.max_axes)
+        handle, call, blocks = await self._single(self._deadline(timeout), calls.cnc_rdaxisname)
+        names: AxisNames = only_answer(handle, call, blocks)
         return tuple(axis_name(n.encode()) for n in names.records[: handle.axes])
 
     async def read_dynamic(self, axis: int = -1, *, timeout: float | None = None) -> DynamicData:
@@ -396,14 +411,15 @@ class NativeClient(NativeItems):
         blocks = await self._exchange(call.parts[0], handle.command_set, deadline)
         names: PositionAxisNames | None = None
         positions: ScaledValues | None = None
-        for request, block in zip(call.frames[0], blocks, strict=True):
+        for i, request in enumerate(call.frames[0]):
             command = request.COMMAND
+            block = blocks[i]
             if command == NativeCommand.AXIS_NAME:
-                names = decoded(request, block, "cnc_rdposition", handle.max_axes)
+                names = decoded(call, blocks, i, handle.max_axes)
             elif (
                 command == NativeCommand.POSITION and getattr(request, "kind", None) == which.value
             ):
-                positions = decoded(request, block, "cnc_rdposition", handle.max_axes)
+                positions = decoded(call, blocks, i, handle.max_axes)
             elif command in (
                 NativeCommand.POSITION,
                 NativeCommand.AXIS_COUNT,
@@ -433,7 +449,9 @@ class NativeClient(NativeItems):
         """``cnc_rdmacro``: the value of ``#number`` as a Decimal, or None when vacant
         (binary records converted as the library converts them)."""
         check_macro(number)
-        values: ScaledValues = await self._one(self._deadline(timeout), calls.cnc_rdmacro, number)
+        values: ScaledValues = only_answer(
+            *await self._single(self._deadline(timeout), calls.cnc_rdmacro, number)
+        )
         if not values.values:
             raise PayloadError(f"cnc_rdmacro: answer for #{number} carries no value")
         return macro_from_wire(*values.values[0].to_macro())
@@ -473,8 +491,8 @@ class NativeClient(NativeItems):
     async def _read_pmc_chunk(
         self, code: int, start: int, count: int, deadline: float | None
     ) -> bytes:
-        data: NativePmcData = await self._one(
-            deadline, calls.pmc_rdpmcrng, code, 0, start, start + count - 1
+        data: NativePmcData = only_answer(
+            *await self._single(deadline, calls.pmc_rdpmcrng, code, 0, start, start + count - 1)
         )
         if len(data.raw) != count:
             raise PayloadError(f"pmc_rdpmcrng answer: {len(data.raw)} bytes, asked {count}")
@@ -524,7 +542,9 @@ class NativeClient(NativeItems):
     # -- alarms --------------------------------------------------------------------------
     async def read_alarm_status(self, *, timeout: float | None = None) -> int:
         """``cnc_alarm2``: the alarm bits (bit n set while an alarm of type n is active)."""
-        value: AlarmStatus = await self._one(self._deadline(timeout), calls.cnc_alarm2)
+        value: AlarmStatus = only_answer(
+            *await self._single(self._deadline(timeout), calls.cnc_alarm2)
+        )
         return value.alarm
 
     async def read_alarms(
@@ -538,8 +558,8 @@ class NativeClient(NativeItems):
         ``alm_type``: by name, ``"PS"``, an :class:`AlarmType` or a number)."""
         t = alarm_type_number(alm_type, every=True)
         check_int("alarm count", count, 1, I16_MAX)
-        value: AlarmMessages = await self._one(
-            self._deadline(timeout), calls.cnc_rdalmmsg2, t, count
+        value: AlarmMessages = only_answer(
+            *await self._single(self._deadline(timeout), calls.cnc_rdalmmsg2, t, count)
         )
         return tuple(
             ActiveAlarm(a.axis, a.alarm_type, a.number, text(a.message)) for a in value.alarms
@@ -556,11 +576,11 @@ class NativeClient(NativeItems):
         handle = await self._handle_for(deadline)
         call = calls.cnc_rdalmhistry(handle.command_set, 1, depth)
         entries: list[AlarmHistoryEntry] = []
-        for frame, part in zip(call.frames, call.parts, strict=True):
-            (block,) = await self._exchange(part, handle.command_set, deadline)
-            if block.ew == EW.NUMBER:
+        for n, (frame, part) in enumerate(zip(call.frames, call.parts, strict=True)):
+            blocks = await self._exchange(part, handle.command_set, deadline)
+            if blocks[0].ew == EW.NUMBER:
                 break  # no entry from here on (from the first: the history is empty)
-            history: NativeAlarmHistory = decoded(frame[0], block, "cnc_rdalmhistry", 0)
+            history: NativeAlarmHistory = decoded(call, blocks, 0, 0, frame=n)
             for r in history.records:
                 try:
                     when = datetime(r.year, r.month, r.day, r.hour, r.minute, r.second, tzinfo=UTC)

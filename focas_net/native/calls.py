@@ -15,7 +15,7 @@ import enum
 import functools
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
-from typing import Final, ParamSpec
+from typing import Any, Final, ParamSpec
 
 from focas_net._memo import Memo
 
@@ -82,6 +82,8 @@ OPTION_PARAMETER: Final = 9968
 POSITION_PARAMETER: Final = 3115
 #: Most alarm history records ``cnc_rdalmhistry`` asks per request.
 ALARM_HISTORY_CHUNK: Final = 23
+#: Most answers one call keeps decoded.
+_ANSWERS_KEPT: Final = 16
 
 
 class CommandSet(enum.Enum):
@@ -109,9 +111,30 @@ class LibraryCall:
     function: str
     frames: tuple[tuple[NativeRequest, ...], ...]
     parts: tuple[Part, ...] = field(init=False, repr=False, compare=False)
+    #: Answers decoded, by (frame, request, max axes, the answer bytes): see :meth:`answer`.
+    _answers: dict[tuple[int, int, int, bytes], Any] = field(
+        init=False, repr=False, compare=False, default_factory=dict
+    )
 
     def __post_init__(self) -> None:
         object.__setattr__(self, "parts", tuple(encode_part(frame) for frame in self.frames))
+
+    def answer(self, frame: int, index: int, data: bytes, max_axes: int) -> Any:
+        """The answer ``data`` of request ``index`` of frame ``frame``, decoded
+        (``max_axes``: the slot count of multi-record answers). Kept by its bytes, a few per
+        call: a poll whose answer repeats decodes it once; the values are immutable.
+
+        :raises NativePayloadError: data that does not decode (nothing kept).
+        """
+        key = (frame, index, max_axes, data)
+        answers = self._answers
+        value = answers.get(key)
+        if value is None:
+            value = self.frames[frame][index].decode_answer(data, max_axes)
+            if len(answers) >= _ANSWERS_KEPT:
+                answers.clear()
+            answers[key] = value
+        return value
 
     def blocks(self, path: int = 1) -> tuple[tuple[RequestBlock, ...], ...]:
         """The request blocks of each frame."""

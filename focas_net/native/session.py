@@ -30,7 +30,7 @@ from __future__ import annotations
 import enum
 import struct
 from collections import deque
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 from typing import Final, Generic, TypeVar
 
@@ -256,10 +256,15 @@ class NativeSession(Generic[T]):
     too). ``T`` is the type of the shell's token of a job.
     """
 
-    def __init__(self, max_blocks: int) -> None:
+    def __init__(
+        self, max_blocks: int, given_up: Callable[[T], bool] = lambda token: False
+    ) -> None:
         if not 1 <= max_blocks <= 0xFFFF:
             raise ValueError(f"max_blocks must be within 1..65535, got {max_blocks}")
         self.max_blocks = max_blocks
+        #: Whether the caller of a job's token gave up (cancelled) without saying so: such a
+        #: job queued is never sent, as one :meth:`abandon` ended.
+        self._given_up = given_up
         #: Jobs not sent, in call order (ended ones are dropped when met).
         self.queue: deque[Job[T]] = deque()
         #: The jobs of the frame in flight, or None.
@@ -341,32 +346,35 @@ class NativeSession(Generic[T]):
             return None
         queue = self.queue
         batch: list[Job[T]] = []
+        blocks: list[bytes] = []
         blocks_left = self.max_blocks
         answer_left = send_left = self._limit
+        axis_bytes = self._axis_bytes
+        given_up = self._given_up
         latest = 0.0
         while queue:
             job = queue[0]
-            if job.ending is not None:
+            if job.ending is not None or given_up(job.token):
                 queue.popleft()
+                job.ending = job.ending or Ending.ABANDONED
                 continue
             part = job.part
-            answer = part.answer_fixed + part.answer_axes * self._axis_bytes
-            if batch and (
-                part.count > blocks_left or answer > answer_left or len(part.blocks) > send_left
-            ):
+            answer = part.answer_fixed + part.answer_axes * axis_bytes
+            size = len(part.blocks)
+            if batch and (part.count > blocks_left or answer > answer_left or size > send_left):
                 break
             queue.popleft()
+            job.sent = True
             batch.append(job)
+            blocks.append(part.blocks)
             blocks_left -= part.count
             answer_left -= answer
-            send_left -= len(part.blocks)
+            send_left -= size
             if job.deadline > latest:
                 latest = job.deadline
         if not batch:
             return None
-        for job in batch:
-            job.sent = True
-        count = sum(job.part.count for job in batch)
+        count = self.max_blocks - blocks_left
         self.in_flight = batch
         self._in_flight_blocks = count
         self.frame_deadline = latest
@@ -374,7 +382,7 @@ class NativeSession(Generic[T]):
         self.blocks_sent += count
         if len(batch) == 1:
             return batch[0].part.frame
-        return request_frame(b"".join(job.part.blocks for job in batch), count)
+        return request_frame(b"".join(blocks), count)
 
     # -- bytes and time --------------------------------------------------------------------
     def receive(self, data: bytes) -> list[Job[T]]:
