@@ -19,10 +19,7 @@ from typing import Any, Final
 from focas_net._memo import Memo
 from focas_net.errors import EW, CncError, PayloadError, ProtocolError
 
-from ..native import calls
-from ..native.blocks import ResponseBlock
-from ..native.calls import CommandSet, LibraryCall
-from ..native.records import (
+from ..native import (
     DiagType,
     ItemRecord,
     ItemValues,
@@ -32,7 +29,10 @@ from ..native.records import (
     ScaledItemRecord,
     ScaledItemValues,
     ScaledNumber,
+    calls,
 )
+from ..native.blocks import ResponseBlock
+from ..native.calls import CommandSet, LibraryCall
 from ..native.requests import NativeRequest
 from ..protocol import ParamDataType, ParamValue
 from ._native_link import Handle, NativeLink

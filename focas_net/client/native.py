@@ -33,17 +33,16 @@ from typing import Any, Final
 
 from focas_net.errors import EW, CncError, FocasError, PayloadError
 
-from ..native import calls
-from ..native.blocks import REQUEST_BLOCK_SIZE, ResponseBlock
-from ..native.calls import CommandSet, LibraryCall
-from ..native.frame import max_response_body
-from ..native.records import (
+from ..native import (
     AlarmMessages,
     AlarmStatus,
     AxisNames,
     CncId,
     ExecutingProgram,
     NativeAlarmHistory,
+    NativeAlarmHistoryRequest,
+    NativeCommand,
+    NativePmcArea,
     NativePmcData,
     NativeProgramNumbers,
     PositionAxisNames,
@@ -51,12 +50,11 @@ from ..native.records import (
     SequenceNumber,
     StatInfo,
     TimerValue,
+    calls,
 )
-from ..native.requests import (
-    NativeAlarmHistoryRequest,
-    NativeCommand,
-    NativePmcArea,
-)
+from ..native.blocks import REQUEST_BLOCK_SIZE, ResponseBlock
+from ..native.calls import CommandSet, LibraryCall
+from ..native.frame import max_response_body
 from ..native.session import Ending
 from ..protocol import (
     ActiveAlarm,
