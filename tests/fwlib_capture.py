@@ -46,6 +46,7 @@ from decimal import Decimal
 from pathlib import Path
 from typing import Any
 
+import focas_net.native as native
 from focas_net.errors import EW
 from focas_net.native import (
     AlarmHistoryRecord,
@@ -100,7 +101,6 @@ from focas_net.native import (
     decode_request_body,
     encode_native_frame,
     encode_response_body,
-    requests,
 )
 from focas_net.native.calls import CommandSet, LibraryCall
 from focas_net.server import FocasServer, NativeFront
@@ -286,7 +286,7 @@ class Machine:
         return block.reply(request.encode_answer(answer))
 
     def answer_request(self, req: NativeRequest) -> Any:
-        r = requests
+        r = native
         if isinstance(req, r.SysInfoRequest):
             return self.sysinfo
         if isinstance(req, r.StatInfoRequest):

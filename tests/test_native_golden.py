@@ -30,6 +30,7 @@ from focas_net.errors import EW
 from focas_net.native import (
     AlarmMessages,
     FrameType,
+    ItemRecord,
     ItemValues,
     NativeAlarmHistory,
     NativeRequest,
@@ -63,7 +64,6 @@ from focas_net.native import (
     open_answer_size,
 )
 from focas_net.native.calls import CommandSet, LibraryCall
-from focas_net.native.records import ItemRecord
 
 DATA = Path(__file__).with_name("data")
 VERSIONS = (2, 3)

@@ -63,6 +63,7 @@ from focas_net.native import (
     ScaledItemValues,
     ScaledNumber,
     answer_refusal,
+    axes,
     base,
     binary_to_decimal,
     blocks,
@@ -72,9 +73,12 @@ from focas_net.native import (
     decode_request,
     encode_response_body,
     frame,
+    items,
+    macros,
     max_response_body,
     open_answer_size,
     opening,
+    pmc,
     records,
 )
 
@@ -96,9 +100,13 @@ _INTS: dict[str, st.SearchStrategy[int]] = {
 }
 
 
+#: The modules declaring the records checked here (part programs' are checked on their own).
+RECORD_MODULES = (base, frame, opening, blocks, records, items, macros, pmc, axes)
+
+
 def _all_records() -> list[type[NativeRecord]]:
     found: dict[str, type[NativeRecord]] = {}
-    for module in (base, frame, opening, blocks, records):
+    for module in RECORD_MODULES:
         for obj in vars(module).values():
             if isinstance(obj, type) and issubclass(obj, NativeRecord) and obj is not NativeRecord:
                 found[obj.__name__] = obj
@@ -439,11 +447,13 @@ def test_param_info_round_trip(prev: int, nxt: int, entries: list[ParamInfoEntry
 
 
 def _array_types() -> list[type[RecordArray[Any]]]:
-    return [
+    found = {
         obj
-        for obj in vars(records).values()
+        for module in RECORD_MODULES
+        for obj in vars(module).values()
         if isinstance(obj, type) and issubclass(obj, RecordArray) and obj is not RecordArray
-    ]
+    }
+    return sorted(found, key=lambda cls: cls.__name__)
 
 
 @pytest.mark.parametrize("cls", _array_types(), ids=lambda c: c.__name__)

@@ -8,9 +8,17 @@ once (``docs/native-protocol.md`` describes the wire format):
 * :mod:`.frame` — frames, the incremental decoder, open and close;
 * :mod:`.opening` — the open answer FANUC's library needs (16i and 30i layouts);
 * :mod:`.blocks` — request and answer blocks, and the bodies of data frames;
-* :mod:`.records` — the data records (ODBSYS, status, number records, parameters, alarms...);
+* :mod:`.records` — the records every area uses (no data, the 8-byte number record and its
+  runs) and those of identity, status, program numbers and alarms (ODBSYS, ODBST...);
 * :mod:`.binfloat` — the binary macro record, converted as FANUC's library does;
-* :mod:`.requests` — one typed request per command, with its answer type;
+* :mod:`.requests` — typed requests: the declaration (one frozen dataclass per command, with
+  its answer type), the table of every request, and the requests of identity, status, program
+  numbers, feed and speed, and alarms;
+* :mod:`.items` — parameters and diagnostics: their records (both command sets) and requests;
+* :mod:`.macros` — macro variables: the IEEE double records and the macro requests;
+* :mod:`.pmc` — the PMC: its areas, its range data and the range requests;
+* :mod:`.axes` — axes and spindles: positions, axis names, units, display flags and counts,
+  spindle loads and servo meters;
 * :mod:`.programs` — part programs: directory, memory, search, the blocks being executed and
   the transfer frames;
 * :mod:`.calls` — the blocks each FOCAS function of FANUC's library sends, per command set
@@ -38,6 +46,26 @@ raises :class:`ValueError` (a programming error, not a peer error).
 """
 
 from . import calls
+from .axes import (
+    AxisCount,
+    AxisCountRequest,
+    AxisDisplay,
+    AxisDisplayRequest,
+    AxisDisplays,
+    AxisName,
+    AxisNameRequest,
+    AxisNames,
+    AxisUnit,
+    AxisUnitRequest,
+    AxisUnits,
+    NativePositionKind,
+    NativePositionRequest,
+    PositionAxisName,
+    PositionAxisNames,
+    ServoMeterRequest,
+    SpindleLoadRequest,
+    resolve_position_kind,
+)
 from .base import (
     NativeFrameError,
     NativePayloadError,
@@ -93,6 +121,34 @@ from .frame import (
     encode_open_response,
     max_response_body,
 )
+from .items import (
+    Diagnostic3Request,
+    DiagnosticRequest,
+    DiagType,
+    ItemHead,
+    ItemRecord,
+    ItemValues,
+    ParamInfo,
+    ParamInfo3,
+    ParamInfo3Request,
+    ParamInfoEntry,
+    ParamInfoRequest,
+    ParamRead3Request,
+    ParamReadRequest,
+    ParamType,
+    ParamWrite3Request,
+    ParamWriteRequest,
+    ScaledItemRecord,
+    ScaledItemValues,
+)
+from .macros import (
+    MacroDouble,
+    MacroDoubleReadRequest,
+    MacroDoubles,
+    MacroDoubleWriteRequest,
+    MacroReadRequest,
+    MacroWriteRequest,
+)
 from .opening import (
     MACHINE_LATHE,
     MACHINE_MILL,
@@ -106,6 +162,13 @@ from .opening import (
     build_open_answer,
     decode_open_answer,
     open_answer_size,
+)
+from .pmc import (
+    NativePmcArea,
+    NativePmcData,
+    PmcDataType,
+    PmcReadRequest,
+    PmcWriteRequest,
 )
 from .programs import (
     PROGRAM_CHUNK,
@@ -132,36 +195,13 @@ from .records import (
     AlarmMessageHead,
     AlarmMessages,
     AlarmStatus,
-    AxisCount,
-    AxisDisplay,
-    AxisDisplays,
-    AxisName,
-    AxisNames,
-    AxisUnit,
-    AxisUnits,
     CncId,
-    DiagType,
     ExecutingProgram,
     HdckStatus,
-    ItemHead,
-    ItemRecord,
-    ItemValues,
-    MacroDouble,
-    MacroDoubles,
     NativeAlarmHistory,
-    NativePmcData,
     NativeProgramNumbers,
     NativeSysInfo,
     NoData,
-    ParamInfo,
-    ParamInfo3,
-    ParamInfoEntry,
-    ParamType,
-    PmcDataType,
-    PositionAxisName,
-    PositionAxisNames,
-    ScaledItemRecord,
-    ScaledItemValues,
     ScaledNumber,
     ScaledValues,
     SequenceNumber,
@@ -176,43 +216,19 @@ from .requests import (
     ActualSpindleSpeedRequest,
     AlarmMessageRequest,
     AlarmStatusRequest,
-    AxisCountRequest,
-    AxisDisplayRequest,
-    AxisNameRequest,
-    AxisUnitRequest,
     CncIdRequest,
-    Diagnostic3Request,
-    DiagnosticRequest,
     ExecutingProgramRequest,
     HdckRequest,
-    MacroDoubleReadRequest,
-    MacroDoubleWriteRequest,
-    MacroReadRequest,
-    MacroWriteRequest,
     NativeAlarmHistoryRequest,
     NativeCommand,
-    NativePmcArea,
-    NativePositionKind,
-    NativePositionRequest,
     NativeRequest,
-    ParamInfo3Request,
-    ParamInfoRequest,
-    ParamRead3Request,
-    ParamReadRequest,
-    ParamWrite3Request,
-    ParamWriteRequest,
-    PmcReadRequest,
-    PmcWriteRequest,
     ProgramNumberRequest,
     SequenceNumberRequest,
-    ServoMeterRequest,
-    SpindleLoadRequest,
     StatInfoRequest,
     SysInfoRequest,
     TimerRequest,
     TmModeRequest,
     decode_request,
-    resolve_position_kind,
 )
 from .session import (
     AnswerRefused,

@@ -19,7 +19,35 @@ from typing import Any, Final, ParamSpec
 
 from focas_net._memo import Memo
 
+from .axes import (
+    AxisCountRequest,
+    AxisDisplayRequest,
+    AxisNameRequest,
+    AxisUnitRequest,
+    NativePositionRequest,
+    ServoMeterRequest,
+    SpindleLoadRequest,
+)
 from .blocks import RequestBlock, encode_request
+from .items import (
+    Diagnostic3Request,
+    DiagnosticRequest,
+    ItemRecord,
+    ParamInfo3Request,
+    ParamInfoRequest,
+    ParamRead3Request,
+    ParamReadRequest,
+    ParamWrite3Request,
+    ParamWriteRequest,
+    ScaledItemRecord,
+)
+from .macros import (
+    MacroDoubleReadRequest,
+    MacroDoubleWriteRequest,
+    MacroReadRequest,
+    MacroWriteRequest,
+)
+from .pmc import NativePmcData, PmcReadRequest, PmcWriteRequest
 from .programs import (
     ExecutingBlocksRequest,
     ProgramDeleteRequest,
@@ -27,40 +55,19 @@ from .programs import (
     ProgramMemoryRequest,
     ProgramSearchRequest,
 )
-from .records import ItemRecord, NativePmcData, ScaledItemRecord, ScaledNumber
+from .records import ScaledNumber
 from .requests import (
     ActualFeedRequest,
     ActualSpindleSpeedRequest,
     AlarmMessageRequest,
     AlarmStatusRequest,
-    AxisCountRequest,
-    AxisDisplayRequest,
-    AxisNameRequest,
-    AxisUnitRequest,
     CncIdRequest,
-    Diagnostic3Request,
-    DiagnosticRequest,
     ExecutingProgramRequest,
     HdckRequest,
-    MacroDoubleReadRequest,
-    MacroDoubleWriteRequest,
-    MacroReadRequest,
-    MacroWriteRequest,
     NativeAlarmHistoryRequest,
-    NativePositionRequest,
     NativeRequest,
-    ParamInfo3Request,
-    ParamInfoRequest,
-    ParamRead3Request,
-    ParamReadRequest,
-    ParamWrite3Request,
-    ParamWriteRequest,
-    PmcReadRequest,
-    PmcWriteRequest,
     ProgramNumberRequest,
     SequenceNumberRequest,
-    ServoMeterRequest,
-    SpindleLoadRequest,
     StatInfoRequest,
     SysInfoRequest,
     TimerRequest,

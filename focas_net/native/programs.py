@@ -28,7 +28,7 @@ from typing import Any, ClassVar, Final
 from ..errors import EW
 from .base import NativePayloadError, NativeRecord, RecordArray
 from .records import NoData
-from .requests import REQUEST_TYPES, NativeCommand, NativeRequest
+from .requests import NativeCommand, NativeRequest, _register
 
 __all__ = [
     "PROGRAM_CHUNK",
@@ -221,17 +221,12 @@ class TransferError(NativeRecord):
 
 
 #: The program requests join the codec's table of typed requests.
-REQUEST_TYPES.update(
-    {
-        (cls.DEVICE, cls.COMMAND): cls
-        for cls in (
-            ProgramDirRequest,
-            ProgramMemoryRequest,
-            ProgramDeleteRequest,
-            ProgramSearchRequest,
-            ExecutingBlocksRequest,
-        )
-    }
+_register(
+    ProgramDirRequest,
+    ProgramMemoryRequest,
+    ProgramDeleteRequest,
+    ProgramSearchRequest,
+    ExecutingBlocksRequest,
 )
 
 _RANGE: Final = re.compile(r"O(\d{1,8})(?:-O(\d{1,8}))?")

@@ -11,6 +11,12 @@ answer type in ``ANSWER``. From that single declaration:
 
 The FOCAS functions that send each request are named in its docstring, per command set:
 "16i class" (open answer version <= 2) and "30i class" (version >= 3), see :mod:`.opening`.
+
+This module holds the declaration's machinery, the table of every request
+(:data:`REQUEST_TYPES`, which the modules of each area join) and the requests of the CNC's
+identity, status, program numbers, feed and speed, and alarms; the requests of parameters and
+diagnostics, macro variables, the PMC, the axes and part programs are declared in
+:mod:`.items`, :mod:`.macros`, :mod:`.pmc`, :mod:`.axes` and :mod:`.programs`.
 """
 
 from __future__ import annotations
@@ -27,36 +33,18 @@ from .blocks import Device, RequestBlock
 from .records import (
     AlarmMessages,
     AlarmStatus,
-    AxisCount,
-    AxisDisplays,
-    AxisNames,
-    AxisUnits,
     CncId,
     ExecutingProgram,
     HdckStatus,
-    ItemHead,
-    ItemRecord,
-    ItemValues,
-    MacroDouble,
-    MacroDoubles,
     NativeAlarmHistory,
-    NativePmcData,
     NativeProgramNumbers,
     NativeSysInfo,
     NoData,
-    ParamInfo,
-    ParamInfo3,
-    PositionAxisNames,
-    ScaledItemRecord,
-    ScaledItemValues,
-    ScaledNumber,
     ScaledValues,
     SequenceNumber,
     StatInfo,
     TimerValue,
     TmModeStatus,
-    _pack_double,
-    _unpack_double,
 )
 
 __all__ = [
@@ -66,43 +54,19 @@ __all__ = [
     "ActualSpindleSpeedRequest",
     "AlarmMessageRequest",
     "AlarmStatusRequest",
-    "AxisCountRequest",
-    "AxisDisplayRequest",
-    "AxisNameRequest",
-    "AxisUnitRequest",
     "CncIdRequest",
-    "Diagnostic3Request",
-    "DiagnosticRequest",
     "ExecutingProgramRequest",
     "HdckRequest",
-    "MacroDoubleReadRequest",
-    "MacroDoubleWriteRequest",
-    "MacroReadRequest",
-    "MacroWriteRequest",
     "NativeAlarmHistoryRequest",
     "NativeCommand",
-    "NativePmcArea",
-    "NativePositionKind",
-    "NativePositionRequest",
     "NativeRequest",
-    "ParamInfo3Request",
-    "ParamInfoRequest",
-    "ParamRead3Request",
-    "ParamReadRequest",
-    "ParamWrite3Request",
-    "ParamWriteRequest",
-    "PmcReadRequest",
-    "PmcWriteRequest",
     "ProgramNumberRequest",
     "SequenceNumberRequest",
-    "ServoMeterRequest",
-    "SpindleLoadRequest",
     "StatInfoRequest",
     "SysInfoRequest",
     "TimerRequest",
     "TmModeRequest",
     "decode_request",
-    "resolve_position_kind",
 ]
 
 
@@ -407,467 +371,35 @@ class NativeAlarmHistoryRequest(NativeRequest):
     mode: int = 1
 
 
-# --------------------------------------------------------------------------------------------
-# Macro variables
-
-
-@dataclass(frozen=True, slots=True)
-class MacroReadRequest(NativeRequest):
-    """0x15, args ``first, last`` (inclusive; ``cnc_rdmacro(n)`` sends ``(n, n)``) [V]:
-    :class:`ScaledValues`, one record per variable."""
-
-    COMMAND: ClassVar[int] = NativeCommand.RDMACRO
-    ARGS: ClassVar[tuple[_ArgSpec, ...]] = ("first", "last")
-    ANSWER: ClassVar[Any] = ScaledValues
-    first: int
-    last: int
-
-
-@dataclass(frozen=True, slots=True)
-class MacroWriteRequest(NativeRequest):
-    """0x16, args ``(number, number, 0, 0, 8)``, extra: one :class:`ScaledNumber`
-    (``cnc_wrmacro``) [V]: base 2 at 16i class, base 10 at 30i class, see
-    :meth:`ScaledNumber.from_macro`. No answer data."""
-
-    COMMAND: ClassVar[int] = NativeCommand.WRMACRO
-    ARGS: ClassVar[tuple[_ArgSpec, ...]] = ("number", "number", 0, 0, EXTRA_LENGTH)
-    WRITE: ClassVar[bool] = True
-    number: int
-    value: ScaledNumber
-
-    def extra(self) -> bytes:
-        return self.value.encode()
-
-    @classmethod
-    def _extra_fields(cls, extra: bytes) -> dict[str, Any]:
-        if len(extra) != ScaledNumber.SIZE:
-            raise NativePayloadError(
-                f"macro write carries {len(extra)} data bytes, expected 8", EW.LENGTH
-            )
-        return {"value": ScaledNumber.decode(extra)}
-
-
-@dataclass(frozen=True, slots=True)
-class MacroDoubleReadRequest(NativeRequest):
-    """0xA7, args ``first, count`` (a count, not a last number; ``cnc_rdmacror2``) [V]:
-    :class:`MacroDoubles`."""
-
-    COMMAND: ClassVar[int] = NativeCommand.RDMACRO_DOUBLE
-    ARGS: ClassVar[tuple[_ArgSpec, ...]] = ("first", "count")
-    ANSWER: ClassVar[Any] = MacroDoubles
-    first: int
-    count: int
-
-
-@dataclass(frozen=True, slots=True)
-class MacroDoubleWriteRequest(NativeRequest):
-    """0xA8, args ``(number, 0, 0, 0, 8)``, extra: the IEEE double (``cnc_wrmacror2``) [V].
-
-    ``value`` None writes a vacant variable (sent as a quiet NaN, this project's choice).
-    No answer data.
-    """
-
-    COMMAND: ClassVar[int] = NativeCommand.WRMACRO_DOUBLE
-    ARGS: ClassVar[tuple[_ArgSpec, ...]] = ("number", 0, 0, 0, EXTRA_LENGTH)
-    WRITE: ClassVar[bool] = True
-    number: int
-    value: float | None
-
-    def extra(self) -> bytes:
-        return _pack_double(self.value)
-
-    @classmethod
-    def _extra_fields(cls, extra: bytes) -> dict[str, Any]:
-        if len(extra) != MacroDouble.SIZE:
-            raise NativePayloadError(
-                f"macro double write carries {len(extra)} data bytes, expected 8", EW.LENGTH
-            )
-        return {"value": _unpack_double(extra, 0)}
-
-
-# --------------------------------------------------------------------------------------------
-# Parameters and diagnostics
-
-
-def _item_slots(data: bytes, slot: int, max_axes: int | None, single: bool) -> int:
-    """Slots per record: ``max_axes`` when given, else (one record) from the data length."""
-    if max_axes is not None:
-        return max_axes
-    if single and len(data) >= ItemHead.SIZE + slot:
-        return (len(data) - ItemHead.SIZE) // slot
-    raise ValueError("max_axes is needed to decode several records")
-
-
-@dataclass(frozen=True, slots=True)
-class ParamReadRequest(NativeRequest):
-    """0x0E, args ``first, last, axis`` (``cnc_rdparam(n, axis)``, 16i class, sends
-    ``(n, n, axis)``, axis 0, k or -1) [V]: :class:`ItemValues` (4-byte slots, type numbering
-    :class:`ParamType`). FANUC's library also reads parameter 9968 with it while connecting
-    (its "FOCAS option bits", low byte of slot 0) and 3115 in ``cnc_rdposition``."""
-
-    COMMAND: ClassVar[int] = NativeCommand.RDPARAM
-    ARGS: ClassVar[tuple[_ArgSpec, ...]] = ("first", "last", "axis")
-    ANSWER: ClassVar[Any] = ItemValues
-    first: int
-    last: int
-    axis: int
-
-    def decode_answer(self, data: bytes, max_axes: int | None = None) -> ItemValues:
-        slots = _item_slots(data, 4, max_axes, self.first == self.last)
-        return ItemValues.decode(data, max(slots, 1))
-
-
-@dataclass(frozen=True, slots=True)
-class ParamInfoRequest(NativeRequest):
-    """0x10, args ``first, count`` (``cnc_wrparam`` at 16i class sends ``(n, 1)`` first;
-    ``cnc_rdparainfo(s, n)`` sends ``(s, n)`` in both classes) [V]: :class:`ParamInfo`."""
-
-    COMMAND: ClassVar[int] = NativeCommand.RDPARAINFO
-    ARGS: ClassVar[tuple[_ArgSpec, ...]] = ("first", "count")
-    ANSWER: ClassVar[Any] = ParamInfo
-    first: int
-    count: int = 1
-
-
-@dataclass(frozen=True, slots=True)
-class ParamWriteRequest(NativeRequest):
-    """0x0F, args ``(0, 0, 0, 0, 8 + 4 * max_axes)``, extra: one :class:`ItemRecord` with
-    ``max_axes`` slots (``cnc_wrparam``, 16i class, after 0x10) [V]. The value sits
-    sign-extended in slot 0 (one axis) or slots 0..axes-1; unused slots hold whatever the
-    library's buffer held. No answer data."""
-
-    COMMAND: ClassVar[int] = NativeCommand.WRPARAM
-    ARGS: ClassVar[tuple[_ArgSpec, ...]] = (0, 0, 0, 0, EXTRA_LENGTH)
-    WRITE: ClassVar[bool] = True
-    record: ItemRecord
-
-    def extra(self) -> bytes:
-        return self.record.encode()
-
-    @classmethod
-    def _extra_fields(cls, extra: bytes) -> dict[str, Any]:
-        return {"record": ItemRecord.decode(extra)}
-
-
-@dataclass(frozen=True, slots=True)
-class ParamRead3Request(NativeRequest):
-    """0x8D, args ``first, last, axis`` (``cnc_rdparam``, 30i class) [V]:
-    :class:`ScaledItemValues` (8-byte slots)."""
-
-    COMMAND: ClassVar[int] = NativeCommand.RDPARAM3
-    ARGS: ClassVar[tuple[_ArgSpec, ...]] = ("first", "last", "axis")
-    ANSWER: ClassVar[Any] = ScaledItemValues
-    first: int
-    last: int
-    axis: int
-
-    def decode_answer(self, data: bytes, max_axes: int | None = None) -> ScaledItemValues:
-        slots = _item_slots(data, 8, max_axes, self.first == self.last)
-        return ScaledItemValues.decode(data, max(slots, 1))
-
-
-@dataclass(frozen=True, slots=True)
-class ParamInfo3Request(NativeRequest):
-    """0xA0, args ``first, count`` (``cnc_wrparam``, 30i class, sends ``(n, 1)`` first) [V]:
-    :class:`ParamInfo3` (28 bytes)."""
-
-    COMMAND: ClassVar[int] = NativeCommand.RDPARAINFO3
-    ARGS: ClassVar[tuple[_ArgSpec, ...]] = ("first", "count")
-    ANSWER: ClassVar[Any] = ParamInfo3
-    first: int
-    count: int = 1
-
-
-@dataclass(frozen=True, slots=True)
-class ParamWrite3Request(NativeRequest):
-    """0x8E, args ``(0, 0, 0, 0, 8 + 8 * max_axes)``, extra: one :class:`ScaledItemRecord`
-    with ``max_axes`` slots (``cnc_wrparam``, 30i class, after 0xA0) [V]. No answer data."""
-
-    COMMAND: ClassVar[int] = NativeCommand.WRPARAM3
-    ARGS: ClassVar[tuple[_ArgSpec, ...]] = (0, 0, 0, 0, EXTRA_LENGTH)
-    WRITE: ClassVar[bool] = True
-    record: ScaledItemRecord
-
-    def extra(self) -> bytes:
-        return self.record.encode()
-
-    @classmethod
-    def _extra_fields(cls, extra: bytes) -> dict[str, Any]:
-        return {"record": ScaledItemRecord.decode(extra)}
-
-
-@dataclass(frozen=True, slots=True)
-class DiagnosticRequest(NativeRequest):
-    """0x30, args ``first, last, axis`` (``cnc_diagnoss``, 16i class) [V]: :class:`ItemValues`
-    with the :class:`DiagType` numbering."""
-
-    COMMAND: ClassVar[int] = NativeCommand.RDDIAG
-    ARGS: ClassVar[tuple[_ArgSpec, ...]] = ("first", "last", "axis")
-    ANSWER: ClassVar[Any] = ItemValues
-    first: int
-    last: int
-    axis: int
-
-    def decode_answer(self, data: bytes, max_axes: int | None = None) -> ItemValues:
-        slots = _item_slots(data, 4, max_axes, self.first == self.last)
-        return ItemValues.decode(data, max(slots, 1))
-
-
-@dataclass(frozen=True, slots=True)
-class Diagnostic3Request(NativeRequest):
-    """0x93, args ``first, last, axis`` (``cnc_diagnoss``, 30i class) [V]:
-    :class:`ScaledItemValues` with the :class:`DiagType` numbering."""
-
-    COMMAND: ClassVar[int] = NativeCommand.RDDIAG3
-    ARGS: ClassVar[tuple[_ArgSpec, ...]] = ("first", "last", "axis")
-    ANSWER: ClassVar[Any] = ScaledItemValues
-    first: int
-    last: int
-    axis: int
-
-    def decode_answer(self, data: bytes, max_axes: int | None = None) -> ScaledItemValues:
-        slots = _item_slots(data, 8, max_axes, self.first == self.last)
-        return ScaledItemValues.decode(data, max(slots, 1))
-
-
-# --------------------------------------------------------------------------------------------
-# PMC
-
-
-class NativePmcArea(enum.IntEnum):
-    """PMC address letters and their FOCAS ``adr_type`` numbers."""
-
-    G = 0
-    F = 1
-    Y = 2
-    X = 3
-    A = 4
-    R = 5
-    T = 6
-    K = 7
-    C = 8
-    D = 9
-    M = 10
-    N = 11
-    E = 12
-    Z = 13
-
-
-@dataclass(frozen=True, slots=True)
-class PmcReadRequest(NativeRequest):
-    """Device PMC, 0x8001, args ``first, last, area, data_type`` (``pmc_rdpmcrng(a, t, s, e)``
-    sends ``(s, e, a, t)``) [V].
-
-    ``first`` and ``last`` are inclusive byte addresses (``last = first + width * count - 1``);
-    ``data_type`` 0 byte, 1 word, 2 long (:class:`PmcDataType`). Answered with
-    :class:`NativePmcData`.
-    """
-
-    DEVICE: ClassVar[int] = Device.PMC
-    COMMAND: ClassVar[int] = NativeCommand.PMC_RDPMCRNG
-    ARGS: ClassVar[tuple[_ArgSpec, ...]] = ("first", "last", "area", "data_type")
-    ANSWER: ClassVar[Any] = NativePmcData
-    first: int
-    last: int
-    area: int
-    data_type: int
-
-
-@dataclass(frozen=True, slots=True)
-class PmcWriteRequest(NativeRequest):
-    """Device PMC, 0x8002, args ``first, last, area, data_type, nbytes``, extra: the data,
-    words and longs big-endian (``pmc_wrpmcrng``) [V]. No answer data."""
-
-    DEVICE: ClassVar[int] = Device.PMC
-    COMMAND: ClassVar[int] = NativeCommand.PMC_WRPMCRNG
-    ARGS: ClassVar[tuple[_ArgSpec, ...]] = ("first", "last", "area", "data_type", EXTRA_LENGTH)
-    WRITE: ClassVar[bool] = True
-    first: int
-    last: int
-    area: int
-    data_type: int
-    data: NativePmcData
-
-    def extra(self) -> bytes:
-        return self.data.raw
-
-    @classmethod
-    def _extra_fields(cls, extra: bytes) -> dict[str, Any]:
-        return {"data": NativePmcData(bytes(extra))}
-
-    def values(self) -> tuple[int, ...]:
-        """The unsigned values written."""
-        return self.data.values(self.data_type)
-
-
-# --------------------------------------------------------------------------------------------
-# Positions, axes, spindles
-
-
-class NativePositionKind(enum.Enum):
-    """What a position read (0x26) asks for."""
-
-    ABSOLUTE = "absolute"
-    MACHINE = "machine"
-    RELATIVE = "relative"
-    DISTANCE = "distance"
-    SKIP = "skip"
-
-
-#: Both numberings FANUC's library sends [V]: 4/1/6/7 (``cnc_absolute``, ``cnc_machine``,
-#: ``cnc_relative``, ``cnc_distance``, ``cnc_rddynamic2``; 8 skip from public captures) and
-#: 0..3 (``cnc_rdposition``); 1 means the machine position in both.
-_POSITION_KINDS: Final[dict[int, NativePositionKind]] = {
-    0: NativePositionKind.ABSOLUTE,
-    1: NativePositionKind.MACHINE,
-    2: NativePositionKind.RELATIVE,
-    3: NativePositionKind.DISTANCE,
-    4: NativePositionKind.ABSOLUTE,
-    6: NativePositionKind.RELATIVE,
-    7: NativePositionKind.DISTANCE,
-    8: NativePositionKind.SKIP,
-}
-
-
-def resolve_position_kind(code: int) -> NativePositionKind | None:
-    """The position a 0x26 kind code asks for, or None for a code this codec does not know."""
-    return _POSITION_KINDS.get(code)
-
-
-@dataclass(frozen=True, slots=True)
-class NativePositionRequest(NativeRequest):
-    """0x26, args ``kind, axis`` (axis -1 = all axes, n = axis n) [V]: :class:`ScaledValues`,
-    one record per axis (for -1 send max-axes records: ``cnc_rddynamic2`` packs its four
-    arrays with a stride of the number received)."""
-
-    COMMAND: ClassVar[int] = NativeCommand.POSITION
-    ARGS: ClassVar[tuple[_ArgSpec, ...]] = ("kind", "axis")
-    ANSWER: ClassVar[Any] = ScaledValues
-    kind: int
-    axis: int = -1
-
-    @property
-    def position_kind(self) -> NativePositionKind | None:
-        return resolve_position_kind(self.kind)
-
-
-@dataclass(frozen=True, slots=True)
-class AxisNameRequest(NativeRequest):
-    """0x89, args ``kind``: 0 -> :class:`AxisNames` (4 bytes per axis; ``cnc_rdaxisname``,
-    ``cnc_rdsvmeter``), -1 -> :class:`PositionAxisNames` (16 bytes per axis;
-    ``cnc_rdposition``) [V]."""
-
-    COMMAND: ClassVar[int] = NativeCommand.AXIS_NAME
-    ARGS: ClassVar[tuple[_ArgSpec, ...]] = ("kind",)
-    ANSWER: ClassVar[Any] = AxisNames
-    kind: int = 0
-
-    def decode_answer(
-        self, data: bytes, max_axes: int | None = None
-    ) -> AxisNames | PositionAxisNames:
-        if self.kind == -1:
-            return PositionAxisNames.decode(data)
-        return AxisNames.decode(data)
-
-
-@dataclass(frozen=True, slots=True)
-class AxisUnitRequest(NativeRequest):
-    """0x88, args ``kind`` (``cnc_rdposition``: 2 at 16i class, 1 then 2 at 30i class) [V]:
-    :class:`AxisUnits`."""
-
-    COMMAND: ClassVar[int] = NativeCommand.AXIS_UNIT
-    ARGS: ClassVar[tuple[_ArgSpec, ...]] = ("kind",)
-    ANSWER: ClassVar[Any] = AxisUnits
-    kind: int = 2
-
-
-@dataclass(frozen=True, slots=True)
-class AxisCountRequest(NativeRequest):
-    """0xA4, args ``kind``: 0 axes (``cnc_rdposition``), 1 spindles (``cnc_rdspload``), 2 servo
-    axes (``cnc_rdsvmeter``), 30i class; sent before and after the read [V]:
-    :class:`AxisCount`."""
-
-    COMMAND: ClassVar[int] = NativeCommand.AXIS_COUNT
-    ARGS: ClassVar[tuple[_ArgSpec, ...]] = ("kind",)
-    ANSWER: ClassVar[Any] = AxisCount
-    kind: int = 0
-
-
-@dataclass(frozen=True, slots=True)
-class AxisDisplayRequest(NativeRequest):
-    """0xA3, args ``(0, -1)`` (``cnc_rdposition``, 30i class) [V]: :class:`AxisDisplays`."""
-
-    COMMAND: ClassVar[int] = NativeCommand.AXIS_DISPLAY
-    ARGS: ClassVar[tuple[_ArgSpec, ...]] = ("kind", "axis")
-    ANSWER: ClassVar[Any] = AxisDisplays
-    kind: int = 0
-    axis: int = -1
-
-
-@dataclass(frozen=True, slots=True)
-class SpindleLoadRequest(NativeRequest):
-    """0x40, args ``(0, spindle)`` (``cnc_rdspload(sp)``, -1 all) [V]: :class:`ScaledValues`,
-    one per spindle (the library keeps the low 16 bits of each mantissa)."""
-
-    COMMAND: ClassVar[int] = NativeCommand.RDSPLOAD
-    ARGS: ClassVar[tuple[_ArgSpec, ...]] = ("kind", "spindle")
-    ANSWER: ClassVar[Any] = ScaledValues
-    kind: int = 0
-    spindle: int = -1
-
-
-@dataclass(frozen=True, slots=True)
-class ServoMeterRequest(NativeRequest):
-    """0x56, args ``(1)`` (``cnc_rdsvmeter``) [V]: :class:`ScaledValues`, one per axis (the
-    library takes |mantissa| and the decimals; it does not check the length)."""
-
-    COMMAND: ClassVar[int] = NativeCommand.RDSVMETER
-    ARGS: ClassVar[tuple[_ArgSpec, ...]] = ("kind",)
-    ANSWER: ClassVar[Any] = ScaledValues
-    kind: int = 1
-
-
-#: Every request this codec declares, keyed by ``(device, command)``.
-REQUEST_TYPES: Final[dict[tuple[int, int], type[NativeRequest]]] = {
-    (cls.DEVICE, cls.COMMAND): cls
-    for cls in (
-        SysInfoRequest,
-        StatInfoRequest,
-        HdckRequest,
-        TmModeRequest,
-        CncIdRequest,
-        TimerRequest,
-        ProgramNumberRequest,
-        SequenceNumberRequest,
-        ExecutingProgramRequest,
-        ActualFeedRequest,
-        ActualSpindleSpeedRequest,
-        AlarmStatusRequest,
-        AlarmMessageRequest,
-        NativeAlarmHistoryRequest,
-        MacroReadRequest,
-        MacroWriteRequest,
-        MacroDoubleReadRequest,
-        MacroDoubleWriteRequest,
-        ParamReadRequest,
-        ParamInfoRequest,
-        ParamWriteRequest,
-        ParamRead3Request,
-        ParamInfo3Request,
-        ParamWrite3Request,
-        DiagnosticRequest,
-        Diagnostic3Request,
-        PmcReadRequest,
-        PmcWriteRequest,
-        NativePositionRequest,
-        AxisNameRequest,
-        AxisUnitRequest,
-        AxisCountRequest,
-        AxisDisplayRequest,
-        SpindleLoadRequest,
-        ServoMeterRequest,
-    )
-}
+#: Every request this codec declares, keyed by ``(device, command)``: this module's, and those
+#: each area's module (:mod:`.items`, :mod:`.macros`, :mod:`.pmc`, :mod:`.axes`,
+#: :mod:`.programs`) adds with :func:`_register` when it is imported (the package imports them
+#: all).
+REQUEST_TYPES: Final[dict[tuple[int, int], type[NativeRequest]]] = {}
+
+
+def _register(*classes: type[NativeRequest]) -> None:
+    """Adds the typed requests ``classes`` to :data:`REQUEST_TYPES`."""
+    for cls in classes:
+        REQUEST_TYPES[(cls.DEVICE, cls.COMMAND)] = cls
+
+
+_register(
+    SysInfoRequest,
+    StatInfoRequest,
+    HdckRequest,
+    TmModeRequest,
+    CncIdRequest,
+    TimerRequest,
+    ProgramNumberRequest,
+    SequenceNumberRequest,
+    ExecutingProgramRequest,
+    ActualFeedRequest,
+    ActualSpindleSpeedRequest,
+    AlarmStatusRequest,
+    AlarmMessageRequest,
+    NativeAlarmHistoryRequest,
+)
 
 
 def decode_request(block: RequestBlock) -> NativeRequest | None:

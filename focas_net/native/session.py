@@ -51,13 +51,9 @@ from .frame import (
     FrameType,
     max_response_body,
 )
-from .requests import (
-    AlarmMessageRequest,
-    MacroReadRequest,
-    NativeAlarmHistoryRequest,
-    NativeRequest,
-    PmcReadRequest,
-)
+from .macros import MacroReadRequest
+from .pmc import PmcReadRequest
+from .requests import AlarmMessageRequest, NativeAlarmHistoryRequest, NativeRequest
 
 __all__ = [
     "AnswerRefused",

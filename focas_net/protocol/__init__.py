@@ -16,7 +16,6 @@ from .alarms import (
 from .codecs import (
     COMMANDS,
     EW_OK_BYTES,
-    MAX_PMC_CHUNK,
     MAX_REAL_DECIMALS,
     PASSWORD_SIZE,
     ActualValue,
@@ -35,9 +34,6 @@ from .codecs import (
     ParamDataType,
     ParamValue,
     Password,
-    PmcArea,
-    PmcData,
-    PmcRange,
     PositionData,
     PositionKind,
     PositionRequest,
@@ -60,6 +56,12 @@ from .frame import (
     FrameDecoder,
     RawFrame,
     encode_frame,
+)
+from .pmc import (
+    MAX_PMC_CHUNK,
+    PmcArea,
+    PmcData,
+    PmcRange,
 )
 from .programs import (
     MAX_DIRECTORY_ENTRIES,

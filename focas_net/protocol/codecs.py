@@ -23,6 +23,7 @@ from ._base import I16, INT_RANGES, Codec, FixedPayload, field_error
 from .alarms import ActiveAlarmList, AlarmHistory
 from .commands import Command
 from .faults import FaultList, FaultsCleared, FaultsRequest
+from .pmc import PmcData, PmcRange
 from .programs import (
     CycleControl,
     DirectoryRequest,
@@ -40,7 +41,6 @@ from .versamax import VersaMaxReply, VersaMaxRequest
 __all__ = [
     "COMMANDS",
     "EW_OK_BYTES",
-    "MAX_PMC_CHUNK",
     "MAX_REAL_DECIMALS",
     "PASSWORD_SIZE",
     "ActualValue",
@@ -59,9 +59,6 @@ __all__ = [
     "ParamDataType",
     "ParamValue",
     "Password",
-    "PmcArea",
-    "PmcData",
-    "PmcRange",
     "PositionData",
     "PositionKind",
     "PositionRequest",
@@ -75,8 +72,6 @@ __all__ = [
     "encode_response",
 ]
 
-#: Most data bytes one PMC range call carries.
-MAX_PMC_CHUNK: Final = 32
 #: Bytes of a parameter password (``cnc_wrunlockparam``): 1..4 ASCII characters.
 PASSWORD_SIZE: Final = 4
 #: ``i16 ew = 0``, the start of every successful read or write answer.
@@ -208,21 +203,6 @@ class AlarmHistoryRequest(FixedPayload):
 
     FORMAT: ClassVar[str] = "<h"
     depth: int
-
-
-@dataclass(frozen=True, slots=True)
-class PmcRange(FixedPayload):
-    """IODBPMC header: ``i16 type_a, i16 type_d, u16 datano_s, u16 datano_e`` (inclusive)."""
-
-    FORMAT: ClassVar[str] = "<hhHH"
-    type_a: int
-    type_d: int
-    datano_s: int
-    datano_e: int
-
-    @property
-    def count(self) -> int:
-        return self.datano_e - self.datano_s + 1
 
 
 @dataclass(frozen=True, slots=True)
@@ -440,50 +420,6 @@ class ParamAttributes(FixedPayload):
         return ParamDataType(self.kind) if self.kind in ParamDataType._value2member_map_ else None
 
 
-_PMC_HEAD: Final = PmcRange.STRUCT
-
-
-@dataclass(frozen=True, slots=True)
-class PmcData:
-    """IODBPMC with data: the 8-byte header then the bytes.
-
-    The answer of ``pmc_rdpmcrng`` and the request of ``pmc_wrpmcrng`` and ``set_pmc``. The
-    decoder does not check the data length against the header (the server answers a mismatch
-    with EW_LENGTH, in the order of ``docs/protocol.md``).
-    """
-
-    type_a: int
-    type_d: int
-    datano_s: int
-    datano_e: int
-    data: bytes
-
-    @property
-    def header(self) -> PmcRange:
-        return PmcRange(self.type_a, self.type_d, self.datano_s, self.datano_e)
-
-    def encode(self) -> bytes:
-        try:
-            return _PMC_HEAD.pack(self.type_a, self.type_d, self.datano_s, self.datano_e) + (
-                self.data
-            )
-        except struct.error as exc:
-            fields: tuple[tuple[str, object, str], ...] = (
-                ("type_a", self.type_a, "h"),
-                ("type_d", self.type_d, "h"),
-                ("start address", self.datano_s, "H"),
-                ("end address", self.datano_e, "H"),
-            )
-            raise ValueError(field_error(fields, exc)) from None
-
-    @classmethod
-    def decode(cls, data: bytes) -> Self:
-        if len(data) < 8:
-            raise PayloadError(f"IODBPMC of {len(data)} bytes is shorter than its header")
-        type_a, type_d, start, end = _PMC_HEAD.unpack_from(data, 0)
-        return cls(type_a, type_d, start, end, data[8:])
-
-
 _RAISE_HEAD: Final = struct.Struct("<hhhh")
 
 
@@ -565,40 +501,6 @@ class PositionData:
             for value, name in _POS_ENTRY.iter_unpack(data[4:])
         )
         return cls(dec, axes)
-
-
-# -- PMC areas -------------------------------------------------------------------------------
-
-
-class PmcArea(enum.IntEnum):
-    """``type_a`` codes of this protocol (not FWLIB's adr_type numbers)."""
-
-    X = 1
-    Y = 2
-    F = 3
-    G = 4
-    R = 5
-    T = 6
-    C = 7
-    D = 8
-    K = 10
-    A = 11
-    E = 12
-
-    @classmethod
-    def parse(cls, area: str | int | PmcArea) -> PmcArea:
-        """``"R"``, ``PmcArea.R`` or ``5`` -> ``PmcArea.R``; ValueError otherwise."""
-        if isinstance(area, PmcArea):
-            return area
-        if isinstance(area, str):
-            try:
-                return cls[area.strip().upper()]
-            except KeyError:
-                raise ValueError(f"unknown PMC area {area!r}") from None
-        return cls(area)
-
-
-#: letter -> type_a code.
 
 
 # -- response wrapping -----------------------------------------------------------------------
