@@ -437,7 +437,9 @@ class NativeLink(CompositeCalls):
             )
         loop = self._loop or asyncio.get_running_loop()
         session = self._session
-        task = asyncio.current_task(loop)
+        # (a call queued behind a frame in flight has no need of its task: see _on_data)
+        idle = session.in_flight is None and not self._flush_soon and session.idle
+        task = asyncio.current_task(loop) if idle else None
         token = (loop.create_future(), task)
         job = session.submit(part, _NEVER if deadline is None else deadline, command_set, token)
         if job.ending is not None:
@@ -445,7 +447,7 @@ class NativeLink(CompositeCalls):
             return job
         if session.wake_at < self._timer_at:
             self._arm(session.wake_at)
-        if session.idle and not self._flush_soon:
+        if idle:
             if task is not None and task is self._sequential:
                 self._sequential = None
                 self._send()
