@@ -12,8 +12,9 @@ turn an answer block into its value, an EW code into :class:`CncError`.
 from __future__ import annotations
 
 import struct
+from collections.abc import Callable
 from decimal import Decimal
-from typing import Any, Final
+from typing import Any, Final, TypeVar
 
 from focas_net.errors import EW, CncError, PayloadError, ProtocolError
 
@@ -38,6 +39,8 @@ from ._values import REAL_WIDTH, byte_to_wire, check_item, param_int, real_to_wi
 
 __all__: list[str] = []
 
+_T = TypeVar("_T")
+
 _PARAM_WIDTH: Final[dict[int, int]] = {
     ParamType.BIT: 1,
     ParamType.BYTE: 1,
@@ -50,6 +53,24 @@ _DIAG_WIDTH: Final[dict[int, int]] = {0: 1, 1: 2, 2: 4, 3: 1, 4: 1}
 def only_answer(handle: Handle, call: LibraryCall, blocks: tuple[ResponseBlock, ...]) -> Any:
     """The decoded answer of ``call``, a call of one frame of one block, on ``handle``."""
     return decoded(call, blocks, 0, handle.max_axes)
+
+
+def made_once(
+    handle: Handle,
+    call: LibraryCall,
+    blocks: tuple[ResponseBlock, ...],
+    make: Callable[[Handle, LibraryCall, tuple[ResponseBlock, ...]], _T],
+) -> _T:
+    """``make(handle, call, blocks)``, the result of a call of one frame, made once for the
+    same answer on a handle of the same axes (:meth:`LibraryCall.kept`): a poll whose answer
+    repeats decodes nothing again."""
+    if len(blocks) == 1:
+        block = blocks[0]
+        key: tuple[object, ...] = (handle.max_axes, handle.axes, block.ew, block.data)
+    else:
+        key = (handle.max_axes, handle.axes, *[(b.ew, b.data) for b in blocks])
+    made: _T = call.kept(key, lambda: make(handle, call, blocks))
+    return made
 
 
 def block_data(block: ResponseBlock, function: str) -> bytes:

@@ -24,6 +24,7 @@ from __future__ import annotations
 
 import asyncio
 import logging
+import operator
 from collections.abc import Callable
 from functools import partial
 from typing import Any, Final
@@ -74,13 +75,10 @@ _CLOSE_GRACE: Final = 2.0
 _MAGIC: Final = int.from_bytes(MAGIC, "big")
 
 Future = asyncio.Future[tuple[ResponseBlock, ...]]
-#: A job's token: the future its caller awaits, and the caller's task.
-Token = tuple[Future, "asyncio.Task[Any] | None"]
 
 
-def _cancelled(token: Token) -> bool:
-    """Whether the caller of a job gave up: its future is cancelled."""
-    return token[0].cancelled()
+#: Whether the caller of a job (its token: the future it awaits) gave up: it is cancelled.
+_cancelled: Final = operator.methodcaller("cancelled")
 
 
 class _Lost(Exception):
@@ -262,7 +260,11 @@ class NativeLink(CompositeCalls):
             host, port, timeout=timeout, reconnect=reconnect, on_state_change=on_state_change
         )
         self._init_composite()
-        self._session: NativeSession[Token] = NativeSession(max_blocks, _cancelled)
+        self._session: NativeSession[Future] = NativeSession(max_blocks, _cancelled)
+        #: The last job submitted while the session was idle, and its caller's task: when it
+        #: was alone in its frame, that task's next call is sent at once (see _on_data).
+        self._idle_job: Job[Future] | None = None
+        self._idle_task: asyncio.Task[Any] | None = None
         self._handle: Handle | None = None
         #: The task whose lone call was answered last: its next call is sent at once; any
         #: other at the end of the loop turn (``_flush_soon`` set while that is scheduled).
@@ -423,9 +425,9 @@ class NativeLink(CompositeCalls):
         """One frame's worth of one call, submitted: the future of its answer blocks (an EW
         code in a block is the caller's to raise). A caller that gives up cancels the future
         (awaiting it does): queued, the job is then never sent; sent, its blocks are dropped."""
-        return self._submit(part, command_set, deadline).token[0]
+        return self._submit(part, command_set, deadline).token
 
-    def _submit(self, part: Part, command_set: CommandSet, deadline: float | None) -> Job[Token]:
+    def _submit(self, part: Part, command_set: CommandSet, deadline: float | None) -> Job[Future]:
         """Queue a job and have it sent (see the module docstring); the caller awaits its
         token, or abandons it."""
         if self._handle is None and self._state is not ClientState.RECONNECTING:
@@ -437,17 +439,18 @@ class NativeLink(CompositeCalls):
             )
         loop = self._loop or asyncio.get_running_loop()
         session = self._session
-        # (a call queued behind a frame in flight has no need of its task: see _on_data)
         idle = session.in_flight is None and not self._flush_soon and session.idle
-        task = asyncio.current_task(loop) if idle else None
-        token = (loop.create_future(), task)
-        job = session.submit(part, _NEVER if deadline is None else deadline, command_set, token)
+        future = loop.create_future()
+        job = session.submit(part, _NEVER if deadline is None else deadline, command_set, future)
         if job.ending is not None:
             self._complete([job])
             return job
         if session.wake_at < self._timer_at:
             self._arm(session.wake_at)
         if idle:
+            # (a call queued behind a frame in flight has no need of its task: see _on_data)
+            task = asyncio.current_task(loop)
+            self._idle_job, self._idle_task = job, task
             if task is not None and task is self._sequential:
                 self._sequential = None
                 self._send()
@@ -480,9 +483,12 @@ class NativeLink(CompositeCalls):
         if session.queue:
             self._send()
         lone = in_flight is not None and len(in_flight) == 1
-        self._sequential = in_flight[0].token[1] if lone and in_flight is not None else None
+        if lone and in_flight is not None and in_flight[0] is self._idle_job:
+            self._sequential = self._idle_task
+        else:
+            self._sequential = None
         self._complete(ended)
-        if not lone and not self._flush_soon and session.idle:
+        if not lone and not self._flush_soon and session.in_flight is None:
             # the callers just answered will likely call again when they wake: their calls
             # leave together, after them
             self._flush_soon = True
@@ -512,10 +518,10 @@ class NativeLink(CompositeCalls):
         if session.wake_at < _NEVER:
             self._arm(session.wake_at)
 
-    def _complete(self, jobs: list[Job[Token]]) -> None:
+    def _complete(self, jobs: list[Job[Future]]) -> None:
         """Hand each ended job's caller its blocks or its exception."""
         for job in jobs:
-            future = job.token[0]
+            future = job.token
             if future.done():
                 continue
             if job.ending is Ending.ANSWERED:
@@ -523,7 +529,7 @@ class NativeLink(CompositeCalls):
             else:
                 future.set_exception(self._failure(job))
 
-    def _failure(self, job: Job[Token]) -> FocasError:
+    def _failure(self, job: Job[Future]) -> FocasError:
         """The exception of a job that ended without its answer."""
         ending = job.ending
         if ending is Ending.TIMED_OUT:

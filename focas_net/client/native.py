@@ -75,6 +75,7 @@ from ._native_items import (
     axis_name,
     block_data,
     decoded,
+    made_once,
     only_answer,
     signed,
     text,
@@ -152,11 +153,11 @@ def _status(handle: Handle, call: LibraryCall, blocks: tuple[ResponseBlock, ...]
     )  # fmt: skip
 
 
-def _dynamic(
-    handle: Handle, call: LibraryCall, axis: int, blocks: tuple[ResponseBlock, ...]
-) -> DynamicData:
-    """The result of the ``cnc_rddynamic2`` ``call`` of ``axis`` from its answer ``blocks``."""
+def _dynamic(handle: Handle, call: LibraryCall, blocks: tuple[ResponseBlock, ...]) -> DynamicData:
+    """The result of a ``cnc_rddynamic2`` ``call`` (of every axis, or of one) from its answer
+    ``blocks``."""
     values = [decoded(call, blocks, i, handle.max_axes) for i in range(len(blocks))]
+    axis = call.frames[0][-1].axis  # type: ignore[attr-defined]
     count = handle.axes if axis == -1 else 1
     alarm: AlarmStatus = values[0]
     prg: NativeProgramNumbers = values[1]
@@ -173,6 +174,15 @@ def _dynamic(
         first(values[4]), mantissas(values[5]), mantissas(values[6]), mantissas(values[7]),
         mantissas(values[8]),
     )  # fmt: skip
+
+
+def _macro(handle: Handle, call: LibraryCall, blocks: tuple[ResponseBlock, ...]) -> Decimal | None:
+    """The value of a ``cnc_rdmacro`` answer (binary records converted as the library
+    converts them)."""
+    values: ScaledValues = only_answer(handle, call, blocks)
+    if not values.values:
+        raise PayloadError("cnc_rdmacro: the answer carries no value")
+    return macro_from_wire(*values.values[0].to_macro())
 
 
 def _check_dynamic_axis(axis: object) -> None:
@@ -217,7 +227,7 @@ class NativeClient(NativeItems):
         """``cnc_statinfo``: the ODBST status (0x19; hdck 0xE1 and tmmode 0x98 read 0 when
         the CNC refuses them, as the library reads them)."""
         handle, call, blocks = await self._single(self._deadline(timeout), calls.cnc_statinfo)
-        return _status(handle, call, blocks)
+        return made_once(handle, call, blocks, _status)
 
     def start_read_status(self, *, timeout: float | None = None) -> StartedCall[StatusInfo]:
         """:meth:`read_status` started now (its frame queued at once when the client is
@@ -231,7 +241,7 @@ class NativeClient(NativeItems):
         job = self._submit(call.parts[0], handle.command_set, deadline)
 
         async def finish() -> StatusInfo:
-            return _status(handle, call, await job.token[0])
+            return made_once(handle, call, await job.token, _status)
 
         return StartedCall(finish, lambda: self._session.abandon(job))
 
@@ -355,7 +365,7 @@ class NativeClient(NativeItems):
         handle = await self._handle_for(deadline)
         call = self._dynamic_call(handle, axis)
         blocks = await self._exchange(call.parts[0], handle.command_set, deadline)
-        return _dynamic(handle, call, axis, blocks)
+        return made_once(handle, call, blocks, _dynamic)
 
     def start_read_dynamic(
         self, axis: int = -1, *, timeout: float | None = None
@@ -374,7 +384,7 @@ class NativeClient(NativeItems):
         job = self._submit(call.parts[0], handle.command_set, deadline)
 
         async def finish() -> DynamicData:
-            return _dynamic(handle, call, axis, await job.token[0])
+            return made_once(handle, call, await job.token, _dynamic)
 
         return StartedCall(finish, lambda: self._session.abandon(job))
 
@@ -449,12 +459,10 @@ class NativeClient(NativeItems):
         """``cnc_rdmacro``: the value of ``#number`` as a Decimal, or None when vacant
         (binary records converted as the library converts them)."""
         check_macro(number)
-        values: ScaledValues = only_answer(
-            *await self._single(self._deadline(timeout), calls.cnc_rdmacro, number)
+        handle, call, blocks = await self._single(
+            self._deadline(timeout), calls.cnc_rdmacro, number
         )
-        if not values.values:
-            raise PayloadError(f"cnc_rdmacro: answer for #{number} carries no value")
-        return macro_from_wire(*values.values[0].to_macro())
+        return made_once(handle, call, blocks, _macro)
 
     async def write_macro(
         self, number: int, value: int | Decimal | float | str, *, timeout: float | None = None
@@ -527,7 +535,7 @@ class NativeClient(NativeItems):
         try:
             for job in jobs:
                 try:
-                    (block,) = await job.token[0]
+                    (block,) = await job.token
                     block_data(block, "pmc_wrpmcrng")
                 except FocasError as exc:
                     unanswered = job.sent and job.ending in (Ending.TIMED_OUT, Ending.LOST)

@@ -13,9 +13,9 @@ from __future__ import annotations
 
 import enum
 import functools
-from collections.abc import Callable, Sequence
+from collections.abc import Callable, Hashable, Sequence
 from dataclasses import dataclass, field
-from typing import Any, Final, ParamSpec
+from typing import Any, Final, ParamSpec, TypeVar
 
 from focas_net._memo import Memo
 
@@ -89,12 +89,15 @@ OPTION_PARAMETER: Final = 9968
 POSITION_PARAMETER: Final = 3115
 #: Most alarm history records ``cnc_rdalmhistry`` asks per request.
 ALARM_HISTORY_CHUNK: Final = 23
-#: Most answers one call keeps decoded.
+#: Most answers one call keeps decoded (and values made of them).
 _ANSWERS_KEPT: Final = 16
+_R = TypeVar("_R")
 
 
-class CommandSet(enum.Enum):
-    """The command set of a handle, picked by the open answer's version word."""
+class CommandSet(enum.StrEnum):
+    """The command set of a handle, picked by the open answer's version word (a ``str``
+    enumeration, ``"16i"`` or ``"30i"``: it hashes as its value, part of the key of the calls
+    kept by their arguments)."""
 
     FS16I = "16i"
     FS30I = "30i"
@@ -122,6 +125,10 @@ class LibraryCall:
     _answers: dict[tuple[int, int, int, bytes], Any] = field(
         init=False, repr=False, compare=False, default_factory=dict
     )
+    #: What a client made of whole answers, by the answers' bytes: see :meth:`kept`.
+    _results: dict[Hashable, Any] = field(
+        init=False, repr=False, compare=False, default_factory=dict
+    )
 
     def __post_init__(self) -> None:
         object.__setattr__(self, "parts", tuple(encode_part(frame) for frame in self.frames))
@@ -142,6 +149,21 @@ class LibraryCall:
                 answers.clear()
             answers[key] = value
         return value
+
+    def kept(self, key: Hashable, make: Callable[[], _R]) -> _R:
+        """``make()``, a value made from an answer of this call alone, kept under ``key``
+        (the answer's bytes and whatever else the value depends on), a few per call: a poll
+        whose answer repeats makes its value once. What ``make`` raises is raised, nothing
+        kept; the values are immutable."""
+        results = self._results
+        try:
+            kept: _R = results[key]
+        except KeyError:
+            kept = make()
+            if len(results) >= _ANSWERS_KEPT:
+                results.clear()
+            results[key] = kept
+        return kept
 
     def blocks(self, path: int = 1) -> tuple[tuple[RequestBlock, ...], ...]:
         """The request blocks of each frame."""

@@ -341,6 +341,12 @@ class NativeSession(Generic[T]):
         if not self.idle:
             return None
         queue = self.queue
+        if len(queue) == 1:
+            # one job waiting (a sequential caller): the frame its part keeps, if it goes
+            job = queue[0]
+            if job.ending is None and not self._given_up(job.token):
+                queue.popleft()
+                return self._out([job], job.part.count, job.deadline, job.part.frame)
         batch: list[Job[T]] = []
         blocks: list[bytes] = []
         blocks_left = self.max_blocks
@@ -360,7 +366,6 @@ class NativeSession(Generic[T]):
             if batch and (part.count > blocks_left or answer > answer_left or size > send_left):
                 break
             queue.popleft()
-            job.sent = True
             batch.append(job)
             blocks.append(part.blocks)
             blocks_left -= part.count
@@ -371,14 +376,19 @@ class NativeSession(Generic[T]):
         if not batch:
             return None
         count = self.max_blocks - blocks_left
+        frame = batch[0].part.frame if len(batch) == 1 else request_frame(b"".join(blocks), count)
+        return self._out(batch, count, latest, frame)
+
+    def _out(self, batch: list[Job[T]], count: int, latest: float, frame: bytes) -> bytes:
+        """``frame``, carrying the ``count`` blocks of the jobs of ``batch``, is in flight."""
+        for job in batch:
+            job.sent = True
         self.in_flight = batch
         self._in_flight_blocks = count
         self.frame_deadline = latest
         self.frames_sent += 1
         self.blocks_sent += count
-        if len(batch) == 1:
-            return batch[0].part.frame
-        return request_frame(b"".join(blocks), count)
+        return frame
 
     # -- bytes and time --------------------------------------------------------------------
     def receive(self, data: bytes) -> list[Job[T]]:
