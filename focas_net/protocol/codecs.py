@@ -217,7 +217,10 @@ class Password(FixedPayload):
 
     @classmethod
     def from_text(cls, text: str | bytes) -> Self:
-        """The payload of ``text``; ValueError, naming it, unless 1..4 ASCII characters."""
+        """The payload of ``text``; ValueError, naming it, unless 1..4 ASCII characters
+        (TypeError unless text or bytes)."""
+        if not isinstance(text, str | bytes | bytearray):
+            raise TypeError(f"a parameter password is text or bytes, got {text!r}")
         shown = text if isinstance(text, str) else bytes(text).decode("latin-1")
         if not (1 <= len(shown) <= PASSWORD_SIZE and shown.isascii() and "\x00" not in shown):
             raise ValueError(
