@@ -30,7 +30,7 @@ from __future__ import annotations
 import enum
 import struct
 from collections import deque
-from collections.abc import Callable, Sequence
+from collections.abc import Callable, Iterable, Sequence
 from dataclasses import dataclass
 from typing import Final, Generic, TypeVar
 
@@ -206,6 +206,22 @@ def _split(blocks: tuple[ResponseBlock, ...], jobs: list[Job[T]]) -> list[Job[T]
             ended.append(job)
         pos = end
     return ended
+
+
+def _time_out(jobs: Iterable[Job[T]], now: float) -> tuple[list[Job[T]], float]:
+    """End TIMED_OUT the jobs of ``jobs`` due by ``now``; those, and the earliest deadline of
+    the others still waiting (``inf``: none)."""
+    ended: list[Job[T]] = []
+    earliest = _NEVER
+    for job in jobs:
+        if job.ending is not None:
+            continue
+        if job.deadline <= now:
+            job.ending = Ending.TIMED_OUT
+            ended.append(job)
+        elif job.deadline < earliest:
+            earliest = job.deadline
+    return ended, earliest
 
 
 class AnswerRefused(ProtocolError):
@@ -442,28 +458,14 @@ class NativeSession(Generic[T]):
     def expire(self, now: float) -> list[Job[T]]:
         """The jobs whose deadline is ``now`` or earlier, ended TIMED_OUT; past the frame's
         own deadline with no answer, the connection fails."""
-        ended: list[Job[T]] = []
-        earliest = _NEVER
-        for job in self.queue:
-            if job.ending is not None:
-                continue
-            if job.deadline <= now:
-                job.ending = Ending.TIMED_OUT
-                ended.append(job)
-            elif job.deadline < earliest:
-                earliest = job.deadline
+        ended, earliest = _time_out(self.queue, now)
         if ended:
             self.queue = deque(job for job in self.queue if job.ending is None)
         jobs = self.in_flight
         if jobs is not None:
-            for job in jobs:
-                if job.ending is not None:
-                    continue
-                if job.deadline <= now:
-                    job.ending = Ending.TIMED_OUT
-                    ended.append(job)
-                elif job.deadline < earliest:
-                    earliest = job.deadline
+            sent, due = _time_out(jobs, now)
+            ended += sent
+            earliest = min(earliest, due)
             if self.frame_deadline <= now:
                 ended += self._fail("no answer within the timeout")
             elif self.frame_deadline < earliest:
