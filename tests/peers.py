@@ -8,7 +8,8 @@ ordering, never durations.
 
 :func:`hand_driven` gives a connection with no peer at all: a clock the test sets and timers
 it fires (:class:`ManualLoop`), a transport that keeps what is written (:class:`Sink`), and
-answers fed to ``data_received`` by the test.
+answers fed to ``data_received`` by the test. :class:`LoggedConnection` is a connection whose
+transport records its writes (:class:`WriteLog`), for tests of how frames leave.
 
 A plain module (not ``conftest``), so that test modules and mypy can import it; the ``peer``
 fixture (a started :class:`ScriptedPeer`) is in ``conftest.py``.
@@ -17,7 +18,7 @@ fixture (a started :class:`ScriptedPeer`) is in ``conftest.py``.
 from __future__ import annotations
 
 import asyncio
-from collections.abc import Callable
+from collections.abc import Callable, Iterable
 from typing import Any
 
 from support import wait_until
@@ -43,10 +44,12 @@ __all__ = [
     "RDPARAM",
     "STATUS",
     "Answer",
+    "LoggedConnection",
     "ManualLoop",
     "PeerSide",
     "ScriptedPeer",
     "Sink",
+    "WriteLog",
     "assert_idle",
     "connection_of",
     "hand_driven",
@@ -246,7 +249,7 @@ class ScriptedPeer:
 
 def connection_of(client: FocasClient) -> Connection:
     """The client's current connection (there must be one)."""
-    c = client._conn
+    c = client.connection
     assert c is not None
     return c
 
@@ -265,8 +268,8 @@ def assert_idle(c: Connection) -> None:
     """Nothing in flight, no id reserved, no slot taken or waited for on ``c``."""
     assert c.in_flight == 0
     assert c.abandoned == 0
-    assert c._slots_taken == 0
-    assert not c._slot_waiters
+    assert c.slots_taken == 0
+    assert c.waiting_for_slot == 0
 
 
 class _Timer:
@@ -339,13 +342,65 @@ class Sink:
         pass
 
 
+class WriteLog(asyncio.Transport):
+    """A transport that records the size of every call handing it bytes (``write``, or
+    ``writelines`` as one) and passes everything on to the transport it wraps."""
+
+    def __init__(self, inner: asyncio.BaseTransport) -> None:
+        super().__init__()
+        assert isinstance(inner, asyncio.Transport)
+        self.inner = inner
+        self.sizes: list[int] = []
+
+    @property
+    def writes(self) -> int:
+        """Calls that handed bytes to the transport so far."""
+        return len(self.sizes)
+
+    def write(self, data: bytes | bytearray | memoryview) -> None:
+        self.sizes.append(len(data))
+        self.inner.write(data)
+
+    def writelines(self, list_of_data: Iterable[bytes | bytearray | memoryview]) -> None:
+        chunks = list(list_of_data)
+        self.sizes.append(sum(len(c) for c in chunks))
+        self.inner.writelines(chunks)
+
+    def get_extra_info(self, name: str, default: Any = None) -> Any:
+        return self.inner.get_extra_info(name, default)
+
+    def is_closing(self) -> bool:
+        return self.inner.is_closing()
+
+    def close(self) -> None:
+        self.inner.close()
+
+    def abort(self) -> None:
+        self.inner.abort()
+
+
+class LoggedConnection(Connection):
+    """A :class:`Connection` whose transport is a :class:`WriteLog` (``log``)."""
+
+    log: WriteLog
+
+    def connection_made(self, transport: asyncio.BaseTransport) -> None:
+        self.log = WriteLog(transport)
+        super().connection_made(self.log)
+
+
 def hand_driven(max_in_flight: int = 64) -> tuple[Connection, ManualLoop, Sink]:
-    """A connection driven by hand: its loop's clock is a :class:`ManualLoop`'s, its
-    transport a :class:`Sink`, its frames written at once (no gathering per loop turn), and
-    its answers whatever the test feeds to ``data_received``."""
-    conn = Connection(max_in_flight=max_in_flight, batch_writes=False)
-    clock = ManualLoop(asyncio.get_running_loop())
-    conn._loop = clock  # type: ignore[assignment]
+    """A connection driven by hand: its loop's clock is a :class:`ManualLoop`'s (the
+    connection is made while that is the running loop, so it is the loop the connection
+    keeps), its transport a :class:`Sink`, its frames written at once (no gathering per loop
+    turn), and its answers whatever the test feeds to ``data_received``."""
+    loop = asyncio.get_running_loop()
+    clock = ManualLoop(loop)
+    asyncio._set_running_loop(clock)  # type: ignore[arg-type]
+    try:
+        conn = Connection(max_in_flight=max_in_flight, batch_writes=False)
+    finally:
+        asyncio._set_running_loop(loop)
     sink = Sink()
     conn.connection_made(sink)  # type: ignore[arg-type]
     return conn, clock, sink

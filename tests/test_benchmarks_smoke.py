@@ -19,6 +19,7 @@ from subprocess import PIPE
 from typing import Any
 
 import pytest
+from peers import WriteLog
 from support import IO_TIMEOUT
 
 from benchmarks import plant, run, worker
@@ -100,18 +101,20 @@ async def test_floor_client_matches_pipelined_answers(floor_port: int) -> None:
         await client.close()
 
 
+class LoggedFloorClient(FloorClient):
+    """The floor client, its transport a :class:`WriteLog` (``log``)."""
+
+    log: WriteLog
+
+    def connection_made(self, transport: asyncio.BaseTransport) -> None:
+        self.log = WriteLog(transport)
+        super().connection_made(self.log)
+
+
 async def test_floor_client_writes_a_turns_frames_in_chunks(floor_port: int) -> None:
-    client = await FloorClient.connect(HOST, floor_port)
-    transport = client._transport
-    assert transport is not None
-    sizes: list[int] = []
-    write = transport.write
-
-    def counting(data: bytes | bytearray | memoryview) -> None:
-        sizes.append(len(data))
-        write(data)
-
-    transport.write = counting  # type: ignore[method-assign]
+    client = await LoggedFloorClient.connect(HOST, floor_port)
+    assert isinstance(client, LoggedFloorClient)
+    sizes = client.log.sizes
     try:
         futures = [client.send(STATUS) for _ in range(2 * WRITE_CHUNK + 3)]  # one loop turn
         answers = await asyncio.gather(*futures)

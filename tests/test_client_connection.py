@@ -11,7 +11,7 @@ import struct
 from collections.abc import AsyncIterator
 
 import pytest
-from peers import STATUS, ScriptedPeer, tiny_cnc
+from peers import RDPARAM, STATUS, ScriptedPeer, tiny_cnc
 
 from focas_net.client import ClientState, FocasClient, ReconnectPolicy
 from focas_net.client.connection import Connection, open_connection
@@ -25,12 +25,15 @@ from focas_net.errors import (
     ProtocolError,
 )
 from focas_net.protocol import (
+    COMMANDS,
     Command,
+    EwReply,
     Frame,
     encode_frame,
 )
 
 BOUND = 10.0  # upper bound for waits that must end much sooner; keeps a broken test finite
+WRPARAM = int(Command.WRPARAM)
 
 
 @pytest.fixture
@@ -46,7 +49,7 @@ async def client(peer: ScriptedPeer) -> AsyncIterator[FocasClient]:
 
 
 def current_connection(client: FocasClient) -> Connection:
-    conn = client._conn
+    conn = client.connection
     assert conn is not None
     return conn
 
@@ -76,12 +79,8 @@ async def test_late_answer_after_timeout_is_dropped(
         await client.read_param(7, timeout=0.05)
     conn = current_connection(client)
     assert conn.abandoned == 1 and conn.in_flight == 0
-    late_id = peer.held[0][0].request_id
-    # The id of the abandoned request stays reserved: a new call never takes it.
-    conn._next_id = late_id
     pending = asyncio.create_task(client.read_param(8))
     await peer.wait_received(2)
-    assert peer.received[-1].request_id != late_id
     peer.hold = False
     peer.release()  # the late answer to 7, then the answer to 8
     assert await pending == 8
@@ -249,6 +248,44 @@ async def test_password_retry_once_on_ew_passwd(peer: ScriptedPeer) -> None:
         with pytest.raises(AccessDeniedError) as info:
             await c.write_param(1320, 5, axis=1, width=4)
         assert info.value.ew == EW.PASSWD
+
+
+async def test_write_param_learns_the_width_by_one_read_and_keeps_it(
+    peer: ScriptedPeer, client: FocasClient
+) -> None:
+    """Without ``width=``, the first write of a parameter reads it once to learn its width (4
+    bytes here) and later writes use the width kept; a read keeps it too; a write answered
+    ``EW_LENGTH`` drops it, so the next write learns it again."""
+
+    def sent_since(first: int) -> list[tuple[int, int]]:
+        """``(command, parameter)`` of each frame received from ``first`` on."""
+        return [
+            (f.command, COMMANDS[f.command].request.decode(f.payload).datano)
+            for f in peer.received[first:]
+        ]
+
+    await client.write_param(6711, 1234)
+    assert sent_since(0) == [(RDPARAM, 6711), (WRPARAM, 6711)]
+    written = COMMANDS[Command.WRPARAM].request.decode(peer.received[-1].payload)
+    assert (written.value, written.width) == (1234, 4)
+    await client.write_param(6711, 99)
+    assert sent_since(2) == [(WRPARAM, 6711)]  # the width kept
+    assert await client.read_param(20) == 20
+    await client.write_param(20, 3)
+    assert sent_since(3) == [(RDPARAM, 20), (WRPARAM, 20)]  # the width kept by the read
+
+    def refuse_length(frame: Frame, p: ScriptedPeer) -> bytes | None:
+        if frame.command == WRPARAM:
+            return COMMANDS[WRPARAM].response.encode(EwReply(EW.LENGTH))
+        return tiny_cnc(frame, p)
+
+    peer.answer = refuse_length
+    with pytest.raises(CncError) as info:
+        await client.write_param(6711, 5)
+    assert info.value.ew == EW.LENGTH
+    peer.answer = tiny_cnc
+    await client.write_param(6711, 6)
+    assert sent_since(5) == [(WRPARAM, 6711), (RDPARAM, 6711), (WRPARAM, 6711)]
 
 
 async def test_wrong_password_fails_connect(peer: ScriptedPeer) -> None:

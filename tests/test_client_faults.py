@@ -62,16 +62,12 @@ async def client_of(served: Served, **kwargs: Any) -> AsyncIterator[FocasClient]
         yield cnc
 
 
-def client_leftovers(cnc: FocasClient) -> tuple[int, int, int, int]:
-    """``(in flight, abandoned ids, PMC bit locks, parameter bit locks)`` of ``cnc``.
-
-    FocasClient exposes none of these publicly; they are read from its connection and lock
-    tables so that the storm test can prove nothing is left behind.
-    """
-    conn = cnc._conn
-    in_flight = conn.in_flight if conn is not None else 0
+def client_leftovers(cnc: FocasClient) -> tuple[int, int, int]:
+    """``(in flight, abandoned ids, bit locks)`` of ``cnc``: all 0 when nothing is left
+    behind (no connection: nothing in flight, no id reserved)."""
+    conn = cnc.connection
     abandoned = conn.abandoned if conn is not None else 0
-    return in_flight, abandoned, len(cnc._pmc_locks), len(cnc._param_locks)
+    return cnc.in_flight, abandoned, cnc.bit_locks
 
 
 # -- delays past the timeout -------------------------------------------------------------------
@@ -97,7 +93,7 @@ async def test_answers_delayed_past_the_timeout_are_dropped() -> None:
         assert conn.delayed_count == 0
         for number in range(1, 11):
             assert await cnc.read_macro(number) == Decimal(number * 11)
-        await wait_until(lambda: client_leftovers(cnc) == (0, 0, 0, 0))
+        await wait_until(lambda: client_leftovers(cnc) == (0, 0, 0))
 
 
 # -- forced EW codes ---------------------------------------------------------------------------
@@ -449,7 +445,7 @@ async def test_cancellation_storm_leaves_nothing_behind() -> None:
                     bits_set.append(result[1])
             assert cancelled > calls // 10  # many cancellations hit calls still in flight
             for cnc in clients:
-                await wait_until(lambda c=cnc: client_leftovers(c) == (0, 0, 0, 0), within=30)
+                await wait_until(lambda c=cnc: client_leftovers(c) == (0, 0, 0), within=30)
             # every bit write that returned is on the machine
             async with client_of(served) as check:
                 for byte, bit in bits_set:

@@ -50,8 +50,8 @@ async def plant(count: int) -> AsyncIterator[tuple[list[Served], list[FocasClien
 
 
 def leftovers(cnc: FocasClient) -> tuple[int, int]:
-    """``(in flight, abandoned ids)`` of ``cnc``'s connection (not public: read from it)."""
-    conn = cnc._conn
+    """``(in flight, abandoned ids)`` of ``cnc``'s connection."""
+    conn = cnc.connection
     assert conn is not None
     return conn.in_flight, conn.abandoned
 
@@ -137,12 +137,12 @@ async def test_a_closed_connection_reads_on_the_next_one() -> None:
         async with FocasClient(
             served.host, served.port, timeout=IO_TIMEOUT, reconnect=policy
         ) as cnc:
-            conn = cnc._conn
+            conn = cnc.connection
             assert conn is not None
             conn.close()  # closing: the read cannot go out on it
             (got,) = await read_status_all([cnc])
             assert isinstance(got, StatusInfo)
-            assert cnc._conn is not conn
+            assert cnc.connection is not conn
 
 
 async def test_cancelling_the_caller_gives_up_every_unanswered_read() -> None:

@@ -5,7 +5,8 @@ receive), holds answers back when told and answers them in any order, with any p
 drops the connection. The tests check outcomes and ordering, never durations:
 
 * the one deadline timer of a connection with mixed per-call timeouts;
-* ids of abandoned requests staying reserved until their late answers, which are dropped;
+* late answers to abandoned requests (a timeout, a refused chunk) dropped, never handed to
+  another call (the ids themselves: ``test_connection_ids.py``);
 * request slots handed over in FIFO order, and never leaked by cancelled or timed-out waiters;
 * chunked PMC reads and writes leaving as one batch in one write, and their failure semantics
   (:class:`CncError` for a read, :class:`ChunkedWriteError` ranges for a write);
@@ -17,14 +18,16 @@ from __future__ import annotations
 import asyncio
 import random
 import time
-from collections.abc import AsyncIterator, Callable, Iterable
+from collections.abc import AsyncIterator, Callable
 from typing import Any
 
 import pytest
 from peers import (
     BOUND,
     RDPARAM,
+    LoggedConnection,
     ScriptedPeer,
+    WriteLog,
     assert_idle,
     connection_of,
     param_request,
@@ -33,6 +36,7 @@ from peers import (
 from support import IO_TIMEOUT, serving, wait_until
 
 from focas_net.client import ClientState, FocasClient, ReconnectPolicy
+from focas_net.client import connection as connection_module
 from focas_net.client._lifecycle import clock_of
 from focas_net.client.connection import WRITE_CHUNK, Connection, NotSentError, open_connection
 from focas_net.errors import (
@@ -63,25 +67,6 @@ def _is(frame: Frame) -> Callable[[Frame], bool]:
     return lambda f: f is frame
 
 
-class CountingTransport:
-    """Wraps a client's transport and counts the calls that hand it bytes."""
-
-    def __init__(self, inner: asyncio.Transport) -> None:
-        self.inner = inner
-        self.writes = 0
-
-    def write(self, data: bytes) -> None:
-        self.writes += 1
-        self.inner.write(data)
-
-    def writelines(self, lines: Iterable[bytes]) -> None:
-        self.writes += 1
-        self.inner.writelines(lines)
-
-    def __getattr__(self, name: str) -> Any:
-        return getattr(self.inner, name)
-
-
 @pytest.fixture
 async def conn(peer: ScriptedPeer) -> AsyncIterator[Connection]:
     c = await open_connection("127.0.0.1", peer.port, max_in_flight=4)
@@ -92,12 +77,16 @@ async def conn(peer: ScriptedPeer) -> AsyncIterator[Connection]:
         await c.wait_closed()
 
 
-def count_writes(client: FocasClient) -> CountingTransport:
+def log_writes(monkeypatch: pytest.MonkeyPatch) -> None:
+    """Connections opened from now on record their writes (:func:`writes_of`)."""
+    monkeypatch.setattr(connection_module, "Connection", LoggedConnection)
+
+
+def writes_of(client: FocasClient) -> WriteLog:
+    """The writes of ``client``'s connection, opened after :func:`log_writes`."""
     c = connection_of(client)
-    assert c._transport is not None
-    counting = CountingTransport(c._transport)
-    c._transport = counting  # type: ignore[assignment]
-    return counting
+    assert isinstance(c, LoggedConnection)
+    return c.log
 
 
 def param_number(frame: Frame) -> int:
@@ -127,7 +116,7 @@ async def assert_bound_is(c: Connection, peer: ScriptedPeer, n: int) -> None:
     await peer.wait_received(first + n)
     await turns()
     assert len(peer.received) == first + n
-    assert c.in_flight == n and len(c._slot_waiters) == 2
+    assert c.in_flight == n and c.waiting_for_slot == 2
     peer.hold = False  # the two waiting calls are answered as soon as they are sent
     peer.release()
     async with asyncio.timeout(BOUND):
@@ -184,58 +173,6 @@ async def test_mixed_timeouts_fail_only_the_overdue(peer: ScriptedPeer) -> None:
         await c.wait_closed()
 
 
-# -- ids of abandoned requests ------------------------------------------------------------------
-
-
-async def test_timed_out_id_stays_reserved_until_its_late_answer(
-    peer: ScriptedPeer, conn: Connection
-) -> None:
-    peer.hold = True
-    with pytest.raises(FocasTimeoutError):
-        await ask(conn, 7, SHORT)
-    await peer.wait_received(1)
-    late = peer.received[-1]
-    assert conn.abandoned == 1
-    conn._next_id = late.request_id  # the next id in line is the reserved one
-    waiting = asyncio.create_task(ask(conn, 8))
-    await peer.wait_received(2)
-    assert peer.received[-1].request_id != late.request_id
-    # the late answer carries a value only the abandoned call could have expected
-    peer.release(lambda f: f.request_id == late.request_id)
-    await wait_until(lambda: conn.abandoned == 0, within=BOUND)
-    await turns()
-    assert not waiting.done()  # the late answer was dropped, not given to another call
-    peer.release()
-    assert await waiting == 8
-    # once its late answer came, the id is free again
-    conn._next_id = late.request_id
-    peer.hold = False
-    assert await ask(conn, 9) == 9
-    assert peer.received[-1].request_id == late.request_id
-    assert_idle(conn)
-
-
-async def test_a_second_answer_to_a_reused_id_is_dropped(
-    peer: ScriptedPeer, conn: Connection
-) -> None:
-    peer.hold = True
-    with pytest.raises(FocasTimeoutError):
-        await ask(conn, 1, SHORT)
-    await peer.wait_received(1)
-    late = peer.held[0][0]
-    peer.release()
-    await wait_until(lambda: conn.abandoned == 0, within=BOUND)
-    # the same answer again (a duplicate): nobody waits for that id any more; the answer to
-    # the next call comes after it on the stream, so it has been dropped by then
-    peer.sides[0].reply(late)
-    peer.hold = False
-    assert await ask(conn, 50) == 50
-    conn._next_id = late.request_id
-    assert await ask(conn, 2) == 2
-    assert peer.received[-1].request_id == late.request_id
-    assert_idle(conn)
-
-
 # -- request slots ------------------------------------------------------------------------------
 
 
@@ -247,7 +184,7 @@ async def test_waiters_get_slots_in_fifo_order(peer: ScriptedPeer, conn: Connect
     for n in range(10, 20):
         waiters.append(asyncio.create_task(ask(conn, n)))
         await turns(1)
-    await wait_until(lambda: len(conn._slot_waiters) == 10, within=BOUND)
+    await wait_until(lambda: conn.waiting_for_slot == 10, within=BOUND)
     assert len(peer.received) == 4
     # answer one request at a time: each answer lets exactly the next waiter in
     for expected in range(10, 20):
@@ -268,8 +205,7 @@ async def ask_then_cancel(c: Connection, number: int, victim: list[asyncio.Task[
     """``ask``, then cancel ``victim[0]`` in the same step: the slot this call released was
     handed to the first waiter in line, which has not run yet."""
     value = await ask(c, number)
-    waiter = c._slot_waiters[0] if c._slot_waiters else None
-    assert waiter is None or not waiter.done()  # the handed waiter left the line already
+    assert c.slots_taken == c.in_flight + 1  # a slot handed over, its request not sent yet
     victim[0].cancel()
     return value
 
@@ -281,14 +217,14 @@ async def test_cancelled_waiters_never_leak_a_slot(peer: ScriptedPeer, conn: Con
     running += [asyncio.create_task(ask(conn, n)) for n in range(1, 4)]
     await peer.wait_received(4)
     waiters = [asyncio.create_task(ask(conn, n)) for n in range(10, 16)]
-    await wait_until(lambda: len(conn._slot_waiters) == 6, within=BOUND)
+    await wait_until(lambda: conn.waiting_for_slot == 6, within=BOUND)
     # cancelled before being handed a slot
     for i in (0, 2):
         waiters[i].cancel()
     for i in (0, 2):
         with pytest.raises(asyncio.CancelledError):
             await waiters[i]
-    assert len(conn._slot_waiters) == 4
+    assert conn.waiting_for_slot == 4
     # cancelled after being handed a slot, before it could use it (10 and 12 are gone, so
     # 11 is first in line when the answer to 0 frees a slot)
     victim.append(waiters[1])
@@ -321,7 +257,7 @@ async def test_cancelled_waiters_with_a_deadline_pass_the_slot_on(
         await peer.wait_received(first + 4)
         victim.append(asyncio.create_task(ask(conn, 10, seconds)))
         heir = asyncio.create_task(ask(conn, 11, seconds))
-        await wait_until(lambda: len(conn._slot_waiters) == 2, within=BOUND)
+        await wait_until(lambda: conn.waiting_for_slot == 2, within=BOUND)
         peer.release(lambda f: param_number(f) == 0)
         with pytest.raises(asyncio.CancelledError):
             await victim[0]
@@ -345,7 +281,7 @@ async def test_waiter_timing_out_for_a_slot_leaks_nothing(
     with pytest.raises(FocasTimeoutError, match="no free request slot"):
         await ask(conn, 10, SHORT)
     assert len(peer.received) == 4  # never sent
-    assert conn.abandoned == 0 and len(conn._slot_waiters) == 1
+    assert conn.abandoned == 0 and conn.waiting_for_slot == 1
     peer.hold = False
     peer.release()
     assert await asyncio.gather(*running) == [0, 1, 2, 3]
@@ -391,12 +327,13 @@ async def test_slot_storm_with_random_cancellations(peer: ScriptedPeer, conn: Co
 
 
 async def test_calls_of_one_turn_leave_in_writes_of_at_most_write_chunk_frames(
-    peer: ScriptedPeer,
+    peer: ScriptedPeer, monkeypatch: pytest.MonkeyPatch
 ) -> None:
     """A lone call is written at once; the calls made in one loop turn while it is in flight
     leave in writes of WRITE_CHUNK frames, in order, and every one gets its own answer."""
+    log_writes(monkeypatch)
     async with FocasClient("127.0.0.1", peer.port, timeout=BOUND, max_in_flight=64) as client:
-        counting = count_writes(client)
+        counting = writes_of(client)
         peer.hold = True
         first = asyncio.create_task(client.read_param_value(9000))
         await peer.wait_received(1)
@@ -420,16 +357,28 @@ async def client(peer: ScriptedPeer) -> AsyncIterator[FocasClient]:
         yield c
 
 
-async def test_chunked_read_leaves_in_one_write(peer: ScriptedPeer, client: FocasClient) -> None:
+@pytest.fixture
+async def logged_client(
+    peer: ScriptedPeer, monkeypatch: pytest.MonkeyPatch
+) -> AsyncIterator[FocasClient]:
+    """A client like ``client``'s whose connection records its writes (:func:`writes_of`)."""
+    log_writes(monkeypatch)
+    async with FocasClient("127.0.0.1", peer.port, timeout=BOUND, max_in_flight=4) as c:
+        yield c
+
+
+async def test_chunked_read_leaves_in_one_write(
+    peer: ScriptedPeer, logged_client: FocasClient
+) -> None:
+    client = logged_client
     peer.pmc[:] = random.Random(1).randbytes(len(peer.pmc))
-    counting = count_writes(client)
+    counting = writes_of(client)
     assert await client.read_pmc("D", 0, 128) == bytes(peer.pmc[:128])
     assert counting.writes == 1
     assert [len(r) for r in peer.receives] == [4]  # 4 frames in one receive
-    counting.writes = 0
     first = len(peer.received)
     assert await client.read_pmc("D", 0, 4096) == bytes(peer.pmc)
-    assert counting.writes == 1
+    assert counting.writes == 2
     assert len(peer.received) - first == 128
     assert_idle(connection_of(client))
 
@@ -506,7 +455,7 @@ async def test_bound_holds_around_a_batch(peer: ScriptedPeer, client: FocasClien
     calls = [asyncio.create_task(client.read_param(n)) for n in range(4)]
     await peer.wait_received(4)
     read = asyncio.create_task(client.read_pmc("D", 0, 256))  # 8 chunks
-    await wait_until(lambda: len(c._slot_waiters) == 1, within=BOUND)
+    await wait_until(lambda: c.waiting_for_slot == 1, within=BOUND)
     await turns()
     assert len(peer.received) == 4
     peer.release()
@@ -515,7 +464,7 @@ async def test_bound_holds_around_a_batch(peer: ScriptedPeer, client: FocasClien
     # while the batch is over the bound, nothing else is admitted
     late = asyncio.create_task(client.read_param(50))
     await turns()
-    assert len(peer.received) == 12 and len(c._slot_waiters) == 1
+    assert len(peer.received) == 12 and c.waiting_for_slot == 1
     peer.release()
     assert await read == bytes(256)
     await peer.wait_received(13)
@@ -586,10 +535,11 @@ async def test_connection_decodes_answers_fed_as_bytearray_and_memoryview(
 
 
 async def test_chunked_write_leaves_in_one_write_without_tasks(
-    peer: ScriptedPeer, client: FocasClient
+    peer: ScriptedPeer, logged_client: FocasClient
 ) -> None:
+    client = logged_client
     data = random.Random(2).randbytes(4096)
-    counting = count_writes(client)
+    counting = writes_of(client)
     peer.hold = True
     before = len(asyncio.all_tasks())
     write = asyncio.create_task(client.write_pmc("D", 0, data))
@@ -600,9 +550,8 @@ async def test_chunked_write_leaves_in_one_write_without_tasks(
     peer.release()
     await write
     assert bytes(peer.pmc) == data
-    counting.writes = 0
     await client.write_pmc("D", 0, data[:100])
-    assert counting.writes == 1
+    assert counting.writes == 2
     assert len(peer.receives[-1]) == 4 and peer.receives[-1][0].command == WRPMCRNG
     assert_idle(connection_of(client))
 
@@ -819,12 +768,13 @@ async def test_cancelled_batched_write_gives_up_its_chunks(
     await assert_bound_is(c, peer, 4)
 
 
-async def test_set_pmc_is_batched_against_the_simulator() -> None:
+async def test_set_pmc_is_batched_against_the_simulator(monkeypatch: pytest.MonkeyPatch) -> None:
+    log_writes(monkeypatch)
     async with (
         serving() as served,
         FocasClient(served.host, served.port, timeout=IO_TIMEOUT, max_in_flight=2) as cnc,
     ):
-        counting = count_writes(cnc)
+        counting = writes_of(cnc)
         data = random.Random(3).randbytes(300)
         await cnc.sim.set_pmc("F", 0, data)
         assert counting.writes == 1

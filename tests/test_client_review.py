@@ -90,7 +90,7 @@ async def test_batch_given_up_past_the_abandoned_limit_fails_cleanly(
         with pytest.raises(FocasTimeoutError):
             await client.read_pmc("R", 0, 256, timeout=SHORT)  # 8 chunks, none answered
         assert c.closed  # recycled: more than 3 ids were left unanswered
-        assert c._slots_taken == 0 and not c._slot_waiters
+        assert c.slots_taken == 0 and c.waiting_for_slot == 0
         assert c.in_flight == 0 and c.abandoned == 0
 
 
@@ -119,33 +119,34 @@ async def test_reconnect_survives_an_unlock_answer_that_does_not_decode(
         assert not any("never retrieved" in m for m in errors.messages)
 
 
-async def test_a_dead_reconnect_task_never_makes_calls_spin(peer: ScriptedPeer) -> None:
-    """If the reconnect ends while the state still says RECONNECTING, a waiting call fails
-    (it does not spin on an event that stays set)."""
-    async with FocasClient("127.0.0.1", peer.port, timeout=BOUND, reconnect=FAST) as client:
-        # an ended reconnect with the state left RECONNECTING, no connection, the event set
-        client._reconnect_task = asyncio.get_running_loop().create_task(asyncio.sleep(0))
-        await client._reconnect_task
-        conn = connection_of(client)
-        client._conn = None
-        client._state = ClientState.RECONNECTING
-        assert client._ready is not None
-        client._ready.set()
-        spins = 0
-        original = client._ready.wait
-
-        async def counted() -> bool:
-            nonlocal spins
-            spins += 1
-            if spins > 100:
-                raise AssertionError("waiting call spins on a set event")
-            return await original()
-
-        client._ready.wait = counted  # type: ignore[method-assign, assignment]
-        with pytest.raises(FocasConnectionError):
-            await client.read_param(1, timeout=SHORT)
-        assert spins <= 1
-        client._conn = conn
+async def test_a_call_waiting_for_a_reconnect_fails_when_the_policy_gives_up(
+    peer: ScriptedPeer,
+) -> None:
+    """A call made while reconnecting waits for the next connection; when the reconnect ends
+    without one (the policy gives up) the call fails with :class:`FocasConnectionError` at
+    once, neither waiting for its timeout nor spinning on the wake-up that ended the wait."""
+    peer.password_required = True
+    once = ReconnectPolicy(initial_delay=0.0, max_delay=0.0, jitter=0.0, max_attempts=1)
+    states: list[ClientState] = []
+    async with FocasClient(
+        "127.0.0.1",
+        peer.port,
+        timeout=BOUND,
+        password="1234",
+        reconnect=once,
+        on_state_change=states.append,
+    ) as client:
+        peer.hold_commands = {UNLOCK}
+        peer.drop()
+        # the one attempt is connected and waits for the answer to its unlock
+        await wait_until(lambda: any(f.command == UNLOCK for f, _ in peer.held), BOUND)
+        call = asyncio.create_task(client.read_param(1))
+        await turns()
+        assert not call.done() and states[-1] is ClientState.RECONNECTING
+        peer.drop()  # the attempt fails: the policy gives up
+        with pytest.raises(FocasConnectionError, match="not connected"):
+            await asyncio.wait_for(call, BOUND)
+        assert client.state is ClientState.DISCONNECTED
 
 
 async def test_concurrent_connects_leave_one_connection(peer: ScriptedPeer) -> None:
@@ -159,21 +160,37 @@ async def test_concurrent_connects_leave_one_connection(peer: ScriptedPeer) -> N
 
 
 async def test_connect_while_reconnecting_keeps_one_connection(peer: ScriptedPeer) -> None:
-    """``connect()`` called while the policy is reconnecting: the client ends with one
-    connection, calls on it are not failed by a second one replacing it, and ``aclose()``
-    leaves no socket open at the peer."""
-    slow = ReconnectPolicy(initial_delay=0.2, max_delay=0.2, jitter=0.0)
-    client = FocasClient("127.0.0.1", peer.port, timeout=BOUND, reconnect=slow)
+    """``connect()`` called while a reconnect attempt is under way: the client ends with the
+    connection ``connect()`` made, the attempt's connection is closed (the reconnect ends),
+    calls on the kept one are not failed by another replacing it, and ``aclose()`` leaves no
+    socket open at the peer."""
+    peer.password_required = True
+    states: list[ClientState] = []
+    client = FocasClient(
+        "127.0.0.1",
+        peer.port,
+        timeout=4 * BOUND,  # past every wait here: only connect() can end the attempt
+        password="1234",
+        reconnect=FAST,
+        on_state_change=states.append,
+    )
     await client.connect()
+    peer.hold_commands = {UNLOCK}
     peer.drop()
-    await wait_until(lambda: client.state is ClientState.RECONNECTING, BOUND)
-    await client.connect()
+    # the reconnect's attempt is connected and waits for the answer to its unlock
+    await wait_until(lambda: any(f.command == UNLOCK for f, _ in peer.held), BOUND)
+    attempt = peer.sides[-1]
+    connecting = asyncio.create_task(client.connect())
+    await wait_until(lambda: len(peer.held) == 2, BOUND)
+    mine = peer.held[-1][0]  # connect()'s unlock: answered; the attempt's stays unanswered
+    peer.release(lambda f: f is mine)
+    await asyncio.wait_for(connecting, BOUND)
     first = connection_of(client)
-    task = client._reconnect_task
-    if task is not None:
-        await asyncio.wait([task], timeout=BOUND)
+    await wait_until(lambda: attempt.transport is None, BOUND)  # the attempt gave up
     assert connection_of(client) is first and not first.closed
     assert await client.read_param(3) == 3
+    assert states[-1] is ClientState.CONNECTED
+    assert states.count(ClientState.CONNECTED) == 2  # the first connect and connect()
     await client.aclose()
     await wait_until(lambda: all(s.transport is None for s in peer.sides), BOUND)
 
@@ -297,7 +314,7 @@ async def test_call_after_the_peers_end_of_stream_is_not_sent(peer: ScriptedPeer
     finally:
         c.close()
         await c.wait_closed()
-    assert c._slots_taken == 0
+    assert c.slots_taken == 0
     assert not peer.received
 
 

@@ -65,11 +65,9 @@ async def test_params_diag_and_width_learning(cnc: FocasClient) -> None:
     with pytest.raises(AccessDeniedError):  # PWE off, mode MEM: the write gate is closed
         await cnc.write_param(6711, 5, width=4)
     await cnc.sim.set_panel(MDI, pwe=True)
-    cnc._param_widths.clear()
-    await cnc.write_param(6711, 1234)  # width learnt by one read
-    assert cnc._param_widths[6711] == 4
+    await cnc.write_param(6711, 1234)  # the width (4) learnt by one read
     assert await cnc.read_param(6711) == 1234
-    await cnc.write_param(3216, 7)  # cached width 2 from the read above is re-learnt
+    await cnc.write_param(3216, 7)  # the width (2) kept from the read above
     assert await cnc.read_param(3216) == 7
     await cnc.write_param(20, 3, width=1)
     assert await cnc.read_param(20) == 3
@@ -95,7 +93,7 @@ async def test_write_param_bit(cnc: FocasClient) -> None:
     )
     expected = sum(1 << i for i, b in enumerate(bits) if b)
     assert await cnc.read_param(1815, axis=3) & 0xFF == expected
-    assert len(cnc._param_locks) == 0
+    assert cnc.bit_locks == 0
     with pytest.raises(ValueError):
         await cnc.write_param_bit(1815, 8, True, axis=1)
 
@@ -197,7 +195,7 @@ async def test_late_answers_dropped_next_calls_correct(cnc: FocasClient) -> None
     results = await asyncio.gather(*(cnc.read_param(1420, axis=a) for a in (1, 2, 3)))
     assert results == [24000, 24000, 24000]
     assert await cnc.read_param(3216) == 10
-    conn = cnc._conn
+    conn = cnc.connection
     assert conn is not None
     await wait_until(lambda: conn.abandoned == 0)  # the late answer arrived and was dropped
     assert await cnc.read_param(6711) == 0
@@ -322,7 +320,7 @@ async def test_thousand_concurrent_bit_writes(cnc: FocasClient, spread: int) -> 
         )
     )
     assert await cnc.read_pmc("R", 500, spread) == target
-    assert len(cnc._pmc_locks) == 0
+    assert cnc.bit_locks == 0
 
 
 async def test_cancellation_storm_never_crosses_answers(cnc: FocasClient) -> None:
@@ -345,7 +343,7 @@ async def test_cancellation_storm_never_crosses_answers(cnc: FocasClient) -> Non
             assert result == values[n : n + 1]
     assert completed >= 5000
     assert await cnc.read_pmc("D", 10, 4) == values[10:14]
-    conn = cnc._conn
+    conn = cnc.connection
     assert conn is not None and conn.in_flight == 0
 
 
@@ -506,7 +504,7 @@ async def test_plain_reads_are_awaited_scheduled_and_gathered_as_coroutines(
 ) -> None:
     # These reads are plain methods returning the request's coroutine: a call sends nothing
     # until it is awaited or scheduled, as an ``async def`` would.
-    conn = cnc._conn
+    conn = cnc.connection
     assert conn is not None
     method = getattr(cnc, name)
     pending = method()

@@ -42,21 +42,21 @@ async def test_an_answer_hands_its_slot_to_the_first_in_line_as_it_is_read() -> 
     first = conn.try_send(COMMAND, b"", None)
     assert first is not None
     second = asyncio.create_task(conn.request(COMMAND, b"", None))
-    await _turns_until("the second call waits for a slot", lambda: len(conn._slot_waiters) == 1)
+    await _turns_until("the second call waits for a slot", lambda: conn.waiting_for_slot == 1)
     assert conn.try_send(COMMAND, b"", None) is None  # the one slot is taken
 
     _answer(conn, first[2])
     # The slot went to the waiter while the answer was read, before the first caller resumed.
-    assert not conn._slot_waiters
+    assert conn.waiting_for_slot == 0
     assert first[0].result() == b"\x00\x00"
     conn.finish(first)  # after an answer: nothing left to release
-    assert conn._slots_taken == 1
+    assert conn.slots_taken == 1
 
     await _turns_until("the second request is written", lambda: len(sink.frames) == 2)
     _, _, second_id = HEADER.unpack_from(sink.frames[1])
     _answer(conn, second_id)
     assert await second == b"\x00\x00"
-    assert conn._slots_taken == 0 and conn.in_flight == 0
+    assert conn.slots_taken == 0 and conn.in_flight == 0
 
 
 async def test_a_caller_that_gives_up_frees_its_slot_once_and_the_late_answer_frees_none() -> None:
@@ -66,14 +66,14 @@ async def test_a_caller_that_gives_up_frees_its_slot_once_and_the_late_answer_fr
     clock.fire()
     with pytest.raises(FocasTimeoutError):
         entry[0].result()
-    assert conn._slots_taken == 1  # still registered until its caller stops waiting
+    assert conn.slots_taken == 1  # still registered until its caller stops waiting
     conn.finish(entry)
-    assert conn._slots_taken == 0 and conn.abandoned == 1
+    assert conn.slots_taken == 0 and conn.abandoned == 1
     conn.finish(entry)  # twice: the id is already reserved, the slot already free
-    assert conn._slots_taken == 0 and conn.abandoned == 1
+    assert conn.slots_taken == 0 and conn.abandoned == 1
 
     _answer(conn, entry[2])  # the late answer: dropped, and no slot to free
-    assert conn._slots_taken == 0 and conn.abandoned == 0
+    assert conn.slots_taken == 0 and conn.abandoned == 0
 
 
 async def test_an_answer_with_the_wrong_command_fails_the_call_and_frees_its_slot() -> None:
@@ -83,20 +83,20 @@ async def test_an_answer_with_the_wrong_command_fails_the_call_and_frees_its_slo
     _answer(conn, entry[2], command=COMMAND + 1)
     with pytest.raises(ProtocolError, match="expected 0x0001"):
         entry[0].result()
-    assert conn._slots_taken == 0
+    assert conn.slots_taken == 0
     conn.finish(entry)
-    assert conn._slots_taken == 0 and conn.abandoned == 0
+    assert conn.slots_taken == 0 and conn.abandoned == 0
 
 
 async def test_a_close_frees_the_slots_of_every_call_in_flight_once() -> None:
     conn, _, _ = hand_driven(3)
     entries = [conn.try_send(COMMAND, b"", None) for _ in range(3)]
     waiting = asyncio.create_task(conn.request(COMMAND, b"", None))
-    await _turns_until("a fourth call waits for a slot", lambda: len(conn._slot_waiters) == 1)
+    await _turns_until("a fourth call waits for a slot", lambda: conn.waiting_for_slot == 1)
     abandoned = entries[0]
     assert abandoned is not None
     conn.finish(abandoned)  # given up before the close: its id reserved, its slot handed on
-    assert not conn._slot_waiters and conn._slots_taken == 3
+    assert conn.waiting_for_slot == 0 and conn.slots_taken == 3
 
     conn.close()
     for entry in entries[1:]:
@@ -106,7 +106,7 @@ async def test_a_close_frees_the_slots_of_every_call_in_flight_once() -> None:
         conn.finish(entry)  # already freed by the close
     with pytest.raises(NotSentError):
         await waiting
-    assert conn._slots_taken == 0 and not conn._slot_waiters and conn.in_flight == 0
+    assert conn.slots_taken == 0 and conn.waiting_for_slot == 0 and conn.in_flight == 0
 
 
 async def test_an_answer_to_a_call_already_ended_is_dropped_and_frees_its_slot_once() -> None:
@@ -124,7 +124,7 @@ async def test_an_answer_to_a_call_already_ended_is_dropped_and_frees_its_slot_o
     with pytest.raises(FocasTimeoutError):
         timed_out[0].result()
     assert cancelled[0].cancelled()
-    assert conn._slots_taken == 0 and conn.in_flight == 0
+    assert conn.slots_taken == 0 and conn.in_flight == 0
     conn.finish(timed_out)
     conn.finish(cancelled)  # the answers left the table: nothing reserved, nothing freed twice
-    assert conn._slots_taken == 0 and conn.abandoned == 0
+    assert conn.slots_taken == 0 and conn.abandoned == 0

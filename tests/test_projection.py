@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import asyncio
 from collections.abc import AsyncIterator
+from datetime import UTC, datetime
 
 import pytest
 from support import IO_TIMEOUT, Served, serving
@@ -18,12 +19,14 @@ from focas_net.client import (
     ProjectionMode,
     ReconnectPolicy,
 )
+from focas_net.client.projection import MIN_HISTORY_MEMORY
 from focas_net.errors import EW
 from focas_net.protocol import FaultKind
 from focas_net.server import FocasServer
 from focas_net.sim import default_machine
 
 HISTORY = ProjectionMode.ACTIVE_PLUS_HISTORY
+STILL = datetime(2024, 5, 6, 7, 8, 9, tzinfo=UTC)  # a wall clock standing still
 
 
 @pytest.fixture
@@ -134,19 +137,33 @@ async def test_iteration_ends_when_the_client_closes(server: Served) -> None:
             await anext(projection)
 
 
-async def test_history_memory_is_bounded(cnc: FocasClient) -> None:
+async def test_history_memory_is_bounded(server: Served, cnc: FocasClient) -> None:
+    """The projection remembers the keys of MIN_HISTORY_MEMORY history entries (its bound at
+    any depth up to 250): an entry whose key it remembers is never reported again; once more
+    keys than that have come, the oldest is forgotten, and an entry with it is reported again.
+    The machine's clock stands still, so that an alarm raised again has the key it had."""
+    assert 4 * 250 <= MIN_HISTORY_MEMORY
+    machine = server.machine
+    machine.clock = lambda: STILL
     projection = AlarmProjection(cnc, HISTORY, depth=250)
-    seen: set[tuple[int, int]] = set()
-    for batch in range(5):
-        await asyncio.gather(
-            *(cnc.sim.raise_alarm(3, 1000 + batch * 240 + i) for i in range(240)),
-        )
-        await cnc.sim.clear_alarms()
-        events = await projection.poll()
-        keys = history_keys(events)
-        assert len(keys) == 240 and not seen & set(keys)
-        seen.update(keys)
-    assert len(projection._seen) <= projection._memory
+
+    async def raise_then_poll(numbers: range) -> list[tuple[int, int]]:
+        for number in numbers:
+            assert machine.raise_alarm(0, 3, number)
+        machine.clear_alarms()
+        return history_keys(await projection.poll())
+
+    assert await raise_then_poll(range(1, 2)) == [(3, 1)]
+    # every key up to the bound, none twice; the first one is the oldest
+    for first in range(2, MIN_HISTORY_MEMORY + 1, 240):
+        batch = range(first, min(first + 240, MIN_HISTORY_MEMORY + 1))
+        assert await raise_then_poll(batch) == [(3, n) for n in batch]
+    assert await raise_then_poll(range(1, 2)) == []  # remembered: not reported again
+    beyond = MIN_HISTORY_MEMORY + 1
+    assert await raise_then_poll(range(beyond, beyond + 1)) == [(3, beyond)]
+    # one key past the bound: the oldest is forgotten, and the entry with it that is still
+    # in the history (raised again above) is reported again
+    assert history_keys(await projection.poll()) == [(3, 1)]
 
 
 async def test_projection_resumes_after_restart_without_duplicates() -> None:

@@ -110,6 +110,12 @@ class CompositeCalls(Lifecycle):
         self._pmc_locks: KeyedLocks[tuple[int, int]] = KeyedLocks()
         self._param_locks: KeyedLocks[tuple[int, int]] = KeyedLocks()
 
+    @property
+    def bit_locks(self) -> int:
+        """Bit-write locks alive: one per PMC byte or ``(parameter, axis)`` that a bit write
+        of this client holds or waits for; 0 when no bit write is under way."""
+        return len(self._pmc_locks) + len(self._param_locks)
+
     # -- the primitives each transport gives -----------------------------------------------
     async def _read_param_value(self, number: int, axis: int, deadline: float | None) -> ParamValue:
         """``cnc_rdparam`` of a checked number and axis."""

@@ -89,6 +89,14 @@ class Link(CompositeCalls):
         conn = self._conn
         return 0 if conn is None else conn.in_flight
 
+    @property
+    def connection(self) -> Connection | None:
+        """The client's :class:`~focas_net.client.connection.Connection` (its ``closed``
+        is True once it is going away), None while there is none (not connected,
+        reconnecting, closed). For looking at (``in_flight``, ``abandoned``,
+        ``slots_taken``...): calls go through the client."""
+        return self._conn
+
     # -- lifecycle -----------------------------------------------------------------------
     async def connect(self) -> None:
         """Open the connection (and unlock when a password was given).

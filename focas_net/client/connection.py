@@ -160,6 +160,16 @@ class Connection(Received, asyncio.Protocol):
         """Ids reserved for requests whose callers gave up (their answers will be dropped)."""
         return self._abandoned
 
+    @property
+    def slots_taken(self) -> int:
+        """Request slots in use: calls in flight and callers handed a slot not yet sent."""
+        return self._slots_taken
+
+    @property
+    def waiting_for_slot(self) -> int:
+        """Callers waiting in line for a request slot (every slot is taken)."""
+        return len(self._slot_waiters)
+
     # -- asyncio.Protocol ----------------------------------------------------------------
     def connection_made(self, transport: asyncio.BaseTransport) -> None:
         # uvloop's transports implement the interface without subclassing asyncio.Transport
