@@ -53,6 +53,8 @@ from focas_net.errors import (
 )
 
 from ..protocol import DEFAULT_MAX_FRAME, HEADER, FrameDecoder, RawFrame
+from ._failures import connect_reason, lost_error, violation_error
+from ._lifecycle import address_text
 
 __all__ = ["Connection", "NotSentError", "open_connection"]
 
@@ -176,7 +178,7 @@ class Connection(Received, asyncio.Protocol):
         self._transport = cast(asyncio.Transport, transport)
         peer = transport.get_extra_info("peername")
         if peer:
-            self.peer = _address_text(peer[0], peer[1])
+            self.peer = address_text(peer[0], peer[1])
 
     def data_received(self, data: bytes | bytearray | memoryview) -> None:
         self._answered = True
@@ -216,7 +218,7 @@ class Connection(Received, asyncio.Protocol):
         except FrameError as exc:
             self._deliver(exc.frames)  # answers that arrived whole before the violation
             self._release_slots(live - self.in_flight)
-            violation = _violation_error(self.peer, exc, bytes(data[:16]))
+            violation = violation_error(self.peer, exc, bytes(data[:16]))
             logger.warning("closing connection to %s: %s", self.peer, violation)
             self._violation = violation
             self._abort(violation)
@@ -257,7 +259,7 @@ class Connection(Received, asyncio.Protocol):
 
     def connection_lost(self, exc: Exception | None) -> None:
         if self._closed_exc is None:
-            self._closed_exc = _lost_error(self.peer, exc)
+            self._closed_exc = lost_error(self.peer, exc)
         self._transport = None
         self._fail_all()
         if not self._lost.done():
@@ -647,7 +649,7 @@ class Connection(Received, asyncio.Protocol):
 
     def _abort(self, exc: BaseException) -> None:
         if self._closed_exc is None:
-            self._closed_exc = _lost_error(self.peer, exc)
+            self._closed_exc = lost_error(self.peer, exc)
         self._fail_all()
         if self._transport is not None:
             self._transport.abort()
@@ -714,34 +716,6 @@ class _Missing:
 _MISSING: Final = _Missing()
 
 
-#: The first byte of a TLS record (change_cipher_spec, alert, handshake, application_data),
-#: which a TLS peer sends where a frame's length should be; its second byte is 3 (TLS 1.x).
-_TLS_RECORD_TYPES: Final = frozenset({0x14, 0x15, 0x16, 0x17})
-
-
-def _violation_error(peer: str, exc: FrameError, head: bytes) -> ProtocolError:
-    """The error of a framing violation by ``peer``: it does not speak the FOCAS protocol.
-
-    ``head`` (the first bytes of the offending chunk) is shown as text, so that an HTTP
-    answer reads as one; a TLS record is named as such.
-    """
-    if len(head) >= 2 and head[0] in _TLS_RECORD_TYPES and head[1] == 3:
-        what = "it sent a TLS record: the server expects TLS"
-    else:
-        what = f"it sent {head[:8]!r}"
-    reason = str(exc).removesuffix("; closing the connection")
-    return ProtocolError(f"{peer} does not speak the FOCAS protocol ({reason}; {what})")
-
-
-def _lost_error(peer: str, exc: BaseException | None) -> FocasConnectionError:
-    if isinstance(exc, FocasConnectionError):
-        return exc
-    text = f"connection to {peer} lost" + (f": {exc}" if exc else "")
-    err = FocasConnectionError(text)
-    err.__cause__ = exc
-    return err
-
-
 async def open_connection(
     host: str,
     port: int,
@@ -779,31 +753,13 @@ async def open_connection(
                 server_hostname=(server_hostname or host) if ssl is not None else None,
             )
     except TimeoutError:
-        raise FocasTimeoutError(f"connecting to {_address_text(host, port)} timed out") from None
+        raise FocasTimeoutError(f"connecting to {address_text(host, port)} timed out") from None
     except (OSError, _ssl.SSLError) as exc:
         raise FocasConnectionError(
-            f"cannot connect to {_address_text(host, port)}: {_connect_reason(exc, ssl)}"
+            f"cannot connect to {address_text(host, port)}: {connect_reason(exc, ssl)}"
         ) from exc
     except UnicodeError as exc:  # the idna codec refusing a host name (a label over 63)
         raise FocasConnectionError(
-            f"cannot connect to {_address_text(host, port)}: not a valid host name ({exc})"
+            f"cannot connect to {address_text(host, port)}: not a valid host name ({exc})"
         ) from exc
     return protocol
-
-
-def _address_text(host: str, port: int) -> str:
-    """``host:port``, an IPv6 address in brackets (``[::1]:8193``)."""
-    return f"[{host}]:{port}" if ":" in host else f"{host}:{port}"
-
-
-def _connect_reason(exc: BaseException, ssl: _ssl.SSLContext | None) -> str:
-    """Why a connect failed, never empty; a failed TLS handshake says so."""
-    text = str(exc)
-    if isinstance(exc, _ssl.SSLCertVerificationError):
-        return f"TLS certificate not trusted: {exc.verify_message or text}"
-    if ssl is not None and isinstance(exc, _ssl.SSLError | ConnectionError):
-        detail = text if isinstance(exc, _ssl.SSLError) and text else "the peer closed it"
-        return f"TLS handshake failed ({detail}): the peer may not speak TLS"
-    if not text:
-        return type(exc).__name__
-    return text
