@@ -138,11 +138,11 @@ class NativeItems(NativeLink):
         """``cnc_rdparam`` or ``cnc_diagnoss`` of a checked number and axis as a
         :class:`ParamValue`."""
         function = "cnc_diagnoss" if diagnostic else "cnc_rdparam"
-        handle = await self._handle_for(deadline)
+        handle = self._handle_now() or await self._handle_for(deadline)
         self._check_axis_of(handle, axis, function)
         build = calls.cnc_diagnoss if diagnostic else calls.cnc_rdparam
         call = build(handle.command_set, number, axis)
-        (block,) = await self._exchange(call.parts[0], handle.command_set, deadline)
+        (block,) = await self._exchange(handle, call, deadline)
         items: ItemValues | ScaledItemValues = decoded(call, (block,), 0, handle.max_axes)
         if not items.records:
             raise PayloadError(f"{function}: answer for {number} carries no record")
@@ -201,7 +201,7 @@ class NativeItems(NativeLink):
         """The first frame of ``cnc_wrparam``: the parameter's type word and its width;
         EW_LENGTH (before anything is written) when ``width`` differs, as the library."""
         call = calls.wrparam_info(handle.command_set, number)
-        (block,) = await self._exchange(call.parts[0], handle.command_set, deadline)
+        (block,) = await self._exchange(handle, call, deadline)
         info = decoded(call, (block,), 0, handle.max_axes)
         if isinstance(info, ParamInfo3):
             ptype = info.type
@@ -246,7 +246,7 @@ class NativeItems(NativeLink):
                 f"parameter {number}: {value!r} is not a value of any parameter type (an "
                 "integer, or a real value within an i32 mantissa and 0..9 decimals)"
             )
-        handle = await self._handle_for(deadline)
+        handle = self._handle_now() or await self._handle_for(deadline)
         self._check_axis_of(handle, axis, "cnc_wrparam")
         ptype, size = await self._param_info(handle, number, width, deadline)
         if ptype == ParamType.REAL:
@@ -269,7 +269,7 @@ class NativeItems(NativeLink):
     async def _write_param_bits(
         self, number: int, axis: int, bits: int, width: int, deadline: float | None
     ) -> None:
-        handle = await self._handle_for(deadline)
+        handle = self._handle_now() or await self._handle_for(deadline)
         self._check_axis_of(handle, axis, "cnc_wrparam")
         ptype, _ = await self._param_info(handle, number, width, deadline)
         raw = byte_to_wire(number, bits, ParamDataType.BIT) if ptype == ParamType.BIT else bits
@@ -281,7 +281,7 @@ class NativeItems(NativeLink):
     ) -> None:
         """The second frame of ``cnc_wrparam``: the write of ``record``."""
         call = calls.cnc_wrparam(handle.command_set, record)
-        (done,) = await self._exchange(call.parts[1], handle.command_set, deadline)
+        (done,) = await self._exchange(handle, call, deadline, 1)
         block_data(done, "cnc_wrparam")
 
     @staticmethod

@@ -25,7 +25,6 @@ from __future__ import annotations
 import asyncio
 import logging
 import operator
-from collections.abc import Callable
 from functools import partial
 from typing import Any, Final
 
@@ -354,9 +353,10 @@ class NativeLink(CompositeCalls):
         return handle is not None and not handle.closed
 
     async def _handle_for(self, deadline: float | None) -> Handle:
-        """The open handle, waiting (until ``deadline``) while reconnecting."""
-        handle = self._handle
-        if handle is None or handle.closed:
+        """The open handle, waiting (until ``deadline``) while reconnecting (a call takes
+        ``self._handle_now() or await self._handle_for(deadline)``: no wait when open)."""
+        handle = self._handle_now()
+        if handle is None:
             await self._wait_linked(deadline)
             handle = self._handle
             assert handle is not None
@@ -407,25 +407,21 @@ class NativeLink(CompositeCalls):
             return
         self._reconnecting(_Lost(why))
 
-    # -- one library call of one frame ----------------------------------------------------
-    async def _single(
-        self, deadline: float | None, build: Callable[..., LibraryCall], *args: Any
-    ) -> tuple[Handle, LibraryCall, tuple[ResponseBlock, ...]]:
-        """A call of one frame, ``build(command set, *args)``: its handle, the call and its
-        answer blocks."""
+    def _handle_now(self) -> Handle | None:
+        """The open handle, or None while there is none (then :meth:`_handle_for` waits for
+        the reconnect, until a call's deadline)."""
         handle = self._handle
-        if handle is None or handle.closed:
-            handle = await self._handle_for(deadline)
-        call = build(handle.command_set, *args)
-        blocks = await self._exchange(call.parts[0], handle.command_set, deadline)
-        return handle, call, blocks
+        return None if handle is None or handle.closed else handle
 
     # -- jobs ----------------------------------------------------------------------------
-    def _exchange(self, part: Part, command_set: CommandSet, deadline: float | None) -> Future:
-        """One frame's worth of one call, submitted: the future of its answer blocks (an EW
-        code in a block is the caller's to raise). A caller that gives up cancels the future
-        (awaiting it does): queued, the job is then never sent; sent, its blocks are dropped."""
-        return self._submit(part, command_set, deadline).token
+    def _exchange(
+        self, handle: Handle, call: LibraryCall, deadline: float | None, frame: int = 0
+    ) -> Future:
+        """Frame ``frame`` of library ``call`` on ``handle``, submitted: the future of its answer
+        blocks (an EW code in a block is the caller's to raise). A caller that gives up cancels
+        the future (awaiting it does): queued, the job is then never sent; sent, its blocks are
+        dropped."""
+        return self._submit(call.parts[frame], handle.command_set, deadline).token
 
     def _submit(self, part: Part, command_set: CommandSet, deadline: float | None) -> Job[Future]:
         """Queue a job and have it sent (see the module docstring); the caller awaits its

@@ -10,12 +10,12 @@ in the caller's frame, then its answer decoded.
 
 One call, ``read_macro(100)``::
 
-    check_macro(100)                       the argument (TypeError, ValueError), nothing sent
-    deadline = self._deadline(None)        the client's timeout from now
-    handle = await self._handle_for(...)   the open handle (waits while reconnecting)
-    call = calls.cnc_rdmacro(cs, 100)      the library's frame, encoded once for these values
-    blocks = await self._exchange(...)     queued, packed into a frame, answered (the link)
-    decoded(request, block, ...)          EW code -> CncError; the answer's value
+    check_macro(100)                        the argument (TypeError, ValueError), nothing sent
+    deadline = self._deadline(None)         the client's timeout from now
+    handle = self._handle_now() or ...      the open handle (else wait for the reconnect)
+    call = calls.cnc_rdmacro(cs, 100)       the library's frame, encoded once for these values
+    blocks = await self._exchange(...)      queued, packed into a frame, answered (the link)
+    made_once(handle, call, blocks, _macro) EW code -> CncError; the value, made once per answer
 """
 
 # Every call takes a per-call ``timeout=`` by contract (one deadline per call covers its
@@ -226,7 +226,10 @@ class NativeClient(NativeItems):
     async def read_status(self, *, timeout: float | None = None) -> StatusInfo:
         """``cnc_statinfo``: the ODBST status (0x19; hdck 0xE1 and tmmode 0x98 read 0 when
         the CNC refuses them, as the library reads them)."""
-        handle, call, blocks = await self._single(self._deadline(timeout), calls.cnc_statinfo)
+        deadline = self._deadline(timeout)
+        handle = self._handle_now() or await self._handle_for(deadline)
+        call = calls.cnc_statinfo(handle.command_set)
+        blocks = await self._exchange(handle, call, deadline)
         return made_once(handle, call, blocks, _status)
 
     def start_read_status(self, *, timeout: float | None = None) -> StartedCall[StatusInfo]:
@@ -248,7 +251,7 @@ class NativeClient(NativeItems):
     async def read_sysinfo(self, *, timeout: float | None = None) -> SysInfo:
         """``cnc_sysinfo``: ODBSYS as the CNC answered it while connecting (nothing is sent,
         like FANUC's library)."""
-        handle = await self._handle_for(self._deadline(timeout))
+        handle = self._handle_now() or await self._handle_for(self._deadline(timeout))
         info = handle.sysinfo
         if info is None:
             raise PayloadError("cnc_sysinfo: the connect-time system information is missing")
@@ -263,51 +266,70 @@ class NativeClient(NativeItems):
 
     async def read_cnc_id(self, *, timeout: float | None = None) -> tuple[int, int, int, int]:
         """``cnc_rdcncid``: the four 32-bit words of the CNC ID."""
-        cid: CncId = only_answer(*await self._single(self._deadline(timeout), calls.cnc_rdcncid))
+        deadline = self._deadline(timeout)
+        handle = self._handle_now() or await self._handle_for(deadline)
+        call = calls.cnc_rdcncid(handle.command_set)
+        cid: CncId = only_answer(handle, call, await self._exchange(handle, call, deadline))
         return (cid.id1, cid.id2, cid.id3, cid.id4)
 
     async def read_timer(self, timer_type: int, *, timeout: float | None = None) -> TimerValue:
         """``cnc_rdtimer``: a timer (0 power-on, 1 operating, 2 cutting, 3 cycle, 4 free) as
         minutes and milliseconds."""
         check_int("timer type", timer_type, 0, _TIMER_TYPES)
-        value: TimerValue = only_answer(
-            *await self._single(self._deadline(timeout), calls.cnc_rdtimer, timer_type)
-        )
+        deadline = self._deadline(timeout)
+        handle = self._handle_now() or await self._handle_for(deadline)
+        call = calls.cnc_rdtimer(handle.command_set, timer_type)
+        value: TimerValue = only_answer(handle, call, await self._exchange(handle, call, deadline))
         return value
 
     # -- program, feed, spindle ----------------------------------------------------------
     async def read_program_numbers(self, *, timeout: float | None = None) -> ProgramNumbers:
         """``cnc_rdprgnumo8``: the running and the main program numbers (0 = none)."""
+        deadline = self._deadline(timeout)
+        handle = self._handle_now() or await self._handle_for(deadline)
+        call = calls.cnc_rdprgnumo8(handle.command_set)
         value: NativeProgramNumbers = only_answer(
-            *await self._single(self._deadline(timeout), calls.cnc_rdprgnumo8)
+            handle, call, await self._exchange(handle, call, deadline)
         )
         return ProgramNumbers(value.running, value.main)
 
     async def read_program_name(self, *, timeout: float | None = None) -> tuple[int, str]:
         """``cnc_exeprgname``: the O number and the name of the executing program."""
+        deadline = self._deadline(timeout)
+        handle = self._handle_now() or await self._handle_for(deadline)
+        call = calls.cnc_exeprgname(handle.command_set)
         value: ExecutingProgram = only_answer(
-            *await self._single(self._deadline(timeout), calls.cnc_exeprgname)
+            handle, call, await self._exchange(handle, call, deadline)
         )
         return value.o_num, text(value.name)
 
     async def read_sequence_number(self, *, timeout: float | None = None) -> int:
         """``cnc_rdseqnum``: the sequence number being executed."""
+        deadline = self._deadline(timeout)
+        handle = self._handle_now() or await self._handle_for(deadline)
+        call = calls.cnc_rdseqnum(handle.command_set)
         value: SequenceNumber = only_answer(
-            *await self._single(self._deadline(timeout), calls.cnc_rdseqnum)
+            handle, call, await self._exchange(handle, call, deadline)
         )
         return value.number
 
     async def read_feed(self, *, timeout: float | None = None) -> int:
         """``cnc_actf``: the actual feed rate."""
+        deadline = self._deadline(timeout)
+        handle = self._handle_now() or await self._handle_for(deadline)
+        call = calls.cnc_actf(handle.command_set)
         value: ScaledValues = only_answer(
-            *await self._single(self._deadline(timeout), calls.cnc_actf)
+            handle, call, await self._exchange(handle, call, deadline)
         )
         return value.values[0].mantissa if value.values else 0
 
     async def read_spindle_speed(self, *, timeout: float | None = None) -> int:
         """``cnc_acts``: the actual spindle speed."""
+        deadline = self._deadline(timeout)
+        handle = self._handle_now() or await self._handle_for(deadline)
+        call = calls.cnc_acts(handle.command_set)
         value: ScaledValues = only_answer(
-            *await self._single(self._deadline(timeout), calls.cnc_acts)
+            handle, call, await self._exchange(handle, call, deadline)
         )
         return value.values[0].mantissa if value.values else 0
 
@@ -316,9 +338,10 @@ class NativeClient(NativeItems):
     ) -> tuple[int, ...]:
         """``cnc_rdspload``: the load of every spindle (``spindle=-1``) or of one (1..n)."""
         check_axis(spindle, "spindle", every=-1)
-        handle, call, blocks = await self._single(
-            self._deadline(timeout), calls.cnc_rdspload, spindle
-        )
+        deadline = self._deadline(timeout)
+        handle = self._handle_now() or await self._handle_for(deadline)
+        call = calls.cnc_rdspload(handle.command_set, spindle)
+        blocks = await self._exchange(handle, call, deadline)
         for i, request in enumerate(call.frames[0]):
             block_data(blocks[i], "cnc_rdspload")
             if request.COMMAND == NativeCommand.AXIS_COUNT:
@@ -331,7 +354,10 @@ class NativeClient(NativeItems):
 
     async def read_servo_meters(self, *, timeout: float | None = None) -> tuple[ServoLoad, ...]:
         """``cnc_rdsvmeter``: the servo load meter of every axis, with its name."""
-        handle, call, blocks = await self._single(self._deadline(timeout), calls.cnc_rdsvmeter)
+        deadline = self._deadline(timeout)
+        handle = self._handle_now() or await self._handle_for(deadline)
+        call = calls.cnc_rdsvmeter(handle.command_set)
+        blocks = await self._exchange(handle, call, deadline)
         names: AxisNames | None = None
         loads: ScaledValues | None = None
         for i, request in enumerate(call.frames[0]):
@@ -352,7 +378,10 @@ class NativeClient(NativeItems):
 
     async def read_axis_names(self, *, timeout: float | None = None) -> tuple[str, ...]:
         """``cnc_rdaxisname``: the names of the path's axes, in order."""
-        handle, call, blocks = await self._single(self._deadline(timeout), calls.cnc_rdaxisname)
+        deadline = self._deadline(timeout)
+        handle = self._handle_now() or await self._handle_for(deadline)
+        call = calls.cnc_rdaxisname(handle.command_set)
+        blocks = await self._exchange(handle, call, deadline)
         names: AxisNames = only_answer(handle, call, blocks)
         return tuple(axis_name(n.encode()) for n in names.records[: handle.axes])
 
@@ -362,9 +391,9 @@ class NativeClient(NativeItems):
         frame. Needs the CNC's FOCAS option bit 0, as in FANUC's library (EW_NOOPT)."""
         _check_dynamic_axis(axis)
         deadline = self._deadline(timeout)
-        handle = await self._handle_for(deadline)
+        handle = self._handle_now() or await self._handle_for(deadline)
         call = self._dynamic_call(handle, axis)
-        blocks = await self._exchange(call.parts[0], handle.command_set, deadline)
+        blocks = await self._exchange(handle, call, deadline)
         return made_once(handle, call, blocks, _dynamic)
 
     def start_read_dynamic(
@@ -414,11 +443,11 @@ class NativeClient(NativeItems):
         which = PositionKind.parse(kind)
         check_axis(axis)
         deadline = self._deadline(timeout)
-        handle = await self._handle_for(deadline)
+        handle = self._handle_now() or await self._handle_for(deadline)
         if axis is not None and axis > handle.axes:
             raise CncError.from_ew(EW.ATTRIB, f"cnc_rdposition: axis {axis} of {handle.axes}")
         call = calls.cnc_rdposition(handle.command_set)
-        blocks = await self._exchange(call.parts[0], handle.command_set, deadline)
+        blocks = await self._exchange(handle, call, deadline)
         names: PositionAxisNames | None = None
         positions: ScaledValues | None = None
         for i, request in enumerate(call.frames[0]):
@@ -459,9 +488,10 @@ class NativeClient(NativeItems):
         """``cnc_rdmacro``: the value of ``#number`` as a Decimal, or None when vacant
         (binary records converted as the library converts them)."""
         check_macro(number)
-        handle, call, blocks = await self._single(
-            self._deadline(timeout), calls.cnc_rdmacro, number
-        )
+        deadline = self._deadline(timeout)
+        handle = self._handle_now() or await self._handle_for(deadline)
+        call = calls.cnc_rdmacro(handle.command_set, number)
+        blocks = await self._exchange(handle, call, deadline)
         return made_once(handle, call, blocks, _macro)
 
     async def write_macro(
@@ -471,9 +501,10 @@ class NativeClient(NativeItems):
         as the library sends it); see :func:`~focas_net.client.client.macro_to_wire`."""
         check_macro(number)
         mcr_val, dec_val = macro_to_wire(value)
-        _, _, (block,) = await self._single(
-            self._deadline(timeout), calls.cnc_wrmacro, number, mcr_val, dec_val
-        )
+        deadline = self._deadline(timeout)
+        handle = self._handle_now() or await self._handle_for(deadline)
+        call = calls.cnc_wrmacro(handle.command_set, number, mcr_val, dec_val)
+        (block,) = await self._exchange(handle, call, deadline)
         block_data(block, "cnc_wrmacro")
 
     # -- PMC -----------------------------------------------------------------------------
@@ -499,8 +530,10 @@ class NativeClient(NativeItems):
     async def _read_pmc_chunk(
         self, code: int, start: int, count: int, deadline: float | None
     ) -> bytes:
+        handle = self._handle_now() or await self._handle_for(deadline)
+        call = calls.pmc_rdpmcrng(handle.command_set, code, 0, start, start + count - 1)
         data: NativePmcData = only_answer(
-            *await self._single(deadline, calls.pmc_rdpmcrng, code, 0, start, start + count - 1)
+            handle, call, await self._exchange(handle, call, deadline)
         )
         if len(data.raw) != count:
             raise PayloadError(f"pmc_rdpmcrng answer: {len(data.raw)} bytes, asked {count}")
@@ -525,7 +558,7 @@ class NativeClient(NativeItems):
         self, area: PmcArea, chunks: Sequence[tuple[int, bytes]], deadline: float | None
     ) -> list[ChunkOutcome]:
         code = NativePmcArea[area.name].value
-        handle = await self._handle_for(deadline)
+        handle = self._handle_now() or await self._handle_for(deadline)
         cs = handle.command_set
         jobs = []
         for first, data in chunks:
@@ -550,9 +583,10 @@ class NativeClient(NativeItems):
     # -- alarms --------------------------------------------------------------------------
     async def read_alarm_status(self, *, timeout: float | None = None) -> int:
         """``cnc_alarm2``: the alarm bits (bit n set while an alarm of type n is active)."""
-        value: AlarmStatus = only_answer(
-            *await self._single(self._deadline(timeout), calls.cnc_alarm2)
-        )
+        deadline = self._deadline(timeout)
+        handle = self._handle_now() or await self._handle_for(deadline)
+        call = calls.cnc_alarm2(handle.command_set)
+        value: AlarmStatus = only_answer(handle, call, await self._exchange(handle, call, deadline))
         return value.alarm
 
     async def read_alarms(
@@ -566,8 +600,11 @@ class NativeClient(NativeItems):
         ``alm_type``: by name, ``"PS"``, an :class:`AlarmType` or a number)."""
         t = alarm_type_number(alm_type, every=True)
         check_int("alarm count", count, 1, I16_MAX)
+        deadline = self._deadline(timeout)
+        handle = self._handle_now() or await self._handle_for(deadline)
+        call = calls.cnc_rdalmmsg2(handle.command_set, t, count)
         value: AlarmMessages = only_answer(
-            *await self._single(self._deadline(timeout), calls.cnc_rdalmmsg2, t, count)
+            handle, call, await self._exchange(handle, call, deadline)
         )
         return tuple(
             ActiveAlarm(a.axis, a.alarm_type, a.number, text(a.message)) for a in value.alarms
@@ -581,11 +618,11 @@ class NativeClient(NativeItems):
         raises :class:`CncError`; EW_NUMBER on a later one ends the list."""
         depth = history_depth(depth)
         deadline = self._deadline(timeout)
-        handle = await self._handle_for(deadline)
+        handle = self._handle_now() or await self._handle_for(deadline)
         call = calls.cnc_rdalmhistry(handle.command_set, 1, depth)
         entries: list[AlarmHistoryEntry] = []
-        for n, (frame, part) in enumerate(zip(call.frames, call.parts, strict=True)):
-            blocks = await self._exchange(part, handle.command_set, deadline)
+        for n, frame in enumerate(call.frames):
+            blocks = await self._exchange(handle, call, deadline, n)
             if blocks[0].ew == EW.NUMBER:
                 break  # no entry from here on (from the first: the history is empty)
             history: NativeAlarmHistory = decoded(call, blocks, 0, 0, frame=n)

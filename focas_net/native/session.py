@@ -367,9 +367,12 @@ class NativeSession(Generic[T]):
         blocks: list[bytes] = []
         blocks_left = self.max_blocks
         answer_left = send_left = self._limit
-        axis_bytes = self._axis_bytes
         given_up = self._given_up
         latest = 0.0
+        # Jobs of one call in a row share their part: how many of them the frame still takes
+        # (``room``) is reckoned once a run, from what is left of its blocks and bodies.
+        run: Part | None = None
+        room = answer = size = 0
         while queue:
             job = queue[0]
             if job.ending is not None or given_up(job.token):
@@ -377,10 +380,20 @@ class NativeSession(Generic[T]):
                 job.ending = job.ending or Ending.ABANDONED
                 continue
             part = job.part
-            answer = part.answer_fixed + part.answer_axes * axis_bytes
-            size = len(part.blocks)
-            if batch and (part.count > blocks_left or answer > answer_left or size > send_left):
+            if part is not run:
+                run = part
+                answer = part.answer_fixed + part.answer_axes * self._axis_bytes
+                size = len(part.blocks)
+                room = min(
+                    blocks_left // max(part.count, 1),
+                    answer_left // max(answer, 1),
+                    send_left // max(size, 1),
+                )
+                if not batch:
+                    room = max(room, 1)  # a frame takes at least one job, whatever its size
+            if room <= 0:
                 break
+            room -= 1
             queue.popleft()
             batch.append(job)
             blocks.append(part.blocks)
