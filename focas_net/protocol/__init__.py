@@ -60,6 +60,7 @@ from .frame import (
     FrameDecoder,
     RawFrame,
     encode_frame,
+    scan_frames,
 )
 from .programs import (
     MAX_DIRECTORY_ENTRIES,
@@ -181,4 +182,5 @@ __all__ = [
     "encode_ew",
     "encode_frame",
     "encode_response",
+    "scan_frames",
 ]
