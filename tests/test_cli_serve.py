@@ -15,7 +15,7 @@ from typing import Any
 import pytest
 from support import SERVE_READY, Wire, serve_process
 
-from focas_net.cli import serve
+from focas_net.cli import _fleet, serve
 from focas_net.errors import EW
 from focas_net.protocol import COMMANDS, Command, InjectFault, MacroRequest, MacroValue, SetPanel
 from focas_net.sim import default_machine
@@ -203,11 +203,11 @@ def test_bad_options(argv: tuple[str, ...], capsys: pytest.CaptureFixture[str]) 
 
 
 def test_build_machines_fleet_names_and_flags() -> None:
-    machines = serve.build_machines(_parse("--fleet", "3", "--no-control", "--read-only"))
+    machines = _fleet.build_machines(_parse("--fleet", "3", "--no-control", "--read-only"))
     assert [m.name for m in machines] == ["focas-sim-0i-1", "focas-sim-0i-2", "focas-sim-0i-3"]
     assert len({id(m) for m in machines}) == 3
     assert all(not m.control_enabled and m.read_only for m in machines)
-    (single,) = serve.build_machines(_parse())
+    (single,) = _fleet.build_machines(_parse())
     assert single.name == "focas-sim-0i" and single.control_enabled and not single.read_only
 
 

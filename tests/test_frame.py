@@ -9,7 +9,14 @@ from hypothesis import given
 from hypothesis import strategies as st
 
 from focas_net.errors import FrameError, ProtocolError
-from focas_net.protocol import DEFAULT_MAX_FRAME, HEADER_SIZE, Frame, FrameDecoder, encode_frame
+from focas_net.protocol import (
+    DEFAULT_MAX_FRAME,
+    HEADER_SIZE,
+    Frame,
+    FrameDecoder,
+    encode_frame,
+    scan_frames,
+)
 
 # Hand-written frames: u32 length (4 + payload), u16 command, u16 request_id, payload.
 STATUS_REQUEST = bytes.fromhex("04000000 0100 0100")
@@ -251,3 +258,62 @@ def test_violation_carries_the_frames_decoded_before_it() -> None:
     with pytest.raises(FrameError) as again:
         decoder.feed(bytes.fromhex("0400000001000900"))
     assert again.value.frames == []  # poisoned: nothing more is decoded, nothing repeated
+
+
+# -- scan_frames: the decoder's own scan, pure --------------------------------------------
+
+
+def _encoded(frames: list[Frame]) -> bytes:
+    return b"".join(encode_frame(*f) for f in frames)
+
+
+@given(frames=frames_st, tail=st.data())
+def test_scan_finds_the_whole_frames_and_where_they_end(
+    frames: list[Frame], tail: st.DataObject
+) -> None:
+    stream = _encoded(frames)
+    partial = tail.draw(st.builds(encode_frame, st.just(1), st.just(2), st.binary(max_size=20)))
+    cut = partial[: tail.draw(st.integers(0, len(partial) - 1), label="cut")]
+    found, end, bad = scan_frames(stream + cut, DEFAULT_MAX_FRAME)
+    assert [Frame(*f) for f in found] == frames
+    assert (end, bad) == (len(stream), -1)
+
+
+@given(frames=frames_st, garbage=st.binary(max_size=30))
+def test_scan_reads_a_view_up_to_size_and_copies_every_payload(
+    frames: list[Frame], garbage: bytes
+) -> None:
+    stream = _encoded(frames)
+    buffer = bytearray(stream + garbage)
+    found, end, bad = scan_frames(memoryview(buffer), DEFAULT_MAX_FRAME, len(stream))
+    buffer[:] = bytes(len(buffer))  # the buffer is reused: what was found must not change
+    assert [Frame(*f) for f in found] == frames
+    assert all(type(payload) is bytes for _, _, payload in found)
+    assert (end, bad) == (len(stream), -1)
+
+
+@given(
+    frames=frames_st,
+    length=st.one_of(st.integers(0, 3), st.integers(45, 0xFFFFFFFF)),
+    rest=st.binary(max_size=12),
+)
+def test_scan_reports_a_length_out_of_bounds_as_soon_as_it_is_in(
+    frames: list[Frame], length: int, rest: bytes
+) -> None:
+    stream = _encoded([f for f in frames if len(f.payload) <= 40])
+    found, end, bad = scan_frames(stream + length.to_bytes(4, "little") + rest, 44)
+    assert _encoded([Frame(*f) for f in found]) == stream
+    assert (end, bad) == (len(stream), length)
+
+
+@given(st.binary(max_size=200), st.integers(4, 64))
+def test_the_decoder_rejects_exactly_what_the_scan_rejects(blob: bytes, max_frame: int) -> None:
+    found, end, bad = scan_frames(blob, max_frame)
+    decoder = FrameDecoder(max_frame)
+    try:
+        decoded = decoder.feed_raw(blob)
+    except FrameError as exc:
+        assert bad >= 0 and exc.frames == found
+        return
+    assert bad == -1 and decoded == found
+    assert decoder.buffered == len(blob) - end

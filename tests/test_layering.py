@@ -1,15 +1,20 @@
-"""Who may import whom: the machine knows no protocol, each adapter knows the machine and its
-own codec only. Read from the source with ``ast``, so nothing is imported to find out."""
+"""Who may import whom: every row of the table "Who may import whom" in docs/architecture.md,
+the modules the table does not name, and no import cycle inside a package. Read from the source
+with ``ast``, so nothing is imported to find out: for the rows every import statement (in a
+function's body and under ``TYPE_CHECKING`` too), for the cycles every import that runs."""
 
 from __future__ import annotations
 
 import ast
+import re
 import sys
+from collections.abc import Iterator
 from pathlib import Path
 
 import pytest
 
 PACKAGE = Path(__file__).resolve().parent.parent / "focas_net"
+ARCHITECTURE = PACKAGE.parent / "docs" / "architecture.md"
 
 
 def _module_name(path: Path) -> str:
@@ -19,13 +24,38 @@ def _module_name(path: Path) -> str:
     return ".".join(parts)
 
 
-def imports_of(path: Path) -> set[str]:
+def _is_type_checking(node: ast.AST) -> bool:
+    return isinstance(node, ast.If) and ast.unparse(node.test) in (
+        "TYPE_CHECKING",
+        "typing.TYPE_CHECKING",
+    )
+
+
+def _statements(node: ast.AST, typing: bool, lazy: bool) -> Iterator[ast.AST]:
+    """The nodes below ``node``; without ``typing`` those only a type checker reads (``if
+    TYPE_CHECKING:``) left out, without ``lazy`` the bodies of functions."""
+    for child in ast.iter_child_nodes(node):
+        if not typing and _is_type_checking(child):
+            assert isinstance(child, ast.If)
+            for other in child.orelse:
+                yield other
+                yield from _statements(other, typing, lazy)
+            continue
+        if not lazy and isinstance(child, ast.FunctionDef | ast.AsyncFunctionDef | ast.Lambda):
+            continue
+        yield child
+        yield from _statements(child, typing, lazy)
+
+
+def imports_of(path: Path, *, typing: bool = True, lazy: bool = True) -> set[str]:
     """Every module ``path`` imports, relative imports resolved (``from x import y`` counts as
-    ``x`` and, when ``x.y`` is a module of focas_net, as ``x.y`` too)."""
+    ``x`` and, when ``x.y`` is a module of focas_net, as ``x.y`` too). Without ``typing`` the
+    imports made for a type checker only are left out, without ``lazy`` those in functions:
+    what importing ``path`` itself imports."""
     name = _module_name(path)
     package = name if path.name == "__init__.py" else name.rpartition(".")[0]
     found: set[str] = set()
-    for node in ast.walk(ast.parse(path.read_text(), str(path))):
+    for node in _statements(ast.parse(path.read_text(), str(path)), typing, lazy):
         if isinstance(node, ast.Import):
             found.update(alias.name for alias in node.names)
         elif isinstance(node, ast.ImportFrom):
@@ -45,26 +75,139 @@ def imports_of(path: Path) -> set[str]:
     return found
 
 
-def _allowed(module: str, prefixes: tuple[str, ...]) -> bool:
-    if module.split(".")[0] in sys.stdlib_module_names or module == "__future__":
-        return True
+def _within(module: str, prefixes: tuple[str, ...]) -> bool:
+    """``module`` is one of ``prefixes`` or below one of them."""
     return any(module == p or module.startswith(p + ".") for p in prefixes)
 
 
-def _files(relative: str) -> list[Path]:
-    target = PACKAGE / relative
-    return sorted(target.rglob("*.py")) if target.is_dir() else [target]
+def _standard(module: str) -> bool:
+    return module.split(".")[0] in sys.stdlib_module_names or module == "__future__"
 
 
-#: Modules that know no protocol and no machine: anyone may import them.
-NEUTRAL = ("focas_net.errors", "focas_net.versamax", "focas_net._memo")
+def _files(module: str) -> list[Path]:
+    """The source files of ``module``: a package's every file, or a module's own."""
+    target = PACKAGE.parent.joinpath(*module.split("."))
+    return sorted(target.rglob("*.py")) if target.is_dir() else [target.with_suffix(".py")]
 
 
-@pytest.mark.parametrize("path", _files("sim"), ids=lambda p: p.name)
-def test_the_machine_imports_no_protocol(path: Path) -> None:
-    found = imports_of(path)
-    assert {m for m in found if not _allowed(m, ("focas_net.sim", *NEUTRAL))} == set()
-    assert not any(m.startswith(("focas_net.protocol", "focas_net.native")) for m in found)
+#: The table, row by row: what each module (with everything below it) may import from focas_net
+#: besides itself. Its first row names two modules, which get an entry each.
+TABLE: dict[str, tuple[str, ...]] = {
+    "focas_net.errors": (),
+    "focas_net.versamax": ("focas_net.errors",),
+    "focas_net.protocol": ("focas_net.errors", "focas_net.versamax"),
+    # "the declarative payload base of focas_net.protocol"
+    "focas_net.native": ("focas_net.errors", "focas_net.protocol._base"),
+    "focas_net.sim": ("focas_net.errors", "focas_net.versamax"),
+    "focas_net.adapters._common": ("focas_net.sim", "focas_net.errors"),
+    "focas_net.adapters.packed": (
+        "focas_net.sim",
+        "focas_net.protocol",
+        "focas_net.errors",
+        "focas_net.adapters._common",
+    ),
+    "focas_net.adapters.native": (
+        "focas_net.sim",
+        "focas_net.native",
+        "focas_net.errors",
+        "focas_net.adapters._common",
+        "focas_net.adapters._native_cnc",
+        "focas_net.adapters._native_data",
+        "focas_net.adapters._native_programs",
+    ),
+    "focas_net.server": (
+        "focas_net.adapters",
+        "focas_net.protocol",
+        "focas_net.native",
+        "focas_net.sim",
+        "focas_net.errors",
+    ),
+    "focas_net.client": (
+        "focas_net.protocol",
+        "focas_net.native",
+        "focas_net.errors",
+        "focas_net.versamax",
+    ),
+    # versamax (the module records the `versamax` command prints) is not in the table's row
+    "focas_net.cli": (
+        "focas_net.client",
+        "focas_net.server",
+        "focas_net.sim",
+        "focas_net.protocol",
+        "focas_net.errors",
+        "focas_net.web",
+        "focas_net.versamax",
+    ),
+    "focas_net.web": (
+        "focas_net.sim",
+        "focas_net.server",
+        "focas_net.protocol",
+        "focas_net.errors",
+    ),
+}
+
+#: What the rows say a module never imports (implied by what it may import; said again so that
+#: widening a row above cannot let one of these in unnoticed).
+NEVER: dict[str, tuple[str, ...]] = {
+    "focas_net.sim": ("focas_net.protocol", "focas_net.native"),
+    "focas_net.client": ("focas_net.sim", "focas_net.adapters", "focas_net.server"),
+    "focas_net.web": ("focas_net.client", "focas_net.adapters"),
+}
+
+#: The modules the table does not name, and what they may import from focas_net.
+BEYOND_THE_TABLE: dict[str, tuple[str, ...]] = {
+    # the package gathers some public names of its subpackages (and says its version)
+    "focas_net": (
+        "focas_net.client",
+        "focas_net.errors",
+        "focas_net.protocol",
+        "focas_net.server",
+        "focas_net.sim",
+        "focas_net.versamax",
+    ),
+    "focas_net.__main__": ("focas_net.cli",),
+    # the adapters' package gathers its two adapters
+    "focas_net.adapters": ("focas_net.adapters.packed", "focas_net.adapters.native"),
+    # the native adapter's handlers, by area (its row: "and its _native_* modules")
+    **{
+        f"focas_net.adapters._native_{area}": (
+            "focas_net.sim",
+            "focas_net.native",
+            "focas_net.errors",
+            "focas_net.adapters._common",
+            "focas_net.adapters._native_cnc",
+            "focas_net.adapters._native_data",
+            "focas_net.adapters._native_programs",
+        )
+        for area in ("cnc", "data", "programs")
+    },
+    # bounded memos: no protocol, no machine
+    "focas_net._memo": (),
+    # the read buffer of every connection, the server's and the clients'
+    "focas_net._receive": (),
+}
+
+#: Private modules that know no protocol and no machine: every layer may use them.
+SHARED: dict[str, tuple[str, ...]] = {
+    "focas_net._memo": tuple(TABLE),
+    "focas_net._receive": ("focas_net.server", "focas_net.client"),
+}
+
+#: Packages from outside the standard library, and the modules that may import them: the shells
+#: only (the codecs, the adapters and the machine need nothing more).
+THIRD_PARTY: dict[str, tuple[str, ...]] = {
+    "anyio": ("focas_net.server", "focas_net.cli"),
+    "aiohttp": ("focas_net.web.shell",),
+}
+
+#: Modules a row may import themselves, nothing below them (not in the table either).
+EXACTLY: dict[str, tuple[str, ...]] = {
+    # `focas-net --version`: the version the package says (importing focas_net.cli imports the
+    # package first anyway)
+    "focas_net.cli": ("focas_net",),
+}
+
+RULES = {**TABLE, **BEYOND_THE_TABLE}
 
 
 #: The machine's components: ``sim/machine.py`` is a facade over them.
@@ -92,59 +235,167 @@ def test_a_machine_component_never_imports_the_facade(path: Path) -> None:
     assert set(imports_of(path)) & set(FACADE) == set()
 
 
-@pytest.mark.parametrize("path", _files("sim/nc"), ids=lambda p: p.name)
-def test_the_part_program_package_needs_only_the_standard_library(path: Path) -> None:
-    assert {m for m in imports_of(path) if not _allowed(m, ("focas_net.sim.nc",))} == set()
+def _rule_of(module: str) -> str:
+    """The most specific rule ``module`` falls under."""
+    covering = [key for key in RULES if module == key or module.startswith(key + ".")]
+    assert covering, f"{module} falls under no rule: add it to the table"
+    return max(covering, key=len)
 
 
-def test_the_versamax_record_is_neutral() -> None:
-    found = imports_of(PACKAGE / "versamax.py")
-    assert {m for m in found if not _allowed(m, ("focas_net.errors",))} == set()
+def _offending(path: Path) -> set[str]:
+    module = _module_name(path)
+    rule = _rule_of(module)
+    allowed = (rule, *RULES[rule])
+    exactly = EXACTLY.get(rule, ())
+    shared = tuple(m for m, users in SHARED.items() if _within(module, users))
+    outside = tuple(p for p, users in THIRD_PARTY.items() if _within(module, users))
+    offending: set[str] = set()
+    for imported in imports_of(path):
+        if _standard(imported) or imported in exactly:
+            continue
+        if _within(imported, allowed + shared + outside):
+            continue
+        offending.add(imported)
+    if rule in NEVER:
+        offending |= {m for m in imports_of(path) if _within(m, NEVER[rule])}
+    return offending
 
 
-def test_what_the_adapters_share_knows_no_protocol() -> None:
-    found = imports_of(PACKAGE / "adapters" / "_common.py")
-    assert {m for m in found if not _allowed(m, ("focas_net.sim", *NEUTRAL))} == set()
+ALL_FILES = sorted(PACKAGE.rglob("*.py"))
 
 
-def test_the_packed_adapter_imports_the_machine_and_its_codec_only() -> None:
-    found = imports_of(PACKAGE / "adapters" / "packed.py")
-    own = ("focas_net.sim", "focas_net.protocol", "focas_net.adapters._common", *NEUTRAL)
-    assert {m for m in found if not _allowed(m, own)} == set()
+@pytest.mark.parametrize("path", ALL_FILES, ids=lambda p: str(p.relative_to(PACKAGE)))
+def test_each_module_imports_what_its_row_allows(path: Path) -> None:
+    assert _offending(path) == set()
 
 
-NATIVE_ADAPTER = sorted(
-    [PACKAGE / "adapters" / "native.py", *(PACKAGE / "adapters").glob("_native_*.py")]
-)
+def _table_rows() -> list[str]:
+    """The rows of the table in docs/architecture.md, its header and rule left out."""
+    lines = ARCHITECTURE.read_text().split("Who may import whom", 1)[1].splitlines()
+    first = next(i for i, line in enumerate(lines) if line.startswith("|"))
+    rows: list[str] = []
+    for line in lines[first:]:
+        if not line.startswith("|"):
+            break
+        rows.append(line)
+    return rows[2:]
 
 
-@pytest.mark.parametrize("path", NATIVE_ADAPTER, ids=lambda p: p.name)
-def test_the_native_adapter_imports_the_machine_and_its_codec_only(path: Path) -> None:
-    found = imports_of(path)
-    own = (
-        "focas_net.sim",
-        "focas_net.native",
-        "focas_net.adapters._common",
-        *(f"focas_net.adapters.{p.stem}" for p in NATIVE_ADAPTER),
-        *NEUTRAL,
-    )
-    assert {m for m in found if not _allowed(m, own)} == set()
+def test_every_row_of_the_table_is_checked() -> None:
+    """The modules the table names are exactly those of :data:`TABLE`."""
+    named = [re.findall(r"`(focas_net[\w.]*)`", row.split("|")[1]) for row in _table_rows()]
+    assert all(named)  # every row names its modules
+    assert sorted(m for row in named for m in row) == sorted(TABLE)
 
 
-def test_the_import_reader_sees_relative_imports() -> None:
+def test_the_rules_never_allow_what_they_forbid() -> None:
+    for module, forbidden in NEVER.items():
+        assert not [m for m in TABLE[module] if _within(m, forbidden)]
+
+
+def test_every_row_covers_some_source() -> None:
+    for module in RULES:
+        assert all(path.exists() for path in _files(module)), module
+
+
+def test_the_import_reader_sees_relative_late_and_type_only_imports() -> None:
     found = imports_of(PACKAGE / "sim" / "default.py")
     assert "focas_net.sim.machine" in found and "focas_net.versamax" in found
     assert "focas_net.protocol" in imports_of(PACKAGE / "client" / "client.py")
+    cli = PACKAGE / "cli" / "__init__.py"  # imports serve in build_parser
+    assert "focas_net.cli.serve" in imports_of(cli)
+    assert "focas_net.cli.serve" not in imports_of(cli, lazy=False)
+    packed = PACKAGE / "server" / "_packed.py"  # its adapter's class for the type checker
+    assert "focas_net.adapters" in imports_of(packed)
+    assert "focas_net.adapters" not in imports_of(packed, typing=False)
 
 
-def test_the_native_client_never_sees_the_machine() -> None:
-    """The native client reaches the CNC through the codecs only: no machine, adapter or
-    server."""
-    found = imports_of(PACKAGE / "client" / "native.py")
-    assert "focas_net.native.calls" in found
-    assert not any(
-        m.startswith(("focas_net.sim", "focas_net.adapters", "focas_net.server")) for m in found
-    )
+@pytest.mark.parametrize("path", _files("focas_net.sim.nc"), ids=lambda p: p.name)
+def test_the_part_program_package_needs_only_the_standard_library(path: Path) -> None:
+    found = imports_of(path)
+    assert {m for m in found if not (_standard(m) or _within(m, ("focas_net.sim.nc",)))} == set()
+
+
+def test_the_dashboard_imports_aiohttp_only_when_it_starts() -> None:
+    shell = _files("focas_net.web.shell")[0]
+    assert any(_within(m, ("aiohttp",)) for m in imports_of(shell))
+    assert not any(_within(m, ("aiohttp",)) for m in imports_of(shell, typing=False, lazy=False))
+
+
+@pytest.mark.parametrize(
+    "module", ["focas_net.protocol", "focas_net.native", "focas_net.adapters", "focas_net.sim"]
+)
+def test_codecs_adapters_and_the_machine_do_no_io(module: str) -> None:
+    """No event loop and no socket below the shells."""
+    io = ("asyncio", "socket", "selectors", "ssl", "anyio")
+    found = {m for path in _files(module) for m in imports_of(path) if _within(m, io)}
+    assert found == set()
+
+
+def cycles(graph: dict[str, set[str]]) -> list[list[str]]:
+    """The cycles of ``graph`` (each node to the nodes it imports): every set of two or more
+    nodes that reach each other, sorted (Tarjan's strongly connected components)."""
+    index: dict[str, int] = {}
+    low: dict[str, int] = {}
+    stack: list[str] = []
+    found: list[list[str]] = []
+
+    def visit(node: str) -> None:
+        index[node] = low[node] = len(index)
+        stack.append(node)
+        for nxt in sorted(graph[node]):
+            if nxt not in index:
+                visit(nxt)
+                low[node] = min(low[node], low[nxt])
+            elif nxt in stack:
+                low[node] = min(low[node], index[nxt])
+        if low[node] == index[node]:
+            component = stack[stack.index(node) :]
+            del stack[stack.index(node) :]
+            if len(component) > 1:
+                found.append(sorted(component))
+
+    for node in sorted(graph):
+        if node not in index:
+            visit(node)
+    return sorted(found)
+
+
+def import_graph(package: str) -> dict[str, set[str]]:
+    """The modules of ``package``, each to those of the package it imports when it runs: at its
+    top or in a function (a cycle broken only by importing late is still one), not for a type
+    checker alone. An import of a package above the module is left out: importing a submodule
+    imports its packages first, whoever asks."""
+    modules = {_module_name(path): path for path in _files(package)}
+    graph: dict[str, set[str]] = {}
+    for name, path in modules.items():
+        above = {name.rsplit(".", n)[0] for n in range(1, name.count(".") + 1)}
+        found = imports_of(path, typing=False)
+        graph[name] = {m for m in found if m in modules and m != name} - above
+    return graph
+
+
+def test_the_cycle_finder_finds_every_cycle() -> None:
+    graph = {"a": {"b"}, "b": {"a", "c"}, "c": set(), "d": {"e"}, "e": {"f"}, "f": {"d", "a"}}
+    assert cycles(graph) == [["a", "b"], ["d", "e", "f"]]
+    assert cycles({"a": {"b"}, "b": {"c"}, "c": set()}) == []
+
+
+def test_the_import_graph_holds_late_imports_not_the_packages_above() -> None:
+    cli = import_graph("focas_net.cli")
+    assert "focas_net.cli.serve" in cli["focas_net.cli"]  # imported in build_parser
+    # `from . import _format` names the package too, which was imported before read_cmds
+    assert "focas_net.cli" in imports_of(PACKAGE / "cli" / "read_cmds.py")
+    assert "focas_net.cli" not in cli["focas_net.cli.read_cmds"]
+    assert "focas_net.cli._format" in cli["focas_net.cli.read_cmds"]
+
+
+PACKAGES = sorted(_module_name(path) for path in PACKAGE.rglob("__init__.py"))
+
+
+@pytest.mark.parametrize("package", PACKAGES)
+def test_no_import_cycle_inside_a_package(package: str) -> None:
+    assert cycles(import_graph(package)) == []
 
 
 TESTS = Path(__file__).resolve().parent

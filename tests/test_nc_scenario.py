@@ -9,7 +9,7 @@ from typing import Any
 
 import pytest
 
-from focas_net.cli import serve
+from focas_net.cli import _fleet, serve
 from focas_net.sim import Machine, MachineError, MachineFileError, default_machine
 from focas_net.sim.machinefile import machine_from_dict
 from focas_net.sim.nc import (
@@ -400,17 +400,17 @@ def _parse(*argv: str) -> argparse.Namespace:
 
 
 def test_serve_run_gives_every_machine_of_the_fleet_its_own_seed() -> None:
-    machines = serve.build_machines(_parse("--fleet", "4", "--run", "--seed", "9"))
+    machines = _fleet.build_machines(_parse("--fleet", "4", "--run", "--seed", "9"))
     assert all(m.scenario_running for m in machines)
     assert [m.seed for m in machines] == [fleet_seed(9, i) for i in range(4)]
-    again = serve.build_machines(_parse("--fleet", "4", "--run", "--seed", "9"))
+    again = _fleet.build_machines(_parse("--fleet", "4", "--run", "--seed", "9"))
     assert [m.seed for m in again] == [m.seed for m in machines]
-    default = serve.build_machines(_parse("--fleet", "2", "--run"))
+    default = _fleet.build_machines(_parse("--fleet", "2", "--run"))
     assert [m.seed for m in default] == [fleet_seed(serve.DEFAULT_SEED, i) for i in range(2)]
 
 
 def test_serve_run_parts_and_downtime_shape_the_scenario() -> None:
-    (machine,) = serve.build_machines(_parse("--run", "--run-parts", "2", "--downtime", "0"))
+    (machine,) = _fleet.build_machines(_parse("--run", "--run-parts", "2", "--downtime", "0"))
     scenario = machine.active_scenario
     assert scenario is not None
     assert scenario.parts == 2
@@ -428,8 +428,8 @@ def test_serve_run_parts_and_downtime_shape_the_scenario() -> None:
 def test_run_options_without_a_running_machine_are_refused(
     argv: tuple[str, ...], message: str
 ) -> None:
-    with pytest.raises(serve.ConfigError, match=message):
-        serve.build_machines(_parse(*argv))
+    with pytest.raises(_fleet.ConfigError, match=message):
+        _fleet.build_machines(_parse(*argv))
 
 
 @pytest.mark.parametrize(
@@ -495,12 +495,12 @@ def test_a_machine_file_with_run_runs_when_served_without_the_run_option(
 ) -> None:
     path = tmp_path / "cell.toml"
     path.write_text(RUN_FILE.format(mode="MEM"), encoding="utf-8")
-    machines = serve.build_machines(_parse("--machine", str(path), "--fleet", "2"))
+    machines = _fleet.build_machines(_parse("--machine", str(path), "--fleet", "2"))
     assert [m.seed for m in machines] == [fleet_seed(31, 0), fleet_seed(31, 1)]
     for m in machines:
         scenario = m.active_scenario
         assert scenario is not None and scenario.parts == 7
-    (other,) = serve.build_machines(_parse("--machine", str(path), "--seed", "2"))
+    (other,) = _fleet.build_machines(_parse("--machine", str(path), "--seed", "2"))
     assert other.seed == fleet_seed(2, 0)
 
 
@@ -509,5 +509,5 @@ def test_a_run_section_the_machine_cannot_start_names_the_file_and_the_machine(
 ) -> None:
     path = tmp_path / "cell.toml"
     path.write_text(RUN_FILE.format(mode="EDIT"), encoding="utf-8")
-    with pytest.raises(serve.ConfigError, match=r"cell\.toml: \[run\]: cell: .*mode 3 is not MEM"):
-        serve.build_machines(_parse("--machine", str(path)))
+    with pytest.raises(_fleet.ConfigError, match=r"cell\.toml: \[run\]: cell: .*mode 3 is not MEM"):
+        _fleet.build_machines(_parse("--machine", str(path)))

@@ -6,7 +6,7 @@ import argparse
 
 import pytest
 
-from focas_net.cli import serve
+from focas_net.cli import _fleet, serve
 from focas_net.sim import default_machine
 from focas_net.sim.nc import CycleState, ManualClock, RealTimeClock
 
@@ -33,7 +33,7 @@ def test_production_repeats_the_main_program_and_counts_every_part() -> None:
 
 
 def test_serve_run_and_speed_build_running_machines_on_one_clock() -> None:
-    machines = serve.build_machines(_parse("--fleet", "3", "--run", "--speed", "10"))
+    machines = _fleet.build_machines(_parse("--fleet", "3", "--run", "--speed", "10"))
     assert all(m.engine.state is CycleState.START for m in machines)
     clocks = {id(m.sim_clock) for m in machines}
     assert len(clocks) == 1

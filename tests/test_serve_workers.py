@@ -17,7 +17,7 @@ from pathlib import Path
 import pytest
 from support import IO_TIMEOUT, SERVE_READY, serve_process, wait_until
 
-from focas_net.cli import _workers, serve
+from focas_net.cli import _fleet, _workers, serve
 from focas_net.client import NativeClient
 
 READY = SERVE_READY
@@ -62,20 +62,20 @@ async def stopped(proc: Proc) -> tuple[int, str]:
 
 
 def test_slices_are_contiguous_and_cover_the_fleet() -> None:
-    assert _workers.fleet_slices(6, 3) == [range(0, 2), range(2, 4), range(4, 6)]
-    assert _workers.fleet_slices(7, 3) == [range(0, 2), range(2, 4), range(4, 7)]
-    assert _workers.fleet_slices(1, 1) == [range(0, 1)]
+    assert _fleet.fleet_slices(6, 3) == [range(0, 2), range(2, 4), range(4, 6)]
+    assert _fleet.fleet_slices(7, 3) == [range(0, 2), range(2, 4), range(4, 7)]
+    assert _fleet.fleet_slices(1, 1) == [range(0, 1)]
     with pytest.raises(ValueError, match="4 workers for 3 machines"):
-        _workers.fleet_slices(3, 4)
+        _fleet.fleet_slices(3, 4)
 
 
 def test_worker_options_shift_the_ports_of_its_slice() -> None:
     args = argparse.Namespace(port=9000, native_port=19000, workers=3, fleet=6)
     mine = _workers.worker_args(args, range(2, 4))
     assert (mine.port, mine.native_port, mine.workers, mine.fleet) == (9002, 19002, 1, 6)
-    assert _workers.fleet_indices(mine) == range(2, 4)
-    assert _workers.machines_per_process(mine) == 2
-    assert _workers.machines_per_process(args) == 2
+    assert _fleet.fleet_indices(mine) == range(2, 4)
+    assert _fleet.machines_per_process(mine) == 2
+    assert _fleet.machines_per_process(args) == 2
     assert args.port == 9000  # the parent's options are left alone
     ephemeral = _workers.worker_args(argparse.Namespace(port=0, native_port=None), range(4, 6))
     assert (ephemeral.port, ephemeral.native_port) == (0, None)
@@ -100,7 +100,7 @@ def _options(*argv: str) -> argparse.Namespace:
     ],
 )
 def test_too_many_workers_is_refused_naming_it(argv: tuple[str, ...], message: str) -> None:
-    with pytest.raises(serve.ConfigError, match=re.escape(message)):
+    with pytest.raises(_fleet.ConfigError, match=re.escape(message)):
         serve.check_options(_options(*argv))
 
 

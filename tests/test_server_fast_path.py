@@ -1,12 +1,14 @@
-"""The packed server's fast path (whole requests in a read, answered from the receive buffer)
-answers exactly as its general path (the decoder's frames, ``data_received``) does.
+"""The packed server's fast path (the whole requests of a read, found in the receive buffer by
+``scan_frames``) answers exactly as its general path (the decoder's frames, ``data_received``)
+does.
 
 Connections serve one machine through one adapter, on a transport that keeps what is written;
 each request is read alone (the fast path's one request), behind a status request in the same
 read (the fast path's many) and through ``data_received`` behind that status request (the
 general path). Only commands that change nothing are generated, and the machine's clocks stand
-still, so the answers must be the same bytes. What the fast path leaves (a fault command, a
-length out of bounds, a partial request, answers past the write budget) goes on in order.
+still, so the answers must be the same bytes. What the fast path leaves to the decoder (a
+length out of bounds, a partial request) goes on in order, and so do a fault command and answers
+past the write budget.
 """
 
 from __future__ import annotations

@@ -5,10 +5,11 @@ The fleet's machines are cut into N contiguous slices, sizes differing by at mos
 or ephemeral ports with ``--port 0``), with the same options otherwise, and builds each
 machine from its index in the whole fleet, so machine ``i`` is the same machine whatever N.
 
-The parent starts the workers (``python -c`` running :func:`worker_main`, the options sent as
-a pickle on the worker's standard input, which stays open), waits until every worker printed
-all its ready lines, prints them in port order (every machine's line, then every native-only
-line, as one process would) and then:
+The parent starts the workers (``python -c`` running :func:`worker_main`, ``serve``'s entry
+point and the options sent as a pickle on the worker's standard input, which stays open; the
+machines are built by :mod:`._fleet`, in the parent's probe and in each worker), waits until
+every worker printed all its ready lines, prints them in port order (every machine's line, then
+every native-only line, as one process would) and then:
 
 * SIGINT or SIGTERM: sends SIGTERM to every worker, waits for them all, exits 0 when they
   all stopped cleanly;
@@ -38,15 +39,9 @@ from types import FrameType
 from typing import IO, Final
 
 from ._args import EXIT_CNC, PROG, print_error
+from ._fleet import build_machines, fleet_slices
 
-__all__ = [
-    "MAX_WORKERS",
-    "fleet_indices",
-    "fleet_slices",
-    "machines_per_process",
-    "run_workers",
-    "worker_main",
-]
+__all__ = ["MAX_WORKERS", "Serve", "run_workers", "worker_args", "worker_main"]
 
 #: Most worker processes one ``serve --workers`` starts.
 MAX_WORKERS: Final = 64
@@ -58,29 +53,9 @@ _KILL_AFTER: Final = 10.0
 _WORKER_CODE: Final = (
     "import sys; from focas_net.cli._workers import worker_main; sys.exit(worker_main())"
 )
-
-
-def fleet_slices(fleet: int, workers: int) -> list[range]:
-    """The machine indices of each of ``workers`` contiguous slices of ``fleet`` machines."""
-    if not 1 <= workers <= fleet:
-        raise ValueError(f"{workers} workers for {fleet} machines")
-    bounds = [k * fleet // workers for k in range(workers + 1)]
-    return [range(bounds[k], bounds[k + 1]) for k in range(workers)]
-
-
-def fleet_indices(args: argparse.Namespace) -> range:
-    """The indices in the whole fleet of the machines this process builds."""
-    served: range | None = getattr(args, "fleet_slice", None)
-    return served if served is not None else range(args.fleet)
-
-
-def machines_per_process(args: argparse.Namespace) -> int:
-    """The most machines one process of this ``serve`` serves."""
-    served: range | None = getattr(args, "fleet_slice", None)
-    if served is not None:
-        return len(served)
-    workers = getattr(args, "workers", 1)
-    return -(-args.fleet // workers) if workers > 1 else int(args.fleet)
+#: What a worker runs with its options: ``serve``'s entry point, which starts no workers
+#: itself for options of one slice.
+Serve = Callable[[argparse.Namespace], int]
 
 
 def worker_args(args: argparse.Namespace, served: range) -> argparse.Namespace:
@@ -96,11 +71,10 @@ def worker_args(args: argparse.Namespace, served: range) -> argparse.Namespace:
 
 
 def worker_main() -> int:
-    """A worker process: read its options from standard input, serve its slice until
-    SIGINT or SIGTERM, or until standard input ends (the parent is gone)."""
-    from . import serve
-
-    args = pickle.load(sys.stdin.buffer)  # written by run_workers: the same program's options
+    """A worker process: read what to run and its options from standard input, serve its
+    slice until SIGINT or SIGTERM, or until standard input ends (the parent is gone)."""
+    # written by run_workers: the same program's serve function and options
+    serve, args = pickle.load(sys.stdin.buffer)
 
     def watch_parent() -> None:
         # The file descriptor itself, not sys.stdin: a daemon thread must hold no lock of a
@@ -110,7 +84,7 @@ def worker_main() -> int:
         os.kill(os.getpid(), signal.SIGTERM)
 
     threading.Thread(target=watch_parent, name="parent-watch", daemon=True).start()
-    code: int = serve.run(args)
+    code: int = serve(args)
     return code
 
 
@@ -146,14 +120,14 @@ def _pump(worker: int, stream: IO[bytes], events: queue.Queue[tuple[int, str | N
     events.put((worker, None))
 
 
-def run_workers(args: argparse.Namespace) -> int:
+def run_workers(args: argparse.Namespace, serve: Serve) -> int:
     """Serve the fleet of ``args`` over ``args.workers`` processes; returns the exit code.
+    Each worker runs ``serve`` (a module-level function, sent by name) with the options of its
+    slice.
 
     The first machine is built here first, so that a bad machine file (or a ``--run`` the
     machine refuses) is reported once, as ``serve``'s own ConfigError, before any worker
     starts."""
-    from .serve import build_machines
-
     probe = copy.copy(args)
     probe.fleet_slice = range(1)
     build_machines(probe)
@@ -194,7 +168,7 @@ def run_workers(args: argparse.Namespace) -> int:
             workers.append(_Worker(k, served, proc, per_machine * len(served), []))
             assert proc.stdin is not None and proc.stdout is not None
             try:
-                proc.stdin.write(pickle.dumps(worker_args(args, served)))
+                proc.stdin.write(pickle.dumps((serve, worker_args(args, served))))
                 proc.stdin.flush()
             except OSError:  # it died already: its end of output tells
                 pass

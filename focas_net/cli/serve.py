@@ -29,7 +29,6 @@ import ssl
 import sys
 from collections.abc import AsyncIterator
 from contextlib import asynccontextmanager
-from dataclasses import replace
 from typing import TYPE_CHECKING, Any, Final
 
 import anyio
@@ -46,14 +45,13 @@ from focas_net.server import (
 )
 
 from ._args import EXIT_CNC, EXIT_USAGE, LISTEN_PORT, NON_NEGATIVE, POSITIVE, PROG, print_error
-from ._workers import MAX_WORKERS, fleet_indices, machines_per_process, run_workers
+from ._fleet import ConfigError, build_machines, fleet_indices, machines_per_process
+from ._workers import MAX_WORKERS, run_workers
 
 if TYPE_CHECKING:
-    from focas_net.sim import Machine
-    from focas_net.sim.nc import Scenario
     from focas_net.web import Dashboard
 
-__all__ = ["DEFAULT_SEED", "MAX_FLEET", "build_machines", "check_options", "register", "run"]
+__all__ = ["DEFAULT_SEED", "MAX_FLEET", "check_options", "register", "run"]
 
 _log = logging.getLogger("focas_net.cli.serve")
 
@@ -72,10 +70,6 @@ DEFAULT_SEED: Final = 0
 #: Files a server keeps for itself besides its listening sockets (standard streams, the event
 #: loop, a few connections).
 _RESERVED_FILES: Final = 32
-
-
-class ConfigError(Exception):
-    """A configuration problem reported as one line, exit code 2."""
 
 
 def _seconds(text: str) -> float:
@@ -351,82 +345,6 @@ def _open_files_limit() -> int | None:
     return None if soft == resource.RLIM_INFINITY else int(soft)
 
 
-def build_machines(args: argparse.Namespace) -> list[Machine]:
-    """The machines described by the options; raises :class:`ConfigError`.
-
-    A machine runs on its own (:meth:`~focas_net.sim.Machine.start_scenario`) with
-    ``--run`` (its file's ``[run]`` scenario, else the default one) or when its file has a
-    ``[run]`` section; machine ``i`` gets the seed ``fleet_seed(seed, i)``, ``seed`` being
-    ``--seed`` or the scenario's own."""
-    from focas_net.sim import MachineError, MachineFileError, default_machine, load_machine
-    from focas_net.sim.nc import RealTimeClock
-
-    clock = RealTimeClock(getattr(args, "speed", 1.0))  # one machine time for the whole fleet
-    machines: list[Machine] = []
-    for i in fleet_indices(args):
-        if args.machine is not None:
-            try:
-                machine = load_machine(
-                    args.machine, param_password=args.param_password, sim_clock=clock
-                )
-            except MachineFileError as exc:
-                raise ConfigError(str(exc)) from None
-            except OSError as exc:
-                raise ConfigError(f"{args.machine}: {exc.strerror or exc}") from None
-        else:
-            machine = default_machine(param_password=args.param_password, sim_clock=clock)
-        if args.fleet > 1:
-            machine.name = f"{machine.name}-{i + 1}"
-        if args.no_control:
-            machine.control_enabled = False
-        scenario = _scenario(args, machine, i)
-        if scenario is not None:
-            try:
-                machine.start_scenario(scenario)
-            except MachineError as exc:
-                option = "--run" if getattr(args, "run", False) else f"{args.machine}: [run]"
-                raise ConfigError(f"{option}: {machine.name}: {exc}") from None
-        if args.read_only:
-            machine.read_only = True
-        machines.append(machine)
-    return machines
-
-
-def _scenario(args: argparse.Namespace, machine: Machine, index: int) -> Scenario | None:
-    """How machine ``index`` runs on its own (None: it does not)."""
-    from focas_net.sim.nc import DEFAULT_SCENARIO, fleet_seed
-
-    run = bool(getattr(args, "run", False))
-    seed: int | None = getattr(args, "seed", None)
-    parts: int | None = getattr(args, "run_parts", None)
-    downtime: float = getattr(args, "downtime", 1.0)
-    base = machine.scenario
-    if base is None:
-        if not run:
-            for option, value in (("--seed", seed), ("--run-parts", parts)):
-                if value is not None:
-                    raise ConfigError(
-                        f"{option} {value}: the machines do not run (give --run, or a machine "
-                        "file with a [run] section)"
-                    )
-            if downtime != 1.0:
-                raise ConfigError(
-                    f"--downtime {downtime:g}: the machines do not run (give --run, or a "
-                    "machine file with a [run] section)"
-                )
-            return None
-        base = DEFAULT_SCENARIO
-    fleet = base.seed if seed is None else seed
-    return replace(
-        base,
-        seed=fleet_seed(fleet, index),
-        parts=base.parts if parts is None else parts,
-        pause_rate=base.pause_rate * downtime,
-        tool_rate=base.tool_rate * downtime,
-        alarm_rate=base.alarm_rate * downtime,
-    )
-
-
 def _ssl_context(args: argparse.Namespace) -> ssl.SSLContext | None:
     if args.tls_cert is None and args.tls_key is None:
         return None
@@ -452,7 +370,7 @@ def run(args: argparse.Namespace) -> int:
         check_options(args)  # every option, before anything is allocated
         ssl_context = _ssl_context(args)
         if getattr(args, "workers", 1) > 1:
-            return run_workers(args)
+            return run_workers(args, run)
         machines = build_machines(args)
     except ConfigError as exc:
         print_error(str(exc), _ERROR_PREFIX)

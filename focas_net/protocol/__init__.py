@@ -56,6 +56,7 @@ from .frame import (
     FrameDecoder,
     RawFrame,
     encode_frame,
+    scan_frames,
 )
 from .pmc import (
     MAX_PMC_CHUNK,
@@ -183,4 +184,5 @@ __all__ = [
     "encode_ew",
     "encode_frame",
     "encode_response",
+    "scan_frames",
 ]

@@ -4,6 +4,10 @@
 then the payload; all little-endian. The decoder is fed byte chunks of any size and returns
 whole frames; it checks each length prefix against ``max_frame`` as soon as the 4-byte field is
 in, before it buffers anything of the body.
+
+:func:`scan_frames` is the decoder's own scan, pure and stateless: the whole frames at the start
+of a buffer, where they end and the first length prefix out of bounds. A receiver with a read
+buffer of its own can take whole frames straight out of it, by the decoder's rules.
 """
 
 from __future__ import annotations
@@ -21,6 +25,7 @@ __all__ = [
     "FrameDecoder",
     "RawFrame",
     "encode_frame",
+    "scan_frames",
 ]
 
 #: Default ceiling of ``length`` (both sides; configurable).
@@ -53,6 +58,42 @@ def encode_frame(command: int, request_id: int, payload: bytes = b"") -> bytes:
     return _pack_header(len(payload) + 4, command, request_id) + payload
 
 
+def scan_frames(
+    data: bytes | memoryview, max_frame: int, size: int | None = None
+) -> tuple[list[RawFrame], int, int]:
+    """The whole frames at the start of ``data[:size]`` (all of ``data`` when ``size`` is
+    None): ``(frames, end, bad)``.
+
+    ``frames`` are the frames that stand whole there, back to back from the first byte, in
+    order; ``end`` is where the last of them ends (where the first frame not whole, or not
+    valid, starts); ``bad`` is the length prefix found at ``end`` when it is below 4 or above
+    ``max_frame`` (a violation: the connection must be closed), else -1. A length prefix is
+    checked as soon as its four bytes are in, before the rest of its header. Each payload is
+    copied once (a slice of ``bytes``, or copied out of a view): nothing returned refers to a
+    buffer behind ``data``."""
+    if size is None:
+        size = len(data)
+    frames: list[RawFrame] = []
+    pos = 0
+    while size - pos >= 8:
+        length, command, request_id = _unpack_header_from(data, pos)
+        if length < _MIN_LENGTH or length > max_frame:
+            return frames, pos, length
+        end = pos + 4 + length
+        if end > size:
+            return frames, pos, -1
+        payload = data[pos + 8 : end] if length > _MIN_LENGTH else b""
+        frames.append(
+            (command, request_id, payload.tobytes() if type(payload) is memoryview else payload)
+        )
+        pos = end
+    if size - pos >= 4:  # a length prefix alone is checked as soon as it is complete
+        (length,) = _unpack_length_from(data, pos)
+        if length < _MIN_LENGTH or length > max_frame:
+            return frames, pos, length
+    return frames, pos, -1
+
+
 _new_frame = tuple.__new__
 
 
@@ -63,7 +104,8 @@ class FrameDecoder:
     trailing partial frame. A length prefix below 4 or above ``max_frame`` raises
     :class:`FrameError` the moment the 4-byte field is complete (its ``frames`` are the whole
     frames this call decoded before the bad one); after that the decoder is poisoned and every
-    further ``feed`` raises again, with no frames (the connection must be closed).
+    further ``feed`` raises again, with no frames (the connection must be closed). Frames are
+    found by :func:`scan_frames`.
     """
 
     __slots__ = ("_buf", "_error", "held", "max_frame")
@@ -105,60 +147,22 @@ class FrameDecoder:
         if self._error is not None:
             raise FrameError(str(self._error))
         buf = self._buf
-        if not buf:
-            if type(data) is bytes:
-                size = len(data)
-                if size >= 8:
-                    # The commonest case, one whole frame and nothing else, without the loop.
-                    length, command, request_id = _unpack_header_from(data)
-                    if size == 4 + length and _MIN_LENGTH <= length <= self.max_frame:
-                        return [(command, request_id, data[8:])]
-                # The usual case: whole frames in a fresh chunk; a slice of bytes is the one
-                # copy of each payload.
-                frames, pos, bad = self._frames(data, None)
-                if bad >= 0:
-                    raise self._violation(bad, frames)
-                if pos < len(data):
-                    buf += data[pos:]
-                return frames
-            buf += data
-        else:
-            buf += data
+        if not buf and type(data) is bytes:
+            # The usual case: whole frames in a fresh chunk; a slice of bytes is the one copy
+            # of each payload.
+            frames, end, bad = scan_frames(data, self.max_frame)
+            if bad >= 0:
+                raise self._violation(bad, frames)
+            if end < len(data):
+                buf += data[end:]
+            return frames
+        buf += data
         # Bytes held from before: payloads are copied once, out of a view of the buffer (the
         # view is released before the buffer is trimmed).
         with memoryview(buf) as view:
-            frames, pos, bad = self._frames(buf, view)
+            frames, end, bad = scan_frames(view, self.max_frame)
         if bad >= 0:
             raise self._violation(bad, frames)
-        if pos:
-            del buf[:pos]
+        if end:
+            del buf[:end]
         return frames
-
-    def _frames(
-        self, data: bytes | bytearray, view: memoryview | None
-    ) -> tuple[list[RawFrame], int, int]:
-        """The whole frames at the start of ``data``, where they end, and the length prefix
-        that violates the bounds (-1: none). Payloads are slices of ``data`` when it is
-        ``bytes`` (``view`` None), else copies out of ``view``, a view of it."""
-        frames: list[RawFrame] = []
-        append = frames.append
-        size = len(data)
-        pos = 0
-        max_frame = self.max_frame
-        while size - pos >= 8:
-            length, command, request_id = _unpack_header_from(data, pos)
-            if length < _MIN_LENGTH or length > max_frame:
-                return frames, pos, length
-            end = pos + 4 + length
-            if end > size:
-                return frames, pos, -1
-            if view is None:
-                append((command, request_id, data[pos + 8 : end]))  # type: ignore[arg-type]
-            else:
-                append((command, request_id, bytes(view[pos + 8 : end])))
-            pos = end
-        if size - pos >= 4:  # a length prefix alone is checked as soon as it is complete
-            (length,) = _unpack_length_from(data, pos)
-            if length < _MIN_LENGTH or length > max_frame:
-                return frames, pos, length
-        return frames, pos, -1

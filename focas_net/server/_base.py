@@ -1,7 +1,8 @@
 """What every connection of the listener shell shares, whichever protocol it speaks.
 
 A connection is an :class:`asyncio.Protocol` read into the thread's receive buffer
-(:mod:`focas_net._receive`): no task per connection, no task per request. It holds a frozen
+(:mod:`focas_net._receive`, taken once when the connection is made, in its event loop's
+thread): no task per connection, no task per request. It holds a frozen
 :class:`Limits`, the machine-wide fault queue, its own fault queue (armed by its own requests)
 and a close callback; it never sees the server. The shell (``_server.py``) accepts, counts,
 sweeps idle connections and shuts down; the protocol modules (``_packed.py`` for
@@ -30,7 +31,7 @@ from collections.abc import Callable
 from dataclasses import dataclass
 from typing import Any, Final, Generic, TypeVar, cast
 
-from focas_net._receive import Received
+from focas_net._receive import Received, receive_buffer
 from focas_net.native import DEFAULT_MAX_BODY
 from focas_net.protocol import DEFAULT_MAX_FRAME
 
@@ -130,6 +131,7 @@ class BaseConnection(Received, asyncio.Protocol, Generic[F]):
         "_read_paused",
         "_shared",
         "_transport",
+        "_view",
         "_write_paused",
         "idle_sweeps",
         "violated",
@@ -157,6 +159,10 @@ class BaseConnection(Received, asyncio.Protocol, Generic[F]):
         self.idle_sweeps = 0
         #: True once the connection closed itself for a framing violation.
         self.violated = False
+        #: The receive buffer of the thread that made the connection, which is the thread of
+        #: its event loop: taken once here, where a thread-local look-up per read would cost
+        #: about as much as answering a short request.
+        self._view = receive_buffer()
 
     # -- to implement ----------------------------------------------------------------------
 
@@ -205,6 +211,14 @@ class BaseConnection(Received, asyncio.Protocol, Generic[F]):
         return t.get_write_buffer_size() if t is not None else 0
 
     # -- asyncio.Protocol ------------------------------------------------------------------
+
+    # Received's reads, from the buffer taken when the connection was made
+
+    def get_buffer(self, sizehint: int) -> memoryview:
+        return self._view
+
+    def buffer_updated(self, nbytes: int) -> None:
+        self.data_received(self._view[:nbytes].tobytes())
 
     def connection_made(self, base: asyncio.BaseTransport) -> None:
         # uvloop's transports do not subclass asyncio.Transport, but have its methods

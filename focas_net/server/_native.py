@@ -179,10 +179,8 @@ class NativeConnection(BaseConnection[NativeFrame]):
                         if self._write_paused or self._delayed_full():
                             return self._stop(frames, index + 1)
                         continue
-                try:
-                    answer = front.answer(body, self._session)
-                except NativeFrameError as exc:
-                    self._violation(str(exc))
+                answer = self._answer(body)
+                if answer is None:
                     return False
                 self._write(answer)
             elif frame_type == _OPEN_REQUEST:
@@ -221,21 +219,30 @@ class NativeConnection(BaseConnection[NativeFrame]):
             _log.debug("%s: %s << %s", self._label, self.peer_text, answer.hex(" "))
         transport.write(answer)
 
+    def _answer(self, body: bytes, ew: int | None = None) -> bytes | None:
+        """The data-response frame answering the data-request ``body`` (with ``ew``: every
+        block answered that EW code, the request not run); None when the body is broken (a
+        violation: the connection was closed)."""
+        try:
+            if ew is not None:
+                return self._front.forced_answer(body, ew)
+            return self._front.answer(body, self._session)
+        except NativeFrameError as exc:
+            self._violation(str(exc))
+            return None
+
     def _apply_fault(self, fault: tuple[FaultKind, int], body: bytes) -> bool:
         """Answer one data request under ``fault``; False when the connection was closed."""
         kind, arg = fault
         if kind is _DROP_KIND:
             self._drop()
             return False
-        try:
-            if kind is _ERROR_KIND:
-                self._write(self._front.forced_answer(body, arg))
-                return True
-            answer = self._front.answer(body, self._session)
-        except NativeFrameError as exc:
-            self._violation(str(exc))
+        answer = self._answer(body, arg if kind is _ERROR_KIND else None)
+        if answer is None:
             return False
-        if kind is _DELAY_KIND:
+        if kind is _ERROR_KIND:
+            self._write(answer)
+        elif kind is _DELAY_KIND:
             self._delay(arg, answer)
         else:  # SPLIT
             self._write_split(answer)

@@ -1,16 +1,20 @@
 """A packed-protocol connection (``docs/protocol.md``): the per-frame data path of the server.
 
-Every chunk read from the socket goes through the incremental :class:`FrameDecoder`; each
-request is answered synchronously by the machine's packed adapter, and all answers produced by
-one chunk leave in one write, joined. (asyncio's own ``writelines`` on CPython 3.12.0-3.12.8
-and 3.13.0-3.13.1 skips the write buffer's high-water check, CPython gh-127655: with it
-``pause_writing`` never came, and a peer that never read held the server's memory without
-bound. Joining and writing is what ``writelines`` did before 3.12.) Delayed answers (fault
-injection) are timer callbacks. Backpressure, the backlog, delays and shutdown are
-:class:`~._base.BaseConnection`'s.
+One loop, :meth:`PackedConnection._run`, answers the requests of a read, in order, each
+synchronously by the machine's packed adapter, and all answers produced by one read leave in one
+write, joined. (asyncio's own ``writelines`` on CPython 3.12.0-3.12.8 and 3.13.0-3.13.1 skips
+the write buffer's high-water check, CPython gh-127655: with it ``pause_writing`` never came,
+and a peer that never read held the server's memory without bound. Joining and writing is what
+``writelines`` did before 3.12.) Its requests come from one of two places: the usual read
+(nothing held from earlier input, no debug log) is scanned where it was read, in the receive
+buffer, by the decoder's own :func:`~focas_net.protocol.scan_frames`; any other goes through the
+incremental :class:`FrameDecoder`. Delayed answers (fault injection) are timer callbacks.
+Backpressure, the backlog, delays and shutdown are :class:`~._base.BaseConnection`'s.
 
 The machine is reached only through its :class:`~focas_net.adapters.PackedAdapter` (shared by
-the listener's connections, so they share its answer caches): ``answer`` and ``error_answer``.
+the listener's connections, so they share its answer caches): ``answer`` and ``error_answer``,
+the first through :meth:`PackedConnection._answer` alone, which keeps a failing request from
+taking the connection down.
 """
 
 from __future__ import annotations
@@ -18,7 +22,6 @@ from __future__ import annotations
 import logging
 from typing import TYPE_CHECKING, Final
 
-from focas_net._receive import _local, receive_buffer
 from focas_net.errors import EW, FrameError
 from focas_net.protocol import (
     COMMANDS,
@@ -28,9 +31,10 @@ from focas_net.protocol import (
     FrameDecoder,
     RawFrame,
     encode_ew,
+    scan_frames,
 )
 
-from ._base import BaseConnection, CloseCallback, Limits
+from ._base import SLICE, BaseConnection, CloseCallback, Limits
 from .faults import FaultKind, FaultQueue, FaultScope, parse_inject, parse_scope
 
 if TYPE_CHECKING:
@@ -44,7 +48,6 @@ __all__ = ["PackedConnection"]
 _log = logging.getLogger("focas_net.server")
 
 _pack_header = HEADER.pack
-_unpack_header_from = HEADER.unpack_from
 #: A chunk's answers as one write (see the module's docstring for why not ``writelines``).
 _join: Final = b"".join
 _CONTROL_FIRST: Final = int(Command.SIM_SET_PANEL)
@@ -126,82 +129,29 @@ class PackedConnection(BaseConnection[RawFrame]):
     # -- the data path ---------------------------------------------------------------------
 
     def buffer_updated(self, nbytes: int) -> None:
-        # The usual reads: whole requests, nothing held from earlier input, no fault armed, no
-        # debug log. They are answered straight from the receive buffer in one write, the
-        # decoder, the backlog and the fault path left out: a poller's one request, or a
-        # pipelining client's many. What is left of the read (a fault command, a length out
-        # of bounds, a partial request, answers past the write budget) takes data_received.
-        try:
-            view: memoryview = _local.view  # receive_buffer() without its call
-        except AttributeError:
-            view = receive_buffer()
-        pos = 0
+        # The usual read, of at most SLICE bytes with nothing held from earlier input and no
+        # debug log: a poller's one request, or a pipelining client's many. Its whole requests
+        # are found in the receive buffer by the decoder's own scan and answered at once, the
+        # read not copied and the decoder left out; what follows them (a partial request, a
+        # length out of bounds) goes on to data_received after their answers. Any other read
+        # goes to data_received whole.
+        view = self._view
         if (
-            nbytes >= 8
-            and self._backlog is None
-            and self._faults is None
-            and not self._shared.armed
-            and not self._decoder.held
-            and not self._closing
+            nbytes > SLICE
+            or self._backlog is not None
+            or self._decoder.held
+            or self._transport is None
+            or self._closing
+            or _log.isEnabledFor(_DEBUG)
         ):
-            transport = self._transport
-            length, command, request_id = _unpack_header_from(view)
-            max_frame = self._decoder.max_frame
-            if (
-                4 <= length <= max_frame
-                and length + 4 <= nbytes
-                and command not in _FAULT_COMMANDS
-                and transport is not None
-                and not _log.isEnabledFor(_DEBUG)
-            ):
-                self.idle_sweeps = 0
-                answer = self._answer(command, bytes(view[8 : length + 4]) if length > 4 else b"")
-                if length + 4 == nbytes:  # one request: one write
-                    transport.write(_pack_header(len(answer) + 4, command, request_id) + answer)
-                    return
-                pos = self._answer_more(view, nbytes, length + 4, command, request_id, answer)
-                if pos == nbytes:
-                    return
-        self.data_received(bytes(view[pos:nbytes]))
-
-    def _answer_more(
-        self,
-        view: memoryview,
-        nbytes: int,
-        pos: int,
-        command: int,
-        request_id: int,
-        answer: bytes,
-    ) -> int:
-        """:meth:`buffer_updated` past its first request (``answer``, to ``command`` and
-        ``request_id``, ending at ``pos``): answer the whole requests that follow in
-        ``view[:nbytes]`` while they take the fast path and their answers stay within the write
-        budget, write every answer at once, and return where the first request not answered
-        here starts."""
-        transport = self._transport
-        assert transport is not None
-        out = [_pack_header(len(answer) + 4, command, request_id), answer]
-        append = out.append
-        size = len(answer)
-        budget = self._limits.write_buffer_high
-        max_frame = self._decoder.max_frame
-        answer_of = self._adapter.answer
-        session = self._session
-        while nbytes - pos >= 8 and size < budget:
-            length, command, request_id = _unpack_header_from(view, pos)
-            end = pos + 4 + length
-            if length < 4 or length > max_frame or end > nbytes or command in _FAULT_COMMANDS:
-                break
-            try:
-                answer = answer_of(session, command, bytes(view[pos + 8 : end]))  # type: ignore[arg-type]
-            except Exception:
-                answer = self._failed(command)
-            append(_pack_header(len(answer) + 4, command, request_id))
-            append(answer)
-            size += len(answer)
-            pos = end
-        transport.write(_join(out))
-        return pos
+            self.data_received(view[:nbytes].tobytes())
+            return
+        frames, end, _ = scan_frames(view, self._decoder.max_frame, nbytes)
+        if frames:
+            self.idle_sweeps = 0
+            self._run(frames)
+        if end < nbytes:
+            self.data_received(view[end:nbytes].tobytes())
 
     def _feed(self, chunk: bytes | memoryview) -> bool:
         """Decode ``chunk`` and answer its frames; False when a framing violation closed the
@@ -221,92 +171,48 @@ class PackedConnection(BaseConnection[RawFrame]):
         return self._run(frames)
 
     def _run(self, frames: list[RawFrame]) -> bool:
-        """Answer ``frames`` in order; False when output backpressure stopped it part way (the
+        """Answer ``frames`` in order, their answers joined in one write (one more each time
+        they reach the write budget); False when output backpressure stopped it part way (the
         rest is kept in the backlog) or the connection was closed.
 
-        The usual case, no fault armed, is this one loop: each request straight to the
-        adapter. A fault command, or a fault armed, hands the rest to :meth:`_run_from`.
+        The fault commands are answered from the fault queues; while a fault is armed, every
+        request but a simulator control takes the next one (:meth:`_apply_fault`).
         """
-        if self._shared.armed or self._faults is not None:
-            return self._run_from(frames, 0, [], 0)
         transport = self._transport
         assert transport is not None
-        answer_of = self._adapter.answer
-        session = self._session
-        if len(frames) == 1:
-            # One request in the read (sequential use, or one per connection): one write.
-            command, request_id, payload = frames[0]
-            if command not in _FAULT_COMMANDS:
-                answer = self._answer(command, payload)
-                transport.write(_pack_header(len(answer) + 4, command, request_id) + answer)
-                return True  # a write past the high-water mark pauses reading (pause_writing)
-        budget = self._limits.write_buffer_high
-        out: list[bytes] = []
-        append = out.append
-        size = 0
-        for index, (command, request_id, payload) in enumerate(frames):
-            if command in _FAULT_COMMANDS:
-                return self._run_from(frames, index, out, size)
-            try:
-                answer = answer_of(session, command, payload)  # type: ignore[arg-type]
-            except Exception:
-                answer = self._failed(command)
-            append(_pack_header(len(answer) + 4, command, request_id))
-            append(answer)
-            size += len(answer)
-            if size >= budget:
-                transport.write(_join(out))
-                out = []
-                append = out.append
-                size = 0
-                if self._write_paused:  # the write buffer passed its high-water mark
-                    return self._stop_writing(frames, index + 1, out)
-        if out:
-            transport.write(_join(out))
-        return True
-
-    def _run_from(self, frames: list[RawFrame], start: int, out: list[bytes], size: int) -> bool:
-        """:meth:`_run` from ``frames[start]`` on, with ``out`` (``size`` payload bytes)
-        answered and not written yet: fault commands, and faults taken for every answer."""
-        transport = self._transport
-        assert transport is not None
-        adapter = self._adapter
-        session = self._session
         shared = self._shared
         budget = self._limits.write_buffer_high
-        for index in range(start, len(frames)):
-            command, request_id, payload = frames[index]
-            if command == _INJECT_FAULT:
-                answer = self._inject_fault(payload)
-            elif command == _LIST_FAULTS or command == _CLEAR_FAULTS:
-                answer = self._fault_queue(command, payload)
-            elif (shared.armed or self._faults is not None) and not (
-                _CONTROL_FIRST <= command <= _CONTROL_LAST
-            ):
-                fault = self._take_fault()
-                if fault is not None:
-                    written = self._apply_fault(fault, command, request_id, payload, out)
-                    if written is None:
-                        return False  # the connection was closed instead of answering
-                    out = written
-                    if self._write_paused or self._delayed_full():
-                        return self._stop_writing(frames, index + 1, out)
-                    continue
-                answer = self._answer(command, payload)
+        out: list[bytes] = []
+        size = 0
+        index = 0  # requests taken from frames so far
+        for command, request_id, payload in frames:
+            index += 1
+            if command in _FAULT_COMMANDS:
+                if command == _INJECT_FAULT:
+                    reply = self._inject_fault(payload)
+                else:
+                    reply = self._fault_queue(command, payload)
             else:
-                try:
-                    answer = adapter.answer(session, command, payload)  # type: ignore[arg-type]
-                except Exception:
-                    answer = self._failed(command)
-            out.append(_pack_header(len(answer) + 4, command, request_id))
-            out.append(answer)
-            size += len(answer)
+                if (shared.armed or self._faults is not None) and not (
+                    _CONTROL_FIRST <= command <= _CONTROL_LAST
+                ):
+                    fault = self._take_fault()
+                    if fault is not None:
+                        if not self._apply_fault(fault, command, request_id, payload, out):
+                            return False  # the connection was closed instead of answering
+                        if self._write_paused or self._delayed_full():
+                            return self._stop_writing(frames, index, out)
+                        continue
+                reply = self._answer(command, payload)
+            out.append(_pack_header(len(reply) + 4, command, request_id))
+            out.append(reply)
+            size += len(reply)
             if size >= budget:
                 transport.write(_join(out))
-                out = []
+                out.clear()
                 size = 0
                 if self._write_paused:  # the write buffer passed its high-water mark
-                    return self._stop_writing(frames, index + 1, out)
+                    return self._stop_writing(frames, index, out)
         if out:
             transport.write(_join(out))
         return True
@@ -321,15 +227,13 @@ class PackedConnection(BaseConnection[RawFrame]):
     # -- helpers ---------------------------------------------------------------------------
 
     def _answer(self, command: int, payload: bytes) -> bytes:
+        """The machine's answer to one request. A bug in the machine must not take the
+        connection down: it is logged and answered EW_REJECT."""
         try:
             return self._adapter.answer(self._session, command, payload)  # type: ignore[arg-type]
         except Exception:
-            return self._failed(command)
-
-    def _failed(self, command: int) -> bytes:
-        """A bug in the machine must not take the connection down: log it, answer EW_REJECT."""
-        _log.exception("%s: command 0x%04X from %s failed", self._label, command, self._peer)
-        return self._adapter.error_answer(command, EW.REJECT)
+            _log.exception("%s: command 0x%04X from %s failed", self._label, command, self._peer)
+            return self._adapter.error_answer(command, EW.REJECT)
 
     def _apply_fault(
         self,
@@ -338,8 +242,9 @@ class PackedConnection(BaseConnection[RawFrame]):
         request_id: int,
         payload: bytes,
         out: list[bytes],
-    ) -> list[bytes] | None:
-        """Answer one request under ``fault``; the answers still to write (None: closed).
+    ) -> bool:
+        """Answer one request under ``fault``, ``out`` holding the answers not written yet;
+        False when the connection was closed instead.
 
         A forced EW code (kind 2) and a dropped connection (kind 3) answer without running the
         request, so the rule "an EW code other than 0 means nothing changed" holds; a delayed
@@ -352,22 +257,23 @@ class PackedConnection(BaseConnection[RawFrame]):
             answer = self._adapter.error_answer(command, arg)
             out.append(_pack_header(len(answer) + 4, command, request_id))
             out.append(answer)
-            return out
+            return True
         if kind is _DROP_KIND:
             if out:
                 transport.write(_join(out))
             self._drop()
-            return None
+            return False
         answer = self._answer(command, payload)
         frame = _pack_header(len(answer) + 4, command, request_id) + answer
         if kind is _DELAY_KIND:
             self._delay(arg, frame)
-            return out
+            return True
         # SPLIT: what came before goes first, then this answer one byte per write
         if out:
             transport.write(_join(out))
+            out.clear()
         self._write_split(frame)
-        return []
+        return True
 
     def _framing_violation(self, exc: FrameError, data: bytes | memoryview) -> None:
         _log.warning("%s: %s from %s: %s", self._label, "framing violation", self._peer, exc)

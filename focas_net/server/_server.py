@@ -37,7 +37,6 @@ from typing import Any, Final, cast
 import anyio
 import anyio.lowlevel
 
-from focas_net._receive import Received
 from focas_net.adapters import PackedAdapter
 from focas_net.native import DEFAULT_MAX_BODY, MAGIC
 from focas_net.protocol import DEFAULT_MAX_FRAME
@@ -311,7 +310,7 @@ class _SniffingConnection(PackedConnection):
     __slots__ = ()
 
     # Every read goes to data_received (which sniffs the first), not the packed fast path.
-    buffer_updated = Received.buffer_updated
+    buffer_updated = BaseConnection.buffer_updated
 
     def connection_made(self, base: asyncio.BaseTransport) -> None:
         # uvloop's transports do not subclass asyncio.Transport, but have its methods
