@@ -55,9 +55,8 @@ def test_status_fields_carry_the_focas_names_and_labels() -> None:
     machine = running_machine(clock)
     clock.advance(1.0)
     fields = {f["field"]: f for f in status_fields(machine)}
+    # in the order the command line lists them
     assert list(fields) == [
-        "hdck",
-        "tmmode",
         "aut",
         "run",
         "motion",
@@ -65,6 +64,8 @@ def test_status_fields_carry_the_focas_names_and_labels() -> None:
         "emergency",
         "alarm",
         "edit",
+        "tmmode",
+        "hdck",
     ]
     status = machine.status()
     assert fields["aut"]["value"] == status.aut == MEM and fields["aut"]["label"] == "MEM"
@@ -83,7 +84,7 @@ def test_a_tile_follows_the_machine() -> None:
     assert tile["program"] == machine.motion.program_running == 1
     machine.raise_alarm(0, 2, 1234, "LUBE LOW")
     tile = machine_tile(3, machine, 8199)
-    assert (tile["alarm"], tile["alarms"]) == ("1234 LUBE LOW", 1)
+    assert (tile["alarm"], tile["alarms"]) == ("IO1234 LUBE LOW", 1)  # the code as the CLI
     assert tile["run"] != "STRT"  # any alarm stops the cycle
 
 

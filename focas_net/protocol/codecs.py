@@ -393,6 +393,12 @@ class ParamDataType(enum.IntEnum):
     TWO_WORD = 3
     REAL = 4
 
+    @property
+    def label(self) -> str:
+        """The type as every front end names it: ``bit``, ``byte``, ``word``, ``two-word``,
+        ``real``."""
+        return self.name.lower().replace("_", "-")
+
 
 @dataclass(frozen=True, slots=True)
 class ParamAttributesRequest(FixedPayload):

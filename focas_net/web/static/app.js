@@ -123,7 +123,7 @@ function renderFleet(data) {
   for (const t of data.machines) {
     if (filter && !t.name.toLowerCase().includes(filter)) continue;
     const { node, parts } = tileOf(t);
-    const cls = `tile ${t.run === "****" ? "RESET" : t.run}${t.alarms ? " alarm" : ""}`;
+    const cls = `tile ${t.run_state}${t.alarms ? " alarm" : ""}`;
     if (node.className !== cls) node.className = cls;
     setText(parts.name, t.name);
     setText(parts.port, `:${t.port}`);
@@ -208,10 +208,10 @@ function renderMachine(v) {
     el("tr", {}, el("td", {}, "parts required"), el("td", {}, String(v.parts.required ?? "-"))));
 
   $("alarms").replaceChildren(...(v.alarms.length ? v.alarms.map((a) =>
-    el("li", { class: "alarm" }, `type ${a.alm_type} no. ${a.alm_no}${a.axis_no ? " axis " + a.axis_no : ""} ${a.msg}`))
+    el("li", { class: "alarm" }, a.text))
     : [el("li", { class: "none" }, "no active alarm")]));
   $("history").replaceChildren(...v.history.map((h) =>
-    el("li", {}, `${h.time.replace("T", " ").replace("+00:00", "Z")}  type ${h.alm_type} no. ${h.alm_no} ${h.msg}`)));
+    el("li", {}, `${h.time.replace("T", " ").replace("+00:00", "Z")}  ${h.text}`)));
 
   const dirKey = JSON.stringify(v.programs);
   if (state.dirKey !== dirKey) {
