@@ -13,6 +13,7 @@ from .alarms import (
     AlarmHistoryEntry,
     AlarmType,
     alarm_code,
+    alarm_message,
     alarm_text,
 )
 from .codecs import (
@@ -193,6 +194,7 @@ __all__ = [
     "VersaMaxReply",
     "VersaMaxRequest",
     "alarm_code",
+    "alarm_message",
     "alarm_text",
     "encode_ew",
     "encode_frame",

@@ -30,6 +30,7 @@ __all__ = [
     "AlarmHistoryEntry",
     "AlarmType",
     "alarm_code",
+    "alarm_message",
     "alarm_text",
 ]
 
@@ -89,6 +90,17 @@ def alarm_text(alm_type: int, alm_no: int, msg: str = "", axis_no: int = 0) -> s
         text = text[len(code) :].lstrip()
     axis = f" (axis {axis_no})" if axis_no else ""
     return f"{code}{axis} {text}".rstrip()
+
+
+def alarm_message(msg: str) -> bytes:
+    """The bytes of an alarm message given as text (``raise_alarm``): ASCII only, as the
+    packed protocol carries it; ValueError, naming the text, for any other character. Every
+    front end that takes a message as text (the client, the command line, the dashboard)
+    refuses with this rule; the wire itself carries any bytes."""
+    try:
+        return msg.encode("ascii")
+    except UnicodeEncodeError:
+        raise ValueError(f"alarm message must be ASCII: {msg!r}") from None
 
 
 def _text(raw: bytes) -> str:

@@ -17,6 +17,7 @@ from typing import Any, Final
 from focas_net.errors import EW, ew_name
 from focas_net.protocol import (
     AutMode,
+    FaultKind,
     ParamDataType,
     RunState,
     alarm_code,
@@ -249,6 +250,7 @@ def machine_view(
         "program": _program(machine),
         "pmc_areas": _pmc_areas(machine),
         "faults": [{"kind": k, "remaining": n, "arg": arg} for k, n, arg in faults],
+        "fault_kinds": [k.name for k in FaultKind],
         "versions": {"data": machine.data_version, "macro": machine.macro_version},
     }
 
@@ -291,8 +293,9 @@ def _param_text(item: DataItem, value: int) -> str:
 
 def param_rows(machine: Machine, query: str = "", limit: int = 200) -> list[JsonDict]:
     """The parameters whose number starts with ``query`` or whose name contains it (case
-    insensitive), at most ``limit`` of them, by number; ``kind`` is the type as every front
-    end names it (``two-word``)."""
+    insensitive), at most ``limit`` of them, by number. ``kind`` is the type as every front
+    end names it (``two-word``); an axis parameter has a value per axis, named in ``axes``;
+    a bit parameter has its ``bits`` (#7..#0) beside each value."""
     q = query.strip().lower()
     rows: list[JsonDict] = []
     for number in machine.param_numbers():
@@ -300,20 +303,20 @@ def param_rows(machine: Machine, query: str = "", limit: int = 200) -> list[Json
         assert item is not None
         if q and not (str(number).startswith(q) or q in item.name.lower()):
             continue
-        kind = "" if item.kind is None else ParamDataType(item.kind).label
+        axes = list(machine.axes) if item.axis else []
+        raw = [machine.read_param(number, axis) for axis in range(1, len(axes) + 1) or (0,)]
         rows.append(
             {
                 "number": number,
                 "name": item.name,
-                "kind": kind,
+                "kind": "" if item.kind is None else ParamDataType(item.kind).label,
                 "axis": item.axis,
+                "axes": axes,
                 "low": item.low,
                 "high": item.high,
                 "decimals": item.decimals,
-                "values": [
-                    _param_text(item, machine.read_param(number, axis))
-                    for axis in (range(1, len(machine.axes) + 1) if item.axis else (0,))
-                ],
+                "values": [_param_text(item, value) for value in raw],
+                "bits": [f"{value:08b}" for value in raw] if item.kind is ParamKind.BIT else None,
             }
         )
         if len(rows) >= limit:
