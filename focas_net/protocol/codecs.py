@@ -428,6 +428,15 @@ class ParamAttributes(FixedPayload):
         """:attr:`kind` as a :class:`ParamDataType` (None for a number it does not have)."""
         return ParamDataType(self.kind) if self.kind in ParamDataType._value2member_map_ else None
 
+    def __repr__(self) -> str:
+        """Shown by its :attr:`type`, as the docs name it (a number with no type: its kind)."""
+        kind = self.type
+        shown = f"type=ParamDataType.{kind.name}" if kind is not None else f"kind={self.kind}"
+        return (
+            f"ParamAttributes(datano={self.datano}, {shown}, axis={self.axis}, "
+            f"decimals={self.decimals}, low={self.low}, high={self.high})"
+        )
+
 
 _RAISE_HEAD: Final = struct.Struct("<hhhh")
 
