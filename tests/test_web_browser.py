@@ -179,6 +179,18 @@ async def dashboard(
                 await page.call(browser.get, "about:blank")  # the page lets go of the socket
 
 
+@asynccontextmanager
+async def machine_page(
+    browser: WebDriver, tmp_path: Path, machine: Machine | None = None
+) -> AsyncIterator[tuple[FocasServer, Page]]:
+    """The dashboard of one machine (a default one unless given), its view open in the
+    browser, the console's earlier messages (of other tests' pages) read."""
+    async with dashboard(browser, tmp_path, [machine or default_machine()]) as (server, _, page):
+        await page.errors()
+        await page.open("machine/0")
+        yield server, page
+
+
 def client_of(server: FocasServer, index: int = 0) -> FocasClient:
     host, port = server.listeners[index].address
     return FocasClient(host, port, timeout=IO_TIMEOUT)
@@ -376,9 +388,7 @@ async def test_bit_parameters_show_their_bits_and_axes_and_take_hex_and_binary(
 ) -> None:
     machine = default_machine()
     machine.set_panel(mode=MDI, pwe=1)
-    async with dashboard(browser, tmp_path, [machine]) as (server, _, page):
-        await page.errors()  # what earlier pages of this browser logged is not this test's
-        await page.open("machine/0")
+    async with machine_page(browser, tmp_path, machine) as (server, page):
         await page.until(lambda d: d.find_elements(By.ID, "param-1815-1"), "the parameters")
         await page.type("param-search", "1815")
         row = await page.text_of("params", lambda t: "00110000" in t and "20 " not in t, "1815")
@@ -404,10 +414,8 @@ async def test_bit_parameters_show_their_bits_and_axes_and_take_hex_and_binary(
 async def test_an_address_of_no_machine_is_said_and_breaks_nothing(
     browser: WebDriver, tmp_path: Path
 ) -> None:
-    async with dashboard(browser, tmp_path) as (_, _, page):
-        await page.open("machine/0")
+    async with machine_page(browser, tmp_path) as (_, page):
         await page.text_of("run-state", lambda t: t == "****", "machine 0")
-        await page.errors()  # what earlier pages of this browser logged is not this test's
         await page.call(page.driver.execute_script, "location.hash = '#/machine/999'")
         notice = await page.text_of("notice", lambda t: "999" in t, "the notice")
         assert notice.startswith("no machine 999")
@@ -427,8 +435,7 @@ async def test_an_address_of_no_machine_is_said_and_breaks_nothing(
 async def test_a_fault_argument_that_is_not_a_number_is_refused_on_the_page(
     browser: WebDriver, tmp_path: Path
 ) -> None:
-    async with dashboard(browser, tmp_path) as (server, _, page):
-        await page.open("machine/0")
+    async with machine_page(browser, tmp_path) as (server, page):
         await page.until(lambda d: d.find_elements(By.CSS_SELECTOR, "#fault-kind option"), "kinds")
         await page.call(
             lambda: Select(page.driver.find_element(By.ID, "fault-kind")).select_by_value("DELAY")
@@ -444,22 +451,19 @@ async def test_a_fault_argument_that_is_not_a_number_is_refused_on_the_page(
 
 
 async def test_enter_writes_a_macro_variable(browser: WebDriver, tmp_path: Path) -> None:
-    machine = default_machine()
-    async with dashboard(browser, tmp_path, [machine]) as (_, _, page):
-        await page.open("machine/0")
+    async with machine_page(browser, tmp_path) as (server, page):
         await page.type("macro-search", "500-501")
         await page.until(lambda d: len(d.find_elements(By.CSS_SELECTOR, "#macros tr")) == 3, "#500")
         await page.type("macro-500", "12.5" + Keys.ENTER)
         await page.text_of("message", lambda t: "write_macro: done" in t, "the write")
-        assert machine.read_macro(500) == Decimal("12.5")
+        assert server.machines[0].read_macro(500) == Decimal("12.5")
 
 
 async def test_an_alarm_message_beyond_ascii_is_refused_on_the_page(
     browser: WebDriver, tmp_path: Path
 ) -> None:
-    machine = default_machine()
-    async with dashboard(browser, tmp_path, [machine]) as (_, _, page):
-        await page.open("machine/0")
+    async with machine_page(browser, tmp_path) as (server, page):
+        machine = server.machines[0]
         await page.text_of("alarms", lambda t: "no active alarm" in t, "no alarm")
         await page.type("alarm-msg", "TEMP 40\u00b0C")
         await page.click("alarm-raise")
