@@ -30,7 +30,7 @@ from focas_net.client import (
     ProjectionMode,
 )
 from focas_net.errors import FocasError
-from focas_net.protocol import ALARM_TYPE_NAMES
+from focas_net.protocol import alarm_code
 
 #: (alm_type, alm_no, message, axis_no) raised by the demonstration.
 DEMO_ALARMS = [
@@ -39,21 +39,17 @@ DEMO_ALARMS = [
 ]
 
 
-def code(alm_type: int, alm_no: int) -> str:
-    return f"{ALARM_TYPE_NAMES.get(alm_type, alm_type)}{alm_no:04d}"
-
-
 def describe(event: AlarmEvent) -> str:
     if isinstance(event, AlarmHistoryEvent):
         e = event.entry
         when = e.occurred_at.strftime("%Y-%m-%d %H:%M:%S")
         axis = f" axis {e.axis_no}" if e.axis_no else ""
-        return f"history  {when} UTC {code(e.alm_type, e.alm_no)}{axis} {e.msg}"
+        return f"history  {when} UTC {alarm_code(e.alm_type, e.alm_no)}{axis} {e.msg}"
     kind = "raised " if isinstance(event, AlarmRaised) else "cleared"
     assert isinstance(event, AlarmRaised | AlarmCleared)
     a = event.alarm
     axis = f" axis {a.axis_no}" if a.axis_no else ""
-    return f"{kind}  {code(a.alm_type, a.alm_no)}{axis} {a.msg}"
+    return f"{kind}  {alarm_code(a.alm_type, a.alm_no)}{axis} {a.msg}"
 
 
 async def drive(host: str, port: int, call_timeout: float, pause: float) -> None:

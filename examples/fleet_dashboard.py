@@ -32,12 +32,11 @@ from dataclasses import dataclass
 from focas_net import FocasClient
 from focas_net.client import ClientState
 from focas_net.errors import FocasError
-from focas_net.protocol import ALARM_TYPE_NAMES
+from focas_net.protocol import RunState, alarm_code, field_label
 from focas_net.server import FocasServer
 from focas_net.sim import Machine, default_machine
 from focas_net.sim.nc import RealTimeClock
 
-RUN = {0: "****", 1: "STOP", 2: "HOLD", 3: "STRT", 4: "MSTR"}
 #: System variable of the sequence number being executed.
 SEQUENCE = 4114
 HEADERS = ("machine", "run", "program", "seq", "parts", "feed", "spindle", "alarm")
@@ -80,10 +79,10 @@ async def poll(cnc: FocasClient, row: Row) -> None:
     if alarms:
         a = alarms[0]
         more = f" +{len(alarms) - 1}" if len(alarms) > 1 else ""
-        alarm = f"{ALARM_TYPE_NAMES.get(a.alm_type, a.alm_type)}{a.alm_no:04d}{more}"
+        alarm = f"{alarm_code(a.alm_type, a.alm_no)}{more}"
     program = numbers.running or numbers.main
     row.cells = (
-        RUN.get(status.run, str(status.run)),
+        field_label(RunState, status.run)[0],
         f"O{program:04d}" if program else "-",
         f"N{int(sequence or 0)}",
         str(info.parts_count),

@@ -28,13 +28,12 @@ from dataclasses import dataclass
 
 from focas_net import CncClient, FocasClient, NativeClient
 from focas_net.errors import FocasError
-from focas_net.protocol import ALARM_TYPE_NAMES
+from focas_net.protocol import AutMode, RunState, alarm_code, field_label
 from focas_net.server import FocasServer
 from focas_net.sim import default_machine
 
-AUT = {0: "MDI", 1: "MEM", 3: "EDIT", 4: "HND", 5: "JOG", 8: "INC", 9: "REF", 10: "RMT"}
-RUN = {0: "****", 1: "STOP", 2: "HOLD", 3: "STRT", 4: "MSTR"}
 PARTS_COUNT = 6711
+MEM = AutMode.MEM
 
 
 @dataclass
@@ -61,13 +60,13 @@ async def poll(cnc: CncClient, row: Row) -> bool:
         row.error = str(exc)
         return False
     row.ms = f"{(time.perf_counter() - started) * 1000:.1f}"
-    row.mode = AUT.get(status.aut, str(status.aut))
-    row.run = RUN.get(status.run, str(status.run))
+    row.mode = field_label(AutMode, status.aut)[0]
+    row.run = field_label(RunState, status.run)[0]
     row.parts = str(parts)
     if alarms:
         a = alarms[0]
         more = f" +{len(alarms) - 1}" if len(alarms) > 1 else ""
-        row.alarm = f"{ALARM_TYPE_NAMES.get(a.alm_type, a.alm_type)}{a.alm_no:04d}{more}"
+        row.alarm = f"{alarm_code(a.alm_type, a.alm_no)}{more}"
     else:
         row.alarm = "-"
     row.error = ""
@@ -151,20 +150,21 @@ async def poll_fleet(targets: list[tuple[str, str, int]], args: argparse.Namespa
 
 
 async def prepare(cnc: FocasClient, i: int) -> None:
-    """Give simulated machine ``i`` its own mode, part count and perhaps an alarm."""
+    """Give simulated machine ``i`` its own mode, part count and perhaps an alarm; every third
+    machine in MEM runs its program (cycle start runs only in MEM, and an alarm stops it)."""
     await cnc.sim.set_panel(0, pwe=True)  # MDI + PWE: parameters writable
     await cnc.write_param(PARTS_COUNT, 100 * i + 7)
-    await cnc.sim.set_panel((1, 1, 0, 3, 5)[i % 5])  # mostly MEM, some MDI / EDIT / JOG
+    mode = (MEM, MEM, 0, 3, 5)[i % 5]  # mostly MEM, some MDI / EDIT / JOG
+    await cnc.sim.set_panel(mode)
     if i % 6 == 5:
         await cnc.sim.raise_alarm(3, 100 + i, "SIMULATED ALARM")
+    elif i % 3 == 0 and mode == MEM:
+        await cnc.sim.cycle_start()  # the demo program: about 25 s a part
 
 
 @contextlib.asynccontextmanager
 async def simulated_fleet(n: int, call_timeout: float) -> AsyncIterator[list[tuple[str, str, int]]]:
     machines = [default_machine(f"sim-{i + 1:03d}") for i in range(n)]
-    for i, machine in enumerate(machines):
-        if i % 3 == 0:
-            machine.set_run(3, 1)  # cycle running, axes moving
     async with FocasServer(machines, host="127.0.0.1", port=0, grace_period=1.0) as server:
         targets = [(lst.label, lst.host, lst.port) for lst in server.listeners]
         async with contextlib.AsyncExitStack() as stack:

@@ -1,4 +1,4 @@
-"""Concurrent PMC bit writes that never lose one another.
+"""Concurrent PMC bit writes of one client, which never lose one another.
 
     python examples/pmc_bits.py --port 8193 --area R --start 100 --bytes 4
     python examples/pmc_bits.py --port 8193 --protocol native
@@ -8,7 +8,9 @@ Every bit of ``--bytes`` consecutive bytes is written by its own concurrent call
 the same byte with a per-byte lock, and lets different bytes proceed in parallel, so the final
 bytes are exactly the pattern written. The script starts from the inverted pattern, writes, and
 checks the result with one range read. With ``--protocol native`` the same calls go over
-FOCAS/2 Ethernet (``NativeClient``), whose bit writes take the same per-byte locks.
+FOCAS/2 Ethernet (``NativeClient``), whose bit writes take the same per-byte locks. The locks
+are the client's: bit writes of two clients to one byte can undo each other's, which is why
+the calls share one client.
 """
 
 from __future__ import annotations

@@ -16,12 +16,14 @@ import sys
 
 from focas_net import CncClient, FocasClient, NativeClient
 from focas_net.errors import FocasError
-from focas_net.protocol import ALARM_TYPE_NAMES
-
-AUT = {0: "MDI", 1: "MEM", 2: "****", 3: "EDIT", 4: "HND", 5: "JOG", 6: "TJOG", 7: "THND",
-       8: "INC", 9: "REF", 10: "RMT"}  # fmt: skip
-RUN = {0: "****", 1: "STOP", 2: "HOLD", 3: "STRT", 4: "MSTR"}
-EMERGENCY = {0: "****", 1: "EMG", 2: "RESET"}
+from focas_net.protocol import (
+    AlarmState,
+    AutMode,
+    EmergencyState,
+    RunState,
+    alarm_text,
+    field_label,
+)
 
 
 def client(protocol: str, host: str, port: int, call_timeout: float) -> CncClient:
@@ -39,14 +41,17 @@ async def read_status(host: str, port: int, call_timeout: float, protocol: str) 
     series = info.series.decode("ascii").strip()
     version = info.version.decode("ascii").strip()
     print(f"CNC {host}:{port}: series {series} version {version}, {info.axes_count} axes")
-    print(
-        f"aut={AUT.get(status.aut, status.aut)} run={RUN.get(status.run, status.run)} "
-        f"emergency={EMERGENCY.get(status.emergency, status.emergency)} "
-        f"alarm={'ALM' if status.alarm else '****'}"
+    # the labels a FANUC screen shows, from the table the command line and the dashboard use
+    fields = (
+        ("aut", AutMode, status.aut),
+        ("run", RunState, status.run),
+        ("emergency", EmergencyState, status.emergency),
+        ("alarm", AlarmState, status.alarm),
     )
+    print(" ".join(f"{name}={field_label(values, value)[0]}" for name, values, value in fields))
     print(f"active alarms: {len(alarms)}")
     for a in alarms:
-        print(f"  {ALARM_TYPE_NAMES.get(a.alm_type, a.alm_type)}{a.alm_no:04d} {a.msg}")
+        print(f"  {alarm_text(a.alm_type, a.alm_no, a.msg, a.axis_no)}")
 
 
 def main() -> int:

@@ -25,7 +25,8 @@ from pathlib import Path
 
 from focas_net import FocasClient
 from focas_net.errors import FocasError
-from focas_net.protocol import ALARM_TYPE_NAMES, AutMode, RunInfo, RunState, StatusInfo
+from focas_net.protocol import AutMode, RunInfo, RunState, StatusInfo, field_label
+from focas_net.protocol import alarm_text as one_alarm
 
 #: A small part: face down 1 mm and cut a 30 mm square at F1800, about 6 s of machine time.
 PROGRAM = """\
@@ -44,7 +45,6 @@ N110 M30
 """
 #: System variable of the sequence number being executed.
 SEQUENCE = 4114
-RUN = {0: "****", 1: "STOP", 2: "HOLD", 3: "STRT", 4: "MSTR"}
 
 
 class Failed(Exception):
@@ -56,7 +56,7 @@ def trace_line(
 ) -> str:
     """``    1.25 s  N50    STRT  X    12.500  Y     0.000  Z    -1.000  F1800``."""
     where = "  ".join(f"{name} {value:>9}" for name, value in axes.items())
-    run = RUN.get(status.run, str(status.run))
+    run = field_label(RunState, status.run)[0]
     return f"{machine_s:8.2f} s  N{sequence:<5} {run:4}  {where}  F{feed}"
 
 
@@ -74,10 +74,7 @@ async def poll(cnc: FocasClient) -> tuple[StatusInfo, dict[str, Decimal], int, i
 
 async def alarm_text(cnc: FocasClient) -> str:
     alarms = await cnc.read_alarms()
-    return ", ".join(
-        f"{ALARM_TYPE_NAMES.get(a.alm_type, a.alm_type)}{a.alm_no:04d} {a.msg}".strip()
-        for a in alarms
-    )
+    return ", ".join(one_alarm(a.alm_type, a.alm_no, a.msg, a.axis_no) for a in alarms)
 
 
 async def run_program(args: argparse.Namespace, text: str) -> None:

@@ -40,10 +40,10 @@ async def write_param(args: argparse.Namespace) -> int:
                 print("unlocked with the parameter password")
                 await cnc.write_param(args.param, args.value, axis=args.axis)
             new = await cnc.read_param(args.param, axis=args.axis)
+            print(f"wrote {args.value}, read back {new}")
         finally:
             await cnc.sim.set_panel(before.aut, pwe=False, emergency=before.emergency == 1)
             print("panel: mode restored, PWE off")
-    print(f"wrote {args.value}, read back {new}")
     if new != args.value:
         print("read back differs from the value written", file=sys.stderr)
         return 1

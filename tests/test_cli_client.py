@@ -575,10 +575,10 @@ def test_status_formatting() -> None:
     assert fmt.status_summary(st) == (
         "aut=EDIT run=STRT motion=MTN mstb=FIN emergency=EMG alarm=ALM edit=****"
     )
-    rows = {r[0]: r for r in fmt.status_rows(st)}
+    rows = {r[0]: r for r in fmt.status_rows(st, "MT")}  # a compound machine selects T/M
     assert rows["run"] == ("run", "3", "STRT", "cycle start (running)")
     assert rows["tmmode"][2] == "M"
-    assert fmt.status_dict(st)["emergency"] == {
+    assert fmt.status_dict(st, None)["emergency"] == {
         "value": 1,
         "name": "EMG",
         "meaning": "emergency stop",

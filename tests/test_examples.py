@@ -85,7 +85,11 @@ async def test_write_param_without_password(server: Served) -> None:
     )  # fmt: skip
     assert (code, err) == (0, "")
     assert "parameter 1420 axis 3: 24000" in out
-    assert out.splitlines()[-1] == "wrote 30000, read back 30000"
+    # what happened, in its order: the panel is restored after the read-back
+    assert out.splitlines()[-2:] == [
+        "wrote 30000, read back 30000",
+        "panel: mode restored, PWE off",
+    ]
     assert "unlocked" not in out
     assert server.machine.read_param(1420, 3) == 30000
     # the panel went back to MEM with PWE off
@@ -99,7 +103,7 @@ async def test_write_param_with_password() -> None:
         )
         assert (code, err) == (0, "")
         assert "unlocked with the parameter password" in out
-        assert out.splitlines()[-1] == "wrote 500000, read back 500000"
+        assert out.splitlines()[-2] == "wrote 500000, read back 500000"
         assert served.machine.read_param(1320, 1) == 500_000
 
         code, out, err = await run_example("write_param_with_unlock.py", *port_args(served))
@@ -192,6 +196,8 @@ async def test_fleet_poll_simulates_its_own_fleet(protocol: str) -> None:
     assert [r[0] for r in rows] == [f"sim-{i:03d}" for i in range(1, 22)]
     assert [int(r[6]) for r in rows] == [100 * i + 7 for i in range(21)]  # parts counts
     assert rows[0][3:5] == ["MEM", "STRT"] and rows[2][3] == "MDI"
+    running = [r for r in rows if r[4] == "STRT"]
+    assert len(running) == 3 and all(r[3] == "MEM" for r in running)  # cycle start: MEM only
     assert rows[5][5] == "PS0105"
     assert out.splitlines()[-1].startswith(
         "21 machines, 2 round(s): 42 polls of 3 calls each, 0 failed"

@@ -85,11 +85,21 @@ async def test_real_parameters_are_written_in_the_30i_set_only(
 ) -> None:
     native, packed = both
     await packed.sim.set_panel("MDI", pwe=True)
-    if native.command_set is CommandSet.FS16I:
-        # the 16i set has no way to write a real parameter: EW_LENGTH, as FANUC's library
+    # a value with decimals is a REALPRM: EW_LENGTH for a parameter that is not real, as
+    # FANUC's library answers, and nothing written
+    parts = await packed.read_param(6711)
+    for value in (Decimal("1.5"), "1.5"):
         with pytest.raises(CncError) as refused:
-            await native.write_param(1451, 5)
+            await native.write_param(6711, value)
         assert refused.value.ew == EW.LENGTH
+    assert await packed.read_param(6711) == parts
+    if native.command_set is CommandSet.FS16I:
+        # the 16i set has no way to write a real parameter: EW_LENGTH, as FANUC's library,
+        # whether the value has decimals or not
+        for real in (5, Decimal("12.5"), "12.5"):
+            with pytest.raises(CncError) as refused:
+                await native.write_param(1451, real)
+            assert refused.value.ew == EW.LENGTH
         assert await packed.read_param_real(1451) == Decimal("12.345")
         return
     await native.write_param(1451, Decimal("-1.5"))

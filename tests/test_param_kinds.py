@@ -190,6 +190,17 @@ async def test_client_bit_parameter_reads_and_writes_0_to_255() -> None:
             assert served.machine.read_param(20, 0) == 4
 
 
+async def test_parameter_attributes_print_their_type() -> None:
+    async with serving(default_machine()) as served:
+        async with FocasClient(served.host, served.port) as cnc:
+            attrs = await cnc.read_param_attributes(1815)
+    assert attrs.type is ParamDataType.BIT
+    assert repr(attrs) == (
+        "ParamAttributes(datano=1815, type=ParamDataType.BIT, axis=1, decimals=0, low=0, high=255)"
+    )
+    assert repr(ParamAttributes(5, 9, 0, 0, 0, 1)).startswith("ParamAttributes(datano=5, kind=9,")
+
+
 @pytest.fixture
 async def cli(capsys: pytest.CaptureFixture[str]) -> AsyncIterator[Cli]:
     async with serving(default_machine()) as served:

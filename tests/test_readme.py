@@ -4,6 +4,7 @@ session, which must be what the built-in machine prints."""
 from __future__ import annotations
 
 import asyncio
+import importlib
 import re
 import shlex
 import sys
@@ -50,6 +51,23 @@ async def test_readme_client_example_runs(tmp_path: Path) -> None:
     assert lines[0] == "mode MEM run ****"
     assert "#500 = 12.345" in lines
     assert server.machines[0].read_pmc("R", 100, 1) == bytes([0b1000])
+
+
+def test_every_class_the_readme_calls_is_importable_where_it_says() -> None:
+    """A class the README calls (``ManualClock()``) comes from the module the README imports
+    it from, or, when the README imports it nowhere, from ``focas_net`` itself."""
+    text = README.read_text()
+    spans = re.findall(r"`([^`\n]+)`", text) + _blocks("python")
+    called = {name for span in spans for name in re.findall(r"\b([A-Z]\w+)\(", span)}
+    imported = {
+        name.strip(): module
+        for module, names in re.findall(r"from (focas_net[\w.]*) import ([\w, ]+)", text)
+        for name in names.split(",")
+    }
+    assert "ManualClock" in called
+    for name in sorted(called):
+        module = importlib.import_module(imported.get(name, "focas_net"))
+        assert hasattr(module, name), f"the README calls {name}, not in {module.__name__}"
 
 
 def _session() -> list[tuple[list[str], list[str]]]:

@@ -17,6 +17,7 @@ import os
 import shutil
 from collections.abc import AsyncIterator, Callable, Iterator
 from contextlib import asynccontextmanager
+from decimal import Decimal
 from pathlib import Path
 from typing import Any
 
@@ -40,6 +41,7 @@ from selenium.common.exceptions import (  # noqa: E402
 )
 from selenium.webdriver.chrome.service import Service  # noqa: E402
 from selenium.webdriver.common.by import By  # noqa: E402
+from selenium.webdriver.common.keys import Keys  # noqa: E402
 from selenium.webdriver.remote.webdriver import WebDriver  # noqa: E402
 from selenium.webdriver.support.select import Select  # noqa: E402
 from selenium.webdriver.support.ui import WebDriverWait  # noqa: E402
@@ -64,6 +66,7 @@ def browser() -> Iterator[WebDriver]:
     """One headless Chromium for the module (each test opens its own dashboard in it)."""
     options = webdriver.ChromeOptions()
     options.binary_location = CHROMIUM
+    options.set_capability("goog:loggingPrefs", {"browser": "ALL"})  # the console, read back
     for arg in (
         "--headless=new",
         "--no-sandbox",
@@ -140,6 +143,13 @@ class Page:
 
         await self.call(do)
 
+    async def errors(self) -> list[str]:
+        """The errors the page's console logged since the last call (an exception the page
+        did not catch is one)."""
+        chrome: Any = self.driver  # Chrome's driver reads the console (get_log)
+        entries = await self.call(chrome.get_log, "browser")
+        return [str(e["message"]) for e in entries if e["level"] == "SEVERE"]
+
     async def screenshot(self, name: str) -> Path:
         path = self.shots / name
         ok = await self.call(self.driver.save_screenshot, str(path))
@@ -167,6 +177,18 @@ async def dashboard(
                 yield server, web, page
             finally:
                 await page.call(browser.get, "about:blank")  # the page lets go of the socket
+
+
+@asynccontextmanager
+async def machine_page(
+    browser: WebDriver, tmp_path: Path, machine: Machine | None = None
+) -> AsyncIterator[tuple[FocasServer, Page]]:
+    """The dashboard of one machine (a default one unless given), its view open in the
+    browser, the console's earlier messages (of other tests' pages) read."""
+    async with dashboard(browser, tmp_path, [machine or default_machine()]) as (server, _, page):
+        await page.errors()
+        await page.open("machine/0")
+        yield server, page
 
 
 def client_of(server: FocasServer, index: int = 0) -> FocasClient:
@@ -359,3 +381,125 @@ async def test_screenshots_of_a_fleet_at_work(browser: WebDriver, tmp_path: Path
         machine_png = await page.screenshot("web-machine.png")
         await page.call(page.driver.set_window_size, 1500, 1000)
     assert fleet_png.stat().st_size > 10_000 and machine_png.stat().st_size > 10_000
+
+
+async def test_bit_parameters_show_their_bits_and_axes_and_take_hex_and_binary(
+    browser: WebDriver, tmp_path: Path
+) -> None:
+    machine = default_machine()
+    machine.set_panel(mode=MDI, pwe=1)
+    async with machine_page(browser, tmp_path, machine) as (server, page):
+        await page.until(lambda d: d.find_elements(By.ID, "param-1815-1"), "the parameters")
+        await page.type("param-search", "1815")
+        row = await page.text_of("params", lambda t: "00110000" in t and "20 " not in t, "1815")
+        assert "bit" in row and "two_word" not in row
+        names = await page.call(
+            page.driver.execute_script,
+            "return [...document.querySelectorAll('#params .axis')].map(n => n.textContent)",
+        )
+        assert names == ["X", "Y", "Z"]  # each value named by its axis
+        await page.type("param-1815-2", "0b10110001" + Keys.ENTER)
+        await page.text_of("message", lambda t: "write_param: done" in t, "the write")
+        await page.text_of("param-bits-1815-2", lambda t: t == "10110001", "the bits written")
+        await page.type("param-1815-3", "0xC3")
+        await page.click("param-save-1815-3")
+        await page.text_of("param-bits-1815-3", lambda t: t == "11000011", "0xC3 written")
+        async with client_of(server) as cnc:
+            assert [await cnc.read_param(1815, axis=a) for a in (1, 2, 3)] == [0x30, 0xB1, 0xC3]
+        await page.type("param-search", "1826")
+        await page.text_of("params", lambda t: "two-word" in t, "the type of 1826")
+        assert await page.errors() == []
+
+
+async def test_an_address_of_no_machine_is_said_and_breaks_nothing(
+    browser: WebDriver, tmp_path: Path
+) -> None:
+    async with machine_page(browser, tmp_path) as (_, page):
+        await page.text_of("run-state", lambda t: t == "****", "machine 0")
+        await page.call(page.driver.execute_script, "location.hash = '#/machine/999'")
+        notice = await page.text_of("notice", lambda t: "999" in t, "the notice")
+        assert notice.startswith("no machine 999")
+        shown = await page.call(
+            lambda: [
+                page.driver.find_element(By.ID, view).is_displayed()
+                for view in ("machine-view", "fleet-view")
+            ]
+        )
+        assert shown == [False, True]  # never machine 0's view under another address
+        await page.until(lambda d: d.find_elements(By.CSS_SELECTOR, "#fleet .tile"), "the fleet")
+        await page.call(page.driver.execute_script, "location.hash = '#/machine/0'")
+        await page.until(lambda d: not d.find_element(By.ID, "notice").is_displayed(), "no notice")
+        assert await page.errors() == []
+
+
+async def test_a_fault_argument_that_is_not_a_number_is_refused_on_the_page(
+    browser: WebDriver, tmp_path: Path
+) -> None:
+    async with machine_page(browser, tmp_path) as (server, page):
+        await page.until(lambda d: d.find_elements(By.CSS_SELECTOR, "#fault-kind option"), "kinds")
+        await page.call(
+            lambda: Select(page.driver.find_element(By.ID, "fault-kind")).select_by_value("DELAY")
+        )
+        await page.type("fault-arg", "abc")
+        await page.click("fault-inject")
+        message = await page.text_of("message", lambda t: "refused" in t, "the refusal")
+        assert message == "inject_fault refused: arg: not a whole number: 'abc'"
+        assert len(server.listeners[0].faults) == 0
+        await page.type("fault-arg", "250")
+        await page.click("fault-inject")
+        await page.text_of("faults", lambda t: "DELAY arg 250" in t, "the delay armed")
+
+
+async def test_enter_writes_a_macro_variable(browser: WebDriver, tmp_path: Path) -> None:
+    async with machine_page(browser, tmp_path) as (server, page):
+        await page.type("macro-search", "500-501")
+        await page.until(lambda d: len(d.find_elements(By.CSS_SELECTOR, "#macros tr")) == 3, "#500")
+        await page.type("macro-500", "12.5" + Keys.ENTER)
+        await page.text_of("message", lambda t: "write_macro: done" in t, "the write")
+        assert server.machines[0].read_macro(500) == Decimal("12.5")
+
+
+async def test_an_alarm_message_beyond_ascii_is_refused_on_the_page(
+    browser: WebDriver, tmp_path: Path
+) -> None:
+    async with machine_page(browser, tmp_path) as (server, page):
+        machine = server.machines[0]
+        await page.text_of("alarms", lambda t: "no active alarm" in t, "no alarm")
+        await page.type("alarm-msg", "TEMP 40\u00b0C")
+        await page.click("alarm-raise")
+        message = await page.text_of("message", lambda t: "refused" in t, "the refusal")
+        assert "alarm message must be ASCII" in message
+        assert machine.active_alarms() == []
+        machine.raise_alarm(0, 15, 1001, "EX1001 COOLANT LEVEL LOW")
+        shown = await page.text_of("alarms", lambda t: "COOLANT" in t, "the alarm")
+        assert shown == "EX1001 COOLANT LEVEL LOW"  # its code, once, as the CLI writes it
+
+
+async def test_a_tile_counts_one_part_and_the_alarm_by_its_code(
+    browser: WebDriver, tmp_path: Path
+) -> None:
+    machines = [default_machine(f"m{i}") for i in range(3)]
+    for count, machine in enumerate(machines):
+        machine.set_panel(mode=MDI, pwe=1)
+        machine.write_param(machine.new_session(), 6711, 0, count)
+    machines[2].raise_alarm(0, 15, 1001, "EX1001 COOLANT LEVEL LOW")
+    async with dashboard(browser, tmp_path, machines) as (_, _, page):
+        await page.open()
+        await page.until(lambda d: len(d.find_elements(By.CSS_SELECTOR, ".tile")) == 3, "tiles")
+
+        def tiles(d: WebDriver) -> list[list[str]] | bool:
+            found = d.execute_script(
+                """return [...document.querySelectorAll('#fleet .tile')].map(t =>
+                    [t.querySelector('.parts').textContent, t.querySelector('.alm').textContent])"""
+            )
+            return found if found[2][1].startswith("ALM") else False
+
+        shown = await page.until(tiles, "the tiles' parts and alarm")
+        assert [parts for parts, _ in shown] == ["0 parts", "1 part", "2 parts"]
+        assert shown[2][1] == "ALM EX1001 COOLANT LEVEL LOW"
+        icon = await page.call(
+            page.driver.execute_async_script,
+            """const done = arguments[arguments.length - 1];
+            fetch(document.querySelector('link[rel=icon]').href).then(r => done(r.status));""",
+        )
+        assert icon == 200

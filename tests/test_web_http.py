@@ -72,6 +72,27 @@ async def test_the_dashboard_listens_on_loopback_and_serves_the_page() -> None:
         )
 
 
+async def test_the_page_has_an_icon() -> None:
+    async with dashboard() as (_, web), aiohttp.ClientSession() as session:
+        async with session.get(web.url) as response:
+            page = await response.text()
+        (icon,) = re.findall(r'<link rel="icon" href="([^"]+)"', page)
+        for path in (icon.lstrip("/"), "favicon.ico"):
+            async with session.get(f"{web.url}{path}") as response:
+                assert response.status == 200, path
+                assert response.content_type == "image/svg+xml"
+                assert (await response.text()).startswith("<svg")
+
+
+async def test_a_fault_argument_the_page_cannot_read_is_refused() -> None:
+    async with dashboard() as (server, web), aiohttp.ClientSession() as session:
+        status, body = await post(session, web, "inject_fault", {"kind": "DELAY", "arg": "abc"})
+        assert status == 400 and body == {"ok": False, "error": "arg: not a whole number: 'abc'"}
+        status, body = await post(session, web, "inject_fault", {"kind": "DELAY", "arg": ""})
+        assert status == 400 and body["error"] == "arg: a number is needed"
+        assert len(server.listeners[0].faults) == 0  # nothing armed
+
+
 async def test_cycle_start_from_the_page_is_read_through_the_packed_client() -> None:
     async with dashboard() as (server, web), aiohttp.ClientSession() as session:
         host, port = server.listeners[0].address

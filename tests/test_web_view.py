@@ -55,9 +55,8 @@ def test_status_fields_carry_the_focas_names_and_labels() -> None:
     machine = running_machine(clock)
     clock.advance(1.0)
     fields = {f["field"]: f for f in status_fields(machine)}
+    # in the order the command line lists them
     assert list(fields) == [
-        "hdck",
-        "tmmode",
         "aut",
         "run",
         "motion",
@@ -65,6 +64,8 @@ def test_status_fields_carry_the_focas_names_and_labels() -> None:
         "emergency",
         "alarm",
         "edit",
+        "tmmode",
+        "hdck",
     ]
     status = machine.status()
     assert fields["aut"]["value"] == status.aut == MEM and fields["aut"]["label"] == "MEM"
@@ -83,7 +84,7 @@ def test_a_tile_follows_the_machine() -> None:
     assert tile["program"] == machine.motion.program_running == 1
     machine.raise_alarm(0, 2, 1234, "LUBE LOW")
     tile = machine_tile(3, machine, 8199)
-    assert (tile["alarm"], tile["alarms"]) == ("1234 LUBE LOW", 1)
+    assert (tile["alarm"], tile["alarms"]) == ("IO1234 LUBE LOW", 1)  # the code as the CLI
     assert tile["run"] != "STRT"  # any alarm stops the cycle
 
 
@@ -178,6 +179,17 @@ def test_parameter_rows_search_by_number_or_name() -> None:
     assert rapid["axis"] and len(rapid["values"]) == len(machine.axes)
     assert rapid["values"] == [str(machine.read_param(1420, a + 1)) for a in range(3)]
     assert param_rows(machine, "no such name") == []
+
+
+def test_axis_values_are_named_and_bit_parameters_show_their_bits() -> None:
+    machine = default_machine()
+    (apc,) = param_rows(machine, "1815")
+    assert (apc["kind"], apc["axes"]) == ("bit", ["X", "Y", "Z"])
+    assert apc["values"] == ["48"] * 3 and apc["bits"] == ["00110000"] * 3
+    (channel,) = param_rows(machine, "20")
+    assert (channel["kind"], channel["axes"], channel["bits"]) == ("byte", [], None)
+    (rapid,) = [r for r in param_rows(machine, "1420") if r["number"] == 1420]
+    assert rapid["kind"] == "two-word" and len(rapid["axes"]) == len(rapid["values"]) == 3
 
 
 def test_macro_rows_by_number_and_range() -> None:
@@ -318,6 +330,47 @@ def test_faults_are_armed_with_the_checks_of_inject_fault() -> None:
         perform(station, "inject_fault", {"kind": "slow"})
     assert perform(station, "clear_faults", {})["cleared"] == 2
     assert station.fault_listing() == []
+
+
+def test_a_fault_argument_that_is_not_a_number_is_refused() -> None:
+    station = Station(0, default_machine())
+    for args in (
+        {"kind": "DELAY", "arg": "abc"},
+        {"kind": "DELAY", "arg": ""},  # what a number field with letters in it sends
+        {"kind": "DELAY"},
+        {"kind": "ERROR", "count": "1", "arg": " "},
+        {"kind": "DROP", "count": "abc"},
+        {"kind": "DROP", "count": ""},
+    ):
+        with pytest.raises(ActionError, match=r"^(count|arg): "):
+            perform(station, "inject_fault", args)
+    assert station.fault_listing() == []
+    # a drop or a split ignores the argument it does not need
+    perform(station, "inject_fault", {"kind": "SPLIT"})
+    perform(station, "inject_fault", {"kind": "DROP", "count": "0x2"})
+    assert station.fault_listing() == [("SPLIT", 1, 0), ("DROP", 2, 0)]
+    view = machine_view(0, station.machine, 8193, faults=station.fault_listing())
+    assert view["fault_kinds"] == ["DELAY", "ERROR", "DROP", "SPLIT"]  # the page's choices
+
+
+def test_bit_parameters_are_written_as_the_command_line_writes_them() -> None:
+    station = Station(0, default_machine())
+    perform(station, "panel", {"mode": MDI, "pwe": 1})
+    for text, value in (("0xB0", 0xB0), ("0b1011_0001", 0b1011_0001), ("0o7", 7), ("12", 12)):
+        answer = perform(station, "write_param", {"number": 1815, "axis": 2, "value": text})
+        assert answer["value"] == station.machine.read_param(1815, 2) == value
+    with pytest.raises(ActionError, match="'0xZZ'"):
+        perform(station, "write_param", {"number": 1815, "axis": 2, "value": "0xZZ"})
+    assert station.machine.read_param(1815, 2) == 12
+
+
+def test_an_alarm_message_is_text_the_client_can_send() -> None:
+    station = Station(0, default_machine())
+    with pytest.raises(ActionError, match="msg: alarm message must be ASCII"):
+        perform(station, "raise_alarm", {"alm_type": 3, "alm_no": 100, "msg": "TEMP 40\xb0C"})
+    assert station.machine.active_alarms() == [] and station.machine.alarm_history() == ()
+    perform(station, "raise_alarm", {"alm_type": 3, "alm_no": 100, "msg": "TEMP 40 C"})
+    assert [a.msg for a in station.machine.active_alarms()] == ["TEMP 40 C"]
 
 
 def test_select_program_is_a_program_search() -> None:

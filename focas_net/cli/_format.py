@@ -1,7 +1,8 @@
 """Pure formatting and parsing for the client commands of ``focas-net``.
 
-Nothing here does I/O: the ODBST fields (labels and meanings from the enums of
-:mod:`focas_net.protocol`), alarm codes (``PS0100``), the ODBSYS identity, VersaMax records,
+Nothing here does I/O: the ODBST fields (labels and meanings from the one table of
+:mod:`focas_net.protocol`, which the dashboard uses too), alarm codes (``PS0100``, the
+protocol's ``alarm_code``), the ODBSYS identity, VersaMax records,
 PMC hex dumps, column tables, and the parsers of the command-line forms (``1815.0``,
 ``100.3``, ``PS0100``, PMC data). Each function returns plain text or JSON-ready values so that
 it can be tested on its own.
@@ -10,31 +11,29 @@ it can be tested on its own.
 from __future__ import annotations
 
 import re
-from collections.abc import Callable, Iterable, Mapping, Sequence
+from collections.abc import Iterable, Mapping, Sequence
 from datetime import UTC, datetime
 from decimal import Decimal
-from typing import Any, Final, Protocol
+from typing import Any, Final
 
 from focas_net.errors import EW, ChunkedWriteError, CncError, ew_info
 from focas_net.protocol import (
     ALARM_TYPE_NAMES,
+    STATUS_FIELDS,
     ActiveAlarm,
     AlarmHistoryEntry,
-    AlarmState,
     AutMode,
-    EditState,
-    EmergencyState,
-    HdckState,
-    MotionState,
-    MstbState,
+    LabelledValue,
     ParamDataType,
     ParamValue,
     ProgramNumbers,
-    RunState,
     StatusInfo,
     SysInfo,
-    TmMode,
+    alarm_code,
+    alarm_text,
+    status_labels,
 )
+from focas_net.protocol import field_label as field_name
 from focas_net.versamax import BoardId, IOModuleRecord, RefType
 
 __all__ = [
@@ -54,6 +53,7 @@ __all__ = [
     "macro_text",
     "module_dict",
     "module_lines",
+    "mt_type_text",
     "parse_alarm",
     "parse_alarm_filter",
     "parse_aut",
@@ -78,41 +78,9 @@ __all__ = [
 ]
 
 
-class _Named(Protocol):
-    """A member of an ODBST enum: its screen label and its meaning."""
-
-    @property
-    def label(self) -> str: ...
-
-    @property
-    def meaning(self) -> str: ...
-
-
-#: An ODBST enum (``AutMode``, ...): a member from a field's number, ValueError when unknown.
-FieldValues = Callable[[int], _Named]
-
-#: The ODBST fields in display order, with the enums of their values.
-STATUS_FIELDS: Final[tuple[tuple[str, FieldValues], ...]] = (
-    ("aut", AutMode),
-    ("run", RunState),
-    ("motion", MotionState),
-    ("mstb", MstbState),
-    ("emergency", EmergencyState),
-    ("alarm", AlarmState),
-    ("edit", EditState),
-    ("tmmode", TmMode),
-    ("hdck", HdckState),
-)
+#: An ODBST enumeration (``AutMode``, ...): its members carry a ``label`` and a ``meaning``.
+FieldValues = type[LabelledValue]
 _SUMMARY_FIELDS: Final = ("aut", "run", "motion", "mstb", "emergency", "alarm", "edit")
-
-
-def field_name(values: FieldValues, value: int) -> tuple[str, str]:
-    """``(label, meaning)`` of ``value`` of a field; an unknown value is its number."""
-    try:
-        member = values(value)
-    except ValueError:
-        return str(value), "unknown value"
-    return member.label, member.meaning
 
 
 def status_summary(status: StatusInfo) -> str:
@@ -121,45 +89,18 @@ def status_summary(status: StatusInfo) -> str:
     return " ".join(f"{f}={field_name(fields[f], getattr(status, f))[0]}" for f in _SUMMARY_FIELDS)
 
 
-#: ``mt_type`` (ODBSYS) of a compound machine, whose ODBST ``tmmode`` selects T or M.
-_COMPOUND: Final = "MT"
+def status_rows(status: StatusInfo, mt_type: str | None) -> list[tuple[str, str, str, str]]:
+    """``(field, value, name, meaning)`` for every ODBST field; ``tmmode`` named by the
+    machine's ``mt_type`` (ODBSYS; None when not known), as every front end names it."""
+    return [(f, str(v), name, meaning) for f, v, name, meaning in status_labels(status, mt_type)]
 
 
-def _tmmode_name(value: int, mt_type: str | None) -> tuple[str, str]:
-    """``tmmode`` as the operator reads it: the T/M selection on a compound machine; on any
-    other machine (where the field is 0 and selects nothing) the machine's own series."""
-    if mt_type is None or mt_type == _COMPOUND:
-        return field_name(TmMode, value)
-    series = mt_type[:1]
-    if series in ("M", "T"):
-        return series, f"{series} series machine (no T/M mode selection)"
-    return "-", "no T/M mode selection"
-
-
-def _status_fields(status: StatusInfo, mt_type: str | None) -> list[tuple[str, int, str, str]]:
-    rows = []
-    for f, values in STATUS_FIELDS:
-        value = getattr(status, f)
-        if f == "tmmode":
-            name, meaning = _tmmode_name(value, mt_type)
-        else:
-            name, meaning = field_name(values, value)
-        rows.append((f, value, name, meaning))
-    return rows
-
-
-def status_rows(status: StatusInfo, mt_type: str | None = None) -> list[tuple[str, str, str, str]]:
-    """``(field, value, name, meaning)`` for every ODBST field; with the machine's ``mt_type``
-    (ODBSYS), ``tmmode`` of a machine that is not compound names its series."""
-    return [(f, str(v), name, meaning) for f, v, name, meaning in _status_fields(status, mt_type)]
-
-
-def status_dict(status: StatusInfo, mt_type: str | None = None) -> dict[str, dict[str, Any]]:
+def status_dict(status: StatusInfo, mt_type: str | None) -> dict[str, dict[str, Any]]:
     """``{field: {"value": n, "name": ..., "meaning": ...}}`` for every ODBST field (``mt_type``
     as for :func:`status_rows`)."""
     return {
         f: {"value": v, "name": name, "meaning": meaning}
-        for f, v, name, meaning in _status_fields(status, mt_type)
+        for f, v, name, meaning in status_labels(status, mt_type)
     }
 
 
@@ -189,13 +130,18 @@ def _cnc_type_text(cnc_type: str) -> str:
     return {"PD": "Power Mate i-D", "PH": "Power Mate i-H"}.get(cnc_type, "")
 
 
+def mt_type_text(info: SysInfo) -> str:
+    """ODBSYS ``mt_type`` as text (``"M"``): what names a status's ``tmmode``."""
+    return _ascii(info.mt_type)
+
+
 def sysinfo_dict(info: SysInfo) -> dict[str, Any]:
     """The ODBSYS fields as text and numbers."""
     return {
         "addinfo": info.addinfo,
         "max_axis": info.max_axis,
         "cnc_type": _ascii(info.cnc_type),
-        "mt_type": _ascii(info.mt_type),
+        "mt_type": mt_type_text(info),
         "series": _ascii(info.series),
         "version": _ascii(info.version),
         "axes": _ascii(info.axes),
@@ -277,34 +223,21 @@ def positions_rows(data: Mapping[str, Any]) -> list[tuple[str, str, str]]:
 # -- alarms --------------------------------------------------------------------------------
 
 
-def alarm_code(alm_type: int, alm_no: int) -> str:
-    """``PS0100`` for type 3, number 100; an unnamed type is shown as ``T<n>:``."""
-    prefix = ALARM_TYPE_NAMES.get(alm_type)
-    if prefix is None:
-        return f"T{alm_type}:{alm_no:04d}"
-    return f"{prefix}{alm_no:04d}"
-
-
 def utc_text(when: datetime) -> str:
     """``2024-05-01T12:00:00Z``."""
     t = when.astimezone(UTC) if when.tzinfo else when
     return t.strftime("%Y-%m-%dT%H:%M:%SZ")
 
 
-def _axis_text(axis_no: int) -> str:
-    return f" (axis {axis_no})" if axis_no else ""
-
-
 def format_active_alarm(alarm: ActiveAlarm) -> str:
     """``PS0100 PARAMETER WRITE ENABLE`` (with `` (axis n)`` for an axis alarm)."""
-    text = f"{alarm_code(alarm.alm_type, alarm.alm_no)}{_axis_text(alarm.axis_no)}"
-    return f"{text} {alarm.msg}".rstrip()
+    return alarm_text(alarm.alm_type, alarm.alm_no, alarm.msg, alarm.axis_no)
 
 
 def format_history_entry(entry: AlarmHistoryEntry) -> str:
     """``2024-05-01T12:00:00Z PS0100 PARAMETER WRITE ENABLE``."""
-    code = alarm_code(entry.alm_type, entry.alm_no)
-    return f"{utc_text(entry.occurred_at)} {code}{_axis_text(entry.axis_no)} {entry.msg}".rstrip()
+    text = alarm_text(entry.alm_type, entry.alm_no, entry.msg, entry.axis_no)
+    return f"{utc_text(entry.occurred_at)} {text}"
 
 
 def alarm_dict(alarm: ActiveAlarm) -> dict[str, Any]:
@@ -531,7 +464,7 @@ def param_dict(
     ``bits``), a decimal string for a real one (with its ``decimals``); ``type`` when known."""
     data: dict[str, Any] = {"number": number, "axis": axis, "value": pv.value, "width": pv.width}
     if kind is not None:
-        data["type"] = kind.name.lower().replace("_", "-")
+        data["type"] = kind.label
     if pv.width == REAL_WIDTH:
         data["value"] = str(pv.real)
         data["decimals"] = pv.decimals

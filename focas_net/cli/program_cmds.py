@@ -141,8 +141,9 @@ def cycle(args: argparse.Namespace) -> PackedOnly:
         else:
             await cnc.sim.reset()
         st = await cnc.read_status()
+        mt_type = fmt.mt_type_text(await cnc.read_sysinfo())  # names tmmode
         return Output(
-            {"action": action, "status": fmt.status_dict(st)},
+            {"action": action, "status": fmt.status_dict(st, mt_type)},
             f"{action}: {fmt.status_summary(st)}",
         )
 

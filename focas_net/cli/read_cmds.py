@@ -56,7 +56,7 @@ __all__ = [
 def status(args: argparse.Namespace) -> Go:
     async def go(cnc: CncClient) -> Output:
         st = await cnc.read_status()
-        mt_type = fmt.sysinfo_dict(await cnc.read_sysinfo())["mt_type"]  # names tmmode
+        mt_type = fmt.mt_type_text(await cnc.read_sysinfo())  # names tmmode
         rows = fmt.status_rows(st, mt_type)
         table = fmt.render_table(("field", "value", "name", "meaning"), rows)
         return Output(fmt.status_dict(st, mt_type), f"{fmt.status_summary(st)}\n\n{table}")

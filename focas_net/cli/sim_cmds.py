@@ -55,11 +55,12 @@ def panel(args: argparse.Namespace) -> PackedOnly:
             await cnc.sim.set_panel(mode, pwe=args.pwe, emergency=args.emergency)
         p = await cnc.sim.read_panel()
         st = await cnc.read_status()
+        mt_type = fmt.mt_type_text(await cnc.read_sysinfo())  # names tmmode
         data = {
             "mode": int(p.mode),
             "pwe": int(p.pwe),
             "emergency": int(p.emergency),
-            "status": fmt.status_dict(st),
+            "status": fmt.status_dict(st, mt_type),
         }
         return Output(data, f"{fmt.status_summary(st)} pwe={'on' if p.pwe else 'off'}")
 

@@ -109,6 +109,8 @@ class WatchState:
     parts_required: int | None = None
     alarms: tuple[ActiveAlarm, ...] | None = None
     loads: LoadMeters | None = None
+    mt_type: str | None = None
+    """ODBSYS ``mt_type``, which names ``tmmode`` (read once)."""
 
 
 @dataclass(frozen=True, slots=True)
@@ -284,7 +286,7 @@ def frame_dict(frame: Frame) -> dict[str, Any]:
         return data
     info = s.run_info
     state: dict[str, Any] = {
-        "status": None if s.status is None else fmt.status_dict(s.status),
+        "status": None if s.status is None else fmt.status_dict(s.status, s.mt_type),
         "program_running": None if s.numbers is None else s.numbers.running,
         "program_main": None if s.numbers is None else s.numbers.main,
         "program_name": s.program_name,
@@ -333,11 +335,14 @@ async def _or_none(read: Awaitable[T]) -> T | None:
         return None
 
 
-async def poll(cnc: FocasClient, names: dict[int, str], *, directory: bool) -> WatchState:
+async def poll(
+    cnc: FocasClient, names: dict[int, str], *, directory: bool, mt_type: str | None = None
+) -> WatchState:
     """One frame's reads, all sent at once. ``names`` caches program names by number; the
     program directory is read in the same batch when ``directory`` (the first frame, or a
-    program whose name is not cached). An EW answer leaves its field None; a connection
-    failure is raised (and the other reads are cancelled)."""
+    program whose name is not cached). The identity is read too until its ``mt_type`` is
+    known (given as ``mt_type``). An EW answer leaves its field None; a connection failure is
+    raised (and the other reads are cancelled)."""
     task = asyncio.ensure_future
     status = task(_or_none(cnc.read_status()))
     numbers = task(_or_none(cnc.read_program_numbers()))
@@ -350,9 +355,10 @@ async def poll(cnc: FocasClient, names: dict[int, str], *, directory: bool) -> W
     alarms = task(_or_none(cnc.read_alarms()))
     entries = task(_or_none(cnc.read_program_directory())) if directory else None
     loads = task(_or_none(cnc.read_loads()))
+    sysinfo = task(_or_none(cnc.read_sysinfo())) if mt_type is None else None
     reads: list[asyncio.Future[Any]] = [
         status, numbers, sequence, *positions, feed, spindle, run_info, required, alarms,
-        loads, *([] if entries is None else [entries]),
+        loads, *([] if entries is None else [entries]), *([] if sysinfo is None else [sysinfo]),
     ]  # fmt: skip
     try:
         await asyncio.gather(*reads)
@@ -367,6 +373,9 @@ async def poll(cnc: FocasClient, names: dict[int, str], *, directory: bool) -> W
     nums = numbers.result()
     seq = sequence.result()
     active = alarms.result()
+    info = None if sysinfo is None else sysinfo.result()
+    if info is not None:
+        mt_type = fmt.mt_type_text(info)
     return WatchState(
         status=status.result(),
         numbers=nums,
@@ -379,6 +388,7 @@ async def poll(cnc: FocasClient, names: dict[int, str], *, directory: bool) -> W
         parts_required=required.result(),
         alarms=None if active is None else tuple(active),
         loads=loads.result(),
+        mt_type=mt_type,
     )
 
 
@@ -415,11 +425,18 @@ def _problem(exc: BaseException, address: str) -> str:
 
 
 async def _poll_or_problem(
-    cnc: FocasClient, names: dict[int, str], *, directory: bool, address: str
+    cnc: FocasClient,
+    names: dict[int, str],
+    last: WatchState | None,
+    *,
+    directory: bool,
+    address: str,
 ) -> WatchState | str:
-    """The state of one poll, or the line saying why the connection failed."""
+    """The state of one poll after the ``last`` one, or the line saying why the connection
+    failed."""
+    mt_type = None if last is None else last.mt_type
     try:
-        return await poll(cnc, names, directory=directory)
+        return await poll(cnc, names, directory=directory, mt_type=mt_type)
     except _CONNECTION_ERRORS as exc:
         return _problem(exc, address)
 
@@ -446,7 +463,9 @@ def watch(args: argparse.Namespace) -> PackedOnly:
             try:
                 next_at = loop.time()
                 while count is None or number < count:
-                    reading = _poll_or_problem(cnc, names, directory=directory, address=address)
+                    reading = _poll_or_problem(
+                        cnc, names, state, directory=directory, address=address
+                    )
                     done, polled = await _unless_stopped(reading, stop)
                     if not done or polled is None:
                         break

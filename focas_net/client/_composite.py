@@ -8,8 +8,10 @@ reading a PMC range, writing PMC chunks) and everything above them is written he
 
 A bit write is atomic against the bit writes **of the same client object** only: the lock is
 the client's, and neither protocol has a bit operation, so two clients (or a client and
-FANUC's library) writing bits of one byte at once can undo each other's change, as two
-programs using FANUC's library can. Share one client among the tasks that write bits.
+FANUC's library) writing bits of one byte at once can undo each other's change. FANUC's
+library gives no more: it has no bit write and no lock, so two programs using it lose bits
+the same way. Share one client among the tasks that write bits (docs/client.md, "One client
+for many tasks").
 """
 
 # Every call takes a per-call ``timeout=`` by contract, so ASYNC109 does not apply here.
@@ -244,8 +246,11 @@ class CompositeCalls(Lifecycle):
     ) -> None:
         """Set or clear one bit of a parameter (``1815.0``) by read-modify-write.
 
-        Writes of this client to the same ``(number, axis)`` are serialised by a lock; others
-        run in parallel (see the module docstring for writes of other clients).
+        The bit writes of **this client** to the same ``(number, axis)`` wait for one another
+        under a lock, so they never lose one another; others run in parallel. The lock is the
+        client's: a write of the parameter by another client, or by a program using FANUC's
+        library (which has no bit write and no lock either), between this read and write is
+        undone. Share one client among the tasks that write bits.
         """
         check_item(number, axis, "parameter")
         check_bit(bit, 4)
@@ -306,9 +311,15 @@ class CompositeCalls(Lifecycle):
         *,
         timeout: float | None = None,
     ) -> None:
-        """Set or clear one PMC bit: read the byte, change the bit, write the byte back, under
-        the lock of ``(area, byte)``, so that this client's bit writes never lose one another
-        (see the module docstring for writes of other clients)."""
+        """Set or clear one PMC bit: read the byte, change the bit, write the byte back.
+
+        The bit writes of **this client** to the same byte wait for one another under the
+        lock of ``(area, byte)``, so they never lose one another; other bytes proceed in
+        parallel. The lock is the client's: a write of the byte by another client, or by a
+        program using FANUC's library (whose ``pmc_wrpmcrng`` writes whole bytes too, with no
+        lock), between this read and write is undone. Share one client among the tasks that
+        write bits.
+        """
         a = self._pmc_area(area)
         check_bit(bit)
         check_pmc_range(byte, 1)

@@ -255,6 +255,15 @@ class NativeItems(NativeLink):
             record = self._param_record(handle, number, axis, ptype, *as_real)
         else:
             if isinstance(as_int, ValueError):
+                if not isinstance(as_real, ValueError):
+                    # a value with decimals travels as a REALPRM, 8 bytes: the library answers
+                    # EW_LENGTH for one of another parameter (in the 16i set, whose
+                    # information gives a real parameter as a bit one, every real parameter)
+                    raise CncError.from_ew(
+                        EW.LENGTH,
+                        f"cnc_wrparam: {number} is {size} bytes wide, not {REAL_WIDTH} (a "
+                        "value with decimals)",
+                    )
                 raise as_int
             if ptype == ParamType.BIT:
                 raw = byte_to_wire(number, as_int, ParamDataType.BIT)

@@ -25,6 +25,7 @@ from ..protocol import (
     RaiseAlarm,
     SetPanel,
     VacateMacro,
+    alarm_message,
 )
 from ..protocol import Command as C
 from ._pmc import write_pmc_range
@@ -128,17 +129,15 @@ class SimControl:
         timeout: float | None = None,
     ) -> None:
         """Raise an alarm: ``alm_type`` by name (``"PS"``), as an :class:`AlarmType` or a
-        number 0..31; ``alm_no`` 0..32767; ``axis_no`` 0 (the whole CNC) or 1..n.
+        number 0..31; ``alm_no`` 0..32767; ``axis_no`` 0 (the whole CNC) or 1..n; ``msg``
+        ASCII text (ValueError otherwise, before anything is sent).
 
         A CNC shows one entry per alarm: when the same ``(axis_no, alm_type, alm_no)`` is
         active, nothing changes (it keeps its first message)."""
         t = alarm_type_number(alm_type)
         check_int("alarm number", alm_no, 0, _I16_MAX)
         check_int("axis", axis_no, 0, _I16_MAX)
-        try:
-            raw = msg.encode("ascii")
-        except UnicodeEncodeError:
-            raise ValueError(f"alarm message must be ASCII: {msg!r}") from None
+        raw = alarm_message(msg)
         payload = _RAISE_ALARM.request.encode(RaiseAlarm(axis_no, t, alm_no, raw))
         client = self._client
         await client._request(_RAISE_ALARM, payload, timeout)

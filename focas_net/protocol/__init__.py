@@ -12,6 +12,9 @@ from .alarms import (
     AlarmHistory,
     AlarmHistoryEntry,
     AlarmType,
+    alarm_code,
+    alarm_message,
+    alarm_text,
 )
 from .codecs import (
     COMMANDS,
@@ -83,6 +86,8 @@ from .programs import (
     RunInfo,
 )
 from .values import (
+    COMPOUND_MT_TYPE,
+    STATUS_FIELDS,
     AlarmState,
     AutMode,
     EditState,
@@ -90,16 +95,21 @@ from .values import (
     FaultKind,
     FaultScope,
     HdckState,
+    LabelledValue,
     MotionState,
     MstbState,
     RunState,
     TmMode,
+    field_label,
+    status_labels,
+    tmmode_label,
 )
 from .versamax import MAX_CONFIG_CHUNK, VersaMaxReply, VersaMaxRequest
 
 __all__ = [
     "ALARM_TYPE_NAMES",
     "COMMANDS",
+    "COMPOUND_MT_TYPE",
     "DEFAULT_MAX_FRAME",
     "EW_OK_BYTES",
     "FAULT_COMMANDS",
@@ -115,6 +125,7 @@ __all__ = [
     "MAX_PROGRAM_TEXT",
     "MAX_REAL_DECIMALS",
     "PASSWORD_SIZE",
+    "STATUS_FIELDS",
     "ActiveAlarm",
     "ActiveAlarmList",
     "ActualValue",
@@ -146,6 +157,7 @@ __all__ = [
     "FrameDecoder",
     "HdckState",
     "InjectFault",
+    "LabelledValue",
     "LoadMeters",
     "MacroRequest",
     "MacroValue",
@@ -181,8 +193,14 @@ __all__ = [
     "VacateMacro",
     "VersaMaxReply",
     "VersaMaxRequest",
+    "alarm_code",
+    "alarm_message",
+    "alarm_text",
     "encode_ew",
     "encode_frame",
     "encode_response",
+    "field_label",
     "scan_frames",
+    "status_labels",
+    "tmmode_label",
 ]

@@ -29,6 +29,9 @@ __all__ = [
     "AlarmHistory",
     "AlarmHistoryEntry",
     "AlarmType",
+    "alarm_code",
+    "alarm_message",
+    "alarm_text",
 ]
 
 #: Longest message the CNC keeps for an alarm.
@@ -65,6 +68,39 @@ class AlarmType(enum.IntEnum):
 
 #: alm_type -> its two-letter prefix, as the CNC screen shows it.
 ALARM_TYPE_NAMES: Final[dict[int, str]] = {t.value: t.name for t in AlarmType}
+
+
+def alarm_code(alm_type: int, alm_no: int) -> str:
+    """An alarm's code as the CNC screen shows it: ``PS0100`` for type 3, number 100; a type
+    without a name is ``T<n>:`` (``T14:0001``)."""
+    prefix = ALARM_TYPE_NAMES.get(alm_type)
+    if prefix is None:
+        return f"T{alm_type}:{alm_no:04d}"
+    return f"{prefix}{alm_no:04d}"
+
+
+def alarm_text(alm_type: int, alm_no: int, msg: str = "", axis_no: int = 0) -> str:
+    """One alarm as every front end writes it: its code, `` (axis n)`` for an axis's alarm,
+    then its message (``SV0411 (axis 1) EXCESS ERROR IN MOVE``). A message that begins with
+    the code itself, as the screen shows it (``EX1001 COOLANT LEVEL LOW``), gives the code
+    once."""
+    code = alarm_code(alm_type, alm_no)
+    text = msg.strip()
+    if text == code or text.startswith(code + " "):
+        text = text[len(code) :].lstrip()
+    axis = f" (axis {axis_no})" if axis_no else ""
+    return f"{code}{axis} {text}".rstrip()
+
+
+def alarm_message(msg: str) -> bytes:
+    """The bytes of an alarm message given as text (``raise_alarm``): ASCII only, as the
+    packed protocol carries it; ValueError, naming the text, for any other character. Every
+    front end that takes a message as text (the client, the command line, the dashboard)
+    refuses with this rule; the wire itself carries any bytes."""
+    try:
+        return msg.encode("ascii")
+    except UnicodeEncodeError:
+        raise ValueError(f"alarm message must be ASCII: {msg!r}") from None
 
 
 def _text(raw: bytes) -> str:

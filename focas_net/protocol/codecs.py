@@ -393,6 +393,12 @@ class ParamDataType(enum.IntEnum):
     TWO_WORD = 3
     REAL = 4
 
+    @property
+    def label(self) -> str:
+        """The type as every front end names it: ``bit``, ``byte``, ``word``, ``two-word``,
+        ``real``."""
+        return self.name.lower().replace("_", "-")
+
 
 @dataclass(frozen=True, slots=True)
 class ParamAttributesRequest(FixedPayload):
@@ -421,6 +427,15 @@ class ParamAttributes(FixedPayload):
     def type(self) -> ParamDataType | None:
         """:attr:`kind` as a :class:`ParamDataType` (None for a number it does not have)."""
         return ParamDataType(self.kind) if self.kind in ParamDataType._value2member_map_ else None
+
+    def __repr__(self) -> str:
+        """Shown by its :attr:`type`, as the docs name it (a number with no type: its kind)."""
+        kind = self.type
+        shown = f"type=ParamDataType.{kind.name}" if kind is not None else f"kind={self.kind}"
+        return (
+            f"ParamAttributes(datano={self.datano}, {shown}, axis={self.axis}, "
+            f"decimals={self.decimals}, low={self.low}, high={self.high})"
+        )
 
 
 _RAISE_HEAD: Final = struct.Struct("<hhhh")

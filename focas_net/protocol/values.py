@@ -6,14 +6,19 @@ short description for people. The screen writes "nothing" as asterisks filling t
 ``****`` in the four-character fields (mode, run state, edit state) and ``***`` in the
 three-character motion and M/S/T/B fields. The emergency and alarm fields stay blank on the
 screen when inactive; their inactive members use ``****`` so that a label is never empty.
+
+This is the one table of those texts: the command line and the dashboard both name a status
+through :func:`status_labels` (``tmmode`` by the machine's series, :func:`tmmode_label`).
 """
 
 from __future__ import annotations
 
 import enum
-from typing import TYPE_CHECKING, Self
+from typing import TYPE_CHECKING, Final, Self
 
 __all__ = [
+    "COMPOUND_MT_TYPE",
+    "STATUS_FIELDS",
     "AlarmState",
     "AutMode",
     "EditState",
@@ -21,14 +26,18 @@ __all__ = [
     "FaultKind",
     "FaultScope",
     "HdckState",
+    "LabelledValue",
     "MotionState",
     "MstbState",
     "RunState",
     "TmMode",
+    "field_label",
+    "status_labels",
+    "tmmode_label",
 ]
 
 
-class _Labelled(enum.IntEnum):
+class LabelledValue(enum.IntEnum):
     """An ODBST field value with its screen ``label`` and its ``meaning``.
 
     Members are written ``NAME = number, label, meaning``; the member's value is the number.
@@ -73,7 +82,7 @@ class _Labelled(enum.IntEnum):
             raise ValueError(f"unknown {cls.__name__} {value!r}") from None
 
 
-class AutMode(_Labelled):
+class AutMode(LabelledValue):
     """ODBST ``aut``: the mode selection."""
 
     MDI = 0, "MDI", "manual data input"
@@ -89,7 +98,7 @@ class AutMode(_Labelled):
     RMT = 10, "RMT", "remote (DNC) operation"
 
 
-class RunState(_Labelled):
+class RunState(LabelledValue):
     """ODBST ``run``: the automatic operation status."""
 
     RESET = 0, "****", "reset"
@@ -99,7 +108,7 @@ class RunState(_Labelled):
     MSTR = 4, "MSTR", "manual numerical command / tool retract and return"
 
 
-class MotionState(_Labelled):
+class MotionState(LabelledValue):
     """ODBST ``motion``: axis movement or dwell."""
 
     NONE = 0, "***", "no motion"
@@ -107,14 +116,14 @@ class MotionState(_Labelled):
     DWL = 2, "DWL", "dwell"
 
 
-class MstbState(_Labelled):
+class MstbState(LabelledValue):
     """ODBST ``mstb``: M/S/T/B function status."""
 
     NONE = 0, "***", "no M/S/T/B function"
     FIN = 1, "FIN", "M/S/T/B function waiting for completion (FIN)"
 
 
-class EmergencyState(_Labelled):
+class EmergencyState(LabelledValue):
     """ODBST ``emergency``."""
 
     NONE = 0, "****", "not in emergency stop"
@@ -122,7 +131,7 @@ class EmergencyState(_Labelled):
     RESET = 2, "RESET", "reset signal on"
 
 
-class AlarmState(_Labelled):
+class AlarmState(LabelledValue):
     """ODBST ``alarm`` (30i numbering beyond 2)."""
 
     NONE = 0, "****", "no alarm"
@@ -136,7 +145,7 @@ class AlarmState(_Labelled):
     PMC = 8, "PMC", "PMC alarm"
 
 
-class EditState(_Labelled):
+class EditState(LabelledValue):
     """ODBST ``edit``: the program editing status.
 
     The values common to every series; higher ones differ per series (and model) and have no
@@ -151,18 +160,75 @@ class EditState(_Labelled):
     COMPARE = 5, "COMPARE", "comparing data"
 
 
-class TmMode(_Labelled):
+class TmMode(LabelledValue):
     """ODBST ``tmmode``: the T/M mode selection of a compound machine."""
 
     T = 0, "T", "T mode"
     M = 1, "M", "M mode"
 
 
-class HdckState(_Labelled):
+class HdckState(LabelledValue):
     """ODBST ``hdck``: the manual handle retrace status."""
 
     NONE = 0, "****", "manual handle retrace off"
     HDCK = 1, "HDCK", "manual handle retrace on"
+
+
+#: The ODBST fields in the order every front end lists them, each with the enumeration that
+#: names its values.
+STATUS_FIELDS: Final[tuple[tuple[str, type[LabelledValue]], ...]] = (
+    ("aut", AutMode),
+    ("run", RunState),
+    ("motion", MotionState),
+    ("mstb", MstbState),
+    ("emergency", EmergencyState),
+    ("alarm", AlarmState),
+    ("edit", EditState),
+    ("tmmode", TmMode),
+    ("hdck", HdckState),
+)
+#: ODBSYS ``mt_type`` of a compound machine: the one kind whose ``tmmode`` selects T or M.
+COMPOUND_MT_TYPE: Final = "MT"
+
+
+def field_label(values: type[LabelledValue], value: int) -> tuple[str, str]:
+    """``(label, meaning)`` of ``value`` of a field named by ``values``; a number without a
+    member is shown as itself, ``"unknown value"``."""
+    try:
+        member = values(value)
+    except ValueError:
+        return str(value), "unknown value"
+    return member.label, member.meaning
+
+
+def tmmode_label(value: int, mt_type: str | None) -> tuple[str, str]:
+    """``(label, meaning)`` of ``tmmode`` as the operator reads it. Only a compound machine
+    (ODBSYS ``mt_type`` ``"MT"``) selects T or M; on any other the field is 0 and selects
+    nothing, so it names the machine's own series (``"M"``, ``"M series machine (no T/M mode
+    selection)"``). ``mt_type`` None (not known) reads the field as a compound machine's."""
+    series = None if mt_type is None else mt_type.strip()
+    if series is None or series == COMPOUND_MT_TYPE:
+        return field_label(TmMode, value)
+    series = series[:1]
+    if series in ("M", "T"):
+        return series, f"{series} series machine (no T/M mode selection)"
+    return "-", "no T/M mode selection"
+
+
+def status_labels(status: object, mt_type: str | None = None) -> list[tuple[str, int, str, str]]:
+    """``(field, value, label, meaning)`` of every ODBST field of ``status`` (a
+    :class:`~focas_net.protocol.StatusInfo`, or any record with the same fields) in
+    :data:`STATUS_FIELDS` order; ``tmmode`` named by the machine's ``mt_type``
+    (:func:`tmmode_label`)."""
+    rows = []
+    for name, values in STATUS_FIELDS:
+        value = int(getattr(status, name))
+        if values is TmMode:
+            label, meaning = tmmode_label(value, mt_type)
+        else:
+            label, meaning = field_label(values, value)
+        rows.append((name, value, label, meaning))
+    return rows
 
 
 class FaultKind(enum.IntEnum):

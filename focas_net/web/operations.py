@@ -22,7 +22,7 @@ from decimal import Decimal, InvalidOperation
 from typing import Any, Final
 
 from focas_net.errors import EW, ew_name
-from focas_net.protocol import FaultKind, FaultScope, InjectFault
+from focas_net.protocol import FaultKind, FaultScope, InjectFault, alarm_message
 from focas_net.server.faults import FaultQueue, parse_inject
 from focas_net.sim import Machine, MachineError, ParamKind, Session
 
@@ -83,22 +83,41 @@ def refusal(exc: MachineError) -> JsonDict:
 
 # -- arguments ------------------------------------------------------------------------------
 def _int(args: Mapping[str, Any], key: str, default: int | None = None) -> int:
-    value = args.get(key, default)
-    if value is None or value == "":
-        if default is not None:
-            return default
+    """``args[key]`` as a whole number (decimal, ``0x`` or ``0b``); ``default`` when it is not
+    given, but a field sent empty is refused like a field that is not a number."""
+    value = args.get(key)
+    if value is None and default is not None:
+        return default
+    if value is None or (isinstance(value, str) and not value.strip()):
         raise ActionError(f"{key}: a number is needed")
     if isinstance(value, bool):
         raise ActionError(f"{key}: a number is needed, got {value!r}")
     if isinstance(value, int):
         return value
     if isinstance(value, str):
-        text = value.strip()
+        number = _prefixed(value)
+        if number is not None:
+            return number
         try:
-            return int(text, 0) if text.lower().startswith(("0x", "0b")) else int(text)
+            return int(value.strip())
         except ValueError:
             pass
     raise ActionError(f"{key}: not a whole number: {value!r}")
+
+
+_PREFIXES: Final = ("0x", "0b", "0o")
+
+
+def _prefixed(text: str) -> int | None:
+    """``0xB0``, ``0b1011_0000`` or ``0o260`` (a sign allowed) as the number it writes, as
+    the command line reads them; None for text without such a prefix or not a number."""
+    body = text.strip().lower().lstrip("+-")
+    if not body.startswith(_PREFIXES):
+        return None
+    try:
+        return int(text.strip().replace("_", ""), 0)
+    except ValueError:
+        return None
 
 
 def _optional_int(args: Mapping[str, Any], key: str) -> int | None:
@@ -116,11 +135,16 @@ def _text(args: Mapping[str, Any], key: str, default: str = "") -> str:
 
 
 def _decimal(args: Mapping[str, Any], key: str) -> Decimal | None:
+    """``args[key]`` as a number: decimal text (``12.345``) or a whole number written as the
+    command line writes it (``0xB0``, ``0b10110000``); None when empty."""
     value = args.get(key)
     if value is None or (isinstance(value, str) and not value.strip()):
         return None
     if isinstance(value, bool) or not isinstance(value, str | int):
         raise ActionError(f"{key}: a number is needed, got {value!r}")
+    whole = _prefixed(value) if isinstance(value, str) else None
+    if whole is not None:
+        return Decimal(whole)
     try:
         number = Decimal(str(value).strip())
     except InvalidOperation:
@@ -163,8 +187,13 @@ def _overrides(station: Station, args: Mapping[str, Any]) -> JsonDict:
 
 
 def _raise_alarm(station: Station, args: Mapping[str, Any]) -> JsonDict:
+    msg = _text(args, "msg")
+    try:
+        alarm_message(msg)  # text, as the client and the command line take it
+    except ValueError as exc:
+        raise ActionError(f"msg: {exc}") from None
     raised = station.machine.raise_alarm(
-        _int(args, "axis_no", 0), _int(args, "alm_type"), _int(args, "alm_no"), _text(args, "msg")
+        _int(args, "axis_no", 0), _int(args, "alm_type"), _int(args, "alm_no"), msg
     )
     return {"raised": raised}
 
@@ -257,7 +286,9 @@ def _inject_fault(station: Station, args: Mapping[str, Any]) -> JsonDict:
     except (KeyError, ValueError):
         names = ", ".join(k.name for k in FaultKind)
         raise ActionError(f"kind: one of {names}, got {kind_text!r}") from None
-    count, arg = _int(args, "count", 1), _int(args, "arg", 0)
+    # a delay or an error needs its argument; a drop or a split ignores one it is given
+    needs_arg = kind in (FaultKind.DELAY, FaultKind.ERROR)
+    count, arg = _int(args, "count", 1), _int(args, "arg", None if needs_arg else 0)
     if count not in _I16:
         raise ActionError(f"count: 1..10000, got {count}")
     if arg not in _I32:

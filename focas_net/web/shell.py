@@ -7,7 +7,8 @@ of focas_net needs only anyio. It runs in the caller's event loop, beside the
 Routes::
 
     GET  /                                   the page (static/index.html)
-    GET  /static/<file>                      its script and style sheet
+    GET  /static/<file>                      its script, style sheet and icon
+    GET  /favicon.ico                        the icon (static/favicon.svg)
     GET  /api/info                           {"read_only", "machines"}
     GET  /api/fleet                          the fleet view
     GET  /api/machines/<i>                   machine i's view
@@ -126,6 +127,7 @@ class Dashboard:
         app = aw.Application()
         app.router.add_get("/", self._index)
         app.router.add_static("/static/", STATIC_DIR, show_index=False)
+        app.router.add_get("/favicon.ico", self._icon)
         app.router.add_get("/api/info", self._info)
         app.router.add_get("/api/fleet", self._fleet)
         app.router.add_get("/api/machines/{index}", self._machine)
@@ -185,10 +187,17 @@ class Dashboard:
         return self.stations[int(text)]
 
     # -- handlers -------------------------------------------------------------------------
-    async def _index(self, _request: web.Request) -> web.StreamResponse:
+    @staticmethod
+    def _file(name: str) -> web.StreamResponse:
         aw = _aiohttp()
-        response: web.FileResponse = aw.FileResponse(STATIC_DIR / "index.html")
+        response: web.FileResponse = aw.FileResponse(STATIC_DIR / name)
         return response
+
+    async def _index(self, _request: web.Request) -> web.StreamResponse:
+        return self._file("index.html")
+
+    async def _icon(self, _request: web.Request) -> web.StreamResponse:
+        return self._file("favicon.svg")
 
     async def _info(self, _request: web.Request) -> web.Response:
         return self._json({"read_only": self.read_only, "machines": len(self.stations)})

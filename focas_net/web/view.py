@@ -16,15 +16,13 @@ from typing import Any, Final
 
 from focas_net.errors import EW, ew_name
 from focas_net.protocol import (
-    AlarmState,
     AutMode,
-    EditState,
-    EmergencyState,
-    HdckState,
-    MotionState,
-    MstbState,
+    FaultKind,
+    ParamDataType,
     RunState,
-    TmMode,
+    alarm_code,
+    alarm_text,
+    status_labels,
 )
 from focas_net.sim import (
     AUT_MODES,
@@ -66,45 +64,28 @@ PROGRAM_LINES: Final = 2000
 
 _MM: Final = 10**POSITION_DECIMALS
 
-#: The ODBST fields in FANUC's order, with the enumeration that names their values.
-_STATUS: Final = (
-    ("hdck", HdckState),
-    ("tmmode", TmMode),
-    ("aut", AutMode),
-    ("run", RunState),
-    ("motion", MotionState),
-    ("mstb", MstbState),
-    ("emergency", EmergencyState),
-    ("alarm", AlarmState),
-    ("edit", EditState),
-)
-#: ``mt_type`` of a compound machine, whose ``tmmode`` selects T or M.
-_COMPOUND: Final = "MT"
 _MODE_LABELS: Final = {m.value: m.label for m in AutMode}
 _RUN_LABELS: Final = {m.value: m.label for m in RunState}
-
-
-def _label(values: Any, value: int) -> tuple[str, str]:
-    try:
-        member = values(value)
-    except ValueError:
-        return str(value), "unknown value"
-    return str(member.label), str(member.meaning)
+_RUN_NAMES: Final = {m.value: m.name for m in RunState}
 
 
 def status_fields(machine: Machine) -> list[JsonDict]:
-    """The ODBST fields: ``{"field": "run", "value": 3, "label": "STRT", "meaning": ...}``."""
-    status = machine.status()
-    series = machine.identity().mt_type.strip()
-    rows = []
-    for name, values in _STATUS:
-        value = int(getattr(status, name))
-        label, meaning = _label(values, value)
-        if name == "tmmode" and series != _COMPOUND:
-            # only a compound machine selects T or M; any other is of its own series
-            label, meaning = series or "-", f"{series} series machine (no T/M mode selection)"
-        rows.append({"field": name, "value": value, "label": label, "meaning": meaning})
-    return rows
+    """The ODBST fields: ``{"field": "run", "value": 3, "label": "STRT", "meaning": ...}``,
+    named by the table the command line uses (``tmmode`` by the machine's series)."""
+    rows = status_labels(machine.status(), machine.identity().mt_type)
+    return [{"field": f, "value": v, "label": label, "meaning": m} for f, v, label, m in rows]
+
+
+def _alarm(axis_no: int, alm_type: int, alm_no: int, msg: str) -> JsonDict:
+    """An alarm's numbers, message, code and the text every front end shows."""
+    return {
+        "axis_no": axis_no,
+        "alm_type": alm_type,
+        "alm_no": alm_no,
+        "msg": msg,
+        "code": alarm_code(alm_type, alm_no),
+        "text": alarm_text(alm_type, alm_no, msg, axis_no),
+    }
 
 
 def _mm(value: int) -> float:
@@ -130,12 +111,15 @@ def machine_tile(
         "port": port,
         "mode": _MODE_LABELS.get(status.aut, str(status.aut)),
         "run": _RUN_LABELS.get(status.run, str(status.run)),
+        "run_state": _RUN_NAMES.get(status.run, str(status.run)),
         "emergency": bool(status.emergency),
         "program": motion.program_running,
         "sequence": motion.sequence,
         "parts": count,
         "parts_total": total,
-        "alarm": None if first is None else f"{first.alm_no} {first.msg}".strip(),
+        "alarm": None
+        if first is None
+        else alarm_text(first.alm_type, first.alm_no, first.msg, first.axis_no),
         "alarms": len(alarms),
     }
 
@@ -248,18 +232,9 @@ def machine_view(
         "parts": {"count": count, "total": total, "required": required},
         "panel": {"mode": panel.mode, "pwe": panel.pwe, "emergency": panel.emergency},
         "modes": [[m, _MODE_LABELS[m]] for m in sorted(AUT_MODES)],
-        "alarms": [
-            {"axis_no": a.axis_no, "alm_type": a.alm_type, "alm_no": a.alm_no, "msg": a.msg}
-            for a in machine.active_alarms()
-        ],
+        "alarms": [_alarm(a.axis_no, a.alm_type, a.alm_no, a.msg) for a in machine.active_alarms()],
         "history": [
-            {
-                "time": h.occurred_at.isoformat(),
-                "axis_no": h.axis_no,
-                "alm_type": h.alm_type,
-                "alm_no": h.alm_no,
-                "msg": h.msg,
-            }
+            {"time": h.occurred_at.isoformat(), **_alarm(h.axis_no, h.alm_type, h.alm_no, h.msg)}
             for h in machine.alarm_history(HISTORY_SHOWN)
         ],
         "programs": [
@@ -275,6 +250,7 @@ def machine_view(
         "program": _program(machine),
         "pmc_areas": _pmc_areas(machine),
         "faults": [{"kind": k, "remaining": n, "arg": arg} for k, n, arg in faults],
+        "fault_kinds": [k.name for k in FaultKind],
         "versions": {"data": machine.data_version, "macro": machine.macro_version},
     }
 
@@ -317,7 +293,9 @@ def _param_text(item: DataItem, value: int) -> str:
 
 def param_rows(machine: Machine, query: str = "", limit: int = 200) -> list[JsonDict]:
     """The parameters whose number starts with ``query`` or whose name contains it (case
-    insensitive), at most ``limit`` of them, by number."""
+    insensitive), at most ``limit`` of them, by number. ``kind`` is the type as every front
+    end names it (``two-word``); an axis parameter has a value per axis, named in ``axes``;
+    a bit parameter has its ``bits`` (#7..#0) beside each value."""
     q = query.strip().lower()
     rows: list[JsonDict] = []
     for number in machine.param_numbers():
@@ -325,20 +303,20 @@ def param_rows(machine: Machine, query: str = "", limit: int = 200) -> list[Json
         assert item is not None
         if q and not (str(number).startswith(q) or q in item.name.lower()):
             continue
-        kind = item.kind.name.lower() if item.kind is not None else ""
+        axes = list(machine.axes) if item.axis else []
+        raw = [machine.read_param(number, axis) for axis in range(1, len(axes) + 1) or (0,)]
         rows.append(
             {
                 "number": number,
                 "name": item.name,
-                "kind": kind,
+                "kind": "" if item.kind is None else ParamDataType(item.kind).label,
                 "axis": item.axis,
+                "axes": axes,
                 "low": item.low,
                 "high": item.high,
                 "decimals": item.decimals,
-                "values": [
-                    _param_text(item, machine.read_param(number, axis))
-                    for axis in (range(1, len(machine.axes) + 1) if item.axis else (0,))
-                ],
+                "values": [_param_text(item, value) for value in raw],
+                "bits": [f"{value:08b}" for value in raw] if item.kind is ParamKind.BIT else None,
             }
         )
         if len(rows) >= limit:

@@ -2,7 +2,7 @@
 "use strict";
 
 const $ = (id) => document.getElementById(id);
-const state = { readOnly: false, ws: null, topic: null, machine: null, view: null };
+const state = { readOnly: false, machines: 0, ws: null, topic: null, machine: null, view: null };
 
 // Searches answer out of order when typed fast: each kind of list draws only the answer to the
 // last search it sent.
@@ -44,8 +44,20 @@ async function act(action, args) {
 }
 
 // -- routing and the live link -------------------------------------------------------------
+function notice(text) {
+  $("notice").textContent = text;
+  $("notice").hidden = !text;
+}
+
 function route() {
-  const m = location.hash.match(/^#\/machine\/(\d+)/);
+  let m = location.hash.match(/^#\/machine\/(\d+)$/);
+  notice("");
+  if (!m && location.hash.startsWith("#/machine/") || m && Number(m[1]) >= state.machines) {
+    // an address of no machine: say so over the fleet, never over another machine's view
+    const what = location.hash.slice("#/machine/".length);
+    notice(`no machine ${what} (this dashboard shows machines 0..${state.machines - 1})`);
+    m = null;
+  }
   $("fleet-view").hidden = !!m;
   $("machine-view").hidden = !m;
   if (m) {
@@ -86,7 +98,8 @@ function connect() {
   };
   ws.onmessage = (ev) => {
     const msg = JSON.parse(ev.data);
-    if (msg.type === "fleet" && state.machine === null) renderFleet(msg.data);
+    if (msg.type === "error") show(msg.error, false);
+    else if (msg.type === "fleet" && state.machine === null) renderFleet(msg.data);
     else if (msg.type === "machine" && msg.data.index === state.machine) {
       renderMachine(msg.data);
       renderPmc(msg.pmc);
@@ -123,7 +136,7 @@ function renderFleet(data) {
   for (const t of data.machines) {
     if (filter && !t.name.toLowerCase().includes(filter)) continue;
     const { node, parts } = tileOf(t);
-    const cls = `tile ${t.run === "****" ? "RESET" : t.run}${t.alarms ? " alarm" : ""}`;
+    const cls = `tile ${t.run_state}${t.alarms ? " alarm" : ""}`;
     if (node.className !== cls) node.className = cls;
     setText(parts.name, t.name);
     setText(parts.port, `:${t.port}`);
@@ -131,7 +144,7 @@ function renderFleet(data) {
     setText(parts.run, t.run);
     setText(parts.program, `O${String(t.program).padStart(4, "0")}`);
     setText(parts.sequence, `N${t.sequence}`);
-    setText(parts.parts, `${t.parts} parts`);
+    setText(parts.parts, `${t.parts} part${t.parts === 1 ? "" : "s"}`);
     setText(parts.alarm, t.alarm ? `ALM ${t.alarm}` : (t.emergency ? "EMG" : "\u00a0"));
     shown.push(node);
   }
@@ -175,6 +188,7 @@ function renderMachine(v) {
     $("pmc-area").replaceChildren(...v.pmc_areas.map((a) =>
       el("option", { value: a.area }, `${a.area} (${a.size})`)));
     $("pmc-area").value = "X";
+    $("fault-kind").replaceChildren(...v.fault_kinds.map((k) => el("option", { value: k }, k)));
     applyReadOnly();
   }
   setIfIdle($("mode"), String(v.panel.mode));
@@ -208,10 +222,10 @@ function renderMachine(v) {
     el("tr", {}, el("td", {}, "parts required"), el("td", {}, String(v.parts.required ?? "-"))));
 
   $("alarms").replaceChildren(...(v.alarms.length ? v.alarms.map((a) =>
-    el("li", { class: "alarm" }, `type ${a.alm_type} no. ${a.alm_no}${a.axis_no ? " axis " + a.axis_no : ""} ${a.msg}`))
+    el("li", { class: "alarm" }, a.text))
     : [el("li", { class: "none" }, "no active alarm")]));
   $("history").replaceChildren(...v.history.map((h) =>
-    el("li", {}, `${h.time.replace("T", " ").replace("+00:00", "Z")}  type ${h.alm_type} no. ${h.alm_no} ${h.msg}`)));
+    el("li", {}, `${h.time.replace("T", " ").replace("+00:00", "Z")}  ${h.text}`)));
 
   const dirKey = JSON.stringify(v.programs);
   if (state.dirKey !== dirKey) {
@@ -323,7 +337,8 @@ async function loadParams() {
   const q = encodeURIComponent($("param-search").value);
   const answer = await newest("params", `/api/machines/${state.machine}/params?q=${q}`);
   if (answer === null) return;  // a later search is under way
-  const body = answer.body;
+  const { res, body } = answer;
+  if (!res.ok) { show(body.error, false); return; }
   $("params").replaceChildren(
     el("tr", {}, el("th", {}, "no."), el("th", {}, "name"), el("th", {}, "type"),
       el("th", {}, "value(s)")),
@@ -332,14 +347,18 @@ async function loadParams() {
       el("td", {}, ...p.values.map((val, i) => {
         const axis = p.axis ? i + 1 : 0;
         const input = el("input", { value: val, id: `param-${p.number}-${axis}`,
-          "data-write": "", disabled: state.readOnly, title: `${p.low}..${p.high}` });
+          "data-write": "", disabled: state.readOnly,
+          title: p.bits ? "0..255, 0xB0 or 0b10110000 (bits #7..#0)" : `${p.low}..${p.high}` });
         input.addEventListener("keydown", (ev) => {
           if (ev.key === "Enter") writeParam(p.number, axis, input.value);
         });
         const save = el("button", { class: "small", id: `param-save-${p.number}-${axis}`,
           "data-write": "", disabled: state.readOnly,
           onclick: () => writeParam(p.number, axis, input.value) }, "write");
-        return el("span", {}, input, save);
+        const name = p.axis ? [el("b", { class: "axis" }, p.axes[i])] : [];
+        const bits = p.bits ? [el("code", { class: "bits", id: `param-bits-${p.number}-${axis}`,
+          title: "bits #7..#0" }, p.bits[i])] : [];
+        return el("div", { class: "value" }, ...name, input, ...bits, save);
       })))));
 }
 
@@ -360,11 +379,13 @@ async function loadMacros() {
     ...body.macros.map((m) => {
       const input = el("input", { value: m.value, placeholder: "vacant", id: `macro-${m.number}`,
         "data-write": "", disabled: state.readOnly || !m.writable });
-      const save = el("button", { class: "small", "data-write": "",
-        disabled: state.readOnly || !m.writable, onclick: async () => {
-          const r = await act("write_macro", { number: m.number, value: input.value });
-          if (r.ok) input.value = r.value;
-        } }, "write");
+      const write = async () => {
+        const r = await act("write_macro", { number: m.number, value: input.value });
+        if (r.ok) input.value = r.value;
+      };
+      input.addEventListener("keydown", (ev) => { if (ev.key === "Enter") write(); });
+      const save = el("button", { class: "small", id: `macro-save-${m.number}`, "data-write": "",
+        disabled: state.readOnly || !m.writable, onclick: write }, "write");
       return el("tr", {}, el("td", {}, `#${m.number}`), el("td", {}, input, save));
     }));
 }
@@ -407,6 +428,7 @@ function wire() {
 async function main() {
   const info = await (await fetch("/api/info")).json();
   state.readOnly = info.read_only;
+  state.machines = info.machines;
   applyReadOnly();
   wire();
   route();
