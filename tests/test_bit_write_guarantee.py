@@ -9,11 +9,12 @@ import re
 import sys
 from pathlib import Path
 
-from support import IO_TIMEOUT, serving, wait_until
+from support import IO_TIMEOUT, serving
+from virtual_net import VirtualLoop
 
 from focas_net.client import FocasClient, NativeClient
 from focas_net.protocol import FaultKind
-from focas_net.server import Fault
+from focas_net.server import Fault, FocasServer
 from focas_net.sim import default_machine
 
 ROOT = Path(__file__).resolve().parent.parent
@@ -37,26 +38,41 @@ async def test_the_shared_client_example_of_the_docs_loses_no_bit(tmp_path: Path
         assert served.machine.read_pmc("R", 100, 1) == b"\xfe"
 
 
-async def test_the_lock_is_the_clients_a_second_client_can_undo_a_bit() -> None:
-    async with serving(default_machine()) as served:
-        async with (
-            FocasClient(served.host, served.port, timeout=IO_TIMEOUT) as first,
-            NativeClient(served.host, served.port, timeout=IO_TIMEOUT) as second,
-        ):
-            # the machine answers the first client's read of R100 late: the second client
-            # writes its bit after that read and before the first client's write
-            faults = served.listener.faults
-            assert faults.arm(Fault(FaultKind.DELAY, DELAY_MS, 1)) == 0
-            writing = asyncio.ensure_future(first.write_pmc_bit("R", 100, 0, True))
-            await wait_until(lambda: not faults)  # the read is answered, late
-            await second.write_pmc_bit("R", 100, 1, True)
-            assert served.machine.read_pmc("R", 100, 1) == b"\x02"
-            await writing
-            # the first client wrote back the byte it had read, with its bit: R100.1 is lost
-            assert served.machine.read_pmc("R", 100, 1) == b"\x01"
-            # the bit writes of one client wait for one another: none is lost
-            await asyncio.gather(*(first.write_pmc_bit("R", 101, b, True) for b in range(8)))
-            assert served.machine.read_pmc("R", 101, 1) == b"\xff"
+def test_the_lock_is_the_clients_a_second_client_can_undo_a_bit() -> None:
+    """On a clock the test steps (``virtual_net``): the server answers the first client's read
+    of R100 late, so the second client's bit write falls between that read and the first
+    client's write, whatever the machine's load."""
+    loop = VirtualLoop()
+
+    async def main() -> None:
+        machine = default_machine()
+        async with FocasServer(machine, host="127.0.0.1", port=0, idle_timeout=0) as server:
+            host, port = server.listeners[0].address
+            async with (
+                FocasClient(host, port, timeout=IO_TIMEOUT) as first,
+                NativeClient(host, port, timeout=IO_TIMEOUT) as second,
+            ):
+                faults = server.listeners[0].faults
+                assert faults.arm(Fault(FaultKind.DELAY, DELAY_MS, 1)) == 0
+                writing = asyncio.ensure_future(first.write_pmc_bit("R", 100, 0, True))
+                for _ in range(1000):  # until the read is taken; its answer waits DELAY_MS
+                    if not faults:
+                        break
+                    await asyncio.sleep(0)
+                assert not faults
+                await second.write_pmc_bit("R", 100, 1, True)  # no machine time passes
+                assert machine.read_pmc("R", 100, 1) == b"\x02"
+                await writing
+                # the first client wrote back the byte it had read, with its bit: R100.1 is lost
+                assert machine.read_pmc("R", 100, 1) == b"\x01"
+                # the bit writes of one client wait for one another: none is lost
+                await asyncio.gather(*(first.write_pmc_bit("R", 101, b, True) for b in range(8)))
+                assert machine.read_pmc("R", 101, 1) == b"\xff"
+
+    try:
+        loop.run_until_complete(main())
+    finally:
+        loop.close()
 
 
 def test_the_api_docs_say_whose_lock_it_is() -> None:
