@@ -21,6 +21,8 @@ __all__ = ["MAX_MACRO_DECIMALS", "MacroRange", "Macros", "float_macro", "macro_v
 #: Most decimal places a macro variable holds.
 MAX_MACRO_DECIMALS: Final = 9
 _MACRO_STEP: Final = Decimal(1).scaleb(-MAX_MACRO_DECIMALS)
+#: Digits of a signed 32-bit integer at most.
+_I32_DIGITS: Final = len(str(I32_MAX))
 
 
 @dataclass(frozen=True, slots=True)
@@ -42,7 +44,7 @@ def macro_value(value: Decimal | int) -> Decimal | None:
         return None
     sign, digits, exponent = value.as_tuple()
     assert isinstance(exponent, int)
-    if not -MAX_MACRO_DECIMALS <= exponent <= 0:
+    if not -MAX_MACRO_DECIMALS <= exponent <= 0 or len(digits) > _I32_DIGITS:
         return None
     coefficient = int("".join(map(str, digits)))
     if not I32_MIN <= (-coefficient if sign else coefficient) <= I32_MAX:
