@@ -14,7 +14,7 @@ from typing import Final
 
 from focas_net.errors import EW
 
-from ._base import I32_MAX, I32_MIN, Counters, MachineError
+from ._base import I32_MAX, I32_MIN, NUMBERS, Counters, MachineError
 
 __all__ = ["MAX_MACRO_DECIMALS", "MacroRange", "Macros", "float_macro", "macro_value"]
 
@@ -82,8 +82,11 @@ class Macros:
         self.counters = counters
         self.ranges = tuple(sorted(ranges, key=lambda r: r.first))
         for r in self.ranges:
-            if not -0x8000 <= r.first <= r.last <= 0x7FFF:
-                raise ValueError(f"macro range {r.first}..{r.last} is empty or outside i16")
+            low, high = NUMBERS
+            if not low <= r.first <= r.last <= high:
+                raise ValueError(
+                    f"macro range {r.first}..{r.last} is empty or outside {low}..{high}"
+                )
         for a, b in zip(self.ranges, self.ranges[1:], strict=False):
             if b.first <= a.last:
                 raise ValueError(f"macro ranges {a.first}..{a.last} and {b.first}.. overlap")

@@ -105,7 +105,14 @@ from focas_net.versamax import IOModuleRecord
 from ._alarms import DEFAULT_HISTORY_CAPACITY, Alarm, Alarms, Clock, HistoryEntry, utc_now
 from ._alarms import MAX_ALARM_NO as MAX_ALARM_NO
 from ._base import Counters, MachineError
-from ._identity import CONTROL_CLASSES, DEFAULT_CONTROL_CLASS, Identity, checked_identity
+from ._identity import (
+    CONTROL_CLASSES,
+    DEFAULT_CONTROL_CLASS,
+    Identity,
+    checked_identity,
+    checked_name,
+)
+from ._identity import MAX_NAME_LENGTH as MAX_NAME_LENGTH
 from ._items import MAX_REAL_DECIMALS as MAX_REAL_DECIMALS  # the native adapter's
 from ._items import PARTS_COUNT, PARTS_TOTAL, DataItem, Items, ParamKind
 from ._macros import MAX_MACRO_DECIMALS, MacroRange, Macros
@@ -139,6 +146,7 @@ __all__ = [
     "G_SIGNALS",
     "MAX_ALARM_NO",
     "MAX_MACRO_DECIMALS",
+    "MAX_NAME_LENGTH",
     "MDI",
     "MEM",
     "PMC_AREAS",
@@ -195,7 +203,7 @@ class Machine:
         sim_clock: SimClock | None = None,
         scenario: Scenario | None = None,
     ) -> None:
-        self._name = name
+        self._name = checked_name(name)
         #: How the machine runs on its own when it is told to (:meth:`start_scenario`;
         #: ``serve`` starts it): a machine file's ``[run]``, None when it has none.
         self.scenario = scenario
@@ -241,12 +249,13 @@ class Machine:
 
     @property
     def name(self) -> str:
-        """The machine's name (the server's ready line, the logs)."""
+        """The machine's name (the server's ready line, the logs): 1..64 printable characters
+        (:data:`MAX_NAME_LENGTH`; ValueError otherwise)."""
         return self._name
 
     @name.setter
     def name(self, name: str) -> None:
-        self._name = self._alarms.name = self._path.name = name
+        self._name = self._alarms.name = self._path.name = checked_name(name)
 
     def __repr__(self) -> str:
         return f"Machine({self.name!r}, axes={''.join(self.axes)!r})"
