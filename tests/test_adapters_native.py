@@ -48,6 +48,7 @@ from focas_net.native import (
     ScaledItemRecord,
     ScaledNumber,
     SysInfoRequest,
+    TimerRequest,
     decode_frame,
     decode_open_answer,
     decode_response_body,
@@ -70,6 +71,7 @@ from focas_net.sim import (
     default_machine,
     machine_from_dict,
 )
+from focas_net.sim.nc import ManualClock
 
 
 @pytest.mark.parametrize(
@@ -566,6 +568,23 @@ def test_an_answer_no_wire_carries_is_ew_data_not_an_exception(
     warned = [r.getMessage() for r in caplog.records if r.levelno == logging.WARNING]
     assert len(warned) == 4
     assert all(w.startswith("beyond: ") and "does not fit the wire" in w for w in warned)
+
+
+def test_a_timer_beyond_the_native_minutes_is_ew_data(caplog: pytest.LogCaptureFixture) -> None:
+    """Power-on time of more minutes than an i32 holds (4,000 years of machine time): the
+    packed wire carries its milliseconds, the native one answers EW_DATA and goes on."""
+    caplog.set_level(logging.WARNING, logger="focas_net")
+    clock = ManualClock()
+    machine = default_machine(sim_clock=clock)
+    clock.advance(60.0 * 2**31)
+    replies = _replies(
+        NativeAdapter(machine),
+        TimerRequest(0).to_block(),
+        RequestBlock(Device.CNC, 1, NativeCommand.STATINFO),
+    )
+    assert [r.ew for r in replies] == [EW.DATA, 0]
+    assert machine.timer_ms(0) == 60_000 * 2**31
+    assert "TimerValue.minute" in caplog.records[-1].getMessage()
 
 
 def _replies(adapter: NativeAdapter, *blocks: RequestBlock) -> tuple[ResponseBlock, ...]:
