@@ -13,6 +13,9 @@ machine through both protocols. The properties:
   an EW code: no connection is dropped;
 * nothing is logged at ERROR, no answer was one a wire could not carry (the adapters' warning),
   and the machine's page view is still served.
+
+The default run posts about 1,300 actions; the ``slow`` variant many more
+(``pytest -m slow tests/test_web_fuzz.py``).
 """
 
 from __future__ import annotations
@@ -39,6 +42,7 @@ aiohttp = pytest.importorskip("aiohttp", reason="the web dashboard tests need ai
 
 _NO_FIXTURE_RESET = [HealthCheck.function_scoped_fixture, HealthCheck.too_slow]
 CI: Final = settings(max_examples=200, deadline=None, suppress_health_check=_NO_FIXTURE_RESET)
+SLOW: Final = settings(max_examples=5_000, deadline=None, suppress_health_check=_NO_FIXTURE_RESET)
 
 #: What the page answers an action: done, a bad argument, a refusal (read-only, an EW code).
 ANSWERED: Final = frozenset({200, 400, 403, 409})
@@ -235,18 +239,13 @@ async def read_everything(client: CncClient) -> None:
             pass
 
 
-@CI
-@given(actions=st.lists(page_action(), min_size=1, max_size=12), seconds=st.floats(0, 900))
-async def test_no_page_action_leaves_a_machine_a_protocol_cannot_read(
+async def actions_property(
     served: Served, errors: ErrorLog, actions: list[tuple[str, dict[str, Any]]], seconds: float
 ) -> None:
     for name, args in actions:
         status, body = await served.post(name, args)
         assert status in ANSWERED, (name, args, body)
         assert body["ok"] is (status == 200), (name, args, body)
-        from hypothesis import event
-
-        event(f"{name} {status} {args.get('alm_no') if name == 'raise_alarm' else ''}")
     assert (await served.post("clear_faults", {}))[0] == 200  # armed faults would drop reads
     served.clock.advance(seconds)
     for client in served.clients:
@@ -254,6 +253,26 @@ async def test_no_page_action_leaves_a_machine_a_protocol_cannot_read(
     async with served.session.get(f"{served.web.url}api/machines/0") as response:
         assert response.status == 200
     assert errors.records == []
+
+
+page_actions = st.lists(page_action(), min_size=1, max_size=12)
+
+
+@CI
+@given(actions=page_actions, seconds=st.floats(0, 900))
+async def test_no_page_action_leaves_a_machine_a_protocol_cannot_read(
+    served: Served, errors: ErrorLog, actions: list[tuple[str, dict[str, Any]]], seconds: float
+) -> None:
+    await actions_property(served, errors, actions, seconds)
+
+
+@pytest.mark.slow
+@SLOW
+@given(actions=page_actions, seconds=st.floats(0, 900))
+async def test_no_page_action_leaves_a_machine_a_protocol_cannot_read_long(
+    served: Served, errors: ErrorLog, actions: list[tuple[str, dict[str, Any]]], seconds: float
+) -> None:
+    await actions_property(served, errors, actions, seconds)
 
 
 def test_the_fuzz_knows_every_action() -> None:
