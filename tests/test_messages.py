@@ -86,7 +86,7 @@ Call = Callable[[FocasClient], Awaitable[Any]]
         (lambda c: c.sim.inject_fault(1, count=100_000_000_000), "count 100000000000 is outside"),
         (
             lambda c: c.sim.inject_fault("foo"),
-            "unknown fault kind 'foo' (one of DELAY, ERROR, DROP, SPLIT, or its number)",
+            "unknown fault kind 'foo' (one of DELAY ERROR DROP SPLIT, or its number)",
         ),
         (lambda c: c.sim.inject_fault("drop", scope="shop"), "unknown fault scope 'shop'"),
         (

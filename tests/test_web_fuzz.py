@@ -255,24 +255,15 @@ async def actions_property(
     assert errors.records == []
 
 
-page_actions = st.lists(page_action(), min_size=1, max_size=12)
+#: The property over generated runs of actions and a time step, once per test below.
+generated = given(
+    actions=st.lists(page_action(), min_size=1, max_size=12), seconds=st.floats(0, 900)
+)
 
-
-@CI
-@given(actions=page_actions, seconds=st.floats(0, 900))
-async def test_no_page_action_leaves_a_machine_a_protocol_cannot_read(
-    served: Served, errors: ErrorLog, actions: list[tuple[str, dict[str, Any]]], seconds: float
-) -> None:
-    await actions_property(served, errors, actions, seconds)
-
-
-@pytest.mark.slow
-@SLOW
-@given(actions=page_actions, seconds=st.floats(0, 900))
-async def test_no_page_action_leaves_a_machine_a_protocol_cannot_read_long(
-    served: Served, errors: ErrorLog, actions: list[tuple[str, dict[str, Any]]], seconds: float
-) -> None:
-    await actions_property(served, errors, actions, seconds)
+test_no_page_action_leaves_a_machine_a_protocol_cannot_read = CI(generated(actions_property))
+test_no_page_action_leaves_a_machine_a_protocol_cannot_read_long = pytest.mark.slow(
+    SLOW(generated(actions_property))
+)
 
 
 def test_the_fuzz_knows_every_action() -> None:

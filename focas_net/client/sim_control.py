@@ -28,7 +28,7 @@ from ..protocol import (
 )
 from ..protocol import Command as C
 from ._pmc import write_pmc_range
-from ._values import AreaLike, alarm_type_number, check_int, pmc_data
+from ._values import AreaLike, alarm_type_number, check_int, number_of_name, pmc_data
 
 if TYPE_CHECKING:
     from .client import FocasClient
@@ -260,13 +260,7 @@ def _fault_number(names: type[FaultKind | FaultScope], given: object, what: str)
     for an unknown name, TypeError for anything else, each naming what was given. A number
     goes as it is (the server refuses one it does not know)."""
     if isinstance(given, str):
-        try:
-            return int(names[given.strip().upper()])
-        except KeyError:
-            known = ", ".join(m.name for m in names)
-            raise ValueError(
-                f"unknown fault {what} {given!r} (one of {known}, or its number)"
-            ) from None
+        return number_of_name(names, given, f"fault {what}", "its number")
     if isinstance(given, bool) or not isinstance(given, int):
         raise TypeError(
             f"fault {what} must be a {names.__name__}, its name or its number, got {given!r}"
