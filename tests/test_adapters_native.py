@@ -3,8 +3,10 @@ arbitrary request blocks (every answer well formed, the machine unchanged by rea
 
 from __future__ import annotations
 
+import logging
 import math
 import struct
+from datetime import UTC, datetime
 from decimal import Decimal
 
 import pytest
@@ -16,6 +18,7 @@ from focas_net.errors import EW
 from focas_net.native import (
     REQUEST_TYPES,
     VACANT,
+    AlarmMessageRequest,
     CommandSet,
     Device,
     FrameType,
@@ -45,14 +48,30 @@ from focas_net.native import (
     ScaledItemRecord,
     ScaledNumber,
     SysInfoRequest,
+    TimerRequest,
     decode_frame,
     decode_open_answer,
     decode_response_body,
     encode_request_body,
 )
 from focas_net.native import NativePmcArea as NativePmcArea
-from focas_net.protocol import COMMANDS, Command, DataRequest, ParamValue
-from focas_net.sim import Machine, MachineFileError, default_machine, machine_from_dict
+from focas_net.protocol import (
+    COMMANDS,
+    AlarmHistoryRequest,
+    AlarmMsgRequest,
+    Command,
+    DataRequest,
+    ParamValue,
+)
+from focas_net.sim import (
+    Alarm,
+    HistoryEntry,
+    Machine,
+    MachineFileError,
+    default_machine,
+    machine_from_dict,
+)
+from focas_net.sim.nc import ManualClock
 
 
 @pytest.mark.parametrize(
@@ -512,6 +531,60 @@ def test_an_empty_request_is_answered_with_one_refused_block() -> None:
     frame = decode_frame(NativeAdapter(default_machine()).answer(b""))
     (reply,) = decode_response_body(frame.body)
     assert reply.ew == EW.FUNC
+
+
+class BeyondTheWire(Machine):
+    """A machine that reports an alarm number no wire carries, as a machine with a bug would
+    (a machine refuses to raise it: EW_DATA)."""
+
+    def active_alarms(self, alm_type: int = -1, limit: int | None = None) -> list[Alarm]:
+        return [Alarm(0, 15, 99999999999, "BEYOND")]
+
+    def alarm_history(self, depth: int | None = None) -> tuple[HistoryEntry, ...]:
+        return (HistoryEntry(datetime(2026, 1, 2, tzinfo=UTC), 0, 15, 99999999999, "BEYOND"),)
+
+
+def test_an_answer_no_wire_carries_is_ew_data_not_an_exception(
+    caplog: pytest.LogCaptureFixture,
+) -> None:
+    caplog.set_level(logging.WARNING, logger="focas_net")
+    machine = BeyondTheWire("beyond")
+    packed, session = PackedAdapter(machine), machine.new_session()
+    for command, request in (
+        (Command.RDALMMSG, AlarmMsgRequest(-1, 32)),
+        (Command.RDALMHISTRY, AlarmHistoryRequest(10)),
+    ):
+        answer = packed.answer(session, command, request.encode())
+        assert COMMANDS[command].response.decode(answer).ew == EW.DATA
+    assert packed.answer(session, Command.RDCNCSTAT, b"") != b""  # the next request is answered
+    native = NativeAdapter(machine)
+    replies = _replies(
+        native,
+        AlarmMessageRequest(-1, 10, 2, 32).to_block(),
+        NativeAlarmHistoryRequest(1, 10).to_block(),
+        RequestBlock(Device.CNC, 1, NativeCommand.STATINFO),
+    )
+    assert [r.ew for r in replies] == [EW.DATA, EW.DATA, 0]
+    warned = [r.getMessage() for r in caplog.records if r.levelno == logging.WARNING]
+    assert len(warned) == 4
+    assert all(w.startswith("beyond: ") and "does not fit the wire" in w for w in warned)
+
+
+def test_a_timer_beyond_the_native_minutes_is_ew_data(caplog: pytest.LogCaptureFixture) -> None:
+    """Power-on time of more minutes than an i32 holds (4,000 years of machine time): the
+    packed wire carries its milliseconds, the native one answers EW_DATA and goes on."""
+    caplog.set_level(logging.WARNING, logger="focas_net")
+    clock = ManualClock()
+    machine = default_machine(sim_clock=clock)
+    clock.advance(60.0 * 2**31)
+    replies = _replies(
+        NativeAdapter(machine),
+        TimerRequest(0).to_block(),
+        RequestBlock(Device.CNC, 1, NativeCommand.STATINFO),
+    )
+    assert [r.ew for r in replies] == [EW.DATA, 0]
+    assert machine.timer_ms(0) == 60_000 * 2**31
+    assert "TimerValue.minute" in caplog.records[-1].getMessage()
 
 
 def _replies(adapter: NativeAdapter, *blocks: RequestBlock) -> tuple[ResponseBlock, ...]:

@@ -1,4 +1,5 @@
-"""``focas-net serve --machine`` with files in the wrong encoding: one line, exit 2."""
+"""``focas-net serve --machine`` with files it cannot use (the wrong encoding, a name no machine
+can have): one line, exit 2."""
 
 from __future__ import annotations
 
@@ -47,3 +48,22 @@ async def test_serve_machine_file_with_a_byte_order_mark_is_read_past_it(tmp_pat
     code, _out, err = await _serve_to_exit("--machine", str(path))
     assert code == 2
     assert "bogus" in err and "line 1" not in err
+
+
+@pytest.mark.parametrize(
+    ("name", "fleet", "words"),
+    [
+        ("cell\\n7", "1", "machine.name: a machine's name is 1..64 printable characters: '\\n'"),
+        ("m" * 5000, "1", "machine.name: a machine's name is 1..64 printable characters, not 5000"),
+        ("m" * 64, "2", "--fleet 2: a machine's name is 1..64 printable characters, not 66"),
+    ],
+)
+async def test_serve_refuses_a_name_a_machine_cannot_have(
+    tmp_path: Path, name: str, fleet: str, words: str
+) -> None:
+    path = tmp_path / "named.toml"
+    path.write_text(f'[machine]\nname = "{name}"\naxes = ["X"]\n', encoding="utf-8")
+    code, out, err = await _serve_to_exit("--machine", str(path), "--fleet", fleet)
+    assert (code, out) == (2, "")
+    lines = err.strip().splitlines()
+    assert len(lines) == 1 and words in lines[0], err

@@ -161,6 +161,45 @@ async def test_program_error_raises_its_alarm_and_stops(
     ]
 
 
+#: A program error in its first block: the cycle start itself runs into it.
+FIRST_BLOCK_BAD = "O1005\nG999\nM30\n"
+
+
+@pytest.mark.parametrize("later", [0.0, 5.0])
+def test_a_program_error_in_the_first_block_raises_its_alarm(
+    machine: Machine, clock: ManualClock, later: float
+) -> None:
+    machine.select_program(machine.store_program(FIRST_BLOCK_BAD))
+    machine.cycle_start()
+    clock.advance(later)
+    status = machine.status()
+    assert (status.run, status.alarm) == (1, 1)  # STOP with an alarm
+    assert [(a.alm_type, a.alm_no) for a in machine.active_alarms()] == [(3, 10)]
+    history = machine.alarm_history()
+    assert [(e.alm_type, e.alm_no, e.occurred_at) for e in history] == [(3, 10, STAMP)]
+    with pytest.raises(MachineError) as refused:
+        machine.cycle_start()
+    assert refused.value.ew == EW.ALARM
+    machine.reset()  # clears the program's alarm: the next program runs without it
+    assert machine.active_alarms() == []
+    machine.select_program(100)
+    machine.cycle_start()
+    clock.advance(10.0)
+    status = machine.status()
+    assert (status.run, status.alarm) == (0, 0)  # ran to its end, rewound
+    assert len(machine.alarm_history()) == 1
+
+
+def test_a_program_of_one_m30_counts_its_part_at_the_cycle_start(
+    machine: Machine, clock: ManualClock
+) -> None:
+    before = machine.read_param(6711, 0)  # the parts count
+    machine.select_program(machine.store_program("O1006\nM30\n"))
+    machine.cycle_start()
+    assert machine.read_param(6711, 0) == before + 1
+    assert machine.read_macro(3901) == before + 1
+
+
 async def test_emergency_stop_and_any_alarm_stop_the_cycle(
     machine: Machine, clock: ManualClock, client: FocasClient
 ) -> None:

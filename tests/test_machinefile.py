@@ -133,6 +133,12 @@ BAD_FILES = [
     ("[machine]\naxes = ['X']\n", "machine.name", "missing"),
     ("[machine]\nname = 'a'\n", "machine.axes", "missing"),
     ("[machine]\nname = 5\naxes = ['X']\n", "machine.name", "must be a string"),
+    ('[machine]\nname = "cell\\n7"\naxes = ["X"]\n', "machine.name", "printable characters"),
+    (
+        f'[machine]\nname = "{"m" * 5000}"\naxes = ["X"]\n',
+        "machine.name",
+        "1..64 printable characters, not 5000",
+    ),
     ("[machine]\nname = 'a'\naxes = []\n", "machine.axes", "1..32 axes"),
     ("[machine]\nname = 'a'\naxes = ['X', 'X']\n", "machine.axes[1]", "named twice"),
     ("[machine]\nname = 'a'\naxes = ['X', '']\n", "machine.axes[1]", "axis name"),
@@ -159,6 +165,8 @@ BAD_FILES = [
     ("[parameters.1320]\ntype = 'float'\n", "parameters.1320.type", "unknown type"),
     ("[parameters.abc]\ntype = 'i16'\n", "parameters.abc", "must be a number"),
     ("[parameters.40000]\ntype = 'i16'\n", "parameters.40000", "outside"),
+    ("[parameters.-5]\ntype = 'i16'\n", "parameters.-5", "-5 is outside 0..32767"),
+    ("[diagnostics.-300]\ntype = 'byte'\n", "diagnostics.-300", "outside 0..32767"),
     ("[parameters.20]\ntype = 'byte'\nvalue = 200\n", "parameters.20.value", "outside"),
     (
         "[parameters.20]\ntype = 'byte'\nrange = [0, 9]\nvalue = 10\n",
@@ -188,6 +196,16 @@ BAD_FILES = [
     ("[diagnostics.300]\ntype = 'i64'\n", "diagnostics.300.type", "unknown type"),
     ("[macros]\nranges = [{ first = 10, last = 1 }]\n", "macros.ranges[0]", "above last"),
     ("[macros]\nranges = [{ last = 1 }]\n", "macros.ranges[0].first", "missing"),
+    (
+        "[macros]\nranges = [{ first = -5, last = 1 }]\n",
+        "macros.ranges[0].first",
+        "-5 is outside 0..32767",
+    ),
+    (
+        "[macros]\nranges = [{ first = 1, last = 5 }]\nvalues = { -2 = 1 }\n",
+        "macros.values.-2",
+        "-2 is outside 0..32767",
+    ),
     (
         "[macros]\nranges = [{ first = 1, last = 50 }, { first = 40, last = 60 }]\n",
         "macros.ranges[1]",
@@ -219,6 +237,7 @@ BAD_FILES = [
         "must be an integer",
     ),
     ("[pmc.Q]\nsize = 10\n", "pmc.Q", "unknown PMC area"),
+    ("[pmc.r]\nsize = 10\n[pmc.R]\nsize = 10\n", "pmc.R", "area R is given twice"),
     ("[pmc.R]\nwrite_protected = true\n", "pmc.R.size", "missing"),
     ("[pmc.R]\nsize = 0\n", "pmc.R.size", "outside"),
     ("[pmc.R]\nsize = 10\nvalues = { 9 = [1, 2] }\n", "pmc.R.values.9", "run past"),
@@ -300,6 +319,24 @@ def test_bad_file_names_file_and_key(tmp_path: Path, text: str, key: str, proble
     assert err.key == key
     assert problem in err.problem
     assert str(err).startswith(f"{path}: {key}: ")
+
+
+def test_a_pmc_area_is_named_by_its_letter_in_either_case(tmp_path: Path) -> None:
+    m = load_machine(write(tmp_path, MINIMAL + "[pmc.r]\nsize = 16\nvalues = { 2 = 7 }\n"))
+    assert m.pmc_area("R") == (16, False)
+    assert m.read_pmc("R", 2, 1) == b"\x07"
+
+
+@pytest.mark.parametrize("name", ["cell\n7", "m" * 65, ""])
+def test_a_machine_refuses_the_name_a_machine_file_refuses(name: str) -> None:
+    with pytest.raises(ValueError, match=r"1\.\.64 printable characters"):
+        Machine(name)
+    m = Machine("m")
+    with pytest.raises(ValueError, match=r"1\.\.64 printable characters"):
+        m.name = name
+    assert m.name == "m"
+    m.name = "n" * 64
+    assert m.name == "n" * 64
 
 
 def test_missing_machine_table(tmp_path: Path) -> None:

@@ -12,9 +12,12 @@ from support import Served, serving
 
 from focas_net.cli import EXIT_USAGE
 from focas_net.client import FocasClient
+from focas_net.errors import EW, CncError
 from focas_net.protocol import (
     AlarmType,
     DataRequest,
+    FaultKind,
+    FaultScope,
     InjectFault,
     PmcData,
     RaiseAlarm,
@@ -81,6 +84,17 @@ Call = Callable[[FocasClient], Awaitable[Any]]
         (lambda c: c.sim.raise_alarm("XX", 1), "unknown alarm type 'XX'"),
         (lambda c: c.sim.raise_alarm(40, 1), "alarm type 40 is outside 0..31"),
         (lambda c: c.sim.inject_fault(1, count=100_000_000_000), "count 100000000000 is outside"),
+        (
+            lambda c: c.sim.inject_fault("foo"),
+            "unknown fault kind 'foo' (one of DELAY ERROR DROP SPLIT, or its number)",
+        ),
+        (lambda c: c.sim.inject_fault("drop", scope="shop"), "unknown fault scope 'shop'"),
+        (
+            lambda c: c.sim.set_panel("FOO"),
+            "unknown mode 'FOO' (one of MDI, MEM, EDIT, HND, JOG, TJOG, THND, INC, REF, RMT)",
+        ),
+        (lambda c: c.sim.set_panel(2), "unknown mode 2 (one of MDI, MEM, EDIT"),
+        (lambda c: c.sim.set_panel("NOSEL"), "unknown mode 'NOSEL' (one of MDI, MEM, EDIT"),
     ],
 )
 async def test_client_messages_name_the_argument(server: Served, call: Call, expected: str) -> None:
@@ -89,6 +103,34 @@ async def test_client_messages_name_the_argument(server: Served, call: Call, exp
             await call(cnc)
     assert expected in str(exc.value)
     assert not INTERNAL.search(str(exc.value)), str(exc.value)
+
+
+async def test_client_names_a_fault_kind_of_the_wrong_type(server: Served) -> None:
+    async with FocasClient(server.host, server.port) as cnc:
+        with pytest.raises(TypeError, match=r"fault kind must be a FaultKind, its name or its "
+                           r"number, got 1\.5"):  # fmt: skip
+            await cnc.sim.inject_fault(1.5)  # type: ignore[arg-type]
+        with pytest.raises(TypeError, match=r"fault scope must be a FaultScope, .*got None"):
+            await cnc.sim.inject_fault("drop", scope=None)  # type: ignore[arg-type]
+
+
+async def test_client_arms_a_fault_by_kind_name_and_the_server_checks_the_numbers(
+    server: Served,
+) -> None:
+    async with FocasClient(server.host, server.port) as cnc:
+        await cnc.sim.inject_fault("split", count=2)
+        await cnc.sim.inject_fault(" Delay ", arg=5, scope="machine")
+        await cnc.sim.inject_fault(FaultKind.ERROR, arg=5, scope=FaultScope.CONNECTION)
+        listed = await cnc.sim.list_faults()
+        assert [(f.kind, f.remaining) for f in listed] == [
+            (FaultKind.SPLIT, 2), (FaultKind.ERROR, 1)
+        ]  # fmt: skip
+        assert [f.kind for f in await cnc.sim.list_faults(FaultScope.MACHINE)] == [FaultKind.DELAY]
+        assert await cnc.sim.clear_faults() == 2 and await cnc.sim.clear_faults(1) == 1
+        for kind, arg in ((9, 0), (FaultKind.DELAY, 60_001)):  # the server's ranges: EW_DATA
+            with pytest.raises(CncError) as refused:
+                await cnc.sim.inject_fault(kind, arg=arg)
+            assert refused.value.ew == EW.DATA
 
 
 async def test_client_takes_alarm_types_by_name(server: Served) -> None:

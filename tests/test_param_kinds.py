@@ -114,6 +114,10 @@ def test_machine_file_types_bits_and_reals(tmp_path: Path) -> None:
     [
         ('type = "bit"\nvalue = 256', "256 is outside 0..255"),
         ('type = "bit"\nvalue = "1012"', "is not 8 bits"),
+        ('type = "bit"\nvalue = "1011"', 'write the eight bits #7..#0 ("00001011"), a binary'),
+        ('type = "bit"\nvalue = "176"', "or an integer 0..255 without quotes"),
+        ('type = "bit"\nvalue = "0b101100001"', "is not 8 bits"),
+        ('type = "bit"\nrange = [0, "11"]', "is not 8 bits"),
         ('type = "real"\ndecimals = 2\nvalue = 1.234', "does not have 2 decimals"),
         ('type = "real"\ndecimals = 10', "outside 0..9"),
         ('type = "word"\ndecimals = 1', 'applies to type = "real" only'),
@@ -126,6 +130,17 @@ def test_machine_file_type_errors(tmp_path: Path, spec: str, problem: str) -> No
     with pytest.raises(ValueError, match=r"parameters\.9") as exc:
         load_machine(path)
     assert problem in str(exc.value)
+
+
+@pytest.mark.parametrize(
+    ("text", "value"),
+    [("00001011", 11), ("1011_0000", 176), ("0b1011", 11), ("0B10110000", 176), (" 0b0 ", 0)],
+)
+def test_a_bit_value_given_as_text_is_read_as_bits(tmp_path: Path, text: str, value: int) -> None:
+    path = tmp_path / "m.toml"
+    path.write_text(f'[machine]\nname = "m"\naxes = ["X"]\n[parameters.9]\ntype = "bit"\n'
+                    f'value = "{text}"\n')  # fmt: skip
+    assert load_machine(path).read_param(9, 0) == value
 
 
 async def test_wire_bit_parameter_is_the_signed_byte_of_its_bits() -> None:

@@ -13,6 +13,7 @@ from focas_net.errors import EW
 from focas_net.sim import (
     AUT_MODES,
     DEFAULT_NAME,
+    MAX_ALARM_NO,
     Alarm,
     DataItem,
     HistoryEntry,
@@ -337,6 +338,14 @@ def test_raise_alarm_check_order(m: Machine) -> None:
     assert m.active_alarms() == []
 
 
+@pytest.mark.parametrize("alm_no", [MAX_ALARM_NO + 1, 40000, 99999999999])
+def test_an_alarm_number_the_cnc_cannot_hold_is_refused(m: Machine, alm_no: int) -> None:
+    assert ew_of(lambda: m.raise_alarm(0, 15, alm_no, "TOO BIG")) == EW.DATA
+    assert m.active_alarms() == [] and m.alarm_history() == ()
+    assert m.raise_alarm(0, 15, MAX_ALARM_NO, "THE LAST ONE")
+    assert [a.alm_no for a in m.active_alarms()] == [MAX_ALARM_NO]
+
+
 def test_set_panel_values(m: Machine) -> None:
     assert AUT_MODES == frozenset({0, 1, 3, 4, 5, 6, 7, 8, 9, 10})
     assert ew_of(lambda: m.set_panel(2, 0, 0)) == EW.DATA
@@ -370,7 +379,9 @@ def test_motion_state(m: Machine) -> None:
         ({"params": [DataItem(1, 1, values=[200])]}, "outside"),
         ({"params": [DataItem(1, 1, True, values=[1, 2])]}, "values given"),
         ({"params": [DataItem(1, 1), DataItem(1, 2)]}, "twice"),
-        ({"diags": [DataItem(40000, 1)]}, "outside i16"),
+        ({"diags": [DataItem(40000, 1)]}, r"outside 0\.\.32767"),
+        ({"params": [DataItem(-5, 1)]}, r"number -5 is outside 0\.\.32767"),
+        ({"macro_ranges": [MacroRange(-5, 10)]}, r"outside 0\.\.32767"),
         ({"macro_ranges": [MacroRange(1, 10), MacroRange(5, 20)]}, "overlap"),
         ({"macro_ranges": [MacroRange(10, 1)]}, "empty"),
         ({"macro_ranges": [MacroRange(1, 10)], "macro_values": {11: 1}}, "not in any"),
@@ -503,6 +514,8 @@ def test_a_macro_holds_up_to_nine_decimals_as_given(m: Machine, value: Decimal |
         Decimal("5E+1"),  # negative decimals
         Decimal("2147483648"),  # digits beyond 32 bits
         Decimal("214748364.80"),
+        Decimal("1" * 5000),  # more digits than an int is made of text
+        Decimal("1" * 5000 + "E-5000"),
         Decimal("NaN"),
         Decimal("Infinity"),
         2**31,

@@ -7,6 +7,7 @@ import argparse
 import asyncio
 import importlib.util
 import json
+import logging
 import os
 import re
 import signal
@@ -19,7 +20,7 @@ import pytest
 from support import IO_TIMEOUT, wait_until
 
 from focas_net.cli import serve
-from focas_net.client import FocasClient
+from focas_net.client import FocasClient, NativeClient
 from focas_net.server import FocasServer
 from focas_net.sim import Machine, default_machine
 from focas_net.web import Dashboard, stations_of
@@ -127,6 +128,42 @@ async def test_bad_requests_are_answered_not_crashed() -> None:
         assert status == 409 and body["ew_name"] == "EW_NOOPT"
         status, body = await get(session, f"{web.url}api/machines/0/macros?q=zz")
         assert status == 400 and "'zz'" in body["error"]
+
+
+@pytest.mark.parametrize(
+    ("action", "args", "status", "ew_name"),
+    [
+        ("raise_alarm", {"alm_type": 15, "alm_no": 40000, "msg": "BIG"}, 409, "EW_DATA"),
+        ("raise_alarm", {"alm_type": 15, "alm_no": 99999999999}, 409, "EW_DATA"),
+        ("write_macro", {"number": 100, "value": "1" * 5000}, 409, "EW_DATA"),
+        ("write_param", {"number": 1420, "axis": 1, "value": "1E+999999"}, 400, None),
+        ("write_param", {"number": 1420, "axis": 1, "value": "1" * 5000}, 400, None),
+    ],
+)
+async def test_what_a_machine_cannot_hold_is_refused_and_every_protocol_reads_on(
+    caplog: pytest.LogCaptureFixture,
+    action: str,
+    args: dict[str, Any],
+    status: int,
+    ew_name: str | None,
+) -> None:
+    caplog.set_level(logging.WARNING)
+    machine = default_machine()
+    machine.set_panel(0, 1)  # MDI, PWE on: a parameter write gets as far as its value
+    before = machine.state_digest()
+    async with dashboard([machine]) as (server, web), aiohttp.ClientSession() as session:
+        answered, body = await post(session, web, action, args)
+        assert (answered, body.get("ew_name")) == (status, ew_name), body
+        assert machine.state_digest() == before
+        host, port = server.listeners[0].address
+        async with (
+            FocasClient(host, port, timeout=IO_TIMEOUT) as packed,
+            NativeClient(host, port, timeout=IO_TIMEOUT) as native,
+        ):
+            for cnc in (packed, native):
+                assert await cnc.read_alarms() == ()
+                assert (await cnc.read_alarm_history()).entries == ()
+    assert [r.getMessage() for r in caplog.records if r.levelno >= logging.WARNING] == []
 
 
 async def test_the_rest_reads() -> None:

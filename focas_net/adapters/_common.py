@@ -16,10 +16,18 @@ for as long as they read the same. Writes are never kept, nor reads that move wi
 :class:`~focas_net.sim.MachineError`, :class:`Refused` for a check of the wire's own, or a
 :class:`~focas_net.errors.PayloadError` of its codec for what does not decode;
 :func:`refusal_code` is the EW code each answers.
+
+**Answers a wire cannot carry.** The machine refuses every value it cannot hold, so what it
+holds fits both wires. Should it hold one that does not (an encoder raises one of
+:data:`UNENCODABLE`), the request is answered EW_DATA and a warning names the machine, the
+request and the value (:func:`unencodable_code`): an adapter never raises because of the
+machine's state, and the connection stays up.
 """
 
 from __future__ import annotations
 
+import logging
+import struct
 from collections.abc import Callable, Iterable
 from operator import attrgetter
 from typing import Any, Final
@@ -31,13 +39,17 @@ from focas_net.sim import Machine, MachineError
 __all__ = [
     "COUNTERS",
     "REFUSALS",
+    "UNENCODABLE",
     "AnswerMemo",
     "Counters",
     "Refused",
     "counters_of",
     "need_room",
     "refusal_code",
+    "unencodable_code",
 ]
+
+_log = logging.getLogger("focas_net.adapters")
 
 #: The machine counters an answer may follow.
 COUNTERS: Final = frozenset(
@@ -108,6 +120,20 @@ def refusal_code(exc: MachineError | Refused | PayloadError) -> int:
     payload error carries (the native codec's), else EW_LENGTH (what does not decode)."""
     ew: int | None = getattr(exc, "ew", None)
     return EW.LENGTH if ew is None else ew
+
+
+#: What an encoder raises for a value its wire cannot carry: the codecs' ValueError, a bare
+#: struct's error, OverflowError of a number with no integer value.
+UNENCODABLE: Final = (ValueError, struct.error, OverflowError)
+
+
+def unencodable_code(machine: Machine, request: str, exc: Exception) -> int:
+    """The EW code answering a request whose answer the wire cannot carry (EW_DATA), logged
+    as a warning naming ``machine``, ``request`` and what did not fit."""
+    _log.warning(
+        "%s: %s answered EW_DATA: the answer does not fit the wire: %s", machine.name, request, exc
+    )
+    return EW.DATA
 
 
 def need_room(size: int, room: int) -> None:

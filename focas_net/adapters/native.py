@@ -23,6 +23,8 @@ Rules of this wire (the CNC's rules are the machine's, see :mod:`focas_net.sim.m
   or 1 answers ``EW_PATH`` (the machine has one path);
 * a refusal of the machine answers its EW code (``EW_NUMBER``, ``EW_ATTRIB``, ``EW_PROT``,
   ``EW_PASSWD``, ``EW_LENGTH``...), the code the packed protocol answers for the same request;
+  a block whose data the wire cannot carry answers ``EW_DATA`` (a warning is logged; see
+  :mod:`focas_net.adapters._common`);
   an ``EW_NUMBER`` block carries the detail words ``cnc_getdtailerr`` reads: 1 and the number
   asked (this project's choice);
 * every answer fits the body size the answer's version allows (1450 bytes for version 2, 2910
@@ -102,7 +104,15 @@ from focas_net.native import (
 )
 from focas_net.sim import Machine, Session
 
-from ._common import REFUSALS, AnswerMemo, Counters, counters_of, refusal_code
+from ._common import (
+    REFUSALS,
+    UNENCODABLE,
+    AnswerMemo,
+    Counters,
+    counters_of,
+    refusal_code,
+    unencodable_code,
+)
 from ._native_cnc import SPINDLES, CncHandlers
 from ._native_data import DataHandlers
 from ._native_programs import ProgramHandlers, ProgramTransfer
@@ -375,6 +385,9 @@ class NativeAdapter:
                     data = handler(block, left, session)
                 except REFUSALS as exc:
                     ew = refusal_code(exc)
+                except UNENCODABLE as exc:
+                    what = f"block 0x{block.command:02X}"
+                    ew = unencodable_code(self.machine, what, exc)
                 else:
                     if len(data) > left:  # a handler's own check guards this already
                         ew, data = EW.LENGTH, b""

@@ -40,9 +40,10 @@ the checks, per command (each stops at the first that fails; ``docs/protocol.md`
     the same bits, a real parameter as REALPRM (width 8: mantissa and decimals);
   - ``set_panel``: a field of -1 leaves its switch as it is.
 
-:meth:`PackedAdapter.answer` never raises for anything a peer sends: a payload that does not
-decode answers EW_LENGTH and every refusal its EW code. The dispatch is a dict from command id to
-a bound handler, built once per adapter.
+:meth:`PackedAdapter.answer` never raises for anything a peer sends nor for what the machine
+holds: a payload that does not decode answers EW_LENGTH, every refusal its EW code, and an
+answer the wire cannot carry EW_DATA (:mod:`focas_net.adapters._common`). The dispatch is a
+dict from command id to a bound handler, built once per adapter.
 
 Answers of successful reads are kept by the adapter, keyed by command and request payload,
 while the machine counter of what they show (:data:`_COUNTERS`: ``status_version``,
@@ -106,7 +107,16 @@ from focas_net.sim import (
     Session,
 )
 
-from ._common import REFUSALS, AnswerMemo, Counters, Refused, counters_of, refusal_code
+from ._common import (
+    REFUSALS,
+    UNENCODABLE,
+    AnswerMemo,
+    Counters,
+    Refused,
+    counters_of,
+    refusal_code,
+    unencodable_code,
+)
 
 __all__ = ["PackedAdapter"]
 
@@ -265,7 +275,8 @@ class PackedAdapter:
         return f"PackedAdapter({self.machine!r})"
 
     def answer(self, session: Session, command: int, payload: bytes) -> bytes:
-        """The complete answer payload of one request; never raises for what a peer sends."""
+        """The complete answer payload of one request; never raises for what a peer sends nor
+        for what the machine holds."""
         if type(payload) is not bytes:  # kept answers key on the payload: make it hashable
             payload = bytes(payload)
         memo = self._kept.get(command)
@@ -285,6 +296,9 @@ class PackedAdapter:
             answer = fn(session, payload)
         except REFUSALS as exc:
             return self.error_answer(command, refusal_code(exc))
+        except UNENCODABLE as exc:
+            ew = unencodable_code(self.machine, f"command 0x{command:04X}", exc)
+            return self.error_answer(command, ew)
         memo.keep(payload, counters, seen, answer)
         return answer
 

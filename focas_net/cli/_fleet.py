@@ -76,7 +76,10 @@ def build_machines(args: argparse.Namespace) -> list[Machine]:
         else:
             machine = default_machine(param_password=args.param_password, sim_clock=clock)
         if args.fleet > 1:
-            machine.name = f"{machine.name}-{i + 1}"
+            try:
+                machine.name = f"{machine.name}-{i + 1}"
+            except ValueError as exc:  # the number makes the name too long
+                raise ConfigError(f"--fleet {args.fleet}: {exc}") from None
         if args.no_control:
             machine.control_enabled = False
         scenario = _scenario(args, machine, i)

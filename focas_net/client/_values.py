@@ -11,6 +11,7 @@ parameter value to what its type carries.
 
 from __future__ import annotations
 
+import enum
 import functools
 import math
 from dataclasses import dataclass
@@ -131,17 +132,21 @@ def history_depth(depth: object) -> int:
     return min(max(check_int("history depth", depth, -(2**63), 2**63), 1), _MAX_HISTORY_DEPTH)
 
 
+def number_of_name(names: type[enum.IntEnum], given: str, what: str, numbers: str) -> int:
+    """The number of member ``given`` of ``names`` by its name, in either case: ValueError
+    naming ``what`` was given, the names and ``numbers`` (what else may be given)."""
+    try:
+        return int(names[given.strip().upper()])
+    except KeyError:
+        known = " ".join(m.name for m in names)
+        raise ValueError(f"unknown {what} {given!r} (one of {known}, or {numbers})") from None
+
+
 def alarm_type_number(alm_type: object, *, every: bool = False) -> int:
     """An alarm type number from its name (``"PS"``), an :class:`AlarmType` or 0..31 (and -1,
     every type, with ``every``)."""
     if isinstance(alm_type, str):
-        try:
-            return int(AlarmType[alm_type.strip().upper()])
-        except KeyError:
-            names = " ".join(t.name for t in AlarmType)
-            raise ValueError(
-                f"unknown alarm type {alm_type!r} (one of {names}, or 0..31)"
-            ) from None
+        return number_of_name(AlarmType, alm_type, "alarm type", "0..31")
     return check_int("alarm type", alm_type, -1 if every else 0, _MAX_ALARM_TYPE)
 
 

@@ -29,7 +29,7 @@ from ..protocol import (
 )
 from ..protocol import Command as C
 from ._pmc import write_pmc_range
-from ._values import AreaLike, alarm_type_number, check_int, pmc_data
+from ._values import AreaLike, alarm_type_number, check_int, number_of_name, pmc_data
 
 if TYPE_CHECKING:
     from .client import FocasClient
@@ -92,11 +92,10 @@ class SimControl:
         timeout: float | None = None,
     ) -> None:
         """Set the operator panel: ``mode`` (an ``aut`` value or name: ``"MDI"``, ``AutMode.MEM``,
-        ``3``...), parameter write enable and emergency stop. A switch not given (None) stays
-        as it is (the command carries -1 for it: ``docs/protocol.md`` section 8)."""
-        aut = _UNCHANGED if mode is None else int(AutMode.parse(mode))
-        if aut == AutMode.NOSEL:
-            raise ValueError(f"mode {mode!r} is not a mode the panel can select")
+        ``3``...; :meth:`AutMode.parse_panel`), parameter write enable and emergency stop. A
+        switch not given (None) stays as it is (the command carries -1 for it:
+        ``docs/protocol.md`` section 8)."""
+        aut = _UNCHANGED if mode is None else int(AutMode.parse_panel(mode))
         payload = _SET_PANEL.request.encode(
             SetPanel(aut, _switch("pwe", pwe), _switch("emergency", emergency))
         )
@@ -214,19 +213,23 @@ class SimControl:
 
     async def inject_fault(
         self,
-        kind: FaultKind | int,
+        kind: FaultKind | str | int,
         *,
         count: int = 1,
         arg: int = 0,
-        scope: FaultScope | int = FaultScope.CONNECTION,
+        scope: FaultScope | str | int = FaultScope.CONNECTION,
         timeout: float | None = None,
     ) -> None:
-        """Make the next ``count`` answers misbehave (see :class:`FaultKind`).
+        """Make the next ``count`` answers misbehave (see :class:`FaultKind`); ``kind`` and
+        ``scope`` as members, names (``"drop"``, ``"machine"``) or numbers.
 
         Faults queue first in, first out in their scope: a fault armed behind others applies
-        once those are used up (:meth:`list_faults` shows the queue).
+        once those are used up (:meth:`list_faults` shows the queue). The server checks the
+        numbers (an unknown kind or scope, a count outside 1..10000, an arg outside the kind's
+        range answer EW_DATA), as it does for every front end.
         """
-        payload = _INJECT_FAULT.request.encode(InjectFault(int(kind), int(scope), count, arg))
+        k, s = _fault_number(FaultKind, kind, "kind"), _fault_number(FaultScope, scope, "scope")
+        payload = _INJECT_FAULT.request.encode(InjectFault(k, s, count, arg))
         client = self._client
         await client._request(_INJECT_FAULT, payload, timeout)
 
@@ -251,9 +254,22 @@ class SimControl:
         return int(answer.cleared)
 
 
-def _scope(scope: FaultScope | int) -> int:
+def _fault_number(names: type[FaultKind | FaultScope], given: object, what: str) -> int:
+    """The number of a fault kind or scope given as a member, a name or a number: ValueError
+    for an unknown name, TypeError for anything else, each naming what was given. A number
+    goes as it is (the server refuses one it does not know)."""
+    if isinstance(given, str):
+        return number_of_name(names, given, f"fault {what}", "its number")
+    if isinstance(given, bool) or not isinstance(given, int):
+        raise TypeError(
+            f"fault {what} must be a {names.__name__}, its name or its number, got {given!r}"
+        )
+    return int(given)
+
+
+def _scope(scope: FaultScope | str | int) -> int:
     try:
-        return int(FaultScope(scope))
+        return int(FaultScope(_fault_number(FaultScope, scope, "scope")))
     except ValueError:
         raise ValueError(
             f"fault scope must be 0 (connection) or 1 (machine), got {scope!r}"

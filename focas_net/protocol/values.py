@@ -97,6 +97,19 @@ class AutMode(LabelledValue):
     REF = 9, "REF", "reference position return"
     RMT = 10, "RMT", "remote (DNC) operation"
 
+    @classmethod
+    def parse_panel(cls, value: str | int) -> AutMode:
+        """A mode the operator panel selects, by name (``"MDI"``), label or number: any but
+        NOSEL (2, no selection); ValueError naming the modes it selects otherwise."""
+        try:
+            mode = cls.parse(value)
+        except ValueError:
+            mode = cls.NOSEL
+        if mode is cls.NOSEL:
+            modes = ", ".join(m.name for m in cls if m is not cls.NOSEL)
+            raise ValueError(f"unknown mode {value!r} (one of {modes})")
+        return mode
+
 
 class RunState(LabelledValue):
     """ODBST ``run``: the automatic operation status."""

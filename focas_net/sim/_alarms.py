@@ -16,6 +16,7 @@ from .nc import AlarmKind, NcAlarm
 
 __all__ = [
     "DEFAULT_HISTORY_CAPACITY",
+    "MAX_ALARM_NO",
     "MAX_ALARM_TEXT",
     "MAX_ALARM_TYPE",
     "NC_ALARM_TYPES",
@@ -37,6 +38,8 @@ AlarmKey = tuple[int, int, int]
 DEFAULT_HISTORY_CAPACITY: Final = 250
 #: Alarm type numbers a CNC can carry (``alm_type`` is a bit number in FANUC's masks).
 MAX_ALARM_TYPE: Final = 31
+#: The highest alarm number the CNC holds (its ``alm_no`` is a signed 16-bit word).
+MAX_ALARM_NO: Final = 0x7FFF
 #: Characters of an alarm message the CNC keeps.
 MAX_ALARM_TEXT: Final = 32
 #: Alarm type numbers of the alarms a program raises (FANUC 0i-D/F, 30i numbering).
@@ -116,12 +119,13 @@ class Alarms:
 
     @staticmethod
     def checked(axis_no: int, alm_type: int, alm_no: int, msg: str, axes: int) -> str:
-        """The text an alarm keeps, once its numbers are checked: EW_DATA (alm_type, alm_no),
-        EW_ATTRIB (axis_no), EW_DATA (a character beyond U+00FF)."""
+        """The text an alarm keeps, once its numbers are checked: EW_DATA (alm_type outside
+        0..31, alm_no outside 0..32767), EW_ATTRIB (axis_no), EW_DATA (a character beyond
+        U+00FF)."""
         if not 0 <= alm_type <= MAX_ALARM_TYPE:
             raise MachineError(EW.DATA, f"alm_type {alm_type} outside 0..{MAX_ALARM_TYPE}")
-        if alm_no < 0:
-            raise MachineError(EW.DATA, f"alm_no {alm_no} is negative")
+        if not 0 <= alm_no <= MAX_ALARM_NO:
+            raise MachineError(EW.DATA, f"alm_no {alm_no} outside 0..{MAX_ALARM_NO}")
         if not 0 <= axis_no <= axes:
             raise MachineError(EW.ATTRIB, f"axis_no {axis_no} outside 0..{axes}")
         text = msg[:MAX_ALARM_TEXT]

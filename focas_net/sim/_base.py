@@ -12,13 +12,16 @@ from typing import Final
 
 from focas_net.errors import EW, FocasError
 
-__all__ = ["I32_MAX", "I32_MIN", "Counters", "MachineError", "logger"]
+__all__ = ["I32_MAX", "I32_MIN", "NUMBERS", "Counters", "MachineError", "logger"]
 
 #: The machine's logger, one name for all its components.
 logger = logging.getLogger("focas_net.sim.machine")
 
 I32_MIN: Final = -0x8000_0000
 I32_MAX: Final = 0x7FFF_FFFF
+#: The numbers a parameter, a diagnostic or a macro variable can have (FANUC numbers them from
+#: 0; a wire carries them in a signed 16-bit word).
+NUMBERS: Final = (0, 0x7FFF)
 
 
 class MachineError(FocasError):

@@ -5,7 +5,15 @@ from __future__ import annotations
 from dataclasses import dataclass
 from typing import Final
 
-__all__ = ["CONTROL_CLASSES", "DEFAULT_CONTROL_CLASS", "Identity", "checked_identity"]
+__all__ = [
+    "CONTROL_CLASSES",
+    "DEFAULT_CONTROL_CLASS",
+    "MAX_NAME_LENGTH",
+    "Identity",
+    "checked_identity",
+    "checked_name",
+    "name_problem",
+]
 
 #: The control classes a machine can be, as FANUC names its series; a front end speaks as that
 #: class of control does (FANUC's native protocol: the 16i command set for 16i, 18i, 21i and
@@ -13,6 +21,8 @@ __all__ = ["CONTROL_CLASSES", "DEFAULT_CONTROL_CLASS", "Identity", "checked_iden
 CONTROL_CLASSES: Final = ("16i", "18i", "21i", "0i-C", "0i-D", "0i-F", "30i", "31i", "32i")
 #: The control class of a machine that does not say (the built-in machine is a 0i-F).
 DEFAULT_CONTROL_CLASS: Final = "0i-F"
+#: Characters of a machine's name at most: it heads the server's ready line and its logs.
+MAX_NAME_LENGTH: Final = 64
 #: Identity texts and their widths (ODBSYS).
 _IDENTITY_TEXTS: Final = (
     ("cnc_type", 2),
@@ -53,3 +63,21 @@ def checked_identity(identity: Identity | None, control_class: str, axes: int) -
         if not isinstance(text, str) or len(text) != size or not text.isascii():
             raise ValueError(f"identity {key} must be {size} ASCII characters, got {text!r}")
     return identity
+
+
+def name_problem(name: str) -> str | None:
+    """What keeps ``name`` from being a machine's name (None: nothing): a name is 1..64
+    printable characters, so it stays on its one line of the ready line and the logs."""
+    rule = f"a machine's name is 1..{MAX_NAME_LENGTH} printable characters"
+    if not 1 <= len(name) <= MAX_NAME_LENGTH:
+        return f"{rule}, not {len(name)}"
+    bad = next((c for c in name if not c.isprintable()), None)
+    return None if bad is None else f"{rule}: {bad!r} is not one"
+
+
+def checked_name(name: str) -> str:
+    """``name`` once it is checked (:func:`name_problem`): ValueError saying the rule."""
+    problem = name_problem(name)
+    if problem is not None:
+        raise ValueError(problem)
+    return name

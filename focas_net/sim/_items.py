@@ -9,7 +9,7 @@ from typing import Final
 
 from focas_net.errors import EW
 
-from ._base import Counters, MachineError
+from ._base import NUMBERS, Counters, MachineError
 
 __all__ = [
     "MAX_REAL_DECIMALS",
@@ -96,8 +96,8 @@ class DataItem:
     def check(self, axes: int) -> None:
         """Raise ValueError when the item is not consistent (for machine builders); fills in
         ``kind`` (from ``width``), ``width`` (from ``kind``) and the range (the kind's)."""
-        if not -0x8000 <= self.number <= 0x7FFF:
-            raise ValueError(f"number {self.number} is outside i16")
+        if not NUMBERS[0] <= self.number <= NUMBERS[1]:
+            raise ValueError(f"number {self.number} is outside {NUMBERS[0]}..{NUMBERS[1]}")
         if self.kind is None:
             kind = _KIND_OF_WIDTH.get(self.width)
             if kind is None:

@@ -14,13 +14,15 @@ from typing import Final
 
 from focas_net.errors import EW
 
-from ._base import I32_MAX, I32_MIN, Counters, MachineError
+from ._base import I32_MAX, I32_MIN, NUMBERS, Counters, MachineError
 
 __all__ = ["MAX_MACRO_DECIMALS", "MacroRange", "Macros", "float_macro", "macro_value"]
 
 #: Most decimal places a macro variable holds.
 MAX_MACRO_DECIMALS: Final = 9
 _MACRO_STEP: Final = Decimal(1).scaleb(-MAX_MACRO_DECIMALS)
+#: Digits of a signed 32-bit integer at most.
+_I32_DIGITS: Final = len(str(I32_MAX))
 
 
 @dataclass(frozen=True, slots=True)
@@ -42,7 +44,7 @@ def macro_value(value: Decimal | int) -> Decimal | None:
         return None
     sign, digits, exponent = value.as_tuple()
     assert isinstance(exponent, int)
-    if not -MAX_MACRO_DECIMALS <= exponent <= 0:
+    if not -MAX_MACRO_DECIMALS <= exponent <= 0 or len(digits) > _I32_DIGITS:
         return None
     coefficient = int("".join(map(str, digits)))
     if not I32_MIN <= (-coefficient if sign else coefficient) <= I32_MAX:
@@ -80,8 +82,11 @@ class Macros:
         self.counters = counters
         self.ranges = tuple(sorted(ranges, key=lambda r: r.first))
         for r in self.ranges:
-            if not -0x8000 <= r.first <= r.last <= 0x7FFF:
-                raise ValueError(f"macro range {r.first}..{r.last} is empty or outside i16")
+            low, high = NUMBERS
+            if not low <= r.first <= r.last <= high:
+                raise ValueError(
+                    f"macro range {r.first}..{r.last} is empty or outside {low}..{high}"
+                )
         for a, b in zip(self.ranges, self.ranges[1:], strict=False):
             if b.first <= a.last:
                 raise ValueError(f"macro ranges {a.first}..{a.last} and {b.first}.. overlap")

@@ -393,8 +393,6 @@ class Path:
             if run is not None and run.next_time <= now:
                 run.play(now)
                 moved = True
-            for event in e.take_events():
-                self.engine_event(event, now)
             self.settled(moved)
             if run is not None and run.finished(e):
                 self.production.run = None
@@ -403,11 +401,18 @@ class Path:
             self.time.release()
 
     def settled(self, moved: bool, force: bool = False) -> None:
-        """Take the engine's state after a command or a sync, and move the counters of what
-        changed: while :attr:`driven`, the figures and the system variables whenever time
-        ``moved``, the status when the state did (``force``: all of them)."""
+        """Take the engine's state after a command or a sync, record what it reported on the
+        way (a cycle start runs the blocks that take no time at once: an error in the first
+        block, an M30 alone), and move the counters of what changed: while :attr:`driven`,
+        the figures and the system variables whenever time ``moved``, the status when the
+        state did (``force``: all of them)."""
         e = self.engine
         state, motion, wait = e.flags()
+        events = e.take_events()
+        if events:
+            now = self.time.now()
+            for event in events:
+                self.engine_event(event, now)
         key = (state, motion)
         changed = key != self.key
         self.key = key

@@ -16,10 +16,29 @@ from focas_net.errors import EW
 from ._base import Counters, MachineError
 from .nc import CycleState
 
-__all__ = ["F_SIGNALS", "G_SIGNALS", "PMC_AREAS", "Area", "GRequest", "Pmc", "PmcAreaSpec"]
+__all__ = [
+    "F_SIGNALS",
+    "G_SIGNALS",
+    "PMC_AREAS",
+    "Area",
+    "GRequest",
+    "Pmc",
+    "PmcAreaSpec",
+    "pmc_letter",
+]
 
 #: Letters of the PMC areas a machine can have.
 PMC_AREAS: Final = ("X", "Y", "F", "G", "R", "T", "C", "D", "K", "A", "E")
+
+
+def pmc_letter(text: str) -> str:
+    """The PMC area ``text`` names, in either case and with spaces around (``" r"`` is
+    ``"R"``): ValueError naming the areas for a letter that is no PMC area."""
+    letter = text.strip().upper()
+    if letter not in PMC_AREAS:
+        raise ValueError(f"unknown PMC area {text!r} (one of {', '.join(PMC_AREAS)})")
+    return letter
+
 
 #: The G signals the machine reads (FANUC Series 0i addresses): (byte, bit).
 _ST: Final = (7, 2)  #: cycle start, G7.2 (its falling edge starts)
@@ -86,9 +105,7 @@ class Area:
     __slots__ = ("data", "letter", "size", "write_protected")
 
     def __init__(self, spec: PmcAreaSpec) -> None:
-        self.letter = spec.letter.strip().upper()
-        if self.letter not in PMC_AREAS:
-            raise ValueError(f"unknown PMC area {spec.letter!r} (one of {', '.join(PMC_AREAS)})")
+        self.letter = pmc_letter(spec.letter)
         self.size = spec.size
         self.write_protected = spec.write_protected
         self.data = bytearray(spec.size)
@@ -119,10 +136,7 @@ class Pmc:
     def info(self, letter: str) -> tuple[int, bool] | None:
         """``(size, write_protected)``, None when the machine has no such area (ValueError for
         a letter that is no PMC area)."""
-        key = letter.strip().upper()
-        if key not in PMC_AREAS:
-            raise ValueError(f"unknown PMC area {letter!r}")
-        area = self.areas.get(key)
+        area = self.areas.get(pmc_letter(letter))
         return None if area is None else (area.size, area.write_protected)
 
     def area(self, letter: str) -> Area:

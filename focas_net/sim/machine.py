@@ -47,9 +47,10 @@ component whose state it guards) and asked in the order the operation's docstrin
 * PMC: an area this machine does not have -> EW_NOOPT (:meth:`Machine.check_pmc_area` asks only
   that), addresses outside the area -> EW_NUMBER, writing a write-protected area -> EW_PROT
   (``force``, the simulator's own write, ignores protection). Any length within the area;
-* alarms: ``alm_type`` outside 0..31 -> EW_DATA, a negative ``alm_no`` -> EW_DATA (-1 means
-  "any" to :meth:`Machine.clear_alarms`, so such an alarm could not be cleared on its own),
-  ``axis_no`` outside 0..axes -> EW_ATTRIB; the CNC keeps 32 characters of a message. The
+* alarms: ``alm_type`` outside 0..31 -> EW_DATA, ``alm_no`` outside 0..32767
+  (:data:`MAX_ALARM_NO`, what the CNC holds; -1 means "any" to :meth:`Machine.clear_alarms`)
+  -> EW_DATA, ``axis_no`` outside 0..axes -> EW_ATTRIB; the CNC keeps 32 characters of a
+  message. The
   history keeps ``history_capacity`` entries; active alarms and the history are read to any
   depth;
 * positions: an unknown kind -> EW_ATTRIB, the skip position -> EW_NOOPT (no skip function),
@@ -102,8 +103,16 @@ from focas_net.errors import EW
 from focas_net.versamax import IOModuleRecord
 
 from ._alarms import DEFAULT_HISTORY_CAPACITY, Alarm, Alarms, Clock, HistoryEntry, utc_now
+from ._alarms import MAX_ALARM_NO as MAX_ALARM_NO
 from ._base import Counters, MachineError
-from ._identity import CONTROL_CLASSES, DEFAULT_CONTROL_CLASS, Identity, checked_identity
+from ._identity import (
+    CONTROL_CLASSES,
+    DEFAULT_CONTROL_CLASS,
+    Identity,
+    checked_identity,
+    checked_name,
+)
+from ._identity import MAX_NAME_LENGTH as MAX_NAME_LENGTH
 from ._items import MAX_REAL_DECIMALS as MAX_REAL_DECIMALS  # the native adapter's
 from ._items import PARTS_COUNT, PARTS_TOTAL, DataItem, Items, ParamKind
 from ._macros import MAX_MACRO_DECIMALS, MacroRange, Macros
@@ -135,7 +144,9 @@ __all__ = [
     "DEFAULT_HISTORY_CAPACITY",
     "F_SIGNALS",
     "G_SIGNALS",
+    "MAX_ALARM_NO",
     "MAX_MACRO_DECIMALS",
+    "MAX_NAME_LENGTH",
     "MDI",
     "MEM",
     "PMC_AREAS",
@@ -192,7 +203,7 @@ class Machine:
         sim_clock: SimClock | None = None,
         scenario: Scenario | None = None,
     ) -> None:
-        self._name = name
+        self._name = checked_name(name)
         #: How the machine runs on its own when it is told to (:meth:`start_scenario`;
         #: ``serve`` starts it): a machine file's ``[run]``, None when it has none.
         self.scenario = scenario
@@ -238,12 +249,13 @@ class Machine:
 
     @property
     def name(self) -> str:
-        """The machine's name (the server's ready line, the logs)."""
+        """The machine's name (the server's ready line, the logs): 1..64 printable characters
+        (:data:`MAX_NAME_LENGTH`; ValueError otherwise)."""
         return self._name
 
     @name.setter
     def name(self, name: str) -> None:
-        self._name = self._alarms.name = self._path.name = name
+        self._name = self._alarms.name = self._path.name = checked_name(name)
 
     def __repr__(self) -> str:
         return f"Machine({self.name!r}, axes={''.join(self.axes)!r})"
@@ -532,8 +544,9 @@ class Machine:
         alm_no) changes nothing, whatever ``msg`` says: it keeps the message it was raised
         with, the history gets no second entry, and the answer is False. Clear it first to raise
         it with another message. The CNC keeps 32 characters of ``msg``, single-byte (Latin-1)
-        text. EW_PROT (read-only machine), EW_DATA (alm_type, alm_no), EW_ATTRIB (axis_no),
-        EW_DATA (a character beyond U+00FF). Any alarm stops the cycle."""
+        text. EW_PROT (read-only machine), EW_DATA (alm_type outside 0..31, alm_no outside
+        0..32767), EW_ATTRIB (axis_no), EW_DATA (a character beyond U+00FF). Any alarm stops
+        the cycle."""
         self.check_writable()
         text = self._alarms.checked(axis_no, alm_type, alm_no, msg, len(self.axes))
         self._path.sync()

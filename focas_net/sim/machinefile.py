@@ -21,6 +21,9 @@ from typing import Any, Final, NoReturn
 from focas_net.errors import FocasError
 from focas_net.versamax import BoardId, IOModuleRecord, RefType
 
+from ._base import NUMBERS
+from ._identity import name_problem
+from ._pmc import pmc_letter
 from ._station import MAX_RACK, MAX_SLOT
 from .default import gniu_record, mdd844_record
 from .machine import (
@@ -245,7 +248,7 @@ def _items(ctx: _Ctx, value: Any, n_axes: int) -> list[DataItem]:
     items: list[DataItem] = []
     for key, raw in t.items():
         c = ctx.sub(key)
-        number = _number_key(c, key, _I16)
+        number = _number_key(c, key, NUMBERS)
         if any(item.number == number for item in items):
             c.fail(f"number {number} is given twice")
         spec = _table(c, raw)
@@ -300,13 +303,10 @@ def _item_value(
     ctx: _Ctx, value: Any, kind: ParamKind, decimals: int, bounds: tuple[int, int]
 ) -> int:
     """A value of a parameter of ``kind`` as the machine holds it: a bit parameter's integer
-    0..255 or bit string (``"10110000"``, ``"0b10110000"``: #7 first); a real parameter's
-    number (``12.345``, ``"12.345"``) as its mantissa with ``decimals`` decimals."""
+    0..255 or its bits as text (:func:`_bits`); a real parameter's number (``12.345``,
+    ``"12.345"``) as its mantissa with ``decimals`` decimals."""
     if kind is ParamKind.BIT and isinstance(value, str):
-        digits = value.strip().lower().removeprefix("0b").replace("_", "")
-        if not 1 <= len(digits) <= 8 or set(digits) - {"0", "1"}:
-            ctx.fail(f'{value!r} is not 8 bits (#7..#0, e.g. "10110000" or "0b10110000")')
-        value = int(digits, 2)
+        value = _bits(ctx, value)
     if kind is ParamKind.REAL and not isinstance(value, bool | list | dict):
         if isinstance(value, str | int | float):
             try:
@@ -325,6 +325,23 @@ def _item_value(
     return _int(ctx, value, bounds)
 
 
+def _bits(ctx: _Ctx, text: str) -> int:
+    """A bit parameter's value given as text: the eight bits #7..#0 (``"10110000"``), or a
+    binary number with ``0b`` (``"0b1011"`` is 11, as the command line reads it); ``_``
+    may separate digits. Fewer than eight bits without ``0b`` (``"1011"``: #3..#0 or
+    #7..#4?) are refused with how to write them."""
+    raw = text.strip().lower().replace("_", "")
+    digits = raw.removeprefix("0b")
+    binary = bool(digits) and not set(digits) - {"0", "1"}
+    if binary and (len(digits) == 8 or (raw.startswith("0b") and len(digits) < 8)):
+        return int(digits, 2)
+    example = digits if binary and len(digits) < 8 else "1011"
+    ctx.fail(
+        f'{text!r} is not 8 bits: write the eight bits #7..#0 ("{int(example, 2):08b}"), '
+        f'a binary number with 0b ("0b{example}") or an integer 0..255 without quotes'
+    )
+
+
 def _macros(ctx: _Ctx, value: Any) -> tuple[list[MacroRange], dict[int, Decimal]]:
     t = _table(ctx, value)
     _only(ctx, t, ("ranges", "values"))
@@ -337,8 +354,8 @@ def _macros(ctx: _Ctx, value: Any) -> tuple[list[MacroRange], dict[int, Decimal]
         for key in ("first", "last"):
             if key not in spec:
                 c.sub(key).fail("missing")
-        first = _int(c.sub("first"), spec["first"], _I16)
-        last = _int(c.sub("last"), spec["last"], _I16)
+        first = _int(c.sub("first"), spec["first"], NUMBERS)
+        last = _int(c.sub("last"), spec["last"], NUMBERS)
         if first > last:
             c.fail(f"first {first} is above last {last}")
         for j, other in enumerate(ranges):
@@ -349,7 +366,7 @@ def _macros(ctx: _Ctx, value: Any) -> tuple[list[MacroRange], dict[int, Decimal]
     values: dict[int, Decimal] = {}
     for key, raw in _table(vc, t.get("values", {})).items():
         c = vc.sub(key)
-        number = _number_key(c, key, _I16)
+        number = _number_key(c, key, NUMBERS)
         if number in values:
             c.fail(f"#{number} is given twice")
         if not any(r.first <= number <= r.last for r in ranges):
@@ -367,11 +384,15 @@ def _macros(ctx: _Ctx, value: Any) -> tuple[list[MacroRange], dict[int, Decimal]
 
 def _pmc(ctx: _Ctx, value: Any) -> list[PmcAreaSpec]:
     t = _table(ctx, value)
-    areas = []
-    for letter, raw in t.items():
-        c = ctx.sub(letter)
-        if letter not in PMC_AREAS:
+    areas: list[PmcAreaSpec] = []
+    for key, raw in t.items():
+        c = ctx.sub(key)
+        try:
+            letter = pmc_letter(key)  # "r" is R, as everywhere an area is named
+        except ValueError:
             c.fail(f"unknown PMC area (expected one of: {', '.join(PMC_AREAS)})")
+        if any(area.letter == letter for area in areas):
+            c.fail(f"area {letter} is given twice")
         spec = _table(c, raw)
         _only(c, spec, ("size", "write_protected", "values"))
         if "size" not in spec:
@@ -584,6 +605,8 @@ def _run(ctx: _Ctx, value: Any) -> Scenario:
     return Scenario(**given)
 
 
+_MACHINE_KEYS: Final = ("name", "axes", "param_password", "control", "read_only",
+                        "history_capacity", "control_class")  # fmt: skip
 _TOP: Final = (
     "machine",
     "sysinfo",
@@ -621,24 +644,15 @@ def machine_from_dict(
     if "machine" not in top:
         mc.fail("missing (the [machine] table with at least name and axes)")
     head = _table(mc, top["machine"])
-    _only(
-        mc,
-        head,
-        (
-            "name",
-            "axes",
-            "param_password",
-            "control",
-            "read_only",
-            "history_capacity",
-            "control_class",
-        ),
-    )
+    _only(mc, head, _MACHINE_KEYS)
     if "name" not in head:
         mc.sub("name").fail("missing")
     name = _str(mc.sub("name"), head["name"]).strip()
     if not name:
         mc.sub("name").fail("must not be empty")
+    problem = name_problem(name)  # the machine's own rule
+    if problem is not None:
+        mc.sub("name").fail(problem)
     if "axes" not in head:
         mc.sub("axes").fail("missing")
     axes = _axes(mc.sub("axes"), head["axes"])

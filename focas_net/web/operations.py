@@ -228,8 +228,17 @@ def _pmc_bit(station: Station, args: Mapping[str, Any]) -> JsonDict:
     return {"area": area, "address": address, "byte": byte}
 
 
+#: Digits of a parameter value the page passes on (a parameter holds 10 at most): beyond, the
+#: number is refused before it becomes an int, which would take minutes for 1E+999999.
+_PARAM_DIGITS: Final = 20
+
+
 def _param_value(m: Machine, number: int, text: Decimal) -> tuple[int, int | None]:
     """A parameter value as the page typed it -> (value in the parameter's terms, decimals)."""
+    digits = len(text.as_tuple().digits)
+    if digits > _PARAM_DIGITS or (not text.is_zero() and text.adjusted() >= _PARAM_DIGITS):
+        shown = f"{text:.3E}" if digits > _PARAM_DIGITS else str(text)
+        raise ActionError(f"value: {shown} is no parameter value (more than 20 digits)")
     item = m.param_item(number)
     if item is not None and item.kind is ParamKind.REAL:
         exponent = text.as_tuple().exponent
