@@ -3,6 +3,8 @@ in and machines from files. Nothing here touches a socket or an event loop, and 
 knows either wire protocol: :mod:`focas_net.adapters` translates (``docs/protocol.md``,
 ``docs/native-protocol.md``)."""
 
+from ._alarms import MAX_ALARM_NO
+from ._identity import MAX_NAME_LENGTH
 from .default import DEFAULT_NAME, DEMO_PROGRAM, default_machine
 from .machine import (
     AUT_MODES,
@@ -11,9 +13,7 @@ from .machine import (
     DEFAULT_HISTORY_CAPACITY,
     F_SIGNALS,
     G_SIGNALS,
-    MAX_ALARM_NO,
     MAX_MACRO_DECIMALS,
-    MAX_NAME_LENGTH,
     PMC_AREAS,
     POSITION_DECIMALS,
     POSITION_KINDS,

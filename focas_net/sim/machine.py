@@ -47,12 +47,10 @@ component whose state it guards) and asked in the order the operation's docstrin
 * PMC: an area this machine does not have -> EW_NOOPT (:meth:`Machine.check_pmc_area` asks only
   that), addresses outside the area -> EW_NUMBER, writing a write-protected area -> EW_PROT
   (``force``, the simulator's own write, ignores protection). Any length within the area;
-* alarms: ``alm_type`` outside 0..31 -> EW_DATA, ``alm_no`` outside 0..32767
-  (:data:`MAX_ALARM_NO`, what the CNC holds; -1 means "any" to :meth:`Machine.clear_alarms`)
-  -> EW_DATA, ``axis_no`` outside 0..axes -> EW_ATTRIB; the CNC keeps 32 characters of a
-  message. The
-  history keeps ``history_capacity`` entries; active alarms and the history are read to any
-  depth;
+* alarms: ``alm_type`` outside 0..31 -> EW_DATA, ``alm_no`` outside 0..32767 (what the CNC
+  holds; -1 means "any" to :meth:`Machine.clear_alarms`) -> EW_DATA, ``axis_no`` outside
+  0..axes -> EW_ATTRIB; the CNC keeps 32 characters of a message. The history keeps
+  ``history_capacity`` entries; both are read to any depth;
 * positions: an unknown kind -> EW_ATTRIB, the skip position -> EW_NOOPT (no skip function),
   an axis outside 1..n -> EW_ATTRIB;
 * the VersaMax station: an empty (or impossible) rack/slot -> EW_NUMBER, an offset outside the
@@ -103,7 +101,6 @@ from focas_net.errors import EW
 from focas_net.versamax import IOModuleRecord
 
 from ._alarms import DEFAULT_HISTORY_CAPACITY, Alarm, Alarms, Clock, HistoryEntry, utc_now
-from ._alarms import MAX_ALARM_NO as MAX_ALARM_NO
 from ._base import Counters, MachineError
 from ._identity import (
     CONTROL_CLASSES,
@@ -112,7 +109,6 @@ from ._identity import (
     checked_identity,
     checked_name,
 )
-from ._identity import MAX_NAME_LENGTH as MAX_NAME_LENGTH
 from ._items import MAX_REAL_DECIMALS as MAX_REAL_DECIMALS  # the native adapter's
 from ._items import PARTS_COUNT, PARTS_TOTAL, DataItem, Items, ParamKind
 from ._macros import MAX_MACRO_DECIMALS, MacroRange, Macros
@@ -144,9 +140,7 @@ __all__ = [
     "DEFAULT_HISTORY_CAPACITY",
     "F_SIGNALS",
     "G_SIGNALS",
-    "MAX_ALARM_NO",
     "MAX_MACRO_DECIMALS",
-    "MAX_NAME_LENGTH",
     "MDI",
     "MEM",
     "PMC_AREAS",
@@ -801,8 +795,7 @@ class Machine:
             a = self._pmc.areas[letter]
             put("pmc", a.letter, a.size, a.write_protected)
             h.update(a.data)
-        p = self.panel
-        put("panel", *astuple(p))
+        put("panel", *astuple(self.panel))
         put("password", self._lock.digest())
         put("active", list(self._alarms.active.values()))
         put("history", self.history_capacity, list(self._alarms.history))
