@@ -11,23 +11,29 @@ from __future__ import annotations
 
 import asyncio
 import socket
+import ssl
 import struct
 import threading
 from collections.abc import AsyncIterator, Iterator
 from contextlib import asynccontextmanager, contextmanager
 from http.server import SimpleHTTPRequestHandler, ThreadingHTTPServer
+from pathlib import Path
 from typing import Final
 
 import pytest
 from cli_support import run_focas_net
 from support import IO_TIMEOUT, LoopbackPeer, serving, wait_until
 
-from focas_net.cli import EXIT_CONNECTION, EXIT_PROTOCOL, _run, main
+from focas_net.cli import EXIT_CONNECTION, EXIT_PROTOCOL, _diagnose, _run, main
+from focas_net.cli._diagnose import Findings
+from focas_net.client import FocasClient
+from focas_net.protocol import FaultKind, FaultScope
 
 PROTOCOLS: Final = ("packed", "native")
 HTTP_ANSWER: Final = b"HTTP/1.1 400 Bad Request\r\nContent-Length: 0\r\n\r\n"
 #: A short per-call timeout for a peer that never answers (the command's own option).
 SHORT: Final = "0.5"
+
 
 class RawPeer(LoopbackPeer):
     """A TCP peer that is not a FOCAS server: on each connection it reads what comes first,
@@ -163,3 +169,92 @@ async def test_follow_gives_up_with_the_last_reconnect_attempts_reason(
     assert "alarms --follow gave up" in last
     assert f"cannot connect to 127.0.0.1:{served.port}: connection refused" in last
     no_python_text(last)
+
+
+# -- item: a peer that says nothing ---------------------------------------------------------------
+
+
+@pytest.mark.parametrize("protocol", PROTOCOLS)
+async def test_an_http_server_that_waits_is_named_as_one(protocol: str) -> None:
+    """``python3 -m http.server`` waits for the end of a request line, which no FOCAS frame
+    sends: the command times out with nothing received, then finds an HTTP server."""
+    with http_server() as port:
+        code, out, err = await cli(port, protocol)
+    assert (code, out) == (EXIT_PROTOCOL, ""), err
+    line = one_line(err)
+    assert f"127.0.0.1:{port} does not speak the FOCAS protocol (" in line
+    assert "an HTTP server" in line and "--tls" not in line
+
+
+# -- item: hints that say what the probes found ---------------------------------------------------
+
+
+async def test_a_native_only_port_points_to_protocol_native() -> None:
+    async with serving(native_port=0) as served:
+        native = served.listener.native
+        assert native is not None
+        port = native.address[1]
+        code, out, err = await cli(port, "packed")
+        assert (code, out) == (EXIT_CONNECTION, ""), err
+        line = one_line(err)
+        assert line.endswith("give --protocol native") and "--tls" not in line
+        code, out, err = await cli(port, "native")
+        assert (code, err) == (0, "")
+
+
+@pytest.mark.parametrize("protocol", PROTOCOLS)
+async def test_a_connection_over_the_limit_says_the_server_refused_it(protocol: str) -> None:
+    async with serving(max_connections=1) as served, await served.connect():
+        code, out, err = await cli(served.port, protocol)
+    assert (code, out) == (EXIT_CONNECTION, ""), err
+    line = one_line(err)
+    assert "the server refused the connection" in line and "--max-connections" in line
+    assert "--tls" not in line
+
+
+async def test_a_dropped_answer_gives_no_tls_hint() -> None:
+    async with serving() as served:
+        async with FocasClient(served.host, served.port, timeout=IO_TIMEOUT) as c:
+            await c.sim.inject_fault(FaultKind.DROP, scope=FaultScope.MACHINE)
+        code, out, err = await cli(served.port, "packed")
+    assert (code, out) == (EXIT_CONNECTION, ""), err
+    line = one_line(err)
+    assert "before any answer" in line and "drop fault" in line and "--tls" not in line
+
+
+async def test_tls_on_one_side_only_is_found_on_either_side(
+    certificate: tuple[Path, Path],
+) -> None:
+    context = ssl.SSLContext(ssl.PROTOCOL_TLS_SERVER)
+    context.load_cert_chain(*certificate)
+    async with serving(ssl=context) as served:
+        lines = [one_line((await cli(served.port, p))[2]) for p in PROTOCOLS]
+    assert lines[0].endswith(
+        "the server uses TLS: give --tls (with --tls-ca FILE or --tls-insecure)"
+    )
+    assert lines[1].endswith("FOCAS/2 does not have: give --protocol packed --tls")
+    async with serving(native_port=0) as served:
+        native = served.listener.native
+        assert native is not None
+        code, _, err = await cli(native.address[1], "packed", "status", "--tls-insecure")
+    assert code == EXIT_CONNECTION
+    assert one_line(err).endswith("drop --tls, give --protocol native")
+
+
+@pytest.mark.parametrize(
+    ("found", "protocol", "tls", "advice"),
+    [
+        (Findings(True, False, False, False), "packed", False, "the server refused"),
+        (Findings(True, False, True, False), "packed", False, "on purpose"),
+        (Findings(False, True, False, False), "packed", True, None),
+        (Findings(False, False, True, True), "packed", True, "plain TCP: drop --tls"),
+        (Findings(False, False, False, True), "native", False, "on purpose"),
+        (Findings(False, False, True, False), "native", False, None),
+        (Findings(False, False, False, False), "packed", False, None),
+    ],
+)
+def test_the_advice_follows_from_what_the_probes_found(
+    found: Findings, protocol: str, tls: bool, advice: str | None
+) -> None:
+    said = _diagnose.advice(found, protocol, tls)
+    assert said == advice if advice is None else (said is not None and advice in said)
