@@ -51,6 +51,7 @@ from ._args import (
     print_error,
 )
 from ._diagnose import diagnosis
+from ._reasons import reason
 
 __all__ = [
     "FOLLOW_MAX_FAILURES",
@@ -318,6 +319,8 @@ def _failure_text(args: argparse.Namespace, exc: BaseException, hint: str | None
     if isinstance(exc, FocasTimeoutError):
         where = fmt.address_text(args.host, args.port)
         text = f"timed out after {args.timeout:g} s ({where}): {text}"
+    if hint is None and isinstance(exc, CncError):
+        hint = reason(command_name(args), args, exc)
     if hint is None and _protocol(args) != NATIVE:
         hint = _tls_hint(args, exc)
     return text if hint is None else f"{text}; {hint}"
