@@ -466,8 +466,13 @@ async def test_sim_fault_usage(cli: Cli) -> None:
     assert "--arg" in err
     err = await cli.fails(EXIT_USAGE, "sim", "fault", "error", "--arg", "EW_NOSUCH")
     assert "unknown EW code" in err
-    err = await cli.fails(EXIT_CNC, "sim", "fault", "delay", "--arg", "70000")
-    assert err.startswith("focas-net: EW_DATA (5)")
+    # the server's ranges, checked before anything is sent
+    err = await cli.fails(EXIT_USAGE, "sim", "fault", "delay", "--arg", "70000")
+    assert err == "focas-net: --arg 70000: a delay is 0..60000 ms"
+    err = await cli.fails(EXIT_USAGE, "sim", "fault", "error", "--arg", "0")
+    assert err == "focas-net: --arg 0: an error fault's EW code is a nonzero -32768..32767"
+    err = await cli.fails(EXIT_USAGE, "sim", "fault", "drop", "--arg", "5")
+    assert err == "focas-net: --arg does not apply to a drop fault"
 
 
 async def test_control_disabled(capsys: pytest.CaptureFixture[str]) -> None:

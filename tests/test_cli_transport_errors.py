@@ -153,12 +153,18 @@ async def test_follow_gives_up_with_the_last_reconnect_attempts_reason(
     protocol: str, monkeypatch: pytest.MonkeyPatch, capsys: pytest.CaptureFixture[str]
 ) -> None:
     monkeypatch.setattr(_run, "FOLLOW_RECONNECT_ATTEMPTS", 1)
+    printed: list[str] = []
+
+    def followed() -> bool:  # the follower is connected: it printed the alarm active
+        printed.append(capsys.readouterr().out)
+        return "raised" in "".join(printed)
+
     async with serving() as served:
+        served.machine.raise_alarm(0, 3, 100, "ACTIVE")
         argv = ["alarms", "--follow", "--interval", "0.05", "--timeout", "1"]
         argv += ["--port", str(served.port), "--protocol", protocol]
         follow = asyncio.create_task(asyncio.to_thread(main, argv))
-        listener = served.listener
-        await wait_until(lambda: listener.connections or listener.native_connections)
+        await wait_until(followed)
     # the server has stopped: the one reconnect attempt is refused
     async with asyncio.timeout(4 * IO_TIMEOUT):
         code = await follow

@@ -275,7 +275,7 @@ def test_a_bad_interval_or_count_is_a_usage_error_naming_it(
         main(["watch", *argv])
     out, err = capsys.readouterr()
     assert (info.value.code, out) == (EXIT_USAGE, "")
-    assert err.splitlines()[-1] == f"focas-net watch: error: {reason}"
+    assert err == f"focas-net watch: error: {reason}; see focas-net watch --help\n"
 
 
 async def test_an_unreachable_machine_is_one_line() -> None:
