@@ -9,6 +9,7 @@ import socket
 import sys
 
 import pytest
+from support import serving
 
 from focas_net.cli import (
     EXIT_CNC,
@@ -65,11 +66,12 @@ IN_A_PROCESS = [0, 4, 6, 9]
 
 
 def _check_usage_error(argv: tuple[str, ...], message: str, code: int, out: str, err: str) -> None:
+    """One line: the command, the error, where the help is (no usage block)."""
     assert (code, out) == (EXIT_USAGE, ""), (argv, err)
-    last = err.splitlines()[-1]
     command = " ".join(a for a in argv[:2] if a.isalpha())
-    assert last.startswith(f"focas-net {command}: error: "), (argv, last)
-    assert last.endswith(message), (argv, last)
+    assert err.count("\n") == 1, (argv, err)
+    assert err.startswith(f"focas-net {command}: error: "), (argv, err)
+    assert err.endswith(f"{message}; see focas-net {command} --help\n"), (argv, err)
 
 
 async def test_a_bad_port_is_a_usage_error_naming_what_was_typed() -> None:
@@ -129,6 +131,63 @@ def test_port_type_is_one_parser() -> None:
     assert _args.PORT("0b11") == 3 and _args.LISTEN_PORT("0o17") == 15
 
 
+# -- usage errors: one line each, naming what was typed --------------------------------------
+
+USAGE_ERRORS = [
+    (
+        ("status", "--host", "bad host!"),
+        "argument --host: not a host name: 'bad host!' (a name is letters, digits and "
+        "hyphens, in parts between dots)",
+    ),
+    (
+        ("status", "--host", "127.0.0.1:9400"),
+        "argument --host: '127.0.0.1:9400' is a host and a port: give --host 127.0.0.1 --port 9400",
+    ),
+    (
+        ("status", "--host", "[::1]:9400"),
+        "argument --host: '[::1]:9400' is a host and a port: give --host ::1 --port 9400",
+    ),
+    (("versamax", "8", "0"), "argument RACK: must be 0..7, got 8"),
+    (("versamax", "0", "10"), "argument SLOT: must be 0..9, got 10"),
+    (
+        ("sim", "fault", "delay", "--arg", "10", "--count", "100000"),
+        "argument --count: must be 1..10000, got 100000",
+    ),
+    (("status", "--json", "extra"), "unrecognized arguments: extra"),
+    (("sim", "alarm", "PS0100", "--bogus"), "unrecognized arguments: --bogus"),
+    (("param",), "the following arguments are required: ACTION"),
+]
+
+
+async def test_a_usage_error_is_one_line_and_where_the_help_is() -> None:
+    results = await asyncio.gather(*(_focas_net(*argv) for argv, _ in USAGE_ERRORS))
+    for (argv, message), (code, out, err) in zip(USAGE_ERRORS, results, strict=True):
+        _check_usage_error(argv, message, code, out, err)
+    code, out, err = await _focas_net()
+    assert (code, out) == (EXIT_USAGE, "")
+    assert err == (
+        "focas-net: error: the following arguments are required: COMMAND; see focas-net --help\n"
+    )
+
+
+def test_a_command_takes_its_options_among_its_words() -> None:
+    """A message after ``--axis`` is still the message (not an unknown argument)."""
+    args = build_parser().parse_args(["sim", "alarm", "SV0411", "--axis", "2", "SERVO", "ALARM"])
+    assert (args.alarm, args.message, args.axis) == ("SV0411", ["SERVO", "ALARM"], 2)
+    args = build_parser().parse_args(["pmc", "write", "R", "--port", "9", "10", "1", "2"])
+    assert (args.start, args.values, args.port) == (10, ["1", "2"], 9)
+
+
+async def test_an_alarm_message_after_its_axis_is_raised() -> None:
+    async with serving() as served:
+        code, out, err = await _focas_net(
+            "sim", "alarm", "SV0411", "--axis", "2", "SERVO", "ALARM", "--port", str(served.port)
+        )
+        assert (code, err) == (EXIT_OK, ""), err
+        assert out == "raised SV0411 (axis 2) SERVO ALARM\n"
+        assert [(a.axis_no, a.msg) for a in served.machine.active_alarms()] == [(2, "SERVO ALARM")]
+
+
 # -- exit codes -----------------------------------------------------------------------------
 
 
@@ -176,7 +235,7 @@ def test_the_table_names_every_client_command_once() -> None:
 
 
 def test_a_table_row_becomes_a_parser(capsys: pytest.CaptureFixture[str]) -> None:
-    parser = argparse.ArgumentParser(prog="focas-net")
+    parser = _args.Parser(prog="focas-net")
     sub = parser.add_subparsers(dest="command")
     rows = (
         _table.Cmd(

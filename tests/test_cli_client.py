@@ -167,9 +167,12 @@ async def test_param_set_with_password(locked_cli: Cli) -> None:
 async def test_unlock(locked_cli: Cli) -> None:
     out = await locked_cli.ok("unlock", "1234")
     assert out.startswith("password accepted")
-    assert await locked_cli.json("unlock", "1234") == {"unlocked": True}
+    assert await locked_cli.json("unlock", "1234") == {"unlocked": True, "password_set": True}
     err = await locked_cli.fails(EXIT_CNC, "unlock", "4321")
-    assert err == ("focas-net: EW_PASSWD (17): protection / password error (cnc_wrunlockparam)")
+    assert err == (
+        "focas-net: EW_PASSWD (17): protection / password error (cnc_wrunlockparam); "
+        "the password is not the CNC's"
+    )
 
 
 async def test_diag(cli: Cli) -> None:
@@ -229,9 +232,11 @@ async def test_pmc_chunked_range(cli: Cli) -> None:
 
 async def test_pmc_errors(cli: Cli) -> None:
     err = await cli.fails(EXIT_CNC, "pmc", "write", "X", "0", "1")
-    assert err == "focas-net: EW_PROT (7): write-protected (pmc_wrpmcrng)"
+    assert err.startswith("focas-net: EW_PROT (7): write-protected (pmc_wrpmcrng); PMC area X")
     err = await cli.fails(EXIT_CNC, "pmc", "read", "E", "0")
-    assert err == "focas-net: EW_NOOPT (6): option not installed (pmc_rdpmcrng)"
+    assert err == (
+        "focas-net: EW_NOOPT (6): option not installed (pmc_rdpmcrng); the CNC has no PMC area E"
+    )
     err = await cli.fails(EXIT_CNC, "pmc", "read", "K", "99", "2")
     assert err.startswith("focas-net: EW_NUMBER (3)")
     err = await cli.fails(EXIT_USAGE, "pmc", "write", "R", "0", "1", "--hex", "02")
@@ -414,7 +419,8 @@ async def test_versamax(cli: Cli) -> None:
     assert (await cli.json("versamax", "0", "1"))["label"] == "GBI1"
     err = await cli.fails(EXIT_CNC, "versamax", "0", "2")
     assert err == (
-        "focas-net: EW_NUMBER (3): data number / address range error (versamax_rdconfig)"
+        "focas-net: EW_NUMBER (3): data number / address range error (versamax_rdconfig); "
+        "rack 0 slot 2 holds no module"
     )
 
 
@@ -460,15 +466,23 @@ async def test_sim_fault_usage(cli: Cli) -> None:
     assert "--arg" in err
     err = await cli.fails(EXIT_USAGE, "sim", "fault", "error", "--arg", "EW_NOSUCH")
     assert "unknown EW code" in err
-    err = await cli.fails(EXIT_CNC, "sim", "fault", "delay", "--arg", "70000")
-    assert err.startswith("focas-net: EW_DATA (5)")
+    # the server's ranges, checked before anything is sent
+    err = await cli.fails(EXIT_USAGE, "sim", "fault", "delay", "--arg", "70000")
+    assert err == "focas-net: --arg 70000: a delay is 0..60000 ms"
+    err = await cli.fails(EXIT_USAGE, "sim", "fault", "error", "--arg", "0")
+    assert err == "focas-net: --arg 0: an error fault's EW code is a nonzero -32768..32767"
+    err = await cli.fails(EXIT_USAGE, "sim", "fault", "drop", "--arg", "5")
+    assert err == "focas-net: --arg does not apply to a drop fault"
 
 
 async def test_control_disabled(capsys: pytest.CaptureFixture[str]) -> None:
     async with serving(default_machine(control_enabled=False)) as served:
         cli = Cli(served, capsys)
         err = await cli.fails(EXIT_CNC, "sim", "alarm", "PS0100")
-        assert err == "focas-net: EW_FUNC (1): function not available (sim_raise_alarm)"
+        assert err.startswith("focas-net: EW_FUNC (1): function not available (sim_raise_alarm); ")
+        assert err.endswith(
+            "the server takes no simulator control commands (a real CNC, or serve --no-control)"
+        )
         await cli.ok("status")
 
 

@@ -34,11 +34,11 @@ async def test_load_list_show_select_and_run(cli: Cli, clock: ManualClock, tmp_p
     out = await cli.ok("program", "load", str(path))
     assert out.strip() == f"stored O0300 from {path}"
     listing = await cli.json("program", "list")
-    assert listing == [
+    assert listing == {"programs": [
         {"number": 1, "name": "DEMO CONTOUR", "size": len(cli.served.machine.programs.text(1)),
          "main": True},
         {"number": 300, "name": "FACE", "size": len(PROGRAM), "main": False},
-    ]  # fmt: skip
+    ]}  # fmt: skip
     assert (await cli.ok("program", "show", "O300")) == PROGRAM
     assert (await cli.ok("program", "select", "300")).strip() == "O0300 is the main program"
     out = await cli.ok("sim", "cycle", "start")

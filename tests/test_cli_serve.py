@@ -143,7 +143,27 @@ async def test_bad_tls_files_exit_2(tmp_path: Path) -> None:
     code, _out, err = await _run_to_exit("--tls-key", str(tmp_path / "k.pem"))
     assert code == 2 and "--tls-cert" in err
     code, _out, err = await _run_to_exit("--tls-cert", str(tmp_path / "c.pem"))
-    assert code == 2 and "TLS" in err
+    assert code == 2 and f"--tls-cert {tmp_path / 'c.pem'}: No such file or directory" in err
+
+
+async def test_tls_files_that_cannot_serve_say_which_and_why(
+    certificate: tuple[Path, Path],
+) -> None:
+    """Not OpenSSL's ``[SSL] PEM lib (_ssl.c:3926)``: the option, the file and what it lacks."""
+    cert, key = certificate
+    cases = [
+        (("--tls-cert", str(cert)), f"--tls-cert {cert} holds no private key: give --tls-key FILE"),
+        (("--tls-cert", str(key), "--tls-key", str(key)), f"--tls-cert {key}: no PEM certificate"),
+        (
+            ("--tls-cert", str(cert), "--tls-key", str(cert)),
+            f"--tls-key {cert}: no PEM private key",
+        ),
+    ]
+    results = await asyncio.gather(*(_run_to_exit(*argv) for argv, _ in cases))
+    for (argv, reason), (code, out, err) in zip(cases, results, strict=True):
+        assert (code, out) == (2, ""), (argv, err)
+        assert err.startswith(f"focas-net serve: error: {reason}") and err.count("\n") == 1, err
+        assert "_ssl.c" not in err and "PEM lib" not in err
 
 
 async def test_port_in_use_exit_1() -> None:

@@ -126,7 +126,7 @@ def test_a_field_the_cnc_refused_is_a_dash_and_loads_show_when_read() -> None:
         "spindle": [42],
         "servo": [7, 0, 3],
     }
-    assert "loads" not in frame_dict(Frame(1, "h:1", STATE))["state"]
+    assert frame_dict(Frame(1, "h:1", STATE))["state"]["loads"] is None  # not read
 
 
 def test_a_lost_connection_keeps_the_last_state_under_its_line() -> None:
@@ -275,7 +275,7 @@ def test_a_bad_interval_or_count_is_a_usage_error_naming_it(
         main(["watch", *argv])
     out, err = capsys.readouterr()
     assert (info.value.code, out) == (EXIT_USAGE, "")
-    assert err.splitlines()[-1] == f"focas-net watch: error: {reason}"
+    assert err == f"focas-net watch: error: {reason}; see focas-net watch --help\n"
 
 
 async def test_an_unreachable_machine_is_one_line() -> None:

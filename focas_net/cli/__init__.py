@@ -15,7 +15,8 @@ connecting).
 Output is a readable table by default (FOCAS names and their meanings); ``--json`` prints one
 JSON document instead (``alarms --follow --json`` prints one JSON object per line). A failure
 prints one line on stderr, ``focas-net: EW_PASSWD (17): protection / password error
-(cnc_wrparam)``, and exits with:
+(cnc_wrparam); parameter writes need ...`` (a usage error: ``focas-net CMD: error: ...; see
+focas-net CMD --help``), and exits with:
 
 ====  ==========================================================================
 0     success
@@ -56,8 +57,9 @@ def build_parser() -> argparse.ArgumentParser:
     from focas_net import __version__
 
     from . import _table, serve
+    from ._args import Parser
 
-    parser = argparse.ArgumentParser(
+    parser = Parser(
         prog=PROG,
         description="A simulated FANUC CNC (focas-net serve) and a FOCAS client for the terminal.",
     )

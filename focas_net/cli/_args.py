@@ -1,18 +1,21 @@
-"""What every ``focas-net`` command shares: exit codes, the one-line error, argument types.
+"""What every ``focas-net`` command shares: exit codes, the one-line error, argument types,
+the parser class.
 
 An argument type is a parser of the command-line form (``ValueError`` with a message naming
-what the user typed) wrapped by :func:`argument_type` for ``argparse``, which then reports
-``focas-net CMD: error: argument --port: port must be 1..65535, got '70000'`` and exits 2.
+what the user typed) wrapped by :func:`argument_type` for ``argparse``. Every parser is a
+:class:`Parser`, whose usage error is one line, ``focas-net CMD: error: argument --port: port
+must be 1..65535, got '70000'; see focas-net CMD --help``, and exit 2.
 """
 
 from __future__ import annotations
 
 import argparse
 import ipaddress
+import re
 import sys
-from collections.abc import Callable
+from collections.abc import Callable, Sequence
 from functools import partial
-from typing import Final, TypeVar
+from typing import Any, Final, NoReturn, TypeVar
 
 from focas_net.protocol import PmcArea
 
@@ -38,8 +41,11 @@ __all__ = [
     "POSITIVE",
     "PROG",
     "SECONDS",
+    "Parser",
     "argument_type",
+    "command_parser",
     "parse_area",
+    "parse_bounded",
     "parse_history_depth",
     "parse_host",
     "parse_interval",
@@ -82,6 +88,47 @@ def print_error(message: str, prog: str = PROG) -> None:
     sys.stderr.flush()
 
 
+class Parser(argparse.ArgumentParser):
+    """The parser of ``focas-net`` and of each of its commands.
+
+    A usage error is one line naming the command, what is wrong and where the help is (exit
+    2). A command's own parser (:func:`command_parser`: it has no subcommands) takes its
+    options and its positional arguments in any order (``sim alarm SV0411 --axis 2 SERVO``),
+    and reports an argument it does not know itself."""
+
+    def __init__(self, *args: Any, **kwargs: Any) -> None:
+        super().__init__(*args, **kwargs)
+        self.leaf = False
+        self._mixing = False
+
+    def error(self, message: str) -> NoReturn:
+        print_error(f"error: {' '.join(message.split())}; see {self.prog} --help", self.prog)
+        sys.exit(EXIT_USAGE)
+
+    def parse_known_args(  # type: ignore[override]
+        self, args: Sequence[str] | None = None, namespace: Any = None
+    ) -> tuple[Any, list[str]]:
+        if not self.leaf or self._mixing:
+            return super().parse_known_args(args, namespace)
+        self._mixing = True  # (the intermixed parse calls this method for each of its passes)
+        try:
+            namespace, extras = self.parse_known_intermixed_args(args, namespace)
+        finally:
+            self._mixing = False
+        if extras:
+            self.error(f"unrecognized arguments: {' '.join(extras)}")
+        return namespace, extras
+
+
+def command_parser(subparsers: Any, name: str, **kwargs: Any) -> argparse.ArgumentParser:
+    """The parser of command ``name``, added to ``subparsers`` (a :class:`Parser` when its
+    parent is one: then a command's, see there)."""
+    p: argparse.ArgumentParser = subparsers.add_parser(name, **kwargs)
+    if isinstance(p, Parser):
+        p.leaf = True
+    return p
+
+
 def argument_type(parse: Callable[[str], T], what: str) -> Callable[[str], T]:
     """``parse`` as an ``argparse`` type: its ``ValueError`` message becomes the usage error."""
 
@@ -115,6 +162,14 @@ def parse_positive(text: str) -> int:
     value = fmt.parse_int(text)
     if value < 1:
         raise ValueError(f"must be at least 1, got {value}")
+    return value
+
+
+def parse_bounded(text: str, *, low: int, high: int) -> int:
+    """An integer within ``low..high``."""
+    value = fmt.parse_int(text)
+    if not low <= value <= high:
+        raise ValueError(f"must be {low}..{high}, got {value}")
     return value
 
 
@@ -154,6 +209,13 @@ def _shown(text: str, limit: int = 40) -> str:
     return repr(text) if len(text) <= limit else f"{text[:limit]!r}... ({len(text)} characters)"
 
 
+#: A part of a host name between dots: letters (any script, for an international name),
+#: digits, hyphens and the underscores some local names have.
+_LABEL: Final = re.compile(r"[\w-]+")
+#: ``[::1]:8193``: an IPv6 address in brackets and a port.
+_BRACKETED_PORT: Final = re.compile(r"\[([^\]]*)\]:(\d+)")
+
+
 def parse_host(text: str) -> str:
     """A host to connect to: a name (at most 253 characters, labels of 1..63), an IPv4 address
     or an IPv6 address (with or without brackets: ``[::1]``)."""
@@ -164,7 +226,17 @@ def parse_host(text: str) -> str:
             raise ValueError(f"brackets are for IPv6 addresses, got {_shown(text)}")
     if not host:
         raise ValueError("empty host")
+    bracketed = _BRACKETED_PORT.fullmatch(text.strip())
+    if bracketed:
+        raise ValueError(
+            f"{_shown(text)} is a host and a port: give --host {bracketed[1]} --port {bracketed[2]}"
+        )
     if ":" in host:
+        name, _, port = host.rpartition(":")
+        if ":" not in name and port.isdigit():
+            raise ValueError(
+                f"{_shown(text)} is a host and a port: give --host {name} --port {port}"
+            )
         try:
             ipaddress.IPv6Address(host)
         except ValueError:
@@ -177,6 +249,11 @@ def parse_host(text: str) -> str:
             raise ValueError(
                 f"host name {_shown(text)} has a part of {len(label)} characters; "
                 "each part between dots must have 1..63"
+            )
+        if not _LABEL.fullmatch(label):
+            raise ValueError(
+                f"not a host name: {_shown(text)} (a name is letters, digits and hyphens, in "
+                "parts between dots)"
             )
     return host
 

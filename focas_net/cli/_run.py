@@ -50,6 +50,8 @@ from ._args import (
     EXIT_USAGE,
     print_error,
 )
+from ._diagnose import diagnosis
+from ._reasons import reason
 
 __all__ = [
     "FOLLOW_MAX_FAILURES",
@@ -287,7 +289,8 @@ def _report_state(client: CncClient) -> Callable[[ClientState], None]:
 
 
 def _tls_hint(args: argparse.Namespace, exc: BaseException) -> str | None:
-    """Advice when TLS on one side only is the likely cause of ``exc``."""
+    """Advice when ``exc`` itself shows TLS on one side only (the probes of
+    :func:`._diagnose.diagnosis` found nothing certain)."""
     tls = tls_context_wanted(args)
     cause = exc.__cause__
     if isinstance(cause, ssl.SSLCertVerificationError):
@@ -295,11 +298,8 @@ def _tls_hint(args: argparse.Namespace, exc: BaseException) -> str | None:
     text = str(exc)
     if tls and isinstance(exc, FocasConnectionError) and "TLS handshake failed" in text:
         return "if the server is plain TCP, drop --tls"
-    if not tls and (
-        (isinstance(exc, FocasConnectionError) and "before any answer" in text)
-        or (isinstance(exc, ProtocolError) and "TLS record" in text)
-    ):
-        return "if the server uses TLS, give --tls (with --tls-ca FILE or --tls-insecure)"
+    if not tls and isinstance(exc, ProtocolError) and "TLS record" in text:
+        return "the server uses TLS: give --tls (with --tls-ca FILE or --tls-insecure)"
     return None
 
 
@@ -312,15 +312,30 @@ def tls_context_wanted(args: argparse.Namespace) -> bool:
     )
 
 
-def _failure_text(args: argparse.Namespace, exc: BaseException) -> str:
+def _failure_text(args: argparse.Namespace, exc: BaseException, hint: str | None = None) -> str:
     if isinstance(exc, HintedError):
         return f"{_failure_text(args, exc.cause)}; {exc.hint}"
     text = fmt.error_line(exc)
     if isinstance(exc, FocasTimeoutError):
         where = fmt.address_text(args.host, args.port)
-        return f"timed out after {args.timeout:g} s ({where}): {text}"
-    hint = None if _protocol(args) == NATIVE else _tls_hint(args, exc)
+        text = f"timed out after {args.timeout:g} s ({where}): {text}"
+    if hint is None and isinstance(exc, CncError):
+        hint = reason(command_name(args), args, exc)
+    if hint is None and _protocol(args) != NATIVE:
+        hint = _tls_hint(args, exc)
     return text if hint is None else f"{text}; {hint}"
+
+
+def _diagnosed(
+    args: argparse.Namespace, go: Go | PackedOnly, exc: BaseException
+) -> tuple[BaseException, str | None]:
+    """``exc`` of a command's connection, or what the probes of the port found it was, and
+    advice (:mod:`._diagnose`)."""
+    if isinstance(exc, HintedError) or not isinstance(exc, FocasError):
+        return exc, None
+    protocol = PACKED if isinstance(go, PackedOnly) else _protocol(args)
+    tls = protocol == PACKED and tls_context_wanted(args)
+    return diagnosis(exc, args.host, args.port, protocol, tls, args.timeout)
 
 
 def runner(handler: Handler) -> Callable[[argparse.Namespace], int]:
@@ -332,10 +347,15 @@ def runner(handler: Handler) -> Callable[[argparse.Namespace], int]:
             go = handler(args)
             _check_native(args, go)
             context = tls_context(args)
-            out = asyncio.run(_session(args, go, follow, context))
         except (FocasError, ValueError, OSError) as exc:
             _print_one_line(_failure_text(args, exc))
             return _exit_code(exc)
+        try:
+            out = asyncio.run(_session(args, go, follow, context))
+        except (FocasError, ValueError, OSError) as exc:
+            failure, hint = _diagnosed(args, go, exc)
+            _print_one_line(_failure_text(args, failure, hint))
+            return _exit_code(failure)
         if out is not None:
             _emit(args, out)
         return EXIT_OK

@@ -12,7 +12,10 @@ from __future__ import annotations
 import argparse
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass
+from functools import partial
 from typing import Any, Final, Literal, TypedDict, Unpack
+
+from focas_net.server.faults import MAX_FAULT_COUNT
 
 from . import program_cmds, read_cmds, sim_cmds, watch_cmds, write_cmds
 from ._args import (
@@ -27,6 +30,9 @@ from ._args import (
     PORT,
     POSITIVE,
     SECONDS,
+    argument_type,
+    command_parser,
+    parse_bounded,
 )
 from ._run import PACKED, PROTOCOLS, Handler, runner
 
@@ -134,6 +140,22 @@ _PARAM_NUMBER: Final = arg(
 _MACRO_NUMBER: Final = arg("number", type=INT, metavar="NUMBER", help="variable number, e.g. 100")
 _AREA: Final = arg("area", type=AREA, metavar="AREA", help="area letter: X Y F G R T C D K A E")
 _START: Final = arg("start", type=NON_NEGATIVE, metavar="START", help="first byte address")
+
+
+def _bounded(low: int, high: int, what: str) -> Callable[[str], int]:
+    """An integer argument within ``low..high``."""
+    return argument_type(partial(parse_bounded, low=low, high=high), what)
+
+
+def _range_arg(name: str, low: int, high: int) -> Arg:
+    """A positional integer argument ``NAME`` within ``low..high``."""
+    what = _bounded(low, high, name)
+    return arg(name, type=what, metavar=name.upper(), help=f"{name} {low}..{high}")
+
+
+#: A VersaMax station's racks and slots.
+_RACKS: Final = (0, 7)
+_SLOTS: Final = (0, 9)
 
 
 # -- the table ------------------------------------------------------------------------------
@@ -344,8 +366,8 @@ COMMANDS: Final[tuple[Cmd | Group, ...]] = (
         "read a VersaMax module configuration record (versamax_rdconfig)",
         read_cmds.versamax,
         (
-            arg("rack", type=NON_NEGATIVE, metavar="RACK", help="rack 0..7"),
-            arg("slot", type=NON_NEGATIVE, metavar="SLOT", help="slot 0..9"),
+            _range_arg("rack", *_RACKS),
+            _range_arg("slot", *_SLOTS),
         ),
     ),
     Group(
@@ -437,7 +459,11 @@ COMMANDS: Final[tuple[Cmd | Group, ...]] = (
                         help="delay: milliseconds; error: EW code (number or name, e.g. EW_BUSY)",
                     ),
                     arg(
-                        "--count", type=POSITIVE, default=1, metavar="N", help="answers (default 1)"
+                        "--count",
+                        type=_bounded(1, MAX_FAULT_COUNT, "count"),
+                        default=1,
+                        metavar="N",
+                        help=f"answers, 1..{MAX_FAULT_COUNT} (default 1)",
                     ),
                     arg(
                         "--scope",
@@ -480,7 +506,8 @@ def _add_argument(container: argparse._ActionsContainer, a: Arg) -> None:
 
 
 def _add_command(subparsers: Any, cmd: Cmd) -> None:
-    p: argparse.ArgumentParser = subparsers.add_parser(
+    p = command_parser(
+        subparsers,
         cmd.name,
         help=cmd.help,
         description=cmd.help[0].upper() + cmd.help[1:] + ".",

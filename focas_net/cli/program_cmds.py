@@ -82,10 +82,12 @@ def _list() -> PackedOnly:
     async def go(cnc: FocasClient) -> Output:
         entries = await cnc.read_program_directory()
         main = (await cnc.read_program_numbers()).main
-        data: list[dict[str, Any]] = [
-            {"number": e.number, "name": e.name, "size": e.size, "main": e.number == main}
-            for e in entries
-        ]
+        data: dict[str, Any] = {
+            "programs": [
+                {"number": e.number, "name": e.name, "size": e.size, "main": e.number == main}
+                for e in entries
+            ]
+        }
         rows = [
             (f"O{e.number:04d}", e.name, str(e.size), "main" if e.number == main else "")
             for e in entries

@@ -24,11 +24,13 @@ import argparse
 import gc
 import importlib.util
 import logging
+import re
 import signal
 import ssl
 import sys
 from collections.abc import AsyncIterator
 from contextlib import asynccontextmanager
+from pathlib import Path
 from typing import TYPE_CHECKING, Any, Final
 
 import anyio
@@ -44,7 +46,16 @@ from focas_net.server import (
     FocasServer,
 )
 
-from ._args import EXIT_CNC, EXIT_USAGE, LISTEN_PORT, NON_NEGATIVE, POSITIVE, PROG, print_error
+from ._args import (
+    EXIT_CNC,
+    EXIT_USAGE,
+    LISTEN_PORT,
+    NON_NEGATIVE,
+    POSITIVE,
+    PROG,
+    command_parser,
+    print_error,
+)
 from ._fleet import ConfigError, build_machines, fleet_indices, machines_per_process
 from ._workers import MAX_WORKERS, run_workers
 
@@ -141,7 +152,8 @@ def _web_address(text: str) -> tuple[str, int]:
 
 def register(subparsers: Any) -> None:
     """Add the ``serve`` subcommand."""
-    p = subparsers.add_parser(
+    p = command_parser(
+        subparsers,
         "serve",
         help="run a simulated CNC (or a fleet of them)",
         description="Run simulated FANUC CNCs speaking the focas_net packed protocol and "
@@ -354,9 +366,40 @@ def _ssl_context(args: argparse.Namespace) -> ssl.SSLContext | None:
     try:
         ctx.load_cert_chain(args.tls_cert, args.tls_key)
     except (OSError, ssl.SSLError) as exc:
-        files = args.tls_cert if args.tls_key is None else f"{args.tls_cert}, {args.tls_key}"
-        raise ConfigError(f"TLS certificate/key ({files}): {exc}") from None
+        raise ConfigError(_tls_files_error(args.tls_cert, args.tls_key, exc)) from None
     return ctx
+
+
+def _pem_holds(path: str, label: str) -> bool | None:
+    """Whether the PEM file ``path`` has a block whose label ends with ``label``
+    (``CERTIFICATE``, ``PRIVATE KEY``); None when it cannot be read."""
+    try:
+        text = Path(path).read_text("ascii", errors="replace")
+    except OSError:
+        return None
+    return re.search(rf"-----BEGIN [A-Z0-9 ]*{label}-----", text) is not None
+
+
+def _tls_files_error(cert: str, key: str | None, exc: OSError) -> str:
+    """Why ``--tls-cert cert`` (with ``--tls-key key``) cannot serve TLS, naming the file."""
+    for flag, path in (("--tls-cert", cert), ("--tls-key", key)):
+        try:
+            if path is not None:
+                Path(path).read_bytes()
+        except OSError as unreadable:
+            return f"{flag} {path}: {unreadable.strerror or unreadable}"
+    if not _pem_holds(cert, "CERTIFICATE"):
+        return f"--tls-cert {cert}: no PEM certificate in it"
+    if key is None and not _pem_holds(cert, "PRIVATE KEY"):
+        return f"--tls-cert {cert} holds no private key: give --tls-key FILE"
+    if key is not None and not _pem_holds(key, "PRIVATE KEY"):
+        return f"--tls-key {key}: no PEM private key in it"
+    reason = getattr(exc, "reason", None)
+    if reason == "KEY_VALUES_MISMATCH":
+        return f"--tls-key {key or cert}: the private key does not belong to the certificate"
+    files = cert if key is None else f"{cert}, {key}"
+    text = re.sub(r"^\[[A-Z0-9_]+\] | \(_ssl\.c:\d+\)$", "", str(exc.strerror or exc))
+    return f"TLS certificate/key ({files}): {text}"
 
 
 def run(args: argparse.Namespace) -> int:

@@ -17,6 +17,7 @@ from typing import Any, Final
 from focas_net.client import FocasClient
 from focas_net.errors import CncError, FocasError
 from focas_net.protocol import MAX_ALARM_MSG, ArmedFault, FaultKind, FaultScope
+from focas_net.server.faults import MAX_DELAY_MS
 
 from . import _format as fmt
 from ._run import Output, PackedOnly
@@ -42,6 +43,8 @@ FAULT_KINDS: Final = {k.name.lower(): k for k in FaultKind}
 #: ``sim fault --scope``: the fault scopes by their command-line names.
 FAULT_SCOPES: Final = {s.name.lower(): s for s in FaultScope}
 _WHY: Final = "the simulator controls are packed-protocol commands"
+#: The EW codes an error fault carries (an i16 on the wire).
+_I16: Final = (-32_768, 32_767)
 
 
 def panel(args: argparse.Namespace) -> PackedOnly:
@@ -157,16 +160,7 @@ def _fault_rows(pending: tuple[ArmedFault, ...]) -> list[dict[str, Any]]:
 def fault(args: argparse.Namespace) -> PackedOnly:
     kind = FAULT_KINDS[args.kind]
     scope = FAULT_SCOPES[args.scope]
-    if kind is FaultKind.ERROR:
-        if args.arg is None:
-            raise ValueError("an error fault needs --arg EW_CODE (e.g. --arg EW_BUSY)")
-        arg = fmt.parse_ew(args.arg)
-    elif kind is FaultKind.DELAY:
-        if args.arg is None:
-            raise ValueError("a delay fault needs --arg MILLISECONDS")
-        arg = fmt.parse_int(args.arg)
-    else:
-        arg = 0 if args.arg is None else fmt.parse_int(args.arg)
+    arg = _fault_arg(kind, args.arg)
     effect = _effect(kind, arg)
     whose = _whose(scope)
 
@@ -191,6 +185,29 @@ def fault(args: argparse.Namespace) -> PackedOnly:
         return Output(data, f"{behind}: {_answers(first, args.count)} {whose} from now: {effect}")
 
     return PackedOnly(go, _WHY)
+
+
+def _fault_arg(kind: FaultKind, text: str | None) -> int:
+    """``--arg`` of a fault of ``kind``, in the range the server takes (ValueError naming it)."""
+    if kind is FaultKind.ERROR:
+        if text is None:
+            raise ValueError("an error fault needs --arg EW_CODE (e.g. --arg EW_BUSY)")
+        code = fmt.parse_ew(text)
+        if code == 0 or not _I16[0] <= code <= _I16[1]:
+            raise ValueError(
+                f"--arg {text}: an error fault's EW code is a nonzero {_I16[0]}..{_I16[1]}"
+            )
+        return code
+    if kind is FaultKind.DELAY:
+        if text is None:
+            raise ValueError("a delay fault needs --arg MILLISECONDS")
+        ms = fmt.parse_int(text)
+        if not 0 <= ms <= MAX_DELAY_MS:
+            raise ValueError(f"--arg {text}: a delay is 0..{MAX_DELAY_MS} ms")
+        return ms
+    if text is not None:
+        raise ValueError(f"--arg does not apply to a {kind.name.lower()} fault")
+    return 0
 
 
 def _effect(kind: FaultKind, arg: int) -> str:

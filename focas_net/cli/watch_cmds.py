@@ -314,9 +314,10 @@ def frame_dict(frame: Frame) -> dict[str, Any]:
             "power_on": info.power_on_ms,
         },
         "alarms": None if s.alarms is None else [fmt.alarm_dict(a) for a in s.alarms],
+        "loads": None
+        if s.loads is None
+        else {"spindle": list(s.loads.spindle), "servo": list(s.loads.servo)},
     }
-    if s.loads is not None:
-        state["loads"] = {"spindle": list(s.loads.spindle), "servo": list(s.loads.servo)}
     data["state"] = state
     return data
 

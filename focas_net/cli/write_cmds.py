@@ -4,22 +4,16 @@
 from __future__ import annotations
 
 import argparse
-from typing import Final
 
 from focas_net.client import CncClient, FocasClient
-from focas_net.errors import AccessDeniedError
+from focas_net.errors import AccessDeniedError, CncError
 from focas_net.protocol import PmcArea
 
 from . import _format as fmt
-from ._run import Go, HintedError, Output, PackedOnly
-from .read_cmds import macro_dict, param_kind, param_output
+from ._run import Go, Output, PackedOnly
+from .read_cmds import axis_hint, macro_dict, param_kind, param_output
 
 __all__ = ["macro_clear", "macro_set", "param_set", "pmc_bit", "pmc_write", "unlock"]
-
-_PASSWD_HINT: Final = (
-    "parameter writes need MDI mode and PWE on (focas-net sim panel --mode MDI --pwe on) "
-    "and, when the CNC has a parameter password, --password"
-)
 
 
 def param_set(args: argparse.Namespace) -> Go:
@@ -37,8 +31,8 @@ def param_set(args: argparse.Namespace) -> Go:
                 await cnc.write_param(number, value, axis=args.axis, width=args.width)
             else:
                 await cnc.write_param_bit(number, bit, bit_value, axis=args.axis)
-        except AccessDeniedError as exc:
-            raise HintedError(exc, _PASSWD_HINT) from exc
+        except CncError as exc:
+            raise await axis_hint(cnc, exc, "parameter", number, args.axis) from exc
         pv = await cnc.read_param_value(number, axis=args.axis)
         kind = await param_kind(cnc, number, pv)
         data, whole, bit_text = param_output(number, bit, args.axis, pv, kind)
@@ -134,10 +128,20 @@ def pmc_bit(args: argparse.Namespace) -> Go:
 def unlock(args: argparse.Namespace) -> PackedOnly:
     async def go(cnc: FocasClient) -> Output:
         await cnc.unlock(args.secret)
+        # A CNC without a password accepts any; with one, only that one: a second, other
+        # password tells which (the unlock ends with the command's connection anyway).
+        try:
+            await cnc.unlock("1" if args.secret == "0" else "0")
+        except AccessDeniedError:
+            return Output(
+                {"unlocked": True, "password_set": True},
+                "password accepted (an unlock holds for one connection: give --password to "
+                "the commands that write parameters)",
+            )
         return Output(
-            {"unlocked": True},
-            "password accepted (an unlock holds for one connection: give --password to "
-            "the commands that write parameters)",
+            {"unlocked": True, "password_set": False},
+            "the CNC has no parameter password: it accepts any, and parameter writes need "
+            "none (only MDI mode and PWE on)",
         )
 
     return PackedOnly(go, "FOCAS/2 has no cnc_wrunlockparam")

@@ -1,41 +1,113 @@
 """The words of a connection that failed, the same for both clients: a peer that does not
-speak the protocol, a connection lost, a connect refused."""
+speak the protocol, a connection lost or closed, a connect refused, a peer that says nothing.
+
+Both transports say the same thing the same way, and raise the same kind of error for it: a
+peer that breaks the framing is a :class:`ProtocolError` (``does not speak the FOCAS
+protocol``); a connection that ends is a :class:`FocasConnectionError` (``connection closed
+by HOST:PORT``, ``connection to HOST:PORT lost: connection reset by peer``), with ``before
+any answer`` when the peer never sent a byte; a call that times out on a connection that never
+received a byte says so (:data:`NOTHING_RECEIVED`). An operating system error reads as its
+text (``connection refused``), never as Python shows the exception.
+"""
 
 from __future__ import annotations
 
+import asyncio
+import os
+import socket
 import ssl as _ssl
 from typing import Final
 
-from focas_net.errors import FocasConnectionError, FrameError, ProtocolError
+from focas_net.errors import FocasConnectionError, FocasTimeoutError, ProtocolError
 
-__all__: list[str] = []
+__all__ = [
+    "BEFORE_ANY_ANSWER",
+    "NOTHING_RECEIVED",
+    "closed_error",
+    "connect_reason",
+    "lost_error",
+    "not_focas_error",
+    "os_reason",
+    "timeout_error",
+    "violation_error",
+]
 
 #: The first byte of a TLS record (change_cipher_spec, alert, handshake, application_data),
 #: which a TLS peer sends where a frame's length should be; its second byte is 3 (TLS 1.x).
 _TLS_RECORD_TYPES: Final = frozenset({0x14, 0x15, 0x16, 0x17})
 
+#: What a connection that ended says when the peer never sent a byte on it.
+BEFORE_ANY_ANSWER: Final = "before any answer"
+#: What a timeout says when the connection never received a byte.
+NOTHING_RECEIVED: Final = "nothing received since connecting"
 
-def violation_error(peer: str, exc: FrameError, head: bytes) -> ProtocolError:
+
+def not_focas_error(peer: str, why: str) -> ProtocolError:
+    """The error of ``peer`` that does not speak the FOCAS protocol (``why``: what it did)."""
+    return ProtocolError(f"{peer} does not speak the FOCAS protocol ({why})")
+
+
+def violation_error(peer: str, reason: str | BaseException, head: bytes) -> ProtocolError:
     """The error of a framing violation by ``peer``: it does not speak the FOCAS protocol.
 
-    ``head`` (the first bytes of the offending chunk) is shown as text, so that an HTTP
-    answer reads as one; a TLS record is named as such.
+    ``reason`` says which rule it broke; ``head`` (the first bytes of the offending chunk) is
+    shown as text, so that an HTTP answer reads as one; a TLS record is named as such.
     """
     if len(head) >= 2 and head[0] in _TLS_RECORD_TYPES and head[1] == 3:
         what = "it sent a TLS record: the server expects TLS"
     else:
         what = f"it sent {head[:8]!r}"
-    reason = str(exc).removesuffix("; closing the connection")
-    return ProtocolError(f"{peer} does not speak the FOCAS protocol ({reason}; {what})")
+    rule = str(reason).removesuffix("; closing the connection")
+    return not_focas_error(peer, f"{rule}; {what}")
 
 
-def lost_error(peer: str, exc: BaseException | None) -> FocasConnectionError:
+def os_reason(exc: BaseException) -> str:
+    """What an operating system error says, as text: ``connection reset by peer``,
+    ``connection refused``, ``name or service not known`` (never ``[Errno 104] ...`` or the
+    address tuple asyncio adds); an end of stream is ``the peer closed the connection``."""
+    if isinstance(exc, asyncio.IncompleteReadError):
+        return "the peer closed the connection"
+    text = str(exc)
+    if isinstance(exc, OSError) and not isinstance(exc, _ssl.SSLError):
+        if isinstance(exc, socket.gaierror) and exc.strerror:
+            text = exc.strerror
+        elif exc.errno is not None and exc.errno > 0:
+            text = os.strerror(exc.errno)
+        elif exc.strerror:
+            text = exc.strerror
+    if not text:
+        return type(exc).__name__
+    return text[:1].lower() + text[1:]
+
+
+def closed_error(peer: str, answered: bool) -> FocasConnectionError:
+    """The error of a connection ``peer`` closed (``answered``: it had sent a byte)."""
+    return FocasConnectionError(
+        f"connection closed by {peer}" + ("" if answered else f" {BEFORE_ANY_ANSWER}")
+    )
+
+
+def lost_error(peer: str, exc: BaseException | None, answered: bool = True) -> FocasConnectionError:
+    """The error of a connection to ``peer`` that ended for ``exc`` (None: the peer closed
+    it); an error of this package is its own."""
     if isinstance(exc, FocasConnectionError):
         return exc
-    text = f"connection to {peer} lost" + (f": {exc}" if exc else "")
-    err = FocasConnectionError(text)
+    if exc is None or isinstance(exc, asyncio.IncompleteReadError):
+        err = closed_error(peer, answered)
+    else:
+        when = "" if answered else f" {BEFORE_ANY_ANSWER}"
+        err = FocasConnectionError(f"connection to {peer} lost{when}: {os_reason(exc)}")
     err.__cause__ = exc
     return err
+
+
+def timeout_error(what: str, peer: str | None) -> FocasTimeoutError:
+    """The error of ``what`` unanswered in time; ``peer`` when the connection to it never
+    received a byte (a peer that is not a FOCAS server, an HTTP server for one, may wait for
+    more and say nothing)."""
+    if peer is None:
+        return FocasTimeoutError(what)
+    return FocasTimeoutError(f"{what}: {NOTHING_RECEIVED} to {peer}")
 
 
 def connect_reason(exc: BaseException, ssl: _ssl.SSLContext | None) -> str:
@@ -46,6 +118,4 @@ def connect_reason(exc: BaseException, ssl: _ssl.SSLContext | None) -> str:
     if ssl is not None and isinstance(exc, _ssl.SSLError | ConnectionError):
         detail = text if isinstance(exc, _ssl.SSLError) and text else "the peer closed it"
         return f"TLS handshake failed ({detail}): the peer may not speak TLS"
-    if not text:
-        return type(exc).__name__
-    return text
+    return os_reason(exc)

@@ -87,6 +87,8 @@ class Lifecycle:
         # ``stable_after`` seconds) and when the current connection was installed.
         self._backoff = 0
         self._up_since = 0.0
+        #: Why the last reconnect attempt failed (None: none failed since the last link).
+        self._attempt_error: BaseException | None = None
 
     def __repr__(self) -> str:
         return f"<{type(self).__name__} {self.address} {self._state.value}>"
@@ -152,8 +154,12 @@ class Lifecycle:
         raise NotImplementedError
 
     def _nothing_to_wait_for(self) -> Exception:
-        """What a call raises when there is no link and none coming."""
-        return FocasConnectionError(f"not connected to {self.address}")
+        """What a call raises when there is no link and none coming (with why the last
+        reconnect attempt failed, when one did)."""
+        text = f"not connected to {self.address}"
+        if self._attempt_error is not None:
+            text += f" (the last reconnect attempt failed: {self._attempt_error})"
+        return FocasConnectionError(text)
 
     async def _wait_linked(self, deadline: float | None) -> None:
         """Return once a link is open, waiting (until ``deadline``) while reconnecting.
@@ -237,6 +243,7 @@ class Lifecycle:
             task.cancel()
         loop = self._loop or asyncio.get_running_loop()
         self._up_since = loop.time()
+        self._attempt_error = None
         self._set_state(ClientState.CONNECTED)
         if self._ready is not None:
             self._ready.set()

@@ -191,6 +191,7 @@ class Link(CompositeCalls):
             conn = await self._open(self._deadline(None), strict=False)
         except (FocasConnectionError, FocasTimeoutError) as exc:
             logger.debug("reconnect attempt %d to %s: %s", attempt, self.address, exc)
+            self._attempt_error = exc
             return False
         except ProtocolError as exc:
             if isinstance(exc, PayloadError):  # an unlock answer that does not decode

@@ -62,6 +62,8 @@ from ..native import (
 )
 from ._channel import Channel, open_channel
 from ._composite import CompositeCalls
+from ._failures import connect_reason, lost_error, timeout_error, violation_error
+from ._lifecycle import address_text
 from .connection import NotSentError
 from .reconnect import ClientState, ReconnectPolicy, StateCallback
 
@@ -72,6 +74,7 @@ logger = logging.getLogger("focas_net.client.native")
 _NEVER: Final = float("inf")
 _CLOSE_GRACE: Final = 2.0
 _MAGIC: Final = int.from_bytes(MAGIC, "big")
+_NOT_A_FRAME: Final = "its answer does not start with A0 A0 A0 A0"
 
 Future = asyncio.Future[tuple[ResponseBlock, ...]]
 
@@ -84,22 +87,31 @@ class _Lost(Exception):
     """The connection pair cannot carry any further frame."""
 
 
-async def _read_frame(channel: Channel) -> bytes:
-    """The next whole frame (header included) read from ``channel`` before it is started."""
+async def _read_frame(channel: Channel, peer: str, answered: bool = True) -> bytes:
+    """The next whole frame (header included) read from ``channel`` before it is started.
+
+    :raises ProtocolError: ``peer`` does not speak FOCAS/2 (its answer is no frame).
+    :raises FocasConnectionError: the connection ended first (``answered``: a frame came on
+        it before).
+    """
     try:
         head = await channel.readexactly(NATIVE_HEADER_SIZE)
         magic, _, _, length = NATIVE_HEADER.unpack(head)
         if magic != _MAGIC:
-            raise _Lost("answer does not start with A0 A0 A0 A0")
+            raise violation_error(peer, _NOT_A_FRAME, head)
         return head + await channel.readexactly(length)
-    except (asyncio.IncompleteReadError, ConnectionError, OSError) as exc:
-        raise _Lost(f"connection closed ({exc})") from exc
+    except (asyncio.IncompleteReadError, OSError) as exc:
+        partial = exc.partial if isinstance(exc, asyncio.IncompleteReadError) else b""
+        if not answered and partial and not MAGIC.startswith(partial[: len(MAGIC)]):
+            raise violation_error(peer, _NOT_A_FRAME, partial) from None
+        raise lost_error(peer, exc, answered) from exc
 
 
 class Handle:
     """One open A/B connection pair and what its open answer and connect requests said."""
 
-    def __init__(self, a: Channel, b: Channel, opened: OpenAnswer) -> None:
+    def __init__(self, a: Channel, b: Channel, opened: OpenAnswer, peer: str) -> None:
+        self.peer = peer
         self.a = a
         self.b = b
         self.opened = opened
@@ -122,7 +134,7 @@ class Handle:
         """One data frame on B, read back before the client takes B over (the connect)."""
         self.b.write(part.frame)
         try:
-            blocks = answer_blocks(await _read_frame(self.b), part.count)
+            blocks = answer_blocks(await _read_frame(self.b, self.peer), part.count)
         except AnswerRefused as exc:
             raise _Lost(str(exc)) from None
         if isinstance(blocks, int):
@@ -143,10 +155,10 @@ class Handle:
             async with asyncio.timeout(grace):
                 for channel in (self.a, self.b):
                     channel.write(encode_close_request())
-                    raw = await _read_frame(channel)
+                    raw = await _read_frame(channel, self.peer)
                     if NATIVE_HEADER.unpack_from(raw)[2] != FrameType.CLOSE_RESPONSE:
                         break
-        except (TimeoutError, _Lost, OSError):
+        except (TimeoutError, OSError, ProtocolError):
             pass
         self.a.close()
         self.b.close()
@@ -156,18 +168,20 @@ async def _open_channel(
     host: str, port: int, channel: int, deadline: float | None
 ) -> tuple[Channel, bytes]:
     """Connection ``channel`` (1: A, 2: B), opened: it and its open answer frame."""
-    where = f"{host}:{port}"
+    where = address_text(host, port)
     try:
         async with asyncio.timeout_at(deadline):
             conn = await open_channel(host, port)
     except TimeoutError:
         raise FocasTimeoutError(f"connecting to {where} timed out") from None
     except OSError as exc:
-        raise FocasConnectionError(f"cannot connect to {where}: {exc}") from exc
+        raise FocasConnectionError(
+            f"cannot connect to {where}: {connect_reason(exc, None)}"
+        ) from exc
     try:
         conn.write(encode_open_request(channel))
         async with asyncio.timeout_at(deadline):
-            raw = await _read_frame(conn)
+            raw = await _read_frame(conn, where, answered=False)
     except BaseException:
         conn.close()
         raise
@@ -185,7 +199,7 @@ def _opened(raw: bytes) -> OpenAnswer:
 
 async def open_handle(host: str, port: int, deadline: float | None) -> Handle:
     """Open A and B and send the connect-time requests of ``cnc_allclibhndl3``."""
-    where = f"{host}:{port}"
+    where = address_text(host, port)
     channels: list[Channel] = []
     try:
         a, raw_a = await _open_channel(host, port, 1, deadline)
@@ -199,7 +213,7 @@ async def open_handle(host: str, port: int, deadline: float | None) -> Handle:
             raise FocasConnectionError(f"{where}: open answer refused: {exc}") from None
         if isinstance(opened.head, OpenHeadV2) and opened.head.kind == 2:
             raise FocasConnectionError(f"{where}: an FS15-family control (kind 2) is not supported")
-        handle = Handle(a, b, opened)
+        handle = Handle(a, b, opened, where)
         if not handle.paths:
             raise FocasConnectionError(f"{where}: the open answer announces no path")
         async with asyncio.timeout_at(deadline):
@@ -208,7 +222,9 @@ async def open_handle(host: str, port: int, deadline: float | None) -> Handle:
             handle.option_bits = 1
     except TimeoutError:
         _abort(channels)
-        raise FocasTimeoutError(f"{where}: no answer to the open or connect requests") from None
+        if channels:  # A was opened: the peer speaks
+            raise FocasTimeoutError(f"{where}: no answer to the open or connect requests") from None
+        raise timeout_error("no answer to the open request", where) from None
     except _Lost as exc:
         _abort(channels)
         raise FocasConnectionError(f"{where}: {exc}") from None
@@ -378,6 +394,7 @@ class NativeLink(CompositeCalls):
             handle = await open_handle(self.host, self.port, self._deadline(None))
         except Exception as exc:  # refused, unreachable, or an answer that does not decode
             logger.debug("reconnect attempt %d to %s: %s", attempt, self.address, exc)
+            self._attempt_error = exc
             return False
         self._install(handle)
         # (lost again while installed, for bytes nobody asked for or the end of B: the next
@@ -386,7 +403,8 @@ class NativeLink(CompositeCalls):
 
     def _reconnect_ended(self) -> None:
         if self._state is ClientState.DISCONNECTED:
-            self._why = f"could not reconnect to {self.address}"
+            last = self._attempt_error
+            self._why = f"could not reconnect to {self.address}" + (f": {last}" if last else "")
             self._complete(self._session.lost(keep_queued=False))
 
     def _lose(self, handle: Handle, why: str) -> None:
@@ -491,7 +509,7 @@ class NativeLink(CompositeCalls):
             (self._loop or asyncio.get_running_loop()).call_soon(self._flush)
 
     def _on_end(self, handle: Handle, exc: Exception | None) -> None:
-        self._lose(handle, f"connection closed ({exc})" if exc else "connection closed by the CNC")
+        self._lose(handle, str(lost_error(self.address, exc)))
 
     def _arm(self, when: float) -> None:
         if self._timer is not None:

@@ -53,7 +53,7 @@ from focas_net.errors import (
 )
 
 from ..protocol import DEFAULT_MAX_FRAME, HEADER, FrameDecoder, RawFrame
-from ._failures import connect_reason, lost_error, violation_error
+from ._failures import closed_error, connect_reason, lost_error, timeout_error, violation_error
 from ._lifecycle import address_text
 
 __all__ = ["Connection", "NotSentError", "open_connection"]
@@ -88,10 +88,12 @@ class NotSentError(FocasConnectionError):
 _Pending = tuple["asyncio.Future[bytes]", int, int, float]
 
 
-def _timed_out(entry: _Pending) -> None:
+def _timed_out(entry: _Pending, silent_peer: str | None) -> None:
+    """Fail ``entry`` for its deadline (``silent_peer``: the peer, when the connection never
+    received a byte)."""
     future, command, request_id, _ = entry
     future.set_exception(
-        FocasTimeoutError(f"no answer to command 0x{command:04X} (request {request_id})")
+        timeout_error(f"no answer to command 0x{command:04X} (request {request_id})", silent_peer)
     )
 
 
@@ -259,7 +261,7 @@ class Connection(Received, asyncio.Protocol):
 
     def connection_lost(self, exc: Exception | None) -> None:
         if self._closed_exc is None:
-            self._closed_exc = lost_error(self.peer, exc)
+            self._closed_exc = lost_error(self.peer, exc, self._answered)
         self._transport = None
         self._fail_all()
         if not self._lost.done():
@@ -276,10 +278,7 @@ class Connection(Received, asyncio.Protocol):
         # a later loop turn. Calls made until then must not be written into the closing
         # transport (where they would vanish and fail as maybe sent): they fail as not sent.
         if self._closed_exc is None:
-            self._closed_exc = FocasConnectionError(
-                f"connection closed by {self.peer}"
-                + ("" if self._answered else " before any answer")
-            )
+            self._closed_exc = closed_error(self.peer, self._answered)
         return None  # close the transport
 
     # -- requests ------------------------------------------------------------------------
@@ -589,7 +588,7 @@ class Connection(Received, asyncio.Protocol):
                 continue  # an abandoned id awaiting its late answer, or a call just ended
             deadline = entry[3]
             if deadline <= now:
-                _timed_out(entry)
+                _timed_out(entry, None if self._answered else self.peer)
             elif deadline < nxt:
                 nxt = deadline
         if nxt != _INF and self._closed_exc is None:
@@ -649,7 +648,7 @@ class Connection(Received, asyncio.Protocol):
 
     def _abort(self, exc: BaseException) -> None:
         if self._closed_exc is None:
-            self._closed_exc = lost_error(self.peer, exc)
+            self._closed_exc = lost_error(self.peer, exc, self._answered)
         self._fail_all()
         if self._transport is not None:
             self._transport.abort()

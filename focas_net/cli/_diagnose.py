@@ -1,0 +1,179 @@
+"""Why a connection failed before the peer said anything: a few probes, run only then.
+
+A command whose connection the peer closed before any answer, or that timed out with nothing
+received, cannot tell from its own connection what it met. The probes ask the same port on new
+connections, each bounded by :data:`PROBE_TIMEOUT` (and the command's ``--timeout``):
+
+* does it close a connection at once, before anything is sent? (a server at its connection
+  limit, ``focas-net serve --max-connections``, refuses so);
+* does it complete a TLS handshake? (a TLS server closes a plain client's connection);
+* does it answer a packed request, and does it answer the open of FOCAS/2? (a port of
+  ``focas-net serve --native-port`` speaks FOCAS/2 only; a port answering the failed
+  transport's request on a new connection closed the first one on purpose: a drop fault);
+* after a timeout with nothing received: does it answer an HTTP request? (an HTTP server
+  waits for the end of a request line that a FOCAS frame never sends, and says nothing).
+
+:func:`diagnosis` turns the findings into the error to report (an HTTP server is a peer that
+does not speak the FOCAS protocol, exit 4) and advice for the user.
+"""
+
+from __future__ import annotations
+
+import asyncio
+import contextlib
+import ssl
+from collections.abc import Awaitable
+from dataclasses import dataclass
+from typing import Final
+
+from focas_net.client import FocasClient, NativeClient
+from focas_net.client._failures import BEFORE_ANY_ANSWER, NOTHING_RECEIVED, not_focas_error
+from focas_net.errors import FocasConnectionError, FocasTimeoutError
+
+from . import _format as fmt
+
+__all__ = ["PROBE_TIMEOUT", "Findings", "advice", "diagnosis", "probed"]
+
+#: Longest wait of one probe, in seconds (the command's ``--timeout`` when shorter).
+PROBE_TIMEOUT: Final = 2.0
+#: What the HTTP probe sends: the smallest request an HTTP/1 server answers.
+_HTTP_REQUEST: Final = b"HEAD / HTTP/1.0\r\n\r\n"
+
+
+@dataclass(frozen=True, slots=True)
+class Findings:
+    """What the probes found on a port."""
+
+    refused: bool  #: it closed a connection at once, before anything was sent
+    tls: bool  #: it completed a TLS handshake
+    packed: bool  #: it answered a packed request
+    native: bool  #: it answered the open of FOCAS/2
+
+
+def advice(found: Findings, protocol: str, tls: bool) -> str | None:
+    """The advice for a command of ``protocol`` (``tls``: it asked for TLS) whose connection
+    was closed before any answer, from what the probes ``found`` (None: nothing certain)."""
+    if found.refused and not (found.tls or found.packed or found.native):
+        return (
+            "the server refused the connection: it closes new ones at once, as a server at its "
+            "connection limit does (focas-net serve --max-connections)"
+        )
+    if tls:
+        if found.packed:
+            return "the server is plain TCP: drop --tls"
+        if found.native:
+            return "the port speaks FOCAS/2 only, without TLS: drop --tls, give --protocol native"
+        return None
+    if found.tls:
+        if protocol == "native":
+            return "the server uses TLS, which FOCAS/2 does not have: give --protocol packed --tls"
+        return "the server uses TLS: give --tls (with --tls-ca FILE or --tls-insecure)"
+    if protocol == "packed" and found.native and not found.packed:
+        return "the port speaks FOCAS/2 only (serve --native-port): give --protocol native"
+    if found.packed if protocol == "packed" else found.native:
+        return (
+            "the server answers a new connection, so it closed this one on purpose (as a drop "
+            "fault does: focas-net sim fault drop)"
+        )
+    return None
+
+
+async def _bounded(probe: Awaitable[bool], bound: float) -> bool:
+    """``probe``'s finding, False when it fails or takes longer than ``bound`` seconds."""
+    try:
+        async with asyncio.timeout(bound):
+            return await probe
+    except Exception:  # refused, closed, reset, timed out, not decoded: not found
+        return False
+
+
+async def _closes_at_once(host: str, port: int) -> bool:
+    """A connection on which nothing is sent ends (the peer refused it)."""
+    reader, writer = await asyncio.open_connection(host, port)
+    try:
+        return await reader.read(1) == b""
+    except ConnectionError:
+        return True
+    finally:
+        writer.close()
+
+
+async def _speaks_tls(host: str, port: int) -> bool:
+    """A TLS handshake completes (no certificate checked: only whether TLS is spoken)."""
+    context = ssl.SSLContext(ssl.PROTOCOL_TLS_CLIENT)
+    context.check_hostname = False
+    context.verify_mode = ssl.CERT_NONE
+    _, writer = await asyncio.open_connection(host, port, ssl=context)
+    writer.close()
+    return True
+
+
+async def _answers_packed(host: str, port: int, bound: float) -> bool:
+    async with FocasClient(host, port, timeout=bound) as client:
+        await client.read_status()
+    return True
+
+
+async def _answers_native(host: str, port: int, bound: float) -> bool:
+    async with NativeClient(host, port, timeout=bound):
+        return True
+
+
+async def _answers_http(host: str, port: int) -> bytes:
+    """The first bytes the peer answers to an HTTP request (empty: none)."""
+    reader, writer = await asyncio.open_connection(host, port)
+    try:
+        writer.write(_HTTP_REQUEST)
+        return await reader.read(64)
+    finally:
+        writer.close()
+
+
+async def probed(host: str, port: int, bound: float) -> Findings:
+    """Probe ``host:port`` (each probe ``bound`` seconds at most): the one waiting for a
+    close at once is waited for only when no other probe found the peer answering."""
+    at_once = asyncio.ensure_future(_bounded(_closes_at_once(host, port), bound))
+    try:
+        tls, packed, native = await asyncio.gather(
+            _bounded(_speaks_tls(host, port), bound),
+            _bounded(_answers_packed(host, port, bound), bound),
+            _bounded(_answers_native(host, port, bound), bound),
+        )
+        refused = False if tls or packed or native else await at_once
+    finally:
+        at_once.cancel()
+        with contextlib.suppress(asyncio.CancelledError):
+            await at_once
+    return Findings(refused, tls, packed, native)
+
+
+async def _http_answer(host: str, port: int, bound: float) -> bytes:
+    try:
+        async with asyncio.timeout(bound):
+            return await _answers_http(host, port)
+    except (OSError, TimeoutError):
+        return b""
+
+
+def diagnosis(
+    exc: BaseException, host: str, port: int, protocol: str, tls: bool, timeout: float
+) -> tuple[BaseException, str | None]:
+    """The error to report for ``exc`` and advice (None: none), probing ``host:port`` when
+    ``exc`` says the peer said nothing: a connection closed before any answer, a TLS handshake
+    it ended, a timeout with nothing received (an HTTP server becomes a peer that does not
+    speak the FOCAS protocol)."""
+    text = str(exc)
+    bound = min(timeout, PROBE_TIMEOUT)
+    if isinstance(exc, FocasTimeoutError) and NOTHING_RECEIVED in text:
+        head = asyncio.run(_http_answer(host, port, bound))
+        if not head.startswith(b"HTTP/"):
+            return exc, None
+        where = fmt.address_text(host, port)
+        why = f"it answers nothing to a FOCAS request, and {head[:12]!r} to an HTTP request"
+        return not_focas_error(where, f"{why}: an HTTP server"), None
+    closed = isinstance(exc, FocasConnectionError) and (
+        BEFORE_ANY_ANSWER in text or (tls and "TLS handshake failed" in text)
+    )
+    if not closed:
+        return exc, None
+    return exc, advice(asyncio.run(probed(host, port, bound)), protocol, tls)

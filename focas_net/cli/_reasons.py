@@ -1,0 +1,241 @@
+"""Why the CNC refused a command, in the machine's words: one table per command family.
+
+The wire carries a refusal's EW code only; the reason stays in the machine (the dashboard,
+which calls the machine itself, shows it). What a command knows, itself, its arguments and the
+code, is enough to say it: each family's table maps an EW code to the reason, written from the
+arguments, with what to do about it. :func:`reason` finds the table of a command by its name
+as typed (``sim cycle start``); a code the table does not have gets no reason.
+"""
+
+from __future__ import annotations
+
+import argparse
+import re
+from collections.abc import Callable, Mapping
+from pathlib import Path
+from typing import Final
+
+from focas_net.errors import EW, CncError
+from focas_net.server.faults import MAX_DELAY_MS, MAX_FAULT_COUNT
+
+from . import _format as fmt
+
+__all__ = ["FAMILIES", "Table", "Why", "reason"]
+
+#: The reason of a refusal, from the command's arguments.
+Why = Callable[[argparse.Namespace], str]
+#: A family's reasons by EW code.
+Table = Mapping[int, Why]
+
+
+def _read_only(args: argparse.Namespace) -> str:
+    return "the machine is read-only (a server started with --read-only)"
+
+
+def _no_control(args: argparse.Namespace) -> str:
+    return "the server takes no simulator control commands (a real CNC, or serve --no-control)"
+
+
+def _item(kind: str, args: argparse.Namespace) -> str:
+    """``parameter 1420 axis 1``."""
+    number = str(args.number).partition(".")[0]
+    return f"{kind} {number}" + (f" axis {args.axis}" if getattr(args, "axis", 0) else "")
+
+
+def _param_gate(args: argparse.Namespace) -> str:
+    gate = "parameter writes need MDI mode and PWE on (focas-net sim panel --mode MDI --pwe on)"
+    if getattr(args, "protocol", "packed") == "native":
+        return (
+            f"{gate}; FOCAS/2 cannot send a parameter password: on a CNC that has one, write "
+            "with --protocol packed --password"
+        )
+    if getattr(args, "password", None) is not None:
+        return f"{gate}, and the --password given must be the CNC's"
+    return f"{gate} and, when the CNC has a parameter password, --password"
+
+
+def _param_range(args: argparse.Namespace) -> str:
+    what = f"the CNC refused {args.value} for {_item('parameter', args)}: outside its range"
+    if "." in str(args.value):
+        what += ", or more decimals than the parameter keeps"
+    return what
+
+
+_PARAM: Final[Table] = {
+    EW.NUMBER: lambda a: f"the CNC has no {_item('parameter', a)}",
+    EW.PASSWD: _param_gate,
+    EW.DATA: _param_range,
+    EW.LENGTH: lambda a: (
+        f"parameter {a.number} is not {a.width} bytes wide: leave out --width (the CNC's "
+        "own width is used)"
+    ),
+    EW.PROT: _read_only,
+}
+_DIAG: Final[Table] = {EW.NUMBER: lambda a: f"the CNC has no {_item('diagnostic', a)}"}
+_MACRO: Final[Table] = {
+    EW.NUMBER: lambda a: f"the CNC has no macro variable #{a.number}",
+    EW.PROT: lambda a: f"#{a.number} is a read-only variable, or the machine is read-only",
+    EW.DATA: lambda a: f"#{a.number} cannot hold {a.value}",
+    EW.FUNC: _no_control,
+}
+
+
+# -- PMC ------------------------------------------------------------------------------------
+
+
+def _pmc_span(args: argparse.Namespace) -> tuple[int, int]:
+    """The first and the last byte address the command asked for."""
+    if hasattr(args, "address"):  # pmc bit
+        byte = fmt.parse_number_bit(args.address)[0]
+        return byte, byte
+    if hasattr(args, "count"):  # pmc read
+        return args.start, args.start + args.count - 1
+    data = fmt.parse_hex(args.hex) if args.hex is not None else fmt.parse_byte_list(args.values)
+    return args.start, args.start + len(data) - 1
+
+
+def _pmc_beyond(args: argparse.Namespace) -> str:
+    area = args.area.name
+    first, last = _pmc_span(args)
+    span = f"{area}{first}" + (f"..{area}{last}" if last != first else "")
+    return f"{span} goes past the end of PMC area {area}"
+
+
+def _pmc_protected(args: argparse.Namespace) -> str:
+    area = args.area.name
+    if getattr(args, "force", False):
+        return _read_only(args)
+    what = f"PMC area {area} is write-protected, or the machine is read-only"
+    if hasattr(args, "address"):  # pmc bit
+        byte = fmt.parse_number_bit(args.address)[0]
+        return (
+            f"{what}; pmc bit has no --force: focas-net pmc write {area} {byte} VALUE --force "
+            "writes the whole byte as the simulator"
+        )
+    return f"{what}: give --force to write it as the simulator (it drives X and F)"
+
+
+_PMC: Final[Table] = {
+    EW.NUMBER: _pmc_beyond,
+    EW.NOOPT: lambda a: f"the CNC has no PMC area {a.area.name}",
+    EW.PROT: _pmc_protected,
+    EW.FUNC: _no_control,
+}
+
+
+# -- part programs and the cycle --------------------------------------------------------------
+
+_O_LINE: Final = re.compile(r"\s*O(\d+)", re.IGNORECASE)
+
+
+def _loaded(args: argparse.Namespace) -> str:
+    """``O1000``, the program of the file of ``program load``, or ``the program``."""
+    try:
+        m = _O_LINE.match(Path(args.target).read_text("ascii", errors="replace"))
+    except OSError:
+        m = None
+    return f"O{int(m[1]):04d}" if m else "the program"
+
+
+def _target(args: argparse.Namespace) -> str:
+    text = str(args.target).strip().upper().removeprefix("O")
+    return f"O{int(text):04d}" if text.isdigit() else str(args.target)
+
+
+_RESET_FIRST: Final = "(focas-net sim cycle reset ends it)"
+_PROGRAM_LOAD: Final[Table] = {
+    EW.REJECT: lambda a: f"{_loaded(a)} is already stored: give --replace to replace it",
+    EW.DATA: lambda a: (
+        f"{a.target} is not one part program: its first block must be the O line with the "
+        "program number (e.g. O1000)"
+    ),
+    EW.NUMBER: lambda a: f"the number of {_loaded(a)} is outside the program store's range",
+    EW.OVRFLOW: lambda a: "the program store is full (focas-net program delete N makes room)",
+    EW.BUSY: lambda a: f"{_loaded(a)} is being executed {_RESET_FIRST}",
+    EW.PROT: _read_only,
+}
+
+
+def _no_program(args: argparse.Namespace) -> str:
+    return f"no program {_target(args)} (focas-net program list)"
+
+
+_PROGRAM_SELECT: Final[Table] = {
+    EW.NUMBER: _no_program,
+    EW.MODE: lambda a: "program search needs MEM or EDIT mode (focas-net sim panel --mode MEM)",
+    EW.BUSY: lambda a: f"a program is being executed {_RESET_FIRST}",
+    EW.PROT: _read_only,
+}
+_PROGRAM_DELETE: Final[Table] = {
+    EW.NUMBER: _no_program,
+    EW.BUSY: lambda a: f"{_target(a)} is being executed {_RESET_FIRST}",
+    EW.PROT: _read_only,
+}
+_SIM: Final[Table] = {EW.FUNC: _no_control, EW.PROT: _read_only}
+_CYCLE_START: Final[Table] = {
+    **_SIM,
+    EW.MODE: lambda a: "cycle start runs in MEM mode only (focas-net sim panel --mode MEM)",
+    EW.ALARM: lambda a: (
+        "cycle start refused: an alarm is active or the emergency stop is on (focas-net alarms "
+        "lists them; focas-net sim clear or sim cycle reset clears them, sim panel --emergency "
+        "off releases the stop)"
+    ),
+    EW.DATA: lambda a: (
+        "cycle start refused: no main program is selected (focas-net program select N)"
+    ),
+}
+
+
+# -- the simulator's alarms and faults, VersaMax, the password ----------------------------------
+
+_SIM_ALARM: Final[Table] = {
+    **_SIM,
+    EW.ATTRIB: lambda a: f"the machine has no axis {a.axis} (--axis 0: an alarm of no axis)",
+    EW.DATA: lambda a: (
+        f"the CNC cannot hold alarm {a.alarm}: its type, number or message is out of range"
+    ),
+}
+_SIM_FAULT: Final[Table] = {
+    **_SIM,
+    EW.DATA: lambda a: (
+        f"the server refused the fault: it takes a count of 1..{MAX_FAULT_COUNT}, a delay of "
+        f"0..{MAX_DELAY_MS} ms and an error of a nonzero EW code"
+    ),
+}
+_VERSAMAX: Final[Table] = {EW.NUMBER: lambda a: f"rack {a.rack} slot {a.slot} holds no module"}
+_UNLOCK: Final[Table] = {EW.PASSWD: lambda a: "the password is not the CNC's"}
+
+#: The table of each command, by its name as typed.
+FAMILIES: Final[Mapping[str, Table]] = {
+    "param get": _PARAM,
+    "param set": _PARAM,
+    "diag": _DIAG,
+    "macro get": _MACRO,
+    "macro set": _MACRO,
+    "macro clear": _MACRO,
+    "pmc read": _PMC,
+    "pmc write": _PMC,
+    "pmc bit": _PMC,
+    "program load": _PROGRAM_LOAD,
+    "program select": _PROGRAM_SELECT,
+    "program delete": _PROGRAM_DELETE,
+    "program show": {EW.NUMBER: _no_program},
+    "sim panel": _SIM,
+    "sim alarm": _SIM_ALARM,
+    "sim clear": _SIM,
+    "sim cycle start": _CYCLE_START,
+    "sim cycle hold": _SIM,
+    "sim cycle reset": _SIM,
+    "sim override": _SIM,
+    "sim fault": _SIM_FAULT,
+    "sim faults": _SIM,
+    "versamax": _VERSAMAX,
+    "unlock": _UNLOCK,
+}
+
+
+def reason(command: str, args: argparse.Namespace, exc: CncError) -> str | None:
+    """Why ``command`` (its name as typed) with ``args`` was refused with ``exc``'s EW code;
+    None when its table does not say."""
+    why = FAMILIES.get(command, {}).get(exc.ew)
+    return None if why is None else why(args)
