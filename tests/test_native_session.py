@@ -308,6 +308,20 @@ def test_a_job_made_for_another_command_set_is_never_sent() -> None:
     assert s.next_frame() is None
 
 
+def test_a_job_whose_caller_gave_up_waits_no_more() -> None:
+    gone: set[int] = set()
+    s: NativeSession[int] = NativeSession(10, lambda token: token in gone)
+    s.connected(KEY, VERSION, 8)
+    first, second = submit(s, part(1)), submit(s, part(1))
+    assert s.queued == 2
+    gone.add(first.token)  # its caller cancelled its future
+    assert s.queued == 1
+    frame = s.next_frame()
+    assert frame is not None and frame_blocks(frame) == 1
+    assert first.ending is Ending.ABANDONED and not first.sent
+    assert s.receive(answer([1])) == [second]
+
+
 def test_an_abandoned_job_is_never_sent() -> None:
     s = session()
     gone = submit(s, part(1))

@@ -325,9 +325,10 @@ class NativeLink(CompositeCalls):
 
     @property
     def idle(self) -> bool:
-        """Whether no call of this client is queued or in flight."""
+        """Whether no call of this client is queued or in flight (a call given up while
+        queued is never sent, so it counts no more)."""
         session = self._session
-        return session.in_flight is None and not any(j.ending is None for j in session.queue)
+        return session.in_flight is None and not session.queued
 
     # -- lifecycle -----------------------------------------------------------------------
     async def connect(self) -> None:

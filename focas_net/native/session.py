@@ -303,6 +303,12 @@ class NativeSession(Generic[T]):
         """Whether a frame could be sent now: connected, nothing in flight, no failure."""
         return self._open and self.in_flight is None and self.failure is None
 
+    @property
+    def queued(self) -> int:
+        """Jobs waiting to be sent whose caller still waits for them."""
+        given_up = self._given_up
+        return sum(1 for job in self.queue if job.ending is None and not given_up(job.token))
+
     def connected(self, key: object, version: int, max_axes: int) -> list[Job[T]]:
         """A connection is open whose open answer gave ``version`` and ``max_axes``: frames
         go on it. ``key`` names what a job's blocks depend on (the command set): the queued
