@@ -84,6 +84,14 @@ async def test_the_command_set_follows_the_control_class(cnc: Cnc) -> None:
     assert rc == (0 if cnc.machine.control_class == "16i" else EW.LENGTH)
 
 
+async def test_getpath_reports_the_machines_one_path(cnc: Cnc) -> None:
+    """``cnc_getpath`` sends nothing: the library answers it from the open answer, which
+    carries the path count (a collector that loops paths 1..max reads path 1)."""
+    path, most = s16(0), s16(0)
+    assert await cnc.call("cnc_getpath", ctypes.byref(path), ctypes.byref(most)) == 0
+    assert (path.value, most.value) == (1, 1)
+
+
 async def test_sysinfo(cnc: Cnc) -> None:
     b = buf(18)
     assert await cnc.call("cnc_sysinfo", b) == 0

@@ -333,8 +333,9 @@ def test_binary_to_decimal_fits_a_macro(mantissa: int, exponent: int) -> None:
 
 
 def test_open_answer_v2_example_of_the_fact_sheet() -> None:
+    """The fact sheet's example, but for the path count ``cnc_getpath`` reports (u16 at 10)."""
     body = build_open_answer([PathDescription(" M", 3, 1)], 8, version=2)
-    assert body == bytes.fromhex("0000 0000 0008 0000 0001 0000 0000 0000 204d 0000 0003 0001")
+    assert body == bytes.fromhex("0000 0000 0008 0000 0001 0001 0000 0000 204d 0000 0003 0001")
     assert open_answer_size(body, 2) == 24
     answer = decode_open_answer(body, 2)
     assert isinstance(answer.head, OpenHeadV2)
@@ -349,6 +350,7 @@ def test_open_answer_v3_offsets() -> None:
     assert body[6:8] == b"\0\x08"  # max axes
     assert body[8:10] == b"\0\x02"  # max spindles
     assert body[10:12] == b"\0\x02"  # paths
+    assert body[22:24] == b"\0\x02"  # the path count cnc_getpath reports
     assert body[28:30] == b"\x01\x01"  # option bits
     first, second = body[40:72], body[72:104]
     assert first[:2] == b" M" and first[2:4] == b"\0\1" and first[6:8] == b"\0\3"

@@ -61,10 +61,11 @@ class OpenHeadV2(NativeRecord):
 
     ``max_axes`` (u16 at 4) is the CNC's max axes: the slot count of 0x0F write records
     (8 + 4 * max_axes) and the length check of ``cnc_rddynamic2(-1)`` (>= 28 + 16 * max_axes)
-    [V]. ``paths`` (u16 at 8) is the number of path records [V]. ``kind`` (u16 at 2): 2 = FS15
-    family (other commands), 3 = option bits forced to 1 without reading parameter 9968, any
-    other value the 16i family [I]. The other words are stored by the library, use unknown;
-    0 works [V].
+    [V]. ``paths`` (u16 at 8) is the number of path records [V]. ``max_paths`` (u16 at 10)
+    is the path count ``cnc_getpath`` reports [V] (the word after it, u16 at 12, alone gives
+    one less [V]; its meaning is not settled). ``kind`` (u16 at 2): 2 = FS15 family (other
+    commands), 3 = option bits forced to 1 without reading parameter 9968, any other value the
+    16i family [I]. The other words are stored by the library, use unknown; 0 works [V].
     """
 
     FORMAT: ClassVar[str] = ">8H"
@@ -73,7 +74,7 @@ class OpenHeadV2(NativeRecord):
     max_axes: int
     word3: int
     paths: int
-    word5: int = 0
+    max_paths: int = 0
     word6: int = 0
     word7: int = 0
 
@@ -101,19 +102,22 @@ class OpenHeadV3(NativeRecord):
     [I]. ``max_axes`` (u16 at 6): the per-path axis limit of every read and write length
     (all-axes ``cnc_rdparam``/``cnc_diagnoss``/``cnc_wrparam`` need 4 + size * max_axes) [V].
     ``max_spindles`` (u16 at 8) [I]. ``paths`` (u16 at 10) [V]. ``option_bits`` (u16 at 28):
-    the FOCAS option bits, bit 0 needed by ``cnc_rddynamic2`` [V]. ``words`` are the eight
-    u16 at 12..27 (the fourth, body[18:20], caps ``cnc_rdsvmeter`` when not 0 [I]); ``tail``
-    is body[30:40] (30..33 stored [I]).
+    the FOCAS option bits, bit 0 needed by ``cnc_rddynamic2`` [V]. ``max_paths`` (u16 at 22)
+    is the path count ``cnc_getpath`` reports [V]. ``words`` are body[12:22] (the u16 at 18
+    caps ``cnc_rdsvmeter`` when not 0 [I]), ``words2`` body[24:28]; ``tail`` is body[30:40]
+    (30..33 stored [I]).
     """
 
-    FORMAT: ClassVar[str] = ">HHHHHH16sH10s"
+    FORMAT: ClassVar[str] = ">HHHHHH10sH4sH10s"
     word0: int
     word1: int
     record_format: int
     max_axes: int
     max_spindles: int
     paths: int
-    words: bytes = bytes(16)
+    words: bytes = bytes(10)
+    max_paths: int = 0
+    words2: bytes = bytes(4)
     option_bits: int = 0
     tail: bytes = bytes(10)
 
@@ -212,7 +216,8 @@ def build_open_answer(
     """The body of an open answer FANUC's library accepts, for an answer carrying ``version``.
 
     ``paths`` describe the paths (at least one, or the library fails to connect), ``max_axes``
-    the CNC's max axes (at least each path's axes). At version >= 3 ``option_bits`` go to
+    the CNC's max axes (at least each path's axes); their count is also the path count
+    ``cnc_getpath`` reports. At version >= 3 ``option_bits`` go to
     body[28:30] and ``max_spindles`` (default: the most spindles of a path) to body[8:10]; at
     version <= 2 the option bits are not in the open answer (the library reads them from
     parameter 9968 unless ``kind`` is 3) and ``kind`` goes to body[2:4].
@@ -223,11 +228,14 @@ def build_open_answer(
         if p.axes > max_axes:
             raise ValueError(f"a path of {p.axes} axes exceeds max_axes {max_axes}")
     if version <= 2:
-        head2 = OpenHeadV2(0, kind, max_axes, 0, len(paths))
+        head2 = OpenHeadV2(0, kind, max_axes, 0, len(paths), len(paths))
         recs2 = tuple(PathRecordV2(p.machine_type, 0, p.axes, p.spindles) for p in paths)
         return OpenAnswer(version, head2, recs2).encode()
     spindles = max(p.spindles for p in paths) if max_spindles is None else max_spindles
-    head3 = OpenHeadV3(0, 0, record_format, max_axes, spindles, len(paths), option_bits=option_bits)
+    head3 = OpenHeadV3(
+        0, 0, record_format, max_axes, spindles, len(paths), max_paths=len(paths),
+        option_bits=option_bits,
+    )  # fmt: skip
     recs3 = tuple(
         PathRecordV3(p.machine_type, 2 if p.lathe else 1, 0, p.axes, 0, p.spindles) for p in paths
     )
