@@ -9,6 +9,7 @@ import re
 import sys
 from pathlib import Path
 
+import pytest
 from support import IO_TIMEOUT, serving
 from virtual_net import VirtualLoop
 
@@ -88,3 +89,25 @@ def test_the_api_docs_say_whose_lock_it_is() -> None:
         assert "never lose one another" in text
         assert "this client" in text or "of one client" in text, text
         assert "FANUC's library" in text and "no lock" in text, text
+
+
+async def test_a_bits_value_is_true_false_one_or_zero_on_both_clients() -> None:
+    """``2``, ``"0"`` or ``None`` is refused before anything is sent, rather than counting as
+    set because it is truthy; ``1`` and ``0`` set and clear."""
+    machine = default_machine()
+    machine.set_panel(mode=0, pwe=1)
+    async with serving(machine) as served:
+        for kind in (FocasClient, NativeClient):
+            async with kind(served.host, served.port, timeout=IO_TIMEOUT) as cnc:
+                for bad in (2, -1, "0", "1", None, 1.0):
+                    with pytest.raises(TypeError, match="a bit's value is True, False, 1 or 0"):
+                        await cnc.write_pmc_bit("R", 100, 3, bad)  # type: ignore[arg-type]
+                    with pytest.raises(TypeError, match=repr(bad).replace("(", r"\(")):
+                        await cnc.write_param_bit(1815, 3, bad, axis=1)  # type: ignore[arg-type]
+                assert machine.read_pmc("R", 100, 1) == b"\x00"
+                await cnc.write_pmc_bit("R", 100, 3, 1)
+                assert machine.read_pmc("R", 100, 1) == b"\x08"
+                await cnc.write_pmc_bit("R", 100, 3, 0)
+                assert machine.read_pmc("R", 100, 1) == b"\x00"
+                with pytest.raises(ValueError, match=r"bit 9 is outside 0\.\.7: parameter 20 is 1"):
+                    await cnc.write_param_bit(20, 9, True)

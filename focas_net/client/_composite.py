@@ -27,7 +27,15 @@ from focas_net.errors import ChunkedWriteError
 from ..protocol import ParamValue, PmcArea
 from ._lifecycle import Lifecycle
 from ._locks import KeyedLocks
-from ._values import REAL_WIDTH, AreaLike, check_bit, check_item, check_pmc_range, pmc_data
+from ._values import (
+    REAL_WIDTH,
+    AreaLike,
+    check_bit,
+    check_bit_value,
+    check_item,
+    check_pmc_range,
+    pmc_data,
+)
 
 __all__ = ["ChunkOutcome", "CompositeCalls", "chunked_write_error", "write_chunked"]
 
@@ -239,12 +247,13 @@ class CompositeCalls(Lifecycle):
         self,
         number: int,
         bit: int,
-        value: bool,
+        value: bool | int,
         *,
         axis: int = 0,
         timeout: float | None = None,
     ) -> None:
-        """Set or clear one bit of a parameter (``1815.0``) by read-modify-write.
+        """Set or clear one bit of a parameter (``1815.0``) by read-modify-write; ``value`` is
+        ``True``/``False`` or ``1``/``0`` (anything else raises :class:`TypeError`).
 
         The bit writes of **this client** to the same ``(number, axis)`` wait for one another
         under a lock, so they never lose one another; others run in parallel. The lock is the
@@ -254,16 +263,17 @@ class CompositeCalls(Lifecycle):
         """
         check_item(number, axis, "parameter")
         check_bit(bit, 4)
+        on = check_bit_value(value)
         deadline = self._deadline(timeout)
         async with self._param_locks.hold((number, axis), deadline):
             current = await self._read_param_value(number, axis, deadline)
             width = current.width
             if width == REAL_WIDTH:
                 raise ValueError(f"parameter {number} is a real parameter: it has no bits")
-            check_bit(bit, width)
+            check_bit(bit, width, f"parameter {number}")
             bits = 8 * width
             raw = current.value & ((1 << bits) - 1)
-            raw = raw | (1 << bit) if value else raw & ~(1 << bit)
+            raw = raw | (1 << bit) if on else raw & ~(1 << bit)
             await self._write_param_bits(number, axis, raw, width, deadline)
 
     # -- PMC -------------------------------------------------------------------------------
@@ -307,11 +317,12 @@ class CompositeCalls(Lifecycle):
         area: AreaLike,
         byte: int,
         bit: int,
-        value: bool,
+        value: bool | int,
         *,
         timeout: float | None = None,
     ) -> None:
-        """Set or clear one PMC bit: read the byte, change the bit, write the byte back.
+        """Set or clear one PMC bit: read the byte, change the bit, write the byte back;
+        ``value`` is ``True``/``False`` or ``1``/``0`` (anything else raises :class:`TypeError`).
 
         The bit writes of **this client** to the same byte wait for one another under the
         lock of ``(area, byte)``, so they never lose one another; other bytes proceed in
@@ -323,10 +334,11 @@ class CompositeCalls(Lifecycle):
         a = self._pmc_area(area)
         check_bit(bit)
         check_pmc_range(byte, 1)
+        on = check_bit_value(value)
         deadline = self._deadline(timeout)
         async with self._pmc_locks.hold((a.value, byte), deadline):
             current = (await self._read_pmc(a, byte, 1, deadline))[0]
-            new = current | (1 << bit) if value else current & ~(1 << bit)
+            new = current | (1 << bit) if on else current & ~(1 << bit)
             (outcome,) = await self._write_pmc_chunks(a, [(byte, bytes((new,)))], deadline)
             if outcome is not None:
                 raise outcome[0]

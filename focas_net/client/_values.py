@@ -113,9 +113,26 @@ def check_axis(axis: object, what: str = "axis", *, every: int | None = None) ->
     return axis
 
 
-def check_bit(bit: object, width: int = 1) -> int:
-    """A bit number of a value ``width`` bytes wide."""
+def check_bit(bit: object, width: int = 1, what: str = "") -> int:
+    """A bit number of a value ``width`` bytes wide (``what``, when given, names the value
+    in the error: ``parameter 20 is 1 byte wide``)."""
+    if what and isinstance(bit, int) and not isinstance(bit, bool):
+        if not 0 <= bit < 8 * width:
+            unit = "byte" if width == 1 else "bytes"
+            raise ValueError(
+                f"bit {bit} is outside 0..{8 * width - 1}: {what} is {width} {unit} wide"
+            )
     return check_int("bit", bit, 0, 8 * width - 1)
+
+
+def check_bit_value(value: object) -> bool:
+    """The value of one bit: ``True``/``False`` or ``1``/``0``; anything else (``2``,
+    ``"0"``, ``None``) raises rather than counting as set because it is truthy."""
+    if isinstance(value, bool):
+        return value
+    if isinstance(value, int) and value in (0, 1):
+        return bool(value)
+    raise TypeError(f"a bit's value is True, False, 1 or 0, got {value!r}")
 
 
 def check_pmc_range(start: object, count: object) -> tuple[int, int]:

@@ -106,7 +106,13 @@ class CncClient(Protocol):
     ) -> None: ...
 
     async def write_param_bit(
-        self, number: int, bit: int, value: bool, *, axis: int = 0, timeout: float | None = None
+        self,
+        number: int,
+        bit: int,
+        value: bool | int,
+        *,
+        axis: int = 0,
+        timeout: float | None = None,
     ) -> None: ...
 
     async def read_diag(
@@ -136,7 +142,7 @@ class CncClient(Protocol):
         area: str | int | PmcArea,
         byte: int,
         bit: int,
-        value: bool,
+        value: bool | int,
         *,
         timeout: float | None = None,
     ) -> None: ...
