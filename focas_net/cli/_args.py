@@ -10,13 +10,12 @@ must be 1..65535, got '70000'; see focas-net CMD --help``, and exit 2.
 from __future__ import annotations
 
 import argparse
-import ipaddress
-import re
 import sys
 from collections.abc import Callable, Sequence
 from functools import partial
 from typing import Any, Final, NoReturn, TypeVar
 
+from focas_net.client._address import check_host, host_and_port, shown
 from focas_net.protocol import PmcArea
 
 from . import _format as fmt
@@ -205,57 +204,15 @@ def parse_interval(text: str) -> float:
     return value
 
 
-def _shown(text: str, limit: int = 40) -> str:
-    return repr(text) if len(text) <= limit else f"{text[:limit]!r}... ({len(text)} characters)"
-
-
-#: A part of a host name between dots: letters (any script, for an international name),
-#: digits, hyphens and the underscores some local names have.
-_LABEL: Final = re.compile(r"[\w-]+")
-#: ``[::1]:8193``: an IPv6 address in brackets and a port.
-_BRACKETED_PORT: Final = re.compile(r"\[([^\]]*)\]:(\d+)")
-
-
 def parse_host(text: str) -> str:
-    """A host to connect to: a name (at most 253 characters, labels of 1..63), an IPv4 address
-    or an IPv6 address (with or without brackets: ``[::1]``)."""
-    host = text.strip()
-    if host.startswith("[") and host.endswith("]"):
-        host = host[1:-1]
-        if ":" not in host:
-            raise ValueError(f"brackets are for IPv6 addresses, got {_shown(text)}")
-    if not host:
-        raise ValueError("empty host")
-    bracketed = _BRACKETED_PORT.fullmatch(text.strip())
-    if bracketed:
+    """A host to connect to (:func:`~focas_net.client._address.check_host`), spaces around it
+    left out; a host with a port points to ``--port``."""
+    split = host_and_port(text.strip())
+    if split:
         raise ValueError(
-            f"{_shown(text)} is a host and a port: give --host {bracketed[1]} --port {bracketed[2]}"
+            f"{shown(text)} is a host and a port: give --host {split[0]} --port {split[1]}"
         )
-    if ":" in host:
-        name, _, port = host.rpartition(":")
-        if ":" not in name and port.isdigit():
-            raise ValueError(
-                f"{_shown(text)} is a host and a port: give --host {name} --port {port}"
-            )
-        try:
-            ipaddress.IPv6Address(host)
-        except ValueError:
-            raise ValueError(f"not an IPv6 address: {_shown(text)}") from None
-        return host
-    if len(host) > 253:
-        raise ValueError(f"host name too long: {_shown(text)}; at most 253 characters")
-    for label in host.removesuffix(".").split("."):
-        if not 1 <= len(label) <= 63:
-            raise ValueError(
-                f"host name {_shown(text)} has a part of {len(label)} characters; "
-                "each part between dots must have 1..63"
-            )
-        if not _LABEL.fullmatch(label):
-            raise ValueError(
-                f"not a host name: {_shown(text)} (a name is letters, digits and hyphens, in "
-                "parts between dots)"
-            )
-    return host
+    return check_host(text.strip())
 
 
 def parse_history_depth(text: str) -> int:

@@ -18,10 +18,11 @@ from typing import Self
 
 from focas_net.errors import FocasConnectionError
 
+from ._address import address_text, check_host
 from ._values import check_timeout
 from .reconnect import ClientState, ReconnectPolicy, StateCallback
 
-__all__ = ["Lifecycle", "address_text", "clock_of"]
+__all__ = ["Lifecycle", "clock_of"]
 
 logger = logging.getLogger("focas_net.client.client")
 
@@ -33,11 +34,6 @@ def clock_of(loop: asyncio.AbstractEventLoop) -> Callable[[], float]:
     if getattr(loop.time, "__func__", None) is asyncio.BaseEventLoop.time:
         return time.monotonic
     return loop.time
-
-
-def address_text(host: str, port: int) -> str:
-    """``host:port``, an IPv6 address in brackets (``[::1]:8193``)."""
-    return f"[{host}]:{port}" if ":" in host else f"{host}:{port}"
 
 
 class Lifecycle:
@@ -58,8 +54,7 @@ class Lifecycle:
         reconnect: bool | ReconnectPolicy,
         on_state_change: StateCallback | None,
     ) -> None:
-        if not isinstance(host, str):
-            raise TypeError(f"host must be a str, got {host!r}")
+        host = check_host(host)
         if isinstance(port, bool) or not isinstance(port, int) or not 0 <= port <= 0xFFFF:
             raise ValueError(f"port must be an integer within 0..65535, got {port!r}")
         #: The default ``timeout`` of every call, seconds (None: none).

@@ -60,10 +60,10 @@ from ..native import (
     encode_close_request,
     encode_open_request,
 )
+from ._address import address_text
 from ._channel import Channel, open_channel
 from ._composite import CompositeCalls
 from ._failures import connect_reason, lost_error, timeout_error, violation_error
-from ._lifecycle import address_text
 from .connection import NotSentError
 from .reconnect import ClientState, ReconnectPolicy, StateCallback
 

@@ -53,8 +53,8 @@ from focas_net.errors import (
 )
 
 from ..protocol import DEFAULT_MAX_FRAME, HEADER, FrameDecoder, RawFrame
+from ._address import address_text
 from ._failures import closed_error, connect_reason, lost_error, timeout_error, violation_error
-from ._lifecycle import address_text
 
 __all__ = ["Connection", "NotSentError", "open_connection"]
 

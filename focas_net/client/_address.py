@@ -1,0 +1,87 @@
+"""A CNC's address, checked once for every front end: :func:`check_host` (the clients, the
+command line's ``--host``) and :func:`address_text`.
+
+A host is a name (at most 253 characters, parts of 1..63 between dots), an IPv4 address or an
+IPv6 address (``::1``, or ``[::1]`` in brackets). A host with a port (``127.0.0.1:8193``,
+``[::1]:8193``) is refused with the port named, for it is given apart.
+"""
+
+from __future__ import annotations
+
+import ipaddress
+import re
+from typing import Final
+
+__all__ = ["address_text", "check_host", "host_and_port"]
+
+#: A part of a host name between dots: letters (any script, for an international name),
+#: digits, hyphens and the underscores some local names have.
+_LABEL: Final = re.compile(r"[\w-]+")
+#: ``[::1]:8193``: an IPv6 address in brackets and a port.
+_BRACKETED_PORT: Final = re.compile(r"\[([^\]]*)\]:(\d+)")
+
+
+def address_text(host: str, port: int) -> str:
+    """``host:port``, an IPv6 address in brackets (``[::1]:8193``)."""
+    return f"[{host}]:{port}" if ":" in host else f"{host}:{port}"
+
+
+def shown(text: str, limit: int = 40) -> str:
+    """``text`` as typed (its repr), cut after ``limit`` characters."""
+    return repr(text) if len(text) <= limit else f"{text[:limit]!r}... ({len(text)} characters)"
+
+
+def host_and_port(text: str) -> tuple[str, str] | None:
+    """``(host, port)`` when ``text`` is a host with a port (``127.0.0.1:8193``,
+    ``[::1]:8193``), else None (``::1`` is an IPv6 address, no port)."""
+    bracketed = _BRACKETED_PORT.fullmatch(text)
+    if bracketed:
+        return bracketed[1], bracketed[2]
+    name, colon, port = text.rpartition(":")
+    if colon and name and ":" not in name and port.isdigit():
+        return name, port
+    return None
+
+
+def check_host(text: object) -> str:
+    """The host ``text`` names (an IPv6 address without its brackets).
+
+    :raises TypeError: not a ``str``.
+    :raises ValueError: empty, a host with a port, or not a name or an address (each naming
+        what was given).
+    """
+    if not isinstance(text, str):
+        raise TypeError(f"host must be a str, got {text!r}")
+    split = host_and_port(text)
+    if split:
+        raise ValueError(
+            f"host {shown(text)} is a host and a port: give the host {split[0]!r} "
+            f"and the port {split[1]} apart"
+        )
+    host = text
+    if host.startswith("[") and host.endswith("]"):
+        host = host[1:-1]
+        if ":" not in host:
+            raise ValueError(f"brackets are for IPv6 addresses, got host {shown(text)}")
+    if not host:
+        raise ValueError(f"empty host {text!r}: give a name or an address (127.0.0.1)")
+    if ":" in host:
+        try:
+            ipaddress.IPv6Address(host)
+        except ValueError:
+            raise ValueError(f"not an IPv6 address: host {shown(text)}") from None
+        return host
+    if len(host) > 253:
+        raise ValueError(f"host name too long: {shown(text)}; at most 253 characters")
+    for label in host.removesuffix(".").split("."):
+        if not 1 <= len(label) <= 63:
+            raise ValueError(
+                f"host name {shown(text)} has a part of {len(label)} characters; "
+                "each part between dots must have 1..63"
+            )
+        if not _LABEL.fullmatch(label):
+            raise ValueError(
+                f"not a host name: {shown(text)} (a name is letters, digits and hyphens, in "
+                "parts between dots)"
+            )
+    return host
