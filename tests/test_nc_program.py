@@ -65,6 +65,42 @@ def test_texts_that_are_no_program(text: str, reason: ProgramErrorReason) -> Non
         assert text.split("\n")[0][:3] in str(info.value)
 
 
+@pytest.mark.parametrize(
+    "text",
+    [
+        "O1234\nG0 X1.\nM30\n%",  # the closing mark alone
+        "O1234\nG0 X1.\nM30\n%\n",
+        "\n%\nO1234\nG0 X1.\nM30\n%\n",  # both marks
+        "%\nO1234\nG0 X1.\nM30\n",  # the opening mark alone
+        "leader\n%\nO1234\nG0 X1.\nM30\n%\n(trailer)\n",
+        "O1234\r\nG0 X1.\r\nM30\r\n%\r\n%\r\n",
+    ],
+)
+def test_a_program_between_or_before_its_tape_marks(text: str) -> None:
+    assert parse_program(text).text == "O1234\nG0 X1.\nM30\n"
+
+
+@pytest.mark.parametrize(
+    ("text", "words"),
+    [
+        ("O1\nM30\nO2\nM30\n", "line 3: 'O2' starts a second program: one program per text"),
+        ("O1\nM30\n:2 (B)\nM30\n", "line 3: ':2 (B)' starts a second program"),
+        ("O1\nM30\n%\nO2\nM30\n%\n", "line 4: 'O2' starts a second program after the closing %"),
+        (
+            "%\nO1\nM30\n%\n\no2\nM30\n%\n",
+            "line 6: 'o2' starts a second program after the closing % (line 4)",
+        ),
+    ],
+)
+def test_a_second_program_in_one_text_is_refused(text: str, words: str) -> None:
+    """One text holds one program: a second one would be lost, never silently run as blocks
+    of the first or dropped as a trailer."""
+    with pytest.raises(ProgramError) as info:
+        parse_program(text)
+    assert info.value.reason is ProgramErrorReason.FORMAT
+    assert words in str(info.value)
+
+
 def test_the_store_lists_gets_stores_deletes_and_selects() -> None:
     store = ProgramStore()
     store.store("O2 (B)\nM30\n")

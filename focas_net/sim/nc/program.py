@@ -13,6 +13,7 @@ alarm and raises it only when executed, as on a CNC.
 from __future__ import annotations
 
 import functools
+import re
 from collections.abc import Callable, Collection
 from dataclasses import dataclass, field
 from typing import Final
@@ -167,21 +168,48 @@ def _strip_comments(line: str) -> tuple[str, str]:
     return "".join(code), comment or ""
 
 
-def _split_blocks(text: str) -> list[tuple[int, str]]:
-    """Lines of the text between tape marks, each split at ``;`` outside comments."""
-    lines = text.replace("\r\n", "\n").replace("\r", "\n").split("\n")
-    stripped = [ln.strip() for ln in lines]
-    if any(s.startswith("%") for s in stripped):
-        first = next(i for i, s in enumerate(stripped) if s.startswith("%"))
-        end = next(
-            (i for i in range(first + 1, len(stripped)) if stripped[i].startswith("%")),
-            len(stripped),
-        )
-        numbered = [(i + 1, lines[i]) for i in range(first + 1, end)]
+#: A block that opens a program: its number after O (or ``:``, FANUC's other program address).
+_PROGRAM_NUMBER: Final = re.compile(r"[O:]\d", re.IGNORECASE)
+
+
+def _opens(line: str) -> bool:
+    """Whether ``line`` opens a program with its number."""
+    return bool(_PROGRAM_NUMBER.match(_strip_comments(line)[0].lstrip()))
+
+
+def _tape(lines: list[str]) -> range:
+    """The indexes of the lines that hold the program, as a tape reader takes them: after
+    the leader (what precedes the opening ``%``) up to the closing ``%`` (``%`` O1234 ...
+    M30 ``%``); a text that starts with its program number may end with the closing ``%``
+    alone (O1234 ... M30 ``%``). The trailer after the closing ``%`` is not read, but a
+    program there would be lost: :class:`ProgramError` (FORMAT) names its line."""
+    marks = [i for i, ln in enumerate(lines) if ln.strip().startswith("%")]
+    if not marks:
+        return range(len(lines))
+    leader = [ln for ln in lines[: marks[0]] if ln.strip()]
+    if leader and _opens(leader[0]):  # O1234 ... M30 %: the mark closes the program
+        start, end = 0, marks[0]
+    elif len(marks) == 1:  # (leader) % O1234 ... M30, with no closing mark
+        return range(marks[0] + 1, len(lines))
     else:
-        numbered = [(i + 1, ln) for i, ln in enumerate(lines)]
+        start, end = marks[0] + 1, marks[1]
+    for i in range(end + 1, len(lines)):
+        if _opens(lines[i]):
+            raise ProgramError(
+                ProgramErrorReason.FORMAT,
+                f"line {i + 1}: {lines[i].strip()[:40]!r} starts a second program after the "
+                f"closing % (line {end + 1}): one program per text",
+            )
+    return range(start, end)
+
+
+def _split_blocks(text: str) -> list[tuple[int, str]]:
+    """Lines of the program (:func:`_tape`), each split at ``;`` outside comments, with
+    their line numbers in the text."""
+    lines = text.replace("\r\n", "\n").replace("\r", "\n").split("\n")
     blocks: list[tuple[int, str]] = []
-    for number, line in numbered:
+    for i in _tape(lines):
+        line = lines[i]
         depth = 0
         start = 0
         for pos, c in enumerate(line):
@@ -190,9 +218,9 @@ def _split_blocks(text: str) -> list[tuple[int, str]]:
             elif c == ")":
                 depth = 0
             elif c == ";" and not depth:
-                blocks.append((number, line[start:pos]))
+                blocks.append((i + 1, line[start:pos]))
                 start = pos + 1
-        blocks.append((number, line[start:]))
+        blocks.append((i + 1, line[start:]))
     return [(n, b) for n, b in blocks if b.strip()]
 
 
@@ -307,7 +335,8 @@ def _word_value(cur: Cursor, address: str) -> Word:
 
 def parse_program(text: str, max_number: int = 9999) -> Program:
     """Parse one program; raises :class:`ProgramError` (FORMAT or RANGE) when the text does
-    not start with an O-number in 1..``max_number``."""
+    not start with an O-number in 1..``max_number``, holds a second program (a block opening
+    with an O-number, or text after the closing ``%``) or is empty."""
     blocks_text = _split_blocks(text)
     if not blocks_text:
         raise ProgramError(ProgramErrorReason.FORMAT, "the program text is empty")
@@ -336,6 +365,12 @@ def parse_program(text: str, max_number: int = 9999) -> Program:
         )
     rest = first[first.upper().index(digits) + len(digits) :]
     rest_code, _ = _strip_comments(rest)
+    for n, b in blocks_text[1:]:
+        if _opens(b):
+            raise ProgramError(
+                ProgramErrorReason.FORMAT,
+                f"line {n}: {b.strip()[:40]!r} starts a second program: one program per text",
+            )
     parsed: list[Block] = []
     if rest_code:
         parsed.append(parse_block(line, rest))
