@@ -617,9 +617,17 @@ def test_alarm_message_cut_at_32(m: Machine, s: Session) -> None:
 
 
 def test_alarm_message_bytes_come_back_identical(m: Machine, s: Session) -> None:
-    msg = bytes([0x20, 0x7E, 0x80, 0xFF, 0x01])
+    msg = bytes([0x20, 0x7E, 0xA0, 0xFF])
     assert raise_alarm(m, s, 0, 12, 7, msg) == 0
     assert alarms(m, s).entries[0].msg.encode("latin-1") == msg
+
+
+@pytest.mark.parametrize("control", [0x00, 0x01, 0x0A, 0x1F, 0x7F, 0x80, 0x9F])
+def test_an_alarm_message_with_a_control_byte_is_ew_data(
+    m: Machine, s: Session, control: int
+) -> None:
+    assert raise_alarm(m, s, 0, 12, 7, b"AB" + bytes([control])) == 5
+    assert alarms(m, s).entries == ()
 
 
 def test_alarm_history_ring_of_250(m: Machine, s: Session, clock: FakeClock) -> None:

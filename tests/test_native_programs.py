@@ -390,6 +390,9 @@ def test_a_download_is_stored_at_its_end(adapter: NativeAdapter) -> None:
         (b"\nO0321 (\xe9)\nM30\n%", EW.DATA),  # not ASCII
         (b"%\n%", EW.DATA),  # nothing
         (b"\nO99999 (BIG)\nM30\n%", EW.NUMBER),  # outside O1..O9999
+        (b"\nO0321 (\x07)\nM30\n%", EW.DATA),  # a control character
+        (b"\nO0321\nM30\nO0322\nM30\n%", EW.DATA),  # two programs
+        (b"%\nO0321\nM30\n%\nO0322\nM30\n%", EW.DATA),  # a program after the closing %
     ],
 )
 def test_download_refusals(adapter: NativeAdapter, data: bytes, ew: int) -> None:
@@ -397,6 +400,14 @@ def test_download_refusals(adapter: NativeAdapter, data: bytes, ew: int) -> None
     out = download(adapter, ProgramTransfer(), data)
     assert refusal(out, TransferFrame.DOWNLOAD_END) == ew
     assert adapter.machine.program_directory() == before
+
+
+def test_a_download_keeps_a_percent_sign_inside_a_block(adapter: NativeAdapter) -> None:
+    """Only a line that starts with ``%`` is a tape mark; the NUL a C string ends with is no
+    part of the text."""
+    out = download(adapter, ProgramTransfer(), b"\nO0321 (50% FEED)\nM30\n%\x00")
+    assert out == [encode_native_frame(0x1302, b"", adapter.version)]
+    assert adapter.machine.program_text(321) == "O0321 (50% FEED)\nM30\n"
 
 
 def test_a_download_end_without_a_start_is_ew_func(adapter: NativeAdapter) -> None:

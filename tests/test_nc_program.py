@@ -101,6 +101,28 @@ def test_a_second_program_in_one_text_is_refused(text: str, words: str) -> None:
     assert words in str(info.value)
 
 
+@pytest.mark.parametrize(
+    ("text", "words"),
+    [
+        ("O1 (\x07BELL)\nM30\n", "line 1: character '\\x07' (U+0007)"),
+        ("O1 (\u00c4NDERUNG)\nM30\n", "line 1: character '\u00c4' (U+00C4)"),
+        ("O1\nG0 X1.\x1b\nM30\n", "line 2: character '\\x1b' (U+001B)"),
+        ("O1\nG0 X1.\x00\nM30\n", "line 2: character '\\x00' (U+0000)"),
+    ],
+)
+def test_a_program_is_printable_ascii(text: str, words: str) -> None:
+    """A program name or block with a control character or a character beyond ASCII is
+    refused by the store every front end loads through, naming its line."""
+    with pytest.raises(ProgramError) as info:
+        parse_program(text)
+    assert info.value.reason is ProgramErrorReason.FORMAT
+    assert words in str(info.value) and "a program is printable ASCII text" in str(info.value)
+
+
+def test_tabs_and_the_nuls_ending_a_c_string_are_read() -> None:
+    assert parse_program("O1\n\tG0\tX1.\nM30\n%\x00\x00").text == "O0001\nG0\tX1.\nM30\n"
+
+
 def test_the_store_lists_gets_stores_deletes_and_selects() -> None:
     store = ProgramStore()
     store.store("O2 (B)\nM30\n")

@@ -338,6 +338,29 @@ def test_raise_alarm_check_order(m: Machine) -> None:
     assert m.active_alarms() == []
 
 
+@pytest.mark.parametrize(
+    ("msg", "control"),
+    [
+        ("TWO\nLINES", "\n"),
+        ("BELL\x07", "\x07"),
+        ("NUL\x00", "\x00"),
+        ("TAB\tBED", "\t"),
+        ("C1\x85", "\x85"),
+    ],
+)
+def test_an_alarm_message_with_a_control_character_is_refused(
+    m: Machine, msg: str, control: str
+) -> None:
+    """The message is one line of text on every front end (the web page, the command line,
+    both protocols, a machine file): the machine refuses a control character, naming it."""
+    with pytest.raises(MachineError) as info:
+        m.raise_alarm(0, 15, 100, msg)
+    assert info.value.ew == EW.DATA
+    assert f"control character {control!r} (U+{ord(control):04X})" in str(info.value)
+    assert m.active_alarms() == [] and m.alarm_history() == ()
+    assert m.raise_alarm(0, 15, 100, "caf\u00e9 OK")  # Latin-1 text is kept
+
+
 @pytest.mark.parametrize("alm_no", [MAX_ALARM_NO + 1, 40000, 99999999999])
 def test_an_alarm_number_the_cnc_cannot_hold_is_refused(m: Machine, alm_no: int) -> None:
     assert ew_of(lambda: m.raise_alarm(0, 15, alm_no, "TOO BIG")) == EW.DATA

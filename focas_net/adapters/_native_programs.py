@@ -202,8 +202,9 @@ class ProgramHandlers:
 
     def _download_end(self, state: ProgramTransfer) -> list[bytes]:
         """Store the downloaded program: EW_FUNC when no download was started, EW_OVRFLOW
-        past :data:`MAX_DOWNLOAD`, EW_DATA for text that is not ASCII, then the machine's
-        ``store_program`` refusals (EW_PROT, EW_DATA, EW_NUMBER, EW_REJECT, EW_OVRFLOW)."""
+        past :data:`MAX_DOWNLOAD`, then the machine's ``store_program`` refusals (EW_PROT,
+        EW_DATA, EW_NUMBER, EW_REJECT, EW_OVRFLOW): the machine reads the text as a tape,
+        from its opening ``%`` to its closing one, and refuses what is not printable ASCII."""
         downloading, overflow = state.downloading, state.overflow
         raw = bytes(state.received)
         state.reset()
@@ -211,11 +212,7 @@ class ProgramHandlers:
             raise Refused(EW.FUNC)
         if overflow:
             raise Refused(EW.OVRFLOW)
-        try:
-            text = raw.decode("ascii")
-        except UnicodeDecodeError:
-            raise Refused(EW.DATA) from None
-        self.machine.store_program(_downloaded_program(text))
+        self.machine.store_program(raw.decode("latin-1"))
         return [self._transfer_frame(TransferFrame.DOWNLOAD_END_ANSWER)]
 
 
@@ -225,13 +222,3 @@ def _program_comment(name: str) -> bytes:
     if not name:
         return b""
     return f"({name[:61]})".encode("latin-1", "replace")
-
-
-def _downloaded_program(text: str) -> str:
-    """The program of a download's text: without a first ``%`` (and the blank lines around
-    it) and without anything from the ending ``%`` on, as a control reads punched tape."""
-    text = text.lstrip()
-    if text.startswith("%"):
-        text = text[1:].lstrip()
-    end = text.find("%")
-    return text if end < 0 else text[:end]

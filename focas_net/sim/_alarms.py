@@ -121,7 +121,7 @@ class Alarms:
     def checked(axis_no: int, alm_type: int, alm_no: int, msg: str, axes: int) -> str:
         """The text an alarm keeps, once its numbers are checked: EW_DATA (alm_type outside
         0..31, alm_no outside 0..32767), EW_ATTRIB (axis_no), EW_DATA (a character beyond
-        U+00FF)."""
+        U+00FF, or a control character: a tab, a line break, NUL...)."""
         if not 0 <= alm_type <= MAX_ALARM_TYPE:
             raise MachineError(EW.DATA, f"alm_type {alm_type} outside 0..{MAX_ALARM_TYPE}")
         if not 0 <= alm_no <= MAX_ALARM_NO:
@@ -131,6 +131,13 @@ class Alarms:
         text = msg[:MAX_ALARM_TEXT]
         if any(ord(c) > 0xFF for c in text):
             raise MachineError(EW.DATA, f"alarm message {text!r} is not single-byte text")
+        control = next((c for c in text if c < " " or "\x7f" <= c < "\xa0"), None)
+        if control is not None:
+            raise MachineError(
+                EW.DATA,
+                f"alarm message {text!r} holds the control character {control!r} "
+                f"(U+{ord(control):04X}): a message is one line of text",
+            )
         return text
 
     def add(self, key: AlarmKey, text: str, when: datetime) -> bool:

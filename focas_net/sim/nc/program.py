@@ -205,11 +205,21 @@ def _tape(lines: list[str]) -> range:
 
 def _split_blocks(text: str) -> list[tuple[int, str]]:
     """Lines of the program (:func:`_tape`), each split at ``;`` outside comments, with
-    their line numbers in the text."""
+    their line numbers in the text; a character other than printable ASCII and the tab is
+    refused (:class:`ProgramError`, FORMAT), naming its line. The NULs that end a C string
+    are not part of the text."""
+    text = text.rstrip("\x00")
     lines = text.replace("\r\n", "\n").replace("\r", "\n").split("\n")
     blocks: list[tuple[int, str]] = []
     for i in _tape(lines):
         line = lines[i]
+        bad = next((c for c in line if not (" " <= c <= "~" or c == "\t")), None)
+        if bad is not None:
+            raise ProgramError(
+                ProgramErrorReason.FORMAT,
+                f"line {i + 1}: character {bad!r} (U+{ord(bad):04X}) in {line.strip()[:40]!r}: "
+                "a program is printable ASCII text",
+            )
         depth = 0
         start = 0
         for pos, c in enumerate(line):
