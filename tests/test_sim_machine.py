@@ -261,6 +261,27 @@ def test_write_param_order(m: Machine) -> None:
     assert not m.param_gate_open(s)
 
 
+def test_write_param_refusal_names_the_closed_gate(m: Machine) -> None:
+    s = m.new_session()
+
+    def detail() -> str:
+        with pytest.raises(MachineError) as info:
+            m.write_param(s, 3216, 0, 0, width=2)
+        assert info.value.ew == EW.PASSWD
+        return str(info.value)
+
+    m.set_panel(3, 0, 0)  # EDIT, PWE off: PWE is named first
+    assert "parameter write enable (PWE) is off" in detail()
+    m.set_panel(3, 1, 0)
+    assert "the mode is EDIT, not MDI" in detail()
+    m.set_param_password("1234")
+    m.set_panel(0, 1, 0)
+    assert "the parameter password is not unlocked on this connection" in detail()
+    m.unlock(s, "1234")
+    m.write_param(s, 3216, 0, 0, width=2)
+    assert m.param_gate_closed(s) is None
+
+
 def test_read_only_machine_typed_ops() -> None:
     m = default_machine(read_only=True)
     s = m.new_session()

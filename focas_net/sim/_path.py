@@ -56,6 +56,7 @@ __all__ = [
     "ENGINE_VARIABLES",
     "MDI",
     "MEM",
+    "MODE_NAMES",
     "PARTS_VARIABLES",
     "POSITION_DECIMALS",
     "POSITION_KINDS",
@@ -67,9 +68,22 @@ __all__ = [
     "Status",
 ]
 
-#: ``aut`` values: 0 MDI, 1 MEM, 3 EDIT, 4 HND, 5 JOG, 6 Teach-in JOG, 7 Teach-in HND, 8 INC,
-#: 9 REF, 10 RMT (2 is not a mode).
-AUT_MODES: Final = frozenset({0, 1, 3, 4, 5, 6, 7, 8, 9, 10})
+#: The panel's modes by name (``aut`` values of ``cnc_statinfo``: 6 and 7 are teach-in JOG and
+#: HND; 2 is no mode).
+MODE_NAMES: Final[dict[str, int]] = {
+    "MDI": 0,
+    "MEM": 1,
+    "EDIT": 3,
+    "HND": 4,
+    "JOG": 5,
+    "TJOG": 6,
+    "THND": 7,
+    "INC": 8,
+    "REF": 9,
+    "RMT": 10,
+}
+#: The ``aut`` values a panel selects.
+AUT_MODES: Final = frozenset(MODE_NAMES.values())
 MDI: Final = 0
 MEM: Final = 1
 EDIT: Final = 3

@@ -118,6 +118,7 @@ from ._path import (
     ENGINE_VARIABLES,
     MDI,
     MEM,
+    MODE_NAMES,
     PARTS_VARIABLES,
     POSITION_DECIMALS,
     POSITION_KINDS,
@@ -143,6 +144,7 @@ __all__ = [
     "MAX_MACRO_DECIMALS",
     "MDI",
     "MEM",
+    "MODE_NAMES",
     "PMC_AREAS",
     "POSITION_DECIMALS",
     "POSITION_KINDS",
@@ -391,10 +393,20 @@ class Machine:
 
     def param_gate_open(self, session: Session) -> bool:
         """PWE on, MDI mode, and (when there is a password) this session unlocked."""
+        return self.param_gate_closed(session) is None
+
+    def param_gate_closed(self, session: Session) -> str | None:
+        """Why a parameter write from ``session`` is refused (the first closed gate, in the
+        order an operator opens them: PWE, MDI mode, the password), or None when it is open."""
         p = self.panel
-        if p.pwe != 1 or p.mode != MDI:
-            return False
-        return self._lock.admits(session)
+        if p.pwe != 1:
+            return "parameter write enable (PWE) is off"
+        if p.mode != MDI:
+            shown = next((n for n, v in MODE_NAMES.items() if v == p.mode), p.mode)
+            return f"the mode is {shown}, not MDI"
+        if not self._lock.admits(session):
+            return "the parameter password is not unlocked on this connection"
+        return None
 
     def write_param(
         self,
@@ -420,8 +432,9 @@ class Machine:
         item, i = items.lookup(items.params, datano, axis)
         if width is not None and width != item.width:
             raise MachineError(EW.LENGTH, f"parameter {datano} is {item.width} bytes wide")
-        if not self.param_gate_open(session):
-            raise MachineError(EW.PASSWD, "parameter write not enabled")
+        closed = self.param_gate_closed(session)
+        if closed is not None:
+            raise MachineError(EW.PASSWD, f"parameter write not enabled: {closed}")
         value = items.rescaled(item, value, decimals)
         items.set(item, i, value, "parameter")
         if datano in (PARTS_COUNT, PARTS_TOTAL):

@@ -32,6 +32,7 @@ from .machine import (
     DEFAULT_CONTROL_CLASS,
     DEFAULT_HISTORY_CAPACITY,
     MAX_REAL_DECIMALS,
+    MODE_NAMES,
     PMC_AREAS,
     Clock,
     DataItem,
@@ -60,19 +61,6 @@ class MachineFileError(FocasError, ValueError):
         super().__init__(f"{where}: {problem}")
 
 
-#: Panel mode names accepted for ``panel.mode`` (``aut`` values of ``cnc_rdcncstat``).
-MODE_NAMES: Final[dict[str, int]] = {
-    "MDI": 0,
-    "MEM": 1,
-    "EDIT": 3,
-    "HND": 4,
-    "JOG": 5,
-    "TJOG": 6,
-    "THND": 7,
-    "INC": 8,
-    "REF": 9,
-    "RMT": 10,
-}
 #: ``type`` names of a parameter or diagnostic (``i16`` and ``i32``, the width names of older
 #: files, are ``word`` and ``2-word``).
 _TYPES: Final[dict[str, ParamKind]] = {
