@@ -139,7 +139,12 @@ BAD_FILES = [
         "machine.name",
         "1..64 printable characters, not 5000",
     ),
-    ("[machine]\nname = 'a'\naxes = []\n", "machine.axes", "1..32 axes"),
+    ("[machine]\nname = 'a'\naxes = []\n", "machine.axes", "1..20 axes"),
+    (
+        "[machine]\nname = 'a'\naxes = [" + ", ".join(f"'A{i}'" for i in range(1, 22)) + "]\n",
+        "machine.axes",
+        "a path has 1..20 axes, got 21",
+    ),
     ("[machine]\nname = 'a'\naxes = ['X', 'X']\n", "machine.axes[1]", "named twice"),
     ("[machine]\nname = 'a'\naxes = ['X', '']\n", "machine.axes[1]", "axis name"),
     (

@@ -416,7 +416,10 @@ def test_motion_state(m: Machine) -> None:
 @pytest.mark.parametrize(
     ("kwargs", "words"),
     [
-        ({"axes": []}, "1..32 axes"),
+        ({"axes": []}, "1..20 axes"),
+        ({"axes": [f"A{i}" for i in range(1, 22)]}, "a path has 1..20 axes, got 21$"),
+        ({"axes": ["X", "X"]}, "axis 'X' is named twice"),
+        ({"axes": ["X", "Ä"]}, "axis name is 1..4 ASCII letters or digits, got 'Ä'"),
         ({"params": [DataItem(1, 3)]}, "width"),
         ({"params": [DataItem(1, 1, low=5, high=1)]}, "range"),
         ({"params": [DataItem(1, 1, low=0, high=300)]}, "range"),

@@ -106,6 +106,7 @@ from ._identity import (
     CONTROL_CLASSES,
     DEFAULT_CONTROL_CLASS,
     Identity,
+    axes_problem,
     checked_identity,
     checked_name,
 )
@@ -204,6 +205,9 @@ class Machine:
         #: ``serve`` starts it): a machine file's ``[run]``, None when it has none.
         self.scenario = scenario
         self.axes: list[str] = list(axes)
+        problem = axes_problem(self.axes)
+        if problem is not None:
+            raise ValueError(problem)
         n = len(self.axes)
         self._identity = checked_identity(identity, control_class, n)
         #: Which class of FANUC control this machine is (one of :data:`CONTROL_CLASSES`).

@@ -22,7 +22,7 @@ from focas_net.errors import FocasError
 from focas_net.versamax import BoardId, IOModuleRecord, RefType
 
 from ._base import NUMBERS
-from ._identity import name_problem
+from ._identity import axes_problem, axis_name_problem, name_problem
 from ._pmc import pmc_letter
 from ._station import MAX_RACK, MAX_SLOT
 from .default import gniu_record, mdd844_record
@@ -181,18 +181,17 @@ def _number_key(ctx: _Ctx, key: str, span: tuple[int, int]) -> int:
 
 
 def _axes(ctx: _Ctx, value: Any) -> list[str]:
-    names = _list(ctx, value)
-    if not 1 <= len(names) <= 32:
-        ctx.fail(f"a machine has 1..32 axes, got {len(names)}")
-    axes = []
-    for i, name in enumerate(names):
-        text = _ascii(ctx.sub(i), name)
-        if not 1 <= len(text) <= 4 or not text.isalnum():
-            ctx.sub(i).fail(f"an axis name is 1..4 letters or digits: {text!r}")
-        if text in axes:
-            ctx.sub(i).fail(f"axis {text!r} is named twice")
-        axes.append(text)
-    return axes
+    names: list[str] = []
+    for i, raw in enumerate(_list(ctx, value)):
+        name = _ascii(ctx.sub(i), raw)
+        problem = axis_name_problem(name, names)
+        if problem is not None:
+            ctx.sub(i).fail(problem)
+        names.append(name)
+    problem = axes_problem(names)
+    if problem is not None:
+        ctx.fail(problem)
+    return names
 
 
 def _identity(ctx: _Ctx, value: Any, n_axes: int) -> Identity:
