@@ -22,7 +22,7 @@ from __future__ import annotations
 
 import math
 from collections.abc import Iterable
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from decimal import Decimal
 from typing import Final
 
@@ -66,6 +66,7 @@ __all__ = [
     "Path",
     "Shared",
     "Status",
+    "mode_name",
 ]
 
 #: The panel's modes by name (``aut`` values of ``cnc_statinfo``: 6 and 7 are teach-in JOG and
@@ -84,6 +85,13 @@ MODE_NAMES: Final[dict[str, int]] = {
 }
 #: The ``aut`` values a panel selects.
 AUT_MODES: Final = frozenset(MODE_NAMES.values())
+
+
+def mode_name(aut: int) -> str:
+    """The name of panel mode ``aut`` (``"EDIT"``), or its number when it has none."""
+    return next((name for name, value in MODE_NAMES.items() if value == aut), str(aut))
+
+
 MDI: Final = 0
 MEM: Final = 1
 EDIT: Final = 3
@@ -321,6 +329,9 @@ class Path:
         main = main_program if main_program is not None else first
         if main is not None:
             self.programs.select(main)
+            if motion.program_running == motion.program_main == 0:
+                # The figures name no program: they show the selected one, as a control does.
+                self.manual = replace(motion, program_running=main, program_main=main)
         #: Whether the engine shows the run state and the figures (see ``Machine.driven``).
         self.driven = False
         #: Whether time alone may change what the path shows: the cycle runs or a scenario
@@ -636,7 +647,7 @@ class Path:
         if self.alarms.active:
             raise MachineError(EW.ALARM, f"{refused}: an alarm is active")
         if p.mode != MEM:
-            raise MachineError(EW.MODE, f"{refused}: mode {p.mode} is not MEM")
+            raise MachineError(EW.MODE, f"{refused}: the mode is {mode_name(p.mode)}, not MEM")
 
     def cycle_start(self, repeat: bool | None) -> None:
         self.sync()

@@ -129,6 +129,7 @@ from ._path import (
     Path,
     Shared,
     Status,
+    mode_name,
 )
 from ._pmc import F_SIGNALS, G_SIGNALS, PMC_AREAS, Pmc, PmcAreaSpec
 from ._station import Station
@@ -406,8 +407,7 @@ class Machine:
         if p.pwe != 1:
             return "parameter write enable (PWE) is off"
         if p.mode != MDI:
-            shown = next((n for n, v in MODE_NAMES.items() if v == p.mode), p.mode)
-            return f"the mode is {shown}, not MDI"
+            return f"the mode is {mode_name(p.mode)}, not MDI"
         if not self._lock.admits(session):
             return "the parameter password is not unlocked on this connection"
         return None
