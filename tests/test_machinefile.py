@@ -319,6 +319,11 @@ BAD_FILES = [
     ),
     ("[run]\nphase = nan\n", "run.phase", "must be a finite number, got nan"),
     (
+        '[[program]]\ntext = "O1000\\nG01 X10 F100 (\u00c4)\\nM30\\n"\n',
+        "program[0].text",
+        "line 2: character 'Ä' (U+00C4) in 'G01 X10 F100 (Ä)': a program is printable ASCII",
+    ),
+    (
         "[parameters]\n1420 = { type = 'real', decimals = 3, value = nan }\n",
         "parameters.1420.value",
         "must be a finite number, got nan",
