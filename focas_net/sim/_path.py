@@ -271,6 +271,7 @@ class Path:
         "driven",
         "engine",
         "engine_alarms",
+        "group",
         "items",
         "key",
         "live",
@@ -357,6 +358,8 @@ class Path:
         #: The active alarms the program raised (a reset clears them).
         self.engine_alarms: set[AlarmKey] = set()
         self._figures: tuple[int, MotionData] | None = None
+        #: Every path of the machine, this one among them (the machine sets it).
+        self.group: list[Path] = [self]
         self.production = Production(self)
 
     def macro_values(self, number: int) -> dict[int, Decimal]:

@@ -269,6 +269,8 @@ class Machine(PathOperations):
                 )
             )
             offset += k
+        for p in built:
+            p.group = built
         self._paths = Paths(built, infos)
         self._path = first = built[0]
         #: Path 1's operator panel and the run state it shows (:meth:`path_panel`).
