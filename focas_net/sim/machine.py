@@ -735,4 +735,6 @@ def _path_specs(
         given.append("programs")
     if given:
         raise ValueError(f"{', '.join(given)} given with paths: each path has its own")
+    if not 1 <= len(paths) <= MAX_PATHS:
+        raise ValueError(f"a machine has 1..{MAX_PATHS} paths, got {len(paths)}")
     return list(paths)
