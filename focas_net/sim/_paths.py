@@ -239,6 +239,9 @@ class Paths:
         self.sync()
 
     def stop_production(self) -> None:
-        """Stop the scenario (the cycles go on as they are, without its part limit)."""
-        for p in self.all:
-            p.production.stop()
+        """Stop the scenario (the cycles go on as they are, without its part limit: the
+        other paths' too)."""
+        self.all[0].production.stop()
+        for p in self.all[1:]:
+            p.sync()
+            p.engine.parts_to_go = None
