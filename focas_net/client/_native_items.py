@@ -266,7 +266,8 @@ class NativeItems(NativeLink):
                     )
                 raise as_int
             if ptype == ParamType.BIT:
-                raw = byte_to_wire(number, as_int, ParamDataType.BIT)
+                bits = param_int(number, value, ParamDataType.BIT)  # "00000011": the bits
+                raw = byte_to_wire(number, bits, ParamDataType.BIT)
             else:
                 bits = 8 * size
                 if not -(1 << (bits - 1)) <= as_int < 1 << bits:

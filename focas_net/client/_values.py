@@ -18,6 +18,7 @@ from dataclasses import dataclass
 from decimal import Decimal, InvalidOperation
 from typing import Final
 
+from .._bits import bits_of_text
 from ..protocol import (
     MAX_HISTORY_DEPTH,
     MAX_REAL_DECIMALS,
@@ -227,13 +228,23 @@ def macro_from_wire(mcr_val: int, dec_val: int) -> Decimal | None:
 
 
 # -- parameter values --------------------------------------------------------------------------
-def param_int(number: int, value: object) -> int:
-    """An integer parameter value from ``value`` (text: decimal, ``0x``, ``0b`` or ``0o``)."""
+def param_int(number: int, value: object, kind: ParamDataType | None = None) -> int:
+    """An integer parameter value from ``value`` (text: decimal, leading zeros allowed, ``0x``,
+    ``0b`` or ``0o``); for a bit parameter (``kind``) eight 0/1 digits of text are its bits
+    #7..#0, as the machine file and the page read them (:func:`focas_net._bits.bits_of_text`)."""
     if isinstance(value, str):
+        if kind is ParamDataType.BIT:
+            bits = bits_of_text(value)
+            if bits is not None:
+                return bits
+        text = value.strip().replace("_", "")
         try:
-            return int(value.strip().replace("_", ""), 0)
+            return int(text, 0)
         except ValueError:
-            raise ValueError(f"parameter {number}: not an integer: {value!r}") from None
+            pass
+        if text.lstrip("+-").isdecimal() and text.isascii():
+            return int(text, 10)  # 0042
+        raise ValueError(f"parameter {number}: not an integer: {value!r}")
     if isinstance(value, bool) or not isinstance(value, int | Decimal):
         raise TypeError(f"parameter {number}: a value is an integer, got {value!r}")
     if isinstance(value, Decimal):

@@ -341,9 +341,9 @@ class FocasClient(Link):
             mantissa, decimals = real_to_wire(number, value)
             pv = ParamValue(number, axis, mantissa, width, decimals)
         else:
-            raw = param_int(number, value)
+            kind = await self._param_type(number, deadline) if width == 1 else None
+            raw = param_int(number, value, kind)
             if width == 1:
-                kind = await self._param_type(number, deadline)
                 raw = byte_to_wire(number, raw, kind)
             pv = ParamValue(number, axis, raw, width)
         payload = _WRPARAM.request.encode(pv)

@@ -20,6 +20,7 @@ from os import PathLike
 from pathlib import Path
 from typing import Any, Final, NoReturn
 
+from focas_net._bits import bits_hint, bits_of_text
 from focas_net.errors import FocasError
 from focas_net.versamax import BoardId, IOModuleRecord, RefType
 
@@ -328,19 +329,17 @@ def _item_value(
 
 def _bits(ctx: _Ctx, text: str) -> int:
     """A bit parameter's value given as text: the eight bits #7..#0 (``"10110000"``), or a
-    binary number with ``0b`` (``"0b1011"`` is 11, as the command line reads it); ``_``
-    may separate digits. Fewer than eight bits without ``0b`` (``"1011"``: #3..#0 or
-    #7..#4?) are refused with how to write them."""
-    raw = text.strip().lower().replace("_", "")
-    digits = raw.removeprefix("0b")
-    binary = bool(digits) and not set(digits) - {"0", "1"}
-    if binary and (len(digits) == 8 or (raw.startswith("0b") and len(digits) < 8)):
-        return int(digits, 2)
-    example = digits if binary and len(digits) < 8 else "1011"
-    ctx.fail(
-        f'{text!r} is not 8 bits: write the eight bits #7..#0 ("{int(example, 2):08b}"), '
-        f'a binary number with 0b ("0b{example}") or an integer 0..255 without quotes'
-    )
+    binary number with ``0b`` (``"0b1011"`` is 11), read as the command line and the page read
+    them (:func:`focas_net._bits.bits_of_text`); ``_`` may separate digits. Other text,
+    fewer than eight bits without ``0b`` (``"1011"``: #3..#0 or #7..#4?) among it, is refused
+    with how to write it."""
+    try:
+        value = bits_of_text(text)
+    except ValueError:
+        value = None
+    if value is None:
+        ctx.fail(f"{bits_hint(text)} without quotes")
+    return value
 
 
 def _macros(ctx: _Ctx, value: Any) -> tuple[list[MacroRange], dict[int, Decimal]]:

@@ -21,6 +21,7 @@ from dataclasses import dataclass, field
 from decimal import Decimal, InvalidOperation
 from typing import Any, Final
 
+from focas_net._bits import bits_of_text
 from focas_net.errors import EW, ew_name
 from focas_net.protocol import FaultKind, FaultScope, InjectFault, alarm_message
 from focas_net.server.faults import FaultQueue, parse_inject
@@ -233,13 +234,23 @@ def _pmc_bit(station: Station, args: Mapping[str, Any]) -> JsonDict:
 _PARAM_DIGITS: Final = 20
 
 
-def _param_value(m: Machine, number: int, text: Decimal) -> tuple[int, int | None]:
-    """A parameter value as the page typed it -> (value in the parameter's terms, decimals)."""
+def _param_value(
+    m: Machine, number: int, text: Decimal, typed: object = None
+) -> tuple[int, int | None]:
+    """A parameter value as the page typed it -> (value in the parameter's terms, decimals);
+    on a bit parameter eight 0/1 digits ``typed`` are its bits, as the command line reads them."""
+    item = m.param_item(number)
+    if item is not None and item.kind is ParamKind.BIT and isinstance(typed, str):
+        try:
+            bits = bits_of_text(typed)
+        except ValueError as exc:
+            raise ActionError(f"value: {exc}") from None
+        if bits is not None:
+            return bits, None
     digits = len(text.as_tuple().digits)
     if digits > _PARAM_DIGITS or (not text.is_zero() and text.adjusted() >= _PARAM_DIGITS):
         shown = f"{text:.3E}" if digits > _PARAM_DIGITS else str(text)
         raise ActionError(f"value: {shown} is no parameter value (more than 20 digits)")
-    item = m.param_item(number)
     if item is not None and item.kind is ParamKind.REAL:
         exponent = text.as_tuple().exponent
         assert isinstance(exponent, int)
@@ -259,7 +270,7 @@ def _write_param(station: Station, args: Mapping[str, Any]) -> JsonDict:
     m.check_writable()  # the machine's order: read-only first, then the number
     if m.param_item(number) is None:
         raise MachineError(EW.NUMBER, f"no parameter {number}")
-    value, decimals = _param_value(m, number, given)
+    value, decimals = _param_value(m, number, given, args["value"])
     m.write_param(station.session, number, axis, value, decimals=decimals)
     return {"number": number, "value": m.read_param(number, axis)}
 
