@@ -207,3 +207,26 @@ async def test_a_move_past_the_stroke_limit_parameters_stops_on_the_limit_with_o
     assert all(x <= limit for x in samples)  # never past the limit, at any sample
     assert samples[-1] == limit  # stopped on it
     assert len(samples) > 10
+
+
+async def test_a_stroke_limit_written_while_the_machine_runs_is_the_one_it_stops_at(
+    clock: ManualClock,
+) -> None:
+    """1320 written through FOCAS applies at once (from the next block), as on a control: the
+    move stops on the new limit with OT0500, not on the one the machine was built with."""
+    machine = default_machine(sim_clock=clock, programs=("O2006\nG90 G0 X99.\nM30\n",))
+    async for cnc in _client(machine):
+        await cnc.sim.set_panel("MDI", pwe=True)
+        await cnc.write_param(1320, 7000, axis=1)  # 7.000 mm
+        await cnc.write_param(1420, 6000, axis=1)  # rapid 6 m/min
+        await cnc.sim.set_panel("MEM", pwe=False)
+        await cnc.select_program(2006)
+        await cnc.sim.cycle_start()
+        for _ in range(MAX_SAMPLES):
+            clock.advance(0.05)
+            if (await cnc.read_status()).run != RUN_STRT:
+                break
+        alarms = await cnc.read_alarms()
+        assert [(alarm_code(a.alm_type, a.alm_no), a.axis_no) for a in alarms] == [("OT0500", 1)]
+        assert await _x_mm(cnc) == 7.0
+        assert clock.now() == pytest.approx(7 / 6000 * 60, abs=0.06)  # at the new rapid rate

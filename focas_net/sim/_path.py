@@ -111,6 +111,8 @@ ENGINE_VARIABLES: Final = (range(4001, 4031), range(4102, 4131), range(5001, 504
 #: The parameters of the lowest and the highest waiting M code.
 WAIT_LOW: Final = 8110
 WAIT_HIGH: Final = 8111
+#: The parameters the engine executes by (:meth:`Path._nc_settings`).
+SETTING_PARAMS: Final = frozenset({1240, 1320, 1321, 1420, 1422, WAIT_LOW, WAIT_HIGH})
 #: The run state (ODBST ``run``) and motion of each engine state.
 _RUN: Final = {CycleState.RESET: 0, CycleState.STOP: 1, CycleState.HOLD: 2, CycleState.START: 3}
 #: ODBST ``motion`` 3 (WAIT): the path waits at a waiting M code for the other paths.
@@ -359,13 +361,18 @@ class Path:
                     f"motion {key}: {len(getattr(motion, key))} values for {axes} axes"
                 )
 
+    def take_settings(self) -> None:
+        """The settings again after a write of :data:`SETTING_PARAMS`: from the next block, as
+        on a control (none of them needs the power turned off)."""
+        self.engine.apply_settings(self._nc_settings(len(self.group)))
+
     def _nc_settings(self, path_count: int) -> NcSettings:
-        """Execution settings from the parameters, read when the machine is built: rapid
-        traverse 1420 (mm/min; an axis whose rate is not above 0 traverses at 24,000), maximum
-        cutting feed 1422, stroke limit 1 1320/1321 (0.001 mm, or mm for a real parameter; no
-        limit on an axis where plus is not above minus), reference position 1240; on a
-        machine of several paths the waiting M codes 8110..8111 (none unless both are above
-        0 and the lowest is not above the highest)."""
+        """Execution settings from the parameters (again on a write: :meth:`take_settings`):
+        rapid 1420 (mm/min; an axis whose rate is not above 0 traverses at 24,000), maximum
+        feed 1422, stroke limit 1 1320/1321 (0.001 mm, or mm for a real parameter; no limit on
+        an axis where plus is not above minus), reference position 1240; on a machine of
+        several paths the waiting M codes 8110..8111 (none unless both are above 0 and the
+        lowest is not above the highest)."""
         items = self.items
         axes = range(1, len(self.axes) + 1)
         rapid = tuple(

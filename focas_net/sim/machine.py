@@ -122,6 +122,7 @@ from ._path import (
     PARTS_VARIABLES,
     POSITION_DECIMALS,
     POSITION_KINDS,
+    SETTING_PARAMS,
     TIMER_KINDS,
     MotionData,
     Panel,
@@ -519,6 +520,9 @@ class Machine(PathOperations):
         items.set(item, i, value, "parameter")
         if datano in (PARTS_COUNT, PARTS_TOTAL):
             p.set_parts(datano, value)
+        elif datano in SETTING_PARAMS:
+            for each in self._paths:  # from the next block, as a control applies them
+                each.take_settings()
 
     def set_diag(self, datano: int, axis: int, value: int, *, path: int = 1) -> None:
         """Change a diagnostic value (simulation code; a CNC has no diagnostic write):
