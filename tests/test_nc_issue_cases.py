@@ -230,3 +230,23 @@ async def test_a_stroke_limit_written_while_the_machine_runs_is_the_one_it_stops
         assert [(alarm_code(a.alm_type, a.alm_no), a.axis_no) for a in alarms] == [("OT0500", 1)]
         assert await _x_mm(cnc) == 7.0
         assert clock.now() == pytest.approx(7 / 6000 * 60, abs=0.06)  # at the new rapid rate
+
+
+async def test_a_running_programs_commons_and_locals_are_the_ones_focas_reads(
+    clock: ManualClock,
+) -> None:
+    """cnc_rdmacro(100) reads the common the program set, and cnc_rdmacro(1) the local of
+    the level running (the main program's); a value written by FOCAS before cycle start is the
+    one the program reads; a reset vacates #1-#33 and #100-#199 (6001 CLV/CCV = 0)."""
+    text = "O3004\n#101=#102+1\n#100=5\n#1=7\n#500=9\nG4 P60000\nM30\n"
+    machine = default_machine(sim_clock=clock, programs=(text,))
+    async for cnc in _client(machine):
+        await cnc.select_program(3004)
+        await cnc.write_macro(102, 41)
+        await cnc.sim.cycle_start()
+        clock.advance(1.0)
+        assert (await cnc.read_status()).run == RUN_STRT
+        values = [await cnc.read_macro(n) for n in (100, 101, 1, 500)]
+        assert values == [5, 42, 7, 9]
+        await cnc.sim.reset()
+        assert [await cnc.read_macro(n) for n in (100, 101, 1, 500)] == [None, None, None, 9]

@@ -296,7 +296,7 @@ class Path:
         self.counters = shared.counters
         self.items = items or PathItems(shared.items, 0, len(axes), {})
         self.macros = shared.macros
-        #: The values of the path's own variables #100-#199 (path 1: the machine's).
+        #: The values of the path's own variables #1-#33, #100-#199 (path 1: the machine's).
         self.local_macros = shared.macros.values if number == 1 else {}
         self.alarms = shared.alarms
         self.pmc = shared.pmc
@@ -347,8 +347,8 @@ class Path:
         self.production = Production(self)
 
     def macro_values(self, number: int) -> dict[int, Decimal]:
-        """Where variable ``number``'s value is held: the path's own #100-#199, else the
-        machine's."""
+        """Where variable ``number``'s value is held: the path's own #1-#33 and #100-#199 (the
+        ones its program reads and writes), else the machine's."""
         return self.local_macros if number in PATH_MACROS else self.macros.values
 
     @staticmethod
