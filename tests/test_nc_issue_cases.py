@@ -250,3 +250,19 @@ async def test_a_running_programs_commons_and_locals_are_the_ones_focas_reads(
         assert values == [5, 42, 7, 9]
         await cnc.sim.reset()
         assert [await cnc.read_macro(n) for n in (100, 101, 1, 500)] == [None, None, None, 9]
+
+
+def test_a_program_search_sets_the_sequence_number_to_0(clock: ManualClock) -> None:
+    """The sequence number of the program run before does not survive a program search: the
+    control shows N00000 (read by cnc_rdseqnum and #4114)."""
+    machine = default_machine(sim_clock=clock)
+    machine.cycle_start()
+    for _ in range(MAX_SAMPLES):
+        clock.advance(0.5)
+        if machine.motion.sequence:
+            break
+    assert machine.motion.sequence
+    machine.reset()
+    machine.select_program(machine.store_program("O2004\nG0 X1.\nM30\n"))
+    assert machine.motion.program_main == 2004
+    assert machine.motion.sequence == 0

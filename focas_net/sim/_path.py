@@ -787,7 +787,7 @@ class Path:
         if self.panel.mode not in (MEM, EDIT):
             raise MachineError(EW.MODE, f"program search in mode {self.panel.mode}: MEM or EDIT")
         try:
-            self.programs.select(number)
+            self.engine.select_program(number)
         except ProgramError as exc:
             raise _program_refusal(exc) from None
         self.driven = True

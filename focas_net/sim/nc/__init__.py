@@ -16,7 +16,8 @@ implementing :class:`NcVariables` (``read_variable``/``write_variable`` over the
 #500-#999 and system variables, raising :class:`VariableRefused` with 115 or 116). Then:
 
 - programs: ``store.directory()``, ``store.text(n)``, ``store.store(text)``,
-  ``store.delete(n)``, ``store.select(n)``; refusals are :class:`ProgramError` with a
+  ``store.delete(n)``, ``store.select(n)`` (``select_program(n)``: a program search, which
+  also sets the sequence number to 0); refusals are :class:`ProgramError` with a
   ``reason`` (and FANUC's PS number in ``alarm``) for the front ends to map to EW codes;
 - control: ``cycle_start()`` (raises :class:`NcStateError`), ``feed_hold()`` (also pauses
   a dwell or an M function's wait), ``reset()``, ``alarm_stop(alarm)`` (emergency stop or
