@@ -554,6 +554,13 @@ def test_a_macro_holds_up_to_nine_decimals_as_given(m: Machine, value: Decimal |
     assert str(got) == str(Decimal(value))  # the decimals written are the decimals read
 
 
+@pytest.mark.parametrize(("value", "shown"), [("-0", "0"), ("-0.000", "0.000"), ("-0E+0", "0")])
+def test_a_negative_zero_is_held_as_zero(m: Machine, value: str, shown: str) -> None:
+    """The wire has no -0: the machine holds it as 0, so the page shows what FOCAS reads."""
+    m.write_macro(500, Decimal(value))
+    assert str(m.read_macro(500)) == shown
+
+
 @pytest.mark.parametrize(
     "value",
     [

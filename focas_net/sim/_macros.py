@@ -35,7 +35,8 @@ class MacroRange:
 
 
 def macro_value(value: Decimal | int) -> Decimal | None:
-    """``value`` as a macro variable holds it, or None when it cannot hold it."""
+    """``value`` as a macro variable holds it, or None when it cannot hold it; -0 is held as
+    0 (with the decimals given): the wire has no negative zero, so every front end shows 0."""
     if isinstance(value, bool) or not isinstance(value, Decimal | int):
         raise TypeError(f"a macro value is a Decimal, an int or None, got {value!r}")
     if isinstance(value, int):
@@ -49,7 +50,7 @@ def macro_value(value: Decimal | int) -> Decimal | None:
     coefficient = int("".join(map(str, digits)))
     if not I32_MIN <= (-coefficient if sign else coefficient) <= I32_MAX:
         return None
-    return value
+    return value.copy_abs() if sign and not coefficient else value
 
 
 def float_macro(value: float) -> Decimal | None:
