@@ -675,3 +675,23 @@ def test_raising_an_active_alarm_again_keeps_the_first_message() -> None:
     m.clear_alarms(3, 100)
     assert m.raise_alarm(0, 3, 100, "SECOND MESSAGE") is True  # cleared, then raised anew
     assert [e.msg for e in m.alarm_history()] == ["SECOND MESSAGE", "FIRST"]
+
+
+@pytest.mark.parametrize(
+    ("call", "words"),
+    [
+        (lambda m: m.select_program(-1), "program number -1 outside 1..9999"),
+        (lambda m: m.select_program(10000), "program number 10000 outside 1..9999"),
+        (lambda m: m.delete_program(0), "program number 0 outside 1..9999"),
+        (lambda m: m.select_program(1234), "no program O1234"),
+        (lambda m: m.read_pmc("R", -1, 1), "R address -1 outside 0..7999"),
+        (lambda m: m.read_pmc("R", 10**20, 1), f"R address {10**20} outside 0..7999"),
+        (lambda m: m.write_pmc("R", 7999, b"\0\0"), "R7999..8000 beyond 8000 bytes"),
+    ],
+)
+def test_a_refused_number_is_named_as_given(call: Callable[[Machine], object], words: str) -> None:
+    """No ``O-001`` or ``R-1..-1``: a number outside the machine's range is named with it."""
+    m = default_machine()
+    with pytest.raises(MachineError) as exc:
+        call(m)
+    assert exc.value.ew == EW.NUMBER and words in str(exc.value)
