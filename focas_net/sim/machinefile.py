@@ -26,6 +26,7 @@ from focas_net.versamax import BoardId, IOModuleRecord, RefType
 
 from ._base import NUMBERS
 from ._identity import axes_problem, axis_name_problem, name_problem
+from ._items import parts_param_problem
 from ._pmc import pmc_letter
 from ._station import MAX_RACK, MAX_SLOT
 from .default import gniu_record, mdd844_record
@@ -243,7 +244,8 @@ def _panel(ctx: _Ctx, value: Any) -> Panel:
     )
 
 
-def _items(ctx: _Ctx, value: Any, n_axes: int) -> list[DataItem]:
+def _items(ctx: _Ctx, value: Any, n_axes: int, *, parts: bool = False) -> list[DataItem]:
+    """Parameters (``parts``: the machine's parts counts among them) or diagnostics."""
     t = _table(ctx, value)
     items: list[DataItem] = []
     for key, raw in t.items():
@@ -295,6 +297,9 @@ def _items(ctx: _Ctx, value: Any, n_axes: int) -> list[DataItem]:
                 n_axes if is_axis else 1
             )
         name = _str(c.sub("name"), spec.get("name", ""))
+        problem = parts and parts_param_problem(number, kind, is_axis)
+        if problem:
+            c.sub("type").fail(problem)
         items.append(DataItem(number, kind.width, is_axis, low, high, values, name, kind, decimals))
     return items
 
@@ -730,7 +735,7 @@ def _build(
         axes=axes if alone else None,
         paths=paths,
         identity=_identity(root.sub("sysinfo"), top.get("sysinfo", {}), n),
-        params=_items(root.sub("parameters"), top.get("parameters", {}), n),
+        params=_items(root.sub("parameters"), top.get("parameters", {}), n, parts=True),
         diags=_items(root.sub("diagnostics"), top.get("diagnostics", {}), n),
         macro_ranges=ranges,
         macro_values=values,
