@@ -27,6 +27,7 @@ from focas_net.sim import (
     default_machine,
 )
 from focas_net.sim.default import gniu_record, mdd844_record
+from focas_net.sim.nc import ManualClock
 
 
 def fixed_clock(t: datetime) -> Callable[[], datetime]:
@@ -695,3 +696,15 @@ def test_a_refused_number_is_named_as_given(call: Callable[[Machine], object], w
     with pytest.raises(MachineError) as exc:
         call(m)
     assert exc.value.ew == EW.NUMBER and words in str(exc.value)
+
+
+def test_a_clock_behind_the_machine_is_refused_with_what_to_give() -> None:
+    m = default_machine(sim_clock=ManualClock(5.0))
+    with pytest.raises(ValueError) as exc:
+        m.set_clock(ManualClock())
+    assert "5.0 s behind the machine's time 5.0" in str(exc.value)
+    assert "ManualClock(5.0)" in str(exc.value) and "sim_clock=" in str(exc.value)
+    later = ManualClock(m.sim_clock.now())
+    m.set_clock(later)
+    later.advance(1.0)
+    assert m.sim_clock.now() == 6.0

@@ -403,9 +403,14 @@ class Path:
     # -- time ----------------------------------------------------------------------------
     def check_clock(self, clock: SimClock) -> None:
         """ValueError when ``clock`` is behind the path's machine time."""
-        behind = self.time.now() - clock.now()
+        now = self.time.now()
+        behind = now - clock.now()
         if behind > 0:
-            raise ValueError(f"the clock is {behind} s behind the machine's time")
+            raise ValueError(
+                f"the clock is {behind} s behind the machine's time {now}: a machine goes on "
+                f"from where it is, so give a clock at {now} or later (ManualClock({now})), "
+                "or give the clock when the machine is built (sim_clock=)"
+            )
 
     def set_clock(self, clock: SimClock) -> None:
         self.check_clock(clock)
