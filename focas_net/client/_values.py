@@ -146,8 +146,12 @@ def check_pmc_range(start: object, count: object) -> tuple[int, int]:
 
 
 def history_depth(depth: object) -> int:
-    """The alarm history entries to read: ``depth`` clamped to 1..250."""
-    return min(max(check_int("history depth", depth, -(2**63), 2**63), 1), _MAX_HISTORY_DEPTH)
+    """The alarm history entries to read: ``depth`` from 1, more than 250 read as 250 (the
+    history holds no more); below 1 is a ValueError naming it, as the command line says."""
+    given = check_int("history depth", depth, -(2**63), 2**63)
+    if given < 1:
+        raise ValueError(f"history depth {given} is outside 1..{_MAX_HISTORY_DEPTH}")
+    return min(given, _MAX_HISTORY_DEPTH)
 
 
 def number_of_name(names: type[enum.IntEnum], given: str, what: str, numbers: str) -> int:
