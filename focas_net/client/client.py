@@ -420,7 +420,7 @@ class FocasClient(Link):
     async def read_alarm_history(
         self, depth: int = 10, *, timeout: float | None = None
     ) -> AlarmHistory:
-        """``cnc_rdalmhistry``: up to ``depth`` (1.., more than 250 read as 250) most recent entries,
+        """``cnc_rdalmhistry``: up to ``depth`` (1.., above 250 read as 250) latest entries,
         newest first. An error answer (a negative count) raises :class:`CncError`, like
         :meth:`read_alarms`: a failed read is never mistaken for an empty history."""
         depth = history_depth(depth)
