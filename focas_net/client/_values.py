@@ -19,6 +19,7 @@ from decimal import Decimal, InvalidOperation
 from typing import Final
 
 from .._bits import bits_of_text
+from .._typed import macro_unfit
 from ..protocol import (
     MAX_HISTORY_DEPTH,
     MAX_REAL_DECIMALS,
@@ -195,7 +196,7 @@ def macro_to_wire(value: int | Decimal | float | str) -> tuple[int, int]:
         raise TypeError("a macro value must be a number, not a bool")
     if isinstance(value, int):
         if not I32_MIN <= value <= I32_MAX:
-            raise ValueError(f"macro value {value} does not fit mcr_val (i32)")
+            raise ValueError(f"macro value {macro_unfit(value)}")
         return value, 0
     if isinstance(value, float):
         if not math.isfinite(value):
@@ -221,7 +222,7 @@ def macro_to_wire(value: int | Decimal | float | str) -> tuple[int, int]:
         mcr = int(candidate.scaleb(places))
         if I32_MIN <= mcr <= I32_MAX:
             return mcr, places
-    raise ValueError(f"macro value {value} cannot be carried as mcr_val (i32) / 10**dec_val (0..9)")
+    raise ValueError(f"macro value {macro_unfit(value)}")
 
 
 def macro_from_wire(mcr_val: int, dec_val: int) -> Decimal | None:

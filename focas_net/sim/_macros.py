@@ -12,6 +12,7 @@ from dataclasses import dataclass
 from decimal import Decimal, InvalidOperation
 from typing import Final
 
+from focas_net._typed import macro_unfit
 from focas_net.errors import EW
 
 from ._base import I32_MAX, I32_MIN, NUMBERS, Counters, MachineError
@@ -132,10 +133,7 @@ class Macros:
             return
         held = macro_value(value)
         if held is None:
-            raise MachineError(
-                EW.DATA,
-                f"#{number} = {value}: 0..{MAX_MACRO_DECIMALS} decimals, digits within 32 bits",
-            )
+            raise MachineError(EW.DATA, f"#{number} = {macro_unfit(value)}")
         values[number] = held
         self.changed()
 
