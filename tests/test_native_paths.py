@@ -5,18 +5,32 @@ the frames it exchanged are checked here without it (``tests/data/fwlib_paths.js
 
 from __future__ import annotations
 
-import pytest
+import struct
+from collections.abc import Sequence
+from decimal import Decimal
 
+import pytest
+from paths_support import SHARED_MACRO, VALUES, twin_turret
+
+from focas_net.adapters import NativeAdapter
+from focas_net.errors import EW
 from focas_net.native import (
     NO_PATH,
     PATH_RECORDS,
+    NativeCommand,
     OpenHeadV2,
     OpenHeadV3,
     PathDescription,
+    RequestBlock,
+    ResponseBlock,
     build_open_answer,
+    decode_frame,
     decode_open_answer,
+    decode_response_body,
+    encode_request_body,
     open_answer_size,
 )
+from focas_net.sim import default_machine
 
 TURRET = PathDescription(" T", 2, 1)
 MILL = PathDescription(" M", 3, 2)
@@ -121,3 +135,156 @@ def test_one_record_per_path_unless_asked(version: int) -> None:
 def test_records_between_the_paths_and_ten(records: int) -> None:
     with pytest.raises(ValueError, match=f"{records} path records for 2 paths"):
         build_open_answer([TURRET, TURRET], 4, records=records)
+
+
+# ---------------------------------------------------------------------------------------------
+# The adapter answers each block for the path in its path word
+
+SETS = ("16i", "30i")
+C = NativeCommand
+
+
+def ask(adapter: NativeAdapter, blocks: Sequence[RequestBlock]) -> tuple[ResponseBlock, ...]:
+    frame = decode_frame(adapter.answer(encode_request_body(list(blocks))))
+    answers = decode_response_body(frame.body)
+    assert [(a.device, a.path, a.command) for a in answers] == [
+        (b.device, b.path, b.command) for b in blocks
+    ]
+    return answers
+
+
+def cnc(path: int, command: int, *args: int) -> RequestBlock:
+    return RequestBlock(1, path, command, (*args, *[0] * (5 - len(args))))  # type: ignore[arg-type]
+
+
+def scaled(data: bytes) -> list[int]:
+    """The mantissas of a run of 8-byte number records."""
+    return [m for m, _, _ in struct.iter_unpack(">ihh", data)]
+
+
+@pytest.mark.parametrize("set_name", SETS)
+def test_the_open_answer_describes_both_turrets(set_name: str) -> None:
+    adapter = NativeAdapter(twin_turret(set_name))
+    assert adapter.version == (2 if set_name == "16i" else 3)
+    answer = decode_open_answer(adapter.open_answer(), adapter.version)
+    assert len(answer.paths) == PATH_RECORDS
+    assert answer.head.max_paths == 2
+    assert answer.present() == (PathDescription(" T", 2, 1), PathDescription(" T", 2, 1))
+    assert answer.max_axes == 8
+
+
+def test_a_single_path_machine_answers_one_record() -> None:
+    answer = decode_open_answer(NativeAdapter(default_machine()).open_answer(), 3)
+    assert len(answer.paths) == 1
+    assert answer.head.max_paths == 1
+
+
+@pytest.mark.parametrize("set_name", SETS)
+def test_each_path_reads_its_own_values(set_name: str) -> None:
+    adapter = NativeAdapter(twin_turret(set_name))
+    for path, v in ((0, VALUES[0]), (1, VALUES[0]), (2, VALUES[1])):
+        status, numbers, seq, feed, speed, absolute, machine, name = ask(
+            adapter,
+            [
+                cnc(path, C.STATINFO),
+                cnc(path, C.RDPRGNUM),
+                cnc(path, C.RDSEQNUM),
+                cnc(path, C.ACTF),
+                cnc(path, C.ACTS),
+                cnc(path, C.POSITION, 4, -1),
+                cnc(path, C.POSITION, 1, 2),
+                cnc(path, C.EXEPRGNAME),
+            ],
+        )
+        assert struct.unpack(">7h", status.data)[0] == v.mode
+        assert struct.unpack(">2i", numbers.data) == (v.running, v.main)
+        assert struct.unpack(">i", seq.data) == (v.sequence,)
+        assert scaled(feed.data) == [v.feed] and scaled(speed.data) == [v.speed]
+        assert scaled(absolute.data) == [*v.absolute] + [0] * 6  # max axes records
+        assert scaled(machine.data) == [v.machine[1]]
+        o_number, text = struct.unpack(">i36s", name.data)
+        assert (o_number, text.rstrip(b"\0")) == (v.running, f"O{v.running}".encode())
+
+
+@pytest.mark.parametrize("set_name", SETS)
+def test_each_path_has_its_axes_spindles_and_identity(set_name: str) -> None:
+    adapter = NativeAdapter(twin_turret(set_name))
+    for path, v in ((1, VALUES[0]), (2, VALUES[1])):
+        sysinfo, names, axes, spindles = ask(
+            adapter,
+            [
+                cnc(path, C.SYSINFO),
+                cnc(path, C.AXIS_NAME, 0),
+                cnc(path, C.AXIS_COUNT, 0),
+                cnc(path, C.AXIS_COUNT, 1),
+            ],
+        )
+        assert sysinfo.data[6:8] == b" T" and sysinfo.data[-2:] == b"02"  # mt_type, axes
+        assert [names.data[i : i + 2] for i in range(0, len(names.data), 4)] == [
+            a.encode() for a in v.axes
+        ]
+        assert struct.unpack(">H", axes.data) == (2,)
+        assert struct.unpack(">H", spindles.data) == (1,)
+
+
+@pytest.mark.parametrize("set_name", SETS)
+def test_macros_parameters_and_alarms_per_path(set_name: str) -> None:
+    adapter = NativeAdapter(twin_turret(set_name))
+    read_param = C.RDPARAM if set_name == "16i" else C.RDPARAM3
+    shared_number, shared_value = SHARED_MACRO
+    for path, v in ((1, VALUES[0]), (2, VALUES[1])):
+        own, shared, parts, bits, messages = ask(
+            adapter,
+            [
+                cnc(path, C.RDMACRO, 100, 100),
+                cnc(path, C.RDMACRO, shared_number, shared_number),
+                cnc(path, read_param, 6711, 6711, 0),
+                cnc(path, C.ALARM),
+                cnc(path, C.RDALMMSG, -1, 10, 2, 32),
+            ],
+        )
+        mantissa, _, decimals = struct.unpack(">ihh", own.data)
+        assert Decimal(mantissa).scaleb(-decimals) == v.macro
+        mantissa, _, decimals = struct.unpack(">ihh", shared.data)
+        assert Decimal(mantissa).scaleb(-decimals) == shared_value
+        assert struct.unpack_from(">i", parts.data, 8) == (v.parts,)
+        axis, alm_type, number, _ = v.alarm
+        assert struct.unpack(">i", bits.data) == (1 << alm_type,)
+        assert struct.unpack_from(">4i", messages.data) == (number, alm_type, axis, 15)
+        assert len(messages.data) == 16 + 32  # that path's one alarm
+
+
+@pytest.mark.parametrize("set_name", SETS)
+def test_a_path_past_the_last_is_ew_path_and_shared_reads_ignore_it(set_name: str) -> None:
+    adapter = NativeAdapter(twin_turret(set_name))
+    per_path = [
+        cnc(3, C.SYSINFO),
+        cnc(3, C.STATINFO),
+        cnc(3, C.RDPRGNUM),
+        cnc(3, C.POSITION, 4, -1),
+        cnc(3, C.RDMACRO, 100, 100),
+        cnc(3, C.ALARM),
+        cnc(3, C.AXIS_COUNT, 0),
+        cnc(3, C.RDPROGDIR, 0, 10),
+        cnc(3, C.RDMACRO, 5, 1),  # the path is checked before the arguments (EW_LENGTH)
+    ]
+    shared = [cnc(3, C.RDCNCID), cnc(3, C.RDALMHISTRY, 1, 1, 1)]
+    answers = ask(adapter, per_path + shared)
+    assert [a.ew for a in answers[: len(per_path)]] == [EW.PATH] * len(per_path)
+    assert [a.ew for a in answers[len(per_path) :]] == [0, 0]
+    assert answers[-2].data == ask(adapter, [cnc(1, C.RDCNCID)])[0].data
+    # the PMC is the machine's: its refusal of an area it has not, not EW_PATH
+    (pmc,) = ask(adapter, [RequestBlock(2, 3, C.PMC_RDPMCRNG, (0, 3, 5, 0, 0))])
+    assert pmc.ew == ask(adapter, [RequestBlock(2, 1, C.PMC_RDPMCRNG, (0, 3, 5, 0, 0))])[0].ew
+    assert pmc.ew != EW.PATH
+
+
+@pytest.mark.parametrize("set_name", SETS)
+def test_a_write_goes_to_the_blocks_path(set_name: str) -> None:
+    machine = twin_turret(set_name)
+    adapter = NativeAdapter(machine)
+    record = struct.pack(">ihh", 75, 10, 1)  # 7.5
+    (answer,) = ask(adapter, [RequestBlock(1, 2, C.WRMACRO, (101, 101, 0, 0, 8), record)])
+    assert answer.ew == 0
+    assert machine.read_macro(101, path=2) == Decimal("7.5")
+    assert machine.read_macro(101, path=1) is None

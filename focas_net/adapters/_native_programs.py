@@ -3,6 +3,9 @@ of the program store's data requests (directory, memory, delete, search, the blo
 executed; what a handler is: :mod:`focas_net.adapters.native`) and the transfer frames of
 uploads and downloads, a download kept in the connection's :class:`ProgramTransfer` and stored
 at its end only.
+
+A data request answers for the programs of the path in its block's path word (0 is path 1);
+the transfer frames carry no path word and go to path 1's programs.
 """
 
 from __future__ import annotations
@@ -31,6 +34,7 @@ from focas_net.native import (
 from focas_net.sim import Machine, MachineError, Session
 
 from ._common import REFUSALS, Refused, refusal_code
+from ._native_cnc import block_path
 
 __all__ = ["MAX_DOWNLOAD", "ProgramHandlers", "ProgramTransfer"]
 
@@ -81,7 +85,8 @@ class ProgramHandlers:
         if req.count < 1:
             raise Refused(EW.LENGTH)
         most = min(req.count, room // ProgramDirEntry.SIZE)
-        entries = [e for e in self.machine.program_directory() if e.number >= req.top][:most]
+        directory = self.machine.program_directory(path=block_path(block))
+        entries = [e for e in directory if e.number >= req.top][:most]
         return b"".join(
             ProgramDirEntry(e.number, e.size, _program_comment(e.name)).encode() for e in entries
         )
@@ -90,8 +95,9 @@ class ProgramHandlers:
         """0x07: programs stored and the room for more, characters used and free (the
         machine's program store: its directory, capacity and most programs)."""
         machine = self.machine
-        directory = machine.program_directory()
-        store = machine.programs
+        path = block_path(block)
+        directory = machine.program_directory(path=path)
+        store = machine.path_programs(path)
         used = sum(e.size for e in directory)
         return ProgramMemory(
             len(directory),
@@ -102,12 +108,14 @@ class ProgramHandlers:
 
     def delete_program(self, block: RequestBlock, room: int, session: Session) -> bytes:
         """0x05: the machine's ``delete_program`` (EW_PROT, EW_NUMBER, EW_BUSY)."""
-        self.machine.delete_program(ProgramDeleteRequest.from_block(block).number)
+        number = ProgramDeleteRequest.from_block(block).number
+        self.machine.delete_program(number, path=block_path(block))
         return b""
 
     def search_program(self, block: RequestBlock, room: int, session: Session) -> bytes:
         """0x03: the machine's ``select_program`` (EW_PROT, EW_MODE, EW_NUMBER, EW_BUSY)."""
-        self.machine.select_program(ProgramSearchRequest.from_block(block).number)
+        number = ProgramSearchRequest.from_block(block).number
+        self.machine.select_program(number, path=block_path(block))
         return b""
 
     def read_executing_blocks(self, block: RequestBlock, room: int, session: Session) -> bytes:
@@ -118,9 +126,10 @@ class ProgramHandlers:
         req = ExecutingBlocksRequest.from_block(block)
         if req.length < 1:
             raise Refused(EW.LENGTH)
-        motion = self.machine.motion
+        path = block_path(block)
+        motion = self.machine.path_motion(path=path)
         try:
-            text = self.machine.program_text(motion.program_running)
+            text = self.machine.program_text(motion.program_running, path=path)
         except MachineError:
             return ExecutingBlocks(0, b"").encode()
         lines = text.splitlines()[1:]  # after the O line
