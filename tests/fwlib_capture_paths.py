@@ -92,7 +92,9 @@ def probe_paths(lib: Any, version: int) -> dict[str, Any]:
         for p in (1, 2):
             lib.cnc_setpath(handle, s16(p))
             got = lib.cnc_absolute(handle, s16(3), s16(8), buf(8))
-            axis_checks.append({"path": p, "axis": 3, "return": got, "frames": len(responder.take())})
+            axis_checks.append(
+                {"path": p, "axis": 3, "return": got, "frames": len(responder.take())}
+            )
         out["cnc_absolute_axis_3"] = axis_checks
         return out
     finally:

@@ -169,7 +169,7 @@ def test_the_open_answer_describes_both_turrets(set_name: str) -> None:
     answer = decode_open_answer(adapter.open_answer(), adapter.version)
     assert len(answer.paths) == PATH_RECORDS
     assert answer.head.max_paths == 2
-    assert answer.present() == (PathDescription(" T", 2, 1), PathDescription(" T", 2, 1))
+    assert answer.present() == (PathDescription(" T", 2, 1), PathDescription(" T", 3, 1))
     assert answer.max_axes == 8
 
 
@@ -200,7 +200,7 @@ def test_each_path_reads_its_own_values(set_name: str) -> None:
         assert struct.unpack(">2i", numbers.data) == (v.running, v.main)
         assert struct.unpack(">i", seq.data) == (v.sequence,)
         assert scaled(feed.data) == [v.feed] and scaled(speed.data) == [v.speed]
-        assert scaled(absolute.data) == [*v.absolute] + [0] * 6  # max axes records
+        assert scaled(absolute.data) == [*v.absolute] + [0] * (8 - len(v.axes))  # max axes
         assert scaled(machine.data) == [v.machine[1]]
         o_number, text = struct.unpack(">i36s", name.data)
         assert (o_number, text.rstrip(b"\0")) == (v.running, f"O{v.running}".encode())
@@ -219,11 +219,12 @@ def test_each_path_has_its_axes_spindles_and_identity(set_name: str) -> None:
                 cnc(path, C.AXIS_COUNT, 1),
             ],
         )
-        assert sysinfo.data[6:8] == b" T" and sysinfo.data[-2:] == b"02"  # mt_type, axes
+        assert sysinfo.data[6:8] == b" T"  # mt_type
+        assert sysinfo.data[-2:] == f"{len(v.axes):02d}".encode()  # axes
         assert [names.data[i : i + 2] for i in range(0, len(names.data), 4)] == [
             a.encode() for a in v.axes
         ]
-        assert struct.unpack(">H", axes.data) == (2,)
+        assert struct.unpack(">H", axes.data) == (len(v.axes),)
         assert struct.unpack(">H", spindles.data) == (1,)
 
 
