@@ -5,11 +5,16 @@ the frames it exchanged are checked here without it (``tests/data/fwlib_paths.js
 
 from __future__ import annotations
 
+import json
 import struct
 from collections.abc import Sequence
 from decimal import Decimal
+from functools import cache
+from pathlib import Path
+from typing import Any
 
 import pytest
+from fwlib_capture_paths import PROBE_MAX_AXES, PROBE_PATHS, SIM_SETS, SIM_TIME
 from paths_support import SHARED_MACRO, VALUES, twin_turret
 
 from focas_net.adapters import NativeAdapter
@@ -23,9 +28,11 @@ from focas_net.native import (
     PathDescription,
     RequestBlock,
     ResponseBlock,
+    answer_refusal,
     build_open_answer,
     decode_frame,
     decode_open_answer,
+    decode_request_body,
     decode_response_body,
     encode_request_body,
     open_answer_size,
@@ -289,3 +296,74 @@ def test_a_write_goes_to_the_blocks_path(set_name: str) -> None:
     assert answer.ew == 0
     assert machine.read_macro(101, path=2) == Decimal("7.5")
     assert machine.read_macro(101, path=1) is None
+
+
+# ---------------------------------------------------------------------------------------------
+# What FANUC's library did with several paths (tests/data/fwlib_paths.json)
+
+
+@cache
+def paths_capture() -> dict[str, Any]:
+    data: dict[str, Any] = json.loads(
+        (Path(__file__).with_name("data") / "fwlib_paths.json").read_text()
+    )
+    return data
+
+
+@pytest.mark.parametrize("version", [2, 3])
+def test_the_library_refuses_a_path_past_the_last_itself(version: int) -> None:
+    (probe,) = [p for p in paths_capture()["probes"] if p["version"] == version]
+    body = build_open_answer(PROBE_PATHS, PROBE_MAX_AXES, version=version, records=PATH_RECORDS)
+    assert probe["open_answer"] == body.hex()
+    assert probe["connect"]["return"] == 0
+    # while connecting: one 0x18 block per present path, the path word its record's index + 1
+    sysinfo = bytes.fromhex(probe["connect"]["requests"][2]["request"])
+    blocks = decode_request_body(sysinfo[10:])
+    assert [(b.command, b.path) for b in blocks] == [(C.SYSINFO, 1), (C.SYSINFO, 2)]
+    assert probe["getpath"] == [0, 1, 2]
+    for selection in probe["setpath"]:  # each made from path 2
+        p = selection["path"]
+        if p <= 0:  # path 1
+            assert (selection["return"], selection["getpath"]) == (0, [0, 1, 2])
+        elif p <= 2:
+            assert (selection["return"], selection["getpath"]) == (0, [0, p, 2])
+        else:  # refused, path 2 kept
+            assert (selection["return"], selection["getpath"]) == (EW.PATH, [0, 2, 2])
+    assert probe["setpath_frames"] == 0  # cnc_getpath and cnc_setpath send nothing
+    # after cnc_setpath(2), every block carries path 2
+    (request,) = probe["statinfo_on_path_2"]["requests"]
+    blocks = decode_request_body(bytes.fromhex(request)[10:])
+    assert {b.path for b in blocks} == {2}
+    # the axis count of the selected path's record (3 axes, then 2): at version 2 the library
+    # refuses axis 3 of path 2 unsent; at version 3 it checks against the max axes
+    checks = {c["path"]: (c["return"], c["frames"]) for c in probe["cnc_absolute_axis_3"]}
+    assert checks == {1: (0, 1), 2: (EW.ATTRIB, 0) if version == 2 else (0, 1)}
+
+
+@pytest.mark.parametrize("set_name", SIM_SETS)
+def test_the_twin_turret_answers_as_the_library_took_it(set_name: str) -> None:
+    (data,) = [s for s in paths_capture()["sets"] if s["command_set"] == set_name]
+    assert paths_capture()["time"] == SIM_TIME.isoformat()
+    machine = twin_turret(set_name, clock=lambda: SIM_TIME)
+    machine.set_panel(0, 1, 0)
+    adapter = NativeAdapter(machine)
+    assert adapter.open_response().hex() == data["open_response"]
+    seen_paths = set()
+    for call in data["calls"]:
+        if call["function"] == "cnc_setpath":
+            assert call["exchanges"] == []  # sent nothing
+            want = EW.PATH if call["arguments"]["path"] == 3 else 0
+            assert call["return"] == want
+            continue
+        assert call["return"] == 0, (call["function"], call["path"])
+        for ex in call["exchanges"]:
+            body = bytes.fromhex(ex["request"])
+            answer = adapter.answer(body)
+            assert answer.hex() == ex["answer"], (call["function"], call["path"])
+            blocks = decode_request_body(body)
+            seen_paths |= {b.path for b in blocks}
+            frame = decode_frame(answer)
+            assert answer_refusal(frame.body, len(blocks), frame.version) is None
+    assert seen_paths == {1, 2}
+    (getpath,) = [c for c in data["calls"] if c["function"] == "cnc_getpath"]
+    assert getpath["arguments"] == {"path": 1, "max": 2}
