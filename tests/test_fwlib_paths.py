@@ -222,3 +222,19 @@ async def test_alarms_of_each_path(cnc: Cnc) -> None:
     assert await cnc.call("cnc_rdalmhistry", us(1), us(2), us(6 + 48 * 2), b) == 0
     numbers = {struct.unpack_from("<hhh", b.raw, 6 + 48 * i)[2] for i in range(2)}
     assert numbers == {v.alarm[2] for v in VALUES}
+
+
+@pytest.mark.parametrize("set_name", ["16i", "30i"])
+async def test_a_single_path_machine_refuses_path_2(set_name: str) -> None:
+    """A single-path machine's open answer has one record: past it the library reads what the
+    handle holds and may let ``cnc_setpath(2)`` through; then the server answers the blocks
+    of path 2 EW_PATH. Either way the caller gets EW_PATH."""
+    async with served_cnc(set_name) as cnc:
+        assert await getpath(cnc) == (0, 1, 1)
+        rc = await setpath(cnc, 2)
+        if rc == 0:
+            assert await cnc.call("cnc_statinfo", buf(18)) == EW.PATH
+            assert await setpath(cnc, 1) == 0
+        else:
+            assert rc == EW.PATH
+        assert await cnc.call("cnc_statinfo", buf(18)) == 0
