@@ -51,6 +51,7 @@ from .nc import (
     VariableRefused,
 )
 from .nc.alarms import AlarmRaised
+from .nc.waits import PathSync
 
 __all__ = [
     "AUT_MODES",
@@ -87,9 +88,18 @@ PARTS_VARIABLES: Final = {3901: PARTS_COUNT, 3902: PARTS_TOTAL}
 #: #4001-#4030, the last block's codes #4102-#4130, positions #5001-#5043.
 ENGINE_VARIABLES: Final = (range(4001, 4031), range(4102, 4131), range(5001, 5044))
 
+#: The parameters of the lowest and the highest waiting M code.
+WAIT_LOW: Final = 8110
+WAIT_HIGH: Final = 8111
 #: The run state (ODBST ``run``) and motion of each engine state.
 _RUN: Final = {CycleState.RESET: 0, CycleState.STOP: 1, CycleState.HOLD: 2, CycleState.START: 3}
-_MOTION: Final = {MotionKind.NONE: 0, MotionKind.MOTION: 1, MotionKind.DWELL: 2}
+#: ODBST ``motion`` 3 (WAIT): the path waits at a waiting M code for the other paths.
+_MOTION: Final = {
+    MotionKind.NONE: 0,
+    MotionKind.MOTION: 1,
+    MotionKind.DWELL: 2,
+    MotionKind.WAIT: 3,
+}
 _MM: Final = 10**POSITION_DECIMALS
 #: Rapid traverse (mm/min) of an axis whose parameter 1420 gives no positive rate.
 _DEFAULT_RAPID: Final = 24000.0
@@ -261,6 +271,7 @@ class Path:
         "driven",
         "engine",
         "engine_alarms",
+        "group",
         "items",
         "key",
         "live",
@@ -289,6 +300,8 @@ class Path:
         *,
         number: int = 1,
         items: PathItems | None = None,
+        sync: PathSync | None = None,
+        path_count: int = 1,
         panel: Panel,
         motion: MotionData,
         programs: Iterable[str],
@@ -319,9 +332,10 @@ class Path:
             first = number if first is None else first
         self.engine = Engine(
             self.time,
-            self._nc_settings(),
+            self._nc_settings(path_count),
             store=self.programs,
             variables=_Variables(self, self.macros),
+            sync=sync,
         )
         self.engine.parts_count = self.items.param_or(PARTS_COUNT, 0)
         self.engine.parts_total = self.items.param_or(PARTS_TOTAL, 0)
@@ -344,6 +358,8 @@ class Path:
         #: The active alarms the program raised (a reset clears them).
         self.engine_alarms: set[AlarmKey] = set()
         self._figures: tuple[int, MotionData] | None = None
+        #: Every path of the machine, this one among them (the machine sets it).
+        self.group: list[Path] = [self]
         self.production = Production(self)
 
     def macro_values(self, number: int) -> dict[int, Decimal]:
@@ -361,11 +377,13 @@ class Path:
                     f"motion {key}: {len(getattr(motion, key))} values for {axes} axes"
                 )
 
-    def _nc_settings(self) -> NcSettings:
+    def _nc_settings(self, path_count: int) -> NcSettings:
         """Execution settings from the parameters, read when the machine is built: rapid
         traverse 1420 (mm/min; an axis whose rate is not above 0 traverses at 24,000), maximum
         cutting feed 1422, stroke limit 1 1320/1321 (0.001 mm, or mm for a real parameter; no
-        limit on an axis where plus is not above minus), reference position 1240."""
+        limit on an axis where plus is not above minus), reference position 1240; on a
+        machine of several paths the waiting M codes 8110..8111 (none unless both are above
+        0 and the lowest is not above the highest)."""
         items = self.items
         axes = range(1, len(self.axes) + 1)
         rapid = tuple(
@@ -386,6 +404,11 @@ class Path:
         feed = items.param_or(1422, 0)
         if feed > 0:
             values["max_cutting_feed"] = float(feed)
+        low, high = items.param_or(WAIT_LOW, 0), items.param_or(WAIT_HIGH, 0)
+        if path_count > 1 and 0 < low <= high:
+            values["waiting_m"] = (low, high)
+            values["path_number"] = self.number
+            values["path_count"] = path_count
         return NcSettings.for_axes(program_axes(self.axes), **values)
 
     # -- time ----------------------------------------------------------------------------

@@ -143,6 +143,7 @@ from ._pmc import F_SIGNALS, G_SIGNALS, PMC_AREAS, Pmc, PmcAreaSpec
 from ._station import Station
 from .nc import Engine, ProgramStore, RealTimeClock, SimClock
 from .nc.scenario import Scenario, ScenarioEvent
+from .nc.waits import PathSync
 
 __all__ = [
     "AUT_MODES",
@@ -248,6 +249,7 @@ class Machine(PathOperations):
         time = sim_clock if sim_clock is not None else RealTimeClock()
         built: list[Path] = []
         offset = 0
+        sync = PathSync() if len(specs) > 1 else None
         for spec, info in zip(specs, infos, strict=True):
             k = len(info.axes)
             built.append(
@@ -257,6 +259,8 @@ class Machine(PathOperations):
                     shared,
                     number=info.number,
                     items=PathItems(self._items, offset, k, own_params(self._items, info.number)),
+                    sync=sync,
+                    path_count=len(specs),
                     panel=spec.panel or Panel(),
                     motion=spec.motion or MotionData([0] * k, [0] * k, [0] * k, [0] * k),
                     programs=spec.programs,
@@ -265,6 +269,8 @@ class Machine(PathOperations):
                 )
             )
             offset += k
+        for p in built:
+            p.group = built
         self._paths = Paths(built, infos)
         self._path = first = built[0]
         #: Path 1's operator panel and the run state it shows (:meth:`path_panel`).
@@ -729,4 +735,6 @@ def _path_specs(
         given.append("programs")
     if given:
         raise ValueError(f"{', '.join(given)} given with paths: each path has its own")
+    if not 1 <= len(paths) <= MAX_PATHS:
+        raise ValueError(f"a machine has 1..{MAX_PATHS} paths, got {len(paths)}")
     return list(paths)
