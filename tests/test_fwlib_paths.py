@@ -15,6 +15,7 @@ import ctypes
 import struct
 from collections.abc import AsyncIterator
 from decimal import Decimal
+from pathlib import Path
 
 import pytest
 from fwlib_support import LIBRARY, Cnc, buf, s16, served_cnc, us
@@ -22,7 +23,8 @@ from paths_support import SHARED_MACRO, VALUES, PathValues, twin_turret
 
 from focas_net.adapters._native_cnc import path_sysinfo
 from focas_net.errors import EW
-from focas_net.sim import POSITION_DECIMALS
+from focas_net.sim import POSITION_DECIMALS, load_machine
+from focas_net.sim.nc import ManualClock
 
 pytestmark = pytest.mark.skipif(
     not LIBRARY,
@@ -32,6 +34,8 @@ pytestmark = pytest.mark.skipif(
 
 #: The open answer's max axes (the machine's ODBSYS max_axis).
 MAX_AXES = 8
+#: The example twin-turret lathe.
+EXAMPLE = Path(__file__).parent.parent / "examples" / "lathe_2path.toml"
 
 
 @pytest.fixture(params=["16i", "30i"])
@@ -238,3 +242,38 @@ async def test_a_single_path_machine_refuses_path_2(set_name: str) -> None:
         else:
             assert rc == EW.PATH
         assert await cnc.call("cnc_statinfo", buf(18)) == 0
+
+
+@pytest.mark.parametrize("set_name", ["16i", "30i"])
+async def test_the_example_twin_turret_runs_both_paths(set_name: str, tmp_path: Path) -> None:
+    """``examples/lathe_2path.toml`` on a hand-stepped clock, both paths started: the library
+    reads each path running its own program, then each path's part counted."""
+    text = EXAMPLE.read_text(encoding="utf-8")
+    if set_name == "16i":
+        text = text.replace('control_class = "30i"', 'control_class = "16i"')
+    (tmp_path / "lathe.toml").write_text(text, encoding="utf-8")
+    clock = ManualClock()
+    machine = load_machine(tmp_path / "lathe.toml", sim_clock=clock)
+    async with served_cnc(set_name, machine) as cnc:
+        assert await getpath(cnc) == (0, 1, 2)
+        machine.set_panel(1, path=1)  # back to MEM (served_cnc put path 1 in MDI)
+        for path in (1, 2):
+            machine.cycle_start(path=path)
+        clock.advance(1.0)
+        for path, program in ((1, 1001), (2, 2001)):
+            assert await setpath(cnc, path) == 0
+            b = buf(18)
+            assert await cnc.call("cnc_statinfo", b) == 0
+            assert struct.unpack_from("<h", b.raw, 6)[0] == 3  # run: STRT
+            b = buf(12)
+            assert await cnc.call("cnc_rdprgnumo8", b) == 0
+            assert struct.unpack_from("<ii", b.raw, 4) == (program, program)
+        for _ in range(2000):  # 0.05 s steps, 100 s of machine time: a part takes about 30
+            clock.advance(0.05)
+            if all(machine.status(path=p).run == 0 for p in (1, 2)):
+                break
+        for path in (1, 2):
+            assert await setpath(cnc, path) == 0
+            b = buf(8)
+            assert await cnc.call("cnc_rdparam", s16(6711), s16(0), s16(8), b) == 0
+            assert struct.unpack_from("<i", b.raw, 4)[0] == 1 == machine.parts_counts(path=path)[0]
