@@ -20,6 +20,7 @@ from pathlib import Path
 import pytest
 from fwlib_support import LIBRARY, Cnc, buf, s16, served_cnc, us
 from paths_support import SHARED_MACRO, VALUES, PathValues, twin_turret
+from test_fwlib_programs import download, upload
 
 from focas_net.adapters._native_cnc import path_sysinfo
 from focas_net.errors import EW
@@ -277,3 +278,25 @@ async def test_the_example_twin_turret_runs_both_paths(set_name: str, tmp_path: 
             b = buf(8)
             assert await cnc.call("cnc_rdparam", s16(6711), s16(0), s16(8), b) == 0
             assert struct.unpack_from("<i", b.raw, 4)[0] == 1 == machine.parts_counts(path=path)[0]
+
+
+async def test_programs_of_each_path(cnc: Cnc) -> None:
+    """The directory, uploads and downloads are of the selected path: the library writes the
+    handle's path into the upload and download start frames (body word 2..3)."""
+    machine = cnc.machine
+    texts = {
+        1: "O1001 (TURRET 1)\nN10 G0 X10.\nN20 M30\n",
+        2: "O2001 (TURRET 2)\nN10 G0 X20.\nN20 M30\n",
+    }
+    for path, text in texts.items():
+        machine.store_program(text, path=path)
+    for path, number in ((1, 1001), (2, 2001)):
+        assert await setpath(cnc, path) == 0
+        rc, data = await upload(cnc, number)
+        assert rc == 0 and texts[path].encode() in data
+        other = 2001 if path == 1 else 1001
+        assert (await upload(cnc, other))[0] == EW.NUMBER  # the other path's program
+    assert await setpath(cnc, 2) == 0
+    assert await download(cnc, b"\nO2002 (NEW)\nN10 M30\n%") == 0
+    assert [e.number for e in machine.program_directory(path=2)] == [2001, 2002]
+    assert [e.number for e in machine.program_directory(path=1)] == [1001]

@@ -17,7 +17,7 @@ import pytest
 from fwlib_capture_paths import PROBE_MAX_AXES, PROBE_PATHS, SIM_SETS, SIM_TIME
 from paths_support import SHARED_MACRO, VALUES, twin_turret
 
-from focas_net.adapters import NativeAdapter
+from focas_net.adapters import NativeAdapter, ProgramTransfer
 from focas_net.errors import EW
 from focas_net.native import (
     NO_PATH,
@@ -28,6 +28,9 @@ from focas_net.native import (
     PathDescription,
     RequestBlock,
     ResponseBlock,
+    TransferError,
+    TransferFrame,
+    TransferStart,
     answer_refusal,
     build_open_answer,
     decode_frame,
@@ -296,6 +299,38 @@ def test_a_write_goes_to_the_blocks_path(set_name: str) -> None:
     assert answer.ew == 0
     assert machine.read_macro(101, path=2) == Decimal("7.5")
     assert machine.read_macro(101, path=1) is None
+
+
+def test_uploads_and_downloads_are_of_the_start_frames_path() -> None:
+    machine = twin_turret()
+    machine.store_program("O2001 (TURRET 2)\nN10 M30\n", path=2)
+    adapter = NativeAdapter(machine)
+
+    def upload(path: int, name: bytes) -> list[bytes]:
+        frames = adapter.transfer(
+            TransferFrame.UPLOAD_START, TransferStart(0, path, name).encode(), ProgramTransfer()
+        )
+        assert frames is not None
+        return [decode_frame(f).body for f in frames]
+
+    assert b"O2001 (TURRET 2)" in b"".join(upload(2, b"O2001-O2001"))
+    for path, ew in ((1, EW.NUMBER), (0, EW.NUMBER), (3, EW.PATH)):
+        (refusal,) = upload(path, b"O2001-O2001")
+        assert TransferError.decode(refusal).code == ew
+    (refusal,) = upload(3, b"NOT A RANGE")  # the path first
+    assert TransferError.decode(refusal).code == EW.PATH
+    state = ProgramTransfer()
+    for frame_type, body in (
+        (TransferFrame.DOWNLOAD_START, TransferStart(0, 2, b"").encode()),
+        (TransferFrame.DOWNLOAD_DATA, b"\nO2002\nN10 M30\n%"),
+        (TransferFrame.DOWNLOAD_END, b""),
+    ):
+        adapter.transfer(frame_type, body, state)
+    assert [e.number for e in machine.program_directory(path=2)] == [2001, 2002]
+    assert machine.program_directory(path=1) == []
+    start = TransferStart(0, 3, b"").encode()
+    (refusal,) = adapter.transfer(TransferFrame.DOWNLOAD_START, start, ProgramTransfer()) or []
+    assert TransferError.decode(decode_frame(refusal).body).code == EW.PATH
 
 
 # ---------------------------------------------------------------------------------------------

@@ -5,7 +5,8 @@ uploads and downloads, a download kept in the connection's :class:`ProgramTransf
 at its end only.
 
 A data request answers for the programs of the path in its block's path word (0 is path 1);
-the transfer frames carry no path word and go to path 1's programs.
+an upload or a download is of the path its start frame names (:class:`TransferStart`'s
+``path``, the handle's path; 0 is path 1).
 """
 
 from __future__ import annotations
@@ -51,11 +52,13 @@ class ProgramTransfer:
     connection dropped in the middle of a download stores nothing; the machine sees only the
     whole program, at the download's end."""
 
-    __slots__ = ("downloading", "overflow", "received")
+    __slots__ = ("downloading", "overflow", "path", "received")
 
     def __init__(self) -> None:
         #: Whether a download was started and not ended.
         self.downloading = False
+        #: The path whose programs the download goes to.
+        self.path = 1
         #: Whether the download went past :data:`MAX_DOWNLOAD` (its bytes were dropped).
         self.overflow = False
         #: The download's bytes so far.
@@ -63,6 +66,7 @@ class ProgramTransfer:
 
     def reset(self) -> None:
         self.downloading = False
+        self.path = 1
         self.overflow = False
         self.received.clear()
 
@@ -161,10 +165,12 @@ class ProgramHandlers:
             if kind is TransferFrame.UPLOAD_START:
                 return self._upload(body)
             if kind is TransferFrame.DOWNLOAD_START:
-                TransferStart.decode(body)
+                path = TransferStart.decode(body).path or 1
                 state.reset()
                 self.machine.check_writable()
+                self.machine.path_info(path)  # EW_PATH for a path the machine has not
                 state.downloading = True
+                state.path = path
                 return [self._transfer_frame(TransferFrame.DOWNLOAD_START_ANSWER)]
             if kind is TransferFrame.DOWNLOAD_DATA:
                 if state.downloading and not state.overflow:
@@ -191,15 +197,19 @@ class ProgramHandlers:
         )
 
     def _upload(self, body: bytes) -> list[bytes]:
-        first, last = parse_program_range(TransferStart.decode(body).name)
+        start = TransferStart.decode(body)
+        path = start.path or 1
         machine = self.machine
+        machine.path_info(path)  # EW_PATH for a path the machine has not
+        first, last = parse_program_range(start.name)
         if first == last:
-            texts = [machine.program_text(first)]  # EW_NUMBER when there is none
+            texts = [machine.program_text(first, path=path)]  # EW_NUMBER when there is none
         else:
-            numbers = [e.number for e in machine.program_directory() if first <= e.number <= last]
+            directory = machine.program_directory(path=path)
+            numbers = [e.number for e in directory if first <= e.number <= last]
             if not numbers:
                 raise Refused(EW.NUMBER)
-            texts = [machine.program_text(n) for n in numbers]
+            texts = [machine.program_text(n, path=path) for n in numbers]
         data = ("%\n" + "".join(texts) + "%").encode("latin-1", "replace")
         frames = [self._transfer_frame(TransferFrame.UPLOAD_START_ANSWER)]
         frames.extend(
@@ -214,14 +224,14 @@ class ProgramHandlers:
         past :data:`MAX_DOWNLOAD`, then the machine's ``store_program`` refusals (EW_PROT,
         EW_DATA, EW_NUMBER, EW_REJECT, EW_OVRFLOW): the machine reads the text as a tape,
         from its opening ``%`` to its closing one, and refuses what is not printable ASCII."""
-        downloading, overflow = state.downloading, state.overflow
+        downloading, overflow, path = state.downloading, state.overflow, state.path
         raw = bytes(state.received)
         state.reset()
         if not downloading:
             raise Refused(EW.FUNC)
         if overflow:
             raise Refused(EW.OVRFLOW)
-        self.machine.store_program(raw.decode("latin-1"))
+        self.machine.store_program(raw.decode("latin-1"), path=path)
         return [self._transfer_frame(TransferFrame.DOWNLOAD_END_ANSWER)]
 
 
