@@ -15,6 +15,8 @@ from typing import Any
 
 import pytest
 from fwlib_capture_paths import PROBE_MAX_AXES, PROBE_PATHS, SIM_SETS, SIM_TIME
+from hypothesis import given
+from hypothesis import strategies as st
 from paths_support import SHARED_MACRO, VALUES, twin_turret
 
 from focas_net.adapters import NativeAdapter, ProgramTransfer
@@ -139,6 +141,29 @@ def test_one_record_per_path_unless_asked(version: int) -> None:
     answer = decode_open_answer(body, version)
     assert len(answer.paths) == 2
     assert answer.head.paths == 2
+
+
+@given(
+    st.lists(
+        st.builds(
+            PathDescription, st.sampled_from([" M", " T"]), st.integers(1, 8), st.integers(0, 4)
+        ),
+        min_size=1,
+        max_size=PATH_RECORDS,
+    ),
+    st.sampled_from([1, 2, 3, 4]),
+    st.data(),
+)
+def test_open_answers_of_1_to_10_paths_round_trip(
+    paths: list[PathDescription], version: int, data: st.DataObject
+) -> None:
+    records = data.draw(st.integers(len(paths), PATH_RECORDS))
+    body = build_open_answer(paths, 8, version=version, records=records)
+    assert open_answer_size(body, version) == len(body)
+    answer = decode_open_answer(body, version)
+    assert answer.present() == tuple(paths)
+    assert (answer.head.paths, answer.head.max_paths) == (records, len(paths))
+    assert answer.encode() == body
 
 
 @pytest.mark.parametrize("records", [1, PATH_RECORDS + 1])
