@@ -23,7 +23,7 @@ from __future__ import annotations
 
 import math
 from collections.abc import Iterable
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from decimal import Decimal
 from typing import Final
 
@@ -37,6 +37,7 @@ from ._paths import PATH_MACROS, PathItems
 from ._pmc import GRequest, Pmc
 from ._production import Production
 from ._time import MachineTime
+from ._variables import PARTS_VARIABLES, PathVariables
 from .nc import (
     CycleState,
     Engine,
@@ -48,7 +49,6 @@ from .nc import (
     ProgramErrorReason,
     ProgramStore,
     SimClock,
-    VariableRefused,
 )
 from .nc.alarms import AlarmRaised
 from .nc.waits import PathSync
@@ -59,6 +59,7 @@ __all__ = [
     "ENGINE_VARIABLES",
     "MDI",
     "MEM",
+    "MODE_NAMES",
     "PARTS_VARIABLES",
     "POSITION_DECIMALS",
     "POSITION_KINDS",
@@ -68,11 +69,32 @@ __all__ = [
     "Path",
     "Shared",
     "Status",
+    "mode_name",
 ]
 
-#: ``aut`` values: 0 MDI, 1 MEM, 3 EDIT, 4 HND, 5 JOG, 6 Teach-in JOG, 7 Teach-in HND, 8 INC,
-#: 9 REF, 10 RMT (2 is not a mode).
-AUT_MODES: Final = frozenset({0, 1, 3, 4, 5, 6, 7, 8, 9, 10})
+#: The panel's modes by name (``aut`` values of ``cnc_statinfo``: 6 and 7 are teach-in JOG and
+#: HND; 2 is no mode).
+MODE_NAMES: Final[dict[str, int]] = {
+    "MDI": 0,
+    "MEM": 1,
+    "EDIT": 3,
+    "HND": 4,
+    "JOG": 5,
+    "TJOG": 6,
+    "THND": 7,
+    "INC": 8,
+    "REF": 9,
+    "RMT": 10,
+}
+#: The ``aut`` values a panel selects.
+AUT_MODES: Final = frozenset(MODE_NAMES.values())
+
+
+def mode_name(aut: int) -> str:
+    """The name of panel mode ``aut`` (``"EDIT"``), or its number when it has none."""
+    return next((name for name, value in MODE_NAMES.items() if value == aut), str(aut))
+
+
 MDI: Final = 0
 MEM: Final = 1
 EDIT: Final = 3
@@ -82,8 +104,6 @@ POSITION_DECIMALS: Final = 3
 POSITION_KINDS: Final = ("absolute", "machine", "relative", "distance_to_go")
 #: The timers :meth:`Machine.timer` reads, by FANUC's ``cnc_rdtimer`` type number.
 TIMER_KINDS: Final = ("power_on", "operating", "cutting", "cycle")
-#: The macro variables of the parts count and the total parts.
-PARTS_VARIABLES: Final = {3901: PARTS_COUNT, 3902: PARTS_TOTAL}
 #: System variables that come from the engine while it drives the figures: modal G codes
 #: #4001-#4030, the last block's codes #4102-#4130, positions #5001-#5043.
 ENGINE_VARIABLES: Final = (range(4001, 4031), range(4102, 4131), range(5001, 5044))
@@ -201,47 +221,6 @@ def _program_refusal(exc: ProgramError) -> MachineError:
     return MachineError(_PROGRAM_EW[exc.reason], str(exc))
 
 
-class _Variables:
-    """The variables as a path's interpreter reads and writes them: #3901/#3902 (the path's
-    parts), the machine's macro ranges (#500-#999 and whatever else it has; #100-#199 the
-    path's own); 115 for a number the machine lacks, 116 for a read-only one, 111 for a value
-    a variable cannot hold."""
-
-    __slots__ = ("_macros", "_path")
-
-    def __init__(self, path: Path, macros: Macros) -> None:
-        self._path = path
-        self._macros = macros
-
-    def read_variable(self, number: int) -> float | None:
-        if number in PARTS_VARIABLES:
-            return float(self._path.parts(PARTS_VARIABLES[number]))
-        if self._macros.range_of(number) is None:
-            raise VariableRefused(115, f"#{number}")
-        value = self._path.macro_values(number).get(number)
-        return None if value is None else float(value)
-
-    def write_variable(self, number: int, value: float | None) -> None:
-        if number in PARTS_VARIABLES:
-            self._path.set_parts(PARTS_VARIABLES[number], 0 if value is None else round(value))
-            return
-        macros = self._macros
-        r = macros.range_of(number)
-        if r is None:
-            raise VariableRefused(115, f"#{number}")
-        if not r.writable:
-            raise VariableRefused(116, f"#{number}")
-        values = self._path.macro_values(number)
-        if value is None:
-            values.pop(number, None)
-        else:
-            held = float_macro(value)
-            if held is None:
-                raise VariableRefused(111, f"#{number} = {value!r}")
-            values[number] = held
-        macros.changed()
-
-
 @dataclass(frozen=True, slots=True)
 class Shared:
     """What the paths of a machine share: its version counters, its parameters (as each path
@@ -334,7 +313,7 @@ class Path:
             self.time,
             self._nc_settings(path_count),
             store=self.programs,
-            variables=_Variables(self, self.macros),
+            variables=PathVariables(self, self.macros),
             sync=sync,
         )
         self.engine.parts_count = self.items.param_or(PARTS_COUNT, 0)
@@ -342,6 +321,9 @@ class Path:
         main = main_program if main_program is not None else first
         if main is not None:
             self.programs.select(main)
+            if motion.program_running == motion.program_main == 0:
+                # The figures name no program: they show the selected one, as a control does.
+                self.manual = replace(motion, program_running=main, program_main=main)
         #: Whether the engine shows the run state and the figures (see ``Machine.driven``).
         self.driven = False
         #: Whether time alone may change what the path shows: the cycle runs or a scenario
@@ -676,7 +658,7 @@ class Path:
         if self.alarms.on(self.number):
             raise MachineError(EW.ALARM, f"{refused}: an alarm is active")
         if p.mode != MEM:
-            raise MachineError(EW.MODE, f"{refused}: mode {p.mode} is not MEM")
+            raise MachineError(EW.MODE, f"{refused}: the mode is {mode_name(p.mode)}, not MEM")
 
     def cycle_start(self, repeat: bool | None) -> None:
         self.sync()

@@ -118,6 +118,7 @@ from ._path import (
     ENGINE_VARIABLES,
     MDI,
     MEM,
+    MODE_NAMES,
     PARTS_VARIABLES,
     POSITION_DECIMALS,
     POSITION_KINDS,
@@ -127,6 +128,7 @@ from ._path import (
     Path,
     Shared,
     Status,
+    mode_name,
 )
 from ._paths import (
     MAX_PATHS,
@@ -156,6 +158,7 @@ __all__ = [
     "MAX_PATHS",
     "MDI",
     "MEM",
+    "MODE_NAMES",
     "PATH_PARAMS",
     "PMC_AREAS",
     "POSITION_DECIMALS",
@@ -225,9 +228,9 @@ class Machine(PathOperations):
         specs = _path_specs(paths, axes, panel, motion, programs, main_program, identity)
         #: Every axis of the machine, path by path.
         self.axes: list[str] = [a for spec in specs for a in spec.axes]
+        infos = checked_specs(specs)
         n = len(self.axes)
         self._identity = checked_identity(identity, control_class, n)
-        infos = checked_specs(specs)
         #: Which class of FANUC control this machine is (one of :data:`CONTROL_CLASSES`).
         self.control_class = control_class
         #: Whether the simulator control commands of a front end are served.
@@ -464,10 +467,20 @@ class Machine(PathOperations):
     def param_gate_open(self, session: Session, *, path: int = 1) -> bool:
         """PWE on, ``path`` in MDI mode, and (when there is a password) this session
         unlocked."""
+        return self.param_gate_closed(session, path=path) is None
+
+    def param_gate_closed(self, session: Session, *, path: int = 1) -> str | None:
+        """Why a parameter write from ``session`` to ``path`` is refused (the first closed
+        gate, in the order an operator opens them: PWE, MDI mode, the password), or None when
+        it is open."""
         p = self._paths.at(path).panel
-        if p.pwe != 1 or p.mode != MDI:
-            return False
-        return self._lock.admits(session)
+        if p.pwe != 1:
+            return "parameter write enable (PWE) is off"
+        if p.mode != MDI:
+            return f"the mode is {mode_name(p.mode)}, not MDI"
+        if not self._lock.admits(session):
+            return "the parameter password is not unlocked on this connection"
+        return None
 
     def write_param(
         self,
@@ -499,8 +512,9 @@ class Machine(PathOperations):
         item, i = p.items.lookup(False, datano, axis)
         if width is not None and width != item.width:
             raise MachineError(EW.LENGTH, f"parameter {datano} is {item.width} bytes wide")
-        if not self.param_gate_open(session, path=path):
-            raise MachineError(EW.PASSWD, "parameter write not enabled")
+        closed = self.param_gate_closed(session, path=path)
+        if closed is not None:
+            raise MachineError(EW.PASSWD, f"parameter write not enabled: {closed}")
         value = items.rescaled(item, value, decimals)
         items.set(item, i, value, "parameter")
         if datano in (PARTS_COUNT, PARTS_TOTAL):
