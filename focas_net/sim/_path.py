@@ -111,8 +111,6 @@ ENGINE_VARIABLES: Final = (range(4001, 4031), range(4102, 4131), range(5001, 504
 #: The parameters of the lowest and the highest waiting M code.
 WAIT_LOW: Final = 8110
 WAIT_HIGH: Final = 8111
-#: The parameters the engine executes by (:meth:`Path._nc_settings`).
-SETTING_PARAMS: Final = frozenset({1240, 1320, 1321, 1420, 1422, WAIT_LOW, WAIT_HIGH})
 #: The run state (ODBST ``run``) and motion of each engine state.
 _RUN: Final = {CycleState.RESET: 0, CycleState.STOP: 1, CycleState.HOLD: 2, CycleState.START: 3}
 #: ODBST ``motion`` 3 (WAIT): the path waits at a waiting M code for the other paths.
@@ -362,8 +360,8 @@ class Path:
                 )
 
     def take_settings(self) -> None:
-        """The settings again after a write of :data:`SETTING_PARAMS`: from the next block, as
-        on a control (none of them needs the power turned off)."""
+        """The settings again after a write of one of them (``SETTING_PARAMS``): from the next
+        block, as on a control (none of them needs the power turned off)."""
         self.engine.apply_settings(self._nc_settings(len(self.group)))
 
     def _nc_settings(self, path_count: int) -> NcSettings:
@@ -403,14 +401,7 @@ class Path:
     # -- time ----------------------------------------------------------------------------
     def check_clock(self, clock: SimClock) -> None:
         """ValueError when ``clock`` is behind the path's machine time."""
-        now = self.time.now()
-        behind = now - clock.now()
-        if behind > 0:
-            raise ValueError(
-                f"the clock is {behind} s behind the machine's time {now}: a machine goes on "
-                f"from where it is, so give a clock at {now} or later (ManualClock({now})), "
-                "or give the clock when the machine is built (sim_clock=)"
-            )
+        self.time.check(clock)
 
     def set_clock(self, clock: SimClock) -> None:
         self.check_clock(clock)
