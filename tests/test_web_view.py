@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import asyncio
 import json
+import re
 import sys
 from decimal import Decimal
 from pathlib import Path
@@ -185,7 +186,7 @@ def test_axis_values_are_named_and_bit_parameters_show_their_bits() -> None:
     machine = default_machine()
     (apc,) = param_rows(machine, "1815")
     assert (apc["kind"], apc["axes"]) == ("bit", ["X", "Y", "Z"])
-    assert apc["values"] == ["48"] * 3 and apc["bits"] == ["00110000"] * 3
+    assert apc["values"] == ["00110000"] * 3 == apc["bits"]  # shown and edited as 8 bits
     (channel,) = param_rows(machine, "20")
     assert (channel["kind"], channel["axes"], channel["bits"]) == ("byte", [], None)
     (rapid,) = [r for r in param_rows(machine, "1420") if r["number"] == 1420]
@@ -269,7 +270,11 @@ def test_macro_writes_and_vacating() -> None:
     assert station.machine.read_macro(500) is None
     assert refused(station, "write_macro", {"number": 5021, "value": "1"}) == "EW_PROT"
     assert refused(station, "write_macro", {"number": 50, "value": "1"}) == "EW_NUMBER"
-    assert refused(station, "write_macro", {"number": 500, "value": "1e-12"}) == "EW_DATA"
+    assert refused(station, "write_macro", {"number": 500, "value": "0.000000000001"}) == "EW_DATA"
+    for typed in ("1e-12", "1E3", "\u0661\u0662", "12abc", "inf"):
+        with pytest.raises(ActionError, match=re.escape(repr(typed))):  # refused, named, unread
+            perform(station, "write_macro", {"number": 500, "value": typed})
+    assert station.machine.read_macro(500) is None
 
 
 def test_pmc_bits_x_and_f_as_the_simulator_others_as_the_protocol() -> None:
@@ -356,12 +361,15 @@ def test_a_fault_argument_that_is_not_a_number_is_refused() -> None:
 def test_bit_parameters_are_written_as_the_command_line_writes_them() -> None:
     station = Station(0, default_machine())
     perform(station, "panel", {"mode": MDI, "pwe": 1})
-    for text, value in (("0xB0", 0xB0), ("0b1011_0001", 0b1011_0001), ("0o7", 7), ("12", 12)):
+    for text, value in (("0xB0", 0xB0), ("0b1011_0001", 0b1011_0001), ("00001100", 12), (7, 7)):
         answer = perform(station, "write_param", {"number": 1815, "axis": 2, "value": text})
         assert answer["value"] == station.machine.read_param(1815, 2) == value
     with pytest.raises(ActionError, match="'0xZZ'"):
         perform(station, "write_param", {"number": 1815, "axis": 2, "value": "0xZZ"})
-    assert station.machine.read_param(1815, 2) == 12
+    for typed in ("12", "1011", "0o7", "\u0661\u0662"):  # bits are eight, a decimal is none
+        with pytest.raises(ActionError, match=r"8 bits #7\.\.#0"):
+            perform(station, "write_param", {"number": 1815, "axis": 2, "value": typed})
+    assert station.machine.read_param(1815, 2) == 7
 
 
 def test_an_alarm_message_is_text_the_client_can_send() -> None:

@@ -396,6 +396,15 @@ class Machine:
             return False
         return self._lock.admits(session)
 
+    def _gate_reason(self) -> str:
+        """Why the parameter write gate is shut (:meth:`param_gate_open` is False)."""
+        p = self.panel
+        if p.pwe != 1:
+            return "parameter write not enabled: PWE is off (the panel's parameter write enable)"
+        if p.mode != MDI:
+            return "parameter write not enabled: the panel is not in MDI mode"
+        return "parameter write not enabled: the parameter password is set and not unlocked"
+
     def write_param(
         self,
         session: Session,
@@ -421,7 +430,7 @@ class Machine:
         if width is not None and width != item.width:
             raise MachineError(EW.LENGTH, f"parameter {datano} is {item.width} bytes wide")
         if not self.param_gate_open(session):
-            raise MachineError(EW.PASSWD, "parameter write not enabled")
+            raise MachineError(EW.PASSWD, self._gate_reason())
         value = items.rescaled(item, value, decimals)
         items.set(item, i, value, "parameter")
         if datano in (PARTS_COUNT, PARTS_TOTAL):

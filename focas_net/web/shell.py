@@ -13,8 +13,8 @@ Routes::
     GET  /api/fleet                          the fleet view
     GET  /api/machines/<i>                   machine i's view
     GET  /api/machines/<i>/params?q=TEXT     parameters (number prefix or name)
-    GET  /api/machines/<i>/macros?q=N[-M]    macro variables
-    GET  /api/machines/<i>/pmc?area=X&start=0  16 bytes of a PMC area
+    GET  /api/machines/<i>/macros?q=N[-M]    macro variables and a note of any left out
+    GET  /api/machines/<i>/pmc?area=X&start=0  16 bytes of a PMC area (start 100 or R100)
     POST /api/machines/<i>/actions/<action>  a page action (JSON object of arguments)
     GET  /ws                                 live frames; send {"subscribe": "fleet"} or
                                              {"subscribe": "machine", "index": i,
@@ -41,7 +41,16 @@ from focas_net.sim import MachineError
 from .address import DEFAULT_WEB_HOST
 from .broadcast import DEFAULT_INTERVAL, FLEET, Broadcaster, Topic, machine_topic
 from .operations import ActionError, Station, perform, refusal
-from .view import JsonDict, fleet_view, machine_view, macro_rows, param_rows, pmc_window
+from .view import (
+    JsonDict,
+    fleet_view,
+    machine_view,
+    macro_note,
+    macro_rows,
+    param_rows,
+    pmc_address,
+    pmc_window,
+)
 
 if TYPE_CHECKING:
     from aiohttp import web
@@ -222,16 +231,17 @@ class Dashboard:
             rows = macro_rows(s.machine, s.macro_numbers(), query)
         except ValueError as exc:
             return self._json({"ok": False, "error": str(exc)}, 400)
-        return self._json({"macros": rows})
+        return self._json({"macros": rows, "note": macro_note(s.macro_numbers(), query, len(rows))})
 
     async def _pmc(self, request: web.Request) -> web.Response:
         s = self._station(request)
         area = request.query.get("area", "X")
-        start = request.query.get("start", "0")
-        if not start.isdigit():
-            return self._json({"ok": False, "error": f"start: not an address: {start!r}"}, 400)
         try:
-            return self._json(pmc_window(s.machine, area, int(start)))
+            letter, start = pmc_address(request.query.get("start", "0"), area)
+        except ValueError as exc:
+            return self._json({"ok": False, "error": str(exc)}, 400)
+        try:
+            return self._json(pmc_window(s.machine, letter, start))
         except MachineError as exc:
             return self._json(refusal(exc), 409)
 

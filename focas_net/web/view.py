@@ -9,6 +9,7 @@ increments over ``10**POSITION_DECIMALS``), times in seconds. Status fields carr
 
 from __future__ import annotations
 
+import re
 from collections import deque
 from collections.abc import Iterable, Sequence
 from decimal import Decimal
@@ -38,6 +39,7 @@ from focas_net.sim import (
 
 __all__ = [
     "HISTORY_SHOWN",
+    "MACRO_SEARCH_CAP",
     "PATH_POINTS",
     "PMC_ROW_BYTES",
     "JsonDict",
@@ -45,8 +47,12 @@ __all__ = [
     "fleet_view",
     "machine_tile",
     "machine_view",
+    "macro_note",
+    "macro_range",
     "macro_rows",
     "param_rows",
+    "param_text",
+    "pmc_address",
     "pmc_window",
     "status_fields",
 ]
@@ -265,13 +271,37 @@ def _pmc_areas(machine: Machine) -> list[JsonDict]:
     return areas
 
 
+_PMC_ADDRESS: Final = re.compile(r"([A-Za-z]?)\s*([0-9]+)", re.ASCII)
+
+
+def pmc_address(text: str, area: str) -> tuple[str, int]:
+    """``(area, address)`` of a PMC address as the command line writes one: ``100`` (in
+    ``area``) or ``R100`` (the letter names the area, in either case). ValueError naming
+    ``text`` for anything else (a letter that is no PMC area, a bit ``R100.3``, a sign)."""
+    found = _PMC_ADDRESS.fullmatch(text.strip())
+    if found is None:
+        raise ValueError(f"PMC address {text!r}: write a byte address, 100 or R100")
+    letter = (found[1] or area).strip().upper()
+    if letter not in PMC_AREAS:
+        raise ValueError(
+            f"PMC address {text!r}: no PMC area {letter} (one of {', '.join(PMC_AREAS)})"
+        )
+    digits = found[2]
+    if len(digits) > 6:
+        raise ValueError(f"PMC address {text!r}: beyond every PMC area")
+    return letter, int(digits)
+
+
 def pmc_window(machine: Machine, area: str, start: int, length: int = PMC_ROW_BYTES) -> JsonDict:
     """``length`` bytes of PMC area ``area`` from ``start`` (cut to the area's end), with the
     area's size. MachineError (EW_NOOPT, EW_NUMBER) for an area or address it does not have."""
     letter = area.strip().upper()
     info = machine.pmc_area(letter) if letter in PMC_AREAS else None
     if info is None:
-        raise MachineError(EW.NOOPT if letter in PMC_AREAS else EW.NUMBER, f"no PMC area {area!r}")
+        has = ", ".join(a["area"] for a in _pmc_areas(machine))
+        if letter in PMC_AREAS:
+            raise MachineError(EW.NOOPT, f"the machine has no PMC area {letter} (it has {has})")
+        raise MachineError(EW.NUMBER, f"no PMC area {area!r} (one of {', '.join(PMC_AREAS)})")
     size, protected = info
     if not 0 <= start < size:
         raise MachineError(EW.NUMBER, f"{letter}{start} is outside {letter}0..{letter}{size - 1}")
@@ -285,7 +315,11 @@ def pmc_window(machine: Machine, area: str, start: int, length: int = PMC_ROW_BY
     }
 
 
-def _param_text(item: DataItem, value: int) -> str:
+def param_text(item: DataItem, value: int) -> str:
+    """A parameter value as the page shows it: a bit parameter's eight bits #7..#0
+    (``10110000``), a real one with its decimals, the others in decimal."""
+    if item.kind is ParamKind.BIT:
+        return f"{value & 0xFF:08b}"
     if item.kind is ParamKind.REAL and item.decimals:
         return str(Decimal(value).scaleb(-item.decimals))
     return str(value)
@@ -295,7 +329,8 @@ def param_rows(machine: Machine, query: str = "", limit: int = 200) -> list[Json
     """The parameters whose number starts with ``query`` or whose name contains it (case
     insensitive), at most ``limit`` of them, by number. ``kind`` is the type as every front
     end names it (``two-word``); an axis parameter has a value per axis, named in ``axes``;
-    a bit parameter has its ``bits`` (#7..#0) beside each value."""
+    a bit parameter's values are its eight bits #7..#0 (``10110000``), as the page edits
+    them, and ``bits`` too."""
     q = query.strip().lower()
     rows: list[JsonDict] = []
     for number in machine.param_numbers():
@@ -315,8 +350,8 @@ def param_rows(machine: Machine, query: str = "", limit: int = 200) -> list[Json
                 "low": item.low,
                 "high": item.high,
                 "decimals": item.decimals,
-                "values": [_param_text(item, value) for value in raw],
-                "bits": [f"{value:08b}" for value in raw] if item.kind is ParamKind.BIT else None,
+                "values": [param_text(item, value) for value in raw],
+                "bits": [f"{v & 0xFF:08b}" for v in raw] if item.kind is ParamKind.BIT else None,
             }
         )
         if len(rows) >= limit:
@@ -328,25 +363,61 @@ def _macro_text(value: Decimal | None) -> str:
     return "" if value is None else str(value)
 
 
+#: The macro variable numbers a search may name (FOCAS carries a variable number as a short).
+MACRO_SEARCH_CAP: Final = 0x7FFF
+
+
+_MACRO_QUERY: Final = re.compile(r"#?(-?[0-9]+)(?:\s*-\s*#?(-?[0-9]+))?", re.ASCII)
+
+
+def _runs(numbers: Sequence[int]) -> str:
+    """``#1..#33, #100..#199``: ascending ``numbers`` as runs."""
+    runs: list[list[int]] = []
+    for n in numbers:
+        if runs and runs[-1][1] == n - 1:
+            runs[-1][1] = n
+        else:
+            runs.append([n, n])
+    return ", ".join(f"#{a}" if a == b else f"#{a}..#{b}" for a, b in runs) or "none"
+
+
+def macro_range(query: str) -> tuple[int, int]:
+    """The numbers ``low..high`` a macro search names: ``"N"`` from N on, ``"N-M"`` (a ``#``
+    before either allowed), ``""`` all. ValueError, naming ``query``, for other text, an empty
+    range (N above M) and a number beyond ``-32768..32767``."""
+    q = query.strip()
+    if not q:
+        return -0x8000, MACRO_SEARCH_CAP
+    found = _MACRO_QUERY.fullmatch(q)
+    if found is None:
+        raise ValueError(f"macro search {query!r}: write N or N-M (variable numbers, 0-9)")
+    for text in (t for t in found.groups() if t is not None):
+        if len(text.lstrip("-")) > 5 or not -0x8000 <= int(text) <= MACRO_SEARCH_CAP:
+            raise ValueError(
+                f"macro search {query!r}: #{text} is beyond the variable numbers "
+                f"(-32768..{MACRO_SEARCH_CAP})"
+            )
+    low = int(found[1])
+    high = int(found[2]) if found[2] is not None else MACRO_SEARCH_CAP
+    if low > high:
+        raise ValueError(f"macro search {query!r}: an empty range (#{low} is above #{high})")
+    return low, high
+
+
 def macro_rows(
     machine: Machine, numbers: Sequence[int], query: str = "", limit: int = 200
 ) -> list[JsonDict]:
-    """Macro variables among ``numbers`` (the machine's, ascending): all from the first when
-    ``query`` is empty, those from ``N`` for ``"N"``, ``N..M`` for ``"N-M"``; at most
-    ``limit``. ValueError, naming ``query``, for another query."""
-    q = query.strip().lstrip("#")
-    low, high = -0x8000, 0x7FFF
-    if q:
-        first, sep, last = q.partition("-")
-        try:
-            low = int(first)
-            high = int(last.lstrip("#")) if sep else 0x7FFF
-        except ValueError:
-            raise ValueError(f"macro search {query!r}: write N or N-M (variable numbers)") from None
+    """Macro variables among ``numbers`` (the machine's, ascending) in the range
+    :func:`macro_range` reads from ``query``, at most ``limit``. ValueError, naming
+    ``query``, for a query that names no range, or a range holding none of ``numbers`` (the
+    message lists the machine's)."""
+    low, high = macro_range(query)
     rows: list[JsonDict] = []
     for number in numbers:
         if not low <= number <= high:
             continue
+        if len(rows) >= limit:
+            break
         try:
             value = machine.read_macro(number)
         except MachineError as exc:
@@ -359,6 +430,18 @@ def macro_rows(
                 "writable": bool(machine.macro_writable(number)),
             }
         )
-        if len(rows) >= limit:
-            break
+    if not rows:
+        shown = f"#{low}" if high == MACRO_SEARCH_CAP else f"#{low}..#{high}"
+        raise ValueError(
+            f"macro search {query!r}: no variable in {shown} (the machine has {_runs(numbers)})"
+        )
     return rows
+
+
+def macro_note(numbers: Sequence[int], query: str, shown: int) -> str:
+    """What a macro search's answer says of what it left out (empty when nothing)."""
+    low, high = macro_range(query)
+    found = sum(1 for n in numbers if low <= n <= high)
+    if found <= shown:
+        return ""
+    return f"the first {shown} of {found} variables: narrow the range (N-M) to see the others"
