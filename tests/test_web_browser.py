@@ -26,7 +26,7 @@ from support import IO_TIMEOUT
 
 from focas_net.client import FocasClient, NativeClient
 from focas_net.server import FocasServer
-from focas_net.sim import Machine, default_machine
+from focas_net.sim import Machine, default_machine, load_machine
 from focas_net.sim.machine import MDI
 from focas_net.sim.nc import ManualClock
 from focas_net.web import Dashboard, stations_of
@@ -632,3 +632,56 @@ async def test_enter_unlocks_and_a_longer_password_is_refused_not_cut(
         assert message == "unlock refused: EW_PASSWD parameter password mismatch"
         await page.type("param-password", "1234" + Keys.ENTER)
         await page.text_of("message", lambda t: t == "unlock: done", "unlocked")
+
+
+LATHE = Path(__file__).resolve().parent.parent / "examples" / "lathe_2path.toml"
+
+
+async def test_a_machine_of_two_paths_shows_each_and_the_page_acts_on_the_one_chosen(
+    browser: WebDriver, tmp_path: Path
+) -> None:
+    lathe = load_machine(LATHE)
+    async with dashboard(browser, tmp_path, [default_machine("mill"), lathe]) as (_, _, page):
+        await page.open()
+
+        def lines(d: WebDriver) -> list[list[str]] | bool:
+            found: list[list[str]] = d.execute_script(
+                """return [...document.querySelectorAll('#fleet .tile')].map(t =>
+                    [...t.querySelectorAll('.row.path')].map(r => r.textContent))"""
+            )
+            return found if len(found) == 2 and found[1] else False
+
+        shown = await page.until(lines, "a line per path")
+        assert shown[0] == []  # a single-path machine's tile is as it was
+        assert [line.split()[:3] for line in shown[1]] == [
+            ["TURRET1", "MEM", "****"],
+            ["TURRET2", "MEM", "****"],
+        ]
+        await page.open("machine/1")
+        await page.text_of("path-2-state", lambda t: "MEM" in t, "path 2's card")
+        await page.click("path-2-start")  # the cycle of path 2 only
+        await page.text_of("message", lambda t: t == "cycle: done", "the start")
+        assert lathe.status(path=2).run == 3 and lathe.status(path=1).run == 0
+        await page.text_of("path-2-state", lambda t: "STRT O2001" in t, "path 2 running")
+        await page.click("path-2-show")  # the details of path 2
+        await page.text_of("crumb", lambda t: t.endswith("TURRET2"), "path 2 chosen")
+        axes = await page.text_of("pos-table", lambda t: "X2" in t, "path 2's axes")
+        assert "X1" not in axes and "Z2" in axes
+        await page.type("alarm-no", "1234")
+        await page.click("alarm-raise")
+        await page.text_of("message", lambda t: t == "raise_alarm: done", "the alarm")
+        assert [a.alm_no for a in lathe.active_alarms(path=2)] == [1234]
+        assert lathe.active_alarms(path=1) == []
+        await page.text_of("path-2-alarm", lambda t: "1234" in t, "path 2's alarm")
+        await page.text_of("path-1-alarm", lambda t: t == "no alarm", "path 1 clear")
+        await page.click("path-1-show")
+        await page.text_of("crumb", lambda t: t.endswith("TURRET1"), "path 1 chosen")
+        await page.text_of("alarms", lambda t: "no active alarm" in t, "path 1's alarms")
+        await page.screenshot("web-paths.png")
+        await page.open("machine/0")
+        await page.text_of("run-state", lambda t: t == "****", "the mill")
+        hidden = await page.call(
+            lambda: not page.driver.find_element(By.ID, "paths-box").is_displayed()
+        )
+        assert hidden  # one path: no path section
+        assert await page.errors() == []

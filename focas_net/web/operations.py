@@ -60,10 +60,23 @@ class Station:
     port: int = 0
     session: Session = field(init=False)
     trail: PathTrail = field(default_factory=PathTrail)
+    _trails: dict[int, PathTrail] = field(default_factory=dict, init=False, repr=False)
     _macro_numbers: tuple[int, ...] | None = field(default=None, init=False, repr=False)
 
     def __post_init__(self) -> None:
         self.session = self.machine.new_session()
+
+    def trail_of(self, path: int = 1) -> PathTrail:
+        """The tool path seen of ``path`` (:attr:`trail` for path 1)."""
+        if path == 1:
+            return self.trail
+        return self._trails.setdefault(path, PathTrail())
+
+    def record_trails(self) -> None:
+        """Add every path's current absolute position to its tool path."""
+        machine = self.machine
+        for path in range(1, machine.path_count + 1):
+            self.trail_of(path).record(machine.path_motion(path=path).absolute)
 
     def macro_numbers(self) -> tuple[int, ...]:
         """Every macro variable number the machine has (found once, then kept)."""
@@ -185,15 +198,21 @@ def _decimal(args: Mapping[str, Any], key: str) -> Decimal | None:
 _Action = Callable[[Station, Mapping[str, Any]], JsonDict]
 
 
+def _path(args: Mapping[str, Any]) -> int:
+    """The path an action is for: ``path`` (1 when not given); the machine refuses one it has
+    not (EW_PATH, naming it)."""
+    return _int(args, "path", 1)
+
+
 def _cycle(station: Station, args: Mapping[str, Any]) -> JsonDict:
     m = station.machine
-    what = _text(args, "action")
+    what, path = _text(args, "action"), _path(args)
     if what == "start":
-        m.cycle_start()
+        m.cycle_start(path=path)
     elif what == "hold":
-        m.feed_hold()
+        m.feed_hold(path=path)
     elif what == "reset":
-        m.reset()
+        m.reset(path=path)
     else:
         raise ActionError(f"action: one of start, hold, reset, got {what!r}")
     return {}
@@ -201,14 +220,20 @@ def _cycle(station: Station, args: Mapping[str, Any]) -> JsonDict:
 
 def _panel(station: Station, args: Mapping[str, Any]) -> JsonDict:
     station.machine.set_panel(
-        _optional_int(args, "mode"), _optional_int(args, "pwe"), _optional_int(args, "emergency")
+        _optional_int(args, "mode"),
+        _optional_int(args, "pwe"),
+        _optional_int(args, "emergency"),
+        path=_path(args),
     )
     return {}
 
 
 def _overrides(station: Station, args: Mapping[str, Any]) -> JsonDict:
     station.machine.set_overrides(
-        _optional_int(args, "feed"), _optional_int(args, "rapid"), _optional_int(args, "spindle")
+        _optional_int(args, "feed"),
+        _optional_int(args, "rapid"),
+        _optional_int(args, "spindle"),
+        path=_path(args),
     )
     return {}
 
@@ -224,13 +249,19 @@ def _raise_alarm(station: Station, args: Mapping[str, Any]) -> JsonDict:
             f"msg: {len(msg)} characters, an alarm message holds {MAX_ALARM_MSG}: {msg!r}"
         )
     raised = station.machine.raise_alarm(
-        _int(args, "axis_no", 0), _int(args, "alm_type"), _int(args, "alm_no"), msg
+        _int(args, "axis_no", 0),
+        _int(args, "alm_type"),
+        _int(args, "alm_no"),
+        msg,
+        path=_path(args),
     )
     return {"raised": raised}
 
 
 def _clear_alarms(station: Station, args: Mapping[str, Any]) -> JsonDict:
-    cleared = station.machine.clear_alarms(_int(args, "alm_type", -1), _int(args, "alm_no", -1))
+    cleared = station.machine.clear_alarms(
+        _int(args, "alm_type", -1), _int(args, "alm_no", -1), path=_path(args)
+    )
     return {"cleared": cleared}
 
 
@@ -316,8 +347,9 @@ def _write_param(station: Station, args: Mapping[str, Any]) -> JsonDict:
     if item is None:
         raise MachineError(EW.NUMBER, f"no parameter {number}")
     value, decimals = _param_value(m, number, given)
-    m.write_param(station.session, number, axis, value, decimals=decimals)
-    now = m.read_param(number, axis)
+    path = _path(args)
+    m.write_param(station.session, number, axis, value, decimals=decimals, path=path)
+    now = m.read_param(number, axis, path=path)
     return {"number": number, "value": now, "text": param_text(item, now)}
 
 
@@ -328,15 +360,16 @@ def _unlock(station: Station, args: Mapping[str, Any]) -> JsonDict:
 
 def _write_macro(station: Station, args: Mapping[str, Any]) -> JsonDict:
     m = station.machine
-    number = _int(args, "number")
-    m.write_macro(number, _decimal(args, "value"))
-    value = m.read_macro(number)
+    number, path = _int(args, "number"), _path(args)
+    m.write_macro(number, _decimal(args, "value"), path=path)
+    value = m.read_macro(number, path=path)
     return {"number": number, "value": "" if value is None else str(value)}
 
 
 def _select_program(station: Station, args: Mapping[str, Any]) -> JsonDict:
-    station.machine.select_program(_int(args, "number"))
-    station.trail.clear()
+    path = _path(args)
+    station.machine.select_program(_int(args, "number"), path=path)
+    station.trail_of(path).clear()
     return {}
 
 
@@ -373,7 +406,9 @@ def _clear_faults(station: Station, args: Mapping[str, Any]) -> JsonDict:
 
 
 def _clear_path(station: Station, args: Mapping[str, Any]) -> JsonDict:
-    station.trail.clear()
+    path = _path(args)
+    station.machine.path_info(path)  # EW_PATH for a path the machine has not
+    station.trail_of(path).clear()
     return {}
 
 

@@ -75,10 +75,11 @@ _RUN_LABELS: Final = {m.value: m.label for m in RunState}
 _RUN_NAMES: Final = {m.value: m.name for m in RunState}
 
 
-def status_fields(machine: Machine) -> list[JsonDict]:
-    """The ODBST fields: ``{"field": "run", "value": 3, "label": "STRT", "meaning": ...}``,
-    named by the table the command line uses (``tmmode`` by the machine's series)."""
-    rows = status_labels(machine.status(), machine.identity().mt_type)
+def status_fields(machine: Machine, path: int = 1) -> list[JsonDict]:
+    """The ODBST fields of ``path``: ``{"field": "run", "value": 3, "label": "STRT",
+    "meaning": ...}``, named by the table the command line uses (``tmmode`` by the machine's
+    series)."""
+    rows = status_labels(machine.status(path=path), machine.identity().mt_type)
     return [{"field": f, "value": v, "label": label, "meaning": m} for f, v, label, m in rows]
 
 
@@ -98,23 +99,19 @@ def _mm(value: int) -> float:
     return value / _MM
 
 
-def machine_tile(
-    index: int, machine: Machine, port: int, trail: PathTrail | None = None
-) -> JsonDict:
-    """One tile of the fleet view: name, port, mode, run state, program, parts, alarm. The
-    machine is read once per figure (a read of a running machine moves its engine); the
-    absolute position read goes into ``trail`` when given."""
-    status = machine.status()
-    motion = machine.motion
+def _path_tile(machine: Machine, path: int, trail: PathTrail | None = None) -> JsonDict:
+    """What a tile shows of one path: mode, run state, program, sequence, parts, alarm. The
+    machine is read once per figure (a read of a running machine moves its engine)."""
+    status = machine.status(path=path)
+    motion = machine.path_motion(path=path)
     if trail is not None:
         trail.record(motion.absolute)
-    count, total = machine.parts_counts()
-    alarms = machine.active_alarms()
+    count, total = machine.parts_counts(path=path)
+    alarms = machine.active_alarms(path=path)
     first = alarms[0] if alarms else None
     return {
-        "index": index,
-        "name": machine.name,
-        "port": port,
+        "path_no": path,
+        "path_name": machine.path_info(path).name,
         "mode": _MODE_LABELS.get(status.aut, str(status.aut)),
         "run": _RUN_LABELS.get(status.run, str(status.run)),
         "run_state": _RUN_NAMES.get(status.run, str(status.run)),
@@ -130,6 +127,32 @@ def machine_tile(
     }
 
 
+def machine_tile(
+    index: int, machine: Machine, port: int, trail: PathTrail | None = None
+) -> JsonDict:
+    """One tile of the fleet view: name, port, and path 1's mode, run state, program, parts
+    and alarm; ``paths`` holds the same of every path (one for a single-path machine). The
+    tile is running when a path runs and in alarm when a path is; the absolute position of
+    path 1 read goes into ``trail`` when given."""
+    paths = [
+        _path_tile(machine, p, trail if p == 1 else None) for p in range(1, machine.path_count + 1)
+    ]
+    first = paths[0]
+    alarmed = next((t for t in paths if t["alarms"]), first)
+    running = next((t for t in paths if t["run"] == "STRT"), first)
+    return {
+        "index": index,
+        "name": machine.name,
+        "port": port,
+        **{k: v for k, v in first.items() if k not in ("path_no", "path_name")},
+        "run_state": running["run_state"],
+        "alarm": alarmed["alarm"],
+        "alarms": max(t["alarms"] for t in paths),
+        "running": running["run"] == "STRT",
+        "paths": paths,
+    }
+
+
 def fleet_view(
     entries: Iterable[tuple[int, Machine, int]], trails: Sequence[PathTrail] | None = None
 ) -> JsonDict:
@@ -138,7 +161,7 @@ def fleet_view(
     tiles = [
         machine_tile(i, m, port, None if trails is None else trails[i]) for i, m, port in entries
     ]
-    running = sum(1 for t in tiles if t["run"] == "STRT")
+    running = sum(1 for t in tiles if t["running"])
     alarmed = sum(1 for t in tiles if t["alarms"])
     return {"machines": tiles, "count": len(tiles), "running": running, "alarmed": alarmed}
 
@@ -163,20 +186,21 @@ class PathTrail:
         self.points.clear()
 
 
-def _program(machine: Machine) -> JsonDict | None:
-    """The running (else the main) program: its lines and the line of the block executing."""
-    engine = machine.engine
+def _program(machine: Machine, path: int) -> JsonDict | None:
+    """The running (else the main) program of ``path``: its lines and the line of the block
+    executing."""
+    engine = machine.path_engine(path)
     interpreter = engine.interpreter
     program = interpreter.program
     line: int | None = None
     if program is not None and interpreter.block is not None:
         if 0 <= interpreter.block < len(program.blocks):
             line = program.blocks[interpreter.block].line
-    number = program.number if program is not None else machine.programs.main
+    number = program.number if program is not None else machine.path_programs(path).main
     if number is None:
         return None
     try:
-        text = machine.program_text(number)
+        text = machine.program_text(number, path=path)
     except MachineError:
         return None
     return {"number": number, "lines": text.splitlines()[:PROGRAM_LINES], "line": line}
@@ -189,28 +213,31 @@ def machine_view(
     *,
     trail: PathTrail | None = None,
     faults: Iterable[tuple[str, int, int]] = (),
+    path: int = 1,
 ) -> JsonDict:
-    """Everything the machine view shows, at one moment. ``faults`` are the machine-wide
-    armed faults as ``(kind name, answers left, arg)``; the absolute position read goes into
-    ``trail`` (the tool path shown) when given."""
-    status = machine.status()
-    motion = machine.motion
+    """Everything the machine view shows of ``path``, at one moment, and ``paths``, what a
+    tile shows of every path. ``faults`` are the machine-wide armed faults as ``(kind name,
+    answers left, arg)``; the absolute position read goes into ``trail`` (the tool path
+    shown) when given. EW_PATH (MachineError) for a path the machine has not."""
+    info = machine.path_info(path)
+    status = machine.status(path=path)
+    motion = machine.path_motion(path=path)
     if trail is not None:
         trail.record(motion.absolute)
-    count, total = machine.parts_counts()
-    feed_ov, rapid_ov, spindle_ov = machine.overrides()
-    panel = machine.panel
+    count, total = machine.parts_counts(path=path)
+    feed_ov, rapid_ov, spindle_ov = machine.overrides(path=path)
+    panel = machine.path_panel(path)
     positions = []
-    for axis_index, axis in enumerate(machine.axes):
+    for axis_index, axis in enumerate(info.axes):
         row: JsonDict = {"axis": axis}
         for kind in POSITION_KINDS:
             row[kind] = _mm(getattr(motion, kind)[axis_index])
         positions.append(row)
     try:
-        required = machine.read_param(6713, 0)
+        required = machine.read_param(6713, 0, path=path)
     except MachineError:
         required = None
-    main = machine.programs.main
+    main = machine.path_programs(path).main
     running = motion.program_running
     return {
         "index": index,
@@ -218,8 +245,12 @@ def machine_view(
         "port": port,
         "control_class": machine.control_class,
         "read_only": machine.read_only,
-        "axes": list(machine.axes),
-        "status": status_fields(machine),
+        "path_no": path,
+        "path_name": info.name,
+        "path_count": machine.path_count,
+        "paths": [_path_tile(machine, p) for p in range(1, machine.path_count + 1)],
+        "axes": list(info.axes),
+        "status": status_fields(machine, path),
         "mode": _MODE_LABELS.get(status.aut, str(status.aut)),
         "run": _RUN_LABELS.get(status.run, str(status.run)),
         "positions": positions,
@@ -231,14 +262,16 @@ def machine_view(
         "program_main": motion.program_main,
         "overrides": {"feed": feed_ov, "rapid": rapid_ov, "spindle": spindle_ov},
         "loads": {
-            "spindle": list(machine.spindle_loads()),
-            "servo": list(machine.servo_loads()),
+            "spindle": list(machine.spindle_loads(path=path)),
+            "servo": list(machine.servo_loads(path=path)),
         },
-        "timers": {kind: machine.timer(k) for k, kind in enumerate(TIMER_KINDS)},
+        "timers": {kind: machine.timer(k, path=path) for k, kind in enumerate(TIMER_KINDS)},
         "parts": {"count": count, "total": total, "required": required},
         "panel": {"mode": panel.mode, "pwe": panel.pwe, "emergency": panel.emergency},
         "modes": [[m, _MODE_LABELS[m]] for m in sorted(AUT_MODES)],
-        "alarms": [_alarm(a.axis_no, a.alm_type, a.alm_no, a.msg) for a in machine.active_alarms()],
+        "alarms": [
+            _alarm(a.axis_no, a.alm_type, a.alm_no, a.msg) for a in machine.active_alarms(path=path)
+        ],
         "history": [
             {"time": h.occurred_at.isoformat(), **_alarm(h.axis_no, h.alm_type, h.alm_no, h.msg)}
             for h in machine.alarm_history(HISTORY_SHOWN)
@@ -251,9 +284,9 @@ def machine_view(
                 "main": p.number == main,
                 "running": p.number == running and status.run != 0,
             }
-            for p in machine.program_directory()
+            for p in machine.program_directory(path=path)
         ],
-        "program": _program(machine),
+        "program": _program(machine, path),
         "pmc_areas": _pmc_areas(machine),
         "faults": [{"kind": k, "remaining": n, "arg": arg} for k, n, arg in faults],
         "fault_kinds": [k.name for k in FaultKind],
@@ -325,7 +358,9 @@ def param_text(item: DataItem, value: int) -> str:
     return str(value)
 
 
-def param_rows(machine: Machine, query: str = "", limit: int = 200) -> list[JsonDict]:
+def param_rows(
+    machine: Machine, query: str = "", limit: int = 200, *, path: int = 1
+) -> list[JsonDict]:
     """The parameters whose number starts with ``query`` or whose name contains it (case
     insensitive), at most ``limit`` of them, by number. ``kind`` is the type as every front
     end names it (``two-word``); an axis parameter has a value per axis, named in ``axes``;
@@ -338,8 +373,10 @@ def param_rows(machine: Machine, query: str = "", limit: int = 200) -> list[Json
         assert item is not None
         if q and not (str(number).startswith(q) or q in item.name.lower()):
             continue
-        axes = list(machine.axes) if item.axis else []
-        raw = [machine.read_param(number, axis) for axis in range(1, len(axes) + 1) or (0,)]
+        axes = list(machine.path_info(path).axes) if item.axis else []
+        raw = [
+            machine.read_param(number, axis, path=path) for axis in range(1, len(axes) + 1) or (0,)
+        ]
         rows.append(
             {
                 "number": number,
@@ -405,7 +442,12 @@ def macro_range(query: str) -> tuple[int, int]:
 
 
 def macro_rows(
-    machine: Machine, numbers: Sequence[int], query: str = "", limit: int = 200
+    machine: Machine,
+    numbers: Sequence[int],
+    query: str = "",
+    limit: int = 200,
+    *,
+    path: int = 1,
 ) -> list[JsonDict]:
     """Macro variables among ``numbers`` (the machine's, ascending) in the range
     :func:`macro_range` reads from ``query``, at most ``limit``. ValueError, naming
@@ -419,7 +461,7 @@ def macro_rows(
         if len(rows) >= limit:
             break
         try:
-            value = machine.read_macro(number)
+            value = machine.read_macro(number, path=path)
         except MachineError as exc:
             rows.append({"number": number, "value": "", "error": ew_name(exc.ew)})
             continue

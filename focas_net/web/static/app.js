@@ -3,7 +3,8 @@
 
 const $ = (id) => document.getElementById(id);
 const state = { readOnly: false, machines: 0, ws: null, topic: null, machine: null, view: null,
-  pmcArea: "X", pmcStart: 0, pmcError: "", versions: null, paramKey: null, macroKey: null };
+  pmcArea: "X", pmcStart: 0, pmcError: "", versions: null, paramKey: null, macroKey: null,
+  path: 1, pathsKey: null };
 
 // Searches answer out of order when typed fast: each kind of list draws only the answer to the
 // last search it sent.
@@ -36,7 +37,7 @@ async function act(action, args) {
   const res = await fetch(`/api/machines/${state.machine}/actions/${action}`, {
     method: "POST",
     headers: { "Content-Type": "application/json" },
-    body: JSON.stringify(args || {}),
+    body: JSON.stringify({ path: state.path, ...(args || {}) }),
   });
   const body = await res.json();
   if (body.ok) show(`${action}: done`, true);
@@ -65,7 +66,8 @@ function route() {
     state.machine = Number(m[1]);
     state.view = null;
     state.dirKey = state.progKey = state.pmcKey = state.versions = null;
-    state.paramKey = state.macroKey = null;
+    state.paramKey = state.macroKey = state.pathsKey = null;
+    state.path = 1;
     state.pmcArea = "X";
     state.pmcStart = 0;
     state.pmcError = "";
@@ -85,7 +87,7 @@ function subscribe() {
   const msg = state.machine === null
     ? { subscribe: "fleet" }
     : { subscribe: "machine", index: state.machine, pmc_area: state.pmcArea,
-        pmc_start: state.pmcStart };
+        pmc_start: state.pmcStart, path: state.path };
   state.ws.send(JSON.stringify(msg));
 }
 
@@ -126,10 +128,23 @@ function tileOf(t) {
     const node = el("a", { href: `#/machine/${t.index}`, "data-index": String(t.index) },
       parts.name, el("div", { class: "row" }, parts.port, parts.mode, parts.run),
       el("div", { class: "row" }, parts.program, parts.sequence, parts.parts), parts.alarm);
-    tile = { node, parts };
+    tile = { node, parts, paths: null };
     tiles.set(t.index, tile);
   }
+  if (t.paths.length > 1 && (!tile.paths || tile.paths.length !== t.paths.length)) {
+    // a machine of several paths: a line per path under the machine's name
+    tile.paths = t.paths.map((p) => el("div", { class: "row path", "data-path": String(p.path_no) }));
+    const box = el("div", { class: "paths" }, ...tile.paths);
+    tile.node.replaceChildren(tile.parts.name, el("div", { class: "row" }, tile.parts.port), box,
+      tile.parts.alarm);
+  }
   return tile;
+}
+
+function pathLine(p) {
+  return `${p.path_name} ${p.mode} ${p.run} O${String(p.program).padStart(4, "0")} ` +
+    `N${p.sequence} ${p.parts} part${p.parts === 1 ? "" : "s"}` +
+    (p.alarm ? ` ALM ${p.alarm}` : (p.emergency ? " EMG" : ""));
 }
 
 function setText(node, text) { if (node.textContent !== text) node.textContent = text; }
@@ -141,7 +156,8 @@ function renderFleet(data) {
   const shown = [];
   for (const t of data.machines) {
     if (filter && !t.name.toLowerCase().includes(filter)) continue;
-    const { node, parts } = tileOf(t);
+    const tile = tileOf(t);
+    const { node, parts } = tile;
     const cls = `tile ${t.run_state}${t.alarms ? " alarm" : ""}`;
     if (node.className !== cls) node.className = cls;
     setText(parts.name, t.name);
@@ -152,6 +168,13 @@ function renderFleet(data) {
     setText(parts.sequence, `N${t.sequence}`);
     setText(parts.parts, `${t.parts} part${t.parts === 1 ? "" : "s"}`);
     setText(parts.alarm, t.alarm ? `ALM ${t.alarm}` : (t.emergency ? "EMG" : "\u00a0"));
+    if (tile.paths) {
+      t.paths.forEach((p, i) => {
+        setText(tile.paths[i], pathLine(p));
+        const cls = `row path ${p.run_state}${p.alarms ? " alarm" : ""}`;
+        if (tile.paths[i].className !== cls) tile.paths[i].className = cls;
+      });
+    }
     shown.push(node);
   }
   const box = $("fleet");
@@ -176,10 +199,57 @@ function clock(seconds) {
   return `${h}:${String(m).padStart(2, "0")}:${String(s % 60).padStart(2, "0")}`;
 }
 
+// A machine of several paths: a section per path (its state and its cycle buttons), and the
+// path whose details the other sections show.
+function renderPaths(v) {
+  const box = $("paths-box");
+  box.hidden = v.path_count < 2;
+  if (box.hidden) return;
+  const key = `${state.machine}:${v.path_count}`;
+  if (state.pathsKey !== key) {
+    state.pathsKey = key;
+    $("paths").replaceChildren(...v.paths.map((p) => {
+      const n = p.path_no;
+      const button = (what, label, cls) => el("button", { class: `small ${cls}`,
+        id: `path-${n}-${what}`, "data-write": "", disabled: state.readOnly,
+        onclick: () => act("cycle", { action: what, path: n }) }, label);
+      return el("div", { class: "path-card", id: `path-${n}` },
+        el("h3", {}, el("a", { href: "#", id: `path-${n}-show`,
+          onclick: (ev) => { ev.preventDefault(); choosePath(n); } }, p.path_name)),
+        el("div", { class: "path-state", id: `path-${n}-state` }),
+        el("div", { class: "path-alarm", id: `path-${n}-alarm` }),
+        el("div", { class: "buttons" }, button("start", "Cycle start", "go"),
+          button("hold", "Feed hold", "hold"), button("reset", "Reset", "")));
+    }));
+  }
+  for (const p of v.paths) {
+    const n = p.path_no;
+    const card = $(`path-${n}`);
+    const cls = `path-card ${p.run_state}${n === state.path ? " shown" : ""}`;
+    if (card.className !== cls) card.className = cls;
+    setText($(`path-${n}-state`), `${p.mode} ${p.run}  O${String(p.program).padStart(4, "0")} ` +
+      `N${p.sequence}  ${p.parts} part${p.parts === 1 ? "" : "s"}`);
+    setText($(`path-${n}-alarm`), p.alarm ? `ALM ${p.alarm}` : (p.emergency ? "EMG" : "no alarm"));
+  }
+}
+
+function choosePath(n) {
+  if (state.path === n) return;
+  state.path = n;
+  state.view = null;
+  state.dirKey = state.progKey = state.versions = state.paramKey = state.macroKey = null;
+  loadParams();
+  loadMacros();
+  subscribe();
+}
+
 function renderMachine(v) {
+  if (v.path_no !== state.path) return;  // a frame of the path shown before
   const first = state.view === null;
   state.view = v;
-  $("crumb").textContent = `${v.name}  :${v.port}  (${v.control_class})`;
+  const shown = v.path_count > 1 ? `  ${v.path_name}` : "";
+  $("crumb").textContent = `${v.name}  :${v.port}  (${v.control_class})${shown}`;
+  renderPaths(v);
   $("m-mode").textContent = v.mode;
   const run = $("run-state");
   run.textContent = v.run;
@@ -385,7 +455,8 @@ function searchNote(id, text, error) {
 async function loadParams() {
   if (state.machine === null) return;
   const q = encodeURIComponent($("param-search").value);
-  const answer = await newest("params", `/api/machines/${state.machine}/params?q=${q}`);
+  const answer = await newest("params",
+    `/api/machines/${state.machine}/params?q=${q}&path=${state.path}`);
   if (answer === null) return;  // a later search is under way
   const { res, body } = answer;
   if (!res.ok) { searchNote("param-note", body.error, true); return; }
@@ -423,7 +494,8 @@ async function loadParams() {
 async function loadMacros() {
   if (state.machine === null) return;
   const q = encodeURIComponent($("macro-search").value);
-  const answer = await newest("macros", `/api/machines/${state.machine}/macros?q=${q}`);
+  const answer = await newest("macros",
+    `/api/machines/${state.machine}/macros?q=${q}&path=${state.path}`);
   if (answer === null) return;  // a later search is under way
   const { res, body } = answer;
   if (!res.ok) { searchNote("macro-note", body.error, true); return; }
