@@ -24,7 +24,7 @@ from focas_net.client import FocasClient, NativeClient
 from focas_net.protocol import FaultKind
 from focas_net.server import FocasServer
 from focas_net.server.faults import fault_refusal
-from focas_net.sim import Machine, default_machine
+from focas_net.sim import Machine, default_machine, load_machine
 from focas_net.web import Dashboard, stations_of
 
 aiohttp = pytest.importorskip("aiohttp", reason="the web dashboard tests need aiohttp")
@@ -264,6 +264,33 @@ async def receive(ws: Any, kind: str) -> dict[str, Any]:
         if frame["type"] == kind:
             return frame
     pytest.fail(f"no {kind} frame in 50")
+
+
+LATHE = os.path.join(os.path.dirname(__file__), "..", "examples", "lathe_2path.toml")
+
+
+async def test_each_path_is_read_and_worked_and_a_path_past_the_last_is_refused() -> None:
+    lathe = load_machine(LATHE)
+    async with dashboard([lathe]) as (_, web), aiohttp.ClientSession() as session:
+        base = f"{web.url}api/machines/0"
+        status, view = await get(session, f"{base}?path=2")
+        assert (status, view["path_name"], view["axes"]) == (200, "TURRET2", ["X2", "Z2"])
+        status, body = await get(session, f"{base}?path=3")
+        assert (status, body["ew_name"]) == (409, "EW_PATH") and "path 3" in body["error"]
+        status, body = await get(session, f"{base}/params?q=6711&path=x")
+        assert status == 400 and body["error"].startswith("path: ")
+        status, body = await post(session, web, "cycle", {"action": "start", "path": 2})
+        assert status == 200 and lathe.status(path=2).run == 3 and lathe.status(path=1).run == 0
+        status, body = await post(session, web, "cycle", {"action": "start", "path": 3})
+        assert (status, body["ew_name"]) == (409, "EW_PATH")
+        async with session.ws_connect(f"{web.url}ws") as ws:
+            await ws.send_json({"subscribe": "machine", "index": 0, "path": 2})
+            frame = await receive(ws, "machine")
+            assert frame["data"]["path_no"] == 2 and frame["data"]["run"] == "STRT"
+            await ws.send_json({"subscribe": "machine", "index": 0, "path": 5})
+            error = await receive(ws, "error")
+            assert error["error"] == "path 5: machine 0 has paths 1..2"
+        await wait_until(lambda: not web.broadcaster.subscriptions)
 
 
 async def test_the_websocket_pushes_the_fleet_and_a_machine() -> None:

@@ -15,7 +15,7 @@ from hypothesis import given
 from hypothesis import strategies as st
 
 from focas_net.errors import EW, ew_name
-from focas_net.sim import Machine, MachineError, default_machine
+from focas_net.sim import Machine, MachineError, default_machine, load_machine
 from focas_net.sim.machine import MDI, MEM
 from focas_net.sim.nc import ManualClock
 from focas_net.web import (
@@ -587,3 +587,57 @@ def test_the_web_package_exports_its_names_once_and_imports_no_client() -> None:
         for node in ast.walk(ast.parse(path.read_text())):
             if isinstance(node, ast.ImportFrom) and node.module:
                 assert not node.module.startswith(("focas_net.client", "focas_net.adapters"))
+
+
+LATHE = Path(__file__).resolve().parent.parent / "examples" / "lathe_2path.toml"
+
+
+def test_a_machine_of_two_paths_is_viewed_and_worked_per_path() -> None:
+    lathe = load_machine(LATHE)
+    station = Station(0, lathe)
+    tile = machine_tile(0, lathe, 8193)
+    assert [(p["path_no"], p["path_name"], p["mode"]) for p in tile["paths"]] == [
+        (1, "TURRET1", "MEM"),
+        (2, "TURRET2", "MEM"),
+    ]
+    perform(station, "cycle", {"action": "start", "path": 2})
+    assert (lathe.status(path=1).run, lathe.status(path=2).run) == (0, 3)
+    tile = machine_tile(0, lathe, 8193)
+    assert tile["running"] and tile["run"] == "****"  # path 1's run; the tile runs with path 2
+    assert (tile["paths"][1]["run"], tile["paths"][1]["program"]) == ("STRT", 2001)
+    view = machine_view(0, lathe, 8193, path=2)
+    assert (view["path_no"], view["path_count"], view["axes"]) == (2, 2, ["X2", "Z2"])
+    assert [p["axis"] for p in view["positions"]] == ["X2", "Z2"]
+    assert [p["number"] for p in view["programs"]] == [2001]
+    perform(station, "raise_alarm", {"alm_type": 3, "alm_no": 1234, "path": 2})
+    assert [a["alm_no"] for a in machine_view(0, lathe, 8193, path=2)["alarms"]] == [1234]
+    assert machine_view(0, lathe, 8193)["alarms"] == []
+    perform(station, "panel", {"mode": MDI, "pwe": 1, "path": 2})
+    perform(station, "write_param", {"number": 6711, "value": "7", "path": 2})
+    assert (lathe.read_param(6711, 0, path=1), lathe.read_param(6711, 0, path=2)) == (0, 7)
+    (row,) = param_rows(lathe, "6711", path=2)
+    assert row["values"] == ["7"]
+    with pytest.raises(MachineError, match="path 3") as info:
+        perform(station, "cycle", {"action": "start", "path": 3})
+    assert info.value.ew == EW.PATH
+    with pytest.raises(ActionError, match="path: "):
+        perform(station, "cycle", {"action": "start", "path": "\u0662"})
+    single = machine_tile(0, default_machine(), 8193)
+    assert len(single["paths"]) == 1 and single["paths"][0]["path_no"] == 1
+
+
+def test_a_shut_parameter_write_gate_says_what_shuts_it() -> None:
+    machine = default_machine(param_password="1234")
+    session = machine.new_session()
+    for panel, reason in (
+        ({"mode": MDI, "pwe": 0}, "PWE is off"),
+        ({"mode": MEM, "pwe": 1}, "not in MDI mode"),
+        ({"mode": MDI, "pwe": 1}, "password is set and not unlocked"),
+    ):
+        machine.set_panel(**panel)
+        with pytest.raises(MachineError, match=reason) as info:
+            machine.write_param(session, 6713, 0, 3)
+        assert info.value.ew == EW.PASSWD
+    machine.unlock(session, "1234")
+    machine.write_param(session, 6713, 0, 3)
+    assert machine.read_param(6713, 0) == 3
