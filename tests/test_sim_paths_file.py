@@ -72,7 +72,7 @@ def test_a_four_path_machine_file_answers_per_path(tmp_path: Path) -> None:
     assert [m.status(path=n).aut for n in (1, 2, 3, 4)] == [1, 1, 1, 3]  # MEM, EDIT
     for n in (1, 2, 3, 4):
         assert [p.number for p in m.program_directory(path=n)] == [n * 100]
-        assert m.path_motion(path=n).program_main == 0  # before a cycle start
+        assert m.path_motion(path=n).program_main == n * 100  # its main, before a start
         assert m.read_param(1420, 1, path=n) == [11, 21, 31, 41][n - 1]
     for n in (1, 2, 3):
         m.cycle_start(path=n)

@@ -541,7 +541,7 @@ async def test_writes_from_outside_show_and_a_refused_value_stays_with_its_reaso
         await page.type("param-6713-0", "25")
         await page.click("param-save-6713-0")
         why = await page.text_of("param-6713-0-why", lambda t: "EW_PASSWD" in t, "the reason")
-        assert "PWE is off" in why
+        assert "parameter write enable (PWE) is off" in why
         machine.write_macro(501, Decimal(3))  # the lists are read again meanwhile
         await page.until(lambda d: value_of_now(d, "macro-501") == "3", "#501 from outside")
         assert await value_of(page, "param-6713-0") == "25"  # the refused value stays

@@ -124,7 +124,7 @@ async def test_numbers_are_ascii_digits_and_nothing_is_cut() -> None:
         status, body = await post(session, web, "write_param", {"number": 6713, "value": "1e3"})
         assert status == 400 and "'1e3'" in body["error"]
         status, body = await post(session, web, "write_param", {"number": 6713, "value": "25"})
-        assert (status, body["ew_name"]) == (409, "EW_PASSWD") and "PWE is off" in body["error"]
+        assert (status, body["ew_name"]) == (409, "EW_PASSWD") and "(PWE) is off" in body["error"]
 
 
 async def test_searches_and_pmc_windows_say_what_is_wrong() -> None:

@@ -624,20 +624,3 @@ def test_a_machine_of_two_paths_is_viewed_and_worked_per_path() -> None:
         perform(station, "cycle", {"action": "start", "path": "\u0662"})
     single = machine_tile(0, default_machine(), 8193)
     assert len(single["paths"]) == 1 and single["paths"][0]["path_no"] == 1
-
-
-def test_a_shut_parameter_write_gate_says_what_shuts_it() -> None:
-    machine = default_machine(param_password="1234")
-    session = machine.new_session()
-    for panel, reason in (
-        ({"mode": MDI, "pwe": 0}, "PWE is off"),
-        ({"mode": MEM, "pwe": 1}, "not in MDI mode"),
-        ({"mode": MDI, "pwe": 1}, "password is set and not unlocked"),
-    ):
-        machine.set_panel(**panel)
-        with pytest.raises(MachineError, match=reason) as info:
-            machine.write_param(session, 6713, 0, 3)
-        assert info.value.ew == EW.PASSWD
-    machine.unlock(session, "1234")
-    machine.write_param(session, 6713, 0, 3)
-    assert machine.read_param(6713, 0) == 3
