@@ -394,7 +394,7 @@ def test_the_counters_move_when_any_path_changes() -> None:
     [
         ({"paths": []}, "1..10 paths, got 0"),
         ({"paths": [PathSpec(("X",))] * (MAX_PATHS + 1)}, "1..10 paths, got 11"),
-        ({"paths": [PathSpec(("X1",)), PathSpec(())]}, "path 2: a path has at least one axis"),
+        ({"paths": [PathSpec(("X1",)), PathSpec(())]}, "path 2: a path has 1..20 axes, got 0"),
         ({"paths": [PathSpec(("X",)), PathSpec(("X",))]}, "path 2: axis 'X' is named also on"),
         ({"paths": [PathSpec(("X",), kind="L")]}, "path 1: kind 'L'"),
         ({"paths": [PathSpec(("X",), spindles=0)]}, "path 1: 1..8 spindles"),

@@ -72,7 +72,7 @@ def test_a_four_path_machine_file_answers_per_path(tmp_path: Path) -> None:
     assert [m.status(path=n).aut for n in (1, 2, 3, 4)] == [1, 1, 1, 3]  # MEM, EDIT
     for n in (1, 2, 3, 4):
         assert [p.number for p in m.program_directory(path=n)] == [n * 100]
-        assert m.path_motion(path=n).program_main == n * 100  # its main, before a start
+        assert m.path_motion(path=n).program_main == n * 100  # the selected program
         assert m.read_param(1420, 1, path=n) == [11, 21, 31, 41][n - 1]
     for n in (1, 2, 3):
         m.cycle_start(path=n)
@@ -194,3 +194,18 @@ async def test_serve_runs_the_twin_turret_lathe() -> None:
         proc.send_signal(signal.SIGTERM)
         async with asyncio.timeout(30.0):
             assert await proc.wait() == 0
+
+
+def test_a_scenario_s_part_count_holds_for_every_path() -> None:
+    clock = ManualClock()
+    m = load_machine(LATHE, sim_clock=clock)
+    quiet = {"alarm_rate": 0.0, "pause_rate": 0.0, "tool_rate": 0.0, "phase": 0.0}
+    m.start_scenario(Scenario(seed=5, parts=2, **quiet))
+    clock.advance(600.0)
+    assert [m.parts_counts(path=n)[0] for n in (1, 2)] == [2, 2]
+    assert [m.status(path=n).run for n in (1, 2)] == [0, 0]
+    m.start_scenario(Scenario(seed=5, parts=1, **quiet))
+    m.stop_scenario()  # production goes on without the limit, on every path
+    clock.advance(600.0)
+    assert [m.parts_counts(path=n)[0] > 4 for n in (1, 2)] == [True, True]
+    assert [m.status(path=n).run for n in (1, 2)] == [3, 3]

@@ -105,7 +105,6 @@ from ._identity import (
     CONTROL_CLASSES,
     DEFAULT_CONTROL_CLASS,
     Identity,
-    axes_problem,
     checked_identity,
     checked_name,
 )
@@ -227,15 +226,11 @@ class Machine(PathOperations):
         #: ``serve`` starts it): a machine file's ``[run]``, None when it has none.
         self.scenario = scenario
         specs = _path_specs(paths, axes, panel, motion, programs, main_program, identity)
-        for number, spec in enumerate(specs, 1):  # paths of no axes: checked_specs says so
-            problem = axes_problem(list(spec.axes)) if spec.axes or paths is None else None
-            if problem is not None:
-                raise ValueError(problem if len(specs) == 1 else f"path {number}: {problem}")
         #: Every axis of the machine, path by path.
         self.axes: list[str] = [a for spec in specs for a in spec.axes]
+        infos = checked_specs(specs)
         n = len(self.axes)
         self._identity = checked_identity(identity, control_class, n)
-        infos = checked_specs(specs)
         #: Which class of FANUC control this machine is (one of :data:`CONTROL_CLASSES`).
         self.control_class = control_class
         #: Whether the simulator control commands of a front end are served.
@@ -475,7 +470,7 @@ class Machine(PathOperations):
         return self.param_gate_closed(session, path=path) is None
 
     def param_gate_closed(self, session: Session, *, path: int = 1) -> str | None:
-        """Why a parameter write from ``session`` on ``path`` is refused (the first closed
+        """Why a parameter write from ``session`` to ``path`` is refused (the first closed
         gate, in the order an operator opens them: PWE, MDI mode, the password), or None when
         it is open."""
         p = self._paths.at(path).panel
