@@ -13,7 +13,7 @@ arguments of ``client.sim.inject_fault``, are imported from :mod:`focas_net.prot
 """
 
 from ._started import StartedCall
-from ._values import Positions
+from ._values import Paths, Positions
 from .client import FocasClient
 from .cnc import CncClient
 from .connection import Connection, NotSentError, open_connection
@@ -45,6 +45,7 @@ __all__ = [
     "NativeUnsupportedError",
     "NotSentError",
     "PanelSwitches",
+    "Paths",
     "Positions",
     "ProjectionMode",
     "ReconnectPolicy",
