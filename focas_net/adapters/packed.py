@@ -383,10 +383,11 @@ class PackedAdapter:
         value = m.read_param(req.datano, req.axis, path=path)
         return _item(req, value, m.param_item, _encode_param)
 
-    def _rddiag(self, _session: Session, payload: bytes, _path: int) -> bytes:
+    def _rddiag(self, _session: Session, payload: bytes, path: int) -> bytes:
         m = self.machine
         req = _decode_diag_request(payload)
-        return _item(req, m.read_diag(req.datano, req.axis), m.diag_item, _encode_diag)
+        value = m.read_diag(req.datano, req.axis, path=path)
+        return _item(req, value, m.diag_item, _encode_diag)
 
     def _rdparainfo(self, _session: Session, payload: bytes, _path: int) -> bytes:
         datano = _decode_parainfo_request(payload).datano
@@ -426,16 +427,16 @@ class PackedAdapter:
 
     def _rdprgnum(self, _session: Session, payload: bytes, path: int) -> bytes:
         _decode_prgnum_request(payload)
-        mo = self.machine.motion(path=path)
+        mo = self.machine.path_motion(path=path)
         return _encode_prgnum(ProgramNumbers(mo.program_running, mo.program_main))
 
     def _actf(self, _session: Session, payload: bytes, path: int) -> bytes:
         _decode_actf_request(payload)
-        return _encode_actf(ActualValue(self.machine.motion(path=path).feed))
+        return _encode_actf(ActualValue(self.machine.path_motion(path=path).feed))
 
     def _acts(self, _session: Session, payload: bytes, path: int) -> bytes:
         _decode_acts_request(payload)
-        return _encode_acts(ActualValue(self.machine.motion(path=path).spindle_speed))
+        return _encode_acts(ActualValue(self.machine.path_motion(path=path).spindle_speed))
 
     def _rdposition(self, _session: Session, payload: bytes, path: int) -> bytes:
         req = _decode_position_request(payload)
@@ -616,12 +617,12 @@ class PackedAdapter:
         )
         return _OK
 
-    def _read_panel(self, _session: Session, payload: bytes, _path: int) -> bytes:
+    def _read_panel(self, _session: Session, payload: bytes, path: int) -> bytes:
         if not self.machine.control_enabled:
             return _EW_FUNC
         if payload:
             _decode_empty(payload)
-        p = self.machine.panel
+        p = self.machine.path_panel(path)
         return _encode_panel(SetPanel(p.mode, p.pwe, p.emergency))
 
     def _vacate_macro(self, _session: Session, payload: bytes, path: int) -> bytes:

@@ -386,11 +386,19 @@ class FocasClient(Link):
         payload = _WRPARAM.request.encode(ParamValue(number, axis, raw, width))
         await self._request_at(_WRPARAM, payload, deadline, path=path)
 
-    async def read_diag(self, number: int, *, axis: int = 0, timeout: float | None = None) -> int:
+    async def read_diag(
+        self,
+        number: int,
+        *,
+        axis: int = 0,
+        path: int | None = None,
+        timeout: float | None = None,
+    ) -> int:
         """``cnc_rddiag``: the value of diagnostic ``number``."""
         check_item(number, axis, "diagnostic")
+        p = self._path_of(path)
         payload = _RDDIAG.request.encode(DataRequest(number, axis))
-        value: ParamValue = await self._request(_RDDIAG, payload, timeout)
+        value: ParamValue = await self._request(_RDDIAG, payload, timeout, p)
         return value.value
 
     # -- macros --------------------------------------------------------------------------

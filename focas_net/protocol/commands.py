@@ -63,13 +63,12 @@ FAULT_COMMANDS: frozenset[Command] = frozenset(
 PATH_COMMANDS: frozenset[Command] = frozenset({Command.GETPATH, Command.SETPATH})
 
 #: The commands that answer the same on every path and ignore the connection's path
-#: selection: the identity, the PMC, the diagnostics, the parameter attributes, the alarm
+#: selection: the identity, the PMC, the parameter attributes, the alarm
 #: history, the parameter unlock, VersaMax, the fault queues and the path commands
 #: themselves. Every other command answers for the connection's selected path.
 PATH_INDEPENDENT: frozenset[Command] = frozenset(
     {
         Command.SYSINFO,
-        Command.RDDIAG,
         Command.RDPMCRNG,
         Command.RDPARAINFO,
         Command.WRPMCRNG,
