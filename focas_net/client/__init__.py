@@ -17,7 +17,7 @@ from ._values import Paths, Positions
 from .client import FocasClient
 from .cnc import CncClient
 from .connection import Connection, NotSentError, open_connection
-from .many import read_dynamic_all, read_status_all
+from .many import read_dynamic_all, read_status_all, read_status_paths_all
 from .native import DynamicData, NativeClient, NativeUnsupportedError, ServoLoad
 from .projection import (
     AlarmCleared,
@@ -55,4 +55,5 @@ __all__ = [
     "open_connection",
     "read_dynamic_all",
     "read_status_all",
+    "read_status_paths_all",
 ]

@@ -196,6 +196,7 @@ class FocasClient(Link):
             path=path,
         )
         self._param_types: dict[int, ParamDataType | None] = {}
+        self._path_count: int | None = None
         self.sim = SimControl(self)
 
     # -- status --------------------------------------------------------------------------
@@ -269,7 +270,14 @@ class FocasClient(Link):
         (the last one a call selected: 1 on a new connection; 0 after the CNC refused the
         last selection) and the number of paths of the CNC."""
         value: PathSelection = await self._request(_GETPATH, _EMPTY, timeout)
+        self._path_count = value.max
         return Paths(value.current, value.max)
+
+    @property
+    def path_count(self) -> int | None:
+        """The number of paths of the CNC as the last :meth:`read_paths` read it (None
+        before the first)."""
+        return self._path_count
 
     async def read_positions(
         self,

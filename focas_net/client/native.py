@@ -291,6 +291,12 @@ class NativeClient(NativeItems):
         handle = self._handle_now() or await self._handle_for(self._deadline(timeout))
         return Paths(self.path, handle.paths)
 
+    @property
+    def path_count(self) -> int | None:
+        """The number of paths the open answer announced (None while not connected)."""
+        handle = self._handle
+        return None if handle is None else handle.paths
+
     async def read_cnc_id(self, *, timeout: float | None = None) -> tuple[int, int, int, int]:
         """``cnc_rdcncid``: the four 32-bit words of the CNC ID."""
         deadline = self._deadline(timeout)
