@@ -7,8 +7,7 @@ from collections.abc import AsyncIterator
 
 import pytest
 from cli_support import run_focas_net
-from support import Served, serving
-from test_client_paths import two_path_lathe
+from support import Served, serving, two_path_lathe
 
 from focas_net.cli import EXIT_CNC, EXIT_OK, EXIT_USAGE
 

@@ -8,8 +8,7 @@ from collections.abc import AsyncIterator
 from contextlib import AsyncExitStack, asynccontextmanager
 
 import pytest
-from support import IO_TIMEOUT, Served, serving
-from test_client_paths import two_path_lathe
+from support import IO_TIMEOUT, Served, serving, two_path_lathe
 
 from focas_net import FocasClient, NativeClient, read_status_paths_all
 from focas_net.client.connection import Connection

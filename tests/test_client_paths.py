@@ -9,7 +9,7 @@ import struct
 from collections.abc import AsyncIterator
 
 import pytest
-from support import IO_TIMEOUT, Served, serving
+from support import IO_TIMEOUT, Served, serving, two_path_lathe
 
 from focas_net.client import FocasClient, NativeClient, Paths
 from focas_net.errors import EW, CncError
@@ -21,31 +21,6 @@ from focas_net.protocol import (
     PathSelection,
     StatusInfo,
 )
-from focas_net.sim import Machine, MotionData, PathSpec
-
-
-def _motion(axes: int, base: int, feed: int, running: int) -> MotionData:
-    return MotionData(
-        [base + i for i in range(axes)],
-        [2 * base + i for i in range(axes)],
-        [3 * base + i for i in range(axes)],
-        [0] * axes,
-        feed=feed,
-        spindle_speed=feed // 2,
-        program_running=running,
-        program_main=running,
-    )
-
-
-def two_path_lathe() -> Machine:
-    """Two turrets, X1/Z1 and X2/Z2; each path's figures tell it apart."""
-    return Machine(
-        "lathe",
-        paths=[
-            PathSpec(("X1", "Z1"), kind="T", motion=_motion(2, 1000, 1500, 1)),
-            PathSpec(("X2", "Z2", "C2"), kind="T", motion=_motion(3, 5000, 700, 2)),
-        ],
-    )
 
 
 @pytest.fixture
