@@ -105,6 +105,7 @@ from ._identity import (
     CONTROL_CLASSES,
     DEFAULT_CONTROL_CLASS,
     Identity,
+    axes_problem,
     checked_identity,
     checked_name,
 )
@@ -118,6 +119,7 @@ from ._path import (
     ENGINE_VARIABLES,
     MDI,
     MEM,
+    MODE_NAMES,
     PARTS_VARIABLES,
     POSITION_DECIMALS,
     POSITION_KINDS,
@@ -127,6 +129,7 @@ from ._path import (
     Path,
     Shared,
     Status,
+    mode_name,
 )
 from ._paths import (
     MAX_PATHS,
@@ -156,6 +159,7 @@ __all__ = [
     "MAX_PATHS",
     "MDI",
     "MEM",
+    "MODE_NAMES",
     "PATH_PARAMS",
     "PMC_AREAS",
     "POSITION_DECIMALS",
@@ -225,6 +229,9 @@ class Machine(PathOperations):
         specs = _path_specs(paths, axes, panel, motion, programs, main_program, identity)
         #: Every axis of the machine, path by path.
         self.axes: list[str] = [a for spec in specs for a in spec.axes]
+        problem = axes_problem(self.axes)
+        if problem is not None:
+            raise ValueError(problem)
         n = len(self.axes)
         self._identity = checked_identity(identity, control_class, n)
         infos = checked_specs(specs)
@@ -462,10 +469,20 @@ class Machine(PathOperations):
     def param_gate_open(self, session: Session, *, path: int = 1) -> bool:
         """PWE on, ``path`` in MDI mode, and (when there is a password) this session
         unlocked."""
+        return self.param_gate_closed(session, path=path) is None
+
+    def param_gate_closed(self, session: Session, *, path: int = 1) -> str | None:
+        """Why a parameter write from ``session`` on ``path`` is refused (the first closed
+        gate, in the order an operator opens them: PWE, the path's MDI mode, the password),
+        or None when it is open."""
         p = self._paths.at(path).panel
-        if p.pwe != 1 or p.mode != MDI:
-            return False
-        return self._lock.admits(session)
+        if p.pwe != 1:
+            return "parameter write enable (PWE) is off"
+        if p.mode != MDI:
+            return f"the mode is {mode_name(p.mode)}, not MDI"
+        if not self._lock.admits(session):
+            return "the parameter password is not unlocked on this connection"
+        return None
 
     def write_param(
         self,
@@ -497,8 +514,9 @@ class Machine(PathOperations):
         item, i = p.items.lookup(False, datano, axis)
         if width is not None and width != item.width:
             raise MachineError(EW.LENGTH, f"parameter {datano} is {item.width} bytes wide")
-        if not self.param_gate_open(session, path=path):
-            raise MachineError(EW.PASSWD, "parameter write not enabled")
+        closed = self.param_gate_closed(session, path=path)
+        if closed is not None:
+            raise MachineError(EW.PASSWD, f"parameter write not enabled: {closed}")
         value = items.rescaled(item, value, decimals)
         items.set(item, i, value, "parameter")
         if datano in (PARTS_COUNT, PARTS_TOTAL):
