@@ -214,3 +214,21 @@ async def test_native_read_paths_sends_nothing(lathe: Served) -> None:
         paths = await native.read_paths()
         _needs_native_paths(paths)
         assert paths == Paths(2, 2)
+
+
+async def test_the_selection_answers_read_only_and_without_control() -> None:
+    """0x0040 and 0x0140 are connection-level: a read-only server without control answers
+    them, and a per-path control command with none selected answers EW_FUNC first."""
+    machine = two_path_lathe()
+    machine.read_only = True
+    machine.control_enabled = False
+    async with serving(machine) as served:
+        wire = await served.connect()
+        async with wire:
+            assert await wire.call(Command.SETPATH, PathNumber(2).encode()) == b"\x00\x00"
+            assert _getpath(await wire.call(Command.GETPATH)) == PathSelection(2, 2)
+            assert _ew(await wire.call(Command.GETPATH, b"\x00")) == EW.LENGTH
+            assert _ew(await wire.call(Command.SETPATH, PathNumber(0).encode())) == EW.PATH
+            assert _ew(await wire.call(Command.SIM_CYCLE, b"\x00\x00")) == EW.FUNC
+            assert _ew(await wire.call(Command.RDPRGNUM)) == EW.PATH
+            assert _ew(await wire.call(Command.SYSINFO)) == 0  # path-independent
