@@ -367,13 +367,14 @@ def param_rows(
     a bit parameter's values are its eight bits #7..#0 (``10110000``), as the page edits
     them, and ``bits`` too."""
     q = query.strip().lower()
+    path_axes = list(machine.path_info(path).axes)
     rows: list[JsonDict] = []
     for number in machine.param_numbers():
         item = machine.param_item(number)
         assert item is not None
         if q and not (str(number).startswith(q) or q in item.name.lower()):
             continue
-        axes = list(machine.path_info(path).axes) if item.axis else []
+        axes = path_axes if item.axis else []
         raw = [
             machine.read_param(number, axis, path=path) for axis in range(1, len(axes) + 1) or (0,)
         ]
