@@ -37,6 +37,7 @@ from ._paths import PATH_MACROS, PathItems
 from ._pmc import GRequest, Pmc
 from ._production import Production
 from ._time import MachineTime
+from ._variables import PARTS_VARIABLES, PathVariables
 from .nc import (
     CycleState,
     Engine,
@@ -48,7 +49,6 @@ from .nc import (
     ProgramErrorReason,
     ProgramStore,
     SimClock,
-    VariableRefused,
 )
 from .nc.alarms import AlarmRaised
 from .nc.waits import PathSync
@@ -104,8 +104,6 @@ POSITION_DECIMALS: Final = 3
 POSITION_KINDS: Final = ("absolute", "machine", "relative", "distance_to_go")
 #: The timers :meth:`Machine.timer` reads, by FANUC's ``cnc_rdtimer`` type number.
 TIMER_KINDS: Final = ("power_on", "operating", "cutting", "cycle")
-#: The macro variables of the parts count and the total parts.
-PARTS_VARIABLES: Final = {3901: PARTS_COUNT, 3902: PARTS_TOTAL}
 #: System variables that come from the engine while it drives the figures: modal G codes
 #: #4001-#4030, the last block's codes #4102-#4130, positions #5001-#5043.
 ENGINE_VARIABLES: Final = (range(4001, 4031), range(4102, 4131), range(5001, 5044))
@@ -223,47 +221,6 @@ def _program_refusal(exc: ProgramError) -> MachineError:
     return MachineError(_PROGRAM_EW[exc.reason], str(exc))
 
 
-class _Variables:
-    """The variables as a path's interpreter reads and writes them: #3901/#3902 (the path's
-    parts), the machine's macro ranges (#500-#999 and whatever else it has; #100-#199 the
-    path's own); 115 for a number the machine lacks, 116 for a read-only one, 111 for a value
-    a variable cannot hold."""
-
-    __slots__ = ("_macros", "_path")
-
-    def __init__(self, path: Path, macros: Macros) -> None:
-        self._path = path
-        self._macros = macros
-
-    def read_variable(self, number: int) -> float | None:
-        if number in PARTS_VARIABLES:
-            return float(self._path.parts(PARTS_VARIABLES[number]))
-        if self._macros.range_of(number) is None:
-            raise VariableRefused(115, f"#{number}")
-        value = self._path.macro_values(number).get(number)
-        return None if value is None else float(value)
-
-    def write_variable(self, number: int, value: float | None) -> None:
-        if number in PARTS_VARIABLES:
-            self._path.set_parts(PARTS_VARIABLES[number], 0 if value is None else round(value))
-            return
-        macros = self._macros
-        r = macros.range_of(number)
-        if r is None:
-            raise VariableRefused(115, f"#{number}")
-        if not r.writable:
-            raise VariableRefused(116, f"#{number}")
-        values = self._path.macro_values(number)
-        if value is None:
-            values.pop(number, None)
-        else:
-            held = float_macro(value)
-            if held is None:
-                raise VariableRefused(111, f"#{number} = {value!r}")
-            values[number] = held
-        macros.changed()
-
-
 @dataclass(frozen=True, slots=True)
 class Shared:
     """What the paths of a machine share: its version counters, its parameters (as each path
@@ -293,6 +250,7 @@ class Path:
         "driven",
         "engine",
         "engine_alarms",
+        "group",
         "items",
         "key",
         "live",
@@ -355,7 +313,7 @@ class Path:
             self.time,
             self._nc_settings(path_count),
             store=self.programs,
-            variables=_Variables(self, self.macros),
+            variables=PathVariables(self, self.macros),
             sync=sync,
         )
         self.engine.parts_count = self.items.param_or(PARTS_COUNT, 0)
@@ -382,6 +340,8 @@ class Path:
         #: The active alarms the program raised (a reset clears them).
         self.engine_alarms: set[AlarmKey] = set()
         self._figures: tuple[int, MotionData] | None = None
+        #: Every path of the machine, this one among them (the machine sets it).
+        self.group: list[Path] = [self]
         self.production = Production(self)
 
     def macro_values(self, number: int) -> dict[int, Decimal]:

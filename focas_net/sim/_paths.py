@@ -23,6 +23,7 @@ from typing import TYPE_CHECKING, Final
 from focas_net.errors import EW
 
 from ._base import MachineError
+from ._identity import axes_problem
 from ._items import DataItem, Items, ParamKind
 
 if TYPE_CHECKING:
@@ -96,8 +97,9 @@ def checked_specs(specs: Sequence[PathSpec]) -> list[PathInfo]:
     for number, spec in enumerate(specs, 1):
         where = f"path {number}"
         axes = tuple(spec.axes)
-        if not axes:
-            raise ValueError(f"{where}: a path has at least one axis")
+        problem = axes_problem(axes)
+        if problem is not None:
+            raise ValueError(f"{where}: {problem}" if len(specs) > 1 else problem)
         for axis in axes:
             if axis in owner:
                 first = owner[axis]
@@ -239,6 +241,9 @@ class Paths:
         self.sync()
 
     def stop_production(self) -> None:
-        """Stop the scenario (the cycles go on as they are, without its part limit)."""
-        for p in self.all:
-            p.production.stop()
+        """Stop the scenario (the cycles go on as they are, without its part limit: the
+        other paths' too)."""
+        self.all[0].production.stop()
+        for p in self.all[1:]:
+            p.sync()
+            p.engine.parts_to_go = None

@@ -113,6 +113,27 @@ class ScenarioRun:
             e.alarm_stop(nc_alarm(key, text))
         path.settled(True, force=True)
 
+    def _restart_others(self) -> None:
+        """After an alarm's repair, the machine's other paths start their programs anew with
+        the path the scenario drives (they would otherwise meet it at another waiting M
+        code): each is reset and, when ready, started at the same moment."""
+        path = self.production.path
+        when = path.time.now()
+        for other in path.group:
+            if other is path:
+                continue
+            other.time.hold(when)
+            try:
+                other.reset_cycle()
+                try:
+                    other.check_ready("the scenario's cycle cannot go on")
+                    other.engine.cycle_start()
+                except (MachineError, NcStateError):
+                    pass
+                other.settled(True, force=True)
+            finally:
+                other.time.release()
+
     def _end(self, event: ScenarioEvent) -> None:
         path = self.production.path
         e = path.engine
@@ -123,6 +144,7 @@ class ScenarioRun:
             if not path.alarms.remove((key,), path.number):
                 return  # cleared by hand: the operator takes it from here
             path.reset_cycle()
+            self._restart_others()
         elif (event.kind == "pause" and e.state is not _HOLD) or (
             event.kind == "tool" and e.state is not _STOP
         ):

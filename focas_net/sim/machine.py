@@ -105,7 +105,6 @@ from ._identity import (
     CONTROL_CLASSES,
     DEFAULT_CONTROL_CLASS,
     Identity,
-    axes_problem,
     checked_identity,
     checked_name,
 )
@@ -229,12 +228,9 @@ class Machine(PathOperations):
         specs = _path_specs(paths, axes, panel, motion, programs, main_program, identity)
         #: Every axis of the machine, path by path.
         self.axes: list[str] = [a for spec in specs for a in spec.axes]
-        problem = axes_problem(self.axes)
-        if problem is not None:
-            raise ValueError(problem)
+        infos = checked_specs(specs)
         n = len(self.axes)
         self._identity = checked_identity(identity, control_class, n)
-        infos = checked_specs(specs)
         #: Which class of FANUC control this machine is (one of :data:`CONTROL_CLASSES`).
         self.control_class = control_class
         #: Whether the simulator control commands of a front end are served.
@@ -276,6 +272,8 @@ class Machine(PathOperations):
                 )
             )
             offset += k
+        for p in built:
+            p.group = built
         self._paths = Paths(built, infos)
         self._path = first = built[0]
         #: Path 1's operator panel and the run state it shows (:meth:`path_panel`).
@@ -472,9 +470,9 @@ class Machine(PathOperations):
         return self.param_gate_closed(session, path=path) is None
 
     def param_gate_closed(self, session: Session, *, path: int = 1) -> str | None:
-        """Why a parameter write from ``session`` on ``path`` is refused (the first closed
-        gate, in the order an operator opens them: PWE, the path's MDI mode, the password),
-        or None when it is open."""
+        """Why a parameter write from ``session`` to ``path`` is refused (the first closed
+        gate, in the order an operator opens them: PWE, MDI mode, the password), or None when
+        it is open."""
         p = self._paths.at(path).panel
         if p.pwe != 1:
             return "parameter write enable (PWE) is off"
@@ -751,4 +749,6 @@ def _path_specs(
         given.append("programs")
     if given:
         raise ValueError(f"{', '.join(given)} given with paths: each path has its own")
+    if not 1 <= len(paths) <= MAX_PATHS:
+        raise ValueError(f"a machine has 1..{MAX_PATHS} paths, got {len(paths)}")
     return list(paths)

@@ -21,7 +21,7 @@ from .interpreter import Action, Dwell, Interpreter, NcSettings, ProgramEnd, Sto
 from .macro import MemoryVariables, NcVariables
 from .motion import Motion, Vector
 from .program import ProgramStore
-from .waits import MISMATCH, PathSync
+from .waits import MISMATCH, PathSync, Unknown
 
 __all__ = ["CycleState", "Engine", "EngineEvent", "MotionKind", "NcStateError"]
 
@@ -488,14 +488,17 @@ class Engine:
 
     def _through_wait(self, now: float) -> bool:
         """At a waiting M code: True once the engine went on past it (the wait ended by
-        ``now``), else False with the engine waiting at ``now`` (operating time runs) or
-        stopped by PS0160."""
+        ``now``), else False with the engine waiting at ``now`` (operating time runs), still
+        where it was (the other paths cannot tell yet: it asks again when next brought to a
+        moment) or stopped by PS0160."""
         end = 0.0
         if self.sync is not None:
             found = self.sync.release(self, self.path_number, now)
             mismatch = self.sync_mismatch
             if mismatch is not None:
                 self._raise(MISMATCH, mismatch, AlarmKind.PS)
+                return False
+            if isinstance(found, Unknown):
                 return False
             if found is None or found > now:
                 self._account(now - self._time)

@@ -13,21 +13,31 @@ WAITING M-CODE), raised by the interpreter.
 
 Nothing ticks here either. An engine that stands at a wait and is brought to a moment first
 brings the other paths of the wait to that moment (:meth:`PathSync.release`), so a path never
-runs past a wait before it knows when the wait ended; an engine being brought there already is
-standing at its own wait, so the recursion ends.
+runs past a wait before it knows when the wait ended. An engine being brought there already
+stands at a wait of its own (it asked), so the recursion ends; when the answer hangs on such
+an engine, which has not been brought to the moment yet, the answer is :data:`UNKNOWN` and the
+asking engine stays where it is until it asks again.
 """
 
 from __future__ import annotations
 
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, Final
 
 if TYPE_CHECKING:
     from .engine import Engine
 
-__all__ = ["MISMATCH", "PathSync"]
+__all__ = ["MISMATCH", "UNKNOWN", "PathSync", "Unknown"]
 
 #: The alarm of paths that wait for each other with another M code or another P.
-MISMATCH = 160
+MISMATCH: Final = 160
+
+
+class Unknown:
+    """The answer of :meth:`PathSync.release` when a path of the wait is still on its way to
+    the moment asked (it stands at an earlier wait, asking for its own end)."""
+
+
+UNKNOWN: Final = Unknown()
 
 
 class PathSync:
@@ -44,11 +54,12 @@ class PathSync:
         self.engines.append(engine)
         return len(self.engines)
 
-    def release(self, engine: Engine, number: int, now: float) -> float | None:
+    def release(self, engine: Engine, number: int, now: float) -> float | Unknown | None:
         """When the wait path ``number`` (``engine``) stands at ends, once every path it
         names is brought to machine time ``now``: the moment the last of them arrived, None
-        while one has not arrived yet. A mismatch marks every path of it for PS0160 (each
-        raises it when it reads its mark) and answers None."""
+        while one has not arrived by ``now``, :data:`UNKNOWN` while one cannot be brought
+        there yet. A mismatch marks every path of it for PS0160 (each raises it when it reads
+        its mark) and answers None."""
         if engine.released_at is not None:
             return engine.released_at
         wait = engine.sync_wait
@@ -69,7 +80,9 @@ class PathSync:
                 e = self.engines[other - 1]
                 theirs = e.sync_wait
                 if theirs is None or e.released_at is not None:
-                    return None  # not there yet (or still leaving the wait before)
+                    # not there by now (or still leaving the wait before): asking, it may
+                    # not have been brought to now
+                    return UNKNOWN if other in busy and other != number else None
                 if number in theirs.paths and (theirs.code, theirs.paths) != (
                     wait.code,
                     wait.paths,
@@ -81,8 +94,8 @@ class PathSync:
                     engine.sync_mismatch = e.sync_mismatch = detail
                     e.revision += 1
                     return None
-                if number not in theirs.paths:
-                    return None  # it waits for others first
+                if number not in theirs.paths:  # it waits for others first
+                    return UNKNOWN if other in busy else None
                 arrivals.append(e.sync_arrival)
             end = max(arrivals)
             for other in wait.paths:
