@@ -70,7 +70,7 @@ from focas_net.protocol import (
     MAX_PROGRAM_CHUNK,
     PASSWORD_SIZE,
     PATH_COMMANDS,
-    PATH_INDEPENDENT,
+    PATH_INDEPENDENT_COMMANDS,
     ActiveAlarm,
     ActiveAlarmList,
     ActualValue,
@@ -287,7 +287,7 @@ class PackedAdapter:
 
         A per-path command answers for ``path``; with no path selected it answers EW_PATH
         (a control command on a machine with control off EW_FUNC first). A path-independent
-        command (:data:`~focas_net.protocol.PATH_INDEPENDENT`) ignores ``path``."""
+        command (:data:`~focas_net.protocol.PATH_INDEPENDENT_COMMANDS`) ignores ``path``."""
         if type(payload) is not bytes:  # kept answers key on payload: make it hashable
             payload = bytes(payload)
         if path == 1:
@@ -707,7 +707,7 @@ _encode_getpath: Final = _response(Command.GETPATH)
 _SETPATH: Final = int(Command.SETPATH)
 _GETPATH: Final = int(Command.GETPATH)
 #: Commands answered the same on every path (plain ints, as the wire's).
-_PATH_INDEPENDENT: Final = frozenset(int(c) for c in PATH_INDEPENDENT)
+_PATH_INDEPENDENT: Final = frozenset(int(c) for c in PATH_INDEPENDENT_COMMANDS)
 #: Every simulator control id is 0x0Exx.
 _CONTROL_FIRST: Final = 0x0E00
 _CONTROL_LAST: Final = 0x0EFF

@@ -51,7 +51,7 @@ from .codecs import (
     encode_ew,
     encode_response,
 )
-from .commands import FAULT_COMMANDS, PATH_COMMANDS, PATH_INDEPENDENT, Command
+from .commands import FAULT_COMMANDS, PATH_COMMANDS, PATH_INDEPENDENT_COMMANDS, Command
 from .faults import ArmedFault, FaultList, FaultsCleared, FaultsRequest
 from .frame import (
     DEFAULT_MAX_FRAME,
@@ -128,7 +128,7 @@ __all__ = [
     "MAX_REAL_DECIMALS",
     "PASSWORD_SIZE",
     "PATH_COMMANDS",
-    "PATH_INDEPENDENT",
+    "PATH_INDEPENDENT_COMMANDS",
     "STATUS_FIELDS",
     "ActiveAlarm",
     "ActiveAlarmList",

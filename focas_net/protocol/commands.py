@@ -5,7 +5,7 @@ from __future__ import annotations
 
 import enum
 
-__all__ = ["FAULT_COMMANDS", "PATH_COMMANDS", "PATH_INDEPENDENT", "Command"]
+__all__ = ["FAULT_COMMANDS", "PATH_COMMANDS", "PATH_INDEPENDENT_COMMANDS", "Command"]
 
 
 class Command(enum.IntEnum):
@@ -66,7 +66,7 @@ PATH_COMMANDS: frozenset[Command] = frozenset({Command.GETPATH, Command.SETPATH}
 #: selection: the identity, the PMC, the parameter attributes, the alarm
 #: history, the parameter unlock, VersaMax, the fault queues and the path commands
 #: themselves. Every other command answers for the connection's selected path.
-PATH_INDEPENDENT: frozenset[Command] = frozenset(
+PATH_INDEPENDENT_COMMANDS: frozenset[Command] = frozenset(
     {
         Command.SYSINFO,
         Command.RDPMCRNG,
