@@ -18,9 +18,8 @@ from decimal import Decimal
 from pathlib import Path
 
 import pytest
-from fwlib_support import LIBRARY, Cnc, buf, s16, served_cnc, us
+from fwlib_support import LIBRARY, Cnc, buf, download, s16, served_cnc, upload, us
 from paths_support import SHARED_MACRO, VALUES, PathValues, twin_turret
-from test_fwlib_programs import download, upload
 
 from focas_net.adapters._native_cnc import path_sysinfo
 from focas_net.errors import EW
