@@ -186,7 +186,7 @@ def test_codec_messages_name_the_field_not_the_class(
     assert not INTERNAL.search(str(exc.value)), str(exc.value)
 
 
-@pytest.mark.parametrize("typed", ["1.23456789012345", "1e30", "2147483648"])
+@pytest.mark.parametrize("typed", ["1.23456789012345", "2147483648", "-99999999999"])
 async def test_a_macro_value_that_does_not_fit_has_one_wording(typed: str) -> None:
     """The client (the command line's) and the machine (the page's) say the same, and what to
     type: at most 9 decimals and digits within 32 bits."""
