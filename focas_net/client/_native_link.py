@@ -454,7 +454,7 @@ class NativeLink(CompositeCalls):
             )
         loop = self._loop or asyncio.get_running_loop()
         session = self._session
-        idle = session.in_flight is None and not self._flush_soon and session.idle
+        idle = session.idle and not self._flush_soon
         future = loop.create_future()
         job = session.submit(part, _NEVER if deadline is None else deadline, command_set, future)
         if job.ending is not None:

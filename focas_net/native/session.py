@@ -285,6 +285,9 @@ class NativeSession(Generic[T]):
         self.frame_deadline = _NEVER
         #: Why the connection can carry no further frame (None: it can, or there is none).
         self.failure: str | None = None
+        #: Whether a frame could be sent now: connected, nothing in flight, no failure (kept
+        #: as each of those changes, so that asking costs nothing).
+        self.idle = False
         #: A time no later than the earliest deadline of a job waiting (``inf``: none): the
         #: shell calls :meth:`expire` then.
         self.wake_at = _NEVER
@@ -299,11 +302,6 @@ class NativeSession(Generic[T]):
 
     # -- the connection ----------------------------------------------------------------------
     @property
-    def idle(self) -> bool:
-        """Whether a frame could be sent now: connected, nothing in flight, no failure."""
-        return self._open and self.in_flight is None and self.failure is None
-
-    @property
     def queued(self) -> int:
         """Jobs waiting to be sent whose caller still waits for them."""
         given_up = self._given_up
@@ -314,6 +312,7 @@ class NativeSession(Generic[T]):
         go on it. ``key`` names what a job's blocks depend on (the command set): the queued
         jobs made for another key end :attr:`Ending.STALE` (returned), never sent."""
         self._open = True
+        self.idle = True
         self._key = key
         self._limit = max_response_body(version) - 2  # the bodies' room after the block count
         self._axis_bytes = _AXIS_RECORD * max_axes
@@ -329,7 +328,7 @@ class NativeSession(Generic[T]):
     def lost(self, keep_queued: bool) -> list[Job[T]]:
         """The connection ended: the jobs that end with it (those in flight, and the queued
         ones unless ``keep_queued``: they go on the next connection)."""
-        self._open = False
+        self._open = self.idle = False
         self._rx.clear()
         ended = self._end_in_flight(Ending.LOST)
         if not keep_queued:
@@ -419,6 +418,7 @@ class NativeSession(Generic[T]):
         for job in batch:
             job.sent = True
         self.in_flight = batch
+        self.idle = False
         self._in_flight_blocks = count
         self.frame_deadline = latest
         self.frames_sent += 1
@@ -465,6 +465,7 @@ class NativeSession(Generic[T]):
         except AnswerRefused as exc:
             return self._fail(str(exc))
         self.in_flight = None
+        self.idle = self._open
         self.frame_deadline = _NEVER
         if isinstance(blocks, int):
             ended = [job for job in jobs if job.ending is None]
@@ -494,13 +495,14 @@ class NativeSession(Generic[T]):
 
     def close(self) -> list[Job[T]]:
         """The client is closing: every job not ended ends LOST."""
-        self._open = False
+        self._open = self.idle = False
         return self._end_in_flight(Ending.LOST) + self._end_queue(Ending.LOST)
 
     # -- helpers -----------------------------------------------------------------------------
     def _fail(self, why: str) -> list[Job[T]]:
         """The connection can carry no further frame: the jobs in flight end LOST."""
         self.failure = why
+        self.idle = False
         self._rx.clear()
         return self._end_in_flight(Ending.LOST)
 
