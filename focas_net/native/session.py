@@ -186,28 +186,6 @@ class Job(Generic[T]):
         return f"<Job of {self.part.count} block(s), {state}>"
 
 
-def _split(blocks: tuple[ResponseBlock, ...], jobs: list[Job[T]]) -> list[Job[T]]:
-    """Hand each job of ``jobs`` (the frame in flight, in order) its blocks of ``blocks``; the
-    jobs that end so (not ended before)."""
-    if len(jobs) == 1:
-        job = jobs[0]
-        if job.ending is not None:
-            return []
-        job.ending = Ending.ANSWERED
-        job.blocks = blocks
-        return jobs
-    ended: list[Job[T]] = []
-    pos = 0
-    for job in jobs:
-        end = pos + job.part.count
-        if job.ending is None:
-            job.ending = Ending.ANSWERED
-            job.blocks = blocks[pos:end]
-            ended.append(job)
-        pos = end
-    return ended
-
-
 def _time_out(jobs: Iterable[Job[T]], now: float) -> tuple[list[Job[T]], float]:
     """End TIMED_OUT the jobs of ``jobs`` due by ``now``; those, and the earliest deadline of
     the others still waiting (``inf``: none)."""
@@ -362,12 +340,33 @@ class NativeSession(Generic[T]):
         if not self.idle:
             return None
         queue = self.queue
-        if len(queue) == 1:
-            # one job waiting (a sequential caller): the frame its part keeps, if it goes
-            job = queue[0]
-            if job.ending is None and not self._given_up(job.token):
-                queue.popleft()
-                return self._out([job], job.part.count, job.deadline, job.part.frame)
+        job = queue[0] if len(queue) == 1 else None
+        if job is not None and job.ending is None and not self._given_up(job.token):
+            # one job waiting (a sequential caller): the frame its part keeps
+            queue.popleft()
+            batch = [job]
+            count = job.part.count
+            latest = job.deadline
+            frame = job.part.frame
+        else:
+            batch, count, latest, frame = self._pack()
+            if not batch:
+                return None
+        for job in batch:
+            job.sent = True
+        self.in_flight = batch
+        self.idle = False
+        self._in_flight_blocks = count
+        self.frame_deadline = latest
+        self.frames_sent += 1
+        self.blocks_sent += count
+        return frame
+
+    def _pack(self) -> tuple[list[Job[T]], int, float, bytes]:
+        """The jobs at the head of the queue that fit in one frame (at least one, whatever its
+        size), taken from the queue: those jobs, their block count, their latest deadline and
+        their frame (no jobs: none waits)."""
+        queue = self.queue
         batch: list[Job[T]] = []
         blocks: list[bytes] = []
         blocks_left = self.max_blocks
@@ -407,23 +406,10 @@ class NativeSession(Generic[T]):
             send_left -= size
             if job.deadline > latest:
                 latest = job.deadline
-        if not batch:
-            return None
         count = self.max_blocks - blocks_left
-        frame = batch[0].part.frame if len(batch) == 1 else request_frame(b"".join(blocks), count)
-        return self._out(batch, count, latest, frame)
-
-    def _out(self, batch: list[Job[T]], count: int, latest: float, frame: bytes) -> bytes:
-        """``frame``, carrying the ``count`` blocks of the jobs of ``batch``, is in flight."""
-        for job in batch:
-            job.sent = True
-        self.in_flight = batch
-        self.idle = False
-        self._in_flight_blocks = count
-        self.frame_deadline = latest
-        self.frames_sent += 1
-        self.blocks_sent += count
-        return frame
+        if len(batch) > 1:
+            return batch, count, latest, request_frame(b"".join(blocks), count)
+        return batch, count, latest, batch[0].part.frame if batch else b""
 
     # -- bytes and time --------------------------------------------------------------------
     def receive(self, data: bytes) -> list[Job[T]]:
@@ -473,7 +459,24 @@ class NativeSession(Generic[T]):
                 job.ending = Ending.REFUSED
                 job.ew = blocks
             return ended
-        return _split(blocks, jobs)
+        if len(jobs) == 1:  # a lone job: the whole answer is its own
+            job = jobs[0]
+            if job.ending is not None:
+                return []
+            job.ending = Ending.ANSWERED
+            job.blocks = blocks
+            return jobs
+        # each job of the frame its own ``count`` blocks, in order
+        ended = []
+        pos = 0
+        for job in jobs:
+            end = pos + job.part.count
+            if job.ending is None:
+                job.ending = Ending.ANSWERED
+                job.blocks = blocks[pos:end]
+                ended.append(job)
+            pos = end
+        return ended
 
     def expire(self, now: float) -> list[Job[T]]:
         """The jobs whose deadline is ``now`` or earlier, ended TIMED_OUT; past the frame's
