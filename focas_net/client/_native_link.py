@@ -79,6 +79,9 @@ _NOT_A_FRAME: Final = "its answer does not start with A0 A0 A0 A0"
 Future = asyncio.Future[tuple[ResponseBlock, ...]]
 
 
+#: How an answered job ends, looked up once (asked once per call: on Python 3.11 each
+#: ``Ending.ANSWERED`` goes through ``EnumType.__getattr__``, uncached).
+_ANSWERED: Final = Ending.ANSWERED
 #: Whether the caller of a job (its token: the future it awaits) gave up: it is cancelled.
 _cancelled: Final = operator.methodcaller("cancelled")
 
@@ -539,7 +542,7 @@ class NativeLink(CompositeCalls):
             future = job.token
             if future.done():
                 continue
-            if job.ending is Ending.ANSWERED:
+            if job.ending is _ANSWERED:
                 future.set_result(job.blocks)
             else:
                 future.set_exception(self._failure(job))
