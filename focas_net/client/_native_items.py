@@ -48,6 +48,8 @@ _PARAM_WIDTH: Final[dict[int, int]] = {
     ParamType.TWO_WORD: 4,
 }
 _DIAG_WIDTH: Final[dict[int, int]] = {0: 1, 1: 2, 2: 4, 3: 1, 4: 1}
+#: What :func:`made_once` finds when nothing was made for an answer yet.
+_NOT_MADE: Final[Any] = object()
 
 
 def only_answer(handle: Handle, call: LibraryCall, blocks: tuple[ResponseBlock, ...]) -> Any:
@@ -63,15 +65,19 @@ def made_once(
     path: int = 1,
 ) -> _T:
     """``make(handle, call, blocks, path)``, the result of a call of one frame on ``path``,
-    made once for the same answer on a handle of the same axes (:meth:`LibraryCall.kept`):
-    a poll whose answer repeats decodes nothing again."""
+    made once for the same answer on a handle of the same axes (kept in
+    :attr:`LibraryCall.results`): a poll whose answer repeats decodes nothing again."""
     axes = handle.axes_on(path)
     if len(blocks) == 1:
         block = blocks[0]
         key: tuple[object, ...] = (handle.max_axes, axes, block.ew, block.data)
     else:
         key = (handle.max_axes, axes, *[(b.ew, b.data) for b in blocks])
-    made: _T = call.kept(key, lambda: make(handle, call, blocks, path))
+    results = call.results
+    made: _T = results.get(key, _NOT_MADE)
+    if made is _NOT_MADE:
+        made = make(handle, call, blocks, path)  # (what it raises is raised, nothing kept)
+        results.put(key, made)
     return made
 
 

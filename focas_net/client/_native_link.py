@@ -80,6 +80,9 @@ _NOT_A_FRAME: Final = "its answer does not start with A0 A0 A0 A0"
 Future = asyncio.Future[tuple[ResponseBlock, ...]]
 
 
+#: How an answered job ends, looked up once (asked once per call: on Python 3.11 each
+#: ``Ending.ANSWERED`` goes through ``EnumType.__getattr__``, uncached).
+_ANSWERED: Final = Ending.ANSWERED
 #: Whether the caller of a job (its token: the future it awaits) gave up: it is cancelled.
 _cancelled: Final = operator.methodcaller("cancelled")
 
@@ -488,7 +491,7 @@ class NativeLink(CompositeCalls):
             )
         loop = self._loop or asyncio.get_running_loop()
         session = self._session
-        idle = session.in_flight is None and not self._flush_soon and session.idle
+        idle = session.idle and not self._flush_soon
         future = loop.create_future()
         job = session.submit(part, _NEVER if deadline is None else deadline, command_set, future)
         if job.ending is not None:
@@ -573,7 +576,7 @@ class NativeLink(CompositeCalls):
             future = job.token
             if future.done():
                 continue
-            if job.ending is Ending.ANSWERED:
+            if job.ending is _ANSWERED:
                 future.set_result(job.blocks)
             else:
                 future.set_exception(self._failure(job))

@@ -12,7 +12,6 @@ parameter value to what its type carries.
 from __future__ import annotations
 
 import enum
-import functools
 import math
 from dataclasses import dataclass
 from decimal import Decimal, InvalidOperation
@@ -105,10 +104,9 @@ def check_timeout(timeout: object) -> float | None:
     return None if math.isinf(timeout) else float(timeout)
 
 
-#: A macro variable number (``cnc_rdmacro`` takes a C ``short``): ``check_macro(number)``.
-check_macro: Final = functools.partial(
-    check_int, "macro variable number", low=-I16_MAX - 1, high=I16_MAX
-)
+def check_macro(number: object) -> int:
+    """A macro variable number (``cnc_rdmacro`` takes a C ``short``)."""
+    return check_int("macro variable number", number, -I16_MAX - 1, I16_MAX)
 
 
 def check_item(number: object, axis: object, what: str) -> None:
