@@ -221,12 +221,19 @@ async def _session(
             password=getattr(args, "password", None),
             reconnect=reconnect,
             ssl=context,
+            path=getattr(args, "path", 1),
         )
         if follow:
             packed.add_state_callback(_report_state(packed))
         async with packed:
             return await (go.go(packed) if isinstance(go, PackedOnly) else go(packed))
-    native = NativeClient(args.host, args.port, timeout=args.timeout, reconnect=reconnect)
+    native = NativeClient(
+        args.host,
+        args.port,
+        timeout=args.timeout,
+        reconnect=reconnect,
+        path=getattr(args, "path", 1),
+    )
     if follow:
         native.add_state_callback(_report_state(native))
     async with native:

@@ -129,6 +129,10 @@ class LibraryCall:
     _results: dict[Hashable, Any] = field(
         init=False, repr=False, compare=False, default_factory=dict
     )
+    #: The parts of the frames on paths after the first, by (frame, path): see :meth:`part`.
+    _path_parts: dict[tuple[int, int], Part] = field(
+        init=False, repr=False, compare=False, default_factory=dict
+    )
 
     def __post_init__(self) -> None:
         object.__setattr__(self, "parts", tuple(encode_part(frame) for frame in self.frames))
@@ -164,6 +168,17 @@ class LibraryCall:
                 results.clear()
             results[key] = kept
         return kept
+
+    def part(self, frame: int, path: int) -> Part:
+        """Frame ``frame``'s :class:`~focas_net.native.session.Part` with ``path`` in every
+        block's path word (:attr:`parts` for path 1; the others encoded once, then kept)."""
+        if path == 1:
+            return self.parts[frame]
+        key = (frame, path)
+        part = self._path_parts.get(key)
+        if part is None:
+            part = self._path_parts[key] = encode_part(self.frames[frame], path)
+        return part
 
     def blocks(self, path: int = 1) -> tuple[tuple[RequestBlock, ...], ...]:
         """The request blocks of each frame."""
