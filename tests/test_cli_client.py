@@ -554,7 +554,7 @@ def test_usage_errors_exit_2(capsys: pytest.CaptureFixture[str]) -> None:
     assert main(["sim", "panel", "--mode", "TURBO", "--port", "1"]) == EXIT_USAGE
     err = capsys.readouterr().err.splitlines()
     assert err[-4:] == [
-        "focas-net: expected NUMBER or NUMBER.BIT, got 'abc'",
+        "focas-net: expected NUMBER or NUMBER.BIT (e.g. 1815 or 1815.0), got 'abc'",
         "focas-net: expected 0/1, on/off or true/false, got 'maybe'",
         "focas-net: --width does not apply to a bit write (NUMBER.BIT)",
         "focas-net: unknown mode 'TURBO' (one of MDI, MEM, EDIT, HND, JOG, TJOG, THND, INC, "
@@ -726,7 +726,7 @@ def test_error_line() -> None:
         "EW_PASSWD (17): protection / password error (cnc_wrparam)"
     )
     assert fmt.error_line(CncError(-1)) == "EW_BUSY (-1): busy, retry"
-    assert fmt.error_line(CncError(99, "x")) == "EW_UNKNOWN(99) (99): unknown return code (x)"
+    assert fmt.error_line(CncError(99, "x")) == "EW_UNKNOWN(99): unknown return code (x)"
     assert fmt.error_line(FocasTimeoutError("no\nanswer")) == "no answer"
     assert fmt.error_line(ValueError()) == "ValueError"
 

@@ -194,7 +194,7 @@ def diag(args: argparse.Namespace) -> Go:
 
 def macro_dict(number: int, value: Decimal | None) -> dict[str, Any]:
     """The JSON data of a macro variable (its value as a decimal string, or None when vacant)."""
-    return {"number": number, "value": None if value is None else str(value)}
+    return {"number": number, "value": None if value is None else fmt.decimal_text(value)}
 
 
 def macro_get(args: argparse.Namespace) -> Go:
