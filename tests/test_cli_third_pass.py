@@ -78,7 +78,7 @@ async def test_an_unknown_ew_code_shows_its_number_once(server: Served) -> None:
 
 async def test_serve_on_a_port_in_use_says_so_without_the_address_tuple() -> None:
     async with serving() as served:
-        code, out, err = await run_focas_net("serve", *at(served))
+        code, _, err = await run_focas_net("serve", *at(served))
     assert code == EXIT_CNC, err
     assert err == (
         f"focas-net serve: error: cannot listen on 127.0.0.1:{served.port}: "
