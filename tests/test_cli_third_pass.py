@@ -7,11 +7,16 @@ mistake, the number printed once, plain decimals, the advice that fits the case.
 
 from __future__ import annotations
 
+from pathlib import Path
+
 import pytest
 from cli_support import run_focas_net
-from support import Served, serving
+from support import Served, default_machine, serving
 
 from focas_net.cli import EXIT_CNC, EXIT_OK, EXIT_USAGE
+from focas_net.sim import load_machine
+
+FWLIB_16I = Path(__file__).with_name("data") / "fwlib_16i_machine.toml"
 
 
 def at(served: Served) -> list[str]:
@@ -84,3 +89,70 @@ async def test_serve_on_a_port_in_use_says_so_without_the_address_tuple() -> Non
         f"focas-net serve: error: cannot listen on 127.0.0.1:{served.port}: "
         "address already in use\n"
     )
+
+
+# -- A: advice that fits the case --------------------------------------------------------------
+
+
+@pytest.mark.parametrize("protocol", ["packed", "native"])
+async def test_position_of_an_axis_the_machine_lacks_names_its_axes(
+    server: Served, protocol: str
+) -> None:
+    line = await fails(EXIT_CNC, "position", "--axis", "9", "--protocol", protocol, *at(server))
+    assert line.endswith("the machine has 3 axes: give --axis 1..3"), line
+
+
+async def test_a_parameter_bit_past_its_width_reads_as_param_set_says_it(server: Served) -> None:
+    got = await fails(EXIT_USAGE, "param", "get", "1815.9", "--axis", "1", *at(server))
+    put = await fails(EXIT_USAGE, "param", "set", "1815.9", "1", "--axis", "1", *at(server))
+    assert got == put == "focas-net: bit 9 is outside 0..7: parameter 1815 is 1 byte wide"
+
+
+async def test_a_wrong_password_is_named_as_such() -> None:
+    machine = default_machine()
+    machine.set_param_password("AB12")
+    async with serving(machine) as served:
+        await ok("sim", "panel", "--mode", "MDI", "--pwe", "on", *at(served))
+        line = await fails(EXIT_CNC, "param", "set", "3401", "1", "--password", "XXXX", *at(served))
+        assert "(cnc_wrunlockparam)" in line
+        assert "--password XXXX is not the CNC's parameter password" in line
+        assert "MDI" not in line  # the gate is open: only the password is wrong
+        await ok("sim", "panel", "--mode", "MEM", *at(served))
+        line = await fails(EXIT_CNC, "param", "set", "3401", "1", "--password", "AB12", *at(served))
+        assert "(cnc_wrparam)" in line
+        assert "the --password was accepted; parameter writes need MDI mode and PWE on" in line
+        # a machine without a password takes any, and native has none to send
+    async with serving() as served:
+        await ok("sim", "panel", "--mode", "MDI", "--pwe", "on", *at(served))
+        assert "written" in await ok("param", "set", "3401", "1", "--password", "XXXX", *at(served))
+        line = await fails(
+            EXIT_USAGE, "param", "set", "3401", "1", "--password", "XXXX",
+            "--protocol", "native", *at(served),
+        )  # fmt: skip
+        assert "FOCAS/2 has no cnc_wrunlockparam" in line
+
+
+async def test_a_16i_real_parameter_over_focas2_gets_advice_that_fits() -> None:
+    async with serving(load_machine(FWLIB_16I)) as served:
+        await ok("sim", "panel", "--mode", "MDI", "--pwe", "on", *at(served))
+        for value in ("5", "12.5"):
+            line = await fails(
+                EXIT_CNC, "param", "set", "1451", value, "--protocol", "native", *at(served)
+            )
+            assert "EW_LENGTH (2)" in line and "None" not in line, line
+            assert "16i-class CNC" in line and "--protocol packed" in line, line
+        assert "12.500" in await ok("param", "set", "1451", "12.5", *at(served))
+
+
+async def test_control_commands_are_named_with_their_codes(server: Served) -> None:
+    line = await fails(
+        EXIT_USAGE, "pmc", "write", "X", "0", "1", "--force", "--protocol", "native", *at(server)
+    )
+    assert line.endswith("a simulator control command, sim_set_pmc (0x0E04)"), line
+    line = await fails(EXIT_USAGE, "macro", "clear", "100", "--protocol", "native", *at(server))
+    assert line.endswith("a simulator control command, sim_vacate_macro (0x0E11)"), line
+    out = await ok("serve", "--help")
+    assert "0x0E01..0x0E21" in " ".join(out.split())
+    await ok("sim", "fault", "delay", "--arg", "5000", *at(server))
+    line = await fails(3, "status", "--timeout", "0.5", *at(server))
+    assert "no answer to cnc_rdcncstat (0x0001), request 0" in line, line

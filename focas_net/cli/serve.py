@@ -198,7 +198,8 @@ def register(subparsers: Any) -> None:
     p.add_argument(
         "--no-control",
         action="store_true",
-        help="answer simulator control commands 0x0E01..0x0E07 with EW_FUNC, like a real CNC",
+        help="answer the simulator control commands (sim_set_panel ... sim_set_overrides, "
+        "0x0E01..0x0E21) with EW_FUNC, like a real CNC",
     )
     p.add_argument(
         "--read-only",
