@@ -156,3 +156,32 @@ async def test_control_commands_are_named_with_their_codes(server: Served) -> No
     await ok("sim", "fault", "delay", "--arg", "5000", *at(server))
     line = await fails(3, "status", "--timeout", "0.5", *at(server))
     assert "no answer to cnc_rdcncstat (0x0001), request 0" in line, line
+
+
+# -- D and E: a dropped connection read the same on both transports; probes take no fault -------
+
+ON_PURPOSE = "so it closed this one on purpose (as a drop fault does: focas-net sim fault drop)"
+
+
+@pytest.mark.parametrize("protocol", ["packed", "native"])
+async def test_the_probes_after_a_drop_take_no_fault_of_the_next_command(
+    server: Served, protocol: str
+) -> None:
+    await ok("sim", "fault", "drop", "--count", "2", *at(server))
+    for _ in range(2):  # each drop is the user's command's, diagnosed alike
+        line = await fails(3, "status", "--protocol", protocol, *at(server))
+        assert f"connection closed by 127.0.0.1:{server.port} before any answer" in line, line
+        assert line.endswith(ON_PURPOSE), line
+    assert await ok("sim", "faults", *at(server)) == "no pending faults of this machine\n"
+    await ok("status", "--protocol", protocol, *at(server))
+
+
+@pytest.mark.parametrize("protocol", ["packed", "native"])
+async def test_a_timeout_names_what_went_unanswered(server: Served, protocol: str) -> None:
+    await ok("sim", "fault", "delay", "--arg", "5000", *at(server))
+    line = await fails(3, "status", "--protocol", protocol, "--timeout", "0.5", *at(server))
+    assert line.startswith(
+        f"focas-net: timed out after 0.5 s (127.0.0.1:{server.port}): no answer to "
+    )
+    want = "cnc_rdcncstat (0x0001), request 0" if protocol == "packed" else "the connect requests"
+    assert want in line, line
