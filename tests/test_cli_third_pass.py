@@ -7,14 +7,21 @@ mistake, the number printed once, plain decimals, the advice that fits the case.
 
 from __future__ import annotations
 
+import asyncio
+import re
+import socket
+import ssl
+import sys
+from collections.abc import AsyncIterator
+from contextlib import asynccontextmanager
 from pathlib import Path
 
 import pytest
-from cli_support import run_focas_net
-from support import Served, default_machine, serving
+from cli_support import SUBPROCESS_TIMEOUT, run_focas_net
+from support import Served, serving
 
 from focas_net.cli import EXIT_CNC, EXIT_OK, EXIT_USAGE
-from focas_net.sim import load_machine
+from focas_net.sim import default_machine, load_machine
 
 FWLIB_16I = Path(__file__).with_name("data") / "fwlib_16i_machine.toml"
 
@@ -185,3 +192,84 @@ async def test_a_timeout_names_what_went_unanswered(server: Served, protocol: st
     )
     want = "cnc_rdcncstat (0x0001), request 0" if protocol == "packed" else "the connect requests"
     assert want in line, line
+
+
+# -- C: watch and alarms --follow against a peer that never answers -----------------------------
+
+#: The command lines that follow a machine, each bounded (a follower that did not give up
+#: would end by --count, exit 0, and fail the test).
+FOLLOWERS = (("watch", "--count", "3"), ("alarms", "--follow", "--count", "3"))
+
+
+@asynccontextmanager
+async def http_server(folder: Path) -> AsyncIterator[int]:
+    """``python -m http.server`` on 127.0.0.1, an ephemeral port: its port."""
+    proc = await asyncio.create_subprocess_exec(
+        sys.executable, "-u", "-m", "http.server", "0", "--bind", "127.0.0.1",
+        "--directory", str(folder),
+        stdout=asyncio.subprocess.PIPE, stderr=asyncio.subprocess.DEVNULL,
+    )  # fmt: skip
+    try:
+        assert proc.stdout is not None
+        async with asyncio.timeout(SUBPROCESS_TIMEOUT):
+            line = (await proc.stdout.readline()).decode()
+        match = re.search(r"port (\d+)", line)
+        assert match, line
+        yield int(match[1])
+    finally:
+        proc.kill()
+        await proc.wait()
+
+
+def closed_port() -> int:
+    with socket.socket() as s:
+        s.bind(("127.0.0.1", 0))
+        port: int = s.getsockname()[1]
+    return port
+
+
+async def one_shot_and_followers(port: int, *extra: str) -> tuple[int, set[str]]:
+    """The exit code and the line of ``status`` and of each follower against ``port``: each
+    the same."""
+    where = ["--host", "127.0.0.1", "--port", str(port), "--timeout", "1", *extra]
+    results = set()
+    for argv in (("status",), *FOLLOWERS):
+        code, out, err = await run_focas_net(*argv, *where)
+        assert out == "", (argv, out)
+        results.add((code, one_line(err)))
+    assert len(results) == 1, results
+    ((code, line),) = results
+    return code, {line}
+
+
+async def test_followers_fail_at_a_tls_server_as_a_one_shot_command(
+    certificate: tuple[Path, Path],
+) -> None:
+    ctx = ssl.SSLContext(ssl.PROTOCOL_TLS_SERVER)
+    ctx.load_cert_chain(*certificate)
+    async with serving(ssl=ctx) as served:
+        code, (line,) = await one_shot_and_followers(served.port)
+    assert code == 3
+    assert line.endswith("the server uses TLS: give --tls (with --tls-ca FILE or --tls-insecure)")
+
+
+async def test_followers_fail_at_a_plain_server_given_tls_as_a_one_shot_command(
+    server: Served,
+) -> None:
+    code, (line,) = await one_shot_and_followers(server.port, "--tls-insecure")
+    assert code == 3
+    assert "TLS handshake failed" in line and line.endswith("drop --tls")
+
+
+async def test_followers_fail_at_an_http_server_as_a_one_shot_command(tmp_path: Path) -> None:
+    async with http_server(tmp_path) as port:
+        code, (line,) = await one_shot_and_followers(port)
+    assert code == 4
+    assert "does not speak the FOCAS protocol" in line and line.endswith(": an HTTP server)")
+
+
+async def test_followers_fail_at_a_closed_port_as_a_one_shot_command() -> None:
+    port = closed_port()
+    code, (line,) = await one_shot_and_followers(port)
+    assert code == 3
+    assert line == f"focas-net: cannot connect to 127.0.0.1:{port}: connection refused"

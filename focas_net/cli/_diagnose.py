@@ -33,7 +33,13 @@ from typing import Final
 from focas_net.client import FocasClient
 from focas_net.client._failures import BEFORE_ANY_ANSWER, NOTHING_RECEIVED, not_focas_error
 from focas_net.client._native_link import _open_channel
-from focas_net.errors import CncError, FocasConnectionError, FocasTimeoutError
+from focas_net.errors import (
+    CncError,
+    FocasConnectionError,
+    FocasTimeoutError,
+    PayloadError,
+    ProtocolError,
+)
 from focas_net.protocol import FaultScope
 
 from . import _format as fmt
@@ -181,12 +187,21 @@ def diagnosis(
     speak the FOCAS protocol)."""
     text = str(exc)
     bound = min(timeout, PROBE_TIMEOUT)
-    if isinstance(exc, FocasTimeoutError) and NOTHING_RECEIVED in text:
+    silent = isinstance(exc, FocasTimeoutError) and NOTHING_RECEIVED in text
+    # a peer that broke the framing: an HTTP server answers a request line it could read
+    # with an error page, which reads the same as one that answered nothing
+    garbled = (
+        isinstance(exc, ProtocolError)
+        and not isinstance(exc, PayloadError)
+        and "does not speak the FOCAS protocol" in text
+        and "TLS record" not in text
+    )
+    if silent or garbled:
         head = asyncio.run(_http_answer(host, port, bound))
         if not head.startswith(b"HTTP/"):
             return exc, None
         where = fmt.address_text(host, port)
-        why = f"it answers nothing to a FOCAS request, and {head[:12]!r} to an HTTP request"
+        why = f"it answers {head[:12]!r} to an HTTP request and no FOCAS frame"
         return not_focas_error(where, f"{why}: an HTTP server"), None
     closed = isinstance(exc, FocasConnectionError) and (
         BEFORE_ANY_ANSWER in text or (tls and "TLS handshake failed" in text)

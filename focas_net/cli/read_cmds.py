@@ -29,6 +29,7 @@ from ._run import (
     HintedError,
     Output,
     PackedOnly,
+    report_state,
     stopping_on_signals,
     write,
 )
@@ -283,6 +284,10 @@ def _alarms_follow(args: argparse.Namespace) -> Go:
     interval = 1.0 if args.interval is None else args.interval
 
     async def go(cnc: CncClient) -> None:
+        # the first read as a one-shot command's: a peer that never answers (TLS on one side
+        # only, not a FOCAS server) fails at once, diagnosed in the same words
+        await cnc.read_alarms()
+        cnc.add_state_callback(report_state(cnc))
         projection = AlarmProjection(
             cnc, mode, interval=interval, depth=args.history or 50, max_failures=FOLLOW_MAX_FAILURES
         )

@@ -9,7 +9,9 @@ printed as plain lines, frames separated by a blank line, so that the output can
 ``--json`` prints one JSON object per frame, one per line.
 
 A lost connection does not end the command: the frame says so (with the last state read) and
-the client's :class:`~focas_net.client.ReconnectPolicy` connects again. Ctrl-C or SIGTERM end
+the client's :class:`~focas_net.client.ReconnectPolicy` connects again. A first poll that
+fails ends it as a one-shot command ends (the same diagnosis, exit 3 or 4): a peer that never
+answered is no machine to wait for. Ctrl-C or SIGTERM end
 it with exit 0, as does ``--count N`` after N frames.
 """
 
@@ -434,11 +436,15 @@ async def _poll_or_problem(
     address: str,
 ) -> WatchState | str:
     """The state of one poll after the ``last`` one, or the line saying why the connection
-    failed."""
+    failed; before any state was read (``last`` None) the failure is raised."""
     mt_type = None if last is None else last.mt_type
     try:
         return await poll(cnc, names, directory=directory, mt_type=mt_type)
     except _CONNECTION_ERRORS as exc:
+        if last is None:
+            # nothing read yet: the peer may never answer (TLS on one side only, a peer that
+            # is no FOCAS server); the command fails as a one-shot command does, diagnosed
+            raise
         return _problem(exc, address)
 
 
