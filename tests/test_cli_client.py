@@ -149,7 +149,7 @@ async def test_param_set_needs_mdi_and_pwe(cli: Cli) -> None:
     err = await cli.fails(EXIT_CNC, "param", "set", "3216", "10000")  # outside 0..9999
     assert err.startswith("focas-net: EW_DATA (5)")
     err = await cli.fails(EXIT_USAGE, "param", "set", "3216", "99999")  # not an i16 at all
-    assert "value 99999 does not fit a 2-byte parameter (-32768..32767)" in err
+    assert "parameter 3216 is a word parameter: 99999 is outside -32768..32767" in err
 
 
 async def test_param_set_with_password(locked_cli: Cli) -> None:

@@ -273,3 +273,26 @@ async def test_followers_fail_at_a_closed_port_as_a_one_shot_command() -> None:
     code, (line,) = await one_shot_and_followers(port)
     assert code == 3
     assert line == f"focas-net: cannot connect to 127.0.0.1:{port}: connection refused"
+
+
+# -- B: a parameter value refused in the same words on both transports --------------------------
+
+
+@pytest.mark.parametrize(
+    ("number", "value", "words"),
+    [
+        ("1020", "300", "parameter 1020 is a byte parameter: 300 is outside -128..127"),
+        ("1420", "5000000000", "parameter 1420 is a two-word parameter: 5000000000 is outside"),
+        ("1420", "1.5", "parameter 1420 is not a real parameter: 1.5 is no integer"),
+    ],
+)
+async def test_a_value_that_does_not_fit_reads_the_same_on_both_transports(
+    server: Served, number: str, value: str, words: str
+) -> None:
+    lines = set()
+    for protocol in ("packed", "native"):
+        argv = ["param", "set", number, value, "--axis", "1", "--protocol", protocol]
+        lines.add(await fails(EXIT_USAGE, *argv, *at(server)))
+    assert lines == {f"focas-net: {words}"} or (
+        len(lines) == 1 and lines.pop().startswith(f"focas-net: {words}")
+    ), lines
