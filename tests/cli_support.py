@@ -5,7 +5,9 @@ from __future__ import annotations
 
 import asyncio
 import json
+import os
 import sys
+import weakref
 from typing import Any
 
 import pytest
@@ -52,18 +54,33 @@ class Cli:
         return err.strip()
 
 
-async def run_focas_net(*argv: str) -> tuple[int, str, str]:
-    """``python -m focas_net ARGV``: exit code, stdout, stderr."""
-    proc = await asyncio.create_subprocess_exec(
-        sys.executable, "-m", "focas_net", *argv,
-        stdout=asyncio.subprocess.PIPE, stderr=asyncio.subprocess.PIPE,
-    )  # fmt: skip
-    try:
-        async with asyncio.timeout(SUBPROCESS_TIMEOUT):
-            out, err = await proc.communicate()
-    finally:
-        if proc.returncode is None:
-            proc.kill()
-            await proc.wait()
+#: Subprocesses at once per event loop: a test that starts many waits for a free slot
+#: before it starts the next one, so each run's time bound holds on a busy machine too.
+_SLOTS: weakref.WeakKeyDictionary[asyncio.AbstractEventLoop, asyncio.Semaphore] = (
+    weakref.WeakKeyDictionary()
+)
+
+
+def _slots() -> asyncio.Semaphore:
+    loop = asyncio.get_running_loop()
+    if loop not in _SLOTS:
+        _SLOTS[loop] = asyncio.Semaphore(os.cpu_count() or 1)
+    return _SLOTS[loop]
+
+
+async def run_focas_net(*argv: str, seconds: float = SUBPROCESS_TIMEOUT) -> tuple[int, str, str]:
+    """``python -m focas_net ARGV``: exit code, stdout, stderr (killed after ``seconds``)."""
+    async with _slots():
+        proc = await asyncio.create_subprocess_exec(
+            sys.executable, "-m", "focas_net", *argv,
+            stdout=asyncio.subprocess.PIPE, stderr=asyncio.subprocess.PIPE,
+        )  # fmt: skip
+        try:
+            async with asyncio.timeout(seconds):
+                out, err = await proc.communicate()
+        finally:
+            if proc.returncode is None:
+                proc.kill()
+                await proc.wait()
     assert proc.returncode is not None
     return proc.returncode, out.decode(), err.decode()

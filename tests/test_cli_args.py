@@ -6,9 +6,9 @@ import argparse
 import asyncio
 import re
 import socket
-import sys
 
 import pytest
+from cli_support import run_focas_net
 from support import serving
 
 from focas_net.cli import (
@@ -29,14 +29,7 @@ RUN_TIMEOUT = 30.0
 
 async def _focas_net(*argv: str) -> tuple[int, str, str]:
     """``python -m focas_net ARGV`` to its exit: exit code, stdout, stderr."""
-    proc = await asyncio.create_subprocess_exec(
-        sys.executable, "-m", "focas_net", *argv,
-        stdout=asyncio.subprocess.PIPE, stderr=asyncio.subprocess.PIPE,
-    )  # fmt: skip
-    async with asyncio.timeout(RUN_TIMEOUT):
-        out, err = await proc.communicate()
-    assert proc.returncode is not None
-    return proc.returncode, out.decode(), err.decode()
+    return await run_focas_net(*argv, seconds=RUN_TIMEOUT)
 
 
 def _closed_port() -> int:

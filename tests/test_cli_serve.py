@@ -13,6 +13,7 @@ from pathlib import Path
 from typing import Any
 
 import pytest
+from cli_support import run_focas_net
 from support import SERVE_READY, Wire, serve_process
 
 from focas_net.cli import _fleet, serve
@@ -111,14 +112,7 @@ async def test_serve_machine_file() -> None:
 
 
 async def _run_to_exit(*args: str) -> tuple[int, str, str]:
-    proc = await asyncio.create_subprocess_exec(
-        sys.executable, "-m", "focas_net", "serve", "--port", "0", *args,
-        stdout=asyncio.subprocess.PIPE, stderr=asyncio.subprocess.PIPE,
-    )  # fmt: skip
-    async with asyncio.timeout(START_TIMEOUT):
-        out, err = await proc.communicate()
-    assert proc.returncode is not None
-    return proc.returncode, out.decode(), err.decode()
+    return await run_focas_net("serve", "--port", "0", *args, seconds=START_TIMEOUT)
 
 
 async def test_bad_machine_file_is_one_line_exit_2(tmp_path: Path) -> None:

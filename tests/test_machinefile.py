@@ -139,7 +139,12 @@ BAD_FILES = [
         "machine.name",
         "1..64 printable characters, not 5000",
     ),
-    ("[machine]\nname = 'a'\naxes = []\n", "machine.axes", "1..32 axes"),
+    ("[machine]\nname = 'a'\naxes = []\n", "machine.axes", "1..20 axes"),
+    (
+        "[machine]\nname = 'a'\naxes = [" + ", ".join(f"'A{i}'" for i in range(1, 22)) + "]\n",
+        "machine.axes",
+        "a path has 1..20 axes, got 21",
+    ),
     ("[machine]\nname = 'a'\naxes = ['X', 'X']\n", "machine.axes[1]", "named twice"),
     ("[machine]\nname = 'a'\naxes = ['X', '']\n", "machine.axes[1]", "axis name"),
     (
@@ -303,6 +308,31 @@ BAD_FILES = [
     ("[motion]\nabsolute = [1, 2, 3]\n", "motion.absolute", "3 values for 1 axes"),
     ("[motion]\nfeed = -1\n", "motion.feed", "outside"),
     ("[motion]\nspeed = 1\n", "motion.speed", "unknown key"),
+    ("[motion]\nfeed = nan\n", "motion.feed", "must be an integer, got a float (nan)"),
+    ('[parameters]\n" 1420" = { value = 5 }\n', 'parameters." 1420"', "ASCII digits"),
+    ('[parameters]\n"1_420" = { value = 5 }\n', "parameters.1_420", "ASCII digits"),
+    ('[macros.values]\n"\u0665\u0660\u0660" = 1\n', 'macros.values."\u0665\u0660\u0660"', "ASCII"),
+    (
+        "[machine]\nname = 'a'\naxes = ['X']\nparam_password = 1234\n",
+        "machine.param_password",
+        'write it in quotes, "1234"',
+    ),
+    ("[run]\nphase = nan\n", "run.phase", "must be a finite number, got nan"),
+    (
+        '[[program]]\ntext = "O1000\\nG01 X10 F100 (\u00c4)\\nM30\\n"\n',
+        "program[0].text",
+        "line 2: character 'Ä' (U+00C4) in 'G01 X10 F100 (Ä)': a program is printable ASCII",
+    ),
+    (
+        "[parameters]\n1420 = { type = 'real', decimals = 3, value = nan }\n",
+        "parameters.1420.value",
+        "must be a finite number, got nan",
+    ),
+    (
+        "[parameters]\n1420 = { type = 'real', decimals = 3, value = '1e3' }\n",
+        "parameters.1420.value",
+        "12.345 (ASCII digits), got '1e3'",
+    ),
 ]
 _HEAD = "[machine]\nname = 'm'\naxes = ['X']\n"
 
@@ -414,3 +444,21 @@ def test_not_utf8_names_the_file_and_the_offset(tmp_path: Path, raw: bytes, offs
     assert message.startswith(f"{path}: ")
     assert f"byte {offset}" in message and "UTF-8" in message
     assert "\n" not in message
+
+
+@pytest.mark.parametrize(("main_flag", "shown"), [("", 2000), ("main = true\n", 1000)])
+def test_programs_without_motion_show_the_main_program(
+    tmp_path: Path, main_flag: str, shown: int
+) -> None:
+    text = (
+        '[machine]\nname = "m"\naxes = ["X"]\n'
+        '[[program]]\ntext = "O2000\\nG01 X10 F100\\nM30\\n"\n'
+        f'[[program]]\ntext = "O1000\\nG01 X20 F100\\nM30\\n"\n{main_flag}'
+    )
+    path = tmp_path / "m.toml"
+    path.write_text(text)
+    motion = load_machine(path).motion
+    assert (motion.program_running, motion.program_main) == (shown, shown)
+    path.write_text(text + "[motion]\nprogram_main = 7\n")
+    motion = load_machine(path).motion
+    assert (motion.program_running, motion.program_main) == (0, 7)

@@ -264,7 +264,7 @@ def test_a_phase_puts_the_machine_that_far_into_its_production() -> None:
 def test_a_scenario_starts_only_where_cycle_start_would() -> None:
     machine = machine_with(ManualClock())
     machine.set_panel(mode=0)
-    with pytest.raises(MachineError, match="mode 0 is not MEM"):
+    with pytest.raises(MachineError, match="the mode is MDI, not MEM"):
         machine.start_scenario(CALM)
     machine.set_panel(mode=1, emergency=1)
     with pytest.raises(MachineError, match="emergency stop"):
@@ -509,5 +509,7 @@ def test_a_run_section_the_machine_cannot_start_names_the_file_and_the_machine(
 ) -> None:
     path = tmp_path / "cell.toml"
     path.write_text(RUN_FILE.format(mode="EDIT"), encoding="utf-8")
-    with pytest.raises(_fleet.ConfigError, match=r"cell\.toml: \[run\]: cell: .*mode 3 is not MEM"):
+    with pytest.raises(
+        _fleet.ConfigError, match=r"cell\.toml: \[run\]: cell: .*the mode is EDIT, not MEM"
+    ):
         _fleet.build_machines(_parse("--machine", str(path)))

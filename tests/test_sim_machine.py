@@ -261,6 +261,27 @@ def test_write_param_order(m: Machine) -> None:
     assert not m.param_gate_open(s)
 
 
+def test_write_param_refusal_names_the_closed_gate(m: Machine) -> None:
+    s = m.new_session()
+
+    def detail() -> str:
+        with pytest.raises(MachineError) as info:
+            m.write_param(s, 3216, 0, 0, width=2)
+        assert info.value.ew == EW.PASSWD
+        return str(info.value)
+
+    m.set_panel(3, 0, 0)  # EDIT, PWE off: PWE is named first
+    assert "parameter write enable (PWE) is off" in detail()
+    m.set_panel(3, 1, 0)
+    assert "the mode is EDIT, not MDI" in detail()
+    m.set_param_password("1234")
+    m.set_panel(0, 1, 0)
+    assert "the parameter password is not unlocked on this connection" in detail()
+    m.unlock(s, "1234")
+    m.write_param(s, 3216, 0, 0, width=2)
+    assert m.param_gate_closed(s) is None
+
+
 def test_read_only_machine_typed_ops() -> None:
     m = default_machine(read_only=True)
     s = m.new_session()
@@ -395,7 +416,10 @@ def test_motion_state(m: Machine) -> None:
 @pytest.mark.parametrize(
     ("kwargs", "words"),
     [
-        ({"axes": []}, "1..32 axes"),
+        ({"axes": []}, "1..20 axes"),
+        ({"axes": [f"A{i}" for i in range(1, 22)]}, "a path has 1..20 axes, got 21$"),
+        ({"axes": ["X", "X"]}, "axis 'X' is named twice"),
+        ({"axes": ["X", "Ä"]}, "axis name is 1..4 ASCII letters or digits, got 'Ä'"),
         ({"params": [DataItem(1, 3)]}, "width"),
         ({"params": [DataItem(1, 1, low=5, high=1)]}, "range"),
         ({"params": [DataItem(1, 1, low=0, high=300)]}, "range"),

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+from collections.abc import Collection, Sequence
 from dataclasses import dataclass
 from typing import Final
 
@@ -9,7 +10,10 @@ __all__ = [
     "CONTROL_CLASSES",
     "DEFAULT_CONTROL_CLASS",
     "MAX_NAME_LENGTH",
+    "MAX_PATH_AXES",
     "Identity",
+    "axes_problem",
+    "axis_name_problem",
     "checked_identity",
     "checked_name",
     "name_problem",
@@ -23,6 +27,9 @@ CONTROL_CLASSES: Final = ("16i", "18i", "21i", "0i-C", "0i-D", "0i-F", "30i", "3
 DEFAULT_CONTROL_CLASS: Final = "0i-F"
 #: Characters of a machine's name at most: it heads the server's ready line and its logs.
 MAX_NAME_LENGTH: Final = 64
+#: Axes of one path at most: the NC engine's macro variables give each axis one of 20 slots
+#: (#5001-#5020 the positions, #5221-#5240 G54, ...), as FANUC's 0i and 16i do.
+MAX_PATH_AXES: Final = 20
 #: Identity texts and their widths (ODBSYS).
 _IDENTITY_TEXTS: Final = (
     ("cnc_type", 2),
@@ -73,6 +80,29 @@ def name_problem(name: str) -> str | None:
         return f"{rule}, not {len(name)}"
     bad = next((c for c in name if not c.isprintable()), None)
     return None if bad is None else f"{rule}: {bad!r} is not one"
+
+
+def axis_name_problem(name: object, taken: Collection[object] = ()) -> str | None:
+    """What is wrong with ``name`` as an axis name (1..4 ASCII letters or digits, not one of
+    ``taken``), or None."""
+    if not (isinstance(name, str) and 1 <= len(name) <= 4 and name.isascii()
+            and name.isalnum()):  # fmt: skip
+        return f"an axis name is 1..4 ASCII letters or digits, got {name!r}"
+    if name in taken:
+        return f"axis {name!r} is named twice"
+    return None
+
+
+def axes_problem(names: Sequence[object]) -> str | None:
+    """What is wrong with ``names`` as the axes of a path (1..:data:`MAX_PATH_AXES` distinct
+    axis names), or None."""
+    if not 1 <= len(names) <= MAX_PATH_AXES:
+        return f"a path has 1..{MAX_PATH_AXES} axes, got {len(names)}"
+    for i, name in enumerate(names):
+        problem = axis_name_problem(name, names[:i])
+        if problem is not None:
+            return problem
+    return None
 
 
 def checked_name(name: str) -> str:

@@ -22,7 +22,7 @@ from __future__ import annotations
 
 import math
 from collections.abc import Iterable
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from decimal import Decimal
 from typing import Final
 
@@ -56,6 +56,7 @@ __all__ = [
     "ENGINE_VARIABLES",
     "MDI",
     "MEM",
+    "MODE_NAMES",
     "PARTS_VARIABLES",
     "POSITION_DECIMALS",
     "POSITION_KINDS",
@@ -65,11 +66,32 @@ __all__ = [
     "Path",
     "Shared",
     "Status",
+    "mode_name",
 ]
 
-#: ``aut`` values: 0 MDI, 1 MEM, 3 EDIT, 4 HND, 5 JOG, 6 Teach-in JOG, 7 Teach-in HND, 8 INC,
-#: 9 REF, 10 RMT (2 is not a mode).
-AUT_MODES: Final = frozenset({0, 1, 3, 4, 5, 6, 7, 8, 9, 10})
+#: The panel's modes by name (``aut`` values of ``cnc_statinfo``: 6 and 7 are teach-in JOG and
+#: HND; 2 is no mode).
+MODE_NAMES: Final[dict[str, int]] = {
+    "MDI": 0,
+    "MEM": 1,
+    "EDIT": 3,
+    "HND": 4,
+    "JOG": 5,
+    "TJOG": 6,
+    "THND": 7,
+    "INC": 8,
+    "REF": 9,
+    "RMT": 10,
+}
+#: The ``aut`` values a panel selects.
+AUT_MODES: Final = frozenset(MODE_NAMES.values())
+
+
+def mode_name(aut: int) -> str:
+    """The name of panel mode ``aut`` (``"EDIT"``), or its number when it has none."""
+    return next((name for name, value in MODE_NAMES.items() if value == aut), str(aut))
+
+
 MDI: Final = 0
 MEM: Final = 1
 EDIT: Final = 3
@@ -307,6 +329,9 @@ class Path:
         main = main_program if main_program is not None else first
         if main is not None:
             self.programs.select(main)
+            if motion.program_running == motion.program_main == 0:
+                # The figures name no program: they show the selected one, as a control does.
+                self.manual = replace(motion, program_running=main, program_main=main)
         #: Whether the engine shows the run state and the figures (see ``Machine.driven``).
         self.driven = False
         #: Whether time alone may change what the path shows: the cycle runs or a scenario
@@ -622,7 +647,7 @@ class Path:
         if self.alarms.active:
             raise MachineError(EW.ALARM, f"{refused}: an alarm is active")
         if p.mode != MEM:
-            raise MachineError(EW.MODE, f"{refused}: mode {p.mode} is not MEM")
+            raise MachineError(EW.MODE, f"{refused}: the mode is {mode_name(p.mode)}, not MEM")
 
     def cycle_start(self, repeat: bool | None) -> None:
         self.sync()

@@ -106,6 +106,7 @@ from ._identity import (
     CONTROL_CLASSES,
     DEFAULT_CONTROL_CLASS,
     Identity,
+    axes_problem,
     checked_identity,
     checked_name,
 )
@@ -118,6 +119,7 @@ from ._path import (
     ENGINE_VARIABLES,
     MDI,
     MEM,
+    MODE_NAMES,
     PARTS_VARIABLES,
     POSITION_DECIMALS,
     POSITION_KINDS,
@@ -127,6 +129,7 @@ from ._path import (
     Path,
     Shared,
     Status,
+    mode_name,
 )
 from ._pmc import F_SIGNALS, G_SIGNALS, PMC_AREAS, Pmc, PmcAreaSpec
 from ._station import Station
@@ -143,6 +146,7 @@ __all__ = [
     "MAX_MACRO_DECIMALS",
     "MDI",
     "MEM",
+    "MODE_NAMES",
     "PMC_AREAS",
     "POSITION_DECIMALS",
     "POSITION_KINDS",
@@ -202,6 +206,9 @@ class Machine:
         #: ``serve`` starts it): a machine file's ``[run]``, None when it has none.
         self.scenario = scenario
         self.axes: list[str] = list(axes)
+        problem = axes_problem(self.axes)
+        if problem is not None:
+            raise ValueError(problem)
         n = len(self.axes)
         self._identity = checked_identity(identity, control_class, n)
         #: Which class of FANUC control this machine is (one of :data:`CONTROL_CLASSES`).
@@ -391,10 +398,19 @@ class Machine:
 
     def param_gate_open(self, session: Session) -> bool:
         """PWE on, MDI mode, and (when there is a password) this session unlocked."""
+        return self.param_gate_closed(session) is None
+
+    def param_gate_closed(self, session: Session) -> str | None:
+        """Why a parameter write from ``session`` is refused (the first closed gate, in the
+        order an operator opens them: PWE, MDI mode, the password), or None when it is open."""
         p = self.panel
-        if p.pwe != 1 or p.mode != MDI:
-            return False
-        return self._lock.admits(session)
+        if p.pwe != 1:
+            return "parameter write enable (PWE) is off"
+        if p.mode != MDI:
+            return f"the mode is {mode_name(p.mode)}, not MDI"
+        if not self._lock.admits(session):
+            return "the parameter password is not unlocked on this connection"
+        return None
 
     def write_param(
         self,
@@ -420,8 +436,9 @@ class Machine:
         item, i = items.lookup(items.params, datano, axis)
         if width is not None and width != item.width:
             raise MachineError(EW.LENGTH, f"parameter {datano} is {item.width} bytes wide")
-        if not self.param_gate_open(session):
-            raise MachineError(EW.PASSWD, "parameter write not enabled")
+        closed = self.param_gate_closed(session)
+        if closed is not None:
+            raise MachineError(EW.PASSWD, f"parameter write not enabled: {closed}")
         value = items.rescaled(item, value, decimals)
         items.set(item, i, value, "parameter")
         if datano in (PARTS_COUNT, PARTS_TOTAL):

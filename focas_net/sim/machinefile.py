@@ -9,7 +9,9 @@ are errors too, so a misspelt key never passes silently.
 
 from __future__ import annotations
 
+import json
 import math
+import re
 import tomllib
 from collections.abc import Mapping
 from dataclasses import dataclass
@@ -22,7 +24,7 @@ from focas_net.errors import FocasError
 from focas_net.versamax import BoardId, IOModuleRecord, RefType
 
 from ._base import NUMBERS
-from ._identity import name_problem
+from ._identity import axes_problem, axis_name_problem, name_problem
 from ._pmc import pmc_letter
 from ._station import MAX_RACK, MAX_SLOT
 from .default import gniu_record, mdd844_record
@@ -32,6 +34,7 @@ from .machine import (
     DEFAULT_CONTROL_CLASS,
     DEFAULT_HISTORY_CAPACITY,
     MAX_REAL_DECIMALS,
+    MODE_NAMES,
     PMC_AREAS,
     Clock,
     DataItem,
@@ -60,19 +63,6 @@ class MachineFileError(FocasError, ValueError):
         super().__init__(f"{where}: {problem}")
 
 
-#: Panel mode names accepted for ``panel.mode`` (``aut`` values of ``cnc_rdcncstat``).
-MODE_NAMES: Final[dict[str, int]] = {
-    "MDI": 0,
-    "MEM": 1,
-    "EDIT": 3,
-    "HND": 4,
-    "JOG": 5,
-    "TJOG": 6,
-    "THND": 7,
-    "INC": 8,
-    "REF": 9,
-    "RMT": 10,
-}
 #: ``type`` names of a parameter or diagnostic (``i16`` and ``i32``, the width names of older
 #: files, are ``word`` and ``2-word``).
 _TYPES: Final[dict[str, ParamKind]] = {
@@ -91,6 +81,10 @@ _I32: Final = (-0x8000_0000, 0x7FFF_FFFF)
 _MODULES: Final = {"IC200GBI001": gniu_record, "IC200MDD844": mdd844_record}
 _REF_TYPES: Final[dict[str, RefType]] = {"I": RefType.I, "Q": RefType.Q, "AI": RefType.AI}
 _REF_TYPES["AQ"] = RefType.AQ
+#: A key TOML writes without quotes.
+_BARE_KEY: Final = re.compile(r"[A-Za-z0-9_-]+")
+#: A number as a machine file's text gives it: ASCII digits, a sign, a point (no exponent).
+_DECIMAL: Final = re.compile(r"[+-]?(?:[0-9]+(?:\.[0-9]*)?|\.[0-9]+)")
 #: The UTF-8 byte-order mark some editors write at the start of a file.
 _BOM: Final = b"\xef\xbb\xbf"
 
@@ -105,6 +99,8 @@ class _Ctx:
     def sub(self, key: str | int) -> _Ctx:
         if isinstance(key, int):
             return _Ctx(self.path, f"{self.key}[{key}]")
+        if not _BARE_KEY.fullmatch(key):  # as TOML writes it: " 1420" stays visible
+            key = json.dumps(key, ensure_ascii=False)
         return _Ctx(self.path, f"{self.key}.{key}" if self.key else key)
 
     def fail(self, problem: str) -> NoReturn:
@@ -124,6 +120,8 @@ def _kind(value: Any) -> str:
         return f"an integer ({value})"
     if isinstance(value, str):
         return f"a string ({value!r})"
+    if isinstance(value, float):
+        return f"a float ({value})"
     if isinstance(value, list):
         return "an array"
     if isinstance(value, dict):
@@ -154,6 +152,8 @@ def _bool(ctx: _Ctx, value: Any) -> bool:
 
 
 def _str(ctx: _Ctx, value: Any) -> str:
+    if isinstance(value, int | float) and not isinstance(value, bool):
+        ctx.fail(f'must be a string, got {_kind(value)}: write it in quotes, "{value}"')
     if not isinstance(value, str):
         ctx.fail(f"must be a string, got {_kind(value)}")
     return value
@@ -180,10 +180,9 @@ def _bytes(ctx: _Ctx, value: Any) -> bytes:
 
 
 def _number_key(ctx: _Ctx, key: str, span: tuple[int, int]) -> int:
-    try:
-        number = int(key)
-    except ValueError:
-        ctx.fail(f"the key must be a number, got {key!r}")
+    if not re.fullmatch(r"-?[0-9]+", key):
+        ctx.fail(f"the key must be a number of ASCII digits, got {key!r}")
+    number = int(key)
     if not span[0] <= number <= span[1]:
         ctx.fail(f"{number} is outside {span[0]}..{span[1]}")
     return number
@@ -193,18 +192,17 @@ def _number_key(ctx: _Ctx, key: str, span: tuple[int, int]) -> int:
 
 
 def _axes(ctx: _Ctx, value: Any) -> list[str]:
-    names = _list(ctx, value)
-    if not 1 <= len(names) <= 32:
-        ctx.fail(f"a machine has 1..32 axes, got {len(names)}")
-    axes = []
-    for i, name in enumerate(names):
-        text = _ascii(ctx.sub(i), name)
-        if not 1 <= len(text) <= 4 or not text.isalnum():
-            ctx.sub(i).fail(f"an axis name is 1..4 letters or digits: {text!r}")
-        if text in axes:
-            ctx.sub(i).fail(f"axis {text!r} is named twice")
-        axes.append(text)
-    return axes
+    names: list[str] = []
+    for i, raw in enumerate(_list(ctx, value)):
+        name = _ascii(ctx.sub(i), raw)
+        problem = axis_name_problem(name, names)
+        if problem is not None:
+            ctx.sub(i).fail(problem)
+        names.append(name)
+    problem = axes_problem(names)
+    if problem is not None:
+        ctx.fail(problem)
+    return names
 
 
 def _identity(ctx: _Ctx, value: Any, n_axes: int) -> Identity:
@@ -309,12 +307,14 @@ def _item_value(
         value = _bits(ctx, value)
     if kind is ParamKind.REAL and not isinstance(value, bool | list | dict):
         if isinstance(value, str | int | float):
-            try:
-                number = Decimal(str(value).strip())
-            except ArithmeticError:
-                ctx.fail(f"must be a number, got {_kind(value)}")
+            if isinstance(value, float) and not math.isfinite(value):
+                ctx.fail(f"must be a finite number, got {value}")
+            text = str(value).strip() if isinstance(value, str) else repr(value)
+            if isinstance(value, str) and not _DECIMAL.fullmatch(text):
+                ctx.fail(f"must be a number such as 12.345 (ASCII digits), got {value!r}")
+            number = Decimal(text)
             scaled = number.scaleb(decimals)
-            if not number.is_finite() or scaled != scaled.to_integral_value():
+            if scaled != scaled.to_integral_value():
                 ctx.fail(f"{value} does not have {decimals} decimals or fewer")
             mantissa = int(scaled)
             if not bounds[0] <= mantissa <= bounds[1]:
@@ -599,7 +599,9 @@ def _run(ctx: _Ctx, value: Any) -> Scenario:
         raw = t[key]
         if isinstance(raw, bool) or not isinstance(raw, int | float):
             c.fail(f"must be a number, got {_kind(raw)}")
-        if not math.isfinite(raw) or raw < 0 or raw > _MAX_RUN_NUMBER:
+        if not math.isfinite(raw):
+            c.fail(f"must be a finite number, got {raw}")
+        if raw < 0 or raw > _MAX_RUN_NUMBER:
             c.fail(f"{raw} is outside 0..{_MAX_RUN_NUMBER:.0f}")
         given[key] = float(raw)
     return Scenario(**given)
