@@ -122,7 +122,7 @@ async def test_param_get_errors(cli: Cli) -> None:
     err = await cli.fails(EXIT_CNC, "param", "get", "9999")
     assert err.startswith("focas-net: EW_NUMBER (3): data number / address range error")
     err = await cli.fails(EXIT_USAGE, "param", "get", "1815.8", "--axis", "1")
-    assert "bit 8 outside 0..7" in err
+    assert err == "focas-net: bit 8 is outside 0..7: parameter 1815 is 1 byte wide"
 
 
 async def test_param_set_needs_mdi_and_pwe(cli: Cli) -> None:
