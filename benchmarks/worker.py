@@ -60,7 +60,7 @@ async def throughput(
     async def caller(conn: StatusConn, deadline: float) -> None:
         read_status = _read_status(conn)
         n = 0
-        while _perf() < deadline:
+        while not n or _perf() < deadline:
             await read_status()
             n += 1
         counts.append(n)
@@ -92,7 +92,7 @@ async def pmc_pair(
             n = 0
             start = _perf()
             deadline = start + duration
-            while _perf() < deadline:
+            while not n or _perf() < deadline:
                 await client.read_pmc(area, 0, count)
                 n += 1
             out[key] = (_perf() - start) / n
@@ -113,7 +113,7 @@ async def burst_pair(
             n = 0
             start = _perf()
             deadline = start + duration
-            while _perf() < deadline:
+            while not n or _perf() < deadline:
                 if count == 1:
                     await conn.read_status()
                 else:
@@ -304,7 +304,7 @@ async def native_throughput(
         async def caller(client: NativeClient, deadline: float) -> None:
             read_status = client.read_status
             n = 0
-            while _perf() < deadline:
+            while not n or _perf() < deadline:
                 await read_status()
                 n += 1
             counts.append(n)

@@ -19,11 +19,13 @@ from .client import (
     FocasClient,
     NativeClient,
     NotSentError,
+    Paths,
     Positions,
     ProjectionMode,
     ReconnectPolicy,
     read_dynamic_all,
     read_status_all,
+    read_status_paths_all,
 )
 from .errors import (
     EW,
@@ -114,6 +116,7 @@ __all__ = [
     "NativeServer",
     "NotSentError",
     "OpcUaStatus",
+    "Paths",
     "PayloadError",
     "PmcArea",
     "PositionKind",
@@ -132,5 +135,6 @@ __all__ = [
     "load_machine",
     "read_dynamic_all",
     "read_status_all",
+    "read_status_paths_all",
     "start_native",
 ]

@@ -23,7 +23,8 @@ uses, and writes:
 The capture checks, as it goes, that the library sent exactly the frames
 ``focas_net.native.calls`` says it sends and returned the values the model holds; any
 difference stops it. The test files read the data without the library
-(``tests/test_native_golden.py``). This file is not collected by pytest.
+(``tests/test_native_golden.py``). This file is not collected by pytest. Machines of several
+paths have a capture of their own, ``tests/fwlib_capture_paths.py`` (``fwlib_paths.json``).
 """
 
 from __future__ import annotations

@@ -233,3 +233,35 @@ async def wrparam(cnc: Cnc, number: int, axis: int, values: list[Any], length: i
         struct.pack_into(f"<{fmt}", b, 4 + i * size, *(v if isinstance(v, tuple) else (v,)))
     length = length or 4 + size * (cnc.slots if axis == -1 else 1)
     return await cnc.call("cnc_wrparam", s16(length), b)
+
+
+async def upload(cnc: Cnc, number: int) -> tuple[int, bytes]:
+    """``cnc_upstart``, ``cnc_upload`` until it ends (-2), ``cnc_upend``: (the first code that
+    is not 0 of upstart/upend, the bytes)."""
+    rc = await cnc.call("cnc_upstart", s16(number))
+    if rc:
+        await cnc.call("cnc_upend")
+        return rc, b""
+    out = b""
+    b = buf(4 + 256)
+    for _ in range(200):
+        n = us(256)
+        rc = await cnc.call("cnc_upload", b, ctypes.byref(n))
+        if rc:
+            break
+        out += b.raw[4 : 4 + n.value]
+    assert rc == -2, f"cnc_upload ended with {rc}"  # EW_RESET: the end of the data
+    assert await cnc.call("cnc_upend") == 0
+    return 0, out
+
+
+async def download(cnc: Cnc, data: bytes) -> int:
+    """``cnc_dwnstart``, ``cnc_download`` in 256-byte pieces, ``cnc_dwnend``."""
+    rc = await cnc.call("cnc_dwnstart")
+    if rc:
+        return rc
+    for i in range(0, len(data), 256):
+        piece = data[i : i + 256]
+        rc = await cnc.call("cnc_download", ctypes.create_string_buffer(piece), s16(len(piece)))
+        assert rc == 0, f"cnc_download returned {rc}"
+    return await cnc.call("cnc_dwnend")

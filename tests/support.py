@@ -20,7 +20,7 @@ import pytest
 
 from focas_net.protocol import COMMANDS, Frame, FrameDecoder, encode_frame
 from focas_net.server import FocasServer, Listener
-from focas_net.sim import Machine, default_machine
+from focas_net.sim import Machine, MotionData, PathSpec, default_machine
 
 __all__ = [
     "IO_TIMEOUT",
@@ -31,6 +31,7 @@ __all__ = [
     "frame_bytes",
     "serve_process",
     "serving",
+    "two_path_lathe",
     "wait_until",
 ]
 
@@ -279,3 +280,28 @@ def drop_native(served: Served) -> None:
     for listener in served.server.listeners:
         for conn in list(listener.native_connections):
             conn.abort()
+
+
+def _motion(axes: int, base: int, feed: int, running: int) -> MotionData:
+    return MotionData(
+        [base + i for i in range(axes)],
+        [2 * base + i for i in range(axes)],
+        [3 * base + i for i in range(axes)],
+        [0] * axes,
+        feed=feed,
+        spindle_speed=feed // 2,
+        program_running=running,
+        program_main=running,
+    )
+
+
+def two_path_lathe() -> Machine:
+    """A machine of two paths for the path tests: two turrets, X1/Z1 and X2/Z2/C2, each
+    path's figures (positions, feed, program numbers) its own."""
+    return Machine(
+        "lathe",
+        paths=[
+            PathSpec(("X1", "Z1"), kind="T", motion=_motion(2, 1000, 1500, 1)),
+            PathSpec(("X2", "Z2", "C2"), kind="T", motion=_motion(3, 5000, 700, 2)),
+        ],
+    )

@@ -537,7 +537,9 @@ class BeyondTheWire(Machine):
     """A machine that reports an alarm number no wire carries, as a machine with a bug would
     (a machine refuses to raise it: EW_DATA)."""
 
-    def active_alarms(self, alm_type: int = -1, limit: int | None = None) -> list[Alarm]:
+    def active_alarms(
+        self, alm_type: int = -1, limit: int | None = None, *, path: int = 1
+    ) -> list[Alarm]:
         return [Alarm(0, 15, 99999999999, "BEYOND")]
 
     def alarm_history(self, depth: int | None = None) -> tuple[HistoryEntry, ...]:

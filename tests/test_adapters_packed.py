@@ -856,11 +856,14 @@ def test_unknown_command(m: Machine, s: Session, command: int) -> None:
     assert answer(m, s, command, b"\x00" * 10) == b"\x01\x00"
 
 
-def test_handled_commands_are_all_but_the_fault_queues() -> None:
+def test_handled_commands_are_all_but_the_fault_queues_and_the_path_selection() -> None:
+    # the connection answers those two groups from what it holds (fault queues, selection)
     assert PackedAdapter.handled == frozenset(COMMANDS) - {
         Command.SIM_INJECT_FAULT,
         Command.SIM_LIST_FAULTS,
         Command.SIM_CLEAR_FAULTS,
+        Command.GETPATH,
+        Command.SETPATH,
     }
 
 

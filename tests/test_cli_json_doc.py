@@ -49,6 +49,7 @@ RUNS: Final[dict[str, tuple[str, ...]]] = {
 OPTIONAL: Final[dict[str, set[str]]] = {
     "param get": {"type", "bits", "decimals", "bit", "bit_value"},
     "alarms": {"history"},
+    "watch": {"paths"},
 }
 _CELL: Final = re.compile(r"(?<!\\)\|")
 _CODE: Final = re.compile(r"`([^`]*)`")

@@ -39,3 +39,19 @@ def test_capture_reproduces_the_golden_data(name: str, tmp_path: Path) -> None:
     fresh = json.loads((tmp_path / name).read_text())
     golden = json.loads((HERE / "data" / name).read_text())
     assert fresh == golden
+
+
+def test_paths_capture_reproduces_the_golden_data(tmp_path: Path) -> None:
+    """The 2-path capture (``tests/fwlib_capture_paths.py``): probes and the twin turret."""
+    env = dict(os.environ, FOCAS_NET_FWLIB_OUT=str(tmp_path))
+    subprocess.run(
+        [sys.executable, str(HERE / "fwlib_capture_paths.py")],
+        env=env,
+        check=True,
+        timeout=600,
+        capture_output=True,
+    )
+    name = "fwlib_paths.json"
+    fresh = json.loads((tmp_path / name).read_text())
+    golden = json.loads((HERE / "data" / name).read_text())
+    assert fresh == golden

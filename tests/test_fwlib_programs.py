@@ -33,10 +33,12 @@ from fwlib_support import (
     Cnc,
     buf,
     connect,
+    download,
     i32,
     library,
     s16,
     served_cnc,
+    upload,
     us,
 )
 from support import IO_TIMEOUT, serving
@@ -130,26 +132,6 @@ async def rdprogdir_text(cnc: Cnc, kind: int) -> str:
     return b.value.decode("latin-1")
 
 
-async def upload(cnc: Cnc, number: int) -> tuple[int, bytes]:
-    """``cnc_upstart``, ``cnc_upload`` until it ends (-2), ``cnc_upend``: (the first code that
-    is not 0 of upstart/upend, the bytes)."""
-    rc = await cnc.call("cnc_upstart", s16(number))
-    if rc:
-        await cnc.call("cnc_upend")
-        return rc, b""
-    out = b""
-    b = buf(4 + 256)
-    for _ in range(200):
-        n = us(256)
-        rc = await cnc.call("cnc_upload", b, ctypes.byref(n))
-        if rc:
-            break
-        out += b.raw[4 : 4 + n.value]
-    assert rc == -2, f"cnc_upload ended with {rc}"  # EW_RESET: the end of the data
-    assert await cnc.call("cnc_upend") == 0
-    return 0, out
-
-
 async def _upload_to_end(cnc: Cnc, form: str) -> bytes:
     """``cnc_upload3``/``cnc_upload4`` (``form`` "3" or "4") in 1024-byte pieces until it
     ends (-2), then ``cnc_upend3``/``4``: the bytes."""
@@ -172,18 +154,6 @@ async def upload3(cnc: Cnc, number: int) -> tuple[int, bytes]:
     if rc:
         return rc, b""
     return 0, await _upload_to_end(cnc, "3")
-
-
-async def download(cnc: Cnc, data: bytes) -> int:
-    """``cnc_dwnstart``, ``cnc_download`` in 256-byte pieces, ``cnc_dwnend``."""
-    rc = await cnc.call("cnc_dwnstart")
-    if rc:
-        return rc
-    for i in range(0, len(data), 256):
-        piece = data[i : i + 256]
-        rc = await cnc.call("cnc_download", ctypes.create_string_buffer(piece), s16(len(piece)))
-        assert rc == 0, f"cnc_download returned {rc}"
-    return await cnc.call("cnc_dwnend")
 
 
 async def download3(cnc: Cnc, data: bytes) -> int:

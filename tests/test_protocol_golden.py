@@ -38,6 +38,8 @@ from focas_net.protocol import (
     ParamAttributesRequest,
     ParamValue,
     Password,
+    PathNumber,
+    PathSelection,
     PmcData,
     PmcRange,
     RaiseAlarm,
@@ -389,6 +391,18 @@ GOLDEN: list[Golden] = [
     ),
     Golden("rdloads-none", Command.RDLOADS, RSP, "0000 00 00", LoadMeters((), ())),
     Golden("rdloads-length", Command.RDLOADS, RSP, "0200", EwReply(2)),
+    # -- 0x0040, 0x0140 path selection (docs/protocol.md section 8, "Paths") ---------------
+    Golden("getpath", Command.GETPATH, REQ, "", None),
+    # path 2 selected on a 2-path machine
+    Golden("getpath-2-of-2", Command.GETPATH, RSP, "0000 0200 0200", PathSelection(2, 2)),
+    # after a refused setpath: no path selected, 2 paths
+    Golden("getpath-none-of-2", Command.GETPATH, RSP, "0000 0000 0200", PathSelection(0, 2)),
+    Golden("getpath-length", Command.GETPATH, RSP, "0200", EwReply(2)),
+    Golden("setpath-2", Command.SETPATH, REQ, "0200", PathNumber(2)),
+    Golden("setpath-10", Command.SETPATH, REQ, "0a00", PathNumber(10)),
+    Golden("setpath-ok", Command.SETPATH, RSP, "0000", None),
+    # path 3 on a 2-path machine: EW_PATH
+    Golden("setpath-path", Command.SETPATH, RSP, "0b00", EwReply(11)),
     Golden(
         "wrprogram",
         Command.WRPROGRAM,
@@ -624,6 +638,7 @@ def test_the_command_table_covers_every_command_id() -> None:
         0x0031,
         0x0032,
         0x0033,
+        0x0040,
         0x0102,
         0x0103,
         0x0104,
@@ -631,6 +646,7 @@ def test_the_command_table_covers_every_command_id() -> None:
         0x0110,
         0x0111,
         0x0112,
+        0x0140,
         0x0201,
         0x0E01,
         0x0E02,
@@ -683,6 +699,8 @@ ERROR_PAYLOADS = [
     (Command.RDPROGRAM, 3, "0300"),
     (Command.RDRUNINFO, 2, "0200"),
     (Command.RDLOADS, 2, "0200"),
+    (Command.GETPATH, 2, "0200"),
+    (Command.SETPATH, 11, "0b00"),
     (Command.WRPROGRAM, 13, "0d00"),
     (Command.DELPROGRAM, -1, "ffff"),
     (Command.SELPROGRAM, 12, "0c00"),

@@ -23,7 +23,7 @@ from focas_net.protocol import (
     encode_frame,
 )
 from focas_net.server import Fault, FaultQueue
-from focas_net.server.faults import MAX_ARMED_FAULTS, parse_inject
+from focas_net.server.faults import MAX_ARMED_FAULTS, fault_refusal, parse_inject
 from focas_net.sim import default_machine
 
 DELAY, ERROR, DROP, SPLIT = 1, 2, 3, 4
@@ -387,3 +387,24 @@ async def test_read_only_answers_ew_prot_for_every_write() -> None:
             assert await w.ew(*STATUS) == 0
             assert (await w.request(Command.RDMACRO, MacroRequest(100))).vacant
             assert await w.ew(Command.RDPARAM, DataRequest(3216, 0).encode()) == 0
+
+
+@pytest.mark.parametrize(
+    ("kind", "scope", "count", "arg", "reason"),
+    [
+        (9, 0, 1, 0, "no fault kind 9 (one of 1 DELAY, 2 ERROR, 3 DROP, 4 SPLIT)"),
+        (1, 2, 1, 0, "no fault scope 2 (one of 0 CONNECTION, 1 MACHINE)"),
+        (3, 0, 0, 0, "a fault's count is 1..10000, got 0"),
+        (1, 1, 1, 60_001, "a delay is 0..60000 ms, got 60001"),
+        (2, 0, 1, 0, "an error fault's EW code is a nonzero -32768..32767, got 0"),
+        (2, 0, 1, 40_000, "an error fault's EW code is a nonzero -32768..32767, got 40000"),
+        (1, 1, 10_000, 60_000, None),
+        (3, 0, 1, -5, None),  # a drop ignores its arg
+    ],
+)
+def test_one_function_gives_the_reason_and_parse_inject_follows_it(
+    kind: int, scope: int, count: int, arg: int, reason: str | None
+) -> None:
+    assert fault_refusal(kind, scope, count, arg) == reason
+    parsed = parse_inject(inject(kind, scope, count, arg))
+    assert (parsed == EW.DATA) is (reason is not None)

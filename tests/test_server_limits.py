@@ -112,10 +112,12 @@ async def test_machine_bug_answers_ew_reject_and_keeps_the_connection(
 
     real = PackedAdapter.answer
 
-    def broken(adapter: PackedAdapter, session: Session, command: int, payload: bytes) -> bytes:
+    def broken(
+        adapter: PackedAdapter, session: Session, command: int, payload: bytes, path: int = 1
+    ) -> bytes:
         if command == Command.RDMACRO:
             raise RuntimeError("simulated machine bug")
-        return real(adapter, session, command, payload)
+        return real(adapter, session, command, payload, path)
 
     monkeypatch.setattr(PackedAdapter, "answer", broken)
     with caplog.at_level(logging.ERROR, logger="focas_net.server"):

@@ -26,7 +26,7 @@ from support import IO_TIMEOUT
 
 from focas_net.client import FocasClient, NativeClient
 from focas_net.server import FocasServer
-from focas_net.sim import Machine, default_machine
+from focas_net.sim import Machine, default_machine, load_machine
 from focas_net.sim.machine import MDI
 from focas_net.sim.nc import ManualClock
 from focas_net.web import Dashboard, stations_of
@@ -145,10 +145,17 @@ class Page:
 
     async def errors(self) -> list[str]:
         """The errors the page's console logged since the last call (an exception the page
-        did not catch is one)."""
+        did not catch is one; the browser's note of an answer with status 4xx, which the page
+        shows as a refusal, is none)."""
         chrome: Any = self.driver  # Chrome's driver reads the console (get_log)
         entries = await self.call(chrome.get_log, "browser")
-        return [str(e["message"]) for e in entries if e["level"] == "SEVERE"]
+        # a refusal's answer (400, 409) is read by the page, not an error of it
+        answered = "Failed to load resource: the server responded with a status of 4"
+        return [
+            str(e["message"])
+            for e in entries
+            if e["level"] == "SEVERE" and answered not in str(e["message"])
+        ]
 
     async def screenshot(self, name: str) -> Path:
         path = self.shots / name
@@ -391,19 +398,23 @@ async def test_bit_parameters_show_their_bits_and_axes_and_take_hex_and_binary(
     async with machine_page(browser, tmp_path, machine) as (server, page):
         await page.until(lambda d: d.find_elements(By.ID, "param-1815-1"), "the parameters")
         await page.type("param-search", "1815")
-        row = await page.text_of("params", lambda t: "00110000" in t and "20 " not in t, "1815")
+        await page.until(lambda d: value_of_now(d, "param-1815-1") == "00110000", "8 bits")
+        row = await page.text_of("params", lambda t: "1815" in t and "20 " not in t, "1815")
         assert "bit" in row and "two_word" not in row
         names = await page.call(
             page.driver.execute_script,
             "return [...document.querySelectorAll('#params .axis')].map(n => n.textContent)",
         )
         assert names == ["X", "Y", "Z"]  # each value named by its axis
-        await page.type("param-1815-2", "0b10110001" + Keys.ENTER)
+        await page.type("param-1815-2", "10110001" + Keys.ENTER)  # edited as its 8 bits
         await page.text_of("message", lambda t: "write_param: done" in t, "the write")
-        await page.text_of("param-bits-1815-2", lambda t: t == "10110001", "the bits written")
         await page.type("param-1815-3", "0xC3")
         await page.click("param-save-1815-3")
-        await page.text_of("param-bits-1815-3", lambda t: t == "11000011", "0xC3 written")
+        await page.until(lambda d: value_of_now(d, "param-1815-3") == "11000011", "0xC3 written")
+        await page.type("param-1815-1", "176")  # a decimal would read as bits: refused
+        await page.click("param-save-1815-1")
+        why = await page.text_of("param-1815-1-why", lambda t: "176" in t, "176 refused")
+        assert "8 bits #7..#0" in why
         async with client_of(server) as cnc:
             assert [await cnc.read_param(1815, axis=a) for a in (1, 2, 3)] == [0x30, 0xB1, 0xC3]
         await page.type("param-search", "1826")
@@ -503,3 +514,174 @@ async def test_a_tile_counts_one_part_and_the_alarm_by_its_code(
             fetch(document.querySelector('link[rel=icon]').href).then(r => done(r.status));""",
         )
         assert icon == 200
+
+
+async def value_of(page: Page, element_id: str) -> str:
+    return str(
+        await page.call(lambda: page.driver.find_element(By.ID, element_id).get_property("value"))
+    )
+
+
+async def test_writes_from_outside_show_and_a_refused_value_stays_with_its_reason(
+    browser: WebDriver, tmp_path: Path
+) -> None:
+    machine = default_machine()
+    async with machine_page(browser, tmp_path, machine) as (server, page):
+        await page.type("param-search", "6713")
+        await page.until(lambda d: len(d.find_elements(By.CSS_SELECTOR, "#params tr")) == 2, "6713")
+        await page.type("macro-search", "500-501")
+        await page.until(lambda d: len(d.find_elements(By.CSS_SELECTOR, "#macros tr")) == 3, "#500")
+        async with client_of(server) as cnc:  # a client writes: the page follows
+            await cnc.sim.set_panel(mode=MDI, pwe=True)
+            await cnc.write_param(6713, 40)
+            await cnc.write_macro(500, Decimal("7.5"))
+        await page.until(lambda d: value_of_now(d, "param-6713-0") == "40", "40 from the client")
+        await page.until(lambda d: value_of_now(d, "macro-500") == "7.5", "7.5 from the client")
+        machine.set_panel(pwe=0)
+        await page.type("param-6713-0", "25")
+        await page.click("param-save-6713-0")
+        why = await page.text_of("param-6713-0-why", lambda t: "EW_PASSWD" in t, "the reason")
+        assert "parameter write enable (PWE) is off" in why
+        machine.write_macro(501, Decimal(3))  # the lists are read again meanwhile
+        await page.until(lambda d: value_of_now(d, "macro-501") == "3", "#501 from outside")
+        assert await value_of(page, "param-6713-0") == "25"  # the refused value stays
+        assert machine.read_param(6713, 0) == 40
+        await page.type("macro-500", "1e3" + Keys.ENTER)
+        why = await page.text_of("macro-500-why", lambda t: "1e3" in t, "the macro refusal")
+        assert "no exponent" in why and await value_of(page, "macro-500") == "1e3"
+        assert machine.read_macro(500) == Decimal("7.5")
+        assert await page.errors() == []
+
+
+def holding(part: str) -> Callable[[str], bool]:
+    """A check that a text holds ``part``."""
+    return lambda text: part in text
+
+
+def value_of_now(driver: WebDriver, element_id: str) -> str:
+    found = driver.find_elements(By.ID, element_id)
+    return str(found[0].get_property("value")) if found else ""
+
+
+async def test_number_boxes_take_ascii_digits_only_and_say_why(
+    browser: WebDriver, tmp_path: Path
+) -> None:
+    async with machine_page(browser, tmp_path) as (server, page):
+        machine = server.machines[0]
+        await page.text_of("alarms", lambda t: "no active alarm" in t, "no alarm")
+        for typed in ("\u0661\u0662", "1e3"):
+            await page.type("alarm-no", typed)
+            await page.click("alarm-raise")
+            named = f"{typed!r}"
+            message = await page.text_of("message", holding(named), f"{typed} refused")
+            assert message.startswith("raise_alarm refused: alm_no: ")
+        assert machine.active_alarms() == []
+        await page.type("alarm-msg", "M" * 40)  # no box cuts what is typed
+        await page.type("alarm-no", "1000")
+        await page.click("alarm-raise")
+        message = await page.text_of("message", lambda t: "40 characters" in t, "40 characters")
+        assert "an alarm message holds 32" in message
+        assert machine.active_alarms() == []
+        await page.call(
+            lambda: Select(page.driver.find_element(By.ID, "fault-kind")).select_by_value("DELAY")
+        )
+        await page.type("fault-arg", "70000")
+        await page.click("fault-inject")
+        message = await page.text_of("message", lambda t: "70000" in t, "the delay refused")
+        assert message == "inject_fault refused: EW_DATA a delay is 0..60000 ms, got 70000"
+        assert len(server.listeners[0].faults) == 0
+        maxlength = "return document.querySelectorAll('input[maxlength]').length"
+        assert await page.call(page.driver.execute_script, maxlength) == 0
+
+
+async def test_searches_say_what_is_wrong_and_forget_it_after_a_good_one(
+    browser: WebDriver, tmp_path: Path
+) -> None:
+    async with machine_page(browser, tmp_path) as (_, page):
+        await page.until(lambda d: d.find_elements(By.ID, "macro-0"), "the macros")
+        await page.type("macro-search", "600-500")
+        note = await page.text_of("macro-note", lambda t: "empty range" in t, "empty range")
+        assert "#600 is above #500" in note
+        await page.type("macro-search", "1-99999")
+        await page.text_of("macro-note", lambda t: "#99999 is beyond" in t, "beyond the cap")
+        await page.type("macro-search", "500-501")
+        await page.until(lambda d: d.find_element(By.ID, "macro-note").text == "", "no error")
+        await page.until(lambda d: len(d.find_elements(By.CSS_SELECTOR, "#macros tr")) == 3, "#500")
+        await page.type("macro-search", "0")
+        await page.text_of("macro-note", lambda t: "first 200 of" in t, "what is left out")
+        await page.type("pmc-start", "R100" + Keys.ENTER)
+        await page.until(lambda d: d.find_elements(By.ID, "pmc-R100-0"), "R100")
+        assert await value_of(page, "pmc-area") == "R"
+        await page.type("pmc-start", "E5" + Keys.ENTER)
+        note = await page.text_of("pmc-note", lambda t: "EW_NOOPT" in t, "no area E")
+        assert "the machine has no PMC area E" in note
+        await page.type("pmc-start", "104" + Keys.ENTER)
+        await page.until(lambda d: d.find_elements(By.ID, "pmc-R104-0"), "R104")
+        await page.until(lambda d: "EW" not in d.find_element(By.ID, "pmc-note").text, "no error")
+        assert await page.errors() == []
+
+
+async def test_enter_unlocks_and_a_longer_password_is_refused_not_cut(
+    browser: WebDriver, tmp_path: Path
+) -> None:
+    machine = default_machine(param_password="1234")
+    async with machine_page(browser, tmp_path, machine) as (_, page):
+        await page.until(lambda d: d.find_elements(By.ID, "param-6713-0"), "parameter 6713")
+        await page.type("param-password", "12345" + Keys.ENTER)
+        message = await page.text_of("message", lambda t: "unlock" in t, "the refusal")
+        assert message == "unlock refused: EW_PASSWD parameter password mismatch"
+        await page.type("param-password", "1234" + Keys.ENTER)
+        await page.text_of("message", lambda t: t == "unlock: done", "unlocked")
+
+
+LATHE = Path(__file__).resolve().parent.parent / "examples" / "lathe_2path.toml"
+
+
+async def test_a_machine_of_two_paths_shows_each_and_the_page_acts_on_the_one_chosen(
+    browser: WebDriver, tmp_path: Path
+) -> None:
+    lathe = load_machine(LATHE)
+    async with dashboard(browser, tmp_path, [default_machine("mill"), lathe]) as (_, _, page):
+        await page.open()
+
+        def lines(d: WebDriver) -> list[list[str]] | bool:
+            found: list[list[str]] = d.execute_script(
+                """return [...document.querySelectorAll('#fleet .tile')].map(t =>
+                    [...t.querySelectorAll('.row.path')].map(r => r.textContent))"""
+            )
+            return found if len(found) == 2 and found[1] else False
+
+        shown = await page.until(lines, "a line per path")
+        assert shown[0] == []  # a single-path machine's tile is as it was
+        assert [line.split()[:3] for line in shown[1]] == [
+            ["TURRET1", "MEM", "****"],
+            ["TURRET2", "MEM", "****"],
+        ]
+        await page.open("machine/1")
+        await page.text_of("path-2-state", lambda t: "MEM" in t, "path 2's card")
+        await page.click("path-2-start")  # the cycle of path 2 only
+        await page.text_of("message", lambda t: t == "cycle: done", "the start")
+        assert lathe.status(path=2).run == 3 and lathe.status(path=1).run == 0
+        await page.text_of("path-2-state", lambda t: "STRT O2001" in t, "path 2 running")
+        await page.click("path-2-show")  # the details of path 2
+        await page.text_of("crumb", lambda t: t.endswith("TURRET2"), "path 2 chosen")
+        axes = await page.text_of("pos-table", lambda t: "X2" in t, "path 2's axes")
+        assert "X1" not in axes and "Z2" in axes
+        await page.type("alarm-no", "1234")
+        await page.click("alarm-raise")
+        await page.text_of("message", lambda t: t == "raise_alarm: done", "the alarm")
+        assert [a.alm_no for a in lathe.active_alarms(path=2)] == [1234]
+        assert lathe.active_alarms(path=1) == []
+        await page.text_of("path-2-alarm", lambda t: "1234" in t, "path 2's alarm")
+        await page.text_of("path-1-alarm", lambda t: t == "no alarm", "path 1 clear")
+        await page.click("path-1-show")
+        await page.text_of("crumb", lambda t: t.endswith("TURRET1"), "path 1 chosen")
+        await page.text_of("alarms", lambda t: "no active alarm" in t, "path 1's alarms")
+        await page.screenshot("web-paths.png")
+        await page.open("machine/0")
+        await page.text_of("run-state", lambda t: t == "****", "the mill")
+        hidden = await page.call(
+            lambda: not page.driver.find_element(By.ID, "paths-box").is_displayed()
+        )
+        assert hidden  # one path: no path section
+        assert await page.errors() == []

@@ -21,8 +21,10 @@ from support import IO_TIMEOUT, wait_until
 
 from focas_net.cli import serve
 from focas_net.client import FocasClient, NativeClient
+from focas_net.protocol import FaultKind
 from focas_net.server import FocasServer
-from focas_net.sim import Machine, default_machine
+from focas_net.server.faults import fault_refusal
+from focas_net.sim import Machine, default_machine, load_machine
 from focas_net.web import Dashboard, stations_of
 
 aiohttp = pytest.importorskip("aiohttp", reason="the web dashboard tests need aiohttp")
@@ -92,6 +94,60 @@ async def test_a_fault_argument_the_page_cannot_read_is_refused() -> None:
         status, body = await post(session, web, "inject_fault", {"kind": "DELAY", "arg": ""})
         assert status == 400 and body["error"] == "arg: a number is needed"
         assert len(server.listeners[0].faults) == 0  # nothing armed
+
+
+async def test_a_refused_fault_argument_says_why_in_the_servers_words() -> None:
+    async with dashboard() as (server, web), aiohttp.ClientSession() as session:
+        for kind, count, arg in (("DELAY", "1", "70000"), ("ERROR", "1", "0"), ("DROP", "0", "")):
+            args = {"kind": kind, "count": count, "arg": arg}
+            status, body = await post(session, web, "inject_fault", args)
+            number = int(FaultKind[kind])
+            reason = fault_refusal(number, 1, int(count), int(arg or 0))
+            assert reason is not None
+            assert (status, body["ew_name"], body["error"]) == (409, "EW_DATA", reason)
+        status, body = await post(session, web, "inject_fault", {"kind": "DELAY", "arg": "1e3"})
+        assert status == 400 and "'1e3'" in body["error"] and "exponent" in body["error"]
+        assert len(server.listeners[0].faults) == 0  # nothing armed
+
+
+async def test_numbers_are_ascii_digits_and_nothing_is_cut() -> None:
+    async with dashboard() as (server, web), aiohttp.ClientSession() as session:
+        machine = server.machines[0]
+        for typed in ("\u0661\u0662", "1e3", "1_000", "12.0", " "):
+            args = {"alm_type": "3", "alm_no": typed, "msg": ""}
+            status, body = await post(session, web, "raise_alarm", args)
+            assert status == 400 and body["error"].startswith("alm_no: "), typed
+        args = {"alm_type": "3", "alm_no": "1000", "msg": "M" * 33}
+        status, body = await post(session, web, "raise_alarm", args)
+        assert status == 400 and "33 characters" in body["error"]
+        assert machine.active_alarms() == []
+        status, body = await post(session, web, "write_param", {"number": 6713, "value": "1e3"})
+        assert status == 400 and "'1e3'" in body["error"]
+        status, body = await post(session, web, "write_param", {"number": 6713, "value": "25"})
+        assert (status, body["ew_name"]) == (409, "EW_PASSWD") and "(PWE) is off" in body["error"]
+
+
+async def test_searches_and_pmc_windows_say_what_is_wrong() -> None:
+    async with dashboard() as (_, web), aiohttp.ClientSession() as session:
+        base = f"{web.url}api/machines/0"
+        status, body = await get(session, f"{base}/macros?q=600-500")
+        assert status == 400 and "an empty range (#600 is above #500)" in body["error"]
+        status, body = await get(session, f"{base}/macros?q=1-99999")
+        assert status == 400 and "#99999 is beyond the variable numbers" in body["error"]
+        status, body = await get(session, f"{base}/macros?q=2000-2100")
+        assert status == 400 and "no variable in #2000..#2100 (the machine has #" in body["error"]
+        status, body = await get(session, f"{base}/macros?q=500-501")
+        assert status == 200 and len(body["macros"]) == 2 and body["note"] == ""
+        status, body = await get(session, f"{base}/macros?q=")
+        assert body["note"].startswith("the first 200 of ")
+        status, body = await get(session, f"{base}/pmc?area=X&start=R100")
+        assert (status, body["area"], body["start"]) == (200, "R", 100)
+        status, body = await get(session, f"{base}/pmc?area=E&start=0")
+        assert (status, body["ew_name"]) == (409, "EW_NOOPT")
+        assert body["error"].startswith("the machine has no PMC area E (it has X, Y, F")
+        for start in ("R100.3", "-1", "\u0661", "Q5"):
+            status, body = await get(session, f"{base}/pmc?area=X&start={start}")
+            assert status == 400 and repr(start) in body["error"], start
 
 
 async def test_cycle_start_from_the_page_is_read_through_the_packed_client() -> None:
@@ -208,6 +264,33 @@ async def receive(ws: Any, kind: str) -> dict[str, Any]:
         if frame["type"] == kind:
             return frame
     pytest.fail(f"no {kind} frame in 50")
+
+
+LATHE = os.path.join(os.path.dirname(__file__), "..", "examples", "lathe_2path.toml")
+
+
+async def test_each_path_is_read_and_worked_and_a_path_past_the_last_is_refused() -> None:
+    lathe = load_machine(LATHE)
+    async with dashboard([lathe]) as (_, web), aiohttp.ClientSession() as session:
+        base = f"{web.url}api/machines/0"
+        status, view = await get(session, f"{base}?path=2")
+        assert (status, view["path_name"], view["axes"]) == (200, "TURRET2", ["X2", "Z2"])
+        status, body = await get(session, f"{base}?path=3")
+        assert (status, body["ew_name"]) == (409, "EW_PATH") and "path 3" in body["error"]
+        status, body = await get(session, f"{base}/params?q=6711&path=x")
+        assert status == 400 and body["error"].startswith("path: ")
+        status, body = await post(session, web, "cycle", {"action": "start", "path": 2})
+        assert status == 200 and lathe.status(path=2).run == 3 and lathe.status(path=1).run == 0
+        status, body = await post(session, web, "cycle", {"action": "start", "path": 3})
+        assert (status, body["ew_name"]) == (409, "EW_PATH")
+        async with session.ws_connect(f"{web.url}ws") as ws:
+            await ws.send_json({"subscribe": "machine", "index": 0, "path": 2})
+            frame = await receive(ws, "machine")
+            assert frame["data"]["path_no"] == 2 and frame["data"]["run"] == "STRT"
+            await ws.send_json({"subscribe": "machine", "index": 0, "path": 5})
+            error = await receive(ws, "error")
+            assert error["error"] == "path 5: machine 0 has paths 1..2"
+        await wait_until(lambda: not web.broadcaster.subscriptions)
 
 
 async def test_the_websocket_pushes_the_fleet_and_a_machine() -> None:

@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import asyncio
 import json
+import re
 import sys
 from decimal import Decimal
 from pathlib import Path
@@ -14,7 +15,7 @@ from hypothesis import given
 from hypothesis import strategies as st
 
 from focas_net.errors import EW, ew_name
-from focas_net.sim import Machine, MachineError, default_machine
+from focas_net.sim import Machine, MachineError, default_machine, load_machine
 from focas_net.sim.machine import MDI, MEM
 from focas_net.sim.nc import ManualClock
 from focas_net.web import (
@@ -185,7 +186,7 @@ def test_axis_values_are_named_and_bit_parameters_show_their_bits() -> None:
     machine = default_machine()
     (apc,) = param_rows(machine, "1815")
     assert (apc["kind"], apc["axes"]) == ("bit", ["X", "Y", "Z"])
-    assert apc["values"] == ["48"] * 3 and apc["bits"] == ["00110000"] * 3
+    assert apc["values"] == ["00110000"] * 3 == apc["bits"]  # shown and edited as 8 bits
     (channel,) = param_rows(machine, "20")
     assert (channel["kind"], channel["axes"], channel["bits"]) == ("byte", [], None)
     (rapid,) = [r for r in param_rows(machine, "1420") if r["number"] == 1420]
@@ -269,7 +270,11 @@ def test_macro_writes_and_vacating() -> None:
     assert station.machine.read_macro(500) is None
     assert refused(station, "write_macro", {"number": 5021, "value": "1"}) == "EW_PROT"
     assert refused(station, "write_macro", {"number": 50, "value": "1"}) == "EW_NUMBER"
-    assert refused(station, "write_macro", {"number": 500, "value": "1e-12"}) == "EW_DATA"
+    assert refused(station, "write_macro", {"number": 500, "value": "0.000000000001"}) == "EW_DATA"
+    for typed in ("1e-12", "1E3", "\u0661\u0662", "12abc", "inf"):
+        with pytest.raises(ActionError, match=re.escape(repr(typed))):  # refused, named, unread
+            perform(station, "write_macro", {"number": 500, "value": typed})
+    assert station.machine.read_macro(500) is None
 
 
 def test_pmc_bits_x_and_f_as_the_simulator_others_as_the_protocol() -> None:
@@ -356,12 +361,15 @@ def test_a_fault_argument_that_is_not_a_number_is_refused() -> None:
 def test_bit_parameters_are_written_as_the_command_line_writes_them() -> None:
     station = Station(0, default_machine())
     perform(station, "panel", {"mode": MDI, "pwe": 1})
-    for text, value in (("0xB0", 0xB0), ("0b1011_0001", 0b1011_0001), ("0o7", 7), ("12", 12)):
+    for text, value in (("0xB0", 0xB0), ("0b1011_0001", 0b1011_0001), ("00001100", 12), (7, 7)):
         answer = perform(station, "write_param", {"number": 1815, "axis": 2, "value": text})
         assert answer["value"] == station.machine.read_param(1815, 2) == value
     with pytest.raises(ActionError, match="'0xZZ'"):
         perform(station, "write_param", {"number": 1815, "axis": 2, "value": "0xZZ"})
-    assert station.machine.read_param(1815, 2) == 12
+    for typed in ("12", "1011", "0o7", "\u0661\u0662"):  # bits are eight, a decimal is none
+        with pytest.raises(ActionError, match=r"8 bits #7\.\.#0"):
+            perform(station, "write_param", {"number": 1815, "axis": 2, "value": typed})
+    assert station.machine.read_param(1815, 2) == 7
 
 
 def test_an_alarm_message_is_text_the_client_can_send() -> None:
@@ -579,3 +587,40 @@ def test_the_web_package_exports_its_names_once_and_imports_no_client() -> None:
         for node in ast.walk(ast.parse(path.read_text())):
             if isinstance(node, ast.ImportFrom) and node.module:
                 assert not node.module.startswith(("focas_net.client", "focas_net.adapters"))
+
+
+LATHE = Path(__file__).resolve().parent.parent / "examples" / "lathe_2path.toml"
+
+
+def test_a_machine_of_two_paths_is_viewed_and_worked_per_path() -> None:
+    lathe = load_machine(LATHE)
+    station = Station(0, lathe)
+    tile = machine_tile(0, lathe, 8193)
+    assert [(p["path_no"], p["path_name"], p["mode"]) for p in tile["paths"]] == [
+        (1, "TURRET1", "MEM"),
+        (2, "TURRET2", "MEM"),
+    ]
+    perform(station, "cycle", {"action": "start", "path": 2})
+    assert (lathe.status(path=1).run, lathe.status(path=2).run) == (0, 3)
+    tile = machine_tile(0, lathe, 8193)
+    assert tile["running"] and tile["run"] == "****"  # path 1's run; the tile runs with path 2
+    assert (tile["paths"][1]["run"], tile["paths"][1]["program"]) == ("STRT", 2001)
+    view = machine_view(0, lathe, 8193, path=2)
+    assert (view["path_no"], view["path_count"], view["axes"]) == (2, 2, ["X2", "Z2"])
+    assert [p["axis"] for p in view["positions"]] == ["X2", "Z2"]
+    assert [p["number"] for p in view["programs"]] == [2001]
+    perform(station, "raise_alarm", {"alm_type": 3, "alm_no": 1234, "path": 2})
+    assert [a["alm_no"] for a in machine_view(0, lathe, 8193, path=2)["alarms"]] == [1234]
+    assert machine_view(0, lathe, 8193)["alarms"] == []
+    perform(station, "panel", {"mode": MDI, "pwe": 1, "path": 2})
+    perform(station, "write_param", {"number": 6711, "value": "7", "path": 2})
+    assert (lathe.read_param(6711, 0, path=1), lathe.read_param(6711, 0, path=2)) == (0, 7)
+    (row,) = param_rows(lathe, "6711", path=2)
+    assert row["values"] == ["7"]
+    with pytest.raises(MachineError, match="path 3") as info:
+        perform(station, "cycle", {"action": "start", "path": 3})
+    assert info.value.ew == EW.PATH
+    with pytest.raises(ActionError, match="path: "):
+        perform(station, "cycle", {"action": "start", "path": "\u0662"})
+    single = machine_tile(0, default_machine(), 8193)
+    assert len(single["paths"]) == 1 and single["paths"][0]["path_no"] == 1

@@ -12,10 +12,11 @@ its handlers by area, :mod:`._native_cnc`, :mod:`._native_data` and :mod:`._nati
 
 from ._native_data import macro_from_double, native_diag_type, native_param_type
 from ._native_programs import ProgramTransfer
-from .native import NativeAdapter, command_set_of
+from .native import PATH_INDEPENDENT, NativeAdapter, command_set_of
 from .packed import PackedAdapter
 
 __all__ = [
+    "PATH_INDEPENDENT",
     "NativeAdapter",
     "PackedAdapter",
     "ProgramTransfer",

@@ -1,6 +1,11 @@
 """The native adapter's handlers of the CNC's state: identity, status, timers, the motion
 figures and positions, the axes, the loads, the PMC and the alarms (``docs/native-protocol.md``;
 what a handler is: :mod:`focas_net.adapters.native`).
+
+A block answers for the path in its path word (:func:`block_path`: 0 is the handle's default,
+path 1): the identity as that path shows it, its status, motion figures, positions, axes,
+spindles, loads and alarms; a path the machine has not is the machine's EW_PATH. The CNC ID,
+the PMC and the alarm history are the machine's, whatever the path word.
 """
 
 from __future__ import annotations
@@ -32,7 +37,6 @@ from focas_net.native import (
     ExecutingProgram,
     HdckStatus,
     NativeAlarmHistoryRequest,
-    NativeCommand,
     NativePmcArea,
     NativePositionKind,
     NativePositionRequest,
@@ -55,14 +59,11 @@ from focas_net.native import (
     TmModeStatus,
     resolve_position_kind,
 )
-from focas_net.sim import PMC_AREAS, POSITION_DECIMALS, Machine, Session
+from focas_net.sim import PMC_AREAS, POSITION_DECIMALS, Identity, Machine, Session
 
 from ._common import AnswerMemo, Counters, Refused, counters_of, need_room
 
-__all__ = ["SPINDLES", "CncHandlers"]
-
-#: Spindles of the path (the machine models one spindle speed).
-SPINDLES: Final = 1
+__all__ = ["CncHandlers", "block_path", "path_sysinfo"]
 #: Flags of each axis in the 0xA3 answer: machine, absolute/relative and distance shown.
 _DISPLAY_FLAGS: Final = 0x07
 #: Most alarm messages one block answers.
@@ -78,54 +79,99 @@ _POSITION_KINDS: Final[dict[NativePositionKind, str]] = {
 _ALARM_HEAD_SIZE: Final = 16
 _HISTORY_SIZE: Final = AlarmHistoryRecord.SIZE
 _FOUR_U32: Final = struct.Struct(">4I")
-_STATINFO: Final = int(NativeCommand.STATINFO)
 _FOLLOWS_STATUS: Final = counters_of(["status_version"])
 _pack_scaled = ScaledNumber.STRUCT.pack
 #: An empty value slot: (0, 10, 0).
 _SCALED_ZERO: Final = _pack_scaled(0, 10, 0)
 
 
+def block_path(block: RequestBlock) -> int:
+    """The path a block asks for: its path word, 0 being the handle's default, path 1."""
+    return block.path or 1
+
+
+def path_sysinfo(machine: Machine, path: int) -> Identity:
+    """The identity as ``path`` shows it (``cnc_sysinfo`` after ``cnc_setpath``): the
+    machine's, with the path's machine type and axis count when the machine has several
+    paths (a single-path machine's is its identity as it is)."""
+    i = machine.identity()
+    if machine.path_count == 1:
+        return i
+    info = machine.path_info(path)
+    return Identity(
+        i.addinfo,
+        i.max_axis,
+        i.cnc_type,
+        f" {info.kind}",
+        i.series,
+        i.version,
+        f"{len(info.axes):02d}",
+    )
+
+
+class _Path:
+    """What the handlers keep of one path: its 0x18 answer, its axis names, its spindles."""
+
+    __slots__ = ("axis_names", "spindles", "sysinfo")
+
+    def __init__(self, machine: Machine, path: int) -> None:
+        i = path_sysinfo(machine, path)
+        self.sysinfo = NativeSysInfo(
+            i.addinfo, i.max_axis, i.cnc_type, i.mt_type, i.series, i.version, i.axes
+        ).encode()
+        info = machine.path_info(path)
+        self.axis_names = [_axis_name(a) for a in info.axes]
+        self.spindles = info.spindles
+
+
 class CncHandlers:
     """The handlers of the CNC's state of one machine (see the module docstring)."""
 
-    __slots__ = ("_axis_names", "_kept", "_sysinfo", "machine", "max_axis")
+    __slots__ = ("_kept", "_paths", "machine", "max_axis")
 
     def __init__(self, machine: Machine, max_axis: int) -> None:
         self.machine = machine
         #: Position records for all axes: the open answer's max axes.
         self.max_axis = max_axis
-        i = machine.identity()
-        self._sysinfo = NativeSysInfo(
-            i.addinfo, i.max_axis, i.cnc_type, i.mt_type, i.series, i.version, i.axes
-        ).encode()
-        self._axis_names = [_axis_name(a) for a in machine.axes]
-        #: command -> (its counters, their values then, the block's data)
-        self._kept = AnswerMemo(1)
+        self._paths = {p: _Path(machine, p) for p in range(1, machine.path_count + 1)}
+        #: path -> (the status counters, their values then, the 0x19 data)
+        self._kept = AnswerMemo(machine.path_count)
+
+    def _path(self, block: RequestBlock) -> _Path:
+        """What is kept of the block's path; the machine's EW_PATH for one it has not."""
+        path = block_path(block)
+        kept = self._paths.get(path)
+        if kept is None:
+            self.machine.path_info(path)  # raises EW_PATH naming the path and the range
+            raise Refused(EW.PATH)  # pragma: no cover - the machine refuses it first
+        return kept
 
     def read_sysinfo(self, block: RequestBlock, room: int, session: Session) -> bytes:
-        return self._sysinfo
+        """0x18: the identity as the block's path shows it (:func:`path_sysinfo`)."""
+        return self._path(block).sysinfo
 
     def read_status(self, block: RequestBlock, room: int, session: Session) -> bytes:
-        """0x19, kept while the status holds: a frame of the status and a read never kept (a
-        timer) is answered afresh, its status block from here."""
-        kept: tuple[Counters, Any, bytes] | None = self._kept.get(_STATINFO)
+        """0x19, kept per path while the status holds: a frame of the status and a read never
+        kept (a timer) is answered afresh, its status block from here."""
+        path = block_path(block)
+        kept: tuple[Counters, Any, bytes] | None = self._kept.get(path)
         if kept is not None and kept[0](self.machine) == kept[1]:
             return kept[2]
         seen = _FOLLOWS_STATUS(self.machine)
-        data = self.status_info().encode()
-        self._kept.keep(_STATINFO, _FOLLOWS_STATUS, seen, data)
+        data = self.status_info(path).encode()
+        self._kept.keep(path, _FOLLOWS_STATUS, seen, data)
         return data
 
-    def status_info(self) -> StatInfo:
-        """The status as a 0x19 answer carries it."""
-        s = self.machine.status()
+    def status_info(self, path: int = 1) -> StatInfo:
+        """The status of ``path`` as a 0x19 answer carries it."""
+        s = self.machine.status(path=path)
         return StatInfo(s.aut, s.run, s.motion, s.mstb, s.emergency, s.alarm, s.edit)
 
     def read_hdck(self, block: RequestBlock, room: int, session: Session) -> bytes:
-        return HdckStatus(self.machine.status().hdck).encode()
+        return HdckStatus(self.machine.status(path=block_path(block)).hdck).encode()
 
     def read_tmmode(self, block: RequestBlock, room: int, session: Session) -> bytes:
-        return TmModeStatus(self.machine.status().tmmode).encode()
+        return TmModeStatus(self.machine.status(path=block_path(block)).tmmode).encode()
 
     def read_cnc_id(self, block: RequestBlock, room: int, session: Session) -> bytes:
         """The CNC ID: four words of the SHA-256 of the machine's name (stable per name)."""
@@ -142,28 +188,29 @@ class CncHandlers:
             raise Refused(EW.NUMBER)
         if req.type == 4:
             return TimerValue(0, 0).encode()
-        ms = self.machine.timer_ms(req.type)
+        ms = self.machine.timer_ms(req.type, path=block_path(block))
         minute, msec = divmod(ms, 60_000)
         return TimerValue(minute, msec).encode()
 
     def read_program_numbers(self, block: RequestBlock, room: int, session: Session) -> bytes:
-        m = self.machine.motion
+        m = self.machine.path_motion(path=block_path(block))
         return NativeProgramNumbers(m.program_running, m.program_main).encode()
 
     def read_sequence(self, block: RequestBlock, room: int, session: Session) -> bytes:
-        return SequenceNumber(self.machine.motion.sequence).encode()
+        return SequenceNumber(self.machine.path_motion(path=block_path(block)).sequence).encode()
 
     def read_executing_program(self, block: RequestBlock, room: int, session: Session) -> bytes:
         """The running program: its O number and its name ``O<number>`` (four digits at
         least)."""
-        number = self.machine.motion.program_running
+        number = self.machine.path_motion(path=block_path(block)).program_running
         return ExecutingProgram(number, f"O{number:04d}".encode("ascii")).encode()
 
     def read_feed(self, block: RequestBlock, room: int, session: Session) -> bytes:
-        return _pack_scaled(self.machine.motion.feed, 10, 0)
+        return _pack_scaled(self.machine.path_motion(path=block_path(block)).feed, 10, 0)
 
     def read_spindle(self, block: RequestBlock, room: int, session: Session) -> bytes:
-        return _pack_scaled(self.machine.motion.spindle_speed, 10, 0)
+        speed = self.machine.path_motion(path=block_path(block)).spindle_speed
+        return _pack_scaled(speed, 10, 0)
 
     def read_positions(self, block: RequestBlock, room: int, session: Session) -> bytes:
         req = NativePositionRequest.from_block(block)
@@ -172,7 +219,9 @@ class CncHandlers:
             raise Refused(EW.ATTRIB)
         axis = req.axis
         # the machine's checks first: no skip function (EW_NOOPT), an axis it has not (EW_ATTRIB)
-        positions = self.machine.positions(_POSITION_KINDS[kind], None if axis == -1 else axis)
+        positions = self.machine.positions(
+            _POSITION_KINDS[kind], None if axis == -1 else axis, path=block_path(block)
+        )
         if axis == -1:
             need_room(SCALED_SIZE * self.max_axis, room)
             parts = [_pack_scaled(v, 10, POSITION_DECIMALS) for _, v in positions]
@@ -184,7 +233,7 @@ class CncHandlers:
         """0x89: 4 bytes per axis (argument 0) or 16 (-1: head, absolute, machine and
         relative names)."""
         req = AxisNameRequest.from_block(block)
-        names = self._axis_names
+        names = self._path(block).axis_names
         if req.kind == -1:
             data = PositionAxisNames(tuple(PositionAxisName.of(n, n, n) for n in names)).encode()
         else:
@@ -195,38 +244,43 @@ class CncHandlers:
     def read_axis_units(self, block: RequestBlock, room: int, session: Session) -> bytes:
         """0x88: per axis, the unit of the positions and of the machine position (0, mm)."""
         AxisUnitRequest.from_block(block)
-        need_room(AxisUnit.SIZE * len(self._axis_names), room)
-        return AxisUnits((AxisUnit(0, 0),) * len(self._axis_names)).encode()
+        axes = len(self._path(block).axis_names)
+        need_room(AxisUnit.SIZE * axes, room)
+        return AxisUnits((AxisUnit(0, 0),) * axes).encode()
 
     def read_axis_count(self, block: RequestBlock, room: int, session: Session) -> bytes:
         """0xA4: the axes (0), spindles (1) or servo axes (2) of the path."""
         req = AxisCountRequest.from_block(block)
+        path = self._path(block)
         if req.kind == 1:
-            return AxisCount(SPINDLES).encode()
+            return AxisCount(path.spindles).encode()
         if req.kind in (0, 2):
-            return AxisCount(len(self.machine.axes)).encode()
+            return AxisCount(len(path.axis_names)).encode()
         raise Refused(EW.ATTRIB)
 
     def read_axis_display(self, block: RequestBlock, room: int, session: Session) -> bytes:
         """0xA3: every position of every axis shown."""
         AxisDisplayRequest.from_block(block)
-        need_room(AxisDisplay.SIZE * len(self._axis_names), room)
+        axes = len(self._path(block).axis_names)
+        need_room(AxisDisplay.SIZE * axes, room)
         shown = AxisDisplay(bytes(3), _DISPLAY_FLAGS)
-        return AxisDisplays((shown,) * len(self._axis_names)).encode()
+        return AxisDisplays((shown,) * axes).encode()
 
     def read_spindle_load(self, block: RequestBlock, room: int, session: Session) -> bytes:
-        """0x40: the load of each spindle in percent (:meth:`Machine.spindle_loads`)."""
+        """0x40: the load of each spindle of the path in percent
+        (:meth:`Machine.spindle_loads`)."""
         spindle = SpindleLoadRequest.from_block(block).spindle
-        if spindle != -1 and not 1 <= spindle <= SPINDLES:
+        spindles = self._path(block).spindles
+        if spindle != -1 and not 1 <= spindle <= spindles:
             raise Refused(EW.NUMBER)
-        loads = self.machine.spindle_loads()[:SPINDLES]
+        loads = self.machine.spindle_loads(path=block_path(block))[:spindles]
         return ScaledValues(tuple(ScaledNumber(v, 0) for v in loads)).encode()
 
     def read_servo_meter(self, block: RequestBlock, room: int, session: Session) -> bytes:
         """0x56: the servo load of each axis in percent (:meth:`Machine.servo_loads`)."""
         ServoMeterRequest.from_block(block)
-        need_room(SCALED_SIZE * len(self._axis_names), room)
-        loads = self.machine.servo_loads()
+        need_room(SCALED_SIZE * len(self._path(block).axis_names), room)
+        loads = self.machine.servo_loads(path=block_path(block))
         return ScaledValues(tuple(ScaledNumber(v, 0) for v in loads)).encode()
 
     def _pmc_area(self, area: int, data_type: int) -> tuple[str, int]:
@@ -266,7 +320,7 @@ class CncHandlers:
     def read_alarm_bits(self, block: RequestBlock, room: int, session: Session) -> bytes:
         """0x1A: bit n set when an alarm of type n is active."""
         bits = 0
-        for a in self.machine.active_alarms():
+        for a in self.machine.active_alarms(path=block_path(block)):
             bits |= 1 << a.alm_type
         return AlarmStatus(bits - (1 << 32) if bits & 0x8000_0000 else bits).encode()
 
@@ -274,7 +328,9 @@ class CncHandlers:
         req = AlarmMessageRequest.from_block(block)
         if req.count < 1 or req.text_length < 0:
             raise Refused(EW.LENGTH)
-        alarms = self.machine.active_alarms(req.alarm_type, min(req.count, _MAX_ALARMS))
+        alarms = self.machine.active_alarms(
+            req.alarm_type, min(req.count, _MAX_ALARMS), path=block_path(block)
+        )
         text_length = req.text_length
         need_room(len(alarms) * (_ALARM_HEAD_SIZE + text_length), room)
         fill = req.text_mode != 0

@@ -1,6 +1,10 @@
 """The native adapter's handlers of values: macro variables, parameters and diagnostics
 (``docs/native-protocol.md``; what a handler is: :mod:`focas_net.adapters.native`), and how a
 value travels in FANUC's library's numbering.
+
+A block reads and writes as the path in its path word sees the values (0 is path 1): its own
+macro variables #100-#199 and system variables, its axes, its value of a path-type parameter;
+the machine shares the others. A path the machine has not is the machine's EW_PATH.
 """
 
 from __future__ import annotations
@@ -10,7 +14,7 @@ import struct
 from bisect import bisect_left, bisect_right
 from collections.abc import Callable
 from decimal import MAX_EMAX, MAX_PREC, MIN_EMIN, ROUND_HALF_EVEN, Context, Decimal
-from typing import Final
+from typing import Final, Protocol
 
 from focas_net.errors import EW
 from focas_net.native import (
@@ -40,6 +44,7 @@ from focas_net.sim import MAX_MACRO_DECIMALS, DataItem, Machine, MachineError, P
 from focas_net.sim.machine import MAX_REAL_DECIMALS
 
 from ._common import Refused, need_room
+from ._native_cnc import block_path
 
 __all__ = ["DataHandlers", "macro_from_double", "native_diag_type", "native_param_type"]
 
@@ -72,6 +77,12 @@ _SCALED_ZERO: Final = _pack_scaled(0, 10, 0)
 _ITEM_HEAD_PACK: Final = struct.Struct(">ihh").pack
 _I32_PACK: Final = struct.Struct(">i").pack
 _I32_ZERO: Final = bytes(4)
+
+
+class _ReadItem(Protocol):
+    """``Machine.read_param`` or ``Machine.read_diag``."""
+
+    def __call__(self, datano: int, axis: int, *, path: int = 1) -> int: ...
 
 
 def native_param_type(item: DataItem) -> ParamType:
@@ -179,9 +190,10 @@ class DataHandlers:
             raise Refused(EW.LENGTH)
         need_room(SCALED_SIZE * count, room)
         read = self.machine.read_macro
+        path = block_path(block)
         parts = []
         for number in range(req.first, req.last + 1):
-            mantissa, decimals = _macro_parts(read(number))
+            mantissa, decimals = _macro_parts(read(number, path=path))
             parts.append(_pack_scaled(mantissa, 10, decimals))  # vacant: (0, -1)
         return b"".join(parts)
 
@@ -199,7 +211,7 @@ class DataHandlers:
             value = Decimal(mantissa).scaleb(-decimals)
         else:
             value = Decimal(v.mantissa).scaleb(-v.decimals)
-        self.machine.write_macro(req.number, value)
+        self.machine.write_macro(req.number, value, path=block_path(block))
         return b""
 
     def read_macro_doubles(self, block: RequestBlock, room: int, session: Session) -> bytes:
@@ -208,9 +220,10 @@ class DataHandlers:
             raise Refused(EW.LENGTH)
         need_room(MacroDouble.SIZE * req.count, room)
         read = self.machine.read_macro
+        path = block_path(block)
         values: list[float | None] = []
         for number in range(req.first, req.first + req.count):
-            value = read(number)
+            value = read(number, path=path)
             if value is None:
                 values.append(None)  # a quiet NaN
             else:
@@ -221,7 +234,7 @@ class DataHandlers:
     def write_macro_double(self, block: RequestBlock, room: int, session: Session) -> bytes:
         req = MacroDoubleWriteRequest.from_block(block)
         value = None if req.value is None else _macro_of_double(req.value)
-        self.machine.write_macro(req.number, value)
+        self.machine.write_macro(req.number, value, path=block_path(block))
         return b""
 
     def _items(
@@ -229,7 +242,7 @@ class DataHandlers:
         block: RequestBlock,
         room: int,
         numbers: tuple[int, ...],
-        read: Callable[[int, int], int],
+        read: _ReadItem,
         item_of: Callable[[int], DataItem | None],
         type_of: Callable[[DataItem], int],
         scaled: bool,
@@ -247,7 +260,8 @@ class DataHandlers:
             raise Refused(EW.NUMBER)
         max_axis = self.max_axis
         slot = SCALED_SIZE if scaled else 4
-        n_axes = len(self.machine.axes)
+        path = block_path(block)
+        n_axes = len(self.machine.path_info(path).axes)
         # a real record of the 16i set takes two slots per value
         need_room((hi - lo) * (_ITEM_HEAD_SIZE + slot * max(max_axis, 2 * n_axes)), room)
         slots_size = slot * max_axis
@@ -255,17 +269,17 @@ class DataHandlers:
         for number in numbers[lo:hi]:
             if axis == -1:
                 try:
-                    first_value = read(number, 0)
+                    first_value = read(number, 0, path=path)
                 except MachineError as exc:
                     if exc.ew != EW.ATTRIB:
                         raise
-                    values = [read(number, a) for a in range(1, n_axes + 1)]
+                    values = [read(number, a, path=path) for a in range(1, n_axes + 1)]
                     record_axis = -1
                 else:
                     values = [first_value]
                     record_axis = 0
             else:
-                values = [read(number, axis)]
+                values = [read(number, axis, path=path)]
                 record_axis = axis
             item = item_of(number)
             assert item is not None
@@ -345,14 +359,16 @@ class DataHandlers:
     def _write_items(
         self,
         session: Session,
+        path: int,
         number: int,
         axis: int,
         ptype: int,
         values: list[int],
         decimals: list[int] | None = None,
     ) -> None:
-        """Write parameter ``number`` (``axis`` 0, k or -1 for every axis, ``values`` one per
-        slot) given as type ``ptype`` (a real one's mantissas, each with its ``decimals``)."""
+        """Write parameter ``number`` of ``path`` (``axis`` 0, k or -1 for every axis of the
+        path, ``values`` one per slot) given as type ``ptype`` (a real one's mantissas, each
+        with its ``decimals``)."""
         m = self.machine
         m.check_writable()
         width = _PARAM_WIDTHS.get(ptype)
@@ -364,10 +380,10 @@ class DataHandlers:
 
         def write(a: int, i: int) -> None:
             d = None if decimals is None else decimals[i]
-            m.write_param(session, number, a, values[i], width=width, decimals=d)
+            m.write_param(session, number, a, values[i], width=width, decimals=d, path=path)
 
         if axis == -1:
-            n = len(m.axes)
+            n = len(m.path_info(path).axes)
             if len(values) < n:
                 raise Refused(EW.LENGTH)
             if item is not None and not item.axis:
@@ -395,7 +411,7 @@ class DataHandlers:
         width = _PARAM_WIDTHS.get(rec.type, 4)
         bits = 8 * width
         values = [((v + (1 << (bits - 1))) % (1 << bits)) - (1 << (bits - 1)) for v in rec.values]
-        self._write_items(session, rec.number, rec.axis, rec.type, values)
+        self._write_items(session, block_path(block), rec.number, rec.axis, rec.type, values)
         return b""
 
     def write_param_30i(self, block: RequestBlock, room: int, session: Session) -> bytes:
@@ -405,7 +421,7 @@ class DataHandlers:
         decimals = None
         if rec.type == ParamType.REAL:
             decimals = [v.decimals for v in rec.values]
-        self._write_items(
-            session, rec.number, rec.axis, rec.type, [v.mantissa for v in rec.values], decimals
-        )
+        values = [v.mantissa for v in rec.values]
+        path = block_path(block)
+        self._write_items(session, path, rec.number, rec.axis, rec.type, values, decimals)
         return b""

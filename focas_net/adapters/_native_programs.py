@@ -3,6 +3,10 @@ of the program store's data requests (directory, memory, delete, search, the blo
 executed; what a handler is: :mod:`focas_net.adapters.native`) and the transfer frames of
 uploads and downloads, a download kept in the connection's :class:`ProgramTransfer` and stored
 at its end only.
+
+A data request answers for the programs of the path in its block's path word (0 is path 1);
+an upload or a download is of the path its start frame names (:class:`TransferStart`'s
+``path``, the handle's path; 0 is path 1).
 """
 
 from __future__ import annotations
@@ -31,6 +35,7 @@ from focas_net.native import (
 from focas_net.sim import Machine, MachineError, Session
 
 from ._common import REFUSALS, Refused, refusal_code
+from ._native_cnc import block_path
 
 __all__ = ["MAX_DOWNLOAD", "ProgramHandlers", "ProgramTransfer"]
 
@@ -47,11 +52,13 @@ class ProgramTransfer:
     connection dropped in the middle of a download stores nothing; the machine sees only the
     whole program, at the download's end."""
 
-    __slots__ = ("downloading", "overflow", "received")
+    __slots__ = ("downloading", "overflow", "path", "received")
 
     def __init__(self) -> None:
         #: Whether a download was started and not ended.
         self.downloading = False
+        #: The path whose programs the download goes to.
+        self.path = 1
         #: Whether the download went past :data:`MAX_DOWNLOAD` (its bytes were dropped).
         self.overflow = False
         #: The download's bytes so far.
@@ -59,6 +66,7 @@ class ProgramTransfer:
 
     def reset(self) -> None:
         self.downloading = False
+        self.path = 1
         self.overflow = False
         self.received.clear()
 
@@ -81,7 +89,8 @@ class ProgramHandlers:
         if req.count < 1:
             raise Refused(EW.LENGTH)
         most = min(req.count, room // ProgramDirEntry.SIZE)
-        entries = [e for e in self.machine.program_directory() if e.number >= req.top][:most]
+        directory = self.machine.program_directory(path=block_path(block))
+        entries = [e for e in directory if e.number >= req.top][:most]
         return b"".join(
             ProgramDirEntry(e.number, e.size, _program_comment(e.name)).encode() for e in entries
         )
@@ -90,8 +99,9 @@ class ProgramHandlers:
         """0x07: programs stored and the room for more, characters used and free (the
         machine's program store: its directory, capacity and most programs)."""
         machine = self.machine
-        directory = machine.program_directory()
-        store = machine.programs
+        path = block_path(block)
+        directory = machine.program_directory(path=path)
+        store = machine.path_programs(path)
         used = sum(e.size for e in directory)
         return ProgramMemory(
             len(directory),
@@ -102,12 +112,14 @@ class ProgramHandlers:
 
     def delete_program(self, block: RequestBlock, room: int, session: Session) -> bytes:
         """0x05: the machine's ``delete_program`` (EW_PROT, EW_NUMBER, EW_BUSY)."""
-        self.machine.delete_program(ProgramDeleteRequest.from_block(block).number)
+        number = ProgramDeleteRequest.from_block(block).number
+        self.machine.delete_program(number, path=block_path(block))
         return b""
 
     def search_program(self, block: RequestBlock, room: int, session: Session) -> bytes:
         """0x03: the machine's ``select_program`` (EW_PROT, EW_MODE, EW_NUMBER, EW_BUSY)."""
-        self.machine.select_program(ProgramSearchRequest.from_block(block).number)
+        number = ProgramSearchRequest.from_block(block).number
+        self.machine.select_program(number, path=block_path(block))
         return b""
 
     def read_executing_blocks(self, block: RequestBlock, room: int, session: Session) -> bytes:
@@ -118,9 +130,10 @@ class ProgramHandlers:
         req = ExecutingBlocksRequest.from_block(block)
         if req.length < 1:
             raise Refused(EW.LENGTH)
-        motion = self.machine.motion
+        path = block_path(block)
+        motion = self.machine.path_motion(path=path)
         try:
-            text = self.machine.program_text(motion.program_running)
+            text = self.machine.program_text(motion.program_running, path=path)
         except MachineError:
             return ExecutingBlocks(0, b"").encode()
         lines = text.splitlines()[1:]  # after the O line
@@ -152,10 +165,12 @@ class ProgramHandlers:
             if kind is TransferFrame.UPLOAD_START:
                 return self._upload(body)
             if kind is TransferFrame.DOWNLOAD_START:
-                TransferStart.decode(body)
+                path = TransferStart.decode(body).path or 1
                 state.reset()
                 self.machine.check_writable()
+                self.machine.path_info(path)  # EW_PATH for a path the machine has not
                 state.downloading = True
+                state.path = path
                 return [self._transfer_frame(TransferFrame.DOWNLOAD_START_ANSWER)]
             if kind is TransferFrame.DOWNLOAD_DATA:
                 if state.downloading and not state.overflow:
@@ -182,15 +197,19 @@ class ProgramHandlers:
         )
 
     def _upload(self, body: bytes) -> list[bytes]:
-        first, last = parse_program_range(TransferStart.decode(body).name)
+        start = TransferStart.decode(body)
+        path = start.path or 1
         machine = self.machine
+        machine.path_info(path)  # EW_PATH for a path the machine has not
+        first, last = parse_program_range(start.name)
         if first == last:
-            texts = [machine.program_text(first)]  # EW_NUMBER when there is none
+            texts = [machine.program_text(first, path=path)]  # EW_NUMBER when there is none
         else:
-            numbers = [e.number for e in machine.program_directory() if first <= e.number <= last]
+            directory = machine.program_directory(path=path)
+            numbers = [e.number for e in directory if first <= e.number <= last]
             if not numbers:
                 raise Refused(EW.NUMBER)
-            texts = [machine.program_text(n) for n in numbers]
+            texts = [machine.program_text(n, path=path) for n in numbers]
         data = ("%\n" + "".join(texts) + "%").encode("latin-1", "replace")
         frames = [self._transfer_frame(TransferFrame.UPLOAD_START_ANSWER)]
         frames.extend(
@@ -205,14 +224,14 @@ class ProgramHandlers:
         past :data:`MAX_DOWNLOAD`, then the machine's ``store_program`` refusals (EW_PROT,
         EW_DATA, EW_NUMBER, EW_REJECT, EW_OVRFLOW): the machine reads the text as a tape,
         from its opening ``%`` to its closing one, and refuses what is not printable ASCII."""
-        downloading, overflow = state.downloading, state.overflow
+        downloading, overflow, path = state.downloading, state.overflow, state.path
         raw = bytes(state.received)
         state.reset()
         if not downloading:
             raise Refused(EW.FUNC)
         if overflow:
             raise Refused(EW.OVRFLOW)
-        self.machine.store_program(raw.decode("latin-1"))
+        self.machine.store_program(raw.decode("latin-1"), path=path)
         return [self._transfer_frame(TransferFrame.DOWNLOAD_END_ANSWER)]
 
 

@@ -8,9 +8,13 @@ a real control of the machine's class does to FANUC's library (``libfwlib32``):
   with version 2 (the "16i set": parameters 0x0E/0x10/0x0F, diagnostics 0x30, base-2 macro
   writes), a 0i-D, 0i-F, 30i, 31i or 32i with version 3 (the "30i set": 0x8D/0xA0/0x8E, 0x93,
   0xA4/0xA3 wrapping, base-10 macro writes); see :class:`focas_net.native.CommandSet`;
-* **the open answer** (:meth:`NativeAdapter.open_answer`) describes one path with the machine
-  type, its axes and spindles, and the CNC's max axes; the FOCAS option bits (bit 0, needed by
-  ``cnc_rddynamic2``) are in the open answer at version 3 and in parameter 9968 at version 2;
+* **the open answer** (:meth:`NativeAdapter.open_answer`) describes every path of the machine
+  (its machine type, axes and spindles), the path count ``cnc_getpath`` reports and the CNC's
+  max axes; the FOCAS option bits (bit 0, needed by ``cnc_rddynamic2``) are in the open answer
+  at version 3 and in parameter 9968 at version 2. A multi-path machine's answer carries the
+  library's whole table of :data:`~focas_net.native.PATH_RECORDS` path records, the absent
+  ones empty, so that ``cnc_setpath`` past the last path fails in the library (EW_PATH), as
+  against a real control; a single-path machine's carries its one record, as it always did;
 * every request block is answered with a block, in order (device, path and command echoed, an
   EW code, the data). Every command of both sets is served whichever set the handle uses;
 * part programs: directory, memory, delete, search and the blocks being executed are data
@@ -19,8 +23,13 @@ a real control of the machine's class does to FANUC's library (``libfwlib32``):
 
 Rules of this wire (the CNC's rules are the machine's, see :mod:`focas_net.sim.machine`):
 
-* a block whose ``(device, command)`` is not served answers ``EW_FUNC``; a path other than 0
-  or 1 answers ``EW_PATH`` (the machine has one path);
+* a block whose ``(device, command)`` is not served answers ``EW_FUNC``;
+* a block answers for the path in its path word (``cnc_setpath`` writes it; 0 is the handle's
+  default, path 1): every per-path read and write (status, motion figures, positions, axes,
+  spindles, loads, alarms, programs, macro variables, parameters and diagnostics) asks the
+  machine for that path, and a path the machine has not answers ``EW_PATH`` before any other
+  check. The CNC ID, the PMC, the alarm history and the parameter information
+  (:data:`PATH_INDEPENDENT`) are the machine's and ignore the path word;
 * a refusal of the machine answers its EW code (``EW_NUMBER``, ``EW_ATTRIB``, ``EW_PROT``,
   ``EW_PASSWD``, ``EW_LENGTH``...), the code the packed protocol answers for the same request;
   a block whose data the wire cannot carry answers ``EW_DATA`` (a warning is logged; see
@@ -85,6 +94,7 @@ from focas_net.native import (
     MAGIC_WORD,
     NATIVE_HEADER,
     OPTION_PARAMETER,
+    PATH_RECORDS,
     RESPONSE_BLOCK_SIZE,
     BlockCount,
     CommandSet,
@@ -113,11 +123,11 @@ from ._common import (
     refusal_code,
     unencodable_code,
 )
-from ._native_cnc import SPINDLES, CncHandlers
+from ._native_cnc import CncHandlers
 from ._native_data import DataHandlers
 from ._native_programs import ProgramHandlers, ProgramTransfer
 
-__all__ = ["NativeAdapter", "command_set_of"]
+__all__ = ["PATH_INDEPENDENT", "NativeAdapter", "command_set_of"]
 
 #: Control classes that speak the 16i command set; every other class speaks the 30i set.
 _CLASSES_16I: Final = frozenset({"16i", "18i", "21i", "0i-C"})
@@ -126,7 +136,18 @@ _SET_VERSIONS: Final = {CommandSet.FS16I: 2, CommandSet.FS30I: 3}
 #: FOCAS option bits of a machine whose parameter 9968 is an axis parameter (otherwise the
 #: open answer of the 30i set carries 9968's value): bit 0 is what ``cnc_rddynamic2`` needs.
 OPTION_BITS: Final = 1
-_SERVED_PATHS: Final = frozenset({0, 1})
+#: ``(device, command)`` of the blocks that answer whatever their path word: the CNC ID, the
+#: alarm history, the parameter information and the PMC are the machine's, not a path's.
+PATH_INDEPENDENT: Final = frozenset(
+    {
+        (Device.CNC, NativeCommand.RDCNCID),
+        (Device.CNC, NativeCommand.RDALMHISTRY),
+        (Device.CNC, NativeCommand.RDPARAINFO),
+        (Device.CNC, NativeCommand.RDPARAINFO3),
+        (Device.PMC, NativeCommand.PMC_RDPMCRNG),
+        (Device.PMC, NativeCommand.PMC_WRPMCRNG),
+    }
+)
 #: The machine counter the answer of each read block follows ("" for what never changes: the
 #: identity, the axes): a request of these only is answered from a memo while those counters
 #: hold. Absent are writes, and reads that move with time alone or with the program store
@@ -217,8 +238,9 @@ class NativeAdapter:
         self.limit = max_response_body(version)
         self._max_blocks = (self.limit - 2) // RESPONSE_BLOCK_SIZE
         #: Value slots per parameter/diagnostic record and position records for all axes: the
-        #: open answer's max axes.
-        self.max_axis = max(machine.identity().max_axis, len(machine.axes), 1)
+        #: open answer's max axes (at least the axes of every path).
+        most = max(len(machine.path_info(p).axes) for p in range(1, machine.path_count + 1))
+        self.max_axis = max(machine.identity().max_axis, most, 1)
         #: request body -> (the counters its answer follows, their values then, the frame)
         self._kept = AnswerMemo(_KEPT_ANSWERS)
         self._own_session = machine.new_session()
@@ -286,13 +308,21 @@ class NativeAdapter:
     # -- open and close ------------------------------------------------------------------
 
     def open_answer(self) -> bytes:
-        """The body of the open answer: one path (machine type from the identity, the
-        machine's axes, one spindle) and the CNC's max axes; at version 3 the option bits."""
-        mt = self.machine.identity().mt_type
-        machine_type = MACHINE_LATHE if mt.strip() == "T" else MACHINE_MILL
-        path = PathDescription(machine_type, len(self.machine.axes), SPINDLES)
+        """The body of the open answer: every path (its machine type, axes and spindles), the
+        path count and the CNC's max axes; at version 3 the option bits. A multi-path machine
+        fills the library's table of :data:`~focas_net.native.PATH_RECORDS` paths."""
+        machine = self.machine
+        paths = []
+        for number in range(1, machine.path_count + 1):
+            info = machine.path_info(number)
+            machine_type = MACHINE_LATHE if info.kind == "T" else MACHINE_MILL
+            paths.append(PathDescription(machine_type, len(info.axes), info.spindles))
         return build_open_answer(
-            [path], self.max_axis, option_bits=self._option_bits(), version=self.version
+            paths,
+            self.max_axis,
+            option_bits=self._option_bits(),
+            version=self.version,
+            records=1 if len(paths) == 1 else PATH_RECORDS,
         )
 
     def _option_bits(self) -> int:
@@ -311,9 +341,9 @@ class NativeAdapter:
         """The whole close-answer frame."""
         return encode_close_response(self.version)
 
-    def status_info(self) -> StatInfo:
-        """The status as a 0x19 answer carries it."""
-        return self._cnc.status_info()
+    def status_info(self, path: int = 1) -> StatInfo:
+        """The status of ``path`` as a 0x19 answer carries it."""
+        return self._cnc.status_info(path)
 
     # -- requests ------------------------------------------------------------------------
 
@@ -371,14 +401,16 @@ class NativeAdapter:
         parts: list[bytes] = [b"", _pack_count(count)]
         left = self.limit - 2 - RESPONSE_BLOCK_SIZE * count
         handlers = self._handlers
+        paths = self.machine.path_count
         failed = False
         for block in blocks:
-            handler = handlers.get((block.device, block.command))
+            key = (block.device, block.command)
+            handler = handlers.get(key)
             ew = 0
             data = b""
             if handler is None:
                 ew = EW.FUNC
-            elif block.path not in _SERVED_PATHS:
+            elif block.path > paths and key not in PATH_INDEPENDENT:
                 ew = EW.PATH
             else:
                 try:

@@ -59,7 +59,7 @@ from collections.abc import Callable
 from decimal import Decimal
 from typing import Any, ClassVar, Final
 
-from focas_net.errors import EW
+from focas_net.errors import EW, PayloadError
 from focas_net.protocol import (
     COMMANDS,
     FAULT_COMMANDS,
@@ -69,6 +69,8 @@ from focas_net.protocol import (
     MAX_PMC_CHUNK,
     MAX_PROGRAM_CHUNK,
     PASSWORD_SIZE,
+    PATH_COMMANDS,
+    PATH_INDEPENDENT_COMMANDS,
     ActiveAlarm,
     ActiveAlarmList,
     ActualValue,
@@ -81,6 +83,7 @@ from focas_net.protocol import (
     MacroValue,
     ParamAttributes,
     ParamValue,
+    PathSelection,
     PmcArea,
     PmcData,
     PositionData,
@@ -120,8 +123,8 @@ from ._common import (
 
 __all__ = ["PackedAdapter"]
 
-#: One handler: ``(session, payload) -> answer``; raises one of :data:`REFUSALS`.
-_Handler = Callable[[Session, bytes], bytes]
+#: One handler: ``(session, payload, path) -> answer``; raises one of :data:`REFUSALS`.
+_Handler = Callable[[Session, bytes, int], bytes]
 
 #: ``type_a`` code -> PMC area letter.
 _AREA_LETTERS: Final[dict[int, str]] = {area.value: area.name for area in PmcArea}
@@ -169,15 +172,12 @@ def _param_value(datano: int, axis: int, value: int, item: DataItem) -> ParamVal
 
 
 def _item(
-    payload: bytes,
-    decode: Callable[[bytes], Any],
-    read: Callable[[int, int], int],
+    req: Any,
+    value: int,
     item_of: Callable[[int], DataItem | None],
     encode: Callable[[ParamValue], bytes],
 ) -> bytes:
-    """The answer of a parameter or diagnostic read (IODBPSD)."""
-    req = decode(payload)
-    value = read(req.datano, req.axis)
+    """The answer of a parameter or diagnostic read (IODBPSD) of ``value``."""
     item = item_of(req.datano)
     assert item is not None
     return encode(_param_value(req.datano, req.axis, value, item))
@@ -210,10 +210,10 @@ class PackedAdapter:
 
     #: The command ids :meth:`answer` answers (every command but the fault queues' 0x0E05..7).
     handled: ClassVar[frozenset[int]] = frozenset(
-        int(c) for c in COMMANDS if c not in FAULT_COMMANDS
+        int(c) for c in COMMANDS if c not in FAULT_COMMANDS and c not in PATH_COMMANDS
     )
 
-    __slots__ = ("_errors", "_kept", "_sysinfo", "_table", "machine")
+    __slots__ = ("_errors", "_kept", "_kept_paths", "_sysinfo", "_table", "machine")
 
     def __init__(self, machine: Machine) -> None:
         self.machine = machine
@@ -230,7 +230,9 @@ class PackedAdapter:
             )
         )
         #: command -> its kept answers: payload -> (its counter, the counter's value then, answer)
-        self._kept: dict[int, AnswerMemo] = {c: AnswerMemo(_KEPT_ANSWERS) for c in _FOLLOWS}
+        self._kept: dict[int, AnswerMemo] = self._new_memos()
+        #: the same for the paths after the first, made when a path is first asked
+        self._kept_paths: dict[int, dict[int, AnswerMemo]] = {}
         self._errors: dict[tuple[int, int], bytes] = {}
         by_id: dict[Command, _Handler] = {
             Command.RDCNCSTAT: self._rdcncstat,
@@ -274,12 +276,31 @@ class PackedAdapter:
     def __repr__(self) -> str:
         return f"PackedAdapter({self.machine!r})"
 
-    def answer(self, session: Session, command: int, payload: bytes) -> bytes:
-        """The complete answer payload of one request; never raises for what a peer sends nor
-        for what the machine holds."""
-        if type(payload) is not bytes:  # kept answers key on the payload: make it hashable
+    @staticmethod
+    def _new_memos() -> dict[int, AnswerMemo]:
+        return {c: AnswerMemo(_KEPT_ANSWERS) for c in _FOLLOWS}
+
+    def answer(self, session: Session, command: int, payload: bytes, path: int = 1) -> bytes:
+        """The complete answer payload of one request on a connection whose selected path is
+        ``path`` (0: none, after a refused ``cnc_setpath``); never raises for what a peer
+        sends nor for what the machine holds.
+
+        A per-path command answers for ``path``; with no path selected it answers EW_PATH
+        (a control command on a machine with control off EW_FUNC first). A path-independent
+        command (:data:`~focas_net.protocol.PATH_INDEPENDENT_COMMANDS`) ignores ``path``."""
+        if type(payload) is not bytes:  # kept answers key on payload: make it hashable
             payload = bytes(payload)
-        memo = self._kept.get(command)
+        if path == 1:
+            memos = self._kept
+        elif command in _PATH_INDEPENDENT:
+            memos, path = self._kept, 1
+        elif path:
+            memos = self._kept_paths.get(path) or self._kept_paths.setdefault(
+                path, self._new_memos()
+            )
+        else:
+            return self._no_path(command)
+        memo = memos.get(command)
         if memo is not None:
             kept: tuple[Counters, Any, bytes] | None = memo.get(payload)
             if kept is not None and kept[0](self.machine) == kept[1]:
@@ -289,11 +310,11 @@ class PackedAdapter:
             return _EW_FUNC
         try:
             if memo is None:
-                return fn(session, payload)
+                return fn(session, payload, path)
             counters = _FOLLOWS[command]
             # Read before answering: a machine that moves meanwhile only makes the next miss.
             seen = counters(self.machine)
-            answer = fn(session, payload)
+            answer = fn(session, payload, path)
         except REFUSALS as exc:
             return self.error_answer(command, refusal_code(exc))
         except UNENCODABLE as exc:
@@ -301,6 +322,33 @@ class PackedAdapter:
             return self.error_answer(command, ew)
         memo.keep(payload, counters, seen, answer)
         return answer
+
+    def _no_path(self, command: int) -> bytes:
+        """The answer of a per-path ``command`` on a connection with no path selected."""
+        if command not in self._table:
+            return _EW_FUNC
+        if _CONTROL_FIRST <= command <= _CONTROL_LAST and not self.machine.control_enabled:
+            return _EW_FUNC
+        return self.error_answer(command, EW.PATH)
+
+    # -- the path selection (0x0040, 0x0140) ---------------------------------------------
+    def select_path(self, payload: bytes) -> tuple[bytes, int]:
+        """``cnc_setpath``: its answer and the connection's selection from now on: the path
+        asked when the machine has it, else 0 (none) with EW_PATH (EW_LENGTH for a payload
+        that is not one ``i16``), so that no later request reads another path."""
+        try:
+            path = _decode_setpath(payload).path
+        except PayloadError:
+            return self.error_answer(_SETPATH, EW.LENGTH), 0
+        if not 1 <= path <= self.machine.path_count:
+            return self.error_answer(_SETPATH, EW.PATH), 0
+        return _OK, path
+
+    def path_answer(self, payload: bytes, path: int) -> bytes:
+        """``cnc_getpath`` on a connection whose selection is ``path`` (0: none)."""
+        if payload:
+            return self.error_answer(_GETPATH, EW.LENGTH)
+        return _encode_getpath(PathSelection(path, self.machine.path_count))
 
     def error_answer(self, command: int, ew: int) -> bytes:
         """The answer of ``command`` carrying only ``ew`` (``count = -1, ew`` for counted
@@ -315,29 +363,33 @@ class PackedAdapter:
         return answer
 
     # -- reads ---------------------------------------------------------------------------
-    def _rdcncstat(self, _session: Session, payload: bytes) -> bytes:
+    def _rdcncstat(self, _session: Session, payload: bytes, path: int) -> bytes:
         if payload:
             _decode_empty(payload)  # raises: this request is empty
-        s = self.machine.status()
+        s = self.machine.status(path=path)
         info = StatusInfo(
             s.hdck, s.tmmode, s.aut, s.run, s.motion, s.mstb, s.emergency, s.alarm, s.edit
         )
         return _encode_status(info)
 
-    def _sysinfo_answer(self, _session: Session, payload: bytes) -> bytes:
+    def _sysinfo_answer(self, _session: Session, payload: bytes, _path: int) -> bytes:
         if payload:
             _decode_empty(payload)
         return self._sysinfo
 
-    def _rdparam(self, _session: Session, payload: bytes) -> bytes:
+    def _rdparam(self, _session: Session, payload: bytes, path: int) -> bytes:
         m = self.machine
-        return _item(payload, _decode_param_request, m.read_param, m.param_item, _encode_param)
+        req = _decode_param_request(payload)
+        value = m.read_param(req.datano, req.axis, path=path)
+        return _item(req, value, m.param_item, _encode_param)
 
-    def _rddiag(self, _session: Session, payload: bytes) -> bytes:
+    def _rddiag(self, _session: Session, payload: bytes, path: int) -> bytes:
         m = self.machine
-        return _item(payload, _decode_diag_request, m.read_diag, m.diag_item, _encode_diag)
+        req = _decode_diag_request(payload)
+        value = m.read_diag(req.datano, req.axis, path=path)
+        return _item(req, value, m.diag_item, _encode_diag)
 
-    def _rdparainfo(self, _session: Session, payload: bytes) -> bytes:
+    def _rdparainfo(self, _session: Session, payload: bytes, _path: int) -> bytes:
         datano = _decode_parainfo_request(payload).datano
         item = self.machine.param_item(datano)
         if item is None:
@@ -348,22 +400,22 @@ class PackedAdapter:
         )
         return _encode_parainfo(info)
 
-    def _rdmacro(self, _session: Session, payload: bytes) -> bytes:
+    def _rdmacro(self, _session: Session, payload: bytes, path: int) -> bytes:
         number = _decode_macro_request(payload).number
-        mcr_val, dec_val = _macro_parts(self.machine.read_macro(number))
+        mcr_val, dec_val = _macro_parts(self.machine.read_macro(number, path=path))
         return _encode_macro(MacroValue(number, _ODBM_LENGTH, mcr_val, dec_val))
 
-    def _rdalmmsg(self, _session: Session, payload: bytes) -> bytes:
+    def _rdalmmsg(self, _session: Session, payload: bytes, path: int) -> bytes:
         req = _decode_almmsg_request(payload)
         if not 1 <= req.max <= _MAX_ALARMS:
             raise Refused(EW.LENGTH)
         entries = tuple(
             ActiveAlarm(a.axis_no, a.alm_type, a.alm_no, a.msg)
-            for a in self.machine.active_alarms(req.type, req.max)
+            for a in self.machine.active_alarms(req.type, req.max, path=path)
         )
         return _encode_almmsg(ActiveAlarmList(entries))
 
-    def _rdalmhistry(self, _session: Session, payload: bytes) -> bytes:
+    def _rdalmhistry(self, _session: Session, payload: bytes, _path: int) -> bytes:
         depth = _decode_history_request(payload).depth
         if not 1 <= depth <= MAX_HISTORY_DEPTH:
             raise Refused(EW.LENGTH)
@@ -373,25 +425,25 @@ class PackedAdapter:
         )
         return _encode_history(AlarmHistory(entries))
 
-    def _rdprgnum(self, _session: Session, payload: bytes) -> bytes:
+    def _rdprgnum(self, _session: Session, payload: bytes, path: int) -> bytes:
         _decode_prgnum_request(payload)
-        mo = self.machine.motion
+        mo = self.machine.path_motion(path=path)
         return _encode_prgnum(ProgramNumbers(mo.program_running, mo.program_main))
 
-    def _actf(self, _session: Session, payload: bytes) -> bytes:
+    def _actf(self, _session: Session, payload: bytes, path: int) -> bytes:
         _decode_actf_request(payload)
-        return _encode_actf(ActualValue(self.machine.motion.feed))
+        return _encode_actf(ActualValue(self.machine.path_motion(path=path).feed))
 
-    def _acts(self, _session: Session, payload: bytes) -> bytes:
+    def _acts(self, _session: Session, payload: bytes, path: int) -> bytes:
         _decode_acts_request(payload)
-        return _encode_acts(ActualValue(self.machine.motion.spindle_speed))
+        return _encode_acts(ActualValue(self.machine.path_motion(path=path).spindle_speed))
 
-    def _rdposition(self, _session: Session, payload: bytes) -> bytes:
+    def _rdposition(self, _session: Session, payload: bytes, path: int) -> bytes:
         req = _decode_position_request(payload)
         if not 0 <= req.type < len(POSITION_KINDS):
             raise Refused(EW.ATTRIB)
         axis = None if req.axis == -1 else req.axis
-        values = self.machine.positions(POSITION_KINDS[req.type], axis)
+        values = self.machine.positions(POSITION_KINDS[req.type], axis, path=path)
         axes = tuple(AxisPosition(name[:4], value) for name, value in values)
         return _encode_position(PositionData(POSITION_DECIMALS, axes))
 
@@ -413,14 +465,14 @@ class PackedAdapter:
             raise Refused(EW.LENGTH)
         return count
 
-    def _rdpmcrng(self, _session: Session, payload: bytes) -> bytes:
+    def _rdpmcrng(self, _session: Session, payload: bytes, _path: int) -> bytes:
         r = _decode_pmc_request(payload)
         letter = self._pmc_letter(r.type_a)
         count = self._pmc_count(r.type_d, r.datano_s, r.datano_e)
         data = self.machine.read_pmc(letter, r.datano_s, count)
         return _encode_pmc(PmcData(r.type_a, r.type_d, r.datano_s, r.datano_e, data))
 
-    def _versamax(self, _session: Session, payload: bytes) -> bytes:
+    def _versamax(self, _session: Session, payload: bytes, _path: int) -> bytes:
         req = _decode_versamax_request(payload)
         m = self.machine
         m.config_record(req.rack, req.slot)
@@ -430,7 +482,7 @@ class PackedAdapter:
         return _encode_versamax(VersaMaxReply(req.rack, req.slot, req.offset, data))
 
     # -- writes --------------------------------------------------------------------------
-    def _wrparam(self, session: Session, payload: bytes) -> bytes:
+    def _wrparam(self, session: Session, payload: bytes, path: int) -> bytes:
         pv = _decode_param_write(payload)
         m = self.machine
         item = m.param_item(pv.datano)
@@ -438,14 +490,16 @@ class PackedAdapter:
         if item is not None and item.kind is ParamKind.BIT and pv.width == 1:
             value &= 0xFF  # the signed byte carries the eight bits #7..#0
         decimals = pv.decimals if pv.width == _REAL_WIDTH else None
-        m.write_param(session, pv.datano, pv.axis, value, width=pv.width, decimals=decimals)
+        m.write_param(
+            session, pv.datano, pv.axis, value, width=pv.width, decimals=decimals, path=path
+        )
         return _OK
 
-    def _wrmacro(self, _session: Session, payload: bytes) -> bytes:
+    def _wrmacro(self, _session: Session, payload: bytes, path: int) -> bytes:
         mv = _decode_macro_write(payload)
         if mv.length != _ODBM_LENGTH:
             raise Refused(EW.LENGTH)
-        self.machine.write_macro(mv.number, Decimal(f"{mv.mcr_val}E{-mv.dec_val}"))
+        self.machine.write_macro(mv.number, Decimal(f"{mv.mcr_val}E{-mv.dec_val}"), path=path)
         return _OK
 
     def _write_pmc(self, d: PmcData, *, force: bool) -> bytes:
@@ -458,10 +512,10 @@ class PackedAdapter:
         m.write_pmc(letter, d.datano_s, d.data, force=force)
         return _OK
 
-    def _wrpmcrng(self, _session: Session, payload: bytes) -> bytes:
+    def _wrpmcrng(self, _session: Session, payload: bytes, _path: int) -> bytes:
         return self._write_pmc(_decode_pmc_write(payload), force=False)
 
-    def _unlock(self, session: Session, payload: bytes) -> bytes:
+    def _unlock(self, session: Session, payload: bytes, _path: int) -> bytes:
         # A password longer than the 4 bytes of the payload is a wrong one (EW_PASSWD, the
         # session locked), never cut to its first 4 bytes; a shorter payload is EW_LENGTH.
         if len(payload) > PASSWORD_SIZE:
@@ -470,74 +524,74 @@ class PackedAdapter:
         return _OK
 
     # -- part programs (0x0030..0x0032, 0x0110..0x0112) ----------------------------------------
-    def _rdprogdir(self, _session: Session, payload: bytes) -> bytes:
+    def _rdprogdir(self, _session: Session, payload: bytes, path: int) -> bytes:
         req = _decode_dir_request(payload)
         if not 1 <= req.max <= MAX_DIRECTORY_ENTRIES:
             raise Refused(EW.LENGTH)
-        chosen = [p for p in self.machine.program_directory() if p.number >= req.first]
+        chosen = [p for p in self.machine.program_directory(path=path) if p.number >= req.first]
         entries = tuple(
             ProgramEntry(p.number, p.size, p.name.encode("ascii", "replace").decode("ascii"))
             for p in chosen[: req.max]
         )
         return _encode_dir(ProgramDirectory(entries))
 
-    def _rdprogram(self, _session: Session, payload: bytes) -> bytes:
+    def _rdprogram(self, _session: Session, payload: bytes, path: int) -> bytes:
         req = _decode_chunk_request(payload)
-        raw = self.machine.program_text(req.number).encode("ascii", "replace")
+        raw = self.machine.program_text(req.number, path=path).encode("ascii", "replace")
         if not 0 <= req.offset <= len(raw):
             raise Refused(EW.DATA)
         chunk = raw[req.offset : req.offset + MAX_PROGRAM_CHUNK].decode("ascii")
         return _encode_chunk(ProgramChunk(len(raw), chunk))
 
-    def _rdruninfo(self, _session: Session, payload: bytes) -> bytes:
+    def _rdruninfo(self, _session: Session, payload: bytes, path: int) -> bytes:
         if payload:
             _decode_empty(payload)
         m = self.machine
-        feed, rapid, spindle = m.overrides()
-        timers = [m.timer_ms(k) for k in range(len(TIMER_KINDS))]
-        count, total = m.parts_counts()
+        feed, rapid, spindle = m.overrides(path=path)
+        timers = [m.timer_ms(k, path=path) for k in range(len(TIMER_KINDS))]
+        count, total = m.parts_counts(path=path)
         return _encode_runinfo(RunInfo(feed, rapid, spindle, count, total, *timers))
 
-    def _rdloads(self, _session: Session, payload: bytes) -> bytes:
+    def _rdloads(self, _session: Session, payload: bytes, path: int) -> bytes:
         if payload:
             _decode_empty(payload)
         m = self.machine
-        return _encode_loads(LoadMeters(m.spindle_loads(), m.servo_loads()))
+        return _encode_loads(LoadMeters(m.spindle_loads(path=path), m.servo_loads(path=path)))
 
-    def _wrprogram(self, _session: Session, payload: bytes) -> bytes:
+    def _wrprogram(self, _session: Session, payload: bytes, path: int) -> bytes:
         req = _decode_program_text(payload)
         self.machine.check_writable()
         if req.replace not in (0, 1):
             raise Refused(EW.DATA)
-        number = self.machine.store_program(req.text, replace=bool(req.replace))
+        number = self.machine.store_program(req.text, replace=bool(req.replace), path=path)
         return _encode_stored(ProgramNumber(number))
 
-    def _delprogram(self, _session: Session, payload: bytes) -> bytes:
-        self.machine.delete_program(_decode_program_number(payload).number)
+    def _delprogram(self, _session: Session, payload: bytes, path: int) -> bytes:
+        self.machine.delete_program(_decode_program_number(payload).number, path=path)
         return _OK
 
-    def _selprogram(self, _session: Session, payload: bytes) -> bytes:
-        self.machine.select_program(_decode_program_number(payload).number)
+    def _selprogram(self, _session: Session, payload: bytes, path: int) -> bytes:
+        self.machine.select_program(_decode_program_number(payload).number, path=path)
         return _OK
 
     # -- simulator control: the cycle (0x0E20, 0x0E21) -------------------------------------
-    def _cycle(self, _session: Session, payload: bytes) -> bytes:
+    def _cycle(self, _session: Session, payload: bytes, path: int) -> bytes:
         if not self.machine.control_enabled:
             return _EW_FUNC
         action = _decode_cycle(payload).action
         m = self.machine
         m.check_writable()
         if action == CycleAction.START:
-            m.cycle_start()
+            m.cycle_start(path=path)
         elif action == CycleAction.HOLD:
-            m.feed_hold()
+            m.feed_hold(path=path)
         elif action == CycleAction.RESET:
-            m.reset()
+            m.reset(path=path)
         else:
             raise Refused(EW.DATA)
         return _OK
 
-    def _set_overrides(self, _session: Session, payload: bytes) -> bytes:
+    def _set_overrides(self, _session: Session, payload: bytes, path: int) -> bytes:
         if not self.machine.control_enabled:
             return _EW_FUNC
         o = _decode_overrides(payload)
@@ -545,11 +599,12 @@ class PackedAdapter:
             None if o.feed == _UNCHANGED else o.feed,
             None if o.rapid == _UNCHANGED else o.rapid,
             None if o.spindle == _UNCHANGED else o.spindle,
+            path=path,
         )
         return _OK
 
     # -- simulator control (0x0E01..0x0E04) -------------------------------------------------
-    def _set_panel(self, _session: Session, payload: bytes) -> bytes:
+    def _set_panel(self, _session: Session, payload: bytes, path: int) -> bytes:
         if not self.machine.control_enabled:
             return _EW_FUNC
         p = _decode_set_panel(payload)
@@ -558,38 +613,41 @@ class PackedAdapter:
             None if p.mode == _UNCHANGED else p.mode,
             None if p.pwe == _UNCHANGED else p.pwe,
             None if p.emergency == _UNCHANGED else p.emergency,
+            path=path,
         )
         return _OK
 
-    def _read_panel(self, _session: Session, payload: bytes) -> bytes:
+    def _read_panel(self, _session: Session, payload: bytes, path: int) -> bytes:
         if not self.machine.control_enabled:
             return _EW_FUNC
         if payload:
             _decode_empty(payload)
-        p = self.machine.panel
+        p = self.machine.path_panel(path)
         return _encode_panel(SetPanel(p.mode, p.pwe, p.emergency))
 
-    def _vacate_macro(self, _session: Session, payload: bytes) -> bytes:
+    def _vacate_macro(self, _session: Session, payload: bytes, path: int) -> bytes:
         if not self.machine.control_enabled:
             return _EW_FUNC
-        self.machine.write_macro(_decode_vacate_macro(payload).number, None)
+        self.machine.write_macro(_decode_vacate_macro(payload).number, None, path=path)
         return _OK
 
-    def _raise_alarm(self, _session: Session, payload: bytes) -> bytes:
+    def _raise_alarm(self, _session: Session, payload: bytes, path: int) -> bytes:
         if not self.machine.control_enabled:
             return _EW_FUNC
         a = _decode_raise_alarm(payload)
-        self.machine.raise_alarm(a.axis_no, a.alm_type, a.alm_no, a.msg.decode("latin-1"))
+        self.machine.raise_alarm(
+            a.axis_no, a.alm_type, a.alm_no, a.msg.decode("latin-1"), path=path
+        )
         return _OK
 
-    def _clear_alarms(self, _session: Session, payload: bytes) -> bytes:
+    def _clear_alarms(self, _session: Session, payload: bytes, path: int) -> bytes:
         if not self.machine.control_enabled:
             return _EW_FUNC
         c = _decode_clear_alarms(payload)
-        self.machine.clear_alarms(c.alm_type, c.alm_no)
+        self.machine.clear_alarms(c.alm_type, c.alm_no, path=path)
         return _OK
 
-    def _set_pmc(self, _session: Session, payload: bytes) -> bytes:
+    def _set_pmc(self, _session: Session, payload: bytes, _path: int) -> bytes:
         if not self.machine.control_enabled:
             return _EW_FUNC
         return self._write_pmc(_decode_set_pmc(payload), force=True)
@@ -644,3 +702,12 @@ _encode_stored: Final = _response(Command.WRPROGRAM)
 _decode_program_number: Final = _request(Command.DELPROGRAM)
 _decode_cycle: Final = _request(Command.SIM_CYCLE)
 _decode_overrides: Final = _request(Command.SIM_SET_OVERRIDES)
+_decode_setpath: Final = _request(Command.SETPATH)
+_encode_getpath: Final = _response(Command.GETPATH)
+_SETPATH: Final = int(Command.SETPATH)
+_GETPATH: Final = int(Command.GETPATH)
+#: Commands answered the same on every path (plain ints, as the wire's).
+_PATH_INDEPENDENT: Final = frozenset(int(c) for c in PATH_INDEPENDENT_COMMANDS)
+#: Every simulator control id is 0x0Exx.
+_CONTROL_FIRST: Final = 0x0E00
+_CONTROL_LAST: Final = 0x0EFF

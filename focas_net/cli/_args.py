@@ -16,6 +16,7 @@ from functools import partial
 from typing import Any, Final, NoReturn, TypeVar
 
 from focas_net.client._address import check_host, host_and_port, shown
+from focas_net.client._values import check_path
 from focas_net.protocol import PmcArea
 
 from . import _format as fmt
@@ -36,6 +37,7 @@ __all__ = [
     "LISTEN_PORT",
     "MIN_INTERVAL",
     "NON_NEGATIVE",
+    "PATH",
     "PORT",
     "POSITIVE",
     "PROG",
@@ -49,6 +51,7 @@ __all__ = [
     "parse_host",
     "parse_interval",
     "parse_non_negative",
+    "parse_path",
     "parse_port",
     "parse_positive",
     "parse_seconds",
@@ -215,6 +218,16 @@ def parse_host(text: str) -> str:
     return check_host(text.strip())
 
 
+def parse_path(text: str) -> int:
+    """A path of the CNC, 1..10 (:func:`~focas_net.client._values.check_path`, where both
+    clients check a ``path=``)."""
+    try:
+        value = fmt.parse_int(text)
+    except ValueError:
+        raise ValueError(f"not a path number: {text!r}") from None
+    return check_path(value)
+
+
 def parse_history_depth(text: str) -> int:
     """How many alarm history entries to read, 1..250."""
     value = fmt.parse_int(text)
@@ -245,3 +258,4 @@ HOST: Final = argument_type(parse_host, "host")
 BOOL: Final = argument_type(fmt.parse_bool, "on/off")
 AREA: Final = argument_type(parse_area, "area")
 HISTORY_DEPTH: Final = argument_type(parse_history_depth, "depth")
+PATH: Final = argument_type(parse_path, "path")

@@ -222,10 +222,23 @@ async def _session(
             password=getattr(args, "password", None),
             reconnect=reconnect,
             ssl=context,
+            path=getattr(args, "path", 1),
         )
         async with packed:
             return await (go.go(packed) if isinstance(go, PackedOnly) else go(packed))
+<<<<<<< HEAD
     native = NativeClient(args.host, args.port, timeout=args.timeout, reconnect=reconnect)
+=======
+    native = NativeClient(
+        args.host,
+        args.port,
+        timeout=args.timeout,
+        reconnect=reconnect,
+        path=getattr(args, "path", 1),
+    )
+    if follow:
+        native.add_state_callback(_report_state(native))
+>>>>>>> main
     async with native:
         return await go(native)
 

@@ -27,6 +27,7 @@ from ._args import (
     INT,
     INTERVAL,
     NON_NEGATIVE,
+    PATH,
     PORT,
     POSITIVE,
     SECONDS,
@@ -89,6 +90,14 @@ class Group:
 _CONNECTION: Final = (
     arg("--host", type=HOST, default="127.0.0.1", help="CNC address (default %(default)s)"),
     arg("--port", type=PORT, default=8193, help="CNC port (default %(default)s)"),
+    arg(
+        "--path",
+        type=PATH,
+        default=1,
+        metavar="N",
+        help="the CNC path (1..10) every per-path value is read from or written to "
+        "(default %(default)s; watch shows every path)",
+    ),
     arg(
         "--timeout",
         type=SECONDS,

@@ -61,7 +61,9 @@ __all__ = [
     "WatchState",
     "duration_text",
     "frame_dict",
+    "path_count",
     "poll",
+    "poll_paths",
     "render_frame",
     "screen_text",
     "watch",
@@ -124,6 +126,9 @@ class Frame:
     address: str
     state: WatchState | None
     problem: str | None = None
+    paths: tuple[WatchState, ...] = ()
+    """On a machine of several paths, the state of each, path 1 first (``state`` is then
+    path 1's); empty on a machine of one path."""
 
 
 # -- rendering (pure) -----------------------------------------------------------------------
@@ -238,14 +243,22 @@ def _state_lines(s: WatchState) -> list[str]:
 
 
 def render_frame(frame: Frame) -> list[str]:
-    """The lines of one frame: a heading, the problem of a failed poll, then the state."""
-    lines = [f"{frame.address}  frame {frame.number}"]
+    """The lines of one frame: a heading, the problem of a failed poll, then the state (on a
+    machine of several paths, a section per path headed ``path N``, its lines indented)."""
+    heading = f"{frame.address}  frame {frame.number}"
+    if frame.paths:
+        heading += f"  {len(frame.paths)} paths"
+    lines = [heading]
     if frame.problem is not None:
         lines.append(f"! {frame.problem}")
     if frame.state is None:
         lines.append("no state read yet")
-    else:
+    elif not frame.paths:
         lines += _state_lines(frame.state)
+    else:
+        for number, state in enumerate(frame.paths, 1):
+            lines.append(f"path {number}")
+            lines += [f"  {line}" for line in _state_lines(state)]
     return lines
 
 
@@ -276,7 +289,9 @@ def _json_value(value: object) -> Any:
 
 
 def frame_dict(frame: Frame) -> dict[str, Any]:
-    """``--json``: one frame as JSON-ready values (positions as decimal strings)."""
+    """``--json``: one frame as JSON-ready values (positions as decimal strings). On a machine
+    of several paths ``state`` is path 1's and ``paths`` lists every path's, as
+    ``{"path": N, "state": ...}``; a machine of one path has no ``paths``."""
     data: dict[str, Any] = {
         "frame": frame.number,
         "address": frame.address,
@@ -286,6 +301,17 @@ def frame_dict(frame: Frame) -> dict[str, Any]:
     if s is None:
         data["state"] = None
         return data
+    data["state"] = _state_dict(s)
+    if frame.paths:
+        data["paths"] = [
+            {"path": number, "state": _state_dict(state)}
+            for number, state in enumerate(frame.paths, 1)
+        ]
+    return data
+
+
+def _state_dict(s: WatchState) -> dict[str, Any]:
+    """One path's state as JSON-ready values."""
     info = s.run_info
     state: dict[str, Any] = {
         "status": None if s.status is None else fmt.status_dict(s.status, s.mt_type),
@@ -320,8 +346,7 @@ def frame_dict(frame: Frame) -> dict[str, Any]:
         if s.loads is None
         else {"spindle": list(s.loads.spindle), "servo": list(s.loads.servo)},
     }
-    data["state"] = state
-    return data
+    return state
 
 
 # -- polling --------------------------------------------------------------------------------
@@ -339,25 +364,31 @@ async def _or_none(read: Awaitable[T]) -> T | None:
 
 
 async def poll(
-    cnc: FocasClient, names: dict[int, str], *, directory: bool, mt_type: str | None = None
+    cnc: FocasClient,
+    names: dict[int, str],
+    *,
+    directory: bool,
+    mt_type: str | None = None,
+    path: int | None = None,
 ) -> WatchState:
-    """One frame's reads, all sent at once. ``names`` caches program names by number; the
-    program directory is read in the same batch when ``directory`` (the first frame, or a
-    program whose name is not cached). The identity is read too until its ``mt_type`` is
-    known (given as ``mt_type``). An EW answer leaves its field None; a connection failure is
-    raised (and the other reads are cancelled)."""
+    """One frame's reads of ``path`` (None: the client's), all sent at once. ``names``
+    caches the path's program names by number; the program directory is read in the same
+    batch when ``directory`` (the first frame, or a program whose name is not cached). The
+    identity is read too until its ``mt_type`` is known (given as ``mt_type``). An EW answer
+    leaves its field None; a connection failure is raised (and the other reads are
+    cancelled)."""
     task = asyncio.ensure_future
-    status = task(_or_none(cnc.read_status()))
-    numbers = task(_or_none(cnc.read_program_numbers()))
-    sequence = task(_or_none(cnc.read_macro(SEQUENCE_VARIABLE)))
-    positions = [task(_or_none(cnc.read_positions(kind))) for kind, _ in POSITION_KINDS]
-    feed = task(_or_none(cnc.read_feed()))
-    spindle = task(_or_none(cnc.read_spindle_speed()))
-    run_info = task(_or_none(cnc.read_run_info()))
-    required = task(_or_none(cnc.read_param(PARTS_REQUIRED)))
-    alarms = task(_or_none(cnc.read_alarms()))
-    entries = task(_or_none(cnc.read_program_directory())) if directory else None
-    loads = task(_or_none(cnc.read_loads()))
+    status = task(_or_none(cnc.read_status(path=path)))
+    numbers = task(_or_none(cnc.read_program_numbers(path=path)))
+    sequence = task(_or_none(cnc.read_macro(SEQUENCE_VARIABLE, path=path)))
+    positions = [task(_or_none(cnc.read_positions(kind, path=path))) for kind, _ in POSITION_KINDS]
+    feed = task(_or_none(cnc.read_feed(path=path)))
+    spindle = task(_or_none(cnc.read_spindle_speed(path=path)))
+    run_info = task(_or_none(cnc.read_run_info(path=path)))
+    required = task(_or_none(cnc.read_param(PARTS_REQUIRED, path=path)))
+    alarms = task(_or_none(cnc.read_alarms(path=path)))
+    entries = task(_or_none(cnc.read_program_directory(path=path))) if directory else None
+    loads = task(_or_none(cnc.read_loads(path=path)))
     sysinfo = task(_or_none(cnc.read_sysinfo())) if mt_type is None else None
     reads: list[asyncio.Future[Any]] = [
         status, numbers, sequence, *positions, feed, spindle, run_info, required, alarms,
@@ -395,6 +426,47 @@ async def poll(
     )
 
 
+async def path_count(cnc: FocasClient) -> int:
+    """The number of paths of the CNC (``cnc_getpath``); 1 when it cannot tell (it answers
+    the command with an EW code: a server without paths)."""
+    try:
+        return (await cnc.read_paths()).count or 1
+    except CncError:
+        return 1
+
+
+async def poll_paths(
+    cnc: FocasClient,
+    names: dict[int, dict[int, str]],
+    paths: int,
+    *,
+    directory: Sequence[bool],
+    mt_type: str | None = None,
+) -> tuple[WatchState, ...]:
+    """:func:`poll` of every path 1..``paths`` in one batch: every read of every path is sent
+    before the first answer is awaited (the client selects each path, in order, on the one
+    connection). ``names`` holds each path's program names, ``directory`` whether to read
+    each path's directory. A connection failure is raised (and the other reads cancelled)."""
+    polls = [
+        asyncio.ensure_future(
+            poll(
+                cnc,
+                names.setdefault(path, {}),
+                directory=directory[path - 1],
+                mt_type=mt_type,
+                path=path,
+            )
+        )
+        for path in range(1, paths + 1)
+    ]
+    try:
+        return tuple(await asyncio.gather(*polls))
+    except BaseException:
+        for p in polls:
+            p.cancel()
+        raise
+
+
 # -- the command ----------------------------------------------------------------------------
 
 
@@ -429,17 +501,27 @@ def _problem(exc: BaseException, address: str) -> str:
 
 async def _poll_or_problem(
     cnc: FocasClient,
-    names: dict[int, str],
-    last: WatchState | None,
+    names: dict[int, dict[int, str]],
+    last: tuple[WatchState, ...],
     *,
-    directory: bool,
     address: str,
+<<<<<<< HEAD
 ) -> WatchState | str:
     """The state of one poll after the ``last`` one, or the line saying why the connection
     failed; before any state was read (``last`` None) the failure is raised."""
     mt_type = None if last is None else last.mt_type
+=======
+) -> tuple[WatchState, ...] | str:
+    """The state of each path after the ``last`` poll (none before the first), or the line
+    saying why the connection failed."""
+    mt_type = last[0].mt_type if last else None
+>>>>>>> main
     try:
-        return await poll(cnc, names, directory=directory, mt_type=mt_type)
+        paths = len(last) if last else await path_count(cnc)
+        directory = [
+            not last or _needs_directory(last[i], names.get(i + 1, {})) for i in range(paths)
+        ]
+        return await poll_paths(cnc, names, paths, directory=directory, mt_type=mt_type)
     except _CONNECTION_ERRORS as exc:
         if last is None:
             # nothing read yet: the peer may never answer (TLS on one side only, a peer that
@@ -460,9 +542,8 @@ def watch(args: argparse.Namespace) -> PackedOnly:
         tty = _is_tty() and not args.json
         stop = asyncio.Event()
         loop = asyncio.get_running_loop()
-        names: dict[int, str] = {}
-        state: WatchState | None = None
-        directory = True
+        names: dict[int, dict[int, str]] = {}
+        states: tuple[WatchState, ...] = ()
         number = 0
         with stopping_on_signals(stop.set):
             if tty:
@@ -470,18 +551,18 @@ def watch(args: argparse.Namespace) -> PackedOnly:
             try:
                 next_at = loop.time()
                 while count is None or number < count:
-                    reading = _poll_or_problem(
-                        cnc, names, state, directory=directory, address=address
-                    )
+                    reading = _poll_or_problem(cnc, names, states, address=address)
                     done, polled = await _unless_stopped(reading, stop)
                     if not done or polled is None:
                         break
                     number += 1
                     problem = polled if isinstance(polled, str) else None
                     if not isinstance(polled, str):
-                        state = polled
-                        directory = _needs_directory(state, names)
-                    frame = Frame(number, address, state, problem)
+                        states = polled
+                    state = states[0] if states else None
+                    frame = Frame(
+                        number, address, state, problem, states if len(states) > 1 else ()
+                    )
                     if not _show(frame, tty=tty, json_lines=args.json, first=number == 1):
                         break
                     if count is not None and number >= count:

@@ -13,11 +13,11 @@ arguments of ``client.sim.inject_fault``, are imported from :mod:`focas_net.prot
 """
 
 from ._started import StartedCall
-from ._values import Positions
+from ._values import Paths, Positions
 from .client import FocasClient
 from .cnc import CncClient
 from .connection import Connection, NotSentError, open_connection
-from .many import read_dynamic_all, read_status_all
+from .many import read_dynamic_all, read_status_all, read_status_paths_all
 from .native import DynamicData, NativeClient, NativeUnsupportedError, ServoLoad
 from .projection import (
     AlarmCleared,
@@ -45,6 +45,7 @@ __all__ = [
     "NativeUnsupportedError",
     "NotSentError",
     "PanelSwitches",
+    "Paths",
     "Positions",
     "ProjectionMode",
     "ReconnectPolicy",
@@ -54,4 +55,5 @@ __all__ = [
     "open_connection",
     "read_dynamic_all",
     "read_status_all",
+    "read_status_paths_all",
 ]

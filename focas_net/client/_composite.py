@@ -118,7 +118,7 @@ class CompositeCalls(Lifecycle):
         #: The width of each parameter read or written (the transport's to fill).
         self._param_widths: dict[int, int] = {}
         self._pmc_locks: KeyedLocks[tuple[int, int]] = KeyedLocks()
-        self._param_locks: KeyedLocks[tuple[int, int]] = KeyedLocks()
+        self._param_locks: KeyedLocks[tuple[int, int, int]] = KeyedLocks()
 
     @property
     def bit_locks(self) -> int:
@@ -127,8 +127,10 @@ class CompositeCalls(Lifecycle):
         return len(self._pmc_locks) + len(self._param_locks)
 
     # -- the primitives each transport gives -----------------------------------------------
-    async def _read_param_value(self, number: int, axis: int, deadline: float | None) -> ParamValue:
-        """``cnc_rdparam`` of a checked number and axis."""
+    async def _read_param_value(
+        self, number: int, axis: int, deadline: float | None, path: int
+    ) -> ParamValue:
+        """``cnc_rdparam`` of a checked number and axis, on a checked path."""
         raise NotImplementedError
 
     async def _is_bit(self, number: int, value: ParamValue, deadline: float | None) -> bool:
@@ -142,13 +144,14 @@ class CompositeCalls(Lifecycle):
         axis: int,
         width: int | None,
         deadline: float | None,
+        path: int,
     ) -> None:
-        """``cnc_wrparam`` of a checked number, axis and width (a bit parameter's value is its
-        0..255)."""
+        """``cnc_wrparam`` of a checked number, axis and width on a checked path (a bit
+        parameter's value is its 0..255)."""
         raise NotImplementedError
 
     async def _write_param_bits(
-        self, number: int, axis: int, bits: int, width: int, deadline: float | None
+        self, number: int, axis: int, bits: int, width: int, deadline: float | None, path: int
     ) -> None:
         """``cnc_wrparam`` of the ``8 * width`` bits ``bits`` (unsigned) of a checked number
         and axis, whatever the parameter's integer type."""
@@ -177,14 +180,27 @@ class CompositeCalls(Lifecycle):
 
     # -- parameters ------------------------------------------------------------------------
     async def read_param_value(
-        self, number: int, *, axis: int = 0, timeout: float | None = None
+        self,
+        number: int,
+        *,
+        axis: int = 0,
+        path: int | None = None,
+        timeout: float | None = None,
     ) -> ParamValue:
         """``cnc_rdparam`` as an IODBPSD: the value as the wire carries it and its width (1, 2,
         4 bytes, or 8 for a real parameter's REALPRM with its ``decimals``)."""
         check_item(number, axis, "parameter")
-        return await self._read_param_value(number, axis, self._deadline(timeout))
+        p = self._path_of(path)
+        return await self._read_param_value(number, axis, self._deadline(timeout), p)
 
-    async def read_param(self, number: int, *, axis: int = 0, timeout: float | None = None) -> int:
+    async def read_param(
+        self,
+        number: int,
+        *,
+        axis: int = 0,
+        path: int | None = None,
+        timeout: float | None = None,
+    ) -> int:
         """``cnc_rdparam``: the value of parameter ``number`` (``axis`` 1..n for axis items).
 
         A bit parameter reads as its eight bits, 0..255 (``0b10110000`` is 176); the others as
@@ -192,8 +208,9 @@ class CompositeCalls(Lifecycle):
         has decimals: read it with :meth:`read_param_real`).
         """
         check_item(number, axis, "parameter")
+        p = self._path_of(path)
         deadline = self._deadline(timeout)
-        value = await self._read_param_value(number, axis, deadline)
+        value = await self._read_param_value(number, axis, deadline, p)
         if value.width == REAL_WIDTH:
             raise ValueError(
                 f"parameter {number} is a real parameter ({value.real}): read it with "
@@ -204,14 +221,20 @@ class CompositeCalls(Lifecycle):
         return value.value
 
     async def read_param_real(
-        self, number: int, *, axis: int = 0, timeout: float | None = None
+        self,
+        number: int,
+        *,
+        axis: int = 0,
+        path: int | None = None,
+        timeout: float | None = None,
     ) -> Decimal:
         """``cnc_rdparam``: the value of parameter ``number`` as a :class:`~decimal.Decimal`:
         a real parameter with its decimals (``12.345``), any other as its integer value (a bit
         parameter as 0..255)."""
         check_item(number, axis, "parameter")
+        p = self._path_of(path)
         deadline = self._deadline(timeout)
-        value = await self._read_param_value(number, axis, deadline)
+        value = await self._read_param_value(number, axis, deadline, p)
         if value.width == REAL_WIDTH:
             return value.real
         if await self._is_bit(number, value, deadline):
@@ -225,6 +248,7 @@ class CompositeCalls(Lifecycle):
         *,
         axis: int = 0,
         width: int | None = None,
+        path: int | None = None,
         timeout: float | None = None,
     ) -> None:
         """``cnc_wrparam``: write ``value``.
@@ -241,7 +265,8 @@ class CompositeCalls(Lifecycle):
             raise ValueError(f"parameter width must be 1, 2, 4 or 8 (real), got {width!r}")
         if isinstance(value, bool) or not isinstance(value, int | Decimal | str):
             raise TypeError(f"parameter {number}: a value is a number or its text, got {value!r}")
-        await self._write_param(number, value, axis, width, self._deadline(timeout))
+        p = self._path_of(path)
+        await self._write_param(number, value, axis, width, self._deadline(timeout), p)
 
     async def write_param_bit(
         self,
@@ -250,6 +275,7 @@ class CompositeCalls(Lifecycle):
         value: bool | int,
         *,
         axis: int = 0,
+        path: int | None = None,
         timeout: float | None = None,
     ) -> None:
         """Set or clear one bit of a parameter (``1815.0``) by read-modify-write; ``value`` is
@@ -264,9 +290,10 @@ class CompositeCalls(Lifecycle):
         check_item(number, axis, "parameter")
         check_bit(bit, 4)
         on = check_bit_value(value)
+        p = self._path_of(path)
         deadline = self._deadline(timeout)
-        async with self._param_locks.hold((number, axis), deadline):
-            current = await self._read_param_value(number, axis, deadline)
+        async with self._param_locks.hold((number, axis, p), deadline):
+            current = await self._read_param_value(number, axis, deadline, p)
             width = current.width
             if width == REAL_WIDTH:
                 raise ValueError(f"parameter {number} is a real parameter: it has no bits")
@@ -274,7 +301,7 @@ class CompositeCalls(Lifecycle):
             bits = 8 * width
             raw = current.value & ((1 << bits) - 1)
             raw = raw | (1 << bit) if on else raw & ~(1 << bit)
-            await self._write_param_bits(number, axis, raw, width, deadline)
+            await self._write_param_bits(number, axis, raw, width, deadline, p)
 
     # -- PMC -------------------------------------------------------------------------------
     async def read_pmc(

@@ -19,7 +19,7 @@ from typing import Self
 from focas_net.errors import FocasConnectionError
 
 from ._address import address_text, check_host
-from ._values import check_timeout
+from ._values import check_path, check_timeout
 from .reconnect import ClientState, ReconnectPolicy, StateCallback
 
 __all__ = ["Lifecycle", "clock_of"]
@@ -53,8 +53,10 @@ class Lifecycle:
         timeout: float | None,
         reconnect: bool | ReconnectPolicy,
         on_state_change: StateCallback | None,
+        path: int = 1,
     ) -> None:
         host = check_host(host)
+        self._path = check_path(path)
         if isinstance(port, bool) or not isinstance(port, int) or not 0 <= port <= 0xFFFF:
             raise ValueError(f"port must be an integer within 0..65535, got {port!r}")
         #: The default ``timeout`` of every call, seconds (None: none).
@@ -130,6 +132,21 @@ class Lifecycle:
                 callback(state)
             except Exception:
                 self._logger.exception("state callback %r failed", callback)
+
+    @property
+    def path(self) -> int:
+        """The path every per-path call reads or writes when it is given no ``path=`` (1..10;
+        set it to change it, checked like a call's ``path=``)."""
+        return self._path
+
+    @path.setter
+    def path(self, path: int) -> None:
+        self._path = check_path(path)
+
+    def _path_of(self, path: int | None) -> int:
+        """The path of a call given ``path=`` (None: the client's :attr:`path`), checked in
+        the caller's frame: :class:`TypeError` or :class:`ValueError` naming what was given."""
+        return self._path if path is None else check_path(path)
 
     # -- deadlines and the wait for the link -------------------------------------------------
     def _deadline(self, timeout: float | None) -> float | None:

@@ -65,13 +65,19 @@ class Link(CompositeCalls):
         ssl: _ssl.SSLContext | None,
         server_hostname: str | None,
         on_state_change: StateCallback | None,
+        path: int = 1,
     ) -> None:
         if not 1 <= max_in_flight <= MAX_IN_FLIGHT:
             raise ValueError(
                 f"max_in_flight must be within 1..{MAX_IN_FLIGHT}, got {max_in_flight}"
             )
         super().__init__(
-            host, port, timeout=timeout, reconnect=reconnect, on_state_change=on_state_change
+            host,
+            port,
+            timeout=timeout,
+            reconnect=reconnect,
+            on_state_change=on_state_change,
+            path=path,
         )
         self._init_composite()
         self.max_in_flight = max_in_flight
@@ -236,11 +242,16 @@ class Link(CompositeCalls):
         return conn
 
     # -- the request path ----------------------------------------------------------------
-    async def _request(self, spec: CommandSpec, payload: bytes, call_timeout: float | None) -> Any:
+    async def _request(
+        self, spec: CommandSpec, payload: bytes, call_timeout: float | None, path: int = 0
+    ) -> Any:
         """Send one request and return its decoded answer: the one path of every call of one
         request. Its deadline is ``call_timeout`` (the call's ``timeout=``; None: the
         client's) from now. A call of several requests shares one deadline:
-        :meth:`_request_at`.
+        :meth:`_request_at`. ``path`` is a per-path request's checked path (0: a request of
+        no path): when the connection's selection is another at the moment the request
+        leaves, a ``cnc_setpath`` leaves right before it
+        (:meth:`~focas_net.client.connection.Connection.select_path`).
 
         * The live connection is used at once; while reconnecting the call waits for the next
           one (until the deadline); with no connection to wait for it raises
@@ -261,6 +272,8 @@ class Link(CompositeCalls):
             # decoded here. Anything else (no connection, closed, no slot, not sent, an EW
             # code) is the general path's below, which starts over from the state it finds.
             try:
+                if path and path != conn.path:
+                    conn.select_path(path, deadline)
                 entry = conn.try_send(spec.command, payload, deadline)
             except NotSentError:
                 entry = None
@@ -272,7 +285,7 @@ class Link(CompositeCalls):
                     if self._policy is None:
                         raise
                     # never reached the peer: sent again on the next connection
-                    return await self._request_at(spec, payload, deadline)
+                    return await self._request_at(spec, payload, deadline, path=path)
                 except BaseException:
                     conn.finish(entry)  # a timeout, a cancellation, a failure
                     raise
@@ -281,16 +294,21 @@ class Link(CompositeCalls):
                     return value
                 self._raise_unless_unlock(spec, value.ew, False)
                 await self._unlock_for_retry(conn, deadline)
-                return await self._request_at(spec, payload, deadline, True)
-        return await self._request_at(spec, payload, deadline)
+                return await self._request_at(spec, payload, deadline, True, path)
+        return await self._request_at(spec, payload, deadline, path=path)
 
     async def _request_at(
-        self, spec: CommandSpec, payload: bytes, deadline: float | None, retried: bool = False
+        self,
+        spec: CommandSpec,
+        payload: bytes,
+        deadline: float | None,
+        retried: bool = False,
+        path: int = 0,
     ) -> Any:
         """:meth:`_request` by ``deadline`` (in the loop's clock; None: none): the path of a
         call of several requests, which share one deadline, and the general path of
         :meth:`_request` (``retried``: the answer to come is the one to a retry after an
-        unlock)."""
+        unlock; ``path``: as :meth:`_request`'s)."""
         while True:
             conn = self._conn
             if conn is None or conn.closed:
@@ -298,9 +316,11 @@ class Link(CompositeCalls):
             try:
                 # Connection.request without its coroutine when a slot is free (the usual
                 # case): one coroutine less per call.
+                if path and path != conn.path:
+                    conn.select_path(path, deadline)
                 entry = conn.try_send(spec.command, payload, deadline)
                 if entry is None:
-                    raw = await conn.request(spec.command, payload, deadline)
+                    raw = await conn.request(spec.command, payload, deadline, path)
                 else:
                     try:
                         raw = await entry[0]
@@ -317,7 +337,7 @@ class Link(CompositeCalls):
             retried = True
 
     def _start(
-        self, spec: CommandSpec, payload: bytes, deadline: float | None
+        self, spec: CommandSpec, payload: bytes, deadline: float | None, path: int = 0
     ) -> tuple[Connection, _Pending] | None:
         """The first half of :meth:`_request` for a caller awaiting many answers in one task:
         the request sent at once on the live connection, or None (nothing sent) when it
@@ -328,6 +348,8 @@ class Link(CompositeCalls):
         if conn is None or conn.closed:
             return None
         try:
+            if path and path != conn.path:
+                conn.select_path(path, deadline)
             entry = conn.try_send(spec.command, payload, deadline)
         except NotSentError:
             return None

@@ -48,6 +48,8 @@ _PARAM_WIDTH: Final[dict[int, int]] = {
     ParamType.TWO_WORD: 4,
 }
 _DIAG_WIDTH: Final[dict[int, int]] = {0: 1, 1: 2, 2: 4, 3: 1, 4: 1}
+#: What :func:`made_once` finds when nothing was made for an answer yet.
+_NOT_MADE: Final[Any] = object()
 
 
 def only_answer(handle: Handle, call: LibraryCall, blocks: tuple[ResponseBlock, ...]) -> Any:
@@ -59,17 +61,23 @@ def made_once(
     handle: Handle,
     call: LibraryCall,
     blocks: tuple[ResponseBlock, ...],
-    make: Callable[[Handle, LibraryCall, tuple[ResponseBlock, ...]], _T],
+    make: Callable[[Handle, LibraryCall, tuple[ResponseBlock, ...], int], _T],
+    path: int = 1,
 ) -> _T:
-    """``make(handle, call, blocks)``, the result of a call of one frame, made once for the
-    same answer on a handle of the same axes (:meth:`LibraryCall.kept`): a poll whose answer
-    repeats decodes nothing again."""
+    """``make(handle, call, blocks, path)``, the result of a call of one frame on ``path``,
+    made once for the same answer on a handle of the same axes (kept in
+    :attr:`LibraryCall.results`): a poll whose answer repeats decodes nothing again."""
+    axes = handle.axes_on(path)
     if len(blocks) == 1:
         block = blocks[0]
-        key: tuple[object, ...] = (handle.max_axes, handle.axes, block.ew, block.data)
+        key: tuple[object, ...] = (handle.max_axes, axes, block.ew, block.data)
     else:
-        key = (handle.max_axes, handle.axes, *[(b.ew, b.data) for b in blocks])
-    made: _T = call.kept(key, lambda: make(handle, call, blocks))
+        key = (handle.max_axes, axes, *[(b.ew, b.data) for b in blocks])
+    results = call.results
+    made: _T = results.get(key, _NOT_MADE)
+    if made is _NOT_MADE:
+        made = make(handle, call, blocks, path)  # (what it raises is raised, nothing kept)
+        results.put(key, made)
     return made
 
 
@@ -128,21 +136,22 @@ class NativeItems(NativeLink):
 
     # -- parameters and diagnostics ------------------------------------------------------
     @staticmethod
-    def _check_axis_of(handle: Handle, axis: int, function: str) -> None:
-        if axis > handle.axes:
-            raise CncError.from_ew(EW.ATTRIB, f"{function}: axis {axis} of {handle.axes}")
+    def _check_axis_of(handle: Handle, axis: int, function: str, path: int = 1) -> None:
+        axes = handle.axes_on(path)
+        if axis > axes:
+            raise CncError.from_ew(EW.ATTRIB, f"{function}: axis {axis} of {axes}")
 
     async def _read_item(
-        self, number: int, axis: int, deadline: float | None, *, diagnostic: bool
+        self, number: int, axis: int, deadline: float | None, path: int, *, diagnostic: bool
     ) -> ParamValue:
         """``cnc_rdparam`` or ``cnc_diagnoss`` of a checked number and axis as a
         :class:`ParamValue`."""
         function = "cnc_diagnoss" if diagnostic else "cnc_rdparam"
         handle = self._handle_now() or await self._handle_for(deadline)
-        self._check_axis_of(handle, axis, function)
+        self._check_axis_of(handle, axis, function, path)
         build = calls.cnc_diagnoss if diagnostic else calls.cnc_rdparam
         call = build(handle.command_set, number, axis)
-        (block,) = await self._exchange(handle, call, deadline)
+        (block,) = await self._exchange(handle, call, deadline, 0, path)
         items: ItemValues | ScaledItemValues = decoded(call, (block,), 0, handle.max_axes)
         if not items.records:
             raise PayloadError(f"{function}: answer for {number} carries no record")
@@ -166,8 +175,10 @@ class NativeItems(NativeLink):
         raw = first.mantissa if isinstance(first, ScaledNumber) else first
         return ParamValue(number, axis, signed(raw, width), width)
 
-    async def _read_param_value(self, number: int, axis: int, deadline: float | None) -> ParamValue:
-        value = await self._read_item(number, axis, deadline, diagnostic=False)
+    async def _read_param_value(
+        self, number: int, axis: int, deadline: float | None, path: int
+    ) -> ParamValue:
+        value = await self._read_item(number, axis, deadline, path, diagnostic=False)
         self._param_widths[number] = value.width
         return value
 
@@ -175,7 +186,12 @@ class NativeItems(NativeLink):
         return self._param_types.get(number) == ParamType.BIT
 
     async def read_param_type(
-        self, number: int, *, axis: int = 0, timeout: float | None = None
+        self,
+        number: int,
+        *,
+        axis: int = 0,
+        path: int | None = None,
+        timeout: float | None = None,
     ) -> ParamDataType | None:
         """The data type of parameter ``number`` (bit, byte, word, two-word, real) from the
         type word of its ``cnc_rdparam`` record, None for a word FANUC does not number (an
@@ -185,23 +201,33 @@ class NativeItems(NativeLink):
         ``cnc_rdparainfo`` answer has the type in two bits (no real type), and no decimals or
         range, while the record of ``cnc_rdparam`` names all five types."""
         check_item(number, axis, "parameter")
-        await self._read_param_value(number, axis, self._deadline(timeout))
+        p = self._path_of(path)
+        await self._read_param_value(number, axis, self._deadline(timeout), p)
         ptype = self._param_types[number]
         return ParamDataType(ptype) if ptype in ParamDataType._value2member_map_ else None
 
-    async def read_diag(self, number: int, *, axis: int = 0, timeout: float | None = None) -> int:
+    async def read_diag(
+        self,
+        number: int,
+        *,
+        axis: int = 0,
+        path: int | None = None,
+        timeout: float | None = None,
+    ) -> int:
         """``cnc_diagnoss``: the value of diagnostic ``number``."""
         check_item(number, axis, "diagnostic")
-        value = await self._read_item(number, axis, self._deadline(timeout), diagnostic=True)
+        p = self._path_of(path)
+        deadline = self._deadline(timeout)
+        value = await self._read_item(number, axis, deadline, p, diagnostic=True)
         return value.value
 
     async def _param_info(
-        self, handle: Handle, number: int, width: int | None, deadline: float | None
+        self, handle: Handle, number: int, width: int | None, deadline: float | None, path: int
     ) -> tuple[int, int]:
         """The first frame of ``cnc_wrparam``: the parameter's type word and its width;
         EW_LENGTH (before anything is written) when ``width`` differs, as the library."""
         call = calls.wrparam_info(handle.command_set, number)
-        (block,) = await self._exchange(handle, call, deadline)
+        (block,) = await self._exchange(handle, call, deadline, 0, path)
         info = decoded(call, (block,), 0, handle.max_axes)
         if isinstance(info, ParamInfo3):
             ptype = info.type
@@ -228,6 +254,7 @@ class NativeItems(NativeLink):
         axis: int,
         width: int | None,
         deadline: float | None,
+        path: int,
     ) -> None:
         # both readings of the value, before anything is sent: one is refused only if the
         # parameter's type turns out to be the one it does not fit
@@ -247,8 +274,8 @@ class NativeItems(NativeLink):
                 "integer, or a real value within an i32 mantissa and 0..9 decimals)"
             )
         handle = self._handle_now() or await self._handle_for(deadline)
-        self._check_axis_of(handle, axis, "cnc_wrparam")
-        ptype, size = await self._param_info(handle, number, width, deadline)
+        self._check_axis_of(handle, axis, "cnc_wrparam", path)
+        ptype, size = await self._param_info(handle, number, width, deadline, path)
         if ptype == ParamType.REAL:
             if isinstance(as_real, ValueError):
                 raise as_real
@@ -271,24 +298,28 @@ class NativeItems(NativeLink):
             kind = ParamDataType.BIT if ptype == ParamType.BIT else None
             raw = signed(int_to_wire(number, as_int, size, kind), size)
             record = self._param_record(handle, number, axis, ptype, raw)
-        await self._write_record(handle, record, deadline)
+        await self._write_record(handle, record, deadline, path)
 
     async def _write_param_bits(
-        self, number: int, axis: int, bits: int, width: int, deadline: float | None
+        self, number: int, axis: int, bits: int, width: int, deadline: float | None, path: int
     ) -> None:
         handle = self._handle_now() or await self._handle_for(deadline)
-        self._check_axis_of(handle, axis, "cnc_wrparam")
-        ptype, _ = await self._param_info(handle, number, width, deadline)
+        self._check_axis_of(handle, axis, "cnc_wrparam", path)
+        ptype, _ = await self._param_info(handle, number, width, deadline, path)
         raw = byte_to_wire(number, bits, ParamDataType.BIT) if ptype == ParamType.BIT else bits
         record = self._param_record(handle, number, axis, ptype, signed(raw, width))
-        await self._write_record(handle, record, deadline)
+        await self._write_record(handle, record, deadline, path)
 
     async def _write_record(
-        self, handle: Handle, record: ItemRecord | ScaledItemRecord, deadline: float | None
+        self,
+        handle: Handle,
+        record: ItemRecord | ScaledItemRecord,
+        deadline: float | None,
+        path: int,
     ) -> None:
         """The second frame of ``cnc_wrparam``: the write of ``record``."""
         call = calls.cnc_wrparam(handle.command_set, record)
-        (done,) = await self._exchange(handle, call, deadline, 1)
+        (done,) = await self._exchange(handle, call, deadline, 1, path)
         block_data(done, "cnc_wrparam")
 
     @staticmethod

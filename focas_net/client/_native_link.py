@@ -29,6 +29,7 @@ from functools import partial
 from typing import Any, Final
 
 from focas_net.errors import (
+    EW,
     CncError,
     FocasConnectionError,
     FocasError,
@@ -79,6 +80,9 @@ _NOT_A_FRAME: Final = "its answer does not start with A0 A0 A0 A0"
 Future = asyncio.Future[tuple[ResponseBlock, ...]]
 
 
+#: How an answered job ends, looked up once (asked once per call: on Python 3.11 each
+#: ``Ending.ANSWERED`` goes through ``EnumType.__getattr__``, uncached).
+_ANSWERED: Final = Ending.ANSWERED
 #: Whether the caller of a job (its token: the future it awaits) gave up: it is cancelled.
 _cancelled: Final = operator.methodcaller("cancelled")
 
@@ -122,6 +126,9 @@ class Handle:
         self.axes = present[0].axes if present else 0
         self.spindles = present[0].spindles if present else 0
         self.paths = len(present)
+        #: The number of axes and of spindles of each path, in path order.
+        self.path_axes = tuple(p.axes for p in present)
+        self.path_spindles = tuple(p.spindles for p in present)
         self.option_bits = opened.option_bits or 0
         self.sysinfo: NativeSysInfo | None = None
         self.closed = False
@@ -129,6 +136,14 @@ class Handle:
         # the previous write left them, and so does this client, byte for byte.
         self.param_slots: list[int] = [0] * max(self.max_axes, 1)
         self.param3_slots: list[ScaledNumber] = [ScaledNumber(0, 0, 0)] * max(self.max_axes, 1)
+
+    def axes_on(self, path: int) -> int:
+        """The number of axes of ``path`` (a path the open answer announces)."""
+        return self.path_axes[path - 1] if path <= len(self.path_axes) else 0
+
+    def spindles_on(self, path: int) -> int:
+        """The number of spindles of ``path`` (a path the open answer announces)."""
+        return self.path_spindles[path - 1] if path <= len(self.path_spindles) else 0
 
     async def exchange(self, part: Part) -> tuple[ResponseBlock, ...]:
         """One data frame on B, read back before the client takes B over (the connect)."""
@@ -255,6 +270,14 @@ async def _connect_requests(handle: Handle) -> None:
                 handle.option_bits = block.data[11] if len(block.data) >= 12 else 0
 
 
+def check_path_of(handle: Handle, path: int, function: str) -> None:
+    """EW_PATH (:class:`CncError`) unless ``handle``'s open answer announces ``path``."""
+    if path > handle.paths:
+        raise CncError.from_ew(
+            EW.PATH, f"{function}: path {path}, the CNC has paths 1..{handle.paths}"
+        )
+
+
 def _abort(channels: list[Channel]) -> None:
     for channel in channels:
         channel.close()
@@ -275,9 +298,15 @@ class NativeLink(CompositeCalls):
         reconnect: bool | ReconnectPolicy,
         max_blocks: int,
         on_state_change: StateCallback | None,
+        path: int = 1,
     ) -> None:
         super().__init__(
-            host, port, timeout=timeout, reconnect=reconnect, on_state_change=on_state_change
+            host,
+            port,
+            timeout=timeout,
+            reconnect=reconnect,
+            on_state_change=on_state_change,
+            path=path,
         )
         self._init_composite()
         self._session: NativeSession[Future] = NativeSession(max_blocks, _cancelled)
@@ -439,13 +468,21 @@ class NativeLink(CompositeCalls):
 
     # -- jobs ----------------------------------------------------------------------------
     def _exchange(
-        self, handle: Handle, call: LibraryCall, deadline: float | None, frame: int = 0
+        self,
+        handle: Handle,
+        call: LibraryCall,
+        deadline: float | None,
+        frame: int = 0,
+        path: int = 1,
     ) -> Future:
-        """Frame ``frame`` of library ``call`` on ``handle``, submitted: the future of its answer
-        blocks (an EW code in a block is the caller's to raise). A caller that gives up cancels
-        the future (awaiting it does): queued, the job is then never sent; sent, its blocks are
-        dropped."""
-        return self._submit(call.parts[frame], handle.command_set, deadline).token
+        """Frame ``frame`` of library ``call`` on ``handle``, its blocks on ``path``, submitted:
+        the future of its answer blocks (an EW code in a block is the caller's to raise). A
+        caller that gives up cancels the future (awaiting it does): queued, the job is then
+        never sent; sent, its blocks are dropped. A path the open answer does not announce
+        raises EW_PATH (:class:`CncError`) and sends nothing, as FANUC's library refuses it."""
+        if path != 1:
+            check_path_of(handle, path, call.function)
+        return self._submit(call.part(frame, path), handle.command_set, deadline).token
 
     def _submit(self, part: Part, command_set: CommandSet, deadline: float | None) -> Job[Future]:
         """Queue a job and have it sent (see the module docstring); the caller awaits its
@@ -459,7 +496,7 @@ class NativeLink(CompositeCalls):
             )
         loop = self._loop or asyncio.get_running_loop()
         session = self._session
-        idle = session.in_flight is None and not self._flush_soon and session.idle
+        idle = session.idle and not self._flush_soon
         future = loop.create_future()
         job = session.submit(part, _NEVER if deadline is None else deadline, command_set, future)
         if job.ending is not None:
@@ -544,7 +581,7 @@ class NativeLink(CompositeCalls):
             future = job.token
             if future.done():
                 continue
-            if job.ending is Ending.ANSWERED:
+            if job.ending is _ANSWERED:
                 future.set_result(job.blocks)
             else:
                 future.set_exception(self._failure(job))

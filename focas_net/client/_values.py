@@ -12,7 +12,6 @@ parameter value to what its type carries.
 from __future__ import annotations
 
 import enum
-import functools
 import math
 from dataclasses import dataclass
 from decimal import Decimal, InvalidOperation
@@ -29,7 +28,7 @@ from ..protocol import (
 
 #: The public name of this module (exported by ``focas_net.client``); the checks and the
 #: conversions are the clients' own.
-__all__ = ["Positions"]
+__all__ = ["Paths", "Positions"]
 
 I16_MAX: Final = 0x7FFF
 I32_MIN: Final = -(2**31)
@@ -42,6 +41,18 @@ _MAX_HISTORY_DEPTH: Final = MAX_HISTORY_DEPTH
 REAL_WIDTH: Final = 8
 
 AreaLike = str | int | PmcArea
+#: Most paths a FANUC control has: a path is 1..10.
+MAX_PATHS: Final = 10
+
+
+@dataclass(frozen=True, slots=True)
+class Paths:
+    """The answer of ``read_paths`` (FANUC's ``cnc_getpath``): ``current``, the path the
+    client's calls read when given no ``path=`` (0 on a packed connection whose last
+    ``cnc_setpath`` was refused), and ``count``, the number of paths of the CNC."""
+
+    current: int
+    count: int
 
 
 @dataclass(frozen=True, slots=True)
@@ -73,6 +84,14 @@ def check_int(what: str, value: object, low: int, high: int) -> int:
     return value
 
 
+def check_path(path: object) -> int:
+    """A client's or a call's ``path``: an ``int`` within 1..10 (a path the CNC does not have
+    is the CNC's to refuse, with EW_PATH).
+
+    :raises TypeError: not an integer; :raises ValueError: outside 1..10 (naming it)."""
+    return check_int("path", path, 1, MAX_PATHS)
+
+
 def check_timeout(timeout: object) -> float | None:
     """A call's or a client's ``timeout``: None (no deadline) or a positive number of seconds
     (``inf`` is no deadline either)."""
@@ -85,10 +104,9 @@ def check_timeout(timeout: object) -> float | None:
     return None if math.isinf(timeout) else float(timeout)
 
 
-#: A macro variable number (``cnc_rdmacro`` takes a C ``short``): ``check_macro(number)``.
-check_macro: Final = functools.partial(
-    check_int, "macro variable number", low=-I16_MAX - 1, high=I16_MAX
-)
+def check_macro(number: object) -> int:
+    """A macro variable number (``cnc_rdmacro`` takes a C ``short``)."""
+    return check_int("macro variable number", number, -I16_MAX - 1, I16_MAX)
 
 
 def check_item(number: object, axis: object, what: str) -> None:

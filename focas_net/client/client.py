@@ -55,6 +55,7 @@ from ..protocol import (
     ParamDataType,
     ParamValue,
     Password,
+    PathSelection,
     PmcArea,
     PositionData,
     PositionKind,
@@ -81,6 +82,7 @@ from ._started import StartedCall
 from ._values import (
     I32_MAX,
     REAL_WIDTH,
+    Paths,
     Positions,
     alarm_type_number,
     check_axis,
@@ -124,6 +126,7 @@ _RDLOADS: Final = COMMANDS[C.RDLOADS]
 _WRPROGRAM: Final = COMMANDS[C.WRPROGRAM]
 _DELPROGRAM: Final = COMMANDS[C.DELPROGRAM]
 _SELPROGRAM: Final = COMMANDS[C.SELPROGRAM]
+_GETPATH: Final = COMMANDS[C.GETPATH]
 #: Bounds of the paged reads of programs (a directory of 400 programs, 512,000 characters).
 _MAX_DIRECTORY_PAGES: Final = 1024
 _MAX_PROGRAM_CHUNKS: Final = 1024
@@ -175,6 +178,7 @@ class FocasClient(Link):
         ssl: _ssl.SSLContext | None = None,
         server_hostname: str | None = None,
         on_state_change: StateCallback | None = None,
+        path: int = 1,
     ) -> None:
         if password is not None:
             Password.from_text(password)  # ValueError, naming it, unless 1..4 ASCII characters
@@ -189,8 +193,10 @@ class FocasClient(Link):
             ssl=ssl,
             server_hostname=server_hostname,
             on_state_change=on_state_change,
+            path=path,
         )
         self._param_types: dict[int, ParamDataType | None] = {}
+        self._path_count: int | None = None
         self.sim = SimControl(self)
 
     # -- status --------------------------------------------------------------------------
@@ -198,20 +204,25 @@ class FocasClient(Link):
     # coroutine (see _awaitable): awaiting one is awaiting an ``async def``, one coroutine
     # less per call.
     @_awaitable
-    def read_status(self, *, timeout: float | None = None) -> Coroutine[Any, Any, StatusInfo]:
+    def read_status(
+        self, *, path: int | None = None, timeout: float | None = None
+    ) -> Coroutine[Any, Any, StatusInfo]:
         """``cnc_rdcncstat``: the ODBST status (mode, run state, alarm, emergency, ...)."""
-        return self._request(_RDCNCSTAT, _EMPTY, timeout)
+        return self._request(_RDCNCSTAT, _EMPTY, timeout, self._path_of(path))
 
-    def start_read_status(self, *, timeout: float | None = None) -> StartedCall[StatusInfo]:
+    def start_read_status(
+        self, *, path: int | None = None, timeout: float | None = None
+    ) -> StartedCall[StatusInfo]:
         """:meth:`read_status` started now (its request sent at once on the live connection
         when a slot is free, else run as the call itself in a task of its own) and finished by
         awaiting :meth:`StartedCall.result` (see :func:`~focas_net.client.read_status_all`).
         A request that never left, or one answered ``EW_PASSWD`` while a password is known,
         is made again the usual way within what is left of its deadline."""
+        p = self._path_of(path)
         deadline = self._deadline(timeout)
-        sent = self._start(_RDCNCSTAT, _EMPTY, deadline)
+        sent = self._start(_RDCNCSTAT, _EMPTY, deadline, p)
         if sent is None:
-            return StartedCall.running(self.read_status(timeout=timeout))
+            return StartedCall.running(self.read_status(path=p, timeout=timeout))
         conn, entry = sent
 
         async def finish() -> StatusInfo:
@@ -224,7 +235,7 @@ class FocasClient(Link):
                 if value is not UNLOCK_AND_RETRY:
                     result: StatusInfo = value
                     return result
-            again: StatusInfo = await self._request_at(_RDCNCSTAT, _EMPTY, deadline)
+            again: StatusInfo = await self._request_at(_RDCNCSTAT, _EMPTY, deadline, path=p)
             return again
 
         return StartedCall(finish, lambda: conn.finish(entry))
@@ -237,26 +248,43 @@ class FocasClient(Link):
     # -- program, feed, spindle, positions ------------------------------------------------
     @_awaitable
     def read_program_numbers(
-        self, *, timeout: float | None = None
+        self, *, path: int | None = None, timeout: float | None = None
     ) -> Coroutine[Any, Any, ProgramNumbers]:
         """``cnc_rdprgnum``: the running and the main program numbers (0 = none)."""
-        return self._request(_RDPRGNUM, _EMPTY, timeout)
+        return self._request(_RDPRGNUM, _EMPTY, timeout, self._path_of(path))
 
-    async def read_feed(self, *, timeout: float | None = None) -> int:
+    async def read_feed(self, *, path: int | None = None, timeout: float | None = None) -> int:
         """``cnc_actf``: the actual feed rate (the machine's feed unit, e.g. mm/min)."""
-        value: ActualValue = await self._request(_ACTF, _EMPTY, timeout)
+        value: ActualValue = await self._request(_ACTF, _EMPTY, timeout, self._path_of(path))
         return value.data
 
-    async def read_spindle_speed(self, *, timeout: float | None = None) -> int:
+    async def read_spindle_speed(
+        self, *, path: int | None = None, timeout: float | None = None
+    ) -> int:
         """``cnc_acts``: the actual spindle speed (min^-1)."""
-        value: ActualValue = await self._request(_ACTS, _EMPTY, timeout)
+        value: ActualValue = await self._request(_ACTS, _EMPTY, timeout, self._path_of(path))
         return value.data
+
+    async def read_paths(self, *, timeout: float | None = None) -> Paths:
+        """``cnc_getpath``: the path this connection's per-path requests are answered for
+        (the last one a call selected: 1 on a new connection; 0 after the CNC refused the
+        last selection) and the number of paths of the CNC."""
+        value: PathSelection = await self._request(_GETPATH, _EMPTY, timeout)
+        self._path_count = value.max
+        return Paths(value.current, value.max)
+
+    @property
+    def path_count(self) -> int | None:
+        """The number of paths of the CNC as the last :meth:`read_paths` read it (None
+        before the first)."""
+        return self._path_count
 
     async def read_positions(
         self,
         kind: str | int | PositionKind = PositionKind.ABSOLUTE,
         *,
         axis: int | None = None,
+        path: int | None = None,
         timeout: float | None = None,
     ) -> Positions:
         """``cnc_rdposition``: positions of every axis (``axis=None``) or of axis ``axis``
@@ -268,8 +296,9 @@ class FocasClient(Link):
         """
         which = PositionKind.parse(kind)
         check_axis(axis)
+        p = self._path_of(path)
         payload = _RDPOSITION.request.encode(PositionRequest(which, -1 if axis is None else axis))
-        data: PositionData = await self._request(_RDPOSITION, payload, timeout)
+        data: PositionData = await self._request(_RDPOSITION, payload, timeout, p)
         dec = data.dec
         return Positions(
             which,
@@ -279,9 +308,11 @@ class FocasClient(Link):
         )
 
     # -- parameters and diagnostics ------------------------------------------------------
-    async def _read_param_value(self, number: int, axis: int, deadline: float | None) -> ParamValue:
+    async def _read_param_value(
+        self, number: int, axis: int, deadline: float | None, path: int
+    ) -> ParamValue:
         payload = _RDPARAM.request.encode(DataRequest(number, axis))
-        value: ParamValue = await self._request_at(_RDPARAM, payload, deadline)
+        value: ParamValue = await self._request_at(_RDPARAM, payload, deadline, path=path)
         self._param_widths[number] = value.width
         return value
 
@@ -326,6 +357,7 @@ class FocasClient(Link):
         axis: int,
         width: int | None,
         deadline: float | None,
+        path: int,
     ) -> None:
         """With ``width=None`` the width is the one the CNC reported for this parameter; the
         first time it is learnt by one read and then cached."""
@@ -333,7 +365,7 @@ class FocasClient(Link):
         if width is None:
             cached = self._param_widths.get(number)
             if cached is None:
-                width = (await self._read_param_value(number, axis, deadline)).width
+                width = (await self._read_param_value(number, axis, deadline, path)).width
                 learnt = True
             else:
                 width = cached
@@ -346,46 +378,63 @@ class FocasClient(Link):
             pv = ParamValue(number, axis, int_to_wire(number, raw, width, kind), width)
         payload = _WRPARAM.request.encode(pv)
         try:
-            await self._request_at(_WRPARAM, payload, deadline)
+            await self._request_at(_WRPARAM, payload, deadline, path=path)
         except CncError as exc:
             if exc.ew == EW.LENGTH and not learnt:
                 self._param_widths.pop(number, None)  # stale width: learn it again next time
             raise
 
     async def _write_param_bits(
-        self, number: int, axis: int, bits: int, width: int, deadline: float | None
+        self, number: int, axis: int, bits: int, width: int, deadline: float | None, path: int
     ) -> None:
         size = 8 * width
         raw = bits - (1 << size) if bits >= 1 << (size - 1) else bits
         payload = _WRPARAM.request.encode(ParamValue(number, axis, raw, width))
-        await self._request_at(_WRPARAM, payload, deadline)
+        await self._request_at(_WRPARAM, payload, deadline, path=path)
 
-    async def read_diag(self, number: int, *, axis: int = 0, timeout: float | None = None) -> int:
+    async def read_diag(
+        self,
+        number: int,
+        *,
+        axis: int = 0,
+        path: int | None = None,
+        timeout: float | None = None,
+    ) -> int:
         """``cnc_rddiag``: the value of diagnostic ``number``."""
         check_item(number, axis, "diagnostic")
+        p = self._path_of(path)
         payload = _RDDIAG.request.encode(DataRequest(number, axis))
-        value: ParamValue = await self._request(_RDDIAG, payload, timeout)
+        value: ParamValue = await self._request(_RDDIAG, payload, timeout, p)
         return value.value
 
     # -- macros --------------------------------------------------------------------------
-    async def read_macro(self, number: int, *, timeout: float | None = None) -> Decimal | None:
+    async def read_macro(
+        self, number: int, *, path: int | None = None, timeout: float | None = None
+    ) -> Decimal | None:
         """``cnc_rdmacro``: the value of ``#number`` as a Decimal, or None when vacant."""
         check_macro(number)
+        p = self._path_of(path)
         payload = _RDMACRO.request.encode(MacroRequest(number))
-        value: MacroValue = await self._request(_RDMACRO, payload, timeout)
+        value: MacroValue = await self._request(_RDMACRO, payload, timeout, p)
         return macro_from_wire(value.mcr_val, value.dec_val)
 
     async def write_macro(
-        self, number: int, value: int | Decimal | float | str, *, timeout: float | None = None
+        self,
+        number: int,
+        value: int | Decimal | float | str,
+        *,
+        path: int | None = None,
+        timeout: float | None = None,
     ) -> None:
         """``cnc_wrmacro``: write ``#number``; see :func:`macro_to_wire` for the scaling.
 
         A value that cannot be carried raises :class:`ValueError` before anything is sent.
         """
         check_macro(number)
+        p = self._path_of(path)
         mcr_val, dec_val = macro_to_wire(value)
         payload = _WRMACRO.request.encode(MacroValue(number, 8, mcr_val, dec_val))
-        await self._request(_WRMACRO, payload, timeout)
+        await self._request(_WRMACRO, payload, timeout, p)
 
     # -- PMC -----------------------------------------------------------------------------
     async def _read_pmc(
@@ -403,14 +452,19 @@ class FocasClient(Link):
 
     # -- alarms --------------------------------------------------------------------------
     async def read_alarms(
-        self, *, alm_type: AlarmType | str | int = -1, timeout: float | None = None
+        self,
+        *,
+        alm_type: AlarmType | str | int = -1,
+        path: int | None = None,
+        timeout: float | None = None,
     ) -> tuple[ActiveAlarm, ...]:
         """``cnc_rdalmmsg``: the active alarms (all types, -1, or only ``alm_type``: by name,
         ``"PS"``, an :class:`AlarmType` or a number), oldest first. An error answer
         (count = -1) raises :class:`CncError`."""
         t = alarm_type_number(alm_type, every=True)
+        p = self._path_of(path)
         payload = _RDALMMSG.request.encode(AlarmMsgRequest(t, _MAX_ACTIVE_ALARMS))
-        result: ActiveAlarmList = await self._request(_RDALMMSG, payload, timeout)
+        result: ActiveAlarmList = await self._request(_RDALMMSG, payload, timeout, p)
         if result.ew:
             raise CncError.from_ew(result.ew, _RDALMMSG.focas_name)
         return result.entries
@@ -442,32 +496,36 @@ class FocasClient(Link):
 
     # -- part programs -------------------------------------------------------------------
     async def read_program_directory(
-        self, *, first: int = 0, timeout: float | None = None
+        self, *, first: int = 0, path: int | None = None, timeout: float | None = None
     ) -> tuple[ProgramEntry, ...]:
         """``cnc_rdprogdir``: every stored program from O number ``first`` on (number, size in
         characters, name), by number, read 64 entries per request."""
         check_int("first program number", first, 0, I32_MAX)
+        p = self._path_of(path)
         deadline = self._deadline(timeout)
         entries: list[ProgramEntry] = []
         for _ in range(_MAX_DIRECTORY_PAGES):
             request = _RDPROGDIR.request.encode(DirectoryRequest(first, MAX_DIRECTORY_ENTRIES))
-            page: ProgramDirectory = await self._request_at(_RDPROGDIR, request, deadline)
+            page: ProgramDirectory = await self._request_at(_RDPROGDIR, request, deadline, path=p)
             entries.extend(page.entries)
             if len(page.entries) < MAX_DIRECTORY_ENTRIES or page.entries[-1].number >= I32_MAX:
                 break
             first = page.entries[-1].number + 1
         return tuple(entries)
 
-    async def read_program(self, number: int, *, timeout: float | None = None) -> str:
+    async def read_program(
+        self, number: int, *, path: int | None = None, timeout: float | None = None
+    ) -> str:
         """``cnc_upload``: the text of program ``number`` as stored (EW_NUMBER: no such
         program), read 4096 characters per request and joined."""
         check_int("program number", number, 0, I32_MAX)
+        p = self._path_of(path)
         deadline = self._deadline(timeout)
         parts: list[str] = []
         offset = 0
         for _ in range(_MAX_PROGRAM_CHUNKS):
             request = _RDPROGRAM.request.encode(ProgramChunkRequest(number, offset))
-            chunk: ProgramChunk = await self._request_at(_RDPROGRAM, request, deadline)
+            chunk: ProgramChunk = await self._request_at(_RDPROGRAM, request, deadline, path=p)
             parts.append(chunk.text)
             offset += len(chunk.text)
             if not chunk.text or offset >= chunk.total:
@@ -475,41 +533,57 @@ class FocasClient(Link):
         return "".join(parts)
 
     async def write_program(
-        self, text: str, *, replace: bool = False, timeout: float | None = None
+        self,
+        text: str,
+        *,
+        replace: bool = False,
+        path: int | None = None,
+        timeout: float | None = None,
     ) -> int:
         """``cnc_download``: store one O-number program; returns its number. A number already
         stored answers EW_REJECT unless ``replace``; a program being executed EW_BUSY; text
         that is not one program EW_DATA; a full memory EW_OVRFLOW."""
         if not isinstance(text, str):
             raise TypeError(f"a program is text, got {text!r}")
+        p = self._path_of(path)
         payload = _WRPROGRAM.request.encode(ProgramText(int(bool(replace)), text))
-        stored: ProgramNumber = await self._request(_WRPROGRAM, payload, timeout)
+        stored: ProgramNumber = await self._request(_WRPROGRAM, payload, timeout, p)
         return stored.number
 
-    async def delete_program(self, number: int, *, timeout: float | None = None) -> None:
+    async def delete_program(
+        self, number: int, *, path: int | None = None, timeout: float | None = None
+    ) -> None:
         """``cnc_delete``: delete program ``number`` (EW_NUMBER: none; EW_BUSY: executing)."""
         check_int("program number", number, 0, I32_MAX)
+        p = self._path_of(path)
         payload = _DELPROGRAM.request.encode(ProgramNumber(number))
-        await self._request(_DELPROGRAM, payload, timeout)
+        await self._request(_DELPROGRAM, payload, timeout, p)
 
-    async def select_program(self, number: int, *, timeout: float | None = None) -> None:
+    async def select_program(
+        self, number: int, *, path: int | None = None, timeout: float | None = None
+    ) -> None:
         """``cnc_search``: make ``number`` the main program (EW_NUMBER: none; EW_MODE: not MEM
         or EDIT; EW_BUSY: another program is executing)."""
         check_int("program number", number, 0, I32_MAX)
+        p = self._path_of(path)
         payload = _SELPROGRAM.request.encode(ProgramNumber(number))
-        await self._request(_SELPROGRAM, payload, timeout)
+        await self._request(_SELPROGRAM, payload, timeout, p)
 
     @_awaitable
-    def read_run_info(self, *, timeout: float | None = None) -> Coroutine[Any, Any, RunInfo]:
+    def read_run_info(
+        self, *, path: int | None = None, timeout: float | None = None
+    ) -> Coroutine[Any, Any, RunInfo]:
         """Overrides (%), parts count and total parts, and the power-on, operating, cutting
         and cycle timers (ms) of the simulated machine."""
-        return self._request(_RDRUNINFO, _EMPTY, timeout)
+        return self._request(_RDRUNINFO, _EMPTY, timeout, self._path_of(path))
 
     @_awaitable
-    def read_loads(self, *, timeout: float | None = None) -> Coroutine[Any, Any, LoadMeters]:
+    def read_loads(
+        self, *, path: int | None = None, timeout: float | None = None
+    ) -> Coroutine[Any, Any, LoadMeters]:
         """The load of each spindle and the servo load of each axis, in percent
         (``cnc_rdspload`` and ``cnc_rdsvmeter`` in one request)."""
-        return self._request(_RDLOADS, _EMPTY, timeout)
+        return self._request(_RDLOADS, _EMPTY, timeout, self._path_of(path))
 
     # -- VersaMax ------------------------------------------------------------------------
     async def _config_chunk(

@@ -27,7 +27,7 @@ from ..protocol import (
     StatusInfo,
     SysInfo,
 )
-from ._values import Positions
+from ._values import Paths, Positions
 from .reconnect import ClientState, ReconnectPolicy, StateCallback
 
 __all__ = ["CncClient"]
@@ -37,10 +37,12 @@ class CncClient(Protocol):
     """The calls of a FOCAS client on either transport (see the two clients for each call's
     details); a method one transport lacks is not listed (program store, simulator
     control, parameter unlock, VersaMax records: packed only; ``read_dynamic``, timers, loads:
-    native only)."""
+    native only). Every per-path call takes ``path=`` (1..10; None: the client's
+    :attr:`path`)."""
 
     host: str
     port: int
+    path: int
 
     @property
     def state(self) -> ClientState: ...
@@ -65,34 +67,43 @@ class CncClient(Protocol):
         tb: TracebackType | None,
     ) -> None: ...
 
-    async def read_status(self, *, timeout: float | None = None) -> StatusInfo: ...
+    async def read_status(
+        self, *, path: int | None = None, timeout: float | None = None
+    ) -> StatusInfo: ...
 
     async def read_sysinfo(self, *, timeout: float | None = None) -> SysInfo: ...
 
-    async def read_program_numbers(self, *, timeout: float | None = None) -> ProgramNumbers: ...
+    async def read_paths(self, *, timeout: float | None = None) -> Paths: ...
 
-    async def read_feed(self, *, timeout: float | None = None) -> int: ...
+    async def read_program_numbers(
+        self, *, path: int | None = None, timeout: float | None = None
+    ) -> ProgramNumbers: ...
 
-    async def read_spindle_speed(self, *, timeout: float | None = None) -> int: ...
+    async def read_feed(self, *, path: int | None = None, timeout: float | None = None) -> int: ...
+
+    async def read_spindle_speed(
+        self, *, path: int | None = None, timeout: float | None = None
+    ) -> int: ...
 
     async def read_positions(
         self,
         kind: PositionKind | str | int = PositionKind.ABSOLUTE,
         *,
         axis: int | None = None,
+        path: int | None = None,
         timeout: float | None = None,
     ) -> Positions: ...
 
     async def read_param_value(
-        self, number: int, *, axis: int = 0, timeout: float | None = None
+        self, number: int, *, axis: int = 0, path: int | None = None, timeout: float | None = None
     ) -> ParamValue: ...
 
     async def read_param(
-        self, number: int, *, axis: int = 0, timeout: float | None = None
+        self, number: int, *, axis: int = 0, path: int | None = None, timeout: float | None = None
     ) -> int: ...
 
     async def read_param_real(
-        self, number: int, *, axis: int = 0, timeout: float | None = None
+        self, number: int, *, axis: int = 0, path: int | None = None, timeout: float | None = None
     ) -> Decimal: ...
 
     async def write_param(
@@ -102,6 +113,7 @@ class CncClient(Protocol):
         *,
         axis: int = 0,
         width: int | None = None,
+        path: int | None = None,
         timeout: float | None = None,
     ) -> None: ...
 
@@ -112,17 +124,25 @@ class CncClient(Protocol):
         value: bool | int,
         *,
         axis: int = 0,
+        path: int | None = None,
         timeout: float | None = None,
     ) -> None: ...
 
     async def read_diag(
-        self, number: int, *, axis: int = 0, timeout: float | None = None
+        self, number: int, *, axis: int = 0, path: int | None = None, timeout: float | None = None
     ) -> int: ...
 
-    async def read_macro(self, number: int, *, timeout: float | None = None) -> Decimal | None: ...
+    async def read_macro(
+        self, number: int, *, path: int | None = None, timeout: float | None = None
+    ) -> Decimal | None: ...
 
     async def write_macro(
-        self, number: int, value: Decimal | float | int | str, *, timeout: float | None = None
+        self,
+        number: int,
+        value: Decimal | float | int | str,
+        *,
+        path: int | None = None,
+        timeout: float | None = None,
     ) -> None: ...
 
     async def read_pmc(
@@ -148,7 +168,7 @@ class CncClient(Protocol):
     ) -> None: ...
 
     async def read_alarms(
-        self, *, alm_type: int = -1, timeout: float | None = None
+        self, *, alm_type: int = -1, path: int | None = None, timeout: float | None = None
     ) -> tuple[ActiveAlarm, ...]: ...
 
     async def read_alarm_history(

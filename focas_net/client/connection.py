@@ -52,7 +52,15 @@ from focas_net.errors import (
     ProtocolError,
 )
 
-from ..protocol import DEFAULT_MAX_FRAME, HEADER, FrameDecoder, RawFrame
+from ..protocol import (
+    COMMANDS,
+    DEFAULT_MAX_FRAME,
+    HEADER,
+    Command,
+    FrameDecoder,
+    PathNumber,
+    RawFrame,
+)
 from ._address import address_text
 from ._failures import (
     closed_error,
@@ -80,6 +88,9 @@ _HEADER: Final = HEADER
 _pack_header = HEADER.pack
 _unpack_header_from = HEADER.unpack_from
 _INF: Final = float("inf")
+_SETPATH: Final = COMMANDS[Command.SETPATH]
+#: The answer of an accepted ``cnc_setpath``.
+_PATH_OK: Final = b"\x00\x00"
 
 
 class NotSentError(FocasConnectionError):
@@ -149,6 +160,10 @@ class Connection(Received, asyncio.Protocol):
         self._violation: ProtocolError | None = None
         self._answered = False  # any byte received yet
         self.peer: str = "?"
+        #: The path the peer answers this connection's per-path requests for, as far as what
+        #: was sent on it tells: 1 when it opens, then the path of the last ``cnc_setpath``
+        #: sent (see :meth:`select_path`).
+        self.path = 1
 
     # -- state ---------------------------------------------------------------------------
     @property
@@ -289,17 +304,25 @@ class Connection(Received, asyncio.Protocol):
         return None  # close the transport
 
     # -- requests ------------------------------------------------------------------------
-    async def request(self, command: int, payload: bytes, deadline: float | None) -> bytes:
-        """Send one request and return the payload of its answer.
+    async def request(
+        self, command: int, payload: bytes, deadline: float | None, path: int = 0
+    ) -> bytes:
+        """Send one request and return the payload of its answer (for a per-path request,
+        ``path`` 1..10: after a ``cnc_setpath`` when the connection's :attr:`path` is another
+        at the moment it leaves; 0: a request of no path).
 
         ``deadline`` is in ``loop.time()`` units (None: wait for ever). Raises
         :class:`FocasTimeoutError` when it passes, :class:`FocasConnectionError` when the
         connection is lost first (:class:`NotSentError` if the request never left), and
         :class:`ProtocolError` for an answer carrying the wrong command.
         """
+        if path and path != self.path:
+            self.select_path(path, deadline)
         entry = self.try_send(command, payload, deadline)
         if entry is None:
             await self._wait_for_slot(command, deadline)
+            if path and path != self.path:  # another path was selected meanwhile
+                self.select_path(path, deadline)
             entry = self.try_send(command, payload, deadline, slot_taken=True)
             assert entry is not None  # sent in the slot taken, or raised
         try:
@@ -367,6 +390,45 @@ class Connection(Received, asyncio.Protocol):
                 self.finish(entry)
             raise
         return entry
+
+    def select_path(self, path: int, deadline: float | None) -> None:
+        """Send ``cnc_setpath(path)`` now, so that the requests sent after it are answered
+        for ``path`` (the peer applies a connection's requests in the order they arrive), and
+        make ``path`` the connection's :attr:`path`.
+
+        It takes a request slot of its own, beyond ``max_in_flight`` if need be (as a batch
+        does), and nobody awaits its answer: an answer other than ``EW_OK`` (``EW_PATH``: the
+        peer has no such path) is logged, and the peer then answers ``EW_PATH`` to every
+        per-path request until the next accepted ``cnc_setpath``, so no request sent behind
+        it reads another path. Raises :class:`NotSentError` when the connection is closed.
+        """
+        if self._closed_exc is not None:
+            raise NotSentError(str(self._closed_exc))
+        self._slots_taken += 1  # a slot of its own, beyond the bound if need be
+        entry = self.try_send(
+            _SETPATH.command, _SETPATH.request.encode(PathNumber(path)), deadline, True
+        )
+        assert entry is not None
+        self.path = path
+        entry[0].add_done_callback(lambda future: self._path_answered(entry, path, future))
+
+    def _path_answered(self, entry: _Pending, path: int, future: asyncio.Future[bytes]) -> None:
+        """The answer of a ``cnc_setpath`` (see :meth:`select_path`): logged unless EW_OK."""
+        self.finish(entry)
+        if future.cancelled():
+            return
+        exc = future.exception()
+        if exc is not None:
+            logger.debug("%s: cnc_setpath(%d) got no answer: %s", self.peer, path, exc)
+            return
+        answer = future.result()
+        if answer != _PATH_OK:
+            logger.warning(
+                "%s: cnc_setpath(%d) refused (%s): per-path calls on it answer EW_PATH",
+                self.peer,
+                path,
+                answer.hex(" "),
+            )
 
     def finish(self, entry: _Pending) -> None:
         """The caller of ``entry`` (from :meth:`try_send`) stopped waiting: if the request is

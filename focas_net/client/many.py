@@ -1,4 +1,5 @@
-"""Reading many machines from one task: :func:`read_status_all`, :func:`read_dynamic_all`.
+"""Reading many machines from one task: :func:`read_status_all`,
+:func:`read_status_paths_all`, :func:`read_dynamic_all`.
 
 A gateway polling a plant reads the status of hundreds of machines every cycle. Calling
 ``client.read_status()`` for each one in a task of its own (or through
@@ -16,17 +17,18 @@ need be; :func:`read_dynamic_all` reads ``cnc_rddynamic2`` of native clients.
 
 from __future__ import annotations
 
+import asyncio
 from collections.abc import Callable, Sequence
 from typing import TypeVar
 
-from focas_net.errors import FocasError
+from focas_net.errors import CncError, FocasError
 
 from ..protocol import StatusInfo
 from ._started import StartedCall
 from .client import FocasClient
 from .native import DynamicData, NativeClient
 
-__all__ = ["read_dynamic_all", "read_status_all"]
+__all__ = ["read_dynamic_all", "read_status_all", "read_status_paths_all"]
 
 T = TypeVar("T")
 C = TypeVar("C")
@@ -84,3 +86,65 @@ async def read_dynamic_all(
     caller drops the reads still queued and ignores the answers of those sent.
     """
     return await _all(clients, lambda client: client.start_read_dynamic(axis, timeout=timeout))
+
+
+async def _path_count(client: FocasClient | NativeClient, timeout: float | None) -> int:
+    """The number of paths of ``client``'s CNC: known (the native open answer, the packed
+    client's last ``read_paths``), else read once with ``read_paths``; 1 for a CNC that
+    cannot tell (it answers ``cnc_getpath`` with an EW code)."""
+    count = client.path_count
+    if count is None:
+        try:
+            count = (await client.read_paths(timeout=timeout)).count
+        except CncError:
+            count = 1
+    return max(count, 1)
+
+
+async def read_status_paths_all(
+    clients: Sequence[FocasClient | NativeClient], *, timeout: float | None = None
+) -> list[tuple[StatusInfo, ...] | FocasError]:
+    """The status of every path of every client at once: for each client the
+    :class:`StatusInfo` of its paths 1..n in order, or the :class:`FocasError` a read ended
+    with, in the order of ``clients``.
+
+    Every path's read is the one ``client.read_status(path=p, timeout=timeout)`` makes. The
+    number of paths is the client's :attr:`path_count`; a packed client that does not know it
+    yet reads it first (``read_paths``, once). Then every read of a client is started before
+    any answer is awaited, so the reads of one machine leave together: one write of
+    ``cnc_rdcncstat`` requests with the ``cnc_setpath`` between paths on a packed connection,
+    one frame of blocks with each path's path word on a native one (within ``max_blocks``).
+    Cancelling the caller gives up every read still unanswered, as :func:`read_status_all`.
+    """
+    counts = await asyncio.gather(
+        *(_path_count(client, timeout) for client in clients), return_exceptions=True
+    )
+    started: list[list[StartedCall[StatusInfo]] | FocasError] = []
+    results: list[tuple[StatusInfo, ...] | FocasError] = []
+    try:
+        for client, count in zip(clients, counts, strict=True):
+            if isinstance(count, FocasError):
+                started.append(count)
+            elif isinstance(count, BaseException):
+                raise count
+            else:
+                started.append(
+                    [
+                        client.start_read_status(path=path, timeout=timeout)
+                        for path in range(1, count + 1)
+                    ]
+                )
+        for calls in started:
+            if isinstance(calls, FocasError):
+                results.append(calls)
+                continue
+            try:
+                results.append(tuple([await call.result() for call in calls]))
+            except FocasError as exc:
+                results.append(exc)
+    finally:
+        for calls in started:
+            if not isinstance(calls, FocasError):
+                for call in calls:
+                    call.cancel()
+    return results

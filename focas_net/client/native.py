@@ -80,11 +80,12 @@ from ._native_items import (
     signed,
     text,
 )
-from ._native_link import Handle
+from ._native_link import Handle, check_path_of
 from ._started import StartedCall
 from ._values import (
     I16_MAX,
     AreaLike,
+    Paths,
     Positions,
     alarm_type_number,
     check_axis,
@@ -140,7 +141,9 @@ class ServoLoad:
     load: Decimal
 
 
-def _status(handle: Handle, call: LibraryCall, blocks: tuple[ResponseBlock, ...]) -> StatusInfo:
+def _status(
+    handle: Handle, call: LibraryCall, blocks: tuple[ResponseBlock, ...], _path: int
+) -> StatusInfo:
     """The status of ``cnc_statinfo``'s answer ``blocks`` (hdck and tmmode read 0 when the CNC
     refuses them, as the library reads them)."""
     _, hd, tm = blocks
@@ -153,12 +156,14 @@ def _status(handle: Handle, call: LibraryCall, blocks: tuple[ResponseBlock, ...]
     )  # fmt: skip
 
 
-def _dynamic(handle: Handle, call: LibraryCall, blocks: tuple[ResponseBlock, ...]) -> DynamicData:
-    """The result of a ``cnc_rddynamic2`` ``call`` (of every axis, or of one) from its answer
-    ``blocks``."""
+def _dynamic(
+    handle: Handle, call: LibraryCall, blocks: tuple[ResponseBlock, ...], path: int
+) -> DynamicData:
+    """The result of a ``cnc_rddynamic2`` ``call`` (of every axis, or of one) on ``path`` from
+    its answer ``blocks``."""
     values = [decoded(call, blocks, i, handle.max_axes) for i in range(len(blocks))]
     axis = call.frames[0][-1].axis  # type: ignore[attr-defined]
-    count = handle.axes if axis == -1 else 1
+    count = handle.axes_on(path) if axis == -1 else 1
     alarm: AlarmStatus = values[0]
     prg: NativeProgramNumbers = values[1]
     seq: SequenceNumber = values[2]
@@ -176,7 +181,9 @@ def _dynamic(handle: Handle, call: LibraryCall, blocks: tuple[ResponseBlock, ...
     )  # fmt: skip
 
 
-def _macro(handle: Handle, call: LibraryCall, blocks: tuple[ResponseBlock, ...]) -> Decimal | None:
+def _macro(
+    handle: Handle, call: LibraryCall, blocks: tuple[ResponseBlock, ...], _path: int
+) -> Decimal | None:
     """The value of a ``cnc_rdmacro`` answer (binary records converted as the library
     converts them)."""
     values: ScaledValues = only_answer(handle, call, blocks)
@@ -211,6 +218,7 @@ class NativeClient(NativeItems):
         reconnect: bool | ReconnectPolicy = False,
         max_blocks: int = LIBRARY_MAX_BLOCKS,
         on_state_change: StateCallback | None = None,
+        path: int = 1,
     ) -> None:
         super().__init__(
             host,
@@ -219,32 +227,44 @@ class NativeClient(NativeItems):
             reconnect=reconnect,
             max_blocks=max_blocks,
             on_state_change=on_state_change,
+            path=path,
         )
         self._init_items()
 
     # -- status and identity -------------------------------------------------------------
-    async def read_status(self, *, timeout: float | None = None) -> StatusInfo:
+    async def read_status(
+        self, *, path: int | None = None, timeout: float | None = None
+    ) -> StatusInfo:
         """``cnc_statinfo``: the ODBST status (0x19; hdck 0xE1 and tmmode 0x98 read 0 when
         the CNC refuses them, as the library reads them)."""
+        p = self._path_of(path)
         deadline = self._deadline(timeout)
         handle = self._handle_now() or await self._handle_for(deadline)
         call = calls.cnc_statinfo(handle.command_set)
-        blocks = await self._exchange(handle, call, deadline)
-        return made_once(handle, call, blocks, _status)
+        blocks = await self._exchange(handle, call, deadline, 0, p)
+        return made_once(handle, call, blocks, _status, p)
 
-    def start_read_status(self, *, timeout: float | None = None) -> StartedCall[StatusInfo]:
+    def start_read_status(
+        self, *, path: int | None = None, timeout: float | None = None
+    ) -> StartedCall[StatusInfo]:
         """:meth:`read_status` started now (its frame queued at once when the client is
         connected) and finished by awaiting :meth:`StartedCall.result` (see
         :func:`~focas_net.client.read_status_all`)."""
+        p = self._path_of(path)
         deadline = self._deadline(timeout)
         handle = self._handle
         if handle is None or handle.closed:
-            return StartedCall.running(self.read_status(timeout=timeout))
+            return StartedCall.running(self.read_status(path=p, timeout=timeout))
         call = calls.cnc_statinfo(handle.command_set)
-        job = self._submit(call.parts[0], handle.command_set, deadline)
+        try:
+            if p != 1:
+                check_path_of(handle, p, call.function)
+        except CncError as exc:
+            return StartedCall.failed(exc)
+        job = self._submit(call.part(0, p), handle.command_set, deadline)
 
         async def finish() -> StatusInfo:
-            return made_once(handle, call, await job.token, _status)
+            return made_once(handle, call, await job.token, _status, p)
 
         return StartedCall(finish, lambda: self._session.abandon(job))
 
@@ -264,6 +284,19 @@ class NativeClient(NativeItems):
             raw(info.series, 4), raw(info.version, 4), raw(info.axes, 2),
         )  # fmt: skip
 
+    async def read_paths(self, *, timeout: float | None = None) -> Paths:
+        """``cnc_getpath``: the client's :attr:`path` (what calls given no ``path=`` read) and
+        the number of paths the open answer announced; nothing is sent, as with FANUC's
+        library."""
+        handle = self._handle_now() or await self._handle_for(self._deadline(timeout))
+        return Paths(self.path, handle.paths)
+
+    @property
+    def path_count(self) -> int | None:
+        """The number of paths the open answer announced (None while not connected)."""
+        handle = self._handle
+        return None if handle is None else handle.paths
+
     async def read_cnc_id(self, *, timeout: float | None = None) -> tuple[int, int, int, int]:
         """``cnc_rdcncid``: the four 32-bit words of the CNC ID."""
         deadline = self._deadline(timeout)
@@ -272,76 +305,95 @@ class NativeClient(NativeItems):
         cid: CncId = only_answer(handle, call, await self._exchange(handle, call, deadline))
         return (cid.id1, cid.id2, cid.id3, cid.id4)
 
-    async def read_timer(self, timer_type: int, *, timeout: float | None = None) -> TimerValue:
+    async def read_timer(
+        self, timer_type: int, *, path: int | None = None, timeout: float | None = None
+    ) -> TimerValue:
         """``cnc_rdtimer``: a timer (0 power-on, 1 operating, 2 cutting, 3 cycle, 4 free) as
         minutes and milliseconds."""
+        p = self._path_of(path)
         check_int("timer type", timer_type, 0, _TIMER_TYPES)
         deadline = self._deadline(timeout)
         handle = self._handle_now() or await self._handle_for(deadline)
         call = calls.cnc_rdtimer(handle.command_set, timer_type)
-        value: TimerValue = only_answer(handle, call, await self._exchange(handle, call, deadline))
+        value: TimerValue = only_answer(
+            handle, call, await self._exchange(handle, call, deadline, 0, p)
+        )
         return value
 
     # -- program, feed, spindle ----------------------------------------------------------
-    async def read_program_numbers(self, *, timeout: float | None = None) -> ProgramNumbers:
+    async def read_program_numbers(
+        self, *, path: int | None = None, timeout: float | None = None
+    ) -> ProgramNumbers:
         """``cnc_rdprgnumo8``: the running and the main program numbers (0 = none)."""
+        p = self._path_of(path)
         deadline = self._deadline(timeout)
         handle = self._handle_now() or await self._handle_for(deadline)
         call = calls.cnc_rdprgnumo8(handle.command_set)
         value: NativeProgramNumbers = only_answer(
-            handle, call, await self._exchange(handle, call, deadline)
+            handle, call, await self._exchange(handle, call, deadline, 0, p)
         )
         return ProgramNumbers(value.running, value.main)
 
-    async def read_program_name(self, *, timeout: float | None = None) -> tuple[int, str]:
+    async def read_program_name(
+        self, *, path: int | None = None, timeout: float | None = None
+    ) -> tuple[int, str]:
         """``cnc_exeprgname``: the O number and the name of the executing program."""
+        p = self._path_of(path)
         deadline = self._deadline(timeout)
         handle = self._handle_now() or await self._handle_for(deadline)
         call = calls.cnc_exeprgname(handle.command_set)
         value: ExecutingProgram = only_answer(
-            handle, call, await self._exchange(handle, call, deadline)
+            handle, call, await self._exchange(handle, call, deadline, 0, p)
         )
         return value.o_num, text(value.name)
 
-    async def read_sequence_number(self, *, timeout: float | None = None) -> int:
+    async def read_sequence_number(
+        self, *, path: int | None = None, timeout: float | None = None
+    ) -> int:
         """``cnc_rdseqnum``: the sequence number being executed."""
+        p = self._path_of(path)
         deadline = self._deadline(timeout)
         handle = self._handle_now() or await self._handle_for(deadline)
         call = calls.cnc_rdseqnum(handle.command_set)
         value: SequenceNumber = only_answer(
-            handle, call, await self._exchange(handle, call, deadline)
+            handle, call, await self._exchange(handle, call, deadline, 0, p)
         )
         return value.number
 
-    async def read_feed(self, *, timeout: float | None = None) -> int:
+    async def read_feed(self, *, path: int | None = None, timeout: float | None = None) -> int:
         """``cnc_actf``: the actual feed rate."""
+        p = self._path_of(path)
         deadline = self._deadline(timeout)
         handle = self._handle_now() or await self._handle_for(deadline)
         call = calls.cnc_actf(handle.command_set)
         value: ScaledValues = only_answer(
-            handle, call, await self._exchange(handle, call, deadline)
+            handle, call, await self._exchange(handle, call, deadline, 0, p)
         )
         return value.values[0].mantissa if value.values else 0
 
-    async def read_spindle_speed(self, *, timeout: float | None = None) -> int:
+    async def read_spindle_speed(
+        self, *, path: int | None = None, timeout: float | None = None
+    ) -> int:
         """``cnc_acts``: the actual spindle speed."""
+        p = self._path_of(path)
         deadline = self._deadline(timeout)
         handle = self._handle_now() or await self._handle_for(deadline)
         call = calls.cnc_acts(handle.command_set)
         value: ScaledValues = only_answer(
-            handle, call, await self._exchange(handle, call, deadline)
+            handle, call, await self._exchange(handle, call, deadline, 0, p)
         )
         return value.values[0].mantissa if value.values else 0
 
     async def read_spindle_loads(
-        self, spindle: int = -1, *, timeout: float | None = None
+        self, spindle: int = -1, *, path: int | None = None, timeout: float | None = None
     ) -> tuple[int, ...]:
         """``cnc_rdspload``: the load of every spindle (``spindle=-1``) or of one (1..n)."""
+        p = self._path_of(path)
         check_axis(spindle, "spindle", every=-1)
         deadline = self._deadline(timeout)
         handle = self._handle_now() or await self._handle_for(deadline)
         call = calls.cnc_rdspload(handle.command_set, spindle)
-        blocks = await self._exchange(handle, call, deadline)
+        blocks = await self._exchange(handle, call, deadline, 0, p)
         for i, request in enumerate(call.frames[0]):
             block_data(blocks[i], "cnc_rdspload")
             if request.COMMAND == NativeCommand.AXIS_COUNT:
@@ -349,15 +401,18 @@ class NativeClient(NativeItems):
                     raise CncError.from_ew(EW.NOOPT, "cnc_rdspload: no spindle")
         index = 0 if handle.command_set is CommandSet.FS16I else 1
         loads: ScaledValues = decoded(call, blocks, index, 0)
-        limit = handle.spindles if spindle == -1 else 1
+        limit = handle.spindles_on(p) if spindle == -1 else 1
         return tuple(signed(v.mantissa, 2) for v in loads.values[: max(limit, 1)])
 
-    async def read_servo_meters(self, *, timeout: float | None = None) -> tuple[ServoLoad, ...]:
+    async def read_servo_meters(
+        self, *, path: int | None = None, timeout: float | None = None
+    ) -> tuple[ServoLoad, ...]:
         """``cnc_rdsvmeter``: the servo load meter of every axis, with its name."""
+        p = self._path_of(path)
         deadline = self._deadline(timeout)
         handle = self._handle_now() or await self._handle_for(deadline)
         call = calls.cnc_rdsvmeter(handle.command_set)
-        blocks = await self._exchange(handle, call, deadline)
+        blocks = await self._exchange(handle, call, deadline, 0, p)
         names: AxisNames | None = None
         loads: ScaledValues | None = None
         for i, request in enumerate(call.frames[0]):
@@ -367,7 +422,7 @@ class NativeClient(NativeItems):
             elif request.COMMAND == NativeCommand.RDSVMETER:
                 loads = value
         assert names is not None and loads is not None
-        count = min(handle.axes, len(loads.values), len(names.records))
+        count = min(handle.axes_on(p), len(loads.values), len(names.records))
         return tuple(
             ServoLoad(
                 axis_name(names.records[i].encode()),
@@ -376,55 +431,65 @@ class NativeClient(NativeItems):
             for i in range(count)
         )
 
-    async def read_axis_names(self, *, timeout: float | None = None) -> tuple[str, ...]:
+    async def read_axis_names(
+        self, *, path: int | None = None, timeout: float | None = None
+    ) -> tuple[str, ...]:
         """``cnc_rdaxisname``: the names of the path's axes, in order."""
+        p = self._path_of(path)
         deadline = self._deadline(timeout)
         handle = self._handle_now() or await self._handle_for(deadline)
         call = calls.cnc_rdaxisname(handle.command_set)
-        blocks = await self._exchange(handle, call, deadline)
+        blocks = await self._exchange(handle, call, deadline, 0, p)
         names: AxisNames = only_answer(handle, call, blocks)
-        return tuple(axis_name(n.encode()) for n in names.records[: handle.axes])
+        return tuple(axis_name(n.encode()) for n in names.records[: handle.axes_on(p)])
 
-    async def read_dynamic(self, axis: int = -1, *, timeout: float | None = None) -> DynamicData:
+    async def read_dynamic(
+        self, axis: int = -1, *, path: int | None = None, timeout: float | None = None
+    ) -> DynamicData:
         """``cnc_rddynamic2``: alarm bits, program numbers, sequence number, feed, spindle
         speed and the four positions of every axis (``axis=-1``) or of one (1..n), in one
         frame. Needs the CNC's FOCAS option bit 0, as in FANUC's library (EW_NOOPT)."""
+        p = self._path_of(path)
         _check_dynamic_axis(axis)
         deadline = self._deadline(timeout)
         handle = self._handle_now() or await self._handle_for(deadline)
-        call = self._dynamic_call(handle, axis)
-        blocks = await self._exchange(handle, call, deadline)
-        return made_once(handle, call, blocks, _dynamic)
+        call = self._dynamic_call(handle, axis, p)
+        blocks = await self._exchange(handle, call, deadline, 0, p)
+        return made_once(handle, call, blocks, _dynamic, p)
 
     def start_read_dynamic(
-        self, axis: int = -1, *, timeout: float | None = None
+        self, axis: int = -1, *, path: int | None = None, timeout: float | None = None
     ) -> StartedCall[DynamicData]:
         """:meth:`read_dynamic` started now and finished by awaiting
         :meth:`StartedCall.result` (see :func:`~focas_net.client.read_dynamic_all`)."""
         _check_dynamic_axis(axis)
+        p = self._path_of(path)
         deadline = self._deadline(timeout)
         handle = self._handle
         if handle is None or handle.closed:
-            return StartedCall.running(self.read_dynamic(axis, timeout=timeout))
+            return StartedCall.running(self.read_dynamic(axis, path=p, timeout=timeout))
         try:
-            call = self._dynamic_call(handle, axis)
+            call = self._dynamic_call(handle, axis, p)
         except CncError as exc:
             return StartedCall.failed(exc)
-        job = self._submit(call.parts[0], handle.command_set, deadline)
+        job = self._submit(call.part(0, p), handle.command_set, deadline)
 
         async def finish() -> DynamicData:
-            return made_once(handle, call, await job.token, _dynamic)
+            return made_once(handle, call, await job.token, _dynamic, p)
 
         return StartedCall(finish, lambda: self._session.abandon(job))
 
     @staticmethod
-    def _dynamic_call(handle: Handle, axis: int) -> LibraryCall:
-        """The ``cnc_rddynamic2`` call of ``axis`` on ``handle``; :class:`CncError` when the
-        CNC lacks the option or the axis."""
+    def _dynamic_call(handle: Handle, axis: int, path: int) -> LibraryCall:
+        """The ``cnc_rddynamic2`` call of ``axis`` on ``handle``'s ``path``; :class:`CncError`
+        when the CNC lacks the option, the path or the axis."""
         if not handle.option_bits & 1:
             raise CncError.from_ew(EW.NOOPT, "cnc_rddynamic2: the CNC lacks FOCAS option bit 0")
-        if axis > handle.axes:
-            raise CncError.from_ew(EW.ATTRIB, f"cnc_rddynamic2: axis {axis} of {handle.axes}")
+        if path != 1:
+            check_path_of(handle, path, "cnc_rddynamic2")
+        axes = handle.axes_on(path)
+        if axis > axes:
+            raise CncError.from_ew(EW.ATTRIB, f"cnc_rddynamic2: axis {axis} of {axes}")
         return calls.cnc_rddynamic2(handle.command_set, axis)
 
     async def read_positions(
@@ -432,6 +497,7 @@ class NativeClient(NativeItems):
         kind: str | int | PositionKind = PositionKind.ABSOLUTE,
         *,
         axis: int | None = None,
+        path: int | None = None,
         timeout: float | None = None,
     ) -> Positions:
         """``cnc_rdposition``: positions of every axis (``axis=None``) or of axis ``axis``
@@ -440,14 +506,15 @@ class NativeClient(NativeItems):
         An unknown ``kind`` or an ``axis`` below 1 raises :class:`ValueError` before anything
         is sent; an axis the CNC does not have raises EW_ATTRIB (:class:`CncError`).
         """
+        p = self._path_of(path)
         which = PositionKind.parse(kind)
         check_axis(axis)
         deadline = self._deadline(timeout)
         handle = self._handle_now() or await self._handle_for(deadline)
-        if axis is not None and axis > handle.axes:
-            raise CncError.from_ew(EW.ATTRIB, f"cnc_rdposition: axis {axis} of {handle.axes}")
+        if axis is not None and axis > handle.axes_on(p):
+            raise CncError.from_ew(EW.ATTRIB, f"cnc_rdposition: axis {axis} of {handle.axes_on(p)}")
         call = calls.cnc_rdposition(handle.command_set)
-        blocks = await self._exchange(handle, call, deadline)
+        blocks = await self._exchange(handle, call, deadline, 0, p)
         names: PositionAxisNames | None = None
         positions: ScaledValues | None = None
         for i, request in enumerate(call.frames[0]):
@@ -466,7 +533,7 @@ class NativeClient(NativeItems):
             ):
                 block_data(block, "cnc_rdposition")
         assert names is not None and positions is not None
-        count = min(handle.axes, len(positions.values), len(names.records))
+        count = min(handle.axes_on(p), len(positions.values), len(names.records))
         picked = range(count) if axis is None else [axis - 1]
         values: dict[str, Decimal] = {}
         increments: dict[str, int] = {}
@@ -484,27 +551,36 @@ class NativeClient(NativeItems):
         return Positions(which, decimals, values, increments)
 
     # -- macros --------------------------------------------------------------------------
-    async def read_macro(self, number: int, *, timeout: float | None = None) -> Decimal | None:
+    async def read_macro(
+        self, number: int, *, path: int | None = None, timeout: float | None = None
+    ) -> Decimal | None:
         """``cnc_rdmacro``: the value of ``#number`` as a Decimal, or None when vacant
         (binary records converted as the library converts them)."""
+        p = self._path_of(path)
         check_macro(number)
         deadline = self._deadline(timeout)
         handle = self._handle_now() or await self._handle_for(deadline)
         call = calls.cnc_rdmacro(handle.command_set, number)
-        blocks = await self._exchange(handle, call, deadline)
-        return made_once(handle, call, blocks, _macro)
+        blocks = await self._exchange(handle, call, deadline, 0, p)
+        return made_once(handle, call, blocks, _macro, p)
 
     async def write_macro(
-        self, number: int, value: int | Decimal | float | str, *, timeout: float | None = None
+        self,
+        number: int,
+        value: int | Decimal | float | str,
+        *,
+        path: int | None = None,
+        timeout: float | None = None,
     ) -> None:
         """``cnc_wrmacro``: write ``#number`` (a binary record at 16i class, base 10 at 30i,
         as the library sends it); see :func:`~focas_net.client.client.macro_to_wire`."""
+        p = self._path_of(path)
         check_macro(number)
         mcr_val, dec_val = macro_to_wire(value)
         deadline = self._deadline(timeout)
         handle = self._handle_now() or await self._handle_for(deadline)
         call = calls.cnc_wrmacro(handle.command_set, number, mcr_val, dec_val)
-        (block,) = await self._exchange(handle, call, deadline)
+        (block,) = await self._exchange(handle, call, deadline, 0, p)
         block_data(block, "cnc_wrmacro")
 
     # -- PMC -----------------------------------------------------------------------------
@@ -581,12 +657,17 @@ class NativeClient(NativeItems):
         return outcomes
 
     # -- alarms --------------------------------------------------------------------------
-    async def read_alarm_status(self, *, timeout: float | None = None) -> int:
+    async def read_alarm_status(
+        self, *, path: int | None = None, timeout: float | None = None
+    ) -> int:
         """``cnc_alarm2``: the alarm bits (bit n set while an alarm of type n is active)."""
+        p = self._path_of(path)
         deadline = self._deadline(timeout)
         handle = self._handle_now() or await self._handle_for(deadline)
         call = calls.cnc_alarm2(handle.command_set)
-        value: AlarmStatus = only_answer(handle, call, await self._exchange(handle, call, deadline))
+        value: AlarmStatus = only_answer(
+            handle, call, await self._exchange(handle, call, deadline, 0, p)
+        )
         return value.alarm
 
     async def read_alarms(
@@ -594,17 +675,19 @@ class NativeClient(NativeItems):
         *,
         alm_type: AlarmType | str | int = -1,
         count: int = _MAX_ACTIVE_ALARMS,
+        path: int | None = None,
         timeout: float | None = None,
     ) -> tuple[ActiveAlarm, ...]:
         """``cnc_rdalmmsg2``: up to ``count`` active alarms (all types, -1, or only
         ``alm_type``: by name, ``"PS"``, an :class:`AlarmType` or a number)."""
+        p = self._path_of(path)
         t = alarm_type_number(alm_type, every=True)
         check_int("alarm count", count, 1, I16_MAX)
         deadline = self._deadline(timeout)
         handle = self._handle_now() or await self._handle_for(deadline)
         call = calls.cnc_rdalmmsg2(handle.command_set, t, count)
         value: AlarmMessages = only_answer(
-            handle, call, await self._exchange(handle, call, deadline)
+            handle, call, await self._exchange(handle, call, deadline, 0, p)
         )
         return tuple(
             ActiveAlarm(a.axis, a.alarm_type, a.number, text(a.message)) for a in value.alarms

@@ -89,6 +89,7 @@ class SimControl:
         *,
         pwe: bool | None = None,
         emergency: bool | None = None,
+        path: int | None = None,
         timeout: float | None = None,
     ) -> None:
         """Set the operator panel: ``mode`` (an ``aut`` value or name: ``"MDI"``, ``AutMode.MEM``,
@@ -100,23 +101,27 @@ class SimControl:
             SetPanel(aut, _switch("pwe", pwe), _switch("emergency", emergency))
         )
         client = self._client
-        await client._request(_SET_PANEL, payload, timeout)
+        await client._request(_SET_PANEL, payload, timeout, client._path_of(path))
 
-    async def read_panel(self, *, timeout: float | None = None) -> PanelSwitches:
+    async def read_panel(
+        self, *, path: int | None = None, timeout: float | None = None
+    ) -> PanelSwitches:
         """The operator panel's switches: mode, parameter write enable, emergency stop."""
         client = self._client
-        panel: SetPanel = await client._request(_READ_PANEL, b"", timeout)
+        panel: SetPanel = await client._request(_READ_PANEL, b"", timeout, client._path_of(path))
         mode = AutMode(panel.mode) if panel.mode in AutMode._value2member_map_ else panel.mode
         return PanelSwitches(mode, bool(panel.pwe), bool(panel.emergency))
 
-    async def vacate_macro(self, number: int, *, timeout: float | None = None) -> None:
+    async def vacate_macro(
+        self, number: int, *, path: int | None = None, timeout: float | None = None
+    ) -> None:
         """Make macro variable ``#number`` vacant (``cnc_wrmacro`` has no way to write a vacant
         value). EW_NUMBER for an unknown variable, EW_PROT for a read-only one or a read-only
         server."""
         check_int("macro variable number", number, -0x8000, 0x7FFF)
         payload = _VACATE_MACRO.request.encode(VacateMacro(number))
         client = self._client
-        await client._request(_VACATE_MACRO, payload, timeout)
+        await client._request(_VACATE_MACRO, payload, timeout, client._path_of(path))
 
     async def raise_alarm(
         self,
@@ -125,6 +130,7 @@ class SimControl:
         msg: str = "",
         *,
         axis_no: int = 0,
+        path: int | None = None,
         timeout: float | None = None,
     ) -> None:
         """Raise an alarm: ``alm_type`` by name (``"PS"``), as an :class:`AlarmType` or a
@@ -139,13 +145,14 @@ class SimControl:
         raw = alarm_message(msg)
         payload = _RAISE_ALARM.request.encode(RaiseAlarm(axis_no, t, alm_no, raw))
         client = self._client
-        await client._request(_RAISE_ALARM, payload, timeout)
+        await client._request(_RAISE_ALARM, payload, timeout, client._path_of(path))
 
     async def clear_alarms(
         self,
         alm_type: AlarmType | str | int = -1,
         alm_no: int = -1,
         *,
+        path: int | None = None,
         timeout: float | None = None,
     ) -> None:
         """Clear the matching active alarms (-1 matches any; ``alm_type`` also by name,
@@ -155,26 +162,26 @@ class SimControl:
             check_int("alarm number", alm_no, 0, _I16_MAX)
         payload = _CLEAR_ALARMS.request.encode(ClearAlarms(t, alm_no))
         client = self._client
-        await client._request(_CLEAR_ALARMS, payload, timeout)
+        await client._request(_CLEAR_ALARMS, payload, timeout, client._path_of(path))
 
-    async def _cycle(self, action: CycleAction, timeout: float | None) -> None:
+    async def _cycle(self, action: CycleAction, path: int | None, timeout: float | None) -> None:
         client = self._client
         payload = _CYCLE.request.encode(CycleControl(action))
-        await client._request(_CYCLE, payload, timeout)
+        await client._request(_CYCLE, payload, timeout, client._path_of(path))
 
-    async def cycle_start(self, *, timeout: float | None = None) -> None:
+    async def cycle_start(self, *, path: int | None = None, timeout: float | None = None) -> None:
         """Cycle start (0x0E20): run the main program, continue it, or resume after a feed
         hold. EW_MODE outside MEM, EW_ALARM with an alarm or emergency stop (reset first),
         EW_DATA without a main program."""
-        await self._cycle(CycleAction.START, timeout)
+        await self._cycle(CycleAction.START, path, timeout)
 
-    async def feed_hold(self, *, timeout: float | None = None) -> None:
+    async def feed_hold(self, *, path: int | None = None, timeout: float | None = None) -> None:
         """Feed hold (0x0E20): the axes stop where they are; cycle start resumes."""
-        await self._cycle(CycleAction.HOLD, timeout)
+        await self._cycle(CycleAction.HOLD, path, timeout)
 
-    async def reset(self, *, timeout: float | None = None) -> None:
+    async def reset(self, *, path: int | None = None, timeout: float | None = None) -> None:
         """Reset (0x0E20): stop and rewind; the program's alarms are cleared."""
-        await self._cycle(CycleAction.RESET, timeout)
+        await self._cycle(CycleAction.RESET, path, timeout)
 
     async def set_overrides(
         self,
@@ -182,6 +189,7 @@ class SimControl:
         feed: int | None = None,
         rapid: int | None = None,
         spindle: int | None = None,
+        path: int | None = None,
         timeout: float | None = None,
     ) -> None:
         """Feed override 0..254 %, rapid override 0..100 %, spindle override 0..254 % (0x0E21);
@@ -199,7 +207,7 @@ class SimControl:
                 values.append(value)
         client = self._client
         payload = _OVERRIDES.request.encode(Overrides(*values))
-        await client._request(_OVERRIDES, payload, timeout)
+        await client._request(_OVERRIDES, payload, timeout, client._path_of(path))
 
     async def set_pmc(
         self, area: AreaLike, start: int, data: bytes, *, timeout: float | None = None

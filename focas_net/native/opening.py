@@ -15,9 +15,23 @@ whole command set of the handle [V]:
   ``cnc_wrmacro`` sends base 10; the option bits are body[28:30].
 
 A path record whose machine-type characters are zero is no path. For every present path the
-library sends one 0x18 (sysinfo) block while connecting; with n = 0 that request has no block,
-and the library refuses the zero-block answer, so an open answer needs at least one path.
-Option bit 0 is required by ``cnc_rddynamic2`` (EW_NOOPT otherwise) [V].
+library sends one 0x18 (sysinfo) block while connecting (path word = record index + 1); with
+n = 0 that request has no block, and the library refuses the zero-block answer, so an open
+answer needs at least one path. Option bit 0 is required by ``cnc_rddynamic2`` (EW_NOOPT
+otherwise) [V].
+
+Paths, as FANUC's library handles them [V] (``tests/data/fwlib_paths.json``): the library
+keeps a table of :data:`PATH_RECORDS` paths per handle, filled from the path records.
+``cnc_getpath`` sends nothing and gives (the handle's path, the path-count word of the head);
+``cnc_setpath(p)`` sends nothing either: p <= 0 selects path 1, and a p whose table entry has
+no machine type returns EW_PATH (11) and keeps the path; otherwise every later block carries p
+in its path word and ``cnc_sysinfo`` answers the 0x18 record of path p from connect time. Table
+entries past the records are not cleared: with fewer than :data:`PATH_RECORDS` records,
+``cnc_setpath`` past the last path is refused or accepted depending on what the handle's
+memory holds there (with 2 records at version 3, 3 refused but 4 accepted; with one record, 2
+to 5 accepted in both layouts). So a multi-path answer carries all :data:`PATH_RECORDS`
+records, the absent ones with zero machine type, as a real 0i-D's 360-byte answer does: then
+``cnc_setpath`` past the last path returns EW_PATH without sending anything.
 
 :func:`build_open_answer` makes a body of exactly the checked size from path descriptions;
 :func:`decode_open_answer` reads one back; :func:`open_answer_size` is the size the library
@@ -37,6 +51,7 @@ __all__ = [
     "MACHINE_LATHE",
     "MACHINE_MILL",
     "NO_PATH",
+    "PATH_RECORDS",
     "OpenAnswer",
     "OpenHeadV2",
     "OpenHeadV3",
@@ -53,6 +68,10 @@ __all__ = [
 MACHINE_MILL: Final = " M"
 MACHINE_LATHE: Final = " T"
 NO_PATH: Final = "\x00\x00"
+#: Paths in the library's table of a handle, and the path records a multi-path open answer
+#: carries (absent paths with :data:`NO_PATH`), so that ``cnc_setpath`` past the last path
+#: is refused by the library itself [V].
+PATH_RECORDS: Final = 10
 
 
 @dataclass(frozen=True, slots=True)
@@ -212,6 +231,7 @@ def build_open_answer(
     max_spindles: int | None = None,
     kind: int = 0,
     record_format: int = 1,
+    records: int | None = None,
 ) -> bytes:
     """The body of an open answer FANUC's library accepts, for an answer carrying ``version``.
 
@@ -221,24 +241,38 @@ def build_open_answer(
     body[28:30] and ``max_spindles`` (default: the most spindles of a path) to body[8:10]; at
     version <= 2 the option bits are not in the open answer (the library reads them from
     parameter 9968 unless ``kind`` is 3) and ``kind`` goes to body[2:4].
+
+    ``records`` is the number of path records (default: one per path): the paths, then
+    records with :data:`NO_PATH` up to ``records`` (:data:`PATH_RECORDS` makes
+    ``cnc_setpath`` past the last path fail in the library itself).
     """
     if not paths:
         raise ValueError("an open answer needs at least one path")
+    if records is None:
+        records = len(paths)
+    if not len(paths) <= records <= PATH_RECORDS:
+        raise ValueError(
+            f"{records} path records for {len(paths)} paths: between {len(paths)} and "
+            f"{PATH_RECORDS}"
+        )
+    absent = records - len(paths)
     for p in paths:
         if p.axes > max_axes:
             raise ValueError(f"a path of {p.axes} axes exceeds max_axes {max_axes}")
     if version <= 2:
-        head2 = OpenHeadV2(0, kind, max_axes, 0, len(paths), len(paths))
+        head2 = OpenHeadV2(0, kind, max_axes, 0, records, len(paths))
         recs2 = tuple(PathRecordV2(p.machine_type, 0, p.axes, p.spindles) for p in paths)
+        recs2 += (PathRecordV2(NO_PATH, 0, 0, 0),) * absent
         return OpenAnswer(version, head2, recs2).encode()
     spindles = max(p.spindles for p in paths) if max_spindles is None else max_spindles
     head3 = OpenHeadV3(
-        0, 0, record_format, max_axes, spindles, len(paths), max_paths=len(paths),
+        0, 0, record_format, max_axes, spindles, records, max_paths=len(paths),
         option_bits=option_bits,
     )  # fmt: skip
     recs3 = tuple(
         PathRecordV3(p.machine_type, 2 if p.lathe else 1, 0, p.axes, 0, p.spindles) for p in paths
     )
+    recs3 += (PathRecordV3(NO_PATH, 0, 0, 0, 0, 0),) * absent
     return OpenAnswer(version, head3, recs3).encode()
 
 

@@ -197,14 +197,15 @@ ExecutingBlocksRequest.ANSWER = ExecutingBlocks
 @dataclass(frozen=True, slots=True)
 class TransferStart(NativeRecord):
     """Body of ``0x1501`` and ``0x1101``, 516 bytes: ``u16 data_type`` (0, NC programs, as
-    sent by ``cnc_upstart(3)`` and ``cnc_dwnstart(3)`` with type 0), ``u16 unit`` (1), then
-    512 NUL-padded bytes: the programs of an upload, ``O1-O1`` for ``cnc_upstart(1)``; empty
-    for a download [V]."""
+    sent by ``cnc_upstart(3)`` and ``cnc_dwnstart(3)`` with type 0), ``u16 path``, the
+    handle's path (1, or what ``cnc_setpath`` selected: 2 after ``cnc_setpath(2)``, in both
+    command sets), then 512 NUL-padded bytes: the programs of an upload, ``O1-O1`` for
+    ``cnc_upstart(1)``; empty for a download [V]."""
 
     FORMAT: ClassVar[str] = ">HH512s"
     PADDED: ClassVar[frozenset[str]] = frozenset({"name"})
     data_type: int
-    unit: int
+    path: int
     name: bytes
 
 

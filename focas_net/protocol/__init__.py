@@ -37,6 +37,8 @@ from .codecs import (
     ParamDataType,
     ParamValue,
     Password,
+    PathNumber,
+    PathSelection,
     PositionData,
     PositionKind,
     PositionRequest,
@@ -49,7 +51,7 @@ from .codecs import (
     encode_ew,
     encode_response,
 )
-from .commands import FAULT_COMMANDS, Command
+from .commands import FAULT_COMMANDS, PATH_COMMANDS, PATH_INDEPENDENT_COMMANDS, Command
 from .faults import ArmedFault, FaultList, FaultsCleared, FaultsRequest
 from .frame import (
     DEFAULT_MAX_FRAME,
@@ -125,6 +127,8 @@ __all__ = [
     "MAX_PROGRAM_TEXT",
     "MAX_REAL_DECIMALS",
     "PASSWORD_SIZE",
+    "PATH_COMMANDS",
+    "PATH_INDEPENDENT_COMMANDS",
     "STATUS_FIELDS",
     "ActiveAlarm",
     "ActiveAlarmList",
@@ -169,6 +173,8 @@ __all__ = [
     "ParamDataType",
     "ParamValue",
     "Password",
+    "PathNumber",
+    "PathSelection",
     "PmcArea",
     "PmcData",
     "PmcRange",

@@ -59,6 +59,8 @@ __all__ = [
     "ParamDataType",
     "ParamValue",
     "Password",
+    "PathNumber",
+    "PathSelection",
     "PositionData",
     "PositionKind",
     "PositionRequest",
@@ -308,6 +310,26 @@ class PositionRequest(FixedPayload):
     FORMAT: ClassVar[str] = "<hh"
     type: int
     axis: int
+
+
+@dataclass(frozen=True, slots=True)
+class PathNumber(FixedPayload):
+    """Request of ``cnc_setpath`` (0x0140): ``i16 path``, the path the connection's per-path
+    requests are answered for from now on (1..the machine's paths)."""
+
+    FORMAT: ClassVar[str] = "<h"
+    path: int
+
+
+@dataclass(frozen=True, slots=True)
+class PathSelection(FixedPayload):
+    """Answer of ``cnc_getpath`` (0x0040) after ``ew``: ``i16 current`` (the connection's
+    selected path; 0 after a refused ``cnc_setpath``: none), ``i16 max`` (the number of paths
+    of the machine)."""
+
+    FORMAT: ClassVar[str] = "<hh"
+    current: int
+    max: int
 
 
 # -- variable-layout payloads --------------------------------------------------------------
@@ -669,6 +691,8 @@ COMMANDS: Final[dict[int, CommandSpec]] = {
         _spec(Command.WRMACRO, "cnc_wrmacro", MacroValue.codec(), _OK_ONLY),
         _spec(Command.WRPMCRNG, "pmc_wrpmcrng", _PMC_DATA, _OK_ONLY),
         _spec(Command.WRUNLOCKPARAM, "cnc_wrunlockparam", Password.codec(), _OK_ONLY),
+        _spec(Command.GETPATH, "cnc_getpath", EMPTY, _ew_response(PathSelection.codec())),
+        _spec(Command.SETPATH, "cnc_setpath", PathNumber.codec(), _OK_ONLY),
         _spec(
             Command.VERSAMAX_RDCONFIG,
             "versamax_rdconfig",

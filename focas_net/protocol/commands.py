@@ -5,7 +5,7 @@ from __future__ import annotations
 
 import enum
 
-__all__ = ["FAULT_COMMANDS", "Command"]
+__all__ = ["FAULT_COMMANDS", "PATH_COMMANDS", "PATH_INDEPENDENT_COMMANDS", "Command"]
 
 
 class Command(enum.IntEnum):
@@ -27,6 +27,7 @@ class Command(enum.IntEnum):
     RDPROGRAM = 0x0031  # cnc_upload: a program's text
     RDRUNINFO = 0x0032  # overrides, parts counts and timers [cnc_rdtimer]
     RDLOADS = 0x0033  # cnc_rdspload and cnc_rdsvmeter: spindle and servo loads
+    GETPATH = 0x0040  # cnc_getpath: the connection's selected path and the number of paths
     WRPARAM = 0x0102  # cnc_wrparam: IODBPSD
     WRMACRO = 0x0103  # cnc_wrmacro: ODBM
     WRPMCRNG = 0x0104  # pmc_wrpmcrng: IODBPMC
@@ -34,6 +35,7 @@ class Command(enum.IntEnum):
     WRPROGRAM = 0x0110  # cnc_download: store a program
     DELPROGRAM = 0x0111  # cnc_delete: delete a program
     SELPROGRAM = 0x0112  # cnc_search: select the main program
+    SETPATH = 0x0140  # cnc_setpath: select the path the connection's per-path requests read
     VERSAMAX_RDCONFIG = 0x0201  # VersaMax GNIU Read Configuration datagram
     SIM_SET_PANEL = 0x0E01  # simulator control: operator panel
     SIM_RAISE_ALARM = 0x0E02  # simulator control: raise an alarm
@@ -53,4 +55,28 @@ class Command(enum.IntEnum):
 #: by a machine's adapter.
 FAULT_COMMANDS: frozenset[Command] = frozenset(
     {Command.SIM_INJECT_FAULT, Command.SIM_LIST_FAULTS, Command.SIM_CLEAR_FAULTS}
+)
+
+
+#: The path selection commands (``docs/protocol.md`` section 8, "Paths"), answered from the
+#: connection's selection; never faulted, like the simulator control commands.
+PATH_COMMANDS: frozenset[Command] = frozenset({Command.GETPATH, Command.SETPATH})
+
+#: The commands that answer the same on every path and ignore the connection's path
+#: selection: the identity, the PMC, the parameter attributes, the alarm
+#: history, the parameter unlock, VersaMax, the fault queues and the path commands
+#: themselves. Every other command answers for the connection's selected path.
+PATH_INDEPENDENT_COMMANDS: frozenset[Command] = frozenset(
+    {
+        Command.SYSINFO,
+        Command.RDPMCRNG,
+        Command.RDPARAINFO,
+        Command.WRPMCRNG,
+        Command.WRUNLOCKPARAM,
+        Command.VERSAMAX_RDCONFIG,
+        Command.SIM_SET_PMC,
+        Command.RDALMHISTRY,
+        *FAULT_COMMANDS,
+        *PATH_COMMANDS,
+    }
 )

@@ -58,6 +58,8 @@ _CLEAR_FAULTS: Final = int(Command.SIM_CLEAR_FAULTS)
 _LIST_ANSWER: Final = COMMANDS[Command.SIM_LIST_FAULTS].response.encode
 _CLEAR_ANSWER: Final = COMMANDS[Command.SIM_CLEAR_FAULTS].response.encode
 _UNLOCK: Final = int(Command.WRUNLOCKPARAM)
+_GETPATH: Final = int(Command.GETPATH)
+_SETPATH: Final = int(Command.SETPATH)
 _EW_OK: Final = encode_ew(EW.OK)
 _EW_FUNC: Final = encode_ew(EW.FUNC)
 _DEBUG: Final = logging.DEBUG
@@ -90,7 +92,7 @@ class PackedConnection(BaseConnection[RawFrame]):
     is called once when the transport is gone; ``label`` names the machine in logs.
     """
 
-    __slots__ = ("_adapter", "_decoder", "_machine", "_session")
+    __slots__ = ("_adapter", "_decoder", "_machine", "_path", "_session")
 
     def __init__(
         self,
@@ -105,6 +107,10 @@ class PackedConnection(BaseConnection[RawFrame]):
         self._adapter = adapter
         self._machine = machine
         self._session: Session | None = None
+        #: The path this connection's per-path requests are answered for: 1 when it opens,
+        #: set by cnc_setpath in the order the requests arrive; 0 after a refused one (none:
+        #: every per-path request answers EW_PATH until a cnc_setpath is accepted).
+        self._path = 1
         self._decoder = FrameDecoder(limits.max_frame)
 
     @property
@@ -193,8 +199,11 @@ class PackedConnection(BaseConnection[RawFrame]):
                 else:
                     reply = self._fault_queue(command, payload)
             else:
-                if (shared.armed or self._faults is not None) and not (
-                    _CONTROL_FIRST <= command <= _CONTROL_LAST
+                if (
+                    (shared.armed or self._faults is not None)
+                    and not (_CONTROL_FIRST <= command <= _CONTROL_LAST)
+                    and command != _SETPATH
+                    and command != _GETPATH
                 ):
                     fault = self._take_fault()
                     if fault is not None:
@@ -230,7 +239,12 @@ class PackedConnection(BaseConnection[RawFrame]):
         """The machine's answer to one request. A bug in the machine must not take the
         connection down: it is logged and answered EW_REJECT."""
         try:
-            return self._adapter.answer(self._session, command, payload)  # type: ignore[arg-type]
+            if command == _SETPATH:
+                answer, self._path = self._adapter.select_path(payload)
+                return answer
+            if command == _GETPATH:
+                return self._adapter.path_answer(payload, self._path)
+            return self._adapter.answer(self._session, command, payload, self._path)  # type: ignore[arg-type]
         except Exception:
             _log.exception("%s: command 0x%04X from %s failed", self._label, command, self._peer)
             return self._adapter.error_answer(command, EW.REJECT)

@@ -50,6 +50,7 @@ __all__ = [
     "FaultKind",
     "FaultQueue",
     "FaultScope",
+    "fault_refusal",
     "parse_inject",
     "parse_scope",
 ]
@@ -156,14 +157,28 @@ def parse_inject(payload: bytes, *, read_only: bool = False) -> tuple[FaultScope
     if read_only:
         return EW.PROT
     kind, scope, count, arg = req.kind, req.scope, req.count, req.arg
-    if kind not in _KINDS or scope not in _SCOPES or not 1 <= count <= MAX_FAULT_COUNT:
-        return EW.DATA
-    if kind == FaultKind.DELAY:
-        if not 0 <= arg <= MAX_DELAY_MS:
-            return EW.DATA
-    elif kind == FaultKind.ERROR and (arg == 0 or not _I16_MIN <= arg <= _I16_MAX):
+    if fault_refusal(kind, scope, count, arg) is not None:
         return EW.DATA
     return FaultScope(scope), Fault(FaultKind(kind), arg, count)
+
+
+def fault_refusal(kind: int, scope: int, count: int, arg: int) -> str | None:
+    """Why a fault of these numbers is refused (``EW_DATA``), in the words every front end
+    shows (the dashboard, the command line); None when it is armed. The one check of a fault's
+    arguments: :func:`parse_inject` answers ``EW_DATA`` exactly when this gives a reason."""
+    if kind not in _KINDS:
+        kinds = ", ".join(f"{int(k)} {k.name}" for k in FaultKind)
+        return f"no fault kind {kind} (one of {kinds})"
+    if scope not in _SCOPES:
+        scopes = ", ".join(f"{int(s)} {s.name}" for s in FaultScope)
+        return f"no fault scope {scope} (one of {scopes})"
+    if not 1 <= count <= MAX_FAULT_COUNT:
+        return f"a fault's count is 1..{MAX_FAULT_COUNT}, got {count}"
+    if kind == FaultKind.DELAY and not 0 <= arg <= MAX_DELAY_MS:
+        return f"a delay is 0..{MAX_DELAY_MS} ms, got {arg}"
+    if kind == FaultKind.ERROR and (arg == 0 or not _I16_MIN <= arg <= _I16_MAX):
+        return f"an error fault's EW code is a nonzero {_I16_MIN}..{_I16_MAX}, got {arg}"
+    return None
 
 
 _KINDS: Final = frozenset(int(k) for k in FaultKind)

@@ -25,6 +25,7 @@ __all__ = [
     "Alarms",
     "Clock",
     "HistoryEntry",
+    "PathAlarmKey",
     "nc_alarm",
     "utc_now",
 ]
@@ -33,6 +34,8 @@ __all__ = [
 Clock = Callable[[], datetime]
 #: An alarm's identity: ``(axis_no, alm_type, alm_no)``.
 AlarmKey = tuple[int, int, int]
+#: An active alarm's place: the path it is active on and its identity.
+PathAlarmKey = tuple[int, AlarmKey]
 
 #: Alarm history capacity of a FANUC 0i/30i.
 DEFAULT_HISTORY_CAPACITY: Final = 250
@@ -87,8 +90,10 @@ def nc_alarm(key: AlarmKey, text: str) -> NcAlarm:
 
 
 class Alarms:
-    """The active alarms by key (oldest raised first) and the history (newest first, at most
-    ``capacity`` entries). Every change moves the alarm and the status counters."""
+    """The active alarms by path and key (oldest raised first) and the history (newest first,
+    at most ``capacity`` entries), shared by the paths. An alarm is active on one path (a
+    program's alarms on the path that ran it); a read for a path sees that path's. Every
+    change moves the alarm and the status counters."""
 
     __slots__ = ("active", "clock", "counters", "history", "name")
 
@@ -98,7 +103,7 @@ class Alarms:
         self.name = name
         self.clock = clock
         self.counters = counters
-        self.active: dict[AlarmKey, Alarm] = {}
+        self.active: dict[PathAlarmKey, Alarm] = {}
         self.history: deque[HistoryEntry] = deque(maxlen=capacity)
 
     @property
@@ -140,34 +145,47 @@ class Alarms:
             )
         return text
 
-    def add(self, key: AlarmKey, text: str, when: datetime) -> bool:
-        """Raise an alarm and record it in the history; False when it is active already."""
-        if key in self.active:
+    def add(self, key: AlarmKey, text: str, when: datetime, path: int = 1) -> bool:
+        """Raise an alarm on ``path`` and record it in the history; False when it is active
+        there already."""
+        if (path, key) in self.active:
             return False
         axis_no, alm_type, alm_no = key
         logger.debug(
-            "%s: alarm raised: axis %d type %d no %d", self.name, axis_no, alm_type, alm_no
+            "%s: alarm raised: path %d axis %d type %d no %d",
+            self.name,
+            path,
+            axis_no,
+            alm_type,
+            alm_no,
         )
-        self.active[key] = Alarm(axis_no, alm_type, alm_no, text)
+        self.active[path, key] = Alarm(axis_no, alm_type, alm_no, text)
         self.history.appendleft(HistoryEntry(when, axis_no, alm_type, alm_no, text))
         self.counters.alarm += 1
         self.counters.status_changed()
         return True
 
-    def clear(self, alm_type: int, alm_no: int) -> int:
-        """Remove the active alarms matching ``alm_type`` and ``alm_no`` (-1 = any)."""
+    def on(self, path: int) -> bool:
+        """Whether an alarm is active on ``path``."""
+        return any(p == path for p, _ in self.active)
+
+    def clear(self, alm_type: int, alm_no: int, path: int) -> int:
+        """Remove the active alarms of ``path`` matching ``alm_type`` and ``alm_no`` (-1 =
+        any)."""
         gone = [
             k
-            for k in self.active
-            if (alm_type == -1 or k[1] == alm_type) and (alm_no == -1 or k[2] == alm_no)
+            for p, k in self.active
+            if p == path
+            and (alm_type == -1 or k[1] == alm_type)
+            and (alm_no == -1 or k[2] == alm_no)
         ]
-        if self.remove(gone):
+        if self.remove(gone, path):
             logger.debug("%s: %d alarm(s) cleared", self.name, len(gone))
         return len(gone)
 
-    def remove(self, keys: Iterable[AlarmKey]) -> bool:
-        """Remove those of ``keys`` that are active; True when one was."""
-        gone = [k for k in keys if k in self.active]
+    def remove(self, keys: Iterable[AlarmKey], path: int = 1) -> bool:
+        """Remove those of ``keys`` that are active on ``path``; True when one was."""
+        gone = [(path, k) for k in keys if (path, k) in self.active]
         for k in gone:
             del self.active[k]
         if gone:
@@ -175,9 +193,9 @@ class Alarms:
             self.counters.status_changed()
         return bool(gone)
 
-    def read(self, alm_type: int, limit: int | None) -> list[Alarm]:
-        """The active alarms of ``alm_type`` (-1: every type), at most ``limit``."""
-        alarms = self.active.values()
+    def read(self, alm_type: int, limit: int | None, path: int = 1) -> list[Alarm]:
+        """The active alarms of ``path`` of ``alm_type`` (-1: every type), at most ``limit``."""
+        alarms = [a for (p, _), a in self.active.items() if p == path]
         chosen = alarms if alm_type == -1 else (a for a in alarms if a.alm_type == alm_type)
         return list(chosen if limit is None else islice(chosen, limit))
 

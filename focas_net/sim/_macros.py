@@ -117,11 +117,16 @@ class Macros:
         if not r.writable:
             raise MachineError(EW.PROT, f"macro variable #{number} is read-only")
 
-    def write(self, number: int, value: Decimal | int | None) -> None:
+    def write(
+        self, number: int, value: Decimal | int | None, values: dict[int, Decimal] | None = None
+    ) -> None:
         """Set a variable (None: vacant; a vacant one made vacant changes nothing): EW_DATA
-        for a value it cannot hold."""
+        for a value it cannot hold. ``values``: where it is held (a path's own variables),
+        the machine's by default."""
+        if values is None:
+            values = self.values
         if value is None:
-            if self.values.pop(number, None) is not None:
+            if values.pop(number, None) is not None:
                 self.changed()
             return
         held = macro_value(value)
@@ -130,7 +135,7 @@ class Macros:
                 EW.DATA,
                 f"#{number} = {value}: 0..{MAX_MACRO_DECIMALS} decimals, digits within 32 bits",
             )
-        self.values[number] = held
+        values[number] = held
         self.changed()
 
     def changed(self) -> None:

@@ -2,9 +2,10 @@
 panel and status, its motion figures and its production (:mod:`._production`).
 
 A FANUC control with several paths (a twin-turret lathe) runs one program on each, each with
-its own mode, status and program alarms, while the PMC, the parameters, the macro variables and
-the machine's alarms are shared: a :class:`Path` is given those, and owns the rest. The machine
-has one path today and answers every read and command of a path through it.
+its own mode, status and program alarms, while the PMC, most parameters, the macro variables
+#500-#999 and the alarm history are shared: a :class:`Path` is given those (the parameters as
+it sees them: :class:`~._paths.PathItems`), and owns the rest. The machine answers every read
+and command of a path through the path (:mod:`._paths` holds the collection).
 
 Nothing ticks: every read and every counter of the machine first brings the engine to the
 clock's time (:meth:`Path.sync`, the engine's clock held there while the path reads it):
@@ -32,9 +33,11 @@ from ._alarms import MAX_ALARM_TEXT, NC_ALARM_TYPES, AlarmKey, Alarms, nc_alarm
 from ._base import I32_MAX, I32_MIN, Counters, MachineError, logger
 from ._items import PARTS_COUNT, PARTS_TOTAL, Items
 from ._macros import Macros, float_macro, macro_value
+from ._paths import PATH_MACROS, PathItems
 from ._pmc import GRequest, Pmc
 from ._production import Production
 from ._time import MachineTime
+from ._variables import PARTS_VARIABLES, PathVariables
 from .nc import (
     CycleState,
     Engine,
@@ -46,9 +49,9 @@ from .nc import (
     ProgramErrorReason,
     ProgramStore,
     SimClock,
-    VariableRefused,
 )
 from .nc.alarms import AlarmRaised
+from .nc.waits import PathSync
 
 __all__ = [
     "AUT_MODES",
@@ -101,15 +104,22 @@ POSITION_DECIMALS: Final = 3
 POSITION_KINDS: Final = ("absolute", "machine", "relative", "distance_to_go")
 #: The timers :meth:`Machine.timer` reads, by FANUC's ``cnc_rdtimer`` type number.
 TIMER_KINDS: Final = ("power_on", "operating", "cutting", "cycle")
-#: The macro variables of the parts count and the total parts.
-PARTS_VARIABLES: Final = {3901: PARTS_COUNT, 3902: PARTS_TOTAL}
 #: System variables that come from the engine while it drives the figures: modal G codes
 #: #4001-#4030, the last block's codes #4102-#4130, positions #5001-#5043.
 ENGINE_VARIABLES: Final = (range(4001, 4031), range(4102, 4131), range(5001, 5044))
 
+#: The parameters of the lowest and the highest waiting M code.
+WAIT_LOW: Final = 8110
+WAIT_HIGH: Final = 8111
 #: The run state (ODBST ``run``) and motion of each engine state.
 _RUN: Final = {CycleState.RESET: 0, CycleState.STOP: 1, CycleState.HOLD: 2, CycleState.START: 3}
-_MOTION: Final = {MotionKind.NONE: 0, MotionKind.MOTION: 1, MotionKind.DWELL: 2}
+#: ODBST ``motion`` 3 (WAIT): the path waits at a waiting M code for the other paths.
+_MOTION: Final = {
+    MotionKind.NONE: 0,
+    MotionKind.MOTION: 1,
+    MotionKind.DWELL: 2,
+    MotionKind.WAIT: 3,
+}
 _MM: Final = 10**POSITION_DECIMALS
 #: Rapid traverse (mm/min) of an axis whose parameter 1420 gives no positive rate.
 _DEFAULT_RAPID: Final = 24000.0
@@ -198,53 +208,23 @@ def _system_value(value: float | None, decimals: int) -> Decimal | None:
     return float_macro(value)
 
 
+def program_axes(axes: list[str]) -> tuple[str, ...]:
+    """The addresses a path's programs move its axes by: the axis names without the subscript
+    digits a multi-path control shows (X1 and Z1 of path 1 are programmed X and Z, as FANUC's
+    parameter 1020 names them and 3131 subscripts them), or the names as they are when that
+    would name two axes alike."""
+    bare = tuple(a.rstrip("0123456789") or a for a in axes)
+    return bare if len(set(bare)) == len(bare) else tuple(axes)
+
+
 def _program_refusal(exc: ProgramError) -> MachineError:
     return MachineError(_PROGRAM_EW[exc.reason], str(exc))
 
 
-class _Variables:
-    """The variables as a path's interpreter reads and writes them: #3901/#3902 (the path's
-    parts), the machine's macro ranges (#500-#999 and whatever else it has); 115 for a number
-    the machine lacks, 116 for a read-only one, 111 for a value a variable cannot hold."""
-
-    __slots__ = ("_macros", "_path")
-
-    def __init__(self, path: Path, macros: Macros) -> None:
-        self._path = path
-        self._macros = macros
-
-    def read_variable(self, number: int) -> float | None:
-        if number in PARTS_VARIABLES:
-            return float(self._path.parts(PARTS_VARIABLES[number]))
-        if self._macros.range_of(number) is None:
-            raise VariableRefused(115, f"#{number}")
-        value = self._macros.values.get(number)
-        return None if value is None else float(value)
-
-    def write_variable(self, number: int, value: float | None) -> None:
-        if number in PARTS_VARIABLES:
-            self._path.set_parts(PARTS_VARIABLES[number], 0 if value is None else round(value))
-            return
-        macros = self._macros
-        r = macros.range_of(number)
-        if r is None:
-            raise VariableRefused(115, f"#{number}")
-        if not r.writable:
-            raise VariableRefused(116, f"#{number}")
-        if value is None:
-            macros.values.pop(number, None)
-        else:
-            held = float_macro(value)
-            if held is None:
-                raise VariableRefused(111, f"#{number} = {value!r}")
-            macros.values[number] = held
-        macros.changed()
-
-
 @dataclass(frozen=True, slots=True)
 class Shared:
-    """What the paths of a machine share: its version counters, its parameters, its macro
-    variables, its alarms and its PMC."""
+    """What the paths of a machine share: its version counters, its parameters (as each path
+    sees them: :class:`~._paths.PathItems`), its macro variables, its alarms and its PMC."""
 
     counters: Counters
     items: Items
@@ -270,13 +250,16 @@ class Path:
         "driven",
         "engine",
         "engine_alarms",
+        "group",
         "items",
         "key",
         "live",
+        "local_macros",
         "macros",
         "manual",
         "mstb",
         "name",
+        "number",
         "panel",
         "pmc",
         "powered_at",
@@ -294,6 +277,10 @@ class Path:
         axes: list[str],
         shared: Shared,
         *,
+        number: int = 1,
+        items: PathItems | None = None,
+        sync: PathSync | None = None,
+        path_count: int = 1,
         panel: Panel,
         motion: MotionData,
         programs: Iterable[str],
@@ -302,9 +289,13 @@ class Path:
     ) -> None:
         self.name = name
         self.axes = axes
+        #: The path's number (1..).
+        self.number = number
         self.counters = shared.counters
-        self.items = shared.items
+        self.items = items or PathItems(shared.items, 0, len(axes), {})
         self.macros = shared.macros
+        #: The values of the path's own variables #100-#199 (path 1: the machine's).
+        self.local_macros = shared.macros.values if number == 1 else {}
         self.alarms = shared.alarms
         self.pmc = shared.pmc
         self.panel = panel
@@ -320,9 +311,10 @@ class Path:
             first = number if first is None else first
         self.engine = Engine(
             self.time,
-            self._nc_settings(),
+            self._nc_settings(path_count),
             store=self.programs,
-            variables=_Variables(self, self.macros),
+            variables=PathVariables(self, self.macros),
+            sync=sync,
         )
         self.engine.parts_count = self.items.param_or(PARTS_COUNT, 0)
         self.engine.parts_total = self.items.param_or(PARTS_TOTAL, 0)
@@ -348,7 +340,14 @@ class Path:
         #: The active alarms the program raised (a reset clears them).
         self.engine_alarms: set[AlarmKey] = set()
         self._figures: tuple[int, MotionData] | None = None
+        #: Every path of the machine, this one among them (the machine sets it).
+        self.group: list[Path] = [self]
         self.production = Production(self)
+
+    def macro_values(self, number: int) -> dict[int, Decimal]:
+        """Where variable ``number``'s value is held: the path's own #100-#199, else the
+        machine's."""
+        return self.local_macros if number in PATH_MACROS else self.macros.values
 
     @staticmethod
     def check_motion(motion: MotionData, axes: int) -> None:
@@ -360,11 +359,13 @@ class Path:
                     f"motion {key}: {len(getattr(motion, key))} values for {axes} axes"
                 )
 
-    def _nc_settings(self) -> NcSettings:
+    def _nc_settings(self, path_count: int) -> NcSettings:
         """Execution settings from the parameters, read when the machine is built: rapid
         traverse 1420 (mm/min; an axis whose rate is not above 0 traverses at 24,000), maximum
         cutting feed 1422, stroke limit 1 1320/1321 (0.001 mm, or mm for a real parameter; no
-        limit on an axis where plus is not above minus), reference position 1240."""
+        limit on an axis where plus is not above minus), reference position 1240; on a
+        machine of several paths the waiting M codes 8110..8111 (none unless both are above
+        0 and the lowest is not above the highest)."""
         items = self.items
         axes = range(1, len(self.axes) + 1)
         rapid = tuple(
@@ -385,13 +386,22 @@ class Path:
         feed = items.param_or(1422, 0)
         if feed > 0:
             values["max_cutting_feed"] = float(feed)
-        return NcSettings.for_axes(self.axes, **values)
+        low, high = items.param_or(WAIT_LOW, 0), items.param_or(WAIT_HIGH, 0)
+        if path_count > 1 and 0 < low <= high:
+            values["waiting_m"] = (low, high)
+            values["path_number"] = self.number
+            values["path_count"] = path_count
+        return NcSettings.for_axes(program_axes(self.axes), **values)
 
     # -- time ----------------------------------------------------------------------------
-    def set_clock(self, clock: SimClock) -> None:
+    def check_clock(self, clock: SimClock) -> None:
+        """ValueError when ``clock`` is behind the path's machine time."""
         behind = self.time.now() - clock.now()
         if behind > 0:
             raise ValueError(f"the clock is {behind} s behind the machine's time")
+
+    def set_clock(self, clock: SimClock) -> None:
+        self.check_clock(clock)
         self.time.set_source(clock)
 
     def sync(self) -> None:
@@ -482,7 +492,8 @@ class Path:
             alarm = event.alarm
             key = (alarm.axis or 0, NC_ALARM_TYPES[alarm.kind], alarm.number)
             text = alarm.message[:MAX_ALARM_TEXT].encode("latin-1", "replace").decode("latin-1")
-            if self.alarms.add(key, text, self.alarms.stamp(now - event.time)):
+            stamp = self.alarms.stamp(now - event.time)
+            if self.alarms.add(key, text, stamp, self.number):
                 self.engine_alarms.add(key)
 
     # -- parts ---------------------------------------------------------------------------
@@ -644,7 +655,7 @@ class Path:
         p = self.panel
         if p.emergency:
             raise MachineError(EW.ALARM, f"{refused}: emergency stop")
-        if self.alarms.active:
+        if self.alarms.on(self.number):
             raise MachineError(EW.ALARM, f"{refused}: an alarm is active")
         if p.mode != MEM:
             raise MachineError(EW.MODE, f"{refused}: the mode is {mode_name(p.mode)}, not MEM")
@@ -675,7 +686,7 @@ class Path:
     def reset_cycle(self) -> None:
         """The engine reset, the alarms the program raised cleared."""
         self.engine.reset()
-        self.alarms.remove(self.engine_alarms)
+        self.alarms.remove(self.engine_alarms, self.number)
         self.engine_alarms.clear()
 
     def alarm_stop(self, key: AlarmKey, text: str) -> None:

@@ -109,9 +109,30 @@ class ScenarioRun:
             spec = SCENARIO_ALARMS[event.alarm]
             key = (event.axis, spec.alm_type, spec.alm_no)
             text = spec.message[:MAX_ALARM_TEXT]
-            path.alarms.add(key, text, path.alarms.stamp(now - when))
+            path.alarms.add(key, text, path.alarms.stamp(now - when), path.number)
             e.alarm_stop(nc_alarm(key, text))
         path.settled(True, force=True)
+
+    def _restart_others(self) -> None:
+        """After an alarm's repair, the machine's other paths start their programs anew with
+        the path the scenario drives (they would otherwise meet it at another waiting M
+        code): each is reset and, when ready, started at the same moment."""
+        path = self.production.path
+        when = path.time.now()
+        for other in path.group:
+            if other is path:
+                continue
+            other.time.hold(when)
+            try:
+                other.reset_cycle()
+                try:
+                    other.check_ready("the scenario's cycle cannot go on")
+                    other.engine.cycle_start()
+                except (MachineError, NcStateError):
+                    pass
+                other.settled(True, force=True)
+            finally:
+                other.time.release()
 
     def _end(self, event: ScenarioEvent) -> None:
         path = self.production.path
@@ -120,9 +141,10 @@ class ScenarioRun:
         if event.kind == "alarm":
             spec = SCENARIO_ALARMS[event.alarm]
             key = (event.axis, spec.alm_type, spec.alm_no)
-            if not path.alarms.remove((key,)):
+            if not path.alarms.remove((key,), path.number):
                 return  # cleared by hand: the operator takes it from here
             path.reset_cycle()
+            self._restart_others()
         elif (event.kind == "pause" and e.state is not _HOLD) or (
             event.kind == "tool" and e.state is not _STOP
         ):
@@ -151,14 +173,22 @@ class Production:
         #: "skipped")``, the newest 1000.
         self.log: deque[tuple[ScenarioEvent, str]] = deque(maxlen=_LOG_SIZE)
 
-    def start(self, scenario: Scenario) -> None:
-        """Run ``scenario`` from its phase ago, the cycle rewound first: EW_ALARM, EW_MODE (as
-        cycle start), EW_DATA (no main program)."""
+    def check_start(self) -> None:
+        """What production needs: EW_ALARM, EW_MODE (as cycle start), EW_DATA (no main
+        program)."""
         path = self.path
         path.sync()
         path.check_ready("a scenario cannot start")
         if path.programs.main is None:
             raise MachineError(EW.DATA, "a scenario cannot start: no main program is selected")
+
+    def start(self, scenario: Scenario, *, settle: bool = True) -> float:
+        """Run ``scenario`` from its phase ago, the cycle rewound first: EW_ALARM, EW_MODE (as
+        cycle start), EW_DATA (no main program). Returns the machine time it started at;
+        ``settle`` False leaves the path there (the machine brings its paths to the clock's
+        time together)."""
+        path = self.path
+        self.check_start()
         e = path.engine
         e.reset()
         now = path.time.now()
@@ -185,7 +215,29 @@ class Production:
             raise MachineError(EW.DATA, str(exc)) from None
         finally:
             path.time.release()
-        path.sync()
+        if settle:
+            path.sync()
+        return origin
+
+    def follow(self, origin: float, parts: int | None) -> None:
+        """Produce from machine time ``origin`` alongside the path a scenario drives: the main
+        program repeated, ``parts`` more of them (None: no limit), no events of its own."""
+        path = self.path
+        e = path.engine
+        e.reset()
+        e.repeat = True
+        e.parts_to_go = parts
+        path.powered_at = min(path.powered_at, origin)
+        path.time.hold(origin)
+        try:
+            e.cycle_start(since=origin)
+            path.driven = True
+            path.synced_at = math.nan
+            path.settled(True, force=True)
+        except NcStateError as exc:  # pragma: no cover - check_start covers it
+            raise MachineError(EW.DATA, str(exc)) from None
+        finally:
+            path.time.release()
 
     def stop(self) -> None:
         """The cycle goes on as it is, without the scenario's events and part limit."""

@@ -90,9 +90,8 @@ the program raises is stamped ``clock()`` less the machine time since it was rai
 from __future__ import annotations
 
 import hashlib
-import math
 from collections import deque
-from collections.abc import Iterable, Mapping
+from collections.abc import Iterable, Mapping, Sequence
 from dataclasses import astuple
 from datetime import datetime
 from decimal import Decimal
@@ -106,13 +105,13 @@ from ._identity import (
     CONTROL_CLASSES,
     DEFAULT_CONTROL_CLASS,
     Identity,
-    axes_problem,
     checked_identity,
     checked_name,
 )
 from ._items import MAX_REAL_DECIMALS as MAX_REAL_DECIMALS  # the native adapter's
 from ._items import PARTS_COUNT, PARTS_TOTAL, DataItem, Items, ParamKind
 from ._macros import MAX_MACRO_DECIMALS, MacroRange, Macros
+from ._operations import PathOperations
 from ._password import ParamLock, Session
 from ._path import (
     AUT_MODES,
@@ -131,10 +130,22 @@ from ._path import (
     Status,
     mode_name,
 )
+from ._paths import (
+    MAX_PATHS,
+    PATH_KINDS,
+    PATH_PARAMS,
+    PathInfo,
+    PathItems,
+    Paths,
+    PathSpec,
+    checked_specs,
+    own_params,
+)
 from ._pmc import F_SIGNALS, G_SIGNALS, PMC_AREAS, Pmc, PmcAreaSpec
 from ._station import Station
-from .nc import Engine, ProgramInfo, ProgramStore, RealTimeClock, SimClock
-from .nc.scenario import DEFAULT_SCENARIO, Scenario, ScenarioEvent
+from .nc import Engine, ProgramStore, RealTimeClock, SimClock
+from .nc.scenario import Scenario, ScenarioEvent
+from .nc.waits import PathSync
 
 __all__ = [
     "AUT_MODES",
@@ -144,9 +155,11 @@ __all__ = [
     "F_SIGNALS",
     "G_SIGNALS",
     "MAX_MACRO_DECIMALS",
+    "MAX_PATHS",
     "MDI",
     "MEM",
     "MODE_NAMES",
+    "PATH_PARAMS",
     "PMC_AREAS",
     "POSITION_DECIMALS",
     "POSITION_KINDS",
@@ -162,6 +175,8 @@ __all__ = [
     "MotionData",
     "Panel",
     "ParamKind",
+    "PathInfo",
+    "PathSpec",
     "PmcAreaSpec",
     "Session",
     "Status",
@@ -169,18 +184,22 @@ __all__ = [
 ]
 
 
-class Machine:
+class Machine(PathOperations):
     """One simulated CNC.
 
     Build one with :func:`focas_net.sim.default_machine`, :func:`focas_net.sim.load_machine` or
     this constructor. Everything is synchronous; a front end calls it from one thread.
+
+    A machine has 1..10 paths (:data:`MAX_PATHS`): ``paths`` describes each
+    (:class:`PathSpec`); without it the machine has one path of ``axes``, ``programs``,
+    ``main_program``, ``panel`` and ``motion``, which may not be given with ``paths``.
     """
 
     def __init__(
         self,
         name: str,
         *,
-        axes: Iterable[str] = ("X", "Y", "Z"),
+        axes: Iterable[str] | None = None,
         identity: Identity | None = None,
         params: Iterable[DataItem] = (),
         diags: Iterable[DataItem] = (),
@@ -200,15 +219,16 @@ class Machine:
         main_program: int | None = None,
         sim_clock: SimClock | None = None,
         scenario: Scenario | None = None,
+        paths: Sequence[PathSpec] | None = None,
     ) -> None:
         self._name = checked_name(name)
         #: How the machine runs on its own when it is told to (:meth:`start_scenario`;
         #: ``serve`` starts it): a machine file's ``[run]``, None when it has none.
         self.scenario = scenario
-        self.axes: list[str] = list(axes)
-        problem = axes_problem(self.axes)
-        if problem is not None:
-            raise ValueError(problem)
+        specs = _path_specs(paths, axes, panel, motion, programs, main_program, identity)
+        #: Every axis of the machine, path by path.
+        self.axes: list[str] = [a for spec in specs for a in spec.axes]
+        infos = checked_specs(specs)
         n = len(self.axes)
         self._identity = checked_identity(identity, control_class, n)
         #: Which class of FANUC control this machine is (one of :data:`CONTROL_CLASSES`).
@@ -216,37 +236,55 @@ class Machine:
         #: Whether the simulator control commands of a front end are served.
         self.control_enabled = control_enabled
         self.read_only = read_only
-        panel = panel or Panel()
-        if panel.mode not in AUT_MODES:
-            raise ValueError(f"panel mode {panel.mode} is not an aut value")
+        for spec in specs:
+            if spec.panel is not None and spec.panel.mode not in AUT_MODES:
+                raise ValueError(f"panel mode {spec.panel.mode} is not an aut value")
+            if spec.motion is not None:
+                Path.check_motion(spec.motion, len(spec.axes))
         self._lock = ParamLock(param_password)
         self._station = Station(station or {})
-        motion = motion or MotionData([0] * n, [0] * n, [0] * n, [0] * n)
-        Path.check_motion(motion, n)
         c = self._counters = Counters()
         self._items = Items(params, diags, n, c)
         self._macros = Macros(macro_ranges, macro_values or {}, c)
         self._pmc = Pmc(pmc, c)
         self._alarms = Alarms(name, history_capacity, clock, c)
-        self._path = Path(
-            name,
-            self.axes,
-            Shared(c, self._items, self._macros, self._alarms, self._pmc),
-            panel=panel,
-            motion=motion,
-            programs=programs,
-            main_program=main_program,
-            clock=sim_clock if sim_clock is not None else RealTimeClock(),
-        )
-        #: The operator panel and the run state it shows (the path's).
-        self.panel: Panel = self._path.panel
-        #: The programs in the machine's memory (the engine marks those in use).
-        self.programs: ProgramStore = self._path.programs
-        #: The NC engine that runs them.
-        self.engine: Engine = self._path.engine
+        shared = Shared(c, self._items, self._macros, self._alarms, self._pmc)
+        time = sim_clock if sim_clock is not None else RealTimeClock()
+        built: list[Path] = []
+        offset = 0
+        sync = PathSync() if len(specs) > 1 else None
+        for spec, info in zip(specs, infos, strict=True):
+            k = len(info.axes)
+            built.append(
+                Path(
+                    name if len(specs) == 1 else f"{name}/{info.name}",
+                    list(info.axes),
+                    shared,
+                    number=info.number,
+                    items=PathItems(self._items, offset, k, own_params(self._items, info.number)),
+                    sync=sync,
+                    path_count=len(specs),
+                    panel=spec.panel or Panel(),
+                    motion=spec.motion or MotionData([0] * k, [0] * k, [0] * k, [0] * k),
+                    programs=spec.programs,
+                    main_program=spec.main_program,
+                    clock=time,
+                )
+            )
+            offset += k
+        for p in built:
+            p.group = built
+        self._paths = Paths(built, infos)
+        self._path = first = built[0]
+        #: Path 1's operator panel and the run state it shows (:meth:`path_panel`).
+        self.panel: Panel = first.panel
+        #: Path 1's programs (the engine marks those in use; :meth:`path_programs`).
+        self.programs: ProgramStore = first.programs
+        #: Path 1's NC engine that runs them (:meth:`path_engine`).
+        self.engine: Engine = first.engine
         #: The scenario's events as they were applied: ``(event, "begin" | "end" |
         #: "skipped")``, the newest 1000.
-        self.scenario_log: deque[tuple[ScenarioEvent, str]] = self._path.production.log
+        self.scenario_log: deque[tuple[ScenarioEvent, str]] = first.production.log
 
     @property
     def name(self) -> str:
@@ -256,72 +294,100 @@ class Machine:
 
     @name.setter
     def name(self, name: str) -> None:
-        self._name = self._alarms.name = self._path.name = checked_name(name)
+        self._name = self._alarms.name = checked_name(name)
+        for p, info in zip(self._paths, self._paths.infos, strict=True):
+            p.name = name if self._paths.count == 1 else f"{name}/{info.name}"
 
     def __repr__(self) -> str:
         return f"Machine({self.name!r}, axes={''.join(self.axes)!r})"
 
-    # -- counters (each brings the engine to the clock's time first) ---------------------
+    # -- paths ---------------------------------------------------------------------------
+    @property
+    def path_count(self) -> int:
+        """How many paths the machine has (1..10)."""
+        return self._paths.count
+
+    def path_info(self, path: int = 1) -> PathInfo:
+        """What path ``path`` is (number, name, kind, axes, spindles): EW_PATH for a path
+        the machine has not."""
+        return self._paths.info(path)
+
+    def path_panel(self, path: int = 1) -> Panel:
+        """The operator panel of ``path`` (EW_PATH)."""
+        return self._paths.at(path).panel
+
+    def path_programs(self, path: int = 1) -> ProgramStore:
+        """The program store of ``path`` (EW_PATH)."""
+        return self._paths.at(path).programs
+
+    def path_engine(self, path: int = 1) -> Engine:
+        """The NC engine of ``path`` (EW_PATH)."""
+        return self._paths.at(path).engine
+
+    def _sync(self) -> None:
+        """Bring every path to the clock's time."""
+        paths = self._paths
+        if paths.count == 1:
+            self._path.sync()
+        else:
+            paths.sync()
+
+    # -- counters (each brings the engines to the clock's time first) --------------------
     @property
     def version(self) -> int:
         """Incremented on every change of machine state."""
-        path = self._path
-        if path.live:  # what moves with time
-            path.sync()
+        if self._paths.live:  # what moves with time
+            self._sync()
         return self._counters.version
 
     @property
     def status_version(self) -> int:
-        """Incremented when the status changes (panel, run state, motion, active alarms).
-        While the cycle runs, time changes the status only when an action ends or a scenario
-        event is due, so until then a read costs a clock call and two compares."""
-        path = self._path
-        if path.live and (
-            path.time.now() >= path.steady_until or path.engine.revision != path.steady_revision
-        ):
-            path.sync()
+        """Incremented when the status of a path changes (panel, run state, motion, active
+        alarms). While the cycle runs, time changes the status only when an action ends or a
+        scenario event is due, so until then a read costs a clock call and two compares."""
+        for path in self._paths.all:
+            if path.live and (
+                path.time.now() >= path.steady_until or path.engine.revision != path.steady_revision
+            ):
+                self._sync()
+                break
         return self._counters.status
 
     @property
     def data_version(self) -> int:
         """Incremented when a parameter or diagnostic value changes (parts counts too)."""
-        path = self._path
-        if path.live:
-            path.sync()
+        if self._paths.live:
+            self._sync()
         return self._counters.data
 
     @property
     def macro_version(self) -> int:
         """Incremented when a macro variable changes (while a program runs: whenever machine
         time moved, for the system variables follow the engine)."""
-        path = self._path
-        if path.live:
-            path.sync()
+        if self._paths.live:
+            self._sync()
         return self._counters.macro
 
     @property
     def alarm_version(self) -> int:
         """Incremented when the active alarms or the alarm history change."""
-        path = self._path
-        if path.live:
-            path.sync()
+        if self._paths.live:
+            self._sync()
         return self._counters.alarm
 
     @property
     def pmc_version(self) -> int:
         """Incremented when PMC data changes."""
-        path = self._path
-        if path.live:
-            path.sync()
+        if self._paths.live:
+            self._sync()
         return self._counters.pmc
 
     @property
     def motion_version(self) -> int:
         """Incremented when the motion figures change: while a program runs, whenever machine
         time moved."""
-        path = self._path
-        if path.live:
-            path.sync()
+        if self._paths.live:
+            self._sync()
         return self._counters.motion
 
     def check_writable(self) -> None:
@@ -352,13 +418,14 @@ class Machine:
         EW_PASSWD and locks the session again. A machine without a password unlocks any."""
         self._lock.unlock(session, password)
 
-    def status(self) -> Status:
-        """The status, derived from the panel, the active alarms and (while it drives the
-        figures) the engine's run state and motion."""
-        path = self._path
-        if path.live:
-            path.sync()
-        return path.status(1 if self._alarms.active else 0)
+    def status(self, *, path: int = 1) -> Status:
+        """The status of ``path``, derived from its panel, its active alarms and (while it
+        drives the figures) its engine's run state and motion (``motion`` 3 while it waits
+        at a waiting M code for the other paths)."""
+        p = self._paths.at(path)
+        if self._paths.live:
+            self._sync()
+        return p.status(1 if self._alarms.on(path) else 0)
 
     def identity(self) -> Identity:
         """What the CNC says it is."""
@@ -381,29 +448,32 @@ class Machine:
         """The numbers of every diagnostic, ascending."""
         return tuple(sorted(self._items.diags))
 
-    def read_param(self, datano: int, axis: int) -> int:
-        """The value of parameter ``datano`` (``axis`` 0 for a non-axis item, else 1..n):
-        EW_NUMBER, then EW_ATTRIB. Its width is :meth:`param_item`'s."""
-        if self._path.live:
-            self._path.sync()
-        items = self._items
-        item, i = items.lookup(items.params, datano, axis)
+    def read_param(self, datano: int, axis: int, *, path: int = 1) -> int:
+        """The value of parameter ``datano`` (``axis`` 0 for a non-axis item, else 1..n, the
+        axes of ``path``; a path-type parameter, :data:`PATH_PARAMS`, the path's own value):
+        EW_PATH, EW_NUMBER, then EW_ATTRIB. Its width is :meth:`param_item`'s."""
+        p = self._paths.at(path)
+        if self._paths.live:
+            self._sync()
+        item, i = p.items.lookup(False, datano, axis)
         return item.values[i]
 
-    def read_diag(self, datano: int, axis: int) -> int:
-        """The value of diagnostic ``datano``: EW_NUMBER, then EW_ATTRIB."""
-        items = self._items
-        item, i = items.lookup(items.diags, datano, axis)
+    def read_diag(self, datano: int, axis: int, *, path: int = 1) -> int:
+        """The value of diagnostic ``datano`` (axes those of ``path``): EW_PATH, EW_NUMBER,
+        then EW_ATTRIB."""
+        item, i = self._paths.at(path).items.lookup(True, datano, axis)
         return item.values[i]
 
-    def param_gate_open(self, session: Session) -> bool:
-        """PWE on, MDI mode, and (when there is a password) this session unlocked."""
-        return self.param_gate_closed(session) is None
+    def param_gate_open(self, session: Session, *, path: int = 1) -> bool:
+        """PWE on, ``path`` in MDI mode, and (when there is a password) this session
+        unlocked."""
+        return self.param_gate_closed(session, path=path) is None
 
-    def param_gate_closed(self, session: Session) -> str | None:
-        """Why a parameter write from ``session`` is refused (the first closed gate, in the
-        order an operator opens them: PWE, MDI mode, the password), or None when it is open."""
-        p = self.panel
+    def param_gate_closed(self, session: Session, *, path: int = 1) -> str | None:
+        """Why a parameter write from ``session`` to ``path`` is refused (the first closed
+        gate, in the order an operator opens them: PWE, MDI mode, the password), or None when
+        it is open."""
+        p = self._paths.at(path).panel
         if p.pwe != 1:
             return "parameter write enable (PWE) is off"
         if p.mode != MDI:
@@ -421,6 +491,7 @@ class Machine:
         *,
         width: int | None = None,
         decimals: int | None = None,
+        path: int = 1,
     ) -> None:
         """Write parameter ``datano``; ``width`` is the width (1, 2, 4, 8 for a real) the value
         was given in, checked against the parameter's type when given. ``value`` is in the
@@ -430,26 +501,30 @@ class Machine:
 
         ``decimals`` (a real parameter only) says how many decimals the mantissa ``value``
         has: it is rescaled to the parameter's own, and a value that does not have an exact
-        mantissa there (``1.2345`` for a 3-decimal parameter) is EW_DATA."""
+        mantissa there (``1.2345`` for a 3-decimal parameter) is EW_DATA.
+
+        ``path`` says whose axes ``axis`` numbers, whose value of a path-type parameter is
+        written, and whose mode the write gate asks (EW_PATH before everything but the
+        read-only machine)."""
         self.check_writable()
+        p = self._paths.at(path)
         items = self._items
-        item, i = items.lookup(items.params, datano, axis)
+        item, i = p.items.lookup(False, datano, axis)
         if width is not None and width != item.width:
             raise MachineError(EW.LENGTH, f"parameter {datano} is {item.width} bytes wide")
-        closed = self.param_gate_closed(session)
+        closed = self.param_gate_closed(session, path=path)
         if closed is not None:
             raise MachineError(EW.PASSWD, f"parameter write not enabled: {closed}")
         value = items.rescaled(item, value, decimals)
         items.set(item, i, value, "parameter")
         if datano in (PARTS_COUNT, PARTS_TOTAL):
-            self._path.set_parts(datano, value)
+            p.set_parts(datano, value)
 
-    def set_diag(self, datano: int, axis: int, value: int) -> None:
+    def set_diag(self, datano: int, axis: int, value: int, *, path: int = 1) -> None:
         """Change a diagnostic value (simulation code; a CNC has no diagnostic write):
-        EW_NUMBER, EW_ATTRIB, EW_DATA (range)."""
-        items = self._items
-        item, i = items.lookup(items.diags, datano, axis)
-        items.set(item, i, value, "diagnostic")
+        EW_PATH, EW_NUMBER, EW_ATTRIB, EW_DATA (range)."""
+        item, i = self._paths.at(path).items.lookup(True, datano, axis)
+        self._items.set(item, i, value, "diagnostic")
 
     # -- macro variables -----------------------------------------------------------------
     def macro_writable(self, number: int) -> bool | None:
@@ -457,31 +532,34 @@ class Machine:
         r = self._macros.range_of(number)
         return None if r is None else r.writable
 
-    def read_macro(self, number: int) -> Decimal | None:
-        """The value of macro variable ``number``, None when vacant: EW_NUMBER for an unknown
-        variable."""
+    def read_macro(self, number: int, *, path: int = 1) -> Decimal | None:
+        """The value of macro variable ``number`` as ``path`` sees it (#100-#199 and the
+        system variables its own, #500-#999 shared), None when vacant: EW_PATH, EW_NUMBER for
+        an unknown variable."""
+        p = self._paths.at(path)
         macros = self._macros
         if macros.range_of(number) is None:
             raise MachineError(EW.NUMBER, f"no macro variable #{number}")
-        path = self._path
-        if path.live:
-            path.sync()
+        if self._paths.live:
+            self._sync()
         if number in PARTS_VARIABLES:
-            return Decimal(path.parts(PARTS_VARIABLES[number]))
-        if path.driven and any(number in r for r in ENGINE_VARIABLES):
-            return path.engine_variable(number)
-        return macros.values.get(number)
+            return Decimal(p.parts(PARTS_VARIABLES[number]))
+        if p.driven and any(number in r for r in ENGINE_VARIABLES):
+            return p.engine_variable(number)
+        return p.macro_values(number).get(number)
 
-    def write_macro(self, number: int, value: Decimal | int | None) -> None:
-        """Set macro variable ``number`` to ``value`` (None: vacant). EW_PROT (read-only
-        machine), EW_NUMBER, EW_PROT (read-only variable), EW_DATA (a value the variable cannot
-        hold: see the module docstring). Making a vacant variable vacant changes nothing."""
+    def write_macro(self, number: int, value: Decimal | int | None, *, path: int = 1) -> None:
+        """Set macro variable ``number`` of ``path`` (see :meth:`read_macro`) to ``value``
+        (None: vacant). EW_PROT (read-only machine), EW_PATH, EW_NUMBER, EW_PROT (read-only
+        variable), EW_DATA (a value the variable cannot hold: see the module docstring).
+        Making a vacant variable vacant changes nothing."""
         self.check_writable()
+        p = self._paths.at(path)
         self._macros.check_write(number)
         if number in PARTS_VARIABLES:
-            self._path.write_parts(number, value)
+            p.write_parts(number, value)
         else:
-            self._macros.write(number, value)
+            self._macros.write(number, value, p.macro_values(number))
 
     # -- PMC -------------------------------------------------------------------------------
     def pmc_area(self, letter: str) -> tuple[int, bool] | None:
@@ -499,8 +577,8 @@ class Machine:
         area = self._pmc.area(letter)
         if length < 0:
             raise ValueError(f"a PMC read of {length} bytes")
-        if area.letter == "F" and self._path.live:
-            self._path.sync()  # the F signals follow the run state
+        if area.letter == "F" and self._paths.live:
+            self._sync()  # the F signals follow the run state
         end = start + length
         if start < 0 or end > area.size:
             raise area.beyond(start, end)
@@ -518,15 +596,20 @@ class Machine:
             self._path.apply(asked)
 
     # -- alarms --------------------------------------------------------------------------
-    def active_alarms(self, alm_type: int = -1, limit: int | None = None) -> list[Alarm]:
-        """The active alarms of ``alm_type`` (-1: every type; a type no alarm has matches
-        nothing), oldest raised first, at most ``limit`` of them (None: all)."""
-        self._path.sync()
-        return self._alarms.read(alm_type, limit)
+    def active_alarms(
+        self, alm_type: int = -1, limit: int | None = None, *, path: int = 1
+    ) -> list[Alarm]:
+        """The active alarms of ``path`` of ``alm_type`` (-1: every type; a type no alarm has
+        matches nothing), oldest raised first, at most ``limit`` of them (None: all): EW_PATH
+        for a path the machine has not."""
+        self._paths.at(path)
+        self._sync()
+        return self._alarms.read(alm_type, limit, path)
 
     def alarm_history(self, depth: int | None = None) -> tuple[HistoryEntry, ...]:
-        """The ``depth`` newest entries of the history (None: all), newest first."""
-        self._path.sync()
+        """The ``depth`` newest entries of the history (None: all), newest first (the paths
+        share one history)."""
+        self._sync()
         return self._alarms.read_history(depth)
 
     @property
@@ -547,7 +630,9 @@ class Machine:
         """The clock, as aware UTC cut to whole seconds."""
         return self._alarms.now()
 
-    def raise_alarm(self, axis_no: int, alm_type: int, alm_no: int, msg: str = "") -> bool:
+    def raise_alarm(
+        self, axis_no: int, alm_type: int, alm_no: int, msg: str = "", *, path: int = 1
+    ) -> bool:
         """Make an alarm active and record it in the history (UTC, whole seconds); True when it
         was raised.
 
@@ -557,225 +642,27 @@ class Machine:
         it with another message. The CNC keeps 32 characters of ``msg``, single-byte (Latin-1)
         text. EW_PROT (read-only machine), EW_DATA (alm_type outside 0..31, alm_no outside
         0..32767), EW_ATTRIB (axis_no), EW_DATA (a character beyond U+00FF). Any alarm stops
-        the cycle."""
+        the cycle of its path.
+
+        The alarm is ``path``'s (EW_PATH for a path the machine has not, after EW_PROT);
+        ``axis_no`` numbers that path's axes."""
         self.check_writable()
-        text = self._alarms.checked(axis_no, alm_type, alm_no, msg, len(self.axes))
-        self._path.sync()
+        p = self._paths.at(path)
+        text = self._alarms.checked(axis_no, alm_type, alm_no, msg, len(p.axes))
+        self._sync()
         key = (axis_no, alm_type, alm_no)
-        if not self._alarms.add(key, text, self.now()):
+        if not self._alarms.add(key, text, self.now(), path):
             return False
-        self._path.alarm_stop(key, text)
+        p.alarm_stop(key, text)
         return True
 
-    def clear_alarms(self, alm_type: int = -1, alm_no: int = -1) -> int:
-        """Remove the active alarms matching ``alm_type`` and ``alm_no`` (-1 = any); the
-        history is kept. Returns how many were removed. EW_PROT on a read-only machine."""
+    def clear_alarms(self, alm_type: int = -1, alm_no: int = -1, *, path: int = 1) -> int:
+        """Remove the active alarms of ``path`` matching ``alm_type`` and ``alm_no`` (-1 =
+        any); the history is kept. Returns how many were removed. EW_PROT on a read-only
+        machine, then EW_PATH."""
         self.check_writable()
-        return self._alarms.clear(alm_type, alm_no)
-
-    # -- operator panel and motion figures -----------------------------------------------
-    def set_panel(
-        self, mode: int | None = None, pwe: int | None = None, emergency: int | None = None
-    ) -> None:
-        """Set the operator panel: ``mode`` an ``aut`` value other than 2, ``pwe`` and
-        ``emergency`` 0/1, else EW_DATA; a switch given as None stays as it is. EW_PROT on a
-        read-only machine. Leaving MEM holds the feed; the emergency stop resets."""
-        self.check_writable()
-        self._path.set_panel(mode, pwe, emergency)
-
-    def set_run(self, run: int, motion: int = 0) -> None:
-        """Set the run state (0 reset, 1 STOP, 2 HOLD, 3 STRT, 4 MSTR) and motion (0, 1 MTN,
-        2 DWL) shown by the status (simulation code only): EW_DATA otherwise."""
-        self._path.set_run(run, motion)
-
-    def set_motion(
-        self,
-        *,
-        absolute: Iterable[int] | None = None,
-        machine: Iterable[int] | None = None,
-        relative: Iterable[int] | None = None,
-        distance_to_go: Iterable[int] | None = None,
-        feed: int | None = None,
-        spindle_speed: int | None = None,
-        program_running: int | None = None,
-        program_main: int | None = None,
-        sequence: int | None = None,
-    ) -> None:
-        """Set motion figures (simulation code only); what is not given stays.
-
-        Positions are one i32 per axis in least input increments; the other figures are
-        0..2**31-1. EW_DATA (and nothing changes) when a value does not fit or a position list
-        does not have one value per axis.
-        """
-        self._path.set_motion(
-            (absolute, machine, relative, distance_to_go),
-            (feed, spindle_speed, program_running, program_main, sequence),
-        )
-
-    @property
-    def motion(self) -> MotionData:
-        """The motion figures: the engine's while it drives them (:attr:`driven`), else those
-        :meth:`set_motion` set."""
-        return self._path.figures()
-
-    def positions(self, kind: str, axis: int | None = None) -> list[tuple[str, int]]:
-        """``(axis name, value)`` of every axis (``axis`` None) or of axis ``axis`` (1..n), in
-        least input increments (:data:`POSITION_DECIMALS` decimals). ``kind`` is one of
-        :data:`POSITION_KINDS`. Checks, in order: an unknown kind -> EW_ATTRIB; ``"skip"`` ->
-        EW_NOOPT (the machine has no skip function); ``axis`` outside 1..n -> EW_ATTRIB."""
-        return self._path.positions(kind, axis)
-
-    @property
-    def driven(self) -> bool:
-        """Whether the engine shows the run state and the motion figures: from a cycle start
-        or a program selection until :meth:`set_motion` or :meth:`set_run` sets them by hand
-        (before, the figures given to the constructor or by hand are shown)."""
-        return self._path.driven
-
-    # -- machine time and the cycle ------------------------------------------------------
-    @property
-    def sim_clock(self) -> SimClock:
-        """The clock of machine time (seconds): ``RealTimeClock()`` unless the constructor or
-        :meth:`set_clock` gave another."""
-        return self._path.time.source
-
-    def set_clock(self, clock: SimClock) -> None:
-        """Take machine time from ``clock`` from now on: the engine, the timers and a running
-        scenario read it (a fleet shares one: ``serve --speed``; a test gives a
-        :class:`~focas_net.sim.nc.ManualClock` and steps it). This is the one way the
-        engine's clock is set after the constructor's ``sim_clock``. The machine goes on from
-        where it is, so ``clock`` may not be behind the machine's time (ValueError); the time
-        it is ahead passes at once, as if the machine had been left alone that long."""
-        self._path.set_clock(clock)
-
-    def cycle_start(self, *, repeat: bool | None = None) -> None:
-        """Cycle start: run the main program from its head (reset), go on (stop) or resume
-        (feed hold). EW_PROT (read-only machine), EW_ALARM (emergency stop, an active alarm,
-        or an alarm that stopped the cycle and wants a reset), EW_MODE (not MEM), EW_DATA (no
-        main program). From here the engine shows the run state and the figures.
-
-        ``repeat`` True: production, the main program starts again at once after each M2/M30
-        (a part counted each time) until ``repeat`` False is given or an alarm stops it; None
-        leaves the setting as it is."""
-        self.check_writable()
-        self._path.cycle_start(repeat)
-
-    def feed_hold(self) -> None:
-        """Feed hold: the axes stop where they are (HOLD); cycle start resumes. EW_PROT on a
-        read-only machine."""
-        self.check_writable()
-        self._path.feed_hold()
-
-    def reset(self) -> None:
-        """Reset: the cycle stops and rewinds, the alarms the program raised are cleared (the
-        history keeps them). EW_PROT on a read-only machine."""
-        self.check_writable()
-        self._path.reset()
-
-    def set_overrides(
-        self, feed: int | None = None, rapid: int | None = None, spindle: int | None = None
-    ) -> None:
-        """Feed override 0..254 %, rapid override 0..100 %, spindle override 0..254 % (None:
-        unchanged): EW_PROT (read-only machine), EW_DATA (a value outside its range)."""
-        self.check_writable()
-        self._path.set_overrides(feed, rapid, spindle)
-
-    def parts_counts(self) -> tuple[int, int]:
-        """Parts count and total parts (M2/M30 count them; parameters 6711 and 6712)."""
-        return self._path.parts_counts()
-
-    def overrides(self) -> tuple[int, int, int]:
-        """Feed, rapid and spindle override in percent."""
-        return self._path.overrides()
-
-    def timer(self, kind: int) -> float:
-        """Seconds of timer ``kind`` (FANUC's ``cnc_rdtimer`` types): 0 power-on (machine
-        time since the machine was built), 1 operating, 2 cutting, 3 cycle (this cycle's time
-        since its start from reset); EW_NUMBER for another kind."""
-        return self._path.timer(kind)
-
-    def timer_ms(self, kind: int) -> int:
-        """Whole milliseconds of timer ``kind`` (:meth:`timer`), as a counter shows them: the
-        millisecond under way is not counted yet. Both protocols answer this figure."""
-        return math.floor(self.timer(kind) * 1000 + 1e-6)  # 1e-6 ms: 1.234 s * 1000 is 1233.99..
-
-    # -- production on its own: scenarios, loads -----------------------------------------
-    def start_scenario(self, scenario: Scenario | None = None) -> None:
-        """Run on its own: the main program from its head, repeated for the scenario's parts
-        (or forever) with its pauses, tool-change waits and alarms, from ``scenario.phase``
-        seconds ago (see :mod:`focas_net.sim.nc.scenario`). ``scenario`` None: the machine's
-        own (:attr:`scenario`, a machine file's ``[run]``), else the default. The cycle
-        rewinds first. Refused as cycle start is: EW_ALARM (emergency stop, an active alarm),
-        EW_MODE (not MEM), EW_DATA (no main program); a read-only machine runs it too (the
-        machine works, clients only read it)."""
-        self._path.production.start(scenario or self.scenario or DEFAULT_SCENARIO)
-
-    def stop_scenario(self) -> None:
-        """Stop running on its own: the cycle goes on as it is (production without the
-        scenario's events and part limit)."""
-        self._path.production.stop()
-
-    @property
-    def scenario_running(self) -> bool:
-        """Whether a scenario drives the machine (until its parts are made)."""
-        return self.active_scenario is not None
-
-    @property
-    def active_scenario(self) -> Scenario | None:
-        """The scenario driving the machine (as started, its seed the machine's own), None
-        when none does."""
-        return self._path.production.active()
-
-    @property
-    def seed(self) -> int:
-        """The seed of the loads' noise (a scenario's seed once one runs)."""
-        return self._path.production.seed
-
-    @seed.setter
-    def seed(self, seed: int) -> None:
-        self._path.production.seed = seed
-
-    def spindle_loads(self) -> tuple[int, ...]:
-        """The load of each spindle (one) in percent: 0 with the spindle stopped, a few
-        percent turning without cutting, rising with the feed and the spindle speed while
-        the program cuts, with a small noise that depends on :attr:`seed` and the machine
-        time only (0 while the figures are set by hand)."""
-        return self._path.production.spindle_loads()
-
-    def servo_loads(self) -> tuple[int, ...]:
-        """The servo load of each axis in percent: 0 at rest, rising with the axis's speed
-        and more while it cuts, with a small noise as :meth:`spindle_loads` has."""
-        return self._path.production.servo_loads()
-
-    # -- the program store ---------------------------------------------------------------
-    def program_directory(self) -> list[ProgramInfo]:
-        """Every stored program (number, name, characters), by number."""
-        return self.programs.directory()
-
-    def program_text(self, number: int) -> str:
-        """The text of program ``number`` as stored: EW_NUMBER when there is none."""
-        return self._path.program_text(number)
-
-    def store_program(self, text: str, *, replace: bool = False) -> int:
-        """Store one program (its O number is returned). EW_PROT (read-only machine), EW_DATA
-        (not one O-number program), EW_NUMBER (number outside the store's range), EW_REJECT
-        (the number is stored and ``replace`` is false), EW_BUSY (replacing a program being
-        executed), EW_OVRFLOW (memory or directory full)."""
-        self.check_writable()
-        return self._path.store_program(text, replace)
-
-    def delete_program(self, number: int) -> None:
-        """Delete program ``number``: EW_PROT (read-only machine), EW_NUMBER (no such
-        program), EW_BUSY (being executed). Deleting the main program unselects it."""
-        self.check_writable()
-        self._path.delete_program(number)
-
-    def select_program(self, number: int) -> None:
-        """Make ``number`` the main program (a program search): EW_PROT (read-only
-        machine), EW_MODE (a mode other than MEM and EDIT), EW_NUMBER (no such program),
-        EW_BUSY (another program is being executed)."""
-        self.check_writable()
-        self._path.select_program(number)
+        self._paths.at(path)
+        return self._alarms.clear(alm_type, alm_no, path)
 
     # -- VersaMax ------------------------------------------------------------------------
     def module_record(self, rack: int, slot: int) -> IOModuleRecord | None:
@@ -819,4 +706,49 @@ class Machine:
         put("identity", self._identity)
         put("station", sorted(self._station.encoded.items()))
         put("motion", *astuple(self.motion))
+        for p in self._paths.all[1:]:
+            put("path", p.number, *astuple(p.panel), *astuple(p.figures()))
         return h.hexdigest()
+
+
+def _path_specs(
+    paths: Sequence[PathSpec] | None,
+    axes: Iterable[str] | None,
+    panel: Panel | None,
+    motion: MotionData | None,
+    programs: Iterable[str],
+    main_program: int | None,
+    identity: Identity | None,
+) -> list[PathSpec]:
+    """The machine's paths: ``paths``, or one path of the single-path arguments (ValueError
+    when both are given)."""
+    if paths is None:
+        kind = identity.mt_type.strip() if identity is not None else "M"
+        return [
+            PathSpec(
+                tuple(axes if axes is not None else ("X", "Y", "Z")),
+                kind=kind if kind in PATH_KINDS else "M",
+                programs=tuple(programs),
+                main_program=main_program,
+                panel=panel,
+                motion=motion,
+            )
+        ]
+    given = [
+        what
+        for what, value in (
+            ("axes", axes),
+            ("panel", panel),
+            ("motion", motion),
+            ("main_program", main_program),
+        )
+        if value is not None
+    ]
+    programs = tuple(programs)
+    if programs:
+        given.append("programs")
+    if given:
+        raise ValueError(f"{', '.join(given)} given with paths: each path has its own")
+    if not 1 <= len(paths) <= MAX_PATHS:
+        raise ValueError(f"a machine has 1..{MAX_PATHS} paths, got {len(paths)}")
+    return list(paths)

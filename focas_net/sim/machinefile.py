@@ -44,6 +44,7 @@ from .machine import (
     MotionData,
     Panel,
     ParamKind,
+    PathSpec,
     PmcAreaSpec,
     utc_now,
 )
@@ -621,6 +622,7 @@ _TOP: Final = (
     "motion",
     "program",
     "run",
+    "path",
 )
 
 
@@ -655,9 +657,16 @@ def machine_from_dict(
     problem = name_problem(name)  # the machine's own rule
     if problem is not None:
         mc.sub("name").fail(problem)
-    if "axes" not in head:
-        mc.sub("axes").fail("missing")
-    axes = _axes(mc.sub("axes"), head["axes"])
+    from .pathfile import path_specs  # it reads its tables with this module's checks
+
+    paths = path_specs(root, top, base)
+    if paths is None and "axes" not in head:
+        mc.sub("axes").fail("missing (or give each path's in [[path]] tables)")
+    axes = (
+        _axes(mc.sub("axes"), head["axes"])
+        if paths is None
+        else [a for spec in paths for a in spec.axes]
+    )
     password: str | None = None
     if "param_password" in head:
         password = _ascii(mc.sub("param_password"), head["param_password"])
@@ -689,6 +698,7 @@ def machine_from_dict(
             clock,
             programs=programs,
             sim_clock=sim_clock,
+            paths=paths,
         )
     except MachineFileError:
         raise
@@ -710,23 +720,26 @@ def _build(
     *,
     programs: tuple[list[str], int | None] = ([], None),
     sim_clock: SimClock | None = None,
+    paths: list[PathSpec] | None = None,
 ) -> Machine:
     n = len(axes)
     mc = root.sub("machine")
     head = top["machine"]
+    alone = paths is None  # one path: its axes, panel, motion and programs are the machine's
     return Machine(
         name,
-        axes=axes,
+        axes=axes if alone else None,
+        paths=paths,
         identity=_identity(root.sub("sysinfo"), top.get("sysinfo", {}), n),
         params=_items(root.sub("parameters"), top.get("parameters", {}), n),
         diags=_items(root.sub("diagnostics"), top.get("diagnostics", {}), n),
         macro_ranges=ranges,
         macro_values=values,
         pmc=_pmc(root.sub("pmc"), top.get("pmc", {})),
-        panel=_panel(root.sub("panel"), top.get("panel", {})),
+        panel=_panel(root.sub("panel"), top.get("panel", {})) if alone else None,
         param_password=password,
         station=_station(root.sub("versamax"), top.get("versamax", [])),
-        motion=_motion(root.sub("motion"), top.get("motion", {}), n),
+        motion=_motion(root.sub("motion"), top.get("motion", {}), n) if alone else None,
         history_capacity=capacity,
         clock=clock,
         control_enabled=control,

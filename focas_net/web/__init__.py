@@ -8,10 +8,20 @@ shell, :mod:`.shell`, imports aiohttp only when a :class:`Dashboard` starts.
 
 from .address import DEFAULT_WEB_HOST, is_loopback, parse_web_address
 from .broadcast import DEFAULT_INTERVAL, FLEET, Broadcaster, Subscription, Topic, machine_topic
-from .operations import ACTIONS, FORCED_PMC_AREAS, ActionError, Station, perform, refusal
+from .operations import (
+    ACTIONS,
+    FORCED_PMC_AREAS,
+    ActionError,
+    Station,
+    decimal_number,
+    perform,
+    refusal,
+    whole_number,
+)
 from .shell import STATIC_DIR, Dashboard, WebUnavailableError, stations_of
 from .view import (
     HISTORY_SHOWN,
+    MACRO_SEARCH_CAP,
     PATH_POINTS,
     PMC_ROW_BYTES,
     JsonDict,
@@ -19,8 +29,12 @@ from .view import (
     fleet_view,
     machine_tile,
     machine_view,
+    macro_note,
+    macro_range,
     macro_rows,
     param_rows,
+    param_text,
+    pmc_address,
     pmc_window,
     status_fields,
 )
@@ -32,6 +46,7 @@ __all__ = [
     "FLEET",
     "FORCED_PMC_AREAS",
     "HISTORY_SHOWN",
+    "MACRO_SEARCH_CAP",
     "PATH_POINTS",
     "PMC_ROW_BYTES",
     "STATIC_DIR",
@@ -44,17 +59,23 @@ __all__ = [
     "Subscription",
     "Topic",
     "WebUnavailableError",
+    "decimal_number",
     "fleet_view",
     "is_loopback",
     "machine_tile",
     "machine_topic",
     "machine_view",
+    "macro_note",
+    "macro_range",
     "macro_rows",
     "param_rows",
+    "param_text",
     "parse_web_address",
     "perform",
+    "pmc_address",
     "pmc_window",
     "refusal",
     "stations_of",
     "status_fields",
+    "whole_number",
 ]

@@ -37,14 +37,14 @@ DEFAULT_DEPTH: Final = 2
 _IDLE_PER_BUSY: Final = 4.0
 
 #: ``("fleet",)`` or ``("machine", index, pmc area, pmc start)``.
-Topic = tuple[str, ...] | tuple[str, int, str, int]
+Topic = tuple[str, ...] | tuple[str, int, str, int, int]
 #: The fleet view's topic.
 FLEET: Final[Topic] = ("fleet",)
 
 
-def machine_topic(index: int, pmc_area: str = "X", pmc_start: int = 0) -> Topic:
-    """The topic of machine ``index``'s view with that PMC window."""
-    return ("machine", index, pmc_area.strip().upper(), pmc_start)
+def machine_topic(index: int, pmc_area: str = "X", pmc_start: int = 0, path: int = 1) -> Topic:
+    """The topic of machine ``index``'s view of ``path`` with that PMC window."""
+    return ("machine", index, pmc_area.strip().upper(), pmc_start, path)
 
 
 class Subscription:
@@ -131,24 +131,35 @@ class Broadcaster:
         """The JSON frame of ``topic`` now."""
         return json.dumps(self._view(topic, {}), separators=(",", ":"))
 
-    def _view(self, topic: Topic, views: dict[int, JsonDict]) -> JsonDict:
+    def _view(self, topic: Topic, views: dict[tuple[int, int], JsonDict]) -> JsonDict:
         """The message of ``topic``; ``views`` keeps the machine views of this tick, so
-        pages on one machine with different PMC windows share one view."""
+        pages on one path of a machine with different PMC windows share one view."""
         if topic[0] == "fleet":
             self.views_computed += 1
             entries = ((s.index, s.machine, s.port) for s in self.stations)
             trails = [s.trail for s in self.stations]
             return {"type": "fleet", "data": fleet_view(entries, trails)}
-        _, index, area, start = topic
+        _, index, area, start, path = topic
         assert isinstance(index, int) and isinstance(area, str) and isinstance(start, int)
+        assert isinstance(path, int)
         if not 0 <= index < len(self.stations):
             return {"type": "error", "error": f"no machine {index}"}
         s = self.stations[index]
-        view = views.get(index)
+        count = s.machine.path_count
+        if not 1 <= path <= count:
+            return {"type": "error", "error": f"path {path}: machine {index} has paths 1..{count}"}
+        view = views.get((index, path))
         if view is None:
             self.views_computed += 1
-            view = machine_view(index, s.machine, s.port, trail=s.trail, faults=s.fault_listing())
-            views[index] = view
+            view = machine_view(
+                index,
+                s.machine,
+                s.port,
+                trail=s.trail_of(path),
+                faults=s.fault_listing(),
+                path=path,
+            )
+            views[(index, path)] = view
         return {"type": "machine", "data": view, "pmc": self._pmc(s, area, start)}
 
     @staticmethod
@@ -161,7 +172,7 @@ class Broadcaster:
     def record_paths(self) -> None:
         """Add every machine's current absolute position to its tool path."""
         for s in self.stations:
-            s.trail.record(s.machine.motion.absolute)
+            s.record_trails()
 
     def tick(self) -> int:
         """Compute each subscribed topic's frame once (each machine's view once) and offer it
@@ -171,7 +182,7 @@ class Broadcaster:
         by_topic: dict[Topic, list[Subscription]] = {}
         for sub in self.subscriptions:
             by_topic.setdefault(sub.topic, []).append(sub)
-        views: dict[int, JsonDict] = {}
+        views: dict[tuple[int, int], JsonDict] = {}
         for topic, subs in by_topic.items():
             frame = json.dumps(self._view(topic, views), separators=(",", ":"))
             for sub in subs:

@@ -16,25 +16,28 @@ them, so a write-protected area answers ``EW_PROT``.
 
 from __future__ import annotations
 
+import re
 from collections.abc import Callable, Mapping
 from dataclasses import dataclass, field
-from decimal import Decimal, InvalidOperation
+from decimal import Decimal
 from typing import Any, Final
 
 from focas_net.errors import EW, ew_name
-from focas_net.protocol import FaultKind, FaultScope, InjectFault, alarm_message
-from focas_net.server.faults import FaultQueue, parse_inject
+from focas_net.protocol import MAX_ALARM_MSG, FaultKind, FaultScope, InjectFault, alarm_message
+from focas_net.server.faults import FaultQueue, fault_refusal, parse_inject
 from focas_net.sim import Machine, MachineError, ParamKind, Session
 
-from .view import JsonDict, PathTrail
+from .view import JsonDict, PathTrail, param_text
 
 __all__ = [
     "ACTIONS",
     "FORCED_PMC_AREAS",
     "ActionError",
     "Station",
+    "decimal_number",
     "perform",
     "refusal",
+    "whole_number",
 ]
 
 #: PMC areas the page writes as the simulator (0x0E04 set_pmc), ignoring write protection.
@@ -57,10 +60,23 @@ class Station:
     port: int = 0
     session: Session = field(init=False)
     trail: PathTrail = field(default_factory=PathTrail)
+    _trails: dict[int, PathTrail] = field(default_factory=dict, init=False, repr=False)
     _macro_numbers: tuple[int, ...] | None = field(default=None, init=False, repr=False)
 
     def __post_init__(self) -> None:
         self.session = self.machine.new_session()
+
+    def trail_of(self, path: int = 1) -> PathTrail:
+        """The tool path seen of ``path`` (:attr:`trail` for path 1)."""
+        if path == 1:
+            return self.trail
+        return self._trails.setdefault(path, PathTrail())
+
+    def record_trails(self) -> None:
+        """Add every path's current absolute position to its tool path."""
+        machine = self.machine
+        for path in range(1, machine.path_count + 1):
+            self.trail_of(path).record(machine.path_motion(path=path).absolute)
 
     def macro_numbers(self) -> tuple[int, ...]:
         """Every macro variable number the machine has (found once, then kept)."""
@@ -83,8 +99,9 @@ def refusal(exc: MachineError) -> JsonDict:
 
 # -- arguments ------------------------------------------------------------------------------
 def _int(args: Mapping[str, Any], key: str, default: int | None = None) -> int:
-    """``args[key]`` as a whole number (decimal, ``0x`` or ``0b``); ``default`` when it is not
-    given, but a field sent empty is refused like a field that is not a number."""
+    """``args[key]`` as a whole number (decimal, ``0x``, ``0b`` or ``0o``, ASCII digits only:
+    :func:`whole_number`); ``default`` when it is not given, but a field sent empty is refused
+    like a field that is not a number."""
     value = args.get(key)
     if value is None and default is not None:
         return default
@@ -95,29 +112,54 @@ def _int(args: Mapping[str, Any], key: str, default: int | None = None) -> int:
     if isinstance(value, int):
         return value
     if isinstance(value, str):
-        number = _prefixed(value)
-        if number is not None:
-            return number
         try:
-            return int(value.strip())
-        except ValueError:
-            pass
+            return whole_number(value)
+        except ValueError as exc:
+            raise ActionError(f"{key}: {exc}") from None
     raise ActionError(f"{key}: not a whole number: {value!r}")
 
 
-_PREFIXES: Final = ("0x", "0b", "0o")
+_WHOLE: Final = re.compile(r"[+-]?(?:[0-9]+|0x[0-9a-f_]+|0b[01_]+|0o[0-7_]+)", re.ASCII)
+_DECIMAL: Final = re.compile(r"[+-]?(?:[0-9]+(?:\.[0-9]*)?|\.[0-9]+)", re.ASCII)
 
 
-def _prefixed(text: str) -> int | None:
-    """``0xB0``, ``0b1011_0000`` or ``0o260`` (a sign allowed) as the number it writes, as
-    the command line reads them; None for text without such a prefix or not a number."""
-    body = text.strip().lower().lstrip("+-")
-    if not body.startswith(_PREFIXES):
+def _beyond_ascii(text: str) -> str | None:
+    """What is wrong with number text holding a character beyond ASCII, else None."""
+    odd = next((c for c in text if not c.isascii()), None)
+    if odd is None:
         return None
-    try:
-        return int(text.strip().replace("_", ""), 0)
-    except ValueError:
-        return None
+    what = "a digit" if odd.isdigit() else "a character"
+    return f"{text!r} holds {what} beyond ASCII ({odd!r}, U+{ord(odd):04X}): write 0-9"
+
+
+def whole_number(text: str) -> int:
+    """A whole number as a person types it on the page: ASCII digits with a sign, or ``0x``,
+    ``0b``, ``0o`` (``_`` between digits allowed there), spaces around. ValueError naming the
+    text for anything else: digits of other scripts (``'\u0661\u0662'``), an exponent
+    (``1e3``), a decimal point."""
+    stripped = text.strip()
+    odd = _beyond_ascii(stripped)
+    if odd is not None:
+        raise ValueError(odd)
+    low = stripped.lower()
+    if _WHOLE.fullmatch(low) is None or low.endswith("_") or low.lstrip("+-")[2:3] == "_":
+        hint = " (no exponent: write the digits)" if "e" in low and "x" not in low else ""
+        raise ValueError(f"not a whole number: {text!r}{hint}")
+    prefixed = low.lstrip("+-")[1:2].isalpha()
+    return int(stripped.replace("_", ""), 0) if prefixed else int(stripped, 10)
+
+
+def decimal_number(text: str) -> Decimal:
+    """A number as a person types it on the page: ASCII digits with a sign and a decimal point
+    (``-12.5``), no exponent; ValueError naming the text otherwise."""
+    stripped = text.strip()
+    odd = _beyond_ascii(stripped)
+    if odd is not None:
+        raise ValueError(odd)
+    if _DECIMAL.fullmatch(stripped) is None:
+        hint = " (no exponent: write the digits)" if "e" in stripped.lower() else ""
+        raise ValueError(f"not a number: {text!r}{hint}")
+    return Decimal(stripped)
 
 
 def _optional_int(args: Mapping[str, Any], key: str) -> int | None:
@@ -135,38 +177,42 @@ def _text(args: Mapping[str, Any], key: str, default: str = "") -> str:
 
 
 def _decimal(args: Mapping[str, Any], key: str) -> Decimal | None:
-    """``args[key]`` as a number: decimal text (``12.345``) or a whole number written as the
-    command line writes it (``0xB0``, ``0b10110000``); None when empty."""
+    """``args[key]`` as a number: decimal text (``12.345``, :func:`decimal_number`) or a whole
+    number written as the command line writes it (``0xB0``, ``0b10110000``); None when empty."""
     value = args.get(key)
     if value is None or (isinstance(value, str) and not value.strip()):
         return None
     if isinstance(value, bool) or not isinstance(value, str | int):
         raise ActionError(f"{key}: a number is needed, got {value!r}")
-    whole = _prefixed(value) if isinstance(value, str) else None
-    if whole is not None:
-        return Decimal(whole)
+    if isinstance(value, int):
+        return Decimal(value)
+    if value.strip().lower().lstrip("+-").startswith(("0x", "0b", "0o")):
+        return Decimal(_int(args, key))
     try:
-        number = Decimal(str(value).strip())
-    except InvalidOperation:
-        raise ActionError(f"{key}: not a number: {value!r}") from None
-    if not number.is_finite():
-        raise ActionError(f"{key}: not a finite number: {value!r}")
-    return number
+        return decimal_number(value)
+    except ValueError as exc:
+        raise ActionError(f"{key}: {exc}") from None
 
 
 # -- the actions ----------------------------------------------------------------------------
 _Action = Callable[[Station, Mapping[str, Any]], JsonDict]
 
 
+def _path(args: Mapping[str, Any]) -> int:
+    """The path an action is for: ``path`` (1 when not given); the machine refuses one it has
+    not (EW_PATH, naming it)."""
+    return _int(args, "path", 1)
+
+
 def _cycle(station: Station, args: Mapping[str, Any]) -> JsonDict:
     m = station.machine
-    what = _text(args, "action")
+    what, path = _text(args, "action"), _path(args)
     if what == "start":
-        m.cycle_start()
+        m.cycle_start(path=path)
     elif what == "hold":
-        m.feed_hold()
+        m.feed_hold(path=path)
     elif what == "reset":
-        m.reset()
+        m.reset(path=path)
     else:
         raise ActionError(f"action: one of start, hold, reset, got {what!r}")
     return {}
@@ -174,14 +220,20 @@ def _cycle(station: Station, args: Mapping[str, Any]) -> JsonDict:
 
 def _panel(station: Station, args: Mapping[str, Any]) -> JsonDict:
     station.machine.set_panel(
-        _optional_int(args, "mode"), _optional_int(args, "pwe"), _optional_int(args, "emergency")
+        _optional_int(args, "mode"),
+        _optional_int(args, "pwe"),
+        _optional_int(args, "emergency"),
+        path=_path(args),
     )
     return {}
 
 
 def _overrides(station: Station, args: Mapping[str, Any]) -> JsonDict:
     station.machine.set_overrides(
-        _optional_int(args, "feed"), _optional_int(args, "rapid"), _optional_int(args, "spindle")
+        _optional_int(args, "feed"),
+        _optional_int(args, "rapid"),
+        _optional_int(args, "spindle"),
+        path=_path(args),
     )
     return {}
 
@@ -192,14 +244,24 @@ def _raise_alarm(station: Station, args: Mapping[str, Any]) -> JsonDict:
         alarm_message(msg)  # text, as the client and the command line take it
     except ValueError as exc:
         raise ActionError(f"msg: {exc}") from None
+    if len(msg) > MAX_ALARM_MSG:  # the CNC keeps 32: the page never cuts what was typed
+        raise ActionError(
+            f"msg: {len(msg)} characters, an alarm message holds {MAX_ALARM_MSG}: {msg!r}"
+        )
     raised = station.machine.raise_alarm(
-        _int(args, "axis_no", 0), _int(args, "alm_type"), _int(args, "alm_no"), msg
+        _int(args, "axis_no", 0),
+        _int(args, "alm_type"),
+        _int(args, "alm_no"),
+        msg,
+        path=_path(args),
     )
     return {"raised": raised}
 
 
 def _clear_alarms(station: Station, args: Mapping[str, Any]) -> JsonDict:
-    cleared = station.machine.clear_alarms(_int(args, "alm_type", -1), _int(args, "alm_no", -1))
+    cleared = station.machine.clear_alarms(
+        _int(args, "alm_type", -1), _int(args, "alm_no", -1), path=_path(args)
+    )
     return {"cleared": cleared}
 
 
@@ -250,18 +312,45 @@ def _param_value(m: Machine, number: int, text: Decimal) -> tuple[int, int | Non
     return int(text), None
 
 
+_EIGHT_BITS: Final = re.compile(r"[01]{8}", re.ASCII)
+
+
+def _bits(number: int, value: object) -> int | None:
+    """The value of bit parameter ``number`` as the page shows it: its eight bits #7..#0
+    (``10110000``), or ``0xB0`` / ``0b10110000`` as the command line takes them (a JSON
+    number is the byte); None when nothing is given. A decimal is refused: eight digits of 0
+    and 1 would read as bits, so the page takes none."""
+    if value is None or (isinstance(value, int) and not isinstance(value, bool)):
+        return value
+    if not isinstance(value, str) or not value.strip():
+        return None
+    text = value.strip()
+    if _EIGHT_BITS.fullmatch(text):
+        return int(text, 2)
+    if text.lower().lstrip("+-").startswith(("0x", "0b")):
+        return _int({"value": text}, "value")
+    raise ActionError(
+        f"value: parameter {number} is a bit parameter: write its 8 bits #7..#0 (10110000), "
+        f"0x.. or 0b.., got {value!r}"
+    )
+
+
 def _write_param(station: Station, args: Mapping[str, Any]) -> JsonDict:
     m = station.machine
     number, axis = _int(args, "number"), _int(args, "axis", 0)
-    given = _decimal(args, "value")
+    item = m.param_item(number)
+    bits = _bits(number, args.get("value")) if item and item.kind is ParamKind.BIT else None
+    given = _decimal(args, "value") if bits is None else Decimal(bits)
     if given is None:
         raise ActionError("value: a number is needed")
     m.check_writable()  # the machine's order: read-only first, then the number
-    if m.param_item(number) is None:
+    if item is None:
         raise MachineError(EW.NUMBER, f"no parameter {number}")
     value, decimals = _param_value(m, number, given)
-    m.write_param(station.session, number, axis, value, decimals=decimals)
-    return {"number": number, "value": m.read_param(number, axis)}
+    path = _path(args)
+    m.write_param(station.session, number, axis, value, decimals=decimals, path=path)
+    now = m.read_param(number, axis, path=path)
+    return {"number": number, "value": now, "text": param_text(item, now)}
 
 
 def _unlock(station: Station, args: Mapping[str, Any]) -> JsonDict:
@@ -271,41 +360,39 @@ def _unlock(station: Station, args: Mapping[str, Any]) -> JsonDict:
 
 def _write_macro(station: Station, args: Mapping[str, Any]) -> JsonDict:
     m = station.machine
-    number = _int(args, "number")
-    m.write_macro(number, _decimal(args, "value"))
-    value = m.read_macro(number)
+    number, path = _int(args, "number"), _path(args)
+    m.write_macro(number, _decimal(args, "value"), path=path)
+    value = m.read_macro(number, path=path)
     return {"number": number, "value": "" if value is None else str(value)}
 
 
 def _select_program(station: Station, args: Mapping[str, Any]) -> JsonDict:
-    station.machine.select_program(_int(args, "number"))
-    station.trail.clear()
+    path = _path(args)
+    station.machine.select_program(_int(args, "number"), path=path)
+    station.trail_of(path).clear()
     return {}
 
 
-_I16: Final = range(-0x8000, 0x8000)
-_I32: Final = range(-0x8000_0000, 0x8000_0000)
-
-
 def _inject_fault(station: Station, args: Mapping[str, Any]) -> JsonDict:
-    """Arm a machine-wide fault with the checks of 0x0E05 inject_fault."""
+    """Arm a machine-wide fault with the checks of 0x0E05 inject_fault: a refused argument is
+    ``EW_DATA`` with the reason :func:`~focas_net.server.faults.fault_refusal` gives every
+    front end."""
     kind_text = _text(args, "kind").strip().upper()
     try:
         kind = FaultKind[kind_text] if not kind_text.isdigit() else FaultKind(int(kind_text))
     except (KeyError, ValueError):
         names = ", ".join(k.name for k in FaultKind)
         raise ActionError(f"kind: one of {names}, got {kind_text!r}") from None
-    # a delay or an error needs its argument; a drop or a split ignores one it is given
+    # a delay or an error needs its argument; a drop or a split ignores the arg box
     needs_arg = kind in (FaultKind.DELAY, FaultKind.ERROR)
-    count, arg = _int(args, "count", 1), _int(args, "arg", None if needs_arg else 0)
-    if count not in _I16:
-        raise ActionError(f"count: 1..10000, got {count}")
-    if arg not in _I32:
-        raise ActionError(f"arg: outside 32 bits: {arg}")
+    count, arg = _int(args, "count", 1), _int(args, "arg") if needs_arg else 0
+    station.machine.check_writable()  # the order of every control command: read-only first
+    reason = fault_refusal(int(kind), int(FaultScope.MACHINE), count, arg)
+    if reason is not None:
+        raise MachineError(EW.DATA, reason)
     payload = InjectFault(int(kind), int(FaultScope.MACHINE), count, arg).encode()
     parsed = parse_inject(payload, read_only=station.machine.read_only)
-    if isinstance(parsed, int):
-        raise MachineError(parsed, f"fault kind {kind.name} count {count} arg {arg}")
+    assert not isinstance(parsed, int), parsed  # the checks above are parse_inject's
     _, fault = parsed
     armed = station.faults.arm(fault)
     if armed:
@@ -319,7 +406,9 @@ def _clear_faults(station: Station, args: Mapping[str, Any]) -> JsonDict:
 
 
 def _clear_path(station: Station, args: Mapping[str, Any]) -> JsonDict:
-    station.trail.clear()
+    path = _path(args)
+    station.machine.path_info(path)  # EW_PATH for a path the machine has not
+    station.trail_of(path).clear()
     return {}
 
 

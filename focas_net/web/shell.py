@@ -11,14 +11,17 @@ Routes::
     GET  /favicon.ico                        the icon (static/favicon.svg)
     GET  /api/info                           {"read_only", "machines"}
     GET  /api/fleet                          the fleet view
-    GET  /api/machines/<i>                   machine i's view
-    GET  /api/machines/<i>/params?q=TEXT     parameters (number prefix or name)
-    GET  /api/machines/<i>/macros?q=N[-M]    macro variables
-    GET  /api/machines/<i>/pmc?area=X&start=0  16 bytes of a PMC area
+    GET  /api/machines/<i>?path=P            machine i's view of path P (1 when not given)
+    GET  /api/machines/<i>/params?q=TEXT&path=P  parameters (number prefix or name)
+    GET  /api/machines/<i>/macros?q=N[-M]&path=P macro variables and a note of any left out
+    GET  /api/machines/<i>/pmc?area=X&start=0  16 bytes of a PMC area (start 100 or R100)
     POST /api/machines/<i>/actions/<action>  a page action (JSON object of arguments)
     GET  /ws                                 live frames; send {"subscribe": "fleet"} or
                                              {"subscribe": "machine", "index": i,
-                                              "pmc_area": "X", "pmc_start": 0}
+                                              "pmc_area": "X", "pmc_start": 0, "path": 1}
+
+An action takes ``"path"`` (1 when not given) for what a path has: the cycle, the panel,
+overrides, alarms, parameters and macro variables of a path, program selection.
 
 An action answers 200 ``{"ok": true, ...}``; a refusal 409 (403 on a read-only dashboard)
 ``{"ok": false, "ew": 5, "ew_name": "EW_PASSWD", "error": ...}``; a bad argument 400
@@ -40,8 +43,17 @@ from focas_net.sim import MachineError
 
 from .address import DEFAULT_WEB_HOST
 from .broadcast import DEFAULT_INTERVAL, FLEET, Broadcaster, Topic, machine_topic
-from .operations import ActionError, Station, perform, refusal
-from .view import JsonDict, fleet_view, machine_view, macro_rows, param_rows, pmc_window
+from .operations import ActionError, Station, perform, refusal, whole_number
+from .view import (
+    JsonDict,
+    fleet_view,
+    machine_view,
+    macro_note,
+    macro_rows,
+    param_rows,
+    pmc_address,
+    pmc_window,
+)
 
 if TYPE_CHECKING:
     from aiohttp import web
@@ -206,32 +218,57 @@ class Dashboard:
         entries = ((s.index, s.machine, s.port) for s in self.stations)
         return self._json(fleet_view(entries))
 
+    def _path(self, request: web.Request, s: Station) -> int | web.Response:
+        """``?path=N`` (1 when not given), or the answer refusing it: 400 for text that is no
+        number, 409 EW_PATH for a path the machine has not."""
+        try:
+            path = whole_number(request.query.get("path", "1"))
+            s.machine.path_info(path)
+        except ValueError as exc:
+            return self._json({"ok": False, "error": f"path: {exc}"}, 400)
+        except MachineError as exc:
+            return self._json(refusal(exc), 409)
+        return path
+
     async def _machine(self, request: web.Request) -> web.Response:
         s = self._station(request)
-        view = machine_view(s.index, s.machine, s.port, trail=s.trail, faults=s.fault_listing())
+        path = self._path(request, s)
+        if not isinstance(path, int):
+            return path
+        trail = s.trail_of(path)
+        view = machine_view(
+            s.index, s.machine, s.port, trail=trail, faults=s.fault_listing(), path=path
+        )
         return self._json(view)
 
     async def _params(self, request: web.Request) -> web.Response:
         s = self._station(request)
-        return self._json({"params": param_rows(s.machine, request.query.get("q", ""))})
+        path = self._path(request, s)
+        if not isinstance(path, int):
+            return path
+        return self._json({"params": param_rows(s.machine, request.query.get("q", ""), path=path)})
 
     async def _macros(self, request: web.Request) -> web.Response:
         s = self._station(request)
+        path = self._path(request, s)
+        if not isinstance(path, int):
+            return path
         query = request.query.get("q", "")
         try:
-            rows = macro_rows(s.machine, s.macro_numbers(), query)
+            rows = macro_rows(s.machine, s.macro_numbers(), query, path=path)
         except ValueError as exc:
             return self._json({"ok": False, "error": str(exc)}, 400)
-        return self._json({"macros": rows})
+        return self._json({"macros": rows, "note": macro_note(s.macro_numbers(), query, len(rows))})
 
     async def _pmc(self, request: web.Request) -> web.Response:
         s = self._station(request)
         area = request.query.get("area", "X")
-        start = request.query.get("start", "0")
-        if not start.isdigit():
-            return self._json({"ok": False, "error": f"start: not an address: {start!r}"}, 400)
         try:
-            return self._json(pmc_window(s.machine, area, int(start)))
+            letter, start = pmc_address(request.query.get("start", "0"), area)
+        except ValueError as exc:
+            return self._json({"ok": False, "error": str(exc)}, 400)
+        try:
+            return self._json(pmc_window(s.machine, letter, start))
         except MachineError as exc:
             return self._json(refusal(exc), 409)
 
@@ -269,8 +306,11 @@ class Dashboard:
                 wanted.get("pmc_area", "X"),
                 wanted.get("pmc_start", 0),
             )
-            if isinstance(index, int) and isinstance(area, str) and isinstance(start, int):
-                return machine_topic(index, area, start)
+            path = wanted.get("path", 1)
+            if all(isinstance(n, int) and not isinstance(n, bool) for n in (index, start, path)):
+                if isinstance(area, str):
+                    assert isinstance(index, int) and isinstance(start, int)
+                    return machine_topic(index, area, start, path)
         return None
 
     async def _ws(self, request: web.Request) -> web.StreamResponse:

@@ -9,6 +9,7 @@ increments over ``10**POSITION_DECIMALS``), times in seconds. Status fields carr
 
 from __future__ import annotations
 
+import re
 from collections import deque
 from collections.abc import Iterable, Sequence
 from decimal import Decimal
@@ -38,6 +39,7 @@ from focas_net.sim import (
 
 __all__ = [
     "HISTORY_SHOWN",
+    "MACRO_SEARCH_CAP",
     "PATH_POINTS",
     "PMC_ROW_BYTES",
     "JsonDict",
@@ -45,8 +47,12 @@ __all__ = [
     "fleet_view",
     "machine_tile",
     "machine_view",
+    "macro_note",
+    "macro_range",
     "macro_rows",
     "param_rows",
+    "param_text",
+    "pmc_address",
     "pmc_window",
     "status_fields",
 ]
@@ -69,10 +75,11 @@ _RUN_LABELS: Final = {m.value: m.label for m in RunState}
 _RUN_NAMES: Final = {m.value: m.name for m in RunState}
 
 
-def status_fields(machine: Machine) -> list[JsonDict]:
-    """The ODBST fields: ``{"field": "run", "value": 3, "label": "STRT", "meaning": ...}``,
-    named by the table the command line uses (``tmmode`` by the machine's series)."""
-    rows = status_labels(machine.status(), machine.identity().mt_type)
+def status_fields(machine: Machine, path: int = 1) -> list[JsonDict]:
+    """The ODBST fields of ``path``: ``{"field": "run", "value": 3, "label": "STRT",
+    "meaning": ...}``, named by the table the command line uses (``tmmode`` by the machine's
+    series)."""
+    rows = status_labels(machine.status(path=path), machine.identity().mt_type)
     return [{"field": f, "value": v, "label": label, "meaning": m} for f, v, label, m in rows]
 
 
@@ -92,23 +99,19 @@ def _mm(value: int) -> float:
     return value / _MM
 
 
-def machine_tile(
-    index: int, machine: Machine, port: int, trail: PathTrail | None = None
-) -> JsonDict:
-    """One tile of the fleet view: name, port, mode, run state, program, parts, alarm. The
-    machine is read once per figure (a read of a running machine moves its engine); the
-    absolute position read goes into ``trail`` when given."""
-    status = machine.status()
-    motion = machine.motion
+def _path_tile(machine: Machine, path: int, trail: PathTrail | None = None) -> JsonDict:
+    """What a tile shows of one path: mode, run state, program, sequence, parts, alarm. The
+    machine is read once per figure (a read of a running machine moves its engine)."""
+    status = machine.status(path=path)
+    motion = machine.path_motion(path=path)
     if trail is not None:
         trail.record(motion.absolute)
-    count, total = machine.parts_counts()
-    alarms = machine.active_alarms()
+    count, total = machine.parts_counts(path=path)
+    alarms = machine.active_alarms(path=path)
     first = alarms[0] if alarms else None
     return {
-        "index": index,
-        "name": machine.name,
-        "port": port,
+        "path_no": path,
+        "path_name": machine.path_info(path).name,
         "mode": _MODE_LABELS.get(status.aut, str(status.aut)),
         "run": _RUN_LABELS.get(status.run, str(status.run)),
         "run_state": _RUN_NAMES.get(status.run, str(status.run)),
@@ -124,6 +127,32 @@ def machine_tile(
     }
 
 
+def machine_tile(
+    index: int, machine: Machine, port: int, trail: PathTrail | None = None
+) -> JsonDict:
+    """One tile of the fleet view: name, port, and path 1's mode, run state, program, parts
+    and alarm; ``paths`` holds the same of every path (one for a single-path machine). The
+    tile is running when a path runs and in alarm when a path is; the absolute position of
+    path 1 read goes into ``trail`` when given."""
+    paths = [
+        _path_tile(machine, p, trail if p == 1 else None) for p in range(1, machine.path_count + 1)
+    ]
+    first = paths[0]
+    alarmed = next((t for t in paths if t["alarms"]), first)
+    running = next((t for t in paths if t["run"] == "STRT"), first)
+    return {
+        "index": index,
+        "name": machine.name,
+        "port": port,
+        **{k: v for k, v in first.items() if k not in ("path_no", "path_name")},
+        "run_state": running["run_state"],
+        "alarm": alarmed["alarm"],
+        "alarms": max(t["alarms"] for t in paths),
+        "running": running["run"] == "STRT",
+        "paths": paths,
+    }
+
+
 def fleet_view(
     entries: Iterable[tuple[int, Machine, int]], trails: Sequence[PathTrail] | None = None
 ) -> JsonDict:
@@ -132,7 +161,7 @@ def fleet_view(
     tiles = [
         machine_tile(i, m, port, None if trails is None else trails[i]) for i, m, port in entries
     ]
-    running = sum(1 for t in tiles if t["run"] == "STRT")
+    running = sum(1 for t in tiles if t["running"])
     alarmed = sum(1 for t in tiles if t["alarms"])
     return {"machines": tiles, "count": len(tiles), "running": running, "alarmed": alarmed}
 
@@ -157,20 +186,21 @@ class PathTrail:
         self.points.clear()
 
 
-def _program(machine: Machine) -> JsonDict | None:
-    """The running (else the main) program: its lines and the line of the block executing."""
-    engine = machine.engine
+def _program(machine: Machine, path: int) -> JsonDict | None:
+    """The running (else the main) program of ``path``: its lines and the line of the block
+    executing."""
+    engine = machine.path_engine(path)
     interpreter = engine.interpreter
     program = interpreter.program
     line: int | None = None
     if program is not None and interpreter.block is not None:
         if 0 <= interpreter.block < len(program.blocks):
             line = program.blocks[interpreter.block].line
-    number = program.number if program is not None else machine.programs.main
+    number = program.number if program is not None else machine.path_programs(path).main
     if number is None:
         return None
     try:
-        text = machine.program_text(number)
+        text = machine.program_text(number, path=path)
     except MachineError:
         return None
     return {"number": number, "lines": text.splitlines()[:PROGRAM_LINES], "line": line}
@@ -183,28 +213,31 @@ def machine_view(
     *,
     trail: PathTrail | None = None,
     faults: Iterable[tuple[str, int, int]] = (),
+    path: int = 1,
 ) -> JsonDict:
-    """Everything the machine view shows, at one moment. ``faults`` are the machine-wide
-    armed faults as ``(kind name, answers left, arg)``; the absolute position read goes into
-    ``trail`` (the tool path shown) when given."""
-    status = machine.status()
-    motion = machine.motion
+    """Everything the machine view shows of ``path``, at one moment, and ``paths``, what a
+    tile shows of every path. ``faults`` are the machine-wide armed faults as ``(kind name,
+    answers left, arg)``; the absolute position read goes into ``trail`` (the tool path
+    shown) when given. EW_PATH (MachineError) for a path the machine has not."""
+    info = machine.path_info(path)
+    status = machine.status(path=path)
+    motion = machine.path_motion(path=path)
     if trail is not None:
         trail.record(motion.absolute)
-    count, total = machine.parts_counts()
-    feed_ov, rapid_ov, spindle_ov = machine.overrides()
-    panel = machine.panel
+    count, total = machine.parts_counts(path=path)
+    feed_ov, rapid_ov, spindle_ov = machine.overrides(path=path)
+    panel = machine.path_panel(path)
     positions = []
-    for axis_index, axis in enumerate(machine.axes):
+    for axis_index, axis in enumerate(info.axes):
         row: JsonDict = {"axis": axis}
         for kind in POSITION_KINDS:
             row[kind] = _mm(getattr(motion, kind)[axis_index])
         positions.append(row)
     try:
-        required = machine.read_param(6713, 0)
+        required = machine.read_param(6713, 0, path=path)
     except MachineError:
         required = None
-    main = machine.programs.main
+    main = machine.path_programs(path).main
     running = motion.program_running
     return {
         "index": index,
@@ -212,8 +245,12 @@ def machine_view(
         "port": port,
         "control_class": machine.control_class,
         "read_only": machine.read_only,
-        "axes": list(machine.axes),
-        "status": status_fields(machine),
+        "path_no": path,
+        "path_name": info.name,
+        "path_count": machine.path_count,
+        "paths": [_path_tile(machine, p) for p in range(1, machine.path_count + 1)],
+        "axes": list(info.axes),
+        "status": status_fields(machine, path),
         "mode": _MODE_LABELS.get(status.aut, str(status.aut)),
         "run": _RUN_LABELS.get(status.run, str(status.run)),
         "positions": positions,
@@ -225,14 +262,16 @@ def machine_view(
         "program_main": motion.program_main,
         "overrides": {"feed": feed_ov, "rapid": rapid_ov, "spindle": spindle_ov},
         "loads": {
-            "spindle": list(machine.spindle_loads()),
-            "servo": list(machine.servo_loads()),
+            "spindle": list(machine.spindle_loads(path=path)),
+            "servo": list(machine.servo_loads(path=path)),
         },
-        "timers": {kind: machine.timer(k) for k, kind in enumerate(TIMER_KINDS)},
+        "timers": {kind: machine.timer(k, path=path) for k, kind in enumerate(TIMER_KINDS)},
         "parts": {"count": count, "total": total, "required": required},
         "panel": {"mode": panel.mode, "pwe": panel.pwe, "emergency": panel.emergency},
         "modes": [[m, _MODE_LABELS[m]] for m in sorted(AUT_MODES)],
-        "alarms": [_alarm(a.axis_no, a.alm_type, a.alm_no, a.msg) for a in machine.active_alarms()],
+        "alarms": [
+            _alarm(a.axis_no, a.alm_type, a.alm_no, a.msg) for a in machine.active_alarms(path=path)
+        ],
         "history": [
             {"time": h.occurred_at.isoformat(), **_alarm(h.axis_no, h.alm_type, h.alm_no, h.msg)}
             for h in machine.alarm_history(HISTORY_SHOWN)
@@ -245,9 +284,9 @@ def machine_view(
                 "main": p.number == main,
                 "running": p.number == running and status.run != 0,
             }
-            for p in machine.program_directory()
+            for p in machine.program_directory(path=path)
         ],
-        "program": _program(machine),
+        "program": _program(machine, path),
         "pmc_areas": _pmc_areas(machine),
         "faults": [{"kind": k, "remaining": n, "arg": arg} for k, n, arg in faults],
         "fault_kinds": [k.name for k in FaultKind],
@@ -265,13 +304,37 @@ def _pmc_areas(machine: Machine) -> list[JsonDict]:
     return areas
 
 
+_PMC_ADDRESS: Final = re.compile(r"([A-Za-z]?)\s*([0-9]+)", re.ASCII)
+
+
+def pmc_address(text: str, area: str) -> tuple[str, int]:
+    """``(area, address)`` of a PMC address as the command line writes one: ``100`` (in
+    ``area``) or ``R100`` (the letter names the area, in either case). ValueError naming
+    ``text`` for anything else (a letter that is no PMC area, a bit ``R100.3``, a sign)."""
+    found = _PMC_ADDRESS.fullmatch(text.strip())
+    if found is None:
+        raise ValueError(f"PMC address {text!r}: write a byte address, 100 or R100")
+    letter = (found[1] or area).strip().upper()
+    if letter not in PMC_AREAS:
+        raise ValueError(
+            f"PMC address {text!r}: no PMC area {letter} (one of {', '.join(PMC_AREAS)})"
+        )
+    digits = found[2]
+    if len(digits) > 6:
+        raise ValueError(f"PMC address {text!r}: beyond every PMC area")
+    return letter, int(digits)
+
+
 def pmc_window(machine: Machine, area: str, start: int, length: int = PMC_ROW_BYTES) -> JsonDict:
     """``length`` bytes of PMC area ``area`` from ``start`` (cut to the area's end), with the
     area's size. MachineError (EW_NOOPT, EW_NUMBER) for an area or address it does not have."""
     letter = area.strip().upper()
     info = machine.pmc_area(letter) if letter in PMC_AREAS else None
     if info is None:
-        raise MachineError(EW.NOOPT if letter in PMC_AREAS else EW.NUMBER, f"no PMC area {area!r}")
+        has = ", ".join(a["area"] for a in _pmc_areas(machine))
+        if letter in PMC_AREAS:
+            raise MachineError(EW.NOOPT, f"the machine has no PMC area {letter} (it has {has})")
+        raise MachineError(EW.NUMBER, f"no PMC area {area!r} (one of {', '.join(PMC_AREAS)})")
     size, protected = info
     if not 0 <= start < size:
         raise MachineError(EW.NUMBER, f"{letter}{start} is outside {letter}0..{letter}{size - 1}")
@@ -285,26 +348,36 @@ def pmc_window(machine: Machine, area: str, start: int, length: int = PMC_ROW_BY
     }
 
 
-def _param_text(item: DataItem, value: int) -> str:
+def param_text(item: DataItem, value: int) -> str:
+    """A parameter value as the page shows it: a bit parameter's eight bits #7..#0
+    (``10110000``), a real one with its decimals, the others in decimal."""
+    if item.kind is ParamKind.BIT:
+        return f"{value & 0xFF:08b}"
     if item.kind is ParamKind.REAL and item.decimals:
         return str(Decimal(value).scaleb(-item.decimals))
     return str(value)
 
 
-def param_rows(machine: Machine, query: str = "", limit: int = 200) -> list[JsonDict]:
+def param_rows(
+    machine: Machine, query: str = "", limit: int = 200, *, path: int = 1
+) -> list[JsonDict]:
     """The parameters whose number starts with ``query`` or whose name contains it (case
     insensitive), at most ``limit`` of them, by number. ``kind`` is the type as every front
     end names it (``two-word``); an axis parameter has a value per axis, named in ``axes``;
-    a bit parameter has its ``bits`` (#7..#0) beside each value."""
+    a bit parameter's values are its eight bits #7..#0 (``10110000``), as the page edits
+    them, and ``bits`` too."""
     q = query.strip().lower()
+    path_axes = list(machine.path_info(path).axes)
     rows: list[JsonDict] = []
     for number in machine.param_numbers():
         item = machine.param_item(number)
         assert item is not None
         if q and not (str(number).startswith(q) or q in item.name.lower()):
             continue
-        axes = list(machine.axes) if item.axis else []
-        raw = [machine.read_param(number, axis) for axis in range(1, len(axes) + 1) or (0,)]
+        axes = path_axes if item.axis else []
+        raw = [
+            machine.read_param(number, axis, path=path) for axis in range(1, len(axes) + 1) or (0,)
+        ]
         rows.append(
             {
                 "number": number,
@@ -315,8 +388,8 @@ def param_rows(machine: Machine, query: str = "", limit: int = 200) -> list[Json
                 "low": item.low,
                 "high": item.high,
                 "decimals": item.decimals,
-                "values": [_param_text(item, value) for value in raw],
-                "bits": [f"{value:08b}" for value in raw] if item.kind is ParamKind.BIT else None,
+                "values": [param_text(item, value) for value in raw],
+                "bits": [f"{v & 0xFF:08b}" for v in raw] if item.kind is ParamKind.BIT else None,
             }
         )
         if len(rows) >= limit:
@@ -328,27 +401,68 @@ def _macro_text(value: Decimal | None) -> str:
     return "" if value is None else str(value)
 
 
+#: The macro variable numbers a search may name (FOCAS carries a variable number as a short).
+MACRO_SEARCH_CAP: Final = 0x7FFF
+
+
+_MACRO_QUERY: Final = re.compile(r"#?(-?[0-9]+)(?:\s*-\s*#?(-?[0-9]+))?", re.ASCII)
+
+
+def _runs(numbers: Sequence[int]) -> str:
+    """``#1..#33, #100..#199``: ascending ``numbers`` as runs."""
+    runs: list[list[int]] = []
+    for n in numbers:
+        if runs and runs[-1][1] == n - 1:
+            runs[-1][1] = n
+        else:
+            runs.append([n, n])
+    return ", ".join(f"#{a}" if a == b else f"#{a}..#{b}" for a, b in runs) or "none"
+
+
+def macro_range(query: str) -> tuple[int, int]:
+    """The numbers ``low..high`` a macro search names: ``"N"`` from N on, ``"N-M"`` (a ``#``
+    before either allowed), ``""`` all. ValueError, naming ``query``, for other text, an empty
+    range (N above M) and a number beyond ``-32768..32767``."""
+    q = query.strip()
+    if not q:
+        return -0x8000, MACRO_SEARCH_CAP
+    found = _MACRO_QUERY.fullmatch(q)
+    if found is None:
+        raise ValueError(f"macro search {query!r}: write N or N-M (variable numbers, 0-9)")
+    for text in (t for t in found.groups() if t is not None):
+        if len(text.lstrip("-")) > 5 or not -0x8000 <= int(text) <= MACRO_SEARCH_CAP:
+            raise ValueError(
+                f"macro search {query!r}: #{text} is beyond the variable numbers "
+                f"(-32768..{MACRO_SEARCH_CAP})"
+            )
+    low = int(found[1])
+    high = int(found[2]) if found[2] is not None else MACRO_SEARCH_CAP
+    if low > high:
+        raise ValueError(f"macro search {query!r}: an empty range (#{low} is above #{high})")
+    return low, high
+
+
 def macro_rows(
-    machine: Machine, numbers: Sequence[int], query: str = "", limit: int = 200
+    machine: Machine,
+    numbers: Sequence[int],
+    query: str = "",
+    limit: int = 200,
+    *,
+    path: int = 1,
 ) -> list[JsonDict]:
-    """Macro variables among ``numbers`` (the machine's, ascending): all from the first when
-    ``query`` is empty, those from ``N`` for ``"N"``, ``N..M`` for ``"N-M"``; at most
-    ``limit``. ValueError, naming ``query``, for another query."""
-    q = query.strip().lstrip("#")
-    low, high = -0x8000, 0x7FFF
-    if q:
-        first, sep, last = q.partition("-")
-        try:
-            low = int(first)
-            high = int(last.lstrip("#")) if sep else 0x7FFF
-        except ValueError:
-            raise ValueError(f"macro search {query!r}: write N or N-M (variable numbers)") from None
+    """Macro variables among ``numbers`` (the machine's, ascending) in the range
+    :func:`macro_range` reads from ``query``, at most ``limit``. ValueError, naming
+    ``query``, for a query that names no range, or a range holding none of ``numbers`` (the
+    message lists the machine's)."""
+    low, high = macro_range(query)
     rows: list[JsonDict] = []
     for number in numbers:
         if not low <= number <= high:
             continue
+        if len(rows) >= limit:
+            break
         try:
-            value = machine.read_macro(number)
+            value = machine.read_macro(number, path=path)
         except MachineError as exc:
             rows.append({"number": number, "value": "", "error": ew_name(exc.ew)})
             continue
@@ -359,6 +473,18 @@ def macro_rows(
                 "writable": bool(machine.macro_writable(number)),
             }
         )
-        if len(rows) >= limit:
-            break
+    if not rows:
+        shown = f"#{low}" if high == MACRO_SEARCH_CAP else f"#{low}..#{high}"
+        raise ValueError(
+            f"macro search {query!r}: no variable in {shown} (the machine has {_runs(numbers)})"
+        )
     return rows
+
+
+def macro_note(numbers: Sequence[int], query: str, shown: int) -> str:
+    """What a macro search's answer says of what it left out (empty when nothing)."""
+    low, high = macro_range(query)
+    found = sum(1 for n in numbers if low <= n <= high)
+    if found <= shown:
+        return ""
+    return f"the first {shown} of {found} variables: narrow the range (N-M) to see the others"

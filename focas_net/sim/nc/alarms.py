@@ -57,6 +57,8 @@ ALARM_MESSAGES: Final[dict[tuple[AlarmKind, int], str]] = {
     (AlarmKind.PS, 126): "ILLEGAL LOOP NUMBER",
     (AlarmKind.PS, 127): "NC, MACRO STATEMENT IN SAME BLOCK",
     (AlarmKind.PS, 128): "ILLEGAL MACRO SEQUENCE NUMBER",
+    (AlarmKind.PS, 160): "MISMATCH WAITING M-CODE",
+    (AlarmKind.PS, 161): "ILLEGAL P OF WAITING M-CODE",
     (AlarmKind.OT, 500): "+ OVERTRAVEL ( SOFT 1 )",
     (AlarmKind.OT, 501): "- OVERTRAVEL ( SOFT 1 )",
 }

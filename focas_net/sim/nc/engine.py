@@ -17,10 +17,11 @@ from typing import Final
 
 from .alarms import ALARM_MESSAGES, AlarmKind, AlarmRaised, NcAlarm
 from .clock import SimClock
-from .interpreter import Action, Dwell, Interpreter, NcSettings, ProgramEnd, Stop, Wait
+from .interpreter import Action, Dwell, Interpreter, NcSettings, ProgramEnd, Stop, Sync, Wait
 from .macro import MemoryVariables, NcVariables
 from .motion import Motion, Vector
 from .program import ProgramStore
+from .waits import MISMATCH, PathSync, Unknown
 
 __all__ = ["CycleState", "Engine", "EngineEvent", "MotionKind", "NcStateError"]
 
@@ -36,9 +37,13 @@ class CycleState(Enum):
 
 
 class MotionKind(Enum):
+    """What the axes do: nothing, move, dwell, or wait at a waiting M code for the other
+    paths."""
+
     NONE = "none"
     MOTION = "motion"
     DWELL = "dwell"
+    WAIT = "wait"
 
 
 class NcStateError(ValueError):
@@ -73,6 +78,7 @@ class Engine:
         variables: NcVariables | None = None,
         work_offsets: Sequence[Sequence[float]] | None = None,
         tool_offsets: Mapping[int, float] | None = None,
+        sync: PathSync | None = None,
     ) -> None:
         self.clock = clock
         self.settings = settings or NcSettings()
@@ -121,6 +127,14 @@ class Engine:
         self._operating_time = 0.0
         self._cutting_time = 0.0
         self._cycle_time = 0.0
+        #: The waiting M codes of the control this engine is a path of (None: one path).
+        self.sync = sync
+        self.path_number = sync.join(self) if sync is not None else 1
+        #: At a waiting M code: when the engine arrived, when the wait ends once every path
+        #: of it arrived (None until then), and the PS0160 detail of a mismatch.
+        self.sync_arrival = 0.0
+        self.released_at: float | None = None
+        self.sync_mismatch: str | None = None
 
     # --- commands -------------------------------------------------------------------------
 
@@ -302,11 +316,14 @@ class Engine:
 
     @property
     def motion(self) -> MotionKind:
-        self.advance()
+        return self.flags()[1]
+
+    @property
+    def sync_wait(self) -> Sync | None:
+        """The waiting M code the engine stands at (None: none), as it was last brought to
+        its time."""
         action = self._action
-        if self._state is not CycleState.START or action is None or isinstance(action, Wait):
-            return MotionKind.NONE
-        return MotionKind.DWELL if isinstance(action, Dwell) else MotionKind.MOTION
+        return action if isinstance(action, Sync) else None
 
     @property
     def waiting(self) -> bool:
@@ -322,6 +339,8 @@ class Engine:
             return state, MotionKind.NONE, False
         if isinstance(action, Wait):
             return state, MotionKind.NONE, True
+        if isinstance(action, Sync):
+            return state, MotionKind.WAIT, False
         return state, MotionKind.DWELL if isinstance(action, Dwell) else MotionKind.MOTION, False
 
     def steady_until(self) -> float:
@@ -335,6 +354,9 @@ class Engine:
         action = self._action
         if action is None:  # between actions: the next advance takes one
             return -math.inf
+        if isinstance(action, Sync):  # until the other paths arrive (they say when)
+            end = self.released_at
+            return math.inf if end is None else max(end, self._time)
         rate = self._rate(action)
         if rate <= 0:
             return math.inf
@@ -426,9 +448,11 @@ class Engine:
 
     # --- the lazy advance -----------------------------------------------------------------
 
-    def advance(self) -> None:
-        """Bring the state to the clock's time (every read and command calls this)."""
-        now = self.clock.now()
+    def advance(self, until: float | None = None) -> None:
+        """Bring the state to the clock's time (every read and command calls this), or to
+        machine time ``until`` (another path at a waiting M code brings this one to its
+        moment)."""
+        now = self.clock.now() if until is None else until
         if now <= self._time and (self._action is not None or self._state is not CycleState.START):
             return
         budget = 1_000_000  # blocks per advance: bounds a read whatever the program
@@ -441,6 +465,10 @@ class Engine:
                     continue
                 if self._action is None:
                     continue
+            if isinstance(self._action, Sync):
+                if self._through_wait(now):
+                    continue
+                break
             rate = self._rate(self._action)
             if rate <= 0:
                 break
@@ -457,6 +485,32 @@ class Engine:
                 self._time = now
         if self._state is not CycleState.START or self._rate_zero():
             self._time = max(self._time, now)
+
+    def _through_wait(self, now: float) -> bool:
+        """At a waiting M code: True once the engine went on past it (the wait ended by
+        ``now``), else False with the engine waiting at ``now`` (operating time runs), still
+        where it was (the other paths cannot tell yet: it asks again when next brought to a
+        moment) or stopped by PS0160."""
+        end = 0.0
+        if self.sync is not None:
+            found = self.sync.release(self, self.path_number, now)
+            mismatch = self.sync_mismatch
+            if mismatch is not None:
+                self._raise(MISMATCH, mismatch, AlarmKind.PS)
+                return False
+            if isinstance(found, Unknown):
+                return False
+            if found is None or found > now:
+                self._account(now - self._time)
+                self._time = now
+                return False
+            end = found
+        if end > self._time:
+            self._account(end - self._time)
+            self._time = end
+        self._progress = self._limit = 0.0
+        self._finish()
+        return True
 
     def _rate_zero(self) -> bool:
         return self._action is not None and self._rate(self._action) <= 0
@@ -484,6 +538,8 @@ class Engine:
     def _stop_motion(self) -> None:
         self._position = self._current()
         self._action = None
+        self.released_at = None
+        self.sync_mismatch = None
         self._queue.clear()
         self._progress = self._limit = 0.0
         self._overtravel = None
@@ -551,6 +607,11 @@ class Engine:
         duration = action.duration if isinstance(action, Motion) else 0.0
         if isinstance(action, Dwell | Wait):
             duration = action.seconds
+        elif isinstance(action, Sync):
+            duration = math.inf  # until the other paths arrive
+            self.sync_arrival = self._time
+            self.released_at = None
+            self.sync_mismatch = None
         self._limit = duration
         self._overtravel = None
         if isinstance(action, Motion):
@@ -562,6 +623,8 @@ class Engine:
         action = self._action
         if isinstance(action, Motion):
             self._position = action.at(self._limit)
+        elif isinstance(action, Sync):
+            self.released_at = None
         self._action = None
         if self._overtravel is not None:
             alarm = self._overtravel

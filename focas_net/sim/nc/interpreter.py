@@ -92,6 +92,12 @@ class NcSettings:
     #: (keeps an endless macro loop from hanging a read).
     zero_time_blocks: int = 10000
     busy_block_time: float = 0.001
+    #: The waiting M codes, lowest and highest (parameters 8110 and 8111), on a control of
+    #: ``path_count`` paths of which this is path ``path_number``; None: no waiting M codes
+    #: (a one-path control has none).
+    waiting_m: tuple[int, int] | None = None
+    path_number: int = 1
+    path_count: int = 1
 
     @classmethod
     def for_axes(cls, axes: Sequence[str], **values: Any) -> NcSettings:
@@ -137,6 +143,15 @@ class Wait:
 
 
 @dataclass(frozen=True, slots=True)
+class Sync:
+    """A waiting M code: the path stops until every path of ``paths`` (its own among them)
+    has reached a waiting M code; they go on together (see :mod:`.waits`)."""
+
+    code: int
+    paths: frozenset[int]
+
+
+@dataclass(frozen=True, slots=True)
 class Stop:
     """M0, or M1 with the optional stop switch on."""
 
@@ -151,7 +166,7 @@ class ProgramEnd:
     code: int | None
 
 
-Action = Motion | Dwell | Wait | Stop | ProgramEnd
+Action = Motion | Dwell | Wait | Sync | Stop | ProgramEnd
 
 
 @dataclass(slots=True)
@@ -434,8 +449,10 @@ class Interpreter:
             # the compensation moves the axis; the program position stays
             self._hold[self.length_axis] = work[self.length_axis]
         step = Step(nc_block=True)
+        waits = [m for m in m_codes if self._waiting(m)]
+        sync = self._sync(waits[0], other.get("P")) if waits else None
         for m in m_codes:
-            if m in (0, 1, 2, 30, 98, 99):
+            if m in (0, 1, 2, 30, 98, 99) or m in waits:
                 continue
             self.last_m = m
             if m in (3, 4, 5):
@@ -448,6 +465,9 @@ class Interpreter:
             else:
                 step.actions.append(Wait(s.m_function_time, f"M{m}"))
         self._motion(step, one_shot, axes, other)
+        if sync is not None:  # the path waits once its block's motion is done
+            self.last_m = sync.code
+            step.actions.append(sync)
         for m in m_codes:
             if m in (0, 1, 2, 30, 98, 99):
                 self.last_m = m
@@ -469,6 +489,36 @@ class Interpreter:
                         raise AlarmRaised(78, f"M99 P{sequence}: no N{sequence}")
                     frame.index = index
         return step
+
+    def _waiting(self, m: int) -> bool:
+        codes = self.settings.waiting_m
+        return codes is not None and codes[0] <= m <= codes[1]
+
+    def _sync(self, m: int, p: tuple[float, bool] | None) -> Sync:
+        """The wait of waiting M code ``m``: every path, or those P names by their digits
+        (P12: paths 1 and 2; the digit 0 names path 10). PS0161 for a P that names a path
+        the control has not, a path twice, not this path, or this path alone."""
+        s = self.settings
+        if p is None:
+            return Sync(m, frozenset(range(1, s.path_count + 1)))
+        value = p[0]
+        if value < 0 or value != math.floor(value):
+            raise AlarmRaised(161, f"M{m} P{value:g}")
+        digits = str(int(value))
+        paths = [10 if d == "0" else int(d) for d in digits]
+        named = frozenset(paths)
+        if (
+            len(named) != len(paths)
+            or any(n > s.path_count for n in paths)
+            or s.path_number not in named
+            or len(named) < 2
+        ):
+            raise AlarmRaised(
+                161,
+                f"M{m} P{digits}: P names two or more paths of 1..{s.path_count} by their "
+                f"digits, path {s.path_number} among them",
+            )
+        return Sync(m, named)
 
     @staticmethod
     def _integer(address: str, value: float) -> int:

@@ -2,7 +2,9 @@
 "use strict";
 
 const $ = (id) => document.getElementById(id);
-const state = { readOnly: false, machines: 0, ws: null, topic: null, machine: null, view: null };
+const state = { readOnly: false, machines: 0, ws: null, topic: null, machine: null, view: null,
+  pmcArea: "X", pmcStart: 0, pmcError: "", versions: null, paramKey: null, macroKey: null,
+  path: 1, pathsKey: null };
 
 // Searches answer out of order when typed fast: each kind of list draws only the answer to the
 // last search it sent.
@@ -35,7 +37,7 @@ async function act(action, args) {
   const res = await fetch(`/api/machines/${state.machine}/actions/${action}`, {
     method: "POST",
     headers: { "Content-Type": "application/json" },
-    body: JSON.stringify(args || {}),
+    body: JSON.stringify({ path: state.path, ...(args || {}) }),
   });
   const body = await res.json();
   if (body.ok) show(`${action}: done`, true);
@@ -63,7 +65,13 @@ function route() {
   if (m) {
     state.machine = Number(m[1]);
     state.view = null;
-    state.dirKey = state.progKey = state.pmcKey = null;
+    state.dirKey = state.progKey = state.pmcKey = state.versions = null;
+    state.paramKey = state.macroKey = state.pathsKey = null;
+    state.path = 1;
+    state.pmcArea = "X";
+    state.pmcStart = 0;
+    state.pmcError = "";
+    $("pmc-start").value = "0";
     $("message").textContent = "";
     loadParams();
     loadMacros();
@@ -78,8 +86,8 @@ function subscribe() {
   if (!state.ws || state.ws.readyState !== WebSocket.OPEN) return;
   const msg = state.machine === null
     ? { subscribe: "fleet" }
-    : { subscribe: "machine", index: state.machine, pmc_area: $("pmc-area").value || "X",
-        pmc_start: Number($("pmc-start").value) || 0 };
+    : { subscribe: "machine", index: state.machine, pmc_area: state.pmcArea,
+        pmc_start: state.pmcStart, path: state.path };
   state.ws.send(JSON.stringify(msg));
 }
 
@@ -120,10 +128,23 @@ function tileOf(t) {
     const node = el("a", { href: `#/machine/${t.index}`, "data-index": String(t.index) },
       parts.name, el("div", { class: "row" }, parts.port, parts.mode, parts.run),
       el("div", { class: "row" }, parts.program, parts.sequence, parts.parts), parts.alarm);
-    tile = { node, parts };
+    tile = { node, parts, paths: null };
     tiles.set(t.index, tile);
   }
+  if (t.paths.length > 1 && (!tile.paths || tile.paths.length !== t.paths.length)) {
+    // a machine of several paths: a line per path under the machine's name
+    tile.paths = t.paths.map((p) => el("div", { class: "row path", "data-path": String(p.path_no) }));
+    const box = el("div", { class: "paths" }, ...tile.paths);
+    tile.node.replaceChildren(tile.parts.name, el("div", { class: "row" }, tile.parts.port), box,
+      tile.parts.alarm);
+  }
   return tile;
+}
+
+function pathLine(p) {
+  return `${p.path_name} ${p.mode} ${p.run} O${String(p.program).padStart(4, "0")} ` +
+    `N${p.sequence} ${p.parts} part${p.parts === 1 ? "" : "s"}` +
+    (p.alarm ? ` ALM ${p.alarm}` : (p.emergency ? " EMG" : ""));
 }
 
 function setText(node, text) { if (node.textContent !== text) node.textContent = text; }
@@ -135,7 +156,8 @@ function renderFleet(data) {
   const shown = [];
   for (const t of data.machines) {
     if (filter && !t.name.toLowerCase().includes(filter)) continue;
-    const { node, parts } = tileOf(t);
+    const tile = tileOf(t);
+    const { node, parts } = tile;
     const cls = `tile ${t.run_state}${t.alarms ? " alarm" : ""}`;
     if (node.className !== cls) node.className = cls;
     setText(parts.name, t.name);
@@ -146,6 +168,13 @@ function renderFleet(data) {
     setText(parts.sequence, `N${t.sequence}`);
     setText(parts.parts, `${t.parts} part${t.parts === 1 ? "" : "s"}`);
     setText(parts.alarm, t.alarm ? `ALM ${t.alarm}` : (t.emergency ? "EMG" : "\u00a0"));
+    if (tile.paths) {
+      t.paths.forEach((p, i) => {
+        setText(tile.paths[i], pathLine(p));
+        const cls = `row path ${p.run_state}${p.alarms ? " alarm" : ""}`;
+        if (tile.paths[i].className !== cls) tile.paths[i].className = cls;
+      });
+    }
     shown.push(node);
   }
   const box = $("fleet");
@@ -170,10 +199,57 @@ function clock(seconds) {
   return `${h}:${String(m).padStart(2, "0")}:${String(s % 60).padStart(2, "0")}`;
 }
 
+// A machine of several paths: a section per path (its state and its cycle buttons), and the
+// path whose details the other sections show.
+function renderPaths(v) {
+  const box = $("paths-box");
+  box.hidden = v.path_count < 2;
+  if (box.hidden) return;
+  const key = `${state.machine}:${v.path_count}`;
+  if (state.pathsKey !== key) {
+    state.pathsKey = key;
+    $("paths").replaceChildren(...v.paths.map((p) => {
+      const n = p.path_no;
+      const button = (what, label, cls) => el("button", { class: `small ${cls}`,
+        id: `path-${n}-${what}`, "data-write": "", disabled: state.readOnly,
+        onclick: () => act("cycle", { action: what, path: n }) }, label);
+      return el("div", { class: "path-card", id: `path-${n}` },
+        el("h3", {}, el("a", { href: "#", id: `path-${n}-show`,
+          onclick: (ev) => { ev.preventDefault(); choosePath(n); } }, p.path_name)),
+        el("div", { class: "path-state", id: `path-${n}-state` }),
+        el("div", { class: "path-alarm", id: `path-${n}-alarm` }),
+        el("div", { class: "buttons" }, button("start", "Cycle start", "go"),
+          button("hold", "Feed hold", "hold"), button("reset", "Reset", "")));
+    }));
+  }
+  for (const p of v.paths) {
+    const n = p.path_no;
+    const card = $(`path-${n}`);
+    const cls = `path-card ${p.run_state}${n === state.path ? " shown" : ""}`;
+    if (card.className !== cls) card.className = cls;
+    setText($(`path-${n}-state`), `${p.mode} ${p.run}  O${String(p.program).padStart(4, "0")} ` +
+      `N${p.sequence}  ${p.parts} part${p.parts === 1 ? "" : "s"}`);
+    setText($(`path-${n}-alarm`), p.alarm ? `ALM ${p.alarm}` : (p.emergency ? "EMG" : "no alarm"));
+  }
+}
+
+function choosePath(n) {
+  if (state.path === n) return;
+  state.path = n;
+  state.view = null;
+  state.dirKey = state.progKey = state.versions = state.paramKey = state.macroKey = null;
+  loadParams();
+  loadMacros();
+  subscribe();
+}
+
 function renderMachine(v) {
+  if (v.path_no !== state.path) return;  // a frame of the path shown before
   const first = state.view === null;
   state.view = v;
-  $("crumb").textContent = `${v.name}  :${v.port}  (${v.control_class})`;
+  const shown = v.path_count > 1 ? `  ${v.path_name}` : "";
+  $("crumb").textContent = `${v.name}  :${v.port}  (${v.control_class})${shown}`;
+  renderPaths(v);
   $("m-mode").textContent = v.mode;
   const run = $("run-state");
   run.textContent = v.run;
@@ -187,10 +263,15 @@ function renderMachine(v) {
       el("option", { value: String(n) }, label)));
     $("pmc-area").replaceChildren(...v.pmc_areas.map((a) =>
       el("option", { value: a.area }, `${a.area} (${a.size})`)));
-    $("pmc-area").value = "X";
+    $("pmc-area").value = state.pmcArea;
     $("fault-kind").replaceChildren(...v.fault_kinds.map((k) => el("option", { value: k }, k)));
     applyReadOnly();
   }
+  // a write from outside (a client, the command line) shows: the lists are read again
+  const seen = state.versions;
+  state.versions = v.versions;
+  if (seen && seen.data !== v.versions.data) loadParams();
+  if (seen && seen.macro !== v.versions.macro) loadMacros();
   setIfIdle($("mode"), String(v.panel.mode));
   setIfIdle($("pwe"), v.panel.pwe);
   setIfIdle($("emergency"), v.panel.emergency);
@@ -297,8 +378,8 @@ function renderPmc(p) {
     return;
   }
   const forced = p.area === "X" || p.area === "F";
-  setText($("pmc-note"), p.write_protected && !forced ? "write-protected" :
-    (forced ? "bits set as the simulator" : ""));
+  setText($("pmc-note"), state.pmcError || (p.write_protected && !forced ? "write-protected" :
+    (forced ? "bits set as the simulator" : "")));
   const bits = [7, 6, 5, 4, 3, 2, 1, 0];
   const key = `${p.area}:${p.start}:${p.bytes.length}`;
   if (state.pmcKey !== key) {
@@ -332,13 +413,62 @@ function renderPmc(p) {
 }
 
 // -- parameters and macros -----------------------------------------------------------------
+// A value box shows the machine's value unless the user has typed another there (written or
+// not: a refused value stays, with its reason beside it, until it is written or changed).
+function valueBox(id, value, attrs) {
+  const input = el("input", { value, id, "data-write": "", ...attrs });
+  input.dataset.shown = value;
+  input.addEventListener("input", () => why(id, ""));
+  return input;
+}
+
+function refresh(id, value) {
+  const input = $(id);
+  if (!input) return;
+  if (input.value === input.dataset.shown && document.activeElement !== input) input.value = value;
+  input.dataset.shown = value;
+}
+
+function why(id, text) {
+  const note = $(`${id}-why`);
+  if (note) setText(note, text);
+}
+
+async function writeBox(id, action, args, shown) {
+  const body = await act(action, args);
+  if (body.ok) {
+    const input = $(id);
+    if (input) { input.dataset.shown = shown(body); input.value = input.dataset.shown; }
+    why(id, "");
+  } else {
+    why(id, `${body.ew_name ? body.ew_name + " " : ""}${body.error || ""}`);
+  }
+  return body;
+}
+
+function searchNote(id, text, error) {
+  const note = $(id);
+  setText(note, text);
+  note.className = error ? "note error" : "note";
+}
+
 async function loadParams() {
   if (state.machine === null) return;
   const q = encodeURIComponent($("param-search").value);
-  const answer = await newest("params", `/api/machines/${state.machine}/params?q=${q}`);
+  const answer = await newest("params",
+    `/api/machines/${state.machine}/params?q=${q}&path=${state.path}`);
   if (answer === null) return;  // a later search is under way
   const { res, body } = answer;
-  if (!res.ok) { show(body.error, false); return; }
+  if (!res.ok) { searchNote("param-note", body.error, true); return; }
+  searchNote("param-note", body.params.length ? "" : "no parameter found", false);
+  const key = JSON.stringify(body.params.map((p) => [p.number, p.values.length]));
+  if (state.paramKey === key) {  // the same rows: their values, in place
+    for (const p of body.params) {
+      p.values.forEach((val, i) => refresh(`param-${p.number}-${p.axis ? i + 1 : 0}`, val));
+    }
+    return;
+  }
+  state.paramKey = key;
   $("params").replaceChildren(
     el("tr", {}, el("th", {}, "no."), el("th", {}, "name"), el("th", {}, "type"),
       el("th", {}, "value(s)")),
@@ -346,48 +476,72 @@ async function loadParams() {
       el("td", {}, p.name), el("td", {}, p.kind),
       el("td", {}, ...p.values.map((val, i) => {
         const axis = p.axis ? i + 1 : 0;
-        const input = el("input", { value: val, id: `param-${p.number}-${axis}`,
-          "data-write": "", disabled: state.readOnly,
-          title: p.bits ? "0..255, 0xB0 or 0b10110000 (bits #7..#0)" : `${p.low}..${p.high}` });
-        input.addEventListener("keydown", (ev) => {
-          if (ev.key === "Enter") writeParam(p.number, axis, input.value);
-        });
+        const id = `param-${p.number}-${axis}`;
+        const input = valueBox(id, val, { disabled: state.readOnly, class: p.bits ? "bits" : "",
+          title: p.bits ? "8 bits #7..#0 (10110000), or 0xB0, 0b10110000"
+            : `${p.low}..${p.high}` });
+        const write = () => writeBox(id, "write_param", { number: p.number, axis,
+          value: input.value }, (r) => r.text);
+        input.addEventListener("keydown", (ev) => { if (ev.key === "Enter") write(); });
         const save = el("button", { class: "small", id: `param-save-${p.number}-${axis}`,
-          "data-write": "", disabled: state.readOnly,
-          onclick: () => writeParam(p.number, axis, input.value) }, "write");
+          "data-write": "", disabled: state.readOnly, onclick: write }, "write");
         const name = p.axis ? [el("b", { class: "axis" }, p.axes[i])] : [];
-        const bits = p.bits ? [el("code", { class: "bits", id: `param-bits-${p.number}-${axis}`,
-          title: "bits #7..#0" }, p.bits[i])] : [];
-        return el("div", { class: "value" }, ...name, input, ...bits, save);
+        return el("div", { class: "value" }, ...name, input, save,
+          el("span", { class: "why", id: `${id}-why` }));
       })))));
-}
-
-async function writeParam(number, axis, value) {
-  const body = await act("write_param", { number, axis, value });
-  if (body.ok) loadParams();
 }
 
 async function loadMacros() {
   if (state.machine === null) return;
   const q = encodeURIComponent($("macro-search").value);
-  const answer = await newest("macros", `/api/machines/${state.machine}/macros?q=${q}`);
+  const answer = await newest("macros",
+    `/api/machines/${state.machine}/macros?q=${q}&path=${state.path}`);
   if (answer === null) return;  // a later search is under way
   const { res, body } = answer;
-  if (!res.ok) { show(body.error, false); return; }
+  if (!res.ok) { searchNote("macro-note", body.error, true); return; }
+  searchNote("macro-note", body.note || "", false);
+  const key = JSON.stringify(body.macros.map((m) => [m.number, m.writable]));
+  if (state.macroKey === key) {
+    for (const m of body.macros) refresh(`macro-${m.number}`, m.value);
+    return;
+  }
+  state.macroKey = key;
   $("macros").replaceChildren(
     el("tr", {}, el("th", {}, "#"), el("th", {}, "value")),
     ...body.macros.map((m) => {
-      const input = el("input", { value: m.value, placeholder: "vacant", id: `macro-${m.number}`,
-        "data-write": "", disabled: state.readOnly || !m.writable });
-      const write = async () => {
-        const r = await act("write_macro", { number: m.number, value: input.value });
-        if (r.ok) input.value = r.value;
-      };
+      const id = `macro-${m.number}`;
+      const input = valueBox(id, m.value, { placeholder: "vacant",
+        disabled: state.readOnly || !m.writable });
+      const write = () => writeBox(id, "write_macro", { number: m.number, value: input.value },
+        (r) => r.value);
       input.addEventListener("keydown", (ev) => { if (ev.key === "Enter") write(); });
       const save = el("button", { class: "small", id: `macro-save-${m.number}`, "data-write": "",
         disabled: state.readOnly || !m.writable, onclick: write }, "write");
-      return el("tr", {}, el("td", {}, `#${m.number}`), el("td", {}, input, save));
+      return el("tr", {}, el("td", {}, `#${m.number}`),
+        el("td", {}, input, save, el("span", { class: "why", id: `${id}-why` })));
     }));
+}
+
+// The PMC window: "100" in the chosen area, or "R100" naming the area, as the CLI takes them.
+async function pmcFrom() {
+  const area = encodeURIComponent($("pmc-area").value || "X");
+  const start = encodeURIComponent($("pmc-start").value);
+  const res = await fetch(`/api/machines/${state.machine}/pmc?area=${area}&start=${start}`);
+  const body = await res.json();
+  if (!res.ok) {
+    const note = $("pmc-note");
+    note.textContent = `${body.ew_name ? body.ew_name + " " : ""}${body.error}`;
+    note.className = "error";
+    state.pmcError = note.textContent;
+    return;
+  }
+  state.pmcError = "";
+  $("pmc-note").className = "";
+  state.pmcArea = body.area;
+  state.pmcStart = body.start;
+  $("pmc-area").value = body.area;
+  $("pmc-start").value = String(body.start);
+  subscribe();
 }
 
 // -- controls ------------------------------------------------------------------------------
@@ -415,10 +569,13 @@ function wire() {
     kind: $("fault-kind").value, count: $("fault-count").value, arg: $("fault-arg").value });
   $("fault-clear").onclick = () => act("clear_faults", {});
   $("clear-path").onclick = () => act("clear_path", {});
-  $("pmc-area").onchange = subscribe;
-  $("pmc-start").onchange = subscribe;
+  $("pmc-area").onchange = pmcFrom;
+  $("pmc-start").onchange = pmcFrom;
+  $("pmc-start").addEventListener("keydown", (ev) => { if (ev.key === "Enter") pmcFrom(); });
   $("param-search").oninput = loadParams;
-  $("param-unlock").onclick = () => act("unlock", { password: $("param-password").value });
+  const unlock = () => act("unlock", { password: $("param-password").value });
+  $("param-unlock").onclick = unlock;
+  $("param-password").addEventListener("keydown", (ev) => { if (ev.key === "Enter") unlock(); });
   $("macro-search").oninput = loadMacros;
   $("fleet-filter").oninput = () =>
     newest("fleet", "/api/fleet").then((answer) => answer && renderFleet(answer.body));
