@@ -226,9 +226,6 @@ async def _session(
         )
         async with packed:
             return await (go.go(packed) if isinstance(go, PackedOnly) else go(packed))
-<<<<<<< HEAD
-    native = NativeClient(args.host, args.port, timeout=args.timeout, reconnect=reconnect)
-=======
     native = NativeClient(
         args.host,
         args.port,
@@ -236,9 +233,6 @@ async def _session(
         reconnect=reconnect,
         path=getattr(args, "path", 1),
     )
-    if follow:
-        native.add_state_callback(_report_state(native))
->>>>>>> main
     async with native:
         return await go(native)
 

@@ -505,17 +505,11 @@ async def _poll_or_problem(
     last: tuple[WatchState, ...],
     *,
     address: str,
-<<<<<<< HEAD
-) -> WatchState | str:
-    """The state of one poll after the ``last`` one, or the line saying why the connection
-    failed; before any state was read (``last`` None) the failure is raised."""
-    mt_type = None if last is None else last.mt_type
-=======
 ) -> tuple[WatchState, ...] | str:
     """The state of each path after the ``last`` poll (none before the first), or the line
-    saying why the connection failed."""
+    saying why the connection failed; before any state was read (``last`` empty) the failure
+    is raised."""
     mt_type = last[0].mt_type if last else None
->>>>>>> main
     try:
         paths = len(last) if last else await path_count(cnc)
         directory = [
@@ -523,7 +517,7 @@ async def _poll_or_problem(
         ]
         return await poll_paths(cnc, names, paths, directory=directory, mt_type=mt_type)
     except _CONNECTION_ERRORS as exc:
-        if last is None:
+        if not last:
             # nothing read yet: the peer may never answer (TLS on one side only, a peer that
             # is no FOCAS server); the command fails as a one-shot command does, diagnosed
             raise
