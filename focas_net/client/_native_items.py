@@ -35,7 +35,7 @@ from ..native import (
 )
 from ..protocol import ParamDataType, ParamValue
 from ._native_link import Handle, NativeLink
-from ._values import REAL_WIDTH, byte_to_wire, check_item, param_int, real_to_wire
+from ._values import REAL_WIDTH, byte_to_wire, check_item, int_to_wire, param_int, real_to_wire
 
 __all__: list[str] = []
 
@@ -282,23 +282,21 @@ class NativeItems(NativeLink):
             record = self._param_record(handle, number, axis, ptype, *as_real)
         else:
             if isinstance(as_int, ValueError):
-                if not isinstance(as_real, ValueError):
-                    # a value with decimals travels as a REALPRM, 8 bytes: the library answers
-                    # EW_LENGTH for one of another parameter (in the 16i set, whose
-                    # information gives a real parameter as a bit one, every real parameter)
+                if not isinstance(as_real, ValueError) and (
+                    handle.command_set is CommandSet.FS16I and ptype == ParamType.BIT
+                ):
+                    # a value with decimals travels as a REALPRM, 8 bytes: the information
+                    # of the 16i set gives a real parameter as a bit one, and the library
+                    # answers EW_LENGTH, nothing written (the set cannot write a real one)
                     raise CncError.from_ew(
                         EW.LENGTH,
                         f"cnc_wrparam: {number} is {size} bytes wide, not {REAL_WIDTH} (a "
                         "value with decimals)",
                     )
+                # a parameter the information names: refused as the packed client does
                 raise as_int
-            if ptype == ParamType.BIT:
-                raw = byte_to_wire(number, as_int, ParamDataType.BIT)
-            else:
-                bits = 8 * size
-                if not -(1 << (bits - 1)) <= as_int < 1 << bits:
-                    raise ValueError(f"value {as_int} does not fit a {size}-byte parameter")
-                raw = signed(as_int, size)
+            kind = ParamDataType.BIT if ptype == ParamType.BIT else None
+            raw = signed(int_to_wire(number, as_int, size, kind), size)
             record = self._param_record(handle, number, axis, ptype, raw)
         await self._write_record(handle, record, deadline, path)
 

@@ -149,7 +149,10 @@ class Handle:
         """One data frame on B, read back before the client takes B over (the connect)."""
         self.b.write(part.frame)
         try:
-            blocks = answer_blocks(await _read_frame(self.b, self.peer), part.count)
+            # a peer that closes before answering a request reads as on the packed transport
+            # ("before any answer"): the open answer alone is no answer to a request
+            frame = await _read_frame(self.b, self.peer, answered=False)
+            blocks = answer_blocks(frame, part.count)
         except AnswerRefused as exc:
             raise _Lost(str(exc)) from None
         if isinstance(blocks, int):
@@ -238,7 +241,9 @@ async def open_handle(host: str, port: int, deadline: float | None) -> Handle:
     except TimeoutError:
         _abort(channels)
         if channels:  # A was opened: the peer speaks
-            raise FocasTimeoutError(f"{where}: no answer to the open or connect requests") from None
+            raise FocasTimeoutError(
+                f"no answer to the connect requests (cnc_allclibhndl3) from {where}"
+            ) from None
         raise timeout_error("no answer to the open request", where) from None
     except _Lost as exc:
         _abort(channels)

@@ -275,6 +275,24 @@ def byte_to_wire(number: int, value: int, kind: ParamDataType | None) -> int:
     return value
 
 
+_INT_PARAM_NAMES: Final = {2: "word", 4: "two-word"}
+
+
+def int_to_wire(number: int, value: int, width: int, kind: ParamDataType | None) -> int:
+    """The signed value of an integer parameter ``width`` bytes wide (1, 2 or 4; ``kind``
+    tells a bit parameter's byte from a byte parameter's): ValueError naming the parameter,
+    its kind and its range when ``value`` does not fit, in the same words on both clients."""
+    if width == 1:
+        return byte_to_wire(number, value, kind)
+    high = (1 << (8 * width - 1)) - 1
+    if not -high - 1 <= value <= high:
+        name = _INT_PARAM_NAMES.get(width, f"{width}-byte")
+        raise ValueError(
+            f"parameter {number} is a {name} parameter: {value} is outside {-high - 1}..{high}"
+        )
+    return value
+
+
 def real_to_wire(number: int, value: object) -> tuple[int, int]:
     """``(prm_val, dec_val)`` of a real parameter's value."""
     if isinstance(value, bool) or not isinstance(value, int | Decimal | str):

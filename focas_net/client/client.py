@@ -85,12 +85,12 @@ from ._values import (
     Paths,
     Positions,
     alarm_type_number,
-    byte_to_wire,
     check_axis,
     check_int,
     check_item,
     check_macro,
     history_depth,
+    int_to_wire,
     macro_from_wire,
     macro_to_wire,
     param_int,
@@ -374,10 +374,8 @@ class FocasClient(Link):
             pv = ParamValue(number, axis, mantissa, width, decimals)
         else:
             raw = param_int(number, value)
-            if width == 1:
-                kind = await self._param_type(number, deadline)
-                raw = byte_to_wire(number, raw, kind)
-            pv = ParamValue(number, axis, raw, width)
+            kind = await self._param_type(number, deadline) if width == 1 else None
+            pv = ParamValue(number, axis, int_to_wire(number, raw, width, kind), width)
         payload = _WRPARAM.request.encode(pv)
         try:
             await self._request_at(_WRPARAM, payload, deadline, path=path)
