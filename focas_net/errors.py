@@ -45,6 +45,7 @@ __all__ = [
     "PayloadError",
     "ProtocolError",
     "ew_info",
+    "ew_label",
     "ew_name",
 ]
 
@@ -177,6 +178,13 @@ def ew_name(code: int) -> str:
     return ew_info(code).name
 
 
+def ew_label(code: int) -> str:
+    """``code``'s name and number, each once: ``EW_PASSWD (17)``; ``EW_UNKNOWN(12345)`` for a
+    code FOCAS does not define (its name already carries the number)."""
+    name = ew_info(code).name
+    return name if code not in EW_TABLE else f"{name} ({code})"
+
+
 class FocasError(Exception):
     """Base class of every exception raised by focas_net."""
 
@@ -196,7 +204,7 @@ class CncError(FocasError):
         self.meaning: str = info.meaning
         self.opcua_status: OpcUaStatus = info.opcua
         self.detail: str = detail
-        text = f"{info.name} ({ew}): {info.meaning}"
+        text = f"{ew_label(ew)}: {info.meaning}"
         super().__init__(f"{text}: {detail}" if detail else text)
 
     def __reduce__(self) -> tuple[type[CncError], tuple[int, str]]:

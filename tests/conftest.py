@@ -15,8 +15,14 @@ from pathlib import Path
 from typing import Any
 
 import pytest
+from hypothesis import settings
 from peers import ScriptedPeer
 from support import Served, Wire, serving
+
+# No wall-clock deadline on a hypothesis example: speed is the benchmarks' to measure, and a
+# busy machine made single examples of pure codec tests run past hypothesis's 200 ms.
+settings.register_profile("focas_net", deadline=None)
+settings.load_profile("focas_net")
 
 
 @pytest.fixture(autouse=True)

@@ -122,7 +122,7 @@ async def test_param_get_errors(cli: Cli) -> None:
     err = await cli.fails(EXIT_CNC, "param", "get", "9999")
     assert err.startswith("focas-net: EW_NUMBER (3): data number / address range error")
     err = await cli.fails(EXIT_USAGE, "param", "get", "1815.8", "--axis", "1")
-    assert "bit 8 outside 0..7" in err
+    assert err == "focas-net: bit 8 is outside 0..7: parameter 1815 is 1 byte wide"
 
 
 async def test_param_set_needs_mdi_and_pwe(cli: Cli) -> None:
@@ -149,7 +149,7 @@ async def test_param_set_needs_mdi_and_pwe(cli: Cli) -> None:
     err = await cli.fails(EXIT_CNC, "param", "set", "3216", "10000")  # outside 0..9999
     assert err.startswith("focas-net: EW_DATA (5)")
     err = await cli.fails(EXIT_USAGE, "param", "set", "3216", "99999")  # not an i16 at all
-    assert "value 99999 does not fit a 2-byte parameter (-32768..32767)" in err
+    assert "parameter 3216 is a word parameter: 99999 is outside -32768..32767" in err
 
 
 async def test_param_set_with_password(locked_cli: Cli) -> None:
@@ -554,7 +554,7 @@ def test_usage_errors_exit_2(capsys: pytest.CaptureFixture[str]) -> None:
     assert main(["sim", "panel", "--mode", "TURBO", "--port", "1"]) == EXIT_USAGE
     err = capsys.readouterr().err.splitlines()
     assert err[-4:] == [
-        "focas-net: expected NUMBER or NUMBER.BIT, got 'abc'",
+        "focas-net: expected NUMBER or NUMBER.BIT (e.g. 1815 or 1815.0), got 'abc'",
         "focas-net: expected 0/1, on/off or true/false, got 'maybe'",
         "focas-net: --width does not apply to a bit write (NUMBER.BIT)",
         "focas-net: unknown mode 'TURBO' (one of MDI, MEM, EDIT, HND, JOG, TJOG, THND, INC, "
@@ -726,7 +726,7 @@ def test_error_line() -> None:
         "EW_PASSWD (17): protection / password error (cnc_wrparam)"
     )
     assert fmt.error_line(CncError(-1)) == "EW_BUSY (-1): busy, retry"
-    assert fmt.error_line(CncError(99, "x")) == "EW_UNKNOWN(99) (99): unknown return code (x)"
+    assert fmt.error_line(CncError(99, "x")) == "EW_UNKNOWN(99): unknown return code (x)"
     assert fmt.error_line(FocasTimeoutError("no\nanswer")) == "no answer"
     assert fmt.error_line(ValueError()) == "ValueError"
 

@@ -215,6 +215,7 @@ def test_unknown_codes_get_a_synthetic_name(code: int) -> None:
     assert info.opcua == OPCUA_BAD_UNEXPECTED_ERROR
     exc = CncError.from_ew(code)
     assert exc.name == f"EW_UNKNOWN({code})"
+    assert str(exc) == f"EW_UNKNOWN({code}): unknown return code"  # the number once
     assert exc.opcua_status == OPCUA_BAD_UNEXPECTED_ERROR
 
 

@@ -85,14 +85,23 @@ async def test_real_parameters_are_written_in_the_30i_set_only(
 ) -> None:
     native, packed = both
     await packed.sim.set_panel("MDI", pwe=True)
-    # a value with decimals is a REALPRM: EW_LENGTH for a parameter that is not real, as
-    # FANUC's library answers, and nothing written
+    # a value with decimals to a parameter its information does not give as real (or bit,
+    # in the 16i set): refused in the packed client's words, nothing written
     parts = await packed.read_param(6711)
-    for value in (Decimal("1.5"), "1.5"):
-        with pytest.raises(CncError) as refused:
-            await native.write_param(6711, value)
-        assert refused.value.ew == EW.LENGTH
+    with pytest.raises(ValueError, match=r"parameter 6711 is not a real parameter: 1\.5 is no"):
+        await native.write_param(6711, Decimal("1.5"))
     assert await packed.read_param(6711) == parts
+    # a value that does not fit a parameter: the same words from both
+    cases: tuple[tuple[int, int | Decimal | str], ...] = (
+        (6711, Decimal("1.5")), (6711, "1.5"), (6711, 2**31), (3216, 99999), (3216, -40000),
+    )  # fmt: skip
+    for number, value in cases:
+        said = set()
+        for client in (native, packed):
+            with pytest.raises(ValueError) as unfit:
+                await client.write_param(number, value)
+            said.add(str(unfit.value))
+        assert len(said) == 1, said
     if native.command_set is CommandSet.FS16I:
         # the 16i set has no way to write a real parameter: EW_LENGTH, as FANUC's library,
         # whether the value has decimals or not

@@ -282,6 +282,47 @@ def test_every_job_ends_by_its_deadline(steps: list[tuple[str, int, float]]) -> 
 # -- the connection ----------------------------------------------------------------------
 
 
+@settings(max_examples=200)
+@given(
+    steps=st.lists(
+        st.sampled_from(
+            ["call", "answer", "garbage", "refused", "time", "lost", "connect", "close"]
+        ),
+        max_size=40,
+    )
+)
+def test_idle_says_whether_a_frame_could_go(steps: list[str]) -> None:
+    # idle is kept as the connection, the frame in flight and the failure change: it is
+    # always what they say together, whatever came in between
+    s = session(max_blocks=2)
+    connected = True
+    now = 0.0
+    for step in steps:
+        if step == "call":
+            submit(s, part(1), now + 1.0)
+        elif step == "answer" and s.in_flight is not None:
+            s.receive(answer([j.part.count for j in s.in_flight]))
+        elif step == "garbage":
+            s.receive(b"\x00" * 12)
+        elif step == "refused" and s.in_flight is not None:
+            s.receive(encode_native_frame(FrameType.DATA_ERROR, b"\x00\x00\x00\x05" * 2, 2))
+        elif step == "time":
+            now += 0.6
+            s.expire(now)
+        elif step == "lost":
+            s.lost(keep_queued=True)
+            connected = False
+        elif step == "connect":
+            s.connected(KEY, VERSION, 8)
+            connected = True
+        elif step == "close":
+            s.close()
+            connected = False
+        assert s.idle == (connected and s.in_flight is None and s.failure is None)
+        if s.next_frame() is not None:
+            assert not s.idle  # its frame in flight
+
+
 def test_queued_jobs_wait_for_the_next_connection() -> None:
     s = session(max_blocks=1)
     first = submit(s, part(1))

@@ -13,6 +13,10 @@ connections, each bounded by :data:`PROBE_TIMEOUT` (and the command's ``--timeou
 * after a timeout with nothing received: does it answer an HTTP request? (an HTTP server
   waits for the end of a request line that a FOCAS frame never sends, and says nothing).
 
+No probe takes a fault armed on the server (``focas-net sim fault``): the packed one asks a
+control command, the FOCAS/2 one sends the open alone, answers a fault never touches, and the
+others send no request at all.
+
 :func:`diagnosis` turns the findings into the error to report (an HTTP server is a peer that
 does not speak the FOCAS protocol, exit 4) and advice for the user.
 """
@@ -26,9 +30,17 @@ from collections.abc import Awaitable
 from dataclasses import dataclass
 from typing import Final
 
-from focas_net.client import FocasClient, NativeClient
+from focas_net.client import FocasClient
 from focas_net.client._failures import BEFORE_ANY_ANSWER, NOTHING_RECEIVED, not_focas_error
-from focas_net.errors import FocasConnectionError, FocasTimeoutError
+from focas_net.client._native_link import _open_channel
+from focas_net.errors import (
+    CncError,
+    FocasConnectionError,
+    FocasTimeoutError,
+    PayloadError,
+    ProtocolError,
+)
+from focas_net.protocol import FaultScope
 
 from . import _format as fmt
 
@@ -109,14 +121,25 @@ async def _speaks_tls(host: str, port: int) -> bool:
 
 
 async def _answers_packed(host: str, port: int, bound: float) -> bool:
+    """A packed request is answered: the listing of this connection's own faults, a
+    control command, whose answer a fault armed on the server never replaces nor counts (a
+    probe must not take the fault meant for the user's next command); an EW code answers
+    too (a real CNC, ``serve --no-control``)."""
     async with FocasClient(host, port, timeout=bound) as client:
-        await client.read_status()
+        try:
+            await client.sim.list_faults(FaultScope.CONNECTION)
+        except CncError:
+            pass
     return True
 
 
 async def _answers_native(host: str, port: int, bound: float) -> bool:
-    async with NativeClient(host, port, timeout=bound):
-        return True
+    """The open of FOCAS/2 is answered (the open alone: its answer is never faulted, while
+    the requests a client sends after it are)."""
+    loop = asyncio.get_running_loop()
+    channel, _ = await _open_channel(host, port, 1, loop.time() + bound)
+    channel.close()
+    return True
 
 
 async def _answers_http(host: str, port: int) -> bytes:
@@ -164,12 +187,21 @@ def diagnosis(
     speak the FOCAS protocol)."""
     text = str(exc)
     bound = min(timeout, PROBE_TIMEOUT)
-    if isinstance(exc, FocasTimeoutError) and NOTHING_RECEIVED in text:
+    silent = isinstance(exc, FocasTimeoutError) and NOTHING_RECEIVED in text
+    # a peer that broke the framing: an HTTP server answers a request line it could read
+    # with an error page, which reads the same as one that answered nothing
+    garbled = (
+        isinstance(exc, ProtocolError)
+        and not isinstance(exc, PayloadError)
+        and "does not speak the FOCAS protocol" in text
+        and "TLS record" not in text
+    )
+    if silent or garbled:
         head = asyncio.run(_http_answer(host, port, bound))
         if not head.startswith(b"HTTP/"):
             return exc, None
         where = fmt.address_text(host, port)
-        why = f"it answers nothing to a FOCAS request, and {head[:12]!r} to an HTTP request"
+        why = f"it answers {head[:12]!r} to an HTTP request and no FOCAS frame"
         return not_focas_error(where, f"{why}: an HTTP server"), None
     closed = isinstance(exc, FocasConnectionError) and (
         BEFORE_ANY_ANSWER in text or (tls and "TLS handshake failed" in text)

@@ -16,7 +16,7 @@ from datetime import UTC, datetime
 from decimal import Decimal
 from typing import Any, Final
 
-from focas_net.errors import EW, ChunkedWriteError, CncError, ew_info
+from focas_net.errors import EW, ChunkedWriteError, CncError, ew_info, ew_label
 from focas_net.protocol import (
     ALARM_TYPE_NAMES,
     STATUS_FIELDS,
@@ -43,6 +43,7 @@ __all__ = [
     "alarm_code",
     "alarm_dict",
     "bytes_summary",
+    "decimal_text",
     "error_line",
     "ew_text",
     "field_name",
@@ -447,7 +448,7 @@ def param_text(pv: ParamValue, kind: ParamDataType | None = None) -> str:
     its bits #7..#0 (``176 (10110000), bit parameter``), a real parameter with its decimals
     (``12.345 (real, 3 decimals)``), the others signed with their hex (and a byte's bits)."""
     if pv.width == REAL_WIDTH:
-        return f"{pv.real} (real, {pv.decimals} decimal{'s' * (pv.decimals != 1)})"
+        return f"{decimal_text(pv.real)} (real, {pv.decimals} decimal{'s' * (pv.decimals != 1)})"
     if kind is ParamDataType.BIT and pv.width == 1:
         return f"{pv.bits} ({pv.bits:08b}), bit parameter"
     width = pv.width
@@ -466,7 +467,7 @@ def param_dict(
     if kind is not None:
         data["type"] = kind.label
     if pv.width == REAL_WIDTH:
-        data["value"] = str(pv.real)
+        data["value"] = decimal_text(pv.real)
         data["decimals"] = pv.decimals
     elif kind is ParamDataType.BIT:
         data["value"] = pv.bits
@@ -512,8 +513,12 @@ def parse_number_bit(text: str) -> tuple[int, int | None]:
     """``"1815"`` -> ``(1815, None)``; ``"1815.0"`` -> ``(1815, 0)``."""
     s = text.strip()
     number, dot, bit = s.partition(".")
-    if not number.isdigit() or (dot and not bit.isdigit()):
-        raise ValueError(f"expected NUMBER or NUMBER.BIT, got {text!r}")
+    if not number.isdigit():
+        raise ValueError(f"expected NUMBER or NUMBER.BIT (e.g. 1815 or 1815.0), got {text!r}")
+    if dot and not bit.isdigit():
+        raise ValueError(
+            f"{text!r}: the bit after the dot must be a bit number (0..7 of a byte), got {bit!r}"
+        )
     return int(number), (int(bit) if dot else None)
 
 
@@ -547,9 +552,18 @@ def parse_hex(text: str) -> bytes:
 
 
 def parse_byte_list(items: Iterable[str]) -> bytes:
-    """Byte values given as numbers (``1 2 0xff``, also comma separated) -> bytes."""
+    """Byte values given as numbers (``1 2 0xff``, also comma separated) -> bytes; an empty
+    item of a comma list (``1,,2``, ``1,``) is refused, naming it."""
     values: list[int] = []
     for item in items:
+        pieces = item.split(",")
+        if len(pieces) > 1:
+            for i, piece in enumerate(pieces, 1):
+                if not piece.strip():
+                    raise ValueError(
+                        f"empty item {i} in the byte list {item!r}: give a byte value "
+                        "between each two commas"
+                    )
         for part in item.replace(",", " ").split():
             v = parse_int(part)
             if not 0 <= v <= 255:
@@ -593,8 +607,9 @@ def parse_ew(text: str) -> int:
 
 
 def ew_text(ew: int) -> str:
-    """``EW_BUSY (-1)``: an EW code's name and number."""
-    return f"{ew_info(ew).name} ({ew})"
+    """``EW_BUSY (-1)``: an EW code's name and number (``EW_UNKNOWN(12345)``: the number
+    once)."""
+    return ew_label(ew)
 
 
 def address_text(host: str, port: int) -> str:
@@ -609,7 +624,7 @@ def error_line(exc: BaseException) -> str:
     """
     if isinstance(exc, CncError):
         info = ew_info(exc.ew)
-        text = f"{info.name} ({exc.ew}): {info.meaning}"
+        text = f"{ew_label(exc.ew)}: {info.meaning}"
         if exc.detail:
             text += f" ({exc.detail})"
     elif isinstance(exc, ChunkedWriteError):
@@ -619,6 +634,13 @@ def error_line(exc: BaseException) -> str:
     return " ".join(text.split())
 
 
+def decimal_text(value: Decimal) -> str:
+    """A number in plain decimals, as the CNC screen shows it: ``-0.0000001``, never
+    ``-1E-7`` (nor ``1E+3``)."""
+    return format(value, "f")
+
+
 def macro_text(value: Decimal | None) -> str:
-    """A macro value as the CNC shows it; a vacant variable is ``<vacant>``."""
-    return "<vacant>" if value is None else str(value)
+    """A macro value as the CNC shows it (:func:`decimal_text`); a vacant variable is
+    ``<vacant>``."""
+    return "<vacant>" if value is None else decimal_text(value)

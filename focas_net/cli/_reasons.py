@@ -54,6 +54,36 @@ def _param_gate(args: argparse.Namespace) -> str:
     return f"{gate} and, when the CNC has a parameter password, --password"
 
 
+def _param_password(args: argparse.Namespace, exc: CncError) -> str | None:
+    """EW_PASSWD of a parameter write given ``--password``: the unlock refused it (the
+    password is not the CNC's), or the unlock took it and the gate refused the write."""
+    if getattr(args, "password", None) is None:
+        return None
+    if exc.detail.startswith("cnc_wrunlockparam"):
+        return (
+            f"--password {args.password} is not the CNC's parameter password (nothing was "
+            "written; focas-net unlock PASSWORD tries one)"
+        )
+    return (
+        "the --password was accepted; parameter writes need MDI mode and PWE on too "
+        "(focas-net sim panel --mode MDI --pwe on)"
+    )
+
+
+def _param_length(args: argparse.Namespace, exc: CncError) -> str | None:
+    """EW_LENGTH of a parameter write without ``--width``: the CNC refused the width the
+    client sent, the width of the parameter's own information."""
+    if getattr(args, "width", None) is not None:
+        return None
+    what = f"the CNC refused the value of {_item('parameter', args)} at the width it gave"
+    if getattr(args, "protocol", "packed") == "native":
+        return (
+            f"{what}: FOCAS/2 at a 16i-class CNC gives a real parameter as a bit parameter and "
+            "cannot write it (write it with --protocol packed, or at the CNC)"
+        )
+    return what
+
+
 def _param_range(args: argparse.Namespace) -> str:
     what = f"the CNC refused {args.value} for {_item('parameter', args)}: outside its range"
     if "." in str(args.value):
@@ -234,8 +264,22 @@ FAMILIES: Final[Mapping[str, Table]] = {
 }
 
 
+#: Reasons that need the refusal itself (which call of the command refused), before the
+#: tables: None from one of them leaves the reason to the table.
+_BY_REFUSAL: Final[
+    Mapping[tuple[str, int], Callable[[argparse.Namespace, CncError], str | None]]
+] = {
+    ("param set", EW.PASSWD): _param_password,
+    ("param set", EW.LENGTH): _param_length,
+}
+
+
 def reason(command: str, args: argparse.Namespace, exc: CncError) -> str | None:
     """Why ``command`` (its name as typed) with ``args`` was refused with ``exc``'s EW code;
     None when its table does not say."""
+    by_refusal = _BY_REFUSAL.get((command, exc.ew))
+    said = None if by_refusal is None else by_refusal(args, exc)
+    if said is not None:
+        return said
     why = FAMILIES.get(command, {}).get(exc.ew)
     return None if why is None else why(args)

@@ -66,6 +66,7 @@ __all__ = [
     "PackedGo",
     "PackedOnly",
     "command_name",
+    "report_state",
     "runner",
     "stopping_on_signals",
     "tls_context",
@@ -223,8 +224,6 @@ async def _session(
             ssl=context,
             path=getattr(args, "path", 1),
         )
-        if follow:
-            packed.add_state_callback(_report_state(packed))
         async with packed:
             return await (go.go(packed) if isinstance(go, PackedOnly) else go(packed))
     native = NativeClient(
@@ -234,8 +233,6 @@ async def _session(
         reconnect=reconnect,
         path=getattr(args, "path", 1),
     )
-    if follow:
-        native.add_state_callback(_report_state(native))
     async with native:
         return await go(native)
 
@@ -279,7 +276,10 @@ def _check_native(args: argparse.Namespace, go: Go | PackedOnly) -> None:
         )
 
 
-def _report_state(client: CncClient) -> Callable[[ClientState], None]:
+def report_state(client: CncClient) -> Callable[[ClientState], None]:
+    """A state callback of a command that follows the CNC (``alarms --follow``): a line on
+    stderr when the connection is lost and when it is back (added once the CNC answered:
+    before that, a failure is the command's, as a one-shot command's)."""
     lost = False
     where = fmt.address_text(client.host, client.port)
 
@@ -338,10 +338,15 @@ def _diagnosed(
 ) -> tuple[BaseException, str | None]:
     """``exc`` of a command's connection, or what the probes of the port found it was, and
     advice (:mod:`._diagnose`)."""
-    if isinstance(exc, HintedError) or not isinstance(exc, FocasError):
+    if not isinstance(exc, FocasError):
         return exc, None
     protocol = PACKED if isinstance(go, PackedOnly) else _protocol(args)
     tls = protocol == PACKED and tls_context_wanted(args)
+    if isinstance(exc, HintedError):  # (alarms --follow gave up): its cause diagnosed
+        cause, advice = diagnosis(exc.cause, args.host, args.port, protocol, tls, args.timeout)
+        if not isinstance(cause, FocasError) or (cause is exc.cause and advice is None):
+            return exc, None
+        return HintedError(cause, exc.hint if advice is None else f"{advice}; {exc.hint}"), None
     return diagnosis(exc, args.host, args.port, protocol, tls, args.timeout)
 
 

@@ -18,6 +18,7 @@ from focas_net.client import (
     NativeClient,
     ProjectionMode,
 )
+from focas_net.client._values import check_bit
 from focas_net.errors import EW, CncError, FocasError
 from focas_net.protocol import ParamDataType, ParamValue, PmcArea, PositionKind
 
@@ -28,6 +29,7 @@ from ._run import (
     HintedError,
     Output,
     PackedOnly,
+    report_state,
     stopping_on_signals,
     write,
 )
@@ -91,7 +93,10 @@ def position(args: argparse.Namespace) -> Go:
     kind = PositionKind.parse(args.kind)
 
     async def go(cnc: CncClient) -> Output:
-        pos = await cnc.read_positions(kind, axis=args.axis)
+        try:
+            pos = await cnc.read_positions(kind, axis=args.axis)
+        except CncError as exc:
+            raise await axis_past(cnc, exc, args.axis) from exc
         data = fmt.positions_dict(pos.kind.name.lower(), pos.decimals, pos.values, pos.increments)
         table = fmt.render_table(("axis", "position", "increments"), fmt.positions_rows(data))
         return Output(data, f"{data['kind']} position\n\n{table}")
@@ -112,8 +117,21 @@ async def axis_hint(cnc: CncClient, exc: CncError, kind: str, number: int, axis:
     if axis == 0:
         return HintedError(exc, f"{kind} {number} is an axis {kind}: give --axis 1..{axes}")
     if axis > axes:
-        return HintedError(exc, f"the machine has {axes} axes: give --axis 1..{axes}")
+        return HintedError(exc, _axes_text(axes))
     return HintedError(exc, f"{kind} {number} is not an axis {kind}: leave out --axis")
+
+
+async def axis_past(cnc: CncClient, exc: CncError, axis: int | None) -> FocasError:
+    """``exc`` with advice when it is ``EW_ATTRIB`` for an ``--axis`` past the machine's
+    (the same words as :func:`axis_hint`'s)."""
+    if exc.ew != EW.ATTRIB or axis is None:
+        return exc
+    axes = await _axis_count(cnc)
+    return HintedError(exc, _axes_text(axes)) if axis > axes else exc
+
+
+def _axes_text(axes: int) -> str:
+    return f"the machine has {axes} ax{'is' if axes == 1 else 'es'}: give --axis 1..{axes}"
 
 
 async def _axis_count(cnc: CncClient) -> int:
@@ -168,11 +186,10 @@ def param_get(args: argparse.Namespace) -> Go:
             pv = await cnc.read_param_value(number, axis=args.axis)
         except CncError as exc:
             raise await axis_hint(cnc, exc, "parameter", number, args.axis) from exc
-        bits = 8 * pv.width
         if bit is not None and pv.width == fmt.REAL_WIDTH:
             raise ValueError(f"parameter {number} is a real parameter: it has no bits")
-        if bit is not None and not 0 <= bit < bits:
-            raise ValueError(f"bit {bit} outside 0..{bits - 1} of parameter {number}")
+        if bit is not None:
+            check_bit(bit, pv.width, f"parameter {number}")  # the words of param set's
         kind = await param_kind(cnc, number, pv)
         data, whole, bit_text = param_output(number, bit, args.axis, pv, kind)
         return Output(data, whole if bit_text is None else bit_text)
@@ -194,7 +211,7 @@ def diag(args: argparse.Namespace) -> Go:
 
 def macro_dict(number: int, value: Decimal | None) -> dict[str, Any]:
     """The JSON data of a macro variable (its value as a decimal string, or None when vacant)."""
-    return {"number": number, "value": None if value is None else str(value)}
+    return {"number": number, "value": None if value is None else fmt.decimal_text(value)}
 
 
 def macro_get(args: argparse.Namespace) -> Go:
@@ -267,6 +284,10 @@ def _alarms_follow(args: argparse.Namespace) -> Go:
     interval = 1.0 if args.interval is None else args.interval
 
     async def go(cnc: CncClient) -> None:
+        # the first read as a one-shot command's: a peer that never answers (TLS on one side
+        # only, not a FOCAS server) fails at once, diagnosed in the same words
+        await cnc.read_alarms()
+        cnc.add_state_callback(report_state(cnc))
         projection = AlarmProjection(
             cnc, mode, interval=interval, depth=args.history or 50, max_failures=FOLLOW_MAX_FAILURES
         )

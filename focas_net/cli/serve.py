@@ -35,6 +35,7 @@ from typing import TYPE_CHECKING, Any, Final
 
 import anyio
 
+from focas_net.client._failures import os_reason
 from focas_net.protocol import PASSWORD_SIZE
 from focas_net.server import (
     DEFAULT_GRACE_PERIOD,
@@ -57,6 +58,7 @@ from ._args import (
     print_error,
 )
 from ._fleet import ConfigError, build_machines, fleet_indices, machines_per_process
+from ._format import address_text
 from ._workers import MAX_WORKERS, run_workers
 
 if TYPE_CHECKING:
@@ -196,7 +198,8 @@ def register(subparsers: Any) -> None:
     p.add_argument(
         "--no-control",
         action="store_true",
-        help="answer simulator control commands 0x0E01..0x0E07 with EW_FUNC, like a real CNC",
+        help="answer the simulator control commands (sim_set_panel ... sim_set_overrides, "
+        "0x0E01..0x0E21) with EW_FUNC, like a real CNC",
     )
     p.add_argument(
         "--read-only",
@@ -441,7 +444,8 @@ def run(args: argparse.Namespace) -> int:
         )
     except OSError as exc:
         print_error(
-            f"cannot listen on {args.host}:{args.port}: {exc.strerror or exc}", _ERROR_PREFIX
+            f"cannot listen on {address_text(args.host, args.port)}: {os_reason(exc)}",
+            _ERROR_PREFIX,
         )
         return EXIT_CNC
 
@@ -514,7 +518,8 @@ async def _dashboard(
     try:
         await dashboard.start()
     except OSError as exc:
-        print_error(f"--web {host}:{port}: cannot listen: {exc.strerror or exc}", _ERROR_PREFIX)
+        where = address_text(host, port)
+        print_error(f"--web {where}: cannot listen: {os_reason(exc)}", _ERROR_PREFIX)
         yield None
         return
     try:

@@ -1,7 +1,7 @@
 """Driving a simulated CNC: ``sim panel``, ``sim alarm``, ``sim clear``, ``sim fault`` and
 ``sim faults``.
 
-These use the simulator's control commands (0x0E01..0x0E07); a real CNC, or a server started
+These use the simulator's control commands (0x0E01..0x0E21); a real CNC, or a server started
 with ``--no-control``, answers them with ``EW_FUNC``.
 
 Faults queue first in, first out in their scope: ``sim fault`` says which answers the new

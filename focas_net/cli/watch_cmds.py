@@ -9,7 +9,9 @@ printed as plain lines, frames separated by a blank line, so that the output can
 ``--json`` prints one JSON object per frame, one per line.
 
 A lost connection does not end the command: the frame says so (with the last state read) and
-the client's :class:`~focas_net.client.ReconnectPolicy` connects again. Ctrl-C or SIGTERM end
+the client's :class:`~focas_net.client.ReconnectPolicy` connects again. A first poll that
+fails ends it as a one-shot command ends (the same diagnosis, exit 3 or 4): a peer that never
+answered is no machine to wait for. Ctrl-C or SIGTERM end
 it with exit 0, as does ``--count N`` after N frames.
 """
 
@@ -505,7 +507,8 @@ async def _poll_or_problem(
     address: str,
 ) -> tuple[WatchState, ...] | str:
     """The state of each path after the ``last`` poll (none before the first), or the line
-    saying why the connection failed."""
+    saying why the connection failed; before any state was read (``last`` empty) the failure
+    is raised."""
     mt_type = last[0].mt_type if last else None
     try:
         paths = len(last) if last else await path_count(cnc)
@@ -514,6 +517,10 @@ async def _poll_or_problem(
         ]
         return await poll_paths(cnc, names, paths, directory=directory, mt_type=mt_type)
     except _CONNECTION_ERRORS as exc:
+        if not last:
+            # nothing read yet: the peer may never answer (TLS on one side only, a peer that
+            # is no FOCAS server); the command fails as a one-shot command does, diagnosed
+            raise
         return _problem(exc, address)
 
 

@@ -6,8 +6,9 @@ from __future__ import annotations
 import argparse
 
 from focas_net.client import CncClient, FocasClient
+from focas_net.client._failures import command_text
 from focas_net.errors import AccessDeniedError, CncError
-from focas_net.protocol import PmcArea
+from focas_net.protocol import Command, PmcArea
 
 from . import _format as fmt
 from ._run import Go, Output, PackedOnly
@@ -56,7 +57,7 @@ def macro_set(args: argparse.Namespace) -> Go:
 
 
 def macro_clear(args: argparse.Namespace) -> PackedOnly:
-    # a simulator control command (0x0E11): a real CNC answers EW_FUNC
+    # a simulator control command (sim_vacate_macro): a real CNC answers EW_FUNC
     async def go(cnc: FocasClient) -> Output:
         await cnc.sim.vacate_macro(args.number)
         value = await cnc.read_macro(args.number)
@@ -65,7 +66,11 @@ def macro_clear(args: argparse.Namespace) -> PackedOnly:
             f"#{args.number} = {fmt.macro_text(value)} (cleared)",
         )
 
-    return PackedOnly(go, "vacating a variable is a simulator control command (0x0E11)")
+    return PackedOnly(
+        go,
+        "vacating a variable is a simulator control command, "
+        + command_text(Command.SIM_VACATE_MACRO),
+    )
 
 
 def pmc_write(args: argparse.Namespace) -> Go | PackedOnly:
@@ -96,7 +101,11 @@ def pmc_write(args: argparse.Namespace) -> Go | PackedOnly:
         return written()
 
     if args.force:
-        return PackedOnly(force, "--force writes through a simulator control command (0x0E05)")
+        return PackedOnly(
+            force,
+            "--force writes through a simulator control command, "
+            + command_text(Command.SIM_SET_PMC),
+        )
     return go
 
 

@@ -19,11 +19,13 @@ import ssl as _ssl
 from typing import Final
 
 from focas_net.errors import FocasConnectionError, FocasTimeoutError, ProtocolError
+from focas_net.protocol.codecs import COMMANDS
 
 __all__ = [
     "BEFORE_ANY_ANSWER",
     "NOTHING_RECEIVED",
     "closed_error",
+    "command_text",
     "connect_reason",
     "lost_error",
     "not_focas_error",
@@ -40,6 +42,13 @@ _TLS_RECORD_TYPES: Final = frozenset({0x14, 0x15, 0x16, 0x17})
 BEFORE_ANY_ANSWER: Final = "before any answer"
 #: What a timeout says when the connection never received a byte.
 NOTHING_RECEIVED: Final = "nothing received since connecting"
+
+
+def command_text(command: int) -> str:
+    """A packed command by its FOCAS name and its id: ``cnc_rdcncstat (0x0001)``,
+    ``sim_set_pmc (0x0E04)``; an id the protocol does not have by its id alone."""
+    spec = COMMANDS.get(command)
+    return f"0x{command:04X}" if spec is None else f"{spec.focas_name} (0x{command:04X})"
 
 
 def not_focas_error(peer: str, why: str) -> ProtocolError:

@@ -35,7 +35,7 @@ from ..native import (
 )
 from ..protocol import ParamDataType, ParamValue
 from ._native_link import Handle, NativeLink
-from ._values import REAL_WIDTH, byte_to_wire, check_item, param_int, real_to_wire
+from ._values import REAL_WIDTH, byte_to_wire, check_item, int_to_wire, param_int, real_to_wire
 
 __all__: list[str] = []
 
@@ -48,6 +48,8 @@ _PARAM_WIDTH: Final[dict[int, int]] = {
     ParamType.TWO_WORD: 4,
 }
 _DIAG_WIDTH: Final[dict[int, int]] = {0: 1, 1: 2, 2: 4, 3: 1, 4: 1}
+#: What :func:`made_once` finds when nothing was made for an answer yet.
+_NOT_MADE: Final[Any] = object()
 
 
 def only_answer(handle: Handle, call: LibraryCall, blocks: tuple[ResponseBlock, ...]) -> Any:
@@ -63,15 +65,19 @@ def made_once(
     path: int = 1,
 ) -> _T:
     """``make(handle, call, blocks, path)``, the result of a call of one frame on ``path``,
-    made once for the same answer on a handle of the same axes (:meth:`LibraryCall.kept`):
-    a poll whose answer repeats decodes nothing again."""
+    made once for the same answer on a handle of the same axes (kept in
+    :attr:`LibraryCall.results`): a poll whose answer repeats decodes nothing again."""
     axes = handle.axes_on(path)
     if len(blocks) == 1:
         block = blocks[0]
         key: tuple[object, ...] = (handle.max_axes, axes, block.ew, block.data)
     else:
         key = (handle.max_axes, axes, *[(b.ew, b.data) for b in blocks])
-    made: _T = call.kept(key, lambda: make(handle, call, blocks, path))
+    results = call.results
+    made: _T = results.get(key, _NOT_MADE)
+    if made is _NOT_MADE:
+        made = make(handle, call, blocks, path)  # (what it raises is raised, nothing kept)
+        results.put(key, made)
     return made
 
 
@@ -276,24 +282,23 @@ class NativeItems(NativeLink):
             record = self._param_record(handle, number, axis, ptype, *as_real)
         else:
             if isinstance(as_int, ValueError):
-                if not isinstance(as_real, ValueError):
-                    # a value with decimals travels as a REALPRM, 8 bytes: the library answers
-                    # EW_LENGTH for one of another parameter (in the 16i set, whose
-                    # information gives a real parameter as a bit one, every real parameter)
+                if not isinstance(as_real, ValueError) and (
+                    handle.command_set is CommandSet.FS16I and ptype == ParamType.BIT
+                ):
+                    # a value with decimals travels as a REALPRM, 8 bytes: the information
+                    # of the 16i set gives a real parameter as a bit one, and the library
+                    # answers EW_LENGTH, nothing written (the set cannot write a real one)
                     raise CncError.from_ew(
                         EW.LENGTH,
                         f"cnc_wrparam: {number} is {size} bytes wide, not {REAL_WIDTH} (a "
                         "value with decimals)",
                     )
+                # a parameter the information names: refused as the packed client does
                 raise as_int
-            if ptype == ParamType.BIT:
-                bits = param_int(number, value, ParamDataType.BIT)  # "00000011": the bits
-                raw = byte_to_wire(number, bits, ParamDataType.BIT)
-            else:
-                bits = 8 * size
-                if not -(1 << (bits - 1)) <= as_int < 1 << bits:
-                    raise ValueError(f"value {as_int} does not fit a {size}-byte parameter")
-                raw = signed(as_int, size)
+            kind = ParamDataType.BIT if ptype == ParamType.BIT else None
+            if kind is not None:
+                as_int = param_int(number, value, kind)  # "00000011": the bits
+            raw = signed(int_to_wire(number, as_int, size, kind), size)
             record = self._param_record(handle, number, axis, ptype, raw)
         await self._write_record(handle, record, deadline, path)
 

@@ -80,6 +80,9 @@ _NOT_A_FRAME: Final = "its answer does not start with A0 A0 A0 A0"
 Future = asyncio.Future[tuple[ResponseBlock, ...]]
 
 
+#: How an answered job ends, looked up once (asked once per call: on Python 3.11 each
+#: ``Ending.ANSWERED`` goes through ``EnumType.__getattr__``, uncached).
+_ANSWERED: Final = Ending.ANSWERED
 #: Whether the caller of a job (its token: the future it awaits) gave up: it is cancelled.
 _cancelled: Final = operator.methodcaller("cancelled")
 
@@ -146,7 +149,10 @@ class Handle:
         """One data frame on B, read back before the client takes B over (the connect)."""
         self.b.write(part.frame)
         try:
-            blocks = answer_blocks(await _read_frame(self.b, self.peer), part.count)
+            # a peer that closes before answering a request reads as on the packed transport
+            # ("before any answer"): the open answer alone is no answer to a request
+            frame = await _read_frame(self.b, self.peer, answered=False)
+            blocks = answer_blocks(frame, part.count)
         except AnswerRefused as exc:
             raise _Lost(str(exc)) from None
         if isinstance(blocks, int):
@@ -235,7 +241,9 @@ async def open_handle(host: str, port: int, deadline: float | None) -> Handle:
     except TimeoutError:
         _abort(channels)
         if channels:  # A was opened: the peer speaks
-            raise FocasTimeoutError(f"{where}: no answer to the open or connect requests") from None
+            raise FocasTimeoutError(
+                f"no answer to the connect requests (cnc_allclibhndl3) from {where}"
+            ) from None
         raise timeout_error("no answer to the open request", where) from None
     except _Lost as exc:
         _abort(channels)
@@ -488,7 +496,7 @@ class NativeLink(CompositeCalls):
             )
         loop = self._loop or asyncio.get_running_loop()
         session = self._session
-        idle = session.in_flight is None and not self._flush_soon and session.idle
+        idle = session.idle and not self._flush_soon
         future = loop.create_future()
         job = session.submit(part, _NEVER if deadline is None else deadline, command_set, future)
         if job.ending is not None:
@@ -573,7 +581,7 @@ class NativeLink(CompositeCalls):
             future = job.token
             if future.done():
                 continue
-            if job.ending is Ending.ANSWERED:
+            if job.ending is _ANSWERED:
                 future.set_result(job.blocks)
             else:
                 future.set_exception(self._failure(job))

@@ -12,7 +12,6 @@ parameter value to what its type carries.
 from __future__ import annotations
 
 import enum
-import functools
 import math
 from dataclasses import dataclass
 from decimal import Decimal, InvalidOperation
@@ -107,10 +106,9 @@ def check_timeout(timeout: object) -> float | None:
     return None if math.isinf(timeout) else float(timeout)
 
 
-#: A macro variable number (``cnc_rdmacro`` takes a C ``short``): ``check_macro(number)``.
-check_macro: Final = functools.partial(
-    check_int, "macro variable number", low=-I16_MAX - 1, high=I16_MAX
-)
+def check_macro(number: object) -> int:
+    """A macro variable number (``cnc_rdmacro`` takes a C ``short``)."""
+    return check_int("macro variable number", number, -I16_MAX - 1, I16_MAX)
 
 
 def check_item(number: object, axis: object, what: str) -> None:
@@ -290,6 +288,24 @@ def byte_to_wire(number: int, value: int, kind: ParamDataType | None) -> int:
         return value - 0x100 if value > 0x7F else value
     if not -0x80 <= value <= 0x7F:
         raise ValueError(f"parameter {number} is a byte parameter: {value} is outside -128..127")
+    return value
+
+
+_INT_PARAM_NAMES: Final = {2: "word", 4: "two-word"}
+
+
+def int_to_wire(number: int, value: int, width: int, kind: ParamDataType | None) -> int:
+    """The signed value of an integer parameter ``width`` bytes wide (1, 2 or 4; ``kind``
+    tells a bit parameter's byte from a byte parameter's): ValueError naming the parameter,
+    its kind and its range when ``value`` does not fit, in the same words on both clients."""
+    if width == 1:
+        return byte_to_wire(number, value, kind)
+    high = (1 << (8 * width - 1)) - 1
+    if not -high - 1 <= value <= high:
+        name = _INT_PARAM_NAMES.get(width, f"{width}-byte")
+        raise ValueError(
+            f"parameter {number} is a {name} parameter: {value} is outside {-high - 1}..{high}"
+        )
     return value
 
 

@@ -85,12 +85,12 @@ from ._values import (
     Paths,
     Positions,
     alarm_type_number,
-    byte_to_wire,
     check_axis,
     check_int,
     check_item,
     check_macro,
     history_depth,
+    int_to_wire,
     macro_from_wire,
     macro_to_wire,
     param_int,
@@ -375,9 +375,7 @@ class FocasClient(Link):
         else:
             kind = await self._param_type(number, deadline) if width == 1 else None
             raw = param_int(number, value, kind)
-            if width == 1:
-                raw = byte_to_wire(number, raw, kind)
-            pv = ParamValue(number, axis, raw, width)
+            pv = ParamValue(number, axis, int_to_wire(number, raw, width, kind), width)
         payload = _WRPARAM.request.encode(pv)
         try:
             await self._request_at(_WRPARAM, payload, deadline, path=path)

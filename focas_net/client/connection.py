@@ -62,7 +62,14 @@ from ..protocol import (
     RawFrame,
 )
 from ._address import address_text
-from ._failures import closed_error, connect_reason, lost_error, timeout_error, violation_error
+from ._failures import (
+    closed_error,
+    command_text,
+    connect_reason,
+    lost_error,
+    timeout_error,
+    violation_error,
+)
 
 __all__ = ["Connection", "NotSentError", "open_connection"]
 
@@ -104,7 +111,7 @@ def _timed_out(entry: _Pending, silent_peer: str | None) -> None:
     received a byte)."""
     future, command, request_id, _ = entry
     future.set_exception(
-        timeout_error(f"no answer to command 0x{command:04X} (request {request_id})", silent_peer)
+        timeout_error(f"no answer to {command_text(command)}, request {request_id}", silent_peer)
     )
 
 
@@ -591,7 +598,7 @@ class Connection(Received, asyncio.Protocol):
         except TimeoutError:
             self._leave_line(waiter)
             raise FocasTimeoutError(
-                f"no free request slot for command 0x{command:04X} in time"
+                f"no free request slot for {command_text(command)} in time"
             ) from None
         except BaseException:
             self._leave_line(waiter)

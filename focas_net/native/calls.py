@@ -13,9 +13,9 @@ from __future__ import annotations
 
 import enum
 import functools
-from collections.abc import Callable, Hashable, Sequence
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
-from typing import Any, Final, ParamSpec, TypeVar
+from typing import Any, Final, ParamSpec, cast
 
 from focas_net._memo import Memo
 
@@ -91,7 +91,6 @@ POSITION_PARAMETER: Final = 3115
 ALARM_HISTORY_CHUNK: Final = 23
 #: Most answers one call keeps decoded (and values made of them).
 _ANSWERS_KEPT: Final = 16
-_R = TypeVar("_R")
 
 
 class CommandSet(enum.StrEnum):
@@ -125,9 +124,11 @@ class LibraryCall:
     _answers: dict[tuple[int, int, int, bytes], Any] = field(
         init=False, repr=False, compare=False, default_factory=dict
     )
-    #: What a client made of whole answers, by the answers' bytes: see :meth:`kept`.
-    _results: dict[Hashable, Any] = field(
-        init=False, repr=False, compare=False, default_factory=dict
+    #: What a client made of whole answers of this call alone, by the answers' bytes and
+    #: whatever else the value depends on, a few per call (the values are immutable): a poll
+    #: whose answer repeats makes its value once (the native client's ``made_once``).
+    results: Memo = field(
+        init=False, repr=False, compare=False, default_factory=lambda: Memo(_ANSWERS_KEPT)
     )
     #: The parts of the frames on paths after the first, by (frame, path): see :meth:`part`.
     _path_parts: dict[tuple[int, int], Part] = field(
@@ -153,21 +154,6 @@ class LibraryCall:
                 answers.clear()
             answers[key] = value
         return value
-
-    def kept(self, key: Hashable, make: Callable[[], _R]) -> _R:
-        """``make()``, a value made from an answer of this call alone, kept under ``key``
-        (the answer's bytes and whatever else the value depends on), a few per call: a poll
-        whose answer repeats makes its value once. What ``make`` raises is raised, nothing
-        kept; the values are immutable."""
-        results = self._results
-        try:
-            kept: _R = results[key]
-        except KeyError:
-            kept = make()
-            if len(results) >= _ANSWERS_KEPT:
-                results.clear()
-            results[key] = kept
-        return kept
 
     def part(self, frame: int, path: int) -> Part:
         """Frame ``frame``'s :class:`~focas_net.native.session.Part` with ``path`` in every
@@ -199,24 +185,10 @@ _MEMO_SIZE: Final = 1024
 
 
 def _memoized(build: Callable[_P, LibraryCall]) -> Callable[_P, LibraryCall]:
-    """``build``, each call made once for equal arguments (kept by their values, bounded): a
-    poll that repeats a call encodes its frames once. Unhashable arguments (a list of PMC
-    values) are built each time."""
-    memo = Memo(_MEMO_SIZE)
-
-    @functools.wraps(build)
-    def cached(*args: _P.args, **kwargs: _P.kwargs) -> LibraryCall:
-        key = (args, tuple(kwargs.items())) if kwargs else args
-        try:
-            known: LibraryCall | None = memo.get(key)
-        except TypeError:
-            return build(*args, **kwargs)
-        if known is None:
-            known = build(*args, **kwargs)
-            memo.put(key, known)
-        return known
-
-    return cached
+    """``build``, each call made once for equal arguments (kept by their values in a bounded
+    :func:`functools.lru_cache`, whose look-up runs no Python code): a poll that repeats a
+    call encodes its frames once. The arguments are hashable (PMC values a tuple)."""
+    return cast(Callable[_P, LibraryCall], functools.lru_cache(maxsize=_MEMO_SIZE)(build))
 
 
 _16I: Final = CommandSet.FS16I
@@ -445,11 +417,17 @@ def pmc_rdpmcrng(cs: CommandSet, area: int, data_type: int, first: int, last: in
     return _one("pmc_rdpmcrng", PmcReadRequest(first, last, area, data_type))
 
 
-@_memoized
 def pmc_wrpmcrng(
     cs: CommandSet, area: int, data_type: int, first: int, last: int, values: Sequence[int]
 ) -> LibraryCall:
     """Device PMC, 0x8002 ``(s, e, area, type, nbytes)`` + the values, big-endian [V]."""
+    return _pmc_wrpmcrng(cs, area, data_type, first, last, tuple(values))
+
+
+@_memoized
+def _pmc_wrpmcrng(
+    cs: CommandSet, area: int, data_type: int, first: int, last: int, values: tuple[int, ...]
+) -> LibraryCall:
     data = NativePmcData.from_values(data_type, values)
     return _one("pmc_wrpmcrng", PmcWriteRequest(first, last, area, data_type, data))
 

@@ -162,6 +162,12 @@ class Ending(enum.Enum):
     ABANDONED = "abandoned"
 
 
+#: The ending of every answered job, looked up once: on Python 3.11 an enumeration's
+#: ``EnumType.__getattr__`` keeps each ``Ending.ANSWERED`` in a function from being a cached
+#: look-up (about five times the cost of a global's), and it is asked once per call.
+_ANSWERED: Final = Ending.ANSWERED
+
+
 class Job(Generic[T]):
     """One frame's worth of one call, queued, in flight or ended."""
 
@@ -184,28 +190,6 @@ class Job(Generic[T]):
     def __repr__(self) -> str:
         state = self.ending.value if self.ending else ("sent" if self.sent else "queued")
         return f"<Job of {self.part.count} block(s), {state}>"
-
-
-def _split(blocks: tuple[ResponseBlock, ...], jobs: list[Job[T]]) -> list[Job[T]]:
-    """Hand each job of ``jobs`` (the frame in flight, in order) its blocks of ``blocks``; the
-    jobs that end so (not ended before)."""
-    if len(jobs) == 1:
-        job = jobs[0]
-        if job.ending is not None:
-            return []
-        job.ending = Ending.ANSWERED
-        job.blocks = blocks
-        return jobs
-    ended: list[Job[T]] = []
-    pos = 0
-    for job in jobs:
-        end = pos + job.part.count
-        if job.ending is None:
-            job.ending = Ending.ANSWERED
-            job.blocks = blocks[pos:end]
-            ended.append(job)
-        pos = end
-    return ended
 
 
 def _time_out(jobs: Iterable[Job[T]], now: float) -> tuple[list[Job[T]], float]:
@@ -285,6 +269,9 @@ class NativeSession(Generic[T]):
         self.frame_deadline = _NEVER
         #: Why the connection can carry no further frame (None: it can, or there is none).
         self.failure: str | None = None
+        #: Whether a frame could be sent now: connected, nothing in flight, no failure (kept
+        #: as each of those changes, so that asking costs nothing).
+        self.idle = False
         #: A time no later than the earliest deadline of a job waiting (``inf``: none): the
         #: shell calls :meth:`expire` then.
         self.wake_at = _NEVER
@@ -299,11 +286,6 @@ class NativeSession(Generic[T]):
 
     # -- the connection ----------------------------------------------------------------------
     @property
-    def idle(self) -> bool:
-        """Whether a frame could be sent now: connected, nothing in flight, no failure."""
-        return self._open and self.in_flight is None and self.failure is None
-
-    @property
     def queued(self) -> int:
         """Jobs waiting to be sent whose caller still waits for them."""
         given_up = self._given_up
@@ -314,6 +296,7 @@ class NativeSession(Generic[T]):
         go on it. ``key`` names what a job's blocks depend on (the command set): the queued
         jobs made for another key end :attr:`Ending.STALE` (returned), never sent."""
         self._open = True
+        self.idle = True
         self._key = key
         self._limit = max_response_body(version) - 2  # the bodies' room after the block count
         self._axis_bytes = _AXIS_RECORD * max_axes
@@ -329,7 +312,7 @@ class NativeSession(Generic[T]):
     def lost(self, keep_queued: bool) -> list[Job[T]]:
         """The connection ended: the jobs that end with it (those in flight, and the queued
         ones unless ``keep_queued``: they go on the next connection)."""
-        self._open = False
+        self._open = self.idle = False
         self._rx.clear()
         ended = self._end_in_flight(Ending.LOST)
         if not keep_queued:
@@ -363,12 +346,33 @@ class NativeSession(Generic[T]):
         if not self.idle:
             return None
         queue = self.queue
-        if len(queue) == 1:
-            # one job waiting (a sequential caller): the frame its part keeps, if it goes
-            job = queue[0]
-            if job.ending is None and not self._given_up(job.token):
-                queue.popleft()
-                return self._out([job], job.part.count, job.deadline, job.part.frame)
+        job = queue[0] if len(queue) == 1 else None
+        if job is not None and job.ending is None and not self._given_up(job.token):
+            # one job waiting (a sequential caller): the frame its part keeps
+            queue.popleft()
+            batch = [job]
+            count = job.part.count
+            latest = job.deadline
+            frame = job.part.frame
+        else:
+            batch, count, latest, frame = self._pack()
+            if not batch:
+                return None
+        for job in batch:
+            job.sent = True
+        self.in_flight = batch
+        self.idle = False
+        self._in_flight_blocks = count
+        self.frame_deadline = latest
+        self.frames_sent += 1
+        self.blocks_sent += count
+        return frame
+
+    def _pack(self) -> tuple[list[Job[T]], int, float, bytes]:
+        """The jobs at the head of the queue that fit in one frame (at least one, whatever its
+        size), taken from the queue: those jobs, their block count, their latest deadline and
+        their frame (no jobs: none waits)."""
+        queue = self.queue
         batch: list[Job[T]] = []
         blocks: list[bytes] = []
         blocks_left = self.max_blocks
@@ -408,22 +412,10 @@ class NativeSession(Generic[T]):
             send_left -= size
             if job.deadline > latest:
                 latest = job.deadline
-        if not batch:
-            return None
         count = self.max_blocks - blocks_left
-        frame = batch[0].part.frame if len(batch) == 1 else request_frame(b"".join(blocks), count)
-        return self._out(batch, count, latest, frame)
-
-    def _out(self, batch: list[Job[T]], count: int, latest: float, frame: bytes) -> bytes:
-        """``frame``, carrying the ``count`` blocks of the jobs of ``batch``, is in flight."""
-        for job in batch:
-            job.sent = True
-        self.in_flight = batch
-        self._in_flight_blocks = count
-        self.frame_deadline = latest
-        self.frames_sent += 1
-        self.blocks_sent += count
-        return frame
+        if len(batch) > 1:
+            return batch, count, latest, request_frame(b"".join(blocks), count)
+        return batch, count, latest, batch[0].part.frame if batch else b""
 
     # -- bytes and time --------------------------------------------------------------------
     def receive(self, data: bytes) -> list[Job[T]]:
@@ -465,6 +457,7 @@ class NativeSession(Generic[T]):
         except AnswerRefused as exc:
             return self._fail(str(exc))
         self.in_flight = None
+        self.idle = self._open
         self.frame_deadline = _NEVER
         if isinstance(blocks, int):
             ended = [job for job in jobs if job.ending is None]
@@ -472,7 +465,24 @@ class NativeSession(Generic[T]):
                 job.ending = Ending.REFUSED
                 job.ew = blocks
             return ended
-        return _split(blocks, jobs)
+        if len(jobs) == 1:  # a lone job: the whole answer is its own
+            job = jobs[0]
+            if job.ending is not None:
+                return []
+            job.ending = _ANSWERED
+            job.blocks = blocks
+            return jobs
+        # each job of the frame its own ``count`` blocks, in order
+        ended = []
+        pos = 0
+        for job in jobs:
+            end = pos + job.part.count
+            if job.ending is None:
+                job.ending = _ANSWERED
+                job.blocks = blocks[pos:end]
+                ended.append(job)
+            pos = end
+        return ended
 
     def expire(self, now: float) -> list[Job[T]]:
         """The jobs whose deadline is ``now`` or earlier, ended TIMED_OUT; past the frame's
@@ -494,13 +504,14 @@ class NativeSession(Generic[T]):
 
     def close(self) -> list[Job[T]]:
         """The client is closing: every job not ended ends LOST."""
-        self._open = False
+        self._open = self.idle = False
         return self._end_in_flight(Ending.LOST) + self._end_queue(Ending.LOST)
 
     # -- helpers -----------------------------------------------------------------------------
     def _fail(self, why: str) -> list[Job[T]]:
         """The connection can carry no further frame: the jobs in flight end LOST."""
         self.failure = why
+        self.idle = False
         self._rx.clear()
         return self._end_in_flight(Ending.LOST)
 

@@ -9,29 +9,42 @@ are errors too, so a misspelt key never passes silently.
 
 from __future__ import annotations
 
-import json
 import math
 import re
 import tomllib
 from collections.abc import Mapping
-from dataclasses import dataclass
 from decimal import Decimal
 from os import PathLike
 from pathlib import Path
-from typing import Any, Final, NoReturn
+from typing import Any, Final
 
 from focas_net._bits import bits_hint, bits_of_text
-from focas_net.errors import FocasError
 from focas_net.versamax import BoardId, IOModuleRecord, RefType
 
 from ._base import NUMBERS
-from ._identity import axes_problem, axis_name_problem, name_problem
+from ._identity import name_problem
 from ._items import parts_param_problem
 from ._pmc import pmc_letter
 from ._station import MAX_RACK, MAX_SLOT
 from .default import gniu_record, mdd844_record
+from .filecheck import (
+    _I16,
+    _I32,
+    MachineFileError,
+    _ascii,
+    _bool,
+    _bytes,
+    _Ctx,
+    _int,
+    _kind,
+    _list,
+    _number_key,
+    _only,
+    _str,
+    _table,
+    _text,
+)
 from .machine import (
-    AUT_MODES,
     CONTROL_CLASSES,
     DEFAULT_CONTROL_CLASS,
     DEFAULT_HISTORY_CAPACITY,
@@ -43,27 +56,15 @@ from .machine import (
     Identity,
     Machine,
     MacroRange,
-    MotionData,
-    Panel,
     ParamKind,
     PathSpec,
     PmcAreaSpec,
     utc_now,
 )
-from .nc import ProgramError, Scenario, SimClock, parse_program
+from .nc import Scenario, SimClock
+from .pathfile import _axes, _motion, _panel, _programs, path_specs
 
 __all__ = ["MODE_NAMES", "MachineFileError", "load_machine", "machine_from_dict"]
-
-
-class MachineFileError(FocasError, ValueError):
-    """A machine file that cannot be used: ``path``, ``key`` (dotted) and ``problem``."""
-
-    def __init__(self, path: str, key: str, problem: str) -> None:
-        self.path = path
-        self.key = key
-        self.problem = problem
-        where = f"{path}: {key}" if key else path
-        super().__init__(f"{where}: {problem}")
 
 
 #: ``type`` names of a parameter or diagnostic (``i16`` and ``i32``, the width names of older
@@ -79,133 +80,14 @@ _TYPES: Final[dict[str, ParamKind]] = {
     "real": ParamKind.REAL,
 }
 _TYPE_NAMES: Final = '"bit", "byte", "word", "2-word" (or "two-word"), "real"'
-_I16: Final = (-0x8000, 0x7FFF)
-_I32: Final = (-0x8000_0000, 0x7FFF_FFFF)
 _MODULES: Final = {"IC200GBI001": gniu_record, "IC200MDD844": mdd844_record}
 _REF_TYPES: Final[dict[str, RefType]] = {"I": RefType.I, "Q": RefType.Q, "AI": RefType.AI}
 _REF_TYPES["AQ"] = RefType.AQ
-#: A key TOML writes without quotes.
-_BARE_KEY: Final = re.compile(r"[A-Za-z0-9_-]+")
 #: A number as a machine file's text gives it: ASCII digits, a sign, a point (no exponent).
 _DECIMAL: Final = re.compile(r"[+-]?(?:[0-9]+(?:\.[0-9]*)?|\.[0-9]+)")
-#: The UTF-8 byte-order mark some editors write at the start of a file.
-_BOM: Final = b"\xef\xbb\xbf"
-
-
-@dataclass(frozen=True, slots=True)
-class _Ctx:
-    """Where we are: the file and the dotted key of the current table."""
-
-    path: str
-    key: str
-
-    def sub(self, key: str | int) -> _Ctx:
-        if isinstance(key, int):
-            return _Ctx(self.path, f"{self.key}[{key}]")
-        if not _BARE_KEY.fullmatch(key):  # as TOML writes it: " 1420" stays visible
-            key = json.dumps(key, ensure_ascii=False)
-        return _Ctx(self.path, f"{self.key}.{key}" if self.key else key)
-
-    def fail(self, problem: str) -> NoReturn:
-        raise MachineFileError(self.path, self.key, problem)
-
-
-def _table(ctx: _Ctx, value: Any) -> dict[str, Any]:
-    if not isinstance(value, dict):
-        ctx.fail(f"must be a table, got {_kind(value)}")
-    return value
-
-
-def _kind(value: Any) -> str:
-    if isinstance(value, bool):
-        return f"a boolean ({str(value).lower()})"
-    if isinstance(value, int):
-        return f"an integer ({value})"
-    if isinstance(value, str):
-        return f"a string ({value!r})"
-    if isinstance(value, float):
-        return f"a float ({value})"
-    if isinstance(value, list):
-        return "an array"
-    if isinstance(value, dict):
-        return "a table"
-    return f"a {type(value).__name__}"
-
-
-def _only(ctx: _Ctx, table: Mapping[str, Any], allowed: tuple[str, ...]) -> None:
-    for key in table:
-        if key not in allowed:
-            ctx.sub(key).fail(f"unknown key (expected one of: {', '.join(allowed)})")
-
-
-def _int(ctx: _Ctx, value: Any, span: tuple[int, int] | None = None) -> int:
-    if isinstance(value, bool) or not isinstance(value, int):
-        ctx.fail(f"must be an integer, got {_kind(value)}")
-    if span is not None and not span[0] <= value <= span[1]:
-        ctx.fail(f"{value} is outside {span[0]}..{span[1]}")
-    return value
-
-
-def _bool(ctx: _Ctx, value: Any) -> bool:
-    if isinstance(value, bool):
-        return value
-    if isinstance(value, int) and value in (0, 1):
-        return bool(value)
-    ctx.fail(f"must be true or false, got {_kind(value)}")
-
-
-def _str(ctx: _Ctx, value: Any) -> str:
-    if isinstance(value, int | float) and not isinstance(value, bool):
-        ctx.fail(f'must be a string, got {_kind(value)}: write it in quotes, "{value}"')
-    if not isinstance(value, str):
-        ctx.fail(f"must be a string, got {_kind(value)}")
-    return value
-
-
-def _ascii(ctx: _Ctx, value: Any, size: int | None = None) -> str:
-    text = _str(ctx, value)
-    if not text.isascii():
-        ctx.fail(f"must be ASCII: {text!r}")
-    if size is not None and len(text) != size:
-        ctx.fail(f"must be exactly {size} characters: {text!r}")
-    return text
-
-
-def _list(ctx: _Ctx, value: Any) -> list[Any]:
-    if not isinstance(value, list):
-        ctx.fail(f"must be an array, got {_kind(value)}")
-    return value
-
-
-def _bytes(ctx: _Ctx, value: Any) -> bytes:
-    items = _list(ctx, value)
-    return bytes(_int(ctx.sub(i), v, (0, 255)) for i, v in enumerate(items))
-
-
-def _number_key(ctx: _Ctx, key: str, span: tuple[int, int]) -> int:
-    if not re.fullmatch(r"-?[0-9]+", key):
-        ctx.fail(f"the key must be a number of ASCII digits, got {key!r}")
-    number = int(key)
-    if not span[0] <= number <= span[1]:
-        ctx.fail(f"{number} is outside {span[0]}..{span[1]}")
-    return number
 
 
 # -- sections -----------------------------------------------------------------------------------
-
-
-def _axes(ctx: _Ctx, value: Any) -> list[str]:
-    names: list[str] = []
-    for i, raw in enumerate(_list(ctx, value)):
-        name = _ascii(ctx.sub(i), raw)
-        problem = axis_name_problem(name, names)
-        if problem is not None:
-            ctx.sub(i).fail(problem)
-        names.append(name)
-    problem = axes_problem(names)
-    if problem is not None:
-        ctx.fail(problem)
-    return names
 
 
 def _identity(ctx: _Ctx, value: Any, n_axes: int) -> Identity:
@@ -220,27 +102,6 @@ def _identity(ctx: _Ctx, value: Any, n_axes: int) -> Identity:
         _ascii(ctx.sub("series"), t.get("series", "D4F1"), 4),
         _ascii(ctx.sub("version"), t.get("version", "32.0"), 4),
         f"{n_axes:02d}",
-    )
-
-
-def _panel(ctx: _Ctx, value: Any) -> Panel:
-    t = _table(ctx, value)
-    _only(ctx, t, ("mode", "pwe", "emergency", "run"))
-    mode_v = t.get("mode", "MEM")
-    c = ctx.sub("mode")
-    if isinstance(mode_v, str):
-        if mode_v.upper() not in MODE_NAMES:
-            c.fail(f"unknown mode {mode_v!r} (expected one of: {', '.join(MODE_NAMES)})")
-        mode = MODE_NAMES[mode_v.upper()]
-    else:
-        mode = _int(c, mode_v)
-        if mode not in AUT_MODES:
-            c.fail(f"{mode} is not a mode (0, 1, 3..10)")
-    return Panel(
-        mode=mode,
-        pwe=int(_bool(ctx.sub("pwe"), t.get("pwe", False))),
-        emergency=int(_bool(ctx.sub("emergency"), t.get("emergency", False))),
-        run=_int(ctx.sub("run"), t.get("run", 0), (0, 4)),
     )
 
 
@@ -512,61 +373,6 @@ def _station(ctx: _Ctx, value: Any) -> dict[tuple[int, int], IOModuleRecord]:
     return station
 
 
-def _motion(ctx: _Ctx, value: Any, n_axes: int) -> MotionData:
-    t = _table(ctx, value)
-    lists = ("absolute", "machine", "relative", "distance_to_go")
-    scalars = ("feed", "spindle_speed", "program_running", "program_main", "sequence")
-    _only(ctx, t, lists + scalars)
-    positions = []
-    for key in lists:
-        c = ctx.sub(key)
-        raw = _list(c, t.get(key, [0] * n_axes))
-        if len(raw) != n_axes:
-            c.fail(f"{len(raw)} values for {n_axes} axes")
-        positions.append([_int(c.sub(i), v, _I32) for i, v in enumerate(raw)])
-    nums = [_int(ctx.sub(k), t.get(k, 0), (0, _I32[1])) for k in scalars]
-    return MotionData(positions[0], positions[1], positions[2], positions[3], *nums)
-
-
-def _programs(ctx: _Ctx, value: Any, base: Path | None) -> tuple[list[str], int | None]:
-    """The ``[[program]]`` entries: each ``text`` (inline) or ``file`` (a path relative to
-    the machine file), ``main = true`` on at most one. Each text is checked as the store
-    will parse it; returns the texts and the main program's number (None: the first)."""
-    texts: list[str] = []
-    main: int | None = None
-    numbers: set[int] = set()
-    for i, raw in enumerate(_list(ctx, value)):
-        c = ctx.sub(i)
-        t = _table(c, raw)
-        _only(c, t, ("text", "file", "main"))
-        if ("text" in t) == ("file" in t):
-            c.fail("give either text (the program inline) or file (a path to it)")
-        if "text" in t:
-            key = c.sub("text")
-            text = _str(key, t["text"])
-        else:
-            key = c.sub("file")
-            given = Path(_str(key, t["file"]))
-            where = given if given.is_absolute() or base is None else base / given
-            try:
-                text = _text(str(where), where.read_bytes())
-            except OSError as exc:
-                key.fail(f"cannot read {str(where)!r}: {exc.strerror or exc}")
-        try:
-            program = parse_program(text)
-        except ProgramError as exc:
-            key.fail(str(exc))
-        if program.number in numbers:
-            key.fail(f"program O{program.number:04d} is given twice")
-        numbers.add(program.number)
-        if _bool(c.sub("main"), t.get("main", False)):
-            if main is not None:
-                c.sub("main").fail(f"O{main:04d} is already the main program")
-            main = program.number
-        texts.append(text)
-    return texts, main
-
-
 #: Largest number a ``[run]`` rate or time may be (events per hour, seconds: a year).
 _MAX_RUN_NUMBER: Final = 31_536_000.0
 #: The keys of ``[run]`` that are numbers of seconds or events per hour (>= 0).
@@ -661,8 +467,6 @@ def machine_from_dict(
     problem = name_problem(name)  # the machine's own rule
     if problem is not None:
         mc.sub("name").fail(problem)
-    from .pathfile import path_specs  # it reads its tables with this module's checks
-
     paths = path_specs(root, top, base)
     if paths is None and "axes" not in head:
         mc.sub("axes").fail("missing (or give each path's in [[path]] tables)")
@@ -764,19 +568,6 @@ def _control_class(ctx: _Ctx, head: dict[str, Any]) -> str:
         if text.lower() == known.lower():
             return known
     ctx.fail(f"unknown control class {text!r} (expected one of: {', '.join(CONTROL_CLASSES)})")
-
-
-def _text(name: str, raw: bytes) -> str:
-    """The text of a machine file: UTF-8, with or without a byte-order mark."""
-    skip = len(_BOM) if raw.startswith(_BOM) else 0
-    try:
-        return raw[skip:].decode("utf-8")
-    except UnicodeDecodeError as exc:
-        where = skip + exc.start
-        bad = raw[where : where + 1].hex().upper()
-        raise MachineFileError(
-            name, "", f"not UTF-8 text: byte 0x{bad} at byte {where} (save the file as UTF-8)"
-        ) from None
 
 
 def load_machine(

@@ -15,8 +15,11 @@ from __future__ import annotations
 from pathlib import Path
 from typing import Any, Final
 
+from ._identity import axes_problem, axis_name_problem
+from ._path import AUT_MODES, MODE_NAMES, MotionData, Panel
 from ._paths import MAX_PATHS, PATH_KINDS, PathSpec
-from .machinefile import _axes, _Ctx, _int, _list, _motion, _only, _panel, _programs, _str, _table
+from .filecheck import _I32, _ascii, _bool, _Ctx, _int, _list, _only, _str, _table, _text
+from .nc import ProgramError, parse_program
 
 __all__ = ["PATH_KEYS", "path_specs"]
 
@@ -89,3 +92,96 @@ def path_specs(root: _Ctx, top: dict[str, Any], base: Path | None) -> list[PathS
             )
         )
     return specs
+
+
+# -- what a path has: read for the machine of one path too ---------------------------------
+
+
+def _axes(ctx: _Ctx, value: Any) -> list[str]:
+    names: list[str] = []
+    for i, raw in enumerate(_list(ctx, value)):
+        name = _ascii(ctx.sub(i), raw)
+        problem = axis_name_problem(name, names)
+        if problem is not None:
+            ctx.sub(i).fail(problem)
+        names.append(name)
+    problem = axes_problem(names)
+    if problem is not None:
+        ctx.fail(problem)
+    return names
+
+
+def _panel(ctx: _Ctx, value: Any) -> Panel:
+    t = _table(ctx, value)
+    _only(ctx, t, ("mode", "pwe", "emergency", "run"))
+    mode_v = t.get("mode", "MEM")
+    c = ctx.sub("mode")
+    if isinstance(mode_v, str):
+        if mode_v.upper() not in MODE_NAMES:
+            c.fail(f"unknown mode {mode_v!r} (expected one of: {', '.join(MODE_NAMES)})")
+        mode = MODE_NAMES[mode_v.upper()]
+    else:
+        mode = _int(c, mode_v)
+        if mode not in AUT_MODES:
+            c.fail(f"{mode} is not a mode (0, 1, 3..10)")
+    return Panel(
+        mode=mode,
+        pwe=int(_bool(ctx.sub("pwe"), t.get("pwe", False))),
+        emergency=int(_bool(ctx.sub("emergency"), t.get("emergency", False))),
+        run=_int(ctx.sub("run"), t.get("run", 0), (0, 4)),
+    )
+
+
+def _motion(ctx: _Ctx, value: Any, n_axes: int) -> MotionData:
+    t = _table(ctx, value)
+    lists = ("absolute", "machine", "relative", "distance_to_go")
+    scalars = ("feed", "spindle_speed", "program_running", "program_main", "sequence")
+    _only(ctx, t, lists + scalars)
+    positions = []
+    for key in lists:
+        c = ctx.sub(key)
+        raw = _list(c, t.get(key, [0] * n_axes))
+        if len(raw) != n_axes:
+            c.fail(f"{len(raw)} values for {n_axes} axes")
+        positions.append([_int(c.sub(i), v, _I32) for i, v in enumerate(raw)])
+    nums = [_int(ctx.sub(k), t.get(k, 0), (0, _I32[1])) for k in scalars]
+    return MotionData(positions[0], positions[1], positions[2], positions[3], *nums)
+
+
+def _programs(ctx: _Ctx, value: Any, base: Path | None) -> tuple[list[str], int | None]:
+    """The ``[[program]]`` entries: each ``text`` (inline) or ``file`` (a path relative to
+    the machine file), ``main = true`` on at most one. Each text is checked as the store
+    will parse it; returns the texts and the main program's number (None: the first)."""
+    texts: list[str] = []
+    main: int | None = None
+    numbers: set[int] = set()
+    for i, raw in enumerate(_list(ctx, value)):
+        c = ctx.sub(i)
+        t = _table(c, raw)
+        _only(c, t, ("text", "file", "main"))
+        if ("text" in t) == ("file" in t):
+            c.fail("give either text (the program inline) or file (a path to it)")
+        if "text" in t:
+            key = c.sub("text")
+            text = _str(key, t["text"])
+        else:
+            key = c.sub("file")
+            given = Path(_str(key, t["file"]))
+            where = given if given.is_absolute() or base is None else base / given
+            try:
+                text = _text(str(where), where.read_bytes())
+            except OSError as exc:
+                key.fail(f"cannot read {str(where)!r}: {exc.strerror or exc}")
+        try:
+            program = parse_program(text)
+        except ProgramError as exc:
+            key.fail(str(exc))
+        if program.number in numbers:
+            key.fail(f"program O{program.number:04d} is given twice")
+        numbers.add(program.number)
+        if _bool(c.sub("main"), t.get("main", False)):
+            if main is not None:
+                c.sub("main").fail(f"O{main:04d} is already the main program")
+            main = program.number
+        texts.append(text)
+    return texts, main

@@ -1,0 +1,146 @@
+"""What every part of a machine file is read with: the error naming the file and the key,
+where in the file a value is (:class:`_Ctx`), and the checks of TOML values (a table, an
+integer within a span, a string, an array ...) that name the key of a bad value."""
+
+from __future__ import annotations
+
+import json
+import re
+from collections.abc import Mapping
+from dataclasses import dataclass
+from typing import Any, Final, NoReturn
+
+from focas_net.errors import FocasError
+
+__all__ = ["MachineFileError"]
+
+#: The spans of a signed 16-bit and a signed 32-bit value.
+_I16: Final = (-0x8000, 0x7FFF)
+_I32: Final = (-0x8000_0000, 0x7FFF_FFFF)
+#: A key TOML writes without quotes.
+_BARE_KEY: Final = re.compile(r"[A-Za-z0-9_-]+")
+#: The UTF-8 byte-order mark some editors write at the start of a file.
+_BOM: Final = b"\xef\xbb\xbf"
+
+
+class MachineFileError(FocasError, ValueError):
+    """A machine file that cannot be used: ``path``, ``key`` (dotted) and ``problem``."""
+
+    def __init__(self, path: str, key: str, problem: str) -> None:
+        self.path = path
+        self.key = key
+        self.problem = problem
+        where = f"{path}: {key}" if key else path
+        super().__init__(f"{where}: {problem}")
+
+
+@dataclass(frozen=True, slots=True)
+class _Ctx:
+    """Where we are: the file and the dotted key of the current table."""
+
+    path: str
+    key: str
+
+    def sub(self, key: str | int) -> _Ctx:
+        if isinstance(key, int):
+            return _Ctx(self.path, f"{self.key}[{key}]")
+        if not _BARE_KEY.fullmatch(key):  # as TOML writes it: " 1420" stays visible
+            key = json.dumps(key, ensure_ascii=False)
+        return _Ctx(self.path, f"{self.key}.{key}" if self.key else key)
+
+    def fail(self, problem: str) -> NoReturn:
+        raise MachineFileError(self.path, self.key, problem)
+
+
+def _table(ctx: _Ctx, value: Any) -> dict[str, Any]:
+    if not isinstance(value, dict):
+        ctx.fail(f"must be a table, got {_kind(value)}")
+    return value
+
+
+def _kind(value: Any) -> str:
+    if isinstance(value, bool):
+        return f"a boolean ({str(value).lower()})"
+    if isinstance(value, int):
+        return f"an integer ({value})"
+    if isinstance(value, str):
+        return f"a string ({value!r})"
+    if isinstance(value, float):
+        return f"a float ({value})"
+    if isinstance(value, list):
+        return "an array"
+    if isinstance(value, dict):
+        return "a table"
+    return f"a {type(value).__name__}"
+
+
+def _only(ctx: _Ctx, table: Mapping[str, Any], allowed: tuple[str, ...]) -> None:
+    for key in table:
+        if key not in allowed:
+            ctx.sub(key).fail(f"unknown key (expected one of: {', '.join(allowed)})")
+
+
+def _int(ctx: _Ctx, value: Any, span: tuple[int, int] | None = None) -> int:
+    if isinstance(value, bool) or not isinstance(value, int):
+        ctx.fail(f"must be an integer, got {_kind(value)}")
+    if span is not None and not span[0] <= value <= span[1]:
+        ctx.fail(f"{value} is outside {span[0]}..{span[1]}")
+    return value
+
+
+def _bool(ctx: _Ctx, value: Any) -> bool:
+    if isinstance(value, bool):
+        return value
+    if isinstance(value, int) and value in (0, 1):
+        return bool(value)
+    ctx.fail(f"must be true or false, got {_kind(value)}")
+
+
+def _str(ctx: _Ctx, value: Any) -> str:
+    if isinstance(value, int | float) and not isinstance(value, bool):
+        ctx.fail(f'must be a string, got {_kind(value)}: write it in quotes, "{value}"')
+    if not isinstance(value, str):
+        ctx.fail(f"must be a string, got {_kind(value)}")
+    return value
+
+
+def _ascii(ctx: _Ctx, value: Any, size: int | None = None) -> str:
+    text = _str(ctx, value)
+    if not text.isascii():
+        ctx.fail(f"must be ASCII: {text!r}")
+    if size is not None and len(text) != size:
+        ctx.fail(f"must be exactly {size} characters: {text!r}")
+    return text
+
+
+def _list(ctx: _Ctx, value: Any) -> list[Any]:
+    if not isinstance(value, list):
+        ctx.fail(f"must be an array, got {_kind(value)}")
+    return value
+
+
+def _bytes(ctx: _Ctx, value: Any) -> bytes:
+    items = _list(ctx, value)
+    return bytes(_int(ctx.sub(i), v, (0, 255)) for i, v in enumerate(items))
+
+
+def _number_key(ctx: _Ctx, key: str, span: tuple[int, int]) -> int:
+    if not re.fullmatch(r"-?[0-9]+", key):
+        ctx.fail(f"the key must be a number of ASCII digits, got {key!r}")
+    number = int(key)
+    if not span[0] <= number <= span[1]:
+        ctx.fail(f"{number} is outside {span[0]}..{span[1]}")
+    return number
+
+
+def _text(name: str, raw: bytes) -> str:
+    """The text of a machine file: UTF-8, with or without a byte-order mark."""
+    skip = len(_BOM) if raw.startswith(_BOM) else 0
+    try:
+        return raw[skip:].decode("utf-8")
+    except UnicodeDecodeError as exc:
+        where = skip + exc.start
+        bad = raw[where : where + 1].hex().upper()
+        raise MachineFileError(
+            name, "", f"not UTF-8 text: byte 0x{bad} at byte {where} (save the file as UTF-8)"
+        ) from None
