@@ -7,7 +7,8 @@ A parameter write is refused (EW_PASSWD) unless the CNC is in MDI mode with para
 enable (PWE) on and, when it has a parameter password, the connection is unlocked. The script
 switches the simulated panel to MDI with PWE on (simulator control), writes, unlocks with
 ``--password`` if the CNC refuses and writes again, reads the value back, and puts the panel
-back to its previous mode with PWE off.
+back to its previous mode with PWE off. ``--axis 0`` addresses a parameter that is not an
+axis parameter (1001, 6711, ...); the script asks the CNC which kind the parameter is first.
 """
 
 from __future__ import annotations
@@ -25,6 +26,15 @@ MDI = 0
 async def write_param(args: argparse.Namespace) -> int:
     async with FocasClient(args.host, args.port, timeout=args.timeout) as cnc:
         before = await cnc.read_status()
+        attributes = await cnc.read_param_attributes(args.param)
+        if attributes.axis and args.axis == 0:
+            print(f"parameter {args.param} is an axis parameter: give --axis 1..n", file=sys.stderr)
+            return 2
+        if not attributes.axis and args.axis != 0:
+            print(
+                f"parameter {args.param} is not an axis parameter: give --axis 0", file=sys.stderr
+            )
+            return 2
         old = await cnc.read_param(args.param, axis=args.axis)
         print(f"parameter {args.param} axis {args.axis}: {old}")
         await cnc.sim.set_panel(MDI, pwe=True, emergency=before.emergency == 1)
@@ -65,6 +75,9 @@ def main() -> int:
     except FocasError as exc:
         print(f"write_param_with_unlock: {exc}", file=sys.stderr)
         return 1
+    except (ValueError, TypeError) as exc:  # a value or a number the parameter cannot take
+        print(f"write_param_with_unlock: {exc}", file=sys.stderr)
+        return 2
 
 
 if __name__ == "__main__":

@@ -4,10 +4,13 @@ given, before any connection is tried."""
 
 from __future__ import annotations
 
+import re
+
 import pytest
 
 from focas_net.cli._args import parse_host
 from focas_net.client import FocasClient, NativeClient
+from focas_net.protocol import PmcArea
 
 CLIENTS = [FocasClient, NativeClient]
 
@@ -39,6 +42,25 @@ def test_a_bad_host_is_refused_at_construction(kind: type, host: str, words: str
 def test_a_host_that_is_no_text_is_a_type_error(kind: type) -> None:
     with pytest.raises(TypeError, match=r"host must be a str, got \('127.0.0.1', 8193\)"):
         kind(("127.0.0.1", 8193), 8193)
+
+
+@pytest.mark.parametrize("kind", CLIENTS)
+@pytest.mark.parametrize("port", [0, -1, 65536])
+def test_a_client_port_is_1_to_65535(kind: type, port: int) -> None:
+    """0 means "any port" only to a server that listens: a client cannot connect to it."""
+    with pytest.raises(ValueError, match=rf"port {port} is outside 1\.\.65535"):
+        kind("127.0.0.1", port)
+    with pytest.raises(TypeError, match=r"port must be an integer 1\.\.65535, got '8193'"):
+        kind("127.0.0.1", "8193")
+    assert kind("127.0.0.1", 65535).port == 65535
+
+
+@pytest.mark.parametrize("area", [b"R", True, 5.0, None])
+def test_a_pmc_area_of_another_type_is_a_type_error_naming_it(area: object) -> None:
+    with pytest.raises(TypeError, match=rf"a PMC area is its letter .*got {re.escape(repr(area))}"):
+        PmcArea.parse(area)  # type: ignore[arg-type]
+    with pytest.raises(ValueError, match="unknown PMC area number 99"):
+        PmcArea.parse(99)
 
 
 @pytest.mark.parametrize("kind", CLIENTS)

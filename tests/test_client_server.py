@@ -221,7 +221,10 @@ async def test_alarms_and_history(cnc: FocasClient) -> None:
     history = await cnc.read_alarm_history(10)
     assert history.ew == 0
     assert [e.alm_no for e in history.entries] == [401, 10]  # newest first
-    assert len((await cnc.read_alarm_history(0)).entries) == 1  # clamped to 1
+    for depth in (0, -5):
+        with pytest.raises(ValueError, match=rf"history depth {depth} is outside 1\.\.250"):
+            await cnc.read_alarm_history(depth)
+    assert len((await cnc.read_alarm_history(1)).entries) == 1
     assert len((await cnc.read_alarm_history(10_000)).entries) == 2  # clamped to 250
     await cnc.sim.clear_alarms(3)
     assert [a.alm_no for a in await cnc.read_alarms()] == [401]

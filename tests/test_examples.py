@@ -59,6 +59,23 @@ def test_every_example_is_tested() -> None:
     assert {p.name for p in EXAMPLES.glob("*.py")} == tested
 
 
+@pytest.mark.parametrize(
+    ("argv", "words"),
+    [
+        (["--param", "1001", "--axis", "0", "--value", "300"], "bit parameter 1001 holds 0..255"),
+        (["--param", "99999", "--axis", "0", "--value", "3"], "parameter number 99999 is outside"),
+        (["--param", "1001", "--value", "3"], "1001 is not an axis parameter: give --axis 0"),
+        (["--param", "1320", "--axis", "0", "--value", "3"], "1320 is an axis parameter"),
+    ],
+)
+async def test_write_param_says_what_is_wrong_without_a_traceback(
+    server: Served, argv: list[str], words: str
+) -> None:
+    code, _out, err = await run_example("write_param_with_unlock.py", *port_args(server), *argv)
+    assert code == 2 and "Traceback" not in err and words in err
+    assert (server.machine.panel.mode, server.machine.panel.pwe) == (1, 0)
+
+
 @pytest.mark.parametrize("protocol", ["packed", "native"])
 async def test_read_status(server: Served, protocol: str) -> None:
     server.machine.raise_alarm(0, 3, 100, "PARAMETER WRITE ENABLE")

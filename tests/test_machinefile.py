@@ -10,10 +10,12 @@ import pytest
 
 from focas_net.errors import EW
 from focas_net.sim import (
+    DataItem,
     Identity,
     Machine,
     MachineError,
     MachineFileError,
+    ParamKind,
     default_machine,
     load_machine,
 )
@@ -462,3 +464,29 @@ def test_programs_without_motion_show_the_main_program(
     path.write_text(text + "[motion]\nprogram_main = 7\n")
     motion = load_machine(path).motion
     assert (motion.program_running, motion.program_main) == (0, 7)
+
+
+@pytest.mark.parametrize("number", [6711, 6712, 6713])
+@pytest.mark.parametrize(
+    ("spec", "got"),
+    [
+        ('type = "real"\ndecimals = 2\nvalue = 5', "a real parameter"),
+        ('type = "bit"\nvalue = 255', "a bit parameter"),
+        ('type = "byte"\nvalue = 127', "a byte parameter"),
+        ('type = "word"\naxis = true', "an axis word parameter"),
+    ],
+)
+def test_the_parts_count_parameters_are_whole_numbers(
+    tmp_path: Path, number: int, spec: str, got: str
+) -> None:
+    """M2/M30 count parts in 6711/6712 (6713 says how many are required): a real, bit, byte or
+    axis parameter would count in a mantissa or saturate, so the file and the machine refuse it."""
+    path = tmp_path / "m.toml"
+    path.write_text(f'[machine]\nname = "m"\naxes = ["X"]\n[parameters.{number}]\n{spec}\n')
+    with pytest.raises(ValueError, match=rf"parameters\.{number}\.type") as exc:
+        load_machine(path)
+    assert "the machine counts parts in it" in str(exc.value) and got in str(exc.value)
+    kind = ParamKind.WORD if "axis" in spec else ParamKind.BIT
+    item = DataItem(number, kind=kind, axis="axis" in spec, values=[0])
+    with pytest.raises(ValueError, match=f"parameter {number}: the machine counts parts"):
+        Machine("m", axes=["X"], params=[item])

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import re
 from collections.abc import AsyncIterator, Awaitable, Callable
+from decimal import Decimal
 from typing import Any
 
 import pytest
@@ -23,7 +24,8 @@ from focas_net.protocol import (
     RaiseAlarm,
     VersaMaxRequest,
 )
-from focas_net.sim import default_machine
+from focas_net.sim import MachineError, default_machine
+from focas_net.web import Station, perform
 
 #: What a message must never show: payload classes, dotted fields, struct's wording.
 INTERNAL = re.compile(
@@ -182,3 +184,18 @@ def test_codec_messages_name_the_field_not_the_class(
         payload()
     assert str(exc.value).startswith(expected)
     assert not INTERNAL.search(str(exc.value)), str(exc.value)
+
+
+@pytest.mark.parametrize("typed", ["1.23456789012345", "2147483648", "-99999999999"])
+async def test_a_macro_value_that_does_not_fit_has_one_wording(typed: str) -> None:
+    """The client (the command line's) and the machine (the page's) say the same, and what to
+    type: at most 9 decimals and digits within 32 bits."""
+    words = f"{typed} does not fit a macro variable: give at most 9 decimals"
+    async with serving(default_machine()) as served:
+        async with FocasClient(served.host, served.port) as cnc:
+            with pytest.raises(ValueError, match=re.escape(words)):
+                await cnc.write_macro(500, typed)
+        with pytest.raises(MachineError, match=re.escape(f"#500 = {Decimal(typed)}")) as exc:
+            perform(Station(0, served.machine), "write_macro", {"number": 500, "value": typed})
+    assert "does not fit a macro variable: give at most 9 decimals" in str(exc.value)
+    assert "within 32 bits" in str(exc.value)

@@ -107,9 +107,8 @@ async def test_sequential_calls_start_no_task() -> None:
 
 
 async def test_a_server_that_goes_away_is_noticed_without_a_call() -> None:
-    native = NativeClient("127.0.0.1", 0, timeout=IO_TIMEOUT)
     async with serving() as served:
-        native.port = served.port
+        native = NativeClient("127.0.0.1", served.port, timeout=IO_TIMEOUT)
         await native.connect()
         assert await native.read_macro(100) is None
     try:

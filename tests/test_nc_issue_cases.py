@@ -207,3 +207,62 @@ async def test_a_move_past_the_stroke_limit_parameters_stops_on_the_limit_with_o
     assert all(x <= limit for x in samples)  # never past the limit, at any sample
     assert samples[-1] == limit  # stopped on it
     assert len(samples) > 10
+
+
+async def test_a_stroke_limit_written_while_the_machine_runs_is_the_one_it_stops_at(
+    clock: ManualClock,
+) -> None:
+    """1320 written through FOCAS applies at once (from the next block), as on a control: the
+    move stops on the new limit with OT0500, not on the one the machine was built with."""
+    machine = default_machine(sim_clock=clock, programs=("O2006\nG90 G0 X99.\nM30\n",))
+    async for cnc in _client(machine):
+        await cnc.sim.set_panel("MDI", pwe=True)
+        await cnc.write_param(1320, 7000, axis=1)  # 7.000 mm
+        await cnc.write_param(1420, 6000, axis=1)  # rapid 6 m/min
+        await cnc.sim.set_panel("MEM", pwe=False)
+        await cnc.select_program(2006)
+        await cnc.sim.cycle_start()
+        for _ in range(MAX_SAMPLES):
+            clock.advance(0.05)
+            if (await cnc.read_status()).run != RUN_STRT:
+                break
+        alarms = await cnc.read_alarms()
+        assert [(alarm_code(a.alm_type, a.alm_no), a.axis_no) for a in alarms] == [("OT0500", 1)]
+        assert await _x_mm(cnc) == 7.0
+        assert clock.now() == pytest.approx(7 / 6000 * 60, abs=0.06)  # at the new rapid rate
+
+
+async def test_a_running_programs_commons_and_locals_are_the_ones_focas_reads(
+    clock: ManualClock,
+) -> None:
+    """cnc_rdmacro(100) reads the common the program set, and cnc_rdmacro(1) the local of
+    the level running (the main program's); a value written by FOCAS before cycle start is the
+    one the program reads; a reset vacates #1-#33 and #100-#199 (6001 CLV/CCV = 0)."""
+    text = "O3004\n#101=#102+1\n#100=5\n#1=7\n#500=9\nG4 P60000\nM30\n"
+    machine = default_machine(sim_clock=clock, programs=(text,))
+    async for cnc in _client(machine):
+        await cnc.select_program(3004)
+        await cnc.write_macro(102, 41)
+        await cnc.sim.cycle_start()
+        clock.advance(1.0)
+        assert (await cnc.read_status()).run == RUN_STRT
+        values = [await cnc.read_macro(n) for n in (100, 101, 1, 500)]
+        assert values == [5, 42, 7, 9]
+        await cnc.sim.reset()
+        assert [await cnc.read_macro(n) for n in (100, 101, 1, 500)] == [None, None, None, 9]
+
+
+def test_a_program_search_sets_the_sequence_number_to_0(clock: ManualClock) -> None:
+    """The sequence number of the program run before does not survive a program search: the
+    control shows N00000 (read by cnc_rdseqnum and #4114)."""
+    machine = default_machine(sim_clock=clock)
+    machine.cycle_start()
+    for _ in range(MAX_SAMPLES):
+        clock.advance(0.5)
+        if machine.motion.sequence:
+            break
+    assert machine.motion.sequence
+    machine.reset()
+    machine.select_program(machine.store_program("O2004\nG0 X1.\nM30\n"))
+    assert machine.motion.program_main == 2004
+    assert machine.motion.sequence == 0

@@ -31,6 +31,7 @@ from focas_net.sim import (
     default_machine,
     load_machine,
 )
+from focas_net.web import ActionError, Station, perform
 
 REAL_FILE = """
 [machine]
@@ -271,3 +272,35 @@ def test_machine_file_doc_parameter_examples_load(tmp_path: Path) -> None:
     assert [m.read_param(1815, a) for a in (1, 2, 3)] == [48, 48, 49]
     assert m.read_param(1430, 0) == 2_500_500
     assert m.param_item(1420).kind is ParamKind.TWO_WORD  # type: ignore[union-attr]
+
+
+@pytest.mark.parametrize(
+    ("text", "value"), [("00000011", 3), ("00000101", 5), ("00010000", 16), ("10110000", 176)]
+)
+async def test_eight_bits_typed_are_the_bits_on_every_front_end(
+    cli: Cli, text: str, value: int
+) -> None:
+    """The command line shows a bit parameter as its eight bits: typed back (CLI, both
+    clients, the page) they are those bits, as the machine file reads them, not a decimal."""
+    m = cli.served.machine
+    await cli.ok("sim", "panel", "--mode", "MDI", "--pwe", "on")
+    out = await cli.ok("param", "set", "1001", text)
+    assert out.strip() == f"1001 = {value} ({value:08b}), bit parameter (written)"
+    await cli.ok("param", "set", "1815", text, "--axis", "1", "--protocol", "native")
+    assert m.read_param(1815, 1) == value
+    async with FocasClient(cli.served.host, cli.served.port) as cnc:
+        await cnc.write_param(1815, text, axis=2)
+    assert m.read_param(1815, 2) == value
+    station = Station(0, m)
+    perform(station, "write_param", {"number": 1815, "axis": 3, "value": text})
+    assert m.read_param(1815, 3) == value
+
+
+async def test_zero_led_digits_that_are_not_eight_bits_are_refused(cli: Cli) -> None:
+    await cli.ok("sim", "panel", "--mode", "MDI", "--pwe", "on")
+    err = await cli.fails(EXIT_USAGE, "param", "set", "1001", "0101")
+    assert "'0101' is not 8 bits" in err and '"00000101"' in err
+    with pytest.raises(ActionError, match="'0101' is not 8 bits"):
+        perform(Station(0, cli.served.machine), "write_param", {"number": 1001, "value": "0101"})
+    out = await cli.ok("param", "set", "6713", "0042")  # not a bit parameter: a decimal
+    assert cli.served.machine.read_param(6713, 0) == 42 and "(written)" in out

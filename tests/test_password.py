@@ -20,6 +20,7 @@ from focas_net.client import FocasClient
 from focas_net.errors import EW, AccessDeniedError
 from focas_net.protocol import Command, ParamValue, Password
 from focas_net.sim import MachineError, default_machine
+from focas_net.web import Station, perform
 
 START_TIMEOUT = 30.0
 
@@ -128,3 +129,18 @@ async def test_serve_refuses_a_long_param_password() -> None:
     assert out == ""
     assert "'123456'" in err and "1..4" in err
     assert "Traceback" not in err
+
+
+@pytest.mark.parametrize("typed", ["", "a\u00e9", "12345", "12\x00"])
+@pytest.mark.parametrize("password", [None, "1234"])
+def test_the_machine_refuses_text_that_is_no_password(typed: str, password: str | None) -> None:
+    """1..4 ASCII characters, checked by the machine so the page (and every front end) says
+    so, with or without a password set; the session stays locked."""
+    m = default_machine(param_password=password)
+    s = m.new_session()
+    with pytest.raises(MachineError, match=r"must be 1\.\.4 ASCII characters") as exc:
+        m.unlock(s, typed)
+    assert exc.value.ew == EW.PASSWD and not s.unlocked
+    station = Station(0, m)
+    with pytest.raises(MachineError, match=r"must be 1\.\.4 ASCII"):
+        perform(station, "unlock", {"password": typed})

@@ -27,6 +27,7 @@ from focas_net.sim import (
     default_machine,
 )
 from focas_net.sim.default import gniu_record, mdd844_record
+from focas_net.sim.nc import ManualClock
 
 
 def fixed_clock(t: datetime) -> Callable[[], datetime]:
@@ -554,6 +555,13 @@ def test_a_macro_holds_up_to_nine_decimals_as_given(m: Machine, value: Decimal |
     assert str(got) == str(Decimal(value))  # the decimals written are the decimals read
 
 
+@pytest.mark.parametrize(("value", "shown"), [("-0", "0"), ("-0.000", "0.000"), ("-0E+0", "0")])
+def test_a_negative_zero_is_held_as_zero(m: Machine, value: str, shown: str) -> None:
+    """The wire has no -0: the machine holds it as 0, so the page shows what FOCAS reads."""
+    m.write_macro(500, Decimal(value))
+    assert str(m.read_macro(500)) == shown
+
+
 @pytest.mark.parametrize(
     "value",
     [
@@ -668,3 +676,35 @@ def test_raising_an_active_alarm_again_keeps_the_first_message() -> None:
     m.clear_alarms(3, 100)
     assert m.raise_alarm(0, 3, 100, "SECOND MESSAGE") is True  # cleared, then raised anew
     assert [e.msg for e in m.alarm_history()] == ["SECOND MESSAGE", "FIRST"]
+
+
+@pytest.mark.parametrize(
+    ("call", "words"),
+    [
+        (lambda m: m.select_program(-1), "program number -1 outside 1..9999"),
+        (lambda m: m.select_program(10000), "program number 10000 outside 1..9999"),
+        (lambda m: m.delete_program(0), "program number 0 outside 1..9999"),
+        (lambda m: m.select_program(1234), "no program O1234"),
+        (lambda m: m.read_pmc("R", -1, 1), "R address -1 outside 0..7999"),
+        (lambda m: m.read_pmc("R", 10**20, 1), f"R address {10**20} outside 0..7999"),
+        (lambda m: m.write_pmc("R", 7999, b"\0\0"), "R7999..8000 beyond 8000 bytes"),
+    ],
+)
+def test_a_refused_number_is_named_as_given(call: Callable[[Machine], object], words: str) -> None:
+    """No ``O-001`` or ``R-1..-1``: a number outside the machine's range is named with it."""
+    m = default_machine()
+    with pytest.raises(MachineError) as exc:
+        call(m)
+    assert exc.value.ew == EW.NUMBER and words in str(exc.value)
+
+
+def test_a_clock_behind_the_machine_is_refused_with_what_to_give() -> None:
+    m = default_machine(sim_clock=ManualClock(5.0))
+    with pytest.raises(ValueError) as exc:
+        m.set_clock(ManualClock())
+    assert "5.0 s behind the machine's time 5.0" in str(exc.value)
+    assert "ManualClock(5.0)" in str(exc.value) and "sim_clock=" in str(exc.value)
+    later = ManualClock(m.sim_clock.now())
+    m.set_clock(later)
+    later.advance(1.0)
+    assert m.sim_clock.now() == 6.0

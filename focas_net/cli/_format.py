@@ -478,9 +478,13 @@ def param_dict(
 # -- parsers -------------------------------------------------------------------------------
 
 
-def parse_param_value(text: str) -> int | Decimal:
+def parse_param_value(text: str) -> int | Decimal | str:
     """A parameter value typed on the command line: an integer (decimal, ``0x`` hex, ``0b``
-    bits #7 first, ``0o`` octal) or, for a real parameter, a decimal number (``12.345``)."""
+    bits #7 first, ``0o`` octal) or, for a real parameter, a decimal number (``12.345``).
+    Plain digits stay text: the client reads them by the parameter's type (on a bit parameter
+    ``00000011`` is its eight bits)."""
+    if text.strip().replace("_", "").isdecimal() and text.isascii():
+        return text.strip()
     try:
         return parse_int(text)
     except ValueError:

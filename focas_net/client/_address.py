@@ -12,13 +12,23 @@ import ipaddress
 import re
 from typing import Final
 
-__all__ = ["address_text", "check_host", "host_and_port"]
+__all__ = ["address_text", "check_host", "check_port", "host_and_port"]
 
 #: A part of a host name between dots: letters (any script, for an international name),
 #: digits, hyphens and the underscores some local names have.
 _LABEL: Final = re.compile(r"[\w-]+")
 #: ``[::1]:8193``: an IPv6 address in brackets and a port.
 _BRACKETED_PORT: Final = re.compile(r"\[([^\]]*)\]:(\d+)")
+
+
+def check_port(port: object) -> int:
+    """The port a client connects to: 1..65535 (0 means "any port" only to a server that
+    listens). TypeError unless an integer, ValueError outside, each naming what was given."""
+    if isinstance(port, bool) or not isinstance(port, int):
+        raise TypeError(f"port must be an integer 1..65535, got {port!r}")
+    if not 1 <= port <= 0xFFFF:
+        raise ValueError(f"port {port} is outside 1..65535 (a client connects to a port)")
+    return port
 
 
 def address_text(host: str, port: int) -> str:

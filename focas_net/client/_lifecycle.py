@@ -18,7 +18,7 @@ from typing import Self
 
 from focas_net.errors import FocasConnectionError
 
-from ._address import address_text, check_host
+from ._address import address_text, check_host, check_port
 from ._values import check_path, check_timeout
 from .reconnect import ClientState, ReconnectPolicy, StateCallback
 
@@ -57,8 +57,7 @@ class Lifecycle:
     ) -> None:
         host = check_host(host)
         self._path = check_path(path)
-        if isinstance(port, bool) or not isinstance(port, int) or not 0 <= port <= 0xFFFF:
-            raise ValueError(f"port must be an integer within 0..65535, got {port!r}")
+        port = check_port(port)
         #: The default ``timeout`` of every call, seconds (None: none).
         self.timeout = check_timeout(timeout)
         self.host = host

@@ -296,6 +296,8 @@ class NativeItems(NativeLink):
                 # a parameter the information names: refused as the packed client does
                 raise as_int
             kind = ParamDataType.BIT if ptype == ParamType.BIT else None
+            if kind is not None:
+                as_int = param_int(number, value, kind)  # "00000011": the bits
             raw = signed(int_to_wire(number, as_int, size, kind), size)
             record = self._param_record(handle, number, axis, ptype, raw)
         await self._write_record(handle, record, deadline, path)

@@ -17,6 +17,8 @@ from dataclasses import dataclass
 from decimal import Decimal, InvalidOperation
 from typing import Final
 
+from .._bits import bits_of_text
+from .._typed import macro_unfit
 from ..protocol import (
     MAX_HISTORY_DEPTH,
     MAX_REAL_DECIMALS,
@@ -163,8 +165,12 @@ def check_pmc_range(start: object, count: object) -> tuple[int, int]:
 
 
 def history_depth(depth: object) -> int:
-    """The alarm history entries to read: ``depth`` clamped to 1..250."""
-    return min(max(check_int("history depth", depth, -(2**63), 2**63), 1), _MAX_HISTORY_DEPTH)
+    """The alarm history entries to read: ``depth`` from 1, more than 250 read as 250 (the
+    history holds no more); below 1 is a ValueError naming it, as the command line says."""
+    given = check_int("history depth", depth, -(2**63), 2**63)
+    if given < 1:
+        raise ValueError(f"history depth {given} is outside 1..{_MAX_HISTORY_DEPTH}")
+    return min(given, _MAX_HISTORY_DEPTH)
 
 
 def number_of_name(names: type[enum.IntEnum], given: str, what: str, numbers: str) -> int:
@@ -208,7 +214,7 @@ def macro_to_wire(value: int | Decimal | float | str) -> tuple[int, int]:
         raise TypeError("a macro value must be a number, not a bool")
     if isinstance(value, int):
         if not I32_MIN <= value <= I32_MAX:
-            raise ValueError(f"macro value {value} does not fit mcr_val (i32)")
+            raise ValueError(f"macro value {macro_unfit(value)}")
         return value, 0
     if isinstance(value, float):
         if not math.isfinite(value):
@@ -234,7 +240,7 @@ def macro_to_wire(value: int | Decimal | float | str) -> tuple[int, int]:
         mcr = int(candidate.scaleb(places))
         if I32_MIN <= mcr <= I32_MAX:
             return mcr, places
-    raise ValueError(f"macro value {value} cannot be carried as mcr_val (i32) / 10**dec_val (0..9)")
+    raise ValueError(f"macro value {macro_unfit(value)}")
 
 
 def macro_from_wire(mcr_val: int, dec_val: int) -> Decimal | None:
@@ -245,13 +251,23 @@ def macro_from_wire(mcr_val: int, dec_val: int) -> Decimal | None:
 
 
 # -- parameter values --------------------------------------------------------------------------
-def param_int(number: int, value: object) -> int:
-    """An integer parameter value from ``value`` (text: decimal, ``0x``, ``0b`` or ``0o``)."""
+def param_int(number: int, value: object, kind: ParamDataType | None = None) -> int:
+    """An integer parameter value from ``value`` (text: decimal, leading zeros allowed, ``0x``,
+    ``0b`` or ``0o``); for a bit parameter (``kind``) eight 0/1 digits of text are its bits
+    #7..#0, as the machine file and the page read them (:func:`focas_net._bits.bits_of_text`)."""
     if isinstance(value, str):
+        if kind is ParamDataType.BIT:
+            bits = bits_of_text(value)
+            if bits is not None:
+                return bits
+        text = value.strip().replace("_", "")
         try:
-            return int(value.strip().replace("_", ""), 0)
+            return int(text, 0)
         except ValueError:
-            raise ValueError(f"parameter {number}: not an integer: {value!r}") from None
+            pass
+        if text.lstrip("+-").isdecimal() and text.isascii():
+            return int(text, 10)  # 0042
+        raise ValueError(f"parameter {number}: not an integer: {value!r}")
     if isinstance(value, bool) or not isinstance(value, int | Decimal):
         raise TypeError(f"parameter {number}: a value is an integer, got {value!r}")
     if isinstance(value, Decimal):

@@ -373,8 +373,8 @@ class FocasClient(Link):
             mantissa, decimals = real_to_wire(number, value)
             pv = ParamValue(number, axis, mantissa, width, decimals)
         else:
-            raw = param_int(number, value)
             kind = await self._param_type(number, deadline) if width == 1 else None
+            raw = param_int(number, value, kind)
             pv = ParamValue(number, axis, int_to_wire(number, raw, width, kind), width)
         payload = _WRPARAM.request.encode(pv)
         try:
@@ -472,7 +472,7 @@ class FocasClient(Link):
     async def read_alarm_history(
         self, depth: int = 10, *, timeout: float | None = None
     ) -> AlarmHistory:
-        """``cnc_rdalmhistry``: up to ``depth`` (clamped to 1..250) most recent entries,
+        """``cnc_rdalmhistry``: up to ``depth`` (1.., above 250 read as 250) latest entries,
         newest first. An error answer (a negative count) raises :class:`CncError`, like
         :meth:`read_alarms`: a failed read is never mistaken for an empty history."""
         depth = history_depth(depth)

@@ -696,7 +696,7 @@ class NativeClient(NativeItems):
     async def read_alarm_history(
         self, depth: int = 10, *, timeout: float | None = None
     ) -> AlarmHistory:
-        """``cnc_rdalmhistry``: up to ``depth`` (clamped to 1..250) most recent entries,
+        """``cnc_rdalmhistry``: up to ``depth`` (1.., above 250 read as 250) latest entries,
         newest first, read 23 at a time as the library does. An error on the first chunk
         raises :class:`CncError`; EW_NUMBER on a later one ends the list."""
         depth = history_depth(depth)

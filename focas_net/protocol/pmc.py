@@ -35,7 +35,8 @@ class PmcArea(enum.IntEnum):
 
     @classmethod
     def parse(cls, area: str | int | PmcArea) -> PmcArea:
-        """``"R"``, ``PmcArea.R`` or ``5`` -> ``PmcArea.R``; ValueError otherwise."""
+        """``"R"``, ``PmcArea.R`` or ``5`` -> ``PmcArea.R``; ValueError for a letter or a number
+        that is no area, TypeError (naming it) for anything else (``b"R"``, ``True``)."""
         if isinstance(area, PmcArea):
             return area
         if isinstance(area, str):
@@ -43,7 +44,14 @@ class PmcArea(enum.IntEnum):
                 return cls[area.strip().upper()]
             except KeyError:
                 raise ValueError(f"unknown PMC area {area!r}") from None
-        return cls(area)
+        if isinstance(area, bool) or not isinstance(area, int):
+            raise TypeError(
+                f"a PMC area is its letter ('R'), a PmcArea or its number, got {area!r}"
+            )
+        try:
+            return cls(area)
+        except ValueError:
+            raise ValueError(f"unknown PMC area number {area}") from None
 
 
 @dataclass(frozen=True, slots=True)

@@ -12,6 +12,7 @@ from dataclasses import dataclass
 from decimal import Decimal, InvalidOperation
 from typing import Final
 
+from focas_net._typed import macro_unfit
 from focas_net.errors import EW
 
 from ._base import I32_MAX, I32_MIN, NUMBERS, Counters, MachineError
@@ -35,7 +36,8 @@ class MacroRange:
 
 
 def macro_value(value: Decimal | int) -> Decimal | None:
-    """``value`` as a macro variable holds it, or None when it cannot hold it."""
+    """``value`` as a macro variable holds it, or None when it cannot hold it; -0 is held as
+    0 (with the decimals given): the wire has no negative zero, so every front end shows 0."""
     if isinstance(value, bool) or not isinstance(value, Decimal | int):
         raise TypeError(f"a macro value is a Decimal, an int or None, got {value!r}")
     if isinstance(value, int):
@@ -49,7 +51,7 @@ def macro_value(value: Decimal | int) -> Decimal | None:
     coefficient = int("".join(map(str, digits)))
     if not I32_MIN <= (-coefficient if sign else coefficient) <= I32_MAX:
         return None
-    return value
+    return value.copy_abs() if sign and not coefficient else value
 
 
 def float_macro(value: float) -> Decimal | None:
@@ -131,10 +133,7 @@ class Macros:
             return
         held = macro_value(value)
         if held is None:
-            raise MachineError(
-                EW.DATA,
-                f"#{number} = {value}: 0..{MAX_MACRO_DECIMALS} decimals, digits within 32 bits",
-            )
+            raise MachineError(EW.DATA, f"#{number} = {macro_unfit(value)}")
         values[number] = held
         self.changed()
 

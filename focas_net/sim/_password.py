@@ -76,9 +76,17 @@ class ParamLock:
 
     def unlock(self, session: Session, password: str | bytes) -> None:
         """Unlock ``session`` (any password when there is none); EW_PASSWD, the session locked
-        again, on a mismatch."""
+        again, on a mismatch, and for text that is no password (not 1..4 ASCII characters:
+        ``""``, ``"aé"``, ``"12345"``), which no front end may offer, with that reason. Bytes
+        are the wire's 4 (or more) bytes: a longer payload is a mismatch."""
         expected = self._password
         session.epoch = self.epoch
+        if isinstance(password, str):
+            try:
+                _password(password)
+            except ValueError as exc:
+                session.unlocked = False
+                raise MachineError(EW.PASSWD, str(exc)) from None
         if expected is None:
             session.unlocked = True
             return

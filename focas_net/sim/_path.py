@@ -294,7 +294,7 @@ class Path:
         self.counters = shared.counters
         self.items = items or PathItems(shared.items, 0, len(axes), {})
         self.macros = shared.macros
-        #: The values of the path's own variables #100-#199 (path 1: the machine's).
+        #: The values of the path's own variables #1-#33, #100-#199 (path 1: the machine's).
         self.local_macros = shared.macros.values if number == 1 else {}
         self.alarms = shared.alarms
         self.pmc = shared.pmc
@@ -345,8 +345,8 @@ class Path:
         self.production = Production(self)
 
     def macro_values(self, number: int) -> dict[int, Decimal]:
-        """Where variable ``number``'s value is held: the path's own #100-#199, else the
-        machine's."""
+        """Where variable ``number``'s value is held: the path's own #1-#33 and #100-#199 (the
+        ones its program reads and writes), else the machine's."""
         return self.local_macros if number in PATH_MACROS else self.macros.values
 
     @staticmethod
@@ -359,13 +359,18 @@ class Path:
                     f"motion {key}: {len(getattr(motion, key))} values for {axes} axes"
                 )
 
+    def take_settings(self) -> None:
+        """The settings again after a write of one of them (``SETTING_PARAMS``): from the next
+        block, as on a control (none of them needs the power turned off)."""
+        self.engine.apply_settings(self._nc_settings(len(self.group)))
+
     def _nc_settings(self, path_count: int) -> NcSettings:
-        """Execution settings from the parameters, read when the machine is built: rapid
-        traverse 1420 (mm/min; an axis whose rate is not above 0 traverses at 24,000), maximum
-        cutting feed 1422, stroke limit 1 1320/1321 (0.001 mm, or mm for a real parameter; no
-        limit on an axis where plus is not above minus), reference position 1240; on a
-        machine of several paths the waiting M codes 8110..8111 (none unless both are above
-        0 and the lowest is not above the highest)."""
+        """Execution settings from the parameters (again on a write: :meth:`take_settings`):
+        rapid 1420 (mm/min; an axis whose rate is not above 0 traverses at 24,000), maximum
+        feed 1422, stroke limit 1 1320/1321 (0.001 mm, or mm for a real parameter; no limit on
+        an axis where plus is not above minus), reference position 1240; on a machine of
+        several paths the waiting M codes 8110..8111 (none unless both are above 0 and the
+        lowest is not above the highest)."""
         items = self.items
         axes = range(1, len(self.axes) + 1)
         rapid = tuple(
@@ -396,9 +401,7 @@ class Path:
     # -- time ----------------------------------------------------------------------------
     def check_clock(self, clock: SimClock) -> None:
         """ValueError when ``clock`` is behind the path's machine time."""
-        behind = self.time.now() - clock.now()
-        if behind > 0:
-            raise ValueError(f"the clock is {behind} s behind the machine's time")
+        self.time.check(clock)
 
     def set_clock(self, clock: SimClock) -> None:
         self.check_clock(clock)
@@ -780,7 +783,7 @@ class Path:
         if self.panel.mode not in (MEM, EDIT):
             raise MachineError(EW.MODE, f"program search in mode {self.panel.mode}: MEM or EDIT")
         try:
-            self.programs.select(number)
+            self.engine.select_program(number)
         except ProgramError as exc:
             raise _program_refusal(exc) from None
         self.driven = True

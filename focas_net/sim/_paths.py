@@ -35,6 +35,7 @@ __all__ = [
     "PATH_KINDS",
     "PATH_MACROS",
     "PATH_PARAMS",
+    "SETTING_PARAMS",
     "PathInfo",
     "PathItems",
     "PathSpec",
@@ -50,9 +51,12 @@ PATH_KINDS: Final = ("M", "T")
 #: count parts), 6710 (the M code that counts parts), 6711 parts count, 6712 total parts,
 #: 6713 parts required, 6750-6758 (the run-time counters).
 PATH_PARAMS: Final = frozenset({1401, 1422, 6700, 6710, 6711, 6712, 6713, *range(6750, 6759)})
-#: The macro variables each path has its own of: the common variables #100-#199 (FANUC's
-#: default; #500-#999 are shared).
-PATH_MACROS: Final = range(100, 200)
+#: The parameters a path's engine executes by (``Path._nc_settings``): a write of one is taken
+#: at once. Stroke limit 1320/1321, reference 1240, rapid 1420, feed 1422, waiting M codes.
+SETTING_PARAMS: Final = frozenset({1240, 1320, 1321, 1420, 1422, 8110, 8111})
+#: The macro variables each path has its own of: the locals #1-#33 of its program and the
+#: common variables #100-#199 (FANUC's default; #500-#999 are shared).
+PATH_MACROS: Final = frozenset((*range(1, 34), *range(100, 200)))
 
 
 @dataclass(frozen=True, slots=True)

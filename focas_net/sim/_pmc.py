@@ -115,7 +115,12 @@ class Area:
             self.data[address : address + len(raw)] = raw
 
     def beyond(self, start: int, end: int) -> MachineError:
-        """The refusal of addresses ``start..end - 1`` outside the area."""
+        """The refusal of addresses ``start..end - 1`` outside the area: a first address
+        outside it is named as given (``R address -1 outside 0..7999``)."""
+        if not 0 <= start < self.size:
+            return MachineError(
+                EW.NUMBER, f"{self.letter} address {start} outside 0..{self.size - 1}"
+            )
         return MachineError(EW.NUMBER, f"{self.letter}{start}..{end - 1} beyond {self.size} bytes")
 
 

@@ -42,6 +42,18 @@ class MachineTime:
         self._held_now = self._held.now
         self.set_source(source)
 
+    def check(self, clock: SimClock) -> None:
+        """ValueError, saying what to give, when ``clock`` is behind machine time: a machine
+        goes on from where it is."""
+        now = self.now()
+        behind = now - clock.now()
+        if behind > 0:
+            raise ValueError(
+                f"the clock is {behind} s behind the machine's time {now}: a machine goes on "
+                f"from where it is, so give a clock at {now} or later (ManualClock({now})), "
+                "or give the clock when the machine is built (sim_clock=)"
+            )
+
     def set_source(self, source: SimClock) -> None:
         """Read machine time from ``source`` from now on (nothing held)."""
         self.source = source

@@ -134,6 +134,7 @@ from ._paths import (
     MAX_PATHS,
     PATH_KINDS,
     PATH_PARAMS,
+    SETTING_PARAMS,
     PathInfo,
     PathItems,
     Paths,
@@ -519,6 +520,9 @@ class Machine(PathOperations):
         items.set(item, i, value, "parameter")
         if datano in (PARTS_COUNT, PARTS_TOTAL):
             p.set_parts(datano, value)
+        elif datano in SETTING_PARAMS:
+            for each in self._paths:  # from the next block, as a control applies them
+                each.take_settings()
 
     def set_diag(self, datano: int, axis: int, value: int, *, path: int = 1) -> None:
         """Change a diagnostic value (simulation code; a CNC has no diagnostic write):

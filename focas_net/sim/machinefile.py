@@ -18,10 +18,12 @@ from os import PathLike
 from pathlib import Path
 from typing import Any, Final
 
+from focas_net._bits import bits_hint, bits_of_text
 from focas_net.versamax import BoardId, IOModuleRecord, RefType
 
 from ._base import NUMBERS
 from ._identity import name_problem
+from ._items import parts_param_problem
 from ._pmc import pmc_letter
 from ._station import MAX_RACK, MAX_SLOT
 from .default import gniu_record, mdd844_record
@@ -103,7 +105,8 @@ def _identity(ctx: _Ctx, value: Any, n_axes: int) -> Identity:
     )
 
 
-def _items(ctx: _Ctx, value: Any, n_axes: int) -> list[DataItem]:
+def _items(ctx: _Ctx, value: Any, n_axes: int, *, parts: bool = False) -> list[DataItem]:
+    """Parameters (``parts``: the machine's parts counts among them) or diagnostics."""
     t = _table(ctx, value)
     items: list[DataItem] = []
     for key, raw in t.items():
@@ -155,6 +158,9 @@ def _items(ctx: _Ctx, value: Any, n_axes: int) -> list[DataItem]:
                 n_axes if is_axis else 1
             )
         name = _str(c.sub("name"), spec.get("name", ""))
+        problem = parts and parts_param_problem(number, kind, is_axis)
+        if problem:
+            c.sub("type").fail(problem)
         items.append(DataItem(number, kind.width, is_axis, low, high, values, name, kind, decimals))
     return items
 
@@ -189,19 +195,17 @@ def _item_value(
 
 def _bits(ctx: _Ctx, text: str) -> int:
     """A bit parameter's value given as text: the eight bits #7..#0 (``"10110000"``), or a
-    binary number with ``0b`` (``"0b1011"`` is 11, as the command line reads it); ``_``
-    may separate digits. Fewer than eight bits without ``0b`` (``"1011"``: #3..#0 or
-    #7..#4?) are refused with how to write them."""
-    raw = text.strip().lower().replace("_", "")
-    digits = raw.removeprefix("0b")
-    binary = bool(digits) and not set(digits) - {"0", "1"}
-    if binary and (len(digits) == 8 or (raw.startswith("0b") and len(digits) < 8)):
-        return int(digits, 2)
-    example = digits if binary and len(digits) < 8 else "1011"
-    ctx.fail(
-        f'{text!r} is not 8 bits: write the eight bits #7..#0 ("{int(example, 2):08b}"), '
-        f'a binary number with 0b ("0b{example}") or an integer 0..255 without quotes'
-    )
+    binary number with ``0b`` (``"0b1011"`` is 11), read as the command line and the page read
+    them (:func:`focas_net._bits.bits_of_text`); ``_`` may separate digits. Other text,
+    fewer than eight bits without ``0b`` (``"1011"``: #3..#0 or #7..#4?) among it, is refused
+    with how to write it."""
+    try:
+        value = bits_of_text(text)
+    except ValueError:
+        value = None
+    if value is None:
+        ctx.fail(f"{bits_hint(text)} without quotes")
+    return value
 
 
 def _macros(ctx: _Ctx, value: Any) -> tuple[list[MacroRange], dict[int, Decimal]]:
@@ -535,7 +539,7 @@ def _build(
         axes=axes if alone else None,
         paths=paths,
         identity=_identity(root.sub("sysinfo"), top.get("sysinfo", {}), n),
-        params=_items(root.sub("parameters"), top.get("parameters", {}), n),
+        params=_items(root.sub("parameters"), top.get("parameters", {}), n, parts=True),
         diags=_items(root.sub("diagnostics"), top.get("diagnostics", {}), n),
         macro_ranges=ranges,
         macro_values=values,

@@ -22,6 +22,7 @@ from dataclasses import dataclass, field
 from decimal import Decimal
 from typing import Any, Final
 
+from focas_net._bits import bits_of_text
 from focas_net.errors import EW, ew_name
 from focas_net.protocol import MAX_ALARM_MSG, FaultKind, FaultScope, InjectFault, alarm_message
 from focas_net.server.faults import FaultQueue, fault_refusal, parse_inject
@@ -312,9 +313,6 @@ def _param_value(m: Machine, number: int, text: Decimal) -> tuple[int, int | Non
     return int(text), None
 
 
-_EIGHT_BITS: Final = re.compile(r"[01]{8}", re.ASCII)
-
-
 def _bits(number: int, value: object) -> int | None:
     """The value of bit parameter ``number`` as the page shows it: its eight bits #7..#0
     (``10110000``), or ``0xB0`` / ``0b10110000`` as the command line takes them (a JSON
@@ -325,8 +323,12 @@ def _bits(number: int, value: object) -> int | None:
     if not isinstance(value, str) or not value.strip():
         return None
     text = value.strip()
-    if _EIGHT_BITS.fullmatch(text):
-        return int(text, 2)
+    try:
+        bits = bits_of_text(text)  # the machine file's and the command line's reading
+    except ValueError as exc:
+        raise ActionError(f"value: {exc}") from None
+    if bits is not None:
+        return bits
     if text.lower().lstrip("+-").startswith(("0x", "0b")):
         return _int({"value": text}, "value")
     raise ActionError(

@@ -16,7 +16,8 @@ implementing :class:`NcVariables` (``read_variable``/``write_variable`` over the
 #500-#999 and system variables, raising :class:`VariableRefused` with 115 or 116). Then:
 
 - programs: ``store.directory()``, ``store.text(n)``, ``store.store(text)``,
-  ``store.delete(n)``, ``store.select(n)``; refusals are :class:`ProgramError` with a
+  ``store.delete(n)``, ``store.select(n)`` (``select_program(n)``: a program search, which
+  also sets the sequence number to 0); refusals are :class:`ProgramError` with a
   ``reason`` (and FANUC's PS number in ``alarm``) for the front ends to map to EW codes;
 - control: ``cycle_start()`` (raises :class:`NcStateError`), ``feed_hold()`` (also pauses
   a dwell or an M function's wait), ``reset()``, ``alarm_stop(alarm)`` (emergency stop or
@@ -50,8 +51,9 @@ What the interpreter supports
   count, rewind, spindle and coolant off), M98 P L (also P with the count in front of four
   digits), M99 (P n: return to sequence n; in a main program: back to its head), any other
   M code as an M function taking its time.
-- Custom macro B: ``#i = expr``, locals #1-#33 and commons #100-#199 (cleared at reset and
-  program end), #500-#999 and other system variables through :class:`NcVariables`,
+- Custom macro B: ``#i = expr``, locals #1-#33, commons #100-#199 (vacant after a reset and
+  a program's end; the interpreter's own only where :class:`NcVariables` refuses them with
+  PS0115), #500-#999 and other system variables through :class:`NcVariables`,
   #4001-#4030, #4107-#4120, #5001+, #5021+, #5041+ read from the interpreter, ``#3000 = n
   (MESSAGE)`` raising MC alarm 3000+n (0..200); vacant ``#0`` as FANUC defines it;
   ``+ - * / OR XOR AND MOD``, ``EQ NE GT GE LT LE``, brackets (5 levels), ``SIN COS TAN

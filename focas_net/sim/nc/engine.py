@@ -171,6 +171,25 @@ class Engine:
         if self._state is CycleState.START:
             self._state = CycleState.HOLD
 
+    def select_program(self, number: int) -> None:
+        """A program search: ``number`` becomes the main program (``store.select``, refused
+        the same way) and, as on a control, the sequence number goes back to 0 (``N00000``;
+        the one shown belonged to the program run before)."""
+        self.advance()
+        self.store.select(number)
+        if self._state is CycleState.RESET:
+            self.interpreter.sequence = None
+        self.revision += 1
+
+    def apply_settings(self, settings: NcSettings) -> None:
+        """Go on with ``settings`` (the same axes), as a control applies a parameter written
+        while it runs: a motion under way keeps the limits it was planned with, the next
+        block uses the new ones."""
+        if settings.axes != self.settings.axes:
+            raise ValueError(f"settings for axes {settings.axes}, not {self.settings.axes}")
+        self.settings = settings
+        self.interpreter.settings = settings
+
     def reset(self) -> None:
         """Stop, clear the alarm, rewind to the head of the main program; the spindle and
         coolant stop."""

@@ -54,6 +54,8 @@ DEFAULT_MODAL: Final[dict[int, int]] = {
 }  # fmt: skip
 
 _ADDRESSES_OTHER: Final = frozenset("FGHDILJKMPRST")
+_LOCALS: Final = range(1, 34)
+_COMMONS: Final = range(100, 200)
 _PLANES: Final = {170: ("X", "Y", "I", "J"), 180: ("Z", "X", "K", "I"), 190: ("Y", "Z", "J", "K")}
 _CENTER: Final = {"X": "I", "Y": "J", "Z": "K"}
 
@@ -235,12 +237,32 @@ class Interpreter:
         return frozenset(f.program.number for f in self.frames)
 
     def rewind(self, main: Program | None) -> None:
-        """Back to the head of ``main``; locals and commons #100-#199 cleared (parameter
-        6001 CLV/CCV = 0), subprogram calls forgotten."""
+        """Back to the head of ``main``, subprogram calls forgotten; without ``main`` (a
+        reset, a program's end) the locals and the commons #100-#199 vacant as well
+        (parameter 6001 CLV/CCV = 0), where :class:`NcVariables` holds them too. A cycle
+        start (with ``main``) keeps them: a value written between reset and cycle start is
+        the one the program reads, as on a control."""
         self.frames = [_Frame(main, 0)] if main is not None else []
+        self.block = None
+        if main is not None:
+            return
         self.locals.clear()
         self.commons.clear()
-        self.block = None
+        for number in (*_LOCALS, *_COMMONS):
+            try:
+                if self.variables.read_variable(number) is not None:
+                    self.variables.write_variable(number, None)
+            except VariableRefused:
+                continue  # a machine without that variable: the interpreter's own store
+
+    def _own(self, number: int) -> dict[int, float | None] | None:
+        """The interpreter's own store of a local or a common #100-#199, used where the
+        variables (:class:`NcVariables`) lack the number; None for any other number."""
+        if 1 <= number <= 33:
+            return self.locals
+        if 100 <= number <= 199:
+            return self.commons
+        return None
 
     # --- coordinates ----------------------------------------------------------------------
 
@@ -257,10 +279,14 @@ class Interpreter:
     def read(self, number: int) -> Value:
         if number == 0:
             return None
-        if 1 <= number <= 33:
-            return self.locals.get(number)
-        if 100 <= number <= 199:
-            return self.commons.get(number)
+        own = self._own(number)
+        if own is not None:  # the machine's, read by cnc_rdmacro, where it has the number
+            try:
+                return self.variables.read_variable(number)
+            except VariableRefused as e:
+                if e.alarm != 115:
+                    raise AlarmRaised(e.alarm, str(e) or f"#{number}") from None
+                return own.get(number)
         n = len(self.settings.axes)
         if 4001 <= number <= 4030:
             group = self.modal.get(number - 4000)
@@ -297,10 +323,14 @@ class Interpreter:
         return None
 
     def write(self, number: int, value: Value, comment: str) -> None:
-        if 1 <= number <= 33:
-            self.locals[number] = value
-        elif 100 <= number <= 199:
-            self.commons[number] = value
+        own = self._own(number)
+        if own is not None:
+            try:
+                self.variables.write_variable(number, value)
+            except VariableRefused as e:
+                if e.alarm != 115:
+                    raise AlarmRaised(e.alarm, str(e) or f"#{number}") from None
+                own[number] = value
         elif number == 3000:
             n = 0 if value is None else round_fanuc(value)
             if not 0 <= n <= 200:

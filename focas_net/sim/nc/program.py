@@ -453,13 +453,17 @@ class ProgramStore:
         return [ProgramInfo(p.number, p.name, p.size) for _, p in sorted(self._programs.items())]
 
     def get(self, number: int) -> Program:
-        """The program ``number``; :class:`ProgramError` NOT_FOUND when absent."""
+        """The program ``number``; :class:`ProgramError` NOT_FOUND when absent (a number no
+        program can have named as given: ``program number -1 outside 1..9999``)."""
         try:
             return self._programs[number]
         except KeyError:
-            raise ProgramError(
-                ProgramErrorReason.NOT_FOUND, f"no program O{number:04d}", number
-            ) from None
+            text = (
+                f"no program O{number:04d}"
+                if 1 <= number <= self.max_number
+                else f"program number {number} outside 1..{self.max_number}"
+            )
+            raise ProgramError(ProgramErrorReason.NOT_FOUND, text, number) from None
 
     def find(self, number: int) -> Program | None:
         return self._programs.get(number)

@@ -1,0 +1,44 @@
+"""A bit parameter's value written as its bits, read the same way by the machine file, the
+command line and the dashboard (it knows no protocol and no machine).
+
+The command line and the page show a bit parameter as its eight bits #7..#0 (``10110000``);
+typed back, the same eight digits are those bits, never the decimal number 10110000 or, with
+leading zeros, ``00000011`` as eleven.
+"""
+
+from __future__ import annotations
+
+__all__ = ["bits_hint", "bits_of_text"]
+
+_BINARY = frozenset("01")
+
+
+def bits_hint(text: str) -> str:
+    """How to write a bit parameter's value, for a refusal of ``text``."""
+    raw = text.strip().lower().replace("_", "").removeprefix("0b")
+    example = raw if raw and not set(raw) - _BINARY and len(raw) < 8 else "1011"
+    return (
+        f'{text!r} is not 8 bits: write the eight bits #7..#0 ("{int(example, 2):08b}"), '
+        f'a binary number with 0b ("0b{example}") or an integer 0..255'
+    )
+
+
+def bits_of_text(text: str) -> int | None:
+    """The value of a bit parameter typed as ``text`` when the text is written as bits: the
+    eight digits #7..#0 (``"10110000"`` is 176; ``_`` may separate them) or ``0b`` and at most
+    eight digits (``"0b1011"`` is 11). None for text of another shape (``"176"``, ``"0xB0"``),
+    which the caller reads as a number.
+
+    :raises ValueError: 0/1 digits that are not eight and start with 0 (``"0101"``: the bits
+        #3..#0, or 101 with a leading zero?) and more than eight after ``0b``.
+    """
+    raw = text.strip().lower().replace("_", "")
+    binary = raw.startswith("0b")
+    digits = raw.removeprefix("0b")
+    if not digits or set(digits) - _BINARY:
+        return None
+    if len(digits) == 8 or (binary and len(digits) < 8):
+        return int(digits, 2)
+    if binary or (digits.startswith("0") and len(digits) > 1):
+        raise ValueError(bits_hint(text))
+    return None
