@@ -629,7 +629,9 @@ async def test_enter_unlocks_and_a_longer_password_is_refused_not_cut(
         await page.until(lambda d: d.find_elements(By.ID, "param-6713-0"), "parameter 6713")
         await page.type("param-password", "12345" + Keys.ENTER)
         message = await page.text_of("message", lambda t: "unlock" in t, "the refusal")
-        assert message == "unlock refused: EW_PASSWD parameter password mismatch"
+        assert message == (
+            "unlock refused: EW_PASSWD parameter password '12345': must be 1..4 ASCII characters"
+        )
         await page.type("param-password", "1234" + Keys.ENTER)
         await page.text_of("message", lambda t: t == "unlock: done", "unlocked")
 
