@@ -71,6 +71,11 @@ async def test_refusals_of_the_built_in_machine_say_why(programs: Path) -> None:
         (("pmc", "read", "R", "7999", "2"), "NUMBER", "R7999..R8000 goes past the end"),
         (("pmc", "write", "X", "0", "1"), "PROT", "X is write-protected"),
         (("pmc", "bit", "X", "0.1", "1"), "PROT", "pmc bit has no --force"),
+        (
+            ("pmc", "write", "X", "0", "1", "--protocol", "native"),
+            "PROT",
+            "writing it as the simulator (--force) needs --protocol packed",
+        ),
         (("versamax", "0", "9"), "NUMBER", "rack 0 slot 9 holds no module"),
         (("sim", "alarm", "PS0100", "--axis", "9"), "ATTRIB", "the machine has no axis 9"),
         (("param", "set", "1420", "5", "--axis", "1"), "PASSWD", "need MDI mode and PWE on"),
@@ -135,6 +140,11 @@ async def test_read_only_and_no_control_servers_say_so(programs: Path) -> None:
                 (("program", "load", str(programs / "o0001.nc"), "--replace"), "PROT", read_only),
                 (("sim", "cycle", "start"), "PROT", read_only),
                 (("pmc", "write", "R", "0", "1", "--force"), "PROT", read_only),
+                (
+                    ("pmc", "write", "R", "0", "1"),
+                    "PROT",
+                    "the machine is read-only, or its machine file write-protects PMC area R",
+                ),
             ],
         )
     async with served_as(control=False) as served:

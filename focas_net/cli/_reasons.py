@@ -131,18 +131,31 @@ def _pmc_beyond(args: argparse.Namespace) -> str:
     return f"{span} goes past the end of PMC area {area}"
 
 
+#: The PMC areas a CNC's own PMC writes (the machine's inputs X and the CNC's signals F),
+#: write-protected on every simulated machine.
+_DRIVEN_AREAS: Final = ("X", "F")
+
+
 def _pmc_protected(args: argparse.Namespace) -> str:
     area = args.area.name
     if getattr(args, "force", False):
         return _read_only(args)
-    what = f"PMC area {area} is write-protected, or the machine is read-only"
+    if area in _DRIVEN_AREAS:
+        what = (
+            f"PMC area {area} is write-protected (the machine drives it), or the machine is "
+            "read-only"
+        )
+    else:
+        what = f"the machine is read-only, or its machine file write-protects PMC area {area}"
+    if getattr(args, "protocol", "packed") == "native":
+        return f"{what}; writing it as the simulator (--force) needs --protocol packed"
     if hasattr(args, "address"):  # pmc bit
         byte = fmt.parse_number_bit(args.address)[0]
         return (
             f"{what}; pmc bit has no --force: focas-net pmc write {area} {byte} VALUE --force "
             "writes the whole byte as the simulator"
         )
-    return f"{what}: give --force to write it as the simulator (it drives X and F)"
+    return f"{what}: --force writes it as the simulator, unless the machine is read-only"
 
 
 _PMC: Final[Table] = {
