@@ -708,3 +708,22 @@ def test_a_clock_behind_the_machine_is_refused_with_what_to_give() -> None:
     m.set_clock(later)
     later.advance(1.0)
     assert m.sim_clock.now() == 6.0
+
+
+@pytest.mark.parametrize(
+    ("mode", "pwe", "emergency", "words"),
+    [
+        (2, None, None, "panel mode 2 is not a mode (one of 0 MDI, 1 MEM, 3 EDIT,"),
+        (None, 2, None, "panel pwe is 0 or 1, got 2"),
+        (None, None, -1, "panel emergency is 0 or 1, got -1"),
+    ],
+)
+def test_a_panel_refusal_gives_the_values_it_takes(
+    mode: int | None, pwe: int | None, emergency: int | None, words: str
+) -> None:
+    m = default_machine()
+    with pytest.raises(MachineError) as info:
+        m.set_panel(mode, pwe, emergency)
+    assert info.value.ew == EW.DATA
+    assert words in str(info.value)
+    assert (m.panel.mode, m.panel.pwe, m.panel.emergency) == (1, 0, 0)  # nothing changed

@@ -540,8 +540,12 @@ class Path:
         mode = p.mode if mode is None else mode
         pwe = p.pwe if pwe is None else pwe
         emergency = p.emergency if emergency is None else emergency
-        if mode not in AUT_MODES or pwe not in (0, 1) or emergency not in (0, 1):
-            raise MachineError(EW.DATA, f"panel mode={mode} pwe={pwe} emergency={emergency}")
+        if mode not in AUT_MODES:
+            modes = ", ".join(f"{value} {name}" for name, value in MODE_NAMES.items())
+            raise MachineError(EW.DATA, f"panel mode {mode} is not a mode (one of {modes})")
+        for name, value in (("pwe", pwe), ("emergency", emergency)):
+            if value not in (0, 1):
+                raise MachineError(EW.DATA, f"panel {name} is 0 or 1, got {value}")
         self.sync()
         leaving_mem = p.mode == MEM and mode != MEM
         stop = emergency and not p.emergency
@@ -556,8 +560,10 @@ class Path:
 
     def set_run(self, run: int, motion: int) -> None:
         """The run state and motion the status shows by hand: EW_DATA for a value it has not."""
-        if run not in range(5) or motion not in range(3):
-            raise MachineError(EW.DATA, f"run={run} motion={motion}")
+        if run not in range(5):
+            raise MachineError(EW.DATA, f"run is 0..4, got {run}")
+        if motion not in range(3):
+            raise MachineError(EW.DATA, f"motion is 0..2, got {motion}")
         self.panel.run, self.panel.motion = run, motion
         self.driven = False
         self.counters.status_changed()
