@@ -149,8 +149,8 @@ def unlock(args: argparse.Namespace) -> PackedOnly:
             )
         return Output(
             {"unlocked": True, "password_set": False},
-            "the CNC has no parameter password: it accepts any, and parameter writes need "
-            "none (only MDI mode and PWE on)",
+            "the CNC has no parameter password: it accepts any, and a parameter write needs "
+            "no unlock (it needs MDI mode and PWE on, and a machine that is not read-only)",
         )
 
     return PackedOnly(go, "FOCAS/2 has no cnc_wrunlockparam")
