@@ -149,6 +149,11 @@ USAGE_ERRORS = [
     (("status", "--json", "extra"), "unrecognized arguments: extra"),
     (("sim", "alarm", "PS0100", "--bogus"), "unrecognized arguments: --bogus"),
     (("param",), "the following arguments are required: ACTION"),
+    (
+        ("param", "--port=9400", "get", "1420"),
+        "--port is an option of the command: give it after the command "
+        "(focas-net param get --port ...)",
+    ),
 ]
 
 
@@ -156,6 +161,12 @@ async def test_a_usage_error_is_one_line_and_where_the_help_is() -> None:
     results = await asyncio.gather(*(_focas_net(*argv) for argv, _ in USAGE_ERRORS))
     for (argv, message), (code, out, err) in zip(USAGE_ERRORS, results, strict=True):
         _check_usage_error(argv, message, code, out, err)
+    code, out, err = await _focas_net("--port", "9400", "status")
+    assert (code, out) == (EXIT_USAGE, "")
+    assert err == (
+        "focas-net: error: --port is an option of the command: give it after the command "
+        "(focas-net status --port ...); see focas-net --help\n"
+    )
     code, out, err = await _focas_net()
     assert (code, out) == (EXIT_USAGE, "")
     assert err == (

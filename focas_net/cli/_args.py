@@ -110,6 +110,8 @@ class Parser(argparse.ArgumentParser):
     def parse_known_args(  # type: ignore[override]
         self, args: Sequence[str] | None = None, namespace: Any = None
     ) -> tuple[Any, list[str]]:
+        if not self.leaf:
+            self._option_before_command(sys.argv[1:] if args is None else list(args))
         if not self.leaf or self._mixing:
             return super().parse_known_args(args, namespace)
         self._mixing = True  # (the intermixed parse calls this method for each of its passes)
@@ -120,6 +122,23 @@ class Parser(argparse.ArgumentParser):
         if extras:
             self.error(f"unrecognized arguments: {' '.join(extras)}")
         return namespace, extras
+
+
+    def _option_before_command(self, args: list[str]) -> None:
+        """A usage error for an option of the commands given before the command
+        (``focas-net --port 9400 status``), which would read as a command name."""
+        if not args or not args[0].startswith("-") or args[0] in self._option_string_actions:
+            return
+        commands = next(
+            (a.choices for a in self._actions if isinstance(a, argparse._SubParsersAction)), {}
+        )
+        command = next((word for word in args if word in commands), None)
+        if command is not None:
+            option = args[0].partition("=")[0]
+            self.error(
+                f"{option} is an option of the command: give it after the command "
+                f"({self.prog} {command} {option} ...)"
+            )
 
 
 def command_parser(subparsers: Any, name: str, **kwargs: Any) -> argparse.ArgumentParser:
