@@ -272,3 +272,9 @@ def test_a_table_row_becomes_a_parser(capsys: pytest.CaptureFixture[str]) -> Non
 
 async def _never(cnc: object) -> Output:  # pragma: no cover - never connected
     raise AssertionError("not connected")
+
+
+@pytest.mark.parametrize("value", ["-0x10", "-0b101", "-1e3", "-inf", "-.5", "-7"])
+def test_a_negative_value_is_a_value_not_an_option(value: str) -> None:
+    args = build_parser().parse_args(["param", "set", "1320", value, "--axis", "1"])
+    assert args.value == value  # read by the parameter's type when the command runs

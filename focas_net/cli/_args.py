@@ -10,6 +10,7 @@ must be 1..65535, got '70000'; see focas-net CMD --help``, and exit 2.
 from __future__ import annotations
 
 import argparse
+import re
 import sys
 from collections.abc import Callable, Sequence
 from functools import partial
@@ -90,6 +91,10 @@ def print_error(message: str, prog: str = PROG) -> None:
     sys.stderr.flush()
 
 
+#: An argument that starts with "-" and is a negative number, not an option.
+_NEGATIVE_VALUE: Final = re.compile(r"^-(?:\.?\d|inf$|infinity$|nan$)", re.IGNORECASE)
+
+
 class Parser(argparse.ArgumentParser):
     """The parser of ``focas-net`` and of each of its commands.
 
@@ -102,6 +107,9 @@ class Parser(argparse.ArgumentParser):
         super().__init__(*args, **kwargs)
         self.leaf = False
         self._mixing = False
+        # A value a command takes, not an option: -5 and -.5 as argparse reads them, and
+        # -0x10, -0b101, -1e3, -inf too (no option of focas-net starts with a digit or these).
+        self._negative_number_matcher = _NEGATIVE_VALUE
 
     def error(self, message: str) -> NoReturn:
         print_error(f"error: {' '.join(message.split())}; see {self.prog} --help", self.prog)
