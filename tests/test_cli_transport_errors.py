@@ -220,6 +220,14 @@ async def test_a_connection_over_the_limit_says_the_server_refused_it(protocol: 
     assert "--tls" not in line
 
 
+async def test_a_limit_of_one_connection_is_named_to_a_focas2_client() -> None:
+    async with serving(max_connections=1) as served:
+        code, out, err = await cli(served.port, "native")
+    assert (code, out) == (EXIT_CONNECTION, ""), err
+    line = one_line(err)
+    assert "FOCAS/2's open, which takes two" in line and "--max-connections 1" in line
+
+
 async def test_a_dropped_answer_gives_no_tls_hint() -> None:
     async with serving() as served:
         async with FocasClient(served.host, served.port, timeout=IO_TIMEOUT) as c:
@@ -257,7 +265,7 @@ async def test_tls_on_one_side_only_is_found_on_either_side(
         (Findings(False, True, False, False), "packed", True, None),
         (Findings(False, False, True, True), "packed", True, "plain TCP: drop --tls"),
         (Findings(False, False, False, True), "native", False, "on purpose"),
-        (Findings(False, False, True, False), "native", False, None),
+        (Findings(False, False, True, False), "native", False, "FOCAS/2's open, which takes two"),
         (Findings(False, False, False, False), "packed", False, None),
     ],
 )

@@ -131,7 +131,6 @@ class Parser(argparse.ArgumentParser):
             self.error(f"unrecognized arguments: {' '.join(extras)}")
         return namespace, extras
 
-
     def _option_before_command(self, args: list[str]) -> None:
         """A usage error for an option of the commands given before the command
         (``focas-net --port 9400 status``), which would read as a command name."""

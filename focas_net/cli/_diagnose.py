@@ -82,6 +82,12 @@ def advice(found: Findings, protocol: str, tls: bool) -> str | None:
         return "the server uses TLS: give --tls (with --tls-ca FILE or --tls-insecure)"
     if protocol == "packed" and found.native and not found.packed:
         return "the port speaks FOCAS/2 only (serve --native-port): give --protocol native"
+    if protocol == "native" and found.packed and not found.native:
+        return (
+            "the server answers one connection but not FOCAS/2's open, which takes two: a "
+            "server limited to one connection refuses the second (focas-net serve "
+            "--max-connections 1); give --protocol packed, or a higher limit"
+        )
     if found.packed if protocol == "packed" else found.native:
         return (
             "the server answers a new connection, so it closed this one on purpose (as a drop "
@@ -134,11 +140,16 @@ async def _answers_packed(host: str, port: int, bound: float) -> bool:
 
 
 async def _answers_native(host: str, port: int, bound: float) -> bool:
-    """The open of FOCAS/2 is answered (the open alone: its answer is never faulted, while
-    the requests a client sends after it are)."""
-    loop = asyncio.get_running_loop()
-    channel, _ = await _open_channel(host, port, 1, loop.time() + bound)
-    channel.close()
+    """The open of FOCAS/2 is answered on both its connections, as a client opens them (the
+    opens alone: their answers are never faulted, while the requests a client sends after
+    them are)."""
+    deadline = asyncio.get_running_loop().time() + bound
+    first, _ = await _open_channel(host, port, 1, deadline)
+    try:
+        second, _ = await _open_channel(host, port, 2, deadline)
+        second.close()
+    finally:
+        first.close()
     return True
 
 
@@ -154,20 +165,24 @@ async def _answers_http(host: str, port: int) -> bytes:
 
 async def probed(host: str, port: int, bound: float) -> Findings:
     """Probe ``host:port`` (each probe ``bound`` seconds at most): the one waiting for a
-    close at once is waited for only when no other probe found the peer answering."""
+    close at once is waited for only when no other probe found the peer answering. A peer
+    that answers the packed protocol is then asked the open of FOCAS/2 alone, so that a
+    server of one connection at a time answers it if it can (FOCAS/2 takes two)."""
+    if await _bounded(_answers_packed(host, port, bound), bound):
+        native = await _bounded(_answers_native(host, port, bound), bound)
+        return Findings(refused=False, tls=False, packed=True, native=native)
     at_once = asyncio.ensure_future(_bounded(_closes_at_once(host, port), bound))
     try:
-        tls, packed, native = await asyncio.gather(
+        tls, native = await asyncio.gather(
             _bounded(_speaks_tls(host, port), bound),
-            _bounded(_answers_packed(host, port, bound), bound),
             _bounded(_answers_native(host, port, bound), bound),
         )
-        refused = False if tls or packed or native else await at_once
+        refused = False if tls or native else await at_once
     finally:
         at_once.cancel()
         with contextlib.suppress(asyncio.CancelledError):
             await at_once
-    return Findings(refused, tls, packed, native)
+    return Findings(refused, tls, False, native)
 
 
 async def _http_answer(host: str, port: int, bound: float) -> bytes:
