@@ -150,6 +150,11 @@ USAGE_ERRORS = [
     (("sim", "alarm", "PS0100", "--bogus"), "unrecognized arguments: --bogus"),
     (("param",), "the following arguments are required: ACTION"),
     (
+        ("serve", "--host", "bad host!"),
+        "argument --host: not a host name: 'bad host!' (a name is letters, digits and hyphens, "
+        "in parts between dots)",
+    ),
+    (
         ("param", "--port=9400", "get", "1420"),
         "--port is an option of the command: give it after the command "
         "(focas-net param get --port ...)",

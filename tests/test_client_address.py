@@ -29,6 +29,8 @@ CLIENTS = [FocasClient, NativeClient]
         ("cnc 01", "not a host name: 'cnc 01'"),
         (" 127.0.0.1", "not a host name: ' 127.0.0.1'"),
         ("a..b", "has a part of 0 characters"),
+        ("256.1.1.1", "not an IPv4 address: host '256.1.1.1'"),
+        ("10.0.5", "not an IPv4 address: host '10.0.5'"),
         ("x" * 64, "has a part of 64 characters"),
     ],
 )

@@ -50,6 +50,7 @@ from focas_net.server import (
 from ._args import (
     EXIT_CNC,
     EXIT_USAGE,
+    HOST,
     LISTEN_PORT,
     NON_NEGATIVE,
     POSITIVE,
@@ -161,7 +162,9 @@ def register(subparsers: Any) -> None:
         description="Run simulated FANUC CNCs speaking the focas_net packed protocol and "
         "FANUC's native FOCAS/2 Ethernet protocol, both on each machine's port.",
     )
-    p.add_argument("--host", default=DEFAULT_HOST, help="address to bind (default %(default)s)")
+    p.add_argument(
+        "--host", type=HOST, default=DEFAULT_HOST, help="address to bind (default %(default)s)"
+    )
     p.add_argument(
         "--port",
         type=LISTEN_PORT,

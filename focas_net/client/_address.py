@@ -83,6 +83,12 @@ def check_host(text: object) -> str:
         return host
     if len(host) > 253:
         raise ValueError(f"host name too long: {shown(text)}; at most 253 characters")
+    if all(c.isdigit() or c == "." for c in host.removesuffix(".")) and host.isascii():
+        try:  # a name is never all digits and dots: it is an address, or a mistake
+            ipaddress.IPv4Address(host)
+        except ValueError:
+            raise ValueError(f"not an IPv4 address: host {shown(text)}") from None
+        return host
     for label in host.removesuffix(".").split("."):
         if not 1 <= len(label) <= 63:
             raise ValueError(
