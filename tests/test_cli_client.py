@@ -552,10 +552,12 @@ def test_usage_errors_exit_2(capsys: pytest.CaptureFixture[str]) -> None:
     assert main(["param", "set", "1815.1", "maybe", "--port", "1"]) == EXIT_USAGE
     assert main(["param", "set", "1815.1", "1", "--width", "1", "--port", "1"]) == EXIT_USAGE
     assert main(["sim", "panel", "--mode", "TURBO", "--port", "1"]) == EXIT_USAGE
+    assert main(["pmc", "bit", "R", "-1.0", "1", "--port", "1"]) == EXIT_USAGE
     err = capsys.readouterr().err.splitlines()
+    assert err.pop() == "focas-net: expected BYTE.BIT (e.g. 100.3), got '-1.0'"
     assert err[-4:] == [
         "focas-net: expected NUMBER or NUMBER.BIT (e.g. 1815 or 1815.0), got 'abc'",
-        "focas-net: expected 0/1, on/off or true/false, got 'maybe'",
+        "focas-net: expected 1, on, true, yes or set, or 0, off, false, no or clear, got 'maybe'",
         "focas-net: --width does not apply to a bit write (NUMBER.BIT)",
         "focas-net: unknown mode 'TURBO' (one of MDI, MEM, EDIT, HND, JOG, TJOG, THND, INC, "
         "REF, RMT)",

@@ -509,13 +509,16 @@ def parse_int(text: str) -> int:
         raise ValueError(f"not an integer: {text!r}") from None
 
 
-def parse_number_bit(text: str) -> tuple[int, int | None]:
-    """``"1815"`` -> ``(1815, None)``; ``"1815.0"`` -> ``(1815, 0)``."""
+def parse_number_bit(
+    text: str, expected: str = "NUMBER or NUMBER.BIT (e.g. 1815 or 1815.0)"
+) -> tuple[int, int | None]:
+    """``"1815"`` -> ``(1815, None)``; ``"1815.0"`` -> ``(1815, 0)``; ``expected`` names the
+    argument as its command's help does."""
     s = text.strip()
     number, dot, bit = s.partition(".")
-    if not number.isdigit():
-        raise ValueError(f"expected NUMBER or NUMBER.BIT (e.g. 1815 or 1815.0), got {text!r}")
-    if dot and not bit.isdigit():
+    if not (number.isascii() and number.isdigit()):
+        raise ValueError(f"expected {expected}, got {text!r}")
+    if dot and not (bit.isascii() and bit.isdigit()):
         raise ValueError(
             f"{text!r}: the bit after the dot must be a bit number (0..7 of a byte), got {bit!r}"
         )
@@ -533,7 +536,9 @@ def parse_bool(text: str) -> bool:
         return True
     if s in _FALSE:
         return False
-    raise ValueError(f"expected 0/1, on/off or true/false, got {text!r}")
+    raise ValueError(
+        f"expected 1, on, true, yes or set, or 0, off, false, no or clear, got {text!r}"
+    )
 
 
 def parse_hex(text: str) -> bytes:

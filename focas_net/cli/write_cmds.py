@@ -110,9 +110,10 @@ def pmc_write(args: argparse.Namespace) -> Go | PackedOnly:
 
 
 def _parse_byte_bit(text: str) -> tuple[int, int]:
-    byte, bit = fmt.parse_number_bit(text)
+    expected = "BYTE.BIT (e.g. 100.3)"
+    byte, bit = fmt.parse_number_bit(text, expected)
     if bit is None:
-        raise ValueError(f"expected BYTE.BIT (e.g. 100.3), got {text!r}")
+        raise ValueError(f"expected {expected}, got {text!r}")
     if bit > 7:
         raise ValueError(f"bit {bit} outside 0..7")
     return byte, bit
