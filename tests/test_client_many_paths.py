@@ -4,7 +4,7 @@ native client, whatever the number of paths."""
 
 from __future__ import annotations
 
-from collections.abc import AsyncIterator
+from collections.abc import AsyncIterator, Iterable
 from contextlib import AsyncExitStack, asynccontextmanager
 
 import pytest
@@ -41,12 +41,21 @@ class Writes:
         self.waiting_at_last_write = 0
         plain = transport.write
 
-        def write(data: bytes | bytearray | memoryview) -> None:
-            self.commands += [f.command for f in FrameDecoder().feed(bytes(data))]
+        def seen(data: bytes) -> None:
+            self.commands += [f.command for f in FrameDecoder().feed(data)]
             self.waiting_at_last_write = conn.in_flight
+
+        def write(data: bytes | bytearray | memoryview) -> None:
+            seen(bytes(data))
+            plain(data)
+
+        def writelines(list_of_data: Iterable[bytes | bytearray | memoryview]) -> None:
+            data = b"".join(bytes(piece) for piece in list_of_data)
+            seen(data)  # one write of several buffers (Python 3.12 and later send it so)
             plain(data)
 
         transport.write = write  # type: ignore[method-assign]
+        transport.writelines = writelines  # type: ignore[method-assign]
 
 
 async def test_every_path_of_every_packed_machine_in_one_write_each() -> None:
