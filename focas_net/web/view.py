@@ -362,7 +362,7 @@ def param_rows(
     machine: Machine, query: str = "", limit: int = 200, *, path: int = 1
 ) -> list[JsonDict]:
     """The parameters whose number starts with ``query`` or whose name contains it (case
-    insensitive), at most ``limit`` of them, by number. ``kind`` is the type as every front
+    insensitive), at most ``limit`` of them, by number. ``type`` is the type as every front
     end names it (``two-word``); an axis parameter has a value per axis, named in ``axes``;
     a bit parameter's values are its eight bits #7..#0 (``10110000``), as the page edits
     them, and ``bits`` too."""
@@ -382,7 +382,7 @@ def param_rows(
             {
                 "number": number,
                 "name": item.name,
-                "kind": "" if item.kind is None else ParamDataType(item.kind).label,
+                "type": "" if item.kind is None else ParamDataType(item.kind).label,
                 "axis": item.axis,
                 "axes": axes,
                 "low": item.low,
