@@ -479,7 +479,8 @@ def param_dict(
     number: int, axis: int, pv: ParamValue, kind: ParamDataType | None = None
 ) -> dict[str, Any]:
     """The JSON data of a parameter value: ``value`` unsigned for a bit parameter (with its
-    ``bits``), a decimal string for a real one (with its ``decimals``); ``type`` when known (:func:`param_type`)."""
+    ``bits``), a decimal string for a real one (with its ``decimals``); ``type`` when known
+    (:func:`param_type`)."""
     data: dict[str, Any] = {"number": number, "axis": axis, "value": pv.value, "width": pv.width}
     kind = param_type(pv, kind)
     if kind is not None:
