@@ -5,6 +5,7 @@ knows either wire protocol: :mod:`focas_net.adapters` translates (``docs/protoco
 
 from ._alarms import MAX_ALARM_NO
 from ._identity import MAX_NAME_LENGTH
+from ._pmc import pmc_letter
 from .default import DEFAULT_NAME, DEMO_PROGRAM, default_machine
 from .machine import (
     AUT_MODES,
@@ -78,5 +79,6 @@ __all__ = [
     "default_machine",
     "load_machine",
     "machine_from_dict",
+    "pmc_letter",
     "utc_now",
 ]
