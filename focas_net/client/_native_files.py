@@ -51,7 +51,7 @@ from ._native_items import only_answer, text
 from ._native_link import NativeLink
 from ._values import check_int
 
-__all__ = ["DriveUsage", "FolderCounts", "FolderEntry", "NativeFiles", "ProgramFileInfo"]
+__all__ = ["DriveUsage", "FolderCounts", "FolderEntry", "ProgramFileInfo"]
 
 #: The set the folder frames are encoded in before the handle is known: both sets send the
 #: same frames.
