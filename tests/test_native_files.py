@@ -125,7 +125,7 @@ def test_answer_records_golden() -> None:
     assert len(info) == 84
     assert info[:20] == bytes.fromhex("07ea000c0007000400050006000000df00000000")
     assert FolderCount(2, 1).encode() == bytes.fromhex("0000000200000001")
-    assert FolderText(PATH1).encode() == PATH1.encode() + b"\0"
+    assert FolderText.of(PATH1).encode() == PATH1.encode() + b"\0"
 
 
 def test_names_are_checked_when_built() -> None:
@@ -194,8 +194,9 @@ def test_fixed_answers_round_trip(a: int, b: int, c: int, d: int) -> None:
 
 @given(st.binary(max_size=300))
 def test_text_answers_decode_any_bytes(raw: bytes) -> None:
-    text = FolderText.decode(raw).text
-    assert FolderText.decode(FolderText(text).encode()).text == text
+    answer = FolderText.decode(raw)
+    assert answer.encode() == raw
+    assert FolderText.decode(FolderText.of(answer.text).encode()).text == answer.text
 
 
 # --------------------------------------------------------------------------------------------

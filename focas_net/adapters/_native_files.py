@@ -82,7 +82,7 @@ class FileHandlers:
     def read_current_folder(self, block: RequestBlock, room: int, session: Session) -> bytes:
         """0xB0: the path's current folder of ``kind`` (1 foreground, 2 background)."""
         kind = CurrentFolderRequest.from_block(block).kind
-        return FolderText(self.machine.current_folder(kind, path=block_path(block))).encode()
+        return FolderText.of(self.machine.current_folder(kind, path=block_path(block))).encode()
 
     def write_current_folder(self, block: RequestBlock, room: int, session: Session) -> bytes:
         """0xB1: the machine's ``set_current_folder`` (EW_DATA for no such folder)."""
@@ -158,7 +158,7 @@ class FileHandlers:
 
     def read_main_file(self, block: RequestBlock, room: int, session: Session) -> bytes:
         """0xB9: the file of the path's main program (empty when none is)."""
-        return FolderText(self.machine.main_file(path=block_path(block))).encode()
+        return FolderText.of(self.machine.main_file(path=block_path(block))).encode()
 
     def select_main_file(self, block: RequestBlock, room: int, session: Session) -> bytes:
         """0xBA: the machine's ``select_main_file`` (EW_DATA, then the program search's

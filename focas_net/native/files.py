@@ -153,17 +153,27 @@ class _NamedRequest(NativeRequest):
 
 @dataclass(frozen=True, slots=True)
 class FolderText:
-    """A folder's or a file's name as text (0xB0, 0xB9): the text and one NUL; decoding
-    reads to the first NUL [V: the library copies the text]."""
+    """A folder's or a file's name as text (0xB0, 0xB9): the bytes as they came (the text
+    and one NUL, as the simulator sends it: :meth:`of`); :attr:`text` reads to the first NUL
+    [V: the library copies the text]."""
 
-    text: str
+    raw: bytes
+
+    @classmethod
+    def of(cls, text: str) -> FolderText:
+        """The answer carrying ``text``: its bytes and one NUL."""
+        return cls(text.encode("latin-1", "replace") + b"\0")
+
+    @property
+    def text(self) -> str:
+        return self.raw.split(b"\0", 1)[0].decode("latin-1")
 
     def encode(self) -> bytes:
-        return self.text.encode("latin-1", "replace") + b"\0"
+        return self.raw
 
     @classmethod
     def decode(cls, data: bytes) -> FolderText:
-        return cls(bytes(data).split(b"\0", 1)[0].decode("latin-1"))
+        return cls(bytes(data))
 
 
 # -- drives ------------------------------------------------------------------------------------
