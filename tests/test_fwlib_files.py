@@ -376,6 +376,27 @@ async def test_main_program_and_delete(recorder: Recorder) -> None:
         assert await text_call(cnc, "cnc_pdf_rdmain") == (0, "")
 
 
+async def test_the_folders_of_a_running_machine() -> None:
+    """While O0001 runs: the listing and the file are the packed directory's, the main file
+    is the running program's, and the program is not deleted."""
+    clock = ManualClock()
+    async with files_cnc("30i", clock) as cnc:
+        cnc.machine.set_panel(1)
+        await cnc.packed.sim.cycle_start()
+        clock.advance(1.5)
+        assert (await cnc.packed.read_status()).run == 3  # STRT
+        numbers = await cnc.packed.read_program_numbers()
+        assert await text_call(cnc, "cnc_pdf_rdmain") == (0, f"{PATH1}O{numbers.main:04d}")
+        rc, entries = await rdpdf_alldir(cnc, PATH1)
+        (packed,) = await cnc.packed.read_program_directory()
+        assert (rc, [(e.d_f, e.size) for e in entries]) == (0, [(b"O0001", packed.size)])
+        assert (await rdpdf_prginf(cnc, PATH1 + "O0001"))[1].size == packed.size
+        assert await cnc.call("cnc_pdf_del", name(PATH1 + "O0001")) == EW.REJECT
+        # selecting by file is the program search cnc_search makes
+        search = await cnc.call("cnc_search", s16(1))
+        assert await cnc.call("cnc_pdf_slctmain", name(PATH1 + "O0001")) == search
+
+
 # --------------------------------------------------------------------------------------------
 # The 16i set: no program folders
 
