@@ -99,7 +99,7 @@ async def test_a_parameter_type_has_one_name(
     async with serving(machine) as served:
         cli = Cli(served, capsys)
         item = machine.param_item(number)
-        assert item is not None
+        assert item is not None and item.kind is not None
         axis = ["--axis", "1"] * item.axis
         shown = await cli.json("param", "get", str(number), *axis)
         text = await cli.ok("param", "get", str(number), *axis)
