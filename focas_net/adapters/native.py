@@ -64,8 +64,9 @@ request block by block, and the answers it keeps. A handler answers one block: `
 left in the answer, the connection's session) -> data``, raising one of
 :data:`~focas_net.adapters._common.REFUSALS` for a block it refuses (the block then carries its
 EW code). The handlers are by area: :mod:`._native_cnc` (identity, status, motion, axes, loads,
-PMC, alarms), :mod:`._native_data` (macro variables, parameters, diagnostics) and
-:mod:`._native_programs` (part programs).
+PMC, alarms), :mod:`._native_data` (macro variables, parameters, diagnostics),
+:mod:`._native_programs` (part programs) and :mod:`._native_offsets` (tool and work offsets,
+tool life).
 
 Answers of reads are kept (:mod:`focas_net.adapters._common`, as the packed adapter keeps
 its own): a request made of the reads in :data:`_COUNTERS` only, every block answered without
@@ -125,6 +126,7 @@ from ._common import (
 )
 from ._native_cnc import CncHandlers
 from ._native_data import DataHandlers
+from ._native_offsets import OffsetHandlers
 from ._native_programs import ProgramHandlers, ProgramTransfer
 
 __all__ = ["PATH_INDEPENDENT", "NativeAdapter", "command_set_of"]
@@ -247,6 +249,7 @@ class NativeAdapter:
         cnc = self._cnc = CncHandlers(machine, self.max_axis)
         data = DataHandlers(machine, self.max_axis)
         programs = self._programs = ProgramHandlers(machine, version)
+        offsets = OffsetHandlers(machine, self.max_axis)
         c = NativeCommand
         on_cnc: dict[int, _Handler] = {
             c.SYSINFO: cnc.read_sysinfo,
@@ -287,6 +290,16 @@ class NativeAdapter:
             c.DELETE: programs.delete_program,
             c.SEARCH: programs.search_program,
             c.RDEXECPROG: programs.read_executing_blocks,
+            c.RDTOFS: offsets.read_tool_offsets,
+            c.WRTOFS: offsets.write_tool_offset,
+            c.RDTOFSINFO: offsets.read_tool_offset_info,
+            c.RDZOFS: offsets.read_work_offsets,
+            c.WRZOFS: offsets.write_work_offset,
+            c.RDUSEGRPID: offsets.read_groups_in_use,
+            c.RDNGRP: offsets.read_life_counts,
+            c.RDTLINFO: offsets.read_life_counts,
+            c.RDTOOLGRP: offsets.read_tool_groups,
+            c.TOOLNUM: offsets.read_tool_numbers,
         }
         on_pmc: dict[int, _Handler] = {
             c.PMC_RDPMCRNG: cnc.read_pmc,

@@ -5,6 +5,8 @@ knows either wire protocol: :mod:`focas_net.adapters` translates (``docs/protoco
 
 from ._alarms import MAX_ALARM_NO
 from ._identity import MAX_NAME_LENGTH
+from ._tool_ops import GroupStatus, LifeInfo, ToolOffsetInfo
+from ._tools import LIFE_TYPES, OFFSET_TYPES, WORK_OFFSET_NAMES, LifeTool, ToolGroup, ToolsSpec
 from .default import DEFAULT_NAME, DEMO_PROGRAM, default_machine
 from .machine import (
     AUT_MODES,
@@ -49,20 +51,26 @@ __all__ = [
     "DEMO_PROGRAM",
     "F_SIGNALS",
     "G_SIGNALS",
+    "LIFE_TYPES",
     "MAX_ALARM_NO",
     "MAX_MACRO_DECIMALS",
     "MAX_NAME_LENGTH",
     "MAX_PATHS",
+    "OFFSET_TYPES",
     "PATH_PARAMS",
     "PMC_AREAS",
     "POSITION_DECIMALS",
     "POSITION_KINDS",
     "TIMER_KINDS",
+    "WORK_OFFSET_NAMES",
     "Alarm",
     "Clock",
     "DataItem",
+    "GroupStatus",
     "HistoryEntry",
     "Identity",
+    "LifeInfo",
+    "LifeTool",
     "Machine",
     "MachineError",
     "MachineFileError",
@@ -75,6 +83,9 @@ __all__ = [
     "PmcAreaSpec",
     "Session",
     "Status",
+    "ToolGroup",
+    "ToolOffsetInfo",
+    "ToolsSpec",
     "default_machine",
     "load_machine",
     "machine_from_dict",
