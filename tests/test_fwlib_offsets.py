@@ -13,12 +13,16 @@ from __future__ import annotations
 import struct
 from collections.abc import AsyncIterator
 from pathlib import Path
+from typing import Any
 
 import pytest
 from fwlib_support import LIBRARY, MACHINE_16I, MACHINE_30I, Cnc, buf, i32, s16, served_cnc
 
+from focas_net.adapters import NativeAdapter
 from focas_net.errors import EW
-from focas_net.sim import Machine, load_machine
+from focas_net.native import CommandSet, LibraryCall
+from focas_net.native import offsets as calls
+from focas_net.sim import Machine, Session, load_machine
 from focas_net.sim.nc import ManualClock
 
 pytestmark = pytest.mark.skipif(
@@ -310,3 +314,52 @@ async def test_time_life_counts_minutes_of_cutting(cnc: Cnc) -> None:
     clock.advance(300)  # the tool change, 2 minutes of cutting, M30
     assert machine.path_engine().cutting_time == pytest.approx(120)
     assert await life3(cnc, "cnc_rdcount", 4) == (0, 4, 2)
+
+
+# --------------------------------------------------------------------------------------------
+# The native client's frames are the library's
+
+
+async def test_the_client_sends_the_frames_the_library_sends(
+    cnc: Cnc, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    """Each call's data-request frames, as the server received them from FANUC's library,
+    are those :mod:`focas_net.native.offsets` builds for the native client."""
+    bodies: list[bytes] = []
+    answer = NativeAdapter.answer
+
+    def record(self: NativeAdapter, body: bytes, session: Session | None = None) -> bytes:
+        bodies.append(bytes(body))
+        return answer(self, body, session)
+
+    monkeypatch.setattr(NativeAdapter, "answer", record)
+    cs = CommandSet.FS16I if cnc.set_name == "16i" else CommandSet.FS30I
+    eight = buf(8)
+    cases: list[tuple[Any, LibraryCall]] = [
+        (rdtofs(cnc, 2, 3), calls.cnc_rdtofs(cs, 2, 3)),
+        (rdtofsr(cnc, 1, -1, 3, 12), calls.cnc_rdtofsr(cs, 1, -1, 3)),
+        (rdzofs(cnc, 1, -1), calls.cnc_rdzofs(cs, 1, -1)),
+        (rdzofsr(cnc, 0, 2, 6), calls.cnc_rdzofsr(cs, 0, 2, 6)),
+        (cnc.call("cnc_rdtofsinfo", eight), calls.cnc_rdtofsinfo(cs)),
+        (
+            cnc.call("cnc_wrtofs", s16(2), s16(1), s16(8), i32(-9)),
+            calls.cnc_wrtofs(cs, 2, 1, -9),
+        ),
+        (life3(cnc, "cnc_rdcount", 1), calls.cnc_rdcount(cs, 1)),
+        (cnc.call("cnc_toolnum", s16(1), s16(2), eight), calls.cnc_toolnum(cs, 1, 2)),
+        (cnc.call("cnc_rdngrp", eight), calls.cnc_rdngrp(cs)),
+        (cnc.call("cnc_rdtlinfo", buf(16)), calls.cnc_rdtlinfo(cs)),
+        (cnc.call("cnc_rdusegrpid", buf(20)), calls.cnc_rdusegrpid(cs)),
+    ]
+    for run, call in cases:
+        bodies.clear()
+        await run
+        assert bodies == [frame[10:] for frame in call.encode()], call.function
+    bodies.clear()
+    await rdtoolgrp(cnc, 1, 2)
+    expected = [calls.cnc_rdtoolgrp(cs, 1), calls.cnc_rdtoolgrp(cs, 1, 2)]
+    assert bodies == [c.encode()[0][10:] for c in expected]
+    bodies.clear()
+    assert await wrzofs(cnc, 1, -1, [1, 2, 3]) == 0
+    values = (1, 2, 3) + (0,) * (max_axes(cnc) - 3)
+    assert bodies == [calls.cnc_wrzofs(cs, 1, -1, values).encode()[0][10:]]

@@ -10,7 +10,7 @@ counters follow the running program.
 
 from __future__ import annotations
 
-from collections.abc import Iterable, Mapping, Sequence
+from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
 from typing import Final
 
@@ -21,8 +21,6 @@ from ._path import Path
 from ._paths import Paths
 from ._tools import (
     WORK_OFFSET_NAMES,
-    LifeTool,
-    ToolGroup,
     ToolLife,
     ToolOffsets,
     ToolsSpec,
@@ -258,8 +256,3 @@ class ToolOperations:
         EW_DATA outside 0..life)."""
         self.check_writable()
         self._life(path).set_count(number, count)
-
-
-def life_groups(groups: Iterable[tuple[int, str, int, int, Sequence[LifeTool]]]) -> list[ToolGroup]:
-    """Tool groups from ``(number, life type, life, count, tools)`` (for machine builders)."""
-    return [ToolGroup(n, life, kind, count, list(tools)) for n, kind, life, count, tools in groups]
