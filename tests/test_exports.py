@@ -241,6 +241,7 @@ CLIENT_MODULES = [
     "sim_control",
     "_started",
     "_values",
+    "_native_files",
 ]
 
 
