@@ -41,6 +41,7 @@ from focas_net.native import (
     NativeRequest,
     NativeSysInfo,
     NoData,
+    OffsetWrite,
     OpenHeadV2,
     OpenHeadV3,
     OpenRequest,
@@ -62,6 +63,8 @@ from focas_net.native import (
     ScaledItemRecord,
     ScaledItemValues,
     ScaledNumber,
+    ToolOffsetWriteRequest,
+    WorkOffsetWriteRequest,
     answer_refusal,
     axes,
     base,
@@ -496,6 +499,10 @@ def _ints(cls: type[NativeRequest]) -> dict[str, st.SearchStrategy[Any]]:
     return {f.name: _NAME if f.name == "name" else i32 for f in fields}
 
 
+def _offset_write(values: list[int]) -> OffsetWrite:
+    return OffsetWrite(tuple(values))
+
+
 _SPECIAL: dict[type[NativeRequest], st.SearchStrategy[Any]] = {
     MacroWriteRequest: st.builds(MacroWriteRequest, i32, scaled),
     MacroDoubleWriteRequest: st.builds(
@@ -511,6 +518,12 @@ _SPECIAL: dict[type[NativeRequest], st.SearchStrategy[Any]] = {
     ),
     PmcWriteRequest: st.builds(
         PmcWriteRequest, i32, i32, i32, i32, st.binary(max_size=20).map(NativePmcData)
+    ),
+    ToolOffsetWriteRequest: st.builds(
+        ToolOffsetWriteRequest, i32, i32, i32, st.lists(i32, max_size=8).map(_offset_write)
+    ),
+    WorkOffsetWriteRequest: st.builds(
+        WorkOffsetWriteRequest, i32, i32, i32, st.lists(i32, max_size=8).map(_offset_write)
     ),
 }
 
@@ -577,6 +590,8 @@ def test_write_requests_are_marked() -> None:
         "CurrentFolderWriteRequest",
         "FileDeleteRequest",
         "MainSelectRequest",
+        "ToolOffsetWriteRequest",
+        "WorkOffsetWriteRequest",
     }
 
 
