@@ -266,7 +266,6 @@ class SignalOperations:
         if stamp != c.data_seen:
             c.data_seen = stamp
             self._counters.data += 1
-            self._counters.version += 1
 
     def _tick_macro(self) -> None:
         """Move the macro counter when the clock's second (#3011/#3012) changed."""
@@ -275,7 +274,6 @@ class SignalOperations:
         if now != c.macro_seen:
             c.macro_seen = now
             self._counters.macro += 1
-            self._counters.version += 1
 
     # -- signals ---------------------------------------------------------------------------
     def _show_overrides(self, path: int) -> None:

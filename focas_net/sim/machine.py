@@ -725,6 +725,7 @@ class Machine(PathOperations, SignalOperations):
             h.update(repr(parts).encode())
             h.update(b"\n")
 
+        self._show_state()  # the F signals of the state, as a read shows them
         put("axes", self.axes, self.read_only, self.control_enabled)
         for t, table in (("param", self._items.params), ("diag", self._items.diags)):
             for n in sorted(table):
