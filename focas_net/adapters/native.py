@@ -64,8 +64,9 @@ request block by block, and the answers it keeps. A handler answers one block: `
 left in the answer, the connection's session) -> data``, raising one of
 :data:`~focas_net.adapters._common.REFUSALS` for a block it refuses (the block then carries its
 EW code). The handlers are by area: :mod:`._native_cnc` (identity, status, motion, axes, loads,
-PMC, alarms), :mod:`._native_data` (macro variables, parameters, diagnostics) and
-:mod:`._native_programs` (part programs).
+PMC, alarms), :mod:`._native_data` (macro variables, parameters, diagnostics),
+:mod:`._native_programs` (part programs) and :mod:`._native_clock` (the clock, the panel's
+signals).
 
 Answers of reads are kept (:mod:`focas_net.adapters._common`, as the packed adapter keeps
 its own): a request made of the reads in :data:`_COUNTERS` only, every block answered without
@@ -123,6 +124,7 @@ from ._common import (
     refusal_code,
     unencodable_code,
 )
+from ._native_clock import ClockHandlers
 from ._native_cnc import CncHandlers
 from ._native_data import DataHandlers
 from ._native_programs import ProgramHandlers, ProgramTransfer
@@ -247,6 +249,7 @@ class NativeAdapter:
         cnc = self._cnc = CncHandlers(machine, self.max_axis)
         data = DataHandlers(machine, self.max_axis)
         programs = self._programs = ProgramHandlers(machine, version)
+        clock = ClockHandlers(machine)
         c = NativeCommand
         on_cnc: dict[int, _Handler] = {
             c.SYSINFO: cnc.read_sysinfo,
@@ -281,7 +284,10 @@ class NativeAdapter:
             c.AXIS_COUNT: cnc.read_axis_count,
             c.AXIS_DISPLAY: cnc.read_axis_display,
             c.RDSPLOAD: cnc.read_spindle_load,
+            c.GETTIMER: clock.read_clock,
+            c.SETTIMER: clock.write_clock,
             c.RDSVMETER: cnc.read_servo_meter,
+            c.RDOPNLSGNL: clock.read_panel_signals,
             c.RDPROGDIR: programs.read_program_directory,
             c.RDPROGINFO: programs.read_program_memory,
             c.DELETE: programs.delete_program,

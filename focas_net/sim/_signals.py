@@ -42,9 +42,9 @@ from ._pmc import PATH_SIGNALS_STRIDE
 if TYPE_CHECKING:
     from ._alarms import Alarms
     from ._base import Counters
+    from ._path import Status
     from ._paths import Paths
     from ._pmc import Pmc
-    from ._path import Status
 
 __all__ = [
     "CLOCK_VARIABLES",
@@ -99,7 +99,17 @@ _MA: Final = 7
 _MREF: Final = 5
 #: The panel mode (an ``aut`` value) -> the mode bits of F3 (MINC #0 MH #1 MJ #2 MMDI #3 MRMT
 #: #4 MMEM #5 MEDT #6 MTCHIN #7) and of F4 (MREF #5).
-_F3_OF_MODE: Final = {0: 0x08, 1: 0x20, 3: 0x40, 4: 0x02, 5: 0x04, 6: 0x84, 7: 0x82, 8: 0x01, 10: 0x10}
+_F3_OF_MODE: Final = {
+    0: 0x08,
+    1: 0x20,
+    3: 0x40,
+    4: 0x02,
+    5: 0x04,
+    6: 0x84,
+    7: 0x82,
+    8: 0x01,
+    10: 0x10,
+}
 _F4_OF_MODE: Final = {9: 1 << _MREF}
 
 
