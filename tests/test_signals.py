@@ -166,7 +166,7 @@ def test_golden_frames_as_fanuc_library_sends_them() -> None:
     )
     date_call = cnc_settimer(0, ClockValue(2026, 12, 7, 0, 0, 0))
     assert encode_part(date_call.frames[0]).frame == bytes.fromhex(
-        head + "02a0001002800010001004600000000" + "00" * 12 + "0000000c" + "07ea000c0007" + "00" * 6
+        head + "02a0001002800010001004600000000" + "00" * 12 + "0000000c07ea000c0007" + "00" * 6
     )
 
 
