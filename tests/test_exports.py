@@ -240,6 +240,7 @@ CLIENT_MODULES = [
     "sim_control",
     "_started",
     "_values",
+    "_native_files",
 ]
 
 

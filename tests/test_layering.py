@@ -115,6 +115,7 @@ TABLE: dict[str, tuple[str, ...]] = {
         "focas_net.adapters._native_cnc",
         "focas_net.adapters._native_data",
         "focas_net.adapters._native_programs",
+        "focas_net.adapters._native_files",
     ),
     "focas_net.server": (
         "focas_net.adapters",
@@ -181,7 +182,7 @@ BEYOND_THE_TABLE: dict[str, tuple[str, ...]] = {
             "focas_net.adapters._native_data",
             "focas_net.adapters._native_programs",
         )
-        for area in ("clock", "cnc", "data", "programs")
+        for area in ("clock", "cnc", "data", "programs", "files")
     },
     # bounded memos: no protocol, no machine
     "focas_net._memo": (),

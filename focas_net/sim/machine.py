@@ -101,6 +101,7 @@ from focas_net.versamax import IOModuleRecord
 
 from ._alarms import DEFAULT_HISTORY_CAPACITY, Alarm, Alarms, Clock, HistoryEntry, utc_now
 from ._base import Counters, MachineError
+from ._folders import FolderOperations
 from ._identity import (
     CONTROL_CLASSES,
     DEFAULT_CONTROL_CLASS,
@@ -111,7 +112,6 @@ from ._identity import (
 from ._items import MAX_REAL_DECIMALS as MAX_REAL_DECIMALS  # the native adapter's
 from ._items import PARTS_COUNT, PARTS_TOTAL, DataItem, Items, ParamKind
 from ._macros import MAX_MACRO_DECIMALS, MacroRange, Macros
-from ._operations import PathOperations
 from ._password import ParamLock, Session
 from ._path import (
     AUT_MODES,
@@ -195,7 +195,7 @@ __all__ = [
 ]
 
 
-class Machine(PathOperations, SignalOperations):
+class Machine(FolderOperations, SignalOperations):
     """One simulated CNC.
 
     Build one with :func:`focas_net.sim.default_machine`, :func:`focas_net.sim.load_machine` or
@@ -301,6 +301,7 @@ class Machine(PathOperations, SignalOperations):
         for number in range(1, len(built) + 1):  # the G signals of the overrides in use
             self._show_overrides(number)
         self._show_state()
+        self._init_folders(self.now())
 
     @property
     def name(self) -> str:
