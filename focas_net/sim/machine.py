@@ -11,7 +11,8 @@ parameter password and sessions (``_password``), macro variables (``_macros``), 
 the G/F signals of automatic operation (``_pmc``), active alarms and the history
 (``_alarms``), the VersaMax station (``_station``), and the path (``_path``): programs, NC
 engine on machine time (``_time``), panel, status and figures, and its production on its own
-(``_production``). A component keeps its own state and checks and moves the version counters
+(``_production``), and the program folders of a 30i-class control over the paths' programs
+(``_folders``). A component keeps its own state and checks and moves the version counters
 it shares with the others (``_base``); the machine builds them, asks for the checks in each
 operation's order and answers its reads through them. A control with several paths would hold
 one path each, sharing the rest.
@@ -60,7 +61,10 @@ component whose state it guards) and asked in the order the operation's docstrin
 * the cycle: cycle start only in MEM, not with the emergency stop or an alarm (EW_ALARM; an
   alarm that stopped the cycle wants a reset), not without a main program (EW_DATA); program
   search only in MEM or EDIT (EW_MODE); leaving MEM holds the feed; the emergency stop resets;
-  any alarm stops the cycle; reset clears the alarms the program raised.
+  any alarm stops the cycle; reset clears the alarms the program raised;
+* the program folders (``_folders``): a 16i-class control has none (EW_FUNC), then EW_PATH, a
+  name that is no folder or no file of the tree -> EW_DATA, deleting a program being executed
+  -> EW_REJECT.
 
 What a wire cannot carry is its adapter's to refuse: payload sizes and layouts, unknown commands,
 the packed protocol's ``type_a`` codes and ``type_d``, its ceiling of 32 PMC bytes, 32 alarm
