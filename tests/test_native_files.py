@@ -426,3 +426,65 @@ async def test_the_client_on_a_16i() -> None:
             with pytest.raises(CncError) as raised:
                 await client.read_drives()
             assert raised.value.ew == EW.FUNC
+
+
+# --------------------------------------------------------------------------------------------
+# The machine's folders
+
+
+def test_a_files_date_is_when_it_was_last_stored() -> None:
+    times = iter(datetime(2026, 5, d, tzinfo=UTC) for d in range(1, 10))
+    machine = default_machine(sim_clock=ManualClock())
+    built = machine.file_entry(PATH1 + "O0001").stamped
+    machine.clock = lambda: next(times)
+    machine.store_program("O0042\nM30\n")
+    assert machine.file_entry(PATH1 + "O0042").stamped == datetime(2026, 5, 1, tzinfo=UTC)
+    machine.store_program("O0042\nG0 X1.\nM30\n", replace=True)
+    entry = machine.file_entry(PATH1 + "O0042")
+    assert entry.stamped == datetime(2026, 5, 2, tzinfo=UTC) and entry.size == len(
+        "O0042\nG0 X1.\nM30\n"
+    )
+    assert machine.file_entry(PATH1 + "O0001").stamped == built
+    machine.delete_program(42)
+    machine.store_program("O0042\nM30\n")
+    assert machine.file_entry(PATH1 + "O0042").stamped == datetime(2026, 5, 3, tzinfo=UTC)
+
+
+@pytest.mark.parametrize(
+    "name",
+    ["", "O0001", "//DATA_SV/O0001", "//CNC_MEM/USER/PATH1/X1", "//CNC_MEM/" + "A" * 300, "é"],
+)
+def test_names_that_are_no_file(name: str) -> None:
+    machine = default_machine(sim_clock=ManualClock())
+    machine.set_current_folder("//CNC_MEM/")
+    with pytest.raises(MachineError) as raised:
+        machine.file_entry(name)
+    assert raised.value.ew == EW.DATA
+
+
+def test_the_folders_while_a_program_runs() -> None:
+    clock = ManualClock()
+    machine = default_machine(sim_clock=clock)
+    machine.set_panel(1)
+    machine.cycle_start()
+    clock.advance(1.0)
+    assert machine.path_motion().program_running == 1
+    assert machine.main_file() == PATH1 + "O0001"
+    assert [e.name for e in machine.folder_entries(PATH1)] == ["O0001"]
+    with pytest.raises(MachineError) as raised:
+        machine.delete_file(PATH1 + "O0001")
+    assert raised.value.ew == EW.REJECT
+
+
+def test_a_transfer_by_folder_is_of_that_folders_path() -> None:
+    machine = two_path_lathe()
+    assert machine.transfer_path("//CNC_MEM/USER/PATH2/") == 2
+    assert machine.transfer_path("//CNC_MEM/USER/PATH2/O0007", path=1) == 2
+    assert machine.transfer_path("O0007", path=2) == 2
+    assert machine.transfer_path("") == 1
+    for name in ("//CNC_MEM/USER/LIBRARY/", "//CNC_MEM/USER/PATH3/", "//CNC_MEM/"):
+        with pytest.raises(MachineError) as raised:
+            machine.transfer_path(name)
+        assert raised.value.ew == EW.DATA
+    # a control without folders keeps the handle's path
+    assert load_machine(MACHINE_16I).transfer_path("//CNC_MEM/USER/PATH2/") == 1

@@ -24,6 +24,8 @@ from focas_net.native import (
     AxisName,
     AxisNameRequest,
     AxisNames,
+    ClockValue,
+    ClockWriteRequest,
     CncId,
     DiagType,
     ExecutingProgram,
@@ -505,6 +507,9 @@ def _offset_write(values: list[int]) -> OffsetWrite:
 
 _SPECIAL: dict[type[NativeRequest], st.SearchStrategy[Any]] = {
     MacroWriteRequest: st.builds(MacroWriteRequest, i32, scaled),
+    ClockWriteRequest: st.builds(
+        ClockWriteRequest, i32, st.builds(ClockValue, *[st.integers(-0x8000, 0x7FFF)] * 6)
+    ),
     MacroDoubleWriteRequest: st.builds(
         MacroDoubleWriteRequest, i32, st.one_of(st.none(), st.floats(allow_nan=False))
     ),
@@ -587,6 +592,7 @@ def test_write_requests_are_marked() -> None:
         "ParamWriteRequest",
         "ParamWrite3Request",
         "PmcWriteRequest",
+        "ClockWriteRequest",
         "CurrentFolderWriteRequest",
         "FileDeleteRequest",
         "MainSelectRequest",

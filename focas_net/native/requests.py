@@ -102,7 +102,10 @@ class NativeCommand(enum.IntEnum):
     RDUSEGRPID = 0x48  # cnc_rdusegrpid (focas_net.native.offsets)
     RDNGRP = 0x4A  # cnc_rdngrp / cnc_rdmaxgrp / cnc_rdmaxtool; cnc_rdtlinfo, 16i class
     TOOLNUM = 0x4D  # cnc_toolnum; cnc_rdtoolgrp (after 0x8B)
+    GETTIMER = 0x45  # cnc_gettimer (focas_net.native.clock)
+    SETTIMER = 0x46  # cnc_settimer
     RDSVMETER = 0x56  # cnc_rdsvmeter
+    RDOPNLSGNL = 0x5D  # cnc_rdopnlsgnl (focas_net.native.clock)
     RDALMHISTRY = 0x6C  # cnc_rdalmhistry
     AXIS_UNIT = 0x88  # cnc_rdposition: units
     AXIS_NAME = 0x89  # cnc_rdaxisname / cnc_rdsvmeter / cnc_rdposition: axis names

@@ -4,7 +4,8 @@ knows either wire protocol: :mod:`focas_net.adapters` translates (``docs/protoco
 ``docs/native-protocol.md``)."""
 
 from ._alarms import MAX_ALARM_NO
-from ._identity import MAX_NAME_LENGTH
+from ._identity import CLASS_MAX_AXES, MAX_NAME_LENGTH
+from ._signals import CLOCK_VARIABLES, SERVO_POWER_DIAG, TIMER_PARAMS, OperatorSignals
 from ._tool_ops import GroupStatus, LifeInfo, ToolOffsetInfo
 from ._tools import LIFE_TYPES, OFFSET_TYPES, WORK_OFFSET_NAMES, LifeTool, ToolGroup, ToolsSpec
 from .default import DEFAULT_NAME, DEMO_PROGRAM, default_machine
@@ -44,6 +45,8 @@ from .machinefile import MachineFileError, load_machine, machine_from_dict
 
 __all__ = [
     "AUT_MODES",
+    "CLASS_MAX_AXES",
+    "CLOCK_VARIABLES",
     "CONTROL_CLASSES",
     "DEFAULT_CONTROL_CLASS",
     "DEFAULT_HISTORY_CAPACITY",
@@ -61,7 +64,9 @@ __all__ = [
     "PMC_AREAS",
     "POSITION_DECIMALS",
     "POSITION_KINDS",
+    "SERVO_POWER_DIAG",
     "TIMER_KINDS",
+    "TIMER_PARAMS",
     "WORK_OFFSET_NAMES",
     "Alarm",
     "Clock",
@@ -76,6 +81,7 @@ __all__ = [
     "MachineFileError",
     "MacroRange",
     "MotionData",
+    "OperatorSignals",
     "Panel",
     "ParamKind",
     "PathInfo",
