@@ -22,7 +22,7 @@ from focas_net.adapters import NativeAdapter
 from focas_net.errors import EW
 from focas_net.native import CommandSet, LibraryCall
 from focas_net.native import offsets as calls
-from focas_net.sim import Machine, Session, load_machine
+from focas_net.sim import Machine, PathSpec, Session, ToolsSpec, load_machine
 from focas_net.sim.nc import ManualClock
 
 pytestmark = pytest.mark.skipif(
@@ -363,3 +363,43 @@ async def test_the_client_sends_the_frames_the_library_sends(
     assert await wrzofs(cnc, 1, -1, [1, 2, 3]) == 0
     values = (1, 2, 3) + (0,) * (max_axes(cnc) - 3)
     assert bodies == [calls.cnc_wrzofs(cs, 1, -1, values).encode()[0][10:]]
+
+
+# --------------------------------------------------------------------------------------------
+# A twin-turret lathe: each path its own offsets
+
+
+def _lathe(set_name: str) -> Machine:
+    path1 = ToolsSpec(offsets=16, offset_values={(1, "x_geometry"): 210_000, (1, "tip"): 3})
+    path2 = ToolsSpec(
+        offsets=24,
+        offset_values={(1, "x_geometry"): -95_500, (1, "z_wear"): 7, (1, "tip"): 8},
+        work={"G54": [0, 400_000]},
+    )
+    return Machine(
+        "lathe",
+        paths=[PathSpec(("X1", "Z1"), kind="T"), PathSpec(("X2", "Z2"), kind="T")],
+        control_class="16i" if set_name == "16i" else "30i",
+        tools={1: path1, 2: path2},
+    )
+
+
+@pytest.mark.parametrize("set_name", ["30i", "16i"])
+async def test_each_path_of_a_lathe_answers_its_own_offsets(set_name: str) -> None:
+    async with served_cnc(set_name, _lathe(set_name)) as cnc:
+        machine = cnc.machine
+        assert await rdtofs(cnc, 1, 1) == (0, 1, 1, 210_000)
+        assert (await rdtofs(cnc, 1, 6))[3] == 3
+        assert await cnc.call("cnc_setpath", s16(2)) == 0
+        for offset_type in range(7):
+            (expected,) = machine.tool_offsets(1, 1, offset_type, path=2)[0]
+            assert (await rdtofs(cnc, 1, offset_type))[3] == expected
+        assert (await rdtofs(cnc, 1, 1))[3] == -95_500
+        assert (await rdtofs(cnc, 1, 7))[0] == EW.ATTRIB  # a lathe has types 0..6
+        assert (await rdtofs(cnc, 25, 0))[0] == EW.NUMBER
+        assert (await rdtofsr(cnc, 1, -1, 2, 14))[0] == EW.ATTRIB  # refused: see the docs
+        b = buf(8)
+        assert await cnc.call("cnc_rdtofsinfo", b) == 0
+        assert struct.unpack_from("<hh", b.raw) == (1, 24)
+        rc, _, _, data = await rdzofs(cnc, 1, -1)
+        assert (rc, data[:2]) == (0, (0, 400_000))
