@@ -314,7 +314,7 @@ async def test_the_websocket_pushes_the_fleet_and_a_machine() -> None:
                     break
             assert frame["data"]["alarms"][0]["msg"] == "PUSHED"
             await ws.send_str("nonsense")
-            assert (await receive(ws, "error"))["error"] == "bad subscription"
+            assert (await receive(ws, "error"))["error"] == "bad subscription: not JSON: 'nonsense'"
         await wait_until(lambda: not web.broadcaster.subscriptions)
 
 
@@ -478,3 +478,62 @@ async def test_a_pmc_area_is_refused_alike_by_a_read_and_a_write(area: str, stat
         assert read[1]["error"] == (
             f"unknown PMC area {area!r} (one of X, Y, F, G, R, T, C, D, K, A, E)"
         )
+
+
+@pytest.mark.parametrize(
+    ("message", "reason"),
+    [
+        ("nonsense", "bad subscription: not JSON: 'nonsense'"),
+        ("[1]", "bad subscription: a JSON object is expected, got [1]"),
+        (
+            '{"subscribe": "tiles"}',
+            'bad subscription: "subscribe" is "fleet" or "machine", got \'tiles\'',
+        ),
+        ('{"subscribe": "machine"}', 'bad subscription: "index" is a machine\'s number, got None'),
+        (
+            '{"subscribe": "machine", "index": "0"}',
+            "bad subscription: \"index\" is a machine's number, got '0'",
+        ),
+        ('{"subscribe": "machine", "index": 9}', "no machine 9 (the machines are 0..0)"),
+        (
+            '{"subscribe": "machine", "index": 0, "path": true}',
+            'bad subscription: "path" is a whole number, got True',
+        ),
+        (
+            '{"subscribe": "machine", "index": 0, "pmc_area": 5}',
+            'bad subscription: "pmc_area" is a PMC area\'s letter, got 5',
+        ),
+        (
+            '{"subscribe": "machine", "index": 0, "pmc_start": 1.5}',
+            'bad subscription: "pmc_start" is a whole number, got 1.5',
+        ),
+        (
+            '{"subscribe": "machine", "index": 0, "pmc_area": "Q"}',
+            "PMC window: unknown PMC area 'Q' (one of X, Y, F, G, R, T, C, D, K, A, E)",
+        ),
+        (
+            '{"subscribe": "machine", "index": 0, "pmc_area": "E"}',
+            "PMC window: the machine has no PMC area E (it has X, Y, F, G, R, T, C, D, K, A)",
+        ),
+        (
+            '{"subscribe": "machine", "index": 0, "pmc_start": -1}',
+            "PMC window: X-1 is outside X0..X127",
+        ),
+        (
+            '{"subscribe": "machine", "index": 0, "pmc_start": 128}',
+            "PMC window: X128 is outside X0..X127",
+        ),
+    ],
+)
+async def test_a_refused_subscription_says_why_and_keeps_the_one_before(
+    message: str, reason: str
+) -> None:
+    async with dashboard() as (_, web), aiohttp.ClientSession() as session:
+        async with session.ws_connect(f"{web.url}ws") as ws:
+            await ws.send_json({"subscribe": "machine", "index": 0, "pmc_area": "R"})
+            assert (await receive(ws, "machine"))["pmc"]["area"] == "R"
+            await ws.send_str(message)
+            assert (await receive(ws, "error"))["error"] == reason
+            frame = await receive(ws, "machine")  # the page's view goes on
+            assert frame["pmc"]["area"] == "R" and "error" not in frame["pmc"]
+        await wait_until(lambda: not web.broadcaster.subscriptions)
