@@ -319,6 +319,7 @@ class Dashboard:
                 return f'bad subscription: "{key}" is a whole number, got {value!r}'
         if area is not None and not isinstance(area, str):
             return f'bad subscription: "pmc_area" is a PMC area\'s letter, got {area!r}'
+        assert isinstance(index, int) and isinstance(start, int) and isinstance(path, int)
         # no area named: the machine's first (a machine with none shows that in its frames)
         letter = self.broadcaster.first_pmc_area(index) if area is None else area
         topic = machine_topic(index, letter, start, path)
