@@ -6,6 +6,8 @@ Each test names what a user typed and what the command must say.
 
 from __future__ import annotations
 
+from pathlib import Path
+
 import pytest
 from cli_support import run_focas_net
 from support import Served
@@ -69,3 +71,28 @@ async def test_a_timeout_out_of_range_says_why(server: Served, value: str, reaso
 
 async def test_an_hour_is_the_longest_poll_interval(server: Served) -> None:
     assert "frame 1" in await ok("watch", "--count", "1", "--interval", "3600", *at(server))
+
+
+# -- an alarm's message: optional (the alarm is named by its code), at most 32 characters kept ---
+
+
+@pytest.mark.parametrize("message", [[], [""]])
+async def test_an_alarm_without_a_message_is_named_by_its_code(
+    server: Served, message: list[str]
+) -> None:
+    assert await ok("sim", "alarm", "EX1003", *message, *at(server)) == "raised EX1003\n"
+    (alarm,) = server.machine.active_alarms()
+    assert (alarm.alm_no, alarm.msg) == (1003, "")
+    assert "  EX1003\n" in await ok("alarms", *at(server))
+
+
+async def test_a_long_alarm_message_is_kept_as_the_machine_keeps_it(server: Served) -> None:
+    typed = "SPINDLE OVERHEAT ON THE LEFT SIDE OF THE HEAD"
+    out = await ok("sim", "alarm", "EX1001", typed, *at(server))
+    assert out == f"raised EX1001 {typed[:32]}\n"
+    assert [a.msg for a in server.machine.active_alarms()] == [typed[:32]]
+
+
+def test_the_docs_say_why_an_alarm_may_have_no_message() -> None:
+    doc = (Path(__file__).parent.parent / "docs" / "cli.md").read_text()
+    assert "The message may be left out" in doc and "not checked on a control" in doc

@@ -40,7 +40,7 @@ async function act(action, args) {
     body: JSON.stringify({ path: state.path, ...(args || {}) }),
   });
   const body = await res.json();
-  if (body.ok) show(`${action}: done`, true);
+  if (body.ok) show(`${action}: done${body.note ? `; ${body.note}` : ""}`, true);
   else show(`${action} refused: ${body.ew_name ? body.ew_name + " " : ""}${body.error || ""}`, false);
   return body;
 }
