@@ -5,6 +5,7 @@ knows either wire protocol: :mod:`focas_net.adapters` translates (``docs/protoco
 
 from ._alarms import MAX_ALARM_NO
 from ._identity import MAX_NAME_LENGTH
+from ._modal import EXTERNAL_MESSAGE_NUMBERS, ExternalMessage, OperatorMessage
 from .default import DEFAULT_NAME, DEMO_PROGRAM, default_machine
 from .machine import (
     AUT_MODES,
@@ -47,6 +48,7 @@ __all__ = [
     "DEFAULT_HISTORY_CAPACITY",
     "DEFAULT_NAME",
     "DEMO_PROGRAM",
+    "EXTERNAL_MESSAGE_NUMBERS",
     "F_SIGNALS",
     "G_SIGNALS",
     "MAX_ALARM_NO",
@@ -61,6 +63,7 @@ __all__ = [
     "Alarm",
     "Clock",
     "DataItem",
+    "ExternalMessage",
     "HistoryEntry",
     "Identity",
     "Machine",
@@ -68,6 +71,7 @@ __all__ = [
     "MachineFileError",
     "MacroRange",
     "MotionData",
+    "OperatorMessage",
     "Panel",
     "ParamKind",
     "PathInfo",
