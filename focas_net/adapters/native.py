@@ -65,7 +65,8 @@ left in the answer, the connection's session) -> data``, raising one of
 :data:`~focas_net.adapters._common.REFUSALS` for a block it refuses (the block then carries its
 EW code). The handlers are by area: :mod:`._native_cnc` (identity, status, motion, axes, loads,
 PMC, alarms), :mod:`._native_data` (macro variables, parameters, diagnostics) and
-:mod:`._native_programs` (part programs).
+:mod:`._native_programs` (part programs) and :mod:`._native_modal` (modal data, operator
+messages, program pointers).
 
 Answers of reads are kept (:mod:`focas_net.adapters._common`, as the packed adapter keeps
 its own): a request made of the reads in :data:`_COUNTERS` only, every block answered without
@@ -125,6 +126,7 @@ from ._common import (
 )
 from ._native_cnc import CncHandlers
 from ._native_data import DataHandlers
+from ._native_modal import ModalHandlers
 from ._native_programs import ProgramHandlers, ProgramTransfer
 
 __all__ = ["PATH_INDEPENDENT", "NativeAdapter", "command_set_of"]
@@ -247,6 +249,7 @@ class NativeAdapter:
         cnc = self._cnc = CncHandlers(machine, self.max_axis)
         data = DataHandlers(machine, self.max_axis)
         programs = self._programs = ProgramHandlers(machine, version)
+        modal = ModalHandlers(machine)
         c = NativeCommand
         on_cnc: dict[int, _Handler] = {
             c.SYSINFO: cnc.read_sysinfo,
@@ -287,6 +290,16 @@ class NativeAdapter:
             c.DELETE: programs.delete_program,
             c.SEARCH: programs.search_program,
             c.RDEXECPROG: programs.read_executing_blocks,
+            c.GMODAL: modal.read_modal_g,
+            c.AMODAL: modal.read_modal_aux,
+            c.RDGCODE: modal.read_g_codes,
+            c.RDCOMMAND: modal.read_commands,
+            c.RDOPMSG: modal.read_operator_messages,
+            c.RDOPMSG3: modal.read_operator_messages3,
+            c.EXEPRGNAME2: modal.read_executing_path,
+            c.RDACTPT: modal.read_active_pointer,
+            c.RDBLKCOUNT: modal.read_block_count,
+            c.RDMDIPNTR: modal.read_mdi_pointer,
         }
         on_pmc: dict[int, _Handler] = {
             c.PMC_RDPMCRNG: cnc.read_pmc,

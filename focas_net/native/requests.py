@@ -88,11 +88,16 @@ class NativeCommand(enum.IntEnum):
     RDPRGNUM = 0x1C  # cnc_rdprgnum / cnc_rdprgnumo8 / cnc_rddynamic2
     RDSEQNUM = 0x1D  # cnc_rdseqnum / cnc_rddynamic2
     RDEXECPROG = 0x20  # cnc_rdexecprog (focas_net.native.programs)
+    GMODAL = 0x21  # cnc_modal: G codes (focas_net.native.modal)
+    AMODAL = 0x22  # cnc_modal: other data
     RDALMMSG = 0x23  # cnc_rdalmmsg / cnc_rdalmmsg2: alarm messages
     ACTF = 0x24  # cnc_actf / cnc_rddynamic2: actual feed rate
     ACTS = 0x25  # cnc_acts / cnc_rddynamic2: actual spindle speed
     POSITION = 0x26  # cnc_absolute / machine / relative / distance / rdposition / rddynamic2
     RDDIAG = 0x30  # cnc_diagnoss, 16i class (4-byte value slots)
+    RDOPMSG = 0x34  # cnc_rdopmsg / cnc_rdopmsg2; cnc_rdopmsg3, 16i class
+    RDBLKCOUNT = 0x35  # cnc_rdblkcount
+    RDMDIPNTR = 0x38  # cnc_rdmdipntr
     RDSPLOAD = 0x40  # cnc_rdspload
     RDSVMETER = 0x56  # cnc_rdsvmeter
     RDALMHISTRY = 0x6C  # cnc_rdalmhistry
@@ -101,6 +106,8 @@ class NativeCommand(enum.IntEnum):
     RDPARAM3 = 0x8D  # cnc_rdparam, 30i class (8-byte scaled slots)
     WRPARAM3 = 0x8E  # cnc_wrparam, 30i class (after 0xA0)
     RDDIAG3 = 0x93  # cnc_diagnoss, 30i class (8-byte scaled slots)
+    RDGCODE = 0x96  # cnc_rdgcode
+    RDCOMMAND = 0x97  # cnc_rdcommand
     STAT_TMMODE = 0x98  # cnc_statinfo: ODBST tmmode
     RDPARAINFO3 = 0xA0  # cnc_wrparam, 30i class
     AXIS_DISPLAY = 0xA3  # cnc_rdposition, 30i class: display flags
@@ -108,9 +115,12 @@ class NativeCommand(enum.IntEnum):
     RDMACRO_DOUBLE = 0xA7  # cnc_rdmacror2: IEEE doubles
     WRMACRO_DOUBLE = 0xA8  # cnc_wrmacror2: IEEE double
     EXEPRGNAME = 0xCF  # cnc_exeprgname
+    RDOPMSG3 = 0xD0  # cnc_rdopmsg3, 30i class
     STAT_HDCK = 0xE1  # cnc_statinfo: ODBST hdck
     RDCNCID = 0xE8  # cnc_rdcncid
+    EXEPRGNAME2 = 0xFC  # cnc_exeprgname2
     RDTIMER = 0x120  # cnc_rdtimer
+    RDACTPT = 0x162  # cnc_rdactpt
     PMC_RDPMCRNG = 0x8001  # pmc_rdpmcrng (device PMC)
     PMC_WRPMCRNG = 0x8002  # pmc_wrpmcrng (device PMC)
 
