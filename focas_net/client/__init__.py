@@ -12,6 +12,7 @@ arguments of ``client.sim.inject_fault``, are imported from :mod:`focas_net.prot
 :mod:`focas_net`).
 """
 
+from ._native_modal import CommandValue, GCode, ModalGroup, ModalValue, OperatorMessageText
 from ._started import StartedCall
 from ._values import Paths, Positions
 from .client import FocasClient
@@ -38,12 +39,17 @@ __all__ = [
     "AlarmRaised",
     "ClientState",
     "CncClient",
+    "CommandValue",
     "Connection",
     "DynamicData",
     "FocasClient",
+    "GCode",
+    "ModalGroup",
+    "ModalValue",
     "NativeClient",
     "NativeUnsupportedError",
     "NotSentError",
+    "OperatorMessageText",
     "PanelSwitches",
     "Paths",
     "Positions",

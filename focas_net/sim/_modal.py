@@ -15,7 +15,7 @@ part of :class:`~focas_net.sim.Machine` (no protocol).
 
 from __future__ import annotations
 
-from collections.abc import Iterable
+from collections.abc import Sequence
 from dataclasses import dataclass
 from typing import Final
 
@@ -104,13 +104,15 @@ class ModalOperations:
         """The external operator messages defined, by number."""
         return self._external_messages
 
-    def set_external_messages(self, messages: Iterable[ExternalMessage]) -> None:
+    def set_external_messages(self, messages: Sequence[ExternalMessage]) -> None:
         """Define the external operator messages (replacing those defined). ValueError, and
         nothing changes, for a bit outside the A area or 0..7, a number outside 2000-2999
         (1000-1999, external alarm messages, are not modelled), a number or a bit given
         twice, or a text that is not 1..255 printable ASCII characters."""
         area = self.pmc_area("A")
         size = 0 if area is None else area[0]
+        if size == 0 and messages:
+            raise ValueError("the machine has no A area for external operator messages")
         numbers: set[int] = set()
         bits: set[tuple[int, int]] = set()
         out = []
