@@ -8,13 +8,14 @@ against a real server. ``tests/test_fwlib_modal.py`` runs the same through the l
 from __future__ import annotations
 
 import struct
+from decimal import Decimal
 from pathlib import Path
 from typing import Final
 
 import pytest
+from fwlib_support import MACHINE_16I
 from hypothesis import given
 from hypothesis import strategies as st
-from fwlib_support import MACHINE_16I
 from support import IO_TIMEOUT, serving
 
 from focas_net.adapters import NativeAdapter
@@ -308,41 +309,48 @@ def ask(adapter: NativeAdapter, request: bytes) -> tuple[int, bytes]:
     return got.ew, got.data
 
 
+def ok(adapter: NativeAdapter, request: bytes) -> bytes:
+    """The data of an answer without an EW code."""
+    ew, data = ask(adapter, request)
+    assert ew == 0
+    return data
+
+
 @pytest.mark.parametrize("version", [2, 3])
 def test_the_adapter_answers_idle_and_running(version: int) -> None:
     clock = ManualClock()
     machine = message_machine(clock)
     adapter = NativeAdapter(machine, version=version)
-    ew, data = ask(adapter, block(0x21, -1, 0))
-    assert ew == 0 and len(data) == 44 and data[0] == 0  # G00, not commanded
-    ew, data = ask(adapter, block(0x35))
-    assert (ew, BlockCounter.decode(data).count) == (0, 0)
-    ew, data = ask(adapter, block(0x34, 0))
+    data = ok(adapter, block(0x21, -1, 0))
+    assert len(data) == 44 and data[0] == 0  # G00, not commanded
+    data = ok(adapter, block(0x35))
+    assert BlockCounter.decode(data).count == 0
+    data = ok(adapter, block(0x34, 0))
     assert OperatorMessageRecords.decode(data).records[0].number == -1  # no message
     machine.cycle_start()
     clock.advance(1.0)
-    ew, data = ask(adapter, block(0x34, 0))
+    data = ok(adapter, block(0x34, 0))
     (record,) = OperatorMessageRecords.decode(data).records
     assert (record.number, record.message) == (1, b"CHECK THE PART")
-    ew, data = ask(adapter, block(0x162))
+    data = ok(adapter, block(0x162))
     assert ActivePointer.decode(data) == ActivePointer(7, 2)
     machine.cycle_start()
     clock.advance(1.0)
-    ew, data = ask(adapter, block(0x21, 0, 0))
+    data = ok(adapter, block(0x21, 0, 0))
     assert ModalGCodes.decode(data).records == (ModalGCode(0x81),)  # G01 commanded
-    ew, data = ask(adapter, block(0x22, 5, 0))  # F
+    data = ok(adapter, block(0x22, 5, 0))  # F
     assert ModalAuxData.decode(data).records == (ModalAux.of(600, True),)
-    ew, data = ask(adapter, block(0x22, -2, 0))  # the axes
+    data = ok(adapter, block(0x22, -2, 0))  # the axes
     assert [r.value for r in ModalAuxData.decode(data).records] == [50, 0, 0]
-    ew, data = ask(adapter, block(0x96, -1, 0))
+    data = ok(adapter, block(0x96, -1, 0))
     codes = {r.group: r.code for r in GCodeRecords.decode(data).records}
     assert (codes[1], codes[3], codes[14]) == ("G01", "G91", "G54")
-    ew, data = ask(adapter, block(0x97, -1, 0))
+    data = ok(adapter, block(0x97, -1, 0))
     values = {r.address: r.value for r in CommandRecords.decode(data).records}
     assert (values["F"], values["S"], values["M"], values["N"]) == (600, 1200, 3, 30)
-    ew, data = ask(adapter, block(0xFC))
+    data = ok(adapter, block(0xFC))
     assert ExecutingPath.decode(data).path == b"//CNC_MEM/USER/PATH1/O0007"
-    ew, data = ask(adapter, block(0x38))
+    data = ok(adapter, block(0x38))
     pointer = MdiPointer.decode(data)
     assert pointer.mdiprog == 7 and MESSAGE_PROGRAM[pointer.mdipntr :].startswith("N30")
 
@@ -373,11 +381,11 @@ def test_the_messages_of_every_type_and_a_count() -> None:
     )
     machine.write_pmc("A", 0, b"\x07")
     adapter = NativeAdapter(machine, version=3)
-    ew, data = ask(adapter, block(0xD0, 0, -1, 2))
+    data = ok(adapter, block(0xD0, 0, -1, 2))
     assert [r.number for r in OperatorMessageRecords.decode(data).records] == [2000, 2001]
-    ew, data = ask(adapter, block(0x34, -1))
+    data = ok(adapter, block(0x34, -1))
     assert len(OperatorMessageRecords.decode(data).records) == 3
-    ew, data = ask(adapter, block(0x34, 1))  # type 1 holds none
+    data = ok(adapter, block(0x34, 1))  # type 1 holds none
     assert OperatorMessageRecords.decode(data).records[0].number == -1
 
 
@@ -441,7 +449,7 @@ async def test_the_client_reads_what_the_machine_holds(control: str, tmp_path: P
             codes = await native.read_g_codes()
             assert GCode(1, "G01", True) in codes and GCode(14, "G54", False) in codes
             commands = await native.read_commands()
-            assert CommandValue("F", 600, True) in commands
+            assert CommandValue("F", Decimal(600), True) in commands
             assert await native.read_program_path() == "//CNC_MEM/USER/PATH1/O0007"
             assert await native.read_active_pointer() == ActivePointer(7, 3)
             assert await native.read_block_count() == 3
