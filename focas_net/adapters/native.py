@@ -386,7 +386,16 @@ class NativeAdapter:
         Raises :class:`NativeFrameError` when the block list is broken or longer than an
         answer can hold; everything else is answered in its block. A request of no block is
         answered with one EW_FUNC block (FANUC's library refuses an answer of no block).
+
+        The machine answers the whole frame at one instant (:meth:`Machine.instant`), as a CNC
+        does: the blocks of one frame never carry figures of different moments.
         """
+        with self.machine.instant():
+            return self._answer_at_once(body, session)
+
+    def _answer_at_once(
+        self, body: bytes | bytearray | memoryview, session: Session | None
+    ) -> bytes:
         key = body if type(body) is bytes else bytes(body)
         kept: tuple[Counters, Any, bytes] | None = self._kept.get(key)
         machine = self.machine
