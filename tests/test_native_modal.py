@@ -188,8 +188,9 @@ def test_pointer_records_golden() -> None:
     raw = path.encode()
     assert len(raw) == 256 and raw.startswith(b"//CNC_MEM/USER/PATH1/O0001\x00")
     assert ExecutingPath.decode(raw) == path
-    with pytest.raises(NativePayloadError):
-        ExecutingPath.decode(bytes(257))
+    for size in (0, 255, 257):
+        with pytest.raises(NativePayloadError):
+            ExecutingPath.decode(bytes(size))
 
 
 @given(st.integers(-(10**6), 10**6), st.integers(0, 3), st.booleans())
@@ -349,7 +350,7 @@ def test_the_adapter_answers_idle_and_running(version: int) -> None:
     values = {r.address: r.value for r in CommandRecords.decode(data).records}
     assert (values["F"], values["S"], values["M"], values["N"]) == (600, 1200, 3, 30)
     data = ok(adapter, block(0xFC))
-    assert ExecutingPath.decode(data).path == b"//CNC_MEM/USER/PATH1/O0007"
+    assert ExecutingPath.decode(data).text == b"//CNC_MEM/USER/PATH1/O0007"
     data = ok(adapter, block(0x38))
     pointer = MdiPointer.decode(data)
     assert pointer.mdiprog == 7 and MESSAGE_PROGRAM[pointer.mdipntr :].startswith("N30")

@@ -270,7 +270,7 @@ class NativeModal(NativeLink):
         value: ExecutingPath = only_answer(
             handle, call, await self._exchange(handle, call, deadline, 0, p)
         )
-        return text(value.path)
+        return text(value.text)
 
     async def read_active_pointer(
         self, *, path: int | None = None, timeout: float | None = None

@@ -366,11 +366,17 @@ class ExecutingPath:
 
     @classmethod
     def decode(cls, data: bytes) -> ExecutingPath:
-        if len(data) > EXECUTING_PATH_SIZE:
+        """The text without its trailing NULs (:attr:`text` cuts it at the first)."""
+        if len(data) != EXECUTING_PATH_SIZE:
             raise NativePayloadError(
-                f"ExecutingPath: {len(data)} bytes, at most {EXECUTING_PATH_SIZE}", EW.LENGTH
+                f"ExecutingPath: {len(data)} bytes, expected {EXECUTING_PATH_SIZE}", EW.LENGTH
             )
-        return cls(bytes(data).split(b"\x00", 1)[0])
+        return cls(bytes(data).rstrip(b"\x00"))
+
+    @property
+    def text(self) -> bytes:
+        """The path: the bytes before the first NUL."""
+        return self.path.split(b"\x00", 1)[0]
 
 
 @dataclass(frozen=True, slots=True)
