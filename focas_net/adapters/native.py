@@ -64,9 +64,10 @@ request block by block, and the answers it keeps. A handler answers one block: `
 left in the answer, the connection's session) -> data``, raising one of
 :data:`~focas_net.adapters._common.REFUSALS` for a block it refuses (the block then carries its
 EW code). The handlers are by area: :mod:`._native_cnc` (identity, status, motion, axes, loads,
-PMC, alarms), :mod:`._native_data` (macro variables, parameters, diagnostics) and
-:mod:`._native_programs` (part programs) and :mod:`._native_modal` (modal data, operator
-messages, program pointers).
+PMC, alarms), :mod:`._native_data` (macro variables, parameters, diagnostics),
+:mod:`._native_programs` (part programs), :mod:`._native_files` (the program folders of a
+30i-class control) and :mod:`._native_modal` (modal data, operator messages, program
+pointers).
 
 Answers of reads are kept (:mod:`focas_net.adapters._common`, as the packed adapter keeps
 its own): a request made of the reads in :data:`_COUNTERS` only, every block answered without
@@ -126,6 +127,7 @@ from ._common import (
 )
 from ._native_cnc import CncHandlers
 from ._native_data import DataHandlers
+from ._native_files import FileHandlers
 from ._native_modal import ModalHandlers
 from ._native_programs import ProgramHandlers, ProgramTransfer
 
@@ -146,6 +148,8 @@ PATH_INDEPENDENT: Final = frozenset(
         (Device.CNC, NativeCommand.RDALMHISTRY),
         (Device.CNC, NativeCommand.RDPARAINFO),
         (Device.CNC, NativeCommand.RDPARAINFO3),
+        (Device.CNC, NativeCommand.RDPDF_DRIVE),
+        (Device.CNC, NativeCommand.RDPDF_INF),
         (Device.PMC, NativeCommand.PMC_RDPMCRNG),
         (Device.PMC, NativeCommand.PMC_WRPMCRNG),
     }
@@ -250,6 +254,7 @@ class NativeAdapter:
         data = DataHandlers(machine, self.max_axis)
         programs = self._programs = ProgramHandlers(machine, version)
         modal = ModalHandlers(machine)
+        files = FileHandlers(machine)
         c = NativeCommand
         on_cnc: dict[int, _Handler] = {
             c.SYSINFO: cnc.read_sysinfo,
@@ -300,6 +305,17 @@ class NativeAdapter:
             c.RDACTPT: modal.read_active_pointer,
             c.RDBLKCOUNT: modal.read_block_count,
             c.RDMDIPNTR: modal.read_mdi_pointer,
+            c.RDPDF_DRIVE: files.read_drives,
+            c.RDPDF_INF: files.read_drive_info,
+            c.RDPDF_CURDIR: files.read_current_folder,
+            c.WRPDF_CURDIR: files.write_current_folder,
+            c.RDPDF_SUBDIR: files.read_subfolders,
+            c.RDPDF_ALLDIR: files.read_folder,
+            c.RDPDF_SUBDIRN: files.read_folder_count,
+            c.RDPDF_PRGINF: files.read_file_info,
+            c.PDF_DEL: files.delete_file,
+            c.PDF_RDMAIN: files.read_main_file,
+            c.PDF_SLCTMAIN: files.select_main_file,
         }
         on_pmc: dict[int, _Handler] = {
             c.PMC_RDPMCRNG: cnc.read_pmc,

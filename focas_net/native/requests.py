@@ -114,6 +114,16 @@ class NativeCommand(enum.IntEnum):
     AXIS_COUNT = 0xA4  # cnc_rdposition / cnc_rdspload / cnc_rdsvmeter, 30i class: counts
     RDMACRO_DOUBLE = 0xA7  # cnc_rdmacror2: IEEE doubles
     WRMACRO_DOUBLE = 0xA8  # cnc_wrmacror2: IEEE double
+    RDPDF_DRIVE = 0xAE  # cnc_rdpdf_drive (focas_net.native.files)
+    RDPDF_INF = 0xAF  # cnc_rdpdf_inf
+    RDPDF_CURDIR = 0xB0  # cnc_rdpdf_curdir
+    WRPDF_CURDIR = 0xB1  # cnc_wrpdf_curdir
+    RDPDF_SUBDIR = 0xB2  # cnc_rdpdf_subdir
+    RDPDF_ALLDIR = 0xB3  # cnc_rdpdf_alldir
+    RDPDF_SUBDIRN = 0xB4  # cnc_rdpdf_subdirn
+    PDF_DEL = 0xB6  # cnc_pdf_del
+    PDF_RDMAIN = 0xB9  # cnc_pdf_rdmain
+    PDF_SLCTMAIN = 0xBA  # cnc_pdf_slctmain
     EXEPRGNAME = 0xCF  # cnc_exeprgname
     RDOPMSG3 = 0xD0  # cnc_rdopmsg3, 30i class
     STAT_HDCK = 0xE1  # cnc_statinfo: ODBST hdck
@@ -121,6 +131,7 @@ class NativeCommand(enum.IntEnum):
     EXEPRGNAME2 = 0xFC  # cnc_exeprgname2
     RDTIMER = 0x120  # cnc_rdtimer
     RDACTPT = 0x162  # cnc_rdactpt
+    RDPDF_PRGINF = 0x2B1  # cnc_rdpdf_prginf (focas_net.native.files)
     PMC_RDPMCRNG = 0x8001  # pmc_rdpmcrng (device PMC)
     PMC_WRPMCRNG = 0x8002  # pmc_wrpmcrng (device PMC)
 

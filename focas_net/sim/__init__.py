@@ -4,7 +4,7 @@ knows either wire protocol: :mod:`focas_net.adapters` translates (``docs/protoco
 ``docs/native-protocol.md``)."""
 
 from ._alarms import MAX_ALARM_NO
-from ._identity import MAX_NAME_LENGTH
+from ._identity import CLASS_MAX_AXES, MAX_NAME_LENGTH
 from ._modal import EXTERNAL_MESSAGE_NUMBERS, ExternalMessage, OperatorMessage
 from .default import DEFAULT_NAME, DEMO_PROGRAM, default_machine
 from .machine import (
@@ -43,6 +43,7 @@ from .machinefile import MachineFileError, load_machine, machine_from_dict
 
 __all__ = [
     "AUT_MODES",
+    "CLASS_MAX_AXES",
     "CONTROL_CLASSES",
     "DEFAULT_CONTROL_CLASS",
     "DEFAULT_HISTORY_CAPACITY",
