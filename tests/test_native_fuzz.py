@@ -86,6 +86,8 @@ PATH_INDEPENDENT: Final = frozenset(
         (Device.CNC, NativeCommand.RDALMHISTRY),
         (Device.CNC, NativeCommand.RDPARAINFO),
         (Device.CNC, NativeCommand.RDPARAINFO3),
+        (Device.CNC, NativeCommand.RDPDF_DRIVE),
+        (Device.CNC, NativeCommand.RDPDF_INF),
         (Device.PMC, NativeCommand.PMC_RDPMCRNG),
         (Device.PMC, NativeCommand.PMC_WRPMCRNG),
     }
