@@ -76,6 +76,7 @@ WRITES: Final = frozenset(
         (Device.PMC, NativeCommand.PMC_WRPMCRNG),
         (Device.CNC, NativeCommand.DELETE),
         (Device.CNC, NativeCommand.SEARCH),
+        (Device.CNC, NativeCommand.SETTIMER),
     }
 )
 EW_CODES: Final = frozenset(int(e) for e in EW)
