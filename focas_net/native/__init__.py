@@ -24,6 +24,9 @@ once (``docs/native-protocol.md`` describes the wire format):
   0x35, 0x38, 0x96, 0x97, 0xD0, 0xFC, 0x162);
 * :mod:`.programs` — part programs: directory, memory, search, the blocks being executed and
   the transfer frames;
+* :mod:`.offsets` — tool and work zero offsets and tool life management: their records,
+  requests and the frames of their FOCAS functions (``focas_net.native.offsets.cnc_rdtofs``
+  ...);
 * :mod:`.calls` — the blocks each FOCAS function of FANUC's library sends, per command set
   (its names are exported here, and the module itself as ``calls``);
 * :mod:`.session` — the client side of a connection without I/O: the queue of calls, their
@@ -240,6 +243,29 @@ from .modal import (
     OperatorMessageRequest,
     g_code_of,
 )
+from .offsets import (
+    SINGLE_TYPE,
+    TLINFO_16I,
+    OffsetWrite,
+    ToolEntry,
+    ToolGroupRecord,
+    ToolGroupRecords,
+    ToolGroupRequest,
+    ToolGroupsInUse,
+    ToolGroupsInUseRequest,
+    ToolLifeCounts,
+    ToolLifeCountsRequest,
+    ToolLifeInfoRequest,
+    ToolNumberRequest,
+    ToolNumbers,
+    ToolOffsetInfoRequest,
+    ToolOffsetMemory,
+    ToolOffsetRequest,
+    ToolOffsetWriteRequest,
+    WorkOffsetRequest,
+    WorkOffsetWriteRequest,
+    offset_type_of,
+)
 from .opening import (
     MACHINE_LATHE,
     MACHINE_MILL,
@@ -367,7 +393,9 @@ __all__ = [
     "REQUEST_TYPES",
     "RESPONSE_BLOCK_SIZE",
     "SCALED_SIZE",
+    "SINGLE_TYPE",
     "SIZE_UNITS",
+    "TLINFO_16I",
     "VACANT",
     "ActivePointer",
     "ActivePointerRequest",
@@ -476,6 +504,7 @@ __all__ = [
     "NativeSession",
     "NativeSysInfo",
     "NoData",
+    "OffsetWrite",
     "OpenAnswer",
     "OpenHeadV2",
     "OpenHeadV3",
@@ -536,9 +565,26 @@ __all__ = [
     "TimerValue",
     "TmModeRequest",
     "TmModeStatus",
+    "ToolEntry",
+    "ToolGroupRecord",
+    "ToolGroupRecords",
+    "ToolGroupRequest",
+    "ToolGroupsInUse",
+    "ToolGroupsInUseRequest",
+    "ToolLifeCounts",
+    "ToolLifeCountsRequest",
+    "ToolLifeInfoRequest",
+    "ToolNumberRequest",
+    "ToolNumbers",
+    "ToolOffsetInfoRequest",
+    "ToolOffsetMemory",
+    "ToolOffsetRequest",
+    "ToolOffsetWriteRequest",
     "TransferError",
     "TransferFrame",
     "TransferStart",
+    "WorkOffsetRequest",
+    "WorkOffsetWriteRequest",
     "answer_blocks",
     "answer_refusal",
     "binary_to_decimal",
@@ -578,6 +624,7 @@ __all__ = [
     "error_frame_type",
     "g_code_of",
     "max_response_body",
+    "offset_type_of",
     "open_answer_size",
     "parse_program_range",
     "request_frame",

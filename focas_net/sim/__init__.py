@@ -7,6 +7,8 @@ from ._alarms import MAX_ALARM_NO
 from ._identity import CLASS_MAX_AXES, MAX_NAME_LENGTH
 from ._modal import EXTERNAL_MESSAGE_NUMBERS, ExternalMessage, OperatorMessage
 from ._signals import CLOCK_VARIABLES, SERVO_POWER_DIAG, TIMER_PARAMS, OperatorSignals
+from ._tool_ops import GroupStatus, LifeInfo, ToolOffsetInfo
+from ._tools import LIFE_TYPES, OFFSET_TYPES, WORK_OFFSET_NAMES, LifeTool, ToolGroup, ToolsSpec
 from .default import DEFAULT_NAME, DEMO_PROGRAM, default_machine
 from .machine import (
     AUT_MODES,
@@ -54,10 +56,12 @@ __all__ = [
     "EXTERNAL_MESSAGE_NUMBERS",
     "F_SIGNALS",
     "G_SIGNALS",
+    "LIFE_TYPES",
     "MAX_ALARM_NO",
     "MAX_MACRO_DECIMALS",
     "MAX_NAME_LENGTH",
     "MAX_PATHS",
+    "OFFSET_TYPES",
     "PATH_PARAMS",
     "PMC_AREAS",
     "POSITION_DECIMALS",
@@ -65,12 +69,16 @@ __all__ = [
     "SERVO_POWER_DIAG",
     "TIMER_KINDS",
     "TIMER_PARAMS",
+    "WORK_OFFSET_NAMES",
     "Alarm",
     "Clock",
     "DataItem",
     "ExternalMessage",
+    "GroupStatus",
     "HistoryEntry",
     "Identity",
+    "LifeInfo",
+    "LifeTool",
     "Machine",
     "MachineError",
     "MachineFileError",
@@ -85,6 +93,9 @@ __all__ = [
     "PmcAreaSpec",
     "Session",
     "Status",
+    "ToolGroup",
+    "ToolOffsetInfo",
+    "ToolsSpec",
     "default_machine",
     "load_machine",
     "machine_from_dict",
