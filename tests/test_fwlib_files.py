@@ -18,6 +18,7 @@ from typing import Any
 
 import pytest
 from fwlib_support import LIBRARY, MACHINE_16I, Cnc, buf, download, s16, served_cnc
+from support import two_path_lathe
 
 import focas_net.adapters.native as native_adapter
 from focas_net.errors import EW
@@ -395,6 +396,47 @@ async def test_the_folders_of_a_running_machine() -> None:
         # selecting by file is the program search cnc_search makes
         search = await cnc.call("cnc_search", s16(1))
         assert await cnc.call("cnc_pdf_slctmain", name(PATH1 + "O0001")) == search
+
+
+async def dwnstart4(cnc: Cnc, folder: str, data: bytes) -> int:
+    """``cnc_dwnstart4(0, folder)``, ``cnc_download4``, ``cnc_dwnend4``."""
+    rc = await cnc.call("cnc_dwnstart4", s16(0), name(folder))
+    if rc:
+        return rc
+    n = ctypes.c_int32(len(data))
+    rc = await cnc.call("cnc_download4", ctypes.byref(n), ctypes.create_string_buffer(data))
+    assert rc == 0 and n.value == len(data)
+    return await cnc.call("cnc_dwnend4")
+
+
+async def test_transfers_by_folder_go_to_its_path() -> None:
+    """``cnc_dwnstart4`` into ``PATH2`` stores in path 2 and ``cnc_upstart4`` of a file
+    of ``PATH2`` reads path 2's program, from a handle on path 1; a folder of no path is
+    refused (EW_DATA)."""
+    machine = two_path_lathe()
+    async with served_cnc("30i", machine) as cnc:
+        assert await dwnstart4(cnc, "//CNC_MEM/USER/PATH2/", NEW_PUNCHED) == 0
+        assert [e.number for e in machine.program_directory(path=2)] == [321]
+        assert machine.program_directory(path=1) == []
+        rc, entries = await rdpdf_alldir(cnc, "//CNC_MEM/USER/PATH2/")
+        assert (rc, [e.d_f for e in entries]) == (0, [b"O0321"])
+        rc = await cnc.call("cnc_upstart4", s16(0), name("//CNC_MEM/USER/PATH2/O0321"))
+        assert rc == 0
+        out = b""
+        b = buf(2048)
+        for _ in range(20):
+            n = ctypes.c_int32(1024)
+            rc = await cnc.call("cnc_upload4", ctypes.byref(n), b)
+            if rc:
+                break
+            out += b.raw[: n.value]
+        assert rc == -2 and await cnc.call("cnc_upend4") == 0
+        assert b"O0321 (NATIVE)" in out
+        assert await dwnstart4(cnc, "//CNC_MEM/USER/LIBRARY/", NEW_PUNCHED) == EW.DATA
+        assert (
+            await cnc.call("cnc_upstart4", s16(0), name("//CNC_MEM/USER/PATH1/O0321")) == EW.NUMBER
+        )
+        await cnc.call("cnc_upend4")
 
 
 # --------------------------------------------------------------------------------------------

@@ -474,3 +474,17 @@ def test_the_folders_while_a_program_runs() -> None:
     with pytest.raises(MachineError) as raised:
         machine.delete_file(PATH1 + "O0001")
     assert raised.value.ew == EW.REJECT
+
+
+def test_a_transfer_by_folder_is_of_that_folders_path() -> None:
+    machine = two_path_lathe()
+    assert machine.transfer_path("//CNC_MEM/USER/PATH2/") == 2
+    assert machine.transfer_path("//CNC_MEM/USER/PATH2/O0007", path=1) == 2
+    assert machine.transfer_path("O0007", path=2) == 2
+    assert machine.transfer_path("") == 1
+    for name in ("//CNC_MEM/USER/LIBRARY/", "//CNC_MEM/USER/PATH3/", "//CNC_MEM/"):
+        with pytest.raises(MachineError) as raised:
+            machine.transfer_path(name)
+        assert raised.value.ew == EW.DATA
+    # a control without folders keeps the handle's path
+    assert load_machine(MACHINE_16I).transfer_path("//CNC_MEM/USER/PATH2/") == 1

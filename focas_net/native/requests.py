@@ -94,7 +94,10 @@ class NativeCommand(enum.IntEnum):
     POSITION = 0x26  # cnc_absolute / machine / relative / distance / rdposition / rddynamic2
     RDDIAG = 0x30  # cnc_diagnoss, 16i class (4-byte value slots)
     RDSPLOAD = 0x40  # cnc_rdspload
+    GETTIMER = 0x45  # cnc_gettimer (focas_net.native.clock)
+    SETTIMER = 0x46  # cnc_settimer
     RDSVMETER = 0x56  # cnc_rdsvmeter
+    RDOPNLSGNL = 0x5D  # cnc_rdopnlsgnl (focas_net.native.clock)
     RDALMHISTRY = 0x6C  # cnc_rdalmhistry
     AXIS_UNIT = 0x88  # cnc_rdposition: units
     AXIS_NAME = 0x89  # cnc_rdaxisname / cnc_rdsvmeter / cnc_rdposition: axis names

@@ -247,6 +247,24 @@ class FolderOperations(PathOperations):
             return ""
         return path_folder(path) + file_name(main)
 
+    def transfer_path(self, name: str, *, path: int = 1) -> int:
+        """The path whose programs a transfer named ``name`` moves (``cnc_upstart4`` gives a
+        file, ``cnc_dwnstart4`` a folder): the path of the ``PATHn`` folder ``name`` is or
+        holds. A name of no folder (``O0001``, empty) is ``path``'s, and so is every name on
+        a control without folders. EW_DATA for a folder that is not a path's (the simulator
+        keeps programs in the paths' folders only) or no folder of the tree."""
+        self._paths.at(path)
+        text = name.strip()
+        if self.control_class in FOLDERLESS_CLASSES or not text.startswith("//"):
+            return path
+        parts = self._parts(text, path)
+        if _FILE.fullmatch(parts[-1] if parts else ""):
+            parts = parts[:-1]
+        owner = self._folder_path(parts) if self._folder_children(parts) is not None else None
+        if owner is None:
+            raise MachineError(EW.DATA, f"no folder of a path's programs: {name[:60]!r}")
+        return owner
+
     # -- writes --------------------------------------------------------------------------
     def set_current_folder(self, folder: str, kind: int = 1, *, path: int = 1) -> None:
         """Make ``folder`` ``path``'s current folder (``cnc_wrpdf_curdir``)."""
