@@ -6,6 +6,8 @@ knows either wire protocol: :mod:`focas_net.adapters` translates (``docs/protoco
 from ._alarms import MAX_ALARM_NO
 from ._identity import CLASS_MAX_AXES, MAX_NAME_LENGTH
 from ._signals import CLOCK_VARIABLES, SERVO_POWER_DIAG, TIMER_PARAMS, OperatorSignals
+from ._tool_ops import GroupStatus, LifeInfo, ToolOffsetInfo
+from ._tools import LIFE_TYPES, OFFSET_TYPES, WORK_OFFSET_NAMES, LifeTool, ToolGroup, ToolsSpec
 from .default import DEFAULT_NAME, DEMO_PROGRAM, default_machine
 from .machine import (
     AUT_MODES,
@@ -52,10 +54,12 @@ __all__ = [
     "DEMO_PROGRAM",
     "F_SIGNALS",
     "G_SIGNALS",
+    "LIFE_TYPES",
     "MAX_ALARM_NO",
     "MAX_MACRO_DECIMALS",
     "MAX_NAME_LENGTH",
     "MAX_PATHS",
+    "OFFSET_TYPES",
     "PATH_PARAMS",
     "PMC_AREAS",
     "POSITION_DECIMALS",
@@ -63,11 +67,15 @@ __all__ = [
     "SERVO_POWER_DIAG",
     "TIMER_KINDS",
     "TIMER_PARAMS",
+    "WORK_OFFSET_NAMES",
     "Alarm",
     "Clock",
     "DataItem",
+    "GroupStatus",
     "HistoryEntry",
     "Identity",
+    "LifeInfo",
+    "LifeTool",
     "Machine",
     "MachineError",
     "MachineFileError",
@@ -81,6 +89,9 @@ __all__ = [
     "PmcAreaSpec",
     "Session",
     "Status",
+    "ToolGroup",
+    "ToolOffsetInfo",
+    "ToolsSpec",
     "default_machine",
     "load_machine",
     "machine_from_dict",
