@@ -5,6 +5,7 @@ knows either wire protocol: :mod:`focas_net.adapters` translates (``docs/protoco
 
 from ._alarms import MAX_ALARM_NO
 from ._identity import CLASS_MAX_AXES, MAX_NAME_LENGTH
+from ._pmc import pmc_letter
 from ._signals import CLOCK_VARIABLES, SERVO_POWER_DIAG, TIMER_PARAMS, OperatorSignals
 from ._tool_ops import GroupStatus, LifeInfo, ToolOffsetInfo
 from ._tools import LIFE_TYPES, OFFSET_TYPES, WORK_OFFSET_NAMES, LifeTool, ToolGroup, ToolsSpec
@@ -95,5 +96,6 @@ __all__ = [
     "default_machine",
     "load_machine",
     "machine_from_dict",
+    "pmc_letter",
     "utc_now",
 ]
