@@ -290,7 +290,7 @@ class Machine(FolderOperations):
         #: The scenario's events as they were applied: ``(event, "begin" | "end" |
         #: "skipped")``, the newest 1000.
         self.scenario_log: deque[tuple[ScenarioEvent, str]] = first.production.log
-        self._init_folders(self.now())
+        self._init_folders()
 
     @property
     def name(self) -> str:
