@@ -111,9 +111,11 @@ TABLE: dict[str, tuple[str, ...]] = {
         "focas_net.native",
         "focas_net.errors",
         "focas_net.adapters._common",
+        "focas_net.adapters._native_clock",
         "focas_net.adapters._native_cnc",
         "focas_net.adapters._native_data",
         "focas_net.adapters._native_programs",
+        "focas_net.adapters._native_offsets",
         "focas_net.adapters._native_files",
     ),
     "focas_net.server": (
@@ -176,11 +178,13 @@ BEYOND_THE_TABLE: dict[str, tuple[str, ...]] = {
             "focas_net.native",
             "focas_net.errors",
             "focas_net.adapters._common",
+            "focas_net.adapters._native_clock",
             "focas_net.adapters._native_cnc",
             "focas_net.adapters._native_data",
             "focas_net.adapters._native_programs",
+            "focas_net.adapters._native_offsets",
         )
-        for area in ("cnc", "data", "programs", "files")
+        for area in ("clock", "cnc", "data", "programs", "offsets", "files")
     },
     # bounded memos: no protocol, no machine
     "focas_net._memo": (),

@@ -65,8 +65,9 @@ left in the answer, the connection's session) -> data``, raising one of
 :data:`~focas_net.adapters._common.REFUSALS` for a block it refuses (the block then carries its
 EW code). The handlers are by area: :mod:`._native_cnc` (identity, status, motion, axes, loads,
 PMC, alarms), :mod:`._native_data` (macro variables, parameters, diagnostics),
-:mod:`._native_programs` (part programs) and :mod:`._native_files` (the program folders of a
-30i-class control).
+:mod:`._native_programs` (part programs), :mod:`._native_offsets` (tool and work offsets,
+tool life), :mod:`._native_files` (the program folders of a 30i-class control) and
+:mod:`._native_clock` (the clock, the panel's signals).
 
 Answers of reads are kept (:mod:`focas_net.adapters._common`, as the packed adapter keeps
 its own): a request made of the reads in :data:`_COUNTERS` only, every block answered without
@@ -124,9 +125,11 @@ from ._common import (
     refusal_code,
     unencodable_code,
 )
+from ._native_clock import ClockHandlers
 from ._native_cnc import CncHandlers
 from ._native_data import DataHandlers
 from ._native_files import FileHandlers
+from ._native_offsets import OffsetHandlers
 from ._native_programs import ProgramHandlers, ProgramTransfer
 
 __all__ = ["PATH_INDEPENDENT", "NativeAdapter", "command_set_of"]
@@ -251,6 +254,8 @@ class NativeAdapter:
         cnc = self._cnc = CncHandlers(machine, self.max_axis)
         data = DataHandlers(machine, self.max_axis)
         programs = self._programs = ProgramHandlers(machine, version)
+        offsets = OffsetHandlers(machine, self.max_axis)
+        clock = ClockHandlers(machine)
         files = FileHandlers(machine)
         c = NativeCommand
         on_cnc: dict[int, _Handler] = {
@@ -286,12 +291,25 @@ class NativeAdapter:
             c.AXIS_COUNT: cnc.read_axis_count,
             c.AXIS_DISPLAY: cnc.read_axis_display,
             c.RDSPLOAD: cnc.read_spindle_load,
+            c.GETTIMER: clock.read_clock,
+            c.SETTIMER: clock.write_clock,
             c.RDSVMETER: cnc.read_servo_meter,
+            c.RDOPNLSGNL: clock.read_panel_signals,
             c.RDPROGDIR: programs.read_program_directory,
             c.RDPROGINFO: programs.read_program_memory,
             c.DELETE: programs.delete_program,
             c.SEARCH: programs.search_program,
             c.RDEXECPROG: programs.read_executing_blocks,
+            c.RDTOFS: offsets.read_tool_offsets,
+            c.WRTOFS: offsets.write_tool_offset,
+            c.RDTOFSINFO: offsets.read_tool_offset_info,
+            c.RDZOFS: offsets.read_work_offsets,
+            c.WRZOFS: offsets.write_work_offset,
+            c.RDUSEGRPID: offsets.read_groups_in_use,
+            c.RDNGRP: offsets.read_life_counts,
+            c.RDTLINFO: offsets.read_life_counts,
+            c.RDTOOLGRP: offsets.read_tool_groups,
+            c.TOOLNUM: offsets.read_tool_numbers,
             c.RDPDF_DRIVE: files.read_drives,
             c.RDPDF_INF: files.read_drive_info,
             c.RDPDF_CURDIR: files.read_current_folder,

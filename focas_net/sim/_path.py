@@ -22,7 +22,7 @@ from then on the engine's, until ``set_motion`` or ``set_run`` is called again.
 from __future__ import annotations
 
 import math
-from collections.abc import Iterable
+from collections.abc import Callable, Iterable
 from dataclasses import dataclass, replace
 from decimal import Decimal
 from typing import Final
@@ -253,6 +253,7 @@ class Path:
         "group",
         "items",
         "key",
+        "listeners",
         "live",
         "local_macros",
         "macros",
@@ -343,6 +344,8 @@ class Path:
         #: Every path of the machine, this one among them (the machine sets it).
         self.group: list[Path] = [self]
         self.production = Production(self)
+        #: Called with every event the engine reports, after the path recorded it.
+        self.listeners: list[Callable[[EngineEvent, float], None]] = []
 
     def macro_values(self, number: int) -> dict[int, Decimal]:
         """Where variable ``number``'s value is held: the path's own #1-#33 and #100-#199 (the
@@ -451,6 +454,8 @@ class Path:
             now = self.time.now()
             for event in events:
                 self.engine_event(event, now)
+                for listen in self.listeners:
+                    listen(event, now)
         key = (state, motion)
         changed = key != self.key
         self.key = key
@@ -459,7 +464,7 @@ class Path:
             self.mstb = waiting
             changed = True
         if self.driven:  # the F signals of the run state (as :meth:`show_cycle`)
-            self.pmc.show_cycle(state)
+            self.pmc.show_cycle(state, self.number)
         steady = e.steady_until()
         run = self.production.run
         if run is not None and run.next_time < steady:
@@ -483,7 +488,7 @@ class Path:
         """The F signals of the run state, while the engine drives the path (before, F is as
         written)."""
         if self.driven:
-            self.pmc.show_cycle(self.key[0])
+            self.pmc.show_cycle(self.key[0], self.number)
 
     def engine_event(self, event: EngineEvent, now: float) -> None:
         """Record what the engine reports at machine time ``now``: a part into the parts
@@ -725,7 +730,7 @@ class Path:
     def apply(self, asked: GRequest) -> None:
         """Act on what a write of G signals asks (the machine checked it may be written): the
         rising edge of ERS resets, the falling edge of *SP holds the feed, a change of the mode
-        bits of G43 selects the mode, a change of G12 sets the feed override, the falling edge
+        bits of G43 selects the mode, G12/G14/G30 set the overrides, the falling edge
         of ST starts the cycle (with *SP on). What the CNC refuses (cycle start with an alarm
         ...) is ignored, as a CNC ignores the signal."""
         try:
@@ -735,8 +740,8 @@ class Path:
                 self.feed_hold()
             if asked.mode is not None and asked.mode != self.panel.mode:
                 self.set_panel(asked.mode, None, None)
-            if asked.feed_override is not None:
-                self.set_overrides(asked.feed_override, None, None)
+            if asked.overrides != (None, None, None):
+                self.set_overrides(*asked.overrides)
             if asked.start:
                 self.cycle_start(None)
         except MachineError as exc:
