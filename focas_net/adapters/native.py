@@ -64,8 +64,10 @@ request block by block, and the answers it keeps. A handler answers one block: `
 left in the answer, the connection's session) -> data``, raising one of
 :data:`~focas_net.adapters._common.REFUSALS` for a block it refuses (the block then carries its
 EW code). The handlers are by area: :mod:`._native_cnc` (identity, status, motion, axes, loads,
-PMC, alarms), :mod:`._native_data` (macro variables, parameters, diagnostics) and
-:mod:`._native_programs` (part programs).
+PMC, alarms), :mod:`._native_data` (macro variables, parameters, diagnostics),
+:mod:`._native_programs` (part programs) and :mod:`._native_info` (the CNC's information:
+figures, status 2, system software, item numbers and attributes, setting data, the PMC's
+areas and title, the Ethernet board, program restart, the main program's path).
 
 Answers of reads are kept (:mod:`focas_net.adapters._common`, as the packed adapter keeps
 its own): a request made of the reads in :data:`_COUNTERS` only, every block answered without
@@ -125,6 +127,7 @@ from ._common import (
 )
 from ._native_cnc import CncHandlers
 from ._native_data import DataHandlers
+from ._native_info import InfoHandlers
 from ._native_programs import ProgramHandlers, ProgramTransfer
 
 __all__ = ["PATH_INDEPENDENT", "NativeAdapter", "command_set_of"]
@@ -146,6 +149,12 @@ PATH_INDEPENDENT: Final = frozenset(
         (Device.CNC, NativeCommand.RDPARAINFO3),
         (Device.PMC, NativeCommand.PMC_RDPMCRNG),
         (Device.PMC, NativeCommand.PMC_WRPMCRNG),
+        (Device.PMC, NativeCommand.PMC_RDPMCINFO),
+        (Device.PMC, NativeCommand.PMC_RDPMCTITLE),
+        (Device.CNC, NativeCommand.RDSYSSOFT),
+        (Device.CNC, NativeCommand.RDETHERINFO),
+        (Device.CNC, NativeCommand.RDPARANUM),
+        (Device.CNC, NativeCommand.RDDIAGNUM),
     }
 )
 #: The machine counter the answer of each read block follows ("" for what never changes: the
@@ -180,6 +189,19 @@ _COUNTERS: Final[dict[tuple[int, int], str]] = {
     (Device.CNC, NativeCommand.ACTF): "motion_version",
     (Device.CNC, NativeCommand.ACTS): "motion_version",
     (Device.CNC, NativeCommand.POSITION): "motion_version",
+    (Device.CNC, NativeCommand.GETFIGURE): "",
+    (Device.CNC, NativeCommand.RDSYSSOFT): "",
+    (Device.CNC, NativeCommand.RDPARANUM): "",
+    (Device.CNC, NativeCommand.RDDIAGNUM): "",
+    (Device.CNC, NativeCommand.RDDIAGINFO): "",
+    (Device.CNC, NativeCommand.RDSETINFO): "",
+    (Device.CNC, NativeCommand.RDETHERINFO): "",
+    (Device.CNC, NativeCommand.RDSET): "data_version",
+    (Device.CNC, NativeCommand.RDSET3): "data_version",
+    (Device.CNC, NativeCommand.STATINFO2): "status_version",
+    (Device.CNC, NativeCommand.PDF_RDMAIN): "motion_version",
+    (Device.PMC, NativeCommand.PMC_RDPMCINFO): "",
+    (Device.PMC, NativeCommand.PMC_RDPMCTITLE): "",
 }
 #: Answers one adapter keeps: the request bodies a poller repeats. An answer is 1.5 KiB at most
 #: (2.9 at version 3), so a machine keeps under 100 KiB of them at worst.
@@ -247,6 +269,7 @@ class NativeAdapter:
         cnc = self._cnc = CncHandlers(machine, self.max_axis)
         data = DataHandlers(machine, self.max_axis)
         programs = self._programs = ProgramHandlers(machine, version)
+        info = InfoHandlers(machine, cnc, data)
         c = NativeCommand
         on_cnc: dict[int, _Handler] = {
             c.SYSINFO: cnc.read_sysinfo,
@@ -275,7 +298,7 @@ class NativeAdapter:
             c.WRPARAM3: data.write_param_30i,
             c.RDDIAG: data.read_diags,
             c.RDDIAG3: data.read_diags_30i,
-            c.POSITION: cnc.read_positions,
+            c.POSITION: info.read_positions,  # restart points, then CncHandlers'
             c.AXIS_NAME: cnc.read_axis_names,
             c.AXIS_UNIT: cnc.read_axis_units,
             c.AXIS_COUNT: cnc.read_axis_count,
@@ -287,10 +310,24 @@ class NativeAdapter:
             c.DELETE: programs.delete_program,
             c.SEARCH: programs.search_program,
             c.RDEXECPROG: programs.read_executing_blocks,
+            c.GETFIGURE: info.read_figures,
+            c.STATINFO2: info.read_status2,
+            c.RDSYSSOFT: info.read_software,
+            c.RDPARANUM: info.read_param_numbers,
+            c.RDDIAGNUM: info.read_diag_numbers,
+            c.RDDIAGINFO: info.read_diag_info,
+            c.RDSETINFO: info.read_setting_info,
+            c.RDSET: info.read_settings,
+            c.RDSET3: info.read_settings_30i,
+            c.RDETHERINFO: info.read_ether_info,
+            c.RDPRSTRINFO: info.read_restart_info,
+            c.PDF_RDMAIN: info.read_main_program,
         }
         on_pmc: dict[int, _Handler] = {
             c.PMC_RDPMCRNG: cnc.read_pmc,
             c.PMC_WRPMCRNG: cnc.write_pmc,
+            c.PMC_RDPMCINFO: info.read_pmc_info,
+            c.PMC_RDPMCTITLE: info.read_pmc_title,
         }
         self._handlers: dict[tuple[int, int], _Handler] = {
             **{(Device.CNC, k): v for k, v in on_cnc.items()},

@@ -80,11 +80,13 @@ class NativeCommand(enum.IntEnum):
     WRPARAM = 0x0F  # cnc_wrparam, 16i class (after 0x10)
     RDPARAM = 0x0E  # cnc_rdparam, 16i class (4-byte value slots)
     RDPARAINFO = 0x10  # cnc_rdparainfo; cnc_wrparam, 16i class
+    RDPARANUM = 0x11  # cnc_rdparanum (focas_net.native.info)
     RDMACRO = 0x15  # cnc_rdmacro / cnc_rdmacror: scaled numbers
     WRMACRO = 0x16  # cnc_wrmacro: one scaled number (binary at 16i class)
     SYSINFO = 0x18  # cnc_allclibhndl3 (stored for cnc_sysinfo): ODBSYS
     STATINFO = 0x19  # cnc_statinfo: ODBST; cnc_rdposition (16i class)
     ALARM = 0x1A  # cnc_alarm / cnc_alarm2 / cnc_rddynamic2: alarm bits
+    GETFIGURE = 0x1B  # cnc_getfigure (focas_net.native.info)
     RDPRGNUM = 0x1C  # cnc_rdprgnum / cnc_rdprgnumo8 / cnc_rddynamic2
     RDSEQNUM = 0x1D  # cnc_rdseqnum / cnc_rddynamic2
     RDEXECPROG = 0x20  # cnc_rdexecprog (focas_net.native.programs)
@@ -92,14 +94,21 @@ class NativeCommand(enum.IntEnum):
     ACTF = 0x24  # cnc_actf / cnc_rddynamic2: actual feed rate
     ACTS = 0x25  # cnc_acts / cnc_rddynamic2: actual spindle speed
     POSITION = 0x26  # cnc_absolute / machine / relative / distance / rdposition / rddynamic2
+    RDSET = 0x29  # cnc_rdset, 16i set (focas_net.native.info)
+    RDSETINFO = 0x2B  # cnc_rdsetinfo
     RDDIAG = 0x30  # cnc_diagnoss, 16i class (4-byte value slots)
+    RDDIAGINFO = 0x31  # cnc_rddiaginfo
+    RDDIAGNUM = 0x32  # cnc_rddiagnum
     RDSPLOAD = 0x40  # cnc_rdspload
+    RDSYSSOFT = 0x41  # cnc_rdsyssoft
+    RDPRSTRINFO = 0x43  # cnc_rdprstrinfo (with 0x26 kinds 13 and 14)
     RDSVMETER = 0x56  # cnc_rdsvmeter
     RDALMHISTRY = 0x6C  # cnc_rdalmhistry
     AXIS_UNIT = 0x88  # cnc_rdposition: units
     AXIS_NAME = 0x89  # cnc_rdaxisname / cnc_rdsvmeter / cnc_rdposition: axis names
     RDPARAM3 = 0x8D  # cnc_rdparam, 30i class (8-byte scaled slots)
     WRPARAM3 = 0x8E  # cnc_wrparam, 30i class (after 0xA0)
+    RDSET3 = 0x90  # cnc_rdset, 30i set
     RDDIAG3 = 0x93  # cnc_diagnoss, 30i class (8-byte scaled slots)
     STAT_TMMODE = 0x98  # cnc_statinfo: ODBST tmmode
     RDPARAINFO3 = 0xA0  # cnc_wrparam, 30i class
@@ -107,12 +116,17 @@ class NativeCommand(enum.IntEnum):
     AXIS_COUNT = 0xA4  # cnc_rdposition / cnc_rdspload / cnc_rdsvmeter, 30i class: counts
     RDMACRO_DOUBLE = 0xA7  # cnc_rdmacror2: IEEE doubles
     WRMACRO_DOUBLE = 0xA8  # cnc_wrmacror2: IEEE double
+    PDF_RDMAIN = 0xB9  # cnc_pdf_rdmain: the main program's path
     EXEPRGNAME = 0xCF  # cnc_exeprgname
     STAT_HDCK = 0xE1  # cnc_statinfo: ODBST hdck
+    STATINFO2 = 0xE2  # cnc_statinfo2 (with 0xE1 and 0x98)
     RDCNCID = 0xE8  # cnc_rdcncid
     RDTIMER = 0x120  # cnc_rdtimer
+    RDETHERINFO = 0x159  # cnc_rdetherinfo
     PMC_RDPMCRNG = 0x8001  # pmc_rdpmcrng (device PMC)
     PMC_WRPMCRNG = 0x8002  # pmc_wrpmcrng (device PMC)
+    PMC_RDPMCINFO = 0x8003  # pmc_rdpmcinfo (device PMC)
+    PMC_RDPMCTITLE = 0x800B  # pmc_rdpmctitle (device PMC)
 
 
 class _ExtraLength:

@@ -5,6 +5,14 @@ knows either wire protocol: :mod:`focas_net.adapters` translates (``docs/protoco
 
 from ._alarms import MAX_ALARM_NO
 from ._identity import MAX_NAME_LENGTH
+from ._information import (
+    SETTING_NUMBERS,
+    VALID_FIGURES,
+    EthernetBoard,
+    PmcAreaRange,
+    PmcTitle,
+    SoftwareEdition,
+)
 from .default import DEFAULT_NAME, DEMO_PROGRAM, default_machine
 from .machine import (
     AUT_MODES,
@@ -57,10 +65,13 @@ __all__ = [
     "PMC_AREAS",
     "POSITION_DECIMALS",
     "POSITION_KINDS",
+    "SETTING_NUMBERS",
     "TIMER_KINDS",
+    "VALID_FIGURES",
     "Alarm",
     "Clock",
     "DataItem",
+    "EthernetBoard",
     "HistoryEntry",
     "Identity",
     "Machine",
@@ -72,8 +83,11 @@ __all__ = [
     "ParamKind",
     "PathInfo",
     "PathSpec",
+    "PmcAreaRange",
     "PmcAreaSpec",
+    "PmcTitle",
     "Session",
+    "SoftwareEdition",
     "Status",
     "default_machine",
     "load_machine",
