@@ -48,7 +48,7 @@ from focas_net.native import (
     SystemSoftware,
 )
 from focas_net.sim import POSITION_DECIMALS, DataItem, Machine, Session
-from focas_net.sim import SoftwareEdition as MachineSoftware
+from focas_net.sim import SoftwareVersion as MachineSoftware
 
 from ._common import Refused, need_room
 from ._native_cnc import CncHandlers, block_path

@@ -4,14 +4,28 @@ Each name below has one home: :mod:`.client` (the packed client), :mod:`._values
 (:class:`Positions`, and the checks and conversions both clients share), :mod:`.reconnect`
 (states and the reconnect policy), :mod:`.sim_control` (``client.sim``), :mod:`.connection`
 (one pipelined connection), :mod:`.projection` (alarm events), :mod:`.native` (the FOCAS/2
-Ethernet client, :class:`NativeClient`), :mod:`._started` (:class:`StartedCall`, a read
-started now and finished later), :mod:`.many` (:func:`read_status_all`,
-:func:`read_dynamic_all`: many clients read from one task), :mod:`.cnc` (:class:`CncClient`,
+Ethernet client, :class:`NativeClient`), :mod:`._native_info` (the typed results of its reads
+of the CNC's information: :class:`SoftwareInfo`, :class:`PmcTitleInfo`...),
+:mod:`._started` (:class:`StartedCall`, a read started now and finished later),
+:mod:`.many` (:func:`read_status_all`, :func:`read_dynamic_all`: many clients read from one
+task), :mod:`.cnc` (:class:`CncClient`,
 the calls both clients carry, as a static type). ``FaultKind`` and ``FaultScope``, the
 arguments of ``client.sim.inject_fault``, are imported from :mod:`focas_net.protocol` (or
 :mod:`focas_net`).
 """
 
+from ._native_info import (
+    EthernetInfo,
+    ItemAttributes,
+    ItemRange,
+    PmcAreaSpan,
+    PmcTitleInfo,
+    RestartInfo,
+    SoftwareInfo,
+    SoftwareSlot,
+    StatusInfo2,
+    ValidFigures,
+)
 from ._started import StartedCall
 from ._values import Paths, Positions
 from .client import FocasClient
@@ -40,18 +54,28 @@ __all__ = [
     "CncClient",
     "Connection",
     "DynamicData",
+    "EthernetInfo",
     "FocasClient",
+    "ItemAttributes",
+    "ItemRange",
     "NativeClient",
     "NativeUnsupportedError",
     "NotSentError",
     "PanelSwitches",
     "Paths",
+    "PmcAreaSpan",
+    "PmcTitleInfo",
     "Positions",
     "ProjectionMode",
     "ReconnectPolicy",
+    "RestartInfo",
     "ServoLoad",
     "SimControl",
+    "SoftwareInfo",
+    "SoftwareSlot",
     "StartedCall",
+    "StatusInfo2",
+    "ValidFigures",
     "open_connection",
     "read_dynamic_all",
     "read_status_all",

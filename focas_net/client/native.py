@@ -70,8 +70,8 @@ from ..protocol import (
     SysInfo,
 )
 from ._composite import ChunkOutcome
+from ._native_info import NativeInfo
 from ._native_items import (
-    NativeItems,
     axis_name,
     block_data,
     decoded,
@@ -197,7 +197,7 @@ def _check_dynamic_axis(axis: object) -> None:
     check_axis(axis, every=-1)
 
 
-class NativeClient(NativeItems):
+class NativeClient(NativeInfo):
     """An asyncio client of FANUC's FOCAS/2 Ethernet protocol (port 8193 on a real control).
 
     It has the methods of :class:`~focas_net.client.FocasClient` that FOCAS/2 carries, with

@@ -34,9 +34,9 @@ __all__ = [
     "VALID_FIGURES",
     "EthernetBoard",
     "InformationOperations",
-    "PmcAreaRange",
-    "PmcTitle",
-    "SoftwareEdition",
+    "LadderTitle",
+    "PmcAreaExtent",
+    "SoftwareVersion",
 ]
 
 #: The parameter numbers that are setting data (FANUC's setting screen shows the parameters
@@ -47,7 +47,7 @@ VALID_FIGURES: Final = 9
 
 
 @dataclass(frozen=True, slots=True)
-class SoftwareEdition:
+class SoftwareVersion:
     """One piece of the CNC's system software: what it is (``"cnc"``, ``"boot"``,
     ``"servo"``, ``"pmc"``, ``"ladder"``), its series and its edition (4 ASCII characters
     each)."""
@@ -63,7 +63,7 @@ class SoftwareEdition:
 
 
 @dataclass(frozen=True, slots=True)
-class PmcTitle:
+class LadderTitle:
     """The PMC's title data (its ladder's): machine tool builder, machine, PMC type, program
     number and edition, drawing number, date, designer, writer, remarks."""
 
@@ -80,7 +80,7 @@ class PmcTitle:
 
 
 @dataclass(frozen=True, slots=True)
-class PmcAreaRange:
+class PmcAreaExtent:
     """A PMC area as the PMC describes it: its letter, its first and last byte address, and
     whether it refuses writes."""
 
@@ -129,7 +129,7 @@ class _Facts(Protocol):
 
     def pmc_area(self, letter: str) -> tuple[int, bool] | None: ...
 
-    def pmc_title(self) -> PmcTitle: ...
+    def pmc_title(self) -> LadderTitle: ...
 
 
 class InformationOperations:
@@ -143,21 +143,21 @@ class InformationOperations:
         axes = self.path_info(path).axes
         return VALID_FIGURES, tuple((POSITION_DECIMALS, POSITION_DECIMALS) for _ in axes)
 
-    def system_software(self: _Facts) -> tuple[SoftwareEdition, ...]:
+    def system_software(self: _Facts) -> tuple[SoftwareVersion, ...]:
         """The CNC's system software: first the CNC's own (its identity's series and
         version), then the boot, servo and PMC software and the ladder (the PMC title's
         program number and edition)."""
         identity = self.identity()
-        own = SoftwareEdition("cnc", identity.series, identity.version)
+        own = SoftwareVersion("cnc", identity.series, identity.version)
         others = _SOFTWARE[self.control_class in _CLASSES_16I]
         title = self.pmc_title()
-        ladder = SoftwareEdition("ladder", title.program.rjust(4, "0"), title.edition.rjust(4, "0"))
-        return (own, *(SoftwareEdition(*o) for o in others), ladder)
+        ladder = SoftwareVersion("ladder", title.program.rjust(4, "0"), title.edition.rjust(4, "0"))
+        return (own, *(SoftwareVersion(*o) for o in others), ladder)
 
-    def pmc_title(self: _Facts) -> PmcTitle:
+    def pmc_title(self: _Facts) -> LadderTitle:
         """The PMC's title data: the machine's name, its control class's PMC, ladder program
         0001 edition 01."""
-        return PmcTitle(
+        return LadderTitle(
             mtb="FOCAS-NET",
             machine=self.name[:_TITLE_WIDTH],
             pmc_type=f"{self.control_class} PMC",
@@ -169,14 +169,14 @@ class InformationOperations:
         """The Ethernet port the CNC is reached through (the embedded port)."""
         return EMBEDDED_ETHERNET
 
-    def pmc_ranges(self: _Facts) -> tuple[PmcAreaRange, ...]:
+    def pmc_ranges(self: _Facts) -> tuple[PmcAreaExtent, ...]:
         """Every PMC area the machine has, in :data:`PMC_AREAS` order, with its addresses."""
         out = []
         for letter in PMC_AREAS:
             info = self.pmc_area(letter)
             if info is not None:
                 size, protected = info
-                out.append(PmcAreaRange(letter, 0, size - 1, protected))
+                out.append(PmcAreaExtent(letter, 0, size - 1, protected))
         return tuple(out)
 
     def setting_numbers(self: _Facts) -> tuple[int, ...]:
