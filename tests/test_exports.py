@@ -238,6 +238,7 @@ CLIENT_MODULES = [
     "projection",
     "reconnect",
     "sim_control",
+    "_native_info",
     "_started",
     "_values",
 ]

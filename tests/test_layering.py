@@ -114,6 +114,7 @@ TABLE: dict[str, tuple[str, ...]] = {
         "focas_net.adapters._native_cnc",
         "focas_net.adapters._native_data",
         "focas_net.adapters._native_programs",
+        "focas_net.adapters._native_info",
     ),
     "focas_net.server": (
         "focas_net.adapters",
@@ -179,7 +180,7 @@ BEYOND_THE_TABLE: dict[str, tuple[str, ...]] = {
             "focas_net.adapters._native_data",
             "focas_net.adapters._native_programs",
         )
-        for area in ("cnc", "data", "programs")
+        for area in ("cnc", "data", "programs", "info")
     },
     # bounded memos: no protocol, no machine
     "focas_net._memo": (),

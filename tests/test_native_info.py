@@ -6,7 +6,7 @@ served machine."""
 
 from __future__ import annotations
 
-from collections.abc import AsyncIterator
+from collections.abc import AsyncIterator, Callable
 
 import pytest
 from hypothesis import given
@@ -29,6 +29,7 @@ from focas_net.native import (
     EtherInfo,
     Figures,
     ItemNumbers,
+    LibraryCall,
     MainProgramPath,
     NativePositionRequest,
     PmcAreaInfo,
@@ -64,7 +65,7 @@ CS = (CommandSet.FS16I, CommandSet.FS30I)
 
 
 #: (call, the frame the library sent: the same in both sets unless given per set)
-GOLDEN_REQUESTS = {
+GOLDEN_REQUESTS: dict[str, tuple[Callable[[CommandSet], LibraryCall], str]] = {
     "cnc_getfigure": (
         lambda cs: info.cnc_getfigure(cs, 0),
         "a0a0a0a000012101001e0001001c00010001001b0000000000000000000000000000000000000000",
@@ -386,10 +387,12 @@ def test_the_adapter_refuses_what_the_machine_has_not() -> None:
 
 def test_path_words_are_checked_where_the_answer_is_a_paths() -> None:
     adapter = NativeAdapter(default_machine())
-    for request in (info.FigureRequest(0), info.StatInfo2Request(), info.MainProgramRequest()):
+    per_path = (info.FigureRequest(0), info.StatInfo2Request(), info.MainProgramRequest())
+    for request in per_path:
         assert _answer(adapter, request, path=2).ew == EW.PATH
-    for request in (info.PmcTitleRequest(), info.PmcInfoRequest(0), info.EtherInfoRequest()):
-        assert _answer(adapter, request, path=2).ew == 0
+    machines = (info.PmcTitleRequest(), info.PmcInfoRequest(0), info.EtherInfoRequest())
+    for other in machines:
+        assert _answer(adapter, other, path=2).ew == 0
 
 
 def test_status2_and_the_main_program_follow_a_running_program() -> None:
