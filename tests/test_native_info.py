@@ -226,12 +226,12 @@ def test_pmc_area_count_is_the_records_sent() -> None:
 
 
 def test_main_program_path_is_nul_terminated() -> None:
-    assert MainProgramPath(b"//CNC_MEM/USER/PATH1/O0001").encode() == (
+    assert MainProgramPath.of(b"//CNC_MEM/USER/PATH1/O0001").encode() == (
         b"//CNC_MEM/USER/PATH1/O0001\0"
     )
-    assert MainProgramPath.decode(b"//A\0junk") == MainProgramPath(b"//A")
+    assert MainProgramPath.decode(b"//A\0junk").path == b"//A"
     with pytest.raises(ValueError):
-        MainProgramPath(b"a\0b").encode()
+        MainProgramPath.of(b"a\0b")
 
 
 _i32 = st.integers(-(2**31), 2**31 - 1)
@@ -352,7 +352,7 @@ def test_the_adapter_answers_from_the_machine(machine: Machine) -> None:
     assert answer(info.cnc_rdetherinfo(cs)) == EtherInfo(1, 0)
     main = machine.path_motion().program_main
     expected = f"//CNC_MEM/USER/PATH1/O{main:04d}".encode() if main else b""
-    assert answer(info.cnc_pdf_rdmain(cs)) == MainProgramPath(expected)
+    assert answer(info.cnc_pdf_rdmain(cs)) == MainProgramPath.of(expected)
 
 
 @pytest.mark.parametrize("machine", _machines(), ids=["30i", "16i"])

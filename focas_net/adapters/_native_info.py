@@ -226,7 +226,7 @@ class InfoHandlers:
         """0xB9: the path name of the path's main program (empty with none)."""
         path = block_path(block)
         main = self.machine.path_motion(path=path).program_main
-        return MainProgramPath(main_program_path(path, main)).encode()
+        return MainProgramPath.of(main_program_path(path, main)).encode()
 
 
 #: The texts of 0x800B and their widths.

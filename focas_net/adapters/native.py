@@ -140,7 +140,8 @@ _SET_VERSIONS: Final = {CommandSet.FS16I: 2, CommandSet.FS30I: 3}
 #: open answer of the 30i set carries 9968's value): bit 0 is what ``cnc_rddynamic2`` needs.
 OPTION_BITS: Final = 1
 #: ``(device, command)`` of the blocks that answer whatever their path word: the CNC ID, the
-#: alarm history, the parameter information and the PMC are the machine's, not a path's.
+#: alarm history, the parameter information and the PMC are the machine's, not a path's; so
+#: are the system software, the Ethernet board, the item numbers and the item information.
 PATH_INDEPENDENT: Final = frozenset(
     {
         (Device.CNC, NativeCommand.RDCNCID),
@@ -155,6 +156,8 @@ PATH_INDEPENDENT: Final = frozenset(
         (Device.CNC, NativeCommand.RDETHERINFO),
         (Device.CNC, NativeCommand.RDPARANUM),
         (Device.CNC, NativeCommand.RDDIAGNUM),
+        (Device.CNC, NativeCommand.RDDIAGINFO),
+        (Device.CNC, NativeCommand.RDSETINFO),
     }
 )
 #: The machine counter the answer of each read block follows ("" for what never changes: the

@@ -413,18 +413,29 @@ class RestartValues:
 @dataclass(frozen=True, slots=True)
 class MainProgramPath:
     """``cnc_pdf_rdmain`` (0xB9): the main program's path name, NUL-terminated; the library
-    copies at most 256 bytes up to the NUL (``strncpy``) [V]."""
+    copies at most 256 bytes up to the NUL (``strncpy``) [V]. ``raw`` is the answer's data as
+    it is (:meth:`of` makes it of a path), :attr:`path` the name."""
 
-    path: bytes
+    raw: bytes
+
+    @classmethod
+    def of(cls, path: bytes) -> Self:
+        """The answer naming ``path`` (at most 255 bytes, no NUL): the path and a NUL."""
+        if b"\0" in path or len(path) > 255:
+            raise ValueError(f"MainProgramPath: {path!r} (at most 255 bytes, no NUL)")
+        return cls(path + b"\0")
+
+    @property
+    def path(self) -> bytes:
+        """The name: the bytes before the first NUL (the library reads no more)."""
+        return self.raw.split(b"\0", 1)[0]
 
     def encode(self) -> bytes:
-        if b"\0" in self.path or len(self.path) > 255:
-            raise ValueError(f"MainProgramPath: {self.path!r} (at most 255 bytes, no NUL)")
-        return self.path + b"\0"
+        return self.raw
 
     @classmethod
     def decode(cls, data: bytes) -> Self:
-        return cls(bytes(data).split(b"\0", 1)[0])
+        return cls(bytes(data))
 
 
 # --------------------------------------------------------------------------------------------
