@@ -241,6 +241,7 @@ CLIENT_MODULES = [
     "_native_info",
     "_started",
     "_values",
+    "_native_files",
 ]
 
 

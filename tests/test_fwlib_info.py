@@ -6,8 +6,8 @@ Each test serves one machine (the built-in 0i-F, the 30i set; a 16i machine file
 opens a library handle and a :class:`NativeClient` on it, and checks every value the library
 copies into its structure: ``cnc_getfigure``, ``cnc_statinfo2`` (idle and running),
 ``cnc_rdsyssoft``, ``cnc_rdparanum``, ``cnc_rddiagnum``, ``cnc_rddiaginfo``, ``cnc_rdset``,
-``cnc_rdsetinfo``, ``pmc_rdpmcinfo``, ``pmc_rdpmctitle``, ``cnc_rdetherinfo``,
-``cnc_rdprstrinfo`` and ``cnc_pdf_rdmain``.
+``cnc_rdsetinfo``, ``pmc_rdpmcinfo``, ``pmc_rdpmctitle``, ``cnc_rdetherinfo``
+and ``cnc_rdprstrinfo``.
 """
 
 from __future__ import annotations
@@ -178,7 +178,7 @@ async def test_status2_idle(both: Both) -> None:
     assert [getattr(client, f) for f in names] == [getattr(st, f) for f in names]
 
 
-async def test_status2_and_main_program_running() -> None:
+async def test_status2_running() -> None:
     clock = ManualClock()
     machine = default_machine(sim_clock=clock)
     async with served_cnc("30i", machine) as cnc:
@@ -190,10 +190,6 @@ async def test_status2_and_main_program_running() -> None:
         s = machine.status()
         assert (st.aut, st.run, st.motion) == (s.aut, s.run, s.motion)
         assert st.run != 0
-        name = buf(256)
-        assert await cnc.call("cnc_pdf_rdmain", name) == 0
-        main = machine.path_motion().program_main
-        assert name.value == f"//CNC_MEM/USER/PATH1/O{main:04d}".encode()
 
 
 async def test_system_software(both: Both) -> None:

@@ -115,6 +115,7 @@ TABLE: dict[str, tuple[str, ...]] = {
         "focas_net.adapters._native_data",
         "focas_net.adapters._native_programs",
         "focas_net.adapters._native_info",
+        "focas_net.adapters._native_files",
     ),
     "focas_net.server": (
         "focas_net.adapters",
@@ -180,7 +181,7 @@ BEYOND_THE_TABLE: dict[str, tuple[str, ...]] = {
             "focas_net.adapters._native_data",
             "focas_net.adapters._native_programs",
         )
-        for area in ("cnc", "data", "programs", "info")
+        for area in ("cnc", "data", "programs", "files", "info")
     },
     # bounded memos: no protocol, no machine
     "focas_net._memo": (),

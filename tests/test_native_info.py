@@ -30,7 +30,6 @@ from focas_net.native import (
     Figures,
     ItemNumbers,
     LibraryCall,
-    MainProgramPath,
     NativePositionRequest,
     PmcAreaInfo,
     PmcAreaInfos,
@@ -118,10 +117,6 @@ GOLDEN_REQUESTS: dict[str, tuple[Callable[[CommandSet], LibraryCall], str]] = {
         "001c0001000100430000000400000000000000000000000000000000"
         "001c0001000100260000000dffffffff000000000000000000000000"
         "001c0001000100260000000effffffff000000000000000000000000",
-    ),
-    "cnc_pdf_rdmain": (
-        info.cnc_pdf_rdmain,
-        "a0a0a0a000012101001e0001001c0001000100b90000000000000000000000000000000000000000",
     ),
 }
 
@@ -223,15 +218,6 @@ def test_pmc_area_count_is_the_records_sent() -> None:
     assert PmcAreaInfos.decode(data) == areas
     with pytest.raises(ValueError, match="at most 64"):
         PmcAreaInfos((PmcAreaInfo(71, 0, 0, 1),) * 65).encode()
-
-
-def test_main_program_path_is_nul_terminated() -> None:
-    assert MainProgramPath.of(b"//CNC_MEM/USER/PATH1/O0001").encode() == (
-        b"//CNC_MEM/USER/PATH1/O0001\0"
-    )
-    assert MainProgramPath.decode(b"//A\0junk").path == b"//A"
-    with pytest.raises(ValueError):
-        MainProgramPath.of(b"a\0b")
 
 
 _i32 = st.integers(-(2**31), 2**31 - 1)
@@ -350,9 +336,6 @@ def test_the_adapter_answers_from_the_machine(machine: Machine) -> None:
     title = answer(info.pmc_rdpmctitle(cs))
     assert title.machine == machine.name.encode()  # type: ignore[attr-defined]
     assert answer(info.cnc_rdetherinfo(cs)) == EtherInfo(1, 0)
-    main = machine.path_motion().program_main
-    expected = f"//CNC_MEM/USER/PATH1/O{main:04d}".encode() if main else b""
-    assert answer(info.cnc_pdf_rdmain(cs)) == MainProgramPath.of(expected)
 
 
 @pytest.mark.parametrize("machine", _machines(), ids=["30i", "16i"])
@@ -387,7 +370,7 @@ def test_the_adapter_refuses_what_the_machine_has_not() -> None:
 
 def test_path_words_are_checked_where_the_answer_is_a_paths() -> None:
     adapter = NativeAdapter(default_machine())
-    per_path = (info.FigureRequest(0), info.StatInfo2Request(), info.MainProgramRequest())
+    per_path = (info.FigureRequest(0), info.StatInfo2Request(), info.RestartInfoRequest(0))
     for request in per_path:
         assert _answer(adapter, request, path=2).ew == EW.PATH
     machines = (info.PmcTitleRequest(), info.PmcInfoRequest(0), info.EtherInfoRequest())
@@ -395,7 +378,7 @@ def test_path_words_are_checked_where_the_answer_is_a_paths() -> None:
         assert _answer(adapter, other, path=2).ew == 0
 
 
-def test_status2_and_the_main_program_follow_a_running_program() -> None:
+def test_status2_follows_a_running_program() -> None:
     clock = ManualClock()
     machine = default_machine(sim_clock=clock)
     adapter = NativeAdapter(machine)
@@ -408,9 +391,6 @@ def test_status2_and_the_main_program_follow_a_running_program() -> None:
     assert StatInfo2.decode(_answer(adapter, info.StatInfo2Request()).data) == StatInfo2.of(
         adapter.status_info()
     )
-    main = machine.path_motion().program_main
-    path = MainProgramPath.decode(_answer(adapter, info.MainProgramRequest()).data).path
-    assert path == f"//CNC_MEM/USER/PATH1/O{main:04d}".encode()
 
 
 def test_settings_are_parameters_below_100() -> None:
@@ -464,9 +444,6 @@ async def test_the_client_reads_the_machines_information(client: NativeClient) -
     assert await client.read_ethernet_info() == EthernetInfo(1, 0)
     restart = await client.read_restart_info()
     assert restart.block_counter == () and restart.point == (0,) * axes
-    main = machine.path_motion().program_main
-    expected = f"//CNC_MEM/USER/PATH1/O{main:04d}" if main else ""
-    assert await client.read_main_program_path() == expected
 
 
 async def test_the_client_checks_arguments_before_sending(client: NativeClient) -> None:

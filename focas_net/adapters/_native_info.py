@@ -2,8 +2,8 @@
 handler is: :mod:`focas_net.adapters.native`): the figures of the data (0x1B), the status with
 its warning (0xE2), the system software (0x41), the parameter and diagnostic numbers and
 attributes (0x11, 0x32, 0x31), the setting data and their attributes (0x29, 0x90, 0x2B), the
-PMC's areas and title (0x8003, 0x800B), the Ethernet board (0x159), the program restart
-information (0x43) and the main program's path (0xB9).
+PMC's areas and title (0x8003, 0x800B), the Ethernet board (0x159) and the program restart
+information (0x43).
 
 Every answer is the machine's (:class:`~focas_net.sim.Machine`'s information, its parameters,
 diagnostics, PMC areas and programs), so it agrees with what the machine says through its
@@ -28,7 +28,6 @@ from focas_net.native import (
     FigureRequest,
     Figures,
     ItemNumbers,
-    MainProgramPath,
     NativePmcArea,
     NativePositionRequest,
     ParamInfo,
@@ -54,7 +53,7 @@ from ._common import Refused, need_room
 from ._native_cnc import CncHandlers, block_path
 from ._native_data import DataHandlers, native_param_type
 
-__all__ = ["InfoHandlers", "main_program_path"]
+__all__ = ["InfoHandlers"]
 
 #: ``cnc_getfigure``'s data type of the axes' positions (the only one the machine models).
 _POSITION_FIGURES: Final = 0
@@ -64,14 +63,6 @@ _PMC_TYPES: Final = range(-1, 3)
 #: editions of the 0x41 answer.
 _CNC_SLOT: Final = 0
 _NAMED: Final = ("boot", "servo", "pmc", "ladder")
-
-
-def main_program_path(path: int, program: int) -> bytes:
-    """The path name of program ``program`` of path ``path`` in the CNC's memory, as the 30i
-    file system names it (``//CNC_MEM/USER/PATH1/O0001``); empty with no program."""
-    if program <= 0:
-        return b""
-    return f"//CNC_MEM/USER/PATH{path}/O{program:04d}".encode("ascii")
 
 
 class InfoHandlers:
@@ -221,12 +212,6 @@ class InfoHandlers:
             raise Refused(EW.ATTRIB)
         need_room(SCALED_SIZE * count, room)
         return ScaledValues((ScaledNumber(0, POSITION_DECIMALS),) * count).encode()
-
-    def read_main_program(self, block: RequestBlock, room: int, session: Session) -> bytes:
-        """0xB9: the path name of the path's main program (empty with none)."""
-        path = block_path(block)
-        main = self.machine.path_motion(path=path).program_main
-        return MainProgramPath.of(main_program_path(path, main)).encode()
 
 
 #: The texts of 0x800B and their widths.

@@ -65,9 +65,10 @@ left in the answer, the connection's session) -> data``, raising one of
 :data:`~focas_net.adapters._common.REFUSALS` for a block it refuses (the block then carries its
 EW code). The handlers are by area: :mod:`._native_cnc` (identity, status, motion, axes, loads,
 PMC, alarms), :mod:`._native_data` (macro variables, parameters, diagnostics),
-:mod:`._native_programs` (part programs) and :mod:`._native_info` (the CNC's information:
-figures, status 2, system software, item numbers and attributes, setting data, the PMC's
-areas and title, the Ethernet board, program restart, the main program's path).
+:mod:`._native_programs` (part programs), :mod:`._native_files` (the program folders of a
+30i-class control) and :mod:`._native_info` (the CNC's information: figures, status 2,
+system software, item numbers and attributes, setting data, the PMC's areas and title,
+the Ethernet board, program restart).
 
 Answers of reads are kept (:mod:`focas_net.adapters._common`, as the packed adapter keeps
 its own): a request made of the reads in :data:`_COUNTERS` only, every block answered without
@@ -127,6 +128,7 @@ from ._common import (
 )
 from ._native_cnc import CncHandlers
 from ._native_data import DataHandlers
+from ._native_files import FileHandlers
 from ._native_info import InfoHandlers
 from ._native_programs import ProgramHandlers, ProgramTransfer
 
@@ -148,6 +150,8 @@ PATH_INDEPENDENT: Final = frozenset(
         (Device.CNC, NativeCommand.RDALMHISTRY),
         (Device.CNC, NativeCommand.RDPARAINFO),
         (Device.CNC, NativeCommand.RDPARAINFO3),
+        (Device.CNC, NativeCommand.RDPDF_DRIVE),
+        (Device.CNC, NativeCommand.RDPDF_INF),
         (Device.PMC, NativeCommand.PMC_RDPMCRNG),
         (Device.PMC, NativeCommand.PMC_WRPMCRNG),
         (Device.PMC, NativeCommand.PMC_RDPMCINFO),
@@ -202,7 +206,6 @@ _COUNTERS: Final[dict[tuple[int, int], str]] = {
     (Device.CNC, NativeCommand.RDSET): "data_version",
     (Device.CNC, NativeCommand.RDSET3): "data_version",
     (Device.CNC, NativeCommand.STATINFO2): "status_version",
-    (Device.CNC, NativeCommand.PDF_RDMAIN): "motion_version",
     (Device.PMC, NativeCommand.PMC_RDPMCINFO): "",
     (Device.PMC, NativeCommand.PMC_RDPMCTITLE): "",
 }
@@ -272,6 +275,7 @@ class NativeAdapter:
         cnc = self._cnc = CncHandlers(machine, self.max_axis)
         data = DataHandlers(machine, self.max_axis)
         programs = self._programs = ProgramHandlers(machine, version)
+        files = FileHandlers(machine)
         info = InfoHandlers(machine, cnc, data)
         c = NativeCommand
         on_cnc: dict[int, _Handler] = {
@@ -313,6 +317,17 @@ class NativeAdapter:
             c.DELETE: programs.delete_program,
             c.SEARCH: programs.search_program,
             c.RDEXECPROG: programs.read_executing_blocks,
+            c.RDPDF_DRIVE: files.read_drives,
+            c.RDPDF_INF: files.read_drive_info,
+            c.RDPDF_CURDIR: files.read_current_folder,
+            c.WRPDF_CURDIR: files.write_current_folder,
+            c.RDPDF_SUBDIR: files.read_subfolders,
+            c.RDPDF_ALLDIR: files.read_folder,
+            c.RDPDF_SUBDIRN: files.read_folder_count,
+            c.RDPDF_PRGINF: files.read_file_info,
+            c.PDF_DEL: files.delete_file,
+            c.PDF_RDMAIN: files.read_main_file,
+            c.PDF_SLCTMAIN: files.select_main_file,
             c.GETFIGURE: info.read_figures,
             c.STATINFO2: info.read_status2,
             c.RDSYSSOFT: info.read_software,
@@ -324,7 +339,6 @@ class NativeAdapter:
             c.RDSET3: info.read_settings_30i,
             c.RDETHERINFO: info.read_ether_info,
             c.RDPRSTRINFO: info.read_restart_info,
-            c.PDF_RDMAIN: info.read_main_program,
         }
         on_pmc: dict[int, _Handler] = {
             c.PMC_RDPMCRNG: cnc.read_pmc,
@@ -413,7 +427,16 @@ class NativeAdapter:
         Raises :class:`NativeFrameError` when the block list is broken or longer than an
         answer can hold; everything else is answered in its block. A request of no block is
         answered with one EW_FUNC block (FANUC's library refuses an answer of no block).
+
+        The machine answers the whole frame at one instant (:meth:`Machine.instant`), as a CNC
+        does: the blocks of one frame never carry figures of different moments.
         """
+        with self.machine.instant():
+            return self._answer_at_once(body, session)
+
+    def _answer_at_once(
+        self, body: bytes | bytearray | memoryview, session: Session | None
+    ) -> bytes:
         key = body if type(body) is bytes else bytes(body)
         kept: tuple[Counters, Any, bytes] | None = self._kept.get(key)
         machine = self.machine

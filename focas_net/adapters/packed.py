@@ -287,7 +287,15 @@ class PackedAdapter:
 
         A per-path command answers for ``path``; with no path selected it answers EW_PATH
         (a control command on a machine with control off EW_FUNC first). A path-independent
-        command (:data:`~focas_net.protocol.PATH_INDEPENDENT_COMMANDS`) ignores ``path``."""
+        command (:data:`~focas_net.protocol.PATH_INDEPENDENT_COMMANDS`) ignores ``path``.
+
+        The machine answers at one instant (:meth:`Machine.instant`): the figures of one
+        answer (the run information's timers and parts, the loads of every axis) are of one
+        moment."""
+        with self.machine.instant():
+            return self._answer_at_once(session, command, payload, path)
+
+    def _answer_at_once(self, session: Session, command: int, payload: bytes, path: int) -> bytes:
         if type(payload) is not bytes:  # kept answers key on payload: make it hashable
             payload = bytes(payload)
         if path == 1:

@@ -4,16 +4,17 @@ Each name below has one home: :mod:`.client` (the packed client), :mod:`._values
 (:class:`Positions`, and the checks and conversions both clients share), :mod:`.reconnect`
 (states and the reconnect policy), :mod:`.sim_control` (``client.sim``), :mod:`.connection`
 (one pipelined connection), :mod:`.projection` (alarm events), :mod:`.native` (the FOCAS/2
-Ethernet client, :class:`NativeClient`), :mod:`._native_info` (the typed results of its reads
-of the CNC's information: :class:`SoftwareInfo`, :class:`PmcTitleInfo`...),
-:mod:`._started` (:class:`StartedCall`, a read started now and finished later),
-:mod:`.many` (:func:`read_status_all`, :func:`read_dynamic_all`: many clients read from one
-task), :mod:`.cnc` (:class:`CncClient`,
+Ethernet client, :class:`NativeClient`; :mod:`._native_files` its program folders'
+results, :mod:`._native_info` those of its reads of the CNC's information:
+:class:`SoftwareInfo`, :class:`PmcTitleInfo`...), :mod:`._started` (:class:`StartedCall`,
+a read started now and finished later), :mod:`.many` (:func:`read_status_all`,
+:func:`read_dynamic_all`: many clients read from one task), :mod:`.cnc` (:class:`CncClient`,
 the calls both clients carry, as a static type). ``FaultKind`` and ``FaultScope``, the
 arguments of ``client.sim.inject_fault``, are imported from :mod:`focas_net.protocol` (or
 :mod:`focas_net`).
 """
 
+from ._native_files import DriveUsage, FolderCounts, FolderEntry, ProgramFileInfo
 from ._native_info import (
     EthernetInfo,
     ItemAttributes,
@@ -53,9 +54,12 @@ __all__ = [
     "ClientState",
     "CncClient",
     "Connection",
+    "DriveUsage",
     "DynamicData",
     "EthernetInfo",
     "FocasClient",
+    "FolderCounts",
+    "FolderEntry",
     "ItemAttributes",
     "ItemRange",
     "NativeClient",
@@ -66,6 +70,7 @@ __all__ = [
     "PmcAreaSpan",
     "PmcTitleInfo",
     "Positions",
+    "ProgramFileInfo",
     "ProjectionMode",
     "ReconnectPolicy",
     "RestartInfo",

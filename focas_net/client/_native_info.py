@@ -2,9 +2,9 @@
 :class:`NativeInfo` is the part of :class:`~focas_net.client.NativeClient` that sends what
 FANUC's library sends for ``cnc_getfigure``, ``cnc_statinfo2``, ``cnc_rdsyssoft``,
 ``cnc_rdparanum``, ``cnc_rddiagnum``, ``cnc_rddiaginfo``, ``cnc_rdset``, ``cnc_rdsetinfo``,
-``pmc_rdpmcinfo``, ``pmc_rdpmctitle``, ``cnc_rdetherinfo``, ``cnc_rdprstrinfo`` and
-``cnc_pdf_rdmain`` (:mod:`focas_net.native.info`), and the typed results it makes of their
-answers. Each call's arguments are checked in the caller's frame, before anything is sent.
+``pmc_rdpmcinfo``, ``pmc_rdpmctitle``, ``cnc_rdetherinfo`` and ``cnc_rdprstrinfo``
+(:mod:`focas_net.native.info`), and the typed results it makes of their answers. Each call's
+arguments are checked in the caller's frame, before anything is sent.
 """
 
 # Every call takes a per-call ``timeout=`` by contract, so ASYNC109 does not apply here.
@@ -21,7 +21,6 @@ from ..native import (
     Figures,
     ItemNumbers,
     LibraryCall,
-    MainProgramPath,
     ParamInfo,
     PmcAreaInfos,
     PmcTitle,
@@ -378,14 +377,6 @@ class NativeInfo(NativeItems):
         p = self._path_of(path)
         handle, call, blocks = await self._only(info.cnc_rdprstrinfo, p, timeout)
         return _restart(handle, call, blocks, p)
-
-    async def read_main_program_path(
-        self, *, path: int | None = None, timeout: float | None = None
-    ) -> str:
-        """``cnc_pdf_rdmain``: the path name of the main program (empty with none)."""
-        handle, call, blocks = await self._only(info.cnc_pdf_rdmain, path, timeout)
-        main: MainProgramPath = only_answer(handle, call, blocks)
-        return text(main.path)
 
 
 def _signed16(value: int) -> int:

@@ -1,6 +1,6 @@
 """The CNC's information over the native protocol: figures, status (2), system software, item
-numbers and attributes, setting data, the PMC's areas and title, the Ethernet board, the program
-restart information and the main program's path.
+numbers and attributes, setting data, the PMC's areas and title, the Ethernet board and the program
+restart information.
 
 Each answer is one declaration that encodes and decodes (``docs/native-protocol.md``). The
 layouts were read from what FANUC's library (libfwlib32 1.0.5) copies out of each answer into
@@ -47,8 +47,6 @@ __all__ = [
     "FigureRequest",
     "Figures",
     "ItemNumbers",
-    "MainProgramPath",
-    "MainProgramRequest",
     "ParamNumberRequest",
     "PmcAreaInfo",
     "PmcAreaInfos",
@@ -410,34 +408,6 @@ class RestartValues:
         return cls(struct.unpack(f">{len(data) // 4}i", data))
 
 
-@dataclass(frozen=True, slots=True)
-class MainProgramPath:
-    """``cnc_pdf_rdmain`` (0xB9): the main program's path name, NUL-terminated; the library
-    copies at most 256 bytes up to the NUL (``strncpy``) [V]. ``raw`` is the answer's data as
-    it is (:meth:`of` makes it of a path), :attr:`path` the name."""
-
-    raw: bytes
-
-    @classmethod
-    def of(cls, path: bytes) -> Self:
-        """The answer naming ``path`` (at most 255 bytes, no NUL): the path and a NUL."""
-        if b"\0" in path or len(path) > 255:
-            raise ValueError(f"MainProgramPath: {path!r} (at most 255 bytes, no NUL)")
-        return cls(path + b"\0")
-
-    @property
-    def path(self) -> bytes:
-        """The name: the bytes before the first NUL (the library reads no more)."""
-        return self.raw.split(b"\0", 1)[0]
-
-    def encode(self) -> bytes:
-        return self.raw
-
-    @classmethod
-    def decode(cls, data: bytes) -> Self:
-        return cls(bytes(data))
-
-
 # --------------------------------------------------------------------------------------------
 # Requests
 
@@ -557,14 +527,6 @@ class RestartInfoRequest(NativeRequest):
     kind: int = 0
 
 
-@dataclass(frozen=True, slots=True)
-class MainProgramRequest(NativeRequest):
-    """0xB9, no arguments: :class:`MainProgramPath` (``cnc_pdf_rdmain``) [V]."""
-
-    COMMAND: ClassVar[int] = NativeCommand.PDF_RDMAIN
-    ANSWER: ClassVar[Any] = MainProgramPath
-
-
 _register(
     FigureRequest,
     StatInfo2Request,
@@ -579,7 +541,6 @@ _register(
     PmcTitleRequest,
     EtherInfoRequest,
     RestartInfoRequest,
-    MainProgramRequest,
 )
 
 #: The position kinds (0x26) of ``cnc_rdprstrinfo``: the restart point and the distance to it.
@@ -665,9 +626,3 @@ def cnc_rdprstrinfo(cs: CommandSet) -> LibraryCall:
     restart: tuple[NativeRequest, ...] = tuple(RestartInfoRequest(k) for k in RESTART_KINDS)
     positions = tuple(NativePositionRequest(kind, -1) for kind in RESTART_POSITIONS)
     return _one("cnc_rdprstrinfo", *restart, *positions)
-
-
-@_memoized
-def cnc_pdf_rdmain(cs: CommandSet) -> LibraryCall:
-    """0xB9 [V]."""
-    return _one("cnc_pdf_rdmain", MainProgramRequest())

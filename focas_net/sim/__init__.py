@@ -4,7 +4,7 @@ knows either wire protocol: :mod:`focas_net.adapters` translates (``docs/protoco
 ``docs/native-protocol.md``)."""
 
 from ._alarms import MAX_ALARM_NO
-from ._identity import MAX_NAME_LENGTH
+from ._identity import CLASS_MAX_AXES, MAX_NAME_LENGTH
 from ._information import (
     SETTING_NUMBERS,
     VALID_FIGURES,
@@ -50,6 +50,7 @@ from .machinefile import MachineFileError, load_machine, machine_from_dict
 
 __all__ = [
     "AUT_MODES",
+    "CLASS_MAX_AXES",
     "CONTROL_CLASSES",
     "DEFAULT_CONTROL_CLASS",
     "DEFAULT_HISTORY_CAPACITY",

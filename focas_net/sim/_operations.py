@@ -10,7 +10,8 @@ the machine's module docstring; each path keeps them on its own.
 from __future__ import annotations
 
 import math
-from collections.abc import Iterable
+from collections.abc import Iterable, Iterator
+from contextlib import contextmanager
 
 from ._path import MotionData
 from ._paths import Paths
@@ -112,6 +113,19 @@ class PathOperations:
         """The clock of machine time (seconds): ``RealTimeClock()`` unless the constructor or
         :meth:`set_clock` gave another."""
         return self._paths.all[0].time.source
+
+    @contextmanager
+    def instant(self) -> Iterator[None]:
+        """Machine time stands still while the block runs: every read inside is of one
+        instant, as a CNC answers one request (a front end wraps each request frame in it).
+        The clock is read once on entry; nested blocks share the outer one's instant. Time
+        that passes meanwhile is caught up by the next read after the block."""
+        paths = self._paths
+        paths.stop_time()
+        try:
+            yield
+        finally:
+            paths.go_time()
 
     def set_clock(self, clock: SimClock) -> None:
         """Take machine time from ``clock`` from now on: the engine, the timers and a running

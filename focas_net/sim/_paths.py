@@ -198,12 +198,38 @@ class PathItems:
 class Paths:
     """The machine's paths, numbered from 1."""
 
-    __slots__ = ("all", "count", "infos")
+    __slots__ = ("all", "count", "infos", "stopped")
 
     def __init__(self, paths: list[Path], infos: list[PathInfo]) -> None:
         self.all = paths
         self.infos = infos
         self.count = len(paths)
+        #: How many :meth:`stop_time` calls are not yet matched by :meth:`go_time`.
+        self.stopped = 0
+
+    def stop_time(self) -> None:
+        """Every path's machine time stands at one reading of its clock until the matching
+        :meth:`go_time` (nested calls keep the first reading): the instant of one answer.
+        Paths reading one clock read it once, so they stand at the same moment."""
+        self.stopped += 1
+        if self.stopped > 1:
+            return
+        readings: dict[int, float] = {}
+        for p in self.all:
+            source = p.time.source
+            at = readings.get(id(source))
+            if at is None:
+                at = readings[id(source)] = source.now()
+            p.time.stop(at)
+
+    def go_time(self) -> None:
+        """Undo one :meth:`stop_time`; the last one lets machine time run again."""
+        if self.stopped <= 0:
+            raise RuntimeError("machine time is not stopped")
+        self.stopped -= 1
+        if not self.stopped:
+            for p in self.all:
+                p.time.go()
 
     def __iter__(self) -> Iterator[Path]:
         return iter(self.all)

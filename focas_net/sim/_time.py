@@ -5,6 +5,12 @@ The engine asks its clock for the time whenever it is read. A path gives it a
 applies what happened at one moment (a sync, a scenario's event), stands at that moment, so the
 engine advances once however many of its figures are read then. :meth:`Machine.set_clock`
 changes the clock it reads, through :meth:`MachineTime.set_source`.
+
+A CNC answers one request at one instant: while a front end answers one request frame (every
+block of a FOCAS/2 data request, every figure of one packed answer), the machine's
+:meth:`~focas_net.sim.Machine.instant` stops the clock of every path at one reading of it
+(:meth:`MachineTime.stop`), so the figures of one answer agree (an axis's absolute and relative
+positions are of the same moment) however long the answer takes to build.
 """
 
 from __future__ import annotations
@@ -34,12 +40,14 @@ class MachineTime:
     happened then (a sync, a scenario's event). While nothing is held, ``now`` is the
     clock's own method: the engine reads it at the cost of the clock alone."""
 
-    __slots__ = ("_held", "_held_now", "now", "source")
+    __slots__ = ("_base_now", "_held", "_held_now", "_stopped", "_stopped_now", "now", "source")
     now: Callable[[], float]
 
     def __init__(self, source: SimClock) -> None:
         self._held = _HeldClock()
         self._held_now = self._held.now
+        self._stopped = _HeldClock()
+        self._stopped_now = self._stopped.now
         self.set_source(source)
 
     def check(self, clock: SimClock) -> None:
@@ -55,9 +63,19 @@ class MachineTime:
             )
 
     def set_source(self, source: SimClock) -> None:
-        """Read machine time from ``source`` from now on (nothing held)."""
+        """Read machine time from ``source`` from now on (nothing held or stopped)."""
         self.source = source
-        self.now = source.now
+        self._base_now = self.now = source.now
+
+    def stop(self, at: float) -> None:
+        """The clock stands at ``at`` (a reading of :attr:`source`) until :meth:`go`: the
+        instant of one answer. A :meth:`hold` meanwhile returns to ``at`` on release."""
+        self._stopped.at = at
+        self._base_now = self.now = self._stopped_now
+
+    def go(self) -> None:
+        """The clock reads :attr:`source` again."""
+        self._base_now = self.now = self.source.now
 
     def hold(self, at: float) -> None:
         """Machine time stands at ``at`` until :meth:`release`."""
@@ -65,4 +83,4 @@ class MachineTime:
         self.now = self._held_now
 
     def release(self) -> None:
-        self.now = self.source.now
+        self.now = self._base_now

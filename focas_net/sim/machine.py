@@ -11,7 +11,8 @@ parameter password and sessions (``_password``), macro variables (``_macros``), 
 the G/F signals of automatic operation (``_pmc``), active alarms and the history
 (``_alarms``), the VersaMax station (``_station``), and the path (``_path``): programs, NC
 engine on machine time (``_time``), panel, status and figures, and its production on its own
-(``_production``). A component keeps its own state and checks and moves the version counters
+(``_production``), and the program folders of a 30i-class control over the paths' programs
+(``_folders``). A component keeps its own state and checks and moves the version counters
 it shares with the others (``_base``); the machine builds them, asks for the checks in each
 operation's order and answers its reads through them. A control with several paths would hold
 one path each, sharing the rest.
@@ -60,7 +61,10 @@ component whose state it guards) and asked in the order the operation's docstrin
 * the cycle: cycle start only in MEM, not with the emergency stop or an alarm (EW_ALARM; an
   alarm that stopped the cycle wants a reset), not without a main program (EW_DATA); program
   search only in MEM or EDIT (EW_MODE); leaving MEM holds the feed; the emergency stop resets;
-  any alarm stops the cycle; reset clears the alarms the program raised.
+  any alarm stops the cycle; reset clears the alarms the program raised;
+* the program folders (``_folders``): a 16i-class control has none (EW_FUNC), then EW_PATH, a
+  name that is no folder or no file of the tree -> EW_DATA, deleting a program being executed
+  -> EW_REJECT.
 
 What a wire cannot carry is its adapter's to refuse: payload sizes and layouts, unknown commands,
 the packed protocol's ``type_a`` codes and ``type_d``, its ceiling of 32 PMC bytes, 32 alarm
@@ -101,6 +105,7 @@ from focas_net.versamax import IOModuleRecord
 
 from ._alarms import DEFAULT_HISTORY_CAPACITY, Alarm, Alarms, Clock, HistoryEntry, utc_now
 from ._base import Counters, MachineError
+from ._folders import FolderOperations
 from ._identity import (
     CONTROL_CLASSES,
     DEFAULT_CONTROL_CLASS,
@@ -112,7 +117,6 @@ from ._information import InformationOperations
 from ._items import MAX_REAL_DECIMALS as MAX_REAL_DECIMALS  # the native adapter's
 from ._items import PARTS_COUNT, PARTS_TOTAL, DataItem, Items, ParamKind
 from ._macros import MAX_MACRO_DECIMALS, MacroRange, Macros
-from ._operations import PathOperations
 from ._password import ParamLock, Session
 from ._path import (
     AUT_MODES,
@@ -186,7 +190,7 @@ __all__ = [
 ]
 
 
-class Machine(PathOperations, InformationOperations):
+class Machine(FolderOperations, InformationOperations):
     """One simulated CNC.
 
     Build one with :func:`focas_net.sim.default_machine`, :func:`focas_net.sim.load_machine` or
@@ -287,6 +291,7 @@ class Machine(PathOperations, InformationOperations):
         #: The scenario's events as they were applied: ``(event, "begin" | "end" |
         #: "skipped")``, the newest 1000.
         self.scenario_log: deque[tuple[ScenarioEvent, str]] = first.production.log
+        self._init_folders(self.now())
 
     @property
     def name(self) -> str:
