@@ -111,6 +111,7 @@ TABLE: dict[str, tuple[str, ...]] = {
         "focas_net.native",
         "focas_net.errors",
         "focas_net.adapters._common",
+        "focas_net.adapters._native_clock",
         "focas_net.adapters._native_cnc",
         "focas_net.adapters._native_data",
         "focas_net.adapters._native_programs",
@@ -177,11 +178,12 @@ BEYOND_THE_TABLE: dict[str, tuple[str, ...]] = {
             "focas_net.native",
             "focas_net.errors",
             "focas_net.adapters._common",
+            "focas_net.adapters._native_clock",
             "focas_net.adapters._native_cnc",
             "focas_net.adapters._native_data",
             "focas_net.adapters._native_programs",
         )
-        for area in ("cnc", "data", "programs", "files", "info")
+        for area in ("clock", "cnc", "data", "programs", "files", "info")
     },
     # bounded memos: no protocol, no machine
     "focas_net._memo": (),

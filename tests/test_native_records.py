@@ -24,6 +24,8 @@ from focas_net.native import (
     AxisName,
     AxisNameRequest,
     AxisNames,
+    ClockValue,
+    ClockWriteRequest,
     CncId,
     DiagType,
     ExecutingProgram,
@@ -498,6 +500,9 @@ def _ints(cls: type[NativeRequest]) -> dict[str, st.SearchStrategy[Any]]:
 
 _SPECIAL: dict[type[NativeRequest], st.SearchStrategy[Any]] = {
     MacroWriteRequest: st.builds(MacroWriteRequest, i32, scaled),
+    ClockWriteRequest: st.builds(
+        ClockWriteRequest, i32, st.builds(ClockValue, *[st.integers(-0x8000, 0x7FFF)] * 6)
+    ),
     MacroDoubleWriteRequest: st.builds(
         MacroDoubleWriteRequest, i32, st.one_of(st.none(), st.floats(allow_nan=False))
     ),
@@ -574,6 +579,7 @@ def test_write_requests_are_marked() -> None:
         "ParamWriteRequest",
         "ParamWrite3Request",
         "PmcWriteRequest",
+        "ClockWriteRequest",
         "CurrentFolderWriteRequest",
         "FileDeleteRequest",
         "MainSelectRequest",

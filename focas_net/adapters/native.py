@@ -66,9 +66,10 @@ left in the answer, the connection's session) -> data``, raising one of
 EW code). The handlers are by area: :mod:`._native_cnc` (identity, status, motion, axes, loads,
 PMC, alarms), :mod:`._native_data` (macro variables, parameters, diagnostics),
 :mod:`._native_programs` (part programs), :mod:`._native_files` (the program folders of a
-30i-class control) and :mod:`._native_info` (the CNC's information: figures, status 2,
-system software, item numbers and attributes, setting data, the PMC's areas and title,
-the Ethernet board, program restart).
+30i-class control), :mod:`._native_clock` (the clock, the panel's signals) and
+:mod:`._native_info` (the CNC's information: figures, status 2, system software, item
+numbers and attributes, setting data, the PMC's areas and title, the Ethernet board,
+program restart).
 
 Answers of reads are kept (:mod:`focas_net.adapters._common`, as the packed adapter keeps
 its own): a request made of the reads in :data:`_COUNTERS` only, every block answered without
@@ -126,6 +127,7 @@ from ._common import (
     refusal_code,
     unencodable_code,
 )
+from ._native_clock import ClockHandlers
 from ._native_cnc import CncHandlers
 from ._native_data import DataHandlers
 from ._native_files import FileHandlers
@@ -275,6 +277,7 @@ class NativeAdapter:
         cnc = self._cnc = CncHandlers(machine, self.max_axis)
         data = DataHandlers(machine, self.max_axis)
         programs = self._programs = ProgramHandlers(machine, version)
+        clock = ClockHandlers(machine)
         files = FileHandlers(machine)
         info = InfoHandlers(machine, cnc, data)
         c = NativeCommand
@@ -311,7 +314,10 @@ class NativeAdapter:
             c.AXIS_COUNT: cnc.read_axis_count,
             c.AXIS_DISPLAY: cnc.read_axis_display,
             c.RDSPLOAD: cnc.read_spindle_load,
+            c.GETTIMER: clock.read_clock,
+            c.SETTIMER: clock.write_clock,
             c.RDSVMETER: cnc.read_servo_meter,
+            c.RDOPNLSGNL: clock.read_panel_signals,
             c.RDPROGDIR: programs.read_program_directory,
             c.RDPROGINFO: programs.read_program_memory,
             c.DELETE: programs.delete_program,

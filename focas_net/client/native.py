@@ -70,6 +70,7 @@ from ..protocol import (
     SysInfo,
 )
 from ._composite import ChunkOutcome
+from ._native_clock import NativeClock
 from ._native_files import NativeFiles
 from ._native_info import NativeInfo
 from ._native_items import (
@@ -198,7 +199,7 @@ def _check_dynamic_axis(axis: object) -> None:
     check_axis(axis, every=-1)
 
 
-class NativeClient(NativeInfo, NativeFiles):
+class NativeClient(NativeInfo, NativeFiles, NativeClock):
     """An asyncio client of FANUC's FOCAS/2 Ethernet protocol (port 8193 on a real control).
 
     It has the methods of :class:`~focas_net.client.FocasClient` that FOCAS/2 carries, with

@@ -102,7 +102,10 @@ class NativeCommand(enum.IntEnum):
     RDSPLOAD = 0x40  # cnc_rdspload
     RDSYSSOFT = 0x41  # cnc_rdsyssoft
     RDPRSTRINFO = 0x43  # cnc_rdprstrinfo (with 0x26 kinds 13 and 14)
+    GETTIMER = 0x45  # cnc_gettimer (focas_net.native.clock)
+    SETTIMER = 0x46  # cnc_settimer
     RDSVMETER = 0x56  # cnc_rdsvmeter
+    RDOPNLSGNL = 0x5D  # cnc_rdopnlsgnl (focas_net.native.clock)
     RDALMHISTRY = 0x6C  # cnc_rdalmhistry
     AXIS_UNIT = 0x88  # cnc_rdposition: units
     AXIS_NAME = 0x89  # cnc_rdaxisname / cnc_rdsvmeter / cnc_rdposition: axis names

@@ -13,6 +13,7 @@ from ._information import (
     PmcAreaExtent,
     SoftwareVersion,
 )
+from ._signals import CLOCK_VARIABLES, SERVO_POWER_DIAG, TIMER_PARAMS, OperatorSignals
 from .default import DEFAULT_NAME, DEMO_PROGRAM, default_machine
 from .machine import (
     AUT_MODES,
@@ -51,6 +52,7 @@ from .machinefile import MachineFileError, load_machine, machine_from_dict
 __all__ = [
     "AUT_MODES",
     "CLASS_MAX_AXES",
+    "CLOCK_VARIABLES",
     "CONTROL_CLASSES",
     "DEFAULT_CONTROL_CLASS",
     "DEFAULT_HISTORY_CAPACITY",
@@ -66,8 +68,10 @@ __all__ = [
     "PMC_AREAS",
     "POSITION_DECIMALS",
     "POSITION_KINDS",
+    "SERVO_POWER_DIAG",
     "SETTING_NUMBERS",
     "TIMER_KINDS",
+    "TIMER_PARAMS",
     "VALID_FIGURES",
     "Alarm",
     "Clock",
@@ -81,6 +85,7 @@ __all__ = [
     "MachineFileError",
     "MacroRange",
     "MotionData",
+    "OperatorSignals",
     "Panel",
     "ParamKind",
     "PathInfo",

@@ -148,6 +148,16 @@ from ._paths import (
     own_params,
 )
 from ._pmc import F_SIGNALS, G_SIGNALS, PMC_AREAS, Pmc, PmcAreaSpec
+from ._signals import (
+    CLOCK_VARIABLES,
+    SERVO_POWER_DIAG,
+    TIMER_PARAMS,
+    Collected,
+    SignalOperations,
+    clock_variable,
+    collected_diags,
+    collected_params,
+)
 from ._station import Station
 from .nc import Engine, ProgramStore, RealTimeClock, SimClock
 from .nc.scenario import Scenario, ScenarioEvent
@@ -190,7 +200,7 @@ __all__ = [
 ]
 
 
-class Machine(FolderOperations, InformationOperations):
+class Machine(FolderOperations, SignalOperations, InformationOperations):
     """One simulated CNC.
 
     Build one with :func:`focas_net.sim.default_machine`, :func:`focas_net.sim.load_machine` or
@@ -250,9 +260,11 @@ class Machine(FolderOperations, InformationOperations):
         self._lock = ParamLock(param_password)
         self._station = Station(station or {})
         c = self._counters = Counters()
-        self._items = Items(params, diags, n, c)
+        self._items = Items(collected_params(params), collected_diags(diags), n, c)
+        self._collected = Collected()
         self._macros = Macros(macro_ranges, macro_values or {}, c)
         self._pmc = Pmc(pmc, c)
+        self._pmc.paths = len(specs)
         self._alarms = Alarms(name, history_capacity, clock, c)
         shared = Shared(c, self._items, self._macros, self._alarms, self._pmc)
         time = sim_clock if sim_clock is not None else RealTimeClock()
@@ -291,6 +303,9 @@ class Machine(FolderOperations, InformationOperations):
         #: The scenario's events as they were applied: ``(event, "begin" | "end" |
         #: "skipped")``, the newest 1000.
         self.scenario_log: deque[tuple[ScenarioEvent, str]] = first.production.log
+        for number in range(1, len(built) + 1):  # the G signals of the overrides in use
+            self._show_overrides(number)
+        self._show_state()
         self._init_folders(self.now())
 
     @property
@@ -362,9 +377,11 @@ class Machine(FolderOperations, InformationOperations):
 
     @property
     def data_version(self) -> int:
-        """Incremented when a parameter or diagnostic value changes (parts counts too)."""
+        """Incremented when a parameter or diagnostic value changes (parts counts, and the
+        run-time parameters as time moves)."""
         if self._paths.live:
             self._sync()
+        self._tick_data()
         return self._counters.data
 
     @property
@@ -373,6 +390,7 @@ class Machine(FolderOperations, InformationOperations):
         time moved, for the system variables follow the engine)."""
         if self._paths.live:
             self._sync()
+        self._tick_macro()
         return self._counters.macro
 
     @property
@@ -384,9 +402,10 @@ class Machine(FolderOperations, InformationOperations):
 
     @property
     def pmc_version(self) -> int:
-        """Incremented when PMC data changes."""
+        """Incremented when PMC data changes (the F signals of the state as it changes)."""
         if self._paths.live:
             self._sync()
+        self._show_state()
         return self._counters.pmc
 
     @property
@@ -463,12 +482,16 @@ class Machine(FolderOperations, InformationOperations):
         if self._paths.live:
             self._sync()
         item, i = p.items.lookup(False, datano, axis)
+        if datano in TIMER_PARAMS:
+            return self._timer_param(datano, item, path)
         return item.values[i]
 
     def read_diag(self, datano: int, axis: int, *, path: int = 1) -> int:
         """The value of diagnostic ``datano`` (axes those of ``path``): EW_PATH, EW_NUMBER,
         then EW_ATTRIB."""
         item, i = self._paths.at(path).items.lookup(True, datano, axis)
+        if datano == SERVO_POWER_DIAG and item.axis:
+            return self._servo_power(axis, path)
         return item.values[i]
 
     def param_gate_open(self, session: Session, *, path: int = 1) -> bool:
@@ -524,6 +547,8 @@ class Machine(FolderOperations, InformationOperations):
             raise MachineError(EW.PASSWD, f"parameter write not enabled: {closed}")
         value = items.rescaled(item, value, decimals)
         items.set(item, i, value, "parameter")
+        if datano in TIMER_PARAMS:
+            self._write_timer_param(datano, value, path)
         if datano in (PARTS_COUNT, PARTS_TOTAL):
             p.set_parts(datano, value)
         elif datano in SETTING_PARAMS:
@@ -539,6 +564,8 @@ class Machine(FolderOperations, InformationOperations):
     # -- macro variables -----------------------------------------------------------------
     def macro_writable(self, number: int) -> bool | None:
         """True/False for a writable/read-only variable; None when there is no such variable."""
+        if number in CLOCK_VARIABLES:
+            return False
         r = self._macros.range_of(number)
         return None if r is None else r.writable
 
@@ -548,6 +575,8 @@ class Machine(FolderOperations, InformationOperations):
         an unknown variable."""
         p = self._paths.at(path)
         macros = self._macros
+        if number in CLOCK_VARIABLES:
+            return Decimal(clock_variable(number, self.now()))
         if macros.range_of(number) is None:
             raise MachineError(EW.NUMBER, f"no macro variable #{number}")
         if self._paths.live:
@@ -565,6 +594,8 @@ class Machine(FolderOperations, InformationOperations):
         Making a vacant variable vacant changes nothing."""
         self.check_writable()
         p = self._paths.at(path)
+        if number in CLOCK_VARIABLES:
+            raise MachineError(EW.PROT, f"#{number} is read-only")
         self._macros.check_write(number)
         if number in PARTS_VARIABLES:
             p.write_parts(number, value)
@@ -587,8 +618,10 @@ class Machine(FolderOperations, InformationOperations):
         area = self._pmc.area(letter)
         if length < 0:
             raise ValueError(f"a PMC read of {length} bytes")
-        if area.letter == "F" and self._paths.live:
-            self._sync()  # the F signals follow the run state
+        if area.letter == "F":
+            if self._paths.live:
+                self._sync()  # the F signals follow the run state
+            self._show_state()
         end = start + length
         if start < 0 or end > area.size:
             raise area.beyond(start, end)
@@ -601,9 +634,9 @@ class Machine(FolderOperations, InformationOperations):
         A write that changes G signals of automatic operation (:data:`G_SIGNALS`) acts on
         them as the CNC does."""
         self.check_writable()
-        asked = self._pmc.write(letter, start, data, force)
-        if asked is not None:
-            self._path.apply(asked)
+        for path, asked in self._pmc.write(letter, start, data, force):
+            self._paths.at(path).apply(asked)
+            self._show_overrides(path)
 
     # -- alarms --------------------------------------------------------------------------
     def active_alarms(
@@ -698,6 +731,7 @@ class Machine(FolderOperations, InformationOperations):
             h.update(repr(parts).encode())
             h.update(b"\n")
 
+        self._show_state()  # the F signals of the state, as a read shows them
         put("axes", self.axes, self.read_only, self.control_enabled)
         for t, table in (("param", self._items.params), ("diag", self._items.diags)):
             for n in sorted(table):
