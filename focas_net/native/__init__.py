@@ -25,6 +25,9 @@ once (``docs/native-protocol.md`` describes the wire format):
 * :mod:`.files` — the program folders of a 30i-class control (drives, folders, files);
 * :mod:`.programs` — part programs: directory, memory, search, the blocks being executed and
   the transfer frames;
+* :mod:`.offsets` — tool and work zero offsets and tool life management: their records,
+  requests and the frames of their FOCAS functions (``focas_net.native.offsets.cnc_rdtofs``
+  ...);
 * :mod:`.calls` — the blocks each FOCAS function of FANUC's library sends, per command set
   (its names are exported here, and the module itself as ``calls``);
 * :mod:`.session` — the client side of a connection without I/O: the queue of calls, their
@@ -240,6 +243,29 @@ from .macros import (
     MacroReadRequest,
     MacroWriteRequest,
 )
+from .offsets import (
+    SINGLE_TYPE,
+    TLINFO_16I,
+    OffsetWrite,
+    ToolEntry,
+    ToolGroupRecord,
+    ToolGroupRecords,
+    ToolGroupRequest,
+    ToolGroupsInUse,
+    ToolGroupsInUseRequest,
+    ToolLifeCounts,
+    ToolLifeCountsRequest,
+    ToolLifeInfoRequest,
+    ToolNumberRequest,
+    ToolNumbers,
+    ToolOffsetInfoRequest,
+    ToolOffsetMemory,
+    ToolOffsetRequest,
+    ToolOffsetWriteRequest,
+    WorkOffsetRequest,
+    WorkOffsetWriteRequest,
+    offset_type_of,
+)
 from .opening import (
     MACHINE_LATHE,
     MACHINE_MILL,
@@ -366,8 +392,10 @@ __all__ = [
     "RESTART_KINDS",
     "RESTART_POSITIONS",
     "SCALED_SIZE",
+    "SINGLE_TYPE",
     "SIZE_UNITS",
     "SOFTWARE_SLOTS",
+    "TLINFO_16I",
     "VACANT",
     "ActualFeedRequest",
     "ActualSpindleSpeedRequest",
@@ -464,6 +492,7 @@ __all__ = [
     "NativeSession",
     "NativeSysInfo",
     "NoData",
+    "OffsetWrite",
     "OpenAnswer",
     "OpenHeadV2",
     "OpenHeadV3",
@@ -536,9 +565,26 @@ __all__ = [
     "TimerValue",
     "TmModeRequest",
     "TmModeStatus",
+    "ToolEntry",
+    "ToolGroupRecord",
+    "ToolGroupRecords",
+    "ToolGroupRequest",
+    "ToolGroupsInUse",
+    "ToolGroupsInUseRequest",
+    "ToolLifeCounts",
+    "ToolLifeCountsRequest",
+    "ToolLifeInfoRequest",
+    "ToolNumberRequest",
+    "ToolNumbers",
+    "ToolOffsetInfoRequest",
+    "ToolOffsetMemory",
+    "ToolOffsetRequest",
+    "ToolOffsetWriteRequest",
     "TransferError",
     "TransferFrame",
     "TransferStart",
+    "WorkOffsetRequest",
+    "WorkOffsetWriteRequest",
     "answer_blocks",
     "answer_refusal",
     "binary_to_decimal",
@@ -577,6 +623,7 @@ __all__ = [
     "encode_response_body",
     "error_frame_type",
     "max_response_body",
+    "offset_type_of",
     "open_answer_size",
     "parse_program_range",
     "request_frame",

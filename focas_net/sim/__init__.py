@@ -14,6 +14,8 @@ from ._information import (
     SoftwareVersion,
 )
 from ._signals import CLOCK_VARIABLES, SERVO_POWER_DIAG, TIMER_PARAMS, OperatorSignals
+from ._tool_ops import GroupStatus, LifeInfo, ToolOffsetInfo
+from ._tools import LIFE_TYPES, OFFSET_TYPES, WORK_OFFSET_NAMES, LifeTool, ToolGroup, ToolsSpec
 from .default import DEFAULT_NAME, DEMO_PROGRAM, default_machine
 from .machine import (
     AUT_MODES,
@@ -60,10 +62,12 @@ __all__ = [
     "DEMO_PROGRAM",
     "F_SIGNALS",
     "G_SIGNALS",
+    "LIFE_TYPES",
     "MAX_ALARM_NO",
     "MAX_MACRO_DECIMALS",
     "MAX_NAME_LENGTH",
     "MAX_PATHS",
+    "OFFSET_TYPES",
     "PATH_PARAMS",
     "PMC_AREAS",
     "POSITION_DECIMALS",
@@ -73,13 +77,17 @@ __all__ = [
     "TIMER_KINDS",
     "TIMER_PARAMS",
     "VALID_FIGURES",
+    "WORK_OFFSET_NAMES",
     "Alarm",
     "Clock",
     "DataItem",
     "EthernetBoard",
+    "GroupStatus",
     "HistoryEntry",
     "Identity",
     "LadderTitle",
+    "LifeInfo",
+    "LifeTool",
     "Machine",
     "MachineError",
     "MachineFileError",
@@ -95,6 +103,9 @@ __all__ = [
     "Session",
     "SoftwareVersion",
     "Status",
+    "ToolGroup",
+    "ToolOffsetInfo",
+    "ToolsSpec",
     "default_machine",
     "load_machine",
     "machine_from_dict",

@@ -63,6 +63,7 @@ from .machine import (
 )
 from .nc import Scenario, SimClock
 from .pathfile import _axes, _motion, _panel, _programs, path_specs
+from .toolfile import tool_specs
 
 __all__ = ["MODE_NAMES", "MachineFileError", "load_machine", "machine_from_dict"]
 
@@ -434,6 +435,7 @@ _TOP: Final = (
     "program",
     "run",
     "path",
+    "tools",
 )
 
 
@@ -559,6 +561,7 @@ def _build(
         main_program=programs[1],
         sim_clock=sim_clock,
         scenario=_run(root.sub("run"), top["run"]) if "run" in top else None,
+        tools=tool_specs(root.sub("tools"), top["tools"]) if "tools" in top else None,
     )
 
 
