@@ -13,6 +13,7 @@ from ._information import (
     PmcAreaExtent,
     SoftwareVersion,
 )
+from ._pmc import pmc_letter
 from ._signals import CLOCK_VARIABLES, SERVO_POWER_DIAG, TIMER_PARAMS, OperatorSignals
 from ._tool_ops import GroupStatus, LifeInfo, ToolOffsetInfo
 from ._tools import LIFE_TYPES, OFFSET_TYPES, WORK_OFFSET_NAMES, LifeTool, ToolGroup, ToolsSpec
@@ -109,5 +110,6 @@ __all__ = [
     "default_machine",
     "load_machine",
     "machine_from_dict",
+    "pmc_letter",
     "utc_now",
 ]
