@@ -240,6 +240,7 @@ CLIENT_MODULES = [
     "reconnect",
     "sim_control",
     "_native_info",
+    "_native_modal",
     "_started",
     "_values",
     "_native_files",

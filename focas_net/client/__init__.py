@@ -28,6 +28,7 @@ from ._native_info import (
     StatusInfo2,
     ValidFigures,
 )
+from ._native_modal import CommandValue, GCode, ModalGroup, ModalValue, OperatorMessageText
 from ._native_offsets import ToolGroupData
 from ._started import StartedCall
 from ._values import Paths, Positions
@@ -55,6 +56,7 @@ __all__ = [
     "AlarmRaised",
     "ClientState",
     "CncClient",
+    "CommandValue",
     "Connection",
     "DriveUsage",
     "DynamicData",
@@ -62,11 +64,15 @@ __all__ = [
     "FocasClient",
     "FolderCounts",
     "FolderEntry",
+    "GCode",
     "ItemAttributes",
     "ItemRange",
+    "ModalGroup",
+    "ModalValue",
     "NativeClient",
     "NativeUnsupportedError",
     "NotSentError",
+    "OperatorMessageText",
     "PanelSwitches",
     "Paths",
     "PmcAreaSpan",

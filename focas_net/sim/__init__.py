@@ -13,6 +13,7 @@ from ._information import (
     PmcAreaExtent,
     SoftwareVersion,
 )
+from ._modal import EXTERNAL_MESSAGE_NUMBERS, ExternalMessage, OperatorMessage
 from ._pmc import pmc_letter
 from ._signals import CLOCK_VARIABLES, SERVO_POWER_DIAG, TIMER_PARAMS, OperatorSignals
 from ._tool_ops import GroupStatus, LifeInfo, ToolOffsetInfo
@@ -61,6 +62,7 @@ __all__ = [
     "DEFAULT_HISTORY_CAPACITY",
     "DEFAULT_NAME",
     "DEMO_PROGRAM",
+    "EXTERNAL_MESSAGE_NUMBERS",
     "F_SIGNALS",
     "G_SIGNALS",
     "LIFE_TYPES",
@@ -83,6 +85,7 @@ __all__ = [
     "Clock",
     "DataItem",
     "EthernetBoard",
+    "ExternalMessage",
     "GroupStatus",
     "HistoryEntry",
     "Identity",
@@ -94,6 +97,7 @@ __all__ = [
     "MachineFileError",
     "MacroRange",
     "MotionData",
+    "OperatorMessage",
     "OperatorSignals",
     "Panel",
     "ParamKind",
