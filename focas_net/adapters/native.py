@@ -66,8 +66,9 @@ left in the answer, the connection's session) -> data``, raising one of
 EW code). The handlers are by area: :mod:`._native_cnc` (identity, status, motion, axes, loads,
 PMC, alarms), :mod:`._native_data` (macro variables, parameters, diagnostics),
 :mod:`._native_programs` (part programs), :mod:`._native_offsets` (tool and work offsets,
-tool life), :mod:`._native_files` (the program folders of a 30i-class control) and
-:mod:`._native_clock` (the clock, the panel's signals).
+tool life), :mod:`._native_files` (the program folders of a 30i-class control),
+:mod:`._native_clock` (the clock, the panel's signals) and :mod:`._native_modal` (modal data,
+operator messages, program pointers).
 
 Answers of reads are kept (:mod:`focas_net.adapters._common`, as the packed adapter keeps
 its own): a request made of the reads in :data:`_COUNTERS` only, every block answered without
@@ -129,6 +130,7 @@ from ._native_clock import ClockHandlers
 from ._native_cnc import CncHandlers
 from ._native_data import DataHandlers
 from ._native_files import FileHandlers
+from ._native_modal import ModalHandlers
 from ._native_offsets import OffsetHandlers
 from ._native_programs import ProgramHandlers, ProgramTransfer
 
@@ -254,6 +256,7 @@ class NativeAdapter:
         cnc = self._cnc = CncHandlers(machine, self.max_axis)
         data = DataHandlers(machine, self.max_axis)
         programs = self._programs = ProgramHandlers(machine, version)
+        modal = ModalHandlers(machine)
         offsets = OffsetHandlers(machine, self.max_axis)
         clock = ClockHandlers(machine)
         files = FileHandlers(machine)
@@ -300,6 +303,16 @@ class NativeAdapter:
             c.DELETE: programs.delete_program,
             c.SEARCH: programs.search_program,
             c.RDEXECPROG: programs.read_executing_blocks,
+            c.GMODAL: modal.read_modal_g,
+            c.AMODAL: modal.read_modal_aux,
+            c.RDGCODE: modal.read_g_codes,
+            c.RDCOMMAND: modal.read_commands,
+            c.RDOPMSG: modal.read_operator_messages,
+            c.RDOPMSG3: modal.read_operator_messages3,
+            c.EXEPRGNAME2: modal.read_executing_path,
+            c.RDACTPT: modal.read_active_pointer,
+            c.RDBLKCOUNT: modal.read_block_count,
+            c.RDMDIPNTR: modal.read_mdi_pointer,
             c.RDTOFS: offsets.read_tool_offsets,
             c.WRTOFS: offsets.write_tool_offset,
             c.RDTOFSINFO: offsets.read_tool_offset_info,

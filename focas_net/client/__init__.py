@@ -14,6 +14,7 @@ from :mod:`focas_net.protocol` (or :mod:`focas_net`).
 """
 
 from ._native_files import DriveUsage, FolderCounts, FolderEntry, ProgramFileInfo
+from ._native_modal import CommandValue, GCode, ModalGroup, ModalValue, OperatorMessageText
 from ._native_offsets import ToolGroupData
 from ._started import StartedCall
 from ._values import Paths, Positions
@@ -41,15 +42,20 @@ __all__ = [
     "AlarmRaised",
     "ClientState",
     "CncClient",
+    "CommandValue",
     "Connection",
     "DriveUsage",
     "DynamicData",
     "FocasClient",
     "FolderCounts",
     "FolderEntry",
+    "GCode",
+    "ModalGroup",
+    "ModalValue",
     "NativeClient",
     "NativeUnsupportedError",
     "NotSentError",
+    "OperatorMessageText",
     "PanelSwitches",
     "Paths",
     "Positions",

@@ -5,6 +5,7 @@ knows either wire protocol: :mod:`focas_net.adapters` translates (``docs/protoco
 
 from ._alarms import MAX_ALARM_NO
 from ._identity import CLASS_MAX_AXES, MAX_NAME_LENGTH
+from ._modal import EXTERNAL_MESSAGE_NUMBERS, ExternalMessage, OperatorMessage
 from ._pmc import pmc_letter
 from ._signals import CLOCK_VARIABLES, SERVO_POWER_DIAG, TIMER_PARAMS, OperatorSignals
 from ._tool_ops import GroupStatus, LifeInfo, ToolOffsetInfo
@@ -53,6 +54,7 @@ __all__ = [
     "DEFAULT_HISTORY_CAPACITY",
     "DEFAULT_NAME",
     "DEMO_PROGRAM",
+    "EXTERNAL_MESSAGE_NUMBERS",
     "F_SIGNALS",
     "G_SIGNALS",
     "LIFE_TYPES",
@@ -72,6 +74,7 @@ __all__ = [
     "Alarm",
     "Clock",
     "DataItem",
+    "ExternalMessage",
     "GroupStatus",
     "HistoryEntry",
     "Identity",
@@ -82,6 +85,7 @@ __all__ = [
     "MachineFileError",
     "MacroRange",
     "MotionData",
+    "OperatorMessage",
     "OperatorSignals",
     "Panel",
     "ParamKind",
