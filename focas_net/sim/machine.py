@@ -113,6 +113,7 @@ from ._identity import (
     checked_identity,
     checked_name,
 )
+from ._information import InformationOperations
 from ._items import MAX_REAL_DECIMALS as MAX_REAL_DECIMALS  # the native adapter's
 from ._items import PARTS_COUNT, PARTS_TOTAL, DataItem, Items, ParamKind
 from ._macros import MAX_MACRO_DECIMALS, MacroRange, Macros
@@ -202,7 +203,9 @@ __all__ = [
 ]
 
 
-class Machine(FolderOperations, SignalOperations, ToolOperations, ModalOperations):
+class Machine(
+    FolderOperations, SignalOperations, ToolOperations, ModalOperations, InformationOperations
+):
     """One simulated CNC.
 
     Build one with :func:`focas_net.sim.default_machine`, :func:`focas_net.sim.load_machine` or
