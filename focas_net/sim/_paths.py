@@ -214,12 +214,13 @@ class Paths:
         self.stopped += 1
         if self.stopped > 1:
             return
-        readings: dict[int, float] = {}
+        readings: list[tuple[object, float]] = []  # (clock, its reading): a path or two
         for p in self.all:
             source = p.time.source
-            at = readings.get(id(source))
+            at = next((at for clock, at in readings if clock is source), None)
             if at is None:
-                at = readings[id(source)] = source.now()
+                at = source.now()
+                readings.append((source, at))
             p.time.stop(at)
 
     def go_time(self) -> None:
