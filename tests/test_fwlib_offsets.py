@@ -288,19 +288,23 @@ async def test_tool_life_follows_the_running_program(cnc: Cnc) -> None:
     machine.set_panel(1)
     machine.select_program(200)
     machine.cycle_start()
-    clock.advance(3)  # past the tool change, moving to Z-10 with G43 H1
+    clock.advance(3)  # past the tool change, cutting
     use = buf(20)
     assert await cnc.call("cnc_rdusegrpid", use) == 0
     assert struct.unpack_from("<3i", use.raw, 4) == (1, 1, 1)
     rc, head, entries = await rdtoolgrp(cnc, 1, 2)
-    assert (rc, head[3], entries[0][4]) == (0, 0, 1)  # T5 in use, not counted yet
-    clock.advance(60)  # the cut, then M30: the cycle counts
+    assert (rc, head[3], entries[0][4]) == (0, 1, 1)  # T5 in use, counted at its M6
+    clock.advance(60)  # the cut, then M30
     assert await life3(cnc, "cnc_rdcount", 1) == (0, 1, 1)
     machine.cycle_start()
-    clock.advance(60)  # the second cycle: T5's life of 2 is reached, T6 takes over
-    assert await life3(cnc, "cnc_rdcount", 1) == (0, 1, 0)
+    clock.advance(60)  # the second cycle: T5's life of 2 is reached
+    assert await life3(cnc, "cnc_rdcount", 1) == (0, 1, 2)
     rc, head, entries = await rdtoolgrp(cnc, 1, 2)
-    assert [e[4] for e in entries] == [2, 1]  # T5 expired, T6 in use
+    assert [e[4] for e in entries] == [2, 0]  # T5 expired
+    machine.cycle_start()
+    clock.advance(60)  # the third: the selection takes T6
+    rc, head, entries = await rdtoolgrp(cnc, 1, 2)
+    assert (head[3], [e[4] for e in entries]) == (1, [2, 1])
     assert machine.tool_group(1).in_use == 2
 
 
@@ -397,7 +401,9 @@ async def test_each_path_of_a_lathe_answers_its_own_offsets(set_name: str) -> No
         assert (await rdtofs(cnc, 1, 1))[3] == -95_500
         assert (await rdtofs(cnc, 1, 7))[0] == EW.ATTRIB  # a lathe has types 0..6
         assert (await rdtofs(cnc, 25, 0))[0] == EW.NUMBER
-        assert (await rdtofsr(cnc, 1, -1, 2, 14))[0] == EW.ATTRIB  # refused: see the docs
+        rc, head, values = await rdtofsr(cnc, 1, -1, 2, 14)  # the library copies them all
+        assert (rc, head) == (0, (1, -1, 2))
+        assert values == tuple(v for row in machine.tool_offsets(1, 2, None, path=2) for v in row)
         b = buf(8)
         assert await cnc.call("cnc_rdtofsinfo", b) == 0
         assert struct.unpack_from("<hh", b.raw) == (1, 24)

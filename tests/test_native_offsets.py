@@ -248,7 +248,7 @@ def test_a_read_only_machine_refuses_writes() -> None:
 def test_count_life_expires_a_tool_and_the_next_takes_over() -> None:
     clock = ManualClock()
     machine = _machine(clock)
-    machine.store_program("O0001\nG91 G1 X0 F6000\nT5 M6\nG1 X1.\nM30\n")
+    machine.store_program("O0001\nG91 G1 X0 F6000\nT5 M6\nG1 X1.\nT5 M6\nM30\n")
     machine.set_panel(1)
     machine.select_program(1)
     states = []
@@ -258,15 +258,33 @@ def test_count_life_expires_a_tool_and_the_next_takes_over() -> None:
         group = machine.tool_group(1)
         states.append((group.count, group.in_use, tuple(t[3] for t in group.tools)))
     assert states == [
-        (1, 1, (1, 0)),
-        (0, 2, (2, 1)),  # T5's life of 2 reached: T6 in use
-        (1, 2, (2, 1)),  # T5 selects group 1: its tool in use, T6, counts
-        (2, 2, (2, 2)),  # the group's last tool expired: it keeps its count
-        (2, 2, (2, 2)),
+        (1, 1, (1, 0)),  # counted once per cycle, at the first change to the group
+        (2, 1, (2, 0)),  # T5's life of 2 reached: expired
+        (1, 2, (2, 1)),  # the next selection takes T6
+        (2, 2, (2, 2)),  # the group's last tool expired
+        (2, 2, (2, 2)),  # and stays in use, at its life
     ]
     assert machine.tool_life_info().selected == 1
     machine.set_tool_life_count(1, 1)
-    assert machine.tool_group(1).count == 1
+    group = machine.tool_group(1)
+    assert (group.count, group.tools[1][3]) == (1, 1)
+
+
+def test_the_ignore_number_names_the_group() -> None:
+    import tomllib
+
+    clock = ManualClock()
+    tools = (
+        "[[tools]]\nignore_number = 100\n[[tools.group]]\nnumber = 3\nlife = 9\ntools = [5, 6]\n"
+    )
+    machine = machine_from_dict(tomllib.loads(_FILE + tools), sim_clock=clock)
+    machine.store_program("O0001\nG91 G1 X0 F6000\nT103 M6\nM30\n")
+    machine.set_panel(1)
+    machine.select_program(1)
+    machine.cycle_start()
+    clock.advance(60)
+    assert machine.tool_group(3).count == 1  # T103: group 3 (ignore number 100)
+    assert machine.tool_life_info().selected == 3
 
 
 def test_time_life_counts_whole_minutes_of_cutting() -> None:
@@ -335,6 +353,7 @@ type = "time"
 tools = [11, { t = 12, h = 2, d = 22 }]
 """
     )
+
     assert machine.tool_offset_info().count == 20
     assert machine.tool_offsets(4, 4, 1) == [(4500,)]
     assert machine.work_offsets(2, 2, None) == [(1000, 2500, -3125)]
@@ -389,8 +408,8 @@ def test_the_adapter_pads_every_axis_to_the_max_axes() -> None:
 
 def test_the_adapter_refuses_what_the_wire_cannot_carry() -> None:
     lathe = Machine("lathe", paths=[PathSpec(("X", "Z"), kind="T")])
-    (block,) = _blocks(NativeAdapter(lathe), ToolOffsetRequest(1, 1, -1).to_block())
-    assert block.ew == EW.ATTRIB  # a lathe's all-types layout mixes 2-byte tips
+    (block,) = _blocks(NativeAdapter(lathe), ToolOffsetRequest(1, 2, -1).to_block())
+    assert (block.ew, len(ScaledValues.decode(block.data).values)) == (0, 14)  # 7 types each
     adapter = NativeAdapter(_machine())
     write = ToolOffsetWriteRequest(1, 2, 1003, OffsetWrite((5,)))
     (block,) = _blocks(adapter, write.to_block())

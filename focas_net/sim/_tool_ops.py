@@ -90,7 +90,7 @@ class PathTools:
         self.path = path
         engine = path.engine
         self.offsets = ToolOffsets(kind, spec.offsets, engine.tool_offsets, spec.offset_values)
-        self.life = ToolLife(spec.max_groups, spec.max_tools, spec.groups)
+        self.life = ToolLife(spec.max_groups, spec.max_tools, spec.groups, spec.ignore)
         axes = len(path.axes)
         for name, values in spec.work.items():
             if name not in WORK_OFFSET_NAMES:
@@ -247,7 +247,7 @@ class ToolOperations:
             group.life_type,
             group.life,
             group.count,
-            group.in_use + 1,
+            group.current + 1,
             tuple((t.number, t.h, t.d, t.state) for t in group.tools),
         )
 

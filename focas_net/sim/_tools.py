@@ -155,41 +155,47 @@ class LifeTool:
 @dataclass(slots=True)
 class ToolGroup:
     """One tool life group: its life type and life, the counter of the tool in use, its
-    tools in the order they are used, and the cutting seconds not yet counted."""
+    tools in the order they are used, the index of the tool in use and the cutting seconds
+    not yet counted."""
 
     number: int
     life: int
     life_type: str = "count"
     count: int = 0
     tools: list[LifeTool] = field(default_factory=list)
+    current: int = 0
     seconds: float = 0.0
 
     @property
-    def in_use(self) -> int:
-        """The index (0..) of the tool the group uses now: the first not expired nor skipped
-        (the last tool when all are)."""
-        for i, tool in enumerate(self.tools):
-            if tool.state < 2:
-                return i
-        return len(self.tools) - 1
-
-    @property
     def expired(self) -> bool:
+        """Whether every tool of the group is expired (or skipped)."""
         return bool(self.tools) and all(t.state >= 2 for t in self.tools)
 
-    def advance(self, amount: int) -> None:
-        """Add ``amount`` to the counter; a tool whose counter reaches the life expires and
-        the next one starts at 0 (the last one keeps the life as its count)."""
-        while amount > 0 and not self.expired:
-            step = min(amount, self.life - self.count)
-            self.count += step
-            amount -= step
-            if self.count >= self.life:
-                tool = self.tools[self.in_use]
-                tool.state = 2
-                if not self.expired:
+    def select(self) -> None:
+        """A T code named the group: from the tool in use on, the first tool whose life has
+        not expired is the one in use (its counter from 0 when it is another); the last tool
+        when every one has expired."""
+        n = len(self.tools)
+        for step in range(n):
+            i = (self.current + step) % n
+            if self.tools[i].state < 2:
+                if i != self.current:
                     self.count = 0
-                    self.tools[self.in_use].state = 1
+                self.current = i
+                if self.tools[i].state == 0:
+                    self.tools[i].state = 1
+                return
+        self.current = n - 1
+
+    def advance(self, amount: int) -> None:
+        """Add ``amount`` to the counter of the tool in use, up to the life; the tool
+        expires when its counter reaches the life (the next selection takes another)."""
+        tool = self.tools[self.current]
+        if tool.state >= 2 or amount <= 0:
+            return
+        self.count = min(self.count + amount, self.life)
+        if self.count >= self.life:
+            tool.state = 2
 
 
 @dataclass(frozen=True, slots=True)
@@ -197,7 +203,7 @@ class ToolsSpec:
     """What a machine file declares of one path's tools: the offset count and values
     (``(number, type name) -> value``, :data:`OFFSET_TYPES`), the work offsets (a name of
     :data:`WORK_OFFSET_NAMES` -> one value per axis), values in least input increments; the
-    tool life limits and groups."""
+    tool life limits and groups, and the tool life ignore number (0: none)."""
 
     offsets: int = 64
     offset_values: Mapping[tuple[int, str], int] = field(default_factory=dict)
@@ -205,16 +211,22 @@ class ToolsSpec:
     max_groups: int = 16
     max_tools: int = 4
     groups: Sequence[ToolGroup] = ()
+    ignore: int = 0
 
 
 class ToolLife:
     """The tool life management of one path (see the module docstring)."""
 
-    __slots__ = ("_cutting", "_used", "groups", "max_groups", "max_tools", "selected")
+    __slots__ = ("_cutting", "_used", "groups", "ignore", "max_groups", "max_tools", "selected")
 
-    def __init__(self, max_groups: int, max_tools: int, groups: Iterable[ToolGroup]) -> None:
+    def __init__(
+        self, max_groups: int, max_tools: int, groups: Iterable[ToolGroup], ignore: int = 0
+    ) -> None:
         self.max_groups = _number(max_groups, 1, MAX_GROUPS, "max tool groups", EW.DATA)
         self.max_tools = _number(max_tools, 1, MAX_TOOLS_PER_GROUP, "max tools", EW.DATA)
+        #: FANUC's tool life ignore number (parameter 6810): a T code above it names group
+        #: T - ignore; 0: a T code names the group listing that tool.
+        self.ignore = _number(ignore, 0, MAX_T, "tool life ignore number", EW.DATA)
         self.groups: dict[int, ToolGroup] = {}
         for group in groups:
             self.add(group)
@@ -261,21 +273,21 @@ class ToolLife:
 
     # -- what the program does ------------------------------------------------------------
     def tool_changed(self, tool: int) -> None:
-        """M6 changed to T ``tool``: its group is the one in use and is used this cycle."""
-        self.selected = self.group_of(tool)
-        if self.selected:
-            group = self.groups[self.selected]
-            self._used.add(self.selected)
-            current = group.tools[group.in_use]
-            if current.state == 0:
-                current.state = 1
+        """M6 with T code ``tool``: the group it names is the group in use. The first time a
+        group is changed to in a cycle (since the reset state) a tool whose life has not
+        expired is selected from it, and a count-type group counts one use."""
+        named = tool - self.ignore if self.ignore and tool > self.ignore else 0
+        self.selected = named if named in self.groups else self.group_of(tool)
+        if not self.selected or self.selected in self._used:
+            return
+        group = self.groups[self.selected]
+        self._used.add(self.selected)
+        group.select()
+        if group.life_type == "count":
+            group.advance(1)
 
     def cycle_ended(self) -> None:
-        """M02/M30: each count-type group used in the cycle counts one use."""
-        for number in sorted(self._used):
-            group = self.groups[number]
-            if group.life_type == "count":
-                group.advance(1)
+        """M02/M30 (the reset state): the next cycle counts its groups again."""
         self._used.clear()
 
     def cutting(self, total_seconds: float) -> None:
@@ -300,5 +312,6 @@ class ToolLife:
         group = self.group(number)
         _number(count, 0, group.life, f"tool group {number} count", EW.DATA)
         group.count = count
-        if count < group.life and group.expired:
-            group.tools[-1].state = 1
+        tool = group.tools[group.current]
+        if count < group.life and tool.state == 2:
+            tool.state = 1

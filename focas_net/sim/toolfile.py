@@ -28,7 +28,16 @@ from .filecheck import _Ctx, _int, _list, _only, _str, _table
 __all__ = ["TOOLS_KEYS", "tool_specs"]
 
 #: The keys of a ``[[tools]]`` table.
-TOOLS_KEYS: Final = ("path", "offsets", "offset", "work", "max_groups", "max_tools", "group")
+TOOLS_KEYS: Final = (
+    "path",
+    "offsets",
+    "offset",
+    "work",
+    "max_groups",
+    "max_tools",
+    "ignore_number",
+    "group",
+)
 _OFFSET_KEYS: Final = ("number", *sorted({n for names in OFFSET_TYPES.values() for n in names}))
 _GROUP_KEYS: Final = ("number", "life", "type", "count", "tools")
 _TOOL_KEYS: Final = ("t", "h", "d")
@@ -87,6 +96,7 @@ def tool_specs(ctx: _Ctx, value: Any) -> dict[int, ToolsSpec]:
             max_groups=_int(c.sub("max_groups"), t.get("max_groups", 16), (1, MAX_GROUPS)),
             max_tools=_int(c.sub("max_tools"), t.get("max_tools", 4), (1, MAX_TOOLS_PER_GROUP)),
             groups=tuple(groups),
+            ignore=_int(c.sub("ignore_number"), t.get("ignore_number", 0), (0, _MAX_T)),
         )
     return specs
 
