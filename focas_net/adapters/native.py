@@ -126,6 +126,7 @@ from ._common import (
 from ._native_cnc import CncHandlers
 from ._native_data import DataHandlers
 from ._native_programs import ProgramHandlers, ProgramTransfer
+from ._native_spindles import SpindleHandlers
 
 __all__ = ["PATH_INDEPENDENT", "NativeAdapter", "command_set_of"]
 
@@ -158,6 +159,7 @@ _COUNTERS: Final[dict[tuple[int, int], str]] = {
     (Device.CNC, NativeCommand.AXIS_NAME): "",
     (Device.CNC, NativeCommand.AXIS_UNIT): "",
     (Device.CNC, NativeCommand.AXIS_COUNT): "",
+    (Device.CNC, NativeCommand.SPDLNAME): "",
     (Device.CNC, NativeCommand.AXIS_DISPLAY): "",
     (Device.CNC, NativeCommand.STATINFO): "status_version",
     (Device.CNC, NativeCommand.STAT_HDCK): "status_version",
@@ -247,6 +249,7 @@ class NativeAdapter:
         cnc = self._cnc = CncHandlers(machine, self.max_axis)
         data = DataHandlers(machine, self.max_axis)
         programs = self._programs = ProgramHandlers(machine, version)
+        spindles = SpindleHandlers(machine)
         c = NativeCommand
         on_cnc: dict[int, _Handler] = {
             c.SYSINFO: cnc.read_sysinfo,
@@ -280,8 +283,9 @@ class NativeAdapter:
             c.AXIS_UNIT: cnc.read_axis_units,
             c.AXIS_COUNT: cnc.read_axis_count,
             c.AXIS_DISPLAY: cnc.read_axis_display,
-            c.RDSPLOAD: cnc.read_spindle_load,
-            c.RDSVMETER: cnc.read_servo_meter,
+            c.RDSPLOAD: spindles.read_spindle_data,
+            c.RDSVMETER: spindles.read_servo_data,
+            c.SPDLNAME: spindles.read_spindle_names,
             c.RDPROGDIR: programs.read_program_directory,
             c.RDPROGINFO: programs.read_program_memory,
             c.DELETE: programs.delete_program,

@@ -23,6 +23,9 @@ once (``docs/native-protocol.md`` describes the wire format):
   the transfer frames;
 * :mod:`.calls` — the blocks each FOCAS function of FANUC's library sends, per command set
   (its names are exported here, and the module itself as ``calls``);
+* :mod:`.spindles` — the figure selectors of 0x40 (spindles) and 0x56 (servo axes), the spindle
+  names (0x8A), and the frames of the spindle and servo functions (the module is exported as
+  ``spindles``);
 * :mod:`.session` — the client side of a connection without I/O: the queue of calls, their
   packing into frames, the answers matched to them, the deadlines.
 
@@ -45,7 +48,7 @@ Decoding arbitrary bytes raises nothing else. Encoding a value that cannot be pu
 raises :class:`ValueError` (a programming error, not a peer error).
 """
 
-from . import calls
+from . import calls, spindles
 from .axes import (
     AxisCount,
     AxisCountRequest,
@@ -241,6 +244,15 @@ from .session import (
     encode_part,
     request_frame,
 )
+from .spindles import (
+    SPINDLE_METER_UNITS,
+    ServoFigure,
+    SpindleDataRequest,
+    SpindleFigure,
+    SpindleName,
+    SpindleNameRequest,
+    SpindleNames,
+)
 
 __all__ = [
     "ALARM_HISTORY_CHUNK",
@@ -263,6 +275,7 @@ __all__ = [
     "REQUEST_TYPES",
     "RESPONSE_BLOCK_SIZE",
     "SCALED_SIZE",
+    "SPINDLE_METER_UNITS",
     "VACANT",
     "ActualFeedRequest",
     "ActualSpindleSpeedRequest",
@@ -372,8 +385,14 @@ __all__ = [
     "ScaledValues",
     "SequenceNumber",
     "SequenceNumberRequest",
+    "ServoFigure",
     "ServoMeterRequest",
+    "SpindleDataRequest",
+    "SpindleFigure",
     "SpindleLoadRequest",
+    "SpindleName",
+    "SpindleNameRequest",
+    "SpindleNames",
     "StatInfo",
     "StatInfoRequest",
     "SysInfoRequest",
@@ -411,4 +430,5 @@ __all__ = [
     "parse_program_range",
     "request_frame",
     "resolve_position_kind",
+    "spindles",
 ]

@@ -93,11 +93,12 @@ class NativeCommand(enum.IntEnum):
     ACTS = 0x25  # cnc_acts / cnc_rddynamic2: actual spindle speed
     POSITION = 0x26  # cnc_absolute / machine / relative / distance / rdposition / rddynamic2
     RDDIAG = 0x30  # cnc_diagnoss, 16i class (4-byte value slots)
-    RDSPLOAD = 0x40  # cnc_rdspload
-    RDSVMETER = 0x56  # cnc_rdsvmeter
+    RDSPLOAD = 0x40  # cnc_rdspload / rdspmaxrpm / rdspgear / acts2 / rdspmeter (16i)
+    RDSVMETER = 0x56  # cnc_rdsvmeter / rdcurrent / rdloopgain / rdsrvspeed
     RDALMHISTRY = 0x6C  # cnc_rdalmhistry
     AXIS_UNIT = 0x88  # cnc_rdposition: units
     AXIS_NAME = 0x89  # cnc_rdaxisname / cnc_rdsvmeter / cnc_rdposition: axis names
+    SPDLNAME = 0x8A  # cnc_rdspdlname / cnc_rdspmeter / cnc_rdspeed: spindle names
     RDPARAM3 = 0x8D  # cnc_rdparam, 30i class (8-byte scaled slots)
     WRPARAM3 = 0x8E  # cnc_wrparam, 30i class (after 0xA0)
     RDDIAG3 = 0x93  # cnc_diagnoss, 30i class (8-byte scaled slots)

@@ -5,6 +5,7 @@ knows either wire protocol: :mod:`focas_net.adapters` translates (``docs/protoco
 
 from ._alarms import MAX_ALARM_NO
 from ._identity import MAX_NAME_LENGTH
+from ._spindles import SPINDLE_NAME, Spindle
 from .default import DEFAULT_NAME, DEMO_PROGRAM, default_machine
 from .machine import (
     AUT_MODES,
@@ -57,6 +58,7 @@ __all__ = [
     "PMC_AREAS",
     "POSITION_DECIMALS",
     "POSITION_KINDS",
+    "SPINDLE_NAME",
     "TIMER_KINDS",
     "Alarm",
     "Clock",
@@ -74,6 +76,7 @@ __all__ = [
     "PathSpec",
     "PmcAreaSpec",
     "Session",
+    "Spindle",
     "Status",
     "default_machine",
     "load_machine",
