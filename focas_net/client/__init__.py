@@ -12,6 +12,7 @@ arguments of ``client.sim.inject_fault``, are imported from :mod:`focas_net.prot
 :mod:`focas_net`).
 """
 
+from ._native_spindles import SpindleMeter
 from ._started import StartedCall
 from ._values import Paths, Positions
 from .client import FocasClient
@@ -51,6 +52,7 @@ __all__ = [
     "ReconnectPolicy",
     "ServoLoad",
     "SimControl",
+    "SpindleMeter",
     "StartedCall",
     "open_connection",
     "read_dynamic_all",
