@@ -1784,7 +1784,9 @@ def simulator_machine(set_name: str) -> SimMachine:
 
 def _sim_calls(set_name: str) -> list[tuple[str, dict[str, Any], tuple[Any, ...]]]:
     """The calls of the simulator capture: name, arguments, the ctypes arguments."""
-    slots = AXES if set_name == "16i" else MAX_AXES
+    machine = simulator_machine(set_name)
+    most = machine.identity().max_axis  # what the open answer reports: the class's max axes
+    slots = AXES if set_name == "16i" else most
     out: list[tuple[str, dict[str, Any], tuple[Any, ...]]] = []
 
     def add(name: str, arguments: dict[str, Any], args: tuple[Any, ...]) -> None:
@@ -1803,7 +1805,6 @@ def _sim_calls(set_name: str) -> list[tuple[str, dict[str, Any], tuple[Any, ...]
     add("cnc_wrmacror2", {"number": 503, "value": 0.125},
         (ctypes.c_ulong(503), ctypes.byref(one), (ctypes.c_double * 1)(0.125)))  # fmt: skip
     sizes = {1: 1, 2: 2, 4: 4, 8: 8}
-    machine = simulator_machine(set_name)
     for number in machine.param_numbers():  # every parameter, of every kind
         item = machine.param_item(number)
         assert item is not None
@@ -1866,8 +1867,8 @@ def _sim_calls(set_name: str) -> list[tuple[str, dict[str, Any], tuple[Any, ...]
             (s16(-1), s16(4 + 4 * slots), buf(4 + 4 * 32)))  # fmt: skip
     add("cnc_rdposition", {"type": -1, "data_num": 8},
         (s16(-1), ctypes.byref(s16(8)), buf(48 * 8)))  # fmt: skip
-    add("cnc_rddynamic2", {"axis": -1, "length": 28 + 16 * MAX_AXES},
-        (s16(-1), s16(28 + 16 * MAX_AXES), buf(28 + 16 * 32)))  # fmt: skip
+    add("cnc_rddynamic2", {"axis": -1, "length": 28 + 16 * most},
+        (s16(-1), s16(28 + 16 * most), buf(28 + 16 * 32)))  # fmt: skip
     add("cnc_rddynamic2", {"axis": 1, "length": 44}, (s16(1), s16(44), buf(28 + 16 * 32)))
     add("cnc_rdspload", {"spindle": -1}, (s16(-1), buf(4 + 2 * 8)))
     add("cnc_rdsvmeter", {"data_num": 8}, (ctypes.byref(s16(8)), buf(12 * 8)))

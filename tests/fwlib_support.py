@@ -150,8 +150,8 @@ class Cnc:
     @property
     def slots(self) -> int:
         """Values an all-axes read must make room for: the path's axes at 16i class, the
-        open answer's max axes at 30i class."""
-        return 3 if self.set_name == "16i" else 8
+        open answer's max axes at 30i class (the machine's, 32 on a 0i-F)."""
+        return 3 if self.set_name == "16i" else self.machine.identity().max_axis
 
     async def call(self, name: str, *args: Any) -> int:
         """``name(handle, *args)`` on the handle's thread; its return code."""

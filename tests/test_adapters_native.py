@@ -64,6 +64,7 @@ from focas_net.protocol import (
     ParamValue,
 )
 from focas_net.sim import (
+    CLASS_MAX_AXES,
     Alarm,
     HistoryEntry,
     Machine,
@@ -303,7 +304,9 @@ def test_the_control_class_picks_the_command_set(
     assert (frame.type, frame.version) == (FrameType.OPEN_RESPONSE, version)
     opened = decode_open_answer(frame.body, version)
     assert opened.present() == (PathDescription(" M", 3, 1),)
-    assert opened.max_axes == 8
+    # what a CNC of the class reports: 8 axes at most for the 16i family, 32 for the 30i's
+    assert opened.max_axes == CLASS_MAX_AXES[control_class] == adapter.max_axis
+    assert opened.max_axes == machine.identity().max_axis
     assert opened.option_bits == (None if version == 2 else 1)
 
 
@@ -390,7 +393,7 @@ def test_parameter_records_carry_the_machines_kind(control_class: str) -> None:
 
     def record(number: int, axis: int) -> tuple[int, int, bytes]:
         (reply,) = _replies(adapter, read(number, number, axis).to_block())
-        assert reply.ew == 0 and len(reply.data) == ItemHead.SIZE + slot * 8
+        assert reply.ew == 0 and len(reply.data) == ItemHead.SIZE + slot * adapter.max_axis
         head = ItemHead.decode_from(reply.data)
         assert head.number == number
         return head.axis, head.type, reply.data[ItemHead.SIZE :]

@@ -240,6 +240,8 @@ CLIENT_MODULES = [
     "sim_control",
     "_started",
     "_values",
+    "_native_files",
+    "_native_spindles",
 ]
 
 

@@ -77,7 +77,7 @@ async def test_the_command_set_follows_the_control_class(cnc: Cnc) -> None:
     opt = ctypes.c_int64(0)
     assert await cnc.call("cnc_getfocas1opt", s16(0), ctypes.byref(opt)) == 0
     assert opt.value & 1  # what cnc_rddynamic2 needs
-    # a 30i-class handle wants room for the open answer's max axes (8) in an all-axes read, a
+    # a 30i-class handle wants room for the open answer's max axes (32) in an all-axes read, a
     # 16i-class one for the path's axes (3)
     b = buf(4 + 8 * 32)
     rc = await cnc.call("cnc_rdparam", s16(1320), s16(-1), s16(4 + 4 * 3), b)
@@ -524,12 +524,16 @@ async def test_positions(cnc: Cnc) -> None:
             assert (d, dec, nm.decode()) == (packed[kind].increments[name], 3, name)
     # cnc_rddynamic2: alarm, programs, feed, spindle and the four positions at once
     cnc.machine.set_motion(program_running=7, program_main=8, sequence=9, feed=10, spindle_speed=11)
-    length = 28 + 16 * 8
+    # the library lays the four arrays out at the open answer's max axes: a 0i-F's 32, a 16i's 8,
+    # as ODBDY2 compiled with FANUC's header (MAX_AXIS 32) expects on a 30i-class control
+    most = cnc.machine.identity().max_axis
+    assert most == (8 if cnc.set_name == "16i" else 32)
     b = buf(28 + 16 * 32)
-    assert await cnc.call("cnc_rddynamic2", s16(-1), s16(length), b) == 0
+    assert await cnc.call("cnc_rddynamic2", s16(-1), s16(28 + 16 * most - 1), b) == EW.LENGTH
+    assert await cnc.call("cnc_rddynamic2", s16(-1), s16(28 + 16 * most), b) == 0
     head = struct.unpack_from("<hhiiiiii", b.raw)
     assert head[1:] == (-1, 0, 7, 8, 9, 10, 11)
-    arrays = [list(struct.unpack_from(f"<{n}i", b.raw, 28 + 4 * 8 * k)) for k in range(4)]
+    arrays = [list(struct.unpack_from(f"<{n}i", b.raw, 28 + 4 * most * k)) for k in range(4)]
     assert arrays == [
         list(packed[k].increments.values()) for k in ("absolute", "machine", "relative", "distance")
     ]

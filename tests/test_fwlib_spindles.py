@@ -208,6 +208,6 @@ async def test_the_30i_open_answer_carries_the_controlled_spindles(bench: Bench)
     b = buf(24 + 16 * 10)
     assert await bench.cnc.call("cnc_sysinfo_ex", b) == 0
     max_axis, max_spdl, max_path, *_, ctrl_spdl, ctrl_path = struct.unpack_from("<8h", b.raw)
-    assert (max_axis, max_path) == (8, 1)
+    assert max_axis == bench.machine.identity().max_axis and max_path == 1
     if bench.command_set is CommandSet.FS30I:
         assert (max_spdl, ctrl_spdl, ctrl_path) == (1, 1, 1)

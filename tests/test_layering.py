@@ -111,9 +111,11 @@ TABLE: dict[str, tuple[str, ...]] = {
         "focas_net.native",
         "focas_net.errors",
         "focas_net.adapters._common",
+        "focas_net.adapters._native_clock",
         "focas_net.adapters._native_cnc",
         "focas_net.adapters._native_data",
         "focas_net.adapters._native_programs",
+        "focas_net.adapters._native_files",
     ),
     "focas_net.server": (
         "focas_net.adapters",
@@ -175,11 +177,12 @@ BEYOND_THE_TABLE: dict[str, tuple[str, ...]] = {
             "focas_net.native",
             "focas_net.errors",
             "focas_net.adapters._common",
+            "focas_net.adapters._native_clock",
             "focas_net.adapters._native_cnc",
             "focas_net.adapters._native_data",
             "focas_net.adapters._native_programs",
         )
-        for area in ("cnc", "data", "programs")
+        for area in ("clock", "cnc", "data", "programs", "files")
     },
     # bounded memos: no protocol, no machine
     "focas_net._memo": (),

@@ -41,7 +41,7 @@ def test_example_loads() -> None:
     m = load_machine(EXAMPLE)
     assert m.name == "vmc-850-b"
     assert m.axes == ["X", "Y", "Z", "B"]
-    assert m.identity() == Identity(2, 8, " 0", " M", "D4F1", "32.0", "04")
+    assert m.identity() == Identity(2, 32, " 0", " M", "D4F1", "32.0", "04")
     assert m.has_password and m.control_enabled and not m.read_only
     assert m.history_capacity == 250
     assert m.status().aut == 1

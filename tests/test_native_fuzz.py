@@ -76,6 +76,7 @@ WRITES: Final = frozenset(
         (Device.PMC, NativeCommand.PMC_WRPMCRNG),
         (Device.CNC, NativeCommand.DELETE),
         (Device.CNC, NativeCommand.SEARCH),
+        (Device.CNC, NativeCommand.SETTIMER),
     }
 )
 EW_CODES: Final = frozenset(int(e) for e in EW)
@@ -86,6 +87,8 @@ PATH_INDEPENDENT: Final = frozenset(
         (Device.CNC, NativeCommand.RDALMHISTRY),
         (Device.CNC, NativeCommand.RDPARAINFO),
         (Device.CNC, NativeCommand.RDPARAINFO3),
+        (Device.CNC, NativeCommand.RDPDF_DRIVE),
+        (Device.CNC, NativeCommand.RDPDF_INF),
         (Device.PMC, NativeCommand.PMC_RDPMCRNG),
         (Device.PMC, NativeCommand.PMC_WRPMCRNG),
     }

@@ -134,11 +134,7 @@ def test_open_exchange(version: int) -> None:
         assert OpenRequest.decode(decode_frame(request).body) == OpenRequest(channel)
         assert bytes.fromhex(ex["answer"]) == encode_open_response(body, version)
     path = PathDescription(" M", data["axes"], data["spindles"])
-    # the capture's answer predates the controlled spindles (body[20:22]; 0 there)
-    built = build_open_answer(
-        [path], data["max_axes"], option_bits=1, version=version, controlled_spindles=0
-    )
-    assert built == body
+    assert build_open_answer([path], data["max_axes"], option_bits=1, version=version) == body
     assert open_answer_size(body, version) == len(body)
     opened = decode_open_answer(body, version)
     assert opened.present() == (path,)

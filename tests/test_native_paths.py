@@ -374,10 +374,7 @@ def paths_capture() -> dict[str, Any]:
 @pytest.mark.parametrize("version", [2, 3])
 def test_the_library_refuses_a_path_past_the_last_itself(version: int) -> None:
     (probe,) = [p for p in paths_capture()["probes"] if p["version"] == version]
-    # the probe's answer predates the controlled spindles (body[20:22]; 0 there)
-    body = build_open_answer(
-        PROBE_PATHS, PROBE_MAX_AXES, version=version, records=PATH_RECORDS, controlled_spindles=0
-    )
+    body = build_open_answer(PROBE_PATHS, PROBE_MAX_AXES, version=version, records=PATH_RECORDS)
     assert probe["open_answer"] == body.hex()
     assert probe["connect"]["return"] == 0
     # while connecting: one 0x18 block per present path, the path word its record's index + 1

@@ -24,6 +24,8 @@ from focas_net.native import (
     AxisName,
     AxisNameRequest,
     AxisNames,
+    ClockValue,
+    ClockWriteRequest,
     CncId,
     DiagType,
     ExecutingProgram,
@@ -487,12 +489,20 @@ def test_axis_name_answers_by_argument() -> None:
 # Typed requests
 
 
+#: A name carried in extra bytes (the program folders' requests): fits the shortest, 12 bytes.
+_NAME = st.text(st.characters(min_codepoint=0x20, max_codepoint=0x7E), max_size=11)
+
+
 def _ints(cls: type[NativeRequest]) -> dict[str, st.SearchStrategy[Any]]:
-    return {f.name: i32 for f in dataclasses.fields(cls)}  # type: ignore[arg-type]
+    fields = dataclasses.fields(cls)  # type: ignore[arg-type]
+    return {f.name: _NAME if f.name == "name" else i32 for f in fields}
 
 
 _SPECIAL: dict[type[NativeRequest], st.SearchStrategy[Any]] = {
     MacroWriteRequest: st.builds(MacroWriteRequest, i32, scaled),
+    ClockWriteRequest: st.builds(
+        ClockWriteRequest, i32, st.builds(ClockValue, *[st.integers(-0x8000, 0x7FFF)] * 6)
+    ),
     MacroDoubleWriteRequest: st.builds(
         MacroDoubleWriteRequest, i32, st.one_of(st.none(), st.floats(allow_nan=False))
     ),
@@ -569,6 +579,10 @@ def test_write_requests_are_marked() -> None:
         "ParamWriteRequest",
         "ParamWrite3Request",
         "PmcWriteRequest",
+        "ClockWriteRequest",
+        "CurrentFolderWriteRequest",
+        "FileDeleteRequest",
+        "MainSelectRequest",
     }
 
 

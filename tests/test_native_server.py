@@ -230,7 +230,7 @@ async def test_pyfocas_sysinfo_and_status(front: Front) -> None:
     sys_info, stat = await with_pyfocas(front, lambda c: (c.get_sys_info(), c.get_status_info()))
     si = front.machine.identity()
     assert sys_info.addinfo == si.addinfo == 2
-    assert sys_info.max_axis == si.max_axis == 8
+    assert sys_info.max_axis == si.max_axis == 32  # a 0i-F's
     assert (sys_info.cnc_type, sys_info.mt_type) == ("0", "M")
     assert (sys_info.series, sys_info.version, sys_info.axes) == ("D4F1", "32.0", "03")
     st = front.machine.status()
@@ -424,25 +424,37 @@ async def test_macro_commands(front: Front, native: NativeClient) -> None:
     assert front.machine.read_macro(500) is None
 
 
+def _most(front: Front) -> int:
+    """Slots of an all-axes record: the machine's max axes (32 on the built-in 0i-F)."""
+    return front.machine.identity().max_axis
+
+
 async def test_parameter_reads(front: Front, native: NativeClient) -> None:
+    most = front.machine.identity().max_axis  # the slots of a record: 32 on a 0i-F
     data = await native.ok(ParamReadRequest(1420, 1420, -1))
-    (rec,) = ItemValues.decode(data, 8).records
+    (rec,) = ItemValues.decode(data, most).records
     assert (rec.number, rec.axis, rec.type) == (1420, -1, ParamType.TWO_WORD)
-    assert rec.values == (24000, 24000, 24000, 0, 0, 0, 0, 0)
-    (rec,) = ItemValues.decode(await native.ok(ParamReadRequest(20, 20, 0)), 8).records
+    assert rec.values == (24000, 24000, 24000) + (0,) * (most - 3)
+    (rec,) = ItemValues.decode(await native.ok(ParamReadRequest(20, 20, 0)), _most(front)).records
     assert (rec.number, rec.axis, rec.type, rec.values[0]) == (20, 0, ParamType.BYTE, 4)
-    (rec,) = ItemValues.decode(await native.ok(ParamReadRequest(1825, 1825, 2)), 8).records
-    assert (rec.axis, rec.type, rec.values) == (2, ParamType.WORD, (3000, 0, 0, 0, 0, 0, 0, 0))
+    (rec,) = ItemValues.decode(
+        await native.ok(ParamReadRequest(1825, 1825, 2)), _most(front)
+    ).records
+    assert (rec.axis, rec.type, rec.values) == (2, ParamType.WORD, (3000,) + (0,) * (most - 1))
     # a range reads the parameters that exist in it, in order
-    records = ItemValues.decode(await native.ok(ParamReadRequest(1000, 1010, -1)), 8).records
+    records = ItemValues.decode(
+        await native.ok(ParamReadRequest(1000, 1010, -1)), _most(front)
+    ).records
     assert [r.number for r in records] == [1001, 1005, 1006]
     assert records[0].axis == 0  # a non-axis parameter read with axis -1
     # 30i style: 8-byte scaled slots, the same type numbering
     data = await native.ok(ParamRead3Request(1825, 1825, -1))
-    (srec,) = ScaledItemValues.decode(data, 8).records
+    (srec,) = ScaledItemValues.decode(data, _most(front)).records
     assert (srec.number, srec.axis, srec.type) == (1825, -1, 2)
     assert srec.values[:3] == (ScaledNumber(3000, 0),) * 3
-    (srec,) = ScaledItemValues.decode(await native.ok(ParamRead3Request(1410, 1410, 0)), 8).records
+    (srec,) = ScaledItemValues.decode(
+        await native.ok(ParamRead3Request(1410, 1410, 0)), _most(front)
+    ).records
     assert (srec.type, srec.values[0]) == (3, ScaledNumber(5000, 0))
     # refusals
     assert await native.ew(ParamReadRequest(2, 19, 0)) == EW.NUMBER
@@ -450,9 +462,13 @@ async def test_parameter_reads(front: Front, native: NativeClient) -> None:
     assert await native.ew(ParamReadRequest(1420, 1420, 0)) == EW.ATTRIB
     assert await native.ew(ParamReadRequest(1420, 1420, 9)) == EW.ATTRIB
     assert await native.ew(ParamRead3Request(30, 20, 0)) == EW.LENGTH
-    # every parameter of the machine fits one answer of version 3 (2910 bytes)
-    every = ScaledItemValues.decode(await native.ok(ParamRead3Request(0, 9999, -1)), 8).records
-    assert [r.number for r in every] == list(front.machine.param_numbers())
+    # a range of a version-3 answer (2910 bytes) holds ten records of 32 slots
+    numbers = list(front.machine.param_numbers())
+    ten = ParamRead3Request(numbers[0], numbers[9], -1)
+    assert [r.number for r in ScaledItemValues.decode(await native.ok(ten), most).records] == (
+        numbers[:10]
+    )
+    assert await native.ew(ParamRead3Request(0, 9999, -1)) == EW.LENGTH
 
 
 async def test_parameter_written_through_packed_reads_natively(
@@ -463,16 +479,22 @@ async def test_parameter_written_through_packed_reads_natively(
     assert await front.packed_call(Command.SIM_SET_PANEL, SetPanel(0, 1, 0).encode()) is None
     write = ParamValue(1422, 0, 8000, 4).encode()
     assert await front.packed_call(Command.WRPARAM, write) is None
-    (rec,) = ItemValues.decode(await native.ok(ParamReadRequest(1422, 1422, 0)), 8).records
+    (rec,) = ItemValues.decode(
+        await native.ok(ParamReadRequest(1422, 1422, 0)), _most(front)
+    ).records
     assert rec.values[0] == 8000
 
 
 async def test_diagnostic_read(front: Front, native: NativeClient) -> None:
-    (rec,) = ItemValues.decode(await native.ok(DiagnosticRequest(308, 308, -1)), 8).records
+    (rec,) = ItemValues.decode(
+        await native.ok(DiagnosticRequest(308, 308, -1)), _most(front)
+    ).records
     assert (rec.number, rec.axis, rec.type) == (308, -1, 0)
-    assert rec.values == (31, 31, 31, 0, 0, 0, 0, 0)
+    assert rec.values == (31, 31, 31) + (0,) * (_most(front) - 3)
     front.machine.set_diag(410, 0, 57)
-    (rec,) = ItemValues.decode(await native.ok(DiagnosticRequest(410, 410, 0)), 8).records
+    (rec,) = ItemValues.decode(
+        await native.ok(DiagnosticRequest(410, 410, 0)), _most(front)
+    ).records
     assert (rec.type, rec.values[0]) == (1, 57)
     assert await native.ew(DiagnosticRequest(1, 299, 0)) == EW.NUMBER
 
@@ -534,7 +556,7 @@ async def test_positions(front: Front, native: NativeClient) -> None:
     for kinds, values in expected.items():
         for kind in kinds:
             got = ScaledValues.decode(await native.ok(NativePositionRequest(kind, -1))).values
-            assert len(got) == 8  # max_axis records, the unused ones zero
+            assert len(got) == _most(front)  # max_axis records, the unused ones zero
             assert got[:3] == tuple(ScaledNumber(v, 3) for v in values)
             assert all(r.mantissa == 0 for r in got[3:])
             one = ScaledValues.decode(await native.ok(NativePositionRequest(kind, 2))).values
@@ -565,7 +587,7 @@ async def test_unsupported_block_answers_ew_func_others_succeed(
     )
     answers = await native.blocks(*blocks)
     assert [a.ew for a in answers] == [0, 0, 0, EW.FUNC, 0, 0, EW.PATH]
-    assert NativeSysInfo.decode(answers[0].data).max_axis == 8
+    assert NativeSysInfo.decode(answers[0].data).max_axis == 32
     assert StatInfo.decode(answers[2].data).aut == 1
     assert ScaledValues.decode(answers[4].data).values == (ScaledNumber(7, 0),)
     assert all(a.data == b"" for a in answers if a.ew)
@@ -659,7 +681,7 @@ async def test_bad_input_closes_only_that_connection(
     assert front.native.violations == 1
     # the other native connection and the packed side keep working, state untouched
     si = NativeSysInfo.decode(await native.ok(SysInfoRequest()))
-    assert si.max_axis == 8
+    assert si.max_axis == 32
     assert isinstance(await front.packed_call(Command.RDCNCSTAT), StatusInfo)
     assert len(front.native.connections) == 1
 

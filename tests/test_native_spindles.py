@@ -25,8 +25,8 @@ from focas_net.native import (
     CommandSet,
     RequestBlock,
     ServoFigure,
-    SpindleDataRequest,
     SpindleFigure,
+    SpindleLoadRequest,
     SpindleName,
     SpindleNameRequest,
     SpindleNames,
@@ -101,7 +101,7 @@ def test_spindle_names_round_trip(raw: list[tuple[bytes, bytes, bytes, bytes]]) 
 
 @given(st.integers(-(2**31), 2**31 - 1), st.integers(-(2**31), 2**31 - 1))
 def test_spindle_data_request_round_trip(kind: int, spindle: int) -> None:
-    request = SpindleDataRequest(kind, spindle)
+    request = SpindleLoadRequest(kind, spindle)
     block = request.to_block()
     assert block.args[:2] == (kind, spindle)
     assert decode_request(RequestBlock(block.device, 1, block.command, block.args)) == request
@@ -167,13 +167,13 @@ def test_each_figure_of_each_spindle(running: bool) -> None:
     }
     for figure, values in expected.items():
         for every in (-1, 0):
-            ((ew, data),) = _answer(adapter, SpindleDataRequest(figure, every).to_block())
+            ((ew, data),) = _answer(adapter, SpindleLoadRequest(figure, every).to_block())
             assert ew == 0 and _mantissas(data) == values
-        ((ew, data),) = _answer(adapter, SpindleDataRequest(figure, 2).to_block())
+        ((ew, data),) = _answer(adapter, SpindleLoadRequest(figure, 2).to_block())
         assert ew == 0 and _mantissas(data) == values[1:2]
-    ((ew, _),) = _answer(adapter, SpindleDataRequest(0, 4).to_block())
+    ((ew, _),) = _answer(adapter, SpindleLoadRequest(0, 4).to_block())
     assert ew == EW.NUMBER
-    ((ew, _),) = _answer(adapter, SpindleDataRequest(6, -1).to_block())
+    ((ew, _),) = _answer(adapter, SpindleLoadRequest(6, -1).to_block())
     assert ew == EW.ATTRIB
     ((ew, data),) = _answer(adapter, SpindleNameRequest(0).to_block())
     assert ew == 0 and data == b"S1\0\0S2\0\0S3\0\0"

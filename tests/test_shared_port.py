@@ -215,7 +215,7 @@ async def test_packed_and_native_connections_open_side_by_side(
     (answer,) = await native.blocks(MacroReadRequest(540, 540).to_block())
     assert ScaledValues.decode(answer.data).values == (ScaledNumber(77, 1),)
     (sysinfo,) = await native.blocks(SYSINFO_BLOCK)
-    assert NativeSysInfo.decode(sysinfo.data).max_axis == 8
+    assert NativeSysInfo.decode(sysinfo.data).max_axis == 32  # a 0i-F's
     assert await wire.ew(*STATUS) == 0
     assert len(listener.connections) == 1 and len(listener.native_connections) == 1
     assert isinstance(server_side(listener, native.local_port), NativeConnection)

@@ -6,7 +6,9 @@ at its end only.
 
 A data request answers for the programs of the path in its block's path word (0 is path 1);
 an upload or a download is of the path its start frame names (:class:`TransferStart`'s
-``path``, the handle's path; 0 is path 1).
+``path``, the handle's path; 0 is path 1), or, on a control with program folders, of the path
+whose folder ``cnc_upstart4``'s file or ``cnc_dwnstart4``'s folder is
+(``//CNC_MEM/USER/PATH2/`` is path 2's; a folder of no path is EW_DATA).
 """
 
 from __future__ import annotations
@@ -165,10 +167,12 @@ class ProgramHandlers:
             if kind is TransferFrame.UPLOAD_START:
                 return self._upload(body)
             if kind is TransferFrame.DOWNLOAD_START:
-                path = TransferStart.decode(body).path or 1
+                start = TransferStart.decode(body)
+                path = start.path or 1
                 state.reset()
                 self.machine.check_writable()
                 self.machine.path_info(path)  # EW_PATH for a path the machine has not
+                path = self.machine.transfer_path(_transfer_name(start.name), path=path)
                 state.downloading = True
                 state.path = path
                 return [self._transfer_frame(TransferFrame.DOWNLOAD_START_ANSWER)]
@@ -202,6 +206,7 @@ class ProgramHandlers:
         machine = self.machine
         machine.path_info(path)  # EW_PATH for a path the machine has not
         first, last = parse_program_range(start.name)
+        path = machine.transfer_path(_transfer_name(start.name), path=path)
         if first == last:
             texts = [machine.program_text(first, path=path)]  # EW_NUMBER when there is none
         else:
@@ -233,6 +238,13 @@ class ProgramHandlers:
             raise Refused(EW.OVRFLOW)
         self.machine.store_program(raw.decode("latin-1"), path=path)
         return [self._transfer_frame(TransferFrame.DOWNLOAD_END_ANSWER)]
+
+
+def _transfer_name(name: bytes) -> str:
+    """The folder or file a transfer's start names after ``N:`` (``cnc_upstart4``,
+    ``cnc_dwnstart4``); empty for the other forms."""
+    text = name.decode("latin-1")
+    return text[2:] if text.startswith("N:") else ""
 
 
 def _program_comment(name: str) -> bytes:

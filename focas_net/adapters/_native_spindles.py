@@ -28,8 +28,8 @@ from focas_net.native import (
     RequestBlock,
     ScaledNumber,
     ServoFigure,
-    SpindleDataRequest,
     SpindleFigure,
+    SpindleLoadRequest,
     SpindleName,
     SpindleNameRequest,
     SpindleNames,
@@ -74,7 +74,7 @@ class SpindleHandlers:
 
     def read_spindle_data(self, block: RequestBlock, room: int, session: Session) -> bytes:
         """0x40: one figure of every spindle of the path, or of the one asked."""
-        req = SpindleDataRequest.from_block(block)
+        req = SpindleLoadRequest.from_block(block)
         try:
             figure = SpindleFigure(req.kind)
         except ValueError:

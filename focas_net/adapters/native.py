@@ -64,8 +64,9 @@ request block by block, and the answers it keeps. A handler answers one block: `
 left in the answer, the connection's session) -> data``, raising one of
 :data:`~focas_net.adapters._common.REFUSALS` for a block it refuses (the block then carries its
 EW code). The handlers are by area: :mod:`._native_cnc` (identity, status, motion, axes, loads,
-PMC, alarms), :mod:`._native_data` (macro variables, parameters, diagnostics) and
-:mod:`._native_programs` (part programs).
+PMC, alarms), :mod:`._native_data` (macro variables, parameters, diagnostics),
+:mod:`._native_programs` (part programs), :mod:`._native_files` (the program folders of a
+30i-class control) and :mod:`._native_clock` (the clock, the panel's signals).
 
 Answers of reads are kept (:mod:`focas_net.adapters._common`, as the packed adapter keeps
 its own): a request made of the reads in :data:`_COUNTERS` only, every block answered without
@@ -123,8 +124,10 @@ from ._common import (
     refusal_code,
     unencodable_code,
 )
+from ._native_clock import ClockHandlers
 from ._native_cnc import CncHandlers
 from ._native_data import DataHandlers
+from ._native_files import FileHandlers
 from ._native_programs import ProgramHandlers, ProgramTransfer
 from ._native_spindles import SpindleHandlers
 
@@ -145,6 +148,8 @@ PATH_INDEPENDENT: Final = frozenset(
         (Device.CNC, NativeCommand.RDALMHISTRY),
         (Device.CNC, NativeCommand.RDPARAINFO),
         (Device.CNC, NativeCommand.RDPARAINFO3),
+        (Device.CNC, NativeCommand.RDPDF_DRIVE),
+        (Device.CNC, NativeCommand.RDPDF_INF),
         (Device.PMC, NativeCommand.PMC_RDPMCRNG),
         (Device.PMC, NativeCommand.PMC_WRPMCRNG),
     }
@@ -250,6 +255,8 @@ class NativeAdapter:
         data = DataHandlers(machine, self.max_axis)
         programs = self._programs = ProgramHandlers(machine, version)
         spindles = SpindleHandlers(machine)
+        clock = ClockHandlers(machine)
+        files = FileHandlers(machine)
         c = NativeCommand
         on_cnc: dict[int, _Handler] = {
             c.SYSINFO: cnc.read_sysinfo,
@@ -284,13 +291,27 @@ class NativeAdapter:
             c.AXIS_COUNT: cnc.read_axis_count,
             c.AXIS_DISPLAY: cnc.read_axis_display,
             c.RDSPLOAD: spindles.read_spindle_data,
+            c.GETTIMER: clock.read_clock,
+            c.SETTIMER: clock.write_clock,
             c.RDSVMETER: spindles.read_servo_data,
             c.SPDLNAME: spindles.read_spindle_names,
+            c.RDOPNLSGNL: clock.read_panel_signals,
             c.RDPROGDIR: programs.read_program_directory,
             c.RDPROGINFO: programs.read_program_memory,
             c.DELETE: programs.delete_program,
             c.SEARCH: programs.search_program,
             c.RDEXECPROG: programs.read_executing_blocks,
+            c.RDPDF_DRIVE: files.read_drives,
+            c.RDPDF_INF: files.read_drive_info,
+            c.RDPDF_CURDIR: files.read_current_folder,
+            c.WRPDF_CURDIR: files.write_current_folder,
+            c.RDPDF_SUBDIR: files.read_subfolders,
+            c.RDPDF_ALLDIR: files.read_folder,
+            c.RDPDF_SUBDIRN: files.read_folder_count,
+            c.RDPDF_PRGINF: files.read_file_info,
+            c.PDF_DEL: files.delete_file,
+            c.PDF_RDMAIN: files.read_main_file,
+            c.PDF_SLCTMAIN: files.select_main_file,
         }
         on_pmc: dict[int, _Handler] = {
             c.PMC_RDPMCRNG: cnc.read_pmc,

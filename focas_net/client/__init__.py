@@ -4,7 +4,8 @@ Each name below has one home: :mod:`.client` (the packed client), :mod:`._values
 (:class:`Positions`, and the checks and conversions both clients share), :mod:`.reconnect`
 (states and the reconnect policy), :mod:`.sim_control` (``client.sim``), :mod:`.connection`
 (one pipelined connection), :mod:`.projection` (alarm events), :mod:`.native` (the FOCAS/2
-Ethernet client, :class:`NativeClient`), :mod:`._started` (:class:`StartedCall`, a read
+Ethernet client, :class:`NativeClient`; :mod:`._native_files` its program folders'
+results), :mod:`._started` (:class:`StartedCall`, a read
 started now and finished later), :mod:`.many` (:func:`read_status_all`,
 :func:`read_dynamic_all`: many clients read from one task), :mod:`.cnc` (:class:`CncClient`,
 the calls both clients carry, as a static type). ``FaultKind`` and ``FaultScope``, the
@@ -12,6 +13,7 @@ arguments of ``client.sim.inject_fault``, are imported from :mod:`focas_net.prot
 :mod:`focas_net`).
 """
 
+from ._native_files import DriveUsage, FolderCounts, FolderEntry, ProgramFileInfo
 from ._native_spindles import SpindleMeter
 from ._started import StartedCall
 from ._values import Paths, Positions
@@ -40,14 +42,18 @@ __all__ = [
     "ClientState",
     "CncClient",
     "Connection",
+    "DriveUsage",
     "DynamicData",
     "FocasClient",
+    "FolderCounts",
+    "FolderEntry",
     "NativeClient",
     "NativeUnsupportedError",
     "NotSentError",
     "PanelSwitches",
     "Paths",
     "Positions",
+    "ProgramFileInfo",
     "ProjectionMode",
     "ReconnectPolicy",
     "ServoLoad",

@@ -39,7 +39,7 @@ from ._native_items import decoded, signed
 from ._native_link import Handle, NativeLink
 from ._values import check_axis
 
-__all__ = ["NativeSpindles", "SpindleMeter"]
+__all__ = ["SpindleMeter"]
 
 #: The spindle number of every spindle.
 _EVERY: Final = -1

@@ -94,7 +94,10 @@ class NativeCommand(enum.IntEnum):
     POSITION = 0x26  # cnc_absolute / machine / relative / distance / rdposition / rddynamic2
     RDDIAG = 0x30  # cnc_diagnoss, 16i class (4-byte value slots)
     RDSPLOAD = 0x40  # cnc_rdspload / rdspmaxrpm / rdspgear / acts2 / rdspmeter (16i)
+    GETTIMER = 0x45  # cnc_gettimer (focas_net.native.clock)
+    SETTIMER = 0x46  # cnc_settimer
     RDSVMETER = 0x56  # cnc_rdsvmeter / rdcurrent / rdloopgain / rdsrvspeed
+    RDOPNLSGNL = 0x5D  # cnc_rdopnlsgnl (focas_net.native.clock)
     RDALMHISTRY = 0x6C  # cnc_rdalmhistry
     AXIS_UNIT = 0x88  # cnc_rdposition: units
     AXIS_NAME = 0x89  # cnc_rdaxisname / cnc_rdsvmeter / cnc_rdposition: axis names
@@ -108,10 +111,21 @@ class NativeCommand(enum.IntEnum):
     AXIS_COUNT = 0xA4  # cnc_rdposition / cnc_rdspload / cnc_rdsvmeter, 30i class: counts
     RDMACRO_DOUBLE = 0xA7  # cnc_rdmacror2: IEEE doubles
     WRMACRO_DOUBLE = 0xA8  # cnc_wrmacror2: IEEE double
+    RDPDF_DRIVE = 0xAE  # cnc_rdpdf_drive (focas_net.native.files)
+    RDPDF_INF = 0xAF  # cnc_rdpdf_inf
+    RDPDF_CURDIR = 0xB0  # cnc_rdpdf_curdir
+    WRPDF_CURDIR = 0xB1  # cnc_wrpdf_curdir
+    RDPDF_SUBDIR = 0xB2  # cnc_rdpdf_subdir
+    RDPDF_ALLDIR = 0xB3  # cnc_rdpdf_alldir
+    RDPDF_SUBDIRN = 0xB4  # cnc_rdpdf_subdirn
+    PDF_DEL = 0xB6  # cnc_pdf_del
+    PDF_RDMAIN = 0xB9  # cnc_pdf_rdmain
+    PDF_SLCTMAIN = 0xBA  # cnc_pdf_slctmain
     EXEPRGNAME = 0xCF  # cnc_exeprgname
     STAT_HDCK = 0xE1  # cnc_statinfo: ODBST hdck
     RDCNCID = 0xE8  # cnc_rdcncid
     RDTIMER = 0x120  # cnc_rdtimer
+    RDPDF_PRGINF = 0x2B1  # cnc_rdpdf_prginf (focas_net.native.files)
     PMC_RDPMCRNG = 0x8001  # pmc_rdpmcrng (device PMC)
     PMC_WRPMCRNG = 0x8002  # pmc_wrpmcrng (device PMC)
 

@@ -31,8 +31,7 @@ import enum
 from dataclasses import dataclass
 from typing import Any, ClassVar, Final
 
-from .axes import AxisCountRequest, AxisUnitRequest, ServoMeterRequest
-from .axes import SpindleLoadRequest as SpindleDataRequest
+from .axes import AxisCountRequest, AxisUnitRequest, ServoMeterRequest, SpindleLoadRequest
 from .base import NativeRecord, RecordArray
 from .calls import CommandSet, LibraryCall, _memoized, _one
 from .requests import (
@@ -47,7 +46,6 @@ from .requests import (
 __all__ = [
     "SPINDLE_METER_UNITS",
     "ServoFigure",
-    "SpindleDataRequest",
     "SpindleFigure",
     "SpindleName",
     "SpindleNameRequest",
@@ -145,7 +143,7 @@ def cnc_rdspload_figure(cs: CommandSet, figure: SpindleFigure, spindle: int) -> 
         SpindleFigure.GEAR: "cnc_rdspgear",
         SpindleFigure.SPEED: "cnc_acts2",
     }
-    request = SpindleDataRequest(int(figure), spindle)
+    request = SpindleLoadRequest(int(figure), spindle)
     name = names.get(figure, "cnc_rdspmeter")
     if cs is _16I:
         return _one(name, request)
@@ -180,10 +178,10 @@ def cnc_rdspmeter(cs: CommandSet, kind: int) -> LibraryCall:
     library refuses the call itself (EW_NOOPT, nothing sent) when the open answer's
     controlled spindles (body[20:22]) are 0 [V]."""
     if cs is _16I:
-        both = (SpindleDataRequest(4, -1), SpindleDataRequest(5, -1))
+        both = (SpindleLoadRequest(4, -1), SpindleLoadRequest(5, -1))
         return _one("cnc_rdspmeter", *both, SpindleNameRequest(0))
     figures = {0: (4,), 1: (5,)}.get(kind, (4, 5))
-    data = tuple(SpindleDataRequest(f, -1) for f in figures)
+    data = tuple(SpindleLoadRequest(f, -1) for f in figures)
     return _one(
         "cnc_rdspmeter", AxisCountRequest(1), SpindleNameRequest(-1), *data, AxisCountRequest(1)
     )

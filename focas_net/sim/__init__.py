@@ -4,7 +4,8 @@ knows either wire protocol: :mod:`focas_net.adapters` translates (``docs/protoco
 ``docs/native-protocol.md``)."""
 
 from ._alarms import MAX_ALARM_NO
-from ._identity import MAX_NAME_LENGTH
+from ._identity import CLASS_MAX_AXES, MAX_NAME_LENGTH
+from ._signals import CLOCK_VARIABLES, SERVO_POWER_DIAG, TIMER_PARAMS, OperatorSignals
 from ._spindles import SPINDLE_NAME, Spindle
 from .default import DEFAULT_NAME, DEMO_PROGRAM, default_machine
 from .machine import (
@@ -43,6 +44,8 @@ from .machinefile import MachineFileError, load_machine, machine_from_dict
 
 __all__ = [
     "AUT_MODES",
+    "CLASS_MAX_AXES",
+    "CLOCK_VARIABLES",
     "CONTROL_CLASSES",
     "DEFAULT_CONTROL_CLASS",
     "DEFAULT_HISTORY_CAPACITY",
@@ -58,8 +61,10 @@ __all__ = [
     "PMC_AREAS",
     "POSITION_DECIMALS",
     "POSITION_KINDS",
+    "SERVO_POWER_DIAG",
     "SPINDLE_NAME",
     "TIMER_KINDS",
+    "TIMER_PARAMS",
     "Alarm",
     "Clock",
     "DataItem",
@@ -70,6 +75,7 @@ __all__ = [
     "MachineFileError",
     "MacroRange",
     "MotionData",
+    "OperatorSignals",
     "Panel",
     "ParamKind",
     "PathInfo",

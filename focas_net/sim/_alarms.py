@@ -95,7 +95,7 @@ class Alarms:
     program's alarms on the path that ran it); a read for a path sees that path's. Every
     change moves the alarm and the status counters."""
 
-    __slots__ = ("active", "clock", "counters", "history", "name")
+    __slots__ = ("active", "clock", "counters", "history", "name", "shift")
 
     def __init__(self, name: str, capacity: int, clock: Clock, counters: Counters) -> None:
         if capacity < 1:
@@ -105,6 +105,8 @@ class Alarms:
         self.counters = counters
         self.active: dict[PathAlarmKey, Alarm] = {}
         self.history: deque[HistoryEntry] = deque(maxlen=capacity)
+        #: How far the CNC's clock was set from ``clock`` (``cnc_settimer``).
+        self.shift = timedelta()
 
     @property
     def capacity(self) -> int:
@@ -113,10 +115,11 @@ class Alarms:
         return cap
 
     def now(self) -> datetime:
-        """The clock as aware UTC, cut to whole seconds."""
+        """The CNC's clock (``clock`` and the :attr:`shift` it was set by) as aware UTC, cut
+        to whole seconds."""
         t = self.clock()
         t = t.replace(tzinfo=UTC) if t.tzinfo is None else t.astimezone(UTC)
-        return t.replace(microsecond=0)
+        return (t + self.shift).replace(microsecond=0)
 
     def stamp(self, late: float) -> datetime:
         """The stamp of an alarm raised ``late`` seconds of machine time ago."""

@@ -7,6 +7,7 @@ from dataclasses import dataclass
 from typing import Final
 
 __all__ = [
+    "CLASS_MAX_AXES",
     "CONTROL_CLASSES",
     "DEFAULT_CONTROL_CLASS",
     "MAX_NAME_LENGTH",
@@ -23,6 +24,23 @@ __all__ = [
 #: class of control does (FANUC's native protocol: the 16i command set for 16i, 18i, 21i and
 #: 0i-C, the 30i set for 0i-D, 0i-F, 30i, 31i and 32i).
 CONTROL_CLASSES: Final = ("16i", "18i", "21i", "0i-C", "0i-D", "0i-F", "30i", "31i", "32i")
+#: The most controlled axes a CNC of each class has, what its ODBSYS ``max_axis`` and its FOCAS/2
+#: open answer report: 32 for the 30i family and the 0i-D/0i-F built on it (a 0i-MF and a 0i-TF
+#: report ``max_axis`` 32 through ``cnc_sysinfo``, and FANUC's Ethernet header sizes every
+#: per-axis array with MAX_AXIS 32), 8 for the 16i family and the 0i-C (eight axes per path).
+#: ``cnc_rddynamic2`` lays its position arrays out at this stride, so a program compiled with
+#: FANUC's header reads them where a CNC of its class puts them.
+CLASS_MAX_AXES: Final = {
+    "16i": 8,
+    "18i": 8,
+    "21i": 8,
+    "0i-C": 8,
+    "0i-D": 32,
+    "0i-F": 32,
+    "30i": 32,
+    "31i": 32,
+    "32i": 32,
+}
 #: The control class of a machine that does not say (the built-in machine is a 0i-F).
 DEFAULT_CONTROL_CLASS: Final = "0i-F"
 #: Characters of a machine's name at most: it heads the server's ready line and its logs.
@@ -64,7 +82,9 @@ def checked_identity(identity: Identity | None, control_class: str, axes: int) -
         )
     if not 1 <= axes <= 32:
         raise ValueError(f"a machine has 1..32 axes, got {axes}")
-    identity = identity or Identity(2, max(axes, 8), " 0", " M", "D4F1", "32.0", f"{axes:02d}")
+    if identity is None:
+        most = max(axes, CLASS_MAX_AXES[control_class])
+        identity = Identity(2, most, " 0", " M", "D4F1", "32.0", f"{axes:02d}")
     for key, size in _IDENTITY_TEXTS:
         text = getattr(identity, key)
         if not isinstance(text, str) or len(text) != size or not text.isascii():

@@ -10,11 +10,12 @@ the machine's module docstring; each path keeps them on its own.
 from __future__ import annotations
 
 import math
-from collections.abc import Iterable, Iterator
+from collections.abc import Callable, Iterable, Iterator
 from contextlib import contextmanager
 
 from ._path import MotionData
 from ._paths import Paths
+from ._signals import Collected
 from ._spindles import (
     LOOP_GAIN_PARAMETER,
     STANDARD_LOOP_GAIN,
@@ -33,6 +34,9 @@ class PathOperations:
     which builds :attr:`_paths`)."""
 
     _paths: Paths
+    _collected: Collected
+    #: G12/G14/G30 of a path from its overrides (:class:`~._signals.SignalOperations`).
+    _show_overrides: Callable[[int], None]
     scenario: Scenario | None
 
     def check_writable(self) -> None:  # pragma: no cover - the machine's
@@ -182,6 +186,7 @@ class PathOperations:
         unchanged): EW_PROT (read-only machine), EW_DATA (a value outside its range)."""
         self.check_writable()
         self._paths.at(path).set_overrides(feed, rapid, spindle)
+        self._show_overrides(path)
 
     def parts_counts(self, *, path: int = 1) -> tuple[int, int]:
         """Parts count and total parts (M2/M30 count them; parameters 6711 and 6712)."""
@@ -195,7 +200,7 @@ class PathOperations:
         """Seconds of timer ``kind`` (FANUC's ``cnc_rdtimer`` types): 0 power-on (machine
         time since the machine was built), 1 operating, 2 cutting, 3 cycle (this cycle's time
         since its start from reset); EW_NUMBER for another kind."""
-        return self._paths.at(path).timer(kind)
+        return self._collected.shifted(path, kind, self._paths.at(path).timer(kind))
 
     def timer_ms(self, kind: int, *, path: int = 1) -> int:
         """Whole milliseconds of timer ``kind`` (:meth:`timer`), as a counter shows them: the

@@ -459,7 +459,7 @@ class Path:
             self.mstb = waiting
             changed = True
         if self.driven:  # the F signals of the run state (as :meth:`show_cycle`)
-            self.pmc.show_cycle(state)
+            self.pmc.show_cycle(state, self.number)
         steady = e.steady_until()
         run = self.production.run
         if run is not None and run.next_time < steady:
@@ -483,7 +483,7 @@ class Path:
         """The F signals of the run state, while the engine drives the path (before, F is as
         written)."""
         if self.driven:
-            self.pmc.show_cycle(self.key[0])
+            self.pmc.show_cycle(self.key[0], self.number)
 
     def engine_event(self, event: EngineEvent, now: float) -> None:
         """Record what the engine reports at machine time ``now``: a part into the parts
@@ -725,7 +725,7 @@ class Path:
     def apply(self, asked: GRequest) -> None:
         """Act on what a write of G signals asks (the machine checked it may be written): the
         rising edge of ERS resets, the falling edge of *SP holds the feed, a change of the mode
-        bits of G43 selects the mode, a change of G12 sets the feed override, the falling edge
+        bits of G43 selects the mode, G12/G14/G30 set the overrides, the falling edge
         of ST starts the cycle (with *SP on). What the CNC refuses (cycle start with an alarm
         ...) is ignored, as a CNC ignores the signal."""
         try:
@@ -735,8 +735,8 @@ class Path:
                 self.feed_hold()
             if asked.mode is not None and asked.mode != self.panel.mode:
                 self.set_panel(asked.mode, None, None)
-            if asked.feed_override is not None:
-                self.set_overrides(asked.feed_override, None, None)
+            if asked.overrides != (None, None, None):
+                self.set_overrides(*asked.overrides)
             if asked.start:
                 self.cycle_start(None)
         except MachineError as exc:

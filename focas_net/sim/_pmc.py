@@ -19,6 +19,7 @@ from .nc import CycleState
 __all__ = [
     "F_SIGNALS",
     "G_SIGNALS",
+    "PATH_SIGNALS_STRIDE",
     "PMC_AREAS",
     "Area",
     "GRequest",
@@ -47,7 +48,13 @@ _ERS: Final = (8, 7)  #: external reset, G8.7
 _MD: Final = 43  #: mode select MD1 MD2 MD4 (G43.0-.2), DNCI (G43.5), ZRN (G43.7)
 _MD_BITS: Final = 0b1010_0111
 _FV: Final = 12  #: feed override *FV0-*FV7, G12 (negative logic: 255 - G12 percent)
+_ROV: Final = 14  #: rapid traverse override ROV1 ROV2, G14.0-.1 (00 100 %, 01 50 %, 10 25 %, 11 F0)
+_SOV: Final = 30  #: spindle speed override SOV0-SOV7, G30 (the percent in binary)
 _MAX_FEED_OVERRIDE: Final = 254
+#: ROV2 ROV1 -> the rapid override in percent (F0, the slowest, as 0 %: no F0 rate is kept).
+_RAPID_OF_ROV: Final = (100, 50, 25, 0)
+#: The G and F signals of path n are 1000 * (n - 1) bytes on (FANUC's multi-path PMC).
+PATH_SIGNALS_STRIDE: Final = 1000
 #: G43 (MD1 MD2 MD4, DNCI, ZRN) -> the panel mode (an ``aut`` value).
 _MODE_OF_G43: Final = {
     0b0000_0000: 0,  # MDI
@@ -90,13 +97,21 @@ class PmcAreaSpec:
 class GRequest:
     """What a write of the G area asks of automatic operation, in the order the machine acts:
     reset (ERS rose), feed hold (*SP fell), a mode (G43's mode bits changed to a known one),
-    a feed override (G12 changed), cycle start (ST fell with *SP on)."""
+    the overrides (G12 feed, G14 rapid, G30 spindle changed), cycle start (ST fell with *SP
+    on)."""
 
     reset: bool = False
     hold: bool = False
     mode: int | None = None
     feed_override: int | None = None
     start: bool = False
+    rapid_override: int | None = None
+    spindle_override: int | None = None
+
+    @property
+    def overrides(self) -> tuple[int | None, int | None, int | None]:
+        """Feed, rapid and spindle override asked (None: unchanged)."""
+        return (self.feed_override, self.rapid_override, self.spindle_override)
 
 
 class Area:
@@ -127,10 +142,12 @@ class Area:
 class Pmc:
     """The PMC areas of a machine by letter. Every change moves the PMC counter."""
 
-    __slots__ = ("areas", "counters")
+    __slots__ = ("areas", "counters", "paths")
 
     def __init__(self, specs: Iterable[PmcAreaSpec], counters: Counters) -> None:
         self.counters = counters
+        #: The machine's paths: the G signals of each are read at its own offset.
+        self.paths = 1
         self.areas: dict[str, Area] = {}
         for spec in specs:
             area = Area(spec)
@@ -151,10 +168,13 @@ class Pmc:
             raise MachineError(EW.NOOPT, f"no PMC area {letter}")
         return area
 
-    def write(self, letter: str, start: int, data: bytes, force: bool) -> GRequest | None:
+    def write(
+        self, letter: str, start: int, data: bytes, force: bool
+    ) -> list[tuple[int, GRequest]]:
         """Write ``data`` from ``start``: EW_NOOPT, EW_NUMBER (addresses outside the area),
         EW_PROT (write-protected, unless ``force``). A write that changed G bytes returns what
-        it asks of automatic operation."""
+        it asks of automatic operation, ``(path, request)`` for each path whose signals
+        (:data:`PATH_SIGNALS_STRIDE`) it wrote."""
         area = self.area(letter)
         end = start + len(data)
         if start < 0 or end > area.size:
@@ -165,53 +185,89 @@ class Pmc:
         area.data[start:end] = data
         self.counters.pmc += 1
         self.counters.version += 1
-        if area.letter == "G" and before != data:
-            return self._g_request(start, before)
-        return None
+        if area.letter != "G" or before == data:
+            return []
+        asked = []
+        for path in range(1, self.paths + 1):
+            base = PATH_SIGNALS_STRIDE * (path - 1)
+            if start < base + PATH_SIGNALS_STRIDE and end > base and base + _MD < area.size:
+                asked.append((path, self._g_request(base, start, before)))
+        return asked
 
-    def _g_request(self, start: int, before: bytes) -> GRequest:
-        """What a write of the G area from ``start``, which replaced ``before``, asks (see
-        :data:`G_SIGNALS`): only the signals within the written bytes count."""
+    def _g_request(self, base: int, start: int, before: bytes) -> GRequest:
+        """What a write of the G area from ``start``, which replaced ``before``, asks of the
+        path whose signals begin at ``base`` (see :data:`G_SIGNALS`): only the signals within
+        the written bytes count."""
+        area = self.areas["G"].data
 
         def old(address: int) -> int | None:
-            i = address - start
+            i = base + address - start
             return before[i] if 0 <= i < len(before) else None
 
-        g = self.areas["G"].data
+        def now(address: int) -> int:
+            return area[base + address] if base + address < len(area) else 0
 
         def fell(address: int, bit: int) -> bool:
             was = old(address)
-            return was is not None and bool(was >> bit & 1) and not g[address] >> bit & 1
+            return was is not None and bool(was >> bit & 1) and not now(address) >> bit & 1
 
         def rose(address: int, bit: int) -> bool:
             was = old(address)
-            return was is not None and not was >> bit & 1 and bool(g[address] >> bit & 1)
+            return was is not None and not was >> bit & 1 and bool(now(address) >> bit & 1)
 
-        mode = feed = None
-        if old(_MD) is not None and old(_MD) != g[_MD]:
-            mode = _MODE_OF_G43.get(g[_MD] & _MD_BITS)
-        if old(_FV) is not None and old(_FV) != g[_FV]:
-            feed = min(_MAX_FEED_OVERRIDE, 0xFF - g[_FV])
-        start_edge = fell(*_ST) and bool(g[_SP[0]] >> _SP[1] & 1)
-        return GRequest(rose(*_ERS), fell(*_SP), mode, feed, start_edge)
+        def changed(address: int) -> bool:
+            was = old(address)
+            return was is not None and was != now(address)
 
-    def show_cycle(self, state: CycleState) -> None:
-        """Set the F signals a ladder reads from the cycle's ``state`` (see
-        :data:`F_SIGNALS`; RST follows ERS)."""
+        mode = feed = rapid = spindle = None
+        if changed(_MD):
+            mode = _MODE_OF_G43.get(now(_MD) & _MD_BITS)
+        if changed(_FV):
+            feed = min(_MAX_FEED_OVERRIDE, 0xFF - now(_FV))
+        if changed(_ROV) and (old(_ROV) or 0) & 3 != now(_ROV) & 3:
+            rapid = _RAPID_OF_ROV[now(_ROV) & 3]
+        if changed(_SOV):
+            spindle = min(_MAX_FEED_OVERRIDE, now(_SOV))
+        start_edge = fell(*_ST) and bool(now(_SP[0]) >> _SP[1] & 1)
+        return GRequest(rose(*_ERS), fell(*_SP), mode, feed, start_edge, rapid, spindle)
+
+    def show_overrides(self, path: int, feed: int, rapid: int, spindle: int) -> None:
+        """Set G12 (*FV0-*FV7, inverted), G14 (ROV1 ROV2: the step at or under ``rapid``)
+        and G30 (SOV0-SOV7) of ``path`` from the overrides the path uses, as a ladder
+        passes the panel's switches on."""
+        area = self.areas.get("G")
+        base = PATH_SIGNALS_STRIDE * (path - 1)
+        if area is None or base + _SOV >= area.size:
+            return
+        g = area.data
+        rov = next(i for i, step in enumerate(_RAPID_OF_ROV) if rapid >= step)
+        values = ((_FV, 0xFF - feed), (_ROV, g[base + _ROV] & ~3 | rov), (_SOV, spindle))
+        if any(g[base + a] != v for a, v in values):
+            for address, value in values:
+                g[base + address] = value
+            self.counters.pmc += 1
+            self.counters.version += 1
+
+    def show_cycle(self, state: CycleState, path: int = 1) -> None:
+        """Set the F signals a ladder reads from the cycle's ``state`` of ``path`` (see
+        :data:`F_SIGNALS`, at the path's offset; RST follows ERS)."""
         area = self.areas.get("F")
-        if area is None or area.size < 2:
+        base = PATH_SIGNALS_STRIDE * (path - 1)
+        if area is None or area.size < base + 2:
             return
         g = self.areas.get("G")
-        resetting = g is not None and g.size > _ERS[0] and bool(g.data[_ERS[0]] >> _ERS[1] & 1)
-        f0 = area.data[0] & ~_F0_MASK
+        at = base + _ERS[0]
+        resetting = g is not None and g.size > at and bool(g.data[at] >> _ERS[1] & 1)
+        f = area.data
+        f0 = f[base] & ~_F0_MASK
         if state is not _RESET:
             f0 |= 1 << _OP
         if state is _START:
             f0 |= 1 << _STL
         if state is _HOLD:
             f0 |= 1 << _SPL
-        f1 = area.data[1] & ~(1 << _RST) | (1 << _RST if resetting else 0)
-        if (f0, f1) != (area.data[0], area.data[1]):
-            area.data[0], area.data[1] = f0, f1
+        f1 = f[base + 1] & ~(1 << _RST) | (1 << _RST if resetting else 0)
+        if (f0, f1) != (f[base], f[base + 1]):
+            f[base], f[base + 1] = f0, f1
             self.counters.pmc += 1
             self.counters.version += 1

@@ -7,6 +7,7 @@ from typing import TYPE_CHECKING, Final
 
 from ._items import PARTS_COUNT, PARTS_TOTAL
 from ._macros import Macros, float_macro
+from ._signals import CLOCK_VARIABLES, clock_variable
 from .nc import VariableRefused
 
 if TYPE_CHECKING:
@@ -33,6 +34,8 @@ class PathVariables:
     def read_variable(self, number: int) -> float | None:
         if number in PARTS_VARIABLES:
             return float(self._path.parts(PARTS_VARIABLES[number]))
+        if number in CLOCK_VARIABLES:  # the CNC's clock: the alarms are stamped by it
+            return float(clock_variable(number, self._path.alarms.now()))
         if self._macros.range_of(number) is None:
             raise VariableRefused(115, f"#{number}")
         value = self._path.macro_values(number).get(number)
@@ -42,6 +45,8 @@ class PathVariables:
         if number in PARTS_VARIABLES:
             self._path.set_parts(PARTS_VARIABLES[number], 0 if value is None else round(value))
             return
+        if number in CLOCK_VARIABLES:
+            raise VariableRefused(116, f"#{number}")
         macros = self._macros
         r = macros.range_of(number)
         if r is None:

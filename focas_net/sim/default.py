@@ -58,6 +58,7 @@ from typing import Final
 
 from focas_net.versamax import BoardId, IOModuleRecord, RefType
 
+from ._identity import CLASS_MAX_AXES
 from .machine import (
     DEFAULT_HISTORY_CAPACITY,
     Clock,
@@ -251,7 +252,7 @@ def default_machine(
     return Machine(
         name,
         axes=axes,
-        identity=Identity(2, 8, " 0", " M", "D4F1", "32.0", "03"),
+        identity=Identity(2, CLASS_MAX_AXES["0i-F"], " 0", " M", "D4F1", "32.0", "03"),
         params=_params(len(axes)),
         diags=_diags(),
         macro_ranges=ranges,

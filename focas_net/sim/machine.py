@@ -11,7 +11,8 @@ parameter password and sessions (``_password``), macro variables (``_macros``), 
 the G/F signals of automatic operation (``_pmc``), active alarms and the history
 (``_alarms``), the VersaMax station (``_station``), and the path (``_path``): programs, NC
 engine on machine time (``_time``), panel, status and figures, and its production on its own
-(``_production``). A component keeps its own state and checks and moves the version counters
+(``_production``), and the program folders of a 30i-class control over the paths' programs
+(``_folders``). A component keeps its own state and checks and moves the version counters
 it shares with the others (``_base``); the machine builds them, asks for the checks in each
 operation's order and answers its reads through them. A control with several paths would hold
 one path each, sharing the rest.
@@ -60,7 +61,10 @@ component whose state it guards) and asked in the order the operation's docstrin
 * the cycle: cycle start only in MEM, not with the emergency stop or an alarm (EW_ALARM; an
   alarm that stopped the cycle wants a reset), not without a main program (EW_DATA); program
   search only in MEM or EDIT (EW_MODE); leaving MEM holds the feed; the emergency stop resets;
-  any alarm stops the cycle; reset clears the alarms the program raised.
+  any alarm stops the cycle; reset clears the alarms the program raised;
+* the program folders (``_folders``): a 16i-class control has none (EW_FUNC), then EW_PATH, a
+  name that is no folder or no file of the tree -> EW_DATA, deleting a program being executed
+  -> EW_REJECT.
 
 What a wire cannot carry is its adapter's to refuse: payload sizes and layouts, unknown commands,
 the packed protocol's ``type_a`` codes and ``type_d``, its ceiling of 32 PMC bytes, 32 alarm
@@ -101,6 +105,7 @@ from focas_net.versamax import IOModuleRecord
 
 from ._alarms import DEFAULT_HISTORY_CAPACITY, Alarm, Alarms, Clock, HistoryEntry, utc_now
 from ._base import Counters, MachineError
+from ._folders import FolderOperations
 from ._identity import (
     CONTROL_CLASSES,
     DEFAULT_CONTROL_CLASS,
@@ -111,7 +116,6 @@ from ._identity import (
 from ._items import MAX_REAL_DECIMALS as MAX_REAL_DECIMALS  # the native adapter's
 from ._items import PARTS_COUNT, PARTS_TOTAL, DataItem, Items, ParamKind
 from ._macros import MAX_MACRO_DECIMALS, MacroRange, Macros
-from ._operations import PathOperations
 from ._password import ParamLock, Session
 from ._path import (
     AUT_MODES,
@@ -143,6 +147,16 @@ from ._paths import (
     own_params,
 )
 from ._pmc import F_SIGNALS, G_SIGNALS, PMC_AREAS, Pmc, PmcAreaSpec
+from ._signals import (
+    CLOCK_VARIABLES,
+    SERVO_POWER_DIAG,
+    TIMER_PARAMS,
+    Collected,
+    SignalOperations,
+    clock_variable,
+    collected_diags,
+    collected_params,
+)
 from ._station import Station
 from .nc import Engine, ProgramStore, RealTimeClock, SimClock
 from .nc.scenario import Scenario, ScenarioEvent
@@ -185,7 +199,7 @@ __all__ = [
 ]
 
 
-class Machine(PathOperations):
+class Machine(FolderOperations, SignalOperations):
     """One simulated CNC.
 
     Build one with :func:`focas_net.sim.default_machine`, :func:`focas_net.sim.load_machine` or
@@ -245,9 +259,11 @@ class Machine(PathOperations):
         self._lock = ParamLock(param_password)
         self._station = Station(station or {})
         c = self._counters = Counters()
-        self._items = Items(params, diags, n, c)
+        self._items = Items(collected_params(params), collected_diags(diags), n, c)
+        self._collected = Collected()
         self._macros = Macros(macro_ranges, macro_values or {}, c)
         self._pmc = Pmc(pmc, c)
+        self._pmc.paths = len(specs)
         self._alarms = Alarms(name, history_capacity, clock, c)
         shared = Shared(c, self._items, self._macros, self._alarms, self._pmc)
         time = sim_clock if sim_clock is not None else RealTimeClock()
@@ -286,6 +302,10 @@ class Machine(PathOperations):
         #: The scenario's events as they were applied: ``(event, "begin" | "end" |
         #: "skipped")``, the newest 1000.
         self.scenario_log: deque[tuple[ScenarioEvent, str]] = first.production.log
+        for number in range(1, len(built) + 1):  # the G signals of the overrides in use
+            self._show_overrides(number)
+        self._show_state()
+        self._init_folders(self.now())
 
     @property
     def name(self) -> str:
@@ -356,9 +376,11 @@ class Machine(PathOperations):
 
     @property
     def data_version(self) -> int:
-        """Incremented when a parameter or diagnostic value changes (parts counts too)."""
+        """Incremented when a parameter or diagnostic value changes (parts counts, and the
+        run-time parameters as time moves)."""
         if self._paths.live:
             self._sync()
+        self._tick_data()
         return self._counters.data
 
     @property
@@ -367,6 +389,7 @@ class Machine(PathOperations):
         time moved, for the system variables follow the engine)."""
         if self._paths.live:
             self._sync()
+        self._tick_macro()
         return self._counters.macro
 
     @property
@@ -378,9 +401,10 @@ class Machine(PathOperations):
 
     @property
     def pmc_version(self) -> int:
-        """Incremented when PMC data changes."""
+        """Incremented when PMC data changes (the F signals of the state as it changes)."""
         if self._paths.live:
             self._sync()
+        self._show_state()
         return self._counters.pmc
 
     @property
@@ -457,12 +481,16 @@ class Machine(PathOperations):
         if self._paths.live:
             self._sync()
         item, i = p.items.lookup(False, datano, axis)
+        if datano in TIMER_PARAMS:
+            return self._timer_param(datano, item, path)
         return item.values[i]
 
     def read_diag(self, datano: int, axis: int, *, path: int = 1) -> int:
         """The value of diagnostic ``datano`` (axes those of ``path``): EW_PATH, EW_NUMBER,
         then EW_ATTRIB."""
         item, i = self._paths.at(path).items.lookup(True, datano, axis)
+        if datano == SERVO_POWER_DIAG and item.axis:
+            return self._servo_power(axis, path)
         return item.values[i]
 
     def param_gate_open(self, session: Session, *, path: int = 1) -> bool:
@@ -518,6 +546,8 @@ class Machine(PathOperations):
             raise MachineError(EW.PASSWD, f"parameter write not enabled: {closed}")
         value = items.rescaled(item, value, decimals)
         items.set(item, i, value, "parameter")
+        if datano in TIMER_PARAMS:
+            self._write_timer_param(datano, value, path)
         if datano in (PARTS_COUNT, PARTS_TOTAL):
             p.set_parts(datano, value)
         elif datano in SETTING_PARAMS:
@@ -533,6 +563,8 @@ class Machine(PathOperations):
     # -- macro variables -----------------------------------------------------------------
     def macro_writable(self, number: int) -> bool | None:
         """True/False for a writable/read-only variable; None when there is no such variable."""
+        if number in CLOCK_VARIABLES:
+            return False
         r = self._macros.range_of(number)
         return None if r is None else r.writable
 
@@ -542,6 +574,8 @@ class Machine(PathOperations):
         an unknown variable."""
         p = self._paths.at(path)
         macros = self._macros
+        if number in CLOCK_VARIABLES:
+            return Decimal(clock_variable(number, self.now()))
         if macros.range_of(number) is None:
             raise MachineError(EW.NUMBER, f"no macro variable #{number}")
         if self._paths.live:
@@ -559,6 +593,8 @@ class Machine(PathOperations):
         Making a vacant variable vacant changes nothing."""
         self.check_writable()
         p = self._paths.at(path)
+        if number in CLOCK_VARIABLES:
+            raise MachineError(EW.PROT, f"#{number} is read-only")
         self._macros.check_write(number)
         if number in PARTS_VARIABLES:
             p.write_parts(number, value)
@@ -581,8 +617,10 @@ class Machine(PathOperations):
         area = self._pmc.area(letter)
         if length < 0:
             raise ValueError(f"a PMC read of {length} bytes")
-        if area.letter == "F" and self._paths.live:
-            self._sync()  # the F signals follow the run state
+        if area.letter == "F":
+            if self._paths.live:
+                self._sync()  # the F signals follow the run state
+            self._show_state()
         end = start + length
         if start < 0 or end > area.size:
             raise area.beyond(start, end)
@@ -595,9 +633,9 @@ class Machine(PathOperations):
         A write that changes G signals of automatic operation (:data:`G_SIGNALS`) acts on
         them as the CNC does."""
         self.check_writable()
-        asked = self._pmc.write(letter, start, data, force)
-        if asked is not None:
-            self._path.apply(asked)
+        for path, asked in self._pmc.write(letter, start, data, force):
+            self._paths.at(path).apply(asked)
+            self._show_overrides(path)
 
     # -- alarms --------------------------------------------------------------------------
     def active_alarms(
@@ -692,6 +730,7 @@ class Machine(PathOperations):
             h.update(repr(parts).encode())
             h.update(b"\n")
 
+        self._show_state()  # the F signals of the state, as a read shows them
         put("axes", self.axes, self.read_only, self.control_enabled)
         for t, table in (("param", self._items.params), ("diag", self._items.diags)):
             for n in sorted(table):

@@ -22,7 +22,7 @@ from focas_net._bits import bits_hint, bits_of_text
 from focas_net.versamax import BoardId, IOModuleRecord, RefType
 
 from ._base import NUMBERS
-from ._identity import name_problem
+from ._identity import CLASS_MAX_AXES, name_problem
 from ._items import parts_param_problem
 from ._pmc import pmc_letter
 from ._station import MAX_RACK, MAX_SLOT
@@ -90,10 +90,11 @@ _DECIMAL: Final = re.compile(r"[+-]?(?:[0-9]+(?:\.[0-9]*)?|\.[0-9]+)")
 # -- sections -----------------------------------------------------------------------------------
 
 
-def _identity(ctx: _Ctx, value: Any, n_axes: int) -> Identity:
+def _identity(ctx: _Ctx, value: Any, n_axes: int, control_class: str) -> Identity:
     t = _table(ctx, value)
     _only(ctx, t, ("addinfo", "max_axis", "cnc_type", "mt_type", "series", "version"))
-    max_axis = _int(ctx.sub("max_axis"), t.get("max_axis", max(8, n_axes)), (n_axes, 32))
+    most = max(CLASS_MAX_AXES[control_class], n_axes)
+    max_axis = _int(ctx.sub("max_axis"), t.get("max_axis", most), (n_axes, 32))
     return Identity(
         _int(ctx.sub("addinfo"), t.get("addinfo", 2), _I16),
         max_axis,
@@ -534,11 +535,12 @@ def _build(
     mc = root.sub("machine")
     head = top["machine"]
     alone = paths is None  # one path: its axes, panel, motion and programs are the machine's
+    control_class = _control_class(mc.sub("control_class"), head)
     return Machine(
         name,
         axes=axes if alone else None,
         paths=paths,
-        identity=_identity(root.sub("sysinfo"), top.get("sysinfo", {}), n),
+        identity=_identity(root.sub("sysinfo"), top.get("sysinfo", {}), n, control_class),
         params=_items(root.sub("parameters"), top.get("parameters", {}), n, parts=True),
         diags=_items(root.sub("diagnostics"), top.get("diagnostics", {}), n),
         macro_ranges=ranges,
@@ -552,7 +554,7 @@ def _build(
         clock=clock,
         control_enabled=control,
         read_only=_bool(mc.sub("read_only"), head.get("read_only", False)),
-        control_class=_control_class(mc.sub("control_class"), head),
+        control_class=control_class,
         programs=programs[0],
         main_program=programs[1],
         sim_clock=sim_clock,
