@@ -235,6 +235,7 @@ CLIENT_MODULES = [
     "connection",
     "many",
     "native",
+    "_native_offsets",
     "projection",
     "reconnect",
     "sim_control",

@@ -115,6 +115,7 @@ TABLE: dict[str, tuple[str, ...]] = {
         "focas_net.adapters._native_cnc",
         "focas_net.adapters._native_data",
         "focas_net.adapters._native_programs",
+        "focas_net.adapters._native_offsets",
         "focas_net.adapters._native_files",
     ),
     "focas_net.server": (
@@ -181,8 +182,9 @@ BEYOND_THE_TABLE: dict[str, tuple[str, ...]] = {
             "focas_net.adapters._native_cnc",
             "focas_net.adapters._native_data",
             "focas_net.adapters._native_programs",
+            "focas_net.adapters._native_offsets",
         )
-        for area in ("clock", "cnc", "data", "programs", "files")
+        for area in ("clock", "cnc", "data", "programs", "offsets", "files")
     },
     # bounded memos: no protocol, no machine
     "focas_net._memo": (),

@@ -65,8 +65,9 @@ left in the answer, the connection's session) -> data``, raising one of
 :data:`~focas_net.adapters._common.REFUSALS` for a block it refuses (the block then carries its
 EW code). The handlers are by area: :mod:`._native_cnc` (identity, status, motion, axes, loads,
 PMC, alarms), :mod:`._native_data` (macro variables, parameters, diagnostics),
-:mod:`._native_programs` (part programs), :mod:`._native_files` (the program folders of a
-30i-class control) and :mod:`._native_clock` (the clock, the panel's signals).
+:mod:`._native_programs` (part programs), :mod:`._native_offsets` (tool and work offsets,
+tool life), :mod:`._native_files` (the program folders of a 30i-class control) and
+:mod:`._native_clock` (the clock, the panel's signals).
 
 Answers of reads are kept (:mod:`focas_net.adapters._common`, as the packed adapter keeps
 its own): a request made of the reads in :data:`_COUNTERS` only, every block answered without
@@ -128,6 +129,7 @@ from ._native_clock import ClockHandlers
 from ._native_cnc import CncHandlers
 from ._native_data import DataHandlers
 from ._native_files import FileHandlers
+from ._native_offsets import OffsetHandlers
 from ._native_programs import ProgramHandlers, ProgramTransfer
 from ._native_spindles import SpindleHandlers
 
@@ -255,6 +257,7 @@ class NativeAdapter:
         data = DataHandlers(machine, self.max_axis)
         programs = self._programs = ProgramHandlers(machine, version)
         spindles = SpindleHandlers(machine)
+        offsets = OffsetHandlers(machine, self.max_axis)
         clock = ClockHandlers(machine)
         files = FileHandlers(machine)
         c = NativeCommand
@@ -301,6 +304,16 @@ class NativeAdapter:
             c.DELETE: programs.delete_program,
             c.SEARCH: programs.search_program,
             c.RDEXECPROG: programs.read_executing_blocks,
+            c.RDTOFS: offsets.read_tool_offsets,
+            c.WRTOFS: offsets.write_tool_offset,
+            c.RDTOFSINFO: offsets.read_tool_offset_info,
+            c.RDZOFS: offsets.read_work_offsets,
+            c.WRZOFS: offsets.write_work_offset,
+            c.RDUSEGRPID: offsets.read_groups_in_use,
+            c.RDNGRP: offsets.read_life_counts,
+            c.RDTLINFO: offsets.read_life_counts,
+            c.RDTOOLGRP: offsets.read_tool_groups,
+            c.TOOLNUM: offsets.read_tool_numbers,
             c.RDPDF_DRIVE: files.read_drives,
             c.RDPDF_INF: files.read_drive_info,
             c.RDPDF_CURDIR: files.read_current_folder,

@@ -22,6 +22,9 @@ once (``docs/native-protocol.md`` describes the wire format):
 * :mod:`.files` — the program folders of a 30i-class control (drives, folders, files);
 * :mod:`.programs` — part programs: directory, memory, search, the blocks being executed and
   the transfer frames;
+* :mod:`.offsets` — tool and work zero offsets and tool life management: their records,
+  requests and the frames of their FOCAS functions (``focas_net.native.offsets.cnc_rdtofs``
+  ...);
 * :mod:`.calls` — the blocks each FOCAS function of FANUC's library sends, per command set
   (its names are exported here, and the module itself as ``calls``);
 * :mod:`.spindles` — the figure selectors of 0x40 (spindles) and 0x56 (servo axes), the spindle
@@ -208,6 +211,29 @@ from .macros import (
     MacroReadRequest,
     MacroWriteRequest,
 )
+from .offsets import (
+    SINGLE_TYPE,
+    TLINFO_16I,
+    OffsetWrite,
+    ToolEntry,
+    ToolGroupRecord,
+    ToolGroupRecords,
+    ToolGroupRequest,
+    ToolGroupsInUse,
+    ToolGroupsInUseRequest,
+    ToolLifeCounts,
+    ToolLifeCountsRequest,
+    ToolLifeInfoRequest,
+    ToolNumberRequest,
+    ToolNumbers,
+    ToolOffsetInfoRequest,
+    ToolOffsetMemory,
+    ToolOffsetRequest,
+    ToolOffsetWriteRequest,
+    WorkOffsetRequest,
+    WorkOffsetWriteRequest,
+    offset_type_of,
+)
 from .opening import (
     MACHINE_LATHE,
     MACHINE_MILL,
@@ -348,8 +374,10 @@ __all__ = [
     "REQUEST_TYPES",
     "RESPONSE_BLOCK_SIZE",
     "SCALED_SIZE",
+    "SINGLE_TYPE",
     "SIZE_UNITS",
     "SPINDLE_METER_UNITS",
+    "TLINFO_16I",
     "VACANT",
     "ActualFeedRequest",
     "ActualSpindleSpeedRequest",
@@ -438,6 +466,7 @@ __all__ = [
     "NativeSession",
     "NativeSysInfo",
     "NoData",
+    "OffsetWrite",
     "OpenAnswer",
     "OpenHeadV2",
     "OpenHeadV3",
@@ -499,9 +528,26 @@ __all__ = [
     "TimerValue",
     "TmModeRequest",
     "TmModeStatus",
+    "ToolEntry",
+    "ToolGroupRecord",
+    "ToolGroupRecords",
+    "ToolGroupRequest",
+    "ToolGroupsInUse",
+    "ToolGroupsInUseRequest",
+    "ToolLifeCounts",
+    "ToolLifeCountsRequest",
+    "ToolLifeInfoRequest",
+    "ToolNumberRequest",
+    "ToolNumbers",
+    "ToolOffsetInfoRequest",
+    "ToolOffsetMemory",
+    "ToolOffsetRequest",
+    "ToolOffsetWriteRequest",
     "TransferError",
     "TransferFrame",
     "TransferStart",
+    "WorkOffsetRequest",
+    "WorkOffsetWriteRequest",
     "answer_blocks",
     "answer_refusal",
     "binary_to_decimal",
@@ -550,6 +596,7 @@ __all__ = [
     "encode_response_body",
     "error_frame_type",
     "max_response_body",
+    "offset_type_of",
     "open_answer_size",
     "parse_program_range",
     "request_frame",

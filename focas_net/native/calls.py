@@ -136,7 +136,9 @@ class LibraryCall:
     )
 
     def __post_init__(self) -> None:
-        object.__setattr__(self, "parts", tuple(encode_part(frame) for frame in self.frames))
+        object.__setattr__(
+            self, "parts", tuple(encode_part(frame, 1, self.function) for frame in self.frames)
+        )
 
     def answer(self, frame: int, index: int, data: bytes, max_axes: int) -> Any:
         """The answer ``data`` of request ``index`` of frame ``frame``, decoded
@@ -163,7 +165,7 @@ class LibraryCall:
         key = (frame, path)
         part = self._path_parts.get(key)
         if part is None:
-            part = self._path_parts[key] = encode_part(self.frames[frame], path)
+            part = self._path_parts[key] = encode_part(self.frames[frame], path, self.function)
         return part
 
     def blocks(self, path: int = 1) -> tuple[tuple[RequestBlock, ...], ...]:

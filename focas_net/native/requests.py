@@ -77,6 +77,11 @@ class NativeCommand(enum.IntEnum):
     DELETE = 0x05  # cnc_delete / cnc_deleteo8
     RDPROGDIR = 0x06  # cnc_rdprogdir / cnc_rdprogdir2 / cnc_rdprogdir3
     RDPROGINFO = 0x07  # cnc_rdproginfo
+    RDTOFS = 0x08  # cnc_rdtofs / cnc_rdtofsr (focas_net.native.offsets)
+    WRTOFS = 0x09  # cnc_wrtofs
+    RDTOFSINFO = 0x0A  # cnc_rdtofsinfo / cnc_rdtofsinfo2
+    RDZOFS = 0x0B  # cnc_rdzofs / cnc_rdzofsr
+    WRZOFS = 0x0C  # cnc_wrzofs
     WRPARAM = 0x0F  # cnc_wrparam, 16i class (after 0x10)
     RDPARAM = 0x0E  # cnc_rdparam, 16i class (4-byte value slots)
     RDPARAINFO = 0x10  # cnc_rdparainfo; cnc_wrparam, 16i class
@@ -94,6 +99,9 @@ class NativeCommand(enum.IntEnum):
     POSITION = 0x26  # cnc_absolute / machine / relative / distance / rdposition / rddynamic2
     RDDIAG = 0x30  # cnc_diagnoss, 16i class (4-byte value slots)
     RDSPLOAD = 0x40  # cnc_rdspload / rdspmaxrpm / rdspgear / acts2 / rdspmeter (16i)
+    RDUSEGRPID = 0x48  # cnc_rdusegrpid (focas_net.native.offsets)
+    RDNGRP = 0x4A  # cnc_rdngrp / cnc_rdmaxgrp / cnc_rdmaxtool; cnc_rdtlinfo, 16i class
+    TOOLNUM = 0x4D  # cnc_toolnum; cnc_rdtoolgrp (after 0x8B)
     GETTIMER = 0x45  # cnc_gettimer (focas_net.native.clock)
     SETTIMER = 0x46  # cnc_settimer
     RDSVMETER = 0x56  # cnc_rdsvmeter / rdcurrent / rdloopgain / rdsrvspeed
@@ -102,6 +110,7 @@ class NativeCommand(enum.IntEnum):
     AXIS_UNIT = 0x88  # cnc_rdposition: units
     AXIS_NAME = 0x89  # cnc_rdaxisname / cnc_rdsvmeter / cnc_rdposition: axis names
     SPDLNAME = 0x8A  # cnc_rdspdlname / cnc_rdspmeter / cnc_rdspeed: spindle names
+    RDTOOLGRP = 0x8B  # cnc_rdntool / cnc_rdlife / cnc_rdcount / cnc_rdtoolgrp
     RDPARAM3 = 0x8D  # cnc_rdparam, 30i class (8-byte scaled slots)
     WRPARAM3 = 0x8E  # cnc_wrparam, 30i class (after 0xA0)
     RDDIAG3 = 0x93  # cnc_diagnoss, 30i class (8-byte scaled slots)
@@ -125,6 +134,7 @@ class NativeCommand(enum.IntEnum):
     STAT_HDCK = 0xE1  # cnc_statinfo: ODBST hdck
     RDCNCID = 0xE8  # cnc_rdcncid
     RDTIMER = 0x120  # cnc_rdtimer
+    RDTLINFO = 0x1C4  # cnc_rdtlinfo, 30i class
     RDPDF_PRGINF = 0x2B1  # cnc_rdpdf_prginf (focas_net.native.files)
     PMC_RDPMCRNG = 0x8001  # pmc_rdpmcrng (device PMC)
     PMC_WRPMCRNG = 0x8002  # pmc_wrpmcrng (device PMC)

@@ -5,8 +5,11 @@ knows either wire protocol: :mod:`focas_net.adapters` translates (``docs/protoco
 
 from ._alarms import MAX_ALARM_NO
 from ._identity import CLASS_MAX_AXES, MAX_NAME_LENGTH
+from ._pmc import pmc_letter
 from ._signals import CLOCK_VARIABLES, SERVO_POWER_DIAG, TIMER_PARAMS, OperatorSignals
 from ._spindles import SPINDLE_NAME, Spindle
+from ._tool_ops import GroupStatus, LifeInfo, ToolOffsetInfo
+from ._tools import LIFE_TYPES, OFFSET_TYPES, WORK_OFFSET_NAMES, LifeTool, ToolGroup, ToolsSpec
 from .default import DEFAULT_NAME, DEMO_PROGRAM, default_machine
 from .machine import (
     AUT_MODES,
@@ -53,10 +56,12 @@ __all__ = [
     "DEMO_PROGRAM",
     "F_SIGNALS",
     "G_SIGNALS",
+    "LIFE_TYPES",
     "MAX_ALARM_NO",
     "MAX_MACRO_DECIMALS",
     "MAX_NAME_LENGTH",
     "MAX_PATHS",
+    "OFFSET_TYPES",
     "PATH_PARAMS",
     "PMC_AREAS",
     "POSITION_DECIMALS",
@@ -65,11 +70,15 @@ __all__ = [
     "SPINDLE_NAME",
     "TIMER_KINDS",
     "TIMER_PARAMS",
+    "WORK_OFFSET_NAMES",
     "Alarm",
     "Clock",
     "DataItem",
+    "GroupStatus",
     "HistoryEntry",
     "Identity",
+    "LifeInfo",
+    "LifeTool",
     "Machine",
     "MachineError",
     "MachineFileError",
@@ -84,8 +93,12 @@ __all__ = [
     "Session",
     "Spindle",
     "Status",
+    "ToolGroup",
+    "ToolOffsetInfo",
+    "ToolsSpec",
     "default_machine",
     "load_machine",
     "machine_from_dict",
+    "pmc_letter",
     "utc_now",
 ]

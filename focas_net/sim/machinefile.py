@@ -63,12 +63,14 @@ from .machine import (
 )
 from .nc import Scenario, SimClock
 from .pathfile import _axes, _motion, _panel, _programs, path_specs
+from .toolfile import tool_specs
 
 __all__ = ["MODE_NAMES", "MachineFileError", "load_machine", "machine_from_dict"]
 
 
-#: ``type`` names of a parameter or diagnostic (``i16`` and ``i32``, the width names of older
-#: files, are ``word`` and ``2-word``).
+#: ``type`` names of a parameter or diagnostic, as every front end names the types
+#: (``two-word``); those of older files still load (``2-word``, and the width names ``i16`` and
+#: ``i32``, which are ``word`` and ``two-word``).
 _TYPES: Final[dict[str, ParamKind]] = {
     "bit": ParamKind.BIT,
     "byte": ParamKind.BYTE,
@@ -79,7 +81,7 @@ _TYPES: Final[dict[str, ParamKind]] = {
     "i32": ParamKind.TWO_WORD,
     "real": ParamKind.REAL,
 }
-_TYPE_NAMES: Final = '"bit", "byte", "word", "2-word" (or "two-word"), "real"'
+_TYPE_NAMES: Final = '"bit", "byte", "word", "two-word", "real"'
 _MODULES: Final = {"IC200GBI001": gniu_record, "IC200MDD844": mdd844_record}
 _REF_TYPES: Final[dict[str, RefType]] = {"I": RefType.I, "Q": RefType.Q, "AI": RefType.AI}
 _REF_TYPES["AQ"] = RefType.AQ
@@ -434,6 +436,7 @@ _TOP: Final = (
     "program",
     "run",
     "path",
+    "tools",
 )
 
 
@@ -559,6 +562,7 @@ def _build(
         main_program=programs[1],
         sim_clock=sim_clock,
         scenario=_run(root.sub("run"), top["run"]) if "run" in top else None,
+        tools=tool_specs(root.sub("tools"), top["tools"]) if "tools" in top else None,
     )
 
 

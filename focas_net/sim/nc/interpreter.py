@@ -136,12 +136,22 @@ class Dwell:
     seconds: float
 
 
+#: The code of the engine's own wait in a loop of blocks that take no time (not a function).
+BUSY: Final = "busy"
+
+
 @dataclass(frozen=True, slots=True)
 class Wait:
-    """An M, T or tool-change function: the program waits ``seconds`` for its completion."""
+    """An M, T or tool-change function: the program waits ``seconds`` for its completion; or
+    the engine's own time for a block-only loop (``code`` :data:`BUSY`), which is no function."""
 
     seconds: float
     code: str
+
+    @property
+    def fin(self) -> bool:
+        """Whether an M/S/T/B function waits for its completion (ODBST ``mstb`` FIN)."""
+        return self.code != BUSY
 
 
 @dataclass(frozen=True, slots=True)
