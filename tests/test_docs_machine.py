@@ -93,7 +93,7 @@ def _keys_documented() -> dict[str, set[str]]:
     the first column of its tables names."""
     doc = MACHINE_FILE_DOC.read_text()
     sections = {}
-    for match in re.finditer(r"^## `\[\[?([a-z]+)", doc, re.M):
+    for match in re.finditer(r"^## `\[\[?([a-z_]+)", doc, re.M):
         body = _section(doc, match.group(0))
         cells = re.findall(r"^\| ([^|]+) \|", body, re.M)
         keys = {k for cell in cells for k in re.findall(r"`([a-z_]+)`", cell)}

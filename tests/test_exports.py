@@ -239,6 +239,8 @@ CLIENT_MODULES = [
     "projection",
     "reconnect",
     "sim_control",
+    "_native_info",
+    "_native_modal",
     "_started",
     "_values",
     "_native_files",

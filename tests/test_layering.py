@@ -115,6 +115,8 @@ TABLE: dict[str, tuple[str, ...]] = {
         "focas_net.adapters._native_cnc",
         "focas_net.adapters._native_data",
         "focas_net.adapters._native_programs",
+        "focas_net.adapters._native_info",
+        "focas_net.adapters._native_modal",
         "focas_net.adapters._native_offsets",
         "focas_net.adapters._native_files",
     ),
@@ -184,7 +186,7 @@ BEYOND_THE_TABLE: dict[str, tuple[str, ...]] = {
             "focas_net.adapters._native_programs",
             "focas_net.adapters._native_offsets",
         )
-        for area in ("clock", "cnc", "data", "programs", "offsets", "files")
+        for area in ("clock", "cnc", "data", "programs", "offsets", "files", "modal", "info")
     },
     # bounded memos: no protocol, no machine
     "focas_net._memo": (),

@@ -72,8 +72,8 @@ from ..protocol import (
 from ._composite import ChunkOutcome
 from ._native_clock import NativeClock
 from ._native_files import NativeFiles
+from ._native_info import NativeInfo
 from ._native_items import (
-    NativeItems,
     axis_name,
     block_data,
     decoded,
@@ -83,6 +83,7 @@ from ._native_items import (
     text,
 )
 from ._native_link import Handle, check_path_of
+from ._native_modal import NativeModal
 from ._native_offsets import NativeOffsets
 from ._native_spindles import NativeSpindles
 from ._started import StartedCall
@@ -201,7 +202,9 @@ def _check_dynamic_axis(axis: object) -> None:
     check_axis(axis, every=-1)
 
 
-class NativeClient(NativeItems, NativeOffsets, NativeFiles, NativeClock, NativeSpindles):
+class NativeClient(
+    NativeInfo, NativeOffsets, NativeFiles, NativeClock, NativeModal, NativeSpindles
+):
     """An asyncio client of FANUC's FOCAS/2 Ethernet protocol (port 8193 on a real control).
 
     It has the methods of :class:`~focas_net.client.FocasClient` that FOCAS/2 carries, with

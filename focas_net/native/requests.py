@@ -85,20 +85,33 @@ class NativeCommand(enum.IntEnum):
     WRPARAM = 0x0F  # cnc_wrparam, 16i class (after 0x10)
     RDPARAM = 0x0E  # cnc_rdparam, 16i class (4-byte value slots)
     RDPARAINFO = 0x10  # cnc_rdparainfo; cnc_wrparam, 16i class
+    RDPARANUM = 0x11  # cnc_rdparanum (focas_net.native.info)
     RDMACRO = 0x15  # cnc_rdmacro / cnc_rdmacror: scaled numbers
     WRMACRO = 0x16  # cnc_wrmacro: one scaled number (binary at 16i class)
     SYSINFO = 0x18  # cnc_allclibhndl3 (stored for cnc_sysinfo): ODBSYS
     STATINFO = 0x19  # cnc_statinfo: ODBST; cnc_rdposition (16i class)
     ALARM = 0x1A  # cnc_alarm / cnc_alarm2 / cnc_rddynamic2: alarm bits
+    GETFIGURE = 0x1B  # cnc_getfigure (focas_net.native.info)
     RDPRGNUM = 0x1C  # cnc_rdprgnum / cnc_rdprgnumo8 / cnc_rddynamic2
     RDSEQNUM = 0x1D  # cnc_rdseqnum / cnc_rddynamic2
     RDEXECPROG = 0x20  # cnc_rdexecprog (focas_net.native.programs)
+    GMODAL = 0x21  # cnc_modal: G codes (focas_net.native.modal)
+    AMODAL = 0x22  # cnc_modal: other data
     RDALMMSG = 0x23  # cnc_rdalmmsg / cnc_rdalmmsg2: alarm messages
     ACTF = 0x24  # cnc_actf / cnc_rddynamic2: actual feed rate
     ACTS = 0x25  # cnc_acts / cnc_rddynamic2: actual spindle speed
     POSITION = 0x26  # cnc_absolute / machine / relative / distance / rdposition / rddynamic2
+    RDSET = 0x29  # cnc_rdset, 16i set (focas_net.native.info)
+    RDSETINFO = 0x2B  # cnc_rdsetinfo
     RDDIAG = 0x30  # cnc_diagnoss, 16i class (4-byte value slots)
+    RDDIAGINFO = 0x31  # cnc_rddiaginfo
+    RDDIAGNUM = 0x32  # cnc_rddiagnum
+    RDOPMSG = 0x34  # cnc_rdopmsg / cnc_rdopmsg2; cnc_rdopmsg3, 16i class
+    RDBLKCOUNT = 0x35  # cnc_rdblkcount
+    RDMDIPNTR = 0x38  # cnc_rdmdipntr
     RDSPLOAD = 0x40  # cnc_rdspload / rdspmaxrpm / rdspgear / acts2 / rdspmeter (16i)
+    RDSYSSOFT = 0x41  # cnc_rdsyssoft
+    RDPRSTRINFO = 0x43  # cnc_rdprstrinfo (with 0x26 kinds 13 and 14)
     RDUSEGRPID = 0x48  # cnc_rdusegrpid (focas_net.native.offsets)
     RDNGRP = 0x4A  # cnc_rdngrp / cnc_rdmaxgrp / cnc_rdmaxtool; cnc_rdtlinfo, 16i class
     TOOLNUM = 0x4D  # cnc_toolnum; cnc_rdtoolgrp (after 0x8B)
@@ -113,7 +126,10 @@ class NativeCommand(enum.IntEnum):
     RDTOOLGRP = 0x8B  # cnc_rdntool / cnc_rdlife / cnc_rdcount / cnc_rdtoolgrp
     RDPARAM3 = 0x8D  # cnc_rdparam, 30i class (8-byte scaled slots)
     WRPARAM3 = 0x8E  # cnc_wrparam, 30i class (after 0xA0)
+    RDSET3 = 0x90  # cnc_rdset, 30i set
     RDDIAG3 = 0x93  # cnc_diagnoss, 30i class (8-byte scaled slots)
+    RDGCODE = 0x96  # cnc_rdgcode
+    RDCOMMAND = 0x97  # cnc_rdcommand
     STAT_TMMODE = 0x98  # cnc_statinfo: ODBST tmmode
     RDPARAINFO3 = 0xA0  # cnc_wrparam, 30i class
     AXIS_DISPLAY = 0xA3  # cnc_rdposition, 30i class: display flags
@@ -131,13 +147,20 @@ class NativeCommand(enum.IntEnum):
     PDF_RDMAIN = 0xB9  # cnc_pdf_rdmain
     PDF_SLCTMAIN = 0xBA  # cnc_pdf_slctmain
     EXEPRGNAME = 0xCF  # cnc_exeprgname
+    RDOPMSG3 = 0xD0  # cnc_rdopmsg3, 30i class
     STAT_HDCK = 0xE1  # cnc_statinfo: ODBST hdck
+    STATINFO2 = 0xE2  # cnc_statinfo2 (with 0xE1 and 0x98)
     RDCNCID = 0xE8  # cnc_rdcncid
+    EXEPRGNAME2 = 0xFC  # cnc_exeprgname2
     RDTIMER = 0x120  # cnc_rdtimer
+    RDETHERINFO = 0x159  # cnc_rdetherinfo
+    RDACTPT = 0x162  # cnc_rdactpt
     RDTLINFO = 0x1C4  # cnc_rdtlinfo, 30i class
     RDPDF_PRGINF = 0x2B1  # cnc_rdpdf_prginf (focas_net.native.files)
     PMC_RDPMCRNG = 0x8001  # pmc_rdpmcrng (device PMC)
     PMC_WRPMCRNG = 0x8002  # pmc_wrpmcrng (device PMC)
+    PMC_RDPMCINFO = 0x8003  # pmc_rdpmcinfo (device PMC)
+    PMC_RDPMCTITLE = 0x800B  # pmc_rdpmctitle (device PMC)
 
 
 class _ExtraLength:

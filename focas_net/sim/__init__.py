@@ -5,6 +5,15 @@ knows either wire protocol: :mod:`focas_net.adapters` translates (``docs/protoco
 
 from ._alarms import MAX_ALARM_NO
 from ._identity import CLASS_MAX_AXES, MAX_NAME_LENGTH
+from ._information import (
+    SETTING_NUMBERS,
+    VALID_FIGURES,
+    EthernetBoard,
+    LadderTitle,
+    PmcAreaExtent,
+    SoftwareVersion,
+)
+from ._modal import EXTERNAL_MESSAGE_NUMBERS, ExternalMessage, OperatorMessage
 from ._pmc import pmc_letter
 from ._signals import CLOCK_VARIABLES, SERVO_POWER_DIAG, TIMER_PARAMS, OperatorSignals
 from ._spindles import SPINDLE_NAME, Spindle
@@ -54,6 +63,7 @@ __all__ = [
     "DEFAULT_HISTORY_CAPACITY",
     "DEFAULT_NAME",
     "DEMO_PROGRAM",
+    "EXTERNAL_MESSAGE_NUMBERS",
     "F_SIGNALS",
     "G_SIGNALS",
     "LIFE_TYPES",
@@ -67,16 +77,21 @@ __all__ = [
     "POSITION_DECIMALS",
     "POSITION_KINDS",
     "SERVO_POWER_DIAG",
+    "SETTING_NUMBERS",
     "SPINDLE_NAME",
     "TIMER_KINDS",
     "TIMER_PARAMS",
+    "VALID_FIGURES",
     "WORK_OFFSET_NAMES",
     "Alarm",
     "Clock",
     "DataItem",
+    "EthernetBoard",
+    "ExternalMessage",
     "GroupStatus",
     "HistoryEntry",
     "Identity",
+    "LadderTitle",
     "LifeInfo",
     "LifeTool",
     "Machine",
@@ -84,13 +99,16 @@ __all__ = [
     "MachineFileError",
     "MacroRange",
     "MotionData",
+    "OperatorMessage",
     "OperatorSignals",
     "Panel",
     "ParamKind",
     "PathInfo",
     "PathSpec",
+    "PmcAreaExtent",
     "PmcAreaSpec",
     "Session",
+    "SoftwareVersion",
     "Spindle",
     "Status",
     "ToolGroup",

@@ -113,9 +113,11 @@ from ._identity import (
     checked_identity,
     checked_name,
 )
+from ._information import InformationOperations
 from ._items import MAX_REAL_DECIMALS as MAX_REAL_DECIMALS  # the native adapter's
 from ._items import PARTS_COUNT, PARTS_TOTAL, DataItem, Items, ParamKind
 from ._macros import MAX_MACRO_DECIMALS, MacroRange, Macros
+from ._modal import ModalOperations
 from ._password import ParamLock, Session
 from ._path import (
     AUT_MODES,
@@ -201,7 +203,9 @@ __all__ = [
 ]
 
 
-class Machine(FolderOperations, SignalOperations, ToolOperations):
+class Machine(
+    FolderOperations, SignalOperations, ToolOperations, ModalOperations, InformationOperations
+):
     """One simulated CNC.
 
     Build one with :func:`focas_net.sim.default_machine`, :func:`focas_net.sim.load_machine` or

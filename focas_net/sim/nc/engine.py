@@ -161,6 +161,7 @@ class Engine:
             raise NcStateError(f"cycle start refused: alarm {self._alarm.code} is active")
         if self._state is CycleState.START:
             return
+        self.interpreter.message = None  # a stop's message goes with the cycle start
         if self._state is CycleState.RESET:
             main = self.store.find(self.store.main) if self.store.main is not None else None
             if main is None:
@@ -211,6 +212,7 @@ class Engine:
         self._single_block_pending = False
         it = self.interpreter
         it.rewind(None)
+        it.message = None
         it.spindle = 5
         it.coolant = False
         it.position = list(self._position)
@@ -670,6 +672,7 @@ class Engine:
         self._state = CycleState.RESET
         it = self.interpreter
         it.rewind(None)
+        it.message = None
         it.spindle = 5
         it.coolant = False
         it.position = list(self._position)
