@@ -17,6 +17,14 @@ mode and of readiness, each following the machine (a part of :class:`~focas_net.
 * **Diagnostic 4901**, the servo motor's power consumption in watts per axis: the axis's
   servo load (:meth:`Machine.servo_loads`) times :data:`SERVO_WATTS_PER_PERCENT`. A machine
   that does not give it has it.
+* **Spindle diagnostics** (:data:`SPINDLE_DIAGS`, FANUC's numbers of the serial spindle's
+  data: 400 link, 403 motor temperature, 408 communication, 410 load, 411 speed, 417/418
+  position coder and loop deviation, 425 sync error, 445 position, 710/712 error and warning,
+  1520/1521 revolutions, 4902 power): as on a CNC, the axis argument of a read names the
+  spindle (1..the path's spindles; 0 the first). 410 is the spindle's load in percent
+  (:meth:`Machine.spindle_loads`), 4902 its power in watts (the load times
+  :data:`SPINDLE_WATTS_PER_PERCENT`); the others read the value the machine holds. A machine
+  that does not give 4902 has it.
 * **F signals of the state** (per path, at the path's offset of 1000 bytes): F0.6 SA (servo
   ready: no emergency stop), F1.7 MA (CNC ready), F1.0 AL (an alarm on the path), the mode
   F3.0 MINC, F3.1 MH, F3.2 MJ, F3.3 MMDI, F3.4 MRMT, F3.5 MMEM, F3.6 MEDT, F3.7 MTCHIN and
@@ -50,6 +58,8 @@ __all__ = [
     "CLOCK_VARIABLES",
     "SERVO_POWER_DIAG",
     "SERVO_WATTS_PER_PERCENT",
+    "SPINDLE_DIAGS",
+    "SPINDLE_WATTS_PER_PERCENT",
     "TIMER_PARAMS",
     "Collected",
     "OperatorSignals",
@@ -89,6 +99,16 @@ CLOCK_VARIABLES: Final = (3011, 3012)
 SERVO_POWER_DIAG: Final = 4901
 #: Watts of diagnostic 4901 per percent of servo load (a 1.5 kW motor at 100 %).
 SERVO_WATTS_PER_PERCENT: Final = 15
+#: Spindle load (percent) and spindle motor power consumption (W): diagnostics that follow the
+#: spindle's load.
+SPINDLE_LOAD_DIAG: Final = 410
+SPINDLE_POWER_DIAG: Final = 4902
+#: Watts of diagnostic 4902 per percent of spindle load (a 7.5 kW motor at 100 %).
+SPINDLE_WATTS_PER_PERCENT: Final = 75
+#: FANUC's diagnostics of the serial spindle: read with the spindle number as the axis.
+SPINDLE_DIAGS: Final = frozenset(
+    {400, 401, 403, 408, 410, 411, 417, 418, 425, 445, 710, 712, 1520, 1521, SPINDLE_POWER_DIAG}
+)
 #: Years the CNC's clock can be set to (FANUC's calendar).
 _YEARS: Final = (1987, 2037)
 
@@ -127,12 +147,16 @@ def collected_params(params: Iterable[DataItem]) -> list[DataItem]:
 
 
 def collected_diags(diags: Iterable[DataItem]) -> list[DataItem]:
-    """``diags`` and diagnostic 4901 (servo power, W, per axis) when the machine lacks it."""
+    """``diags`` and diagnostics 4901 (servo power, W, per axis) and 4902 (spindle power, W)
+    when the machine lacks them."""
     items = list(diags)
-    if all(item.number != SERVO_POWER_DIAG for item in items):
+    given = {item.number for item in items}
+    if SERVO_POWER_DIAG not in given:
         items.append(
             DataItem(SERVO_POWER_DIAG, kind=ParamKind.TWO_WORD, axis=True, name="servo power")
         )
+    if SPINDLE_POWER_DIAG not in given:
+        items.append(DataItem(SPINDLE_POWER_DIAG, kind=ParamKind.TWO_WORD, name="spindle power"))
     return items
 
 
@@ -265,6 +289,25 @@ class SignalOperations:
         """Diagnostic 4901 of ``axis`` (1..) of ``path``: watts from the servo load."""
         loads = self._paths.at(path).production.servo_loads()
         return loads[axis - 1] * SERVO_WATTS_PER_PERCENT if axis <= len(loads) else 0
+
+    def _spindle_diag(self, datano: int, axis: int, path: int) -> int | None:
+        """A spindle diagnostic of spindle ``axis`` (0: the first) of ``path``, None when
+        ``datano`` is no spindle diagnostic the machine has as such (an item per axis, or none):
+        EW_PATH, EW_ATTRIB (a spindle the path has not)."""
+        p = self._paths.at(path)
+        item = p.items.items.diags.get(datano)
+        if datano not in SPINDLE_DIAGS or item is None or item.axis:
+            return None
+        spindles = self._paths.info(path).spindles
+        if not 0 <= axis <= spindles:
+            raise MachineError(EW.ATTRIB, f"diagnostic {datano}: spindle {axis} of {spindles}")
+        if datano not in (SPINDLE_LOAD_DIAG, SPINDLE_POWER_DIAG):
+            return item.values[0]
+        loads = p.production.spindle_loads()
+        load = loads[max(axis, 1) - 1] if max(axis, 1) <= len(loads) else 0
+        value = load * (SPINDLE_WATTS_PER_PERCENT if datano == SPINDLE_POWER_DIAG else 1)
+        assert item.low is not None and item.high is not None
+        return max(item.low, min(item.high, value))
 
     def _tick_data(self) -> None:
         """Move the data counter when the run-time parameters may read otherwise: the

@@ -486,8 +486,11 @@ class Machine(FolderOperations, SignalOperations):
         return item.values[i]
 
     def read_diag(self, datano: int, axis: int, *, path: int = 1) -> int:
-        """The value of diagnostic ``datano`` (axes those of ``path``): EW_PATH, EW_NUMBER,
-        then EW_ATTRIB."""
+        """The value of diagnostic ``datano`` (axes those of ``path``; a spindle diagnostic's
+        ``axis`` is the spindle, see :mod:`._signals`): EW_PATH, EW_NUMBER, then EW_ATTRIB."""
+        spindle = self._spindle_diag(datano, axis, path)
+        if spindle is not None:
+            return spindle
         item, i = self._paths.at(path).items.lookup(True, datano, axis)
         if datano == SERVO_POWER_DIAG and item.axis:
             return self._servo_power(axis, path)
