@@ -228,3 +228,17 @@ def test_spindle_diagnostics_take_the_spindle_number() -> None:
     with pytest.raises(MachineError) as refused:
         m.read_diag(410, 2)  # one spindle
     assert refused.value.ew == EW.ATTRIB
+
+
+def test_the_integrating_meter_counts_while_tmron_is_on() -> None:
+    clock = ManualClock(0.0)
+    m = _machine(clock)
+    m.write_pmc("G", 53, b"\x01")  # TMRON
+    clock.advance(61.5)
+    m.write_pmc("G", 53, b"\x00")
+    clock.advance(100.0)
+    assert m.timer_ms(4) == 61_500
+    assert (m.read_param(6756, 0), m.read_param(6755, 0)) == (1, 1_500)
+    m.set_panel(0, 1, 0)
+    m.write_param(m.new_session(), 6756, 0, 10)
+    assert m.timer_ms(4) == 601_500

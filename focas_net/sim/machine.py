@@ -639,6 +639,8 @@ class Machine(FolderOperations, SignalOperations):
         for path, asked in self._pmc.write(letter, start, data, force):
             self._paths.at(path).apply(asked)
             self._show_overrides(path)
+        if letter.upper() == "G":
+            self._watch_meters()
 
     # -- alarms --------------------------------------------------------------------------
     def active_alarms(
