@@ -194,3 +194,17 @@ async def test_state_f_signals(cnc: Cnc, running: bool) -> None:
     assert (f[0] >> 6 & 1, f[1] >> 7 & 1, f[1] & 1) == (1, 1, 0)  # SA, MA, no AL
     assert f[3] == (0x20 if running else 0x08)  # MMEM running, MMDI idle (served in MDI)
     assert (f[0] >> 7 & 1, f[0] >> 5 & 1) == ((1, 1) if running else (0, 0))  # OP, STL
+
+
+async def test_the_integrating_meter_counts_while_tmron_is_on(cnc: Cnc) -> None:
+    clock = cnc.machine.sim_clock
+    assert isinstance(clock, ManualClock)
+    assert await _wrpmc(cnc, G, 53, 1) == 0  # TMRON through the library
+    clock.advance(61.25)
+    assert await _wrpmc(cnc, G, 53, 0) == 0
+    clock.advance(30.0)
+    b = buf(8)
+    assert await cnc.call("cnc_rdtimer", s16(4), b) == 0
+    assert struct.unpack("<ii", b.raw) == (1, 1_250)
+    assert await rdparam(cnc, 6756, 0) == (0, [1])
+    assert await rdparam(cnc, 6755, 0) == (0, [1_250])
