@@ -104,9 +104,9 @@ async def test_sysinfo(cli: Cli) -> None:
 
 async def test_param_get(cli: Cli) -> None:
     out = await cli.ok("param", "get", "1420", "--axis", "2")
-    assert out.strip() == "1420 axis 2 = 24000 (0x00005DC0), 4 bytes"
+    assert out.strip() == "1420 axis 2 = 24000 (0x00005DC0), two-word parameter"
     data = await cli.json("param", "get", "3216")
-    assert data == {"number": 3216, "axis": 0, "value": 10, "width": 2}
+    assert data == {"number": 3216, "axis": 0, "value": 10, "width": 2, "type": "word"}
     # 1815 is 0b00110000 on every axis by default
     assert (await cli.ok("param", "get", "1815.4", "--axis", "1")).strip() == "1815.4 axis 1 = 1"
     data = await cli.json("param", "get", "1815.0", "--axis", "1")
@@ -133,10 +133,10 @@ async def test_param_set_needs_mdi_and_pwe(cli: Cli) -> None:
 
     await cli.ok("sim", "panel", "--mode", "MDI", "--pwe", "on")
     out = await cli.ok("param", "set", "1320", "5000", "--axis", "1")
-    assert out.strip() == "1320 axis 1 = 5000 (0x00001388), 4 bytes (written)"
+    assert out.strip() == "1320 axis 1 = 5000 (0x00001388), two-word parameter (written)"
     assert cli.served.machine.read_param(1320, 1) == 5000
     data = await cli.json("param", "set", "3216", "0x20", "--width", "2")
-    assert data == {"number": 3216, "axis": 0, "value": 32, "width": 2}
+    assert data == {"number": 3216, "axis": 0, "value": 32, "width": 2, "type": "word"}
 
     data = await cli.json("param", "set", "1815.0", "1", "--axis", "2")
     assert (data["value"], data["bit_value"]) == (0b0011_0001, 1)

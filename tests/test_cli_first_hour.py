@@ -266,7 +266,7 @@ async def test_ipv6_addresses_print_in_brackets() -> None:
 
 async def test_follow_interval_is_bounded_below() -> None:
     code, _out, err = await run_focas_net("alarms", "--follow", "--interval", "1e-9")
-    assert code == EXIT_USAGE and "at least 0.05" in err
+    assert code == EXIT_USAGE and "0.05..3600 seconds" in err
 
 
 # -- 13. small things ----------------------------------------------------------------------

@@ -162,7 +162,7 @@ async def test_control_commands_are_named_with_their_codes(server: Served) -> No
     assert "0x0E01..0x0E21" in " ".join(out.split())
     await ok("sim", "fault", "delay", "--arg", "5000", *at(server))
     line = await fails(3, "status", "--timeout", "0.5", *at(server))
-    assert "no answer to cnc_rdcncstat (0x0001), request 0" in line, line
+    assert "no answer to cnc_rdcncstat (0x0001): nothing received" in line, line
 
 
 # -- D and E: a dropped connection read the same on both transports; probes take no fault -------
@@ -190,7 +190,7 @@ async def test_a_timeout_names_what_went_unanswered(server: Served, protocol: st
     assert line.startswith(
         f"focas-net: timed out after 0.5 s (127.0.0.1:{server.port}): no answer to "
     )
-    want = "cnc_rdcncstat (0x0001), request 0" if protocol == "packed" else "the connect requests"
+    want = "cnc_rdcncstat (0x0001): nothing" if protocol == "packed" else "the connect requests"
     assert want in line, line
 
 

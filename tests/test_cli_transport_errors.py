@@ -37,13 +37,17 @@ SHORT: Final = "0.5"
 
 class RawPeer(LoopbackPeer):
     """A TCP peer that is not a FOCAS server: on each connection it reads what comes first,
-    then does what it was made for (``answer``: an HTTP error; ``close``; ``reset``)."""
+    then does what it was made for (``answer``: an HTTP error; ``close``; ``reset``), or
+    closes it at once, before reading anything (``at_once``: whether the client's request
+    meets a reset or an end of stream is then a race)."""
 
     def __init__(self, action: str) -> None:
         self.action = action
 
     async def _serve(self, reader: asyncio.StreamReader, writer: asyncio.StreamWriter) -> None:
         try:
+            if self.action == "at_once":
+                return
             await reader.read(64)
             if self.action == "answer":
                 writer.write(HTTP_ANSWER)
@@ -124,7 +128,8 @@ async def test_a_peer_answering_http_does_not_speak_focas_on_either_transport(
     ("action", "words"),
     [
         ("close", "connection closed by {peer} before any answer"),
-        ("reset", "connection to {peer} lost before any answer: connection reset by peer"),
+        ("reset", "connection closed by {peer} before any answer"),
+        ("at_once", "connection closed by {peer} before any answer"),
     ],
 )
 async def test_a_peer_that_ends_the_connection_reads_the_same_on_both_transports(
@@ -136,6 +141,21 @@ async def test_a_peer_that_ends_the_connection_reads_the_same_on_both_transports
     line = one_line(err)
     assert words.format(peer=f"127.0.0.1:{peer.port}") in line
     no_python_text(line)
+
+
+@pytest.mark.parametrize("action", ["close", "reset", "at_once"])
+async def test_a_peer_that_ends_the_connection_prints_one_line_on_both_transports(
+    action: str,
+) -> None:
+    """The whole line, not only its words: no request number on one transport alone, and a
+    reset reads as the close it is (which of the two a peer closing at once gives is a race)."""
+    lines = set()
+    async with raw_peer(action) as peer:
+        for protocol in PROTOCOLS * 2:
+            code, out, err = await cli(peer.port, protocol)
+            assert (code, out) == (EXIT_CONNECTION, ""), err
+            lines.add(one_line(err))
+    assert len(lines) == 1, lines
 
 
 @pytest.mark.parametrize("protocol", PROTOCOLS)

@@ -262,8 +262,8 @@ async def test_watch_text_frames_are_separated_by_a_blank_line(cli: Cli) -> None
 @pytest.mark.parametrize(
     ("argv", "reason"),
     [
-        (("--interval", "0"), "argument --interval: must be a positive number, got 0"),
-        (("--interval", "0.01"), "argument --interval: must be at least 0.05 s, got 0.01"),
+        (("--interval", "0"), "argument --interval: must be 0.05..3600 seconds, got 0"),
+        (("--interval", "0.01"), "argument --interval: must be 0.05..3600 seconds, got 0.01"),
         (("--interval", "soon"), "argument --interval: not a number: 'soon'"),
         (("--count", "0"), "argument --count: must be at least 1, got 0"),
     ],

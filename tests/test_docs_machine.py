@@ -21,9 +21,8 @@ from focas_net.sim.nc import ManualClock
 ROOT = Path(__file__).resolve().parent.parent
 MACHINE_FILE_DOC = ROOT / "docs" / "machine-file.md"
 EXAMPLE = ROOT / "examples" / "machine.toml"
-#: A type's name in a machine file, for each type (``2-word`` where the protocol says
-#: ``two-word``).
-FILE_TYPES = {t: t.label.replace("two-", "2-") for t in ParamDataType}
+#: A type's name in a machine file, for each type: the name every front end gives it.
+FILE_TYPES = {t: t.label for t in ParamDataType}
 
 
 def _section(doc: str, heading: str) -> str:
@@ -94,7 +93,7 @@ def _keys_documented() -> dict[str, set[str]]:
     the first column of its tables names."""
     doc = MACHINE_FILE_DOC.read_text()
     sections = {}
-    for match in re.finditer(r"^## `\[\[?([a-z]+)", doc, re.M):
+    for match in re.finditer(r"^## `\[\[?([a-z_]+)", doc, re.M):
         body = _section(doc, match.group(0))
         cells = re.findall(r"^\| ([^|]+) \|", body, re.M)
         keys = {k for cell in cells for k in re.findall(r"`([a-z_]+)`", cell)}

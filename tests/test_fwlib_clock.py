@@ -115,7 +115,7 @@ async def test_panel_signals(cnc: Cnc) -> None:
     m.set_overrides(80, 50, 100)
     s = IODBSGNL()
     assert await cnc.call("cnc_rdopnlsgnl", s16(0x1FFF), ctypes.byref(s)) == 0
-    got = [getattr(s, name) for name, _ in IODBSGNL._fields_]
+    got = [getattr(s, field[0]) for field in IODBSGNL._fields_]
     assert got == [0, 0x1FFF, *astuple(m.panel_signals())]
     assert (s.mode, s.rpd_ovrd, s.feed_ovrd) == (0, 1, 8)  # MDI, ROV 50 %, 80 %
 

@@ -91,7 +91,7 @@ async def test_every_front_end_writes_an_alarm_alike(cli: Cli) -> None:
         assert shown.count("EX1001") <= 1 and shown.count("SV0411") <= 1
 
 
-@pytest.mark.parametrize("number", [1815, 20])
+@pytest.mark.parametrize("number", [1815, 20, 1420, 3216])
 async def test_a_parameter_type_has_one_name(
     number: int, capsys: pytest.CaptureFixture[str]
 ) -> None:
@@ -99,13 +99,27 @@ async def test_a_parameter_type_has_one_name(
     async with serving(machine) as served:
         cli = Cli(served, capsys)
         item = machine.param_item(number)
-        assert item is not None
-        shown = await cli.json("param", "get", str(number), *(["--axis", "1"] * item.axis))
+        assert item is not None and item.kind is not None
+        axis = ["--axis", "1"] * item.axis
+        shown = await cli.json("param", "get", str(number), *axis)
+        text = await cli.ok("param", "get", str(number), *axis)
     (row,) = [r for r in param_rows(machine, str(number)) if r["number"] == number]
-    assert row["kind"] == shown["type"]
+    assert "kind" not in row  # the key is the attribute's name: ParamAttributes.type
+    assert row["type"] == shown["type"] == ParamDataType(item.kind).label
+    assert text.rstrip().endswith(f"{row['type']} parameter"), text
+
+
+def test_the_docs_and_the_example_files_name_the_types_as_every_front_end() -> None:
+    root = Path(__file__).parent.parent
+    doc = (root / "docs" / "machine-file.md").read_text()
+    for t in ParamDataType:
+        assert f"| `{t.label}` |" in doc, t  # the table of the types, a row per type
+    assert "2-word" not in doc.replace('`"2-word"`', "")  # named once, as an older spelling
+    for example in sorted((root / "examples").glob("*.toml")):
+        assert '"2-word"' not in example.read_text(), example
 
 
 def test_the_dashboard_names_parameter_types_as_the_command_line() -> None:
-    kinds = {row["kind"] for row in param_rows(default_machine())}
+    kinds = {row["type"] for row in param_rows(default_machine())}
     assert kinds == {"bit", "byte", "word", "two-word"}  # never the enumeration's two_word
     assert {t.label for t in ParamDataType} == {"bit", "byte", "word", "two-word", "real"}

@@ -115,6 +115,9 @@ TABLE: dict[str, tuple[str, ...]] = {
         "focas_net.adapters._native_cnc",
         "focas_net.adapters._native_data",
         "focas_net.adapters._native_programs",
+        "focas_net.adapters._native_info",
+        "focas_net.adapters._native_modal",
+        "focas_net.adapters._native_offsets",
         "focas_net.adapters._native_files",
     ),
     "focas_net.server": (
@@ -181,8 +184,9 @@ BEYOND_THE_TABLE: dict[str, tuple[str, ...]] = {
             "focas_net.adapters._native_cnc",
             "focas_net.adapters._native_data",
             "focas_net.adapters._native_programs",
+            "focas_net.adapters._native_offsets",
         )
-        for area in ("clock", "cnc", "data", "programs", "files")
+        for area in ("clock", "cnc", "data", "programs", "offsets", "files", "modal", "info")
     },
     # bounded memos: no protocol, no machine
     "focas_net._memo": (),

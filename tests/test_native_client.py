@@ -24,7 +24,7 @@ from pathlib import Path
 import pytest
 from support import IO_TIMEOUT, ChannelLog, LoopbackPeer, Served, serving, wait_until
 
-from focas_net.client import ClientState, FocasClient, ReconnectPolicy, _channel
+from focas_net.client import ClientState, FocasClient, NotSentError, ReconnectPolicy, _channel
 from focas_net.client.native import NativeClient, NativeUnsupportedError
 from focas_net.errors import EW, CncError, FocasConnectionError, FocasTimeoutError
 from focas_net.native import (
@@ -435,9 +435,10 @@ async def test_connection_loss_fails_pending_calls() -> None:
             results = await asyncio.gather(*calls, return_exceptions=True)
             sent = [r for r in results[: native.max_blocks]]
             queued = results[native.max_blocks :]
-            assert all(isinstance(r, FocasConnectionError) for r in sent)
-            assert all("after the request was sent" in str(r) for r in sent)
-            assert all("before the request was sent" in str(r) for r in queued)
+            closed = f"connection closed by 127.0.0.1:{peer.port}"
+            assert all(type(r) is FocasConnectionError and str(r) == closed for r in sent)
+            assert all(type(r) is NotSentError for r in queued)
+            assert all(str(r) == f"{closed} (the request was never sent)" for r in queued)
             assert native.state is ClientState.DISCONNECTED
             with pytest.raises(FocasConnectionError, match="not connected"):
                 await native.read_macro(1)

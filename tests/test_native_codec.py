@@ -186,7 +186,7 @@ def test_position_kinds() -> None:
 
 
 def test_unsupported_command_decodes_to_none() -> None:
-    assert decode_request(RequestBlock(1, 1, 0x1B)) is None
+    assert decode_request(RequestBlock(1, 1, 0x7FF0)) is None
     assert decode_request(RequestBlock(Device.PMC, 1, NativeCommand.SYSINFO)) is None
 
 

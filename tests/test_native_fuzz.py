@@ -62,7 +62,7 @@ SERVED_TYPES: Final = frozenset({OPEN, CLOSE, DATA}) | TRANSFERS
 CLASSES: Final = {"0i-F": 3, "16i": 2}
 MAX_AXES: Final = 8
 
-PMC_COMMANDS: Final = frozenset({NativeCommand.PMC_RDPMCRNG, NativeCommand.PMC_WRPMCRNG})
+PMC_COMMANDS: Final = frozenset(c for c in NativeCommand if c.name.startswith("PMC_"))
 #: ``(device, command)`` of every block the native front end serves (docs/native-protocol.md).
 SERVED: Final = frozenset(
     (Device.PMC if c in PMC_COMMANDS else Device.CNC, int(c)) for c in NativeCommand
@@ -91,6 +91,14 @@ PATH_INDEPENDENT: Final = frozenset(
         (Device.CNC, NativeCommand.RDPDF_INF),
         (Device.PMC, NativeCommand.PMC_RDPMCRNG),
         (Device.PMC, NativeCommand.PMC_WRPMCRNG),
+        (Device.PMC, NativeCommand.PMC_RDPMCINFO),
+        (Device.PMC, NativeCommand.PMC_RDPMCTITLE),
+        (Device.CNC, NativeCommand.RDSYSSOFT),
+        (Device.CNC, NativeCommand.RDETHERINFO),
+        (Device.CNC, NativeCommand.RDPARANUM),
+        (Device.CNC, NativeCommand.RDDIAGNUM),
+        (Device.CNC, NativeCommand.RDDIAGINFO),
+        (Device.CNC, NativeCommand.RDSETINFO),
     }
 )
 

@@ -43,6 +43,7 @@ from focas_net.native import (
     NativeRequest,
     NativeSysInfo,
     NoData,
+    OffsetWrite,
     OpenHeadV2,
     OpenHeadV3,
     OpenRequest,
@@ -64,6 +65,8 @@ from focas_net.native import (
     ScaledItemRecord,
     ScaledItemValues,
     ScaledNumber,
+    ToolOffsetWriteRequest,
+    WorkOffsetWriteRequest,
     answer_refusal,
     axes,
     base,
@@ -498,6 +501,10 @@ def _ints(cls: type[NativeRequest]) -> dict[str, st.SearchStrategy[Any]]:
     return {f.name: _NAME if f.name == "name" else i32 for f in fields}
 
 
+def _offset_write(values: list[int]) -> OffsetWrite:
+    return OffsetWrite(tuple(values))
+
+
 _SPECIAL: dict[type[NativeRequest], st.SearchStrategy[Any]] = {
     MacroWriteRequest: st.builds(MacroWriteRequest, i32, scaled),
     ClockWriteRequest: st.builds(
@@ -516,6 +523,12 @@ _SPECIAL: dict[type[NativeRequest], st.SearchStrategy[Any]] = {
     ),
     PmcWriteRequest: st.builds(
         PmcWriteRequest, i32, i32, i32, i32, st.binary(max_size=20).map(NativePmcData)
+    ),
+    ToolOffsetWriteRequest: st.builds(
+        ToolOffsetWriteRequest, i32, i32, i32, st.lists(i32, max_size=8).map(_offset_write)
+    ),
+    WorkOffsetWriteRequest: st.builds(
+        WorkOffsetWriteRequest, i32, i32, i32, st.lists(i32, max_size=8).map(_offset_write)
     ),
 }
 
@@ -583,6 +596,8 @@ def test_write_requests_are_marked() -> None:
         "CurrentFolderWriteRequest",
         "FileDeleteRequest",
         "MainSelectRequest",
+        "ToolOffsetWriteRequest",
+        "WorkOffsetWriteRequest",
     }
 
 

@@ -509,6 +509,19 @@ def test_an_endless_macro_loop_does_not_hang_a_read() -> None:
     assert engine.interpreter.locals[1] is not None
 
 
+def test_a_loop_without_motion_waits_for_no_fin() -> None:
+    """The time a block-only loop is given is the engine's own, no M/S/T/B function: ODBST
+    ``mstb`` stays 0 (FIN is for an M, S, T or B function alone)."""
+    engine, clock = started("O1\nWHILE [1 EQ 1] DO1\n#1 = #1 + 1\nEND1\nM30\n")
+    for _ in range(20):
+        clock.advance(0.0005)
+        assert engine.flags() == (CycleState.START, MotionKind.NONE, False)
+        assert not engine.waiting
+    m_code, clock = started("O1\nM8\nM30\n", m_function_time=1.0)
+    clock.advance(0.5)
+    assert m_code.flags() == (CycleState.START, MotionKind.NONE, True) and m_code.waiting
+
+
 def test_idle_engines_are_read_without_stepping() -> None:
     clock = ManualClock()
     engines = [Engine(clock) for _ in range(1000)]

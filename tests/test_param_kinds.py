@@ -241,7 +241,7 @@ async def test_cli_bit_parameter_written_and_shown_as_bits(cli: Cli) -> None:
     assert "bit parameter 1815 holds 0..255" in err
     # a byte parameter is still signed
     out = await cli.ok("param", "get", "20")
-    assert out.strip() == "20 = 4 (0x04, 0b00000100), 1 byte"
+    assert out.strip() == "20 = 4 (0x04, 0b00000100), byte parameter"
     await cli.fails(EXIT_CNC, "param", "set", "20", "99")
 
 

@@ -4,6 +4,7 @@ signals; the native codec of 0x45/0x46/0x5D, the adapter and the client."""
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from datetime import UTC, date, datetime, time
 from decimal import Decimal
 
@@ -78,7 +79,11 @@ def test_clock_variables_and_setting_the_clock() -> None:
     m.set_cnc_time(23, 59, 1)
     assert (m.read_macro(3011), m.read_macro(3012)) == (Decimal(20300228), Decimal(235901))
     assert m.now() == datetime(2030, 2, 28, 23, 59, 1, tzinfo=UTC)
-    for bad in (lambda: m.set_cnc_date(2030, 2, 30), lambda: m.set_cnc_time(24, 0, 0)):
+    bads: list[Callable[[], None]] = [
+        lambda: m.set_cnc_date(2030, 2, 30),
+        lambda: m.set_cnc_time(24, 0, 0),
+    ]
+    for bad in bads:
         with pytest.raises(MachineError) as refused:
             bad()
         assert refused.value.ew == EW.DATA

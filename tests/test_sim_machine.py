@@ -51,7 +51,7 @@ def m() -> Machine:
 def test_default_identity_and_panel(m: Machine) -> None:
     assert m.name == DEFAULT_NAME
     assert m.axes == ["X", "Y", "Z"]
-    assert m.identity() == Identity(2, 8, " 0", " M", "D4F1", "32.0", "03")
+    assert m.identity() == Identity(2, 32, " 0", " M", "D4F1", "32.0", "03")
     assert m.status() == Status(0, 0, 1, 0, 0, 0, 0, 0, 0)
     assert (m.panel.mode, m.panel.pwe, m.panel.emergency) == (1, 0, 0)
     assert not m.has_password
@@ -651,7 +651,7 @@ def test_identity_and_status_are_plain_values(m: Machine) -> None:
     m.set_panel(0, 1, 1)
     assert m.status() == Status(0, 0, 0, 0, 0, 0, 1, 0, 0)
     custom = Machine("one", axes=["X"])
-    assert custom.identity() == Identity(2, 8, " 0", " M", "D4F1", "32.0", "01")
+    assert custom.identity() == Identity(2, 32, " 0", " M", "D4F1", "32.0", "01")
 
 
 def test_parameter_width_is_checked_only_when_given(m: Machine) -> None:

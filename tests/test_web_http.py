@@ -455,3 +455,26 @@ async def test_serve_web_beyond_loopback_warns_and_a_bind_failure_is_one_line() 
     warning, error = err.decode().splitlines()
     assert "warning" in warning and "192.0.2.1" in warning and "beyond loopback" in warning
     assert error.startswith("focas-net serve: error: --web 192.0.2.1:0: cannot listen")
+
+
+@pytest.mark.parametrize(
+    ("area", "status"), [("E", 409), ("e", 409), (" E", 409), ("Q", 400), ("", 400), ("EE", 400)]
+)
+async def test_a_pmc_area_is_refused_alike_by_a_read_and_a_write(area: str, status: int) -> None:
+    """The machine's words and one status for both: EW_NOOPT (409) for an area this machine
+    has not, 400 for a letter that is no PMC area."""
+    async with dashboard() as (_, web), aiohttp.ClientSession() as session:
+        base = f"{web.url}api/machines/0"
+        async with session.get(f"{base}/pmc", params={"area": area}) as response:
+            read = response.status, await response.json()
+        write = await post(session, web, "pmc_bit", {"area": area, "address": 0, "bit": 1})
+    assert read[0] == write[0] == status, (read, write)
+    assert read[1] == write[1], (read, write)
+    if status == 409:
+        assert read[1]["ew_name"] == "EW_NOOPT"
+        has = "X, Y, F, G, R, T, C, D, K, A"
+        assert read[1]["error"] == f"the machine has no PMC area E (it has {has})"
+    else:
+        assert read[1]["error"] == (
+            f"unknown PMC area {area!r} (one of X, Y, F, G, R, T, C, D, K, A, E)"
+        )

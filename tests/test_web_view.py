@@ -185,12 +185,12 @@ def test_parameter_rows_search_by_number_or_name() -> None:
 def test_axis_values_are_named_and_bit_parameters_show_their_bits() -> None:
     machine = default_machine()
     (apc,) = param_rows(machine, "1815")
-    assert (apc["kind"], apc["axes"]) == ("bit", ["X", "Y", "Z"])
+    assert (apc["type"], apc["axes"]) == ("bit", ["X", "Y", "Z"])
     assert apc["values"] == ["00110000"] * 3 == apc["bits"]  # shown and edited as 8 bits
     (channel,) = param_rows(machine, "20")
-    assert (channel["kind"], channel["axes"], channel["bits"]) == ("byte", [], None)
+    assert (channel["type"], channel["axes"], channel["bits"]) == ("byte", [], None)
     (rapid,) = [r for r in param_rows(machine, "1420") if r["number"] == 1420]
-    assert rapid["kind"] == "two-word" and len(rapid["axes"]) == len(rapid["values"]) == 3
+    assert rapid["type"] == "two-word" and len(rapid["axes"]) == len(rapid["values"]) == 3
 
 
 def test_macro_rows_by_number_and_range() -> None:

@@ -65,8 +65,12 @@ left in the answer, the connection's session) -> data``, raising one of
 :data:`~focas_net.adapters._common.REFUSALS` for a block it refuses (the block then carries its
 EW code). The handlers are by area: :mod:`._native_cnc` (identity, status, motion, axes, loads,
 PMC, alarms), :mod:`._native_data` (macro variables, parameters, diagnostics),
-:mod:`._native_programs` (part programs), :mod:`._native_files` (the program folders of a
-30i-class control) and :mod:`._native_clock` (the clock, the panel's signals).
+:mod:`._native_programs` (part programs), :mod:`._native_offsets` (tool and work offsets,
+tool life), :mod:`._native_files` (the program folders of a 30i-class control),
+:mod:`._native_clock` (the clock, the panel's signals), :mod:`._native_modal` (modal data,
+operator messages, program pointers) and :mod:`._native_info` (the CNC's information:
+figures, status 2, system software, item numbers and attributes, setting data, the PMC's
+areas and title, the Ethernet board, program restart).
 
 Answers of reads are kept (:mod:`focas_net.adapters._common`, as the packed adapter keeps
 its own): a request made of the reads in :data:`_COUNTERS` only, every block answered without
@@ -128,6 +132,9 @@ from ._native_clock import ClockHandlers
 from ._native_cnc import CncHandlers
 from ._native_data import DataHandlers
 from ._native_files import FileHandlers
+from ._native_info import InfoHandlers
+from ._native_modal import ModalHandlers
+from ._native_offsets import OffsetHandlers
 from ._native_programs import ProgramHandlers, ProgramTransfer
 
 __all__ = ["PATH_INDEPENDENT", "NativeAdapter", "command_set_of"]
@@ -140,7 +147,8 @@ _SET_VERSIONS: Final = {CommandSet.FS16I: 2, CommandSet.FS30I: 3}
 #: open answer of the 30i set carries 9968's value): bit 0 is what ``cnc_rddynamic2`` needs.
 OPTION_BITS: Final = 1
 #: ``(device, command)`` of the blocks that answer whatever their path word: the CNC ID, the
-#: alarm history, the parameter information and the PMC are the machine's, not a path's.
+#: alarm history, the parameter information and the PMC are the machine's, not a path's; so
+#: are the system software, the Ethernet board, the item numbers and the item information.
 PATH_INDEPENDENT: Final = frozenset(
     {
         (Device.CNC, NativeCommand.RDCNCID),
@@ -151,6 +159,14 @@ PATH_INDEPENDENT: Final = frozenset(
         (Device.CNC, NativeCommand.RDPDF_INF),
         (Device.PMC, NativeCommand.PMC_RDPMCRNG),
         (Device.PMC, NativeCommand.PMC_WRPMCRNG),
+        (Device.PMC, NativeCommand.PMC_RDPMCINFO),
+        (Device.PMC, NativeCommand.PMC_RDPMCTITLE),
+        (Device.CNC, NativeCommand.RDSYSSOFT),
+        (Device.CNC, NativeCommand.RDETHERINFO),
+        (Device.CNC, NativeCommand.RDPARANUM),
+        (Device.CNC, NativeCommand.RDDIAGNUM),
+        (Device.CNC, NativeCommand.RDDIAGINFO),
+        (Device.CNC, NativeCommand.RDSETINFO),
     }
 )
 #: The machine counter the answer of each read block follows ("" for what never changes: the
@@ -185,6 +201,18 @@ _COUNTERS: Final[dict[tuple[int, int], str]] = {
     (Device.CNC, NativeCommand.ACTF): "motion_version",
     (Device.CNC, NativeCommand.ACTS): "motion_version",
     (Device.CNC, NativeCommand.POSITION): "motion_version",
+    (Device.CNC, NativeCommand.GETFIGURE): "",
+    (Device.CNC, NativeCommand.RDSYSSOFT): "",
+    (Device.CNC, NativeCommand.RDPARANUM): "",
+    (Device.CNC, NativeCommand.RDDIAGNUM): "",
+    (Device.CNC, NativeCommand.RDDIAGINFO): "",
+    (Device.CNC, NativeCommand.RDSETINFO): "",
+    (Device.CNC, NativeCommand.RDETHERINFO): "",
+    (Device.CNC, NativeCommand.RDSET): "data_version",
+    (Device.CNC, NativeCommand.RDSET3): "data_version",
+    (Device.CNC, NativeCommand.STATINFO2): "status_version",
+    (Device.PMC, NativeCommand.PMC_RDPMCINFO): "",
+    (Device.PMC, NativeCommand.PMC_RDPMCTITLE): "",
 }
 #: Answers one adapter keeps: the request bodies a poller repeats. An answer is 1.5 KiB at most
 #: (2.9 at version 3), so a machine keeps under 100 KiB of them at worst.
@@ -252,8 +280,11 @@ class NativeAdapter:
         cnc = self._cnc = CncHandlers(machine, self.max_axis)
         data = DataHandlers(machine, self.max_axis)
         programs = self._programs = ProgramHandlers(machine, version)
+        modal = ModalHandlers(machine)
+        offsets = OffsetHandlers(machine, self.max_axis)
         clock = ClockHandlers(machine)
         files = FileHandlers(machine)
+        info = InfoHandlers(machine, cnc, data)
         c = NativeCommand
         on_cnc: dict[int, _Handler] = {
             c.SYSINFO: cnc.read_sysinfo,
@@ -282,7 +313,7 @@ class NativeAdapter:
             c.WRPARAM3: data.write_param_30i,
             c.RDDIAG: data.read_diags,
             c.RDDIAG3: data.read_diags_30i,
-            c.POSITION: cnc.read_positions,
+            c.POSITION: info.read_positions,  # restart points, then CncHandlers'
             c.AXIS_NAME: cnc.read_axis_names,
             c.AXIS_UNIT: cnc.read_axis_units,
             c.AXIS_COUNT: cnc.read_axis_count,
@@ -297,6 +328,26 @@ class NativeAdapter:
             c.DELETE: programs.delete_program,
             c.SEARCH: programs.search_program,
             c.RDEXECPROG: programs.read_executing_blocks,
+            c.GMODAL: modal.read_modal_g,
+            c.AMODAL: modal.read_modal_aux,
+            c.RDGCODE: modal.read_g_codes,
+            c.RDCOMMAND: modal.read_commands,
+            c.RDOPMSG: modal.read_operator_messages,
+            c.RDOPMSG3: modal.read_operator_messages3,
+            c.EXEPRGNAME2: modal.read_executing_path,
+            c.RDACTPT: modal.read_active_pointer,
+            c.RDBLKCOUNT: modal.read_block_count,
+            c.RDMDIPNTR: modal.read_mdi_pointer,
+            c.RDTOFS: offsets.read_tool_offsets,
+            c.WRTOFS: offsets.write_tool_offset,
+            c.RDTOFSINFO: offsets.read_tool_offset_info,
+            c.RDZOFS: offsets.read_work_offsets,
+            c.WRZOFS: offsets.write_work_offset,
+            c.RDUSEGRPID: offsets.read_groups_in_use,
+            c.RDNGRP: offsets.read_life_counts,
+            c.RDTLINFO: offsets.read_life_counts,
+            c.RDTOOLGRP: offsets.read_tool_groups,
+            c.TOOLNUM: offsets.read_tool_numbers,
             c.RDPDF_DRIVE: files.read_drives,
             c.RDPDF_INF: files.read_drive_info,
             c.RDPDF_CURDIR: files.read_current_folder,
@@ -308,10 +359,23 @@ class NativeAdapter:
             c.PDF_DEL: files.delete_file,
             c.PDF_RDMAIN: files.read_main_file,
             c.PDF_SLCTMAIN: files.select_main_file,
+            c.GETFIGURE: info.read_figures,
+            c.STATINFO2: info.read_status2,
+            c.RDSYSSOFT: info.read_software,
+            c.RDPARANUM: info.read_param_numbers,
+            c.RDDIAGNUM: info.read_diag_numbers,
+            c.RDDIAGINFO: info.read_diag_info,
+            c.RDSETINFO: info.read_setting_info,
+            c.RDSET: info.read_settings,
+            c.RDSET3: info.read_settings_30i,
+            c.RDETHERINFO: info.read_ether_info,
+            c.RDPRSTRINFO: info.read_restart_info,
         }
         on_pmc: dict[int, _Handler] = {
             c.PMC_RDPMCRNG: cnc.read_pmc,
             c.PMC_WRPMCRNG: cnc.write_pmc,
+            c.PMC_RDPMCINFO: info.read_pmc_info,
+            c.PMC_RDPMCTITLE: info.read_pmc_title,
         }
         self._handlers: dict[tuple[int, int], _Handler] = {
             **{(Device.CNC, k): v for k, v in on_cnc.items()},

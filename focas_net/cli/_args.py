@@ -10,6 +10,7 @@ must be 1..65535, got '70000'; see focas-net CMD --help``, and exit 2.
 from __future__ import annotations
 
 import argparse
+import math
 import re
 import sys
 from collections.abc import Callable, Sequence
@@ -36,6 +37,7 @@ __all__ = [
     "INT",
     "INTERVAL",
     "LISTEN_PORT",
+    "MAX_INTERVAL",
     "MIN_INTERVAL",
     "NON_NEGATIVE",
     "PATH",
@@ -209,27 +211,39 @@ def parse_non_negative(text: str) -> int:
     return value
 
 
-def parse_seconds(text: str) -> float:
-    """A positive, finite number of seconds."""
+def _number(text: str) -> float:
+    """A number of seconds as typed, finite (nan is no number; infinity is named)."""
     try:
         value = float(text)
     except ValueError:
-        raise ValueError(f"not a number: {text!r}") from None
-    if not 0 < value < float("inf"):
-        raise ValueError(f"must be a positive number, got {text}")
+        value = math.nan
+    if math.isnan(value):
+        raise ValueError(f"not a number: {text!r}")
+    if math.isinf(value):
+        raise ValueError(f"must be finite, got {text.strip()}")
     return value
 
 
-#: Shortest poll interval of ``alarms --follow``, in seconds: polling faster only loads the
-#: client and the CNC.
+def parse_seconds(text: str) -> float:
+    """A positive, finite number of seconds."""
+    value = _number(text)
+    if not value > 0:
+        raise ValueError(f"must be positive, got {text.strip()}")
+    return value
+
+
+#: Shortest poll interval of ``watch`` and ``alarms --follow``, in seconds: polling faster
+#: only loads the client and the CNC.
 MIN_INTERVAL: Final = 0.05
+#: Longest poll interval, in seconds (an hour): a longer one is a typing mistake.
+MAX_INTERVAL: Final = 3600.0
 
 
 def parse_interval(text: str) -> float:
-    """A poll interval: seconds, at least :data:`MIN_INTERVAL`."""
-    value = parse_seconds(text)
-    if value < MIN_INTERVAL:
-        raise ValueError(f"must be at least {MIN_INTERVAL:g} s, got {text}")
+    """A poll interval: seconds, :data:`MIN_INTERVAL`..:data:`MAX_INTERVAL`."""
+    value = _number(text)
+    if not MIN_INTERVAL <= value <= MAX_INTERVAL:
+        raise ValueError(f"must be {MIN_INTERVAL:g}..{MAX_INTERVAL:g} seconds, got {text.strip()}")
     return value
 
 

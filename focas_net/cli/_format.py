@@ -443,27 +443,46 @@ def hexdump(area: str, start: int, data: bytes, per_line: int = 16) -> str:
 REAL_WIDTH: Final = 8
 
 
+#: A parameter's type told by its value's width alone (a 1-byte value is a bit or a byte one).
+_TYPE_OF_WIDTH: Final = {
+    2: ParamDataType.WORD,
+    4: ParamDataType.TWO_WORD,
+    REAL_WIDTH: ParamDataType.REAL,
+}
+
+
+def param_type(pv: ParamValue, kind: ParamDataType | None = None) -> ParamDataType | None:
+    """The type of ``pv``: ``kind`` as the CNC told it, else what its width tells (None for a
+    1-byte value of a CNC that did not tell)."""
+    return kind if kind is not None else _TYPE_OF_WIDTH.get(pv.width)
+
+
 def param_text(pv: ParamValue, kind: ParamDataType | None = None) -> str:
-    """A parameter value as the CNC screen would show it: a bit parameter as unsigned and as
-    its bits #7..#0 (``176 (10110000), bit parameter``), a real parameter with its decimals
-    (``12.345 (real, 3 decimals)``), the others signed with their hex (and a byte's bits)."""
+    """A parameter value as the CNC screen would show it, named by its type as every front end
+    names it (:attr:`ParamDataType.label`): a bit parameter as unsigned and as its bits #7..#0
+    (``176 (10110000), bit parameter``), a real parameter with its decimals (``12.345 (real, 3
+    decimals)``), the others signed with their hex (and a byte's bits): ``24000 (0x00005DC0),
+    two-word parameter``."""
     if pv.width == REAL_WIDTH:
         return f"{decimal_text(pv.real)} (real, {pv.decimals} decimal{'s' * (pv.decimals != 1)})"
+    kind = param_type(pv, kind)
     if kind is ParamDataType.BIT and pv.width == 1:
         return f"{pv.bits} ({pv.bits:08b}), bit parameter"
     width = pv.width
     text = f"{pv.value} (0x{pv.bits:0{2 * width}X}"
     if width == 1:
         text += f", 0b{pv.bits:08b}"
-    return f"{text}), {width} byte{'s' if width > 1 else ''}"
+    return f"{text}), " + ("1 byte" if kind is None else f"{kind.label} parameter")
 
 
 def param_dict(
     number: int, axis: int, pv: ParamValue, kind: ParamDataType | None = None
 ) -> dict[str, Any]:
     """The JSON data of a parameter value: ``value`` unsigned for a bit parameter (with its
-    ``bits``), a decimal string for a real one (with its ``decimals``); ``type`` when known."""
+    ``bits``), a decimal string for a real one (with its ``decimals``); ``type`` when known
+    (:func:`param_type`)."""
     data: dict[str, Any] = {"number": number, "axis": axis, "value": pv.value, "width": pv.width}
+    kind = param_type(pv, kind)
     if kind is not None:
         data["type"] = kind.label
     if pv.width == REAL_WIDTH:

@@ -5,15 +5,31 @@ Each name below has one home: :mod:`.client` (the packed client), :mod:`._values
 (states and the reconnect policy), :mod:`.sim_control` (``client.sim``), :mod:`.connection`
 (one pipelined connection), :mod:`.projection` (alarm events), :mod:`.native` (the FOCAS/2
 Ethernet client, :class:`NativeClient`; :mod:`._native_files` its program folders'
-results), :mod:`._started` (:class:`StartedCall`, a read
-started now and finished later), :mod:`.many` (:func:`read_status_all`,
-:func:`read_dynamic_all`: many clients read from one task), :mod:`.cnc` (:class:`CncClient`,
-the calls both clients carry, as a static type). ``FaultKind`` and ``FaultScope``, the
-arguments of ``client.sim.inject_fault``, are imported from :mod:`focas_net.protocol` (or
-:mod:`focas_net`).
+results, :mod:`._native_offsets` its tool life results, :class:`ToolGroupData`;
+:mod:`._native_info` those of its reads of the CNC's information: :class:`SoftwareInfo`,
+:class:`PmcTitleInfo`...), :mod:`._started` (:class:`StartedCall`, a read started now and
+finished later), :mod:`.many` (:func:`read_status_all`, :func:`read_dynamic_all`: many
+clients read from one task),
+:mod:`.cnc` (:class:`CncClient`, the calls both clients carry, as a static type).
+``FaultKind`` and ``FaultScope``, the arguments of ``client.sim.inject_fault``, are imported
+from :mod:`focas_net.protocol` (or :mod:`focas_net`).
 """
 
 from ._native_files import DriveUsage, FolderCounts, FolderEntry, ProgramFileInfo
+from ._native_info import (
+    EthernetInfo,
+    ItemAttributes,
+    ItemRange,
+    PmcAreaSpan,
+    PmcTitleInfo,
+    RestartInfo,
+    SoftwareInfo,
+    SoftwareSlot,
+    StatusInfo2,
+    ValidFigures,
+)
+from ._native_modal import CommandValue, GCode, ModalGroup, ModalValue, OperatorMessageText
+from ._native_offsets import ToolGroupData
 from ._started import StartedCall
 from ._values import Paths, Positions
 from .client import FocasClient
@@ -40,24 +56,40 @@ __all__ = [
     "AlarmRaised",
     "ClientState",
     "CncClient",
+    "CommandValue",
     "Connection",
     "DriveUsage",
     "DynamicData",
+    "EthernetInfo",
     "FocasClient",
     "FolderCounts",
     "FolderEntry",
+    "GCode",
+    "ItemAttributes",
+    "ItemRange",
+    "ModalGroup",
+    "ModalValue",
     "NativeClient",
     "NativeUnsupportedError",
     "NotSentError",
+    "OperatorMessageText",
     "PanelSwitches",
     "Paths",
+    "PmcAreaSpan",
+    "PmcTitleInfo",
     "Positions",
     "ProgramFileInfo",
     "ProjectionMode",
     "ReconnectPolicy",
+    "RestartInfo",
     "ServoLoad",
     "SimControl",
+    "SoftwareInfo",
+    "SoftwareSlot",
     "StartedCall",
+    "StatusInfo2",
+    "ToolGroupData",
+    "ValidFigures",
     "open_connection",
     "read_dynamic_all",
     "read_status_all",

@@ -3,11 +3,15 @@ speak the protocol, a connection lost or closed, a connect refused, a peer that 
 
 Both transports say the same thing the same way, and raise the same kind of error for it: a
 peer that breaks the framing is a :class:`ProtocolError` (``does not speak the FOCAS
-protocol``); a connection that ends is a :class:`FocasConnectionError` (``connection closed
-by HOST:PORT``, ``connection to HOST:PORT lost: connection reset by peer``), with ``before
-any answer`` when the peer never sent a byte; a call that times out on a connection that never
-received a byte says so (:data:`NOTHING_RECEIVED`). An operating system error reads as its
-text (``connection refused``), never as Python shows the exception.
+protocol``); a connection the peer ends, by an end of stream or a reset (which of the two a
+peer closing at once gives is a race), is a :class:`FocasConnectionError` ``connection closed
+by HOST:PORT``; one lost otherwise reads ``connection to HOST:PORT lost: <why>``; both with
+``before any answer`` when the peer never sent a byte. A call whose connection ended says the
+connection's words alone once its request was sent, and adds :data:`NEVER_SENT` when it was
+not. A call left unanswered is ``no answer to <its FOCAS function>`` (:func:`no_answer_error`),
+and says so when the connection never received a byte (:data:`NOTHING_RECEIVED`). An
+operating system error reads as its text (``connection refused``), never as Python shows the
+exception.
 """
 
 from __future__ import annotations
@@ -23,11 +27,13 @@ from focas_net.protocol.codecs import COMMANDS
 
 __all__ = [
     "BEFORE_ANY_ANSWER",
+    "NEVER_SENT",
     "NOTHING_RECEIVED",
     "closed_error",
     "command_text",
     "connect_reason",
     "lost_error",
+    "no_answer_error",
     "not_focas_error",
     "os_reason",
     "timeout_error",
@@ -42,6 +48,11 @@ _TLS_RECORD_TYPES: Final = frozenset({0x14, 0x15, 0x16, 0x17})
 BEFORE_ANY_ANSWER: Final = "before any answer"
 #: What a timeout says when the connection never received a byte.
 NOTHING_RECEIVED: Final = "nothing received since connecting"
+#: What a failed call adds when its request never left (a call safe to send again).
+NEVER_SENT: Final = "(the request was never sent)"
+#: The operating system's errors of a peer that ended the connection: a reset (a peer that
+#: closes with data unread, or closes at once and meets the request), a write after its close.
+_PEER_ENDED: Final = (ConnectionResetError, BrokenPipeError, asyncio.IncompleteReadError)
 
 
 def command_text(command: int) -> str:
@@ -98,16 +109,22 @@ def closed_error(peer: str, answered: bool) -> FocasConnectionError:
 
 def lost_error(peer: str, exc: BaseException | None, answered: bool = True) -> FocasConnectionError:
     """The error of a connection to ``peer`` that ended for ``exc`` (None: the peer closed
-    it); an error of this package is its own."""
+    it; a reset reads the same); an error of this package is its own."""
     if isinstance(exc, FocasConnectionError):
         return exc
-    if exc is None or isinstance(exc, asyncio.IncompleteReadError):
+    if exc is None or isinstance(exc, _PEER_ENDED):
         err = closed_error(peer, answered)
     else:
         when = "" if answered else f" {BEFORE_ANY_ANSWER}"
         err = FocasConnectionError(f"connection to {peer} lost{when}: {os_reason(exc)}")
     err.__cause__ = exc
     return err
+
+
+def no_answer_error(call: str, peer: str | None, sent: bool = True) -> FocasTimeoutError:
+    """The error of ``call`` (its FOCAS function's name) left unanswered by its deadline;
+    ``peer`` when the connection to it never received a byte; ``sent``: its request left."""
+    return timeout_error(f"no answer to {call}" + ("" if sent else f" {NEVER_SENT}"), peer)
 
 
 def timeout_error(what: str, peer: str | None) -> FocasTimeoutError:

@@ -32,6 +32,7 @@ from ..native import (
     ScaledItemValues,
     ScaledNumber,
     calls,
+    info,
 )
 from ..protocol import ParamDataType, ParamValue
 from ._native_link import Handle, NativeLink
@@ -48,6 +49,12 @@ _PARAM_WIDTH: Final[dict[int, int]] = {
     ParamType.TWO_WORD: 4,
 }
 _DIAG_WIDTH: Final[dict[int, int]] = {0: 1, 1: 2, 2: 4, 3: 1, 4: 1}
+#: The builder of each item read's call.
+_READS: Final[dict[str, Callable[[CommandSet, int, int], LibraryCall]]] = {
+    "cnc_rdparam": calls.cnc_rdparam,
+    "cnc_diagnoss": calls.cnc_diagnoss,
+    "cnc_rdset": info.cnc_rdset,
+}
 #: What :func:`made_once` finds when nothing was made for an answer yet.
 _NOT_MADE: Final[Any] = object()
 
@@ -142,21 +149,28 @@ class NativeItems(NativeLink):
             raise CncError.from_ew(EW.ATTRIB, f"{function}: axis {axis} of {axes}")
 
     async def _read_item(
-        self, number: int, axis: int, deadline: float | None, path: int, *, diagnostic: bool
+        self,
+        number: int,
+        axis: int,
+        deadline: float | None,
+        path: int,
+        *,
+        diagnostic: bool,
+        setting: bool = False,
     ) -> ParamValue:
-        """``cnc_rdparam`` or ``cnc_diagnoss`` of a checked number and axis as a
-        :class:`ParamValue`."""
-        function = "cnc_diagnoss" if diagnostic else "cnc_rdparam"
+        """``cnc_rdparam``, ``cnc_diagnoss`` or (``setting``) ``cnc_rdset`` of a checked number
+        and axis as a :class:`ParamValue` (setting data are read as parameters)."""
+        function = "cnc_diagnoss" if diagnostic else "cnc_rdset" if setting else "cnc_rdparam"
         handle = self._handle_now() or await self._handle_for(deadline)
         self._check_axis_of(handle, axis, function, path)
-        build = calls.cnc_diagnoss if diagnostic else calls.cnc_rdparam
+        build = _READS[function]
         call = build(handle.command_set, number, axis)
         (block,) = await self._exchange(handle, call, deadline, 0, path)
         items: ItemValues | ScaledItemValues = decoded(call, (block,), 0, handle.max_axes)
         if not items.records:
             raise PayloadError(f"{function}: answer for {number} carries no record")
         record = items.records[0]
-        if not diagnostic:
+        if not diagnostic and not setting:
             self._param_types[number] = record.type
         if record.type == (DiagType.REAL if diagnostic else ParamType.REAL):
             # REALPRM: (mantissa, 10, decimals)

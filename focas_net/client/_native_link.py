@@ -64,7 +64,14 @@ from ..native import (
 from ._address import address_text
 from ._channel import Channel, open_channel
 from ._composite import CompositeCalls
-from ._failures import connect_reason, lost_error, timeout_error, violation_error
+from ._failures import (
+    NEVER_SENT,
+    connect_reason,
+    lost_error,
+    no_answer_error,
+    timeout_error,
+    violation_error,
+)
 from .connection import NotSentError
 from .reconnect import ClientState, ReconnectPolicy, StateCallback
 
@@ -594,10 +601,7 @@ class NativeLink(CompositeCalls):
                 return FocasConnectionError(
                     f"still reconnecting to {self.address} when the call timed out"
                 )
-            return FocasTimeoutError(
-                f"no answer from {self.address} within the call's timeout"
-                + ("" if job.sent else " (the request was never sent)")
-            )
+            return no_answer_error(job.part.function, None, job.sent)
         if ending is Ending.REFUSED:
             return CncError.from_ew(job.ew, "error answer (0x2103) to the request frame")
         if ending is Ending.STALE:
@@ -605,9 +609,5 @@ class NativeLink(CompositeCalls):
         if self._state is ClientState.CLOSED:
             return FocasConnectionError("client is closed")
         if job.sent:
-            return FocasConnectionError(
-                f"connection to {self.address} lost after the request was sent ({self._why})"
-            )
-        return NotSentError(
-            f"connection to {self.address} lost before the request was sent ({self._why})"
-        )
+            return FocasConnectionError(self._why)
+        return NotSentError(f"{self._why} {NEVER_SENT}")

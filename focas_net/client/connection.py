@@ -63,11 +63,12 @@ from ..protocol import (
 )
 from ._address import address_text
 from ._failures import (
+    NEVER_SENT,
     closed_error,
     command_text,
     connect_reason,
     lost_error,
-    timeout_error,
+    no_answer_error,
     violation_error,
 )
 
@@ -109,10 +110,8 @@ _Pending = tuple["asyncio.Future[bytes]", int, int, float]
 def _timed_out(entry: _Pending, silent_peer: str | None) -> None:
     """Fail ``entry`` for its deadline (``silent_peer``: the peer, when the connection never
     received a byte)."""
-    future, command, request_id, _ = entry
-    future.set_exception(
-        timeout_error(f"no answer to {command_text(command)}, request {request_id}", silent_peer)
-    )
+    future, command, _, _ = entry
+    future.set_exception(no_answer_error(command_text(command), silent_peer))
 
 
 class Connection(Received, asyncio.Protocol):
@@ -709,8 +708,11 @@ class Connection(Received, asyncio.Protocol):
                     err = ProtocolError(str(violation))
                     err.__cause__ = violation
                 else:
-                    kind = NotSentError if request_id in unsent else FocasConnectionError
-                    err = kind(f"request {request_id}: {reason}")
+                    err = (
+                        NotSentError(f"{reason} {NEVER_SENT}")
+                        if request_id in unsent
+                        else FocasConnectionError(str(reason))
+                    )
                     err.__cause__ = reason
                 entry[0].set_exception(err)
         self._release_slots(live)  # the calls in flight end here, and so do their slots

@@ -72,8 +72,8 @@ from ..protocol import (
 from ._composite import ChunkOutcome
 from ._native_clock import NativeClock
 from ._native_files import NativeFiles
+from ._native_info import NativeInfo
 from ._native_items import (
-    NativeItems,
     axis_name,
     block_data,
     decoded,
@@ -83,6 +83,8 @@ from ._native_items import (
     text,
 )
 from ._native_link import Handle, check_path_of
+from ._native_modal import NativeModal
+from ._native_offsets import NativeOffsets
 from ._started import StartedCall
 from ._values import (
     I16_MAX,
@@ -199,7 +201,7 @@ def _check_dynamic_axis(axis: object) -> None:
     check_axis(axis, every=-1)
 
 
-class NativeClient(NativeItems, NativeFiles, NativeClock):
+class NativeClient(NativeInfo, NativeOffsets, NativeFiles, NativeClock, NativeModal):
     """An asyncio client of FANUC's FOCAS/2 Ethernet protocol (port 8193 on a real control).
 
     It has the methods of :class:`~focas_net.client.FocasClient` that FOCAS/2 carries, with
@@ -207,9 +209,10 @@ class NativeClient(NativeItems, NativeFiles, NativeClock):
     :meth:`read_dynamic`, :meth:`read_timer`, :meth:`read_spindle_loads`,
     :meth:`read_servo_meters`, :meth:`read_cnc_id`, :meth:`read_sequence_number`,
     :meth:`read_program_name`, :meth:`read_alarm_status` and :meth:`read_param_type` (in
-    place of ``read_param_attributes``), and the program folders of a 30i-class control
-    (:class:`~focas_net.client._native_files.NativeFiles`). Concurrent calls are gathered
-    into frames of at most ``max_blocks`` blocks (``docs/native-client.md``).
+    place of ``read_param_attributes``), the tool and work offsets and tool life calls of
+    :class:`~focas_net.client._native_offsets.NativeOffsets`, and the program folders of a
+    30i-class control (:class:`~focas_net.client._native_files.NativeFiles`). Concurrent
+    calls are gathered into frames of at most ``max_blocks`` blocks (``docs/native-client.md``).
     """
 
     def __init__(

@@ -25,6 +25,7 @@ from __future__ import annotations
 import asyncio
 import enum
 import logging
+import math
 from collections import deque
 from dataclasses import dataclass
 from datetime import datetime
@@ -106,8 +107,10 @@ class AlarmProjection:
         timeout: float | None = None,
         max_failures: int | None = None,
     ) -> None:
-        if not interval > 0:
-            raise ValueError(f"interval must be positive, got {interval}")
+        if not 0 < interval < math.inf:
+            raise ValueError(
+                f"interval must be a positive, finite number of seconds, got {interval}"
+            )
         if max_failures is not None and max_failures < 1:
             raise ValueError(f"max_failures must be at least 1 (or None), got {max_failures}")
         if not 1 <= depth <= 250:

@@ -47,6 +47,18 @@ from .macros import (
     MacroReadRequest,
     MacroWriteRequest,
 )
+from .modal import (
+    ActivePointerRequest,
+    BlockCounterRequest,
+    CommandRequest,
+    ExecutingPathRequest,
+    GCodeRequest,
+    MdiPointerRequest,
+    ModalAuxRequest,
+    ModalGRequest,
+    OperatorMessage3Request,
+    OperatorMessageRequest,
+)
 from .pmc import NativePmcData, PmcReadRequest, PmcWriteRequest
 from .programs import (
     ExecutingBlocksRequest,
@@ -136,7 +148,9 @@ class LibraryCall:
     )
 
     def __post_init__(self) -> None:
-        object.__setattr__(self, "parts", tuple(encode_part(frame) for frame in self.frames))
+        object.__setattr__(
+            self, "parts", tuple(encode_part(frame, 1, self.function) for frame in self.frames)
+        )
 
     def answer(self, frame: int, index: int, data: bytes, max_axes: int) -> Any:
         """The answer ``data`` of request ``index`` of frame ``frame``, decoded
@@ -163,7 +177,7 @@ class LibraryCall:
         key = (frame, path)
         part = self._path_parts.get(key)
         if part is None:
-            part = self._path_parts[key] = encode_part(self.frames[frame], path)
+            part = self._path_parts[key] = encode_part(self.frames[frame], path, self.function)
         return part
 
     def blocks(self, path: int = 1) -> tuple[tuple[RequestBlock, ...], ...]:
@@ -541,3 +555,90 @@ def cnc_rdsvmeter(cs: CommandSet) -> LibraryCall:
         ServoMeterRequest(1),
         AxisCountRequest(2),
     )
+
+
+# -- modal data, operator messages, program pointers (focas_net.native.modal) -------------------
+
+
+def _modal_request(kind: int, block: int) -> ModalGRequest | ModalAuxRequest | None:
+    """The request ``cnc_modal(type, block)`` sends (see :mod:`.modal`) [V]; None for a type
+    the library refuses with EW_NUMBER without sending (127..199, -6 and less)."""
+    if 0 <= kind <= 99 or kind == -1:
+        return ModalGRequest(kind, block)
+    if kind in (-4, -5):
+        return ModalGRequest(kind + 2, block)
+    if kind >= 300:
+        return ModalGRequest(kind - 200, block)
+    if 100 <= kind <= 126:
+        return ModalAuxRequest(_MODAL_SLOTS[kind - 100], block)
+    if kind in (-2, -3):
+        return ModalAuxRequest(kind + 1, block)
+    if kind >= 200:
+        return ModalAuxRequest(kind - 100, block)
+    return None
+
+
+#: The slot ``cnc_modal`` sends for types 100..126 (B D E F H L M S T R P Q A C I J K N O U V W
+#: X Y Z, the second and third M codes) [V].
+_MODAL_SLOTS: Final = (1, 3, 4, 5, 6, 10, 11, 21, 22, 20, 18, 19, 0, 2, 7, 8, 9, 16, 17, 23,
+                       24, 25, 26, 27, 28, 12, 13)  # fmt: skip
+
+
+@_memoized
+def cnc_modal(cs: CommandSet, kind: int, block: int) -> LibraryCall:
+    """0x21 or 0x22 ``(kind, block)`` [V] (:func:`_modal_request`; ValueError for a type the
+    library refuses)."""
+    request = _modal_request(kind, block)
+    if request is None:
+        raise ValueError(f"cnc_modal type {kind} is refused by the library")
+    return _one("cnc_modal", request)
+
+
+@_memoized
+def cnc_rdgcode(cs: CommandSet, kind: int, block: int) -> LibraryCall:
+    """0x96 ``(type, block)`` [V]."""
+    return _one("cnc_rdgcode", GCodeRequest(kind, block))
+
+
+@_memoized
+def cnc_rdcommand(cs: CommandSet, kind: int, block: int) -> LibraryCall:
+    """0x97 ``(type, block)`` [V]."""
+    return _one("cnc_rdcommand", CommandRequest(kind, block))
+
+
+@_memoized
+def cnc_rdopmsg(cs: CommandSet) -> LibraryCall:
+    """0x34 ``(0)`` (``cnc_rdopmsg`` and ``cnc_rdopmsg2``, type 0) [V]."""
+    return _one("cnc_rdopmsg", OperatorMessageRequest(0))
+
+
+@_memoized
+def cnc_rdopmsg3(cs: CommandSet, kind: int, count: int) -> LibraryCall:
+    """0x34 ``(type)`` at 16i class; 0xD0 ``(0, type, num)`` at 30i [V]."""
+    if cs is _16I:
+        return _one("cnc_rdopmsg3", OperatorMessageRequest(kind))
+    return _one("cnc_rdopmsg3", OperatorMessage3Request(0, kind, count))
+
+
+@_memoized
+def cnc_exeprgname2(cs: CommandSet) -> LibraryCall:
+    """0xFC [V]."""
+    return _one("cnc_exeprgname2", ExecutingPathRequest())
+
+
+@_memoized
+def cnc_rdactpt(cs: CommandSet) -> LibraryCall:
+    """0x162 [V]."""
+    return _one("cnc_rdactpt", ActivePointerRequest())
+
+
+@_memoized
+def cnc_rdblkcount(cs: CommandSet) -> LibraryCall:
+    """0x35 [V]."""
+    return _one("cnc_rdblkcount", BlockCounterRequest())
+
+
+@_memoized
+def cnc_rdmdipntr(cs: CommandSet) -> LibraryCall:
+    """0x38 (``cnc_rdmdipntr``, ``cnc_rdmdipntro8``) [V]."""
+    return _one("cnc_rdmdipntr", MdiPointerRequest())

@@ -31,7 +31,7 @@ import enum
 import struct
 from collections import deque
 from collections.abc import Callable, Iterable, Sequence
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from typing import Final, Generic, TypeVar
 
 from focas_net._memo import Memo
@@ -95,6 +95,8 @@ class Part:
     answer_axes: int
     #: The data request frame that carries these blocks alone.
     frame: bytes
+    #: The FOCAS function whose frame this is (``cnc_rdparam``), as a failure names it.
+    function: str = field(default="", compare=False)
 
     @property
     def request_size(self) -> int:
@@ -126,8 +128,9 @@ def request_frame(blocks: bytes, count: int) -> bytes:
     return head + blocks
 
 
-def encode_part(requests: Sequence[NativeRequest], path: int = 1) -> Part:
-    """The :class:`Part` of ``requests`` (one frame's worth of one call) on ``path``.
+def encode_part(requests: Sequence[NativeRequest], path: int = 1, function: str = "") -> Part:
+    """The :class:`Part` of ``requests`` (one frame's worth of one call) on ``path`` (of
+    ``function``, the FOCAS function, named in a failure).
 
     :raises ValueError: a request whose fields do not fit its block (naming the request).
     """
@@ -142,7 +145,7 @@ def encode_part(requests: Sequence[NativeRequest], path: int = 1) -> Part:
         fixed += size
         axes += per_axis
     blocks = b"".join(encoded)
-    return Part(blocks, len(encoded), fixed, axes, request_frame(blocks, len(encoded)))
+    return Part(blocks, len(encoded), fixed, axes, request_frame(blocks, len(encoded)), function)
 
 
 class Ending(enum.Enum):

@@ -5,7 +5,19 @@ knows either wire protocol: :mod:`focas_net.adapters` translates (``docs/protoco
 
 from ._alarms import MAX_ALARM_NO
 from ._identity import CLASS_MAX_AXES, MAX_NAME_LENGTH
+from ._information import (
+    SETTING_NUMBERS,
+    VALID_FIGURES,
+    EthernetBoard,
+    LadderTitle,
+    PmcAreaExtent,
+    SoftwareVersion,
+)
+from ._modal import EXTERNAL_MESSAGE_NUMBERS, ExternalMessage, OperatorMessage
+from ._pmc import pmc_letter
 from ._signals import CLOCK_VARIABLES, SERVO_POWER_DIAG, TIMER_PARAMS, OperatorSignals
+from ._tool_ops import GroupStatus, LifeInfo, ToolOffsetInfo
+from ._tools import LIFE_TYPES, OFFSET_TYPES, WORK_OFFSET_NAMES, LifeTool, ToolGroup, ToolsSpec
 from .default import DEFAULT_NAME, DEMO_PROGRAM, default_machine
 from .machine import (
     AUT_MODES,
@@ -50,39 +62,58 @@ __all__ = [
     "DEFAULT_HISTORY_CAPACITY",
     "DEFAULT_NAME",
     "DEMO_PROGRAM",
+    "EXTERNAL_MESSAGE_NUMBERS",
     "F_SIGNALS",
     "G_SIGNALS",
+    "LIFE_TYPES",
     "MAX_ALARM_NO",
     "MAX_MACRO_DECIMALS",
     "MAX_NAME_LENGTH",
     "MAX_PATHS",
+    "OFFSET_TYPES",
     "PATH_PARAMS",
     "PMC_AREAS",
     "POSITION_DECIMALS",
     "POSITION_KINDS",
     "SERVO_POWER_DIAG",
+    "SETTING_NUMBERS",
     "TIMER_KINDS",
     "TIMER_PARAMS",
+    "VALID_FIGURES",
+    "WORK_OFFSET_NAMES",
     "Alarm",
     "Clock",
     "DataItem",
+    "EthernetBoard",
+    "ExternalMessage",
+    "GroupStatus",
     "HistoryEntry",
     "Identity",
+    "LadderTitle",
+    "LifeInfo",
+    "LifeTool",
     "Machine",
     "MachineError",
     "MachineFileError",
     "MacroRange",
     "MotionData",
+    "OperatorMessage",
     "OperatorSignals",
     "Panel",
     "ParamKind",
     "PathInfo",
     "PathSpec",
+    "PmcAreaExtent",
     "PmcAreaSpec",
     "Session",
+    "SoftwareVersion",
     "Status",
+    "ToolGroup",
+    "ToolOffsetInfo",
+    "ToolsSpec",
     "default_machine",
     "load_machine",
     "machine_from_dict",
+    "pmc_letter",
     "utc_now",
 ]

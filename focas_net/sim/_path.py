@@ -22,7 +22,7 @@ from then on the engine's, until ``set_motion`` or ``set_run`` is called again.
 from __future__ import annotations
 
 import math
-from collections.abc import Iterable
+from collections.abc import Callable, Iterable
 from dataclasses import dataclass, replace
 from decimal import Decimal
 from typing import Final
@@ -253,6 +253,7 @@ class Path:
         "group",
         "items",
         "key",
+        "listeners",
         "live",
         "local_macros",
         "macros",
@@ -343,6 +344,8 @@ class Path:
         #: Every path of the machine, this one among them (the machine sets it).
         self.group: list[Path] = [self]
         self.production = Production(self)
+        #: Called with every event the engine reports, after the path recorded it.
+        self.listeners: list[Callable[[EngineEvent, float], None]] = []
 
     def macro_values(self, number: int) -> dict[int, Decimal]:
         """Where variable ``number``'s value is held: the path's own #1-#33 and #100-#199 (the
@@ -451,6 +454,8 @@ class Path:
             now = self.time.now()
             for event in events:
                 self.engine_event(event, now)
+                for listen in self.listeners:
+                    listen(event, now)
         key = (state, motion)
         changed = key != self.key
         self.key = key

@@ -162,10 +162,13 @@ class Pmc:
         return None if area is None else (area.size, area.write_protected)
 
     def area(self, letter: str) -> Area:
-        """Area ``letter``: EW_NOOPT when the machine has none."""
-        area = self.areas.get(letter) or self.areas.get(letter.upper())
+        """Area ``letter``: EW_NOOPT when the machine has none, naming the areas it has (every
+        front end shows these words)."""
+        area = self.areas.get(letter) or self.areas.get(letter.strip().upper())
         if area is None:
-            raise MachineError(EW.NOOPT, f"no PMC area {letter}")
+            has = ", ".join(a for a in PMC_AREAS if a in self.areas)
+            shown = letter.strip().upper() or repr(letter)
+            raise MachineError(EW.NOOPT, f"the machine has no PMC area {shown} (it has {has})")
         return area
 
     def write(

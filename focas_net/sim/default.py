@@ -46,6 +46,9 @@ Programs: the demo program :data:`DEMO_PROGRAM`, O0001, is the main program: a t
 the spindle at 3000 min^-1 and a 80 x 60 mm contour with an arc at F1200, about 25 s of
 machine time per part; cycle start runs it once, M30 counts a part.
 
+Tools: offsets 1 and 2 hold lengths and radii (64 offsets, memory C); tool life groups 1 (T1,
+then T11: 500 cycles) and 2 (T2: 60 minutes of cutting); the work offsets are 0.
+
 VersaMax rack 0: slot 1 the GNIU (IC200GBI001), slot 3 the IC200MDD844; every other slot empty.
 """
 
@@ -59,6 +62,7 @@ from typing import Final
 from focas_net.versamax import BoardId, IOModuleRecord, RefType
 
 from ._identity import CLASS_MAX_AXES
+from ._tools import LifeTool, ToolGroup, ToolsSpec
 from .machine import (
     DEFAULT_HISTORY_CAPACITY,
     Clock,
@@ -270,4 +274,24 @@ def default_machine(
         read_only=read_only,
         programs=programs,
         sim_clock=sim_clock,
+        tools={1: _tools()},
+    )
+
+
+def _tools() -> ToolsSpec:
+    """Tool offsets 1 and 2 (lengths and radii of the demo's T1 and a spare), and two tool
+    life groups: T1 then T11 counted by cycles, T2 by minutes of cutting."""
+    return ToolsSpec(
+        offsets=64,
+        offset_values={
+            (1, "radius_geometry"): 5000,
+            (1, "length_geometry"): 125_000,
+            (1, "length_wear"): -15,
+            (2, "radius_geometry"): 3000,
+            (2, "length_geometry"): 98_500,
+        },
+        groups=(
+            ToolGroup(1, 500, "count", 0, [LifeTool(1, 1, 1), LifeTool(11, 11, 11)]),
+            ToolGroup(2, 60, "time", 0, [LifeTool(2, 2, 2)]),
+        ),
     )

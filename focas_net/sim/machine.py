@@ -113,9 +113,11 @@ from ._identity import (
     checked_identity,
     checked_name,
 )
+from ._information import InformationOperations
 from ._items import MAX_REAL_DECIMALS as MAX_REAL_DECIMALS  # the native adapter's
 from ._items import PARTS_COUNT, PARTS_TOTAL, DataItem, Items, ParamKind
 from ._macros import MAX_MACRO_DECIMALS, MacroRange, Macros
+from ._modal import ModalOperations
 from ._password import ParamLock, Session
 from ._path import (
     AUT_MODES,
@@ -158,6 +160,8 @@ from ._signals import (
     collected_params,
 )
 from ._station import Station
+from ._tool_ops import ToolOperations, build_tools
+from ._tools import ToolsSpec
 from .nc import Engine, ProgramStore, RealTimeClock, SimClock
 from .nc.scenario import Scenario, ScenarioEvent
 from .nc.waits import PathSync
@@ -199,7 +203,9 @@ __all__ = [
 ]
 
 
-class Machine(FolderOperations, SignalOperations):
+class Machine(
+    FolderOperations, SignalOperations, ToolOperations, ModalOperations, InformationOperations
+):
     """One simulated CNC.
 
     Build one with :func:`focas_net.sim.default_machine`, :func:`focas_net.sim.load_machine` or
@@ -235,6 +241,7 @@ class Machine(FolderOperations, SignalOperations):
         sim_clock: SimClock | None = None,
         scenario: Scenario | None = None,
         paths: Sequence[PathSpec] | None = None,
+        tools: Mapping[int, ToolsSpec] | None = None,
     ) -> None:
         self._name = checked_name(name)
         #: How the machine runs on its own when it is told to (:meth:`start_scenario`;
@@ -292,6 +299,8 @@ class Machine(FolderOperations, SignalOperations):
         for p in built:
             p.group = built
         self._paths = Paths(built, infos)
+        #: Each path's tool offsets and tool life (``tools``: per path number).
+        self._tools = build_tools(self._paths, tools or {})
         self._path = first = built[0]
         #: Path 1's operator panel and the run state it shows (:meth:`path_panel`).
         self.panel: Panel = first.panel

@@ -24,6 +24,7 @@ from focas_net.versamax import BoardId, IOModuleRecord, RefType
 from ._base import NUMBERS
 from ._identity import CLASS_MAX_AXES, name_problem
 from ._items import parts_param_problem
+from ._modal import ExternalMessage
 from ._pmc import pmc_letter
 from ._station import MAX_RACK, MAX_SLOT
 from .default import gniu_record, mdd844_record
@@ -63,12 +64,14 @@ from .machine import (
 )
 from .nc import Scenario, SimClock
 from .pathfile import _axes, _motion, _panel, _programs, path_specs
+from .toolfile import tool_specs
 
 __all__ = ["MODE_NAMES", "MachineFileError", "load_machine", "machine_from_dict"]
 
 
-#: ``type`` names of a parameter or diagnostic (``i16`` and ``i32``, the width names of older
-#: files, are ``word`` and ``2-word``).
+#: ``type`` names of a parameter or diagnostic, as every front end names the types
+#: (``two-word``); those of older files still load (``2-word``, and the width names ``i16`` and
+#: ``i32``, which are ``word`` and ``two-word``).
 _TYPES: Final[dict[str, ParamKind]] = {
     "bit": ParamKind.BIT,
     "byte": ParamKind.BYTE,
@@ -79,7 +82,7 @@ _TYPES: Final[dict[str, ParamKind]] = {
     "i32": ParamKind.TWO_WORD,
     "real": ParamKind.REAL,
 }
-_TYPE_NAMES: Final = '"bit", "byte", "word", "2-word" (or "two-word"), "real"'
+_TYPE_NAMES: Final = '"bit", "byte", "word", "two-word", "real"'
 _MODULES: Final = {"IC200GBI001": gniu_record, "IC200MDD844": mdd844_record}
 _REF_TYPES: Final[dict[str, RefType]] = {"I": RefType.I, "Q": RefType.Q, "AI": RefType.AI}
 _REF_TYPES["AQ"] = RefType.AQ
@@ -374,6 +377,30 @@ def _station(ctx: _Ctx, value: Any) -> dict[tuple[int, int], IOModuleRecord]:
     return station
 
 
+_MESSAGE_ADDRESS: Final = re.compile(r"A(\d{1,5})\.([0-7])")
+
+
+def _operator_messages(ctx: _Ctx, value: Any) -> list[ExternalMessage]:
+    """``[[operator_messages]]``: ``address`` (``"A0.1"``), ``number`` (2000..2999) and
+    ``text`` of each external operator message (the machine checks the rest)."""
+    out = []
+    for i, raw in enumerate(_list(ctx, value)):
+        c = ctx.sub(i)
+        spec = _table(c, raw)
+        _only(c, spec, ("address", "number", "text"))
+        for key in ("address", "number", "text"):
+            if key not in spec:
+                c.sub(key).fail("missing")
+        address = _str(c.sub("address"), spec["address"]).strip().upper()
+        match = _MESSAGE_ADDRESS.fullmatch(address)
+        if match is None:
+            c.sub("address").fail(f'{address!r} is not an A-area bit such as "A0.1"')
+        number = _int(c.sub("number"), spec["number"], (2000, 2999))
+        text = _str(c.sub("text"), spec["text"])
+        out.append(ExternalMessage(int(match.group(1)), int(match.group(2)), number, text))
+    return out
+
+
 #: Largest number a ``[run]`` rate or time may be (events per hour, seconds: a year).
 _MAX_RUN_NUMBER: Final = 31_536_000.0
 #: The keys of ``[run]`` that are numbers of seconds or events per hour (>= 0).
@@ -434,6 +461,8 @@ _TOP: Final = (
     "program",
     "run",
     "path",
+    "operator_messages",
+    "tools",
 )
 
 
@@ -492,9 +521,10 @@ def machine_from_dict(
         (1, 100_000),
     )
     ranges, values = _macros(root.sub("macros"), top.get("macros", {}))
+    messages = _operator_messages(root.sub("operator_messages"), top.get("operator_messages", []))
     try:
         programs = _programs(root.sub("program"), top.get("program", []), base)
-        return _build(
+        machine = _build(
             root,
             top,
             name,
@@ -513,6 +543,11 @@ def machine_from_dict(
         raise
     except ValueError as exc:  # a check of the machine itself that the file checks missed
         root.fail(str(exc))
+    try:
+        machine.set_external_messages(messages)
+    except ValueError as exc:  # the machine's checks: the A area, a number or bit twice
+        root.sub("operator_messages").fail(str(exc))
+    return machine
 
 
 def _build(
@@ -559,6 +594,7 @@ def _build(
         main_program=programs[1],
         sim_clock=sim_clock,
         scenario=_run(root.sub("run"), top["run"]) if "run" in top else None,
+        tools=tool_specs(root.sub("tools"), top["tools"]) if "tools" in top else None,
     )
 
 

@@ -269,15 +269,16 @@ def _clear_alarms(station: Station, args: Mapping[str, Any]) -> JsonDict:
 def _pmc_bit(station: Station, args: Mapping[str, Any]) -> JsonDict:
     """Toggle (or, with ``value`` 0/1, set) one PMC bit."""
     m = station.machine
-    area = _text(args, "area").strip().upper()
+    typed = _text(args, "area")
+    try:
+        m.pmc_area(typed)  # the machine's words for a letter that is no PMC area
+    except ValueError as exc:
+        raise ActionError(str(exc)) from None
+    m.check_pmc_area(typed)  # and for an area this machine has not (EW_NOOPT)
+    area = typed.strip().upper()
     address, bit = _int(args, "address"), _int(args, "bit")
     if not 0 <= bit <= 7:
         raise ActionError(f"bit: 0..7, got {bit}")
-    try:
-        if m.pmc_area(area) is None:
-            raise MachineError(EW.NOOPT, f"no PMC area {area}")
-    except ValueError:
-        raise ActionError(f"area: not a PMC area: {area!r}") from None
     m.check_writable()
     (byte,) = m.read_pmc(area, address, 1)
     value = _optional_int(args, "value")

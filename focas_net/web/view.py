@@ -35,6 +35,7 @@ from focas_net.sim import (
     Machine,
     MachineError,
     ParamKind,
+    pmc_letter,
 )
 
 __all__ = [
@@ -314,11 +315,10 @@ def pmc_address(text: str, area: str) -> tuple[str, int]:
     found = _PMC_ADDRESS.fullmatch(text.strip())
     if found is None:
         raise ValueError(f"PMC address {text!r}: write a byte address, 100 or R100")
-    letter = (found[1] or area).strip().upper()
-    if letter not in PMC_AREAS:
-        raise ValueError(
-            f"PMC address {text!r}: no PMC area {letter} (one of {', '.join(PMC_AREAS)})"
-        )
+    try:
+        letter = pmc_letter(found[1] or area)  # the machine's words for no PMC area
+    except ValueError as exc:
+        raise ValueError(f"PMC address {text!r}: {exc}" if found[1] else str(exc)) from None
     digits = found[2]
     if len(digits) > 6:
         raise ValueError(f"PMC address {text!r}: beyond every PMC area")
@@ -331,9 +331,8 @@ def pmc_window(machine: Machine, area: str, start: int, length: int = PMC_ROW_BY
     letter = area.strip().upper()
     info = machine.pmc_area(letter) if letter in PMC_AREAS else None
     if info is None:
-        has = ", ".join(a["area"] for a in _pmc_areas(machine))
         if letter in PMC_AREAS:
-            raise MachineError(EW.NOOPT, f"the machine has no PMC area {letter} (it has {has})")
+            machine.check_pmc_area(letter)  # EW_NOOPT in the machine's words
         raise MachineError(EW.NUMBER, f"no PMC area {area!r} (one of {', '.join(PMC_AREAS)})")
     size, protected = info
     if not 0 <= start < size:
@@ -362,7 +361,7 @@ def param_rows(
     machine: Machine, query: str = "", limit: int = 200, *, path: int = 1
 ) -> list[JsonDict]:
     """The parameters whose number starts with ``query`` or whose name contains it (case
-    insensitive), at most ``limit`` of them, by number. ``kind`` is the type as every front
+    insensitive), at most ``limit`` of them, by number. ``type`` is the type as every front
     end names it (``two-word``); an axis parameter has a value per axis, named in ``axes``;
     a bit parameter's values are its eight bits #7..#0 (``10110000``), as the page edits
     them, and ``bits`` too."""
@@ -382,7 +381,7 @@ def param_rows(
             {
                 "number": number,
                 "name": item.name,
-                "kind": "" if item.kind is None else ParamDataType(item.kind).label,
+                "type": "" if item.kind is None else ParamDataType(item.kind).label,
                 "axis": item.axis,
                 "axes": axes,
                 "low": item.low,

@@ -82,6 +82,16 @@ from .clock import ManualClock, RealTimeClock, SimClock
 from .engine import CycleState, Engine, EngineEvent, MotionKind, NcStateError
 from .interpreter import DEFAULT_MODAL, G_CODE_GROUPS, NcSettings
 from .macro import MACRO_FUNCTIONS, MemoryVariables, NcVariables, VariableRefused
+from .modal import (
+    FANUC_GROUPS,
+    ModalAddress,
+    ModalG,
+    ModalState,
+    ProgramPointer,
+    g_code_text,
+    modal_state,
+    program_pointer,
+)
 from .motion import ArcMove, LinearMove, Motion, RapidMove
 from .program import Block, Program, ProgramInfo, ProgramStore, Word, parse_program
 from .scenario import (
@@ -98,6 +108,7 @@ __all__ = [
     "ALARM_MESSAGES",
     "DEFAULT_MODAL",
     "DEFAULT_SCENARIO",
+    "FANUC_GROUPS",
     "G_CODE_GROUPS",
     "MACRO_FUNCTIONS",
     "SCENARIO_ALARMS",
@@ -110,6 +121,9 @@ __all__ = [
     "LinearMove",
     "ManualClock",
     "MemoryVariables",
+    "ModalAddress",
+    "ModalG",
+    "ModalState",
     "Motion",
     "MotionKind",
     "NcAlarm",
@@ -120,6 +134,7 @@ __all__ = [
     "ProgramError",
     "ProgramErrorReason",
     "ProgramInfo",
+    "ProgramPointer",
     "ProgramStore",
     "RapidMove",
     "RealTimeClock",
@@ -131,5 +146,8 @@ __all__ = [
     "VariableRefused",
     "Word",
     "fleet_seed",
+    "g_code_text",
+    "modal_state",
     "parse_program",
+    "program_pointer",
 ]

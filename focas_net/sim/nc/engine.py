@@ -17,7 +17,17 @@ from typing import Final
 
 from .alarms import ALARM_MESSAGES, AlarmKind, AlarmRaised, NcAlarm
 from .clock import SimClock
-from .interpreter import Action, Dwell, Interpreter, NcSettings, ProgramEnd, Stop, Sync, Wait
+from .interpreter import (
+    BUSY,
+    Action,
+    Dwell,
+    Interpreter,
+    NcSettings,
+    ProgramEnd,
+    Stop,
+    Sync,
+    Wait,
+)
 from .macro import MemoryVariables, NcVariables
 from .motion import Motion, Vector
 from .program import ProgramStore
@@ -151,6 +161,7 @@ class Engine:
             raise NcStateError(f"cycle start refused: alarm {self._alarm.code} is active")
         if self._state is CycleState.START:
             return
+        self.interpreter.message = None  # a stop's message goes with the cycle start
         if self._state is CycleState.RESET:
             main = self.store.find(self.store.main) if self.store.main is not None else None
             if main is None:
@@ -201,6 +212,7 @@ class Engine:
         self._single_block_pending = False
         it = self.interpreter
         it.rewind(None)
+        it.message = None
         it.spindle = 5
         it.coolant = False
         it.position = list(self._position)
@@ -348,7 +360,8 @@ class Engine:
     def waiting(self) -> bool:
         """Whether an M, S or T function is waiting for its completion (FIN)."""
         self.advance()
-        return self._state is CycleState.START and isinstance(self._action, Wait)
+        action = self._action
+        return self._state is CycleState.START and isinstance(action, Wait) and action.fin
 
     def flags(self) -> tuple[CycleState, MotionKind, bool]:
         """:attr:`state`, :attr:`motion` and :attr:`waiting` at once, from one advance."""
@@ -357,7 +370,7 @@ class Engine:
         if state is not CycleState.START or action is None:
             return state, MotionKind.NONE, False
         if isinstance(action, Wait):
-            return state, MotionKind.NONE, True
+            return state, MotionKind.NONE, action.fin
         if isinstance(action, Sync):
             return state, MotionKind.WAIT, False
         return state, MotionKind.DWELL if isinstance(action, Dwell) else MotionKind.MOTION, False
@@ -604,7 +617,7 @@ class Engine:
             if not step.actions:
                 self._zero_steps += 1
                 if self._zero_steps > self.settings.zero_time_blocks:
-                    self._queue.append(Wait(self.settings.busy_block_time, "busy"))
+                    self._queue.append(Wait(self.settings.busy_block_time, BUSY))
                 else:
                     return True
         action = self._queue.popleft()
@@ -615,7 +628,7 @@ class Engine:
         if isinstance(action, ProgramEnd):
             self._end(action)
             return False
-        if not (isinstance(action, Wait) and action.code == "busy"):
+        if not (isinstance(action, Wait) and not action.fin):
             self._zero_steps = 0
         self._start(action)
         return True
@@ -659,6 +672,7 @@ class Engine:
         self._state = CycleState.RESET
         it = self.interpreter
         it.rewind(None)
+        it.message = None
         it.spindle = 5
         it.coolant = False
         it.position = list(self._position)

@@ -136,12 +136,22 @@ class Dwell:
     seconds: float
 
 
+#: The code of the engine's own wait in a loop of blocks that take no time (not a function).
+BUSY: Final = "busy"
+
+
 @dataclass(frozen=True, slots=True)
 class Wait:
-    """An M, T or tool-change function: the program waits ``seconds`` for its completion."""
+    """An M, T or tool-change function: the program waits ``seconds`` for its completion; or
+    the engine's own time for a block-only loop (``code`` :data:`BUSY`), which is no function."""
 
     seconds: float
     code: str
+
+    @property
+    def fin(self) -> bool:
+        """Whether an M/S/T/B function waits for its completion (ODBST ``mstb`` FIN)."""
+        return self.code != BUSY
 
 
 @dataclass(frozen=True, slots=True)
@@ -226,6 +236,17 @@ class Interpreter:
         self.sequence: int | None = None
         self.block: int | None = None  #: index of the block being executed
         self._hold: dict[int, float] = {}  #: axes kept at a work position this block
+        #: The executing NC block: its addresses but G with their values, its G codes (x10).
+        self.block_words: dict[str, float] = {}
+        self.block_codes: frozenset[int] = frozenset()
+        #: The last value of each address but G, kept from block to block (modal D, E, B...).
+        self.last_words: dict[str, float] = {}
+        self.one_shot: int | None = None  #: the one-shot G code (x10) of the executing block
+        self.blocks_run = 0  #: blocks executed since power-on (the block counter)
+        #: ``#3006``'s stop with a message: (the number assigned, the message), until the
+        #: next cycle start or reset.
+        self.message: tuple[int, str] | None = None
+        self._message_stop = False
 
     # --- program pointer ------------------------------------------------------------------
 
@@ -336,6 +357,12 @@ class Interpreter:
             if not 0 <= n <= 200:
                 raise AlarmRaised(119, f"#3000 = {n} is outside 0..200")
             raise AlarmRaised(3000 + n, comment, AlarmKind.MC)
+        elif number == 3006:
+            n = 0 if value is None else round_fanuc(value)
+            if not 0 <= n <= 99999999:
+                raise AlarmRaised(119, f"#3006 = {n} is outside 0..99999999")
+            self.message = (n, comment)
+            self._message_stop = True
         elif number == 0 or 4000 <= number <= 5200:
             raise AlarmRaised(116, f"#{number}")
         elif (offset := self._offset_variable(number)) is not None:
@@ -364,6 +391,7 @@ class Interpreter:
         if block.deletable and self.block_delete:
             return Step()
         self.block = index
+        self.blocks_run += 1
         if block.sequence is not None:
             self.sequence = block.sequence
         st = block.statement
@@ -387,6 +415,9 @@ class Interpreter:
                 frame.index = program.loops[index] + 1
         elif isinstance(st, End):
             frame.index = program.loops[index]
+        if self._message_stop:  # #3006: the program stops with its message
+            self._message_stop = False
+            return Step([Stop(3006)])
         return Step()
 
     def _true(self, condition: Expr) -> bool:
@@ -429,6 +460,10 @@ class Interpreter:
                 values.append((word.address, value, word.integer_literal))
         modal = dict(self.modal)
         one_shot: int | None = None
+        self.one_shot = None
+        self.block_words = {a: v for a, v, _ in values if a != "G"}
+        self.last_words.update(self.block_words)
+        self.block_codes = frozenset(round_fanuc(v * 10) for a, v, _ in values if a == "G")
         for address, value, _ in values:
             if address == "G":
                 code = round_fanuc(value * 10)
@@ -436,7 +471,7 @@ class Interpreter:
                 if group is None or abs(code - value * 10) > 1e-6:
                     raise AlarmRaised(10, f"G{value:g}")
                 if group == 0:
-                    one_shot = code
+                    self.one_shot = one_shot = code
                 else:
                     modal[group] = code
         inch = modal[6] == 200

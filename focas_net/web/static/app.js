@@ -473,7 +473,7 @@ async function loadParams() {
     el("tr", {}, el("th", {}, "no."), el("th", {}, "name"), el("th", {}, "type"),
       el("th", {}, "value(s)")),
     ...body.params.map((p) => el("tr", {}, el("td", {}, String(p.number)),
-      el("td", {}, p.name), el("td", {}, p.kind),
+      el("td", {}, p.name), el("td", {}, p.type),
       el("td", {}, ...p.values.map((val, i) => {
         const axis = p.axis ? i + 1 : 0;
         const id = `param-${p.number}-${axis}`;

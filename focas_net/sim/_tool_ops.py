@@ -1,0 +1,258 @@
+"""The machine's operations of tool offsets, work zero offsets and tool life, a part of
+:class:`~focas_net.sim.Machine` (the model: :mod:`._tools`).
+
+Each takes ``path`` (keyword, 1 by default) and answers for that path (EW_PATH for one the
+machine has not). Check order of a read: EW_PATH, then the ranges (:mod:`._tools`); of a
+write: EW_PROT (read-only machine), EW_PATH, the ranges, the value. Values are in least input
+increments (0.001 mm). A tool life read first brings the path to the clock's time, so the
+counters follow the running program.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Mapping, Sequence
+from dataclasses import dataclass
+from typing import Final
+
+from focas_net.errors import EW
+
+from ._base import Counters, MachineError
+from ._path import Path
+from ._paths import Paths
+from ._tools import (
+    WORK_OFFSET_NAMES,
+    ToolLife,
+    ToolOffsets,
+    ToolsSpec,
+    _number,
+)
+from .nc import EngineEvent
+
+__all__ = [
+    "MAX_WORK_OFFSET",
+    "GroupStatus",
+    "LifeInfo",
+    "PathTools",
+    "ToolOffsetInfo",
+    "ToolOperations",
+    "build_tools",
+]
+
+#: Largest work zero offset in least input increments (99999.999 mm).
+MAX_WORK_OFFSET: Final = 99_999_999
+#: The largest life of each type: FANUC's 9999 uses and 4300 minutes.
+_MAX_MINUTES: Final = 4300
+_MAX_CYCLES: Final = 9999
+
+
+@dataclass(frozen=True, slots=True)
+class ToolOffsetInfo:
+    """The kind of a path's tool offset memory and its size: ``kind`` ``"M"`` (memory C: 4
+    types) or ``"T"`` (7 types), ``types`` their names by number, ``count`` the numbers."""
+
+    kind: str
+    types: tuple[str, ...]
+    count: int
+
+
+@dataclass(frozen=True, slots=True)
+class LifeInfo:
+    """The tool life management of a path: groups declared, the most groups and tools per
+    group, the largest life in minutes and in uses, and the groups of the tool in use."""
+
+    groups: int
+    max_groups: int
+    max_tools: int
+    max_minutes: int
+    max_cycles: int
+    selected: int
+
+
+@dataclass(frozen=True, slots=True)
+class GroupStatus:
+    """One tool life group as it is now: its life type and life, the counter of the tool in
+    use, the index (1..) of that tool, and each tool ``(T, H, D, state)``."""
+
+    number: int
+    life_type: str
+    life: int
+    count: int
+    in_use: int
+    tools: tuple[tuple[int, int, int, int], ...]
+
+
+class PathTools:
+    """The tool offsets and tool life of one path, following its engine's events."""
+
+    __slots__ = ("life", "offsets", "path")
+
+    def __init__(self, path: Path, kind: str, spec: ToolsSpec) -> None:
+        self.path = path
+        engine = path.engine
+        self.offsets = ToolOffsets(kind, spec.offsets, engine.tool_offsets, spec.offset_values)
+        self.life = ToolLife(spec.max_groups, spec.max_tools, spec.groups, spec.ignore)
+        axes = len(path.axes)
+        for name, values in spec.work.items():
+            if name not in WORK_OFFSET_NAMES:
+                raise ValueError(f"work offset {name!r}: not one of {WORK_OFFSET_NAMES}")
+            if len(values) != axes:
+                raise ValueError(f"work offset {name}: {len(values)} values for {axes} axes")
+            for axis, value in enumerate(values):
+                if not -MAX_WORK_OFFSET <= value <= MAX_WORK_OFFSET:
+                    raise ValueError(f"work offset {name}: {value} is beyond 99999.999 mm")
+                engine.work_offsets[WORK_OFFSET_NAMES.index(name)][axis] = value / 1000
+        path.listeners.append(self.engine_event)
+
+    def engine_event(self, event: EngineEvent, now: float) -> None:
+        """A tool change selects the group of its tool, a program's end counts the cycle."""
+        life = self.life
+        if event.kind == "tool":
+            life.cutting(self.path.engine.cutting_time)
+            life.tool_changed(event.value)
+        elif event.kind == "end":
+            life.cutting(self.path.engine.cutting_time)
+            life.cycle_ended()
+
+
+def build_tools(paths: Paths, specs: Mapping[int, ToolsSpec]) -> dict[int, PathTools]:
+    """The tools of every path of ``paths``, as ``specs`` declares them per path number (the
+    defaults for a path not given; ValueError for a path the machine has not)."""
+    unknown = sorted(set(specs) - set(range(1, paths.count + 1)))
+    if unknown:
+        raise ValueError(f"tools of path {unknown[0]}: the machine has {paths.count} paths")
+    return {
+        n: PathTools(paths.at(n), paths.info(n).kind, specs.get(n, ToolsSpec()))
+        for n in range(1, paths.count + 1)
+    }
+
+
+class ToolOperations:
+    """The tool and work offset and tool life operations of the machine (a base of
+    :class:`~focas_net.sim.Machine`, which builds :attr:`_tools`)."""
+
+    _paths: Paths
+    _tools: dict[int, PathTools]
+    _counters: Counters
+
+    def check_writable(self) -> None:  # pragma: no cover - the machine's
+        raise NotImplementedError
+
+    def _tools_of(self, path: int) -> PathTools:
+        self._paths.at(path)  # EW_PATH naming the path
+        return self._tools[path]
+
+    # -- tool offsets --------------------------------------------------------------------
+    def tool_offset_info(self, *, path: int = 1) -> ToolOffsetInfo:
+        """The kind of the path's tool offset memory and how many numbers it has."""
+        offsets = self._tools_of(path).offsets
+        return ToolOffsetInfo(offsets.kind, offsets.types, offsets.count)
+
+    def tool_offsets(
+        self, first: int, last: int, offset_type: int | None, *, path: int = 1
+    ) -> list[tuple[int, ...]]:
+        """The values of tool offsets ``first..last`` (inclusive): of type ``offset_type``, or
+        every type in type order (None). EW_NUMBER for a number outside 1..count or ``last``
+        before ``first``, EW_ATTRIB for a type the path has not."""
+        offsets = self._tools_of(path).offsets
+        _number(first, 1, offsets.count, "tool offset number")
+        _number(last, first, offsets.count, "last tool offset number")
+        kinds = range(len(offsets.types)) if offset_type is None else (offset_type,)
+        for kind in kinds:
+            offsets.check(first, kind)
+        return [tuple(offsets.read(n, k) for k in kinds) for n in range(first, last + 1)]
+
+    def write_tool_offset(
+        self, number: int, offset_type: int, value: int, *, path: int = 1
+    ) -> None:
+        """Set one tool offset value (EW_PROT, EW_PATH, EW_NUMBER, EW_ATTRIB, EW_DATA); a
+        machining centre's length is what G43/G44 applies from its next H."""
+        self.check_writable()
+        self._tools_of(path).offsets.write(number, offset_type, value)
+        self._moved()
+
+    # -- work zero offsets -----------------------------------------------------------------
+    def work_offsets(
+        self, first: int, last: int, axis: int | None, *, path: int = 1
+    ) -> list[tuple[int, ...]]:
+        """Work zero offsets ``first..last`` (0 external, 1..6 G54..G59), each the values of
+        every axis (``axis`` None) or of axis ``axis`` (1..n). EW_NUMBER outside 0..6 or for
+        ``last`` before ``first``, EW_ATTRIB for an axis the path has not."""
+        rows = self._work_rows(first, last, path)
+        axes = self._axes(axis, path)
+        return [tuple(round(row[a] * 1000) for a in axes) for row in rows]
+
+    def write_work_offset(
+        self, number: int, axis: int | None, values: Sequence[int], *, path: int = 1
+    ) -> None:
+        """Set work zero offset ``number`` of every axis (``axis`` None, one value per axis)
+        or of axis ``axis`` (one value): EW_PROT, EW_PATH, EW_NUMBER, EW_ATTRIB, EW_LENGTH
+        (a count of values that does not fit), EW_DATA (a value beyond 99999.999 mm). The
+        program's work positions follow at once."""
+        self.check_writable()
+        (row,) = self._work_rows(number, number, path)
+        axes = self._axes(axis, path)
+        if len(values) != len(axes):
+            raise MachineError(EW.LENGTH, f"{len(values)} values for {len(axes)} axes")
+        for value in values:
+            _number(value, -MAX_WORK_OFFSET, MAX_WORK_OFFSET, "work offset", EW.DATA)
+        for a, value in zip(axes, values, strict=True):
+            row[a] = value / 1000
+        self._moved()
+
+    def _work_rows(self, first: int, last: int, path: int) -> list[list[float]]:
+        engine = self._tools_of(path).path.engine
+        top = len(WORK_OFFSET_NAMES) - 1
+        _number(first, 0, top, "work offset number")
+        _number(last, first, top, "last work offset number")
+        return engine.work_offsets[first : last + 1]
+
+    def _axes(self, axis: int | None, path: int) -> range:
+        count = len(self._paths.at(path).axes)
+        if axis is None:
+            return range(count)
+        _number(axis, 1, count, "axis", EW.ATTRIB)
+        return range(axis - 1, axis)
+
+    def _moved(self) -> None:
+        c = self._counters
+        c.motion += 1
+        c.macro += 1
+        c.version += 1
+
+    # -- tool life -----------------------------------------------------------------------
+    def _life(self, path: int) -> ToolLife:
+        tools = self._tools_of(path)
+        tools.path.sync()
+        life = tools.life
+        life.cutting(tools.path.engine.cutting_time)
+        return life
+
+    def tool_life_info(self, *, path: int = 1) -> LifeInfo:
+        """The path's tool life management limits, its groups and the group in use."""
+        life = self._life(path)
+        return LifeInfo(
+            len(life.groups),
+            life.max_groups,
+            life.max_tools,
+            _MAX_MINUTES,
+            _MAX_CYCLES,
+            life.selected,
+        )
+
+    def tool_group(self, number: int, *, path: int = 1) -> GroupStatus:
+        """Tool life group ``number`` now: EW_NUMBER outside 1..max groups or undeclared."""
+        group = self._life(path).group(number)
+        return GroupStatus(
+            group.number,
+            group.life_type,
+            group.life,
+            group.count,
+            group.current + 1,
+            tuple((t.number, t.h, t.d, t.state) for t in group.tools),
+        )
+
+    def set_tool_life_count(self, number: int, count: int, *, path: int = 1) -> None:
+        """Set the counter of group ``number``'s tool in use (EW_PROT, EW_PATH, EW_NUMBER,
+        EW_DATA outside 0..life)."""
+        self.check_writable()
+        self._life(path).set_count(number, count)
