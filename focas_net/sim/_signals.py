@@ -211,7 +211,7 @@ class Collected:
         self.shifts: dict[tuple[int, int], tuple[float, float]] = {}
         #: path -> (seconds the integrating meter counted, machine time TMRON rose or None).
         self.meters: dict[int, tuple[float, float | None]] = {}
-        self.data_seen: tuple[int, float | None, tuple[bool, ...]] | None = None
+        self.data_seen: tuple[int, tuple[float, int] | None, tuple[bool, ...]] | None = None
         self.macro_seen: datetime | None = None
         self.status_seen = -1
 
@@ -369,7 +369,8 @@ class SignalOperations:
         if not moving and any(since is not None for _, since in c.meters.values()):
             moving = True  # a meter counts
         minute = math.floor((now - first.powered_at) / 60)
-        stamp = (minute, now if moving else None, driven)
+        # the loads change with the figures as well as with time (a feed hold, a new mode)
+        stamp = (minute, (now, self._counters.motion) if moving else None, driven)
         if stamp != c.data_seen:
             c.data_seen = stamp
             self._counters.data += 1
