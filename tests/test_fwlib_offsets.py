@@ -401,7 +401,9 @@ async def test_each_path_of_a_lathe_answers_its_own_offsets(set_name: str) -> No
         assert (await rdtofs(cnc, 1, 1))[3] == -95_500
         assert (await rdtofs(cnc, 1, 7))[0] == EW.ATTRIB  # a lathe has types 0..6
         assert (await rdtofs(cnc, 25, 0))[0] == EW.NUMBER
-        assert (await rdtofsr(cnc, 1, -1, 2, 14))[0] == EW.ATTRIB  # refused: see the docs
+        rc, head, values = await rdtofsr(cnc, 1, -1, 2, 14)  # the library copies them all
+        assert (rc, head) == (0, (1, -1, 2))
+        assert values == tuple(v for row in machine.tool_offsets(1, 2, None, path=2) for v in row)
         b = buf(8)
         assert await cnc.call("cnc_rdtofsinfo", b) == 0
         assert struct.unpack_from("<hh", b.raw) == (1, 24)

@@ -408,8 +408,8 @@ def test_the_adapter_pads_every_axis_to_the_max_axes() -> None:
 
 def test_the_adapter_refuses_what_the_wire_cannot_carry() -> None:
     lathe = Machine("lathe", paths=[PathSpec(("X", "Z"), kind="T")])
-    (block,) = _blocks(NativeAdapter(lathe), ToolOffsetRequest(1, 1, -1).to_block())
-    assert block.ew == EW.ATTRIB  # a lathe's all-types layout mixes 2-byte tips
+    (block,) = _blocks(NativeAdapter(lathe), ToolOffsetRequest(1, 2, -1).to_block())
+    assert (block.ew, len(ScaledValues.decode(block.data).values)) == (0, 14)  # 7 types each
     adapter = NativeAdapter(_machine())
     write = ToolOffsetWriteRequest(1, 2, 1003, OffsetWrite((5,)))
     (block,) = _blocks(adapter, write.to_block())

@@ -6,9 +6,9 @@ Each block answers for the path in its path word, from the machine's per-path ta
 machine checks the numbers, types, axes and values, this module the wire's own rules:
 
 * an offset value is one 8-byte record ``(value, 10, 3)`` (least input increments);
-* a tool offset read of every type (-1) is served on a machining centre (4 records per
-  number, types 0..3); a lathe's, whose ODBTO layout mixes 2-byte tip fields, answers
-  EW_ATTRIB (this project's choice);
+* a tool offset read of every type (-1) answers every type of each number in type order (a
+  machining centre's 4, a lathe's 7): FANUC's library copies the records' values as they come,
+  whatever the machine type and the offset memory [V];
 * a work offset read of every axis (-1) answers the open answer's max axes records per number
   (the path's axes, then zeros), which FANUC's library needs;
 * a write carries one value per number and type (0x09) or per number and axis (0x0C, max axes
@@ -71,14 +71,12 @@ class OffsetHandlers:
 
     # -- tool offsets --------------------------------------------------------------------
     def read_tool_offsets(self, block: RequestBlock, room: int, session: Session) -> bytes:
-        """0x08: the values of tool offsets ``first..last`` of one type or, on a machining
-        centre, of every type (number by number, types in order)."""
+        """0x08: the values of tool offsets ``first..last`` of one type or of every type
+        (number by number, types in order)."""
         request = ToolOffsetRequest.from_block(block)
         path = block_path(block)
         offset_type = offset_type_of(request.type)
         info = self.machine.tool_offset_info(path=path)
-        if offset_type is None and info.kind != "M":
-            raise Refused(EW.ATTRIB)
         types = len(info.types) if offset_type is None else 1
         count = request.last - request.first + 1
         if count > 0:

@@ -11,9 +11,10 @@ A FANUC 30i, 31i, 32i, 0i-D or 0i-F keeps its part programs as files in folders:
 The programs a path stores (its :class:`~focas_net.sim.nc.ProgramStore`) are the files of
 its folder ``//CNC_MEM/USER/PATHn/``, named ``O`` and the O number in at least four digits,
 with the program's characters as their size, its name as their comment and the time it was
-last stored as their date (a program the machine was built with: the time the machine was
-built). Each path has a current folder for the foreground and one for the background (both
-its own folder until changed), and a main program, which is a file of its folder.
+last stored as their date (a program the machine was built with: the time its folder was
+first read; the clock is not read while the machine is built). Each path has a current
+folder for the foreground and one for the background (both its own folder until changed),
+and a main program, which is a file of its folder.
 
 A 16i, 18i, 21i or 0i-C has no program folders: every operation here refuses it with
 EW_FUNC, as such a control answers the functions of the folders.
@@ -104,15 +105,17 @@ class FolderOperations(PathOperations):
     the module docstring)."""
 
     control_class: str
-    _folder_built: datetime
+    _folder_built: datetime | None
     _folder_stamps: dict[tuple[int, int], datetime]
     _folder_current: dict[tuple[int, int], str]
 
     def now(self) -> datetime:  # pragma: no cover - the machine's
         raise NotImplementedError
 
-    def _init_folders(self, built: datetime) -> None:
-        self._folder_built = built
+    def _init_folders(self) -> None:
+        #: The date of the programs the machine was built with: the clock's time when a
+        #: folder is first read (the clock is not read while the machine is built).
+        self._folder_built = None
         self._folder_stamps = {}
         self._folder_current = {}
 
@@ -164,13 +167,12 @@ class FolderOperations(PathOperations):
         return None
 
     def _file_entry(self, path: int, info: ProgramInfo) -> FolderEntry:
-        return FolderEntry(
-            file_name(info.number),
-            False,
-            info.size,
-            info.name,
-            self._folder_stamps.get((path, info.number), self._folder_built),
-        )
+        stamped = self._folder_stamps.get((path, info.number))
+        if stamped is None:
+            if self._folder_built is None:
+                self._folder_built = self.now()
+            stamped = self._folder_built
+        return FolderEntry(file_name(info.number), False, info.size, info.name, stamped)
 
     # -- reads ---------------------------------------------------------------------------
     def program_drives(self) -> tuple[str, ...]:

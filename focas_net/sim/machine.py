@@ -314,7 +314,7 @@ class Machine(
         for number in range(1, len(built) + 1):  # the G signals of the overrides in use
             self._show_overrides(number)
         self._show_state()
-        self._init_folders(self.now())
+        self._init_folders()
 
     @property
     def name(self) -> str:
