@@ -116,6 +116,7 @@ TABLE: dict[str, tuple[str, ...]] = {
         "focas_net.adapters._native_data",
         "focas_net.adapters._native_programs",
         "focas_net.adapters._native_info",
+        "focas_net.adapters._native_spindles",
         "focas_net.adapters._native_modal",
         "focas_net.adapters._native_offsets",
         "focas_net.adapters._native_files",
