@@ -11,6 +11,8 @@ import argparse
 from dataclasses import replace
 from typing import TYPE_CHECKING
 
+from ._state import Kept, load_state
+
 if TYPE_CHECKING:
     from focas_net.sim import Machine
     from focas_net.sim.nc import Scenario
@@ -51,8 +53,11 @@ def machines_per_process(args: argparse.Namespace) -> int:
     return -(-args.fleet // workers) if workers > 1 else int(args.fleet)
 
 
-def build_machines(args: argparse.Namespace) -> list[Machine]:
+def build_machines(args: argparse.Namespace, states: list[Kept] | None = None) -> list[Machine]:
     """The machines described by the options; raises :class:`ConfigError`.
+
+    With ``--state DIR`` each machine's kept data is put back from its state file once it is
+    built and named (before it starts running), and the file is appended to ``states``.
 
     A machine runs on its own (:meth:`~focas_net.sim.Machine.start_scenario`) with
     ``--run`` (its file's ``[run]`` scenario, else the default one) or when its file has a
@@ -82,6 +87,7 @@ def build_machines(args: argparse.Namespace) -> list[Machine]:
                 raise ConfigError(f"--fleet {args.fleet}: {exc}") from None
         if args.no_control:
             machine.control_enabled = False
+        machine = load_state(args, machine, states if states is not None else [])
         scenario = _scenario(args, machine, i)
         if scenario is not None:
             try:
