@@ -134,6 +134,11 @@ class _Library:
         return cls._lib
 
 
+#: Bytes of ``cnc_rddynamic2``'s answer for every axis: the head and 16 bytes per axis at
+#: FANUC's header's MAX_AXIS (32), the max axes a 30i-class control reports.
+_DYNAMIC_SIZE = 28 + 16 * 32
+
+
 class FwlibHandle:
     """One handle of FANUC's library, used only from the thread that opened it."""
 
@@ -148,7 +153,8 @@ class FwlibHandle:
         self.handle = handle
         self._macro = ctypes.create_string_buffer(16)
         self._stat = ctypes.create_string_buffer(64)
-        self._dynamic = ctypes.create_string_buffer(28 + 16 * 32)
+        #: ODBDY2 as FANUC's header declares it (MAX_AXIS 32): the size programs pass.
+        self._dynamic = ctypes.create_string_buffer(_DYNAMIC_SIZE)
 
     def _check(self, rc: int, name: str) -> None:
         if rc != 0:
@@ -165,7 +171,7 @@ class FwlibHandle:
 
     def read_dynamic(self) -> None:
         rc = self.lib.cnc_rddynamic2(
-            self.handle, ctypes.c_short(-1), ctypes.c_short(28 + 16 * 8), self._dynamic
+            self.handle, ctypes.c_short(-1), ctypes.c_short(_DYNAMIC_SIZE), self._dynamic
         )
         self._check(rc, "cnc_rddynamic2")
 

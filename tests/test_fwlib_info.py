@@ -176,6 +176,8 @@ async def test_status2_idle(both: Both) -> None:
     client = await both.client.read_status2()
     names = [field[0] for field in ODBST2._fields_]
     assert [getattr(client, f) for f in names] == [getattr(st, f) for f in names]
+    packed = await both.cnc.packed.read_status()  # the packed protocol's cnc_statinfo
+    assert (packed.aut, packed.run, packed.motion) == (st.aut, st.run, st.motion)
 
 
 async def test_status2_running() -> None:
@@ -207,6 +209,9 @@ async def test_system_software(both: Both) -> None:
     for name in ("boot", "servo", "pmc", "ladder"):
         got = (getattr(ss, f"{name}_ser"), getattr(ss, f"{name}_ver"))
         assert got == (software[name].series.encode(), software[name].version.encode())
+    # the packed protocol's cnc_sysinfo tells the same series and version
+    packed = await both.cnc.packed.read_sysinfo()
+    assert (packed.series, packed.version) == (ss.soft_series[0].value, ss.soft_version[0].value)
     client = await both.client.read_system_software()
     assert client.software[0].series == identity.series
     assert client.servo == (ss.servo_ser.decode(), ss.servo_ver.decode())
@@ -241,6 +246,7 @@ async def test_setting_data(both: Both) -> None:
     assert await both.cnc.call("cnc_rdset", s16(20), s16(0), s16(5), ctypes.byref(psd)) == 0
     assert (psd.datano, psd.type, psd.value) == (20, 0, both.cnc.machine.read_param(20, 0))
     assert (await both.client.read_setting(20)).value == psd.value
+    assert await both.cnc.packed.read_param(20) == psd.value  # the packed protocol's parameter
     # a parameter that is no setting data
     rc = await both.cnc.call("cnc_rdset", s16(1320), s16(0), s16(8), ctypes.byref(psd))
     assert rc == EW.NUMBER
@@ -261,6 +267,8 @@ async def test_pmc_areas_and_title(both: Both) -> None:
         data, last = buf(16), us(entry.last_num)
         area = s16("GFYXARTKCD".index(letter))
         assert await both.cnc.call("pmc_rdpmcrng", area, s16(0), last, last, us(9), data) == 0
+        # and the packed protocol reads it too
+        assert len(await both.cnc.packed.read_pmc(letter, entry.last_num, 1)) == 1
     client = await both.client.read_pmc_areas()
     assert [(a.letter, bytes([a.attribute]), a.first, a.last) for a in client] == seen
     title = ODBPMCTITLE()

@@ -11,7 +11,7 @@ from collections.abc import AsyncIterator, Callable
 import pytest
 from hypothesis import given
 from hypothesis import strategies as st
-from support import IO_TIMEOUT, serving
+from support import IO_TIMEOUT, serving, two_path_lathe
 
 from focas_net.adapters import NativeAdapter
 from focas_net.client import (
@@ -376,6 +376,17 @@ def test_path_words_are_checked_where_the_answer_is_a_paths() -> None:
     machines = (info.PmcTitleRequest(), info.PmcInfoRequest(0), info.EtherInfoRequest())
     for other in machines:
         assert _answer(adapter, other, path=2).ew == 0
+
+
+def test_figures_and_status2_are_the_block_paths() -> None:
+    machine = two_path_lathe()
+    adapter = NativeAdapter(machine)
+    for path, axes in ((1, 2), (2, 3)):
+        figures = Figures.decode(_answer(adapter, info.FigureRequest(0), path).data)
+        assert len(figures.axes) == axes == len(machine.path_info(path).axes)
+        status = StatInfo2.decode(_answer(adapter, info.StatInfo2Request(), path).data)
+        assert status == StatInfo2.of(adapter.status_info(path))
+    assert _answer(adapter, info.FigureRequest(0), 3).ew == EW.PATH
 
 
 def test_status2_follows_a_running_program() -> None:

@@ -57,6 +57,7 @@ from focas_net.sim import (
     Machine,
     MachineFileError,
     OperatorMessage,
+    PathSpec,
     default_machine,
     load_machine,
 )
@@ -498,3 +499,57 @@ def test_the_machine_file_checks_each_message(entry: str, problem: str, tmp_path
     with pytest.raises(MachineFileError, match=problem) as refused:
         load_machine(file)
     assert "operator_messages" in str(refused.value)
+
+
+# --------------------------------------------------------------------------------------------
+# Several paths
+
+
+def test_each_path_answers_its_own_modal_state_and_pointer() -> None:
+    """Path 2 runs a program of its own; path 1 stays at rest: the blocks of path word 2 carry
+    path 2's codes, values and pointer, those of path 1 path 1's; path 3 is EW_PATH."""
+    clock = ManualClock()
+    machine = Machine(
+        "twin",
+        paths=[
+            PathSpec(("X", "Z")),
+            PathSpec(("U", "W"), programs=("O0020\nN5 G91 G01 U10. F300\nN6 M30\n",)),
+        ],
+        sim_clock=clock,
+    )
+    machine.cycle_start(path=2)
+    clock.advance(0.5)
+    adapter = NativeAdapter(machine, version=3)
+
+    def on(path: int, command: int, *args: int) -> tuple[int, bytes]:
+        raw = bytearray(block(command, *args))
+        raw[4:6] = path.to_bytes(2, "big")
+        return ask(adapter, bytes(raw))
+
+    assert ModalGCodes.decode(on(2, 0x21, 0, 0)[1]).records == (ModalGCode(0x81),)
+    assert ModalGCodes.decode(on(1, 0x21, 0, 0)[1]).records == (ModalGCode(0x00),)
+    assert ModalAuxData.decode(on(2, 0x22, -2, 0)[1]).records[0] == ModalAux.of(10, True)
+    assert ActivePointer.decode(on(2, 0x162)[1]) == ActivePointer(20, 1)
+    assert ActivePointer.decode(on(1, 0x162)[1]) == ActivePointer(0, 0)
+    assert on(3, 0x162) == (EW.PATH, b"")
+    assert machine.modal_state(path=2).address("F").value == 300
+    assert machine.program_pointer(path=1).blocks_run == 0
+
+
+def test_a_kept_answer_follows_the_next_block() -> None:
+    """The adapter answers a repeated modal request from what it kept while no block ran, and
+    anew once one did."""
+    clock = ManualClock()
+    machine = message_machine(clock)
+    adapter = NativeAdapter(machine, version=2)
+    request = block(0x96, 0, 0)  # group 01
+    first = ok(adapter, request)
+    assert ok(adapter, request) == first
+    assert GCodeRecords.decode(first).records[0].code == "G00"
+    machine.cycle_start()
+    clock.advance(1.0)
+    machine.cycle_start()
+    clock.advance(1.0)  # N30: G01
+    assert GCodeRecords.decode(ok(adapter, request)).records[0].code == "G01"
+    machine.reset()
+    assert machine.modal_state() is machine.modal_state()  # made once while nothing runs

@@ -61,6 +61,8 @@ MESSAGE_TYPES: Final = range(5)
 _SLOTS: Final = 29
 #: The letter of each slot of a 0x22 answer.
 _LETTERS: Final[dict[int, str]] = {slot: letter for letter, slot in ADDRESS_SLOTS.items()}
+#: Most modal answers kept (a poller's few requests per path).
+_KEPT: Final = 64
 #: The addresses 0x97 -1 answers: FANUC's modal data other than G codes.
 _COMMANDED: Final = "BDEFHMNOST"
 
@@ -90,10 +92,29 @@ def _g_data(state: ModalState, kind: int) -> int:
 class ModalHandlers:
     """Modal data, operator messages and program pointers of one machine."""
 
-    __slots__ = ("machine",)
+    __slots__ = ("_kept", "machine")
 
     def __init__(self, machine: Machine) -> None:
         self.machine = machine
+        #: (command, path, arguments) -> (the modal state answered, the answer): the machine
+        #: gives the same state object until a block runs, so a poll encodes it once.
+        self._kept: dict[tuple[int, int, tuple[int, ...]], tuple[ModalState, bytes]] = {}
+
+    def _state(self, block: RequestBlock, room: int) -> tuple[ModalState, bytes | None]:
+        """The modal state of the block's path, and the answer made of it before, if any
+        (EW_LENGTH when it does not fit the ``room`` left)."""
+        state = self.machine.modal_state(path=block_path(block))
+        known = self._kept.get((block.command, block.path, block.args))
+        if known is None or known[0] is not state:
+            return state, None
+        need_room(len(known[1]), room)
+        return state, known[1]
+
+    def _keep(self, block: RequestBlock, state: ModalState, data: bytes) -> bytes:
+        if len(self._kept) >= _KEPT:
+            self._kept.clear()
+        self._kept[(block.command, block.path, block.args)] = (state, data)
+        return data
 
     # -- cnc_modal -------------------------------------------------------------------------
 
@@ -104,10 +125,13 @@ class ModalHandlers:
         kind = req.kind
         if kind != -1 and not 0 <= kind < MODAL_GROUPS:
             raise Refused(EW.NUMBER)
-        state = self.machine.modal_state(path=block_path(block))
         kinds = range(MODAL_GROUPS) if kind == -1 else (kind,)
         need_room(ModalGCode.SIZE * len(kinds), room)
-        return b"".join(ModalGCode(_g_data(state, k)).encode() for k in kinds)
+        state, known = self._state(block, room)
+        if known is not None:
+            return known
+        data = bytes(pair for k in kinds for pair in (_g_data(state, k), 0))
+        return self._keep(block, state, data)
 
     def read_modal_aux(self, block: RequestBlock, room: int, session: Session) -> bytes:
         """0x22: an address by slot (0..28), every slot (-1), every axis (-2) or one axis
@@ -116,7 +140,9 @@ class ModalHandlers:
         _check_block(req.block)
         path = block_path(block)
         kind = req.kind
-        state = self.machine.modal_state(path=path)
+        state, known = self._state(block, room)
+        if known is not None:
+            return known
         if kind == -1 or 0 <= kind < _SLOTS:
             slots = range(_SLOTS) if kind == -1 else (kind,)
             entries = []
@@ -142,7 +168,7 @@ class ModalHandlers:
                 a = state.address(name)
                 entries.append(ModalAux.of(a.value, a.commanded))
         need_room(ModalAux.SIZE * len(entries), room)
-        return b"".join(e.encode() for e in entries)
+        return self._keep(block, state, b"".join(e.encode() for e in entries))
 
     # -- cnc_rdgcode, cnc_rdcommand --------------------------------------------------------
 
@@ -151,7 +177,9 @@ class ModalHandlers:
         (its type, 0..)."""
         req = GCodeRequest.from_block(block)
         _check_block(req.block)
-        state = self.machine.modal_state(path=block_path(block))
+        state, known = self._state(block, room)
+        if known is not None:
+            return known
         entries = []
         if req.type == -2:
             if state.one_shot is not None:
@@ -164,13 +192,15 @@ class ModalHandlers:
                 raise Refused(EW.NUMBER)
             entries.append(_g_record(g.group, g.code, g.commanded))
         need_room(GCodeRecord.SIZE * len(entries), room)
-        return b"".join(e.encode() for e in entries)
+        return self._keep(block, state, b"".join(e.encode() for e in entries))
 
     def read_commands(self, block: RequestBlock, room: int, session: Session) -> bytes:
         """0x97: the modal addresses with a value (-1) or one address by slot."""
         req = CommandRequest.from_block(block)
         _check_block(req.block)
-        state = self.machine.modal_state(path=block_path(block))
+        state, known = self._state(block, room)
+        if known is not None:
+            return known
         if req.type == -1:
             letters = [c for c in _COMMANDED if state.address(c).value is not None]
         else:
@@ -184,7 +214,7 @@ class ModalHandlers:
             value, decimals = (0, 0) if a.value is None else _number(a.value)
             entries.append(CommandRecord(letter, 0, int(a.commanded), value, decimals))
         need_room(CommandRecord.SIZE * len(entries), room)
-        return b"".join(e.encode() for e in entries)
+        return self._keep(block, state, b"".join(e.encode() for e in entries))
 
     # -- operator messages -----------------------------------------------------------------
 

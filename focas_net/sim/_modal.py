@@ -76,6 +76,8 @@ class ModalOperations:
 
     _paths: Paths
     _external_messages: tuple[ExternalMessage, ...] = ()
+    #: path -> (what the state was made of, the state): made again only after a block.
+    _modal_kept: dict[int, tuple[tuple[object, ...], ModalState]] | None = None
 
     def read_pmc(self, letter: str, start: int, length: int) -> bytes:  # pragma: no cover
         raise NotImplementedError
@@ -89,7 +91,18 @@ class ModalOperations:
         p = self._paths.at(path)
         if p.live:
             p.sync()
-        return modal_state(p.engine.interpreter)
+        it = p.engine.interpreter
+        # the state changes only when a block runs, a reset rewinds or the program changes
+        key = (it, it.blocks_run, it.block, it.program, it.sequence)
+        kept = self._modal_kept
+        if kept is None:
+            kept = self._modal_kept = {}
+        known = kept.get(path)
+        if known is not None and known[0] == key:
+            return known[1]
+        state = modal_state(it)
+        kept[path] = (key, state)
+        return state
 
     def program_pointer(self, *, path: int = 1) -> ProgramPointer:
         """The program ``path`` executes (the main program while none runs), the executing

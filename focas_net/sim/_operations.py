@@ -10,8 +10,8 @@ the machine's module docstring; each path keeps them on its own.
 from __future__ import annotations
 
 import math
-from collections.abc import Callable, Iterable, Iterator
-from contextlib import contextmanager
+from collections.abc import Callable, Iterable
+from contextlib import AbstractContextManager
 
 from ._path import MotionData
 from ._paths import Paths
@@ -118,18 +118,12 @@ class PathOperations:
         :meth:`set_clock` gave another."""
         return self._paths.all[0].time.source
 
-    @contextmanager
-    def instant(self) -> Iterator[None]:
-        """Machine time stands still while the block runs: every read inside is of one
+    def instant(self) -> AbstractContextManager[None]:
+        """Machine time stands still while the ``with`` block runs: every read inside is of one
         instant, as a CNC answers one request (a front end wraps each request frame in it).
         The clock is read once on entry; nested blocks share the outer one's instant. Time
         that passes meanwhile is caught up by the next read after the block."""
-        paths = self._paths
-        paths.stop_time()
-        try:
-            yield
-        finally:
-            paths.go_time()
+        return self._paths
 
     def set_clock(self, clock: SimClock) -> None:
         """Take machine time from ``clock`` from now on: the engine, the timers and a running

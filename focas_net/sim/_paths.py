@@ -214,12 +214,17 @@ class Paths:
         self.stopped += 1
         if self.stopped > 1:
             return
-        readings: dict[int, float] = {}
+        if self.count == 1:
+            time = self.all[0].time
+            time.stop(time.source.now())
+            return
+        readings: list[tuple[object, float]] = []  # (clock, its reading): a path or two
         for p in self.all:
             source = p.time.source
-            at = readings.get(id(source))
+            at = next((at for clock, at in readings if clock is source), None)
             if at is None:
-                at = readings[id(source)] = source.now()
+                at = source.now()
+                readings.append((source, at))
             p.time.stop(at)
 
     def go_time(self) -> None:
@@ -230,6 +235,14 @@ class Paths:
         if not self.stopped:
             for p in self.all:
                 p.time.go()
+
+    def __enter__(self) -> None:
+        """``with paths:`` is the instant of one answer (:meth:`stop_time`, then
+        :meth:`go_time`): what :meth:`Machine.instant` gives."""
+        self.stop_time()
+
+    def __exit__(self, *exc: object) -> None:
+        self.go_time()
 
     def __iter__(self) -> Iterator[Path]:
         return iter(self.all)
