@@ -203,3 +203,17 @@ async def test_kill_storm_keeps_every_acknowledged_write(tmp_path: Path) -> None
         if proc.returncode is None:
             proc.kill()
             await proc.wait()
+
+
+async def test_serve_refuses_a_damaged_state_file_in_one_line(tmp_path: Path) -> None:
+    from cli_support import run_focas_net
+
+    from focas_net.sim import DEFAULT_NAME
+    from focas_net.sim.statefile import state_path
+
+    state_path(tmp_path, DEFAULT_NAME).write_bytes(b"focas-net-state 1 10 00\n{}")
+    code, out, err = await run_focas_net(
+        "serve", "--host", "127.0.0.1", "--port", "0", "--state", str(tmp_path)
+    )
+    assert code == 2 and out == ""
+    assert err.count("\n") == 1 and "truncated or corrupted" in err

@@ -11,7 +11,7 @@ import argparse
 from dataclasses import replace
 from typing import TYPE_CHECKING
 
-from ._state import Kept, load_state
+from ._state import Kept, load_state, state_folder_of
 
 if TYPE_CHECKING:
     from focas_net.sim import Machine
@@ -56,7 +56,7 @@ def machines_per_process(args: argparse.Namespace) -> int:
 def build_machines(args: argparse.Namespace, states: list[Kept] | None = None) -> list[Machine]:
     """The machines described by the options; raises :class:`ConfigError`.
 
-    With ``--state DIR`` each machine's kept data is put back from its state file once it is
+    With ``--state DIR`` (or the machine file's ``[machine] state``) each machine's kept data is put back from its state file once it is
     built and named (before it starts running), and the file is appended to ``states``.
 
     A machine runs on its own (:meth:`~focas_net.sim.Machine.start_scenario`) with
@@ -68,6 +68,10 @@ def build_machines(args: argparse.Namespace, states: list[Kept] | None = None) -
 
     clock = RealTimeClock(getattr(args, "speed", 1.0))  # one machine time for the whole fleet
     machines: list[Machine] = []
+    try:
+        kept_in = state_folder_of(args)
+    except MachineFileError as exc:
+        raise ConfigError(str(exc)) from None
     for i in fleet_indices(args):
         if args.machine is not None:
             try:
@@ -87,7 +91,10 @@ def build_machines(args: argparse.Namespace, states: list[Kept] | None = None) -
                 raise ConfigError(f"--fleet {args.fleet}: {exc}") from None
         if args.no_control:
             machine.control_enabled = False
-        machine = load_state(args, machine, states if states is not None else [])
+        try:
+            machine = load_state(args, kept_in, machine, states if states is not None else [])
+        except ValueError as exc:
+            raise ConfigError(str(exc)) from None
         scenario = _scenario(args, machine, i)
         if scenario is not None:
             try:

@@ -16,7 +16,7 @@ if TYPE_CHECKING:
     from focas_net.sim import Machine
     from focas_net.sim.statefile import StateFile
 
-__all__ = ["SAVE_INTERVAL", "Kept", "keep_running", "load_state", "saver"]
+__all__ = ["SAVE_INTERVAL", "Kept", "keep_running", "load_state", "saver", "state_folder_of"]
 
 #: Seconds between the saves of what a machine running on its own changes without being asked
 #: (its parts counts and timers); a write a client makes is saved before its answer leaves.
@@ -26,24 +26,35 @@ SAVE_INTERVAL: Final = 1.0
 Kept = tuple["StateFile", "Machine"]
 
 
-def load_state(args: argparse.Namespace, machine: Machine, states: list[Kept]) -> Machine:
-    """``machine`` (just built) with the kept data of its state file in ``--state`` put back,
-    its state file appended to ``states``; ConfigError naming the file when it cannot be
-    loaded (the machine is dropped then)."""
+def state_folder_of(args: argparse.Namespace) -> str | None:
+    """Where the machines keep their state: ``--state``, else the machine file's
+    ``[machine] state`` (MachineFileError as the machine file's loading), else None."""
+    given: str | None = getattr(args, "state", None)
+    if given is not None or args.machine is None:
+        return given
+    from focas_net.sim.machinefile import state_folder
+
+    folder = state_folder(args.machine)
+    return None if folder is None else str(folder)
+
+
+def load_state(
+    args: argparse.Namespace, directory: str | None, machine: Machine, states: list[Kept]
+) -> Machine:
+    """``machine`` (just built) with the kept data of its state file in ``directory`` put
+    back, its state file appended to ``states`` (None: ``machine`` as it is); ValueError
+    naming the file when it cannot be loaded (the machine is dropped then)."""
     from focas_net.sim.statefile import StateError, StateFile, state_path
 
-    from ._fleet import ConfigError
-
-    directory: str | None = getattr(args, "state", None)
     if directory is None:
         return machine
     state = StateFile(state_path(directory, machine.name), read_only=bool(args.read_only))
     try:
         machine = state.load(lambda: machine)
     except StateError as exc:
-        raise ConfigError(f"--state: {exc}") from None
+        raise ValueError(f"--state: {exc}") from None
     except OSError as exc:
-        raise ConfigError(f"--state {directory}: {exc.strerror or exc}") from None
+        raise ValueError(f"--state {directory}: {exc.strerror or exc}") from None
     states.append((state, machine))
     return machine
 

@@ -214,7 +214,8 @@ def register(subparsers: Any) -> None:
         "--state",
         metavar="DIR",
         help="keep each machine's nonvolatile memory (parameters, offsets, #500-#999, "
-        "programs, alarm history, parts and timers, PMC K/D/C/T) in DIR across restarts; an "
+        "programs, alarm history, parts and timers, PMC K/D/C/T) in DIR across restarts (the "
+        "machine file's [machine] state names one too); an "
         "answer leaves once its write is on the disk (docs/machine-file.md, State files)",
     )
     p.add_argument(

@@ -7,8 +7,8 @@ header line and one JSON document::
     focas-net-state 1 <length of the body> <SHA-256 of the body, hex>\\n
     {"machine": NAME, "shape": {...}, "kept": {...}}
 
-``shape`` is what the kept data must fit (:func:`focas_net.sim._state.shape`); ``kept`` is
-what the machine keeps across power-off (:func:`focas_net.sim._state.capture`).
+``shape`` is what the kept data must fit (:func:`focas_net.sim.nonvolatile.shape`); ``kept`` is
+what the machine keeps across power-off (:func:`focas_net.sim.nonvolatile.capture`).
 
 A file is replaced, never changed in place: the new content goes to a temporary file in the
 same directory, which is flushed to the disk (``fsync``), renamed over the old one, and the
@@ -35,7 +35,7 @@ from pathlib import Path
 from typing import TYPE_CHECKING, Any, Final
 from urllib.parse import quote
 
-from ._state import StateMismatch, capture, restore, shape, shape_differences
+from .nonvolatile import StateMismatch, capture, restore, shape, shape_differences
 
 if TYPE_CHECKING:
     from .machine import Machine
