@@ -144,7 +144,7 @@ USAGE_ERRORS = [
     (("versamax", "0", "10"), "argument SLOT: must be 0..9, got 10"),
     (
         ("sim", "fault", "delay", "--arg", "10", "--count", "100000"),
-        "argument --count: must be 1..10000, got 100000",
+        "argument --count: a fault's count is 1..10000, got 100000",
     ),
     (("status", "--json", "extra"), "unrecognized arguments: extra"),
     (("sim", "alarm", "PS0100", "--bogus"), "unrecognized arguments: --bogus"),

@@ -468,9 +468,9 @@ async def test_sim_fault_usage(cli: Cli) -> None:
     assert "unknown EW code" in err
     # the server's ranges, checked before anything is sent
     err = await cli.fails(EXIT_USAGE, "sim", "fault", "delay", "--arg", "70000")
-    assert err == "focas-net: --arg 70000: a delay is 0..60000 ms"
+    assert err == "focas-net: --arg: a delay is 0..60000 ms, got 70000"
     err = await cli.fails(EXIT_USAGE, "sim", "fault", "error", "--arg", "0")
-    assert err == "focas-net: --arg 0: an error fault's EW code is a nonzero -32768..32767"
+    assert err == "focas-net: --arg: an error fault's EW code is a nonzero -32768..32767, got 0"
     err = await cli.fails(EXIT_USAGE, "sim", "fault", "drop", "--arg", "5")
     assert err == "focas-net: --arg does not apply to a drop fault"
 

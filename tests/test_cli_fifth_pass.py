@@ -6,11 +6,15 @@ Each test names what a user typed and what the command must say.
 
 from __future__ import annotations
 
+from pathlib import Path
+
 import pytest
 from cli_support import run_focas_net
 from support import Served
 
 from focas_net.cli import EXIT_OK, EXIT_USAGE
+from focas_net.protocol import FaultKind, FaultScope
+from focas_net.server.faults import fault_refusal
 
 
 def at(served: Served) -> list[str]:
@@ -69,3 +73,53 @@ async def test_a_timeout_out_of_range_says_why(server: Served, value: str, reaso
 
 async def test_an_hour_is_the_longest_poll_interval(server: Served) -> None:
     assert "frame 1" in await ok("watch", "--count", "1", "--interval", "3600", *at(server))
+
+
+# -- an alarm's message: optional (the alarm is named by its code), at most 32 characters kept ---
+
+
+@pytest.mark.parametrize("message", [[], [""]])
+async def test_an_alarm_without_a_message_is_named_by_its_code(
+    server: Served, message: list[str]
+) -> None:
+    assert await ok("sim", "alarm", "EX1003", *message, *at(server)) == "raised EX1003\n"
+    (alarm,) = server.machine.active_alarms()
+    assert (alarm.alm_no, alarm.msg) == (1003, "")
+    assert "  EX1003\n" in await ok("alarms", *at(server))
+
+
+async def test_a_long_alarm_message_is_kept_as_the_machine_keeps_it(server: Served) -> None:
+    typed = "SPINDLE OVERHEAT ON THE LEFT SIDE OF THE HEAD"
+    out = await ok("sim", "alarm", "EX1001", typed, *at(server))
+    assert out == f"raised EX1001 {typed[:32]}\n"
+    assert [a.msg for a in server.machine.active_alarms()] == [typed[:32]]
+
+
+def test_the_docs_say_why_an_alarm_may_have_no_message() -> None:
+    doc = (Path(__file__).parent.parent / "docs" / "cli.md").read_text()
+    assert "The message may be left out" in doc and "not checked on a control" in doc
+
+
+# -- a fault's arguments are refused in the server's words (server.faults.fault_refusal) --------
+
+
+@pytest.mark.parametrize(
+    ("argv", "numbers"),
+    [
+        (["delay", "--arg", "99999"], (FaultKind.DELAY, 1, 99999)),
+        (["delay", "--arg", "-1"], (FaultKind.DELAY, 1, -1)),
+        (["error", "--arg", "0"], (FaultKind.ERROR, 1, 0)),
+        (["error", "--arg", "40000"], (FaultKind.ERROR, 1, 40000)),
+        (["drop", "--count", "100000"], (FaultKind.DROP, 100000, 0)),
+        (["drop", "--count", "0"], (FaultKind.DROP, 0, 0)),
+    ],
+)
+async def test_a_faults_arguments_are_refused_in_the_servers_words(
+    server: Served, argv: list[str], numbers: tuple[FaultKind, int, int]
+) -> None:
+    kind, count, arg = numbers
+    reason = fault_refusal(int(kind), int(FaultScope.MACHINE), count, arg)
+    assert reason is not None
+    line = await fails(EXIT_USAGE, "sim", "fault", *argv, *at(server))
+    assert line.endswith(reason) or f"{reason};" in line, line
+    assert await ok("sim", "faults", *at(server)) == "no pending faults of this machine\n"

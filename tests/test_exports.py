@@ -244,6 +244,7 @@ CLIENT_MODULES = [
     "_started",
     "_values",
     "_native_files",
+    "_native_spindles",
 ]
 
 

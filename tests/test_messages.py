@@ -71,7 +71,7 @@ async def test_cli_messages_name_what_was_typed(
         (("versamax", "300", "1"), "argument RACK: must be 0..7, got 300"),
         (
             ("sim", "fault", "drop", "--count", "100000000000"),
-            "argument --count: must be 1..10000, got 100000000000",
+            "argument --count: a fault's count is 1..10000, got 100000000000",
         ),
     ],
 )

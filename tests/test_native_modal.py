@@ -258,6 +258,10 @@ def test_the_modal_state_follows_the_program() -> None:
     assert state.address("S").value == 1200
     assert state.address("X").value == 50 and state.address("X").commanded
     assert machine.program_pointer().blocks_run == 3
+    # the system variables name FANUC's groups too: G40.1 in 18, G50.1 in 22
+    assert machine.read_macro(4018) == Decimal("40.1")
+    assert machine.read_macro(4022) == Decimal("50.1")
+    assert state.group(18) is not None and state.group(22) is not None
 
 
 def test_external_messages_follow_their_a_bits() -> None:

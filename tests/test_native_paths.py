@@ -82,7 +82,8 @@ def test_two_paths_version_3() -> None:
     assert body == _hex(
         # record format 1, max axes 4, max spindles 1, 10 path records
         "0000 0000 0001 0004 0001 000a",
-        "0000 0000 0000 0000 0000",
+        "0000 0000 0000 0000",
+        "0002",  # the controlled spindles of the CNC (cnc_sysinfo_ex ctrl_spdl)
         "0002",  # the path count cnc_getpath reports
         "0000 0000",
         "0001",  # option bits
@@ -120,7 +121,7 @@ def test_four_paths_version_3() -> None:
     mill = "204d 0001 0000 0003 0000 0002" + " 0000" * 10  # " M", machining, 3 axes, 2 sp.
     assert body == _hex(
         "0000 0000 0001 0004 0002 000a",  # max spindles: the most of a path, 2
-        "0000 0000 0000 0000 0000 0004 0000 0000 0001",
+        "0000 0000 0000 0000 0006 0004 0000 0000 0001",  # 6 controlled spindles, 4 paths
         "0000 0000 0000 0000 0000",
         turret,
         mill,

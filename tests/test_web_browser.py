@@ -687,3 +687,19 @@ async def test_a_machine_of_two_paths_shows_each_and_the_page_acts_on_the_one_ch
         )
         assert hidden  # one path: no path section
         assert await page.errors() == []
+
+
+async def test_a_long_alarm_message_is_cut_as_the_machine_cuts_it_and_the_page_says_so(
+    browser: WebDriver, tmp_path: Path
+) -> None:
+    typed = "SPINDLE OVERHEAT ON THE LEFT SIDE OF THE HEAD"
+    async with machine_page(browser, tmp_path) as (server, page):
+        await page.text_of("alarms", lambda t: "no active alarm" in t, "no alarm")
+        await page.type("alarm-type", "15")
+        await page.type("alarm-no", "1001")
+        await page.type("alarm-msg", typed)
+        await page.click("alarm-raise")
+        message = await page.text_of("message", lambda t: "done" in t, "the answer")
+        assert message.endswith(f"the CNC keeps 32 characters of a message: {typed[:32]!r}")
+        (alarm,) = server.machines[0].active_alarms()
+        assert alarm.msg == typed[:32]

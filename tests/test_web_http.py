@@ -117,9 +117,6 @@ async def test_numbers_are_ascii_digits_and_nothing_is_cut() -> None:
             args = {"alm_type": "3", "alm_no": typed, "msg": ""}
             status, body = await post(session, web, "raise_alarm", args)
             assert status == 400 and body["error"].startswith("alm_no: "), typed
-        args = {"alm_type": "3", "alm_no": "1000", "msg": "M" * 33}
-        status, body = await post(session, web, "raise_alarm", args)
-        assert status == 400 and "33 characters" in body["error"]
         assert machine.active_alarms() == []
         status, body = await post(session, web, "write_param", {"number": 6713, "value": "1e3"})
         assert status == 400 and "'1e3'" in body["error"]
@@ -314,7 +311,7 @@ async def test_the_websocket_pushes_the_fleet_and_a_machine() -> None:
                     break
             assert frame["data"]["alarms"][0]["msg"] == "PUSHED"
             await ws.send_str("nonsense")
-            assert (await receive(ws, "error"))["error"] == "bad subscription"
+            assert (await receive(ws, "error"))["error"] == "bad subscription: not JSON: 'nonsense'"
         await wait_until(lambda: not web.broadcaster.subscriptions)
 
 
@@ -478,3 +475,79 @@ async def test_a_pmc_area_is_refused_alike_by_a_read_and_a_write(area: str, stat
         assert read[1]["error"] == (
             f"unknown PMC area {area!r} (one of X, Y, F, G, R, T, C, D, K, A, E)"
         )
+
+
+@pytest.mark.parametrize(
+    ("message", "reason"),
+    [
+        ("nonsense", "bad subscription: not JSON: 'nonsense'"),
+        ("[1]", "bad subscription: a JSON object is expected, got [1]"),
+        (
+            '{"subscribe": "tiles"}',
+            'bad subscription: "subscribe" is "fleet" or "machine", got \'tiles\'',
+        ),
+        ('{"subscribe": "machine"}', 'bad subscription: "index" is a machine\'s number, got None'),
+        (
+            '{"subscribe": "machine", "index": "0"}',
+            "bad subscription: \"index\" is a machine's number, got '0'",
+        ),
+        ('{"subscribe": "machine", "index": 9}', "no machine 9 (the machines are 0..0)"),
+        (
+            '{"subscribe": "machine", "index": 0, "path": true}',
+            'bad subscription: "path" is a whole number, got True',
+        ),
+        (
+            '{"subscribe": "machine", "index": 0, "pmc_area": 5}',
+            'bad subscription: "pmc_area" is a PMC area\'s letter, got 5',
+        ),
+        (
+            '{"subscribe": "machine", "index": 0, "pmc_start": 1.5}',
+            'bad subscription: "pmc_start" is a whole number, got 1.5',
+        ),
+        (
+            '{"subscribe": "machine", "index": 0, "pmc_area": "Q"}',
+            "PMC window: unknown PMC area 'Q' (one of X, Y, F, G, R, T, C, D, K, A, E)",
+        ),
+        (
+            '{"subscribe": "machine", "index": 0, "pmc_area": "E"}',
+            "PMC window: the machine has no PMC area E (it has X, Y, F, G, R, T, C, D, K, A)",
+        ),
+        (
+            '{"subscribe": "machine", "index": 0, "pmc_start": -1}',
+            "PMC window: X-1 is outside X0..X127",
+        ),
+        (
+            '{"subscribe": "machine", "index": 0, "pmc_start": 128}',
+            "PMC window: X128 is outside X0..X127",
+        ),
+    ],
+)
+async def test_a_refused_subscription_says_why_and_keeps_the_one_before(
+    message: str, reason: str
+) -> None:
+    async with dashboard() as (_, web), aiohttp.ClientSession() as session:
+        async with session.ws_connect(f"{web.url}ws") as ws:
+            await ws.send_json({"subscribe": "machine", "index": 0, "pmc_area": "R"})
+            assert (await receive(ws, "machine"))["pmc"]["area"] == "R"
+            await ws.send_str(message)
+            assert (await receive(ws, "error"))["error"] == reason
+            frame = await receive(ws, "machine")  # the page's view goes on
+            assert frame["pmc"]["area"] == "R" and "error" not in frame["pmc"]
+        await wait_until(lambda: not web.broadcaster.subscriptions)
+
+
+async def test_a_long_alarm_message_is_kept_as_the_machine_keeps_it() -> None:
+    """One rule, the machine's (and the CLI's, the clients'): a CNC keeps 32 characters of a
+    message; the answer says what it kept."""
+    typed = "ABCDEFGHIJKLMNOPQRSTUVWXYZ0123456789XYZ"
+    async with dashboard() as (server, web), aiohttp.ClientSession() as session:
+        args = {"alm_type": 15, "alm_no": 1001, "msg": typed}
+        status, body = await post(session, web, "raise_alarm", args)
+        assert status == 200 and body["raised"] is True, body
+        (alarm,) = server.machines[0].active_alarms()
+        assert alarm.msg == typed[:32] == body["msg"]
+        assert body["note"] == f"the CNC keeps 32 characters of a message: {typed[:32]!r}"
+        status, body = await post(
+            session, web, "raise_alarm", {**args, "alm_no": 1002, "msg": "OK"}
+        )
+        assert status == 200 and body["msg"] == "OK" and "note" not in body

@@ -301,6 +301,7 @@ def test_alarms_raised_and_cleared() -> None:
     assert perform(station, "raise_alarm", {"alm_type": "2", "alm_no": 77, "msg": "HI"}) == {
         "ok": True,
         "raised": True,
+        "msg": "HI",
     }
     assert [(a.alm_type, a.alm_no, a.msg) for a in station.machine.active_alarms()] == [
         (2, 77, "HI")

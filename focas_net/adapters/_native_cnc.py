@@ -49,10 +49,7 @@ from focas_net.native import (
     PositionAxisNames,
     RequestBlock,
     ScaledNumber,
-    ScaledValues,
     SequenceNumber,
-    ServoMeterRequest,
-    SpindleLoadRequest,
     StatInfo,
     TimerRequest,
     TimerValue,
@@ -249,10 +246,11 @@ class CncHandlers:
         return AxisUnits((AxisUnit(0, 0),) * axes).encode()
 
     def read_axis_count(self, block: RequestBlock, room: int, session: Session) -> bytes:
-        """0xA4: the axes (0), spindles (1) or servo axes (2) of the path."""
+        """0xA4: the axes (0), spindles (1; 3, ``cnc_rdspeed``) or servo axes (2) of the
+        path."""
         req = AxisCountRequest.from_block(block)
         path = self._path(block)
-        if req.kind == 1:
+        if req.kind in (1, 3):
             return AxisCount(path.spindles).encode()
         if req.kind in (0, 2):
             return AxisCount(len(path.axis_names)).encode()
@@ -265,23 +263,6 @@ class CncHandlers:
         need_room(AxisDisplay.SIZE * axes, room)
         shown = AxisDisplay(bytes(3), _DISPLAY_FLAGS)
         return AxisDisplays((shown,) * axes).encode()
-
-    def read_spindle_load(self, block: RequestBlock, room: int, session: Session) -> bytes:
-        """0x40: the load of each spindle of the path in percent
-        (:meth:`Machine.spindle_loads`)."""
-        spindle = SpindleLoadRequest.from_block(block).spindle
-        spindles = self._path(block).spindles
-        if spindle != -1 and not 1 <= spindle <= spindles:
-            raise Refused(EW.NUMBER)
-        loads = self.machine.spindle_loads(path=block_path(block))[:spindles]
-        return ScaledValues(tuple(ScaledNumber(v, 0) for v in loads)).encode()
-
-    def read_servo_meter(self, block: RequestBlock, room: int, session: Session) -> bytes:
-        """0x56: the servo load of each axis in percent (:meth:`Machine.servo_loads`)."""
-        ServoMeterRequest.from_block(block)
-        need_room(SCALED_SIZE * len(self._path(block).axis_names), room)
-        loads = self.machine.servo_loads(path=block_path(block))
-        return ScaledValues(tuple(ScaledNumber(v, 0) for v in loads)).encode()
 
     def _pmc_area(self, area: int, data_type: int) -> tuple[str, int]:
         try:

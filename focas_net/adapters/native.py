@@ -136,6 +136,7 @@ from ._native_info import InfoHandlers
 from ._native_modal import ModalHandlers
 from ._native_offsets import OffsetHandlers
 from ._native_programs import ProgramHandlers, ProgramTransfer
+from ._native_spindles import SpindleHandlers
 
 __all__ = ["PATH_INDEPENDENT", "NativeAdapter", "command_set_of"]
 
@@ -179,6 +180,7 @@ _COUNTERS: Final[dict[tuple[int, int], str]] = {
     (Device.CNC, NativeCommand.AXIS_NAME): "",
     (Device.CNC, NativeCommand.AXIS_UNIT): "",
     (Device.CNC, NativeCommand.AXIS_COUNT): "",
+    (Device.CNC, NativeCommand.SPDLNAME): "",
     (Device.CNC, NativeCommand.AXIS_DISPLAY): "",
     (Device.CNC, NativeCommand.STATINFO): "status_version",
     (Device.CNC, NativeCommand.STAT_HDCK): "status_version",
@@ -280,6 +282,7 @@ class NativeAdapter:
         cnc = self._cnc = CncHandlers(machine, self.max_axis)
         data = DataHandlers(machine, self.max_axis)
         programs = self._programs = ProgramHandlers(machine, version)
+        spindles = SpindleHandlers(machine)
         modal = ModalHandlers(machine)
         offsets = OffsetHandlers(machine, self.max_axis)
         clock = ClockHandlers(machine)
@@ -318,10 +321,11 @@ class NativeAdapter:
             c.AXIS_UNIT: cnc.read_axis_units,
             c.AXIS_COUNT: cnc.read_axis_count,
             c.AXIS_DISPLAY: cnc.read_axis_display,
-            c.RDSPLOAD: cnc.read_spindle_load,
+            c.RDSPLOAD: spindles.read_spindle_data,
             c.GETTIMER: clock.read_clock,
             c.SETTIMER: clock.write_clock,
-            c.RDSVMETER: cnc.read_servo_meter,
+            c.RDSVMETER: spindles.read_servo_data,
+            c.SPDLNAME: spindles.read_spindle_names,
             c.RDOPNLSGNL: clock.read_panel_signals,
             c.RDPROGDIR: programs.read_program_directory,
             c.RDPROGINFO: programs.read_program_memory,

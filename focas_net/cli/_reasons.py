@@ -16,7 +16,7 @@ from pathlib import Path
 from typing import Final
 
 from focas_net.errors import EW, CncError
-from focas_net.server.faults import MAX_DELAY_MS, MAX_FAULT_COUNT
+from focas_net.server.faults import fault_refusal
 
 from . import _format as fmt
 
@@ -238,13 +238,18 @@ _SIM_ALARM: Final[Table] = {
         f"the CNC cannot hold alarm {a.alarm}: its type, number or message is out of range"
     ),
 }
-_SIM_FAULT: Final[Table] = {
-    **_SIM,
-    EW.DATA: lambda a: (
-        f"the server refused the fault: it takes a count of 1..{MAX_FAULT_COUNT}, a delay of "
-        f"0..{MAX_DELAY_MS} ms and an error of a nonzero EW code"
-    ),
-}
+
+
+def _fault_refused(args: argparse.Namespace) -> str:
+    """EW_DATA of ``sim fault``: why, in the server's words (``fault_refusal``) where this
+    package's server would refuse the same numbers."""
+    why = fault_refusal(*args.fault_numbers) if hasattr(args, "fault_numbers") else None
+    return "the server refused the fault" + (
+        f": {why}" if why else ": its numbers are outside this server's ranges"
+    )
+
+
+_SIM_FAULT: Final[Table] = {**_SIM, EW.DATA: _fault_refused}
 _VERSAMAX: Final[Table] = {EW.NUMBER: lambda a: f"rack {a.rack} slot {a.slot} holds no module"}
 _UNLOCK: Final[Table] = {EW.PASSWD: lambda a: "the password is not the CNC's"}
 

@@ -469,7 +469,7 @@ COMMANDS: Final[tuple[Cmd | Group, ...]] = (
                     ),
                     arg(
                         "--count",
-                        type=_bounded(1, MAX_FAULT_COUNT, "count"),
+                        type=argument_type(sim_cmds.parse_fault_count, "count"),
                         default=1,
                         metavar="N",
                         help=f"answers, 1..{MAX_FAULT_COUNT} (default 1)",

@@ -17,7 +17,7 @@ from typing import Any, Final
 from focas_net.client import FocasClient
 from focas_net.errors import CncError, FocasError
 from focas_net.protocol import MAX_ALARM_MSG, ArmedFault, FaultKind, FaultScope
-from focas_net.server.faults import MAX_DELAY_MS
+from focas_net.server.faults import fault_refusal
 
 from . import _format as fmt
 from ._run import Output, PackedOnly
@@ -44,7 +44,6 @@ FAULT_KINDS: Final = {k.name.lower(): k for k in FaultKind}
 FAULT_SCOPES: Final = {s.name.lower(): s for s in FaultScope}
 _WHY: Final = "the simulator controls are packed-protocol commands"
 #: The EW codes an error fault carries (an i16 on the wire).
-_I16: Final = (-32_768, 32_767)
 
 
 def panel(args: argparse.Namespace) -> PackedOnly:
@@ -157,10 +156,21 @@ def _fault_rows(pending: tuple[ArmedFault, ...]) -> list[dict[str, Any]]:
     return rows
 
 
+def parse_fault_count(text: str) -> int:
+    """``--count`` of a fault: ValueError in the server's words for one it refuses."""
+    count = fmt.parse_int(text)
+    why = fault_refusal(int(FaultKind.DROP), int(FaultScope.MACHINE), count, 0)
+    if why is not None:
+        raise ValueError(why)
+    return count
+
+
 def fault(args: argparse.Namespace) -> PackedOnly:
     kind = FAULT_KINDS[args.kind]
     scope = FAULT_SCOPES[args.scope]
     arg = _fault_arg(kind, args.arg)
+    #: the numbers sent, for the words of a refusal (cli._reasons)
+    args.fault_numbers = (int(kind), int(scope), args.count, arg)
     effect = _effect(kind, arg)
     whose = _whose(scope)
 
@@ -188,23 +198,19 @@ def fault(args: argparse.Namespace) -> PackedOnly:
 
 
 def _fault_arg(kind: FaultKind, text: str | None) -> int:
-    """``--arg`` of a fault of ``kind``, in the range the server takes (ValueError naming it)."""
-    if kind is FaultKind.ERROR:
+    """``--arg`` of a fault of ``kind``, in the range the server takes: ValueError naming it,
+    in the server's words (:func:`~focas_net.server.faults.fault_refusal`)."""
+    if kind is FaultKind.ERROR or kind is FaultKind.DELAY:
         if text is None:
-            raise ValueError("an error fault needs --arg EW_CODE (e.g. --arg EW_BUSY)")
-        code = fmt.parse_ew(text)
-        if code == 0 or not _I16[0] <= code <= _I16[1]:
+            needs = "EW_CODE (e.g. --arg EW_BUSY)" if kind is FaultKind.ERROR else "MILLISECONDS"
             raise ValueError(
-                f"--arg {text}: an error fault's EW code is a nonzero {_I16[0]}..{_I16[1]}"
+                f"a{'n' * (kind is FaultKind.ERROR)} {kind.name.lower()} fault needs --arg {needs}"
             )
-        return code
-    if kind is FaultKind.DELAY:
-        if text is None:
-            raise ValueError("a delay fault needs --arg MILLISECONDS")
-        ms = fmt.parse_int(text)
-        if not 0 <= ms <= MAX_DELAY_MS:
-            raise ValueError(f"--arg {text}: a delay is 0..{MAX_DELAY_MS} ms")
-        return ms
+        value = fmt.parse_ew(text) if kind is FaultKind.ERROR else fmt.parse_int(text)
+        why = fault_refusal(int(kind), int(FaultScope.MACHINE), 1, value)
+        if why is not None:
+            raise ValueError(f"--arg: {why}")
+        return value
     if text is not None:
         raise ValueError(f"--arg does not apply to a {kind.name.lower()} fault")
     return 0

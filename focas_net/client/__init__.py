@@ -30,6 +30,7 @@ from ._native_info import (
 )
 from ._native_modal import CommandValue, GCode, ModalGroup, ModalValue, OperatorMessageText
 from ._native_offsets import ToolGroupData
+from ._native_spindles import SpindleMeter
 from ._started import StartedCall
 from ._values import Paths, Positions
 from .client import FocasClient
@@ -86,6 +87,7 @@ __all__ = [
     "SimControl",
     "SoftwareInfo",
     "SoftwareSlot",
+    "SpindleMeter",
     "StartedCall",
     "StatusInfo2",
     "ToolGroupData",

@@ -85,6 +85,7 @@ from ._native_items import (
 from ._native_link import Handle, check_path_of
 from ._native_modal import NativeModal
 from ._native_offsets import NativeOffsets
+from ._native_spindles import NativeSpindles
 from ._started import StartedCall
 from ._values import (
     I16_MAX,
@@ -201,7 +202,9 @@ def _check_dynamic_axis(axis: object) -> None:
     check_axis(axis, every=-1)
 
 
-class NativeClient(NativeInfo, NativeOffsets, NativeFiles, NativeClock, NativeModal):
+class NativeClient(
+    NativeInfo, NativeOffsets, NativeFiles, NativeClock, NativeModal, NativeSpindles
+):
     """An asyncio client of FANUC's FOCAS/2 Ethernet protocol (port 8193 on a real control).
 
     It has the methods of :class:`~focas_net.client.FocasClient` that FOCAS/2 carries, with

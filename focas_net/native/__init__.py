@@ -32,6 +32,8 @@ once (``docs/native-protocol.md`` describes the wire format):
   ...);
 * :mod:`.calls` — the blocks each FOCAS function of FANUC's library sends, per command set
   (its names are exported here, and the module itself as ``calls``);
+* :mod:`.spindles` — the figure selectors of 0x40 (spindles) and 0x56 (servo axes), the spindle
+  names (0x8A), and the frames of the spindle and servo functions;
 * :mod:`.session` — the client side of a connection without I/O: the queue of calls, their
   packing into frames, the answers matched to them, the deadlines.
 
@@ -392,6 +394,24 @@ from .session import (
     encode_part,
     request_frame,
 )
+from .spindles import (
+    SPINDLE_METER_UNITS,
+    ServoFigure,
+    SpindleFigure,
+    SpindleName,
+    SpindleNameRequest,
+    SpindleNames,
+    cnc_acts2,
+    cnc_rdcurrent,
+    cnc_rdloopgain,
+    cnc_rdspdlname,
+    cnc_rdspeed,
+    cnc_rdspgear,
+    cnc_rdspload_figure,
+    cnc_rdspmaxrpm,
+    cnc_rdspmeter,
+    cnc_rdsrvspeed,
+)
 
 __all__ = [
     "ADDRESS_SLOTS",
@@ -434,6 +454,7 @@ __all__ = [
     "SINGLE_TYPE",
     "SIZE_UNITS",
     "SOFTWARE_SLOTS",
+    "SPINDLE_METER_UNITS",
     "TLINFO_16I",
     "VACANT",
     "ActivePointer",
@@ -608,12 +629,17 @@ __all__ = [
     "ScaledValues",
     "SequenceNumber",
     "SequenceNumberRequest",
+    "ServoFigure",
     "ServoMeterRequest",
     "SettingInfoRequest",
     "SettingRead3Request",
     "SettingReadRequest",
     "SoftwareEdition",
+    "SpindleFigure",
     "SpindleLoadRequest",
+    "SpindleName",
+    "SpindleNameRequest",
+    "SpindleNames",
     "StatInfo",
     "StatInfo2",
     "StatInfo2Request",
@@ -654,10 +680,13 @@ __all__ = [
     "build_open_answer",
     "calls",
     "check_detail",
+    "cnc_acts2",
     "cnc_gettimer",
     "cnc_pdf_del",
     "cnc_pdf_rdmain",
     "cnc_pdf_slctmain",
+    "cnc_rdcurrent",
+    "cnc_rdloopgain",
     "cnc_rdopnlsgnl",
     "cnc_rdpdf_alldir",
     "cnc_rdpdf_curdir",
@@ -666,6 +695,13 @@ __all__ = [
     "cnc_rdpdf_prginf",
     "cnc_rdpdf_subdir",
     "cnc_rdpdf_subdirn",
+    "cnc_rdspdlname",
+    "cnc_rdspeed",
+    "cnc_rdspgear",
+    "cnc_rdspload_figure",
+    "cnc_rdspmaxrpm",
+    "cnc_rdspmeter",
+    "cnc_rdsrvspeed",
     "cnc_settimer",
     "cnc_wrpdf_curdir",
     "decimal_to_binary",

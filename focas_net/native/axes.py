@@ -46,9 +46,9 @@ __all__ = [
 @dataclass(frozen=True, slots=True)
 class AxisCount(NativeRecord):
     """0xA4, 30i class (answer version >= 3): ``u16`` count of the path's controlled axes
-    (argument 0, ``cnc_rdposition``), spindles (1, ``cnc_rdspload``) or servo axes (2,
-    ``cnc_rdsvmeter``). Two bytes are enough for FANUC's library [V]; a spindle count of 0 makes
-    ``cnc_rdspload`` return EW_NOOPT [I]."""
+    (argument 0, ``cnc_rdposition``), spindles (1, ``cnc_rdspload``; 3, ``cnc_rdspeed``) or
+    servo axes (2, ``cnc_rdsvmeter``). Two bytes are enough for FANUC's library [V]; a spindle
+    count of 0 makes ``cnc_rdspload`` return EW_NOOPT [I]."""
 
     FORMAT: ClassVar[str] = ">H"
     count: int
@@ -263,8 +263,9 @@ class AxisDisplayRequest(NativeRequest):
 
 @dataclass(frozen=True, slots=True)
 class SpindleLoadRequest(NativeRequest):
-    """0x40, args ``(0, spindle)`` (``cnc_rdspload(sp)``, -1 all) [V]: :class:`ScaledValues`,
-    one per spindle (the library keeps the low 16 bits of each mantissa)."""
+    """0x40, args ``(figure, spindle)`` (``cnc_rdspload(sp)`` sends ``(0, sp)``, -1 all) [V]:
+    :class:`ScaledValues`, one per spindle (``cnc_rdspload`` keeps the low 16 bits of each
+    mantissa). ``kind`` selects the figure: :class:`~.spindles.SpindleFigure`."""
 
     COMMAND: ClassVar[int] = NativeCommand.RDSPLOAD
     ARGS: ClassVar[tuple[_ArgSpec, ...]] = ("kind", "spindle")
@@ -275,8 +276,9 @@ class SpindleLoadRequest(NativeRequest):
 
 @dataclass(frozen=True, slots=True)
 class ServoMeterRequest(NativeRequest):
-    """0x56, args ``(1)`` (``cnc_rdsvmeter``) [V]: :class:`ScaledValues`, one per axis (the
-    library takes |mantissa| and the decimals; it does not check the length)."""
+    """0x56, args ``(figure)`` (``cnc_rdsvmeter`` sends 1) [V]: :class:`ScaledValues`, one per
+    axis (the library takes |mantissa| and the decimals; it does not check the length).
+    ``kind`` selects the figure: :class:`~.spindles.ServoFigure`."""
 
     COMMAND: ClassVar[int] = NativeCommand.RDSVMETER
     ARGS: ClassVar[tuple[_ArgSpec, ...]] = ("kind",)

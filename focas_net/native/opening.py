@@ -122,19 +122,24 @@ class OpenHeadV3(NativeRecord):
     (all-axes ``cnc_rdparam``/``cnc_diagnoss``/``cnc_wrparam`` need 4 + size * max_axes) [V].
     ``max_spindles`` (u16 at 8) [I]. ``paths`` (u16 at 10) [V]. ``option_bits`` (u16 at 28):
     the FOCAS option bits, bit 0 needed by ``cnc_rddynamic2`` [V]. ``max_paths`` (u16 at 22)
-    is the path count ``cnc_getpath`` reports [V]. ``words`` are body[12:22] (the u16 at 18
-    caps ``cnc_rdsvmeter`` when not 0 [I]), ``words2`` body[24:28]; ``tail`` is body[30:40]
-    (30..33 stored [I]).
+    is the path count ``cnc_getpath`` reports [V]. ``controlled_spindles`` (u16 at 20) is the
+    CNC's number of controlled spindles (ODBSYSEX ``ctrl_spdl`` of ``cnc_sysinfo_ex``):
+    ``cnc_rdspmeter`` (and ``cnc_rdaxisdata`` of the spindle classes) returns EW_NOOPT without
+    sending anything while it is 0 [V]. ``words`` are body[12:20] (``cnc_sysinfo_ex`` reads
+    them as max_mchn, a stored word, ctrl_axis and ctrl_srvo; the u16 at 18, controlled servo
+    axes, caps ``cnc_rdsvmeter`` when not 0 [I]), ``words2`` body[24:28]; ``tail`` is
+    body[30:40] (30..33 stored [I]).
     """
 
-    FORMAT: ClassVar[str] = ">HHHHHH10sH4sH10s"
+    FORMAT: ClassVar[str] = ">HHHHHH8sHH4sH10s"
     word0: int
     word1: int
     record_format: int
     max_axes: int
     max_spindles: int
     paths: int
-    words: bytes = bytes(10)
+    words: bytes = bytes(8)
+    controlled_spindles: int = 0
     max_paths: int = 0
     words2: bytes = bytes(4)
     option_bits: int = 0
@@ -229,6 +234,7 @@ def build_open_answer(
     option_bits: int = 1,
     version: int = 2,
     max_spindles: int | None = None,
+    controlled_spindles: int | None = None,
     kind: int = 0,
     record_format: int = 1,
     records: int | None = None,
@@ -238,7 +244,9 @@ def build_open_answer(
     ``paths`` describe the paths (at least one, or the library fails to connect), ``max_axes``
     the CNC's max axes (at least each path's axes); their count is also the path count
     ``cnc_getpath`` reports. At version >= 3 ``option_bits`` go to
-    body[28:30] and ``max_spindles`` (default: the most spindles of a path) to body[8:10]; at
+    body[28:30], ``max_spindles`` (default: the most spindles of a path) to body[8:10] and
+    ``controlled_spindles`` (default: the spindles of all paths) to body[20:22] (the
+    controlled spindles; ``cnc_rdspmeter`` refuses itself while they are 0); at
     version <= 2 the option bits are not in the open answer (the library reads them from
     parameter 9968 unless ``kind`` is 3) and ``kind`` goes to body[2:4].
 
@@ -265,9 +273,12 @@ def build_open_answer(
         recs2 += (PathRecordV2(NO_PATH, 0, 0, 0),) * absent
         return OpenAnswer(version, head2, recs2).encode()
     spindles = max(p.spindles for p in paths) if max_spindles is None else max_spindles
+    controlled = controlled_spindles
+    if controlled is None:
+        controlled = sum(p.spindles for p in paths)
     head3 = OpenHeadV3(
         0, 0, record_format, max_axes, spindles, records, max_paths=len(paths),
-        option_bits=option_bits,
+        option_bits=option_bits, controlled_spindles=controlled,
     )  # fmt: skip
     recs3 = tuple(
         PathRecordV3(p.machine_type, 2 if p.lathe else 1, 0, p.axes, 0, p.spindles) for p in paths

@@ -109,7 +109,7 @@ class NativeCommand(enum.IntEnum):
     RDOPMSG = 0x34  # cnc_rdopmsg / cnc_rdopmsg2; cnc_rdopmsg3, 16i class
     RDBLKCOUNT = 0x35  # cnc_rdblkcount
     RDMDIPNTR = 0x38  # cnc_rdmdipntr
-    RDSPLOAD = 0x40  # cnc_rdspload
+    RDSPLOAD = 0x40  # cnc_rdspload / rdspmaxrpm / rdspgear / acts2 / rdspmeter (16i)
     RDSYSSOFT = 0x41  # cnc_rdsyssoft
     RDPRSTRINFO = 0x43  # cnc_rdprstrinfo (with 0x26 kinds 13 and 14)
     RDUSEGRPID = 0x48  # cnc_rdusegrpid (focas_net.native.offsets)
@@ -117,11 +117,12 @@ class NativeCommand(enum.IntEnum):
     TOOLNUM = 0x4D  # cnc_toolnum; cnc_rdtoolgrp (after 0x8B)
     GETTIMER = 0x45  # cnc_gettimer (focas_net.native.clock)
     SETTIMER = 0x46  # cnc_settimer
-    RDSVMETER = 0x56  # cnc_rdsvmeter
+    RDSVMETER = 0x56  # cnc_rdsvmeter / rdcurrent / rdloopgain / rdsrvspeed
     RDOPNLSGNL = 0x5D  # cnc_rdopnlsgnl (focas_net.native.clock)
     RDALMHISTRY = 0x6C  # cnc_rdalmhistry
     AXIS_UNIT = 0x88  # cnc_rdposition: units
     AXIS_NAME = 0x89  # cnc_rdaxisname / cnc_rdsvmeter / cnc_rdposition: axis names
+    SPDLNAME = 0x8A  # cnc_rdspdlname / cnc_rdspmeter / cnc_rdspeed: spindle names
     RDTOOLGRP = 0x8B  # cnc_rdntool / cnc_rdlife / cnc_rdcount / cnc_rdtoolgrp
     RDPARAM3 = 0x8D  # cnc_rdparam, 30i class (8-byte scaled slots)
     WRPARAM3 = 0x8E  # cnc_wrparam, 30i class (after 0xA0)

@@ -16,6 +16,7 @@ from ._information import (
 from ._modal import EXTERNAL_MESSAGE_NUMBERS, ExternalMessage, OperatorMessage
 from ._pmc import pmc_letter
 from ._signals import CLOCK_VARIABLES, SERVO_POWER_DIAG, TIMER_PARAMS, OperatorSignals
+from ._spindles import SPINDLE_NAME, Spindle
 from ._tool_ops import GroupStatus, LifeInfo, ToolOffsetInfo
 from ._tools import LIFE_TYPES, OFFSET_TYPES, WORK_OFFSET_NAMES, LifeTool, ToolGroup, ToolsSpec
 from .default import DEFAULT_NAME, DEMO_PROGRAM, default_machine
@@ -77,6 +78,7 @@ __all__ = [
     "POSITION_KINDS",
     "SERVO_POWER_DIAG",
     "SETTING_NUMBERS",
+    "SPINDLE_NAME",
     "TIMER_KINDS",
     "TIMER_PARAMS",
     "VALID_FIGURES",
@@ -107,6 +109,7 @@ __all__ = [
     "PmcAreaSpec",
     "Session",
     "SoftwareVersion",
+    "Spindle",
     "Status",
     "ToolGroup",
     "ToolOffsetInfo",

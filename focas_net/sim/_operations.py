@@ -16,6 +16,13 @@ from contextlib import AbstractContextManager
 from ._path import MotionData
 from ._paths import Paths
 from ._signals import Collected
+from ._spindles import (
+    LOOP_GAIN_PARAMETER,
+    STANDARD_LOOP_GAIN,
+    Spindle,
+    servo_motor_speeds,
+    spindle_states,
+)
 from .nc import ProgramInfo, SimClock
 from .nc.scenario import DEFAULT_SCENARIO, Scenario
 
@@ -241,6 +248,36 @@ class PathOperations:
         the program cuts, with a small noise that depends on :attr:`seed` and the machine
         time only (0 while the figures are set by hand)."""
         return self._paths.at(path).production.spindle_loads()
+
+    def spindles(self, *, path: int = 1) -> tuple[Spindle, ...]:
+        """Every spindle of ``path`` now (:mod:`focas_net.sim._spindles`): the first turns at
+        the path's spindle speed (:meth:`path_motion`) with its load (:meth:`spindle_loads`),
+        the others stand."""
+        p = self._paths.at(path)
+        count = self._paths.info(path).spindles
+        speed = p.figures().spindle_speed
+        top = round(p.engine.settings.max_spindle_speed)
+        load = p.production.spindle_loads()[0]
+        return spindle_states(count, speed, load, top)
+
+    def servo_speeds(self, *, path: int = 1) -> tuple[int, ...]:
+        """The servo motor speed of each axis in min^-1: the axis's speed over a
+        :data:`~._spindles.SCREW_LEAD` mm ball screw driven one to one (0 at rest, and while
+        the figures are set by hand)."""
+        p = self._paths.at(path)
+        p.sync()
+        if not p.driven:
+            return (0,) * len(p.axes)
+        return servo_motor_speeds(p.engine.axis_speeds())
+
+    def loop_gains(self, *, path: int = 1) -> tuple[int, ...]:
+        """The position loop gain of each axis in 0.01/s: its servo loop gain parameter
+        (1825) when the machine has it, else FANUC's standard 3000 (30/s)."""
+        p = self._paths.at(path)
+        return tuple(
+            p.items.param_or(LOOP_GAIN_PARAMETER, STANDARD_LOOP_GAIN, axis)
+            for axis in range(1, len(p.axes) + 1)
+        )
 
     def servo_loads(self, *, path: int = 1) -> tuple[int, ...]:
         """The servo load of each axis in percent: 0 at rest, rising with the axis's speed

@@ -166,7 +166,7 @@ class Pmc:
         front end shows these words)."""
         area = self.areas.get(letter) or self.areas.get(letter.strip().upper())
         if area is None:
-            has = ", ".join(a for a in PMC_AREAS if a in self.areas)
+            has = ", ".join(a for a in PMC_AREAS if a in self.areas) or "none"
             shown = letter.strip().upper() or repr(letter)
             raise MachineError(EW.NOOPT, f"the machine has no PMC area {shown} (it has {has})")
         return area

@@ -19,7 +19,7 @@ from collections import deque
 from collections.abc import Sequence
 from typing import Final
 
-from focas_net.sim import MachineError
+from focas_net.sim import PMC_AREAS, MachineError
 
 from .operations import Station
 from .view import JsonDict, fleet_view, machine_view, pmc_window
@@ -126,6 +126,38 @@ class Broadcaster:
         """Close every subscription (their pages' senders end)."""
         for sub in list(self.subscriptions):
             self.unsubscribe(sub)
+
+    def refusal(self, topic: Topic, *, window: bool = True) -> str | None:
+        """Why ``topic`` cannot be shown (None: it can): a machine or a path the fleet has
+        not, a PMC window outside the machine's areas (in the machine's words; ``window``:
+        the window was asked for, not the default one)."""
+        if topic[0] == "fleet":
+            return None
+        _, index, area, start, path = topic
+        assert isinstance(index, int) and isinstance(area, str) and isinstance(start, int)
+        assert isinstance(path, int)
+        if not 0 <= index < len(self.stations):
+            return f"no machine {index} (the machines are 0..{len(self.stations) - 1})"
+        machine = self.stations[index].machine
+        count = machine.path_count
+        if not 1 <= path <= count:
+            return f"path {path}: machine {index} has paths 1..{count}"
+        try:
+            if window:
+                pmc_window(machine, area, start)
+        except MachineError as exc:
+            return f"PMC window: {exc.detail or exc}"
+        return None
+
+    def first_pmc_area(self, index: int) -> str:
+        """The first PMC area machine ``index`` has (X when it has none, or there is no such
+        machine: its frames then say so)."""
+        if 0 <= index < len(self.stations):
+            machine = self.stations[index].machine
+            for letter in PMC_AREAS:
+                if machine.pmc_area(letter) is not None:
+                    return letter
+        return "X"
 
     def frame(self, topic: Topic) -> str:
         """The JSON frame of ``topic`` now."""

@@ -24,7 +24,7 @@ from typing import Any, Final
 
 from focas_net._bits import bits_of_text
 from focas_net.errors import EW, ew_name
-from focas_net.protocol import MAX_ALARM_MSG, FaultKind, FaultScope, InjectFault, alarm_message
+from focas_net.protocol import FaultKind, FaultScope, InjectFault, alarm_message
 from focas_net.server.faults import FaultQueue, fault_refusal, parse_inject
 from focas_net.sim import Machine, MachineError, ParamKind, Session
 
@@ -245,18 +245,16 @@ def _raise_alarm(station: Station, args: Mapping[str, Any]) -> JsonDict:
         alarm_message(msg)  # text, as the client and the command line take it
     except ValueError as exc:
         raise ActionError(f"msg: {exc}") from None
-    if len(msg) > MAX_ALARM_MSG:  # the CNC keeps 32: the page never cuts what was typed
-        raise ActionError(
-            f"msg: {len(msg)} characters, an alarm message holds {MAX_ALARM_MSG}: {msg!r}"
-        )
-    raised = station.machine.raise_alarm(
-        _int(args, "axis_no", 0),
-        _int(args, "alm_type"),
-        _int(args, "alm_no"),
-        msg,
-        path=_path(args),
-    )
-    return {"raised": raised}
+    m, path = station.machine, _path(args)
+    key = (_int(args, "axis_no", 0), _int(args, "alm_type"), _int(args, "alm_no"))
+    raised = m.raise_alarm(*key, msg, path=path)
+    # the machine's rule, as for every front end: it keeps the first 32 characters; the
+    # answer says what it kept (an alarm active before keeps its message)
+    kept = next(a.msg for a in m.active_alarms(path=path) if a.key == key)
+    result: JsonDict = {"raised": raised, "msg": kept}
+    if raised and kept != msg:
+        result["note"] = f"the CNC keeps {len(kept)} characters of a message: {kept!r}"
+    return result
 
 
 def _clear_alarms(station: Station, args: Mapping[str, Any]) -> JsonDict:

@@ -92,6 +92,11 @@ def stations_of(server: FocasServer) -> list[Station]:
     ]
 
 
+def _whole(value: object) -> bool:
+    """Whether ``value`` (from JSON) is a whole number (``true`` is not)."""
+    return isinstance(value, int) and not isinstance(value, bool)
+
+
 class Dashboard:
     """The web dashboard of ``stations`` (see :func:`stations_of`) on ``host:port``.
 
@@ -291,27 +296,36 @@ class Dashboard:
         _log.info("%s: page action %s %s", s.machine.name, action, args)
         return self._json(result)
 
-    def _topic(self, message: str) -> Topic | None:
+    def _topic(self, message: str) -> Topic | str:
+        """The topic a page's ``message`` subscribes to, or why it names none: each field of
+        a machine's topic checked (its number, path, PMC window) and named when wrong."""
         try:
             wanted = json.loads(message)
         except ValueError:
-            return None
+            return f"bad subscription: not JSON: {message[:40]!r}"
         if not isinstance(wanted, dict):
-            return None
-        if wanted.get("subscribe") == "fleet":
+            return f"bad subscription: a JSON object is expected, got {message[:40]}"
+        kind = wanted.get("subscribe")
+        if kind == "fleet":
             return FLEET
-        if wanted.get("subscribe") == "machine":
-            index, area, start = (
-                wanted.get("index"),
-                wanted.get("pmc_area", "X"),
-                wanted.get("pmc_start", 0),
-            )
-            path = wanted.get("path", 1)
-            if all(isinstance(n, int) and not isinstance(n, bool) for n in (index, start, path)):
-                if isinstance(area, str):
-                    assert isinstance(index, int) and isinstance(start, int)
-                    return machine_topic(index, area, start, path)
-        return None
+        if kind != "machine":
+            return f'bad subscription: "subscribe" is "fleet" or "machine", got {kind!r}'
+        index, area = wanted.get("index"), wanted.get("pmc_area")
+        start, path = wanted.get("pmc_start", 0), wanted.get("path", 1)
+        if not _whole(index):
+            return f'bad subscription: "index" is a machine\'s number, got {index!r}'
+        for key, value in (("path", path), ("pmc_start", start)):
+            if not _whole(value):
+                return f'bad subscription: "{key}" is a whole number, got {value!r}'
+        if area is not None and not isinstance(area, str):
+            return f'bad subscription: "pmc_area" is a PMC area\'s letter, got {area!r}'
+        assert isinstance(index, int) and isinstance(start, int) and isinstance(path, int)
+        # no area named: the machine's first (a machine with none shows that in its frames)
+        letter = self.broadcaster.first_pmc_area(index) if area is None else area
+        topic = machine_topic(index, letter, start, path)
+        window = "pmc_area" in wanted or "pmc_start" in wanted
+        refused = self.broadcaster.refusal(topic, window=window)
+        return topic if refused is None else refused
 
     async def _ws(self, request: web.Request) -> web.StreamResponse:
         aw = _aiohttp()
@@ -327,8 +341,8 @@ class Dashboard:
                 if msg.type != WSMsgType.TEXT:
                     continue
                 topic = self._topic(msg.data)
-                if topic is None:
-                    await ws.send_str(json.dumps({"type": "error", "error": "bad subscription"}))
+                if isinstance(topic, str):  # refused: the page keeps what it had
+                    await ws.send_str(json.dumps({"type": "error", "error": topic}))
                     continue
                 sub.topic = topic
                 sub.offer(self.broadcaster.frame(topic))  # at once, not at the next tick

@@ -328,12 +328,14 @@ def pmc_address(text: str, area: str) -> tuple[str, int]:
 def pmc_window(machine: Machine, area: str, start: int, length: int = PMC_ROW_BYTES) -> JsonDict:
     """``length`` bytes of PMC area ``area`` from ``start`` (cut to the area's end), with the
     area's size. MachineError (EW_NOOPT, EW_NUMBER) for an area or address it does not have."""
-    letter = area.strip().upper()
-    info = machine.pmc_area(letter) if letter in PMC_AREAS else None
+    try:
+        letter = pmc_letter(area)
+    except ValueError as exc:  # the machine's words for a letter that is no PMC area
+        raise MachineError(EW.NUMBER, str(exc)) from None
+    info = machine.pmc_area(letter)
     if info is None:
-        if letter in PMC_AREAS:
-            machine.check_pmc_area(letter)  # EW_NOOPT in the machine's words
-        raise MachineError(EW.NUMBER, f"no PMC area {area!r} (one of {', '.join(PMC_AREAS)})")
+        machine.check_pmc_area(letter)  # EW_NOOPT in the machine's words
+    assert info is not None
     size, protected = info
     if not 0 <= start < size:
         raise MachineError(EW.NUMBER, f"{letter}{start} is outside {letter}0..{letter}{size - 1}")

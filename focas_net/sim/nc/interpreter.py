@@ -23,7 +23,8 @@ __all__ = ["DEFAULT_MODAL", "G_CODE_GROUPS", "NcSettings"]
 
 INCH: Final = 25.4
 
-#: Each G code the interpreter accepts (value x 10) and its group; group 0 is one-shot.
+#: Each G code the interpreter accepts (value x 10) and its group, FANUC's numbering of the M
+#: series (G40.1 group 18, G50.1 group 22); group 0 is one-shot.
 G_CODE_GROUPS: Final[dict[int, int]] = {
     0: 1, 10: 1, 20: 1, 30: 1,
     40: 0, 280: 0, 530: 0,
@@ -43,14 +44,15 @@ G_CODE_GROUPS: Final[dict[int, int]] = {
     610: 15, 620: 15, 630: 15, 640: 15,
     690: 16,
     150: 17,
-    501: 18,
-    401: 19,
+    401: 18,
+    501: 22,
 }  # fmt: skip
 
-#: The power-on state of each modal group (value x 10), as #4001-#4019 read it.
+#: The power-on state of each modal group (value x 10), as #4001-#4022 read it (a group not
+#: modelled, 19-21, reads vacant).
 DEFAULT_MODAL: Final[dict[int, int]] = {
     1: 0, 2: 170, 3: 900, 4: 220, 5: 940, 6: 210, 7: 400, 8: 490, 9: 800, 10: 980,
-    11: 500, 12: 670, 13: 970, 14: 540, 15: 640, 16: 690, 17: 150, 18: 501, 19: 401,
+    11: 500, 12: 670, 13: 970, 14: 540, 15: 640, 16: 690, 17: 150, 18: 401, 22: 501,
 }  # fmt: skip
 
 _ADDRESSES_OTHER: Final = frozenset("FGHDILJKMPRST")

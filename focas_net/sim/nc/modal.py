@@ -6,9 +6,8 @@ block and the block counter.
 FANUC numbers the G code groups of the M series 1 (G00-G03), 2 (G17-G19), 3 (G90/G91), 4
 (G22/G23), 5 (G94/G95), 6 (G20/G21), 7 (G40-G42), 8 (G43/G44/G49), 9 (canned cycles, G80),
 10 (G98/G99), 11 (G50/G51), 12 (G66/G67), 13 (G96/G97), 14 (G54-G59), 15 (G61-G64), 16
-(G68/G69), 17 (G15/G16), 18 (G40.1-G42.1) and 22 (G50.1/G51.1); :data:`FANUC_GROUPS` gives
-the group of every code the interpreter accepts. The interpreter keeps G40.1 and G50.1 in
-groups 19 and 18 (its ``#4018``/``#4019``); the snapshot names FANUC's.
+(G68/G69), 17 (G15/G16), 18 (G40.1-G42.1) and 22 (G50.1/G51.1), as the interpreter does
+(:data:`FANUC_GROUPS`: the group of every modal code it accepts).
 """
 
 from __future__ import annotations
@@ -31,7 +30,7 @@ __all__ = [
 
 #: FANUC's G code group (M series) of each modal G code the interpreter accepts (x10).
 FANUC_GROUPS: Final[dict[int, int]] = {
-    code: {401: 18, 501: 22}.get(code, group) for code, group in G_CODE_GROUPS.items() if group != 0
+    code: group for code, group in G_CODE_GROUPS.items() if group != 0
 }
 
 #: The addresses whose last value stays from block to block (FANUC's modal "other" data).

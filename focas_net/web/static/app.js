@@ -40,7 +40,7 @@ async function act(action, args) {
     body: JSON.stringify({ path: state.path, ...(args || {}) }),
   });
   const body = await res.json();
-  if (body.ok) show(`${action}: done`, true);
+  if (body.ok) show(`${action}: done${body.note ? `; ${body.note}` : ""}`, true);
   else show(`${action} refused: ${body.ew_name ? body.ew_name + " " : ""}${body.error || ""}`, false);
   return body;
 }
@@ -68,7 +68,7 @@ function route() {
     state.dirKey = state.progKey = state.pmcKey = state.versions = null;
     state.paramKey = state.macroKey = state.pathsKey = null;
     state.path = 1;
-    state.pmcArea = "X";
+    state.pmcArea = null;  // the machine's first area, until one is chosen
     state.pmcStart = 0;
     state.pmcError = "";
     $("pmc-start").value = "0";
@@ -86,8 +86,10 @@ function subscribe() {
   if (!state.ws || state.ws.readyState !== WebSocket.OPEN) return;
   const msg = state.machine === null
     ? { subscribe: "fleet" }
-    : { subscribe: "machine", index: state.machine, pmc_area: state.pmcArea,
-        pmc_start: state.pmcStart, path: state.path };
+    : state.pmcArea === null
+      ? { subscribe: "machine", index: state.machine, path: state.path }
+      : { subscribe: "machine", index: state.machine, pmc_area: state.pmcArea,
+          pmc_start: state.pmcStart, path: state.path };
   state.ws.send(JSON.stringify(msg));
 }
 
@@ -263,7 +265,7 @@ function renderMachine(v) {
       el("option", { value: String(n) }, label)));
     $("pmc-area").replaceChildren(...v.pmc_areas.map((a) =>
       el("option", { value: a.area }, `${a.area} (${a.size})`)));
-    $("pmc-area").value = state.pmcArea;
+    if (state.pmcArea !== null) $("pmc-area").value = state.pmcArea;
     $("fault-kind").replaceChildren(...v.fault_kinds.map((k) => el("option", { value: k }, k)));
     applyReadOnly();
   }
@@ -376,6 +378,10 @@ function renderPmc(p) {
     grid.replaceChildren();
     state.pmcKey = null;
     return;
+  }
+  if (state.pmcArea === null) {  // the window the server chose: the list shows it
+    state.pmcArea = p.area;
+    $("pmc-area").value = p.area;
   }
   const forced = p.area === "X" || p.area === "F";
   setText($("pmc-note"), state.pmcError || (p.write_protected && !forced ? "write-protected" :
