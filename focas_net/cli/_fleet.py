@@ -56,8 +56,9 @@ def machines_per_process(args: argparse.Namespace) -> int:
 def build_machines(args: argparse.Namespace, states: list[Kept] | None = None) -> list[Machine]:
     """The machines described by the options; raises :class:`ConfigError`.
 
-    With ``--state DIR`` (or the machine file's ``[machine] state``) each machine's kept data is put back from its state file once it is
-    built and named (before it starts running), and the file is appended to ``states``.
+    With ``--state DIR`` (or the machine file's ``[machine] state``) each machine's kept
+    data is put back from its state file once it is built and named (before it starts
+    running), and the file is appended to ``states``.
 
     A machine runs on its own (:meth:`~focas_net.sim.Machine.start_scenario`) with
     ``--run`` (its file's ``[run]`` scenario, else the default one) or when its file has a
