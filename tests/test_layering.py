@@ -116,6 +116,7 @@ TABLE: dict[str, tuple[str, ...]] = {
         "focas_net.adapters._native_data",
         "focas_net.adapters._native_programs",
         "focas_net.adapters._native_info",
+        "focas_net.adapters._native_spindles",
         "focas_net.adapters._native_modal",
         "focas_net.adapters._native_offsets",
         "focas_net.adapters._native_files",
@@ -186,7 +187,17 @@ BEYOND_THE_TABLE: dict[str, tuple[str, ...]] = {
             "focas_net.adapters._native_programs",
             "focas_net.adapters._native_offsets",
         )
-        for area in ("clock", "cnc", "data", "programs", "offsets", "files", "modal", "info")
+        for area in (
+            "clock",
+            "cnc",
+            "data",
+            "programs",
+            "offsets",
+            "files",
+            "modal",
+            "info",
+            "spindles",
+        )
     },
     # bounded memos: no protocol, no machine
     "focas_net._memo": (),
