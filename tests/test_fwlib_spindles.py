@@ -14,6 +14,7 @@ import struct
 from collections.abc import AsyncIterator
 from dataclasses import dataclass
 from decimal import Decimal
+from pathlib import Path
 
 import pytest
 from fwlib_support import LIBRARY, MACHINE_16I, Cnc, buf, s16, served_cnc
@@ -40,6 +41,8 @@ ODBSPN = struct.Struct("<hh8h")
 ODBACT2 = struct.Struct("<hh8i")
 #: ODBSPLOAD: two LOADELM (long data, short dec, short unit, char name, suff1, suff2, reserve).
 LOADELM = struct.Struct("<ihhcccc")
+#: The G signals of a ladder.
+G_AREA = "\n[pmc.G]\nsize = 768\n"
 
 
 class Recorder:
@@ -91,12 +94,16 @@ class Bench:
 
 
 @pytest.fixture(params=["30i", "16i"])
-async def bench(request: pytest.FixtureRequest, recorder: Recorder) -> AsyncIterator[Bench]:
+async def bench(
+    request: pytest.FixtureRequest, recorder: Recorder, tmp_path: Path
+) -> AsyncIterator[Bench]:
     clock = ManualClock()
     if request.param == "30i":
         machine = default_machine(sim_clock=clock)
-    else:
-        machine = load_machine(MACHINE_16I, sim_clock=clock)
+    else:  # the 16i-class file with the G area a ladder has (cnc_rdspeed reads G28)
+        path = tmp_path / "16i.toml"
+        path.write_text(MACHINE_16I.read_text(encoding="utf-8") + G_AREA, encoding="utf-8")
+        machine = load_machine(path, sim_clock=clock)
     async with served_cnc(request.param, machine) as cnc:
         cs = CommandSet.FS16I if request.param == "16i" else CommandSet.FS30I
         yield Bench(cnc, clock, recorder, cs)
@@ -190,16 +197,23 @@ async def test_servo_figures_by_selector(bench: Bench, running: bool) -> None:
         assert [struct.unpack_from("<i", b.raw, 12 * i)[0] for i in range(3)] == list(loads)
 
 
-async def test_rdspeed_in_the_30i_set(bench: Bench) -> None:
-    if bench.command_set is CommandSet.FS16I:
-        pytest.skip("the 16i set reads parameters 3106, 3107, 9936, 0x21 and G28 as well")
-    bench.run()
+@pytest.mark.parametrize("running", [False, True])
+async def test_rdspeed(bench: Bench, running: bool) -> None:
+    """The feed and the spindle speed; in the 16i set the library reads parameters 3106, 3107
+    and 9936 (every machine has them), the modal group 4 and G28 as well."""
+    if running:
+        bench.run()
     b = buf(24)
     call = spindles.cnc_rdspeed(bench.command_set, -1)
     assert await bench.sent(call, "cnc_rdspeed", s16(-1), b) == 0
     feed, *_ = struct.unpack_from("<ihhhcc", b.raw)
     speed, _dec, unit, disp, name, suffix = struct.unpack_from("<ihhhcc", b.raw, 12)
-    assert (feed, speed, unit, disp, name, suffix) == (1200, 3000, 2, 1, b"S", b"1")
+    # the 30i set names the spindle from 0x8A; the 16i set gives a suffix only on a lathe
+    named = b"1" if bench.command_set is CommandSet.FS30I else b"\0"
+    expected = (1200, 3000) if running else (0, 0)
+    assert (feed, speed, unit, disp, name, suffix) == (*expected, 2, 1, b"S", named)
+    for n in spindles.SPEED_PARAMS:
+        assert bench.machine.read_param(n, 0) == 0
 
 
 async def test_the_30i_open_answer_carries_the_controlled_spindles(bench: Bench) -> None:

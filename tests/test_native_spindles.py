@@ -77,6 +77,13 @@ def test_golden_frames_of_each_function() -> None:
             _block(0x25), _block(0xA4, 3),
         ]
     )  # fmt: skip
+    pmc = struct.pack(">HHHH5i", 28, 2, 1, 0x8001, 28, 28, 0, 0, 0).hex()  # G28, device PMC
+    assert _body(spindles.cnc_rdspeed(s16, -1)).hex() == "0008" + "".join(
+        [
+            _block(0x24), _block(0x25), _block(0x88, 0), _block(0x0E, 3106, 3106),
+            _block(0x0E, 3107, 3107), _block(0x0E, 9936, 9936), _block(0x21, 4), pmc,
+        ]
+    )  # fmt: skip
     for name, figure in (("cnc_rdloopgain", 0), ("cnc_rdcurrent", 1), ("cnc_rdsrvspeed", 2)):
         assert _body(getattr(spindles, name)(s16)).hex() == "0001" + _block(0x56, figure)
 

@@ -11,6 +11,8 @@ import argparse
 from dataclasses import replace
 from typing import TYPE_CHECKING
 
+from ._state import Kept, load_state, state_folder_of
+
 if TYPE_CHECKING:
     from focas_net.sim import Machine
     from focas_net.sim.nc import Scenario
@@ -51,8 +53,12 @@ def machines_per_process(args: argparse.Namespace) -> int:
     return -(-args.fleet // workers) if workers > 1 else int(args.fleet)
 
 
-def build_machines(args: argparse.Namespace) -> list[Machine]:
+def build_machines(args: argparse.Namespace, states: list[Kept] | None = None) -> list[Machine]:
     """The machines described by the options; raises :class:`ConfigError`.
+
+    With ``--state DIR`` (or the machine file's ``[machine] state``) each machine's kept
+    data is put back from its state file once it is built and named (before it starts
+    running), and the file is appended to ``states``.
 
     A machine runs on its own (:meth:`~focas_net.sim.Machine.start_scenario`) with
     ``--run`` (its file's ``[run]`` scenario, else the default one) or when its file has a
@@ -63,6 +69,10 @@ def build_machines(args: argparse.Namespace) -> list[Machine]:
 
     clock = RealTimeClock(getattr(args, "speed", 1.0))  # one machine time for the whole fleet
     machines: list[Machine] = []
+    try:
+        kept_in = state_folder_of(args)
+    except MachineFileError as exc:
+        raise ConfigError(str(exc)) from None
     for i in fleet_indices(args):
         if args.machine is not None:
             try:
@@ -82,6 +92,10 @@ def build_machines(args: argparse.Namespace) -> list[Machine]:
                 raise ConfigError(f"--fleet {args.fleet}: {exc}") from None
         if args.no_control:
             machine.control_enabled = False
+        try:
+            machine = load_state(args, kept_in, machine, states if states is not None else [])
+        except ValueError as exc:
+            raise ConfigError(str(exc)) from None
         scenario = _scenario(args, machine, i)
         if scenario is not None:
             try:

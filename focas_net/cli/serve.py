@@ -60,6 +60,7 @@ from ._args import (
 )
 from ._fleet import ConfigError, build_machines, fleet_indices, machines_per_process
 from ._format import address_text
+from ._state import Kept, keep_running, saver
 from ._workers import MAX_WORKERS, run_workers
 
 if TYPE_CHECKING:
@@ -208,6 +209,14 @@ def register(subparsers: Any) -> None:
         "--read-only",
         action="store_true",
         help="answer every write (parameter, macro, PMC, control) with EW_PROT",
+    )
+    p.add_argument(
+        "--state",
+        metavar="DIR",
+        help="keep each machine's nonvolatile memory (parameters, offsets, #500-#999, "
+        "programs, alarm history, parts and timers, PMC K/D/C/T) in DIR across restarts (the "
+        "machine file's [machine] state names one too); an "
+        "answer leaves once its write is on the disk (docs/machine-file.md, State files)",
     )
     p.add_argument(
         "--max-connections",
@@ -420,7 +429,8 @@ def run(args: argparse.Namespace) -> int:
         ssl_context = _ssl_context(args)
         if getattr(args, "workers", 1) > 1:
             return run_workers(args, run)
-        machines = build_machines(args)
+        states: list[Kept] = []
+        machines = build_machines(args, states)
     except ConfigError as exc:
         print_error(str(exc), _ERROR_PREFIX)
         return EXIT_USAGE
@@ -434,6 +444,7 @@ def run(args: argparse.Namespace) -> int:
         idle_timeout=args.idle_timeout,
         grace_period=args.grace_period,
         native_port=args.native_port,
+        durable=saver(states) if states and not args.read_only else None,
     )
     try:
         return anyio.run(
@@ -442,6 +453,7 @@ def run(args: argparse.Namespace) -> int:
             ssl_context is not None,
             bool(args.read_only),
             getattr(args, "web", None),
+            states,
             backend="asyncio",
             backend_options={"use_uvloop": args.uvloop},
         )
@@ -469,10 +481,18 @@ def _freeze_what_was_built() -> None:
 
 
 async def _serve(
-    server: FocasServer, tls: bool, read_only: bool, web: tuple[str, int] | None = None
+    server: FocasServer,
+    tls: bool,
+    read_only: bool,
+    web: tuple[str, int] | None = None,
+    states: list[Kept] | None = None,
 ) -> int:
     with anyio.open_signal_receiver(signal.SIGINT, signal.SIGTERM) as signals:
-        async with server, _dashboard(server, web, read_only) as dashboard:
+        async with (
+            server,
+            _dashboard(server, web, read_only) as dashboard,
+            keep_running(server, states or [], read_only),
+        ):
             if dashboard is None and web is not None:
                 return EXIT_CNC
             _freeze_what_was_built()

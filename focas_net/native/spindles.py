@@ -34,6 +34,9 @@ from typing import Any, ClassVar, Final
 from .axes import AxisCountRequest, AxisUnitRequest, ServoMeterRequest, SpindleLoadRequest
 from .base import NativeRecord, RecordArray
 from .calls import CommandSet, LibraryCall, _memoized, _one
+from .items import ParamReadRequest
+from .modal import ModalGRequest
+from .pmc import PmcReadRequest
 from .requests import (
     ActualFeedRequest,
     ActualSpindleSpeedRequest,
@@ -187,10 +190,28 @@ def cnc_rdspmeter(cs: CommandSet, kind: int) -> LibraryCall:
     )
 
 
+#: The parameters ``cnc_rdspeed`` reads in the 16i set (display bits), and the G signal byte
+#: (G28) and modal group (0x21 kind 4) it reads with them [V].
+SPEED_PARAMS: Final = (3106, 3107, 9936)
+SPEED_SIGNAL_BYTE: Final = 28
+SPEED_MODAL_KIND: Final = 4
+
+
 @_memoized
 def cnc_rdspeed(cs: CommandSet, kind: int) -> LibraryCall:
-    """30i set: 0xA4(3), 0x8A(1), 0x88(3), 0x88(4), 0x24 (not for ``kind`` 1), 0x25, 0xA4(3)
-    [V]. (The 16i set reads parameters and signals as well; not declared here.)"""
+    """16i set: 0x24, 0x25, 0x88(0), 0x0E for 3106, 3107 and 9936, 0x21(4), PMC 0x8001 G28
+    (whatever ``kind``). 30i set: 0xA4(3), 0x8A(1), 0x88(3), 0x88(4), 0x24 (not for ``kind``
+    1), 0x25, 0xA4(3) [V]."""
+    if cs is _16I:
+        return _one(
+            "cnc_rdspeed",
+            ActualFeedRequest(),
+            ActualSpindleSpeedRequest(),
+            AxisUnitRequest(0),
+            *(ParamReadRequest(n, n, 0) for n in SPEED_PARAMS),
+            ModalGRequest(SPEED_MODAL_KIND),
+            PmcReadRequest(SPEED_SIGNAL_BYTE, SPEED_SIGNAL_BYTE, 0, 0),
+        )
     head: tuple[NativeRequest, ...] = (
         AxisCountRequest(SPEED_COUNT),
         SpindleNameRequest(1),

@@ -30,7 +30,7 @@ import asyncio
 import logging
 import math
 import ssl as _ssl
-from collections.abc import Iterable, Iterator, Sequence
+from collections.abc import Callable, Iterable, Iterator, Sequence
 from itertools import chain
 from typing import Any, Final, cast
 
@@ -49,6 +49,7 @@ from ._base import (
     BaseConnection,
     Limits,
 )
+from ._durable import Keeper
 from ._native import NativeConnection, NativeFront
 from ._packed import PackedConnection
 from .faults import FaultQueue
@@ -314,8 +315,10 @@ class _SniffingConnection(PackedConnection):
 
     def connection_made(self, base: asyncio.BaseTransport) -> None:
         # uvloop's transports do not subclass asyncio.Transport, but have its methods
-        if cast(_Done, self._on_close).listener._admit(self, cast(asyncio.Transport, base)):
-            super().connection_made(base)
+        listener = cast(_Done, self._on_close).listener
+        if listener._admit(self, cast(asyncio.Transport, base)):
+            keeper = listener.server.keeper
+            super().connection_made(base if keeper is None else keeper.hold(base))  # type: ignore[arg-type]
 
     def data_received(self, data: bytes) -> None:
         if type(self) is not _SniffingConnection:  # a transport that kept the old method
@@ -345,8 +348,10 @@ class _NativeOnlyConnection(NativeConnection):
     __slots__ = ()
 
     def connection_made(self, base: asyncio.BaseTransport) -> None:
-        if cast(_Done, self._on_close).listener._admit(self, cast(asyncio.Transport, base)):
-            super().connection_made(base)
+        listener = cast(_Done, self._on_close).listener
+        if listener._admit(self, cast(asyncio.Transport, base)):
+            keeper = listener.server.keeper
+            super().connection_made(base if keeper is None else keeper.hold(base))  # type: ignore[arg-type]
 
 
 def _machines(machines: Machine | Iterable[Machine] | None) -> list[Machine]:
@@ -390,6 +395,11 @@ class FocasServer:
     ``read_only`` and ``control``, when given, set those switches of every machine served
     (``Machine.read_only``: every write answers EW_PROT; ``Machine.control_enabled``: simulator
     control on or off); None leaves each machine as it is.
+
+    ``durable`` (``serve --state``) makes the machines' changes durable (it raises OSError
+    when it cannot): the answers of each loop turn are held until one call of it at the end of
+    the turn (:attr:`keeper`, :mod:`._durable`), so an answer leaves only once the write it
+    acknowledges is kept.
     """
 
     def __init__(
@@ -412,6 +422,7 @@ class FocasServer:
         native_max_body: int = DEFAULT_MAX_BODY,
         read_only: bool | None = None,
         control: bool | None = None,
+        durable: Callable[[], object] | None = None,
     ) -> None:
         if max_frame < 4:
             raise ValueError(f"max_frame must be at least 4, got {max_frame}")
@@ -471,6 +482,10 @@ class FocasServer:
         self.backlog = backlog
         self.native_version = native_version
         self.native_max_body = native_max_body
+        #: Holds each loop turn's answers until ``durable()`` made the changes they
+        #: acknowledge durable (``serve --state``; :mod:`._durable`); None: answers leave at
+        #: once.
+        self.keeper: Keeper | None = None if durable is None else Keeper(durable)
         #: The bounds every connection works within.
         self.limits = Limits(max_frame, native_max_body, max_delayed, write_buffer_high)
         #: One listener per machine, in machine order: its port serving both protocols (or,
@@ -627,6 +642,8 @@ class FocasServer:
             await anyio.lowlevel.checkpoint()
             for listener in self._all_listeners():
                 await self._wait_unbound(listener)
+            if self.keeper is not None:
+                self.keeper.flush()  # what the machines did since the last answer
             _log.info("server closed")
 
     def _connections(self) -> Iterator[_AnyConnection]:

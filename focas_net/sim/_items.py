@@ -156,11 +156,18 @@ class DataItem:
 
 def _connect_params() -> tuple[DataItem, ...]:
     """The parameters a FOCAS client reads on its own, with their defaults for a machine that
-    does not give them: 9968, the FOCAS option bits (#0 set: ``cnc_rddynamic2`` is there), and
-    3115, the position display bits of each axis (0: every position shown)."""
+    does not give them: 9968, the FOCAS option bits (#0 set: ``cnc_rddynamic2`` is there),
+    3115, the position display bits of each axis (0: every position shown), and the display
+    bits FANUC's library reads for ``cnc_rdspeed`` in the 16i set, 3106, 3107 and 9936, all 0
+    as a control leaves them from the factory: 3106 #3 gives a lathe's spindle speed the
+    suffix of its spindle, 3107 #5 lets a signal pick which, 9936 #3 shows the feed per
+    revolution (see ``docs/native-protocol.md``)."""
     return (
         DataItem(9968, kind=ParamKind.BIT, values=[0b0000_0001], name="FOCAS option bits"),
         DataItem(3115, axis=True, kind=ParamKind.BIT, values=[0], name="position display"),
+        DataItem(3106, kind=ParamKind.BIT, values=[0], name="display of the spindle speed"),
+        DataItem(3107, kind=ParamKind.BIT, values=[0], name="spindle speed display selection"),
+        DataItem(9936, kind=ParamKind.BIT, values=[0], name="feed display of rdspeed"),
     )
 
 

@@ -66,7 +66,7 @@ from .nc import Scenario, SimClock
 from .pathfile import _axes, _motion, _panel, _programs, path_specs
 from .toolfile import tool_specs
 
-__all__ = ["MODE_NAMES", "MachineFileError", "load_machine", "machine_from_dict"]
+__all__ = ["MODE_NAMES", "MachineFileError", "load_machine", "machine_from_dict", "state_folder"]
 
 
 #: ``type`` names of a parameter or diagnostic, as every front end names the types
@@ -447,7 +447,7 @@ def _run(ctx: _Ctx, value: Any) -> Scenario:
 
 
 _MACHINE_KEYS: Final = ("name", "axes", "param_password", "control", "read_only",
-                        "history_capacity", "control_class")  # fmt: skip
+                        "history_capacity", "control_class", "state")  # fmt: skip
 _TOP: Final = (
     "machine",
     "sysinfo",
@@ -494,6 +494,8 @@ def machine_from_dict(
     name = _str(mc.sub("name"), head["name"]).strip()
     if not name:
         mc.sub("name").fail("must not be empty")
+    if "state" in head and not _str(mc.sub("state"), head["state"]).strip():
+        mc.sub("state").fail("must not be empty (the folder of the machine's state file)")
     problem = name_problem(name)  # the machine's own rule
     if problem is not None:
         mc.sub("name").fail(problem)
@@ -637,3 +639,21 @@ def load_machine(
         sim_clock=sim_clock,
         base=p.parent,
     )
+
+
+def state_folder(path: str | PathLike[str]) -> Path | None:
+    """The folder ``[machine] state`` of the machine file at ``path`` names (relative to the
+    machine file's folder), where ``serve`` keeps the machine's nonvolatile memory; None when
+    it names none. MachineFileError as :func:`load_machine`."""
+    p = Path(path)
+    try:
+        data = tomllib.loads(_text(str(path), p.read_bytes()))
+    except OSError as exc:
+        raise MachineFileError(str(path), "", f"cannot read: {exc.strerror or exc}") from None
+    except tomllib.TOMLDecodeError as exc:
+        raise MachineFileError(str(path), "", f"not valid TOML: {exc}") from None
+    head = data.get("machine")
+    folder = head.get("state") if isinstance(head, dict) else None
+    if not isinstance(folder, str) or not folder.strip():
+        return None
+    return p.parent / folder.strip()

@@ -1,0 +1,96 @@
+"""``serve --state DIR``: each machine's state file, loaded when it is built and saved as it
+changes (:mod:`focas_net.sim.statefile`; the server holds each loop turn's answers until the
+save, :mod:`focas_net.server._durable`)."""
+
+from __future__ import annotations
+
+import argparse
+from collections.abc import AsyncIterator, Callable
+from contextlib import asynccontextmanager
+from typing import TYPE_CHECKING, Final
+
+import anyio
+
+if TYPE_CHECKING:
+    from focas_net.server import FocasServer
+    from focas_net.sim import Machine
+    from focas_net.sim.statefile import StateFile
+
+__all__ = ["SAVE_INTERVAL", "Kept", "keep_running", "load_state", "saver", "state_folder_of"]
+
+#: Seconds between the saves of what a machine running on its own changes without being asked
+#: (its parts counts and timers); a write a client makes is saved before its answer leaves.
+SAVE_INTERVAL: Final = 1.0
+
+#: A machine and its state file.
+Kept = tuple["StateFile", "Machine"]
+
+
+def state_folder_of(args: argparse.Namespace) -> str | None:
+    """Where the machines keep their state: ``--state``, else the machine file's
+    ``[machine] state`` (MachineFileError as the machine file's loading), else None."""
+    given: str | None = getattr(args, "state", None)
+    if given is not None or args.machine is None:
+        return given
+    from focas_net.sim.machinefile import state_folder
+
+    folder = state_folder(args.machine)
+    return None if folder is None else str(folder)
+
+
+def load_state(
+    args: argparse.Namespace, directory: str | None, machine: Machine, states: list[Kept]
+) -> Machine:
+    """``machine`` (just built) with the kept data of its state file in ``directory`` put
+    back, its state file appended to ``states`` (None: ``machine`` as it is); ValueError
+    naming the file when it cannot be loaded (the machine is dropped then)."""
+    from focas_net.sim.statefile import StateError, StateFile, state_path
+
+    if directory is None:
+        return machine
+    state = StateFile(state_path(directory, machine.name), read_only=bool(args.read_only))
+    try:
+        machine = state.load(lambda: machine)
+    except StateError as exc:
+        raise ValueError(f"--state: {exc}") from None
+    except OSError as exc:
+        raise ValueError(f"--state {directory}: {exc.strerror or exc}") from None
+    states.append((state, machine))
+    return machine
+
+
+def saver(states: list[Kept]) -> Callable[[], None]:
+    """What the server calls at the end of a turn: every changed machine's state saved."""
+
+    def save() -> None:
+        for state, machine in states:
+            state.save(machine)
+
+    return save
+
+
+@asynccontextmanager
+async def keep_running(
+    server: FocasServer, states: list[Kept], read_only: bool
+) -> AsyncIterator[None]:
+    """While the machines are served, save every :data:`SAVE_INTERVAL` seconds what the
+    machines running on their own changed (nothing without ``--state``, or read-only)."""
+    keeper = server.keeper
+    running = [m for _, m in states if m.scenario_running]
+    if keeper is None or read_only or not running:
+        yield
+        return
+
+    async def tick() -> None:
+        while True:
+            await anyio.sleep(SAVE_INTERVAL)
+            for machine in running:
+                _ = machine.version  # brings the machine to the clock's time
+            keeper.flush()
+
+    async with anyio.create_task_group() as tg:
+        tg.start_soon(tick)
+        try:
+            yield
+        finally:
+            tg.cancel_scope.cancel()

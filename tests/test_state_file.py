@@ -1,0 +1,169 @@
+"""The state file of ``serve --state``: what a power cycle keeps and resets, the format's
+round trip, its version, a machine file that changed, and damaged files."""
+
+from __future__ import annotations
+
+import hashlib
+from datetime import UTC, datetime
+from decimal import Decimal
+from pathlib import Path
+
+import pytest
+
+from focas_net.sim import Machine, MachineError, default_machine
+from focas_net.sim.machine import MDI
+from focas_net.sim.statefile import (
+    STATE_VERSION,
+    StateError,
+    StateFile,
+    apply_state,
+    decode_state,
+    encode_state,
+    state_path,
+)
+
+PROGRAM = "O0123\n(KEPT)\nG0X1.\nM30\n%"
+
+
+def _written() -> Machine:
+    m = default_machine()
+    s = m.new_session()
+    m.set_panel(mode=MDI, pwe=1)  # PWE on: parameter writes open
+    m.write_param(s, 3216, 0, 77)
+    m.write_macro(500, Decimal("1.25"))
+    m.write_macro(999, -3)
+    m.write_macro(100, 9)  # #100-#199: a power-off clears them
+    m.write_pmc("K", 3, b"\x5a")
+    m.write_pmc("D", 10, b"\x01\x02\x03")
+    m.write_pmc("R", 0, b"\xff")  # volatile
+    m.path_programs().store(PROGRAM)
+    m.write_macro(3901, 42)  # the parts count
+    m.raise_alarm(0, 2, 1001, "KEPT IN HISTORY")
+    return m
+
+
+def _power_cycle(m: Machine, tmp_path: Path) -> Machine:
+    state = StateFile(state_path(tmp_path, m.name))
+    assert state.save(m)
+    return StateFile(state.path).load(default_machine)
+
+
+def test_a_power_cycle_keeps_the_nonvolatile_memory(tmp_path: Path) -> None:
+    m = _power_cycle(_written(), tmp_path)
+    assert m.read_param(3216, 0) == 77
+    assert m.read_macro(500) == Decimal("1.25")
+    assert m.read_macro(999) == Decimal(-3)
+    assert m.read_pmc("K", 3, 1) == b"\x5a"
+    assert m.read_pmc("D", 10, 3) == b"\x01\x02\x03"
+    assert m.path_programs().text(123) == _written().path_programs().text(123)
+    assert m.read_macro(3901) == 42
+    assert [(e.alm_no, e.msg) for e in m.alarm_history()][:1] == [(1001, "KEPT IN HISTORY")]
+
+
+def test_a_power_cycle_resets_the_volatile_memory(tmp_path: Path) -> None:
+    m = _power_cycle(_written(), tmp_path)
+    assert m.read_macro(100) is None
+    assert m.read_pmc("R", 0, 1) == b"\x00"
+    assert m.active_alarms() == []
+    assert m.status().run == 0  # reset: nothing runs
+    assert m.path_programs().main == 1  # the main program kept, at its head
+
+
+def test_the_round_trip_is_exact() -> None:
+    m = _written()
+    data = encode_state(m)
+    again = default_machine()
+    apply_state(again, decode_state(data))
+    assert encode_state(again) == data
+
+
+def test_an_unchanged_machine_writes_nothing(tmp_path: Path) -> None:
+    m = default_machine()
+    state = StateFile(tmp_path / "m.state")
+    m = state.load(lambda: m)
+    assert not state.save(m)
+    assert not state.path.exists()
+    m.write_macro(501, 1)
+    assert state.save(m)
+    assert not state.save(m)
+    assert state.writes == 1
+
+
+def test_read_only_reads_and_writes_nothing(tmp_path: Path) -> None:
+    path = state_path(tmp_path, "M")
+    m = default_machine()
+    m.write_macro(502, 5)
+    StateFile(path).save(m)
+    before = path.read_bytes()
+    ro = StateFile(path, read_only=True)
+    m2 = ro.load(default_machine)
+    assert m2.read_macro(502) == 5
+    m2.write_macro(502, 6)
+    assert not ro.save(m2)
+    assert path.read_bytes() == before
+
+
+def test_a_newer_format_is_refused_clearly() -> None:
+    data = encode_state(default_machine())
+    newer = data.replace(f" {STATE_VERSION} ".encode(), f" {STATE_VERSION + 1} ".encode(), 1)
+    with pytest.raises(StateError, match=r"newer focas-net \(state format 2"):
+        decode_state(newer, "m.state")
+
+
+@pytest.mark.parametrize("cut", [1, 10, 100, 1000])
+def test_a_truncated_file_is_refused_clearly(cut: int) -> None:
+    data = encode_state(_written())
+    with pytest.raises(StateError, match=r"^m\.state: (truncated|not a focas-net)"):
+        decode_state(data[:-cut] if cut < len(data) else b"", "m.state")
+
+
+def test_a_corrupted_file_is_refused_clearly() -> None:
+    data = bytearray(encode_state(_written()))
+    data[-20] ^= 0x01
+    with pytest.raises(StateError, match="checksum"):
+        decode_state(bytes(data), "m.state")
+    with pytest.raises(StateError, match="not a focas-net state file"):
+        decode_state(b"\x00" * 50, "m.state")
+
+
+def test_a_changed_machine_file_is_named(tmp_path: Path) -> None:
+    path = state_path(tmp_path, "M")
+    StateFile(path).save(_written())
+    with pytest.raises(StateError) as caught:
+        StateFile(path).load(lambda: Machine("M", axes=["X", "Z"]))
+    text = str(caught.value)
+    assert "machine file changed" in text and "the paths (kind, axes)" in text
+    assert "XYZ" in text and "XZ" in text
+
+
+def test_a_file_left_by_a_crash_mid_write_is_ignored(tmp_path: Path) -> None:
+    path = state_path(tmp_path, "M")
+    m = default_machine()
+    m.write_macro(503, 3)
+    StateFile(path).save(m)
+    temp = path.with_name(path.name + ".tmp")
+    temp.write_bytes(b"focas-net-state 1 99 half")
+    m2 = StateFile(path).load(default_machine)
+    assert m2.read_macro(503) == 3
+    assert not temp.exists()
+
+
+def test_the_alarm_history_keeps_its_stamps(tmp_path: Path) -> None:
+    when = datetime(2026, 1, 2, 3, 4, 5, tzinfo=UTC)
+    m = default_machine(clock=lambda: when)
+    m.raise_alarm(0, 2, 7, "A")
+    m2 = _power_cycle(m, tmp_path)
+    assert m2.alarm_history()[0].occurred_at == when
+
+
+def test_a_malformed_state_is_refused_whole(tmp_path: Path) -> None:
+    m = default_machine()
+    data = encode_state(m).split(b"\n", 1)[1]
+    body = data.replace(b'"macros":{}', b'"macros":{"100":"1"}')
+    header = f"focas-net-state 1 {len(body)} {hashlib.sha256(body).hexdigest()}\n".encode()
+    path = tmp_path / "m.state"
+    path.write_bytes(header + body)
+    with pytest.raises(StateError, match="#100: not kept"):
+        StateFile(path).load(default_machine)
+    with pytest.raises(MachineError):
+        default_machine().write_pmc("X", 0, b"\x01")  # the machine's own checks stay
