@@ -12,7 +12,7 @@ import pytest
 from cli_support import run_focas_net
 from support import Served
 
-from focas_net.cli import EXIT_OK, EXIT_USAGE
+from focas_net.cli import EXIT_CNC, EXIT_OK, EXIT_USAGE
 from focas_net.protocol import FaultKind, FaultScope
 from focas_net.server.faults import fault_refusal
 
@@ -172,3 +172,17 @@ async def test_digits_of_other_scripts_are_refused(
     line = await fails(EXIT_USAGE, *argv, *at(server))
     assert words in line, line
     assert (server.machine.read_pmc("R", 0, 1), server.machine.read_macro(100)) == before
+
+
+# -- a path the CNC has not is named, whatever the command -----------------------------------------
+
+
+@pytest.mark.parametrize("protocol", ["packed", "native"])
+@pytest.mark.parametrize("command", [["status"], ["macro", "get", "100"], ["program"]])
+async def test_a_path_the_cnc_has_not_is_named(
+    server: Served, protocol: str, command: list[str]
+) -> None:
+    line = await fails(EXIT_CNC, *command, "--path", "2", "--protocol", protocol, *at(server))
+    assert "EW_PATH" in line and line.endswith(
+        "; the CNC has no path 2 (--path names one of its paths; a CNC of one path has path 1)"
+    ), line
