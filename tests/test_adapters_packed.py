@@ -227,7 +227,9 @@ def test_data_read_errors(
 
 def test_non_axis_item_with_an_axis(m: Machine, s: Session) -> None:
     assert ew_of(m, s, Command.RDPARAM, DataRequest(3216, 1)) == ew(EW.ATTRIB)
-    assert ew_of(m, s, Command.RDDIAG, DataRequest(410, 1)) == ew(EW.ATTRIB)
+    assert ew_of(m, s, Command.RDDIAG, DataRequest(0, 1)) == ew(EW.ATTRIB)
+    # a spindle diagnostic takes the spindle number (one spindle)
+    assert ew_of(m, s, Command.RDDIAG, DataRequest(410, 2)) == ew(EW.ATTRIB)
 
 
 @pytest.mark.parametrize("command", [Command.RDPARAM, Command.RDDIAG])
@@ -906,9 +908,9 @@ def test_cached_reads_follow_writes(m: Machine, s: Session) -> None:
     assert rd_param(m, s, 6711, 0).value == 0
     assert wr_param(m, s, 6711, 0, 77, 4) == 0
     assert rd_param(m, s, 6711, 0).value == 77
-    assert call(m, s, Command.RDDIAG, DataRequest(410, 0)).value == 0
-    m.set_diag(410, 0, 12)
-    assert call(m, s, Command.RDDIAG, DataRequest(410, 0)).value == 12
+    assert call(m, s, Command.RDDIAG, DataRequest(403, 0)).value == 33
+    m.set_diag(403, 0, 12)
+    assert call(m, s, Command.RDDIAG, DataRequest(403, 0)).value == 12
     assert call(m, s, Command.RDMACRO, MacroRequest(500)).vacant
     assert ew_of(m, s, Command.WRMACRO, MacroValue(500, 8, 5, 2)) == 0
     assert call(m, s, Command.RDMACRO, MacroRequest(500)) == MacroValue(500, 8, 5, 2)

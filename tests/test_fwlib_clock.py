@@ -1,10 +1,10 @@
 """FANUC's library reads what data collectors read, in both command sets, idle and running:
 ``cnc_gettimer``/``cnc_settimer`` (0x45/0x46), ``cnc_rdopnlsgnl`` (0x5D), the run-time
-parameters 6750-6758 next to ``cnc_rdtimer``, diagnostic 4901, ``#3011``/``#3012`` and the
-override G signals and state F signals through ``pmc_rdpmcrng``/``pmc_wrpmcrng``; each value
-against the machine or the packed protocol. Skipped unless ``FOCAS_NET_FWLIB`` names FANUC's
-libfwlib32; the structures are this file's own (IODBTIMER, IODBSGNL as fwlib32.h lays them
-out for the 16/18/21/0i/30i)."""
+parameters 6750-6758 next to ``cnc_rdtimer``, diagnostics 4901, 410 and 4902 (a spindle's
+by its number), ``#3011``/``#3012`` and the override G signals and state F signals through
+``pmc_rdpmcrng``/``pmc_wrpmcrng``; each value against the machine or the packed protocol.
+Skipped unless ``FOCAS_NET_FWLIB`` names FANUC's libfwlib32; the structures are this file's
+own (IODBTIMER, IODBSGNL as fwlib32.h lays them out for the 16/18/21/0i/30i)."""
 
 from __future__ import annotations
 
@@ -140,12 +140,22 @@ async def test_run_time_parameters_are_the_timers(cnc: Cnc, running: bool) -> No
     assert (await rdparam(cnc, 6751, 0))[1] == [12_500 if running else 0]
 
 
-async def test_servo_power_diagnostic_follows_the_load(cnc: Cnc) -> None:
+async def test_power_and_load_diagnostics_follow_the_loads(cnc: Cnc) -> None:
     _run(cnc, 10.0)
     for axis in (1, 2, 3):
         rc, got = await rdparam(cnc, 4901, axis, "cnc_diagnoss")
         assert (rc, got) == (0, [await cnc.packed.read_diag(4901, axis=axis)])
         assert got == [cnc.machine.servo_loads()[axis - 1] * 15]
+    (load,) = cnc.machine.spindle_loads()
+    for number, want in ((410, load), (4902, load * 75)):
+        item = cnc.machine.diag_item(number)
+        assert item is not None
+        b = buf(4 + 8)
+        rc = await cnc.call("cnc_diagnoss", s16(number), s16(1), s16(4 + item.width), b)
+        fmt = {1: "b", 2: "h", 4: "i"}[item.width]
+        got_number, spindle, value = struct.unpack_from(f"<hh{fmt}", b.raw)
+        assert (rc, got_number, spindle, value) == (0, number, 1, want)  # spindle 1
+        assert await cnc.packed.read_diag(number, axis=1) == want
 
 
 async def _rdpmc(cnc: Cnc, area: int, first: int, count: int) -> list[int]:
@@ -184,3 +194,17 @@ async def test_state_f_signals(cnc: Cnc, running: bool) -> None:
     assert (f[0] >> 6 & 1, f[1] >> 7 & 1, f[1] & 1) == (1, 1, 0)  # SA, MA, no AL
     assert f[3] == (0x20 if running else 0x08)  # MMEM running, MMDI idle (served in MDI)
     assert (f[0] >> 7 & 1, f[0] >> 5 & 1) == ((1, 1) if running else (0, 0))  # OP, STL
+
+
+async def test_the_integrating_meter_counts_while_tmron_is_on(cnc: Cnc) -> None:
+    clock = cnc.machine.sim_clock
+    assert isinstance(clock, ManualClock)
+    assert await _wrpmc(cnc, G, 53, 1) == 0  # TMRON through the library
+    clock.advance(61.25)
+    assert await _wrpmc(cnc, G, 53, 0) == 0
+    clock.advance(30.0)
+    b = buf(8)
+    assert await cnc.call("cnc_rdtimer", s16(4), b) == 0
+    assert struct.unpack("<ii", b.raw) == (1, 1_250)
+    assert await rdparam(cnc, 6756, 0) == (0, [1])
+    assert await rdparam(cnc, 6755, 0) == (0, [1_250])

@@ -120,6 +120,7 @@ TABLE: dict[str, tuple[str, ...]] = {
         "focas_net.adapters._native_modal",
         "focas_net.adapters._native_offsets",
         "focas_net.adapters._native_files",
+        "focas_net.adapters._native_spindles",
     ),
     "focas_net.server": (
         "focas_net.adapters",

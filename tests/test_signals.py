@@ -218,3 +218,32 @@ async def test_native_client_reads_and_sets_the_clock_and_panel_signals() -> Non
         assert (await packed.read_pmc("G", 12, 1))[0] == 255 - 80
         assert await native.read_param(6750) == await packed.read_param(6750)
         assert (await native.read_macro(3011)) == (await packed.read_macro(3011))
+
+
+def test_spindle_diagnostics_take_the_spindle_number() -> None:
+    clock = ManualClock(0.0)
+    m = _machine(clock)
+    assert m.read_diag(403, 1) == m.read_diag(403, 0) == 33
+    assert (m.read_diag(410, 1), m.read_diag(4902, 1)) == (0, 0)
+    m.cycle_start()
+    clock.advance(10.0)
+    (load,) = m.spindle_loads()
+    assert load > 0
+    assert (m.read_diag(410, 1), m.read_diag(4902, 1)) == (load, load * 75)
+    with pytest.raises(MachineError) as refused:
+        m.read_diag(410, 2)  # one spindle
+    assert refused.value.ew == EW.ATTRIB
+
+
+def test_the_integrating_meter_counts_while_tmron_is_on() -> None:
+    clock = ManualClock(0.0)
+    m = _machine(clock)
+    m.write_pmc("G", 53, b"\x01")  # TMRON
+    clock.advance(61.5)
+    m.write_pmc("G", 53, b"\x00")
+    clock.advance(100.0)
+    assert m.timer_ms(4) == 61_500
+    assert (m.read_param(6756, 0), m.read_param(6755, 0)) == (1, 1_500)
+    m.set_panel(0, 1, 0)
+    m.write_param(m.new_session(), 6756, 0, 10)
+    assert m.timer_ms(4) == 601_500

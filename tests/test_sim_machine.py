@@ -479,7 +479,7 @@ def test_set_param_password_locks_open_sessions() -> None:
 def test_numbers_and_vacant_macro(m: Machine) -> None:
     assert m.param_numbers()[:3] == (20, 1001, 1005)
     assert {1320, 1420, 1815, 3216, 6711, 6712} <= set(m.param_numbers())
-    assert m.diag_numbers() == (0, 300, 301, 308, 309, 403, 410, 4901)
+    assert m.diag_numbers() == (0, 300, 301, 308, 309, 403, 410, 4901, 4902)
     m.write_macro(7, 1)
     v = m.version
     m.write_macro(7, None)

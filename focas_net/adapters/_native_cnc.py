@@ -176,15 +176,13 @@ class CncHandlers:
         return CncId(*_FOUR_U32.unpack(digest[:16])).encode()
 
     def read_timer(self, block: RequestBlock, room: int, session: Session) -> bytes:
-        """Timers 0 power-on, 1 operating, 2 cutting, 3 cycle: the machine's (``Machine.timer``,
-        machine time) as IODBTIME, whole minutes and the milliseconds past them; 4 (the free
-        purpose timer, which the machine does not keep) reads 0; another type answers
+        """Timers 0 power-on, 1 operating, 2 cutting, 3 cycle, 4 free purpose (the
+        general-purpose integrating meter): the machine's (``Machine.timer``, machine time) as
+        IODBTIME, whole minutes and the milliseconds past them; another type answers
         EW_NUMBER."""
         req = TimerRequest.from_block(block)
         if not 0 <= req.type <= 4:
             raise Refused(EW.NUMBER)
-        if req.type == 4:
-            return TimerValue(0, 0).encode()
         ms = self.machine.timer_ms(req.type, path=block_path(block))
         minute, msec = divmod(ms, 60_000)
         return TimerValue(minute, msec).encode()

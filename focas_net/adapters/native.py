@@ -55,7 +55,7 @@ Rules of this wire (the CNC's rules are the machine's, see :mod:`focas_net.sim.m
   connecting; also the open answer's option bits in the 30i set) and 3115 (position display
   bits, ``cnc_rdposition`` in the 16i set), are the machine's own: every machine has them
   (:class:`~focas_net.sim.Machine` gives the defaults), so both protocols read the same values;
-* figures the machine does not model (the free purpose timer, the CNC ID) answer the values
+* figures the machine does not model (the CNC ID) answer the values
   the handlers document; the spindle and servo loads are the machine's
   (:meth:`~focas_net.sim.Machine.spindle_loads`, ``servo_loads``).
 

@@ -15,7 +15,7 @@ from contextlib import AbstractContextManager
 
 from ._path import MotionData
 from ._paths import Paths
-from ._signals import Collected
+from ._signals import METER, Collected
 from ._spindles import (
     LOOP_GAIN_PARAMETER,
     STANDARD_LOOP_GAIN,
@@ -37,6 +37,8 @@ class PathOperations:
     _collected: Collected
     #: G12/G14/G30 of a path from its overrides (:class:`~._signals.SignalOperations`).
     _show_overrides: Callable[[int], None]
+    #: Seconds of a path's integrating meter (:class:`~._signals.SignalOperations`).
+    _meter: Callable[[int], float]
     scenario: Scenario | None
 
     def check_writable(self) -> None:  # pragma: no cover - the machine's
@@ -193,7 +195,12 @@ class PathOperations:
     def timer(self, kind: int, *, path: int = 1) -> float:
         """Seconds of timer ``kind`` (FANUC's ``cnc_rdtimer`` types): 0 power-on (machine
         time since the machine was built), 1 operating, 2 cutting, 3 cycle (this cycle's time
-        since its start from reset); EW_NUMBER for another kind."""
+        since its start from reset), 4 the general-purpose integrating meter (while TMRON,
+        G53.0, is 1); EW_NUMBER for another kind. A write of the run-time parameters
+        6750-6758 sets them (:mod:`._signals`)."""
+        if kind == METER:
+            self._paths.at(path)
+            return self._meter(path)
         return self._collected.shifted(path, kind, self._paths.at(path).timer(kind))
 
     def timer_ms(self, kind: int, *, path: int = 1) -> int:

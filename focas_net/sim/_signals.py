@@ -7,16 +7,27 @@ mode and of readiness, each following the machine (a part of :class:`~focas_net.
   minutes), 6757/6758 cycle time, the run time of the cycle under way (ms, minutes). They read
   the timers ``cnc_rdtimer`` reads (:meth:`Machine.timer_ms`): minutes are whole minutes, the
   ms parameter the milliseconds past them. A write of one sets the timer from then on, as on
-  a CNC (a cycle time written holds for the cycle under way). 6755/6756, the general-purpose
-  integrating meter, are kept as written: the machine has no ladder that counts them. A
-  machine that does not give them has them (two-word, not per axis).
+  a CNC (a cycle time written holds for the cycle under way). 6755/6756 are the
+  general-purpose integrating meter (``cnc_rdtimer`` type 4): it counts while the path's
+  TMRON signal (G53.0) is 1. A machine that does not give them has them (two-word, not per
+  axis).
 * **The CNC's clock**: the machine's wall clock (``clock``, UTC) moved by what was set
   (``cnc_settimer``: :meth:`SignalOperations.set_cnc_date`, ``set_cnc_time``); the alarms are
   stamped by it. ``#3011`` reads its date as YYYYMMDD and ``#3012`` its time as HHMMSS
   (read-only, EW_PROT to a write; 116 to a program).
 * **Diagnostic 4901**, the servo motor's power consumption in watts per axis: the axis's
-  servo load (:meth:`Machine.servo_loads`) times :data:`SERVO_WATTS_PER_PERCENT`. A machine
-  that does not give it has it.
+  servo load (:meth:`Machine.servo_loads`) times :data:`SERVO_WATTS_PER_PERCENT` (while the
+  machine drives its figures, as 410 and 4902 below). A machine that does not give it has it.
+* **Spindle diagnostics** (:data:`SPINDLE_DIAGS`, FANUC's numbers of the serial spindle's
+  data: 400 link, 403 motor temperature, 408 communication, 410 load, 411 speed, 417/418
+  position coder and loop deviation, 425 sync error, 445 position, 710/712 error and warning,
+  1520/1521 revolutions, 4902 power): as on a CNC, the axis argument of a read names the
+  spindle (1..the path's spindles; 0 the first). 410 is the spindle's load in percent
+  (:meth:`Machine.spindle_loads`), 4902 its power in watts (the load times
+  :data:`SPINDLE_WATTS_PER_PERCENT`), while the machine drives its figures (a program was
+  started or searched; before, what is set by hand, as with the loads); the others read the
+  value the machine holds. A machine
+  that does not give 4902 has it.
 * **F signals of the state** (per path, at the path's offset of 1000 bytes): F0.6 SA (servo
   ready: no emergency stop), F1.7 MA (CNC ready), F1.0 AL (an alarm on the path), the mode
   F3.0 MINC, F3.1 MH, F3.2 MJ, F3.3 MMDI, F3.4 MRMT, F3.5 MMEM, F3.6 MEDT, F3.7 MTCHIN and
@@ -48,8 +59,11 @@ if TYPE_CHECKING:
 
 __all__ = [
     "CLOCK_VARIABLES",
+    "METER",
     "SERVO_POWER_DIAG",
     "SERVO_WATTS_PER_PERCENT",
+    "SPINDLE_DIAGS",
+    "SPINDLE_WATTS_PER_PERCENT",
     "TIMER_PARAMS",
     "Collected",
     "OperatorSignals",
@@ -66,10 +80,15 @@ TIMER_PARAMS: Final[dict[int, tuple[int, bool]]] = {
     6752: (1, True),
     6753: (2, False),
     6754: (2, True),
+    6755: (4, False),
+    6756: (4, True),
     6757: (3, False),
     6758: (3, True),
 }
 _CYCLE: Final = 3
+#: ``cnc_rdtimer`` type of the general-purpose integrating meter, and its TMRON signal G53.0.
+METER: Final = 4
+_TMRON: Final = (53, 0)
 _NAMES: Final = {
     6750: "power-on time (min)",
     6751: "operating time (ms)",
@@ -89,6 +108,16 @@ CLOCK_VARIABLES: Final = (3011, 3012)
 SERVO_POWER_DIAG: Final = 4901
 #: Watts of diagnostic 4901 per percent of servo load (a 1.5 kW motor at 100 %).
 SERVO_WATTS_PER_PERCENT: Final = 15
+#: Spindle load (percent) and spindle motor power consumption (W): diagnostics that follow the
+#: spindle's load.
+SPINDLE_LOAD_DIAG: Final = 410
+SPINDLE_POWER_DIAG: Final = 4902
+#: Watts of diagnostic 4902 per percent of spindle load (a 7.5 kW motor at 100 %).
+SPINDLE_WATTS_PER_PERCENT: Final = 75
+#: FANUC's diagnostics of the serial spindle: read with the spindle number as the axis.
+SPINDLE_DIAGS: Final = frozenset(
+    {400, 401, 403, 408, 410, 411, 417, 418, 425, 445, 710, 712, 1520, 1521, SPINDLE_POWER_DIAG}
+)
 #: Years the CNC's clock can be set to (FANUC's calendar).
 _YEARS: Final = (1987, 2037)
 
@@ -127,12 +156,16 @@ def collected_params(params: Iterable[DataItem]) -> list[DataItem]:
 
 
 def collected_diags(diags: Iterable[DataItem]) -> list[DataItem]:
-    """``diags`` and diagnostic 4901 (servo power, W, per axis) when the machine lacks it."""
+    """``diags`` and diagnostics 4901 (servo power, W, per axis) and 4902 (spindle power, W)
+    when the machine lacks them."""
     items = list(diags)
-    if all(item.number != SERVO_POWER_DIAG for item in items):
+    given = {item.number for item in items}
+    if SERVO_POWER_DIAG not in given:
         items.append(
             DataItem(SERVO_POWER_DIAG, kind=ParamKind.TWO_WORD, axis=True, name="servo power")
         )
+    if SPINDLE_POWER_DIAG not in given:
+        items.append(DataItem(SPINDLE_POWER_DIAG, kind=ParamKind.TWO_WORD, name="spindle power"))
     return items
 
 
@@ -171,12 +204,14 @@ class Collected:
     """The machine's state of what collectors read: the shifts the run-time parameters'
     writes set, and what the counters last saw of time (see :meth:`tick`)."""
 
-    __slots__ = ("data_seen", "macro_seen", "shifts", "status_seen")
+    __slots__ = ("data_seen", "macro_seen", "meters", "shifts", "status_seen")
 
     def __init__(self) -> None:
         #: (path, timer type) -> (seconds added to the machine's timer, its value then).
         self.shifts: dict[tuple[int, int], tuple[float, float]] = {}
-        self.data_seen: tuple[int, float | None] | None = None
+        #: path -> (seconds the integrating meter counted, machine time TMRON rose or None).
+        self.meters: dict[int, tuple[float, float | None]] = {}
+        self.data_seen: tuple[int, tuple[float, int] | None, tuple[bool, ...]] | None = None
         self.macro_seen: datetime | None = None
         self.status_seen = -1
 
@@ -255,24 +290,87 @@ class SignalOperations:
         """Set the timer of run-time parameter ``datano`` of ``path`` so that it reads
         ``value`` (the other unit's part stays)."""
         kind, minutes = TIMER_PARAMS[datano]
-        base = self._paths.at(path).timer(kind)
-        ms = math.floor(self._collected.shifted(path, kind, base) * 1000 + 1e-6)
+        base = 0.0 if kind == METER else self._paths.at(path).timer(kind)
+        ms = math.floor(self.timer(kind, path=path) * 1000 + 1e-6)
         whole, part = divmod(ms, _MS_PER_MINUTE)
         wanted = (value * _MS_PER_MINUTE + part) if minutes else whole * _MS_PER_MINUTE + value
-        self._collected.shifts[(path, kind)] = (wanted / 1000 - base, base)
+        if kind == METER:
+            since = self._collected.meters.get(path, (0.0, None))[1]
+            now = self._paths.at(path).time.now()
+            self._collected.meters[path] = (wanted / 1000, None if since is None else now)
+        else:
+            self._collected.shifts[(path, kind)] = (wanted / 1000 - base, base)
+
+    def _meter(self, path: int) -> float:
+        """Seconds of ``path``'s general-purpose integrating meter."""
+        counted, since = self._collected.meters.get(path, (0.0, None))
+        if since is None:
+            return counted
+        return counted + self._paths.at(path).time.now() - since
+
+    def _watch_meters(self) -> None:
+        """Start or stop each path's integrating meter as its TMRON (G53.0) now reads."""
+        area = self._pmc.areas.get("G")
+        if area is None:
+            return
+        meters = self._collected.meters
+        for number in range(1, self._paths.count + 1):
+            at = PATH_SIGNALS_STRIDE * (number - 1) + _TMRON[0]
+            if at >= area.size:
+                break
+            on = bool(area.data[at] >> _TMRON[1] & 1)
+            counted, since = meters.get(number, (0.0, None))
+            now = self._paths.at(number).time.now()
+            if on and since is None:
+                meters[number] = (counted, now)
+            elif not on and since is not None:
+                meters[number] = (counted + now - since, None)
 
     def _servo_power(self, axis: int, path: int) -> int:
-        """Diagnostic 4901 of ``axis`` (1..) of ``path``: watts from the servo load."""
-        loads = self._paths.at(path).production.servo_loads()
+        """Diagnostic 4901 of ``axis`` (1..) of ``path``: watts from the servo load (the
+        value held while the figures are set by hand)."""
+        p = self._paths.at(path)
+        if not p.driven:
+            item, i = p.items.lookup(True, SERVO_POWER_DIAG, axis)
+            return item.values[i]
+        loads = p.production.servo_loads()
         return loads[axis - 1] * SERVO_WATTS_PER_PERCENT if axis <= len(loads) else 0
 
+    def _spindle_diag(self, datano: int, axis: int, path: int) -> int | None:
+        """A spindle diagnostic of spindle ``axis`` (0: the first) of ``path``, None when
+        ``datano`` is no spindle diagnostic the machine has as such (an item per axis, or none):
+        EW_PATH, EW_ATTRIB (a spindle the path has not)."""
+        p = self._paths.at(path)
+        item = p.items.items.diags.get(datano)
+        if datano not in SPINDLE_DIAGS or item is None or item.axis:
+            return None
+        spindles = self._paths.info(path).spindles
+        if not 0 <= axis <= spindles:
+            raise MachineError(EW.ATTRIB, f"diagnostic {datano}: spindle {axis} of {spindles}")
+        if datano not in (SPINDLE_LOAD_DIAG, SPINDLE_POWER_DIAG) or not p.driven:
+            return item.values[0]
+        loads = p.production.spindle_loads()
+        load = loads[max(axis, 1) - 1] if max(axis, 1) <= len(loads) else 0
+        value = load * (SPINDLE_WATTS_PER_PERCENT if datano == SPINDLE_POWER_DIAG else 1)
+        assert item.low is not None and item.high is not None
+        return max(item.low, min(item.high, value))
+
     def _tick_data(self) -> None:
-        """Move the data counter when the run-time parameters may read otherwise: the
-        power-on minute changed, or machine time moved while a path runs."""
-        first = self._paths.at(1)
+        """Move the data counter when what follows time may read otherwise: the power-on
+        minute changed, or machine time moved while a path runs, a meter counts or a path's
+        figures (the loads of 410, 4901, 4902) are driven; or a path began or ceased to be
+        driven."""
+        paths = self._paths
+        first = paths.at(1)
         now = first.time.now()
-        stamp = (math.floor((now - first.powered_at) / 60), now if self._paths.live else None)
+        driven = tuple(p.driven for p in paths)
+        moving = paths.live or any(driven)
         c = self._collected
+        if not moving and any(since is not None for _, since in c.meters.values()):
+            moving = True  # a meter counts
+        minute = math.floor((now - first.powered_at) / 60)
+        # the loads change with the figures as well as with time (a feed hold, a new mode)
+        stamp = (minute, (now, self._counters.motion) if moving else None, driven)
         if stamp != c.data_seen:
             c.data_seen = stamp
             self._counters.data += 1

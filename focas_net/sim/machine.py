@@ -495,8 +495,11 @@ class Machine(
         return item.values[i]
 
     def read_diag(self, datano: int, axis: int, *, path: int = 1) -> int:
-        """The value of diagnostic ``datano`` (axes those of ``path``): EW_PATH, EW_NUMBER,
-        then EW_ATTRIB."""
+        """The value of diagnostic ``datano`` (axes those of ``path``; a spindle diagnostic's
+        ``axis`` is the spindle, see :mod:`._signals`): EW_PATH, EW_NUMBER, then EW_ATTRIB."""
+        spindle = self._spindle_diag(datano, axis, path)
+        if spindle is not None:
+            return spindle
         item, i = self._paths.at(path).items.lookup(True, datano, axis)
         if datano == SERVO_POWER_DIAG and item.axis:
             return self._servo_power(axis, path)
@@ -645,6 +648,8 @@ class Machine(
         for path, asked in self._pmc.write(letter, start, data, force):
             self._paths.at(path).apply(asked)
             self._show_overrides(path)
+        if letter.upper() == "G":
+            self._watch_meters()
 
     # -- alarms --------------------------------------------------------------------------
     def active_alarms(
