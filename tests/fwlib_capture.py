@@ -29,7 +29,6 @@ paths have a capture of their own, ``tests/fwlib_capture_paths.py`` (``fwlib_pat
 
 from __future__ import annotations
 
-import asyncio
 import ctypes
 import json
 import os
@@ -46,6 +45,8 @@ from datetime import UTC, datetime
 from decimal import Decimal
 from pathlib import Path
 from typing import Any
+
+from fwlib_support import recorded_server
 
 import focas_net.native as native
 from focas_net.errors import EW
@@ -104,9 +105,7 @@ from focas_net.native import (
     encode_response_body,
 )
 from focas_net.native.calls import CommandSet, LibraryCall
-from focas_net.server import FocasServer, NativeFront
 from focas_net.sim import Machine as SimMachine
-from focas_net.sim import Session as SimSession
 from focas_net.sim import default_machine, load_machine
 from focas_net.sim.nc import ManualClock
 
@@ -1887,48 +1886,27 @@ def run_simulator(lib: Any) -> dict[str, Any]:
 
 
 def _simulate(lib: Any, set_name: str) -> dict[str, Any]:
-    machine = simulator_machine(set_name)
-    records: list[tuple[bytes, bytes]] = []
-    original = NativeFront.answer
-
-    def recording(self: NativeFront, body: bytes, session: SimSession | None = None) -> bytes:
-        answer = original(self, body, session)
-        records.append((body, answer))
-        return answer
-
     entries: list[dict[str, Any]] = []
+    with recorded_server(simulator_machine(set_name)) as recorded:
 
-    def entry(name: str, arguments: dict[str, Any], rc: int) -> None:
-        exchanges = [{"request": h(body), "answer": h(answer)} for body, answer in records]
-        entries.append(
-            {"function": name, "arguments": arguments, "return": rc, "exchanges": exchanges}
-        )
-        records.clear()
+        def entry(name: str, arguments: dict[str, Any], rc: int) -> None:
+            exchanges = [{"request": h(q), "answer": h(a)} for q, a in recorded.take()]
+            entries.append(
+                {"function": name, "arguments": arguments, "return": rc, "exchanges": exchanges}
+            )
 
-    NativeFront.answer = recording  # type: ignore[method-assign]
-    loop = asyncio.new_event_loop()
-    server = FocasServer(machine, host="127.0.0.1", port=0)
-    loop.run_until_complete(server.start())
-    thread = threading.Thread(target=loop.run_forever, daemon=True)
-    thread.start()
-    try:
-        port = server.listeners[0].address[1]
         handle = us()
-        rc = lib.cnc_allclibhndl3(b"127.0.0.1", us(port), i32(TIMEOUT_S), ctypes.byref(handle))
+        rc = lib.cnc_allclibhndl3(
+            b"127.0.0.1", us(recorded.port), i32(TIMEOUT_S), ctypes.byref(handle)
+        )
         if rc != 0:
             raise SystemExit(f"cnc_allclibhndl3 returned {rc} ({set_name})")
         entry("cnc_allclibhndl3", {}, rc)
         for name, arguments, args in _sim_calls(set_name):
             entry(name, arguments, getattr(lib, name)(handle, *args))
         entry("cnc_freelibhndl", {}, lib.cnc_freelibhndl(handle))
-        front = server.listeners[0]._native_front()
-        return {"command_set": set_name, "open_response": h(front.open_response), "calls": entries}
-    finally:
-        NativeFront.answer = original  # type: ignore[method-assign]
-        asyncio.run_coroutine_threadsafe(server.aclose(), loop).result(30)
-        loop.call_soon_threadsafe(loop.stop)
-        thread.join(30)
-        loop.close()
+        open_response = recorded.open_response
+    return {"command_set": set_name, "open_response": h(open_response), "calls": entries}
 
 
 def main() -> None:

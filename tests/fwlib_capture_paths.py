@@ -22,11 +22,9 @@ Each output runs in a process of its own, as ``tests/fwlib_capture.py`` does.
 
 from __future__ import annotations
 
-import asyncio
 import ctypes
 import json
 import sys
-import threading
 from datetime import UTC, datetime
 from typing import Any
 
@@ -44,11 +42,10 @@ from fwlib_capture import (
     say,
     us,
 )
+from fwlib_support import recorded_server
 from paths_support import VALUES, twin_turret
 
 from focas_net.native import PATH_RECORDS, PathDescription, build_open_answer
-from focas_net.server import FocasServer, NativeFront
-from focas_net.sim import Session as SimSession
 
 #: The paths of the probes' open answer: a machining path of 3 axes, a lathe path of 2.
 PROBE_PATHS = (PathDescription(" M", 3, 1), PathDescription(" T", 2, 2))
@@ -149,34 +146,20 @@ def simulate_paths(lib: Any, set_name: str) -> dict[str, Any]:
     selection of each path and its reads, every data request and the simulator's answer."""
     machine = twin_turret(set_name, clock=lambda: SIM_TIME)
     machine.set_panel(0, 1, 0)  # path 1 in MDI, as the live tests have it
-    records: list[tuple[bytes, bytes]] = []
-    original = NativeFront.answer
-
-    def recording(self: NativeFront, body: bytes, session: SimSession | None = None) -> bytes:
-        answer = original(self, body, session)
-        records.append((body, answer))
-        return answer
-
     entries: list[dict[str, Any]] = []
+    with recorded_server(machine) as recorded:
 
-    def entry(name: str, path: int, arguments: dict[str, Any], rc: int) -> None:
-        exchanges = [{"request": h(body), "answer": h(answer)} for body, answer in records]
-        entries.append(
-            {"function": name, "path": path, "arguments": arguments, "return": rc,
-             "exchanges": exchanges}
-        )  # fmt: skip
-        records.clear()
+        def entry(name: str, path: int, arguments: dict[str, Any], rc: int) -> None:
+            exchanges = [{"request": h(q), "answer": h(a)} for q, a in recorded.take()]
+            entries.append(
+                {"function": name, "path": path, "arguments": arguments, "return": rc,
+                 "exchanges": exchanges}
+            )  # fmt: skip
 
-    NativeFront.answer = recording  # type: ignore[method-assign]
-    loop = asyncio.new_event_loop()
-    server = FocasServer(machine, host="127.0.0.1", port=0)
-    loop.run_until_complete(server.start())
-    thread = threading.Thread(target=loop.run_forever, daemon=True)
-    thread.start()
-    try:
-        port = server.listeners[0].address[1]
         handle = us()
-        rc = lib.cnc_allclibhndl3(b"127.0.0.1", us(port), i32(TIMEOUT_S), ctypes.byref(handle))
+        rc = lib.cnc_allclibhndl3(
+            b"127.0.0.1", us(recorded.port), i32(TIMEOUT_S), ctypes.byref(handle)
+        )
         if rc != 0:
             raise SystemExit(f"cnc_allclibhndl3 returned {rc} ({set_name})")
         entry("cnc_allclibhndl3", 1, {}, rc)
@@ -189,14 +172,8 @@ def simulate_paths(lib: Any, set_name: str) -> dict[str, Any]:
                 entry(name, p, arguments, getattr(lib, name)(handle, *args))
         entry("cnc_setpath", 2, {"path": 3}, lib.cnc_setpath(handle, s16(3)))
         entry("cnc_freelibhndl", 2, {}, lib.cnc_freelibhndl(handle))
-        front = server.listeners[0]._native_front()
-        return {"command_set": set_name, "open_response": h(front.open_response), "calls": entries}
-    finally:
-        NativeFront.answer = original  # type: ignore[method-assign]
-        asyncio.run_coroutine_threadsafe(server.aclose(), loop).result(30)
-        loop.call_soon_threadsafe(loop.stop)
-        thread.join(30)
-        loop.close()
+        open_response = recorded.open_response
+    return {"command_set": set_name, "open_response": h(open_response), "calls": entries}
 
 
 def run_paths(lib: Any) -> dict[str, Any]:

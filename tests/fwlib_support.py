@@ -13,7 +13,7 @@ import ctypes
 import os
 import struct
 import threading
-from collections.abc import AsyncIterator, Callable
+from collections.abc import AsyncIterator, Callable, Iterator
 from concurrent.futures import ThreadPoolExecutor
 from dataclasses import dataclass
 from decimal import Decimal
@@ -23,7 +23,9 @@ from typing import Any, TypeVar
 from support import IO_TIMEOUT, Served, serving
 
 from focas_net.client import FocasClient
+from focas_net.server import FocasServer, NativeFront
 from focas_net.sim import DataItem, Machine, ParamKind, default_machine, load_machine
+from focas_net.sim import Session as SimSession
 
 LIBRARY = os.environ.get("FOCAS_NET_FWLIB")
 
@@ -265,3 +267,55 @@ async def download(cnc: Cnc, data: bytes) -> int:
         rc = await cnc.call("cnc_download", ctypes.create_string_buffer(piece), s16(len(piece)))
         assert rc == 0, f"cnc_download returned {rc}"
     return await cnc.call("cnc_dwnend")
+
+
+@dataclass
+class Recorded:
+    """A simulator served by :func:`recorded_server`: its port and what it answered."""
+
+    server: FocasServer
+    port: int
+    #: Every FOCAS/2 data request and its answer, in order, not yet taken.
+    exchanges: list[tuple[bytes, bytes]]
+
+    def take(self) -> list[tuple[bytes, bytes]]:
+        """The exchanges recorded since the last take."""
+        taken = list(self.exchanges)
+        self.exchanges.clear()
+        return taken
+
+    @property
+    def open_response(self) -> bytes:
+        """The open answer of the FOCAS/2 front."""
+        return self.server.listeners[0]._native_front().open_response
+
+
+@contextlib.contextmanager
+def recorded_server(machine: Machine, seconds: float = 30.0) -> Iterator[Recorded]:
+    """``machine`` served on 127.0.0.1 (an ephemeral port) by an event loop in a thread of its
+    own, so that FANUC's library can be called synchronously from this one; every FOCAS/2 data
+    request and the simulator's answer are recorded (:attr:`Recorded.exchanges`). The capture
+    scripts' one set-up; ``seconds`` bounds the stop."""
+    exchanges: list[tuple[bytes, bytes]] = []
+    original = NativeFront.answer
+
+    def recording(self: NativeFront, body: bytes, session: SimSession | None = None) -> bytes:
+        answer = original(self, body, session)
+        exchanges.append((body, answer))
+        return answer
+
+    NativeFront.answer = recording  # type: ignore[method-assign]
+    loop = asyncio.new_event_loop()
+    server = FocasServer(machine, host="127.0.0.1", port=0)
+    thread = threading.Thread(target=loop.run_forever, daemon=True)
+    try:
+        loop.run_until_complete(server.start())
+        thread.start()
+        yield Recorded(server, server.listeners[0].address[1], exchanges)
+    finally:
+        NativeFront.answer = original  # type: ignore[method-assign]
+        if thread.is_alive():
+            asyncio.run_coroutine_threadsafe(server.aclose(), loop).result(seconds)
+            loop.call_soon_threadsafe(loop.stop)
+            thread.join(seconds)
+        loop.close()

@@ -123,3 +123,24 @@ async def test_a_faults_arguments_are_refused_in_the_servers_words(
     line = await fails(EXIT_USAGE, "sim", "fault", *argv, *at(server))
     assert line.endswith(reason) or f"{reason};" in line, line
     assert await ok("sim", "faults", *at(server)) == "no pending faults of this machine\n"
+
+
+# -- a macro value refused names the variable, on both transports --------------------------------
+
+
+@pytest.mark.parametrize("protocol", ["packed", "native"])
+@pytest.mark.parametrize(
+    ("value", "words"),
+    [
+        ("abc", "#100: not a number: 'abc'"),
+        ("1e999", "#100: macro value 1e999 does not fit a macro variable"),
+        ("nan", "#100: macro value nan is not finite"),
+    ],
+)
+async def test_a_macro_value_refused_names_the_variable(
+    server: Served, protocol: str, value: str, words: str
+) -> None:
+    line = await fails(
+        EXIT_USAGE, "macro", "set", "100", value, "--protocol", protocol, *at(server)
+    )
+    assert line.startswith(f"focas-net: {words}"), line

@@ -243,6 +243,19 @@ def macro_to_wire(value: int | Decimal | float | str) -> tuple[int, int]:
     raise ValueError(f"macro value {macro_unfit(value)}")
 
 
+def macro_write(number: int, value: int | Decimal | float | str) -> tuple[int, int]:
+    """``(mcr_val, dec_val)`` of a write of ``value`` to ``#number``, checked as both clients
+    check it: the number (:func:`check_macro`), then the value (:func:`macro_to_wire`), whose
+    refusal names the variable (``#100: not a number: 'abc'``)."""
+    check_macro(number)
+    try:
+        return macro_to_wire(value)
+    except ValueError as exc:
+        raise ValueError(f"#{number}: {exc}") from None
+    except TypeError as exc:
+        raise TypeError(f"#{number}: {exc}") from None
+
+
 def macro_from_wire(mcr_val: int, dec_val: int) -> Decimal | None:
     """The value of an ODBM: ``mcr_val / 10**dec_val``, or None when vacant."""
     if mcr_val == 0 and dec_val == -1:

@@ -92,7 +92,7 @@ from ._values import (
     history_depth,
     int_to_wire,
     macro_from_wire,
-    macro_to_wire,
+    macro_write,
     param_int,
     real_to_wire,
 )
@@ -426,13 +426,14 @@ class FocasClient(Link):
         path: int | None = None,
         timeout: float | None = None,
     ) -> None:
-        """``cnc_wrmacro``: write ``#number``; see :func:`macro_to_wire` for the scaling.
+        """``cnc_wrmacro``: write ``#number``; see
+        :func:`~focas_net.client._values.macro_to_wire` for the scaling.
 
-        A value that cannot be carried raises :class:`ValueError` before anything is sent.
+        A value that cannot be carried raises :class:`ValueError` naming ``#number`` before
+        anything is sent.
         """
-        check_macro(number)
+        mcr_val, dec_val = macro_write(number, value)
         p = self._path_of(path)
-        mcr_val, dec_val = macro_to_wire(value)
         payload = _WRMACRO.request.encode(MacroValue(number, 8, mcr_val, dec_val))
         await self._request(_WRMACRO, payload, timeout, p)
 

@@ -39,7 +39,6 @@ from __future__ import annotations
 import asyncio
 import logging
 import ssl as _ssl
-from collections import deque
 from collections.abc import Callable, Sequence
 from typing import Final, cast
 
@@ -71,6 +70,8 @@ from ._failures import (
     no_answer_error,
     violation_error,
 )
+from ._settle import settled as _settled
+from ._slots import RequestSlots
 
 __all__ = ["Connection", "NotSentError", "open_connection"]
 
@@ -114,7 +115,7 @@ def _timed_out(entry: _Pending, silent_peer: str | None) -> None:
     future.set_exception(no_answer_error(command_text(command), silent_peer))
 
 
-class Connection(Received, asyncio.Protocol):
+class Connection(RequestSlots, Received, asyncio.Protocol):
     """A pipelined packed-protocol connection (create it with :func:`open_connection`).
 
     ``on_lost(connection, exc)`` is called once when the connection goes away, after every
@@ -142,10 +143,7 @@ class Connection(Received, asyncio.Protocol):
         self._pending: dict[int, _Pending | None] = {}
         self._abandoned = 0
         self._next_id = 0
-        # Request slots: a counter, and a FIFO of waiters only while every slot is taken.
-        self._max_in_flight = max_in_flight
-        self._slots_taken = 0
-        self._slot_waiters: deque[asyncio.Future[None]] = deque()
+        self._init_slots(max_in_flight)
         # One timer per connection, armed (at _timer_when; infinite: none) no later than the
         # earliest deadline of the requests in flight. Requests are not tracked one by one:
         # the timer, when it fires, looks at those in flight then (see _expire).
@@ -184,16 +182,6 @@ class Connection(Received, asyncio.Protocol):
     def abandoned(self) -> int:
         """Ids reserved for requests whose callers gave up (their answers will be dropped)."""
         return self._abandoned
-
-    @property
-    def slots_taken(self) -> int:
-        """Request slots in use: calls in flight and callers handed a slot not yet sent."""
-        return self._slots_taken
-
-    @property
-    def waiting_for_slot(self) -> int:
-        """Callers waiting in line for a request slot (every slot is taken)."""
-        return len(self._slot_waiters)
 
     # -- asyncio.Protocol ----------------------------------------------------------------
     def connection_made(self, transport: asyncio.BaseTransport) -> None:
@@ -511,15 +499,6 @@ class Connection(Received, asyncio.Protocol):
         finally:
             self._end_batch(entries, count)
 
-    async def _admit(self, command: int, count: int, deadline: float | None) -> None:
-        """Take ``count`` slots for a batch: at once when one is free and nobody waits, else
-        after waiting in line for one (the batch then goes over the bound)."""
-        if self._slots_taken < self._max_in_flight and not self._slot_waiters:
-            self._slots_taken += count
-        else:
-            await self._wait_for_slot(command, deadline)
-            self._slots_taken += count - 1
-
     def _send_batch(
         self,
         command: int,
@@ -582,56 +561,6 @@ class Connection(Received, asyncio.Protocol):
             # Closed: the pending table was replaced when every call was failed (possibly by
             # an earlier give-up of this same batch crossing MAX_ABANDONED).
             self._pending.pop(request_id, None)
-
-    # -- request slots -------------------------------------------------------------------
-    async def _wait_for_slot(self, command: int, deadline: float | None) -> None:
-        """Wait in line for a slot; the slot is handed over by :meth:`_release_slot`."""
-        waiter: asyncio.Future[None] = self._loop.create_future()
-        self._slot_waiters.append(waiter)
-        try:
-            if deadline is None:
-                await waiter
-            else:
-                async with asyncio.timeout_at(deadline):
-                    await waiter
-        except TimeoutError:
-            self._leave_line(waiter)
-            raise FocasTimeoutError(
-                f"no free request slot for {command_text(command)} in time"
-            ) from None
-        except BaseException:
-            self._leave_line(waiter)
-            raise
-
-    def _leave_line(self, waiter: asyncio.Future[None]) -> None:
-        """A waiter gave up: if a slot was handed to it already, pass the slot on."""
-        if waiter.done() and not waiter.cancelled():
-            self._release_slot()
-            return
-        waiter.cancel()
-        try:
-            self._slot_waiters.remove(waiter)
-        except ValueError:
-            pass
-
-    def _release_slots(self, count: int) -> None:
-        if not self._slot_waiters:  # nobody to hand a slot to: what _release_slot does
-            self._slots_taken -= count
-            return
-        for _ in range(count):
-            self._release_slot()
-
-    def _release_slot(self) -> None:
-        waiters = self._slot_waiters
-        if self._slots_taken > self._max_in_flight:  # over the bound (a batch): no hand-over
-            self._slots_taken -= 1
-            return
-        while waiters:
-            waiter = waiters.popleft()
-            if not waiter.done():
-                waiter.set_result(None)  # the slot goes straight to the first in line
-                return
-        self._slots_taken -= 1
 
     # -- deadlines -----------------------------------------------------------------------
     def _arm(self, when: float) -> None:
@@ -740,43 +669,6 @@ class Connection(Received, asyncio.Protocol):
     async def wait_closed(self) -> None:
         """Wait until the transport has gone (``connection_lost`` ran)."""
         await asyncio.shield(self._lost)
-
-
-async def _settled(
-    loop: asyncio.AbstractEventLoop,
-    entries: list[_Pending],
-    stop_early: bool,
-    failed: Callable[[bytes], bool] | None,
-) -> None:
-    """Wait until every future of ``entries`` is done or, with ``stop_early``, one fails (or
-    its answer is rejected by ``failed``). No task is created: one callback per future."""
-    done: asyncio.Future[None] = loop.create_future()
-    left = len(entries)
-    if not left:
-        return
-
-    def settled(future: asyncio.Future[bytes]) -> None:
-        nonlocal left
-        if done.done():
-            return
-        left -= 1
-        if left == 0 or (
-            stop_early
-            and (
-                future.cancelled()
-                or future.exception() is not None
-                or (failed is not None and failed(future.result()))
-            )
-        ):
-            done.set_result(None)
-
-    for entry in entries:
-        entry[0].add_done_callback(settled)
-    try:
-        await done
-    finally:
-        for entry in entries:
-            entry[0].remove_done_callback(settled)
 
 
 class _Missing:

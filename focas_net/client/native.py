@@ -98,7 +98,7 @@ from ._values import (
     check_macro,
     history_depth,
     macro_from_wire,
-    macro_to_wire,
+    macro_write,
 )
 from .reconnect import ReconnectPolicy, StateCallback
 
@@ -582,10 +582,9 @@ class NativeClient(
         timeout: float | None = None,
     ) -> None:
         """``cnc_wrmacro``: write ``#number`` (a binary record at 16i class, base 10 at 30i,
-        as the library sends it); see :func:`~focas_net.client.client.macro_to_wire`."""
+        as the library sends it); see :func:`~focas_net.client._values.macro_to_wire`."""
         p = self._path_of(path)
-        check_macro(number)
-        mcr_val, dec_val = macro_to_wire(value)
+        mcr_val, dec_val = macro_write(number, value)
         deadline = self._deadline(timeout)
         handle = self._handle_now() or await self._handle_for(deadline)
         call = calls.cnc_wrmacro(handle.command_set, number, mcr_val, dec_val)
