@@ -4,6 +4,7 @@ machine file's ``[machine] state``, ``--read-only``, and a running machine's par
 from __future__ import annotations
 
 import argparse
+import os
 import time
 from pathlib import Path
 
@@ -91,3 +92,24 @@ def test_a_state_of_another_machine_is_a_config_error(tmp_path: Path) -> None:
     machine.write_text(f'[machine]\nname = "{DEFAULT_NAME}"\naxes = ["X"]\n')
     with pytest.raises(ConfigError, match=r"^--state: .*machine file changed"):
         _fleet.build_machines(_parse("--machine", str(machine), "--state", str(tmp_path)))
+
+
+def test_a_turn_of_a_fleet_flushes_the_folder_once(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    states: list[Kept] = []
+    machines = _fleet.build_machines(_parse("--fleet", "4", "--state", str(tmp_path)), states)
+    synced: list[int] = []
+    real = os.fsync
+
+    def counted(fd: int) -> None:
+        synced.append(fd)
+        real(fd)
+
+    monkeypatch.setattr(os, "fsync", counted)
+    for m in machines[:3]:
+        m.write_macro(500, 1)
+    saver(states)()
+    assert len(synced) == 3 + 1  # each changed machine's file, then the folder once
+    saver(states)()
+    assert len(synced) == 4  # nothing changed: nothing written

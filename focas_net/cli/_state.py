@@ -60,11 +60,13 @@ def load_state(
 
 
 def saver(states: list[Kept]) -> Callable[[], None]:
-    """What the server calls at the end of a turn: every changed machine's state saved."""
+    """What the server calls at the end of a turn: every changed machine's state saved (one
+    ``fsync`` per changed machine, one for the folder)."""
+
+    from focas_net.sim.statefile import save_all
 
     def save() -> None:
-        for state, machine in states:
-            state.save(machine)
+        save_all(states)
 
     return save
 

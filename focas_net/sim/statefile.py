@@ -30,7 +30,7 @@ import contextlib
 import hashlib
 import json
 import os
-from collections.abc import Callable
+from collections.abc import Callable, Iterable
 from pathlib import Path
 from typing import TYPE_CHECKING, Any, Final
 from urllib.parse import quote
@@ -49,7 +49,9 @@ __all__ = [
     "StateFile",
     "decode_state",
     "encode_state",
+    "save_all",
     "state_path",
+    "sync_folder",
 ]
 
 #: The first word of a state file.
@@ -178,6 +180,15 @@ class StateFile:
     def save(self, machine: Machine) -> bool:
         """Write the file when what ``machine`` keeps changed since the last write; True when
         it wrote. The new file is durable when this returns (see the module docstring)."""
+        if not self.stage(machine):
+            return False
+        sync_folder(self.path.parent)
+        return True
+
+    def stage(self, machine: Machine) -> bool:
+        """:meth:`save` but for the flush of the folder: the new file's content is on the
+        disk and renamed over the old one, the rename itself is durable once the folder is
+        flushed (:func:`sync_folder`; :func:`save_all` flushes each folder once)."""
         if self.read_only:
             return False
         token = _token(machine)
@@ -208,11 +219,30 @@ class StateFile:
         finally:
             os.close(fd)
         os.replace(temp, self.path)
-        dfd = os.open(directory, os.O_RDONLY)
-        try:
-            os.fsync(dfd)
-        finally:
-            os.close(dfd)
+
+
+def sync_folder(folder: Path) -> None:
+    """Flush ``folder`` to the disk (the renames in it are durable then)."""
+    fd = os.open(folder, os.O_RDONLY)
+    try:
+        os.fsync(fd)
+    finally:
+        os.close(fd)
+
+
+def save_all(states: Iterable[tuple[StateFile, Machine]]) -> int:
+    """Save every machine that changed (:meth:`StateFile.stage`), then flush each folder
+    once: the changes of many machines cost one ``fsync`` each and one per folder. Returns
+    how many files were written; all of them are durable when it returns."""
+    folders: set[Path] = set()
+    written = 0
+    for state, machine in states:
+        if state.stage(machine):
+            folders.add(state.path.parent)
+            written += 1
+    for folder in folders:
+        sync_folder(folder)
+    return written
 
 
 def _token(machine: Machine) -> tuple[int, ...]:
