@@ -211,8 +211,8 @@ class Collected:
         self.shifts: dict[tuple[int, int], tuple[float, float]] = {}
         #: path -> (seconds the integrating meter counted, machine time TMRON rose or None).
         self.meters: dict[int, tuple[float, float | None]] = {}
-        self.data_seen: tuple[int, tuple[float, int] | None, tuple[bool, ...]] | None = None
-        self.macro_seen: datetime | None = None
+        self.data_seen: tuple[int, tuple[float, int] | None, int] | None = None
+        self.macro_seen: tuple[int, ...] | None = None
         self.status_seen = -1
 
     def shifted(self, path: int, kind: int, base: float) -> float:
@@ -361,13 +361,17 @@ class SignalOperations:
         figures (the loads of 410, 4901, 4902) are driven; or a path began or ceased to be
         driven."""
         paths = self._paths
-        first = paths.at(1)
+        every = paths.all
+        first = every[0]
         now = first.time.now()
-        driven = tuple(p.driven for p in paths)
-        moving = paths.live or any(driven)
+        driven = 0  # a bit per driven path
+        for i, p in enumerate(every):
+            if p.driven:
+                driven |= 1 << i
         c = self._collected
-        if not moving and any(since is not None for _, since in c.meters.values()):
-            moving = True  # a meter counts
+        moving = bool(driven) or paths.live
+        if not moving and c.meters:
+            moving = any(since is not None for _, since in c.meters.values())  # a meter counts
         minute = math.floor((now - first.powered_at) / 60)
         # the loads change with the figures as well as with time (a feed hold, a new mode)
         stamp = (minute, (now, self._counters.motion) if moving else None, driven)
@@ -376,11 +380,13 @@ class SignalOperations:
             self._counters.data += 1
 
     def _tick_macro(self) -> None:
-        """Move the macro counter when the clock's second (#3011/#3012) changed."""
-        now = self._alarms.now()
+        """Move the macro counter when the clock's second (#3011/#3012) changed (a setting of
+        the clock moves it itself)."""
+        t = self._alarms.clock()
+        second = (t.second, t.minute, t.hour, t.day, t.month, t.year)
         c = self._collected
-        if now != c.macro_seen:
-            c.macro_seen = now
+        if second != c.macro_seen:
+            c.macro_seen = second
             self._counters.macro += 1
 
     # -- signals ---------------------------------------------------------------------------
