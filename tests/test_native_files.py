@@ -8,6 +8,7 @@ checks the same frames against the library itself when it is present).
 from __future__ import annotations
 
 from datetime import UTC, datetime
+from typing import Any
 
 import pytest
 from hypothesis import given
@@ -417,6 +418,8 @@ async def test_the_client_checks_before_sending() -> None:
                 await client.read_folder(PATH1, size_kind=7)
             with pytest.raises(TypeError):
                 await client.read_file_info(PATH1 + "O0001", size_kind=True)
+            with pytest.raises(TypeError, match="name must be text, got 5"):
+                await client.read_folder(5)  # type: ignore[arg-type]
             assert [e.number for e in served.machine.program_directory()] == [1]
 
 
@@ -460,6 +463,36 @@ def test_names_that_are_no_file(name: str) -> None:
     with pytest.raises(MachineError) as raised:
         machine.file_entry(name)
     assert raised.value.ew == EW.DATA
+
+
+@pytest.mark.parametrize(
+    ("call", "words"),
+    [
+        (lambda m: m.file_entry("//CNC_MEM/USER/PATHX/O0001"), "PATHX/O0001"),
+        (lambda m: m.file_entry("//CNC_MEM/USER/PATH/O0001"), "PATH/O0001"),
+        (lambda m: m.file_entry("//CNC_MEM/USER/PATH01/O0001"), "PATH01/O0001"),
+        (lambda m: m.delete_file("//CNC_MEM/USER/PATH2/O0001"), "PATH2/O0001"),
+        (lambda m: m.folder_entries("//CNC_MEM/" + "A" * 300), "1..255 printable ASCII"),
+        (lambda m: m.set_current_folder("//CNC_MEM/ÜSER/"), "ÜSER.*printable ASCII"),
+        (lambda m: m.folder_entries(5), "folder or file name must be text, got 5"),
+        (lambda m: m.drive_usage(3), "drive must be text, got 3"),
+        (lambda m: m.transfer_path(b"//CNC_MEM/"), "must be text, got b'//CNC_MEM/'"),
+        (lambda m: m.current_folder("1"), "kind '1'"),
+    ],
+)
+def test_the_machine_names_what_it_refuses(call: Any, words: str) -> None:
+    """A name that is no path's folder (``PATH01`` is not ``PATH1``), too long, not ASCII
+    or no text at all is EW_DATA naming what was given, never a Python error."""
+    machine = default_machine(sim_clock=ManualClock())
+    with pytest.raises(MachineError, match=words) as raised:
+        call(machine)
+    assert raised.value.ew == EW.DATA
+    assert [e.number for e in machine.program_directory()] == [1]
+
+
+def test_a_name_that_is_no_text_is_refused_when_built() -> None:
+    with pytest.raises(TypeError, match="name must be text, got 5"):
+        cnc_pdf_del(CS, 5)  # type: ignore[arg-type]
 
 
 def test_the_folders_while_a_program_runs() -> None:

@@ -50,6 +50,7 @@ from focas_net.sim import (
     SETTING_NUMBERS,
     VALID_FIGURES,
     Machine,
+    MachineError,
     default_machine,
     load_machine,
 )
@@ -409,8 +410,11 @@ def test_settings_are_parameters_below_100() -> None:
     assert machine.setting_numbers() == tuple(n for n in machine.param_numbers() if n < 100)
     assert SETTING_NUMBERS == range(100)
     machine.check_setting(20)
-    with pytest.raises(Exception, match="no setting data 1001"):
+    with pytest.raises(MachineError, match="no setting data 1001") as raised:
         machine.check_setting(1001)
+    assert raised.value.ew == EW.NUMBER
+    with pytest.raises(MachineError, match="no setting data '20'"):
+        machine.check_setting("20")  # type: ignore[arg-type]
 
 
 # --------------------------------------------------------------------------------------------

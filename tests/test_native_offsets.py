@@ -373,6 +373,7 @@ tools = [11, { t = 12, h = 2, d = 22 }]
         ("[[tools]]\n[[tools.offset]]\nnumber = 1\ntip = 10\n", "tip"),
         ("[[tools]]\nwork = { G60 = [0, 0, 0] }\n", "work"),
         ("[[tools]]\nwork = { G54 = [0, 0] }\n", "G54"),
+        ("[[tools]]\nwork = { G54 = [1e9, 0, 0] }\n", r"G54: 1000000000\.000 mm is beyond"),
         ("[[tools]]\n[[tools.group]]\nnumber = 1\nlife = 5\ntype = 'x'\ntools = [1]\n", "type"),
         ("[[tools]]\n[[tools.group]]\nnumber = 1\nlife = 5\ncount = 6\ntools = [1]\n", "count"),
         (

@@ -12,7 +12,6 @@ arguments are checked in the caller's frame, before anything is sent.
 
 from __future__ import annotations
 
-from collections.abc import Callable
 from dataclasses import dataclass
 from typing import Final
 
@@ -230,20 +229,6 @@ def _restart(
 
 class NativeInfo(NativeItems):
     """The reads of the CNC's information over FOCAS/2 (see the module docstring)."""
-
-    async def _only(
-        self,
-        call_of: Callable[..., LibraryCall],
-        path: int | None,
-        timeout: float | None,
-        *args: int,
-    ) -> tuple[Handle, LibraryCall, tuple[ResponseBlock, ...]]:
-        """One call of one frame, ``call_of(command set, *args)``, on ``path``."""
-        p = self._path_of(path)
-        deadline = self._deadline(timeout)
-        handle = self._handle_now() or await self._handle_for(deadline)
-        call = call_of(handle.command_set, *args)
-        return handle, call, await self._exchange(handle, call, deadline, 0, p)
 
     async def read_figures(
         self, data_type: int = 0, *, path: int | None = None, timeout: float | None = None

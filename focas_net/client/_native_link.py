@@ -25,6 +25,7 @@ from __future__ import annotations
 import asyncio
 import logging
 import operator
+from collections.abc import Callable
 from functools import partial
 from typing import Any, Final
 
@@ -490,6 +491,21 @@ class NativeLink(CompositeCalls):
         if path != 1:
             check_path_of(handle, path, call.function)
         return self._submit(call.part(frame, path), handle.command_set, deadline).token
+
+    async def _only(
+        self,
+        call_of: Callable[..., LibraryCall],
+        path: int | None,
+        timeout: float | None,  # noqa: ASYNC109 - a call's own timeout, by contract
+        *args: Any,
+    ) -> tuple[Handle, LibraryCall, tuple[ResponseBlock, ...]]:
+        """One call of one frame, ``call_of(command set, *args)``, on ``path``: the handle
+        it went on, the call and its answer blocks."""
+        p = self._path_of(path)
+        deadline = self._deadline(timeout)
+        handle = self._handle_now() or await self._handle_for(deadline)
+        call = call_of(handle.command_set, *args)
+        return handle, call, await self._exchange(handle, call, deadline, 0, p)
 
     def _submit(self, part: Part, command_set: CommandSet, deadline: float | None) -> Job[Future]:
         """Queue a job and have it sent (see the module docstring); the caller awaits its

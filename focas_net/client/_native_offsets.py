@@ -72,15 +72,10 @@ class NativeOffsets(NativeLink):
         """``cnc_rdtofs``: tool offset ``number`` of type ``offset_type`` (machining centre:
         0 radius wear, 1 radius geometry, 2 length wear, 3 length geometry; lathe: 0/1 X, 2/3
         Z, 4/5 nose radius wear/geometry, 6 tip)."""
-        p = self._path_of(path)
         check_int("tool offset number", number, 1, I16_MAX)
         check_int("offset type", offset_type, 0, _MAX_TYPE)
-        deadline = self._deadline(timeout)
-        handle = self._handle_now() or await self._handle_for(deadline)
-        call = calls.cnc_rdtofs(handle.command_set, number, offset_type)
-        value: ScaledValues = only_answer(
-            handle, call, await self._exchange(handle, call, deadline, 0, p)
-        )
+        done = await self._only(calls.cnc_rdtofs, path, timeout, number, offset_type)
+        value: ScaledValues = only_answer(*done)
         return value.values[0].mantissa
 
     async def read_tool_offsets(
@@ -94,20 +89,13 @@ class NativeOffsets(NativeLink):
     ) -> tuple[tuple[int, ...], ...]:
         """``cnc_rdtofsr``: tool offsets ``first..last``, each its value of ``offset_type``
         or (-1) of every type in type order (a machining centre's four)."""
-        p = self._path_of(path)
         check_int("first tool offset", first, 1, I16_MAX)
         check_int("last tool offset", last, first, I16_MAX)
         if offset_type != -1:
             check_int("offset type", offset_type, 0, _MAX_TYPE)
-        deadline = self._deadline(timeout)
-        handle = self._handle_now() or await self._handle_for(deadline)
-        call = calls.cnc_rdtofsr(handle.command_set, first, offset_type, last)
-        value: ScaledValues = only_answer(
-            handle, call, await self._exchange(handle, call, deadline, 0, p)
-        )
-        flat = [v.mantissa for v in value.values]
-        per = max(len(flat) // (last - first + 1), 1)
-        return tuple(tuple(flat[i : i + per]) for i in range(0, len(flat), per))
+        done = await self._only(calls.cnc_rdtofsr, path, timeout, first, offset_type, last)
+        value: ScaledValues = only_answer(*done)
+        return _rows(value, last - first + 1, None)
 
     async def write_tool_offset(
         self,
@@ -119,25 +107,17 @@ class NativeOffsets(NativeLink):
         timeout: float | None = None,
     ) -> None:
         """``cnc_wrtofs``: set one tool offset value (least input increments)."""
-        p = self._path_of(path)
         check_int("tool offset number", number, 1, I16_MAX)
         check_int("offset type", offset_type, 0, _MAX_TYPE)
         check_int("tool offset value", value, I32_MIN, I32_MAX)
-        deadline = self._deadline(timeout)
-        handle = self._handle_now() or await self._handle_for(deadline)
-        call = calls.cnc_wrtofs(handle.command_set, number, offset_type, value)
-        only_answer(handle, call, await self._exchange(handle, call, deadline, 0, p))
+        only_answer(*await self._only(calls.cnc_wrtofs, path, timeout, number, offset_type, value))
 
     async def read_tool_offset_memory(
         self, *, path: int | None = None, timeout: float | None = None
     ) -> ToolOffsetMemory:
         """``cnc_rdtofsinfo``: the kind of tool offset memory (``type``) and its count."""
-        p = self._path_of(path)
-        deadline = self._deadline(timeout)
-        handle = self._handle_now() or await self._handle_for(deadline)
-        call = calls.cnc_rdtofsinfo(handle.command_set)
         memory: ToolOffsetMemory = only_answer(
-            handle, call, await self._exchange(handle, call, deadline, 0, p)
+            *await self._only(calls.cnc_rdtofsinfo, path, timeout)
         )
         return memory
 
@@ -153,21 +133,13 @@ class NativeOffsets(NativeLink):
     ) -> tuple[tuple[int, ...], ...]:
         """``cnc_rdzofsr``: work zero offsets ``first..last`` (0 external, 1..6 G54..G59),
         each the value of every axis of the path (``axis=-1``) or of axis ``axis``."""
-        p = self._path_of(path)
         check_int("first work offset", first, 0, _MAX_WORK)
         check_int("last work offset", last, first, _MAX_WORK)
-        if axis != -1:
-            check_int("axis", axis, 1, I16_MAX)
-        deadline = self._deadline(timeout)
-        handle = self._handle_now() or await self._handle_for(deadline)
-        call = calls.cnc_rdzofsr(handle.command_set, first, axis, last)
-        value: ScaledValues = only_answer(
-            handle, call, await self._exchange(handle, call, deadline, 0, p)
-        )
-        flat = [v.mantissa for v in value.values]
-        per = max(len(flat) // (last - first + 1), 1)
-        keep = handle.axes_on(p) if axis == -1 else 1
-        return tuple(tuple(flat[i : i + keep]) for i in range(0, len(flat), per))
+        _check_axis(axis)
+        handle, call, blocks = await self._only(calls.cnc_rdzofsr, path, timeout, first, axis, last)
+        value: ScaledValues = only_answer(handle, call, blocks)
+        keep = handle.axes_on(self._path_of(path)) if axis == -1 else 1
+        return _rows(value, last - first + 1, keep)
 
     async def read_work_offset(
         self,
@@ -178,17 +150,11 @@ class NativeOffsets(NativeLink):
         timeout: float | None = None,
     ) -> tuple[int, ...]:
         """``cnc_rdzofs``: work zero offset ``number`` of every axis (-1) or of one."""
-        p = self._path_of(path)
         check_int("work offset", number, 0, _MAX_WORK)
-        if axis != -1:
-            check_int("axis", axis, 1, I16_MAX)
-        deadline = self._deadline(timeout)
-        handle = self._handle_now() or await self._handle_for(deadline)
-        call = calls.cnc_rdzofs(handle.command_set, number, axis)
-        value: ScaledValues = only_answer(
-            handle, call, await self._exchange(handle, call, deadline, 0, p)
-        )
-        keep = handle.axes_on(p) if axis == -1 else 1
+        _check_axis(axis)
+        handle, call, blocks = await self._only(calls.cnc_rdzofs, path, timeout, number, axis)
+        value: ScaledValues = only_answer(handle, call, blocks)
+        keep = handle.axes_on(self._path_of(path)) if axis == -1 else 1
         return tuple(v.mantissa for v in value.values[:keep])
 
     async def write_work_offset(
@@ -205,8 +171,7 @@ class NativeOffsets(NativeLink):
         value of axis ``axis``."""
         p = self._path_of(path)
         check_int("work offset", number, 0, _MAX_WORK)
-        if axis != -1:
-            check_int("axis", axis, 1, I16_MAX)
+        _check_axis(axis)
         given = _check_values(values, "work offset value")
         deadline = self._deadline(timeout)
         handle = self._handle_now() or await self._handle_for(deadline)
@@ -224,25 +189,15 @@ class NativeOffsets(NativeLink):
     ) -> ToolLifeCounts:
         """``cnc_rdtlinfo`` and ``cnc_rdngrp``: the groups declared, the most groups and
         tools per group, and the largest lives (minutes and uses)."""
-        p = self._path_of(path)
-        deadline = self._deadline(timeout)
-        handle = self._handle_now() or await self._handle_for(deadline)
-        call = calls.cnc_rdtlinfo(handle.command_set)
-        counts: ToolLifeCounts = only_answer(
-            handle, call, await self._exchange(handle, call, deadline, 0, p)
-        )
+        counts: ToolLifeCounts = only_answer(*await self._only(calls.cnc_rdtlinfo, path, timeout))
         return counts
 
     async def read_tool_group_in_use(
         self, *, path: int | None = None, timeout: float | None = None
     ) -> int:
         """``cnc_rdusegrpid``: the tool life group of the tool in use (0: none)."""
-        p = self._path_of(path)
-        deadline = self._deadline(timeout)
-        handle = self._handle_now() or await self._handle_for(deadline)
-        call = calls.cnc_rdusegrpid(handle.command_set)
         groups: ToolGroupsInUse = only_answer(
-            handle, call, await self._exchange(handle, call, deadline, 0, p)
+            *await self._only(calls.cnc_rdusegrpid, path, timeout)
         )
         return groups.use
 
@@ -251,22 +206,17 @@ class NativeOffsets(NativeLink):
     ) -> ToolGroupData:
         """``cnc_rdtoolgrp``: tool life group ``group`` with its tools (0x8B, then 0x4D for
         as many tools as it has, as FANUC's library asks)."""
-        p = self._path_of(path)
         check_int("tool group", group, 1, I16_MAX)
-        deadline = self._deadline(timeout)
-        handle = self._handle_now() or await self._handle_for(deadline)
-        call = calls.cnc_rdtoolgrp(handle.command_set, group)
         records: ToolGroupRecords = only_answer(
-            handle, call, await self._exchange(handle, call, deadline, 0, p)
+            *await self._only(calls.cnc_rdtoolgrp, path, timeout, group)
         )
         if not records.records:
             raise PayloadError("cnc_rdtoolgrp: the answer carries no group")
         head = records.records[0]
         tools: tuple[ToolEntry, ...] = ()
         if head.tools > 0:
-            more = calls.cnc_rdtoolgrp(handle.command_set, head.group, head.tools)
             numbers: ToolNumbers = only_answer(
-                handle, more, await self._exchange(handle, more, deadline, 0, p)
+                *await self._only(calls.cnc_rdtoolgrp, path, timeout, head.group, head.tools)
             )
             tools = numbers.tools
         return ToolGroupData(head.group, head.life, head.count, tools)
@@ -281,15 +231,26 @@ class NativeOffsets(NativeLink):
     ) -> int:
         """``cnc_toolnum``: the T number of tool ``index`` (1..) of tool life group
         ``group``."""
-        p = self._path_of(path)
         check_int("tool group", group, 1, I16_MAX)
         check_int("tool index", index, 1, I16_MAX)
-        deadline = self._deadline(timeout)
-        handle = self._handle_now() or await self._handle_for(deadline)
-        call = calls.cnc_toolnum(handle.command_set, group, index)
         numbers: ToolNumbers = only_answer(
-            handle, call, await self._exchange(handle, call, deadline, 0, p)
+            *await self._only(calls.cnc_toolnum, path, timeout, group, index)
         )
         if not numbers.tools:
             raise PayloadError("cnc_toolnum: the answer carries no tool")
         return numbers.tools[0].number
+
+
+def _check_axis(axis: int) -> None:
+    """An axis of a work offset call: -1 (every axis) or 1.."""
+    if axis != -1:
+        check_int("axis", axis, 1, I16_MAX)
+
+
+def _rows(value: ScaledValues, count: int, keep: int | None) -> tuple[tuple[int, ...], ...]:
+    """The values of ``count`` numbers, each its first ``keep`` (None: all of its)."""
+    flat = [v.mantissa for v in value.values]
+    per = max(len(flat) // count, 1)
+    return tuple(
+        tuple(flat[i : i + (per if keep is None else keep)]) for i in range(0, len(flat), per)
+    )

@@ -125,7 +125,8 @@ def stamp_fields(when: datetime | None) -> tuple[int, int, int, int, int, int]:
 
 class _NamedRequest(NativeRequest):
     """A request carrying a name NUL-padded in ``NAME_SIZE`` extra bytes (``name``). The
-    name is printable ASCII of at most ``NAME_SIZE - 1`` characters (ValueError when built;
+    name is printable ASCII of at most ``NAME_SIZE - 1`` characters (TypeError for no text,
+    ValueError for text that does not fit, when built;
     a received one up to ``NAME_SIZE`` bytes is read to its first NUL)."""
 
     __slots__ = ()
@@ -133,6 +134,8 @@ class _NamedRequest(NativeRequest):
     name: str
 
     def extra(self) -> bytes:
+        if not isinstance(self.name, str):
+            raise TypeError(f"name must be text, got {self.name!r}")
         raw = self.name.encode("latin-1", "replace")
         if len(raw) >= self.NAME_SIZE or not self.name.isascii() or not self.name.isprintable():
             raise ValueError(

@@ -71,6 +71,13 @@ def path_folder(path: int) -> str:
     return f"//{DRIVE}/USER/PATH{path}/"
 
 
+def _name(name: object, what: str) -> str:
+    """``name`` when it is text; EW_DATA naming what was given otherwise."""
+    if not isinstance(name, str):
+        raise MachineError(EW.DATA, f"{what} must be text, got {name!r}")
+    return name
+
+
 def file_name(number: int) -> str:
     """The file name of program ``number``: ``O0001``, ``O12345``."""
     return f"O{number:04d}"
@@ -134,9 +141,12 @@ class FolderOperations(PathOperations):
         return parts
 
     def _parts(self, name: str, path: int) -> tuple[str, ...]:
-        text = name.strip()
+        text = _name(name, "folder or file name").strip()
         if not text or len(text) > MAX_NAME or not text.isascii() or not text.isprintable():
-            raise MachineError(EW.DATA, f"folder or file name {text[:40]!r}")
+            raise MachineError(
+                EW.DATA,
+                f"folder or file name {text[:40]!r}: 1..{MAX_NAME} printable ASCII characters",
+            )
         if not text.startswith("//"):
             text = self._folder_current.get((path, 1), path_folder(path)) + text
         drive, _, rest = text[2:].partition("/")
@@ -159,11 +169,13 @@ class FolderOperations(PathOperations):
                 return []
         return None
 
-    @staticmethod
-    def _folder_path(parts: tuple[str, ...]) -> int | None:
-        """The path whose programs folder ``parts`` holds (None: no path's)."""
-        if len(parts) == 2 and parts[0] == "USER" and parts[1].startswith("PATH"):
-            return int(parts[1][4:])
+    def _folder_path(self, parts: tuple[str, ...]) -> int | None:
+        """The path whose programs folder ``parts`` holds (None: no path's, ``PATH01`` and
+        ``PATHX`` included: the tree's folders are ``PATH1`` ... ``PATHn``)."""
+        if len(parts) == 2 and parts[0] == "USER":
+            for p in range(1, self._paths.count + 1):
+                if parts[1] == f"PATH{p}":
+                    return p
         return None
 
     def _file_entry(self, path: int, info: ProgramInfo) -> FolderEntry:
@@ -211,7 +223,7 @@ class FolderOperations(PathOperations):
         parts = self._parts(name, path)
         owner = self._folder_path(parts[:-1]) if parts else None
         match = _FILE.fullmatch(parts[-1]) if parts else None
-        if owner is None or match is None or not 1 <= owner <= self._paths.count:
+        if owner is None or match is None:
             raise MachineError(EW.DATA, f"no program file {name!r}")
         return owner, int(match.group(1))
 
@@ -219,7 +231,7 @@ class FolderOperations(PathOperations):
         """What drive ``drive`` holds (``cnc_rdpdf_inf``): the characters of every path's
         programs and the paths' capacity; the folders and files and the most of them."""
         self._check_folders()
-        if drive.strip().strip("/").upper() != DRIVE:
+        if _name(drive, "drive").strip().strip("/").upper() != DRIVE:
             raise MachineError(EW.DATA, f"no drive {drive!r}: the control has {DRIVE}")
         used = capacity = files = most = 0
         for p in range(1, self._paths.count + 1):
@@ -238,7 +250,7 @@ class FolderOperations(PathOperations):
         self._check_folders()
         self._paths.at(path)
         if kind not in _KINDS:
-            raise MachineError(EW.DATA, f"current folder kind {kind}: 1 or 2")
+            raise MachineError(EW.DATA, f"current folder kind {kind!r}: 1 or 2")
         return self._folder_current.get((path, kind), path_folder(path))
 
     def main_file(self, *, path: int = 1) -> str:
@@ -256,13 +268,13 @@ class FolderOperations(PathOperations):
         a control without folders. EW_DATA for a folder that is not a path's (the simulator
         keeps programs in the paths' folders only) or no folder of the tree."""
         self._paths.at(path)
-        text = name.strip()
+        text = _name(name, "folder or file name").strip()
         if self.control_class in FOLDERLESS_CLASSES or not text.startswith("//"):
             return path
         parts = self._parts(text, path)
         if _FILE.fullmatch(parts[-1] if parts else ""):
             parts = parts[:-1]
-        owner = self._folder_path(parts) if self._folder_children(parts) is not None else None
+        owner = self._folder_path(parts)
         if owner is None:
             raise MachineError(EW.DATA, f"no folder of a path's programs: {name[:60]!r}")
         return owner
@@ -273,7 +285,7 @@ class FolderOperations(PathOperations):
         self._check_folders()
         self._paths.at(path)
         if kind not in _KINDS:
-            raise MachineError(EW.DATA, f"current folder kind {kind}: 1 or 2")
+            raise MachineError(EW.DATA, f"current folder kind {kind!r}: 1 or 2")
         parts = self._folder_key(folder, path)
         self._folder_current[(path, kind)] = f"//{DRIVE}/" + "".join(p + "/" for p in parts)
 

@@ -188,4 +188,4 @@ class InformationOperations:
     def check_setting(self: _Facts, datano: int) -> None:
         """EW_NUMBER unless ``datano`` is setting data of the machine."""
         if datano not in SETTING_NUMBERS or self.param_item(datano) is None:
-            raise MachineError(EW.NUMBER, f"no setting data {datano}")
+            raise MachineError(EW.NUMBER, f"no setting data {datano!r}")

@@ -12,6 +12,7 @@ from __future__ import annotations
 
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
+from decimal import Decimal
 from typing import Final
 
 from focas_net.errors import EW
@@ -99,7 +100,8 @@ class PathTools:
                 raise ValueError(f"work offset {name}: {len(values)} values for {axes} axes")
             for axis, value in enumerate(values):
                 if not -MAX_WORK_OFFSET <= value <= MAX_WORK_OFFSET:
-                    raise ValueError(f"work offset {name}: {value} is beyond 99999.999 mm")
+                    mm = Decimal(value).scaleb(-3)
+                    raise ValueError(f"work offset {name}: {mm} mm is beyond 99999.999 mm")
                 engine.work_offsets[WORK_OFFSET_NAMES.index(name)][axis] = value / 1000
         path.listeners.append(self.engine_event)
 
