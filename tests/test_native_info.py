@@ -263,6 +263,18 @@ def test_pmc_areas_round_trip(areas: list[tuple[int, int, int, int]]) -> None:
     assert PmcAreaInfos.decode(a.encode()) == a
 
 
+_TITLE_WIDTHS = (32, 32, 32, 4, 2, 32, 16, 32, 32, 32)
+
+
+@given(
+    st.tuples(*[st.binary(max_size=w).map(lambda b: b.replace(b"\0", b"A")) for w in _TITLE_WIDTHS])
+)
+def test_pmc_title_round_trip(texts: tuple[bytes, ...]) -> None:
+    title = PmcTitle(*texts)
+    assert len(title.encode()) == sum(_TITLE_WIDTHS)
+    assert PmcTitle.decode(title.encode()) == title
+
+
 @given(st.lists(_i32, max_size=40))
 def test_restart_values_round_trip(values: list[int]) -> None:
     r = RestartValues(tuple(values))
