@@ -10,9 +10,9 @@ writes for ``--seconds`` seconds after a warm-up:
 * ``bit_storm``: 64 tasks setting and clearing bits of 8 K bytes (``write_pmc_bit``: a
   read-modify-write under the client's lock of the byte), so reads and writes interleave.
 
-With ``--state`` an answer leaves only once the write is on the disk: one save (write a
-temporary file, ``fsync``, rename, ``fsync`` the folder) per event-loop turn, whatever the
-number of writes in that turn. The figures depend on the disk's ``fsync`` above all.
+With ``--state`` an answer leaves only once the write is on the disk: one save (a record
+appended to the machine's journal and flushed with ``fdatasync``) per event-loop turn,
+whatever the number of writes in that turn. The figures depend on the disk's flush above all.
 """
 
 from __future__ import annotations

@@ -4,6 +4,7 @@ round trip, its version, a machine file that changed, and damaged files."""
 from __future__ import annotations
 
 import hashlib
+import os
 from datetime import UTC, datetime
 from decimal import Decimal
 from pathlib import Path
@@ -18,6 +19,8 @@ from focas_net.sim.statefile import (
     StateFile,
     apply_state,
     decode_state,
+    encode_body,
+    encode_record,
     encode_state,
     state_path,
 )
@@ -105,8 +108,11 @@ def test_read_only_reads_and_writes_nothing(tmp_path: Path) -> None:
 
 def test_a_newer_format_is_refused_clearly() -> None:
     data = encode_state(default_machine())
-    newer = data.replace(f" {STATE_VERSION} ".encode(), f" {STATE_VERSION + 1} ".encode(), 1)
-    with pytest.raises(StateError, match=r"newer focas-net \(state format 2"):
+    newer = data.replace(
+        f"focas-net-state {STATE_VERSION}\n".encode(),
+        f"focas-net-state {STATE_VERSION + 1}\n".encode(),
+    )
+    with pytest.raises(StateError, match=rf"newer focas-net \(state format {STATE_VERSION + 1}"):
         decode_state(newer, "m.state")
 
 
@@ -158,8 +164,7 @@ def test_the_alarm_history_keeps_its_stamps(tmp_path: Path) -> None:
 
 def test_a_malformed_state_is_refused_whole(tmp_path: Path) -> None:
     m = default_machine()
-    data = encode_state(m).split(b"\n", 1)[1]
-    body = data.replace(b'"macros":{}', b'"macros":{"100":"1"}')
+    body = encode_body(m).replace(b'"macros":{}', b'"macros":{"100":"1"}')
     header = f"focas-net-state 1 {len(body)} {hashlib.sha256(body).hexdigest()}\n".encode()
     path = tmp_path / "m.state"
     path.write_bytes(header + body)
@@ -167,3 +172,98 @@ def test_a_malformed_state_is_refused_whole(tmp_path: Path) -> None:
         StateFile(path).load(default_machine)
     with pytest.raises(MachineError):
         default_machine().write_pmc("X", 0, b"\x01")  # the machine's own checks stay
+
+
+def _format1(m: Machine) -> bytes:
+    """``m``'s state as format 1 wrote it: one header line with the body's length and
+    checksum, then the body."""
+    body = encode_body(m)
+    return f"focas-net-state 1 {len(body)} {hashlib.sha256(body).hexdigest()}\n".encode() + body
+
+
+def test_an_older_format_loads_and_the_next_save_writes_the_current_one(tmp_path: Path) -> None:
+    m = default_machine()
+    m.write_macro(504, 4)
+    path = tmp_path / "m.state"
+    path.write_bytes(_format1(m))
+    state = StateFile(path)
+    again = state.load(default_machine)
+    assert again.read_macro(504) == 4
+    again.write_macro(504, 5)
+    assert state.save(again)
+    assert path.read_bytes().startswith(f"focas-net-state {STATE_VERSION}\n".encode())
+    assert StateFile(path).load(default_machine).read_macro(504) == 5
+
+
+def test_saves_append_records_and_the_last_whole_one_is_the_state(tmp_path: Path) -> None:
+    path = tmp_path / "m.state"
+    state = StateFile(path)
+    m = state.load(default_machine)
+    for n in range(3):
+        m.write_macro(505, n)
+        assert state.save(m)
+    data = path.read_bytes()
+    assert data.count(b"\n{") == 3  # three records
+    assert decode_state(data)["kept"]["macros"]["505"] == "2"
+
+
+@pytest.mark.parametrize("cut", [1, 30, 200])
+def test_a_torn_last_record_is_ignored_and_replaced(tmp_path: Path, cut: int) -> None:
+    path = tmp_path / "m.state"
+    state = StateFile(path)
+    m = state.load(default_machine)
+    m.write_macro(506, 1)
+    state.save(m)
+    m.write_macro(506, 2)
+    state.save(m)
+    path.write_bytes(path.read_bytes()[:-cut])  # the second append cut short by a crash
+    state = StateFile(path)
+    again = state.load(default_machine)
+    assert again.read_macro(506) == 1
+    again.write_macro(506, 3)
+    state.save(again)  # replaces the file: nothing is appended after the torn record
+    assert StateFile(path).load(default_machine).read_macro(506) == 3
+
+
+def test_a_damaged_record_before_the_last_is_corruption(tmp_path: Path) -> None:
+    m = default_machine()
+    first = encode_record(encode_body(m))
+    m.write_macro(507, 1)
+    second = encode_record(encode_body(m))
+    damaged = bytearray(first)
+    damaged[-10] ^= 0x01
+    data = f"focas-net-state {STATE_VERSION}\n".encode() + bytes(damaged) + second
+    with pytest.raises(StateError, match="records follow it"):
+        decode_state(data, "m.state")
+
+
+def test_a_long_journal_is_compacted_into_one_record(tmp_path: Path) -> None:
+    path = tmp_path / "m.state"
+    state = StateFile(path)
+    m = state.load(default_machine)
+    sizes = []
+    for n in range(60):  # 60 records of about 24 KB pass the 1 MiB bound once
+        m.write_macro(508, n)
+        state.save(m)
+        sizes.append(path.stat().st_size)
+    assert max(sizes) <= 1 << 20 and sizes[-1] < max(sizes)
+    assert StateFile(path).load(default_machine).read_macro(508) == 59
+
+
+def test_a_failed_save_is_tried_again(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
+    path = tmp_path / "m.state"
+    state = StateFile(path)
+    m = state.load(default_machine)
+    m.write_macro(509, 1)
+    assert state.save(m)
+    m.write_macro(509, 2)
+
+    def full(fd: int) -> None:
+        raise OSError(28, "No space left on device")
+
+    with monkeypatch.context() as patched:
+        patched.setattr(os, "fdatasync", full)
+        with pytest.raises(OSError):
+            state.save(m)
+    assert state.save(m)  # not taken as saved: written now (the file replaced, whole)
+    assert StateFile(path).load(default_machine).read_macro(509) == 2

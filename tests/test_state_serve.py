@@ -94,22 +94,33 @@ def test_a_state_of_another_machine_is_a_config_error(tmp_path: Path) -> None:
         _fleet.build_machines(_parse("--machine", str(machine), "--state", str(tmp_path)))
 
 
-def test_a_turn_of_a_fleet_flushes_the_folder_once(
+def test_a_turn_of_a_fleet_costs_one_flush_a_changed_machine(
     tmp_path: Path, monkeypatch: pytest.MonkeyPatch
 ) -> None:
     states: list[Kept] = []
     machines = _fleet.build_machines(_parse("--fleet", "4", "--state", str(tmp_path)), states)
-    synced: list[int] = []
-    real = os.fsync
+    synced: list[str] = []
+    fsync, fdatasync = os.fsync, os.fdatasync
 
-    def counted(fd: int) -> None:
-        synced.append(fd)
-        real(fd)
+    def counted_fsync(fd: int) -> None:
+        synced.append("fsync")
+        fsync(fd)
 
-    monkeypatch.setattr(os, "fsync", counted)
+    def counted_fdatasync(fd: int) -> None:
+        synced.append("fdatasync")
+        fdatasync(fd)
+
+    monkeypatch.setattr(os, "fsync", counted_fsync)
+    monkeypatch.setattr(os, "fdatasync", counted_fdatasync)
     for m in machines[:3]:
         m.write_macro(500, 1)
-    saver(states)()
-    assert len(synced) == 3 + 1  # each changed machine's file, then the folder once
-    saver(states)()
-    assert len(synced) == 4  # nothing changed: nothing written
+    saver(states)()  # each file created (flushed), then the folder once
+    assert synced == ["fsync"] * 4
+    synced.clear()
+    for m in machines[:3]:
+        m.write_macro(500, 2)
+    saver(states)()  # a record appended to each journal: one flush each, the folder alone
+    assert synced == ["fdatasync"] * 3
+    synced.clear()
+    saver(states)()  # nothing changed: nothing written
+    assert synced == []

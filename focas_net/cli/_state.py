@@ -61,7 +61,7 @@ def load_state(
 
 def saver(states: list[Kept]) -> Callable[[], None]:
     """What the server calls at the end of a turn: every changed machine's state saved (one
-    ``fsync`` per changed machine, one for the folder)."""
+    flush per changed machine, and one for the folder where a file was created or compacted)."""
 
     from focas_net.sim.statefile import save_all
 

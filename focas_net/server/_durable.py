@@ -9,8 +9,9 @@ and machines, cost one save; a turn with no change saves nothing (the state file
 their machine's version counters first).
 
 A write whose answer never left may be in the state or not: the server may have died before
-the save, during it (the state file is replaced atomically: either the old or the new one is
-found), or after it and before the answer was sent. A write whose answer left is in the state.
+the save, during it (a record cut short is ignored at the next start, a replaced file is
+found old or new, whole), or after it and before the answer was sent. A write whose answer
+left is in the state.
 
 When the save fails (a full disk, a vanished directory), the held answers are not sent: their
 connections are aborted, as a control that cannot keep a change does not acknowledge it.

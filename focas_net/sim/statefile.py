@@ -1,27 +1,37 @@
-"""A machine's nonvolatile memory in a file: the format, the atomic write and the loading.
+"""A machine's nonvolatile memory in a file: the format, the durable write and the loading.
 
 ``serve --state DIR`` keeps one file per machine in ``DIR`` (:func:`state_path`: the machine's
-name, quoted, with ``.state``). The file (``docs/machine-file.md``, "State files") is one
-header line and one JSON document::
+name, quoted, with ``.state``). The file (``docs/machine-file.md``, "State files") is a
+journal: one header line, then records, each a whole state::
 
-    focas-net-state 1 <length of the body> <SHA-256 of the body, hex>\\n
-    {"machine": NAME, "shape": {...}, "kept": {...}}
+    focas-net-state 2\n
+    <length of the body> <SHA-256 of the body, hex>\n<body>\n
+    <length of the body> <SHA-256 of the body, hex>\n<body>\n
+    ...
 
-``shape`` is what the kept data must fit (:func:`focas_net.sim.nonvolatile.shape`); ``kept`` is
-what the machine keeps across power-off (:func:`focas_net.sim.nonvolatile.capture`).
+and a body is one JSON document, ``{"machine": NAME, "shape": {...}, "kept": {...}}``:
+``shape`` is what the kept data must fit (:func:`focas_net.sim.nonvolatile.shape`), ``kept``
+what the machine keeps across power-off (:func:`focas_net.sim.nonvolatile.capture`). The
+last whole record is the state.
 
-A file is replaced, never changed in place: the new content goes to a temporary file in the
-same directory, which is flushed to the disk (``fsync``), renamed over the old one, and the
-directory is flushed too. A crash at any instant leaves either the old file or the new one,
-whole; a temporary file it left behind is removed at the next start. The header's length and
-checksum catch a file damaged some other way.
+A save appends one record and flushes the file (``fdatasync``): one flush, the folder left
+alone. A crash in the middle of an append leaves a torn last record (shorter than its length,
+or not matching its checksum), which loading ignores: the record before it is the state, and
+the next save rewrites the file. When the journal has grown past :data:`COMPACT_AT` bytes (or
+past eight records' worth) it is replaced by one record, never changed in place: the new
+content goes to a temporary file in the same folder, which is flushed, renamed over the
+journal, and the folder is flushed too. A crash at any instant leaves either the old journal
+or the new one, whole; a temporary file it left behind is removed at the next start. The
+first save of a machine creates its file the same way, so a file always holds a whole record.
 
 Loading (:meth:`StateFile.load`) builds the machine from its machine file as before, then
 puts the kept data back. Every refusal is a :class:`StateError` naming the file: not a state
-file, a format version newer than this one reads, a truncated or corrupted file, a state
-written for a machine of another shape (naming the differences). The machine that was being
-restored is dropped, so no half-loaded machine is ever served. A state file of an older format
-version is brought up to date first (:data:`UPGRADES`; version 1 is the first).
+file, a format version newer than this one reads, no whole record (truncated or corrupted),
+a damaged record before the last, a state written for a machine of another shape (naming the
+differences). The machine that was being restored is dropped, so no half-loaded machine is
+ever served. A state file of an older format version loads (format 1: one header line with
+the body's length and checksum, then the body); its document is brought up to date by
+:data:`UPGRADES` and the next save writes the current format.
 """
 
 from __future__ import annotations
@@ -41,13 +51,17 @@ if TYPE_CHECKING:
     from .machine import Machine
 
 __all__ = [
+    "COMPACT_AT",
     "STATE_MAGIC",
     "STATE_SUFFIX",
     "STATE_VERSION",
     "UPGRADES",
     "StateError",
     "StateFile",
+    "apply_state",
     "decode_state",
+    "encode_body",
+    "encode_record",
     "encode_state",
     "save_all",
     "state_path",
@@ -57,11 +71,15 @@ __all__ = [
 #: The first word of a state file.
 STATE_MAGIC: Final = "focas-net-state"
 #: The format version this version of the project writes (and the newest it reads).
-STATE_VERSION: Final = 1
+STATE_VERSION: Final = 2
 #: The file name suffix of a state file.
 STATE_SUFFIX: Final = ".state"
 #: Format version -> the function that brings a document of that version to the next one.
-UPGRADES: Final[dict[int, Callable[[dict[str, Any]], dict[str, Any]]]] = {}
+UPGRADES: Final[dict[int, Callable[[dict[str, Any]], dict[str, Any]]]] = {
+    1: lambda doc: doc,  # format 2 changed the file (a journal), not the document
+}
+#: A journal longer than this (and than eight of its records) is compacted into one record.
+COMPACT_AT: Final = 1 << 20
 _TEMP_SUFFIX: Final = ".tmp"
 _MAX_HEADER: Final = 200
 
@@ -75,26 +93,44 @@ def state_path(directory: str | os.PathLike[str], name: str) -> Path:
     return Path(directory) / (quote(name, safe="") + STATE_SUFFIX)
 
 
-def encode_state(machine: Machine) -> bytes:
-    """The bytes of ``machine``'s state file, as it is now."""
-    body = json.dumps(
+def encode_body(machine: Machine) -> bytes:
+    """The body of a record of ``machine``'s state, as it is now."""
+    return json.dumps(
         {"machine": machine.name, "shape": shape(machine), "kept": capture(machine)},
         separators=(",", ":"),
         sort_keys=True,
     ).encode()
-    digest = hashlib.sha256(body).hexdigest()
-    return f"{STATE_MAGIC} {STATE_VERSION} {len(body)} {digest}\n".encode() + body
+
+
+def encode_record(body: bytes) -> bytes:
+    """One journal record of ``body``."""
+    return f"{len(body)} {hashlib.sha256(body).hexdigest()}\n".encode() + body + b"\n"
+
+
+def encode_state(machine: Machine) -> bytes:
+    """The bytes of a state file holding ``machine``'s state as it is now (one record)."""
+    return _HEADER + encode_record(encode_body(machine))
+
+
+_HEADER: Final = f"{STATE_MAGIC} {STATE_VERSION}\n".encode()
 
 
 def decode_state(data: bytes, source: str = "state") -> dict[str, Any]:
-    """The document of a state file's bytes, brought to :data:`STATE_VERSION`: StateError
-    (naming ``source``) for anything but a whole state file this version reads."""
+    """The document of a state file's bytes (its last whole record), brought to
+    :data:`STATE_VERSION`: StateError (naming ``source``) for anything but a state file this
+    version reads."""
+    return _scan(data, source)[0]
+
+
+def _scan(data: bytes, source: str) -> tuple[dict[str, Any], int, bool]:
+    """The document of the last whole record, the end of that record, and whether a torn
+    record follows it."""
     end = data.find(b"\n", 0, _MAX_HEADER)
     words = data[:end].split() if end >= 0 else []
-    if len(words) != 4 or words[0] != STATE_MAGIC.encode():
+    if len(words) not in (2, 4) or words[0] != STATE_MAGIC.encode():
         raise StateError(f"{source}: not a focas-net state file")
     try:
-        version, length = int(words[1]), int(words[2])
+        version = int(words[1])
     except ValueError:
         raise StateError(f"{source}: not a focas-net state file") from None
     if version > STATE_VERSION:
@@ -102,16 +138,12 @@ def decode_state(data: bytes, source: str = "state") -> dict[str, Any]:
             f"{source}: written by a newer focas-net (state format {version}; this version "
             f"reads formats 1..{STATE_VERSION})"
         )
-    if version < 1:
-        raise StateError(f"{source}: state format {version} does not exist")
-    body = data[end + 1 :]
-    if len(body) != length:
-        raise StateError(
-            f"{source}: truncated or corrupted ({len(body)} bytes of body, the header says "
-            f"{length})"
-        )
-    if hashlib.sha256(body).hexdigest().encode() != words[3]:
-        raise StateError(f"{source}: corrupted (the checksum does not match)")
+    if version < 1 or (len(words) == 4) != (version == 1):
+        raise StateError(f"{source}: not a focas-net state file")
+    if version == 1:
+        body, good, torn = _format1(data, end, words, source), len(data), False
+    else:
+        body, good, torn = _records(data, end + 1, source)
     try:
         doc = json.loads(body)
     except (UnicodeDecodeError, json.JSONDecodeError) as exc:
@@ -122,7 +154,61 @@ def decode_state(data: bytes, source: str = "state") -> dict[str, Any]:
     while version < STATE_VERSION:
         kept = UPGRADES[version](kept)
         version += 1
-    return kept
+    return kept, good, torn
+
+
+def _format1(data: bytes, end: int, words: list[bytes], source: str) -> bytes:
+    """The body of a format 1 file: the header's length and checksum, then the body."""
+    body = data[end + 1 :]
+    try:
+        length = int(words[2])
+    except ValueError:
+        raise StateError(f"{source}: not a focas-net state file") from None
+    if len(body) != length:
+        raise StateError(
+            f"{source}: truncated or corrupted ({len(body)} bytes of body, the header says "
+            f"{length})"
+        )
+    if hashlib.sha256(body).hexdigest().encode() != words[3]:
+        raise StateError(f"{source}: corrupted (the checksum does not match)")
+    return body
+
+
+def _records(data: bytes, at: int, source: str) -> tuple[bytes, int, bool]:
+    """The body of the last whole record from ``at``, the end of that record, and whether a
+    torn record follows it. A damaged record that is not the last is corruption."""
+    last: bytes | None = None
+    good = at
+    size = len(data)
+    problem = ""
+    while at < size:
+        eol = data.find(b"\n", at, at + _MAX_HEADER)
+        words = data[at:eol].split() if eol >= 0 else []
+        body_at = eol + 1
+        length = int(words[0]) if len(words) == 2 and words[0].isdigit() else -1
+        stop = body_at + length + 1
+        if eol < 0 or length < 0 or stop > size:
+            problem = "its last record is cut short" if eol < 0 or stop > size else ""
+            if not problem:
+                raise StateError(f"{source}: corrupted (a record's header at byte {at})")
+            break
+        body = data[body_at : stop - 1]
+        if (
+            data[stop - 1 : stop] != b"\n"
+            or hashlib.sha256(body).hexdigest().encode() != (words[1])
+        ):
+            if stop < size:
+                raise StateError(
+                    f"{source}: corrupted (the record at byte {at} does not match its "
+                    "checksum, and records follow it)"
+                )
+            problem = "its last record does not match its checksum"
+            break
+        last, good, at = body, stop, stop
+    if last is None:
+        why = problem or "it holds no record"
+        raise StateError(f"{source}: truncated or corrupted ({why})")
+    return last, good, good < size
 
 
 def apply_state(machine: Machine, doc: dict[str, Any], source: str = "state") -> None:
@@ -146,14 +232,18 @@ class StateFile:
 
     ``read_only``: the file is read and never written (``serve --read-only``)."""
 
-    __slots__ = ("_last", "_token", "path", "read_only", "writes")
+    __slots__ = ("_last", "_replace", "_size", "_token", "path", "read_only", "writes")
 
     def __init__(self, path: str | os.PathLike[str], *, read_only: bool = False) -> None:
         self.path = Path(path)
         self.read_only = read_only
-        #: The bytes last written or read (a save of the same bytes writes nothing).
+        #: The body last written or read (a save of the same body writes nothing).
         self._last: bytes | None = None
         self._token: object = None
+        #: The journal's size in bytes; whether the next save replaces it (a new file, a
+        #: torn or older-format one).
+        self._size = 0
+        self._replace = True
         #: How many times the file was written.
         self.writes = 0
 
@@ -163,45 +253,70 @@ class StateFile:
         and :func:`apply_state` say; OSError when the file cannot be read."""
         if not self.read_only:
             with contextlib.suppress(FileNotFoundError):
-                self._temp().unlink()  # what a crash in the middle of a write left
+                self._temp().unlink()  # what a crash in the middle of a compaction left
         try:
             data = self.path.read_bytes()
         except FileNotFoundError:
             machine = build()
+            self._replace = True
         else:
             source = str(self.path)
-            doc = decode_state(data, source)
+            doc, good, torn = _scan(data, source)
             machine = build()
             apply_state(machine, doc, source)
-        self._last = encode_state(machine)
+            self._size = good
+            self._replace = torn or not data.startswith(_HEADER)
+        self._last = encode_body(machine)
         self._token = _token(machine)
         return machine
 
     def save(self, machine: Machine) -> bool:
         """Write the file when what ``machine`` keeps changed since the last write; True when
-        it wrote. The new file is durable when this returns (see the module docstring)."""
-        if not self.stage(machine):
-            return False
-        sync_folder(self.path.parent)
-        return True
+        it wrote. The change is durable when this returns (see the module docstring)."""
+        written = self.stage(machine)
+        if written == "replaced":
+            sync_folder(self.path.parent)
+        return written is not None
 
-    def stage(self, machine: Machine) -> bool:
-        """:meth:`save` but for the flush of the folder: the new file's content is on the
-        disk and renamed over the old one, the rename itself is durable once the folder is
-        flushed (:func:`sync_folder`; :func:`save_all` flushes each folder once)."""
+    def stage(self, machine: Machine) -> str | None:
+        """:meth:`save` but for the flush of the folder: None when nothing changed,
+        ``"appended"`` when a record was appended (durable now), ``"replaced"`` when the
+        file was replaced (durable once its folder is flushed: :func:`sync_folder`;
+        :func:`save_all` flushes each folder once)."""
         if self.read_only:
-            return False
+            return None
         token = _token(machine)
         if token == self._token:
-            return False
-        data = encode_state(machine)
-        self._token = _token(machine)
-        if data == self._last:
-            return False
-        self._write(data)
-        self._last = data
+            return None
+        body = encode_body(machine)
+        token = _token(machine)  # capture() brought the engines to the clock's time
+        if body == self._last:
+            self._token = token
+            return None
+        record = encode_record(body)
+        try:
+            done = self._put(record)
+        except BaseException:
+            self._replace = True  # a part of a record may be there: the next save replaces
+            raise
+        self._last, self._token = body, token
         self.writes += 1
-        return True
+        return done
+
+    def _put(self, record: bytes) -> str:
+        if self._replace or self._size + len(record) > max(COMPACT_AT, 8 * len(record)):
+            self._write(_HEADER + record)
+            self._size = len(_HEADER) + len(record)
+            self._replace = False
+            return "replaced"
+        fd = os.open(self.path, os.O_WRONLY | os.O_APPEND)
+        try:
+            _write_all(fd, record)
+            os.fdatasync(fd)
+        finally:
+            os.close(fd)
+        self._size += len(record)
+        return "appended"
 
     def _temp(self) -> Path:
         return self.path.with_name(self.path.name + _TEMP_SUFFIX)
@@ -212,13 +327,17 @@ class StateFile:
         temp = self._temp()
         fd = os.open(temp, os.O_WRONLY | os.O_CREAT | os.O_TRUNC, 0o644)
         try:
-            view = memoryview(data)
-            while view:
-                view = view[os.write(fd, view) :]
+            _write_all(fd, data)
             os.fsync(fd)
         finally:
             os.close(fd)
         os.replace(temp, self.path)
+
+
+def _write_all(fd: int, data: bytes) -> None:
+    view = memoryview(data)
+    while view:
+        view = view[os.write(fd, view) :]
 
 
 def sync_folder(folder: Path) -> None:
@@ -231,15 +350,18 @@ def sync_folder(folder: Path) -> None:
 
 
 def save_all(states: Iterable[tuple[StateFile, Machine]]) -> int:
-    """Save every machine that changed (:meth:`StateFile.stage`), then flush each folder
-    once: the changes of many machines cost one ``fsync`` each and one per folder. Returns
-    how many files were written; all of them are durable when it returns."""
+    """Save every machine that changed (:meth:`StateFile.stage`), then flush once each
+    folder in which a file was replaced: the changes of many machines cost one flush each
+    (and one per folder when a file was created or compacted). Returns how many files were
+    written; all of them are durable when it returns."""
     folders: set[Path] = set()
     written = 0
     for state, machine in states:
-        if state.stage(machine):
-            folders.add(state.path.parent)
+        done = state.stage(machine)
+        if done is not None:
             written += 1
+        if done == "replaced":
+            folders.add(state.path.parent)
     for folder in folders:
         sync_folder(folder)
     return written
