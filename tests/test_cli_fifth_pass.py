@@ -12,7 +12,7 @@ import pytest
 from cli_support import run_focas_net
 from support import Served
 
-from focas_net.cli import EXIT_OK, EXIT_USAGE
+from focas_net.cli import EXIT_CNC, EXIT_OK, EXIT_USAGE
 from focas_net.protocol import FaultKind, FaultScope
 from focas_net.server.faults import fault_refusal
 
@@ -144,3 +144,45 @@ async def test_a_macro_value_refused_names_the_variable(
         EXIT_USAGE, "macro", "set", "100", value, "--protocol", protocol, *at(server)
     )
     assert line.startswith(f"focas-net: {words}"), line
+
+
+# -- digits are ASCII everywhere a number is typed (the page's rule, the machine file's) ---------
+
+
+@pytest.mark.parametrize(
+    ("argv", "words"),
+    [
+        (["pmc", "write", "R", "0", "\u0661"], "not an integer: '\u0661' (digits are ASCII 0-9)"),
+        (["pmc", "read", "R", "0", "\u0662"], "not an integer: '\u0662' (digits are ASCII 0-9)"),
+        (
+            ["macro", "set", "100", "\u0661\u0662"],
+            "#100: not a number: '\u0661\u0662' (digits are ASCII 0-9)",
+        ),
+        (
+            ["macro", "set", "100", "\u0661\u0662", "--protocol", "native"],
+            "#100: not a number: '\u0661\u0662' (digits are ASCII 0-9)",
+        ),
+        (["param", "set", "3216", "\u0661"], "not a parameter value: '\u0661'"),
+    ],
+)
+async def test_digits_of_other_scripts_are_refused(
+    server: Served, argv: list[str], words: str
+) -> None:
+    before = server.machine.read_pmc("R", 0, 1), server.machine.read_macro(100)
+    line = await fails(EXIT_USAGE, *argv, *at(server))
+    assert words in line, line
+    assert (server.machine.read_pmc("R", 0, 1), server.machine.read_macro(100)) == before
+
+
+# -- a path the CNC has not is named, whatever the command -----------------------------------------
+
+
+@pytest.mark.parametrize("protocol", ["packed", "native"])
+@pytest.mark.parametrize("command", [["status"], ["macro", "get", "100"], ["program"]])
+async def test_a_path_the_cnc_has_not_is_named(
+    server: Served, protocol: str, command: list[str]
+) -> None:
+    line = await fails(EXIT_CNC, *command, "--path", "2", "--protocol", protocol, *at(server))
+    assert "EW_PATH" in line and line.endswith(
+        "; the CNC has no path 2 (--path names one of its paths; a CNC of one path has path 1)"
+    ), line

@@ -10,7 +10,7 @@ import pytest
 from focas_net.client import FocasClient, ReconnectPolicy
 from focas_net.client._composite import chunked_write_error
 from focas_net.client._locks import KeyedLocks
-from focas_net.client._values import macro_from_wire, macro_to_wire
+from focas_net.client._values import macro_from_wire, macro_to_wire, param_int
 from focas_net.errors import EW, CncError, FocasConnectionError, FocasTimeoutError
 
 
@@ -134,3 +134,11 @@ def test_max_in_flight_is_bounded_within_the_request_ids() -> None:
     with pytest.raises(ValueError, match=r"1\.\.32768"):
         FocasClient("127.0.0.1", 1, max_in_flight=40_000)
     assert FocasClient("127.0.0.1", 1, max_in_flight=32_768).max_in_flight == 32_768
+
+
+@pytest.mark.parametrize("text", ["\u0661\u0662", "\uff11", "1\u0662"])
+def test_digits_of_other_scripts_are_no_macro_or_parameter_value(text: str) -> None:
+    with pytest.raises(ValueError, match="ASCII"):
+        macro_to_wire(text)
+    with pytest.raises(ValueError, match="ASCII"):
+        param_int(3216, text)

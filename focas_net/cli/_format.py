@@ -509,7 +509,7 @@ def parse_param_value(text: str) -> int | Decimal | str:
     except ValueError:
         pass
     try:
-        value = Decimal(text.strip())
+        value = Decimal(text.strip()) if text.isascii() else Decimal("NaN")
     except ArithmeticError:
         value = Decimal("NaN")
     if not value.is_finite():
@@ -521,7 +521,10 @@ def parse_param_value(text: str) -> int | Decimal | str:
 
 
 def parse_int(text: str) -> int:
-    """A decimal, ``0x`` hex, ``0b`` binary or ``0o`` octal integer."""
+    """A decimal, ``0x`` hex, ``0b`` binary or ``0o`` octal integer, in ASCII (Python's
+    ``int`` takes the digits of every script: ``'\u0661'`` is no 1 here, as on the page)."""
+    if not text.isascii():
+        raise ValueError(f"not an integer: {text!r} (digits are ASCII 0-9)")
     try:
         return int(text.strip().replace("_", ""), 0)
     except ValueError:

@@ -300,4 +300,13 @@ def reason(command: str, args: argparse.Namespace, exc: CncError) -> str | None:
     if said is not None:
         return said
     why = FAMILIES.get(command, {}).get(exc.ew)
+    if why is None and exc.ew == EW.PATH and getattr(args, "path", None) is not None:
+        return _no_path(args)  # any command of a path
     return None if why is None else why(args)
+
+
+def _no_path(args: argparse.Namespace) -> str:
+    return (
+        f"the CNC has no path {args.path} (--path names one of its paths; a CNC of one path "
+        "has path 1)"
+    )

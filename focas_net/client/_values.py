@@ -223,6 +223,8 @@ def macro_to_wire(value: int | Decimal | float | str) -> tuple[int, int]:
     elif isinstance(value, Decimal):
         dec = value
     elif isinstance(value, str):
+        if not value.isascii():  # Decimal takes every script's digits; a CNC takes 0-9
+            raise ValueError(f"not a number: {value!r} (digits are ASCII 0-9)")
         try:
             dec = Decimal(value.strip())
         except InvalidOperation:
@@ -274,6 +276,8 @@ def param_int(number: int, value: object, kind: ParamDataType | None = None) -> 
             if bits is not None:
                 return bits
         text = value.strip().replace("_", "")
+        if not text.isascii():  # int takes every script's digits; a CNC takes 0-9
+            raise ValueError(f"parameter {number}: not an integer: {value!r} (digits are ASCII)")
         try:
             return int(text, 0)
         except ValueError:
