@@ -267,3 +267,33 @@ def test_a_failed_save_is_tried_again(tmp_path: Path, monkeypatch: pytest.Monkey
             state.save(m)
     assert state.save(m)  # not taken as saved: written now (the file replaced, whole)
     assert StateFile(path).load(default_machine).read_macro(509) == 2
+
+
+def test_a_two_path_machine_keeps_each_paths_offsets_and_programs(tmp_path: Path) -> None:
+    from focas_net.sim import LifeTool, PathSpec, ToolGroup, ToolsSpec
+
+    def build() -> Machine:
+        return Machine(
+            "lathe",
+            paths=[PathSpec(("X1", "Z1"), kind="T"), PathSpec(("X2", "Z2", "C2"), kind="T")],
+            tools={2: ToolsSpec(groups=[ToolGroup(1, 5, tools=[LifeTool(11), LifeTool(12)])])},
+        )
+
+    m = build()
+    m.write_tool_offset(3, 1, 1234, path=1)
+    m.write_tool_offset(4, 6, 3, path=2)
+    m.write_work_offset(1, None, [10, 20, 30], path=2)
+    m.set_tool_life_count(1, 4, path=2)
+    m.path_programs(2).store("O0777\nG0X1.\nM30\n")
+    path = tmp_path / "lathe.state"
+    StateFile(path).save(m)
+    again = StateFile(path).load(build)
+    assert any(1234 in row for row in again.tool_offsets(1, 5, None, path=1))
+    assert again.tool_offsets(1, 5, None, path=1) == m.tool_offsets(1, 5, None, path=1)
+    assert again.tool_offsets(1, 5, None, path=2) == m.tool_offsets(1, 5, None, path=2)
+    assert again.work_offsets(0, 6, None, path=2) == m.work_offsets(0, 6, None, path=2)
+    assert again.tool_group(1, path=2) == m.tool_group(1, path=2)
+    assert again.tool_group(1, path=2) != build().tool_group(1, path=2)
+    assert 777 in [p.number for p in again.path_programs(2).directory()]
+    assert 777 not in [p.number for p in again.path_programs(1).directory()]
+    assert encode_state(again) == encode_state(m)

@@ -124,3 +124,23 @@ def test_a_turn_of_a_fleet_costs_one_flush_a_changed_machine(
     synced.clear()
     saver(states)()  # nothing changed: nothing written
     assert synced == []
+
+
+async def test_a_change_without_an_answer_is_saved_within_a_second(tmp_path: Path) -> None:
+    from support import IO_TIMEOUT, wait_until
+
+    from focas_net.cli._state import keep_running
+    from focas_net.server import FocasServer
+    from focas_net.sim.statefile import decode_state
+
+    states: list[Kept] = []
+    (m,) = _fleet.build_machines(_parse("--state", str(tmp_path)), states)
+    server = FocasServer(m, host="127.0.0.1", port=0, durable=saver(states))
+    (path,) = [state.path for state, _ in states]
+    async with server, keep_running(server, states, read_only=False):
+        m.write_macro(800, 8)  # as the web dashboard writes: no FOCAS answer waits for it
+
+        def kept() -> bool:
+            return path.exists() and "800" in decode_state(path.read_bytes())["kept"]["macros"]
+
+        await wait_until(kept, within=3 * IO_TIMEOUT)
