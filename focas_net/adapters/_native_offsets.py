@@ -175,11 +175,9 @@ class OffsetHandlers:
     def read_tool_numbers(self, block: RequestBlock, room: int, session: Session) -> bytes:
         """0x4D: tools ``first..last`` (indexes from 1) of a group: T, H, D and state."""
         request = ToolNumberRequest.from_block(block)
-        group = self.machine.tool_group(request.group, path=block_path(block))
-        if not 1 <= request.first <= request.last <= len(group.tools):
-            raise Refused(EW.NUMBER)
-        need_room(8 + ToolEntry.SIZE * (request.last - request.first + 1), room)
-        tools = group.tools[request.first - 1 : request.last]
+        path = block_path(block)
+        tools = self.machine.group_tools(request.group, request.first, request.last, path=path)
+        need_room(8 + ToolEntry.SIZE * len(tools), room)
         return ToolNumbers(
             request.group, request.first, tuple(ToolEntry(*t) for t in tools)
         ).encode()

@@ -253,6 +253,17 @@ class ToolOperations:
             tuple((t.number, t.h, t.d, t.state) for t in group.tools),
         )
 
+    def group_tools(
+        self, number: int, first: int, last: int, *, path: int = 1
+    ) -> tuple[tuple[int, int, int, int], ...]:
+        """Tools ``first..last`` (1.., in the order the group uses them) of group ``number``,
+        each ``(T, H, D, state)``: the group's refusals, then EW_NUMBER for a tool the group
+        has not or ``last`` before ``first``."""
+        tools = self.tool_group(number, path=path).tools
+        _number(first, 1, len(tools), f"group {number}'s tool")
+        _number(last, first, len(tools), f"group {number}'s last tool")
+        return tools[first - 1 : last]
+
     def set_tool_life_count(self, number: int, count: int, *, path: int = 1) -> None:
         """Set the counter of group ``number``'s tool in use (EW_PROT, EW_PATH, EW_NUMBER,
         EW_DATA outside 0..life)."""
