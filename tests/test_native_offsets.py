@@ -454,6 +454,24 @@ def test_the_adapter_refuses_what_the_wire_cannot_carry() -> None:
     assert block.ew == EW.PATH
 
 
+def test_a_refused_write_of_several_numbers_changes_nothing() -> None:
+    machine = _machine()
+    adapter = NativeAdapter(machine)
+    before = machine.tool_offsets(1, 2, None)
+    write = ToolOffsetWriteRequest(1, 2, 1003, OffsetWrite((7, 1_000_000)))
+    (block,) = _blocks(adapter, write.to_block())
+    assert block.ew == EW.DATA  # the second value is past 999.999 mm
+    assert machine.tool_offsets(1, 2, None) == before
+    g54 = machine.work_offsets(1, 2, None)
+    zofs = WorkOffsetWriteRequest(1, 2, 1, OffsetWrite((5, 10**9)))
+    (block,) = _blocks(adapter, zofs.to_block())
+    assert block.ew == EW.DATA
+    assert machine.work_offsets(1, 2, None) == g54
+    (block,) = _blocks(adapter, WorkOffsetWriteRequest(1, 2, 1, OffsetWrite((5, 6))).to_block())
+    assert block.ew == 0
+    assert [row[0] for row in machine.work_offsets(1, 2, None)] == [5, 6]
+
+
 def test_each_path_answers_its_own_tools() -> None:
     machine = Machine(
         "two",

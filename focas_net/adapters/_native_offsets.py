@@ -96,8 +96,7 @@ class OffsetHandlers:
         self.machine.check_writable()
         if len(values) != len(numbers):
             raise Refused(EW.LENGTH)
-        for number, value in zip(numbers, values, strict=True):
-            self.machine.write_tool_offset(number, offset_type, value, path=path)
+        self.machine.write_tool_offsets(request.first, offset_type, values, path=path)
         return b""
 
     def read_tool_offset_info(self, block: RequestBlock, room: int, session: Session) -> bytes:
@@ -138,10 +137,9 @@ class OffsetHandlers:
         per = max(self.max_axis, axes) if every else 1
         if not numbers or len(values) != per * len(numbers):
             raise Refused(EW.LENGTH)
-        for i, number in enumerate(numbers):
-            row = values[i * per : i * per + (axes if every else 1)]
-            axis = None if every else request.axis
-            self.machine.write_work_offset(number, axis, row, path=path)
+        rows = [values[i * per : i * per + (axes if every else 1)] for i in range(len(numbers))]
+        axis = None if every else request.axis
+        self.machine.write_work_offsets(request.first, axis, rows, path=path)
         return b""
 
     # -- tool life -----------------------------------------------------------------------
