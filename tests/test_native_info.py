@@ -149,13 +149,26 @@ def test_getfigure_sends_the_librarys_argument_of_each_data_type() -> None:
     assert sent == [0, 1, 2, 5, 6, 3, 4]
 
 
-def test_each_request_reads_back_from_its_block() -> None:
+@pytest.mark.parametrize("cs", CS)
+@pytest.mark.parametrize("name", sorted(GOLDEN_REQUESTS))
+def test_each_request_reads_back_from_its_block(name: str, cs: CommandSet) -> None:
+    for request in GOLDEN_REQUESTS[name][0](cs).frames[0]:
+        assert type(request).from_block(request.to_block()) == request
+
+
+@given(
+    st.integers(0, 6),
+    st.integers(-(2**31), 2**31 - 1),
+    st.integers(1, 10),
+    st.integers(-(2**15), 2**15 - 1),
+)
+def test_requests_with_arguments_round_trip(kind: int, first: int, count: int, axis: int) -> None:
     for call in (
-        info.cnc_getfigure(CommandSet.FS16I, 3),
-        info.cnc_rddiaginfo(CommandSet.FS16I, 300, 4),
-        info.cnc_rdset(CommandSet.FS30I, 20, 1),
-        info.pmc_rdpmcinfo(CommandSet.FS30I, 2),
-        info.cnc_rdprstrinfo(CommandSet.FS30I),
+        info.cnc_getfigure(CommandSet.FS16I, kind),
+        info.cnc_rddiaginfo(CommandSet.FS16I, first, count),
+        info.cnc_rdsetinfo(CommandSet.FS30I, first, count),
+        info.cnc_rdset(CommandSet.FS30I, first, axis),
+        info.pmc_rdpmcinfo(CommandSet.FS30I, kind),
     ):
         for request in call.frames[0]:
             assert type(request).from_block(request.to_block()) == request
@@ -248,6 +261,18 @@ def test_numbers_and_ether_round_trip(a: int, b: int, c: int, t: int, d: int) ->
 def test_pmc_areas_round_trip(areas: list[tuple[int, int, int, int]]) -> None:
     a = PmcAreaInfos(tuple(PmcAreaInfo(*x) for x in areas))
     assert PmcAreaInfos.decode(a.encode()) == a
+
+
+_TITLE_WIDTHS = (32, 32, 32, 4, 2, 32, 16, 32, 32, 32)
+
+
+@given(
+    st.tuples(*[st.binary(max_size=w).map(lambda b: b.replace(b"\0", b"A")) for w in _TITLE_WIDTHS])
+)
+def test_pmc_title_round_trip(texts: tuple[bytes, ...]) -> None:
+    title = PmcTitle(*texts)
+    assert len(title.encode()) == sum(_TITLE_WIDTHS)
+    assert PmcTitle.decode(title.encode()) == title
 
 
 @given(st.lists(_i32, max_size=40))

@@ -26,9 +26,14 @@ from focas_net.native import (
     ToolGroupRecord,
     ToolGroupRecords,
     ToolGroupRequest,
+    ToolGroupsInUse,
+    ToolGroupsInUseRequest,
     ToolLifeCounts,
+    ToolLifeCountsRequest,
+    ToolLifeInfoRequest,
     ToolNumberRequest,
     ToolNumbers,
+    ToolOffsetInfoRequest,
     ToolOffsetMemory,
     ToolOffsetRequest,
     ToolOffsetWriteRequest,
@@ -113,6 +118,10 @@ def test_answers_decode_as_the_library_read_them() -> None:
         bytes.fromhex("0000000200000003" + "00000006000000060000001a00000001")
     )
     assert numbers == ToolNumbers(2, 3, (ToolEntry(6, 6, 26, 1),))
+    # cnc_rdusegrpid: next, use and select after the library's 4-byte head (the group in use)
+    in_use = ToolGroupsInUse(1, 2, 3)
+    assert in_use.encode() == bytes.fromhex("000000010000000200000003")
+    assert ToolGroupsInUse.decode(in_use.encode()) == in_use
 
 
 # --------------------------------------------------------------------------------------------
@@ -144,6 +153,11 @@ def test_life_counts_round_trip(counts: ToolLifeCounts) -> None:
     assert ToolLifeCounts.decode(counts.encode()) == counts
 
 
+@given(st.tuples(*[_i32] * 3).map(lambda t: ToolGroupsInUse(*t)))
+def test_groups_in_use_round_trip(groups: ToolGroupsInUse) -> None:
+    assert ToolGroupsInUse.decode(groups.encode()) == groups
+
+
 @given(
     st.integers(-(2**31), 2**31 - 1),
     st.integers(-(2**31), 2**31 - 1),
@@ -160,6 +174,10 @@ def test_requests_round_trip_through_their_blocks(
         WorkOffsetWriteRequest(first, last, kind, OffsetWrite(tuple(values))),
         ToolGroupRequest(first, last),
         ToolNumberRequest(kind, first, last),
+        ToolLifeCountsRequest(first),
+        ToolOffsetInfoRequest(),
+        ToolGroupsInUseRequest(),
+        ToolLifeInfoRequest(),
     ]
     for request in requests:
         assert decode_request(request.to_block(2)) == request

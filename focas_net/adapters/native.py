@@ -117,7 +117,7 @@ from focas_net.native import (
     encode_open_response,
     max_response_body,
 )
-from focas_net.sim import Machine, Session
+from focas_net.sim import CLASSES_16I, Machine, Session
 
 from ._common import (
     REFUSALS,
@@ -140,8 +140,6 @@ from ._native_spindles import SpindleHandlers
 
 __all__ = ["PATH_INDEPENDENT", "NativeAdapter", "command_set_of"]
 
-#: Control classes that speak the 16i command set; every other class speaks the 30i set.
-_CLASSES_16I: Final = frozenset({"16i", "18i", "21i", "0i-C"})
 #: Version word of the answers of each command set (a 16i answers 2, a 0i-D 3).
 _SET_VERSIONS: Final = {CommandSet.FS16I: 2, CommandSet.FS30I: 3}
 #: FOCAS option bits of a machine whose parameter 9968 is an axis parameter (otherwise the
@@ -232,7 +230,7 @@ _pack_count = BlockCount.STRUCT.pack
 
 def command_set_of(machine: Machine) -> CommandSet:
     """The command set a control of ``machine``'s class speaks to FANUC's library."""
-    return CommandSet.FS16I if machine.control_class in _CLASSES_16I else CommandSet.FS30I
+    return CommandSet.FS16I if machine.control_class in CLASSES_16I else CommandSet.FS30I
 
 
 def _i16(value: int) -> int:

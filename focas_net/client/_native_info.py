@@ -12,6 +12,7 @@ arguments are checked in the caller's frame, before anything is sent.
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from dataclasses import dataclass
 from typing import Final
 
@@ -291,10 +292,9 @@ class NativeInfo(NativeItems):
     ) -> ItemAttributes:
         """``cnc_rddiaginfo``: the types of up to ``count`` (1..10) diagnostics from number
         ``first`` on."""
-        check_int("diagnostic number", first, 0, I16_MAX)
-        check_int("count", count, 1, _MAX_INFO)
-        handle, call, blocks = await self._only(info.cnc_rddiaginfo, path, timeout, first, count)
-        return _attributes(only_answer(handle, call, blocks))
+        return await self._attributes(
+            info.cnc_rddiaginfo, "diagnostic", first, count, path, timeout
+        )
 
     async def read_setting_attributes(
         self,
@@ -306,10 +306,21 @@ class NativeInfo(NativeItems):
     ) -> ItemAttributes:
         """``cnc_rdsetinfo``: the types of up to ``count`` (1..10) setting data from number
         ``first`` on."""
-        check_int("setting number", first, 0, I16_MAX)
+        return await self._attributes(info.cnc_rdsetinfo, "setting", first, count, path, timeout)
+
+    async def _attributes(
+        self,
+        call_of: Callable[..., LibraryCall],
+        what: str,
+        first: int,
+        count: int,
+        path: int | None,
+        timeout: float | None,
+    ) -> ItemAttributes:
+        """The types of up to ``count`` items of kind ``what`` from number ``first`` on."""
+        check_int(f"{what} number", first, 0, I16_MAX)
         check_int("count", count, 1, _MAX_INFO)
-        handle, call, blocks = await self._only(info.cnc_rdsetinfo, path, timeout, first, count)
-        return _attributes(only_answer(handle, call, blocks))
+        return _attributes(only_answer(*await self._only(call_of, path, timeout, first, count)))
 
     async def read_setting(
         self,

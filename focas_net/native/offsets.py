@@ -193,6 +193,20 @@ class OffsetWrite:
 # Requests
 
 
+class _OffsetWriteRequest(NativeRequest):
+    """A write of offsets carrying its values as :class:`OffsetWrite` in the extra bytes."""
+
+    __slots__ = ()
+    values: OffsetWrite
+
+    def extra(self) -> bytes:
+        return self.values.encode()
+
+    @classmethod
+    def _extra_fields(cls, extra: bytes) -> dict[str, Any]:
+        return {"values": OffsetWrite.decode(extra)}
+
+
 @dataclass(frozen=True, slots=True)
 class ToolOffsetRequest(NativeRequest):
     """0x08, args ``first, last, type`` [V]: ``cnc_rdtofs(n, t)`` sends ``(n, n, 1000 + t)``,
@@ -209,7 +223,7 @@ class ToolOffsetRequest(NativeRequest):
 
 
 @dataclass(frozen=True, slots=True)
-class ToolOffsetWriteRequest(NativeRequest):
+class ToolOffsetWriteRequest(_OffsetWriteRequest):
     """0x09, args ``(n, n, 1000 + type, 0, 8)``, extra: :class:`OffsetWrite` of one value
     (``cnc_wrtofs``) [V]. No answer data."""
 
@@ -220,13 +234,6 @@ class ToolOffsetWriteRequest(NativeRequest):
     last: int
     type: int
     values: OffsetWrite
-
-    def extra(self) -> bytes:
-        return self.values.encode()
-
-    @classmethod
-    def _extra_fields(cls, extra: bytes) -> dict[str, Any]:
-        return {"values": OffsetWrite.decode(extra)}
 
 
 @dataclass(frozen=True, slots=True)
@@ -254,7 +261,7 @@ class WorkOffsetRequest(NativeRequest):
 
 
 @dataclass(frozen=True, slots=True)
-class WorkOffsetWriteRequest(NativeRequest):
+class WorkOffsetWriteRequest(_OffsetWriteRequest):
     """0x0C, args ``(n, n, axis, 0, 8 * k)``, extra: :class:`OffsetWrite` of ``k`` values, max
     axes of them for axis -1 (``cnc_wrzofs``) [V]. No answer data."""
 
@@ -265,13 +272,6 @@ class WorkOffsetWriteRequest(NativeRequest):
     last: int
     axis: int
     values: OffsetWrite
-
-    def extra(self) -> bytes:
-        return self.values.encode()
-
-    @classmethod
-    def _extra_fields(cls, extra: bytes) -> dict[str, Any]:
-        return {"values": OffsetWrite.decode(extra)}
 
 
 @dataclass(frozen=True, slots=True)

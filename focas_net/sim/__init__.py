@@ -4,7 +4,7 @@ knows either wire protocol: :mod:`focas_net.adapters` translates (``docs/protoco
 ``docs/native-protocol.md``)."""
 
 from ._alarms import MAX_ALARM_NO
-from ._identity import CLASS_MAX_AXES, MAX_NAME_LENGTH
+from ._identity import CLASS_MAX_AXES, CLASSES_16I, MAX_NAME_LENGTH
 from ._information import (
     SETTING_NUMBERS,
     VALID_FIGURES,
@@ -56,6 +56,7 @@ from .machinefile import MachineFileError, load_machine, machine_from_dict
 
 __all__ = [
     "AUT_MODES",
+    "CLASSES_16I",
     "CLASS_MAX_AXES",
     "CLOCK_VARIABLES",
     "CONTROL_CLASSES",

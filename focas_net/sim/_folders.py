@@ -36,6 +36,7 @@ from typing import TYPE_CHECKING, Final
 from focas_net.errors import EW
 
 from ._base import MachineError
+from ._identity import CLASSES_16I
 from ._operations import PathOperations
 
 if TYPE_CHECKING:
@@ -53,7 +54,7 @@ __all__ = [
 #: The one drive of the simulated control: its program memory.
 DRIVE: Final = "CNC_MEM"
 #: Control classes that have no program folders (they answer EW_FUNC).
-FOLDERLESS_CLASSES: Final = frozenset({"16i", "18i", "21i", "0i-C"})
+FOLDERLESS_CLASSES: Final = CLASSES_16I
 #: Folders the control keeps for itself and the machine builder: always empty here.
 _SYSTEM_FOLDERS: Final = ("SYSTEM", "MTB1", "MTB2")
 #: Characters of a page, the unit of a drive's capacity and of sizes asked in pages.

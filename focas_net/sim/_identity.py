@@ -7,6 +7,7 @@ from dataclasses import dataclass
 from typing import Final
 
 __all__ = [
+    "CLASSES_16I",
     "CLASS_MAX_AXES",
     "CONTROL_CLASSES",
     "DEFAULT_CONTROL_CLASS",
@@ -24,6 +25,9 @@ __all__ = [
 #: class of control does (FANUC's native protocol: the 16i command set for 16i, 18i, 21i and
 #: 0i-C, the 30i set for 0i-D, 0i-F, 30i, 31i and 32i).
 CONTROL_CLASSES: Final = ("16i", "18i", "21i", "0i-C", "0i-D", "0i-F", "30i", "31i", "32i")
+#: The control classes of the 16i family (the others are of the 30i family): what they lack
+#: (program folders) and what they report (their software) is that family's.
+CLASSES_16I: Final = frozenset(CONTROL_CLASSES[:4])
 #: The most controlled axes a CNC of each class has, what its ODBSYS ``max_axis`` and its FOCAS/2
 #: open answer report: 32 for the 30i family and the 0i-D/0i-F built on it (a 0i-MF and a 0i-TF
 #: report ``max_axis`` 32 through ``cnc_sysinfo``, and FANUC's Ethernet header sizes every

@@ -21,6 +21,7 @@ from typing import TYPE_CHECKING, Final, Protocol
 from focas_net.errors import EW
 
 from ._base import MachineError
+from ._identity import CLASSES_16I
 from ._path import POSITION_DECIMALS
 from ._pmc import PMC_AREAS
 
@@ -106,7 +107,6 @@ _SOFTWARE: Final[dict[bool, tuple[tuple[str, str, str], ...]]] = {
     True: (("boot", "60W3", "0005"), ("servo", "90J0", "0014"), ("pmc", "406A", "0003")),
     False: (("boot", "60M5", "0010"), ("servo", "90D0", "0030"), ("pmc", "40A0", "0008")),
 }
-_CLASSES_16I: Final = frozenset({"16i", "18i", "21i", "0i-C"})
 _TITLE_WIDTH: Final = 32
 
 
@@ -149,7 +149,7 @@ class InformationOperations:
         program number and edition)."""
         identity = self.identity()
         own = SoftwareVersion("cnc", identity.series, identity.version)
-        others = _SOFTWARE[self.control_class in _CLASSES_16I]
+        others = _SOFTWARE[self.control_class in CLASSES_16I]
         title = self.pmc_title()
         ladder = SoftwareVersion("ladder", title.program.rjust(4, "0"), title.edition.rjust(4, "0"))
         return (own, *(SoftwareVersion(*o) for o in others), ladder)
