@@ -67,3 +67,20 @@ async def test_a_failed_save_sends_no_answer(tmp_path: Path) -> None:
         async with FocasClient(served.host, served.port, timeout=2.0) as cnc:
             with pytest.raises((FocasError, OSError)):  # aborted: never acknowledged
                 await cnc.write_macro(540, 1)
+
+
+async def test_a_half_closed_connection_gets_every_held_answer(tmp_path: Path) -> None:
+    from focas_net.protocol import Command, encode_frame
+
+    state = StateFile(tmp_path / "m.state")
+    machine = state.load(default_machine)
+    async with serving(machine, durable=lambda: state.save(machine)) as served:
+        async with await served.connect() as wire:
+            count = 50
+            wire.send_raw(b"".join(encode_frame(Command.RDCNCSTAT, i) for i in range(count)))
+            wire.writer.write_eof()
+            ids = []
+            with pytest.raises(EOFError):
+                for _ in range(count + 1):
+                    ids.append((await wire.recv()).request_id)
+        assert ids == list(range(count))

@@ -297,3 +297,21 @@ def test_a_two_path_machine_keeps_each_paths_offsets_and_programs(tmp_path: Path
     assert 777 in [p.number for p in again.path_programs(2).directory()]
     assert 777 not in [p.number for p in again.path_programs(1).directory()]
     assert encode_state(again) == encode_state(m)
+
+
+def test_the_timers_and_the_integrating_meter_are_kept(tmp_path: Path) -> None:
+    from focas_net.sim.nc import ManualClock
+
+    clock = ManualClock()
+    m = default_machine(sim_clock=clock)
+    m.set_panel(mode=MDI, pwe=1)
+    s = m.new_session()
+    m.write_param(s, 6752, 0, 90)  # operating time: 90 minutes
+    m.write_param(s, 6756, 0, 7)  # the integrating meter: 7 minutes
+    clock.advance(125.0)  # the power-on time runs
+    path = tmp_path / "m.state"
+    StateFile(path).save(m)
+    again = StateFile(path).load(lambda: default_machine(sim_clock=ManualClock()))
+    assert again.timer_ms(1) == m.timer_ms(1) // 1000 * 1000
+    assert again.timer_ms(4) == 7 * 60_000
+    assert again.timer_ms(0) == 125_000  # the power-on time integrates over power cycles

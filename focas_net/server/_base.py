@@ -250,6 +250,10 @@ class BaseConnection(Received, asyncio.Protocol, Generic[F]):
         # The peer sends nothing more. Requests already received are answered (delayed
         # answers when due) and flushed, then the connection closes.
         if self._backlog is None and not self._delayed:
+            transport = self._transport
+            if transport is not None and getattr(transport, "holding", False):
+                transport.close()  # held until durable (serve --state): closes once sent
+                return True
             return False  # the transport closes itself after flushing
         self._closing = True
         return True  # closed by _work_backlog / _send_delayed once everything is answered

@@ -86,6 +86,11 @@ class HeldTransport:
     def __getattr__(self, name: str) -> Any:
         return getattr(self._base, name)
 
+    @property
+    def holding(self) -> bool:
+        """Whether answers are held (the end of the turn will send them)."""
+        return bool(self._chunks)
+
     def write(self, data: bytes | bytearray | memoryview) -> None:
         if self._close:
             return

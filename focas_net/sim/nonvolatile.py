@@ -10,7 +10,8 @@ Kept (the nonvolatile memory):
 
 * every parameter value (path-type parameters per path), the parts counts (parameters
   6711/6712 and the engine's counters) and the run-time timers (power-on, operating, cutting:
-  parameters 6750-6754, as integrating meters);
+  parameters 6750-6754, and the general-purpose integrating meter 6755/6756), in whole
+  seconds;
 * the common variables #500-#999;
 * each path's part programs and its main (selected) program;
 * the alarm history, and how far the CNC's clock was set (``cnc_settimer``);
@@ -44,6 +45,7 @@ from ._alarms import HistoryEntry
 from ._base import MachineError
 from ._items import PARTS_COUNT, PARTS_TOTAL
 from ._macros import macro_value
+from ._signals import METER
 from ._tools import LifeTool, ToolGroup
 
 if TYPE_CHECKING:
@@ -151,6 +153,7 @@ def capture(m: Machine) -> JSON:
                 "main": store.main,
                 "parts": [p.engine.parts_count, p.engine.parts_total],
                 "timers": [m.timer_ms(kind, path=p.number) // 1000 * 1000 for kind in KEPT_TIMERS],
+                "meter": m.timer_ms(METER, path=p.number) // 1000 * 1000,
                 "tool_offsets": sorted([n, t, v] for (n, t), v in tools.offsets._values.items()),
                 "work_offsets": [list(row) for row in p.engine.work_offsets],
                 "tool_groups": [
@@ -284,6 +287,10 @@ def _restore_path(m: Machine, number: int, data: Mapping[str, Any]) -> None:
     for kind, ms in zip(KEPT_TIMERS, _ints(data["timers"], f"path {number} timers"), strict=True):
         base = p.timer(kind)
         m._collected.shifts[(number, kind)] = (ms / 1000 - base, base)
+    (meter,) = _ints([data.get("meter", 0)], f"path {number} meter")  # none before the meter
+    if meter < 0:
+        raise StateMismatch(f"path {number}: meter {meter}")
+    m._collected.meters[number] = (meter / 1000, None)  # TMRON (G53.0) is 0 at power-on
     tools = m._tools[number]
     offsets = tools.offsets
     for n, t in list(offsets._values):
