@@ -1,9 +1,13 @@
-"""Words for a value typed that does not fit, shared by the machine and the clients so that
-every front end refuses it alike (it knows no protocol and no machine)."""
+"""What a user types, read alike by every front end (it knows no protocol and no machine):
+the words for a macro value that does not fit (the machine and the clients), a program number
+(the command line and the page)."""
 
 from __future__ import annotations
 
-__all__ = ["macro_unfit"]
+__all__ = ["macro_unfit", "program_number"]
+
+#: The most O-numbers a program number has (O1 .. O99999999).
+_MAX_PROGRAM: int = 99_999_999
 
 
 def macro_unfit(value: object) -> str:
@@ -12,3 +16,15 @@ def macro_unfit(value: object) -> str:
         f"{value} does not fit a macro variable: give at most 9 decimals and at most 10 digits, "
         "which without the decimal point stay within 32 bits (-2147483648..2147483647)"
     )
+
+
+def program_number(typed: object) -> int:
+    """The O-number typed as the command line and the page take it: ``O1000``, ``o1000`` or
+    ``1000`` (ASCII digits, 1..99999999), or a whole number; ValueError naming what was
+    typed."""
+    if isinstance(typed, int) and not isinstance(typed, bool) and 1 <= typed <= _MAX_PROGRAM:
+        return typed
+    text = typed.strip().upper().removeprefix("O") if isinstance(typed, str) else ""
+    if not (text.isascii() and text.isdigit() and 1 <= int(text) <= _MAX_PROGRAM):
+        raise ValueError(f"{typed!r} is not a program number (e.g. O1000)")
+    return int(text)

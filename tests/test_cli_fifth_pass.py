@@ -6,6 +6,7 @@ Each test names what a user typed and what the command must say.
 
 from __future__ import annotations
 
+import re
 from pathlib import Path
 
 import pytest
@@ -15,6 +16,8 @@ from support import Served
 from focas_net.cli import EXIT_CNC, EXIT_OK, EXIT_USAGE
 from focas_net.protocol import FaultKind, FaultScope
 from focas_net.server.faults import fault_refusal
+from focas_net.sim import default_machine
+from focas_net.web.operations import ActionError, Station, perform
 
 
 def at(served: Served) -> list[str]:
@@ -186,3 +189,22 @@ async def test_a_path_the_cnc_has_not_is_named(
     assert "EW_PATH" in line and line.endswith(
         "; the CNC has no path 2 (--path names one of its paths; a CNC of one path has path 1)"
     ), line
+
+
+# -- a program number is read alike by the command line and the page (O1000, 1000; ASCII) --------
+
+
+@pytest.mark.parametrize("typed", ["\u0661", "O\u0661", "O", "0", "O123456789"])
+async def test_a_program_number_typed_wrong_is_refused(server: Served, typed: str) -> None:
+    line = await fails(EXIT_USAGE, "program", "select", typed, *at(server))
+    assert line == (f"focas-net: program select: {typed!r} is not a program number (e.g. O1000)"), (
+        line
+    )
+
+
+def test_the_page_reads_a_program_number_as_the_command_line() -> None:
+    station = Station(0, default_machine())
+    assert perform(station, "select_program", {"number": "O0001"}) == {"ok": True}
+    assert perform(station, "select_program", {"number": 1}) == {"ok": True}
+    with pytest.raises(ActionError, match=re.escape("number: '\u0661' is not a program number")):
+        perform(station, "select_program", {"number": "\u0661"})

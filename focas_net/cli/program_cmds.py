@@ -9,6 +9,7 @@ import argparse
 from pathlib import Path
 from typing import Any, Final
 
+from focas_net._typed import program_number
 from focas_net.client import FocasClient
 
 from . import _format as fmt
@@ -29,10 +30,10 @@ def _number(action: str, target: str | None) -> int:
     what was typed."""
     if target is None:
         raise ValueError(f"program {action}: give the program number, e.g. O1000")
-    text = target.strip().upper().removeprefix("O")
-    if not text.isdigit() or not 1 <= int(text) <= 99_999_999:
-        raise ValueError(f"program {action}: {target!r} is not a program number (e.g. O1000)")
-    return int(text)
+    try:
+        return program_number(target)
+    except ValueError as exc:
+        raise ValueError(f"program {action}: {exc}") from None
 
 
 def _text_of(target: str | None) -> tuple[str, str]:

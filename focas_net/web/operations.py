@@ -23,6 +23,7 @@ from decimal import Decimal
 from typing import Any, Final
 
 from focas_net._bits import bits_of_text
+from focas_net._typed import program_number
 from focas_net.errors import EW, ew_name
 from focas_net.protocol import FaultKind, FaultScope, InjectFault, alarm_message
 from focas_net.server.faults import FaultQueue, fault_refusal, parse_inject
@@ -369,7 +370,11 @@ def _write_macro(station: Station, args: Mapping[str, Any]) -> JsonDict:
 
 def _select_program(station: Station, args: Mapping[str, Any]) -> JsonDict:
     path = _path(args)
-    station.machine.select_program(_int(args, "number"), path=path)
+    try:  # O1000 or 1000, as the command line reads it
+        number = program_number(args.get("number"))
+    except ValueError as exc:
+        raise ActionError(f"number: {exc}") from None
+    station.machine.select_program(number, path=path)
     station.trail_of(path).clear()
     return {}
 
