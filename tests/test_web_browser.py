@@ -576,12 +576,13 @@ async def test_number_boxes_take_ascii_digits_only_and_say_why(
             message = await page.text_of("message", holding(named), f"{typed} refused")
             assert message.startswith("raise_alarm refused: alm_no: ")
         assert machine.active_alarms() == []
-        await page.type("alarm-msg", "M" * 40)  # no box cuts what is typed
+        await page.type("alarm-msg", "M" * 40)  # the machine's rule: it keeps 32 characters
         await page.type("alarm-no", "1000")
         await page.click("alarm-raise")
-        message = await page.text_of("message", lambda t: "40 characters" in t, "40 characters")
-        assert "an alarm message holds 32" in message
-        assert machine.active_alarms() == []
+        message = await page.text_of("message", lambda t: "keeps 32" in t, "what was kept")
+        assert message.endswith(f"the CNC keeps 32 characters of a message: {'M' * 32!r}")
+        assert [a.msg for a in machine.active_alarms()] == ["M" * 32]
+        machine.clear_alarms()
         await page.call(
             lambda: Select(page.driver.find_element(By.ID, "fault-kind")).select_by_value("DELAY")
         )
