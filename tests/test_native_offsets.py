@@ -227,27 +227,39 @@ def test_the_length_offset_is_what_g43_applies() -> None:
 
 
 @pytest.mark.parametrize(
-    ("call", "ew"),
+    ("call", "ew", "words"),
     [
-        (lambda m: m.tool_offsets(0, 1, 0), EW.NUMBER),
-        (lambda m: m.tool_offsets(1, 11, 0), EW.NUMBER),
-        (lambda m: m.tool_offsets(2, 1, 0), EW.NUMBER),
-        (lambda m: m.tool_offsets(1, 1, 4), EW.ATTRIB),
-        (lambda m: m.write_tool_offset(1, 3, 1_000_000), EW.DATA),
-        (lambda m: m.work_offsets(7, 7, None), EW.NUMBER),
-        (lambda m: m.work_offsets(0, 0, 4), EW.ATTRIB),
-        (lambda m: m.write_work_offset(1, None, [1, 2]), EW.LENGTH),
-        (lambda m: m.write_work_offset(1, 1, [10**9]), EW.DATA),
-        (lambda m: m.tool_group(2), EW.NUMBER),
-        (lambda m: m.tool_group(17), EW.NUMBER),
-        (lambda m: m.set_tool_life_count(1, 3), EW.DATA),
-        (lambda m: m.tool_offsets(1, 1, 0, path=2), EW.PATH),
+        (lambda m: m.tool_offsets(0, 1, 0), EW.NUMBER, "tool offset number 0 is outside 1..10"),
+        (lambda m: m.tool_offsets(1, 11, 0), EW.NUMBER, "11 is outside 1..10"),
+        (lambda m: m.tool_offsets(2, 1, 0), EW.NUMBER, "1 is outside 2..10"),
+        (lambda m: m.tool_offsets(1, 1, 4), EW.ATTRIB, "type 4 is outside 0..3"),
+        (lambda m: m.tool_offsets("1", 1, 0), EW.NUMBER, "number '1' is outside"),
+        (lambda m: m.write_tool_offset(1, 3, 1_000_000), EW.DATA, "1000000 is outside"),
+        (lambda m: m.work_offsets(7, 7, None), EW.NUMBER, "work offset number 7"),
+        (lambda m: m.work_offsets(0, 0, 4), EW.ATTRIB, "axis 4 is outside 1..3"),
+        (lambda m: m.write_work_offset(1, None, [1, 2]), EW.LENGTH, "2 values for 3 axes"),
+        (lambda m: m.write_work_offset(1, 1, [10**9]), EW.DATA, "1000000000 is outside"),
+        (lambda m: m.write_work_offset(1, 1, [1.5]), EW.DATA, "1.5 is outside"),
+        (lambda m: m.tool_group(2), EW.NUMBER, "tool group 2"),
+        (lambda m: m.tool_group(17), EW.NUMBER, "tool group 17 is outside 1..16"),
+        (lambda m: m.group_tools(2, 1, 1), EW.NUMBER, "tool group 2"),
+        (lambda m: m.group_tools(1, 3, 3), EW.NUMBER, "group 1's tool 3 is outside 1..2"),
+        (lambda m: m.group_tools(1, 2, 1), EW.NUMBER, "group 1's last tool 1 is outside 2..2"),
+        (lambda m: m.set_tool_life_count(1, 3), EW.DATA, "count 3 is outside 0..2"),
+        (lambda m: m.tool_offsets(1, 1, 0, path=2), EW.PATH, "path 2"),
     ],
 )
-def test_the_machine_refuses(call: Any, ew: int) -> None:
-    with pytest.raises(MachineError) as info:
+def test_the_machine_refuses(call: Any, ew: int, words: str) -> None:
+    """Each refusal is the machine's, with its EW code and the value given in its words."""
+    with pytest.raises(MachineError, match=words) as info:
         call(_machine())
     assert info.value.ew == ew
+
+
+def test_a_groups_tools_by_index() -> None:
+    machine = _machine()
+    assert machine.group_tools(1, 1, 2) == machine.tool_group(1).tools
+    assert machine.group_tools(1, 2, 2) == machine.tool_group(1).tools[1:]
 
 
 def test_a_read_only_machine_refuses_writes() -> None:
@@ -440,6 +452,24 @@ def test_the_adapter_refuses_what_the_wire_cannot_carry() -> None:
     assert block.ew == EW.NUMBER  # group 1 has two tools
     (block,) = _blocks(adapter, ToolOffsetRequest(1, 1, 0).to_block(path=2))
     assert block.ew == EW.PATH
+
+
+def test_a_refused_write_of_several_numbers_changes_nothing() -> None:
+    machine = _machine()
+    adapter = NativeAdapter(machine)
+    before = machine.tool_offsets(1, 2, None)
+    write = ToolOffsetWriteRequest(1, 2, 1003, OffsetWrite((7, 1_000_000)))
+    (block,) = _blocks(adapter, write.to_block())
+    assert block.ew == EW.DATA  # the second value is past 999.999 mm
+    assert machine.tool_offsets(1, 2, None) == before
+    g54 = machine.work_offsets(1, 2, None)
+    zofs = WorkOffsetWriteRequest(1, 2, 1, OffsetWrite((5, 10**9)))
+    (block,) = _blocks(adapter, zofs.to_block())
+    assert block.ew == EW.DATA
+    assert machine.work_offsets(1, 2, None) == g54
+    (block,) = _blocks(adapter, WorkOffsetWriteRequest(1, 2, 1, OffsetWrite((5, 6))).to_block())
+    assert block.ew == 0
+    assert [row[0] for row in machine.work_offsets(1, 2, None)] == [5, 6]
 
 
 def test_each_path_answers_its_own_tools() -> None:

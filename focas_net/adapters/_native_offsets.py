@@ -96,8 +96,7 @@ class OffsetHandlers:
         self.machine.check_writable()
         if len(values) != len(numbers):
             raise Refused(EW.LENGTH)
-        for number, value in zip(numbers, values, strict=True):
-            self.machine.write_tool_offset(number, offset_type, value, path=path)
+        self.machine.write_tool_offsets(request.first, offset_type, values, path=path)
         return b""
 
     def read_tool_offset_info(self, block: RequestBlock, room: int, session: Session) -> bytes:
@@ -138,10 +137,9 @@ class OffsetHandlers:
         per = max(self.max_axis, axes) if every else 1
         if not numbers or len(values) != per * len(numbers):
             raise Refused(EW.LENGTH)
-        for i, number in enumerate(numbers):
-            row = values[i * per : i * per + (axes if every else 1)]
-            axis = None if every else request.axis
-            self.machine.write_work_offset(number, axis, row, path=path)
+        rows = [values[i * per : i * per + (axes if every else 1)] for i in range(len(numbers))]
+        axis = None if every else request.axis
+        self.machine.write_work_offsets(request.first, axis, rows, path=path)
         return b""
 
     # -- tool life -----------------------------------------------------------------------
@@ -175,11 +173,9 @@ class OffsetHandlers:
     def read_tool_numbers(self, block: RequestBlock, room: int, session: Session) -> bytes:
         """0x4D: tools ``first..last`` (indexes from 1) of a group: T, H, D and state."""
         request = ToolNumberRequest.from_block(block)
-        group = self.machine.tool_group(request.group, path=block_path(block))
-        if not 1 <= request.first <= request.last <= len(group.tools):
-            raise Refused(EW.NUMBER)
-        need_room(8 + ToolEntry.SIZE * (request.last - request.first + 1), room)
-        tools = group.tools[request.first - 1 : request.last]
+        path = block_path(block)
+        tools = self.machine.group_tools(request.group, request.first, request.last, path=path)
+        need_room(8 + ToolEntry.SIZE * len(tools), room)
         return ToolNumbers(
             request.group, request.first, tuple(ToolEntry(*t) for t in tools)
         ).encode()

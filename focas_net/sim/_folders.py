@@ -57,9 +57,8 @@ DRIVE: Final = "CNC_MEM"
 FOLDERLESS_CLASSES: Final = CLASSES_16I
 #: Folders the control keeps for itself and the machine builder: always empty here.
 _SYSTEM_FOLDERS: Final = ("SYSTEM", "MTB1", "MTB2")
-#: Characters of a page, the unit of a drive's capacity and of sizes asked in pages.
-PAGE: Final = 256
-#: Most characters a folder or file name carries on the wire (FANUC's 212/244/256 buffers).
+#: Most characters of a folder or file name, a full name (``//CNC_MEM/USER/PATH1/O0001``)
+#: included.
 MAX_NAME: Final = 255
 #: Foreground (1) and background (2) current folders.
 _KINDS: Final = (1, 2)

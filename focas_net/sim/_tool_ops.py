@@ -168,8 +168,20 @@ class ToolOperations:
     ) -> None:
         """Set one tool offset value (EW_PROT, EW_PATH, EW_NUMBER, EW_ATTRIB, EW_DATA); a
         machining centre's length is what G43/G44 applies from its next H."""
+        self.write_tool_offsets(number, offset_type, (value,), path=path)
+
+    def write_tool_offsets(
+        self, first: int, offset_type: int, values: Sequence[int], *, path: int = 1
+    ) -> None:
+        """Set tool offsets ``first``, ``first + 1``... of type ``offset_type``, one value
+        each: every number and value is checked before any is set (EW_PROT, EW_PATH,
+        EW_NUMBER, EW_ATTRIB, EW_DATA), so a refused write changes nothing."""
         self.check_writable()
-        self._tools_of(path).offsets.write(number, offset_type, value)
+        offsets = self._tools_of(path).offsets
+        for number, value in enumerate(values, first):
+            offsets.check_value(number, offset_type, value)
+        for number, value in enumerate(values, first):
+            offsets.write(number, offset_type, value)
         self._moved()
 
     # -- work zero offsets -----------------------------------------------------------------
@@ -190,15 +202,25 @@ class ToolOperations:
         or of axis ``axis`` (one value): EW_PROT, EW_PATH, EW_NUMBER, EW_ATTRIB, EW_LENGTH
         (a count of values that does not fit), EW_DATA (a value beyond 99999.999 mm). The
         program's work positions follow at once."""
+        self.write_work_offsets(number, axis, (values,), path=path)
+
+    def write_work_offsets(
+        self, first: int, axis: int | None, rows: Sequence[Sequence[int]], *, path: int = 1
+    ) -> None:
+        """Set work zero offsets ``first``, ``first + 1``..., one row of values each (as
+        :meth:`write_work_offset`): every row is checked before any is set, so a refused
+        write changes nothing."""
         self.check_writable()
-        (row,) = self._work_rows(number, number, path)
+        targets = self._work_rows(first, first + len(rows) - 1, path) if rows else []
         axes = self._axes(axis, path)
-        if len(values) != len(axes):
-            raise MachineError(EW.LENGTH, f"{len(values)} values for {len(axes)} axes")
-        for value in values:
-            _number(value, -MAX_WORK_OFFSET, MAX_WORK_OFFSET, "work offset", EW.DATA)
-        for a, value in zip(axes, values, strict=True):
-            row[a] = value / 1000
+        for values in rows:
+            if len(values) != len(axes):
+                raise MachineError(EW.LENGTH, f"{len(values)} values for {len(axes)} axes")
+            for value in values:
+                _number(value, -MAX_WORK_OFFSET, MAX_WORK_OFFSET, "work offset", EW.DATA)
+        for row, values in zip(targets, rows, strict=True):
+            for a, value in zip(axes, values, strict=True):
+                row[a] = value / 1000
         self._moved()
 
     def _work_rows(self, first: int, last: int, path: int) -> list[list[float]]:
@@ -252,6 +274,17 @@ class ToolOperations:
             group.current + 1,
             tuple((t.number, t.h, t.d, t.state) for t in group.tools),
         )
+
+    def group_tools(
+        self, number: int, first: int, last: int, *, path: int = 1
+    ) -> tuple[tuple[int, int, int, int], ...]:
+        """Tools ``first..last`` (1.., in the order the group uses them) of group ``number``,
+        each ``(T, H, D, state)``: the group's refusals, then EW_NUMBER for a tool the group
+        has not or ``last`` before ``first``."""
+        tools = self.tool_group(number, path=path).tools
+        _number(first, 1, len(tools), f"group {number}'s tool")
+        _number(last, first, len(tools), f"group {number}'s last tool")
+        return tools[first - 1 : last]
 
     def set_tool_life_count(self, number: int, count: int, *, path: int = 1) -> None:
         """Set the counter of group ``number``'s tool in use (EW_PROT, EW_PATH, EW_NUMBER,

@@ -124,12 +124,16 @@ class ToolOffsets:
         self.check(number, offset_type)
         return self._values.get((number, offset_type), 0)
 
-    def write(self, number: int, offset_type: int, value: int) -> None:
-        """Set one value (checks: :meth:`check`, then EW_DATA for a value out of range)."""
+    def check_value(self, number: int, offset_type: int, value: int) -> None:
+        """:meth:`check`, then EW_DATA for a value out of its type's range."""
         self.check(number, offset_type)
         high = MAX_TIP if self.types[offset_type] == "tip" else MAX_OFFSET
         low = 0 if high == MAX_TIP else -MAX_OFFSET
         _number(value, low, high, f"tool offset {number} {self.types[offset_type]}", EW.DATA)
+
+    def write(self, number: int, offset_type: int, value: int) -> None:
+        """Set one value (checks: :meth:`check_value`)."""
+        self.check_value(number, offset_type, value)
         if value:
             self._values[(number, offset_type)] = value
         else:
