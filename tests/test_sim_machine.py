@@ -414,13 +414,24 @@ def test_motion_state(m: Machine) -> None:
 # -- constructor validation ---------------------------------------------------------------------
 
 
+#: The rule an axis name is refused by, as a pattern.
+AXIS_RULE = (
+    r"an axis name is a capital letter A\.\.Z \(FANUC's parameter 1020\) and up to 3 capital "
+    r"letters or digits"
+)
+
+
 @pytest.mark.parametrize(
     ("kwargs", "words"),
     [
         ({"axes": []}, "1..20 axes"),
         ({"axes": [f"A{i}" for i in range(1, 22)]}, "a path has 1..20 axes, got 21$"),
         ({"axes": ["X", "X"]}, "axis 'X' is named twice"),
-        ({"axes": ["X", "Ä"]}, "axis name is 1..4 ASCII letters or digits, got 'Ä'"),
+        ({"axes": ["X", "Ä"]}, "got 'Ä'"),
+        ({"axes": ["x"]}, AXIS_RULE + ", got 'x'"),
+        ({"axes": ["1"]}, AXIS_RULE + ", got '1'"),
+        ({"axes": ["Xa"]}, "got 'Xa'"),
+        ({"axes": ["X12345"]}, "got 'X12345'"),
         ({"params": [DataItem(1, 3)]}, "width"),
         ({"params": [DataItem(1, 1, low=5, high=1)]}, "range"),
         ({"params": [DataItem(1, 1, low=0, high=300)]}, "range"),

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import re
 from collections.abc import Collection, Sequence
 from dataclasses import dataclass
 from typing import Final
@@ -106,12 +107,19 @@ def name_problem(name: str) -> str | None:
     return None if bad is None else f"{rule}: {bad!r} is not one"
 
 
+#: An axis name as FANUC's CNC has one: the letter of parameter 1020 (A..Z, 65..90), then up
+#: to three capital letters or digits (a subscript, parameter 3131, and extended names).
+_AXIS_NAME: Final = re.compile(r"[A-Z][A-Z0-9]{0,3}")
+
+
 def axis_name_problem(name: object, taken: Collection[object] = ()) -> str | None:
-    """What is wrong with ``name`` as an axis name (1..4 ASCII letters or digits, not one of
-    ``taken``), or None."""
-    if not (isinstance(name, str) and 1 <= len(name) <= 4 and name.isascii()
-            and name.isalnum()):  # fmt: skip
-        return f"an axis name is 1..4 ASCII letters or digits, got {name!r}"
+    """What is wrong with ``name`` as an axis name (a capital letter and up to 3 capital
+    letters or digits, not one of ``taken``), or None."""
+    if not (isinstance(name, str) and _AXIS_NAME.fullmatch(name)):
+        return (
+            "an axis name is a capital letter A..Z (FANUC's parameter 1020) and up to 3 "
+            f"capital letters or digits, got {name!r}"
+        )
     if name in taken:
         return f"axis {name!r} is named twice"
     return None
