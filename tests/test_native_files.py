@@ -187,6 +187,25 @@ def test_listing_answers_round_trip(rows: list[tuple[int, int, int, bytes]]) -> 
     assert SubfolderRecords.decode(SubfolderRecords(subs).encode()) == SubfolderRecords(subs)
 
 
+_TEXT = st.binary(max_size=12).map(lambda b: b.replace(b"\0", b"A"))
+
+
+@given(st.tuples(*[_I16] * 6), _I32, st.integers(0, 0xFFFF_FFFF), _TEXT, _TEXT)
+def test_file_info_round_trip(
+    date: tuple[int, int, int, int, int, int], size: int, attr: int, comment: bytes, o_time: bytes
+) -> None:
+    y, mo, d, h, mi, sec = date
+    info = FileInfo(y, mo, d, h, mi, sec, size, attr, comment, o_time)
+    assert len(info.encode()) == 84
+    assert FileInfo.decode(info.encode()) == info
+
+
+@given(_I16)
+def test_unnamed_requests_read_back(kind: int) -> None:
+    for request in (CurrentFolderRequest(kind), DriveListRequest(), MainFileRequest()):
+        assert type(request).from_block(request.to_block()) == request
+
+
 @given(_I32, _I32, _I32, _I32)
 def test_fixed_answers_round_trip(a: int, b: int, c: int, d: int) -> None:
     assert DriveInfo.decode(DriveInfo(a, b, c, d).encode()) == DriveInfo(a, b, c, d)

@@ -41,6 +41,7 @@ import hashlib
 import json
 import os
 from collections.abc import Callable, Iterable
+from concurrent.futures import ThreadPoolExecutor
 from pathlib import Path
 from typing import TYPE_CHECKING, Any, Final
 from urllib.parse import quote
@@ -80,6 +81,8 @@ UPGRADES: Final[dict[int, Callable[[dict[str, Any]], dict[str, Any]]]] = {
 }
 #: A journal longer than this (and than eight of its records) is compacted into one record.
 COMPACT_AT: Final = 1 << 20
+#: Threads that write and flush the files of the machines one turn changed.
+_FLUSH_THREADS: Final = 16
 _TEMP_SUFFIX: Final = ".tmp"
 _MAX_HEADER: Final = 200
 
@@ -283,6 +286,13 @@ class StateFile:
         ``"appended"`` when a record was appended (durable now), ``"replaced"`` when the
         file was replaced (durable once its folder is flushed: :func:`sync_folder`;
         :func:`save_all` flushes each folder once)."""
+        change = self.change(machine)
+        return None if change is None else self.commit(*change)
+
+    def change(self, machine: Machine) -> tuple[bytes, object] | None:
+        """What :meth:`commit` must write for ``machine`` (its new body and version
+        token), None when what it keeps has not changed (or the file is read-only). Reads
+        the machine: call it from the machine's thread."""
         if self.read_only:
             return None
         token = _token(machine)
@@ -293,9 +303,14 @@ class StateFile:
         if body == self._last:
             self._token = token
             return None
-        record = encode_record(body)
+        return body, token
+
+    def commit(self, body: bytes, token: object) -> str:
+        """Write ``body`` (from :meth:`change`): ``"appended"`` or ``"replaced"`` as
+        :meth:`stage` says. Touches this file only, so the commits of several files may run
+        in threads at once."""
         try:
-            done = self._put(record)
+            done = self._put(encode_record(body))
         except BaseException:
             self._replace = True  # a part of a record may be there: the next save replaces
             raise
@@ -350,21 +365,38 @@ def sync_folder(folder: Path) -> None:
 
 
 def save_all(states: Iterable[tuple[StateFile, Machine]]) -> int:
-    """Save every machine that changed (:meth:`StateFile.stage`), then flush once each
-    folder in which a file was replaced: the changes of many machines cost one flush each
-    (and one per folder when a file was created or compacted). Returns how many files were
-    written; all of them are durable when it returns."""
-    folders: set[Path] = set()
-    written = 0
-    for state, machine in states:
-        done = state.stage(machine)
-        if done is not None:
-            written += 1
-        if done == "replaced":
-            folders.add(state.path.parent)
+    """Save every machine that changed, then flush once each folder in which a file was
+    replaced. The files of several changed machines are written and flushed in threads at
+    once (a flush waits for the disk without holding the interpreter), so a turn that changed
+    many machines waits for about one flush, not one per machine. Returns how many files
+    were written; all of them are durable when it returns (OSError: the first failure, after
+    every write ended)."""
+    changes = [
+        (state, change)
+        for state, machine in states
+        if (change := state.change(machine)) is not None
+    ]
+    if len(changes) == 1:
+        state, (body, token) = changes[0]
+        done = [state.commit(body, token)]
+    else:
+        done = list(_pool().map(lambda c: c[0].commit(*c[1]), changes))
+    folders = {
+        state.path.parent for (state, _), d in zip(changes, done, strict=True) if d == "replaced"
+    }
     for folder in folders:
         sync_folder(folder)
-    return written
+    return len(changes)
+
+
+_POOL: list[ThreadPoolExecutor] = []
+
+
+def _pool() -> ThreadPoolExecutor:
+    """The threads :func:`save_all` writes several files with (made on first use)."""
+    if not _POOL:
+        _POOL.append(ThreadPoolExecutor(_FLUSH_THREADS, thread_name_prefix="focas-state"))
+    return _POOL[0]
 
 
 def _token(machine: Machine) -> tuple[int, ...]:
