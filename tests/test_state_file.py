@@ -11,7 +11,7 @@ from pathlib import Path
 
 import pytest
 
-from focas_net.sim import Machine, MachineError, default_machine
+from focas_net.sim import Machine, MachineError, MacroRange, default_machine
 from focas_net.sim.machine import MDI
 from focas_net.sim.statefile import (
     STATE_VERSION,
@@ -315,3 +315,19 @@ def test_the_timers_and_the_integrating_meter_are_kept(tmp_path: Path) -> None:
     assert again.timer_ms(1) == m.timer_ms(1) // 1000 * 1000
     assert again.timer_ms(4) == 7 * 60_000
     assert again.timer_ms(0) == 125_000  # the power-on time integrates over power cycles
+
+
+def test_a_variable_vacated_stays_vacant_whatever_the_machine_file_gives(tmp_path: Path) -> None:
+    def build() -> Machine:
+        return Machine(
+            "M",
+            macro_ranges=[MacroRange(500, 999)],
+            macro_values={500: 5, 501: 6},
+        )
+
+    m = build()
+    m.write_macro(500, None)
+    path = tmp_path / "m.state"
+    StateFile(path).save(m)
+    again = StateFile(path).load(build)
+    assert again.read_macro(500) is None and again.read_macro(501) == 6

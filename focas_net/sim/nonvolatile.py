@@ -223,6 +223,8 @@ def _restore_params(table: Mapping[int, Any], kept: Mapping[str, Any], m: Machin
 def _restore(m: Machine, kept: Mapping[str, Any]) -> None:
     _restore_params(m._items.params, kept["params"], m)
     macros = m._macros
+    for number in [n for n in macros.values if n in KEPT_MACROS]:
+        macros.write(number, None)  # a variable vacated since: vacant, whatever the file gives
     for key, text in kept["macros"].items():
         number = int(key)
         if number not in KEPT_MACROS or macros.range_of(number) is None:
