@@ -5,7 +5,7 @@ signals; the native codec of 0x45/0x46/0x5D, the adapter and the client."""
 from __future__ import annotations
 
 from collections.abc import Callable
-from datetime import UTC, date, datetime, time
+from datetime import UTC, date, datetime, time, timedelta
 from decimal import Decimal
 
 import pytest
@@ -62,14 +62,33 @@ def test_a_run_time_parameter_written_sets_its_timer() -> None:
     assert refused.value.ew == EW.DATA
 
 
-def test_the_data_counter_moves_with_the_power_on_minute() -> None:
+def test_the_data_counter_moves_with_the_power_on_minute_once_it_was_read() -> None:
     clock = ManualClock(0.0)
     m = _machine(clock)
+    before = m.read_param(6750, 0)
     seen = m.data_version
     clock.advance(30.0)
     assert m.data_version == seen
     clock.advance(30.0)
     assert m.data_version != seen
+    assert m.read_param(6750, 0) == before + 1
+
+
+def test_time_moves_no_counter_while_nothing_that_follows_it_was_read() -> None:
+    clock = ManualClock(0.0)
+    wall = [_WALL]
+    m = default_machine(sim_clock=clock, clock=lambda: wall[0])
+    data, macro = m.data_version, m.macro_version
+    m.read_param(1020, 1)
+    m.read_macro(500)
+    clock.advance(600.0)
+    wall[0] += timedelta(seconds=600)
+    assert (m.data_version, m.macro_version) == (data, macro)
+    hhmmss = m.read_macro(3012)  # from now on the macro counter follows the clock's second
+    assert m.macro_version == macro
+    wall[0] += timedelta(seconds=1)
+    assert m.macro_version != macro
+    assert m.read_macro(3012) == hhmmss + 1
 
 
 def test_clock_variables_and_setting_the_clock() -> None:

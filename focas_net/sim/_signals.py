@@ -204,7 +204,15 @@ class Collected:
     """The machine's state of what collectors read: the shifts the run-time parameters'
     writes set, and what the counters last saw of time (see :meth:`tick`)."""
 
-    __slots__ = ("data_seen", "macro_seen", "meters", "shifts", "status_seen")
+    __slots__ = (
+        "clock_followed",
+        "data_followed",
+        "data_seen",
+        "macro_seen",
+        "meters",
+        "shifts",
+        "status_seen",
+    )
 
     def __init__(self) -> None:
         #: (path, timer type) -> (seconds added to the machine's timer, its value then).
@@ -213,6 +221,12 @@ class Collected:
         self.meters: dict[int, tuple[float, float | None]] = {}
         self.data_seen: tuple[int, tuple[float, int] | None, int] | None = None
         self.macro_seen: tuple[int, ...] | None = None
+        #: Whether a figure that follows time (a run-time parameter, 410, 4901, 4902) was read
+        #: since the data counter last moved (``data_seen`` is what it depended on then):
+        #: until one is, time cannot make a kept answer stale, and nothing is checked.
+        self.data_followed = False
+        #: The same for the clock's variables (#3011, #3012) and the macro counter.
+        self.clock_followed = False
         self.status_seen = -1
 
     def shifted(self, path: int, kind: int, base: float) -> float:
@@ -281,6 +295,7 @@ class SignalOperations:
     def _timer_param(self, datano: int, item: DataItem, path: int) -> int:
         """The value of run-time parameter ``datano`` of ``path`` (held in ``item``'s range)."""
         kind, minutes = TIMER_PARAMS[datano]
+        self._follow_data()
         ms = math.floor(self.timer(kind, path=path) * 1000 + 1e-6)
         value = ms // _MS_PER_MINUTE if minutes else ms % _MS_PER_MINUTE
         assert item.low is not None and item.high is not None
@@ -330,6 +345,7 @@ class SignalOperations:
         """Diagnostic 4901 of ``axis`` (1..) of ``path``: watts from the servo load (the
         value held while the figures are set by hand)."""
         p = self._paths.at(path)
+        self._follow_data()
         if not p.driven:
             item, i = p.items.lookup(True, SERVO_POWER_DIAG, axis)
             return item.values[i]
@@ -347,6 +363,7 @@ class SignalOperations:
         spindles = self._paths.info(path).spindles
         if not 0 <= axis <= spindles:
             raise MachineError(EW.ATTRIB, f"diagnostic {datano}: spindle {axis} of {spindles}")
+        self._follow_data()
         if datano not in (SPINDLE_LOAD_DIAG, SPINDLE_POWER_DIAG) or not p.driven:
             return item.values[0]
         loads = p.production.spindle_loads()
@@ -355,11 +372,10 @@ class SignalOperations:
         assert item.low is not None and item.high is not None
         return max(item.low, min(item.high, value))
 
-    def _tick_data(self) -> None:
-        """Move the data counter when what follows time may read otherwise: the power-on
-        minute changed, or machine time moved while a path runs, a meter counts or a path's
-        figures (the loads of 410, 4901, 4902) are driven; or a path began or ceased to be
-        driven."""
+    def _data_stamp(self) -> tuple[int, tuple[float, int] | None, int]:
+        """What the figures that follow time depend on now: the power-on minute; machine time
+        while a path runs, a meter counts or a path's figures (the loads of 410, 4901, 4902)
+        are driven; which paths are driven."""
         paths = self._paths
         every = paths.all
         first = every[0]
@@ -374,19 +390,45 @@ class SignalOperations:
             moving = any(since is not None for _, since in c.meters.values())  # a meter counts
         minute = math.floor((now - first.powered_at) / 60)
         # the loads change with the figures as well as with time (a feed hold, a new mode)
-        stamp = (minute, (now, self._counters.motion) if moving else None, driven)
-        if stamp != c.data_seen:
-            c.data_seen = stamp
+        return (minute, (now, self._counters.motion) if moving else None, driven)
+
+    def _follow_data(self) -> None:
+        """A figure that follows time is being read: from now on the data counter follows
+        what it depends on (:meth:`_tick_data`)."""
+        c = self._collected
+        if not c.data_followed:
+            c.data_seen = self._data_stamp()
+            c.data_followed = True
+
+    def _tick_data(self) -> None:
+        """Move the data counter when what follows time may read otherwise than when it was
+        last read (:meth:`_data_stamp`). Only once such a figure was read since the counter
+        last moved (a kept answer can hold it): otherwise time changes nothing read, and
+        nothing is checked."""
+        c = self._collected
+        if c.data_followed and self._data_stamp() != c.data_seen:
+            c.data_followed = False
             self._counters.data += 1
 
-    def _tick_macro(self) -> None:
-        """Move the macro counter when the clock's second (#3011/#3012) changed (a setting of
-        the clock moves it itself)."""
+    def _clock_second(self) -> tuple[int, ...]:
+        """The CNC clock's second, as #3011/#3012 read it."""
         t = self._alarms.clock()
-        second = (t.second, t.minute, t.hour, t.day, t.month, t.year)
+        return (t.second, t.minute, t.hour, t.day, t.month, t.year)
+
+    def _follow_clock(self) -> None:
+        """#3011 or #3012 is being read: from now on the macro counter follows the clock's
+        second (:meth:`_tick_macro`)."""
         c = self._collected
-        if second != c.macro_seen:
-            c.macro_seen = second
+        if not c.clock_followed:
+            c.macro_seen = self._clock_second()
+            c.clock_followed = True
+
+    def _tick_macro(self) -> None:
+        """Move the macro counter when the clock's second changed since #3011/#3012 were read
+        (a setting of the clock moves it itself); nothing is checked until one is read."""
+        c = self._collected
+        if c.clock_followed and self._clock_second() != c.macro_seen:
+            c.clock_followed = False
             self._counters.macro += 1
 
     # -- signals ---------------------------------------------------------------------------

@@ -587,6 +587,7 @@ class Machine(
         p = self._paths.at(path)
         macros = self._macros
         if number in CLOCK_VARIABLES:
+            self._follow_clock()
             return Decimal(clock_variable(number, self.now()))
         if macros.range_of(number) is None:
             raise MachineError(EW.NUMBER, f"no macro variable #{number}")
