@@ -88,6 +88,7 @@ def test_time_moves_no_counter_while_nothing_that_follows_it_was_read() -> None:
     assert m.macro_version == macro
     wall[0] += timedelta(seconds=1)
     assert m.macro_version != macro
+    assert hhmmss is not None
     assert m.read_macro(3012) == hhmmss + 1
 
 
