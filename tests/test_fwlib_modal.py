@@ -195,6 +195,8 @@ async def test_idle_and_running(set_name: str, tmp_path: Path) -> None:
         assert rc == 0 and raw[0] == 0x81  # G01, commanded
         rc, raw = await modal(cnc, 103)  # F
         assert rc == 0 and struct.unpack_from(AUX, raw) == (600, -128 | 3, 0)
+        # the next blocks (the MTConnect adapter's F and T): the state they start from
+        assert await modal(cnc, 103, 1) == await modal(cnc, 103, 2) == (rc, raw)
         rc, raw = await modal(cnc, -2)
         entries = [struct.unpack_from(AUX, raw, 8 * i) for i in range(27)]
         assert entries[3][0] == 600 and entries[7][0] == 1200  # F (103), S (107)
@@ -231,8 +233,8 @@ async def test_what_the_library_and_the_control_refuse(set_name: str, tmp_path: 
         assert await cnc.call("cnc_rdopmsg", s16(1), s16(6 + 256), b) == 4  # EW_ATTRIB
         assert await cnc.call("cnc_rdopmsg", s16(0), s16(6 + 64), b) == 2  # EW_LENGTH
         assert (await modal(cnc, 127))[0] == 3  # EW_NUMBER
-        # the control's: a block read ahead, a group it has not, the one-shot table
-        assert (await modal(cnc, 1, 1))[0] == 3
+        # the control's: a block past the next two, a group it has not, the one-shot table
+        assert (await modal(cnc, 1, 3))[0] == 3
         assert (await modal(cnc, 22))[0] == 3
         assert (await modal(cnc, -4))[0] == 3
         assert (await modal(cnc, 203))[0] == 3  # an axis the path has not

@@ -364,7 +364,7 @@ def test_the_adapter_answers_idle_and_running(version: int) -> None:
 @pytest.mark.parametrize(
     "request_block",
     [
-        block(0x21, 0, 1),  # a block read ahead
+        block(0x21, 0, 3),  # no block 3
         block(0x21, 22, 0),  # no such group
         block(0x21, -2, 0),  # one-shot codes
         block(0x22, 14, 0),  # a slot of no address
@@ -461,9 +461,9 @@ async def test_the_client_reads_what_the_machine_holds(control: str, tmp_path: P
             assert await native.read_block_count() == 3
             pointer = await native.read_mdi_pointer()
             assert pointer.mdiprog == pointer.crntprog == 7
-            with pytest.raises(CncError) as refused:
-                await native.read_modal_groups(1, block=1)
-            assert refused.value.ew == EW.NUMBER
+            # the machine reads no block ahead: the next blocks start from this state
+            assert await native.read_modal_groups(1, block=1) == (ModalGroup(1, "G01", 1, True),)
+            assert await native.read_modal_values("F", block=2) == (values["F"],)
 
 
 async def test_the_client_checks_its_arguments_first() -> None:

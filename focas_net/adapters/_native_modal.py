@@ -9,8 +9,10 @@ and :meth:`~focas_net.sim.Machine.operator_messages`, which follow the running p
 Rules of these commands (this project's, where FANUC's are not known; see the protocol
 document):
 
-* only the executing block is kept: ``block`` 0; 1 and 2 (the blocks read ahead), or any
-  other, answer EW_NUMBER, as does a group, an address slot or an axis the control has not;
+* the machine reads no block ahead of the one it executes, so ``block`` 1 and 2 (the next
+  blocks, which collectors such as the MTConnect adapter ask for the modal F and T) answer
+  what ``block`` 0 answers: the modal state the next blocks start from. Any other ``block``
+  answers EW_NUMBER, as does a group, an address slot or an axis the control has not;
 * ``cnc_modal``'s one-shot codes (0x21 -2, -3 and 100..) answer EW_NUMBER: FANUC's table of
   the one-shot group is not known; ``cnc_rdgcode`` type -2 gives the one-shot code as text;
 * operator messages: FANUC's library reads type 0 only with ``cnc_rdopmsg`` and
@@ -67,8 +69,12 @@ _KEPT: Final = 64
 _COMMANDED: Final = "BDEFHMNOST"
 
 
+#: The blocks a modal read names: 0 the executing one, 1 and 2 the next ones (answered alike).
+_BLOCKS: Final = range(3)
+
+
 def _check_block(block: int) -> None:
-    if block != 0:
+    if block not in _BLOCKS:
         raise Refused(EW.NUMBER)
 
 

@@ -118,7 +118,8 @@ class NativeModal(NativeLink):
         timeout: float | None = None,
     ) -> tuple[ModalGroup, ...]:
         """``cnc_modal`` of the G codes: every group (``group`` None, type -1) or FANUC group
-        ``group`` (1..22), of the executing block (``block`` 0) or one read ahead (1, 2)."""
+        ``group`` (1..22), of the executing block (``block`` 0) or the next ones (1, 2:
+        the simulated machine reads no block ahead, so they answer as the executing one)."""
         kind = -1 if group is None else check_int("group", group, 1, MODAL_GROUPS) - 1
         b = _check_block(block)
         p = self._path_of(path)
