@@ -22,8 +22,8 @@ from focas_net.errors import EW
 
 from ._base import MachineError
 from ._identity import CLASSES_16I
-from ._path import POSITION_DECIMALS
 from ._pmc import PMC_AREAS
+from ._status import POSITION_DECIMALS
 
 if TYPE_CHECKING:
     from ._identity import Identity

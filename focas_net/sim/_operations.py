@@ -13,7 +13,6 @@ import math
 from collections.abc import Callable, Iterable
 from contextlib import AbstractContextManager
 
-from ._path import MotionData
 from ._paths import Paths
 from ._signals import METER, Collected
 from ._spindles import (
@@ -23,6 +22,7 @@ from ._spindles import (
     servo_motor_speeds,
     spindle_states,
 )
+from ._status import MotionData
 from .nc import ProgramInfo, SimClock
 from .nc.scenario import DEFAULT_SCENARIO, Scenario
 

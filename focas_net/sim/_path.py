@@ -36,6 +36,19 @@ from ._macros import Macros, float_macro, macro_value
 from ._paths import PATH_MACROS, PathItems
 from ._pmc import GRequest, Pmc
 from ._production import Production
+from ._status import (
+    AUT_MODES,
+    EDIT,
+    MEM,
+    MODE_NAMES,
+    POSITION_DECIMALS,
+    POSITION_KINDS,
+    TIMER_KINDS,
+    MotionData,
+    Panel,
+    Status,
+    mode_name,
+)
 from ._time import MachineTime
 from ._variables import PARTS_VARIABLES, PathVariables
 from .nc import (
@@ -54,56 +67,12 @@ from .nc.alarms import AlarmRaised
 from .nc.waits import PathSync
 
 __all__ = [
-    "AUT_MODES",
-    "EDIT",
     "ENGINE_VARIABLES",
-    "MDI",
-    "MEM",
-    "MODE_NAMES",
     "PARTS_VARIABLES",
-    "POSITION_DECIMALS",
-    "POSITION_KINDS",
-    "TIMER_KINDS",
-    "MotionData",
-    "Panel",
     "Path",
     "Shared",
-    "Status",
-    "mode_name",
 ]
 
-#: The panel's modes by name (``aut`` values of ``cnc_statinfo``: 6 and 7 are teach-in JOG and
-#: HND; 2 is no mode).
-MODE_NAMES: Final[dict[str, int]] = {
-    "MDI": 0,
-    "MEM": 1,
-    "EDIT": 3,
-    "HND": 4,
-    "JOG": 5,
-    "TJOG": 6,
-    "THND": 7,
-    "INC": 8,
-    "REF": 9,
-    "RMT": 10,
-}
-#: The ``aut`` values a panel selects.
-AUT_MODES: Final = frozenset(MODE_NAMES.values())
-
-
-def mode_name(aut: int) -> str:
-    """The name of panel mode ``aut`` (``"EDIT"``), or its number when it has none."""
-    return next((name for name, value in MODE_NAMES.items() if value == aut), str(aut))
-
-
-MDI: Final = 0
-MEM: Final = 1
-EDIT: Final = 3
-#: Decimals of the least input increment of the positions (0.001 mm, IS-B).
-POSITION_DECIMALS: Final = 3
-#: The position kinds :meth:`Machine.positions` serves (``"skip"`` answers EW_NOOPT).
-POSITION_KINDS: Final = ("absolute", "machine", "relative", "distance_to_go")
-#: The timers :meth:`Machine.timer` reads, by FANUC's ``cnc_rdtimer`` type number.
-TIMER_KINDS: Final = ("power_on", "operating", "cutting", "cycle")
 #: System variables that come from the engine while it drives the figures: modal G codes
 #: #4001-#4030, the last block's codes #4102-#4130, positions #5001-#5043.
 ENGINE_VARIABLES: Final = (range(4001, 4031), range(4102, 4131), range(5001, 5044))
@@ -139,52 +108,6 @@ _PROGRAM_EW: Final = {
     ProgramErrorReason.NO_SPACE: EW.OVRFLOW,
     ProgramErrorReason.TOO_MANY: EW.OVRFLOW,
 }
-
-
-@dataclass(frozen=True, slots=True)
-class Status:
-    """The status of the CNC (FANUC's ODBST fields), derived from the panel and the alarms."""
-
-    hdck: int
-    tmmode: int
-    aut: int
-    run: int
-    motion: int
-    mstb: int
-    emergency: int
-    alarm: int
-    edit: int
-
-
-@dataclass(slots=True)
-class Panel:
-    """The operator panel and the run state shown by the status."""
-
-    mode: int = MEM
-    pwe: int = 0
-    emergency: int = 0
-    run: int = 0
-    motion: int = 0
-    mstb: int = 0
-    edit: int = 0
-    hdck: int = 0
-    tmmode: int = 0
-
-
-@dataclass(slots=True)
-class MotionData:
-    """Motion figures: positions per axis in least input increments (:data:`POSITION_DECIMALS`
-    decimals), actual feed, spindle speed, program numbers and the sequence number."""
-
-    absolute: list[int]
-    machine: list[int]
-    relative: list[int]
-    distance_to_go: list[int]
-    feed: int = 0
-    spindle_speed: int = 0
-    program_running: int = 0
-    program_main: int = 0
-    sequence: int = 0
 
 
 def _increments(values: Iterable[float]) -> list[int]:

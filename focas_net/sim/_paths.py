@@ -16,7 +16,7 @@ axis of the machine in path order, as FANUC numbers the controlled axes; the pat
 from __future__ import annotations
 
 import copy
-from collections.abc import Iterator, Sequence
+from collections.abc import Iterable, Iterator, Sequence
 from dataclasses import dataclass
 from typing import TYPE_CHECKING, Final
 
@@ -27,7 +27,9 @@ from ._identity import axes_problem
 from ._items import DataItem, Items, ParamKind
 
 if TYPE_CHECKING:
-    from ._path import MotionData, Panel, Path
+    from ._identity import Identity
+    from ._path import Path
+    from ._status import MotionData, Panel
     from .nc.scenario import Scenario
 
 __all__ = [
@@ -40,6 +42,7 @@ __all__ = [
     "PathItems",
     "PathSpec",
     "Paths",
+    "path_specs",
 ]
 
 #: The most paths a FANUC control has (Series 30i: 10).
@@ -290,3 +293,46 @@ class Paths:
         for p in self.all[1:]:
             p.sync()
             p.engine.parts_to_go = None
+
+
+def path_specs(
+    paths: Sequence[PathSpec] | None,
+    axes: Iterable[str] | None,
+    panel: Panel | None,
+    motion: MotionData | None,
+    programs: Iterable[str],
+    main_program: int | None,
+    identity: Identity | None,
+) -> list[PathSpec]:
+    """The machine's paths: ``paths``, or one path of the single-path arguments (ValueError
+    when both are given)."""
+    if paths is None:
+        kind = identity.mt_type.strip() if identity is not None else "M"
+        return [
+            PathSpec(
+                tuple(axes if axes is not None else ("X", "Y", "Z")),
+                kind=kind if kind in PATH_KINDS else "M",
+                programs=tuple(programs),
+                main_program=main_program,
+                panel=panel,
+                motion=motion,
+            )
+        ]
+    given = [
+        what
+        for what, value in (
+            ("axes", axes),
+            ("panel", panel),
+            ("motion", motion),
+            ("main_program", main_program),
+        )
+        if value is not None
+    ]
+    programs = tuple(programs)
+    if programs:
+        given.append("programs")
+    if given:
+        raise ValueError(f"{', '.join(given)} given with paths: each path has its own")
+    if not 1 <= len(paths) <= MAX_PATHS:
+        raise ValueError(f"a machine has 1..{MAX_PATHS} paths, got {len(paths)}")
+    return list(paths)

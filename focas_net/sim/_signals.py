@@ -53,9 +53,9 @@ from ._pmc import PATH_SIGNALS_STRIDE
 if TYPE_CHECKING:
     from ._alarms import Alarms
     from ._base import Counters
-    from ._path import Status
     from ._paths import Paths
     from ._pmc import Pmc
+    from ._status import Status
 
 __all__ = [
     "CLOCK_VARIABLES",

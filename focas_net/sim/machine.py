@@ -119,26 +119,9 @@ from ._items import PARTS_COUNT, PARTS_TOTAL, DataItem, Items, ParamKind
 from ._macros import MAX_MACRO_DECIMALS, MacroRange, Macros
 from ._modal import ModalOperations
 from ._password import ParamLock, Session
-from ._path import (
-    AUT_MODES,
-    ENGINE_VARIABLES,
-    MDI,
-    MEM,
-    MODE_NAMES,
-    PARTS_VARIABLES,
-    POSITION_DECIMALS,
-    POSITION_KINDS,
-    TIMER_KINDS,
-    MotionData,
-    Panel,
-    Path,
-    Shared,
-    Status,
-    mode_name,
-)
+from ._path import ENGINE_VARIABLES, PARTS_VARIABLES, Path, Shared
 from ._paths import (
     MAX_PATHS,
-    PATH_KINDS,
     PATH_PARAMS,
     SETTING_PARAMS,
     PathInfo,
@@ -147,6 +130,7 @@ from ._paths import (
     PathSpec,
     checked_specs,
     own_params,
+    path_specs,
 )
 from ._pmc import F_SIGNALS, G_SIGNALS, PMC_AREAS, Pmc, PmcAreaSpec
 from ._signals import (
@@ -160,6 +144,19 @@ from ._signals import (
     collected_params,
 )
 from ._station import Station
+from ._status import (
+    AUT_MODES,
+    MDI,
+    MEM,
+    MODE_NAMES,
+    POSITION_DECIMALS,
+    POSITION_KINDS,
+    TIMER_KINDS,
+    MotionData,
+    Panel,
+    Status,
+    mode_name,
+)
 from ._tool_ops import ToolOperations, build_tools
 from ._tools import ToolsSpec
 from .nc import Engine, ProgramStore, RealTimeClock, SimClock
@@ -247,7 +244,7 @@ class Machine(
         #: How the machine runs on its own when it is told to (:meth:`start_scenario`;
         #: ``serve`` starts it): a machine file's ``[run]``, None when it has none.
         self.scenario = scenario
-        specs = _path_specs(paths, axes, panel, motion, programs, main_program, identity)
+        specs = path_specs(paths, axes, panel, motion, programs, main_program, identity)
         #: Every axis of the machine, path by path.
         self.axes: list[str] = [a for spec in specs for a in spec.axes]
         infos = checked_specs(specs)
@@ -767,46 +764,3 @@ class Machine(
         for p in self._paths.all[1:]:
             put("path", p.number, *astuple(p.panel), *astuple(p.figures()))
         return h.hexdigest()
-
-
-def _path_specs(
-    paths: Sequence[PathSpec] | None,
-    axes: Iterable[str] | None,
-    panel: Panel | None,
-    motion: MotionData | None,
-    programs: Iterable[str],
-    main_program: int | None,
-    identity: Identity | None,
-) -> list[PathSpec]:
-    """The machine's paths: ``paths``, or one path of the single-path arguments (ValueError
-    when both are given)."""
-    if paths is None:
-        kind = identity.mt_type.strip() if identity is not None else "M"
-        return [
-            PathSpec(
-                tuple(axes if axes is not None else ("X", "Y", "Z")),
-                kind=kind if kind in PATH_KINDS else "M",
-                programs=tuple(programs),
-                main_program=main_program,
-                panel=panel,
-                motion=motion,
-            )
-        ]
-    given = [
-        what
-        for what, value in (
-            ("axes", axes),
-            ("panel", panel),
-            ("motion", motion),
-            ("main_program", main_program),
-        )
-        if value is not None
-    ]
-    programs = tuple(programs)
-    if programs:
-        given.append("programs")
-    if given:
-        raise ValueError(f"{', '.join(given)} given with paths: each path has its own")
-    if not 1 <= len(paths) <= MAX_PATHS:
-        raise ValueError(f"a machine has 1..{MAX_PATHS} paths, got {len(paths)}")
-    return list(paths)

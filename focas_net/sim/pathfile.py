@@ -16,8 +16,8 @@ from pathlib import Path
 from typing import Any, Final
 
 from ._identity import axes_problem, axis_name_problem
-from ._path import AUT_MODES, MODE_NAMES, MotionData, Panel
 from ._paths import MAX_PATHS, PATH_KINDS, PathSpec
+from ._status import AUT_MODES, MODE_NAMES, MotionData, Panel
 from .filecheck import _I32, _ascii, _bool, _Ctx, _int, _list, _only, _str, _table, _text
 from .nc import ProgramError, parse_program
 

@@ -1,0 +1,102 @@
+"""The words of a path's status: the panel's modes, the status (FANUC's ODBST), the panel,
+the motion figures and the position and timer kinds (what :mod:`._path` and the front ends'
+checks share)."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Final
+
+__all__ = [
+    "AUT_MODES",
+    "EDIT",
+    "MDI",
+    "MEM",
+    "MODE_NAMES",
+    "POSITION_DECIMALS",
+    "POSITION_KINDS",
+    "TIMER_KINDS",
+    "MotionData",
+    "Panel",
+    "Status",
+    "mode_name",
+]
+
+#: The panel's modes by name (``aut`` values of ``cnc_statinfo``: 6 and 7 are teach-in JOG and
+#: HND; 2 is no mode).
+MODE_NAMES: Final[dict[str, int]] = {
+    "MDI": 0,
+    "MEM": 1,
+    "EDIT": 3,
+    "HND": 4,
+    "JOG": 5,
+    "TJOG": 6,
+    "THND": 7,
+    "INC": 8,
+    "REF": 9,
+    "RMT": 10,
+}
+#: The ``aut`` values a panel selects.
+AUT_MODES: Final = frozenset(MODE_NAMES.values())
+
+
+def mode_name(aut: int) -> str:
+    """The name of panel mode ``aut`` (``"EDIT"``), or its number when it has none."""
+    return next((name for name, value in MODE_NAMES.items() if value == aut), str(aut))
+
+
+MDI: Final = 0
+MEM: Final = 1
+EDIT: Final = 3
+#: Decimals of the least input increment of the positions (0.001 mm, IS-B).
+POSITION_DECIMALS: Final = 3
+#: The position kinds :meth:`Machine.positions` serves (``"skip"`` answers EW_NOOPT).
+POSITION_KINDS: Final = ("absolute", "machine", "relative", "distance_to_go")
+#: The timers :meth:`Machine.timer` reads, by FANUC's ``cnc_rdtimer`` type number.
+TIMER_KINDS: Final = ("power_on", "operating", "cutting", "cycle")
+
+
+@dataclass(frozen=True, slots=True)
+class Status:
+    """The status of the CNC (FANUC's ODBST fields), derived from the panel and the alarms."""
+
+    hdck: int
+    tmmode: int
+    aut: int
+    run: int
+    motion: int
+    mstb: int
+    emergency: int
+    alarm: int
+    edit: int
+
+
+@dataclass(slots=True)
+class Panel:
+    """The operator panel and the run state shown by the status."""
+
+    mode: int = MEM
+    pwe: int = 0
+    emergency: int = 0
+    run: int = 0
+    motion: int = 0
+    mstb: int = 0
+    edit: int = 0
+    hdck: int = 0
+    tmmode: int = 0
+
+
+@dataclass(slots=True)
+class MotionData:
+    """Motion figures: positions per axis in least input increments (:data:`POSITION_DECIMALS`
+    decimals), actual feed, spindle speed, program numbers and the sequence number."""
+
+    absolute: list[int]
+    machine: list[int]
+    relative: list[int]
+    distance_to_go: list[int]
+    feed: int = 0
+    spindle_speed: int = 0
+    program_running: int = 0
+    program_main: int = 0
+    sequence: int = 0
