@@ -139,6 +139,19 @@ def test_overrides_and_g_signals_follow_each_other() -> None:
     assert m.read_pmc("G", 14, 1)[0] == 0x81
 
 
+def test_g12_all_zeros_is_no_feed_and_a_ladders_bytes_stay_as_written() -> None:
+    """FANUC's *FV0-*FV7: all 0s is 0 %, as all 1s; the CNC does not rewrite the ladder's G12
+    or G30 when they read as the override they set."""
+    m = _machine(ManualClock(0.0))
+    for written, feed in ((0, 0), (0xFF, 0), (1, 254), (0xFE, 1)):
+        m.write_pmc("G", 12, bytes([written]))
+        assert (m.overrides()[0], m.read_pmc("G", 12, 1)[0]) == (feed, written)
+    m.write_pmc("G", 30, bytes([0xFF]))  # above the highest spindle override
+    assert (m.overrides()[2], m.read_pmc("G", 30, 1)[0]) == (254, 0xFF)
+    m.set_overrides(30, 100, 60)  # the panel: the signals follow
+    assert (m.read_pmc("G", 12, 1)[0], m.read_pmc("G", 30, 1)[0]) == (0xFF - 30, 60)
+
+
 def test_g_signals_of_the_second_path_are_1000_bytes_on() -> None:
     from focas_net.sim import PmcAreaSpec
 

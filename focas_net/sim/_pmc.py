@@ -47,12 +47,23 @@ _SP: Final = (8, 5)  #: feed hold *SP, G8.5 (negative logic: its falling edge ho
 _ERS: Final = (8, 7)  #: external reset, G8.7
 _MD: Final = 43  #: mode select MD1 MD2 MD4 (G43.0-.2), DNCI (G43.5), ZRN (G43.7)
 _MD_BITS: Final = 0b1010_0111
-_FV: Final = 12  #: feed override *FV0-*FV7, G12 (negative logic: 255 - G12 percent)
+_FV: Final = 12  #: feed override *FV0-*FV7, G12 (negative logic: 255 - G12 percent; 0 is 0 %)
 _ROV: Final = 14  #: rapid traverse override ROV1 ROV2, G14.0-.1 (00 100 %, 01 50 %, 10 25 %, 11 F0)
 _SOV: Final = 30  #: spindle speed override SOV0-SOV7, G30 (the percent in binary)
 _MAX_FEED_OVERRIDE: Final = 254
 #: ROV2 ROV1 -> the rapid override in percent (F0, the slowest, as 0 %: no F0 rate is kept).
 _RAPID_OF_ROV: Final = (100, 50, 25, 0)
+
+
+def _feed_of_fv(fv: int) -> int:
+    """The feed override in percent of G12 (*FV0-*FV7): all 0s reads 0 %, as all 1s."""
+    return 0 if fv == 0 else 0xFF - fv
+
+
+def _spindle_of_sov(sov: int) -> int:
+    """The spindle override in percent of G30 (SOV0-SOV7), at most 254 %."""
+    return min(_MAX_FEED_OVERRIDE, sov)
+
 #: The G and F signals of path n are 1000 * (n - 1) bytes on (FANUC's multi-path PMC).
 PATH_SIGNALS_STRIDE: Final = 1000
 #: G43 (MD1 MD2 MD4, DNCI, ZRN) -> the panel mode (an ``aut`` value).
@@ -226,11 +237,11 @@ class Pmc:
         if changed(_MD):
             mode = _MODE_OF_G43.get(now(_MD) & _MD_BITS)
         if changed(_FV):
-            feed = min(_MAX_FEED_OVERRIDE, 0xFF - now(_FV))
+            feed = _feed_of_fv(now(_FV))
         if changed(_ROV) and (old(_ROV) or 0) & 3 != now(_ROV) & 3:
             rapid = _RAPID_OF_ROV[now(_ROV) & 3]
         if changed(_SOV):
-            spindle = min(_MAX_FEED_OVERRIDE, now(_SOV))
+            spindle = _spindle_of_sov(now(_SOV))
         start_edge = fell(*_ST) and bool(now(_SP[0]) >> _SP[1] & 1)
         return GRequest(rose(*_ERS), fell(*_SP), mode, feed, start_edge, rapid, spindle)
 
@@ -244,7 +255,12 @@ class Pmc:
             return
         g = area.data
         rov = next(i for i, step in enumerate(_RAPID_OF_ROV) if rapid >= step)
-        values = ((_FV, 0xFF - feed), (_ROV, g[base + _ROV] & ~3 | rov), (_SOV, spindle))
+        fv, sov = g[base + _FV], g[base + _SOV]  # kept while they read as the override
+        values = (
+            (_FV, fv if _feed_of_fv(fv) == feed else 0xFF - feed),
+            (_ROV, g[base + _ROV] & ~3 | rov),
+            (_SOV, sov if _spindle_of_sov(sov) == spindle else spindle),
+        )
         if any(g[base + a] != v for a, v in values):
             for address, value in values:
                 g[base + address] = value
