@@ -69,6 +69,19 @@ async def test_a_failed_save_sends_no_answer(tmp_path: Path) -> None:
                 await cnc.write_macro(540, 1)
 
 
+@pytest.mark.parametrize("error", [OSError(5, "Input/output error"), RuntimeError("broken")])
+async def test_a_save_failing_in_any_way_sends_no_answer_and_holds_none(
+    tmp_path: Path, error: Exception
+) -> None:
+    def fail() -> None:
+        raise error
+
+    async with serving(durable=fail) as served:
+        with pytest.raises((FocasError, OSError)):  # aborted at once (the open's answer too)
+            async with NativeClient(served.host, served.port, timeout=2.0) as cnc:
+                await cnc.write_macro(541, 1)
+
+
 async def test_a_half_closed_connection_gets_every_held_answer(tmp_path: Path) -> None:
     from focas_net.protocol import Command, encode_frame
 

@@ -13,6 +13,7 @@ import pytest
 
 from focas_net.sim import Machine, MachineError, MacroRange, default_machine
 from focas_net.sim.machine import MDI
+from focas_net.sim import statefile
 from focas_net.sim.statefile import (
     STATE_VERSION,
     StateError,
@@ -22,6 +23,7 @@ from focas_net.sim.statefile import (
     encode_body,
     encode_record,
     encode_state,
+    save_all,
     state_path,
 )
 
@@ -267,6 +269,28 @@ def test_a_failed_save_is_tried_again(tmp_path: Path, monkeypatch: pytest.Monkey
             state.save(m)
     assert state.save(m)  # not taken as saved: written now (the file replaced, whole)
     assert StateFile(path).load(default_machine).read_macro(509) == 2
+
+
+def test_a_file_whose_folder_was_not_flushed_is_replaced_at_the_next_save(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    files = [StateFile(tmp_path / f"m{i}.state") for i in range(2)]
+    states = [(state, state.load(default_machine)) for state in files]
+    for i, (_, m) in enumerate(states):
+        m.write_macro(510, i + 1)
+
+    def cannot(folder: Path) -> None:
+        raise OSError(5, "Input/output error")
+
+    with monkeypatch.context() as patched:
+        patched.setattr(statefile, "sync_folder", cannot)
+        with pytest.raises(OSError):
+            save_all(states)
+    writes = [state.writes for state, _ in states]
+    assert save_all(states) == 2  # unchanged since, but the renames were not durable
+    assert [state.writes for state, _ in states] == [w + 1 for w in writes]
+    for i, (state, _) in enumerate(states):
+        assert StateFile(state.path).load(default_machine).read_macro(510) == i + 1
 
 
 def test_a_two_path_machine_keeps_each_paths_offsets_and_programs(tmp_path: Path) -> None:

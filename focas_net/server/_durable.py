@@ -13,7 +13,7 @@ the save, during it (a record cut short is ignored at the next start, a replaced
 found old or new, whole), or after it and before the answer was sent. A write whose answer
 left is in the state.
 
-When the save fails (a full disk, a vanished directory), the held answers are not sent: their
+When the save fails (a full disk, a vanished directory, any error), the held answers are not sent: their
 connections are aborted, as a control that cannot keep a change does not acknowledge it.
 """
 
@@ -62,7 +62,7 @@ class Keeper:
         self.flushes += 1
         try:
             self._save()
-        except OSError as exc:
+        except Exception as exc:  # not only OSError: an answer is never sent unsaved nor held
             _log.error("cannot keep the machines' state (%s): the answers are not sent", exc)
             for transport in held:
                 transport.drop()

@@ -278,7 +278,11 @@ class StateFile:
         it wrote. The change is durable when this returns (see the module docstring)."""
         written = self.stage(machine)
         if written == "replaced":
-            sync_folder(self.path.parent)
+            try:
+                sync_folder(self.path.parent)
+            except OSError:
+                self.forget()
+                raise
         return written is not None
 
     def stage(self, machine: Machine) -> str | None:
@@ -317,6 +321,12 @@ class StateFile:
         self._last, self._token = body, token
         self.writes += 1
         return done
+
+    def forget(self) -> None:
+        """The last write may not be durable (its folder could not be flushed): the next save
+        replaces the file, whatever changed."""
+        self._replace = True
+        self._last = self._token = None
 
     def _put(self, record: bytes) -> str:
         if self._replace or self._size + len(record) > max(COMPACT_AT, 8 * len(record)):
@@ -370,22 +380,39 @@ def save_all(states: Iterable[tuple[StateFile, Machine]]) -> int:
     once (a flush waits for the disk without holding the interpreter), so a turn that changed
     many machines waits for about one flush, not one per machine. Returns how many files
     were written; all of them are durable when it returns (OSError: the first failure, after
-    every write ended)."""
+    every write ended; a file whose folder could not be flushed is replaced at the next
+    save)."""
     changes = [
         (state, change)
         for state, machine in states
         if (change := state.change(machine)) is not None
     ]
+    outcomes: list[str | Exception] = []
     if len(changes) == 1:
         state, (body, token) = changes[0]
-        done = [state.commit(body, token)]
+        try:
+            outcomes.append(state.commit(body, token))
+        except Exception as exc:
+            outcomes.append(exc)
     else:
-        done = list(_pool().map(lambda c: c[0].commit(*c[1]), changes))
-    folders = {
-        state.path.parent for (state, _), d in zip(changes, done, strict=True) if d == "replaced"
-    }
-    for folder in folders:
-        sync_folder(folder)
+        # every commit ends before this returns or raises (no thread writes a file after)
+        submitted = [_pool().submit(s.commit, *change) for s, change in changes]
+        for future in submitted:
+            try:
+                outcomes.append(future.result())
+            except Exception as exc:
+                outcomes.append(exc)
+    failure = next((o for o in outcomes if isinstance(o, Exception)), None)
+    replaced = [s for (s, _), o in zip(changes, outcomes, strict=True) if o == "replaced"]
+    try:
+        for folder in {s.path.parent for s in replaced}:
+            sync_folder(folder)
+    except OSError:
+        for state in replaced:
+            state.forget()  # the rename may not be durable: the next save replaces again
+        raise
+    if failure is not None:
+        raise failure
     return len(changes)
 
 
