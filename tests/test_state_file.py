@@ -176,6 +176,24 @@ def test_a_malformed_state_is_refused_whole(tmp_path: Path) -> None:
         default_machine().write_pmc("X", 0, b"\x01")  # the machine's own checks stay
 
 
+@pytest.mark.parametrize(
+    ("body", "match"),
+    [
+        (b'{"machine":"m","shape":[],"kept":{}}', "malformed"),
+        (b'{"machine":"m","shape":{},"kept":[]}', "malformed"),
+        (b'{"machine":"m","shape":{},"kept":{}}', "the control class: not in the state"),
+    ],
+)
+def test_a_state_of_no_shape_is_refused_in_one_short_line(
+    tmp_path: Path, body: bytes, match: str
+) -> None:
+    path = tmp_path / "m.state"
+    path.write_bytes(b"focas-net-state 2\n" + encode_record(body))
+    with pytest.raises(StateError, match=match) as raised:
+        StateFile(path).load(default_machine)
+    assert "\n" not in str(raised.value) and len(str(raised.value)) < 600
+
+
 def _format1(m: Machine) -> bytes:
     """``m``'s state as format 1 wrote it: one header line with the body's length and
     checksum, then the body."""

@@ -125,12 +125,22 @@ def shape_differences(kept: JSON, now: JSON, limit: int = 5) -> list[str]:
                 elif sub not in was:
                     found.append(f"{name} {sub}: in the machine, not in the state")
                 elif was[sub] != is_[sub]:
-                    found.append(f"{name} {sub}: {was[sub]} in the state, {is_[sub]} now")
+                    found.append(
+                        f"{name} {sub}: {_brief(was[sub])} in the state, {_brief(is_[sub])} now"
+                    )
+        elif was is None or is_ is None:
+            found.append(f"{name}: {'not in the state' if was is None else 'not in the machine'}")
         else:
-            found.append(f"{name}: {was} in the state, {is_} now")
+            found.append(f"{name}: {_brief(was)} in the state, {_brief(is_)} now")
     if len(found) > limit:
         found = [*found[:limit], f"and {len(found) - limit} more"]
     return found
+
+
+def _brief(value: object, room: int = 80) -> str:
+    """``value`` as text, cut to ``room`` characters (an error stays one readable line)."""
+    text = str(value)
+    return text if len(text) <= room else text[: room - 3] + "..."
 
 
 def _number_first(text: str) -> tuple[int, str]:

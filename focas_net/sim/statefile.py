@@ -151,7 +151,12 @@ def _scan(data: bytes, source: str) -> tuple[dict[str, Any], int, bool]:
         doc = json.loads(body)
     except (UnicodeDecodeError, json.JSONDecodeError) as exc:
         raise StateError(f"{source}: corrupted ({exc})") from None
-    if not isinstance(doc, dict) or not {"machine", "shape", "kept"} <= doc.keys():
+    if (
+        not isinstance(doc, dict)
+        or not {"machine", "shape", "kept"} <= doc.keys()
+        or not isinstance(doc["shape"], dict)
+        or not isinstance(doc["kept"], dict)
+    ):
         raise StateError(f"{source}: malformed (no machine, shape and kept data)")
     kept: dict[str, Any] = doc
     while version < STATE_VERSION:
