@@ -94,6 +94,29 @@ def test_a_state_of_another_machine_is_a_config_error(tmp_path: Path) -> None:
         _fleet.build_machines(_parse("--machine", str(machine), "--state", str(tmp_path)))
 
 
+def test_a_state_folder_that_cannot_be_written_is_refused_at_the_start(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    afile = tmp_path / "afile"
+    afile.write_text("")
+    with pytest.raises(ConfigError, match=r"^--state .*afile: Not a directory$"):
+        _fleet.build_machines(_parse("--state", str(afile)))
+    real_open = os.open
+
+    def read_only_disk(path: str | os.PathLike[str], flags: int, *mode: int) -> int:
+        if flags & os.O_CREAT:
+            raise OSError(30, "Read-only file system", str(path))
+        return real_open(path, flags, *mode)
+
+    with monkeypatch.context() as patched:
+        patched.setattr(os, "open", read_only_disk)  # root writes anywhere: a read-only disk
+        with pytest.raises(ConfigError, match=r"^--state .*: Read-only file system$"):
+            _fleet.build_machines(_parse("--state", str(tmp_path / "kept")))
+        assert _fleet.build_machines(_parse("--state", str(tmp_path), "--read-only"))
+    assert _fleet.build_machines(_parse("--state", str(tmp_path / "kept")))
+    assert [p.name for p in (tmp_path / "kept").iterdir()] == []  # the probe is gone
+
+
 def test_a_turn_of_a_fleet_costs_one_flush_a_changed_machine(
     tmp_path: Path, monkeypatch: pytest.MonkeyPatch
 ) -> None:

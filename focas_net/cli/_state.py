@@ -45,17 +45,20 @@ def load_state(
     """``machine`` (just built) with the kept data of its state file in ``directory`` put
     back, its state file appended to ``states`` (None: ``machine`` as it is); ValueError
     naming the file when it cannot be loaded (the machine is dropped then)."""
-    from focas_net.sim.statefile import StateError, StateFile, state_path
+    from focas_net.sim.statefile import StateError, StateFile, check_folder, state_path
 
     if directory is None:
         return machine
     state = StateFile(state_path(directory, machine.name), read_only=bool(args.read_only))
     try:
+        if not states and not args.read_only:
+            check_folder(directory)  # once, before the first machine: writable at all?
         machine = state.load(lambda: machine)
     except StateError as exc:
         raise ValueError(f"--state: {exc}") from None
     except OSError as exc:
-        raise ValueError(f"--state {directory}: {exc.strerror or exc}") from None
+        where = exc.filename if exc.filename is not None else directory
+        raise ValueError(f"--state {directory}: {where}: {exc.strerror or exc}") from None
     states.append((state, machine))
     return machine
 

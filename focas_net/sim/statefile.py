@@ -37,6 +37,7 @@ the body's length and checksum, then the body); its document is brought up to da
 from __future__ import annotations
 
 import contextlib
+import errno
 import hashlib
 import json
 import os
@@ -60,6 +61,7 @@ __all__ = [
     "StateError",
     "StateFile",
     "apply_state",
+    "check_folder",
     "decode_state",
     "encode_body",
     "encode_record",
@@ -368,6 +370,25 @@ def _write_all(fd: int, data: bytes) -> None:
     view = memoryview(data)
     while view:
         view = view[os.write(fd, view) :]
+
+
+def check_folder(folder: str | os.PathLike[str]) -> None:
+    """Make sure the state files can be written in ``folder`` (made if missing): a file is
+    created, flushed and removed there. OSError when it cannot be, so that a server is
+    refused at its start rather than unable to keep its first write."""
+    where = Path(folder)
+    if where.exists() and not where.is_dir():
+        raise NotADirectoryError(errno.ENOTDIR, os.strerror(errno.ENOTDIR), str(where))
+    where.mkdir(parents=True, exist_ok=True)
+    probe = where / f".focas-net-probe-{os.getpid()}{_TEMP_SUFFIX}"
+    fd = os.open(probe, os.O_WRONLY | os.O_CREAT | os.O_TRUNC, 0o644)
+    try:
+        _write_all(fd, _HEADER)
+        os.fsync(fd)
+    finally:
+        os.close(fd)
+        probe.unlink()
+    sync_folder(where)
 
 
 def sync_folder(folder: Path) -> None:
