@@ -11,9 +11,8 @@ from pathlib import Path
 
 import pytest
 
-from focas_net.sim import Machine, MachineError, MacroRange, default_machine
+from focas_net.sim import Machine, MachineError, MacroRange, default_machine, statefile
 from focas_net.sim.machine import MDI
-from focas_net.sim import statefile
 from focas_net.sim.statefile import (
     STATE_VERSION,
     StateError,

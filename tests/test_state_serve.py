@@ -161,7 +161,7 @@ async def test_a_change_without_an_answer_is_saved_within_a_second(tmp_path: Pat
     server = FocasServer(m, host="127.0.0.1", port=0, durable=saver(states))
     (path,) = [state.path for state, _ in states]
     async with server, keep_running(server, states, read_only=False):
-        m.write_macro(800, 8)  # as the web dashboard writes: no FOCAS answer waits for it
+        m.write_macro(800, 8)  # no answer waits for it (as a running machine counts)
 
         def kept() -> bool:
             return path.exists() and "800" in decode_state(path.read_bytes())["kept"]["macros"]

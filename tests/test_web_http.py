@@ -551,3 +551,31 @@ async def test_a_long_alarm_message_is_kept_as_the_machine_keeps_it() -> None:
             session, web, "raise_alarm", {**args, "alm_no": 1002, "msg": "OK"}
         )
         assert status == 200 and body["msg"] == "OK" and "note" not in body
+
+
+async def test_an_action_answers_once_its_change_is_kept(tmp_path: Any) -> None:
+    """``serve --state``: a page's write is in the state file before its answer; 503 when it
+    cannot be kept."""
+    from focas_net.sim.statefile import StateFile, decode_state, save_all
+
+    state = StateFile(tmp_path / "m.state")
+    m = state.load(default_machine)
+
+    def keep() -> bool:
+        try:
+            save_all([(state, m)])
+        except OSError:
+            return False
+        return True
+
+    async with FocasServer(m, host="127.0.0.1", port=0) as server:
+        async with Dashboard(stations_of(server), port=0, keep=keep) as web:
+            async with aiohttp.ClientSession() as session:
+                status, _ = await post(session, web, "write_macro", {"number": 520, "value": "7"})
+                kept = decode_state(state.path.read_bytes())["kept"]["macros"]
+                assert (status, kept.get("520")) == (200, "7")
+                web.keep = lambda: False
+                status, body = await post(
+                    session, web, "write_macro", {"number": 521, "value": "1"}
+                )
+                assert (status, body["ok"]) == (503, False)

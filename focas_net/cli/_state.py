@@ -18,9 +18,9 @@ if TYPE_CHECKING:
 
 __all__ = ["SAVE_INTERVAL", "Kept", "keep_running", "load_state", "saver", "state_folder_of"]
 
-#: Seconds between the saves of what changes without a FOCAS answer waiting for it (a running
-#: machine's parts counts and timers, the web dashboard's writes); a write a client makes is
-#: saved before its answer leaves.
+#: Seconds between the saves of what changes without an answer waiting for it (a running
+#: machine's parts counts and timers); a write a client or the web dashboard makes is saved
+#: before its answer leaves.
 SAVE_INTERVAL: Final = 1.0
 
 #: A machine and its state file.
@@ -80,9 +80,8 @@ async def keep_running(
     server: FocasServer, states: list[Kept], read_only: bool
 ) -> AsyncIterator[None]:
     """While the machines are served, save every :data:`SAVE_INTERVAL` seconds what changed
-    without a FOCAS answer to wait for it: what the machines running on their own did (their
-    parts and timers), what the web dashboard wrote (nothing without ``--state``, or
-    read-only)."""
+    without an answer to wait for it: what the machines running on their own did (their
+    parts and timers; nothing without ``--state``, or read-only)."""
     keeper = server.keeper
     running = [m for _, m in states if m.scenario_running]
     if keeper is None or read_only or not states:

@@ -537,7 +537,8 @@ async def _dashboard(
             f"{PROG} serve: warning: the web dashboard listens on {host}, beyond loopback, "
             "with no authentication\n"
         )
-    dashboard = Dashboard(stations_of(server), host=host, port=port, read_only=read_only)
+    keep = None if server.keeper is None or read_only else server.keeper.flush
+    dashboard = Dashboard(stations_of(server), host=host, port=port, read_only=read_only, keep=keep)
     try:
         await dashboard.start()
     except OSError as exc:

@@ -13,8 +13,8 @@ the save, during it (a record cut short is ignored at the next start, a replaced
 found old or new, whole), or after it and before the answer was sent. A write whose answer
 left is in the state.
 
-When the save fails (a full disk, a vanished directory, any error), the held answers are not sent: their
-connections are aborted, as a control that cannot keep a change does not acknowledge it.
+When the save fails (a full disk, a vanished directory, any error), the held answers are not
+sent: their connections are aborted, as a control that cannot keep a change does not acknowledge it.
 """
 
 from __future__ import annotations
@@ -54,9 +54,10 @@ class Keeper:
             self._scheduled = True
             asyncio.get_running_loop().call_soon(self.flush)
 
-    def flush(self) -> None:
+    def flush(self) -> bool:
         """Save, then release every held answer (abort their connections when the save
-        failed)."""
+        failed). Whether the save succeeded (a caller with an answer of its own to give, such
+        as the web dashboard's, gives it only then)."""
         self._scheduled = False
         held, self._held = self._held, []
         self.flushes += 1
@@ -66,9 +67,10 @@ class Keeper:
             _log.error("cannot keep the machines' state (%s): the answers are not sent", exc)
             for transport in held:
                 transport.drop()
-            return
+            return False
         for transport in held:
             transport.release()
+        return True
 
 
 class HeldTransport:

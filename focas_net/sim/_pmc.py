@@ -64,6 +64,7 @@ def _spindle_of_sov(sov: int) -> int:
     """The spindle override in percent of G30 (SOV0-SOV7), at most 254 %."""
     return min(_MAX_FEED_OVERRIDE, sov)
 
+
 #: The G and F signals of path n are 1000 * (n - 1) bytes on (FANUC's multi-path PMC).
 PATH_SIGNALS_STRIDE: Final = 1000
 #: G43 (MD1 MD2 MD4, DNCI, ZRN) -> the panel mode (an ``aut`` value).

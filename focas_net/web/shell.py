@@ -34,7 +34,7 @@ import asyncio
 import contextlib
 import json
 import logging
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 from pathlib import Path
 from typing import TYPE_CHECKING, Any, Final
 
@@ -103,6 +103,8 @@ class Dashboard:
     ``async with Dashboard(...) as d:`` starts it (:attr:`url` is then its address) and
     stops it: the broadcaster ends, open WebSockets are closed, the port is released.
     ``read_only`` disables the page's controls and refuses every action with ``EW_PROT``.
+    ``keep`` (``serve --state``: the server's keeper's ``flush``) makes an action's change
+    durable before its answer; when it returns False the action answers 503.
     Raises :class:`WebUnavailableError` on start when aiohttp is missing, OSError when the
     port cannot be bound."""
 
@@ -114,8 +116,10 @@ class Dashboard:
         port: int = 0,
         read_only: bool = False,
         interval: float = DEFAULT_INTERVAL,
+        keep: Callable[[], bool] | None = None,
     ) -> None:
         self.stations = list(stations)
+        self.keep = keep
         self.host = host
         self.port = port
         self.read_only = read_only
@@ -294,6 +298,8 @@ class Dashboard:
             status = 403 if exc.ew == EW.PROT and (self.read_only or s.machine.read_only) else 409
             return self._json(refusal(exc), status)
         _log.info("%s: page action %s %s", s.machine.name, action, args)
+        if self.keep is not None and not self.keep():
+            return self._json({"ok": False, "error": "the change could not be kept"}, 503)
         return self._json(result)
 
     def _topic(self, message: str) -> Topic | str:
