@@ -99,12 +99,14 @@ def test_clock_variables_and_setting_the_clock() -> None:
     m.set_cnc_time(23, 59, 1)
     assert (m.read_macro(3011), m.read_macro(3012)) == (Decimal(20300228), Decimal(235901))
     assert m.now() == datetime(2030, 2, 28, 23, 59, 1, tzinfo=UTC)
-    bads: list[Callable[[], None]] = [
-        lambda: m.set_cnc_date(2030, 2, 30),
-        lambda: m.set_cnc_time(24, 0, 0),
+    bads: list[tuple[Callable[[], None], str]] = [
+        (lambda: m.set_cnc_date(2030, 2, 30), "2030-02-30"),
+        (lambda: m.set_cnc_date(1986, 1, 1), "year 1986"),
+        (lambda: m.set_cnc_time(24, 0, 0), "24:00:00"),
+        (lambda: m.set_cnc_time(0, 0, -1), "00:00:-1"),
     ]
-    for bad in bads:
-        with pytest.raises(MachineError) as refused:
+    for bad, named in bads:
+        with pytest.raises(MachineError, match=named) as refused:
             bad()
         assert refused.value.ew == EW.DATA
     with pytest.raises(MachineError) as refused:
@@ -221,9 +223,22 @@ def test_panel_signals_round_trip(words: tuple[int, ...]) -> None:
     assert len(PanelSignals(*words).encode()) == 26
 
 
-def test_requests_decode_from_their_blocks() -> None:
-    assert ClockReadRequest.from_block(ClockReadRequest(1).to_block()) == ClockReadRequest(1)
-    assert PanelSignalsRequest.from_block(PanelSignalsRequest(5).to_block()).select == 5
+@given(st.integers(-0x8000_0000, 0x7FFF_FFFF), st.integers(-0x8000_0000, 0x7FFF_FFFF))
+def test_requests_decode_from_their_blocks(kind: int, select: int) -> None:
+    assert ClockReadRequest.from_block(ClockReadRequest(kind).to_block()) == ClockReadRequest(kind)
+    panel = PanelSignalsRequest(select)
+    assert PanelSignalsRequest.from_block(panel.to_block()) == panel
+
+
+def test_golden_answers() -> None:
+    # the words FANUC's library copies into IODBTIMER and IODBSGNL, big-endian i16
+    clock = ClockValue(2026, 12, 7, 4, 30, 15)
+    assert clock.encode() == bytes.fromhex("07ea000c00070004001e000f")
+    assert ClockValue.decode(bytes.fromhex("07ea000c00070004001e000f")) == clock
+    panel = PanelSignals(1, 0, 0, 1, 0, 8, 0, 0, 1, 0, 0, 0, 1)
+    golden = bytes.fromhex("0001" + "0000" * 2 + "0001" + "0000" + "0008" + "0000" * 2 + "0001")
+    golden += bytes.fromhex("0000" * 3 + "0001")
+    assert (panel.encode(), PanelSignals.decode(golden)) == (golden, panel)
 
 
 # -- the adapter and the client -----------------------------------------------------------------
@@ -245,6 +260,10 @@ async def test_native_client_reads_and_sets_the_clock_and_panel_signals() -> Non
         with pytest.raises(CncError) as refused:
             await native.write_date(date(2040, 1, 1))
         assert refused.value.ew == EW.DATA
+        with pytest.raises(TypeError, match="2031-05-06"):
+            await native.write_date("2031-05-06")  # type: ignore[arg-type]
+        with pytest.raises(TypeError, match="'07:08'"):
+            await native.write_time("07:08")  # type: ignore[arg-type]
         machine.set_overrides(80, 50, 100)
         signals = await native.read_panel_signals()
         assert (signals.mode, signals.rapid, signals.feed, signals.feed_hold) == (1, 1, 8, 0)

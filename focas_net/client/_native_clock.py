@@ -58,9 +58,12 @@ class NativeClock(NativeLink):
     ) -> None:
         """``cnc_settimer`` type 0: set the CNC's date (its time of day runs on).
 
+        :raises TypeError: ``day`` is no :class:`datetime.date` (naming what was given).
         :raises CncError: EW_PROT (a read-only machine), EW_DATA (a year the CNC's calendar
             does not have).
         """
+        if not isinstance(day, date):
+            raise TypeError(f"the date must be a datetime.date, got {day!r}")
         value = ClockValue(day.year, day.month, day.day, 0, 0, 0)
         await self._call(cnc_settimer(CLOCK_DATE, value), path, timeout)
 
@@ -69,8 +72,11 @@ class NativeClock(NativeLink):
     ) -> None:
         """``cnc_settimer`` type 1: set the CNC's time of day (whole seconds; its date stays).
 
+        :raises TypeError: ``moment`` is no :class:`datetime.time` (naming what was given).
         :raises CncError: EW_PROT (a read-only machine).
         """
+        if not isinstance(moment, time):
+            raise TypeError(f"the time of day must be a datetime.time, got {moment!r}")
         value = ClockValue(0, 0, 0, moment.hour, moment.minute, moment.second)
         await self._call(cnc_settimer(CLOCK_TIME, value), path, timeout)
 
