@@ -310,6 +310,16 @@ def test_a_file_whose_folder_was_not_flushed_is_replaced_at_the_next_save(
         assert StateFile(state.path).load(default_machine).read_macro(510) == i + 1
 
 
+def test_a_tool_life_count_set_is_saved(tmp_path: Path) -> None:
+    state = StateFile(tmp_path / "m.state")
+    m = state.load(default_machine)
+    state.save(m)
+    count = m.tool_group(1).count
+    m.set_tool_life_count(1, count + 2)
+    assert state.save(m)  # the change is seen, not taken for none
+    assert StateFile(state.path).load(default_machine).tool_group(1).count == count + 2
+
+
 def test_a_two_path_machine_keeps_each_paths_offsets_and_programs(tmp_path: Path) -> None:
     from focas_net.sim import LifeTool, PathSpec, ToolGroup, ToolsSpec
 

@@ -291,3 +291,4 @@ class ToolOperations:
         EW_DATA outside 0..life)."""
         self.check_writable()
         self._life(path).set_count(number, count)
+        self._counters.version += 1  # kept across power-off: the state file sees the change
