@@ -10,7 +10,7 @@ from __future__ import annotations
 import struct
 from decimal import Decimal
 from pathlib import Path
-from typing import Final
+from typing import Any, Final
 
 import pytest
 from fwlib_support import MACHINE_16I
@@ -265,7 +265,8 @@ def test_executing_path_round_trip(path: bytes) -> None:
     st.integers(0, 2),
 )
 def test_modal_requests_round_trip(kind: type[NativeRequest], first: int, block: int) -> None:
-    request = kind(first) if kind is OperatorMessageRequest else kind(first, block)
+    make: Any = kind
+    request = make(first) if kind is OperatorMessageRequest else make(first, block)
     assert type(request).from_block(request.to_block()) == request
 
 
