@@ -27,7 +27,7 @@ from focas_net.client import (
     NativeClient,
     OperatorMessageText,
 )
-from focas_net.errors import EW
+from focas_net.errors import EW, CncError
 from focas_net.native import (
     ActivePointer,
     BlockCounter,
@@ -542,6 +542,19 @@ async def test_the_client_checks_its_arguments_first() -> None:
             await native.read_modal_values(address)  # type: ignore[arg-type]
     with pytest.raises(ValueError, match="count"):
         await native.read_operator_messages(count=0)
+
+
+async def test_the_controls_refusal_names_what_was_asked() -> None:
+    async with serving(default_machine()) as served:
+        async with NativeClient(served.host, served.port, timeout=IO_TIMEOUT) as native:
+            # group type 19 (FANUC's group 20) and slot 14 (no address) the control has not
+            for read, detail in (
+                (native.read_g_codes(19), "cnc_rdgcode: type 19, block 0"),
+                (native.read_commands(14, block=1), "cnc_rdcommand: type 14, block 1"),
+            ):
+                with pytest.raises(CncError, match=detail) as refused:
+                    await read
+                assert refused.value.ew == EW.NUMBER
 
 
 def test_a_request_block_decodes_to_its_request() -> None:

@@ -12,9 +12,12 @@ checked here, in the caller's frame, as the library checks it.
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from dataclasses import dataclass
 from decimal import Decimal
-from typing import Final
+from typing import Any, Final
+
+from focas_net.errors import EW, CncError
 
 from ..native import (
     ADDRESS_SLOTS,
@@ -24,6 +27,7 @@ from ..native import (
     CommandRecords,
     ExecutingPath,
     GCodeRecords,
+    LibraryCall,
     MdiPointer,
     ModalAuxData,
     ModalGCodes,
@@ -107,6 +111,26 @@ def _messages(records: OperatorMessageRecords) -> tuple[OperatorMessageText, ...
 class NativeModal(NativeLink):
     """Modal data, operator messages and program pointers over FOCAS/2."""
 
+    async def _asked(
+        self,
+        asked: str,
+        call_of: Callable[..., LibraryCall],
+        path: int | None,
+        timeout: float | None,
+        *args: int,
+    ) -> Any:
+        """The answer of one call of one frame; the CNC's EW_NUMBER names what was ``asked``
+        (a group, an address or a type the control has not, or a block it does not read)."""
+        try:
+            return only_answer(*await self._only(call_of, path, timeout, *args))
+        except CncError as exc:
+            if exc.ew != EW.NUMBER:
+                raise
+            block = args[-1]
+            raise CncError.from_ew(
+                EW.NUMBER, f"{exc.detail or call_of.__name__}: {asked}, block {block}"
+            ) from None
+
     async def read_modal_groups(
         self,
         group: int | None = None,
@@ -120,7 +144,8 @@ class NativeModal(NativeLink):
         the simulated machine reads no block ahead, so they answer as the executing one)."""
         kind = -1 if group is None else check_int("group", group, 1, MODAL_GROUPS) - 1
         b = _check_block(block)
-        codes: ModalGCodes = only_answer(*await self._only(calls.cnc_modal, path, timeout, kind, b))
+        asked = "every group" if group is None else f"group {group}"
+        codes: ModalGCodes = await self._asked(asked, calls.cnc_modal, path, timeout, kind, b)
         first = 0 if kind == -1 else kind
         out = []
         for i, entry in enumerate(codes.records):
@@ -151,7 +176,8 @@ class NativeModal(NativeLink):
             if not isinstance(address, str) or len(address) != 1 or address not in _TYPE_ADDRESSES:
                 raise ValueError(f"address {address!r} is not one of {', '.join(_TYPE_ADDRESSES)}")
             kind = 100 + _TYPE_ADDRESSES.index(address)
-        data: ModalAuxData = only_answer(*await self._only(calls.cnc_modal, path, timeout, kind, b))
+        asked = "every address" if address is None else f"address {address}"
+        data: ModalAuxData = await self._asked(asked, calls.cnc_modal, path, timeout, kind, b)
         if address is not None:
             if not data.records:
                 return ()
@@ -177,8 +203,8 @@ class NativeModal(NativeLink):
         FANUC's group 01)."""
         k = check_int("type", kind, -2, MODAL_GROUPS - 1)
         b = _check_block(block)
-        records: GCodeRecords = only_answer(
-            *await self._only(calls.cnc_rdgcode, path, timeout, k, b)
+        records: GCodeRecords = await self._asked(
+            f"type {k}", calls.cnc_rdgcode, path, timeout, k, b
         )
         return tuple(GCode(r.group, r.code, bool(r.flag & 1)) for r in records.records)
 
@@ -194,8 +220,8 @@ class NativeModal(NativeLink):
         slot (A 0 .. Z 28)."""
         k = check_int("type", kind, -1, 28)
         b = _check_block(block)
-        records: CommandRecords = only_answer(
-            *await self._only(calls.cnc_rdcommand, path, timeout, k, b)
+        records: CommandRecords = await self._asked(
+            f"type {k}", calls.cnc_rdcommand, path, timeout, k, b
         )
         return tuple(
             CommandValue(r.address, Decimal(r.value).scaleb(-r.decimals), bool(r.flag & 1))
