@@ -15,6 +15,7 @@ from pathlib import Path
 from typing import Any
 
 import pytest
+from fwlib_support import Recorder, record_requests
 from hypothesis import settings
 from peers import ScriptedPeer
 from support import Served, Wire, serving
@@ -82,3 +83,9 @@ def certificate(tmp_path_factory: pytest.TempPathFactory) -> tuple[Path, Path]:
         check=True, capture_output=True, timeout=60,
     )  # fmt: skip
     return cert, key
+
+
+@pytest.fixture
+def recorder(monkeypatch: pytest.MonkeyPatch) -> Recorder:
+    """The request bodies the native adapters answer during the test, in order."""
+    return record_requests(monkeypatch)

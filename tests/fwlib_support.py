@@ -22,6 +22,7 @@ from typing import Any, TypeVar
 
 from support import IO_TIMEOUT, Served, serving
 
+from focas_net.adapters import NativeAdapter
 from focas_net.client import FocasClient
 from focas_net.server import FocasServer, NativeFront
 from focas_net.sim import DataItem, Machine, ParamKind, default_machine, load_machine
@@ -267,6 +268,33 @@ async def download(cnc: Cnc, data: bytes) -> int:
         rc = await cnc.call("cnc_download", ctypes.create_string_buffer(piece), s16(len(piece)))
         assert rc == 0, f"cnc_download returned {rc}"
     return await cnc.call("cnc_dwnend")
+
+
+class Recorder:
+    """The data-request bodies the native adapter was given, in order (the ``recorder``
+    fixture of conftest.py: :func:`record_requests`)."""
+
+    def __init__(self) -> None:
+        self.bodies: list[bytes] = []
+
+    def take(self) -> list[bytes]:
+        """The bodies recorded since the last take."""
+        taken, self.bodies = self.bodies, []
+        return taken
+
+
+def record_requests(monkeypatch: Any) -> Recorder:
+    """Have every native adapter record the request bodies it answers, until ``monkeypatch``
+    (a :class:`pytest.MonkeyPatch`) undoes it."""
+    rec = Recorder()
+    answer = NativeAdapter.answer
+
+    def recorded(self: NativeAdapter, body: bytes, session: Any = None) -> bytes:
+        rec.bodies.append(bytes(body))
+        return answer(self, body, session)
+
+    monkeypatch.setattr(NativeAdapter, "answer", recorded)
+    return rec
 
 
 @dataclass

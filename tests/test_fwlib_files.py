@@ -17,10 +17,9 @@ from contextlib import asynccontextmanager
 from typing import Any
 
 import pytest
-from fwlib_support import LIBRARY, MACHINE_16I, Cnc, buf, download, s16, served_cnc
+from fwlib_support import LIBRARY, MACHINE_16I, Cnc, Recorder, buf, download, s16, served_cnc
 from support import two_path_lathe
 
-import focas_net.adapters.native as native_adapter
 from focas_net.errors import EW
 from focas_net.native import (
     CommandSet,
@@ -140,30 +139,6 @@ class ODBPDFNFIL(ctypes.Structure):
 
 
 assert ctypes.sizeof(ODBPDFADIR) == 128 and ctypes.sizeof(ODBPDFPRG) == 84
-
-
-class Recorder:
-    """The data-request bodies the server was given, in order."""
-
-    def __init__(self) -> None:
-        self.bodies: list[bytes] = []
-
-    def take(self) -> list[bytes]:
-        out, self.bodies = self.bodies, []
-        return out
-
-
-@pytest.fixture
-def recorder(monkeypatch: pytest.MonkeyPatch) -> Recorder:
-    rec = Recorder()
-    answer = native_adapter.NativeAdapter.answer
-
-    def recording(self: Any, body: Any, session: Any = None) -> bytes:
-        rec.bodies.append(bytes(body))
-        return answer(self, body, session)
-
-    monkeypatch.setattr(native_adapter.NativeAdapter, "answer", recording)
-    return rec
 
 
 def build_machine(set_name: str, clock: ManualClock) -> Machine:

@@ -17,10 +17,9 @@ from decimal import Decimal
 from pathlib import Path
 
 import pytest
-from fwlib_support import LIBRARY, MACHINE_16I, Cnc, buf, s16, served_cnc
+from fwlib_support import LIBRARY, MACHINE_16I, Cnc, Recorder, buf, s16, served_cnc
 from support import IO_TIMEOUT
 
-from focas_net.adapters import native as native_adapter
 from focas_net.client.native import NativeClient
 from focas_net.native import CommandSet, ServoFigure, SpindleFigure, spindles
 from focas_net.native.calls import LibraryCall
@@ -43,26 +42,6 @@ ODBACT2 = struct.Struct("<hh8i")
 LOADELM = struct.Struct("<ihhcccc")
 #: The G signals of a ladder.
 G_AREA = "\n[pmc.G]\nsize = 768\n"
-
-
-class Recorder:
-    """The request bodies the server answered, in order."""
-
-    def __init__(self) -> None:
-        self.bodies: list[bytes] = []
-
-
-@pytest.fixture
-def recorder(monkeypatch: pytest.MonkeyPatch) -> Recorder:
-    rec = Recorder()
-    answer = native_adapter.NativeAdapter.answer
-
-    def recorded(self: native_adapter.NativeAdapter, body: bytes, session: object = None) -> bytes:
-        rec.bodies.append(bytes(body))
-        return answer(self, body, session)  # type: ignore[arg-type]
-
-    monkeypatch.setattr(native_adapter.NativeAdapter, "answer", recorded)
-    return rec
 
 
 @dataclass

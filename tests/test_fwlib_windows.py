@@ -37,10 +37,9 @@ from decimal import Decimal
 from pathlib import Path
 
 import pytest
-from fwlib_support import MACHINE_16I
+from fwlib_support import MACHINE_16I, Recorder
 from support import serving
 
-from focas_net.adapters import native as native_adapter
 from focas_net.sim import ExternalMessage, Machine, default_machine, load_machine
 from focas_net.sim.nc import ManualClock
 
@@ -244,30 +243,6 @@ def _request_text(body: bytes) -> bytes:
         return body
     data = body[DATA_AT:]
     return body[:DATA_AT] + data.split(b"\x00", 1)[0][: len(data) - 1]
-
-
-class Recorder:
-    """The request bodies the served machine answered, in order."""
-
-    def __init__(self) -> None:
-        self.bodies: list[bytes] = []
-
-    def take(self) -> list[bytes]:
-        taken, self.bodies = self.bodies, []
-        return taken
-
-
-@pytest.fixture
-def recorder(monkeypatch: pytest.MonkeyPatch) -> Recorder:
-    rec = Recorder()
-    answer = native_adapter.NativeAdapter.answer
-
-    def recorded(self: native_adapter.NativeAdapter, body: bytes, session: object = None) -> bytes:
-        rec.bodies.append(bytes(body))
-        return answer(self, body, session)  # type: ignore[arg-type]
-
-    monkeypatch.setattr(native_adapter.NativeAdapter, "answer", recorded)
-    return rec
 
 
 @pytest.mark.parametrize("running", [False, True], ids=["idle", "running"])

@@ -10,7 +10,7 @@ from __future__ import annotations
 import struct
 from decimal import Decimal
 from pathlib import Path
-from typing import Final
+from typing import Any, Final
 
 import pytest
 from fwlib_support import MACHINE_16I
@@ -33,18 +33,26 @@ from focas_net.native import (
     BlockCounter,
     CommandRecord,
     CommandRecords,
+    CommandRequest,
     CommandSet,
     ExecutingPath,
     GCodeRecord,
     GCodeRecords,
+    GCodeRequest,
     MdiPointer,
+    MdiPointerRequest,
     ModalAux,
     ModalAuxData,
+    ModalAuxRequest,
     ModalGCode,
     ModalGCodes,
+    ModalGRequest,
     NativePayloadError,
+    NativeRequest,
+    OperatorMessage3Request,
     OperatorMessageRecord,
     OperatorMessageRecords,
+    OperatorMessageRequest,
     RequestBlock,
     calls,
     decode_frame,
@@ -192,6 +200,8 @@ def test_pointer_records_golden() -> None:
     for size in (0, 255, 257):
         with pytest.raises(NativePayloadError):
             ExecutingPath.decode(bytes(size))
+    with pytest.raises(ValueError):
+        ExecutingPath(bytes(257)).encode()
 
 
 @given(st.integers(-(10**6), 10**6), st.integers(0, 3), st.booleans())
@@ -214,6 +224,57 @@ def test_operator_message_round_trip(number: int, kind: int, text: bytes) -> Non
     text = text.rstrip(b"\x00")
     record = OperatorMessageRecord(number, kind, len(text), text)
     assert OperatorMessageRecord.decode(record.encode()) == record
+
+
+_I32 = st.integers(-(2**31), 2**31 - 1)
+_I16 = st.integers(-(2**15), 2**15 - 1)
+
+
+@given(st.lists(st.integers(0, 255), max_size=22))
+def test_modal_g_round_trip(g_data: list[int]) -> None:
+    codes = ModalGCodes(tuple(ModalGCode(g) for g in g_data))
+    assert ModalGCodes.decode(codes.encode()) == codes
+
+
+@given(st.characters(min_codepoint=0x41, max_codepoint=0x5A), st.integers(0, 255), _I16, _I32, _I32)
+def test_command_record_round_trip(
+    address: str, number: int, flag: int, value: int, decimals: int
+) -> None:
+    record = CommandRecord(address, number, flag, value, decimals)
+    assert CommandRecords.decode(record.encode()).records == (record,)
+
+
+@given(_I32, _I32, _I32, _I32)
+def test_pointer_records_round_trip(a: int, b: int, c: int, d: int) -> None:
+    assert ActivePointer.decode(ActivePointer(a, b).encode()) == ActivePointer(a, b)
+    assert BlockCounter.decode(BlockCounter(c).encode()) == BlockCounter(c)
+    assert MdiPointer.decode(MdiPointer(a, b, c, d).encode()) == MdiPointer(a, b, c, d)
+
+
+@given(st.binary(max_size=256).map(lambda b: b.rstrip(b"\x00")))
+def test_executing_path_round_trip(path: bytes) -> None:
+    raw = ExecutingPath(path).encode()
+    assert len(raw) == 256 and ExecutingPath.decode(raw) == ExecutingPath(path)
+
+
+@given(
+    st.sampled_from(
+        [ModalGRequest, ModalAuxRequest, GCodeRequest, CommandRequest, OperatorMessageRequest]
+    ),
+    _I32,
+    st.integers(0, 2),
+)
+def test_modal_requests_round_trip(kind: type[NativeRequest], first: int, block: int) -> None:
+    make: Any = kind
+    request = make(first) if kind is OperatorMessageRequest else make(first, block)
+    assert type(request).from_block(request.to_block()) == request
+
+
+@given(st.integers(-1, 4), st.integers(0, 10))
+def test_opmsg3_request_round_trip(kind: int, count: int) -> None:
+    request = OperatorMessage3Request(0, kind, count)
+    assert OperatorMessage3Request.from_block(request.to_block()) == request
+    assert MdiPointerRequest.from_block(MdiPointerRequest().to_block()) == MdiPointerRequest()
 
 
 # --------------------------------------------------------------------------------------------
@@ -287,7 +348,11 @@ def test_external_messages_follow_their_a_bits() -> None:
         (ExternalMessage(0, 0, 1000, "X"), "external alarm messages"),
         (ExternalMessage(0, 0, 3000, "X"), "2000..2999"),
         (ExternalMessage(0, 0, 2000, ""), "1..255"),
-        (ExternalMessage(0, 0, 2000, "\u00e9"), "printable ASCII"),
+        (ExternalMessage(0, 0, 2000, "\u00e9"), "printable ASCII, got '\u00e9'"),
+        (ExternalMessage("0", 0, 2000, "X"), "byte is not an integer"),  # type: ignore[arg-type]
+        (ExternalMessage(0, True, 2000, "X"), "bit is not an integer"),
+        (ExternalMessage(0, 0, 2000.0, "X"), "number is not an integer"),  # type: ignore[arg-type]
+        (ExternalMessage(0, 0, 2000, 5), "a message is text, got 5"),  # type: ignore[arg-type]
     ],
 )
 def test_external_messages_are_checked(message: ExternalMessage, reason: str) -> None:
@@ -472,10 +537,24 @@ async def test_the_client_checks_its_arguments_first() -> None:
         await native.read_modal_groups(23)
     with pytest.raises(ValueError, match="block"):
         await native.read_modal_groups(1, block=3)
-    with pytest.raises(CncError):
-        await native.read_modal_values("G")
+    for address in ("G", "", "BD", 5):
+        with pytest.raises(ValueError, match=f"address {address!r} is not one of B, D"):
+            await native.read_modal_values(address)  # type: ignore[arg-type]
     with pytest.raises(ValueError, match="count"):
         await native.read_operator_messages(count=0)
+
+
+async def test_the_controls_refusal_names_what_was_asked() -> None:
+    async with serving(default_machine()) as served:
+        async with NativeClient(served.host, served.port, timeout=IO_TIMEOUT) as native:
+            # group type 19 (FANUC's group 20) and slot 14 (no address) the control has not
+            for read, detail in (
+                (native.read_g_codes(19), "cnc_rdgcode: type 19, block 0"),
+                (native.read_commands(14, block=1), "cnc_rdcommand: type 14, block 1"),
+            ):
+                with pytest.raises(CncError, match=detail) as refused:
+                    await read
+                assert refused.value.ew == EW.NUMBER
 
 
 def test_a_request_block_decodes_to_its_request() -> None:
@@ -491,6 +570,8 @@ def test_a_request_block_decodes_to_its_request() -> None:
         ('address = "A0.0"\nnumber = 1000\ntext = "X"', "2000..2999"),
         ('address = "A99.0"\nnumber = 2000\ntext = "X"', "outside the A area"),
         ('address = "A0.0"\nnumber = 2000', "text: missing"),
+        ('address = "A0.0"\nnumber = 2000\ntext = "caf\u00e9"', "printable ASCII, got 'caf\u00e9'"),
+        ('address = "A0.0"\nnumber = 2000\ntext = ""', "1..255 characters, got 0"),
         ('address = "A0.0"\nnumber = 2000\ntext = "X"\ncolor = 1', "color"),
     ],
 )

@@ -241,7 +241,11 @@ async def test_client_reads_every_spindle(client_on: tuple[Machine, NativeClient
     with pytest.raises(CncError) as refused:
         await client.read_spindle_gears(4)
     assert refused.value.ew == EW.NUMBER
-    with pytest.raises(ValueError):
+    assert "cnc_rdspgear: spindle 4 (the path has 3)" in str(refused.value)
+    with pytest.raises(ValueError, match="kind 2"):
         await client.read_spindle_meters(2)
-    with pytest.raises(ValueError):
+    with pytest.raises(ValueError, match="spindle 0 is outside"):
         await client.read_spindle_speeds(0)
+    for figure in (3, True, "1"):
+        with pytest.raises(ValueError, match=f"servo figure {figure!r} is not 0"):
+            await client.read_servo_figures(figure)  # type: ignore[arg-type]

@@ -38,6 +38,7 @@ from focas_net.native import ServoMeterRequest as _ServoRequest
 from focas_net.sim import Machine, Session, Spindle
 
 from ._common import Refused, need_room
+from ._native_cnc import block_path
 
 __all__ = ["SpindleHandlers"]
 
@@ -60,10 +61,6 @@ def _records(values: Sequence[int]) -> bytes:
     return b"".join(_pack_scaled(v, 10, 0) for v in values)
 
 
-def _path(block: RequestBlock) -> int:
-    return block.path or 1
-
-
 class SpindleHandlers:
     """The handlers of the spindles and servo figures of one machine (module docstring)."""
 
@@ -79,7 +76,7 @@ class SpindleHandlers:
             figure = SpindleFigure(req.kind)
         except ValueError:
             raise Refused(EW.ATTRIB) from None
-        spindles = self.machine.spindles(path=_path(block))
+        spindles = self.machine.spindles(path=block_path(block))
         if req.spindle not in _EVERY:
             if not 1 <= req.spindle <= len(spindles):
                 raise Refused(EW.NUMBER)
@@ -90,7 +87,7 @@ class SpindleHandlers:
     def read_spindle_names(self, block: RequestBlock, room: int, session: Session) -> bytes:
         """0x8A: the name of every spindle of the path (every kind)."""
         SpindleNameRequest.from_block(block)
-        spindles = self.machine.spindles(path=_path(block))
+        spindles = self.machine.spindles(path=block_path(block))
         names = SpindleNames(
             tuple(
                 SpindleName(s.name.encode("ascii"), s.suffix.encode("ascii")[:1]) for s in spindles
@@ -102,7 +99,7 @@ class SpindleHandlers:
     def read_servo_data(self, block: RequestBlock, room: int, session: Session) -> bytes:
         """0x56: one figure of every axis of the path."""
         req = _ServoRequest.from_block(block)
-        path = _path(block)
+        path = block_path(block)
         machine = self.machine
         if req.kind == ServoFigure.LOOP_GAIN:
             values = machine.loop_gains(path=path)

@@ -12,9 +12,10 @@ checked here, in the caller's frame, as the library checks it.
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from dataclasses import dataclass
 from decimal import Decimal
-from typing import Final
+from typing import Any, Final
 
 from focas_net.errors import EW, CncError
 
@@ -26,6 +27,7 @@ from ..native import (
     CommandRecords,
     ExecutingPath,
     GCodeRecords,
+    LibraryCall,
     MdiPointer,
     ModalAuxData,
     ModalGCodes,
@@ -109,6 +111,26 @@ def _messages(records: OperatorMessageRecords) -> tuple[OperatorMessageText, ...
 class NativeModal(NativeLink):
     """Modal data, operator messages and program pointers over FOCAS/2."""
 
+    async def _asked(
+        self,
+        asked: str,
+        call_of: Callable[..., LibraryCall],
+        path: int | None,
+        timeout: float | None,
+        *args: int,
+    ) -> Any:
+        """The answer of one call of one frame; the CNC's EW_NUMBER names what was ``asked``
+        (a group, an address or a type the control has not, or a block it does not read)."""
+        try:
+            return only_answer(*await self._only(call_of, path, timeout, *args))
+        except CncError as exc:
+            if exc.ew != EW.NUMBER:
+                raise
+            block = args[-1]
+            raise CncError.from_ew(
+                EW.NUMBER, f"{exc.detail or call_of.__name__}: {asked}, block {block}"
+            ) from None
+
     async def read_modal_groups(
         self,
         group: int | None = None,
@@ -122,13 +144,8 @@ class NativeModal(NativeLink):
         the simulated machine reads no block ahead, so they answer as the executing one)."""
         kind = -1 if group is None else check_int("group", group, 1, MODAL_GROUPS) - 1
         b = _check_block(block)
-        p = self._path_of(path)
-        deadline = self._deadline(timeout)
-        handle = self._handle_now() or await self._handle_for(deadline)
-        call = calls.cnc_modal(handle.command_set, kind, b)
-        codes: ModalGCodes = only_answer(
-            handle, call, await self._exchange(handle, call, deadline, 0, p)
-        )
+        asked = "every group" if group is None else f"group {group}"
+        codes: ModalGCodes = await self._asked(asked, calls.cnc_modal, path, timeout, kind, b)
         first = 0 if kind == -1 else kind
         out = []
         for i, entry in enumerate(codes.records):
@@ -156,16 +173,11 @@ class NativeModal(NativeLink):
         if address is None:
             kind = -2
         else:
-            if not isinstance(address, str) or address not in _TYPE_ADDRESSES:
-                raise CncError.from_ew(EW.NUMBER, f"cnc_modal: address {address!r}")
+            if not isinstance(address, str) or len(address) != 1 or address not in _TYPE_ADDRESSES:
+                raise ValueError(f"address {address!r} is not one of {', '.join(_TYPE_ADDRESSES)}")
             kind = 100 + _TYPE_ADDRESSES.index(address)
-        p = self._path_of(path)
-        deadline = self._deadline(timeout)
-        handle = self._handle_now() or await self._handle_for(deadline)
-        call = calls.cnc_modal(handle.command_set, kind, b)
-        data: ModalAuxData = only_answer(
-            handle, call, await self._exchange(handle, call, deadline, 0, p)
-        )
+        asked = "every address" if address is None else f"address {address}"
+        data: ModalAuxData = await self._asked(asked, calls.cnc_modal, path, timeout, kind, b)
         if address is not None:
             if not data.records:
                 return ()
@@ -191,12 +203,8 @@ class NativeModal(NativeLink):
         FANUC's group 01)."""
         k = check_int("type", kind, -2, MODAL_GROUPS - 1)
         b = _check_block(block)
-        p = self._path_of(path)
-        deadline = self._deadline(timeout)
-        handle = self._handle_now() or await self._handle_for(deadline)
-        call = calls.cnc_rdgcode(handle.command_set, k, b)
-        records: GCodeRecords = only_answer(
-            handle, call, await self._exchange(handle, call, deadline, 0, p)
+        records: GCodeRecords = await self._asked(
+            f"type {k}", calls.cnc_rdgcode, path, timeout, k, b
         )
         return tuple(GCode(r.group, r.code, bool(r.flag & 1)) for r in records.records)
 
@@ -212,12 +220,8 @@ class NativeModal(NativeLink):
         slot (A 0 .. Z 28)."""
         k = check_int("type", kind, -1, 28)
         b = _check_block(block)
-        p = self._path_of(path)
-        deadline = self._deadline(timeout)
-        handle = self._handle_now() or await self._handle_for(deadline)
-        call = calls.cnc_rdcommand(handle.command_set, k, b)
-        records: CommandRecords = only_answer(
-            handle, call, await self._exchange(handle, call, deadline, 0, p)
+        records: CommandRecords = await self._asked(
+            f"type {k}", calls.cnc_rdcommand, path, timeout, k, b
         )
         return tuple(
             CommandValue(r.address, Decimal(r.value).scaleb(-r.decimals), bool(r.flag & 1))
@@ -229,12 +233,8 @@ class NativeModal(NativeLink):
     ) -> OperatorMessageText:
         """``cnc_rdopmsg`` (type 0, the only type FANUC's library reads): the first operator
         message (number -1 when there is none)."""
-        p = self._path_of(path)
-        deadline = self._deadline(timeout)
-        handle = self._handle_now() or await self._handle_for(deadline)
-        call = calls.cnc_rdopmsg(handle.command_set)
         records: OperatorMessageRecords = only_answer(
-            handle, call, await self._exchange(handle, call, deadline, 0, p)
+            *await self._only(calls.cnc_rdopmsg, path, timeout)
         )
         found = _messages(records)
         return found[0] if found else OperatorMessageText(-1, 0, "")
@@ -251,12 +251,8 @@ class NativeModal(NativeLink):
         every type (-1)."""
         k = check_int("type", kind, -1, 4)
         n = check_int("count", count, 1, _MAX_MESSAGES)
-        p = self._path_of(path)
-        deadline = self._deadline(timeout)
-        handle = self._handle_now() or await self._handle_for(deadline)
-        call = calls.cnc_rdopmsg3(handle.command_set, k, n)
         records: OperatorMessageRecords = only_answer(
-            handle, call, await self._exchange(handle, call, deadline, 0, p)
+            *await self._only(calls.cnc_rdopmsg3, path, timeout, k, n)
         )
         return _messages(records)[:n]
 
@@ -264,39 +260,21 @@ class NativeModal(NativeLink):
         self, *, path: int | None = None, timeout: float | None = None
     ) -> str:
         """``cnc_exeprgname2``: the full path of the executing program."""
-        p = self._path_of(path)
-        deadline = self._deadline(timeout)
-        handle = self._handle_now() or await self._handle_for(deadline)
-        call = calls.cnc_exeprgname2(handle.command_set)
-        value: ExecutingPath = only_answer(
-            handle, call, await self._exchange(handle, call, deadline, 0, p)
-        )
+        value: ExecutingPath = only_answer(*await self._only(calls.cnc_exeprgname2, path, timeout))
         return text(value.text)
 
     async def read_active_pointer(
         self, *, path: int | None = None, timeout: float | None = None
     ) -> ActivePointer:
         """``cnc_rdactpt``: the executing program and its block number."""
-        p = self._path_of(path)
-        deadline = self._deadline(timeout)
-        handle = self._handle_now() or await self._handle_for(deadline)
-        call = calls.cnc_rdactpt(handle.command_set)
-        value: ActivePointer = only_answer(
-            handle, call, await self._exchange(handle, call, deadline, 0, p)
-        )
+        value: ActivePointer = only_answer(*await self._only(calls.cnc_rdactpt, path, timeout))
         return value
 
     async def read_block_count(
         self, *, path: int | None = None, timeout: float | None = None
     ) -> int:
         """``cnc_rdblkcount``: the block counter."""
-        p = self._path_of(path)
-        deadline = self._deadline(timeout)
-        handle = self._handle_now() or await self._handle_for(deadline)
-        call = calls.cnc_rdblkcount(handle.command_set)
-        value: BlockCounter = only_answer(
-            handle, call, await self._exchange(handle, call, deadline, 0, p)
-        )
+        value: BlockCounter = only_answer(*await self._only(calls.cnc_rdblkcount, path, timeout))
         return value.count
 
     async def read_mdi_pointer(
@@ -304,11 +282,5 @@ class NativeModal(NativeLink):
     ) -> MdiPointer:
         """``cnc_rdmdipntr``: the program and pointer executed, the program and pointer
         prepared."""
-        p = self._path_of(path)
-        deadline = self._deadline(timeout)
-        handle = self._handle_now() or await self._handle_for(deadline)
-        call = calls.cnc_rdmdipntr(handle.command_set)
-        value: MdiPointer = only_answer(
-            handle, call, await self._exchange(handle, call, deadline, 0, p)
-        )
+        value: MdiPointer = only_answer(*await self._only(calls.cnc_rdmdipntr, path, timeout))
         return value

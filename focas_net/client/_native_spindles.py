@@ -43,6 +43,12 @@ __all__ = ["SpindleMeter"]
 
 #: The spindle number of every spindle.
 _EVERY: Final = -1
+#: The FOCAS function of each servo figure.
+_SERVO_CALLS: Final = {
+    ServoFigure.LOOP_GAIN: spindles.cnc_rdloopgain,
+    ServoFigure.LOAD: spindles.cnc_rdcurrent,
+    ServoFigure.SPEED: spindles.cnc_rdsrvspeed,
+}
 
 
 @dataclass(frozen=True, slots=True)
@@ -77,15 +83,22 @@ class NativeSpindles(NativeLink):
     ) -> tuple[int, ...]:
         check_axis(spindle, "spindle", every=_EVERY)
         p = self._path_of(path)
-        deadline = self._deadline(timeout)
-        handle = self._handle_now() or await self._handle_for(deadline)
-        call = spindles.cnc_rdspload_figure(handle.command_set, figure, spindle)
-        blocks = await self._exchange(handle, call, deadline, 0, p)
+        handle, call, blocks = await self._only(
+            spindles.cnc_rdspload_figure, p, timeout, figure, spindle
+        )
         index = 0 if handle.command_set is CommandSet.FS16I else 1
         for i in range(len(blocks)):
             if i != index and decoded(call, blocks, i, 0).count == 0:
                 raise CncError.from_ew(EW.NOOPT, f"{call.function}: no spindle")
-        values: ScaledValues = decoded(call, blocks, index, 0)
+        try:
+            values: ScaledValues = decoded(call, blocks, index, 0)
+        except CncError as exc:
+            if exc.ew != EW.NUMBER:
+                raise
+            count = handle.spindles_on(p)
+            raise CncError.from_ew(
+                EW.NUMBER, f"{call.function}: spindle {spindle} (the path has {count})"
+            ) from None
         limit = handle.spindles_on(p) if spindle == _EVERY else 1
         return tuple(signed(v.mantissa, width) for v in values.values[: max(limit, 1)])
 
@@ -114,10 +127,7 @@ class NativeSpindles(NativeLink):
     ) -> tuple[str, ...]:
         """``cnc_rdspdlname``: the name of every spindle of the path (``"S1"``...)."""
         p = self._path_of(path)
-        deadline = self._deadline(timeout)
-        handle = self._handle_now() or await self._handle_for(deadline)
-        call = spindles.cnc_rdspdlname(handle.command_set)
-        blocks = await self._exchange(handle, call, deadline, 0, p)
+        handle, call, blocks = await self._only(spindles.cnc_rdspdlname, p, timeout)
         names: SpindleNames = decoded(call, blocks, 0, 0)
         return tuple(n.text for n in names.records[: handle.spindles_on(p)])
 
@@ -170,17 +180,11 @@ class NativeSpindles(NativeLink):
         """0x56 ``figure`` of every axis of the path: the loop gain in 0.01/s
         (``cnc_rdloopgain``), the load meter in percent (``cnc_rdcurrent``, the figure
         ``cnc_rdsvmeter`` reads), or the motor speed in min^-1 (``cnc_rdsrvspeed``)."""
+        if isinstance(figure, bool) or figure not in _SERVO_CALLS:
+            raise ValueError(f"servo figure {figure!r} is not 0 (loop gain), 1 (load) or 2 (speed)")
         figure = ServoFigure(figure)
         p = self._path_of(path)
-        deadline = self._deadline(timeout)
-        handle = self._handle_now() or await self._handle_for(deadline)
-        builders = {
-            ServoFigure.LOOP_GAIN: spindles.cnc_rdloopgain,
-            ServoFigure.LOAD: spindles.cnc_rdcurrent,
-            ServoFigure.SPEED: spindles.cnc_rdsrvspeed,
-        }
-        call = builders[figure](handle.command_set)
-        blocks = await self._exchange(handle, call, deadline, 0, p)
+        handle, call, blocks = await self._only(_SERVO_CALLS[figure], p, timeout)
         values: ScaledValues = decoded(call, blocks, 0, handle.max_axes)
         # cnc_rdcurrent fills shorts (the low 16 bits), the others longs
         width = 2 if figure is ServoFigure.LOAD else 4

@@ -33,8 +33,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 from typing import Any, ClassVar, Final
 
-from ..errors import EW
-from .base import NativePayloadError, NativeRecord, RecordArray
+from .base import NativeRecord, RecordArray
 from .requests import NativeCommand, NativeRequest, _register
 
 __all__ = [
@@ -352,26 +351,14 @@ OperatorMessage3Request.ANSWER = OperatorMessageRecords
 
 
 @dataclass(frozen=True, slots=True)
-class ExecutingPath:
+class ExecutingPath(NativeRecord):
     """0xFC answer: the full path of the executing program (``//CNC_MEM/USER/PATH1/O0001``
     on a 30i [I]) in :data:`EXECUTING_PATH_SIZE` NUL-padded bytes; the library copies up to
     256 bytes into the caller's text [V]."""
 
+    FORMAT: ClassVar[str] = f">{EXECUTING_PATH_SIZE}s"
+    PADDED: ClassVar[frozenset[str]] = frozenset({"path"})
     path: bytes
-
-    def encode(self) -> bytes:
-        if len(self.path) >= EXECUTING_PATH_SIZE:
-            raise ValueError(f"a program path of {len(self.path)} bytes is too long")
-        return self.path.ljust(EXECUTING_PATH_SIZE, b"\x00")
-
-    @classmethod
-    def decode(cls, data: bytes) -> ExecutingPath:
-        """The text without its trailing NULs (:attr:`text` cuts it at the first)."""
-        if len(data) != EXECUTING_PATH_SIZE:
-            raise NativePayloadError(
-                f"ExecutingPath: {len(data)} bytes, expected {EXECUTING_PATH_SIZE}", EW.LENGTH
-            )
-        return cls(bytes(data).rstrip(b"\x00"))
 
     @property
     def text(self) -> bytes:

@@ -61,13 +61,19 @@ class OperatorMessage:
     external: bool
 
 
-def message_problem(text: str) -> str | None:
+def message_problem(text: object) -> str | None:
     """Why ``text`` cannot be a message (None when it can): printable ASCII, 1..255."""
+    if not isinstance(text, str):
+        return f"a message is text, got {text!r}"
     if not 1 <= len(text) <= MAX_MESSAGE_LENGTH:
         return f"a message is 1..{MAX_MESSAGE_LENGTH} characters, got {len(text)}"
     if not all(" " <= c <= "~" for c in text):
-        return "a message is printable ASCII"
+        return f"a message is printable ASCII, got {text!r}"
     return None
+
+
+def _whole(value: object) -> bool:
+    return isinstance(value, int) and not isinstance(value, bool)
 
 
 class ModalOperations:
@@ -130,6 +136,9 @@ class ModalOperations:
         bits: set[tuple[int, int]] = set()
         out = []
         for m in messages:
+            for name in ("byte", "bit", "number"):
+                if not _whole(getattr(m, name)):
+                    raise ValueError(f"{m!r}: the {name} is not an integer")
             where = f"A{m.byte}.{m.bit}"
             if not 0 <= m.byte < size or not 0 <= m.bit <= 7:
                 raise ValueError(f"{where} is outside the A area (A0.0..A{size - 1}.7)")
