@@ -291,11 +291,8 @@ class PackedAdapter:
 
         The machine answers at one instant (:meth:`Machine.instant`): the figures of one
         answer (the run information's timers and parts, the loads of every axis) are of one
-        moment."""
-        with self.machine.instant():
-            return self._answer_at_once(session, command, payload, path)
-
-    def _answer_at_once(self, session: Session, command: int, payload: bytes, path: int) -> bytes:
+        moment, that of the counters a kept answer is kept with. A kept answer whose counters
+        hold is returned without stopping machine time (the counters read it once)."""
         if type(payload) is not bytes:  # kept answers key on payload: make it hashable
             payload = bytes(payload)
         if path == 1:
@@ -317,12 +314,13 @@ class PackedAdapter:
         if fn is None:
             return _EW_FUNC
         try:
-            if memo is None:
-                return fn(session, payload, path)
-            counters = _FOLLOWS[command]
-            # Read before answering: a machine that moves meanwhile only makes the next miss.
-            seen = counters(self.machine)
-            answer = fn(session, payload, path)
+            with self.machine.instant():
+                if memo is None:
+                    return fn(session, payload, path)
+                counters = _FOLLOWS[command]
+                # The counters at the answer's instant: a machine that moves later makes a miss.
+                seen = counters(self.machine)
+                answer = fn(session, payload, path)
         except REFUSALS as exc:
             return self.error_answer(command, refusal_code(exc))
         except UNENCODABLE as exc:
