@@ -1,10 +1,20 @@
 """What a user types, read alike by every front end (it knows no protocol and no machine):
 the words for a macro value that does not fit (the machine and the clients), a program number
-(the command line and the page)."""
+(the command line and the page), an override's range (the machine and the clients)."""
 
 from __future__ import annotations
 
-__all__ = ["macro_unfit", "program_number"]
+from collections.abc import Mapping
+from typing import Final
+
+__all__ = ["OVERRIDE_RANGES", "macro_unfit", "override_unfit", "program_number"]
+
+#: The percentages each override takes: feed 0..254, rapid 0..100, spindle 0..254.
+OVERRIDE_RANGES: Final[Mapping[str, tuple[int, int]]] = {
+    "feed": (0, 254),
+    "rapid": (0, 100),
+    "spindle": (0, 254),
+}
 
 #: The most O-numbers a program number has (O1 .. O99999999).
 _MAX_PROGRAM: int = 99_999_999
@@ -16,6 +26,15 @@ def macro_unfit(value: object) -> str:
         f"{value} does not fit a macro variable: give at most 9 decimals and at most 10 digits, "
         "which without the decimal point stay within 32 bits (-2147483648..2147483647)"
     )
+
+
+def override_unfit(what: str, value: int) -> str | None:
+    """Why the ``what`` override (feed, rapid, spindle) cannot be ``value`` percent, in the
+    machine's words; None when it can."""
+    low, high = OVERRIDE_RANGES[what]
+    if low <= value <= high:
+        return None
+    return f"{what} override {value} outside {low}..{high} %"
 
 
 def program_number(typed: object) -> int:

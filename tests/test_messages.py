@@ -27,6 +27,9 @@ from focas_net.protocol import (
 from focas_net.sim import MachineError, default_machine
 from focas_net.web import Station, perform
 
+#: The machine's refusal of an out-of-range override, as every front end words it.
+OVERRIDE_WORDS = "rapid override 101 outside 0..100 %"
+
 #: What a message must never show: payload classes, dotted fields, struct's wording.
 INTERNAL = re.compile(
     r"[A-Z][a-zA-Z]+(Request|Value|Alarm|Fault|Data|Reply|Range|Panel)\b|\.\w+ = |format requires"
@@ -57,6 +60,7 @@ async def cli(capsys: pytest.CaptureFixture[str]) -> AsyncIterator[Cli]:
             ("sim", "fault", "delay", "--arg", "10000000000"),
             "--arg: a delay is 0..60000 ms, got 10000000000",
         ),
+        (("sim", "override", "--rapid", "101"), OVERRIDE_WORDS),
     ],
 )
 async def test_cli_messages_name_what_was_typed(
@@ -202,3 +206,38 @@ async def test_a_macro_value_that_does_not_fit_has_one_wording(typed: str) -> No
             perform(Station(0, served.machine), "write_macro", {"number": 500, "value": typed})
     assert "does not fit a macro variable: give at most 9 decimals" in str(exc.value)
     assert "within 32 bits" in str(exc.value)
+
+
+async def test_an_override_out_of_range_has_the_machines_words(server: Served) -> None:
+    """The client (the command line's) says what the machine (the page's) says."""
+    async with FocasClient(server.host, server.port) as cnc:
+        with pytest.raises(ValueError) as exc:
+            await cnc.sim.set_overrides(rapid=101)
+    with pytest.raises(MachineError) as refused:
+        perform(Station(0, server.machine), "overrides", {"rapid": 101})
+    assert str(exc.value) == OVERRIDE_WORDS
+    assert OVERRIDE_WORDS in str(refused.value)
+
+
+async def test_fault_queues_take_the_scope_words_of_inject_fault(server: Served) -> None:
+    async with FocasClient(server.host, server.port) as cnc:
+        await cnc.sim.inject_fault("delay", arg=5, scope="machine")
+        assert [f.kind for f in await cnc.sim.list_faults("Machine")] == [FaultKind.DELAY]
+        assert await cnc.sim.list_faults("connection") == ()
+        assert await cnc.sim.clear_faults(" MACHINE ") == 1
+        words = []
+        for call in (
+            lambda: cnc.sim.inject_fault("drop", scope="shop"),
+            lambda: cnc.sim.list_faults("shop"),
+            lambda: cnc.sim.clear_faults("shop"),
+        ):
+            with pytest.raises(ValueError) as exc:
+                await call()
+            words.append(str(exc.value))
+        assert (
+            words == ["unknown fault scope 'shop' (one of CONNECTION MACHINE, or its number)"] * 3
+        )
+        for number in (2, -1):  # a number the server does not know: EW_DATA, as for inject
+            with pytest.raises(CncError) as refused:
+                await cnc.sim.clear_faults(number)
+            assert refused.value.ew == EW.DATA

@@ -14,6 +14,8 @@ import pytest
 from hypothesis import given
 from hypothesis import strategies as st
 
+from focas_net._typed import override_unfit
+from focas_net.cli._format import parse_aut
 from focas_net.errors import EW, ew_name
 from focas_net.sim import Machine, MachineError, default_machine, load_machine
 from focas_net.sim.machine import MDI, MEM
@@ -625,3 +627,32 @@ def test_a_machine_of_two_paths_is_viewed_and_worked_per_path() -> None:
         perform(station, "cycle", {"action": "start", "path": "\u0662"})
     single = machine_tile(0, default_machine(), 8193)
     assert len(single["paths"]) == 1 and single["paths"][0]["path_no"] == 1
+
+
+def test_panel_mode_is_read_as_the_command_line_reads_it() -> None:
+    station = Station(0, default_machine())
+    perform(station, "panel", {"mode": "mdi"})
+    assert station.machine.panel.mode == MDI
+    perform(station, "panel", {"mode": " MEM "})
+    assert station.machine.panel.mode == MEM
+    with pytest.raises(ActionError) as info:
+        perform(station, "panel", {"mode": "milling"})
+    assert str(info.value) == f"mode: {parse_aut_refusal('milling')}"
+    assert "'milling'" in str(info.value) and "MDI, MEM, EDIT" in str(info.value)
+
+
+def parse_aut_refusal(typed: str) -> str:
+    """What the command line says of a mode it does not know."""
+    with pytest.raises(ValueError) as info:
+        parse_aut(typed)
+    return str(info.value)
+
+
+def test_override_refusal_is_the_machines_on_the_page_and_the_client() -> None:
+    station = Station(0, default_machine())
+    with pytest.raises(MachineError) as info:
+        perform(station, "overrides", {"rapid": 101})
+    assert info.value.ew == EW.DATA
+    assert str(info.value).endswith(str(override_unfit("rapid", 101)))
+    assert "rapid override 101 outside 0..100 %" in str(info.value)
+    assert override_unfit("rapid", 100) is None

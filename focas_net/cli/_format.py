@@ -601,19 +601,11 @@ def parse_byte_list(items: Iterable[str]) -> bytes:
     return bytes(values)
 
 
-_MODES: Final = ", ".join(m.name for m in AutMode if m is not AutMode.NOSEL)
-
-
 def parse_aut(text: str) -> AutMode:
-    """A mode by FOCAS name (``MDI``, ``MEM``, ``EDIT``, ...) or ``aut`` number
-    (:meth:`AutMode.parse`); 2 (``****``, no selection) is not a mode."""
-    try:
-        mode = AutMode.parse(text)
-    except ValueError:
-        mode = AutMode.NOSEL
-    if mode is AutMode.NOSEL:
-        raise ValueError(f"unknown mode {text!r} (one of {_MODES})")
-    return mode
+    """A mode by FOCAS name (``MDI``, ``mdi``, ``MEM``, ``EDIT``, ...) or ``aut`` number, as
+    every front end reads it (:meth:`AutMode.parse_panel`); 2 (``****``, no selection) is not
+    a mode."""
+    return AutMode.parse_panel(text)
 
 
 def parse_ew(text: str) -> int:

@@ -8,6 +8,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 from typing import TYPE_CHECKING, Final
 
+from .._typed import override_unfit
 from ..protocol import (
     COMMANDS,
     AlarmType,
@@ -195,16 +196,16 @@ class SimControl:
         """Feed override 0..254 %, rapid override 0..100 %, spindle override 0..254 % (0x0E21);
         an override not given stays as it is."""
         values = []
-        for what, value, high in (
-            ("feed", feed, 254),
-            ("rapid", rapid, 100),
-            ("spindle", spindle, 254),
-        ):
+        for what, value in (("feed", feed), ("rapid", rapid), ("spindle", spindle)):
             if value is None:
                 values.append(_UNCHANGED)
-            else:
-                check_int(f"{what} override", value, 0, high)
-                values.append(value)
+                continue
+            if isinstance(value, bool) or not isinstance(value, int):
+                raise TypeError(f"{what} override must be an integer, got {value!r}")
+            unfit = override_unfit(what, value)
+            if unfit is not None:
+                raise ValueError(unfit)  # the machine's words
+            values.append(value)
         client = self._client
         payload = _OVERRIDES.request.encode(Overrides(*values))
         await client._request(_OVERRIDES, payload, timeout, client._path_of(path))
@@ -242,21 +243,28 @@ class SimControl:
         await client._request(_INJECT_FAULT, payload, timeout)
 
     async def list_faults(
-        self, scope: FaultScope | int = FaultScope.CONNECTION, *, timeout: float | None = None
+        self, scope: FaultScope | str | int = FaultScope.CONNECTION, *, timeout: float | None = None
     ) -> tuple[ArmedFault, ...]:
         """The pending faults of ``scope``, the one applying to the next answer first; each
         with its ``kind`` (a :class:`FaultKind` when known), the answers it still applies to
-        (``remaining``) and its ``arg``."""
-        payload = _LIST_FAULTS.request.encode(FaultsRequest(_scope(scope)))
+        (``remaining``) and its ``arg``. ``scope`` as :meth:`inject_fault` takes it (a member,
+        ``"connection"``/``"machine"`` or a number; the server refuses one it does not know
+        with EW_DATA)."""
+        payload = _LIST_FAULTS.request.encode(
+            FaultsRequest(_fault_number(FaultScope, scope, "scope"))
+        )
         client = self._client
         listing = await client._request(_LIST_FAULTS, payload, timeout)
         return tuple(_typed(f) for f in listing.faults)
 
     async def clear_faults(
-        self, scope: FaultScope | int = FaultScope.CONNECTION, *, timeout: float | None = None
+        self, scope: FaultScope | str | int = FaultScope.CONNECTION, *, timeout: float | None = None
     ) -> int:
-        """Remove the pending faults of ``scope``; returns how many were removed."""
-        payload = _CLEAR_FAULTS.request.encode(FaultsRequest(_scope(scope)))
+        """Remove the pending faults of ``scope`` (as :meth:`list_faults` takes it); returns
+        how many were removed."""
+        payload = _CLEAR_FAULTS.request.encode(
+            FaultsRequest(_fault_number(FaultScope, scope, "scope"))
+        )
         client = self._client
         answer = await client._request(_CLEAR_FAULTS, payload, timeout)
         return int(answer.cleared)
@@ -273,15 +281,6 @@ def _fault_number(names: type[FaultKind | FaultScope], given: object, what: str)
             f"fault {what} must be a {names.__name__}, its name or its number, got {given!r}"
         )
     return int(given)
-
-
-def _scope(scope: FaultScope | str | int) -> int:
-    try:
-        return int(FaultScope(_fault_number(FaultScope, scope, "scope")))
-    except ValueError:
-        raise ValueError(
-            f"fault scope must be 0 (connection) or 1 (machine), got {scope!r}"
-        ) from None
 
 
 def _typed(fault: ArmedFault) -> ArmedFault:

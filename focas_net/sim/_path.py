@@ -27,6 +27,7 @@ from dataclasses import dataclass, replace
 from decimal import Decimal
 from typing import Final
 
+from focas_net._typed import override_unfit
 from focas_net.errors import EW
 
 from ._alarms import MAX_ALARM_TEXT, NC_ALARM_TYPES, AlarmKey, Alarms, nc_alarm
@@ -634,13 +635,10 @@ class Path:
 
     def set_overrides(self, feed: int | None, rapid: int | None, spindle: int | None) -> None:
         self.sync()
-        for value, low, high, what in (
-            (feed, 0, 254, "feed"),
-            (rapid, 0, 100, "rapid"),
-            (spindle, 0, 254, "spindle"),
-        ):
-            if value is not None and not low <= value <= high:
-                raise MachineError(EW.DATA, f"{what} override {value} outside {low}..{high} %")
+        for what, value in (("feed", feed), ("rapid", rapid), ("spindle", spindle)):
+            unfit = None if value is None else override_unfit(what, value)
+            if unfit is not None:
+                raise MachineError(EW.DATA, unfit)
         e = self.engine
         if feed is not None:
             e.set_feed_override(feed)

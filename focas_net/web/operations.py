@@ -25,7 +25,7 @@ from typing import Any, Final
 from focas_net._bits import bits_of_text
 from focas_net._typed import program_number
 from focas_net.errors import EW, ew_name
-from focas_net.protocol import FaultKind, FaultScope, InjectFault, alarm_message
+from focas_net.protocol import AutMode, FaultKind, FaultScope, InjectFault, alarm_message
 from focas_net.server.faults import FaultQueue, fault_refusal, parse_inject
 from focas_net.sim import Machine, MachineError, ParamKind, Session
 
@@ -220,9 +220,24 @@ def _cycle(station: Station, args: Mapping[str, Any]) -> JsonDict:
     return {}
 
 
+def _mode(args: Mapping[str, Any]) -> int | None:
+    """``mode`` as the command line takes it: a name (``MDI``, ``mdi``, ``EDIT``) read by
+    :meth:`AutMode.parse_panel`, or an ``aut`` number (the machine refuses one that is not a
+    mode, with EW_DATA)."""
+    value = args.get("mode")
+    if not isinstance(value, str) or value.strip().lstrip("+-").isdigit():
+        return _optional_int(args, "mode")
+    if not value.strip():
+        return None
+    try:
+        return int(AutMode.parse_panel(value))
+    except ValueError as exc:
+        raise ActionError(f"mode: {exc}") from None
+
+
 def _panel(station: Station, args: Mapping[str, Any]) -> JsonDict:
     station.machine.set_panel(
-        _optional_int(args, "mode"),
+        _mode(args),
         _optional_int(args, "pwe"),
         _optional_int(args, "emergency"),
         path=_path(args),
