@@ -8,7 +8,7 @@ import json
 import os
 import sys
 import weakref
-from typing import Any
+from typing import Any, Protocol
 
 import pytest
 from support import IO_TIMEOUT, Served
@@ -84,3 +84,37 @@ async def run_focas_net(*argv: str, seconds: float = SUBPROCESS_TIMEOUT) -> tupl
                 await proc.wait()
     assert proc.returncode is not None
     return proc.returncode, out.decode(), err.decode()
+
+
+class _Listening(Protocol):
+    @property
+    def port(self) -> int: ...
+
+
+def at(server: _Listening) -> list[str]:
+    """The command line's address of a server listening on 127.0.0.1."""
+    return ["--host", "127.0.0.1", "--port", str(server.port)]
+
+
+def one_line(err: str, prefix: str = "focas-net: ") -> str:
+    """The one line of a failure, which starts with ``prefix`` (``"focas-net"`` lets a usage
+    error's ``focas-net watch: error: ...`` pass too)."""
+    assert err.startswith(prefix) and err.count("\n") == 1, err
+    return err.strip()
+
+
+async def fails(code: int, *argv: str, prefix: str = "focas-net: ") -> str:
+    """The one line (:func:`one_line`) a subprocess run that exits with ``code`` prints (it
+    prints nothing on standard output)."""
+    got, out, err = await run_focas_net(*argv)
+    assert got == code, (argv, got, err)
+    assert out == ""
+    return one_line(err, prefix)
+
+
+async def ok(*argv: str) -> str:
+    """What a subprocess run that succeeds prints (nothing on standard error)."""
+    got, out, err = await run_focas_net(*argv)
+    assert got == EXIT_OK, (argv, got, err)
+    assert err == ""
+    return out

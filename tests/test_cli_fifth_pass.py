@@ -7,41 +7,22 @@ Each test names what a user typed and what the command must say.
 from __future__ import annotations
 
 import re
+from functools import partial
 from pathlib import Path
 
 import pytest
-from cli_support import run_focas_net
+from cli_support import at, ok
+from cli_support import fails as cli_fails
 from support import Served
 
-from focas_net.cli import EXIT_CNC, EXIT_OK, EXIT_USAGE
+from focas_net.cli import EXIT_CNC, EXIT_USAGE
 from focas_net.protocol import FaultKind, FaultScope
 from focas_net.server.faults import fault_refusal
 from focas_net.sim import default_machine
 from focas_net.web.operations import ActionError, Station, perform
 
-
-def at(served: Served) -> list[str]:
-    return ["--host", "127.0.0.1", "--port", str(served.port)]
-
-
-def one_line(err: str) -> str:
-    """The one ``focas-net:`` line of a failure."""
-    assert err.startswith("focas-net") and err.count("\n") == 1, err
-    return err.strip()
-
-
-async def fails(code: int, *argv: str) -> str:
-    got, out, err = await run_focas_net(*argv)
-    assert got == code, (argv, got, err)
-    assert out == ""
-    return one_line(err)
-
-
-async def ok(*argv: str) -> str:
-    got, out, err = await run_focas_net(*argv)
-    assert got == EXIT_OK, (argv, got, err)
-    assert err == ""
-    return out
+#: A refusal of this pass, a usage error (``focas-net watch: error: ...``) among them.
+fails = partial(cli_fails, prefix="focas-net")
 
 
 # -- a poll interval: 0.05 s .. one hour, and each refusal with its own reason -------------------

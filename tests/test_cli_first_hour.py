@@ -19,7 +19,7 @@ from pathlib import Path
 from typing import Any
 
 import pytest
-from cli_support import run_focas_net
+from cli_support import at, one_line, run_focas_net
 from peers import ScriptedPeer, turns
 from support import IO_TIMEOUT, Served, serving
 
@@ -40,17 +40,6 @@ from focas_net.protocol import Frame
 CLI_TIMEOUT = 6 * IO_TIMEOUT
 FLEET_POLL = Path(__file__).resolve().parent.parent / "examples" / "fleet_poll.py"
 HTTP_ANSWER = b"HTTP/1.1 400 Bad Request\r\nContent-Length: 0\r\n\r\n"
-
-
-def one_line(err: str) -> str:
-    """The one ``focas-net:`` line of a failure."""
-    assert err.startswith("focas-net: ") and err.count("\n") == 1, err
-    return err.strip()
-
-
-def at(served: Served | ScriptedPeer) -> list[str]:
-    port = served.port
-    return ["--host", "127.0.0.1", "--port", str(port)]
 
 
 @pytest.fixture

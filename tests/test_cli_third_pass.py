@@ -17,37 +17,13 @@ from contextlib import asynccontextmanager
 from pathlib import Path
 
 import pytest
-from cli_support import SUBPROCESS_TIMEOUT, run_focas_net
+from cli_support import SUBPROCESS_TIMEOUT, at, fails, ok, one_line, run_focas_net
 from support import Served, serving
 
-from focas_net.cli import EXIT_CNC, EXIT_OK, EXIT_USAGE
+from focas_net.cli import EXIT_CNC, EXIT_USAGE
 from focas_net.sim import default_machine, load_machine
 
 FWLIB_16I = Path(__file__).with_name("data") / "fwlib_16i_machine.toml"
-
-
-def at(served: Served) -> list[str]:
-    return ["--host", "127.0.0.1", "--port", str(served.port)]
-
-
-def one_line(err: str) -> str:
-    """The one ``focas-net:`` line of a failure."""
-    assert err.startswith("focas-net: ") and err.count("\n") == 1, err
-    return err.strip()
-
-
-async def fails(code: int, *argv: str) -> str:
-    got, out, err = await run_focas_net(*argv)
-    assert got == code, (argv, got, err)
-    assert out == ""
-    return one_line(err)
-
-
-async def ok(*argv: str) -> str:
-    got, out, err = await run_focas_net(*argv)
-    assert got == EXIT_OK, (argv, got, err)
-    assert err == ""
-    return out
 
 
 # -- F: small ones -----------------------------------------------------------------------------

@@ -21,7 +21,7 @@ from pathlib import Path
 from typing import Final
 
 import pytest
-from cli_support import run_focas_net
+from cli_support import one_line, run_focas_net
 from support import IO_TIMEOUT, LoopbackPeer, serving, wait_until
 
 from focas_net.cli import EXIT_CONNECTION, EXIT_PROTOCOL, _diagnose, _run, main
@@ -86,11 +86,6 @@ def _closed_port() -> int:
         s.bind(("127.0.0.1", 0))
         port: int = s.getsockname()[1]
     return port
-
-
-def one_line(err: str) -> str:
-    assert err.startswith("focas-net: ") and err.count("\n") == 1, err
-    return err.strip()
 
 
 def no_python_text(line: str) -> None:
