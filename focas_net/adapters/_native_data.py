@@ -171,6 +171,22 @@ def _macro_of_double(value: float) -> Decimal:
     return Decimal(f"{mantissa}E-{decimals}")
 
 
+def info_window(
+    numbers: tuple[int, ...], first: int, count: int
+) -> tuple[int, int, tuple[int, ...]]:
+    """The window of a 0x10-layout answer over the ascending ``numbers``: the number before
+    ``first`` and the one after the window (0: none), and up to ``count`` numbers from
+    ``first`` on; EW_LENGTH for a count below 1, EW_NUMBER with none from ``first`` on."""
+    if count < 1:
+        raise Refused(EW.LENGTH)
+    lo = bisect_left(numbers, first)
+    chosen = numbers[lo : lo + count]
+    if not chosen:
+        raise Refused(EW.NUMBER)
+    end = lo + len(chosen)
+    return numbers[lo - 1] if lo else 0, numbers[end] if end < len(numbers) else 0, chosen
+
+
 class DataHandlers:
     """The handlers of the values of one machine (see the module docstring)."""
 
@@ -323,16 +339,7 @@ class DataHandlers:
 
     def _info_items(self, first: int, count: int) -> tuple[int, int, list[DataItem]]:
         """``prev, next`` and the parameters from ``first`` on, ``count`` of them."""
-        if count < 1:
-            raise Refused(EW.LENGTH)
-        numbers = self._param_numbers
-        lo = bisect_left(numbers, first)
-        chosen = numbers[lo : lo + count]
-        if not chosen:
-            raise Refused(EW.NUMBER)
-        prev_no = numbers[lo - 1] if lo else 0
-        end = lo + len(chosen)
-        next_no = numbers[end] if end < len(numbers) else 0
+        prev_no, next_no, chosen = info_window(self._param_numbers, first, count)
         items = [self.machine.param_item(n) for n in chosen]
         return prev_no, next_no, [i for i in items if i is not None]
 

@@ -14,7 +14,6 @@ ranges are those ``pmc_rdpmcrng`` reads, the numbers are those ``cnc_rdparam`` a
 
 from __future__ import annotations
 
-from bisect import bisect_left
 from collections.abc import Callable
 from typing import Final
 
@@ -51,7 +50,7 @@ from focas_net.sim import SoftwareVersion as MachineSoftware
 
 from ._common import Refused, need_room
 from ._native_cnc import CncHandlers, block_path
-from ._native_data import DataHandlers, native_param_type
+from ._native_data import DataHandlers, info_window, native_param_type
 
 __all__ = ["InfoHandlers"]
 
@@ -240,15 +239,7 @@ def _info(
     """The 0x10 layout over ``numbers``: ``prev, next``, then from ``first`` on ``count``
     entries of number and attribute (the type in bits 0-1); EW_LENGTH for a count below 1,
     EW_NUMBER with none from ``first`` on."""
-    if count < 1:
-        raise Refused(EW.LENGTH)
-    lo = bisect_left(numbers, first)
-    chosen = numbers[lo : lo + count]
-    if not chosen:
-        raise Refused(EW.NUMBER)
-    prev_no = numbers[lo - 1] if lo else 0
-    end = lo + len(chosen)
-    next_no = numbers[end] if end < len(numbers) else 0
+    prev_no, next_no, chosen = info_window(numbers, first, count)
     need_room(8 + ParamInfoEntry.SIZE * len(chosen), room)
     entries = []
     for number in chosen:
