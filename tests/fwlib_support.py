@@ -27,6 +27,8 @@ from focas_net.client import FocasClient
 from focas_net.server import FocasServer, NativeFront
 from focas_net.sim import DataItem, Machine, ParamKind, default_machine, load_machine
 from focas_net.sim import Session as SimSession
+from focas_net.sim.default import DEMO_PROGRAM
+from focas_net.sim.nc import ManualClock
 
 LIBRARY = os.environ.get("FOCAS_NET_FWLIB")
 
@@ -159,6 +161,17 @@ class Cnc:
     async def call(self, name: str, *args: Any) -> int:
         """``name(handle, *args)`` on the handle's thread; its return code."""
         return await self.handle.call(name, *args)
+
+
+def demo_machine(set_name: str, clock: ManualClock | None = None) -> Machine:
+    """The set's machine on ``clock`` (else a clock of its own) with the demo program O0001
+    (the 16i machine file has none)."""
+    clock = clock or ManualClock()
+    if set_name == "30i":
+        return default_machine(sim_clock=clock)
+    machine = load_machine(MACHINE_16I, sim_clock=clock)
+    machine.store_program(DEMO_PROGRAM)
+    return machine
 
 
 def machine_for(set_name: str) -> Machine:

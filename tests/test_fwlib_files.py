@@ -17,7 +17,16 @@ from contextlib import asynccontextmanager
 from typing import Any
 
 import pytest
-from fwlib_support import LIBRARY, MACHINE_16I, Cnc, Recorder, buf, download, s16, served_cnc
+from fwlib_support import (
+    LIBRARY,
+    Cnc,
+    Recorder,
+    buf,
+    demo_machine,
+    download,
+    s16,
+    served_cnc,
+)
 from support import two_path_lathe
 
 from focas_net.errors import EW
@@ -36,8 +45,6 @@ from focas_net.native import (
     cnc_rdpdf_subdirn,
     cnc_wrpdf_curdir,
 )
-from focas_net.sim import Machine, default_machine, load_machine
-from focas_net.sim.default import DEMO_PROGRAM
 from focas_net.sim.nc import ManualClock
 
 pytestmark = pytest.mark.skipif(
@@ -141,17 +148,9 @@ class ODBPDFNFIL(ctypes.Structure):
 assert ctypes.sizeof(ODBPDFADIR) == 128 and ctypes.sizeof(ODBPDFPRG) == 84
 
 
-def build_machine(set_name: str, clock: ManualClock) -> Machine:
-    if set_name == "30i":
-        return default_machine(sim_clock=clock)
-    machine = load_machine(MACHINE_16I, sim_clock=clock)
-    machine.store_program(DEMO_PROGRAM)
-    return machine
-
-
 @asynccontextmanager
 async def files_cnc(set_name: str, clock: ManualClock | None = None) -> AsyncIterator[Cnc]:
-    async with served_cnc(set_name, build_machine(set_name, clock or ManualClock())) as cnc:
+    async with served_cnc(set_name, demo_machine(set_name, clock)) as cnc:
         yield cnc
 
 

@@ -29,10 +29,10 @@ from typing import Any
 import pytest
 from fwlib_support import (
     LIBRARY,
-    MACHINE_16I,
     Cnc,
     buf,
     connect,
+    demo_machine,
     download,
     i32,
     library,
@@ -47,8 +47,7 @@ from focas_net.client import FocasClient
 from focas_net.errors import EW, CncError
 from focas_net.native import TransferFrame
 from focas_net.server import NativeFront
-from focas_net.sim import Machine, default_machine, load_machine
-from focas_net.sim.default import DEMO_PROGRAM
+from focas_net.sim import default_machine
 from focas_net.sim.nc import ManualClock
 
 pytestmark = pytest.mark.skipif(
@@ -77,19 +76,9 @@ PRGDIR3 = "<iii52s12h"
 SETS = ["30i", "16i"]
 
 
-def build_machine(set_name: str, clock: ManualClock | None = None) -> Machine:
-    """The set's machine with the demo program O0001 (the 16i machine file has none)."""
-    clock = clock or ManualClock()
-    if set_name == "30i":
-        return default_machine(sim_clock=clock)
-    machine = load_machine(MACHINE_16I, sim_clock=clock)
-    machine.store_program(DEMO_PROGRAM)
-    return machine
-
-
 @asynccontextmanager
 async def program_cnc(set_name: str, clock: ManualClock | None = None) -> AsyncIterator[Cnc]:
-    async with served_cnc(set_name, build_machine(set_name, clock)) as cnc:
+    async with served_cnc(set_name, demo_machine(set_name, clock)) as cnc:
         yield cnc
 
 
