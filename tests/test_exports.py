@@ -102,6 +102,7 @@ PACKAGES = [
     "focas_net.adapters",
     "focas_net.versamax",
     "focas_net.web",
+    "focas_net.gateway",
     "focas_net.errors",
 ]
 
@@ -167,6 +168,7 @@ HOMES = [
     "focas_net.server",
     "focas_net.cli",
     "focas_net.web",
+    "focas_net.gateway",
 ]
 
 
