@@ -104,6 +104,46 @@ class _Users:
         return User(role=UserRole.User, name=username)
 
 
+class _Value(ua.DataValue):  # type: ignore[misc]
+    """A DataValue the sink never changes once written: the monitored items may keep it as it
+    is instead of deep-copying it for every data change."""
+
+    __slots__ = ()
+
+    def __deepcopy__(self, memo: dict[int, Any]) -> _Value:
+        return self
+
+
+class _Live:
+    """A machine's variables as the address space holds them: each sample's targets resolved
+    once to the ``AttributeValue`` of their Value attribute, written in place."""
+
+    def __init__(self, server: Server, nodes: om.MachineNodes) -> None:
+        aspace = server.iserver.aspace
+
+        def value_of(node: ua.NodeId) -> Any:
+            data = aspace.get(node)
+            if data is None:
+                raise LookupError(f"no node {node}")
+            return data.attributes[_VALUE]
+
+        self.slots: dict[tuple[int, str, str], tuple[tuple[Any, ua.VariantType, Any], ...]] = {
+            key: tuple((value_of(t.node), t.variant, t.convert) for t in targets)
+            for key, targets in nodes.targets.items()
+        }
+        self.values: list[Any] = [value_of(node) for node in nodes.variables]
+
+
+async def _notify(att: Any, dv: ua.DataValue) -> None:
+    """Tell the monitored items of ``att`` its new value (as the address space's own write
+    does, one failing callback not keeping the others from theirs)."""
+    for handle, callback in list(att.datachange_callbacks.items()):
+        try:
+            await callback(handle, dv)
+        except Exception:
+            log.exception("opcua: a data change callback failed")
+
+
 class _Alarm:
     """One alarm condition: the event it was raised with (fields change as it moves)."""
 
@@ -141,6 +181,7 @@ class OpcUaSink:
         self._ns = 0
         self._cnc = 0
         self._machines: dict[str, om.MachineNodes] = {}
+        self._live: dict[str, _Live] = {}
         self._shapes: dict[str, MachineShape] = {}
         self._online: dict[str, bool] = {}
         self._alarms: dict[tuple[str, int, int, int, int], _Alarm] = {}
@@ -303,34 +344,43 @@ class OpcUaSink:
 
     async def apply_samples(self, samples: Sequence[Sample]) -> None:
         """Write each sample's value (or Bad status) to its variables, stamped with the time
-        it was read. The sink's task calls this; it is public for the benchmark."""
-        assert self._server is not None
-        write = self._server.iserver.aspace.write_attribute_value
-        machines = self._machines
+        it was read, and notify their monitored items. The sink's task calls this; it is public
+        for the benchmark."""
+        machines = self._live
         now = datetime.now(UTC)
         last, stamp = -1.0, now
         for s in samples:
-            nodes = machines.get(s.machine)
-            if nodes is None:
+            live = machines.get(s.machine)
+            if live is None:
                 continue
-            targets = nodes.targets.get((s.path, s.item.name, s.key))
-            if targets is None:
+            slots = live.slots.get((s.path, s.item.name, s.key))
+            if slots is None:
                 continue
             if s.time != last:
                 last, stamp = s.time, datetime.fromtimestamp(s.time, UTC)
             if s.status.value:
-                dv = ua.DataValue(_NULL, self._status(s.status), stamp, now)
-                for t in targets:
-                    await write(t.node, _VALUE, dv)
+                dv = _Value(_NULL, self._status(s.status), stamp, now)
+                for att, _, _ in slots:
+                    att.value = dv
+                    if att.datachange_callbacks:
+                        await _notify(att, dv)
             else:
-                for t in targets:
-                    v = s.value if t.convert is None else t.convert(s.value)
+                for att, variant, convert in slots:
+                    v = s.value if convert is None else convert(s.value)
                     if v is None:
-                        dv = ua.DataValue(_NULL, _OUT_OF_RANGE, stamp, now)
+                        dv = _Value(_NULL, _OUT_OF_RANGE, stamp, now)
                     else:
-                        dv = ua.DataValue(ua.Variant(v, t.variant), _GOOD, stamp, now)
-                    await write(t.node, _VALUE, dv)
+                        dv = _Value(ua.Variant(v, variant), _GOOD, stamp, now)
+                    att.value = dv
+                    if att.datachange_callbacks:
+                        await _notify(att, dv)
             self.applied += 1
+
+    async def _set_all(self, live: _Live, dv: ua.DataValue) -> None:
+        for att in live.values:
+            att.value = dv
+            if att.datachange_callbacks:
+                await _notify(att, dv)
 
     async def _add(
         self, server: Server, items: list[ua.AddNodesItem], refs: list[ua.AddReferencesItem]
@@ -348,6 +398,7 @@ class OpcUaSink:
         if self._shapes.get(shape.name) == shape:
             return
         old = self._machines.pop(shape.name, None)
+        self._live.pop(shape.name, None)
         if old is not None:
             await server.delete_nodes([server.get_node(old.root)], recursive=True)
         items, refs, nodes = om.machine_nodes(shape, self._ns, self._cnc)
@@ -363,10 +414,9 @@ class OpcUaSink:
         await self._add(server, items, refs)
         if self._writer is not None:
             await self._add_methods(server.get_node(nodes.root))
-        write = server.iserver.aspace.write_attribute_value
-        waiting = ua.DataValue(_NULL, _WAITING, None, datetime.now(UTC))
-        for node in nodes.variables:
-            await write(node, _VALUE, waiting)
+        live = _Live(server, nodes)
+        await self._set_all(live, _Value(_NULL, _WAITING, None, datetime.now(UTC)))
+        self._live[shape.name] = live
         self._machines[shape.name] = nodes
         self._shapes[shape.name] = shape
         self._online[shape.name] = True
@@ -374,15 +424,14 @@ class OpcUaSink:
     async def _set_online(self, machine: str, online: bool, reason: str, time: float) -> None:
         assert self._server is not None
         nodes = self._machines.get(machine)
+        live = self._live.get(machine)
         was = self._online.get(machine)
         self._online[machine] = online
-        if nodes is None or was == online:
+        if nodes is None or live is None or was == online:
             return
         if not online:
-            write = self._server.iserver.aspace.write_attribute_value
-            dv = ua.DataValue(_NULL, _LOST, datetime.fromtimestamp(time, UTC), datetime.now(UTC))
-            for node in nodes.variables:
-                await write(node, _VALUE, dv)
+            stamp = datetime.fromtimestamp(time, UTC)
+            await self._set_all(live, _Value(_NULL, _LOST, stamp, datetime.now(UTC)))
         quality = _GOOD if online else _LOST
         for key, alarm in self._alarms.items():
             if key[0] == machine:
