@@ -171,7 +171,7 @@ class Poller:
             st.client.add_state_callback(self._state_changed)
         self._ready: deque[_Out] = deque()
         self._wake = asyncio.Event()
-        self._out = 0
+        self._outs: set[_Out] = set()  # the reads under way
         self._closed = False
 
     # -- what others read ----------------------------------------------------------------
@@ -215,8 +215,12 @@ class Poller:
         await self.aclose()
 
     async def aclose(self) -> None:
-        """Stop connecting and close every client."""
+        """Give up the reads under way, stop connecting and close every client."""
         self._closed = True
+        for out in self._outs:
+            (out.alarms if out.read is None else out.read.call).cancel()
+        self._outs.clear()
+        self._ready.clear()
         tasks = [s.task for s in self._stations.values() if s.task is not None]
         for task in tasks:
             task.cancel()
@@ -245,7 +249,7 @@ class Poller:
         every answer of every read out (each ends by its timeout). Returns when the next
         read is due."""
         due = self._turn()
-        while self._out:
+        while self._outs:
             self._wake.clear()
             if not self._ready:
                 await self._wake.wait()
@@ -356,7 +360,7 @@ class Poller:
             reads = reader.fast() if group == Group.FAST.value else reader.slow()
             outs.extend(_Out(st, st.epoch, group, read=r) for r in reads)
         st.pending[group] = st.pending.get(group, 0) + len(outs)
-        self._out += len(outs)
+        self._outs.update(outs)
         for out in outs:
             call = out.alarms if out.read is None else out.read.call
             call.on_done(partial(self._answered, out))
@@ -377,7 +381,7 @@ class Poller:
         ready = self._ready
         while ready:
             out = ready.popleft()
-            self._out -= 1
+            self._outs.discard(out)
             st = out.station
             st.pending[out.group] -= 1
             call = out.alarms if out.read is None else out.read.call
