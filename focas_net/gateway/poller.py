@@ -278,7 +278,7 @@ class Poller:
                         at = max(at + st.interval(group), now)
                         st.due[group] = at
                     due = min(due, at)
-            elif st.task is None and st.client.state is ClientState.DISCONNECTED:
+            elif st.task is None and st.client.state is not ClientState.RECONNECTING:
                 due = min(due, st.next_attempt)
         return due
 
@@ -316,9 +316,7 @@ class Poller:
             online.append((st.config.name, False, st.failure))
         if st.task is not None or self._closed:
             return
-        if state is ClientState.CONNECTED or (
-            state is ClientState.DISCONNECTED and now >= st.next_attempt
-        ):
+        if state is not ClientState.RECONNECTING and now >= st.next_attempt:
             st.reader = None
             st.task = asyncio.get_running_loop().create_task(
                 self._connect(st), name=f"gateway connect {st.config.name}"
