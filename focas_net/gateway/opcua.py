@@ -155,11 +155,18 @@ class OpcUaSink:
     """The OPC UA server of the gateway (``async with OpcUaSink(settings, writer) as sink``).
 
     ``writer`` (None: writes off) serves the write methods, which exist only when
-    ``settings.writes`` is true too. Raises ``ValueError`` for settings no client could use
+    ``settings.writes`` is true too. Past ``queue_limit`` samples waiting for the server's
+    task the oldest batches are dropped and counted in :attr:`dropped`. Raises ``ValueError`` for settings no client could use
     safely (see the module's docstring).
     """
 
-    def __init__(self, settings: OpcUaSettings, writer: Writer | None = None) -> None:
+    def __init__(
+        self,
+        settings: OpcUaSettings,
+        writer: Writer | None = None,
+        *,
+        queue_limit: int = QUEUE_LIMIT,
+    ) -> None:
         url = urlparse(settings.endpoint)
         self._settings = settings
         self._loopback = is_loopback(url.hostname)
@@ -187,6 +194,7 @@ class OpcUaSink:
         self._alarms: dict[tuple[str, int, int, int, int], _Alarm] = {}
         self._ops: deque[tuple[str, Any]] = deque()
         self._queued = 0
+        self._limit = queue_limit
         self._wake = asyncio.Event()
         self._idle = asyncio.Event()
         self._idle.set()
@@ -293,7 +301,7 @@ class OpcUaSink:
             return
         self._queued += len(samples)
         self._push("samples", samples)
-        while self._queued > QUEUE_LIMIT:
+        while self._queued > self._limit:
             for i, (kind, batch) in enumerate(self._ops):
                 if kind == "samples":
                     del self._ops[i]
