@@ -89,8 +89,9 @@ async def test_a_simulated_fleet_through_the_poller_to_an_opc_ua_client() -> Non
         ]
         feed = await cnc_path(client, root, "CncChannelList", "Channel_2", "ActFeedrate")
         x2 = await cnc_path(client, root, "CncAxisList", "X2", "PosIndirect", "ActPos")
+        pos = await cnc_path(client, root, "CncChannelList", "Channel_2", "PosTcpWcsZ")
         mode = await cnc_path(client, root, "CncChannelList", "Channel_1", "ActOperationMode")
-        for node in (feed, x2, mode):
+        for node in (feed, x2, pos, mode):
             assert (await status_of(node)).is_good(), node
         ns = await client.get_namespace_index("urn:focas-net:gateway")
         parts = await root.get_child([f"{ns}:Focas", f"{ns}:Path_2", f"{ns}:parts"])
@@ -126,7 +127,7 @@ async def test_a_simulated_fleet_through_the_poller_to_an_opc_ua_client() -> Non
         await server.aclose()
         await until(poller, clock, lambda: poller.is_online("lathe") is False, 1.0)
         await sink.flush()
-        for node in (feed, x2, mode, parts):
+        for node in (feed, x2, pos, mode, parts):
             assert await status_of(node) == LOST, node
         mill_feed = await cnc_path(
             client, await machine_node(client, "mill"), "CncChannelList", "Channel_1", "ActFeedrate"
@@ -139,7 +140,7 @@ async def test_a_simulated_fleet_through_the_poller_to_an_opc_ua_client() -> Non
         clock.advance(10.0)
         await poller.step()
         await sink.flush()
-        for node in (feed, x2, mode):
+        for node in (feed, x2, pos, mode):
             assert (await status_of(node)).is_good(), node
         assert await status_of(parts) == parts_status
         await sub.delete()
