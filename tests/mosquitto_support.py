@@ -8,9 +8,7 @@ from __future__ import annotations
 import asyncio
 import shutil
 import socket
-import subprocess
-from collections.abc import AsyncIterator, Iterator
-from contextlib import contextmanager
+from collections.abc import AsyncIterator
 from pathlib import Path
 
 import pytest
@@ -51,17 +49,17 @@ class Broker:
             # as root the broker would switch to the mosquitto user; the test's user runs it
             "user root\n"
         )
-        self._process: subprocess.Popen[bytes] | None = None
+        self._process: asyncio.subprocess.Process | None = None
 
     async def start(self) -> None:
         """Start the broker and wait (at most 10 s) until it accepts connections."""
         assert self._process is None
         with self.log.open("ab") as log:
-            self._process = subprocess.Popen(
-                [str(self.binary), "-c", str(self.config)], stdout=log, stderr=log
+            self._process = await asyncio.create_subprocess_exec(
+                str(self.binary), "-c", str(self.config), stdout=log, stderr=log
             )
         for _ in range(200):
-            if self._process.poll() is not None:
+            if self._process.returncode is not None:
                 raise RuntimeError(f"mosquitto ended: {self.log.read_text()[-2000:]}")
             try:
                 _reader, writer = await asyncio.open_connection(self.host, self.port)
@@ -79,21 +77,11 @@ class Broker:
         if process is None:
             return
         process.terminate()
-        for _ in range(100):
-            if process.poll() is not None:
-                return
-            await asyncio.sleep(0.05)
-        process.kill()
-        process.wait(5)
-
-    @contextmanager
-    def _owned(self) -> Iterator[Broker]:
         try:
-            yield self
-        finally:
-            if self._process is not None:
-                self._process.kill()
-                self._process.wait(5)
+            await asyncio.wait_for(process.wait(), 5)
+        except TimeoutError:
+            process.kill()
+            await process.wait()
 
 
 @pytest.fixture
@@ -103,7 +91,8 @@ async def broker(tmp_path: Path) -> AsyncIterator[Broker]:
     if binary is None:
         pytest.skip("mosquitto is not installed (apt-get install mosquitto; .ci/run does)")
     running = Broker(binary, tmp_path)
-    with running._owned():
+    try:
         await running.start()
         yield running
+    finally:
         await running.stop()

@@ -5,6 +5,8 @@ from __future__ import annotations
 
 import json
 import math
+import subprocess
+import sys
 from urllib.parse import unquote
 
 import pytest
@@ -263,7 +265,7 @@ def test_prefix_and_deadbands_are_checked_naming_the_key(
 
 
 def test_buffer_bound_is_checked() -> None:
-    with pytest.raises(ValueError, match="mqtt.buffer = 0"):
+    with pytest.raises(ValueError, match=r"mqtt\.buffer = 0"):
         Buffer(0)
 
 
@@ -415,3 +417,17 @@ def test_restore_leaves_out_a_retained_message_superseded_meanwhile() -> None:
     buffer.restore(taken)
     assert buffer.take(10) == [event, new]
     assert buffer.coalesced == 1
+
+
+def test_the_gateway_package_and_the_messages_import_without_aiomqtt() -> None:
+    """Only :mod:`focas_net.gateway.mqtt` needs the ``mqtt`` extra."""
+    code = (
+        "import sys; sys.modules['aiomqtt'] = None\n"
+        "import focas_net.gateway, focas_net.gateway._mqtt_messages\n"
+        "try:\n"
+        "    import focas_net.gateway.mqtt\n"
+        "except ImportError:\n"
+        "    print('needs aiomqtt')\n"
+    )
+    done = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
+    assert done.stdout == "needs aiomqtt\n"

@@ -224,6 +224,7 @@ SHARED: dict[str, tuple[str, ...]] = {
 THIRD_PARTY: dict[str, tuple[str, ...]] = {
     "anyio": ("focas_net.server", "focas_net.cli"),
     "aiohttp": ("focas_net.web.shell",),
+    "aiomqtt": ("focas_net.gateway.mqtt",),
 }
 
 #: Modules a row may import themselves, nothing below them (not in the table either).

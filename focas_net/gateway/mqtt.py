@@ -34,7 +34,7 @@ __all__ = ["MqttSink"]
 _log = logging.getLogger("focas_net.gateway.mqtt")
 
 #: Messages published at once (each waits for its acknowledgement at QoS 1 and 2).
-WINDOW: Final = 256
+WINDOW: Final = 64
 
 
 class MqttSink:
@@ -168,7 +168,7 @@ class MqttSink:
     def _client(self) -> aiomqtt.Client:
         s = self.settings
         will = self.publication.will()
-        return aiomqtt.Client(
+        client = aiomqtt.Client(
             s.host,
             s.port,
             identifier=s.client_id,
@@ -177,7 +177,11 @@ class MqttSink:
             keepalive=s.keepalive,
             will=aiomqtt.Will(will.topic, will.payload, s.qos, retain=will.retain),
             tls_context=ssl.create_default_context() if s.tls else None,
+            max_inflight_messages=WINDOW,
         )
+        # a full window is the normal state of a busy publisher, not a concern to log
+        client.pending_calls_threshold = WINDOW + 1
+        return client
 
     async def _connection(self) -> None:
         """One connection: birth, then the buffer until the connection breaks (MqttError) or
@@ -185,7 +189,7 @@ class MqttSink:
         async with self._client() as client:
             self.connected = True
             self.connections += 1
-            await self._publish(client, [self.publication.birth()])
+            await self._publish(client, self.publication.birth())
             watcher = asyncio.create_task(self._watch(client))
             drainer = asyncio.create_task(self._drain(client))
             try:
@@ -194,12 +198,11 @@ class MqttSink:
                 for task in (watcher, drainer):
                     task.cancel()
                 await asyncio.gather(watcher, drainer, return_exceptions=True)
-            if not drainer.cancelled() and drainer.exception() is None:
-                await self._publish(client, [self.publication.will()])
-                return
-            if not watcher.cancelled() and watcher.exception() is not None:
-                raise watcher.exception()  # type: ignore[misc]
-            raise drainer.exception()  # type: ignore[misc]
+            for task in (watcher, drainer):
+                error = None if task.cancelled() else task.exception()
+                if error is not None:
+                    raise error
+            await self._publish(client, self.publication.will())  # drained: a clean stop
 
     @staticmethod
     async def _watch(client: aiomqtt.Client) -> None:
@@ -209,35 +212,57 @@ class MqttSink:
             pass
 
     async def _drain(self, client: aiomqtt.Client) -> None:
-        """Publish the buffer, a window at a time; return once it is empty and the sink closes."""
-        while True:
-            if self._buffer.dropped != self._dropped_published:
-                count = self._buffer.dropped
-                await self._publish(client, [self.publication.dropped(count, time.time())])
-                self._dropped_published = count
-            batch = self._buffer.take(WINDOW)
-            if not batch:
-                if self._closing.is_set():
-                    return
-                self._wake.clear()
-                await self._wake.wait()
-                continue
-            try:
-                await self._publish(client, batch)
-            except BaseException:
-                self._buffer.restore(batch)
-                raise
+        """Publish the buffer with up to :data:`WINDOW` messages in flight (a sliding window:
+        each confirmation lets the next message go); return once the buffer is empty, nothing
+        is in flight and the sink closes. Whatever is in flight when the connection breaks goes
+        back to the front of the buffer."""
+        flying: dict[asyncio.Task[None], Message] = {}
+        failed: list[tuple[Message, BaseException]] = []
+        landed = asyncio.Event()
 
-    async def _publish(self, client: aiomqtt.Client, messages: Sequence[Message]) -> None:
+        def land(task: asyncio.Task[None]) -> None:
+            message = flying.pop(task, None)
+            if message is None or task.cancelled():
+                return
+            error = task.exception()
+            if error is None:
+                self.published += 1
+            else:
+                failed.append((message, error))
+            landed.set()
+
         qos = self.settings.qos
-        if len(messages) == 1:
-            m = messages[0]
-            await client.publish(m.topic, m.payload, qos, m.retain)
-        else:
-            try:
-                async with asyncio.TaskGroup() as group:
-                    for m in messages:
-                        group.create_task(client.publish(m.topic, m.payload, qos, m.retain))
-            except ExceptionGroup as failed:
-                raise failed.exceptions[0] from None
-        self.published += len(messages)
+        try:
+            for _ in iter(int, 1):  # until the connection breaks or the sink closes
+                if failed:
+                    raise failed[0][1]
+                if self._buffer.dropped != self._dropped_published:
+                    count = self._buffer.dropped
+                    await self._publish(client, self.publication.dropped(count, time.time()))
+                    self._dropped_published = count
+                if len(flying) < WINDOW:
+                    for m in self._buffer.take(WINDOW - len(flying)):
+                        task = asyncio.create_task(
+                            client.publish(m.topic, m.payload, qos, m.retain)
+                        )
+                        flying[task] = m
+                        task.add_done_callback(land)
+                if flying:
+                    landed.clear()
+                    await landed.wait()
+                elif self._closing.is_set():
+                    return
+                else:
+                    self._wake.clear()
+                    await self._wake.wait()
+        finally:
+            tasks = list(flying)
+            self._buffer.restore([m for m, _ in failed] + list(flying.values()))
+            flying.clear()
+            for task in tasks:
+                task.cancel()
+            await asyncio.gather(*tasks, return_exceptions=True)
+
+    async def _publish(self, client: aiomqtt.Client, message: Message) -> None:
+        await client.publish(message.topic, message.payload, self.settings.qos, message.retain)
+        self.published += 1
