@@ -346,3 +346,32 @@ async def test_the_gateway_runs_the_poller_and_writes_through_the_gates() -> Non
             with pytest.raises(KeyError, match="no machine 'nowhere'"):
                 await writer.write_macro("nowhere", 500, Decimal(1), 1)
         assert not gateway.running
+
+
+async def test_a_machine_that_answers_late_holds_back_no_other() -> None:
+    from support import wait_until
+
+    from focas_net.client import FocasClient
+    from focas_net.gateway import Gateway, GatewayConfig
+    from focas_net.protocol import FaultKind, FaultScope
+
+    async with serving() as late, serving() as quick:
+        configs = (
+            MachineConfig("late", "127.0.0.1", late.port, timeout=60.0),
+            MachineConfig("quick", "127.0.0.1", quick.port, timeout=5.0),
+        )
+        sink = RecordingSink()
+        async with Gateway(GatewayConfig(configs), [sink], policy=QUICK):
+            await wait_until(lambda: (1, "spindle_override", "") in sink.of("late"))
+            await wait_until(lambda: (1, "spindle_override", "") in sink.of("quick"))
+            async with FocasClient(late.host, late.port) as packed:  # every answer 30 s late
+                await packed.sim.inject_fault(
+                    FaultKind.DELAY, count=100, arg=30_000, scope=FaultScope.MACHINE
+                )
+            for percent in (130, 90, 110):  # the quick machine's changes keep coming
+                quick.machine.set_overrides(spindle=percent)
+                await wait_until(
+                    lambda p=percent: sink.of("quick")[(1, "spindle_override", "")].value == p,
+                    within=20.0,
+                )
+            assert not [s for s in sink.states if s[0] == "late" and not s[1]]  # not lost yet

@@ -236,8 +236,8 @@ class Poller:
         of state."""
         while not self._closed:
             self._wake.clear()
+            await self._drain()  # first: what is still out counts in the due times
             due = self._turn()
-            await self._drain()
             if self._ready or self._wake.is_set():
                 continue
             with contextlib.suppress(TimeoutError):
