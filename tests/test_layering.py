@@ -135,9 +135,11 @@ TABLE: dict[str, tuple[str, ...]] = {
         "focas_net.errors",
         "focas_net.versamax",
     ),
+    "focas_net.gateway": ("focas_net.client", "focas_net.protocol", "focas_net.errors"),
     # versamax (the module records the `versamax` command prints) is not in the table's row
     "focas_net.cli": (
         "focas_net.client",
+        "focas_net.gateway",
         "focas_net.server",
         "focas_net.sim",
         "focas_net.protocol",
@@ -231,6 +233,13 @@ SHARED: dict[str, tuple[str, ...]] = {
 THIRD_PARTY: dict[str, tuple[str, ...]] = {
     "anyio": ("focas_net.server", "focas_net.cli"),
     "aiohttp": ("focas_net.web.shell",),
+    # the gateway's OPC UA server and its information model
+    "asyncua": (
+        "focas_net.gateway.opcua",
+        "focas_net.gateway._opcua_model",
+        "focas_net.gateway._opcua_types",
+    ),
+    "aiomqtt": ("focas_net.gateway.mqtt",),
 }
 
 #: Modules a row may import themselves, nothing below them (not in the table either).
