@@ -9,12 +9,9 @@ import math
 import os
 import signal
 import sys
-from collections.abc import AsyncIterator, Callable
-from contextlib import asynccontextmanager
-from dataclasses import dataclass, field
+from collections.abc import Callable
 
-import aiomqtt
-from mosquitto_support import Broker, broker
+from mosquitto_support import BOUND, Broker, broker, subscriber
 
 from focas_net.errors import OPCUA_GOOD
 from focas_net.gateway import AlarmChange, MachineShape, MqttSettings, PathShape, Sample, item
@@ -41,9 +38,6 @@ SHAPE = MachineShape(
     (PathShape(1, ("X", "Y", "Z"), ("S1",)), PathShape(2, ("X", "Z"), ("S2",))),
 )
 
-#: A failure bound for waiting on the broker: never a figure the test asserts.
-BOUND = 20.0
-
 
 def settings(broker: Broker, **changes: object) -> MqttSettings:
     return MqttSettings(host=broker.host, port=broker.port, prefix="focas", **changes)  # type: ignore[arg-type]
@@ -55,59 +49,6 @@ def sink_for(broker: Broker, **changes: object) -> MqttSink:
 
 def position(axis: str, value: float, t: float = 0.0, machine: str = "m1") -> Sample:
     return Sample(machine, 1, item("absolute"), axis, value, OPCUA_GOOD, t)
-
-
-@dataclass
-class Seen:
-    """What a subscriber to ``focas/#`` received: every message in order, and the latest
-    payload (and retain flag) per topic."""
-
-    messages: list[aiomqtt.Message] = field(default_factory=list)
-    changed: asyncio.Event = field(default_factory=asyncio.Event)
-
-    def latest(self, topic: str) -> bytes | None:
-        for m in reversed(self.messages):
-            if m.topic.value == topic:
-                assert isinstance(m.payload, bytes)
-                return m.payload
-        return None
-
-    def retained(self, topic: str) -> bool:
-        return any(m.topic.value == topic and m.retain for m in self.messages)
-
-    def on(self, topic: str) -> list[bytes]:
-        found = [m.payload for m in self.messages if m.topic.value == topic]
-        assert all(isinstance(p, bytes) for p in found)
-        return found
-
-    async def until(self, condition: Callable[[Seen], bool]) -> None:
-        """Wait until ``condition`` holds (failing after :data:`BOUND` seconds)."""
-        async with asyncio.timeout(BOUND):
-            for _ in range(100_000):
-                if condition(self):
-                    return
-                self.changed.clear()
-                await self.changed.wait()
-        raise AssertionError("the condition never held")
-
-
-@asynccontextmanager
-async def subscriber(broker: Broker, topic: str = "focas/#") -> AsyncIterator[Seen]:
-    seen = Seen()
-    async with aiomqtt.Client(broker.host, broker.port) as client:
-        await client.subscribe(topic, qos=1)
-
-        async def collect() -> None:
-            async for message in client.messages:
-                seen.messages.append(message)
-                seen.changed.set()
-
-        task = asyncio.create_task(collect())
-        try:
-            yield seen
-        finally:
-            task.cancel()
-            await asyncio.gather(task, return_exceptions=True)
 
 
 async def until_true(condition: Callable[[], bool]) -> None:
