@@ -14,7 +14,15 @@ from collections.abc import Callable
 from mosquitto_support import BOUND, Broker, broker, subscriber
 
 from focas_net.errors import OPCUA_GOOD
-from focas_net.gateway import AlarmChange, MachineShape, MqttSettings, PathShape, Sample, item
+from focas_net.gateway import (
+    AlarmChange,
+    MachineShape,
+    MqttSettings,
+    PathShape,
+    Sample,
+    Sink,
+    item,
+)
 from focas_net.gateway._mqtt_messages import (
     ActiveAlarms,
     AlarmEvent,
@@ -211,7 +219,8 @@ async def test_a_full_buffer_drops_the_oldest_and_counts_them(broker: Broker) ->
 
 async def test_the_sink_never_raises_into_the_poller(broker: Broker) -> None:
     async with sink_for(broker) as sink:
-        sink.samples([object()])  # type: ignore[list-item]
+        poller_sees: Sink = sink  # what the poller holds (checked by the type checker)
+        poller_sees.samples([object()])  # type: ignore[list-item]
         sink.samples([position("X", math.inf)])  # no JSON form: published as null
         assert sink.errors == 1
         await until_true(lambda: sink.pending == 0)
