@@ -202,19 +202,23 @@ async def test_a_broker_restart_loses_nothing_buffered(broker: Broker) -> None:
 async def test_a_full_buffer_drops_the_oldest_and_counts_them(broker: Broker) -> None:
     await broker.stop()
     async with sink_for(broker, buffer=5) as sink:
+        sink.alarms([AlarmChange("m1", 1, 6, 401, 1, "V-READY OFF", True, 0.0)])  # 2 messages
+        sink.described(SHAPE)
         sink.samples([position(f"A{n}", float(n)) for n in range(8)])
-        sink.samples([position("A7", 70.0)])  # coalesced with the waiting A7
-        assert (sink.pending, sink.dropped, sink.coalesced) == (5, 3, 1)
+        sink.samples([position("A7", 70.0)])  # replaces the waiting A7
+        assert (sink.pending, sink.dropped, sink.coalesced) == (5, 6, 1)
         await broker.start()
         async with subscriber(broker) as seen:
-            kept = [f"focas/m1/path1/absolute/A{n}" for n in range(3, 8)]
-            await seen.until(lambda s: all(s.latest(t) is not None for t in kept))
-            assert value_of(seen.latest(kept[-1])).value == 70.0
             dropped = "focas/$gateway/gw/dropped"
             await seen.until(lambda s: s.latest(dropped) is not None)
             payload = seen.latest(dropped)
-            assert payload is not None and DroppedCount.decode(payload).dropped == 3
-            assert all(seen.latest(f"focas/m1/path1/absolute/A{n}") is None for n in range(3))
+            assert payload is not None and DroppedCount.decode(payload).dropped == 6
+            # the retained state is published again whole: the dropped $model, alarm list
+            # and values too (only the alarm event, not retained, is gone)
+            values = [f"focas/m1/path1/absolute/A{n}" for n in range(8)]
+            state = ["focas/m1/$model", "focas/m1/path1/alarms/active", *values]
+            await seen.until(lambda s: all(s.latest(t) is not None for t in state))
+            assert [value_of(seen.latest(t)).value for t in values] == [*map(float, range(7)), 70.0]
 
 
 async def test_the_sink_never_raises_into_the_poller(broker: Broker) -> None:

@@ -240,6 +240,25 @@ def test_a_lost_machine_shows_every_value_bad_and_its_alarms_unknown() -> None:
     assert len(p.samples([sample("mode", "MEM")])) == 1
 
 
+def test_the_retained_state_is_the_latest_message_of_every_topic() -> None:
+    p = publication()
+    (model,) = p.described(SHAPE)
+    p.samples([sample("feed", 1.0)])
+    (feed,) = p.samples([sample("feed", 2.0)])
+    event, active = p.alarms([AlarmChange("lathe-2", 1, 6, 401, 1, "V-READY OFF", True, 0.0)])
+    assert p.retained() == [model, feed, active]
+    assert not event.retain
+
+
+def test_discarding_the_waiting_retained_messages_keeps_the_events() -> None:
+    buffer = Buffer(10)
+    event = Message("e", b"", False)
+    buffer.extend([Message("a", b"1", True), event, Message("b", b"2", True)])
+    buffer.discard_retained()
+    assert buffer.take(10) == [event]
+    assert (buffer.dropped, buffer.coalesced) == (0, 0)
+
+
 def test_machine_items_sit_under_the_machine() -> None:
     assert publication().value_topic("m", 0, "x", "") == "focas/m/x"
 
