@@ -120,6 +120,7 @@ class _Station:
     due: dict[str, float] = field(default_factory=dict)
     pending: dict[str, int] = field(default_factory=dict)
     last: dict[Key, tuple[Value, OpcUaStatus]] = field(default_factory=dict)
+    results: dict[Key, object] = field(default_factory=dict)  # the last result of each read
     alarms: dict[int, dict[tuple[int, int, int], ActiveAlarm]] = field(default_factory=dict)
 
     def interval(self, group: str) -> float:
@@ -300,6 +301,7 @@ class Poller:
                     described.append(shape)
                 st.online = True
                 st.last.clear()
+                st.results.clear()
                 st.due.clear()
                 online.append((st.config.name, True, ""))
                 samples.extend(
@@ -327,6 +329,7 @@ class Poller:
         st.reader = None
         st.epoch += 1
         st.last.clear()
+        st.results.clear()
 
     async def _connect(self, st: _Station) -> None:
         """Connect (unless connected) and read the shape; a failure is kept for the turn to
@@ -401,9 +404,19 @@ class Poller:
                 if error is None:
                     changes.extend(self._alarm_changes(st, out.path, result, now))
                 continue
+            # A read is known by its first key (each key is one read's). The clients make
+            # one result per answer bytes (made once): the same object as last time is the
+            # same values, nothing to convert or compare.
+            tag = out.read.keys[0] if out.read.keys else None
             if error is None:
+                if tag is not None:
+                    if st.results.get(tag) is result:
+                        continue
+                    st.results[tag] = result
                 values: dict[Key, Outcome] = out.read.values(result)
             else:
+                if tag is not None:
+                    st.results.pop(tag, None)
                 status = getattr(error, "opcua_status", NOT_SUPPORTED)
                 values = dict.fromkeys(out.read.keys, status)
             for key, value in values.items():
