@@ -1,15 +1,16 @@
 """The poll loop: :class:`Poller` reads many machines from one task and hands every change to
 the sinks.
 
-**Groups.** Each machine has three intervals (:class:`~focas_net.gateway.config.GroupIntervals`):
-the fast group, the slow group and the active alarm list. One scheduler (a heap of the due
-times, in the poller's one task; a turn looks only at what is due and at the machines whose
-connection changed) starts, at each turn, every read that is due on every machine (:class:`~focas_net.gateway.reads.Reader`), each client sending at once what it can
-(a native client packs the calls queued together into frames of up to ten blocks), then takes
-the answers in the order they come (:meth:`StartedCall.on_done`). There is no task per
-machine and none per value; a group of a machine is not started again while its last reads
-are still out, so a machine that answers slowly (or not: every call has the machine's
-``timeout``) delays nobody else.
+**Groups.** Each machine has three intervals
+(:class:`~focas_net.gateway.config.GroupIntervals`): the fast group, the slow group and the
+active alarm list. One scheduler (a heap of the due times, in the poller's one task; a turn
+looks only at what is due and at the machines whose connection changed) starts, at each turn,
+every read that is due on every machine (:class:`~focas_net.gateway.reads.Reader`), each client
+sending at once what it can (a native client packs the calls queued together into frames of up
+to ten blocks), then takes the answers in the order they come (:meth:`StartedCall.on_done`).
+There is no task per machine and none per value; a group of a machine is not started again
+while its last reads are still out, so a machine that answers slowly (or not: every call has
+the machine's ``timeout``) delays nobody else.
 
 **Change detection.** A sample goes to the sinks only when its value or its status differs
 from the last one sent; after a machine comes (back) online every value is sent once, and the
