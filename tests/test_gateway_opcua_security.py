@@ -12,7 +12,7 @@ import pytest
 from asyncua import ua
 from opcua_support import LATHE, SETTINGS, USERS, connected, machine_node, running
 
-from focas_net.errors import EW, CncError
+from focas_net.errors import EW, CncError, FocasConnectionError
 from focas_net.gateway.opcua import OpcUaSink, is_loopback
 
 DENIED = (ua.uaerrors.BadUserAccessDenied, ua.uaerrors.BadIdentityTokenRejected)
@@ -129,6 +129,8 @@ async def test_the_write_methods_call_the_writer() -> None:
         (CncError.from_ew(EW.NUMBER), ua.uaerrors.BadOutOfRange),
         (CncError.from_ew(EW.PASSWD), ua.uaerrors.BadUserAccessDenied),
         (CncError.from_ew(EW.MODE), ua.uaerrors.BadInvalidState),
+        (ValueError("macro value out of range"), ua.uaerrors.BadInvalidArgument),
+        (FocasConnectionError("reset by peer"), ua.uaerrors.BadCommunicationError),
     ],
 )
 async def test_a_refused_write_is_a_bad_status(
