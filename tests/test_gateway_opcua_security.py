@@ -25,13 +25,13 @@ def test_loopback_hosts() -> None:
 
 def test_settings_no_client_could_use_safely_are_refused() -> None:
     beyond = replace(SETTINGS, endpoint="opc.tcp://0.0.0.0:4840/focas_net/", users=USERS)
-    with pytest.raises(ValueError, match="beyond the loopback: it needs certificate"):
+    with pytest.raises(ValueError, match=r"beyond the loopback: it needs opcua\.certificate"):
         OpcUaSink(beyond)
     with pytest.raises(ValueError, match="no client could connect"):
         OpcUaSink(replace(SETTINGS, anonymous=False))
     with pytest.raises(ValueError, match="no client could connect"):
         OpcUaSink(replace(SETTINGS, writes=True), Recorder())
-    with pytest.raises(ValueError, match="come together"):
+    with pytest.raises(ValueError, match=r"certificate and opcua\.private_key come together"):
         OpcUaSink(replace(SETTINGS, certificate=SETTINGS.namespace))  # type: ignore[arg-type]
 
 

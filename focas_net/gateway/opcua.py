@@ -35,6 +35,7 @@ from asyncua.server.internal_server import InternalServer
 from focas_net.errors import OpcUaStatus
 from focas_net.gateway import _opcua_model as om
 from focas_net.gateway import _opcua_types as ot
+from focas_net.gateway._keys import ConfigError
 from focas_net.gateway._opcua_conditions import Conditions
 from focas_net.gateway._opcua_methods import add_write_methods
 from focas_net.gateway.config import OpcUaSettings
@@ -180,8 +181,9 @@ class OpcUaSink:
 
     ``writer`` (None: writes off) serves the write methods, which exist only when
     ``settings.writes`` is true too. Past ``queue_limit`` samples waiting for the server's
-    task the oldest batches are dropped and counted in :attr:`dropped`. Raises ``ValueError``
-    for settings no client could use safely (see the module's docstring).
+    task the oldest batches are dropped and counted in :attr:`dropped`. Raises
+    :class:`~focas_net.gateway._keys.ConfigError` (a ``ValueError``) for settings no client
+    could use safely (see the module's docstring).
     """
 
     def __init__(
@@ -196,17 +198,17 @@ class OpcUaSink:
         self._loopback = is_loopback(url.hostname)
         self._writer = writer if settings.writes else None
         if (settings.certificate is None) != (settings.private_key is None):
-            raise ValueError("opcua: certificate and private_key come together")
+            raise ConfigError("opcua.certificate and opcua.private_key come together")
         if not self._loopback and settings.certificate is None:
-            raise ValueError(
-                f"opcua: the endpoint {settings.endpoint} is beyond the loopback: "
-                "it needs certificate and private_key"
+            raise ConfigError(
+                f"opcua.endpoint {settings.endpoint} is beyond the loopback: "
+                "it needs opcua.certificate and opcua.private_key"
             )
         self._anonymous = settings.anonymous and self._loopback and self._writer is None
         if not self._anonymous and not settings.users:
-            raise ValueError(
-                "opcua: no client could connect: anonymous access is off "
-                "(beyond the loopback or with writes on) and there are no users"
+            raise ConfigError(
+                "opcua: no client could connect: anonymous sessions are off (beyond the "
+                "loopback, or with opcua.writes true) and there is no [[opcua.users]] entry"
             )
         self._server: Server | None = None
         self._ns = 0
