@@ -7,15 +7,16 @@ Each test names what a user typed and what the command must say.
 
 from __future__ import annotations
 
+import asyncio
 import re
 from decimal import Decimal
 from pathlib import Path
 
 import pytest
 from cli_support import at, fails, ok
-from support import IO_TIMEOUT, Served
+from support import IO_TIMEOUT, LoopbackPeer, Served
 
-from focas_net.cli import EXIT_USAGE
+from focas_net.cli import EXIT_PROTOCOL, EXIT_USAGE
 from focas_net.client import FocasClient, NativeClient
 from focas_net.sim import MachineError
 from focas_net.web import ActionError, Station, perform
@@ -137,3 +138,35 @@ async def test_a_macro_value_of_a_file_without_ranges_says_so(tmp_path: Path) ->
         EXIT_USAGE, "serve", "--machine", str(path), "--port", "0", prefix="focas-net"
     )
     assert line.endswith("m.toml: macros.values.500: #500 is in no macro range (ranges gives none)")
+
+
+# -- a peer whose answer starts as a FOCAS/2 frame and is none --------------------------------
+
+
+class _Garbage(LoopbackPeer):
+    """Answers any connection with A0 A0 A0 A0 and text, then closes it."""
+
+    async def _serve(self, reader: asyncio.StreamReader, writer: asyncio.StreamWriter) -> None:
+        writer.write(b"\xa0\xa0\xa0\xa0garbage-garbage-garbage")
+        await writer.drain()
+        writer.close()
+
+
+@pytest.mark.parametrize(
+    ("protocol", "rule"),
+    [
+        ([], "frame length 2694881440 outside 4..65536"),
+        (["--protocol", "native"], "its answer is a frame of type 0x7262"),
+    ],
+)
+async def test_a_peer_sending_a0_a0_a0_a0_and_text_does_not_speak_focas(
+    protocol: list[str], rule: str
+) -> None:
+    """FOCAS/2 said "its answer does not start with A0 A0 A0 A0" (it did), showing bytes from
+    the middle of the answer."""
+    async with _Garbage() as peer:
+        line = await fails(EXIT_PROTOCOL, "status", "--timeout", "2", *protocol, *at(peer))
+    assert line == (
+        f"focas-net: 127.0.0.1:{peer.port} does not speak the FOCAS protocol ({rule}; it sent "
+        "b'\\xa0\\xa0\\xa0\\xa0garb')"
+    )
