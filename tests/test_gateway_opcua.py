@@ -5,6 +5,7 @@ cleared."""
 
 from __future__ import annotations
 
+import math
 from dataclasses import replace
 from datetime import UTC, datetime
 
@@ -114,6 +115,16 @@ async def test_values_come_with_units_timestamps_and_data_changes() -> None:
                 assert dv.SourceTimestamp == datetime.fromtimestamp(T0 + i, UTC)
                 await handler.value_of(x2, -value)
             await sub.delete()
+            # the position's structure, made of its parts (FOCAS reads no command position)
+            pos = await cnc_path(client, root, "CncAxisList", "X2", "PosIndirect")
+            lost = await pos.read_data_value(raise_on_bad_status=False)
+            assert lost.StatusCode == ua.StatusCode(ua.StatusCodes.BadWaitingForInitialData)
+            sink.samples([sample("lathe", 2, "distance", 0.5, key="X", time=T0 + 9)])
+            await sink.flush()
+            await client.load_data_type_definitions()
+            value = await pos.read_value()
+            assert (value.ActPos, value.RemDist) == (-250.5, 0.5)
+            assert math.isnan(value.CmdPos)
 
 
 async def test_focas_states_become_opc_40502_enumerations() -> None:
@@ -168,7 +179,7 @@ async def test_an_ew_code_is_the_variables_status() -> None:
 
 async def variables(client: Client, node: Node) -> list[Node]:
     """Every variable below ``node`` a sample writes: components, not properties, not the
-    constant ``ActChannel`` and not the position structures (their parts are written)."""
+    constant ``ActChannel``."""
     cnc = await client.get_namespace_index(CNC_NAMESPACE)
     found: list[Node] = []
     todo = [node]
@@ -185,8 +196,7 @@ async def variables(client: Client, node: Node) -> list[Node]:
             if (await child.read_browse_name()).Name == "ActChannel":
                 continue
             if await child.read_type_definition() == ua.NodeId(CncId.POSITION_VARIABLE_TYPE, cnc):
-                todo.append(child)
-                continue
+                todo.append(child)  # its parts
             found.append(child)
     return found
 

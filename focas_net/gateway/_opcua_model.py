@@ -22,6 +22,7 @@ from focas_net.gateway._opcua_types import (
     FOLDER_TYPE,
     HAS_PROPERTY,
     ORGANIZES,
+    POSITION_FIELDS,
     PROPERTY_TYPE,
     CncId,
     NodeBuilder,
@@ -62,6 +63,9 @@ class MachineNodes:
     root: ua.NodeId
     targets: dict[tuple[int, str, str], tuple[Target, ...]] = field(default_factory=dict)
     variables: list[ua.NodeId] = field(default_factory=list)
+    #: The ``CncPositionVariableType`` variables each sample goes into, with the index of its
+    #: field in ``CncPositionDataType`` (:data:`POSITION_FIELDS`).
+    positions: dict[tuple[int, str, str], list[tuple[ua.NodeId, int]]] = field(default_factory=dict)
 
     def add(self, key: tuple[int, str, str], target: Target) -> None:
         self.targets[key] = (*self.targets.get(key, ()), target)
@@ -206,9 +210,12 @@ class _Machine:
     def position(
         self, parent: ua.NodeId, name: str, parts: dict[str, tuple[int, str, str]]
     ) -> None:
-        """A ``CncPositionVariableType`` variable whose parts (ActPos, RemDist) samples write;
-        its structure value is not kept (read the parts)."""
+        """A ``CncPositionVariableType`` variable: samples write its parts (ActPos, RemDist)
+        and its ``CncPositionDataType`` value."""
         node = child(parent, name)
+        self.nodes.variables.append(node)
+        for part, key in parts.items():
+            self.nodes.positions.setdefault(key, []).append((node, POSITION_FIELDS.index(part)))
         self.b.variable(
             parent,
             node,
@@ -287,7 +294,11 @@ class _Machine:
                 )
                 letter = a[:1].upper()
                 if letter in "XYZABC" and letter and a.rstrip("0123456789") == letter:
-                    self.position(ch, f"PosTcpBcs{letter}", {"ActPos": (n, "machine", a)})
+                    self.position(
+                        ch,
+                        f"PosTcpBcs{letter}",
+                        {"ActPos": (n, "machine", a), "RemDist": (n, "distance", a)},
+                    )
                     self.position(
                         ch,
                         f"PosTcpWcs{letter}",

@@ -20,6 +20,7 @@ import asyncio
 import hmac
 import ipaddress
 import logging
+import math
 import uuid
 from collections import deque
 from collections.abc import Sequence
@@ -118,7 +119,7 @@ class _Live:
     """A machine's variables as the address space holds them: each sample's targets resolved
     once to the ``AttributeValue`` of their Value attribute, written in place."""
 
-    def __init__(self, server: Server, nodes: om.MachineNodes) -> None:
+    def __init__(self, server: Server, nodes: om.MachineNodes, position_cls: Any) -> None:
         aspace = server.iserver.aspace
 
         def value_of(node: ua.NodeId) -> Any:
@@ -132,6 +133,47 @@ class _Live:
             for key, targets in nodes.targets.items()
         }
         self.values: list[Any] = [value_of(node) for node in nodes.variables]
+        structs: dict[ua.NodeId, _Position] = {}
+        for fields in nodes.positions.values():
+            for node, index in fields:
+                if node not in structs:
+                    structs[node] = _Position(value_of(node), position_cls)
+                structs[node].sourced.add(index)
+        self.structs = list(structs.values())
+        for p in self.structs:
+            p.lose(_WAITING)  # (its value is made when read: no write of it to keep)
+        self.positions: dict[tuple[int, str, str], tuple[tuple[_Position, int], ...]] = {
+            key: tuple((structs[node], index) for node, index in fields)
+            for key, fields in nodes.positions.items()
+        }
+
+
+class _Position:
+    """The ``CncPositionDataType`` value of one ``CncPositionVariableType`` variable, made of
+    the parts its samples give (CmdPos, which FOCAS does not read, is NaN): Good once every part
+    it has a source for is Good, else the status of a part that is not. The value is made when
+    it is read, or at once for the variable's monitored items."""
+
+    __slots__ = ("att", "bad", "cls", "now", "sourced", "stamp", "values")
+
+    def __init__(self, att: Any, cls: Any) -> None:
+        self.att, self.cls = att, cls
+        self.values = [math.nan] * len(ot.POSITION_FIELDS)
+        self.sourced: set[int] = set()
+        self.bad: dict[int, ua.StatusCode] = {}
+        self.stamp: datetime | None = None
+        self.now: datetime | None = None
+        att.value_callback = self.current
+
+    def lose(self, status: ua.StatusCode, stamp: datetime | None = None) -> None:
+        self.bad = dict.fromkeys(self.sourced, status)
+        self.stamp, self.now = stamp, datetime.now(UTC)
+
+    def current(self, nodeid: Any = None, attr: Any = None) -> ua.DataValue:
+        if self.bad:
+            return _Value(_NULL, next(iter(self.bad.values())), self.stamp, self.now)
+        variant = ua.Variant(self.cls(*self.values), ua.VariantType.ExtensionObject)
+        return _Value(variant, _GOOD, self.stamp, self.now)
 
 
 async def _notify(att: Any, dv: ua.DataValue) -> None:
@@ -155,11 +197,18 @@ class OpcUaSink:
     """The OPC UA server of the gateway (``async with OpcUaSink(settings, writer) as sink``).
 
     ``writer`` (None: writes off) serves the write methods, which exist only when
-    ``settings.writes`` is true too. Raises ``ValueError`` for settings no client could use
-    safely (see the module's docstring).
+    ``settings.writes`` is true too. Past ``queue_limit`` samples waiting for the server's
+    task the oldest batches are dropped and counted in :attr:`dropped`. Raises ``ValueError``
+    for settings no client could use safely (see the module's docstring).
     """
 
-    def __init__(self, settings: OpcUaSettings, writer: Writer | None = None) -> None:
+    def __init__(
+        self,
+        settings: OpcUaSettings,
+        writer: Writer | None = None,
+        *,
+        queue_limit: int = QUEUE_LIMIT,
+    ) -> None:
         url = urlparse(settings.endpoint)
         self._settings = settings
         self._loopback = is_loopback(url.hostname)
@@ -187,11 +236,13 @@ class OpcUaSink:
         self._alarms: dict[tuple[str, int, int, int, int], _Alarm] = {}
         self._ops: deque[tuple[str, Any]] = deque()
         self._queued = 0
+        self._limit = queue_limit
         self._wake = asyncio.Event()
         self._idle = asyncio.Event()
         self._idle.set()
         self._task: asyncio.Task[None] | None = None
         self._status_cache: dict[int, ua.StatusCode] = {}
+        self._position_cls: Any = None
         #: Samples dropped because the queue was full.
         self.dropped = 0
         #: Samples written to the address space.
@@ -240,6 +291,8 @@ class OpcUaSink:
         await self._add(server, items, refs)
         for node, definition in ot.enum_definitions(self._cnc).items():
             await server.get_node(node).write_data_type_definition(definition)
+        made = await server.load_data_type_definitions()
+        self._position_cls = made.get("CncPositionDataType") or ua.CncPositionDataType
         await server.start()
         self._server = server
         self._task = asyncio.create_task(self._run(), name="opcua-sink")
@@ -293,7 +346,7 @@ class OpcUaSink:
             return
         self._queued += len(samples)
         self._push("samples", samples)
-        while self._queued > QUEUE_LIMIT:
+        while self._queued > self._limit:
             for i, (kind, batch) in enumerate(self._ops):
                 if kind == "samples":
                     del self._ops[i]
@@ -353,7 +406,8 @@ class OpcUaSink:
             live = machines.get(s.machine)
             if live is None:
                 continue
-            slots = live.slots.get((s.path, s.item.name, s.key))
+            key = (s.path, s.item.name, s.key)
+            slots = live.slots.get(key)
             if slots is None:
                 continue
             if s.time != last:
@@ -374,7 +428,29 @@ class OpcUaSink:
                     att.value = dv
                     if att.datachange_callbacks:
                         await _notify(att, dv)
+            fields = live.positions.get(key)
+            if fields is not None:
+                await self._put_positions(fields, s, stamp, now)
             self.applied += 1
+
+    async def _put_positions(
+        self,
+        fields: tuple[tuple[_Position, int], ...],
+        s: Sample,
+        stamp: datetime,
+        now: datetime,
+    ) -> None:
+        for p, index in fields:
+            if s.status.value:
+                p.bad[index] = self._status(s.status)
+            elif s.value is None or isinstance(s.value, str):
+                p.bad[index] = _OUT_OF_RANGE
+            else:
+                p.values[index] = float(s.value)
+                p.bad.pop(index, None)
+            p.stamp, p.now = stamp, now
+            if p.att.datachange_callbacks:
+                await _notify(p.att, p.current())
 
     async def _set_all(self, live: _Live, dv: ua.DataValue) -> None:
         for att in live.values:
@@ -414,7 +490,7 @@ class OpcUaSink:
         await self._add(server, items, refs)
         if self._writer is not None:
             await self._add_methods(server.get_node(nodes.root))
-        live = _Live(server, nodes)
+        live = _Live(server, nodes, self._position_cls)
         await self._set_all(live, _Value(_NULL, _WAITING, None, datetime.now(UTC)))
         self._live[shape.name] = live
         self._machines[shape.name] = nodes
@@ -431,6 +507,8 @@ class OpcUaSink:
             return
         if not online:
             stamp = datetime.fromtimestamp(time, UTC)
+            for p in live.structs:
+                p.lose(_LOST, stamp)
             await self._set_all(live, _Value(_NULL, _LOST, stamp, datetime.now(UTC)))
         quality = _GOOD if online else _LOST
         for key, alarm in self._alarms.items():
