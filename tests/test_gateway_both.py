@@ -212,7 +212,7 @@ async def test_a_running_plant_to_opc_ua_and_mqtt_at_once_lost_and_back(
         await lathe_server.aclose()
 
         async def opcua_lost() -> bool:
-            return await status_of(feed2) == LOST and await status_of(x2) == LOST
+            return bool(await status_of(feed2) == LOST and await status_of(x2) == LOST)
 
         await eventually(opcua_lost, "the lathe's values BadCommunicationError over OPC UA")
         await seen.until(lambda s: mqtt_state(s, "lathe") == "UNAVAILABLE")
