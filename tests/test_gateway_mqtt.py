@@ -11,6 +11,7 @@ import signal
 import sys
 from collections.abc import Callable
 
+import pytest
 from mosquitto_support import BOUND, Broker, broker, subscriber
 
 from focas_net.errors import OPCUA_GOOD
@@ -23,6 +24,7 @@ from focas_net.gateway import (
     Sink,
     item,
 )
+from focas_net.gateway._keys import ConfigError
 from focas_net.gateway._mqtt_messages import (
     ActiveAlarms,
     AlarmEvent,
@@ -228,6 +230,21 @@ async def test_the_sink_never_raises_into_the_poller(broker: Broker) -> None:
         sink.samples([position("X", math.inf)])  # no JSON form: published as null
         assert sink.errors == 1
         await until_true(lambda: sink.pending == 0)
+
+
+@pytest.mark.parametrize(
+    ("changes", "says"),
+    [
+        ({"prefix": "$plant"}, "mqtt.prefix '$plant'"),
+        ({"deadbands": {"feed": -1.0}}, "mqtt.deadbands.feed = -1.0"),
+        ({"qos": 3}, "mqtt.qos = 3"),
+        ({"buffer": 0}, "mqtt.buffer = 0"),
+    ],
+)
+def test_settings_it_cannot_use_are_a_config_error(changes: dict[str, object], says: str) -> None:
+    with pytest.raises(ConfigError) as refused:
+        MqttSink(MqttSettings(**changes))  # type: ignore[arg-type]
+    assert says in str(refused.value)
 
 
 async def test_a_sink_without_a_broker_stops_at_once(broker: Broker) -> None:

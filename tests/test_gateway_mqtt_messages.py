@@ -269,7 +269,6 @@ def test_machine_items_sit_under_the_machine() -> None:
         ("", {}, "mqtt.prefix"),
         ("a/+/b", {}, "mqtt.prefix"),
         ("$SYS", {}, "mqtt.prefix"),
-        ("a//b", {}, "empty level"),
         ("focas", {"mode": 1.0}, "mqtt.deadbands.mode: not a numeric item"),
         ("focas", {"nope": 1.0}, "mqtt.deadbands.nope"),
         ("focas", {"feed": -1.0}, "mqtt.deadbands.feed = -1.0"),

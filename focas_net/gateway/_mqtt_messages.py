@@ -229,8 +229,6 @@ def _check_prefix(prefix: str) -> str:
             f"mqtt.prefix {prefix!r}: a topic of one or more levels, without + or # and not"
             " starting with $"
         )
-    if "" in prefix.split("/"):
-        raise ValueError(f"mqtt.prefix {prefix!r}: an empty level")
     return prefix
 
 
