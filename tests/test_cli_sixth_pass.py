@@ -7,14 +7,16 @@ Each test names what a user typed and what the command must say.
 
 from __future__ import annotations
 
+import asyncio
 import re
 from decimal import Decimal
+from pathlib import Path
 
 import pytest
 from cli_support import at, fails, ok
-from support import IO_TIMEOUT, Served
+from support import IO_TIMEOUT, LoopbackPeer, Served
 
-from focas_net.cli import EXIT_USAGE
+from focas_net.cli import EXIT_PROTOCOL, EXIT_USAGE
 from focas_net.client import FocasClient, NativeClient
 from focas_net.sim import MachineError
 from focas_net.web import ActionError, Station, perform
@@ -99,3 +101,72 @@ async def test_a_control_character_past_what_the_machine_keeps_is_cut_with_it(
     typed = "x" * 32 + "\n"
     out = await ok("sim", "alarm", "PS0103", typed, *at(server))
     assert re.fullmatch(r"raised PS0103 x{32}\n", out), out
+
+
+# -- a machine file's macro value written as a decimal ------------------------------------------
+
+_MACROS = '[machine]\nname = "m"\naxes = ["X"]\n[macros]\n{ranges}values = {{ 500 = {value} }}\n'
+_RANGE = "ranges = [{ first = 500, last = 999 }]\n"
+
+
+@pytest.mark.parametrize(
+    ("value", "words"),
+    [
+        ("1.5", "must be an integer or [mcr_val, dec_val] (1.5 is [15, 1]), got 1.5"),
+        ("-2.25", "must be an integer or [mcr_val, dec_val] (-2.25 is [-225, 2]), got -2.25"),
+        ("100.0", "must be an integer or [mcr_val, dec_val] (100.0 is [100, 0]), got 100.0"),
+        ("1e300", "must be an integer or [mcr_val, dec_val], got 1e+300"),
+        ("nan", "must be an integer or [mcr_val, dec_val], got nan"),
+    ],
+)
+async def test_a_macro_value_written_as_a_decimal_says_how_to_write_it(
+    tmp_path: Path, value: str, words: str
+) -> None:
+    """It said "must be an integer, got a float (1.5)", with no word of [mcr_val, dec_val]."""
+    path = tmp_path / "m.toml"
+    path.write_text(_MACROS.format(ranges=_RANGE, value=value), encoding="utf-8")
+    line = await fails(
+        EXIT_USAGE, "serve", "--machine", str(path), "--port", "0", prefix="focas-net"
+    )
+    assert line.endswith(f"m.toml: macros.values.500: {words}"), line
+
+
+async def test_a_macro_value_of_a_file_without_ranges_says_so(tmp_path: Path) -> None:
+    path = tmp_path / "m.toml"
+    path.write_text(_MACROS.format(ranges="", value="1"), encoding="utf-8")
+    line = await fails(
+        EXIT_USAGE, "serve", "--machine", str(path), "--port", "0", prefix="focas-net"
+    )
+    assert line.endswith("m.toml: macros.values.500: #500 is in no macro range (ranges gives none)")
+
+
+# -- a peer whose answer starts as a FOCAS/2 frame and is none --------------------------------
+
+
+class _Garbage(LoopbackPeer):
+    """Answers any connection with A0 A0 A0 A0 and text, then closes it."""
+
+    async def _serve(self, reader: asyncio.StreamReader, writer: asyncio.StreamWriter) -> None:
+        writer.write(b"\xa0\xa0\xa0\xa0garbage-garbage-garbage")
+        await writer.drain()
+        writer.close()
+
+
+@pytest.mark.parametrize(
+    ("protocol", "rule"),
+    [
+        ([], "frame length 2694881440 outside 4..65536"),
+        (["--protocol", "native"], "its answer is a frame of type 0x7262"),
+    ],
+)
+async def test_a_peer_sending_a0_a0_a0_a0_and_text_does_not_speak_focas(
+    protocol: list[str], rule: str
+) -> None:
+    """FOCAS/2 said "its answer does not start with A0 A0 A0 A0" (it did), showing bytes from
+    the middle of the answer."""
+    async with _Garbage() as peer:
+        line = await fails(EXIT_PROTOCOL, "status", "--timeout", "2", *protocol, *at(peer))
+    assert line == (
+        f"focas-net: 127.0.0.1:{peer.port} does not speak the FOCAS protocol ({rule}; it sent "
+        "b'\\xa0\\xa0\\xa0\\xa0garb')"
+    )
