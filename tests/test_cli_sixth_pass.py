@@ -232,3 +232,14 @@ async def test_a_bit_write_the_parameter_cannot_hold_names_the_bit(
         "the CNC refused parameter 6711 with bit 31 set to 1: the value that makes is outside "
         "the parameter's range"
     ), line
+
+
+@pytest.mark.parametrize(("extra", "shown"), [("", "''"), ("a b", "'a b'"), ("x", "x")])
+async def test_an_argument_too_many_is_shown_as_typed(
+    server: Served, extra: str, shown: str
+) -> None:
+    """An empty one showed as nothing: "unrecognized arguments:;"."""
+    line = await fails(
+        EXIT_USAGE, "pmc", "bit", "R", "0.1", "1", extra, *at(server), prefix="focas-net"
+    )
+    assert f"error: unrecognized arguments: {shown}; see focas-net pmc bit --help" in line, line

@@ -12,6 +12,7 @@ from __future__ import annotations
 import argparse
 import math
 import re
+import shlex
 import sys
 from collections.abc import Callable, Sequence
 from functools import partial
@@ -134,7 +135,8 @@ class Parser(argparse.ArgumentParser):
         finally:
             self._mixing = False
         if extras:
-            self.error(f"unrecognized arguments: {' '.join(extras)}")
+            # quoted as a shell takes them back, so an empty one ('') or one with spaces shows
+            self.error(f"unrecognized arguments: {shlex.join(extras)}")
         return namespace, extras
 
     def _option_before_command(self, args: list[str]) -> None:
