@@ -16,7 +16,7 @@ import pytest
 from cli_support import at, fails, ok
 from support import IO_TIMEOUT, LoopbackPeer, Served
 
-from focas_net.cli import EXIT_PROTOCOL, EXIT_USAGE
+from focas_net.cli import EXIT_CNC, EXIT_PROTOCOL, EXIT_USAGE
 from focas_net.client import FocasClient, NativeClient
 from focas_net.sim import MachineError
 from focas_net.web import ActionError, Station, perform
@@ -170,3 +170,76 @@ async def test_a_peer_sending_a0_a0_a0_a0_and_text_does_not_speak_focas(
         f"focas-net: 127.0.0.1:{peer.port} does not speak the FOCAS protocol ({rule}; it sent "
         "b'\\xa0\\xa0\\xa0\\xa0garb')"
     )
+
+
+# -- an empty name where a file or a folder belongs ---------------------------------------------
+
+
+@pytest.mark.parametrize(
+    "argv",
+    [
+        ["serve", "--port", "0", "--machine", ""],
+        ["serve", "--port", "0", "--state", " "],
+        ["serve", "--port", "0", "--tls-cert", "", "--tls-key", "k.pem"],
+        ["status", "--tls-ca", "", "--port", "1"],
+    ],
+)
+async def test_an_empty_file_name_is_a_usage_error(argv: list[str]) -> None:
+    """``--machine ''`` said ": cannot read: Is a directory"; ``--state ''`` was ignored."""
+    line = await fails(EXIT_USAGE, *argv, prefix="focas-net")
+    option = next(a for a in argv if a in ("--machine", "--state", "--tls-cert", "--tls-ca"))
+    given = "' '" if option == "--state" else "''"
+    assert f"argument {option}: an empty name is no file or folder, got {given};" in line, line
+
+
+async def test_program_load_of_an_empty_name_asks_for_the_file(server: Served) -> None:
+    """It said "cannot read '': Is a directory"."""
+    line = await fails(EXIT_USAGE, "program", "load", "", *at(server))
+    assert line == (
+        "focas-net: program load: give the file of the program, e.g. o1000.nc ('' names none)"
+    )
+
+
+# -- refusals that named a number or showed nothing --------------------------------------------
+
+
+async def test_a_program_search_outside_mem_and_edit_names_the_mode(server: Served) -> None:
+    """The machine said "program search in mode 0: MEM or EDIT"."""
+    server.machine.set_panel(mode=0)
+    with pytest.raises(MachineError) as refused:
+        perform(Station(0, server.machine), "select_program", {"number": "O0001"})
+    assert str(refused.value).endswith("program search in MDI mode: MEM or EDIT")
+
+
+async def test_an_active_alarm_of_no_message_says_so(server: Served) -> None:
+    """It said "PS0100 is already active:  (a CNC ...", an empty message between two spaces."""
+    server.machine.raise_alarm(0, 3, 100)
+    out = await ok("sim", "alarm", "PS0100", "again", *at(server))
+    assert out == (
+        "PS0100 is already active (with no message) (a CNC shows one entry per alarm: clear it "
+        "first to raise it with another message)\n"
+    )
+
+
+@pytest.mark.parametrize("protocol", PROTOCOLS)
+async def test_a_bit_write_the_parameter_cannot_hold_names_the_bit(
+    server: Served, protocol: list[str]
+) -> None:
+    """Setting bit 31 of 6711 (0..999999999) said "the CNC refused 1 for parameter 6711"."""
+    server.machine.set_panel(mode=0, pwe=1)
+    line = await fails(EXIT_CNC, "param", "set", "6711.31", "1", *protocol, *at(server))
+    assert line.endswith(
+        "the CNC refused parameter 6711 with bit 31 set to 1: the value that makes is outside "
+        "the parameter's range"
+    ), line
+
+
+@pytest.mark.parametrize(("extra", "shown"), [("", "''"), ("a b", "'a b'"), ("x", "x")])
+async def test_an_argument_too_many_is_shown_as_typed(
+    server: Served, extra: str, shown: str
+) -> None:
+    """An empty one showed as nothing: "unrecognized arguments:;"."""
+    line = await fails(
+        EXIT_USAGE, "pmc", "bit", "R", "0.1", "1", extra, *at(server), prefix="focas-net"
+    )
+    assert f"error: unrecognized arguments: {shown}; see focas-net pmc bit --help" in line, line
