@@ -136,20 +136,18 @@ def emit(line: dict[str, Any]) -> None:
 
 
 def ticks(interval: float, offset: float = 0.0) -> Iterator[tuple[int, float, int]]:
-    """``(tick, seconds to wait, ticks skipped)`` for a cycle every ``interval`` from
-    ``offset`` seconds from now, taken as each cycle's work is done: a tick whose whole
-    interval went by is skipped, not caught up."""
+    """``(tick, when it is due, ticks skipped)`` for a cycle every ``interval`` from
+    ``offset`` seconds from now (``time.monotonic``), taken as each cycle's work is done: a
+    tick whose whole interval went by is skipped, not caught up."""
     t0 = time.monotonic() + offset
     tick = 0
     while True:
         due = t0 + tick * interval
-        now = time.monotonic()
-        if now >= due + interval:
-            late = int((now - due) // interval)
+        late = int((time.monotonic() - due) // interval)
+        if late > 0:
             tick += late
-            yield tick, t0 + tick * interval - now, late
-        else:
-            yield tick, due - now, 0
+            due = t0 + tick * interval
+        yield tick, due, max(late, 0)
         tick += 1
 
 
@@ -275,7 +273,8 @@ def library_poll(
         if failed:
             return
         try:
-            for tick, wait, skipped in ticks(fast, offset=fast * j / threads):
+            for tick, due, skipped in ticks(fast, offset=fast * j / threads):
+                wait = due - time.monotonic()
                 if wait > 0 and stop.wait(wait):
                     return
                 counts.skipped[j] += skipped * len(machines)
@@ -328,8 +327,8 @@ def report(line: Callable[[], dict[str, Any]], every: float) -> None:
     """Print ``line()`` once every ``every`` seconds (on a fixed schedule, so that the lines'
     times do not drift from the cycles') until stdin ends, and once more then."""
     closed = until_closed()
-    for _, wait, _ in ticks(every, offset=every / 2):
-        if closed.wait(max(wait, 0.0)):
+    for _, due, _ in ticks(every, offset=every / 2):
+        if closed.wait(max(due - time.monotonic(), 0.0)):
             break
         emit(line())
     emit(line())
@@ -468,11 +467,18 @@ async def floor_poll(
         tally(slow_results, counts.slow, counts.slow_errors)
 
     async def poll() -> None:
-        for tick, wait, skipped in ticks(fast):
+        """The cycles until stdin ends; after each, the counts, timed at the end of its
+        interval (so that the counts of whole cycles are set against whole intervals)."""
+        closed = until_closed()
+        for tick, due, skipped in ticks(fast):
+            if closed.is_set():
+                return
+            wait = due - time.monotonic()
             if wait > 0:
                 await asyncio.sleep(wait)
             counts.skipped[0] += skipped * len(clients)
             await cycle(tick)
+            emit({**counts.line(), "t": due + fast})
 
     try:
         for i in range(0, len(clients), 50):
@@ -483,12 +489,7 @@ async def floor_poll(
             if errors:
                 raise RuntimeError(f"{len(errors)} machine(s) would not connect: {errors[0]!r}")
         emit({"event": "ready", "machines": len(clients), "threads": 1})
-        poller = asyncio.create_task(poll())
-        try:
-            await asyncio.to_thread(report, counts.line, fast)
-        finally:
-            poller.cancel()
-            await asyncio.gather(poller, return_exceptions=True)
+        await poll()
     finally:
         await asyncio.gather(*(c.aclose() for c in clients), return_exceptions=True)
 
