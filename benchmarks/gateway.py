@@ -105,6 +105,8 @@ class Window:
     pressure: float | None
     error: str = ""
     extra: dict[str, float] = field(default_factory=dict)
+    #: The outputs the gateway published to (its ready line's "sinks").
+    sinks: str = ""
 
     @property
     def cores(self) -> float:
@@ -282,8 +284,9 @@ def measure(name: str, argv: list[str], opts: Options, fleet_pid: int) -> Window
     subject = Subject(name, argv)
     try:
         started = time.monotonic()
-        while subject.next(opts.ready_timeout).get("event") != "ready":
-            pass
+        announced = subject.next(opts.ready_timeout)
+        while announced.get("event") != "ready":
+            announced = subject.next(opts.ready_timeout)
         ready = time.monotonic()
         log(f"{name}: ready in {ready - started:.1f} s; warm-up {opts.warmup:g} s")
         wait = 2 * opts.fast + 10
@@ -308,7 +311,8 @@ def measure(name: str, argv: list[str], opts: Options, fleet_pid: int) -> Window
             delta("skipped"),
             opts.machines * wall / opts.fast, opts.machines * wall / opts.slow,
             (load0, loadavg()), cpu_pressure(), str(last.get("error", "")),
-            {k: float(v) for k, v in last.items() if k.startswith("x_")},
+            {k[2:]: float(v) - float(first[k]) for k, v in last.items() if k.startswith("x_")},
+            str(announced.get("sinks", "")),
         )  # fmt: skip
         log(
             f"{name}: {window.cores:.3f} core over {wall:.1f} s, fast {window.fast}/"
@@ -338,6 +342,8 @@ def _note(windows: list[Window]) -> str:
     pressures = [x.pressure for x in windows if x.pressure is not None]
     if pressures:
         text += f", CPU pressure {statistics.median(pressures):.0%}"
+    if w is not None and w.sinks:
+        text = f"outputs: {w.sinks}; {w.extra.get('samples', 0) / w.wall:,.0f} samples/s; " + text
     if w is not None and w.error:
         text += f"; first error: {w.error}"
     return text
