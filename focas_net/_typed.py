@@ -7,14 +7,19 @@ from __future__ import annotations
 from collections.abc import Mapping
 from typing import Final
 
-__all__ = ["OVERRIDE_RANGES", "macro_unfit", "override_unfit", "program_number"]
+__all__ = ["OVERRIDE_RANGES", "RAPID_STEPS", "macro_unfit", "override_unfit", "program_number"]
 
-#: The percentages each override takes: feed 0..254, rapid 0..100, spindle 0..254.
+#: The percentages each override takes: feed 0..254, rapid 0..100 (in :data:`RAPID_STEPS`
+#: only), spindle 0..254.
 OVERRIDE_RANGES: Final[Mapping[str, tuple[int, int]]] = {
     "feed": (0, 254),
     "rapid": (0, 100),
     "spindle": (0, 254),
 }
+
+#: The rapid traverse override's steps (%), as the panel's switch and G14's ROV1 ROV2 give
+#: them: F0 (a parameter's low speed, kept as 0 %), 25, 50, 100. No other value exists.
+RAPID_STEPS: Final[tuple[int, ...]] = (0, 25, 50, 100)
 
 #: The most O-numbers a program number has (O1 .. O99999999).
 _MAX_PROGRAM: int = 99_999_999
@@ -31,6 +36,10 @@ def macro_unfit(value: object) -> str:
 def override_unfit(what: str, value: int) -> str | None:
     """Why the ``what`` override (feed, rapid, spindle) cannot be ``value`` percent, in the
     machine's words; None when it can."""
+    if what == "rapid":
+        if value in RAPID_STEPS:
+            return None
+        return f"rapid override {value} is not a step of FANUC's: 0 (F0), 25, 50 or 100 %"
     low, high = OVERRIDE_RANGES[what]
     if low <= value <= high:
         return None

@@ -135,9 +135,11 @@ TABLE: dict[str, tuple[str, ...]] = {
         "focas_net.errors",
         "focas_net.versamax",
     ),
+    "focas_net.gateway": ("focas_net.client", "focas_net.protocol", "focas_net.errors"),
     # versamax (the module records the `versamax` command prints) is not in the table's row
     "focas_net.cli": (
         "focas_net.client",
+        "focas_net.gateway",
         "focas_net.server",
         "focas_net.sim",
         "focas_net.protocol",

@@ -28,7 +28,7 @@ from focas_net.sim import MachineError, default_machine
 from focas_net.web import Station, perform
 
 #: The machine's refusal of an out-of-range override, as every front end words it.
-OVERRIDE_WORDS = "rapid override 101 outside 0..100 %"
+OVERRIDE_WORDS = "rapid override 101 is not a step of FANUC's: 0 (F0), 25, 50 or 100 %"
 
 #: What a message must never show: payload classes, dotted fields, struct's wording.
 INTERNAL = re.compile(

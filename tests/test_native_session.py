@@ -212,9 +212,62 @@ def test_a_queued_job_times_out_unsent_and_a_sent_one_drops_its_blocks() -> None
     assert s.wake_at == 10.0
     assert s.expire(10.0) == [sent]
     assert sent.ending is Ending.TIMED_OUT and sent.sent
-    assert s.failure == "no answer within the timeout"  # its frame's last deadline
+    assert s.failure is None and s.overdue  # its late answer is awaited
+    assert s.next_frame() is None  # no frame leaves behind it
+    assert patient.ending is None and s.wake_at == 30.0
+    assert s.receive(answer([1], tag=1)) == []  # the late answer: matched to its frame, dropped
+    assert not s.overdue and s.failure is None and s.idle
+    assert s.next_frame() is not None and patient.sent
+    assert s.receive(answer([1], tag=2)) == [patient]  # the next answer is the patient's
+    assert patient.blocks == (ResponseBlock(1, 1, 0x15, 0, bytes((2, 0))),)
+
+
+def test_a_late_answer_in_pieces_is_dropped_and_the_next_frame_gets_its_own() -> None:
+    s = session(max_blocks=4)
+    given_up = [submit(s, part(2), 1.0), submit(s, part(1), 2.0)]
+    s.next_frame()
+    assert s.expire(1.0) == given_up[:1]
+    assert s.expire(2.0) == given_up[1:] and s.overdue
+    assert s.wake_at == INF  # nothing waits: no time to be woken at
+    behind = [submit(s, part(1), 20.0), submit(s, part(2), 20.0)]
+    assert s.next_frame() is None
+    late = answer([2, 1], tag=1)
+    for i in range(len(late) - 1):
+        assert s.receive(late[i : i + 1]) == []
+        assert s.overdue and s.failure is None
+    assert s.receive(late[-1:]) == []  # whole: dropped, the connection goes on
+    assert s.failure is None and not s.overdue
+    assert frame_blocks(s.next_frame() or b"") == 3 and all(j.sent for j in behind)
+    assert s.receive(answer([1, 2], tag=2)) == behind
+    assert [b.data for j in behind for b in j.blocks] == [bytes((2, i)) for i in range(3)]
+    assert all(j.ending is Ending.TIMED_OUT for j in given_up)
+
+
+def test_a_late_answer_that_never_comes_ends_the_connection_when_a_call_behind_gives_up() -> None:
+    s = session(max_blocks=1)
+    sent = submit(s, part(1), 10.0)
+    s.next_frame()
+    assert s.expire(10.0) == [sent] and s.overdue
+    behind = submit(s, part(1), 15.0)
+    patient = submit(s, part(1), 40.0)
+    assert s.next_frame() is None and s.wake_at == 15.0
+    assert s.expire(14.9) == [] and s.failure is None
+    assert s.expire(15.0) == [behind]  # it waited its whole time behind the frame
+    assert behind.ending is Ending.TIMED_OUT and not behind.sent
+    assert s.failure == "no answer within the timeout"
+    assert s.receive(answer([1])) == []  # nothing more on this connection
     assert patient.ending is None  # waits for the next connection
-    assert s.wake_at == 30.0
+    assert s.lost(keep_queued=True) == [] and s.connected(KEY, VERSION, 8) == []
+    assert s.next_frame() is not None and patient.sent
+
+
+def test_a_call_that_gives_up_behind_a_frame_not_yet_overdue_keeps_the_connection() -> None:
+    s = session(max_blocks=1)
+    sent = submit(s, part(1), 10.0)
+    s.next_frame()
+    behind = submit(s, part(1), 5.0)
+    assert s.expire(5.0) == [behind] and s.failure is None
+    assert s.expire(10.0) == [sent] and s.failure is None and s.overdue
 
 
 def test_a_frame_is_awaited_until_its_latest_deadline() -> None:

@@ -654,5 +654,5 @@ def test_override_refusal_is_the_machines_on_the_page_and_the_client() -> None:
         perform(station, "overrides", {"rapid": 101})
     assert info.value.ew == EW.DATA
     assert str(info.value).endswith(str(override_unfit("rapid", 101)))
-    assert "rapid override 101 outside 0..100 %" in str(info.value)
+    assert "rapid override 101 is not a step of FANUC's: 0 (F0), 25, 50 or 100 %" in str(info.value)
     assert override_unfit("rapid", 100) is None

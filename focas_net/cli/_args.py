@@ -44,6 +44,7 @@ __all__ = [
     "PORT",
     "POSITIVE",
     "PROG",
+    "RAPID",
     "SECONDS",
     "Parser",
     "argument_type",
@@ -57,6 +58,7 @@ __all__ = [
     "parse_path",
     "parse_port",
     "parse_positive",
+    "parse_rapid",
     "parse_seconds",
     "print_error",
 ]
@@ -211,6 +213,12 @@ def parse_non_negative(text: str) -> int:
     return value
 
 
+def parse_rapid(text: str) -> int:
+    """A rapid override as typed: ``F0`` (0 %) or a whole number, which the machine checks
+    against FANUC's steps (0, 25, 50, 100)."""
+    return 0 if text.strip().upper() == "F0" else fmt.parse_int(text)
+
+
 def _number(text: str) -> float:
     """A number of seconds as typed, finite (nan is no number; infinity is named)."""
     try:
@@ -292,6 +300,7 @@ LISTEN_PORT: Final = argument_type(partial(parse_port, lowest=0), "port")
 INT: Final = argument_type(fmt.parse_int, "integer")
 POSITIVE: Final = argument_type(parse_positive, "count")
 NON_NEGATIVE: Final = argument_type(parse_non_negative, "count")
+RAPID: Final = argument_type(parse_rapid, "rapid override")
 SECONDS: Final = argument_type(parse_seconds, "seconds")
 INTERVAL: Final = argument_type(parse_interval, "seconds")
 HOST: Final = argument_type(parse_host, "host")

@@ -30,6 +30,7 @@ from ._args import (
     PATH,
     PORT,
     POSITIVE,
+    RAPID,
     SECONDS,
     argument_type,
     command_parser,
@@ -443,7 +444,12 @@ COMMANDS: Final[tuple[Cmd | Group, ...]] = (
                 program_cmds.override,
                 (
                     arg("--feed", type=NON_NEGATIVE, metavar="PCT", help="feed override 0..254"),
-                    arg("--rapid", type=NON_NEGATIVE, metavar="PCT", help="rapid override 0..100"),
+                    arg(
+                        "--rapid",
+                        type=RAPID,
+                        metavar="PCT",
+                        help="rapid override F0 (0), 25, 50 or 100",
+                    ),
                     arg(
                         "--spindle",
                         type=NON_NEGATIVE,

@@ -45,6 +45,7 @@ from .projection import (
     AlarmProjection,
     AlarmRaised,
     ProjectionMode,
+    alarm_changes,
 )
 from .reconnect import ClientState, ReconnectPolicy
 from .sim_control import PanelSwitches, SimControl
@@ -92,6 +93,7 @@ __all__ = [
     "StatusInfo2",
     "ToolGroupData",
     "ValidFigures",
+    "alarm_changes",
     "open_connection",
     "read_dynamic_all",
     "read_status_all",

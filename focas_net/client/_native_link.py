@@ -13,9 +13,12 @@ link then only moves bytes and time between B, one timer and the session:
   calls made together, or by the callers an answer just woke, share one frame; when an answer
   comes and calls wait, the next frame leaves before the results are handed out;
 * one timer, armed no later than the earliest deadline the session has (moved only when an
-  earlier one comes), ends what expired; a frame unanswered past its last deadline, bytes no
-  request asked for, or an answer the library refuses end the connection, and the client
-  reconnects as its policy says (calls still queued wait for the next connection).
+  earlier one comes), ends what expired; a frame unanswered past its last deadline stays in
+  flight, and its late answer, when it comes, is dropped and the queued frames go on the same
+  connection (answers come in order, and none is sent behind it). A call queued behind it
+  that reaches its deadline unsent, bytes no request asked for, or an answer the library
+  refuses end the connection, and the client reconnects as its policy says (calls still
+  queued wait for the next connection).
 
 The session decides; the link turns each ended job into the call's result or exception.
 """
@@ -368,9 +371,10 @@ class NativeLink(CompositeCalls):
     @property
     def idle(self) -> bool:
         """Whether no call of this client is queued or in flight (a call given up while
-        queued is never sent, so it counts no more)."""
+        queued is never sent, so it counts no more; a frame whose late answer is awaited
+        carries no call)."""
         session = self._session
-        return session.in_flight is None and not session.queued
+        return (session.in_flight is None or session.overdue) and not session.queued
 
     # -- lifecycle -----------------------------------------------------------------------
     async def connect(self) -> None:

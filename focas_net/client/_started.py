@@ -5,7 +5,8 @@ request at once when it can) and then awaits the answers in turn
 (:func:`~focas_net.client.read_status_all`). Both clients give their reads in this form
 (``start_read_status``, and ``start_read_dynamic`` on the native client); a read that cannot be
 sent at once (connecting, reconnecting, no request slot free) runs as the client's own call in
-a task of its own.
+a task of its own. :meth:`StartedCall.on_done` tells when the answer is there, so that a poller
+can take the answers in the order they come rather than the order it started them.
 """
 
 from __future__ import annotations
@@ -31,12 +32,30 @@ class StartedCall(Generic[T]):
     result is harmless, so a ``finally`` may call it on every started call.
     """
 
-    __slots__ = ("_ended", "_finish", "_give_up")
+    __slots__ = ("_done", "_ended", "_finish", "_give_up")
 
-    def __init__(self, finish: Callable[[], Awaitable[T]], give_up: Callable[[], None]) -> None:
+    def __init__(
+        self,
+        finish: Callable[[], Awaitable[T]],
+        give_up: Callable[[], None],
+        done: asyncio.Future[Any] | None = None,
+    ) -> None:
         self._finish = finish
         self._give_up = give_up
+        self._done = done
         self._ended = False
+
+    def on_done(self, callback: Callable[[], None]) -> None:
+        """Call ``callback()`` (from the event loop, once) when the answer (or the failure)
+        is there: :meth:`result` then returns without waiting on the wire (a packed read
+        answered EW_PASSWD, or never sent, is made again after it, within its deadline).
+        A call started without its answer's future (a failure found at once) calls it
+        soon."""
+        done = self._done
+        if done is None:
+            asyncio.get_running_loop().call_soon(callback)
+        else:
+            done.add_done_callback(lambda _: callback())
 
     @classmethod
     def running(cls, call: Coroutine[Any, Any, T]) -> StartedCall[T]:
@@ -52,7 +71,7 @@ class StartedCall(Generic[T]):
         async def finish() -> T:
             return await task
 
-        return cls(finish, give_up)
+        return cls(finish, give_up, task)
 
     @classmethod
     def failed(cls, error: BaseException) -> StartedCall[T]:

@@ -238,7 +238,7 @@ class FocasClient(Link):
             again: StatusInfo = await self._request_at(_RDCNCSTAT, _EMPTY, deadline, path=p)
             return again
 
-        return StartedCall(finish, lambda: conn.finish(entry))
+        return StartedCall(finish, lambda: conn.finish(entry), entry[0])
 
     @_awaitable
     def read_sysinfo(self, *, timeout: float | None = None) -> Coroutine[Any, Any, SysInfo]:

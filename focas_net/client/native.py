@@ -86,6 +86,7 @@ from ._native_link import Handle, check_path_of
 from ._native_modal import NativeModal
 from ._native_offsets import NativeOffsets
 from ._native_spindles import NativeSpindles
+from ._native_started import NativeStarted
 from ._started import StartedCall
 from ._values import (
     I16_MAX,
@@ -203,7 +204,13 @@ def _check_dynamic_axis(axis: object) -> None:
 
 
 class NativeClient(
-    NativeInfo, NativeOffsets, NativeFiles, NativeClock, NativeModal, NativeSpindles
+    NativeInfo,
+    NativeOffsets,
+    NativeFiles,
+    NativeClock,
+    NativeModal,
+    NativeSpindles,
+    NativeStarted,
 ):
     """An asyncio client of FANUC's FOCAS/2 Ethernet protocol (port 8193 on a real control).
 
@@ -213,8 +220,11 @@ class NativeClient(
     :meth:`read_servo_meters`, :meth:`read_cnc_id`, :meth:`read_sequence_number`,
     :meth:`read_program_name`, :meth:`read_alarm_status` and :meth:`read_param_type` (in
     place of ``read_param_attributes``), the tool and work offsets and tool life calls of
-    :class:`~focas_net.client._native_offsets.NativeOffsets`, and the program folders of a
-    30i-class control (:class:`~focas_net.client._native_files.NativeFiles`). Concurrent
+    :class:`~focas_net.client._native_offsets.NativeOffsets`, the program folders of a
+    30i-class control (:class:`~focas_net.client._native_files.NativeFiles`), and reads
+    started now and finished later for a poller (``start_read_status``, ``start_read_dynamic``
+    here, ``start_read_macro``, ``start_read_alarms``, ``start_read_pmc`` of
+    :class:`~focas_net.client._native_started.NativeStarted`). Concurrent
     calls are gathered into frames of at most ``max_blocks`` blocks (``docs/native-client.md``).
     """
 
@@ -275,7 +285,7 @@ class NativeClient(
         async def finish() -> StatusInfo:
             return made_once(handle, call, await job.token, _status, p)
 
-        return StartedCall(finish, lambda: self._session.abandon(job))
+        return StartedCall(finish, lambda: self._session.abandon(job), job.token)
 
     async def read_sysinfo(self, *, timeout: float | None = None) -> SysInfo:
         """``cnc_sysinfo``: ODBSYS as the CNC answered it while connecting (nothing is sent,
@@ -486,7 +496,7 @@ class NativeClient(
         async def finish() -> DynamicData:
             return made_once(handle, call, await job.token, _dynamic, p)
 
-        return StartedCall(finish, lambda: self._session.abandon(job))
+        return StartedCall(finish, lambda: self._session.abandon(job), job.token)
 
     @staticmethod
     def _dynamic_call(handle: Handle, axis: int, path: int) -> LibraryCall:

@@ -27,6 +27,7 @@ import enum
 import logging
 import math
 from collections import deque
+from collections.abc import Iterable, Mapping
 from dataclasses import dataclass
 from datetime import datetime
 from types import TracebackType
@@ -45,6 +46,7 @@ __all__ = [
     "AlarmProjection",
     "AlarmRaised",
     "ProjectionMode",
+    "alarm_changes",
 ]
 
 logger = logging.getLogger(__name__)
@@ -83,6 +85,21 @@ class AlarmHistoryEvent:
 
 AlarmEvent = AlarmRaised | AlarmCleared | AlarmHistoryEvent
 _HistoryKey = tuple[datetime, int, int]
+#: An active alarm's identity: ``(axis, type, number)`` (:attr:`ActiveAlarm.key`).
+AlarmKey = tuple[int, int, int]
+
+
+def alarm_changes(
+    before: Mapping[AlarmKey, ActiveAlarm], active: Iterable[ActiveAlarm]
+) -> tuple[list[ActiveAlarm], list[ActiveAlarm], dict[AlarmKey, ActiveAlarm]]:
+    """What changed from the active list ``before`` (by key) to ``active``: the alarms that
+    left it (in ``before``'s order), those that entered it (in ``active``'s order), and the
+    new list by key. An alarm is the same while its key is: a new message text alone is no
+    change."""
+    now = {a.key: a for a in active}
+    cleared = [a for k, a in before.items() if k not in now]
+    raised = [a for k, a in now.items() if k not in before]
+    return cleared, raised, now
 
 
 class AlarmProjection:
@@ -227,11 +244,9 @@ class AlarmProjection:
         self.polls += 1
 
         events: list[AlarmEvent] = []
-        now = {a.key: a for a in active}
-        before = self._active
-        events.extend(AlarmCleared(a) for k, a in before.items() if k not in now)
-        events.extend(AlarmRaised(a) for k, a in now.items() if k not in before)
-        self._active = now
+        cleared, raised, self._active = alarm_changes(self._active, active)
+        events.extend(AlarmCleared(a) for a in cleared)
+        events.extend(AlarmRaised(a) for a in raised)
 
         if history is not None:
             seen = self._seen

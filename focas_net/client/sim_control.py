@@ -193,8 +193,9 @@ class SimControl:
         path: int | None = None,
         timeout: float | None = None,
     ) -> None:
-        """Feed override 0..254 %, rapid override 0..100 %, spindle override 0..254 % (0x0E21);
-        an override not given stays as it is."""
+        """Feed override 0..254 %, rapid override 0 (F0), 25, 50 or 100 %, spindle override
+        0..254 % (0x0E21); an override not given stays as it is. A value out of range (a rapid
+        override between the steps) is a ValueError in the machine's words."""
         values = []
         for what, value in (("feed", feed), ("rapid", rapid), ("spindle", spindle)):
             if value is None:

@@ -1,7 +1,9 @@
 """A gateway from FANUC controls to OPC UA and MQTT (``focas-net gateway CONFIG.toml``):
 see ``docs/gateway.md``."""
 
+from ._keys import ConfigError
 from .config import (
+    MAX_FLEET,
     GatewayConfig,
     GroupIntervals,
     MachineConfig,
@@ -9,6 +11,9 @@ from .config import (
     OpcUaSettings,
     OpcUaUser,
     WriteGates,
+    load_config,
+    parse_config,
+    shard,
 )
 from .model import (
     ITEMS,
@@ -25,20 +30,31 @@ from .model import (
     Writer,
     item,
 )
+from .poller import DEFAULT_POLICY, Poller, client_for, reason_of
+from .run import EXTRA, Gateway, MissingExtra, outputs
+from .writer import GatedWriter
 
 __all__ = [
+    "DEFAULT_POLICY",
+    "EXTRA",
     "ITEMS",
+    "MAX_FLEET",
     "AlarmChange",
+    "ConfigError",
+    "GatedWriter",
+    "Gateway",
     "GatewayConfig",
     "Group",
     "GroupIntervals",
     "Item",
     "MachineConfig",
     "MachineShape",
+    "MissingExtra",
     "MqttSettings",
     "OpcUaSettings",
     "OpcUaUser",
     "PathShape",
+    "Poller",
     "Sample",
     "Scope",
     "Sink",
@@ -46,5 +62,11 @@ __all__ = [
     "Value",
     "WriteGates",
     "Writer",
+    "client_for",
     "item",
+    "load_config",
+    "outputs",
+    "parse_config",
+    "reason_of",
+    "shard",
 ]

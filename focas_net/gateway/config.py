@@ -1,14 +1,36 @@
 """The gateway's configuration: what ``focas-net gateway CONFIG.toml`` reads (``docs/gateway.md``
-gives the file's keys). Frozen values; reading and checking the file comes with them."""
+gives the file's keys). Frozen values; reading and checking the file comes with them:
+:func:`load_config`, :func:`parse_config` and :func:`shard`.
+
+Every refusal is a :class:`ConfigError` naming the file, the key path as written
+(``machine[3].groups.fast``), what was typed and what is expected. A host and a port are
+checked by the clients' own checks (``client/_address.py``), a path number by
+``client/_values.check_path``, a PMC area by :class:`~focas_net.protocol.PmcArea`: the command
+line and the gateway refuse the same values with the same words.
+"""
 
 from __future__ import annotations
 
+import ipaddress
+import os
+import re
+import tomllib
 from collections.abc import Mapping
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from pathlib import Path
-from typing import Literal
+from typing import Any, Final, Literal
+from urllib.parse import urlsplit
+
+from focas_net.client._address import check_host, check_port
+from focas_net.client._values import I16_MAX, check_path
+from focas_net.protocol import PmcArea
+
+from ._keys import At, ConfigError
+from .model import ITEMS
 
 __all__ = [
+    "MAX_FLEET",
+    "ConfigError",
     "GatewayConfig",
     "GroupIntervals",
     "MachineConfig",
@@ -16,7 +38,19 @@ __all__ = [
     "OpcUaSettings",
     "OpcUaUser",
     "WriteGates",
+    "load_config",
+    "parse_config",
+    "shard",
 ]
+
+#: Most machines one ``[[fleet]]`` expands to.
+MAX_FLEET: Final = 10_000
+#: A machine's name: the MQTT topic level and the OPC UA browse name.
+_NAME: Final = re.compile(r"[A-Za-z0-9_.-]{1,64}")
+_NAME_TEXT: Final = "a name of 1..64 letters, digits, '-', '_' or '.'"
+_PROTOCOLS: Final = ("native", "packed")
+_PMC_RANGE: Final = re.compile(r"([A-Za-z])(\d+)(?:-([A-Za-z]?)(\d+))?")
+_PMC_LAST_BYTE: Final = 0xFFFF
 
 
 @dataclass(frozen=True, slots=True)
@@ -103,3 +137,337 @@ class GatewayConfig:
     machines: tuple[MachineConfig, ...]
     opcua: OpcUaSettings | None = None
     mqtt: MqttSettings | None = None
+
+
+# -- reading the file ------------------------------------------------------------------------
+_TOP: Final = ("groups", "machine", "fleet", "mqtt", "opcua")
+_GROUP_KEYS: Final = ("fast", "slow", "alarms")
+_WRITE_KEYS: Final = ("macros", "params", "pmc")
+_COMMON: Final = ("host", "protocol", "paths", "timeout", "groups", "writes")
+_MACHINE_KEYS: Final = ("name", "port", *_COMMON)
+_FLEET_KEYS: Final = ("name_prefix", "first_port", "count", *_COMMON)
+_MQTT_KEYS: Final = (
+    "host", "port", "prefix", "client_id", "username", "password", "password_env", "qos",
+    "keepalive", "buffer", "tls", "deadbands",
+)  # fmt: skip
+_OPCUA_KEYS: Final = (
+    "endpoint", "namespace", "anonymous", "users", "certificate", "private_key", "writes",
+)  # fmt: skip
+_USER_KEYS: Final = ("name", "password", "password_env")
+
+
+def load_config(path: str | os.PathLike[str]) -> GatewayConfig:
+    """The configuration in the TOML file ``path`` (relative file names in it are read from
+    the file's folder); :class:`ConfigError` names what is wrong, an unreadable file too."""
+    name = os.fspath(path)
+    try:
+        raw = Path(name).read_bytes()
+    except OSError as exc:
+        raise ConfigError(f"{name}: {exc.strerror or exc}") from None
+    try:
+        text = raw.decode("utf-8")
+    except UnicodeDecodeError as exc:
+        raise ConfigError(f"{name}: not UTF-8 text (byte {exc.start})") from None
+    return parse_config(text, name, folder=Path(name).parent)
+
+
+def parse_config(
+    data: str | Mapping[str, Any], source: str = "<config>", *, folder: Path | None = None
+) -> GatewayConfig:
+    """The configuration in ``data`` (TOML text, or the table it reads as), ``source`` naming
+    it in errors; ``folder`` is where relative file names are read from (default: the current
+    folder). Raises :class:`ConfigError`."""
+    top = At(source)
+    if isinstance(data, str):
+        try:
+            data = tomllib.loads(data)
+        except tomllib.TOMLDecodeError as exc:
+            top.fail(f"not TOML: {exc}")
+    doc = top.table(data, _TOP)
+    base = folder if folder is not None else Path()
+    defaults = _groups(top.key("groups"), doc.get("groups", {}), GroupIntervals())
+    machines: list[MachineConfig] = []
+    where_of: dict[str, At] = {}
+    at = top.key("machine")
+    for i, table in enumerate(at.tables(doc.get("machine", []))):
+        machines.append(_machine(at.index(i), table, defaults))
+        where_of.setdefault(machines[-1].name, at.index(i))
+        _unique(machines, where_of, at.index(i).key("name"))
+    at = top.key("fleet")
+    for i, table in enumerate(at.tables(doc.get("fleet", []))):
+        for machine in _fleet(at.index(i), table, defaults):
+            machines.append(machine)
+            where_of.setdefault(machine.name, at.index(i))
+            _unique(machines, where_of, at.index(i).key("name_prefix"))
+    if not machines:
+        top.fail("no machine: give at least one [[machine]] or [[fleet]]")
+    mqtt = _mqtt(top.key("mqtt"), doc["mqtt"]) if "mqtt" in doc else None
+    opcua = _opcua(top.key("opcua"), doc["opcua"], base) if "opcua" in doc else None
+    return GatewayConfig(tuple(machines), opcua, mqtt)
+
+
+def shard(config: GatewayConfig, index: int, count: int) -> GatewayConfig:
+    """Shard ``index`` of ``count`` (1 <= index <= count): machines ``index``, ``index +
+    count``, ... of the file, 1-based (round robin, so that each shard gets its share of every
+    ``[[fleet]]``). Each machine is in exactly one shard. Raises :class:`ConfigError` for a
+    bad shard or one with no machine."""
+    if isinstance(count, bool) or not isinstance(count, int) or count < 1:
+        raise ConfigError(f"--shard {index}/{count}: the number of shards must be 1 or more")
+    if isinstance(index, bool) or not isinstance(index, int) or not 1 <= index <= count:
+        raise ConfigError(f"--shard {index}/{count}: the shard must be within 1..{count}")
+    machines = config.machines[index - 1 :: count]
+    if not machines:
+        raise ConfigError(
+            f"--shard {index}/{count}: no machine (the file has {len(config.machines)})"
+        )
+    return replace(config, machines=machines)
+
+
+def _unique(machines: list[MachineConfig], where_of: dict[str, At], at: At) -> None:
+    name = machines[-1].name
+    if any(m.name == name for m in machines[:-1]):
+        first = where_of[name]
+        at.fail(f"machine name {name!r} is used twice (first by {first.path})")
+
+
+def _groups(at: At, value: object, base: GroupIntervals) -> GroupIntervals:
+    table = at.table(value, _GROUP_KEYS)
+    return GroupIntervals(
+        **{
+            key: at.key(key).seconds(table[key]) if key in table else getattr(base, key)
+            for key in _GROUP_KEYS
+        }
+    )
+
+
+def _common(at: At, table: Mapping[str, Any], defaults: GroupIntervals) -> dict[str, Any]:
+    """What a ``[[machine]]`` and a ``[[fleet]]`` share, checked."""
+    if "host" not in table:
+        at.key("host").fail("missing (the CNC's name or address)")
+    out: dict[str, Any] = {
+        "host": at.key("host").checked(table["host"], check_host, "a host name or address"),
+    }
+    if "protocol" in table:
+        out["protocol"] = at.key("protocol").choice(table["protocol"], _PROTOCOLS)
+    if "paths" in table:
+        pat = at.key("paths")
+        paths = [
+            pat.index(i).checked(p, check_path, "a path number 1..10")
+            for i, p in enumerate(pat.array(table["paths"], 1, 10))
+        ]
+        if len(set(paths)) != len(paths):
+            pat.fail(f"got {paths}; expected each path once")
+        out["paths"] = tuple(paths)
+    if "timeout" in table:
+        out["timeout"] = at.key("timeout").seconds(table["timeout"])
+    out["groups"] = _groups(at.key("groups"), table.get("groups", {}), defaults)
+    out["writes"] = _writes(at.key("writes"), table.get("writes", {}))
+    return out
+
+
+def _machine(at: At, value: Mapping[str, Any], defaults: GroupIntervals) -> MachineConfig:
+    table = at.table(value, _MACHINE_KEYS)
+    if "name" not in table:
+        at.key("name").fail(f"missing ({_NAME_TEXT})")
+    name = table["name"]
+    if not isinstance(name, str) or not _NAME.fullmatch(name):
+        at.key("name").expected(name, _NAME_TEXT)
+    out = _common(at, table, defaults)
+    if "port" in table:
+        out["port"] = at.key("port").checked(table["port"], check_port, "a port 1..65535")
+    return MachineConfig(name=name, **out)
+
+
+def _fleet(at: At, value: Mapping[str, Any], defaults: GroupIntervals) -> list[MachineConfig]:
+    table = at.table(value, _FLEET_KEYS)
+    for key in ("name_prefix", "first_port", "count"):
+        if key not in table:
+            at.key(key).fail("missing")
+    prefix = table["name_prefix"]
+    if not isinstance(prefix, str) or not _NAME.fullmatch(prefix) or len(prefix) > 59:
+        at.key("name_prefix").expected(prefix, "1..59 letters, digits, '-', '_' or '.'")
+    first = at.key("first_port").checked(table["first_port"], check_port, "a port 1..65535")
+    count = at.key("count").integer(table["count"], 1, MAX_FLEET)
+    if first + count - 1 > 0xFFFF:
+        at.key("count").fail(
+            f"got {count}; expected at most {0xFFFF - first + 1} (from first_port {first} "
+            f"the last machine would get port {first + count - 1})"
+        )
+    out = _common(at, table, defaults)
+    return [
+        MachineConfig(name=f"{prefix}-{i + 1:04d}", port=first + i, **out) for i in range(count)
+    ]
+
+
+def _ranges(at: At, value: object, low: int, high: int) -> tuple[tuple[int, int], ...]:
+    """``[[first, last], ...]`` within ``low..high``, first <= last."""
+    out: list[tuple[int, int]] = []
+    for i, pair in enumerate(at.array(value, 0, 1000)):
+        pat = at.index(i)
+        if not isinstance(pair, list) or len(pair) != 2:
+            pat.expected(pair, f"[first, last] with {low} <= first <= last <= {high}")
+        first = pat.index(0).integer(pair[0], low, high)
+        last = pat.index(1).integer(pair[1], first, high)
+        out.append((first, last))
+    return tuple(out)
+
+
+def _pmc_range(at: At, value: object) -> tuple[str, int, int]:
+    """``"R0-R99"`` (or ``"R0-99"``), ``"D100"``: an area letter and a byte range."""
+    what = "an area letter and bytes: 'R0-R99' or 'D100'"
+    match = _PMC_RANGE.fullmatch(value.strip()) if isinstance(value, str) else None
+    if match is None:
+        at.expected(value, what)
+    letter, first_text, again, last_text = match.groups()
+    try:
+        area = PmcArea.parse(letter)
+    except ValueError:
+        at.expected(value, f"{what}, the area one of {''.join(a.name for a in PmcArea)}")
+    if again and again.upper() != area.name:
+        at.expected(value, f"{what}, one area from first to last")
+    first = int(first_text)
+    last = first if last_text is None else int(last_text)
+    if not first <= last <= _PMC_LAST_BYTE:
+        at.expected(value, f"{what}, first <= last <= {_PMC_LAST_BYTE}")
+    return area.name, first, last
+
+
+def _writes(at: At, value: object) -> WriteGates:
+    table = at.table(value, _WRITE_KEYS)
+    macros = _ranges(at.key("macros"), table.get("macros", []), -I16_MAX - 1, I16_MAX)
+    params = _ranges(at.key("params"), table.get("params", []), 0, I16_MAX)
+    pat = at.key("pmc")
+    pmc = tuple(
+        _pmc_range(pat.index(i), v) for i, v in enumerate(pat.array(table.get("pmc", []), 0, 1000))
+    )
+    return WriteGates(macros, params, pmc)
+
+
+def _secret(at: At, table: Mapping[str, Any]) -> str | None:
+    """``password``, or the environment variable ``password_env`` names (not both)."""
+    if "password" in table and "password_env" in table:
+        at.key("password_env").fail("give password or password_env, not both")
+    if "password" in table:
+        return at.key("password").text(table["password"], "a non-empty string")
+    if "password_env" in table:
+        name = at.key("password_env").text(table["password_env"], "an environment variable name")
+        secret = os.environ.get(name)
+        if not secret:
+            at.key("password_env").fail(f"the environment variable {name} is not set (or empty)")
+        return secret
+    return None
+
+
+def _mqtt(at: At, value: object) -> MqttSettings:
+    table = at.table(value, _MQTT_KEYS)
+    out: dict[str, Any] = {}
+    if "host" in table:
+        out["host"] = at.key("host").checked(table["host"], check_host, "a host name or address")
+    if "port" in table:
+        out["port"] = at.key("port").checked(table["port"], check_port, "a port 1..65535")
+    if "prefix" in table:
+        prefix = table["prefix"]
+        if (
+            not isinstance(prefix, str)
+            or not prefix
+            or any(c in prefix for c in "+#\x00")
+            or prefix.startswith("/")
+            or prefix.endswith("/")
+        ):
+            at.key("prefix").expected(
+                prefix, "a topic prefix without '+', '#' or a '/' at either end"
+            )
+        out["prefix"] = prefix
+    for key in ("client_id", "username"):
+        if key in table:
+            out[key] = at.key(key).text(table[key], "a non-empty string")
+    out["password"] = _secret(at, table)
+    if "qos" in table:
+        out["qos"] = at.key("qos").integer(table["qos"], 0, 2)
+    if "keepalive" in table:
+        out["keepalive"] = at.key("keepalive").integer(table["keepalive"], 1, 65535)
+    if "buffer" in table:
+        out["buffer"] = at.key("buffer").integer(table["buffer"], 1, 10_000_000)
+    if "tls" in table:
+        out["tls"] = at.key("tls").boolean(table["tls"])
+    if "deadbands" in table:
+        analogue = [n for n, i in ITEMS.items() if i.kind in (int, float) and i.unit is not None]
+        dat = at.key("deadbands")
+        bands = dat.table(table["deadbands"], analogue)
+        out["deadbands"] = {k: dat.key(k).number(v) for k, v in bands.items()}
+    return MqttSettings(**out)
+
+
+def is_loopback(host: str) -> bool:
+    """Whether ``host`` is a loopback address or ``localhost``."""
+    if host.lower() in ("localhost", "localhost."):
+        return True
+    try:
+        return ipaddress.ip_address(host.strip("[]")).is_loopback
+    except ValueError:
+        return False
+
+
+def _file(at: At, value: object, base: Path) -> Path:
+    name = at.text(value, "a file name")
+    path = Path(name) if Path(name).is_absolute() else base / name
+    if not path.is_file():
+        at.fail(f"got {name!r}; expected a file that exists ({path} does not)")
+    return path
+
+
+def _opcua(at: At, value: object, base: Path) -> OpcUaSettings:
+    table = at.table(value, _OPCUA_KEYS)
+    out: dict[str, Any] = {}
+    endpoint = OpcUaSettings().endpoint
+    if "endpoint" in table:
+        endpoint = at.key("endpoint").text(table["endpoint"], "opc.tcp://HOST:PORT/PATH")
+        try:
+            parts = urlsplit(endpoint)
+            port = parts.port
+        except ValueError:
+            parts, port = None, None
+        if parts is None or parts.scheme != "opc.tcp" or not parts.hostname or port is None:
+            at.key("endpoint").expected(endpoint, "opc.tcp://HOST:PORT/PATH")
+        out["endpoint"] = endpoint
+    host = urlsplit(endpoint).hostname or ""
+    if "namespace" in table:
+        out["namespace"] = at.key("namespace").text(table["namespace"], "a namespace URI")
+    loopback = is_loopback(host)
+    anonymous = loopback
+    if "anonymous" in table:
+        anonymous = at.key("anonymous").boolean(table["anonymous"])
+        if anonymous and not loopback:
+            at.key("anonymous").fail(
+                f"got true; expected false: the endpoint's host {host} is beyond the loopback, "
+                "where anonymous sessions are refused (give [[opcua.users]])"
+            )
+    out["anonymous"] = anonymous
+    users: list[OpcUaUser] = []
+    if "users" in table:
+        uat = at.key("users")
+        for i, entry in enumerate(uat.tables(table["users"])):
+            one = uat.index(i)
+            user = one.table(entry, _USER_KEYS)
+            if "name" not in user:
+                one.key("name").fail("missing")
+            name = one.key("name").text(user["name"], "a user name")
+            secret = _secret(one, user)
+            if secret is None:
+                one.key("password").fail("missing (give password or password_env)")
+            if any(u.name == name for u in users):
+                one.key("name").fail(f"user {name!r} is given twice")
+            users.append(OpcUaUser(name, secret))
+    out["users"] = tuple(users)
+    if not anonymous and not users:
+        at.fail("no way in: anonymous is off and there is no [[opcua.users]] entry")
+    cert, key = table.get("certificate"), table.get("private_key")
+    if (cert is None) != (key is None):
+        missing = "private_key" if key is None else "certificate"
+        at.key(missing).fail("missing: give certificate and private_key both, or neither")
+    if cert is not None:
+        out["certificate"] = _file(at.key("certificate"), cert, base)
+        out["private_key"] = _file(at.key("private_key"), key, base)
+    if "writes" in table:
+        out["writes"] = at.key("writes").boolean(table["writes"])
+    return OpcUaSettings(**out)

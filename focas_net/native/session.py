@@ -16,9 +16,14 @@ connection, and a connection carries **one request frame in flight**. What the s
   of the open answer's version) and at least one, whatever its size, so no call is overtaken;
 * **matching**: the answer's blocks are handed out in order, each job its own ``count``;
 * **deadlines**: :meth:`NativeSession.expire` ends every job whose deadline passed (a queued
-  one was never sent; a sent one's blocks are dropped when the answer comes). A frame's answer
-  is awaited until the latest deadline of its jobs; past it, no later answer could be told
-  from the next frame's, so the connection is done for (:attr:`NativeSession.failure`).
+  one was never sent; a sent one's blocks are dropped when the answer comes);
+* **late answers**: a frame unanswered past the latest deadline of its jobs stays in flight
+  (:attr:`NativeSession.overdue`) and no frame leaves after it, so the next data answer on the
+  connection is still its answer: when it comes it is matched to the frame, dropped, and the
+  queued jobs go. A job queued behind the overdue frame that reaches its own deadline unsent
+  ends the wait: the CNC is taken as no longer answering and the connection is done for
+  (:attr:`NativeSession.failure`). Nothing but the answer in order tells an answer's frame
+  (FOCAS/2 has no request id), so a frame is never sent while another may still be answered.
 
 A job ends once, with an :class:`Ending`; the shell turns that into the call's result or
 exception (it knows the address the messages name). Nothing here raises because of a call's
@@ -70,6 +75,8 @@ T = TypeVar("T")
 
 #: No deadline.
 _NEVER: Final = float("inf")
+#: The deadline of a frame past it with no answer (:attr:`NativeSession.overdue`).
+_OVERDUE: Final = float("-inf")
 _MAGIC: Final = int.from_bytes(MAGIC, "big")
 #: A data request frame's header and its block count.
 _REQUEST_HEAD: Final = struct.Struct(">IHHHH")
@@ -268,7 +275,8 @@ class NativeSession(Generic[T]):
         self.queue: deque[Job[T]] = deque()
         #: The jobs of the frame in flight, or None.
         self.in_flight: list[Job[T]] | None = None
-        #: When the frame in flight's answer is given up (the latest deadline of its jobs).
+        #: The latest deadline of the jobs of the frame in flight (``-inf`` once past with no
+        #: answer: :attr:`overdue`).
         self.frame_deadline = _NEVER
         #: Why the connection can carry no further frame (None: it can, or there is none).
         self.failure: str | None = None
@@ -487,11 +495,19 @@ class NativeSession(Generic[T]):
             pos = end
         return ended
 
+    @property
+    def overdue(self) -> bool:
+        """Whether the frame in flight is past the latest deadline of its jobs: its late
+        answer is awaited (to be dropped) before the next frame leaves."""
+        return self.in_flight is not None and self.frame_deadline == _OVERDUE
+
     def expire(self, now: float) -> list[Job[T]]:
-        """The jobs whose deadline is ``now`` or earlier, ended TIMED_OUT; past the frame's
-        own deadline with no answer, the connection fails."""
+        """The jobs whose deadline is ``now`` or earlier, ended TIMED_OUT. A frame past its
+        own deadline with no answer is :attr:`overdue`: its late answer is awaited, until a
+        job queued behind it reaches its deadline unsent; then the connection fails."""
         ended, earliest = _time_out(self.queue, now)
-        if ended:
+        gave_up = bool(ended)
+        if gave_up:
             self.queue = deque(job for job in self.queue if job.ending is None)
         jobs = self.in_flight
         if jobs is not None:
@@ -499,7 +515,10 @@ class NativeSession(Generic[T]):
             ended += sent
             earliest = min(earliest, due)
             if self.frame_deadline <= now:
-                ended += self._fail("no answer within the timeout")
+                if gave_up:  # a call waited its whole time behind the frame
+                    ended += self._fail("no answer within the timeout")
+                else:
+                    self.frame_deadline = _OVERDUE
             elif self.frame_deadline < earliest:
                 earliest = self.frame_deadline
         self.wake_at = earliest

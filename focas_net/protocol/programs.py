@@ -220,7 +220,7 @@ class CycleControl(FixedPayload):
 @dataclass(frozen=True, slots=True)
 class Overrides(FixedPayload):
     """0x0E21 request (-1: leave it): ``i16 feed`` (0..254 %),
-    ``i16 rapid`` (0..100 %), ``i16 spindle`` (0..254 %)."""
+    ``i16 rapid`` (0 (F0), 25, 50 or 100 %), ``i16 spindle`` (0..254 %)."""
 
     FORMAT: ClassVar[str] = "<hhh"
     feed: int

@@ -178,8 +178,10 @@ class PathOperations:
         *,
         path: int = 1,
     ) -> None:
-        """Feed override 0..254 %, rapid override 0..100 %, spindle override 0..254 % (None:
-        unchanged): EW_PROT (read-only machine), EW_DATA (a value outside its range)."""
+        """Feed override 0..254 %, rapid override one of FANUC's steps 0 (F0), 25, 50, 100 %,
+        spindle override 0..254 % (None: unchanged): EW_PROT (read-only machine), EW_DATA (a
+        value outside its range, a rapid override between the steps), TypeError (a value that
+        is no whole number)."""
         self.check_writable()
         self._paths.at(path).set_overrides(feed, rapid, spindle)
         self._show_overrides(path)

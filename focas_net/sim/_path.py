@@ -636,6 +636,8 @@ class Path:
     def set_overrides(self, feed: int | None, rapid: int | None, spindle: int | None) -> None:
         self.sync()
         for what, value in (("feed", feed), ("rapid", rapid), ("spindle", spindle)):
+            if value is not None and (isinstance(value, bool) or not isinstance(value, int)):
+                raise TypeError(f"{what} override must be a whole number, got {value!r}")
             unfit = None if value is None else override_unfit(what, value)
             if unfit is not None:
                 raise MachineError(EW.DATA, unfit)

@@ -1,0 +1,469 @@
+"""The poll loop: :class:`Poller` reads many machines from one task and hands every change to
+the sinks.
+
+**Groups.** Each machine has three intervals (:class:`~focas_net.gateway.config.GroupIntervals`):
+the fast group, the slow group and the active alarm list. One scheduler (a timer wheel of the
+due times, in the poller's one task) starts, at each turn, every read that is due on every
+machine (:class:`~focas_net.gateway.reads.Reader`), each client sending at once what it can
+(a native client packs the calls queued together into frames of up to ten blocks), then takes
+the answers in the order they come (:meth:`StartedCall.on_done`). There is no task per
+machine and none per value; a group of a machine is not started again while its last reads
+are still out, so a machine that answers slowly (or not: every call has the machine's
+``timeout``) delays nobody else.
+
+**Change detection.** A sample goes to the sinks only when its value or its status differs
+from the last one sent; after a machine comes (back) online every value is sent once, and the
+items its transport cannot read once, BadNotSupported. An EW code on one read gives its items
+the EW's status; the other reads deliver.
+
+**Connections.** Each client has the poller's :class:`ReconnectPolicy`: a connection lost
+after it was up is opened again by the client itself; a first connection that fails is tried
+again by the poller after the policy's delays, in a short task of its own that also reads the
+machine's shape (:func:`~focas_net.gateway.reads.describe`). A machine is online from the turn
+after its shape was read (``described`` to the sinks the first time and whenever it changed,
+then ``online(True)``) until a read fails for want of a connection (refused, reset, closed, no
+answer in time) or its client is found reconnecting: then ``online(False, reason)`` and
+nothing more of it until it is back.
+
+**Alarms.** Each path's active alarm list is diffed with the last one
+(:func:`~focas_net.client.alarm_changes`, the logic of :class:`AlarmProjection`) into
+:class:`AlarmChange` events; the list is kept across an outage, so an alarm that cleared
+meanwhile is told as cleared.
+
+Time is the injected ``clock`` (seconds since the epoch by default): the samples' times and
+the due times. Tests step the poller by hand (:meth:`Poller.step`) on a clock they move.
+"""
+
+from __future__ import annotations
+
+import asyncio
+import contextlib
+import logging
+import time
+from collections import deque
+from collections.abc import Callable, Sequence
+from dataclasses import dataclass, field
+from functools import partial
+from types import TracebackType
+from typing import Any, Final, Self
+
+from focas_net.client import (
+    ClientState,
+    FocasClient,
+    NativeClient,
+    NativeUnsupportedError,
+    ReconnectPolicy,
+    alarm_changes,
+)
+from focas_net.errors import (
+    OPCUA_GOOD,
+    CncError,
+    FocasError,
+    FocasTimeoutError,
+    OpcUaStatus,
+    ProtocolError,
+)
+from focas_net.protocol import ActiveAlarm
+
+from .config import MachineConfig
+from .model import ITEMS, AlarmChange, Group, MachineShape, Sample, Sink, Value
+from .reads import NOT_SUPPORTED, Key, Outcome, Read, Reader, Unavailable, describe
+
+__all__ = ["DEFAULT_POLICY", "Client", "Poller", "client_for", "reason_of"]
+
+_log = logging.getLogger(__name__)
+
+#: The reconnect policy of the poller's clients unless it is given one.
+DEFAULT_POLICY: Final = ReconnectPolicy(initial_delay=0.5, max_delay=30.0)
+#: A client of either transport.
+Client = FocasClient | NativeClient
+_ALARMS: Final = "alarms"
+_GROUPS: Final = (Group.FAST.value, Group.SLOW.value, _ALARMS)
+
+
+def reason_of(exc: BaseException) -> str:
+    """Why a machine was lost, in a word and the error's text: ``refused``, ``timeout``,
+    ``reset``, ``closed``, ``protocol``, ``unreachable`` or ``lost``."""
+    text = " ".join(str(exc).split()) or type(exc).__name__
+    if isinstance(exc, FocasTimeoutError | TimeoutError):
+        return f"timeout: {text}"
+    if isinstance(exc, ProtocolError):
+        return f"protocol: {text}"
+    low = text.lower()
+    for word in ("refused", "timed out", "reset", "closed", "unreachable"):
+        if word in low:
+            return f"{'timeout' if word == 'timed out' else word}: {text}"
+    return f"lost: {text}"
+
+
+def client_for(config: MachineConfig, policy: ReconnectPolicy) -> Client:
+    """The client of ``config`` (its protocol, host, port and timeout) with ``policy``."""
+    if config.protocol == "native":
+        return NativeClient(config.host, config.port, timeout=config.timeout, reconnect=policy)
+    return FocasClient(config.host, config.port, timeout=config.timeout, reconnect=policy)
+
+
+@dataclass(eq=False, slots=True)
+class _Station:
+    """One machine as the poller follows it."""
+
+    config: MachineConfig
+    client: Client
+    reader: Reader | None = None
+    described: MachineShape | None = None
+    online: bool | None = None
+    failure: str | None = None
+    task: asyncio.Task[None] | None = None
+    attempts: int = 0
+    next_attempt: float = 0.0
+    epoch: int = 0
+    due: dict[str, float] = field(default_factory=dict)
+    pending: dict[str, int] = field(default_factory=dict)
+    last: dict[Key, tuple[Value, OpcUaStatus]] = field(default_factory=dict)
+    alarms: dict[int, dict[tuple[int, int, int], ActiveAlarm]] = field(default_factory=dict)
+
+    def interval(self, group: str) -> float:
+        g = self.config.groups
+        return {"fast": g.fast, "slow": g.slow, _ALARMS: g.alarms}[group]
+
+
+@dataclass(eq=False, slots=True)
+class _Out:
+    """A read under way: its station, the station's epoch when it started, its group."""
+
+    station: _Station
+    epoch: int
+    group: str
+    read: Read | None = None
+    path: int = 0
+    alarms: Any = None  # the StartedCall of an alarm list
+
+
+class Poller:
+    """Reads ``machines`` and tells ``sinks`` (see the module docstring).
+
+    ``clock`` gives the time in seconds (the samples' times, the due times); ``policy`` is
+    every client's reconnect policy and the delays between first connection attempts;
+    ``client_of(config, policy)`` builds a machine's client (by default a
+    :class:`NativeClient` or a :class:`FocasClient` as its ``protocol`` says).
+
+    Use it as an async context manager (its clients are closed on leaving), then
+    :meth:`run` it, or :meth:`step` it by hand.
+    """
+
+    def __init__(
+        self,
+        machines: Sequence[MachineConfig],
+        sinks: Sequence[Sink],
+        *,
+        clock: Callable[[], float] = time.time,
+        policy: ReconnectPolicy = DEFAULT_POLICY,
+        client_of: Callable[[MachineConfig, ReconnectPolicy], Client] = client_for,
+    ) -> None:
+        names = [m.name for m in machines]
+        if len(set(names)) != len(names):
+            raise ValueError("machine names must be unique")
+        self.sinks = list(sinks)
+        self.clock = clock
+        self.policy = policy
+        self._stations = {m.name: _Station(m, client_of(m, policy)) for m in machines}
+        for st in self._stations.values():
+            st.client.add_state_callback(self._state_changed)
+        self._ready: deque[_Out] = deque()
+        self._wake = asyncio.Event()
+        self._out = 0
+        self._closed = False
+
+    # -- what others read ----------------------------------------------------------------
+    @property
+    def machines(self) -> tuple[str, ...]:
+        """The names of the machines, in the configuration's order."""
+        return tuple(self._stations)
+
+    def client(self, machine: str) -> Client:
+        """The client of ``machine`` (``KeyError`` naming it for an unknown one)."""
+        return self._station(machine).client
+
+    def config(self, machine: str) -> MachineConfig:
+        """The configuration of ``machine``."""
+        return self._station(machine).config
+
+    def shape(self, machine: str) -> MachineShape | None:
+        """The shape last described of ``machine`` (None before its first connection)."""
+        return self._station(machine).described
+
+    def is_online(self, machine: str) -> bool | None:
+        """Whether ``machine`` is online (None: not known yet)."""
+        return self._station(machine).online
+
+    def _station(self, machine: str) -> _Station:
+        try:
+            return self._stations[machine]
+        except KeyError:
+            raise KeyError(f"no machine {machine!r} in the configuration") from None
+
+    # -- lifecycle -----------------------------------------------------------------------
+    async def __aenter__(self) -> Self:
+        return self
+
+    async def __aexit__(
+        self,
+        exc_type: type[BaseException] | None,
+        exc: BaseException | None,
+        tb: TracebackType | None,
+    ) -> None:
+        await self.aclose()
+
+    async def aclose(self) -> None:
+        """Stop connecting and close every client."""
+        self._closed = True
+        tasks = [s.task for s in self._stations.values() if s.task is not None]
+        for task in tasks:
+            task.cancel()
+        if tasks:
+            await asyncio.gather(*tasks, return_exceptions=True)
+        await asyncio.gather(
+            *(s.client.aclose() for s in self._stations.values()), return_exceptions=True
+        )
+
+    async def run(self) -> None:
+        """Poll until cancelled: each turn starts what is due, takes the answers as they come
+        and sleeps (real time) until the next due time, the next answer or a client's change
+        of state."""
+        while not self._closed:
+            self._wake.clear()
+            due = self._turn()
+            await self._drain()
+            if self._ready or self._wake.is_set():
+                continue
+            with contextlib.suppress(TimeoutError):
+                async with asyncio.timeout(max(0.0, due - self.clock())):
+                    await self._wake.wait()
+
+    async def step(self) -> float:
+        """One turn by hand: start what is due at ``clock()`` (connections too), then take
+        every answer of every read out (each ends by its timeout). Returns when the next
+        read is due."""
+        due = self._turn()
+        while self._out:
+            self._wake.clear()
+            if not self._ready:
+                await self._wake.wait()
+            await self._drain()
+        return due
+
+    # -- a turn --------------------------------------------------------------------------
+    def _turn(self) -> float:
+        """Connections and their announcements, then every read due; the next due time."""
+        now = self.clock()
+        samples: list[Sample] = []
+        online: list[tuple[str, bool, str]] = []
+        described: list[MachineShape] = []
+        for st in self._stations.values():
+            self._follow(st, now, samples, online, described)
+        self._tell(described, online, samples, [])
+        due = now + 3600.0
+        for st in self._stations.values():
+            if st.online and st.reader is not None:
+                for group in _GROUPS:
+                    if st.pending.get(group, 0):
+                        continue
+                    at = st.due.get(group, now)
+                    if at <= now:
+                        self._start(st, group)
+                        at = max(at + st.interval(group), now)
+                        st.due[group] = at
+                    due = min(due, at)
+            elif st.task is None and st.client.state is ClientState.DISCONNECTED:
+                due = min(due, st.next_attempt)
+        return due
+
+    def _follow(
+        self,
+        st: _Station,
+        now: float,
+        samples: list[Sample],
+        online: list[tuple[str, bool, str]],
+        described: list[MachineShape],
+    ) -> None:
+        """Where ``st`` stands: announce what changed, start connecting when it is time."""
+        state = st.client.state
+        if st.reader is not None and state is ClientState.CONNECTED and st.failure is None:
+            if st.online is not True:
+                shape = st.reader.shape
+                if shape != st.described:
+                    st.described = shape
+                    described.append(shape)
+                st.online = True
+                st.last.clear()
+                st.due.clear()
+                online.append((st.config.name, True, ""))
+                samples.extend(
+                    self._sample(st, key, None, NOT_SUPPORTED, now)
+                    for key in st.reader.unsupported()
+                )
+            return
+        if state is not ClientState.CONNECTED:
+            st.reader = None
+        if st.online is True and state is not ClientState.CONNECTED:
+            st.failure = st.failure or f"lost: the connection is {state.value}"
+        if st.failure is not None and st.online is not False:
+            self._lose(st)
+            online.append((st.config.name, False, st.failure))
+        if st.task is not None or self._closed:
+            return
+        if state is ClientState.CONNECTED or (
+            state is ClientState.DISCONNECTED and now >= st.next_attempt
+        ):
+            st.reader = None
+            st.task = asyncio.get_running_loop().create_task(
+                self._connect(st), name=f"gateway connect {st.config.name}"
+            )
+
+    def _lose(self, st: _Station) -> None:
+        st.online = False
+        st.reader = None
+        st.epoch += 1
+        st.last.clear()
+
+    async def _connect(self, st: _Station) -> None:
+        """Connect (unless connected) and read the shape; a failure is kept for the turn to
+        announce, with the time of the next attempt."""
+        try:
+            if st.client.state is not ClientState.CONNECTED:
+                await st.client.connect()
+            reader = await describe(st.config, st.client)
+        except (FocasError, OSError) as exc:
+            st.failure = reason_of(exc)
+            st.next_attempt = self.clock() + self.policy.delay(st.attempts)
+            st.attempts += 1
+            _log.info("%s: %s", st.config.name, st.failure)
+        else:
+            st.reader, st.failure, st.attempts = reader, None, 0
+        finally:
+            st.task = None
+            self._wake.set()
+
+    def _start(self, st: _Station, group: str) -> None:
+        """Start ``group``'s reads of ``st``."""
+        reader = st.reader
+        assert reader is not None
+        outs: list[_Out] = []
+        if group == _ALARMS:
+            for path, call in reader.alarms():
+                outs.append(_Out(st, st.epoch, group, path=path, alarms=call))
+        else:
+            reads = reader.fast() if group == Group.FAST.value else reader.slow()
+            outs.extend(_Out(st, st.epoch, group, read=r) for r in reads)
+        st.pending[group] = st.pending.get(group, 0) + len(outs)
+        self._out += len(outs)
+        for out in outs:
+            call = out.alarms if out.read is None else out.read.call
+            call.on_done(partial(self._answered, out))
+
+    def _state_changed(self, _state: ClientState) -> None:
+        self._wake.set()
+
+    def _answered(self, out: _Out) -> None:
+        self._ready.append(out)
+        self._wake.set()
+
+    # -- answers -------------------------------------------------------------------------
+    async def _drain(self) -> None:
+        """Take every answer that is there; tell the sinks once."""
+        samples: list[Sample] = []
+        changes: list[AlarmChange] = []
+        online: list[tuple[str, bool, str]] = []
+        ready = self._ready
+        while ready:
+            out = ready.popleft()
+            self._out -= 1
+            st = out.station
+            st.pending[out.group] -= 1
+            call = out.alarms if out.read is None else out.read.call
+            result: Any = None
+            error: BaseException | None = None
+            try:
+                result = await call.result()  # there: no wait (see StartedCall.on_done)
+            except Exception as exc:
+                error = exc
+            if out.epoch != st.epoch:
+                continue  # of a connection since lost
+            if error is not None and not _item_error(error):
+                st.failure = reason_of(error)
+                self._lose(st)
+                online.append((st.config.name, False, st.failure))
+                continue
+            now = self.clock()
+            if out.read is None:
+                if error is None:
+                    changes.extend(self._alarm_changes(st, out.path, result, now))
+                continue
+            if error is None:
+                values: dict[Key, Outcome] = out.read.values(result)
+            else:
+                status = getattr(error, "opcua_status", NOT_SUPPORTED)
+                values = dict.fromkeys(out.read.keys, status)
+            for key, value in values.items():
+                if isinstance(value, OpcUaStatus):
+                    sample = self._changed(st, key, None, value, now)
+                else:
+                    sample = self._changed(st, key, value, OPCUA_GOOD, now)
+                if sample is not None:
+                    samples.append(sample)
+        self._tell([], online, samples, changes)
+
+    def _changed(
+        self, st: _Station, key: Key, value: Value, status: OpcUaStatus, now: float
+    ) -> Sample | None:
+        if st.last.get(key) == (value, status):
+            return None
+        return self._sample(st, key, value, status, now)
+
+    def _sample(
+        self, st: _Station, key: Key, value: Value, status: OpcUaStatus, now: float
+    ) -> Sample:
+        st.last[key] = (value, status)
+        path, name, sub = key
+        return Sample(st.config.name, path, ITEMS[name], sub, value, status, now)
+
+    def _alarm_changes(
+        self, st: _Station, path: int, active: Sequence[ActiveAlarm], now: float
+    ) -> list[AlarmChange]:
+        cleared, raised, st.alarms[path] = alarm_changes(st.alarms.get(path, {}), active)
+        name = st.config.name
+        return [
+            AlarmChange(name, path, a.alm_type, a.alm_no, a.axis_no, a.msg, on, now)
+            for on, alarms in ((False, cleared), (True, raised))
+            for a in alarms
+        ]
+
+    def _tell(
+        self,
+        described: list[MachineShape],
+        online: list[tuple[str, bool, str]],
+        samples: list[Sample],
+        changes: list[AlarmChange],
+    ) -> None:
+        """Hand the sinks what happened, in that order (a sink that raises is logged)."""
+        if not (described or online or samples or changes):
+            return
+        now = self.clock()
+        for sink in self.sinks:
+            try:
+                for shape in described:
+                    sink.described(shape)
+                for name, up, reason in online:
+                    sink.online(name, up, reason, now)
+                if samples:
+                    sink.samples(samples)
+                if changes:
+                    sink.alarms(changes)
+            except Exception:
+                _log.exception("sink %r failed", sink)
+
+
+def _item_error(exc: BaseException) -> bool:
+    """Whether ``exc`` is of one read (an EW code, a call the transport lacks, an item with
+    no value now), not of the connection."""
+    return isinstance(exc, CncError | NativeUnsupportedError | Unavailable)

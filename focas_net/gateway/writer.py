@@ -1,0 +1,78 @@
+"""Writes to machines through the configuration's write gates: :class:`GatedWriter`, the
+:class:`~focas_net.gateway.model.Writer` the outputs (the OPC UA methods) write through.
+
+A write is first held against the machine's :class:`~focas_net.gateway.config.WriteGates`
+(``[machine.writes]``: nothing may be written unless it says so); a write outside them raises
+``PermissionError`` naming the machine, the gate and the value asked, and nothing is sent.
+Then it is the client's write, with the client's checks of the values and the CNC's refusals
+(:class:`~focas_net.errors.CncError` for an EW code, a connection error for a lost machine).
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+from decimal import Decimal
+
+from focas_net.client import FocasClient, NativeClient
+from focas_net.client._values import check_int
+from focas_net.protocol import PmcArea
+
+from .config import MachineConfig
+
+__all__ = ["GatedWriter"]
+
+
+def _ranges(ranges: tuple[tuple[int, int], ...]) -> str:
+    return ", ".join(str(a) if a == b else f"{a}..{b}" for a, b in ranges)
+
+
+class GatedWriter:
+    """A :class:`~focas_net.gateway.model.Writer` over ``machine(name)``, which gives a
+    machine's configuration and client (``KeyError`` naming an unknown machine), such as
+    :meth:`Gateway.machine <focas_net.gateway.run.Gateway.machine>`."""
+
+    def __init__(
+        self, machine: Callable[[str], tuple[MachineConfig, FocasClient | NativeClient]]
+    ) -> None:
+        self._machine = machine
+
+    async def write_macro(self, machine: str, number: int, value: Decimal, path: int) -> None:
+        """``cnc_wrmacro`` of ``#number`` on ``path``, if ``writes.macros`` allows it."""
+        config, client = self._machine(machine)
+        gates = config.writes.macros
+        if not any(a <= number <= b for a, b in gates):
+            raise PermissionError(
+                f"{machine}: writes.macros does not allow #{number} "
+                f"({_allowed(gates, 'macro variables')})"
+            )
+        await client.write_macro(number, value, path=path)
+
+    async def write_param(self, machine: str, number: int, value: int, axis: int) -> None:
+        """``cnc_wrparam`` of parameter ``number`` (``axis`` 0: not an axis parameter), if
+        ``writes.params`` allows it."""
+        config, client = self._machine(machine)
+        gates = config.writes.params
+        if not any(a <= number <= b for a, b in gates):
+            raise PermissionError(
+                f"{machine}: writes.params does not allow parameter {number} "
+                f"({_allowed(gates, 'parameters')})"
+            )
+        await client.write_param(number, value, axis=axis)
+
+    async def write_pmc(self, machine: str, area: str, address: int, value: int) -> None:
+        """``pmc_wrpmcrng`` of one byte, if ``writes.pmc`` allows ``area`` ``address``."""
+        config, client = self._machine(machine)
+        letter = PmcArea.parse(area).name
+        gates = config.writes.pmc
+        if not any(a == letter and first <= address <= last for a, first, last in gates):
+            allowed = ", ".join(f"{a}{f}-{a}{t}" if f != t else f"{a}{f}" for a, f, t in gates)
+            raise PermissionError(
+                f"{machine}: writes.pmc does not allow {letter}{address} "
+                f"({'allowed: ' + allowed if allowed else 'no PMC byte may be written'})"
+            )
+        byte = check_int("PMC byte value", value, 0, 0xFF)
+        await client.write_pmc(letter, address, bytes([byte]))
+
+
+def _allowed(gates: tuple[tuple[int, int], ...], what: str) -> str:
+    return f"allowed: {_ranges(gates)}" if gates else f"no {what} may be written"

@@ -1,0 +1,292 @@
+"""The gateway's poller against simulated machines served on 127.0.0.1: every item of every
+path delivered once, then only changes; alarms as events; a machine stopped and started again
+goes offline and comes back with every value sent again; both protocols, a 2-path lathe."""
+
+from __future__ import annotations
+
+from collections.abc import AsyncIterator, Callable, Sequence
+from contextlib import AsyncExitStack, asynccontextmanager
+from pathlib import Path
+from typing import Literal
+
+import pytest
+from support import serving, two_path_lathe
+
+from focas_net.client import ReconnectPolicy
+from focas_net.errors import EW, OPCUA_GOOD, ew_info
+from focas_net.gateway import (
+    AlarmChange,
+    GroupIntervals,
+    MachineConfig,
+    MachineShape,
+    Sample,
+)
+from focas_net.gateway.poller import Poller, reason_of
+from focas_net.gateway.reads import NOT_SUPPORTED
+from focas_net.server import FocasServer
+from focas_net.sim import Machine, default_machine, load_machine
+from focas_net.sim.nc import ManualClock
+
+LATHE = Path(__file__).resolve().parent.parent / "examples" / "lathe_2path.toml"
+#: Fast reconnects in real time (the poller's own first-connection retries follow the clock).
+QUICK = ReconnectPolicy(initial_delay=0.01, max_delay=0.05, jitter=0.0)
+#: Bound of the turns of a wait.
+TURNS = 400
+
+
+class RecordingSink:
+    """A sink that keeps everything it is told."""
+
+    def __init__(self) -> None:
+        self.shapes: list[MachineShape] = []
+        self.states: list[tuple[str, bool, str]] = []
+        self.got: list[Sample] = []
+        self.changes: list[AlarmChange] = []
+
+    def described(self, shape: MachineShape) -> None:
+        self.shapes.append(shape)
+
+    def online(self, machine: str, online: bool, reason: str, time: float) -> None:
+        self.states.append((machine, online, reason))
+
+    def samples(self, samples: Sequence[Sample]) -> None:
+        self.got.extend(samples)
+
+    def alarms(self, changes: Sequence[AlarmChange]) -> None:
+        self.changes.extend(changes)
+
+    def of(self, machine: str) -> dict[tuple[int, str, str], Sample]:
+        """The last sample of each key of ``machine``."""
+        return {(s.path, s.item.name, s.key): s for s in self.got if s.machine == machine}
+
+    def clear(self) -> None:
+        self.got.clear()
+        self.changes.clear()
+        self.states.clear()
+
+
+def lathe() -> Machine:
+    return load_machine(LATHE, sim_clock=ManualClock())
+
+
+def config(name: str, port: int, protocol: Literal["native", "packed"] = "native") -> MachineConfig:
+    return MachineConfig(
+        name, "127.0.0.1", port, protocol, timeout=2.0, groups=GroupIntervals(1.0, 10.0, 1.0)
+    )
+
+
+@asynccontextmanager
+async def polling(
+    machines: Sequence[MachineConfig], clock: ManualClock
+) -> AsyncIterator[tuple[Poller, RecordingSink]]:
+    sink = RecordingSink()
+    async with Poller(machines, [sink], clock=clock.now, policy=QUICK) as poller:
+        yield poller, sink
+
+
+async def until(
+    poller: Poller, clock: ManualClock, done: Callable[[], bool], step: float = 0.0
+) -> None:
+    """Turn the poller (moving the clock by ``step`` each turn) until ``done()``."""
+    import asyncio
+
+    for _ in range(TURNS):
+        await poller.step()
+        if done():
+            return
+        clock.advance(step)
+        await asyncio.sleep(0.005)
+    pytest.fail(f"not done within {TURNS} turns")
+
+
+def all_online(poller: Poller) -> Callable[[], bool]:
+    return lambda: all(poller.is_online(m) for m in poller.machines)
+
+
+async def test_every_item_of_every_path_once_then_only_changes() -> None:
+    clock = ManualClock(1_000.0)
+    async with AsyncExitStack() as stack:
+        mill = await stack.enter_async_context(serving(default_machine()))
+        turn = await stack.enter_async_context(serving(lathe()))
+        machines = [
+            config("mill", mill.port),
+            config("lathe", turn.port),
+            config("lathe-packed", turn.port, "packed"),
+        ]
+        poller, sink = await stack.enter_async_context(polling(machines, clock))
+        await until(poller, clock, all_online(poller))
+        await poller.step()  # the first reads of every group
+
+        shapes = {s.name: s for s in sink.shapes}
+        assert [p.number for p in shapes["lathe"].paths] == [1, 2]
+        # (FOCAS/2 names an axis by its letter, the packed protocol with its suffix)
+        assert [len(p.axes) for p in shapes["lathe"].paths] == [2, 2]
+        assert [len(p.axes) for p in shapes["lathe-packed"].paths] == [2, 2]
+        assert [p.axes for p in shapes["lathe"].paths] == [("X", "Z"), ("X", "Z")]
+        assert [p.number for p in shapes["mill"].paths] == [1]
+        assert shapes["mill"].protocol == "native"
+        for name in ("lathe", "lathe-packed"):
+            got = sink.of(name)
+            for path in shapes[name].paths:
+                for item in ("mode", "run", "feed", "program", "feed_override", "parts"):
+                    assert (path.number, item, "") in got, (name, path.number, item)
+                for axis in path.axes:
+                    for item in ("absolute", "machine", "relative", "distance", "servo_load"):
+                        assert got[(path.number, item, axis)].status == OPCUA_GOOD
+        native, packed = sink.of("lathe"), sink.of("lathe-packed")
+        assert native[(1, "sequence", "")].status == OPCUA_GOOD
+        assert packed[(1, "sequence", "")].status == NOT_SUPPORTED
+        assert packed[(2, "message", "")].value is None
+        for (number, item, key), sample in packed.items():  # one CNC through both transports
+            same = (number, item, key[:1])
+            if same not in native or item in _MOVING:
+                continue
+            if sample.status == OPCUA_GOOD and native[same].status == OPCUA_GOOD:
+                assert native[same].value == sample.value, (number, item, key)
+        keys = [(s.machine, s.path, s.item.name, s.key) for s in sink.got]
+        assert len(keys) == len(set(keys))  # each value once
+
+        sink.clear()
+        for _ in range(3):
+            clock.advance(1.0)
+            await poller.step()
+        assert [s for s in sink.got if s.item.name not in _MOVING] == []
+        clock.advance(10.0)
+        await poller.step()
+        assert [s for s in sink.got if s.item.name not in _MOVING] == []
+
+        turn.machine.set_overrides(feed=70, path=2)
+        turn.machine.set_motion(path=2, feed=321)
+        mill.machine.set_overrides(spindle=120)
+        clock.advance(1.0)
+        await poller.step()
+        changed = {(s.machine, s.path, s.item.name, s.value) for s in sink.got}
+        assert changed - {c for c in changed if c[2] in _MOVING} == {
+            ("lathe", 2, "feed", 321.0),
+            ("lathe-packed", 2, "feed", 321.0),
+            ("lathe-packed", 2, "feed_override", 70),
+            ("mill", 1, "spindle_override", 120),
+        }
+        # (the lathe's file gives it no PMC: FOCAS/2 reads the overrides from G12..G30)
+        assert native[(2, "feed_override", "")].status == ew_info(EW.NOOPT).opcua
+
+
+#: Items that move with time alone on a machine that is not running (the power-on timer).
+_MOVING = {"power_on_time"}
+
+
+async def test_alarms_raised_and_cleared_are_events_of_their_path() -> None:
+    clock = ManualClock(1_000.0)
+    async with AsyncExitStack() as stack:
+        turn = await stack.enter_async_context(serving(lathe()))
+        machines = [config("lathe", turn.port), config("packed", turn.port, "packed")]
+        poller, sink = await stack.enter_async_context(polling(machines, clock))
+        await until(poller, clock, all_online(poller))
+        await poller.step()
+        assert sink.changes == []
+        turn.machine.raise_alarm(1, 4, 510, "OVER TRAVEL +Z", path=2)
+        clock.advance(1.0)
+        await poller.step()
+        assert {
+            (c.machine, c.path, c.alm_type, c.alm_no, c.axis, c.active) for c in sink.changes
+        } == {
+            ("lathe", 2, 4, 510, 1, True),
+            ("packed", 2, 4, 510, 1, True),
+        }
+        assert all(c.message == "OVER TRAVEL +Z" for c in sink.changes)
+        assert sink.of("lathe")[(2, "alarm", "")].value is True
+        sink.clear()
+        clock.advance(1.0)
+        await poller.step()
+        assert sink.changes == []  # still active: no event
+        turn.machine.clear_alarms(path=2)
+        clock.advance(1.0)
+        await poller.step()
+        assert {(c.machine, c.path, c.alm_no, c.active) for c in sink.changes} == {
+            ("lathe", 2, 510, False),
+            ("packed", 2, 510, False),
+        }
+
+
+@pytest.mark.parametrize("protocol", ["native", "packed"])
+async def test_a_stopped_machine_goes_offline_and_comes_back_with_every_value(
+    protocol: Literal["native", "packed"],
+) -> None:
+    clock = ManualClock(1_000.0)
+    machine = lathe()
+    async with AsyncExitStack() as stack:
+        other = await stack.enter_async_context(serving(default_machine()))
+        server = FocasServer(machine, host="127.0.0.1", port=0, grace_period=0.5)
+        await server.start()
+        port = server.listeners[0].address[1]
+        try:
+            machines = [config("lathe", port, protocol), config("other", other.port)]
+            poller, sink = await stack.enter_async_context(polling(machines, clock))
+            await until(poller, clock, all_online(poller))
+            await poller.step()
+            before = sink.of("lathe")
+            sink.clear()
+            sink.shapes.clear()
+
+            await server.aclose()
+            await until(poller, clock, lambda: poller.is_online("lathe") is False, 1.0)
+            ((name, up, reason),) = sink.states
+            assert (name, up) == ("lathe", False) and reason
+            assert poller.is_online("other")
+
+            sink.clear()
+            server = FocasServer(machine, host="127.0.0.1", port=port, grace_period=0.5)
+            await server.start()
+            await until(poller, clock, lambda: poller.is_online("lathe") is True, 1.0)
+            clock.advance(10.0)
+            await poller.step()
+            assert ("lathe", True, "") in sink.states
+            again = sink.of("lathe")
+            assert set(again) == set(before)  # every value sent again
+            assert len(sink.shapes) == 0  # the same shape: not described again
+        finally:
+            await server.aclose()
+
+
+async def test_a_machine_never_reached_is_offline_and_the_others_deliver() -> None:
+    clock = ManualClock(1_000.0)
+    async with AsyncExitStack() as stack:
+        mill = await stack.enter_async_context(serving(default_machine()))
+        closed = await stack.enter_async_context(serving(default_machine()))
+        dead = closed.port
+        await closed.server.aclose()
+        machines = [config("mill", mill.port), config("dead", dead)]
+        poller, sink = await stack.enter_async_context(polling(machines, clock))
+        await until(poller, clock, lambda: poller.is_online("mill") is True)
+        await until(poller, clock, lambda: poller.is_online("dead") is False)
+        assert [(m, up) for m, up, _ in sink.states if m == "dead"] == [("dead", False)]
+        assert next(r for m, _, r in sink.states if m == "dead").startswith("refused")
+        assert sink.of("mill")
+        assert not sink.of("dead")
+
+
+async def test_an_ew_code_on_one_read_gives_its_items_the_ews_status() -> None:
+    clock = ManualClock(1_000.0)
+    async with serving(two_path_lathe()) as bare:
+        async with polling([config("bare", bare.port)], clock) as (poller, sink):
+            await until(poller, clock, all_online(poller))
+            await poller.step()
+            got = sink.of("bare")
+    # a machine without parameter 6713 nor #3901 (EW_NUMBER), nor a PMC (EW_NOOPT)
+    for path in (1, 2):
+        for item in ("parts_required", "parts"):
+            assert got[(path, item, "")].status == ew_info(EW.NUMBER).opcua
+            assert got[(path, item, "")].value is None
+        assert got[(path, "spindle_override", "")].status == ew_info(EW.NOOPT).opcua
+        assert got[(path, "mode", "")].status == OPCUA_GOOD
+        assert got[(path, "program", "")].value == path
+
+
+def test_reasons_name_what_happened() -> None:
+    from focas_net.errors import FocasConnectionError, FocasTimeoutError, ProtocolError
+
+    assert reason_of(FocasTimeoutError("no answer")).startswith("timeout: ")
+    assert reason_of(FocasConnectionError("connection refused by 1.2.3.4")).startswith("refused")
+    assert reason_of(FocasConnectionError("connection reset by peer")).startswith("reset")
+    assert reason_of(ProtocolError("bad frame")).startswith("protocol: ")
+    assert reason_of(FocasConnectionError("gone")) == "lost: gone"
