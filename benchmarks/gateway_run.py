@@ -40,6 +40,8 @@ from focas_net.gateway.config import (
 from focas_net.gateway.model import AlarmChange, MachineShape, Sample
 
 SINKS: Final = ("mqtt", "opcua")
+#: Statuses that are no failed read: an item the transport has not, no tool in use.
+_NOT_ERRORS: Final = ("BadNotSupported", "BadNoDataAvailable")
 
 
 class CountingSink:
@@ -68,7 +70,7 @@ class CountingSink:
     def samples(self, samples: Sequence[Sample]) -> None:
         self.told += len(samples)
         for sample in samples:
-            if sample.status != OPCUA_GOOD and sample.status.name != "BadNotSupported":
+            if sample.status != OPCUA_GOOD and sample.status.name not in _NOT_ERRORS:
                 self.bad += 1
                 if not self.first_bad:
                     self.first_bad = f"{sample.machine} {sample.item.name}: {sample.status.name}"
@@ -78,10 +80,19 @@ class CountingSink:
 
 
 class GroupCounts:
-    """The polls the poller started, by group (its ``_start(station, group)``, counted)."""
+    """The polls the poller started, by group (its ``_start(station, group)``, counted), and
+    its turns (``_turn()``: one pass over every machine)."""
 
     def __init__(self) -> None:
         self.started: dict[str, int] = {}
+        self.turns = 0
+
+    def wrap_turn(self, turn: Callable[[], float]) -> Callable[[], float]:
+        def counted() -> float:
+            self.turns += 1
+            return turn()
+
+        return counted
 
     def wrap(self, start: Callable[[Any, str], None]) -> Callable[[Any, str], None]:
         started = self.started
@@ -135,6 +146,7 @@ async def run(config: GatewayConfig, sinks: Sequence[str], ready_timeout: float)
     groups = GroupCounts()
     poller: Any = gateway.poller
     poller._start = groups.wrap(poller._start)
+    poller._turn = groups.wrap_turn(poller._turn)
     n = len(config.machines)
     async with AsyncExitStack() as stack:
         for output in outputs(config, gateway.writer):
@@ -161,6 +173,7 @@ async def run(config: GatewayConfig, sinks: Sequence[str], ready_timeout: float)
                     "skipped": 0,
                     "x_samples": counting.told,
                     "x_alarm_polls": groups.started.get("alarms", 0),
+                    "x_turns": groups.turns,
                     "error": counting.first_bad,
                 }
 
