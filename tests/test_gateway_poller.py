@@ -290,3 +290,88 @@ def test_reasons_name_what_happened() -> None:
     assert reason_of(FocasConnectionError("connection reset by peer")).startswith("reset")
     assert reason_of(ProtocolError("bad frame")).startswith("protocol: ")
     assert reason_of(FocasConnectionError("gone")) == "lost: gone"
+
+
+async def test_the_gateway_runs_the_poller_and_writes_through_the_gates() -> None:
+    from decimal import Decimal
+
+    from support import wait_until
+
+    from focas_net.errors import CncError
+    from focas_net.gateway import Gateway, GatewayConfig, WriteGates
+    from focas_net.gateway.run import outputs
+
+    machine = default_machine()
+    async with serving(machine) as turn:
+        gates = WriteGates(macros=((500, 599),), params=((6711, 6713),), pmc=(("R", 100, 199),))
+        configs = (
+            MachineConfig("open", "127.0.0.1", turn.port, "native", timeout=2.0, writes=gates),
+            MachineConfig("shut", "127.0.0.1", turn.port, "packed", timeout=2.0),
+        )
+        sink = RecordingSink()
+        gateway = Gateway(GatewayConfig(configs), policy=QUICK)
+        gateway.add_sink(sink)
+        assert outputs(gateway.config, gateway.writer) == []  # no [mqtt], no [opcua]
+        async with gateway:
+            assert gateway.running
+            await wait_until(lambda: {m for m, up, _ in sink.states if up} == {"open", "shut"})
+            await wait_until(lambda: (1, "mode", "") in sink.of("shut"))
+            with pytest.raises(RuntimeError):
+                gateway.add_sink(RecordingSink())
+
+            writer = gateway.writer
+            await writer.write_macro("open", 510, Decimal("1.25"), 1)
+            assert machine.read_macro(510) == Decimal("1.25")
+            with pytest.raises(CncError) as refused:  # let through, refused by the CNC
+                await writer.write_param("open", 6713, 40, 0)
+            assert refused.value.ew == EW.PASSWD
+            await writer.write_pmc("open", "R", 150, 7)
+            assert machine.read_pmc("R", 150, 1) == b"\x07"
+            refusals = [
+                (writer.write_macro("open", 600, Decimal(1), 1), "open: writes.macros", "#600"),
+                (writer.write_param("open", 1320, 1, 1), "writes.params", "parameter 1320"),
+                (writer.write_pmc("open", "D", 150, 1), "writes.pmc does not allow D150", "R100"),
+                (writer.write_macro("shut", 500, Decimal(1), 1), "shut: writes.macros", "no macro"),
+                (writer.write_pmc("shut", "R", 100, 1), "shut: writes.pmc", "no PMC byte"),
+            ]
+            for call, gate, value in refusals:
+                with pytest.raises(PermissionError) as caught:
+                    await call
+                assert gate in str(caught.value) and value in str(caught.value)
+            with pytest.raises(ValueError, match="PMC byte value"):
+                await writer.write_pmc("open", "R", 100, 256)
+            with pytest.raises(CncError) as refused:  # a path it has not
+                await writer.write_macro("open", 590, Decimal(1), 2)
+            assert refused.value.ew == EW.PATH
+            with pytest.raises(KeyError, match="no machine 'nowhere'"):
+                await writer.write_macro("nowhere", 500, Decimal(1), 1)
+        assert not gateway.running
+
+
+async def test_a_machine_that_answers_late_holds_back_no_other() -> None:
+    from support import wait_until
+
+    from focas_net.client import FocasClient
+    from focas_net.gateway import Gateway, GatewayConfig
+    from focas_net.protocol import FaultKind, FaultScope
+
+    async with serving() as late, serving() as quick:
+        configs = (
+            MachineConfig("late", "127.0.0.1", late.port, timeout=60.0),
+            MachineConfig("quick", "127.0.0.1", quick.port, timeout=5.0),
+        )
+        sink = RecordingSink()
+        async with Gateway(GatewayConfig(configs), [sink], policy=QUICK):
+            await wait_until(lambda: (1, "spindle_override", "") in sink.of("late"))
+            await wait_until(lambda: (1, "spindle_override", "") in sink.of("quick"))
+            async with FocasClient(late.host, late.port) as packed:  # every answer 30 s late
+                await packed.sim.inject_fault(
+                    FaultKind.DELAY, count=100, arg=30_000, scope=FaultScope.MACHINE
+                )
+            for percent in (130, 90, 110):  # the quick machine's changes keep coming
+                quick.machine.set_overrides(spindle=percent)
+                await wait_until(
+                    lambda p=percent: sink.of("quick")[(1, "spindle_override", "")].value == p,
+                    within=20.0,
+                )
+            assert not [s for s in sink.states if s[0] == "late" and not s[1]]  # not lost yet

@@ -226,6 +226,12 @@ SHARED: dict[str, tuple[str, ...]] = {
 THIRD_PARTY: dict[str, tuple[str, ...]] = {
     "anyio": ("focas_net.server", "focas_net.cli"),
     "aiohttp": ("focas_net.web.shell",),
+    # the gateway's OPC UA server and its information model
+    "asyncua": (
+        "focas_net.gateway.opcua",
+        "focas_net.gateway._opcua_model",
+        "focas_net.gateway._opcua_types",
+    ),
 }
 
 #: Modules a row may import themselves, nothing below them (not in the table either).

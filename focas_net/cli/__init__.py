@@ -1,11 +1,12 @@
-"""The ``focas-net`` command line: ``serve`` and the client commands.
+"""The ``focas-net`` command line: ``serve``, ``gateway`` and the client commands.
 
-``focas-net serve`` runs simulated CNCs (:mod:`.serve`). The client commands read and write a
-CNC from the terminal: ``status``, ``sysinfo``, ``program``, ``position``, ``param get|set``,
-``macro get|set``, ``diag``, ``pmc read|write|bit``, ``alarms``, ``unlock``, ``versamax`` and
-``sim panel|alarm|clear|fault|faults``. They are one table (:mod:`._table`) of handlers from
-:mod:`.read_cmds`, :mod:`.write_cmds` and :mod:`.sim_cmds`, run by :mod:`._run`; what all
-commands share (exit codes, argument types, the one-line error) is in :mod:`._args`.
+``focas-net serve`` runs simulated CNCs (:mod:`.serve`); ``focas-net gateway CONFIG.toml``
+polls CNCs for MQTT and OPC UA (:mod:`.gateway_cmd`, ``docs/gateway.md``). The client commands
+read and write a CNC from the terminal: ``status``, ``sysinfo``, ``program``, ``position``,
+``param get|set``, ``macro get|set``, ``diag``, ``pmc read|write|bit``, ``alarms``, ``unlock``,
+``versamax`` and ``sim panel|alarm|clear|fault|faults``. They are one table (:mod:`._table`) of
+handlers from :mod:`.read_cmds`, :mod:`.write_cmds` and :mod:`.sim_cmds`, run by :mod:`._run`;
+what all commands share (exit codes, argument types, the one-line error) is in :mod:`._args`.
 
 Every client command takes ``--host`` (default 127.0.0.1), ``--port`` (8193), ``--timeout``
 (seconds, 3), ``--json`` and the TLS options ``--tls``, ``--tls-ca FILE``, ``--tls-insecure``;
@@ -53,10 +54,11 @@ __all__ = [
 
 
 def build_parser() -> argparse.ArgumentParser:
-    """The ``focas-net`` parser: ``serve``, then the client commands of the table."""
+    """The ``focas-net`` parser: ``serve``, ``gateway``, then the client commands of the
+    table."""
     from focas_net import __version__
 
-    from . import _table, serve
+    from . import _table, gateway_cmd, serve
     from ._args import Parser
 
     parser = Parser(
@@ -66,6 +68,7 @@ def build_parser() -> argparse.ArgumentParser:
     parser.add_argument("--version", action="version", version=f"%(prog)s {__version__}")
     sub = parser.add_subparsers(dest="command", required=True, metavar="COMMAND")
     serve.register(sub)
+    gateway_cmd.register(sub)
     _table.register(sub)
     return parser
 

@@ -171,7 +171,7 @@ class Poller:
             st.client.add_state_callback(self._state_changed)
         self._ready: deque[_Out] = deque()
         self._wake = asyncio.Event()
-        self._out = 0
+        self._outs: set[_Out] = set()  # the reads under way
         self._closed = False
 
     # -- what others read ----------------------------------------------------------------
@@ -215,8 +215,12 @@ class Poller:
         await self.aclose()
 
     async def aclose(self) -> None:
-        """Stop connecting and close every client."""
+        """Give up the reads under way, stop connecting and close every client."""
         self._closed = True
+        for out in self._outs:
+            (out.alarms if out.read is None else out.read.call).cancel()
+        self._outs.clear()
+        self._ready.clear()
         tasks = [s.task for s in self._stations.values() if s.task is not None]
         for task in tasks:
             task.cancel()
@@ -232,8 +236,8 @@ class Poller:
         of state."""
         while not self._closed:
             self._wake.clear()
+            await self._drain()  # first: what is still out counts in the due times
             due = self._turn()
-            await self._drain()
             if self._ready or self._wake.is_set():
                 continue
             with contextlib.suppress(TimeoutError):
@@ -245,7 +249,7 @@ class Poller:
         every answer of every read out (each ends by its timeout). Returns when the next
         read is due."""
         due = self._turn()
-        while self._out:
+        while self._outs:
             self._wake.clear()
             if not self._ready:
                 await self._wake.wait()
@@ -274,7 +278,7 @@ class Poller:
                         at = max(at + st.interval(group), now)
                         st.due[group] = at
                     due = min(due, at)
-            elif st.task is None and st.client.state is ClientState.DISCONNECTED:
+            elif st.task is None and st.client.state is not ClientState.RECONNECTING:
                 due = min(due, st.next_attempt)
         return due
 
@@ -312,9 +316,7 @@ class Poller:
             online.append((st.config.name, False, st.failure))
         if st.task is not None or self._closed:
             return
-        if state is ClientState.CONNECTED or (
-            state is ClientState.DISCONNECTED and now >= st.next_attempt
-        ):
+        if state is not ClientState.RECONNECTING and now >= st.next_attempt:
             st.reader = None
             st.task = asyncio.get_running_loop().create_task(
                 self._connect(st), name=f"gateway connect {st.config.name}"
@@ -356,7 +358,7 @@ class Poller:
             reads = reader.fast() if group == Group.FAST.value else reader.slow()
             outs.extend(_Out(st, st.epoch, group, read=r) for r in reads)
         st.pending[group] = st.pending.get(group, 0) + len(outs)
-        self._out += len(outs)
+        self._outs.update(outs)
         for out in outs:
             call = out.alarms if out.read is None else out.read.call
             call.on_done(partial(self._answered, out))
@@ -377,7 +379,7 @@ class Poller:
         ready = self._ready
         while ready:
             out = ready.popleft()
-            self._out -= 1
+            self._outs.discard(out)
             st = out.station
             st.pending[out.group] -= 1
             call = out.alarms if out.read is None else out.read.call

@@ -1,0 +1,142 @@
+"""``focas-net gateway CONFIG.toml``: poll the machines of a configuration file and publish
+them to the MQTT broker and the OPC UA server it names, until SIGINT or SIGTERM
+(``docs/gateway.md``).
+
+Once its outputs are up it prints, flushed, one line::
+
+    focas-net: gateway polling 4 machines (shard 1/2); MQTT 127.0.0.1:1883; OPC UA opc.tcp://...
+
+A bad configuration (or ``--shard``), or an output whose package is not installed, ends with
+one line and exit code 2, before anything connects; an output that cannot start (a port in
+use) with exit code 1. SIGINT and SIGTERM end it cleanly: the outputs stop, the clients close,
+exit 0. Machines that cannot be reached are not an error: they are shown lost, and tried again.
+"""
+
+from __future__ import annotations
+
+import argparse
+import asyncio
+import logging
+import sys
+from contextlib import AsyncExitStack
+from typing import Any
+
+from focas_net.client._failures import os_reason
+from focas_net.gateway import (
+    ConfigError,
+    Gateway,
+    GatewayConfig,
+    load_config,
+    outputs,
+    shard,
+)
+
+from ._args import EXIT_CNC, EXIT_OK, EXIT_USAGE, PROG, argument_type, command_parser, print_error
+from ._run import stopping_on_signals
+
+__all__: list[str] = []
+
+_ERROR_PREFIX = f"{PROG} gateway: error"  # as serve and argparse word their errors
+_log = logging.getLogger("focas_net.cli.gateway")
+
+
+def parse_shard(text: str) -> tuple[int, int]:
+    """``I/N`` as two integers (their ranges are checked with the file, by ``shard``)."""
+    first, slash, second = text.strip().partition("/")
+    if not slash or not first.strip().isdigit() or not second.strip().isdigit():
+        raise ValueError(f"give the shard as I/N (1/4: the first of four), got {text!r}")
+    return int(first), int(second)
+
+
+SHARD = argument_type(parse_shard, "shard")
+
+
+def register(subparsers: Any) -> None:
+    """Add the ``gateway`` subcommand."""
+    p = command_parser(
+        subparsers,
+        "gateway",
+        help="poll CNCs and publish them over MQTT and OPC UA",
+        description="Poll the FANUC CNCs of a configuration file (TOML, docs/gateway.md) and "
+        "publish their values, alarms and availability to an MQTT broker and an OPC UA server.",
+    )
+    p.add_argument("config", metavar="CONFIG.toml", help="the gateway's configuration file")
+    p.add_argument(
+        "--shard",
+        type=SHARD,
+        default=None,
+        metavar="I/N",
+        help="poll only shard I of N (machines I, I+N, I+2N, ... of the file), so that N "
+        "gateway processes share a plant",
+    )
+    p.add_argument(
+        "--log-level",
+        default="WARNING",
+        type=str.upper,
+        choices=["DEBUG", "INFO", "WARNING", "ERROR", "CRITICAL"],
+        help="logging threshold on stderr (default %(default)s)",
+    )
+    p.set_defaults(func=run)
+
+
+def run(args: argparse.Namespace) -> int:
+    """Entry point of ``focas-net gateway``; returns the exit code."""
+    logging.basicConfig(
+        level=getattr(logging, args.log_level),
+        format="%(asctime)s %(levelname)s %(name)s: %(message)s",
+        stream=sys.stderr,
+    )
+    try:
+        config = load_config(args.config)
+        if args.shard is not None:
+            config = shard(config, *args.shard)
+    except ConfigError as exc:
+        print_error(str(exc), _ERROR_PREFIX)
+        return EXIT_USAGE
+    return asyncio.run(_serve(config, args.shard))
+
+
+def _ready_line(config: GatewayConfig, part: tuple[int, int] | None) -> str:
+    count = len(config.machines)
+    words = [f"gateway polling {count} machine{'s' if count != 1 else ''}"]
+    if part is not None:
+        words[0] += f" (shard {part[0]}/{part[1]})"
+    if config.mqtt is not None:
+        words.append(f"MQTT {config.mqtt.host}:{config.mqtt.port}")
+    if config.opcua is not None:
+        words.append(f"OPC UA {config.opcua.endpoint}")
+    if config.mqtt is None and config.opcua is None:
+        words.append("no output ([mqtt] or [opcua])")
+    return f"{PROG}: {'; '.join(words)}\n"
+
+
+async def _serve(config: GatewayConfig, part: tuple[int, int] | None) -> int:
+    stop = asyncio.Event()
+    gateway = Gateway(config)
+    with stopping_on_signals(stop.set):
+        async with AsyncExitStack() as stack:
+            try:
+                for output in outputs(config, gateway.writer):
+                    gateway.add_sink(await stack.enter_async_context(output))
+            except ConfigError as exc:
+                print_error(str(exc), _ERROR_PREFIX)
+                await gateway.poller.aclose()
+                return EXIT_USAGE
+            except OSError as exc:
+                print_error(f"an output cannot start: {os_reason(exc)}", _ERROR_PREFIX)
+                await gateway.poller.aclose()
+                return EXIT_CNC
+            async with gateway:
+                sys.stdout.write(_ready_line(config, part))
+                sys.stdout.flush()
+                waiting = asyncio.ensure_future(stop.wait())
+                failed = asyncio.ensure_future(gateway.wait())
+                done, _ = await asyncio.wait({waiting, failed}, return_when="FIRST_COMPLETED")
+                for task in (waiting, failed):
+                    task.cancel()
+                await asyncio.gather(waiting, failed, return_exceptions=True)
+                if failed in done and not failed.cancelled() and failed.exception() is not None:
+                    _log.error("the poller failed", exc_info=failed.exception())
+                    return EXIT_CNC
+    _log.info("stopped")
+    return EXIT_OK

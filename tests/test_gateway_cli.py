@@ -1,0 +1,117 @@
+"""``focas-net gateway CONFIG.toml`` as a user runs it: a ready line, a clean end on SIGINT
+and SIGTERM, one line and exit 2 for a bad file, a bad ``--shard`` or a missing extra."""
+
+from __future__ import annotations
+
+import asyncio
+import os
+import signal
+import sys
+from pathlib import Path
+
+import pytest
+from cli_support import SUBPROCESS_TIMEOUT, fails, one_line
+from support import serving
+
+from focas_net.cli import EXIT_OK, EXIT_USAGE
+
+
+def write_config(folder: Path, text: str) -> Path:
+    path = folder / "plant.toml"
+    path.write_text(text)
+    return path
+
+
+def machine(name: str, port: int, protocol: str = "native") -> str:
+    return f'[[machine]]\nname = "{name}"\nhost = "127.0.0.1"\nport = {port}\n' + (
+        f'protocol = "{protocol}"\n'
+    )
+
+
+@pytest.mark.parametrize(
+    ("text", "words"),
+    [
+        (machine("a", 70000), "machine[1].port: got 70000; expected a port 1..65535"),
+        (
+            machine("a", 1) + "[groups]\nfsat = 1\n",
+            "groups.fsat: unknown key (did you mean 'fast'?)",
+        ),
+        ("", "no machine"),
+    ],
+)
+async def test_a_bad_file_is_one_line_and_exit_2(tmp_path: Path, text: str, words: str) -> None:
+    config = write_config(tmp_path, text)
+    line = await fails(EXIT_USAGE, "gateway", str(config), prefix="focas-net gateway: error: ")
+    assert str(config) in line and words in line
+
+
+async def test_a_missing_file_and_a_bad_shard_are_exit_2(tmp_path: Path) -> None:
+    line = await fails(
+        EXIT_USAGE, "gateway", str(tmp_path / "none.toml"), prefix="focas-net gateway: error: "
+    )
+    assert "none.toml: No such file" in line
+    config = write_config(tmp_path, machine("a", 8193) + machine("b", 8194))
+    line = await fails(
+        EXIT_USAGE, "gateway", str(config), "--shard", "3/2", prefix="focas-net gateway: error: "
+    )
+    assert line.endswith("--shard 3/2: the shard must be within 1..2")
+    line = await fails(
+        EXIT_USAGE, "gateway", str(config), "--shard", "half", prefix="focas-net gateway: error: "
+    )
+    assert "argument --shard: give the shard as I/N" in line
+
+
+async def test_an_output_without_its_package_names_the_extra(tmp_path: Path) -> None:
+    config = write_config(tmp_path, machine("a", 8193) + "[mqtt]\n")
+    blocked = (
+        "import sys; sys.modules['aiomqtt'] = None; sys.modules['asyncua'] = None; "
+        "from focas_net.cli import main; sys.exit(main(sys.argv[1:]))"
+    )
+    proc = await asyncio.create_subprocess_exec(
+        sys.executable, "-c", blocked, "gateway", str(config),
+        stdout=asyncio.subprocess.PIPE, stderr=asyncio.subprocess.PIPE,
+    )  # fmt: skip
+    async with asyncio.timeout(SUBPROCESS_TIMEOUT):
+        out, err = await proc.communicate()
+    assert proc.returncode == EXIT_USAGE
+    assert out == b""
+    line = one_line(err.decode(), "focas-net gateway: error: ")
+    assert "[mqtt] needs" in line and "pip install 'focas-net[gateway]'" in line
+
+
+@pytest.mark.parametrize("signum", [signal.SIGTERM, signal.SIGINT])
+async def test_it_polls_until_told_to_stop(tmp_path: Path, signum: signal.Signals) -> None:
+    async with serving() as mill:
+        async with serving() as gone:
+            dead = gone.port  # a machine that cannot be reached is no error
+        config = write_config(
+            tmp_path, machine("mill", mill.port) + machine("packed", mill.port, "packed")
+            + machine("dead", dead)
+        )  # fmt: skip
+        proc = await asyncio.create_subprocess_exec(
+            sys.executable, "-m", "focas_net", "gateway", str(config), "--shard", "1/1",
+            stdout=asyncio.subprocess.PIPE, stderr=asyncio.subprocess.PIPE,
+            env={**os.environ, "PYTHONUNBUFFERED": "1"},
+        )  # fmt: skip
+        assert proc.stdout is not None
+        try:
+            async with asyncio.timeout(SUBPROCESS_TIMEOUT):
+                line = (await proc.stdout.readline()).decode()
+                assert line == (
+                    "focas-net: gateway polling 3 machines (shard 1/1); "
+                    "no output ([mqtt] or [opcua])\n"
+                )
+                for _ in range(200):  # the gateway's connections reach the machine
+                    if mill.listener.native_connections:
+                        break
+                    await asyncio.sleep(0.02)
+                assert mill.listener.native_connections
+                proc.send_signal(signum)
+                out, err = await proc.communicate()
+        finally:
+            if proc.returncode is None:
+                proc.kill()
+                await proc.wait()
+        assert proc.returncode == EXIT_OK, err
+        assert out == b""
+        assert b"Traceback" not in err
