@@ -1,13 +1,23 @@
 """What a user types, read alike by every front end (it knows no protocol and no machine):
 the words for a macro value that does not fit (the machine and the clients), a program number
-(the command line and the page), an override's range (the machine and the clients)."""
+(the command line and the page), an override's range (the machine and the clients), an alarm
+message that is no line of single-byte text (the machine and the encoded text of every front
+end)."""
 
 from __future__ import annotations
 
 from collections.abc import Mapping
 from typing import Final
 
-__all__ = ["OVERRIDE_RANGES", "RAPID_STEPS", "macro_unfit", "override_unfit", "program_number"]
+__all__ = [
+    "MAX_ALARM_TEXT",
+    "OVERRIDE_RANGES",
+    "RAPID_STEPS",
+    "alarm_text_unfit",
+    "macro_unfit",
+    "override_unfit",
+    "program_number",
+]
 
 #: The percentages each override takes: feed 0..254, rapid 0..100 (in :data:`RAPID_STEPS`
 #: only), spindle 0..254.
@@ -20,6 +30,9 @@ OVERRIDE_RANGES: Final[Mapping[str, tuple[int, int]]] = {
 #: The rapid traverse override's steps (%), as the panel's switch and G14's ROV1 ROV2 give
 #: them: F0 (a parameter's low speed, kept as 0 %), 25, 50, 100. No other value exists.
 RAPID_STEPS: Final[tuple[int, ...]] = (0, 25, 50, 100)
+
+#: Characters of an alarm's message the CNC keeps (a longer one is cut).
+MAX_ALARM_TEXT: Final = 32
 
 #: The most O-numbers a program number has (O1 .. O99999999).
 _MAX_PROGRAM: int = 99_999_999
@@ -44,6 +57,22 @@ def override_unfit(what: str, value: int) -> str | None:
     if low <= value <= high:
         return None
     return f"{what} override {value} outside {low}..{high} %"
+
+
+def alarm_text_unfit(text: str) -> str | None:
+    """Why ``text`` cannot be an alarm's message, in the machine's words (a character beyond
+    U+00FF, or a control character: a tab, a line break, NUL...); None when it can. The
+    machine and the clients (before sending) say the same."""
+    wide = next((c for c in text if ord(c) > 0xFF), None)
+    if wide is not None:
+        return f"alarm message {text!r} is not single-byte text"
+    control = next((c for c in text if c < " " or "\x7f" <= c < "\xa0"), None)
+    if control is not None:
+        return (
+            f"alarm message {text!r} holds the control character {control!r} "
+            f"(U+{ord(control):04X}): a message is one line of text"
+        )
+    return None
 
 
 def program_number(typed: object) -> int:

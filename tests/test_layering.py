@@ -209,7 +209,8 @@ BEYOND_THE_TABLE: dict[str, tuple[str, ...]] = {
     # a bit parameter's value written as its bits: the machine file, the clients, the page
     "focas_net._bits": (),
     # what a user types: the words for a macro value that does not fit (the machine and the
-    # clients), a program number (the command line and the page)
+    # clients), a program number (the command line and the page), an alarm's message (the
+    # machine and the text every front end encodes)
     "focas_net._typed": (),
 }
 
@@ -218,7 +219,13 @@ SHARED: dict[str, tuple[str, ...]] = {
     "focas_net._memo": tuple(TABLE),
     "focas_net._receive": ("focas_net.server", "focas_net.client"),
     "focas_net._bits": ("focas_net.sim", "focas_net.client", "focas_net.web", "focas_net.cli"),
-    "focas_net._typed": ("focas_net.sim", "focas_net.client", "focas_net.web", "focas_net.cli"),
+    "focas_net._typed": (
+        "focas_net.sim",
+        "focas_net.client",
+        "focas_net.web",
+        "focas_net.cli",
+        "focas_net.protocol",
+    ),
 }
 
 #: Packages from outside the standard library, and the modules that may import them: the shells
@@ -232,6 +239,7 @@ THIRD_PARTY: dict[str, tuple[str, ...]] = {
         "focas_net.gateway._opcua_model",
         "focas_net.gateway._opcua_types",
     ),
+    "aiomqtt": ("focas_net.gateway.mqtt",),
 }
 
 #: Modules a row may import themselves, nothing below them (not in the table either).

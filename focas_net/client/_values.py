@@ -37,6 +37,8 @@ I32_MIN: Final = -(2**31)
 I32_MAX: Final = 2**31 - 1
 _U16_LIMIT: Final = 0x10000
 _MAX_MACRO_DECIMALS: Final = 9
+#: The highest power of ten a macro value reaches (its 32 bits stop below 1e10: adjusted 9).
+_MAX_MACRO_MAGNITUDE: Final = 9
 _MAX_ALARM_TYPE: Final = 31
 _MAX_HISTORY_DEPTH: Final = MAX_HISTORY_DEPTH
 #: The IODBPSD width of a real parameter's REALPRM.
@@ -233,6 +235,10 @@ def macro_to_wire(value: int | Decimal | float | str) -> tuple[int, int]:
         raise TypeError(f"a macro value must be int, Decimal, float or str, not {value!r}")
     if not dec.is_finite():
         raise ValueError(f"macro value {value} is not finite")
+    if dec and not -_MAX_MACRO_DECIMALS <= dec.adjusted() <= _MAX_MACRO_MAGNITUDE:
+        # below 1e-9 or from 1e10 on no variable holds it (nor need its digits be worked out:
+        # 1e99999999999 has more than any context takes)
+        raise ValueError(f"macro value {macro_unfit(value)}")
     for candidate in (dec, dec.normalize()):
         exponent = candidate.as_tuple().exponent
         assert isinstance(exponent, int)

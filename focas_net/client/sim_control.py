@@ -136,7 +136,8 @@ class SimControl:
     ) -> None:
         """Raise an alarm: ``alm_type`` by name (``"PS"``), as an :class:`AlarmType` or a
         number 0..31; ``alm_no`` 0..32767; ``axis_no`` 0 (the whole CNC) or 1..n; ``msg``
-        ASCII text (ValueError otherwise, before anything is sent).
+        ASCII text of one line (ValueError otherwise, in the machine's words for a control
+        character, before anything is sent).
 
         A CNC shows one entry per alarm: when the same ``(axis_no, alm_type, alm_no)`` is
         active, nothing changes (it keeps its first message)."""

@@ -1,15 +1,16 @@
 """The poll loop: :class:`Poller` reads many machines from one task and hands every change to
 the sinks.
 
-**Groups.** Each machine has three intervals (:class:`~focas_net.gateway.config.GroupIntervals`):
-the fast group, the slow group and the active alarm list. One scheduler (a timer wheel of the
-due times, in the poller's one task) starts, at each turn, every read that is due on every
-machine (:class:`~focas_net.gateway.reads.Reader`), each client sending at once what it can
-(a native client packs the calls queued together into frames of up to ten blocks), then takes
-the answers in the order they come (:meth:`StartedCall.on_done`). There is no task per
-machine and none per value; a group of a machine is not started again while its last reads
-are still out, so a machine that answers slowly (or not: every call has the machine's
-``timeout``) delays nobody else.
+**Groups.** Each machine has three intervals
+(:class:`~focas_net.gateway.config.GroupIntervals`): the fast group, the slow group and the
+active alarm list. One scheduler (a heap of the due times, in the poller's one task; a turn
+looks only at what is due and at the machines whose connection changed) starts, at each turn,
+every read that is due on every machine (:class:`~focas_net.gateway.reads.Reader`), each client
+sending at once what it can (a native client packs the calls queued together into frames of up
+to ten blocks), then takes the answers in the order they come (:meth:`StartedCall.on_done`).
+There is no task per machine and none per value; a group of a machine is not started again
+while its last reads are still out, so a machine that answers slowly (or not: every call has
+the machine's ``timeout``) delays nobody else.
 
 **Change detection.** A sample goes to the sinks only when its value or its status differs
 from the last one sent; after a machine comes (back) online every value is sent once, and the
@@ -38,6 +39,8 @@ from __future__ import annotations
 
 import asyncio
 import contextlib
+import heapq
+import itertools
 import logging
 import time
 from collections import deque
@@ -78,6 +81,7 @@ DEFAULT_POLICY: Final = ReconnectPolicy(initial_delay=0.5, max_delay=30.0)
 #: A client of either transport.
 Client = FocasClient | NativeClient
 _ALARMS: Final = "alarms"
+_CONNECT: Final = "connect"  # (a heap entry: try to connect again)
 _GROUPS: Final = (Group.FAST.value, Group.SLOW.value, _ALARMS)
 
 
@@ -120,6 +124,7 @@ class _Station:
     due: dict[str, float] = field(default_factory=dict)
     pending: dict[str, int] = field(default_factory=dict)
     last: dict[Key, tuple[Value, OpcUaStatus]] = field(default_factory=dict)
+    results: dict[Key, object] = field(default_factory=dict)  # the last result of each read
     alarms: dict[int, dict[tuple[int, int, int], ActiveAlarm]] = field(default_factory=dict)
 
     def interval(self, group: str) -> float:
@@ -168,7 +173,10 @@ class Poller:
         self.policy = policy
         self._stations = {m.name: _Station(m, client_of(m, policy)) for m in machines}
         for st in self._stations.values():
-            st.client.add_state_callback(self._state_changed)
+            st.client.add_state_callback(partial(self._state_changed, st))
+        self._heap: list[tuple[float, int, _Station, str, int]] = []
+        self._order = itertools.count()  # (ties in the heap never compare stations)
+        self._dirty: set[_Station] = set(self._stations.values())
         self._ready: deque[_Out] = deque()
         self._wake = asyncio.Event()
         self._outs: set[_Out] = set()  # the reads under way
@@ -258,29 +266,39 @@ class Poller:
 
     # -- a turn --------------------------------------------------------------------------
     def _turn(self) -> float:
-        """Connections and their announcements, then every read due; the next due time."""
+        """The machines whose connection changed (announced), then the groups due (started);
+        the next due time. Only what changed or is due is looked at: the turn costs what it
+        does, not the number of machines."""
         now = self.clock()
+        heap = self._heap
+        due: list[tuple[_Station, str]] = []
+        while heap and heap[0][0] <= now:
+            _, _, st, group, epoch = heapq.heappop(heap)
+            if epoch != st.epoch:
+                continue  # of a connection since lost
+            if group == _CONNECT:
+                self._dirty.add(st)
+            else:
+                due.append((st, group))
         samples: list[Sample] = []
         online: list[tuple[str, bool, str]] = []
         described: list[MachineShape] = []
-        for st in self._stations.values():
+        dirty, self._dirty = self._dirty, set()
+        for st in dirty:
             self._follow(st, now, samples, online, described)
         self._tell(described, online, samples, [])
-        due = now + 3600.0
-        for st in self._stations.values():
-            if st.online and st.reader is not None:
-                for group in _GROUPS:
-                    if st.pending.get(group, 0):
-                        continue
-                    at = st.due.get(group, now)
-                    if at <= now:
-                        self._start(st, group)
-                        at = max(at + st.interval(group), now)
-                        st.due[group] = at
-                    due = min(due, at)
-            elif st.task is None and st.client.state is not ClientState.RECONNECTING:
-                due = min(due, st.next_attempt)
-        return due
+        for st, group in due:
+            if not st.online or st.reader is None or st.pending.get(group, 0):
+                continue  # (reads still out: the last of them brings the group back)
+            self._start(st, group)
+            at = max(st.due.get(group, now) + st.interval(group), now)
+            st.due[group] = at
+            if not st.pending.get(group, 0):
+                self._push(at, st, group)  # (nothing to read: due again all the same)
+        return heap[0][0] if heap else now + 3600.0
+
+    def _push(self, at: float, st: _Station, group: str) -> None:
+        heapq.heappush(self._heap, (at, next(self._order), st, group, st.epoch))
 
     def _follow(
         self,
@@ -300,7 +318,10 @@ class Poller:
                     described.append(shape)
                 st.online = True
                 st.last.clear()
+                st.results.clear()
                 st.due.clear()
+                for group in _GROUPS:
+                    self._push(now, st, group)
                 online.append((st.config.name, True, ""))
                 samples.extend(
                     self._sample(st, key, None, NOT_SUPPORTED, now)
@@ -316,17 +337,22 @@ class Poller:
             online.append((st.config.name, False, st.failure))
         if st.task is not None or self._closed:
             return
-        if state is not ClientState.RECONNECTING and now >= st.next_attempt:
+        if state is ClientState.RECONNECTING:
+            return  # (the client reconnects: its change of state brings it back here)
+        if now >= st.next_attempt:
             st.reader = None
             st.task = asyncio.get_running_loop().create_task(
                 self._connect(st), name=f"gateway connect {st.config.name}"
             )
+        else:
+            self._push(st.next_attempt, st, _CONNECT)
 
     def _lose(self, st: _Station) -> None:
         st.online = False
         st.reader = None
         st.epoch += 1
         st.last.clear()
+        st.results.clear()
 
     async def _connect(self, st: _Station) -> None:
         """Connect (unless connected) and read the shape; a failure is kept for the turn to
@@ -344,6 +370,7 @@ class Poller:
             st.reader, st.failure, st.attempts = reader, None, 0
         finally:
             st.task = None
+            self._dirty.add(st)
             self._wake.set()
 
     def _start(self, st: _Station, group: str) -> None:
@@ -363,7 +390,8 @@ class Poller:
             call = out.alarms if out.read is None else out.read.call
             call.on_done(partial(self._answered, out))
 
-    def _state_changed(self, _state: ClientState) -> None:
+    def _state_changed(self, st: _Station, _state: ClientState) -> None:
+        self._dirty.add(st)
         self._wake.set()
 
     def _answered(self, out: _Out) -> None:
@@ -381,7 +409,9 @@ class Poller:
             out = ready.popleft()
             self._outs.discard(out)
             st = out.station
-            st.pending[out.group] -= 1
+            left = st.pending[out.group] = st.pending[out.group] - 1
+            if not left and st.online and st.reader is not None:
+                self._push(st.due.get(out.group, self.clock()), st, out.group)
             call = out.alarms if out.read is None else out.read.call
             result: Any = None
             error: BaseException | None = None
@@ -394,6 +424,7 @@ class Poller:
             if error is not None and not _item_error(error):
                 st.failure = reason_of(error)
                 self._lose(st)
+                self._dirty.add(st)
                 online.append((st.config.name, False, st.failure))
                 continue
             now = self.clock()
@@ -401,9 +432,19 @@ class Poller:
                 if error is None:
                     changes.extend(self._alarm_changes(st, out.path, result, now))
                 continue
+            # A read is known by its first key (each key is one read's). The clients make
+            # one result per answer bytes (made once): the same object as last time is the
+            # same values, nothing to convert or compare.
+            tag = out.read.keys[0] if out.read.keys else None
             if error is None:
+                if tag is not None:
+                    if st.results.get(tag) is result:
+                        continue
+                    st.results[tag] = result
                 values: dict[Key, Outcome] = out.read.values(result)
             else:
+                if tag is not None:
+                    st.results.pop(tag, None)
                 status = getattr(error, "opcua_status", NOT_SUPPORTED)
                 values = dict.fromkeys(out.read.keys, status)
             for key, value in values.items():

@@ -18,6 +18,7 @@ from dataclasses import dataclass
 from datetime import UTC, datetime
 from typing import Final, Self
 
+from .._typed import MAX_ALARM_TEXT, alarm_text_unfit
 from ..errors import EW
 
 __all__ = [
@@ -94,13 +95,19 @@ def alarm_text(alm_type: int, alm_no: int, msg: str = "", axis_no: int = 0) -> s
 
 def alarm_message(msg: str) -> bytes:
     """The bytes of an alarm message given as text (``raise_alarm``): ASCII only, as the
-    packed protocol carries it; ValueError, naming the text, for any other character. Every
-    front end that takes a message as text (the client, the command line, the dashboard)
-    refuses with this rule; the wire itself carries any bytes."""
+    packed protocol carries it, and one line (a control character is refused in the
+    machine's words, :func:`~focas_net._typed.alarm_text_unfit`, of the part the machine
+    keeps); ValueError, naming the text, for any other character. Every front end that takes
+    a message as text (the client, the command line, the dashboard) refuses with this rule;
+    the wire itself carries any bytes."""
     try:
-        return msg.encode("ascii")
+        raw = msg.encode("ascii")
     except UnicodeEncodeError:
         raise ValueError(f"alarm message must be ASCII: {msg!r}") from None
+    unfit = alarm_text_unfit(msg[:MAX_ALARM_TEXT])
+    if unfit is not None:
+        raise ValueError(unfit)
+    return raw
 
 
 def _text(raw: bytes) -> str:

@@ -9,6 +9,7 @@ from datetime import UTC, datetime, timedelta
 from itertools import islice
 from typing import Final
 
+from focas_net._typed import MAX_ALARM_TEXT, alarm_text_unfit
 from focas_net.errors import EW
 
 from ._base import Counters, MachineError, logger
@@ -43,8 +44,6 @@ DEFAULT_HISTORY_CAPACITY: Final = 250
 MAX_ALARM_TYPE: Final = 31
 #: The highest alarm number the CNC holds (its ``alm_no`` is a signed 16-bit word).
 MAX_ALARM_NO: Final = 0x7FFF
-#: Characters of an alarm message the CNC keeps.
-MAX_ALARM_TEXT: Final = 32
 #: Alarm type numbers of the alarms a program raises (FANUC 0i-D/F, 30i numbering).
 NC_ALARM_TYPES: Final = {AlarmKind.PS: 3, AlarmKind.OT: 4, AlarmKind.MC: 8}
 _NC_ALARM_KINDS: Final = {number: kind for kind, number in NC_ALARM_TYPES.items()}
@@ -137,15 +136,9 @@ class Alarms:
         if not 0 <= axis_no <= axes:
             raise MachineError(EW.ATTRIB, f"axis_no {axis_no} outside 0..{axes}")
         text = msg[:MAX_ALARM_TEXT]
-        if any(ord(c) > 0xFF for c in text):
-            raise MachineError(EW.DATA, f"alarm message {text!r} is not single-byte text")
-        control = next((c for c in text if c < " " or "\x7f" <= c < "\xa0"), None)
-        if control is not None:
-            raise MachineError(
-                EW.DATA,
-                f"alarm message {text!r} holds the control character {control!r} "
-                f"(U+{ord(control):04X}): a message is one line of text",
-            )
+        unfit = alarm_text_unfit(text)
+        if unfit is not None:
+            raise MachineError(EW.DATA, unfit)
         return text
 
     def add(self, key: AlarmKey, text: str, when: datetime, path: int = 1) -> bool:

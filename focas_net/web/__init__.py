@@ -9,10 +9,12 @@ shell, :mod:`.shell`, imports aiohttp only when a :class:`Dashboard` starts.
 from .address import DEFAULT_WEB_HOST, is_loopback, parse_web_address
 from .broadcast import DEFAULT_INTERVAL, FLEET, Broadcaster, Subscription, Topic, machine_topic
 from .operations import (
+    ACTION_KEYS,
     ACTIONS,
     FORCED_PMC_AREAS,
     ActionError,
     Station,
+    action_args,
     decimal_number,
     perform,
     refusal,
@@ -41,6 +43,7 @@ from .view import (
 
 __all__ = [
     "ACTIONS",
+    "ACTION_KEYS",
     "DEFAULT_INTERVAL",
     "DEFAULT_WEB_HOST",
     "FLEET",
@@ -59,6 +62,7 @@ __all__ = [
     "Subscription",
     "Topic",
     "WebUnavailableError",
+    "action_args",
     "decimal_number",
     "fleet_view",
     "is_loopback",

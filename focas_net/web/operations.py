@@ -16,6 +16,8 @@ them, so a write-protected area answers ``EW_PROT``.
 
 from __future__ import annotations
 
+import json
+import math
 import re
 from collections.abc import Callable, Mapping
 from dataclasses import dataclass, field
@@ -33,14 +35,19 @@ from .view import JsonDict, PathTrail, param_text
 
 __all__ = [
     "ACTIONS",
+    "ACTION_KEYS",
     "FORCED_PMC_AREAS",
     "ActionError",
     "Station",
+    "action_args",
     "decimal_number",
     "perform",
     "refusal",
     "whole_number",
 ]
+
+#: A number written with an exponent (``1e3``, ``-2.5E-4``): the page takes digits only.
+_EXPONENT: Final = re.compile(r"[+-]?(\d+\.?\d*|\.\d+)e[+-]?\d+")
 
 #: PMC areas the page writes as the simulator (0x0E04 set_pmc), ignoring write protection.
 FORCED_PMC_AREAS: Final = frozenset({"X", "F"})
@@ -145,7 +152,7 @@ def whole_number(text: str) -> int:
         raise ValueError(odd)
     low = stripped.lower()
     if _WHOLE.fullmatch(low) is None or low.endswith("_") or low.lstrip("+-")[2:3] == "_":
-        hint = " (no exponent: write the digits)" if "e" in low and "x" not in low else ""
+        hint = " (no exponent: write the digits)" if _EXPONENT.fullmatch(low) else ""
         raise ValueError(f"not a whole number: {text!r}{hint}")
     prefixed = low.lstrip("+-")[1:2].isalpha()
     return int(stripped.replace("_", ""), 0) if prefixed else int(stripped, 10)
@@ -159,7 +166,7 @@ def decimal_number(text: str) -> Decimal:
     if odd is not None:
         raise ValueError(odd)
     if _DECIMAL.fullmatch(stripped) is None:
-        hint = " (no exponent: write the digits)" if "e" in stripped.lower() else ""
+        hint = " (no exponent: write the digits)" if _EXPONENT.fullmatch(stripped.lower()) else ""
         raise ValueError(f"not a number: {text!r}{hint}")
     return Decimal(stripped)
 
@@ -184,6 +191,10 @@ def _decimal(args: Mapping[str, Any], key: str) -> Decimal | None:
     value = args.get(key)
     if value is None or (isinstance(value, str) and not value.strip()):
         return None
+    if isinstance(value, float):  # a JSON number with a point: the digits it shows
+        if not math.isfinite(value):
+            raise ActionError(f"{key}: a finite number is needed, got {value!r}")
+        return Decimal(repr(value))
     if isinstance(value, bool) or not isinstance(value, str | int):
         raise ActionError(f"{key}: a number is needed, got {value!r}")
     if isinstance(value, int):
@@ -450,6 +461,56 @@ ACTIONS: Final[Mapping[str, _Action]] = {
     "clear_path": _clear_path,
 }
 
+#: The keys each action's arguments take (every one takes ``path``): another is refused,
+#: naming these, rather than left unread (a ``clear_alarms`` whose ``alm_type`` is misspelt
+#: would clear every alarm).
+ACTION_KEYS: Final[Mapping[str, frozenset[str]]] = {
+    action: frozenset({"path", *keys})
+    for action, keys in {
+        "cycle": ("action",),
+        "panel": ("mode", "pwe", "emergency"),
+        "overrides": ("feed", "rapid", "spindle"),
+        "raise_alarm": ("axis_no", "alm_type", "alm_no", "msg"),
+        "clear_alarms": ("alm_type", "alm_no"),
+        "pmc_bit": ("area", "address", "bit", "value"),
+        "write_param": ("number", "axis", "value"),
+        "unlock": ("password",),
+        "write_macro": ("number", "value"),
+        "select_program": ("number",),
+        "inject_fault": ("kind", "count", "arg"),
+        "clear_faults": (),
+        "clear_path": (),
+    }.items()
+}
+
+
+def _no_twice(pairs: list[tuple[str, Any]]) -> dict[str, Any]:
+    """A JSON object's members, refused when a key is given twice (which one counts is no
+    rule JSON makes)."""
+    args: dict[str, Any] = {}
+    for key, value in pairs:
+        if key in args:
+            raise ActionError(f"the key {key!r} is given twice")
+        args[key] = value
+    return args
+
+
+def action_args(body: bytes) -> dict[str, Any]:
+    """The arguments of an action from its request body (empty: none): a JSON object, each
+    key once; :class:`ActionError` saying what the body is instead."""
+    if not body.strip():
+        return {}
+    try:
+        args = json.loads(body, object_pairs_hook=_no_twice)
+    except ValueError as exc:
+        if isinstance(exc, ActionError):
+            raise
+        raise ActionError("the body is not JSON") from None
+    if not isinstance(args, dict):
+        raise ActionError("the body must be a JSON object")
+    return args
+
+
 #: Actions that change nothing in the machine (allowed on a read-only dashboard).
 _VIEW_ONLY: Final = frozenset({"clear_path"})
 
@@ -465,6 +526,10 @@ def perform(
     operation = ACTIONS.get(action)
     if operation is None:
         raise ActionError(f"unknown action {action!r} (one of {', '.join(ACTIONS)})")
+    unknown = sorted(set(args) - ACTION_KEYS[action], key=str)
+    if unknown:
+        takes = ", ".join(sorted(ACTION_KEYS[action]))
+        raise ActionError(f"{action} takes no {', '.join(map(repr, unknown))} (it takes {takes})")
     if read_only and action not in _VIEW_ONLY:
         raise MachineError(EW.PROT, "the dashboard is read-only")
     return {"ok": True, **operation(station, args)}

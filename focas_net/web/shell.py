@@ -43,7 +43,7 @@ from focas_net.sim import MachineError
 
 from .address import DEFAULT_WEB_HOST
 from .broadcast import DEFAULT_INTERVAL, FLEET, Broadcaster, Topic, machine_topic
-from .operations import ActionError, Station, perform, refusal, whole_number
+from .operations import ActionError, Station, action_args, perform, refusal, whole_number
 from .view import (
     JsonDict,
     fleet_view,
@@ -284,13 +284,9 @@ class Dashboard:
     async def _action(self, request: web.Request) -> web.Response:
         s = self._station(request)
         action = request.match_info["action"]
+        body = await request.read() if request.can_read_body else b""
         try:
-            args = await request.json() if request.can_read_body else {}
-        except ValueError:
-            return self._json({"ok": False, "error": "the body is not JSON"}, 400)
-        if not isinstance(args, dict):
-            return self._json({"ok": False, "error": "the body must be a JSON object"}, 400)
-        try:
+            args = action_args(body)
             result = perform(s, action, args, read_only=self.read_only)
         except ActionError as exc:
             return self._json({"ok": False, "error": str(exc)}, 400)

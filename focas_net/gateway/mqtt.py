@@ -1,0 +1,268 @@
+"""The gateway's MQTT output: a :class:`~.model.Sink` that publishes to one broker through
+aiomqtt (the ``mqtt`` extra). The topics, payloads, change filter and buffer are
+:mod:`._mqtt_messages`'s; this shell only connects and moves messages.
+
+The poller's calls turn into messages at once and wait in a bounded buffer; one task publishes
+them. It connects with the gateway's last will (``P/$gateway/G/state`` = ``offline``,
+retained), sends the birth (``online``, retained) first on every connection, and after a lost
+broker connects again with a growing delay, the buffer kept (within its bound: the oldest are
+dropped and counted, and the count is published on ``P/$gateway/G/dropped``). Messages taken
+from the buffer and not confirmed when the connection broke go back to its front: delivery is
+at least once (an alarm event may come twice after a broker loss, never not at all within the
+bound). A clean stop publishes what waits (for at most ``close_timeout`` seconds), then
+``offline`` itself, then disconnects.
+"""
+
+from __future__ import annotations
+
+import asyncio
+import logging
+import ssl
+import time
+from collections.abc import Callable, Sequence
+from types import TracebackType
+from typing import Final
+
+import aiomqtt
+
+from ._mqtt_messages import Buffer, Message, Publication
+from .config import MqttSettings
+from .model import AlarmChange, MachineShape, Sample
+
+__all__ = ["MqttSink"]
+
+_log = logging.getLogger("focas_net.gateway.mqtt")
+
+#: Messages published at once (each waits for its acknowledgement at QoS 1 and 2).
+WINDOW: Final = 64
+
+
+class MqttSink:
+    """Publishes the gateway's machines to the broker of ``settings``; an async context manager
+    (the publishing task runs inside it). Its :class:`~.model.Sink` methods only queue and
+    never raise; what they could not turn into messages is logged and counted in
+    :attr:`errors`.
+
+    ``reconnect`` is the first and the longest delay between connection attempts (doubling
+    from one to the other, back to the first once connected)."""
+
+    def __init__(
+        self,
+        settings: MqttSettings,
+        *,
+        gateway_name: str = "focas-net",
+        reconnect: tuple[float, float] = (0.5, 30.0),
+        close_timeout: float = 5.0,
+    ) -> None:
+        if settings.qos not in (0, 1, 2):
+            raise ValueError(f"mqtt.qos = {settings.qos!r}: 0, 1 or 2")
+        self.settings = settings
+        self.publication = Publication(settings.prefix, gateway_name, settings.deadbands)
+        self._buffer = Buffer(settings.buffer)
+        self._reconnect = reconnect
+        self._close_timeout = close_timeout
+        self._wake = asyncio.Event()
+        self._closing = asyncio.Event()
+        self._task: asyncio.Task[None] | None = None
+        self._dropped_published = 0
+        #: whether a connection to the broker is up now
+        self.connected = False
+        #: connections made so far
+        self.connections = 0
+        #: messages the broker confirmed (QoS 1, 2) or took (QoS 0)
+        self.published = 0
+        #: calls whose messages could not be made (logged)
+        self.errors = 0
+
+    @property
+    def dropped(self) -> int:
+        """Messages dropped because the buffer was full (the oldest go first)."""
+        return self._buffer.dropped
+
+    @property
+    def coalesced(self) -> int:
+        """Retained messages replaced in the buffer by a newer one for the same topic."""
+        return self._buffer.coalesced
+
+    @property
+    def pending(self) -> int:
+        """Messages waiting in the buffer."""
+        return len(self._buffer)
+
+    # --- the sink -----------------------------------------------------------------------------
+
+    def described(self, shape: MachineShape) -> None:
+        self._queue(lambda: self.publication.described(shape))
+
+    def online(self, machine: str, online: bool, reason: str, time: float) -> None:
+        self._queue(lambda: self.publication.online(machine, online, reason, time))
+
+    def samples(self, samples: Sequence[Sample]) -> None:
+        self._queue(lambda: self.publication.samples(samples))
+
+    def alarms(self, changes: Sequence[AlarmChange]) -> None:
+        self._queue(lambda: self.publication.alarms(changes))
+
+    def _queue(self, make: Callable[[], list[Message]]) -> None:
+        try:
+            messages = make()
+            self._buffer.extend(messages)
+        except Exception:
+            self.errors += 1
+            _log.exception("MQTT: no message made")
+            return
+        if messages:
+            self._wake.set()
+
+    # --- the task -----------------------------------------------------------------------------
+
+    async def __aenter__(self) -> MqttSink:
+        self._task = asyncio.create_task(self._run(), name="focas_net mqtt publisher")
+        return self
+
+    async def __aexit__(
+        self,
+        exc_type: type[BaseException] | None,
+        exc: BaseException | None,
+        tb: TracebackType | None,
+    ) -> None:
+        await self.close()
+
+    async def close(self) -> None:
+        """Publish what waits (if connected), then ``offline``, then disconnect; give up after
+        ``close_timeout`` seconds."""
+        task = self._task
+        if task is None:
+            return
+        self._closing.set()
+        self._wake.set()
+        try:
+            await asyncio.wait_for(asyncio.shield(task), self._close_timeout)
+        except TimeoutError:
+            task.cancel()
+            await asyncio.gather(task, return_exceptions=True)
+        finally:
+            self._task = None
+
+    async def _run(self) -> None:
+        first, longest = self._reconnect
+        delay = first
+        while not self._closing.is_set():
+            try:
+                await self._connection()
+                return
+            except aiomqtt.MqttError as exc:
+                if self.connected:
+                    delay = first
+                _log.warning("MQTT broker %s:%d: %s", self.settings.host, self.settings.port, exc)
+            except Exception:
+                self.errors += 1
+                _log.exception("MQTT publisher")
+            finally:
+                self.connected = False
+            try:
+                await asyncio.wait_for(self._closing.wait(), delay)
+            except TimeoutError:
+                delay = min(delay * 2, longest)
+
+    def _client(self) -> aiomqtt.Client:
+        s = self.settings
+        will = self.publication.will()
+        client = aiomqtt.Client(
+            s.host,
+            s.port,
+            identifier=s.client_id,
+            username=s.username,
+            password=s.password,
+            keepalive=s.keepalive,
+            will=aiomqtt.Will(will.topic, will.payload, s.qos, retain=will.retain),
+            tls_context=ssl.create_default_context() if s.tls else None,
+            max_inflight_messages=WINDOW,
+        )
+        # a full window is the normal state of a busy publisher, not a concern to log
+        client.pending_calls_threshold = WINDOW + 1
+        return client
+
+    async def _connection(self) -> None:
+        """One connection: birth, then the buffer until the connection breaks (MqttError) or
+        the sink closes (then ``offline`` and a clean disconnect)."""
+        async with self._client() as client:
+            self.connected = True
+            self.connections += 1
+            await self._publish(client, self.publication.birth())
+            watcher = asyncio.create_task(self._watch(client))
+            drainer = asyncio.create_task(self._drain(client))
+            try:
+                await asyncio.wait({watcher, drainer}, return_when=asyncio.FIRST_COMPLETED)
+            finally:
+                for task in (watcher, drainer):
+                    task.cancel()
+                await asyncio.gather(watcher, drainer, return_exceptions=True)
+            for task in (watcher, drainer):
+                error = None if task.cancelled() else task.exception()
+                if error is not None:
+                    raise error
+            await self._publish(client, self.publication.will())  # drained: a clean stop
+
+    @staticmethod
+    async def _watch(client: aiomqtt.Client) -> None:
+        """Returns (with MqttError) when the connection breaks: the sink subscribes to nothing,
+        so the message iterator only ends."""
+        async for _ in client.messages:
+            pass
+
+    async def _drain(self, client: aiomqtt.Client) -> None:
+        """Publish the buffer with up to :data:`WINDOW` messages in flight (a sliding window:
+        each confirmation lets the next message go); return once the buffer is empty, nothing
+        is in flight and the sink closes. Whatever is in flight when the connection breaks goes
+        back to the front of the buffer."""
+        flying: dict[asyncio.Task[None], Message] = {}
+        failed: list[tuple[Message, BaseException]] = []
+        landed = asyncio.Event()
+
+        def land(task: asyncio.Task[None]) -> None:
+            message = flying.pop(task, None)
+            if message is None or task.cancelled():
+                return
+            error = task.exception()
+            if error is None:
+                self.published += 1
+            else:
+                failed.append((message, error))
+            landed.set()
+
+        qos = self.settings.qos
+        try:
+            for _ in iter(int, 1):  # until the connection breaks or the sink closes
+                if failed:
+                    raise failed[0][1]
+                if self._buffer.dropped != self._dropped_published:
+                    count = self._buffer.dropped
+                    await self._publish(client, self.publication.dropped(count, time.time()))
+                    self._dropped_published = count
+                if len(flying) < WINDOW:
+                    for m in self._buffer.take(WINDOW - len(flying)):
+                        task = asyncio.create_task(
+                            client.publish(m.topic, m.payload, qos, m.retain)
+                        )
+                        flying[task] = m
+                        task.add_done_callback(land)
+                if flying:
+                    landed.clear()
+                    await landed.wait()
+                elif self._closing.is_set():
+                    return
+                else:
+                    self._wake.clear()
+                    await self._wake.wait()
+        finally:
+            tasks = list(flying)
+            self._buffer.restore([m for m, _ in failed] + list(flying.values()))
+            flying.clear()
+            for task in tasks:
+                task.cancel()
+            await asyncio.gather(*tasks, return_exceptions=True)
+
+    async def _publish(self, client: aiomqtt.Client, message: Message) -> None:
+        await client.publish(message.topic, message.payload, self.settings.qos, message.retain)
+        self.published += 1
