@@ -347,6 +347,9 @@ def _note(windows: list[Window]) -> str:
     if w is not None and w.sinks:
         rates = f"{w.extra.get('samples', 0) / w.wall:,.0f} samples/s"
         rates += f", {w.extra.get('turns', 0) / w.wall:,.1f} poller turns/s"
+        if "mqtt" in w.sinks:
+            rates += f", {w.extra.get('published', 0) / w.wall:,.0f} MQTT messages/s"
+            rates += f" ({w.extra.get('dropped', 0):,.0f} dropped)"
         text = f"outputs: {w.sinks}; {rates}; " + text
     if w is not None and w.error:
         text += f"; first error: {w.error}"

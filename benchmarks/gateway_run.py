@@ -137,6 +137,15 @@ def available(sinks: Sequence[str]) -> list[str]:
     return [s for s in sinks if importlib.util.find_spec(f"focas_net.gateway.{s}") is not None]
 
 
+async def _until(condition: Callable[[], bool]) -> None:
+    """Until ``condition()`` holds, asked ten times a second (an output's buffer level has no
+    event to wait on)."""
+    while True:
+        if condition():
+            return
+        await asyncio.sleep(0.1)
+
+
 async def run(config: GatewayConfig, sinks: Sequence[str], ready_timeout: float) -> None:
     """The gateway with its outputs and the counting sink, until stdin ends."""
     from focas_net.gateway.run import Gateway, outputs
@@ -148,9 +157,11 @@ async def run(config: GatewayConfig, sinks: Sequence[str], ready_timeout: float)
     poller._start = groups.wrap(poller._start)
     poller._turn = groups.wrap_turn(poller._turn)
     n = len(config.machines)
+    entered: list[Any] = []
     async with AsyncExitStack() as stack:
         for output in outputs(config, gateway.writer):
-            gateway.add_sink(await stack.enter_async_context(output))
+            entered.append(await stack.enter_async_context(output))
+            gateway.add_sink(entered[-1])
         gateway.add_sink(counting)
         started = time.monotonic()
         async with gateway:
@@ -160,6 +171,14 @@ async def run(config: GatewayConfig, sinks: Sequence[str], ready_timeout: float)
                 if not gateway.running:
                     await gateway.wait()
                 await asyncio.sleep(0.1)
+            # every machine online; then until the outputs have taken in what that told them
+            # (the OPC UA server builds each machine's nodes as it is described)
+            left = max(1.0, ready_timeout - (time.monotonic() - started))
+            async with asyncio.timeout(left):
+                for sink in entered:
+                    if hasattr(sink, "flush"):
+                        await sink.flush()
+                    await _until(lambda sink=sink: getattr(sink, "pending", 0) <= 100)
             emit({"event": "ready", "machines": n, "sinks": ",".join(sinks) or "none"})
 
             def line() -> dict[str, Any]:
@@ -174,6 +193,10 @@ async def run(config: GatewayConfig, sinks: Sequence[str], ready_timeout: float)
                     "x_samples": counting.told,
                     "x_alarm_polls": groups.started.get("alarms", 0),
                     "x_turns": groups.turns,
+                    **{
+                        f"x_{name}": sum(int(getattr(sink, name, 0)) for sink in entered)
+                        for name in ("published", "dropped", "applied")
+                    },
                     "error": counting.first_bad,
                 }
 
