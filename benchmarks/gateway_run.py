@@ -26,6 +26,7 @@ import sys
 import time
 from collections.abc import Callable, Sequence
 from contextlib import AsyncExitStack
+from functools import partial
 from typing import Any, Final
 
 from benchmarks.gateway_poll import emit, raise_nofile, report
@@ -137,6 +138,12 @@ def available(sinks: Sequence[str]) -> list[str]:
     return [s for s in sinks if importlib.util.find_spec(f"focas_net.gateway.{s}") is not None]
 
 
+def _drained(sink: object) -> bool:
+    """Whether ``sink`` holds at most a hundred messages unsent (an MQTT sink's ``pending``)."""
+    pending: int = getattr(sink, "pending", 0)
+    return pending <= 100
+
+
 async def _until(condition: Callable[[], bool]) -> None:
     """Until ``condition()`` holds, asked ten times a second (an output's buffer level has no
     event to wait on)."""
@@ -178,7 +185,7 @@ async def run(config: GatewayConfig, sinks: Sequence[str], ready_timeout: float)
                 for sink in entered:
                     if hasattr(sink, "flush"):
                         await sink.flush()
-                    await _until(lambda sink=sink: getattr(sink, "pending", 0) <= 100)
+                    await _until(partial(_drained, sink))
             emit({"event": "ready", "machines": n, "sinks": ",".join(sinks) or "none"})
 
             def line() -> dict[str, Any]:
