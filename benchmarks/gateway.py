@@ -490,7 +490,8 @@ def run(opts: Options, results: Results) -> dict[str, list[Window]]:
                     broker = Broker(directory) if name == GATEWAY else None
                     try:
                         argv = subject_argv(name, opts, targets, broker)
-                        windows.setdefault(name, []).append(measure(name, argv, opts, fleet_pid))
+                        window = measure(name, argv, opts, fleet_pid)
+                        windows.setdefault(name, []).append(window)
                     except RuntimeError as exc:
                         results.skipped.append(f"{name} failed: {exc}")
                         log(f"{name} failed: {exc}")

@@ -171,21 +171,40 @@ async def run(config: GatewayConfig, sinks: Sequence[str], ready_timeout: float)
             gateway.add_sink(entered[-1])
         gateway.add_sink(counting)
         started = time.monotonic()
+
+        def progress() -> str:
+            state = [f"{len(counting.up)}/{n} online", f"{counting.lost} lost"]
+            for sink in entered:
+                for name in ("applied", "published", "pending", "dropped"):
+                    if hasattr(sink, name):
+                        state.append(f"{type(sink).__name__}.{name} {getattr(sink, name)}")
+            return f"{time.monotonic() - started:.0f} s: " + ", ".join(state)
+
+        async def log_progress() -> None:
+            while True:
+                await asyncio.sleep(5)
+                print(progress(), file=sys.stderr, flush=True)
+
         async with gateway:
+            logging_task = asyncio.create_task(log_progress())
             while len(counting.up) < n:
                 if time.monotonic() - started > ready_timeout:
-                    raise RuntimeError(f"{len(counting.up)} of {n} machines online")
+                    raise RuntimeError(f"not every machine online: {progress()}")
                 if not gateway.running:
                     await gateway.wait()
                 await asyncio.sleep(0.1)
             # every machine online; then until the outputs have taken in what that told them
             # (the OPC UA server builds each machine's nodes as it is described)
             left = max(1.0, ready_timeout - (time.monotonic() - started))
-            async with asyncio.timeout(left):
-                for sink in entered:
-                    if hasattr(sink, "flush"):
-                        await sink.flush()
-                    await _until(partial(_drained, sink))
+            try:
+                async with asyncio.timeout(left):
+                    for sink in entered:
+                        if hasattr(sink, "flush"):
+                            await sink.flush()
+                        await _until(partial(_drained, sink))
+            except TimeoutError:
+                raise RuntimeError(f"the outputs did not catch up: {progress()}") from None
+            logging_task.cancel()
             emit({"event": "ready", "machines": n, "sinks": ",".join(sinks) or "none"})
 
             def line() -> dict[str, Any]:
