@@ -81,6 +81,8 @@ class Options:
     subjects: tuple[str, ...] = SUBJECTS
     timeout: float = 3.0
     ready_timeout: float = 240.0
+    #: The gateway's outputs: "mqtt,opcua", one of them, or "none".
+    outputs: str = "mqtt,opcua"
 
 
 DEFAULTS: Final = Options()
@@ -275,6 +277,7 @@ def subject_argv(name: str, opts: Options, targets: Path, broker: Broker | None)
         return [
             py, "-m", "benchmarks.gateway_run", "--targets", str(targets),
             "--mqtt-port", str(broker.port), "--opcua-port", str(free_port()), *times,
+            "--sinks", opts.outputs, "--ready-timeout", str(opts.ready_timeout),
         ]  # fmt: skip
     argv = [py, "-m", "benchmarks.gateway_poll", name, "--targets", str(targets), *times]
     return [*argv, "--pool", str(opts.pool)] if name == FWLIB_POOL else argv
@@ -286,9 +289,9 @@ def measure(name: str, argv: list[str], opts: Options, fleet_pid: int) -> Window
     subject = Subject(name, argv)
     try:
         started = time.monotonic()
-        announced = subject.next(opts.ready_timeout)
+        announced = subject.next(opts.ready_timeout + 30)
         while announced.get("event") != "ready":
-            announced = subject.next(opts.ready_timeout)
+            announced = subject.next(opts.ready_timeout + 30)
         ready = time.monotonic()
         log(f"{name}: ready in {ready - started:.1f} s; warm-up {opts.warmup:g} s")
         wait = 2 * opts.fast + 10
@@ -520,6 +523,19 @@ def parse_args(argv: Sequence[str] | None) -> argparse.Namespace:
     parser.add_argument(
         "--only", default=",".join(SUBJECTS), help=f"subset of {','.join(SUBJECTS)}"
     )
+    parser.add_argument(
+        "--outputs",
+        default=DEFAULTS.outputs,
+        help="the gateway's outputs: mqtt,opcua (default), mqtt, opcua or none",
+    )
+    parser.add_argument(
+        "--ready-timeout",
+        type=float,
+        default=DEFAULTS.ready_timeout,
+        metavar="S",
+        help="seconds a subject may take to connect every machine (and the gateway's outputs "
+        "to take them in)",
+    )
     parser.add_argument("--json", type=Path, default=DEFAULT_JSON, metavar="PATH")
     parser.add_argument("--strict", action="store_true", help="exit 1 when a target fails")
     return parser.parse_args(argv)
@@ -544,6 +560,8 @@ def main(argv: Sequence[str] | None = None) -> int:
         fleet_workers=args.fleet_workers,
         reps=max(1, args.reps),
         subjects=subjects,
+        ready_timeout=args.ready_timeout,
+        outputs=args.outputs,
     )
     nofile = raise_nofile()
     command = " ".join(["python -m benchmarks gateway", *(sys.argv[2:] if argv is None else argv)])
