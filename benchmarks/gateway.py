@@ -111,6 +111,8 @@ class Window:
     sinks: str = ""
     #: The slow group's interval (s).
     slow_interval: float = 10.0
+    #: When the gateway's outputs had not caught up at the start: how far behind they were.
+    behind: str = ""
 
     @property
     def cores(self) -> float:
@@ -317,7 +319,7 @@ def measure(name: str, argv: list[str], opts: Options, fleet_pid: int) -> Window
             opts.machines * wall / opts.fast, opts.machines * wall / opts.slow,
             (load0, loadavg()), cpu_pressure(), str(last.get("error", "")),
             {k[2:]: float(v) - float(first[k]) for k, v in last.items() if k.startswith("x_")},
-            str(announced.get("sinks", "")), opts.slow,
+            str(announced.get("sinks", "")), opts.slow, str(announced.get("behind", "")),
         )  # fmt: skip
         log(
             f"{name}: {window.cores:.3f} core over {wall:.1f} s, fast {window.fast}/"
@@ -354,6 +356,8 @@ def _note(windows: list[Window]) -> str:
             rates += f", {w.extra.get('published', 0) / w.wall:,.0f} MQTT messages/s"
             rates += f" ({w.extra.get('dropped', 0):,.0f} dropped)"
         text = f"outputs: {w.sinks}; {rates}; " + text
+    if w is not None and w.behind:
+        text += f"; the outputs behind at the start ({w.behind})"
     if w is not None and w.error:
         text += f"; first error: {w.error}"
     return text
@@ -429,18 +433,20 @@ def checks(windows: dict[str, list[Window]]) -> list[Check]:
         due = sum(w.fast_due for w in measured)
         skipped = sum(w.skipped for w in measured)
         errors = sum(w.fast_errors + w.slow_errors for w in measured)
+        dropped = sum(w.extra.get("dropped", 0) for w in measured)
         slow_due = sum(w.slow_due for w in measured)
         slow = sum(w.slow for w in measured) / max(1.0, slow_due)
         # a gateway starts a machine's slow group all at once: only whole slow intervals count
         whole = all(w.wall >= w.slow_interval for w in measured)
-        ok = made >= POLLS_DUE * due and skipped == 0 and errors == 0
+        ok = made >= POLLS_DUE * due and skipped == 0 and errors == 0 and dropped == 0
         ok = ok and (slow >= POLLS_DUE or not whole)
         out.append(
             Check(
                 f"{name}: >= {POLLS_DUE:.0%} of the polls due, no cycle overrun, no error",
                 ok,
                 f"fast {made / due:.1%}, slow {slow:.1%}{'' if whole else ' (window < slow)'}, "
-                f"{skipped} skipped, {errors} errors",
+                f"{skipped} skipped, {errors} errors"
+                + (f", {dropped:,.0f} MQTT messages dropped" if dropped else ""),
             )
         )
     return out
