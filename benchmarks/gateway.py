@@ -341,7 +341,9 @@ def _note(windows: list[Window]) -> str:
     skipped = sum(x.skipped for x in windows)
     loads = [v for x in windows for v in x.load]
     fleet = statistics.median(x.fleet_cores for x in windows)
+    cpu = sum(x.cpu for x in windows)
     text = (
+        f"{1e6 * cpu / max(1, fast):,.0f} us per machine and fast cycle; "
         f"fast {fast:,}/{fast_due:,.0f} ({fast / fast_due:.1%}), slow {slow:,}/{slow_due:,.0f}, "
         f"{errors} errors, {skipped} skipped; fleet {fleet:.2f} core; load "
         f"{min(loads):.2f}..{max(loads):.2f}"

@@ -51,7 +51,8 @@ def test_rows_give_each_subject_its_cores_and_the_gateway_its_floor() -> None:
     assert gw.summary.median == pytest.approx(0.2)
     assert gw.ratio is not None and gw.ratio.median == pytest.approx(0.5)
     assert gw.ratio_to == FWLIB_THREADS
-    assert gw.note.startswith("2.00 x the client floor; fast 100/100 (100.0%)")
+    assert gw.note.startswith("2.00 x the client floor; 20,000 us per machine and fast cycle; ")
+    assert "fast 100/100 (100.0%)" in gw.note
     assert table["gateway_fwlib_threads"].ratio is None
     assert table["gateway_floor"].extra["fleet_cores"] == pytest.approx(0.2)
 
