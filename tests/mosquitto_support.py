@@ -1,19 +1,25 @@
-"""A Mosquitto broker for the MQTT tests: Debian's ``mosquitto`` started on 127.0.0.1 on a free
-port from a config file in the test's folder (anonymous, no persistence), stopped at the end,
-and restartable on the same port. Tests skip with a message when the binary is missing
-(``.ci/run`` installs it)."""
+"""A Mosquitto broker for the MQTT tests, and a subscriber to it. The broker is Debian's
+``mosquitto``, started on 127.0.0.1 on a free port from a config file in the test's folder
+(anonymous, no persistence), stopped at the end, and restartable on the same port; tests skip
+with a message when the binary is missing (``.ci/run`` installs it)."""
 
 from __future__ import annotations
 
 import asyncio
 import shutil
 import socket
-from collections.abc import AsyncIterator
+from collections.abc import AsyncIterator, Callable
+from contextlib import asynccontextmanager
+from dataclasses import dataclass, field
 from pathlib import Path
 
+import aiomqtt
 import pytest
 
-__all__ = ["Broker", "broker", "mosquitto_binary"]
+__all__ = ["BOUND", "Broker", "Seen", "broker", "mosquitto_binary", "subscriber"]
+
+#: A failure bound for waiting on the broker: never a figure a test asserts.
+BOUND = 20.0
 
 #: Where Debian puts the broker (not on root's PATH).
 _DEBIAN = Path("/usr/sbin/mosquitto")
@@ -96,3 +102,56 @@ async def broker(tmp_path: Path) -> AsyncIterator[Broker]:
         yield running
     finally:
         await running.stop()
+
+
+@dataclass
+class Seen:
+    """What a subscriber to ``focas/#`` received: every message in order, and the latest
+    payload (and retain flag) per topic."""
+
+    messages: list[aiomqtt.Message] = field(default_factory=list)
+    changed: asyncio.Event = field(default_factory=asyncio.Event)
+
+    def latest(self, topic: str) -> bytes | None:
+        for m in reversed(self.messages):
+            if m.topic.value == topic:
+                assert isinstance(m.payload, bytes)
+                return m.payload
+        return None
+
+    def retained(self, topic: str) -> bool:
+        return any(m.topic.value == topic and m.retain for m in self.messages)
+
+    def on(self, topic: str) -> list[bytes]:
+        found = [m.payload for m in self.messages if m.topic.value == topic]
+        assert all(isinstance(p, bytes) for p in found)
+        return found
+
+    async def until(self, condition: Callable[[Seen], bool]) -> None:
+        """Wait until ``condition`` holds (failing after :data:`BOUND` seconds)."""
+        async with asyncio.timeout(BOUND):
+            for _ in range(100_000):
+                if condition(self):
+                    return
+                self.changed.clear()
+                await self.changed.wait()
+        raise AssertionError("the condition never held")
+
+
+@asynccontextmanager
+async def subscriber(broker: Broker, topic: str = "focas/#") -> AsyncIterator[Seen]:
+    seen = Seen()
+    async with aiomqtt.Client(broker.host, broker.port) as client:
+        await client.subscribe(topic, qos=1)
+
+        async def collect() -> None:
+            async for message in client.messages:
+                seen.messages.append(message)
+                seen.changed.set()
+
+        task = asyncio.create_task(collect())
+        try:
+            yield seen
+        finally:
+            task.cancel()
+            await asyncio.gather(task, return_exceptions=True)

@@ -9,15 +9,22 @@ import math
 import os
 import signal
 import sys
-from collections.abc import AsyncIterator, Callable
-from contextlib import asynccontextmanager
-from dataclasses import dataclass, field
+from collections.abc import Callable
 
-import aiomqtt
-from mosquitto_support import Broker, broker
+import pytest
+from mosquitto_support import BOUND, Broker, broker, subscriber
 
 from focas_net.errors import OPCUA_GOOD
-from focas_net.gateway import AlarmChange, MachineShape, MqttSettings, PathShape, Sample, item
+from focas_net.gateway import (
+    AlarmChange,
+    MachineShape,
+    MqttSettings,
+    PathShape,
+    Sample,
+    Sink,
+    item,
+)
+from focas_net.gateway._keys import ConfigError
 from focas_net.gateway._mqtt_messages import (
     ActiveAlarms,
     AlarmEvent,
@@ -41,9 +48,6 @@ SHAPE = MachineShape(
     (PathShape(1, ("X", "Y", "Z"), ("S1",)), PathShape(2, ("X", "Z"), ("S2",))),
 )
 
-#: A failure bound for waiting on the broker: never a figure the test asserts.
-BOUND = 20.0
-
 
 def settings(broker: Broker, **changes: object) -> MqttSettings:
     return MqttSettings(host=broker.host, port=broker.port, prefix="focas", **changes)  # type: ignore[arg-type]
@@ -55,59 +59,6 @@ def sink_for(broker: Broker, **changes: object) -> MqttSink:
 
 def position(axis: str, value: float, t: float = 0.0, machine: str = "m1") -> Sample:
     return Sample(machine, 1, item("absolute"), axis, value, OPCUA_GOOD, t)
-
-
-@dataclass
-class Seen:
-    """What a subscriber to ``focas/#`` received: every message in order, and the latest
-    payload (and retain flag) per topic."""
-
-    messages: list[aiomqtt.Message] = field(default_factory=list)
-    changed: asyncio.Event = field(default_factory=asyncio.Event)
-
-    def latest(self, topic: str) -> bytes | None:
-        for m in reversed(self.messages):
-            if m.topic.value == topic:
-                assert isinstance(m.payload, bytes)
-                return m.payload
-        return None
-
-    def retained(self, topic: str) -> bool:
-        return any(m.topic.value == topic and m.retain for m in self.messages)
-
-    def on(self, topic: str) -> list[bytes]:
-        found = [m.payload for m in self.messages if m.topic.value == topic]
-        assert all(isinstance(p, bytes) for p in found)
-        return found
-
-    async def until(self, condition: Callable[[Seen], bool]) -> None:
-        """Wait until ``condition`` holds (failing after :data:`BOUND` seconds)."""
-        async with asyncio.timeout(BOUND):
-            for _ in range(100_000):
-                if condition(self):
-                    return
-                self.changed.clear()
-                await self.changed.wait()
-        raise AssertionError("the condition never held")
-
-
-@asynccontextmanager
-async def subscriber(broker: Broker, topic: str = "focas/#") -> AsyncIterator[Seen]:
-    seen = Seen()
-    async with aiomqtt.Client(broker.host, broker.port) as client:
-        await client.subscribe(topic, qos=1)
-
-        async def collect() -> None:
-            async for message in client.messages:
-                seen.messages.append(message)
-                seen.changed.set()
-
-        task = asyncio.create_task(collect())
-        try:
-            yield seen
-        finally:
-            task.cancel()
-            await asyncio.gather(task, return_exceptions=True)
 
 
 async def until_true(condition: Callable[[], bool]) -> None:
@@ -253,27 +204,47 @@ async def test_a_broker_restart_loses_nothing_buffered(broker: Broker) -> None:
 async def test_a_full_buffer_drops_the_oldest_and_counts_them(broker: Broker) -> None:
     await broker.stop()
     async with sink_for(broker, buffer=5) as sink:
+        sink.alarms([AlarmChange("m1", 1, 6, 401, 1, "V-READY OFF", True, 0.0)])  # 2 messages
+        sink.described(SHAPE)
         sink.samples([position(f"A{n}", float(n)) for n in range(8)])
-        sink.samples([position("A7", 70.0)])  # coalesced with the waiting A7
-        assert (sink.pending, sink.dropped, sink.coalesced) == (5, 3, 1)
+        sink.samples([position("A7", 70.0)])  # replaces the waiting A7
+        assert (sink.pending, sink.dropped, sink.coalesced) == (5, 6, 1)
         await broker.start()
         async with subscriber(broker) as seen:
-            kept = [f"focas/m1/path1/absolute/A{n}" for n in range(3, 8)]
-            await seen.until(lambda s: all(s.latest(t) is not None for t in kept))
-            assert value_of(seen.latest(kept[-1])).value == 70.0
             dropped = "focas/$gateway/gw/dropped"
             await seen.until(lambda s: s.latest(dropped) is not None)
             payload = seen.latest(dropped)
-            assert payload is not None and DroppedCount.decode(payload).dropped == 3
-            assert all(seen.latest(f"focas/m1/path1/absolute/A{n}") is None for n in range(3))
+            assert payload is not None and DroppedCount.decode(payload).dropped == 6
+            # the retained state is published again whole: the dropped $model, alarm list
+            # and values too (only the alarm event, not retained, is gone)
+            values = [f"focas/m1/path1/absolute/A{n}" for n in range(8)]
+            state = ["focas/m1/$model", "focas/m1/path1/alarms/active", *values]
+            await seen.until(lambda s: all(s.latest(t) is not None for t in state))
+            assert [value_of(seen.latest(t)).value for t in values] == [*map(float, range(7)), 70.0]
 
 
 async def test_the_sink_never_raises_into_the_poller(broker: Broker) -> None:
     async with sink_for(broker) as sink:
-        sink.samples([object()])  # type: ignore[list-item]
+        poller_sees: Sink = sink  # what the poller holds (checked by the type checker)
+        poller_sees.samples([object()])  # type: ignore[list-item]
         sink.samples([position("X", math.inf)])  # no JSON form: published as null
         assert sink.errors == 1
         await until_true(lambda: sink.pending == 0)
+
+
+@pytest.mark.parametrize(
+    ("changes", "says"),
+    [
+        ({"prefix": "$plant"}, "mqtt.prefix '$plant'"),
+        ({"deadbands": {"feed": -1.0}}, "mqtt.deadbands.feed = -1.0"),
+        ({"qos": 3}, "mqtt.qos = 3"),
+        ({"buffer": 0}, "mqtt.buffer = 0"),
+    ],
+)
+def test_settings_it_cannot_use_are_a_config_error(changes: dict[str, object], says: str) -> None:
+    with pytest.raises(ConfigError) as refused:
+        MqttSink(MqttSettings(**changes))  # type: ignore[arg-type]
+    assert says in str(refused.value)
 
 
 async def test_a_sink_without_a_broker_stops_at_once(broker: Broker) -> None:

@@ -240,6 +240,25 @@ def test_a_lost_machine_shows_every_value_bad_and_its_alarms_unknown() -> None:
     assert len(p.samples([sample("mode", "MEM")])) == 1
 
 
+def test_the_retained_state_is_the_latest_message_of_every_topic() -> None:
+    p = publication()
+    (model,) = p.described(SHAPE)
+    p.samples([sample("feed", 1.0)])
+    (feed,) = p.samples([sample("feed", 2.0)])
+    event, active = p.alarms([AlarmChange("lathe-2", 1, 6, 401, 1, "V-READY OFF", True, 0.0)])
+    assert p.retained() == [model, feed, active]
+    assert not event.retain
+
+
+def test_discarding_the_waiting_retained_messages_keeps_the_events() -> None:
+    buffer = Buffer(10)
+    event = Message("e", b"", False)
+    buffer.extend([Message("a", b"1", True), event, Message("b", b"2", True)])
+    buffer.discard_retained()
+    assert buffer.take(10) == [event]
+    assert (buffer.dropped, buffer.coalesced) == (0, 0)
+
+
 def test_machine_items_sit_under_the_machine() -> None:
     assert publication().value_topic("m", 0, "x", "") == "focas/m/x"
 
@@ -250,7 +269,6 @@ def test_machine_items_sit_under_the_machine() -> None:
         ("", {}, "mqtt.prefix"),
         ("a/+/b", {}, "mqtt.prefix"),
         ("$SYS", {}, "mqtt.prefix"),
-        ("a//b", {}, "empty level"),
         ("focas", {"mode": 1.0}, "mqtt.deadbands.mode: not a numeric item"),
         ("focas", {"nope": 1.0}, "mqtt.deadbands.nope"),
         ("focas", {"feed": -1.0}, "mqtt.deadbands.feed = -1.0"),
@@ -431,3 +449,58 @@ def test_the_gateway_package_and_the_messages_import_without_aiomqtt() -> None:
     )
     done = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
     assert done.stdout == "needs aiomqtt\n"
+
+
+# Calls a poller could make for one machine of one path, two axes: a sample of an item and
+# axis (a value, or None for a Bad read), the machine lost, the machine back.
+_calls = st.lists(
+    st.one_of(
+        st.tuples(
+            st.just("sample"),
+            st.sampled_from(["absolute", "feed", "mode"]),
+            st.sampled_from(["X", "Z"]),
+            st.one_of(st.none(), st.integers(0, 3).map(float)),
+        ),
+        st.tuples(st.just("lost"), st.just(""), st.just(""), st.none()),
+        st.tuples(st.just("back"), st.just(""), st.just(""), st.none()),
+    ),
+    max_size=40,
+)
+
+
+@given(_calls, st.floats(0, 2))
+def test_a_lost_machine_never_keeps_a_good_value_on_the_broker(
+    calls: list[tuple[str, str, str, float | None]], band: float
+) -> None:
+    """The retained store a broker keeps, after any sequence of calls: a value topic the
+    machine's loss marked (and no read since) is Bad with no value; every other shows the last
+    read's status, and a Good one a value within the deadband of the last read."""
+    p = Publication("focas", "gw", {"absolute": band, "feed": band})
+    store: dict[str, bytes] = {}
+    last: dict[str, tuple[float | str | None, str]] = {}
+    marked: set[str] = set()
+    for n, (call, name, axis, value) in enumerate(calls):
+        if call == "sample":
+            key = axis if item(name).scope.value == "axis" else ""
+            status = OPCUA_GOOD if value is not None else OPCUA_BAD_TIMEOUT
+            read = value if name != "mode" or value is None else str(value)
+            s = Sample("m", 1, item(name), key, read, status, float(n))
+            messages = p.samples([s])
+            topic = p.value_topic("m", 1, name, key)
+            last[topic] = (read, status.name)
+            marked.discard(topic)
+        else:
+            messages = p.online("m", call == "back", "gone", float(n))
+            if call == "lost":
+                marked = set(last)
+        store.update((m.topic, m.payload) for m in messages if m.retain)
+        for topic, (read_value, read_status) in last.items():
+            shown = ValuePayload.decode(store[topic])
+            if topic in marked:
+                assert (shown.value, shown.status) == (None, "BadCommunicationError")
+                continue
+            assert shown.status == read_status
+            if isinstance(read_value, float):
+                assert isinstance(shown.value, float) and abs(shown.value - read_value) <= band
+            else:
+                assert shown.value == read_value

@@ -5,9 +5,11 @@ cleared."""
 
 from __future__ import annotations
 
+import math
 from dataclasses import replace
 from datetime import UTC, datetime
 
+import pytest
 from asyncua import Client, Node, ua
 from opcua_support import LATHE, MILL, Handler, cnc_path, connected, machine_node, running, sample
 
@@ -114,6 +116,16 @@ async def test_values_come_with_units_timestamps_and_data_changes() -> None:
                 assert dv.SourceTimestamp == datetime.fromtimestamp(T0 + i, UTC)
                 await handler.value_of(x2, -value)
             await sub.delete()
+            # the position's structure, made of its parts (FOCAS reads no command position)
+            pos = await cnc_path(client, root, "CncAxisList", "X2", "PosIndirect")
+            lost = await pos.read_data_value(raise_on_bad_status=False)
+            assert lost.StatusCode == ua.StatusCode(ua.StatusCodes.BadWaitingForInitialData)
+            sink.samples([sample("lathe", 2, "distance", 0.5, key="X", time=T0 + 9)])
+            await sink.flush()
+            await client.load_data_type_definitions()
+            value = await pos.read_value()
+            assert (value.ActPos, value.RemDist) == (-250.5, 0.5)
+            assert math.isnan(value.CmdPos)
 
 
 async def test_focas_states_become_opc_40502_enumerations() -> None:
@@ -168,7 +180,7 @@ async def test_an_ew_code_is_the_variables_status() -> None:
 
 async def variables(client: Client, node: Node) -> list[Node]:
     """Every variable below ``node`` a sample writes: components, not properties, not the
-    constant ``ActChannel`` and not the position structures (their parts are written)."""
+    constant ``ActChannel``."""
     cnc = await client.get_namespace_index(CNC_NAMESPACE)
     found: list[Node] = []
     todo = [node]
@@ -185,8 +197,7 @@ async def variables(client: Client, node: Node) -> list[Node]:
             if (await child.read_browse_name()).Name == "ActChannel":
                 continue
             if await child.read_type_definition() == ua.NodeId(CncId.POSITION_VARIABLE_TYPE, cnc):
-                todo.append(child)
-                continue
+                todo.append(child)  # its parts
             found.append(child)
     return found
 
@@ -264,12 +275,31 @@ async def test_alarms_are_conditions_raised_and_cleared() -> None:
             root = await machine_node(client, "lathe")
             assert raised.SourceNode == root.nodeid
             sink.alarms([alarm(True, T0)])  # still in the list: nothing new
+            condition = client.get_node(raised.NodeId)
+            acknowledge = ua.NodeId(ua.ObjectIds.AcknowledgeableConditionType_Acknowledge)
+            seen = ua.LocalizedText("seen at the machine")
+            with pytest.raises(ua.uaerrors.BadEventIdUnknown):
+                await condition.call_method(
+                    acknowledge, ua.Variant(b"old", ua.VariantType.ByteString), seen
+                )
+            await condition.call_method(
+                acknowledge, ua.Variant(raised.EventId, ua.VariantType.ByteString), seen
+            )
+            acked = await handler.event()
+            assert getattr(acked, "AckedState/Id") is True
+            assert getattr(acked, "ActiveState/Id") is True and acked.Retain is True
+            with pytest.raises(ua.uaerrors.BadConditionBranchAlreadyAcked):
+                await condition.call_method(
+                    acknowledge, ua.Variant(acked.EventId, ua.VariantType.ByteString), seen
+                )
             sink.alarms([alarm(False, T0 + 3)])
             cleared = await handler.event()
             assert cleared.ConditionName == "PS0010"
             assert getattr(cleared, "ActiveState/Id") is False
             assert cleared.Retain is False
             assert cleared.NodeId == raised.NodeId
+            with pytest.raises(ua.uaerrors.BadNodeIdUnknown):  # no condition any more
+                await condition.read_browse_name()
             assert handler.events.empty()
             await sub.delete()
 

@@ -229,8 +229,6 @@ def _check_prefix(prefix: str) -> str:
             f"mqtt.prefix {prefix!r}: a topic of one or more levels, without + or # and not"
             " starting with $"
         )
-    if "" in prefix.split("/"):
-        raise ValueError(f"mqtt.prefix {prefix!r}: an empty level")
     return prefix
 
 
@@ -275,6 +273,8 @@ class Publication:
         self._published: dict[str, dict[str, tuple[Value, str, str | None]]] = {}
         #: per machine, per path: the active alarms by (type, number, axis)
         self._active: dict[str, dict[int, dict[tuple[int, int, int], AlarmEvent]]] = {}
+        #: the latest retained message of every machine topic
+        self._retained: dict[str, Message] = {}
         #: the machines lost now (their values and alarm lists already published as Bad)
         self._lost: set[str] = set()
 
@@ -329,6 +329,9 @@ class Publication:
 
     def described(self, shape: MachineShape) -> list[Message]:
         """The machine's ``$model``, retained."""
+        return self._kept(self._model(shape))
+
+    def _model(self, shape: MachineShape) -> list[Message]:
         base = self.machine_topic(shape.name)
         items = {
             name: {
@@ -369,6 +372,9 @@ class Publication:
     def online(self, machine: str, online: bool, reason: str, time: float) -> list[Message]:
         """Availability; for a lost machine, every value it published again as Bad and its
         active alarm lists as unknown; for a machine back, its active alarm lists again."""
+        return self._kept(self._availability(machine, online, reason, time))
+
+    def _availability(self, machine: str, online: bool, reason: str, time: float) -> list[Message]:
         stamp = iso_time(time)
         base = self.machine_topic(machine)
         state: Literal["AVAILABLE", "UNAVAILABLE"] = AVAILABLE if online else UNAVAILABLE
@@ -415,7 +421,9 @@ class Publication:
             unit = _unit(row)
             published[topic] = (value, status, unit)
             payload = ValuePayload(value, unit, status, iso_time(s.time))
-            messages.append(Message(topic, payload.encode(), True))
+            message = Message(topic, payload.encode(), True)
+            messages.append(message)
+            self._retained[topic] = message
         return messages
 
     def _changed(self, row: Item, old: Value, status: str, new: Value, new_status: str) -> bool:
@@ -448,8 +456,21 @@ class Publication:
             else:
                 active.pop(key, None)
             touched[(c.machine, c.path)] = stamp
-        messages.extend(self._active_list(m, p, stamp) for (m, p), stamp in touched.items())
+        lists = [self._active_list(m, p, stamp) for (m, p), stamp in touched.items()]
+        messages.extend(self._kept(lists))
         return messages
+
+    def _kept(self, messages: list[Message]) -> list[Message]:
+        for message in messages:
+            if message.retain:
+                self._retained[message.topic] = message
+        return messages
+
+    def retained(self) -> list[Message]:
+        """The latest retained message of every topic published so far (the gateway's own
+        state topics aside), oldest topic first: what the broker should hold. Published again
+        after messages were dropped, it makes the broker's retained state whole again."""
+        return list(self._retained.values())
 
     def _active_list(self, machine: str, path: int, stamp: str) -> Message:
         alarms = tuple(self._active.get(machine, {}).get(path, {}).values())
@@ -493,6 +514,12 @@ class Buffer:
     def extend(self, messages: Iterable[Message]) -> None:
         for message in messages:
             self.put(message)
+
+    def discard_retained(self) -> None:
+        """Forget the waiting retained messages (not counted as dropped): a full copy of the
+        retained state is about to be published in their place."""
+        for key in [k for k, m in self._waiting.items() if m.retain]:
+            del self._waiting[key]
 
     def take(self, count: int) -> list[Message]:
         """Up to ``count`` messages from the front; :meth:`restore` puts them back if they could

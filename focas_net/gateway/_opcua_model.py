@@ -17,11 +17,13 @@ from asyncua import ua
 
 from focas_net.gateway._opcua_types import (
     ANALOG_ITEM_TYPE,
+    ANALOG_UNIT_TYPE,
     BASE_DATA_VARIABLE_TYPE,
     DATA_ITEM_TYPE,
     FOLDER_TYPE,
     HAS_PROPERTY,
     ORGANIZES,
+    POSITION_FIELDS,
     PROPERTY_TYPE,
     CncId,
     NodeBuilder,
@@ -62,6 +64,9 @@ class MachineNodes:
     root: ua.NodeId
     targets: dict[tuple[int, str, str], tuple[Target, ...]] = field(default_factory=dict)
     variables: list[ua.NodeId] = field(default_factory=list)
+    #: The ``CncPositionVariableType`` variables each sample goes into, with the index of its
+    #: field in ``CncPositionDataType`` (:data:`POSITION_FIELDS`).
+    positions: dict[tuple[int, str, str], list[tuple[ua.NodeId, int]]] = field(default_factory=dict)
 
     def add(self, key: tuple[int, str, str], target: Target) -> None:
         self.targets[key] = (*self.targets.get(key, ()), target)
@@ -184,8 +189,8 @@ class _Machine:
         qns: int | None = None,
         description: str = "",
     ) -> ua.NodeId:
-        """A variable a sample of ``key`` writes; an AnalogItem with EngineeringUnits and
-        EURange when it has a unit."""
+        """A variable a sample of ``key`` writes. With a unit: a data item becomes an
+        AnalogItemType with EngineeringUnits and EURange; another type gets EngineeringUnits."""
         node = child(parent, name)
         dt = datatype if isinstance(datatype, ua.NodeId) else ua.NodeId(datatype)
         if unit is not None and typedef == DATA_ITEM_TYPE:
@@ -193,22 +198,26 @@ class _Machine:
         qname = ua.QualifiedName(name, self.cnc if qns is None else qns)
         self.b.variable(parent, node, qname, dt, ua.Variant(None), typedef, description=description)
         if unit is not None:
-            self.units(node, unit)
+            self.units(node, unit, with_range=typedef == ANALOG_ITEM_TYPE)
         self.nodes.add(key, Target(node, variant, convert))
         return node
 
-    def units(self, node: ua.NodeId, unit: Unit) -> None:
+    def units(self, node: ua.NodeId, unit: Unit, with_range: bool = True) -> None:
         self.b.prop(
             node, "EngineeringUnits", ua.ObjectIds.EUInformation, ua.Variant(eu_information(unit))
         )
-        self.b.prop(node, "EURange", ua.ObjectIds.Range, ua.Variant(eu_range(unit)))
+        if with_range:
+            self.b.prop(node, "EURange", ua.ObjectIds.Range, ua.Variant(eu_range(unit)))
 
     def position(
         self, parent: ua.NodeId, name: str, parts: dict[str, tuple[int, str, str]]
     ) -> None:
-        """A ``CncPositionVariableType`` variable whose parts (ActPos, RemDist) samples write;
-        its structure value is not kept (read the parts)."""
+        """A ``CncPositionVariableType`` variable: samples write its parts (ActPos, RemDist)
+        and its ``CncPositionDataType`` value."""
         node = child(parent, name)
+        self.nodes.variables.append(node)
+        for part, key in parts.items():
+            self.nodes.positions.setdefault(key, []).append((node, POSITION_FIELDS.index(part)))
         self.b.variable(
             parent,
             node,
@@ -287,7 +296,11 @@ class _Machine:
                 )
                 letter = a[:1].upper()
                 if letter in "XYZABC" and letter and a.rstrip("0123456789") == letter:
-                    self.position(ch, f"PosTcpBcs{letter}", {"ActPos": (n, "machine", a)})
+                    self.position(
+                        ch,
+                        f"PosTcpBcs{letter}",
+                        {"ActPos": (n, "machine", a), "RemDist": (n, "distance", a)},
+                    )
                     self.position(
                         ch,
                         f"PosTcpWcs{letter}",
@@ -419,16 +432,15 @@ class _Machine:
 
     def focas_item(self, parent: ua.NodeId, n: int, it: Item, key: str) -> None:
         variant = _VARIANT[it.kind]
-        typedef = (
-            ANALOG_ITEM_TYPE if it.unit is not None and it.kind in (int, float) else DATA_ITEM_TYPE
-        )
+        analog = it.unit is not None and it.kind in (int, float)
+        typedef = ANALOG_UNIT_TYPE if analog else DATA_ITEM_TYPE
         self.slot(
             parent,
             it.name,
             (n, it.name, key),
             variant,
             int(variant.value),
-            it.unit if typedef == ANALOG_ITEM_TYPE else None,
+            it.unit if analog else None,
             typedef=typedef,
             qns=self.ns,
             description=it.description,

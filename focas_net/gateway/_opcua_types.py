@@ -20,6 +20,7 @@ __all__ = [
     "CNC_NAMESPACE",
     "ENUMERATIONS",
     "EU_NAMESPACE",
+    "POSITION_FIELDS",
     "CncId",
     "NodeBuilder",
     "child",
@@ -34,6 +35,10 @@ __all__ = [
 CNC_NAMESPACE: Final = "http://opcfoundation.org/UA/CNC"
 #: The namespace of UN/CEFACT unit ids (OPC 10000-8, EUInformation).
 EU_NAMESPACE: Final = "http://www.opcfoundation.org/UA/units/un/cefact"
+
+
+#: The fields of ``CncPositionDataType``, in order.
+POSITION_FIELDS: Final = ("ActPos", "CmdPos", "RemDist")
 
 
 class CncId(enum.IntEnum):
@@ -58,6 +63,7 @@ class CncId(enum.IntEnum):
     SPINDLE_STATUS = 3005
     OPERATION_MODE = 3006
     POSITION_DATA_TYPE = 3007
+    POSITION_BINARY_ENCODING = 5001
 
 
 # Standard (namespace 0) ids used here.
@@ -68,6 +74,7 @@ BASE_DATA_VARIABLE_TYPE: Final = 63
 PROPERTY_TYPE: Final = 68
 DATA_ITEM_TYPE: Final = 2365
 ANALOG_ITEM_TYPE: Final = 2368
+ANALOG_UNIT_TYPE: Final = 17497
 FOLDER_TYPE: Final = 61
 ENUMERATION: Final = 29
 STRUCTURE: Final = 22
@@ -265,7 +272,7 @@ def child(parent: ua.NodeId, name: str) -> ua.NodeId:
 def cnc_type_nodes(cnc: int) -> tuple[list[ua.AddNodesItem], list[ua.AddReferencesItem]]:
     """The nodes of OPC 40502's types the gateway uses, in namespace ``cnc``: the object types
     (with ``CncAlarmType``'s properties, which its events carry), ``CncPositionVariableType``,
-    the enumerations (``EnumStrings``) and ``CncPositionDataType``."""
+    the enumerations (``EnumStrings``) and ``CncPositionDataType`` with its binary encoding."""
     b = NodeBuilder()
 
     def ref(x: int) -> ua.NodeId:
@@ -349,6 +356,17 @@ def cnc_type_nodes(cnc: int) -> tuple[list[ua.AddNodesItem], list[ua.AddReferenc
             ),
         )
     )
+    b.items.append(
+        ua.AddNodesItem(
+            ParentNodeId=ua.NodeId(CncId.POSITION_DATA_TYPE, cnc),
+            ReferenceTypeId=ua.NodeId(ua.ObjectIds.HasEncoding),
+            RequestedNewNodeId=ua.NodeId(CncId.POSITION_BINARY_ENCODING, cnc),
+            BrowseName=ua.QualifiedName("Default Binary", 0),
+            NodeClass=ua.NodeClass.Object,
+            NodeAttributes=ua.ObjectAttributes(DisplayName=ua.LocalizedText("Default Binary")),
+            TypeDefinition=ua.NodeId(ua.ObjectIds.DataTypeEncodingType),
+        )
+    )
     return b.items, b.references
 
 
@@ -364,11 +382,14 @@ def enum_definitions(cnc: int) -> dict[ua.NodeId, ua.DataTypeDefinition]:
         for tid, (_, values) in ENUMERATIONS.items()
     }
     out[ua.NodeId(CncId.POSITION_DATA_TYPE, cnc)] = ua.StructureDefinition(
+        DefaultEncodingId=ua.NodeId(CncId.POSITION_BINARY_ENCODING, cnc),
         BaseDataType=ua.NodeId(STRUCTURE),
         StructureType=ua.StructureType.Structure,
         Fields=[
-            ua.StructureField(Name=n, DataType=ua.NodeId(ua.ObjectIds.Double), ValueRank=-1)
-            for n in ("ActPos", "CmdPos", "RemDist")
+            ua.StructureField(
+                Name=n, DataType=ua.NodeId(ua.ObjectIds.Double), ValueRank=-1, IsOptional=False
+            )
+            for n in POSITION_FIELDS
         ],
     )
     return out

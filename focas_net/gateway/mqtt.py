@@ -9,8 +9,11 @@ broker connects again with a growing delay, the buffer kept (within its bound: t
 dropped and counted, and the count is published on ``P/$gateway/G/dropped``). Messages taken
 from the buffer and not confirmed when the connection broke go back to its front: delivery is
 at least once (an alarm event may come twice after a broker loss, never not at all within the
-bound). A clean stop publishes what waits (for at most ``close_timeout`` seconds), then
-``offline`` itself, then disconnects.
+bound). After drops, the whole retained state (every machine's latest ``$model``,
+availability, values and active alarm lists, which :class:`~._mqtt_messages.Publication`
+keeps) is published again on the next connection, so only superseded values and alarm events
+are lost. A clean stop publishes what waits (for at most ``close_timeout`` seconds, if the
+broker is there), then ``offline`` itself, then disconnects.
 """
 
 from __future__ import annotations
@@ -19,12 +22,14 @@ import asyncio
 import logging
 import ssl
 import time
+from collections import deque
 from collections.abc import Callable, Sequence
 from types import TracebackType
 from typing import Final
 
 import aiomqtt
 
+from ._keys import ConfigError
 from ._mqtt_messages import Buffer, Message, Publication
 from .config import MqttSettings
 from .model import AlarmChange, MachineShape, Sample
@@ -43,6 +48,10 @@ class MqttSink:
     never raise; what they could not turn into messages is logged and counted in
     :attr:`errors`.
 
+    Settings it cannot use (a prefix starting with ``$`` or holding a wildcard, a deadband of an
+    item that is not numeric, below 0 or not finite, a QoS other than 0..2) raise
+    :class:`~._keys.ConfigError` naming the key.
+
     ``reconnect`` is the first and the longest delay between connection attempts (doubling
     from one to the other, back to the first once connected)."""
 
@@ -54,17 +63,24 @@ class MqttSink:
         reconnect: tuple[float, float] = (0.5, 30.0),
         close_timeout: float = 5.0,
     ) -> None:
-        if settings.qos not in (0, 1, 2):
-            raise ValueError(f"mqtt.qos = {settings.qos!r}: 0, 1 or 2")
+        try:
+            if settings.qos not in (0, 1, 2):
+                raise ValueError(f"mqtt.qos = {settings.qos!r}: 0, 1 or 2")
+            self.publication = Publication(settings.prefix, gateway_name, settings.deadbands)
+            self._buffer = Buffer(settings.buffer)
+        except ValueError as exc:
+            raise ConfigError(str(exc)) from None
         self.settings = settings
-        self.publication = Publication(settings.prefix, gateway_name, settings.deadbands)
-        self._buffer = Buffer(settings.buffer)
         self._reconnect = reconnect
         self._close_timeout = close_timeout
         self._wake = asyncio.Event()
         self._closing = asyncio.Event()
         self._task: asyncio.Task[None] | None = None
         self._dropped_published = 0
+        #: the drop count when the retained state was last queued again in full
+        self._dropped_resynced = 0
+        #: the retained state still to publish again after drops (before the buffer)
+        self._resync: deque[Message] = deque()
         #: whether a connection to the broker is up now
         self.connected = False
         #: connections made so far
@@ -190,6 +206,12 @@ class MqttSink:
             self.connected = True
             self.connections += 1
             await self._publish(client, self.publication.birth())
+            if self._buffer.dropped != self._dropped_resynced:
+                # messages were lost: publish the whole retained state again, in place of the
+                # retained messages waiting (the state holds them too)
+                self._dropped_resynced = self._buffer.dropped
+                self._buffer.discard_retained()
+                self._resync = deque(self.publication.retained())
             watcher = asyncio.create_task(self._watch(client))
             drainer = asyncio.create_task(self._drain(client))
             try:
@@ -233,15 +255,19 @@ class MqttSink:
 
         qos = self.settings.qos
         try:
-            for _ in iter(int, 1):  # until the connection breaks or the sink closes
+            while True:  # until the connection breaks or the sink closes
                 if failed:
                     raise failed[0][1]
                 if self._buffer.dropped != self._dropped_published:
                     count = self._buffer.dropped
                     await self._publish(client, self.publication.dropped(count, time.time()))
                     self._dropped_published = count
-                if len(flying) < WINDOW:
-                    for m in self._buffer.take(WINDOW - len(flying)):
+                room = WINDOW - len(flying)
+                if room > 0:
+                    resync = self._resync
+                    batch = [resync.popleft() for _ in range(min(room, len(resync)))]
+                    batch += self._buffer.take(room - len(batch))
+                    for m in batch:
                         task = asyncio.create_task(
                             client.publish(m.topic, m.payload, qos, m.retain)
                         )
