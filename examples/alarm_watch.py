@@ -140,6 +140,9 @@ def main() -> int:
     except FocasError as exc:
         print(f"alarm_watch: {exc}", file=sys.stderr)
         return 1
+    except (ValueError, TypeError) as exc:  # an argument the client refuses, named
+        print(f"alarm_watch: {exc}", file=sys.stderr)
+        return 2
 
 
 if __name__ == "__main__":

@@ -218,6 +218,9 @@ def main() -> int:
     except (FocasError, OSError) as exc:
         print(f"fleet_poll: {exc}", file=sys.stderr)
         return 1
+    except (ValueError, TypeError) as exc:  # an argument the client refuses, named
+        print(f"fleet_poll: {exc}", file=sys.stderr)
+        return 2
 
 
 if __name__ == "__main__":

@@ -80,6 +80,9 @@ def main() -> int:
     except FocasError as exc:
         print(f"pmc_bits: {exc}", file=sys.stderr)
         return 1
+    except (ValueError, TypeError) as exc:  # an argument the client refuses, named
+        print(f"pmc_bits: {exc}", file=sys.stderr)
+        return 2
 
 
 if __name__ == "__main__":

@@ -71,6 +71,9 @@ def main() -> int:
     except FocasError as exc:
         print(f"read_status: {exc}", file=sys.stderr)
         return 1
+    except (ValueError, TypeError) as exc:  # an argument the client refuses, named
+        print(f"read_status: {exc}", file=sys.stderr)
+        return 2
     return 0
 
 

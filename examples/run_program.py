@@ -146,6 +146,9 @@ def main() -> int:
     except (Failed, FocasError) as exc:
         print(f"run_program: {exc}", file=sys.stderr)
         return 1
+    except (ValueError, TypeError) as exc:  # an argument the client refuses, named
+        print(f"run_program: {exc}", file=sys.stderr)
+        return 2
     return 0
 
 

@@ -17,6 +17,7 @@ __all__ = [
     "macro_unfit",
     "override_unfit",
     "program_number",
+    "switch",
 ]
 
 #: The percentages each override takes: feed 0..254, rapid 0..100 (in :data:`RAPID_STEPS`
@@ -73,6 +74,24 @@ def alarm_text_unfit(text: str) -> str | None:
             f"(U+{ord(control):04X}): a message is one line of text"
         )
     return None
+
+
+#: The words of a switch turned on, and off (the command line's and the page's).
+_ON: Final = frozenset({"1", "on", "true", "yes", "set"})
+_OFF: Final = frozenset({"0", "off", "false", "no", "clear"})
+
+
+def switch(typed: str) -> bool:
+    """A switch as typed: ``1/on/true/yes/set`` or ``0/off/false/no/clear`` (any case,
+    spaces around); ValueError naming what was typed and the words."""
+    word = typed.strip().lower()
+    if word in _ON:
+        return True
+    if word in _OFF:
+        return False
+    raise ValueError(
+        f"expected 1, on, true, yes or set, or 0, off, false, no or clear, got {typed!r}"
+    )
 
 
 def program_number(typed: object) -> int:

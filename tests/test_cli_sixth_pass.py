@@ -7,14 +7,16 @@ Each test names what a user typed and what the command must say.
 
 from __future__ import annotations
 
+import asyncio
 import re
 from decimal import Decimal
+from pathlib import Path
 
 import pytest
 from cli_support import at, fails, ok
-from support import IO_TIMEOUT, Served
+from support import IO_TIMEOUT, LoopbackPeer, Served
 
-from focas_net.cli import EXIT_USAGE
+from focas_net.cli import EXIT_CNC, EXIT_PROTOCOL, EXIT_USAGE
 from focas_net.client import FocasClient, NativeClient
 from focas_net.sim import MachineError
 from focas_net.web import ActionError, Station, perform
@@ -99,3 +101,145 @@ async def test_a_control_character_past_what_the_machine_keeps_is_cut_with_it(
     typed = "x" * 32 + "\n"
     out = await ok("sim", "alarm", "PS0103", typed, *at(server))
     assert re.fullmatch(r"raised PS0103 x{32}\n", out), out
+
+
+# -- a machine file's macro value written as a decimal ------------------------------------------
+
+_MACROS = '[machine]\nname = "m"\naxes = ["X"]\n[macros]\n{ranges}values = {{ 500 = {value} }}\n'
+_RANGE = "ranges = [{ first = 500, last = 999 }]\n"
+
+
+@pytest.mark.parametrize(
+    ("value", "words"),
+    [
+        ("1.5", "must be an integer or [mcr_val, dec_val] (1.5 is [15, 1]), got 1.5"),
+        ("-2.25", "must be an integer or [mcr_val, dec_val] (-2.25 is [-225, 2]), got -2.25"),
+        ("100.0", "must be an integer or [mcr_val, dec_val] (100.0 is [100, 0]), got 100.0"),
+        ("1e300", "must be an integer or [mcr_val, dec_val], got 1e+300"),
+        ("nan", "must be an integer or [mcr_val, dec_val], got nan"),
+    ],
+)
+async def test_a_macro_value_written_as_a_decimal_says_how_to_write_it(
+    tmp_path: Path, value: str, words: str
+) -> None:
+    """It said "must be an integer, got a float (1.5)", with no word of [mcr_val, dec_val]."""
+    path = tmp_path / "m.toml"
+    path.write_text(_MACROS.format(ranges=_RANGE, value=value), encoding="utf-8")
+    line = await fails(
+        EXIT_USAGE, "serve", "--machine", str(path), "--port", "0", prefix="focas-net"
+    )
+    assert line.endswith(f"m.toml: macros.values.500: {words}"), line
+
+
+async def test_a_macro_value_of_a_file_without_ranges_says_so(tmp_path: Path) -> None:
+    path = tmp_path / "m.toml"
+    path.write_text(_MACROS.format(ranges="", value="1"), encoding="utf-8")
+    line = await fails(
+        EXIT_USAGE, "serve", "--machine", str(path), "--port", "0", prefix="focas-net"
+    )
+    assert line.endswith("m.toml: macros.values.500: #500 is in no macro range (ranges gives none)")
+
+
+# -- a peer whose answer starts as a FOCAS/2 frame and is none --------------------------------
+
+
+class _Garbage(LoopbackPeer):
+    """Answers any connection with A0 A0 A0 A0 and text, then closes it."""
+
+    async def _serve(self, reader: asyncio.StreamReader, writer: asyncio.StreamWriter) -> None:
+        writer.write(b"\xa0\xa0\xa0\xa0garbage-garbage-garbage")
+        await writer.drain()
+        writer.close()
+
+
+@pytest.mark.parametrize(
+    ("protocol", "rule"),
+    [
+        ([], "frame length 2694881440 outside 4..65536"),
+        (["--protocol", "native"], "its answer is a frame of type 0x7262"),
+    ],
+)
+async def test_a_peer_sending_a0_a0_a0_a0_and_text_does_not_speak_focas(
+    protocol: list[str], rule: str
+) -> None:
+    """FOCAS/2 said "its answer does not start with A0 A0 A0 A0" (it did), showing bytes from
+    the middle of the answer."""
+    async with _Garbage() as peer:
+        line = await fails(EXIT_PROTOCOL, "status", "--timeout", "2", *protocol, *at(peer))
+    assert line == (
+        f"focas-net: 127.0.0.1:{peer.port} does not speak the FOCAS protocol ({rule}; it sent "
+        "b'\\xa0\\xa0\\xa0\\xa0garb')"
+    )
+
+
+# -- an empty name where a file or a folder belongs ---------------------------------------------
+
+
+@pytest.mark.parametrize(
+    "argv",
+    [
+        ["serve", "--port", "0", "--machine", ""],
+        ["serve", "--port", "0", "--state", " "],
+        ["serve", "--port", "0", "--tls-cert", "", "--tls-key", "k.pem"],
+        ["status", "--tls-ca", "", "--port", "1"],
+    ],
+)
+async def test_an_empty_file_name_is_a_usage_error(argv: list[str]) -> None:
+    """``--machine ''`` said ": cannot read: Is a directory"; ``--state ''`` was ignored."""
+    line = await fails(EXIT_USAGE, *argv, prefix="focas-net")
+    option = next(a for a in argv if a in ("--machine", "--state", "--tls-cert", "--tls-ca"))
+    given = "' '" if option == "--state" else "''"
+    assert f"argument {option}: an empty name is no file or folder, got {given};" in line, line
+
+
+async def test_program_load_of_an_empty_name_asks_for_the_file(server: Served) -> None:
+    """It said "cannot read '': Is a directory"."""
+    line = await fails(EXIT_USAGE, "program", "load", "", *at(server))
+    assert line == (
+        "focas-net: program load: give the file of the program, e.g. o1000.nc ('' names none)"
+    )
+
+
+# -- refusals that named a number or showed nothing --------------------------------------------
+
+
+async def test_a_program_search_outside_mem_and_edit_names_the_mode(server: Served) -> None:
+    """The machine said "program search in mode 0: MEM or EDIT"."""
+    server.machine.set_panel(mode=0)
+    with pytest.raises(MachineError) as refused:
+        perform(Station(0, server.machine), "select_program", {"number": "O0001"})
+    assert str(refused.value).endswith("program search in MDI mode: MEM or EDIT")
+
+
+async def test_an_active_alarm_of_no_message_says_so(server: Served) -> None:
+    """It said "PS0100 is already active:  (a CNC ...", an empty message between two spaces."""
+    server.machine.raise_alarm(0, 3, 100)
+    out = await ok("sim", "alarm", "PS0100", "again", *at(server))
+    assert out == (
+        "PS0100 is already active (with no message) (a CNC shows one entry per alarm: clear it "
+        "first to raise it with another message)\n"
+    )
+
+
+@pytest.mark.parametrize("protocol", PROTOCOLS)
+async def test_a_bit_write_the_parameter_cannot_hold_names_the_bit(
+    server: Served, protocol: list[str]
+) -> None:
+    """Setting bit 31 of 6711 (0..999999999) said "the CNC refused 1 for parameter 6711"."""
+    server.machine.set_panel(mode=0, pwe=1)
+    line = await fails(EXIT_CNC, "param", "set", "6711.31", "1", *protocol, *at(server))
+    assert line.endswith(
+        "the CNC refused parameter 6711 with bit 31 set to 1: the value that makes is outside "
+        "the parameter's range"
+    ), line
+
+
+@pytest.mark.parametrize(("extra", "shown"), [("", "''"), ("a b", "'a b'"), ("x", "x")])
+async def test_an_argument_too_many_is_shown_as_typed(
+    server: Served, extra: str, shown: str
+) -> None:
+    """An empty one showed as nothing: "unrecognized arguments:;"."""
+    line = await fails(
+        EXIT_USAGE, "pmc", "bit", "R", "0.1", "1", extra, *at(server), prefix="focas-net"
+    )
+    assert f"error: unrecognized arguments: {shown}; see focas-net pmc bit --help" in line, line

@@ -76,6 +76,31 @@ async def test_write_param_says_what_is_wrong_without_a_traceback(
     assert (server.machine.panel.mode, server.machine.panel.pwe) == (1, 0)
 
 
+@pytest.mark.parametrize(
+    ("name", "args", "words"),
+    [
+        ("read_status.py", ["--timeout", "0"], "timeout must be positive, got 0.0"),
+        ("read_status.py", ["--host", ""], "empty host ''"),
+        ("pmc_bits.py", ["--area", "Q"], "unknown PMC area 'Q'"),
+        ("pmc_bits.py", ["--start", "99999999999"], "PMC start address 99999999999 is outside"),
+        ("versamax_config.py", ["--rack", "-1"], "rack -1 is outside 0..255"),
+        ("alarm_watch.py", ["--timeout", "0"], "timeout must be positive, got 0.0"),
+        ("run_program.py", ["--seconds", "1", "--port", "0"], "port 0 is outside 1..65535"),
+        ("fleet_poll.py", ["--rounds", "1", "--port", "0"], "port 0 is outside 1..65535"),
+    ],
+)
+async def test_an_argument_the_client_refuses_is_one_line_and_exit_2(
+    server: Served, name: str, args: list[str], words: str
+) -> None:
+    """They printed a ValueError's traceback (exit 1)."""
+    given = dict(zip(args[::2], args[1::2], strict=True))
+    address = [] if "--port" in given or "--host" in given else port_args(server)
+    code, out, err = await run_example(name, *address, *args)
+    stem = name.removesuffix(".py")
+    assert (code, out) == (2, ""), (code, out, err)
+    assert err.startswith(f"{stem}: {words}") and err.count("\n") == 1, err
+
+
 @pytest.mark.parametrize("protocol", ["packed", "native"])
 async def test_read_status(server: Served, protocol: str) -> None:
     server.machine.raise_alarm(0, 3, 100, "PARAMETER WRITE ENABLE")

@@ -19,6 +19,7 @@ host = "127.0.0.1"
 """
 
 
+USER = "[[opcua.users]]\nname = 'op'\npassword = 'pw'\n"
 FLEET = "[[fleet]]\nname_prefix='f'\nhost='h'\nfirst_port=1\ncount=3"
 
 
@@ -85,6 +86,12 @@ BAD: list[tuple[str, tuple[str, ...]]] = [
         ("opcua.anonymous: got true", "beyond the loopback"),
     ),
     (ONE + "[opcua]\nendpoint = 'opc.tcp://10.0.0.1:4840/'", ("plant.toml: opcua: no way in",)),
+    (ONE + "[opcua]\nwrites = true", ("plant.toml: opcua: no way in", "writes = true")),
+    (ONE + "[opcua]\nwrites = true\nanonymous = true", ("opcua.anonymous: got true", "users")),
+    (
+        ONE + "[opcua]\nendpoint = 'opc.tcp://10.0.0.1:4840/'\n" + USER,
+        ("opcua.certificate: missing", "beyond the loopback"),
+    ),
     (ONE + "[opcua]\ncertificate = 'c.pem'", ("opcua.private_key: missing", "both")),
     (
         ONE + "[opcua]\ncertificate = 'no-such.pem'\nprivate_key = 'no-such.key'",

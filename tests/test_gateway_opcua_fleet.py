@@ -186,4 +186,9 @@ async def test_the_write_methods_go_through_the_gateways_write_gates() -> None:
                 await root.call_method(
                     f"{ns}:WriteMacro", ua.Variant(590, i32), 1.0, ua.Variant(2, i32)
                 )
+            with pytest.raises(ua.uaerrors.BadInvalidArgument):  # the writer's own check
+                await root.call_method(
+                    f"{ns}:WritePmc", "R", ua.Variant(150, i32), ua.Variant(256, i32)
+                )
             assert machine.read_macro(600) is None
+            assert machine.read_pmc("R", 150, 1) == b"\x07"

@@ -7,12 +7,15 @@ from __future__ import annotations
 
 from dataclasses import replace
 from decimal import Decimal
+from pathlib import Path
 
 import pytest
-from asyncua import ua
-from opcua_support import LATHE, SETTINGS, USERS, connected, machine_node, running
+from asyncua import Client, ua
+from asyncua.crypto.cert_gen import setup_self_signed_certificate
+from cryptography.x509.oid import ExtendedKeyUsageOID
+from opcua_support import LATHE, SETTINGS, USERS, connected, machine_node, running, url
 
-from focas_net.errors import EW, CncError
+from focas_net.errors import EW, CncError, FocasConnectionError
 from focas_net.gateway.opcua import OpcUaSink, is_loopback
 
 DENIED = (ua.uaerrors.BadUserAccessDenied, ua.uaerrors.BadIdentityTokenRejected)
@@ -25,13 +28,13 @@ def test_loopback_hosts() -> None:
 
 def test_settings_no_client_could_use_safely_are_refused() -> None:
     beyond = replace(SETTINGS, endpoint="opc.tcp://0.0.0.0:4840/focas_net/", users=USERS)
-    with pytest.raises(ValueError, match="beyond the loopback: it needs certificate"):
+    with pytest.raises(ValueError, match=r"beyond the loopback: it needs opcua\.certificate"):
         OpcUaSink(beyond)
     with pytest.raises(ValueError, match="no client could connect"):
         OpcUaSink(replace(SETTINGS, anonymous=False))
     with pytest.raises(ValueError, match="no client could connect"):
         OpcUaSink(replace(SETTINGS, writes=True), Recorder())
-    with pytest.raises(ValueError, match="come together"):
+    with pytest.raises(ValueError, match=r"certificate and opcua\.private_key come together"):
         OpcUaSink(replace(SETTINGS, certificate=SETTINGS.namespace))  # type: ignore[arg-type]
 
 
@@ -129,6 +132,8 @@ async def test_the_write_methods_call_the_writer() -> None:
         (CncError.from_ew(EW.NUMBER), ua.uaerrors.BadOutOfRange),
         (CncError.from_ew(EW.PASSWD), ua.uaerrors.BadUserAccessDenied),
         (CncError.from_ew(EW.MODE), ua.uaerrors.BadInvalidState),
+        (ValueError("macro value out of range"), ua.uaerrors.BadInvalidArgument),
+        (FocasConnectionError("reset by peer"), ua.uaerrors.BadCommunicationError),
     ],
 )
 async def test_a_refused_write_is_a_bad_status(
@@ -145,3 +150,37 @@ async def test_a_refused_write_is_a_bad_status(
                 await root.call_method(
                     f"{ns}:WriteMacro", ua.Variant(500, i32), 1.0, ua.Variant(1, i32)
                 )
+
+
+async def _certificate(folder: Path, name: str, uri: str, server: bool) -> tuple[Path, Path]:
+    """A key and a self-signed application certificate (PEM key, DER certificate)."""
+    key, cert = folder / f"{name}.key.pem", folder / f"{name}.der"
+    use = [ExtendedKeyUsageOID.SERVER_AUTH if server else ExtendedKeyUsageOID.CLIENT_AUTH]
+    await setup_self_signed_certificate(key, cert, uri, "localhost", use, {"commonName": name})
+    return cert, key
+
+
+async def test_with_a_certificate_the_basic256sha256_endpoints_serve_users(tmp_path: Path) -> None:
+    cert, key = await _certificate(tmp_path, "gateway", SETTINGS.namespace, server=True)
+    settings = replace(SETTINGS, certificate=cert, private_key=key, anonymous=False, users=USERS)
+    async with running(settings) as sink:
+        sink.described(LATHE)
+        await sink.flush()
+        client = Client(url(sink))
+        endpoints = await client.connect_and_get_server_endpoints()
+        policies = {(e.SecurityPolicyUri.rsplit("#", 1)[-1], e.SecurityMode) for e in endpoints}
+        assert policies == {
+            ("None", ua.MessageSecurityMode.None_),
+            ("Basic256Sha256", ua.MessageSecurityMode.Sign),
+            ("Basic256Sha256", ua.MessageSecurityMode.SignAndEncrypt),
+        }
+        tokens = {t.TokenType for e in endpoints for t in e.UserIdentityTokens}
+        assert tokens == {ua.UserTokenType.UserName}
+        mine, my_key = await _certificate(tmp_path, "client", "urn:test:client", server=False)
+        client = Client(url(sink))
+        await client.set_security_string(f"Basic256Sha256,SignAndEncrypt,{mine},{my_key}")
+        client.set_user("operator")
+        client.set_password("s3cret")
+        async with client:
+            root = await machine_node(client, "lathe")
+            assert (await root.read_browse_name()).Name == "lathe"

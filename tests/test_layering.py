@@ -238,6 +238,8 @@ THIRD_PARTY: dict[str, tuple[str, ...]] = {
         "focas_net.gateway.opcua",
         "focas_net.gateway._opcua_model",
         "focas_net.gateway._opcua_types",
+        "focas_net.gateway._opcua_conditions",
+        "focas_net.gateway._opcua_methods",
     ),
     "aiomqtt": ("focas_net.gateway.mqtt",),
 }

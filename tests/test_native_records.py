@@ -647,3 +647,15 @@ def test_body_limits_by_version() -> None:
         4950,
         4950,
     ]
+
+
+@given(st.binary(max_size=33 * 8), st.integers(0, 40))
+def test_the_mantissas_of_scaled_values_are_those_of_their_records(data: bytes, count: int) -> None:
+    from focas_net.native import ScaledValues
+
+    whole = data[: len(data) // 8 * 8]
+    expected = tuple(v.mantissa for v in ScaledValues.decode(whole).values[:count])
+    assert ScaledValues.mantissas(whole, count) == expected
+    if len(data) % 8:
+        with pytest.raises(NativePayloadError):
+            ScaledValues.mantissas(data, count)

@@ -99,11 +99,11 @@ def test_a_json_number_with_a_point_for_a_whole_parameter_is_refused_as_typed() 
 @pytest.mark.parametrize(
     ("action", "args", "words"),
     [
-        ("panel", {"pwe": "yes"}, "pwe: not a whole number: 'yes'"),
+        ("panel", {"pwe": "maybe"}, "pwe: expected 1, on, true, yes or set, or 0, off, false"),
         (
             "pmc_bit",
-            {"area": "R", "address": 0, "bit": 1, "value": "yes"},
-            "value: not a whole number: 'yes'",
+            {"area": "R", "address": "yes", "bit": 1},
+            "address: not a whole number: 'yes'",
         ),
         ("write_macro", {"number": 500, "value": "seven"}, "value: not a number: 'seven'"),
         (
@@ -149,3 +149,16 @@ async def test_the_http_api_answers_400_naming_the_key() -> None:
                 )
         assert served.machine.read_macro(500) is None
         assert served.machine.read_macro(501) is None
+
+
+@pytest.mark.parametrize(
+    ("typed", "on"), [("on", 1), (" YES ", 1), (True, 1), ("off", 0), (False, 0), ("0", 0), (1, 1)]
+)
+def test_a_switch_takes_the_command_lines_words_and_json_booleans(typed: object, on: int) -> None:
+    """``{"pwe": "on"}`` was "not a whole number: 'on'", though ``sim panel --pwe on`` works."""
+    station = _station()
+    perform(station, "panel", {"pwe": 1 - on})
+    perform(station, "panel", {"pwe": typed})
+    assert station.machine.panel.pwe == on
+    perform(station, "pmc_bit", {"area": "R", "address": 5, "bit": 2, "value": typed})
+    assert station.machine.read_pmc("R", 5, 1)[0] == on << 2

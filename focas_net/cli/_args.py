@@ -12,6 +12,7 @@ from __future__ import annotations
 import argparse
 import math
 import re
+import shlex
 import sys
 from collections.abc import Callable, Sequence
 from functools import partial
@@ -32,6 +33,7 @@ __all__ = [
     "EXIT_OK",
     "EXIT_PROTOCOL",
     "EXIT_USAGE",
+    "FILE_NAME",
     "HISTORY_DEPTH",
     "HOST",
     "INT",
@@ -51,6 +53,7 @@ __all__ = [
     "command_parser",
     "parse_area",
     "parse_bounded",
+    "parse_file_name",
     "parse_history_depth",
     "parse_host",
     "parse_interval",
@@ -132,7 +135,8 @@ class Parser(argparse.ArgumentParser):
         finally:
             self._mixing = False
         if extras:
-            self.error(f"unrecognized arguments: {' '.join(extras)}")
+            # quoted as a shell takes them back, so an empty one ('') or one with spaces shows
+            self.error(f"unrecognized arguments: {shlex.join(extras)}")
         return namespace, extras
 
     def _option_before_command(self, args: list[str]) -> None:
@@ -219,6 +223,14 @@ def parse_rapid(text: str) -> int:
     return 0 if text.strip().upper() == "F0" else fmt.parse_int(text)
 
 
+def parse_file_name(text: str) -> str:
+    """The name of a file or a folder as typed: not empty (an empty name reads as the
+    current folder, which no option means)."""
+    if not text.strip():
+        raise ValueError(f"an empty name is no file or folder, got {text!r}")
+    return text
+
+
 def _number(text: str) -> float:
     """A number of seconds as typed, finite (nan is no number; infinity is named)."""
     try:
@@ -301,6 +313,7 @@ INT: Final = argument_type(fmt.parse_int, "integer")
 POSITIVE: Final = argument_type(parse_positive, "count")
 NON_NEGATIVE: Final = argument_type(parse_non_negative, "count")
 RAPID: Final = argument_type(parse_rapid, "rapid override")
+FILE_NAME: Final = argument_type(parse_file_name, "file name")
 SECONDS: Final = argument_type(parse_seconds, "seconds")
 INTERVAL: Final = argument_type(parse_interval, "seconds")
 HOST: Final = argument_type(parse_host, "host")

@@ -16,6 +16,7 @@ from datetime import UTC, datetime
 from decimal import Decimal
 from typing import Any, Final
 
+from focas_net._typed import switch
 from focas_net.errors import EW, ChunkedWriteError, CncError, ew_info, ew_label
 from focas_net.protocol import (
     ALARM_TYPE_NAMES,
@@ -547,20 +548,10 @@ def parse_number_bit(
     return int(number), (int(bit) if dot else None)
 
 
-_TRUE: Final = frozenset({"1", "on", "true", "yes", "set"})
-_FALSE: Final = frozenset({"0", "off", "false", "no", "clear"})
-
-
 def parse_bool(text: str) -> bool:
-    """``1/on/true/yes/set`` or ``0/off/false/no/clear``."""
-    s = text.strip().lower()
-    if s in _TRUE:
-        return True
-    if s in _FALSE:
-        return False
-    raise ValueError(
-        f"expected 1, on, true, yes or set, or 0, off, false, no or clear, got {text!r}"
-    )
+    """``1/on/true/yes/set`` or ``0/off/false/no/clear`` (:func:`focas_net._typed.switch`,
+    which the page reads too)."""
+    return switch(text)
 
 
 def parse_hex(text: str) -> bytes:

@@ -85,6 +85,12 @@ def _param_length(args: argparse.Namespace, exc: CncError) -> str | None:
 
 
 def _param_range(args: argparse.Namespace) -> str:
+    bit = str(args.number).partition(".")[2]
+    if bit:  # a bit written by read-modify-write: the value it makes is out of range
+        return (
+            f"the CNC refused {_item('parameter', args)} with bit {bit} set to {args.value}: "
+            f"the value that makes is outside the parameter's range"
+        )
     what = f"the CNC refused {args.value} for {_item('parameter', args)}: outside its range"
     if "." in str(args.value):
         what += ", or more decimals than the parameter keeps"

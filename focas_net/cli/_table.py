@@ -22,6 +22,7 @@ from ._args import (
     AREA,
     BOOL,
     EXIT_CODES,
+    FILE_NAME,
     HISTORY_DEPTH,
     HOST,
     INT,
@@ -121,6 +122,7 @@ _CONNECTION: Final = (
     ),
     arg(
         "--tls-ca",
+        type=FILE_NAME,
         metavar="FILE",
         help="trust the certificates in FILE (PEM) to check the server's; implies --tls",
     ),

@@ -118,12 +118,18 @@ async def _serve(config: GatewayConfig, part: tuple[int, int] | None) -> int:
             try:
                 for output in outputs(config, gateway.writer):
                     gateway.add_sink(await stack.enter_async_context(output))
-            except ConfigError as exc:
-                print_error(str(exc), _ERROR_PREFIX)
+            except ValueError as exc:  # (ConfigError too: a missing extra)
+                print_error(" ".join(str(exc).split()), _ERROR_PREFIX)
                 await gateway.poller.aclose()
                 return EXIT_USAGE
             except OSError as exc:
                 print_error(f"an output cannot start: {os_reason(exc)}", _ERROR_PREFIX)
+                await gateway.poller.aclose()
+                return EXIT_CNC
+            except Exception as exc:  # an output's own failure to start, as one line
+                _log.debug("an output failed to start", exc_info=True)
+                text = " ".join(str(exc).split()) or type(exc).__name__
+                print_error(f"an output cannot start: {text}", _ERROR_PREFIX)
                 await gateway.poller.aclose()
                 return EXIT_CNC
             async with gateway:

@@ -38,8 +38,9 @@ def _number(action: str, target: str | None) -> int:
 
 def _text_of(target: str | None) -> tuple[str, str]:
     """The program text of ``program load FILE`` and the file's name."""
-    if target is None:
-        raise ValueError("program load: give the file of the program, e.g. o1000.nc")
+    if target is None or not target.strip():
+        given = "" if target is None else f" ({target!r} names none)"
+        raise ValueError(f"program load: give the file of the program, e.g. o1000.nc{given}")
     path = Path(target)
     try:
         raw = path.read_bytes()

@@ -50,6 +50,7 @@ from focas_net.server import (
 from ._args import (
     EXIT_CNC,
     EXIT_USAGE,
+    FILE_NAME,
     HOST,
     LISTEN_PORT,
     NON_NEGATIVE,
@@ -174,6 +175,7 @@ def register(subparsers: Any) -> None:
     )
     p.add_argument(
         "--machine",
+        type=FILE_NAME,
         metavar="FILE",
         help="machine file (TOML, see docs/machine-file.md); default: the built-in machine",
     )
@@ -212,6 +214,7 @@ def register(subparsers: Any) -> None:
     )
     p.add_argument(
         "--state",
+        type=FILE_NAME,
         metavar="DIR",
         help="keep each machine's nonvolatile memory (parameters, offsets, #500-#999, "
         "programs, alarm history, parts and timers, PMC K/D/C/T) in DIR across restarts (the "
@@ -260,8 +263,15 @@ def register(subparsers: Any) -> None:
         action="store_true",
         help="run on uvloop (pip install 'focas-net[uvloop]')",
     )
-    p.add_argument("--tls-cert", metavar="FILE", help="serve TLS with this certificate (PEM)")
-    p.add_argument("--tls-key", metavar="FILE", help="private key of --tls-cert (PEM)")
+    p.add_argument(
+        "--tls-cert",
+        type=FILE_NAME,
+        metavar="FILE",
+        help="serve TLS with this certificate (PEM)",
+    )
+    p.add_argument(
+        "--tls-key", type=FILE_NAME, metavar="FILE", help="private key of --tls-cert (PEM)"
+    )
     p.add_argument(
         "--speed",
         type=_speed,

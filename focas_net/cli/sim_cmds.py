@@ -85,8 +85,10 @@ def alarm(args: argparse.Namespace) -> PackedOnly:
             data = {"raised": None, "active": fmt.alarm_dict(active[0])}
             return Output(
                 data,
-                f"{code}{axis} is already active: {active[0].msg} (a CNC shows one entry per "
-                "alarm: clear it first to raise it with another message)",
+                f"{code}{axis} is already active"
+                + (f": {active[0].msg}" if active[0].msg else " (with no message)")
+                + " (a CNC shows one entry per alarm: clear it first to raise it with another "
+                "message)",
             )
         await cnc.sim.raise_alarm(alm_type, alm_no, msg, axis_no=args.axis)
         data = {

@@ -87,6 +87,15 @@ _NEVER: Final = float("inf")
 _CLOSE_GRACE: Final = 2.0
 _MAGIC: Final = int.from_bytes(MAGIC, "big")
 _NOT_A_FRAME: Final = "its answer does not start with A0 A0 A0 A0"
+#: The frame types of a FOCAS/2 answer (open, close, data, error): another comes from no CNC.
+_ANSWER_TYPES: Final = frozenset(
+    {
+        FrameType.OPEN_RESPONSE,
+        FrameType.CLOSE_RESPONSE,
+        FrameType.DATA_RESPONSE,
+        FrameType.DATA_ERROR,
+    }
+)
 
 Future = asyncio.Future[tuple[ResponseBlock, ...]]
 
@@ -105,20 +114,26 @@ class _Lost(Exception):
 async def _read_frame(channel: Channel, peer: str, answered: bool = True) -> bytes:
     """The next whole frame (header included) read from ``channel`` before it is started.
 
-    :raises ProtocolError: ``peer`` does not speak FOCAS/2 (its answer is no frame).
+    :raises ProtocolError: ``peer`` does not speak FOCAS/2 (its answer is no frame, or a
+        frame of a type no FOCAS/2 answer has).
     :raises FocasConnectionError: the connection ended first (``answered``: a frame came on
         it before).
     """
     try:
         head = await channel.readexactly(NATIVE_HEADER_SIZE)
-        magic, _, _, length = NATIVE_HEADER.unpack(head)
-        if magic != _MAGIC:
-            raise violation_error(peer, _NOT_A_FRAME, head)
-        return head + await channel.readexactly(length)
     except (asyncio.IncompleteReadError, OSError) as exc:
         partial = exc.partial if isinstance(exc, asyncio.IncompleteReadError) else b""
         if not answered and partial and not MAGIC.startswith(partial[: len(MAGIC)]):
             raise violation_error(peer, _NOT_A_FRAME, partial) from None
+        raise lost_error(peer, exc, answered) from exc
+    magic, _, kind, length = NATIVE_HEADER.unpack(head)
+    if magic != _MAGIC:
+        raise violation_error(peer, _NOT_A_FRAME, head)
+    if kind not in _ANSWER_TYPES:
+        raise violation_error(peer, f"its answer is a frame of type 0x{kind:04X}", head)
+    try:
+        return head + await channel.readexactly(length)
+    except (asyncio.IncompleteReadError, OSError) as exc:  # within a frame: no more a rule
         raise lost_error(peer, exc, answered) from exc
 
 

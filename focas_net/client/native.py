@@ -167,7 +167,7 @@ def _dynamic(
 ) -> DynamicData:
     """The result of a ``cnc_rddynamic2`` ``call`` (of every axis, or of one) on ``path`` from
     its answer ``blocks``."""
-    values = [decoded(call, blocks, i, handle.max_axes) for i in range(len(blocks))]
+    values = [decoded(call, blocks, i, handle.max_axes) for i in range(5)]
     axis = call.frames[0][-1].axis  # type: ignore[attr-defined]
     count = handle.axes_on(path) if axis == -1 else 1
     alarm: AlarmStatus = values[0]
@@ -177,13 +177,13 @@ def _dynamic(
     def first(v: ScaledValues) -> int:
         return v.values[0].mantissa if v.values else 0
 
-    def mantissas(v: ScaledValues) -> tuple[int, ...]:
-        return tuple(x.mantissa for x in v.values[:count])
+    def mantissas(i: int) -> tuple[int, ...]:
+        # (the path's axes only: the answer holds a record for each of the CNC's most axes)
+        return ScaledValues.mantissas(block_data(blocks[i], call.function), count)
 
     return DynamicData(
         alarm.alarm & 0xFFFF, prg.running, prg.main, seq.number, first(values[3]),
-        first(values[4]), mantissas(values[5]), mantissas(values[6]), mantissas(values[7]),
-        mantissas(values[8]),
+        first(values[4]), mantissas(5), mantissas(6), mantissas(7), mantissas(8),
     )  # fmt: skip
 
 

@@ -17,6 +17,7 @@ from asyncua import ua
 
 from focas_net.gateway._opcua_types import (
     ANALOG_ITEM_TYPE,
+    ANALOG_UNIT_TYPE,
     BASE_DATA_VARIABLE_TYPE,
     DATA_ITEM_TYPE,
     FOLDER_TYPE,
@@ -188,8 +189,8 @@ class _Machine:
         qns: int | None = None,
         description: str = "",
     ) -> ua.NodeId:
-        """A variable a sample of ``key`` writes; an AnalogItem with EngineeringUnits and
-        EURange when it has a unit."""
+        """A variable a sample of ``key`` writes. With a unit: a data item becomes an
+        AnalogItemType with EngineeringUnits and EURange; another type gets EngineeringUnits."""
         node = child(parent, name)
         dt = datatype if isinstance(datatype, ua.NodeId) else ua.NodeId(datatype)
         if unit is not None and typedef == DATA_ITEM_TYPE:
@@ -197,15 +198,16 @@ class _Machine:
         qname = ua.QualifiedName(name, self.cnc if qns is None else qns)
         self.b.variable(parent, node, qname, dt, ua.Variant(None), typedef, description=description)
         if unit is not None:
-            self.units(node, unit)
+            self.units(node, unit, with_range=typedef == ANALOG_ITEM_TYPE)
         self.nodes.add(key, Target(node, variant, convert))
         return node
 
-    def units(self, node: ua.NodeId, unit: Unit) -> None:
+    def units(self, node: ua.NodeId, unit: Unit, with_range: bool = True) -> None:
         self.b.prop(
             node, "EngineeringUnits", ua.ObjectIds.EUInformation, ua.Variant(eu_information(unit))
         )
-        self.b.prop(node, "EURange", ua.ObjectIds.Range, ua.Variant(eu_range(unit)))
+        if with_range:
+            self.b.prop(node, "EURange", ua.ObjectIds.Range, ua.Variant(eu_range(unit)))
 
     def position(
         self, parent: ua.NodeId, name: str, parts: dict[str, tuple[int, str, str]]
@@ -430,16 +432,15 @@ class _Machine:
 
     def focas_item(self, parent: ua.NodeId, n: int, it: Item, key: str) -> None:
         variant = _VARIANT[it.kind]
-        typedef = (
-            ANALOG_ITEM_TYPE if it.unit is not None and it.kind in (int, float) else DATA_ITEM_TYPE
-        )
+        analog = it.unit is not None and it.kind in (int, float)
+        typedef = ANALOG_UNIT_TYPE if analog else DATA_ITEM_TYPE
         self.slot(
             parent,
             it.name,
             (n, it.name, key),
             variant,
             int(variant.value),
-            it.unit if typedef == ANALOG_ITEM_TYPE else None,
+            it.unit if analog else None,
             typedef=typedef,
             qns=self.ns,
             description=it.description,

@@ -398,7 +398,7 @@ def _mqtt(at: At, value: object) -> MqttSettings:
     return MqttSettings(**out)
 
 
-def is_loopback(host: str) -> bool:
+def _loopback(host: str) -> bool:
     """Whether ``host`` is a loopback address or ``localhost``."""
     if host.lower() in ("localhost", "localhost."):
         return True
@@ -433,14 +433,21 @@ def _opcua(at: At, value: object, base: Path) -> OpcUaSettings:
     host = urlsplit(endpoint).hostname or ""
     if "namespace" in table:
         out["namespace"] = at.key("namespace").text(table["namespace"], "a namespace URI")
-    loopback = is_loopback(host)
-    anonymous = loopback
+    loopback = _loopback(host)
+    writes = at.key("writes").boolean(table["writes"]) if "writes" in table else False
+    out["writes"] = writes
+    anonymous = loopback and not writes
     if "anonymous" in table:
         anonymous = at.key("anonymous").boolean(table["anonymous"])
         if anonymous and not loopback:
             at.key("anonymous").fail(
                 f"got true; expected false: the endpoint's host {host} is beyond the loopback, "
                 "where anonymous sessions are refused (give [[opcua.users]])"
+            )
+        if anonymous and writes:
+            at.key("anonymous").fail(
+                "got true; expected false: with writes = true only users may write "
+                "(give [[opcua.users]])"
             )
     out["anonymous"] = anonymous
     users: list[OpcUaUser] = []
@@ -460,14 +467,18 @@ def _opcua(at: At, value: object, base: Path) -> OpcUaSettings:
             users.append(OpcUaUser(name, secret))
     out["users"] = tuple(users)
     if not anonymous and not users:
-        at.fail("no way in: anonymous is off and there is no [[opcua.users]] entry")
+        why = "beyond the loopback" if not loopback else "with writes = true"
+        at.fail(f"no way in: anonymous access is off ({why}) and there is no [[opcua.users]]")
     cert, key = table.get("certificate"), table.get("private_key")
     if (cert is None) != (key is None):
         missing = "private_key" if key is None else "certificate"
         at.key(missing).fail("missing: give certificate and private_key both, or neither")
+    if cert is None and not loopback:
+        at.key("certificate").fail(
+            f"missing: the endpoint's host {host} is beyond the loopback, where the server "
+            "needs its certificate and private_key"
+        )
     if cert is not None:
         out["certificate"] = _file(at.key("certificate"), cert, base)
         out["private_key"] = _file(at.key("private_key"), key, base)
-    if "writes" in table:
-        out["writes"] = at.key("writes").boolean(table["writes"])
     return OpcUaSettings(**out)

@@ -21,49 +21,39 @@ import hmac
 import ipaddress
 import logging
 import math
-import uuid
 from collections import deque
 from collections.abc import Sequence
 from datetime import UTC, datetime
-from decimal import Decimal
 from types import TracebackType
 from typing import Any, Final
 from urllib.parse import urlparse
 
-from asyncua import Node, Server, ua
-from asyncua.common import event_objects
+from asyncua import Server, ua
 from asyncua.crypto.permission_rules import User, UserRole
 from asyncua.server.internal_server import InternalServer
 
-from focas_net.errors import FocasError, OpcUaStatus
+from focas_net.errors import OpcUaStatus
 from focas_net.gateway import _opcua_model as om
 from focas_net.gateway import _opcua_types as ot
+from focas_net.gateway._keys import ConfigError
+from focas_net.gateway._opcua_conditions import Conditions
+from focas_net.gateway._opcua_methods import add_write_methods
 from focas_net.gateway.config import OpcUaSettings
 from focas_net.gateway.model import AlarmChange, MachineShape, Sample, Writer
-from focas_net.protocol.alarms import alarm_code, alarm_text
 
-__all__ = ["QUEUE_LIMIT", "OpcUaSink"]
+__all__ = ["QUEUE_LIMIT", "OpcUaSink", "is_loopback"]
 
 log = logging.getLogger(__name__)
 
 #: The most samples queued for the server's task; older batches are dropped (and counted).
 QUEUE_LIMIT: Final = 1_000_000
-#: The severity of every FANUC alarm condition (OPC UA 1..1000: "high").
-ALARM_SEVERITY: Final = 700
 
 _VALUE: Final = ua.AttributeIds.Value
 _GOOD: Final = ua.StatusCode(ua.StatusCodes.Good)
 _OUT_OF_RANGE: Final = ua.StatusCode(ua.StatusCodes.BadOutOfRange)
 _LOST: Final = ua.StatusCode(ua.StatusCodes.BadCommunicationError)
 _WAITING: Final = ua.StatusCode(ua.StatusCodes.BadWaitingForInitialData)
-_DENIED: Final = ua.StatusCode(ua.StatusCodes.BadUserAccessDenied)
 _NULL: Final = ua.Variant(None)
-#: The built-in types of the data types asyncua's event fields name by node id.
-_BUILT_IN: Final = {
-    ua.ObjectIds.UtcTime: ua.VariantType.DateTime,
-    ua.ObjectIds.Duration: ua.VariantType.Double,
-    ua.ObjectIds.AudioDataType: ua.VariantType.ByteString,
-}
 
 
 def is_loopback(host: str | None) -> bool:
@@ -186,20 +176,14 @@ async def _notify(att: Any, dv: ua.DataValue) -> None:
             log.exception("opcua: a data change callback failed")
 
 
-class _Alarm:
-    """One alarm condition: the event it was raised with (fields change as it moves)."""
-
-    def __init__(self, event: Any) -> None:
-        self.event = event
-
-
 class OpcUaSink:
     """The OPC UA server of the gateway (``async with OpcUaSink(settings, writer) as sink``).
 
     ``writer`` (None: writes off) serves the write methods, which exist only when
     ``settings.writes`` is true too. Past ``queue_limit`` samples waiting for the server's
-    task the oldest batches are dropped and counted in :attr:`dropped`. Raises ``ValueError``
-    for settings no client could use safely (see the module's docstring).
+    task the oldest batches are dropped and counted in :attr:`dropped`. Raises
+    :class:`~focas_net.gateway._keys.ConfigError` (a ``ValueError``) for settings no client
+    could use safely (see the module's docstring).
     """
 
     def __init__(
@@ -214,17 +198,17 @@ class OpcUaSink:
         self._loopback = is_loopback(url.hostname)
         self._writer = writer if settings.writes else None
         if (settings.certificate is None) != (settings.private_key is None):
-            raise ValueError("opcua: certificate and private_key come together")
+            raise ConfigError("opcua.certificate and opcua.private_key come together")
         if not self._loopback and settings.certificate is None:
-            raise ValueError(
-                f"opcua: the endpoint {settings.endpoint} is beyond the loopback: "
-                "it needs certificate and private_key"
+            raise ConfigError(
+                f"opcua.endpoint {settings.endpoint} is beyond the loopback: "
+                "it needs opcua.certificate and opcua.private_key"
             )
         self._anonymous = settings.anonymous and self._loopback and self._writer is None
         if not self._anonymous and not settings.users:
-            raise ValueError(
-                "opcua: no client could connect: anonymous access is off "
-                "(beyond the loopback or with writes on) and there are no users"
+            raise ConfigError(
+                "opcua: no client could connect: anonymous sessions are off (beyond the "
+                "loopback, or with opcua.writes true) and there is no [[opcua.users]] entry"
             )
         self._server: Server | None = None
         self._ns = 0
@@ -233,7 +217,7 @@ class OpcUaSink:
         self._live: dict[str, _Live] = {}
         self._shapes: dict[str, MachineShape] = {}
         self._online: dict[str, bool] = {}
-        self._alarms: dict[tuple[str, int, int, int, int], _Alarm] = {}
+        self._alarm_conditions: Conditions | None = None
         self._ops: deque[tuple[str, Any]] = deque()
         self._queued = 0
         self._limit = queue_limit
@@ -295,6 +279,7 @@ class OpcUaSink:
         self._position_cls = made.get("CncPositionDataType") or ua.CncPositionDataType
         await server.start()
         self._server = server
+        self._alarm_conditions = Conditions(server, self._ns, self._cnc)
         self._task = asyncio.create_task(self._run(), name="opcua-sink")
 
     async def stop(self) -> None:
@@ -329,6 +314,8 @@ class OpcUaSink:
 
     async def flush(self) -> None:
         """Return once every change queued so far is applied."""
+        if self._task is None:
+            raise RuntimeError("the OPC UA server is not running")
         while self._ops or not self._idle.is_set():
             self._wake.set()
             await self._idle.wait()
@@ -344,21 +331,22 @@ class OpcUaSink:
     def samples(self, samples: Sequence[Sample]) -> None:
         if not samples:
             return
-        self._queued += len(samples)
-        self._push("samples", samples)
+        batch = tuple(samples)  # (the caller's sequence may change once this returns)
+        self._queued += len(batch)
+        self._push("samples", batch)
         while self._queued > self._limit:
-            for i, (kind, batch) in enumerate(self._ops):
+            for i, (kind, old) in enumerate(self._ops):
                 if kind == "samples":
                     del self._ops[i]
-                    self._queued -= len(batch)
-                    self.dropped += len(batch)
+                    self._queued -= len(old)
+                    self.dropped += len(old)
                     break
             else:
                 break
 
     def alarms(self, changes: Sequence[AlarmChange]) -> None:
         if changes:
-            self._push("alarms", changes)
+            self._push("alarms", tuple(changes))
 
     def _push(self, kind: str, value: Any) -> None:
         self._ops.append((kind, value))
@@ -382,12 +370,19 @@ class OpcUaSink:
                     elif kind == "online":
                         await self._set_online(*value)
                     else:
-                        await self._apply_alarms(value)
+                        await self._conditions().apply(
+                            value, {name: nodes.root for name, nodes in self._machines.items()}
+                        )
                 except asyncio.CancelledError:
                     raise
                 except Exception:
                     log.exception("opcua: applying %s failed", kind)
             self._idle.set()
+
+    def _conditions(self) -> Conditions:
+        if self._alarm_conditions is None:
+            raise RuntimeError("the OPC UA server is not running")
+        return self._alarm_conditions
 
     def _status(self, status: OpcUaStatus) -> ua.StatusCode:
         code = self._status_cache.get(status.value)
@@ -489,7 +484,7 @@ class OpcUaSink:
         )
         await self._add(server, items, refs)
         if self._writer is not None:
-            await self._add_methods(server.get_node(nodes.root))
+            await add_write_methods(server.get_node(nodes.root), self._ns, self._writer, shape.name)
         live = _Live(server, nodes, self._position_cls)
         await self._set_all(live, _Value(_NULL, _WAITING, None, datetime.now(UTC)))
         self._live[shape.name] = live
@@ -510,169 +505,4 @@ class OpcUaSink:
             for p in live.structs:
                 p.lose(_LOST, stamp)
             await self._set_all(live, _Value(_NULL, _LOST, stamp, datetime.now(UTC)))
-        quality = _GOOD if online else _LOST
-        for key, alarm in self._alarms.items():
-            if key[0] == machine:
-                alarm.event.Quality = quality
-                await self._trigger(alarm.event, time, nodes.root)
-
-    # --- alarms -------------------------------------------------------------------------
-
-    async def _apply_alarms(self, changes: Sequence[AlarmChange]) -> None:
-        for c in changes:
-            nodes = self._machines.get(c.machine)
-            if nodes is None:
-                continue
-            key = (c.machine, c.path, c.alm_type, c.alm_no, c.axis)
-            alarm = self._alarms.get(key)
-            if c.active:
-                if alarm is not None:
-                    continue
-                alarm = self._alarms[key] = _Alarm(self._new_alarm(c, nodes.root))
-            elif alarm is None:
-                continue
-            else:
-                del self._alarms[key]
-            ev = alarm.event
-            when = datetime.fromtimestamp(c.time, UTC)
-            ev.ActiveState = ua.LocalizedText("Active" if c.active else "Inactive")
-            setattr(ev, "ActiveState/Id", c.active)
-            setattr(ev, "ActiveState/TransitionTime", when)
-            ev.Retain = c.active
-            await self._trigger(ev, c.time, nodes.root)
-
-    def _new_alarm(self, c: AlarmChange, source: ua.NodeId) -> Any:
-        """An alarm condition event of OPC 40502's ``CncAlarmType`` (a DiscreteAlarmType)."""
-        cls: Any = event_objects.DiscreteAlarm
-        ev = cls()
-        for name, dtype in ev.data_types.items():  # fields typed by a data type's node id
-            if isinstance(dtype, ua.NodeId):
-                ev.data_types[name] = _BUILT_IN.get(dtype.Identifier, ua.VariantType.Variant)
-        code = alarm_code(c.alm_type, c.alm_no)
-        ident = f"{code}" if not c.axis else f"{code}/{c.axis}"
-        ev.add_property("AlarmIdentifier", ident, ua.VariantType.String)
-        ev.add_property("NodeId", None, ua.VariantType.NodeId)
-        ev.EventType = ua.NodeId(ot.CncId.ALARM_TYPE, self._cnc)
-        ev.NodeId = ua.NodeId(f"{c.machine}/Alarms/{c.path}/{ident}", self._ns)
-        ev.SourceNode = source
-        ev.SourceName = c.machine if c.path == 0 else f"{c.machine}/Channel_{c.path}"
-        ev.ConditionName = ident
-        ev.ConditionClassId = ua.NodeId(ua.ObjectIds.ProcessConditionClassType)
-        ev.ConditionClassName = ua.LocalizedText("ProcessConditionClassType")
-        ev.Message = ua.LocalizedText(alarm_text(c.alm_type, c.alm_no, c.message, c.axis))
-        ev.Severity = ALARM_SEVERITY
-        ev.LastSeverity = ALARM_SEVERITY
-        ev.EnabledState = ua.LocalizedText("Enabled")
-        setattr(ev, "EnabledState/Id", True)
-        ev.AckedState = ua.LocalizedText("Unacknowledged")
-        setattr(ev, "AckedState/Id", False)
-        ev.Quality = _GOOD
-        return ev
-
-    async def _trigger(self, ev: Any, time: float, machine: ua.NodeId) -> None:
-        """Send ``ev`` to the subscribers of the machine's object and of the Server object."""
-        assert self._server is not None
-        service = self._server.iserver.subscription_service
-        ev.EventId = uuid.uuid4().bytes
-        ev.Time = datetime.fromtimestamp(time, UTC)
-        ev.ReceiveTime = datetime.now(UTC)
-        ev.emitting_node = machine
-        await service.trigger_event(ev)
-        ev.emitting_node = ua.NodeId(ua.ObjectIds.Server)
-        await service.trigger_event(ev)
-
-    # --- write methods ------------------------------------------------------------------
-
-    async def _add_methods(self, root: Node) -> None:
-        def arg(name: str, dtype: int, text: str) -> ua.Argument:
-            return ua.Argument(
-                Name=name,
-                DataType=ua.NodeId(dtype),
-                ValueRank=-1,
-                Description=ua.LocalizedText(text),
-            )
-
-        i32, dbl, txt = ua.ObjectIds.Int32, ua.ObjectIds.Double, ua.ObjectIds.String
-        methods = (
-            (
-                "WriteMacro",
-                self._write_macro,
-                [
-                    arg("Number", i32, "macro variable number"),
-                    arg("Value", dbl, "value"),
-                    arg("Path", i32, "path (channel) number"),
-                ],
-            ),
-            (
-                "WriteParameter",
-                self._write_param,
-                [
-                    arg("Number", i32, "parameter number"),
-                    arg("Axis", i32, "axis number, 0 for a parameter of no axis"),
-                    arg("Value", i32, "value"),
-                ],
-            ),
-            (
-                "WritePmc",
-                self._write_pmc,
-                [
-                    arg("Area", txt, "PMC area letter (G, R, D, ...)"),
-                    arg("Address", i32, "byte address"),
-                    arg("Value", i32, "byte value 0..255"),
-                ],
-            ),
-        )
-        for name, func, args in methods:
-            nid = ua.NodeId(f"{root.nodeid.Identifier}/{name}", self._ns)
-            await root.add_method(nid, ua.QualifiedName(name, self._ns), func, args, [])
-
-    def _machine_of(self, parent: ua.NodeId) -> str:
-        for name, nodes in self._machines.items():
-            if nodes.root == parent:
-                return name
-        raise LookupError(parent)
-
-    async def _call(self, parent: ua.NodeId, call: Any) -> ua.StatusCode | list[ua.Variant]:
-        try:
-            machine = self._machine_of(parent)
-            await call(machine)
-        except LookupError:
-            return ua.StatusCode(ua.StatusCodes.BadNodeIdUnknown)
-        except PermissionError:
-            return _DENIED
-        except (FocasError, ValueError, TypeError) as exc:
-            status = getattr(exc, "opcua_status", None)
-            if isinstance(status, OpcUaStatus):
-                return ua.StatusCode(status.value)
-            return ua.StatusCode(ua.StatusCodes.BadInvalidArgument)
-        return []
-
-    async def _write_macro(
-        self, parent: ua.NodeId, number: ua.Variant, value: ua.Variant, path: ua.Variant
-    ) -> ua.StatusCode | list[ua.Variant]:
-        writer = self._writer
-        assert writer is not None
-        decimal = Decimal(repr(float(value.Value)))
-        return await self._call(
-            parent, lambda m: writer.write_macro(m, int(number.Value), decimal, int(path.Value))
-        )
-
-    async def _write_param(
-        self, parent: ua.NodeId, number: ua.Variant, axis: ua.Variant, value: ua.Variant
-    ) -> ua.StatusCode | list[ua.Variant]:
-        writer = self._writer
-        assert writer is not None
-        return await self._call(
-            parent,
-            lambda m: writer.write_param(m, int(number.Value), int(value.Value), int(axis.Value)),
-        )
-
-    async def _write_pmc(
-        self, parent: ua.NodeId, area: ua.Variant, address: ua.Variant, value: ua.Variant
-    ) -> ua.StatusCode | list[ua.Variant]:
-        writer = self._writer
-        assert writer is not None
-        return await self._call(
-            parent,
-            lambda m: writer.write_pmc(m, str(area.Value), int(address.Value), int(value.Value)),
-        )
+        await self._conditions().quality(machine, _GOOD if online else _LOST, time, nodes.root)

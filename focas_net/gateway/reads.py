@@ -36,7 +36,6 @@ from __future__ import annotations
 import logging
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass
-from decimal import Decimal
 from typing import Any, Final
 
 from focas_net.client import (
@@ -150,7 +149,9 @@ def _timer(p: int, item: str) -> Callable[[Any], dict[Key, Outcome]]:
 
 
 def _scaled(increments: int, decimals: int) -> float:
-    return float(Decimal(increments).scaleb(-decimals))
+    """``increments / 10**decimals``, the float nearest the exact quotient (true division of
+    integers rounds once)."""
+    return increments / 10**decimals if decimals >= 0 else float(increments * 10**-decimals)
 
 
 def _text(raw: bytes) -> str:

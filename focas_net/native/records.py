@@ -377,3 +377,11 @@ class ScaledValues:
     def decode(cls, data: bytes) -> Self:
         check_multiple(data, SCALED_SIZE, "ScaledValues")
         return cls(ScaledNumber.decode_many(data))
+
+    @staticmethod
+    def mantissas(data: bytes, count: int) -> tuple[int, ...]:
+        """The mantissas of the first ``count`` records of ``data`` (all of them when it holds
+        fewer), the records not made: the positions of a path's axes in an answer sized for
+        the CNC's most axes, read at every poll."""
+        check_multiple(data, SCALED_SIZE, "ScaledValues")
+        return tuple(v[0] for v in ScaledNumber.STRUCT.iter_unpack(data[: count * SCALED_SIZE]))

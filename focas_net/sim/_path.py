@@ -715,7 +715,8 @@ class Path:
     def select_program(self, number: int) -> None:
         self.sync()
         if self.panel.mode not in (MEM, EDIT):
-            raise MachineError(EW.MODE, f"program search in mode {self.panel.mode}: MEM or EDIT")
+            mode = mode_name(self.panel.mode)
+            raise MachineError(EW.MODE, f"program search in {mode} mode: MEM or EDIT")
         try:
             self.engine.select_program(number)
         except ProgramError as exc:

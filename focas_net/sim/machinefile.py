@@ -212,6 +212,21 @@ def _bits(ctx: _Ctx, text: str) -> int:
     return value
 
 
+def _macro_pair(value: float) -> str:
+    """How a value written as a float is written in a machine file (`` (1.5 is [15, 1])``),
+    when a variable holds it; empty otherwise."""
+    if not math.isfinite(value) or abs(value) >= 1e10:
+        return ""
+    shown = Decimal(repr(value)).normalize()
+    exponent = shown.as_tuple().exponent
+    assert isinstance(exponent, int)
+    places = max(0, -exponent)
+    mcr = int(shown.scaleb(places))
+    if places > 9 or not _I32[0] <= mcr <= _I32[1]:
+        return ""
+    return f" ({value!r} is [{mcr}, {places}])"
+
+
 def _macros(ctx: _Ctx, value: Any) -> tuple[list[MacroRange], dict[int, Decimal]]:
     t = _table(ctx, value)
     _only(ctx, t, ("ranges", "values"))
@@ -240,7 +255,9 @@ def _macros(ctx: _Ctx, value: Any) -> tuple[list[MacroRange], dict[int, Decimal]
         if number in values:
             c.fail(f"#{number} is given twice")
         if not any(r.first <= number <= r.last for r in ranges):
-            c.fail(f"#{number} is in no macro range")
+            c.fail(f"#{number} is in no macro range" + ("" if ranges else " (ranges gives none)"))
+        if isinstance(raw, float):
+            c.fail(f"must be an integer or [mcr_val, dec_val]{_macro_pair(raw)}, got {raw!r}")
         if isinstance(raw, list):
             if len(raw) != 2:
                 c.fail("must be an integer or [mcr_val, dec_val]")

@@ -25,7 +25,7 @@ from decimal import Decimal
 from typing import Any, Final
 
 from focas_net._bits import bits_of_text
-from focas_net._typed import program_number
+from focas_net._typed import program_number, switch
 from focas_net.errors import EW, ew_name
 from focas_net.protocol import AutMode, FaultKind, FaultScope, InjectFault, alarm_message
 from focas_net.server.faults import FaultQueue, fault_refusal, parse_inject
@@ -246,11 +246,26 @@ def _mode(args: Mapping[str, Any]) -> int | None:
         raise ActionError(f"mode: {exc}") from None
 
 
+def _switch(args: Mapping[str, Any], key: str) -> int | None:
+    """A switch (PWE, the emergency stop, a PMC bit) as the command line takes it: 1/0, a
+    JSON ``true``/``false`` or ``on``/``off`` and the other words of :func:`switch` (None when
+    not given); another number is the machine's to refuse, with its range."""
+    value = args.get(key)
+    if isinstance(value, bool):
+        return int(value)
+    if isinstance(value, str) and value.strip() and not value.strip().lstrip("+-").isdigit():
+        try:
+            return int(switch(value))
+        except ValueError as exc:
+            raise ActionError(f"{key}: {exc}") from None
+    return _optional_int(args, key)
+
+
 def _panel(station: Station, args: Mapping[str, Any]) -> JsonDict:
     station.machine.set_panel(
         _mode(args),
-        _optional_int(args, "pwe"),
-        _optional_int(args, "emergency"),
+        _switch(args, "pwe"),
+        _switch(args, "emergency"),
         path=_path(args),
     )
     return {}
@@ -306,7 +321,7 @@ def _pmc_bit(station: Station, args: Mapping[str, Any]) -> JsonDict:
         raise ActionError(f"bit: 0..7, got {bit}")
     m.check_writable()
     (byte,) = m.read_pmc(area, address, 1)
-    value = _optional_int(args, "value")
+    value = _switch(args, "value")
     if value is None:
         byte ^= 1 << bit
     elif value in (0, 1):
