@@ -174,11 +174,12 @@ async def test_the_broker_sends_the_will_when_the_gateway_dies(broker: Broker) -
             await process.wait()
 
 
-async def test_a_broker_restart_loses_nothing_buffered(broker: Broker) -> None:
+async def test_a_broker_restart_loses_nothing_buffered_nor_retained(broker: Broker) -> None:
     async with sink_for(broker) as sink:
-        sink.samples([position("X", 1.0)])
-        await until_true(lambda: sink.published >= 2 and sink.pending == 0)
-        await broker.stop()
+        sink.described(SHAPE)
+        sink.samples([position("X", 1.0), position("Y", 5.0)])
+        await until_true(lambda: sink.published >= 4 and sink.pending == 0)
+        await broker.stop()  # and with it every retained message (no persistence)
         await until_true(lambda: not sink.connected)
 
         axes = [f"A{n}" for n in range(40)]
@@ -198,6 +199,10 @@ async def test_a_broker_restart_loses_nothing_buffered(broker: Broker) -> None:
             active = "focas/m1/path1/alarms/active"
             await seen.until(lambda s: s.latest(active) is not None)
             await seen.until(lambda s: s.latest("focas/$gateway/gw/state") == b"online")
+            # the rebirth: what the broker lost with its restart is published again
+            await seen.until(lambda s: s.latest("focas/m1/$model") is not None)
+            await seen.until(lambda s: s.latest("focas/m1/path1/absolute/Y") is not None)
+            assert value_of(seen.latest("focas/m1/path1/absolute/Y")).value == 5.0
         assert sink.dropped == 0 and sink.connections == 2
 
 

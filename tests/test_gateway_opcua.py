@@ -9,6 +9,7 @@ import math
 from dataclasses import replace
 from datetime import UTC, datetime
 
+import pytest
 from asyncua import Client, Node, ua
 from opcua_support import LATHE, MILL, Handler, cnc_path, connected, machine_node, running, sample
 
@@ -274,12 +275,31 @@ async def test_alarms_are_conditions_raised_and_cleared() -> None:
             root = await machine_node(client, "lathe")
             assert raised.SourceNode == root.nodeid
             sink.alarms([alarm(True, T0)])  # still in the list: nothing new
+            condition = client.get_node(raised.NodeId)
+            acknowledge = ua.NodeId(ua.ObjectIds.AcknowledgeableConditionType_Acknowledge)
+            seen = ua.LocalizedText("seen at the machine")
+            with pytest.raises(ua.uaerrors.BadEventIdUnknown):
+                await condition.call_method(
+                    acknowledge, ua.Variant(b"old", ua.VariantType.ByteString), seen
+                )
+            await condition.call_method(
+                acknowledge, ua.Variant(raised.EventId, ua.VariantType.ByteString), seen
+            )
+            acked = await handler.event()
+            assert getattr(acked, "AckedState/Id") is True
+            assert getattr(acked, "ActiveState/Id") is True and acked.Retain is True
+            with pytest.raises(ua.uaerrors.BadConditionBranchAlreadyAcked):
+                await condition.call_method(
+                    acknowledge, ua.Variant(acked.EventId, ua.VariantType.ByteString), seen
+                )
             sink.alarms([alarm(False, T0 + 3)])
             cleared = await handler.event()
             assert cleared.ConditionName == "PS0010"
             assert getattr(cleared, "ActiveState/Id") is False
             assert cleared.Retain is False
             assert cleared.NodeId == raised.NodeId
+            with pytest.raises(ua.uaerrors.BadNodeIdUnknown):  # no condition any more
+                await condition.read_browse_name()
             assert handler.events.empty()
             await sub.delete()
 

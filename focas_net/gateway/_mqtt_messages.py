@@ -81,8 +81,12 @@ def iso_time(time: float) -> str:
     return stamp.removesuffix("+00:00") + "Z"
 
 
+#: One encoder for every payload (``json.dumps`` with options would build one per call).
+_ENCODER: Final = json.JSONEncoder(separators=(",", ":"), ensure_ascii=False, allow_nan=False)
+
+
 def _dumps(document: object) -> bytes:
-    return json.dumps(document, separators=(",", ":"), ensure_ascii=False, allow_nan=False).encode()
+    return _ENCODER.encode(document).encode()
 
 
 def _loads(payload: bytes) -> dict[str, Any]:
@@ -405,6 +409,7 @@ class Publication:
         """The samples that pass the change filter, each on its value topic, retained."""
         messages: list[Message] = []
         lost = self._lost
+        read_at, stamp = math.nan, ""
         for s in samples:
             if lost:
                 lost.discard(s.machine)  # read again: the next loss marks its values again
@@ -420,7 +425,9 @@ class Publication:
                 continue
             unit = _unit(row)
             published[topic] = (value, status, unit)
-            payload = ValuePayload(value, unit, status, iso_time(s.time))
+            if s.time != read_at:  # the samples of one read share their time
+                read_at, stamp = s.time, iso_time(s.time)
+            payload = ValuePayload(value, unit, status, stamp)
             message = Message(topic, payload.encode(), True)
             messages.append(message)
             self._retained[topic] = message

@@ -1,7 +1,9 @@
 """FANUC alarms as OPC UA alarm conditions of OPC 40502's ``CncAlarmType`` (a subtype of
 ``DiscreteAlarmType``): raised when an alarm enters a path's active list, cleared when it leaves
-it, sent again with a Bad quality while its machine is lost. Each event is notified by the
-machine's object and by the Server object (``docs/gateway.md``, Alarms)."""
+it, sent again with a Bad quality while its machine is lost, acknowledged by a client with the
+standard ``Acknowledge`` method. Each event is notified by the machine's object and by the
+Server object; each active condition is an object of the address space (its ConditionId) that
+the machine's object references with HasCondition (``docs/gateway.md``, Alarms)."""
 
 from __future__ import annotations
 
@@ -23,6 +25,7 @@ __all__ = ["ALARM_SEVERITY", "Conditions", "condition_name"]
 ALARM_SEVERITY: Final = 700
 
 _GOOD: Final = ua.StatusCode(ua.StatusCodes.Good)
+_ACKNOWLEDGE: Final = ua.NodeId(ua.ObjectIds.AcknowledgeableConditionType_Acknowledge)
 #: The built-in types of the data types asyncua's event fields name by node id.
 _BUILT_IN: Final = {
     ua.ObjectIds.UtcTime: ua.VariantType.DateTime,
@@ -46,6 +49,9 @@ class Conditions:
         self._server, self._ns, self._cnc = server, ns, cnc
         #: The event each active alarm was raised with (its fields move with it).
         self._active: dict[tuple[str, int, int, int, int], Any] = {}
+        #: The active conditions by ConditionId.
+        self._by_id: dict[ua.NodeId, Any] = {}
+        server.iserver.isession.add_method_callback(_ACKNOWLEDGE, self._acknowledge)
 
     async def apply(self, changes: Sequence[AlarmChange], roots: dict[str, ua.NodeId]) -> None:
         """Raise or clear a condition for each change of a machine in ``roots`` (its object)."""
@@ -59,10 +65,14 @@ class Conditions:
                 if ev is not None:
                     continue
                 ev = self._active[key] = self._new(c, root)
+                self._by_id[ev.NodeId] = ev
+                await self._add_node(ev, root)
             elif ev is None:
                 continue
             else:
                 del self._active[key]
+                del self._by_id[ev.NodeId]
+                await self._server.delete_nodes([self._server.get_node(ev.NodeId)])
             ev.ActiveState = ua.LocalizedText("Active" if c.active else "Inactive")
             setattr(ev, "ActiveState/Id", c.active)
             setattr(ev, "ActiveState/TransitionTime", datetime.fromtimestamp(c.time, UTC))
@@ -77,6 +87,38 @@ class Conditions:
             if key[0] == machine:
                 ev.Quality = quality
                 await self._trigger(ev, time, root)
+
+    async def _add_node(self, ev: Any, root: ua.NodeId) -> None:
+        """The condition's object, which ``Acknowledge`` is called on."""
+        item = ua.AddNodesItem(
+            ParentNodeId=root,
+            ReferenceTypeId=ua.NodeId(ua.ObjectIds.HasCondition),
+            RequestedNewNodeId=ev.NodeId,
+            BrowseName=ua.QualifiedName(ev.ConditionName, self._ns),
+            NodeClass=ua.NodeClass.Object,
+            NodeAttributes=ua.ObjectAttributes(DisplayName=ua.LocalizedText(ev.ConditionName)),
+            TypeDefinition=ua.NodeId(CncId.ALARM_TYPE, self._cnc),
+        )
+        for result in await self._server.iserver.isession.add_nodes([item]):
+            result.StatusCode.check()
+
+    async def _acknowledge(self, condition: ua.NodeId, event_id: Any, comment: Any) -> Any:
+        """``Acknowledge(EventId, Comment)`` on an active condition: its AckedState becomes
+        Acknowledged and the condition is sent again (FANUC's alarm stays until the control
+        drops it)."""
+        ev = self._by_id.get(condition)
+        if ev is None:
+            return ua.StatusCode(ua.StatusCodes.BadConditionIdUnknown)
+        if event_id.Value != ev.EventId:
+            return ua.StatusCode(ua.StatusCodes.BadEventIdUnknown)
+        if getattr(ev, "AckedState/Id"):
+            return ua.StatusCode(ua.StatusCodes.BadConditionBranchAlreadyAcked)
+        ev.AckedState = ua.LocalizedText("Acknowledged")
+        setattr(ev, "AckedState/Id", True)
+        if isinstance(comment.Value, ua.LocalizedText):
+            ev.Comment = comment.Value
+        await self._trigger(ev, datetime.now(UTC).timestamp(), ev.SourceNode)
+        return []
 
     def _new(self, c: AlarmChange, source: ua.NodeId) -> Any:
         """An alarm condition event of ``CncAlarmType``, raised."""

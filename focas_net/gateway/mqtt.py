@@ -9,10 +9,11 @@ broker connects again with a growing delay, the buffer kept (within its bound: t
 dropped and counted, and the count is published on ``P/$gateway/G/dropped``). Messages taken
 from the buffer and not confirmed when the connection broke go back to its front: delivery is
 at least once (an alarm event may come twice after a broker loss, never not at all within the
-bound). After drops, the whole retained state (every machine's latest ``$model``,
-availability, values and active alarm lists, which :class:`~._mqtt_messages.Publication`
-keeps) is published again on the next connection, so only superseded values and alarm events
-are lost. A clean stop publishes what waits (for at most ``close_timeout`` seconds, if the
+bound). On every connection after the first, and after drops, the whole retained state
+(every machine's latest ``$model``, availability, values and active alarm lists, which
+:class:`~._mqtt_messages.Publication` keeps) is published again, as a rebirth: a broker that
+restarted without its retained messages gets them back, and drops lose only superseded values
+and alarm events. A clean stop publishes what waits (for at most ``close_timeout`` seconds, if the
 broker is there), then ``offline`` itself, then disconnects.
 """
 
@@ -206,9 +207,10 @@ class MqttSink:
             self.connected = True
             self.connections += 1
             await self._publish(client, self.publication.birth())
-            if self._buffer.dropped != self._dropped_resynced:
-                # messages were lost: publish the whole retained state again, in place of the
-                # retained messages waiting (the state holds them too)
+            if self.connections > 1 or self._buffer.dropped != self._dropped_resynced:
+                # connected again (the broker may have restarted without its retained
+                # messages) or messages were dropped: publish the whole retained state again,
+                # in place of the retained messages waiting (the state holds them too)
                 self._dropped_resynced = self._buffer.dropped
                 self._buffer.discard_retained()
                 self._resync = deque(self.publication.retained())
