@@ -42,6 +42,7 @@ import contextlib
 import heapq
 import itertools
 import logging
+import math
 import time
 from collections import deque
 from collections.abc import Callable, Sequence
@@ -83,6 +84,8 @@ Client = FocasClient | NativeClient
 _ALARMS: Final = "alarms"
 _CONNECT: Final = "connect"  # (a heap entry: try to connect again)
 _GROUPS: Final = (Group.FAST.value, Group.SLOW.value, _ALARMS)
+#: The status of the items of an answer that could not be converted.
+_UNDECODED: Final = ProtocolError.opcua_status
 
 
 def reason_of(exc: BaseException) -> str:
@@ -361,11 +364,18 @@ class Poller:
             if st.client.state is not ClientState.CONNECTED:
                 await st.client.connect()
             reader = await describe(st.config, st.client)
-        except (FocasError, OSError) as exc:
+        except Exception as exc:  # (any failure: tried again after the policy's delay)
             st.failure = reason_of(exc)
             st.next_attempt = self.clock() + self.policy.delay(st.attempts)
             st.attempts += 1
-            _log.info("%s: %s", st.config.name, st.failure)
+            unexpected = not isinstance(exc, FocasError | OSError)
+            _log.log(
+                logging.ERROR if unexpected else logging.INFO,
+                "%s: %s",
+                st.config.name,
+                st.failure,
+                exc_info=exc if unexpected else None,
+            )
         else:
             st.reader, st.failure, st.attempts = reader, None, 0
         finally:
@@ -430,7 +440,10 @@ class Poller:
             now = self.clock()
             if out.read is None:
                 if error is None:
-                    changes.extend(self._alarm_changes(st, out.path, result, now))
+                    try:
+                        changes.extend(self._alarm_changes(st, out.path, result, now))
+                    except Exception:  # (an answer that is no alarm list: the list is kept)
+                        _log.exception("%s: path %d: alarm list not read", st.config.name, out.path)
                 continue
             # A read is known by its first key (each key is one read's). The clients make
             # one result per answer bytes (made once): the same object as last time is the
@@ -441,7 +454,7 @@ class Poller:
                     if st.results.get(tag) is result:
                         continue
                     st.results[tag] = result
-                values: dict[Key, Outcome] = out.read.values(result)
+                values = _converted(st, out.read, result)
             else:
                 if tag is not None:
                     st.results.pop(tag, None)
@@ -459,7 +472,8 @@ class Poller:
     def _changed(
         self, st: _Station, key: Key, value: Value, status: OpcUaStatus, now: float
     ) -> Sample | None:
-        if st.last.get(key) == (value, status):
+        last = st.last.get(key)
+        if last is not None and last[1] == status and _same(last[0], value):
             return None
         return self._sample(st, key, value, status, now)
 
@@ -493,20 +507,46 @@ class Poller:
             return
         now = self.clock()
         for sink in self.sinks:
-            try:
-                for shape in described:
-                    sink.described(shape)
-                for name, up, reason in online:
-                    sink.online(name, up, reason, now)
-                if samples:
-                    sink.samples(samples)
-                if changes:
-                    sink.alarms(changes)
-            except Exception:
-                _log.exception("sink %r failed", sink)
+            for shape in described:
+                _call(sink, "described", shape)
+            for name, up, reason in online:
+                _call(sink, "online", name, up, reason, now)
+            if samples:
+                _call(sink, "samples", samples)
+            if changes:
+                _call(sink, "alarms", changes)
 
 
 def _item_error(exc: BaseException) -> bool:
     """Whether ``exc`` is of one read (an EW code, a call the transport lacks, an item with
     no value now), not of the connection."""
     return isinstance(exc, CncError | NativeUnsupportedError | Unavailable)
+
+
+def _call(sink: Sink, method: str, *args: Any) -> None:
+    """``sink.method(*args)``; what it raises is logged (the sink breaks its contract, the
+    poller goes on and the sink's other calls are made)."""
+    try:
+        getattr(sink, method)(*args)
+    except Exception:
+        _log.exception("sink %r failed in %s()", sink, method)
+
+
+def _same(last: Value, value: Value) -> bool:
+    """Whether ``value`` is the value sent last: NaN is the same as NaN (it would otherwise be
+    sent again on every read), and a value of another type is another value (True is not 1)."""
+    if type(last) is not type(value):
+        return False
+    if isinstance(value, float) and isinstance(last, float) and math.isnan(value):
+        return math.isnan(last)
+    return last == value
+
+
+def _converted(st: _Station, read: Read, result: object) -> dict[Key, Outcome]:
+    """The values of ``read``'s ``result``; an answer its conversion cannot read (a value out
+    of every range the conversion knows) gives its items BadDecodingError, logged."""
+    try:
+        return read.values(result)
+    except Exception:
+        _log.exception("%s: an answer for %s not converted", st.config.name, read.keys[:1])
+        return dict.fromkeys(read.keys, _UNDECODED)
