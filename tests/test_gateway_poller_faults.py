@@ -9,10 +9,10 @@ import asyncio
 import logging
 import math
 from collections.abc import Sequence
-from typing import Any
+from typing import Any, Literal
 
 import pytest
-from support import serving
+from support import LoopbackPeer, serving
 from test_gateway_poller import QUICK, RecordingSink, all_online, config, until
 
 from focas_net.client import NativeClient, ReconnectPolicy, StartedCall
@@ -166,3 +166,63 @@ async def test_leaving_the_poller_leaves_no_task_behind() -> None:
         assert all(
             poller.client(m).state.value in ("closed", "disconnected") for m in poller.machines
         )
+
+
+class Silent(LoopbackPeer):
+    """A peer that accepts TCP and never answers (a hung control); ``asked`` counts the
+    connections and the requests it got."""
+
+    def __init__(self) -> None:
+        self.asked = 0
+
+    async def _serve(self, reader: asyncio.StreamReader, writer: asyncio.StreamWriter) -> None:
+        self.asked += 1
+        while await reader.read(4096):  # until the client gives up
+            self.asked += 1
+        writer.close()
+
+
+class Garbage(Silent):
+    """A peer that answers every request with bytes of no protocol."""
+
+    async def _serve(self, reader: asyncio.StreamReader, writer: asyncio.StreamWriter) -> None:
+        self.asked += 1
+        while await reader.read(4096):
+            self.asked += 1
+            writer.write(b"\xff\x00garbage\x00\x00\x00\x08" * 4)
+        writer.close()
+
+
+#: Attempts 5 s apart on the poller's clock.
+SLOW = ReconnectPolicy(initial_delay=5.0, max_delay=5.0, jitter=0.0)
+
+
+@pytest.mark.parametrize("peer", [Silent, Garbage])
+@pytest.mark.parametrize("protocol", ["native", "packed"])
+async def test_a_hung_or_garbled_machine_is_lost_and_the_others_deliver(
+    peer: type[Silent], protocol: Literal["native", "packed"]
+) -> None:
+    clock = ManualClock(1_000.0)
+    sink = RecordingSink()
+    async with serving() as good, peer() as bad:
+        machines = [
+            config("good", good.port),
+            MachineConfig("bad", "127.0.0.1", bad.port, protocol, timeout=0.2),
+        ]
+        async with Poller(machines, [sink], clock=clock.now, policy=SLOW) as poller:
+            await until(poller, clock, lambda: poller.is_online("bad") is False)
+            await until(poller, clock, lambda: poller.is_online("good") is True)
+            await poller.step()
+            assert (1, "mode", "") in sink.of("good")
+            assert not sink.of("bad")
+            ((_, up, reason),) = [s for s in sink.states if s[0] == "bad"]
+            assert not up and reason.split(":")[0] in ("timeout", "protocol", "closed", "reset")
+            before = bad.asked
+            good.machine.set_overrides(spindle=130)
+            clock.advance(1.0)
+            await poller.step()  # the bad machine's attempt is not due: not tried again
+            assert sink.of("good")[(1, "spindle_override", "")].value == 130
+            assert bad.asked == before
+            clock.advance(5.0)
+            await until(poller, clock, lambda: bad.asked > before)  # tried again, by itself
+            assert poller.is_online("good")
