@@ -60,6 +60,10 @@ BAD: list[tuple[str, tuple[str, ...]]] = [
     (ONE + "[machine.writes]\npmc = ['R9-R0']", ("writes.pmc[1]", "first <= last")),
     (ONE + "[machine.writes]\npmc = ['R0-D9']", ("writes.pmc[1]", "one area")),
     (ONE + "[machine.writes]\npmc = ['R']", ("writes.pmc[1]: got 'R'",)),
+    (ONE + "[machine.writes]\npmc = ['R\u0661\u0662']", ("writes.pmc[1]: got 'R\u0661\u0662'",)),
+    (ONE + "[machine.writes]\npmc = ['R0-R65536']", ("writes.pmc[1]", "65535")),
+    (ONE + "[machine.writes]\npmc = ['R" + "9" * 5000 + "']", ("writes.pmc[1]: got 'R99",)),
+    (ONE + "port = " + "9" * 5000, ("plant.toml: not TOML", "5000 digits")),
     (
         ONE + "[machine.writes]\nmacro = [[1, 2]]",
         ("machine[1].writes.macro: unknown key", "'macros'"),

@@ -49,7 +49,7 @@ MAX_FLEET: Final = 10_000
 _NAME: Final = re.compile(r"[A-Za-z0-9_.-]{1,64}")
 _NAME_TEXT: Final = "a name of 1..64 letters, digits, '-', '_' or '.'"
 _PROTOCOLS: Final = ("native", "packed")
-_PMC_RANGE: Final = re.compile(r"([A-Za-z])(\d+)(?:-([A-Za-z]?)(\d+))?")
+_PMC_RANGE: Final = re.compile(r"([A-Za-z])([0-9]{1,9})(?:-([A-Za-z]?)([0-9]{1,9}))?")
 _PMC_LAST_BYTE: Final = 0xFFFF
 
 
@@ -181,7 +181,7 @@ def parse_config(
     if isinstance(data, str):
         try:
             data = tomllib.loads(data)
-        except tomllib.TOMLDecodeError as exc:
+        except ValueError as exc:  # (TOMLDecodeError, or an integer of too many digits)
             top.fail(f"not TOML: {exc}")
     doc = top.table(data, _TOP)
     base = folder if folder is not None else Path()
