@@ -200,8 +200,9 @@ SLOW = ReconnectPolicy(initial_delay=5.0, max_delay=5.0, jitter=0.0)
 @pytest.mark.parametrize("peer", [Silent, Garbage])
 @pytest.mark.parametrize("protocol", ["native", "packed"])
 async def test_a_hung_or_garbled_machine_is_lost_and_the_others_deliver(
-    peer: type[Silent], protocol: Literal["native", "packed"]
+    peer: type[Silent], protocol: Literal["native", "packed"], caplog: pytest.LogCaptureFixture
 ) -> None:
+    caplog.set_level(logging.INFO, "focas_net.gateway.poller")
     clock = ManualClock(1_000.0)
     sink = RecordingSink()
     async with serving() as good, peer() as bad:
@@ -216,6 +217,7 @@ async def test_a_hung_or_garbled_machine_is_lost_and_the_others_deliver(
             assert (1, "mode", "") in sink.of("good")
             assert not sink.of("bad")
             ((_, up, reason),) = [s for s in sink.states if s[0] == "bad"]
+            assert f"bad: lost ({reason})" in caplog.messages
             assert not up and reason.split(":")[0] in ("timeout", "protocol", "closed", "reset")
             before = bad.asked
             good.machine.set_overrides(spindle=130)

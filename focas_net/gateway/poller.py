@@ -506,6 +506,8 @@ class Poller:
         if not (described or online or samples or changes):
             return
         now = self.clock()
+        for name, up, reason in online:
+            _log.info("%s: %s", name, "online" if up else f"lost ({reason})")
         for sink in self.sinks:
             for shape in described:
                 _call(sink, "described", shape)
