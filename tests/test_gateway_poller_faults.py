@@ -68,6 +68,19 @@ async def test_a_sink_that_raises_is_logged_and_misses_nothing_else(
     assert any("SamplesFailSink" in m and "alarms" in m for m in failures)
 
 
+def polling_with(
+    kind: type[NativeClient], port: int, sink: RecordingSink, clock: ManualClock, policy: Any
+) -> Poller:
+    """A poller of machine "one" on ``port`` through a client of class ``kind``."""
+
+    def client_of(c: MachineConfig, p: ReconnectPolicy) -> NativeClient:
+        return kind(c.host, c.port, timeout=c.timeout, reconnect=p)
+
+    return Poller(
+        [config("one", port)], [sink], clock=clock.now, policy=policy, client_of=client_of
+    )
+
+
 class Garbled(NativeClient):
     """A client whose shape read fails with what no client's error is (a bug, a garbled
     answer decoded into nonsense), counting the attempts."""
@@ -85,13 +98,8 @@ async def test_an_unexpected_error_in_the_shape_read_is_a_failure_tried_again_la
     Garbled.attempts = 0
     policy = ReconnectPolicy(initial_delay=5.0, max_delay=5.0, jitter=0.0)
 
-    def client_of(c: MachineConfig, p: ReconnectPolicy) -> NativeClient:
-        return Garbled(c.host, c.port, timeout=c.timeout, reconnect=p)
-
     async with serving() as one:
-        async with Poller(
-            [config("one", one.port)], [sink], clock=clock.now, policy=policy, client_of=client_of
-        ) as poller:
+        async with polling_with(Garbled, one.port, sink, clock, policy) as poller:
             await until(poller, clock, lambda: poller.is_online("one") is False)
             for _ in range(20):  # the clock stands still: no attempt is due
                 await poller.step()
@@ -117,13 +125,8 @@ async def test_an_answer_that_cannot_be_converted_gives_its_items_a_bad_status()
     clock = ManualClock(1_000.0)
     sink = RecordingSink()
 
-    def client_of(c: MachineConfig, p: ReconnectPolicy) -> NativeClient:
-        return BadDynamic(c.host, c.port, timeout=c.timeout, reconnect=p)
-
     async with serving() as one:
-        async with Poller(
-            [config("one", one.port)], [sink], clock=clock.now, policy=QUICK, client_of=client_of
-        ) as poller:
+        async with polling_with(BadDynamic, one.port, sink, clock, QUICK) as poller:
             await until(poller, clock, all_online(poller))
             await poller.step()
             got = sink.of("one")
