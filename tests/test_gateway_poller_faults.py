@@ -231,3 +231,31 @@ async def test_a_hung_or_garbled_machine_is_lost_and_the_others_deliver(
             clock.advance(5.0)
             await until(poller, clock, lambda: bad.asked > before)  # tried again, by itself
             assert poller.is_online("good")
+
+
+async def test_the_wall_clock_set_back_holds_no_poll_back() -> None:
+    timer = ManualClock(50.0)
+    wall = [1_000_000.0]
+    sink = RecordingSink()
+    async with serving() as one:
+        machines = [config("one", one.port)]
+        async with Poller(
+            machines, [sink], clock=lambda: wall[0], timer=timer.now, policy=QUICK
+        ) as poller:
+            await until(poller, timer, all_online(poller))
+            await poller.step()
+            assert sink.of("one")[(1, "mode", "")].time == 1_000_000.0  # the wall clock's
+            wall[0] -= 3600.0  # set back an hour
+            one.machine.set_overrides(spindle=130)
+            timer.advance(1.0)
+            await poller.step()  # due a second later on the timer
+            got = sink.of("one")[(1, "spindle_override", "")]
+            assert (got.value, got.time) == (130, 1_000_000.0 - 3600.0)
+
+
+def test_the_default_timer_is_monotonic_beside_the_wall_clock() -> None:
+    import time
+
+    assert Poller([], []).timer is time.monotonic
+    clock = ManualClock(5.0)
+    assert Poller([], [], clock=clock.now).timer == clock.now

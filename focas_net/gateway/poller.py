@@ -31,8 +31,10 @@ nothing more of it until it is back.
 :class:`AlarmChange` events; the list is kept across an outage, so an alarm that cleared
 meanwhile is told as cleared.
 
-Time is the injected ``clock`` (seconds since the epoch by default): the samples' times and
-the due times. Tests step the poller by hand (:meth:`Poller.step`) on a clock they move.
+Time is two injected clocks: ``clock`` (seconds since the epoch by default) gives the samples'
+times, ``timer`` (``time.monotonic`` by default) the due times, so that the wall clock set back
+(an edge box's first NTP sync, a daylight-saving mistake) never holds the polls back. Tests
+step the poller by hand (:meth:`Poller.step`) on a clock they move, which is then both.
 """
 
 from __future__ import annotations
@@ -150,7 +152,8 @@ class _Out:
 class Poller:
     """Reads ``machines`` and tells ``sinks`` (see the module docstring).
 
-    ``clock`` gives the time in seconds (the samples' times, the due times); ``policy`` is
+    ``clock`` gives the samples' times (seconds since the epoch), ``timer`` the due times (by
+    default ``time.monotonic`` with the default ``clock``, else ``clock`` itself); ``policy`` is
     every client's reconnect policy and the delays between first connection attempts;
     ``client_of(config, policy)`` builds a machine's client (by default a
     :class:`NativeClient` or a :class:`FocasClient` as its ``protocol`` says).
@@ -165,6 +168,7 @@ class Poller:
         sinks: Sequence[Sink],
         *,
         clock: Callable[[], float] = time.time,
+        timer: Callable[[], float] | None = None,
         policy: ReconnectPolicy = DEFAULT_POLICY,
         client_of: Callable[[MachineConfig, ReconnectPolicy], Client] = client_for,
     ) -> None:
@@ -173,6 +177,7 @@ class Poller:
             raise ValueError("machine names must be unique")
         self.sinks = list(sinks)
         self.clock = clock
+        self.timer = timer if timer is not None else _timer_of(clock)
         self.policy = policy
         self._stations = {m.name: _Station(m, client_of(m, policy)) for m in machines}
         for st in self._stations.values():
@@ -252,7 +257,7 @@ class Poller:
             if self._ready or self._wake.is_set():
                 continue
             with contextlib.suppress(TimeoutError):
-                async with asyncio.timeout(max(0.0, due - self.clock())):
+                async with asyncio.timeout(max(0.0, due - self.timer())):
                     await self._wake.wait()
 
     async def step(self) -> float:
@@ -272,7 +277,7 @@ class Poller:
         """The machines whose connection changed (announced), then the groups due (started);
         the next due time. Only what changed or is due is looked at: the turn costs what it
         does, not the number of machines."""
-        now = self.clock()
+        now = self.timer()
         heap = self._heap
         due: list[tuple[_Station, str]] = []
         while heap and heap[0][0] <= now:
@@ -326,8 +331,9 @@ class Poller:
                 for group in _GROUPS:
                     self._push(now, st, group)
                 online.append((st.config.name, True, ""))
+                stamp = self.clock()
                 samples.extend(
-                    self._sample(st, key, None, NOT_SUPPORTED, now)
+                    self._sample(st, key, None, NOT_SUPPORTED, stamp)
                     for key in st.reader.unsupported()
                 )
             return
@@ -366,7 +372,7 @@ class Poller:
             reader = await describe(st.config, st.client)
         except Exception as exc:  # (any failure: tried again after the policy's delay)
             st.failure = reason_of(exc)
-            st.next_attempt = self.clock() + self.policy.delay(st.attempts)
+            st.next_attempt = self.timer() + self.policy.delay(st.attempts)
             st.attempts += 1
             unexpected = not isinstance(exc, FocasError | OSError)
             _log.log(
@@ -421,7 +427,7 @@ class Poller:
             st = out.station
             left = st.pending[out.group] = st.pending[out.group] - 1
             if not left and st.online and st.reader is not None:
-                self._push(st.due.get(out.group, self.clock()), st, out.group)
+                self._push(st.due.get(out.group, self.timer()), st, out.group)
             call = out.alarms if out.read is None else out.read.call
             result: Any = None
             error: BaseException | None = None
@@ -552,3 +558,9 @@ def _converted(st: _Station, read: Read, result: object) -> dict[Key, Outcome]:
     except Exception:
         _log.exception("%s: an answer for %s not converted", st.config.name, read.keys[:1])
         return dict.fromkeys(read.keys, _UNDECODED)
+
+
+def _timer_of(clock: Callable[[], float]) -> Callable[[], float]:
+    """The due times' clock beside ``clock``: the monotonic clock beside the wall clock, a
+    test's clock beside itself."""
+    return time.monotonic if clock is time.time else clock
