@@ -70,6 +70,10 @@ BAD: list[tuple[str, tuple[str, ...]]] = [
     ),
     ("[[fleet]]\nname_prefix='f'\nhost='h'\nfirst_port=65535\ncount=2", ("fleet[1].count: got 2",)),
     ("[[fleet]]\nname_prefix='f'\nhost='h'\nfirst_port=1\ncount=0", ("fleet[1].count: got 0",)),
+    (
+        f"[[fleet]]\nname_prefix='{'p' * 59}'\nhost='h'\nfirst_port=1\ncount=10000",
+        ("fleet[1].name_prefix: got 'ppp", "the last name", "64"),
+    ),
     ("[[fleet]]\nname_prefix='f'\nhost='h'\ncount=2", ("fleet[1].first_port: missing",)),
     (
         ONE.replace("mill-1", "f-0002")

@@ -293,10 +293,19 @@ def _fleet(at: At, value: Mapping[str, Any], defaults: GroupIntervals) -> list[M
             f"got {count}; expected at most {0xFFFF - first + 1} (from first_port {first} "
             f"the last machine would get port {first + count - 1})"
         )
+    last = _fleet_name(prefix, count)
+    if not _NAME.fullmatch(last):
+        at.key("name_prefix").expected(
+            prefix, f"a shorter prefix: the last name, {last!r}, is over 64 characters"
+        )
     out = _common(at, table, defaults)
     return [
-        MachineConfig(name=f"{prefix}-{i + 1:04d}", port=first + i, **out) for i in range(count)
+        MachineConfig(name=_fleet_name(prefix, i + 1), port=first + i, **out) for i in range(count)
     ]
+
+
+def _fleet_name(prefix: str, number: int) -> str:
+    return f"{prefix}-{number:04d}"
 
 
 def _ranges(at: At, value: object, low: int, high: int) -> tuple[tuple[int, int], ...]:
