@@ -82,6 +82,8 @@ BAD: list[tuple[str, tuple[str, ...]]] = [
     ),
     (ONE + "[mqtt]\nport = 0", ("mqtt.port: got 0",)),
     (ONE + "[mqtt]\nqos = 3", ("mqtt.qos: got 3", "0..2")),
+    (ONE + "[mqtt]\nprefix = '$SYS/x'", ("mqtt.prefix: got '$SYS/x'", "a '$' first")),
+    (ONE + "[mqtt]\nprefix = 'a/'", ("mqtt.prefix: got 'a/'", "'/' at either end")),
     (ONE + "[mqtt]\nprefix = 'a/#'", ("mqtt.prefix: got 'a/#'",)),
     (ONE + "[mqtt]\npasword = 'x'", ("mqtt.pasword: unknown key", "'password'")),
     (ONE + "[mqtt]\npassword_env = 'FOCAS_NET_NO_SUCH_VARIABLE'", ("FOCAS_NET_NO_SUCH_VARIABLE",)),

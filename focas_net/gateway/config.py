@@ -26,6 +26,7 @@ from focas_net.client._values import I16_MAX, check_path
 from focas_net.protocol import PmcArea
 
 from ._keys import At, ConfigError
+from ._mqtt_messages import _check_prefix as check_prefix
 from .model import ITEMS
 
 __all__ = [
@@ -375,18 +376,11 @@ def _mqtt(at: At, value: object) -> MqttSettings:
     if "port" in table:
         out["port"] = at.key("port").checked(table["port"], check_port, "a port 1..65535")
     if "prefix" in table:
-        prefix = table["prefix"]
-        if (
-            not isinstance(prefix, str)
-            or not prefix
-            or any(c in prefix for c in "+#\x00")
-            or prefix.startswith("/")
-            or prefix.endswith("/")
-        ):
-            at.key("prefix").expected(
-                prefix, "a topic prefix without '+', '#' or a '/' at either end"
-            )
-        out["prefix"] = prefix
+        pat, prefix = at.key("prefix"), table["prefix"]
+        what = "a topic prefix without '+', '#', a '$' first or a '/' at either end"
+        if not isinstance(prefix, str) or prefix.startswith("/") or prefix.endswith("/"):
+            pat.expected(prefix, what)
+        out["prefix"] = pat.checked(prefix, check_prefix, what)  # (the publisher's own check)
     for key in ("client_id", "username"):
         if key in table:
             out[key] = at.key(key).text(table[key], "a non-empty string")
