@@ -14,11 +14,11 @@ from pathlib import Path
 
 import pytest
 from cli_support import at, fails, ok
-from support import IO_TIMEOUT, LoopbackPeer, Served
+from support import IO_TIMEOUT, LoopbackPeer, Served, serving
 
 from focas_net.cli import EXIT_CNC, EXIT_PROTOCOL, EXIT_USAGE
 from focas_net.client import FocasClient, NativeClient
-from focas_net.sim import MachineError
+from focas_net.sim import MachineError, load_machine
 from focas_net.web import ActionError, Station, perform
 
 #: The transports, as the command line chooses them.
@@ -243,3 +243,33 @@ async def test_an_argument_too_many_is_shown_as_typed(
         EXIT_USAGE, "pmc", "bit", "R", "0.1", "1", extra, *at(server), prefix="focas-net"
     )
     assert f"error: unrecognized arguments: {shown}; see focas-net pmc bit --help" in line, line
+
+
+# -- --path of a path the CNC has not, for the reads no path changes ------------------------------
+
+
+@pytest.mark.parametrize("protocol", PROTOCOLS)
+@pytest.mark.parametrize(
+    "command", [["sysinfo"], ["pmc", "read", "R", "0", "1"], ["alarms", "--history", "5"]]
+)
+async def test_a_path_the_cnc_has_not_is_ew_path_for_every_command(
+    server: Served, protocol: list[str], command: list[str]
+) -> None:
+    """``sysinfo --path 2`` on a machine of one path answered as if path 2 were there, while
+    ``status --path 2`` said EW_PATH."""
+    line = await fails(EXIT_CNC, *command, "--path", "2", *protocol, *at(server))
+    assert line == (
+        "focas-net: EW_PATH (11): path number error (cnc_setpath); the CNC has no path 2 (--path "
+        "names one of its paths; a CNC of one path has path 1)"
+    )
+
+
+#: The example machine of two paths.
+LATHE = Path(__file__).resolve().parent.parent / "examples" / "lathe_2path.toml"
+
+
+async def test_the_second_path_of_a_lathe_is_read() -> None:
+    machine = load_machine(LATHE)
+    async with serving(machine) as served:
+        for protocol in PROTOCOLS:
+            assert "cnc_type" in await ok("sysinfo", "--path", "2", *protocol, *at(served))

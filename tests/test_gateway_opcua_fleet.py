@@ -93,6 +93,8 @@ async def test_a_simulated_fleet_through_the_poller_to_an_opc_ua_client() -> Non
         mode = await cnc_path(client, root, "CncChannelList", "Channel_1", "ActOperationMode")
         for node in (feed, x2, pos, mode):
             assert (await status_of(node)).is_good(), node
+        status = await cnc_path(client, root, "CncChannelList", "Channel_1", "ActStatus")
+        assert await status.read_value() == 2  # Reset: the lathe is not running
         ns = await client.get_namespace_index("urn:focas-net:gateway")
         parts = await root.get_child([f"{ns}:Focas", f"{ns}:Path_2", f"{ns}:parts"])
         parts_status = await status_of(parts)  # (a slow item: Good or the EW of its read)

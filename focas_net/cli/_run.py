@@ -33,6 +33,7 @@ from focas_net.client import (
     ReconnectPolicy,
 )
 from focas_net.errors import (
+    EW,
     ChunkedWriteError,
     CncError,
     FocasConnectionError,
@@ -225,6 +226,7 @@ async def _session(
             path=getattr(args, "path", 1),
         )
         async with packed:
+            await _check_path(packed, args)
             return await (go.go(packed) if isinstance(go, PackedOnly) else go(packed))
     native = NativeClient(
         args.host,
@@ -234,7 +236,17 @@ async def _session(
         path=getattr(args, "path", 1),
     )
     async with native:
+        await _check_path(native, args)
         return await go(native)
+
+
+async def _check_path(client: CncClient, args: argparse.Namespace) -> None:
+    """``--path N`` (N above 1) on a CNC with fewer paths is EW_PATH for every command, as
+    ``cnc_setpath`` refuses it, also for the reads no path changes (``sysinfo``, ``pmc``,
+    the history), which would otherwise answer as though the path were there."""
+    path = getattr(args, "path", 1)
+    if path != 1 and path > (await client.read_paths()).count:
+        raise CncError.from_ew(EW.PATH, "cnc_setpath")
 
 
 def _protocol(args: argparse.Namespace) -> str:

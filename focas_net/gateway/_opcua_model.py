@@ -32,6 +32,7 @@ from focas_net.gateway._opcua_types import (
     eu_range,
 )
 from focas_net.gateway.model import ITEMS, MILLIMETRE, Item, MachineShape, Scope, Unit, Value
+from focas_net.protocol.values import AutMode, RunState
 
 __all__ = ["MachineNodes", "Target", "axis_names", "machine_nodes", "spindle_names"]
 
@@ -75,9 +76,23 @@ class MachineNodes:
 
 # --- conversions of FOCAS values into OPC 40502's ---------------------------------------------
 
-_OPERATION_MODE: Final = {"MDI": 1, "MEM": 2, "RMT": 2}
-_PROGRAM_STATUS: Final = {"****": 0, "STOP": 3, "HOLD": 3, "STRT": 1, "MSTR": 1}
-_CHANNEL_STATUS: Final = {"****": 2, "STOP": 1, "HOLD": 1, "STRT": 0, "MSTR": 0}
+# (the poller names the modes and run states as focas_net.protocol.values does: AutMode.MEM is
+# "MEM", RunState.RESET "RESET")
+_OPERATION_MODE: Final = {AutMode.MDI.name: 1, AutMode.MEM.name: 2, AutMode.RMT.name: 2}
+_PROGRAM_STATUS: Final = {
+    RunState.RESET.name: 0,  # Stopped
+    RunState.STOP.name: 3,  # Interrupted
+    RunState.HOLD.name: 3,
+    RunState.STRT.name: 1,  # Running
+    RunState.MSTR.name: 1,
+}
+_CHANNEL_STATUS: Final = {
+    RunState.RESET.name: 2,  # Reset
+    RunState.STOP.name: 1,  # Interrupted
+    RunState.HOLD.name: 1,
+    RunState.STRT.name: 0,  # Active
+    RunState.MSTR.name: 0,
+}
 
 
 def _operation_mode(value: Value) -> Value:
