@@ -17,6 +17,7 @@ Basic256Sha256 Sign and SignAndEncrypt endpoints, and the None endpoint only on 
 from __future__ import annotations
 
 import asyncio
+import gc
 import hmac
 import ipaddress
 import logging
@@ -47,6 +48,9 @@ log = logging.getLogger(__name__)
 
 #: The most samples queued for the server's task; older batches are dropped (and counted).
 QUEUE_LIMIT: Final = 1_000_000
+#: Nodes added, or samples applied, between two turns of the event loop: the server's work
+#: comes in slices of a few milliseconds, so the poller's reads are never held up for long.
+CHUNK: Final = 64
 
 _VALUE: Final = ua.AttributeIds.Value
 _GOOD: Final = ua.StatusCode(ua.StatusCodes.Good)
@@ -278,6 +282,7 @@ class OpcUaSink:
         made = await server.load_data_type_definitions()
         self._position_cls = made.get("CncPositionDataType") or ua.CncPositionDataType
         await server.start()
+        gc.freeze()  # the standard address space, for good (see _describe)
         self._server = server
         self._alarm_conditions = Conditions(server, self._ns, self._cnc)
         self._task = asyncio.create_task(self._run(), name="opcua-sink")
@@ -377,6 +382,7 @@ class OpcUaSink:
                     raise
                 except Exception:
                     log.exception("opcua: applying %s failed", kind)
+                await asyncio.sleep(0)  # the poller's task runs between two changes
             self._idle.set()
 
     def _conditions(self) -> Conditions:
@@ -397,7 +403,9 @@ class OpcUaSink:
         machines = self._live
         now = datetime.now(UTC)
         last, stamp = -1.0, now
-        for s in samples:
+        for i, s in enumerate(samples):
+            if i and not i % (16 * CHUNK):
+                await asyncio.sleep(0)
             live = machines.get(s.machine)
             if live is None:
                 continue
@@ -457,8 +465,10 @@ class OpcUaSink:
         self, server: Server, items: list[ua.AddNodesItem], refs: list[ua.AddReferencesItem]
     ) -> None:
         session = server.iserver.isession
-        for result in await session.add_nodes(items):
-            result.StatusCode.check()
+        for first in range(0, len(items), CHUNK):
+            for result in await session.add_nodes(items[first : first + CHUNK]):
+                result.StatusCode.check()
+            await asyncio.sleep(0)  # (a machine's nodes take tens of ms: let the poller run)
         if refs:
             for status in await session.add_references(refs):
                 status.check()
@@ -485,6 +495,11 @@ class OpcUaSink:
         await self._add(server, items, refs)
         if self._writer is not None:
             await add_write_methods(server.get_node(nodes.root), self._ns, self._writer, shape.name)
+        # The address space's nodes (tens of thousands of objects a machine) live as long as the
+        # server: taken out of the collector's generations, they no longer make every full
+        # collection scan them (which took most of a machine's build and held the loop for up
+        # to a second with 50 machines).
+        gc.freeze()
         live = _Live(server, nodes, self._position_cls)
         await self._set_all(live, _Value(_NULL, _WAITING, None, datetime.now(UTC)))
         self._live[shape.name] = live
