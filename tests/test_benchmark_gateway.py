@@ -30,7 +30,7 @@ def test_checks_hold_the_gateway_to_half_a_core_and_three_times_the_library() ->
         FWLIB_POOL: [_window(FWLIB_POOL, 5.0, fast=90, skipped=10)],  # the cheaper, late
     }
     verdicts = {c.name: (c.verdict, c.detail) for c in checks(windows)}
-    assert verdicts["gateway <= 0.5 core"] == ("PASS", "0.200 core")
+    assert verdicts["gateway <= 0.5 core, at 99% of its polls"] == ("PASS", "0.200 core")
     name = "gateway >= 3 x less CPU than FANUC's library (its cheaper way)"
     assert verdicts[name] == ("FAIL", "2.50 x (fwlib-pool)")
     polls = "fwlib-pool: >= 99% of the polls due, no cycle overrun, no error"
@@ -57,9 +57,18 @@ def test_rows_give_each_subject_its_cores_and_the_gateway_its_floor() -> None:
     assert table["gateway_floor"].extra["fleet_cores"] == pytest.approx(0.2)
 
 
+def test_a_gateway_behind_its_polls_does_not_pass_on_its_cpu() -> None:
+    windows = {GATEWAY: [_window(GATEWAY, 2.0, fast=30)]}
+    verdicts = {c.name: (c.verdict, c.detail) for c in checks(windows)}
+    assert verdicts["gateway <= 0.5 core, at 99% of its polls"] == (
+        "FAIL",
+        "0.200 core at 30.0% of its polls",
+    )
+
+
 def test_checks_skip_what_was_not_measured() -> None:
     verdicts = {c.name: c.verdict for c in checks({FLOOR: [_window(FLOOR, 1.0)]})}
-    assert verdicts["gateway <= 0.5 core"] == "SKIP"
+    assert verdicts["gateway <= 0.5 core, at 99% of its polls"] == "SKIP"
     assert verdicts["gateway >= 3 x less CPU than FANUC's library (its cheaper way)"] == "SKIP"
 
 
