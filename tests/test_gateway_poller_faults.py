@@ -293,3 +293,19 @@ async def test_alarms_are_diffed_across_an_outage(protocol: Literal["native", "p
             assert {(c.alm_no, c.active) for c in sink.changes} == {(200, False), (300, True)}
     finally:
         await server.aclose()
+
+
+async def test_leaving_while_connecting_to_a_hung_machine_leaves_nothing_behind() -> None:
+    clock = ManualClock(1_000.0)
+    async with Silent() as hung:
+        machines = [MachineConfig("hung", "127.0.0.1", hung.port, "native", timeout=30.0)]
+        async with Poller(machines, [RecordingSink()], clock=clock.now, policy=QUICK) as poller:
+            await poller.step()  # the connection attempt starts, and hangs
+            for _ in range(200):
+                if hung.asked:
+                    break
+                await asyncio.sleep(0.01)
+            assert hung.asked  # connected, its first request unanswered
+        left = [t for t in asyncio.all_tasks() if t is not asyncio.current_task()]
+        assert left == []
+        assert poller.client("hung").state.value == "closed"
