@@ -24,7 +24,9 @@ machine's shape (:func:`~focas_net.gateway.reads.describe`). A machine is online
 after its shape was read (``described`` to the sinks the first time and whenever it changed,
 then ``online(True)``) until a read fails for want of a connection (refused, reset, closed, no
 answer in time) or its client is found reconnecting: then ``online(False, reason)`` and
-nothing more of it until it is back.
+nothing more of it until it is back. A read answered EW_SOCKET or EW_HANDLE (the handle is
+dead) is a lost connection too, as FANUC's practice has it: the client is closed (the handle
+freed) and a new one connects after the policy's delay.
 
 **Alarms.** Each path's active alarm list is diffed with the last one
 (:func:`~focas_net.client.alarm_changes`, the logic of :class:`AlarmProjection`) into
@@ -62,6 +64,7 @@ from focas_net.client import (
     alarm_changes,
 )
 from focas_net.errors import (
+    EW,
     OPCUA_GOOD,
     CncError,
     FocasError,
@@ -179,9 +182,11 @@ class Poller:
         self.clock = clock
         self.timer = timer if timer is not None else _timer_of(clock)
         self.policy = policy
+        self._client_of = client_of
         self._stations = {m.name: _Station(m, client_of(m, policy)) for m in machines}
         for st in self._stations.values():
             st.client.add_state_callback(partial(self._state_changed, st))
+        self._freeing: set[asyncio.Task[None]] = set()  # clients of dead handles, closing
         self._heap: list[tuple[float, int, _Station, str, int]] = []
         self._order = itertools.count()  # (ties in the heap never compare stations)
         self._dirty: set[_Station] = set(self._stations.values())
@@ -243,7 +248,9 @@ class Poller:
         if tasks:
             await asyncio.gather(*tasks, return_exceptions=True)
         await asyncio.gather(
-            *(s.client.aclose() for s in self._stations.values()), return_exceptions=True
+            *(s.client.aclose() for s in self._stations.values()),
+            *self._freeing,
+            return_exceptions=True,
         )
 
     async def run(self) -> None:
@@ -363,6 +370,20 @@ class Poller:
         st.last.clear()
         st.results.clear()
 
+    def _renew(self, st: _Station) -> None:
+        """Close ``st``'s client (its handle is dead) and give it a new one, connected after
+        the policy's delay."""
+        old = st.client
+        st.client = self._client_of(st.config, self.policy)
+        st.client.add_state_callback(partial(self._state_changed, st))
+        st.next_attempt = self.timer() + self.policy.delay(st.attempts)
+        st.attempts += 1
+        task = asyncio.get_running_loop().create_task(
+            old.aclose(), name=f"gateway free {st.config.name}"
+        )
+        self._freeing.add(task)
+        task.add_done_callback(self._freeing.discard)
+
     async def _connect(self, st: _Station) -> None:
         """Connect (unless connected) and read the shape; a failure is kept for the turn to
         announce, with the time of the next attempt."""
@@ -437,9 +458,11 @@ class Poller:
                 error = exc
             if out.epoch != st.epoch:
                 continue  # of a connection since lost
-            if error is not None and not _item_error(error):
+            if error is not None and (not _item_error(error) or _handle_dead(error)):
                 st.failure = reason_of(error)
                 self._lose(st)
+                if _handle_dead(error):
+                    self._renew(st)
                 self._dirty.add(st)
                 online.append((st.config.name, False, st.failure))
                 continue
@@ -529,6 +552,12 @@ def _item_error(exc: BaseException) -> bool:
     """Whether ``exc`` is of one read (an EW code, a call the transport lacks, an item with
     no value now), not of the connection."""
     return isinstance(exc, CncError | NativeUnsupportedError | Unavailable)
+
+
+def _handle_dead(exc: BaseException) -> bool:
+    """Whether ``exc`` is an EW code that says the connection is gone (EW_SOCKET, EW_HANDLE):
+    FANUC's practice is to free the handle and connect again."""
+    return isinstance(exc, CncError) and exc.ew in (EW.SOCKET, EW.HANDLE)
 
 
 def _call(sink: Sink, method: str, *args: Any) -> None:
