@@ -273,3 +273,16 @@ async def test_the_second_path_of_a_lathe_is_read() -> None:
     async with serving(machine) as served:
         for protocol in PROTOCOLS:
             assert "cnc_type" in await ok("sysinfo", "--path", "2", *protocol, *at(served))
+
+
+@pytest.mark.parametrize(
+    ("typed", "words"), [("", "not an integer: ''"), ("x", "not an integer: 'x'")]
+)
+async def test_a_width_that_is_no_number_is_worded_as_every_number(
+    server: Served, typed: str, words: str
+) -> None:
+    """``--width ''`` said argparse's "invalid int value: ''"."""
+    line = await fails(
+        EXIT_USAGE, "param", "set", "6711", "1", "--width", typed, *at(server), prefix="focas-net"
+    )
+    assert f"argument --width: {words};" in line, line

@@ -230,7 +230,7 @@ COMMANDS: Final[tuple[Cmd | Group, ...]] = (
                     _AXIS,
                     arg(
                         "--width",
-                        type=int,
+                        type=INT,
                         choices=(1, 2, 4),
                         help="value width in bytes (default: the width the CNC reports)",
                     ),

@@ -15,10 +15,12 @@ link then only moves bytes and time between B, one timer and the session:
 * one timer, armed no later than the earliest deadline the session has (moved only when an
   earlier one comes), ends what expired; a frame unanswered past its last deadline stays in
   flight, and its late answer, when it comes, is dropped and the queued frames go on the same
-  connection (answers come in order, and none is sent behind it). A call queued behind it
-  that reaches its deadline unsent, bytes no request asked for, or an answer the library
-  refuses end the connection, and the client reconnects as its policy says (calls still
-  queued wait for the next connection).
+  connection (answers come in order, and none is sent behind it). A call made behind it ends
+  the connection at once when the client has a reconnect policy (the call goes on the next
+  connection); without one, the call waits for the late answer, and reaching its deadline
+  unsent ends the connection. Bytes no request asked for, or an answer the library refuses,
+  end the connection too, and the client reconnects as its policy says (calls still queued
+  wait for the next connection).
 
 The session decides; the link turns each ended job into the call's result or exception.
 """
@@ -543,6 +545,11 @@ class NativeLink(CompositeCalls):
         job = session.submit(part, _NEVER if deadline is None else deadline, command_set, future)
         if job.ending is not None:
             self._complete([job])
+            return job
+        handle = self._handle
+        if session.overdue and self._policy is not None and handle is not None:
+            # a call waits behind an answer already late: a new pair carries it at once
+            self._lose(handle, "no answer within the timeout")
             return job
         if session.wake_at < self._timer_at:
             self._arm(session.wake_at)
