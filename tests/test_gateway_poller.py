@@ -178,6 +178,31 @@ async def test_every_item_of_every_path_once_then_only_changes() -> None:
 _MOVING = {"power_on_time"}
 
 
+async def test_the_machines_first_polls_are_spread_over_each_interval() -> None:
+    clock = ManualClock(1_000.0)
+    async with serving(default_machine()) as mill:
+        machines = [config(f"m{i}", mill.port) for i in range(4)]  # fast 1 s, slow 10 s
+        async with polling(machines, clock) as (poller, sink):
+            await until(poller, clock, all_online(poller))  # (the clock stands still)
+
+            def read(item: str) -> set[str]:
+                return {s.machine for s in sink.got if s.item.name == item}
+
+            fast: list[set[str]] = []
+            for _ in range(4):  # the k-th of 4 machines: k/4 of the fast interval later
+                await poller.step()
+                fast.append(read("mode"))
+                assert read("parts") == {"m0"}
+                clock.advance(0.25)
+            assert fast == [{"m0"}, {"m0", "m1"}, {"m0", "m1", "m2"}, {"m0", "m1", "m2", "m3"}]
+            slow: list[set[str]] = []
+            for _ in range(3):  # and k/4 of the slow interval later
+                clock.advance(2.5)
+                await poller.step()
+                slow.append(read("parts"))
+            assert slow == [{"m0", "m1"}, {"m0", "m1", "m2"}, {"m0", "m1", "m2", "m3"}]
+
+
 async def test_alarms_raised_and_cleared_are_events_of_their_path() -> None:
     clock = ManualClock(1_000.0)
     async with AsyncExitStack() as stack:
