@@ -196,7 +196,8 @@ async def test_a_running_plant_to_opc_ua_and_mqtt_at_once_lost_and_back(
         assert (await status_of(x2)).is_good()
 
         async def mill_feed_is_good() -> bool:  # (the mill's polls are staggered after the lathe's)
-            return (await status_of(mill_feed)).is_good()
+            good: bool = (await status_of(mill_feed)).is_good()
+            return good
 
         await eventually(mill_feed_is_good, "the mill's feed Good over OPC UA")
         feed_topic = "focas/lathe/path2/feed"
