@@ -259,3 +259,53 @@ def test_the_default_timer_is_monotonic_beside_the_wall_clock() -> None:
     assert Poller([], []).timer is time.monotonic
     clock = ManualClock(5.0)
     assert Poller([], [], clock=clock.now).timer == clock.now
+
+
+@pytest.mark.parametrize("protocol", ["native", "packed"])
+async def test_alarms_are_diffed_across_an_outage(protocol: Literal["native", "packed"]) -> None:
+    from focas_net.server import FocasServer
+    from focas_net.sim import default_machine
+
+    clock = ManualClock(1_000.0)
+    sink = RecordingSink()
+    machine = default_machine()
+    machine.raise_alarm(0, 1, 100, "STAYS")
+    machine.raise_alarm(0, 1, 200, "CLEARED MEANWHILE")
+    server = FocasServer(machine, host="127.0.0.1", port=0, grace_period=0.5)
+    await server.start()
+    port = server.listeners[0].address[1]
+    try:
+        machines = [config("one", port, protocol)]
+        async with Poller(machines, [sink], clock=clock.now, policy=QUICK) as poller:
+            await until(poller, clock, all_online(poller))
+            await poller.step()
+            assert {(c.alm_no, c.active) for c in sink.changes} == {(100, True), (200, True)}
+            await server.aclose()
+            await until(poller, clock, lambda: poller.is_online("one") is False, 1.0)
+            machine.clear_alarms()
+            machine.raise_alarm(0, 1, 100, "STAYS")
+            machine.raise_alarm(0, 1, 300, "RAISED MEANWHILE")
+            sink.clear()
+            server = FocasServer(machine, host="127.0.0.1", port=port, grace_period=0.5)
+            await server.start()
+            await until(poller, clock, lambda: poller.is_online("one") is True, 1.0)
+            await until(poller, clock, lambda: bool(sink.changes), 1.0)
+            assert {(c.alm_no, c.active) for c in sink.changes} == {(200, False), (300, True)}
+    finally:
+        await server.aclose()
+
+
+async def test_leaving_while_connecting_to_a_hung_machine_leaves_nothing_behind() -> None:
+    clock = ManualClock(1_000.0)
+    async with Silent() as hung:
+        machines = [MachineConfig("hung", "127.0.0.1", hung.port, "native", timeout=30.0)]
+        async with Poller(machines, [RecordingSink()], clock=clock.now, policy=QUICK) as poller:
+            await poller.step()  # the connection attempt starts, and hangs
+            for _ in range(200):
+                if hung.asked:
+                    break
+                await asyncio.sleep(0.01)
+            assert hung.asked  # connected, its first request unanswered
+        left = [t for t in asyncio.all_tasks() if t is not asyncio.current_task()]
+        assert left == []
+        assert poller.client("hung").state.value == "closed"
