@@ -19,7 +19,7 @@ from collections.abc import Mapping
 from dataclasses import dataclass, field, replace
 from pathlib import Path
 from typing import Any, Final, Literal
-from urllib.parse import urlsplit
+from urllib.parse import urlsplit, urlunsplit
 
 from focas_net.client._address import check_host, check_port
 from focas_net.client._values import I16_MAX, check_path
@@ -319,8 +319,11 @@ def parse_config(
 def shard(config: GatewayConfig, index: int, count: int) -> GatewayConfig:
     """Shard ``index`` of ``count`` (1 <= index <= count): machines ``index``, ``index +
     count``, ... of the file, 1-based (round robin, so that each shard gets its share of every
-    ``[[fleet]]``). Each machine is in exactly one shard. Raises :class:`ConfigError` for a
-    bad shard or one with no machine."""
+    ``[[fleet]]``). Each machine is in exactly one shard. Of several shards, shard ``index``
+    serves OPC UA on the endpoint's port + ``index - 1`` and connects to the MQTT broker as
+    ``client_id-index`` (when the file names a client id), so that the shards of one file run
+    side by side on one host. Raises :class:`ConfigError` for a bad shard, one with no machine
+    or one whose port would pass 65535."""
     if isinstance(count, bool) or not isinstance(count, int) or count < 1:
         raise ConfigError(f"--shard {index}/{count}: the number of shards must be 1 or more")
     if isinstance(index, bool) or not isinstance(index, int) or not 1 <= index <= count:
@@ -330,7 +333,22 @@ def shard(config: GatewayConfig, index: int, count: int) -> GatewayConfig:
         raise ConfigError(
             f"--shard {index}/{count}: no machine (the file has {len(config.machines)})"
         )
-    return replace(config, machines=machines)
+    if count == 1:
+        return replace(config, machines=machines)
+    opcua, mqtt = config.opcua, config.mqtt
+    if opcua is not None:
+        parts = urlsplit(opcua.endpoint)
+        port = (parts.port or 0) + index - 1
+        if port > 65535:
+            raise ConfigError(
+                f"--shard {index}/{count}: the OPC UA port of this shard, {parts.port} + "
+                f"{index - 1}, passes 65535 (opcua.endpoint {opcua.endpoint!r})"
+            )
+        netloc = f"{parts.netloc.rsplit(':', 1)[0]}:{port}"
+        opcua = replace(opcua, endpoint=urlunsplit(parts._replace(netloc=netloc)))
+    if mqtt is not None and mqtt.client_id is not None:
+        mqtt = replace(mqtt, client_id=f"{mqtt.client_id}-{index}")
+    return replace(config, machines=machines, opcua=opcua, mqtt=mqtt)
 
 
 def _unique(machines: list[MachineConfig], where_of: dict[str, At], at: At) -> None:
