@@ -19,8 +19,9 @@ from support import Served
 from focas_net._typed import decimal_number, typed_number, whole_number
 from focas_net.cli import EXIT_USAGE
 from focas_net.client._values import macro_write, param_int
+from focas_net.protocol import AutMode
 from focas_net.sim import default_machine
-from focas_net.web import ActionError, Station, perform
+from focas_net.web import ActionError, Station, parse_web_address, perform
 
 _EXPONENT = "(no exponent: write the digits)"
 _NOT_FINITE = "(no NaN or infinity: write the digits)"
@@ -157,3 +158,16 @@ async def test_a_parameter_value_with_an_exponent_is_refused_on_every_front_end(
     line = await fails(EXIT_USAGE, "param", "set", "1420", typed, "--axis", "1", *at(server))
     assert line == f"focas-net: {verdict}"
     assert machine.read_param(1420, 1) == before
+
+
+def test_digits_of_other_scripts_are_no_number_where_a_name_may_stand() -> None:
+    """A mode, a fault kind and a port may be typed as a name or a number: ``'\u0663'`` was
+    read as 3 (``str.isdigit`` takes every script's digits)."""
+    with pytest.raises(ValueError, match="unknown AutMode"):
+        AutMode.parse("\u0663")
+    assert AutMode.parse("3") is AutMode.EDIT
+    with pytest.raises(ActionError, match=r"kind: one of .*, got '\u0661'"):
+        perform(Station(0, default_machine()), "inject_fault", {"kind": "\u0661", "count": "1"})
+    with pytest.raises(ValueError, match="the port must be a number"):
+        parse_web_address("\u0668\u0660")
+    assert parse_web_address("80")[1] == 80

@@ -372,13 +372,18 @@ def _select_program(station: Station, args: Mapping[str, Any]) -> JsonDict:
     return {}
 
 
+def _digits(text: str) -> bool:
+    """Whether ``text`` is ASCII digits only (a number, not a name)."""
+    return text.isascii() and text.isdigit()
+
+
 def _inject_fault(station: Station, args: Mapping[str, Any]) -> JsonDict:
     """Arm a machine-wide fault with the checks of 0x0E05 inject_fault: a refused argument is
     ``EW_DATA`` with the reason :func:`~focas_net.server.faults.fault_refusal` gives every
     front end."""
     kind_text = _text(args, "kind").strip().upper()
     try:
-        kind = FaultKind[kind_text] if not kind_text.isdigit() else FaultKind(int(kind_text))
+        kind = FaultKind[kind_text] if not _digits(kind_text) else FaultKind(int(kind_text))
     except (KeyError, ValueError):
         names = ", ".join(k.name for k in FaultKind)
         raise ActionError(f"kind: one of {names}, got {kind_text!r}") from None
