@@ -115,3 +115,27 @@ async def test_it_polls_until_told_to_stop(tmp_path: Path, signum: signal.Signal
         assert proc.returncode == EXIT_OK, err
         assert out == b""
         assert b"Traceback" not in err
+
+
+def test_log_level_is_focas_nets_and_other_libraries_stay_at_warning() -> None:
+    import logging
+
+    from focas_net.cli.gateway_cmd import log_to_stderr
+
+    root, ours = logging.getLogger(), logging.getLogger("focas_net")
+    saved = (root.level, list(root.handlers), ours.level)
+    root.handlers.clear()
+    try:
+        log_to_stderr("INFO")
+        assert ours.getEffectiveLevel() == logging.INFO
+        assert logging.getLogger("focas_net.gateway.poller").isEnabledFor(logging.INFO)
+        assert not logging.getLogger("asyncua.server").isEnabledFor(logging.INFO)
+        assert logging.getLogger("asyncua.server").isEnabledFor(logging.WARNING)
+        root.handlers.clear()
+        log_to_stderr("ERROR")
+        assert not ours.isEnabledFor(logging.WARNING)
+        assert not logging.getLogger("asyncua").isEnabledFor(logging.WARNING)
+    finally:
+        root.handlers[:] = saved[1]
+        root.setLevel(saved[0])
+        ours.setLevel(saved[2])

@@ -60,12 +60,20 @@ BAD: list[tuple[str, tuple[str, ...]]] = [
     (ONE + "[machine.writes]\npmc = ['R9-R0']", ("writes.pmc[1]", "first <= last")),
     (ONE + "[machine.writes]\npmc = ['R0-D9']", ("writes.pmc[1]", "one area")),
     (ONE + "[machine.writes]\npmc = ['R']", ("writes.pmc[1]: got 'R'",)),
+    (ONE + "[machine.writes]\npmc = ['R\u0661\u0662']", ("writes.pmc[1]: got 'R\u0661\u0662'",)),
+    (ONE + "[machine.writes]\npmc = ['R0-R65536']", ("writes.pmc[1]", "65535")),
+    (ONE + "[machine.writes]\npmc = ['R" + "9" * 5000 + "']", ("writes.pmc[1]: got 'R99",)),
+    (ONE + "port = " + "9" * 5000, ("plant.toml: not TOML", "5000 digits")),
     (
         ONE + "[machine.writes]\nmacro = [[1, 2]]",
         ("machine[1].writes.macro: unknown key", "'macros'"),
     ),
     ("[[fleet]]\nname_prefix='f'\nhost='h'\nfirst_port=65535\ncount=2", ("fleet[1].count: got 2",)),
     ("[[fleet]]\nname_prefix='f'\nhost='h'\nfirst_port=1\ncount=0", ("fleet[1].count: got 0",)),
+    (
+        f"[[fleet]]\nname_prefix='{'p' * 59}'\nhost='h'\nfirst_port=1\ncount=10000",
+        ("fleet[1].name_prefix: got 'ppp", "the last name", "64"),
+    ),
     ("[[fleet]]\nname_prefix='f'\nhost='h'\ncount=2", ("fleet[1].first_port: missing",)),
     (
         ONE.replace("mill-1", "f-0002")
@@ -74,6 +82,8 @@ BAD: list[tuple[str, tuple[str, ...]]] = [
     ),
     (ONE + "[mqtt]\nport = 0", ("mqtt.port: got 0",)),
     (ONE + "[mqtt]\nqos = 3", ("mqtt.qos: got 3", "0..2")),
+    (ONE + "[mqtt]\nprefix = '$SYS/x'", ("mqtt.prefix: got '$SYS/x'", "a '$' first")),
+    (ONE + "[mqtt]\nprefix = 'a/'", ("mqtt.prefix: got 'a/'", "'/' at either end")),
     (ONE + "[mqtt]\nprefix = 'a/#'", ("mqtt.prefix: got 'a/#'",)),
     (ONE + "[mqtt]\npasword = 'x'", ("mqtt.pasword: unknown key", "'password'")),
     (ONE + "[mqtt]\npassword_env = 'FOCAS_NET_NO_SUCH_VARIABLE'", ("FOCAS_NET_NO_SUCH_VARIABLE",)),

@@ -1,5 +1,5 @@
 """The OPC UA model without a server: OPC 40502's ids and enumerations, UN/CEFACT unit ids,
-where each item of a machine goes, names of axes shared by paths, and the sink's bounded
+where each item of a machine goes, names of axes shared by paths, and the sink's coalescing
 queue."""
 
 from __future__ import annotations
@@ -67,13 +67,14 @@ def test_every_item_of_every_path_axis_and_spindle_has_a_variable() -> None:
     assert len(nodes.variables) == len(set(nodes.variables))
 
 
-def test_past_the_queue_limit_the_oldest_samples_are_dropped_and_counted() -> None:
-    sink = OpcUaSink(SETTINGS, queue_limit=5)
+def test_a_waiting_sample_is_replaced_by_the_newer_one_of_its_variable() -> None:
+    sink = OpcUaSink(SETTINGS)
     batch = [sample("lathe", 1, "feed", float(i)) for i in range(3)]
     sink.samples(batch)
     sink.samples(batch)
-    assert sink.dropped == 3  # 6 waiting: the first batch goes
-    sink.samples(batch)
-    assert sink.dropped == 6
+    assert sink.pending == 1 and sink.coalesced == 5  # one variable: its newest sample waits
+    sink.online("lathe", False, "connection lost", 0.0)
+    sink.samples([sample("lathe", 1, "feed", 9.0), sample("lathe", 2, "feed", 1.0)])
+    assert sink.pending == 2 and sink.coalesced == 6
     sink.samples([])
-    assert sink.dropped == 6
+    assert sink.pending == 2

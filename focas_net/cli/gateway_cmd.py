@@ -74,18 +74,15 @@ def register(subparsers: Any) -> None:
         default="WARNING",
         type=str.upper,
         choices=["DEBUG", "INFO", "WARNING", "ERROR", "CRITICAL"],
-        help="logging threshold on stderr (default %(default)s)",
+        help="logging threshold of focas-net's own messages on stderr (default "
+        "%(default)s; other libraries' from WARNING)",
     )
     p.set_defaults(func=run)
 
 
 def run(args: argparse.Namespace) -> int:
     """Entry point of ``focas-net gateway``; returns the exit code."""
-    logging.basicConfig(
-        level=getattr(logging, args.log_level),
-        format="%(asctime)s %(levelname)s %(name)s: %(message)s",
-        stream=sys.stderr,
-    )
+    log_to_stderr(args.log_level)
     try:
         config = load_config(args.config)
         if args.shard is not None:
@@ -94,6 +91,19 @@ def run(args: argparse.Namespace) -> int:
         print_error(str(exc), _ERROR_PREFIX)
         return EXIT_USAGE
     return asyncio.run(_serve(config, args.shard))
+
+
+def log_to_stderr(level: str) -> None:
+    """Log records of ``level`` and above of focas_net's loggers on standard error; other
+    libraries' (asyncua's, aiomqtt's) from WARNING, so that INFO tells the machines and the
+    outputs, not every node the OPC UA server adds."""
+    threshold = getattr(logging, level)
+    logging.basicConfig(
+        level=max(threshold, logging.WARNING),
+        format="%(asctime)s %(levelname)s %(name)s: %(message)s",
+        stream=sys.stderr,
+    )
+    logging.getLogger("focas_net").setLevel(threshold)
 
 
 def _ready_line(config: GatewayConfig, part: tuple[int, int] | None) -> str:

@@ -26,6 +26,7 @@ from focas_net.client._values import I16_MAX, check_path
 from focas_net.protocol import PmcArea
 
 from ._keys import At, ConfigError
+from ._mqtt_messages import _check_prefix as check_prefix
 from .model import ITEMS
 
 __all__ = [
@@ -49,7 +50,7 @@ MAX_FLEET: Final = 10_000
 _NAME: Final = re.compile(r"[A-Za-z0-9_.-]{1,64}")
 _NAME_TEXT: Final = "a name of 1..64 letters, digits, '-', '_' or '.'"
 _PROTOCOLS: Final = ("native", "packed")
-_PMC_RANGE: Final = re.compile(r"([A-Za-z])(\d+)(?:-([A-Za-z]?)(\d+))?")
+_PMC_RANGE: Final = re.compile(r"([A-Za-z])([0-9]{1,9})(?:-([A-Za-z]?)([0-9]{1,9}))?")
 _PMC_LAST_BYTE: Final = 0xFFFF
 
 
@@ -181,7 +182,7 @@ def parse_config(
     if isinstance(data, str):
         try:
             data = tomllib.loads(data)
-        except tomllib.TOMLDecodeError as exc:
+        except ValueError as exc:  # (TOMLDecodeError, or an integer of too many digits)
             top.fail(f"not TOML: {exc}")
     doc = top.table(data, _TOP)
     base = folder if folder is not None else Path()
@@ -293,10 +294,19 @@ def _fleet(at: At, value: Mapping[str, Any], defaults: GroupIntervals) -> list[M
             f"got {count}; expected at most {0xFFFF - first + 1} (from first_port {first} "
             f"the last machine would get port {first + count - 1})"
         )
+    last = _fleet_name(prefix, count)
+    if not _NAME.fullmatch(last):
+        at.key("name_prefix").expected(
+            prefix, f"a shorter prefix: the last name, {last!r}, is over 64 characters"
+        )
     out = _common(at, table, defaults)
     return [
-        MachineConfig(name=f"{prefix}-{i + 1:04d}", port=first + i, **out) for i in range(count)
+        MachineConfig(name=_fleet_name(prefix, i + 1), port=first + i, **out) for i in range(count)
     ]
+
+
+def _fleet_name(prefix: str, number: int) -> str:
+    return f"{prefix}-{number:04d}"
 
 
 def _ranges(at: At, value: object, low: int, high: int) -> tuple[tuple[int, int], ...]:
@@ -366,18 +376,11 @@ def _mqtt(at: At, value: object) -> MqttSettings:
     if "port" in table:
         out["port"] = at.key("port").checked(table["port"], check_port, "a port 1..65535")
     if "prefix" in table:
-        prefix = table["prefix"]
-        if (
-            not isinstance(prefix, str)
-            or not prefix
-            or any(c in prefix for c in "+#\x00")
-            or prefix.startswith("/")
-            or prefix.endswith("/")
-        ):
-            at.key("prefix").expected(
-                prefix, "a topic prefix without '+', '#' or a '/' at either end"
-            )
-        out["prefix"] = prefix
+        pat, prefix = at.key("prefix"), table["prefix"]
+        what = "a topic prefix without '+', '#', a '$' first or a '/' at either end"
+        if not isinstance(prefix, str) or prefix.startswith("/") or prefix.endswith("/"):
+            pat.expected(prefix, what)
+        out["prefix"] = pat.checked(prefix, check_prefix, what)  # (the publisher's own check)
     for key in ("client_id", "username"):
         if key in table:
             out[key] = at.key(key).text(table[key], "a non-empty string")

@@ -4,9 +4,12 @@ its alarms as alarm conditions, and, when the configuration allows writes, the w
 
 The poller calls :meth:`OpcUaSink.described`, :meth:`~OpcUaSink.online`,
 :meth:`~OpcUaSink.samples` and :meth:`~OpcUaSink.alarms` from its own task; each only queues
-the change (a bounded queue: past :data:`QUEUE_LIMIT` samples the oldest batches are dropped
-and counted) and the sink's task applies it to the address space, writing each variable's
-value in place (no network round trip, no deadband: every change is a data change).
+the change and the sink's task applies it to the address space, writing each variable's value
+in place (no network round trip, no deadband: every change is a data change). While the task
+is behind, each variable keeps only its newest sample waiting (a newer one replaces it, counted
+in :attr:`OpcUaSink.coalesced`): no sample is ever dropped, since the poller sends changes only
+and a dropped one would leave a stale value, and the queue is bounded by the number of
+variables.
 
 Security (``docs/gateway.md``, OPC UA): anonymous sessions only on a loopback endpoint and only
 while writes are off; users by name and password; with a certificate and a private key the
@@ -42,12 +45,10 @@ from focas_net.gateway._opcua_methods import add_write_methods
 from focas_net.gateway.config import OpcUaSettings
 from focas_net.gateway.model import AlarmChange, MachineShape, Sample, Writer
 
-__all__ = ["QUEUE_LIMIT", "OpcUaSink", "is_loopback"]
+__all__ = ["OpcUaSink", "is_loopback"]
 
 log = logging.getLogger(__name__)
 
-#: The most samples queued for the server's task; older batches are dropped (and counted).
-QUEUE_LIMIT: Final = 1_000_000
 #: Nodes added, or samples applied, between two turns of the event loop: the server's work
 #: comes in slices of a few milliseconds, so the poller's reads are never held up for long.
 CHUNK: Final = 64
@@ -58,6 +59,9 @@ _OUT_OF_RANGE: Final = ua.StatusCode(ua.StatusCodes.BadOutOfRange)
 _LOST: Final = ua.StatusCode(ua.StatusCodes.BadCommunicationError)
 _WAITING: Final = ua.StatusCode(ua.StatusCodes.BadWaitingForInitialData)
 _NULL: Final = ua.Variant(None)
+
+#: A variable's samples: machine, path, item and key (axis or spindle).
+_Key = tuple[str, int, str, str]
 
 
 def is_loopback(host: str | None) -> bool:
@@ -184,8 +188,8 @@ class OpcUaSink:
     """The OPC UA server of the gateway (``async with OpcUaSink(settings, writer) as sink``).
 
     ``writer`` (None: writes off) serves the write methods, which exist only when
-    ``settings.writes`` is true too. Past ``queue_limit`` samples waiting for the server's
-    task the oldest batches are dropped and counted in :attr:`dropped`. Raises
+    ``settings.writes`` is true too. A sample waiting for the server's task is replaced by a
+    newer one of the same variable (counted in :attr:`coalesced`), never dropped. Raises
     :class:`~focas_net.gateway._keys.ConfigError` (a ``ValueError``) for settings no client
     could use safely (see the module's docstring).
     """
@@ -194,8 +198,6 @@ class OpcUaSink:
         self,
         settings: OpcUaSettings,
         writer: Writer | None = None,
-        *,
-        queue_limit: int = QUEUE_LIMIT,
     ) -> None:
         url = urlparse(settings.endpoint)
         self._settings = settings
@@ -223,16 +225,16 @@ class OpcUaSink:
         self._online: dict[str, bool] = {}
         self._alarm_conditions: Conditions | None = None
         self._ops: deque[tuple[str, Any]] = deque()
-        self._queued = 0
-        self._limit = queue_limit
+        #: The variable of each sample waiting, and the run of samples in _ops holding it.
+        self._waiting: dict[_Key, dict[_Key, Sample]] = {}
         self._wake = asyncio.Event()
         self._idle = asyncio.Event()
         self._idle.set()
         self._task: asyncio.Task[None] | None = None
         self._status_cache: dict[int, ua.StatusCode] = {}
         self._position_cls: Any = None
-        #: Samples dropped because the queue was full.
-        self.dropped = 0
+        #: Samples replaced, while waiting, by a newer sample of the same variable.
+        self.coalesced = 0
         #: Samples written to the address space.
         self.applied = 0
 
@@ -336,18 +338,31 @@ class OpcUaSink:
     def samples(self, samples: Sequence[Sample]) -> None:
         if not samples:
             return
-        batch = tuple(samples)  # (the caller's sequence may change once this returns)
-        self._queued += len(batch)
-        self._push("samples", batch)
-        while self._queued > self._limit:
-            for i, (kind, old) in enumerate(self._ops):
-                if kind == "samples":
-                    del self._ops[i]
-                    self._queued -= len(old)
-                    self.dropped += len(old)
-                    break
-            else:
-                break
+        # The samples join the run of samples at the end of the queue (a new run after any
+        # other change, which keeps its place between them); a variable's older sample still
+        # waiting, in this run or an earlier one, is replaced.
+        run: dict[_Key, Sample] | None = None
+        if self._ops and self._ops[-1][0] == "samples":
+            run = self._ops[-1][1]
+        if run is None:
+            run = {}
+            self._push("samples", run)
+        waiting = self._waiting
+        for s in samples:
+            key = (s.machine, s.path, s.item.name, s.key)
+            held = waiting.get(key)
+            if held is not None:
+                self.coalesced += 1
+                if held is not run:
+                    del held[key]
+            run[key] = s
+            waiting[key] = run
+        self._wake.set()
+
+    @property
+    def pending(self) -> int:
+        """Samples waiting for the server's task (at most one per variable)."""
+        return len(self._waiting)
 
     def alarms(self, changes: Sequence[AlarmChange]) -> None:
         if changes:
@@ -368,8 +383,10 @@ class OpcUaSink:
                 kind, value = self._ops.popleft()
                 try:
                     if kind == "samples":
-                        self._queued -= len(value)
-                        await self.apply_samples(value)
+                        for key in value:
+                            del self._waiting[key]
+                        if value:
+                            await self.apply_samples(list(value.values()))
                     elif kind == "described":
                         await self._describe(value)
                     elif kind == "online":

@@ -31,8 +31,10 @@ nothing more of it until it is back.
 :class:`AlarmChange` events; the list is kept across an outage, so an alarm that cleared
 meanwhile is told as cleared.
 
-Time is the injected ``clock`` (seconds since the epoch by default): the samples' times and
-the due times. Tests step the poller by hand (:meth:`Poller.step`) on a clock they move.
+Time is two injected clocks: ``clock`` (seconds since the epoch by default) gives the samples'
+times, ``timer`` (``time.monotonic`` by default) the due times, so that the wall clock set back
+(an edge box's first NTP sync, a daylight-saving mistake) never holds the polls back. Tests
+step the poller by hand (:meth:`Poller.step`) on a clock they move, which is then both.
 """
 
 from __future__ import annotations
@@ -42,6 +44,7 @@ import contextlib
 import heapq
 import itertools
 import logging
+import math
 import time
 from collections import deque
 from collections.abc import Callable, Sequence
@@ -83,6 +86,8 @@ Client = FocasClient | NativeClient
 _ALARMS: Final = "alarms"
 _CONNECT: Final = "connect"  # (a heap entry: try to connect again)
 _GROUPS: Final = (Group.FAST.value, Group.SLOW.value, _ALARMS)
+#: The status of the items of an answer that could not be converted.
+_UNDECODED: Final = ProtocolError.opcua_status
 
 
 def reason_of(exc: BaseException) -> str:
@@ -147,7 +152,8 @@ class _Out:
 class Poller:
     """Reads ``machines`` and tells ``sinks`` (see the module docstring).
 
-    ``clock`` gives the time in seconds (the samples' times, the due times); ``policy`` is
+    ``clock`` gives the samples' times (seconds since the epoch), ``timer`` the due times (by
+    default ``time.monotonic`` with the default ``clock``, else ``clock`` itself); ``policy`` is
     every client's reconnect policy and the delays between first connection attempts;
     ``client_of(config, policy)`` builds a machine's client (by default a
     :class:`NativeClient` or a :class:`FocasClient` as its ``protocol`` says).
@@ -162,6 +168,7 @@ class Poller:
         sinks: Sequence[Sink],
         *,
         clock: Callable[[], float] = time.time,
+        timer: Callable[[], float] | None = None,
         policy: ReconnectPolicy = DEFAULT_POLICY,
         client_of: Callable[[MachineConfig, ReconnectPolicy], Client] = client_for,
     ) -> None:
@@ -170,6 +177,7 @@ class Poller:
             raise ValueError("machine names must be unique")
         self.sinks = list(sinks)
         self.clock = clock
+        self.timer = timer if timer is not None else _timer_of(clock)
         self.policy = policy
         self._stations = {m.name: _Station(m, client_of(m, policy)) for m in machines}
         for st in self._stations.values():
@@ -249,7 +257,7 @@ class Poller:
             if self._ready or self._wake.is_set():
                 continue
             with contextlib.suppress(TimeoutError):
-                async with asyncio.timeout(max(0.0, due - self.clock())):
+                async with asyncio.timeout(max(0.0, due - self.timer())):
                     await self._wake.wait()
 
     async def step(self) -> float:
@@ -269,7 +277,7 @@ class Poller:
         """The machines whose connection changed (announced), then the groups due (started);
         the next due time. Only what changed or is due is looked at: the turn costs what it
         does, not the number of machines."""
-        now = self.clock()
+        now = self.timer()
         heap = self._heap
         due: list[tuple[_Station, str]] = []
         while heap and heap[0][0] <= now:
@@ -323,8 +331,9 @@ class Poller:
                 for group in _GROUPS:
                     self._push(now, st, group)
                 online.append((st.config.name, True, ""))
+                stamp = self.clock()
                 samples.extend(
-                    self._sample(st, key, None, NOT_SUPPORTED, now)
+                    self._sample(st, key, None, NOT_SUPPORTED, stamp)
                     for key in st.reader.unsupported()
                 )
             return
@@ -361,11 +370,18 @@ class Poller:
             if st.client.state is not ClientState.CONNECTED:
                 await st.client.connect()
             reader = await describe(st.config, st.client)
-        except (FocasError, OSError) as exc:
+        except Exception as exc:  # (any failure: tried again after the policy's delay)
             st.failure = reason_of(exc)
-            st.next_attempt = self.clock() + self.policy.delay(st.attempts)
+            st.next_attempt = self.timer() + self.policy.delay(st.attempts)
             st.attempts += 1
-            _log.info("%s: %s", st.config.name, st.failure)
+            unexpected = not isinstance(exc, FocasError | OSError)
+            _log.log(
+                logging.ERROR if unexpected else logging.INFO,
+                "%s: %s",
+                st.config.name,
+                st.failure,
+                exc_info=exc if unexpected else None,
+            )
         else:
             st.reader, st.failure, st.attempts = reader, None, 0
         finally:
@@ -411,7 +427,7 @@ class Poller:
             st = out.station
             left = st.pending[out.group] = st.pending[out.group] - 1
             if not left and st.online and st.reader is not None:
-                self._push(st.due.get(out.group, self.clock()), st, out.group)
+                self._push(st.due.get(out.group, self.timer()), st, out.group)
             call = out.alarms if out.read is None else out.read.call
             result: Any = None
             error: BaseException | None = None
@@ -430,7 +446,10 @@ class Poller:
             now = self.clock()
             if out.read is None:
                 if error is None:
-                    changes.extend(self._alarm_changes(st, out.path, result, now))
+                    try:
+                        changes.extend(self._alarm_changes(st, out.path, result, now))
+                    except Exception:  # (an answer that is no alarm list: the list is kept)
+                        _log.exception("%s: path %d: alarm list not read", st.config.name, out.path)
                 continue
             # A read is known by its first key (each key is one read's). The clients make
             # one result per answer bytes (made once): the same object as last time is the
@@ -441,7 +460,7 @@ class Poller:
                     if st.results.get(tag) is result:
                         continue
                     st.results[tag] = result
-                values: dict[Key, Outcome] = out.read.values(result)
+                values = _converted(st, out.read, result)
             else:
                 if tag is not None:
                     st.results.pop(tag, None)
@@ -459,7 +478,8 @@ class Poller:
     def _changed(
         self, st: _Station, key: Key, value: Value, status: OpcUaStatus, now: float
     ) -> Sample | None:
-        if st.last.get(key) == (value, status):
+        last = st.last.get(key)
+        if last is not None and last[1] == status and _same(last[0], value):
             return None
         return self._sample(st, key, value, status, now)
 
@@ -492,21 +512,55 @@ class Poller:
         if not (described or online or samples or changes):
             return
         now = self.clock()
+        for name, up, reason in online:
+            _log.info("%s: %s", name, "online" if up else f"lost ({reason})")
         for sink in self.sinks:
-            try:
-                for shape in described:
-                    sink.described(shape)
-                for name, up, reason in online:
-                    sink.online(name, up, reason, now)
-                if samples:
-                    sink.samples(samples)
-                if changes:
-                    sink.alarms(changes)
-            except Exception:
-                _log.exception("sink %r failed", sink)
+            for shape in described:
+                _call(sink, "described", shape)
+            for name, up, reason in online:
+                _call(sink, "online", name, up, reason, now)
+            if samples:
+                _call(sink, "samples", samples)
+            if changes:
+                _call(sink, "alarms", changes)
 
 
 def _item_error(exc: BaseException) -> bool:
     """Whether ``exc`` is of one read (an EW code, a call the transport lacks, an item with
     no value now), not of the connection."""
     return isinstance(exc, CncError | NativeUnsupportedError | Unavailable)
+
+
+def _call(sink: Sink, method: str, *args: Any) -> None:
+    """``sink.method(*args)``; what it raises is logged (the sink breaks its contract, the
+    poller goes on and the sink's other calls are made)."""
+    try:
+        getattr(sink, method)(*args)
+    except Exception:
+        _log.exception("sink %r failed in %s()", sink, method)
+
+
+def _same(last: Value, value: Value) -> bool:
+    """Whether ``value`` is the value sent last: NaN is the same as NaN (it would otherwise be
+    sent again on every read), and a value of another type is another value (True is not 1)."""
+    if type(last) is not type(value):
+        return False
+    if isinstance(value, float) and isinstance(last, float) and math.isnan(value):
+        return math.isnan(last)
+    return last == value
+
+
+def _converted(st: _Station, read: Read, result: object) -> dict[Key, Outcome]:
+    """The values of ``read``'s ``result``; an answer its conversion cannot read (a value out
+    of every range the conversion knows) gives its items BadDecodingError, logged."""
+    try:
+        return read.values(result)
+    except Exception:
+        _log.exception("%s: an answer for %s not converted", st.config.name, read.keys[:1])
+        return dict.fromkeys(read.keys, _UNDECODED)
+
+
+def _timer_of(clock: Callable[[], float]) -> Callable[[], float]:
+    """The due times' clock beside ``clock``: the monotonic clock beside the wall clock, a
+    test's clock beside itself."""
+    return time.monotonic if clock is time.time else clock

@@ -39,24 +39,15 @@ class GatedWriter:
     async def write_macro(self, machine: str, number: int, value: Decimal, path: int) -> None:
         """``cnc_wrmacro`` of ``#number`` on ``path``, if ``writes.macros`` allows it."""
         config, client = self._machine(machine)
-        gates = config.writes.macros
-        if not any(a <= number <= b for a, b in gates):
-            raise PermissionError(
-                f"{machine}: writes.macros does not allow #{number} "
-                f"({_allowed(gates, 'macro variables')})"
-            )
+        _gate(machine, "macros", config.writes.macros, number, f"#{number}", "macro variables")
         await client.write_macro(number, value, path=path)
 
     async def write_param(self, machine: str, number: int, value: int, axis: int) -> None:
         """``cnc_wrparam`` of parameter ``number`` (``axis`` 0: not an axis parameter), if
         ``writes.params`` allows it."""
         config, client = self._machine(machine)
-        gates = config.writes.params
-        if not any(a <= number <= b for a, b in gates):
-            raise PermissionError(
-                f"{machine}: writes.params does not allow parameter {number} "
-                f"({_allowed(gates, 'parameters')})"
-            )
+        shown = f"parameter {number}"
+        _gate(machine, "params", config.writes.params, number, shown, "parameters")
         await client.write_param(number, value, axis=axis)
 
     async def write_pmc(self, machine: str, area: str, address: int, value: int) -> None:
@@ -74,5 +65,10 @@ class GatedWriter:
         await client.write_pmc(letter, address, bytes([byte]))
 
 
-def _allowed(gates: tuple[tuple[int, int], ...], what: str) -> str:
-    return f"allowed: {_ranges(gates)}" if gates else f"no {what} may be written"
+def _gate(
+    machine: str, key: str, gates: tuple[tuple[int, int], ...], number: int, shown: str, what: str
+) -> None:
+    """``PermissionError`` unless ``number`` is within one of ``gates`` (``writes.<key>``)."""
+    if not any(a <= number <= b for a, b in gates):
+        allowed = f"allowed: {_ranges(gates)}" if gates else f"no {what} may be written"
+        raise PermissionError(f"{machine}: writes.{key} does not allow {shown} ({allowed})")
