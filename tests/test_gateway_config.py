@@ -194,6 +194,27 @@ def test_shards_take_every_nth_machine_and_cover_the_file_once() -> None:
         shard(parse_config(ONE), 2, 2)
 
 
+def test_each_shard_has_its_own_opcua_port_and_mqtt_client_id() -> None:
+    outputs = "[mqtt]\nclient_id='plant'\n[opcua]\nendpoint='opc.tcp://[::1]:4840/focas_net/'\n"
+    text = "[[fleet]]\nname_prefix='m'\nhost='h'\nfirst_port=1000\ncount=4\n" + outputs
+    config = parse_config(text)
+    shards = [shard(config, i, 3) for i in (1, 2, 3)]
+    assert [s.opcua.endpoint for s in shards if s.opcua] == [
+        "opc.tcp://[::1]:4840/focas_net/",
+        "opc.tcp://[::1]:4841/focas_net/",
+        "opc.tcp://[::1]:4842/focas_net/",
+    ]
+    assert [s.mqtt.client_id for s in shards if s.mqtt] == ["plant-1", "plant-2", "plant-3"]
+    assert shard(config, 1, 1) == config  # one shard: the file as written
+    made_up = parse_config(text.replace("client_id='plant'\n", ""))
+    assert [shard(made_up, i, 2).mqtt for i in (1, 2)] == [made_up.mqtt] * 2  # (made up each)
+    top = parse_config(text.replace(":4840/", ":65534/"))
+    second = shard(top, 2, 3).opcua
+    assert second is not None and second.endpoint == "opc.tcp://[::1]:65535/focas_net/"
+    with pytest.raises(ConfigError, match="passes 65535"):
+        shard(top, 3, 3)
+
+
 def test_mqtt_and_opcua_settings(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
     (tmp_path / "server.pem").write_text("cert")
     (tmp_path / "server.key").write_text("key")

@@ -240,10 +240,10 @@ async def test_the_sink_never_raises_into_the_poller(broker: Broker) -> None:
 @pytest.mark.parametrize(
     ("changes", "says"),
     [
-        ({"prefix": "$plant"}, "mqtt.prefix '$plant'"),
-        ({"deadbands": {"feed": -1.0}}, "mqtt.deadbands.feed = -1.0"),
-        ({"qos": 3}, "mqtt.qos = 3"),
-        ({"buffer": 0}, "mqtt.buffer = 0"),
+        ({"prefix": "$plant"}, "mqtt.prefix: got '$plant'"),
+        ({"deadbands": {"feed": -1.0}}, "mqtt.deadbands.feed: got -1.0"),
+        ({"qos": 3}, "mqtt.qos: got 3"),
+        ({"buffer": 0}, "mqtt.buffer: got 0"),
     ],
 )
 def test_settings_it_cannot_use_are_a_config_error(changes: dict[str, object], says: str) -> None:

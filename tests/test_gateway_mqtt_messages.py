@@ -9,7 +9,6 @@ import subprocess
 import sys
 from urllib.parse import unquote
 
-import pytest
 from hypothesis import given
 from hypothesis import strategies as st
 
@@ -261,30 +260,6 @@ def test_discarding_the_waiting_retained_messages_keeps_the_events() -> None:
 
 def test_machine_items_sit_under_the_machine() -> None:
     assert publication().value_topic("m", 0, "x", "") == "focas/m/x"
-
-
-@pytest.mark.parametrize(
-    ("prefix", "deadbands", "says"),
-    [
-        ("", {}, "mqtt.prefix"),
-        ("a/+/b", {}, "mqtt.prefix"),
-        ("$SYS", {}, "mqtt.prefix"),
-        ("focas", {"mode": 1.0}, "mqtt.deadbands.mode: not a numeric item"),
-        ("focas", {"nope": 1.0}, "mqtt.deadbands.nope"),
-        ("focas", {"feed": -1.0}, "mqtt.deadbands.feed = -1.0"),
-        ("focas", {"feed": math.inf}, "not finite"),
-    ],
-)
-def test_prefix_and_deadbands_are_checked_naming_the_key(
-    prefix: str, deadbands: dict[str, float], says: str
-) -> None:
-    with pytest.raises(ValueError, match=says.replace("+", r"\+").replace(".", r"\.")):
-        Publication(prefix, "gw", deadbands)
-
-
-def test_buffer_bound_is_checked() -> None:
-    with pytest.raises(ValueError, match=r"mqtt\.buffer = 0"):
-        Buffer(0)
 
 
 # --- properties -------------------------------------------------------------------------------

@@ -303,8 +303,22 @@ async def test_alarms_are_conditions_raised_and_cleared() -> None:
             assert getattr(cleared, "ActiveState/Id") is False
             assert cleared.Retain is False
             assert cleared.NodeId == raised.NodeId
-            with pytest.raises(ua.uaerrors.BadNodeIdUnknown):  # no condition any more
-                await condition.read_browse_name()
+            # the condition's object stays, inactive, with nothing left to acknowledge
+            assert (await condition.read_browse_name()).Name == "PS0010"
+            with pytest.raises(ua.uaerrors.BadEventIdUnknown):
+                await condition.call_method(
+                    acknowledge, ua.Variant(cleared.EventId, ua.VariantType.ByteString), seen
+                )
+            assert handler.events.empty()
+            sink.alarms([alarm(True, T0 + 5)])  # raised again: the same object, unacknowledged
+            again = await handler.event()
+            assert again.NodeId == raised.NodeId
+            assert getattr(again, "ActiveState/Id") is True
+            assert getattr(again, "AckedState/Id") is False and again.Retain is True
+            await condition.call_method(
+                acknowledge, ua.Variant(again.EventId, ua.VariantType.ByteString), seen
+            )
+            assert getattr((await handler.event()), "AckedState/Id") is True
             assert handler.events.empty()
             await sub.delete()
 

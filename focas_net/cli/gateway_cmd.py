@@ -67,7 +67,8 @@ def register(subparsers: Any) -> None:
         default=None,
         metavar="I/N",
         help="poll only shard I of N (machines I, I+N, I+2N, ... of the file), so that N "
-        "gateway processes share a plant",
+        "gateway processes share a plant; shard I serves OPC UA on the endpoint's port + I-1 "
+        "and connects to MQTT as CLIENT_ID-I",
     )
     p.add_argument(
         "--log-level",

@@ -54,7 +54,7 @@ class At:
 
     def fail(self, message: str) -> NoReturn:
         """Raise :class:`ConfigError` for this place."""
-        where = f"{self.source}: {self.path}" if self.path else self.source
+        where = ": ".join(part for part in (self.source, self.path) if part)
         raise ConfigError(f"{where}: {message}")
 
     def expected(self, value: object, what: str) -> NoReturn:

@@ -227,30 +227,6 @@ class Message:
     retain: bool
 
 
-def _check_prefix(prefix: str) -> str:
-    if not prefix or prefix.startswith("$") or any(c in prefix for c in "+#\0"):
-        raise ValueError(
-            f"mqtt.prefix {prefix!r}: a topic of one or more levels, without + or # and not"
-            " starting with $"
-        )
-    return prefix
-
-
-def _check_deadbands(deadbands: Mapping[str, float]) -> dict[str, float]:
-    checked: dict[str, float] = {}
-    for name, band in deadbands.items():
-        row = ITEMS.get(name)
-        if row is None or row.kind not in (int, float):
-            numeric = ", ".join(n for n, i in ITEMS.items() if i.kind in (int, float))
-            raise ValueError(f"mqtt.deadbands.{name}: not a numeric item (items: {numeric})")
-        if isinstance(band, bool) or not isinstance(band, int | float) or not band >= 0:
-            raise ValueError(f"mqtt.deadbands.{name} = {band!r}: not a number >= 0")
-        if not math.isfinite(band):
-            raise ValueError(f"mqtt.deadbands.{name} = {band!r}: not finite")
-        checked[name] = float(band)
-    return checked
-
-
 def _unit(row: Item) -> str | None:
     return None if row.unit is None else row.unit.symbol
 
@@ -260,16 +236,17 @@ class Publication:
     returning the messages it makes, in order. It keeps what it last published per value topic
     (for the deadbands, and to mark a lost machine's values Bad) and each path's active alarms.
 
-    ``deadbands`` and ``prefix`` are checked here, each error naming its key."""
+    ``prefix`` and ``deadbands`` are taken as :meth:`MqttSettings.check
+    <focas_net.gateway.config.MqttSettings.check>` passes them."""
 
     def __init__(
         self, prefix: str, gateway_name: str, deadbands: Mapping[str, float] | None = None
     ) -> None:
-        self.prefix = _check_prefix(prefix)
+        self.prefix = prefix
         if not gateway_name:
             raise ValueError("gateway name: empty")
         self.gateway_name = gateway_name
-        self.deadbands = _check_deadbands(deadbands or {})
+        self.deadbands = {name: float(band) for name, band in (deadbands or {}).items()}
         self._gateway = f"{self.prefix}/$gateway/{topic_level(gateway_name)}"
         self._machine_topics: dict[str, str] = {}
         self._topics: dict[tuple[str, int, str, str], str] = {}
@@ -494,9 +471,7 @@ class Buffer:
     counted in :attr:`dropped`: memory stays bounded however long the broker is away."""
 
     def __init__(self, bound: int) -> None:
-        if isinstance(bound, bool) or not isinstance(bound, int) or bound < 1:
-            raise ValueError(f"mqtt.buffer = {bound!r}: not a whole number >= 1")
-        self.bound = bound
+        self.bound = bound  # (1 or more: MqttSettings.check)
         self.dropped = 0
         self.coalesced = 0
         self._next = 0

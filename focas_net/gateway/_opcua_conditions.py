@@ -2,8 +2,11 @@
 ``DiscreteAlarmType``): raised when an alarm enters a path's active list, cleared when it leaves
 it, sent again with a Bad quality while its machine is lost, acknowledged by a client with the
 standard ``Acknowledge`` method. Each event is notified by the machine's object and by the
-Server object; each active condition is an object of the address space (its ConditionId) that
-the machine's object references with HasCondition (``docs/gateway.md``, Alarms)."""
+Server object; each condition is an object of the address space (its ConditionId) that the
+machine's object references with HasCondition from the alarm's first raise on: a cleared
+condition keeps its object (inactive, ``Retain`` false), which the same alarm raised again
+reuses, so an alarm that comes and goes costs no change of the address space
+(``docs/gateway.md``, Alarms)."""
 
 from __future__ import annotations
 
@@ -51,6 +54,8 @@ class Conditions:
         self._active: dict[tuple[str, int, int, int, int], Any] = {}
         #: The active conditions by ConditionId.
         self._by_id: dict[ua.NodeId, Any] = {}
+        #: The ConditionIds whose object is in the address space (active or not).
+        self._nodes: set[ua.NodeId] = set()
         server.iserver.isession.add_method_callback(_ACKNOWLEDGE, self._acknowledge)
 
     async def apply(self, changes: Sequence[AlarmChange], roots: dict[str, ua.NodeId]) -> None:
@@ -66,13 +71,14 @@ class Conditions:
                     continue
                 ev = self._active[key] = self._new(c, root)
                 self._by_id[ev.NodeId] = ev
-                await self._add_node(ev, root)
+                if ev.NodeId not in self._nodes:
+                    await self._add_node(ev, root)
+                    self._nodes.add(ev.NodeId)
             elif ev is None:
                 continue
             else:
                 del self._active[key]
                 del self._by_id[ev.NodeId]
-                await self._server.delete_nodes([self._server.get_node(ev.NodeId)])
             ev.ActiveState = ua.LocalizedText("Active" if c.active else "Inactive")
             setattr(ev, "ActiveState/Id", c.active)
             setattr(ev, "ActiveState/TransitionTime", datetime.fromtimestamp(c.time, UTC))
@@ -107,8 +113,13 @@ class Conditions:
         Acknowledged and the condition is sent again (FANUC's alarm stays until the control
         drops it)."""
         ev = self._by_id.get(condition)
-        if ev is None:
-            return ua.StatusCode(ua.StatusCodes.BadConditionIdUnknown)
+        if ev is None:  # (a cleared condition retains no event to acknowledge)
+            cleared = condition in self._nodes
+            return ua.StatusCode(
+                ua.StatusCodes.BadEventIdUnknown
+                if cleared
+                else ua.StatusCodes.BadConditionIdUnknown
+            )
         if event_id.Value != ev.EventId:
             return ua.StatusCode(ua.StatusCodes.BadEventIdUnknown)
         if getattr(ev, "AckedState/Id"):

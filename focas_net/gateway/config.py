@@ -19,14 +19,13 @@ from collections.abc import Mapping
 from dataclasses import dataclass, field, replace
 from pathlib import Path
 from typing import Any, Final, Literal
-from urllib.parse import urlsplit
+from urllib.parse import urlsplit, urlunsplit
 
 from focas_net.client._address import check_host, check_port
 from focas_net.client._values import I16_MAX, check_path
 from focas_net.protocol import PmcArea
 
 from ._keys import At, ConfigError
-from ._mqtt_messages import _check_prefix as check_prefix
 from .model import ITEMS
 
 __all__ = [
@@ -39,6 +38,7 @@ __all__ = [
     "OpcUaSettings",
     "OpcUaUser",
     "WriteGates",
+    "is_loopback",
     "load_config",
     "parse_config",
     "shard",
@@ -52,6 +52,24 @@ _NAME_TEXT: Final = "a name of 1..64 letters, digits, '-', '_' or '.'"
 _PROTOCOLS: Final = ("native", "packed")
 _PMC_RANGE: Final = re.compile(r"([A-Za-z])([0-9]{1,9})(?:-([A-Za-z]?)([0-9]{1,9}))?")
 _PMC_LAST_BYTE: Final = 0xFFFF
+_PREFIX_TEXT: Final = "a topic prefix without '+', '#', a '$' first or a '/' at either end"
+#: The items a deadband may name: numbers with a unit.
+_ANALOGUE: Final = tuple(
+    n for n, i in ITEMS.items() if i.kind in (int, float) and i.unit is not None
+)
+
+
+def is_loopback(host: str | None) -> bool:
+    """Whether ``host`` is ``localhost`` or a loopback address (``[::1]`` as an URL writes it
+    too); None, as a URL without a host gives, is not."""
+    if host is None:
+        return False
+    if host.lower() in ("localhost", "localhost."):
+        return True
+    try:
+        return ipaddress.ip_address(host.strip("[]")).is_loopback
+    except ValueError:
+        return False
 
 
 @dataclass(frozen=True, slots=True)
@@ -92,7 +110,9 @@ class MachineConfig:
 @dataclass(frozen=True, slots=True)
 class MqttSettings:
     """The MQTT publisher: broker address, topic prefix, session, QoS, the bound of the buffer
-    kept while the broker is away (messages), and absolute deadbands by item name."""
+    kept while the broker is away (messages), and absolute deadbands by item name (analogue
+    items: numbers with a unit). :meth:`check` is every rule of them, the file's and the
+    publisher's."""
 
     host: str = "127.0.0.1"
     port: int = 1883
@@ -106,6 +126,31 @@ class MqttSettings:
     tls: bool = False
     deadbands: Mapping[str, float] = field(default_factory=dict)
 
+    def check(self, source: str = "") -> None:
+        """Raise :class:`ConfigError` naming the key (``mqtt.qos: got 3; ...``, after
+        ``source``, the file, when given) for a value the publisher cannot use; the file's
+        reader and :class:`~focas_net.gateway.mqtt.MqttSink` both call it."""
+        at = At(source, "mqtt")
+        prefix = self.prefix
+        if (
+            not isinstance(prefix, str)
+            or not prefix
+            or prefix[0] in "$/"
+            or prefix.endswith("/")
+            or any(c in prefix for c in "+#\0")
+        ):
+            at.key("prefix").expected(prefix, _PREFIX_TEXT)
+        for key in ("client_id", "username", "password"):
+            if getattr(self, key) is not None:
+                at.key(key).text(getattr(self, key), "a non-empty string")
+        at.key("qos").integer(self.qos, 0, 2)
+        at.key("keepalive").integer(self.keepalive, 1, 65535)
+        at.key("buffer").integer(self.buffer, 1, 10_000_000)
+        at.key("tls").boolean(self.tls)
+        bands = at.key("deadbands")
+        for name, band in bands.table(self.deadbands, _ANALOGUE).items():
+            bands.key(name).number(band)
+
 
 @dataclass(frozen=True, slots=True)
 class OpcUaUser:
@@ -118,17 +163,81 @@ class OpcUaUser:
 @dataclass(frozen=True, slots=True)
 class OpcUaSettings:
     """The OPC UA server: its endpoint, its namespace URI, whether anonymous sessions are
-    accepted (never on an endpoint beyond the loopback), its users, its certificate and key
-    (PEM or DER files; both or neither), and whether the write methods exist at all (read-only
-    by default; each machine's :class:`WriteGates` still applies)."""
+    accepted (never on an endpoint beyond the loopback nor with writes; None: wherever they
+    may be, see :attr:`anonymous_sessions`), its users, its certificate and key (PEM or DER
+    files; both or neither; needed beyond the loopback), and whether the write methods exist
+    at all (read-only by default; each machine's :class:`WriteGates` still applies).
+    :meth:`check` is every rule of them, the file's and the server's."""
 
     endpoint: str = "opc.tcp://127.0.0.1:4840/focas_net/"
     namespace: str = "urn:focas-net:gateway"
-    anonymous: bool = True
+    anonymous: bool | None = None
     users: tuple[OpcUaUser, ...] = ()
     certificate: Path | None = None
     private_key: Path | None = None
     writes: bool = False
+
+    @property
+    def host(self) -> str:
+        """The endpoint's host ('' when the endpoint has none)."""
+        try:
+            return urlsplit(self.endpoint).hostname or ""
+        except (TypeError, ValueError, AttributeError):
+            return ""
+
+    @property
+    def loopback(self) -> bool:
+        """Whether the endpoint is on the loopback."""
+        return is_loopback(self.host)
+
+    @property
+    def anonymous_sessions(self) -> bool:
+        """Whether anonymous sessions are accepted: :attr:`anonymous`, or when None, on a
+        loopback endpoint while writes are off."""
+        if self.anonymous is None:
+            return self.loopback and not self.writes
+        return self.anonymous
+
+    def check(self, source: str = "") -> None:
+        """Raise :class:`ConfigError` naming the key (``opcua.anonymous: got true; ...``,
+        after ``source``, the file, when given) for settings no client could use safely; the
+        file's reader and :class:`~focas_net.gateway.opcua.OpcUaSink` both call it."""
+        at = At(source, "opcua")
+        try:
+            parts = urlsplit(self.endpoint)
+            port = parts.port
+        except (TypeError, ValueError, AttributeError):
+            parts, port = None, None
+        if parts is None or parts.scheme != "opc.tcp" or not parts.hostname or port is None:
+            at.key("endpoint").expected(self.endpoint, "opc.tcp://HOST:PORT/PATH")
+        at.key("namespace").text(self.namespace, "a namespace URI")
+        at.key("writes").boolean(self.writes)
+        host, loopback = self.host, self.loopback
+        if self.anonymous is not None:
+            at.key("anonymous").boolean(self.anonymous)
+        if self.anonymous and not loopback:
+            at.key("anonymous").fail(
+                f"got true; expected false: the endpoint's host {host} is beyond the loopback, "
+                "where anonymous sessions are refused (give [[opcua.users]])"
+            )
+        if self.anonymous and self.writes:
+            at.key("anonymous").fail(
+                "got true; expected false: with writes = true only users may write "
+                "(give [[opcua.users]])"
+            )
+        if not self.anonymous_sessions and not self.users:
+            why = "beyond the loopback" if not loopback else "with writes = true"
+            if loopback and not self.writes:
+                why = "anonymous = false"
+            at.fail(f"no way in: anonymous access is off ({why}) and there is no [[opcua.users]]")
+        if (self.certificate is None) != (self.private_key is None):
+            missing = "private_key" if self.private_key is None else "certificate"
+            at.key(missing).fail("missing: give certificate and private_key both, or neither")
+        if self.certificate is None and not loopback:
+            at.key("certificate").fail(
+                f"missing: the endpoint's host {host} is beyond the loopback, where the server "
+                "needs its certificate and private_key"
+            )
 
 
 @dataclass(frozen=True, slots=True)
@@ -210,8 +319,11 @@ def parse_config(
 def shard(config: GatewayConfig, index: int, count: int) -> GatewayConfig:
     """Shard ``index`` of ``count`` (1 <= index <= count): machines ``index``, ``index +
     count``, ... of the file, 1-based (round robin, so that each shard gets its share of every
-    ``[[fleet]]``). Each machine is in exactly one shard. Raises :class:`ConfigError` for a
-    bad shard or one with no machine."""
+    ``[[fleet]]``). Each machine is in exactly one shard. Of several shards, shard ``index``
+    serves OPC UA on the endpoint's port + ``index - 1`` and connects to the MQTT broker as
+    ``client_id-index`` (when the file names a client id), so that the shards of one file run
+    side by side on one host. Raises :class:`ConfigError` for a bad shard, one with no machine
+    or one whose port would pass 65535."""
     if isinstance(count, bool) or not isinstance(count, int) or count < 1:
         raise ConfigError(f"--shard {index}/{count}: the number of shards must be 1 or more")
     if isinstance(index, bool) or not isinstance(index, int) or not 1 <= index <= count:
@@ -221,7 +333,22 @@ def shard(config: GatewayConfig, index: int, count: int) -> GatewayConfig:
         raise ConfigError(
             f"--shard {index}/{count}: no machine (the file has {len(config.machines)})"
         )
-    return replace(config, machines=machines)
+    if count == 1:
+        return replace(config, machines=machines)
+    opcua, mqtt = config.opcua, config.mqtt
+    if opcua is not None:
+        parts = urlsplit(opcua.endpoint)
+        port = (parts.port or 0) + index - 1
+        if port > 65535:
+            raise ConfigError(
+                f"--shard {index}/{count}: the OPC UA port of this shard, {parts.port} + "
+                f"{index - 1}, passes 65535 (opcua.endpoint {opcua.endpoint!r})"
+            )
+        netloc = f"{parts.netloc.rsplit(':', 1)[0]}:{port}"
+        opcua = replace(opcua, endpoint=urlunsplit(parts._replace(netloc=netloc)))
+    if mqtt is not None and mqtt.client_id is not None:
+        mqtt = replace(mqtt, client_id=f"{mqtt.client_id}-{index}")
+    return replace(config, machines=machines, opcua=opcua, mqtt=mqtt)
 
 
 def _unique(machines: list[MachineConfig], where_of: dict[str, At], at: At) -> None:
@@ -375,40 +502,19 @@ def _mqtt(at: At, value: object) -> MqttSettings:
         out["host"] = at.key("host").checked(table["host"], check_host, "a host name or address")
     if "port" in table:
         out["port"] = at.key("port").checked(table["port"], check_port, "a port 1..65535")
-    if "prefix" in table:
-        pat, prefix = at.key("prefix"), table["prefix"]
-        what = "a topic prefix without '+', '#', a '$' first or a '/' at either end"
-        if not isinstance(prefix, str) or prefix.startswith("/") or prefix.endswith("/"):
-            pat.expected(prefix, what)
-        out["prefix"] = pat.checked(prefix, check_prefix, what)  # (the publisher's own check)
-    for key in ("client_id", "username"):
+    for key in ("prefix", "client_id", "username", "qos", "keepalive", "buffer", "tls"):
         if key in table:
-            out[key] = at.key(key).text(table[key], "a non-empty string")
+            out[key] = table[key]
     out["password"] = _secret(at, table)
-    if "qos" in table:
-        out["qos"] = at.key("qos").integer(table["qos"], 0, 2)
-    if "keepalive" in table:
-        out["keepalive"] = at.key("keepalive").integer(table["keepalive"], 1, 65535)
-    if "buffer" in table:
-        out["buffer"] = at.key("buffer").integer(table["buffer"], 1, 10_000_000)
-    if "tls" in table:
-        out["tls"] = at.key("tls").boolean(table["tls"])
     if "deadbands" in table:
-        analogue = [n for n, i in ITEMS.items() if i.kind in (int, float) and i.unit is not None]
-        dat = at.key("deadbands")
-        bands = dat.table(table["deadbands"], analogue)
-        out["deadbands"] = {k: dat.key(k).number(v) for k, v in bands.items()}
-    return MqttSettings(**out)
-
-
-def _loopback(host: str) -> bool:
-    """Whether ``host`` is a loopback address or ``localhost``."""
-    if host.lower() in ("localhost", "localhost."):
-        return True
-    try:
-        return ipaddress.ip_address(host.strip("[]")).is_loopback
-    except ValueError:
-        return False
+        bands = at.key("deadbands").table(table["deadbands"], _ANALOGUE)
+        out["deadbands"] = {
+            k: float(v) if isinstance(v, int) and not isinstance(v, bool) else v
+            for k, v in bands.items()
+        }
+    settings = MqttSettings(**out)
+    settings.check(at.source)
+    return settings
 
 
 def _file(at: At, value: object, base: Path) -> Path:
@@ -422,37 +528,14 @@ def _file(at: At, value: object, base: Path) -> Path:
 def _opcua(at: At, value: object, base: Path) -> OpcUaSettings:
     table = at.table(value, _OPCUA_KEYS)
     out: dict[str, Any] = {}
-    endpoint = OpcUaSettings().endpoint
     if "endpoint" in table:
-        endpoint = at.key("endpoint").text(table["endpoint"], "opc.tcp://HOST:PORT/PATH")
-        try:
-            parts = urlsplit(endpoint)
-            port = parts.port
-        except ValueError:
-            parts, port = None, None
-        if parts is None or parts.scheme != "opc.tcp" or not parts.hostname or port is None:
-            at.key("endpoint").expected(endpoint, "opc.tcp://HOST:PORT/PATH")
-        out["endpoint"] = endpoint
-    host = urlsplit(endpoint).hostname or ""
+        out["endpoint"] = at.key("endpoint").text(table["endpoint"], "opc.tcp://HOST:PORT/PATH")
     if "namespace" in table:
         out["namespace"] = at.key("namespace").text(table["namespace"], "a namespace URI")
-    loopback = _loopback(host)
-    writes = at.key("writes").boolean(table["writes"]) if "writes" in table else False
-    out["writes"] = writes
-    anonymous = loopback and not writes
+    if "writes" in table:
+        out["writes"] = at.key("writes").boolean(table["writes"])
     if "anonymous" in table:
-        anonymous = at.key("anonymous").boolean(table["anonymous"])
-        if anonymous and not loopback:
-            at.key("anonymous").fail(
-                f"got true; expected false: the endpoint's host {host} is beyond the loopback, "
-                "where anonymous sessions are refused (give [[opcua.users]])"
-            )
-        if anonymous and writes:
-            at.key("anonymous").fail(
-                "got true; expected false: with writes = true only users may write "
-                "(give [[opcua.users]])"
-            )
-    out["anonymous"] = anonymous
+        out["anonymous"] = at.key("anonymous").boolean(table["anonymous"])
     users: list[OpcUaUser] = []
     if "users" in table:
         uat = at.key("users")
@@ -469,19 +552,17 @@ def _opcua(at: At, value: object, base: Path) -> OpcUaSettings:
                 one.key("name").fail(f"user {name!r} is given twice")
             users.append(OpcUaUser(name, secret))
     out["users"] = tuple(users)
-    if not anonymous and not users:
-        why = "beyond the loopback" if not loopback else "with writes = true"
-        at.fail(f"no way in: anonymous access is off ({why}) and there is no [[opcua.users]]")
-    cert, key = table.get("certificate"), table.get("private_key")
-    if (cert is None) != (key is None):
-        missing = "private_key" if key is None else "certificate"
-        at.key(missing).fail("missing: give certificate and private_key both, or neither")
-    if cert is None and not loopback:
-        at.key("certificate").fail(
-            f"missing: the endpoint's host {host} is beyond the loopback, where the server "
-            "needs its certificate and private_key"
-        )
-    if cert is not None:
-        out["certificate"] = _file(at.key("certificate"), cert, base)
-        out["private_key"] = _file(at.key("private_key"), key, base)
-    return OpcUaSettings(**out)
+    for key in ("certificate", "private_key"):
+        if key in table:
+            out[key] = Path(at.key(key).text(table[key], "a file name"))
+    settings = OpcUaSettings(**out)
+    settings.check(at.source)
+    cert: Path | None = None
+    private: Path | None = None
+    if settings.certificate is not None:
+        cert = _file(at.key("certificate"), table["certificate"], base)
+        private = _file(at.key("private_key"), table["private_key"], base)
+    # (the file's default made explicit: anonymous sessions wherever they may be)
+    return replace(
+        settings, anonymous=settings.anonymous_sessions, certificate=cert, private_key=private
+    )

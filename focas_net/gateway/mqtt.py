@@ -30,7 +30,6 @@ from typing import Final
 
 import aiomqtt
 
-from ._keys import ConfigError
 from ._mqtt_messages import Buffer, Message, Publication
 from .config import MqttSettings
 from .model import AlarmChange, MachineShape, Sample
@@ -49,9 +48,9 @@ class MqttSink:
     never raise; what they could not turn into messages is logged and counted in
     :attr:`errors`.
 
-    Settings it cannot use (a prefix starting with ``$`` or holding a wildcard, a deadband of an
-    item that is not numeric, below 0 or not finite, a QoS other than 0..2) raise
-    :class:`~._keys.ConfigError` naming the key.
+    Settings it cannot use raise :class:`~.config.ConfigError` naming the key:
+    :meth:`MqttSettings.check <focas_net.gateway.config.MqttSettings.check>`, the file's own
+    check.
 
     ``reconnect`` is the first and the longest delay between connection attempts (doubling
     from one to the other, back to the first once connected)."""
@@ -64,13 +63,9 @@ class MqttSink:
         reconnect: tuple[float, float] = (0.5, 30.0),
         close_timeout: float = 5.0,
     ) -> None:
-        try:
-            if settings.qos not in (0, 1, 2):
-                raise ValueError(f"mqtt.qos = {settings.qos!r}: 0, 1 or 2")
-            self.publication = Publication(settings.prefix, gateway_name, settings.deadbands)
-            self._buffer = Buffer(settings.buffer)
-        except ValueError as exc:
-            raise ConfigError(str(exc)) from None
+        settings.check()
+        self.publication = Publication(settings.prefix, gateway_name, settings.deadbands)
+        self._buffer = Buffer(settings.buffer)
         self.settings = settings
         self._reconnect = reconnect
         self._close_timeout = close_timeout

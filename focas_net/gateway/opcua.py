@@ -22,7 +22,6 @@ from __future__ import annotations
 import asyncio
 import gc
 import hmac
-import ipaddress
 import logging
 import math
 from collections import deque
@@ -30,7 +29,6 @@ from collections.abc import Sequence
 from datetime import UTC, datetime
 from types import TracebackType
 from typing import Any, Final
-from urllib.parse import urlparse
 
 from asyncua import Server, ua
 from asyncua.crypto.permission_rules import User, UserRole
@@ -39,10 +37,9 @@ from asyncua.server.internal_server import InternalServer
 from focas_net.errors import OpcUaStatus
 from focas_net.gateway import _opcua_model as om
 from focas_net.gateway import _opcua_types as ot
-from focas_net.gateway._keys import ConfigError
 from focas_net.gateway._opcua_conditions import Conditions
 from focas_net.gateway._opcua_methods import add_write_methods
-from focas_net.gateway.config import OpcUaSettings
+from focas_net.gateway.config import OpcUaSettings, is_loopback
 from focas_net.gateway.model import AlarmChange, MachineShape, Sample, Writer
 
 __all__ = ["OpcUaSink", "is_loopback"]
@@ -62,18 +59,6 @@ _NULL: Final = ua.Variant(None)
 
 #: A variable's samples: machine, path, item and key (axis or spindle).
 _Key = tuple[str, int, str, str]
-
-
-def is_loopback(host: str | None) -> bool:
-    """True for ``localhost`` and the loopback addresses."""
-    if host is None:
-        return False
-    if host == "localhost":
-        return True
-    try:
-        return ipaddress.ip_address(host).is_loopback
-    except ValueError:
-        return False
 
 
 class _Users:
@@ -190,8 +175,9 @@ class OpcUaSink:
     ``writer`` (None: writes off) serves the write methods, which exist only when
     ``settings.writes`` is true too. A sample waiting for the server's task is replaced by a
     newer one of the same variable (counted in :attr:`coalesced`), never dropped. Raises
-    :class:`~focas_net.gateway._keys.ConfigError` (a ``ValueError``) for settings no client
-    could use safely (see the module's docstring).
+    :class:`~focas_net.gateway.config.ConfigError` (a ``ValueError``) for settings no client
+    could use safely: :meth:`OpcUaSettings.check <focas_net.gateway.config.OpcUaSettings.check>`,
+    the file's own check.
     """
 
     def __init__(
@@ -199,23 +185,11 @@ class OpcUaSink:
         settings: OpcUaSettings,
         writer: Writer | None = None,
     ) -> None:
-        url = urlparse(settings.endpoint)
+        settings.check()
         self._settings = settings
-        self._loopback = is_loopback(url.hostname)
+        self._loopback = settings.loopback
         self._writer = writer if settings.writes else None
-        if (settings.certificate is None) != (settings.private_key is None):
-            raise ConfigError("opcua.certificate and opcua.private_key come together")
-        if not self._loopback and settings.certificate is None:
-            raise ConfigError(
-                f"opcua.endpoint {settings.endpoint} is beyond the loopback: "
-                "it needs opcua.certificate and opcua.private_key"
-            )
-        self._anonymous = settings.anonymous and self._loopback and self._writer is None
-        if not self._anonymous and not settings.users:
-            raise ConfigError(
-                "opcua: no client could connect: anonymous sessions are off (beyond the "
-                "loopback, or with opcua.writes true) and there is no [[opcua.users]] entry"
-            )
+        self._anonymous = settings.anonymous_sessions
         self._server: Server | None = None
         self._ns = 0
         self._cnc = 0

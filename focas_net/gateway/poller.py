@@ -17,6 +17,12 @@ from the last one sent; after a machine comes (back) online every value is sent 
 items its transport cannot read once, BadNotSupported. An EW code on one read gives its items
 the EW's status; the other reads deliver.
 
+**Staggering.** The machines' polls are spread evenly over each interval: the k-th of n
+machines (in the configuration's order) is first read, once online, k/n of each group's
+interval after it came online, and every interval after that, so that 1,000 machines coming
+online together are not read in one burst (nor every slow group in one turn), however often
+they come back together.
+
 **Connections.** Each client has the poller's :class:`ReconnectPolicy`: a connection lost
 after it was up is opened again by the client itself; a first connection that fails is tried
 again by the poller after the policy's delays, in a short task of its own that also reads the
@@ -118,6 +124,7 @@ class _Station:
 
     config: MachineConfig
     client: Client
+    phase: float = 0.0  # where in each interval its groups fall (0 <= phase < 1)
     reader: Reader | None = None
     described: MachineShape | None = None
     online: bool | None = None
@@ -179,7 +186,11 @@ class Poller:
         self.clock = clock
         self.timer = timer if timer is not None else _timer_of(clock)
         self.policy = policy
-        self._stations = {m.name: _Station(m, client_of(m, policy)) for m in machines}
+        count = len(machines)
+        self._stations = {
+            m.name: _Station(m, client_of(m, policy), phase=i / count)
+            for i, m in enumerate(machines)
+        }
         for st in self._stations.values():
             st.client.add_state_callback(partial(self._state_changed, st))
         self._heap: list[tuple[float, int, _Station, str, int]] = []
@@ -329,7 +340,7 @@ class Poller:
                 st.results.clear()
                 st.due.clear()
                 for group in _GROUPS:
-                    self._push(now, st, group)
+                    self._push(now + st.phase * st.interval(group), st, group)
                 online.append((st.config.name, True, ""))
                 stamp = self.clock()
                 samples.extend(

@@ -36,6 +36,7 @@ from __future__ import annotations
 import logging
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass
+from functools import partial
 from typing import Any, Final
 
 from focas_net.client import (
@@ -103,6 +104,20 @@ class Read:
     call: StartedCall[Any]
     keys: tuple[Key, ...]
     values: Callable[[Any], dict[Key, Outcome]]
+
+
+@dataclass(frozen=True, slots=True)
+class _Plan:
+    """One read of a group as the connection makes it at every poll, made once per
+    connection: how it starts, the keys it gives, its answer's values."""
+
+    start: Callable[[], StartedCall[Any]]
+    keys: tuple[Key, ...]
+    values: Callable[[Any], dict[Key, Outcome]]
+
+    def read(self) -> Read:
+        """The read started now."""
+        return Read(self.start(), self.keys, self.values)
 
 
 def _name(values: type[LabelledValue], value: int) -> str:
@@ -212,6 +227,16 @@ class Reader:
         self.native = isinstance(client, NativeClient)
         #: The tool in use per path, as the last slow read saw it.
         self.tools: dict[int, int] = {}
+        # Each group's reads are planned once: a poll only starts them.
+        self._fast: tuple[_Plan, ...] = tuple(
+            plan
+            for path in shape.paths
+            for plan in (self._fast_native(path) if self.native else self._fast_packed(path))
+        )
+        self._slow: tuple[tuple[PathShape, tuple[_Plan, ...]], ...] = tuple(
+            (path, tuple(self._slow_native(path) if self.native else self._slow_packed(path)))
+            for path in shape.paths
+        )
 
     # -- keys ----------------------------------------------------------------------------
     def _axis_keys(self, path: PathShape, items: Sequence[str]) -> tuple[Key, ...]:
@@ -229,23 +254,24 @@ class Reader:
 
     # -- fast ----------------------------------------------------------------------------
     def fast(self) -> list[Read]:
-        """Status, program, feed, spindle, positions and overrides of every path."""
-        reads: list[Read] = []
-        for path in self.shape.paths:
-            reads.extend(self._fast_native(path) if self.native else self._fast_packed(path))
-        return reads
+        """Status, program, feed, spindle, positions and overrides of every path, started
+        now."""
+        return [plan.read() for plan in self._fast]
 
-    def _status_read(self, p: int) -> Read:
-        call = self.client.start_read_status(path=p, timeout=self.timeout)
+    def _status_read(self, p: int) -> _Plan:
         keys = tuple((p, i, "") for i in _STATUS_ITEMS)
-        return Read(call, keys, lambda s: _status(p, s))
+        return _Plan(
+            partial(self.client.start_read_status, path=p, timeout=self.timeout),
+            keys,
+            lambda s: _status(p, s),
+        )
 
-    def _fast_native(self, path: PathShape) -> list[Read]:
+    def _fast_native(self, path: PathShape) -> list[_Plan]:
         client = self.client
         assert isinstance(client, NativeClient)
         p, t = path.number, self.timeout
         dec = self.decimals.get(p, 0)
-        axes = path.axes
+        axis_keys = [[(p, kind, name) for name in path.axes] for kind in _KINDS]
 
         def dynamic(d: DynamicData) -> dict[Key, Outcome]:
             out: dict[Key, Outcome] = {
@@ -255,53 +281,54 @@ class Reader:
                 (p, "feed", ""): float(d.feed),
                 (p, "spindle_speed", ""): float(d.spindle_speed),
             }
-            for kind, values in zip(
-                _KINDS, (d.absolute, d.machine, d.relative, d.distance), strict=True
+            for keys, values in zip(
+                axis_keys, (d.absolute, d.machine, d.relative, d.distance), strict=True
             ):
-                for name, v in zip(axes, values, strict=False):
-                    out[(p, kind, name)] = _scaled(v, dec)
+                for key, v in zip(keys, values, strict=False):
+                    out[key] = _scaled(v, dec)
             return out
 
         base = _PATH_STRIDE * (p - 1)
         scalar = ("program", "main_program", "sequence", "feed", "spindle_speed")
         return [
             self._status_read(p),
-            Read(
-                client.start_read_dynamic(path=p, timeout=t),
+            _Plan(
+                partial(client.start_read_dynamic, path=p, timeout=t),
                 (*((p, i, "") for i in scalar), *self._axis_keys(path, _KINDS)),
                 dynamic,
             ),
-            Read(
-                client.start_read_pmc("G", base + _G_FIRST, _G_LAST - _G_FIRST + 1, timeout=t),
+            _Plan(
+                partial(
+                    client.start_read_pmc, "G", base + _G_FIRST, _G_LAST - _G_FIRST + 1, timeout=t
+                ),
                 tuple((p, i, "") for i in ("feed_override", "rapid_override", "spindle_override")),
                 lambda g: _overrides(p, g),
             ),
         ]
 
-    def _fast_packed(self, path: PathShape) -> list[Read]:
+    def _fast_packed(self, path: PathShape) -> list[_Plan]:
         client = self.client
         assert isinstance(client, FocasClient)
         p, t = path.number, self.timeout
-        run = StartedCall.running
         reads = [
             self._status_read(p),
-            Read(
-                run(client.read_program_numbers(path=p, timeout=t)),
+            _Plan(
+                lambda: StartedCall.running(client.read_program_numbers(path=p, timeout=t)),
                 ((p, "program", ""), (p, "main_program", "")),
                 lambda n: {(p, "program", ""): n.running, (p, "main_program", ""): n.main},
             ),
-            Read(
-                run(client.read_feed(path=p, timeout=t)),
+            _Plan(
+                lambda: StartedCall.running(client.read_feed(path=p, timeout=t)),
                 ((p, "feed", ""),),
                 lambda f: {(p, "feed", ""): float(f)},
             ),
-            Read(
-                run(client.read_spindle_speed(path=p, timeout=t)),
+            _Plan(
+                lambda: StartedCall.running(client.read_spindle_speed(path=p, timeout=t)),
                 ((p, "spindle_speed", ""),),
                 lambda s: {(p, "spindle_speed", ""): float(s)},
             ),
-            Read(
-                run(client.read_run_info(path=p, timeout=t)),
+            _Plan(
+                lambda: StartedCall.running(client.read_run_info(path=p, timeout=t)),
                 tuple((p, i, "") for i in ("feed_override", "rapid_override", "spindle_override")),
                 lambda r: {
                     (p, "feed_override", ""): r.feed,
@@ -312,8 +339,8 @@ class Reader:
         ]
         for kind in _KINDS:
             reads.append(
-                Read(
-                    run(client.read_positions(PositionKind.parse(kind), path=p, timeout=t)),
+                _Plan(
+                    partial(_start_positions, client, PositionKind.parse(kind), p, t),
                     self._axis_keys(path, (kind,)),
                     _positions(p, kind),
                 )
@@ -322,10 +349,12 @@ class Reader:
 
     # -- slow ----------------------------------------------------------------------------
     def slow(self) -> list[Read]:
-        """Parts, timers, loads, tool, tool offset and message of every path."""
+        """Parts, timers, loads, tool, tool offset and message of every path, started now."""
         reads: list[Read] = []
-        for path in self.shape.paths:
-            reads.extend(self._slow_native(path) if self.native else self._slow_packed(path))
+        for path, plans in self._slow:
+            reads.extend(plan.read() for plan in plans)
+            if self.native:
+                reads.append(self._tool_offset(path))
         return reads
 
     def _loads(self, path: PathShape, spindle: Sequence[int], servo: Sequence[Any]) -> Any:
@@ -337,7 +366,7 @@ class Reader:
             out[(p, "servo_load", name)] = float(v.load if isinstance(v, ServoLoad) else v)
         return out
 
-    def _slow_native(self, path: PathShape) -> list[Read]:
+    def _slow_native(self, path: PathShape) -> list[_Plan]:
         client = self.client
         assert isinstance(client, NativeClient)
         p, t = path.number, self.timeout
@@ -355,43 +384,46 @@ class Reader:
             return {(p, "message", ""): "" if m.number < 0 else m.text}
 
         reads = [
-            Read(
-                client.start_read_macro(3901, path=p, timeout=t),
+            _Plan(
+                partial(client.start_read_macro, 3901, path=p, timeout=t),
                 one("parts"),
                 lambda v: {(p, "parts", ""): 0 if v is None else int(v)},
             ),
-            Read(
-                client.start_read_macro(3902, path=p, timeout=t),
+            _Plan(
+                partial(client.start_read_macro, 3902, path=p, timeout=t),
                 one("parts_total"),
                 lambda v: {(p, "parts_total", ""): 0 if v is None else int(v)},
             ),
-            Read(
-                run(client.read_param(_PARTS_REQUIRED, path=p, timeout=t)),
+            _Plan(
+                lambda: run(client.read_param(_PARTS_REQUIRED, path=p, timeout=t)),
                 one("parts_required"),
                 lambda v: {(p, "parts_required", ""): v},
             ),
             *(
-                Read(
-                    run(client.read_timer(kind, path=p, timeout=t)),
+                _Plan(
+                    partial(_start_timer, client, kind, p, t),
                     one(item),
                     _timer(p, item),
                 )
                 for kind, item in enumerate(_TIMERS)
             ),
-            Read(
-                run(client.read_spindle_loads(path=p, timeout=t)),
+            _Plan(
+                lambda: run(client.read_spindle_loads(path=p, timeout=t)),
                 tuple((p, "spindle_load", s) for s in path.spindles),
                 lambda v: self._loads(path, v, ()),
             ),
-            Read(
-                run(client.read_servo_meters(path=p, timeout=t)),
+            _Plan(
+                lambda: run(client.read_servo_meters(path=p, timeout=t)),
                 self._axis_keys(path, ("servo_load",)),
                 lambda v: self._loads(path, (), v),
             ),
-            Read(run(client.read_commands(path=p, timeout=t)), one("tool"), tool),
-            Read(run(client.read_operator_message(path=p, timeout=t)), one("message"), message),
+            _Plan(lambda: run(client.read_commands(path=p, timeout=t)), one("tool"), tool),
+            _Plan(
+                lambda: run(client.read_operator_message(path=p, timeout=t)),
+                one("message"),
+                message,
+            ),
         ]
-        reads.append(self._tool_offset(path))
         return reads
 
     def _tool_offset(self, path: PathShape) -> Read:
@@ -410,11 +442,10 @@ class Reader:
         call = client.read_tool_offset(number, offset_type, path=p, timeout=self.timeout)
         return Read(StartedCall.running(call), (key,), lambda v: {key: _scaled(v, dec)})
 
-    def _slow_packed(self, path: PathShape) -> list[Read]:
+    def _slow_packed(self, path: PathShape) -> list[_Plan]:
         client = self.client
         assert isinstance(client, FocasClient)
         p, t = path.number, self.timeout
-        run = StartedCall.running
 
         def info(r: Any) -> dict[Key, Outcome]:
             out: dict[Key, Outcome] = {
@@ -427,18 +458,18 @@ class Reader:
             return out
 
         return [
-            Read(
-                run(client.read_run_info(path=p, timeout=t)),
+            _Plan(
+                lambda: StartedCall.running(client.read_run_info(path=p, timeout=t)),
                 tuple((p, i, "") for i in ("parts", "parts_total", *_TIMERS)),
                 info,
             ),
-            Read(
-                run(client.read_param(_PARTS_REQUIRED, path=p, timeout=t)),
+            _Plan(
+                lambda: StartedCall.running(client.read_param(_PARTS_REQUIRED, path=p, timeout=t)),
                 ((p, "parts_required", ""),),
                 lambda v: {(p, "parts_required", ""): v},
             ),
-            Read(
-                run(client.read_loads(path=p, timeout=t)),
+            _Plan(
+                lambda: StartedCall.running(client.read_loads(path=p, timeout=t)),
                 (
                     *((p, "spindle_load", s) for s in path.spindles),
                     *self._axis_keys(path, ("servo_load",)),
@@ -461,6 +492,16 @@ class Reader:
             (p.number, StartedCall.running(client.read_alarms(path=p.number, timeout=t)))
             for p in self.shape.paths
         ]
+
+
+def _start_positions(
+    client: FocasClient, kind: PositionKind, path: int, timeout: float
+) -> StartedCall[Positions]:
+    return StartedCall.running(client.read_positions(kind, path=path, timeout=timeout))
+
+
+def _start_timer(client: NativeClient, kind: int, path: int, timeout: float) -> StartedCall[Any]:
+    return StartedCall.running(client.read_timer(kind, path=path, timeout=timeout))
 
 
 class Unavailable(Exception):
