@@ -1,12 +1,22 @@
 """What a user types, read alike by every front end (it knows no protocol and no machine):
-the words for a macro value that does not fit (the machine and the clients), a program number
+number text (the page, the command line, the clients' text values and the machine file), the
+words for a macro value that does not fit (the machine and the clients), a program number
 (the command line and the page), an override's range (the machine and the clients), an alarm
 message that is no line of single-byte text (the machine and the encoded text of every front
-end)."""
+end).
+
+Number text is read as a CNC's MDI keys write a number: ASCII digits, a sign and, for a
+decimal, a decimal point; a whole number may also be written ``0x``, ``0b`` or ``0o`` (with
+``_`` between its digits), as a bit parameter is shown. An exponent (``1e3``), NaN and
+infinity words, digits of other scripts (``'\u0661'``) and empty text are refused, each in
+the same words wherever it was typed, naming the text.
+"""
 
 from __future__ import annotations
 
+import re
 from collections.abc import Mapping
+from decimal import Decimal
 from typing import Final
 
 __all__ = [
@@ -14,10 +24,13 @@ __all__ = [
     "OVERRIDE_RANGES",
     "RAPID_STEPS",
     "alarm_text_unfit",
+    "decimal_number",
     "macro_unfit",
     "override_unfit",
     "program_number",
     "switch",
+    "typed_number",
+    "whole_number",
 ]
 
 #: The percentages each override takes: feed 0..254, rapid 0..100 (in :data:`RAPID_STEPS`
@@ -104,3 +117,81 @@ def program_number(typed: object) -> int:
     if not (text.isascii() and text.isdigit() and 1 <= int(text) <= _MAX_PROGRAM):
         raise ValueError(f"{typed!r} is not a program number (e.g. O1000)")
     return int(text)
+
+
+# -- number text -----------------------------------------------------------------------------
+#: A whole number: ASCII digits with a sign, or ``0x``, ``0b``, ``0o`` digits (``_`` between).
+_WHOLE: Final = re.compile(r"[+-]?(?:[0-9]+|0x[0-9a-f_]+|0b[01_]+|0o[0-7_]+)", re.ASCII)
+#: A decimal: ASCII digits with a sign and a decimal point.
+_DECIMAL: Final = re.compile(r"[+-]?(?:[0-9]+(?:\.[0-9]*)?|\.[0-9]+)", re.ASCII)
+#: A number written with an exponent (``1e3``, ``-2.5E-4``): a CNC's keys have none.
+_EXPONENT: Final = re.compile(r"[+-]?(?:[0-9]+\.?[0-9]*|\.[0-9]+)e[+-]?[0-9]+", re.ASCII)
+#: Words Python reads as numbers that are none (NaN, infinity), signs left out.
+_NOT_FINITE: Final = frozenset({"nan", "snan", "inf", "infinity"})
+#: The prefixes of a whole number written in another base.
+_PREFIXES: Final = ("0x", "0b", "0o")
+
+
+def _beyond_ascii(text: str) -> str | None:
+    """What is wrong with number text holding a character beyond ASCII, else None."""
+    odd = next((c for c in text if not c.isascii()), None)
+    if odd is None:
+        return None
+    what = "a digit" if odd.isdigit() else "a character"
+    return f"{text!r} holds {what} beyond ASCII ({odd!r}, U+{ord(odd):04X}): write 0-9"
+
+
+def _refused(what: str, typed: str) -> ValueError:
+    """The refusal of ``typed`` as ``what``, with a hint for an exponent, a NaN or infinity
+    word and empty text."""
+    low = typed.strip().lower()
+    hint = ""
+    if _EXPONENT.fullmatch(low):
+        hint = " (no exponent: write the digits)"
+    elif low.lstrip("+-") in _NOT_FINITE:
+        hint = " (no NaN or infinity: write the digits)"
+    elif not low:
+        hint = " (nothing typed)"
+    return ValueError(f"{what}: {typed!r}{hint}")
+
+
+def whole_number(text: str) -> int:
+    """A whole number as a person types it on every front end: ASCII digits with a sign
+    (``-0``, ``+12``, ``0042``), or ``0x``, ``0b``, ``0o`` (``_`` between digits allowed
+    there), spaces around. ValueError naming the text for anything else: digits of other
+    scripts (``'\u0661\u0662'``), an exponent (``1e3``), a decimal point, ``_`` between
+    decimal digits, empty text."""
+    stripped = text.strip()
+    odd = _beyond_ascii(stripped)
+    if odd is not None:
+        raise ValueError(odd)
+    low = stripped.lower()
+    digits = low.lstrip("+-")
+    if _WHOLE.fullmatch(low) is None or low.endswith("_") or digits[2:3] == "_":
+        raise _refused("not a whole number", text)
+    if digits.startswith(_PREFIXES):
+        return int(stripped.replace("_", ""), 0)
+    return int(stripped, 10)
+
+
+def decimal_number(text: str) -> Decimal:
+    """A number as a person types it on every front end: ASCII digits with a sign and a
+    decimal point (``-12.5``, ``.5``, ``3.``), spaces around; the digits as typed
+    (``"1.50"`` keeps two decimals). ValueError naming the text otherwise: an exponent
+    (``1e3``), NaN or infinity, digits of other scripts, empty text."""
+    stripped = text.strip()
+    odd = _beyond_ascii(stripped)
+    if odd is not None:
+        raise ValueError(odd)
+    if _DECIMAL.fullmatch(stripped) is None:
+        raise _refused("not a number", text)
+    return Decimal(stripped)
+
+
+def typed_number(text: str) -> int | Decimal:
+    """A number typed where a whole number or a decimal may stand (a parameter's or a macro
+    variable's value): ``0x``, ``0b`` or ``0o`` text as :func:`whole_number` (an ``int``),
+    anything else as :func:`decimal_number` (a ``Decimal``)."""
+    if text.strip().lower().lstrip("+-").startswith(_PREFIXES):
+        return whole_number(text)
+    return decimal_number(text)

@@ -254,7 +254,7 @@ async def test_ipv6_addresses_print_in_brackets() -> None:
 
 
 async def test_follow_interval_is_bounded_below() -> None:
-    code, _out, err = await run_focas_net("alarms", "--follow", "--interval", "1e-9")
+    code, _out, err = await run_focas_net("alarms", "--follow", "--interval", "0.000000001")
     assert code == EXIT_USAGE and "0.05..3600 seconds" in err
 
 

@@ -333,7 +333,7 @@ BAD_FILES = [
     (
         "[parameters]\n1420 = { type = 'real', decimals = 3, value = '1e3' }\n",
         "parameters.1420.value",
-        "12.345 (ASCII digits), got '1e3'",
+        "must be a number such as 12.345: not a number: '1e3' (no exponent: write the digits)",
     ),
 ]
 _HEAD = "[machine]\nname = 'm'\naxes = ['X']\n"

@@ -18,6 +18,7 @@ from collections.abc import Callable, Sequence
 from functools import partial
 from typing import Any, Final, NoReturn, TypeVar
 
+from focas_net._typed import decimal_number
 from focas_net.client._address import check_host, host_and_port, shown
 from focas_net.client._values import check_path
 from focas_net.protocol import PmcArea
@@ -232,13 +233,9 @@ def parse_file_name(text: str) -> str:
 
 
 def _number(text: str) -> float:
-    """A number of seconds as typed, finite (nan is no number; infinity is named)."""
-    try:
-        value = float(text)
-    except ValueError:
-        value = math.nan
-    if math.isnan(value):
-        raise ValueError(f"not a number: {text!r}")
+    """A number of seconds as every front end reads number text (digits, a sign, a point; no
+    exponent, NaN or infinity: :func:`focas_net._typed.decimal_number`)."""
+    value = float(decimal_number(text))
     if math.isinf(value):
         raise ValueError(f"must be finite, got {text.strip()}")
     return value

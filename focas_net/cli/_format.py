@@ -16,7 +16,7 @@ from datetime import UTC, datetime
 from decimal import Decimal
 from typing import Any, Final
 
-from focas_net._typed import switch
+from focas_net._typed import switch, typed_number, whole_number
 from focas_net.errors import EW, ChunkedWriteError, CncError, ew_info, ew_label
 from focas_net.protocol import (
     ALARM_TYPE_NAMES,
@@ -500,36 +500,21 @@ def param_dict(
 
 def parse_param_value(text: str) -> int | Decimal | str:
     """A parameter value typed on the command line: an integer (decimal, ``0x`` hex, ``0b``
-    bits #7 first, ``0o`` octal) or, for a real parameter, a decimal number (``12.345``).
+    bits #7 first, ``0o`` octal) or, for a real parameter, a decimal number (``12.345``), read
+    as every front end reads number text (:func:`focas_net._typed.typed_number`: no exponent).
     Plain digits stay text: the client reads them by the parameter's type (on a bit parameter
-    ``00000011`` is its eight bits)."""
-    if text.strip().replace("_", "").isdecimal() and text.isascii():
-        return text.strip()
-    try:
-        return parse_int(text)
-    except ValueError:
-        pass
-    try:
-        value = Decimal(text.strip()) if text.isascii() else Decimal("NaN")
-    except ArithmeticError:
-        value = Decimal("NaN")
-    if not value.is_finite():
-        raise ValueError(
-            f"not a parameter value: {text!r} (an integer such as 42, 0x2A or 0b00101010, "
-            "or a decimal number for a real parameter)"
-        )
-    return value
+    ``00000011`` is its eight bits, ``0000_0011`` too)."""
+    stripped = text.strip()
+    if stripped.replace("_", "").isdecimal() and stripped.isascii():
+        return stripped
+    return typed_number(text)
 
 
 def parse_int(text: str) -> int:
-    """A decimal, ``0x`` hex, ``0b`` binary or ``0o`` octal integer, in ASCII (Python's
-    ``int`` takes the digits of every script: ``'\u0661'`` is no 1 here, as on the page)."""
-    if not text.isascii():
-        raise ValueError(f"not an integer: {text!r} (digits are ASCII 0-9)")
-    try:
-        return int(text.strip().replace("_", ""), 0)
-    except ValueError:
-        raise ValueError(f"not an integer: {text!r}") from None
+    """A decimal, ``0x`` hex, ``0b`` binary or ``0o`` octal integer, in ASCII digits, as every
+    front end reads a whole number (:func:`focas_net._typed.whole_number`: no exponent, no
+    digits of other scripts)."""
+    return whole_number(text)
 
 
 def parse_number_bit(
@@ -603,7 +588,7 @@ def parse_ew(text: str) -> int:
     """An EW code by number or name (``17``, ``EW_PASSWD``, ``passwd``, ``-1``)."""
     s = text.strip()
     try:
-        return int(s, 0)
+        return whole_number(s)
     except ValueError:
         pass
     name = s.upper().removeprefix("EW_")

@@ -35,6 +35,7 @@ from typing import TYPE_CHECKING, Any, Final
 
 import anyio
 
+from focas_net._typed import decimal_number
 from focas_net.client._failures import os_reason
 from focas_net.protocol import PASSWORD_SIZE
 from focas_net.server import (
@@ -88,13 +89,22 @@ DEFAULT_SEED: Final = 0
 _RESERVED_FILES: Final = 32
 
 
-def _seconds(text: str) -> float:
+def _typed(text: str) -> float:
+    """A number as every front end reads number text (no exponent, no NaN or infinity:
+    :func:`focas_net._typed.decimal_number`), its refusal argparse's one line."""
     try:
-        value = float(text)
-    except ValueError:
-        raise argparse.ArgumentTypeError(f"not a number of seconds: {text!r}") from None
-    if not value >= 0 or value == float("inf"):
-        raise argparse.ArgumentTypeError(f"must be a finite number >= 0, got {text}")
+        value = float(decimal_number(text))
+    except ValueError as exc:
+        raise argparse.ArgumentTypeError(str(exc)) from None
+    if value in (float("inf"), float("-inf")):
+        raise argparse.ArgumentTypeError(f"must be finite, got {text.strip()}")
+    return value
+
+
+def _seconds(text: str) -> float:
+    value = _typed(text)
+    if not value >= 0:
+        raise argparse.ArgumentTypeError(f"must be a number >= 0, got {text}")
     return value
 
 
@@ -107,20 +117,14 @@ def _password(text: str) -> str:
 
 
 def _speed(text: str) -> float:
-    try:
-        value = float(text)
-    except ValueError:
-        raise argparse.ArgumentTypeError(f"not a speed factor: {text!r}") from None
+    value = _typed(text)
     if not 0 < value <= MAX_SPEED:
         raise argparse.ArgumentTypeError(f"must be above 0 and at most {MAX_SPEED:g}, got {text}")
     return value
 
 
 def _downtime(text: str) -> float:
-    try:
-        value = float(text)
-    except ValueError:
-        raise argparse.ArgumentTypeError(f"not a factor: {text!r}") from None
+    value = _typed(text)
     if not 0 <= value <= MAX_DOWNTIME:
         raise argparse.ArgumentTypeError(f"must be 0..{MAX_DOWNTIME:g}, got {text}")
     return value

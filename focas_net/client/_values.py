@@ -14,11 +14,11 @@ from __future__ import annotations
 import enum
 import math
 from dataclasses import dataclass
-from decimal import Decimal, InvalidOperation
+from decimal import Decimal
 from typing import Final
 
 from .._bits import bits_of_text
-from .._typed import macro_unfit
+from .._typed import macro_unfit, typed_number, whole_number
 from ..protocol import (
     MAX_HISTORY_DEPTH,
     MAX_REAL_DECIMALS,
@@ -225,12 +225,7 @@ def macro_to_wire(value: int | Decimal | float | str) -> tuple[int, int]:
     elif isinstance(value, Decimal):
         dec = value
     elif isinstance(value, str):
-        if not value.isascii():  # Decimal takes every script's digits; a CNC takes 0-9
-            raise ValueError(f"not a number: {value!r} (digits are ASCII 0-9)")
-        try:
-            dec = Decimal(value.strip())
-        except InvalidOperation:
-            raise ValueError(f"not a number: {value!r}") from None
+        dec = Decimal(typed_number(value))  # as every front end reads number text
     else:
         raise TypeError(f"a macro value must be int, Decimal, float or str, not {value!r}")
     if not dec.is_finite():
@@ -274,23 +269,18 @@ def macro_from_wire(mcr_val: int, dec_val: int) -> Decimal | None:
 # -- parameter values --------------------------------------------------------------------------
 def param_int(number: int, value: object, kind: ParamDataType | None = None) -> int:
     """An integer parameter value from ``value`` (text: decimal, leading zeros allowed, ``0x``,
-    ``0b`` or ``0o``); for a bit parameter (``kind``) eight 0/1 digits of text are its bits
-    #7..#0, as the machine file and the page read them (:func:`focas_net._bits.bits_of_text`)."""
+    ``0b`` or ``0o``, read by :func:`focas_net._typed.whole_number`); for a bit parameter
+    (``kind``) eight 0/1 digits of text are its bits #7..#0, as the machine file and the page
+    read them (:func:`focas_net._bits.bits_of_text`)."""
     if isinstance(value, str):
         if kind is ParamDataType.BIT:
             bits = bits_of_text(value)
             if bits is not None:
                 return bits
-        text = value.strip().replace("_", "")
-        if not text.isascii():  # int takes every script's digits; a CNC takes 0-9
-            raise ValueError(f"parameter {number}: not an integer: {value!r} (digits are ASCII)")
-        try:
-            return int(text, 0)
-        except ValueError:
-            pass
-        if text.lstrip("+-").isdecimal() and text.isascii():
-            return int(text, 10)  # 0042
-        raise ValueError(f"parameter {number}: not an integer: {value!r}")
+        try:  # as every front end reads a whole number (0042, 0xB0; no exponent)
+            return whole_number(value)
+        except ValueError as exc:
+            raise ValueError(f"parameter {number}: {exc}") from None
     if isinstance(value, bool) or not isinstance(value, int | Decimal):
         raise TypeError(f"parameter {number}: a value is an integer, got {value!r}")
     if isinstance(value, Decimal):
@@ -336,6 +326,11 @@ def real_to_wire(number: int, value: object) -> tuple[int, int]:
     """``(prm_val, dec_val)`` of a real parameter's value."""
     if isinstance(value, bool) or not isinstance(value, int | Decimal | str):
         raise TypeError(f"parameter {number}: a real value is a number, got {value!r}")
+    if isinstance(value, str):
+        try:  # text no number at all is named as every front end names it
+            typed_number(value)
+        except ValueError as exc:
+            raise ValueError(f"real parameter {number}: {exc}") from None
     try:
         return macro_to_wire(value)
     except ValueError:

@@ -71,7 +71,7 @@ class LabelledValue(enum.IntEnum):
             for member in cls:
                 if text in (member.name, member.label.upper()):
                     return member
-            if text.lstrip("-").isdigit():
+            if text.lstrip("-").isdigit() and text.isascii():  # 0-9, as a CNC's keys
                 value = int(text)
             else:
                 names = ", ".join(m.name for m in cls)

@@ -19,6 +19,7 @@ from pathlib import Path
 from typing import Any, Final
 
 from focas_net._bits import bits_hint, bits_of_text
+from focas_net._typed import decimal_number
 from focas_net.versamax import BoardId, IOModuleRecord, RefType
 
 from ._base import NUMBERS
@@ -86,8 +87,6 @@ _TYPE_NAMES: Final = '"bit", "byte", "word", "two-word", "real"'
 _MODULES: Final = {"IC200GBI001": gniu_record, "IC200MDD844": mdd844_record}
 _REF_TYPES: Final[dict[str, RefType]] = {"I": RefType.I, "Q": RefType.Q, "AI": RefType.AI}
 _REF_TYPES["AQ"] = RefType.AQ
-#: A number as a machine file's text gives it: ASCII digits, a sign, a point (no exponent).
-_DECIMAL: Final = re.compile(r"[+-]?(?:[0-9]+(?:\.[0-9]*)?|\.[0-9]+)")
 
 
 # -- sections -----------------------------------------------------------------------------------
@@ -181,10 +180,13 @@ def _item_value(
         if isinstance(value, str | int | float):
             if isinstance(value, float) and not math.isfinite(value):
                 ctx.fail(f"must be a finite number, got {value}")
-            text = str(value).strip() if isinstance(value, str) else repr(value)
-            if isinstance(value, str) and not _DECIMAL.fullmatch(text):
-                ctx.fail(f"must be a number such as 12.345 (ASCII digits), got {value!r}")
-            number = Decimal(text)
+            if isinstance(value, str):
+                try:  # as every front end reads number text: digits, a sign, a point
+                    number = decimal_number(value)
+                except ValueError as exc:
+                    ctx.fail(f"must be a number such as 12.345: {exc}")
+            else:
+                number = Decimal(repr(value))
             scaled = number.scaleb(decimals)
             if scaled != scaled.to_integral_value():
                 ctx.fail(f"{value} does not have {decimals} decimals or fewer")

@@ -27,7 +27,7 @@ def parse_web_address(text: str) -> tuple[str, int]:
         raise ValueError(f"{text!r}: write an IPv6 host in brackets, [HOST]:PORT")
     if not host:
         raise ValueError(f"{text!r}: no host before ':' (write PORT or HOST:PORT)")
-    if not port_text.isdigit() or not 0 <= int(port_text) <= 65_535:
+    if not (port_text.isascii() and port_text.isdigit()) or not 0 <= int(port_text) <= 65_535:
         raise ValueError(f"{text!r}: the port must be a number 0..65535 ([HOST:]PORT)")
     if any(c.isspace() for c in host):
         raise ValueError(f"{text!r}: a host name has no spaces")

@@ -18,14 +18,13 @@ from __future__ import annotations
 
 import json
 import math
-import re
 from collections.abc import Callable, Mapping
 from dataclasses import dataclass, field
 from decimal import Decimal
 from typing import Any, Final
 
 from focas_net._bits import bits_of_text
-from focas_net._typed import program_number, switch
+from focas_net._typed import decimal_number, program_number, switch, typed_number, whole_number
 from focas_net.errors import EW, ew_name
 from focas_net.protocol import AutMode, FaultKind, FaultScope, InjectFault, alarm_message
 from focas_net.server.faults import FaultQueue, fault_refusal, parse_inject
@@ -45,9 +44,6 @@ __all__ = [
     "refusal",
     "whole_number",
 ]
-
-#: A number written with an exponent (``1e3``, ``-2.5E-4``): the page takes digits only.
-_EXPONENT: Final = re.compile(r"[+-]?(\d+\.?\d*|\.\d+)e[+-]?\d+")
 
 #: PMC areas the page writes as the simulator (0x0E04 set_pmc), ignoring write protection.
 FORCED_PMC_AREAS: Final = frozenset({"X", "F"})
@@ -109,8 +105,8 @@ def refusal(exc: MachineError) -> JsonDict:
 # -- arguments ------------------------------------------------------------------------------
 def _int(args: Mapping[str, Any], key: str, default: int | None = None) -> int:
     """``args[key]`` as a whole number (decimal, ``0x``, ``0b`` or ``0o``, ASCII digits only:
-    :func:`whole_number`); ``default`` when it is not given, but a field sent empty is refused
-    like a field that is not a number."""
+    :func:`~focas_net._typed.whole_number`, as every front end reads it); ``default`` when it
+    is not given, but a field sent empty is refused like a field that is not a number."""
     value = args.get(key)
     if value is None and default is not None:
         return default
@@ -128,49 +124,6 @@ def _int(args: Mapping[str, Any], key: str, default: int | None = None) -> int:
     raise ActionError(f"{key}: not a whole number: {value!r}")
 
 
-_WHOLE: Final = re.compile(r"[+-]?(?:[0-9]+|0x[0-9a-f_]+|0b[01_]+|0o[0-7_]+)", re.ASCII)
-_DECIMAL: Final = re.compile(r"[+-]?(?:[0-9]+(?:\.[0-9]*)?|\.[0-9]+)", re.ASCII)
-
-
-def _beyond_ascii(text: str) -> str | None:
-    """What is wrong with number text holding a character beyond ASCII, else None."""
-    odd = next((c for c in text if not c.isascii()), None)
-    if odd is None:
-        return None
-    what = "a digit" if odd.isdigit() else "a character"
-    return f"{text!r} holds {what} beyond ASCII ({odd!r}, U+{ord(odd):04X}): write 0-9"
-
-
-def whole_number(text: str) -> int:
-    """A whole number as a person types it on the page: ASCII digits with a sign, or ``0x``,
-    ``0b``, ``0o`` (``_`` between digits allowed there), spaces around. ValueError naming the
-    text for anything else: digits of other scripts (``'\u0661\u0662'``), an exponent
-    (``1e3``), a decimal point."""
-    stripped = text.strip()
-    odd = _beyond_ascii(stripped)
-    if odd is not None:
-        raise ValueError(odd)
-    low = stripped.lower()
-    if _WHOLE.fullmatch(low) is None or low.endswith("_") or low.lstrip("+-")[2:3] == "_":
-        hint = " (no exponent: write the digits)" if _EXPONENT.fullmatch(low) else ""
-        raise ValueError(f"not a whole number: {text!r}{hint}")
-    prefixed = low.lstrip("+-")[1:2].isalpha()
-    return int(stripped.replace("_", ""), 0) if prefixed else int(stripped, 10)
-
-
-def decimal_number(text: str) -> Decimal:
-    """A number as a person types it on the page: ASCII digits with a sign and a decimal point
-    (``-12.5``), no exponent; ValueError naming the text otherwise."""
-    stripped = text.strip()
-    odd = _beyond_ascii(stripped)
-    if odd is not None:
-        raise ValueError(odd)
-    if _DECIMAL.fullmatch(stripped) is None:
-        hint = " (no exponent: write the digits)" if _EXPONENT.fullmatch(stripped.lower()) else ""
-        raise ValueError(f"not a number: {text!r}{hint}")
-    return Decimal(stripped)
-
-
 def _optional_int(args: Mapping[str, Any], key: str) -> int | None:
     value = args.get(key)
     if value is None or value == "":
@@ -186,8 +139,9 @@ def _text(args: Mapping[str, Any], key: str, default: str = "") -> str:
 
 
 def _decimal(args: Mapping[str, Any], key: str) -> Decimal | None:
-    """``args[key]`` as a number: decimal text (``12.345``, :func:`decimal_number`) or a whole
-    number written as the command line writes it (``0xB0``, ``0b10110000``); None when empty."""
+    """``args[key]`` as a number: decimal text (``12.345``) or a whole number written as the
+    command line writes it (``0xB0``, ``0b10110000``), read by
+    :func:`~focas_net._typed.typed_number` as every front end reads it; None when empty."""
     value = args.get(key)
     if value is None or (isinstance(value, str) and not value.strip()):
         return None
@@ -199,10 +153,8 @@ def _decimal(args: Mapping[str, Any], key: str) -> Decimal | None:
         raise ActionError(f"{key}: a number is needed, got {value!r}")
     if isinstance(value, int):
         return Decimal(value)
-    if value.strip().lower().lstrip("+-").startswith(("0x", "0b", "0o")):
-        return Decimal(_int(args, key))
     try:
-        return decimal_number(value)
+        return Decimal(typed_number(value))
     except ValueError as exc:
         raise ActionError(f"{key}: {exc}") from None
 
@@ -420,13 +372,18 @@ def _select_program(station: Station, args: Mapping[str, Any]) -> JsonDict:
     return {}
 
 
+def _digits(text: str) -> bool:
+    """Whether ``text`` is ASCII digits only (a number, not a name)."""
+    return text.isascii() and text.isdigit()
+
+
 def _inject_fault(station: Station, args: Mapping[str, Any]) -> JsonDict:
     """Arm a machine-wide fault with the checks of 0x0E05 inject_fault: a refused argument is
     ``EW_DATA`` with the reason :func:`~focas_net.server.faults.fault_refusal` gives every
     front end."""
     kind_text = _text(args, "kind").strip().upper()
     try:
-        kind = FaultKind[kind_text] if not kind_text.isdigit() else FaultKind(int(kind_text))
+        kind = FaultKind[kind_text] if not _digits(kind_text) else FaultKind(int(kind_text))
     except (KeyError, ValueError):
         names = ", ".join(k.name for k in FaultKind)
         raise ActionError(f"kind: one of {names}, got {kind_text!r}") from None
