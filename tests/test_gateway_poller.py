@@ -4,103 +4,29 @@ goes offline and comes back with every value sent again; both protocols, a 2-pat
 
 from __future__ import annotations
 
-from collections.abc import AsyncIterator, Callable, Sequence
-from contextlib import AsyncExitStack, asynccontextmanager
+from contextlib import AsyncExitStack
 from pathlib import Path
 from typing import Literal
 
 import pytest
+from poller_support import QUICK, RecordingSink, all_online, config, polling, until
 from support import serving, two_path_lathe
 
-from focas_net.client import ReconnectPolicy
 from focas_net.errors import EW, OPCUA_GOOD, ew_info
 from focas_net.gateway import (
-    AlarmChange,
-    GroupIntervals,
     MachineConfig,
-    MachineShape,
-    Sample,
 )
-from focas_net.gateway.poller import Poller, reason_of
+from focas_net.gateway.poller import reason_of
 from focas_net.gateway.reads import NOT_SUPPORTED
 from focas_net.server import FocasServer
 from focas_net.sim import Machine, default_machine, load_machine
 from focas_net.sim.nc import ManualClock
 
 LATHE = Path(__file__).resolve().parent.parent / "examples" / "lathe_2path.toml"
-#: Fast reconnects in real time (the poller's own first-connection retries follow the clock).
-QUICK = ReconnectPolicy(initial_delay=0.01, max_delay=0.05, jitter=0.0)
-#: Bound of the turns of a wait.
-TURNS = 400
-
-
-class RecordingSink:
-    """A sink that keeps everything it is told."""
-
-    def __init__(self) -> None:
-        self.shapes: list[MachineShape] = []
-        self.states: list[tuple[str, bool, str]] = []
-        self.got: list[Sample] = []
-        self.changes: list[AlarmChange] = []
-
-    def described(self, shape: MachineShape) -> None:
-        self.shapes.append(shape)
-
-    def online(self, machine: str, online: bool, reason: str, time: float) -> None:
-        self.states.append((machine, online, reason))
-
-    def samples(self, samples: Sequence[Sample]) -> None:
-        self.got.extend(samples)
-
-    def alarms(self, changes: Sequence[AlarmChange]) -> None:
-        self.changes.extend(changes)
-
-    def of(self, machine: str) -> dict[tuple[int, str, str], Sample]:
-        """The last sample of each key of ``machine``."""
-        return {(s.path, s.item.name, s.key): s for s in self.got if s.machine == machine}
-
-    def clear(self) -> None:
-        self.got.clear()
-        self.changes.clear()
-        self.states.clear()
 
 
 def lathe() -> Machine:
     return load_machine(LATHE, sim_clock=ManualClock())
-
-
-def config(name: str, port: int, protocol: Literal["native", "packed"] = "native") -> MachineConfig:
-    return MachineConfig(
-        name, "127.0.0.1", port, protocol, timeout=2.0, groups=GroupIntervals(1.0, 10.0, 1.0)
-    )
-
-
-@asynccontextmanager
-async def polling(
-    machines: Sequence[MachineConfig], clock: ManualClock
-) -> AsyncIterator[tuple[Poller, RecordingSink]]:
-    sink = RecordingSink()
-    async with Poller(machines, [sink], clock=clock.now, policy=QUICK) as poller:
-        yield poller, sink
-
-
-async def until(
-    poller: Poller, clock: ManualClock, done: Callable[[], bool], step: float = 0.0
-) -> None:
-    """Turn the poller (moving the clock by ``step`` each turn) until ``done()``."""
-    import asyncio
-
-    for _ in range(TURNS):
-        await poller.step()
-        if done():
-            return
-        clock.advance(step)
-        await asyncio.sleep(0.005)
-    pytest.fail(f"not done within {TURNS} turns")
-
-
-def all_online(poller: Poller) -> Callable[[], bool]:
-    return lambda: all(poller.is_online(m) for m in poller.machines)
 
 
 async def test_every_item_of_every_path_once_then_only_changes() -> None:

@@ -6,8 +6,8 @@ machine on 127.0.0.1; the poller stepped by hand on a ManualClock."""
 from __future__ import annotations
 
 import pytest
+from poller_support import QUICK, RecordingSink, all_online, config, until
 from support import serving
-from test_gateway_poller import QUICK, RecordingSink, all_online, config, until
 
 from focas_net.client import ClientState, FocasClient
 from focas_net.errors import EW, ew_info

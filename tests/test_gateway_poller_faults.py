@@ -12,8 +12,8 @@ from collections.abc import Sequence
 from typing import Any, Literal
 
 import pytest
+from poller_support import QUICK, RecordingSink, all_online, config, until
 from support import LoopbackPeer, serving
-from test_gateway_poller import QUICK, RecordingSink, all_online, config, until
 
 from focas_net.client import NativeClient, ReconnectPolicy, StartedCall
 from focas_net.errors import OPCUA_GOOD, ProtocolError
