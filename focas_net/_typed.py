@@ -3,7 +3,7 @@ number text (the page, the command line, the clients' text values and the machin
 words for a macro value that does not fit (the machine and the clients), a program number
 (the command line and the page), an override's range (the machine and the clients), an alarm
 message that is no line of single-byte text (the machine and the encoded text of every front
-end).
+end), whether a host typed is the loopback (the dashboard's and the gateway's guards).
 
 Number text is read as a CNC's MDI keys write a number: ASCII digits, a sign and, for a
 decimal, a decimal point; a whole number may also be written ``0x``, ``0b`` or ``0o`` (with
@@ -14,6 +14,7 @@ the same words wherever it was typed, naming the text.
 
 from __future__ import annotations
 
+import ipaddress
 import re
 from collections.abc import Mapping
 from decimal import Decimal
@@ -25,6 +26,7 @@ __all__ = [
     "RAPID_STEPS",
     "alarm_text_unfit",
     "decimal_number",
+    "is_loopback",
     "macro_unfit",
     "override_unfit",
     "program_number",
@@ -195,3 +197,23 @@ def typed_number(text: str) -> int | Decimal:
     if text.strip().lower().lstrip("+-").startswith(_PREFIXES):
         return whole_number(text)
     return decimal_number(text)
+
+
+#: Names of the loopback as hosts files give them.
+_LOOPBACK_NAMES: Final = frozenset(
+    {"localhost", "localhost.", "localhost.localdomain", "ip6-localhost"}
+)
+
+
+def is_loopback(host: str | None) -> bool:
+    """Whether ``host`` is a loopback address (``127.x.y.z``, ``::1``, also ``[::1]`` as a URL
+    writes it) or a name of the loopback (``localhost``); None, as a URL without a host gives
+    it, is not."""
+    if host is None:
+        return False
+    if host.lower() in _LOOPBACK_NAMES:
+        return True
+    try:
+        return ipaddress.ip_address(host.strip("[]")).is_loopback
+    except ValueError:
+        return False

@@ -210,7 +210,8 @@ BEYOND_THE_TABLE: dict[str, tuple[str, ...]] = {
     "focas_net._bits": (),
     # what a user types: the words for a macro value that does not fit (the machine and the
     # clients), a program number (the command line and the page), an alarm's message (the
-    # machine and the text every front end encodes)
+    # machine and the text every front end encodes), whether a host is the loopback (the page
+    # and the gateway)
     "focas_net._typed": (),
 }
 
@@ -225,6 +226,7 @@ SHARED: dict[str, tuple[str, ...]] = {
         "focas_net.web",
         "focas_net.cli",
         "focas_net.protocol",
+        "focas_net.gateway",
     ),
 }
 

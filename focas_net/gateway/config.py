@@ -11,7 +11,6 @@ line and the gateway refuse the same values with the same words.
 
 from __future__ import annotations
 
-import ipaddress
 import os
 import re
 import tomllib
@@ -21,6 +20,7 @@ from pathlib import Path
 from typing import Any, Final, Literal
 from urllib.parse import urlsplit, urlunsplit
 
+from focas_net._typed import is_loopback
 from focas_net.client._address import check_host, check_port
 from focas_net.client._values import I16_MAX, check_path
 from focas_net.protocol import PmcArea
@@ -57,19 +57,6 @@ _PREFIX_TEXT: Final = "a topic prefix without '+', '#', a '$' first or a '/' at 
 _ANALOGUE: Final = tuple(
     n for n, i in ITEMS.items() if i.kind in (int, float) and i.unit is not None
 )
-
-
-def is_loopback(host: str | None) -> bool:
-    """Whether ``host`` is ``localhost`` or a loopback address (``[::1]`` as an URL writes it
-    too); None, as a URL without a host gives, is not."""
-    if host is None:
-        return False
-    if host.lower() in ("localhost", "localhost."):
-        return True
-    try:
-        return ipaddress.ip_address(host.strip("[]")).is_loopback
-    except ValueError:
-        return False
 
 
 @dataclass(frozen=True, slots=True)

@@ -2,15 +2,14 @@
 
 from __future__ import annotations
 
-import ipaddress
 from typing import Final
+
+from focas_net._typed import is_loopback
 
 __all__ = ["DEFAULT_WEB_HOST", "is_loopback", "parse_web_address"]
 
 #: Where the dashboard listens when ``--web`` gives a port only.
 DEFAULT_WEB_HOST: Final = "127.0.0.1"
-
-_LOOPBACK_NAMES: Final = frozenset({"localhost", "localhost.localdomain", "ip6-localhost"})
 
 
 def parse_web_address(text: str) -> tuple[str, int]:
@@ -32,13 +31,3 @@ def parse_web_address(text: str) -> tuple[str, int]:
     if any(c.isspace() for c in host):
         raise ValueError(f"{text!r}: a host name has no spaces")
     return host, int(port_text)
-
-
-def is_loopback(host: str) -> bool:
-    """Whether ``host`` is a loopback address (or the name ``localhost``)."""
-    if host.lower() in _LOOPBACK_NAMES:
-        return True
-    try:
-        return ipaddress.ip_address(host).is_loopback
-    except ValueError:
-        return False
