@@ -59,6 +59,11 @@ async def test_a_missing_file_and_a_bad_shard_are_exit_2(tmp_path: Path) -> None
         EXIT_USAGE, "gateway", str(config), "--shard", "half", prefix="focas-net gateway: error: "
     )
     assert "argument --shard: give the shard as I/N" in line
+    line = await fails(  # digits of another script are no shard number
+        EXIT_USAGE, "gateway", str(config), "--shard", "\u0661/\u0662",
+        prefix="focas-net gateway: error: ",
+    )  # fmt: skip
+    assert "argument --shard: give the shard as I/N" in line
 
 
 async def test_an_output_without_its_package_names_the_extra(tmp_path: Path) -> None:
@@ -139,3 +144,38 @@ def test_log_level_is_focas_nets_and_other_libraries_stay_at_warning() -> None:
         root.handlers[:] = saved[1]
         root.setLevel(saved[0])
         ours.setLevel(saved[2])
+
+
+async def test_the_ready_line_names_the_port_an_opc_ua_server_of_port_0_took(
+    tmp_path: Path,
+) -> None:
+    async with serving() as mill:
+        config = write_config(
+            tmp_path,
+            machine("mill", mill.port) + '[opcua]\nendpoint = "opc.tcp://127.0.0.1:0/plant"\n',
+        )
+        proc = await asyncio.create_subprocess_exec(
+            sys.executable, "-m", "focas_net", "gateway", str(config),
+            stdout=asyncio.subprocess.PIPE, stderr=asyncio.subprocess.PIPE,
+            env={**os.environ, "PYTHONUNBUFFERED": "1"},
+        )  # fmt: skip
+        assert proc.stdout is not None
+        try:
+            async with asyncio.timeout(SUBPROCESS_TIMEOUT):
+                line = (await proc.stdout.readline()).decode()
+            head, _, endpoint = line.rstrip("\n").partition("; OPC UA ")
+            assert head == "focas-net: gateway polling 1 machine", line
+            host_port = endpoint.removeprefix("opc.tcp://").removesuffix("/plant")
+            host, _, port = host_port.rpartition(":")
+            assert host == "127.0.0.1" and int(port) != 0, line
+            _reader, writer = await asyncio.open_connection(host, int(port))  # it listens there
+            writer.close()
+            await writer.wait_closed()
+            proc.send_signal(signal.SIGTERM)
+            async with asyncio.timeout(SUBPROCESS_TIMEOUT):
+                _out, err = await proc.communicate()
+        finally:
+            if proc.returncode is None:
+                proc.kill()
+                await proc.wait()
+        assert proc.returncode == EXIT_OK, err

@@ -213,6 +213,10 @@ def test_each_shard_has_its_own_opcua_port_and_mqtt_client_id() -> None:
     assert second is not None and second.endpoint == "opc.tcp://[::1]:65535/focas_net/"
     with pytest.raises(ConfigError, match="passes 65535"):
         shard(top, 3, 3)
+    anywhere = parse_config(text.replace(":4840/", ":0/"))  # any free port: each its own
+    assert {s.opcua.endpoint for i in (1, 2, 3) if (s := shard(anywhere, i, 3)).opcua} == {
+        "opc.tcp://[::1]:0/focas_net/"
+    }
 
 
 def test_mqtt_and_opcua_settings(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:

@@ -20,12 +20,14 @@ import logging
 import sys
 from contextlib import AsyncExitStack
 from typing import Any
+from urllib.parse import urlsplit, urlunsplit
 
 from focas_net.client._failures import os_reason
 from focas_net.gateway import (
     ConfigError,
     Gateway,
     GatewayConfig,
+    Sink,
     load_config,
     outputs,
     shard,
@@ -43,7 +45,7 @@ _log = logging.getLogger("focas_net.cli.gateway")
 def parse_shard(text: str) -> tuple[int, int]:
     """``I/N`` as two integers (their ranges are checked with the file, by ``shard``)."""
     first, slash, second = text.strip().partition("/")
-    if not slash or not first.strip().isdigit() or not second.strip().isdigit():
+    if not slash or not all(t.strip().isascii() and t.strip().isdigit() for t in (first, second)):
         raise ValueError(f"give the shard as I/N (1/4: the first of four), got {text!r}")
     return int(first), int(second)
 
@@ -107,7 +109,7 @@ def log_to_stderr(level: str) -> None:
     logging.getLogger("focas_net").setLevel(threshold)
 
 
-def _ready_line(config: GatewayConfig, part: tuple[int, int] | None) -> str:
+def _ready_line(config: GatewayConfig, part: tuple[int, int] | None, sinks: list[Sink]) -> str:
     count = len(config.machines)
     words = [f"gateway polling {count} machine{'s' if count != 1 else ''}"]
     if part is not None:
@@ -115,10 +117,21 @@ def _ready_line(config: GatewayConfig, part: tuple[int, int] | None) -> str:
     if config.mqtt is not None:
         words.append(f"MQTT {config.mqtt.host}:{config.mqtt.port}")
     if config.opcua is not None:
-        words.append(f"OPC UA {config.opcua.endpoint}")
+        words.append(f"OPC UA {_listening(config.opcua.endpoint, sinks)}")
     if config.mqtt is None and config.opcua is None:
         words.append("no output ([mqtt] or [opcua])")
     return f"{PROG}: {'; '.join(words)}\n"
+
+
+def _listening(endpoint: str, sinks: list[Sink]) -> str:
+    """``endpoint`` with the port its OPC UA server listens on (port 0 asks for any free
+    one, which the ready line must name)."""
+    ports = [port for sink in sinks if isinstance(port := getattr(sink, "port", None), int)]
+    parts = urlsplit(endpoint)
+    if not ports or parts.port != 0:
+        return endpoint
+    netloc = f"{parts.netloc.rsplit(':', 1)[0]}:{ports[0]}"
+    return urlunsplit(parts._replace(netloc=netloc))
 
 
 async def _serve(config: GatewayConfig, part: tuple[int, int] | None) -> int:
@@ -144,7 +157,7 @@ async def _serve(config: GatewayConfig, part: tuple[int, int] | None) -> int:
                 await gateway.poller.aclose()
                 return EXIT_CNC
             async with gateway:
-                sys.stdout.write(_ready_line(config, part))
+                sys.stdout.write(_ready_line(config, part, gateway.poller.sinks))
                 sys.stdout.flush()
                 waiting = asyncio.ensure_future(stop.wait())
                 failed = asyncio.ensure_future(gateway.wait())

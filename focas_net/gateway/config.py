@@ -118,6 +118,8 @@ class MqttSettings:
         ``source``, the file, when given) for a value the publisher cannot use; the file's
         reader and :class:`~focas_net.gateway.mqtt.MqttSink` both call it."""
         at = At(source, "mqtt")
+        at.key("host").checked(self.host, check_host, "a host name or address")
+        at.key("port").checked(self.port, check_port, "a port 1..65535")
         prefix = self.prefix
         if (
             not isinstance(prefix, str)
@@ -325,7 +327,8 @@ def shard(config: GatewayConfig, index: int, count: int) -> GatewayConfig:
     opcua, mqtt = config.opcua, config.mqtt
     if opcua is not None:
         parts = urlsplit(opcua.endpoint)
-        port = (parts.port or 0) + index - 1
+        # (port 0, any free port, stays 0 for every shard)
+        port = (parts.port or 0) + index - 1 if parts.port else 0
         if port > 65535:
             raise ConfigError(
                 f"--shard {index}/{count}: the OPC UA port of this shard, {parts.port} + "
@@ -485,13 +488,11 @@ def _secret(at: At, table: Mapping[str, Any]) -> str | None:
 def _mqtt(at: At, value: object) -> MqttSettings:
     table = at.table(value, _MQTT_KEYS)
     out: dict[str, Any] = {}
-    if "host" in table:
-        out["host"] = at.key("host").checked(table["host"], check_host, "a host name or address")
-    if "port" in table:
-        out["port"] = at.key("port").checked(table["port"], check_port, "a port 1..65535")
-    for key in ("prefix", "client_id", "username", "qos", "keepalive", "buffer", "tls"):
+    for key in ("host", "port", "prefix", "client_id", "username", "qos", "keepalive", "buffer"):
         if key in table:
             out[key] = table[key]
+    if "tls" in table:
+        out["tls"] = table["tls"]
     out["password"] = _secret(at, table)
     if "deadbands" in table:
         bands = at.key("deadbands").table(table["deadbands"], _ANALOGUE)
