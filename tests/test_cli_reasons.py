@@ -57,6 +57,9 @@ def programs(tmp_path: Path) -> Path:
     ``no_o_line.nc`` (a program without its O line)."""
     (tmp_path / "o0001.nc").write_text("O0001\nG0 X1.\nM30\n")
     (tmp_path / "no_o_line.nc").write_text("G0 X1.\nM30\n")
+    (tmp_path / "two.nc").write_text("O0015\nM30\nO0016\nM30\n%\n")
+    (tmp_path / "percent.nc").write_text("%\nO0001\nM30\n%\n")
+    (tmp_path / "iso.nc").write_text(":0001\nM30\n")
     return tmp_path
 
 
@@ -64,7 +67,10 @@ async def test_refusals_of_the_built_in_machine_say_why(programs: Path) -> None:
     dup, no_o = str(programs / "o0001.nc"), str(programs / "no_o_line.nc")
     cases: list[Case] = [
         (("program", "load", dup), "REJECT", "O0001 is already stored: give --replace"),
-        (("program", "load", no_o), "DATA", "its first block must be the O line"),
+        (("program", "load", no_o), "DATA", "whose first block is the O line"),
+        (("program", "load", str(programs / "two.nc")), "DATA", "it must hold one program"),
+        (("program", "load", str(programs / "percent.nc")), "REJECT", "O0001 is already stored"),
+        (("program", "load", str(programs / "iso.nc")), "REJECT", "O0001 is already stored"),
         (("program", "select", "4444"), "NUMBER", "no program O4444"),
         (("macro", "get", "2000"), "NUMBER", "the CNC has no macro variable #2000"),
         (("macro", "set", "5001", "1"), "PROT", "#5001 is a read-only variable"),
@@ -83,7 +89,7 @@ async def test_refusals_of_the_built_in_machine_say_why(programs: Path) -> None:
     ]
     async with served_as() as served:
         await refusals(served, cases)
-        native = [(argv, ew, why) for argv, ew, why in cases[3:6]]
+        native = [(argv, ew, why) for argv, ew, why in cases[6:9]]
         await refusals(served, [((*argv, "--protocol", "native"), e, w) for argv, e, w in native])
 
 

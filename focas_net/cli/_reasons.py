@@ -174,7 +174,8 @@ _PMC: Final[Table] = {
 
 # -- part programs and the cycle --------------------------------------------------------------
 
-_O_LINE: Final = re.compile(r"\s*O(\d+)", re.IGNORECASE)
+#: The program number of a program file: its O line (``:`` in ISO code), after a ``%`` line.
+_O_LINE: Final = re.compile(r"\s*(?:%[^\n]*\n\s*)?[O:](\d+)", re.IGNORECASE)
 
 
 def _loaded(args: argparse.Namespace) -> str:
@@ -195,8 +196,8 @@ _RESET_FIRST: Final = "(focas-net sim cycle reset ends it)"
 _PROGRAM_LOAD: Final[Table] = {
     EW.REJECT: lambda a: f"{_loaded(a)} is already stored: give --replace to replace it",
     EW.DATA: lambda a: (
-        f"{a.target} is not one part program: its first block must be the O line with the "
-        "program number (e.g. O1000)"
+        f"{a.target} is not one part program: it must hold one program, whose first block "
+        "is the O line with the program number (e.g. O1000)"
     ),
     EW.NUMBER: lambda a: f"the number of {_loaded(a)} is outside the program store's range",
     EW.OVRFLOW: lambda a: "the program store is full (focas-net program delete N makes room)",
