@@ -61,7 +61,7 @@ SUBJECTS: Final = (GATEWAY, FLOOR, FWLIB_THREADS, FWLIB_POOL)
 LIBRARY: Final[tuple[str, ...]] = (FWLIB_THREADS, FWLIB_POOL)
 DEFAULT_JSON: Final = ROOT / "benchmarks" / "results" / "gateway.json"
 MOSQUITTO: Final = "/usr/sbin/mosquitto"
-#: The issue's targets: the gateway under half a core, and at least 3 x less CPU than the
+#: The gateway's targets: under under half a core, and at least 3 x less CPU than the
 #: library (its cheaper way of the two); every poll due made.
 GATEWAY_CORES: Final = 0.5
 LIBRARY_FACTOR: Final = 3.0
@@ -412,7 +412,7 @@ def rows(windows: dict[str, list[Window]]) -> list[Row]:
 
 
 def checks(windows: dict[str, list[Window]]) -> list[Check]:
-    """The issue's targets for the gateway, and every subject's polls made."""
+    """The gateway's targets, and every subject's polls made."""
     out: list[Check] = []
     gateway = windows.get(GATEWAY)
     label = f"gateway <= {GATEWAY_CORES:g} core, at {POLLS_DUE:.0%} of its polls"
