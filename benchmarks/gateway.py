@@ -61,7 +61,7 @@ SUBJECTS: Final = (GATEWAY, FLOOR, FWLIB_THREADS, FWLIB_POOL)
 LIBRARY: Final[tuple[str, ...]] = (FWLIB_THREADS, FWLIB_POOL)
 DEFAULT_JSON: Final = ROOT / "benchmarks" / "results" / "gateway.json"
 MOSQUITTO: Final = "/usr/sbin/mosquitto"
-#: The gateway's targets: under under half a core, and at least 3 x less CPU than the
+#: The gateway's targets: under half a core, and at least 3 x less CPU than the
 #: library (its cheaper way of the two); every poll due made.
 GATEWAY_CORES: Final = 0.5
 LIBRARY_FACTOR: Final = 3.0
