@@ -51,8 +51,7 @@ from benchmarks.report import (
     Results,
     Row,
     pairwise_ratios,
-    render_checks,
-    render_table,
+    print_results,
 )
 
 ROOT: Final = Path(__file__).resolve().parent.parent
@@ -582,19 +581,11 @@ def main(argv: Sequence[str] | None = None) -> int:
     results.rows = rows(windows)
     results.checks = checks(windows)
     m = results.machine
-    print(f"machine: {m['nproc']} x {m['cpu']}, {m['implementation']} {m['python']}")
-    print(f"command: {command}  (open files {nofile}, mosquitto {shutil.which(MOSQUITTO)})")
-    print()
-    print(render_table(results.rows))
-    print()
-    print(render_checks(results.checks))
-    for message in results.skipped:
-        print(f"note: {message}")
-    args.json.parent.mkdir(parents=True, exist_ok=True)
-    args.json.write_text(json.dumps(results.to_json(), indent=2) + "\n", encoding="utf-8")
-    print(f"results written to {args.json}")
-    failed = any(c.passed is False for c in results.checks)
-    return 1 if args.strict and failed else 0
+    header = (
+        f"machine: {m['nproc']} x {m['cpu']}, {m['implementation']} {m['python']}",
+        f"command: {command}  (open files {nofile}, mosquitto {shutil.which(MOSQUITTO)})",
+    )
+    return print_results(results, header, args.json, args.strict)
 
 
 if __name__ == "__main__":

@@ -5,10 +5,12 @@ Pure functions and dataclasses only, so the arithmetic is testable without runni
 
 from __future__ import annotations
 
+import json
 import math
 import statistics
 from collections.abc import Iterable, Sequence
 from dataclasses import asdict, dataclass, field
+from pathlib import Path
 from typing import Any
 
 FLOOR = "floor"
@@ -225,3 +227,21 @@ def render_table(rows: Iterable[Row]) -> str:
 
 def render_checks(checks: Iterable[Check]) -> str:
     return "\n".join(f"{c.verdict:4}  {c.name}: {c.detail}" for c in checks)
+
+
+def print_results(results: Results, header: Sequence[str], json_path: Path, strict: bool) -> int:
+    """Print ``header``'s lines, the table, the checks and the notes of ``results``, write
+    them as JSON to ``json_path``; the exit status: 1 when ``strict`` and a check failed."""
+    for line in header:
+        print(line)
+    print()
+    print(render_table(results.rows))
+    print()
+    print(render_checks(results.checks))
+    for message in results.skipped:
+        print(f"note: {message}")
+    json_path.parent.mkdir(parents=True, exist_ok=True)
+    json_path.write_text(json.dumps(results.to_json(), indent=2) + "\n", encoding="utf-8")
+    print(f"results written to {json_path}")
+    failed = any(c.passed is False for c in results.checks)
+    return 1 if strict and failed else 0

@@ -40,8 +40,7 @@ from benchmarks.report import (  # noqa: E402
     Row,
     evaluate,
     pairwise_ratios,
-    render_checks,
-    render_table,
+    print_results,
 )
 from benchmarks.subjects import (  # noqa: E402
     LISTEN_PATTERN,
@@ -688,22 +687,11 @@ def main(argv: Sequence[str] | None = None) -> int:
     if any(s in native.SCENARIOS for s in scenarios):
         results.checks += native.checks(results)
     m = results.machine
-    print(
+    machine = (
         f"machine: {m['nproc']} x {m['cpu']}, {m['implementation']} {m['python']},"
         f" {m['event_loop']}"
     )
-    print(f"command: {command}")
-    print()
-    print(render_table(results.rows))
-    print()
-    print(render_checks(results.checks))
-    for message in results.skipped:
-        print(f"note: {message}")
-    args.json.parent.mkdir(parents=True, exist_ok=True)
-    args.json.write_text(json.dumps(results.to_json(), indent=2) + "\n", encoding="utf-8")
-    print(f"results written to {args.json}")
-    failed = any(c.passed is False for c in results.checks)
-    return 1 if args.strict and failed else 0
+    return print_results(results, (machine, f"command: {command}"), args.json, args.strict)
 
 
 if __name__ == "__main__":
