@@ -4,15 +4,12 @@ every axis's values, an alarm, the machine lost (UNAVAILABLE, every value Bad) a
 
 from __future__ import annotations
 
-import asyncio
 import json
-from collections.abc import Callable
 from pathlib import Path
 
-import pytest
 from mosquitto_support import Broker, Seen, broker, subscriber
+from poller_support import QUICK, until
 
-from focas_net.client import ReconnectPolicy
 from focas_net.gateway import GroupIntervals, MachineConfig, MqttSettings
 from focas_net.gateway._mqtt_messages import AlarmEvent, Availability, ValuePayload
 from focas_net.gateway.mqtt import MqttSink
@@ -24,20 +21,6 @@ from focas_net.sim.nc import ManualClock
 __all__ = ["broker"]  # the fixture, used by name
 
 LATHE = Path(__file__).resolve().parent.parent / "examples" / "lathe_2path.toml"
-QUICK = ReconnectPolicy(initial_delay=0.01, max_delay=0.05, jitter=0.0)
-#: Bound of the poller's turns in a wait.
-TURNS = 400
-
-
-async def turn(poller: Poller, clock: ManualClock, done: Callable[[], bool], step: float) -> None:
-    """Turn the poller (moving the clock by ``step`` each turn) until ``done()``."""
-    for _ in range(TURNS):
-        await poller.step()
-        if done():
-            return
-        clock.advance(step)
-        await asyncio.sleep(0.005)
-    pytest.fail(f"not done within {TURNS} turns")
 
 
 def status(seen: Seen, topic: str) -> str | None:
@@ -65,7 +48,7 @@ async def test_a_two_path_lathe_through_the_poller_to_a_subscriber(broker: Broke
             MqttSink(MqttSettings(port=broker.port), gateway_name="gw") as sink,
             Poller([lathe], [sink], clock=clock.now, policy=QUICK) as poller,
         ):
-            await turn(poller, clock, lambda: poller.is_online("lathe") is True, 0.0)
+            await until(poller, clock, lambda: poller.is_online("lathe") is True, 0.0)
             await poller.step()  # the first reads of every group
             model_topic = "focas/lathe/$model"
             await seen.until(lambda s: s.latest(model_topic) is not None)
@@ -90,13 +73,13 @@ async def test_a_two_path_lathe_through_the_poller_to_a_subscriber(broker: Broke
             assert (raised.type, raised.number, raised.active) == (4, 510, True)
 
             await server.aclose()
-            await turn(poller, clock, lambda: poller.is_online("lathe") is False, 1.0)
+            await until(poller, clock, lambda: poller.is_online("lathe") is False, 1.0)
             await seen.until(lambda s: state(s, "focas/lathe/availability") == "UNAVAILABLE")
             await seen.until(lambda s: all(status(s, t) == "BadCommunicationError" for t in values))
 
             server = FocasServer(machine, host="127.0.0.1", port=port, grace_period=0.5)
             await server.start()
-            await turn(poller, clock, lambda: poller.is_online("lathe") is True, 1.0)
+            await until(poller, clock, lambda: poller.is_online("lathe") is True, 1.0)
             clock.advance(10.0)
             await poller.step()
             await seen.until(lambda s: state(s, "focas/lathe/availability") == "AVAILABLE")

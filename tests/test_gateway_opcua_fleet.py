@@ -5,8 +5,6 @@ once it is back; write methods through the configuration's write gates."""
 
 from __future__ import annotations
 
-import asyncio
-from collections.abc import Callable
 from contextlib import AsyncExitStack
 from dataclasses import replace
 from decimal import Decimal
@@ -16,9 +14,9 @@ from typing import Any
 import pytest
 from asyncua import Node, ua
 from opcua_support import SETTINGS, USERS, Handler, cnc_path, connected, machine_node
+from poller_support import QUICK, until
 from support import serving, wait_until
 
-from focas_net.client import ReconnectPolicy
 from focas_net.gateway import Gateway, GatewayConfig, GroupIntervals, MachineConfig, WriteGates
 from focas_net.gateway._opcua_types import CNC_NAMESPACE, CncId
 from focas_net.gateway.opcua import OpcUaSink
@@ -30,8 +28,6 @@ from focas_net.sim import default_machine, load_machine
 from focas_net.sim.nc import ManualClock
 
 LATHE = Path(__file__).resolve().parent.parent / "examples" / "lathe_2path.toml"
-QUICK = ReconnectPolicy(initial_delay=0.01, max_delay=0.05, jitter=0.0)
-TURNS = 400
 LOST = ua.StatusCode(ua.StatusCodes.BadCommunicationError)
 
 
@@ -39,19 +35,6 @@ def config(name: str, port: int) -> MachineConfig:
     return MachineConfig(
         name, "127.0.0.1", port, "native", timeout=2.0, groups=GroupIntervals(1.0, 10.0, 1.0)
     )
-
-
-async def until(
-    poller: Poller, clock: ManualClock, done: Callable[[], bool], step: float = 0.0
-) -> None:
-    """Turn the poller (moving the clock by ``step`` each turn) until ``done()``."""
-    for _ in range(TURNS):
-        await poller.step()
-        if done():
-            return
-        clock.advance(step)
-        await asyncio.sleep(0.005)
-    pytest.fail(f"not done within {TURNS} turns")
 
 
 async def status_of(node: Node) -> Any:
