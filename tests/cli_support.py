@@ -6,8 +6,12 @@ from __future__ import annotations
 import asyncio
 import json
 import os
+import signal
 import sys
 import weakref
+from collections.abc import AsyncIterator
+from contextlib import asynccontextmanager
+from dataclasses import dataclass
 from typing import Any, Protocol
 
 import pytest
@@ -118,3 +122,42 @@ async def ok(*argv: str) -> str:
     assert got == EXIT_OK, (argv, got, err)
     assert err == ""
     return out
+
+
+@dataclass
+class Gateway:
+    """A ``focas-net gateway`` process of :func:`gateway_process`: its ready line, and after
+    :meth:`stop` its standard output and error."""
+
+    proc: asyncio.subprocess.Process
+    ready: str
+    out: bytes = b""
+    err: bytes = b""
+
+    async def stop(self, signum: signal.Signals = signal.SIGTERM) -> int:
+        """Send ``signum``; the exit code once the process ended (within the bound)."""
+        self.proc.send_signal(signum)
+        async with asyncio.timeout(SUBPROCESS_TIMEOUT):
+            self.out, self.err = await self.proc.communicate()
+        assert self.proc.returncode is not None
+        return self.proc.returncode
+
+
+@asynccontextmanager
+async def gateway_process(*argv: str) -> AsyncIterator[Gateway]:
+    """``focas-net gateway *argv`` in a process of its own, once it printed its ready line;
+    killed at the end unless :meth:`Gateway.stop` ended it."""
+    proc = await asyncio.create_subprocess_exec(
+        sys.executable, "-m", "focas_net", "gateway", *argv,
+        stdout=asyncio.subprocess.PIPE, stderr=asyncio.subprocess.PIPE,
+        env={**os.environ, "PYTHONUNBUFFERED": "1"},
+    )  # fmt: skip
+    assert proc.stdout is not None
+    try:
+        async with asyncio.timeout(SUBPROCESS_TIMEOUT):
+            ready = (await proc.stdout.readline()).decode()
+        yield Gateway(proc, ready)
+    finally:
+        if proc.returncode is None:
+            proc.kill()
+            await proc.wait()

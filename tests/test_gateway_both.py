@@ -9,16 +9,14 @@ from __future__ import annotations
 
 import asyncio
 import json
-import os
 import socket
-import sys
-from collections.abc import AsyncIterator, Awaitable, Callable
-from contextlib import AsyncExitStack, asynccontextmanager
+from collections.abc import Awaitable, Callable
+from contextlib import AsyncExitStack
 from pathlib import Path
 
 import pytest
 from asyncua import Client, Node, ua
-from cli_support import SUBPROCESS_TIMEOUT
+from cli_support import gateway_process
 from mosquitto_support import Broker, Seen, broker, subscriber
 
 from focas_net.gateway._mqtt_messages import Availability, ValuePayload
@@ -70,31 +68,6 @@ prefix = "focas"
 [opcua]
 endpoint = "opc.tcp://127.0.0.1:{opcua}/focas_net/"
 """
-
-
-@asynccontextmanager
-async def gateway(config: Path) -> AsyncIterator[asyncio.subprocess.Process]:
-    """``focas-net gateway config`` until its ready line; stopped by SIGTERM at the end."""
-    proc = await asyncio.create_subprocess_exec(
-        sys.executable, "-m", "focas_net", "gateway", str(config),
-        stdout=asyncio.subprocess.PIPE, stderr=asyncio.subprocess.PIPE,
-        env={**os.environ, "PYTHONUNBUFFERED": "1"},
-    )  # fmt: skip
-    assert proc.stdout is not None
-    try:
-        async with asyncio.timeout(SUBPROCESS_TIMEOUT):
-            line = (await proc.stdout.readline()).decode()
-        assert line.startswith("focas-net: gateway polling 2 machines"), line
-        yield proc
-    finally:
-        if proc.returncode is None:
-            proc.terminate()
-            try:
-                async with asyncio.timeout(SUBPROCESS_TIMEOUT):
-                    await proc.communicate()
-            except TimeoutError:
-                proc.kill()
-                await proc.wait()
 
 
 async def opcua_client(port: int) -> Client:
@@ -179,7 +152,8 @@ async def test_a_running_plant_to_opc_ua_and_mqtt_at_once_lost_and_back(
         lathe.set_motion(path=2, feed=250)
 
         seen = await stack.enter_async_context(subscriber(broker))
-        await stack.enter_async_context(gateway(config))
+        plant_gateway = await stack.enter_async_context(gateway_process(str(config)))
+        assert plant_gateway.ready.startswith("focas-net: gateway polling 2 machines")
         client = await opcua_client(opcua_port)
         stack.push_async_callback(client.disconnect)
 

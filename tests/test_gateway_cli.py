@@ -4,13 +4,12 @@ and SIGTERM, one line and exit 2 for a bad file, a bad ``--shard`` or a missing 
 from __future__ import annotations
 
 import asyncio
-import os
 import signal
 import sys
 from pathlib import Path
 
 import pytest
-from cli_support import SUBPROCESS_TIMEOUT, fails, one_line
+from cli_support import SUBPROCESS_TIMEOUT, fails, gateway_process, one_line
 from support import serving
 
 from focas_net.cli import EXIT_OK, EXIT_USAGE
@@ -93,32 +92,18 @@ async def test_it_polls_until_told_to_stop(tmp_path: Path, signum: signal.Signal
             tmp_path, machine("mill", mill.port) + machine("packed", mill.port, "packed")
             + machine("dead", dead)
         )  # fmt: skip
-        proc = await asyncio.create_subprocess_exec(
-            sys.executable, "-m", "focas_net", "gateway", str(config), "--shard", "1/1",
-            stdout=asyncio.subprocess.PIPE, stderr=asyncio.subprocess.PIPE,
-            env={**os.environ, "PYTHONUNBUFFERED": "1"},
-        )  # fmt: skip
-        assert proc.stdout is not None
-        try:
-            async with asyncio.timeout(SUBPROCESS_TIMEOUT):
-                line = (await proc.stdout.readline()).decode()
-                assert line == (
-                    "focas-net: gateway polling 3 machines (shard 1/1); "
-                    "no output ([mqtt] or [opcua])\n"
-                )
-                for _ in range(200):  # the gateway's connections reach the machine
-                    if mill.listener.native_connections:
-                        break
-                    await asyncio.sleep(0.02)
-                assert mill.listener.native_connections
-                proc.send_signal(signum)
-                out, err = await proc.communicate()
-        finally:
-            if proc.returncode is None:
-                proc.kill()
-                await proc.wait()
-        assert proc.returncode == EXIT_OK, err
-        assert out == b""
+        async with gateway_process(str(config), "--shard", "1/1") as gateway:
+            assert gateway.ready == (
+                "focas-net: gateway polling 3 machines (shard 1/1); no output ([mqtt] or [opcua])\n"
+            )
+            for _ in range(200):  # the gateway's connections reach the machine
+                if mill.listener.native_connections:
+                    break
+                await asyncio.sleep(0.02)
+            assert mill.listener.native_connections
+            assert await gateway.stop(signum) == EXIT_OK, gateway.err
+        assert gateway.out == b""
+        err = gateway.err
         assert b"Traceback" not in err
 
 
@@ -154,15 +139,8 @@ async def test_the_ready_line_names_the_port_an_opc_ua_server_of_port_0_took(
             tmp_path,
             machine("mill", mill.port) + '[opcua]\nendpoint = "opc.tcp://127.0.0.1:0/plant"\n',
         )
-        proc = await asyncio.create_subprocess_exec(
-            sys.executable, "-m", "focas_net", "gateway", str(config),
-            stdout=asyncio.subprocess.PIPE, stderr=asyncio.subprocess.PIPE,
-            env={**os.environ, "PYTHONUNBUFFERED": "1"},
-        )  # fmt: skip
-        assert proc.stdout is not None
-        try:
-            async with asyncio.timeout(SUBPROCESS_TIMEOUT):
-                line = (await proc.stdout.readline()).decode()
+        async with gateway_process(str(config)) as gateway:
+            line = gateway.ready
             head, _, endpoint = line.rstrip("\n").partition("; OPC UA ")
             assert head == "focas-net: gateway polling 1 machine", line
             host_port = endpoint.removeprefix("opc.tcp://").removesuffix("/plant")
@@ -171,11 +149,4 @@ async def test_the_ready_line_names_the_port_an_opc_ua_server_of_port_0_took(
             _reader, writer = await asyncio.open_connection(host, int(port))  # it listens there
             writer.close()
             await writer.wait_closed()
-            proc.send_signal(signal.SIGTERM)
-            async with asyncio.timeout(SUBPROCESS_TIMEOUT):
-                _out, err = await proc.communicate()
-        finally:
-            if proc.returncode is None:
-                proc.kill()
-                await proc.wait()
-        assert proc.returncode == EXIT_OK, err
+            assert await gateway.stop() == EXIT_OK, gateway.err

@@ -4,14 +4,10 @@ the lathe's ``$model`` and values of both paths, and ``offline`` once the gatewa
 
 from __future__ import annotations
 
-import asyncio
 import json
-import os
-import signal
-import sys
 from pathlib import Path
 
-from cli_support import SUBPROCESS_TIMEOUT
+from cli_support import gateway_process
 from mosquitto_support import Broker, broker, subscriber
 from support import serving
 
@@ -37,16 +33,8 @@ async def test_the_gateway_publishes_a_2_path_lathe_to_the_broker(
         )
         state = "plant/focas/$gateway/focas-net/state"
         async with subscriber(broker, "plant/#") as seen:
-            proc = await asyncio.create_subprocess_exec(
-                sys.executable, "-m", "focas_net", "gateway", str(config),
-                stdout=asyncio.subprocess.PIPE, stderr=asyncio.subprocess.PIPE,
-                env={**os.environ, "PYTHONUNBUFFERED": "1"},
-            )  # fmt: skip
-            assert proc.stdout is not None
-            try:
-                async with asyncio.timeout(SUBPROCESS_TIMEOUT):
-                    line = (await proc.stdout.readline()).decode()
-                assert line == (
+            async with gateway_process(str(config)) as gateway:
+                assert gateway.ready == (
                     f"focas-net: gateway polling 1 machine; MQTT 127.0.0.1:{broker.port}\n"
                 )
                 await seen.until(lambda s: s.latest(state) == b"online")
@@ -62,13 +50,7 @@ async def test_the_gateway_publishes_a_2_path_lathe_to_the_broker(
                 assert {ValuePayload.decode(seen.latest(t) or b"").status for t in topics} == {
                     "Good"
                 }
-                proc.send_signal(signal.SIGTERM)
-                async with asyncio.timeout(SUBPROCESS_TIMEOUT):
-                    _out, err = await proc.communicate()
+                code = await gateway.stop()
                 await seen.until(lambda s: s.latest(state) == b"offline")
-            finally:
-                if proc.returncode is None:
-                    proc.kill()
-                    await proc.wait()
-    assert proc.returncode == EXIT_OK, err
-    assert b"Traceback" not in err
+    assert code == EXIT_OK, gateway.err
+    assert b"Traceback" not in gateway.err
