@@ -270,22 +270,10 @@ class NativeClient(
         connected) and finished by awaiting :meth:`StartedCall.result` (see
         :func:`~focas_net.client.read_status_all`)."""
         p = self._path_of(path)
-        deadline = self._deadline(timeout)
-        handle = self._handle
-        if handle is None or handle.closed:
-            return StartedCall.running(self.read_status(path=p, timeout=timeout))
-        call = calls.cnc_statinfo(handle.command_set)
-        try:
-            if p != 1:
-                check_path_of(handle, p, call.function)
-        except CncError as exc:
-            return StartedCall.failed(exc)
-        job = self._submit(call.part(0, p), handle.command_set, deadline)
-
-        async def finish() -> StatusInfo:
-            return made_once(handle, call, await job.token, _status, p)
-
-        return StartedCall(finish, lambda: self._session.abandon(job), job.token)
+        return self._start(
+            lambda handle: calls.cnc_statinfo(handle.command_set), p, timeout, _status,
+            lambda: self.read_status(path=p, timeout=timeout),
+        )  # fmt: skip
 
     async def read_sysinfo(self, *, timeout: float | None = None) -> SysInfo:
         """``cnc_sysinfo``: ODBSYS as the CNC answered it while connecting (nothing is sent,
@@ -483,20 +471,10 @@ class NativeClient(
         :meth:`StartedCall.result` (see :func:`~focas_net.client.read_dynamic_all`)."""
         _check_dynamic_axis(axis)
         p = self._path_of(path)
-        deadline = self._deadline(timeout)
-        handle = self._handle
-        if handle is None or handle.closed:
-            return StartedCall.running(self.read_dynamic(axis, path=p, timeout=timeout))
-        try:
-            call = self._dynamic_call(handle, axis, p)
-        except CncError as exc:
-            return StartedCall.failed(exc)
-        job = self._submit(call.part(0, p), handle.command_set, deadline)
-
-        async def finish() -> DynamicData:
-            return made_once(handle, call, await job.token, _dynamic, p)
-
-        return StartedCall(finish, lambda: self._session.abandon(job), job.token)
+        return self._start(
+            lambda handle: self._dynamic_call(handle, axis, p), p, timeout, _dynamic,
+            lambda: self.read_dynamic(axis, path=p, timeout=timeout),
+        )  # fmt: skip
 
     @staticmethod
     def _dynamic_call(handle: Handle, axis: int, path: int) -> LibraryCall:
