@@ -36,7 +36,7 @@ from focas_net.protocol import FaultKind
 from focas_net.server import FocasServer
 from focas_net.sim import default_machine
 from focas_net.sim.nc import ManualClock
-from focas_net.web import ACTIONS, Dashboard, stations_of
+from focas_net.web import ACTION_KEYS, ACTIONS, Dashboard, stations_of
 
 aiohttp = pytest.importorskip("aiohttp", reason="the web dashboard tests need aiohttp")
 
@@ -107,21 +107,10 @@ GOOD: Final[dict[str, st.SearchStrategy[Any]]] = {
     "count": st.integers(0, 3),
     "arg": st.integers(-1, 50),
 }
-#: The arguments of each action (an unknown one gets a few of all).
+#: The arguments of each action but ``path``, which every one takes (an unknown action gets a
+#: few of all), as the page's actions declare them.
 ARGS_OF: Final[dict[str, tuple[str, ...]]] = {
-    "cycle": ("action",),
-    "panel": ("mode", "pwe", "emergency"),
-    "overrides": ("feed", "rapid", "spindle"),
-    "raise_alarm": ("axis_no", "alm_type", "alm_no", "msg"),
-    "clear_alarms": ("alm_type", "alm_no"),
-    "pmc_bit": ("area", "address", "bit", "value"),
-    "write_param": ("number", "axis", "value"),
-    "unlock": ("password",),
-    "write_macro": ("number", "value"),
-    "select_program": ("number",),
-    "inject_fault": ("kind", "count", "arg"),
-    "clear_faults": (),
-    "clear_path": (),
+    action: tuple(sorted(keys - {"path"})) for action, keys in ACTION_KEYS.items()
 }
 
 
