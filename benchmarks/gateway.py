@@ -43,6 +43,7 @@ from dataclasses import asdict, dataclass, field
 from pathlib import Path
 from typing import Any, Final
 
+from benchmarks._process import ROOT, child_env, end, log
 from benchmarks.gateway_poll import FLOOR, FWLIB_POOL, FWLIB_THREADS, raise_nofile
 from benchmarks.plant import cpu_pressure, tree_cpu_seconds
 from benchmarks.report import (
@@ -54,7 +55,6 @@ from benchmarks.report import (
     print_results,
 )
 
-ROOT: Final = Path(__file__).resolve().parent.parent
 GATEWAY: Final = "gateway"
 SUBJECTS: Final = (GATEWAY, FLOOR, FWLIB_THREADS, FWLIB_POOL)
 LIBRARY: Final[tuple[str, ...]] = (FWLIB_THREADS, FWLIB_POOL)
@@ -122,10 +122,6 @@ class Window:
         return self.fleet_cpu / self.wall
 
 
-def log(message: str) -> None:
-    print(message, file=sys.stderr, flush=True)
-
-
 def loadavg() -> float:
     """The one-minute load average."""
     with open("/proc/loadavg", encoding="ascii") as f:
@@ -138,13 +134,6 @@ def free_port() -> int:
         s.bind(("127.0.0.1", 0))
         port: int = s.getsockname()[1]
         return port
-
-
-def _env() -> dict[str, str]:
-    env = dict(os.environ)
-    env["PYTHONPATH"] = os.pathsep.join(filter(None, [str(ROOT), env.get("PYTHONPATH")]))
-    env["PYTHONUNBUFFERED"] = "1"
-    return env
 
 
 class Broker:
@@ -173,13 +162,7 @@ class Broker:
             time.sleep(0.1)
 
     def stop(self) -> None:
-        if self.proc.poll() is None:
-            self.proc.terminate()
-            try:
-                self.proc.wait(5)
-            except subprocess.TimeoutExpired:
-                self.proc.kill()
-                self.proc.wait(5)
+        end(self.proc)
 
 
 class Subject:
@@ -191,7 +174,7 @@ class Subject:
         self.proc = subprocess.Popen(
             argv,
             cwd=ROOT,
-            env=_env(),
+            env=child_env(),
             stdin=subprocess.PIPE,
             stdout=subprocess.PIPE,
             stderr=subprocess.PIPE,
@@ -242,12 +225,7 @@ class Subject:
             try:
                 self.proc.wait(15)
             except subprocess.TimeoutExpired:
-                self.proc.terminate()
-                try:
-                    self.proc.wait(5)
-                except subprocess.TimeoutExpired:
-                    self.proc.kill()
-                    self.proc.wait(5)
+                end(self.proc)
 
 
 def gateway_available() -> str | None:

@@ -28,6 +28,7 @@ import time
 from pathlib import Path
 from typing import TYPE_CHECKING
 
+from benchmarks._process import log
 from benchmarks.report import FLOOR, FOCAS, Check, Results, Row, pairwise_ratios
 
 if TYPE_CHECKING:
@@ -135,7 +136,7 @@ def _floor_poll(
 
 def plant(suite: Suite) -> None:
     """The ``plant`` scenario: the 1,000-machine poll idle and running, then the 5,000 start."""
-    from benchmarks.run import log, start_server
+    from benchmarks.run import start_server
 
     cfg = suite.cfg
     n = cfg.plant_size
@@ -264,7 +265,7 @@ def plant(suite: Suite) -> None:
 def ready(suite: Suite) -> None:
     """``serve --fleet 5000``: seconds to the last ready line, and RSS then; a fresh server
     each repetition."""
-    from benchmarks.run import ServerProcess, log
+    from benchmarks.run import ServerProcess
     from benchmarks.subjects import server_argv
 
     cfg = suite.cfg
@@ -291,7 +292,6 @@ def ready(suite: Suite) -> None:
 
 def native(suite: Suite) -> None:
     """The ``native`` scenario: server CPU per FOCAS/2 statinfo against per packed status."""
-    from benchmarks.run import log
 
     cfg = suite.cfg
     server = suite.servers[FOCAS]

@@ -31,6 +31,7 @@ if __package__ in (None, ""):  # run as a script: make ``benchmarks`` importable
 
 from benchmarks import native, plant  # noqa: E402
 from benchmarks._loop import uvloop_available  # noqa: E402
+from benchmarks._process import child_env, end, log  # noqa: E402
 from benchmarks.report import (  # noqa: E402
     FLOOR,
     FOCAS,
@@ -108,17 +109,6 @@ class Config:
         )
 
 
-def _env() -> dict[str, str]:
-    env = dict(os.environ)
-    env["PYTHONPATH"] = os.pathsep.join(filter(None, [str(ROOT), env.get("PYTHONPATH")]))
-    env["PYTHONUNBUFFERED"] = "1"
-    return env
-
-
-def log(message: str) -> None:
-    print(message, file=sys.stderr, flush=True)
-
-
 class ServerProcess:
     """A server in its own process; ready once it printed its ``listening on`` line(s)."""
 
@@ -129,7 +119,7 @@ class ServerProcess:
         self.proc = subprocess.Popen(
             argv,
             cwd=ROOT,
-            env=_env(),
+            env=child_env(),
             stdin=subprocess.DEVNULL,
             stdout=subprocess.PIPE,
             stderr=subprocess.STDOUT,
@@ -194,13 +184,7 @@ class ServerProcess:
         raise RuntimeError("no VmRSS in /proc status")
 
     def stop(self) -> None:
-        if self.proc.poll() is None:
-            self.proc.terminate()
-            try:
-                self.proc.wait(5)
-            except subprocess.TimeoutExpired:
-                self.proc.kill()
-                self.proc.wait(5)
+        end(self.proc)
 
 
 def start_server(
@@ -230,7 +214,7 @@ class WorkerProcess:
         self.proc = subprocess.Popen(
             argv,
             cwd=ROOT,
-            env=_env(),
+            env=child_env(),
             stdin=subprocess.PIPE,
             stdout=subprocess.PIPE,
             stderr=subprocess.PIPE,
