@@ -20,7 +20,7 @@ import logging
 import sys
 from contextlib import AsyncExitStack
 from typing import Any
-from urllib.parse import urlsplit, urlunsplit
+from urllib.parse import urlsplit
 
 from focas_net.client._failures import os_reason
 from focas_net.gateway import (
@@ -32,6 +32,7 @@ from focas_net.gateway import (
     outputs,
     shard,
 )
+from focas_net.gateway.config import with_port
 
 from ._args import EXIT_CNC, EXIT_OK, EXIT_USAGE, PROG, argument_type, command_parser, print_error
 from ._run import stopping_on_signals
@@ -126,12 +127,14 @@ def _ready_line(config: GatewayConfig, part: tuple[int, int] | None, sinks: list
 def _listening(endpoint: str, sinks: list[Sink]) -> str:
     """``endpoint`` with the port its OPC UA server listens on (port 0 asks for any free
     one, which the ready line must name)."""
-    ports = [port for sink in sinks if isinstance(port := getattr(sink, "port", None), int)]
-    parts = urlsplit(endpoint)
-    if not ports or parts.port != 0:
+    if urlsplit(endpoint).port != 0:
         return endpoint
-    netloc = f"{parts.netloc.rsplit(':', 1)[0]}:{ports[0]}"
-    return urlunsplit(parts._replace(netloc=netloc))
+    from focas_net.gateway.opcua import OpcUaSink  # (imported already: the output runs)
+
+    for sink in sinks:
+        if isinstance(sink, OpcUaSink):
+            return with_port(endpoint, sink.port)
+    return endpoint
 
 
 async def _serve(config: GatewayConfig, part: tuple[int, int] | None) -> int:

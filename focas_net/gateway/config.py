@@ -42,6 +42,7 @@ __all__ = [
     "load_config",
     "parse_config",
     "shard",
+    "with_port",
 ]
 
 #: Most machines one ``[[fleet]]`` expands to.
@@ -305,6 +306,14 @@ def parse_config(
     return GatewayConfig(tuple(machines), opcua, mqtt)
 
 
+def with_port(endpoint: str, port: int) -> str:
+    """The URL ``endpoint`` (``opc.tcp://HOST:PORT/PATH``, checked) with ``port`` for its
+    port."""
+    parts = urlsplit(endpoint)
+    netloc = f"{parts.netloc.rsplit(':', 1)[0]}:{port}"
+    return urlunsplit(parts._replace(netloc=netloc))
+
+
 def shard(config: GatewayConfig, index: int, count: int) -> GatewayConfig:
     """Shard ``index`` of ``count`` (1 <= index <= count): machines ``index``, ``index +
     count``, ... of the file, 1-based (round robin, so that each shard gets its share of every
@@ -326,16 +335,15 @@ def shard(config: GatewayConfig, index: int, count: int) -> GatewayConfig:
         return replace(config, machines=machines)
     opcua, mqtt = config.opcua, config.mqtt
     if opcua is not None:
-        parts = urlsplit(opcua.endpoint)
+        first = urlsplit(opcua.endpoint).port
         # (port 0, any free port, stays 0 for every shard)
-        port = (parts.port or 0) + index - 1 if parts.port else 0
+        port = first + index - 1 if first else 0
         if port > 65535:
             raise ConfigError(
-                f"--shard {index}/{count}: the OPC UA port of this shard, {parts.port} + "
+                f"--shard {index}/{count}: the OPC UA port of this shard, {first} + "
                 f"{index - 1}, passes 65535 (opcua.endpoint {opcua.endpoint!r})"
             )
-        netloc = f"{parts.netloc.rsplit(':', 1)[0]}:{port}"
-        opcua = replace(opcua, endpoint=urlunsplit(parts._replace(netloc=netloc)))
+        opcua = replace(opcua, endpoint=with_port(opcua.endpoint, port))
     if mqtt is not None and mqtt.client_id is not None:
         mqtt = replace(mqtt, client_id=f"{mqtt.client_id}-{index}")
     return replace(config, machines=machines, opcua=opcua, mqtt=mqtt)
