@@ -7,7 +7,6 @@ from __future__ import annotations
 
 import asyncio
 import shutil
-import socket
 from collections.abc import AsyncIterator, Callable
 from contextlib import asynccontextmanager
 from dataclasses import dataclass, field
@@ -15,6 +14,7 @@ from pathlib import Path
 
 import aiomqtt
 import pytest
+from support import free_port
 
 __all__ = ["BOUND", "Broker", "Seen", "broker", "mosquitto_binary", "subscriber"]
 
@@ -32,20 +32,13 @@ def mosquitto_binary() -> Path | None:
     return _DEBIAN if _DEBIAN.exists() else None
 
 
-def _free_port() -> int:
-    with socket.socket() as s:
-        s.bind(("127.0.0.1", 0))
-        port: int = s.getsockname()[1]
-        return port
-
-
 class Broker:
     """One broker process; :meth:`stop` and :meth:`start` again keep its port."""
 
     def __init__(self, binary: Path, folder: Path) -> None:
         self.binary = binary
         self.host = "127.0.0.1"
-        self.port = _free_port()
+        self.port = free_port()
         self.config = folder / "mosquitto.conf"
         self.log = folder / "mosquitto.log"
         self.config.write_text(

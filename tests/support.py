@@ -9,6 +9,7 @@ from __future__ import annotations
 import asyncio
 import os
 import re
+import socket
 import struct
 import sys
 from collections.abc import AsyncIterator, Iterable
@@ -203,6 +204,15 @@ class LoopbackPeer:
 
     async def __aexit__(self, *exc: object) -> None:
         await self.stop()
+
+
+def free_port() -> int:
+    """A port of 127.0.0.1 free a moment ago, for a server that must be told its port before
+    it starts (a broker's file, a restart on the same port)."""
+    with socket.socket() as s:
+        s.bind(("127.0.0.1", 0))
+        port: int = s.getsockname()[1]
+        return port
 
 
 async def wait_until(predicate: Any, within: float = IO_TIMEOUT) -> None:

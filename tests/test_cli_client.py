@@ -10,7 +10,6 @@ import asyncio
 import dataclasses
 import json
 import signal
-import socket
 import struct
 import sys
 from collections.abc import AsyncIterator
@@ -19,7 +18,7 @@ from decimal import Decimal
 
 import pytest
 from cli_support import CLI_TIMEOUT, Cli
-from support import Served, serving
+from support import Served, free_port, serving
 
 from focas_net.cli import (
     EXIT_CNC,
@@ -491,15 +490,8 @@ async def test_control_disabled(capsys: pytest.CaptureFixture[str]) -> None:
 # -- connection and protocol failures -------------------------------------------------------
 
 
-def _free_port() -> int:
-    with socket.socket() as s:
-        s.bind(("127.0.0.1", 0))
-        port: int = s.getsockname()[1]
-    return port
-
-
 async def test_connection_refused(cli: Cli) -> None:
-    port = _free_port()
+    port = free_port()
     code, out, err = await cli.run("status", port=port)
     assert (code, out) == (EXIT_CONNECTION, "")
     assert err.startswith(f"focas-net: cannot connect to 127.0.0.1:{port}")

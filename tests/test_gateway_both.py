@@ -9,7 +9,6 @@ from __future__ import annotations
 
 import asyncio
 import json
-import socket
 from collections.abc import Awaitable, Callable
 from contextlib import AsyncExitStack
 from pathlib import Path
@@ -18,6 +17,7 @@ import pytest
 from asyncua import Client, Node, ua
 from cli_support import gateway_process
 from mosquitto_support import Broker, Seen, broker, subscriber
+from support import free_port
 
 from focas_net.gateway._mqtt_messages import Availability, ValuePayload
 from focas_net.gateway._opcua_types import CNC_NAMESPACE
@@ -30,13 +30,6 @@ LATHE = Path(__file__).resolve().parent.parent / "examples" / "lathe_2path.toml"
 #: A failure bound for each wait: never a figure a test asserts.
 WAIT = 30.0
 LOST = ua.StatusCode(ua.StatusCodes.BadCommunicationError)
-
-
-def free_port() -> int:
-    with socket.socket() as s:
-        s.bind(("127.0.0.1", 0))
-        port: int = s.getsockname()[1]
-        return port
 
 
 def plant(lathe: int, mill: int, broker: Broker, opcua: int) -> str:

@@ -14,7 +14,6 @@ from __future__ import annotations
 import asyncio
 import random
 import signal
-import socket
 import sys
 from collections.abc import Awaitable, Callable, Coroutine
 from decimal import Decimal
@@ -22,7 +21,7 @@ from pathlib import Path
 from typing import Any
 
 import pytest
-from support import IO_TIMEOUT
+from support import IO_TIMEOUT, free_port
 
 from focas_net.client import FocasClient, NativeClient
 from focas_net.errors import FocasError
@@ -36,13 +35,6 @@ START_TIMEOUT = 15 * IO_TIMEOUT
 
 #: The values of the built-in machine (None: vacant, no program) by the key's letter.
 _INITIAL: dict[str, object] = {"K": b"\0", "D": b"\0\0", "#": None, "O": None}
-
-
-def _free_port() -> int:
-    with socket.socket() as s:
-        s.bind(("127.0.0.1", 0))
-        port: int = s.getsockname()[1]
-        return port
 
 
 async def _start(port: int, state: Path) -> asyncio.subprocess.Process:
@@ -163,7 +155,7 @@ async def _check(port: int, ledgers: list[Ledger]) -> None:
 @pytest.mark.skipif(sys.platform == "win32", reason="SIGKILL")
 async def test_kill_storm_keeps_every_acknowledged_write(tmp_path: Path) -> None:
     rng = random.Random(45)
-    port = _free_port()
+    port = free_port()
     state = tmp_path / "state"
     ledgers = [Ledger(), Ledger(), Ledger()]
     stop = asyncio.Event()
