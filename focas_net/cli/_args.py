@@ -182,13 +182,21 @@ def argument_type(parse: Callable[[str], T], what: str) -> Callable[[str], T]:
 # -- parsers --------------------------------------------------------------------------------
 
 
+def _whole(text: str, what: str) -> int:
+    """A whole number as every number is read (:func:`~focas_net.cli._format.parse_int`); its
+    refusal names ``what`` and keeps the rule's reason (``'' (nothing typed)``, a digit
+    beyond ASCII)."""
+    try:
+        return fmt.parse_int(text)
+    except ValueError as exc:
+        why = str(exc).removeprefix("not a whole number: ")
+        raise ValueError(f"not a {what}: {why}") from None
+
+
 def parse_port(text: str, *, lowest: int = 1) -> int:
     """A TCP port, ``lowest``..65535, as a decimal or ``0x`` number; ``lowest`` is 0 where port
     0 asks for an ephemeral port (``serve``), 1 where a port is connected to."""
-    try:
-        value = fmt.parse_int(text)
-    except ValueError:
-        raise ValueError(f"not a port number: {text!r}") from None
+    value = _whole(text, "port number")
     if not lowest <= value <= 65_535:
         raise ValueError(f"port must be {lowest}..65535, got {text!r}")
     return value
@@ -278,11 +286,7 @@ def parse_host(text: str) -> str:
 def parse_path(text: str) -> int:
     """A path of the CNC, 1..10 (:func:`~focas_net.client._values.check_path`, where both
     clients check a ``path=``)."""
-    try:
-        value = fmt.parse_int(text)
-    except ValueError:
-        raise ValueError(f"not a path number: {text!r}") from None
-    return check_path(value)
+    return check_path(_whole(text, "path number"))
 
 
 def parse_history_depth(text: str) -> int:

@@ -595,7 +595,10 @@ def parse_ew(text: str) -> int:
     try:
         return int(EW[name])
     except KeyError:
-        raise ValueError(f"unknown EW code {text!r}") from None
+        raise ValueError(
+            f"unknown EW code {text!r} (a number, or one of "
+            f"{', '.join('EW_' + e.name for e in EW if e is not EW.OK)})"
+        ) from None
 
 
 # -- errors --------------------------------------------------------------------------------

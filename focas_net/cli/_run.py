@@ -99,10 +99,13 @@ PROTOCOLS: Final = (PACKED, NATIVE)
 
 @dataclass(frozen=True, slots=True)
 class PackedOnly:
-    """A command's talk that only the packed transport carries, and why (the calls it needs)."""
+    """A command's talk that only the packed transport carries, and why (the calls it needs);
+    ``option`` names the option that asks for it when the command itself is carried
+    (``--force`` of ``pmc write``)."""
 
     go: PackedGo
     why: str
+    option: str = ""
 
 
 #: A client command: its parsed arguments -> the talk to the CNC.
@@ -267,7 +270,8 @@ def _check_native(args: argparse.Namespace, go: Go | PackedOnly) -> None:
         return
     where = "with --protocol native (FOCAS/2 Ethernet)"
     if isinstance(go, PackedOnly):
-        raise ValueError(f"{command_name(args)} is not available {where}: {go.why}")
+        what = " ".join(w for w in (command_name(args), go.option) if w)
+        raise ValueError(f"{what} is not available {where}: {go.why}")
     if tls_context_wanted(args):
         flag = next(
             f

@@ -14,6 +14,7 @@ from focas_net.client import FocasClient
 
 from . import _format as fmt
 from . import read_cmds
+from .sim_cmds import SIM_CONTROLS
 from ._run import Go, Output, PackedOnly
 
 __all__ = ["CYCLE_ACTIONS", "PROGRAM_ACTIONS", "cycle", "override", "program"]
@@ -162,4 +163,4 @@ def override(args: argparse.Namespace) -> PackedOnly:
         data = {"feed": info.feed, "rapid": info.rapid, "spindle": info.spindle}
         return Output(data, f"feed {info.feed} %, rapid {info.rapid} %, spindle {info.spindle} %")
 
-    return PackedOnly(go, _WHY)
+    return PackedOnly(go, SIM_CONTROLS)
