@@ -167,10 +167,21 @@ class Lifecycle:
     def _nothing_to_wait_for(self) -> Exception:
         """What a call raises when there is no link and none coming (with why the last
         reconnect attempt failed, when one did)."""
-        text = f"not connected to {self.address}"
-        if self._attempt_error is not None:
-            text += f" (the last reconnect attempt failed: {self._attempt_error})"
-        return FocasConnectionError(text)
+        return FocasConnectionError(f"not connected to {self.address}{self._last_attempt()}")
+
+    def _still_reconnecting(self) -> FocasConnectionError:
+        """What a call raises when its deadline passed while the client was reconnecting
+        (with why the last reconnect attempt failed, when one did: the real cause, such as
+        a refused connection, rather than the wait)."""
+        return FocasConnectionError(
+            f"still reconnecting to {self.address} when the call timed out{self._last_attempt()}"
+        )
+
+    def _last_attempt(self) -> str:
+        """`` (the last reconnect attempt failed: ...)``, or nothing when none failed."""
+        if self._attempt_error is None:
+            return ""
+        return f" (the last reconnect attempt failed: {self._attempt_error})"
 
     async def _wait_linked(self, deadline: float | None) -> None:
         """Return once a link is open, waiting (until ``deadline``) while reconnecting.
@@ -194,9 +205,7 @@ class Lifecycle:
                 async with asyncio.timeout_at(deadline):
                     await self._ready.wait()
             except TimeoutError:
-                raise FocasConnectionError(
-                    f"still reconnecting to {self.address} when the call timed out"
-                ) from None
+                raise self._still_reconnecting() from None
 
     # -- the reconnect, shared by both transports ----------------------------------------
     def _reconnecting(self, exc: BaseException | None) -> None:
