@@ -31,6 +31,7 @@ __all__ = [
     "EXIT_CNC",
     "EXIT_CODES",
     "EXIT_CONNECTION",
+    "EXIT_INTERRUPTED",
     "EXIT_OK",
     "EXIT_PROTOCOL",
     "EXIT_USAGE",
@@ -82,6 +83,9 @@ EXIT_USAGE: Final = 2
 EXIT_CONNECTION: Final = 3
 #: The peer broke the wire protocol.
 EXIT_PROTOCOL: Final = 4
+#: Ctrl-C (SIGINT) before the command finished, as a shell reports a command SIGINT ended
+#: (128 + 2); ``watch`` and ``alarms --follow``, which run until told, end with 0 instead.
+EXIT_INTERRUPTED: Final = 130
 
 #: The exit codes of the client commands with their short descriptions, as ``--help`` lists them.
 EXIT_CODES: Final[tuple[tuple[int, str], ...]] = (
@@ -90,6 +94,7 @@ EXIT_CODES: Final[tuple[tuple[int, str], ...]] = (
     (EXIT_USAGE, "usage error"),
     (EXIT_CONNECTION, "connection error or timeout"),
     (EXIT_PROTOCOL, "protocol violation"),
+    (EXIT_INTERRUPTED, "interrupted (Ctrl-C)"),
 )
 
 

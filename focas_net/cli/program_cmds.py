@@ -14,8 +14,8 @@ from focas_net.client import FocasClient
 
 from . import _format as fmt
 from . import read_cmds
-from .sim_cmds import SIM_CONTROLS
 from ._run import Go, Output, PackedOnly
+from .sim_cmds import SIM_CONTROLS
 
 __all__ = ["CYCLE_ACTIONS", "PROGRAM_ACTIONS", "cycle", "override", "program"]
 
