@@ -175,3 +175,14 @@ async def test_a_one_shot_command_interrupted_exits_130_without_a_traceback(
 async def test_the_exit_codes_in_help_list_130() -> None:
     text = await ok("status", "--help")
     assert "130 interrupted (Ctrl-C)" in " ".join(text.split())
+
+
+# -- words the command would drop ------------------------------------------------------------
+
+
+async def test_program_list_refuses_a_program_number_it_would_ignore(server: Served) -> None:
+    line = await fails(EXIT_USAGE, "program", "list", "5", *at(server))
+    assert line == (
+        "focas-net: program list takes no program number or file, got '5' (program show N "
+        "shows one)"
+    )

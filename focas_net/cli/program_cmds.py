@@ -69,6 +69,11 @@ def program(args: argparse.Namespace) -> Go | PackedOnly:
     if args.replace and action != "load":
         raise ValueError(f"program {action}: --replace goes with program load only")
     if action == "list":
+        if args.target is not None:
+            raise ValueError(
+                f"program list takes no program number or file, got {args.target!r} (program "
+                "show N shows one)"
+            )
         return _list()
     if action == "load":
         text, name = _text_of(args.target)
