@@ -10,6 +10,7 @@ from __future__ import annotations
 import asyncio
 import signal
 import sys
+from pathlib import Path
 
 import pytest
 from cli_support import SUBPROCESS_TIMEOUT, at, fails, ok
@@ -186,3 +187,20 @@ async def test_program_list_refuses_a_program_number_it_would_ignore(server: Ser
         "focas-net: program list takes no program number or file, got '5' (program show N "
         "shows one)"
     )
+
+
+# -- a CA file that holds no certificate ------------------------------------------------------
+
+
+async def test_a_tls_ca_file_without_a_certificate_says_so_without_openssls_tags(
+    tmp_path: Path,
+) -> None:
+    text = tmp_path / "notes.txt"
+    text.write_text("root:x:0:0\n")
+    broken = tmp_path / "broken.pem"
+    broken.write_text("-----BEGIN CERTIFICATE-----\nabc\n-----END CERTIFICATE-----\n")
+    line = await fails(EXIT_USAGE, "status", "--tls-ca", str(text), "--port", "1")
+    assert line == f"focas-net: --tls-ca {text}: no PEM certificate in it"
+    line = await fails(EXIT_USAGE, "status", "--tls-ca", str(broken), "--port", "1")
+    assert line.startswith(f"focas-net: --tls-ca {broken}: a certificate in it cannot be read (")
+    assert "_ssl.c" not in line and "[" not in line

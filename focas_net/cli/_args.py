@@ -16,6 +16,7 @@ import shlex
 import sys
 from collections.abc import Callable, Sequence
 from functools import partial
+from pathlib import Path
 from typing import Any, Final, NoReturn, TypeVar
 
 from focas_net._typed import decimal_number
@@ -65,7 +66,9 @@ __all__ = [
     "parse_positive",
     "parse_rapid",
     "parse_seconds",
+    "pem_holds",
     "print_error",
+    "ssl_error_text",
 ]
 
 T = TypeVar("T")
@@ -96,6 +99,22 @@ EXIT_CODES: Final[tuple[tuple[int, str], ...]] = (
     (EXIT_PROTOCOL, "protocol violation"),
     (EXIT_INTERRUPTED, "interrupted (Ctrl-C)"),
 )
+
+
+def pem_holds(path: str, label: str) -> bool | None:
+    """Whether the PEM file ``path`` has a block whose label ends with ``label``
+    (``CERTIFICATE``, ``PRIVATE KEY``); None when it cannot be read."""
+    try:
+        text = Path(path).read_text("ascii", errors="replace")
+    except OSError:
+        return None
+    return re.search(rf"-----BEGIN [A-Z0-9 ]*{label}-----", text) is not None
+
+
+def ssl_error_text(exc: OSError) -> str:
+    """OpenSSL's words for ``exc`` without its library tag and source line (``[X509: ...]``,
+    ``(_ssl.c:4154)``)."""
+    return re.sub(r"^\[[A-Z0-9_: ]+\] | \(_ssl\.c:\d+\)$", "", str(exc.strerror or exc))
 
 
 def print_error(message: str, prog: str = PROG) -> None:

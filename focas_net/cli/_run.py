@@ -50,7 +50,9 @@ from ._args import (
     EXIT_OK,
     EXIT_PROTOCOL,
     EXIT_USAGE,
+    pem_holds,
     print_error,
+    ssl_error_text,
 )
 from ._diagnose import diagnosis
 from ._reasons import reason
@@ -237,7 +239,13 @@ def tls_context(args: argparse.Namespace) -> ssl.SSLContext | None:
     try:
         return ssl.create_default_context(cafile=ca)
     except (OSError, ssl.SSLError) as exc:
-        reason = exc.strerror if isinstance(exc, OSError) and exc.strerror else str(exc)
+        reason = ssl_error_text(exc)
+        if isinstance(exc, ssl.SSLError) and ca is not None:
+            reason = (
+                f"a certificate in it cannot be read ({reason})"
+                if pem_holds(ca, "CERTIFICATE")
+                else "no PEM certificate in it"
+            )
         raise ValueError(f"--tls-ca {ca}: {reason}") from None
 
 
