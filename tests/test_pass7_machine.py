@@ -1,0 +1,54 @@
+"""A seventh new-user pass over machine files, part programs and the examples: the cases it
+found, each checked where the fix lives (the machine file's loader, the program store's
+reasons, the command line's messages)."""
+
+from __future__ import annotations
+
+from collections.abc import AsyncIterator
+from pathlib import Path
+
+import pytest
+from cli_support import Cli
+from support import Served, serving
+
+from focas_net.cli import EXIT_CNC, EXIT_USAGE
+from focas_net.sim import Machine, MachineFileError, default_machine, load_machine
+
+HEAD = '[machine]\nname = "M"\naxes = ["X", "Y"]\n'
+
+
+def _load(tmp_path: Path, body: str) -> Machine:
+    path = tmp_path / "m.toml"
+    path.write_text(HEAD + body, encoding="utf-8")
+    return load_machine(path)
+
+
+# -- machine files ---------------------------------------------------------------------------
+
+
+@pytest.mark.parametrize(
+    ("body", "expected"),
+    [
+        ('type = "real"\ndecimals = 2', 0),
+        ('type = "real"', 0),
+        ('type = "real"\ndecimals = 1\nrange = [1.5, 3]', 15),
+        ('type = "real"\ndecimals = 3\naxis = true\nrange = [-2, -1]', -2000),
+    ],
+)
+def test_a_real_parameter_without_a_value_loads_with_its_default(
+    tmp_path: Path, body: str, expected: int
+) -> None:
+    """A real parameter or diagnostic left without ``value`` takes the documented default (0,
+    or the low end of its range), as every other type does."""
+    machine = _load(tmp_path, f"[parameters.1430]\n{body}\n[diagnostics.1431]\n{body}\n")
+    axis = 1 if "axis" in body else 0
+    assert machine.read_param(1430, axis) == expected  # the mantissa
+    assert machine.read_diag(1431, axis) == expected
+
+
+def test_a_parts_count_of_type_real_is_refused_for_its_type(tmp_path: Path) -> None:
+    with pytest.raises(MachineFileError) as refused:
+        _load(tmp_path, '[parameters.6711]\ntype = "real"\ndecimals = 1\n')
+    message = str(refused.value)
+    assert "parameters.6711.type: the machine counts parts in it" in message
+    assert "Decimal" not in message
