@@ -52,3 +52,41 @@ def test_a_parts_count_of_type_real_is_refused_for_its_type(tmp_path: Path) -> N
     message = str(refused.value)
     assert "parameters.6711.type: the machine counts parts in it" in message
     assert "Decimal" not in message
+
+
+# -- programs at the command line ------------------------------------------------------------
+
+
+@pytest.fixture
+async def cli(capsys: pytest.CaptureFixture[str]) -> AsyncIterator[Cli]:
+    async with serving(default_machine()) as served:
+        yield Cli(served, capsys)
+
+
+@pytest.mark.parametrize(
+    ("content", "words"),
+    [
+        (b"O1401 (\x07BELL)\nM30\n", "line 1: character '\\x07' (U+0007)"),
+        (b"O1402\nG1 X1. F100\x1b\nM30\n", "line 2: character '\\x1b' (U+001B)"),
+        (b"%\nO1404\nM30\n%\nO1405\nM30\n%\n", "line 5: 'O1405' starts a second program"),
+        (b"%\n%\n", "the program text is empty"),
+        (b"G1 X1. F100\nM30\n", "a program starts with O and its number"),
+    ],
+)
+async def test_program_load_names_why_the_machine_refused_the_text(
+    cli: Cli, tmp_path: Path, content: bytes, words: str
+) -> None:
+    """EW_DATA of ``cnc_download`` names the machine's reason: a control character on a line,
+    a second program, no program at all, not just "not one part program"."""
+    file = tmp_path / "part.nc"
+    file.write_bytes(content)
+    line = await cli.fails(EXIT_CNC, "program", "load", str(file))
+    assert line.startswith("focas-net: EW_DATA (5)")
+    assert f"{file}: {words}" in line
+
+
+async def test_program_load_of_a_too_long_file_names_the_file(cli: Cli, tmp_path: Path) -> None:
+    file = tmp_path / "huge.nc"
+    file.write_bytes(b"O1\n" + b"G0 X1.\n" * 20_000)
+    line = await cli.fails(EXIT_USAGE, "program", "load", str(file))
+    assert line.startswith(f"focas-net: program load: {str(file)!r}: a program of ")
