@@ -12,7 +12,9 @@ from cli_support import Cli
 from support import Served, serving
 
 from focas_net.cli import EXIT_CNC, EXIT_USAGE
+from focas_net.protocol import MotionState, field_label
 from focas_net.sim import Machine, MachineFileError, default_machine, load_machine
+from focas_net.sim.nc import ManualClock
 
 HEAD = '[machine]\nname = "M"\naxes = ["X", "Y"]\n'
 
@@ -90,3 +92,26 @@ async def test_program_load_of_a_too_long_file_names_the_file(cli: Cli, tmp_path
     file.write_bytes(b"O1\n" + b"G0 X1.\n" * 20_000)
     line = await cli.fails(EXIT_USAGE, "program", "load", str(file))
     assert line.startswith(f"focas-net: program load: {str(file)!r}: a program of ")
+
+
+# -- the examples' machines ------------------------------------------------------------------
+
+EXAMPLES = Path(__file__).resolve().parent.parent / "examples"
+
+
+async def test_a_path_waiting_at_a_waiting_m_code_shows_motion_wait(
+    capsys: pytest.CaptureFixture[str],
+) -> None:
+    """examples/lathe_2path.toml: turret 1 at M100 waits for turret 2; its status shows motion
+    3 as docs/machine-file.md names it (WAIT), never "unknown value"."""
+    clock = ManualClock()
+    machine = load_machine(EXAMPLES / "lathe_2path.toml", sim_clock=clock)
+    machine.cycle_start(path=1)
+    clock.advance(10.0)
+    assert (machine.status(path=1).run, machine.status(path=1).motion) == (3, 3)
+    assert field_label(MotionState, 3) == ("WAIT", "waiting for the other paths (waiting M code)")
+    async with serving(machine) as served:
+        cli = Cli(served, capsys)
+        out = await cli.ok("status")
+        assert out.startswith("aut=MEM run=STRT motion=WAIT ")
+        assert "unknown value" not in out
