@@ -115,3 +115,19 @@ async def test_a_path_waiting_at_a_waiting_m_code_shows_motion_wait(
         out = await cli.ok("status")
         assert out.startswith("aut=MEM run=STRT motion=WAIT ")
         assert "unknown value" not in out
+
+
+@pytest.mark.parametrize(("name", "paths"), [("machine.toml", 1), ("lathe_2path.toml", 2)])
+def test_the_example_machines_have_the_system_variables_watch_reads(name: str, paths: int) -> None:
+    """``focas-net watch`` shows the sequence number from #4114 and the parts from #3901; the
+    example machines have them on every path (they showed ``sequence -``)."""
+    clock = ManualClock()
+    machine = load_machine(EXAMPLES / name, sim_clock=clock)
+    for path in range(1, paths + 1):
+        if machine.status(path=path).run != 3:  # machine.toml's [run] has started already
+            machine.cycle_start(path=path)
+    clock.advance(3.0)
+    for path in range(1, paths + 1):
+        sequence = machine.read_macro(4114, path=path)
+        assert sequence is not None and sequence > 0
+        assert machine.read_macro(3901, path=path) == machine.read_param(6711, 0, path=path)
