@@ -8,8 +8,8 @@ from collections.abc import AsyncIterator
 from pathlib import Path
 
 import pytest
-from cli_support import Cli
-from support import Served, serving
+from cli_support import Cli, run_focas_net
+from support import serving
 
 from focas_net.cli import EXIT_CNC, EXIT_USAGE
 from focas_net.protocol import MotionState, field_label
@@ -131,3 +131,30 @@ def test_the_example_machines_have_the_system_variables_watch_reads(name: str, p
         sequence = machine.read_macro(4114, path=path)
         assert sequence is not None and sequence > 0
         assert machine.read_macro(3901, path=path) == machine.read_param(6711, 0, path=path)
+
+
+# -- serve --run -----------------------------------------------------------------------------
+
+
+@pytest.mark.parametrize(
+    ("argv", "line"),
+    [
+        (
+            ["--seed", "9223372036854775808"],
+            "--seed 9223372036854775808: outside 0..9223372036854775807",
+        ),
+        (["--run-parts", "2147483648"], "--run-parts 2147483648: outside 0..2147483647"),
+    ],
+)
+async def test_serve_run_refuses_what_a_run_section_refuses(argv: list[str], line: str) -> None:
+    """``--seed`` and ``--run-parts`` take what a machine file's ``[run]`` seed and parts take;
+    beyond it the start-up stops with a usage error naming the option."""
+    code, out, err = await run_focas_net("serve", "--port", "0", "--run", *argv)
+    assert (code, out) == (EXIT_USAGE, "")
+    assert err == f"focas-net serve: error: {line}\n"
+
+
+@pytest.mark.parametrize(("key", "value"), [("seed", 2**63), ("parts", 2**31)])
+def test_a_run_section_refuses_the_same_bounds(tmp_path: Path, key: str, value: int) -> None:
+    with pytest.raises(MachineFileError, match=rf"run\.{key}: {value} is outside 0\.\."):
+        _load(tmp_path, f"[run]\n{key} = {value}\n")

@@ -64,6 +64,7 @@ from .machine import (
     utc_now,
 )
 from .nc import Scenario, SimClock
+from .nc.scenario import MAX_PARTS, MAX_SEED
 from .pathfile import _axes, _motion, _panel, _programs, path_specs
 from .toolfile import tool_specs
 
@@ -447,9 +448,9 @@ def _run(ctx: _Ctx, value: Any) -> Scenario:
                 c.fail(f'must be a count >= 0 or "required", got {raw!r}')
             given["parts"] = "required"
         else:
-            given["parts"] = _int(c, raw, (0, _I32[1]))
+            given["parts"] = _int(c, raw, (0, MAX_PARTS))
     if "seed" in t:
-        given["seed"] = _int(ctx.sub("seed"), t["seed"], (0, 2**63 - 1))
+        given["seed"] = _int(ctx.sub("seed"), t["seed"], (0, MAX_SEED))
     for key in _RUN_NUMBERS:
         if key not in t:
             continue
