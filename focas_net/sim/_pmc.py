@@ -178,7 +178,9 @@ class Pmc:
     def area(self, letter: str) -> Area:
         """Area ``letter``: EW_NOOPT when the machine has none, naming the areas it has (every
         front end shows these words)."""
-        area = self.areas.get(letter) or self.areas.get(pmc_letter(letter))
+        if not isinstance(letter, str):
+            raise TypeError(f"PMC area must be a letter (str), got {letter!r}")
+        area = self.areas.get(letter) or self.areas.get(letter.strip().upper())
         if area is None:
             has = ", ".join(a for a in PMC_AREAS if a in self.areas) or "none"
             shown = letter.strip().upper() or repr(letter)
