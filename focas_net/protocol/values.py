@@ -67,11 +67,12 @@ class LabelledValue(enum.IntEnum):
     def parse(cls, value: str | int) -> Self:
         """A member from its name (``"MDI"``), its label, or its number; ValueError otherwise."""
         if isinstance(value, str):
-            text = value.strip().upper()
+            # ASCII only, as a CNC's keys: "md\u0131" (a dotless i) upper-cases to MDI but is none
+            text = value.strip().upper() if value.isascii() else ""
             for member in cls:
-                if text in (member.name, member.label.upper()):
+                if text and text in (member.name, member.label.upper()):
                     return member
-            if text.lstrip("-").isdigit() and text.isascii():  # 0-9, as a CNC's keys
+            if text.lstrip("-").isdigit():  # 0-9, as a CNC's keys
                 value = int(text)
             else:
                 names = ", ".join(m.name for m in cls)
