@@ -71,11 +71,12 @@ class LabelledValue(enum.IntEnum):
                 f"{cls.__name__} must be a member, its name or its number, got {value!r}"
             )
         if isinstance(value, str):
-            text = value.strip().upper()
+            # ASCII only, as a CNC's keys: "md\u0131" (a dotless i) upper-cases to MDI but is none
+            text = value.strip().upper() if value.isascii() else ""
             for member in cls:
-                if text in (member.name, member.label.upper()):
+                if text and text in (member.name, member.label.upper()):
                     return member
-            if text.lstrip("-").isdigit() and text.isascii():  # 0-9, as a CNC's keys
+            if text.lstrip("-").isdigit():  # 0-9, as a CNC's keys
                 value = int(text)
             else:
                 names = ", ".join(m.name for m in cls)

@@ -171,7 +171,13 @@ class Alarms:
 
     def clear(self, alm_type: int, alm_no: int, path: int) -> int:
         """Remove the active alarms of ``path`` matching ``alm_type`` and ``alm_no`` (-1 =
-        any)."""
+        any): EW_DATA for a number no alarm has (alm_type outside -1..31, alm_no outside
+        -1..32767), which would match nothing and say nothing of the typing."""
+        if not -1 <= alm_type <= MAX_ALARM_TYPE:
+            why = f"alm_type {alm_type} outside -1..{MAX_ALARM_TYPE} (-1: any)"
+            raise MachineError(EW.DATA, why)
+        if not -1 <= alm_no <= MAX_ALARM_NO:
+            raise MachineError(EW.DATA, f"alm_no {alm_no} outside -1..{MAX_ALARM_NO} (-1: any)")
         gone = [
             k
             for p, k in self.active

@@ -715,7 +715,8 @@ class Machine(
     def clear_alarms(self, alm_type: int = -1, alm_no: int = -1, *, path: int = 1) -> int:
         """Remove the active alarms of ``path`` matching ``alm_type`` and ``alm_no`` (-1 =
         any); the history is kept. Returns how many were removed. EW_PROT on a read-only
-        machine, then EW_PATH."""
+        machine, then EW_PATH, then EW_DATA (alm_type outside -1..31, alm_no outside
+        -1..32767)."""
         self.check_writable()
         self._paths.at(path)
         return self._alarms.clear(alm_type, alm_no, path)
