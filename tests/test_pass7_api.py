@@ -13,13 +13,19 @@ from typing import Any
 import pytest
 
 from focas_net import (
+    AlarmProjection,
     AutMode,
     FocasClient,
     FocasServer,
     MachineError,
     NativeClient,
     PositionKind,
+    ProjectionMode,
+    ReconnectPolicy,
     default_machine,
+    read_dynamic_all,
+    read_status_all,
+    read_status_paths_all,
 )
 from focas_net.sim import Machine
 from focas_net.sim.nc import ManualClock
@@ -249,3 +255,103 @@ def test_machine_set_diag_refuses_a_value_of_another_type(value: Any) -> None:
     machine = default_machine(sim_clock=ManualClock())
     with pytest.raises(TypeError, match=r"diagnostic value must be an integer, got"):
         machine.set_diag(300, 1, value)
+
+
+# -- constructors and helpers ------------------------------------------------------------------
+@pytest.mark.parametrize(
+    ("kwargs", "error", "words"),
+    [
+        ({"max_in_flight": "64"}, TypeError, "max_in_flight must be an integer, got '64'"),
+        ({"max_in_flight": 1.5}, TypeError, "max_in_flight must be an integer, got 1.5"),
+        ({"max_in_flight": True}, TypeError, "max_in_flight must be an integer, got True"),
+        ({"max_frame": math.nan}, TypeError, "max_frame must be an integer, got nan"),
+        ({"max_frame": 2**70}, ValueError, "max_frame 1180591620717411303424 is outside"),
+        ({"ssl": "tls"}, TypeError, "ssl must be an ssl.SSLContext or None, got 'tls'"),
+        ({"ssl": True}, TypeError, "ssl must be an ssl.SSLContext or None, got True"),
+        ({"server_hostname": 5}, TypeError, "server_hostname must be a str or None, got 5"),
+        ({"on_state_change": "print"}, TypeError, "on_state_change must be callable"),
+    ],
+)
+def test_focas_client_constructor_refuses_wrong_types(
+    kwargs: dict[str, Any], error: type[Exception], words: str
+) -> None:
+    with pytest.raises(error) as caught:
+        FocasClient("127.0.0.1", 8193, **kwargs)
+    assert words in str(caught.value)
+
+
+@pytest.mark.parametrize("max_blocks", ["10", 10.0, True, None])
+def test_native_client_max_blocks_of_another_type(max_blocks: Any) -> None:
+    with pytest.raises(TypeError, match=rf"max_blocks must be an integer, got {max_blocks!r}"):
+        NativeClient("127.0.0.1", 8193, max_blocks=max_blocks)
+    with pytest.raises(TypeError, match="on_state_change must be callable"):
+        NativeClient("127.0.0.1", 8193, on_state_change=5)  # type: ignore[arg-type]
+
+
+def test_state_callbacks_are_checked_when_added_and_named_when_removed() -> None:
+    cnc = FocasClient("127.0.0.1", 8193)
+    with pytest.raises(TypeError, match=r"callback must be callable .* got None"):
+        cnc.add_state_callback(None)  # type: ignore[arg-type]
+    with pytest.raises(ValueError, match="is not a state callback of this client"):
+        cnc.remove_state_callback(print)
+
+
+@pytest.mark.parametrize(
+    ("kwargs", "error", "words"),
+    [
+        ({"initial_delay": "1"}, TypeError, "initial_delay must be a number, got '1'"),
+        ({"max_delay": None}, TypeError, "max_delay must be a number, got None"),
+        ({"factor": True}, TypeError, "factor must be a number, got True"),
+        ({"jitter": math.nan}, ValueError, "jitter must be a number, got nan"),
+        ({"stable_after": math.nan}, ValueError, "stable_after must be a number, got nan"),
+        ({"initial_delay": math.inf}, ValueError, "initial_delay must be finite, got inf"),
+        ({"factor": math.inf}, ValueError, "factor must be finite, got inf"),
+        ({"initial_delay": -1}, ValueError, "must not be negative: initial_delay -1"),
+        ({"max_attempts": 2.5}, TypeError, "max_attempts must be an integer or None, got 2.5"),
+        ({"max_attempts": 0}, ValueError, "max_attempts must be at least 1 (or None), got 0"),
+    ],
+)
+def test_reconnect_policy_names_what_it_refuses(
+    kwargs: dict[str, Any], error: type[Exception], words: str
+) -> None:
+    with pytest.raises(error) as caught:
+        ReconnectPolicy(**kwargs)
+    assert words in str(caught.value)
+
+
+@pytest.mark.parametrize(
+    ("kwargs", "error", "words"),
+    [
+        ({"mode": "history"}, ValueError, "unknown projection mode 'history' (one of 'active'"),
+        ({"mode": 1}, TypeError, "mode must be a ProjectionMode, got 1"),
+        ({"interval": "1"}, TypeError, "interval must be a number of seconds, got '1'"),
+        ({"depth": 5.0}, TypeError, "depth must be an integer, got 5.0"),
+        ({"max_failures": "3"}, TypeError, "max_failures must be an integer or None, got '3'"),
+        ({"replay_history": "no"}, TypeError, "replay_history must be True or False, got 'no'"),
+        ({"timeout": -1}, ValueError, "timeout must be positive, got -1"),
+    ],
+)
+def test_alarm_projection_names_what_it_refuses(
+    kwargs: dict[str, Any], error: type[Exception], words: str
+) -> None:
+    with pytest.raises(error) as caught:
+        AlarmProjection(FocasClient("127.0.0.1", 8193), **kwargs)
+    assert words in str(caught.value)
+    assert AlarmProjection(FocasClient("127.0.0.1", 8193), "active+history").mode is (
+        ProjectionMode.ACTIVE_PLUS_HISTORY
+    )
+
+
+async def test_reading_many_names_what_is_no_client(
+    served: tuple[Machine, FocasClient, NativeClient],
+) -> None:
+    _, cnc, native = served
+    with pytest.raises(TypeError, match=r"clients\[1\] must be a NativeClient, got <FocasClient"):
+        await read_dynamic_all([native, cnc])  # type: ignore[list-item]
+    with pytest.raises(TypeError, match=r"clients\[0\] must be a FocasClient or a NativeClient"):
+        await read_status_all(["127.0.0.1"])  # type: ignore[list-item]
+    with pytest.raises(TypeError, match="clients must be a list of clients, got 5"):
+        await read_status_paths_all(5)  # type: ignore[arg-type]
+    with pytest.raises(ValueError, match="timeout must be positive"):
+        await read_status_all([cnc], timeout=0)
+    assert len(await read_status_all([cnc, native])) == 2
