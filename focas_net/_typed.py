@@ -30,6 +30,7 @@ __all__ = [
     "macro_unfit",
     "override_unfit",
     "program_number",
+    "rapid_step",
     "switch",
     "typed_number",
     "whole_number",
@@ -107,6 +108,13 @@ def switch(typed: str) -> bool:
     raise ValueError(
         f"expected 1, on, true, yes or set, or 0, off, false, no or clear, got {typed!r}"
     )
+
+
+def rapid_step(text: str) -> int:
+    """A rapid override as typed on every front end: ``F0`` (any case: 0 %, as the panel's
+    switch names it) or a whole number (:func:`whole_number`), which the machine checks
+    against :data:`RAPID_STEPS`."""
+    return 0 if text.strip().upper() == "F0" else whole_number(text)
 
 
 def program_number(typed: object) -> int:

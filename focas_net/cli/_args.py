@@ -18,7 +18,7 @@ from collections.abc import Callable, Sequence
 from functools import partial
 from typing import Any, Final, NoReturn, TypeVar
 
-from focas_net._typed import decimal_number
+from focas_net._typed import decimal_number, rapid_step
 from focas_net.client._address import check_host, host_and_port, shown
 from focas_net.client._values import check_path
 from focas_net.protocol import PmcArea
@@ -221,7 +221,7 @@ def parse_non_negative(text: str) -> int:
 def parse_rapid(text: str) -> int:
     """A rapid override as typed: ``F0`` (0 %) or a whole number, which the machine checks
     against FANUC's steps (0, 25, 50, 100)."""
-    return 0 if text.strip().upper() == "F0" else fmt.parse_int(text)
+    return rapid_step(text)
 
 
 def parse_file_name(text: str) -> str:

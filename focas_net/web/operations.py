@@ -24,7 +24,14 @@ from decimal import Decimal
 from typing import Any, Final
 
 from focas_net._bits import bits_of_text
-from focas_net._typed import decimal_number, program_number, switch, typed_number, whole_number
+from focas_net._typed import (
+    decimal_number,
+    program_number,
+    rapid_step,
+    switch,
+    typed_number,
+    whole_number,
+)
 from focas_net.errors import EW, ew_name
 from focas_net.protocol import AutMode, FaultKind, FaultScope, InjectFault, alarm_message
 from focas_net.server.faults import FaultQueue, fault_refusal, parse_inject
@@ -40,8 +47,10 @@ __all__ = [
     "Station",
     "action_args",
     "decimal_number",
+    "no_twice",
     "perform",
     "refusal",
+    "shown",
     "whole_number",
 ]
 
@@ -103,6 +112,17 @@ def refusal(exc: MachineError) -> JsonDict:
 
 
 # -- arguments ------------------------------------------------------------------------------
+def shown(value: object) -> str:
+    """A value from a request's JSON as a message names it: text quoted (``'abc'``), anything
+    else as the JSON that was sent (``true``, ``null``, ``[1]``), never as Python writes it."""
+    if isinstance(value, str):
+        return repr(value)
+    try:
+        return json.dumps(value)
+    except (TypeError, ValueError):  # not from JSON: as Python shows it
+        return repr(value)
+
+
 def _int(args: Mapping[str, Any], key: str, default: int | None = None) -> int:
     """``args[key]`` as a whole number (decimal, ``0x``, ``0b`` or ``0o``, ASCII digits only:
     :func:`~focas_net._typed.whole_number`, as every front end reads it); ``default`` when it
@@ -113,7 +133,7 @@ def _int(args: Mapping[str, Any], key: str, default: int | None = None) -> int:
     if value is None or (isinstance(value, str) and not value.strip()):
         raise ActionError(f"{key}: a number is needed")
     if isinstance(value, bool):
-        raise ActionError(f"{key}: a number is needed, got {value!r}")
+        raise ActionError(f"{key}: a number is needed, got {shown(value)}")
     if isinstance(value, int):
         return value
     if isinstance(value, str):
@@ -121,7 +141,7 @@ def _int(args: Mapping[str, Any], key: str, default: int | None = None) -> int:
             return whole_number(value)
         except ValueError as exc:
             raise ActionError(f"{key}: {exc}") from None
-    raise ActionError(f"{key}: not a whole number: {value!r}")
+    raise ActionError(f"{key}: not a whole number: {shown(value)}")
 
 
 def _optional_int(args: Mapping[str, Any], key: str) -> int | None:
@@ -134,7 +154,7 @@ def _optional_int(args: Mapping[str, Any], key: str) -> int | None:
 def _text(args: Mapping[str, Any], key: str, default: str = "") -> str:
     value = args.get(key, default)
     if not isinstance(value, str):
-        raise ActionError(f"{key}: text is needed, got {value!r}")
+        raise ActionError(f"{key}: text is needed, got {shown(value)}")
     return value
 
 
@@ -147,10 +167,10 @@ def _decimal(args: Mapping[str, Any], key: str) -> Decimal | None:
         return None
     if isinstance(value, float):  # a JSON number with a point: the digits it shows
         if not math.isfinite(value):
-            raise ActionError(f"{key}: a finite number is needed, got {value!r}")
+            raise ActionError(f"{key}: a finite number is needed, got {shown(value)}")
         return Decimal(repr(value))
     if isinstance(value, bool) or not isinstance(value, str | int):
-        raise ActionError(f"{key}: a number is needed, got {value!r}")
+        raise ActionError(f"{key}: a number is needed, got {shown(value)}")
     if isinstance(value, int):
         return Decimal(value)
     try:
@@ -184,11 +204,12 @@ def _cycle(station: Station, args: Mapping[str, Any]) -> JsonDict:
 
 
 def _mode(args: Mapping[str, Any]) -> int | None:
-    """``mode`` as the command line takes it: a name (``MDI``, ``mdi``, ``EDIT``) read by
-    :meth:`AutMode.parse_panel`, or an ``aut`` number (the machine refuses one that is not a
-    mode, with EW_DATA)."""
+    """``mode`` as the command line takes it: text (a name, ``MDI``, ``mdi``, ``EDIT``, or an
+    ``aut`` number, ``1``) read by :meth:`AutMode.parse_panel` as ``--mode`` reads it, or a
+    JSON number, the ``aut`` value as the wire carries it (the machine refuses one that is
+    not a mode, with EW_DATA)."""
     value = args.get("mode")
-    if not isinstance(value, str) or value.strip().lstrip("+-").isdigit():
+    if not isinstance(value, str):
         return _optional_int(args, "mode")
     if not value.strip():
         return None
@@ -223,10 +244,22 @@ def _panel(station: Station, args: Mapping[str, Any]) -> JsonDict:
     return {}
 
 
+def _rapid(args: Mapping[str, Any]) -> int | None:
+    """The rapid override as the command line takes it: ``F0`` (0 %) or a number
+    (:func:`~focas_net._typed.rapid_step`); None when not given."""
+    value = args.get("rapid")
+    if isinstance(value, str) and value.strip():
+        try:
+            return rapid_step(value)
+        except ValueError as exc:
+            raise ActionError(f"rapid: {exc}") from None
+    return _optional_int(args, "rapid")
+
+
 def _overrides(station: Station, args: Mapping[str, Any]) -> JsonDict:
     station.machine.set_overrides(
         _optional_int(args, "feed"),
-        _optional_int(args, "rapid"),
+        _rapid(args),
         _optional_int(args, "spindle"),
         path=_path(args),
     )
@@ -326,7 +359,7 @@ def _bits(number: int, value: object) -> int | None:
         return _int({"value": text}, "value")
     raise ActionError(
         f"value: parameter {number} is a bit parameter: write its 8 bits #7..#0 (10110000), "
-        f"0x.. or 0b.., got {value!r}"
+        f"0x.. or 0b.., got {shown(value)}"
     )
 
 
@@ -362,9 +395,13 @@ def _write_macro(station: Station, args: Mapping[str, Any]) -> JsonDict:
 
 
 def _select_program(station: Station, args: Mapping[str, Any]) -> JsonDict:
-    path = _path(args)
+    path, typed = _path(args), args.get("number")
+    if typed is None or (isinstance(typed, str) and not typed.strip()):
+        raise ActionError("number: a program number is needed (e.g. O1000)")
+    if not isinstance(typed, str | int) or isinstance(typed, bool):
+        raise ActionError(f"number: {shown(typed)} is not a program number (e.g. O1000)")
     try:  # O1000 or 1000, as the command line reads it
-        number = program_number(args.get("number"))
+        number = program_number(typed)
     except ValueError as exc:
         raise ActionError(f"number: {exc}") from None
     station.machine.select_program(number, path=path)
@@ -456,7 +493,7 @@ ACTION_KEYS: Final[Mapping[str, frozenset[str]]] = {
 }
 
 
-def _no_twice(pairs: list[tuple[str, Any]]) -> dict[str, Any]:
+def no_twice(pairs: list[tuple[str, Any]]) -> dict[str, Any]:
     """A JSON object's members, refused when a key is given twice (which one counts is no
     rule JSON makes)."""
     args: dict[str, Any] = {}
@@ -473,7 +510,9 @@ def action_args(body: bytes) -> dict[str, Any]:
     if not body.strip():
         return {}
     try:
-        args = json.loads(body, object_pairs_hook=_no_twice)
+        args = json.loads(body, object_pairs_hook=no_twice)
+    except RecursionError:
+        raise ActionError("the body nests too deep to be an action's arguments") from None
     except ValueError as exc:
         if isinstance(exc, ActionError):
             raise
@@ -504,4 +543,7 @@ def perform(
         raise ActionError(f"{action} takes no {', '.join(map(repr, unknown))} (it takes {takes})")
     if read_only and action not in _VIEW_ONLY:
         raise MachineError(EW.PROT, "the dashboard is read-only")
+    # every action names a path the machine has, the machine-wide ones (PMC, the password,
+    # faults) too: a page of a path the machine has not is refused, not served path 1
+    station.machine.path_info(_path(args))
     return {"ok": True, **operation(station, args)}
