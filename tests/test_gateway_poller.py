@@ -46,10 +46,9 @@ async def test_every_item_of_every_path_once_then_only_changes() -> None:
 
         shapes = {s.name: s for s in sink.shapes}
         assert [p.number for p in shapes["lathe"].paths] == [1, 2]
-        # (FOCAS/2 names an axis by its letter, the packed protocol with its suffix)
-        assert [len(p.axes) for p in shapes["lathe"].paths] == [2, 2]
-        assert [len(p.axes) for p in shapes["lathe-packed"].paths] == [2, 2]
-        assert [p.axes for p in shapes["lathe"].paths] == [("X", "Z"), ("X", "Z")]
+        # (each axis named as the screen shows it, its suffix after its letter, over both)
+        assert [p.axes for p in shapes["lathe"].paths] == [("X1", "Z1"), ("X2", "Z2")]
+        assert [p.axes for p in shapes["lathe-packed"].paths] == [("X1", "Z1"), ("X2", "Z2")]
         assert [p.number for p in shapes["mill"].paths] == [1]
         assert shapes["mill"].protocol == "native"
         for name in ("lathe", "lathe-packed"):

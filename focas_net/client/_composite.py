@@ -261,8 +261,13 @@ class CompositeCalls(Lifecycle):
         not a number), naming it, before the write is sent.
         """
         check_item(number, axis, "parameter")
-        if width is not None and width not in (1, 2, 4, REAL_WIDTH):
-            raise ValueError(f"parameter width must be 1, 2, 4 or 8 (real), got {width!r}")
+        if width is not None and (
+            isinstance(width, bool)
+            or not isinstance(width, int)
+            or width not in (1, 2, 4, REAL_WIDTH)
+        ):
+            error = ValueError if type(width) is int else TypeError
+            raise error(f"parameter width must be 1, 2, 4 or 8 (real), got {width!r}")
         if isinstance(value, bool) or not isinstance(value, int | Decimal | str):
             raise TypeError(f"parameter {number}: a value is a number or its text, got {value!r}")
         p = self._path_of(path)

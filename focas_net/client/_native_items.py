@@ -122,9 +122,10 @@ def text(raw: bytes | str) -> str:
 
 
 def axis_name(entry: bytes) -> str:
-    """The axis name of a 4-byte name entry (its first character; the suffix only tells
-    which position a display shows)."""
-    return entry[:1].replace(b"\x00", b"").decode("latin-1").strip()
+    """The axis name of a 4-byte name entry as the control's screen shows it: the name
+    character and its suffix (parameter 3131's subscript: ``X`` and ``1`` give ``X1``, the
+    name the packed protocol gives), a NUL or a space in either left out."""
+    return entry[:2].replace(b"\x00", b"").decode("latin-1").replace(" ", "")
 
 
 def signed(raw: int, width: int) -> int:

@@ -99,7 +99,9 @@ def alarm_message(msg: str) -> bytes:
     machine's words, :func:`~focas_net._typed.alarm_text_unfit`, of the part the machine
     keeps); ValueError, naming the text, for any other character. Every front end that takes
     a message as text (the client, the command line, the dashboard) refuses with this rule;
-    the wire itself carries any bytes."""
+    the wire itself carries any bytes. TypeError for a message that is no ``str``."""
+    if not isinstance(msg, str):
+        raise TypeError(f"alarm message must be text (str), got {msg!r}")
     try:
         raw = msg.encode("ascii")
     except UnicodeEncodeError:

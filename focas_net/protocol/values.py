@@ -66,6 +66,10 @@ class LabelledValue(enum.IntEnum):
     @classmethod
     def parse(cls, value: str | int) -> Self:
         """A member from its name (``"MDI"``), its label, or its number; ValueError otherwise."""
+        if isinstance(value, bool) or not isinstance(value, str | int):
+            raise TypeError(
+                f"{cls.__name__} must be a member, its name or its number, got {value!r}"
+            )
         if isinstance(value, str):
             # ASCII only, as a CNC's keys: "md\u0131" (a dotless i) upper-cases to MDI but is none
             text = value.strip().upper() if value.isascii() else ""
@@ -101,7 +105,10 @@ class AutMode(LabelledValue):
     @classmethod
     def parse_panel(cls, value: str | int) -> AutMode:
         """A mode the operator panel selects, by name (``"MDI"``), label or number: any but
-        NOSEL (2, no selection); ValueError naming the modes it selects otherwise."""
+        NOSEL (2, no selection); ValueError naming the modes it selects otherwise (TypeError
+        for what is neither text nor an integer)."""
+        if isinstance(value, bool) or not isinstance(value, str | int):
+            raise TypeError(f"mode must be an AutMode, its name or its number, got {value!r}")
         try:
             mode = cls.parse(value)
         except ValueError:

@@ -12,7 +12,7 @@ from typing import Final
 from focas_net._typed import MAX_ALARM_TEXT, alarm_text_unfit
 from focas_net.errors import EW
 
-from ._base import Counters, MachineError, logger
+from ._base import Counters, MachineError, logger, need_int, need_text
 from .nc import AlarmKind, NcAlarm
 
 __all__ = [
@@ -128,7 +128,11 @@ class Alarms:
     def checked(axis_no: int, alm_type: int, alm_no: int, msg: str, axes: int) -> str:
         """The text an alarm keeps, once its numbers are checked: EW_DATA (alm_type outside
         0..31, alm_no outside 0..32767), EW_ATTRIB (axis_no), EW_DATA (a character beyond
-        U+00FF, or a control character: a tab, a line break, NUL...)."""
+        U+00FF, or a control character: a tab, a line break, NUL...); TypeError for a number
+        or a message of another type."""
+        for what, value in (("axis_no", axis_no), ("alm_type", alm_type), ("alm_no", alm_no)):
+            need_int(what, value)
+        need_text("alarm message", msg)
         if not 0 <= alm_type <= MAX_ALARM_TYPE:
             raise MachineError(EW.DATA, f"alm_type {alm_type} outside 0..{MAX_ALARM_TYPE}")
         if not 0 <= alm_no <= MAX_ALARM_NO:

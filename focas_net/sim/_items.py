@@ -9,7 +9,7 @@ from typing import Final
 
 from focas_net.errors import EW
 
-from ._base import NUMBERS, Counters, MachineError
+from ._base import NUMBERS, Counters, MachineError, need_int
 
 __all__ = [
     "MAX_REAL_DECIMALS",
@@ -245,7 +245,8 @@ class Items:
         return value // scale
 
     def set(self, item: DataItem, index: int, value: int, what: str) -> None:
-        """Set one value: EW_DATA outside the item's range."""
+        """Set one value: EW_DATA outside the item's range (TypeError for no integer)."""
+        need_int(f"{what} value", value)
         low, high = item.low, item.high
         assert low is not None and high is not None
         if not low <= value <= high:
