@@ -375,3 +375,24 @@ def test_opcua_settings_built_in_python_check_their_users(users: Any, words: str
     with pytest.raises(ConfigError) as caught:
         OpcUaSettings(users=users).check()
     assert str(caught.value) == words
+
+
+@pytest.mark.parametrize(
+    ("text", "words"),
+    [
+        ("", "parameter 6711: not a number: '' (nothing typed)"),
+        ("1e3", "parameter 6711: not a number: '1e3' (no exponent: write the digits)"),
+        ("abc", "parameter 6711: not a number: 'abc'"),
+    ],
+)
+async def test_write_param_text_no_number_is_refused_in_one_wording_on_both_clients(
+    served: tuple[Machine, FocasClient, NativeClient], text: str, words: str
+) -> None:
+    machine, cnc, native = served
+    machine.set_panel(mode=0, pwe=1)
+    before = machine.state_digest()
+    for client in (cnc, native):
+        with pytest.raises(ValueError) as caught:
+            await client.write_param(6711, text)
+        assert str(caught.value) == words
+    assert machine.state_digest() == before
