@@ -25,6 +25,7 @@ from focas_net.protocol import (
     alarm_text,
     status_labels,
 )
+from focas_net.server.faults import fault_arg_text
 from focas_net.sim import (
     AUT_MODES,
     PMC_AREAS,
@@ -289,7 +290,10 @@ def machine_view(
         ],
         "program": _program(machine, path),
         "pmc_areas": _pmc_areas(machine),
-        "faults": [{"kind": k, "remaining": n, "arg": arg} for k, n, arg in faults],
+        "faults": [
+            {"kind": k, "remaining": n, "arg": arg, "arg_text": fault_arg_text(FaultKind[k], arg)}
+            for k, n, arg in faults
+        ],
         "fault_kinds": [k.name for k in FaultKind],
         "versions": {"data": machine.data_version, "macro": machine.macro_version},
     }
