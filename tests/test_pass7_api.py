@@ -27,6 +27,7 @@ from focas_net import (
     read_status_all,
     read_status_paths_all,
 )
+from focas_net.gateway import ConfigError, OpcUaSettings, OpcUaUser
 from focas_net.sim import Machine
 from focas_net.sim.nc import ManualClock
 
@@ -355,3 +356,43 @@ async def test_reading_many_names_what_is_no_client(
     with pytest.raises(ValueError, match="timeout must be positive"):
         await read_status_all([cnc], timeout=0)
     assert len(await read_status_all([cnc, native])) == 2
+
+
+@pytest.mark.parametrize(
+    ("users", "words"),
+    [
+        ("admin", "opcua.users: got 'admin'; expected a tuple of OpcUaUser"),
+        (None, "opcua.users: got None; expected a tuple of OpcUaUser"),
+        (("admin",), "opcua.users[1]: got 'admin'; expected an OpcUaUser(name, password)"),
+        ((OpcUaUser(5, "pw"),), "opcua.users[1].name: got 5; expected a user name"),  # type: ignore[arg-type]
+        (
+            (OpcUaUser("a", "x"), OpcUaUser("a", "y")),
+            "opcua.users[2].name: user 'a' is given twice",
+        ),
+    ],
+)
+def test_opcua_settings_built_in_python_check_their_users(users: Any, words: str) -> None:
+    with pytest.raises(ConfigError) as caught:
+        OpcUaSettings(users=users).check()
+    assert str(caught.value) == words
+
+
+@pytest.mark.parametrize(
+    ("text", "words"),
+    [
+        ("", "parameter 6711: not a number: '' (nothing typed)"),
+        ("1e3", "parameter 6711: not a number: '1e3' (no exponent: write the digits)"),
+        ("abc", "parameter 6711: not a number: 'abc'"),
+    ],
+)
+async def test_write_param_text_no_number_is_refused_in_one_wording_on_both_clients(
+    served: tuple[Machine, FocasClient, NativeClient], text: str, words: str
+) -> None:
+    machine, cnc, native = served
+    machine.set_panel(mode=0, pwe=1)
+    before = machine.state_digest()
+    for client in (cnc, native):
+        with pytest.raises(ValueError) as caught:
+            await client.write_param(6711, text)
+        assert str(caught.value) == words
+    assert machine.state_digest() == before
