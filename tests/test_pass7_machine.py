@@ -158,3 +158,22 @@ async def test_serve_run_refuses_what_a_run_section_refuses(argv: list[str], lin
 def test_a_run_section_refuses_the_same_bounds(tmp_path: Path, key: str, value: int) -> None:
     with pytest.raises(MachineFileError, match=rf"run\.{key}: {value} is outside 0\.\."):
         _load(tmp_path, f"[run]\n{key} = {value}\n")
+
+
+def test_a_program_file_that_is_not_utf8_is_named_with_its_key(tmp_path: Path) -> None:
+    (tmp_path / "latin.nc").write_bytes(b"O1308 (CAF\xe9)\nM30\n")
+    with pytest.raises(MachineFileError) as refused:
+        _load(tmp_path, '[[program]]\nfile = "latin.nc"\n')
+    assert str(refused.value) == (
+        f"{tmp_path / 'm.toml'}: program[0].file: {tmp_path / 'latin.nc'}: not UTF-8 text: "
+        "byte 0xE9 at byte 10 (save the file as UTF-8)"
+    )
+
+
+async def test_program_load_reads_a_file_with_a_byte_order_mark(cli: Cli, tmp_path: Path) -> None:
+    """A program saved by Windows Notepad as UTF-8 starts with a byte-order mark; a machine
+    file's ``[[program]] file`` reads it, and so does ``program load``."""
+    file = tmp_path / "o1306.nc"
+    file.write_bytes(b"\xef\xbb\xbfO1306 (NOTEPAD)\r\nM30\r\n")
+    assert await cli.ok("program", "load", str(file)) == f"stored O1306 from {file}\n"
+    assert cli.served.machine.program_text(1306).startswith("O1306 (NOTEPAD)")
