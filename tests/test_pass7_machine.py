@@ -177,3 +177,19 @@ async def test_program_load_reads_a_file_with_a_byte_order_mark(cli: Cli, tmp_pa
     file.write_bytes(b"\xef\xbb\xbfO1306 (NOTEPAD)\r\nM30\r\n")
     assert await cli.ok("program", "load", str(file)) == f"stored O1306 from {file}\n"
     assert cli.served.machine.program_text(1306).startswith("O1306 (NOTEPAD)")
+
+
+async def test_a_state_folder_of_the_machine_file_is_named_as_the_file_names_it(
+    tmp_path: Path,
+) -> None:
+    """``state = "x.toml"`` in ``[machine]`` (a file, not a folder) is refused naming the
+    machine file's key, not a ``--state`` option the command line did not have."""
+    (tmp_path / "x.toml").write_text("")
+    machine = tmp_path / "m.toml"
+    machine.write_text(HEAD + 'state = "x.toml"\n')
+    code, out, err = await run_focas_net("serve", "--port", "0", "--machine", str(machine))
+    assert (code, out) == (EXIT_USAGE, "")
+    assert err.startswith(
+        f"focas-net serve: error: {machine}: machine.state {tmp_path / 'x.toml'}: "
+    )
+    assert err.endswith("Not a directory\n") and "--state" not in err
