@@ -193,3 +193,35 @@ async def test_a_state_folder_of_the_machine_file_is_named_as_the_file_names_it(
         f"focas-net serve: error: {machine}: machine.state {tmp_path / 'x.toml'}: "
     )
     assert err.endswith("Not a directory\n") and "--state" not in err
+
+
+@pytest.mark.parametrize(
+    ("value", "words"),
+    [
+        (
+            '"1.5"',
+            "must be an integer or [mcr_val, dec_val] (1.5 is [15, 1]), got a string ('1.5')",
+        ),
+        ('"abc"', "must be an integer or [mcr_val, dec_val], got a string ('abc')"),
+    ],
+)
+def test_a_macro_value_in_quotes_is_refused_with_the_pair(
+    tmp_path: Path, value: str, words: str
+) -> None:
+    with pytest.raises(MachineFileError) as refused:
+        _load(
+            tmp_path,
+            f"[macros]\nranges = [{{ first = 1, last = 3 }}]\nvalues = {{ 1 = {value} }}\n",
+        )
+    assert str(refused.value).endswith(f"macros.values.1: {words}")
+
+
+@pytest.mark.parametrize(("value", "kind"), [("true", "a boolean (true)"), ("{ a = 1 }", "a table")])
+def test_a_real_value_of_another_type_is_refused_as_not_a_number(
+    tmp_path: Path, value: str, kind: str
+) -> None:
+    with pytest.raises(MachineFileError) as refused:
+        _load(tmp_path, f'[parameters.1430]\ntype = "real"\ndecimals = 1\nvalue = {value}\n')
+    assert str(refused.value).endswith(
+        f"parameters.1430.value: must be a number such as 12.345, got {kind}"
+    )
