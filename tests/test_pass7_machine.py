@@ -216,7 +216,9 @@ def test_a_macro_value_in_quotes_is_refused_with_the_pair(
     assert str(refused.value).endswith(f"macros.values.1: {words}")
 
 
-@pytest.mark.parametrize(("value", "kind"), [("true", "a boolean (true)"), ("{ a = 1 }", "a table")])
+@pytest.mark.parametrize(
+    ("value", "kind"), [("true", "a boolean (true)"), ("{ a = 1 }", "a table")]
+)
 def test_a_real_value_of_another_type_is_refused_as_not_a_number(
     tmp_path: Path, value: str, kind: str
 ) -> None:
