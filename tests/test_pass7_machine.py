@@ -227,3 +227,9 @@ def test_a_real_value_of_another_type_is_refused_as_not_a_number(
     assert str(refused.value).endswith(
         f"parameters.1430.value: must be a number such as 12.345, got {kind}"
     )
+
+
+def test_tools_of_a_path_the_machine_has_not_are_named_by_their_key(tmp_path: Path) -> None:
+    with pytest.raises(MachineFileError) as refused:
+        _load(tmp_path, "[[tools]]\npath = 3\n")
+    assert str(refused.value).endswith("tools[0].path: the machine has no path 3 (its paths: 1..1)")

@@ -623,7 +623,11 @@ def _build(
         main_program=programs[1],
         sim_clock=sim_clock,
         scenario=_run(root.sub("run"), top["run"]) if "run" in top else None,
-        tools=tool_specs(root.sub("tools"), top["tools"]) if "tools" in top else None,
+        tools=(
+            tool_specs(root.sub("tools"), top["tools"], 1 if paths is None else len(paths))
+            if "tools" in top
+            else None
+        ),
     )
 
 
