@@ -396,3 +396,40 @@ async def test_write_param_text_no_number_is_refused_in_one_wording_on_both_clie
             await client.write_param(6711, text)
         assert str(caught.value) == words
     assert machine.state_digest() == before
+
+
+@pytest.mark.parametrize(
+    ("call", "args", "words"),
+    [
+        ("clear_alarms", (1.5,), "alm_type must be an integer, got 1.5"),
+        ("clear_alarms", (-1, "100"), "alm_no must be an integer, got '100'"),
+        ("read_param", (1320, "1"), "axis must be an integer, got '1'"),
+        ("read_diag", ("300", 1), "number must be an integer, got '300'"),
+        ("read_pmc", ("R", "0", 1), "PMC start address must be an integer, got '0'"),
+        ("read_pmc", ("R", 0, 2.0), "PMC byte count must be an integer, got 2.0"),
+        ("write_pmc", ("R", "0", b"\x01"), "PMC start address must be an integer, got '0'"),
+        ("write_pmc", ("R", 0, "\x01"), "PMC data must be bytes, got '\\x01'"),
+        ("active_alarms", (-1, "5"), "limit must be an integer, got '5'"),
+        ("alarm_history", (2.0,), "depth must be an integer, got 2.0"),
+    ],
+)
+def test_machine_numbers_of_another_type_are_named(
+    call: str, args: tuple[Any, ...], words: str
+) -> None:
+    machine = default_machine(sim_clock=ManualClock())
+    before = machine.state_digest()
+    with pytest.raises(TypeError) as caught:
+        getattr(machine, call)(*args)
+    assert str(caught.value) == words
+    assert machine.state_digest() == before
+
+
+def test_machine_alarm_reads_take_any_bound_from_zero() -> None:
+    machine = default_machine(sim_clock=ManualClock())
+    machine.raise_alarm(0, 3, 100, "X")
+    assert len(machine.active_alarms(limit=2**70)) == 1
+    assert len(machine.alarm_history(2**70)) == 1
+    with pytest.raises(ValueError, match="limit must be at least 0"):
+        machine.active_alarms(limit=-1)
+    with pytest.raises(ValueError, match="depth must be at least 0"):
+        machine.alarm_history(-1)
