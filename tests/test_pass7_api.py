@@ -433,3 +433,55 @@ def test_machine_alarm_reads_take_any_bound_from_zero() -> None:
         machine.active_alarms(limit=-1)
     with pytest.raises(ValueError, match="depth must be at least 0"):
         machine.alarm_history(-1)
+
+
+@pytest.mark.parametrize(
+    ("kwargs", "error", "words"),
+    [
+        ({"host": None}, TypeError, "host must be a str (an address or a name), got None"),
+        ({"port": 1.5}, TypeError, "port must be an integer or None, got 1.5"),
+        ({"port": True}, TypeError, "port must be an integer or None, got True"),
+        ({"ports": b"\x07"}, TypeError, "ports must be a list of port numbers or None"),
+        ({"ports": [0.0]}, TypeError, "ports[0] must be an integer, got 0.0"),
+        ({"ssl": "tls"}, TypeError, "ssl must be an ssl.SSLContext or None, got 'tls'"),
+        ({"max_frame": math.nan}, TypeError, "max_frame must be an integer, got nan"),
+        ({"max_connections": math.inf}, TypeError, "max_connections must be an integer"),
+        ({"grace_period": math.nan}, ValueError, "grace_period must be a number of seconds"),
+        ({"idle_timeout": "300"}, TypeError, "idle_timeout must be a number of seconds"),
+        ({"backlog": 2**70}, ValueError, "backlog 1180591620717411303424 is outside 0.."),
+        ({"native_port": -1}, ValueError, "native_port -1 is outside 0..65535"),
+        ({"native_max_body": None}, TypeError, "native_max_body must be an integer, got None"),
+        ({"read_only": "yes"}, TypeError, "read_only must be True, False or None, got 'yes'"),
+        ({"durable": 5}, TypeError, "durable must be callable or None, got 5"),
+    ],
+)
+def test_focas_server_names_a_wrong_argument_before_touching_the_machine(
+    kwargs: dict[str, Any], error: type[Exception], words: str
+) -> None:
+    machine = default_machine(sim_clock=ManualClock())
+    before = machine.state_digest()
+    kwargs.setdefault("port", 0)
+    with pytest.raises(error) as caught:
+        FocasServer(machine, **kwargs)
+    assert words in str(caught.value)
+    assert machine.state_digest() == before and not machine.read_only
+
+
+@pytest.mark.parametrize("machines", ["m", [default_machine(), "m"], 5])
+def test_focas_server_names_what_is_no_machine(machines: Any) -> None:
+    with pytest.raises(TypeError, match=r"machines(\[1\])? must be a Machine"):
+        FocasServer(machines, port=0)
+
+
+@pytest.mark.parametrize(
+    ("kwargs", "words"),
+    [
+        ({"name": None}, "a machine's name must be text (str), got None"),
+        ({"name": b"m"}, "a machine's name must be text (str), got b'm'"),
+        ({"param_password": 1234}, "a parameter password is text or bytes, got 1234"),
+    ],
+)
+def test_default_machine_names_a_wrong_type(kwargs: dict[str, Any], words: str) -> None:
+    with pytest.raises(TypeError) as caught:
+        default_machine(**kwargs)
+    assert str(caught.value) == words
