@@ -255,3 +255,19 @@ def test_versamax_module_and_reference_type_names_in_either_case(tmp_path: Path)
         assert lower.config_record(0, slot) == upper.config_record(0, slot)
     with pytest.raises(MachineFileError, match=r"versamax\[0\]\.module: unknown module 'IC200XYZ'"):
         _load(tmp_path, '[[versamax]]\nrack = 0\nslot = 1\nmodule = "IC200XYZ"\n')
+
+
+@pytest.mark.parametrize("control_class", ["30i", "0i-F", "16i"])
+def test_program_numbers_are_four_digits_on_every_control_class(
+    tmp_path: Path, control_class: str
+) -> None:
+    """docs/machine-file.md: O1..O9999 on every class; the 30i's 8-digit option is not
+    modelled, and a machine file saying O12345678 is told so."""
+    head = f'control_class = "{control_class}"\n'
+    with pytest.raises(MachineFileError) as refused:
+        _load(tmp_path, head + '[[program]]\ntext = "O12345678\\nM30\\n"\n')
+    assert str(refused.value).endswith(
+        "program[0].text: program number O12345678 is outside O1..O9999"
+    )
+    machine = _load(tmp_path, head + '[[program]]\ntext = ":9999\\nM30\\n"\n')
+    assert [p.number for p in machine.program_directory()] == [9999]
