@@ -16,8 +16,8 @@ import pytest
 from focas_net import (
     EW,
     AlarmProjection,
-    CncError,
     AutMode,
+    CncError,
     FocasClient,
     FocasServer,
     MachineError,
