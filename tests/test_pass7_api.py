@@ -27,6 +27,7 @@ from focas_net import (
     read_status_all,
     read_status_paths_all,
 )
+from focas_net.gateway import ConfigError, OpcUaSettings, OpcUaUser
 from focas_net.sim import Machine
 from focas_net.sim.nc import ManualClock
 
@@ -355,3 +356,132 @@ async def test_reading_many_names_what_is_no_client(
     with pytest.raises(ValueError, match="timeout must be positive"):
         await read_status_all([cnc], timeout=0)
     assert len(await read_status_all([cnc, native])) == 2
+
+
+@pytest.mark.parametrize(
+    ("users", "words"),
+    [
+        ("admin", "opcua.users: got 'admin'; expected a tuple of OpcUaUser"),
+        (None, "opcua.users: got None; expected a tuple of OpcUaUser"),
+        (("admin",), "opcua.users[1]: got 'admin'; expected an OpcUaUser(name, password)"),
+        ((OpcUaUser(5, "pw"),), "opcua.users[1].name: got 5; expected a user name"),  # type: ignore[arg-type]
+        (
+            (OpcUaUser("a", "x"), OpcUaUser("a", "y")),
+            "opcua.users[2].name: user 'a' is given twice",
+        ),
+    ],
+)
+def test_opcua_settings_built_in_python_check_their_users(users: Any, words: str) -> None:
+    with pytest.raises(ConfigError) as caught:
+        OpcUaSettings(users=users).check()
+    assert str(caught.value) == words
+
+
+@pytest.mark.parametrize(
+    ("text", "words"),
+    [
+        ("", "parameter 6711: not a number: '' (nothing typed)"),
+        ("1e3", "parameter 6711: not a number: '1e3' (no exponent: write the digits)"),
+        ("abc", "parameter 6711: not a number: 'abc'"),
+    ],
+)
+async def test_write_param_text_no_number_is_refused_in_one_wording_on_both_clients(
+    served: tuple[Machine, FocasClient, NativeClient], text: str, words: str
+) -> None:
+    machine, cnc, native = served
+    machine.set_panel(mode=0, pwe=1)
+    before = machine.state_digest()
+    for client in (cnc, native):
+        with pytest.raises(ValueError) as caught:
+            await client.write_param(6711, text)
+        assert str(caught.value) == words
+    assert machine.state_digest() == before
+
+
+@pytest.mark.parametrize(
+    ("call", "args", "words"),
+    [
+        ("clear_alarms", (1.5,), "alm_type must be an integer, got 1.5"),
+        ("clear_alarms", (-1, "100"), "alm_no must be an integer, got '100'"),
+        ("read_param", (1320, "1"), "axis must be an integer, got '1'"),
+        ("read_diag", ("300", 1), "number must be an integer, got '300'"),
+        ("read_pmc", ("R", "0", 1), "PMC start address must be an integer, got '0'"),
+        ("read_pmc", ("R", 0, 2.0), "PMC byte count must be an integer, got 2.0"),
+        ("write_pmc", ("R", "0", b"\x01"), "PMC start address must be an integer, got '0'"),
+        ("write_pmc", ("R", 0, "\x01"), "PMC data must be bytes, got '\\x01'"),
+        ("active_alarms", (-1, "5"), "limit must be an integer, got '5'"),
+        ("alarm_history", (2.0,), "depth must be an integer, got 2.0"),
+    ],
+)
+def test_machine_numbers_of_another_type_are_named(
+    call: str, args: tuple[Any, ...], words: str
+) -> None:
+    machine = default_machine(sim_clock=ManualClock())
+    before = machine.state_digest()
+    with pytest.raises(TypeError) as caught:
+        getattr(machine, call)(*args)
+    assert str(caught.value) == words
+    assert machine.state_digest() == before
+
+
+def test_machine_alarm_reads_take_any_bound_from_zero() -> None:
+    machine = default_machine(sim_clock=ManualClock())
+    machine.raise_alarm(0, 3, 100, "X")
+    assert len(machine.active_alarms(limit=2**70)) == 1
+    assert len(machine.alarm_history(2**70)) == 1
+    with pytest.raises(ValueError, match="limit must be at least 0"):
+        machine.active_alarms(limit=-1)
+    with pytest.raises(ValueError, match="depth must be at least 0"):
+        machine.alarm_history(-1)
+
+
+@pytest.mark.parametrize(
+    ("kwargs", "error", "words"),
+    [
+        ({"host": None}, TypeError, "host must be a str (an address or a name), got None"),
+        ({"port": 1.5}, TypeError, "port must be an integer or None, got 1.5"),
+        ({"port": True}, TypeError, "port must be an integer or None, got True"),
+        ({"ports": b"\x07"}, TypeError, "ports must be a list of port numbers or None"),
+        ({"ports": [0.0]}, TypeError, "ports[0] must be an integer, got 0.0"),
+        ({"ssl": "tls"}, TypeError, "ssl must be an ssl.SSLContext or None, got 'tls'"),
+        ({"max_frame": math.nan}, TypeError, "max_frame must be an integer, got nan"),
+        ({"max_connections": math.inf}, TypeError, "max_connections must be an integer"),
+        ({"grace_period": math.nan}, ValueError, "grace_period must be a number of seconds"),
+        ({"idle_timeout": "300"}, TypeError, "idle_timeout must be a number of seconds"),
+        ({"backlog": 2**70}, ValueError, "backlog 1180591620717411303424 is outside 0.."),
+        ({"native_port": -1}, ValueError, "native_port -1 is outside 0..65535"),
+        ({"native_max_body": None}, TypeError, "native_max_body must be an integer, got None"),
+        ({"read_only": "yes"}, TypeError, "read_only must be True, False or None, got 'yes'"),
+        ({"durable": 5}, TypeError, "durable must be callable or None, got 5"),
+    ],
+)
+def test_focas_server_names_a_wrong_argument_before_touching_the_machine(
+    kwargs: dict[str, Any], error: type[Exception], words: str
+) -> None:
+    machine = default_machine(sim_clock=ManualClock())
+    before = machine.state_digest()
+    kwargs.setdefault("port", 0)
+    with pytest.raises(error) as caught:
+        FocasServer(machine, **kwargs)
+    assert words in str(caught.value)
+    assert machine.state_digest() == before and not machine.read_only
+
+
+@pytest.mark.parametrize("machines", ["m", [default_machine(), "m"], 5])
+def test_focas_server_names_what_is_no_machine(machines: Any) -> None:
+    with pytest.raises(TypeError, match=r"machines(\[1\])? must be a Machine"):
+        FocasServer(machines, port=0)
+
+
+@pytest.mark.parametrize(
+    ("kwargs", "words"),
+    [
+        ({"name": None}, "a machine's name must be text (str), got None"),
+        ({"name": b"m"}, "a machine's name must be text (str), got b'm'"),
+        ({"param_password": 1234}, "a parameter password is text or bytes, got 1234"),
+    ],
+)
+def test_default_machine_names_a_wrong_type(kwargs: dict[str, Any], words: str) -> None:
+    with pytest.raises(TypeError) as caught:
+        default_machine(**kwargs)
+    assert str(caught.value) == words

@@ -1,11 +1,17 @@
 """The gateway's file refusals say each thing once, with what was typed as typed: a range is
 not repeated inside parentheses, a deadband of ``-1`` is named ``-1``, an endpoint's port out
-of range is named as such, and a poll interval below the shortest one is refused."""
+of range is named as such, and a poll interval below the shortest one is refused. An output
+that cannot start is named in one line, without the OPC UA library's traceback."""
 
 from __future__ import annotations
 
-import pytest
+import socket
+from pathlib import Path
 
+import pytest
+from cli_support import fails, gateway_process
+
+from focas_net.cli import EXIT_CNC, EXIT_OK
 from focas_net.gateway import MIN_INTERVAL
 from focas_net.gateway.config import ConfigError, parse_config
 
@@ -77,3 +83,41 @@ def test_a_deadband_typed_as_an_integer_is_kept_as_a_number_of_the_unit() -> Non
     assert config.mqtt is not None
     assert config.mqtt.deadbands == {"feed": 2.0}
     assert isinstance(config.mqtt.deadbands["feed"], float)
+
+
+async def test_an_opc_ua_port_in_use_is_one_line_naming_the_endpoint(tmp_path: Path) -> None:
+    """The OPC UA server that cannot listen is exit 1 with one line that names it, and no
+    traceback of the OPC UA library's before it."""
+    taken = socket.socket()
+    taken.bind(("127.0.0.1", 0))
+    taken.listen()
+    try:
+        port = taken.getsockname()[1]
+        endpoint = f"opc.tcp://127.0.0.1:{port}/plant/"
+        config = tmp_path / "plant.toml"
+        config.write_text(ONE + f'port = 1\n[opcua]\nendpoint = "{endpoint}"\n')
+        line = await fails(EXIT_CNC, "gateway", str(config), prefix="focas-net gateway: ")
+    finally:
+        taken.close()
+    assert line == (
+        f"focas-net gateway: error: the OPC UA server on {endpoint} cannot start: "
+        "address already in use"
+    )
+
+
+async def test_users_without_a_certificate_are_warned_in_the_gateways_words(
+    tmp_path: Path,
+) -> None:
+    config = tmp_path / "plant.toml"
+    config.write_text(
+        ONE
+        + "port = 1\n"
+        + '[opcua]\nendpoint = "opc.tcp://127.0.0.1:0/plant/"\nanonymous = false\n'
+        + '[[opcua.users]]\nname = "op"\npassword = "pw"\n'
+    )
+    async with gateway_process(str(config)) as gateway:
+        assert gateway.ready.startswith("focas-net: gateway polling 1 machine; OPC UA ")
+        assert await gateway.stop() == EXIT_OK
+    warned = [line for line in gateway.err.decode().splitlines() if "WARNING" in line]
+    assert any("passwords travel unencrypted" in w and "certificate" in w for w in warned)
+    assert not any("asyncua" in w for w in warned), warned

@@ -111,7 +111,10 @@ def _show(number: int) -> PackedOnly:
 
 def _load(text: str, name: str, replace: bool) -> PackedOnly:
     async def go(cnc: FocasClient) -> Output:
-        number = await cnc.write_program(text, replace=replace)
+        try:  # the text is checked and encoded before anything is sent
+            number = await cnc.write_program(text, replace=replace)
+        except ValueError as exc:
+            raise ValueError(f"program load: {name!r}: {exc}") from None
         verb = "stored or replaced" if replace else "stored"
         return Output({"number": number, "file": name}, f"{verb} O{number:04d} from {name}")
 

@@ -24,6 +24,7 @@ from decimal import Decimal
 
 from focas_net.errors import ChunkedWriteError
 
+from .._typed import typed_number
 from ..protocol import ParamValue, PmcArea
 from ._lifecycle import Lifecycle
 from ._locks import KeyedLocks
@@ -270,6 +271,11 @@ class CompositeCalls(Lifecycle):
             raise error(f"parameter width must be 1, 2, 4 or 8 (real), got {width!r}")
         if isinstance(value, bool) or not isinstance(value, int | Decimal | str):
             raise TypeError(f"parameter {number}: a value is a number or its text, got {value!r}")
+        if isinstance(value, str):
+            try:  # text that is no number at all, in the words of every front end
+                typed_number(value)
+            except ValueError as exc:
+                raise ValueError(f"parameter {number}: {exc}") from None
         p = self._path_of(path)
         await self._write_param(number, value, axis, width, self._deadline(timeout), p)
 

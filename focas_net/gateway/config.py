@@ -212,6 +212,19 @@ class OpcUaSettings:
             at.key("endpoint").expected(self.endpoint, "opc.tcp://HOST:PORT/PATH")
         at.key("namespace").text(self.namespace, "a namespace URI")
         at.key("writes").boolean(self.writes)
+        users = at.key("users")
+        if not isinstance(self.users, tuple | list):
+            users.expected(self.users, "a tuple of OpcUaUser")
+        names: set[object] = set()
+        for i, user in enumerate(self.users):
+            one = users.index(i)
+            if not isinstance(user, OpcUaUser):
+                one.expected(user, "an OpcUaUser(name, password)")
+            name = one.key("name").text(user.name, "a user name")
+            one.key("password").text(user.password, "a password")
+            if name in names:
+                one.key("name").fail(f"user {name!r} is given twice")
+            names.add(name)
         host, loopback = self.host, self.loopback
         if self.anonymous is not None:
             at.key("anonymous").boolean(self.anonymous)

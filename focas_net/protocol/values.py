@@ -130,11 +130,13 @@ class RunState(LabelledValue):
 
 
 class MotionState(LabelledValue):
-    """ODBST ``motion``: axis movement or dwell."""
+    """ODBST ``motion``: axis movement or dwell; 3 (WAIT) on a control of several paths, a path
+    waiting at a waiting M code for the others."""
 
     NONE = 0, "***", "no motion"
     MTN = 1, "MTN", "axis moving"
     DWL = 2, "DWL", "dwell"
+    WAIT = 3, "WAIT", "waiting for the other paths (waiting M code)"
 
 
 class MstbState(LabelledValue):

@@ -173,6 +173,8 @@ class Alarms:
         """Remove the active alarms of ``path`` matching ``alm_type`` and ``alm_no`` (-1 =
         any): EW_DATA for a number no alarm has (alm_type outside -1..31, alm_no outside
         -1..32767), which would match nothing and say nothing of the typing."""
+        need_int("alm_type", alm_type)
+        need_int("alm_no", alm_no)
         if not -1 <= alm_type <= MAX_ALARM_TYPE:
             why = f"alm_type {alm_type} outside -1..{MAX_ALARM_TYPE} (-1: any)"
             raise MachineError(EW.DATA, why)
@@ -201,9 +203,15 @@ class Alarms:
 
     def read(self, alm_type: int, limit: int | None, path: int = 1) -> list[Alarm]:
         """The active alarms of ``path`` of ``alm_type`` (-1: every type), at most ``limit``."""
+        need_int("alm_type", alm_type)
+        if limit is not None and need_int("limit", limit) < 0:
+            raise ValueError(f"limit must be at least 0 (or None), got {limit}")
         alarms = [a for (p, _), a in self.active.items() if p == path]
         chosen = alarms if alm_type == -1 else (a for a in alarms if a.alm_type == alm_type)
-        return list(chosen if limit is None else islice(chosen, limit))
+        return list(chosen if limit is None else islice(chosen, min(limit, len(alarms))))
 
     def read_history(self, depth: int | None) -> tuple[HistoryEntry, ...]:
-        return tuple(self.history if depth is None else islice(self.history, depth))
+        if depth is not None and need_int("depth", depth) < 0:
+            raise ValueError(f"depth must be at least 0 (or None), got {depth}")
+        history = self.history
+        return tuple(history if depth is None else islice(history, min(depth, len(history))))

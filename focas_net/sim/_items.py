@@ -213,6 +213,8 @@ class Items:
     def lookup(self, table: dict[int, DataItem], datano: int, axis: int) -> tuple[DataItem, int]:
         """An item and the index of ``axis``'s value: EW_NUMBER (no such item), EW_ATTRIB
         (axis 0 for an axis item, an axis for another, an axis outside 1..n)."""
+        need_int("number", datano)
+        need_int("axis", axis)
         item = table.get(datano)
         if item is None:
             raise MachineError(EW.NUMBER, f"no item {datano}")

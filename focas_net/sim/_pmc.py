@@ -13,7 +13,7 @@ from typing import Final
 
 from focas_net.errors import EW
 
-from ._base import Counters, MachineError
+from ._base import Counters, MachineError, need_int
 from .nc import CycleState
 
 __all__ = [
@@ -193,7 +193,10 @@ class Pmc:
         """Write ``data`` from ``start``: EW_NOOPT, EW_NUMBER (addresses outside the area),
         EW_PROT (write-protected, unless ``force``). A write that changed G bytes returns what
         it asks of automatic operation, ``(path, request)`` for each path whose signals
-        (:data:`PATH_SIGNALS_STRIDE`) it wrote."""
+        (:data:`PATH_SIGNALS_STRIDE`) it wrote. TypeError for a start or data of another type."""
+        need_int("PMC start address", start)
+        if not isinstance(data, bytes | bytearray | memoryview):
+            raise TypeError(f"PMC data must be bytes, got {data!r}")
         area = self.area(letter)
         end = start + len(data)
         if start < 0 or end > area.size:

@@ -627,6 +627,8 @@ class Machine(
         """``length`` bytes of area ``letter`` from address ``start``: EW_NOOPT (no such area),
         EW_NUMBER (addresses outside the area)."""
         area = self._pmc.area(letter)
+        need_int("PMC start address", start)
+        need_int("PMC byte count", length)
         if length < 0:
             raise ValueError(f"a PMC read of {length} bytes")
         if area.letter == "F":

@@ -64,6 +64,7 @@ from .machine import (
     utc_now,
 )
 from .nc import Scenario, SimClock
+from .nc.scenario import MAX_PARTS, MAX_SEED
 from .pathfile import _axes, _motion, _panel, _programs, path_specs
 from .toolfile import tool_specs
 
@@ -143,11 +144,14 @@ def _items(ctx: _Ctx, value: Any, n_axes: int, *, parts: bool = False) -> list[D
             high = _item_value(rc.sub(1), bounds[1], kind, decimals, span)
             if low > high:
                 rc.fail(f"low {bounds[0]} is above high {bounds[1]}")
+        problem = parts and parts_param_problem(number, kind, is_axis)
+        if problem:
+            c.sub("type").fail(problem)
         vc = c.sub("value")
-        raw_value = spec.get("value", 0 if low <= 0 <= high else low)
-        if "value" not in spec and kind is ParamKind.REAL:
-            raw_value = Decimal(raw_value).scaleb(-decimals)
-        if isinstance(raw_value, list):
+        raw_value = spec.get("value")
+        if raw_value is None:  # 0, or the low end of the range (a real one's mantissa)
+            values = [0 if low <= 0 <= high else low] * (n_axes if is_axis else 1)
+        elif isinstance(raw_value, list):
             if not is_axis:
                 vc.fail("a list of values needs axis = true")
             if len(raw_value) != n_axes:
@@ -161,9 +165,6 @@ def _items(ctx: _Ctx, value: Any, n_axes: int, *, parts: bool = False) -> list[D
                 n_axes if is_axis else 1
             )
         name = _str(c.sub("name"), spec.get("name", ""))
-        problem = parts and parts_param_problem(number, kind, is_axis)
-        if problem:
-            c.sub("type").fail(problem)
         items.append(DataItem(number, kind.width, is_axis, low, high, values, name, kind, decimals))
     return items
 
@@ -447,9 +448,9 @@ def _run(ctx: _Ctx, value: Any) -> Scenario:
                 c.fail(f'must be a count >= 0 or "required", got {raw!r}')
             given["parts"] = "required"
         else:
-            given["parts"] = _int(c, raw, (0, _I32[1]))
+            given["parts"] = _int(c, raw, (0, MAX_PARTS))
     if "seed" in t:
-        given["seed"] = _int(ctx.sub("seed"), t["seed"], (0, 2**63 - 1))
+        given["seed"] = _int(ctx.sub("seed"), t["seed"], (0, MAX_SEED))
     for key in _RUN_NUMBERS:
         if key not in t:
             continue
