@@ -8,13 +8,16 @@ from __future__ import annotations
 import math
 from collections.abc import AsyncIterator
 from decimal import Decimal
+from pathlib import Path
 from typing import Any
 
 import pytest
 
 from focas_net import (
+    EW,
     AlarmProjection,
     AutMode,
+    CncError,
     FocasClient,
     FocasServer,
     MachineError,
@@ -23,6 +26,7 @@ from focas_net import (
     ProjectionMode,
     ReconnectPolicy,
     default_machine,
+    load_machine,
     read_dynamic_all,
     read_status_all,
     read_status_paths_all,
@@ -485,3 +489,15 @@ def test_default_machine_names_a_wrong_type(kwargs: dict[str, Any], words: str) 
     with pytest.raises(TypeError) as caught:
         default_machine(**kwargs)
     assert str(caught.value) == words
+
+
+async def test_a_16i_real_parameter_write_is_ew_length_in_plain_words() -> None:
+    machine = load_machine(Path(__file__).parent / "data" / "fwlib_16i_machine.toml")
+    machine.set_panel(mode=0, pwe=1)
+    async with FocasServer(machine, port=0) as server:
+        host, port = server.addresses[0]
+        async with NativeClient(host, port) as native:
+            with pytest.raises(CncError) as caught:
+                await native.write_param(1420, Decimal("1.5"), axis=1)
+    assert caught.value.ew == EW.LENGTH
+    assert "1420 is 1 byte wide, not 8 (a value with decimals)" in str(caught.value)

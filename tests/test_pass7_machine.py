@@ -158,3 +158,78 @@ async def test_serve_run_refuses_what_a_run_section_refuses(argv: list[str], lin
 def test_a_run_section_refuses_the_same_bounds(tmp_path: Path, key: str, value: int) -> None:
     with pytest.raises(MachineFileError, match=rf"run\.{key}: {value} is outside 0\.\."):
         _load(tmp_path, f"[run]\n{key} = {value}\n")
+
+
+def test_a_program_file_that_is_not_utf8_is_named_with_its_key(tmp_path: Path) -> None:
+    (tmp_path / "latin.nc").write_bytes(b"O1308 (CAF\xe9)\nM30\n")
+    with pytest.raises(MachineFileError) as refused:
+        _load(tmp_path, '[[program]]\nfile = "latin.nc"\n')
+    assert str(refused.value) == (
+        f"{tmp_path / 'm.toml'}: program[0].file: {tmp_path / 'latin.nc'}: not UTF-8 text: "
+        "byte 0xE9 at byte 10 (save the file as UTF-8)"
+    )
+
+
+async def test_program_load_reads_a_file_with_a_byte_order_mark(cli: Cli, tmp_path: Path) -> None:
+    """A program saved by Windows Notepad as UTF-8 starts with a byte-order mark; a machine
+    file's ``[[program]] file`` reads it, and so does ``program load``."""
+    file = tmp_path / "o1306.nc"
+    file.write_bytes(b"\xef\xbb\xbfO1306 (NOTEPAD)\r\nM30\r\n")
+    assert await cli.ok("program", "load", str(file)) == f"stored O1306 from {file}\n"
+    assert cli.served.machine.program_text(1306).startswith("O1306 (NOTEPAD)")
+
+
+async def test_a_state_folder_of_the_machine_file_is_named_as_the_file_names_it(
+    tmp_path: Path,
+) -> None:
+    """``state = "x.toml"`` in ``[machine]`` (a file, not a folder) is refused naming the
+    machine file's key, not a ``--state`` option the command line did not have."""
+    (tmp_path / "x.toml").write_text("")
+    machine = tmp_path / "m.toml"
+    machine.write_text(HEAD + 'state = "x.toml"\n')
+    code, out, err = await run_focas_net("serve", "--port", "0", "--machine", str(machine))
+    assert (code, out) == (EXIT_USAGE, "")
+    assert err.startswith(
+        f"focas-net serve: error: {machine}: machine.state {tmp_path / 'x.toml'}: "
+    )
+    assert err.endswith("Not a directory\n") and "--state" not in err
+
+
+@pytest.mark.parametrize(
+    ("value", "words"),
+    [
+        (
+            '"1.5"',
+            "must be an integer or [mcr_val, dec_val] (1.5 is [15, 1]), got a string ('1.5')",
+        ),
+        ('"abc"', "must be an integer or [mcr_val, dec_val], got a string ('abc')"),
+    ],
+)
+def test_a_macro_value_in_quotes_is_refused_with_the_pair(
+    tmp_path: Path, value: str, words: str
+) -> None:
+    with pytest.raises(MachineFileError) as refused:
+        _load(
+            tmp_path,
+            f"[macros]\nranges = [{{ first = 1, last = 3 }}]\nvalues = {{ 1 = {value} }}\n",
+        )
+    assert str(refused.value).endswith(f"macros.values.1: {words}")
+
+
+@pytest.mark.parametrize(
+    ("value", "kind"), [("true", "a boolean (true)"), ("{ a = 1 }", "a table")]
+)
+def test_a_real_value_of_another_type_is_refused_as_not_a_number(
+    tmp_path: Path, value: str, kind: str
+) -> None:
+    with pytest.raises(MachineFileError) as refused:
+        _load(tmp_path, f'[parameters.1430]\ntype = "real"\ndecimals = 1\nvalue = {value}\n')
+    assert str(refused.value).endswith(
+        f"parameters.1430.value: must be a number such as 12.345, got {kind}"
+    )
+
+
+def test_tools_of_a_path_the_machine_has_not_are_named_by_their_key(tmp_path: Path) -> None:
+    with pytest.raises(MachineFileError) as refused:
+        _load(tmp_path, "[[tools]]\npath = 3\n")
+    assert str(refused.value).endswith("tools[0].path: the machine has no path 3 (its paths: 1..1)")

@@ -46,8 +46,8 @@ def _text_of(target: str | None) -> tuple[str, str]:
         raw = path.read_bytes()
     except OSError as exc:
         raise ValueError(f"program load: cannot read {target!r}: {exc.strerror or exc}") from None
-    try:
-        return raw.decode("ascii"), target
+    try:  # a UTF-8 byte-order mark (Windows Notepad) is read as a machine file reads it
+        return raw.removeprefix(b"\xef\xbb\xbf").decode("ascii"), target
     except UnicodeDecodeError as exc:
         raise ValueError(
             f"program load: {target!r} is not ASCII text (byte {exc.start}); "

@@ -135,6 +135,10 @@ def signed(raw: int, width: int) -> int:
     return raw - (1 << bits) if raw >= 1 << (bits - 1) else raw
 
 
+def _bytes(size: int) -> str:
+    return "1 byte" if size == 1 else f"{size} bytes"
+
+
 class NativeItems(NativeLink):
     """Parameters and diagnostics over FOCAS/2 (see the module docstring)."""
 
@@ -258,7 +262,7 @@ class NativeItems(NativeLink):
         if width is not None and width != size:
             self._param_widths.pop(number, None)
             raise CncError.from_ew(
-                EW.LENGTH, f"cnc_wrparam: {number} is {size} bytes wide, not {width}"
+                EW.LENGTH, f"cnc_wrparam: {number} is {_bytes(size)} wide, not {width}"
             )
         return ptype, size
 
@@ -305,7 +309,7 @@ class NativeItems(NativeLink):
                     # answers EW_LENGTH, nothing written (the set cannot write a real one)
                     raise CncError.from_ew(
                         EW.LENGTH,
-                        f"cnc_wrparam: {number} is {size} bytes wide, not {REAL_WIDTH} (a "
+                        f"cnc_wrparam: {number} is {_bytes(size)} wide, not {REAL_WIDTH} (a "
                         "value with decimals)",
                     )
                 # a parameter the information names: refused as the packed client does

@@ -177,26 +177,27 @@ def _item_value(
     ``"12.345"``) as its mantissa with ``decimals`` decimals."""
     if kind is ParamKind.BIT and isinstance(value, str):
         value = _bits(ctx, value)
-    if kind is ParamKind.REAL and not isinstance(value, bool | list | dict):
-        if isinstance(value, str | int | float):
-            if isinstance(value, float) and not math.isfinite(value):
-                ctx.fail(f"must be a finite number, got {value}")
-            if isinstance(value, str):
-                try:  # as every front end reads number text: digits, a sign, a point
-                    number = decimal_number(value)
-                except ValueError as exc:
-                    ctx.fail(f"must be a number such as 12.345: {exc}")
-            else:
-                number = Decimal(repr(value))
-            scaled = number.scaleb(decimals)
-            if scaled != scaled.to_integral_value():
-                ctx.fail(f"{value} does not have {decimals} decimals or fewer")
-            mantissa = int(scaled)
-            if not bounds[0] <= mantissa <= bounds[1]:
-                low = Decimal(bounds[0]).scaleb(-decimals)
-                high = Decimal(bounds[1]).scaleb(-decimals)
-                ctx.fail(f"{value} is outside {low}..{high}")
-            return mantissa
+    if kind is ParamKind.REAL:
+        if isinstance(value, bool) or not isinstance(value, str | int | float):
+            ctx.fail(f"must be a number such as 12.345, got {_kind(value)}")
+        if isinstance(value, float) and not math.isfinite(value):
+            ctx.fail(f"must be a finite number, got {value}")
+        if isinstance(value, str):
+            try:  # as every front end reads number text: digits, a sign, a point
+                number = decimal_number(value)
+            except ValueError as exc:
+                ctx.fail(f"must be a number such as 12.345: {exc}")
+        else:
+            number = Decimal(repr(value))
+        scaled = number.scaleb(decimals)
+        if scaled != scaled.to_integral_value():
+            ctx.fail(f"{value} does not have {decimals} decimals or fewer")
+        mantissa = int(scaled)
+        if not bounds[0] <= mantissa <= bounds[1]:
+            low = Decimal(bounds[0]).scaleb(-decimals)
+            high = Decimal(bounds[1]).scaleb(-decimals)
+            ctx.fail(f"{value} is outside {low}..{high}")
+        return mantissa
     return _int(ctx, value, bounds)
 
 
@@ -261,6 +262,12 @@ def _macros(ctx: _Ctx, value: Any) -> tuple[list[MacroRange], dict[int, Decimal]
             c.fail(f"#{number} is in no macro range" + ("" if ranges else " (ranges gives none)"))
         if isinstance(raw, float):
             c.fail(f"must be an integer or [mcr_val, dec_val]{_macro_pair(raw)}, got {raw!r}")
+        if isinstance(raw, str):
+            try:  # a number in quotes: its pair, as for a float
+                pair = _macro_pair(float(decimal_number(raw)))
+            except ValueError:
+                pair = ""
+            c.fail(f"must be an integer or [mcr_val, dec_val]{pair}, got {_kind(raw)}")
         if isinstance(raw, list):
             if len(raw) != 2:
                 c.fail("must be an integer or [mcr_val, dec_val]")
@@ -616,7 +623,11 @@ def _build(
         main_program=programs[1],
         sim_clock=sim_clock,
         scenario=_run(root.sub("run"), top["run"]) if "run" in top else None,
-        tools=tool_specs(root.sub("tools"), top["tools"]) if "tools" in top else None,
+        tools=(
+            tool_specs(root.sub("tools"), top["tools"], 1 if paths is None else len(paths))
+            if "tools" in top
+            else None
+        ),
     )
 
 
