@@ -233,3 +233,41 @@ def test_tools_of_a_path_the_machine_has_not_are_named_by_their_key(tmp_path: Pa
     with pytest.raises(MachineFileError) as refused:
         _load(tmp_path, "[[tools]]\npath = 3\n")
     assert str(refused.value).endswith("tools[0].path: the machine has no path 3 (its paths: 1..1)")
+
+
+def test_versamax_module_and_reference_type_names_in_either_case(tmp_path: Path) -> None:
+    """As a control class, a mode, a type or a PMC letter, a built-in module's name and a
+    reference type are read in either case."""
+    body = (
+        '[[versamax]]\nrack = 0\nslot = 1\nmodule = "ic200gbi001"\n'
+        '[[versamax]]\nrack = 0\nslot = 4\nlabel = "MDL6"\nprimary_id = 0x8008\n'
+        'references = [{ type = "i", offset = 3, length = 2 },\n'
+        '  { type = "aq", offset = 0, length = 2 }]\n'
+    )
+    lower = _load(tmp_path, body)
+    upper = _load(
+        tmp_path,
+        body.replace('"ic200gbi001"', '"IC200GBI001"')
+        .replace('"i"', '"I"')
+        .replace('"aq"', '"AQ"'),
+    )
+    for slot in (1, 4):
+        assert lower.config_record(0, slot) == upper.config_record(0, slot)
+    with pytest.raises(MachineFileError, match=r"versamax\[0\]\.module: unknown module 'IC200XYZ'"):
+        _load(tmp_path, '[[versamax]]\nrack = 0\nslot = 1\nmodule = "IC200XYZ"\n')
+
+
+@pytest.mark.parametrize("control_class", ["30i", "0i-F", "16i"])
+def test_program_numbers_are_four_digits_on_every_control_class(
+    tmp_path: Path, control_class: str
+) -> None:
+    """docs/machine-file.md: O1..O9999 on every class; the 30i's 8-digit option is not
+    modelled, and a machine file saying O12345678 is told so."""
+    head = f'control_class = "{control_class}"\n'
+    with pytest.raises(MachineFileError) as refused:
+        _load(tmp_path, head + '[[program]]\ntext = "O12345678\\nM30\\n"\n')
+    assert str(refused.value).endswith(
+        "program[0].text: program number O12345678 is outside O1..O9999"
+    )
+    machine = _load(tmp_path, head + '[[program]]\ntext = ":9999\\nM30\\n"\n')
+    assert [p.number for p in machine.program_directory()] == [9999]

@@ -323,12 +323,12 @@ def _module(ctx: _Ctx, spec: dict[str, Any]) -> IOModuleRecord:
     if "module" in spec:
         _only(ctx, spec, ("rack", "slot", "module"))
         name = _str(ctx.sub("module"), spec["module"])
-        if name not in _MODULES:
-            ctx.sub("module").fail(
-                f"unknown module {name!r} (built in: {', '.join(_MODULES)}; "
-                "or describe the record with label, primary_id, ...)"
-            )
-        return _MODULES[name]()
+        if name.strip().upper() in _MODULES:  # case does not matter, as for control_class
+            return _MODULES[name.strip().upper()]()
+        ctx.sub("module").fail(
+            f"unknown module {name!r} (built in: {', '.join(_MODULES)}; "
+            "or describe the record with label, primary_id, ...)"
+        )
     keys: tuple[str, ...] = ("rack", "slot", "label", "primary_id", "secondary_id")
     keys += ("references", "setup", "default_inputs", "default_outputs", "module_data")
     keys += ("input_segment_mode", "output_segment_mode")
@@ -352,7 +352,9 @@ def _module(ctx: _Ctx, spec: dict[str, Any]) -> IOModuleRecord:
             if key not in ref:
                 c.sub(key).fail("missing")
         kind = _str(c.sub("type"), ref["type"])
-        if kind not in _REF_TYPES:
+        if kind.strip().upper() in _REF_TYPES:  # in either case, as the PMC's letters
+            kind = kind.strip().upper()
+        else:
             c.sub("type").fail(f"unknown reference type {kind!r} (expected I, Q, AI or AQ)")
         refs.append(
             (
