@@ -501,3 +501,17 @@ async def test_a_16i_real_parameter_write_is_ew_length_in_plain_words() -> None:
                 await native.write_param(1420, Decimal("1.5"), axis=1)
     assert caught.value.ew == EW.LENGTH
     assert "1420 is 1 byte wide, not 8 (a value with decimals)" in str(caught.value)
+
+
+async def test_an_unknown_pmc_area_is_named_with_the_areas_in_one_wording(
+    served: tuple[Machine, FocasClient, NativeClient],
+) -> None:
+    machine, cnc, native = served
+    words = "unknown PMC area 'Q' (one of X, Y, F, G, R, T, C, D, K, A, E)"
+    for client in (cnc, native):
+        with pytest.raises(ValueError) as caught:
+            await client.read_pmc("Q", 0, 1)
+        assert str(caught.value) == words
+    with pytest.raises(ValueError) as from_machine:
+        machine.pmc_area("Q")
+    assert str(from_machine.value) == words

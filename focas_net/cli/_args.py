@@ -294,12 +294,9 @@ def parse_history_depth(text: str) -> int:
 
 
 def parse_area(text: str) -> PmcArea:
-    """A PMC area by letter (``R``) or number."""
-    try:
-        return PmcArea.parse(text)
-    except ValueError:
-        letters = "".join(a.name for a in PmcArea)
-        raise ValueError(f"unknown PMC area {text!r} (one of {letters})") from None
+    """A PMC area by letter (``R``) or number; ValueError naming the areas otherwise, in the
+    words of every front end (:meth:`PmcArea.parse`)."""
+    return PmcArea.parse(text)
 
 
 #: A port to connect to, 1..65535.
