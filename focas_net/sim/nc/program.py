@@ -30,10 +30,10 @@ __all__ = [
     "parse_program",
 ]
 
-#: Characters of a program's name in the directory: FANUC's ``cnc_rdprogdir2`` has 51 bytes
+#: Characters of a program's name in the directory: FANUC's ``cnc_rdprogdir3`` has 64 bytes
 #: for the comment, its parentheses and a NUL; a longer O-line comment is cut there, as a
 #: control's directory shows it.
-DIRECTORY_NAME: Final = 48
+DIRECTORY_NAME: Final = 61
 #: Digits of a sequence number (N1..N99999, FANUC's five; more raise PS0003).
 SEQUENCE_DIGITS: Final = 5
 #: Word addresses a block may carry (O and N are handled apart).
