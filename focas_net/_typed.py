@@ -3,7 +3,8 @@ number text (the page, the command line, the clients' text values and the machin
 words for a macro value that does not fit (the machine and the clients), a program number
 (the command line and the page), an override's range (the machine and the clients), an alarm
 message that is no line of single-byte text (the machine and the encoded text of every front
-end), whether a host typed is the loopback (the dashboard's and the gateway's guards).
+end), whether a host typed is the loopback (the dashboard's and the gateway's guards), what an
+unlock of a CNC without a parameter password means (the command line and the page).
 
 Number text is read as a CNC's MDI keys write a number: ASCII digits, a sign and, for a
 decimal, a decimal point; a whole number may also be written ``0x``, ``0b`` or ``0o`` (with
@@ -22,6 +23,7 @@ from typing import Final
 
 __all__ = [
     "MAX_ALARM_TEXT",
+    "NO_PASSWORD_NOTE",
     "OVERRIDE_RANGES",
     "RAPID_STEPS",
     "alarm_text_unfit",
@@ -47,6 +49,12 @@ OVERRIDE_RANGES: Final[Mapping[str, tuple[int, int]]] = {
 #: The rapid traverse override's steps (%), as the panel's switch and G14's ROV1 ROV2 give
 #: them: F0 (a parameter's low speed, kept as 0 %), 25, 50, 100. No other value exists.
 RAPID_STEPS: Final[tuple[int, ...]] = (0, 25, 50, 100)
+
+#: What an unlock of a CNC without a parameter password means, as every front end says it.
+NO_PASSWORD_NOTE: Final = (
+    "the CNC has no parameter password: it accepts any, and a parameter write needs no unlock "
+    "(it needs MDI mode and PWE on, and a machine that is not read-only)"
+)
 
 #: Characters of an alarm's message the CNC keeps (a longer one is cut).
 MAX_ALARM_TEXT: Final = 32

@@ -11,10 +11,11 @@ import pytest
 from cli_support import at, fails, ok
 from support import serving
 
+from focas_net._typed import NO_PASSWORD_NOTE
 from focas_net.errors import EW
-from focas_net.protocol import AutMode
+from focas_net.protocol import AutMode, alarm_type_of
 from focas_net.sim import MachineError, default_machine
-from focas_net.web import ActionError, Dashboard, Station, perform, stations_of
+from focas_net.web import ActionError, Dashboard, Station, perform, pmc_address, stations_of
 
 
 def _station() -> Station:
@@ -221,3 +222,67 @@ async def test_the_command_line_refuses_a_mode_of_other_letters_and_takes_f0() -
         assert line.startswith("focas-net: unknown mode 'md\u0131' (one of MDI, MEM")
         assert served.machine.panel.mode == AutMode.MEM
         assert "rapid 0 %" in await ok("sim", "override", *at(served), "--rapid", "F0")
+
+
+# -- the page says what the command line says -----------------------------------------------
+def test_an_unlock_without_a_password_says_what_it_means_as_the_command_line_does() -> None:
+    """The page answered "unlock: done" where ``focas-net unlock`` says the CNC has no
+    password and what a parameter write needs instead."""
+    station = _station()
+    answer = perform(station, "unlock", {"password": "ab"})
+    assert answer == {"ok": True, "password_set": False, "note": NO_PASSWORD_NOTE}
+    assert NO_PASSWORD_NOTE.startswith("the CNC has no parameter password: it accepts any")
+    station.machine.set_param_password("1234")
+    assert perform(station, "unlock", {"password": "1234"}) == {"ok": True, "password_set": True}
+
+
+@pytest.mark.parametrize(
+    ("typed", "address"), [("0x10", ("R", 16)), ("+16", ("R", 16)), (" 0b1 ", ("R", 1))]
+)
+def test_a_pmc_address_is_a_whole_number_as_pmc_read_takes_it(
+    typed: str, address: tuple[str, int]
+) -> None:
+    """PMC **from** refused ``0x10``, which ``focas-net pmc read R 0x10`` reads as R16."""
+    assert pmc_address(typed, "R") == address
+    with pytest.raises(ValueError, match=r"^PMC address '-1': must not be negative$"):
+        pmc_address("-1", "R")
+
+
+@pytest.mark.parametrize(("typed", "number"), [("PS", 3), ("ex", 15), (" SV ", 6), ("0xF", 15)])
+def test_an_alarm_type_is_taken_by_its_name_as_the_command_line_takes_it(
+    typed: str, number: int
+) -> None:
+    """The page's type box refused ``PS``, though the alarms it lists are named so and the
+    command line and the client take the name."""
+    station = _station()
+    perform(station, "raise_alarm", {"alm_type": typed, "alm_no": 1, "msg": "x"})
+    (alarm,) = station.machine.active_alarms()
+    assert alarm.alm_type == number
+    assert perform(station, "clear_alarms", {"alm_type": typed}) == {"ok": True, "cleared": 1}
+
+
+@pytest.mark.parametrize("typed", ["XX", "P\u017f", "\u03a1\u03a3"])
+def test_an_unknown_alarm_type_name_is_refused_in_one_set_of_words(typed: str) -> None:
+    """The command line said ``(known: SW PW ...)``, the client ``(one of SW PW ..., or
+    0..31)``; the page took no name. One reader now, for all three (a long s that upper-cases
+    to ``PS`` is no name)."""
+    words = (
+        f"unknown alarm type {typed!r} (one of SW PW IO PS OT OH SV SR MC SP DS IE BG SN EX PC, "
+        "or 0..31)"
+    )
+    with pytest.raises(ValueError) as refused:
+        alarm_type_of(typed)
+    assert str(refused.value) == words
+    with pytest.raises(ActionError) as refused_page:
+        perform(_station(), "raise_alarm", {"alm_type": typed, "alm_no": 1})
+    assert str(refused_page.value) == f"alm_type: {words}"
+
+
+async def test_the_command_line_names_an_unknown_alarm_type_in_the_same_words() -> None:
+    async with serving() as served:
+        line = await fails(2, "sim", "alarm", *at(served), "XX0100", "msg")
+        assert line == (
+            "focas-net: unknown alarm type 'XX' (one of SW PW IO PS OT OH SV SR MC SP DS IE BG "
+            "SN EX PC, or 0..31)"
+        )
+        assert served.machine.active_alarms() == []

@@ -33,6 +33,7 @@ __all__ = [
     "alarm_code",
     "alarm_message",
     "alarm_text",
+    "alarm_type_of",
 ]
 
 #: Longest message the CNC keeps for an alarm.
@@ -69,6 +70,16 @@ class AlarmType(enum.IntEnum):
 
 #: alm_type -> its two-letter prefix, as the CNC screen shows it.
 ALARM_TYPE_NAMES: Final[dict[int, str]] = {t.value: t.name for t in AlarmType}
+
+
+def alarm_type_of(name: str) -> int:
+    """An alarm type's number from its two-letter name as every front end takes it (``PS``,
+    ``ps``: ASCII letters, spaces around); ValueError naming what was given and the names."""
+    text = name.strip().upper() if name.isascii() else ""
+    if text in AlarmType.__members__:
+        return int(AlarmType[text])
+    names = " ".join(t.name for t in AlarmType)
+    raise ValueError(f"unknown alarm type {name!r} (one of {names}, or 0..31)")
 
 
 def alarm_code(alm_type: int, alm_no: int) -> str:

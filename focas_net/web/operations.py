@@ -25,6 +25,7 @@ from typing import Any, Final
 
 from focas_net._bits import bits_of_text
 from focas_net._typed import (
+    NO_PASSWORD_NOTE,
     decimal_number,
     program_number,
     rapid_step,
@@ -33,7 +34,14 @@ from focas_net._typed import (
     whole_number,
 )
 from focas_net.errors import EW, ew_name
-from focas_net.protocol import AutMode, FaultKind, FaultScope, InjectFault, alarm_message
+from focas_net.protocol import (
+    AutMode,
+    FaultKind,
+    FaultScope,
+    InjectFault,
+    alarm_message,
+    alarm_type_of,
+)
 from focas_net.server.faults import FaultQueue, fault_refusal, parse_inject
 from focas_net.sim import Machine, MachineError, ParamKind, Session
 
@@ -266,6 +274,18 @@ def _overrides(station: Station, args: Mapping[str, Any]) -> JsonDict:
     return {}
 
 
+def _alarm_type(args: Mapping[str, Any], default: int | None = None) -> int:
+    """``alm_type`` by its number or its name (``PS``), as the command line and the client
+    take it (:func:`~focas_net.protocol.alarm_type_of`)."""
+    value = args.get("alm_type")
+    if isinstance(value, str) and value.strip().isalpha():
+        try:
+            return alarm_type_of(value)
+        except ValueError as exc:
+            raise ActionError(f"alm_type: {exc}") from None
+    return _int(args, "alm_type", default)
+
+
 def _raise_alarm(station: Station, args: Mapping[str, Any]) -> JsonDict:
     msg = _text(args, "msg")
     try:
@@ -273,7 +293,7 @@ def _raise_alarm(station: Station, args: Mapping[str, Any]) -> JsonDict:
     except ValueError as exc:
         raise ActionError(f"msg: {exc}") from None
     m, path = station.machine, _path(args)
-    key = (_int(args, "axis_no", 0), _int(args, "alm_type"), _int(args, "alm_no"))
+    key = (_int(args, "axis_no", 0), _alarm_type(args), _int(args, "alm_no"))
     raised = m.raise_alarm(*key, msg, path=path)
     # the machine's rule, as for every front end: it keeps the first 32 characters; the
     # answer says what it kept (an alarm active before keeps its message)
@@ -286,7 +306,7 @@ def _raise_alarm(station: Station, args: Mapping[str, Any]) -> JsonDict:
 
 def _clear_alarms(station: Station, args: Mapping[str, Any]) -> JsonDict:
     cleared = station.machine.clear_alarms(
-        _int(args, "alm_type", -1), _int(args, "alm_no", -1), path=_path(args)
+        _alarm_type(args, -1), _int(args, "alm_no", -1), path=_path(args)
     )
     return {"cleared": cleared}
 
@@ -382,8 +402,13 @@ def _write_param(station: Station, args: Mapping[str, Any]) -> JsonDict:
 
 
 def _unlock(station: Station, args: Mapping[str, Any]) -> JsonDict:
-    station.machine.unlock(station.session, _text(args, "password"))
-    return {}
+    """Unlock the page's session; on a machine without a password, say what that means in
+    the command line's words (``focas-net unlock``)."""
+    m = station.machine
+    m.unlock(station.session, _text(args, "password"))
+    if not m.has_password:
+        return {"password_set": False, "note": NO_PASSWORD_NOTE}
+    return {"password_set": True}
 
 
 def _write_macro(station: Station, args: Mapping[str, Any]) -> JsonDict:
