@@ -325,3 +325,14 @@ async def test_fleet_poll_counts_each_poll_of_an_unreachable_machine_as_failed()
         )
     assert (code, err) == (1, "")
     assert "3 round(s): 6 polls of 3 calls each, 3 failed" in out.splitlines()[-1]
+
+
+def test_a_machine_file_of_more_programs_than_the_store_holds_names_the_entry(
+    tmp_path: Path,
+) -> None:
+    entries = "".join(f'[[program]]\ntext = "O{n}\\nM30\\n"\n' for n in range(1, 402))
+    with pytest.raises(MachineFileError) as refused:
+        _load(tmp_path, entries)
+    assert str(refused.value).endswith(
+        "m.toml: program[400]: the store holds its maximum of 400 programs"
+    )
