@@ -354,4 +354,4 @@ def test_how_a_main_program_ends_as_docs_machine_file_says(text: str, run: int, 
     machine.cycle_start()
     clock.advance(20.0)
     assert (machine.status().run, machine.read_param(6711, 0)) == (run, parts)
-    assert machine.active_alarms() == [] and machine.alarm_history() == []
+    assert machine.active_alarms() == [] and list(machine.alarm_history()) == []
