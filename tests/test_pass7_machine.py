@@ -295,3 +295,19 @@ def test_a_sequence_number_has_five_digits(block: str, alarm: int | None) -> Non
     machine.select_program(301)
     machine.cycle_start()
     assert machine.active_alarms() == [] and machine.status().run == 3
+
+
+async def test_a_program_of_a_long_name_leaves_the_directory_readable(
+    cli: Cli, tmp_path: Path
+) -> None:
+    """A 300-character O-line comment was stored whole and made every ``program list`` answer
+    EW_DATA (the name did not fit the wire); the directory names the program by the first 61
+    characters, as FANUC's directory read does, and the text keeps the whole comment."""
+    name = "N" * 300
+    file = tmp_path / "o1701.nc"
+    file.write_text(f"O1701 ({name})\nM30\n")
+    await cli.ok("program", "load", str(file))
+    listed = await cli.json("program", "list")
+    entry = next(p for p in listed["programs"] if p["number"] == 1701)
+    assert entry["name"] == name[:61]
+    assert (await cli.json("program", "show", "1701"))["text"].startswith(f"O1701 ({name})")
