@@ -15,7 +15,15 @@ from focas_net._typed import NO_PASSWORD_NOTE
 from focas_net.errors import EW
 from focas_net.protocol import AutMode, alarm_type_of
 from focas_net.sim import MachineError, default_machine
-from focas_net.web import ActionError, Dashboard, Station, perform, pmc_address, stations_of
+from focas_net.web import (
+    ActionError,
+    Dashboard,
+    Station,
+    parse_web_address,
+    perform,
+    pmc_address,
+    stations_of,
+)
 
 
 def _station() -> Station:
@@ -286,3 +294,14 @@ async def test_the_command_line_names_an_unknown_alarm_type_in_the_same_words() 
             "SN EX PC, or 0..31)"
         )
         assert served.machine.active_alarms() == []
+
+
+@pytest.mark.parametrize(
+    ("typed", "address"),
+    [("0x1F90", ("127.0.0.1", 8080)), ("+80", ("127.0.0.1", 80)), ("[::1]:0b0", ("::1", 0))],
+)
+def test_the_web_port_is_read_as_port_reads_a_number(typed: str, address: tuple[str, int]) -> None:
+    """``serve --port 0x10`` listens on 16, ``--web 0x10`` was "the port must be a number"."""
+    assert parse_web_address(typed) == address
+    with pytest.raises(ValueError, match=r"the port must be a number 0\.\.65535"):
+        parse_web_address("\uff11")
