@@ -515,3 +515,23 @@ async def test_an_unknown_pmc_area_is_named_with_the_areas_in_one_wording(
     with pytest.raises(ValueError) as from_machine:
         machine.pmc_area("Q")
     assert str(from_machine.value) == words
+
+
+@pytest.mark.parametrize(
+    ("kwargs", "words"),
+    [
+        ({"mode": True}, "mode must be an integer, got True"),
+        ({"mode": "MDI"}, "mode must be an integer, got 'MDI'"),
+        ({"pwe": "on"}, "pwe must be 0, 1, True, False or None, got 'on'"),
+        ({"emergency": 1.0}, "emergency must be 0, 1, True, False or None, got 1.0"),
+    ],
+)
+def test_machine_set_panel_names_a_wrong_type(kwargs: dict[str, Any], words: str) -> None:
+    machine = default_machine(sim_clock=ManualClock())
+    before = machine.state_digest()
+    with pytest.raises(TypeError) as caught:
+        machine.set_panel(**kwargs)
+    assert str(caught.value) == words
+    assert machine.state_digest() == before
+    machine.set_panel(mode=0, pwe=True, emergency=False)  # bools are switches
+    assert machine.status().aut == 0

@@ -271,3 +271,27 @@ def test_program_numbers_are_four_digits_on_every_control_class(
     )
     machine = _load(tmp_path, head + '[[program]]\ntext = ":9999\\nM30\\n"\n')
     assert [p.number for p in machine.program_directory()] == [9999]
+
+
+# -- part programs in the machine --------------------------------------------------------------
+
+
+@pytest.mark.parametrize(
+    ("block", "alarm"), [("N123456 G1 X1. F100", 3), ("N99999 G1 X1. F100", None)]
+)
+def test_a_sequence_number_has_five_digits(block: str, alarm: int | None) -> None:
+    """N1..N99999 as on FANUC's 0i and 16i; N123456 raises PS0003 (too many digits) with its
+    history entry, and a reset leaves no alarm for the next run."""
+    clock = ManualClock()
+    programs = (f"O0300\n{block}\nM30\n", "O0301\nG4 P5000\nM30\n")
+    machine = default_machine(sim_clock=clock, programs=programs)
+    machine.select_program(300)
+    machine.cycle_start()
+    clock.advance(5.0)
+    expected = [] if alarm is None else [(3, alarm)]
+    assert [(a.alm_type, a.alm_no) for a in machine.active_alarms()] == expected
+    assert [(e.alm_type, e.alm_no) for e in machine.alarm_history()] == expected
+    machine.reset()
+    machine.select_program(301)
+    machine.cycle_start()
+    assert machine.active_alarms() == [] and machine.status().run == 3

@@ -30,6 +30,8 @@ __all__ = [
     "parse_program",
 ]
 
+#: Digits of a sequence number (N1..N99999, FANUC's five; more raise PS0003).
+SEQUENCE_DIGITS: Final = 5
 #: Word addresses a block may carry (O and N are handled apart).
 ADDRESSES: Final = frozenset("ABCDEFGHIJKLMPQRSTUVWXYZ")
 
@@ -244,9 +246,11 @@ def parse_block(line: int, raw: str) -> Block:
     sequence: int | None = None
     try:
         if cur.take("N"):
-            value, point, _ = parse_number(cur)
+            value, point, digits = parse_number(cur)
             if point:
                 raise AlarmRaised(7, f"N{value}")
+            if digits > SEQUENCE_DIGITS:
+                raise AlarmRaised(3, f"N{int(value)}: a sequence number has 1..5 digits")
             sequence = int(value)
         statement = _statement(cur)
     except AlarmRaised as e:
