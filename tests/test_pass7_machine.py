@@ -10,6 +10,7 @@ from pathlib import Path
 import pytest
 from cli_support import Cli, run_focas_net
 from support import serving
+from test_examples import run_example
 
 from focas_net.cli import EXIT_CNC, EXIT_USAGE
 from focas_net.protocol import MotionState, field_label
@@ -295,3 +296,32 @@ def test_a_sequence_number_has_five_digits(block: str, alarm: int | None) -> Non
     machine.select_program(301)
     machine.cycle_start()
     assert machine.active_alarms() == [] and machine.status().run == 3
+
+
+async def test_a_program_of_a_long_name_leaves_the_directory_readable(
+    cli: Cli, tmp_path: Path
+) -> None:
+    """A 300-character O-line comment was stored whole and made every ``program list`` answer
+    EW_DATA (the name did not fit the wire); the directory names the program by the first 61
+    characters, as FANUC's directory read does, and the text keeps the whole comment."""
+    name = "N" * 300
+    file = tmp_path / "o1701.nc"
+    file.write_text(f"O1701 ({name})\nM30\n")
+    await cli.ok("program", "load", str(file))
+    listed = await cli.json("program", "list")
+    entry = next(p for p in listed["programs"] if p["number"] == 1701)
+    assert entry["name"] == name[:61]
+    assert (await cli.json("program", "show", "1701"))["text"].startswith(f"O1701 ({name})")
+
+
+async def test_fleet_poll_counts_each_poll_of_an_unreachable_machine_as_failed() -> None:
+    """examples/fleet_poll.py: with one machine of two unreachable, 3 rounds are 6 polls of
+    which 3 failed (it printed "6 polls ..., 1 failed")."""
+    async with serving() as gone:
+        dead = gone.port
+    async with serving() as live:
+        code, out, err = await run_example(
+            "fleet_poll.py", "--ports", f"{live.port},{dead}", "--rounds", "3", "--interval", "0"
+        )
+    assert (code, err) == (1, "")
+    assert "3 round(s): 6 polls of 3 calls each, 3 failed" in out.splitlines()[-1]
