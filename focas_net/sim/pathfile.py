@@ -18,8 +18,20 @@ from typing import Any, Final
 from ._identity import axes_problem, axis_name_problem
 from ._paths import MAX_PATHS, PATH_KINDS, PathSpec
 from ._status import AUT_MODES, MODE_NAMES, MotionData, Panel
-from .filecheck import _I32, _ascii, _bool, _Ctx, _int, _list, _only, _str, _table, _text
-from .nc import ProgramError, parse_program
+from .filecheck import (
+    _I32,
+    MachineFileError,
+    _ascii,
+    _bool,
+    _Ctx,
+    _int,
+    _list,
+    _only,
+    _str,
+    _table,
+    _text,
+)
+from .nc import ProgramError, ProgramStore, parse_program
 
 __all__ = ["PATH_KEYS", "path_specs"]
 
@@ -155,6 +167,7 @@ def _programs(ctx: _Ctx, value: Any, base: Path | None) -> tuple[list[str], int 
     texts: list[str] = []
     main: int | None = None
     numbers: set[int] = set()
+    store = ProgramStore()
     for i, raw in enumerate(_list(ctx, value)):
         c = ctx.sub(i)
         t = _table(c, raw)
@@ -168,10 +181,14 @@ def _programs(ctx: _Ctx, value: Any, base: Path | None) -> tuple[list[str], int 
             key = c.sub("file")
             given = Path(_str(key, t["file"]))
             where = given if given.is_absolute() or base is None else base / given
+            if "\x00" in str(given):  # no file system takes it
+                key.fail(f"{str(given)!r}: a file name has no NUL character")
             try:
                 text = _text(str(where), where.read_bytes())
             except OSError as exc:
                 key.fail(f"cannot read {str(where)!r}: {exc.strerror or exc}")
+            except MachineFileError as exc:  # named by the machine file and the key too
+                key.fail(f"{where}: {exc.problem}")
         try:
             program = parse_program(text)
         except ProgramError as exc:
@@ -179,6 +196,10 @@ def _programs(ctx: _Ctx, value: Any, base: Path | None) -> tuple[list[str], int 
         if program.number in numbers:
             key.fail(f"program O{program.number:04d} is given twice")
         numbers.add(program.number)
+        try:  # the store's own limits (count, characters), named by the entry past them
+            store.store(text)
+        except ProgramError as exc:
+            c.fail(str(exc))
         if _bool(c.sub("main"), t.get("main", False)):
             if main is not None:
                 c.sub("main").fail(f"O{main:04d} is already the main program")
