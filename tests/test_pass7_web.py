@@ -197,14 +197,24 @@ async def test_requests_no_page_sends_are_answered_in_json_and_change_nothing() 
             '{"subscribe": "fleet", "subscribe": "machine", "index": 0}',
             "bad subscription: the key 'subscribe' is given twice",
         ),
+        (
+            '{"subscribe": "machine", "index": 0, "pmc_strat": 100}',
+            "bad subscription: a machine subscription takes no 'pmc_strat' (it takes index, "
+            "path, pmc_area, pmc_start, subscribe)",
+        ),
+        (
+            '{"subscribe": "fleet", "index": 0}',
+            "bad subscription: a fleet subscription takes no 'index' (it takes subscribe)",
+        ),
+        ('{"subscribe": []}', 'bad subscription: "subscribe" is "fleet" or "machine", got []'),
     ],
 )
 async def test_a_subscription_no_page_sends_is_refused_and_the_socket_lives(
     message: str, reason: str
 ) -> None:
     """A subscription nested 100000 deep closed the socket with a traceback on the server's
-    log; ``null`` was named ``None``; a key given twice was read as its last (actions refuse
-    it)."""
+    log; ``null`` was named ``None``; a key given twice was read as its last and a misspelt key
+    was left unread (actions refuse both)."""
     async with serving() as served:
         web = Dashboard(stations_of(served.server), port=0, interval=0.02)
         async with web, aiohttp.ClientSession() as session:
