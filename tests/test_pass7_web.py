@@ -343,3 +343,19 @@ async def test_a_query_key_not_taken_or_given_twice_is_refused(query: str, words
             async with session.get(f"{web.url}{query}") as answer:
                 assert answer.status == 400
                 assert await answer.json() == {"ok": False, "error": words}
+
+
+@pytest.mark.parametrize("typed", ["\u0661\u0663\u0662\u0660", "13\uff12"])
+async def test_a_parameter_search_in_digits_of_another_script_says_why(typed: str) -> None:
+    """``\u0661\u0663\u0662\u0660`` (1320 in Arabic-Indic digits) in the parameter search said
+    "no parameter found"; the macro search and every number box name such digits."""
+    async with serving() as served:
+        web = Dashboard(stations_of(served.server), port=0)
+        async with web, aiohttp.ClientSession() as session:
+            url = f"{web.url}api/machines/0/params"
+            async with session.get(url, params={"q": typed}) as answer:
+                assert answer.status == 400
+                error = (await answer.json())["error"]
+                assert error.startswith(f"parameter search: {typed!r} holds a digit beyond ASCII")
+            async with session.get(url, params={"q": "1320"}) as answer:
+                assert [p["number"] for p in (await answer.json())["params"]] == [1320]

@@ -299,7 +299,11 @@ class Dashboard:
         path = self._path(request, s, "q")
         if not isinstance(path, int):
             return path
-        return self._json({"params": param_rows(s.machine, request.query.get("q", ""), path=path)})
+        try:
+            rows = param_rows(s.machine, request.query.get("q", ""), path=path)
+        except ValueError as exc:
+            return self._json({"ok": False, "error": str(exc)}, 400)
+        return self._json({"params": rows})
 
     async def _macros(self, request: web.Request) -> web.Response:
         s = self._station(request)
