@@ -565,3 +565,13 @@ def test_gateway_names_a_wrong_argument(
     gateway = Gateway(GatewayConfig(machines=(MachineConfig("m", "127.0.0.1"),)))
     with pytest.raises(TypeError, match=r"sink must be a sink .* it has no described\(\)"):
         gateway.add_sink(5)  # type: ignore[arg-type]
+
+
+async def test_started_call_on_done_refuses_what_is_not_callable(
+    served: tuple[Machine, FocasClient, NativeClient],
+) -> None:
+    _, cnc, native = served
+    for started in (cnc.start_read_status(), native.start_read_macro(500)):
+        with pytest.raises(TypeError, match="on_done takes a callable with no arguments, got 5"):
+            started.on_done(5)  # type: ignore[arg-type]
+        await started.result()

@@ -325,3 +325,33 @@ async def test_fleet_poll_counts_each_poll_of_an_unreachable_machine_as_failed()
         )
     assert (code, err) == (1, "")
     assert "3 round(s): 6 polls of 3 calls each, 3 failed" in out.splitlines()[-1]
+
+
+def test_a_machine_file_of_more_programs_than_the_store_holds_names_the_entry(
+    tmp_path: Path,
+) -> None:
+    entries = "".join(f'[[program]]\ntext = "O{n}\\nM30\\n"\n' for n in range(1, 402))
+    with pytest.raises(MachineFileError) as refused:
+        _load(tmp_path, entries)
+    assert str(refused.value).endswith(
+        "m.toml: program[400]: the store holds its maximum of 400 programs"
+    )
+
+
+@pytest.mark.parametrize(
+    ("text", "run", "parts"),
+    [
+        ("O0400\n(ONLY A COMMENT)\n", 0, 0),
+        ("O0400\nG1 X1. F600\n%\n", 0, 0),
+        ("O0400\nG1 X1. F600\nM99\n", 3, 0),
+        ("O0400\nG1 X1. F600\nM02\n", 0, 1),
+    ],
+)
+def test_how_a_main_program_ends_as_docs_machine_file_says(text: str, run: int, parts: int) -> None:
+    clock = ManualClock()
+    machine = default_machine(sim_clock=clock, programs=(text,))
+    machine.select_program(400)
+    machine.cycle_start()
+    clock.advance(20.0)
+    assert (machine.status().run, machine.read_param(6711, 0)) == (run, parts)
+    assert machine.active_alarms() == [] and list(machine.alarm_history()) == []
