@@ -13,12 +13,13 @@ from support import serving
 
 from focas_net._typed import NO_PASSWORD_NOTE
 from focas_net.errors import EW
-from focas_net.protocol import AutMode, alarm_type_of
+from focas_net.protocol import AutMode, alarm_time_text, alarm_type_of
 from focas_net.sim import MachineError, default_machine
 from focas_net.web import (
     ActionError,
     Dashboard,
     Station,
+    machine_view,
     parse_web_address,
     perform,
     pmc_address,
@@ -359,3 +360,17 @@ async def test_a_parameter_search_in_digits_of_another_script_says_why(typed: st
                 assert error.startswith(f"parameter search: {typed!r} holds a digit beyond ASCII")
             async with session.get(url, params={"q": "1320"}) as answer:
                 assert [p["number"] for p in (await answer.json())["params"]] == [1320]
+
+
+def test_an_alarms_time_is_written_as_the_command_line_writes_it() -> None:
+    """The page's history said ``2026-12-07 10:54:37Z`` and its JSON ``"time":
+    "2026-12-07T10:54:37+00:00"``, where ``alarms --history`` writes ``"occurred_at":
+    "2026-12-07T10:54:37Z"``: one spelling, one key."""
+    station = _station()
+    station.machine.raise_alarm(0, 15, 1001, "COOLANT LEVEL LOW")
+    (entry,) = station.machine.alarm_history()
+    view = machine_view(0, station.machine, 8193)
+    (shown,) = view["history"]
+    assert shown["occurred_at"] == entry.occurred_at.strftime("%Y-%m-%dT%H:%M:%SZ")
+    assert "time" not in shown
+    assert alarm_time_text(entry.occurred_at) == shown["occurred_at"]

@@ -24,6 +24,7 @@ from focas_net.protocol import (
     RunState,
     alarm_code,
     alarm_text,
+    alarm_time_text,
     status_labels,
 )
 from focas_net.server.faults import fault_arg_text
@@ -276,7 +277,10 @@ def machine_view(
             _alarm(a.axis_no, a.alm_type, a.alm_no, a.msg) for a in machine.active_alarms(path=path)
         ],
         "history": [
-            {"time": h.occurred_at.isoformat(), **_alarm(h.axis_no, h.alm_type, h.alm_no, h.msg)}
+            {
+                "occurred_at": alarm_time_text(h.occurred_at),
+                **_alarm(h.axis_no, h.alm_type, h.alm_no, h.msg),
+            }
             for h in machine.alarm_history(HISTORY_SHOWN)
         ],
         "programs": [
