@@ -140,8 +140,12 @@ def connect_reason(exc: BaseException, ssl: _ssl.SSLContext | None) -> str:
     """Why a connect failed, never empty; a failed TLS handshake says so."""
     text = str(exc)
     if isinstance(exc, _ssl.SSLCertVerificationError):
-        return f"TLS certificate not trusted: {exc.verify_message or text}"
-    if ssl is not None and isinstance(exc, _ssl.SSLError | ConnectionError):
+        return f"TLS certificate not trusted: {(exc.verify_message or text).rstrip('.')}"
+    # a refused connect never reached the handshake: it reads as without TLS
+    handshake = isinstance(exc, _ssl.SSLError) or (
+        isinstance(exc, ConnectionError) and not isinstance(exc, ConnectionRefusedError)
+    )
+    if ssl is not None and handshake:
         detail = text if isinstance(exc, _ssl.SSLError) and text else "the peer closed it"
         return f"TLS handshake failed ({detail}): the peer may not speak TLS"
     return os_reason(exc)

@@ -1,0 +1,221 @@
+"""Wrong and failing peers, seventh pass: what both transports and the command line say.
+
+Each case here is one a user met: a refused connect with ``--tls``, a name of two addresses
+refused on both (``localhost`` is ``::1`` and ``127.0.0.1`` on most systems), a connect that
+never completes, a peer that sends the start of an answer and then closes or says no more,
+a certificate that is trusted but names another host, a FOCAS/2 open one connection short of
+a server's limit, a ``--host`` given as a URL, a ``serve --native-port`` already taken, and a
+client still reconnecting when a call's time is up.
+
+The peers are raw TCP servers of this test on 127.0.0.1 (ephemeral ports); ``focas-net`` runs
+as a subprocess where its exit code is checked.
+"""
+
+from __future__ import annotations
+
+import asyncio
+import errno
+import socket
+from collections.abc import AsyncIterator, Iterator
+from contextlib import asynccontextmanager, contextmanager
+from typing import Any, Final
+
+import pytest
+from cli_support import one_line, run_focas_net
+from support import LoopbackPeer, free_port
+
+from focas_net.cli import EXIT_CONNECTION, EXIT_PROTOCOL
+from focas_net.client import FocasClient, NativeClient
+from focas_net.errors import FocasConnectionError, FocasError, FocasTimeoutError, ProtocolError
+from focas_net.native.frame import MAGIC, NATIVE_HEADER, FrameType
+
+PROTOCOLS: Final = ("packed", "native")
+CLIENTS: Final = (FocasClient, NativeClient)
+SHORT: Final = "0.5"
+
+
+class SaysThenActs(LoopbackPeer):
+    """On each connection: reads what comes first, sends ``said``, then closes (``then``
+    ``close``) or keeps the connection open, saying nothing more (``hang``)."""
+
+    def __init__(self, said: bytes, then: str) -> None:
+        self.said = said
+        self.then = then
+        self.open: list[asyncio.StreamWriter] = []
+
+    async def _serve(self, reader: asyncio.StreamReader, writer: asyncio.StreamWriter) -> None:
+        await reader.read(64)
+        writer.write(self.said)
+        await writer.drain()
+        if self.then == "hang":
+            self.open.append(writer)  # closed at the end of the test, by the server's close
+            return
+        writer.close()
+
+    async def stop(self) -> None:
+        for writer in self.open:
+            writer.close()
+        await super().stop()
+
+
+@asynccontextmanager
+async def says(said: bytes, then: str) -> AsyncIterator[SaysThenActs]:
+    async with SaysThenActs(said, then) as peer:
+        yield peer
+
+
+async def cli(port: int, protocol: str, *argv: str) -> tuple[int, str, str]:
+    return await run_focas_net(
+        *(argv or ("status",)), "--port", str(port), "--protocol", protocol, "--timeout", SHORT
+    )
+
+
+async def failure(
+    cls: type[FocasClient] | type[NativeClient], port: int, host: str = "127.0.0.1"
+) -> FocasError:
+    with pytest.raises(FocasError) as caught:
+        async with cls(host, port, timeout=float(SHORT)) as client:
+            await client.read_status()
+    return caught.value
+
+
+# -- a connect refused, or never completed ---------------------------------------------------
+
+
+@pytest.mark.parametrize("tls", ["--tls", "--tls-insecure"])
+async def test_a_refused_connect_with_tls_is_refused_not_a_handshake_that_failed(tls: str) -> None:
+    """It never reached a handshake: no "TLS handshake failed", no "drop --tls"."""
+    port = free_port()
+    code, out, err = await run_focas_net("status", "--port", str(port), tls)
+    assert (code, out) == (EXIT_CONNECTION, ""), err
+    assert one_line(err) == f"focas-net: cannot connect to 127.0.0.1:{port}: connection refused"
+
+
+def _two_addresses(monkeypatch: pytest.MonkeyPatch) -> None:
+    """``dual.test`` resolves to ``::1`` then ``127.0.0.1``, as ``localhost`` does on most
+    systems."""
+    loop = asyncio.get_running_loop()
+
+    async def resolve(host: str, port: int, **kwargs: Any) -> list[Any]:
+        assert host == "dual.test"
+        return [
+            (socket.AF_INET6, socket.SOCK_STREAM, 6, "", ("::1", port, 0, 0)),
+            (socket.AF_INET, socket.SOCK_STREAM, 6, "", ("127.0.0.1", port)),
+        ]
+
+    monkeypatch.setattr(loop, "getaddrinfo", resolve)
+
+
+@pytest.mark.parametrize("cls", CLIENTS)
+async def test_a_name_refused_on_each_of_its_addresses_is_refused(
+    cls: type[FocasClient] | type[NativeClient], monkeypatch: pytest.MonkeyPatch
+) -> None:
+    _two_addresses(monkeypatch)
+    port = free_port()
+    err = await failure(cls, port, "dual.test")
+    assert type(err) is FocasConnectionError
+    assert str(err) == f"cannot connect to dual.test:{port}: connection refused"
+
+
+@pytest.mark.parametrize("cls", CLIENTS)
+async def test_a_name_failing_differently_on_its_addresses_says_each(
+    cls: type[FocasClient] | type[NativeClient], monkeypatch: pytest.MonkeyPatch
+) -> None:
+    """Per address, why, in words: never Python's ``[Errno 111] Connect call failed (...)``."""
+
+    class NoIPv6(socket.socket):
+        def __init__(self, family: int = -1, *args: Any, **kwargs: Any) -> None:
+            if family == socket.AF_INET6:
+                raise OSError(errno.EAFNOSUPPORT, "Address family not supported by protocol")
+            super().__init__(family, *args, **kwargs)
+
+    _two_addresses(monkeypatch)
+    monkeypatch.setattr(socket, "socket", NoIPv6)
+    port = free_port()
+    err = await failure(cls, port, "dual.test")
+    assert type(err) is FocasConnectionError
+    assert str(err) == (
+        f"cannot connect to dual.test:{port}: [::1]:{port}: address family not supported by "
+        f"protocol; 127.0.0.1:{port}: connection refused"
+    )
+
+
+@contextmanager
+def never_accepting() -> Iterator[int]:
+    """A port whose accept queue is full: a connect to it never completes (the kernel drops
+    its SYN); its port."""
+    with socket.socket() as server:
+        server.bind(("127.0.0.1", 0))
+        server.listen(0)
+        port: int = server.getsockname()[1]
+        fills = [socket.socket() for _ in range(3)]
+        try:
+            for sock in fills:
+                sock.setblocking(False)
+                try:
+                    sock.connect(("127.0.0.1", port))
+                except BlockingIOError:
+                    pass
+            yield port
+        finally:
+            for sock in fills:
+                sock.close()
+
+
+@pytest.mark.parametrize("cls", CLIENTS)
+async def test_a_connect_that_never_completes_says_so_on_both_clients(
+    cls: type[FocasClient] | type[NativeClient],
+) -> None:
+    """Not "no answer to the open request: nothing received since connecting" on FOCAS/2:
+    it never connected."""
+    with never_accepting() as port:
+        err = await failure(cls, port)
+    assert type(err) is FocasTimeoutError
+    assert str(err) == f"connecting to 127.0.0.1:{port} timed out"
+
+
+# -- a peer that says a little, then closes or says no more ---------------------------------
+
+#: The first 12 bytes of an open answer: its header (of 42 bytes to come) and two of them.
+CUT_OPEN_ANSWER: Final = NATIVE_HEADER.pack(0xA0A0A0A0, 2, FrameType.OPEN_RESPONSE, 42) + b"\0\0"
+
+
+@pytest.mark.parametrize("said", [MAGIC, CUT_OPEN_ANSWER], ids=["magic", "cut open answer"])
+async def test_an_answer_cut_short_by_a_close_is_a_close_not_before_any_answer(
+    said: bytes,
+) -> None:
+    """The start of an answer is an answer: "connection closed by", no probe, and so no hint
+    of a server limited to one connection (which the probes found in the cut answers)."""
+    async with says(said, "close") as peer:
+        code, out, err = await cli(peer.port, "native")
+    assert (code, out) == (EXIT_CONNECTION, ""), err
+    assert one_line(err) == f"focas-net: connection closed by 127.0.0.1:{peer.port}"
+
+
+@pytest.mark.parametrize("said", [MAGIC, CUT_OPEN_ANSWER], ids=["magic", "cut open answer"])
+async def test_an_answer_cut_short_then_silence_is_not_nothing_received(said: bytes) -> None:
+    async with says(said, "hang") as peer:
+        err = await failure(NativeClient, peer.port)
+    assert type(err) is FocasTimeoutError
+    assert str(err) == "no answer to the open request"
+
+
+@pytest.mark.parametrize("protocol", PROTOCOLS)
+async def test_four_bytes_of_no_frame_then_silence_do_not_speak_focas_on_both(
+    protocol: str,
+) -> None:
+    """FOCAS/2 knows from its first bytes what the packed transport knows from a length:
+    no frame starts so, and no timeout is waited for."""
+    async with says(b"\x00\x00\x00\x10", "hang") as peer:
+        code, out, err = await cli(peer.port, protocol)
+    assert (code, out) == (EXIT_PROTOCOL, ""), err
+    line = one_line(err)
+    assert f"127.0.0.1:{peer.port} does not speak the FOCAS protocol (" in line
+    assert line.endswith(r"it sent b'\x00\x00\x00\x10')")
+
+
+async def test_a_frame_that_does_not_start_so_is_refused_by_the_native_client() -> None:
+    async with says(b"\x00\x00\x00\x10", "hang") as peer:
+        err = await failure(NativeClient, peer.port)
+    assert type(err) is ProtocolError
+    assert "its answer does not start with A0 A0 A0 A0" in str(err)
