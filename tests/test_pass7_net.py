@@ -15,17 +15,21 @@ from __future__ import annotations
 
 import asyncio
 import errno
+import shutil
 import socket
+import ssl
+import subprocess
 from collections.abc import AsyncIterator, Iterator
 from contextlib import asynccontextmanager, contextmanager
+from pathlib import Path
 from typing import Any, Final
 
 import pytest
 from cli_support import one_line, run_focas_net
-from support import LoopbackPeer, free_port
+from support import IO_TIMEOUT, LoopbackPeer, free_port, serving, wait_until
 
 from focas_net.cli import EXIT_CONNECTION, EXIT_PROTOCOL
-from focas_net.client import FocasClient, NativeClient
+from focas_net.client import FocasClient, NativeClient, ReconnectPolicy
 from focas_net.errors import FocasConnectionError, FocasError, FocasTimeoutError, ProtocolError
 from focas_net.native.frame import MAGIC, NATIVE_HEADER, FrameType
 
@@ -219,3 +223,143 @@ async def test_a_frame_that_does_not_start_so_is_refused_by_the_native_client() 
         err = await failure(NativeClient, peer.port)
     assert type(err) is ProtocolError
     assert "its answer does not start with A0 A0 A0 A0" in str(err)
+
+
+# -- hints that follow from what was given ----------------------------------------------------
+
+
+@pytest.mark.parametrize(
+    ("host", "advice"),
+    [
+        ("tcp://127.0.0.1:8193", "give --host 127.0.0.1 --port 8193, without a scheme"),
+        ("http://[::1]:9400/", "give --host ::1 --port 9400, without a scheme"),
+        ("focas://cnc1", "give --host cnc1, without a scheme"),
+    ],
+)
+@pytest.mark.parametrize("command", ["status", "serve"])
+async def test_a_url_as_host_names_its_host_and_port(command: str, host: str, advice: str) -> None:
+    """Not "not an IPv6 address" (the colons of a URL), on the client's commands and serve."""
+    code, out, err = await run_focas_net(command, "--host", host)
+    assert (code, out) == (2, ""), err
+    line = one_line(err, "focas-net")
+    assert f"argument --host: {host!r} is a URL: {advice}; see focas-net {command} --help" in line
+
+
+@pytest.mark.parametrize("cls", CLIENTS)
+def test_a_url_given_to_a_client_names_its_host_and_port(
+    cls: type[FocasClient] | type[NativeClient],
+) -> None:
+    with pytest.raises(ValueError) as caught:
+        cls("tcp://127.0.0.1:8193", 8193)
+    assert str(caught.value) == (
+        "host 'tcp://127.0.0.1:8193' is a URL: give the host '127.0.0.1' and the port 8193 "
+        "apart, without a scheme"
+    )
+
+
+@pytest.fixture(scope="module")
+def other_name_certificate(tmp_path_factory: pytest.TempPathFactory) -> tuple[Path, Path]:
+    """A self-signed certificate for ``cnc.example`` alone, and its key."""
+    openssl = shutil.which("openssl")
+    if openssl is None:
+        pytest.skip("TLS tests need the openssl command to generate a certificate")
+    folder = tmp_path_factory.mktemp("tls-other-name")
+    cert, key = folder / "cert.pem", folder / "key.pem"
+    subprocess.run(
+        [openssl, "req", "-x509", "-newkey", "ec", "-pkeyopt", "ec_paramgen_curve:prime256v1",
+         "-nodes", "-keyout", str(key), "-out", str(cert), "-days", "1", "-subj", "/CN=cnc",
+         "-addext", "subjectAltName=DNS:cnc.example"],
+        check=True, capture_output=True, timeout=60,
+    )  # fmt: skip
+    return cert, key
+
+
+async def test_a_trusted_certificate_of_another_name_does_not_ask_for_tls_ca(
+    other_name_certificate: tuple[Path, Path],
+) -> None:
+    """``--tls-ca`` was given, and trusts it: the host is what does not match."""
+    cert, key = other_name_certificate
+    context = ssl.SSLContext(ssl.PROTOCOL_TLS_SERVER)
+    context.load_cert_chain(cert, key)
+    async with serving(ssl=context) as served:
+        code, out, err = await run_focas_net(
+            "status", "--port", str(served.port), "--tls-ca", str(cert)
+        )
+    assert (code, out) == (EXIT_CONNECTION, ""), err
+    line = one_line(err)
+    assert "certificate is not valid for '127.0.0.1';" in line  # (no "'.;")
+    assert line.endswith(
+        "the certificate does not name 127.0.0.1: connect by a name it holds (--host NAME), "
+        "or give --tls-insecure"
+    )
+    assert "--tls-ca" not in line
+
+
+async def test_a_focas2_open_one_connection_short_of_the_limit_blames_no_limit_of_one() -> None:
+    """A server of ``--max-connections 2`` with one taken by another client: the hint says
+    either may be so, and asks for no limit the server does not have."""
+    async with serving(max_connections=2) as served, await served.connect():
+        code, out, err = await cli(served.port, "native")
+    assert (code, out) == (EXIT_CONNECTION, ""), err
+    line = one_line(err)
+    assert "FOCAS/2's open, which takes two: a server with one connection free" in line
+    assert "or other clients holding the others" in line
+    assert "a server limited to one connection" not in line
+
+
+# -- serve's ports ---------------------------------------------------------------------------
+
+
+async def test_a_native_port_in_use_is_the_port_named() -> None:
+    """Not the first port (``--port 0``), which was free: the one taken."""
+    with socket.socket() as taken:
+        taken.bind(("127.0.0.1", 0))
+        taken.listen(1)
+        port = taken.getsockname()[1]
+        code, out, err = await run_focas_net("serve", "--port", "0", "--native-port", str(port))
+    assert (code, out) == (1, ""), err
+    assert one_line(err, "focas-net") == (
+        f"focas-net serve: error: cannot listen on 127.0.0.1:{port} (--native-port): "
+        "address already in use"
+    )
+
+
+async def test_a_fleet_port_in_use_is_the_port_named() -> None:
+    with socket.socket() as taken:
+        taken.bind(("127.0.0.1", 0))
+        taken.listen(1)
+        port = taken.getsockname()[1]
+        first = port - 2
+        code, out, err = await run_focas_net("serve", "--port", str(first), "--fleet", "3")
+    assert (code, out) == (1, ""), err
+    assert f"cannot listen on 127.0.0.1:{port}: address already in use" in one_line(
+        err, "focas-net"
+    )
+
+
+# -- a call whose time is up while reconnecting ----------------------------------------------
+
+
+@pytest.mark.parametrize("cls", CLIENTS)
+async def test_still_reconnecting_says_why_it_was_lost_and_why_the_attempt_failed(
+    cls: type[FocasClient] | type[NativeClient],
+) -> None:
+    """What ``watch`` shows under its frame while the server is down: the causes, not only
+    that it is still reconnecting."""
+    policy = ReconnectPolicy(initial_delay=0.01, max_delay=0.05, jitter=0)
+    async with serving() as served:
+        port = served.port
+        client = cls("127.0.0.1", port, timeout=IO_TIMEOUT, reconnect=policy)
+        await client.connect()
+        await client.read_status()  # (answered: a close now is no close "before any answer")
+    try:
+        await wait_until(lambda: client._attempt_error is not None)
+        with pytest.raises(FocasConnectionError) as caught:
+            await client.read_status(timeout=0.2)
+    finally:
+        await client.aclose()
+    assert str(caught.value) == (
+        f"still reconnecting to 127.0.0.1:{port} when the call timed out (connection closed by "
+        f"127.0.0.1:{port}; the last reconnect attempt failed: cannot connect to "
+        f"127.0.0.1:{port}: connection refused)"
+    )

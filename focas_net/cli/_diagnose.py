@@ -85,8 +85,9 @@ def advice(found: Findings, protocol: str, tls: bool) -> str | None:
     if protocol == "native" and found.packed and not found.native:
         return (
             "the server answers one connection but not FOCAS/2's open, which takes two: a "
-            "server limited to one connection refuses the second (focas-net serve "
-            "--max-connections 1); give --protocol packed, or a higher limit"
+            "server with one connection free refuses the second (focas-net serve "
+            "--max-connections 1, or other clients holding the others); give --protocol "
+            "packed, or free a connection or raise the limit"
         )
     if found.packed if protocol == "packed" else found.native:
         return (

@@ -313,6 +313,11 @@ def _tls_hint(args: argparse.Namespace, exc: BaseException) -> str | None:
     tls = tls_context_wanted(args)
     cause = exc.__cause__
     if isinstance(cause, ssl.SSLCertVerificationError):
+        if cause.verify_code in _NAME_MISMATCH:  # trusted, but for another name
+            return (
+                f"the certificate does not name {args.host}: connect by a name it holds "
+                "(--host NAME), or give --tls-insecure"
+            )
         return "give --tls-ca FILE (the server's certificate or its CA) or --tls-insecure"
     text = str(exc)
     if tls and isinstance(exc, FocasConnectionError) and "TLS handshake failed" in text:
@@ -320,6 +325,10 @@ def _tls_hint(args: argparse.Namespace, exc: BaseException) -> str | None:
     if not tls and isinstance(exc, ProtocolError) and "TLS record" in text:
         return "the server uses TLS: give --tls (with --tls-ca FILE or --tls-insecure)"
     return None
+
+
+#: OpenSSL's verify codes of a certificate that holds another host name, or IP address.
+_NAME_MISMATCH: Final = frozenset({62, 64})
 
 
 def tls_context_wanted(args: argparse.Namespace) -> bool:

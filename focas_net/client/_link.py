@@ -190,7 +190,7 @@ class Link(CompositeCalls):
             logger.warning("connection to %s lost: %s", self.address, exc or "closed")
             self._set_state(ClientState.DISCONNECTED)
             return
-        self._reconnecting(exc)
+        self._reconnecting(conn.end or exc)
 
     async def _reconnect_attempt(self, attempt: int) -> bool:
         try:

@@ -170,6 +170,11 @@ class Connection(RequestSlots, Received, asyncio.Protocol):
         return self._closed_exc is not None
 
     @property
+    def end(self) -> FocasConnectionError | None:
+        """Why the connection ended, in the words its calls get (None: open)."""
+        return self._closed_exc
+
+    @property
     def violation(self) -> ProtocolError | None:
         """Why the connection was aborted, when the peer broke the wire protocol."""
         return self._violation
