@@ -29,7 +29,7 @@ from cli_support import one_line, run_focas_net
 from support import IO_TIMEOUT, LoopbackPeer, free_port, serving, wait_until
 
 from focas_net.cli import EXIT_CONNECTION, EXIT_PROTOCOL
-from focas_net.client import FocasClient, NativeClient, ReconnectPolicy
+from focas_net.client import ClientState, FocasClient, NativeClient, ReconnectPolicy
 from focas_net.errors import FocasConnectionError, FocasError, FocasTimeoutError, ProtocolError
 from focas_net.native.frame import MAGIC, NATIVE_HEADER, FrameType
 
@@ -363,3 +363,33 @@ async def test_still_reconnecting_says_why_it_was_lost_and_why_the_attempt_faile
         f"127.0.0.1:{port}; the last reconnect attempt failed: cannot connect to "
         f"127.0.0.1:{port}: connection refused)"
     )
+
+
+@pytest.mark.parametrize("cls", CLIENTS)
+async def test_lost_reason_is_why_while_reconnecting_and_none_once_back(
+    cls: type[FocasClient] | type[NativeClient],
+) -> None:
+    """What ``alarms --follow`` prints when its connection is lost (``lost: <why>;
+    reconnecting``), as ``watch`` does."""
+    policy = ReconnectPolicy(initial_delay=0.01, max_delay=0.05, jitter=0)
+    seen: list[str] = []
+
+    def record(state: ClientState) -> None:
+        if state is ClientState.RECONNECTING:
+            seen.append(str(client.lost_reason))
+
+    async with serving() as served:
+        client = cls("127.0.0.1", served.port, timeout=IO_TIMEOUT, reconnect=policy)
+        client.add_state_callback(record)
+        await client.connect()
+        try:
+            await client.read_status()
+            assert client.lost_reason is None
+            for conn in list(served.listener.all_connections()):
+                conn.abort()
+            await wait_until(lambda: bool(seen))
+            await client.read_status()  # reconnected
+            assert client.lost_reason is None
+        finally:
+            await client.aclose()
+    assert seen == [f"connection closed by 127.0.0.1:{served.port}"]

@@ -299,7 +299,8 @@ def report_state(client: CncClient) -> Callable[[ClientState], None]:
         nonlocal lost
         if state is ClientState.RECONNECTING:
             lost = True
-            _print_one_line(f"connection to {where} lost; reconnecting")
+            why = client.lost_reason
+            _print_one_line(f"connection to {where} lost{f': {why}' if why else ''}; reconnecting")
         elif state is ClientState.CONNECTED and lost:
             lost = False
             _print_one_line(f"reconnected to {where}")

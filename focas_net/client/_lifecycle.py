@@ -106,6 +106,12 @@ class Lifecycle:
         return self._state is ClientState.CONNECTED
 
     @property
+    def lost_reason(self) -> BaseException | None:
+        """Why the connection was last lost (``connection closed by HOST:PORT``), from when it
+        was until a connection is back; None while connected or before any loss."""
+        return self._lost_why
+
+    @property
     def reconnect_policy(self) -> ReconnectPolicy | None:
         return self._policy
 
