@@ -3,7 +3,8 @@ number text (the page, the command line, the clients' text values and the machin
 words for a macro value that does not fit (the machine and the clients), a program number
 (the command line and the page), an override's range (the machine and the clients), an alarm
 message that is no line of single-byte text (the machine and the encoded text of every front
-end), whether a host typed is the loopback (the dashboard's and the gateway's guards).
+end), whether a host typed is the loopback (the dashboard's and the gateway's guards), what an
+unlock of a CNC without a parameter password means (the command line and the page).
 
 Number text is read as a CNC's MDI keys write a number: ASCII digits, a sign and, for a
 decimal, a decimal point; a whole number may also be written ``0x``, ``0b`` or ``0o`` (with
@@ -22,6 +23,7 @@ from typing import Final
 
 __all__ = [
     "MAX_ALARM_TEXT",
+    "NO_PASSWORD_NOTE",
     "OVERRIDE_RANGES",
     "RAPID_STEPS",
     "alarm_text_unfit",
@@ -30,6 +32,7 @@ __all__ = [
     "macro_unfit",
     "override_unfit",
     "program_number",
+    "rapid_step",
     "switch",
     "typed_number",
     "whole_number",
@@ -46,6 +49,12 @@ OVERRIDE_RANGES: Final[Mapping[str, tuple[int, int]]] = {
 #: The rapid traverse override's steps (%), as the panel's switch and G14's ROV1 ROV2 give
 #: them: F0 (a parameter's low speed, kept as 0 %), 25, 50, 100. No other value exists.
 RAPID_STEPS: Final[tuple[int, ...]] = (0, 25, 50, 100)
+
+#: What an unlock of a CNC without a parameter password means, as every front end says it.
+NO_PASSWORD_NOTE: Final = (
+    "the CNC has no parameter password: it accepts any, and a parameter write needs no unlock "
+    "(it needs MDI mode and PWE on, and a machine that is not read-only)"
+)
 
 #: Characters of an alarm's message the CNC keeps (a longer one is cut).
 MAX_ALARM_TEXT: Final = 32
@@ -107,6 +116,13 @@ def switch(typed: str) -> bool:
     raise ValueError(
         f"expected 1, on, true, yes or set, or 0, off, false, no or clear, got {typed!r}"
     )
+
+
+def rapid_step(text: str) -> int:
+    """A rapid override as typed on every front end: ``F0`` (any case: 0 %, as the panel's
+    switch names it) or a whole number (:func:`whole_number`), which the machine checks
+    against :data:`RAPID_STEPS`."""
+    return 0 if text.strip().upper() == "F0" else whole_number(text)
 
 
 def program_number(typed: object) -> int:

@@ -67,8 +67,8 @@ async def test_refusals_of_the_built_in_machine_say_why(programs: Path) -> None:
     dup, no_o = str(programs / "o0001.nc"), str(programs / "no_o_line.nc")
     cases: list[Case] = [
         (("program", "load", dup), "REJECT", "O0001 is already stored: give --replace"),
-        (("program", "load", no_o), "DATA", "whose first block is the O line"),
-        (("program", "load", str(programs / "two.nc")), "DATA", "it must hold one program"),
+        (("program", "load", no_o), "DATA", "a program starts with O and its number"),
+        (("program", "load", str(programs / "two.nc")), "DATA", "one program per text"),
         (("program", "load", str(programs / "percent.nc")), "REJECT", "O0001 is already stored"),
         (("program", "load", str(programs / "iso.nc")), "REJECT", "O0001 is already stored"),
         (("program", "select", "4444"), "NUMBER", "no program O4444"),

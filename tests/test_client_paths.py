@@ -200,10 +200,10 @@ async def test_both_protocols_read_the_same_per_path_values(lathe: Served) -> No
             assert await packed.read_feed(path=path) == await native.read_feed(path=path)
             p_pos = await packed.read_positions("machine", path=path)
             n_pos = await native.read_positions("machine", path=path)
-            # the same values in the same axis order (FOCAS/2 names an axis by its letter,
-            # its digit being the name's suffix: "X1" is X)
-            assert list(p_pos.increments.values()) == list(n_pos.increments.values())
-            assert [n[0] for n in p_pos.increments] == list(n_pos.increments)
+            # the same values under the same names (FOCAS/2's name and suffix, "X" and "1",
+            # read as the screen shows them: "X1")
+            assert p_pos.increments == n_pos.increments
+            assert list(p_pos.increments)[:2] == [f"X{path}", f"Z{path}"]
         with pytest.raises(CncError) as info:
             await native.read_feed(path=3)
         assert info.value.ew == EW.PATH

@@ -33,7 +33,7 @@ def refusal(text: str) -> str:
 BAD: list[tuple[str, tuple[str, ...]]] = [
     ("", ("plant.toml: no machine",)),
     ("[[machine]]\nname='a'\nhost='h'\nprotocl='native'", ("machine[1].protocl", "'protocol'")),
-    ("[groups]\nfast = 0\n" + ONE, ("groups.fast: got 0", "seconds > 0")),
+    ("[groups]\nfast = 0\n" + ONE, ("groups.fast: got 0", "seconds >= 0.01")),
     ("[groups]\nfats = 1\n" + ONE, ("groups.fats: unknown key", "'fast'")),
     (ONE + ONE.replace("mill-1", "b") + "[machine.groups]\nslow = -1", ("machine[2].groups.slow",)),
     (ONE + "port = 70000", ("machine[1].port: got 70000", "1..65535")),

@@ -43,6 +43,21 @@ def test_axes_shared_by_paths_take_the_paths_number() -> None:
     assert axis_names(odd) == {(1, "X"): "X1", (1, "Y"): "Y", (2, "X"): "X2", (2, "B"): "B"}
 
 
+def test_a_name_ending_in_a_digit_on_two_paths_takes_the_path_after_p() -> None:
+    """A twin-turret lathe whose paths both name their spindle S1 (and their axes X1, Z1 as
+    the control numbers them) lists S1_P1 and S1_P2, not S11 and S12 (spindles 11 and 12)."""
+    twin = replace(
+        LATHE, paths=(PathShape(1, ("X1", "Z1"), ("S1",)), PathShape(2, ("X1", "Z2"), ("S1",)))
+    )
+    assert spindle_names(twin) == {(1, "S1"): "S1_P1", (2, "S1"): "S1_P2"}
+    assert axis_names(twin) == {
+        (1, "X1"): "X1_P1",
+        (1, "Z1"): "Z1",
+        (2, "X1"): "X1_P2",
+        (2, "Z2"): "Z2",
+    }
+
+
 def test_every_item_of_every_path_axis_and_spindle_has_a_variable() -> None:
     _, _, nodes = machine_nodes(LATHE, 2, 3)
     for path in LATHE.paths:

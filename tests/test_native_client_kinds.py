@@ -118,7 +118,7 @@ async def test_real_parameters_are_written_in_the_30i_set_only(
     with pytest.raises(CncError) as inexact:
         await native.write_param(1451, Decimal("1.2345"))
     assert inexact.value.ew == EW.DATA
-    with pytest.raises(ValueError, match="parameter 1451: 'many' is not a value"):
+    with pytest.raises(ValueError, match="parameter 1451: not a number: 'many'"):  # as packed
         await native.write_param(1451, "many")
     with pytest.raises(ValueError, match="no bits"):
         await native.write_param_bit(1451, 0, True)

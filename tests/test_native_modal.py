@@ -537,9 +537,11 @@ async def test_the_client_checks_its_arguments_first() -> None:
         await native.read_modal_groups(23)
     with pytest.raises(ValueError, match="block"):
         await native.read_modal_groups(1, block=3)
-    for address in ("G", "", "BD", 5):
+    for address in ("G", "", "BD"):
         with pytest.raises(ValueError, match=f"address {address!r} is not one of B, D"):
-            await native.read_modal_values(address)  # type: ignore[arg-type]
+            await native.read_modal_values(address)
+    with pytest.raises(TypeError, match=r"address must be a letter .*got 5"):
+        await native.read_modal_values(5)  # type: ignore[arg-type]
     with pytest.raises(ValueError, match="count"):
         await native.read_operator_messages(count=0)
 

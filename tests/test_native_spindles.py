@@ -246,6 +246,8 @@ async def test_client_reads_every_spindle(client_on: tuple[Machine, NativeClient
         await client.read_spindle_meters(2)
     with pytest.raises(ValueError, match="spindle 0 is outside"):
         await client.read_spindle_speeds(0)
-    for figure in (3, True, "1"):
-        with pytest.raises(ValueError, match=f"servo figure {figure!r} is not 0"):
+    with pytest.raises(ValueError, match="servo figure 3 is not 0"):
+        await client.read_servo_figures(3)  # type: ignore[arg-type]
+    for figure in (True, "1"):  # not an integer: a TypeError, as every argument's
+        with pytest.raises(TypeError, match=f"servo figure must be .*got {figure!r}"):
             await client.read_servo_figures(figure)  # type: ignore[arg-type]

@@ -82,7 +82,7 @@ def test_labels_follow_the_screen() -> None:
         "MDI", "MEM", "****", "EDIT", "HND", "JOG", "TJOG", "THND", "INC", "REF", "RMT",
     ]  # fmt: skip
     assert [m.label for m in RunState] == ["****", "STOP", "HOLD", "STRT", "MSTR"]
-    assert [m.label for m in MotionState] == ["***", "MTN", "DWL"]
+    assert [m.label for m in MotionState] == ["***", "MTN", "DWL", "WAIT"]
     assert [m.label for m in MstbState] == ["***", "FIN"]
     assert [m.label for m in EmergencyState] == ["****", "EMG", "RESET"]
     assert [m.label for m in EditState] == ["****", "EDIT", "SEARCH", "OUTPUT", "INPUT", "COMPARE"]

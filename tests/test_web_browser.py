@@ -429,7 +429,7 @@ async def test_an_address_of_no_machine_is_said_and_breaks_nothing(
         await page.text_of("run-state", lambda t: t == "****", "machine 0")
         await page.call(page.driver.execute_script, "location.hash = '#/machine/999'")
         notice = await page.text_of("notice", lambda t: "999" in t, "the notice")
-        assert notice.startswith("no machine 999")
+        assert notice.startswith("no machine '999'")
         shown = await page.call(
             lambda: [
                 page.driver.find_element(By.ID, view).is_displayed()
@@ -458,7 +458,7 @@ async def test_a_fault_argument_that_is_not_a_number_is_refused_on_the_page(
         assert len(server.listeners[0].faults) == 0
         await page.type("fault-arg", "250")
         await page.click("fault-inject")
-        await page.text_of("faults", lambda t: "DELAY arg 250" in t, "the delay armed")
+        await page.text_of("faults", lambda t: "DELAY 250 ms: 1 answer left" in t, "the delay")
 
 
 async def test_enter_writes_a_macro_variable(browser: WebDriver, tmp_path: Path) -> None:

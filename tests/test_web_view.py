@@ -119,7 +119,7 @@ def test_the_machine_view_shows_what_the_machine_reads() -> None:
     assert view["timers"]["power_on"] == machine.timer(0) == 5.0
     assert view["timers"]["operating"] == machine.timer(1)
     assert view["parts"]["count"] == machine.parts_counts()[0]
-    assert view["faults"] == [{"kind": "DELAY", "remaining": 2, "arg": 500}]
+    assert view["faults"] == [{"kind": "DELAY", "remaining": 2, "arg": 500, "arg_text": "500 ms"}]
     program = view["program"]
     assert program["number"] == 1
     assert program["lines"] == machine.program_text(1).splitlines()

@@ -18,7 +18,7 @@ from collections.abc import Callable, Sequence
 from functools import partial
 from typing import Any, Final, NoReturn, TypeVar
 
-from focas_net._typed import decimal_number
+from focas_net._typed import decimal_number, rapid_step
 from focas_net.client._address import (
     check_host,
     host_and_port,
@@ -227,7 +227,7 @@ def parse_non_negative(text: str) -> int:
 def parse_rapid(text: str) -> int:
     """A rapid override as typed: ``F0`` (0 %) or a whole number, which the machine checks
     against FANUC's steps (0, 25, 50, 100)."""
-    return 0 if text.strip().upper() == "F0" else fmt.parse_int(text)
+    return rapid_step(text)
 
 
 def parse_file_name(text: str) -> str:
@@ -303,12 +303,9 @@ def parse_history_depth(text: str) -> int:
 
 
 def parse_area(text: str) -> PmcArea:
-    """A PMC area by letter (``R``) or number."""
-    try:
-        return PmcArea.parse(text)
-    except ValueError:
-        letters = "".join(a.name for a in PmcArea)
-        raise ValueError(f"unknown PMC area {text!r} (one of {letters})") from None
+    """A PMC area by letter (``R``) or number; ValueError naming the areas otherwise, in the
+    words of every front end (:meth:`PmcArea.parse`)."""
+    return PmcArea.parse(text)
 
 
 #: A port to connect to, 1..65535.

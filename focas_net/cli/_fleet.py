@@ -112,10 +112,14 @@ def build_machines(args: argparse.Namespace, states: list[Kept] | None = None) -
 def _scenario(args: argparse.Namespace, machine: Machine, index: int) -> Scenario | None:
     """How machine ``index`` runs on its own (None: it does not)."""
     from focas_net.sim.nc import DEFAULT_SCENARIO, fleet_seed
+    from focas_net.sim.nc.scenario import MAX_PARTS, MAX_SEED
 
     run = bool(getattr(args, "run", False))
     seed: int | None = getattr(args, "seed", None)
     parts: int | None = getattr(args, "run_parts", None)
+    for option, value, high in (("--seed", seed, MAX_SEED), ("--run-parts", parts, MAX_PARTS)):
+        if value is not None and value > high:  # as a machine file's [run] refuses it
+            raise ConfigError(f"{option} {value}: outside 0..{high}")
     downtime: float = getattr(args, "downtime", 1.0)
     base = machine.scenario
     if base is None:

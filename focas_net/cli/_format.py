@@ -19,7 +19,6 @@ from typing import Any, Final
 from focas_net._typed import switch, typed_number, whole_number
 from focas_net.errors import EW, ChunkedWriteError, CncError, ew_info, ew_label
 from focas_net.protocol import (
-    ALARM_TYPE_NAMES,
     STATUS_FIELDS,
     ActiveAlarm,
     AlarmHistoryEntry,
@@ -32,6 +31,7 @@ from focas_net.protocol import (
     SysInfo,
     alarm_code,
     alarm_text,
+    alarm_type_of,
     status_labels,
 )
 from focas_net.protocol import field_label as field_name
@@ -265,15 +265,10 @@ def history_dict(entry: AlarmHistoryEntry) -> dict[str, Any]:
 
 _ALARM_RE: Final = re.compile(r"^([A-Za-z]{2})(\d{1,5})$")
 _ALARM_NUMERIC_RE: Final = re.compile(r"^(\d{1,2}):(\d{1,5})$")
-_TYPES_BY_NAME: Final[dict[str, int]] = {name: t for t, name in ALARM_TYPE_NAMES.items()}
 
 
 def _alarm_type(prefix: str) -> int:
-    t = _TYPES_BY_NAME.get(prefix.upper())
-    if t is None:
-        known = " ".join(sorted(_TYPES_BY_NAME, key=_TYPES_BY_NAME.__getitem__))
-        raise ValueError(f"unknown alarm type {prefix!r} (known: {known})")
-    return t
+    return alarm_type_of(prefix)  # the words of every front end
 
 
 def parse_alarm(text: str) -> tuple[int, int]:

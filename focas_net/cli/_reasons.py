@@ -17,6 +17,7 @@ from typing import Final
 
 from focas_net.errors import EW, CncError
 from focas_net.server.faults import fault_refusal
+from focas_net.sim.nc import ProgramError, parse_program
 
 from . import _format as fmt
 
@@ -192,13 +193,26 @@ def _target(args: argparse.Namespace) -> str:
     return f"O{int(text):04d}" if text.isdigit() else str(args.target)
 
 
+def _not_one_program(args: argparse.Namespace) -> str:
+    """Why a CNC answered EW_DATA to the text of ``program load FILE``: the reason the
+    machine's program store gives for the same text (a character that is not printable ASCII
+    on line n, a second program, no O line ...), else what a program must be."""
+    try:
+        parse_program(Path(args.target).read_text("ascii", errors="replace"))
+    except ProgramError as exc:
+        return f"{args.target}: {exc}"
+    except OSError:
+        pass
+    return (
+        f"{args.target} is not one part program: it must hold one program, whose first block "
+        "is the O line with the program number (e.g. O1000)"
+    )
+
+
 _RESET_FIRST: Final = "(focas-net sim cycle reset ends it)"
 _PROGRAM_LOAD: Final[Table] = {
     EW.REJECT: lambda a: f"{_loaded(a)} is already stored: give --replace to replace it",
-    EW.DATA: lambda a: (
-        f"{a.target} is not one part program: it must hold one program, whose first block "
-        "is the O line with the program number (e.g. O1000)"
-    ),
+    EW.DATA: _not_one_program,
     EW.NUMBER: lambda a: f"the number of {_loaded(a)} is outside the program store's range",
     EW.OVRFLOW: lambda a: "the program store is full (focas-net program delete N makes room)",
     EW.BUSY: lambda a: f"{_loaded(a)} is being executed {_RESET_FIRST}",

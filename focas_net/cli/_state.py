@@ -39,6 +39,13 @@ def state_folder_of(args: argparse.Namespace) -> str | None:
     return None if folder is None else str(folder)
 
 
+def _named_by(args: argparse.Namespace) -> str:
+    """What named the state folder, for messages: ``--state``, or the machine file's key."""
+    if getattr(args, "state", None) is not None:
+        return "--state"
+    return f"{args.machine}: machine.state"
+
+
 def load_state(
     args: argparse.Namespace, directory: str | None, machine: Machine, states: list[Kept]
 ) -> Machine:
@@ -55,10 +62,10 @@ def load_state(
             check_folder(directory)  # once, before the first machine: writable at all?
         machine = state.load(lambda: machine)
     except StateError as exc:
-        raise ValueError(f"--state: {exc}") from None
+        raise ValueError(f"{_named_by(args)}: {exc}") from None
     except OSError as exc:
         where = exc.filename if exc.filename is not None else directory
-        raise ValueError(f"--state {directory}: {where}: {exc.strerror or exc}") from None
+        raise ValueError(f"{_named_by(args)} {directory}: {where}: {exc.strerror or exc}") from None
     states.append((state, machine))
     return machine
 

@@ -124,6 +124,19 @@ def _ready_line(config: GatewayConfig, part: tuple[int, int] | None, sinks: list
     return f"{PROG}: {'; '.join(words)}\n"
 
 
+def _output_name(config: GatewayConfig, output: object) -> str:
+    """The output ``output`` is, as its error names it: ``the OPC UA server on opc.tcp://...``
+    or ``the MQTT publisher to HOST:PORT``."""
+    if config.opcua is not None:
+        from focas_net.gateway.opcua import OpcUaSink  # (imported already: the output is made)
+
+        if isinstance(output, OpcUaSink):
+            return f"the OPC UA server on {config.opcua.endpoint}"
+    if config.mqtt is not None:
+        return f"the MQTT publisher to {config.mqtt.host}:{config.mqtt.port}"
+    return "an output"
+
+
 def _listening(endpoint: str, sinks: list[Sink]) -> str:
     """``endpoint`` with the port its OPC UA server listens on (port 0 asks for any free
     one, which the ready line must name)."""
@@ -142,21 +155,23 @@ async def _serve(config: GatewayConfig, part: tuple[int, int] | None) -> int:
     gateway = Gateway(config)
     with stopping_on_signals(stop.set):
         async with AsyncExitStack() as stack:
+            what = "an output"
             try:
                 for output in outputs(config, gateway.writer):
+                    what = _output_name(config, output)
                     gateway.add_sink(await stack.enter_async_context(output))
             except ValueError as exc:  # (ConfigError too: a missing extra)
                 print_error(" ".join(str(exc).split()), _ERROR_PREFIX)
                 await gateway.poller.aclose()
                 return EXIT_USAGE
             except OSError as exc:
-                print_error(f"an output cannot start: {os_reason(exc)}", _ERROR_PREFIX)
+                print_error(f"{what} cannot start: {os_reason(exc)}", _ERROR_PREFIX)
                 await gateway.poller.aclose()
                 return EXIT_CNC
             except Exception as exc:  # an output's own failure to start, as one line
                 _log.debug("an output failed to start", exc_info=True)
                 text = " ".join(str(exc).split()) or type(exc).__name__
-                print_error(f"an output cannot start: {text}", _ERROR_PREFIX)
+                print_error(f"{what} cannot start: {text}", _ERROR_PREFIX)
                 await gateway.poller.aclose()
                 return EXIT_CNC
             async with gateway:

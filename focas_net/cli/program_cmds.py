@@ -46,8 +46,8 @@ def _text_of(target: str | None) -> tuple[str, str]:
         raw = path.read_bytes()
     except OSError as exc:
         raise ValueError(f"program load: cannot read {target!r}: {exc.strerror or exc}") from None
-    try:
-        return raw.decode("ascii"), target
+    try:  # a UTF-8 byte-order mark (Windows Notepad) is read as a machine file reads it
+        return raw.removeprefix(b"\xef\xbb\xbf").decode("ascii"), target
     except UnicodeDecodeError as exc:
         raise ValueError(
             f"program load: {target!r} is not ASCII text (byte {exc.start}); "
@@ -111,7 +111,10 @@ def _show(number: int) -> PackedOnly:
 
 def _load(text: str, name: str, replace: bool) -> PackedOnly:
     async def go(cnc: FocasClient) -> Output:
-        number = await cnc.write_program(text, replace=replace)
+        try:  # the text is checked and encoded before anything is sent
+            number = await cnc.write_program(text, replace=replace)
+        except ValueError as exc:
+            raise ValueError(f"program load: {name!r}: {exc}") from None
         verb = "stored or replaced" if replace else "stored"
         return Output({"number": number, "file": name}, f"{verb} O{number:04d} from {name}")
 

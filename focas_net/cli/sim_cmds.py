@@ -17,7 +17,7 @@ from typing import Any, Final
 from focas_net.client import FocasClient
 from focas_net.errors import CncError, FocasError
 from focas_net.protocol import MAX_ALARM_MSG, ArmedFault, FaultKind, FaultScope
-from focas_net.server.faults import fault_refusal
+from focas_net.server.faults import fault_arg_text, fault_refusal
 
 from . import _format as fmt
 from ._run import Output, PackedOnly
@@ -264,8 +264,5 @@ def faults(args: argparse.Namespace) -> PackedOnly:
 
 
 def _arg_text(kind: str, arg: int) -> str:
-    if kind == "delay":
-        return f"{arg} ms"
-    if kind == "error":
-        return fmt.ew_text(arg)
-    return "-"
+    known = FaultKind.__members__.get(kind.upper())
+    return fault_arg_text(int(known), arg) if known is not None else "-"

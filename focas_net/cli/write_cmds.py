@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import argparse
 
+from focas_net._typed import NO_PASSWORD_NOTE
 from focas_net.client import CncClient, FocasClient
 from focas_net.client._failures import command_text
 from focas_net.errors import AccessDeniedError, CncError
@@ -150,8 +151,7 @@ def unlock(args: argparse.Namespace) -> PackedOnly:
             )
         return Output(
             {"unlocked": True, "password_set": False},
-            "the CNC has no parameter password: it accepts any, and a parameter write needs "
-            "no unlock (it needs MDI mode and PWE on, and a machine that is not read-only)",
+            NO_PASSWORD_NOTE,
         )
 
     return PackedOnly(go, "FOCAS/2 has no cnc_wrunlockparam")

@@ -24,6 +24,7 @@ from decimal import Decimal
 
 from focas_net.errors import ChunkedWriteError
 
+from .._typed import typed_number
 from ..protocol import ParamValue, PmcArea
 from ._lifecycle import Lifecycle
 from ._locks import KeyedLocks
@@ -261,10 +262,20 @@ class CompositeCalls(Lifecycle):
         not a number), naming it, before the write is sent.
         """
         check_item(number, axis, "parameter")
-        if width is not None and width not in (1, 2, 4, REAL_WIDTH):
-            raise ValueError(f"parameter width must be 1, 2, 4 or 8 (real), got {width!r}")
+        if width is not None and (
+            isinstance(width, bool)
+            or not isinstance(width, int)
+            or width not in (1, 2, 4, REAL_WIDTH)
+        ):
+            error = ValueError if type(width) is int else TypeError
+            raise error(f"parameter width must be 1, 2, 4 or 8 (real), got {width!r}")
         if isinstance(value, bool) or not isinstance(value, int | Decimal | str):
             raise TypeError(f"parameter {number}: a value is a number or its text, got {value!r}")
+        if isinstance(value, str):
+            try:  # text that is no number at all, in the words of every front end
+                typed_number(value)
+            except ValueError as exc:
+                raise ValueError(f"parameter {number}: {exc}") from None
         p = self._path_of(path)
         await self._write_param(number, value, axis, width, self._deadline(timeout), p)
 

@@ -36,6 +36,13 @@ def clock_of(loop: asyncio.AbstractEventLoop) -> Callable[[], float]:
     return loop.time
 
 
+def _callback(what: str, callback: object) -> StateCallback:
+    """A state callback: anything callable; TypeError, naming ``what``, otherwise."""
+    if not callable(callback):
+        raise TypeError(f"{what} must be callable with the new ClientState, got {callback!r}")
+    return callback
+
+
 class Lifecycle:
     """The state, the reconnect and the deadlines of a client (see the module docstring).
 
@@ -73,7 +80,7 @@ class Lifecycle:
         self._state = ClientState.DISCONNECTED
         self._callbacks: list[StateCallback] = []
         if on_state_change is not None:
-            self._callbacks.append(on_state_change)
+            self._callbacks.append(_callback("on_state_change", on_state_change))
         self._loop: asyncio.AbstractEventLoop | None = None
         self._clock: Callable[[], float] | None = None  # the loop's clock, once connected
         #: Set while a call need not wait: connected, or no reconnect under way.
@@ -117,10 +124,14 @@ class Lifecycle:
 
     def add_state_callback(self, callback: StateCallback) -> None:
         """Call ``callback(state)`` on every state change (exceptions are logged)."""
-        self._callbacks.append(callback)
+        self._callbacks.append(_callback("callback", callback))
 
     def remove_state_callback(self, callback: StateCallback) -> None:
-        self._callbacks.remove(callback)
+        """Stop calling ``callback``: ValueError, naming it, when it was never added."""
+        try:
+            self._callbacks.remove(callback)
+        except ValueError:
+            raise ValueError(f"{callback!r} is not a state callback of this client") from None
 
     def _bind_loop(self) -> None:
         """Serve the running loop from now on: calls and deadlines use it and its clock."""

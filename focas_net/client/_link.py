@@ -31,6 +31,7 @@ from focas_net.errors import (
 from ..protocol import COMMANDS, CommandSpec, EwReply, Password
 from ..protocol import Command as C
 from ._composite import CompositeCalls
+from ._values import check_int
 from .connection import MAX_IN_FLIGHT, Connection, NotSentError, _Pending, open_connection
 from .reconnect import ClientState, ReconnectPolicy, StateCallback
 
@@ -67,6 +68,12 @@ class Link(CompositeCalls):
         on_state_change: StateCallback | None,
         path: int = 1,
     ) -> None:
+        check_int("max_in_flight", max_in_flight, -(2**63), 2**63)  # a TypeError, naming it
+        check_int("max_frame", max_frame, 4, 0xFFFF_FFFF)
+        if ssl is not None and not isinstance(ssl, _ssl.SSLContext):
+            raise TypeError(f"ssl must be an ssl.SSLContext or None, got {ssl!r}")
+        if server_hostname is not None and not isinstance(server_hostname, str):
+            raise TypeError(f"server_hostname must be a str or None, got {server_hostname!r}")
         if not 1 <= max_in_flight <= MAX_IN_FLIGHT:
             raise ValueError(
                 f"max_in_flight must be within 1..{MAX_IN_FLIGHT}, got {max_in_flight}"

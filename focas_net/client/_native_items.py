@@ -122,9 +122,10 @@ def text(raw: bytes | str) -> str:
 
 
 def axis_name(entry: bytes) -> str:
-    """The axis name of a 4-byte name entry (its first character; the suffix only tells
-    which position a display shows)."""
-    return entry[:1].replace(b"\x00", b"").decode("latin-1").strip()
+    """The axis name of a 4-byte name entry as the control's screen shows it: the name
+    character and its suffix (parameter 3131's subscript: ``X`` and ``1`` give ``X1``, the
+    name the packed protocol gives), a NUL or a space in either left out."""
+    return entry[:2].replace(b"\x00", b"").decode("latin-1").replace(" ", "")
 
 
 def signed(raw: int, width: int) -> int:
@@ -132,6 +133,10 @@ def signed(raw: int, width: int) -> int:
     bits = 8 * width
     raw &= (1 << bits) - 1
     return raw - (1 << bits) if raw >= 1 << (bits - 1) else raw
+
+
+def _bytes(size: int) -> str:
+    return "1 byte" if size == 1 else f"{size} bytes"
 
 
 class NativeItems(NativeLink):
@@ -257,7 +262,7 @@ class NativeItems(NativeLink):
         if width is not None and width != size:
             self._param_widths.pop(number, None)
             raise CncError.from_ew(
-                EW.LENGTH, f"cnc_wrparam: {number} is {size} bytes wide, not {width}"
+                EW.LENGTH, f"cnc_wrparam: {number} is {_bytes(size)} wide, not {width}"
             )
         return ptype, size
 
@@ -304,7 +309,7 @@ class NativeItems(NativeLink):
                     # answers EW_LENGTH, nothing written (the set cannot write a real one)
                     raise CncError.from_ew(
                         EW.LENGTH,
-                        f"cnc_wrparam: {number} is {size} bytes wide, not {REAL_WIDTH} (a "
+                        f"cnc_wrparam: {number} is {_bytes(size)} wide, not {REAL_WIDTH} (a "
                         "value with decimals)",
                     )
                 # a parameter the information names: refused as the packed client does

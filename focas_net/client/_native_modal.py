@@ -173,7 +173,9 @@ class NativeModal(NativeLink):
         if address is None:
             kind = -2
         else:
-            if not isinstance(address, str) or len(address) != 1 or address not in _TYPE_ADDRESSES:
+            if not isinstance(address, str):
+                raise TypeError(f"address must be a letter (str) or None, got {address!r}")
+            if len(address) != 1 or address not in _TYPE_ADDRESSES:
                 raise ValueError(f"address {address!r} is not one of {', '.join(_TYPE_ADDRESSES)}")
             kind = 100 + _TYPE_ADDRESSES.index(address)
         asked = "every address" if address is None else f"address {address}"

@@ -37,7 +37,7 @@ from ..native import (
 )
 from ._native_items import decoded, signed
 from ._native_link import Handle, NativeLink
-from ._values import check_axis
+from ._values import check_axis, check_int
 
 __all__ = ["SpindleMeter"]
 
@@ -136,8 +136,7 @@ class NativeSpindles(NativeLink):
     ) -> tuple[SpindleMeter, ...]:
         """``cnc_rdspmeter``: the name, load meter (``kind`` 0) and motor speed (1) of every
         spindle of the path (-1: both figures)."""
-        if isinstance(kind, bool) or kind not in (-1, 0, 1):
-            raise ValueError(f"kind {kind!r} is not -1, 0 or 1")
+        check_int("kind", kind, -1, 1)
         p = self._path_of(path)
         deadline = self._deadline(timeout)
         handle = self._handle_now() or await self._handle_for(deadline)
@@ -180,7 +179,11 @@ class NativeSpindles(NativeLink):
         """0x56 ``figure`` of every axis of the path: the loop gain in 0.01/s
         (``cnc_rdloopgain``), the load meter in percent (``cnc_rdcurrent``, the figure
         ``cnc_rdsvmeter`` reads), or the motor speed in min^-1 (``cnc_rdsrvspeed``)."""
-        if isinstance(figure, bool) or figure not in _SERVO_CALLS:
+        if isinstance(figure, bool) or not isinstance(figure, int):
+            raise TypeError(
+                f"servo figure must be 0 (loop gain), 1 (load) or 2 (speed), got {figure!r}"
+            )
+        if figure not in _SERVO_CALLS:
             raise ValueError(f"servo figure {figure!r} is not 0 (loop gain), 1 (load) or 2 (speed)")
         figure = ServoFigure(figure)
         p = self._path_of(path)

@@ -22,10 +22,10 @@ from .._typed import macro_unfit, typed_number, whole_number
 from ..protocol import (
     MAX_HISTORY_DEPTH,
     MAX_REAL_DECIMALS,
-    AlarmType,
     ParamDataType,
     PmcArea,
     PositionKind,
+    alarm_type_of,
 )
 
 #: The public name of this module (exported by ``focas_net.client``); the checks and the
@@ -189,7 +189,7 @@ def alarm_type_number(alm_type: object, *, every: bool = False) -> int:
     """An alarm type number from its name (``"PS"``), an :class:`AlarmType` or 0..31 (and -1,
     every type, with ``every``)."""
     if isinstance(alm_type, str):
-        return number_of_name(AlarmType, alm_type, "alarm type", "0..31")
+        return alarm_type_of(alm_type)
     return check_int("alarm type", alm_type, -1 if every else 0, _MAX_ALARM_TYPE)
 
 

@@ -25,6 +25,7 @@ from focas_net.errors import CncError, FocasError
 
 from ..protocol import StatusInfo
 from ._started import StartedCall
+from ._values import check_timeout
 from .client import FocasClient
 from .native import DynamicData, NativeClient
 
@@ -70,7 +71,19 @@ async def read_status_all(
     reserved until its late answer; a native call still queued is dropped from its queue).
     An exception that is not a :class:`FocasError` is raised, after the same clean-up.
     """
+    _check_clients(clients, "start_read_status", "a FocasClient or a NativeClient", timeout)
     return await _all(clients, lambda client: client.start_read_status(timeout=timeout))
+
+
+def _check_clients(clients: object, method: str, kinds: str, timeout: object) -> None:
+    """``clients`` is a sequence of clients that have ``method``, and ``timeout`` a call's
+    timeout: TypeError or ValueError naming what was given otherwise, before any read."""
+    check_timeout(timeout)
+    if isinstance(clients, str | bytes) or not isinstance(clients, Sequence):
+        raise TypeError(f"clients must be a list of clients, got {clients!r}")
+    for i, client in enumerate(clients):
+        if not callable(getattr(client, method, None)):
+            raise TypeError(f"clients[{i}] must be {kinds}, got {client!r}")
 
 
 async def read_dynamic_all(
@@ -85,6 +98,7 @@ async def read_dynamic_all(
     before anything is sent); one read failing does not touch the others. Cancelling the
     caller drops the reads still queued and ignores the answers of those sent.
     """
+    _check_clients(clients, "start_read_dynamic", "a NativeClient", timeout)
     return await _all(clients, lambda client: client.start_read_dynamic(axis, timeout=timeout))
 
 
@@ -116,6 +130,7 @@ async def read_status_paths_all(
     one frame of blocks with each path's path word on a native one (within ``max_blocks``).
     Cancelling the caller gives up every read still unanswered, as :func:`read_status_all`.
     """
+    _check_clients(clients, "start_read_status", "a FocasClient or a NativeClient", timeout)
     counts = await asyncio.gather(
         *(_path_count(client, timeout) for client in clients), return_exceptions=True
     )

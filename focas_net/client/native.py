@@ -278,7 +278,8 @@ class NativeClient(
     async def read_sysinfo(self, *, timeout: float | None = None) -> SysInfo:
         """``cnc_sysinfo``: ODBSYS as the CNC answered it while connecting (nothing is sent,
         like FANUC's library)."""
-        handle = self._handle_now() or await self._handle_for(self._deadline(timeout))
+        deadline = self._deadline(timeout)  # checked even when nothing is sent
+        handle = self._handle_now() or await self._handle_for(deadline)
         info = handle.sysinfo
         if info is None:
             raise PayloadError("cnc_sysinfo: the connect-time system information is missing")
@@ -295,7 +296,8 @@ class NativeClient(
         """``cnc_getpath``: the client's :attr:`path` (what calls given no ``path=`` read) and
         the number of paths the open answer announced; nothing is sent, as with FANUC's
         library."""
-        handle = self._handle_now() or await self._handle_for(self._deadline(timeout))
+        deadline = self._deadline(timeout)  # checked even when nothing is sent
+        handle = self._handle_now() or await self._handle_for(deadline)
         return Paths(self.path, handle.paths)
 
     @property

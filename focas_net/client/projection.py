@@ -36,6 +36,7 @@ from typing import Final, Self
 from focas_net.errors import FocasError, PayloadError, ProtocolError
 
 from ..protocol import ActiveAlarm, AlarmHistoryEntry
+from ._values import check_timeout
 from .cnc import CncClient
 from .reconnect import ClientState
 
@@ -60,6 +61,20 @@ class ProjectionMode(enum.Enum):
 
     ACTIVE = "active"  #: the active alarm list only
     ACTIVE_PLUS_HISTORY = "active+history"  #: the active list and the alarm history
+
+
+def _mode(mode: object) -> ProjectionMode:
+    """A :class:`ProjectionMode` given as a member or its value (``"active"``,
+    ``"active+history"``): ValueError naming the modes for other text, TypeError otherwise."""
+    if isinstance(mode, ProjectionMode):
+        return mode
+    if isinstance(mode, str):
+        try:
+            return ProjectionMode(mode.strip().lower())
+        except ValueError:
+            modes = ", ".join(repr(m.value) for m in ProjectionMode)
+            raise ValueError(f"unknown projection mode {mode!r} (one of {modes})") from None
+    raise TypeError(f"mode must be a ProjectionMode, got {mode!r}")
 
 
 @dataclass(frozen=True, slots=True)
@@ -116,7 +131,7 @@ class AlarmProjection:
     def __init__(
         self,
         client: CncClient,
-        mode: ProjectionMode = ProjectionMode.ACTIVE,
+        mode: ProjectionMode | str = ProjectionMode.ACTIVE,
         interval: float = 1.0,
         depth: int = 50,
         *,
@@ -124,6 +139,18 @@ class AlarmProjection:
         timeout: float | None = None,
         max_failures: int | None = None,
     ) -> None:
+        self.mode = _mode(mode)
+        if isinstance(interval, bool) or not isinstance(interval, int | float):
+            raise TypeError(f"interval must be a number of seconds, got {interval!r}")
+        if isinstance(depth, bool) or not isinstance(depth, int):
+            raise TypeError(f"depth must be an integer, got {depth!r}")
+        if max_failures is not None and (
+            isinstance(max_failures, bool) or not isinstance(max_failures, int)
+        ):
+            raise TypeError(f"max_failures must be an integer or None, got {max_failures!r}")
+        if not isinstance(replay_history, bool):
+            raise TypeError(f"replay_history must be True or False, got {replay_history!r}")
+        check_timeout(timeout)
         if not 0 < interval < math.inf:
             raise ValueError(
                 f"interval must be a positive, finite number of seconds, got {interval}"
@@ -133,7 +160,6 @@ class AlarmProjection:
         if not 1 <= depth <= 250:
             raise ValueError(f"depth must be within 1..250, got {depth}")
         self.client = client
-        self.mode = mode
         self.interval = interval
         self.depth = depth
         self.timeout = timeout

@@ -49,14 +49,29 @@ class ReconnectPolicy:
     stable_after: float = 5.0
 
     def __post_init__(self) -> None:
-        if self.initial_delay < 0 or self.max_delay < 0:
-            raise ValueError("reconnect delays must not be negative")
+        for what in ("initial_delay", "max_delay", "factor", "jitter", "stable_after"):
+            value = getattr(self, what)
+            if isinstance(value, bool) or not isinstance(value, int | float):
+                raise TypeError(f"{what} must be a number, got {value!r}")
+            if value != value:  # NaN
+                raise ValueError(f"{what} must be a number, got {value!r}")
+        for what in ("initial_delay", "factor"):
+            if getattr(self, what) == float("inf"):
+                raise ValueError(f"{what} must be finite, got {getattr(self, what)!r}")
+        for what in ("initial_delay", "max_delay"):
+            if getattr(self, what) < 0:
+                raise ValueError(
+                    f"reconnect delays must not be negative: {what} {getattr(self, what)!r}"
+                )
+        attempts = self.max_attempts
+        if attempts is not None and (isinstance(attempts, bool) or not isinstance(attempts, int)):
+            raise TypeError(f"max_attempts must be an integer or None, got {attempts!r}")
         if self.factor < 1:
             raise ValueError(f"factor must be at least 1, got {self.factor}")
         if not 0 <= self.jitter <= 1:
             raise ValueError(f"jitter must be within 0..1, got {self.jitter}")
         if self.max_attempts is not None and self.max_attempts < 1:
-            raise ValueError("max_attempts must be at least 1 (or None)")
+            raise ValueError(f"max_attempts must be at least 1 (or None), got {self.max_attempts}")
         if not self.stable_after >= 0:  # also refuses NaN
             raise ValueError(f"stable_after must not be negative, got {self.stable_after}")
 

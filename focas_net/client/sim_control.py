@@ -54,7 +54,9 @@ class PanelSwitches:
 def _switch(what: str, value: bool | None) -> int:
     if value is None:
         return _UNCHANGED
-    if not isinstance(value, bool | int) or value not in (0, 1):
+    if not isinstance(value, int):
+        raise TypeError(f"{what} must be True, False or None (unchanged), got {value!r}")
+    if value not in (0, 1):
         raise ValueError(f"{what} must be True, False or None (unchanged), got {value!r}")
     return int(value)
 
@@ -240,6 +242,9 @@ class SimControl:
         range answer EW_DATA), as it does for every front end.
         """
         k, s = _fault_number(FaultKind, kind, "kind"), _fault_number(FaultScope, scope, "scope")
+        for what, value in (("count", count), ("arg", arg)):
+            if isinstance(value, bool) or not isinstance(value, int):
+                raise TypeError(f"{what} must be an integer, got {value!r}")
         payload = _INJECT_FAULT.request.encode(InjectFault(k, s, count, arg))
         client = self._client
         await client._request(_INJECT_FAULT, payload, timeout)

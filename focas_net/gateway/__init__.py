@@ -4,6 +4,7 @@ see ``docs/gateway.md``."""
 from ._keys import ConfigError
 from .config import (
     MAX_FLEET,
+    MIN_INTERVAL,
     GatewayConfig,
     GroupIntervals,
     MachineConfig,
@@ -39,6 +40,7 @@ __all__ = [
     "EXTRA",
     "ITEMS",
     "MAX_FLEET",
+    "MIN_INTERVAL",
     "AlarmChange",
     "ConfigError",
     "GatedWriter",

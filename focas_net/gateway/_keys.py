@@ -95,14 +95,17 @@ class At:
             self.expected(value, f"an integer {low}..{high}")
         return value
 
-    def seconds(self, value: object) -> float:
-        """``value`` as a finite number of seconds above 0."""
+    def seconds(self, value: object, least: float = 0.0) -> float:
+        """``value`` as a finite number of seconds above 0, and at ``least`` that when given."""
         if (
             isinstance(value, bool)
             or not isinstance(value, int | float)
             or not 0 < value < math.inf
+            or value < least
         ):
-            self.expected(value, "a number of seconds > 0")
+            self.expected(
+                value, f"a number of seconds >= {least:g}" if least else "a number of seconds > 0"
+            )
         return float(value)
 
     def number(self, value: object, low: float = 0.0) -> float:
@@ -133,10 +136,11 @@ class At:
             self.expected(value, " or ".join(repr(c) for c in choices))
         return value
 
-    def checked(self, value: object, check: Any, what: str) -> Any:
+    def checked(self, value: object, check: Any, what: str, *, why: bool = True) -> Any:
         """``check(value)``, a check of the project's that raises ``ValueError`` or
-        ``TypeError``: its refusal as :class:`ConfigError` of this place."""
+        ``TypeError``: its refusal as :class:`ConfigError` of this place, with the check's own
+        reason after ``what`` unless ``why`` is false (a range that ``what`` already says)."""
         try:
             return check(value)
         except (TypeError, ValueError) as exc:
-            self.fail(f"got {_typed(value)}; expected {what} ({exc})")
+            self.fail(f"got {_typed(value)}; expected {what}" + (f" ({exc})" if why else ""))

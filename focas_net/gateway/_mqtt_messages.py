@@ -40,7 +40,7 @@ from typing import Any, Final, Literal
 
 from focas_net.errors import OPCUA_BAD_COMMUNICATION_ERROR, OPCUA_GOOD
 
-from .model import ITEMS, AlarmChange, Item, MachineShape, Sample, Value
+from .model import ITEMS, AlarmChange, Item, MachineShape, Sample, Scope, Value
 
 __all__ = [
     "ActiveAlarms",
@@ -309,8 +309,36 @@ class Publication:
     # --- the sink's calls ---------------------------------------------------------------------
 
     def described(self, shape: MachineShape) -> list[Message]:
-        """The machine's ``$model``, retained."""
-        return self._kept(self._model(shape))
+        """The machine's ``$model``, retained; when the machine changed, an empty retained
+        message (which deletes the broker's) on each topic it published that its new shape has
+        no more: the values of an axis, a spindle or a path it lost, and a lost path's alarm
+        list, so that no subscriber is shown a value of what is gone."""
+        return self._forgotten(shape) + self._kept(self._model(shape))
+
+    def _forgotten(self, shape: MachineShape) -> list[Message]:
+        machine = shape.name
+        paths = {p.number: p for p in shape.paths}
+        gone: list[str] = []
+        for (m, path, name, key), topic in list(self._topics.items()):
+            if m != machine or path == 0:
+                continue
+            now = paths.get(path)
+            scope = ITEMS[name].scope
+            if (
+                now is None
+                or (scope is Scope.AXIS and key not in now.axes)
+                or (scope is Scope.SPINDLE and key not in now.spindles)
+            ):
+                gone.append(topic)
+                del self._topics[(m, path, name, key)]
+        for path in [p for p in self._active.get(machine, {}) if p not in paths]:
+            gone.append(f"{self.path_topic(machine, path)}/alarms/active")
+            del self._active[machine][path]
+        published = self._published.get(machine, {})
+        for topic in gone:
+            published.pop(topic, None)
+            self._retained.pop(topic, None)
+        return [Message(topic, b"", True) for topic in gone]
 
     def _model(self, shape: MachineShape) -> list[Message]:
         base = self.machine_topic(shape.name)

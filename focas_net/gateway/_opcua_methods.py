@@ -14,7 +14,7 @@ from asyncua import Node, ua
 from focas_net.errors import FocasError, OpcUaStatus
 from focas_net.gateway.model import Writer
 
-__all__ = ["add_write_methods", "refusal"]
+__all__ = ["add_write_methods", "arguments", "refusal"]
 
 log = logging.getLogger(__name__)
 
@@ -46,6 +46,47 @@ async def _run(call: Callable[[], Awaitable[None]]) -> Result:
     return []
 
 
+_V = ua.VariantType
+#: The variant types an argument of each data type takes: any integer for an Int32 (a client
+#: may send the number as Int16 or UInt16), an integer or a float for a Double, a String.
+_TAKES: Final[dict[int, frozenset[ua.VariantType]]] = {
+    ua.ObjectIds.Int32: frozenset(
+        {_V.SByte, _V.Byte, _V.Int16, _V.UInt16, _V.Int32, _V.UInt32, _V.Int64, _V.UInt64}
+    ),
+    ua.ObjectIds.Double: frozenset(
+        {_V.SByte, _V.Byte, _V.Int16, _V.UInt16, _V.Int32, _V.UInt32, _V.Int64, _V.UInt64}
+        | {_V.Float, _V.Double}
+    ),
+    ua.ObjectIds.String: frozenset({_V.String}),
+}
+
+
+def arguments(given: tuple[Any, ...], declared: list[ua.Argument]) -> list[Any] | Result:
+    """The values of the call's input arguments ``given`` (variants) against the method's
+    ``declared`` ones; or, for a call no write may come of, its result: BadArgumentsMissing,
+    BadTooManyArguments, or BadInvalidArgument with BadTypeMismatch for each argument of
+    another type (a Boolean, text for a number, an array), as OPC UA's Call service has it."""
+    if len(given) < len(declared):
+        return ua.StatusCode(ua.StatusCodes.BadArgumentsMissing)
+    if len(given) > len(declared):
+        return ua.StatusCode(ua.StatusCodes.BadTooManyArguments)
+    results = [
+        ua.StatusCode()
+        if isinstance(v, ua.Variant)
+        and v.VariantType in _TAKES[a.DataType.Identifier]
+        and not v.is_array
+        and v.Value is not None
+        else ua.StatusCode(ua.StatusCodes.BadTypeMismatch)
+        for v, a in zip(given, declared, strict=True)
+    ]
+    if all(r.is_good() for r in results):
+        return [v.Value for v in given]
+    bad = ua.CallMethodResult()
+    bad.StatusCode = _INVALID
+    bad.InputArgumentResults = results
+    return bad
+
+
 def _arg(name: str, dtype: int, text: str) -> ua.Argument:
     return ua.Argument(
         Name=name, DataType=ua.NodeId(dtype), ValueRank=-1, Description=ua.LocalizedText(text)
@@ -54,26 +95,29 @@ def _arg(name: str, dtype: int, text: str) -> ua.Argument:
 
 async def add_write_methods(root: Node, ns: int, writer: Writer, machine: str) -> None:
     """Add the three methods to ``root``, the object of ``machine`` (node ids
-    ``<root>/WriteMacro`` ... in namespace ``ns``)."""
+    ``<root>/WriteMacro`` ... in namespace ``ns``). A call's arguments are checked against
+    the declared ones first (:func:`arguments`), then by the writer's gates and checks."""
 
-    async def write_macro(parent: Any, number: Any, value: Any, path: Any) -> Result:
-        async def call() -> None:
-            decimal = Decimal(repr(float(value.Value)))
-            await writer.write_macro(machine, int(number.Value), decimal, int(path.Value))
+    def method(
+        declared: list[ua.Argument], write: Callable[..., Awaitable[None]]
+    ) -> Callable[..., Awaitable[Result]]:
+        async def called(parent: Any, *given: Any) -> Result:
+            values = arguments(given, declared)
+            if not isinstance(values, list):
+                log.info("opcua: a write was refused: its arguments %r", given)
+                return values
+            return await _run(lambda: write(*values))
 
-        return await _run(call)
+        return called
 
-    async def write_param(parent: Any, number: Any, axis: Any, value: Any) -> Result:
-        async def call() -> None:
-            await writer.write_param(machine, int(number.Value), int(value.Value), int(axis.Value))
+    async def write_macro(number: int, value: float, path: int) -> None:
+        await writer.write_macro(machine, number, Decimal(repr(float(value))), path)
 
-        return await _run(call)
+    async def write_param(number: int, axis: int, value: int) -> None:
+        await writer.write_param(machine, number, value, axis)
 
-    async def write_pmc(parent: Any, area: Any, address: Any, value: Any) -> Result:
-        async def call() -> None:
-            await writer.write_pmc(machine, str(area.Value), int(address.Value), int(value.Value))
-
-        return await _run(call)
+    async def write_pmc(area: str, address: int, value: int) -> None:
+        await writer.write_pmc(machine, area, address, value)
 
     i32, dbl, txt = ua.ObjectIds.Int32, ua.ObjectIds.Double, ua.ObjectIds.String
     methods: tuple[tuple[str, Any, list[ua.Argument]], ...] = (
@@ -105,6 +149,6 @@ async def add_write_methods(root: Node, ns: int, writer: Writer, machine: str) -
             ],
         ),
     )
-    for name, func, args in methods:
+    for name, write, args in methods:
         nid = ua.NodeId(f"{root.nodeid.Identifier}/{name}", ns)
-        await root.add_method(nid, ua.QualifiedName(name, ns), func, args, [])
+        await root.add_method(nid, ua.QualifiedName(name, ns), method(args, write), args, [])

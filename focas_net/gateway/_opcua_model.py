@@ -120,32 +120,33 @@ def _tool_id(value: Value) -> Value:
     return None if value is None else max(0, int(value))
 
 
-def axis_names(shape: MachineShape) -> dict[tuple[int, str], str]:
-    """The browse name of each ``(path, axis)`` in the machine's ``CncAxisList``: the axis's
-    name, with the path's number appended when another path has an axis of that name too (a
-    2-path lathe's X of path 2 is ``X2``, as FANUC's screens name it)."""
+def _unique(names: list[tuple[int, str]]) -> dict[tuple[int, str], str]:
+    """Each ``(path, name)`` as its browse name in a list of the whole machine: the name, or
+    when another path has that name too, the name with the path's number: appended to a
+    name without a subscript (a 2-path lathe's X of path 2 is ``X2``, as FANUC's screens name
+    it), after ``_P`` to one that ends in a digit already (the S1 of path 2 is ``S1_P2``, never
+    ``S12``, which reads as spindle 12)."""
     counts: dict[str, int] = {}
-    for p in shape.paths:
-        for a in p.axes:
-            counts[a] = counts.get(a, 0) + 1
-    return {
-        (p.number, a): a if counts[a] == 1 else f"{a}{p.number}"
-        for p in shape.paths
-        for a in p.axes
-    }
+    for _, name in names:
+        counts[name] = counts.get(name, 0) + 1
+    out: dict[tuple[int, str], str] = {}
+    for path, name in names:
+        if counts[name] == 1:
+            out[(path, name)] = name
+        else:
+            out[(path, name)] = f"{name}_P{path}" if name[-1:].isdigit() else f"{name}{path}"
+    return out
+
+
+def axis_names(shape: MachineShape) -> dict[tuple[int, str], str]:
+    """The browse name of each ``(path, axis)`` in the machine's ``CncAxisList`` (see
+    :func:`_unique`)."""
+    return _unique([(p.number, a) for p in shape.paths for a in p.axes])
 
 
 def spindle_names(shape: MachineShape) -> dict[tuple[int, str], str]:
     """As :func:`axis_names`, for ``CncSpindleList``."""
-    counts: dict[str, int] = {}
-    for p in shape.paths:
-        for s in p.spindles:
-            counts[s] = counts.get(s, 0) + 1
-    return {
-        (p.number, s): s if counts[s] == 1 else f"{s}{p.number}"
-        for p in shape.paths
-        for s in p.spindles
-    }
+    return _unique([(p.number, s) for p in shape.paths for s in p.spindles])
 
 
 class _Machine:

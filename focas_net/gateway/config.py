@@ -30,6 +30,7 @@ from .model import ITEMS
 
 __all__ = [
     "MAX_FLEET",
+    "MIN_INTERVAL",
     "ConfigError",
     "GatewayConfig",
     "GroupIntervals",
@@ -47,6 +48,10 @@ __all__ = [
 
 #: Most machines one ``[[fleet]]`` expands to.
 MAX_FLEET: Final = 10_000
+#: The shortest poll interval of a group, in seconds: a group read faster than this would
+#: only keep the loop busy (a control answers its reads in milliseconds, and a busy loop
+#: serves every other machine late).
+MIN_INTERVAL: Final = 0.01
 #: A machine's name: the MQTT topic level and the OPC UA browse name.
 _NAME: Final = re.compile(r"[A-Za-z0-9_.-]{1,64}")
 _NAME_TEXT: Final = "a name of 1..64 letters, digits, '-', '_' or '.'"
@@ -120,7 +125,7 @@ class MqttSettings:
         reader and :class:`~focas_net.gateway.mqtt.MqttSink` both call it."""
         at = At(source, "mqtt")
         at.key("host").checked(self.host, check_host, "a host name or address")
-        at.key("port").checked(self.port, check_port, "a port 1..65535")
+        at.key("port").checked(self.port, check_port, "a port 1..65535", why=False)
         prefix = self.prefix
         if (
             not isinstance(prefix, str)
@@ -195,13 +200,31 @@ class OpcUaSettings:
         at = At(source, "opcua")
         try:
             parts = urlsplit(self.endpoint)
-            port = parts.port
         except (TypeError, ValueError, AttributeError):
-            parts, port = None, None
+            parts = None
+        try:
+            port = None if parts is None else parts.port
+        except ValueError:  # a port beyond 65535, or not digits
+            at.key("endpoint").expected(
+                self.endpoint, "opc.tcp://HOST:PORT/PATH with a PORT of 0..65535"
+            )
         if parts is None or parts.scheme != "opc.tcp" or not parts.hostname or port is None:
             at.key("endpoint").expected(self.endpoint, "opc.tcp://HOST:PORT/PATH")
         at.key("namespace").text(self.namespace, "a namespace URI")
         at.key("writes").boolean(self.writes)
+        users = at.key("users")
+        if not isinstance(self.users, tuple | list):
+            users.expected(self.users, "a tuple of OpcUaUser")
+        names: set[object] = set()
+        for i, user in enumerate(self.users):
+            one = users.index(i)
+            if not isinstance(user, OpcUaUser):
+                one.expected(user, "an OpcUaUser(name, password)")
+            name = one.key("name").text(user.name, "a user name")
+            one.key("password").text(user.password, "a password")
+            if name in names:
+                one.key("name").fail(f"user {name!r} is given twice")
+            names.add(name)
         host, loopback = self.host, self.loopback
         if self.anonymous is not None:
             at.key("anonymous").boolean(self.anonymous)
@@ -360,7 +383,9 @@ def _groups(at: At, value: object, base: GroupIntervals) -> GroupIntervals:
     table = at.table(value, _GROUP_KEYS)
     return GroupIntervals(
         **{
-            key: at.key(key).seconds(table[key]) if key in table else getattr(base, key)
+            key: at.key(key).seconds(table[key], MIN_INTERVAL)
+            if key in table
+            else getattr(base, key)
             for key in _GROUP_KEYS
         }
     )
@@ -378,7 +403,7 @@ def _common(at: At, table: Mapping[str, Any], defaults: GroupIntervals) -> dict[
     if "paths" in table:
         pat = at.key("paths")
         paths = [
-            pat.index(i).checked(p, check_path, "a path number 1..10")
+            pat.index(i).checked(p, check_path, "a path number 1..10", why=False)
             for i, p in enumerate(pat.array(table["paths"], 1, 10))
         ]
         if len(set(paths)) != len(paths):
@@ -400,7 +425,9 @@ def _machine(at: At, value: Mapping[str, Any], defaults: GroupIntervals) -> Mach
         at.key("name").expected(name, _NAME_TEXT)
     out = _common(at, table, defaults)
     if "port" in table:
-        out["port"] = at.key("port").checked(table["port"], check_port, "a port 1..65535")
+        out["port"] = at.key("port").checked(
+            table["port"], check_port, "a port 1..65535", why=False
+        )
     return MachineConfig(name=name, **out)
 
 
@@ -412,7 +439,9 @@ def _fleet(at: At, value: Mapping[str, Any], defaults: GroupIntervals) -> list[M
     prefix = table["name_prefix"]
     if not isinstance(prefix, str) or not _NAME.fullmatch(prefix) or len(prefix) > 59:
         at.key("name_prefix").expected(prefix, "1..59 letters, digits, '-', '_' or '.'")
-    first = at.key("first_port").checked(table["first_port"], check_port, "a port 1..65535")
+    first = at.key("first_port").checked(
+        table["first_port"], check_port, "a port 1..65535", why=False
+    )
     count = at.key("count").integer(table["count"], 1, MAX_FLEET)
     if first + count - 1 > 0xFFFF:
         at.key("count").fail(
@@ -504,13 +533,10 @@ def _mqtt(at: At, value: object) -> MqttSettings:
     out["password"] = _secret(at, table)
     if "deadbands" in table:
         bands = at.key("deadbands").table(table["deadbands"], _ANALOGUE)
-        out["deadbands"] = {
-            k: float(v) if isinstance(v, int) and not isinstance(v, bool) else v
-            for k, v in bands.items()
-        }
+        out["deadbands"] = dict(bands)
     settings = MqttSettings(**out)
     settings.check(at.source)
-    return settings
+    return replace(settings, deadbands={k: float(v) for k, v in settings.deadbands.items()})
 
 
 def _file(at: At, value: object, base: Path) -> Path:

@@ -21,6 +21,8 @@ from __future__ import annotations
 
 import asyncio
 import logging
+import os
+import re
 import ssl
 import time
 from collections import deque
@@ -34,9 +36,41 @@ from ._mqtt_messages import Buffer, Message, Publication
 from .config import MqttSettings
 from .model import AlarmChange, MachineShape, Sample
 
-__all__ = ["MqttSink"]
+__all__ = ["MqttSink", "broker_reason"]
 
 _log = logging.getLogger("focas_net.gateway.mqtt")
+
+#: ``[Errno 104] Connection reset by peer``: what the MQTT client keeps of a socket's error.
+_ERRNO: Final = re.compile(r"\[Errno (-?\d+)\] ")
+#: The port MQTT over TLS listens on by convention (and 1883 plain MQTT).
+_TLS_PORT: Final = 8883
+
+
+def broker_reason(exc: BaseException, settings: MqttSettings) -> str:
+    """Why the broker of ``settings`` could not be reached or dropped the connection, as
+    words (``connection refused``, never ``[Errno 111] ...``), with a hint where the settings
+    may be the cause: TLS to a plain port or plain MQTT to a TLS one, a peer that never
+    answers MQTT's CONNECT, a broker that refused the client (its reason code)."""
+    rc = getattr(exc, "rc", None)
+    if rc is not None:
+        words = str(exc).partition("] ")[2] or str(exc)
+        code = getattr(rc, "value", rc)
+        return f"the broker refused: {words[:1].lower() + words[1:]} (MQTT reason code {code})"
+    text = str(exc)
+    found = _ERRNO.match(text)
+    if found:  # (a resolver's error numbers are negative: its own words stay)
+        errno = int(found[1])
+        text = os.strerror(errno) if errno > 0 else text[found.end() :]
+    text = text[:1].lower() + text[1:]
+    tls = settings.tls
+    if tls and ("reset" in text or "ssl" in text or "eof" in text):
+        return f"{text} (tls = true: is that the broker's TLS port?)"
+    if not tls and settings.port == _TLS_PORT:
+        return f"{text} (port {_TLS_PORT} is MQTT over TLS by convention: tls = true?)"
+    if text == "operation timed out":
+        return "no answer to MQTT's CONNECT in time (is that a broker's port?)"
+    return text
+
 
 #: Messages published at once (each waits for its acknowledgement at QoS 1 and 2).
 WINDOW: Final = 64
@@ -166,7 +200,12 @@ class MqttSink:
             except aiomqtt.MqttError as exc:
                 if self.connected:
                     delay = first
-                _log.warning("MQTT broker %s:%d: %s", self.settings.host, self.settings.port, exc)
+                _log.warning(
+                    "MQTT broker %s:%d: %s",
+                    self.settings.host,
+                    self.settings.port,
+                    broker_reason(exc, self.settings),
+                )
             except Exception:
                 self.errors += 1
                 _log.exception("MQTT publisher")

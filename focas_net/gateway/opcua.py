@@ -20,12 +20,13 @@ Basic256Sha256 Sign and SignAndEncrypt endpoints, and the None endpoint only on 
 from __future__ import annotations
 
 import asyncio
+import contextlib
 import gc
 import hmac
 import logging
 import math
 from collections import deque
-from collections.abc import Sequence
+from collections.abc import Iterator, Sequence
 from datetime import UTC, datetime
 from types import TracebackType
 from typing import Any, Final
@@ -45,6 +46,28 @@ from focas_net.gateway.model import AlarmChange, MachineShape, Sample, Writer
 __all__ = ["OpcUaSink", "is_loopback"]
 
 log = logging.getLogger(__name__)
+
+#: What the OPC UA server's own log says while it starts that this module tells in its own
+#: words: a port it cannot listen on (the caller's error names it, without a traceback) and
+#: passwords without encryption (warned above, saying what to give).
+_TOLD: Final = ("error starting server", "No encrypting policy available")
+
+
+class _Told(logging.Filter):
+    def filter(self, record: logging.LogRecord) -> bool:
+        return not any(t in str(record.msg) for t in _TOLD)
+
+
+@contextlib.contextmanager
+def _told_by_us() -> Iterator[None]:
+    """Leave out of the OPC UA server's log, while it starts, what this module tells itself."""
+    logger, told = logging.getLogger("asyncua.server.server"), _Told()
+    logger.addFilter(told)
+    try:
+        yield
+    finally:
+        logger.removeFilter(told)
+
 
 #: Nodes added, or samples applied, between two turns of the event loop: the server's work
 #: comes in slices of a few milliseconds, so the poller's reads are never held up for long.
@@ -257,7 +280,14 @@ class OpcUaSink:
             await server.get_node(node).write_data_type_definition(definition)
         made = await server.load_data_type_definitions()
         self._position_cls = made.get("CncPositionDataType") or ua.CncPositionDataType
-        await server.start()
+        if s.users and s.certificate is None:
+            log.warning(
+                "OPC UA %s: users' passwords travel unencrypted on this endpoint (give "
+                "certificate and private_key to encrypt them)",
+                s.endpoint,
+            )
+        with _told_by_us():
+            await server.start()
         gc.freeze()  # the standard address space, for good (see _describe)
         self._server = server
         self._alarm_conditions = Conditions(server, self._ns, self._cnc)

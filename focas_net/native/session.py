@@ -265,6 +265,8 @@ class NativeSession(Generic[T]):
     def __init__(
         self, max_blocks: int, given_up: Callable[[T], bool] = lambda token: False
     ) -> None:
+        if isinstance(max_blocks, bool) or not isinstance(max_blocks, int):
+            raise TypeError(f"max_blocks must be an integer, got {max_blocks!r}")
         if not 1 <= max_blocks <= 0xFFFF:
             raise ValueError(f"max_blocks must be within 1..65535, got {max_blocks}")
         self.max_blocks = max_blocks

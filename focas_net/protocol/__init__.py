@@ -15,6 +15,7 @@ from .alarms import (
     alarm_code,
     alarm_message,
     alarm_text,
+    alarm_type_of,
 )
 from .codecs import (
     COMMANDS,
@@ -202,6 +203,7 @@ __all__ = [
     "alarm_code",
     "alarm_message",
     "alarm_text",
+    "alarm_type_of",
     "encode_ew",
     "encode_frame",
     "encode_response",

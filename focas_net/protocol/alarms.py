@@ -33,6 +33,7 @@ __all__ = [
     "alarm_code",
     "alarm_message",
     "alarm_text",
+    "alarm_type_of",
 ]
 
 #: Longest message the CNC keeps for an alarm.
@@ -71,6 +72,16 @@ class AlarmType(enum.IntEnum):
 ALARM_TYPE_NAMES: Final[dict[int, str]] = {t.value: t.name for t in AlarmType}
 
 
+def alarm_type_of(name: str) -> int:
+    """An alarm type's number from its two-letter name as every front end takes it (``PS``,
+    ``ps``: ASCII letters, spaces around); ValueError naming what was given and the names."""
+    text = name.strip().upper() if name.isascii() else ""
+    if text in AlarmType.__members__:
+        return int(AlarmType[text])
+    names = " ".join(t.name for t in AlarmType)
+    raise ValueError(f"unknown alarm type {name!r} (one of {names}, or 0..31)")
+
+
 def alarm_code(alm_type: int, alm_no: int) -> str:
     """An alarm's code as the CNC screen shows it: ``PS0100`` for type 3, number 100; a type
     without a name is ``T<n>:`` (``T14:0001``)."""
@@ -99,7 +110,9 @@ def alarm_message(msg: str) -> bytes:
     machine's words, :func:`~focas_net._typed.alarm_text_unfit`, of the part the machine
     keeps); ValueError, naming the text, for any other character. Every front end that takes
     a message as text (the client, the command line, the dashboard) refuses with this rule;
-    the wire itself carries any bytes."""
+    the wire itself carries any bytes. TypeError for a message that is no ``str``."""
+    if not isinstance(msg, str):
+        raise TypeError(f"alarm message must be text (str), got {msg!r}")
     try:
         raw = msg.encode("ascii")
     except UnicodeEncodeError:

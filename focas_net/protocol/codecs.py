@@ -289,9 +289,11 @@ class PositionKind(enum.IntEnum):
     @classmethod
     def parse(cls, kind: str | int | PositionKind) -> PositionKind:
         """``"absolute"``, ``"machine"``, ``"relative"``, ``"distance"`` (or
-        ``"distance_to_go"``), a ``PositionKind`` or 0..3; ValueError otherwise."""
+        ``"distance_to_go"``), a ``PositionKind`` or 0..3; ValueError naming the kinds
+        otherwise, TypeError for what is neither text nor an integer."""
         if isinstance(kind, PositionKind):
             return kind
+        kinds = "absolute, machine, relative, distance or 0..3"
         if isinstance(kind, str):
             key = kind.strip().upper().replace("-", "_")
             if key == "DISTANCE_TO_GO":
@@ -299,8 +301,13 @@ class PositionKind(enum.IntEnum):
             try:
                 return cls[key]
             except KeyError:
-                raise ValueError(f"unknown position kind {kind!r}") from None
-        return cls(kind)
+                raise ValueError(f"unknown position kind {kind!r} ({kinds})") from None
+        if isinstance(kind, bool) or not isinstance(kind, int):
+            raise TypeError(f"position kind must be a name, a PositionKind or 0..3, got {kind!r}")
+        try:
+            return cls(kind)
+        except ValueError:
+            raise ValueError(f"unknown position kind {kind!r} ({kinds})") from None
 
 
 @dataclass(frozen=True, slots=True)

@@ -43,7 +43,8 @@ class PmcArea(enum.IntEnum):
             try:
                 return cls[area.strip().upper()]
             except KeyError:
-                raise ValueError(f"unknown PMC area {area!r}") from None
+                letters = ", ".join(a.name for a in cls)  # as the machine and the page say it
+                raise ValueError(f"unknown PMC area {area!r} (one of {letters})") from None
         if isinstance(area, bool) or not isinstance(area, int):
             raise TypeError(
                 f"a PMC area is its letter ('R'), a PmcArea or its number, got {area!r}"

@@ -66,12 +66,17 @@ class LabelledValue(enum.IntEnum):
     @classmethod
     def parse(cls, value: str | int) -> Self:
         """A member from its name (``"MDI"``), its label, or its number; ValueError otherwise."""
+        if isinstance(value, bool) or not isinstance(value, str | int):
+            raise TypeError(
+                f"{cls.__name__} must be a member, its name or its number, got {value!r}"
+            )
         if isinstance(value, str):
-            text = value.strip().upper()
+            # ASCII only, as a CNC's keys: "md\u0131" (a dotless i) upper-cases to MDI but is none
+            text = value.strip().upper() if value.isascii() else ""
             for member in cls:
-                if text in (member.name, member.label.upper()):
+                if text and text in (member.name, member.label.upper()):
                     return member
-            if text.lstrip("-").isdigit() and text.isascii():  # 0-9, as a CNC's keys
+            if text.lstrip("-").isdigit():  # 0-9, as a CNC's keys
                 value = int(text)
             else:
                 names = ", ".join(m.name for m in cls)
@@ -100,7 +105,10 @@ class AutMode(LabelledValue):
     @classmethod
     def parse_panel(cls, value: str | int) -> AutMode:
         """A mode the operator panel selects, by name (``"MDI"``), label or number: any but
-        NOSEL (2, no selection); ValueError naming the modes it selects otherwise."""
+        NOSEL (2, no selection); ValueError naming the modes it selects otherwise (TypeError
+        for what is neither text nor an integer)."""
+        if isinstance(value, bool) or not isinstance(value, str | int):
+            raise TypeError(f"mode must be an AutMode, its name or its number, got {value!r}")
         try:
             mode = cls.parse(value)
         except ValueError:
@@ -122,11 +130,13 @@ class RunState(LabelledValue):
 
 
 class MotionState(LabelledValue):
-    """ODBST ``motion``: axis movement or dwell."""
+    """ODBST ``motion``: axis movement or dwell; 3 (WAIT) on a control of several paths, a path
+    waiting at a waiting M code for the others."""
 
     NONE = 0, "***", "no motion"
     MTN = 1, "MTN", "axis moving"
     DWL = 2, "DWL", "dwell"
+    WAIT = 3, "WAIT", "waiting for the other paths (waiting M code)"
 
 
 class MstbState(LabelledValue):

@@ -51,6 +51,7 @@ from ._base import (
 )
 from ._durable import Keeper
 from ._native import NativeConnection, NativeFront
+from ._options import check_server_options
 from ._packed import PackedConnection
 from .faults import FaultQueue
 
@@ -373,9 +374,14 @@ def _machines(machines: Machine | Iterable[Machine] | None) -> list[Machine]:
         return [default_machine()]
     if isinstance(machines, Machine):
         return [machines]
+    if isinstance(machines, str | bytes) or not isinstance(machines, Iterable):
+        raise TypeError(f"machines must be a Machine or a list of them, got {machines!r}")
     result = list(machines)
     if not result:
         raise ValueError("FocasServer needs at least one machine")
+    for i, m in enumerate(result):
+        if not isinstance(m, Machine):
+            raise TypeError(f"machines[{i}] must be a Machine, got {m!r}")
     return result
 
 
@@ -436,6 +442,7 @@ class FocasServer:
         control: bool | None = None,
         durable: Callable[[], object] | None = None,
     ) -> None:
+        check_server_options(locals())
         if max_frame < 4:
             raise ValueError(f"max_frame must be at least 4, got {max_frame}")
         if max_frame >= NATIVE_MAGIC_LENGTH:

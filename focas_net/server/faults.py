@@ -32,7 +32,7 @@ from __future__ import annotations
 from collections import deque
 from typing import Final
 
-from focas_net.errors import EW, PayloadError
+from focas_net.errors import EW, PayloadError, ew_label
 from focas_net.protocol import (
     ArmedFault,
     FaultKind,
@@ -50,6 +50,7 @@ __all__ = [
     "FaultKind",
     "FaultQueue",
     "FaultScope",
+    "fault_arg_text",
     "fault_refusal",
     "parse_inject",
     "parse_scope",
@@ -179,6 +180,17 @@ def fault_refusal(kind: int, scope: int, count: int, arg: int) -> str | None:
     if kind == FaultKind.ERROR and (arg == 0 or not _I16_MIN <= arg <= _I16_MAX):
         return f"an error fault's EW code is a nonzero {_I16_MIN}..{_I16_MAX}, got {arg}"
     return None
+
+
+def fault_arg_text(kind: int, arg: int) -> str:
+    """A fault's argument as every front end lists it (the command line's ``sim faults``, the
+    dashboard): a delay's ``500 ms``, an error's ``EW_BUSY (-1)``, ``-`` for a drop or a split
+    (they take none)."""
+    if kind == FaultKind.DELAY:
+        return f"{arg} ms"
+    if kind == FaultKind.ERROR:
+        return ew_label(arg)
+    return "-"
 
 
 _KINDS: Final = frozenset(int(k) for k in FaultKind)

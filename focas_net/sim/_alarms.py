@@ -12,7 +12,7 @@ from typing import Final
 from focas_net._typed import MAX_ALARM_TEXT, alarm_text_unfit
 from focas_net.errors import EW
 
-from ._base import Counters, MachineError, logger
+from ._base import Counters, MachineError, logger, need_int, need_text
 from .nc import AlarmKind, NcAlarm
 
 __all__ = [
@@ -128,7 +128,11 @@ class Alarms:
     def checked(axis_no: int, alm_type: int, alm_no: int, msg: str, axes: int) -> str:
         """The text an alarm keeps, once its numbers are checked: EW_DATA (alm_type outside
         0..31, alm_no outside 0..32767), EW_ATTRIB (axis_no), EW_DATA (a character beyond
-        U+00FF, or a control character: a tab, a line break, NUL...)."""
+        U+00FF, or a control character: a tab, a line break, NUL...); TypeError for a number
+        or a message of another type."""
+        for what, value in (("axis_no", axis_no), ("alm_type", alm_type), ("alm_no", alm_no)):
+            need_int(what, value)
+        need_text("alarm message", msg)
         if not 0 <= alm_type <= MAX_ALARM_TYPE:
             raise MachineError(EW.DATA, f"alm_type {alm_type} outside 0..{MAX_ALARM_TYPE}")
         if not 0 <= alm_no <= MAX_ALARM_NO:
@@ -167,7 +171,15 @@ class Alarms:
 
     def clear(self, alm_type: int, alm_no: int, path: int) -> int:
         """Remove the active alarms of ``path`` matching ``alm_type`` and ``alm_no`` (-1 =
-        any)."""
+        any): EW_DATA for a number no alarm has (alm_type outside -1..31, alm_no outside
+        -1..32767), which would match nothing and say nothing of the typing."""
+        need_int("alm_type", alm_type)
+        need_int("alm_no", alm_no)
+        if not -1 <= alm_type <= MAX_ALARM_TYPE:
+            why = f"alm_type {alm_type} outside -1..{MAX_ALARM_TYPE} (-1: any)"
+            raise MachineError(EW.DATA, why)
+        if not -1 <= alm_no <= MAX_ALARM_NO:
+            raise MachineError(EW.DATA, f"alm_no {alm_no} outside -1..{MAX_ALARM_NO} (-1: any)")
         gone = [
             k
             for p, k in self.active
@@ -191,9 +203,15 @@ class Alarms:
 
     def read(self, alm_type: int, limit: int | None, path: int = 1) -> list[Alarm]:
         """The active alarms of ``path`` of ``alm_type`` (-1: every type), at most ``limit``."""
+        need_int("alm_type", alm_type)
+        if limit is not None and need_int("limit", limit) < 0:
+            raise ValueError(f"limit must be at least 0 (or None), got {limit}")
         alarms = [a for (p, _), a in self.active.items() if p == path]
         chosen = alarms if alm_type == -1 else (a for a in alarms if a.alm_type == alm_type)
-        return list(chosen if limit is None else islice(chosen, limit))
+        return list(chosen if limit is None else islice(chosen, min(limit, len(alarms))))
 
     def read_history(self, depth: int | None) -> tuple[HistoryEntry, ...]:
-        return tuple(self.history if depth is None else islice(self.history, depth))
+        if depth is not None and need_int("depth", depth) < 0:
+            raise ValueError(f"depth must be at least 0 (or None), got {depth}")
+        history = self.history
+        return tuple(history if depth is None else islice(history, min(depth, len(history))))

@@ -12,7 +12,16 @@ from typing import Final
 
 from focas_net.errors import EW, FocasError
 
-__all__ = ["I32_MAX", "I32_MIN", "NUMBERS", "Counters", "MachineError", "logger"]
+__all__ = [
+    "I32_MAX",
+    "I32_MIN",
+    "NUMBERS",
+    "Counters",
+    "MachineError",
+    "logger",
+    "need_int",
+    "need_text",
+]
 
 #: The machine's logger, one name for all its components.
 logger = logging.getLogger("focas_net.sim.machine")
@@ -22,6 +31,22 @@ I32_MAX: Final = 0x7FFF_FFFF
 #: The numbers a parameter, a diagnostic or a macro variable can have (FANUC numbers them from
 #: 0; a wire carries them in a signed 16-bit word).
 NUMBERS: Final = (0, 0x7FFF)
+
+
+def need_int(what: str, value: object) -> int:
+    """``value`` when it is an ``int`` (not a ``bool``): a number of another type given to the
+    machine from Python (``1.5``, ``"3"``, ``True``) is a TypeError naming ``what`` and the
+    value, before anything changes. The ranges are each operation's own (EW codes)."""
+    if isinstance(value, bool) or not isinstance(value, int):
+        raise TypeError(f"{what} must be an integer, got {value!r}")
+    return value
+
+
+def need_text(what: str, value: object) -> str:
+    """``value`` when it is a ``str``: TypeError naming ``what`` and the value otherwise."""
+    if not isinstance(value, str):
+        raise TypeError(f"{what} must be text (str), got {value!r}")
+    return value
 
 
 class MachineError(FocasError):

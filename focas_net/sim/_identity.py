@@ -138,7 +138,10 @@ def axes_problem(names: Sequence[object]) -> str | None:
 
 
 def checked_name(name: str) -> str:
-    """``name`` once it is checked (:func:`name_problem`): ValueError saying the rule."""
+    """``name`` once it is checked (:func:`name_problem`): ValueError saying the rule
+    (TypeError for a name that is no ``str``)."""
+    if not isinstance(name, str):
+        raise TypeError(f"a machine's name must be text (str), got {name!r}")
     problem = name_problem(name)
     if problem is not None:
         raise ValueError(problem)

@@ -9,7 +9,7 @@ from typing import Final
 
 from focas_net.errors import EW
 
-from ._base import NUMBERS, Counters, MachineError
+from ._base import NUMBERS, Counters, MachineError, need_int
 
 __all__ = [
     "MAX_REAL_DECIMALS",
@@ -213,6 +213,8 @@ class Items:
     def lookup(self, table: dict[int, DataItem], datano: int, axis: int) -> tuple[DataItem, int]:
         """An item and the index of ``axis``'s value: EW_NUMBER (no such item), EW_ATTRIB
         (axis 0 for an axis item, an axis for another, an axis outside 1..n)."""
+        need_int("number", datano)
+        need_int("axis", axis)
         item = table.get(datano)
         if item is None:
             raise MachineError(EW.NUMBER, f"no item {datano}")
@@ -245,7 +247,8 @@ class Items:
         return value // scale
 
     def set(self, item: DataItem, index: int, value: int, what: str) -> None:
-        """Set one value: EW_DATA outside the item's range."""
+        """Set one value: EW_DATA outside the item's range (TypeError for no integer)."""
+        need_int(f"{what} value", value)
         low, high = item.low, item.high
         assert low is not None and high is not None
         if not low <= value <= high:

@@ -23,7 +23,7 @@ from ._spindles import (
     spindle_states,
 )
 from ._status import MotionData
-from .nc import ProgramInfo, SimClock
+from .nc import ProgramInfo, SimClock, check_sim_clock
 from .nc.scenario import DEFAULT_SCENARIO, Scenario
 
 __all__ = ["PathOperations"]
@@ -141,6 +141,7 @@ class PathOperations:
         engine's clock is set after the constructor's ``sim_clock``. The machine goes on from
         where it is, so ``clock`` may not be behind the machine's time (ValueError); the time
         it is ahead passes at once, as if the machine had been left alone that long."""
+        check_sim_clock(clock)
         for p in self._paths:  # every path's first, so a refusal changes nothing
             p.check_clock(clock)
         for p in self._paths:
@@ -308,6 +309,8 @@ class PathOperations:
         (the number is stored and ``replace`` is false), EW_BUSY (replacing a program being
         executed), EW_OVRFLOW (memory or directory full)."""
         self.check_writable()
+        if not isinstance(text, str):
+            raise TypeError(f"a program must be text (str), got {text!r}")
         return self._paths.at(path).store_program(text, replace)
 
     def delete_program(self, number: int, *, path: int = 1) -> None:

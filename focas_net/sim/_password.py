@@ -31,7 +31,10 @@ class Session:
 
 def _password(text: str | bytes) -> bytes:
     """A parameter password as the CNC keeps it: 1..4 ASCII characters (no NUL), padded to 4
-    bytes with NUL. ValueError, naming what was given, for anything else."""
+    bytes with NUL. ValueError, naming what was given, for anything else (TypeError for
+    what is neither text nor bytes)."""
+    if not isinstance(text, str | bytes):
+        raise TypeError(f"a parameter password is text or bytes, got {text!r}")
     shown = text if isinstance(text, str) else text.decode("latin-1")
     if not (1 <= len(shown) <= _PASSWORD_SIZE and shown.isascii() and "\x00" not in shown):
         raise ValueError(

@@ -22,7 +22,7 @@ from typing import TYPE_CHECKING, Final
 
 from focas_net.errors import EW
 
-from ._base import MachineError
+from ._base import MachineError, need_int
 from ._identity import axes_problem
 from ._items import DataItem, Items, ParamKind
 
@@ -153,7 +153,9 @@ class PathItems:
     def lookup(self, diag: bool, datano: int, axis: int) -> tuple[DataItem, int]:
         """A parameter (a diagnostic when ``diag``) and the index of the value of the path's
         ``axis``: EW_NUMBER (no such item), EW_ATTRIB (axis 0 for an axis item, an axis for
-        another, an axis outside 1..the path's axes)."""
+        another, an axis outside 1..the path's axes); TypeError for a number of another type."""
+        need_int("number", datano)
+        need_int("axis", axis)
         item = self.items.diags.get(datano) if diag else self.param(datano)
         if item is None:
             raise MachineError(EW.NUMBER, f"no item {datano}")

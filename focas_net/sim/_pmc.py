@@ -13,7 +13,7 @@ from typing import Final
 
 from focas_net.errors import EW
 
-from ._base import Counters, MachineError
+from ._base import Counters, MachineError, need_int
 from .nc import CycleState
 
 __all__ = [
@@ -35,6 +35,8 @@ PMC_AREAS: Final = ("X", "Y", "F", "G", "R", "T", "C", "D", "K", "A", "E")
 def pmc_letter(text: str) -> str:
     """The PMC area ``text`` names, in either case and with spaces around (``" r"`` is
     ``"R"``): ValueError naming the areas for a letter that is no PMC area."""
+    if not isinstance(text, str):
+        raise TypeError(f"PMC area must be a letter (str), got {text!r}")
     letter = text.strip().upper()
     if letter not in PMC_AREAS:
         raise ValueError(f"unknown PMC area {text!r} (one of {', '.join(PMC_AREAS)})")
@@ -176,6 +178,8 @@ class Pmc:
     def area(self, letter: str) -> Area:
         """Area ``letter``: EW_NOOPT when the machine has none, naming the areas it has (every
         front end shows these words)."""
+        if not isinstance(letter, str):
+            raise TypeError(f"PMC area must be a letter (str), got {letter!r}")
         area = self.areas.get(letter) or self.areas.get(letter.strip().upper())
         if area is None:
             has = ", ".join(a for a in PMC_AREAS if a in self.areas) or "none"
@@ -189,7 +193,10 @@ class Pmc:
         """Write ``data`` from ``start``: EW_NOOPT, EW_NUMBER (addresses outside the area),
         EW_PROT (write-protected, unless ``force``). A write that changed G bytes returns what
         it asks of automatic operation, ``(path, request)`` for each path whose signals
-        (:data:`PATH_SIGNALS_STRIDE`) it wrote."""
+        (:data:`PATH_SIGNALS_STRIDE`) it wrote. TypeError for a start or data of another type."""
+        need_int("PMC start address", start)
+        if not isinstance(data, bytes | bytearray | memoryview):
+            raise TypeError(f"PMC data must be bytes, got {data!r}")
         area = self.area(letter)
         end = start + len(data)
         if start < 0 or end > area.size:

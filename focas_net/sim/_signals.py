@@ -46,7 +46,7 @@ from typing import TYPE_CHECKING, Final
 
 from focas_net.errors import EW
 
-from ._base import MachineError
+from ._base import MachineError, need_int
 from ._items import DataItem, ParamKind
 from ._pmc import PATH_SIGNALS_STRIDE
 
@@ -266,12 +266,14 @@ class SignalOperations:
         """Set the date of the CNC's clock (its time of day runs on): EW_PROT (read-only
         machine), EW_DATA (no such date, or a year outside 1987..2037)."""
         self.check_writable()
+        for what, value in (("year", year), ("month", month), ("day", day)):
+            need_int(what, value)
         now = self._alarms.now()
         if not _YEARS[0] <= year <= _YEARS[1]:
             raise MachineError(EW.DATA, f"year {year} outside {_YEARS[0]}..{_YEARS[1]}")
         try:
             wanted = now.replace(year=year, month=month, day=day)
-        except ValueError:
+        except (ValueError, OverflowError):
             raise MachineError(EW.DATA, f"no date {year:04d}-{month:02d}-{day:02d}") from None
         self._set_clock(wanted - now)
 
@@ -279,6 +281,8 @@ class SignalOperations:
         """Set the time of day of the CNC's clock (its date stays): EW_PROT (read-only
         machine), EW_DATA (outside 00:00:00..23:59:59)."""
         self.check_writable()
+        for what, value in (("hour", hour), ("minute", minute), ("second", second)):
+            need_int(what, value)
         now = self._alarms.now()
         if not (0 <= hour <= 23 and 0 <= minute <= 59 and 0 <= second <= 59):
             raise MachineError(EW.DATA, f"no time of day {hour:02d}:{minute:02d}:{second:02d}")

@@ -104,7 +104,7 @@ from focas_net.errors import EW
 from focas_net.versamax import IOModuleRecord
 
 from ._alarms import DEFAULT_HISTORY_CAPACITY, Alarm, Alarms, Clock, HistoryEntry, utc_now
-from ._base import Counters, MachineError
+from ._base import Counters, MachineError, need_int
 from ._folders import FolderOperations
 from ._identity import (
     CONTROL_CLASSES,
@@ -159,7 +159,7 @@ from ._status import (
 )
 from ._tool_ops import ToolOperations, build_tools
 from ._tools import ToolsSpec
-from .nc import Engine, ProgramStore, RealTimeClock, SimClock
+from .nc import Engine, ProgramStore, RealTimeClock, SimClock, check_sim_clock
 from .nc.scenario import Scenario, ScenarioEvent
 from .nc.waits import PathSync
 
@@ -270,7 +270,7 @@ class Machine(
         self._pmc.paths = len(specs)
         self._alarms = Alarms(name, history_capacity, clock, c)
         shared = Shared(c, self._items, self._macros, self._alarms, self._pmc)
-        time = sim_clock if sim_clock is not None else RealTimeClock()
+        time = RealTimeClock() if sim_clock is None else check_sim_clock(sim_clock, "sim_clock")
         built: list[Path] = []
         offset = 0
         sync = PathSync() if len(specs) > 1 else None
@@ -581,6 +581,7 @@ class Machine(
         """The value of macro variable ``number`` as ``path`` sees it (#100-#199 and the
         system variables its own, #500-#999 shared), None when vacant: EW_PATH, EW_NUMBER for
         an unknown variable."""
+        need_int("macro variable number", number)
         p = self._paths.at(path)
         macros = self._macros
         if number in CLOCK_VARIABLES:
@@ -601,6 +602,7 @@ class Machine(
         (None: vacant). EW_PROT (read-only machine), EW_PATH, EW_NUMBER, EW_PROT (read-only
         variable), EW_DATA (a value the variable cannot hold: see the module docstring).
         Making a vacant variable vacant changes nothing."""
+        need_int("macro variable number", number)
         self.check_writable()
         p = self._paths.at(path)
         if number in CLOCK_VARIABLES:
@@ -625,6 +627,8 @@ class Machine(
         """``length`` bytes of area ``letter`` from address ``start``: EW_NOOPT (no such area),
         EW_NUMBER (addresses outside the area)."""
         area = self._pmc.area(letter)
+        need_int("PMC start address", start)
+        need_int("PMC byte count", length)
         if length < 0:
             raise ValueError(f"a PMC read of {length} bytes")
         if area.letter == "F":
@@ -713,7 +717,8 @@ class Machine(
     def clear_alarms(self, alm_type: int = -1, alm_no: int = -1, *, path: int = 1) -> int:
         """Remove the active alarms of ``path`` matching ``alm_type`` and ``alm_no`` (-1 =
         any); the history is kept. Returns how many were removed. EW_PROT on a read-only
-        machine, then EW_PATH."""
+        machine, then EW_PATH, then EW_DATA (alm_type outside -1..31, alm_no outside
+        -1..32767)."""
         self.check_writable()
         self._paths.at(path)
         return self._alarms.clear(alm_type, alm_no, path)

@@ -64,6 +64,7 @@ from .machine import (
     utc_now,
 )
 from .nc import Scenario, SimClock
+from .nc.scenario import MAX_PARTS, MAX_SEED
 from .pathfile import _axes, _motion, _panel, _programs, path_specs
 from .toolfile import tool_specs
 
@@ -143,11 +144,14 @@ def _items(ctx: _Ctx, value: Any, n_axes: int, *, parts: bool = False) -> list[D
             high = _item_value(rc.sub(1), bounds[1], kind, decimals, span)
             if low > high:
                 rc.fail(f"low {bounds[0]} is above high {bounds[1]}")
+        problem = parts and parts_param_problem(number, kind, is_axis)
+        if problem:
+            c.sub("type").fail(problem)
         vc = c.sub("value")
-        raw_value = spec.get("value", 0 if low <= 0 <= high else low)
-        if "value" not in spec and kind is ParamKind.REAL:
-            raw_value = Decimal(raw_value).scaleb(-decimals)
-        if isinstance(raw_value, list):
+        raw_value = spec.get("value")
+        if raw_value is None:  # 0, or the low end of the range (a real one's mantissa)
+            values = [0 if low <= 0 <= high else low] * (n_axes if is_axis else 1)
+        elif isinstance(raw_value, list):
             if not is_axis:
                 vc.fail("a list of values needs axis = true")
             if len(raw_value) != n_axes:
@@ -161,9 +165,6 @@ def _items(ctx: _Ctx, value: Any, n_axes: int, *, parts: bool = False) -> list[D
                 n_axes if is_axis else 1
             )
         name = _str(c.sub("name"), spec.get("name", ""))
-        problem = parts and parts_param_problem(number, kind, is_axis)
-        if problem:
-            c.sub("type").fail(problem)
         items.append(DataItem(number, kind.width, is_axis, low, high, values, name, kind, decimals))
     return items
 
@@ -176,26 +177,27 @@ def _item_value(
     ``"12.345"``) as its mantissa with ``decimals`` decimals."""
     if kind is ParamKind.BIT and isinstance(value, str):
         value = _bits(ctx, value)
-    if kind is ParamKind.REAL and not isinstance(value, bool | list | dict):
-        if isinstance(value, str | int | float):
-            if isinstance(value, float) and not math.isfinite(value):
-                ctx.fail(f"must be a finite number, got {value}")
-            if isinstance(value, str):
-                try:  # as every front end reads number text: digits, a sign, a point
-                    number = decimal_number(value)
-                except ValueError as exc:
-                    ctx.fail(f"must be a number such as 12.345: {exc}")
-            else:
-                number = Decimal(repr(value))
-            scaled = number.scaleb(decimals)
-            if scaled != scaled.to_integral_value():
-                ctx.fail(f"{value} does not have {decimals} decimals or fewer")
-            mantissa = int(scaled)
-            if not bounds[0] <= mantissa <= bounds[1]:
-                low = Decimal(bounds[0]).scaleb(-decimals)
-                high = Decimal(bounds[1]).scaleb(-decimals)
-                ctx.fail(f"{value} is outside {low}..{high}")
-            return mantissa
+    if kind is ParamKind.REAL:
+        if isinstance(value, bool) or not isinstance(value, str | int | float):
+            ctx.fail(f"must be a number such as 12.345, got {_kind(value)}")
+        if isinstance(value, float) and not math.isfinite(value):
+            ctx.fail(f"must be a finite number, got {value}")
+        if isinstance(value, str):
+            try:  # as every front end reads number text: digits, a sign, a point
+                number = decimal_number(value)
+            except ValueError as exc:
+                ctx.fail(f"must be a number such as 12.345: {exc}")
+        else:
+            number = Decimal(repr(value))
+        scaled = number.scaleb(decimals)
+        if scaled != scaled.to_integral_value():
+            ctx.fail(f"{value} does not have {decimals} decimals or fewer")
+        mantissa = int(scaled)
+        if not bounds[0] <= mantissa <= bounds[1]:
+            low = Decimal(bounds[0]).scaleb(-decimals)
+            high = Decimal(bounds[1]).scaleb(-decimals)
+            ctx.fail(f"{value} is outside {low}..{high}")
+        return mantissa
     return _int(ctx, value, bounds)
 
 
@@ -260,6 +262,12 @@ def _macros(ctx: _Ctx, value: Any) -> tuple[list[MacroRange], dict[int, Decimal]
             c.fail(f"#{number} is in no macro range" + ("" if ranges else " (ranges gives none)"))
         if isinstance(raw, float):
             c.fail(f"must be an integer or [mcr_val, dec_val]{_macro_pair(raw)}, got {raw!r}")
+        if isinstance(raw, str):
+            try:  # a number in quotes: its pair, as for a float
+                pair = _macro_pair(float(decimal_number(raw)))
+            except ValueError:
+                pair = ""
+            c.fail(f"must be an integer or [mcr_val, dec_val]{pair}, got {_kind(raw)}")
         if isinstance(raw, list):
             if len(raw) != 2:
                 c.fail("must be an integer or [mcr_val, dec_val]")
@@ -315,12 +323,12 @@ def _module(ctx: _Ctx, spec: dict[str, Any]) -> IOModuleRecord:
     if "module" in spec:
         _only(ctx, spec, ("rack", "slot", "module"))
         name = _str(ctx.sub("module"), spec["module"])
-        if name not in _MODULES:
-            ctx.sub("module").fail(
-                f"unknown module {name!r} (built in: {', '.join(_MODULES)}; "
-                "or describe the record with label, primary_id, ...)"
-            )
-        return _MODULES[name]()
+        if name.strip().upper() in _MODULES:  # case does not matter, as for control_class
+            return _MODULES[name.strip().upper()]()
+        ctx.sub("module").fail(
+            f"unknown module {name!r} (built in: {', '.join(_MODULES)}; "
+            "or describe the record with label, primary_id, ...)"
+        )
     keys: tuple[str, ...] = ("rack", "slot", "label", "primary_id", "secondary_id")
     keys += ("references", "setup", "default_inputs", "default_outputs", "module_data")
     keys += ("input_segment_mode", "output_segment_mode")
@@ -344,7 +352,9 @@ def _module(ctx: _Ctx, spec: dict[str, Any]) -> IOModuleRecord:
             if key not in ref:
                 c.sub(key).fail("missing")
         kind = _str(c.sub("type"), ref["type"])
-        if kind not in _REF_TYPES:
+        if kind.strip().upper() in _REF_TYPES:  # in either case, as the PMC's letters
+            kind = kind.strip().upper()
+        else:
             c.sub("type").fail(f"unknown reference type {kind!r} (expected I, Q, AI or AQ)")
         refs.append(
             (
@@ -447,9 +457,9 @@ def _run(ctx: _Ctx, value: Any) -> Scenario:
                 c.fail(f'must be a count >= 0 or "required", got {raw!r}')
             given["parts"] = "required"
         else:
-            given["parts"] = _int(c, raw, (0, _I32[1]))
+            given["parts"] = _int(c, raw, (0, MAX_PARTS))
     if "seed" in t:
-        given["seed"] = _int(ctx.sub("seed"), t["seed"], (0, 2**63 - 1))
+        given["seed"] = _int(ctx.sub("seed"), t["seed"], (0, MAX_SEED))
     for key in _RUN_NUMBERS:
         if key not in t:
             continue
@@ -615,7 +625,11 @@ def _build(
         main_program=programs[1],
         sim_clock=sim_clock,
         scenario=_run(root.sub("run"), top["run"]) if "run" in top else None,
-        tools=tool_specs(root.sub("tools"), top["tools"]) if "tools" in top else None,
+        tools=(
+            tool_specs(root.sub("tools"), top["tools"], 1 if paths is None else len(paths))
+            if "tools" in top
+            else None
+        ),
     )
 
 

@@ -18,7 +18,19 @@ from typing import Any, Final
 from ._identity import axes_problem, axis_name_problem
 from ._paths import MAX_PATHS, PATH_KINDS, PathSpec
 from ._status import AUT_MODES, MODE_NAMES, MotionData, Panel
-from .filecheck import _I32, _ascii, _bool, _Ctx, _int, _list, _only, _str, _table, _text
+from .filecheck import (
+    _I32,
+    MachineFileError,
+    _ascii,
+    _bool,
+    _Ctx,
+    _int,
+    _list,
+    _only,
+    _str,
+    _table,
+    _text,
+)
 from .nc import ProgramError, parse_program
 
 __all__ = ["PATH_KEYS", "path_specs"]
@@ -172,6 +184,8 @@ def _programs(ctx: _Ctx, value: Any, base: Path | None) -> tuple[list[str], int 
                 text = _text(str(where), where.read_bytes())
             except OSError as exc:
                 key.fail(f"cannot read {str(where)!r}: {exc.strerror or exc}")
+            except MachineFileError as exc:  # named by the machine file and the key too
+                key.fail(f"{where}: {exc.problem}")
         try:
             program = parse_program(text)
         except ProgramError as exc:

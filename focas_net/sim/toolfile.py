@@ -55,14 +55,16 @@ def _mm(ctx: _Ctx, value: Any) -> int:
     return int(scaled)
 
 
-def tool_specs(ctx: _Ctx, value: Any) -> dict[int, ToolsSpec]:
-    """Every ``[[tools]]`` table of a machine file, by path number."""
+def tool_specs(ctx: _Ctx, value: Any, paths: int = MAX_PATHS) -> dict[int, ToolsSpec]:
+    """Every ``[[tools]]`` table of a machine file of ``paths`` paths, by path number."""
     specs: dict[int, ToolsSpec] = {}
     for i, raw in enumerate(_list(ctx, value)):
         c = ctx.sub(i)
         t = _table(c, raw)
         _only(c, t, TOOLS_KEYS)
         path = _int(c.sub("path"), t.get("path", 1), (1, MAX_PATHS))
+        if path > paths:
+            c.sub("path").fail(f"the machine has no path {path} (its paths: 1..{paths})")
         if path in specs:
             c.sub("path").fail(f"path {path} has a [[tools]] table already")
         values: dict[tuple[int, str], int] = {}

@@ -16,8 +16,10 @@ from .operations import (
     Station,
     action_args,
     decimal_number,
+    no_twice,
     perform,
     refusal,
+    shown,
     whole_number,
 )
 from .shell import STATIC_DIR, Dashboard, WebUnavailableError, stations_of
@@ -72,6 +74,7 @@ __all__ = [
     "macro_note",
     "macro_range",
     "macro_rows",
+    "no_twice",
     "param_rows",
     "param_text",
     "parse_web_address",
@@ -79,6 +82,7 @@ __all__ = [
     "pmc_address",
     "pmc_window",
     "refusal",
+    "shown",
     "stations_of",
     "status_fields",
     "whole_number",

@@ -24,9 +24,24 @@ from decimal import Decimal
 from typing import Any, Final
 
 from focas_net._bits import bits_of_text
-from focas_net._typed import decimal_number, program_number, switch, typed_number, whole_number
+from focas_net._typed import (
+    NO_PASSWORD_NOTE,
+    decimal_number,
+    program_number,
+    rapid_step,
+    switch,
+    typed_number,
+    whole_number,
+)
 from focas_net.errors import EW, ew_name
-from focas_net.protocol import AutMode, FaultKind, FaultScope, InjectFault, alarm_message
+from focas_net.protocol import (
+    AutMode,
+    FaultKind,
+    FaultScope,
+    InjectFault,
+    alarm_message,
+    alarm_type_of,
+)
 from focas_net.server.faults import FaultQueue, fault_refusal, parse_inject
 from focas_net.sim import Machine, MachineError, ParamKind, Session
 
@@ -40,8 +55,10 @@ __all__ = [
     "Station",
     "action_args",
     "decimal_number",
+    "no_twice",
     "perform",
     "refusal",
+    "shown",
     "whole_number",
 ]
 
@@ -103,6 +120,17 @@ def refusal(exc: MachineError) -> JsonDict:
 
 
 # -- arguments ------------------------------------------------------------------------------
+def shown(value: object) -> str:
+    """A value from a request's JSON as a message names it: text quoted (``'abc'``), anything
+    else as the JSON that was sent (``true``, ``null``, ``[1]``), never as Python writes it."""
+    if isinstance(value, str):
+        return repr(value)
+    try:
+        return json.dumps(value)
+    except (TypeError, ValueError):  # not from JSON: as Python shows it
+        return repr(value)
+
+
 def _int(args: Mapping[str, Any], key: str, default: int | None = None) -> int:
     """``args[key]`` as a whole number (decimal, ``0x``, ``0b`` or ``0o``, ASCII digits only:
     :func:`~focas_net._typed.whole_number`, as every front end reads it); ``default`` when it
@@ -113,7 +141,7 @@ def _int(args: Mapping[str, Any], key: str, default: int | None = None) -> int:
     if value is None or (isinstance(value, str) and not value.strip()):
         raise ActionError(f"{key}: a number is needed")
     if isinstance(value, bool):
-        raise ActionError(f"{key}: a number is needed, got {value!r}")
+        raise ActionError(f"{key}: a number is needed, got {shown(value)}")
     if isinstance(value, int):
         return value
     if isinstance(value, str):
@@ -121,7 +149,7 @@ def _int(args: Mapping[str, Any], key: str, default: int | None = None) -> int:
             return whole_number(value)
         except ValueError as exc:
             raise ActionError(f"{key}: {exc}") from None
-    raise ActionError(f"{key}: not a whole number: {value!r}")
+    raise ActionError(f"{key}: not a whole number: {shown(value)}")
 
 
 def _optional_int(args: Mapping[str, Any], key: str) -> int | None:
@@ -134,7 +162,7 @@ def _optional_int(args: Mapping[str, Any], key: str) -> int | None:
 def _text(args: Mapping[str, Any], key: str, default: str = "") -> str:
     value = args.get(key, default)
     if not isinstance(value, str):
-        raise ActionError(f"{key}: text is needed, got {value!r}")
+        raise ActionError(f"{key}: text is needed, got {shown(value)}")
     return value
 
 
@@ -147,10 +175,10 @@ def _decimal(args: Mapping[str, Any], key: str) -> Decimal | None:
         return None
     if isinstance(value, float):  # a JSON number with a point: the digits it shows
         if not math.isfinite(value):
-            raise ActionError(f"{key}: a finite number is needed, got {value!r}")
+            raise ActionError(f"{key}: a finite number is needed, got {shown(value)}")
         return Decimal(repr(value))
     if isinstance(value, bool) or not isinstance(value, str | int):
-        raise ActionError(f"{key}: a number is needed, got {value!r}")
+        raise ActionError(f"{key}: a number is needed, got {shown(value)}")
     if isinstance(value, int):
         return Decimal(value)
     try:
@@ -184,11 +212,12 @@ def _cycle(station: Station, args: Mapping[str, Any]) -> JsonDict:
 
 
 def _mode(args: Mapping[str, Any]) -> int | None:
-    """``mode`` as the command line takes it: a name (``MDI``, ``mdi``, ``EDIT``) read by
-    :meth:`AutMode.parse_panel`, or an ``aut`` number (the machine refuses one that is not a
-    mode, with EW_DATA)."""
+    """``mode`` as the command line takes it: text (a name, ``MDI``, ``mdi``, ``EDIT``, or an
+    ``aut`` number, ``1``) read by :meth:`AutMode.parse_panel` as ``--mode`` reads it, or a
+    JSON number, the ``aut`` value as the wire carries it (the machine refuses one that is
+    not a mode, with EW_DATA)."""
     value = args.get("mode")
-    if not isinstance(value, str) or value.strip().lstrip("+-").isdigit():
+    if not isinstance(value, str):
         return _optional_int(args, "mode")
     if not value.strip():
         return None
@@ -223,14 +252,38 @@ def _panel(station: Station, args: Mapping[str, Any]) -> JsonDict:
     return {}
 
 
+def _rapid(args: Mapping[str, Any]) -> int | None:
+    """The rapid override as the command line takes it: ``F0`` (0 %) or a number
+    (:func:`~focas_net._typed.rapid_step`); None when not given."""
+    value = args.get("rapid")
+    if isinstance(value, str) and value.strip():
+        try:
+            return rapid_step(value)
+        except ValueError as exc:
+            raise ActionError(f"rapid: {exc}") from None
+    return _optional_int(args, "rapid")
+
+
 def _overrides(station: Station, args: Mapping[str, Any]) -> JsonDict:
     station.machine.set_overrides(
         _optional_int(args, "feed"),
-        _optional_int(args, "rapid"),
+        _rapid(args),
         _optional_int(args, "spindle"),
         path=_path(args),
     )
     return {}
+
+
+def _alarm_type(args: Mapping[str, Any], default: int | None = None) -> int:
+    """``alm_type`` by its number or its name (``PS``), as the command line and the client
+    take it (:func:`~focas_net.protocol.alarm_type_of`)."""
+    value = args.get("alm_type")
+    if isinstance(value, str) and value.strip().isalpha():
+        try:
+            return alarm_type_of(value)
+        except ValueError as exc:
+            raise ActionError(f"alm_type: {exc}") from None
+    return _int(args, "alm_type", default)
 
 
 def _raise_alarm(station: Station, args: Mapping[str, Any]) -> JsonDict:
@@ -240,7 +293,7 @@ def _raise_alarm(station: Station, args: Mapping[str, Any]) -> JsonDict:
     except ValueError as exc:
         raise ActionError(f"msg: {exc}") from None
     m, path = station.machine, _path(args)
-    key = (_int(args, "axis_no", 0), _int(args, "alm_type"), _int(args, "alm_no"))
+    key = (_int(args, "axis_no", 0), _alarm_type(args), _int(args, "alm_no"))
     raised = m.raise_alarm(*key, msg, path=path)
     # the machine's rule, as for every front end: it keeps the first 32 characters; the
     # answer says what it kept (an alarm active before keeps its message)
@@ -253,7 +306,7 @@ def _raise_alarm(station: Station, args: Mapping[str, Any]) -> JsonDict:
 
 def _clear_alarms(station: Station, args: Mapping[str, Any]) -> JsonDict:
     cleared = station.machine.clear_alarms(
-        _int(args, "alm_type", -1), _int(args, "alm_no", -1), path=_path(args)
+        _alarm_type(args, -1), _int(args, "alm_no", -1), path=_path(args)
     )
     return {"cleared": cleared}
 
@@ -326,7 +379,7 @@ def _bits(number: int, value: object) -> int | None:
         return _int({"value": text}, "value")
     raise ActionError(
         f"value: parameter {number} is a bit parameter: write its 8 bits #7..#0 (10110000), "
-        f"0x.. or 0b.., got {value!r}"
+        f"0x.. or 0b.., got {shown(value)}"
     )
 
 
@@ -349,8 +402,13 @@ def _write_param(station: Station, args: Mapping[str, Any]) -> JsonDict:
 
 
 def _unlock(station: Station, args: Mapping[str, Any]) -> JsonDict:
-    station.machine.unlock(station.session, _text(args, "password"))
-    return {}
+    """Unlock the page's session; on a machine without a password, say what that means in
+    the command line's words (``focas-net unlock``)."""
+    m = station.machine
+    m.unlock(station.session, _text(args, "password"))
+    if not m.has_password:
+        return {"password_set": False, "note": NO_PASSWORD_NOTE}
+    return {"password_set": True}
 
 
 def _write_macro(station: Station, args: Mapping[str, Any]) -> JsonDict:
@@ -362,9 +420,13 @@ def _write_macro(station: Station, args: Mapping[str, Any]) -> JsonDict:
 
 
 def _select_program(station: Station, args: Mapping[str, Any]) -> JsonDict:
-    path = _path(args)
+    path, typed = _path(args), args.get("number")
+    if typed is None or (isinstance(typed, str) and not typed.strip()):
+        raise ActionError("number: a program number is needed (e.g. O1000)")
+    if not isinstance(typed, str | int) or isinstance(typed, bool):
+        raise ActionError(f"number: {shown(typed)} is not a program number (e.g. O1000)")
     try:  # O1000 or 1000, as the command line reads it
-        number = program_number(args.get("number"))
+        number = program_number(typed)
     except ValueError as exc:
         raise ActionError(f"number: {exc}") from None
     station.machine.select_program(number, path=path)
@@ -456,7 +518,7 @@ ACTION_KEYS: Final[Mapping[str, frozenset[str]]] = {
 }
 
 
-def _no_twice(pairs: list[tuple[str, Any]]) -> dict[str, Any]:
+def no_twice(pairs: list[tuple[str, Any]]) -> dict[str, Any]:
     """A JSON object's members, refused when a key is given twice (which one counts is no
     rule JSON makes)."""
     args: dict[str, Any] = {}
@@ -473,7 +535,9 @@ def action_args(body: bytes) -> dict[str, Any]:
     if not body.strip():
         return {}
     try:
-        args = json.loads(body, object_pairs_hook=_no_twice)
+        args = json.loads(body, object_pairs_hook=no_twice)
+    except RecursionError:
+        raise ActionError("the body nests too deep to be an action's arguments") from None
     except ValueError as exc:
         if isinstance(exc, ActionError):
             raise
@@ -504,4 +568,7 @@ def perform(
         raise ActionError(f"{action} takes no {', '.join(map(repr, unknown))} (it takes {takes})")
     if read_only and action not in _VIEW_ONLY:
         raise MachineError(EW.PROT, "the dashboard is read-only")
+    # every action names a path the machine has, the machine-wide ones (PMC, the password,
+    # faults) too: a page of a path the machine has not is refused, not served path 1
+    station.machine.path_info(_path(args))
     return {"ok": True, **operation(station, args)}

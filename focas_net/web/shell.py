@@ -43,7 +43,16 @@ from focas_net.sim import MachineError
 
 from .address import DEFAULT_WEB_HOST
 from .broadcast import DEFAULT_INTERVAL, FLEET, Broadcaster, Topic, machine_topic
-from .operations import ActionError, Station, action_args, perform, refusal, whole_number
+from .operations import (
+    ActionError,
+    Station,
+    action_args,
+    no_twice,
+    perform,
+    refusal,
+    shown,
+    whole_number,
+)
 from .view import (
     JsonDict,
     fleet_view,
@@ -66,6 +75,8 @@ _log = logging.getLogger(__name__)
 
 #: The page's files, shipped in the package.
 STATIC_DIR: Final = Path(__file__).resolve().parent / "static"
+#: The most bytes of an action's body read (more is answered 413, in JSON like any refusal).
+_MAX_BODY: Final = 1024 * 1024
 #: How long the stop waits for requests in flight.
 _SHUTDOWN_TIMEOUT: Final = 2.0
 
@@ -145,7 +156,7 @@ class Dashboard:
     # -- lifecycle ------------------------------------------------------------------------
     async def start(self) -> None:
         aw = _aiohttp()
-        app = aw.Application()
+        app = aw.Application(client_max_size=_MAX_BODY)
         app.router.add_get("/", self._index)
         app.router.add_static("/static/", STATIC_DIR, show_index=False)
         app.router.add_get("/favicon.ico", self._icon)
@@ -199,7 +210,7 @@ class Dashboard:
 
     def _station(self, request: web.Request) -> Station:
         text = request.match_info["index"]
-        if not text.isdigit() or not int(text) < len(self.stations):
+        if not (text.isascii() and text.isdigit()) or not int(text) < len(self.stations):
             aw = _aiohttp()
             raise aw.HTTPNotFound(
                 text=json.dumps({"ok": False, "error": f"no machine {text!r}"}),
@@ -284,7 +295,11 @@ class Dashboard:
     async def _action(self, request: web.Request) -> web.Response:
         s = self._station(request)
         action = request.match_info["action"]
-        body = await request.read() if request.can_read_body else b""
+        try:
+            body = await request.read() if request.can_read_body else b""
+        except _aiohttp().HTTPRequestEntityTooLarge:
+            why = f"the body is more than {_MAX_BODY} bytes: an action takes a small JSON object"
+            return self._json({"ok": False, "error": why}, 413)
         try:
             args = action_args(body)
             result = perform(s, action, args, read_only=self.read_only)
@@ -302,8 +317,10 @@ class Dashboard:
         """The topic a page's ``message`` subscribes to, or why it names none: each field of
         a machine's topic checked (its number, path, PMC window) and named when wrong."""
         try:
-            wanted = json.loads(message)
-        except ValueError:
+            wanted = json.loads(message, object_pairs_hook=no_twice)
+        except ActionError as exc:
+            return f"bad subscription: {exc}"
+        except (ValueError, RecursionError):
             return f"bad subscription: not JSON: {message[:40]!r}"
         if not isinstance(wanted, dict):
             return f"bad subscription: a JSON object is expected, got {message[:40]}"
@@ -311,16 +328,18 @@ class Dashboard:
         if kind == "fleet":
             return FLEET
         if kind != "machine":
-            return f'bad subscription: "subscribe" is "fleet" or "machine", got {kind!r}'
+            return f'bad subscription: "subscribe" is "fleet" or "machine", got {shown(kind)}'
         index, area = wanted.get("index"), wanted.get("pmc_area")
         start, path = wanted.get("pmc_start", 0), wanted.get("path", 1)
+        if "index" not in wanted:
+            return 'bad subscription: "index" is missing (a machine\'s number)'
         if not _whole(index):
-            return f'bad subscription: "index" is a machine\'s number, got {index!r}'
+            return f'bad subscription: "index" is a machine\'s number, got {shown(index)}'
         for key, value in (("path", path), ("pmc_start", start)):
             if not _whole(value):
-                return f'bad subscription: "{key}" is a whole number, got {value!r}'
+                return f'bad subscription: "{key}" is a whole number, got {shown(value)}'
         if area is not None and not isinstance(area, str):
-            return f'bad subscription: "pmc_area" is a PMC area\'s letter, got {area!r}'
+            return f'bad subscription: "pmc_area" is a PMC area\'s letter, got {shown(area)}'
         assert isinstance(index, int) and isinstance(start, int) and isinstance(path, int)
         # no area named: the machine's first (a machine with none shows that in its frames)
         letter = self.broadcaster.first_pmc_area(index) if area is None else area

@@ -15,6 +15,7 @@ from collections.abc import Iterable, Sequence
 from decimal import Decimal
 from typing import Any, Final
 
+from focas_net._typed import whole_number
 from focas_net.errors import EW, ew_name
 from focas_net.protocol import (
     AutMode,
@@ -25,6 +26,7 @@ from focas_net.protocol import (
     alarm_text,
     status_labels,
 )
+from focas_net.server.faults import fault_arg_text
 from focas_net.sim import (
     AUT_MODES,
     PMC_AREAS,
@@ -289,7 +291,10 @@ def machine_view(
         ],
         "program": _program(machine, path),
         "pmc_areas": _pmc_areas(machine),
-        "faults": [{"kind": k, "remaining": n, "arg": arg} for k, n, arg in faults],
+        "faults": [
+            {"kind": k, "remaining": n, "arg": arg, "arg_text": fault_arg_text(FaultKind[k], arg)}
+            for k, n, arg in faults
+        ],
         "fault_kinds": [k.name for k in FaultKind],
         "versions": {"data": machine.data_version, "macro": machine.macro_version},
     }
@@ -314,7 +319,14 @@ def pmc_address(text: str, area: str) -> tuple[str, int]:
     ``text`` for anything else (a letter that is no PMC area, a bit ``R100.3``, a sign)."""
     found = _PMC_ADDRESS.fullmatch(text.strip())
     if found is None:
-        raise ValueError(f"PMC address {text!r}: write a byte address, 100 or R100")
+        try:  # a whole number as the command line reads pmc read's START (0x10, +16)
+            number = whole_number(text)
+        except ValueError:
+            raise ValueError(f"PMC address {text!r}: write a byte address, 100 or R100") from None
+        if number < 0:
+            raise ValueError(f"PMC address {text!r}: must not be negative")
+        found = _PMC_ADDRESS.fullmatch(str(number))
+        assert found is not None
     try:
         letter = pmc_letter(found[1] or area)  # the machine's words for no PMC area
     except ValueError as exc:

@@ -78,7 +78,7 @@ of O8000/O9000, and ``ATAN[a,b]``. These raise PS0010 (G codes) or PS0114 (synta
 """
 
 from .alarms import ALARM_MESSAGES, AlarmKind, NcAlarm, ProgramError, ProgramErrorReason
-from .clock import ManualClock, RealTimeClock, SimClock
+from .clock import ManualClock, RealTimeClock, SimClock, check_sim_clock
 from .engine import CycleState, Engine, EngineEvent, MotionKind, NcStateError
 from .interpreter import DEFAULT_MODAL, G_CODE_GROUPS, NcSettings
 from .macro import MACRO_FUNCTIONS, MemoryVariables, NcVariables, VariableRefused
@@ -145,6 +145,7 @@ __all__ = [
     "SimClock",
     "VariableRefused",
     "Word",
+    "check_sim_clock",
     "fleet_seed",
     "g_code_text",
     "modal_state",

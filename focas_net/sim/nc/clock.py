@@ -12,7 +12,7 @@ import time
 from collections.abc import Callable
 from typing import Protocol
 
-__all__ = ["ManualClock", "RealTimeClock", "SimClock"]
+__all__ = ["ManualClock", "RealTimeClock", "SimClock", "check_sim_clock"]
 
 
 class SimClock(Protocol):
@@ -52,17 +52,44 @@ def _checked_speed(speed: float) -> float:
     return float(speed)
 
 
+def _seconds(what: str, value: object) -> float:
+    """``value`` as a finite number of seconds: TypeError for what is no number (a ``bool``,
+    text), ValueError for NaN and the infinities, each naming ``what`` and the value."""
+    if isinstance(value, bool) or not isinstance(value, int | float):
+        raise TypeError(f"{what} must be a number of seconds, got {value!r}")
+    if not math.isfinite(value):
+        raise ValueError(f"{what} must be a finite number of seconds, got {value!r}")
+    return float(value)
+
+
+def check_sim_clock(clock: object, what: str = "clock") -> SimClock:
+    """``clock`` when it is a clock object with ``now()`` (a :class:`ManualClock`, a
+    :class:`RealTimeClock`...); TypeError naming ``what`` and what was given otherwise (a
+    class rather than its instance, a number, text)."""
+    if isinstance(clock, type) or not callable(getattr(clock, "now", None)):
+        raise TypeError(
+            f"{what} must be a clock with now() (ManualClock(), RealTimeClock()), got {clock!r}"
+        )
+    return clock  # type: ignore[return-value]
+
+
+def _is_number(value: object) -> bool:
+    return isinstance(value, int | float) and not isinstance(value, bool)
+
+
 class ManualClock:
     """Machine time that moves only when :meth:`advance` or :meth:`set` is called."""
 
     def __init__(self, start: float = 0.0) -> None:
-        self._now = float(start)
+        self._now = _seconds("start", start)
 
     def now(self) -> float:
         return self._now
 
     def advance(self, seconds: float) -> float:
         """Move the time forward by ``seconds`` (>= 0); returns the new time."""
+        if not _is_number(seconds):
+            _seconds("seconds", seconds)  # TypeError
         if not (math.isfinite(seconds) and seconds >= 0):
             raise ValueError(
                 f"a clock advances by a finite number of seconds >= 0, got {seconds!r}"
@@ -72,6 +99,10 @@ class ManualClock:
 
     def set(self, when: float) -> None:
         """Jump to ``when``, which may not be earlier than the current time."""
-        if not (math.isfinite(when) and when >= self._now):
+        if not _is_number(when):
+            _seconds("when", when)  # TypeError
+        if not math.isfinite(when):
+            raise ValueError(f"a clock is set to a finite time, got {when!r}")
+        if not when >= self._now:
             raise ValueError(f"the clock cannot go back from {self._now} to {when!r}")
         self._now = float(when)

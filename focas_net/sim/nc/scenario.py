@@ -31,6 +31,8 @@ from typing import Final, Literal
 __all__ = [
     "DEFAULT_SCENARIO",
     "EVENT_KINDS",
+    "MAX_PARTS",
+    "MAX_SEED",
     "SCENARIO_ALARMS",
     "Scenario",
     "ScenarioAlarm",
@@ -73,6 +75,12 @@ SCENARIO_ALARMS: Final = (
 )
 
 
+#: The largest seed of a scenario (a machine file's ``[run]`` seed, ``serve --seed``).
+MAX_SEED: Final = 2**63 - 1
+#: The most parts a scenario makes before it stops (the parts count is a two-word parameter).
+MAX_PARTS: Final = 2**31 - 1
+
+
 @dataclass(frozen=True, slots=True)
 class Scenario:
     """How a machine runs on its own. Rates are events per hour of machine time (0: none),
@@ -102,8 +110,14 @@ class Scenario:
             isinstance(self.parts, bool) or not isinstance(self.parts, int) or self.parts < 0
         ):
             raise ValueError(f"parts is a count >= 0 or 'required', got {self.parts!r}")
-        if isinstance(self.seed, bool) or not isinstance(self.seed, int) or self.seed < 0:
-            raise ValueError(f"seed is an integer >= 0, got {self.seed!r}")
+        if isinstance(self.parts, int) and self.parts > MAX_PARTS:
+            raise ValueError(f"parts {self.parts} is outside 0..{MAX_PARTS}")
+        if (
+            isinstance(self.seed, bool)
+            or not isinstance(self.seed, int)
+            or not 0 <= self.seed <= MAX_SEED
+        ):
+            raise ValueError(f"seed is an integer 0..{MAX_SEED}, got {self.seed!r}")
         checks: tuple[tuple[str, float | None], ...] = (
             ("phase", self.phase),
             ("phase_span", self.phase_span),

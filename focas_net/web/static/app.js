@@ -27,6 +27,14 @@ function el(tag, attrs = {}, ...children) {
   return node;
 }
 
+// "1 part", "2 parts": a count and its noun, as the command line writes them.
+function count(n, noun) { return `${n} ${noun}${n === 1 ? "" : "s"}`; }
+
+// What follows "#/machine/" as the user typed it ("%D9%A1" is the digit they typed).
+function typedAddress(text) {
+  try { return decodeURIComponent(text); } catch (e) { return text; }
+}
+
 function show(text, ok) {
   const m = $("message");
   m.textContent = text;
@@ -56,8 +64,9 @@ function route() {
   notice("");
   if (!m && location.hash.startsWith("#/machine/") || m && Number(m[1]) >= state.machines) {
     // an address of no machine: say so over the fleet, never over another machine's view
-    const what = location.hash.slice("#/machine/".length);
-    notice(`no machine ${what} (this dashboard shows machines 0..${state.machines - 1})`);
+    const what = typedAddress(location.hash.slice("#/machine/".length));
+    const shows = state.machines === 1 ? "machine 0" : `machines 0..${state.machines - 1}`;
+    notice(`${what ? `no machine '${what}'` : "no machine given"} (this dashboard shows ${shows})`);
     m = null;
   }
   $("fleet-view").hidden = !!m;
@@ -145,7 +154,7 @@ function tileOf(t) {
 
 function pathLine(p) {
   return `${p.path_name} ${p.mode} ${p.run} O${String(p.program).padStart(4, "0")} ` +
-    `N${p.sequence} ${p.parts} part${p.parts === 1 ? "" : "s"}` +
+    `N${p.sequence} ${count(p.parts, "part")}` +
     (p.alarm ? ` ALM ${p.alarm}` : (p.emergency ? " EMG" : ""));
 }
 
@@ -153,7 +162,7 @@ function setText(node, text) { if (node.textContent !== text) node.textContent =
 
 function renderFleet(data) {
   setText($("fleet-summary"),
-    `${data.count} machines, ${data.running} running, ${data.alarmed} in alarm`);
+    `${count(data.count, "machine")}, ${data.running} running, ${data.alarmed} in alarm`);
   const filter = $("fleet-filter").value.trim().toLowerCase();
   const shown = [];
   for (const t of data.machines) {
@@ -168,7 +177,7 @@ function renderFleet(data) {
     setText(parts.run, t.run);
     setText(parts.program, `O${String(t.program).padStart(4, "0")}`);
     setText(parts.sequence, `N${t.sequence}`);
-    setText(parts.parts, `${t.parts} part${t.parts === 1 ? "" : "s"}`);
+    setText(parts.parts, count(t.parts, "part"));
     setText(parts.alarm, t.alarm ? `ALM ${t.alarm}` : (t.emergency ? "EMG" : "\u00a0"));
     if (tile.paths) {
       t.paths.forEach((p, i) => {
@@ -230,7 +239,7 @@ function renderPaths(v) {
     const cls = `path-card ${p.run_state}${n === state.path ? " shown" : ""}`;
     if (card.className !== cls) card.className = cls;
     setText($(`path-${n}-state`), `${p.mode} ${p.run}  O${String(p.program).padStart(4, "0")} ` +
-      `N${p.sequence}  ${p.parts} part${p.parts === 1 ? "" : "s"}`);
+      `N${p.sequence}  ${count(p.parts, "part")}`);
     setText($(`path-${n}-alarm`), p.alarm ? `ALM ${p.alarm}` : (p.emergency ? "EMG" : "no alarm"));
   }
 }
@@ -290,9 +299,11 @@ function renderMachine(v) {
   $("m-spindle").textContent = v.spindle_speed;
   $("m-program").textContent = `O${String(v.program_running).padStart(4, "0")}`;
   $("m-sequence").textContent = v.sequence;
+  // each servo load by its axis, as the command line's watch names them
+  const axis = (i) => v.positions[i] ? v.positions[i].axis : String(i + 1);
   $("loads").textContent =
     `spindle load ${v.loads.spindle.map((x) => x + " %").join(", ")}` +
-    ` | servo load ${v.loads.servo.map((x) => x + " %").join(", ")}`;
+    ` | servo load ${v.loads.servo.map((x, i) => `${axis(i)} ${x} %`).join(", ")}`;
 
   const t = v.timers;
   $("timer-table").replaceChildren(
@@ -342,7 +353,7 @@ function renderMachine(v) {
   }
 
   $("faults").replaceChildren(...(v.faults.length ? v.faults.map((f) =>
-    el("li", {}, `${f.kind} arg ${f.arg}: ${f.remaining} answer(s) left`))
+    el("li", {}, `${f.kind} ${f.arg_text}: ${count(f.remaining, "answer")} left`))
     : [el("li", {}, "no fault armed")]));
   plot(v);
 }
@@ -574,6 +585,11 @@ function wire() {
   $("fault-inject").onclick = () => act("inject_fault", {
     kind: $("fault-kind").value, count: $("fault-count").value, arg: $("fault-arg").value });
   $("fault-clear").onclick = () => act("clear_faults", {});
+  // Enter in a form's box does what its button does, as in the parameter and macro boxes
+  const onEnter = (ids, button) => ids.forEach((id) => $(id).addEventListener("keydown",
+    (ev) => { if (ev.key === "Enter") $(button).click(); }));
+  onEnter(["alarm-type", "alarm-no", "alarm-msg"], "alarm-raise");
+  onEnter(["fault-count", "fault-arg"], "fault-inject");
   $("clear-path").onclick = () => act("clear_path", {});
   $("pmc-area").onchange = pmcFrom;
   $("pmc-start").onchange = pmcFrom;

@@ -1,0 +1,76 @@
+"""The checks of :class:`~focas_net.server.FocasServer`'s arguments given from Python: each
+one of a wrong type is a :class:`TypeError`, NaN a :class:`ValueError`, naming the argument and
+the value given, before a machine is touched or a socket made. The ranges are the server's
+own checks (``_server.py``)."""
+
+from __future__ import annotations
+
+import math
+import ssl as _ssl
+from collections.abc import Sequence
+
+__all__ = ["check_server_options"]
+
+#: Arguments that are an ``int`` (None allowed for the second group).
+_INTS = (
+    "max_frame", "max_connections", "max_delayed", "write_buffer_high", "backlog",
+    "native_max_body",
+)  # fmt: skip
+_OPTIONAL_INTS = ("port", "native_port", "native_version")
+#: Arguments that are a number of seconds.
+_SECONDS = ("idle_timeout", "grace_period")
+#: Arguments that are True, False or None.
+_SWITCHES = ("read_only", "control")
+#: The most connections a listening socket's backlog may ask for (a C ``int``).
+_MAX_BACKLOG = 2**31 - 1
+_MAX_PORT = 65_535
+
+
+def _is_int(value: object) -> bool:
+    return isinstance(value, int) and not isinstance(value, bool)
+
+
+def check_server_options(options: dict[str, object]) -> None:
+    """Check ``options`` (the keyword arguments of ``FocasServer``, by name) for their
+    types: TypeError or ValueError naming the first one that is wrong."""
+    host = options["host"]
+    if not isinstance(host, str):
+        raise TypeError(f"host must be a str (an address or a name), got {host!r}")
+    for name in _INTS:
+        if not _is_int(options[name]):
+            raise TypeError(f"{name} must be an integer, got {options[name]!r}")
+    for name in _OPTIONAL_INTS:
+        value = options[name]
+        if value is not None and not _is_int(value):
+            raise TypeError(f"{name} must be an integer or None, got {value!r}")
+    for name in ("port", "native_port"):
+        value = options[name]
+        if isinstance(value, int) and not 0 <= value <= _MAX_PORT:
+            raise ValueError(f"{name} {value} is outside 0..{_MAX_PORT} (0: any free port)")
+    backlog = options["backlog"]
+    assert isinstance(backlog, int)
+    if not 0 <= backlog <= _MAX_BACKLOG:
+        raise ValueError(f"backlog {backlog} is outside 0..{_MAX_BACKLOG}")
+    ports = options["ports"]
+    if ports is not None:
+        if isinstance(ports, str | bytes) or not isinstance(ports, Sequence):
+            raise TypeError(f"ports must be a list of port numbers or None, got {ports!r}")
+        for i, p in enumerate(ports):
+            if not _is_int(p):
+                raise TypeError(f"ports[{i}] must be an integer, got {p!r}")
+    for name in _SECONDS:
+        value = options[name]
+        if isinstance(value, bool) or not isinstance(value, int | float):
+            raise TypeError(f"{name} must be a number of seconds, got {value!r}")
+        if math.isnan(value):
+            raise ValueError(f"{name} must be a number of seconds, got {value!r}")
+    for name in _SWITCHES:
+        value = options[name]
+        if value is not None and not isinstance(value, bool):
+            raise TypeError(f"{name} must be True, False or None, got {value!r}")
+    ssl = options["ssl"]
+    if ssl is not None and not isinstance(ssl, _ssl.SSLContext):
+        raise TypeError(f"ssl must be an ssl.SSLContext or None, got {ssl!r}")
+    durable = options["durable"]
+    if durable is not None and not callable(durable):
+        raise TypeError(f"durable must be callable or None, got {durable!r}")

@@ -1,0 +1,288 @@
+"""A seventh new user's pass over the dashboard: each action's fields at their edges and of
+wrong types, request bodies and addresses a page never sends, the live updates' subscription,
+and the page in a browser; each case that was wrong once, kept."""
+
+from __future__ import annotations
+
+import json
+from typing import Any
+
+import pytest
+from cli_support import at, fails, ok
+from support import serving
+
+from focas_net._typed import NO_PASSWORD_NOTE
+from focas_net.errors import EW
+from focas_net.protocol import AutMode, alarm_type_of
+from focas_net.sim import MachineError, default_machine
+from focas_net.web import ActionError, Dashboard, Station, perform, pmc_address, stations_of
+
+
+def _station() -> Station:
+    return Station(0, default_machine())
+
+
+# -- what was typed, read alike by the page and the command line ----------------------------
+@pytest.mark.parametrize("typed", ["md\u0131", "MD\u0130", "m\u0435m"])
+def test_a_mode_name_of_other_letters_is_no_mode(typed: str) -> None:
+    """``{"mode": "md\u0131"}`` (a dotless i) set MDI, as ``sim panel --mode md\u0131`` did:
+    upper-cased, the name read as MDI."""
+    with pytest.raises(ValueError, match="unknown mode"):
+        AutMode.parse_panel(typed)
+    station = _station()
+    before = station.machine.panel.mode
+    with pytest.raises(ActionError, match=r"^mode: unknown mode '.*' \(one of MDI, MEM"):
+        perform(station, "panel", {"mode": typed})
+    assert station.machine.panel.mode == before
+
+
+@pytest.mark.parametrize("typed", ["+1", "99", "-1", "0x1"])
+def test_a_mode_typed_as_text_is_read_as_the_command_line_reads_it(typed: str) -> None:
+    """``{"mode": "+1"}`` set MEM and ``{"mode": "99"}`` was EW_DATA, where ``--mode +1`` and
+    ``--mode 99`` are "unknown mode"; text is now read as ``--mode`` reads it."""
+    station = _station()
+    station.machine.set_panel(mode=int(AutMode.MDI))
+    with pytest.raises(ActionError) as refused:
+        perform(station, "panel", {"mode": typed})
+    assert str(refused.value) == (
+        f"mode: unknown mode {typed!r} (one of MDI, MEM, EDIT, HND, JOG, TJOG, THND, INC, REF, RMT)"
+    )
+    assert station.machine.panel.mode == AutMode.MDI
+    perform(station, "panel", {"mode": "1"})  # an aut number as text, as --mode 1
+    assert station.machine.panel.mode == AutMode.MEM
+
+
+@pytest.mark.parametrize("typed", ["F0", "f0", " F0 "])
+def test_the_rapid_override_takes_f0_as_the_command_line_does(typed: str) -> None:
+    """``{"rapid": "F0"}`` was "not a whole number: 'F0'" though ``sim override --rapid F0``
+    sets it."""
+    station = _station()
+    perform(station, "overrides", {"rapid": 50})
+    perform(station, "overrides", {"rapid": typed})
+    assert station.machine.overrides(path=1)[1] == 0
+
+
+@pytest.mark.parametrize(
+    ("args", "words"),
+    [
+        ({"alm_type": 99}, "alm_type 99 outside -1..31 (-1: any)"),
+        ({"alm_type": -2}, "alm_type -2 outside -1..31 (-1: any)"),
+        ({"alm_no": -2}, "alm_no -2 outside -1..32767 (-1: any)"),
+        ({"alm_type": 0, "alm_no": 40000}, "alm_no 40000 outside -1..32767 (-1: any)"),
+    ],
+)
+def test_a_clear_of_a_number_no_alarm_has_is_refused_by_the_machine(
+    args: dict[str, int], words: str
+) -> None:
+    """``clear_alarms {"alm_type": 99}`` answered ``cleared: 0`` (the command line refuses
+    type 99 itself; the machine said nothing): the machine now refuses it, for every front
+    end."""
+    station = _station()
+    station.machine.raise_alarm(0, 0, 100, "x")
+    with pytest.raises(MachineError) as refused:
+        perform(station, "clear_alarms", args)
+    assert (refused.value.ew, refused.value.detail) == (EW.DATA, words)
+    assert len(station.machine.active_alarms()) == 1
+
+
+@pytest.mark.parametrize(
+    ("action", "args"),
+    [
+        ("pmc_bit", {"area": "R", "address": 0, "bit": 0}),
+        ("unlock", {"password": "1234"}),
+        ("inject_fault", {"kind": "drop"}),
+        ("clear_faults", {}),
+    ],
+)
+def test_a_machine_wide_action_of_a_path_the_machine_has_not_is_refused(
+    action: str, args: dict[str, Any]
+) -> None:
+    """``pmc_bit {..., "path": 2}`` of a one-path machine flipped the bit: the docs say a path
+    the machine has not is EW_PATH, for every action."""
+    station = _station()
+    digest = station.machine.state_digest()
+    with pytest.raises(MachineError) as refused:
+        perform(station, action, {**args, "path": 2})
+    assert refused.value.ew == EW.PATH
+    assert refused.value.detail == "path 2: this machine has paths 1..1"
+    assert station.machine.state_digest() == digest
+    assert len(station.faults) == 0
+
+
+@pytest.mark.parametrize(
+    ("action", "args", "words"),
+    [
+        ("cycle", {"action": None}, "action: text is needed, got null"),
+        ("panel", {"pwe": [1]}, "pwe: not a whole number: [1]"),
+        ("panel", {"mode": {"a": 1}}, 'mode: not a whole number: {"a": 1}'),
+        ("overrides", {"feed": True}, "feed: a number is needed, got true"),
+        ("write_macro", {"number": 500, "value": False}, "value: a number is needed, got false"),
+        ("unlock", {"password": None}, "password: text is needed, got null"),
+        ("select_program", {}, "number: a program number is needed (e.g. O1000)"),
+        ("select_program", {"number": None}, "number: a program number is needed (e.g. O1000)"),
+        ("select_program", {"number": 1.0}, "number: 1.0 is not a program number (e.g. O1000)"),
+        ("select_program", {"number": True}, "number: true is not a program number (e.g. O1000)"),
+    ],
+)
+def test_a_json_value_is_named_as_json_not_as_python(
+    action: str, args: dict[str, Any], words: str
+) -> None:
+    """``{"action": null}`` was "got None", ``true`` "got True", ``{"a": 1}`` "{'a': 1}":
+    Python's words for what the page sent as JSON."""
+    station = _station()
+    station.machine.set_panel(mode=int(AutMode.MDI), pwe=1)
+    digest = station.machine.state_digest()
+    with pytest.raises(ActionError) as refused:
+        perform(station, action, args)
+    assert str(refused.value) == words
+    assert station.machine.state_digest() == digest
+
+
+# -- requests no page sends ------------------------------------------------------------------
+aiohttp = pytest.importorskip("aiohttp", reason="the web dashboard tests need aiohttp")
+
+
+async def test_requests_no_page_sends_are_answered_in_json_and_change_nothing() -> None:
+    """A body nested 100000 deep was a 500 and a traceback on the server's log; a body over
+    the size limit a plain-text 413; ``/api/machines/\uff11`` (a full-width 1) was machine 1."""
+    machines = [default_machine(), default_machine()]
+    async with serving(machines[0]) as served:
+        web = Dashboard(stations_of(served.server), port=0)
+        async with web, aiohttp.ClientSession() as session:
+            url = f"{web.url}api/machines/0/actions/cycle"
+            headers = {"Content-Type": "application/json"}
+            for body in ("[" * 100_000 + "]" * 100_000, '{"a":' * 100_000 + "1" + "}" * 100_000):
+                async with session.post(url, data=body.encode(), headers=headers) as answer:
+                    assert answer.status == 400
+                    assert await answer.json() == {
+                        "ok": False,
+                        "error": "the body nests too deep to be an action's arguments",
+                    }
+            huge = json.dumps({"msg": "A" * (2 * 1024 * 1024)}).encode()
+            alarm = f"{web.url}api/machines/0/actions/raise_alarm"
+            async with session.post(alarm, data=huge, headers=headers) as answer:
+                assert answer.status == 413
+                assert (await answer.json())["error"] == (
+                    "the body is more than 1048576 bytes: an action takes a small JSON object"
+                )
+            for index in ("%EF%BC%90", "%D9%A0"):  # a full-width 0, an Arabic-Indic 0
+                async with session.get(f"{web.url}api/machines/{index}") as answer:
+                    assert answer.status == 404
+                    assert (await answer.json())["ok"] is False
+        assert served.machine.active_alarms() == []
+
+
+@pytest.mark.parametrize(
+    ("message", "reason"),
+    [
+        ("[" * 100_000 + "]" * 100_000, "bad subscription: not JSON: '" + "[" * 40 + "'"),
+        (
+            '{"subscribe": "machine", "index": null}',
+            'bad subscription: "index" is a machine\'s number, got null',
+        ),
+        (
+            '{"subscribe": "machine", "index": 0, "path": true}',
+            'bad subscription: "path" is a whole number, got true',
+        ),
+        ('{"subscribe": null}', 'bad subscription: "subscribe" is "fleet" or "machine", got null'),
+        (
+            '{"subscribe": "fleet", "subscribe": "machine", "index": 0}',
+            "bad subscription: the key 'subscribe' is given twice",
+        ),
+    ],
+)
+async def test_a_subscription_no_page_sends_is_refused_and_the_socket_lives(
+    message: str, reason: str
+) -> None:
+    """A subscription nested 100000 deep closed the socket with a traceback on the server's
+    log; ``null`` was named ``None``; a key given twice was read as its last (actions refuse
+    it)."""
+    async with serving() as served:
+        web = Dashboard(stations_of(served.server), port=0, interval=0.02)
+        async with web, aiohttp.ClientSession() as session:
+            async with session.ws_connect(f"{web.url}ws") as ws:
+                await ws.send_str(message)
+                for _ in range(50):
+                    frame = json.loads(await ws.receive_str(timeout=5.0))
+                    if frame["type"] == "error":
+                        break
+                assert frame == {"type": "error", "error": reason}
+                await ws.send_json({"subscribe": "machine", "index": 0})
+                for _ in range(50):
+                    frame = json.loads(await ws.receive_str(timeout=5.0))
+                    if frame["type"] == "machine":
+                        break
+                assert frame["data"]["index"] == 0
+
+
+# -- the command line, where the fix lives in a table both read ------------------------------
+async def test_the_command_line_refuses_a_mode_of_other_letters_and_takes_f0() -> None:
+    async with serving() as served:
+        line = await fails(2, "sim", "panel", *at(served), "--mode", "md\u0131")
+        assert line.startswith("focas-net: unknown mode 'md\u0131' (one of MDI, MEM")
+        assert served.machine.panel.mode == AutMode.MEM
+        assert "rapid 0 %" in await ok("sim", "override", *at(served), "--rapid", "F0")
+
+
+# -- the page says what the command line says -----------------------------------------------
+def test_an_unlock_without_a_password_says_what_it_means_as_the_command_line_does() -> None:
+    """The page answered "unlock: done" where ``focas-net unlock`` says the CNC has no
+    password and what a parameter write needs instead."""
+    station = _station()
+    answer = perform(station, "unlock", {"password": "ab"})
+    assert answer == {"ok": True, "password_set": False, "note": NO_PASSWORD_NOTE}
+    assert NO_PASSWORD_NOTE.startswith("the CNC has no parameter password: it accepts any")
+    station.machine.set_param_password("1234")
+    assert perform(station, "unlock", {"password": "1234"}) == {"ok": True, "password_set": True}
+
+
+@pytest.mark.parametrize(
+    ("typed", "address"), [("0x10", ("R", 16)), ("+16", ("R", 16)), (" 0b1 ", ("R", 1))]
+)
+def test_a_pmc_address_is_a_whole_number_as_pmc_read_takes_it(
+    typed: str, address: tuple[str, int]
+) -> None:
+    """PMC **from** refused ``0x10``, which ``focas-net pmc read R 0x10`` reads as R16."""
+    assert pmc_address(typed, "R") == address
+    with pytest.raises(ValueError, match=r"^PMC address '-1': must not be negative$"):
+        pmc_address("-1", "R")
+
+
+@pytest.mark.parametrize(("typed", "number"), [("PS", 3), ("ex", 15), (" SV ", 6), ("0xF", 15)])
+def test_an_alarm_type_is_taken_by_its_name_as_the_command_line_takes_it(
+    typed: str, number: int
+) -> None:
+    """The page's type box refused ``PS``, though the alarms it lists are named so and the
+    command line and the client take the name."""
+    station = _station()
+    perform(station, "raise_alarm", {"alm_type": typed, "alm_no": 1, "msg": "x"})
+    (alarm,) = station.machine.active_alarms()
+    assert alarm.alm_type == number
+    assert perform(station, "clear_alarms", {"alm_type": typed}) == {"ok": True, "cleared": 1}
+
+
+@pytest.mark.parametrize("typed", ["XX", "P\u017f", "\u03a1\u03a3"])
+def test_an_unknown_alarm_type_name_is_refused_in_one_set_of_words(typed: str) -> None:
+    """The command line said ``(known: SW PW ...)``, the client ``(one of SW PW ..., or
+    0..31)``; the page took no name. One reader now, for all three (a long s that upper-cases
+    to ``PS`` is no name)."""
+    words = (
+        f"unknown alarm type {typed!r} (one of SW PW IO PS OT OH SV SR MC SP DS IE BG SN EX PC, "
+        "or 0..31)"
+    )
+    with pytest.raises(ValueError) as refused:
+        alarm_type_of(typed)
+    assert str(refused.value) == words
+    with pytest.raises(ActionError) as refused_page:
+        perform(_station(), "raise_alarm", {"alm_type": typed, "alm_no": 1})
+    assert str(refused_page.value) == f"alm_type: {words}"
+
+
+async def test_the_command_line_names_an_unknown_alarm_type_in_the_same_words() -> None:
+    async with serving() as served:
+        line = await fails(2, "sim", "alarm", *at(served), "XX0100", "msg")
+        assert line == (
+            "focas-net: unknown alarm type 'XX' (one of SW PW IO PS OT OH SV SR MC SP DS IE BG "
+            "SN EX PC, or 0..31)"
+        )
+        assert served.machine.active_alarms() == []
