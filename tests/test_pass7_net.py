@@ -393,3 +393,17 @@ async def test_lost_reason_is_why_while_reconnecting_and_none_once_back(
         finally:
             await client.aclose()
     assert seen == [f"connection closed by 127.0.0.1:{served.port}"]
+
+
+@pytest.mark.skipif(not socket.has_ipv6, reason="needs IPv6")
+@pytest.mark.parametrize("cls", CLIENTS)
+async def test_a_link_local_address_without_its_interface_says_it_needs_one(
+    cls: type[FocasClient] | type[NativeClient],
+) -> None:
+    """Linux refuses the connect with EINVAL, which alone says nothing of the cause."""
+    err = await failure(cls, 8193, "fe80::1")
+    assert type(err) is FocasConnectionError
+    assert str(err) == (
+        "cannot connect to [fe80::1]:8193: invalid argument: fe80::1 is a link-local address, "
+        "which needs its interface (fe80::1%eth0, the interface's name or number after %)"
+    )

@@ -17,6 +17,8 @@ exception.
 from __future__ import annotations
 
 import asyncio
+import errno
+import ipaddress
 import os
 import socket
 import ssl as _ssl
@@ -136,9 +138,25 @@ def timeout_error(what: str, peer: str | None) -> FocasTimeoutError:
     return FocasTimeoutError(f"{what}: {NOTHING_RECEIVED} to {peer}")
 
 
-def connect_reason(exc: BaseException, ssl: _ssl.SSLContext | None) -> str:
-    """Why a connect failed, never empty; a failed TLS handshake says so."""
+def _unscoped_link_local(host: str) -> bool:
+    try:
+        address = ipaddress.ip_address(host)
+    except ValueError:
+        return False
+    return isinstance(address, ipaddress.IPv6Address) and (
+        address.is_link_local and address.scope_id is None
+    )
+
+
+def connect_reason(exc: BaseException, ssl: _ssl.SSLContext | None, host: str = "") -> str:
+    """Why a connect to ``host`` failed, never empty; a failed TLS handshake says so, and so
+    does a link-local IPv6 address without its interface (which no connect can reach)."""
     text = str(exc)
+    if isinstance(exc, OSError) and exc.errno == errno.EINVAL and _unscoped_link_local(host):
+        return (
+            f"{os_reason(exc)}: {host} is a link-local address, which needs its interface "
+            f"({host}%eth0, the interface's name or number after %)"
+        )
     if isinstance(exc, _ssl.SSLCertVerificationError):
         return f"TLS certificate not trusted: {(exc.verify_message or text).rstrip('.')}"
     # a refused connect never reached the handshake: it reads as without TLS

@@ -229,7 +229,7 @@ async def _open_channel(
         raise FocasTimeoutError(f"connecting to {where} timed out") from None
     except OSError as exc:
         raise FocasConnectionError(
-            f"cannot connect to {where}: {connect_reason(exc, None)}"
+            f"cannot connect to {where}: {connect_reason(exc, None, host)}"
         ) from exc
     try:
         conn.write(encode_open_request(channel))

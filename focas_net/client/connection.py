@@ -731,7 +731,7 @@ async def open_connection(
         raise FocasTimeoutError(f"connecting to {address_text(host, port)} timed out") from None
     except (OSError, _ssl.SSLError) as exc:
         raise FocasConnectionError(
-            f"cannot connect to {address_text(host, port)}: {connect_reason(exc, ssl)}"
+            f"cannot connect to {address_text(host, port)}: {connect_reason(exc, ssl, host)}"
         ) from exc
     except UnicodeError as exc:  # the idna codec refusing a host name (a label over 63)
         raise FocasConnectionError(
