@@ -32,6 +32,7 @@ from focas_net.cli import EXIT_CONNECTION, EXIT_PROTOCOL
 from focas_net.client import ClientState, FocasClient, NativeClient, ReconnectPolicy
 from focas_net.errors import FocasConnectionError, FocasError, FocasTimeoutError, ProtocolError
 from focas_net.native.frame import MAGIC, NATIVE_HEADER, FrameType
+from focas_net.protocol import FrameDecoder, encode_frame
 
 PROTOCOLS: Final = ("packed", "native")
 CLIENTS: Final = (FocasClient, NativeClient)
@@ -406,4 +407,47 @@ async def test_a_link_local_address_without_its_interface_says_it_needs_one(
     assert str(err) == (
         "cannot connect to [fe80::1]:8193: invalid argument: fe80::1 is a link-local address, "
         "which needs its interface (fe80::1%eth0, the interface's name or number after %)"
+    )
+
+
+# -- a packed answer that does not decode -----------------------------------------------------
+
+
+class AnswersWith(LoopbackPeer):
+    """A packed peer answering every request with its own command and id and ``payload`` (an
+    echo peer answers so with an empty one)."""
+
+    def __init__(self, payload: bytes) -> None:
+        self.payload = payload
+
+    async def _serve(self, reader: asyncio.StreamReader, writer: asyncio.StreamWriter) -> None:
+        decoder = FrameDecoder()
+        try:
+            for _ in range(100):  # bounded: a command sends a few requests
+                data = await reader.read(4096)
+                if not data:
+                    break
+                for frame in decoder.feed(data):
+                    writer.write(encode_frame(frame.command, frame.request_id, self.payload))
+        finally:
+            writer.close()
+
+
+@pytest.mark.parametrize(
+    ("payload", "argv", "call", "why"),
+    [
+        (b"", ("status",), "cnc_rdcncstat (0x0001)", "answer of 0 bytes has no EW code"),
+        (b"\0\0", ("macro", "get", "100"), "cnc_rdmacro (0x0003)", "MacroValue: 0 bytes"),
+        (b"\0", ("pmc", "read", "R", "0", "3"), "pmc_rdpmcrng (0x0010)", "answer of 1 bytes"),
+    ],
+)
+async def test_an_answer_that_does_not_decode_names_the_peer_and_the_call(
+    payload: bytes, argv: tuple[str, ...], call: str, why: str
+) -> None:
+    async with AnswersWith(payload) as peer:
+        code, out, err = await cli(peer.port, "packed", *argv)
+    assert (code, out) == (EXIT_PROTOCOL, ""), err
+    line = one_line(err)
+    assert line.startswith(
+        f"focas-net: 127.0.0.1:{peer.port} sent an answer to {call} that does not decode: {why}"
     )

@@ -24,7 +24,12 @@ import socket
 import ssl as _ssl
 from typing import Final
 
-from focas_net.errors import FocasConnectionError, FocasTimeoutError, ProtocolError
+from focas_net.errors import (
+    FocasConnectionError,
+    FocasTimeoutError,
+    PayloadError,
+    ProtocolError,
+)
 from focas_net.protocol.codecs import COMMANDS
 
 __all__ = [
@@ -39,6 +44,7 @@ __all__ = [
     "not_focas_error",
     "os_reason",
     "timeout_error",
+    "undecodable_error",
     "violation_error",
 ]
 
@@ -62,6 +68,17 @@ def command_text(command: int) -> str:
     ``sim_set_pmc (0x0E04)``; an id the protocol does not have by its id alone."""
     spec = COMMANDS.get(command)
     return f"0x{command:04X}" if spec is None else f"{spec.focas_name} (0x{command:04X})"
+
+
+def undecodable_error(peer: str, command: int, exc: PayloadError) -> PayloadError:
+    """The error of an answer of ``peer`` to ``command`` (a packed command) that does not
+    decode: the peer, the call and why (an answer too short for its EW code, or for its
+    record)."""
+    err = PayloadError(
+        f"{peer} sent an answer to {command_text(command)} that does not decode: {exc}"
+    )
+    err.__cause__ = exc
+    return err
 
 
 def not_focas_error(peer: str, why: str) -> ProtocolError:
