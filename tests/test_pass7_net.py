@@ -28,7 +28,8 @@ import pytest
 from cli_support import one_line, run_focas_net
 from support import IO_TIMEOUT, LoopbackPeer, free_port, serving, wait_until
 
-from focas_net.cli import EXIT_CONNECTION, EXIT_PROTOCOL
+from focas_net.cli import EXIT_CONNECTION, EXIT_PROTOCOL, _diagnose
+from focas_net.cli._diagnose import Findings
 from focas_net.client import ClientState, FocasClient, NativeClient, ReconnectPolicy
 from focas_net.errors import FocasConnectionError, FocasError, FocasTimeoutError, ProtocolError
 from focas_net.native.frame import MAGIC, NATIVE_HEADER, FrameType
@@ -450,4 +451,41 @@ async def test_an_answer_that_does_not_decode_names_the_peer_and_the_call(
     line = one_line(err)
     assert line.startswith(
         f"focas-net: 127.0.0.1:{peer.port} sent an answer to {call} that does not decode: {why}"
+    )
+
+
+# -- a FOCAS/2-only port and a command FOCAS/2 cannot carry -----------------------------------
+
+
+@pytest.mark.parametrize(
+    ("argv", "needs"),
+    [
+        (("unlock", "1234"), "unlock"),
+        (("sim", "panel", "--mode", "MDI"), "sim panel"),
+        (("param", "set", "1420", "5000", "--axis", "1", "--password", "1234"), "--password"),
+        (("watch", "--count", "1"), "watch"),
+    ],
+)
+async def test_a_native_only_port_does_not_send_a_packed_only_command_to_protocol_native(
+    argv: tuple[str, ...], needs: str
+) -> None:
+    """``give --protocol native`` would be refused there (exit 2): the main port serves it."""
+    async with serving(native_port=0) as served:
+        native = served.listener.native
+        assert native is not None
+        code, out, err = await cli(native.address[1], "packed", *argv)
+    assert (code, out) == (EXIT_CONNECTION, ""), err
+    line = one_line(err)
+    assert line.endswith(
+        f"the port speaks FOCAS/2 only (serve --native-port), which cannot carry {needs}: "
+        "connect to the server's main port, which speaks both"
+    )
+    assert "give --protocol native" not in line
+
+
+def test_the_advice_for_a_packed_only_command_on_a_native_port_with_tls() -> None:
+    said = _diagnose.advice(Findings(False, False, False, True), "packed", True, "unlock")
+    assert said == (
+        "the port speaks FOCAS/2 only (serve --native-port), without TLS, which cannot carry "
+        "unlock: connect to the server's main port, which speaks both"
     )

@@ -364,12 +364,25 @@ def _diagnosed(
         return exc, None
     protocol = PACKED if isinstance(go, PackedOnly) else _protocol(args)
     tls = protocol == PACKED and tls_context_wanted(args)
+    packed_only = _packed_only(args, go)
     if isinstance(exc, HintedError):  # (alarms --follow gave up): its cause diagnosed
-        cause, advice = diagnosis(exc.cause, args.host, args.port, protocol, tls, args.timeout)
+        cause, advice = diagnosis(
+            exc.cause, args.host, args.port, protocol, tls, args.timeout, packed_only
+        )
         if not isinstance(cause, FocasError) or (cause is exc.cause and advice is None):
             return exc, None
         return HintedError(cause, exc.hint if advice is None else f"{advice}; {exc.hint}"), None
-    return diagnosis(exc, args.host, args.port, protocol, tls, args.timeout)
+    return diagnosis(exc, args.host, args.port, protocol, tls, args.timeout, packed_only)
+
+
+def _packed_only(args: argparse.Namespace, go: Go | PackedOnly) -> str | None:
+    """What the command needs that FOCAS/2 cannot carry: the command itself, or its
+    ``--password`` (None: it runs on either transport)."""
+    if isinstance(go, PackedOnly):
+        return command_name(args)
+    if getattr(args, "password", None) is not None:
+        return "--password"
+    return None
 
 
 def runner(handler: Handler) -> Callable[[argparse.Namespace], int]:
