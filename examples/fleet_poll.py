@@ -131,7 +131,7 @@ async def poll_fleet(targets: list[tuple[str, str, int]], args: argparse.Namespa
     try:
         up = await asyncio.gather(*(connect(c, r) for c, r in zip(clients, rows, strict=True)))
         live = [(c, r) for c, r, ok in zip(clients, rows, up, strict=True) if ok]
-        failures += len(rows) - len(live)
+        failures += (len(rows) - len(live)) * args.rounds  # each poll of one unreachable
         for round_no in range(args.rounds):
             if round_no:
                 await asyncio.sleep(args.interval)

@@ -111,7 +111,7 @@ def test_every_machine_of_a_fleet_has_a_seed_and_a_phase_of_its_own() -> None:
     [
         ({"parts": -1}, "parts is a count >= 0 or 'required', got -1"),
         ({"parts": "some"}, "parts is a count >= 0 or 'required', got 'some'"),
-        ({"seed": -2}, "seed is an integer >= 0, got -2"),
+        ({"seed": -2}, "seed is an integer 0..9223372036854775807, got -2"),
         ({"pause_rate": -1.0}, "pause_rate is a finite number >= 0, got -1.0"),
         ({"alarm_time": float("nan")}, "alarm_time is a finite number >= 0, got nan"),
         ({"phase": float("inf")}, "phase is a finite number >= 0, got inf"),

@@ -31,7 +31,14 @@ from focas_net import (
     read_status_all,
     read_status_paths_all,
 )
-from focas_net.gateway import ConfigError, OpcUaSettings, OpcUaUser
+from focas_net.gateway import (
+    ConfigError,
+    Gateway,
+    GatewayConfig,
+    MachineConfig,
+    OpcUaSettings,
+    OpcUaUser,
+)
 from focas_net.sim import Machine
 from focas_net.sim.nc import ManualClock
 
@@ -515,3 +522,56 @@ async def test_an_unknown_pmc_area_is_named_with_the_areas_in_one_wording(
     with pytest.raises(ValueError) as from_machine:
         machine.pmc_area("Q")
     assert str(from_machine.value) == words
+
+
+@pytest.mark.parametrize(
+    ("kwargs", "words"),
+    [
+        ({"mode": True}, "mode must be an integer, got True"),
+        ({"mode": "MDI"}, "mode must be an integer, got 'MDI'"),
+        ({"pwe": "on"}, "pwe must be 0, 1, True, False or None, got 'on'"),
+        ({"emergency": 1.0}, "emergency must be 0, 1, True, False or None, got 1.0"),
+    ],
+)
+def test_machine_set_panel_names_a_wrong_type(kwargs: dict[str, Any], words: str) -> None:
+    machine = default_machine(sim_clock=ManualClock())
+    before = machine.state_digest()
+    with pytest.raises(TypeError) as caught:
+        machine.set_panel(**kwargs)
+    assert str(caught.value) == words
+    assert machine.state_digest() == before
+    machine.set_panel(mode=0, pwe=True, emergency=False)  # bools are switches
+    assert machine.status().aut == 0
+
+
+@pytest.mark.parametrize(
+    ("kwargs", "error", "words"),
+    [
+        ({"config": "plant.toml"}, TypeError, "config must be a GatewayConfig (load_config(path)"),
+        ({"sinks": 5}, TypeError, "sinks must be a list of sinks, got 5"),
+        ({"sinks": [print]}, TypeError, "sinks[0] must be a sink (with described, online"),
+        ({"policy": True}, TypeError, "policy must be a ReconnectPolicy, got True"),
+        ({"clock": 5}, TypeError, "clock must be callable (time.time), got 5"),
+        ({"config": GatewayConfig(machines=())}, ValueError, "needs at least one machine"),
+    ],
+)
+def test_gateway_names_a_wrong_argument(
+    kwargs: dict[str, Any], error: type[Exception], words: str
+) -> None:
+    kwargs.setdefault("config", GatewayConfig(machines=(MachineConfig("m", "127.0.0.1"),)))
+    with pytest.raises(error) as caught:
+        Gateway(**kwargs)
+    assert words in str(caught.value)
+    gateway = Gateway(GatewayConfig(machines=(MachineConfig("m", "127.0.0.1"),)))
+    with pytest.raises(TypeError, match=r"sink must be a sink .* it has no described\(\)"):
+        gateway.add_sink(5)  # type: ignore[arg-type]
+
+
+async def test_started_call_on_done_refuses_what_is_not_callable(
+    served: tuple[Machine, FocasClient, NativeClient],
+) -> None:
+    _, cnc, native = served
+    for started in (cnc.start_read_status(), native.start_read_macro(500)):
+        with pytest.raises(TypeError, match="on_done takes a callable with no arguments, got 5"):
+            started.on_done(5)  # type: ignore[arg-type]
+        await started.result()

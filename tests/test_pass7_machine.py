@@ -10,6 +10,7 @@ from pathlib import Path
 import pytest
 from cli_support import Cli, run_focas_net
 from support import serving
+from test_examples import run_example
 
 from focas_net.cli import EXIT_CNC, EXIT_USAGE
 from focas_net.protocol import MotionState, field_label
@@ -271,3 +272,86 @@ def test_program_numbers_are_four_digits_on_every_control_class(
     )
     machine = _load(tmp_path, head + '[[program]]\ntext = ":9999\\nM30\\n"\n')
     assert [p.number for p in machine.program_directory()] == [9999]
+
+
+# -- part programs in the machine --------------------------------------------------------------
+
+
+@pytest.mark.parametrize(
+    ("block", "alarm"), [("N123456 G1 X1. F100", 3), ("N99999 G1 X1. F100", None)]
+)
+def test_a_sequence_number_has_five_digits(block: str, alarm: int | None) -> None:
+    """N1..N99999 as on FANUC's 0i and 16i; N123456 raises PS0003 (too many digits) with its
+    history entry, and a reset leaves no alarm for the next run."""
+    clock = ManualClock()
+    programs = (f"O0300\n{block}\nM30\n", "O0301\nG4 P5000\nM30\n")
+    machine = default_machine(sim_clock=clock, programs=programs)
+    machine.select_program(300)
+    machine.cycle_start()
+    clock.advance(5.0)
+    expected = [] if alarm is None else [(3, alarm)]
+    assert [(a.alm_type, a.alm_no) for a in machine.active_alarms()] == expected
+    assert [(e.alm_type, e.alm_no) for e in machine.alarm_history()] == expected
+    machine.reset()
+    machine.select_program(301)
+    machine.cycle_start()
+    assert machine.active_alarms() == [] and machine.status().run == 3
+
+
+async def test_a_program_of_a_long_name_leaves_the_directory_readable(
+    cli: Cli, tmp_path: Path
+) -> None:
+    """A 300-character O-line comment was stored whole and made every ``program list`` answer
+    EW_DATA (the name did not fit the wire); the directory names the program by the first 61
+    characters, as FANUC's directory read does, and the text keeps the whole comment."""
+    name = "N" * 300
+    file = tmp_path / "o1701.nc"
+    file.write_text(f"O1701 ({name})\nM30\n")
+    await cli.ok("program", "load", str(file))
+    listed = await cli.json("program", "list")
+    entry = next(p for p in listed["programs"] if p["number"] == 1701)
+    assert entry["name"] == name[:61]
+    assert (await cli.json("program", "show", "1701"))["text"].startswith(f"O1701 ({name})")
+
+
+async def test_fleet_poll_counts_each_poll_of_an_unreachable_machine_as_failed() -> None:
+    """examples/fleet_poll.py: with one machine of two unreachable, 3 rounds are 6 polls of
+    which 3 failed (it printed "6 polls ..., 1 failed")."""
+    async with serving() as gone:
+        dead = gone.port
+    async with serving() as live:
+        code, out, err = await run_example(
+            "fleet_poll.py", "--ports", f"{live.port},{dead}", "--rounds", "3", "--interval", "0"
+        )
+    assert (code, err) == (1, "")
+    assert "3 round(s): 6 polls of 3 calls each, 3 failed" in out.splitlines()[-1]
+
+
+def test_a_machine_file_of_more_programs_than_the_store_holds_names_the_entry(
+    tmp_path: Path,
+) -> None:
+    entries = "".join(f'[[program]]\ntext = "O{n}\\nM30\\n"\n' for n in range(1, 402))
+    with pytest.raises(MachineFileError) as refused:
+        _load(tmp_path, entries)
+    assert str(refused.value).endswith(
+        "m.toml: program[400]: the store holds its maximum of 400 programs"
+    )
+
+
+@pytest.mark.parametrize(
+    ("text", "run", "parts"),
+    [
+        ("O0400\n(ONLY A COMMENT)\n", 0, 0),
+        ("O0400\nG1 X1. F600\n%\n", 0, 0),
+        ("O0400\nG1 X1. F600\nM99\n", 3, 0),
+        ("O0400\nG1 X1. F600\nM02\n", 0, 1),
+    ],
+)
+def test_how_a_main_program_ends_as_docs_machine_file_says(text: str, run: int, parts: int) -> None:
+    clock = ManualClock()
+    machine = default_machine(sim_clock=clock, programs=(text,))
+    machine.select_program(400)
+    machine.cycle_start()
+    clock.advance(20.0)
+    assert (machine.status().run, machine.read_param(6711, 0)) == (run, parts)
+    assert machine.active_alarms() == [] and list(machine.alarm_history()) == []

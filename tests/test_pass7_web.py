@@ -15,7 +15,15 @@ from focas_net._typed import NO_PASSWORD_NOTE
 from focas_net.errors import EW
 from focas_net.protocol import AutMode, alarm_type_of
 from focas_net.sim import MachineError, default_machine
-from focas_net.web import ActionError, Dashboard, Station, perform, pmc_address, stations_of
+from focas_net.web import (
+    ActionError,
+    Dashboard,
+    Station,
+    parse_web_address,
+    perform,
+    pmc_address,
+    stations_of,
+)
 
 
 def _station() -> Station:
@@ -286,3 +294,42 @@ async def test_the_command_line_names_an_unknown_alarm_type_in_the_same_words() 
             "SN EX PC, or 0..31)"
         )
         assert served.machine.active_alarms() == []
+
+
+@pytest.mark.parametrize(
+    ("typed", "address"),
+    [("0x1F90", ("127.0.0.1", 8080)), ("+80", ("127.0.0.1", 80)), ("[::1]:0b0", ("::1", 0))],
+)
+def test_the_web_port_is_read_as_port_reads_a_number(typed: str, address: tuple[str, int]) -> None:
+    """``serve --port 0x10`` listens on 16, ``--web 0x10`` was "the port must be a number"."""
+    assert parse_web_address(typed) == address
+    with pytest.raises(ValueError, match=r"the port must be a number 0\.\.65535"):
+        parse_web_address("\uff11")
+
+
+@pytest.mark.parametrize(
+    ("query", "words"),
+    [
+        ("api/machines/0?pth=2", "/api/machines/0 takes no query key 'pth' (it takes path)"),
+        ("api/machines/0?path=1&path=2", "the query key 'path' is given twice"),
+        ("api/machines/0/params?q=13&q=20", "the query key 'q' is given twice"),
+        (
+            "api/machines/0/macros?q=500&Path=1",
+            "/api/machines/0/macros takes no query key 'Path' (it takes path, q)",
+        ),
+        (
+            "api/machines/0/pmc?area=R&start=0&path=1",
+            "/api/machines/0/pmc takes no query key 'path' (it takes area, start)",
+        ),
+        ("api/fleet?machine=1", "/api/fleet takes no query key 'machine' (it takes none)"),
+    ],
+)
+async def test_a_query_key_not_taken_or_given_twice_is_refused(query: str, words: str) -> None:
+    """``?path=1&path=2`` showed path 1 and ``?pth=2`` path 1 too: the reads refuse what the
+    actions refuse (a key given twice, a key they do not take)."""
+    async with serving() as served:
+        web = Dashboard(stations_of(served.server), port=0)
+        async with web, aiohttp.ClientSession() as session:
+            async with session.get(f"{web.url}{query}") as answer:
+                assert answer.status == 400
+                assert await answer.json() == {"ok": False, "error": words}

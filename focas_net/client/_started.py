@@ -50,7 +50,9 @@ class StartedCall(Generic[T]):
         is there: :meth:`result` then returns without waiting on the wire (a packed read
         answered EW_PASSWD, or never sent, is made again after it, within its deadline).
         A call started without its answer's future (a failure found at once) calls it
-        soon."""
+        soon. TypeError, naming it, for a ``callback`` that is not callable."""
+        if not callable(callback):
+            raise TypeError(f"on_done takes a callable with no arguments, got {callback!r}")
         done = self._done
         if done is None:
             asyncio.get_running_loop().call_soon(callback)

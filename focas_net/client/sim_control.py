@@ -237,7 +237,8 @@ class SimControl:
         ``scope`` as members, names (``"drop"``, ``"machine"``) or numbers.
 
         Faults queue first in, first out in their scope: a fault armed behind others applies
-        once those are used up (:meth:`list_faults` shows the queue). The server checks the
+        once those are used up (:meth:`list_faults` shows the queue). ``count`` and ``arg``
+        are integers (TypeError, naming them, for another type). The server checks the
         numbers (an unknown kind or scope, a count outside 1..10000, an arg outside the kind's
         range answer EW_DATA), as it does for every front end.
         """

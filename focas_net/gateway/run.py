@@ -79,6 +79,20 @@ class Gateway:
         policy: ReconnectPolicy = DEFAULT_POLICY,
         client_of: Callable[[MachineConfig, ReconnectPolicy], Client] = client_for,
     ) -> None:
+        if not isinstance(config, GatewayConfig):
+            raise TypeError(
+                f"config must be a GatewayConfig (load_config(path) reads a file), got {config!r}"
+            )
+        if not config.machines:
+            raise ValueError("a gateway needs at least one machine (config.machines is empty)")
+        if isinstance(sinks, str | bytes) or not isinstance(sinks, Sequence):
+            raise TypeError(f"sinks must be a list of sinks, got {sinks!r}")
+        for i, sink in enumerate(sinks):
+            _check_sink(f"sinks[{i}]", sink)
+        if not isinstance(policy, ReconnectPolicy):
+            raise TypeError(f"policy must be a ReconnectPolicy, got {policy!r}")
+        if not callable(clock):
+            raise TypeError(f"clock must be callable (time.time), got {clock!r}")
         self.config = config
         self.poller = Poller(
             config.machines, sinks, clock=clock, policy=policy, client_of=client_of
@@ -93,6 +107,7 @@ class Gateway:
 
     def add_sink(self, sink: Sink) -> None:
         """Tell ``sink`` too (before entering)."""
+        _check_sink("sink", sink)
         if self._task is not None:
             raise RuntimeError("add sinks before the gateway runs")
         self.poller.sinks.append(sink)
@@ -127,3 +142,17 @@ class Gateway:
         if self._task is None:
             raise RuntimeError("the gateway is not running")
         await asyncio.shield(self._task)
+
+
+#: The methods a :class:`~focas_net.gateway.Sink` has.
+_SINK_METHODS = ("described", "online", "samples", "alarms")
+
+
+def _check_sink(what: str, sink: object) -> None:
+    """TypeError, naming ``what`` and the method missing, for an object that is no sink."""
+    for method in _SINK_METHODS:
+        if not callable(getattr(sink, method, None)):
+            raise TypeError(
+                f"{what} must be a sink (with {', '.join(_SINK_METHODS)}), got {sink!r}: "
+                f"it has no {method}()"
+            )

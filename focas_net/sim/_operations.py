@@ -13,6 +13,7 @@ import math
 from collections.abc import Callable, Iterable
 from contextlib import AbstractContextManager
 
+from ._base import need_int
 from ._paths import Paths
 from ._signals import METER, Collected
 from ._spindles import (
@@ -55,13 +56,21 @@ class PathOperations:
     ) -> None:
         """Set the operator panel: ``mode`` an ``aut`` value other than 2, ``pwe`` and
         ``emergency`` 0/1, else EW_DATA; a switch given as None stays as it is. EW_PROT on a
-        read-only machine. Leaving MEM holds the feed; the emergency stop resets."""
+        read-only machine. Leaving MEM holds the feed; the emergency stop resets. TypeError
+        for a mode that is no integer (``True`` is no mode); a switch may be a ``bool``."""
+        if mode is not None:
+            need_int("mode", mode)
+        for what, value in (("pwe", pwe), ("emergency", emergency)):
+            if value is not None and not isinstance(value, int):
+                raise TypeError(f"{what} must be 0, 1, True, False or None, got {value!r}")
         self.check_writable()
         self._paths.at(path).set_panel(mode, pwe, emergency)
 
     def set_run(self, run: int, motion: int = 0, *, path: int = 1) -> None:
         """Set the run state (0 reset, 1 STOP, 2 HOLD, 3 STRT, 4 MSTR) and motion (0, 1 MTN,
         2 DWL) shown by the status (simulation code only): EW_DATA otherwise."""
+        need_int("run", run)
+        need_int("motion", motion)
         self._paths.at(path).set_run(run, motion)
 
     def set_motion(

@@ -31,7 +31,7 @@ from .filecheck import (
     _table,
     _text,
 )
-from .nc import ProgramError, parse_program
+from .nc import ProgramError, ProgramStore, parse_program
 
 __all__ = ["PATH_KEYS", "path_specs"]
 
@@ -167,6 +167,7 @@ def _programs(ctx: _Ctx, value: Any, base: Path | None) -> tuple[list[str], int 
     texts: list[str] = []
     main: int | None = None
     numbers: set[int] = set()
+    store = ProgramStore()
     for i, raw in enumerate(_list(ctx, value)):
         c = ctx.sub(i)
         t = _table(c, raw)
@@ -193,6 +194,10 @@ def _programs(ctx: _Ctx, value: Any, base: Path | None) -> tuple[list[str], int 
         if program.number in numbers:
             key.fail(f"program O{program.number:04d} is given twice")
         numbers.add(program.number)
+        try:  # the store's own limits (count, characters), named by the entry past them
+            store.store(text)
+        except ProgramError as exc:
+            c.fail(str(exc))
         if _bool(c.sub("main"), t.get("main", False)):
             if main is not None:
                 c.sub("main").fail(f"O{main:04d} is already the main program")

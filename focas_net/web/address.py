@@ -4,7 +4,7 @@ from __future__ import annotations
 
 from typing import Final
 
-from focas_net._typed import is_loopback
+from focas_net._typed import is_loopback, whole_number
 
 __all__ = ["DEFAULT_WEB_HOST", "is_loopback", "parse_web_address"]
 
@@ -13,7 +13,8 @@ DEFAULT_WEB_HOST: Final = "127.0.0.1"
 
 
 def parse_web_address(text: str) -> tuple[str, int]:
-    """``(host, port)`` of ``"PORT"``, ``"HOST:PORT"`` or ``"[IPv6]:PORT"``; the host is
+    """``(host, port)`` of ``"PORT"``, ``"HOST:PORT"`` or ``"[IPv6]:PORT"`` (the port a whole
+    number as ``--port`` reads it: ``8080``, ``0x1F90``); the host is
     :data:`DEFAULT_WEB_HOST` when not given, port 0 asks for an ephemeral one. ValueError,
     naming ``text``, for anything else."""
     raw = text.strip()
@@ -26,8 +27,12 @@ def parse_web_address(text: str) -> tuple[str, int]:
         raise ValueError(f"{text!r}: write an IPv6 host in brackets, [HOST]:PORT")
     if not host:
         raise ValueError(f"{text!r}: no host before ':' (write PORT or HOST:PORT)")
-    if not (port_text.isascii() and port_text.isdigit()) or not 0 <= int(port_text) <= 65_535:
+    try:  # a whole number as --port reads one (8080, 0x1F90)
+        port = whole_number(port_text) if port_text.strip() else -1
+    except ValueError:
+        port = -1
+    if not 0 <= port <= 65_535:
         raise ValueError(f"{text!r}: the port must be a number 0..65535 ([HOST:]PORT)")
     if any(c.isspace() for c in host):
         raise ValueError(f"{text!r}: a host name has no spaces")
-    return host, int(port_text)
+    return host, port

@@ -23,6 +23,7 @@ Routes::
 An action takes ``"path"`` (1 when not given) for what a path has: the cycle, the panel,
 overrides, alarms, parameters and macro variables of a path, program selection.
 
+A read takes the query keys shown, each once (another, or one twice, is 400).
 An action answers 200 ``{"ok": true, ...}``; a refusal 409 (403 on a read-only dashboard)
 ``{"ok": false, "ew": 5, "ew_name": "EW_PASSWD", "error": ...}``; a bad argument 400
 ``{"ok": false, "error": ...}``; an unknown machine 404.
@@ -231,16 +232,43 @@ class Dashboard:
     async def _icon(self, _request: web.Request) -> web.StreamResponse:
         return self._file("favicon.svg")
 
-    async def _info(self, _request: web.Request) -> web.Response:
+    def _query(self, request: web.Request, *keys: str) -> web.Response | None:
+        """The 400 answer to a query holding a key the endpoint does not take or a key given
+        twice (as an action's body is refused: ``?pth=2`` would show path 1), else None."""
+        given = list(request.query.keys())
+        unknown = sorted({k for k in given if k not in keys})
+        if unknown:
+            takes = ", ".join(keys) if keys else "none"
+            named = ", ".join(map(repr, unknown))
+            why = f"{request.path} takes no query key {named} (it takes {takes})"
+            return self._json({"ok": False, "error": why}, 400)
+        twice = next((k for k in keys if len(request.query.getall(k, ())) > 1), None)
+        if twice is not None:
+            return self._json(
+                {"ok": False, "error": f"the query key {twice!r} is given twice"}, 400
+            )
+        return None
+
+    async def _info(self, request: web.Request) -> web.Response:
+        refused = self._query(request)
+        if refused is not None:
+            return refused
         return self._json({"read_only": self.read_only, "machines": len(self.stations)})
 
-    async def _fleet(self, _request: web.Request) -> web.Response:
+    async def _fleet(self, request: web.Request) -> web.Response:
+        refused = self._query(request)
+        if refused is not None:
+            return refused
         entries = ((s.index, s.machine, s.port) for s in self.stations)
         return self._json(fleet_view(entries))
 
-    def _path(self, request: web.Request, s: Station) -> int | web.Response:
+    def _path(self, request: web.Request, s: Station, *also: str) -> int | web.Response:
         """``?path=N`` (1 when not given), or the answer refusing it: 400 for text that is no
-        number, 409 EW_PATH for a path the machine has not."""
+        number or a query key the endpoint does not take (``also``: the others it takes), 409
+        EW_PATH for a path the machine has not."""
+        refused = self._query(request, "path", *also)
+        if refused is not None:
+            return refused
         try:
             path = whole_number(request.query.get("path", "1"))
             s.machine.path_info(path)
@@ -263,14 +291,14 @@ class Dashboard:
 
     async def _params(self, request: web.Request) -> web.Response:
         s = self._station(request)
-        path = self._path(request, s)
+        path = self._path(request, s, "q")
         if not isinstance(path, int):
             return path
         return self._json({"params": param_rows(s.machine, request.query.get("q", ""), path=path)})
 
     async def _macros(self, request: web.Request) -> web.Response:
         s = self._station(request)
-        path = self._path(request, s)
+        path = self._path(request, s, "q")
         if not isinstance(path, int):
             return path
         query = request.query.get("q", "")
@@ -282,6 +310,9 @@ class Dashboard:
 
     async def _pmc(self, request: web.Request) -> web.Response:
         s = self._station(request)
+        refused = self._query(request, "area", "start")
+        if refused is not None:
+            return refused
         area = request.query.get("area", "X")
         try:
             letter, start = pmc_address(request.query.get("start", "0"), area)

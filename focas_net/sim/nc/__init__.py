@@ -36,8 +36,8 @@ implementing :class:`NcVariables` (``read_variable``/``write_variable`` over the
 What the interpreter supports
 -----------------------------
 - Program text: O-number (O1-O9999 by default) and name, ``%`` tape marks, EOB as new line
-  or ``;``, ``N`` sequence numbers, comments in parentheses, block delete ``/`` (with the
-  switch), lower case read as upper case. Axis words (and the R, I, J, K of arcs, X of a
+  or ``;``, ``N`` sequence numbers (N1-N99999), comments in parentheses, block delete ``/``
+  (with the switch), lower case read as upper case. Axis words (and the R, I, J, K of arcs, X of a
   dwell) without a decimal point are in least input increments: 0.001 mm (G21), 0.0001 inch
   (G20); F and S are taken as written. Positions, feeds and offsets are kept in mm.
 - G0 (non-linear positioning, each axis at its rapid rate times the rapid override), G1, G2,

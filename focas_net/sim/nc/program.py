@@ -30,6 +30,12 @@ __all__ = [
     "parse_program",
 ]
 
+#: Characters of a program's name in the directory: FANUC's ``cnc_rdprogdir3`` has 64 bytes
+#: for the comment, its parentheses and a NUL; a longer O-line comment is cut there, as a
+#: control's directory shows it.
+DIRECTORY_NAME: Final = 61
+#: Digits of a sequence number (N1..N99999, FANUC's five; more raise PS0003).
+SEQUENCE_DIGITS: Final = 5
 #: Word addresses a block may carry (O and N are handled apart).
 ADDRESSES: Final = frozenset("ABCDEFGHIJKLMPQRSTUVWXYZ")
 
@@ -244,9 +250,11 @@ def parse_block(line: int, raw: str) -> Block:
     sequence: int | None = None
     try:
         if cur.take("N"):
-            value, point, _ = parse_number(cur)
+            value, point, digits = parse_number(cur)
             if point:
                 raise AlarmRaised(7, f"N{value}")
+            if digits > SEQUENCE_DIGITS:
+                raise AlarmRaised(3, f"N{int(value)}: a sequence number has 1..5 digits")
             sequence = int(value)
         statement = _statement(cur)
     except AlarmRaised as e:
@@ -449,8 +457,12 @@ class ProgramStore:
         return len(self._programs)
 
     def directory(self) -> list[ProgramInfo]:
-        """Every stored program, by number."""
-        return [ProgramInfo(p.number, p.name, p.size) for _, p in sorted(self._programs.items())]
+        """Every stored program, by number, named by the first :data:`DIRECTORY_NAME`
+        characters of its O line's comment (the text keeps the whole comment)."""
+        return [
+            ProgramInfo(p.number, p.name[:DIRECTORY_NAME], p.size)
+            for _, p in sorted(self._programs.items())
+        ]
 
     def get(self, number: int) -> Program:
         """The program ``number``; :class:`ProgramError` NOT_FOUND when absent (a number no
