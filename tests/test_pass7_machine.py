@@ -355,3 +355,22 @@ def test_how_a_main_program_ends_as_docs_machine_file_says(text: str, run: int, 
     clock.advance(20.0)
     assert (machine.status().run, machine.read_param(6711, 0)) == (run, parts)
     assert machine.active_alarms() == [] and list(machine.alarm_history()) == []
+
+
+@pytest.mark.parametrize(
+    ("body", "words"),
+    [
+        ('state = "a\\u0000b"\n', "machine.state: 'a\\x00b': a folder name has no NUL character"),
+        (
+            '[[program]]\nfile = "a\\u0000b"\n',
+            "program[0].file: 'a\\x00b': a file name has no NUL character",
+        ),
+    ],
+)
+def test_a_nul_in_a_file_or_folder_name_is_refused_with_its_key(
+    tmp_path: Path, body: str, words: str
+) -> None:
+    """Both read as Python's bare "embedded null byte", naming neither file nor key."""
+    with pytest.raises(MachineFileError) as refused:
+        _load(tmp_path, body)
+    assert str(refused.value).endswith(f"m.toml: {words}")

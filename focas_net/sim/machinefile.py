@@ -523,8 +523,12 @@ def machine_from_dict(
     name = _str(mc.sub("name"), head["name"]).strip()
     if not name:
         mc.sub("name").fail("must not be empty")
-    if "state" in head and not _str(mc.sub("state"), head["state"]).strip():
-        mc.sub("state").fail("must not be empty (the folder of the machine's state file)")
+    if "state" in head:
+        folder = _str(mc.sub("state"), head["state"])
+        if not folder.strip():
+            mc.sub("state").fail("must not be empty (the folder of the machine's state file)")
+        if "\x00" in folder:  # no file system takes it
+            mc.sub("state").fail(f"{folder!r}: a folder name has no NUL character")
     problem = name_problem(name)  # the machine's own rule
     if problem is not None:
         mc.sub("name").fail(problem)

@@ -181,6 +181,8 @@ def _programs(ctx: _Ctx, value: Any, base: Path | None) -> tuple[list[str], int 
             key = c.sub("file")
             given = Path(_str(key, t["file"]))
             where = given if given.is_absolute() or base is None else base / given
+            if "\x00" in str(given):  # no file system takes it
+                key.fail(f"{str(given)!r}: a file name has no NUL character")
             try:
                 text = _text(str(where), where.read_bytes())
             except OSError as exc:
