@@ -13,12 +13,13 @@ from support import serving
 
 from focas_net._typed import NO_PASSWORD_NOTE
 from focas_net.errors import EW
-from focas_net.protocol import AutMode, alarm_type_of
+from focas_net.protocol import AutMode, alarm_time_text, alarm_type_of
 from focas_net.sim import MachineError, default_machine
 from focas_net.web import (
     ActionError,
     Dashboard,
     Station,
+    machine_view,
     parse_web_address,
     perform,
     pmc_address,
@@ -197,14 +198,24 @@ async def test_requests_no_page_sends_are_answered_in_json_and_change_nothing() 
             '{"subscribe": "fleet", "subscribe": "machine", "index": 0}',
             "bad subscription: the key 'subscribe' is given twice",
         ),
+        (
+            '{"subscribe": "machine", "index": 0, "pmc_strat": 100}',
+            "bad subscription: a machine subscription takes no 'pmc_strat' (it takes index, "
+            "path, pmc_area, pmc_start, subscribe)",
+        ),
+        (
+            '{"subscribe": "fleet", "index": 0}',
+            "bad subscription: a fleet subscription takes no 'index' (it takes subscribe)",
+        ),
+        ('{"subscribe": []}', 'bad subscription: "subscribe" is "fleet" or "machine", got []'),
     ],
 )
 async def test_a_subscription_no_page_sends_is_refused_and_the_socket_lives(
     message: str, reason: str
 ) -> None:
     """A subscription nested 100000 deep closed the socket with a traceback on the server's
-    log; ``null`` was named ``None``; a key given twice was read as its last (actions refuse
-    it)."""
+    log; ``null`` was named ``None``; a key given twice was read as its last and a misspelt key
+    was left unread (actions refuse both)."""
     async with serving() as served:
         web = Dashboard(stations_of(served.server), port=0, interval=0.02)
         async with web, aiohttp.ClientSession() as session:
@@ -333,3 +344,33 @@ async def test_a_query_key_not_taken_or_given_twice_is_refused(query: str, words
             async with session.get(f"{web.url}{query}") as answer:
                 assert answer.status == 400
                 assert await answer.json() == {"ok": False, "error": words}
+
+
+@pytest.mark.parametrize("typed", ["\u0661\u0663\u0662\u0660", "13\uff12"])
+async def test_a_parameter_search_in_digits_of_another_script_says_why(typed: str) -> None:
+    """``\u0661\u0663\u0662\u0660`` (1320 in Arabic-Indic digits) in the parameter search said
+    "no parameter found"; the macro search and every number box name such digits."""
+    async with serving() as served:
+        web = Dashboard(stations_of(served.server), port=0)
+        async with web, aiohttp.ClientSession() as session:
+            url = f"{web.url}api/machines/0/params"
+            async with session.get(url, params={"q": typed}) as answer:
+                assert answer.status == 400
+                error = (await answer.json())["error"]
+                assert error.startswith(f"parameter search: {typed!r} holds a digit beyond ASCII")
+            async with session.get(url, params={"q": "1320"}) as answer:
+                assert [p["number"] for p in (await answer.json())["params"]] == [1320]
+
+
+def test_an_alarms_time_is_written_as_the_command_line_writes_it() -> None:
+    """The page's history said ``2026-12-07 10:54:37Z`` and its JSON ``"time":
+    "2026-12-07T10:54:37+00:00"``, where ``alarms --history`` writes ``"occurred_at":
+    "2026-12-07T10:54:37Z"``: one spelling, one key."""
+    station = _station()
+    station.machine.raise_alarm(0, 15, 1001, "COOLANT LEVEL LOW")
+    (entry,) = station.machine.alarm_history()
+    view = machine_view(0, station.machine, 8193)
+    (shown,) = view["history"]
+    assert shown["occurred_at"] == entry.occurred_at.strftime("%Y-%m-%dT%H:%M:%SZ")
+    assert "time" not in shown
+    assert alarm_time_text(entry.occurred_at) == shown["occurred_at"]

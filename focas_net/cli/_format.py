@@ -12,7 +12,7 @@ from __future__ import annotations
 
 import re
 from collections.abc import Iterable, Mapping, Sequence
-from datetime import UTC, datetime
+from datetime import datetime
 from decimal import Decimal
 from typing import Any, Final
 
@@ -31,6 +31,7 @@ from focas_net.protocol import (
     SysInfo,
     alarm_code,
     alarm_text,
+    alarm_time_text,
     alarm_type_of,
     status_labels,
 )
@@ -226,9 +227,8 @@ def positions_rows(data: Mapping[str, Any]) -> list[tuple[str, str, str]]:
 
 
 def utc_text(when: datetime) -> str:
-    """``2024-05-01T12:00:00Z``."""
-    t = when.astimezone(UTC) if when.tzinfo else when
-    return t.strftime("%Y-%m-%dT%H:%M:%SZ")
+    """``2024-05-01T12:00:00Z``, as every front end writes an alarm's time."""
+    return alarm_time_text(when)
 
 
 def format_active_alarm(alarm: ActiveAlarm) -> str:

@@ -342,7 +342,8 @@ def report_state(client: CncClient) -> Callable[[ClientState], None]:
         nonlocal lost
         if state is ClientState.RECONNECTING:
             lost = True
-            _print_one_line(f"connection to {where} lost; reconnecting")
+            why = client.lost_reason
+            _print_one_line(f"connection to {where} lost{f': {why}' if why else ''}; reconnecting")
         elif state is ClientState.CONNECTED and lost:
             lost = False
             _print_one_line(f"reconnected to {where}")
@@ -356,6 +357,11 @@ def _tls_hint(args: argparse.Namespace, exc: BaseException) -> str | None:
     tls = tls_context_wanted(args)
     cause = exc.__cause__
     if isinstance(cause, ssl.SSLCertVerificationError):
+        if cause.verify_code in _NAME_MISMATCH:  # trusted, but for another name
+            return (
+                f"the certificate does not name {args.host}: connect by a name it holds "
+                "(--host NAME), or give --tls-insecure"
+            )
         return "give --tls-ca FILE (the server's certificate or its CA) or --tls-insecure"
     text = str(exc)
     if tls and isinstance(exc, FocasConnectionError) and "TLS handshake failed" in text:
@@ -363,6 +369,10 @@ def _tls_hint(args: argparse.Namespace, exc: BaseException) -> str | None:
     if not tls and isinstance(exc, ProtocolError) and "TLS record" in text:
         return "the server uses TLS: give --tls (with --tls-ca FILE or --tls-insecure)"
     return None
+
+
+#: OpenSSL's verify codes of a certificate that holds another host name, or IP address.
+_NAME_MISMATCH: Final = frozenset({62, 64})
 
 
 def tls_context_wanted(args: argparse.Namespace) -> bool:
@@ -397,12 +407,25 @@ def _diagnosed(
         return exc, None
     protocol = PACKED if isinstance(go, PackedOnly) else _protocol(args)
     tls = protocol == PACKED and tls_context_wanted(args)
+    packed_only = _packed_only(args, go)
     if isinstance(exc, HintedError):  # (alarms --follow gave up): its cause diagnosed
-        cause, advice = diagnosis(exc.cause, args.host, args.port, protocol, tls, args.timeout)
+        cause, advice = diagnosis(
+            exc.cause, args.host, args.port, protocol, tls, args.timeout, packed_only
+        )
         if not isinstance(cause, FocasError) or (cause is exc.cause and advice is None):
             return exc, None
         return HintedError(cause, exc.hint if advice is None else f"{advice}; {exc.hint}"), None
-    return diagnosis(exc, args.host, args.port, protocol, tls, args.timeout)
+    return diagnosis(exc, args.host, args.port, protocol, tls, args.timeout, packed_only)
+
+
+def _packed_only(args: argparse.Namespace, go: Go | PackedOnly) -> str | None:
+    """What the command needs that FOCAS/2 cannot carry: the command itself, or its
+    ``--password`` (None: it runs on either transport)."""
+    if isinstance(go, PackedOnly):
+        return command_name(args)
+    if getattr(args, "password", None) is not None:
+        return "--password"
+    return None
 
 
 def runner(handler: Handler) -> Callable[[argparse.Namespace], int]:

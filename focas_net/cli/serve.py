@@ -45,6 +45,7 @@ from focas_net.server import (
     DEFAULT_PORT,
     NATIVE_MAGIC_LENGTH,
     FocasServer,
+    ListenError,
 )
 
 from ._args import (
@@ -461,6 +462,10 @@ def run(args: argparse.Namespace) -> int:
             backend="asyncio",
             backend_options={"use_uvloop": args.uvloop},
         )
+    except ListenError as exc:
+        option = " (--native-port)" if exc.native_only else ""
+        print_error(f"cannot listen on {exc.where}{option}: {os_reason(exc)}", _ERROR_PREFIX)
+        return EXIT_CNC
     except OSError as exc:
         print_error(
             f"cannot listen on {address_text(args.host, args.port)}: {os_reason(exc)}",

@@ -92,6 +92,8 @@ class Lifecycle:
         self._up_since = 0.0
         #: Why the last reconnect attempt failed (None: none failed since the last link).
         self._attempt_error: BaseException | None = None
+        #: Why the last link was lost (None: connected, or never lost).
+        self._lost_why: BaseException | None = None
 
     def __repr__(self) -> str:
         return f"<{type(self).__name__} {self.address} {self._state.value}>"
@@ -109,6 +111,12 @@ class Lifecycle:
     @property
     def connected(self) -> bool:
         return self._state is ClientState.CONNECTED
+
+    @property
+    def lost_reason(self) -> BaseException | None:
+        """Why the connection was last lost (``connection closed by HOST:PORT``), from when it
+        was until a connection is back; None while connected or before any loss."""
+        return self._lost_why
 
     @property
     def reconnect_policy(self) -> ReconnectPolicy | None:
@@ -178,21 +186,10 @@ class Lifecycle:
     def _nothing_to_wait_for(self) -> Exception:
         """What a call raises when there is no link and none coming (with why the last
         reconnect attempt failed, when one did)."""
-        return FocasConnectionError(f"not connected to {self.address}{self._last_attempt()}")
-
-    def _still_reconnecting(self) -> FocasConnectionError:
-        """What a call raises when its deadline passed while the client was reconnecting
-        (with why the last reconnect attempt failed, when one did: the real cause, such as
-        a refused connection, rather than the wait)."""
-        return FocasConnectionError(
-            f"still reconnecting to {self.address} when the call timed out{self._last_attempt()}"
-        )
-
-    def _last_attempt(self) -> str:
-        """`` (the last reconnect attempt failed: ...)``, or nothing when none failed."""
-        if self._attempt_error is None:
-            return ""
-        return f" (the last reconnect attempt failed: {self._attempt_error})"
+        text = f"not connected to {self.address}"
+        if self._attempt_error is not None:
+            text += f" (the last reconnect attempt failed: {self._attempt_error})"
+        return FocasConnectionError(text)
 
     async def _wait_linked(self, deadline: float | None) -> None:
         """Return once a link is open, waiting (until ``deadline``) while reconnecting.
@@ -216,7 +213,16 @@ class Lifecycle:
                 async with asyncio.timeout_at(deadline):
                     await self._ready.wait()
             except TimeoutError:
-                raise self._still_reconnecting() from None
+                raise FocasConnectionError(self._still_reconnecting()) from None
+
+    def _still_reconnecting(self) -> str:
+        """What a call says whose time was up while reconnecting: why the link was lost, and
+        why the last reconnect attempt failed (once one did)."""
+        causes = [str(self._lost_why)] if self._lost_why is not None else []
+        if self._attempt_error is not None:
+            causes.append(f"the last reconnect attempt failed: {self._attempt_error}")
+        why = f" ({'; '.join(causes)})" if causes else ""
+        return f"still reconnecting to {self.address} when the call timed out{why}"
 
     # -- the reconnect, shared by both transports ----------------------------------------
     def _reconnecting(self, exc: BaseException | None) -> None:
@@ -227,6 +233,7 @@ class Lifecycle:
         self._logger.warning(
             "connection to %s lost (%s); reconnecting", self.address, exc or "closed"
         )
+        self._lost_why = exc
         if self._loop.time() - self._up_since >= policy.stable_after:
             self._backoff = 0  # a stable connection: the backoff starts again from the start
         self._ready.clear()
@@ -275,6 +282,7 @@ class Lifecycle:
         loop = self._loop or asyncio.get_running_loop()
         self._up_since = loop.time()
         self._attempt_error = None
+        self._lost_why = None
         self._set_state(ClientState.CONNECTED)
         if self._ready is not None:
             self._ready.set()

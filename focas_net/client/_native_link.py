@@ -89,6 +89,7 @@ _NEVER: Final = float("inf")
 _CLOSE_GRACE: Final = 2.0
 _MAGIC: Final = int.from_bytes(MAGIC, "big")
 _NOT_A_FRAME: Final = "its answer does not start with A0 A0 A0 A0"
+_NO_OPEN_ANSWER: Final = "no answer to the open request"
 #: The frame types of a FOCAS/2 answer (open, close, data, error): another comes from no CNC.
 _ANSWER_TYPES: Final = frozenset(
     {
@@ -119,15 +120,14 @@ async def _read_frame(channel: Channel, peer: str, answered: bool = True) -> byt
     :raises ProtocolError: ``peer`` does not speak FOCAS/2 (its answer is no frame, or a
         frame of a type no FOCAS/2 answer has).
     :raises FocasConnectionError: the connection ended first (``answered``: a frame came on
-        it before).
+        it before; the start of one counts too).
     """
     try:
         head = await channel.readexactly(NATIVE_HEADER_SIZE)
     except (asyncio.IncompleteReadError, OSError) as exc:
-        partial = exc.partial if isinstance(exc, asyncio.IncompleteReadError) else b""
-        if not answered and partial and not MAGIC.startswith(partial[: len(MAGIC)]):
-            raise violation_error(peer, _NOT_A_FRAME, partial) from None
-        raise lost_error(peer, exc, answered) from exc
+        partial = exc.partial if isinstance(exc, asyncio.IncompleteReadError) else channel.kept
+        _check_start(peer, partial)
+        raise lost_error(peer, exc, answered or bool(partial)) from exc
     magic, _, kind, length = NATIVE_HEADER.unpack(head)
     if magic != _MAGIC:
         raise violation_error(peer, _NOT_A_FRAME, head)
@@ -136,7 +136,14 @@ async def _read_frame(channel: Channel, peer: str, answered: bool = True) -> byt
     try:
         return head + await channel.readexactly(length)
     except (asyncio.IncompleteReadError, OSError) as exc:  # within a frame: no more a rule
-        raise lost_error(peer, exc, answered) from exc
+        raise lost_error(peer, exc, True) from exc
+
+
+def _check_start(peer: str, partial: bytes) -> None:
+    """Raise the :class:`ProtocolError` of ``peer`` when ``partial``, the bytes of a frame's
+    header that came before its connection ended or its call timed out, cannot begin one."""
+    if partial and not MAGIC.startswith(partial[: len(MAGIC)]):
+        raise violation_error(peer, _NOT_A_FRAME, partial) from None
 
 
 class Handle:
@@ -222,12 +229,21 @@ async def _open_channel(
         raise FocasTimeoutError(f"connecting to {where} timed out") from None
     except OSError as exc:
         raise FocasConnectionError(
-            f"cannot connect to {where}: {connect_reason(exc, None)}"
+            f"cannot connect to {where}: {connect_reason(exc, None, host)}"
         ) from exc
     try:
         conn.write(encode_open_request(channel))
-        async with asyncio.timeout_at(deadline):
-            raw = await _read_frame(conn, where, answered=False)
+        try:
+            async with asyncio.timeout_at(deadline):
+                raw = await _read_frame(conn, where, answered=False)
+        except TimeoutError:
+            # the start of an answer that never came whole: no frame of FOCAS/2's, or one
+            # cut short (not "nothing received", which a silent peer is)
+            if not conn.received:
+                raise
+            if conn.received < NATIVE_HEADER_SIZE:  # (the header's start, still kept)
+                _check_start(where, conn.kept)
+            raise timeout_error(_NO_OPEN_ANSWER, None) from None
     except BaseException:
         conn.close()
         raise
@@ -266,13 +282,16 @@ async def open_handle(host: str, port: int, deadline: float | None) -> Handle:
             await _connect_requests(handle)
         if isinstance(opened.head, OpenHeadV2) and opened.head.kind == 3:
             handle.option_bits = 1
+    except FocasTimeoutError:  # (the connect, or an open answer cut short, said what)
+        _abort(channels)
+        raise
     except TimeoutError:
         _abort(channels)
         if channels:  # A was opened: the peer speaks
             raise FocasTimeoutError(
                 f"no answer to the connect requests (cnc_allclibhndl3) from {where}"
             ) from None
-        raise timeout_error("no answer to the open request", where) from None
+        raise timeout_error(_NO_OPEN_ANSWER, where) from None
     except _Lost as exc:
         _abort(channels)
         raise FocasConnectionError(f"{where}: {exc}") from None
@@ -640,7 +659,7 @@ class NativeLink(CompositeCalls):
         ending = job.ending
         if ending is Ending.TIMED_OUT:
             if not job.sent and self._state is ClientState.RECONNECTING:
-                return self._still_reconnecting()
+                return FocasConnectionError(self._still_reconnecting())
             return no_answer_error(job.part.function, None, job.sent)
         if ending is Ending.REFUSED:
             return CncError.from_ew(job.ew, "error answer (0x2103) to the request frame")

@@ -24,6 +24,7 @@ from focas_net.protocol import (
     RunState,
     alarm_code,
     alarm_text,
+    alarm_time_text,
     status_labels,
 )
 from focas_net.server.faults import fault_arg_text
@@ -276,7 +277,10 @@ def machine_view(
             _alarm(a.axis_no, a.alm_type, a.alm_no, a.msg) for a in machine.active_alarms(path=path)
         ],
         "history": [
-            {"time": h.occurred_at.isoformat(), **_alarm(h.axis_no, h.alm_type, h.alm_no, h.msg)}
+            {
+                "occurred_at": alarm_time_text(h.occurred_at),
+                **_alarm(h.axis_no, h.alm_type, h.alm_no, h.msg),
+            }
             for h in machine.alarm_history(HISTORY_SHOWN)
         ],
         "programs": [
@@ -378,8 +382,14 @@ def param_rows(
     insensitive), at most ``limit`` of them, by number. ``type`` is the type as every front
     end names it (``two-word``); an axis parameter has a value per axis, named in ``axes``;
     a bit parameter's values are its eight bits #7..#0 (``10110000``), as the page edits
-    them, and ``bits`` too."""
+    them, and ``bits`` too. ValueError for a number typed in digits of another script
+    (``'\u0661\u0663'``), which would find nothing and not say why."""
     q = query.strip().lower()
+    if any(c.isdigit() and not c.isascii() for c in q):
+        try:
+            whole_number(q)  # the words every front end refuses such digits with
+        except ValueError as exc:
+            raise ValueError(f"parameter search: {exc}") from None
     path_axes = list(machine.path_info(path).axes)
     rows: list[JsonDict] = []
     for number in machine.param_numbers():

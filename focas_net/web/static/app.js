@@ -319,7 +319,7 @@ function renderMachine(v) {
     el("li", { class: "alarm" }, a.text))
     : [el("li", { class: "none" }, "no active alarm")]));
   $("history").replaceChildren(...v.history.map((h) =>
-    el("li", {}, `${h.time.replace("T", " ").replace("+00:00", "Z")}  ${h.text}`)));
+    el("li", {}, `${h.occurred_at} ${h.text}`)));  // as the command line's alarms --history
 
   const dirKey = JSON.stringify(v.programs);
   if (state.dirKey !== dirKey) {
