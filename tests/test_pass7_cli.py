@@ -104,7 +104,7 @@ async def test_a_call_timing_out_while_reconnecting_names_the_last_attempts_fail
                 break
         assert said.startswith(f"still reconnecting to {served.host}:{served.port}"), said
         assert (
-            f"(the last reconnect attempt failed: cannot connect to {served.host}:"
+            f"the last reconnect attempt failed: cannot connect to {served.host}:"
             f"{served.port}: connection refused)"
         ) in said
     finally:
