@@ -12,8 +12,8 @@ from cli_support import at, fails, ok
 from support import serving
 
 from focas_net._typed import NO_PASSWORD_NOTE
-from focas_net.errors import EW
-from focas_net.protocol import AutMode, alarm_time_text, alarm_type_of
+from focas_net.errors import EW, ew_of_text
+from focas_net.protocol import AutMode, FaultKind, alarm_time_text, alarm_type_of
 from focas_net.sim import MachineError, default_machine
 from focas_net.web import (
     ActionError,
@@ -374,3 +374,24 @@ def test_an_alarms_time_is_written_as_the_command_line_writes_it() -> None:
     assert shown["occurred_at"] == entry.occurred_at.strftime("%Y-%m-%dT%H:%M:%SZ")
     assert "time" not in shown
     assert alarm_time_text(entry.occurred_at) == shown["occurred_at"]
+
+
+@pytest.mark.parametrize(("typed", "code"), [("EW_BUSY", -1), ("passwd", 17), ("-1", -1)])
+def test_an_error_faults_code_is_taken_by_its_name_as_the_command_line_takes_it(
+    typed: str, code: int
+) -> None:
+    """``{"kind": "ERROR", "arg": "EW_BUSY"}`` was "not a whole number", though the box's hint
+    says "the EW code" and ``sim fault error --arg EW_BUSY`` takes it."""
+    station = _station()
+    perform(station, "inject_fault", {"kind": "ERROR", "arg": typed})
+    assert [(f.kind, f.arg) for f in station.faults.listing().faults] == [(FaultKind.ERROR, code)]
+
+
+def test_an_unknown_ew_name_is_refused_in_the_command_lines_words() -> None:
+    station = _station()
+    with pytest.raises(ActionError) as refused:
+        perform(station, "inject_fault", {"kind": "ERROR", "arg": "EW_BUZY"})
+    assert str(refused.value) == "arg: unknown EW code 'EW_BUZY'"
+    with pytest.raises(ValueError, match=r"^unknown EW code 'EW_BUZY'$"):
+        ew_of_text("EW_BUZY")
+    assert len(station.faults) == 0

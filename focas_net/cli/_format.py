@@ -17,7 +17,7 @@ from decimal import Decimal
 from typing import Any, Final
 
 from focas_net._typed import switch, typed_number, whole_number
-from focas_net.errors import EW, ChunkedWriteError, CncError, ew_info, ew_label
+from focas_net.errors import ChunkedWriteError, CncError, ew_info, ew_label, ew_of_text
 from focas_net.protocol import (
     STATUS_FIELDS,
     ActiveAlarm,
@@ -580,20 +580,9 @@ def parse_aut(text: str) -> AutMode:
 
 
 def parse_ew(text: str) -> int:
-    """An EW code by number or name (``17``, ``EW_PASSWD``, ``passwd``, ``-1``)."""
-    s = text.strip()
-    try:
-        return whole_number(s)
-    except ValueError:
-        pass
-    name = s.upper().removeprefix("EW_")
-    try:
-        return int(EW[name])
-    except KeyError:
-        raise ValueError(
-            f"unknown EW code {text!r} (a number, or one of "
-            f"{', '.join('EW_' + e.name for e in EW if e is not EW.OK)})"
-        ) from None
+    """An EW code by number or name (``17``, ``EW_PASSWD``, ``passwd``, ``-1``), as every
+    front end reads one."""
+    return ew_of_text(text)
 
 
 # -- errors --------------------------------------------------------------------------------

@@ -33,7 +33,7 @@ from focas_net._typed import (
     typed_number,
     whole_number,
 )
-from focas_net.errors import EW, ew_name
+from focas_net.errors import EW, ew_name, ew_of_text
 from focas_net.protocol import (
     AutMode,
     FaultKind,
@@ -439,6 +439,18 @@ def _digits(text: str) -> bool:
     return text.isascii() and text.isdigit()
 
 
+def _ew_arg(args: Mapping[str, Any]) -> int:
+    """An ERROR fault's ``arg``: an EW code by number or name (``EW_BUSY``, ``busy``), as
+    ``focas-net sim fault error --arg`` takes it (:func:`~focas_net.errors.ew_of_text`)."""
+    value = args.get("arg")
+    if isinstance(value, str) and value.strip():
+        try:
+            return ew_of_text(value)
+        except ValueError as exc:
+            raise ActionError(f"arg: {exc}") from None
+    return _int(args, "arg")
+
+
 def _inject_fault(station: Station, args: Mapping[str, Any]) -> JsonDict:
     """Arm a machine-wide fault with the checks of 0x0E05 inject_fault: a refused argument is
     ``EW_DATA`` with the reason :func:`~focas_net.server.faults.fault_refusal` gives every
@@ -451,7 +463,8 @@ def _inject_fault(station: Station, args: Mapping[str, Any]) -> JsonDict:
         raise ActionError(f"kind: one of {names}, got {kind_text!r}") from None
     # a delay or an error needs its argument; a drop or a split ignores the arg box
     needs_arg = kind in (FaultKind.DELAY, FaultKind.ERROR)
-    count, arg = _int(args, "count", 1), _int(args, "arg") if needs_arg else 0
+    count = _int(args, "count", 1)
+    arg = (_ew_arg(args) if kind is FaultKind.ERROR else _int(args, "arg")) if needs_arg else 0
     station.machine.check_writable()  # the order of every control command: read-only first
     reason = fault_refusal(int(kind), int(FaultScope.MACHINE), count, arg)
     if reason is not None:
