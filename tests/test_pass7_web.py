@@ -121,7 +121,11 @@ def test_a_machine_wide_action_of_a_path_the_machine_has_not_is_refused(
 @pytest.mark.parametrize(
     ("action", "args", "words"),
     [
-        ("cycle", {"action": None}, "action: text is needed, got null"),
+        ("cycle", {"action": 5}, "action: text is needed, got 5"),
+        ("cycle", {"action": None}, "action: start, hold or reset is needed"),
+        ("cycle", {}, "action: start, hold or reset is needed"),
+        ("inject_fault", {}, "kind: one of DELAY, ERROR, DROP, SPLIT is needed"),
+        ("pmc_bit", {"address": 0, "bit": 0}, "area: a PMC area's letter (X, R, ...) is needed"),
         ("panel", {"pwe": [1]}, "pwe: not a whole number: [1]"),
         ("panel", {"mode": {"a": 1}}, 'mode: not a whole number: {"a": 1}'),
         ("overrides", {"feed": True}, "feed: a number is needed, got true"),
@@ -137,7 +141,8 @@ def test_a_json_value_is_named_as_json_not_as_python(
     action: str, args: dict[str, Any], words: str
 ) -> None:
     """``{"action": null}`` was "got None", ``true`` "got True", ``{"a": 1}`` "{'a': 1}":
-    Python's words for what the page sent as JSON."""
+    Python's words for what the page sent as JSON; a key not given was "got ''" (nothing
+    typed) or "unknown PMC area ''"."""
     station = _station()
     station.machine.set_panel(mode=int(AutMode.MDI), pwe=1)
     digest = station.machine.state_digest()

@@ -159,8 +159,13 @@ def _optional_int(args: Mapping[str, Any], key: str) -> int | None:
     return _int(args, key)
 
 
-def _text(args: Mapping[str, Any], key: str, default: str = "") -> str:
+def _text(args: Mapping[str, Any], key: str, default: str = "", *, needed: str = "") -> str:
+    """``args[key]`` as text (``default`` when not given); with ``needed`` (what the key
+    names: ``start, hold or reset``), a key not given (or ``null``) is refused saying so,
+    rather than as the empty text no one typed."""
     value = args.get(key, default)
+    if needed and args.get(key) is None:
+        raise ActionError(f"{key}: {needed} is needed")
     if not isinstance(value, str):
         raise ActionError(f"{key}: text is needed, got {shown(value)}")
     return value
@@ -199,7 +204,7 @@ def _path(args: Mapping[str, Any]) -> int:
 
 def _cycle(station: Station, args: Mapping[str, Any]) -> JsonDict:
     m = station.machine
-    what, path = _text(args, "action"), _path(args)
+    what, path = _text(args, "action", needed="start, hold or reset"), _path(args)
     if what == "start":
         m.cycle_start(path=path)
     elif what == "hold":
@@ -314,7 +319,7 @@ def _clear_alarms(station: Station, args: Mapping[str, Any]) -> JsonDict:
 def _pmc_bit(station: Station, args: Mapping[str, Any]) -> JsonDict:
     """Toggle (or, with ``value`` 0/1, set) one PMC bit."""
     m = station.machine
-    typed = _text(args, "area")
+    typed = _text(args, "area", needed="a PMC area's letter (X, R, ...)")
     try:
         m.pmc_area(typed)  # the machine's words for a letter that is no PMC area
     except ValueError as exc:
@@ -455,7 +460,8 @@ def _inject_fault(station: Station, args: Mapping[str, Any]) -> JsonDict:
     """Arm a machine-wide fault with the checks of 0x0E05 inject_fault: a refused argument is
     ``EW_DATA`` with the reason :func:`~focas_net.server.faults.fault_refusal` gives every
     front end."""
-    kind_text = _text(args, "kind").strip().upper()
+    kinds = ", ".join(k.name for k in FaultKind)
+    kind_text = _text(args, "kind", needed=f"one of {kinds}").strip().upper()
     try:
         kind = FaultKind[kind_text] if not _digits(kind_text) else FaultKind(int(kind_text))
     except (KeyError, ValueError):
