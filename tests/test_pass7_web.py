@@ -400,3 +400,12 @@ def test_an_unknown_ew_name_is_refused_in_the_command_lines_words() -> None:
     with pytest.raises(ValueError, match=r"^unknown EW code 'EW_BUZY'$"):
         ew_of_text("EW_BUZY")
     assert len(station.faults) == 0
+
+
+def test_a_position_kind_is_named_as_position_kind_and_watch_name_it() -> None:
+    """The page's column and its JSON said ``distance to go`` / ``distance_to_go`` where
+    ``position --kind distance`` and ``watch --json`` say ``distance``."""
+    view = machine_view(0, default_machine(), 8193)
+    assert [set(p) for p in view["positions"]] == [
+        {"axis", "absolute", "machine", "relative", "distance"}
+    ] * 3

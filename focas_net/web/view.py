@@ -99,6 +99,11 @@ def _alarm(axis_no: int, alm_type: int, alm_no: int, msg: str) -> JsonDict:
     }
 
 
+#: A position kind as every front end names it (``position --kind``, ``watch``): the
+#: distance to go is ``distance``.
+_POSITION_NAMES: Final = {"distance_to_go": "distance"}
+
+
 def _mm(value: int) -> float:
     return value / _MM
 
@@ -234,8 +239,8 @@ def machine_view(
     positions = []
     for axis_index, axis in enumerate(info.axes):
         row: JsonDict = {"axis": axis}
-        for kind in POSITION_KINDS:
-            row[kind] = _mm(getattr(motion, kind)[axis_index])
+        for kind in POSITION_KINDS:  # named as the command line names them (distance)
+            row[_POSITION_NAMES.get(kind, kind)] = _mm(getattr(motion, kind)[axis_index])
         positions.append(row)
     try:
         required = machine.read_param(6713, 0, path=path)
