@@ -48,6 +48,8 @@ async def test_the_servo_loads_and_the_armed_faults_read_as_the_command_line_wri
     async with machine_page(browser, tmp_path, default_machine()) as (server, page):
         loads = await page.text_of("loads", bool, "the loads")
         assert loads == "spindle load 0 % | servo load X 0 %, Y 0 %, Z 0 %"
+        table = await page.text_of("pos-table", bool, "the positions")
+        assert table.splitlines()[0] == "absolute machine relative distance"  # as watch
         await page.until(lambda d: d.find_elements(By.CSS_SELECTOR, "#fault-kind option"), "kinds")
         await page.call(page.driver.execute_script, _KIND.format("DROP"))
         await page.type("fault-count", "2" + Keys.ENTER)  # Enter arms it, as the button does

@@ -290,9 +290,10 @@ function renderMachine(v) {
   $("feed-ov-text").textContent = `${v.overrides.feed} %`;
   setIfIdle($("rapid-ov"), String(v.overrides.rapid));
 
-  const kinds = ["absolute", "machine", "relative", "distance_to_go"];
+  // the kinds as position --kind and watch name them (distance: the distance to go)
+  const kinds = ["absolute", "machine", "relative", "distance"];
   $("pos-table").replaceChildren(
-    el("tr", {}, el("th", {}, ""), ...kinds.map((k) => el("th", {}, k.replaceAll("_", " ")))),
+    el("tr", {}, el("th", {}, ""), ...kinds.map((k) => el("th", {}, k))),
     ...v.positions.map((p) => el("tr", {}, el("th", {}, p.axis),
       ...kinds.map((k) => el("td", {}, fmt(p[k]))))));
   $("m-feed").textContent = v.feed;
