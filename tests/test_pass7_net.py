@@ -543,3 +543,61 @@ async def test_follow_finds_an_http_server_in_the_cncs_place_on_both_transports(
         "b'HTTP/1.0 200' to an HTTP request and no FOCAS frame: an HTTP server); "
         "alarms --follow gave up after "
     ), last
+
+
+# -- a peer that sends garbage after the connect ---------------------------------------------
+
+
+class GarblingProxy(LoopbackPeer):
+    """Passes each connection on to ``upstream`` (a port of 127.0.0.1); once ``garble`` is
+    set, what comes back is replaced with bytes no frame of either protocol starts with."""
+
+    GARBAGE: Final = b"\xde\xad\xbe\xef" * 4
+
+    def __init__(self, upstream: int) -> None:
+        self.upstream = upstream
+        self.garble = False
+
+    async def _serve(self, reader: asyncio.StreamReader, writer: asyncio.StreamWriter) -> None:
+        up_reader, up_writer = await asyncio.open_connection("127.0.0.1", self.upstream)
+
+        async def pump(src: asyncio.StreamReader, dst: asyncio.StreamWriter, back: bool) -> None:
+            for _ in range(100_000):  # bounded: a test's few calls
+                data = await src.read(65536)
+                if not data:
+                    break
+                dst.write(self.GARBAGE if back and self.garble else data)
+                await dst.drain()
+            dst.close()
+
+        try:
+            await asyncio.gather(
+                pump(reader, up_writer, False),
+                pump(up_reader, writer, True),
+                return_exceptions=True,
+            )
+        finally:
+            writer.close()
+            up_writer.close()
+
+
+@pytest.mark.parametrize("cls", CLIENTS)
+async def test_garbage_after_the_connect_is_a_peer_that_does_not_speak_focas_on_both(
+    cls: type[FocasClient] | type[NativeClient],
+) -> None:
+    """Not a bare ``closed`` (FOCAS/2 gave its calls the text of no loss yet), and no
+    reconnect to a peer that would send it again: later calls raise the same error."""
+    policy = ReconnectPolicy(initial_delay=0.01, max_delay=0.05, jitter=0)
+    async with serving() as served, GarblingProxy(served.port) as proxy:
+        async with cls("127.0.0.1", proxy.port, timeout=IO_TIMEOUT, reconnect=policy) as client:
+            await client.read_status()
+            proxy.garble = True
+            with pytest.raises(ProtocolError) as caught:
+                await client.read_status()
+            with pytest.raises(ProtocolError) as again:
+                await client.read_status()
+            assert client.state is ClientState.DISCONNECTED
+    text = str(caught.value)
+    assert text.startswith(f"127.0.0.1:{proxy.port} does not speak the FOCAS protocol (")
+    assert text.endswith(r"it sent b'\xde\xad\xbe\xef\xde\xad\xbe\xef')")
+    assert str(again.value) == text
