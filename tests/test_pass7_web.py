@@ -12,13 +12,14 @@ from cli_support import at, fails, ok
 from support import serving
 
 from focas_net._typed import NO_PASSWORD_NOTE
-from focas_net.errors import EW
-from focas_net.protocol import AutMode, alarm_type_of
+from focas_net.errors import EW, ew_of_text
+from focas_net.protocol import AutMode, FaultKind, alarm_time_text, alarm_type_of
 from focas_net.sim import MachineError, default_machine
 from focas_net.web import (
     ActionError,
     Dashboard,
     Station,
+    machine_view,
     parse_web_address,
     perform,
     pmc_address,
@@ -120,7 +121,11 @@ def test_a_machine_wide_action_of_a_path_the_machine_has_not_is_refused(
 @pytest.mark.parametrize(
     ("action", "args", "words"),
     [
-        ("cycle", {"action": None}, "action: text is needed, got null"),
+        ("cycle", {"action": 5}, "action: text is needed, got 5"),
+        ("cycle", {"action": None}, "action: start, hold or reset is needed"),
+        ("cycle", {}, "action: start, hold or reset is needed"),
+        ("inject_fault", {}, "kind: one of DELAY, ERROR, DROP, SPLIT is needed"),
+        ("pmc_bit", {"address": 0, "bit": 0}, "area: a PMC area's letter (X, R, ...) is needed"),
         ("panel", {"pwe": [1]}, "pwe: not a whole number: [1]"),
         ("panel", {"mode": {"a": 1}}, 'mode: not a whole number: {"a": 1}'),
         ("overrides", {"feed": True}, "feed: a number is needed, got true"),
@@ -136,7 +141,8 @@ def test_a_json_value_is_named_as_json_not_as_python(
     action: str, args: dict[str, Any], words: str
 ) -> None:
     """``{"action": null}`` was "got None", ``true`` "got True", ``{"a": 1}`` "{'a': 1}":
-    Python's words for what the page sent as JSON."""
+    Python's words for what the page sent as JSON; a key not given was "got ''" (nothing
+    typed) or "unknown PMC area ''"."""
     station = _station()
     station.machine.set_panel(mode=int(AutMode.MDI), pwe=1)
     digest = station.machine.state_digest()
@@ -359,3 +365,47 @@ async def test_a_parameter_search_in_digits_of_another_script_says_why(typed: st
                 assert error.startswith(f"parameter search: {typed!r} holds a digit beyond ASCII")
             async with session.get(url, params={"q": "1320"}) as answer:
                 assert [p["number"] for p in (await answer.json())["params"]] == [1320]
+
+
+def test_an_alarms_time_is_written_as_the_command_line_writes_it() -> None:
+    """The page's history said ``2026-12-07 10:54:37Z`` and its JSON ``"time":
+    "2026-12-07T10:54:37+00:00"``, where ``alarms --history`` writes ``"occurred_at":
+    "2026-12-07T10:54:37Z"``: one spelling, one key."""
+    station = _station()
+    station.machine.raise_alarm(0, 15, 1001, "COOLANT LEVEL LOW")
+    (entry,) = station.machine.alarm_history()
+    view = machine_view(0, station.machine, 8193)
+    (shown,) = view["history"]
+    assert shown["occurred_at"] == entry.occurred_at.strftime("%Y-%m-%dT%H:%M:%SZ")
+    assert "time" not in shown
+    assert alarm_time_text(entry.occurred_at) == shown["occurred_at"]
+
+
+@pytest.mark.parametrize(("typed", "code"), [("EW_BUSY", -1), ("passwd", 17), ("-1", -1)])
+def test_an_error_faults_code_is_taken_by_its_name_as_the_command_line_takes_it(
+    typed: str, code: int
+) -> None:
+    """``{"kind": "ERROR", "arg": "EW_BUSY"}`` was "not a whole number", though the box's hint
+    says "the EW code" and ``sim fault error --arg EW_BUSY`` takes it."""
+    station = _station()
+    perform(station, "inject_fault", {"kind": "ERROR", "arg": typed})
+    assert [(f.kind, f.arg) for f in station.faults.listing().faults] == [(FaultKind.ERROR, code)]
+
+
+def test_an_unknown_ew_name_is_refused_in_the_command_lines_words() -> None:
+    station = _station()
+    with pytest.raises(ActionError) as refused:
+        perform(station, "inject_fault", {"kind": "ERROR", "arg": "EW_BUZY"})
+    assert str(refused.value) == "arg: unknown EW code 'EW_BUZY'"
+    with pytest.raises(ValueError, match=r"^unknown EW code 'EW_BUZY'$"):
+        ew_of_text("EW_BUZY")
+    assert len(station.faults) == 0
+
+
+def test_a_position_kind_is_named_as_position_kind_and_watch_name_it() -> None:
+    """The page's column and its JSON said ``distance to go`` / ``distance_to_go`` where
+    ``position --kind distance`` and ``watch --json`` say ``distance``."""
+    view = machine_view(0, default_machine(), 8193)
+    assert [set(p) for p in view["positions"]] == [
+        {"axis", "absolute", "machine", "relative", "distance"}
+    ] * 3

@@ -12,12 +12,12 @@ from __future__ import annotations
 
 import re
 from collections.abc import Iterable, Mapping, Sequence
-from datetime import UTC, datetime
+from datetime import datetime
 from decimal import Decimal
 from typing import Any, Final
 
 from focas_net._typed import switch, typed_number, whole_number
-from focas_net.errors import EW, ChunkedWriteError, CncError, ew_info, ew_label
+from focas_net.errors import ChunkedWriteError, CncError, ew_info, ew_label, ew_of_text
 from focas_net.protocol import (
     STATUS_FIELDS,
     ActiveAlarm,
@@ -31,6 +31,7 @@ from focas_net.protocol import (
     SysInfo,
     alarm_code,
     alarm_text,
+    alarm_time_text,
     alarm_type_of,
     status_labels,
 )
@@ -226,9 +227,8 @@ def positions_rows(data: Mapping[str, Any]) -> list[tuple[str, str, str]]:
 
 
 def utc_text(when: datetime) -> str:
-    """``2024-05-01T12:00:00Z``."""
-    t = when.astimezone(UTC) if when.tzinfo else when
-    return t.strftime("%Y-%m-%dT%H:%M:%SZ")
+    """``2024-05-01T12:00:00Z``, as every front end writes an alarm's time."""
+    return alarm_time_text(when)
 
 
 def format_active_alarm(alarm: ActiveAlarm) -> str:
@@ -580,17 +580,9 @@ def parse_aut(text: str) -> AutMode:
 
 
 def parse_ew(text: str) -> int:
-    """An EW code by number or name (``17``, ``EW_PASSWD``, ``passwd``, ``-1``)."""
-    s = text.strip()
-    try:
-        return whole_number(s)
-    except ValueError:
-        pass
-    name = s.upper().removeprefix("EW_")
-    try:
-        return int(EW[name])
-    except KeyError:
-        raise ValueError(f"unknown EW code {text!r}") from None
+    """An EW code by number or name (``17``, ``EW_PASSWD``, ``passwd``, ``-1``), as every
+    front end reads one."""
+    return ew_of_text(text)
 
 
 # -- errors --------------------------------------------------------------------------------

@@ -20,6 +20,7 @@ import os
 import signal
 import ssl
 import sys
+import weakref
 from collections.abc import Awaitable, Callable, Iterator
 from dataclasses import dataclass
 from typing import Any, Final
@@ -49,7 +50,9 @@ from ._args import (
     EXIT_OK,
     EXIT_PROTOCOL,
     EXIT_USAGE,
+    pem_holds,
     print_error,
+    ssl_error_text,
 )
 from ._diagnose import diagnosis
 from ._reasons import reason
@@ -99,11 +102,17 @@ PROTOCOLS: Final = (PACKED, NATIVE)
 
 @dataclass(frozen=True, slots=True)
 class PackedOnly:
-    """A command's talk that only the packed transport carries, and why (the calls it needs)."""
+    """A command's talk that only the packed transport carries, and why (the calls it needs);
+    ``option`` names the option that asks for it when the command itself is carried
+    (``--force`` of ``pmc write``)."""
 
     go: PackedGo
     why: str
+    option: str = ""
 
+
+#: The commands that run until told (Ctrl-C, SIGTERM), besides ``alarms --follow``.
+UNTIL_TOLD: Final = frozenset({"watch"})
 
 #: A client command: its parsed arguments -> the talk to the CNC.
 Handler = Callable[[argparse.Namespace], Go | PackedOnly]
@@ -118,24 +127,51 @@ class HintedError(FocasError):
         self.hint = hint
 
 
+#: The stop callbacks of each loop's :func:`stopping_on_signals` blocks, innermost last: a
+#: signal stops the innermost one (a loop that ends its own way), the outer ones wrap it.
+_STOPS: weakref.WeakKeyDictionary[asyncio.AbstractEventLoop, list[Callable[[], object]]] = (
+    weakref.WeakKeyDictionary()
+)
+
+
 @contextlib.contextmanager
-def stopping_on_signals(stop: Callable[[], None]) -> Iterator[None]:
+def stopping_on_signals(stop: Callable[[], object]) -> Iterator[None]:
     """``stop()`` on SIGINT or SIGTERM while the block runs (a command that runs until told:
     it ends cleanly, exit 0, no traceback); off the main thread, or without signal support,
-    Ctrl-C still ends it as usual."""
+    Ctrl-C still ends it as usual. Blocks nest: a signal calls the innermost block's
+    ``stop``, and after it ends the next one out's again."""
     loop = asyncio.get_running_loop()
+    stops = _STOPS.setdefault(loop, [])
+    stops.append(stop)
     installed = []
-    for signum in (signal.SIGINT, signal.SIGTERM):
-        try:
-            loop.add_signal_handler(signum, stop)
-        except (NotImplementedError, RuntimeError, ValueError):
-            continue
-        installed.append(signum)
+    if len(stops) == 1:
+        for signum in (signal.SIGINT, signal.SIGTERM):
+            try:
+                loop.add_signal_handler(signum, lambda: stops[-1]())
+            except (NotImplementedError, RuntimeError, ValueError):
+                continue
+            installed.append(signum)
     try:
         yield
     finally:
+        stops.remove(stop)
         for signum in installed:
             loop.remove_signal_handler(signum)
+
+
+async def _until_told(session: Awaitable[Output | None]) -> Output | None:
+    """Run the session of a command that runs until told (``watch``, ``alarms --follow``):
+    SIGINT or SIGTERM at any moment, while it connects or makes its first read too, ends it
+    as Ctrl-C ends its polling (None: nothing more to print, exit 0)."""
+    task = asyncio.ensure_future(session)
+    with stopping_on_signals(task.cancel):
+        try:
+            return await task
+        except asyncio.CancelledError:
+            current = asyncio.current_task()
+            if task.cancelled() and (current is None or not current.cancelling()):
+                return None
+            raise
 
 
 def write(text: str) -> bool:
@@ -203,7 +239,13 @@ def tls_context(args: argparse.Namespace) -> ssl.SSLContext | None:
     try:
         return ssl.create_default_context(cafile=ca)
     except (OSError, ssl.SSLError) as exc:
-        reason = exc.strerror if isinstance(exc, OSError) and exc.strerror else str(exc)
+        reason = ssl_error_text(exc)
+        if isinstance(exc, ssl.SSLError) and ca is not None:
+            reason = (
+                f"a certificate in it cannot be read ({reason})"
+                if pem_holds(ca, "CERTIFICATE")
+                else "no PEM certificate in it"
+            )
         raise ValueError(f"--tls-ca {ca}: {reason}") from None
 
 
@@ -267,7 +309,8 @@ def _check_native(args: argparse.Namespace, go: Go | PackedOnly) -> None:
         return
     where = "with --protocol native (FOCAS/2 Ethernet)"
     if isinstance(go, PackedOnly):
-        raise ValueError(f"{command_name(args)} is not available {where}: {go.why}")
+        what = " ".join(w for w in (command_name(args), go.option) if w)
+        raise ValueError(f"{what} is not available {where}: {go.why}")
     if tls_context_wanted(args):
         flag = next(
             f
@@ -404,7 +447,9 @@ def runner(handler: Handler) -> Callable[[argparse.Namespace], int]:
             _print_one_line(_failure_text(args, exc))
             return _exit_code(exc)
         try:
-            out = asyncio.run(_session(args, go, follow, context))
+            session = _session(args, go, follow, context)
+            until_told = follow or command_name(args) in UNTIL_TOLD
+            out = asyncio.run(_until_told(session) if until_told else session)
         except (FocasError, ValueError, OSError) as exc:
             failure, hint = _diagnosed(args, go, exc)
             _print_one_line(_failure_text(args, failure, hint))

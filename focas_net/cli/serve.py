@@ -24,7 +24,6 @@ import argparse
 import gc
 import importlib.util
 import logging
-import re
 import signal
 import ssl
 import sys
@@ -59,7 +58,9 @@ from ._args import (
     POSITIVE,
     PROG,
     command_parser,
+    pem_holds,
     print_error,
+    ssl_error_text,
 )
 from ._fleet import ConfigError, build_machines, fleet_indices, machines_per_process
 from ._format import address_text
@@ -400,16 +401,6 @@ def _ssl_context(args: argparse.Namespace) -> ssl.SSLContext | None:
     return ctx
 
 
-def _pem_holds(path: str, label: str) -> bool | None:
-    """Whether the PEM file ``path`` has a block whose label ends with ``label``
-    (``CERTIFICATE``, ``PRIVATE KEY``); None when it cannot be read."""
-    try:
-        text = Path(path).read_text("ascii", errors="replace")
-    except OSError:
-        return None
-    return re.search(rf"-----BEGIN [A-Z0-9 ]*{label}-----", text) is not None
-
-
 def _tls_files_error(cert: str, key: str | None, exc: OSError) -> str:
     """Why ``--tls-cert cert`` (with ``--tls-key key``) cannot serve TLS, naming the file."""
     for flag, path in (("--tls-cert", cert), ("--tls-key", key)):
@@ -418,18 +409,17 @@ def _tls_files_error(cert: str, key: str | None, exc: OSError) -> str:
                 Path(path).read_bytes()
         except OSError as unreadable:
             return f"{flag} {path}: {unreadable.strerror or unreadable}"
-    if not _pem_holds(cert, "CERTIFICATE"):
+    if not pem_holds(cert, "CERTIFICATE"):
         return f"--tls-cert {cert}: no PEM certificate in it"
-    if key is None and not _pem_holds(cert, "PRIVATE KEY"):
+    if key is None and not pem_holds(cert, "PRIVATE KEY"):
         return f"--tls-cert {cert} holds no private key: give --tls-key FILE"
-    if key is not None and not _pem_holds(key, "PRIVATE KEY"):
+    if key is not None and not pem_holds(key, "PRIVATE KEY"):
         return f"--tls-key {key}: no PEM private key in it"
     reason = getattr(exc, "reason", None)
     if reason == "KEY_VALUES_MISMATCH":
         return f"--tls-key {key or cert}: the private key does not belong to the certificate"
     files = cert if key is None else f"{cert}, {key}"
-    text = re.sub(r"^\[[A-Z0-9_]+\] | \(_ssl\.c:\d+\)$", "", str(exc.strerror or exc))
-    return f"TLS certificate/key ({files}): {text}"
+    return f"TLS certificate/key ({files}): {ssl_error_text(exc)}"
 
 
 def run(args: argparse.Namespace) -> int:

@@ -688,9 +688,7 @@ class NativeLink(CompositeCalls):
         ending = job.ending
         if ending is Ending.TIMED_OUT:
             if not job.sent and self._state is ClientState.RECONNECTING:
-                return FocasConnectionError(
-                    f"still reconnecting to {self.address} when the call timed out"
-                )
+                return FocasConnectionError(self._still_reconnecting())
             return no_answer_error(job.part.function, None, job.sent)
         if ending is Ending.REFUSED:
             return CncError.from_ew(job.ew, "error answer (0x2103) to the request frame")

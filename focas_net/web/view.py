@@ -24,6 +24,7 @@ from focas_net.protocol import (
     RunState,
     alarm_code,
     alarm_text,
+    alarm_time_text,
     status_labels,
 )
 from focas_net.server.faults import fault_arg_text
@@ -96,6 +97,11 @@ def _alarm(axis_no: int, alm_type: int, alm_no: int, msg: str) -> JsonDict:
         "code": alarm_code(alm_type, alm_no),
         "text": alarm_text(alm_type, alm_no, msg, axis_no),
     }
+
+
+#: A position kind as every front end names it (``position --kind``, ``watch``): the
+#: distance to go is ``distance``.
+_POSITION_NAMES: Final = {"distance_to_go": "distance"}
 
 
 def _mm(value: int) -> float:
@@ -233,8 +239,8 @@ def machine_view(
     positions = []
     for axis_index, axis in enumerate(info.axes):
         row: JsonDict = {"axis": axis}
-        for kind in POSITION_KINDS:
-            row[kind] = _mm(getattr(motion, kind)[axis_index])
+        for kind in POSITION_KINDS:  # named as the command line names them (distance)
+            row[_POSITION_NAMES.get(kind, kind)] = _mm(getattr(motion, kind)[axis_index])
         positions.append(row)
     try:
         required = machine.read_param(6713, 0, path=path)
@@ -276,7 +282,10 @@ def machine_view(
             _alarm(a.axis_no, a.alm_type, a.alm_no, a.msg) for a in machine.active_alarms(path=path)
         ],
         "history": [
-            {"time": h.occurred_at.isoformat(), **_alarm(h.axis_no, h.alm_type, h.alm_no, h.msg)}
+            {
+                "occurred_at": alarm_time_text(h.occurred_at),
+                **_alarm(h.axis_no, h.alm_type, h.alm_no, h.msg),
+            }
             for h in machine.alarm_history(HISTORY_SHOWN)
         ],
         "programs": [
