@@ -28,6 +28,7 @@ __all__ = [
     "RAPID_STEPS",
     "alarm_text_unfit",
     "decimal_number",
+    "decimal_text",
     "is_loopback",
     "macro_unfit",
     "override_unfit",
@@ -204,6 +205,13 @@ def decimal_number(text: str) -> Decimal:
     if _DECIMAL.fullmatch(stripped) is None:
         raise _refused("not a number", text)
     return Decimal(stripped)
+
+
+def decimal_text(value: Decimal) -> str:
+    """A number written as every front end writes it, in plain decimals as the CNC screen
+    shows it (``-0.000000001``, never ``-1E-9``, nor ``1E+3``): text that
+    :func:`decimal_number` reads back."""
+    return format(value, "f")
 
 
 def typed_number(text: str) -> int | Decimal:

@@ -11,15 +11,17 @@ import pytest
 from cli_support import at, fails, ok
 from support import serving
 
-from focas_net._typed import NO_PASSWORD_NOTE
+from focas_net._typed import NO_PASSWORD_NOTE, decimal_number
 from focas_net.errors import EW, ew_of_text
 from focas_net.protocol import AutMode, FaultKind, alarm_time_text, alarm_type_of
-from focas_net.sim import MachineError, default_machine
+from focas_net.sim import DataItem, MachineError, ParamKind, default_machine
 from focas_net.web import (
     ActionError,
     Dashboard,
     Station,
     machine_view,
+    macro_rows,
+    param_text,
     parse_web_address,
     perform,
     pmc_address,
@@ -409,3 +411,21 @@ def test_a_position_kind_is_named_as_position_kind_and_watch_name_it() -> None:
     assert [set(p) for p in view["positions"]] == [
         {"axis", "absolute", "machine", "relative", "distance"}
     ] * 3
+
+
+@pytest.mark.parametrize(("typed", "shown"), [("-0.000000001", "-0.000000001"), ("1.50", "1.50")])
+def test_a_macro_value_is_shown_as_the_command_line_shows_it(typed: str, shown: str) -> None:
+    """``-0.000000001`` written from the page came back as ``-1E-9`` (in its answer and its
+    list), which ``macro get`` shows as ``-0.000000001`` and the page's own box refuses (no
+    exponent)."""
+    station = _station()
+    answer = perform(station, "write_macro", {"number": 500, "value": typed})
+    assert answer["value"] == shown
+    (row,) = macro_rows(station.machine, station.macro_numbers(), "500-500")
+    assert row["value"] == shown
+    assert decimal_number(row["value"]) == decimal_number(typed)  # the box reads it back
+
+
+def test_a_real_parameter_of_many_decimals_is_shown_without_an_exponent() -> None:
+    item = DataItem(7000, 4, low=0, high=10**9, values=[1], kind=ParamKind.REAL, decimals=9)
+    assert param_text(item, 1) == "0.000000001"

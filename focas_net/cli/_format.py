@@ -16,7 +16,7 @@ from datetime import datetime
 from decimal import Decimal
 from typing import Any, Final
 
-from focas_net._typed import switch, typed_number, whole_number
+from focas_net._typed import decimal_text, switch, typed_number, whole_number
 from focas_net.errors import ChunkedWriteError, CncError, ew_info, ew_label, ew_of_text
 from focas_net.protocol import (
     STATUS_FIELDS,
@@ -614,12 +614,6 @@ def error_line(exc: BaseException) -> str:
     else:
         text = str(exc) or type(exc).__name__
     return " ".join(text.split())
-
-
-def decimal_text(value: Decimal) -> str:
-    """A number in plain decimals, as the CNC screen shows it: ``-0.0000001``, never
-    ``-1E-7`` (nor ``1E+3``)."""
-    return format(value, "f")
 
 
 def macro_text(value: Decimal | None) -> str:

@@ -27,6 +27,7 @@ from focas_net._bits import bits_of_text
 from focas_net._typed import (
     NO_PASSWORD_NOTE,
     decimal_number,
+    decimal_text,
     program_number,
     rapid_step,
     switch,
@@ -421,7 +422,7 @@ def _write_macro(station: Station, args: Mapping[str, Any]) -> JsonDict:
     number, path = _int(args, "number"), _path(args)
     m.write_macro(number, _decimal(args, "value"), path=path)
     value = m.read_macro(number, path=path)
-    return {"number": number, "value": "" if value is None else str(value)}
+    return {"number": number, "value": "" if value is None else decimal_text(value)}
 
 
 def _select_program(station: Station, args: Mapping[str, Any]) -> JsonDict:

@@ -15,7 +15,7 @@ from collections.abc import Iterable, Sequence
 from decimal import Decimal
 from typing import Any, Final
 
-from focas_net._typed import whole_number
+from focas_net._typed import decimal_text, whole_number
 from focas_net.errors import EW, ew_name
 from focas_net.protocol import (
     AutMode,
@@ -376,7 +376,7 @@ def param_text(item: DataItem, value: int) -> str:
     if item.kind is ParamKind.BIT:
         return f"{value & 0xFF:08b}"
     if item.kind is ParamKind.REAL and item.decimals:
-        return str(Decimal(value).scaleb(-item.decimals))
+        return decimal_text(Decimal(value).scaleb(-item.decimals))  # 0.0000001, not 1E-7
     return str(value)
 
 
@@ -426,7 +426,9 @@ def param_rows(
 
 
 def _macro_text(value: Decimal | None) -> str:
-    return "" if value is None else str(value)
+    """A macro value as the page shows it: as the command line writes it (``-0.000000001``,
+    never ``-1E-9``, which its box would refuse), empty when vacant."""
+    return "" if value is None else decimal_text(value)
 
 
 #: The macro variable numbers a search may name (FOCAS carries a variable number as a short).
