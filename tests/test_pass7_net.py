@@ -601,3 +601,15 @@ async def test_garbage_after_the_connect_is_a_peer_that_does_not_speak_focas_on_
     assert text.startswith(f"127.0.0.1:{proxy.port} does not speak the FOCAS protocol (")
     assert text.endswith(r"it sent b'\xde\xad\xbe\xef\xde\xad\xbe\xef')")
     assert str(again.value) == text
+
+
+async def test_a_native_port_limited_to_one_connection_is_refused_at_start() -> None:
+    """It speaks FOCAS/2 alone, whose open takes two: no client could use it."""
+    code, out, err = await run_focas_net(
+        "serve", "--port", "0", "--native-port", "0", "--max-connections", "1"
+    )
+    assert (code, out) == (2, ""), err
+    assert one_line(err, "focas-net") == (
+        "focas-net serve: error: --max-connections 1 leaves --native-port unusable: it speaks "
+        "FOCAS/2 alone, whose open takes two connections (give 2 or more)"
+    )
