@@ -291,3 +291,23 @@ async def test_alarms_follow_ends_when_its_reader_goes_away(
         if proc.returncode is None:
             proc.kill()
             await proc.wait()
+
+
+@pytest.mark.parametrize(
+    ("argv", "word"),
+    [
+        (["macro", "set", "100", "--1"], "--1"),
+        (["param", "set", "1420", "--axis", "1", "--5"], "--5"),
+        (["pmc", "read", "R", "--.5"], "--.5"),
+    ],
+)
+async def test_a_number_with_two_minus_signs_is_named(
+    server: Served, argv: list[str], word: str
+) -> None:
+    """It read as an unknown option, and the refusal named the argument it left missing."""
+    command = " ".join(argv[:2])
+    line = await fails(EXIT_USAGE, *argv, *at(server), prefix=f"focas-net {command}: error: ")
+    assert line.startswith(
+        f"focas-net {command}: error: argument {word!r} is no option: a negative number is "
+        f"written with one minus ({word[1:]})"
+    ), line
