@@ -113,8 +113,8 @@ def test_port_zero_is_for_listening_only() -> None:
 
 
 def test_port_type_is_one_parser() -> None:
-    for text in ("abc", "", "1.5", "80 80"):
-        message = f"^{re.escape(f'not a port number: {text!r}')}$"
+    for text, hint in (("abc", ""), ("", " (nothing typed)"), ("1.5", ""), ("80 80", "")):
+        message = f"^{re.escape(f'not a port number: {text!r}{hint}')}$"
         with pytest.raises(ValueError, match=message):
             _args.parse_port(text)
         with pytest.raises(argparse.ArgumentTypeError, match=message):
@@ -202,10 +202,10 @@ async def test_an_alarm_message_after_its_axis_is_raised() -> None:
 
 def test_exit_codes() -> None:
     assert (EXIT_OK, EXIT_CNC, EXIT_USAGE, EXIT_CONNECTION, EXIT_PROTOCOL) == (0, 1, 2, 3, 4)
-    assert [code for code, _ in _args.EXIT_CODES] == [0, 1, 2, 3, 4]
+    assert [code for code, _ in _args.EXIT_CODES] == [0, 1, 2, 3, 4, 130]
     assert _table._EPILOG == (
         "exit status: 0 success, 1 CNC error (EW code), 2 usage error, "
-        "3 connection error or timeout, 4 protocol violation"
+        "3 connection error or timeout, 4 protocol violation, 130 interrupted (Ctrl-C)"
     )
 
 
@@ -272,7 +272,7 @@ def test_a_table_row_becomes_a_parser(capsys: pytest.CaptureFixture[str]) -> Non
         parser.parse_args(["echo", "--help"])
     text = capsys.readouterr().out
     assert "Say it again." in text and "connection:" in text and "--password TEXT" in text
-    assert text.rstrip().endswith("4 protocol violation")
+    assert text.rstrip().endswith("130 interrupted (Ctrl-C)")
 
 
 async def _never(cnc: object) -> Output:  # pragma: no cover - never connected

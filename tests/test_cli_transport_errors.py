@@ -187,7 +187,10 @@ async def test_follow_gives_up_with_the_last_reconnect_attempts_reason(
         code = await follow
     err = capsys.readouterr().err.splitlines()
     assert code == EXIT_CONNECTION, err
-    assert err[0] == f"focas-net: connection to 127.0.0.1:{served.port} lost; reconnecting"
+    assert err[0] == (
+        f"focas-net: connection to 127.0.0.1:{served.port} lost: connection closed by "
+        f"127.0.0.1:{served.port}; reconnecting"
+    )
     last = err[-1]
     assert "alarms --follow gave up" in last
     assert f"cannot connect to 127.0.0.1:{served.port}: connection refused" in last

@@ -11,14 +11,17 @@ import pytest
 from cli_support import at, fails, ok
 from support import serving
 
-from focas_net._typed import NO_PASSWORD_NOTE
-from focas_net.errors import EW
-from focas_net.protocol import AutMode, alarm_type_of
-from focas_net.sim import MachineError, default_machine
+from focas_net._typed import NO_PASSWORD_NOTE, decimal_number
+from focas_net.errors import EW, ew_of_text
+from focas_net.protocol import AutMode, FaultKind, alarm_time_text, alarm_type_of
+from focas_net.sim import DataItem, MachineError, ParamKind, default_machine
 from focas_net.web import (
     ActionError,
     Dashboard,
     Station,
+    machine_view,
+    macro_rows,
+    param_text,
     parse_web_address,
     perform,
     pmc_address,
@@ -120,7 +123,11 @@ def test_a_machine_wide_action_of_a_path_the_machine_has_not_is_refused(
 @pytest.mark.parametrize(
     ("action", "args", "words"),
     [
-        ("cycle", {"action": None}, "action: text is needed, got null"),
+        ("cycle", {"action": 5}, "action: text is needed, got 5"),
+        ("cycle", {"action": None}, "action: start, hold or reset is needed"),
+        ("cycle", {}, "action: start, hold or reset is needed"),
+        ("inject_fault", {}, "kind: one of DELAY, ERROR, DROP, SPLIT is needed"),
+        ("pmc_bit", {"address": 0, "bit": 0}, "area: a PMC area's letter (X, R, ...) is needed"),
         ("panel", {"pwe": [1]}, "pwe: not a whole number: [1]"),
         ("panel", {"mode": {"a": 1}}, 'mode: not a whole number: {"a": 1}'),
         ("overrides", {"feed": True}, "feed: a number is needed, got true"),
@@ -136,7 +143,8 @@ def test_a_json_value_is_named_as_json_not_as_python(
     action: str, args: dict[str, Any], words: str
 ) -> None:
     """``{"action": null}`` was "got None", ``true`` "got True", ``{"a": 1}`` "{'a': 1}":
-    Python's words for what the page sent as JSON."""
+    Python's words for what the page sent as JSON; a key not given was "got ''" (nothing
+    typed) or "unknown PMC area ''"."""
     station = _station()
     station.machine.set_panel(mode=int(AutMode.MDI), pwe=1)
     digest = station.machine.state_digest()
@@ -197,14 +205,24 @@ async def test_requests_no_page_sends_are_answered_in_json_and_change_nothing() 
             '{"subscribe": "fleet", "subscribe": "machine", "index": 0}',
             "bad subscription: the key 'subscribe' is given twice",
         ),
+        (
+            '{"subscribe": "machine", "index": 0, "pmc_strat": 100}',
+            "bad subscription: a machine subscription takes no 'pmc_strat' (it takes index, "
+            "path, pmc_area, pmc_start, subscribe)",
+        ),
+        (
+            '{"subscribe": "fleet", "index": 0}',
+            "bad subscription: a fleet subscription takes no 'index' (it takes subscribe)",
+        ),
+        ('{"subscribe": []}', 'bad subscription: "subscribe" is "fleet" or "machine", got []'),
     ],
 )
 async def test_a_subscription_no_page_sends_is_refused_and_the_socket_lives(
     message: str, reason: str
 ) -> None:
     """A subscription nested 100000 deep closed the socket with a traceback on the server's
-    log; ``null`` was named ``None``; a key given twice was read as its last (actions refuse
-    it)."""
+    log; ``null`` was named ``None``; a key given twice was read as its last and a misspelt key
+    was left unread (actions refuse both)."""
     async with serving() as served:
         web = Dashboard(stations_of(served.server), port=0, interval=0.02)
         async with web, aiohttp.ClientSession() as session:
@@ -333,3 +351,106 @@ async def test_a_query_key_not_taken_or_given_twice_is_refused(query: str, words
             async with session.get(f"{web.url}{query}") as answer:
                 assert answer.status == 400
                 assert await answer.json() == {"ok": False, "error": words}
+
+
+@pytest.mark.parametrize("typed", ["\u0661\u0663\u0662\u0660", "13\uff12"])
+async def test_a_parameter_search_in_digits_of_another_script_says_why(typed: str) -> None:
+    """``\u0661\u0663\u0662\u0660`` (1320 in Arabic-Indic digits) in the parameter search said
+    "no parameter found"; the macro search and every number box name such digits."""
+    async with serving() as served:
+        web = Dashboard(stations_of(served.server), port=0)
+        async with web, aiohttp.ClientSession() as session:
+            url = f"{web.url}api/machines/0/params"
+            async with session.get(url, params={"q": typed}) as answer:
+                assert answer.status == 400
+                error = (await answer.json())["error"]
+                assert error.startswith(f"parameter search: {typed!r} holds a digit beyond ASCII")
+            async with session.get(url, params={"q": "1320"}) as answer:
+                assert [p["number"] for p in (await answer.json())["params"]] == [1320]
+
+
+def test_an_alarms_time_is_written_as_the_command_line_writes_it() -> None:
+    """The page's history said ``2026-12-07 10:54:37Z`` and its JSON ``"time":
+    "2026-12-07T10:54:37+00:00"``, where ``alarms --history`` writes ``"occurred_at":
+    "2026-12-07T10:54:37Z"``: one spelling, one key."""
+    station = _station()
+    station.machine.raise_alarm(0, 15, 1001, "COOLANT LEVEL LOW")
+    (entry,) = station.machine.alarm_history()
+    view = machine_view(0, station.machine, 8193)
+    (shown,) = view["history"]
+    assert shown["occurred_at"] == entry.occurred_at.strftime("%Y-%m-%dT%H:%M:%SZ")
+    assert "time" not in shown
+    assert alarm_time_text(entry.occurred_at) == shown["occurred_at"]
+
+
+@pytest.mark.parametrize(("typed", "code"), [("EW_BUSY", -1), ("passwd", 17), ("-1", -1)])
+def test_an_error_faults_code_is_taken_by_its_name_as_the_command_line_takes_it(
+    typed: str, code: int
+) -> None:
+    """``{"kind": "ERROR", "arg": "EW_BUSY"}`` was "not a whole number", though the box's hint
+    says "the EW code" and ``sim fault error --arg EW_BUSY`` takes it."""
+    station = _station()
+    perform(station, "inject_fault", {"kind": "ERROR", "arg": typed})
+    assert [(f.kind, f.arg) for f in station.faults.listing().faults] == [(FaultKind.ERROR, code)]
+
+
+def test_an_unknown_ew_name_is_refused_in_the_command_lines_words() -> None:
+    station = _station()
+    with pytest.raises(ActionError) as refused:
+        perform(station, "inject_fault", {"kind": "ERROR", "arg": "EW_BUZY"})
+    assert str(refused.value) == "arg: unknown EW code 'EW_BUZY'"
+    with pytest.raises(ValueError, match=r"^unknown EW code 'EW_BUZY'$"):
+        ew_of_text("EW_BUZY")
+    assert len(station.faults) == 0
+
+
+def test_a_position_kind_is_named_as_position_kind_and_watch_name_it() -> None:
+    """The page's column and its JSON said ``distance to go`` / ``distance_to_go`` where
+    ``position --kind distance`` and ``watch --json`` say ``distance``."""
+    view = machine_view(0, default_machine(), 8193)
+    assert [set(p) for p in view["positions"]] == [
+        {"axis", "absolute", "machine", "relative", "distance"}
+    ] * 3
+
+
+@pytest.mark.parametrize(("typed", "shown"), [("-0.000000001", "-0.000000001"), ("1.50", "1.50")])
+def test_a_macro_value_is_shown_as_the_command_line_shows_it(typed: str, shown: str) -> None:
+    """``-0.000000001`` written from the page came back as ``-1E-9`` (in its answer and its
+    list), which ``macro get`` shows as ``-0.000000001`` and the page's own box refuses (no
+    exponent)."""
+    station = _station()
+    answer = perform(station, "write_macro", {"number": 500, "value": typed})
+    assert answer["value"] == shown
+    (row,) = macro_rows(station.machine, station.macro_numbers(), "500-500")
+    assert row["value"] == shown
+    assert decimal_number(row["value"]) == decimal_number(typed)  # the box reads it back
+
+
+def test_a_real_parameter_of_many_decimals_is_shown_without_an_exponent() -> None:
+    item = DataItem(7000, 4, low=0, high=10**9, values=[1], kind=ParamKind.REAL, decimals=9)
+    assert param_text(item, 1) == "0.000000001"
+
+
+@pytest.mark.parametrize(
+    ("number", "axis", "words"),
+    [
+        (1320, 4, "parameter 1320 is an axis parameter: give an axis 1..3, got 4"),
+        (1320, 0, "parameter 1320 is an axis parameter: give an axis 1..3, got 0"),
+        (9968, 1, "parameter 9968 is no axis parameter: give axis 0, got 1"),
+    ],
+)
+def test_a_parameters_axis_is_refused_naming_the_parameter_not_an_item(
+    number: int, axis: int, words: str
+) -> None:
+    """The page said ``item 1320 needs an axis 1..3`` and ``item 9968 is not an axis item``:
+    the machine's word for its table, where every front end says parameter."""
+    station = _station()
+    station.machine.set_panel(mode=int(AutMode.MDI), pwe=1)
+    with pytest.raises(MachineError) as refused:
+        perform(station, "write_param", {"number": number, "axis": axis, "value": "0x1"})
+    assert (refused.value.ew, refused.value.detail) == (EW.ATTRIB, words)
+    with pytest.raises(MachineError) as read:
+        station.machine.read_param(number, axis)
+    assert read.value.detail == words
+    with pytest.raises(MachineError, match=r": no diagnostic 99999$"):
+        station.machine.read_diag(99999, 0)

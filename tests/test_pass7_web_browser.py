@@ -5,6 +5,7 @@ fault boxes."""
 
 from __future__ import annotations
 
+import re
 from pathlib import Path
 
 from selenium.webdriver.common.by import By
@@ -47,6 +48,8 @@ async def test_the_servo_loads_and_the_armed_faults_read_as_the_command_line_wri
     async with machine_page(browser, tmp_path, default_machine()) as (server, page):
         loads = await page.text_of("loads", bool, "the loads")
         assert loads == "spindle load 0 % | servo load X 0 %, Y 0 %, Z 0 %"
+        table = await page.text_of("pos-table", bool, "the positions")
+        assert table.splitlines()[0] == "absolute machine relative distance"  # as watch
         await page.until(lambda d: d.find_elements(By.CSS_SELECTOR, "#fault-kind option"), "kinds")
         await page.call(page.driver.execute_script, _KIND.format("DROP"))
         await page.type("fault-count", "2" + Keys.ENTER)  # Enter arms it, as the button does
@@ -72,7 +75,8 @@ async def test_enter_in_the_alarm_boxes_raises_the_alarm(
     browser: WebDriver,  # noqa: F811
     tmp_path: Path,
 ) -> None:
-    """Enter in the alarm's message box did nothing (the macro and parameter boxes write)."""
+    """Enter in the alarm's message box did nothing (the macro and parameter boxes write); the
+    history's time was spelt otherwise than the command line's."""
     async with machine_page(browser, tmp_path) as (server, page):
         await page.text_of("run-state", bool, "the machine")
         await page.type("alarm-type", "15")
@@ -81,4 +85,7 @@ async def test_enter_in_the_alarm_boxes_raises_the_alarm(
         await page.text_of("alarms", lambda t: "EX1001" in t, "the alarm")
         (alarm,) = server.machines[0].active_alarms()
         assert (alarm.alm_type, alarm.alm_no, alarm.msg) == (15, 1001, "COOLANT LEVEL LOW")
+        # the history's time as alarms --history writes it (it was "2026-12-07 10:54:37Z")
+        history = await page.text_of("history", bool, "the history")
+        assert re.fullmatch(r"\d{4}-\d\d-\d\dT\d\d:\d\d:\d\dZ EX1001 COOLANT LEVEL LOW", history)
         assert await page.errors() == []

@@ -112,8 +112,13 @@ def test_the_machine_view_shows_what_the_machine_reads() -> None:
     json.dumps(view)  # JSON-able throughout
     motion = machine.motion
     assert [p["axis"] for p in view["positions"]] == machine.axes
-    for kind in ("absolute", "machine", "relative", "distance_to_go"):
-        assert [p[kind] for p in view["positions"]] == [v / 1000 for v in getattr(motion, kind)]
+    for kind, name in (
+        ("absolute", "absolute"),
+        ("machine", "machine"),
+        ("relative", "relative"),
+        ("distance_to_go", "distance"),  # as position --kind and watch name it
+    ):
+        assert [p[name] for p in view["positions"]] == [v / 1000 for v in getattr(motion, kind)]
     assert view["path"] == [[v / 1000 for v in motion.absolute]]
     assert (view["feed"], view["spindle_speed"]) == (motion.feed, motion.spindle_speed)
     assert view["timers"]["power_on"] == machine.timer(0) == 5.0

@@ -40,11 +40,20 @@ import argparse
 import sys
 from collections.abc import Sequence
 
-from ._args import EXIT_CNC, EXIT_CONNECTION, EXIT_OK, EXIT_PROTOCOL, EXIT_USAGE, PROG
+from ._args import (
+    EXIT_CNC,
+    EXIT_CONNECTION,
+    EXIT_INTERRUPTED,
+    EXIT_OK,
+    EXIT_PROTOCOL,
+    EXIT_USAGE,
+    PROG,
+)
 
 __all__ = [
     "EXIT_CNC",
     "EXIT_CONNECTION",
+    "EXIT_INTERRUPTED",
     "EXIT_OK",
     "EXIT_PROTOCOL",
     "EXIT_USAGE",
@@ -75,12 +84,11 @@ def build_parser() -> argparse.ArgumentParser:
 
 def main(argv: Sequence[str] | None = None) -> int:
     """Run the command line; returns the exit code."""
-    parser = build_parser()
-    args = parser.parse_args(argv)
     try:
+        args = build_parser().parse_args(argv)
         code: int = args.func(args)
     except KeyboardInterrupt:
-        return 130
+        return EXIT_INTERRUPTED
     return code
 
 

@@ -16,10 +16,17 @@ import shlex
 import sys
 from collections.abc import Callable, Sequence
 from functools import partial
+from pathlib import Path
 from typing import Any, Final, NoReturn, TypeVar
 
 from focas_net._typed import decimal_number, rapid_step
-from focas_net.client._address import check_host, host_and_port, shown
+from focas_net.client._address import (
+    check_host,
+    host_and_port,
+    shown,
+    url_address,
+    url_advice,
+)
 from focas_net.client._values import check_path
 from focas_net.protocol import PmcArea
 
@@ -31,6 +38,7 @@ __all__ = [
     "EXIT_CNC",
     "EXIT_CODES",
     "EXIT_CONNECTION",
+    "EXIT_INTERRUPTED",
     "EXIT_OK",
     "EXIT_PROTOCOL",
     "EXIT_USAGE",
@@ -64,7 +72,9 @@ __all__ = [
     "parse_positive",
     "parse_rapid",
     "parse_seconds",
+    "pem_holds",
     "print_error",
+    "ssl_error_text",
 ]
 
 T = TypeVar("T")
@@ -82,6 +92,9 @@ EXIT_USAGE: Final = 2
 EXIT_CONNECTION: Final = 3
 #: The peer broke the wire protocol.
 EXIT_PROTOCOL: Final = 4
+#: Ctrl-C (SIGINT) before the command finished, as a shell reports a command SIGINT ended
+#: (128 + 2); ``watch`` and ``alarms --follow``, which run until told, end with 0 instead.
+EXIT_INTERRUPTED: Final = 130
 
 #: The exit codes of the client commands with their short descriptions, as ``--help`` lists them.
 EXIT_CODES: Final[tuple[tuple[int, str], ...]] = (
@@ -90,7 +103,24 @@ EXIT_CODES: Final[tuple[tuple[int, str], ...]] = (
     (EXIT_USAGE, "usage error"),
     (EXIT_CONNECTION, "connection error or timeout"),
     (EXIT_PROTOCOL, "protocol violation"),
+    (EXIT_INTERRUPTED, "interrupted (Ctrl-C)"),
 )
+
+
+def pem_holds(path: str, label: str) -> bool | None:
+    """Whether the PEM file ``path`` has a block whose label ends with ``label``
+    (``CERTIFICATE``, ``PRIVATE KEY``); None when it cannot be read."""
+    try:
+        text = Path(path).read_text("ascii", errors="replace")
+    except OSError:
+        return None
+    return re.search(rf"-----BEGIN [A-Z0-9 ]*{label}-----", text) is not None
+
+
+def ssl_error_text(exc: OSError) -> str:
+    """OpenSSL's words for ``exc`` without its library tag and source line (``[X509: ...]``,
+    ``(_ssl.c:4154)``)."""
+    return re.sub(r"^\[[A-Z0-9_: ]+\] | \(_ssl\.c:\d+\)$", "", str(exc.strerror or exc))
 
 
 def print_error(message: str, prog: str = PROG) -> None:
@@ -182,13 +212,21 @@ def argument_type(parse: Callable[[str], T], what: str) -> Callable[[str], T]:
 # -- parsers --------------------------------------------------------------------------------
 
 
+def _whole(text: str, what: str) -> int:
+    """A whole number as every number is read (:func:`~focas_net.cli._format.parse_int`); its
+    refusal names ``what`` and keeps the rule's reason (``'' (nothing typed)``, a digit
+    beyond ASCII)."""
+    try:
+        return fmt.parse_int(text)
+    except ValueError as exc:
+        why = str(exc).removeprefix("not a whole number: ")
+        raise ValueError(f"not a {what}: {why}") from None
+
+
 def parse_port(text: str, *, lowest: int = 1) -> int:
     """A TCP port, ``lowest``..65535, as a decimal or ``0x`` number; ``lowest`` is 0 where port
     0 asks for an ephemeral port (``serve``), 1 where a port is connected to."""
-    try:
-        value = fmt.parse_int(text)
-    except ValueError:
-        raise ValueError(f"not a port number: {text!r}") from None
+    value = _whole(text, "port number")
     if not lowest <= value <= 65_535:
         raise ValueError(f"port must be {lowest}..65535, got {text!r}")
     return value
@@ -267,6 +305,9 @@ def parse_interval(text: str) -> float:
 def parse_host(text: str) -> str:
     """A host to connect to (:func:`~focas_net.client._address.check_host`), spaces around it
     left out; a host with a port points to ``--port``."""
+    url = url_address(text.strip())
+    if url is not None:
+        raise ValueError(f"{shown(text)} is a URL: {url_advice(url, True)}")
     split = host_and_port(text.strip())
     if split:
         raise ValueError(
@@ -278,11 +319,7 @@ def parse_host(text: str) -> str:
 def parse_path(text: str) -> int:
     """A path of the CNC, 1..10 (:func:`~focas_net.client._values.check_path`, where both
     clients check a ``path=``)."""
-    try:
-        value = fmt.parse_int(text)
-    except ValueError:
-        raise ValueError(f"not a path number: {text!r}") from None
-    return check_path(value)
+    return check_path(_whole(text, "path number"))
 
 
 def parse_history_depth(text: str) -> int:

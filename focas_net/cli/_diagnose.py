@@ -62,9 +62,17 @@ class Findings:
     native: bool  #: it answered the open of FOCAS/2
 
 
-def advice(found: Findings, protocol: str, tls: bool) -> str | None:
+def advice(found: Findings, protocol: str, tls: bool, packed_only: str | None = None) -> str | None:
     """The advice for a command of ``protocol`` (``tls``: it asked for TLS) whose connection
-    was closed before any answer, from what the probes ``found`` (None: nothing certain)."""
+    was closed before any answer, from what the probes ``found`` (None: nothing certain);
+    ``packed_only`` names what the command needs that FOCAS/2 cannot carry (a command, or
+    ``--password``), which a port of FOCAS/2 alone cannot serve."""
+    if packed_only is not None and found.native and not found.packed:
+        plain = ", without TLS" if tls else ""
+        return (
+            f"the port speaks FOCAS/2 only (serve --native-port){plain}, which cannot carry "
+            f"{packed_only}: connect to the server's main port, which speaks both"
+        )
     if found.refused and not (found.tls or found.packed or found.native):
         return (
             "the server refused the connection: it closes new ones at once, as a server at its "
@@ -85,8 +93,9 @@ def advice(found: Findings, protocol: str, tls: bool) -> str | None:
     if protocol == "native" and found.packed and not found.native:
         return (
             "the server answers one connection but not FOCAS/2's open, which takes two: a "
-            "server limited to one connection refuses the second (focas-net serve "
-            "--max-connections 1); give --protocol packed, or a higher limit"
+            "server with one connection free refuses the second (focas-net serve "
+            "--max-connections 1, or other clients holding the others); give --protocol "
+            "packed, or free a connection or raise the limit"
         )
     if found.packed if protocol == "packed" else found.native:
         return (
@@ -194,7 +203,13 @@ async def _http_answer(host: str, port: int, bound: float) -> bytes:
 
 
 def diagnosis(
-    exc: BaseException, host: str, port: int, protocol: str, tls: bool, timeout: float
+    exc: BaseException,
+    host: str,
+    port: int,
+    protocol: str,
+    tls: bool,
+    timeout: float,
+    packed_only: str | None = None,
 ) -> tuple[BaseException, str | None]:
     """The error to report for ``exc`` and advice (None: none), probing ``host:port`` when
     ``exc`` says the peer said nothing: a connection closed before any answer, a TLS handshake
@@ -223,4 +238,4 @@ def diagnosis(
     )
     if not closed:
         return exc, None
-    return exc, advice(asyncio.run(probed(host, port, bound)), protocol, tls)
+    return exc, advice(asyncio.run(probed(host, port, bound)), protocol, tls, packed_only)

@@ -12,12 +12,12 @@ from __future__ import annotations
 
 import re
 from collections.abc import Iterable, Mapping, Sequence
-from datetime import UTC, datetime
+from datetime import datetime
 from decimal import Decimal
 from typing import Any, Final
 
-from focas_net._typed import switch, typed_number, whole_number
-from focas_net.errors import EW, ChunkedWriteError, CncError, ew_info, ew_label
+from focas_net._typed import decimal_text, switch, typed_number, whole_number
+from focas_net.errors import ChunkedWriteError, CncError, ew_info, ew_label, ew_of_text
 from focas_net.protocol import (
     STATUS_FIELDS,
     ActiveAlarm,
@@ -31,6 +31,7 @@ from focas_net.protocol import (
     SysInfo,
     alarm_code,
     alarm_text,
+    alarm_time_text,
     alarm_type_of,
     status_labels,
 )
@@ -226,9 +227,8 @@ def positions_rows(data: Mapping[str, Any]) -> list[tuple[str, str, str]]:
 
 
 def utc_text(when: datetime) -> str:
-    """``2024-05-01T12:00:00Z``."""
-    t = when.astimezone(UTC) if when.tzinfo else when
-    return t.strftime("%Y-%m-%dT%H:%M:%SZ")
+    """``2024-05-01T12:00:00Z``, as every front end writes an alarm's time."""
+    return alarm_time_text(when)
 
 
 def format_active_alarm(alarm: ActiveAlarm) -> str:
@@ -263,8 +263,10 @@ def history_dict(entry: AlarmHistoryEntry) -> dict[str, Any]:
     }
 
 
-_ALARM_RE: Final = re.compile(r"^([A-Za-z]{2})(\d{1,5})$")
-_ALARM_NUMERIC_RE: Final = re.compile(r"^(\d{1,2}):(\d{1,5})$")
+#: ``PS0100``: ASCII letters and digits only, as every number is typed (a digit of another
+#: script is refused); the number's range is the codec's to say (``0..32767``).
+_ALARM_RE: Final = re.compile(r"^([A-Za-z]{2})([0-9]+)$", re.ASCII)
+_ALARM_NUMERIC_RE: Final = re.compile(r"^([0-9]{1,2}):([0-9]+)$", re.ASCII)
 
 
 def _alarm_type(prefix: str) -> int:
@@ -276,10 +278,10 @@ def parse_alarm(text: str) -> tuple[int, int]:
     s = text.strip()
     m = _ALARM_RE.match(s)
     if m:
-        return _alarm_type(m[1]), int(m[2])
+        return _alarm_type(m[1]), whole_number(m[2])
     m = _ALARM_NUMERIC_RE.match(s)
     if m:
-        return int(m[1]), int(m[2])
+        return int(m[1]), whole_number(m[2])
     raise ValueError(f"not an alarm code: {text!r} (expected e.g. PS0100 or 3:100)")
 
 
@@ -580,17 +582,9 @@ def parse_aut(text: str) -> AutMode:
 
 
 def parse_ew(text: str) -> int:
-    """An EW code by number or name (``17``, ``EW_PASSWD``, ``passwd``, ``-1``)."""
-    s = text.strip()
-    try:
-        return whole_number(s)
-    except ValueError:
-        pass
-    name = s.upper().removeprefix("EW_")
-    try:
-        return int(EW[name])
-    except KeyError:
-        raise ValueError(f"unknown EW code {text!r}") from None
+    """An EW code by number or name (``17``, ``EW_PASSWD``, ``passwd``, ``-1``), as every
+    front end reads one."""
+    return ew_of_text(text)
 
 
 # -- errors --------------------------------------------------------------------------------
@@ -622,12 +616,6 @@ def error_line(exc: BaseException) -> str:
     else:
         text = str(exc) or type(exc).__name__
     return " ".join(text.split())
-
-
-def decimal_text(value: Decimal) -> str:
-    """A number in plain decimals, as the CNC screen shows it: ``-0.0000001``, never
-    ``-1E-7`` (nor ``1E+3``)."""
-    return format(value, "f")
 
 
 def macro_text(value: Decimal | None) -> str:

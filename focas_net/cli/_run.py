@@ -20,6 +20,7 @@ import os
 import signal
 import ssl
 import sys
+import weakref
 from collections.abc import Awaitable, Callable, Iterator
 from dataclasses import dataclass
 from typing import Any, Final
@@ -49,7 +50,9 @@ from ._args import (
     EXIT_OK,
     EXIT_PROTOCOL,
     EXIT_USAGE,
+    pem_holds,
     print_error,
+    ssl_error_text,
 )
 from ._diagnose import diagnosis
 from ._reasons import reason
@@ -99,11 +102,17 @@ PROTOCOLS: Final = (PACKED, NATIVE)
 
 @dataclass(frozen=True, slots=True)
 class PackedOnly:
-    """A command's talk that only the packed transport carries, and why (the calls it needs)."""
+    """A command's talk that only the packed transport carries, and why (the calls it needs);
+    ``option`` names the option that asks for it when the command itself is carried
+    (``--force`` of ``pmc write``)."""
 
     go: PackedGo
     why: str
+    option: str = ""
 
+
+#: The commands that run until told (Ctrl-C, SIGTERM), besides ``alarms --follow``.
+UNTIL_TOLD: Final = frozenset({"watch"})
 
 #: A client command: its parsed arguments -> the talk to the CNC.
 Handler = Callable[[argparse.Namespace], Go | PackedOnly]
@@ -118,24 +127,51 @@ class HintedError(FocasError):
         self.hint = hint
 
 
+#: The stop callbacks of each loop's :func:`stopping_on_signals` blocks, innermost last: a
+#: signal stops the innermost one (a loop that ends its own way), the outer ones wrap it.
+_STOPS: weakref.WeakKeyDictionary[asyncio.AbstractEventLoop, list[Callable[[], object]]] = (
+    weakref.WeakKeyDictionary()
+)
+
+
 @contextlib.contextmanager
-def stopping_on_signals(stop: Callable[[], None]) -> Iterator[None]:
+def stopping_on_signals(stop: Callable[[], object]) -> Iterator[None]:
     """``stop()`` on SIGINT or SIGTERM while the block runs (a command that runs until told:
     it ends cleanly, exit 0, no traceback); off the main thread, or without signal support,
-    Ctrl-C still ends it as usual."""
+    Ctrl-C still ends it as usual. Blocks nest: a signal calls the innermost block's
+    ``stop``, and after it ends the next one out's again."""
     loop = asyncio.get_running_loop()
+    stops = _STOPS.setdefault(loop, [])
+    stops.append(stop)
     installed = []
-    for signum in (signal.SIGINT, signal.SIGTERM):
-        try:
-            loop.add_signal_handler(signum, stop)
-        except (NotImplementedError, RuntimeError, ValueError):
-            continue
-        installed.append(signum)
+    if len(stops) == 1:
+        for signum in (signal.SIGINT, signal.SIGTERM):
+            try:
+                loop.add_signal_handler(signum, lambda: stops[-1]())
+            except (NotImplementedError, RuntimeError, ValueError):
+                continue
+            installed.append(signum)
     try:
         yield
     finally:
+        stops.remove(stop)
         for signum in installed:
             loop.remove_signal_handler(signum)
+
+
+async def _until_told(session: Awaitable[Output | None]) -> Output | None:
+    """Run the session of a command that runs until told (``watch``, ``alarms --follow``):
+    SIGINT or SIGTERM at any moment, while it connects or makes its first read too, ends it
+    as Ctrl-C ends its polling (None: nothing more to print, exit 0)."""
+    task = asyncio.ensure_future(session)
+    with stopping_on_signals(task.cancel):
+        try:
+            return await task
+        except asyncio.CancelledError:
+            current = asyncio.current_task()
+            if task.cancelled() and (current is None or not current.cancelling()):
+                return None
+            raise
 
 
 def write(text: str) -> bool:
@@ -203,7 +239,13 @@ def tls_context(args: argparse.Namespace) -> ssl.SSLContext | None:
     try:
         return ssl.create_default_context(cafile=ca)
     except (OSError, ssl.SSLError) as exc:
-        reason = exc.strerror if isinstance(exc, OSError) and exc.strerror else str(exc)
+        reason = ssl_error_text(exc)
+        if isinstance(exc, ssl.SSLError) and ca is not None:
+            reason = (
+                f"a certificate in it cannot be read ({reason})"
+                if pem_holds(ca, "CERTIFICATE")
+                else "no PEM certificate in it"
+            )
         raise ValueError(f"--tls-ca {ca}: {reason}") from None
 
 
@@ -267,7 +309,8 @@ def _check_native(args: argparse.Namespace, go: Go | PackedOnly) -> None:
         return
     where = "with --protocol native (FOCAS/2 Ethernet)"
     if isinstance(go, PackedOnly):
-        raise ValueError(f"{command_name(args)} is not available {where}: {go.why}")
+        what = " ".join(w for w in (command_name(args), go.option) if w)
+        raise ValueError(f"{what} is not available {where}: {go.why}")
     if tls_context_wanted(args):
         flag = next(
             f
@@ -299,7 +342,8 @@ def report_state(client: CncClient) -> Callable[[ClientState], None]:
         nonlocal lost
         if state is ClientState.RECONNECTING:
             lost = True
-            _print_one_line(f"connection to {where} lost; reconnecting")
+            why = client.lost_reason
+            _print_one_line(f"connection to {where} lost{f': {why}' if why else ''}; reconnecting")
         elif state is ClientState.CONNECTED and lost:
             lost = False
             _print_one_line(f"reconnected to {where}")
@@ -313,6 +357,11 @@ def _tls_hint(args: argparse.Namespace, exc: BaseException) -> str | None:
     tls = tls_context_wanted(args)
     cause = exc.__cause__
     if isinstance(cause, ssl.SSLCertVerificationError):
+        if cause.verify_code in _NAME_MISMATCH:  # trusted, but for another name
+            return (
+                f"the certificate does not name {args.host}: connect by a name it holds "
+                "(--host NAME), or give --tls-insecure"
+            )
         return "give --tls-ca FILE (the server's certificate or its CA) or --tls-insecure"
     text = str(exc)
     if tls and isinstance(exc, FocasConnectionError) and "TLS handshake failed" in text:
@@ -320,6 +369,10 @@ def _tls_hint(args: argparse.Namespace, exc: BaseException) -> str | None:
     if not tls and isinstance(exc, ProtocolError) and "TLS record" in text:
         return "the server uses TLS: give --tls (with --tls-ca FILE or --tls-insecure)"
     return None
+
+
+#: OpenSSL's verify codes of a certificate that holds another host name, or IP address.
+_NAME_MISMATCH: Final = frozenset({62, 64})
 
 
 def tls_context_wanted(args: argparse.Namespace) -> bool:
@@ -354,12 +407,31 @@ def _diagnosed(
         return exc, None
     protocol = PACKED if isinstance(go, PackedOnly) else _protocol(args)
     tls = protocol == PACKED and tls_context_wanted(args)
+    packed_only = _packed_only(args, go)
     if isinstance(exc, HintedError):  # (alarms --follow gave up): its cause diagnosed
-        cause, advice = diagnosis(exc.cause, args.host, args.port, protocol, tls, args.timeout)
+        # while reconnecting, the cause's own cause is why the last attempt failed: that is
+        # what the port did (an HTTP server in place of the CNC is found as on a first connect)
+        attempt = exc.cause.__cause__
+        diagnosed = attempt if isinstance(attempt, FocasError) else exc.cause
+        cause, advice = diagnosis(
+            diagnosed, args.host, args.port, protocol, tls, args.timeout, packed_only
+        )
+        if cause is diagnosed:
+            cause = exc.cause  # (no other error found: the one the follower gave up on)
         if not isinstance(cause, FocasError) or (cause is exc.cause and advice is None):
             return exc, None
         return HintedError(cause, exc.hint if advice is None else f"{advice}; {exc.hint}"), None
-    return diagnosis(exc, args.host, args.port, protocol, tls, args.timeout)
+    return diagnosis(exc, args.host, args.port, protocol, tls, args.timeout, packed_only)
+
+
+def _packed_only(args: argparse.Namespace, go: Go | PackedOnly) -> str | None:
+    """What the command needs that FOCAS/2 cannot carry: the command itself, or its
+    ``--password`` (None: it runs on either transport)."""
+    if isinstance(go, PackedOnly):
+        return command_name(args)
+    if getattr(args, "password", None) is not None:
+        return "--password"
+    return None
 
 
 def runner(handler: Handler) -> Callable[[argparse.Namespace], int]:
@@ -375,7 +447,9 @@ def runner(handler: Handler) -> Callable[[argparse.Namespace], int]:
             _print_one_line(_failure_text(args, exc))
             return _exit_code(exc)
         try:
-            out = asyncio.run(_session(args, go, follow, context))
+            session = _session(args, go, follow, context)
+            until_told = follow or command_name(args) in UNTIL_TOLD
+            out = asyncio.run(_until_told(session) if until_told else session)
         except (FocasError, ValueError, OSError) as exc:
             failure, hint = _diagnosed(args, go, exc)
             _print_one_line(_failure_text(args, failure, hint))

@@ -15,6 +15,7 @@ from focas_net.client import FocasClient
 from . import _format as fmt
 from . import read_cmds
 from ._run import Go, Output, PackedOnly
+from .sim_cmds import SIM_CONTROLS
 
 __all__ = ["CYCLE_ACTIONS", "PROGRAM_ACTIONS", "cycle", "override", "program"]
 
@@ -68,6 +69,11 @@ def program(args: argparse.Namespace) -> Go | PackedOnly:
     if args.replace and action != "load":
         raise ValueError(f"program {action}: --replace goes with program load only")
     if action == "list":
+        if args.target is not None:
+            raise ValueError(
+                f"program list takes no program number or file, got {args.target!r} (program "
+                "show N shows one)"
+            )
         return _list()
     if action == "load":
         text, name = _text_of(args.target)
@@ -165,4 +171,4 @@ def override(args: argparse.Namespace) -> PackedOnly:
         data = {"feed": info.feed, "rapid": info.rapid, "spindle": info.spindle}
         return Output(data, f"feed {info.feed} %, rapid {info.rapid} %, spindle {info.spindle} %")
 
-    return PackedOnly(go, _WHY)
+    return PackedOnly(go, SIM_CONTROLS)

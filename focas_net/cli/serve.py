@@ -24,7 +24,6 @@ import argparse
 import gc
 import importlib.util
 import logging
-import re
 import signal
 import ssl
 import sys
@@ -46,6 +45,7 @@ from focas_net.server import (
     DEFAULT_PORT,
     NATIVE_MAGIC_LENGTH,
     FocasServer,
+    ListenError,
 )
 
 from ._args import (
@@ -58,7 +58,9 @@ from ._args import (
     POSITIVE,
     PROG,
     command_parser,
+    pem_holds,
     print_error,
+    ssl_error_text,
 )
 from ._fleet import ConfigError, build_machines, fleet_indices, machines_per_process
 from ._format import address_text
@@ -361,6 +363,11 @@ def check_options(args: argparse.Namespace) -> None:
                 f"--fleet {fleet} from {option} {first} runs past 65535 "
                 f"(the last machine would get port {first + served - 1})"
             )
+    if args.native_port is not None and getattr(args, "max_connections", 2) < 2:
+        raise ConfigError(
+            f"--max-connections {args.max_connections} leaves --native-port unusable: it speaks "
+            "FOCAS/2 alone, whose open takes two connections (give 2 or more)"
+        )
     if args.port and args.native_port and abs(args.port - args.native_port) < fleet:
         raise ConfigError(
             f"--native-port {args.native_port} overlaps the ports "
@@ -399,16 +406,6 @@ def _ssl_context(args: argparse.Namespace) -> ssl.SSLContext | None:
     return ctx
 
 
-def _pem_holds(path: str, label: str) -> bool | None:
-    """Whether the PEM file ``path`` has a block whose label ends with ``label``
-    (``CERTIFICATE``, ``PRIVATE KEY``); None when it cannot be read."""
-    try:
-        text = Path(path).read_text("ascii", errors="replace")
-    except OSError:
-        return None
-    return re.search(rf"-----BEGIN [A-Z0-9 ]*{label}-----", text) is not None
-
-
 def _tls_files_error(cert: str, key: str | None, exc: OSError) -> str:
     """Why ``--tls-cert cert`` (with ``--tls-key key``) cannot serve TLS, naming the file."""
     for flag, path in (("--tls-cert", cert), ("--tls-key", key)):
@@ -417,18 +414,17 @@ def _tls_files_error(cert: str, key: str | None, exc: OSError) -> str:
                 Path(path).read_bytes()
         except OSError as unreadable:
             return f"{flag} {path}: {unreadable.strerror or unreadable}"
-    if not _pem_holds(cert, "CERTIFICATE"):
+    if not pem_holds(cert, "CERTIFICATE"):
         return f"--tls-cert {cert}: no PEM certificate in it"
-    if key is None and not _pem_holds(cert, "PRIVATE KEY"):
+    if key is None and not pem_holds(cert, "PRIVATE KEY"):
         return f"--tls-cert {cert} holds no private key: give --tls-key FILE"
-    if key is not None and not _pem_holds(key, "PRIVATE KEY"):
+    if key is not None and not pem_holds(key, "PRIVATE KEY"):
         return f"--tls-key {key}: no PEM private key in it"
     reason = getattr(exc, "reason", None)
     if reason == "KEY_VALUES_MISMATCH":
         return f"--tls-key {key or cert}: the private key does not belong to the certificate"
     files = cert if key is None else f"{cert}, {key}"
-    text = re.sub(r"^\[[A-Z0-9_]+\] | \(_ssl\.c:\d+\)$", "", str(exc.strerror or exc))
-    return f"TLS certificate/key ({files}): {text}"
+    return f"TLS certificate/key ({files}): {ssl_error_text(exc)}"
 
 
 def run(args: argparse.Namespace) -> int:
@@ -471,6 +467,10 @@ def run(args: argparse.Namespace) -> int:
             backend="asyncio",
             backend_options={"use_uvloop": args.uvloop},
         )
+    except ListenError as exc:
+        option = " (--native-port)" if exc.native_only else ""
+        print_error(f"cannot listen on {exc.where}{option}: {os_reason(exc)}", _ERROR_PREFIX)
+        return EXIT_CNC
     except OSError as exc:
         print_error(
             f"cannot listen on {address_text(args.host, args.port)}: {os_reason(exc)}",

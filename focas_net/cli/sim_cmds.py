@@ -25,6 +25,7 @@ from ._run import Output, PackedOnly
 __all__ = [
     "FAULT_KINDS",
     "FAULT_SCOPES",
+    "SIM_CONTROLS",
     "NothingMatched",
     "alarm",
     "clear",
@@ -42,7 +43,8 @@ class NothingMatched(FocasError):
 FAULT_KINDS: Final = {k.name.lower(): k for k in FaultKind}
 #: ``sim fault --scope``: the fault scopes by their command-line names.
 FAULT_SCOPES: Final = {s.name.lower(): s for s in FaultScope}
-_WHY: Final = "the simulator controls are packed-protocol commands"
+#: Why a simulator control command needs the packed transport.
+SIM_CONTROLS: Final = "the simulator controls are packed-protocol commands"
 #: The EW codes an error fault carries (an i16 on the wire).
 
 
@@ -66,7 +68,7 @@ def panel(args: argparse.Namespace) -> PackedOnly:
         }
         return Output(data, f"{fmt.status_summary(st)} pwe={'on' if p.pwe else 'off'}")
 
-    return PackedOnly(go, _WHY)
+    return PackedOnly(go, SIM_CONTROLS)
 
 
 def alarm(args: argparse.Namespace) -> PackedOnly:
@@ -102,7 +104,7 @@ def alarm(args: argparse.Namespace) -> PackedOnly:
         }
         return Output(data, f"raised {code}{axis} {kept}".rstrip())
 
-    return PackedOnly(go, _WHY)
+    return PackedOnly(go, SIM_CONTROLS)
 
 
 def clear(args: argparse.Namespace) -> PackedOnly:
@@ -128,7 +130,7 @@ def clear(args: argparse.Namespace) -> PackedOnly:
         what = ", ".join(fmt.alarm_code(a.alm_type, a.alm_no) for a in gone)
         return Output(data, f"cleared {what}; {len(remaining)} still active")
 
-    return PackedOnly(go, _WHY)
+    return PackedOnly(go, SIM_CONTROLS)
 
 
 def _whose(scope: FaultScope) -> str:
@@ -196,7 +198,7 @@ def fault(args: argparse.Namespace) -> PackedOnly:
         behind = f"queued behind {len(ahead)} pending fault{'s' * (len(ahead) > 1)}"
         return Output(data, f"{behind}: {_answers(first, args.count)} {whose} from now: {effect}")
 
-    return PackedOnly(go, _WHY)
+    return PackedOnly(go, SIM_CONTROLS)
 
 
 def _fault_arg(kind: FaultKind, text: str | None) -> int:
@@ -208,7 +210,10 @@ def _fault_arg(kind: FaultKind, text: str | None) -> int:
             raise ValueError(
                 f"a{'n' * (kind is FaultKind.ERROR)} {kind.name.lower()} fault needs --arg {needs}"
             )
-        value = fmt.parse_ew(text) if kind is FaultKind.ERROR else fmt.parse_int(text)
+        try:
+            value = fmt.parse_ew(text) if kind is FaultKind.ERROR else fmt.parse_int(text)
+        except ValueError as exc:
+            raise ValueError(f"--arg: {exc}") from None
         why = fault_refusal(int(kind), int(FaultScope.MACHINE), 1, value)
         if why is not None:
             raise ValueError(f"--arg: {why}")
@@ -260,7 +265,7 @@ def faults(args: argparse.Namespace) -> PackedOnly:
         head = f"{len(rows)} pending fault{'s' * (len(rows) > 1)} {whose}, first in, first out:"
         return Output(data, f"{head}\n{table}")
 
-    return PackedOnly(go, _WHY)
+    return PackedOnly(go, SIM_CONTROLS)
 
 
 def _arg_text(kind: str, arg: int) -> str:

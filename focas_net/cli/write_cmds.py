@@ -106,6 +106,7 @@ def pmc_write(args: argparse.Namespace) -> Go | PackedOnly:
             force,
             "--force writes through a simulator control command, "
             + command_text(Command.SIM_SET_PMC),
+            "--force",
         )
     return go
 

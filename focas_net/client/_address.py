@@ -3,7 +3,8 @@ command line's ``--host``) and :func:`address_text`.
 
 A host is a name (at most 253 characters, parts of 1..63 between dots), an IPv4 address or an
 IPv6 address (``::1``, or ``[::1]`` in brackets). A host with a port (``127.0.0.1:8193``,
-``[::1]:8193``) is refused with the port named, for it is given apart.
+``[::1]:8193``) is refused with the port named, for it is given apart, and so is a URL
+(``tcp://127.0.0.1:8193``), with its host and port named.
 """
 
 from __future__ import annotations
@@ -12,11 +13,20 @@ import ipaddress
 import re
 from typing import Final
 
-__all__ = ["address_text", "check_host", "check_port", "host_and_port"]
+__all__ = [
+    "address_text",
+    "check_host",
+    "check_port",
+    "host_and_port",
+    "url_address",
+    "url_advice",
+]
 
 #: A part of a host name between dots: letters (any script, for an international name),
 #: digits, hyphens and the underscores some local names have.
 _LABEL: Final = re.compile(r"[\w-]+")
+#: A URL (``tcp://127.0.0.1:8193/``): its scheme, then its host and port up to a path.
+_URL: Final = re.compile(r"[A-Za-z][A-Za-z0-9+.-]*://([^/?#]*)(?:[/?#].*)?", re.DOTALL)
 #: ``[::1]:8193``: an IPv6 address in brackets and a port.
 _BRACKETED_PORT: Final = re.compile(r"\[([^\]]*)\]:(\d+)")
 
@@ -41,6 +51,19 @@ def shown(text: str, limit: int = 40) -> str:
     return repr(text) if len(text) <= limit else f"{text[:limit]!r}... ({len(text)} characters)"
 
 
+def url_address(text: str) -> tuple[str, str | None] | None:
+    """``(host, port)`` of a URL (``tcp://127.0.0.1:8193``, ``http://[::1]/``: port None
+    when it has none; host empty when it has none), else None."""
+    url = _URL.fullmatch(text)
+    if url is None:
+        return None
+    where = url[1].rpartition("@")[2]  # (without a user part)
+    split = host_and_port(where)
+    if split:
+        return split
+    return where.removeprefix("[").removesuffix("]"), None
+
+
 def host_and_port(text: str) -> tuple[str, str] | None:
     """``(host, port)`` when ``text`` is a host with a port (``127.0.0.1:8193``,
     ``[::1]:8193``), else None (``::1`` is an IPv6 address, no port)."""
@@ -53,6 +76,20 @@ def host_and_port(text: str) -> tuple[str, str] | None:
     return None
 
 
+def url_advice(url: tuple[str, str | None], options: bool) -> str:
+    """What to give instead of a URL whose host and port are ``url``: as the command line's
+    options (``options``: ``give --host 127.0.0.1 --port 8193``) or as a client's
+    arguments."""
+    name, number = url
+    if not name:
+        return "give a host name or address alone, without a scheme (127.0.0.1)"
+    if options:
+        given = f"--host {name}" + ("" if number is None else f" --port {number}")
+    else:
+        given = f"the host {name!r}" + ("" if number is None else f" and the port {number} apart")
+    return f"give {given}, without a scheme"
+
+
 def check_host(text: object) -> str:
     """The host ``text`` names (an IPv6 address without its brackets).
 
@@ -62,6 +99,9 @@ def check_host(text: object) -> str:
     """
     if not isinstance(text, str):
         raise TypeError(f"host must be a str, got {text!r}")
+    url = url_address(text)
+    if url is not None:
+        raise ValueError(f"host {shown(text)} is a URL: {url_advice(url, False)}")
     split = host_and_port(text)
     if split:
         raise ValueError(

@@ -33,6 +33,9 @@ from typing import Any, Final, cast
 
 from focas_net._receive import Received, _local
 
+from ._address import address_text
+from ._failures import os_reason
+
 #: Bytes one read of a :class:`SocketChannel` may bring: a whole answer frame (at most 10 +
 #: 65535 bytes) in one or two.
 READ_SIZE: Final = 65536
@@ -49,6 +52,7 @@ class Channel:
     ended: bool
     closed: bool
     _kept: bytearray
+    received: int
     _waiter: asyncio.Future[None] | None
     _error: Exception | None
 
@@ -58,6 +62,8 @@ class Channel:
         self.on_end = None
         #: Bytes read while not started, and the :meth:`readexactly` waiting for more.
         self._kept = bytearray()
+        #: Bytes read while not started, in all (whether the peer said anything).
+        self.received = 0
         self._waiter = None
         #: The connection ended (end of file, or ``_error``); the channel closed.
         self.ended = False
@@ -87,6 +93,7 @@ class Channel:
             return  # (a transport may still read after the peer was taken as faulty)
         kept = self._kept
         kept += data
+        self.received += len(data)
         if len(kept) > KEEP_LIMIT:
             self._end(ConnectionError(f"the peer sent {len(kept)} bytes nobody asked for"))
             return
@@ -115,6 +122,12 @@ class Channel:
     def _stop_reading(self) -> None:
         """Read nothing more from the connection (a transport closes itself at the end, and
         bytes after the peer was taken as faulty are not kept)."""
+
+    @property
+    def kept(self) -> bytes:
+        """The bytes read and kept (before :meth:`start`) that no :meth:`readexactly` took yet
+        (the start of a frame that never came whole)."""
+        return bytes(self._kept)
 
     async def readexactly(self, n: int) -> bytes:
         """The next ``n`` bytes read (before :meth:`start` or after :meth:`stop`).
@@ -303,7 +316,7 @@ def own_sockets(loop: asyncio.AbstractEventLoop) -> bool:
 _Target = tuple[socket.AddressFamily, int, int, tuple[Any, ...]]
 
 
-def _literal(host: str, port: int) -> _Target | None:
+def literal_target(host: str, port: int) -> _Target | None:
     """Where to connect for an IPv4 ``host`` written as a number (nothing to resolve), else
     None."""
     try:
@@ -318,13 +331,29 @@ def _literal(host: str, port: int) -> _Target | None:
 async def open_channel(host: str, port: int) -> Channel:
     """A channel connected to ``host``:``port`` (each address ``host`` resolves to, in turn).
 
-    :raises OSError: no address could be connected (the error of the one tried, or of each).
+    :raises OSError: no address could be connected (:func:`connect_socket`).
     """
     loop = asyncio.get_running_loop()
     if not own_sockets(loop):
-        _, channel = await loop.create_connection(TransportChannel, host, port)
+        if literal_target(host, port) is not None:
+            _, channel = await loop.create_connection(TransportChannel, host, port)
+        else:
+            sock = await connect_socket(host, port)
+            _, channel = await loop.create_connection(TransportChannel, sock=sock)
         return channel
-    literal = _literal(host, port)
+    return SocketChannel(await connect_socket(host, port), loop)
+
+
+async def connect_socket(host: str, port: int) -> socket.socket:
+    """A non-blocking TCP socket connected to ``host``:``port``, trying each address ``host``
+    resolves to in turn (an IPv4 address as written is not resolved), for both clients.
+
+    :raises OSError: no address could be connected: the error of the one tried, or one naming
+        each address and why it failed (one error when all failed alike: ``localhost``
+        refused on ``::1`` and on ``127.0.0.1`` is a refused connect).
+    """
+    loop = asyncio.get_running_loop()
+    literal = literal_target(host, port)
     targets: list[_Target]
     if literal is not None:
         targets = [literal]
@@ -333,12 +362,12 @@ async def open_channel(host: str, port: int) -> Channel:
         targets = [(family, kind, proto, address) for family, kind, proto, _, address in infos]
         if not targets:
             raise OSError(f"{host!r} resolves to no address")
-    errors: list[OSError] = []
+    errors: list[tuple[tuple[Any, ...], OSError]] = []
     for family, kind, proto, address in targets:
         try:
             sock = socket.socket(family, kind, proto)
         except OSError as exc:  # (a family the kernel does not have: the next address)
-            errors.append(exc)
+            errors.append((address, exc))
             continue
         try:
             sock.setblocking(False)
@@ -346,12 +375,25 @@ async def open_channel(host: str, port: int) -> Channel:
             await loop.sock_connect(sock, address)
         except OSError as exc:
             sock.close()
-            errors.append(exc)
+            errors.append((address, exc))
             continue
         except BaseException:
             sock.close()
             raise
-        return SocketChannel(sock, loop)
-    if len({str(exc) for exc in errors}) == 1:
-        raise errors[0]
-    raise OSError("; ".join(f"{exc}" for exc in errors))
+        return sock
+    raise _one_error(errors)
+
+
+def _one_error(errors: list[tuple[tuple[Any, ...], OSError]]) -> OSError:
+    """The error of a connect that failed on each of its addresses: the first when all failed
+    alike (the same code), else one saying, per address, why (never Python's text of an
+    exception with its address tuple)."""
+    first = errors[0][1]
+    if len({exc.errno for _, exc in errors}) == 1 and (first.errno or len(errors) == 1):
+        return first
+    return OSError(
+        "; ".join(
+            f"{address_text(str(address[0]), int(address[1]))}: {os_reason(exc)}"
+            for address, exc in errors
+        )
+    )

@@ -17,12 +17,19 @@ exception.
 from __future__ import annotations
 
 import asyncio
+import errno
+import ipaddress
 import os
 import socket
 import ssl as _ssl
 from typing import Final
 
-from focas_net.errors import FocasConnectionError, FocasTimeoutError, ProtocolError
+from focas_net.errors import (
+    FocasConnectionError,
+    FocasTimeoutError,
+    PayloadError,
+    ProtocolError,
+)
 from focas_net.protocol.codecs import COMMANDS
 
 __all__ = [
@@ -37,6 +44,7 @@ __all__ = [
     "not_focas_error",
     "os_reason",
     "timeout_error",
+    "undecodable_error",
     "violation_error",
 ]
 
@@ -60,6 +68,17 @@ def command_text(command: int) -> str:
     ``sim_set_pmc (0x0E04)``; an id the protocol does not have by its id alone."""
     spec = COMMANDS.get(command)
     return f"0x{command:04X}" if spec is None else f"{spec.focas_name} (0x{command:04X})"
+
+
+def undecodable_error(peer: str, command: int, exc: PayloadError) -> PayloadError:
+    """The error of an answer of ``peer`` to ``command`` (a packed command) that does not
+    decode: the peer, the call and why (an answer too short for its EW code, or for its
+    record)."""
+    err = PayloadError(
+        f"{peer} sent an answer to {command_text(command)} that does not decode: {exc}"
+    )
+    err.__cause__ = exc
+    return err
 
 
 def not_focas_error(peer: str, why: str) -> ProtocolError:
@@ -136,12 +155,32 @@ def timeout_error(what: str, peer: str | None) -> FocasTimeoutError:
     return FocasTimeoutError(f"{what}: {NOTHING_RECEIVED} to {peer}")
 
 
-def connect_reason(exc: BaseException, ssl: _ssl.SSLContext | None) -> str:
-    """Why a connect failed, never empty; a failed TLS handshake says so."""
+def _unscoped_link_local(host: str) -> bool:
+    try:
+        address = ipaddress.ip_address(host)
+    except ValueError:
+        return False
+    return isinstance(address, ipaddress.IPv6Address) and (
+        address.is_link_local and address.scope_id is None
+    )
+
+
+def connect_reason(exc: BaseException, ssl: _ssl.SSLContext | None, host: str = "") -> str:
+    """Why a connect to ``host`` failed, never empty; a failed TLS handshake says so, and so
+    does a link-local IPv6 address without its interface (which no connect can reach)."""
     text = str(exc)
+    if isinstance(exc, OSError) and exc.errno == errno.EINVAL and _unscoped_link_local(host):
+        return (
+            f"{os_reason(exc)}: {host} is a link-local address, which needs its interface "
+            f"({host}%eth0, the interface's name or number after %)"
+        )
     if isinstance(exc, _ssl.SSLCertVerificationError):
-        return f"TLS certificate not trusted: {exc.verify_message or text}"
-    if ssl is not None and isinstance(exc, _ssl.SSLError | ConnectionError):
+        return f"TLS certificate not trusted: {(exc.verify_message or text).rstrip('.')}"
+    # a refused connect never reached the handshake: it reads as without TLS
+    handshake = isinstance(exc, _ssl.SSLError) or (
+        isinstance(exc, ConnectionError) and not isinstance(exc, ConnectionRefusedError)
+    )
+    if ssl is not None and handshake:
         detail = text if isinstance(exc, _ssl.SSLError) and text else "the peer closed it"
         return f"TLS handshake failed ({detail}): the peer may not speak TLS"
     return os_reason(exc)

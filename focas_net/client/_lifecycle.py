@@ -92,6 +92,8 @@ class Lifecycle:
         self._up_since = 0.0
         #: Why the last reconnect attempt failed (None: none failed since the last link).
         self._attempt_error: BaseException | None = None
+        #: Why the last link was lost (None: connected, or never lost).
+        self._lost_why: BaseException | None = None
 
     def __repr__(self) -> str:
         return f"<{type(self).__name__} {self.address} {self._state.value}>"
@@ -109,6 +111,12 @@ class Lifecycle:
     @property
     def connected(self) -> bool:
         return self._state is ClientState.CONNECTED
+
+    @property
+    def lost_reason(self) -> BaseException | None:
+        """Why the connection was last lost (``connection closed by HOST:PORT``), from when it
+        was until a connection is back; None while connected or before any loss."""
+        return self._lost_why
 
     @property
     def reconnect_policy(self) -> ReconnectPolicy | None:
@@ -181,7 +189,9 @@ class Lifecycle:
         text = f"not connected to {self.address}"
         if self._attempt_error is not None:
             text += f" (the last reconnect attempt failed: {self._attempt_error})"
-        return FocasConnectionError(text)
+        err = FocasConnectionError(text)
+        err.__cause__ = self._attempt_error  # (what a caller may look into)
+        return err
 
     async def _wait_linked(self, deadline: float | None) -> None:
         """Return once a link is open, waiting (until ``deadline``) while reconnecting.
@@ -205,9 +215,17 @@ class Lifecycle:
                 async with asyncio.timeout_at(deadline):
                     await self._ready.wait()
             except TimeoutError:
-                raise FocasConnectionError(
-                    f"still reconnecting to {self.address} when the call timed out"
-                ) from None
+                # (its cause: the last reconnect attempt's failure, None before one failed)
+                raise FocasConnectionError(self._still_reconnecting()) from self._attempt_error
+
+    def _still_reconnecting(self) -> str:
+        """What a call says whose time was up while reconnecting: why the link was lost, and
+        why the last reconnect attempt failed (once one did)."""
+        causes = [str(self._lost_why)] if self._lost_why is not None else []
+        if self._attempt_error is not None:
+            causes.append(f"the last reconnect attempt failed: {self._attempt_error}")
+        why = f" ({'; '.join(causes)})" if causes else ""
+        return f"still reconnecting to {self.address} when the call timed out{why}"
 
     # -- the reconnect, shared by both transports ----------------------------------------
     def _reconnecting(self, exc: BaseException | None) -> None:
@@ -218,6 +236,7 @@ class Lifecycle:
         self._logger.warning(
             "connection to %s lost (%s); reconnecting", self.address, exc or "closed"
         )
+        self._lost_why = exc
         if self._loop.time() - self._up_since >= policy.stable_after:
             self._backoff = 0  # a stable connection: the backoff starts again from the start
         self._ready.clear()
@@ -266,6 +285,7 @@ class Lifecycle:
         loop = self._loop or asyncio.get_running_loop()
         self._up_since = loop.time()
         self._attempt_error = None
+        self._lost_why = None
         self._set_state(ClientState.CONNECTED)
         if self._ready is not None:
             self._ready.set()

@@ -31,6 +31,7 @@ from focas_net.errors import (
 from ..protocol import COMMANDS, CommandSpec, EwReply, Password
 from ..protocol import Command as C
 from ._composite import CompositeCalls
+from ._failures import undecodable_error
 from ._values import check_int
 from .connection import MAX_IN_FLIGHT, Connection, NotSentError, _Pending, open_connection
 from .reconnect import ClientState, ReconnectPolicy, StateCallback
@@ -197,7 +198,7 @@ class Link(CompositeCalls):
             logger.warning("connection to %s lost: %s", self.address, exc or "closed")
             self._set_state(ClientState.DISCONNECTED)
             return
-        self._reconnecting(exc)
+        self._reconnecting(conn.end or exc)
 
     async def _reconnect_attempt(self, attempt: int) -> bool:
         try:
@@ -296,7 +297,10 @@ class Link(CompositeCalls):
                 except BaseException:
                     conn.finish(entry)  # a timeout, a cancellation, a failure
                     raise
-                value = spec.response.decode_bytes(raw)  # the connection's are bytes
+                try:
+                    value = spec.response.decode_bytes(raw)  # the connection's are bytes
+                except PayloadError as exc:
+                    raise undecodable_error(self.address, spec.command, exc) from exc
                 if type(value) is not EwReply:
                     return value
                 self._raise_unless_unlock(spec, value.ew, False)
@@ -367,11 +371,19 @@ class Link(CompositeCalls):
         an EW code, or ``UNLOCK_AND_RETRY`` for an ``EW_PASSWD`` answer to unlock and send
         once more (never after ``retried``, the answer to that retry). The one rule of
         :meth:`_request` and of those awaiting many answers in one task."""
-        value = spec.response.decode(raw)
+        value = self._decoded(spec, raw)
         if type(value) is not EwReply:
             return value
         self._raise_unless_unlock(spec, value.ew, retried)
         return UNLOCK_AND_RETRY
+
+    def _decoded(self, spec: CommandSpec, raw: bytes) -> Any:
+        """``raw`` decoded as an answer of ``spec``; an answer that does not decode is the
+        peer's :class:`PayloadError`, naming it and the call."""
+        try:
+            return spec.response.decode(raw)
+        except PayloadError as exc:
+            raise undecodable_error(self.address, spec.command, exc) from exc
 
     def _raise_unless_unlock(self, spec: CommandSpec, ew: int, retried: bool) -> None:
         """Raise :class:`CncError` for a call of ``spec`` answered ``ew``, unless it is to be
@@ -405,6 +417,6 @@ class Link(CompositeCalls):
         raw = await conn.request(
             _UNLOCK.command, _UNLOCK.request.encode(Password.from_text(password)), deadline
         )
-        value = _UNLOCK.response.decode(raw)
+        value = self._decoded(_UNLOCK, raw)
         if type(value) is EwReply:
             raise CncError.from_ew(value.ew, _UNLOCK.focas_name)

@@ -89,6 +89,7 @@ _NEVER: Final = float("inf")
 _CLOSE_GRACE: Final = 2.0
 _MAGIC: Final = int.from_bytes(MAGIC, "big")
 _NOT_A_FRAME: Final = "its answer does not start with A0 A0 A0 A0"
+_NO_OPEN_ANSWER: Final = "no answer to the open request"
 #: The frame types of a FOCAS/2 answer (open, close, data, error): another comes from no CNC.
 _ANSWER_TYPES: Final = frozenset(
     {
@@ -109,25 +110,20 @@ _ANSWERED: Final = Ending.ANSWERED
 _cancelled: Final = operator.methodcaller("cancelled")
 
 
-class _Lost(Exception):
-    """The connection pair cannot carry any further frame."""
-
-
 async def _read_frame(channel: Channel, peer: str, answered: bool = True) -> bytes:
     """The next whole frame (header included) read from ``channel`` before it is started.
 
     :raises ProtocolError: ``peer`` does not speak FOCAS/2 (its answer is no frame, or a
         frame of a type no FOCAS/2 answer has).
     :raises FocasConnectionError: the connection ended first (``answered``: a frame came on
-        it before).
+        it before; the start of one counts too).
     """
     try:
         head = await channel.readexactly(NATIVE_HEADER_SIZE)
     except (asyncio.IncompleteReadError, OSError) as exc:
-        partial = exc.partial if isinstance(exc, asyncio.IncompleteReadError) else b""
-        if not answered and partial and not MAGIC.startswith(partial[: len(MAGIC)]):
-            raise violation_error(peer, _NOT_A_FRAME, partial) from None
-        raise lost_error(peer, exc, answered) from exc
+        partial = exc.partial if isinstance(exc, asyncio.IncompleteReadError) else channel.kept
+        _check_start(peer, partial)
+        raise lost_error(peer, exc, answered or bool(partial)) from exc
     magic, _, kind, length = NATIVE_HEADER.unpack(head)
     if magic != _MAGIC:
         raise violation_error(peer, _NOT_A_FRAME, head)
@@ -136,7 +132,14 @@ async def _read_frame(channel: Channel, peer: str, answered: bool = True) -> byt
     try:
         return head + await channel.readexactly(length)
     except (asyncio.IncompleteReadError, OSError) as exc:  # within a frame: no more a rule
-        raise lost_error(peer, exc, answered) from exc
+        raise lost_error(peer, exc, True) from exc
+
+
+def _check_start(peer: str, partial: bytes) -> None:
+    """Raise the :class:`ProtocolError` of ``peer`` when ``partial``, the bytes of a frame's
+    header that came before its connection ended or its call timed out, cannot begin one."""
+    if partial and not MAGIC.startswith(partial[: len(MAGIC)]):
+        raise violation_error(peer, _NOT_A_FRAME, partial) from None
 
 
 class Handle:
@@ -181,8 +184,8 @@ class Handle:
             # ("before any answer"): the open answer alone is no answer to a request
             frame = await _read_frame(self.b, self.peer, answered=False)
             blocks = answer_blocks(frame, part.count)
-        except AnswerRefused as exc:
-            raise _Lost(str(exc)) from None
+        except AnswerRefused as exc:  # a frame no FOCAS/2 server sends: as after the connect
+            raise violation_error(self.peer, str(exc), frame[:8]) from None
         if isinstance(blocks, int):
             raise CncError.from_ew(blocks, "error answer (0x2103) to the connect requests")
         return blocks
@@ -222,12 +225,21 @@ async def _open_channel(
         raise FocasTimeoutError(f"connecting to {where} timed out") from None
     except OSError as exc:
         raise FocasConnectionError(
-            f"cannot connect to {where}: {connect_reason(exc, None)}"
+            f"cannot connect to {where}: {connect_reason(exc, None, host)}"
         ) from exc
     try:
         conn.write(encode_open_request(channel))
-        async with asyncio.timeout_at(deadline):
-            raw = await _read_frame(conn, where, answered=False)
+        try:
+            async with asyncio.timeout_at(deadline):
+                raw = await _read_frame(conn, where, answered=False)
+        except TimeoutError:
+            # the start of an answer that never came whole: no frame of FOCAS/2's, or one
+            # cut short (not "nothing received", which a silent peer is)
+            if not conn.received:
+                raise
+            if conn.received < NATIVE_HEADER_SIZE:  # (the header's start, still kept)
+                _check_start(where, conn.kept)
+            raise timeout_error(_NO_OPEN_ANSWER, None) from None
     except BaseException:
         conn.close()
         raise
@@ -266,16 +278,16 @@ async def open_handle(host: str, port: int, deadline: float | None) -> Handle:
             await _connect_requests(handle)
         if isinstance(opened.head, OpenHeadV2) and opened.head.kind == 3:
             handle.option_bits = 1
+    except FocasTimeoutError:  # (the connect, or an open answer cut short, said what)
+        _abort(channels)
+        raise
     except TimeoutError:
         _abort(channels)
         if channels:  # A was opened: the peer speaks
             raise FocasTimeoutError(
                 f"no answer to the connect requests (cnc_allclibhndl3) from {where}"
             ) from None
-        raise timeout_error("no answer to the open request", where) from None
-    except _Lost as exc:
-        _abort(channels)
-        raise FocasConnectionError(f"{where}: {exc}") from None
+        raise timeout_error(_NO_OPEN_ANSWER, where) from None
     except BaseException:
         _abort(channels)
         raise
@@ -343,6 +355,9 @@ class NativeLink(CompositeCalls):
         self._idle_job: Job[Future] | None = None
         self._idle_task: asyncio.Task[Any] | None = None
         self._handle: Handle | None = None
+        #: Why the peer is no FOCAS/2 server (bytes no frame starts with, or an answer the
+        #: library refuses): calls raise it, no reconnect follows, until ``connect()``.
+        self._violation: ProtocolError | None = None
         #: The task whose lone call was answered last: its next call is sent at once; any
         #: other at the end of the loop turn (``_flush_soon`` set while that is scheduled).
         self._sequential: asyncio.Task[Any] | None = None
@@ -405,6 +420,7 @@ class NativeLink(CompositeCalls):
         if self._linked():
             return
         self._bind_loop()
+        self._violation = None
         handle = await open_handle(self.host, self.port, self._deadline(None))
         if self.state is ClientState.CLOSED:  # closed while connecting
             handle.abort()
@@ -456,6 +472,11 @@ class NativeLink(CompositeCalls):
     async def _reconnect_attempt(self, attempt: int) -> bool:
         try:
             handle = await open_handle(self.host, self.port, self._deadline(None))
+        except ProtocolError as exc:  # not a FOCAS/2 server: connecting again meets it again
+            logger.warning("%s; not reconnecting", exc)
+            self._attempt_error = self._violation = exc
+            self._set_state(ClientState.DISCONNECTED)
+            return True
         except Exception as exc:  # refused, unreachable, or an answer that does not decode
             logger.debug("reconnect attempt %d to %s: %s", attempt, self.address, exc)
             self._attempt_error = exc
@@ -470,6 +491,26 @@ class NativeLink(CompositeCalls):
             last = self._attempt_error
             self._why = f"could not reconnect to {self.address}" + (f": {last}" if last else "")
             self._complete(self._session.lost(keep_queued=False))
+
+    def _nothing_to_wait_for(self) -> Exception:
+        if self._violation is not None:
+            return ProtocolError(str(self._violation))
+        return super()._nothing_to_wait_for()
+
+    def _broken(self, handle: Handle, why: str, head: bytes) -> None:
+        """The peer broke FOCAS/2 on ``handle`` (``why``; ``head``: the bytes it sent): as on
+        the packed transport, every call in flight or queued fails with the
+        :class:`ProtocolError` of a peer that does not speak the FOCAS protocol, and no
+        reconnect follows (the same peer would answer it)."""
+        if handle is not self._handle:
+            return
+        self._violation = violation_error(self.address, why, head)
+        logger.warning("%s; not reconnecting", self._violation)
+        self._handle = None
+        handle.abort()
+        self._complete(self._session.lost(keep_queued=False))
+        if self._state is not ClientState.CLOSED:
+            self._set_state(ClientState.DISCONNECTED)
 
     def _lose(self, handle: Handle, why: str) -> None:
         """``handle`` can carry no further frame: its jobs in flight end, and the client
@@ -487,7 +528,7 @@ class NativeLink(CompositeCalls):
             logger.warning("connection to %s lost: %s", self.address, why)
             self._set_state(ClientState.DISCONNECTED)
             return
-        self._reconnecting(_Lost(why))
+        self._reconnecting(FocasConnectionError(why))
 
     def _handle_now(self) -> Handle | None:
         """The open handle, or None while there is none (then :meth:`_handle_for` waits for
@@ -583,6 +624,11 @@ class NativeLink(CompositeCalls):
         in_flight = session.in_flight
         ended = session.receive(data)
         if session.failure is not None:
+            # (the jobs it ended fail with why, set before they complete)
+            if session.broken:
+                self._broken(handle, session.failure, data[:8])
+            else:  # a stray answer: lost, as a connection the peer ended
+                self._why = session.failure
             self._complete(ended)
             self._lose(handle, session.failure)
             return
@@ -617,8 +663,10 @@ class NativeLink(CompositeCalls):
         self._timer, self._timer_at = None, _NEVER
         session = self._session
         ended = session.expire(now)
-        self._complete(ended)
         handle = self._handle
+        if session.failure is not None and handle is not None:
+            self._why = session.failure  # (before the jobs it ended complete)
+        self._complete(ended)
         if session.failure is not None and handle is not None:
             self._lose(handle, session.failure)
         if session.wake_at < _NEVER:
@@ -640,9 +688,7 @@ class NativeLink(CompositeCalls):
         ending = job.ending
         if ending is Ending.TIMED_OUT:
             if not job.sent and self._state is ClientState.RECONNECTING:
-                return FocasConnectionError(
-                    f"still reconnecting to {self.address} when the call timed out"
-                )
+                return FocasConnectionError(self._still_reconnecting())
             return no_answer_error(job.part.function, None, job.sent)
         if ending is Ending.REFUSED:
             return CncError.from_ew(job.ew, "error answer (0x2103) to the request frame")
@@ -650,6 +696,8 @@ class NativeLink(CompositeCalls):
             return FocasConnectionError("the CNC's command set changed on reconnect; call again")
         if self._state is ClientState.CLOSED:
             return FocasConnectionError("client is closed")
+        if self._violation is not None:
+            return ProtocolError(str(self._violation))
         if job.sent:
             return FocasConnectionError(self._why)
         return NotSentError(f"{self._why} {NEVER_SENT}")

@@ -20,6 +20,7 @@ from __future__ import annotations
 
 import asyncio
 from collections.abc import Sequence
+from functools import partial
 from typing import Any, Final
 
 from focas_net.errors import (
@@ -99,7 +100,7 @@ async def _read_batch(
         if link._policy is None:
             raise
         return None
-    decode = _RDPMCRNG.response.decode
+    decode = partial(link._decoded, _RDPMCRNG)
     parts: list[bytes] = []
     for (first, n), raw in zip(chunks, answers, strict=True):
         if raw is None:
@@ -185,7 +186,7 @@ async def _write_chunks(
     errors: list[Exception | None] = [None] * count
     unanswered = [False] * count
     retried = [False] * count  # sent again after an unlock already
-    decode = spec.response.decode
+    decode = partial(link._decoded, spec)
     todo = list(range(count))
     while todo:
         try:

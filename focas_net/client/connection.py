@@ -61,6 +61,7 @@ from ..protocol import (
     RawFrame,
 )
 from ._address import address_text
+from ._channel import connect_socket, literal_target
 from ._failures import (
     NEVER_SENT,
     closed_error,
@@ -167,6 +168,11 @@ class Connection(RequestSlots, Received, asyncio.Protocol):
     def closed(self) -> bool:
         """True once the connection is closing or closed."""
         return self._closed_exc is not None
+
+    @property
+    def end(self) -> FocasConnectionError | None:
+        """Why the connection ended, in the words its calls get (None: open)."""
+        return self._closed_exc
 
     @property
     def violation(self) -> ProtocolError | None:
@@ -705,20 +711,27 @@ async def open_connection(
             batch_writes=batch_writes,
         )
 
+    hostname = (server_hostname or host) if ssl is not None else None
     try:
         async with asyncio.timeout_at(deadline):
-            _, protocol = await loop.create_connection(
-                factory,
-                host,
-                port,
-                ssl=ssl,
-                server_hostname=(server_hostname or host) if ssl is not None else None,
-            )
+            if literal_target(host, port) is not None:  # an IPv4 address: one address to connect
+                _, protocol = await loop.create_connection(
+                    factory, host, port, ssl=ssl, server_hostname=hostname
+                )
+            else:  # each address in turn, as the native client does, and said alike
+                sock = await connect_socket(host, port)
+                try:
+                    _, protocol = await loop.create_connection(
+                        factory, sock=sock, ssl=ssl, server_hostname=hostname
+                    )
+                except BaseException:
+                    sock.close()
+                    raise
     except TimeoutError:
         raise FocasTimeoutError(f"connecting to {address_text(host, port)} timed out") from None
     except (OSError, _ssl.SSLError) as exc:
         raise FocasConnectionError(
-            f"cannot connect to {address_text(host, port)}: {connect_reason(exc, ssl)}"
+            f"cannot connect to {address_text(host, port)}: {connect_reason(exc, ssl, host)}"
         ) from exc
     except UnicodeError as exc:  # the idna codec refusing a host name (a label over 63)
         raise FocasConnectionError(

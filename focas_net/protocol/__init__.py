@@ -15,6 +15,7 @@ from .alarms import (
     alarm_code,
     alarm_message,
     alarm_text,
+    alarm_time_text,
     alarm_type_of,
 )
 from .codecs import (
@@ -203,6 +204,7 @@ __all__ = [
     "alarm_code",
     "alarm_message",
     "alarm_text",
+    "alarm_time_text",
     "alarm_type_of",
     "encode_ew",
     "encode_frame",

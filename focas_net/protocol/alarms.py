@@ -33,6 +33,7 @@ __all__ = [
     "alarm_code",
     "alarm_message",
     "alarm_text",
+    "alarm_time_text",
     "alarm_type_of",
 ]
 
@@ -70,6 +71,13 @@ class AlarmType(enum.IntEnum):
 
 #: alm_type -> its two-letter prefix, as the CNC screen shows it.
 ALARM_TYPE_NAMES: Final[dict[int, str]] = {t.value: t.name for t in AlarmType}
+
+
+def alarm_time_text(when: datetime) -> str:
+    """When an alarm occurred, as every front end writes a history entry's time (UTC, whole
+    seconds): ``2024-05-01T12:00:00Z``."""
+    t = when.astimezone(UTC) if when.tzinfo else when
+    return t.strftime("%Y-%m-%dT%H:%M:%SZ")
 
 
 def alarm_type_of(name: str) -> int:

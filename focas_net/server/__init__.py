@@ -29,6 +29,7 @@ from ._server import (
     DEFAULT_PORT,
     FocasServer,
     Listener,
+    ListenError,
 )
 from ._standalone import (
     DEFAULT_NATIVE_IDLE_TIMEOUT,
@@ -54,6 +55,7 @@ __all__ = [
     "FaultQueue",
     "FocasServer",
     "Limits",
+    "ListenError",
     "Listener",
     "NativeConnection",
     "NativeFront",

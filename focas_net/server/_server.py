@@ -64,6 +64,7 @@ __all__ = [
     "DEFAULT_PORT",
     "DEFAULT_WRITE_BUFFER_HIGH",
     "FocasServer",
+    "ListenError",
     "Listener",
 ]
 
@@ -84,6 +85,17 @@ _SWEEPS_PER_TIMEOUT: Final = 4
 _MAGIC_SIZE: Final = len(MAGIC)
 
 _AnyConnection = PackedConnection | NativeConnection
+
+
+class ListenError(OSError):
+    """A port that cannot be bound: the operating system's error, with :attr:`where` the
+    ``HOST:PORT`` that failed and :attr:`native_only` whether it was a FOCAS/2-only port
+    (``native_port``), which may be another than the server's first one."""
+
+    def __init__(self, where: str, native_only: bool, cause: OSError) -> None:
+        super().__init__(cause.errno, cause.strerror or str(cause))
+        self.where = where
+        self.native_only = native_only
 
 
 class Listener:
@@ -574,14 +586,18 @@ class FocasServer:
         port: int,
         ssl: _ssl.SSLContext | None,
     ) -> None:
-        aserver = await loop.create_server(
-            listener._new_connection,
-            self.host,
-            port,
-            ssl=ssl,
-            backlog=self.backlog,
-            start_serving=True,
-        )
+        try:
+            aserver = await loop.create_server(
+                listener._new_connection,
+                self.host,
+                port,
+                ssl=ssl,
+                backlog=self.backlog,
+                start_serving=True,
+            )
+        except OSError as exc:
+            where = f"[{self.host}]:{port}" if ":" in self.host else f"{self.host}:{port}"
+            raise ListenError(where, listener.native_only, exc) from exc
         listener._aserver = aserver
         sockname = aserver.sockets[0].getsockname()
         listener.address = (str(sockname[0]), int(sockname[1]))

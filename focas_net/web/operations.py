@@ -27,13 +27,14 @@ from focas_net._bits import bits_of_text
 from focas_net._typed import (
     NO_PASSWORD_NOTE,
     decimal_number,
+    decimal_text,
     program_number,
     rapid_step,
     switch,
     typed_number,
     whole_number,
 )
-from focas_net.errors import EW, ew_name
+from focas_net.errors import EW, ew_name, ew_of_text
 from focas_net.protocol import (
     AutMode,
     FaultKind,
@@ -159,8 +160,13 @@ def _optional_int(args: Mapping[str, Any], key: str) -> int | None:
     return _int(args, key)
 
 
-def _text(args: Mapping[str, Any], key: str, default: str = "") -> str:
+def _text(args: Mapping[str, Any], key: str, default: str = "", *, needed: str = "") -> str:
+    """``args[key]`` as text (``default`` when not given); with ``needed`` (what the key
+    names: ``start, hold or reset``), a key not given (or ``null``) is refused saying so,
+    rather than as the empty text no one typed."""
     value = args.get(key, default)
+    if needed and args.get(key) is None:
+        raise ActionError(f"{key}: {needed} is needed")
     if not isinstance(value, str):
         raise ActionError(f"{key}: text is needed, got {shown(value)}")
     return value
@@ -199,7 +205,7 @@ def _path(args: Mapping[str, Any]) -> int:
 
 def _cycle(station: Station, args: Mapping[str, Any]) -> JsonDict:
     m = station.machine
-    what, path = _text(args, "action"), _path(args)
+    what, path = _text(args, "action", needed="start, hold or reset"), _path(args)
     if what == "start":
         m.cycle_start(path=path)
     elif what == "hold":
@@ -314,7 +320,7 @@ def _clear_alarms(station: Station, args: Mapping[str, Any]) -> JsonDict:
 def _pmc_bit(station: Station, args: Mapping[str, Any]) -> JsonDict:
     """Toggle (or, with ``value`` 0/1, set) one PMC bit."""
     m = station.machine
-    typed = _text(args, "area")
+    typed = _text(args, "area", needed="a PMC area's letter (X, R, ...)")
     try:
         m.pmc_area(typed)  # the machine's words for a letter that is no PMC area
     except ValueError as exc:
@@ -416,7 +422,7 @@ def _write_macro(station: Station, args: Mapping[str, Any]) -> JsonDict:
     number, path = _int(args, "number"), _path(args)
     m.write_macro(number, _decimal(args, "value"), path=path)
     value = m.read_macro(number, path=path)
-    return {"number": number, "value": "" if value is None else str(value)}
+    return {"number": number, "value": "" if value is None else decimal_text(value)}
 
 
 def _select_program(station: Station, args: Mapping[str, Any]) -> JsonDict:
@@ -439,11 +445,24 @@ def _digits(text: str) -> bool:
     return text.isascii() and text.isdigit()
 
 
+def _ew_arg(args: Mapping[str, Any]) -> int:
+    """An ERROR fault's ``arg``: an EW code by number or name (``EW_BUSY``, ``busy``), as
+    ``focas-net sim fault error --arg`` takes it (:func:`~focas_net.errors.ew_of_text`)."""
+    value = args.get("arg")
+    if isinstance(value, str) and value.strip():
+        try:
+            return ew_of_text(value)
+        except ValueError as exc:
+            raise ActionError(f"arg: {exc}") from None
+    return _int(args, "arg")
+
+
 def _inject_fault(station: Station, args: Mapping[str, Any]) -> JsonDict:
     """Arm a machine-wide fault with the checks of 0x0E05 inject_fault: a refused argument is
     ``EW_DATA`` with the reason :func:`~focas_net.server.faults.fault_refusal` gives every
     front end."""
-    kind_text = _text(args, "kind").strip().upper()
+    kinds = ", ".join(k.name for k in FaultKind)
+    kind_text = _text(args, "kind", needed=f"one of {kinds}").strip().upper()
     try:
         kind = FaultKind[kind_text] if not _digits(kind_text) else FaultKind(int(kind_text))
     except (KeyError, ValueError):
@@ -451,7 +470,8 @@ def _inject_fault(station: Station, args: Mapping[str, Any]) -> JsonDict:
         raise ActionError(f"kind: one of {names}, got {kind_text!r}") from None
     # a delay or an error needs its argument; a drop or a split ignores the arg box
     needs_arg = kind in (FaultKind.DELAY, FaultKind.ERROR)
-    count, arg = _int(args, "count", 1), _int(args, "arg") if needs_arg else 0
+    count = _int(args, "count", 1)
+    arg = (_ew_arg(args) if kind is FaultKind.ERROR else _int(args, "arg")) if needs_arg else 0
     station.machine.check_writable()  # the order of every control command: read-only first
     reason = fault_refusal(int(kind), int(FaultScope.MACHINE), count, arg)
     if reason is not None:

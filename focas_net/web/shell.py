@@ -78,6 +78,11 @@ _log = logging.getLogger(__name__)
 STATIC_DIR: Final = Path(__file__).resolve().parent / "static"
 #: The most bytes of an action's body read (more is answered 413, in JSON like any refusal).
 _MAX_BODY: Final = 1024 * 1024
+#: The keys of a subscription of each kind.
+_SUBSCRIPTION_KEYS: Final[dict[str, frozenset[str]]] = {
+    "fleet": frozenset({"subscribe"}),
+    "machine": frozenset({"subscribe", "index", "path", "pmc_area", "pmc_start"}),
+}
 #: How long the stop waits for requests in flight.
 _SHUTDOWN_TIMEOUT: Final = 2.0
 
@@ -294,7 +299,11 @@ class Dashboard:
         path = self._path(request, s, "q")
         if not isinstance(path, int):
             return path
-        return self._json({"params": param_rows(s.machine, request.query.get("q", ""), path=path)})
+        try:
+            rows = param_rows(s.machine, request.query.get("q", ""), path=path)
+        except ValueError as exc:
+            return self._json({"ok": False, "error": str(exc)}, 400)
+        return self._json({"params": rows})
 
     async def _macros(self, request: web.Request) -> web.Response:
         s = self._station(request)
@@ -356,10 +365,15 @@ class Dashboard:
         if not isinstance(wanted, dict):
             return f"bad subscription: a JSON object is expected, got {message[:40]}"
         kind = wanted.get("subscribe")
+        if not isinstance(kind, str) or kind not in _SUBSCRIPTION_KEYS:
+            return f'bad subscription: "subscribe" is "fleet" or "machine", got {shown(kind)}'
+        unknown = sorted(set(wanted) - _SUBSCRIPTION_KEYS[kind])
+        if unknown:  # a misspelt "pmc_strat" would show X0 unsaid
+            takes = ", ".join(sorted(_SUBSCRIPTION_KEYS[kind]))
+            named = ", ".join(map(repr, unknown))
+            return f"bad subscription: a {kind} subscription takes no {named} (it takes {takes})"
         if kind == "fleet":
             return FLEET
-        if kind != "machine":
-            return f'bad subscription: "subscribe" is "fleet" or "machine", got {shown(kind)}'
         index, area = wanted.get("index"), wanted.get("pmc_area")
         start, path = wanted.get("pmc_start", 0), wanted.get("path", 1)
         if "index" not in wanted:

@@ -15,7 +15,7 @@ from collections.abc import Iterable, Sequence
 from decimal import Decimal
 from typing import Any, Final
 
-from focas_net._typed import whole_number
+from focas_net._typed import decimal_text, whole_number
 from focas_net.errors import EW, ew_name
 from focas_net.protocol import (
     AutMode,
@@ -24,6 +24,7 @@ from focas_net.protocol import (
     RunState,
     alarm_code,
     alarm_text,
+    alarm_time_text,
     status_labels,
 )
 from focas_net.server.faults import fault_arg_text
@@ -96,6 +97,11 @@ def _alarm(axis_no: int, alm_type: int, alm_no: int, msg: str) -> JsonDict:
         "code": alarm_code(alm_type, alm_no),
         "text": alarm_text(alm_type, alm_no, msg, axis_no),
     }
+
+
+#: A position kind as every front end names it (``position --kind``, ``watch``): the
+#: distance to go is ``distance``.
+_POSITION_NAMES: Final = {"distance_to_go": "distance"}
 
 
 def _mm(value: int) -> float:
@@ -233,8 +239,8 @@ def machine_view(
     positions = []
     for axis_index, axis in enumerate(info.axes):
         row: JsonDict = {"axis": axis}
-        for kind in POSITION_KINDS:
-            row[kind] = _mm(getattr(motion, kind)[axis_index])
+        for kind in POSITION_KINDS:  # named as the command line names them (distance)
+            row[_POSITION_NAMES.get(kind, kind)] = _mm(getattr(motion, kind)[axis_index])
         positions.append(row)
     try:
         required = machine.read_param(6713, 0, path=path)
@@ -276,7 +282,10 @@ def machine_view(
             _alarm(a.axis_no, a.alm_type, a.alm_no, a.msg) for a in machine.active_alarms(path=path)
         ],
         "history": [
-            {"time": h.occurred_at.isoformat(), **_alarm(h.axis_no, h.alm_type, h.alm_no, h.msg)}
+            {
+                "occurred_at": alarm_time_text(h.occurred_at),
+                **_alarm(h.axis_no, h.alm_type, h.alm_no, h.msg),
+            }
             for h in machine.alarm_history(HISTORY_SHOWN)
         ],
         "programs": [
@@ -367,7 +376,7 @@ def param_text(item: DataItem, value: int) -> str:
     if item.kind is ParamKind.BIT:
         return f"{value & 0xFF:08b}"
     if item.kind is ParamKind.REAL and item.decimals:
-        return str(Decimal(value).scaleb(-item.decimals))
+        return decimal_text(Decimal(value).scaleb(-item.decimals))  # 0.0000001, not 1E-7
     return str(value)
 
 
@@ -378,8 +387,14 @@ def param_rows(
     insensitive), at most ``limit`` of them, by number. ``type`` is the type as every front
     end names it (``two-word``); an axis parameter has a value per axis, named in ``axes``;
     a bit parameter's values are its eight bits #7..#0 (``10110000``), as the page edits
-    them, and ``bits`` too."""
+    them, and ``bits`` too. ValueError for a number typed in digits of another script
+    (``'\u0661\u0663'``), which would find nothing and not say why."""
     q = query.strip().lower()
+    if any(c.isdigit() and not c.isascii() for c in q):
+        try:
+            whole_number(q)  # the words every front end refuses such digits with
+        except ValueError as exc:
+            raise ValueError(f"parameter search: {exc}") from None
     path_axes = list(machine.path_info(path).axes)
     rows: list[JsonDict] = []
     for number in machine.param_numbers():
@@ -411,7 +426,9 @@ def param_rows(
 
 
 def _macro_text(value: Decimal | None) -> str:
-    return "" if value is None else str(value)
+    """A macro value as the page shows it: as the command line writes it (``-0.000000001``,
+    never ``-1E-9``, which its box would refuse), empty when vacant."""
+    return "" if value is None else decimal_text(value)
 
 
 #: The macro variable numbers a search may name (FOCAS carries a variable number as a short).

@@ -290,9 +290,10 @@ function renderMachine(v) {
   $("feed-ov-text").textContent = `${v.overrides.feed} %`;
   setIfIdle($("rapid-ov"), String(v.overrides.rapid));
 
-  const kinds = ["absolute", "machine", "relative", "distance_to_go"];
+  // the kinds as position --kind and watch name them (distance: the distance to go)
+  const kinds = ["absolute", "machine", "relative", "distance"];
   $("pos-table").replaceChildren(
-    el("tr", {}, el("th", {}, ""), ...kinds.map((k) => el("th", {}, k.replaceAll("_", " ")))),
+    el("tr", {}, el("th", {}, ""), ...kinds.map((k) => el("th", {}, k))),
     ...v.positions.map((p) => el("tr", {}, el("th", {}, p.axis),
       ...kinds.map((k) => el("td", {}, fmt(p[k]))))));
   $("m-feed").textContent = v.feed;
@@ -319,7 +320,7 @@ function renderMachine(v) {
     el("li", { class: "alarm" }, a.text))
     : [el("li", { class: "none" }, "no active alarm")]));
   $("history").replaceChildren(...v.history.map((h) =>
-    el("li", {}, `${h.time.replace("T", " ").replace("+00:00", "Z")}  ${h.text}`)));
+    el("li", {}, `${h.occurred_at} ${h.text}`)));  // as the command line's alarms --history
 
   const dirKey = JSON.stringify(v.programs);
   if (state.dirKey !== dirKey) {
