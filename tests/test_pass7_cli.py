@@ -10,12 +10,14 @@ from __future__ import annotations
 import asyncio
 import signal
 import sys
+from decimal import Decimal
 from pathlib import Path
 
 import pytest
-from cli_support import SUBPROCESS_TIMEOUT, at, fails, ok
+from cli_support import SUBPROCESS_TIMEOUT, at, fails, ok, one_line, run_focas_net
 from support import LoopbackPeer, Served, serving
 
+from focas_net._typed import MAX_DIGITS, decimal_number, whole_number
 from focas_net.cli import EXIT_INTERRUPTED, EXIT_OK, EXIT_USAGE
 from focas_net.client import CncClient, FocasClient, NativeClient, ReconnectPolicy
 from focas_net.errors import FocasConnectionError
@@ -204,3 +206,53 @@ async def test_a_tls_ca_file_without_a_certificate_says_so_without_openssls_tags
     line = await fails(EXIT_USAGE, "status", "--tls-ca", str(broken), "--port", "1")
     assert line.startswith(f"focas-net: --tls-ca {broken}: a certificate in it cannot be read (")
     assert "_ssl.c" not in line and "[" not in line
+
+
+# -- numbers longer than Python reads, alarm codes in other scripts ---------------------------
+
+_HUGE = "9" * 5000
+
+
+@pytest.mark.parametrize(
+    "argv",
+    [
+        ["macro", "get", _HUGE],
+        ["macro", "set", "100", _HUGE],
+        ["param", "set", "1420", _HUGE, "--axis", "1"],
+        ["pmc", "read", "R", "0x" + "f" * 5000],
+        ["sim", "alarm", "PS" + _HUGE],
+        ["status", "--port", _HUGE],
+    ],
+)
+async def test_a_number_of_thousands_of_digits_is_refused_in_the_projects_words(
+    server: Served, argv: list[str]
+) -> None:
+    code, out, err = await run_focas_net(*argv, *at(server))
+    assert (code, out) == (EXIT_USAGE, "")
+    line = one_line(err, "focas-net")
+    assert "5000 digits: no value holds more than 100" in line, line[-200:]
+    assert "set_int_max_str_digits" not in line
+
+
+def test_the_number_rule_reads_a_hundred_digits_and_leading_zeros() -> None:
+    assert whole_number("9" * MAX_DIGITS) == int("9" * MAX_DIGITS)
+    assert whole_number("-0x" + "0" * 99 + "7") == -7
+    assert decimal_number("0." + "0" * 98 + "1") == Decimal("1e-99")
+    with pytest.raises(ValueError, match=r"\(101 digits: no value holds more than 100\)$"):
+        decimal_number("1" * 101)
+    with pytest.raises(ValueError, match=r"\(5001 digits: no value holds more than 100\)$"):
+        whole_number("0" * 5000 + "7")
+
+
+@pytest.mark.parametrize("typed", ["PS\u0661\u0660\u0660", "\u0663:100", "3:\u0661\u0660\u0660"])
+async def test_an_alarm_code_with_digits_of_another_script_is_refused(
+    server: Served, typed: str
+) -> None:
+    line = await fails(EXIT_USAGE, "sim", "alarm", typed, *at(server))
+    assert line == f"focas-net: not an alarm code: {typed!r} (expected e.g. PS0100 or 3:100)"
+    assert server.machine.active_alarms() == []
+
+
+async def test_an_alarm_number_of_many_digits_names_the_range(server: Served) -> None:
+    line = await fails(EXIT_USAGE, "sim", "alarm", "PS99999999999", *at(server))
+    assert line == "focas-net: alarm number 99999999999 is outside 0..32767"

@@ -19,8 +19,10 @@ import shutil
 import socket
 import ssl
 import subprocess
+import threading
 from collections.abc import AsyncIterator, Iterator
 from contextlib import asynccontextmanager, contextmanager
+from http.server import SimpleHTTPRequestHandler, ThreadingHTTPServer
 from pathlib import Path
 from typing import Any, Final
 
@@ -28,7 +30,7 @@ import pytest
 from cli_support import one_line, run_focas_net
 from support import IO_TIMEOUT, LoopbackPeer, free_port, serving, wait_until
 
-from focas_net.cli import EXIT_CONNECTION, EXIT_PROTOCOL, _diagnose
+from focas_net.cli import EXIT_CONNECTION, EXIT_PROTOCOL, _diagnose, _run, main
 from focas_net.cli._diagnose import Findings
 from focas_net.client import ClientState, FocasClient, NativeClient, ReconnectPolicy
 from focas_net.errors import FocasConnectionError, FocasError, FocasTimeoutError, ProtocolError
@@ -488,4 +490,126 @@ def test_the_advice_for_a_packed_only_command_on_a_native_port_with_tls() -> Non
     assert said == (
         "the port speaks FOCAS/2 only (serve --native-port), without TLS, which cannot carry "
         "unlock: connect to the server's main port, which speaks both"
+    )
+
+
+# -- alarms --follow when an HTTP server takes the CNC's place --------------------------------
+
+
+@contextmanager
+def http_server_on(port: int) -> Iterator[None]:
+    """Python's own ``http.server`` on ``port`` of 127.0.0.1, in a thread."""
+    httpd = ThreadingHTTPServer(("127.0.0.1", port), SimpleHTTPRequestHandler)
+    httpd.daemon_threads = True
+    thread = threading.Thread(target=httpd.serve_forever, daemon=True)
+    thread.start()
+    try:
+        yield
+    finally:
+        httpd.shutdown()
+        httpd.server_close()
+        thread.join(IO_TIMEOUT)
+
+
+@pytest.mark.parametrize("protocol", PROTOCOLS)
+async def test_follow_finds_an_http_server_in_the_cncs_place_on_both_transports(
+    protocol: str, monkeypatch: pytest.MonkeyPatch, capsys: pytest.CaptureFixture[str]
+) -> None:
+    """FOCAS/2's reconnect attempts time out on it (its open has no end of line), so the
+    follower gives up still reconnecting: the last attempt's failure is what is diagnosed,
+    and the line is the packed transport's (exit 4), not a timeout (exit 3)."""
+    monkeypatch.setattr(_run, "FOLLOW_MAX_FAILURES", 2)
+    printed: list[str] = []
+
+    def followed() -> bool:
+        printed.append(capsys.readouterr().out)
+        return "raised" in "".join(printed)
+
+    async with serving() as served:
+        port = served.port
+        served.machine.raise_alarm(0, 3, 100, "ACTIVE")
+        argv = ["alarms", "--follow", "--interval", "0.05", "--timeout", SHORT]
+        argv += ["--port", str(port), "--protocol", protocol]
+        follow = asyncio.create_task(asyncio.to_thread(main, argv))
+        await wait_until(followed)
+    with http_server_on(port):
+        async with asyncio.timeout(8 * IO_TIMEOUT):
+            code = await follow
+    err = capsys.readouterr().err.splitlines()
+    assert code == EXIT_PROTOCOL, err
+    last = err[-1]
+    assert last.startswith(
+        f"focas-net: 127.0.0.1:{port} does not speak the FOCAS protocol (it answers "
+        "b'HTTP/1.0 200' to an HTTP request and no FOCAS frame: an HTTP server); "
+        "alarms --follow gave up after "
+    ), last
+
+
+# -- a peer that sends garbage after the connect ---------------------------------------------
+
+
+class GarblingProxy(LoopbackPeer):
+    """Passes each connection on to ``upstream`` (a port of 127.0.0.1); once ``garble`` is
+    set, what comes back is replaced with bytes no frame of either protocol starts with."""
+
+    GARBAGE: Final = b"\xde\xad\xbe\xef" * 4
+
+    def __init__(self, upstream: int) -> None:
+        self.upstream = upstream
+        self.garble = False
+
+    async def _serve(self, reader: asyncio.StreamReader, writer: asyncio.StreamWriter) -> None:
+        up_reader, up_writer = await asyncio.open_connection("127.0.0.1", self.upstream)
+
+        async def pump(src: asyncio.StreamReader, dst: asyncio.StreamWriter, back: bool) -> None:
+            for _ in range(100_000):  # bounded: a test's few calls
+                data = await src.read(65536)
+                if not data:
+                    break
+                dst.write(self.GARBAGE if back and self.garble else data)
+                await dst.drain()
+            dst.close()
+
+        try:
+            await asyncio.gather(
+                pump(reader, up_writer, False),
+                pump(up_reader, writer, True),
+                return_exceptions=True,
+            )
+        finally:
+            writer.close()
+            up_writer.close()
+
+
+@pytest.mark.parametrize("cls", CLIENTS)
+async def test_garbage_after_the_connect_is_a_peer_that_does_not_speak_focas_on_both(
+    cls: type[FocasClient] | type[NativeClient],
+) -> None:
+    """Not a bare ``closed`` (FOCAS/2 gave its calls the text of no loss yet), and no
+    reconnect to a peer that would send it again: later calls raise the same error."""
+    policy = ReconnectPolicy(initial_delay=0.01, max_delay=0.05, jitter=0)
+    async with serving() as served, GarblingProxy(served.port) as proxy:
+        async with cls("127.0.0.1", proxy.port, timeout=IO_TIMEOUT, reconnect=policy) as client:
+            await client.read_status()
+            proxy.garble = True
+            with pytest.raises(ProtocolError) as caught:
+                await client.read_status()
+            with pytest.raises(ProtocolError) as again:
+                await client.read_status()
+            assert client.state is ClientState.DISCONNECTED
+    text = str(caught.value)
+    assert text.startswith(f"127.0.0.1:{proxy.port} does not speak the FOCAS protocol (")
+    assert text.endswith(r"it sent b'\xde\xad\xbe\xef\xde\xad\xbe\xef')")
+    assert str(again.value) == text
+
+
+async def test_a_native_port_limited_to_one_connection_is_refused_at_start() -> None:
+    """It speaks FOCAS/2 alone, whose open takes two: no client could use it."""
+    code, out, err = await run_focas_net(
+        "serve", "--port", "0", "--native-port", "0", "--max-connections", "1"
+    )
+    assert (code, out) == (2, ""), err
+    assert one_line(err, "focas-net") == (
+        "focas-net serve: error: --max-connections 1 leaves --native-port unusable: it speaks "
+        "FOCAS/2 alone, whose open takes two connections (give 2 or more)"
     )

@@ -429,3 +429,28 @@ def test_a_macro_value_is_shown_as_the_command_line_shows_it(typed: str, shown: 
 def test_a_real_parameter_of_many_decimals_is_shown_without_an_exponent() -> None:
     item = DataItem(7000, 4, low=0, high=10**9, values=[1], kind=ParamKind.REAL, decimals=9)
     assert param_text(item, 1) == "0.000000001"
+
+
+@pytest.mark.parametrize(
+    ("number", "axis", "words"),
+    [
+        (1320, 4, "parameter 1320 is an axis parameter: give an axis 1..3, got 4"),
+        (1320, 0, "parameter 1320 is an axis parameter: give an axis 1..3, got 0"),
+        (9968, 1, "parameter 9968 is no axis parameter: give axis 0, got 1"),
+    ],
+)
+def test_a_parameters_axis_is_refused_naming_the_parameter_not_an_item(
+    number: int, axis: int, words: str
+) -> None:
+    """The page said ``item 1320 needs an axis 1..3`` and ``item 9968 is not an axis item``:
+    the machine's word for its table, where every front end says parameter."""
+    station = _station()
+    station.machine.set_panel(mode=int(AutMode.MDI), pwe=1)
+    with pytest.raises(MachineError) as refused:
+        perform(station, "write_param", {"number": number, "axis": axis, "value": "0x1"})
+    assert (refused.value.ew, refused.value.detail) == (EW.ATTRIB, words)
+    with pytest.raises(MachineError) as read:
+        station.machine.read_param(number, axis)
+    assert read.value.detail == words
+    with pytest.raises(MachineError, match=r": no diagnostic 99999$"):
+        station.machine.read_diag(99999, 0)

@@ -409,9 +409,15 @@ def _diagnosed(
     tls = protocol == PACKED and tls_context_wanted(args)
     packed_only = _packed_only(args, go)
     if isinstance(exc, HintedError):  # (alarms --follow gave up): its cause diagnosed
+        # while reconnecting, the cause's own cause is why the last attempt failed: that is
+        # what the port did (an HTTP server in place of the CNC is found as on a first connect)
+        attempt = exc.cause.__cause__
+        diagnosed = attempt if isinstance(attempt, FocasError) else exc.cause
         cause, advice = diagnosis(
-            exc.cause, args.host, args.port, protocol, tls, args.timeout, packed_only
+            diagnosed, args.host, args.port, protocol, tls, args.timeout, packed_only
         )
+        if cause is diagnosed:
+            cause = exc.cause  # (no other error found: the one the follower gave up on)
         if not isinstance(cause, FocasError) or (cause is exc.cause and advice is None):
             return exc, None
         return HintedError(cause, exc.hint if advice is None else f"{advice}; {exc.hint}"), None

@@ -189,7 +189,9 @@ class Lifecycle:
         text = f"not connected to {self.address}"
         if self._attempt_error is not None:
             text += f" (the last reconnect attempt failed: {self._attempt_error})"
-        return FocasConnectionError(text)
+        err = FocasConnectionError(text)
+        err.__cause__ = self._attempt_error  # (what a caller may look into)
+        return err
 
     async def _wait_linked(self, deadline: float | None) -> None:
         """Return once a link is open, waiting (until ``deadline``) while reconnecting.
@@ -213,7 +215,8 @@ class Lifecycle:
                 async with asyncio.timeout_at(deadline):
                     await self._ready.wait()
             except TimeoutError:
-                raise FocasConnectionError(self._still_reconnecting()) from None
+                # (its cause: the last reconnect attempt's failure, None before one failed)
+                raise FocasConnectionError(self._still_reconnecting()) from self._attempt_error
 
     def _still_reconnecting(self) -> str:
         """What a call says whose time was up while reconnecting: why the link was lost, and

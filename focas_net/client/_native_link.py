@@ -110,10 +110,6 @@ _ANSWERED: Final = Ending.ANSWERED
 _cancelled: Final = operator.methodcaller("cancelled")
 
 
-class _Lost(Exception):
-    """The connection pair cannot carry any further frame."""
-
-
 async def _read_frame(channel: Channel, peer: str, answered: bool = True) -> bytes:
     """The next whole frame (header included) read from ``channel`` before it is started.
 
@@ -188,8 +184,8 @@ class Handle:
             # ("before any answer"): the open answer alone is no answer to a request
             frame = await _read_frame(self.b, self.peer, answered=False)
             blocks = answer_blocks(frame, part.count)
-        except AnswerRefused as exc:
-            raise _Lost(str(exc)) from None
+        except AnswerRefused as exc:  # a frame no FOCAS/2 server sends: as after the connect
+            raise violation_error(self.peer, str(exc), frame[:8]) from None
         if isinstance(blocks, int):
             raise CncError.from_ew(blocks, "error answer (0x2103) to the connect requests")
         return blocks
@@ -292,9 +288,6 @@ async def open_handle(host: str, port: int, deadline: float | None) -> Handle:
                 f"no answer to the connect requests (cnc_allclibhndl3) from {where}"
             ) from None
         raise timeout_error(_NO_OPEN_ANSWER, where) from None
-    except _Lost as exc:
-        _abort(channels)
-        raise FocasConnectionError(f"{where}: {exc}") from None
     except BaseException:
         _abort(channels)
         raise
@@ -362,6 +355,9 @@ class NativeLink(CompositeCalls):
         self._idle_job: Job[Future] | None = None
         self._idle_task: asyncio.Task[Any] | None = None
         self._handle: Handle | None = None
+        #: Why the peer is no FOCAS/2 server (bytes no frame starts with, or an answer the
+        #: library refuses): calls raise it, no reconnect follows, until ``connect()``.
+        self._violation: ProtocolError | None = None
         #: The task whose lone call was answered last: its next call is sent at once; any
         #: other at the end of the loop turn (``_flush_soon`` set while that is scheduled).
         self._sequential: asyncio.Task[Any] | None = None
@@ -424,6 +420,7 @@ class NativeLink(CompositeCalls):
         if self._linked():
             return
         self._bind_loop()
+        self._violation = None
         handle = await open_handle(self.host, self.port, self._deadline(None))
         if self.state is ClientState.CLOSED:  # closed while connecting
             handle.abort()
@@ -475,6 +472,11 @@ class NativeLink(CompositeCalls):
     async def _reconnect_attempt(self, attempt: int) -> bool:
         try:
             handle = await open_handle(self.host, self.port, self._deadline(None))
+        except ProtocolError as exc:  # not a FOCAS/2 server: connecting again meets it again
+            logger.warning("%s; not reconnecting", exc)
+            self._attempt_error = self._violation = exc
+            self._set_state(ClientState.DISCONNECTED)
+            return True
         except Exception as exc:  # refused, unreachable, or an answer that does not decode
             logger.debug("reconnect attempt %d to %s: %s", attempt, self.address, exc)
             self._attempt_error = exc
@@ -489,6 +491,26 @@ class NativeLink(CompositeCalls):
             last = self._attempt_error
             self._why = f"could not reconnect to {self.address}" + (f": {last}" if last else "")
             self._complete(self._session.lost(keep_queued=False))
+
+    def _nothing_to_wait_for(self) -> Exception:
+        if self._violation is not None:
+            return ProtocolError(str(self._violation))
+        return super()._nothing_to_wait_for()
+
+    def _broken(self, handle: Handle, why: str, head: bytes) -> None:
+        """The peer broke FOCAS/2 on ``handle`` (``why``; ``head``: the bytes it sent): as on
+        the packed transport, every call in flight or queued fails with the
+        :class:`ProtocolError` of a peer that does not speak the FOCAS protocol, and no
+        reconnect follows (the same peer would answer it)."""
+        if handle is not self._handle:
+            return
+        self._violation = violation_error(self.address, why, head)
+        logger.warning("%s; not reconnecting", self._violation)
+        self._handle = None
+        handle.abort()
+        self._complete(self._session.lost(keep_queued=False))
+        if self._state is not ClientState.CLOSED:
+            self._set_state(ClientState.DISCONNECTED)
 
     def _lose(self, handle: Handle, why: str) -> None:
         """``handle`` can carry no further frame: its jobs in flight end, and the client
@@ -506,7 +528,7 @@ class NativeLink(CompositeCalls):
             logger.warning("connection to %s lost: %s", self.address, why)
             self._set_state(ClientState.DISCONNECTED)
             return
-        self._reconnecting(_Lost(why))
+        self._reconnecting(FocasConnectionError(why))
 
     def _handle_now(self) -> Handle | None:
         """The open handle, or None while there is none (then :meth:`_handle_for` waits for
@@ -602,6 +624,11 @@ class NativeLink(CompositeCalls):
         in_flight = session.in_flight
         ended = session.receive(data)
         if session.failure is not None:
+            # (the jobs it ended fail with why, set before they complete)
+            if session.broken:
+                self._broken(handle, session.failure, data[:8])
+            else:  # a stray answer: lost, as a connection the peer ended
+                self._why = session.failure
             self._complete(ended)
             self._lose(handle, session.failure)
             return
@@ -636,8 +663,10 @@ class NativeLink(CompositeCalls):
         self._timer, self._timer_at = None, _NEVER
         session = self._session
         ended = session.expire(now)
-        self._complete(ended)
         handle = self._handle
+        if session.failure is not None and handle is not None:
+            self._why = session.failure  # (before the jobs it ended complete)
+        self._complete(ended)
         if session.failure is not None and handle is not None:
             self._lose(handle, session.failure)
         if session.wake_at < _NEVER:
@@ -667,6 +696,8 @@ class NativeLink(CompositeCalls):
             return FocasConnectionError("the CNC's command set changed on reconnect; call again")
         if self._state is ClientState.CLOSED:
             return FocasConnectionError("client is closed")
+        if self._violation is not None:
+            return ProtocolError(str(self._violation))
         if job.sent:
             return FocasConnectionError(self._why)
         return NotSentError(f"{self._why} {NEVER_SENT}")

@@ -282,6 +282,9 @@ class NativeSession(Generic[T]):
         self.frame_deadline = _NEVER
         #: Why the connection can carry no further frame (None: it can, or there is none).
         self.failure: str | None = None
+        #: Whether :attr:`failure` is the peer breaking FOCAS/2 (bytes no frame starts with,
+        #: an answer the library refuses), not a stray answer or a timeout.
+        self.broken = False
         #: Whether a frame could be sent now: connected, nothing in flight, no failure (kept
         #: as each of those changes, so that asking costs nothing).
         self.idle = False
@@ -314,6 +317,7 @@ class NativeSession(Generic[T]):
         self._limit = max_response_body(version) - 2  # the bodies' room after the block count
         self._axis_bytes = _AXIS_RECORD * max_axes
         self.failure = None
+        self.broken = False
         self.in_flight = None
         self.frame_deadline = _NEVER
         self._rx.clear()
@@ -447,7 +451,7 @@ class NativeSession(Generic[T]):
         while len(rx) >= NATIVE_HEADER_SIZE:
             magic, _, _, length = NATIVE_HEADER.unpack_from(rx)
             if magic != _MAGIC:
-                return ended + self._fail("answer does not start with A0 A0 A0 A0")
+                return ended + self._fail("answer does not start with A0 A0 A0 A0", True)
             end = NATIVE_HEADER_SIZE + length
             if len(rx) < end:
                 break
@@ -468,7 +472,7 @@ class NativeSession(Generic[T]):
         try:
             blocks = answer_blocks(raw, self._in_flight_blocks)
         except AnswerRefused as exc:
-            return self._fail(str(exc))
+            return self._fail(str(exc), True)
         self.in_flight = None
         self.idle = self._open
         self.frame_deadline = _NEVER
@@ -532,9 +536,11 @@ class NativeSession(Generic[T]):
         return self._end_in_flight(Ending.LOST) + self._end_queue(Ending.LOST)
 
     # -- helpers -----------------------------------------------------------------------------
-    def _fail(self, why: str) -> list[Job[T]]:
-        """The connection can carry no further frame: the jobs in flight end LOST."""
+    def _fail(self, why: str, broken: bool = False) -> list[Job[T]]:
+        """The connection can carry no further frame (``broken``: the peer broke FOCAS/2):
+        the jobs in flight end LOST."""
         self.failure = why
+        self.broken = broken
         self.idle = False
         self._rx.clear()
         return self._end_in_flight(Ending.LOST)

@@ -157,14 +157,17 @@ class PathItems:
         need_int("number", datano)
         need_int("axis", axis)
         item = self.items.diags.get(datano) if diag else self.param(datano)
+        what = "diagnostic" if diag else "parameter"  # named as every front end names it
         if item is None:
-            raise MachineError(EW.NUMBER, f"no item {datano}")
+            raise MachineError(EW.NUMBER, f"no {what} {datano}")
         if item.axis:
             if not 1 <= axis <= self.axes:
-                raise MachineError(EW.ATTRIB, f"item {datano} needs an axis 1..{self.axes}")
+                why = f"{what} {datano} is an axis {what}: give an axis 1..{self.axes}, got {axis}"
+                raise MachineError(EW.ATTRIB, why)
             return item, self.offset + axis - 1
         if axis != 0:
-            raise MachineError(EW.ATTRIB, f"item {datano} is not an axis item")
+            why = f"{what} {datano} is no axis {what}: give axis 0, got {axis}"
+            raise MachineError(EW.ATTRIB, why)
         return item, 0
 
     def param_or(self, number: int, default: int, axis: int = 0) -> int:
