@@ -311,3 +311,11 @@ async def test_a_number_with_two_minus_signs_is_named(
         f"focas-net {command}: error: argument {word!r} is no option: a negative number is "
         f"written with one minus ({word[1:]})"
     ), line
+
+
+@pytest.mark.parametrize("protocol", [[], NATIVE])
+async def test_a_pmc_bit_past_7_names_the_address_as_typed(
+    server: Served, protocol: list[str]
+) -> None:
+    line = await fails(EXIT_USAGE, "pmc", "bit", "r", "1.8", "1", *at(server), *protocol)
+    assert line == "focas-net: R1.8: bit 8 is outside 0..7: a PMC address is 1 byte wide"
