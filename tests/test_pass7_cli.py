@@ -8,6 +8,7 @@ exit code; the client's reconnect message is checked on both transports."""
 from __future__ import annotations
 
 import asyncio
+import os
 import signal
 import sys
 from decimal import Decimal
@@ -256,3 +257,57 @@ async def test_an_alarm_code_with_digits_of_another_script_is_refused(
 async def test_an_alarm_number_of_many_digits_names_the_range(server: Served) -> None:
     line = await fails(EXIT_USAGE, "sim", "alarm", "PS99999999999", *at(server))
     assert line == "focas-net: alarm number 99999999999 is outside 0..32767"
+
+
+# -- a reader that goes away ------------------------------------------------------------------
+
+
+@pytest.mark.parametrize("protocol", [[], NATIVE])
+async def test_alarms_follow_ends_when_its_reader_goes_away(
+    server: Served, protocol: list[str]
+) -> None:
+    """As ``watch`` does: the first event written after the reader closed (``| head -1``)
+    ends it, exit 0, where it went on polling for ever."""
+    reader, writer = os.pipe()
+    proc = await asyncio.create_subprocess_exec(
+        sys.executable, "-m", "focas_net", "alarms", "--follow", "--interval", "0.05",
+        *protocol, *at(server),
+        stdout=writer, stderr=asyncio.subprocess.PIPE,
+    )  # fmt: skip
+    os.close(writer)
+    try:
+        async with asyncio.timeout(SUBPROCESS_TIMEOUT):
+            await ok("sim", "alarm", "PS0101", *at(server))
+            first = await asyncio.to_thread(os.read, reader, 4096)
+            assert first == b"raised   PS0101\n"
+            os.close(reader)  # the reader goes away
+            reader = -1
+            await ok("sim", "alarm", "PS0102", *at(server))
+            _out, err = await proc.communicate()
+            assert (proc.returncode, err) == (EXIT_OK, b"")
+    finally:
+        if reader >= 0:
+            os.close(reader)
+        if proc.returncode is None:
+            proc.kill()
+            await proc.wait()
+
+
+@pytest.mark.parametrize(
+    ("argv", "word"),
+    [
+        (["macro", "set", "100", "--1"], "--1"),
+        (["param", "set", "1420", "--axis", "1", "--5"], "--5"),
+        (["pmc", "read", "R", "--.5"], "--.5"),
+    ],
+)
+async def test_a_number_with_two_minus_signs_is_named(
+    server: Served, argv: list[str], word: str
+) -> None:
+    """It read as an unknown option, and the refusal named the argument it left missing."""
+    command = " ".join(argv[:2])
+    line = await fails(EXIT_USAGE, *argv, *at(server), prefix=f"focas-net {command}: error: ")
+    assert line.startswith(
+        f"focas-net {command}: error: argument {word!r} is no option: a negative number is "
+        f"written with one minus ({word[1:]})"
+    ), line
