@@ -319,3 +319,9 @@ async def test_a_pmc_bit_past_7_names_the_address_as_typed(
 ) -> None:
     line = await fails(EXIT_USAGE, "pmc", "bit", "r", "1.8", "1", *at(server), *protocol)
     assert line == "focas-net: R1.8: bit 8 is outside 0..7: a PMC address is 1 byte wide"
+
+
+async def test_the_docs_quote_the_line_of_a_value_checked_after_parsing(server: Served) -> None:
+    line = await fails(EXIT_USAGE, "param", "get", "abc", *at(server))
+    docs = (Path(__file__).resolve().parent.parent / "docs" / "cli.md").read_text()
+    assert f"(`{line}`)" in " ".join(docs.split())
