@@ -321,7 +321,11 @@ async def test_a_pmc_bit_past_7_names_the_address_as_typed(
     assert line == "focas-net: R1.8: bit 8 is outside 0..7: a PMC address is 1 byte wide"
 
 
+#: The command line's reference.
+_CLI_DOCS = Path(__file__).resolve().parent.parent / "docs" / "cli.md"
+
+
 async def test_the_docs_quote_the_line_of_a_value_checked_after_parsing(server: Served) -> None:
     line = await fails(EXIT_USAGE, "param", "get", "abc", *at(server))
-    docs = (Path(__file__).resolve().parent.parent / "docs" / "cli.md").read_text()
+    docs = await asyncio.to_thread(_CLI_DOCS.read_text)
     assert f"(`{line}`)" in " ".join(docs.split())
