@@ -23,6 +23,7 @@ from typing import Final
 
 __all__ = [
     "MAX_ALARM_TEXT",
+    "MAX_DIGITS",
     "NO_PASSWORD_NOTE",
     "OVERRIDE_RANGES",
     "RAPID_STEPS",
@@ -160,6 +161,20 @@ def _beyond_ascii(text: str) -> str | None:
     return f"{text!r} holds {what} beyond ASCII ({odd!r}, U+{ord(odd):04X}): write 0-9"
 
 
+#: The most digits a number may have: no value of a CNC comes near, and Python refuses to
+#: read a whole number of more than 4300 digits in words of its own.
+MAX_DIGITS: Final = 100
+
+
+def _too_long(what: str, typed: str, digits: str) -> ValueError | None:
+    """The refusal of ``typed`` when its ``digits`` (a sign and a prefix left out) are more
+    than :data:`MAX_DIGITS`; None otherwise."""
+    count = sum(c.isalnum() for c in digits)
+    if count <= MAX_DIGITS:
+        return None
+    return ValueError(f"{what}: {typed!r} ({count} digits: no value holds more than {MAX_DIGITS})")
+
+
 def _refused(what: str, typed: str) -> ValueError:
     """The refusal of ``typed`` as ``what``, with a hint for an exponent, a NaN or infinity
     word and empty text."""
@@ -188,6 +203,10 @@ def whole_number(text: str) -> int:
     digits = low.lstrip("+-")
     if _WHOLE.fullmatch(low) is None or low.endswith("_") or digits[2:3] == "_":
         raise _refused("not a whole number", text)
+    base_digits = digits[2:] if digits.startswith(_PREFIXES) else digits
+    too_long = _too_long("not a whole number", text, base_digits)
+    if too_long is not None:
+        raise too_long
     if digits.startswith(_PREFIXES):
         return int(stripped.replace("_", ""), 0)
     return int(stripped, 10)
@@ -204,6 +223,9 @@ def decimal_number(text: str) -> Decimal:
         raise ValueError(odd)
     if _DECIMAL.fullmatch(stripped) is None:
         raise _refused("not a number", text)
+    too_long = _too_long("not a number", text, stripped.lstrip("+-"))
+    if too_long is not None:
+        raise too_long
     return Decimal(stripped)
 
 

@@ -8,14 +8,17 @@ exit code; the client's reconnect message is checked on both transports."""
 from __future__ import annotations
 
 import asyncio
+import os
 import signal
 import sys
+from decimal import Decimal
 from pathlib import Path
 
 import pytest
-from cli_support import SUBPROCESS_TIMEOUT, at, fails, ok
+from cli_support import SUBPROCESS_TIMEOUT, at, fails, ok, one_line, run_focas_net
 from support import LoopbackPeer, Served, serving
 
+from focas_net._typed import MAX_DIGITS, decimal_number, whole_number
 from focas_net.cli import EXIT_INTERRUPTED, EXIT_OK, EXIT_USAGE
 from focas_net.client import CncClient, FocasClient, NativeClient, ReconnectPolicy
 from focas_net.errors import FocasConnectionError
@@ -204,3 +207,115 @@ async def test_a_tls_ca_file_without_a_certificate_says_so_without_openssls_tags
     line = await fails(EXIT_USAGE, "status", "--tls-ca", str(broken), "--port", "1")
     assert line.startswith(f"focas-net: --tls-ca {broken}: a certificate in it cannot be read (")
     assert "_ssl.c" not in line and "[" not in line
+
+
+# -- numbers longer than Python reads, alarm codes in other scripts ---------------------------
+
+_HUGE = "9" * 5000
+
+
+@pytest.mark.parametrize(
+    "argv",
+    [
+        ["macro", "get", _HUGE],
+        ["macro", "set", "100", _HUGE],
+        ["param", "set", "1420", _HUGE, "--axis", "1"],
+        ["pmc", "read", "R", "0x" + "f" * 5000],
+        ["sim", "alarm", "PS" + _HUGE],
+        ["status", "--port", _HUGE],
+    ],
+)
+async def test_a_number_of_thousands_of_digits_is_refused_in_the_projects_words(
+    server: Served, argv: list[str]
+) -> None:
+    code, out, err = await run_focas_net(*argv, *at(server))
+    assert (code, out) == (EXIT_USAGE, "")
+    line = one_line(err, "focas-net")
+    assert "5000 digits: no value holds more than 100" in line, line[-200:]
+    assert "set_int_max_str_digits" not in line
+
+
+def test_the_number_rule_reads_a_hundred_digits_and_leading_zeros() -> None:
+    assert whole_number("9" * MAX_DIGITS) == int("9" * MAX_DIGITS)
+    assert whole_number("-0x" + "0" * 99 + "7") == -7
+    assert decimal_number("0." + "0" * 98 + "1") == Decimal("1e-99")
+    with pytest.raises(ValueError, match=r"\(101 digits: no value holds more than 100\)$"):
+        decimal_number("1" * 101)
+    with pytest.raises(ValueError, match=r"\(5001 digits: no value holds more than 100\)$"):
+        whole_number("0" * 5000 + "7")
+
+
+@pytest.mark.parametrize("typed", ["PS\u0661\u0660\u0660", "\u0663:100", "3:\u0661\u0660\u0660"])
+async def test_an_alarm_code_with_digits_of_another_script_is_refused(
+    server: Served, typed: str
+) -> None:
+    line = await fails(EXIT_USAGE, "sim", "alarm", typed, *at(server))
+    assert line == f"focas-net: not an alarm code: {typed!r} (expected e.g. PS0100 or 3:100)"
+    assert server.machine.active_alarms() == []
+
+
+async def test_an_alarm_number_of_many_digits_names_the_range(server: Served) -> None:
+    line = await fails(EXIT_USAGE, "sim", "alarm", "PS99999999999", *at(server))
+    assert line == "focas-net: alarm number 99999999999 is outside 0..32767"
+
+
+# -- a reader that goes away ------------------------------------------------------------------
+
+
+@pytest.mark.parametrize("protocol", [[], NATIVE])
+async def test_alarms_follow_ends_when_its_reader_goes_away(
+    server: Served, protocol: list[str]
+) -> None:
+    """As ``watch`` does: the first event written after the reader closed (``| head -1``)
+    ends it, exit 0, where it went on polling for ever."""
+    reader, writer = os.pipe()
+    proc = await asyncio.create_subprocess_exec(
+        sys.executable, "-m", "focas_net", "alarms", "--follow", "--interval", "0.05",
+        *protocol, *at(server),
+        stdout=writer, stderr=asyncio.subprocess.PIPE,
+    )  # fmt: skip
+    os.close(writer)
+    try:
+        async with asyncio.timeout(SUBPROCESS_TIMEOUT):
+            await ok("sim", "alarm", "PS0101", *at(server))
+            first = await asyncio.to_thread(os.read, reader, 4096)
+            assert first == b"raised   PS0101\n"
+            os.close(reader)  # the reader goes away
+            reader = -1
+            await ok("sim", "alarm", "PS0102", *at(server))
+            _out, err = await proc.communicate()
+            assert (proc.returncode, err) == (EXIT_OK, b"")
+    finally:
+        if reader >= 0:
+            os.close(reader)
+        if proc.returncode is None:
+            proc.kill()
+            await proc.wait()
+
+
+@pytest.mark.parametrize(
+    ("argv", "word"),
+    [
+        (["macro", "set", "100", "--1"], "--1"),
+        (["param", "set", "1420", "--axis", "1", "--5"], "--5"),
+        (["pmc", "read", "R", "--.5"], "--.5"),
+    ],
+)
+async def test_a_number_with_two_minus_signs_is_named(
+    server: Served, argv: list[str], word: str
+) -> None:
+    """It read as an unknown option, and the refusal named the argument it left missing."""
+    command = " ".join(argv[:2])
+    line = await fails(EXIT_USAGE, *argv, *at(server), prefix=f"focas-net {command}: error: ")
+    assert line.startswith(
+        f"focas-net {command}: error: argument {word!r} is no option: a negative number is "
+        f"written with one minus ({word[1:]})"
+    ), line
+
+
+@pytest.mark.parametrize("protocol", [[], NATIVE])
+async def test_a_pmc_bit_past_7_names_the_address_as_typed(
+    server: Served, protocol: list[str]
+) -> None:
+    line = await fails(EXIT_USAGE, "pmc", "bit", "r", "1.8", "1", *at(server), *protocol)
+    assert line == "focas-net: R1.8: bit 8 is outside 0..7: a PMC address is 1 byte wide"

@@ -12,7 +12,14 @@ import pytest
 from cli_support import fails, gateway_process
 
 from focas_net.cli import EXIT_CNC, EXIT_OK
-from focas_net.gateway import MIN_INTERVAL
+from focas_net.gateway import (
+    MIN_INTERVAL,
+    Gateway,
+    GatewayConfig,
+    GroupIntervals,
+    MachineConfig,
+    WriteGates,
+)
 from focas_net.gateway.config import ConfigError, parse_config
 
 ONE = "[[machine]]\nname = 'mill-1'\nhost = '127.0.0.1'\n"
@@ -121,3 +128,71 @@ async def test_users_without_a_certificate_are_warned_in_the_gateways_words(
     warned = [line for line in gateway.err.decode().splitlines() if "WARNING" in line]
     assert any("passwords travel unencrypted" in w and "certificate" in w for w in warned)
     assert not any("asyncua" in w for w in warned), warned
+
+
+def machine_refusal(*machines: MachineConfig) -> str:
+    with pytest.raises(ConfigError) as caught:
+        Gateway(GatewayConfig(machines))
+    return str(caught.value)
+
+
+@pytest.mark.parametrize(
+    ("machine", "whole"),
+    [
+        (
+            MachineConfig("mill 1", "127.0.0.1"),
+            "machine[1].name: got 'mill 1'; expected a name of 1..64 letters, digits, '-', '_' "
+            "or '.'",
+        ),
+        (
+            MachineConfig("m", "127.0.0.1:8193"),
+            "machine[1].host: got '127.0.0.1:8193'; expected a host name or address (host "
+            "'127.0.0.1:8193' is a host and a port: give the host '127.0.0.1' and the port "
+            "8193 apart)",
+        ),
+        (MachineConfig("m", "h", 0), "machine[1].port: got 0; expected a port 1..65535"),
+        (
+            MachineConfig("m", "h", protocol=5),  # type: ignore[arg-type]
+            "machine[1].protocol: got 5; expected 'native' or 'packed'",
+        ),
+        (
+            MachineConfig("m", "h", paths=(1, 11)),
+            "machine[1].paths[2]: got 11; expected a path number 1..10",
+        ),
+        (MachineConfig("m", "h", paths=()), "machine[1].paths: got 0 entries; expected 1..10"),
+        (
+            MachineConfig("m", "h", timeout=-1),
+            "machine[1].timeout: got -1; expected a number of seconds > 0",
+        ),
+        (
+            MachineConfig("m", "h", groups=GroupIntervals(fast=0.001)),
+            "machine[1].groups.fast: got 0.001; expected a number of seconds >= 0.01",
+        ),
+        (
+            MachineConfig("m", "h", writes=WriteGates(macros=((600, 500),))),
+            "machine[1].writes.macros[1][2]: got 500; expected an integer 600..32767",
+        ),
+        (
+            MachineConfig("m", "h", writes=WriteGates(pmc=(("Q", 0, 9),))),
+            "machine[1].writes.pmc[1]: got ('Q', 0, 9); expected (area, first, last): "
+            "('R', 0, 99), the area one of XYFGRTCDKAE",
+        ),
+    ],
+)
+def test_a_machine_built_in_python_is_refused_as_the_files_is(
+    machine: MachineConfig, whole: str
+) -> None:
+    assert machine_refusal(machine) == whole
+
+
+def test_a_machine_name_given_twice_in_python_names_the_first() -> None:
+    one = MachineConfig("m", "127.0.0.1")
+    assert machine_refusal(one, MachineConfig("n", "h"), one) == (
+        "machine[3].name: machine name 'm' is used twice (first by machine[1])"
+    )
+
+
+def test_good_machines_built_in_python_are_taken() -> None:
+    gates = WriteGates(macros=((500, 599),), params=((6711, 6713),), pmc=(("R", 100, 199),))
+    gateway = Gateway(GatewayConfig((MachineConfig("m", "::1", paths=(1, 2), writes=gates),)))
+    assert gateway.config.machines[0].writes == gates

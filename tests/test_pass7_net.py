@@ -601,3 +601,43 @@ async def test_garbage_after_the_connect_is_a_peer_that_does_not_speak_focas_on_
     assert text.startswith(f"127.0.0.1:{proxy.port} does not speak the FOCAS protocol (")
     assert text.endswith(r"it sent b'\xde\xad\xbe\xef\xde\xad\xbe\xef')")
     assert str(again.value) == text
+
+
+async def test_a_native_port_limited_to_one_connection_is_refused_at_start() -> None:
+    """It speaks FOCAS/2 alone, whose open takes two: no client could use it."""
+    code, out, err = await run_focas_net(
+        "serve", "--port", "0", "--native-port", "0", "--max-connections", "1"
+    )
+    assert (code, out) == (2, ""), err
+    assert one_line(err, "focas-net") == (
+        "focas-net serve: error: --max-connections 1 leaves --native-port unusable: it speaks "
+        "FOCAS/2 alone, whose open takes two connections (give 2 or more)"
+    )
+
+
+class AnswersAnotherCommand(LoopbackPeer):
+    """A packed peer answering every request with command 0x0099 and the request's id."""
+
+    async def _serve(self, reader: asyncio.StreamReader, writer: asyncio.StreamWriter) -> None:
+        decoder = FrameDecoder()
+        try:
+            for _ in range(100):  # bounded: a command sends a few requests
+                data = await reader.read(4096)
+                if not data:
+                    break
+                for frame in decoder.feed(data):
+                    writer.write(encode_frame(0x0099, frame.request_id, b"\0\0"))
+        finally:
+            writer.close()
+
+
+async def test_an_answer_of_another_command_names_the_peer_and_both_calls() -> None:
+    """Not ``answer to request 0 carries command 0x0099, expected 0x0001``: the peer, the
+    call asked by its FOCAS name, what came instead."""
+    async with AnswersAnotherCommand() as peer:
+        code, out, err = await cli(peer.port, "packed")
+    assert (code, out) == (EXIT_PROTOCOL, ""), err
+    assert one_line(err) == (
+        f"focas-net: 127.0.0.1:{peer.port} answered cnc_rdcncstat (0x0001) with an answer of "
+        "0x0099 (request 0)"
+    )

@@ -133,6 +133,10 @@ def print_error(message: str, prog: str = PROG) -> None:
 _NEGATIVE_VALUE: Final = re.compile(r"^-(?:\.?\d|inf$|infinity$|nan$)", re.IGNORECASE)
 
 
+#: A number written with two minus signs (``--1``, ``--0.5``): no option of focas-net reads so.
+_DOUBLE_MINUS_NUMBER: Final = re.compile(r"^--\.?\d")
+
+
 class Parser(argparse.ArgumentParser):
     """The parser of ``focas-net`` and of each of its commands.
 
@@ -160,6 +164,7 @@ class Parser(argparse.ArgumentParser):
             self._option_before_command(sys.argv[1:] if args is None else list(args))
         if not self.leaf or self._mixing:
             return super().parse_known_args(args, namespace)
+        self._double_minus_number(sys.argv[1:] if args is None else list(args))
         self._mixing = True  # (the intermixed parse calls this method for each of its passes)
         try:
             namespace, extras = self.parse_known_intermixed_args(args, namespace)
@@ -169,6 +174,18 @@ class Parser(argparse.ArgumentParser):
             # quoted as a shell takes them back, so an empty one ('') or one with spaces shows
             self.error(f"unrecognized arguments: {shlex.join(extras)}")
         return namespace, extras
+
+    def _double_minus_number(self, args: list[str]) -> None:
+        """A usage error naming a number written with two minus signs (``--1``), which would
+        read as an unknown option and leave its argument missing."""
+        for word in args:
+            if word == "--":
+                return
+            if _DOUBLE_MINUS_NUMBER.match(word):
+                self.error(
+                    f"argument {word!r} is no option: a negative number is written with one "
+                    f"minus ({word[1:]})"
+                )
 
     def _option_before_command(self, args: list[str]) -> None:
         """A usage error for an option of the commands given before the command

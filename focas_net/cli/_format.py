@@ -264,8 +264,10 @@ def history_dict(entry: AlarmHistoryEntry) -> dict[str, Any]:
     }
 
 
-_ALARM_RE: Final = re.compile(r"^([A-Za-z]{2})(\d{1,5})$")
-_ALARM_NUMERIC_RE: Final = re.compile(r"^(\d{1,2}):(\d{1,5})$")
+#: ``PS0100``: ASCII letters and digits only, as every number is typed (a digit of another
+#: script is refused); the number's range is the codec's to say (``0..32767``).
+_ALARM_RE: Final = re.compile(r"^([A-Za-z]{2})([0-9]+)$", re.ASCII)
+_ALARM_NUMERIC_RE: Final = re.compile(r"^([0-9]{1,2}):([0-9]+)$", re.ASCII)
 
 
 def _alarm_type(prefix: str) -> int:
@@ -277,10 +279,10 @@ def parse_alarm(text: str) -> tuple[int, int]:
     s = text.strip()
     m = _ALARM_RE.match(s)
     if m:
-        return _alarm_type(m[1]), int(m[2])
+        return _alarm_type(m[1]), whole_number(m[2])
     m = _ALARM_NUMERIC_RE.match(s)
     if m:
-        return int(m[1]), int(m[2])
+        return int(m[1]), whole_number(m[2])
     raise ValueError(f"not an alarm code: {text!r} (expected e.g. PS0100 or 3:100)")
 
 

@@ -296,10 +296,9 @@ def _alarms_follow(args: argparse.Namespace) -> Go:
             try:
                 async for event in projection:
                     out = _event_output(event)
-                    if args.json:
-                        write(json.dumps(out.data) + "\n")
-                    else:
-                        write(out.text + "\n")
+                    line = json.dumps(out.data) if args.json else out.text
+                    if not write(line + "\n"):
+                        break  # the reader went away (| head): nothing more to print
                     printed += 1
                     if args.count is not None and printed >= args.count:
                         break

@@ -363,6 +363,11 @@ def check_options(args: argparse.Namespace) -> None:
                 f"--fleet {fleet} from {option} {first} runs past 65535 "
                 f"(the last machine would get port {first + served - 1})"
             )
+    if args.native_port is not None and getattr(args, "max_connections", 2) < 2:
+        raise ConfigError(
+            f"--max-connections {args.max_connections} leaves --native-port unusable: it speaks "
+            "FOCAS/2 alone, whose open takes two connections (give 2 or more)"
+        )
     if args.port and args.native_port and abs(args.port - args.native_port) < fleet:
         raise ConfigError(
             f"--native-port {args.native_port} overlaps the ports "

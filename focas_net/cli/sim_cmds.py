@@ -74,7 +74,6 @@ def panel(args: argparse.Namespace) -> PackedOnly:
 def alarm(args: argparse.Namespace) -> PackedOnly:
     alm_type, alm_no = fmt.parse_alarm(args.alarm)
     msg = " ".join(args.message)
-    kept = msg[:MAX_ALARM_MSG]  # the CNC keeps the first 32 characters of a message
 
     async def go(cnc: FocasClient) -> Output:
         # A CNC shows one entry per alarm: raised again while active, the alarm keeps its
@@ -93,6 +92,9 @@ def alarm(args: argparse.Namespace) -> PackedOnly:
                 "message)",
             )
         await cnc.sim.raise_alarm(alm_type, alm_no, msg, axis_no=args.axis)
+        # what the machine kept: the message cut at 32, or its table's for one left out
+        now = [a.msg for a in await cnc.read_alarms(alm_type=alm_type) if a.key == key]
+        kept = now[0] if now else msg[:MAX_ALARM_MSG]
         data = {
             "raised": {
                 "code": code,

@@ -111,19 +111,21 @@ def pmc_write(args: argparse.Namespace) -> Go | PackedOnly:
     return go
 
 
-def _parse_byte_bit(text: str) -> tuple[int, int]:
+def _parse_byte_bit(area: PmcArea, text: str) -> tuple[int, int]:
     expected = "BYTE.BIT (e.g. 100.3)"
     byte, bit = fmt.parse_number_bit(text, expected)
     if bit is None:
         raise ValueError(f"expected {expected}, got {text!r}")
     if bit > 7:
-        raise ValueError(f"bit {bit} outside 0..7")
+        raise ValueError(
+            f"{area.name}{text.strip()}: bit {bit} is outside 0..7: a PMC address is 1 byte wide"
+        )
     return byte, bit
 
 
 def pmc_bit(args: argparse.Namespace) -> Go:
     area: PmcArea = args.area
-    byte, bit = _parse_byte_bit(args.address)
+    byte, bit = _parse_byte_bit(area, args.address)
     value = None if args.value is None else fmt.parse_bool(args.value)
 
     async def go(cnc: CncClient) -> Output:

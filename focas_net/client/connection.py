@@ -264,8 +264,8 @@ class Connection(RequestSlots, Received, asyncio.Protocol):
             if not future.done():
                 future.set_exception(
                     ProtocolError(
-                        f"answer to request {request_id} carries command 0x{command:04X}, "
-                        f"expected 0x{expected:04X}"
+                        f"{self.peer} answered {command_text(expected)} with an answer of "
+                        f"{command_text(command)} (request {request_id})"
                     )
                 )
         elif entry is None:

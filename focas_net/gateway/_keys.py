@@ -82,12 +82,13 @@ class At:
         return value
 
     def array(self, value: object, low: int, high: int) -> list[Any]:
-        """``value`` as an array of ``low..high`` entries."""
-        if not isinstance(value, list):
+        """``value`` as an array of ``low..high`` entries (a list, as TOML gives it, or a
+        tuple, as Python may)."""
+        if not isinstance(value, list | tuple):
             self.expected(value, f"an array of {low}..{high} entries")
         if not low <= len(value) <= high:
             self.fail(f"got {len(value)} entries; expected {low}..{high}")
-        return value
+        return list(value)
 
     def integer(self, value: object, low: int, high: int) -> int:
         """``value`` as an integer within ``low..high``."""

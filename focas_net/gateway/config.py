@@ -14,7 +14,7 @@ from __future__ import annotations
 import os
 import re
 import tomllib
-from collections.abc import Mapping
+from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field, replace
 from pathlib import Path
 from typing import Any, Final, Literal
@@ -39,6 +39,7 @@ __all__ = [
     "OpcUaSettings",
     "OpcUaUser",
     "WriteGates",
+    "check_machines",
     "is_loopback",
     "load_config",
     "parse_config",
@@ -73,6 +74,12 @@ class GroupIntervals:
     slow: float = 10.0
     alarms: float = 1.0
 
+    def check(self, at: At) -> None:
+        """Raise :class:`ConfigError` at ``at`` (``groups``) for an interval that is no
+        number of seconds of at least :data:`MIN_INTERVAL`."""
+        for key in _GROUP_KEYS:
+            at.key(key).seconds(getattr(self, key), MIN_INTERVAL)
+
 
 @dataclass(frozen=True, slots=True)
 class WriteGates:
@@ -82,6 +89,23 @@ class WriteGates:
     macros: tuple[tuple[int, int], ...] = ()
     params: tuple[tuple[int, int], ...] = ()
     pmc: tuple[tuple[str, int, int], ...] = ()
+
+    def check(self, at: At) -> None:
+        """Raise :class:`ConfigError` at ``at`` (``writes``) for a range that is no
+        ``(first, last)`` of macro variable numbers (-32768..32767) or of parameter numbers
+        (0..32767) with first <= last, or no ``(area, first, last)`` of a PMC area letter and
+        bytes 0..65535 with first <= last."""
+        _ranges(at.key("macros"), self.macros, -I16_MAX - 1, I16_MAX)
+        _ranges(at.key("params"), self.params, 0, I16_MAX)
+        pat = at.key("pmc")
+        for i, gate in enumerate(pat.array(self.pmc, 0, 1000)):
+            where = pat.index(i)
+            if not isinstance(gate, tuple | list) or len(gate) != 3:
+                where.expected(gate, "(area, first, last): ('R', 0, 99)")
+            area, first, last = gate
+            problem = _pmc_problem(area, first, last)
+            if problem:
+                where.expected(gate, f"(area, first, last): ('R', 0, 99), {problem}")
 
 
 @dataclass(frozen=True, slots=True)
@@ -98,6 +122,35 @@ class MachineConfig:
     timeout: float = 3.0
     groups: GroupIntervals = field(default_factory=GroupIntervals)
     writes: WriteGates = field(default_factory=WriteGates)
+
+    def check(self, source: str = "", place: str = "machine") -> None:
+        """Raise :class:`ConfigError` naming the key (``machine[2].port: got 0; ...``, after
+        ``source``, the file, when given; ``place`` the machine's place in it) for a machine
+        no gateway could poll: the file's reader and :class:`~focas_net.gateway.Gateway`
+        both call it, so that a machine built in Python is refused as the file's is."""
+        self._check(At(source, place))
+
+    def _check(self, at: At) -> None:
+        if not isinstance(self.name, str) or not _NAME.fullmatch(self.name):
+            at.key("name").expected(self.name, _NAME_TEXT)
+        at.key("host").checked(self.host, check_host, "a host name or address")
+        at.key("port").checked(self.port, check_port, "a port 1..65535", why=False)
+        at.key("protocol").choice(self.protocol, _PROTOCOLS)
+        if self.paths is not None:
+            pat = at.key("paths")
+            paths = [
+                pat.index(i).checked(p, check_path, "a path number 1..10", why=False)
+                for i, p in enumerate(pat.array(self.paths, 1, 10))
+            ]
+            if len(set(paths)) != len(paths):
+                pat.fail(f"got {paths}; expected each path once")
+        at.key("timeout").seconds(self.timeout)
+        if not isinstance(self.groups, GroupIntervals):
+            at.key("groups").expected(self.groups, "GroupIntervals(fast, slow, alarms)")
+        self.groups.check(at.key("groups"))
+        if not isinstance(self.writes, WriteGates):
+            at.key("writes").expected(self.writes, "WriteGates(macros, params, pmc)")
+        self.writes.check(at.key("writes"))
 
 
 @dataclass(frozen=True, slots=True)
@@ -314,14 +367,12 @@ def parse_config(
     at = top.key("machine")
     for i, table in enumerate(at.tables(doc.get("machine", []))):
         machines.append(_machine(at.index(i), table, defaults))
-        where_of.setdefault(machines[-1].name, at.index(i))
-        _unique(machines, where_of, at.index(i).key("name"))
+        _unique(machines[-1].name, where_of, at.index(i), "name")
     at = top.key("fleet")
     for i, table in enumerate(at.tables(doc.get("fleet", []))):
         for machine in _fleet(at.index(i), table, defaults):
             machines.append(machine)
-            where_of.setdefault(machine.name, at.index(i))
-            _unique(machines, where_of, at.index(i).key("name_prefix"))
+            _unique(machine.name, where_of, at.index(i), "name_prefix")
     if not machines:
         top.fail("no machine: give at least one [[machine]] or [[fleet]]")
     mqtt = _mqtt(top.key("mqtt"), doc["mqtt"]) if "mqtt" in doc else None
@@ -372,63 +423,66 @@ def shard(config: GatewayConfig, index: int, count: int) -> GatewayConfig:
     return replace(config, machines=machines, opcua=opcua, mqtt=mqtt)
 
 
-def _unique(machines: list[MachineConfig], where_of: dict[str, At], at: At) -> None:
-    name = machines[-1].name
-    if any(m.name == name for m in machines[:-1]):
-        first = where_of[name]
-        at.fail(f"machine name {name!r} is used twice (first by {first.path})")
+def check_machines(machines: Sequence[MachineConfig], source: str = "") -> None:
+    """Raise :class:`ConfigError` for a machine of ``machines`` that is no
+    :class:`MachineConfig`, fails its :meth:`~MachineConfig.check`, or has the name of an
+    earlier one, naming it ``machine[i]`` (from 1) after ``source`` when given: what
+    :class:`~focas_net.gateway.Gateway` asks of machines built in Python."""
+    where_of: dict[str, At] = {}
+    for i, machine in enumerate(machines):
+        at = At(source, f"machine[{i + 1}]")
+        if not isinstance(machine, MachineConfig):
+            at.expected(machine, "a MachineConfig")
+        machine._check(at)
+        _unique(machine.name, where_of, at, "name")
+
+
+def _unique(name: str, where_of: dict[str, At], at: At, key: str) -> None:
+    """Note that machine ``name`` is at ``at``; refuse it at ``at``'s ``key`` when an
+    earlier machine has that name."""
+    first = where_of.setdefault(name, at)
+    if first is not at:
+        at.key(key).fail(f"machine name {name!r} is used twice (first by {first.path})")
 
 
 def _groups(at: At, value: object, base: GroupIntervals) -> GroupIntervals:
     table = at.table(value, _GROUP_KEYS)
-    return GroupIntervals(
-        **{
-            key: at.key(key).seconds(table[key], MIN_INTERVAL)
-            if key in table
-            else getattr(base, key)
-            for key in _GROUP_KEYS
-        }
-    )
+    groups = GroupIntervals(**{key: table.get(key, getattr(base, key)) for key in _GROUP_KEYS})
+    groups.check(at)
+    return GroupIntervals(*(float(getattr(groups, key)) for key in _GROUP_KEYS))
 
 
 def _common(at: At, table: Mapping[str, Any], defaults: GroupIntervals) -> dict[str, Any]:
-    """What a ``[[machine]]`` and a ``[[fleet]]`` share, checked."""
+    """What a ``[[machine]]`` and a ``[[fleet]]`` share, as the file gives it (the values
+    are checked by :meth:`MachineConfig.check`)."""
     if "host" not in table:
         at.key("host").fail("missing (the CNC's name or address)")
-    out: dict[str, Any] = {
-        "host": at.key("host").checked(table["host"], check_host, "a host name or address"),
-    }
-    if "protocol" in table:
-        out["protocol"] = at.key("protocol").choice(table["protocol"], _PROTOCOLS)
+    out: dict[str, Any] = {"host": table["host"]}
+    for key in ("protocol", "timeout"):
+        if key in table:
+            out[key] = table[key]
     if "paths" in table:
-        pat = at.key("paths")
-        paths = [
-            pat.index(i).checked(p, check_path, "a path number 1..10", why=False)
-            for i, p in enumerate(pat.array(table["paths"], 1, 10))
-        ]
-        if len(set(paths)) != len(paths):
-            pat.fail(f"got {paths}; expected each path once")
-        out["paths"] = tuple(paths)
-    if "timeout" in table:
-        out["timeout"] = at.key("timeout").seconds(table["timeout"])
+        out["paths"] = at.key("paths").array(table["paths"], 1, 10)
     out["groups"] = _groups(at.key("groups"), table.get("groups", {}), defaults)
     out["writes"] = _writes(at.key("writes"), table.get("writes", {}))
     return out
+
+
+def _checked(at: At, config: MachineConfig) -> MachineConfig:
+    """``config`` checked at ``at``, in the types it holds from then on."""
+    config._check(at)
+    paths = None if config.paths is None else tuple(config.paths)
+    return replace(config, host=check_host(config.host), paths=paths, timeout=float(config.timeout))
 
 
 def _machine(at: At, value: Mapping[str, Any], defaults: GroupIntervals) -> MachineConfig:
     table = at.table(value, _MACHINE_KEYS)
     if "name" not in table:
         at.key("name").fail(f"missing ({_NAME_TEXT})")
-    name = table["name"]
-    if not isinstance(name, str) or not _NAME.fullmatch(name):
-        at.key("name").expected(name, _NAME_TEXT)
     out = _common(at, table, defaults)
     if "port" in table:
-        out["port"] = at.key("port").checked(
-            table["port"], check_port, "a port 1..65535", why=False
-        )
-    return MachineConfig(name=name, **out)
+        out["port"] = table["port"]
+    return _checked(at, MachineConfig(name=table["name"], **out))
 
 
 def _fleet(at: At, value: Mapping[str, Any], defaults: GroupIntervals) -> list[MachineConfig]:
@@ -453,10 +507,8 @@ def _fleet(at: At, value: Mapping[str, Any], defaults: GroupIntervals) -> list[M
         at.key("name_prefix").expected(
             prefix, f"a shorter prefix: the last name, {last!r}, is over 64 characters"
         )
-    out = _common(at, table, defaults)
-    return [
-        MachineConfig(name=_fleet_name(prefix, i + 1), port=first + i, **out) for i in range(count)
-    ]
+    one = _checked(at, MachineConfig(name=last, port=first, **_common(at, table, defaults)))
+    return [replace(one, name=_fleet_name(prefix, i + 1), port=first + i) for i in range(count)]
 
 
 def _fleet_name(prefix: str, number: int) -> str:
@@ -468,7 +520,7 @@ def _ranges(at: At, value: object, low: int, high: int) -> tuple[tuple[int, int]
     out: list[tuple[int, int]] = []
     for i, pair in enumerate(at.array(value, 0, 1000)):
         pat = at.index(i)
-        if not isinstance(pair, list) or len(pair) != 2:
+        if not isinstance(pair, list | tuple) or len(pair) != 2:
             pat.expected(pair, f"[first, last] with {low} <= first <= last <= {high}")
         first = pat.index(0).integer(pair[0], low, high)
         last = pat.index(1).integer(pair[1], first, high)
@@ -483,17 +535,31 @@ def _pmc_range(at: At, value: object) -> tuple[str, int, int]:
     if match is None:
         at.expected(value, what)
     letter, first_text, again, last_text = match.groups()
-    try:
-        area = PmcArea.parse(letter)
-    except ValueError:
-        at.expected(value, f"{what}, the area one of {''.join(a.name for a in PmcArea)}")
-    if again and again.upper() != area.name:
-        at.expected(value, f"{what}, one area from first to last")
     first = int(first_text)
     last = first if last_text is None else int(last_text)
-    if not first <= last <= _PMC_LAST_BYTE:
-        at.expected(value, f"{what}, first <= last <= {_PMC_LAST_BYTE}")
-    return area.name, first, last
+    problem = _pmc_problem(letter, first, last)
+    if problem:
+        at.expected(value, f"{what}, {problem}")
+    if again and again.upper() != letter.upper():
+        at.expected(value, f"{what}, one area from first to last")
+    return PmcArea.parse(letter).name, first, last
+
+
+def _pmc_problem(area: object, first: object, last: object) -> str | None:
+    """What a PMC write gate of ``area`` (a letter), bytes ``first..last`` lacks, or None."""
+    try:
+        PmcArea.parse(area if isinstance(area, str) else "")
+    except ValueError:
+        return f"the area one of {''.join(a.name for a in PmcArea)}"
+    if (
+        isinstance(first, bool)
+        or isinstance(last, bool)
+        or not isinstance(first, int)
+        or not isinstance(last, int)
+        or not 0 <= first <= last <= _PMC_LAST_BYTE
+    ):
+        return f"first <= last <= {_PMC_LAST_BYTE}"
+    return None
 
 
 def _writes(at: At, value: object) -> WriteGates:
@@ -504,7 +570,7 @@ def _writes(at: At, value: object) -> WriteGates:
     pmc = tuple(
         _pmc_range(pat.index(i), v) for i, v in enumerate(pat.array(table.get("pmc", []), 0, 1000))
     )
-    return WriteGates(macros, params, pmc)
+    return WriteGates(macros, params, pmc)  # (checked as the file gives them)
 
 
 def _secret(at: At, table: Mapping[str, Any]) -> str | None:

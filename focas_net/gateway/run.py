@@ -28,7 +28,7 @@ from typing import Any, Self
 from focas_net.client import ReconnectPolicy
 
 from ._keys import ConfigError
-from .config import GatewayConfig, MachineConfig
+from .config import GatewayConfig, MachineConfig, check_machines
 from .model import Sink
 from .poller import DEFAULT_POLICY, Client, Poller, client_for
 from .writer import GatedWriter
@@ -85,6 +85,7 @@ class Gateway:
             )
         if not config.machines:
             raise ValueError("a gateway needs at least one machine (config.machines is empty)")
+        check_machines(config.machines)
         if isinstance(sinks, str | bytes) or not isinstance(sinks, Sequence):
             raise TypeError(f"sinks must be a list of sinks, got {sinks!r}")
         for i, sink in enumerate(sinks):

@@ -13,7 +13,7 @@ from focas_net._typed import MAX_ALARM_TEXT, alarm_text_unfit
 from focas_net.errors import EW
 
 from ._base import Counters, MachineError, logger, need_int, need_text
-from .nc import AlarmKind, NcAlarm
+from .nc import ALARM_MESSAGES, AlarmKind, NcAlarm
 
 __all__ = [
     "DEFAULT_HISTORY_CAPACITY",
@@ -47,6 +47,9 @@ MAX_ALARM_NO: Final = 0x7FFF
 #: Alarm type numbers of the alarms a program raises (FANUC 0i-D/F, 30i numbering).
 NC_ALARM_TYPES: Final = {AlarmKind.PS: 3, AlarmKind.OT: 4, AlarmKind.MC: 8}
 _NC_ALARM_KINDS: Final = {number: kind for kind, number in NC_ALARM_TYPES.items()}
+#: The message of each alarm in the control's table, by ``(alm_type, alm_no)``: what an alarm
+#: raised without a message shows, as the same alarm raised by a part program does.
+_TABLE: Final = {(NC_ALARM_TYPES[kind], no): text for (kind, no), text in ALARM_MESSAGES.items()}
 
 
 def utc_now() -> datetime:
@@ -129,7 +132,8 @@ class Alarms:
         """The text an alarm keeps, once its numbers are checked: EW_DATA (alm_type outside
         0..31, alm_no outside 0..32767), EW_ATTRIB (axis_no), EW_DATA (a character beyond
         U+00FF, or a control character: a tab, a line break, NUL...); TypeError for a number
-        or a message of another type."""
+        or a message of another type. An empty message is the one of the control's alarm table
+        for an alarm a part program raises too (PS0010 ``IMPROPER G-CODE``), else empty."""
         for what, value in (("axis_no", axis_no), ("alm_type", alm_type), ("alm_no", alm_no)):
             need_int(what, value)
         need_text("alarm message", msg)
@@ -139,7 +143,7 @@ class Alarms:
             raise MachineError(EW.DATA, f"alm_no {alm_no} outside 0..{MAX_ALARM_NO}")
         if not 0 <= axis_no <= axes:
             raise MachineError(EW.ATTRIB, f"axis_no {axis_no} outside 0..{axes}")
-        text = msg[:MAX_ALARM_TEXT]
+        text = msg[:MAX_ALARM_TEXT] or _TABLE.get((alm_type, alm_no), "")
         unfit = alarm_text_unfit(text)
         if unfit is not None:
             raise MachineError(EW.DATA, unfit)
