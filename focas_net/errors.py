@@ -26,8 +26,6 @@ import enum
 from dataclasses import dataclass
 from typing import Any, Final
 
-from ._typed import whole_number
-
 __all__ = [
     "EW",
     "EW_TABLE",
@@ -49,7 +47,6 @@ __all__ = [
     "ew_info",
     "ew_label",
     "ew_name",
-    "ew_of_text",
 ]
 
 
@@ -179,21 +176,6 @@ def ew_info(code: int) -> EwInfo:
 def ew_name(code: int) -> str:
     """The canonical name of ``code`` (``EW_PASSWD``), or ``EW_UNKNOWN(n)``."""
     return ew_info(code).name
-
-
-def ew_of_text(text: str) -> int:
-    """An EW code as typed on every front end (the command line's ``--arg``, the page's fault
-    argument): by number (``17``, ``-1``, read as every whole number is) or by name
-    (``EW_PASSWD``, ``passwd``, any case); ValueError naming the text otherwise."""
-    try:
-        return whole_number(text)
-    except ValueError:
-        pass
-    name = text.strip().upper().removeprefix("EW_") if text.isascii() else ""
-    try:
-        return int(EW[name])
-    except KeyError:
-        raise ValueError(f"unknown EW code {text!r}") from None
 
 
 def ew_label(code: int) -> str:

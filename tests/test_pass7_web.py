@@ -12,8 +12,8 @@ from cli_support import at, fails, ok
 from support import serving
 
 from focas_net._typed import NO_PASSWORD_NOTE, decimal_number
-from focas_net.errors import EW, ew_of_text
-from focas_net.protocol import AutMode, FaultKind, alarm_time_text, alarm_type_of
+from focas_net.errors import EW
+from focas_net.protocol import AutMode, FaultKind, alarm_time_text, alarm_type_of, ew_of_text
 from focas_net.sim import DataItem, MachineError, ParamKind, default_machine
 from focas_net.web import (
     ActionError,

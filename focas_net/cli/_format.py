@@ -17,7 +17,7 @@ from decimal import Decimal
 from typing import Any, Final
 
 from focas_net._typed import decimal_text, switch, typed_number, whole_number
-from focas_net.errors import ChunkedWriteError, CncError, ew_info, ew_label, ew_of_text
+from focas_net.errors import ChunkedWriteError, CncError, ew_info, ew_label
 from focas_net.protocol import (
     STATUS_FIELDS,
     ActiveAlarm,
@@ -33,6 +33,7 @@ from focas_net.protocol import (
     alarm_text,
     alarm_time_text,
     alarm_type_of,
+    ew_of_text,
     status_labels,
 )
 from focas_net.protocol import field_label as field_name

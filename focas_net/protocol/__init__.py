@@ -54,7 +54,7 @@ from .codecs import (
     encode_response,
 )
 from .commands import FAULT_COMMANDS, PATH_COMMANDS, PATH_INDEPENDENT_COMMANDS, Command
-from .faults import ArmedFault, FaultList, FaultsCleared, FaultsRequest
+from .faults import ArmedFault, FaultList, FaultsCleared, FaultsRequest, ew_of_text
 from .frame import (
     DEFAULT_MAX_FRAME,
     HEADER,
@@ -209,6 +209,7 @@ __all__ = [
     "encode_ew",
     "encode_frame",
     "encode_response",
+    "ew_of_text",
     "field_label",
     "scan_frames",
     "status_labels",

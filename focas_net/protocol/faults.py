@@ -7,10 +7,11 @@ import struct
 from dataclasses import dataclass
 from typing import ClassVar, Final, Self
 
-from ..errors import PayloadError
+from .._typed import whole_number
+from ..errors import EW, PayloadError
 from ._base import I16, FixedPayload
 
-__all__ = ["ArmedFault", "FaultList", "FaultsCleared", "FaultsRequest"]
+__all__ = ["ArmedFault", "FaultList", "FaultsCleared", "FaultsRequest", "ew_of_text"]
 
 
 @dataclass(frozen=True, slots=True)
@@ -64,3 +65,18 @@ class FaultsCleared(FixedPayload):
 
     FORMAT: ClassVar[str] = "<h"
     cleared: int
+
+
+def ew_of_text(text: str) -> int:
+    """An EW code as typed on every front end (an ERROR fault's argument: the command line's
+    ``--arg``, the page's box): by number (``17``, ``-1``, read as every whole number is) or by name
+    (``EW_PASSWD``, ``passwd``, any case); ValueError naming the text otherwise."""
+    try:
+        return whole_number(text)
+    except ValueError:
+        pass
+    name = text.strip().upper().removeprefix("EW_") if text.isascii() else ""
+    try:
+        return int(EW[name])
+    except KeyError:
+        raise ValueError(f"unknown EW code {text!r}") from None

@@ -34,7 +34,7 @@ from focas_net._typed import (
     typed_number,
     whole_number,
 )
-from focas_net.errors import EW, ew_name, ew_of_text
+from focas_net.errors import EW, ew_name
 from focas_net.protocol import (
     AutMode,
     FaultKind,
@@ -42,6 +42,7 @@ from focas_net.protocol import (
     InjectFault,
     alarm_message,
     alarm_type_of,
+    ew_of_text,
 )
 from focas_net.server.faults import FaultQueue, fault_refusal, parse_inject
 from focas_net.sim import Machine, MachineError, ParamKind, Session
@@ -447,7 +448,7 @@ def _digits(text: str) -> bool:
 
 def _ew_arg(args: Mapping[str, Any]) -> int:
     """An ERROR fault's ``arg``: an EW code by number or name (``EW_BUSY``, ``busy``), as
-    ``focas-net sim fault error --arg`` takes it (:func:`~focas_net.errors.ew_of_text`)."""
+    ``focas-net sim fault error --arg`` takes it (:func:`~focas_net.protocol.ew_of_text`)."""
     value = args.get("arg")
     if isinstance(value, str) and value.strip():
         try:
