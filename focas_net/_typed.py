@@ -4,7 +4,8 @@ words for a macro value that does not fit (the machine and the clients), a progr
 (the command line and the page), an override's range (the machine and the clients), an alarm
 message that is no line of single-byte text (the machine and the encoded text of every front
 end), whether a host typed is the loopback (the dashboard's and the gateway's guards), what an
-unlock of a CNC without a parameter password means (the command line and the page).
+unlock of a CNC without a parameter password means (the command line and the page), and the
+words of the system's refusal of a file or address the user named (every front end).
 
 Number text is read as a CNC's MDI keys write a number: ASCII digits, a sign and, for a
 decimal, a decimal point; a whole number may also be written ``0x``, ``0b`` or ``0o`` (with
@@ -16,6 +17,7 @@ the same words wherever it was typed, naming the text.
 from __future__ import annotations
 
 import ipaddress
+import os
 import re
 from collections.abc import Mapping
 from decimal import Decimal
@@ -32,6 +34,7 @@ __all__ = [
     "decimal_text",
     "is_loopback",
     "macro_unfit",
+    "os_words",
     "override_unfit",
     "program_number",
     "rapid_step",
@@ -263,3 +266,12 @@ def is_loopback(host: str | None) -> bool:
         return ipaddress.ip_address(host.strip("[]")).is_loopback
     except ValueError:
         return False
+
+
+def os_words(exc: OSError) -> str:
+    """What the operating system's refusal ``exc`` says, as every front end writes it: its
+    number's words with the first letter in lower case (``no such file or directory``,
+    ``connection refused``), never ``[Errno 2] ...``; its own text when it has no number."""
+    text = os.strerror(exc.errno) if exc.errno is not None and exc.errno > 0 else ""
+    text = text or exc.strerror or str(exc)
+    return text[:1].lower() + text[1:] if text else type(exc).__name__

@@ -137,7 +137,7 @@ async def test_bad_tls_files_exit_2(tmp_path: Path) -> None:
     code, _out, err = await _run_to_exit("--tls-key", str(tmp_path / "k.pem"))
     assert code == 2 and "--tls-cert" in err
     code, _out, err = await _run_to_exit("--tls-cert", str(tmp_path / "c.pem"))
-    assert code == 2 and f"--tls-cert {tmp_path / 'c.pem'}: No such file or directory" in err
+    assert code == 2 and f"--tls-cert {tmp_path / 'c.pem'}: no such file or directory" in err
 
 
 async def test_tls_files_that_cannot_serve_say_which_and_why(

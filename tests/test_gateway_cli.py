@@ -48,7 +48,7 @@ async def test_a_missing_file_and_a_bad_shard_are_exit_2(tmp_path: Path) -> None
     line = await fails(
         EXIT_USAGE, "gateway", str(tmp_path / "none.toml"), prefix="focas-net gateway: error: "
     )
-    assert "none.toml: No such file" in line
+    assert "none.toml: no such file" in line
     config = write_config(tmp_path, machine("a", 8193) + machine("b", 8194))
     line = await fails(
         EXIT_USAGE, "gateway", str(config), "--shard", "3/2", prefix="focas-net gateway: error: "

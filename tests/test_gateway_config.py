@@ -264,7 +264,7 @@ password_env = "FOCAS_NET_TEST_SECRET"
 
 
 def test_a_file_that_cannot_be_read_is_named(tmp_path: Path) -> None:
-    with pytest.raises(ConfigError, match=r"missing\.toml: No such file"):
+    with pytest.raises(ConfigError, match=r"missing\.toml: no such file"):
         load_config(tmp_path / "missing.toml")
     bad = tmp_path / "latin.toml"
     bad.write_bytes(b"name = '\xe9'")

@@ -211,7 +211,7 @@ BEYOND_THE_TABLE: dict[str, tuple[str, ...]] = {
     # what a user types: the words for a macro value that does not fit (the machine and the
     # clients), a program number (the command line and the page), an alarm's message (the
     # machine and the text every front end encodes), whether a host is the loopback (the page
-    # and the gateway), a whole number (an EW code typed by its number)
+    # and the gateway), the words of the system's refusal of a file or address (every layer)
     "focas_net._typed": (),
 }
 
@@ -221,7 +221,6 @@ SHARED: dict[str, tuple[str, ...]] = {
     "focas_net._receive": ("focas_net.server", "focas_net.client"),
     "focas_net._bits": ("focas_net.sim", "focas_net.client", "focas_net.web", "focas_net.cli"),
     "focas_net._typed": (
-        "focas_net.errors",
         "focas_net.sim",
         "focas_net.client",
         "focas_net.web",

@@ -194,7 +194,7 @@ async def test_a_state_folder_of_the_machine_file_is_named_as_the_file_names_it(
     assert err.startswith(
         f"focas-net serve: error: {machine}: machine.state {tmp_path / 'x.toml'}: "
     )
-    assert err.endswith("Not a directory\n") and "--state" not in err
+    assert err.endswith("not a directory\n") and "--state" not in err
 
 
 @pytest.mark.parametrize(

@@ -99,7 +99,7 @@ def test_a_state_folder_that_cannot_be_written_is_refused_at_the_start(
 ) -> None:
     afile = tmp_path / "afile"
     afile.write_text("")
-    with pytest.raises(ConfigError, match=r"^--state .*afile: Not a directory$"):
+    with pytest.raises(ConfigError, match=r"^--state .*afile: not a directory$"):
         _fleet.build_machines(_parse("--state", str(afile)))
     real_open = os.open
 
@@ -110,7 +110,7 @@ def test_a_state_folder_that_cannot_be_written_is_refused_at_the_start(
 
     with monkeypatch.context() as patched:
         patched.setattr(os, "open", read_only_disk)  # root writes anywhere: a read-only disk
-        with pytest.raises(ConfigError, match=r"^--state .*: Read-only file system$"):
+        with pytest.raises(ConfigError, match=r"^--state .*: read-only file system$"):
             _fleet.build_machines(_parse("--state", str(tmp_path / "kept")))
         assert _fleet.build_machines(_parse("--state", str(tmp_path), "--read-only"))
     assert _fleet.build_machines(_parse("--state", str(tmp_path / "kept")))

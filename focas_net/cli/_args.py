@@ -13,6 +13,7 @@ import argparse
 import math
 import re
 import shlex
+import ssl
 import sys
 from collections.abc import Callable, Sequence
 from functools import partial
@@ -27,6 +28,7 @@ from focas_net.client._address import (
     url_address,
     url_advice,
 )
+from focas_net.client._failures import os_reason
 from focas_net.client._values import check_path
 from focas_net.protocol import PmcArea
 
@@ -120,6 +122,8 @@ def pem_holds(path: str, label: str) -> bool | None:
 def ssl_error_text(exc: OSError) -> str:
     """OpenSSL's words for ``exc`` without its library tag and source line (``[X509: ...]``,
     ``(_ssl.c:4154)``)."""
+    if not isinstance(exc, ssl.SSLError):
+        return os_reason(exc)  # (a file that cannot be read: the system's words)
     return re.sub(r"^\[[A-Z0-9_: ]+\] | \(_ssl\.c:\d+\)$", "", str(exc.strerror or exc))
 
 

@@ -11,6 +11,8 @@ import argparse
 from dataclasses import replace
 from typing import TYPE_CHECKING
 
+from focas_net.client._failures import os_reason
+
 from ._state import Kept, load_state, state_folder_of
 
 if TYPE_CHECKING:
@@ -82,7 +84,7 @@ def build_machines(args: argparse.Namespace, states: list[Kept] | None = None) -
             except MachineFileError as exc:
                 raise ConfigError(str(exc)) from None
             except OSError as exc:
-                raise ConfigError(f"{args.machine}: {exc.strerror or exc}") from None
+                raise ConfigError(f"{args.machine}: {os_reason(exc)}") from None
         else:
             machine = default_machine(param_password=args.param_password, sim_clock=clock)
         if args.fleet > 1:

@@ -11,6 +11,8 @@ from typing import TYPE_CHECKING, Final
 
 import anyio
 
+from focas_net.client._failures import os_reason
+
 if TYPE_CHECKING:
     from focas_net.server import FocasServer
     from focas_net.sim import Machine
@@ -65,7 +67,7 @@ def load_state(
         raise ValueError(f"{_named_by(args)}: {exc}") from None
     except OSError as exc:
         where = exc.filename if exc.filename is not None else directory
-        raise ValueError(f"{_named_by(args)} {directory}: {where}: {exc.strerror or exc}") from None
+        raise ValueError(f"{_named_by(args)} {directory}: {where}: {os_reason(exc)}") from None
     states.append((state, machine))
     return machine
 

@@ -11,6 +11,7 @@ from typing import Any, Final
 
 from focas_net._typed import program_number
 from focas_net.client import FocasClient
+from focas_net.client._failures import os_reason
 
 from . import _format as fmt
 from . import read_cmds
@@ -46,7 +47,7 @@ def _text_of(target: str | None) -> tuple[str, str]:
     try:
         raw = path.read_bytes()
     except OSError as exc:
-        raise ValueError(f"program load: cannot read {target!r}: {exc.strerror or exc}") from None
+        raise ValueError(f"program load: cannot read {target!r}: {os_reason(exc)}") from None
     try:  # a UTF-8 byte-order mark (Windows Notepad) is read as a machine file reads it
         return raw.removeprefix(b"\xef\xbb\xbf").decode("ascii"), target
     except UnicodeDecodeError as exc:

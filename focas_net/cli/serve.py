@@ -413,7 +413,7 @@ def _tls_files_error(cert: str, key: str | None, exc: OSError) -> str:
             if path is not None:
                 Path(path).read_bytes()
         except OSError as unreadable:
-            return f"{flag} {path}: {unreadable.strerror or unreadable}"
+            return f"{flag} {path}: {os_reason(unreadable)}"
     if not pem_holds(cert, "CERTIFICATE"):
         return f"--tls-cert {cert}: no PEM certificate in it"
     if key is None and not pem_holds(cert, "PRIVATE KEY"):

@@ -19,11 +19,11 @@ from __future__ import annotations
 import asyncio
 import errno
 import ipaddress
-import os
 import socket
 import ssl as _ssl
 from typing import Final
 
+from focas_net._typed import os_words
 from focas_net.errors import (
     FocasConnectionError,
     FocasTimeoutError,
@@ -108,12 +108,9 @@ def os_reason(exc: BaseException) -> str:
         return "the peer closed the connection"
     text = str(exc)
     if isinstance(exc, OSError) and not isinstance(exc, _ssl.SSLError):
-        if isinstance(exc, socket.gaierror) and exc.strerror:
-            text = exc.strerror
-        elif exc.errno is not None and exc.errno > 0:
-            text = os.strerror(exc.errno)
-        elif exc.strerror:
-            text = exc.strerror
+        if not (isinstance(exc, socket.gaierror) and exc.strerror):
+            return os_words(exc)
+        text = exc.strerror
     if not text:
         return type(exc).__name__
     return text[:1].lower() + text[1:]

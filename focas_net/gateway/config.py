@@ -20,7 +20,7 @@ from pathlib import Path
 from typing import Any, Final, Literal
 from urllib.parse import urlsplit, urlunsplit
 
-from focas_net._typed import is_loopback
+from focas_net._typed import is_loopback, os_words
 from focas_net.client._address import check_host, check_port
 from focas_net.client._values import I16_MAX, check_path
 from focas_net.protocol import PmcArea
@@ -339,7 +339,7 @@ def load_config(path: str | os.PathLike[str]) -> GatewayConfig:
     try:
         raw = Path(name).read_bytes()
     except OSError as exc:
-        raise ConfigError(f"{name}: {exc.strerror or exc}") from None
+        raise ConfigError(f"{name}: {os_words(exc)}") from None
     try:
         text = raw.decode("utf-8")
     except UnicodeDecodeError as exc:

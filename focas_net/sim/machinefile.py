@@ -19,7 +19,7 @@ from pathlib import Path
 from typing import Any, Final
 
 from focas_net._bits import bits_hint, bits_of_text
-from focas_net._typed import decimal_number
+from focas_net._typed import decimal_number, os_words
 from focas_net.versamax import BoardId, IOModuleRecord, RefType
 
 from ._base import NUMBERS
@@ -662,7 +662,7 @@ def load_machine(
     try:
         raw = p.read_bytes()
     except OSError as exc:
-        raise MachineFileError(name, "", f"cannot read: {exc.strerror or exc}") from None
+        raise MachineFileError(name, "", f"cannot read: {os_words(exc)}") from None
     try:
         data = tomllib.loads(_text(name, raw))
     except tomllib.TOMLDecodeError as exc:
@@ -686,7 +686,7 @@ def state_folder(path: str | PathLike[str]) -> Path | None:
     try:
         data = tomllib.loads(_text(str(path), p.read_bytes()))
     except OSError as exc:
-        raise MachineFileError(str(path), "", f"cannot read: {exc.strerror or exc}") from None
+        raise MachineFileError(str(path), "", f"cannot read: {os_words(exc)}") from None
     except tomllib.TOMLDecodeError as exc:
         raise MachineFileError(str(path), "", f"not valid TOML: {exc}") from None
     head = data.get("machine")

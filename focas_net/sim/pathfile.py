@@ -15,6 +15,8 @@ from __future__ import annotations
 from pathlib import Path
 from typing import Any, Final
 
+from focas_net._typed import os_words
+
 from ._identity import axes_problem, axis_name_problem
 from ._paths import MAX_PATHS, PATH_KINDS, PathSpec
 from ._status import AUT_MODES, MODE_NAMES, MotionData, Panel
@@ -186,7 +188,7 @@ def _programs(ctx: _Ctx, value: Any, base: Path | None) -> tuple[list[str], int 
             try:
                 text = _text(str(where), where.read_bytes())
             except OSError as exc:
-                key.fail(f"cannot read {str(where)!r}: {exc.strerror or exc}")
+                key.fail(f"cannot read {str(where)!r}: {os_words(exc)}")
             except MachineFileError as exc:  # named by the machine file and the key too
                 key.fail(f"{where}: {exc.problem}")
         try:
