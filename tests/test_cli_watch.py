@@ -93,7 +93,7 @@ def test_a_frame_shows_every_figure() -> None:
         "X       12.500   112.500     2.500     7.500",
         "Z       -1.000  -101.000     0.000     0.000",
         "feed 1200 mm/min  spindle 800 min^-1",
-        "override feed 50%  rapid 25%  spindle 110%",
+        "override feed 50 %  rapid 25 %  spindle 110 %",
         "parts 3  total 120  required 10",
         "time cycle 0:00:12.5  cutting 0:00:03.0  operating 0:01:01.0  power on 1:02:03.4",
         "alarms 1",
@@ -119,7 +119,7 @@ def test_a_field_the_cnc_refused_is_a_dash_and_loads_show_when_read() -> None:
         "override -",
         "parts -  required -",
         "time -",
-        "load spindle 42%  servo X 7%  Z 0%  3 3%",
+        "load spindle 42 %  servo X 7 %  Z 0 %  3 3 %",
         "alarms none",
     ]
     assert frame_dict(Frame(1, "[::1]:8193", state))["state"]["loads"] == {

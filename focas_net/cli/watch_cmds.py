@@ -206,11 +206,11 @@ def _position_lines(positions: Sequence[Positions | None]) -> list[str]:
 
 
 def _loads_text(loads: LoadMeters, axes: Sequence[str]) -> str:
-    """``spindle 42%  servo X 7%  Z 0%``: servo loads named by the axes the positions gave
-    (by number past them)."""
-    spindles = "  ".join(f"{v}%" for v in loads.spindle) or "-"
+    """``spindle 42 %  servo X 7 %  Z 0 %``: servo loads named by the axes the positions gave
+    (by number past them); a percentage written as every front end writes it."""
+    spindles = "  ".join(f"{v} %" for v in loads.spindle) or "-"
     servos = "  ".join(
-        f"{axes[i] if i < len(axes) else i + 1} {v}%" for i, v in enumerate(loads.servo)
+        f"{axes[i] if i < len(axes) else i + 1} {v} %" for i, v in enumerate(loads.servo)
     )
     return f"spindle {spindles}  servo {servos or '-'}"
 
@@ -223,7 +223,7 @@ def _state_lines(s: WatchState) -> list[str]:
         lines += ["override -", f"parts -  required {_text(s.parts_required)}", "time -"]
     else:
         lines += [
-            f"override feed {info.feed}%  rapid {info.rapid}%  spindle {info.spindle}%",
+            f"override feed {info.feed} %  rapid {info.rapid} %  spindle {info.spindle} %",
             f"parts {info.parts_count}  total {info.parts_total}  "
             f"required {_text(s.parts_required)}",
             f"time cycle {duration_text(info.cycle_ms)}  cutting {duration_text(info.cutting_ms)}"
