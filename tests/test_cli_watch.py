@@ -300,8 +300,8 @@ async def test_poll_reads_the_loads_and_names_the_program() -> None:
     assert loads is not None
     assert (len(loads.spindle), len(loads.servo)) == (1, 3)
     assert loads.spindle[0] > 0  # the spindle turns (M3) while X cuts
-    servo = "  ".join(f"{axis} {v}%" for axis, v in zip("XYZ", loads.servo, strict=True))
-    assert f"load spindle {loads.spindle[0]}%  servo {servo}" in render_frame(
+    servo = "  ".join(f"{axis} {v} %" for axis, v in zip("XYZ", loads.servo, strict=True))
+    assert f"load spindle {loads.spindle[0]} %  servo {servo}" in render_frame(
         Frame(1, "h:1", first)
     )
 
