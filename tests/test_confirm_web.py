@@ -6,6 +6,8 @@ from __future__ import annotations
 from pathlib import Path
 
 import pytest
+from support import serving
+from test_examples import port_args, run_example
 
 from focas_net.errors import EW
 from focas_net.sim import MachineError, MachineFileError, default_machine, load_machine
@@ -57,3 +59,22 @@ def test_the_motion_tables_largest_numbers_load(tmp_path: Path) -> None:
     path.write_text(HEAD + body, encoding="utf-8")
     motion = load_machine(path).motion
     assert (motion.program_running, motion.program_main, motion.sequence) == (9999, 9999, 99999)
+
+
+@pytest.mark.parametrize(
+    ("axis", "words"),
+    [
+        ("9", "parameter 1320 is an axis parameter: give --axis 1..3, got 9"),
+        ("-1", "parameter 1320 is an axis parameter: give --axis 1..3, got -1"),
+        ("0", "parameter 1320 is an axis parameter: give --axis 1..3, got 0"),
+    ],
+)
+async def test_write_param_names_an_axis_the_cnc_has_not(axis: str, words: str) -> None:
+    """``--axis 9`` of a three-axis machine was ``EW_ATTRIB (4): data attribute / data type
+    error: cnc_rdparam``, naming neither the axis nor the axes there are."""
+    async with serving() as server:
+        argv = ["--param", "1320", "--axis", axis, "--value", "5000"]
+        code, _out, err = await run_example("write_param_with_unlock.py", *port_args(server), *argv)
+        assert code == 2 and "Traceback" not in err
+        assert words in err
+        assert (server.machine.panel.mode, server.machine.panel.pwe) == (1, 0)
