@@ -89,3 +89,28 @@ async def test_a_program_file_not_in_ascii_names_its_line_and_character(
     program.write_bytes(content)
     line = await fails(EXIT_USAGE, "program", "load", str(program), *at(server))
     assert line == f"focas-net: program load: {str(program)!r}: {said}", line
+
+
+# -- --host: digits of another script ----------------------------------------------------------
+
+
+@pytest.mark.parametrize("protocol", PROTOCOLS)
+async def test_a_host_of_digits_beyond_ascii_is_refused_not_read_as_an_address(
+    server: Served, protocol: str
+) -> None:
+    # the name service reads "\uff11\uff12\uff17.0.0.1" as 127.0.0.1 and connected to it
+    line = await fails(
+        EXIT_USAGE,
+        "status",
+        "--host",
+        "\uff11\uff12\uff17.0.0.1",
+        "--port",
+        str(server.port),
+        "--protocol",
+        protocol,
+        prefix="focas-net status: error: ",
+    )
+    assert (
+        "argument --host: not an IPv4 address: host '\uff11\uff12\uff17.0.0.1' holds a digit "
+        "beyond ASCII ('\uff11', U+FF11): write 0-9" in line
+    ), line
