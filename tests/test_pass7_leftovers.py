@@ -1,6 +1,7 @@
 """Two refusals that named too little: an operator message's A address in digits of another
-script (taken as A1.1 before), and a rapid override typed as a step name other than F0
-(``F25``: "not a whole number"), which now lists the steps, on every front end that reads it."""
+script (taken as A1.1 before), a rapid override typed as a step name other than F0 (``F25``:
+"not a whole number"), which now lists the steps, on every front end that reads it, and a
+``--web`` port a CNC of the same command took ("address already in use" alone)."""
 
 from __future__ import annotations
 
@@ -8,10 +9,10 @@ from pathlib import Path
 
 import pytest
 from cli_support import fails
-from support import serving
+from support import free_port, serving
 
 from focas_net._typed import rapid_step
-from focas_net.cli import EXIT_USAGE
+from focas_net.cli import EXIT_CNC, EXIT_USAGE
 from focas_net.sim import MachineFileError, load_machine
 
 MACHINE = """
@@ -53,3 +54,12 @@ async def test_the_command_line_says_so() -> None:
             prefix="focas-net",
         )  # fmt: skip
     assert "'F25' is no rapid override: F0, or a step of 25, 50, 100 (%)" in line
+
+
+async def test_web_on_a_port_the_cnc_took_says_so() -> None:
+    port = str(free_port())
+    line = await fails(EXIT_CNC, "serve", "--port", port, "--web", port, prefix="focas-net")
+    assert line == (
+        f"focas-net serve: error: --web 127.0.0.1:{port}: cannot listen: address already in use "
+        f"(a CNC of this command listens on port {port}: give --web another)"
+    )
