@@ -557,7 +557,14 @@ async def _dashboard(
         await dashboard.start()
     except OSError as exc:
         where = address_text(host, port)
-        print_error(f"--web {where}: cannot listen: {os_reason(exc)}", _ERROR_PREFIX)
+        try:
+            taken = server.listener_for(port) if port else None
+        except KeyError:
+            taken = None
+        hint = (
+            f" (a CNC of this command listens on port {port}: give --web another)" if taken else ""
+        )
+        print_error(f"--web {where}: cannot listen: {os_reason(exc)}{hint}", _ERROR_PREFIX)
         yield None
         return
     try:
