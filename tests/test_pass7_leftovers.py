@@ -14,6 +14,7 @@ from support import free_port, serving
 from focas_net._typed import rapid_step
 from focas_net.cli import EXIT_CNC, EXIT_USAGE
 from focas_net.sim import MachineFileError, load_machine
+from focas_net.web import parse_web_address
 
 MACHINE = """
 [machine]
@@ -62,4 +63,31 @@ async def test_web_on_a_port_the_cnc_took_says_so() -> None:
     assert line == (
         f"focas-net serve: error: --web 127.0.0.1:{port}: cannot listen: address already in use "
         f"(a CNC of this command listens on port {port}: give --web another)"
+    )
+
+
+@pytest.mark.parametrize(
+    ("typed", "said"),
+    [
+        ("1.2.3.4.5:0", "'1.2.3.4.5:0': not an IPv4 address: host '1.2.3.4.5'"),
+        ("256.1.1.1:80", "'256.1.1.1:80': not an IPv4 address: host '256.1.1.1'"),
+        ("tcp://1.2.3.4:80", "'tcp://1.2.3.4:80' is a URL: write [HOST:]PORT without a scheme "
+         "(1.2.3.4:80)"),
+        ("http://[::1]/", "'http://[::1]/' is a URL: write [HOST:]PORT without a scheme "
+         "([::1]:PORT)"),
+    ],
+)  # fmt: skip
+def test_a_web_address_is_checked_as_every_host_is(typed: str, said: str) -> None:
+    with pytest.raises(ValueError) as refused:
+        parse_web_address(typed)
+    assert str(refused.value) == said
+
+
+async def test_serve_refuses_a_bad_web_host_before_anything_listens() -> None:
+    line = await fails(
+        EXIT_USAGE, "serve", "--port", "0", "--web", "1.2.3.4.5:0", prefix="focas-net"
+    )
+    assert line == (
+        "focas-net serve: error: argument --web: '1.2.3.4.5:0': not an IPv4 address: host "
+        "'1.2.3.4.5'; see focas-net serve --help"
     )

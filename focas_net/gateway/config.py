@@ -4,7 +4,7 @@ gives the file's keys). Frozen values; reading and checking the file comes with 
 
 Every refusal is a :class:`ConfigError` naming the file, the key path as written
 (``machine[3].groups.fast``), what was typed and what is expected. A host and a port are
-checked by the clients' own checks (``client/_address.py``), a path number by
+checked by every front end's one check (``focas_net/_address.py``), a path number by
 ``client/_values.check_path``, a PMC area by :class:`~focas_net.protocol.PmcArea`: the command
 line and the gateway refuse the same values with the same words.
 """
@@ -20,8 +20,8 @@ from pathlib import Path
 from typing import Any, Final, Literal
 from urllib.parse import urlsplit, urlunsplit
 
+from focas_net._address import check_host, check_port
 from focas_net._typed import is_loopback, os_words
-from focas_net.client._address import check_host, check_port
 from focas_net.client._values import I16_MAX, check_path
 from focas_net.protocol import PmcArea
 
