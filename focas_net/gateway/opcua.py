@@ -208,6 +208,8 @@ class OpcUaSink:
         settings: OpcUaSettings,
         writer: Writer | None = None,
     ) -> None:
+        if not isinstance(settings, OpcUaSettings):
+            raise TypeError(f"settings must be an OpcUaSettings, got {settings!r}")
         settings.check()
         self._settings = settings
         self._loopback = settings.loopback
