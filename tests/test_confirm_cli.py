@@ -1,18 +1,23 @@
 """A confirming new-user pass over the command line: the advice about ``--axis`` counts the
 axes of the path a command reads (a lathe's turret, not the whole machine) on both
 transports, ``pmc bit`` on FOCAS/2 does not suggest a ``--force`` it has not, and a program
-file that is not ASCII is refused naming its line and character, as the machine names them.
+file that is not ASCII is refused naming its line and character, as the machine names them,
+a host of digits of another script is refused, and output that cannot be written is one
+line.
 
 Each test runs ``focas-net`` as a user does (a subprocess) and checks its one line and its
 exit code."""
 
 from __future__ import annotations
 
+import asyncio
+import os
+import sys
 from collections.abc import AsyncIterator
 from pathlib import Path
 
 import pytest
-from cli_support import at, fails
+from cli_support import SUBPROCESS_TIMEOUT, at, fails
 from support import Served, serving
 
 from focas_net.cli import EXIT_CNC, EXIT_USAGE
@@ -114,3 +119,22 @@ async def test_a_host_of_digits_beyond_ascii_is_refused_not_read_as_an_address(
         "argument --host: not an IPv4 address: host '\uff11\uff12\uff17.0.0.1' holds a digit "
         "beyond ASCII ('\uff11', U+FF11): write 0-9" in line
     ), line
+
+
+# -- output that cannot be written --------------------------------------------------------------
+
+
+@pytest.mark.skipif(not Path("/dev/full").exists(), reason="needs /dev/full (Linux)")
+async def test_output_that_cannot_be_written_is_one_line_not_a_traceback(server: Served) -> None:
+    full = os.open("/dev/full", os.O_WRONLY)
+    try:
+        proc = await asyncio.create_subprocess_exec(
+            sys.executable, "-m", "focas_net", "status", *at(server),
+            stdout=full, stderr=asyncio.subprocess.PIPE,
+        )  # fmt: skip
+        async with asyncio.timeout(SUBPROCESS_TIMEOUT):
+            _, err = await proc.communicate()
+    finally:
+        os.close(full)
+    assert proc.returncode == EXIT_CNC
+    assert err.decode() == "focas-net: cannot write the output: no space left on device\n"
