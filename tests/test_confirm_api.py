@@ -4,12 +4,15 @@ was given, never a Python error of the library's insides."""
 
 from __future__ import annotations
 
+import re
+from pathlib import Path
 from typing import Any
 
 import pytest
 from asyncua import ua
 from opcua_support import LATHE, Handler, connected, machine_node, running
 
+import focas_net
 from focas_net.gateway import (
     AlarmChange,
     Gateway,
@@ -23,6 +26,8 @@ from focas_net.gateway import (
 from focas_net.gateway._opcua_types import CNC_NAMESPACE, CncId
 from focas_net.gateway.mqtt import MqttSink
 from focas_net.gateway.opcua import OpcUaSink
+from focas_net.sim import Machine
+from focas_net.sim.nc import ManualClock
 
 _MACHINE = MachineConfig("m", "127.0.0.1")
 
@@ -102,3 +107,14 @@ async def test_condition_refresh_sends_the_active_alarms_again(on_machine: bool)
                     ua.Variant(sub.subscription_id + 1000, ua.VariantType.UInt32),
                 )
             await sub.delete()
+
+
+# -- the README ------------------------------------------------------------------------------
+def test_the_readme_s_manual_clock_calls_run_as_written() -> None:
+    """Each ``...(sim_clock=ManualClock())`` the README writes builds a machine as written."""
+    readme = (Path(__file__).resolve().parent.parent / "README.md").read_text()
+    calls = re.findall(r"`((\w+)\(sim_clock=ManualClock\(\)\))`", readme)
+    assert calls
+    for call, name in calls:
+        scope = {name: getattr(focas_net, name, None) or Machine, "ManualClock": ManualClock}
+        assert isinstance(eval(call, scope), Machine), call
