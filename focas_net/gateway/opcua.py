@@ -255,6 +255,9 @@ class OpcUaSink:
         """Build the server and listen."""
         s = self._settings
         server = Server(user_manager=_Users(s, self._anonymous))
+        # ConditionRefresh (and ConditionRefresh2) of ConditionType send the retained
+        # conditions again; asyncua binds them only when asked
+        server.iserver.bind_condition_methods = True
         await server.init()
         server.set_endpoint(s.endpoint)
         server.set_server_name("focas_net gateway")
