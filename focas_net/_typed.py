@@ -127,7 +127,13 @@ def rapid_step(text: str) -> int:
     """A rapid override as typed on every front end: ``F0`` (any case: 0 %, as the panel's
     switch names it) or a whole number (:func:`whole_number`), which the machine checks
     against :data:`RAPID_STEPS`."""
-    return 0 if text.strip().upper() == "F0" else whole_number(text)
+    word = text.strip().upper()
+    if word == "F0":
+        return 0
+    if word.startswith("F"):  # F25 ...: only F0 is a name; the other steps are percentages
+        steps = ", ".join(str(s) for s in RAPID_STEPS[1:])
+        raise ValueError(f"{text!r} is no rapid override: F0, or a step of {steps} (%)")
+    return whole_number(text)
 
 
 def program_number(typed: object) -> int:

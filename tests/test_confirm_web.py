@@ -4,6 +4,7 @@ cases it found, each checked where the fix lives."""
 from __future__ import annotations
 
 from pathlib import Path
+from typing import Any
 
 import pytest
 from support import serving
@@ -46,8 +47,9 @@ def test_a_program_or_sequence_number_of_the_motion_table_has_fanucs_digits(
 def test_set_motion_refuses_the_same_numbers(key: str, value: int, words: str) -> None:
     machine = default_machine()
     before = machine.motion
+    numbers: dict[str, Any] = {key: value}
     with pytest.raises(MachineError) as refused:
-        machine.set_motion(**{key: value})
+        machine.set_motion(**numbers)
     assert refused.value.ew == EW.DATA
     assert words in str(refused.value)
     assert machine.motion == before

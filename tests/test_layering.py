@@ -213,6 +213,9 @@ BEYOND_THE_TABLE: dict[str, tuple[str, ...]] = {
     # machine and the text every front end encodes), whether a host is the loopback (the page
     # and the gateway), the words of the system's refusal of a file or address (every layer)
     "focas_net._typed": (),
+    # an address typed: the host and port checks of the clients, the command line, the
+    # gateway's file and the dashboard's --web
+    "focas_net._address": (),
 }
 
 #: Private modules that know no protocol and no machine: every layer may use them.
@@ -220,6 +223,12 @@ SHARED: dict[str, tuple[str, ...]] = {
     "focas_net._memo": tuple(TABLE),
     "focas_net._receive": ("focas_net.server", "focas_net.client"),
     "focas_net._bits": ("focas_net.sim", "focas_net.client", "focas_net.web", "focas_net.cli"),
+    "focas_net._address": (
+        "focas_net.client",
+        "focas_net.web",
+        "focas_net.cli",
+        "focas_net.gateway",
+    ),
     "focas_net._typed": (
         "focas_net.sim",
         "focas_net.client",

@@ -435,8 +435,9 @@ async def post_url(session: Any, url: str) -> tuple[int, dict[str, Any]]:
         return response.status, await response.json()
 
 
-async def test_serve_web_beyond_loopback_warns_and_a_bind_failure_is_one_line() -> None:
-    """192.0.2.1 (TEST-NET-1) is no address of this host: the warning, then the error."""
+async def test_serve_web_beyond_loopback_that_cannot_listen_is_one_line() -> None:
+    """192.0.2.1 (TEST-NET-1) is no address of this host: the error alone, no warning of a
+    dashboard that does not listen."""
     proc = await asyncio.create_subprocess_exec(
         sys.executable, "-m", "focas_net", "serve", "--port", "0", "--web", "192.0.2.1:0",
         stdout=asyncio.subprocess.PIPE, stderr=asyncio.subprocess.PIPE,
@@ -449,9 +450,27 @@ async def test_serve_web_beyond_loopback_warns_and_a_bind_failure_is_one_line() 
             proc.kill()
             await proc.wait()
     assert proc.returncode == 1 and out == b""
-    warning, error = err.decode().splitlines()
-    assert "warning" in warning and "192.0.2.1" in warning and "beyond loopback" in warning
+    (error,) = err.decode().splitlines()
     assert error.startswith("focas-net serve: error: --web 192.0.2.1:0: cannot listen")
+
+
+async def test_a_dashboard_beyond_loopback_warns_once_it_listens(
+    monkeypatch: pytest.MonkeyPatch, capsys: pytest.CaptureFixture[str]
+) -> None:
+    """The warning comes once the dashboard listens (here on 127.0.0.1, taken for a host
+    beyond the loopback, as nothing in a test may listen beyond it)."""
+    import focas_net.web
+    from focas_net.cli.serve import _dashboard
+
+    monkeypatch.setattr(focas_net.web, "is_loopback", lambda host: False)
+    async with FocasServer(default_machine(), host="127.0.0.1", port=0) as server:
+        async with _dashboard(server, ("127.0.0.1", 0), read_only=False) as dashboard:
+            assert dashboard is not None
+            warned = capsys.readouterr().err
+    assert warned == (
+        "focas-net serve: warning: the web dashboard listens on 127.0.0.1, beyond loopback, "
+        "with no authentication\n"
+    )
 
 
 @pytest.mark.parametrize(

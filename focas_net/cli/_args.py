@@ -20,14 +20,14 @@ from functools import partial
 from pathlib import Path
 from typing import Any, Final, NoReturn, TypeVar
 
-from focas_net._typed import decimal_number, rapid_step
-from focas_net.client._address import (
+from focas_net._address import (
     check_host,
     host_and_port,
     shown,
     url_address,
     url_advice,
 )
+from focas_net._typed import decimal_number, rapid_step
 from focas_net.client._failures import os_reason
 from focas_net.client._values import check_path
 from focas_net.protocol import PmcArea
@@ -324,7 +324,7 @@ def parse_interval(text: str) -> float:
 
 
 def parse_host(text: str) -> str:
-    """A host to connect to (:func:`~focas_net.client._address.check_host`), spaces around it
+    """A host to connect to (:func:`~focas_net._address.check_host`), spaces around it
     left out; a host with a port points to ``--port``."""
     url = url_address(text.strip())
     if url is not None:

@@ -546,20 +546,27 @@ async def _dashboard(
     from focas_net.web import Dashboard, is_loopback, stations_of
 
     host, port = web
-    if not is_loopback(host):
-        sys.stderr.write(
-            f"{PROG} serve: warning: the web dashboard listens on {host}, beyond loopback, "
-            "with no authentication\n"
-        )
     keep = None if server.keeper is None or read_only else server.keeper.flush
     dashboard = Dashboard(stations_of(server), host=host, port=port, read_only=read_only, keep=keep)
     try:
         await dashboard.start()
     except OSError as exc:
         where = address_text(host, port)
-        print_error(f"--web {where}: cannot listen: {os_reason(exc)}", _ERROR_PREFIX)
+        try:
+            taken = server.listener_for(port) if port else None
+        except KeyError:
+            taken = None
+        hint = (
+            f" (a CNC of this command listens on port {port}: give --web another)" if taken else ""
+        )
+        print_error(f"--web {where}: cannot listen: {os_reason(exc)}{hint}", _ERROR_PREFIX)
         yield None
         return
+    if not is_loopback(host):  # (once it listens: a bind that failed warns of nothing)
+        sys.stderr.write(
+            f"{PROG} serve: warning: the web dashboard listens on {host}, beyond loopback, "
+            "with no authentication\n"
+        )
     try:
         yield dashboard
     finally:

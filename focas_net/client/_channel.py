@@ -31,9 +31,9 @@ from collections import deque
 from collections.abc import Callable
 from typing import Any, Final, cast
 
+from focas_net._address import address_text
 from focas_net._receive import Received, _local
 
-from ._address import address_text
 from ._failures import os_reason
 
 #: Bytes one read of a :class:`SocketChannel` may bring: a whole answer frame (at most 10 +

@@ -16,9 +16,9 @@ from collections.abc import Callable
 from types import TracebackType
 from typing import Self
 
+from focas_net._address import address_text, check_host, check_port
 from focas_net.errors import FocasConnectionError
 
-from ._address import address_text, check_host, check_port
 from ._values import check_path, check_timeout
 from .reconnect import ClientState, ReconnectPolicy, StateCallback
 

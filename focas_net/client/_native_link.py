@@ -34,6 +34,7 @@ from collections.abc import Callable
 from functools import partial
 from typing import Any, Final
 
+from focas_net._address import address_text
 from focas_net.errors import (
     EW,
     CncError,
@@ -67,7 +68,6 @@ from ..native import (
     encode_close_request,
     encode_open_request,
 )
-from ._address import address_text
 from ._channel import Channel, open_channel
 from ._composite import CompositeCalls
 from ._failures import (

@@ -42,6 +42,7 @@ import ssl as _ssl
 from collections.abc import Callable, Sequence
 from typing import Final, cast
 
+from focas_net._address import address_text
 from focas_net._receive import Received
 from focas_net.errors import (
     FocasConnectionError,
@@ -60,7 +61,6 @@ from ..protocol import (
     PathNumber,
     RawFrame,
 )
-from ._address import address_text
 from ._channel import connect_socket, literal_target
 from ._failures import (
     NEVER_SENT,

@@ -29,6 +29,12 @@ ALARM_SEVERITY: Final = 700
 
 _GOOD: Final = ua.StatusCode(ua.StatusCodes.Good)
 _ACKNOWLEDGE: Final = ua.NodeId(ua.ObjectIds.AcknowledgeableConditionType_Acknowledge)
+_REFRESH: Final = (
+    ua.NodeId(ua.ObjectIds.ConditionType_ConditionRefresh),
+    ua.NodeId(ua.ObjectIds.ConditionType_ConditionRefresh2),
+)
+_SERVER: Final = ua.NodeId(ua.ObjectIds.Server)
+_REFRESH_MARKS: Final = (ua.ObjectIds.RefreshStartEventType, ua.ObjectIds.RefreshEndEventType)
 #: The built-in types of the data types asyncua's event fields name by node id.
 _BUILT_IN: Final = {
     ua.ObjectIds.UtcTime: ua.VariantType.DateTime,
@@ -56,7 +62,10 @@ class Conditions:
         self._by_id: dict[ua.NodeId, Any] = {}
         #: The ConditionIds whose object is in the address space (active or not).
         self._nodes: set[ua.NodeId] = set()
-        server.iserver.isession.add_method_callback(_ACKNOWLEDGE, self._acknowledge)
+        session = server.iserver.isession
+        session.add_method_callback(_ACKNOWLEDGE, self._acknowledge)
+        for refresh in _REFRESH:
+            session.add_method_callback(refresh, self._refresh)
 
     async def apply(self, changes: Sequence[AlarmChange], roots: dict[str, ua.NodeId]) -> None:
         """Raise or clear a condition for each change of a machine in ``roots`` (its object)."""
@@ -129,6 +138,31 @@ class Conditions:
         if isinstance(comment.Value, ua.LocalizedText):
             ev.Comment = comment.Value
         await self._trigger(ev, datetime.now(UTC).timestamp(), ev.SourceNode)
+        return []
+
+    async def _refresh(self, parent: ua.NodeId, subscription: Any, *item: Any) -> Any:
+        """``ConditionRefresh(SubscriptionId)`` and ``ConditionRefresh2(SubscriptionId,
+        MonitoredItemId)``: every active condition sent again to that subscription (or that
+        monitored item of it), as the machine's object and the Server object notify it,
+        between a RefreshStartEvent and a RefreshEndEvent."""
+        service = self._server.iserver.subscription_service
+        sub = service.subscriptions.get(subscription.Value)
+        if sub is None:
+            return ua.StatusCode(ua.StatusCodes.BadSubscriptionIdInvalid)
+        items = sub.monitored_item_srv
+        mid = item[0].Value if item else None
+        if mid is not None and mid not in items._monitored_items:
+            return ua.StatusCode(ua.StatusCodes.BadMonitoredItemIdInvalid)
+        marks = [service.standard_events.get(t) for t in _REFRESH_MARKS]
+        if marks[0] is not None:
+            await marks[0].trigger(subscription_id=sub.data.SubscriptionId)
+        for ev in list(self._by_id.values()):
+            for node in (ev.SourceNode, _SERVER):
+                if mid is None or mid in items._monitored_events.get(node, ()):
+                    ev.emitting_node = node
+                    await items.trigger_event(ev, mid)
+        if marks[1] is not None:
+            await marks[1].trigger(subscription_id=sub.data.SubscriptionId)
         return []
 
     def _new(self, c: AlarmChange, source: ua.NodeId) -> Any:

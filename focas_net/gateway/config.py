@@ -4,7 +4,7 @@ gives the file's keys). Frozen values; reading and checking the file comes with 
 
 Every refusal is a :class:`ConfigError` naming the file, the key path as written
 (``machine[3].groups.fast``), what was typed and what is expected. A host and a port are
-checked by the clients' own checks (``client/_address.py``), a path number by
+checked by every front end's one check (``focas_net/_address.py``), a path number by
 ``client/_values.check_path``, a PMC area by :class:`~focas_net.protocol.PmcArea`: the command
 line and the gateway refuse the same values with the same words.
 """
@@ -20,8 +20,8 @@ from pathlib import Path
 from typing import Any, Final, Literal
 from urllib.parse import urlsplit, urlunsplit
 
+from focas_net._address import check_host, check_port
 from focas_net._typed import is_loopback, os_words
-from focas_net.client._address import check_host, check_port
 from focas_net.client._values import I16_MAX, check_path
 from focas_net.protocol import PmcArea
 
@@ -40,6 +40,7 @@ __all__ = [
     "OpcUaUser",
     "WriteGates",
     "check_machines",
+    "check_outputs",
     "is_loopback",
     "load_config",
     "parse_config",
@@ -423,11 +424,16 @@ def shard(config: GatewayConfig, index: int, count: int) -> GatewayConfig:
     return replace(config, machines=machines, opcua=opcua, mqtt=mqtt)
 
 
-def check_machines(machines: Sequence[MachineConfig], source: str = "") -> None:
+def check_machines(
+    machines: Sequence[MachineConfig], source: str = "", *, name: str = "machines"
+) -> None:
     """Raise :class:`ConfigError` for a machine of ``machines`` that is no
     :class:`MachineConfig`, fails its :meth:`~MachineConfig.check`, or has the name of an
     earlier one, naming it ``machine[i]`` (from 1) after ``source`` when given: what
-    :class:`~focas_net.gateway.Gateway` asks of machines built in Python."""
+    :class:`~focas_net.gateway.Gateway` asks of machines built in Python. ``machines`` that
+    are no sequence (an iterator, a set) are a ``TypeError`` naming them ``name``."""
+    if isinstance(machines, str | bytes) or not isinstance(machines, Sequence):
+        raise TypeError(f"{name} must be a tuple of MachineConfig, got {machines!r}")
     where_of: dict[str, At] = {}
     for i, machine in enumerate(machines):
         at = At(source, f"machine[{i + 1}]")
@@ -435,6 +441,19 @@ def check_machines(machines: Sequence[MachineConfig], source: str = "") -> None:
             at.expected(machine, "a MachineConfig")
         machine._check(at)
         _unique(machine.name, where_of, at, "name")
+
+
+def check_outputs(config: GatewayConfig) -> None:
+    """Raise ``TypeError`` for an output of ``config`` that is neither None (not used) nor
+    its settings' class (:class:`MqttSettings`, :class:`OpcUaSettings`), naming it
+    ``config.mqtt`` or ``config.opcua``: what :class:`~focas_net.gateway.Gateway` and
+    :func:`~focas_net.gateway.outputs` ask of a configuration built in Python."""
+    for key, value, cls in (
+        ("mqtt", config.mqtt, MqttSettings),
+        ("opcua", config.opcua, OpcUaSettings),
+    ):
+        if value is not None and not isinstance(value, cls):
+            raise TypeError(f"config.{key} must be an {cls.__name__} or None, got {value!r}")
 
 
 def _unique(name: str, where_of: dict[str, At], at: At, key: str) -> None:

@@ -97,6 +97,8 @@ class MqttSink:
         reconnect: tuple[float, float] = (0.5, 30.0),
         close_timeout: float = 5.0,
     ) -> None:
+        if not isinstance(settings, MqttSettings):
+            raise TypeError(f"settings must be an MqttSettings, got {settings!r}")
         settings.check()
         self.publication = Publication(settings.prefix, gateway_name, settings.deadbands)
         self._buffer = Buffer(settings.buffer)

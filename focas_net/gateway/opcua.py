@@ -208,6 +208,8 @@ class OpcUaSink:
         settings: OpcUaSettings,
         writer: Writer | None = None,
     ) -> None:
+        if not isinstance(settings, OpcUaSettings):
+            raise TypeError(f"settings must be an OpcUaSettings, got {settings!r}")
         settings.check()
         self._settings = settings
         self._loopback = settings.loopback
@@ -253,6 +255,9 @@ class OpcUaSink:
         """Build the server and listen."""
         s = self._settings
         server = Server(user_manager=_Users(s, self._anonymous))
+        # ConditionRefresh (and ConditionRefresh2) of ConditionType send the retained
+        # conditions again; asyncua binds them only when asked
+        server.iserver.bind_condition_methods = True
         await server.init()
         server.set_endpoint(s.endpoint)
         server.set_server_name("focas_net gateway")

@@ -28,7 +28,7 @@ from typing import Any, Self
 from focas_net.client import ReconnectPolicy
 
 from ._keys import ConfigError
-from .config import GatewayConfig, MachineConfig, check_machines
+from .config import GatewayConfig, MachineConfig, check_machines, check_outputs
 from .model import Sink
 from .poller import DEFAULT_POLICY, Client, Poller, client_for
 from .writer import GatedWriter
@@ -56,12 +56,23 @@ def _output_class(module: str, name: str, section: str) -> Any:
 def outputs(config: GatewayConfig, writer: GatedWriter) -> list[AbstractAsyncContextManager[Sink]]:
     """The sinks ``config`` asks for, to be entered: ``MqttSink(settings)`` for ``[mqtt]``,
     ``OpcUaSink(settings, writer)`` for ``[opcua]``. Raises :class:`MissingExtra`."""
+    _check_config(config)
     made: list[AbstractAsyncContextManager[Sink]] = []
     if config.mqtt is not None:
         made.append(_output_class("mqtt", "MqttSink", "mqtt")(config.mqtt))
     if config.opcua is not None:
         made.append(_output_class("opcua", "OpcUaSink", "opcua")(config.opcua, writer))
     return made
+
+
+def _check_config(config: GatewayConfig) -> None:
+    """Raise ``TypeError`` for a ``config`` that is no :class:`GatewayConfig`, or whose
+    outputs are not their settings' class."""
+    if not isinstance(config, GatewayConfig):
+        raise TypeError(
+            f"config must be a GatewayConfig (load_config(path) reads a file), got {config!r}"
+        )
+    check_outputs(config)
 
 
 class Gateway:
@@ -79,13 +90,10 @@ class Gateway:
         policy: ReconnectPolicy = DEFAULT_POLICY,
         client_of: Callable[[MachineConfig, ReconnectPolicy], Client] = client_for,
     ) -> None:
-        if not isinstance(config, GatewayConfig):
-            raise TypeError(
-                f"config must be a GatewayConfig (load_config(path) reads a file), got {config!r}"
-            )
+        _check_config(config)
+        check_machines(config.machines, name="config.machines")
         if not config.machines:
             raise ValueError("a gateway needs at least one machine (config.machines is empty)")
-        check_machines(config.machines)
         if isinstance(sinks, str | bytes) or not isinstance(sinks, Sequence):
             raise TypeError(f"sinks must be a list of sinks, got {sinks!r}")
         for i, sink in enumerate(sinks):

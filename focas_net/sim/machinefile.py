@@ -406,7 +406,7 @@ def _station(ctx: _Ctx, value: Any) -> dict[tuple[int, int], IOModuleRecord]:
     return station
 
 
-_MESSAGE_ADDRESS: Final = re.compile(r"A(\d{1,5})\.([0-7])")
+_MESSAGE_ADDRESS: Final = re.compile(r"A(\d{1,5})\.([0-7])", re.ASCII)
 
 
 def _operator_messages(ctx: _Ctx, value: Any) -> list[ExternalMessage]:

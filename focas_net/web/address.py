@@ -4,6 +4,7 @@ from __future__ import annotations
 
 from typing import Final
 
+from focas_net._address import check_host, url_address
 from focas_net._typed import is_loopback, whole_number
 
 __all__ = ["DEFAULT_WEB_HOST", "is_loopback", "parse_web_address"]
@@ -18,6 +19,12 @@ def parse_web_address(text: str) -> tuple[str, int]:
     :data:`DEFAULT_WEB_HOST` when not given, port 0 asks for an ephemeral one. ValueError,
     naming ``text``, for anything else."""
     raw = text.strip()
+    url = url_address(raw)
+    if url is not None:  # tcp://HOST:PORT, http://HOST/: the address without its scheme
+        name, number = url
+        host = name or DEFAULT_WEB_HOST
+        bare = f"[{host}]:{number or 'PORT'}" if ":" in host else f"{host}:{number or 'PORT'}"
+        raise ValueError(f"{text!r} is a URL: write [HOST:]PORT without a scheme ({bare})")
     host, sep, port_text = raw.rpartition(":")
     if not sep:
         host, port_text = DEFAULT_WEB_HOST, raw
@@ -35,4 +42,8 @@ def parse_web_address(text: str) -> tuple[str, int]:
         raise ValueError(f"{text!r}: the port must be a number 0..65535 ([HOST:]PORT)")
     if any(c.isspace() for c in host):
         raise ValueError(f"{text!r}: a host name has no spaces")
+    try:  # the host as every front end checks one (1.2.3.4.5 is no address)
+        host = check_host(host)
+    except ValueError as exc:
+        raise ValueError(f"{text!r}: {exc}") from None
     return host, port

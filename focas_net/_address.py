@@ -1,5 +1,6 @@
-"""A CNC's address, checked once for every front end: :func:`check_host` (the clients, the
-command line's ``--host``) and :func:`address_text`.
+"""An address typed, checked once for every front end: :func:`check_host` (the clients, the
+command line's ``--host``, the gateway's file, the dashboard's ``--web``), :func:`check_port`
+and :func:`address_text`. It knows no protocol and no machine.
 
 A host is a name (at most 253 characters, parts of 1..63 between dots), an IPv4 address or an
 IPv6 address (``::1``, or ``[::1]`` in brackets). A host with a port (``127.0.0.1:8193``,
@@ -123,7 +124,13 @@ def check_host(text: object) -> str:
         return host
     if len(host) > 253:
         raise ValueError(f"host name too long: {shown(text)}; at most 253 characters")
-    if all(c.isdigit() or c == "." for c in host.removesuffix(".")) and host.isascii():
+    if all(c.isdigit() or c == "." for c in host.removesuffix(".")):
+        odd = next((c for c in host if not c.isascii()), None)
+        if odd is not None:  # which the name service would read as ASCII digits
+            raise ValueError(
+                f"not an IPv4 address: host {shown(text)} holds a digit beyond ASCII ({odd!r}, "
+                f"U+{ord(odd):04X}): write 0-9"
+            )
         try:  # a name is never all digits and dots: it is an address, or a mistake
             ipaddress.IPv4Address(host)
         except ValueError:

@@ -1,0 +1,120 @@
+"""The Python API and the gateway as a new user meets them, a confirming pass: what the
+seventh pass did not try, each refused with the right exception naming the argument and what
+was given, never a Python error of the library's insides."""
+
+from __future__ import annotations
+
+import re
+from pathlib import Path
+from typing import Any
+
+import pytest
+from asyncua import ua
+from opcua_support import LATHE, Handler, connected, machine_node, running
+
+import focas_net
+from focas_net.gateway import (
+    AlarmChange,
+    Gateway,
+    GatewayConfig,
+    MachineConfig,
+    MqttSettings,
+    OpcUaSettings,
+    check_machines,
+    outputs,
+)
+from focas_net.gateway._opcua_types import CNC_NAMESPACE, CncId
+from focas_net.gateway.mqtt import MqttSink
+from focas_net.gateway.opcua import OpcUaSink
+from focas_net.sim import Machine
+from focas_net.sim.nc import ManualClock
+
+_MACHINE = MachineConfig("m", "127.0.0.1")
+
+
+@pytest.mark.parametrize("config", ["plant.toml", None, {"machines": [_MACHINE]}])
+def test_outputs_names_a_config_that_is_no_gateway_config(config: Any) -> None:
+    writer = Gateway(GatewayConfig((_MACHINE,))).writer
+    with pytest.raises(TypeError, match=r"config must be a GatewayConfig \(load_config"):
+        outputs(config, writer)
+
+
+@pytest.mark.parametrize(
+    ("section", "value", "words"),
+    [
+        ("mqtt", "127.0.0.1", r"config\.mqtt must be an MqttSettings or None, got '127\.0\.0\.1'"),
+        ("mqtt", {"host": "h"}, r"config\.mqtt must be an MqttSettings or None, got \{'host'"),
+        ("mqtt", OpcUaSettings(), r"config\.mqtt must be an MqttSettings or None, got OpcUa"),
+        ("opcua", "opc.tcp://h:1/", r"config\.opcua must be an OpcUaSettings or None, got 'opc"),
+        ("opcua", MqttSettings(), r"config\.opcua must be an OpcUaSettings or None, got Mqtt"),
+    ],
+)
+def test_an_output_of_another_type_is_named_by_gateway_and_outputs(
+    section: str, value: Any, words: str
+) -> None:
+    config = GatewayConfig((_MACHINE,), **{section: value})
+    with pytest.raises(TypeError, match=words):
+        Gateway(config)
+    writer = Gateway(GatewayConfig((_MACHINE,))).writer
+    with pytest.raises(TypeError, match=words):
+        outputs(config, writer)
+
+
+def test_the_sinks_name_settings_of_another_type() -> None:
+    with pytest.raises(TypeError, match=r"settings must be an MqttSettings, got None"):
+        MqttSink(None)  # type: ignore[arg-type]
+    with pytest.raises(TypeError, match=r"settings must be an OpcUaSettings, got \{'endpoint'"):
+        OpcUaSink({"endpoint": "opc.tcp://127.0.0.1:0/"})  # type: ignore[arg-type]
+
+
+@pytest.mark.parametrize("machines", [iter([_MACHINE]), (m for m in [_MACHINE]), {_MACHINE}])
+def test_machines_that_are_no_sequence_are_named(machines: Any) -> None:
+    with pytest.raises(TypeError, match=r"machines must be a tuple of MachineConfig, got"):
+        check_machines(machines)
+    with pytest.raises(TypeError, match=r"config\.machines must be a tuple of MachineConfig"):
+        Gateway(GatewayConfig(machines))
+
+
+# -- the OPC UA server's conditions ----------------------------------------------------------
+@pytest.mark.parametrize("on_machine", [False, True])
+async def test_condition_refresh_sends_the_active_alarms_again(on_machine: bool) -> None:
+    """docs/gateway.md: "ConditionRefresh on a subscription sends the active conditions
+    again", to a subscription on the Server object as to one on the machine's object."""
+    raised = AlarmChange("lathe", 2, 3, 10, 0, "IMPROPER G-CODE", True, 1_800_000_000.0)
+    async with running() as sink:
+        sink.described(LATHE)
+        sink.alarms([raised])
+        await sink.flush()
+        async with connected(sink) as client:
+            cnc = await client.get_namespace_index(CNC_NAMESPACE)
+            alarm_type = client.get_node(ua.NodeId(CncId.ALARM_TYPE, cnc))
+            handler = Handler()
+            sub = await client.create_subscription(10, handler)
+            source = await machine_node(client, "lathe") if on_machine else client.nodes.server
+            await sub.subscribe_events(source, alarm_type)
+            condition_type = client.get_node(ua.NodeId(ua.ObjectIds.ConditionType))
+            await condition_type.call_method(
+                ua.NodeId(ua.ObjectIds.ConditionType_ConditionRefresh),
+                ua.Variant(sub.subscription_id, ua.VariantType.UInt32),
+            )
+            sent = await handler.event()
+            assert sent.ConditionName == "PS0010"
+            assert sent.Message.Text == "PS0010 IMPROPER G-CODE"
+            assert getattr(sent, "ActiveState/Id") is True and sent.Retain is True
+            with pytest.raises(ua.uaerrors.BadSubscriptionIdInvalid):
+                await condition_type.call_method(
+                    ua.NodeId(ua.ObjectIds.ConditionType_ConditionRefresh),
+                    ua.Variant(sub.subscription_id + 1000, ua.VariantType.UInt32),
+                )
+            await sub.delete()
+
+
+# -- the README ------------------------------------------------------------------------------
+def test_the_readme_s_manual_clock_calls_run_as_written() -> None:
+    """Each ``...(sim_clock=ManualClock())`` the README writes builds a machine as written."""
+    readme = (Path(__file__).resolve().parent.parent / "README.md").read_text()
+    calls = re.findall(r"`((\w+)\(sim_clock=ManualClock\(\)\))`", readme)
+    assert calls
+    for call, name in calls:
+        scope = {name: getattr(focas_net, name, None) or Machine, "ManualClock": ManualClock}
+        assert isinstance(eval(call, scope), Machine), call
