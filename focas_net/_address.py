@@ -124,7 +124,13 @@ def check_host(text: object) -> str:
         return host
     if len(host) > 253:
         raise ValueError(f"host name too long: {shown(text)}; at most 253 characters")
-    if all(c.isdigit() or c == "." for c in host.removesuffix(".")) and host.isascii():
+    if all(c.isdigit() or c == "." for c in host.removesuffix(".")):
+        odd = next((c for c in host if not c.isascii()), None)
+        if odd is not None:  # which the name service would read as ASCII digits
+            raise ValueError(
+                f"not an IPv4 address: host {shown(text)} holds a digit beyond ASCII ({odd!r}, "
+                f"U+{ord(odd):04X}): write 0-9"
+            )
         try:  # a name is never all digits and dots: it is an address, or a mistake
             ipaddress.IPv4Address(host)
         except ValueError:

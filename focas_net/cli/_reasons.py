@@ -154,14 +154,16 @@ def _pmc_protected(args: argparse.Namespace) -> str:
         )
     else:
         what = f"the machine is read-only, or its machine file write-protects PMC area {area}"
-    if getattr(args, "protocol", "packed") == "native":
-        return f"{what}; writing it as the simulator (--force) needs --protocol packed"
+    native = getattr(args, "protocol", "packed") == "native"
     if hasattr(args, "address"):  # pmc bit
         byte = fmt.parse_number_bit(args.address)[0]
         return (
             f"{what}; pmc bit has no --force: focas-net pmc write {area} {byte} VALUE --force "
-            "writes the whole byte as the simulator"
+            + "(with --protocol packed) " * native
+            + "writes the whole byte as the simulator"
         )
+    if native:
+        return f"{what}; writing it as the simulator (--force) needs --protocol packed"
     return f"{what}: --force writes it as the simulator, unless the machine is read-only"
 
 

@@ -25,6 +25,7 @@ from collections.abc import Awaitable, Callable, Iterator
 from dataclasses import dataclass
 from typing import Any, Final
 
+from focas_net._typed import os_words
 from focas_net.client import (
     ClientState,
     CncClient,
@@ -176,17 +177,26 @@ async def _until_told(session: Awaitable[Output | None]) -> Output | None:
 
 def write(text: str) -> bool:
     """``text`` on stdout, flushed; a reader that went away (``| head``) ends the output:
-    False from then on."""
+    False from then on. Output that cannot be written (a full disk) is one line on stderr
+    and exit 1 (:class:`SystemExit`)."""
     try:
         sys.stdout.write(text)
         sys.stdout.flush()
     except BrokenPipeError:
-        # Stop writing without a traceback at exit.
-        devnull = os.open(os.devnull, os.O_WRONLY)
-        os.dup2(devnull, sys.stdout.fileno())
-        os.close(devnull)
+        _stdout_to_devnull()
         return False
+    except OSError as exc:
+        _stdout_to_devnull()
+        print_error(f"cannot write the output: {os_words(exc)}")
+        raise SystemExit(EXIT_CNC) from None
     return True
+
+
+def _stdout_to_devnull() -> None:
+    """Stop writing without a traceback at exit (the final flush goes nowhere)."""
+    devnull = os.open(os.devnull, os.O_WRONLY)
+    os.dup2(devnull, sys.stdout.fileno())
+    os.close(devnull)
 
 
 def _print_one_line(message: str) -> None:

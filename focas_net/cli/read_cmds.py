@@ -110,7 +110,7 @@ def position(args: argparse.Namespace) -> Go:
 async def axis_hint(cnc: CncClient, exc: CncError, kind: str, number: int, axis: int) -> FocasError:
     """``exc`` with advice when it is ``EW_ATTRIB`` for the axis of parameter or diagnostic
     ``number`` (``kind``): an axis item read without ``--axis``, an axis past the machine's,
-    or ``--axis`` on an item of no axis; the axis count is the machine's (ODBSYS)."""
+    or ``--axis`` on an item of no axis; the axis count is the path's (:func:`_axis_count`)."""
     if exc.ew != EW.ATTRIB:
         return exc
     axes = await _axis_count(cnc)
@@ -135,8 +135,9 @@ def _axes_text(axes: int) -> str:
 
 
 async def _axis_count(cnc: CncClient) -> int:
-    info = await cnc.read_sysinfo()
-    return info.axes_count if info.axes_count is not None else info.max_axis
+    """The axes of the path the command reads: those its positions name. Not ODBSYS's count,
+    which the packed ``cnc_sysinfo`` gives for the whole machine (every path's axes)."""
+    return len((await cnc.read_positions()).values)
 
 
 def item_name(number: int, bit: int | None, axis: int) -> str:
