@@ -6,13 +6,15 @@ from __future__ import annotations
 
 import re
 from pathlib import Path
-from typing import Any
+from typing import Any, Literal
 
 import pytest
 from asyncua import ua
 from opcua_support import LATHE, Handler, connected, machine_node, running
+from poller_support import QUICK, RecordingSink, all_online, config, until
 
 import focas_net
+from focas_net import FocasServer, default_machine
 from focas_net.gateway import (
     AlarmChange,
     Gateway,
@@ -26,6 +28,7 @@ from focas_net.gateway import (
 from focas_net.gateway._opcua_types import CNC_NAMESPACE, CncId
 from focas_net.gateway.mqtt import MqttSink
 from focas_net.gateway.opcua import OpcUaSink
+from focas_net.gateway.poller import Poller
 from focas_net.sim import Machine
 from focas_net.sim.nc import ManualClock
 
@@ -118,3 +121,32 @@ def test_the_readme_s_manual_clock_calls_run_as_written() -> None:
     for call, name in calls:
         scope = {name: getattr(focas_net, name, None) or Machine, "ManualClock": ManualClock}
         assert isinstance(eval(call, scope), Machine), call
+
+
+# -- the gateway's reason of a lost machine --------------------------------------------------
+@pytest.mark.parametrize("protocol", ["native", "packed"])
+async def test_a_machine_lost_is_told_with_why_not_with_the_client_s_state(
+    protocol: Literal["native", "packed"],
+) -> None:
+    """docs/gateway.md: the outputs are told a machine lost "with the reason"; a connection
+    the server closed is that (``closed: connection closed by HOST:PORT``), not the client's
+    state (``lost: the connection is reconnecting``)."""
+    clock = ManualClock(1_000.0)
+    sink = RecordingSink()
+    server = FocasServer(default_machine(), host="127.0.0.1", port=0, grace_period=0.5)
+    await server.start()
+    port = server.listeners[0].address[1]
+    try:
+        async with Poller(
+            [config("one", port, protocol)], [sink], clock=clock.now, policy=QUICK
+        ) as poller:
+            await until(poller, clock, all_online(poller))
+            sink.clear()
+            await server.aclose()
+            await until(poller, clock, lambda: poller.is_online("one") is False, 1.0)
+            [(_, online, reason)] = [s for s in sink.states if s[0] == "one"]
+            assert online is False
+            assert "is reconnecting" not in reason
+            assert f"127.0.0.1:{port}" in reason, reason
+    finally:
+        await server.aclose()

@@ -358,7 +358,10 @@ class Poller:
         if state is not ClientState.CONNECTED:
             st.reader = None
         if st.online is True and state is not ClientState.CONNECTED:
-            st.failure = st.failure or f"lost: the connection is {state.value}"
+            # why the client lost its connection, as a failed read would say it
+            why = st.client.lost_reason
+            told = reason_of(why) if why is not None else f"lost: the connection is {state.value}"
+            st.failure = st.failure or told
         if st.failure is not None and st.online is not False:
             self._lose(st)
             online.append((st.config.name, False, st.failure))
