@@ -11,13 +11,14 @@ exit code."""
 from __future__ import annotations
 
 import asyncio
+import json
 import os
 import sys
 from collections.abc import AsyncIterator
 from pathlib import Path
 
 import pytest
-from cli_support import SUBPROCESS_TIMEOUT, at, fails
+from cli_support import SUBPROCESS_TIMEOUT, at, fails, ok
 from support import Served, serving
 
 from focas_net.cli import EXIT_CNC, EXIT_USAGE
@@ -138,3 +139,15 @@ async def test_output_that_cannot_be_written_is_one_line_not_a_traceback(server:
         os.close(full)
     assert proc.returncode == EXIT_CNC
     assert err.decode() == "focas-net: cannot write the output: no space left on device\n"
+
+
+# -- sim clear all -------------------------------------------------------------------------------
+
+
+async def test_sim_clear_all_is_what_leaving_the_alarm_out_means(server: Served) -> None:
+    assert await ok("sim", "alarm", "PS0100", *at(server)) != ""
+    out = json.loads(await ok("sim", "clear", "ALL", "--json", *at(server)))
+    assert out["cleared"] == "all"
+    assert [a["code"] for a in out["alarms"]] == ["PS0100"] and out["active"] == []
+    # with nothing active it says so, exit 0, as the bare command does
+    assert await ok("sim", "clear", "all", *at(server)) == "no active alarms; nothing to clear\n"

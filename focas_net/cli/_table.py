@@ -430,7 +430,7 @@ COMMANDS: Final[tuple[Cmd | Group, ...]] = (
                         "alarm",
                         nargs="?",
                         metavar="ALARM",
-                        help="PS0100, or PS for a whole type (default all)",
+                        help="PS0100, PS for a whole type, or all (the default)",
                     ),
                 ),
             ),

@@ -110,7 +110,10 @@ def alarm(args: argparse.Namespace) -> PackedOnly:
 
 
 def clear(args: argparse.Namespace) -> PackedOnly:
-    alm_type, alm_no = fmt.parse_alarm_filter(args.alarm)
+    given: str | None = args.alarm
+    if given is not None and given.strip().lower() == "all":
+        given = None  # what leaving it out means, as --help and the JSON name it
+    alm_type, alm_no = fmt.parse_alarm_filter(given)
 
     def matches(a: Any) -> bool:
         return alm_type in (-1, a.alm_type) and alm_no in (-1, a.alm_no)
@@ -120,10 +123,10 @@ def clear(args: argparse.Namespace) -> PackedOnly:
         await cnc.sim.clear_alarms(alm_type, alm_no)
         remaining = await cnc.read_alarms()
         gone = [a for a in before if matches(a) and a not in remaining]
-        if args.alarm is not None and not gone:
-            raise NothingMatched(f"no active alarm matches {args.alarm}; nothing cleared")
+        if given is not None and not gone:
+            raise NothingMatched(f"no active alarm matches {given}; nothing cleared")
         data = {
-            "cleared": args.alarm or "all",
+            "cleared": given or "all",
             "alarms": [fmt.alarm_dict(a) for a in gone],
             "active": [fmt.alarm_dict(a) for a in remaining],
         }
