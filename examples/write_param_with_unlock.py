@@ -27,8 +27,13 @@ async def write_param(args: argparse.Namespace) -> int:
     async with FocasClient(args.host, args.port, timeout=args.timeout) as cnc:
         before = await cnc.read_status()
         attributes = await cnc.read_param_attributes(args.param)
-        if attributes.axis and args.axis == 0:
-            print(f"parameter {args.param} is an axis parameter: give --axis 1..n", file=sys.stderr)
+        axes = len((await cnc.read_positions()).values)
+        if attributes.axis and not 1 <= args.axis <= axes:
+            print(
+                f"parameter {args.param} is an axis parameter: give --axis 1..{axes}, "
+                f"got {args.axis}",
+                file=sys.stderr,
+            )
             return 2
         if not attributes.axis and args.axis != 0:
             print(

@@ -89,9 +89,10 @@ class PathOperations:
     ) -> None:
         """Set motion figures (simulation code only); what is not given stays.
 
-        Positions are one i32 per axis in least input increments; the other figures are
-        0..2**31-1. EW_DATA (and nothing changes) when a value does not fit or a position list
-        does not have one value per axis.
+        Positions are one i32 per axis in least input increments; feed and spindle speed are
+        0..2**31-1, a program number 0..9999 and the sequence number 0..99999 (FANUC's four
+        and five digits, 0 for none). EW_DATA (and nothing changes) when a value does not fit
+        or a position list does not have one value per axis.
         """
         self._paths.at(path).set_motion(
             (absolute, machine, relative, distance_to_go),

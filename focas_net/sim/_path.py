@@ -42,6 +42,7 @@ from ._status import (
     EDIT,
     MEM,
     MODE_NAMES,
+    MOTION_NUMBERS,
     POSITION_DECIMALS,
     POSITION_KINDS,
     TIMER_KINDS,
@@ -97,7 +98,7 @@ _DEFAULT_RAPID: Final = 24000.0
 #: read path of every status answer.
 _START: Final = CycleState.START
 _RESET: Final = CycleState.RESET
-_MOTION_SCALARS: Final = ("feed", "spindle_speed", "program_running", "program_main", "sequence")
+_MOTION_SCALARS: Final = tuple(MOTION_NUMBERS)
 _SKIP: Final = "skip"
 #: The EW code of each refusal of the program store.
 _PROGRAM_EW: Final = {
@@ -516,8 +517,9 @@ class Path:
         for key, value in zip(_MOTION_SCALARS, scalars, strict=True):
             if value is None:
                 continue
-            if type(value) is not int or not 0 <= value <= I32_MAX:
-                raise MachineError(EW.DATA, f"{key} = {value!r} outside 0..{I32_MAX}")
+            low, high = MOTION_NUMBERS[key]
+            if type(value) is not int or not low <= value <= high:
+                raise MachineError(EW.DATA, f"{key} = {value!r} outside {low}..{high}")
             numbers[key] = value
         m = self.manual
         self.sync()

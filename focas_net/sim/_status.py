@@ -13,6 +13,7 @@ __all__ = [
     "MDI",
     "MEM",
     "MODE_NAMES",
+    "MOTION_NUMBERS",
     "POSITION_DECIMALS",
     "POSITION_KINDS",
     "TIMER_KINDS",
@@ -84,6 +85,18 @@ class Panel:
     edit: int = 0
     hdck: int = 0
     tmmode: int = 0
+
+
+#: The bounds of each motion figure that is one number: a program number is FANUC's four digits
+#: (O1..O9999) and a sequence number its five (N1..N99999), 0 for none, as a program's own O
+#: and N words are read; feed and spindle speed are unsigned 32-bit figures.
+MOTION_NUMBERS: Final = {
+    "feed": (0, 0x7FFFFFFF),
+    "spindle_speed": (0, 0x7FFFFFFF),
+    "program_running": (0, 9999),
+    "program_main": (0, 9999),
+    "sequence": (0, 99999),
+}
 
 
 @dataclass(slots=True)

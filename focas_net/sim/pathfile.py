@@ -19,7 +19,7 @@ from focas_net._typed import os_words
 
 from ._identity import axes_problem, axis_name_problem
 from ._paths import MAX_PATHS, PATH_KINDS, PathSpec
-from ._status import AUT_MODES, MODE_NAMES, MotionData, Panel
+from ._status import AUT_MODES, MODE_NAMES, MOTION_NUMBERS, MotionData, Panel
 from .filecheck import (
     _I32,
     MachineFileError,
@@ -149,7 +149,7 @@ def _panel(ctx: _Ctx, value: Any) -> Panel:
 def _motion(ctx: _Ctx, value: Any, n_axes: int) -> MotionData:
     t = _table(ctx, value)
     lists = ("absolute", "machine", "relative", "distance_to_go")
-    scalars = ("feed", "spindle_speed", "program_running", "program_main", "sequence")
+    scalars = tuple(MOTION_NUMBERS)
     _only(ctx, t, lists + scalars)
     positions = []
     for key in lists:
@@ -158,7 +158,7 @@ def _motion(ctx: _Ctx, value: Any, n_axes: int) -> MotionData:
         if len(raw) != n_axes:
             c.fail(f"{len(raw)} values for {n_axes} axes")
         positions.append([_int(c.sub(i), v, _I32) for i, v in enumerate(raw)])
-    nums = [_int(ctx.sub(k), t.get(k, 0), (0, _I32[1])) for k in scalars]
+    nums = [_int(ctx.sub(k), t.get(k, 0), MOTION_NUMBERS[k]) for k in scalars]
     return MotionData(positions[0], positions[1], positions[2], positions[3], *nums)
 
 

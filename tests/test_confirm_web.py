@@ -1,0 +1,82 @@
+"""A confirming new-user pass over the web dashboard, machine files and part programs: the
+cases it found, each checked where the fix lives."""
+
+from __future__ import annotations
+
+from pathlib import Path
+from typing import Any
+
+import pytest
+from support import serving
+from test_examples import port_args, run_example
+
+from focas_net.errors import EW
+from focas_net.sim import MachineError, MachineFileError, default_machine, load_machine
+
+HEAD = '[machine]\nname = "M"\naxes = ["X", "Y"]\n'
+
+
+@pytest.mark.parametrize(
+    ("key", "value", "words"),
+    [
+        ("program_running", 10000, "motion.program_running: 10000 is outside 0..9999"),
+        ("program_main", 123456789, "motion.program_main: 123456789 is outside 0..9999"),
+        ("sequence", 123456, "motion.sequence: 123456 is outside 0..99999"),
+    ],
+)
+def test_a_program_or_sequence_number_of_the_motion_table_has_fanucs_digits(
+    tmp_path: Path, key: str, value: int, words: str
+) -> None:
+    """O1..O9999 and N1..N99999 (0: none), as a program's own O and N words are read: a
+    machine file's ``[motion]`` shows no number a program could not have."""
+    path = tmp_path / "m.toml"
+    path.write_text(f"{HEAD}[motion]\n{key} = {value}\n", encoding="utf-8")
+    with pytest.raises(MachineFileError) as refused:
+        load_machine(path)
+    assert words in str(refused.value)
+
+
+@pytest.mark.parametrize(
+    ("key", "value", "words"),
+    [
+        ("program_running", 10000, "program_running = 10000 outside 0..9999"),
+        ("program_main", -1, "program_main = -1 outside 0..9999"),
+        ("sequence", 100000, "sequence = 100000 outside 0..99999"),
+    ],
+)
+def test_set_motion_refuses_the_same_numbers(key: str, value: int, words: str) -> None:
+    machine = default_machine()
+    before = machine.motion
+    numbers: dict[str, Any] = {key: value}
+    with pytest.raises(MachineError) as refused:
+        machine.set_motion(**numbers)
+    assert refused.value.ew == EW.DATA
+    assert words in str(refused.value)
+    assert machine.motion == before
+
+
+def test_the_motion_tables_largest_numbers_load(tmp_path: Path) -> None:
+    path = tmp_path / "m.toml"
+    body = "[motion]\nprogram_running = 9999\nprogram_main = 9999\nsequence = 99999\n"
+    path.write_text(HEAD + body, encoding="utf-8")
+    motion = load_machine(path).motion
+    assert (motion.program_running, motion.program_main, motion.sequence) == (9999, 9999, 99999)
+
+
+@pytest.mark.parametrize(
+    ("axis", "words"),
+    [
+        ("9", "parameter 1320 is an axis parameter: give --axis 1..3, got 9"),
+        ("-1", "parameter 1320 is an axis parameter: give --axis 1..3, got -1"),
+        ("0", "parameter 1320 is an axis parameter: give --axis 1..3, got 0"),
+    ],
+)
+async def test_write_param_names_an_axis_the_cnc_has_not(axis: str, words: str) -> None:
+    """``--axis 9`` of a three-axis machine was ``EW_ATTRIB (4): data attribute / data type
+    error: cnc_rdparam``, naming neither the axis nor the axes there are."""
+    async with serving() as server:
+        argv = ["--param", "1320", "--axis", axis, "--value", "5000"]
+        code, _out, err = await run_example("write_param_with_unlock.py", *port_args(server), *argv)
+        assert code == 2 and "Traceback" not in err
+        assert words in err
+        assert (server.machine.panel.mode, server.machine.panel.pwe) == (1, 0)
