@@ -32,6 +32,7 @@ __all__ = [
     "alarm_text_unfit",
     "decimal_number",
     "decimal_text",
+    "file_text",
     "is_loopback",
     "macro_unfit",
     "os_words",
@@ -281,3 +282,22 @@ def os_words(exc: OSError) -> str:
     text = os.strerror(exc.errno) if exc.errno is not None and exc.errno > 0 else ""
     text = text or exc.strerror or str(exc)
     return text[:1].lower() + text[1:] if text else type(exc).__name__
+
+
+#: The byte-order mark an editor (Windows Notepad) may write before UTF-8 text.
+_BOM: Final = b"\xef\xbb\xbf"
+
+
+def file_text(raw: bytes) -> str:
+    """The text of a file a user wrote (a machine file, a gateway's configuration): UTF-8,
+    with or without a byte-order mark; ValueError naming the first byte that is not
+    (``not UTF-8 text: byte 0xFF at byte 12 (save the file as UTF-8)``)."""
+    skip = len(_BOM) if raw.startswith(_BOM) else 0
+    try:
+        return raw[skip:].decode("utf-8")
+    except UnicodeDecodeError as exc:
+        where = skip + exc.start
+        bad = raw[where : where + 1].hex().upper()
+        raise ValueError(
+            f"not UTF-8 text: byte 0x{bad} at byte {where} (save the file as UTF-8)"
+        ) from None

@@ -63,7 +63,7 @@ BAD: list[tuple[str, tuple[str, ...]]] = [
     (ONE + "[machine.writes]\npmc = ['R\u0661\u0662']", ("writes.pmc[1]: got 'R\u0661\u0662'",)),
     (ONE + "[machine.writes]\npmc = ['R0-R65536']", ("writes.pmc[1]", "65535")),
     (ONE + "[machine.writes]\npmc = ['R" + "9" * 5000 + "']", ("writes.pmc[1]: got 'R99",)),
-    (ONE + "port = " + "9" * 5000, ("plant.toml: not TOML", "5000 digits")),
+    (ONE + "port = " + "9" * 5000, ("plant.toml: not valid TOML", "5000 digits")),
     (
         ONE + "[machine.writes]\nmacro = [[1, 2]]",
         ("machine[1].writes.macro: unknown key", "'macros'"),
@@ -109,7 +109,7 @@ BAD: list[tuple[str, tuple[str, ...]]] = [
     ),
     (ONE + "[[opcua.users]]\nname = 'op'", ("opcua.users[1].password: missing",)),
     ("machine = 3", ("plant.toml: machine: got 3", "array of tables")),
-    ("[[machine]\n", ("plant.toml: not TOML",)),
+    ("[[machine]\n", ("plant.toml: not valid TOML",)),
     ("[plant]\n" + ONE, ("plant.toml: plant: unknown key",)),
 ]
 

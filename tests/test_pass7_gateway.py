@@ -196,3 +196,24 @@ def test_good_machines_built_in_python_are_taken() -> None:
     gates = WriteGates(macros=((500, 599),), params=((6711, 6713),), pmc=(("R", 100, 199),))
     gateway = Gateway(GatewayConfig((MachineConfig("m", "::1", paths=(1, 2), writes=gates),)))
     assert gateway.config.machines[0].writes == gates
+
+
+def test_a_gateway_file_and_a_machine_file_are_read_alike(tmp_path: Path) -> None:
+    """A byte-order mark (Windows Notepad) is read past, a byte that is no UTF-8 is named as
+    the machine file names it, and text that is no TOML is "not valid TOML" in both."""
+    from focas_net.gateway.config import load_config
+    from focas_net.sim import MachineFileError, load_machine
+
+    marked = tmp_path / "marked.toml"
+    marked.write_bytes(b"\xef\xbb\xbf" + ONE.encode())
+    assert load_config(marked).machines[0].name == "mill-1"
+    latin = tmp_path / "latin.toml"
+    latin.write_bytes(b"# caf\xe9\n" + ONE.encode())
+    with pytest.raises(ConfigError) as gateway:
+        load_config(latin)
+    with pytest.raises(MachineFileError) as machine:
+        load_machine(latin)
+    said = "not UTF-8 text: byte 0xE9 at byte 5 (save the file as UTF-8)"
+    assert str(gateway.value) == f"{latin}: {said}"
+    assert str(machine.value).endswith(said)
+    assert refusal("[[machine]\n").startswith("plant.toml: not valid TOML: ")

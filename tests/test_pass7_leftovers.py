@@ -5,16 +5,19 @@ script (taken as A1.1 before), a rapid override typed as a step name other than 
 
 from __future__ import annotations
 
+import json
 from pathlib import Path
 
 import pytest
-from cli_support import fails
+from cli_support import fails, ok
 from support import free_port, serving
 
 from focas_net._typed import rapid_step
 from focas_net.cli import EXIT_CNC, EXIT_USAGE
 from focas_net.sim import MachineFileError, load_machine
 from focas_net.web import parse_web_address
+
+LATHE = Path(__file__).resolve().parent.parent / "examples" / "lathe_2path.toml"
 
 MACHINE = """
 [machine]
@@ -91,3 +94,15 @@ async def test_serve_refuses_a_bad_web_host_before_anything_listens() -> None:
         "focas-net serve: error: argument --web: '1.2.3.4.5:0': not an IPv4 address: host "
         "'1.2.3.4.5'; see focas-net serve --help"
     )
+
+
+async def test_sysinfo_axes_are_the_machines_on_packed_and_the_paths_on_focas2() -> None:
+    """As docs/cli.md says: the one documented difference of the two transports' reads."""
+    lathe = load_machine(LATHE)
+    async with serving(lathe) as served:
+        port = str(served.port)
+        packed = await ok("sysinfo", "--port", port, "--json")
+        native = await ok(
+            "sysinfo", "--port", port, "--json", "--protocol", "native", "--path", "2"
+        )
+    assert (json.loads(packed)["axes"], json.loads(native)["axes"]) == ("04", "02")

@@ -785,3 +785,30 @@ async def test_enter_in_the_alarm_boxes_raises_the_alarm(
         history = await page.text_of("history", bool, "the history")
         assert re.fullmatch(r"\d{4}-\d\d-\d\dT\d\d:\d\d:\d\dZ EX1001 COOLANT LEVEL LOW", history)
         assert await page.errors() == []
+
+
+async def test_a_machine_without_a_program_shows_none_as_the_command_line_does(
+    browser: WebDriver, tmp_path: Path
+) -> None:
+    """No program selected is ``none`` on the tile and in the machine view, as ``program`` and
+    ``watch`` write it; the page wrote ``O0000``, a number no program can have."""
+    path = tmp_path / "m.toml"
+    path.write_text('[machine]\nname = "bare"\naxes = ["X", "Y"]\n', encoding="utf-8")
+    machine = load_machine(path)
+    async with dashboard(browser, tmp_path, [machine]) as (server, _, page):
+        async with client_of(server) as cnc:
+            numbers = await cnc.read_program_numbers()
+        assert (numbers.running, numbers.main) == (0, 0)
+        await page.errors()
+        await page.open()
+
+        def tile(d: WebDriver) -> str | bool:
+            text = str(d.find_element(By.CSS_SELECTOR, "#fleet a").text)
+            return text if "bare" in text else False
+
+        shown = await page.until(tile, "the tile")
+        assert "none" in shown.split() and "O0000" not in shown
+        await page.open("machine/0")
+        program = await page.text_of("m-program", bool, "the program")
+        assert program == "none"
+        assert await page.errors() == []

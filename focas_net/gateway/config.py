@@ -21,7 +21,7 @@ from typing import Any, Final, Literal
 from urllib.parse import urlsplit, urlunsplit
 
 from focas_net._address import check_host, check_port
-from focas_net._typed import is_loopback, os_words
+from focas_net._typed import file_text, is_loopback, os_words
 from focas_net.client._values import I16_MAX, check_path
 from focas_net.protocol import PmcArea
 
@@ -346,9 +346,9 @@ def load_config(path: str | os.PathLike[str]) -> GatewayConfig:
     except OSError as exc:
         raise ConfigError(f"{name}: {os_words(exc)}") from None
     try:
-        text = raw.decode("utf-8")
-    except UnicodeDecodeError as exc:
-        raise ConfigError(f"{name}: not UTF-8 text (byte {exc.start})") from None
+        text = file_text(raw)
+    except ValueError as exc:
+        raise ConfigError(f"{name}: {exc}") from None
     return parse_config(text, name, folder=Path(name).parent)
 
 
@@ -363,7 +363,7 @@ def parse_config(
         try:
             data = tomllib.loads(data)
         except ValueError as exc:  # (TOMLDecodeError, or an integer of too many digits)
-            top.fail(f"not TOML: {exc}")
+            top.fail(f"not valid TOML: {exc}")
     doc = top.table(data, _TOP)
     base = folder if folder is not None else Path()
     defaults = _groups(top.key("groups"), doc.get("groups", {}), GroupIntervals())

@@ -10,6 +10,7 @@ from collections.abc import Mapping
 from dataclasses import dataclass
 from typing import Any, Final, NoReturn
 
+from focas_net._typed import file_text
 from focas_net.errors import FocasError
 
 __all__ = ["MachineFileError"]
@@ -19,8 +20,6 @@ _I16: Final = (-0x8000, 0x7FFF)
 _I32: Final = (-0x8000_0000, 0x7FFF_FFFF)
 #: A key TOML writes without quotes.
 _BARE_KEY: Final = re.compile(r"[A-Za-z0-9_-]+")
-#: The UTF-8 byte-order mark some editors write at the start of a file.
-_BOM: Final = b"\xef\xbb\xbf"
 
 
 class MachineFileError(FocasError, ValueError):
@@ -135,12 +134,7 @@ def _number_key(ctx: _Ctx, key: str, span: tuple[int, int]) -> int:
 
 def _text(name: str, raw: bytes) -> str:
     """The text of a machine file: UTF-8, with or without a byte-order mark."""
-    skip = len(_BOM) if raw.startswith(_BOM) else 0
     try:
-        return raw[skip:].decode("utf-8")
-    except UnicodeDecodeError as exc:
-        where = skip + exc.start
-        bad = raw[where : where + 1].hex().upper()
-        raise MachineFileError(
-            name, "", f"not UTF-8 text: byte 0x{bad} at byte {where} (save the file as UTF-8)"
-        ) from None
+        return file_text(raw)
+    except ValueError as exc:
+        raise MachineFileError(name, "", str(exc)) from None

@@ -152,8 +152,11 @@ function tileOf(t) {
   return tile;
 }
 
+// A program number as the command line writes it: O and four digits, "none" for 0 (none).
+function oNumber(n) { return n ? `O${String(n).padStart(4, "0")}` : "none"; }
+
 function pathLine(p) {
-  return `${p.path_name} ${p.mode} ${p.run} O${String(p.program).padStart(4, "0")} ` +
+  return `${p.path_name} ${p.mode} ${p.run} ${oNumber(p.program)} ` +
     `N${p.sequence} ${count(p.parts, "part")}` +
     (p.alarm ? ` ALM ${p.alarm}` : (p.emergency ? " EMG" : ""));
 }
@@ -175,7 +178,7 @@ function renderFleet(data) {
     setText(parts.port, `:${t.port}`);
     setText(parts.mode, t.mode);
     setText(parts.run, t.run);
-    setText(parts.program, `O${String(t.program).padStart(4, "0")}`);
+    setText(parts.program, oNumber(t.program));
     setText(parts.sequence, `N${t.sequence}`);
     setText(parts.parts, count(t.parts, "part"));
     setText(parts.alarm, t.alarm ? `ALM ${t.alarm}` : (t.emergency ? "EMG" : "\u00a0"));
@@ -238,7 +241,7 @@ function renderPaths(v) {
     const card = $(`path-${n}`);
     const cls = `path-card ${p.run_state}${n === state.path ? " shown" : ""}`;
     if (card.className !== cls) card.className = cls;
-    setText($(`path-${n}-state`), `${p.mode} ${p.run}  O${String(p.program).padStart(4, "0")} ` +
+    setText($(`path-${n}-state`), `${p.mode} ${p.run}  ${oNumber(p.program)} ` +
       `N${p.sequence}  ${count(p.parts, "part")}`);
     setText($(`path-${n}-alarm`), p.alarm ? `ALM ${p.alarm}` : (p.emergency ? "EMG" : "no alarm"));
   }
@@ -298,7 +301,7 @@ function renderMachine(v) {
       ...kinds.map((k) => el("td", {}, fmt(p[k]))))));
   $("m-feed").textContent = v.feed;
   $("m-spindle").textContent = v.spindle_speed;
-  $("m-program").textContent = `O${String(v.program_running).padStart(4, "0")}`;
+  $("m-program").textContent = oNumber(v.program_running);
   $("m-sequence").textContent = v.sequence;
   // each servo load by its axis, as the command line's watch names them
   const axis = (i) => v.positions[i] ? v.positions[i].axis : String(i + 1);
