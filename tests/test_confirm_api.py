@@ -150,3 +150,25 @@ async def test_a_machine_lost_is_told_with_why_not_with_the_client_s_state(
             assert f"127.0.0.1:{port}" in reason, reason
     finally:
         await server.aclose()
+
+
+# -- shards on one broker --------------------------------------------------------------------
+def test_each_shard_is_a_gateway_of_its_own_name_on_the_broker() -> None:
+    """Shards publish to one broker: each has its own ``$gateway/G/state`` topic (and will),
+    so that one shard stopping cleanly does not say that the others are offline."""
+    from focas_net.gateway import parse_config, shard
+
+    text = '[[fleet]]\nname_prefix = "m"\nhost = "127.0.0.1"\nfirst_port = 9000\ncount = 4\n'
+    config = parse_config(text + "[mqtt]\n")
+    assert shard(config, 1, 1).mqtt == config.mqtt
+    names = set()
+    for i in (1, 2):
+        settings = shard(config, i, 2).mqtt
+        assert settings is not None and settings.gateway == f"focas-net-{i}"
+        sink = MqttSink(settings)
+        assert sink.publication.gateway_name == settings.gateway
+        names.add(settings.gateway)
+    assert len(names) == 2
+    assert MqttSink(MqttSettings()).publication.gateway_name == "focas-net"
+    with pytest.raises(ValueError, match=r"mqtt\.gateway: got ''; expected a non-empty string"):
+        MqttSettings(gateway="").check()

@@ -172,6 +172,10 @@ class MqttSettings:
     buffer: int = 10_000
     tls: bool = False
     deadbands: Mapping[str, float] = field(default_factory=dict)
+    #: The gateway's name in its topics (``P/$gateway/G/state``) and messages; ``--shard
+    #: I/N`` (N > 1) makes it ``focas-net-I``, so that no shard's will or clean stop says
+    #: another is offline.
+    gateway: str = "focas-net"
 
     def check(self, source: str = "") -> None:
         """Raise :class:`ConfigError` naming the key (``mqtt.qos: got 3; ...``, after
@@ -189,7 +193,7 @@ class MqttSettings:
             or any(c in prefix for c in "+#\0")
         ):
             at.key("prefix").expected(prefix, _PREFIX_TEXT)
-        for key in ("client_id", "username", "password"):
+        for key in ("client_id", "username", "password", "gateway"):
             if getattr(self, key) is not None:
                 at.key(key).text(getattr(self, key), "a non-empty string")
         at.key("qos").integer(self.qos, 0, 2)
@@ -419,8 +423,10 @@ def shard(config: GatewayConfig, index: int, count: int) -> GatewayConfig:
                 f"{index - 1}, passes 65535 (opcua.endpoint {opcua.endpoint!r})"
             )
         opcua = replace(opcua, endpoint=with_port(opcua.endpoint, port))
-    if mqtt is not None and mqtt.client_id is not None:
-        mqtt = replace(mqtt, client_id=f"{mqtt.client_id}-{index}")
+    if mqtt is not None:
+        mqtt = replace(mqtt, gateway=f"{mqtt.gateway}-{index}")
+        if mqtt.client_id is not None:
+            mqtt = replace(mqtt, client_id=f"{mqtt.client_id}-{index}")
     return replace(config, machines=machines, opcua=opcua, mqtt=mqtt)
 
 

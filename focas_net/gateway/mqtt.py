@@ -93,14 +93,15 @@ class MqttSink:
         self,
         settings: MqttSettings,
         *,
-        gateway_name: str = "focas-net",
+        gateway_name: str | None = None,
         reconnect: tuple[float, float] = (0.5, 30.0),
         close_timeout: float = 5.0,
     ) -> None:
         if not isinstance(settings, MqttSettings):
             raise TypeError(f"settings must be an MqttSettings, got {settings!r}")
         settings.check()
-        self.publication = Publication(settings.prefix, gateway_name, settings.deadbands)
+        name = settings.gateway if gateway_name is None else gateway_name
+        self.publication = Publication(settings.prefix, name, settings.deadbands)
         self._buffer = Buffer(settings.buffer)
         self.settings = settings
         self._reconnect = reconnect
