@@ -12,6 +12,8 @@ from test_examples import port_args, run_example
 
 from focas_net.errors import EW
 from focas_net.sim import MachineError, MachineFileError, default_machine, load_machine
+from focas_net.web import Station, perform
+from focas_net.web.view import pmc_window
 
 HEAD = '[machine]\nname = "M"\naxes = ["X", "Y"]\n'
 
@@ -80,3 +82,27 @@ async def test_write_param_names_an_axis_the_cnc_has_not(axis: str, words: str) 
         assert code == 2 and "Traceback" not in err
         assert words in err
         assert (server.machine.panel.mode, server.machine.panel.pwe) == (1, 0)
+
+
+@pytest.mark.parametrize(("start", "shown"), [(8000, "R8000"), (-1, "R-1")])
+def test_a_pmc_address_beyond_its_area_is_refused_in_one_set_of_words(
+    start: int, shown: str
+) -> None:
+    """The page's PMC window said ``R8000 is outside R0..R7999`` and a click on a bit of the
+    same address ``R address 8000 outside 0..7999``: both are the machine's words now."""
+    station = Station(0, default_machine())
+    words = f"{shown} is outside R0..R7999"
+    with pytest.raises(MachineError) as read:
+        pmc_window(station.machine, "R", start)
+    with pytest.raises(MachineError) as clicked:
+        perform(station, "pmc_bit", {"area": "R", "address": start, "bit": 0, "value": 1})
+    with pytest.raises(MachineError) as direct:
+        station.machine.read_pmc("R", start, 1)
+    for refused in (read, clicked, direct):
+        assert (refused.value.ew, refused.value.detail) == (EW.NUMBER, words)
+
+
+def test_a_pmc_range_running_past_its_area_names_the_area() -> None:
+    with pytest.raises(MachineError) as refused:
+        default_machine().write_pmc("R", 7999, b"\0\0")
+    assert refused.value.detail == "R7999..R8000 goes past the end of R0..R7999"

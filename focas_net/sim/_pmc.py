@@ -144,13 +144,18 @@ class Area:
             self.data[address : address + len(raw)] = raw
 
     def beyond(self, start: int, end: int) -> MachineError:
-        """The refusal of addresses ``start..end - 1`` outside the area: a first address
-        outside it is named as given (``R address -1 outside 0..7999``)."""
+        """The refusal of addresses ``start..end - 1`` outside the area, in the words of every
+        front end: a first address outside it is named as given (``R-1 is outside
+        R0..R7999``, as the dashboard's PMC window says it), a range running past the end by
+        both ends (``R7999..R8000 goes past the end of R0..R7999``, as the command line says
+        it)."""
+        letter, last = self.letter, self.size - 1
         if not 0 <= start < self.size:
-            return MachineError(
-                EW.NUMBER, f"{self.letter} address {start} outside 0..{self.size - 1}"
-            )
-        return MachineError(EW.NUMBER, f"{self.letter}{start}..{end - 1} beyond {self.size} bytes")
+            return MachineError(EW.NUMBER, f"{letter}{start} is outside {letter}0..{letter}{last}")
+        return MachineError(
+            EW.NUMBER,
+            f"{letter}{start}..{letter}{end - 1} goes past the end of {letter}0..{letter}{last}",
+        )
 
 
 class Pmc:
