@@ -286,9 +286,13 @@ class FrameError(ProtocolError):
     order, so that a receiver can still answer them before it closes.
     """
 
-    def __init__(self, message: str, frames: list[Any] | None = None) -> None:
+    def __init__(
+        self, message: str, frames: list[Any] | None = None, length: int | None = None
+    ) -> None:
         super().__init__(message)
         self.frames: list[Any] = frames if frames is not None else []
+        #: the length prefix refused, when the violation is one
+        self.length: int | None = length
 
     def __reduce__(self) -> tuple[type[FrameError], tuple[str]]:
         return (type(self), (str(self),))

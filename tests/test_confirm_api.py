@@ -172,3 +172,20 @@ def test_each_shard_is_a_gateway_of_its_own_name_on_the_broker() -> None:
     assert MqttSink(MqttSettings()).publication.gateway_name == "focas-net"
     with pytest.raises(ValueError, match=r"mqtt\.gateway: got ''; expected a non-empty string"):
         MqttSettings(gateway="").check()
+
+
+# -- the packed client's max_frame -----------------------------------------------------------
+async def test_an_answer_above_a_lowered_max_frame_is_named_as_the_client_s_limit() -> None:
+    """A ``max_frame`` below a FOCAS answer refuses the answer: the error says so, not that
+    the server does not speak FOCAS (which it does)."""
+    from focas_net import FocasClient, ProtocolError
+
+    async with FocasServer(default_machine(), host="127.0.0.1", port=0) as server:
+        host, port = server.addresses[0]
+        with pytest.raises(ProtocolError) as caught:
+            async with FocasClient(host, port, max_frame=10, timeout=5) as cnc:
+                await cnc.read_status()
+    words = str(caught.value)
+    assert "does not speak" not in words
+    assert f"{host}:{port} sent a frame of " in words
+    assert "more than this client's max_frame=10 takes" in words

@@ -27,10 +27,12 @@ from focas_net._typed import os_words
 from focas_net.errors import (
     FocasConnectionError,
     FocasTimeoutError,
+    FrameError,
     PayloadError,
     ProtocolError,
 )
 from focas_net.protocol.codecs import COMMANDS
+from focas_net.protocol.frame import DEFAULT_MAX_FRAME
 
 __all__ = [
     "BEFORE_ANY_ANSWER",
@@ -86,12 +88,23 @@ def not_focas_error(peer: str, why: str) -> ProtocolError:
     return ProtocolError(f"{peer} does not speak the FOCAS protocol ({why})")
 
 
-def violation_error(peer: str, reason: str | BaseException, head: bytes) -> ProtocolError:
+def violation_error(
+    peer: str, reason: str | BaseException, head: bytes, max_frame: int = DEFAULT_MAX_FRAME
+) -> ProtocolError:
     """The error of a framing violation by ``peer``: it does not speak the FOCAS protocol.
 
     ``reason`` says which rule it broke; ``head`` (the first bytes of the offending chunk) is
-    shown as text, so that an HTTP answer reads as one; a TLS record is named as such.
+    shown as text, so that an HTTP answer reads as one; a TLS record is named as such. A
+    frame refused only for the client's own ``max_frame``, lower than the default, is named
+    as that, not as a peer of another protocol.
     """
+    length = reason.length if isinstance(reason, FrameError) else None
+    if length is not None and max_frame < length <= DEFAULT_MAX_FRAME:
+        return ProtocolError(
+            f"{peer} sent a frame of {length} bytes, more than this client's "
+            f"max_frame={max_frame} takes (a FOCAS answer may be up to "
+            f"{DEFAULT_MAX_FRAME} bytes: give a larger max_frame)"
+        )
     if len(head) >= 2 and head[0] in _TLS_RECORD_TYPES and head[1] == 3:
         what = "it sent a TLS record: the server expects TLS"
     else:

@@ -235,7 +235,7 @@ class Connection(RequestSlots, Received, asyncio.Protocol):
         except FrameError as exc:
             self._deliver(exc.frames)  # answers that arrived whole before the violation
             self._release_slots(live - self.in_flight)
-            violation = violation_error(self.peer, exc, bytes(data[:16]))
+            violation = violation_error(self.peer, exc, bytes(data[:16]), self._max_frame)
             logger.warning("closing connection to %s: %s", self.peer, violation)
             self._violation = violation
             self._abort(violation)

@@ -129,8 +129,8 @@ class FrameDecoder:
     def _violation(self, length: int, frames: list[RawFrame]) -> FrameError:
         self._buf.clear()
         message = f"frame length {length} outside 4..{self.max_frame}; closing the connection"
-        self._error = FrameError(message)
-        return FrameError(message, frames)
+        self._error = FrameError(message, length=length)
+        return FrameError(message, frames, length)
 
     def feed(self, data: bytes | bytearray | memoryview) -> list[Frame]:
         """Add ``data`` and return every frame now complete, in order (see :meth:`feed_raw`;
