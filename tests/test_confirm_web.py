@@ -15,7 +15,7 @@ from test_examples import port_args, run_example
 from focas_net.cli import EXIT_CNC
 from focas_net.errors import EW
 from focas_net.sim import MachineError, MachineFileError, default_machine, load_machine
-from focas_net.web import Station, perform
+from focas_net.web import Dashboard, Station, perform, stations_of
 from focas_net.web.view import pmc_window
 
 HEAD = '[machine]\nname = "M"\naxes = ["X", "Y"]\n'
@@ -139,3 +139,36 @@ async def test_program_load_of_a_number_beyond_the_store_names_its_range(
     with pytest.raises(MachineFileError) as refused:
         load_machine(machine_file)
     assert words in str(refused.value)
+
+
+@pytest.mark.parametrize(
+    ("query", "words"),
+    [
+        (
+            "clear_alarms?alm_type=3",
+            "/api/machines/0/actions/clear_alarms takes no query key 'alm_type' "
+            "(an action's arguments are the keys of its JSON body)",
+        ),
+        (
+            "clear_alarms?path=1",
+            "/api/machines/0/actions/clear_alarms takes no query key 'path' "
+            "(an action's arguments are the keys of its JSON body)",
+        ),
+    ],
+)
+async def test_an_action_refuses_a_query_rather_than_leave_it_unread(
+    query: str, words: str
+) -> None:
+    """``POST .../actions/clear_alarms?alm_type=3`` with no body cleared every alarm: the
+    query was never read. An action takes its arguments in its body only."""
+    aiohttp = pytest.importorskip("aiohttp", reason="the web dashboard needs aiohttp")
+    async with serving() as served:
+        served.machine.raise_alarm(0, 0, 100, "kept")
+        served.machine.raise_alarm(0, 3, 100, "kept too")
+        web = Dashboard(stations_of(served.server), port=0)
+        async with web, aiohttp.ClientSession() as session:
+            url = f"{web.url}api/machines/0/actions/{query}"
+            async with session.post(url, data=b"") as answer:
+                assert answer.status == 400
+                assert await answer.json() == {"ok": False, "error": words}
+        assert len(served.machine.active_alarms()) == 2

@@ -23,7 +23,8 @@ Routes::
 An action takes ``"path"`` (1 when not given) for what a path has: the cycle, the panel,
 overrides, alarms, parameters and macro variables of a path, program selection.
 
-A read takes the query keys shown, each once (another, or one twice, is 400).
+A read takes the query keys shown, each once (another, or one twice, is 400); an action
+takes none (its arguments are its body's keys: a query key is 400).
 An action answers 200 ``{"ok": true, ...}``; a refusal 409 (403 on a read-only dashboard)
 ``{"ok": false, "ew": 5, "ew_name": "EW_PASSWD", "error": ...}``; a bad argument 400
 ``{"ok": false, "error": ...}``; an unknown machine 404.
@@ -335,6 +336,13 @@ class Dashboard:
     async def _action(self, request: web.Request) -> web.Response:
         s = self._station(request)
         action = request.match_info["action"]
+        if request.query:  # never read: a query's alm_type would leave every alarm cleared
+            named = ", ".join(map(repr, sorted(set(request.query.keys()))))
+            why = (
+                f"{request.path} takes no query key {named} "
+                "(an action's arguments are the keys of its JSON body)"
+            )
+            return self._json({"ok": False, "error": why}, 400)
         try:
             body = await request.read() if request.can_read_body else b""
         except _aiohttp().HTTPRequestEntityTooLarge:
