@@ -3,13 +3,16 @@ cases it found, each checked where the fix lives."""
 
 from __future__ import annotations
 
+from collections.abc import AsyncIterator
 from pathlib import Path
 from typing import Any
 
 import pytest
+from cli_support import Cli
 from support import serving
 from test_examples import port_args, run_example
 
+from focas_net.cli import EXIT_CNC
 from focas_net.errors import EW
 from focas_net.sim import MachineError, MachineFileError, default_machine, load_machine
 from focas_net.web import Station, perform
@@ -106,3 +109,33 @@ def test_a_pmc_range_running_past_its_area_names_the_area() -> None:
     with pytest.raises(MachineError) as refused:
         default_machine().write_pmc("R", 7999, b"\0\0")
     assert refused.value.detail == "R7999..R8000 goes past the end of R0..R7999"
+
+
+@pytest.fixture
+async def cli(capsys: pytest.CaptureFixture[str]) -> AsyncIterator[Cli]:
+    async with serving(default_machine()) as served:
+        yield Cli(served, capsys)
+
+
+@pytest.mark.parametrize(
+    ("content", "words"),
+    [
+        (b"O0\nM30\n", "program number O0 is outside O1..O9999"),
+        (b"%\nO12345678 (BIG)\nM30\n%\n", "program number O12345678 is outside O1..O9999"),
+    ],
+)
+async def test_program_load_of_a_number_beyond_the_store_names_its_range(
+    cli: Cli, tmp_path: Path, content: bytes, words: str
+) -> None:
+    """EW_NUMBER of ``cnc_download`` said ``the number of O0000 is outside the program store's
+    range``: it names the number as written and the range, as a machine file's entry does."""
+    file = tmp_path / "part.nc"
+    file.write_bytes(content)
+    line = await cli.fails(EXIT_CNC, "program", "load", str(file))
+    assert line.startswith("focas-net: EW_NUMBER (3)")
+    assert f"{file}: {words}" in line
+    machine_file = tmp_path / "m.toml"
+    machine_file.write_text(f"{HEAD}[[program]]\nfile = 'part.nc'\n", encoding="utf-8")
+    with pytest.raises(MachineFileError) as refused:
+        load_machine(machine_file)
+    assert words in str(refused.value)

@@ -195,19 +195,33 @@ def _target(args: argparse.Namespace) -> str:
     return f"O{int(text):04d}" if text.isdigit() else str(args.target)
 
 
-def _not_one_program(args: argparse.Namespace) -> str:
-    """Why a CNC answered EW_DATA to the text of ``program load FILE``: the reason the
-    machine's program store gives for the same text (a character that is not printable ASCII
-    on line n, a second program, no O line ...), else what a program must be."""
+def _store_reason(args: argparse.Namespace) -> str | None:
+    """The reason the machine's program store gives for the text of ``program load FILE``
+    (None when it takes it, or the file cannot be read again)."""
     try:
         parse_program(Path(args.target).read_text("ascii", errors="replace"))
     except ProgramError as exc:
         return f"{args.target}: {exc}"
     except OSError:
         pass
-    return (
+    return None
+
+
+def _not_one_program(args: argparse.Namespace) -> str:
+    """Why a CNC answered EW_DATA to the text of ``program load FILE``: the store's reason
+    for the same text (a character that is not printable ASCII on line n, a second program,
+    no O line ...), else what a program must be."""
+    return _store_reason(args) or (
         f"{args.target} is not one part program: it must hold one program, whose first block "
         "is the O line with the program number (e.g. O1000)"
+    )
+
+
+def _beyond_the_store(args: argparse.Namespace) -> str:
+    """Why a CNC answered EW_NUMBER to ``program load FILE``: the number as written and the
+    range, in the store's words (``program number O0 is outside O1..O9999``)."""
+    return _store_reason(args) or (
+        f"the number of {_loaded(args)} is outside the program store's range"
     )
 
 
@@ -215,7 +229,7 @@ _RESET_FIRST: Final = "(focas-net sim cycle reset ends it)"
 _PROGRAM_LOAD: Final[Table] = {
     EW.REJECT: lambda a: f"{_loaded(a)} is already stored: give --replace to replace it",
     EW.DATA: _not_one_program,
-    EW.NUMBER: lambda a: f"the number of {_loaded(a)} is outside the program store's range",
+    EW.NUMBER: _beyond_the_store,
     EW.OVRFLOW: lambda a: "the program store is full (focas-net program delete N makes room)",
     EW.BUSY: lambda a: f"{_loaded(a)} is being executed {_RESET_FIRST}",
     EW.PROT: _read_only,
