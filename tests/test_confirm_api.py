@@ -189,3 +189,20 @@ async def test_an_answer_above_a_lowered_max_frame_is_named_as_the_client_s_limi
     assert "does not speak" not in words
     assert f"{host}:{port} sent a frame of " in words
     assert "more than this client's max_frame=10 takes" in words
+
+
+# -- a gateway entered twice -----------------------------------------------------------------
+async def test_a_gateway_is_entered_once_and_runs_once() -> None:
+    """Entering a running gateway again would start a second poll loop on one poller, and one
+    that has run has closed its clients: both are refused in words, and the running one goes
+    on."""
+    gateway = Gateway(GatewayConfig((MachineConfig("m", "127.0.0.1", 1),)))
+    async with gateway:
+        with pytest.raises(RuntimeError, match="the gateway is running already: enter it once"):
+            async with gateway:
+                pass
+        assert gateway.running
+    assert not gateway.running
+    with pytest.raises(RuntimeError, match="has run and closed its clients: make a new Gateway"):
+        async with gateway:
+            pass

@@ -246,6 +246,11 @@ class Poller:
     ) -> None:
         await self.aclose()
 
+    @property
+    def closed(self) -> bool:
+        """Whether :meth:`aclose` was called: the poller polls no more."""
+        return self._closed
+
     async def aclose(self) -> None:
         """Give up the reads under way, stop connecting and close every client."""
         self._closed = True

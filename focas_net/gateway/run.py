@@ -122,6 +122,10 @@ class Gateway:
         self.poller.sinks.append(sink)
 
     async def __aenter__(self) -> Self:
+        if self._task is not None:
+            raise RuntimeError("the gateway is running already: enter it once")
+        if self.poller.closed:
+            raise RuntimeError("the gateway has run and closed its clients: make a new Gateway")
         self._task = asyncio.get_running_loop().create_task(
             self.poller.run(), name="focas-net gateway poller"
         )
