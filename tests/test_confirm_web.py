@@ -172,3 +172,25 @@ async def test_an_action_refuses_a_query_rather_than_leave_it_unread(
                 assert answer.status == 400
                 assert await answer.json() == {"ok": False, "error": words}
         assert len(served.machine.active_alarms()) == 2
+
+
+async def test_a_machine_the_dashboard_has_not_is_named_alike_by_each_of_its_ends() -> None:
+    """The page said ``no machine '5' (this dashboard shows machine 0)``, a read ``no machine
+    '5'`` and a subscription ``no machine 5 (the machines are 0..0)``."""
+    aiohttp = pytest.importorskip("aiohttp", reason="the web dashboard needs aiohttp")
+    async with serving() as served:
+        web = Dashboard(stations_of(served.server), port=0)
+        async with web, aiohttp.ClientSession() as session:
+            async with session.get(f"{web.url}api/machines/5") as answer:
+                assert answer.status == 404
+                assert await answer.json() == {
+                    "ok": False,
+                    "error": "no machine '5' (this dashboard shows machine 0)",
+                }
+            async with session.ws_connect(f"{web.url}ws") as ws:
+                await ws.send_str('{"subscribe": "machine", "index": 5}')
+                frame = await ws.receive_json(timeout=5)
+                assert frame == {
+                    "type": "error",
+                    "error": "no machine 5 (this dashboard shows machine 0)",
+                }

@@ -510,7 +510,7 @@ async def test_a_pmc_area_is_refused_alike_by_a_read_and_a_write(area: str, stat
             '{"subscribe": "machine", "index": "0"}',
             "bad subscription: \"index\" is a machine's number, got '0'",
         ),
-        ('{"subscribe": "machine", "index": 9}', "no machine 9 (the machines are 0..0)"),
+        ('{"subscribe": "machine", "index": 9}', "no machine 9 (this dashboard shows machine 0)"),
         (
             '{"subscribe": "machine", "index": 0, "path": true}',
             'bad subscription: "path" is a whole number, got true',

@@ -22,7 +22,7 @@ from typing import Final
 from focas_net.sim import PMC_AREAS, MachineError
 
 from .operations import Station
-from .view import JsonDict, fleet_view, machine_view, pmc_window
+from .view import JsonDict, fleet_view, machine_view, no_machine, pmc_window
 
 __all__ = ["DEFAULT_INTERVAL", "FLEET", "Broadcaster", "Subscription", "Topic", "machine_topic"]
 
@@ -137,7 +137,7 @@ class Broadcaster:
         assert isinstance(index, int) and isinstance(area, str) and isinstance(start, int)
         assert isinstance(path, int)
         if not 0 <= index < len(self.stations):
-            return f"no machine {index} (the machines are 0..{len(self.stations) - 1})"
+            return no_machine(str(index), len(self.stations))
         machine = self.stations[index].machine
         count = machine.path_count
         if not 1 <= path <= count:

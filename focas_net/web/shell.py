@@ -61,6 +61,7 @@ from .view import (
     machine_view,
     macro_note,
     macro_rows,
+    no_machine,
     param_rows,
     pmc_address,
     pmc_window,
@@ -220,7 +221,7 @@ class Dashboard:
         if not (text.isascii() and text.isdigit()) or not int(text) < len(self.stations):
             aw = _aiohttp()
             raise aw.HTTPNotFound(
-                text=json.dumps({"ok": False, "error": f"no machine {text!r}"}),
+                text=json.dumps({"ok": False, "error": no_machine(repr(text), len(self.stations))}),
                 content_type="application/json",
             )
         return self.stations[int(text)]

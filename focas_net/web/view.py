@@ -54,6 +54,7 @@ __all__ = [
     "macro_note",
     "macro_range",
     "macro_rows",
+    "no_machine",
     "param_rows",
     "param_text",
     "pmc_address",
@@ -62,6 +63,14 @@ __all__ = [
 ]
 
 JsonDict = dict[str, Any]
+
+
+def no_machine(named: str, count: int) -> str:
+    """The refusal of machine ``named`` (as typed, or a JSON number) by a dashboard of
+    ``count`` machines, as the page says it over its fleet view."""
+    shows = "machine 0" if count == 1 else f"machines 0..{count - 1}"
+    return f"no machine {named} (this dashboard shows {shows})"
+
 
 #: Points of the tool path a :class:`PathTrail` keeps.
 PATH_POINTS: Final = 1500
