@@ -127,6 +127,9 @@ async def test_users_without_a_certificate_are_warned_in_the_gateways_words(
         assert await gateway.stop() == EXIT_OK
     warned = [line for line in gateway.err.decode().splitlines() if "WARNING" in line]
     assert any("passwords travel unencrypted" in w and "certificate" in w for w in warned)
+    # named with the port the server took, as the ready line names it
+    endpoint = gateway.ready.rstrip("\n").rpartition("; OPC UA ")[2]
+    assert any(f"OPC UA {endpoint}: users' passwords" in w for w in warned), (endpoint, warned)
     assert not any("asyncua" in w for w in warned), warned
 
 

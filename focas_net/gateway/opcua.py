@@ -40,7 +40,7 @@ from focas_net.gateway import _opcua_model as om
 from focas_net.gateway import _opcua_types as ot
 from focas_net.gateway._opcua_conditions import Conditions
 from focas_net.gateway._opcua_methods import add_write_methods
-from focas_net.gateway.config import OpcUaSettings, is_loopback
+from focas_net.gateway.config import OpcUaSettings, is_loopback, with_port
 from focas_net.gateway.model import AlarmChange, MachineShape, Sample, Writer
 
 __all__ = ["OpcUaSink", "is_loopback"]
@@ -285,16 +285,16 @@ class OpcUaSink:
             await server.get_node(node).write_data_type_definition(definition)
         made = await server.load_data_type_definitions()
         self._position_cls = made.get("CncPositionDataType") or ua.CncPositionDataType
-        if s.users and s.certificate is None:
-            log.warning(
-                "OPC UA %s: users' passwords travel unencrypted on this endpoint (give "
-                "certificate and private_key to encrypt them)",
-                s.endpoint,
-            )
         with _told_by_us():
             await server.start()
         gc.freeze()  # the standard address space, for good (see _describe)
         self._server = server
+        if s.users and s.certificate is None:  # (named with the port it took: port 0 asks any)
+            log.warning(
+                "OPC UA %s: users' passwords travel unencrypted on this endpoint (give "
+                "certificate and private_key to encrypt them)",
+                with_port(s.endpoint, self.port),
+            )
         self._alarm_conditions = Conditions(server, self._ns, self._cnc)
         self._task = asyncio.create_task(self._run(), name="opcua-sink")
 
