@@ -106,3 +106,19 @@ async def test_sysinfo_axes_are_the_machines_on_packed_and_the_paths_on_focas2()
             "sysinfo", "--port", port, "--json", "--protocol", "native", "--path", "2"
         )
     assert (json.loads(packed)["axes"], json.loads(native)["axes"]) == ("04", "02")
+
+
+@pytest.mark.parametrize(("typed", "mode"), [("mem ", 1), (" MDI", 0), ("edit", 3)])
+def test_a_machine_files_mode_is_read_as_the_page_and_mode_read_it(
+    tmp_path: Path, typed: str, mode: int
+) -> None:
+    path = tmp_path / "m.toml"
+    path.write_text(f'[machine]\nname = "m"\naxes = ["X"]\n[panel]\nmode = "{typed}"\n')
+    assert load_machine(path).status().aut == mode
+
+
+def test_a_mode_of_other_letters_is_no_mode_in_a_machine_file(tmp_path: Path) -> None:
+    path = tmp_path / "m.toml"
+    path.write_text('[machine]\nname = "m"\naxes = ["X"]\n[panel]\nmode = "md\u0131"\n')
+    with pytest.raises(MachineFileError, match="unknown mode"):
+        load_machine(path)

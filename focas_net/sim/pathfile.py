@@ -131,9 +131,10 @@ def _panel(ctx: _Ctx, value: Any) -> Panel:
     mode_v = t.get("mode", "MEM")
     c = ctx.sub("mode")
     if isinstance(mode_v, str):
-        if mode_v.upper() not in MODE_NAMES:
+        word = mode_v.strip().upper() if mode_v.isascii() else ""  # (ASCII letters only, as --mode)
+        if word not in MODE_NAMES:
             c.fail(f"unknown mode {mode_v!r} (expected one of: {', '.join(MODE_NAMES)})")
-        mode = MODE_NAMES[mode_v.upper()]
+        mode = MODE_NAMES[word]
     else:
         mode = _int(c, mode_v)
         if mode not in AUT_MODES:
