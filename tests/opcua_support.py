@@ -5,7 +5,7 @@ from __future__ import annotations
 
 import asyncio
 from collections.abc import AsyncIterator
-from contextlib import asynccontextmanager
+from contextlib import AsyncExitStack, asynccontextmanager
 from dataclasses import replace
 from typing import Any
 
@@ -13,7 +13,7 @@ from asyncua import Client, Node, ua
 
 from focas_net.errors import OPCUA_GOOD, OpcUaStatus
 from focas_net.gateway._opcua_types import CNC_NAMESPACE
-from focas_net.gateway.config import OpcUaSettings, OpcUaUser
+from focas_net.gateway.config import OpcUaSettings, OpcUaUser, WriteGates
 from focas_net.gateway.model import ITEMS, MachineShape, PathShape, Sample, Writer
 from focas_net.gateway.opcua import OpcUaSink
 
@@ -111,3 +111,34 @@ class Handler:
             if got.nodeid == node.nodeid and dv.Value is not None and dv.Value.Value == wanted:
                 return dv
         raise AssertionError(f"no data change of {node} to {wanted!r}")
+
+
+@asynccontextmanager
+async def writable(port: int, gates: WriteGates) -> AsyncIterator[tuple[Node, int]]:
+    """The gateway in front of the machine served on ``port`` (named ``mill``, FOCAS/2) with
+    ``gates`` open and the OPC UA write methods on, and an operator's session: the machine's
+    node and the gateway's namespace index, once the machine is online."""
+    from poller_support import QUICK
+    from support import wait_until
+
+    from focas_net.gateway import Gateway, GatewayConfig, GroupIntervals, MachineConfig
+    from focas_net.gateway.run import outputs
+
+    settings = replace(SETTINGS, writes=True, users=USERS, anonymous=False)
+    mill = MachineConfig(
+        "mill", "127.0.0.1", port, timeout=2.0, groups=GroupIntervals(1.0, 10.0, 1.0),
+        writes=gates,
+    )  # fmt: skip
+    conf = GatewayConfig((mill,), opcua=settings)
+    gateway = Gateway(conf, policy=QUICK)
+    async with AsyncExitStack() as stack:
+        (output,) = outputs(conf, gateway.writer)
+        sink = await stack.enter_async_context(output)
+        assert isinstance(sink, OpcUaSink)
+        gateway.add_sink(sink)
+        await stack.enter_async_context(gateway)
+        await wait_until(lambda: gateway.poller.is_online("mill") is True)
+        await sink.flush()
+        client = await stack.enter_async_context(connected(sink, "operator", "s3cret"))
+        root = await machine_node(client, "mill")
+        yield root, await client.get_namespace_index("urn:focas-net:gateway")

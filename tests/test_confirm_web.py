@@ -9,8 +9,8 @@ from typing import Any
 
 import pytest
 from cli_support import Cli
+from examples_support import port_args, run_example
 from support import serving
-from test_examples import port_args, run_example
 
 from focas_net.cli import EXIT_CNC
 from focas_net.errors import EW

@@ -2,46 +2,18 @@
 
 from __future__ import annotations
 
-import asyncio
 import os
 import re
-import sys
 from decimal import Decimal
 from pathlib import Path
 
 import pytest
-from support import IO_TIMEOUT, Served, serving, wait_until
+from examples_support import EXAMPLES, port_args, run_example
+from support import Served, serving, wait_until
 
 from focas_net.server import FocasServer
 from focas_net.sim import Machine, default_machine, load_machine
 from focas_net.sim.nc import RealTimeClock
-
-EXAMPLES = Path(__file__).resolve().parent.parent / "examples"
-#: Upper bound of one example run (they all finish by themselves well before).
-RUN_TIMEOUT = 12 * IO_TIMEOUT
-
-
-async def run_example(name: str, *args: str) -> tuple[int, str, str]:
-    """Run ``examples/<name>`` with ``args``; its exit code, stdout and stderr."""
-    proc = await asyncio.create_subprocess_exec(
-        sys.executable,
-        str(EXAMPLES / name),
-        *args,
-        stdout=asyncio.subprocess.PIPE,
-        stderr=asyncio.subprocess.PIPE,
-    )
-    try:
-        out, err = await asyncio.wait_for(proc.communicate(), RUN_TIMEOUT)
-    finally:
-        if proc.returncode is None:
-            proc.kill()
-            await proc.wait()
-    assert proc.returncode is not None
-    return proc.returncode, out.decode(), err.decode()
-
-
-def port_args(served: Served) -> list[str]:
-    return ["--host", served.host, "--port", str(served.port)]
 
 
 def test_every_example_is_tested() -> None:

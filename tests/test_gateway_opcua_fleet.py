@@ -6,22 +6,20 @@ once it is back; write methods through the configuration's write gates."""
 from __future__ import annotations
 
 from contextlib import AsyncExitStack
-from dataclasses import replace
 from decimal import Decimal
 from pathlib import Path
 from typing import Any
 
 import pytest
 from asyncua import Node, ua
-from opcua_support import SETTINGS, USERS, Handler, cnc_path, connected, machine_node
+from opcua_support import SETTINGS, Handler, cnc_path, connected, machine_node, writable
 from poller_support import QUICK, until
-from support import serving, wait_until
+from support import serving
 
-from focas_net.gateway import Gateway, GatewayConfig, GroupIntervals, MachineConfig, WriteGates
+from focas_net.gateway import GroupIntervals, MachineConfig, WriteGates
 from focas_net.gateway._opcua_types import CNC_NAMESPACE, CncId
 from focas_net.gateway.opcua import OpcUaSink
 from focas_net.gateway.poller import Poller
-from focas_net.gateway.run import outputs
 from focas_net.protocol.alarms import alarm_code
 from focas_net.server import FocasServer
 from focas_net.sim import default_machine, load_machine
@@ -135,20 +133,7 @@ async def test_the_write_methods_go_through_the_gateways_write_gates() -> None:
     machine = default_machine()
     async with serving(machine) as served:
         gates = WriteGates(macros=((500, 599),), pmc=(("R", 100, 199),))
-        settings = replace(SETTINGS, writes=True, users=USERS, anonymous=False)
-        conf = GatewayConfig((replace(config("mill", served.port), writes=gates),), opcua=settings)
-        gateway = Gateway(conf, policy=QUICK)
-        async with AsyncExitStack() as stack:
-            (output,) = outputs(conf, gateway.writer)
-            sink = await stack.enter_async_context(output)
-            assert isinstance(sink, OpcUaSink)
-            gateway.add_sink(sink)
-            await stack.enter_async_context(gateway)
-            await wait_until(lambda: gateway.poller.is_online("mill") is True)
-            await sink.flush()
-            client = await stack.enter_async_context(connected(sink, "operator", "s3cret"))
-            root = await machine_node(client, "mill")
-            ns = await client.get_namespace_index("urn:focas-net:gateway")
+        async with writable(served.port, gates) as (root, ns):
             i32 = ua.VariantType.Int32
             await root.call_method(
                 f"{ns}:WriteMacro", ua.Variant(510, i32), 1.25, ua.Variant(1, i32)

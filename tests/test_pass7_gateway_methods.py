@@ -8,21 +8,16 @@ text or a float cut to an integer."""
 from __future__ import annotations
 
 import logging
-from contextlib import AsyncExitStack
-from dataclasses import replace
 from decimal import Decimal
 from typing import Any
 
 import pytest
 from asyncua import ua
-from opcua_support import SETTINGS, USERS, connected, machine_node
-from poller_support import QUICK
-from support import serving, wait_until
+from opcua_support import writable
+from support import serving
 
-from focas_net.gateway import Gateway, GatewayConfig, GroupIntervals, MachineConfig, WriteGates
+from focas_net.gateway import WriteGates
 from focas_net.gateway._opcua_methods import arguments
-from focas_net.gateway.opcua import OpcUaSink
-from focas_net.gateway.run import outputs
 from focas_net.sim import default_machine
 
 V = ua.VariantType
@@ -97,28 +92,7 @@ async def test_bad_calls_write_nothing_and_log_no_traceback(
     machine = default_machine()
     async with serving(machine) as served:
         gates = WriteGates(macros=((500, 599),), params=((6711, 6713),), pmc=(("R", 100, 199),))
-        settings = replace(SETTINGS, writes=True, users=USERS, anonymous=False)
-        mill = MachineConfig(
-            "mill",
-            "127.0.0.1",
-            served.port,
-            timeout=2.0,
-            groups=GroupIntervals(1.0, 10.0, 1.0),
-            writes=gates,
-        )
-        conf = GatewayConfig((mill,), opcua=settings)
-        gateway = Gateway(conf, policy=QUICK)
-        async with AsyncExitStack() as stack:
-            (output,) = outputs(conf, gateway.writer)
-            sink = await stack.enter_async_context(output)
-            assert isinstance(sink, OpcUaSink)
-            gateway.add_sink(sink)
-            await stack.enter_async_context(gateway)
-            await wait_until(lambda: gateway.poller.is_online("mill") is True)
-            await sink.flush()
-            client = await stack.enter_async_context(connected(sink, "operator", "s3cret"))
-            root = await machine_node(client, "mill")
-            ns = await client.get_namespace_index("urn:focas-net:gateway")
+        async with writable(served.port, gates) as (root, ns):
             i32 = ua.Variant(1, V.Int32)
             with caplog.at_level(logging.WARNING):
                 with pytest.raises(ua.uaerrors.BadArgumentsMissing):

@@ -4,13 +4,12 @@ reasons, the command line's messages)."""
 
 from __future__ import annotations
 
-import asyncio
-import sys
 from collections.abc import AsyncIterator
 from pathlib import Path
 
 import pytest
-from cli_support import SUBPROCESS_TIMEOUT, Cli, run_focas_net
+from cli_support import Cli, run_focas_net
+from examples_support import EXAMPLES, run_example
 from support import serving
 
 from focas_net.cli import EXIT_CNC, EXIT_USAGE
@@ -97,8 +96,6 @@ async def test_program_load_of_a_too_long_file_names_the_file(cli: Cli, tmp_path
 
 
 # -- the examples' machines ------------------------------------------------------------------
-
-EXAMPLES = Path(__file__).resolve().parent.parent / "examples"
 
 
 async def test_a_path_waiting_at_a_waiting_m_code_shows_motion_wait(
@@ -315,29 +312,13 @@ async def test_a_program_of_a_long_name_leaves_the_directory_readable(
     assert (await cli.json("program", "show", "1701"))["text"].startswith(f"O1701 ({name})")
 
 
-async def _run_example(name: str, *args: str) -> tuple[int, str, str]:
-    """``python examples/NAME ARGS``: exit code, stdout, stderr (killed after a bound)."""
-    proc = await asyncio.create_subprocess_exec(
-        sys.executable, str(EXAMPLES / name), *args,
-        stdout=asyncio.subprocess.PIPE, stderr=asyncio.subprocess.PIPE,
-    )  # fmt: skip
-    try:
-        out, err = await asyncio.wait_for(proc.communicate(), SUBPROCESS_TIMEOUT)
-    finally:
-        if proc.returncode is None:
-            proc.kill()
-            await proc.wait()
-    assert proc.returncode is not None
-    return proc.returncode, out.decode(), err.decode()
-
-
 async def test_fleet_poll_counts_each_poll_of_an_unreachable_machine_as_failed() -> None:
     """examples/fleet_poll.py: with one machine of two unreachable, 3 rounds are 6 polls of
     which 3 failed (it printed "6 polls ..., 1 failed")."""
     async with serving() as gone:
         dead = gone.port
     async with serving() as live:
-        code, out, err = await _run_example(
+        code, out, err = await run_example(
             "fleet_poll.py", "--ports", f"{live.port},{dead}", "--rounds", "3", "--interval", "0"
         )
     assert (code, err) == (1, "")
