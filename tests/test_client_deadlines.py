@@ -29,7 +29,7 @@ from decimal import Decimal
 from typing import Any
 
 import pytest
-from hypothesis import HealthCheck, given, settings
+from hypothesis import HealthCheck, example, given, settings
 from hypothesis import strategies as st
 from virtual_net import VirtualLoop
 
@@ -226,6 +226,14 @@ def _nothing_pending(packed: FocasClient, native: NativeClient) -> None:
     suppress_health_check=[HealthCheck.too_slow, HealthCheck.data_too_large],
 )
 @given(steps=STEPS)
+@example(  # a call made while a delayed answer closes the pair on its deadline
+    steps=[
+        ("call", "native", ("read_status", ()), None),
+        ("fault", FaultKind.DELAY, 2, 4000),
+        ("wait", 2.0, 0, 0),
+        ("call", "native", ("read_alarm_history", (1,)), None),
+    ]
+)
 def test_every_call_ends_by_its_deadline(steps: list[tuple[Any, ...]]) -> None:
     world = World(VirtualLoop())
     records: list[Record] = []

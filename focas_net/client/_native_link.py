@@ -588,12 +588,15 @@ class NativeLink(CompositeCalls):
             self._complete([job])
             return job
         handle = self._handle
-        if session.overdue and self._policy is not None and handle is not None:
-            # a call waits behind an answer already late: a new pair carries it at once
+        given_up = session.overdue and self._policy is not None and handle is not None
+        if given_up and handle is not None:
+            # a call waits behind an answer already late: a new pair carries it at once (its
+            # deadline still holds while the pair is made: the timer below ends it on time)
             self._lose(handle, "no answer within the timeout")
-            return job
         if session.wake_at < self._timer_at:
             self._arm(session.wake_at)
+        if given_up:
+            return job
         if idle:
             # (a call queued behind a frame in flight has no need of its task: see _on_data)
             task = asyncio.current_task(loop)
