@@ -374,6 +374,19 @@ def parse_program(text: str, max_number: int = 9999) -> Program:
         raise ProgramError(
             ProgramErrorReason.FORMAT, f"no program number after O in {first.strip()[:40]!r}"
         )
+    width = len(str(max_number))
+    if pos < len(code) and not code[pos].isalpha():  # O1.5, O1-2: no whole number
+        what = "no decimal point" if code[pos] in ".," else f"no {code[pos]!r} after its digits"
+    elif len(digits) > width and int(digits) <= max_number:  # O00001: digits too many
+        what = f"not {len(digits)}"
+    else:
+        what = ""
+    if what:
+        raise ProgramError(
+            ProgramErrorReason.FORMAT,
+            f"{first.strip()[:40]!r}: a program number is O and 1..{width} digits, {what} "
+            f"(O1..O{max_number})",
+        )
     number = int(digits)
     if not 1 <= number <= max_number:
         raise ProgramError(
