@@ -96,7 +96,7 @@ def _param_range(args: argparse.Namespace) -> str:
     what = f"the CNC refused {args.value} for {_item('parameter', args)}: outside its range"
     if "." in str(args.value):
         what += ", or more decimals than the parameter keeps"
-    if args.number == AXIS_NAME_PARAM:
+    if str(args.number).partition(".")[0].strip() == str(AXIS_NAME_PARAM):
         what += (
             ", or a letter other than the axis's own (a focas-net machine's axes are fixed "
             "when it is built; a control takes a new name at its next power-on)"
