@@ -21,7 +21,7 @@ import math
 from collections.abc import Callable, Mapping
 from dataclasses import dataclass, field
 from decimal import Decimal
-from typing import Any, Final
+from typing import Any, Final, TypeVar
 
 from focas_net._bits import bits_of_text
 from focas_net._typed import (
@@ -161,6 +161,29 @@ def _optional_int(args: Mapping[str, Any], key: str) -> int | None:
     return _int(args, key)
 
 
+_T = TypeVar("_T")
+
+
+def _read_as(
+    args: Mapping[str, Any],
+    key: str,
+    parse: Callable[[str], int],
+    fallback: Callable[[Mapping[str, Any], str], _T],
+) -> int | _T:
+    """``args[key]`` typed as text, read by ``parse`` as the command line reads the option
+    (:func:`~focas_net._typed.rapid_step` for ``F0``, :func:`~focas_net.protocol.ew_of_text`
+    for ``EW_BUSY``), its refusal naming ``key``; anything else (a JSON number, nothing, empty
+    text) as ``fallback(args, key)`` reads it (:func:`_int`: needed; :func:`_optional_int`:
+    None when not given)."""
+    value = args.get(key)
+    if isinstance(value, str) and value.strip():
+        try:
+            return parse(value)
+        except ValueError as exc:
+            raise ActionError(f"{key}: {exc}") from None
+    return fallback(args, key)
+
+
 def _text(args: Mapping[str, Any], key: str, default: str = "", *, needed: str = "") -> str:
     """``args[key]`` as text (``default`` when not given); with ``needed`` (what the key
     names: ``start, hold or reset``), a key not given (or ``null``) is refused saying so,
@@ -259,22 +282,10 @@ def _panel(station: Station, args: Mapping[str, Any]) -> JsonDict:
     return {}
 
 
-def _rapid(args: Mapping[str, Any]) -> int | None:
-    """The rapid override as the command line takes it: ``F0`` (0 %) or a number
-    (:func:`~focas_net._typed.rapid_step`); None when not given."""
-    value = args.get("rapid")
-    if isinstance(value, str) and value.strip():
-        try:
-            return rapid_step(value)
-        except ValueError as exc:
-            raise ActionError(f"rapid: {exc}") from None
-    return _optional_int(args, "rapid")
-
-
 def _overrides(station: Station, args: Mapping[str, Any]) -> JsonDict:
     station.machine.set_overrides(
         _optional_int(args, "feed"),
-        _rapid(args),
+        _read_as(args, "rapid", rapid_step, _optional_int),
         _optional_int(args, "spindle"),
         path=_path(args),
     )
@@ -284,13 +295,12 @@ def _overrides(station: Station, args: Mapping[str, Any]) -> JsonDict:
 def _alarm_type(args: Mapping[str, Any], default: int | None = None) -> int:
     """``alm_type`` by its number or its name (``PS``), as the command line and the client
     take it (:func:`~focas_net.protocol.alarm_type_of`)."""
-    value = args.get("alm_type")
-    if isinstance(value, str) and value.strip().isalpha():
-        try:
-            return alarm_type_of(value)
-        except ValueError as exc:
-            raise ActionError(f"alm_type: {exc}") from None
-    return _int(args, "alm_type", default)
+    return _read_as(args, "alm_type", _alarm_type_text, lambda a, k: _int(a, k, default))
+
+
+def _alarm_type_text(text: str) -> int:
+    """An alarm type typed as text: a name (``PS``) or a number (``3``)."""
+    return alarm_type_of(text) if text.strip().isalpha() else whole_number(text)
 
 
 def _raise_alarm(station: Station, args: Mapping[str, Any]) -> JsonDict:
@@ -446,18 +456,6 @@ def _digits(text: str) -> bool:
     return text.isascii() and text.isdigit()
 
 
-def _ew_arg(args: Mapping[str, Any]) -> int:
-    """An ERROR fault's ``arg``: an EW code by number or name (``EW_BUSY``, ``busy``), as
-    ``focas-net sim fault error --arg`` takes it (:func:`~focas_net.protocol.ew_of_text`)."""
-    value = args.get("arg")
-    if isinstance(value, str) and value.strip():
-        try:
-            return ew_of_text(value)
-        except ValueError as exc:
-            raise ActionError(f"arg: {exc}") from None
-    return _int(args, "arg")
-
-
 def _inject_fault(station: Station, args: Mapping[str, Any]) -> JsonDict:
     """Arm a machine-wide fault with the checks of 0x0E05 inject_fault: a refused argument is
     ``EW_DATA`` with the reason :func:`~focas_net.server.faults.fault_refusal` gives every
@@ -469,10 +467,14 @@ def _inject_fault(station: Station, args: Mapping[str, Any]) -> JsonDict:
     except (KeyError, ValueError):
         names = ", ".join(k.name for k in FaultKind)
         raise ActionError(f"kind: one of {names}, got {kind_text!r}") from None
-    # a delay or an error needs its argument; a drop or a split ignores the arg box
-    needs_arg = kind in (FaultKind.DELAY, FaultKind.ERROR)
     count = _int(args, "count", 1)
-    arg = (_ew_arg(args) if kind is FaultKind.ERROR else _int(args, "arg")) if needs_arg else 0
+    # a delay or an error needs its argument; a drop or a split ignores the arg box
+    if kind is FaultKind.ERROR:
+        arg = _read_as(args, "arg", ew_of_text, _int)
+    elif kind is FaultKind.DELAY:
+        arg = _int(args, "arg")
+    else:
+        arg = 0
     station.machine.check_writable()  # the order of every control command: read-only first
     reason = fault_refusal(int(kind), int(FaultScope.MACHINE), count, arg)
     if reason is not None:
