@@ -258,18 +258,15 @@ def _mode(args: Mapping[str, Any]) -> int | None:
 
 
 def _switch(args: Mapping[str, Any], key: str) -> int | None:
-    """A switch (PWE, the emergency stop, a PMC bit) as the command line takes it: 1/0, a
-    JSON ``true``/``false`` or ``on``/``off`` and the other words of :func:`switch` (None when
-    not given); another number is the machine's to refuse, with its range."""
+    """A switch (PWE, the emergency stop, a PMC bit) as the command line takes it: text read
+    by :func:`switch` as ``--pwe`` reads it (``1``/``0``, ``on``/``off`` and its other words:
+    ``+1`` or ``2`` typed is refused in its words), a JSON ``true``/``false``, or a JSON number,
+    the value as the wire carries it (the machine refuses another than 0 and 1, with its
+    range); None when not given."""
     value = args.get(key)
     if isinstance(value, bool):
         return int(value)
-    if isinstance(value, str) and value.strip() and not value.strip().lstrip("+-").isdigit():
-        try:
-            return int(switch(value))
-        except ValueError as exc:
-            raise ActionError(f"{key}: {exc}") from None
-    return _optional_int(args, key)
+    return _read_as(args, key, lambda text: int(switch(text)), _optional_int)
 
 
 def _panel(station: Station, args: Mapping[str, Any]) -> JsonDict:
@@ -299,8 +296,10 @@ def _alarm_type(args: Mapping[str, Any], default: int | None = None) -> int:
 
 
 def _alarm_type_text(text: str) -> int:
-    """An alarm type typed as text: a name (``PS``) or a number (``3``)."""
-    return alarm_type_of(text) if text.strip().isalpha() else whole_number(text)
+    """An alarm type typed as text: a number (``3``) or, any other text, a name (``PS``),
+    refused naming what was typed and the names (``P S`` or ``T31`` is no number either)."""
+    word = text.strip().lstrip("+-")
+    return whole_number(text) if word[:1].isdigit() else alarm_type_of(text)
 
 
 def _raise_alarm(station: Station, args: Mapping[str, Any]) -> JsonDict:
@@ -351,7 +350,9 @@ def _pmc_bit(station: Station, args: Mapping[str, Any]) -> JsonDict:
     else:
         raise ActionError(f"value: 0 or 1, got {value}")
     m.write_pmc(area, address, bytes([byte]), force=area in FORCED_PMC_AREAS)
-    return {"area": area, "address": address, "byte": byte}
+    # the bit as `focas-net pmc bit --json` names it (its "byte" is the address: the byte's
+    # value is not answered under that name)
+    return {"area": area, "address": address, "bit": bit, "value": byte >> bit & 1}
 
 
 #: Digits of a parameter value the page passes on (a parameter holds 10 at most): beyond, the
@@ -468,11 +469,13 @@ def _inject_fault(station: Station, args: Mapping[str, Any]) -> JsonDict:
         names = ", ".join(k.name for k in FaultKind)
         raise ActionError(f"kind: one of {names}, got {kind_text!r}") from None
     count = _int(args, "count", 1)
-    # a delay or an error needs its argument; a drop or a split ignores the arg box
+    # a delay or an error needs its argument; a drop or a split takes none
     if kind is FaultKind.ERROR:
         arg = _read_as(args, "arg", ew_of_text, _int)
     elif kind is FaultKind.DELAY:
         arg = _int(args, "arg")
+    elif args.get("arg") not in (None, ""):  # as `sim fault drop --arg 5` is refused
+        raise ActionError(f"arg does not apply to a {kind.name.lower()} fault")
     else:
         arg = 0
     station.machine.check_writable()  # the order of every control command: read-only first
