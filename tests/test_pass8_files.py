@@ -299,3 +299,23 @@ async def test_serve_of_a_file_of_a_wrong_parameter_type_is_one_line(tmp_path: P
         EXIT_USAGE, "serve", "--port", "0", "--machine", str(path), prefix="focas-net"
     )
     assert "parameters.8110.type: the machine reads its waiting M codes from it" in line
+
+
+def test_a_comment_before_the_o_number_leaves_no_stray_block() -> None:
+    """``(12)O12`` used to add a block ``)O12`` (the number was looked for in the comment),
+    which alarmed when run."""
+    program = parse_program("(12)O12\nG4 X0.1\nM30\n")
+    assert (program.number, program.name) == (12, "12")
+    assert [b.text for b in program.blocks] == ["G4 X0.1", "M30"]
+    clock = ManualClock()
+    machine = default_machine(sim_clock=clock, programs=("(12)O12\nG4 X0.1\nM30\n",))
+    machine.select_program(12)
+    machine.cycle_start()
+    clock.advance(1.0)
+    assert machine.active_alarms() == [] and machine.read_param(6711, 0) == 1
+
+
+def test_a_program_in_a_literal_toml_string_is_told_how_to_write_it(tmp_path: Path) -> None:
+    message = _refused(tmp_path, "[[program]]\ntext = 'O1\\nG0 X1.\\nM30'\n")
+    assert "m.toml: program[0].text: " in message
+    assert "a TOML string in '...' keeps \\n as written" in message

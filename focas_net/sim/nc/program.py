@@ -174,6 +174,24 @@ def _strip_comments(line: str) -> tuple[str, str]:
     return "".join(code), comment or ""
 
 
+def _code_end(line: str, count: int) -> int:
+    """The index in ``line`` just after its ``count``-th character of code (outside comments,
+    spaces not counted: :func:`_strip_comments`'s code), so that ``(12)O12 G0`` goes on after
+    ``O12``, not after the comment's ``12``."""
+    depth = 0
+    seen = 0
+    for i, c in enumerate(line):
+        if seen == count:
+            return i
+        if depth:
+            depth = 0 if c == ")" else 1
+        elif c == "(":
+            depth = 1
+        elif not c.isspace():
+            seen += 1
+    return len(line)
+
+
 #: A block that opens a program: its number after O (or ``:``, FANUC's other program address).
 _PROGRAM_NUMBER: Final = re.compile(r"[O:]\d", re.IGNORECASE)
 
@@ -394,7 +412,7 @@ def parse_program(text: str, max_number: int = 9999) -> Program:
             f"program number O{digits} is outside O1..O{max_number}",
             number,
         )
-    rest = first[first.upper().index(digits) + len(digits) :]
+    rest = first[_code_end(first, pos) :]
     rest_code, _ = _strip_comments(rest)
     for n, b in blocks_text[1:]:
         if _opens(b):
