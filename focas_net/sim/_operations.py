@@ -184,7 +184,7 @@ class PathOperations:
     def set_overrides(
         self,
         feed: int | None = None,
-        rapid: int | None = None,
+        rapid: int | str | None = None,
         spindle: int | None = None,
         *,
         path: int = 1,
@@ -192,7 +192,9 @@ class PathOperations:
         """Feed override 0..254 %, rapid override one of FANUC's steps 0 (F0), 25, 50, 100 %,
         spindle override 0..254 % (None: unchanged): EW_PROT (read-only machine), EW_DATA (a
         value outside its range, a rapid override between the steps), TypeError (a value that
-        is no whole number)."""
+        is no whole number). The rapid override also takes the name of its slowest step as the
+        command line and the page read it, ``"F0"`` (any case; ``"F25"`` is a ValueError listing
+        the steps)."""
         self.check_writable()
         self._paths.at(path).set_overrides(feed, rapid, spindle)
         self._show_overrides(path)

@@ -132,7 +132,7 @@ from ._paths import (
     own_params,
     path_specs,
 )
-from ._pmc import F_SIGNALS, G_SIGNALS, PMC_AREAS, Pmc, PmcAreaSpec
+from ._pmc import F_SIGNALS, G_SIGNALS, PMC_AREAS, Pmc, PmcAreaSpec, need_pmc_count
 from ._signals import (
     CLOCK_VARIABLES,
     SERVO_POWER_DIAG,
@@ -625,12 +625,11 @@ class Machine(
 
     def read_pmc(self, letter: str, start: int, length: int) -> bytes:
         """``length`` bytes of area ``letter`` from address ``start``: EW_NOOPT (no such area),
-        EW_NUMBER (addresses outside the area)."""
+        EW_LENGTH (a ``length`` below 1: a PMC range holds one byte at least, as FANUC's
+        ``pmc_rdpmcrng`` from ``s`` to ``e`` does), EW_NUMBER (addresses outside the area)."""
         area = self._pmc.area(letter)
         need_int("PMC start address", start)
-        need_int("PMC byte count", length)
-        if length < 0:
-            raise ValueError(f"a PMC read of {length} bytes")
+        need_pmc_count(need_int("PMC byte count", length))
         if area.letter == "F":
             if self._paths.live:
                 self._sync()  # the F signals follow the run state
@@ -643,7 +642,8 @@ class Machine(
     def write_pmc(self, letter: str, start: int, data: bytes, *, force: bool = False) -> None:
         """Write ``data`` into area ``letter`` from address ``start`` (``force``: the
         simulator's own write, which ignores write protection): EW_PROT (read-only machine),
-        EW_NOOPT, EW_NUMBER (addresses outside the area), EW_PROT (write-protected area).
+        EW_NOOPT, EW_LENGTH (no bytes: a PMC range holds one at least, as :meth:`read_pmc`'s),
+        EW_NUMBER (addresses outside the area), EW_PROT (write-protected area).
         A write that changes G signals of automatic operation (:data:`G_SIGNALS`) acts on
         them as the CNC does."""
         self.check_writable()
