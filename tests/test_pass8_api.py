@@ -4,7 +4,8 @@ ranges, refused alike wherever the same rule applies, naming what was given."""
 
 from __future__ import annotations
 
-from collections.abc import AsyncIterator
+from collections.abc import AsyncIterator, Callable
+from decimal import Decimal
 from pathlib import Path
 from typing import Any
 
@@ -101,7 +102,7 @@ def test_the_machine_refuses_a_pmc_range_of_no_bytes_as_the_clients_do(area: str
     version = machine.version
     for op in (
         lambda: machine.write_pmc(area, 0, b""),
-        lambda: machine.write_pmc(area, 0, bytearray(), force=True),
+        lambda: machine.write_pmc(area, 0, b"", force=True),
         lambda: machine.read_pmc(area, 0, 0),
         lambda: machine.read_pmc(area, 0, -1),
     ):
@@ -162,3 +163,99 @@ async def test_an_alarm_axis_is_named_with_the_count_of_the_path_it_was_raised_o
         "axis_no 3 outside 0..2: the path has 2 axes (0: an alarm of no axis)"
     )
     assert [a.axis_no for a in machine.active_alarms(path=2)] == [2]
+
+
+# -- the machine's other numbers, switches and sequences ---------------------------------------
+def _machine_calls(m: Machine, bad: Any) -> dict[str, Any]:
+    """Calls of the machine with ``bad`` where a whole number goes, by the argument's name."""
+    return {
+        "program number": lambda: m.select_program(bad),
+        "program number ": lambda: m.delete_program(bad),
+        "program number  ": lambda: m.program_text(bad),
+        "timer kind": lambda: m.timer(bad),
+        "timer kind ": lambda: m.timer_ms(bad),
+        "parameter number": lambda: m.param_item(bad),
+        "diagnostic number": lambda: m.diag_item(bad),
+        "macro number": lambda: m.macro_writable(bad),
+        "rack": lambda: m.module_record(bad, 1),
+        "slot": lambda: m.config_record(0, bad),
+        "offset": lambda: m.read_config(0, 1, bad, 2),
+        "length": lambda: m.read_config(0, 1, 0, bad),
+        "number": lambda: m.read_diag(bad, 0),
+        "axis": lambda: m.read_diag(410, bad),
+    }
+
+
+@pytest.mark.parametrize("bad", [1.5, "1", b"x", [], True, Decimal("1"), "\u0661"])
+def test_a_machine_number_of_another_type_is_a_type_error_naming_it(bad: Any) -> None:
+    m = default_machine()
+    for what, call in _machine_calls(m, bad).items():
+        with pytest.raises(TypeError) as refused:
+            call()
+        assert str(refused.value) == f"{what.strip()} must be an integer, got {bad!r}", what
+
+
+@pytest.mark.parametrize("bad", [1.5, "yes", 1, 0, b"", None])
+def test_a_machine_switch_is_true_or_false_not_anything_truthy(bad: Any) -> None:
+    m = default_machine()
+    version = m.version
+    with pytest.raises(TypeError, match=rf"force must be True or False, got {bad!r}"):
+        m.write_pmc("R", 0, b"\x01", force=bad)
+    with pytest.raises(TypeError, match=rf"replace must be True or False, got {bad!r}"):
+        m.store_program("O1234\nM30\n%", replace=bad)
+    assert m.version == version and 1234 not in [p.number for p in m.program_directory()]
+    if bad is not None:  # None leaves the repeat setting as it is
+        with pytest.raises(TypeError, match=r"repeat must be True, False or None, got"):
+            m.cycle_start(repeat=bad)
+
+
+@pytest.mark.parametrize("kind", [True, False])
+def test_a_current_folder_kind_is_no_bool(kind: bool) -> None:
+    m = default_machine()
+    for call in (lambda: m.current_folder(kind), lambda: m.set_current_folder("//CNC_MEM/", kind)):
+        with pytest.raises(MachineError, match=rf"current folder kind {kind}: 1 or 2"):
+            call()
+
+
+@pytest.mark.parametrize("bad", [1.5, "1", b"x", None])
+def test_tool_and_work_offset_writes_name_a_first_number_of_another_type(bad: Any) -> None:
+    m = default_machine()
+    with pytest.raises(MachineError, match=rf"tool offset number {bad!r} is outside 1\.\."):
+        m.write_tool_offsets(bad, 0, [1])
+    with pytest.raises(MachineError, match=rf"work offset number {bad!r} is outside 0\.\.6"):
+        m.write_work_offsets(bad, None, [[0, 0, 0]])
+
+
+@pytest.mark.parametrize("bad", [5, 1.5, "123", b"\x01", None])
+def test_offset_values_that_are_no_list_are_a_type_error(bad: Any) -> None:
+    m = default_machine()
+    with pytest.raises(TypeError, match=r"tool offset values must be a list or tuple"):
+        m.write_tool_offsets(1, 0, bad)
+    with pytest.raises(TypeError, match=r"work offset values must be a list or tuple"):
+        m.write_work_offset(1, None, bad)
+    with pytest.raises(TypeError, match=r"work offset rows must be a list or tuple"):
+        m.write_work_offsets(1, None, bad)
+
+
+def test_an_offset_write_of_no_values_is_refused_as_a_pmc_write_of_no_bytes() -> None:
+    m = default_machine()
+    version = m.version
+    calls: tuple[Callable[[], object], ...] = (
+        lambda: m.write_tool_offsets(1, 0, []),
+        lambda: m.write_work_offsets(1, None, []),
+        lambda: m.write_work_offset(1, None, ()),
+    )
+    for call in calls:
+        with pytest.raises(MachineError) as refused:
+            call()
+        assert refused.value.ew == EW.LENGTH and "a write of no" in str(refused.value)
+    assert m.version == version
+
+
+async def test_the_packed_client_takes_replace_as_true_or_false(
+    served: tuple[Machine, FocasClient, NativeClient],
+) -> None:
+    machine, cnc, _ = served
+    with pytest.raises(TypeError, match="replace must be True or False, got 'no'"):
+        await cnc.write_program("O1234\nM30\n%", replace="no")  # type: ignore[arg-type]
+    assert 1234 not in [p.number for p in machine.program_directory()]
