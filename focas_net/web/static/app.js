@@ -572,6 +572,18 @@ function applyReadOnly() {
   for (const node of document.querySelectorAll("[data-write]")) {
     if ("disabled" in node) node.disabled = state.readOnly;
   }
+  faultKindChosen();
+}
+
+// What the fault's arg box takes, beside it: a DROP or a SPLIT takes none, so its box is shut
+// and nothing of it is sent (the action refuses an arg for them, as sim fault drop --arg does)
+const FAULT_ARGS = { DELAY: "milliseconds", ERROR: "EW code, by number or name" };
+
+function faultKindChosen() {
+  const kind = $("fault-kind").value;
+  const takes = FAULT_ARGS[kind];
+  $("fault-arg").disabled = state.readOnly || !takes;
+  $("fault-arg-note").textContent = takes ?? (kind ? `${kind} takes no arg` : "");
 }
 
 function wire() {
@@ -586,8 +598,13 @@ function wire() {
   $("alarm-raise").onclick = () => act("raise_alarm", {
     alm_type: $("alarm-type").value, alm_no: $("alarm-no").value, msg: $("alarm-msg").value });
   $("alarm-clear").onclick = () => act("clear_alarms", {});
-  $("fault-inject").onclick = () => act("inject_fault", {
-    kind: $("fault-kind").value, count: $("fault-count").value, arg: $("fault-arg").value });
+  $("fault-kind").onchange = faultKindChosen;
+  $("fault-inject").onclick = () => {
+    const kind = $("fault-kind").value;
+    const args = { kind, count: $("fault-count").value };
+    if (FAULT_ARGS[kind]) args.arg = $("fault-arg").value;
+    act("inject_fault", args);
+  };
   $("fault-clear").onclick = () => act("clear_faults", {});
   // Enter in a form's box does what its button does, as in the parameter and macro boxes
   const onEnter = (ids, button) => ids.forEach((id) => $(id).addEventListener("keydown",
