@@ -12,9 +12,10 @@ import pytest
 from cli_support import at, fails, ok
 from support import serving
 
-from focas_net._typed import rapid_step, switch
+from focas_net._typed import WRONG_PASSWORD, rapid_step, switch
+from focas_net.errors import EW
 from focas_net.protocol import FaultKind, alarm_type_of, ew_of_text
-from focas_net.sim import default_machine
+from focas_net.sim import MachineError, default_machine
 from focas_net.web import ActionError, Station, perform
 
 
@@ -163,3 +164,16 @@ def test_an_unlock_without_a_password_says_one_is_needed(args: dict[str, Any]) -
     assert str(refused.value) == (
         "password: a parameter password (1..4 ASCII characters) is needed"
     )
+
+
+async def test_a_wrong_password_is_refused_in_the_same_words_on_the_page_and_the_command_line() -> (
+    None
+):
+    """The page said "parameter password mismatch" where ``focas-net unlock 123`` says "the
+    password is not the CNC's"."""
+    async with serving(default_machine(param_password="1234")) as served:
+        line = await fails(1, "unlock", "123", *at(served))
+        with pytest.raises(MachineError) as refused:
+            perform(Station(0, served.machine), "unlock", {"password": "123"})
+        assert (refused.value.ew, refused.value.detail) == (EW.PASSWD, WRONG_PASSWORD)
+        assert line.endswith(f"(cnc_wrunlockparam); {WRONG_PASSWORD}")
