@@ -177,3 +177,13 @@ async def test_a_wrong_password_is_refused_in_the_same_words_on_the_page_and_the
             perform(Station(0, served.machine), "unlock", {"password": "123"})
         assert (refused.value.ew, refused.value.detail) == (EW.PASSWD, WRONG_PASSWORD)
         assert line.endswith(f"(cnc_wrunlockparam); {WRONG_PASSWORD}")
+
+
+@pytest.mark.parametrize("number", [3011, 3012, 4001])
+def test_a_read_only_macro_variable_is_named_alike_whatever_makes_it_so(number: int) -> None:
+    """The page said "#3011 is read-only" of the clock and "macro variable #4001 is
+    read-only" of a modal variable."""
+    with pytest.raises(MachineError) as refused:
+        perform(_station(), "write_macro", {"number": number, "value": 1})
+    assert refused.value.ew == EW.PROT
+    assert refused.value.detail.startswith(f"macro variable #{number} is read-only")
