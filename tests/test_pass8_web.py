@@ -10,13 +10,13 @@ from typing import Any
 
 import pytest
 from cli_support import at, fails, ok
-from support import serving
+from support import IO_TIMEOUT, serving
 
 from focas_net._typed import WRONG_PASSWORD, rapid_step, switch
 from focas_net.errors import EW
 from focas_net.protocol import FaultKind, alarm_type_of, ew_of_text
 from focas_net.sim import MachineError, default_machine
-from focas_net.web import ActionError, Station, perform
+from focas_net.web import ActionError, Dashboard, Station, perform, stations_of
 
 
 def _station() -> Station:
@@ -187,3 +187,29 @@ def test_a_read_only_macro_variable_is_named_alike_whatever_makes_it_so(number: 
         perform(_station(), "write_macro", {"number": number, "value": 1})
     assert refused.value.ew == EW.PROT
     assert refused.value.detail.startswith(f"macro variable #{number} is read-only")
+
+
+# -- the live updates --------------------------------------------------------------------------
+BINARY_REFUSED = "bad subscription: a text frame of JSON is expected, got a binary frame"
+
+
+async def test_a_subscription_in_a_binary_frame_is_refused_saying_so() -> None:
+    """A subscription sent as a binary frame (``websocat --binary``) went unanswered: the
+    page's frames went on as before, nothing said why."""
+    aiohttp = pytest.importorskip("aiohttp", reason="the web dashboard needs aiohttp")
+    async with serving() as served:
+        web = Dashboard(stations_of(served.server), port=0, interval=0.05)
+        async with web, aiohttp.ClientSession() as session:
+            async with session.ws_connect(f"{web.url}ws") as ws:
+                await ws.send_bytes(b'{"subscribe": "machine", "index": 0}')
+                for _ in range(50):  # fleet frames first, then the answer to the frame sent
+                    frame = json.loads(await ws.receive_str(timeout=IO_TIMEOUT))
+                    if frame["type"] != "fleet":
+                        break
+                assert frame == {"type": "error", "error": BINARY_REFUSED}
+                await ws.send_str('{"subscribe": "machine", "index": 0}')  # as text: shown
+                for _ in range(50):
+                    frame = json.loads(await ws.receive_str(timeout=IO_TIMEOUT))
+                    if frame["type"] == "machine":
+                        break
+                assert frame["data"]["index"] == 0
