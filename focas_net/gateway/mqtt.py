@@ -100,7 +100,7 @@ class MqttSink:
         if not isinstance(settings, MqttSettings):
             raise TypeError(f"settings must be an MqttSettings, got {settings!r}")
         settings.check()
-        name = settings.gateway if gateway_name is None else gateway_name
+        name = settings.gateway_name if gateway_name is None else gateway_name
         self.publication = Publication(settings.prefix, name, settings.deadbands)
         self._buffer = Buffer(settings.buffer)
         self.settings = settings

@@ -1,0 +1,197 @@
+"""A new user's second pass over the gateway: the gateway's own name on the broker (two
+gateways on one broker keep their births and wills apart), and the words of the MQTT client
+and of the OPC UA server that the gateway rewords, checked against the libraries themselves
+so that a change of their wording fails here rather than reaching a user."""
+
+from __future__ import annotations
+
+import logging
+import socket
+from pathlib import Path
+
+import aiomqtt
+import pytest
+from asyncua import Server, ua
+from mosquitto_support import Broker, broker, mosquitto_binary, subscriber
+from support import free_port
+
+from focas_net.gateway.config import (
+    DEFAULT_GATEWAY,
+    ConfigError,
+    MqttSettings,
+    parse_config,
+    shard,
+)
+from focas_net.gateway.mqtt import MqttSink, broker_reason
+from focas_net.gateway.opcua import _TOLD, _Told
+
+__all__ = ["broker"]  # the fixture, used by name
+
+MACHINE = '[[machine]]\nname = "m1"\nhost = "127.0.0.1"\n'
+
+
+# -- the gateway's name ------------------------------------------------------------------------
+def test_the_file_names_the_gateway_or_its_client_id_does() -> None:
+    named = parse_config(MACHINE + '[mqtt]\ngateway = "cell-7"\nclient_id = "c7"\n').mqtt
+    assert named is not None and named.gateway_name == "cell-7"
+    by_id = parse_config(MACHINE + '[mqtt]\nclient_id = "cell-8"\n').mqtt
+    assert by_id is not None and by_id.gateway_name == "cell-8"
+    plain = parse_config(MACHINE + "[mqtt]\n").mqtt
+    assert plain is not None and plain.gateway_name == DEFAULT_GATEWAY == "focas-net"
+    assert MqttSink(MqttSettings(client_id="cell-8")).publication.state_topic == (
+        "focas/$gateway/cell-8/state"
+    )
+
+
+def test_each_shard_appends_its_number_to_the_gateway_s_name() -> None:
+    text = '[[fleet]]\nname_prefix = "m"\nhost = "h"\nfirst_port = 9000\ncount = 2\n[mqtt]\n'
+    for extra, names in (
+        ('gateway = "cell-7"\n', ["cell-7-1", "cell-7-2"]),
+        ('client_id = "c"\n', ["c-1", "c-2"]),
+        ("", ["focas-net-1", "focas-net-2"]),
+    ):
+        config = parse_config(text + extra)
+        sharded = [shard(config, i, 2).mqtt for i in (1, 2)]
+        assert [s.gateway_name for s in sharded if s is not None] == names
+        for settings in sharded:
+            assert settings is not None
+            settings.check()  # (a sink takes it)
+
+
+@pytest.mark.parametrize(
+    ("line", "said"),
+    [
+        ('gateway = ""', "mqtt.gateway: got ''; expected a non-empty string of printable"),
+        ('gateway = "a\\nb"', "mqtt.gateway: got 'a\\\\nb'; expected a non-empty string of"),
+        ("gateway = 7", "mqtt.gateway: got 7; expected a non-empty string of printable"),
+        ('client_id = "c\\u0000"', "mqtt.client_id: got 'c\\\\x00'; expected a non-empty"),
+        ('gateway_name = "x"', "mqtt.gateway_name: unknown key \\(did you mean 'gateway'\\?\\)"),
+    ],
+)
+def test_a_gateway_name_a_topic_cannot_carry_is_refused_naming_the_key(
+    line: str, said: str
+) -> None:
+    with pytest.raises(ConfigError, match=f"^plant.toml: {said}"):
+        parse_config(MACHINE + f"[mqtt]\n{line}\n", "plant.toml")
+
+
+async def test_two_gateways_on_one_broker_keep_their_birth_and_will_apart(broker: Broker) -> None:
+    def sink(name: str) -> MqttSink:
+        settings = MqttSettings(host=broker.host, port=broker.port, client_id=name)
+        return MqttSink(settings, reconnect=(0.05, 0.2))
+
+    async with subscriber(broker) as seen:
+        async with sink("cell-1"):
+            async with sink("cell-2"):
+                await seen.until(
+                    lambda s: (
+                        s.latest("focas/$gateway/cell-1/state") == b"online"
+                        and s.latest("focas/$gateway/cell-2/state") == b"online"
+                    )
+                )
+            await seen.until(lambda s: s.latest("focas/$gateway/cell-2/state") == b"offline")
+            assert seen.latest("focas/$gateway/cell-1/state") == b"online"
+        await seen.until(lambda s: s.latest("focas/$gateway/cell-1/state") == b"offline")
+
+
+# -- the MQTT client's words, as broker_reason rewords them --------------------------------------
+async def _refusal(host: str, port: int, **options: object) -> aiomqtt.MqttError:
+    try:
+        async with aiomqtt.Client(host, port, **options):  # type: ignore[arg-type]
+            pass
+    except aiomqtt.MqttError as exc:
+        return exc
+    raise AssertionError(f"{host}:{port} took the connection")
+
+
+async def test_a_closed_port_reads_connection_refused() -> None:
+    port = free_port()
+    exc = await _refusal("127.0.0.1", port)
+    assert broker_reason(exc, MqttSettings(port=port)) == "connection refused"
+
+
+async def test_a_peer_that_never_answers_connect_reads_as_no_answer() -> None:
+    with socket.socket() as silent:  # (the kernel takes the connection; nobody answers)
+        silent.bind(("127.0.0.1", 0))
+        silent.listen()
+        port = silent.getsockname()[1]
+        exc = await _refusal("127.0.0.1", port, timeout=0.5)
+    assert broker_reason(exc, MqttSettings(port=port)) == (
+        "no answer to MQTT's CONNECT in time (is that a broker's port?)"
+    )
+
+
+async def test_a_name_that_does_not_resolve_is_the_resolver_s_words() -> None:
+    exc = await _refusal("no-such-broker.invalid", 1883)
+    said = broker_reason(exc, MqttSettings(host="no-such-broker.invalid"))
+    assert "[Errno" not in said and said[:1].islower() and "name" in said
+
+
+async def test_a_broker_that_refuses_the_client_is_named_with_its_reason_code(
+    tmp_path: Path,
+) -> None:
+    binary = mosquitto_binary()
+    if binary is None:
+        pytest.skip("mosquitto is not installed (apt-get install mosquitto; .ci/run does)")
+    closed = Broker(binary, tmp_path)
+    closed.config.write_text(
+        f"listener {closed.port} 127.0.0.1\nallow_anonymous false\npersistence false\nuser root\n"
+    )
+    await closed.start()
+    try:
+        exc = await _refusal(closed.host, closed.port, username="u", password="p")
+    finally:
+        await closed.stop()
+    assert broker_reason(exc, MqttSettings(port=closed.port)) == (
+        "the broker refused: not authorized (MQTT reason code 135)"
+    )
+
+
+# -- the OPC UA server's words, as the sink's filter knows them ---------------------------------
+class _Records(logging.Handler):
+    def __init__(self) -> None:
+        super().__init__(logging.DEBUG)
+        self.records: list[logging.LogRecord] = []
+
+    def emit(self, record: logging.LogRecord) -> None:
+        self.records.append(record)
+
+
+async def _server_log(port: int, *, users: bool) -> list[logging.LogRecord]:
+    """What asyncua's server logs while it starts on 127.0.0.1:``port`` (None security; user
+    name tokens when ``users``), without the sink's filter."""
+    records = _Records()
+    logger = logging.getLogger("asyncua.server.server")
+    logger.addHandler(records)
+    server = Server()
+    try:
+        await server.init()
+        server.set_endpoint(f"opc.tcp://127.0.0.1:{port}/focas_net/")
+        server.set_security_policy([ua.SecurityPolicyType.NoSecurity])
+        tokens = ua.UserNameIdentityToken if users else ua.AnonymousIdentityToken
+        server.set_identity_tokens([tokens])
+        try:
+            await server.start()
+        except OSError:
+            return records.records
+        await server.stop()
+        return records.records
+    finally:
+        logger.removeHandler(records)
+
+
+async def test_the_servers_words_on_a_port_in_use_are_the_ones_the_sink_tells_itself() -> None:
+    with socket.socket() as taken:
+        taken.bind(("127.0.0.1", 0))
+        taken.listen()
+        records = await _server_log(taken.getsockname()[1], users=False)
+    told = [r for r in records if not _Told().filter(r)]
+    assert told, f"asyncua no longer says {_TOLD[0]!r}: {[r.getMessage() for r in records]}"
+    assert all(r.levelno >= logging.ERROR for r in told)
+
+
+async def test_the_servers_words_on_unencrypted_passwords_are_the_ones_the_sink_warns_of() -> None:
+    records = await _server_log(free_port(), users=True)
+    told = [r for r in records if not _Told().filter(r)]
+    assert told, f"asyncua no longer says {_TOLD[1]!r}: {[r.getMessage() for r in records]}"
+    assert all("plaintext" in r.getMessage() for r in told)
