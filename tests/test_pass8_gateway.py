@@ -12,9 +12,13 @@ from pathlib import Path
 import aiomqtt
 import pytest
 from asyncua import Server, ua
+from cli_support import at, fails
 from mosquitto_support import Broker, broker, mosquitto_binary, subscriber
-from support import free_port
+from support import free_port, serving
 
+from focas_net.cli import EXIT_CNC
+from focas_net.client import FocasClient, NativeClient
+from focas_net.errors import EW, CncError
 from focas_net.gateway.config import (
     DEFAULT_GATEWAY,
     ConfigError,
@@ -195,3 +199,35 @@ async def test_the_servers_words_on_unencrypted_passwords_are_the_ones_the_sink_
     told = [r for r in records if not _Told().filter(r)]
     assert told, f"asyncua no longer says {_TOLD[1]!r}: {[r.getMessage() for r in records]}"
     assert all("plaintext" in r.getMessage() for r in told)
+
+
+# -- one refusal in one set of words over both transports -----------------------------------------
+async def test_a_write_of_a_parameter_the_cnc_has_not_names_the_write_over_both_transports() -> (
+    None
+):
+    """The packed client learns a parameter's width by reading it first; the CNC's refusal of
+    that read is the write's refusal, named as the write (FOCAS/2 asks the same in the first
+    frame of cnc_wrparam)."""
+    async with serving() as served:
+        said = {
+            protocol: await fails(
+                EXIT_CNC, "param", "set", "32000", "5", "--protocol", protocol, *at(served)
+            )
+            for protocol in ("packed", "native")
+        }
+        for client in (
+            FocasClient(served.host, served.port),
+            NativeClient(served.host, served.port),
+        ):
+            async with client:
+                with pytest.raises(CncError) as refused:
+                    await client.write_param(32000, 5)
+                assert refused.value.ew == EW.NUMBER and refused.value.detail == "cnc_wrparam"
+    assert (
+        said["packed"]
+        == said["native"]
+        == (
+            "focas-net: EW_NUMBER (3): data number / address range error (cnc_wrparam); "
+            "the CNC has no parameter 32000"
+        )
+    )
