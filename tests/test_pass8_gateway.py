@@ -5,7 +5,10 @@ so that a change of their wording fails here rather than reaching a user."""
 
 from __future__ import annotations
 
+import asyncio
+import gc
 import logging
+import signal
 import socket
 from pathlib import Path
 
@@ -14,7 +17,7 @@ import pytest
 from asyncua import Server, ua
 from cli_support import at, fails
 from mosquitto_support import Broker, broker, mosquitto_binary, subscriber
-from support import free_port, serving
+from support import free_port, serving, wait_until
 
 from focas_net.cli import EXIT_CNC
 from focas_net.client import FocasClient, NativeClient
@@ -31,6 +34,7 @@ from focas_net.gateway.opcua import _TOLD, _Told
 
 __all__ = ["broker"]  # the fixture, used by name
 
+PLAIN = MqttSettings()
 MACHINE = '[[machine]]\nname = "m1"\nhost = "127.0.0.1"\n'
 
 
@@ -231,3 +235,86 @@ async def test_a_write_of_a_parameter_the_cnc_has_not_names_the_write_over_both_
             "the CNC has no parameter 32000"
         )
     )
+
+
+# -- the broker's connection, told in words -----------------------------------------------------
+def test_a_connection_lost_or_unacknowledged_is_not_told_as_a_refusal_or_a_wrong_port() -> None:
+    lost = aiomqtt.MqttCodeError(7, "Could not publish message")
+    assert broker_reason(lost, PLAIN, connected=True) == "the connection to the broker was lost"
+    assert broker_reason(lost, PLAIN) == "the connection to the broker was lost"
+    iteration = aiomqtt.MqttError("Disconnected during message iteration")
+    assert broker_reason(iteration, PLAIN) == "the connection to the broker was lost"
+    late = aiomqtt.MqttError("Operation timed out")
+    assert broker_reason(late, PLAIN, connected=True) == (
+        "the broker acknowledged no message in time: the connection is taken as lost"
+    )
+    assert broker_reason(late, PLAIN, reached=True) == "no answer to MQTT's CONNECT in time"
+    reset = "[Errno 104] Connection reset by peer"
+    assert broker_reason(late, PLAIN, socket_error=reset) == (
+        "connection reset by peer before any answer to MQTT's CONNECT (is that a broker's port?)"
+    )
+
+
+def _warnings(caplog: pytest.LogCaptureFixture) -> list[str]:
+    return [r.getMessage() for r in caplog.records if r.name == "focas_net.gateway.mqtt"]
+
+
+async def _until_warned(caplog: pytest.LogCaptureFixture, words: str) -> None:
+    for _ in range(2000):  # bounded: 20 s
+        if any(words in w for w in _warnings(caplog)):
+            return
+        await asyncio.sleep(0.01)
+    raise AssertionError(f"never warned {words!r}: {_warnings(caplog)}")
+
+
+async def test_a_peer_that_resets_the_connection_is_one_warning_in_words(
+    caplog: pytest.LogCaptureFixture,
+) -> None:
+    """The MQTT client's own ``failed to receive on socket: [Errno 104] ...`` stays out of the
+    log; the sink's warning says it in words."""
+    caplog.set_level(logging.WARNING)
+
+    async def closing(reader: asyncio.StreamReader, writer: asyncio.StreamWriter) -> None:
+        writer.transport.abort()  # (a reset, what a port forwarder with nothing behind does)
+
+    server = await asyncio.start_server(closing, "127.0.0.1", 0)
+    async with server:
+        port = server.sockets[0].getsockname()[1]
+        settings = MqttSettings(port=port)
+        async with MqttSink(settings, reconnect=(5.0, 5.0), timeout=0.5):
+            await _until_warned(caplog, "before any answer")
+    said = [r.getMessage() for r in caplog.records]
+    told = (
+        f"MQTT broker 127.0.0.1:{port}: connection reset by peer before any answer to MQTT's "
+        "CONNECT (is that a broker's port?)"
+    )
+    assert told in said, said
+    assert not any("Errno" in line for line in said), said
+
+
+async def test_a_broker_that_stops_answering_or_dies_is_told_so_and_its_return_too(
+    broker: Broker, caplog: pytest.LogCaptureFixture
+) -> None:
+    caplog.set_level(logging.WARNING)
+    settings = MqttSettings(host=broker.host, port=broker.port)
+    process = broker._process
+    assert process is not None
+    async with MqttSink(settings, reconnect=(0.05, 0.2), timeout=0.5) as sink:
+        await wait_until(lambda: sink.connected)
+        process.send_signal(signal.SIGSTOP)  # (the host hangs: nothing is acknowledged)
+        try:
+            sink.online("m1", True, "", 0.0)
+            await _until_warned(caplog, "acknowledged no message in time")
+            await _until_warned(caplog, "no answer to MQTT's CONNECT in time")
+        finally:
+            process.send_signal(signal.SIGCONT)
+        await _until_warned(caplog, "connected again")
+        await broker.stop()
+        await _until_warned(caplog, "the connection to the broker was lost")
+        caplog.clear()
+        await broker.start()
+        await _until_warned(caplog, "connected again")
+    said = _warnings(caplog)
+    assert not any("message iteration" in w or "is that a broker's port" in w for w in said)
+    gc.collect()  # (a connection attempt given up, answered late, is no news either)
+    assert not [r.getMessage() for r in caplog.records if r.name == "asyncio"]
