@@ -26,11 +26,14 @@ from focas_net.gateway.config import (
     DEFAULT_GATEWAY,
     ConfigError,
     MqttSettings,
+    WriteGates,
+    load_config,
     parse_config,
     shard,
 )
 from focas_net.gateway.mqtt import MqttSink, broker_reason
 from focas_net.gateway.opcua import _TOLD, _Told
+from focas_net.sim import load_machine
 
 __all__ = ["broker"]  # the fixture, used by name
 
@@ -318,3 +321,29 @@ async def test_a_broker_that_stops_answering_or_dies_is_told_so_and_its_return_t
     assert not any("message iteration" in w or "is that a broker's port" in w for w in said)
     gc.collect()  # (a connection attempt given up, answered late, is no news either)
     assert not [r.getMessage() for r in caplog.records if r.name == "asyncio"]
+
+
+# -- the docs' example: what its gateway may write, its machine has --------------------------------
+EXAMPLES = Path(__file__).resolve().parent.parent / "examples"
+
+
+def test_what_the_example_gateway_opens_to_writes_the_example_machine_has() -> None:
+    """``examples/gateway.toml`` in front of ``examples/lathe_2path.toml`` (docs/gateway.md,
+    Running): every parameter, macro variable and PMC byte its write gates open is one the
+    machine has, and the parts the slow group reads (6713 too) are there."""
+    config = load_config(EXAMPLES / "gateway.toml")
+    lathe = load_machine(EXAMPLES / "lathe_2path.toml")
+    opened = [m for m in config.machines if m.writes != WriteGates()]
+    assert opened
+    for machine in opened:
+        for path in machine.paths or (1, 2):
+            for first, last in machine.writes.params:
+                for number in range(first, last + 1):
+                    lathe.read_param(number, 0, path=path)
+            for first, last in machine.writes.macros:
+                for number in (first, last):
+                    lathe.read_macro(number, path=path)
+        for letter, first, last in machine.writes.pmc:
+            assert len(lathe.read_pmc(letter, first, last - first + 1)) == last - first + 1
+    for path in (1, 2):
+        lathe.read_param(6713, 0, path=path)
