@@ -548,9 +548,12 @@ class FocasClient(Link):
     ) -> int:
         """``cnc_download``: store one O-number program; returns its number. A number already
         stored answers EW_REJECT unless ``replace``; a program being executed EW_BUSY; text
-        that is not one program EW_DATA; a full memory EW_OVRFLOW."""
+        that is not one program EW_DATA; a full memory EW_OVRFLOW. A ``replace`` other than
+        True or False is a TypeError, as the machine says it."""
         if not isinstance(text, str):
             raise TypeError(f"a program is text, got {text!r}")
+        if not isinstance(replace, bool):
+            raise TypeError(f"replace must be True or False, got {replace!r}")
         p = self._path_of(path)
         payload = _WRPROGRAM.request.encode(ProgramText(int(bool(replace)), text))
         stored: ProgramNumber = await self._request(_WRPROGRAM, payload, timeout, p)
