@@ -326,7 +326,7 @@ def test_a_program_in_a_literal_toml_string_is_told_how_to_write_it(tmp_path: Pa
 
 @pytest.fixture
 async def lathe() -> AsyncIterator[tuple[Machine, list[str]]]:
-    """The two-path lathe of examples/lathe_2path.toml: no parameter 1320, no PMC area R."""
+    """The two-path lathe of examples/lathe_2path.toml: no parameter 1320, no PMC area D."""
     machine = load_machine(EXAMPLES / "lathe_2path.toml")
     async with serving(machine) as served:
         yield machine, port_args(served)
@@ -351,7 +351,11 @@ async def test_alarm_watch_stopped_early_leaves_none_of_its_alarms(
             [],
             "cnc_rdparainfo; the CNC has no parameter 1320 (give --param N)",
         ),
-        ("pmc_bits.py", [], "pmc_wrpmcrng; the CNC has no PMC area R (give --area of one it has)"),
+        (
+            "pmc_bits.py",
+            ["--area", "D"],
+            "pmc_wrpmcrng; the CNC has no PMC area D (give --area of one it has)",
+        ),
         (
             "pmc_bits.py",
             ["--area", "G", "--start", "1999", "--bytes", "2"],
