@@ -9,7 +9,7 @@ from datetime import UTC, datetime, timedelta
 from itertools import islice
 from typing import Final
 
-from focas_net._typed import MAX_ALARM_TEXT, alarm_text_unfit
+from focas_net._typed import MAX_ALARM_TEXT, alarm_axis_unfit, alarm_text_unfit
 from focas_net.errors import EW
 
 from ._base import Counters, MachineError, logger, need_int, need_text
@@ -141,8 +141,9 @@ class Alarms:
             raise MachineError(EW.DATA, f"alm_type {alm_type} outside 0..{MAX_ALARM_TYPE}")
         if not 0 <= alm_no <= MAX_ALARM_NO:
             raise MachineError(EW.DATA, f"alm_no {alm_no} outside 0..{MAX_ALARM_NO}")
-        if not 0 <= axis_no <= axes:
-            raise MachineError(EW.ATTRIB, f"axis_no {axis_no} outside 0..{axes}")
+        axis_unfit = alarm_axis_unfit(axis_no, axes)
+        if axis_unfit is not None:
+            raise MachineError(EW.ATTRIB, axis_unfit)
         text = msg[:MAX_ALARM_TEXT] or _TABLE.get((alm_type, alm_no), "")
         unfit = alarm_text_unfit(text)
         if unfit is not None:
