@@ -4,6 +4,7 @@ ranges, refused alike wherever the same rule applies, naming what was given."""
 
 from __future__ import annotations
 
+import re
 from collections.abc import AsyncIterator, Callable
 from decimal import Decimal
 from pathlib import Path
@@ -18,10 +19,12 @@ from focas_net import (
     FocasServer,
     MachineError,
     NativeClient,
+    NativeServer,
     default_machine,
     load_machine,
 )
-from focas_net.sim import Machine, machine_from_dict
+from focas_net.server import ListenError
+from focas_net.sim import MAX_HISTORY_CAPACITY, Machine, machine_from_dict
 from focas_net.sim.nc import ManualClock
 
 EXAMPLES = Path(__file__).resolve().parent.parent / "examples"
@@ -259,3 +262,109 @@ async def test_the_packed_client_takes_replace_as_true_or_false(
     with pytest.raises(TypeError, match="replace must be True or False, got 'no'"):
         await cnc.write_program("O1234\nM30\n%", replace="no")  # type: ignore[arg-type]
     assert 1234 not in [p.number for p in machine.program_directory()]
+
+
+# -- building machines and servers -------------------------------------------------------------
+@pytest.mark.parametrize(
+    ("kwargs", "error", "words"),
+    [
+        ({"history_capacity": "250"}, TypeError, "history_capacity must be an integer, got '250'"),
+        ({"history_capacity": 2.5}, TypeError, "history_capacity must be an integer, got 2.5"),
+        ({"history_capacity": True}, TypeError, "history_capacity must be an integer, got True"),
+        (
+            {"history_capacity": 2**63},
+            ValueError,
+            f"history_capacity {2**63} is outside 1..100000 (entries)",
+        ),
+        ({"history_capacity": 0}, ValueError, "history_capacity 0 is outside 1..100000 (entries)"),
+        ({"clock": 5}, TypeError, "clock must be callable (it returns the time), got 5"),
+        ({"read_only": "no"}, TypeError, "read_only must be True or False, got 'no'"),
+        ({"read_only": 1}, TypeError, "read_only must be True or False, got 1"),
+        ({"control_enabled": 0}, TypeError, "control_enabled must be True or False, got 0"),
+        ({"programs": b"O1"}, TypeError, "programs must be a list of program texts, got b'O1'"),
+        ({"programs": 3}, TypeError, "programs must be a list of program texts, got 3"),
+        ({"programs": [b"O1"]}, TypeError, "programs[0] must be a program's text (str), got b'O1'"),
+        (
+            {"programs": "O1000\nM30\n"},
+            TypeError,
+            "programs must be a list of program texts, got one text 'O1000\\nM30\\n': give it in "
+            "a list",
+        ),
+    ],
+)
+def test_default_machine_names_an_argument_of_another_type(
+    kwargs: dict[str, Any], error: type[Exception], words: str
+) -> None:
+    with pytest.raises(error) as refused:
+        default_machine(**kwargs)
+    assert str(refused.value) == words
+
+
+def test_the_history_capacity_is_the_machine_files_range() -> None:
+    assert MAX_HISTORY_CAPACITY == 100_000
+    assert default_machine(history_capacity=MAX_HISTORY_CAPACITY).alarm_history() == ()
+    machine = machine_from_dict({"machine": {"name": "m", "axes": ["X"], "history_capacity": 1}})
+    assert machine.alarm_history() == ()
+
+
+@pytest.mark.parametrize("path", [True, b"examples/machine.toml", 5, None])
+def test_load_machine_names_a_path_of_another_type(path: Any) -> None:
+    with pytest.raises(TypeError, match=r"a machine file's path must be a str or a Path, got "):
+        load_machine(path)
+
+
+@pytest.mark.parametrize(
+    ("host", "words"),
+    [
+        ("localhost\n", "not a host name: 'localhost\\n'"),
+        ("bad host!", "not a host name: 'bad host!'"),
+        ("127.0.0.1:8193", "is a host and a port: give the host '127.0.0.1' and the port 8193"),
+        ("\u0661", "holds a digit beyond ASCII"),
+        ("", "empty host ''"),
+    ],
+)
+async def test_a_server_checks_its_host_as_the_clients_and_the_command_line_do(
+    host: str, words: str
+) -> None:
+    machine = default_machine()
+    with pytest.raises(ValueError, match=re.escape(words)):
+        FocasServer(machine, host=host, port=0)
+    with pytest.raises(ValueError, match=re.escape(words)):
+        NativeServer(machine, host)
+
+
+async def test_a_server_takes_an_ipv6_address_in_brackets() -> None:
+    try:
+        async with FocasServer(default_machine(), host="[::1]", port=0) as server:
+            assert server.addresses[0][0] == "::1"
+    except ListenError as exc:  # a box without IPv6
+        assert str(exc).startswith("cannot listen on [::1]:0: ")
+
+
+async def test_a_port_that_cannot_be_bound_names_the_address_and_the_reason() -> None:
+    async with FocasServer(default_machine(), port=0) as first:
+        host, port = first.addresses[0]
+        with pytest.raises(ListenError) as refused:
+            async with FocasServer(default_machine(), port=port):
+                pass
+    assert str(refused.value) == f"cannot listen on {host}:{port}: address already in use"
+    assert refused.value.where == f"{host}:{port}" and refused.value.errno is not None
+
+
+@pytest.mark.parametrize(
+    ("args", "kwargs", "words"),
+    [
+        ((None,), {}, "machine must be a Machine, got None"),
+        (("m",), {}, "machine must be a Machine, got 'm'"),
+        ((), {"version": "1"}, "version must be an integer, got '1'"),
+        ((), {"version": 1.0}, "version must be an integer, got 1.0"),
+        ((), {"max_body": "4096"}, "max_body must be an integer, got '4096'"),
+        ((), {"max_body": None}, "max_body must be an integer, got None"),
+    ],
+)
+def test_a_native_server_names_an_argument_of_another_type(
+    args: tuple[Any, ...], kwargs: dict[str, Any], words: str
+) -> None:
+    with pytest.raises(TypeError) as refused:
+        NativeServer(*(args or (default_machine(),)), **kwargs)
+    assert str(refused.value) == words
