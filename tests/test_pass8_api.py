@@ -5,7 +5,7 @@ ranges, refused alike wherever the same rule applies, naming what was given."""
 from __future__ import annotations
 
 import re
-from collections.abc import AsyncIterator, Callable
+from collections.abc import AsyncIterator, Awaitable, Callable
 from decimal import Decimal
 from pathlib import Path
 from typing import Any
@@ -368,3 +368,34 @@ def test_a_native_server_names_an_argument_of_another_type(
     with pytest.raises(TypeError) as refused:
         NativeServer(*(args or (default_machine(),)), **kwargs)
     assert str(refused.value) == words
+
+
+# -- FOCAS/2 requests whose text does not fit ---------------------------------------------------
+@pytest.mark.parametrize(
+    ("call", "words"),
+    [
+        (
+            lambda n: n.read_drive_usage("//CNC_MEM/USER/"),
+            "cnc_rdpdf_inf: name '//CNC_MEM/USER/': printable ASCII of at most 11 characters",
+        ),
+        (
+            lambda n: n.read_file_info("O\u00e9"),
+            "cnc_rdpdf_prginf: name 'O\u00e9': printable ASCII of at most 243 characters",
+        ),
+        (
+            lambda n: n.select_main_file("//CNC_MEM/" + "A" * 300),
+            "cnc_pdf_slctmain: name '//CNC_MEM/AAAAAAAAAAAAAAAAAAAAAAAAAAAAAA': printable ASCII "
+            "of at most 255 characters",
+        ),
+    ],
+)
+async def test_a_native_request_that_does_not_fit_names_the_function_not_its_repr(
+    served: tuple[Machine, FocasClient, NativeClient],
+    call: Callable[[NativeClient], Awaitable[object]],
+    words: str,
+) -> None:
+    _, _, native = served
+    with pytest.raises(ValueError) as refused:
+        await call(native)
+    assert str(refused.value) == words
+    assert "Request(" not in str(refused.value)
