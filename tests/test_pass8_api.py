@@ -136,7 +136,7 @@ async def test_an_alarm_of_an_axis_beyond_the_path_names_the_axis_and_the_count(
     served: tuple[Machine, FocasClient, NativeClient],
 ) -> None:
     machine, cnc, _ = served
-    words = "axis_no 9 outside 0..3: the path has 3 axes (0: an alarm of no axis)"
+    words = "axis_no 9 outside 0..3: the path has 3 axes"
     with pytest.raises(MachineError) as by_machine:
         machine.raise_alarm(9, 6, 411, "SERVO")
     assert by_machine.value.ew == EW.ATTRIB and by_machine.value.detail == words
@@ -150,7 +150,7 @@ async def test_an_alarm_of_an_axis_beyond_the_path_names_the_axis_and_the_count(
 
 def test_an_alarm_axis_on_a_machine_of_one_axis_says_axis() -> None:
     machine = machine_from_dict({"machine": {"name": "one", "axes": ["X"]}})
-    with pytest.raises(MachineError, match=r"axis_no 2 outside 0\.\.1: the path has 1 axis \("):
+    with pytest.raises(MachineError, match=r"axis_no 2 outside 0\.\.1: the path has 1 axis$"):
         machine.raise_alarm(2, 6, 411)
 
 
@@ -162,9 +162,7 @@ async def test_an_alarm_axis_is_named_with_the_count_of_the_path_it_was_raised_o
             with pytest.raises(CncError) as refused:
                 await cnc.sim.raise_alarm("SV", 411, axis_no=3, path=2)
             await cnc.sim.raise_alarm("SV", 411, axis_no=2, path=2)
-    assert refused.value.detail.endswith(
-        "axis_no 3 outside 0..2: the path has 2 axes (0: an alarm of no axis)"
-    )
+    assert refused.value.detail.endswith("axis_no 3 outside 0..2: the path has 2 axes")
     assert [a.axis_no for a in machine.active_alarms(path=2)] == [2]
 
 
@@ -399,3 +397,53 @@ async def test_a_native_request_that_does_not_fit_names_the_function_not_its_rep
         await call(native)
     assert str(refused.value) == words
     assert "Request(" not in str(refused.value)
+
+
+# -- an axis beyond the path, on both clients ---------------------------------------------------
+@pytest.mark.parametrize(
+    ("call", "function"),
+    [
+        (lambda c: c.read_param(1420, axis=9), "cnc_rdparam"),
+        (lambda c: c.read_param_real(1420, axis=9), "cnc_rdparam"),
+        (lambda c: c.read_diag(300, axis=9), None),
+        (lambda c: c.read_positions(axis=9), "cnc_rdposition"),
+        (lambda c: c.write_param_bit(1005, 1, True, axis=9), "cnc_rdparam"),
+    ],
+)
+async def test_an_axis_beyond_the_path_is_named_with_the_count_on_both_clients(
+    served: tuple[Machine, FocasClient, NativeClient],
+    call: Callable[[Any], Awaitable[object]],
+    function: str | None,
+) -> None:
+    machine, cnc, native = served
+    machine.set_panel(0, 1, 0)  # MDI, PWE on: a write is refused for its axis only
+    details = []
+    for client in (cnc, native):
+        with pytest.raises(CncError) as refused:
+            await call(client)
+        assert refused.value.ew == EW.ATTRIB
+        details.append(refused.value.detail)
+    assert all(d.endswith(": axis 9 of 3") for d in details), details
+    if function is not None:  # the diagnostic's function is cnc_rddiag / cnc_diagnoss
+        assert details[0] == details[1] == f"{function}: axis 9 of 3"
+
+
+async def test_an_axis_given_to_an_item_of_no_axis_stays_as_the_cnc_answered(
+    served: tuple[Machine, FocasClient, NativeClient],
+) -> None:
+    _, cnc, native = served
+    for client in (cnc, native):
+        with pytest.raises(CncError) as refused:
+            await client.read_param(6711, axis=1)
+        assert (refused.value.ew, refused.value.detail) == (EW.ATTRIB, "cnc_rdparam")
+
+
+async def test_a_path_of_two_axes_counts_its_own(tmp_path: Path) -> None:
+    machine = load_machine(EXAMPLES / "lathe_2path.toml")
+    async with FocasServer(machine, port=0) as server:
+        host, port = server.addresses[0]
+        async with FocasClient(host, port, timeout=5) as cnc:
+            with pytest.raises(CncError) as refused:
+                await cnc.read_positions(axis=3, path=2)
+            assert len((await cnc.read_positions(axis=2, path=2)).values) == 1
+    assert refused.value.detail == "cnc_rdposition: axis 3 of 2"
