@@ -141,3 +141,25 @@ async def test_an_arg_of_a_drop_is_refused_as_the_command_line_refuses_it(
 def test_the_docs_say_where_the_fault_form_is_that_a_drop_takes_no_arg() -> None:
     text = (Path(__file__).resolve().parent.parent / "docs" / "web.md").read_text()
     assert "DROP and SPLIT take no argument" in text
+
+
+# -- a PMC bit past 7, and an unlock of no password, named as typed ---------------------------
+async def test_a_pmc_bit_past_7_is_refused_in_the_words_of_pmc_bit() -> None:
+    """The page said "bit: 0..7, got 8" where ``pmc bit R 1.8`` says which address and why."""
+    async with serving() as served:
+        line = await fails(2, "pmc", "bit", "r", "1.8", "1", *at(served))
+        with pytest.raises(ActionError) as refused:
+            perform(Station(0, served.machine), "pmc_bit", {"area": "r", "address": 1, "bit": 8})
+        assert line == f"focas-net: {refused.value}"
+        assert str(refused.value) == "R1.8: bit 8 is outside 0..7: a PMC address is 1 byte wide"
+        assert served.machine.read_pmc("R", 1, 1) == b"\x00"
+
+
+@pytest.mark.parametrize("args", [{}, {"password": None}])
+def test_an_unlock_without_a_password_says_one_is_needed(args: dict[str, Any]) -> None:
+    """``{}`` was refused as "parameter password ''", a password no one typed."""
+    with pytest.raises(ActionError) as refused:
+        perform(_station(), "unlock", args)
+    assert str(refused.value) == (
+        "password: a parameter password (1..4 ASCII characters) is needed"
+    )

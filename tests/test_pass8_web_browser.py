@@ -1,17 +1,23 @@
 """The eighth pass's dashboard cases in a real browser (:mod:`browser_support`): what the
-fault form's arg box takes for each kind, and a drop armed from the page."""
+fault form's arg box takes for each kind, and a drop armed from the page; the timers as
+``focas-net watch`` writes them."""
 
 from __future__ import annotations
 
+import json
 from pathlib import Path
 
 from browser_support import browser, machine_page
+from cli_support import at, ok
 from selenium.webdriver.common.by import By
 from selenium.webdriver.common.keys import Keys
 from selenium.webdriver.remote.webdriver import WebDriver
 from selenium.webdriver.support.select import Select
 
+from focas_net.cli.watch_cmds import duration_text
 from focas_net.protocol import FaultKind
+from focas_net.sim import default_machine
+from focas_net.sim.nc import ManualClock
 
 __all__ = ["browser"]  # the fixture, used by name
 
@@ -46,4 +52,25 @@ async def test_the_fault_form_says_a_drop_takes_no_arg_and_shuts_the_box(
         await page.text_of("faults", lambda t: "DROP -: 2 answers left" in t, "the drop armed")
         listed = server.listeners[0].faults.listing().faults
         assert [(f.kind, f.remaining, f.arg) for f in listed] == [(FaultKind.DROP, 2, 0)]
+        assert await page.errors() == []
+
+
+async def test_the_timers_read_as_watch_writes_them(browser: WebDriver, tmp_path: Path) -> None:
+    """The page cut the timers to whole seconds (``1:02:03``) where ``watch`` writes tenths
+    (``1:02:03.4``); on a hand-stepped clock both show the same now."""
+    clock = ManualClock()
+    machine = default_machine(sim_clock=clock)
+    clock.advance(3723.45)
+    async with machine_page(browser, tmp_path, machine) as (server, page):
+        frame = json.loads(await ok("watch", *at(server.listeners[0]), "--count", "1", "--json"))
+        times = frame["state"]["times_ms"]
+        table = await page.text_of("timer-table", lambda t: "power on" in t, "the timers")
+        shown = dict(line.rsplit(" ", 1) for line in table.splitlines()[:4])
+        assert shown == {
+            "power on": duration_text(times["power_on"]),
+            "operating": duration_text(times["operating"]),
+            "cutting": duration_text(times["cutting"]),
+            "cycle": duration_text(times["cycle"]),
+        }
+        assert shown["power on"] == "1:02:03.4"
         assert await page.errors() == []

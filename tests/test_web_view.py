@@ -297,7 +297,7 @@ def test_pmc_bits_x_and_f_as_the_simulator_others_as_the_protocol() -> None:
     assert machine.read_pmc("R", 7, 1) == b"\x01"
     assert refused(station, "pmc_bit", {"area": "E", "address": 0, "bit": 0}) == "EW_NOOPT"
     assert refused(station, "pmc_bit", {"area": "R", "address": 9000, "bit": 0}) == "EW_NUMBER"
-    with pytest.raises(ActionError, match=r"bit: 0\.\.7, got 8"):
+    with pytest.raises(ActionError, match=r"^R0\.8: bit 8 is outside 0\.\.7"):
         perform(station, "pmc_bit", {"area": "R", "address": 0, "bit": 8})
     with pytest.raises(ActionError, match="'Q'"):
         perform(station, "pmc_bit", {"area": "Q", "address": 0, "bit": 0})

@@ -17,6 +17,7 @@ from typing import Final
 
 from focas_net.errors import EW, CncError
 from focas_net.server.faults import fault_refusal
+from focas_net.sim import AXIS_NAME_PARAM
 from focas_net.sim.nc import ProgramError, parse_program
 
 from . import _format as fmt
@@ -95,6 +96,11 @@ def _param_range(args: argparse.Namespace) -> str:
     what = f"the CNC refused {args.value} for {_item('parameter', args)}: outside its range"
     if "." in str(args.value):
         what += ", or more decimals than the parameter keeps"
+    if str(args.number).partition(".")[0].strip() == str(AXIS_NAME_PARAM):
+        what += (
+            ", or a letter other than the axis's own (a focas-net machine's axes are fixed "
+            "when it is built; a control takes a new name at its next power-on)"
+        )
     return what
 
 

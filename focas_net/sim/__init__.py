@@ -13,6 +13,7 @@ from ._information import (
     PmcAreaExtent,
     SoftwareVersion,
 )
+from ._known_params import AXIS_NAME_PARAM, KNOWN_PARAMS, KnownParam
 from ._modal import EXTERNAL_MESSAGE_NUMBERS, ExternalMessage, OperatorMessage
 from ._pmc import pmc_letter
 from ._signals import CLOCK_VARIABLES, SERVO_POWER_DIAG, TIMER_PARAMS, OperatorSignals
@@ -57,6 +58,7 @@ from .machinefile import MachineFileError, load_machine, machine_from_dict
 
 __all__ = [
     "AUT_MODES",
+    "AXIS_NAME_PARAM",
     "CLASSES_16I",
     "CLASS_MAX_AXES",
     "CLOCK_VARIABLES",
@@ -68,6 +70,7 @@ __all__ = [
     "EXTERNAL_MESSAGE_NUMBERS",
     "F_SIGNALS",
     "G_SIGNALS",
+    "KNOWN_PARAMS",
     "LIFE_TYPES",
     "MAX_ALARM_NO",
     "MAX_HISTORY_CAPACITY",
@@ -94,6 +97,7 @@ __all__ = [
     "GroupStatus",
     "HistoryEntry",
     "Identity",
+    "KnownParam",
     "LadderTitle",
     "LifeInfo",
     "LifeTool",

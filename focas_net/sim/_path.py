@@ -316,9 +316,9 @@ class Path:
             "stroke_limits": tuple(limits),
             "reference": reference,
         }
-        feed = items.param_or(1422, 0)
+        feed = items.param_float(1422, 0.0, 0, 1.0)  # mm/min, a real one's value as it reads
         if feed > 0:
-            values["max_cutting_feed"] = float(feed)
+            values["max_cutting_feed"] = feed
         low, high = items.param_or(WAIT_LOW, 0), items.param_or(WAIT_HIGH, 0)
         if path_count > 1 and 0 < low <= high:
             values["waiting_m"] = (low, high)

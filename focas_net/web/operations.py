@@ -43,6 +43,7 @@ from focas_net.protocol import (
     alarm_message,
     alarm_type_of,
     ew_of_text,
+    pmc_bit_refusal,
 )
 from focas_net.server.faults import FaultQueue, fault_refusal, parse_inject
 from focas_net.sim import Machine, MachineError, ParamKind, Session
@@ -338,8 +339,9 @@ def _pmc_bit(station: Station, args: Mapping[str, Any]) -> JsonDict:
     m.check_pmc_area(typed)  # and for an area this machine has not (EW_NOOPT)
     area = typed.strip().upper()
     address, bit = _int(args, "address"), _int(args, "bit")
-    if not 0 <= bit <= 7:
-        raise ActionError(f"bit: 0..7, got {bit}")
+    why = pmc_bit_refusal(area, address, bit)  # as `pmc bit R 1.8` is refused
+    if why is not None:
+        raise ActionError(why)
     m.check_writable()
     (byte,) = m.read_pmc(area, address, 1)
     value = _switch(args, "value")
@@ -423,7 +425,8 @@ def _unlock(station: Station, args: Mapping[str, Any]) -> JsonDict:
     """Unlock the page's session; on a machine without a password, say what that means in
     the command line's words (``focas-net unlock``)."""
     m = station.machine
-    m.unlock(station.session, _text(args, "password"))
+    password = _text(args, "password", needed="a parameter password (1..4 ASCII characters)")
+    m.unlock(station.session, password)
     if not m.has_password:
         return {"password_set": False, "note": NO_PASSWORD_NOTE}
     return {"password_set": True}

@@ -207,10 +207,13 @@ function setIfIdle(input, value) {
 
 function fmt(v, d = 3) { return Number(v).toFixed(d); }
 
+// A time as focas-net watch writes it: 1:02:03.4 (to a tenth of a second, cut, not rounded,
+// from the milliseconds the wire carries)
 function clock(seconds) {
-  const s = Math.floor(seconds);
+  const tenths = Math.floor(Math.floor(Math.max(seconds, 0) * 1000 + 1e-6) / 100);
+  const s = Math.floor(tenths / 10);
   const h = Math.floor(s / 3600), m = Math.floor((s % 3600) / 60);
-  return `${h}:${String(m).padStart(2, "0")}:${String(s % 60).padStart(2, "0")}`;
+  return `${h}:${String(m).padStart(2, "0")}:${String(s % 60).padStart(2, "0")}.${tenths % 10}`;
 }
 
 // A machine of several paths: a section per path (its state and its cycle buttons), and the
