@@ -30,6 +30,7 @@ __all__ = [
     "NO_PASSWORD_NOTE",
     "OVERRIDE_RANGES",
     "RAPID_STEPS",
+    "WRONG_PASSWORD",
     "alarm_axis_unfit",
     "alarm_text_unfit",
     "decimal_number",
@@ -64,6 +65,10 @@ NO_PASSWORD_NOTE: Final = (
     "the CNC has no parameter password: it accepts any, and a parameter write needs no unlock "
     "(it needs MDI mode and PWE on, and a machine that is not read-only)"
 )
+
+#: Why an unlock with a password that is not the CNC's is refused (EW_PASSWD), as every front
+#: end says it (the machine, so the dashboard; the command line's reason of the code).
+WRONG_PASSWORD: Final = "the password is not the CNC's"
 
 #: Characters of an alarm's message the CNC keeps (a longer one is cut).
 MAX_ALARM_TEXT: Final = 32

@@ -392,20 +392,25 @@ class FocasClient(Link):
         path: int,
     ) -> None:
         """With ``width=None`` the width is the one the CNC reported for this parameter; the
-        first time it is learnt by one read and then cached."""
+        first time it is learnt by one read and then cached. A refusal of what the write asks
+        first is the write's refusal, named ``cnc_wrparam`` (FOCAS/2 asks the same in the
+        first frame of ``cnc_wrparam``)."""
         learnt = False
-        if width is None:
-            cached = self._param_widths.get(number)
-            if cached is None:
-                width = (await self._read_param_value(number, axis, deadline, path)).width
-                learnt = True
-            else:
-                width = cached
+        try:
+            if width is None:
+                cached = self._param_widths.get(number)
+                if cached is None:
+                    width = (await self._read_param_value(number, axis, deadline, path)).width
+                    learnt = True
+                else:
+                    width = cached
+            kind = await self._param_type(number, deadline) if width == 1 else None
+        except CncError as exc:
+            raise CncError.from_ew(exc.ew, _WRPARAM.focas_name) from None
         if width == REAL_WIDTH:
             mantissa, decimals = real_to_wire(number, value)
             pv = ParamValue(number, axis, mantissa, width, decimals)
         else:
-            kind = await self._param_type(number, deadline) if width == 1 else None
             raw = param_int(number, value, kind)
             pv = ParamValue(number, axis, int_to_wire(number, raw, width, kind), width)
         payload = _WRPARAM.request.encode(pv)

@@ -627,7 +627,7 @@ class Machine(
         self.check_writable()
         p = self._paths.at(path)
         if number in CLOCK_VARIABLES:
-            raise MachineError(EW.PROT, f"#{number} is read-only")
+            raise MachineError(EW.PROT, f"macro variable #{number} is read-only (the clock)")
         self._macros.check_write(number)
         if number in PARTS_VARIABLES:
             p.write_parts(number, value)
