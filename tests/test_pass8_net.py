@@ -27,7 +27,8 @@ from cli_support import one_line, run_focas_net
 from support import LoopbackPeer, serve_process, serving
 
 from focas_net.cli import EXIT_PROTOCOL, _reasons, _run, _signals, build_parser
-from focas_net.client import FocasClient
+from focas_net.cli._args import parse_host
+from focas_net.client import FocasClient, NativeClient
 from focas_net.errors import EW, CncError, ProtocolError
 
 #: Upper bound of a subprocess's start (an interpreter and the package imported) and end.
@@ -255,3 +256,49 @@ async def test_an_ew_code_equal_to_a_two_byte_request_is_taken_as_the_cncs() -> 
             with pytest.raises(CncError) as refused:
                 await client.read_macro(5)
     assert refused.value.ew == EW.DATA
+
+
+# -- a host typed with a colon and no port after it -----------------------------------------
+
+
+@pytest.mark.parametrize(
+    ("typed", "said"),
+    [
+        ("127.0.0.1:", "'127.0.0.1:' is a host with nothing after its colon"),
+        ("[::1]:", "'[::1]:' is a host with nothing after its colon"),
+        ("127.0.0.1:99999", "'127.0.0.1:99999' is a host and a port outside 1..65535"),
+        ("127.0.0.1:0", "'127.0.0.1:0' is a host and a port outside 1..65535"),
+        ("localhost:abc", "'localhost:abc' is a host, a colon and 'abc', which is no port number"),
+        (
+            "localhost:8193/",
+            "'localhost:8193/' is a host, a colon and '8193/', which is no port number",
+        ),
+        (
+            "127.0.0.1:٨١٩٣",
+            "'127.0.0.1:٨١٩٣' is a host, a colon and '٨١٩٣', which is no port number",
+        ),
+    ],
+)
+def test_a_host_with_a_colon_but_no_port_is_never_an_ipv6_address_nor_given_that_port(
+    typed: str, said: str
+) -> None:
+    """It read as `not an IPv6 address` (``127.0.0.1:``), or suggested ``--port 99999``."""
+    host = typed.rpartition(":")[0].strip("[]")
+    with pytest.raises(ValueError) as cli_refusal:
+        parse_host(typed)
+    assert str(cli_refusal.value) == f"{said}: give --host {host} and --port 1..65535"
+    for client in (FocasClient, NativeClient):
+        with pytest.raises(ValueError) as refusal:
+            client(typed, 8193)
+        assert str(refusal.value) == (
+            f"host {said}: give the host {host!r} and a port 1..65535 apart"
+        )
+
+
+async def test_a_host_with_a_colon_and_no_port_at_the_command_line() -> None:
+    code, out, err = await run_focas_net("status", "--host", "127.0.0.1:")
+    assert (code, out) == (2, "")
+    assert one_line(err, "focas-net status: error:") == (
+        "focas-net status: error: argument --host: '127.0.0.1:' is a host with nothing after "
+        "its colon: give --host 127.0.0.1 and --port 1..65535; see focas-net status --help"
+    )
