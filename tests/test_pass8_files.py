@@ -10,6 +10,7 @@ from pathlib import Path
 import pytest
 from cli_support import Cli, fails
 from examples_support import EXAMPLES, port_args, run_example
+from fwlib_support import LIBRARY
 from support import serve_process, serving
 
 from focas_net.cli import EXIT_CNC, EXIT_USAGE
@@ -394,3 +395,15 @@ async def test_run_program_names_the_alarm_that_refuses_cycle_start(
         "run_program: an alarm is active: PS0010 IMPROPER G-CODE (focas-net sim clear clears "
         "alarms)\n"
     )
+
+
+@pytest.mark.skipif(
+    LIBRARY is None, reason="set FOCAS_NET_FWLIB to FANUC's libfwlib32 to run fwlib_client.py"
+)
+async def test_fwlib_client_names_the_pmc_range_the_cnc_refused(
+    lathe: tuple[Machine, list[str]],
+) -> None:
+    assert LIBRARY is not None
+    code, out, err = await run_example("fwlib_client.py", "--library", LIBRARY, *lathe[1])
+    assert code == 6 and "cnc: type 0T" in out  # EW_NOOPT as the exit status
+    assert err == "fwlib_client: pmc_rdpmcrng of D0..D3 returned EW 6\n"
