@@ -407,3 +407,31 @@ async def test_fwlib_client_names_the_pmc_range_the_cnc_refused(
     code, out, err = await run_example("fwlib_client.py", "--library", LIBRARY, *lathe[1])
     assert code == 6 and "cnc: type 0T" in out  # EW_NOOPT as the exit status
     assert err == "fwlib_client: pmc_rdpmcrng of D0..D3 returned EW 6\n"
+
+
+@pytest.mark.parametrize(
+    ("path2", "words"),
+    [
+        ("", "a scenario cannot start on path 2: no main program is selected"),
+        (
+            '[path.panel]\nmode = "EDIT"\n[[path.program]]\ntext = "O2\\nM30"\n',
+            "a scenario cannot start on path 2: the mode is EDIT, not MEM",
+        ),
+    ],
+)
+async def test_serve_run_names_the_path_that_cannot_start(
+    tmp_path: Path, path2: str, words: str
+) -> None:
+    """A path of several without a main program was refused as if the machine had none."""
+    path = tmp_path / "m.toml"
+    path.write_text(
+        '[machine]\nname = "tp"\n[[path]]\naxes = ["X1", "Z1"]\n[[path.program]]\n'
+        'text = "O1\\nG4 X1.\\nM30"\n[[path]]\naxes = ["X2", "Z2"]\n' + path2 + "[run]\n",
+        encoding="utf-8",
+    )
+    line = await fails(
+        EXIT_USAGE, "serve", "--port", "0", "--machine", str(path), prefix="focas-net"
+    )
+    assert line.endswith(
+        f"m.toml: [run]: tp: {'EW_DATA' if 'program' in words else 'EW_MODE'}: {words}"
+    )
