@@ -17,6 +17,7 @@ from focas_net.cli import EXIT_CNC, EXIT_USAGE
 from focas_net.errors import EW
 from focas_net.sim import (
     AXIS_NAME_PARAM,
+    KNOWN_DIAGS,
     KNOWN_PARAMS,
     DataItem,
     Machine,
@@ -435,3 +436,34 @@ async def test_serve_run_names_the_path_that_cannot_start(
     assert line.endswith(
         f"m.toml: [run]: tp: {'EW_DATA' if 'program' in words else 'EW_MODE'}: {words}"
     )
+
+
+@pytest.mark.parametrize("number", sorted(KNOWN_DIAGS))
+@pytest.mark.parametrize("kind", list(ParamKind))
+def test_a_diagnostic_the_machine_computes_has_a_whole_number_type(
+    tmp_path: Path, number: int, kind: ParamKind
+) -> None:
+    """410, 4901 and 4902 follow the loads: a bit or byte one read a load of 555 W past its
+    type (4901 of type byte), a real one counted in its mantissa."""
+    name = kind.name.lower().replace("_", "-")
+    for axis in ("true", "false"):
+        body = f'[diagnostics.{number}]\ntype = "{name}"\naxis = {axis}\n'
+        if kind in (ParamKind.WORD, ParamKind.TWO_WORD):
+            assert _load(tmp_path, body).read_diag(number, 1 if axis == "true" else 0) == 0
+        else:
+            message = _refused(tmp_path, body)
+            assert f"diagnostics.{number}.type: the machine shows" in message
+            got = f"(got an axis {name} diagnostic)" if axis == "true" else f"(got a {name} "
+            assert f"it is a word or two-word diagnostic {got}" in message
+
+
+def test_a_servo_power_is_held_within_its_range() -> None:
+    clock = ManualClock()
+    diags = [DataItem(4901, kind=ParamKind.WORD, axis=True, low=0, high=100)]
+    machine = Machine(
+        "M", axes=["X"], diags=diags, sim_clock=clock, programs=("O1\nG0 X500.\nM30\n",)
+    )
+    machine.cycle_start()
+    clock.advance(0.5)
+    assert machine.status().run == 3
+    assert machine.read_diag(4901, 1) == 100  # a rapid's load times 15 W, held at its high
