@@ -19,7 +19,8 @@ from cli_support import at, fails
 from mosquitto_support import Broker, broker, mosquitto_binary, subscriber
 from support import free_port, serving, wait_until
 
-from focas_net.cli import EXIT_CNC
+from focas_net.cli import EXIT_CNC, EXIT_USAGE
+from focas_net.cli._args import parse_log_level
 from focas_net.client import FocasClient, NativeClient
 from focas_net.errors import EW, CncError
 from focas_net.gateway.config import (
@@ -347,3 +348,15 @@ def test_what_the_example_gateway_opens_to_writes_the_example_machine_has() -> N
             assert len(lathe.read_pmc(letter, first, last - first + 1)) == last - first + 1
     for path in (1, 2):
         lathe.read_param(6713, 0, path=path)
+
+
+@pytest.mark.parametrize("command", ["serve", "gateway"])
+async def test_a_log_level_refused_is_named_as_typed_and_any_case_is_taken(command: str) -> None:
+    said = await fails(
+        EXIT_USAGE, command, "gateway.toml", "--log-level", "verbose", prefix="focas-net"
+    )
+    assert said == (
+        f"focas-net {command}: error: argument --log-level: invalid choice: 'verbose' (choose "
+        f"from DEBUG, INFO, WARNING, ERROR, CRITICAL, in any case); see focas-net {command} --help"
+    )
+    assert parse_log_level(" info ") == "INFO"
