@@ -360,3 +360,17 @@ async def test_a_log_level_refused_is_named_as_typed_and_any_case_is_taken(comma
         f"from DEBUG, INFO, WARNING, ERROR, CRITICAL, in any case); see focas-net {command} --help"
     )
     assert parse_log_level(" info ") == "INFO"
+
+
+@pytest.mark.parametrize("item", ["mode", "alarm", "message"])
+def test_a_deadband_of_an_item_without_a_unit_says_so_rather_than_unknown_key(item: str) -> None:
+    with pytest.raises(ConfigError) as refused:
+        parse_config(MACHINE + f"[mqtt]\ndeadbands = {{ {item} = 1 }}\n", "plant.toml")
+    said = str(refused.value)
+    assert said.startswith(
+        f"plant.toml: mqtt.deadbands.{item}: {item} is not a number with a unit, which a "
+        "deadband is for (the items that are: absolute, cutting_time, "
+    )
+    assert "unknown key" not in said
+    with pytest.raises(ConfigError, match=f"^mqtt.deadbands.{item}: {item} is not a number"):
+        MqttSettings(deadbands={item: 1.0}).check()
