@@ -7,6 +7,7 @@ from __future__ import annotations
 
 import asyncio
 import gc
+import json
 import logging
 import signal
 import socket
@@ -23,6 +24,9 @@ from focas_net.cli import EXIT_CNC, EXIT_USAGE
 from focas_net.cli._args import parse_log_level
 from focas_net.client import FocasClient, NativeClient
 from focas_net.errors import EW, CncError
+from focas_net.gateway import AlarmChange
+from focas_net.gateway._mqtt_messages import AlarmEvent, Publication
+from focas_net.gateway._opcua_conditions import condition_name
 from focas_net.gateway.config import (
     DEFAULT_GATEWAY,
     ConfigError,
@@ -34,6 +38,7 @@ from focas_net.gateway.config import (
 )
 from focas_net.gateway.mqtt import MqttSink, broker_reason
 from focas_net.gateway.opcua import _TOLD, _Told
+from focas_net.protocol.alarms import alarm_code
 from focas_net.sim import load_machine
 
 __all__ = ["broker"]  # the fixture, used by name
@@ -374,3 +379,16 @@ def test_a_deadband_of_an_item_without_a_unit_says_so_rather_than_unknown_key(it
     assert "unknown key" not in said
     with pytest.raises(ConfigError, match=f"^mqtt.deadbands.{item}: {item} is not a number"):
         MqttSettings(deadbands={item: 1.0}).check()
+
+
+@pytest.mark.parametrize(("alm_type", "number", "axis"), [(15, 1001, 0), (6, 411, 2), (14, 1, 0)])
+def test_an_alarm_on_mqtt_carries_the_code_the_cli_and_opc_ua_show(
+    alm_type: int, number: int, axis: int
+) -> None:
+    change = AlarmChange("m1", 1, alm_type, number, axis, "COOLANT LEVEL LOW", True, 0.0)
+    event, active = Publication("focas", "gw", {}).alarms([change])
+    code = alarm_code(alm_type, number)  # (the CLI's `alarms --json` code)
+    assert json.loads(event.payload)["code"] == code
+    assert json.loads(active.payload)["alarms"][0]["code"] == code
+    assert condition_name(alm_type, number, axis) == (f"{code}/{axis}" if axis else code)
+    assert AlarmEvent.decode(event.payload).number == number
