@@ -27,7 +27,6 @@ from focas_net._bits import bits_of_text
 from focas_net._typed import (
     NO_PASSWORD_NOTE,
     decimal_number,
-    decimal_text,
     program_number,
     rapid_step,
     switch,
@@ -48,7 +47,7 @@ from focas_net.protocol import (
 from focas_net.server.faults import FaultQueue, fault_refusal, parse_inject
 from focas_net.sim import Machine, MachineError, ParamKind, Session
 
-from .view import JsonDict, PathTrail, param_text
+from .view import JsonDict, PathTrail, macro_value, param_text
 
 __all__ = [
     "ACTIONS",
@@ -435,9 +434,10 @@ def _unlock(station: Station, args: Mapping[str, Any]) -> JsonDict:
 def _write_macro(station: Station, args: Mapping[str, Any]) -> JsonDict:
     m = station.machine
     number, path = _int(args, "number"), _path(args)
+    if "value" not in args:  # a variable is made vacant when told, never for a key left out
+        raise ActionError('value: a number is needed (null or "" makes the variable vacant)')
     m.write_macro(number, _decimal(args, "value"), path=path)
-    value = m.read_macro(number, path=path)
-    return {"number": number, "value": "" if value is None else decimal_text(value)}
+    return {"number": number, "value": macro_value(m.read_macro(number, path=path))}
 
 
 def _select_program(station: Station, args: Mapping[str, Any]) -> JsonDict:

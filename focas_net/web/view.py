@@ -434,10 +434,11 @@ def param_rows(
     return rows
 
 
-def _macro_text(value: Decimal | None) -> str:
-    """A macro value as the page shows it: as the command line writes it (``-0.000000001``,
-    never ``-1E-9``, which its box would refuse), empty when vacant."""
-    return "" if value is None else decimal_text(value)
+def macro_value(value: Decimal | None) -> str | None:
+    """A macro value as the page is given it: text as the command line writes it
+    (``-0.000000001``, never ``-1E-9``, which its box would refuse), None (JSON ``null``) when
+    vacant, as ``focas-net macro get --json`` gives it."""
+    return None if value is None else decimal_text(value)
 
 
 #: The macro variable numbers a search may name (FOCAS carries a variable number as a short).
@@ -508,7 +509,7 @@ def macro_rows(
         rows.append(
             {
                 "number": number,
-                "value": _macro_text(value),
+                "value": macro_value(value),
                 "writable": bool(machine.macro_writable(number)),
             }
         )
