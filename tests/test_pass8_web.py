@@ -14,8 +14,8 @@ from support import IO_TIMEOUT, serving
 
 from focas_net._typed import WRONG_PASSWORD, rapid_step, switch
 from focas_net.errors import EW
-from focas_net.protocol import FaultKind, alarm_type_of, ew_of_text
-from focas_net.sim import MachineError, default_machine
+from focas_net.protocol import AutMode, FaultKind, alarm_type_of, ew_of_text
+from focas_net.sim import MachineError, default_machine, load_machine
 from focas_net.web import ActionError, Dashboard, Station, macro_rows, perform, stations_of
 
 
@@ -247,3 +247,42 @@ def test_a_write_without_a_value_leaves_the_variable_as_it_was() -> None:
         station.machine.write_macro(500, 7)
         assert perform(station, "write_macro", {"number": 500, "value": vacant})["value"] is None
         assert station.machine.read_macro(500) is None
+
+
+# -- a parameter written on the page answers as param get --json -------------------------------
+EXAMPLE = Path(__file__).resolve().parent.parent / "examples" / "machine.toml"
+
+
+@pytest.mark.parametrize(
+    ("number", "axis", "typed", "cli_typed"),
+    [
+        (1430, 1, "1.5", "1.5"),  # real: its value was 15, the count of its least units
+        (1006, 1, "00000101", "0b101"),  # bit, an axis
+        (1420, 2, "0x10", "16"),  # two-word, an axis
+    ],
+)
+async def test_a_parameter_written_on_the_page_answers_as_param_get_json(
+    number: int, axis: int, typed: str, cli_typed: str
+) -> None:
+    machine = load_machine(EXAMPLE)
+    machine.set_panel(mode=int(AutMode.MDI), pwe=1)
+    async with serving(machine) as served:
+        station = Station(0, machine)
+        perform(station, "unlock", {"password": "5810"})
+        answer = perform(station, "write_param", {"number": number, "axis": axis, "value": typed})
+        on_axis = ["--axis", str(axis)] if axis else []
+        got = await ok("param", "get", str(number), *on_axis, *at(served), "--json")
+        cli = json.loads(got)
+        assert answer == {"ok": True, **cli, "text": answer["text"]}
+        written = await ok(
+            "param",
+            "set",
+            str(number),
+            cli_typed,
+            *on_axis,
+            *at(served),
+            "--password",
+            "5810",
+            "--json",
+        )
+        assert json.loads(written) == cli  # the same value written by the command line

@@ -47,7 +47,7 @@ from focas_net.protocol import (
 from focas_net.server.faults import FaultQueue, fault_refusal, parse_inject
 from focas_net.sim import Machine, MachineError, ParamKind, Session
 
-from .view import JsonDict, PathTrail, macro_value, param_text
+from .view import JsonDict, PathTrail, macro_value, param_data
 
 __all__ = [
     "ACTIONS",
@@ -416,8 +416,9 @@ def _write_param(station: Station, args: Mapping[str, Any]) -> JsonDict:
     value, decimals = _param_value(m, number, given)
     path = _path(args)
     m.write_param(station.session, number, axis, value, decimals=decimals, path=path)
-    now = m.read_param(number, axis, path=path)
-    return {"number": number, "value": now, "text": param_text(item, now)}
+    # the value as `param get --json` gives it (a real one's as its decimal text, not the
+    # number of its least units), and the text the page shows
+    return param_data(item, axis, m.read_param(number, axis, path=path))
 
 
 def _unlock(station: Station, args: Mapping[str, Any]) -> JsonDict:

@@ -55,6 +55,7 @@ __all__ = [
     "macro_range",
     "macro_rows",
     "no_machine",
+    "param_data",
     "param_rows",
     "param_text",
     "pmc_address",
@@ -387,6 +388,23 @@ def param_text(item: DataItem, value: int) -> str:
     if item.kind is ParamKind.REAL and item.decimals:
         return decimal_text(Decimal(value).scaleb(-item.decimals))  # 0.0000001, not 1E-7
     return str(value)
+
+
+def param_data(item: DataItem, axis: int, value: int) -> JsonDict:
+    """A parameter's value as ``focas-net param get --json`` gives it (``number``, ``axis``,
+    ``value``, ``width``, ``type``; a real one's ``value`` as decimal text with its
+    ``decimals``, a bit one's ``bits``), and ``text`` as the page shows it
+    (:func:`param_text`)."""
+    data: JsonDict = {"number": item.number, "axis": axis, "value": value, "width": item.width}
+    if item.kind is not None:
+        data["type"] = ParamDataType(item.kind).label
+    if item.kind is ParamKind.REAL:
+        data["value"] = decimal_text(Decimal(value).scaleb(-item.decimals))
+        data["decimals"] = item.decimals
+    elif item.kind is ParamKind.BIT:
+        data["value"] = value & 0xFF
+        data["bits"] = f"{value & 0xFF:08b}"
+    return {**data, "text": param_text(item, value)}
 
 
 def param_rows(
