@@ -30,6 +30,7 @@ __all__ = [
     "NO_PASSWORD_NOTE",
     "OVERRIDE_RANGES",
     "RAPID_STEPS",
+    "WRONG_PASSWORD",
     "alarm_axis_unfit",
     "alarm_text_unfit",
     "decimal_number",
@@ -64,6 +65,10 @@ NO_PASSWORD_NOTE: Final = (
     "the CNC has no parameter password: it accepts any, and a parameter write needs no unlock "
     "(it needs MDI mode and PWE on, and a machine that is not read-only)"
 )
+
+#: Why an unlock with a password that is not the CNC's is refused (EW_PASSWD), as every front
+#: end says it (the machine, so the dashboard; the command line's reason of the code).
+WRONG_PASSWORD: Final = "the password is not the CNC's"
 
 #: Characters of an alarm's message the CNC keeps (a longer one is cut).
 MAX_ALARM_TEXT: Final = 32
@@ -114,7 +119,7 @@ def alarm_axis_unfit(axis_no: int, axes: int) -> str | None:
     if 0 <= axis_no <= axes:
         return None
     counted = f"{axes} axis" if axes == 1 else f"{axes} axes"
-    return f"axis_no {axis_no} outside 0..{axes}: the path has {counted} (0: an alarm of no axis)"
+    return f"axis_no {axis_no} outside 0..{axes}: the path has {counted}"
 
 
 def alarm_text_unfit(text: str) -> str | None:

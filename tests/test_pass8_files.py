@@ -9,7 +9,7 @@ from pathlib import Path
 
 import pytest
 from cli_support import Cli, fails
-from examples_support import run_example
+from examples_support import EXAMPLES, port_args, run_example
 from support import serve_process, serving
 
 from focas_net.cli import EXIT_CNC, EXIT_USAGE
@@ -319,3 +319,78 @@ def test_a_program_in_a_literal_toml_string_is_told_how_to_write_it(tmp_path: Pa
     message = _refused(tmp_path, "[[program]]\ntext = 'O1\\nG0 X1.\\nM30'\n")
     assert "m.toml: program[0].text: " in message
     assert "a TOML string in '...' keeps \\n as written" in message
+
+
+# -- the examples against a machine without what they use -------------------------------
+
+
+@pytest.fixture
+async def lathe() -> AsyncIterator[tuple[Machine, list[str]]]:
+    """The two-path lathe of examples/lathe_2path.toml: no parameter 1320, no PMC area D."""
+    machine = load_machine(EXAMPLES / "lathe_2path.toml")
+    async with serving(machine) as served:
+        yield machine, port_args(served)
+
+
+async def test_alarm_watch_stopped_early_leaves_none_of_its_alarms(
+    lathe: tuple[Machine, list[str]],
+) -> None:
+    """``--events 1`` used to stop with the demonstration's PS0100 still active, so the next
+    cycle start was refused with EW_ALARM."""
+    machine, address = lathe
+    code, out, _ = await run_example("alarm_watch.py", *address, "--events", "1")
+    assert code == 0 and "raised   PS0100" in out
+    assert machine.active_alarms() == []
+
+
+@pytest.mark.parametrize(
+    ("name", "args", "words"),
+    [
+        (
+            "write_param_with_unlock.py",
+            [],
+            "cnc_rdparainfo; the CNC has no parameter 1320 (give --param N)",
+        ),
+        (
+            "pmc_bits.py",
+            ["--area", "D"],
+            "pmc_wrpmcrng; the CNC has no PMC area D (give --area of one it has)",
+        ),
+        (
+            "pmc_bits.py",
+            ["--area", "G", "--start", "1999", "--bytes", "2"],
+            "the CNC's area G has no bytes 1999..2000",
+        ),
+    ],
+)
+async def test_an_example_names_what_the_cnc_has_not(
+    lathe: tuple[Machine, list[str]], name: str, args: list[str], words: str
+) -> None:
+    code, out, err = await run_example(name, *lathe[1], *args)
+    assert (code, out) == (1, "")
+    assert err.count("\n") == 1 and words in err
+
+
+async def test_run_program_names_why_the_cnc_refused_the_program(
+    lathe: tuple[Machine, list[str]], tmp_path: Path
+) -> None:
+    target = tmp_path / "o15.nc"
+    target.write_text("O1.5\nG0 X1.\nM30\n", encoding="ascii")
+    code, out, err = await run_example("run_program.py", *lathe[1], "--program", str(target))
+    assert (code, out) == (1, "")
+    assert err.endswith(
+        f"; {target}: 'O1.5': a program number is O and 1..4 digits, no decimal point (O1..O9999)\n"
+    )
+
+
+async def test_run_program_names_the_alarm_that_refuses_cycle_start(
+    lathe: tuple[Machine, list[str]],
+) -> None:
+    machine, address = lathe
+    machine.raise_alarm(0, 3, 10, "IMPROPER G-CODE")
+    code, out, err = await run_example("run_program.py", *address)
+    assert (code, out) == (1, "")
+    assert err == (
+        "run_program: an alarm is active: PS0010 IMPROPER G-CODE (focas-net sim clear clears "
+        "alarms)\n"
+    )

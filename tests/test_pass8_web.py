@@ -10,12 +10,13 @@ from typing import Any
 
 import pytest
 from cli_support import at, fails, ok
-from support import serving
+from support import IO_TIMEOUT, serving
 
-from focas_net._typed import rapid_step, switch
-from focas_net.protocol import FaultKind, alarm_type_of, ew_of_text
-from focas_net.sim import default_machine
-from focas_net.web import ActionError, Station, perform
+from focas_net._typed import WRONG_PASSWORD, rapid_step, switch
+from focas_net.errors import EW
+from focas_net.protocol import AutMode, FaultKind, alarm_type_of, ew_of_text
+from focas_net.sim import MachineError, default_machine, load_machine
+from focas_net.web import ActionError, Dashboard, Station, macro_rows, perform, stations_of
 
 
 def _station() -> Station:
@@ -163,3 +164,125 @@ def test_an_unlock_without_a_password_says_one_is_needed(args: dict[str, Any]) -
     assert str(refused.value) == (
         "password: a parameter password (1..4 ASCII characters) is needed"
     )
+
+
+async def test_a_wrong_password_is_refused_in_the_same_words_on_the_page_and_the_command_line() -> (
+    None
+):
+    """The page said "parameter password mismatch" where ``focas-net unlock 123`` says "the
+    password is not the CNC's"."""
+    async with serving(default_machine(param_password="1234")) as served:
+        line = await fails(1, "unlock", "123", *at(served))
+        with pytest.raises(MachineError) as refused:
+            perform(Station(0, served.machine), "unlock", {"password": "123"})
+        assert (refused.value.ew, refused.value.detail) == (EW.PASSWD, WRONG_PASSWORD)
+        assert line.endswith(f"(cnc_wrunlockparam); {WRONG_PASSWORD}")
+
+
+@pytest.mark.parametrize("number", [3011, 3012, 4001])
+def test_a_read_only_macro_variable_is_named_alike_whatever_makes_it_so(number: int) -> None:
+    """The page said "#3011 is read-only" of the clock and "macro variable #4001 is
+    read-only" of a modal variable."""
+    with pytest.raises(MachineError) as refused:
+        perform(_station(), "write_macro", {"number": number, "value": 1})
+    assert refused.value.ew == EW.PROT
+    assert refused.value.detail.startswith(f"macro variable #{number} is read-only")
+
+
+# -- the live updates --------------------------------------------------------------------------
+BINARY_REFUSED = "bad subscription: a text frame of JSON is expected, got a binary frame"
+
+
+async def test_a_subscription_in_a_binary_frame_is_refused_saying_so() -> None:
+    """A subscription sent as a binary frame (``websocat --binary``) went unanswered: the
+    page's frames went on as before, nothing said why."""
+    aiohttp = pytest.importorskip("aiohttp", reason="the web dashboard needs aiohttp")
+    async with serving() as served:
+        web = Dashboard(stations_of(served.server), port=0, interval=0.05)
+        async with web, aiohttp.ClientSession() as session:
+            async with session.ws_connect(f"{web.url}ws") as ws:
+                await ws.send_bytes(b'{"subscribe": "machine", "index": 0}')
+                for _ in range(50):  # fleet frames first, then the answer to the frame sent
+                    frame = json.loads(await ws.receive_str(timeout=IO_TIMEOUT))
+                    if frame["type"] != "fleet":
+                        break
+                assert frame == {"type": "error", "error": BINARY_REFUSED}
+                await ws.send_str('{"subscribe": "machine", "index": 0}')  # as text: shown
+                for _ in range(50):
+                    frame = json.loads(await ws.receive_str(timeout=IO_TIMEOUT))
+                    if frame["type"] == "machine":
+                        break
+                assert frame["data"]["index"] == 0
+
+
+# -- a macro variable: vacant as the command line gives it, and only when told -------------------
+async def test_a_vacant_variable_is_null_on_the_page_as_in_macro_get_json() -> None:
+    """The page's answers had ``"value": ""`` for a vacant variable where ``macro get --json``
+    has ``null``."""
+    async with serving() as served:
+        station = Station(0, served.machine)
+        answer = perform(station, "write_macro", {"number": 500, "value": ""})
+        cli = json.loads(await ok("macro", "get", "500", *at(served), "--json"))
+        assert cli == {"number": 500, "value": None}
+        assert answer == {"ok": True, **cli}
+        rows = macro_rows(served.machine, station.macro_numbers(), "500-500")
+        assert rows == [{"number": 500, "value": None, "writable": True}]
+        perform(station, "write_macro", {"number": 500, "value": "1.50"})
+        cli = json.loads(await ok("macro", "get", "500", *at(served), "--json"))
+        assert (
+            macro_rows(served.machine, station.macro_numbers(), "500-500")[0]["value"]
+            == (cli["value"])
+        )
+
+
+def test_a_write_without_a_value_leaves_the_variable_as_it_was() -> None:
+    """``{"number": 500}`` made #500 vacant: a value left out was read as the empty box."""
+    station = _station()
+    perform(station, "write_macro", {"number": 500, "value": "7"})
+    with pytest.raises(ActionError) as refused:
+        perform(station, "write_macro", {"number": 500})
+    assert str(refused.value) == 'value: a number is needed (null or "" makes the variable vacant)'
+    assert station.machine.read_macro(500) == 7
+    for vacant in (None, "", "  "):  # told: vacant
+        station.machine.write_macro(500, 7)
+        assert perform(station, "write_macro", {"number": 500, "value": vacant})["value"] is None
+        assert station.machine.read_macro(500) is None
+
+
+# -- a parameter written on the page answers as param get --json -------------------------------
+EXAMPLE = Path(__file__).resolve().parent.parent / "examples" / "machine.toml"
+
+
+@pytest.mark.parametrize(
+    ("number", "axis", "typed", "cli_typed"),
+    [
+        (1430, 1, "1.5", "1.5"),  # real: its value was 15, the count of its least units
+        (1006, 1, "00000101", "0b101"),  # bit, an axis
+        (1420, 2, "0x10", "16"),  # two-word, an axis
+    ],
+)
+async def test_a_parameter_written_on_the_page_answers_as_param_get_json(
+    number: int, axis: int, typed: str, cli_typed: str
+) -> None:
+    machine = load_machine(EXAMPLE)
+    machine.set_panel(mode=int(AutMode.MDI), pwe=1)
+    async with serving(machine) as served:
+        station = Station(0, machine)
+        perform(station, "unlock", {"password": "5810"})
+        answer = perform(station, "write_param", {"number": number, "axis": axis, "value": typed})
+        on_axis = ["--axis", str(axis)] if axis else []
+        got = await ok("param", "get", str(number), *on_axis, *at(served), "--json")
+        cli = json.loads(got)
+        assert answer == {"ok": True, **cli, "text": answer["text"]}
+        written = await ok(
+            "param",
+            "set",
+            str(number),
+            cli_typed,
+            *on_axis,
+            *at(served),
+            "--password",
+            "5810",
+            "--json",
+        )
+        assert json.loads(written) == cli  # the same value written by the command line

@@ -15,6 +15,7 @@ from collections.abc import Callable, Mapping
 from pathlib import Path
 from typing import Final
 
+from focas_net._typed import WRONG_PASSWORD
 from focas_net.errors import EW, CncError
 from focas_net.server.faults import fault_refusal
 from focas_net.sim import AXIS_NAME_PARAM
@@ -294,7 +295,7 @@ def _fault_refused(args: argparse.Namespace) -> str:
 
 _SIM_FAULT: Final[Table] = {**_SIM, EW.DATA: _fault_refused}
 _VERSAMAX: Final[Table] = {EW.NUMBER: lambda a: f"rack {a.rack} slot {a.slot} holds no module"}
-_UNLOCK: Final[Table] = {EW.PASSWD: lambda a: "the password is not the CNC's"}
+_UNLOCK: Final[Table] = {EW.PASSWD: lambda a: WRONG_PASSWORD}
 
 #: The table of each command, by its name as typed.
 FAMILIES: Final[Mapping[str, Table]] = {
