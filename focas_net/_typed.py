@@ -119,7 +119,7 @@ def alarm_axis_unfit(axis_no: int, axes: int) -> str | None:
     if 0 <= axis_no <= axes:
         return None
     counted = f"{axes} axis" if axes == 1 else f"{axes} axes"
-    return f"axis_no {axis_no} outside 0..{axes}: the path has {counted} (0: an alarm of no axis)"
+    return f"axis_no {axis_no} outside 0..{axes}: the path has {counted}"
 
 
 def alarm_text_unfit(text: str) -> str | None:

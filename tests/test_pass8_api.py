@@ -4,7 +4,8 @@ ranges, refused alike wherever the same rule applies, naming what was given."""
 
 from __future__ import annotations
 
-from collections.abc import AsyncIterator, Callable
+import re
+from collections.abc import AsyncIterator, Awaitable, Callable
 from decimal import Decimal
 from pathlib import Path
 from typing import Any
@@ -18,10 +19,12 @@ from focas_net import (
     FocasServer,
     MachineError,
     NativeClient,
+    NativeServer,
     default_machine,
     load_machine,
 )
-from focas_net.sim import Machine, machine_from_dict
+from focas_net.server import ListenError
+from focas_net.sim import MAX_HISTORY_CAPACITY, Machine, machine_from_dict
 from focas_net.sim.nc import ManualClock
 
 EXAMPLES = Path(__file__).resolve().parent.parent / "examples"
@@ -133,7 +136,7 @@ async def test_an_alarm_of_an_axis_beyond_the_path_names_the_axis_and_the_count(
     served: tuple[Machine, FocasClient, NativeClient],
 ) -> None:
     machine, cnc, _ = served
-    words = "axis_no 9 outside 0..3: the path has 3 axes (0: an alarm of no axis)"
+    words = "axis_no 9 outside 0..3: the path has 3 axes"
     with pytest.raises(MachineError) as by_machine:
         machine.raise_alarm(9, 6, 411, "SERVO")
     assert by_machine.value.ew == EW.ATTRIB and by_machine.value.detail == words
@@ -147,7 +150,7 @@ async def test_an_alarm_of_an_axis_beyond_the_path_names_the_axis_and_the_count(
 
 def test_an_alarm_axis_on_a_machine_of_one_axis_says_axis() -> None:
     machine = machine_from_dict({"machine": {"name": "one", "axes": ["X"]}})
-    with pytest.raises(MachineError, match=r"axis_no 2 outside 0\.\.1: the path has 1 axis \("):
+    with pytest.raises(MachineError, match=r"axis_no 2 outside 0\.\.1: the path has 1 axis$"):
         machine.raise_alarm(2, 6, 411)
 
 
@@ -159,9 +162,7 @@ async def test_an_alarm_axis_is_named_with_the_count_of_the_path_it_was_raised_o
             with pytest.raises(CncError) as refused:
                 await cnc.sim.raise_alarm("SV", 411, axis_no=3, path=2)
             await cnc.sim.raise_alarm("SV", 411, axis_no=2, path=2)
-    assert refused.value.detail.endswith(
-        "axis_no 3 outside 0..2: the path has 2 axes (0: an alarm of no axis)"
-    )
+    assert refused.value.detail.endswith("axis_no 3 outside 0..2: the path has 2 axes")
     assert [a.axis_no for a in machine.active_alarms(path=2)] == [2]
 
 
@@ -259,3 +260,190 @@ async def test_the_packed_client_takes_replace_as_true_or_false(
     with pytest.raises(TypeError, match="replace must be True or False, got 'no'"):
         await cnc.write_program("O1234\nM30\n%", replace="no")  # type: ignore[arg-type]
     assert 1234 not in [p.number for p in machine.program_directory()]
+
+
+# -- building machines and servers -------------------------------------------------------------
+@pytest.mark.parametrize(
+    ("kwargs", "error", "words"),
+    [
+        ({"history_capacity": "250"}, TypeError, "history_capacity must be an integer, got '250'"),
+        ({"history_capacity": 2.5}, TypeError, "history_capacity must be an integer, got 2.5"),
+        ({"history_capacity": True}, TypeError, "history_capacity must be an integer, got True"),
+        (
+            {"history_capacity": 2**63},
+            ValueError,
+            f"history_capacity {2**63} is outside 1..100000 (entries)",
+        ),
+        ({"history_capacity": 0}, ValueError, "history_capacity 0 is outside 1..100000 (entries)"),
+        ({"clock": 5}, TypeError, "clock must be callable (it returns the time), got 5"),
+        ({"read_only": "no"}, TypeError, "read_only must be True or False, got 'no'"),
+        ({"read_only": 1}, TypeError, "read_only must be True or False, got 1"),
+        ({"control_enabled": 0}, TypeError, "control_enabled must be True or False, got 0"),
+        ({"programs": b"O1"}, TypeError, "programs must be a list of program texts, got b'O1'"),
+        ({"programs": 3}, TypeError, "programs must be a list of program texts, got 3"),
+        ({"programs": [b"O1"]}, TypeError, "programs[0] must be a program's text (str), got b'O1'"),
+        (
+            {"programs": "O1000\nM30\n"},
+            TypeError,
+            "programs must be a list of program texts, got one text 'O1000\\nM30\\n': give it in "
+            "a list",
+        ),
+    ],
+)
+def test_default_machine_names_an_argument_of_another_type(
+    kwargs: dict[str, Any], error: type[Exception], words: str
+) -> None:
+    with pytest.raises(error) as refused:
+        default_machine(**kwargs)
+    assert str(refused.value) == words
+
+
+def test_the_history_capacity_is_the_machine_files_range() -> None:
+    assert MAX_HISTORY_CAPACITY == 100_000
+    assert default_machine(history_capacity=MAX_HISTORY_CAPACITY).alarm_history() == ()
+    machine = machine_from_dict({"machine": {"name": "m", "axes": ["X"], "history_capacity": 1}})
+    assert machine.alarm_history() == ()
+
+
+@pytest.mark.parametrize("path", [True, b"examples/machine.toml", 5, None])
+def test_load_machine_names_a_path_of_another_type(path: Any) -> None:
+    with pytest.raises(TypeError, match=r"a machine file's path must be a str or a Path, got "):
+        load_machine(path)
+
+
+@pytest.mark.parametrize(
+    ("host", "words"),
+    [
+        ("localhost\n", "not a host name: 'localhost\\n'"),
+        ("bad host!", "not a host name: 'bad host!'"),
+        ("127.0.0.1:8193", "is a host and a port: give the host '127.0.0.1' and the port 8193"),
+        ("\u0661", "holds a digit beyond ASCII"),
+        ("", "empty host ''"),
+    ],
+)
+async def test_a_server_checks_its_host_as_the_clients_and_the_command_line_do(
+    host: str, words: str
+) -> None:
+    machine = default_machine()
+    with pytest.raises(ValueError, match=re.escape(words)):
+        FocasServer(machine, host=host, port=0)
+    with pytest.raises(ValueError, match=re.escape(words)):
+        NativeServer(machine, host)
+
+
+async def test_a_server_takes_an_ipv6_address_in_brackets() -> None:
+    try:
+        async with FocasServer(default_machine(), host="[::1]", port=0) as server:
+            assert server.addresses[0][0] == "::1"
+    except ListenError as exc:  # a box without IPv6
+        assert str(exc).startswith("cannot listen on [::1]:0: ")
+
+
+async def test_a_port_that_cannot_be_bound_names_the_address_and_the_reason() -> None:
+    async with FocasServer(default_machine(), port=0) as first:
+        host, port = first.addresses[0]
+        with pytest.raises(ListenError) as refused:
+            async with FocasServer(default_machine(), port=port):
+                pass
+    assert str(refused.value) == f"cannot listen on {host}:{port}: address already in use"
+    assert refused.value.where == f"{host}:{port}" and refused.value.errno is not None
+
+
+@pytest.mark.parametrize(
+    ("args", "kwargs", "words"),
+    [
+        ((None,), {}, "machine must be a Machine, got None"),
+        (("m",), {}, "machine must be a Machine, got 'm'"),
+        ((), {"version": "1"}, "version must be an integer, got '1'"),
+        ((), {"version": 1.0}, "version must be an integer, got 1.0"),
+        ((), {"max_body": "4096"}, "max_body must be an integer, got '4096'"),
+        ((), {"max_body": None}, "max_body must be an integer, got None"),
+    ],
+)
+def test_a_native_server_names_an_argument_of_another_type(
+    args: tuple[Any, ...], kwargs: dict[str, Any], words: str
+) -> None:
+    with pytest.raises(TypeError) as refused:
+        NativeServer(*(args or (default_machine(),)), **kwargs)
+    assert str(refused.value) == words
+
+
+# -- FOCAS/2 requests whose text does not fit ---------------------------------------------------
+@pytest.mark.parametrize(
+    ("call", "words"),
+    [
+        (
+            lambda n: n.read_drive_usage("//CNC_MEM/USER/"),
+            "cnc_rdpdf_inf: name '//CNC_MEM/USER/': printable ASCII of at most 11 characters",
+        ),
+        (
+            lambda n: n.read_file_info("O\u00e9"),
+            "cnc_rdpdf_prginf: name 'O\u00e9': printable ASCII of at most 243 characters",
+        ),
+        (
+            lambda n: n.select_main_file("//CNC_MEM/" + "A" * 300),
+            "cnc_pdf_slctmain: name '//CNC_MEM/AAAAAAAAAAAAAAAAAAAAAAAAAAAAAA': printable ASCII "
+            "of at most 255 characters",
+        ),
+    ],
+)
+async def test_a_native_request_that_does_not_fit_names_the_function_not_its_repr(
+    served: tuple[Machine, FocasClient, NativeClient],
+    call: Callable[[NativeClient], Awaitable[object]],
+    words: str,
+) -> None:
+    _, _, native = served
+    with pytest.raises(ValueError) as refused:
+        await call(native)
+    assert str(refused.value) == words
+    assert "Request(" not in str(refused.value)
+
+
+# -- an axis beyond the path, on both clients ---------------------------------------------------
+@pytest.mark.parametrize(
+    ("call", "function"),
+    [
+        (lambda c: c.read_param(1420, axis=9), "cnc_rdparam"),
+        (lambda c: c.read_param_real(1420, axis=9), "cnc_rdparam"),
+        (lambda c: c.read_diag(300, axis=9), None),
+        (lambda c: c.read_positions(axis=9), "cnc_rdposition"),
+        (lambda c: c.write_param_bit(1005, 1, True, axis=9), "cnc_rdparam"),
+    ],
+)
+async def test_an_axis_beyond_the_path_is_named_with_the_count_on_both_clients(
+    served: tuple[Machine, FocasClient, NativeClient],
+    call: Callable[[Any], Awaitable[object]],
+    function: str | None,
+) -> None:
+    machine, cnc, native = served
+    machine.set_panel(0, 1, 0)  # MDI, PWE on: a write is refused for its axis only
+    details = []
+    for client in (cnc, native):
+        with pytest.raises(CncError) as refused:
+            await call(client)
+        assert refused.value.ew == EW.ATTRIB
+        details.append(refused.value.detail)
+    assert all(d.endswith(": axis 9 of 3") for d in details), details
+    if function is not None:  # the diagnostic's function is cnc_rddiag / cnc_diagnoss
+        assert details[0] == details[1] == f"{function}: axis 9 of 3"
+
+
+async def test_an_axis_given_to_an_item_of_no_axis_stays_as_the_cnc_answered(
+    served: tuple[Machine, FocasClient, NativeClient],
+) -> None:
+    _, cnc, native = served
+    for client in (cnc, native):
+        with pytest.raises(CncError) as refused:
+            await client.read_param(6711, axis=1)
+        assert (refused.value.ew, refused.value.detail) == (EW.ATTRIB, "cnc_rdparam")
+
+
+async def test_a_path_of_two_axes_counts_its_own(tmp_path: Path) -> None:
+    machine = load_machine(EXAMPLES / "lathe_2path.toml")
+    async with FocasServer(machine, port=0) as server:
+        host, port = server.addresses[0]
+        async with FocasClient(host, port, timeout=5) as cnc:
+            with pytest.raises(CncError) as refused:
+                await cnc.read_positions(axis=3, path=2)
+            assert len((await cnc.read_positions(axis=2, path=2)).values) == 1
+    assert refused.value.detail == "cnc_rdposition: axis 3 of 2"

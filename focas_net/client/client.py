@@ -30,7 +30,7 @@ from collections.abc import Callable, Coroutine, Sequence
 from decimal import Decimal
 from typing import Any, Final, TypeVar
 
-from focas_net.errors import EW, CncError, PayloadError
+from focas_net.errors import EW, CncError, FocasError, PayloadError
 
 from ..protocol import (
     COMMANDS,
@@ -297,8 +297,12 @@ class FocasClient(Link):
         which = PositionKind.parse(kind)
         check_axis(axis)
         p = self._path_of(path)
+        deadline = self._deadline(timeout)
         payload = _RDPOSITION.request.encode(PositionRequest(which, -1 if axis is None else axis))
-        data: PositionData = await self._request(_RDPOSITION, payload, timeout, p)
+        try:
+            data: PositionData = await self._request_at(_RDPOSITION, payload, deadline, path=p)
+        except CncError as exc:
+            raise await self._axis_refusal(exc, axis, p, deadline) from None
         dec = data.dec
         return Positions(
             which,
@@ -308,11 +312,39 @@ class FocasClient(Link):
         )
 
     # -- parameters and diagnostics ------------------------------------------------------
+    async def _axis_count(self, path: int, deadline: float | None) -> int | None:
+        """The number of axes of ``path`` (one ``cnc_rdposition`` of every axis); None when
+        it cannot be read."""
+        payload = _RDPOSITION.request.encode(PositionRequest(PositionKind.ABSOLUTE, -1))
+        try:
+            data: PositionData = await self._request_at(_RDPOSITION, payload, deadline, path=path)
+        except FocasError:
+            return None
+        return len(data.axes)
+
+    async def _axis_refusal(
+        self, exc: CncError, axis: int | None, path: int, deadline: float | None
+    ) -> CncError:
+        """``exc``, or for EW_ATTRIB of an ``axis`` beyond ``path``'s axes the same refusal
+        naming the axis and the count as the native client does (``cnc_rdparam: axis 9 of
+        3``): a packed answer carries the code only, so the count is read after the refusal,
+        within the call's deadline. EW_ATTRIB of an axis the path has (an axis given for a
+        parameter of no axis) stays as it came."""
+        if exc.ew != EW.ATTRIB or axis is None or axis < 1:
+            return exc
+        count = await self._axis_count(path, deadline)
+        if count is None or axis <= count:
+            return exc
+        return CncError.from_ew(exc.ew, f"{exc.detail}: axis {axis} of {count}")
+
     async def _read_param_value(
         self, number: int, axis: int, deadline: float | None, path: int
     ) -> ParamValue:
         payload = _RDPARAM.request.encode(DataRequest(number, axis))
-        value: ParamValue = await self._request_at(_RDPARAM, payload, deadline, path=path)
+        try:
+            value: ParamValue = await self._request_at(_RDPARAM, payload, deadline, path=path)
+        except CncError as exc:
+            raise await self._axis_refusal(exc, axis, path, deadline) from None
         self._param_widths[number] = value.width
         return value
 
@@ -387,7 +419,7 @@ class FocasClient(Link):
         except CncError as exc:
             if exc.ew == EW.LENGTH and not learnt:
                 self._param_widths.pop(number, None)  # stale width: learn it again next time
-            raise
+            raise await self._axis_refusal(exc, axis, path, deadline) from None
 
     async def _write_param_bits(
         self, number: int, axis: int, bits: int, width: int, deadline: float | None, path: int
@@ -395,7 +427,10 @@ class FocasClient(Link):
         size = 8 * width
         raw = bits - (1 << size) if bits >= 1 << (size - 1) else bits
         payload = _WRPARAM.request.encode(ParamValue(number, axis, raw, width))
-        await self._request_at(_WRPARAM, payload, deadline, path=path)
+        try:
+            await self._request_at(_WRPARAM, payload, deadline, path=path)
+        except CncError as exc:
+            raise await self._axis_refusal(exc, axis, path, deadline) from None
 
     async def read_diag(
         self,
@@ -408,8 +443,12 @@ class FocasClient(Link):
         """``cnc_rddiag``: the value of diagnostic ``number``."""
         check_item(number, axis, "diagnostic")
         p = self._path_of(path)
+        deadline = self._deadline(timeout)
         payload = _RDDIAG.request.encode(DataRequest(number, axis))
-        value: ParamValue = await self._request(_RDDIAG, payload, timeout, p)
+        try:
+            value: ParamValue = await self._request_at(_RDDIAG, payload, deadline, path=p)
+        except CncError as exc:
+            raise await self._axis_refusal(exc, axis, p, deadline) from None
         return value.value
 
     # -- macros --------------------------------------------------------------------------

@@ -9,7 +9,7 @@ from dataclasses import dataclass
 from typing import TYPE_CHECKING, Final
 
 from .._typed import alarm_axis_unfit, override_percent, override_unfit
-from ..errors import EW, CncError, FocasError
+from ..errors import EW, CncError
 from ..protocol import (
     COMMANDS,
     AlarmType,
@@ -24,9 +24,6 @@ from ..protocol import (
     InjectFault,
     Overrides,
     PmcArea,
-    PositionData,
-    PositionKind,
-    PositionRequest,
     RaiseAlarm,
     SetPanel,
     VacateMacro,
@@ -69,7 +66,6 @@ _SET_PANEL: Final = COMMANDS[C.SIM_SET_PANEL]
 _READ_PANEL: Final = COMMANDS[C.SIM_READ_PANEL]
 _CYCLE: Final = COMMANDS[C.SIM_CYCLE]
 _OVERRIDES: Final = COMMANDS[C.SIM_SET_OVERRIDES]
-_RDPOSITION: Final = COMMANDS[C.RDPOSITION]
 _RAISE_ALARM: Final = COMMANDS[C.SIM_RAISE_ALARM]
 _CLEAR_ALARMS: Final = COMMANDS[C.SIM_CLEAR_ALARMS]
 _SET_PMC: Final = COMMANDS[C.SIM_SET_PMC]
@@ -170,13 +166,8 @@ class SimControl:
         """Why the CNC refused an alarm of axis ``axis_no`` on ``path`` with EW_ATTRIB, in the
         machine's words with the path's axis count (a packed answer carries the code only, so
         the count is read, within the call's deadline); None when it cannot be read."""
-        client = self._client
-        payload = _RDPOSITION.request.encode(PositionRequest(PositionKind.ABSOLUTE, -1))
-        try:
-            data: PositionData = await client._request_at(_RDPOSITION, payload, deadline, path=path)
-        except FocasError:
-            return None
-        return alarm_axis_unfit(axis_no, len(data.axes))
+        axes = await self._client._axis_count(path, deadline)
+        return None if axes is None else alarm_axis_unfit(axis_no, axes)
 
     async def clear_alarms(
         self,

@@ -13,7 +13,7 @@ import math
 from collections.abc import Callable, Iterable
 from contextlib import AbstractContextManager
 
-from ._base import need_flag, need_int
+from ._base import need_flag, need_flag_or_none, need_int
 from ._paths import Paths
 from ._signals import METER, Collected
 from ._spindles import (
@@ -167,7 +167,7 @@ class PathOperations:
         (a part counted each time) until ``repeat`` False is given or an alarm stops it; None
         leaves the setting as it is (another value is a TypeError)."""
         self.check_writable()
-        need_flag("repeat", repeat, none=True)
+        need_flag_or_none("repeat", repeat)
         self._paths.at(path).cycle_start(repeat)
 
     def feed_hold(self, *, path: int = 1) -> None:

@@ -103,7 +103,15 @@ from decimal import Decimal
 from focas_net.errors import EW
 from focas_net.versamax import IOModuleRecord
 
-from ._alarms import DEFAULT_HISTORY_CAPACITY, Alarm, Alarms, Clock, HistoryEntry, utc_now
+from ._alarms import (
+    DEFAULT_HISTORY_CAPACITY,
+    MAX_HISTORY_CAPACITY,
+    Alarm,
+    Alarms,
+    Clock,
+    HistoryEntry,
+    utc_now,
+)
 from ._base import Counters, MachineError, need_flag, need_int
 from ._folders import FolderOperations
 from ._identity import (
@@ -171,6 +179,7 @@ __all__ = [
     "DEFAULT_HISTORY_CAPACITY",
     "F_SIGNALS",
     "G_SIGNALS",
+    "MAX_HISTORY_CAPACITY",
     "MAX_MACRO_DECIMALS",
     "MAX_PATHS",
     "MDI",
@@ -254,8 +263,8 @@ class Machine(
         #: Which class of FANUC control this machine is (one of :data:`CONTROL_CLASSES`).
         self.control_class = control_class
         #: Whether the simulator control commands of a front end are served.
-        self.control_enabled = control_enabled
-        self.read_only = read_only
+        self.control_enabled = need_flag("control_enabled", control_enabled)
+        self.read_only = need_flag("read_only", read_only)
         for spec in specs:
             if spec.panel is not None and spec.panel.mode not in AUT_MODES:
                 raise ValueError(f"panel mode {spec.panel.mode} is not an aut value")

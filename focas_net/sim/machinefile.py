@@ -56,6 +56,7 @@ from .machine import (
     CONTROL_CLASSES,
     DEFAULT_CONTROL_CLASS,
     DEFAULT_HISTORY_CAPACITY,
+    MAX_HISTORY_CAPACITY,
     MAX_REAL_DECIMALS,
     MODE_NAMES,
     PMC_AREAS,
@@ -567,7 +568,7 @@ def machine_from_dict(
     capacity = _int(
         mc.sub("history_capacity"),
         head.get("history_capacity", DEFAULT_HISTORY_CAPACITY),
-        (1, 100_000),
+        (1, MAX_HISTORY_CAPACITY),
     )
     ranges, values = _macros(root.sub("macros"), top.get("macros", {}))
     messages = _operator_messages(root.sub("operator_messages"), top.get("operator_messages", []))
@@ -670,7 +671,10 @@ def load_machine(
     sim_clock: SimClock | None = None,
 ) -> Machine:
     """Read the machine file at ``path`` (TOML). Raises :class:`MachineFileError`. A
-    program's ``file`` is relative to the machine file's folder."""
+    program's ``file`` is relative to the machine file's folder; TypeError naming a ``path``
+    that is no ``str`` or path object."""
+    if not isinstance(path, str | PathLike):
+        raise TypeError(f"a machine file's path must be a str or a Path, got {path!r}")
     p = Path(path)
     name = str(path)
     try:
