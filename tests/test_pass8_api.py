@@ -447,3 +447,61 @@ async def test_a_path_of_two_axes_counts_its_own(tmp_path: Path) -> None:
                 await cnc.read_positions(axis=3, path=2)
             assert len((await cnc.read_positions(axis=2, path=2)).values) == 1
     assert refused.value.detail == "cnc_rdposition: axis 3 of 2"
+
+
+# -- the machine's sessions, messages, positions and macro words -------------------------------
+@pytest.mark.parametrize("session", [None, "s", 1])
+def test_a_session_of_another_type_is_named_before_the_lock_is_asked(session: Any) -> None:
+    machine = default_machine(param_password="1234")
+    machine.set_panel(0, 1, 0)  # MDI, PWE on: the write would reach the password
+    words = (
+        rf"session must be a Session \(machine.new_session\(\)\), got {re.escape(repr(session))}"
+    )
+    calls: tuple[Callable[[], object], ...] = (
+        lambda: machine.unlock(session, "1234"),
+        lambda: machine.write_param(session, 1420, 1, 5),
+        lambda: machine.param_gate_closed(session),
+    )
+    for call in calls:
+        with pytest.raises(TypeError, match=words):
+            call()
+
+
+@pytest.mark.parametrize("password", [1234, None, 12.5])
+def test_an_unlock_with_a_password_of_another_type_is_a_type_error(password: Any) -> None:
+    for machine in (default_machine(), default_machine(param_password="1234")):
+        session = machine.new_session()
+        with pytest.raises(TypeError, match="a parameter password is text or bytes, got "):
+            machine.unlock(session, password)
+        assert not session.unlocked
+
+
+@pytest.mark.parametrize("messages", ["2001 HELLO", 5, [("A", 0, 0, 2001, "HELLO")]])
+def test_external_messages_of_another_type_are_named(messages: Any) -> None:
+    machine = default_machine()
+    with pytest.raises(TypeError, match=r"messages(\[0\])? must be a(n| list of) ExternalMessage"):
+        machine.set_external_messages(messages)
+
+
+@pytest.mark.parametrize("kind", ["foo", 0, "abs"])
+def test_a_position_kind_the_machine_has_not_lists_the_kinds(kind: Any) -> None:
+    with pytest.raises(MachineError, match="one of absolute, machine, relative, distance_to_go"):
+        default_machine().positions(kind)
+    with pytest.raises(TypeError, match="axis must be an integer, got '1'"):
+        default_machine().positions("absolute", "1")  # type: ignore[arg-type]
+
+
+@pytest.mark.parametrize(
+    "value", [Decimal("NaN"), Decimal("Infinity"), Decimal("1E+12"), 10**12, Decimal("1E-10")]
+)
+async def test_a_macro_value_no_variable_holds_is_refused_in_one_wording(
+    served: tuple[Machine, FocasClient, NativeClient], value: Decimal | int
+) -> None:
+    machine, cnc, native = served
+    with pytest.raises(MachineError) as by_machine:
+        machine.write_macro(500, value)
+    for client in (cnc, native):
+        with pytest.raises(ValueError) as by_client:
+            await client.write_macro(500, value)
+        assert str(by_client.value) == by_machine.value.detail
+    assert by_machine.value.detail.startswith(f"#500: macro value {value} ")
