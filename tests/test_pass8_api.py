@@ -14,6 +14,7 @@ import pytest
 
 from focas_net import (
     EW,
+    AlarmProjection,
     CncError,
     FocasClient,
     FocasServer,
@@ -26,6 +27,7 @@ from focas_net import (
 from focas_net.server import ListenError
 from focas_net.sim import MAX_HISTORY_CAPACITY, Machine, machine_from_dict
 from focas_net.sim.nc import ManualClock
+from focas_net.web import Dashboard, stations_of
 
 EXAMPLES = Path(__file__).resolve().parent.parent / "examples"
 
@@ -505,3 +507,36 @@ async def test_a_macro_value_no_variable_holds_is_refused_in_one_wording(
             await client.write_macro(500, value)
         assert str(by_client.value) == by_machine.value.detail
     assert by_machine.value.detail.startswith(f"#500: macro value {value} ")
+
+
+# -- reprs ---------------------------------------------------------------------------------------
+def test_a_machines_repr_keeps_its_axis_names_apart() -> None:
+    assert repr(default_machine()) == "Machine('focas-sim-0i', axes=('X', 'Y', 'Z'))"
+    lathe = load_machine(EXAMPLES / "lathe_2path.toml")
+    assert repr(lathe) == "Machine('twin-turret-lathe', paths=[('X1', 'Z1'), ('X2', 'Z2')])"
+
+
+@pytest.mark.parametrize(
+    ("mode", "shown"),
+    [
+        ("active_plus_history", "active+history"),
+        ("ACTIVE_PLUS_HISTORY", "active+history"),
+        (" Active+History ", "active+history"),
+        ("active", "active"),
+    ],
+)
+async def test_a_projection_takes_its_mode_by_value_or_name_and_says_what_it_follows(
+    served: tuple[Machine, FocasClient, NativeClient], mode: str, shown: str
+) -> None:
+    _, cnc, _ = served
+    projection = AlarmProjection(cnc, mode, interval=0.5)
+    assert repr(projection) == f"<AlarmProjection {shown} every 0.5 s of {cnc!r}>"
+
+
+async def test_a_dashboards_repr_is_its_address_and_its_machines() -> None:
+    async with FocasServer([default_machine(), default_machine()], port=0) as server:
+        dashboard = Dashboard(stations_of(server), port=0)
+        assert repr(dashboard) == "<Dashboard http://127.0.0.1:0/ 2 machines>"
+        async with dashboard:
+            assert repr(dashboard) == f"<Dashboard {dashboard.url} 2 machines>"
+            assert dashboard.address[1] != 0

@@ -339,7 +339,13 @@ class Machine(
             p.name = name if self._paths.count == 1 else f"{name}/{info.name}"
 
     def __repr__(self) -> str:
-        return f"Machine({self.name!r}, axes={''.join(self.axes)!r})"
+        """``Machine('focas-sim-0i', axes=('X', 'Y', 'Z'))``; a machine of several paths shows
+        each path's axes (``paths=[('X1', 'Z1'), ('X2', 'Z2')]``), never the names run
+        together."""
+        infos = self._paths.infos
+        if len(infos) == 1:
+            return f"Machine({self.name!r}, axes={tuple(self.axes)!r})"
+        return f"Machine({self.name!r}, paths={[tuple(i.axes) for i in infos]!r})"
 
     # -- paths ---------------------------------------------------------------------------
     @property
