@@ -14,9 +14,9 @@ from support import IO_TIMEOUT, serving
 
 from focas_net._typed import WRONG_PASSWORD, rapid_step, switch
 from focas_net.errors import EW
-from focas_net.protocol import FaultKind, alarm_type_of, ew_of_text
-from focas_net.sim import MachineError, default_machine
-from focas_net.web import ActionError, Dashboard, Station, perform, stations_of
+from focas_net.protocol import AutMode, FaultKind, alarm_type_of, ew_of_text
+from focas_net.sim import MachineError, default_machine, load_machine
+from focas_net.web import ActionError, Dashboard, Station, macro_rows, perform, stations_of
 
 
 def _station() -> Station:
@@ -213,3 +213,76 @@ async def test_a_subscription_in_a_binary_frame_is_refused_saying_so() -> None:
                     if frame["type"] == "machine":
                         break
                 assert frame["data"]["index"] == 0
+
+
+# -- a macro variable: vacant as the command line gives it, and only when told -------------------
+async def test_a_vacant_variable_is_null_on_the_page_as_in_macro_get_json() -> None:
+    """The page's answers had ``"value": ""`` for a vacant variable where ``macro get --json``
+    has ``null``."""
+    async with serving() as served:
+        station = Station(0, served.machine)
+        answer = perform(station, "write_macro", {"number": 500, "value": ""})
+        cli = json.loads(await ok("macro", "get", "500", *at(served), "--json"))
+        assert cli == {"number": 500, "value": None}
+        assert answer == {"ok": True, **cli}
+        rows = macro_rows(served.machine, station.macro_numbers(), "500-500")
+        assert rows == [{"number": 500, "value": None, "writable": True}]
+        perform(station, "write_macro", {"number": 500, "value": "1.50"})
+        cli = json.loads(await ok("macro", "get", "500", *at(served), "--json"))
+        assert (
+            macro_rows(served.machine, station.macro_numbers(), "500-500")[0]["value"]
+            == (cli["value"])
+        )
+
+
+def test_a_write_without_a_value_leaves_the_variable_as_it_was() -> None:
+    """``{"number": 500}`` made #500 vacant: a value left out was read as the empty box."""
+    station = _station()
+    perform(station, "write_macro", {"number": 500, "value": "7"})
+    with pytest.raises(ActionError) as refused:
+        perform(station, "write_macro", {"number": 500})
+    assert str(refused.value) == 'value: a number is needed (null or "" makes the variable vacant)'
+    assert station.machine.read_macro(500) == 7
+    for vacant in (None, "", "  "):  # told: vacant
+        station.machine.write_macro(500, 7)
+        assert perform(station, "write_macro", {"number": 500, "value": vacant})["value"] is None
+        assert station.machine.read_macro(500) is None
+
+
+# -- a parameter written on the page answers as param get --json -------------------------------
+EXAMPLE = Path(__file__).resolve().parent.parent / "examples" / "machine.toml"
+
+
+@pytest.mark.parametrize(
+    ("number", "axis", "typed", "cli_typed"),
+    [
+        (1430, 1, "1.5", "1.5"),  # real: its value was 15, the count of its least units
+        (1006, 1, "00000101", "0b101"),  # bit, an axis
+        (1420, 2, "0x10", "16"),  # two-word, an axis
+    ],
+)
+async def test_a_parameter_written_on_the_page_answers_as_param_get_json(
+    number: int, axis: int, typed: str, cli_typed: str
+) -> None:
+    machine = load_machine(EXAMPLE)
+    machine.set_panel(mode=int(AutMode.MDI), pwe=1)
+    async with serving(machine) as served:
+        station = Station(0, machine)
+        perform(station, "unlock", {"password": "5810"})
+        answer = perform(station, "write_param", {"number": number, "axis": axis, "value": typed})
+        on_axis = ["--axis", str(axis)] if axis else []
+        got = await ok("param", "get", str(number), *on_axis, *at(served), "--json")
+        cli = json.loads(got)
+        assert answer == {"ok": True, **cli, "text": answer["text"]}
+        written = await ok(
+            "param",
+            "set",
+            str(number),
+            cli_typed,
+            *on_axis,
+            *at(served),
+            "--password",
+            "5810",
+            "--json",
+        )
+        assert json.loads(written) == cli  # the same value written by the command line
