@@ -14,9 +14,17 @@ from support import IO_TIMEOUT, serving
 
 from focas_net._typed import WRONG_PASSWORD, rapid_step, switch
 from focas_net.errors import EW
-from focas_net.protocol import FaultKind, alarm_type_of, ew_of_text
-from focas_net.sim import MachineError, default_machine
-from focas_net.web import ActionError, Dashboard, Station, perform, stations_of
+from focas_net.protocol import AutMode, FaultKind, alarm_type_of, ew_of_text
+from focas_net.sim import MachineError, default_machine, load_machine
+from focas_net.web import (
+    ActionError,
+    Dashboard,
+    Station,
+    action_args,
+    macro_rows,
+    perform,
+    stations_of,
+)
 
 
 def _station() -> Station:
@@ -213,3 +221,127 @@ async def test_a_subscription_in_a_binary_frame_is_refused_saying_so() -> None:
                     if frame["type"] == "machine":
                         break
                 assert frame["data"]["index"] == 0
+
+
+# -- a macro variable: vacant as the command line gives it, and only when told -------------------
+async def test_a_vacant_variable_is_null_on_the_page_as_in_macro_get_json() -> None:
+    """The page's answers had ``"value": ""`` for a vacant variable where ``macro get --json``
+    has ``null``."""
+    async with serving() as served:
+        station = Station(0, served.machine)
+        answer = perform(station, "write_macro", {"number": 500, "value": ""})
+        cli = json.loads(await ok("macro", "get", "500", *at(served), "--json"))
+        assert cli == {"number": 500, "value": None}
+        assert answer == {"ok": True, **cli}
+        rows = macro_rows(served.machine, station.macro_numbers(), "500-500")
+        assert rows == [{"number": 500, "value": None, "writable": True}]
+        perform(station, "write_macro", {"number": 500, "value": "1.50"})
+        cli = json.loads(await ok("macro", "get", "500", *at(served), "--json"))
+        assert (
+            macro_rows(served.machine, station.macro_numbers(), "500-500")[0]["value"]
+            == (cli["value"])
+        )
+
+
+def test_a_write_without_a_value_leaves_the_variable_as_it_was() -> None:
+    """``{"number": 500}`` made #500 vacant: a value left out was read as the empty box."""
+    station = _station()
+    perform(station, "write_macro", {"number": 500, "value": "7"})
+    with pytest.raises(ActionError) as refused:
+        perform(station, "write_macro", {"number": 500})
+    assert str(refused.value) == 'value: a number is needed (null or "" makes the variable vacant)'
+    assert station.machine.read_macro(500) == 7
+    for vacant in (None, "", "  "):  # told: vacant
+        station.machine.write_macro(500, 7)
+        assert perform(station, "write_macro", {"number": 500, "value": vacant})["value"] is None
+        assert station.machine.read_macro(500) is None
+
+
+# -- a parameter written on the page answers as param get --json -------------------------------
+EXAMPLE = Path(__file__).resolve().parent.parent / "examples" / "machine.toml"
+
+
+@pytest.mark.parametrize(
+    ("number", "axis", "typed", "cli_typed"),
+    [
+        (1430, 1, "1.5", "1.5"),  # real: its value was 15, the count of its least units
+        (1006, 1, "00000101", "0b101"),  # bit, an axis
+        (1420, 2, "0x10", "16"),  # two-word, an axis
+    ],
+)
+async def test_a_parameter_written_on_the_page_answers_as_param_get_json(
+    number: int, axis: int, typed: str, cli_typed: str
+) -> None:
+    machine = load_machine(EXAMPLE)
+    machine.set_panel(mode=int(AutMode.MDI), pwe=1)
+    async with serving(machine) as served:
+        station = Station(0, machine)
+        perform(station, "unlock", {"password": "5810"})
+        answer = perform(station, "write_param", {"number": number, "axis": axis, "value": typed})
+        on_axis = ["--axis", str(axis)] if axis else []
+        got = await ok("param", "get", str(number), *on_axis, *at(served), "--json")
+        cli = json.loads(got)
+        assert answer == {"ok": True, **cli, "text": answer["text"]}
+        written = await ok(
+            "param",
+            "set",
+            str(number),
+            cli_typed,
+            *on_axis,
+            *at(served),
+            "--password",
+            "5810",
+            "--json",
+        )
+        assert json.loads(written) == cli  # the same value written by the command line
+
+
+# -- a number of thousands of digits ------------------------------------------------------------
+@pytest.mark.parametrize("typed", ["1" * 5000, "O" + "9" * 9, "0" * 5000])
+async def test_a_program_number_of_thousands_of_digits_is_refused_as_no_program_number(
+    typed: str,
+) -> None:
+    """``{"number": "111...1"}`` (5,000 digits), as ``program select 111...1``, said "Exceeds
+    the limit (4300 digits) for integer string conversion: ... use
+    sys.set_int_max_str_digits()", Python's words; leading zeros are no digits of it."""
+    async with serving() as served:
+        station = Station(0, served.machine)
+        with pytest.raises(ActionError) as refused:
+            perform(station, "select_program", {"number": typed})
+        assert str(refused.value) == f"number: {typed!r} is not a program number (e.g. O1000)"
+        line = await fails(2, "program", "select", typed, *at(served))
+        assert line == f"focas-net: program select: {typed!r} is not a program number (e.g. O1000)"
+    leading = perform(_station(), "select_program", {"number": "O" + "0" * 4999 + "1"})
+    assert leading == {"ok": True}
+
+
+def test_a_json_number_of_thousands_of_digits_is_refused_saying_so_not_as_no_json() -> None:
+    """A body ``{"number": 111...1}`` (5,000 digits, a JSON number) was "the body is not
+    JSON": Python refuses to read it, and that refusal read as no JSON."""
+    for digits, sign in ((5000, ""), (101, "-")):
+        body = f'{{"number": {sign}{"1" * digits}, "value": 1}}'.encode()
+        with pytest.raises(ActionError) as refused:
+            action_args(body)
+        shown_digits = f"{sign}{'1' * 12}"[:12]
+        assert str(refused.value) == (
+            f"a JSON number of {digits} digits ({shown_digits}...): no value holds more than 100"
+        )
+    assert action_args(b'{"number": -' + b"9" * 100 + b"}")["number"] == -int("9" * 100)
+
+
+async def test_a_subscription_with_a_number_of_thousands_of_digits_says_so() -> None:
+    aiohttp = pytest.importorskip("aiohttp", reason="the web dashboard needs aiohttp")
+    async with serving() as served:
+        web = Dashboard(stations_of(served.server), port=0, interval=0.05)
+        async with web, aiohttp.ClientSession() as session:
+            async with session.ws_connect(f"{web.url}ws") as ws:
+                await ws.send_str('{"subscribe": "machine", "index": ' + "1" * 5000 + "}")
+                for _ in range(50):
+                    frame = json.loads(await ws.receive_str(timeout=IO_TIMEOUT))
+                    if frame["type"] != "fleet":
+                        break
+                assert frame == {
+                    "type": "error",
+                    "error": "bad subscription: a JSON number of 5000 digits (111111111111...): "
+                    "no value holds more than 100",
+                }

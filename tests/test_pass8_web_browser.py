@@ -74,3 +74,27 @@ async def test_the_timers_read_as_watch_writes_them(browser: WebDriver, tmp_path
         }
         assert shown["power on"] == "1:02:03.4"
         assert await page.errors() == []
+
+
+async def test_a_variable_made_vacant_on_the_page_shows_an_empty_box(
+    browser: WebDriver, tmp_path: Path
+) -> None:
+    """A vacant variable is ``null`` in the page's answers (as ``macro get --json``); its box
+    shows nothing, with its placeholder, never the word null."""
+    machine = default_machine()
+    machine.write_macro(500, 7)
+    async with machine_page(browser, tmp_path, machine) as (_, page):
+        await page.type("macro-search", "500-501")
+        await page.until(lambda d: len(d.find_elements(By.CSS_SELECTOR, "#macros tr")) == 3, "#500")
+        await page.type("macro-500", Keys.ENTER)  # the box emptied: vacant
+        await page.text_of("message", lambda t: "write_macro: done" in t, "the write")
+        assert machine.read_macro(500) is None
+
+        def boxes() -> list[tuple[str, str]]:
+            found = page.driver.find_elements(By.CSS_SELECTOR, "#macro-500, #macro-501")
+            return [
+                (str(b.get_attribute("value")), str(b.get_attribute("placeholder"))) for b in found
+            ]
+
+        assert await page.call(boxes) == [("", "vacant"), ("", "vacant")]
+        assert await page.errors() == []

@@ -208,9 +208,9 @@ def test_macro_rows_by_number_and_range() -> None:
     assert list(numbers) == sorted(numbers)
     rows = macro_rows(machine, numbers, "500-502")
     assert rows == [
-        {"number": 500, "value": "", "writable": True},
+        {"number": 500, "value": None, "writable": True},
         {"number": 501, "value": "1.50", "writable": True},
-        {"number": 502, "value": "", "writable": True},
+        {"number": 502, "value": None, "writable": True},
     ]
     assert macro_rows(machine, numbers, "#5021", limit=1)[0]["writable"] is False
     with pytest.raises(ValueError, match="'five'"):

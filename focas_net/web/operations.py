@@ -25,9 +25,9 @@ from typing import Any, Final, TypeVar
 
 from focas_net._bits import bits_of_text
 from focas_net._typed import (
+    MAX_DIGITS,
     NO_PASSWORD_NOTE,
     decimal_number,
-    decimal_text,
     program_number,
     rapid_step,
     switch,
@@ -48,7 +48,7 @@ from focas_net.protocol import (
 from focas_net.server.faults import FaultQueue, fault_refusal, parse_inject
 from focas_net.sim import Machine, MachineError, ParamKind, Session
 
-from .view import JsonDict, PathTrail, param_text
+from .view import JsonDict, PathTrail, macro_value, param_data
 
 __all__ = [
     "ACTIONS",
@@ -417,8 +417,9 @@ def _write_param(station: Station, args: Mapping[str, Any]) -> JsonDict:
     value, decimals = _param_value(m, number, given)
     path = _path(args)
     m.write_param(station.session, number, axis, value, decimals=decimals, path=path)
-    now = m.read_param(number, axis, path=path)
-    return {"number": number, "value": now, "text": param_text(item, now)}
+    # the value as `param get --json` gives it (a real one's as its decimal text, not the
+    # number of its least units), and the text the page shows
+    return param_data(item, axis, m.read_param(number, axis, path=path))
 
 
 def _unlock(station: Station, args: Mapping[str, Any]) -> JsonDict:
@@ -435,9 +436,10 @@ def _unlock(station: Station, args: Mapping[str, Any]) -> JsonDict:
 def _write_macro(station: Station, args: Mapping[str, Any]) -> JsonDict:
     m = station.machine
     number, path = _int(args, "number"), _path(args)
+    if "value" not in args:  # a variable is made vacant when told, never for a key left out
+        raise ActionError('value: a number is needed (null or "" makes the variable vacant)')
     m.write_macro(number, _decimal(args, "value"), path=path)
-    value = m.read_macro(number, path=path)
-    return {"number": number, "value": "" if value is None else decimal_text(value)}
+    return {"number": number, "value": macro_value(m.read_macro(number, path=path))}
 
 
 def _select_program(station: Station, args: Mapping[str, Any]) -> JsonDict:
@@ -558,13 +560,27 @@ def no_twice(pairs: list[tuple[str, Any]]) -> dict[str, Any]:
     return args
 
 
+def json_int(text: str) -> int:
+    """A JSON number without a point (``-12``): one of more than
+    :data:`~focas_net._typed.MAX_DIGITS` digits is refused saying so, as typed text of as many
+    is (Python refuses to read 4,301 and more in words of its own, and the body would read as
+    no JSON)."""
+    count = len(text.lstrip("-"))
+    if count > MAX_DIGITS:
+        raise ActionError(
+            f"a JSON number of {count} digits ({text[:12]}...): no value holds more than "
+            f"{MAX_DIGITS}"
+        )
+    return int(text)
+
+
 def action_args(body: bytes) -> dict[str, Any]:
     """The arguments of an action from its request body (empty: none): a JSON object, each
     key once; :class:`ActionError` saying what the body is instead."""
     if not body.strip():
         return {}
     try:
-        args = json.loads(body, object_pairs_hook=no_twice)
+        args = json.loads(body, object_pairs_hook=no_twice, parse_int=json_int)
     except RecursionError:
         raise ActionError("the body nests too deep to be an action's arguments") from None
     except ValueError as exc:

@@ -526,7 +526,7 @@ async function loadMacros() {
   searchNote("macro-note", body.note || "", false);
   const key = JSON.stringify(body.macros.map((m) => [m.number, m.writable]));
   if (state.macroKey === key) {
-    for (const m of body.macros) refresh(`macro-${m.number}`, m.value);
+    for (const m of body.macros) refresh(`macro-${m.number}`, m.value ?? "");
     return;
   }
   state.macroKey = key;
@@ -534,10 +534,10 @@ async function loadMacros() {
     el("tr", {}, el("th", {}, "#"), el("th", {}, "value")),
     ...body.macros.map((m) => {
       const id = `macro-${m.number}`;
-      const input = valueBox(id, m.value, { placeholder: "vacant",
+      const input = valueBox(id, m.value ?? "", { placeholder: "vacant",
         disabled: state.readOnly || !m.writable });
       const write = () => writeBox(id, "write_macro", { number: m.number, value: input.value },
-        (r) => r.value);
+        (r) => r.value ?? "");
       input.addEventListener("keydown", (ev) => { if (ev.key === "Enter") write(); });
       const save = el("button", { class: "small", id: `macro-save-${m.number}`, "data-write": "",
         disabled: state.readOnly || !m.writable, onclick: write }, "write");
