@@ -274,7 +274,7 @@ class Machine(
         self._station = Station(station or {})
         c = self._counters = Counters()
         self._items = Items(collected_params(params), collected_diags(diags), n, c)
-        problem = params_problem(self._items.params, self.axes)  # what the machine reads
+        problem = params_problem(self._items.params, self._items.diags, self.axes)
         if problem is not None:
             raise ValueError(problem)
         self._collected = Collected()
