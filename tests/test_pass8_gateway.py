@@ -35,13 +35,15 @@ from focas_net.gateway.config import (
     DEFAULT_GATEWAY,
     ConfigError,
     MqttSettings,
+    OpcUaSettings,
+    OpcUaUser,
     WriteGates,
     load_config,
     parse_config,
     shard,
 )
 from focas_net.gateway.mqtt import MqttSink, broker_reason
-from focas_net.gateway.opcua import _TOLD, _Told
+from focas_net.gateway.opcua import _TOLD, OpcUaSink, _Told
 from focas_net.protocol.alarms import alarm_code
 from focas_net.sim import load_machine
 
@@ -429,3 +431,37 @@ async def test_an_http_server_where_a_cnc_was_expected_is_named_alike_by_cli_and
         "b'HTTP/1.0 404' to an HTTP request and no FOCAS frame: an HTTP server)"
     )
     assert reasons[0] == "protocol: " + said.removeprefix("focas-net: ")
+
+
+# -- OPC UA certificate files -------------------------------------------------------------------
+async def test_a_certificate_or_key_the_server_cannot_load_names_the_key_and_the_file(
+    tmp_path: Path,
+) -> None:
+    garbage = tmp_path / "garbage.pem"
+    garbage.write_text("not a certificate\n")
+    settings = OpcUaSettings(
+        endpoint="opc.tcp://127.0.0.1:0/focas_net/",
+        users=(OpcUaUser("operator", "s3cret"),),
+        certificate=garbage,
+        private_key=garbage,
+    )
+    with pytest.raises(ConfigError) as refused:
+        async with OpcUaSink(settings):
+            pass
+    said = str(refused.value)
+    assert said.startswith(
+        f"opcua.certificate: got {str(garbage)!r}; expected a certificate in PEM or DER ("
+    )
+    assert "http" not in said
+
+
+def test_a_certificate_that_is_a_folder_is_not_said_not_to_exist(tmp_path: Path) -> None:
+    (tmp_path / "certs").mkdir()
+    (tmp_path / "key.pem").write_text("")
+    text = MACHINE + '[opcua]\ncertificate = "certs"\nprivate_key = "key.pem"\n'
+    with pytest.raises(ConfigError) as refused:
+        parse_config(text, "plant.toml", folder=tmp_path)
+    assert str(refused.value) == (
+        "plant.toml: opcua.certificate: got 'certs'; expected a file that exists "
+        f"({tmp_path / 'certs'} is a directory)"
+    )

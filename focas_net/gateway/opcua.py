@@ -26,8 +26,9 @@ import hmac
 import logging
 import math
 from collections import deque
-from collections.abc import Iterator, Sequence
+from collections.abc import Awaitable, Callable, Iterator, Sequence
 from datetime import UTC, datetime
+from pathlib import Path
 from types import TracebackType
 from typing import Any, Final
 
@@ -38,6 +39,7 @@ from asyncua.server.internal_server import InternalServer
 from focas_net.errors import OpcUaStatus
 from focas_net.gateway import _opcua_model as om
 from focas_net.gateway import _opcua_types as ot
+from focas_net.gateway._keys import ConfigError
 from focas_net.gateway._opcua_conditions import Conditions
 from focas_net.gateway._opcua_methods import add_write_methods
 from focas_net.gateway.config import OpcUaSettings, is_loopback, with_port
@@ -67,6 +69,20 @@ def _told_by_us() -> Iterator[None]:
         yield
     finally:
         logger.removeFilter(told)
+
+
+async def _load(load: Callable[[str], Awaitable[Any]], key: str, path: Path) -> None:
+    """``load`` (the server's loader of a certificate or a private key) of ``path``; a file it
+    cannot read is a :class:`ConfigError` naming the key and the file, in the words of the
+    file's other checks (``opcua.certificate: ...``)."""
+    try:
+        await load(str(path))
+    except Exception as exc:  # (cryptography's ValueError, an OSError, asyncua's own)
+        what = "a certificate" if key == "certificate" else "a private key"
+        why = " ".join(str(exc).split(" See http")[0].split()) or type(exc).__name__
+        raise ConfigError(
+            f"opcua.{key}: got {str(path)!r}; expected {what} in PEM or DER ({why})"
+        ) from None
 
 
 #: Nodes added, or samples applied, between two turns of the event loop: the server's work
@@ -266,8 +282,8 @@ class OpcUaSink:
         if self._loopback:
             policies.append(ua.SecurityPolicyType.NoSecurity)
         if s.certificate is not None and s.private_key is not None:
-            await server.load_certificate(str(s.certificate))
-            await server.load_private_key(str(s.private_key))
+            await _load(server.load_certificate, "certificate", s.certificate)
+            await _load(server.load_private_key, "private_key", s.private_key)
             policies += [
                 ua.SecurityPolicyType.Basic256Sha256_Sign,
                 ua.SecurityPolicyType.Basic256Sha256_SignAndEncrypt,
