@@ -27,7 +27,7 @@ from support import free_port, serving, wait_until
 from focas_net.cli import EXIT_CNC, EXIT_PROTOCOL, EXIT_USAGE
 from focas_net.cli._args import parse_log_level
 from focas_net.client import FocasClient, NativeClient
-from focas_net.errors import EW, CncError
+from focas_net.errors import EW, CncError, FocasConnectionError
 from focas_net.gateway import AlarmChange, Gateway, GatewayConfig
 from focas_net.gateway._mqtt_messages import AlarmEvent, Publication
 from focas_net.gateway._opcua_conditions import condition_name
@@ -44,6 +44,7 @@ from focas_net.gateway.config import (
 )
 from focas_net.gateway.mqtt import MqttSink, broker_reason
 from focas_net.gateway.opcua import _TOLD, OpcUaSink, _Told
+from focas_net.gateway.poller import reason_of
 from focas_net.protocol.alarms import alarm_code
 from focas_net.sim import load_machine
 
@@ -465,3 +466,12 @@ def test_a_certificate_that_is_a_folder_is_not_said_not_to_exist(tmp_path: Path)
         "plant.toml: opcua.certificate: got 'certs'; expected a file that exists "
         f"({tmp_path / 'certs'} is a directory)"
     )
+
+
+async def test_a_host_name_without_an_address_is_unresolved_not_lost() -> None:
+    for client_type in (FocasClient, NativeClient):
+        with pytest.raises(FocasConnectionError) as failed:
+            async with client_type("no-such-host.invalid", 8193, timeout=2.0):
+                pass
+        assert reason_of(failed.value) == f"unresolved: {failed.value}"
+    assert reason_of(FocasConnectionError("gone")) == "lost: gone"
