@@ -18,9 +18,10 @@ from typing import Literal
 
 import aiomqtt
 import pytest
-from asyncua import Server, ua
+from asyncua import Client, Server, ua
 from cli_support import at, fails
 from mosquitto_support import Broker, broker, mosquitto_binary, subscriber
+from opcua_support import url as opcua_url
 from poller_support import QUICK, RecordingSink, config
 from support import free_port, serving, wait_until
 
@@ -475,3 +476,35 @@ async def test_a_host_name_without_an_address_is_unresolved_not_lost() -> None:
                 pass
         assert reason_of(failed.value) == f"unresolved: {failed.value}"
     assert reason_of(FocasConnectionError("gone")) == "lost: gone"
+
+
+async def test_a_refused_opc_ua_session_is_one_warning_naming_the_user(
+    caplog: pytest.LogCaptureFixture,
+) -> None:
+    """asyncua's own ERROR lines of a refused session name nobody; the sink tells each refusal
+    once at WARNING, with the user and why (and fails here if asyncua's words change)."""
+    caplog.set_level(logging.INFO)
+    settings = OpcUaSettings(
+        endpoint="opc.tcp://127.0.0.1:0/focas_net/",
+        users=(OpcUaUser("op", "s3cret"),),
+        anonymous=False,
+    )
+    async with OpcUaSink(settings) as sink:
+        for user, password in (("op", "wrong"), ("nobody", "x"), (None, None)):
+            client = Client(opcua_url(sink))
+            if user is not None:
+                client.set_user(user)
+                client.set_password(password or "")
+            with pytest.raises(ua.UaStatusCodeError):
+                async with client:
+                    pass
+    ours = [r.getMessage() for r in caplog.records if r.name == "focas_net.gateway.opcua"]
+    assert "OPC UA: user 'op' refused: wrong password" in ours
+    assert "OPC UA: user 'nobody' refused: no such user" in ours
+    assert any(m.startswith("OPC UA: a session refused: its identity is not offered") for m in ours)
+    theirs = [
+        r.getMessage()
+        for r in caplog.records
+        if r.name.startswith("asyncua.server") and r.levelno >= logging.WARNING
+    ]
+    assert not [m for m in theirs if "refused" in m.lower() or "Bad" in m or "Reject" in m]

@@ -22,7 +22,6 @@ from __future__ import annotations
 import asyncio
 import contextlib
 import gc
-import hmac
 import logging
 import math
 from collections import deque
@@ -33,8 +32,6 @@ from types import TracebackType
 from typing import Any, Final
 
 from asyncua import Server, ua
-from asyncua.crypto.permission_rules import User, UserRole
-from asyncua.server.internal_server import InternalServer
 
 from focas_net.errors import OpcUaStatus
 from focas_net.gateway import _opcua_model as om
@@ -42,6 +39,7 @@ from focas_net.gateway import _opcua_types as ot
 from focas_net.gateway._keys import ConfigError
 from focas_net.gateway._opcua_conditions import Conditions
 from focas_net.gateway._opcua_methods import add_write_methods
+from focas_net.gateway._opcua_sessions import SESSION_LOGGERS, RefusedSessions, Users
 from focas_net.gateway.config import OpcUaSettings, is_loopback, with_port
 from focas_net.gateway.model import AlarmChange, MachineShape, Sample, Writer
 
@@ -98,33 +96,6 @@ _NULL: Final = ua.Variant(None)
 
 #: A variable's samples: machine, path, item and key (axis or spindle).
 _Key = tuple[str, int, str, str]
-
-
-class _Users:
-    """The configuration's users (passwords compared in constant time); anonymous sessions
-    when allowed."""
-
-    def __init__(self, settings: OpcUaSettings, anonymous: bool) -> None:
-        self._users = {u.name: u.password for u in settings.users}
-        self._anonymous = anonymous
-
-    def get_user(
-        self,
-        iserver: InternalServer,
-        username: str | None = None,
-        password: str | None = None,
-        certificate: Any = None,
-    ) -> User | None:
-        # only anonymous and user name tokens are offered: no user name is an anonymous session
-        # (``certificate`` is then the secure channel's, not an identity)
-        if username is None:
-            return User(role=UserRole.User) if self._anonymous else None
-        if password is None:
-            return None
-        expected = self._users.get(username)
-        if expected is None or not hmac.compare_digest(expected.encode(), password.encode()):
-            return None
-        return User(role=UserRole.User, name=username)
 
 
 class _Value(ua.DataValue):  # type: ignore[misc]
@@ -232,6 +203,7 @@ class OpcUaSink:
         self._writer = writer if settings.writes else None
         self._anonymous = settings.anonymous_sessions
         self._server: Server | None = None
+        self._refused = RefusedSessions()
         self._ns = 0
         self._cnc = 0
         self._machines: dict[str, om.MachineNodes] = {}
@@ -270,7 +242,7 @@ class OpcUaSink:
     async def start(self) -> None:
         """Build the server and listen."""
         s = self._settings
-        server = Server(user_manager=_Users(s, self._anonymous))
+        server = Server(user_manager=Users(s, self._anonymous))
         # ConditionRefresh (and ConditionRefresh2) of ConditionType send the retained
         # conditions again; asyncua binds them only when asked
         server.iserver.bind_condition_methods = True
@@ -303,6 +275,8 @@ class OpcUaSink:
         self._position_cls = made.get("CncPositionDataType") or ua.CncPositionDataType
         with _told_by_us():
             await server.start()
+        for name in SESSION_LOGGERS:
+            logging.getLogger(name).addFilter(self._refused)
         gc.freeze()  # the standard address space, for good (see _describe)
         self._server = server
         if s.users and s.certificate is None:  # (named with the port it took: port 0 asks any)
@@ -326,6 +300,8 @@ class OpcUaSink:
         if self._server is not None:
             await self._server.stop()
             self._server = None
+            for name in SESSION_LOGGERS:
+                logging.getLogger(name).removeFilter(self._refused)
 
     @property
     def port(self) -> int:
