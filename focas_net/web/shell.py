@@ -148,6 +148,12 @@ class Dashboard:
         self._task: asyncio.Task[None] | None = None
         self._sockets: set[web.WebSocketResponse] = set()
 
+    def __repr__(self) -> str:
+        """``<Dashboard http://127.0.0.1:8080/ 20 machines>`` (port 0 until it listens on
+        the port it picked)."""
+        count = len(self.stations)
+        return f"<Dashboard {self.url} {count} machine{'' if count == 1 else 's'}>"
+
     @property
     def url(self) -> str:
         host, port = self.address
