@@ -4,12 +4,15 @@ program store's O line, production's part time, the command line's reasons, the 
 
 from __future__ import annotations
 
+import asyncio
+import signal
+import sys
 from collections.abc import AsyncIterator
 from pathlib import Path
 
 import pytest
 from cli_support import Cli, fails
-from examples_support import EXAMPLES, port_args, run_example
+from examples_support import EXAMPLES, RUN_TIMEOUT, port_args, run_example
 from fwlib_support import LIBRARY
 from support import serve_process, serving
 
@@ -467,3 +470,37 @@ def test_a_servo_power_is_held_within_its_range() -> None:
     clock.advance(0.5)
     assert machine.status().run == 3
     assert machine.read_diag(4901, 1) == 100  # a rapid's load times 15 W, held at its high
+
+
+@pytest.mark.parametrize(
+    ("name", "args"),
+    [
+        ("alarm_watch.py", ["--events", "100", "--seconds", "60", "--interval", "0.05"]),
+        ("run_program.py", ["--interval", "0.05"]),
+    ],
+)
+async def test_an_example_interrupted_by_ctrl_c_exits_130_without_a_traceback(
+    name: str, args: list[str]
+) -> None:
+    """Ctrl-C printed asyncio's traceback of KeyboardInterrupt; the examples now end as the
+    command line does (exit 130), and alarm_watch clears the alarms it raised."""
+    machine = default_machine()
+    async with serving(machine) as served:
+        proc = await asyncio.create_subprocess_exec(
+            sys.executable, str(EXAMPLES / name), *port_args(served), *args,
+            stdout=asyncio.subprocess.PIPE, stderr=asyncio.subprocess.PIPE,
+        )  # fmt: skip
+        assert proc.stdout is not None
+        try:
+            async with asyncio.timeout(RUN_TIMEOUT):
+                assert await proc.stdout.readline()  # at work: it printed its first line
+                proc.send_signal(signal.SIGINT)
+                _, err = await proc.communicate()
+        finally:
+            if proc.returncode is None:
+                proc.kill()
+                await proc.wait()
+    assert proc.returncode == 130
+    assert err == b""  # no traceback
+    if name == "alarm_watch.py":
+        assert machine.active_alarms() == []

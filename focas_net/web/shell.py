@@ -49,6 +49,7 @@ from .operations import (
     ActionError,
     Station,
     action_args,
+    json_int,
     no_twice,
     perform,
     refusal,
@@ -372,7 +373,7 @@ class Dashboard:
         """The topic a page's ``message`` subscribes to, or why it names none: each field of
         a machine's topic checked (its number, path, PMC window) and named when wrong."""
         try:
-            wanted = json.loads(message, object_pairs_hook=no_twice)
+            wanted = json.loads(message, object_pairs_hook=no_twice, parse_int=json_int)
         except ActionError as exc:
             return f"bad subscription: {exc}"
         except (ValueError, RecursionError):
