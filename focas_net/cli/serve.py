@@ -52,7 +52,7 @@ from ._args import (
     EXIT_CNC,
     EXIT_USAGE,
     FILE_NAME,
-    HOST,
+    LISTEN_HOST,
     LISTEN_PORT,
     LOG_LEVEL,
     NON_NEGATIVE,
@@ -173,7 +173,10 @@ def register(subparsers: Any) -> None:
         "FANUC's native FOCAS/2 Ethernet protocol, both on each machine's port.",
     )
     p.add_argument(
-        "--host", type=HOST, default=DEFAULT_HOST, help="address to bind (default %(default)s)"
+        "--host",
+        type=LISTEN_HOST,
+        default=DEFAULT_HOST,
+        help="address to bind (default %(default)s)",
     )
     p.add_argument(
         "--port",
