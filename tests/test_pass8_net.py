@@ -318,3 +318,25 @@ def test_a_host_to_listen_on_typed_with_port_0_points_to_port_0() -> None:
         FocasServer([default_machine()], host="127.0.0.1:0")
     with pytest.raises(ValueError, match=r"outside 0\.\.65535: give --host 127\.0\.0\.1 and"):
         parse_host("127.0.0.1:65536", lowest=0)
+
+
+# -- seconds typed as docs/cli.md's "Numbers as typed" says ----------------------------------
+
+
+@pytest.mark.parametrize(
+    ("argv", "option", "seconds"),
+    [
+        ("status --timeout 0x2", "timeout", 2.0),
+        ("status --timeout 0b11", "timeout", 3.0),
+        ("alarms --follow --interval 0o2", "interval", 2.0),
+        ("serve --grace-period 0x5", "grace_period", 5.0),
+        ("serve --idle-timeout 0x0", "idle_timeout", 0.0),
+    ],
+)
+def test_a_whole_number_of_seconds_in_hex_binary_or_octal_is_taken(
+    argv: str, option: str, seconds: float
+) -> None:
+    """Every number a command takes is read by one rule, seconds too: ``--timeout 0x2`` was
+    refused as `not a number`, though ``--port 0x2001`` and ``macro set 100 0x10`` took it."""
+    args = build_parser().parse_args(argv.split())
+    assert getattr(args, option) == seconds

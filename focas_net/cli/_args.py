@@ -28,7 +28,7 @@ from focas_net._address import (
     url_address,
     url_advice,
 )
-from focas_net._typed import decimal_number, rapid_step
+from focas_net._typed import rapid_step, typed_number
 from focas_net.client._failures import os_reason
 from focas_net.client._values import check_path
 from focas_net.protocol import PmcArea
@@ -297,9 +297,10 @@ def parse_file_name(text: str) -> str:
 
 
 def _number(text: str) -> float:
-    """A number of seconds as every front end reads number text (digits, a sign, a point; no
-    exponent, NaN or infinity: :func:`focas_net._typed.decimal_number`)."""
-    value = float(decimal_number(text))
+    """A number of seconds as every front end reads number text (digits, a sign, a point, or
+    a whole number in ``0x``/``0b``/``0o``; no exponent, NaN or infinity:
+    :func:`focas_net._typed.typed_number`)."""
+    value = float(typed_number(text))
     if math.isinf(value):
         raise ValueError(f"must be finite, got {text.strip()}")
     return value

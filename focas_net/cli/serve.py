@@ -34,7 +34,7 @@ from typing import TYPE_CHECKING, Any, Final
 
 import anyio
 
-from focas_net._typed import decimal_number
+from focas_net._typed import typed_number
 from focas_net.client._failures import os_reason
 from focas_net.protocol import PASSWORD_SIZE
 from focas_net.server import (
@@ -94,10 +94,11 @@ _RESERVED_FILES: Final = 32
 
 
 def _typed(text: str) -> float:
-    """A number as every front end reads number text (no exponent, no NaN or infinity:
-    :func:`focas_net._typed.decimal_number`), its refusal argparse's one line."""
+    """A number as every front end reads number text (no exponent, no NaN or infinity; a
+    whole number in ``0x``/``0b``/``0o`` too: :func:`focas_net._typed.typed_number`), its
+    refusal argparse's one line."""
     try:
-        value = float(decimal_number(text))
+        value = float(typed_number(text))
     except ValueError as exc:
         raise argparse.ArgumentTypeError(str(exc)) from None
     if value in (float("inf"), float("-inf")):
