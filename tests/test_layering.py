@@ -251,6 +251,7 @@ THIRD_PARTY: dict[str, tuple[str, ...]] = {
         "focas_net.gateway._opcua_types",
         "focas_net.gateway._opcua_conditions",
         "focas_net.gateway._opcua_methods",
+        "focas_net.gateway._opcua_sessions",
     ),
     "aiomqtt": ("focas_net.gateway.mqtt",),
 }
