@@ -576,3 +576,9 @@ def test_the_protocols_helpers_name_an_argument_of_another_type(
         call()
     assert str(refused.value) == words
     assert alarm_code(6, 411) == "SV0411" and encode_ew(-1) == b"\xff\xff"
+
+
+def test_a_manual_clocks_repr_is_where_it_stands() -> None:
+    clock = ManualClock(10)
+    clock.advance(2.5)
+    assert repr(clock) == "ManualClock(12.5)"
