@@ -600,3 +600,30 @@ async def test_a_lock_not_freed_in_time_names_the_address_not_its_key() -> None:
         "(no request was sent)"
     )
     assert len(locks) == 0
+
+
+@pytest.mark.parametrize(
+    ("kwargs", "words"),
+    [
+        (
+            {"port": 41001, "native_port": 41002},
+            "port 41002 would be both the port of machine 1 and the native port of machine 0",
+        ),
+        (
+            {"ports": [41011, 41011]},
+            "port 41011 would be both the port of machine 0 and the port of machine 1",
+        ),
+    ],
+)
+def test_a_fleets_ports_that_repeat_are_refused_before_anything_listens(
+    kwargs: dict[str, Any], words: str
+) -> None:
+    machines = [default_machine("m0"), default_machine("m1")]
+    with pytest.raises(ValueError, match=re.escape(words) + ": each listens on a port of its own"):
+        FocasServer(machines, **kwargs)
+
+
+async def test_ports_of_zero_repeat_freely() -> None:
+    machines = [default_machine("m0"), default_machine("m1")]
+    async with FocasServer(machines, ports=[0, 0], native_port=0) as server:
+        assert len({port for _, port in server.addresses}) == 2
