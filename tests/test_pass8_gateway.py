@@ -508,3 +508,63 @@ async def test_a_refused_opc_ua_session_is_one_warning_naming_the_user(
         if r.name.startswith("asyncua.server") and r.levelno >= logging.WARNING
     ]
     assert not [m for m in theirs if "refused" in m.lower() or "Bad" in m or "Reject" in m]
+
+
+def _self_signed(folder: Path) -> tuple[Path, Path]:
+    """A self-signed certificate for 127.0.0.1 and its key, PEM files in ``folder``."""
+    import datetime
+
+    from cryptography import x509
+    from cryptography.hazmat.primitives import hashes, serialization
+    from cryptography.hazmat.primitives.asymmetric import rsa
+    from cryptography.x509.oid import NameOID
+
+    key = rsa.generate_private_key(public_exponent=65537, key_size=2048)
+    name = x509.Name([x509.NameAttribute(NameOID.COMMON_NAME, "127.0.0.1")])
+    now = datetime.datetime.now(datetime.UTC)
+    cert = (
+        x509.CertificateBuilder()
+        .subject_name(name)
+        .issuer_name(name)
+        .public_key(key.public_key())
+        .serial_number(x509.random_serial_number())
+        .not_valid_before(now - datetime.timedelta(days=1))
+        .not_valid_after(now + datetime.timedelta(days=1))
+        .sign(key, hashes.SHA256())
+    )
+    cert_file, key_file = folder / "broker.crt", folder / "broker.key"
+    cert_file.write_bytes(cert.public_bytes(serialization.Encoding.PEM))
+    key_file.write_bytes(
+        key.private_bytes(
+            serialization.Encoding.PEM,
+            serialization.PrivateFormat.TraditionalOpenSSL,
+            serialization.NoEncryption(),
+        )
+    )
+    return cert_file, key_file
+
+
+async def test_a_tls_broker_whose_certificate_is_not_trusted_is_told_so_not_a_wrong_port(
+    tmp_path: Path, caplog: pytest.LogCaptureFixture
+) -> None:
+    binary = mosquitto_binary()
+    if binary is None:
+        pytest.skip("mosquitto is not installed (apt-get install mosquitto; .ci/run does)")
+    caplog.set_level(logging.WARNING)
+    cert, key = _self_signed(tmp_path)
+    tls = Broker(binary, tmp_path)
+    tls.config.write_text(
+        f"listener {tls.port} 127.0.0.1\nallow_anonymous true\npersistence false\nuser root\n"
+        f"certfile {cert}\nkeyfile {key}\n"
+    )
+    await tls.start()
+    try:
+        settings = MqttSettings(host=tls.host, port=tls.port, tls=True)
+        async with MqttSink(settings, reconnect=(5.0, 5.0), timeout=2.0):
+            await _until_warned(caplog, "TLS certificate not trusted")
+    finally:
+        await tls.stop()
+    assert (
+        f"MQTT broker 127.0.0.1:{tls.port}: TLS certificate not trusted: self-signed "
+        "certificate (the gateway trusts the certificate authorities of the system)"
+    ) in _warnings(caplog)
