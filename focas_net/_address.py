@@ -150,8 +150,10 @@ def check_host(text: object, lowest: int = 1) -> str:
         host = host[1:-1]
         if ":" not in host:
             raise ValueError(f"brackets are for IPv6 addresses, got host {shown(text)}")
-    if not host:
+    if not host.strip():
         raise ValueError(f"empty host {text!r}: give a name or an address (127.0.0.1)")
+    if host.strip(" ") != host and host.strip(" "):  # (the command line leaves them out)
+        raise ValueError(f"host {shown(text)} has spaces around it: give {host.strip(' ')!r}")
     if ":" in host:
         try:
             ipaddress.IPv6Address(host)

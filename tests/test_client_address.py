@@ -27,7 +27,7 @@ CLIENTS = [FocasClient, NativeClient]
         ("[cnc]", "brackets are for IPv6 addresses, got host '[cnc]'"),
         ("1::2::3", "not an IPv6 address: host '1::2::3'"),
         ("cnc 01", "not a host name: 'cnc 01'"),
-        (" 127.0.0.1", "not a host name: ' 127.0.0.1'"),
+        (" 127.0.0.1", "host ' 127.0.0.1' has spaces around it: give '127.0.0.1'"),
         ("a..b", "has a part of 0 characters"),
         ("256.1.1.1", "not an IPv4 address: host '256.1.1.1'"),
         ("10.0.5", "not an IPv4 address: host '10.0.5'"),

@@ -340,3 +340,10 @@ def test_a_whole_number_of_seconds_in_hex_binary_or_octal_is_taken(
     refused as `not a number`, though ``--port 0x2001`` and ``macro set 100 0x10`` took it."""
     args = build_parser().parse_args(argv.split())
     assert getattr(args, option) == seconds
+
+
+@pytest.mark.parametrize("client", [FocasClient, NativeClient])
+def test_a_host_with_spaces_around_it_says_so_to_a_client(client: type[FocasClient]) -> None:
+    """It read as `not a host name ... (a name is letters, digits and hyphens ...)`."""
+    with pytest.raises(ValueError, match=r"^host ' 127\.0\.0\.1 ' has spaces around it: give"):
+        client(" 127.0.0.1 ", 8193)
