@@ -517,7 +517,7 @@ class FocasServer:
             if not 0 <= p <= 65_535:
                 raise ValueError(f"port {p} outside 0..65535")
         _check_distinct(self._ports, self._native_ports)
-        self.host = check_host(host)  # an IPv6 address without its brackets
+        self.host = check_host(host, 0)  # an IPv6 address without its brackets
         self.ssl = ssl
         self.max_frame = max_frame
         self.max_connections = max_connections
