@@ -13,6 +13,7 @@ from focas_net.server import FocasServer
 from focas_net.sim import (
     MachineError,
     default_machine,
+    machine_from_dict,
 )
 
 Client = Callable[[str, int], FocasClient | NativeClient]
@@ -59,3 +60,24 @@ def test_the_machine_names_an_axis_beyond_the_path_with_the_count() -> None:
     assert str(caught.value).endswith(
         f"axis {count + 1} is outside 1..{count}: the path has {count} axes"
     )
+
+
+@pytest.mark.parametrize(
+    ("mt_type", "kind"),
+    [(" T", "T"), (" t", "T"), ("TT", "T"), ("tt", "T"), (" M", "M"), ("MM", "M"), ("MT", "M")],
+)
+def test_a_path_kind_follows_mt_type_as_the_kind_key_reads_it(mt_type: str, kind: str) -> None:
+    """``mt_type = " t"`` made a lathe's one path M while ``kind = "t"`` is T, and ``"TT"``
+    (a lathe of several paths, as one reports it) made every path M."""
+    one = machine_from_dict(
+        {"machine": {"name": "L", "axes": ["X", "Z"]}, "sysinfo": {"mt_type": mt_type}}
+    )
+    assert one.path_info(1).kind == kind
+    two = machine_from_dict(
+        {
+            "machine": {"name": "L"},
+            "sysinfo": {"mt_type": mt_type},
+            "path": [{"axes": ["X1", "Z1"]}, {"axes": ["X2"]}],
+        }
+    )
+    assert [two.path_info(n).kind for n in (1, 2)] == [kind, kind]
