@@ -11,13 +11,12 @@ import dataclasses
 import json
 import signal
 import struct
-import sys
 from collections.abc import AsyncIterator
 from datetime import UTC, datetime
 from decimal import Decimal
 
 import pytest
-from cli_support import CLI_TIMEOUT, Cli
+from cli_support import CLI_TIMEOUT, Cli, at, focas_net_process, killed_at_exit
 from support import Served, free_port, serving
 
 from focas_net.cli import (
@@ -375,28 +374,12 @@ async def test_alarms_follow_history_text(cli: Cli) -> None:
 
 async def test_alarms_follow_stops_on_ctrl_c(server: Served) -> None:
     server.machine.raise_alarm(0, 3, 100, "PARAMETER WRITE ENABLE")
-    proc = await asyncio.create_subprocess_exec(
-        sys.executable,
-        "-m",
-        "focas_net",
-        "alarms",
-        "--follow",
-        "--interval",
-        "0.05",
-        "--port",
-        str(server.port),
-        stdout=asyncio.subprocess.PIPE,
-        stderr=asyncio.subprocess.PIPE,
-    )
-    try:
+    proc = await focas_net_process("alarms", "--follow", "--interval", "0.05", *at(server))
+    async with killed_at_exit(proc):
         first = await asyncio.wait_for(proc.stdout.readline(), CLI_TIMEOUT)  # type: ignore[union-attr]
         assert first.decode() == "raised   PS0100 PARAMETER WRITE ENABLE\n"
         proc.send_signal(signal.SIGINT)
         out, err = await asyncio.wait_for(proc.communicate(), CLI_TIMEOUT)
-    finally:
-        if proc.returncode is None:
-            proc.kill()
-            await proc.wait()
     assert proc.returncode == EXIT_OK
     assert err == b""
     assert out == b""  # nothing new after the first event
