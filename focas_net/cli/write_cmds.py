@@ -127,7 +127,7 @@ def pmc_write(args: argparse.Namespace) -> Go | PackedOnly:
 def _parse_byte_bit(area: PmcArea, text: str) -> tuple[int, int]:
     expected = "BYTE.BIT (e.g. 100.3)"
     byte, bit = fmt.parse_number_bit(text, expected)
-    if bit is None:
+    if bit is None or byte < 0:
         raise ValueError(f"expected {expected}, got {text!r}")
     if bit > 7:
         raise ValueError(
