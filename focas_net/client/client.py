@@ -377,6 +377,7 @@ class FocasClient(Link):
         if width is None:
             cached = self._param_widths.get(number)
             if cached is None:
+                learnt = number not in self._param_types  # (asked now, not kept from before)
                 try:
                     kind = await self._param_type(number, deadline)
                     width = (
@@ -386,7 +387,6 @@ class FocasClient(Link):
                     )
                 except CncError as exc:
                     raise CncError.from_ew(exc.ew, _WRPARAM.focas_name) from exc
-                learnt = True
             else:
                 width = cached
         if width == REAL_WIDTH:
@@ -402,7 +402,7 @@ class FocasClient(Link):
         except CncError as exc:
             if exc.ew == EW.LENGTH and not learnt:
                 self._param_widths.pop(number, None)  # stale width: learn it again next time
-                self._param_types.pop(number, None)
+                self._param_types.pop(number, None)  # (the type it came from)
             raise
 
     async def _write_param_bits(
