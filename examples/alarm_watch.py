@@ -60,12 +60,19 @@ async def drive(host: str, port: int, call_timeout: float, pause: float) -> None
 
 
 async def _drive(cnc: FocasClient, pause: float) -> None:
-    for alm_type, alm_no, msg, axis in DEMO_ALARMS:
-        await cnc.sim.raise_alarm(alm_type, alm_no, msg, axis_no=axis)
-        await asyncio.sleep(pause)
-    for alm_type, alm_no, _msg, _axis in DEMO_ALARMS:
-        await cnc.sim.clear_alarms(alm_type, alm_no)
-        await asyncio.sleep(pause)
+    raised: list[tuple[int, int]] = []
+    try:
+        for alm_type, alm_no, msg, axis in DEMO_ALARMS:
+            raised.append((alm_type, alm_no))
+            await cnc.sim.raise_alarm(alm_type, alm_no, msg, axis_no=axis)
+            await asyncio.sleep(pause)
+        while raised:
+            await cnc.sim.clear_alarms(*raised[0])
+            raised.pop(0)
+            await asyncio.sleep(pause)
+    finally:  # stopped early (--events reached, Ctrl-C): leave none of its alarms behind
+        for alm_type, alm_no in raised:
+            await cnc.sim.clear_alarms(alm_type, alm_no)
 
 
 def client(args: argparse.Namespace) -> CncClient:

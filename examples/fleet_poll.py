@@ -177,10 +177,16 @@ async def simulated_fleet(n: int, call_timeout: float) -> AsyncIterator[list[tup
 
 
 def parse_ports(text: str) -> list[int]:
+    """``--ports``: ports separated by commas (or spaces), at least one, each 1..65535."""
     try:
-        return [int(p) for p in text.replace(",", " ").split()]
+        ports = [int(p) for p in text.replace(",", " ").split()]
     except ValueError:
         raise argparse.ArgumentTypeError(f"not a list of ports: {text!r}") from None
+    if not ports:
+        raise argparse.ArgumentTypeError(f"no port in {text!r} (give e.g. 8193,8194)")
+    if not all(1 <= p <= 65535 for p in ports):
+        raise argparse.ArgumentTypeError(f"ports are 1..65535, got {text!r}")
+    return ports
 
 
 async def run(args: argparse.Namespace) -> int:

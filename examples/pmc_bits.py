@@ -20,7 +20,7 @@ import asyncio
 import sys
 
 from focas_net import CncClient, FocasClient, NativeClient
-from focas_net.errors import FocasError
+from focas_net.errors import EW, CncError, FocasError
 
 
 def pattern(n: int) -> bytes:
@@ -77,6 +77,14 @@ def main() -> int:
         parser.error("--bytes must be at least 1")
     try:
         return asyncio.run(write_bits(args))
+    except CncError as exc:
+        why = {
+            int(EW.NOOPT): f"the CNC has no PMC area {args.area} (give --area of one it has)",
+            int(EW.NUMBER): f"the CNC's area {args.area} has no bytes {args.start}.."
+            f"{args.start + args.bytes - 1} (give --start and --bytes within it)",
+        }.get(exc.ew)
+        print(f"pmc_bits: {exc}" + (f"; {why}" if why else ""), file=sys.stderr)
+        return 1
     except FocasError as exc:
         print(f"pmc_bits: {exc}", file=sys.stderr)
         return 1

@@ -24,9 +24,10 @@ from decimal import Decimal
 from pathlib import Path
 
 from focas_net import FocasClient
-from focas_net.errors import FocasError
+from focas_net.errors import EW, CncError, FocasError
 from focas_net.protocol import AutMode, RunInfo, RunState, StatusInfo, field_label
 from focas_net.protocol import alarm_text as one_alarm
+from focas_net.sim.nc import ProgramError, parse_program
 
 #: A small part: face down 1 mm and cut a 30 mm square at F1800, about 6 s of machine time.
 PROGRAM = """\
@@ -82,7 +83,16 @@ async def run_program(args: argparse.Namespace, text: str) -> None:
         status = await cnc.read_status()
         if status.run in (RunState.STRT, RunState.HOLD):
             raise Failed("the CNC is running a program: reset it first (focas-net sim cycle reset)")
-        number = await cnc.write_program(text, replace=True)
+        if status.alarm or status.emergency:  # cycle start would answer EW_ALARM
+            why = f"an alarm is active: {await alarm_text(cnc)}" if status.alarm else ""
+            why = why or "the emergency stop is on (focas-net sim panel --emergency off)"
+            raise Failed(f"{why} (focas-net sim clear clears alarms)" if status.alarm else why)
+        try:
+            number = await cnc.write_program(text, replace=True)
+        except CncError as exc:
+            if exc.ew in (EW.DATA, EW.NUMBER):  # the store's reason for the same text
+                raise Failed(f"{exc}; {refusal(args.program, text)}") from None
+            raise
         if status.aut != AutMode.MEM:
             await cnc.sim.set_panel(mode=AutMode.MEM)
             print("panel switched to MEM")
@@ -114,6 +124,16 @@ async def run_program(args: argparse.Namespace, text: str) -> None:
         f"{before.parts_count} -> {info.parts_count}, cutting "
         f"{(info.cutting_ms - before.cutting_ms) / 1000:.2f} s"
     )
+
+
+def refusal(path: Path | None, text: str) -> str:
+    """Why a CNC refuses ``text`` (of the file ``path``), in the program store's words."""
+    name = "the program" if path is None else str(path)
+    try:
+        parse_program(text)
+    except ProgramError as exc:
+        return f"{name}: {exc}"
+    return f"{name} is not a program the CNC takes"
 
 
 def positive(text: str) -> float:

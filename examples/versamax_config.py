@@ -20,6 +20,7 @@ from focas_net.errors import EW, CncError, FocasError
 from focas_net.versamax import IOModuleRecord
 
 REF_NAMES = {16: "%I", 18: "%Q", 10: "%AI", 12: "%AQ"}
+MAX_RACK = 7
 MAX_SLOT = 9
 
 
@@ -72,6 +73,10 @@ def main() -> int:
     parser.add_argument("--rack", type=int, default=0, help="rack 0..7 (0)")
     parser.add_argument("--slot", type=int, help="one slot 0..9 (default: every slot)")
     args = parser.parse_args()
+    for what, value, most in (("rack", args.rack, MAX_RACK), ("slot", args.slot, MAX_SLOT)):
+        if value is not None and not 0 <= value <= most:  # one line and exit 2, as below
+            print(f"versamax_config: {what} {value} is outside 0..{most}", file=sys.stderr)
+            return 2
     try:
         return asyncio.run(read_station(args))
     except FocasError as exc:

@@ -18,7 +18,7 @@ import asyncio
 import sys
 
 from focas_net import FocasClient
-from focas_net.errors import AccessDeniedError, FocasError
+from focas_net.errors import EW, AccessDeniedError, CncError, FocasError
 
 MDI = 0
 
@@ -77,6 +77,13 @@ def main() -> int:
     args = parser.parse_args()
     try:
         return asyncio.run(write_param(args))
+    except CncError as exc:
+        why = f"the CNC has no parameter {args.param} (give --param N)"
+        print(
+            f"write_param_with_unlock: {exc}" + (f"; {why}" if exc.ew == EW.NUMBER else ""),
+            file=sys.stderr,
+        )
+        return 1
     except FocasError as exc:
         print(f"write_param_with_unlock: {exc}", file=sys.stderr)
         return 1

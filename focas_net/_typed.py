@@ -1,11 +1,12 @@
 """What a user types, read alike by every front end (it knows no protocol and no machine):
 number text (the page, the command line, the clients' text values and the machine file), the
 words for a macro value that does not fit (the machine and the clients), a program number
-(the command line and the page), an override's range (the machine and the clients), an alarm
-message that is no line of single-byte text (the machine and the encoded text of every front
-end), whether a host typed is the loopback (the dashboard's and the gateway's guards), what an
-unlock of a CNC without a parameter password means (the command line and the page), and the
-words of the system's refusal of a file or address the user named (every front end).
+(the command line and the page), an override's type and range (the machine and the
+clients), an alarm's axis and an alarm message that is no line of single-byte text (the
+machine and the encoded text of every front end), whether a host typed is the loopback (the
+dashboard's and the gateway's guards), what an unlock of a CNC without a parameter password
+means (the command line and the page), and the words of the system's refusal of a file or
+address the user named (every front end).
 
 Number text is read as a CNC's MDI keys write a number: ASCII digits, a sign and, for a
 decimal, a decimal point; a whole number may also be written ``0x``, ``0b`` or ``0o`` (with
@@ -29,6 +30,8 @@ __all__ = [
     "NO_PASSWORD_NOTE",
     "OVERRIDE_RANGES",
     "RAPID_STEPS",
+    "WRONG_PASSWORD",
+    "alarm_axis_unfit",
     "alarm_text_unfit",
     "decimal_number",
     "decimal_text",
@@ -36,6 +39,7 @@ __all__ = [
     "is_loopback",
     "macro_unfit",
     "os_words",
+    "override_percent",
     "override_unfit",
     "program_number",
     "rapid_step",
@@ -61,6 +65,10 @@ NO_PASSWORD_NOTE: Final = (
     "the CNC has no parameter password: it accepts any, and a parameter write needs no unlock "
     "(it needs MDI mode and PWE on, and a machine that is not read-only)"
 )
+
+#: Why an unlock with a password that is not the CNC's is refused (EW_PASSWD), as every front
+#: end says it (the machine, so the dashboard; the command line's reason of the code).
+WRONG_PASSWORD: Final = "the password is not the CNC's"
 
 #: Characters of an alarm's message the CNC keeps (a longer one is cut).
 MAX_ALARM_TEXT: Final = 32
@@ -88,6 +96,30 @@ def override_unfit(what: str, value: int) -> str | None:
     if low <= value <= high:
         return None
     return f"{what} override {value} outside {low}..{high} %"
+
+
+def override_percent(what: str, value: object) -> int:
+    """The ``what`` override (feed, rapid, spindle) given from Python, as a whole number of
+    percent: an ``int``, or for the rapid override also the name of its slowest step as every
+    front end reads it, ``"F0"`` (any case; ``"F25"`` is :func:`rapid_step`'s ValueError
+    listing the steps); TypeError naming the override and the value for another type (a
+    ``bool``, a float, digits as text). Its range is :func:`override_unfit`'s."""
+    if what == "rapid" and isinstance(value, str) and value.strip().upper().startswith("F"):
+        return rapid_step(value)
+    if isinstance(value, bool) or not isinstance(value, int):
+        also = " or the text F0" if what == "rapid" else ""
+        raise TypeError(f"{what} override must be a whole number{also}, got {value!r}")
+    return value
+
+
+def alarm_axis_unfit(axis_no: int, axes: int) -> str | None:
+    """Why an alarm of a path of ``axes`` axes cannot be of axis ``axis_no`` (0: an alarm of
+    no axis), naming the axis and the count, as the machine and the packed client say it;
+    None when it can."""
+    if 0 <= axis_no <= axes:
+        return None
+    counted = f"{axes} axis" if axes == 1 else f"{axes} axes"
+    return f"axis_no {axis_no} outside 0..{axes}: the path has {counted}"
 
 
 def alarm_text_unfit(text: str) -> str | None:

@@ -10,28 +10,19 @@ from dataclasses import replace
 from typing import Any
 
 from asyncua import Client, Node, ua
+from gateway_support import machine_shape
 
 from focas_net.errors import OPCUA_GOOD, OpcUaStatus
 from focas_net.gateway._opcua_types import CNC_NAMESPACE
 from focas_net.gateway.config import OpcUaSettings, OpcUaUser, WriteGates
-from focas_net.gateway.model import ITEMS, MachineShape, PathShape, Sample, Writer
+from focas_net.gateway.model import ITEMS, Sample, Writer
 from focas_net.gateway.opcua import OpcUaSink
 
 #: How long a test waits for one notification before it fails (a bound, not a measure).
 WAIT = 20.0
 
-LATHE = MachineShape(
-    name="lathe",
-    host="127.0.0.1",
-    port=8193,
-    protocol="native",
-    cnc_type="31",
-    mt_type="T",
-    series="G1B1",
-    version="30.0",
-    paths=(PathShape(1, ("X", "Z"), ("S1",)), PathShape(2, ("X", "Z"), ("S2",))),
-)
-MILL = replace(LATHE, name="mill", mt_type="M", paths=(PathShape(1, ("X", "Y", "Z"), ("S1",)),))
+LATHE = machine_shape("lathe", series="G1B1")
+MILL = machine_shape("mill", ("X", "Y", "Z"), mt_type="M", series="G1B1")
 
 SETTINGS = OpcUaSettings(endpoint="opc.tcp://127.0.0.1:0/focas_net/")
 USERS = (OpcUaUser("operator", "s3cret"),)

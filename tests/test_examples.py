@@ -55,7 +55,7 @@ async def test_write_param_says_what_is_wrong_without_a_traceback(
         ("read_status.py", ["--host", ""], "empty host ''"),
         ("pmc_bits.py", ["--area", "Q"], "unknown PMC area 'Q'"),
         ("pmc_bits.py", ["--start", "99999999999"], "PMC start address 99999999999 is outside"),
-        ("versamax_config.py", ["--rack", "-1"], "rack -1 is outside 0..255"),
+        ("versamax_config.py", ["--rack", "-1"], "rack -1 is outside 0..7"),
         ("alarm_watch.py", ["--timeout", "0"], "timeout must be positive, got 0.0"),
         ("run_program.py", ["--seconds", "1", "--port", "0"], "port 0 is outside 1..65535"),
         ("fleet_poll.py", ["--rounds", "1", "--port", "0"], "port 0 is outside 1..65535"),

@@ -12,14 +12,13 @@ import sys
 from collections.abc import Callable
 
 import pytest
+from gateway_support import machine_shape
 from mosquitto_support import BOUND, Broker, broker, subscriber
 
 from focas_net.errors import OPCUA_GOOD
 from focas_net.gateway import (
     AlarmChange,
-    MachineShape,
     MqttSettings,
-    PathShape,
     Sample,
     Sink,
     item,
@@ -36,17 +35,7 @@ from focas_net.gateway.mqtt import MqttSink
 
 __all__ = ["broker"]  # the fixture, used by name
 
-SHAPE = MachineShape(
-    "m1",
-    "127.0.0.1",
-    8193,
-    "native",
-    "31",
-    "M",
-    "G421",
-    "30.0",
-    (PathShape(1, ("X", "Y", "Z"), ("S1",)), PathShape(2, ("X", "Z"), ("S2",))),
-)
+SHAPE = machine_shape("m1", ("X", "Y", "Z"), ("X", "Z"), mt_type="M")
 
 
 def settings(broker: Broker, **changes: object) -> MqttSettings:

@@ -9,11 +9,12 @@ import subprocess
 import sys
 from urllib.parse import unquote
 
+from gateway_support import machine_shape
 from hypothesis import given
 from hypothesis import strategies as st
 
 from focas_net.errors import OPCUA_BAD_COMMUNICATION_ERROR, OPCUA_BAD_TIMEOUT, OPCUA_GOOD
-from focas_net.gateway import AlarmChange, MachineShape, PathShape, Sample, item
+from focas_net.gateway import AlarmChange, Sample, item
 from focas_net.gateway._mqtt_messages import (
     ActiveAlarms,
     AlarmEvent,
@@ -27,17 +28,7 @@ from focas_net.gateway._mqtt_messages import (
     topic_level,
 )
 
-SHAPE = MachineShape(
-    name="lathe-2",
-    host="127.0.0.1",
-    port=8193,
-    protocol="native",
-    cnc_type="31",
-    mt_type="T",
-    series="G421",
-    version="30.0",
-    paths=(PathShape(1, ("X", "Z"), ("S1",)), PathShape(2, ("X", "Z", "C"), ("S2",))),
-)
+SHAPE = machine_shape("lathe-2", ("X", "Z"), ("X", "Z", "C"))
 
 
 def sample(name: str, value: object, *, path: int = 1, key: str = "", t: float = 0.0) -> Sample:

@@ -10,11 +10,12 @@ from dataclasses import replace
 import aiomqtt
 import pytest
 from aiomqtt.exceptions import MqttConnectError
+from gateway_support import machine_shape
 from paho.mqtt.packettypes import PacketTypes
 from paho.mqtt.reasoncodes import ReasonCode
 
 from focas_net.errors import OPCUA_GOOD
-from focas_net.gateway import AlarmChange, MachineShape, PathShape, Sample, Value, item
+from focas_net.gateway import AlarmChange, PathShape, Sample, Value, item
 from focas_net.gateway._mqtt_messages import Publication
 from focas_net.gateway.config import MqttSettings
 from focas_net.gateway.mqtt import broker_reason
@@ -62,17 +63,7 @@ def test_a_refusal_of_the_broker_names_its_reason_code() -> None:
     )
 
 
-SHAPE = MachineShape(
-    name="lathe",
-    host="127.0.0.1",
-    port=8193,
-    protocol="native",
-    cnc_type="31",
-    mt_type="T",
-    series="G421",
-    version="30.0",
-    paths=(PathShape(1, ("X1", "Z1"), ("S1",)), PathShape(2, ("X2", "Z2"), ("S2",))),
-)
+SHAPE = machine_shape("lathe", ("X1", "Z1"), ("X2", "Z2"))
 
 
 def good(name: str, value: Value, path: int, key: str = "") -> Sample:

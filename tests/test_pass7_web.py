@@ -132,7 +132,7 @@ def test_a_machine_wide_action_of_a_path_the_machine_has_not_is_refused(
         ("panel", {"mode": {"a": 1}}, 'mode: not a whole number: {"a": 1}'),
         ("overrides", {"feed": True}, "feed: a number is needed, got true"),
         ("write_macro", {"number": 500, "value": False}, "value: a number is needed, got false"),
-        ("unlock", {"password": None}, "password: text is needed, got null"),
+        ("unlock", {"password": False}, "password: text is needed, got false"),
         ("select_program", {}, "number: a program number is needed (e.g. O1000)"),
         ("select_program", {"number": None}, "number: a program number is needed (e.g. O1000)"),
         ("select_program", {"number": 1.0}, "number: 1.0 is not a program number (e.g. O1000)"),

@@ -511,7 +511,7 @@ def test_pmc_reads_and_writes_of_any_length(m: Machine) -> None:
     assert m.read_pmc("D", 3000, 5000) == data
     assert m.read_pmc("d", 2999, 2) == b"\x00\x00"  # any case
     assert m.read_pmc("D", 9990, 10) == bytes(10)
-    assert m.read_pmc("D", 10000, 0) == b""
+    assert m.read_pmc("D", 9999, 1) == b"\x00"  # a range holds one byte at least
     m.write_pmc("R", 0, bytes(8000))  # the whole area at once
     assert m.read_pmc("R", 0, 8000) == bytes(8000)
 
@@ -540,8 +540,7 @@ def test_pmc_write_protection_and_force(m: Machine) -> None:
     m.write_pmc("X", 126, b"\x01\x02", force=True)
     assert m.read_pmc("X", 126, 2) == b"\x01\x02"
     m.check_pmc_area("X")
-    with pytest.raises(ValueError):
-        m.read_pmc("D", 0, -1)
+    assert ew_of(lambda: m.read_pmc("D", 0, -1)) == EW.LENGTH
     with pytest.raises(ValueError):
         m.pmc_area("Q")
 

@@ -208,9 +208,9 @@ def test_macro_rows_by_number_and_range() -> None:
     assert list(numbers) == sorted(numbers)
     rows = macro_rows(machine, numbers, "500-502")
     assert rows == [
-        {"number": 500, "value": "", "writable": True},
+        {"number": 500, "value": None, "writable": True},
         {"number": 501, "value": "1.50", "writable": True},
-        {"number": 502, "value": "", "writable": True},
+        {"number": 502, "value": None, "writable": True},
     ]
     assert macro_rows(machine, numbers, "#5021", limit=1)[0]["writable"] is False
     with pytest.raises(ValueError, match="'five'"):
@@ -297,7 +297,7 @@ def test_pmc_bits_x_and_f_as_the_simulator_others_as_the_protocol() -> None:
     assert machine.read_pmc("R", 7, 1) == b"\x01"
     assert refused(station, "pmc_bit", {"area": "E", "address": 0, "bit": 0}) == "EW_NOOPT"
     assert refused(station, "pmc_bit", {"area": "R", "address": 9000, "bit": 0}) == "EW_NUMBER"
-    with pytest.raises(ActionError, match=r"bit: 0\.\.7, got 8"):
+    with pytest.raises(ActionError, match=r"^R0\.8: bit 8 is outside 0\.\.7"):
         perform(station, "pmc_bit", {"area": "R", "address": 0, "bit": 8})
     with pytest.raises(ActionError, match="'Q'"):
         perform(station, "pmc_bit", {"area": "Q", "address": 0, "bit": 0})

@@ -15,8 +15,10 @@ from collections.abc import Callable, Mapping
 from pathlib import Path
 from typing import Final
 
+from focas_net._typed import WRONG_PASSWORD
 from focas_net.errors import EW, CncError
 from focas_net.server.faults import fault_refusal
+from focas_net.sim import AXIS_NAME_PARAM
 from focas_net.sim.nc import ProgramError, parse_program
 
 from . import _format as fmt
@@ -95,6 +97,11 @@ def _param_range(args: argparse.Namespace) -> str:
     what = f"the CNC refused {args.value} for {_item('parameter', args)}: outside its range"
     if "." in str(args.value):
         what += ", or more decimals than the parameter keeps"
+    if str(args.number).partition(".")[0].strip() == str(AXIS_NAME_PARAM):
+        what += (
+            ", or a letter other than the axis's own (a focas-net machine's axes are fixed "
+            "when it is built; a control takes a new name at its next power-on)"
+        )
     return what
 
 
@@ -288,7 +295,7 @@ def _fault_refused(args: argparse.Namespace) -> str:
 
 _SIM_FAULT: Final[Table] = {**_SIM, EW.DATA: _fault_refused}
 _VERSAMAX: Final[Table] = {EW.NUMBER: lambda a: f"rack {a.rack} slot {a.slot} holds no module"}
-_UNLOCK: Final[Table] = {EW.PASSWD: lambda a: "the password is not the CNC's"}
+_UNLOCK: Final[Table] = {EW.PASSWD: lambda a: WRONG_PASSWORD}
 
 #: The table of each command, by its name as typed.
 FAMILIES: Final[Mapping[str, Table]] = {

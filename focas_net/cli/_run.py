@@ -17,10 +17,8 @@ import asyncio
 import contextlib
 import json
 import os
-import signal
 import ssl
 import sys
-import weakref
 from collections.abc import Awaitable, Callable, Iterator
 from dataclasses import dataclass
 from typing import Any, Final
@@ -57,6 +55,7 @@ from ._args import (
 )
 from ._diagnose import diagnosis
 from ._reasons import reason
+from ._signals import on_first_signal
 
 __all__ = [
     "FOLLOW_MAX_FAILURES",
@@ -128,36 +127,22 @@ class HintedError(FocasError):
         self.hint = hint
 
 
-#: The stop callbacks of each loop's :func:`stopping_on_signals` blocks, innermost last: a
-#: signal stops the innermost one (a loop that ends its own way), the outer ones wrap it.
-_STOPS: weakref.WeakKeyDictionary[asyncio.AbstractEventLoop, list[Callable[[], object]]] = (
-    weakref.WeakKeyDictionary()
-)
-
-
 @contextlib.contextmanager
 def stopping_on_signals(stop: Callable[[], object]) -> Iterator[None]:
-    """``stop()`` on SIGINT or SIGTERM while the block runs (a command that runs until told:
-    it ends cleanly, exit 0, no traceback); off the main thread, or without signal support,
-    Ctrl-C still ends it as usual. Blocks nest: a signal calls the innermost block's
-    ``stop``, and after it ends the next one out's again."""
+    """``stop()``, in the running loop, on SIGINT or SIGTERM while the block runs (a command
+    that runs until told: it ends cleanly, exit 0, no traceback, and a second Ctrl-C while it
+    ends is ignored, :mod:`._signals`); off the main thread Ctrl-C still ends it as usual.
+    Blocks nest: a signal calls the innermost block's ``stop``."""
     loop = asyncio.get_running_loop()
-    stops = _STOPS.setdefault(loop, [])
-    stops.append(stop)
-    installed = []
-    if len(stops) == 1:
-        for signum in (signal.SIGINT, signal.SIGTERM):
-            try:
-                loop.add_signal_handler(signum, lambda: stops[-1]())
-            except (NotImplementedError, RuntimeError, ValueError):
-                continue
-            installed.append(signum)
-    try:
+
+    def told() -> None:
+        try:
+            loop.call_soon_threadsafe(stop)
+        except RuntimeError:  # pragma: no cover - the loop closed meanwhile
+            pass
+
+    with on_first_signal(told):
         yield
-    finally:
-        stops.remove(stop)
-        for signum in installed:
-            loop.remove_signal_handler(signum)
 
 
 async def _until_told(session: Awaitable[Output | None]) -> Output | None:
@@ -459,7 +444,12 @@ def runner(handler: Handler) -> Callable[[argparse.Namespace], int]:
         try:
             session = _session(args, go, follow, context)
             until_told = follow or command_name(args) in UNTIL_TOLD
-            out = asyncio.run(_until_told(session) if until_told else session)
+            main = _until_told(session) if until_told else session
+            try:
+                out = asyncio.run(main)
+            finally:  # Ctrl-C before the loop ran them: no warning of coroutines never awaited
+                main.close()
+                session.close()
         except (FocasError, ValueError, OSError) as exc:
             failure, hint = _diagnosed(args, go, exc)
             _print_one_line(_failure_text(args, failure, hint))

@@ -35,11 +35,11 @@ import sys
 import threading
 from collections.abc import Callable
 from dataclasses import dataclass
-from types import FrameType
 from typing import IO, Final
 
 from ._args import EXIT_CNC, PROG, print_error
 from ._fleet import build_machines, fleet_slices
+from ._signals import on_first_signal
 
 __all__ = ["MAX_WORKERS", "Serve", "run_workers", "worker_args", "worker_main"]
 
@@ -88,6 +88,22 @@ def worker_main() -> int:
     return code
 
 
+class _Flag:
+    """Stopping: set from a signal handler too, so no lock (``threading.Event.set`` takes
+    one, and a handler run while the main thread holds it would wait for ever)."""
+
+    __slots__ = ("_set",)
+
+    def __init__(self) -> None:
+        self._set = False
+
+    def set(self) -> None:
+        self._set = True
+
+    def is_set(self) -> bool:
+        return self._set
+
+
 @dataclass(slots=True)
 class _Worker:
     index: int
@@ -132,10 +148,9 @@ def run_workers(args: argparse.Namespace, serve: Serve) -> int:
     probe.fleet_slice = range(1)
     build_machines(probe)
     slices = fleet_slices(args.fleet, args.workers)
-    per_machine = 2 if args.native_port is not None else 1
     events: queue.Queue[tuple[int, str | None]] = queue.Queue()
     workers: list[_Worker] = []
-    stopping = threading.Event()
+    stopping = _Flag()
 
     def stop_all() -> None:
         for w in workers:
@@ -146,13 +161,24 @@ def run_workers(args: argparse.Namespace, serve: Serve) -> int:
                 except ProcessLookupError:  # pragma: no cover - exited meanwhile
                     pass
 
-    def on_signal(signum: int, frame: FrameType | None) -> None:
+    def on_signal() -> None:  # in the signal handler: it takes no lock (see ._signals)
         stopping.set()
         stop_all()
 
-    previous: dict[int, Callable[[int, FrameType | None], object] | int | None] = {}
-    for signum in (signal.SIGINT, signal.SIGTERM):
-        previous[int(signum)] = signal.signal(signum, on_signal)
+    with on_first_signal(on_signal):
+        return _start_and_supervise(args, serve, slices, workers, events, stopping, stop_all)
+
+
+def _start_and_supervise(
+    args: argparse.Namespace,
+    serve: Serve,
+    slices: list[range],
+    workers: list[_Worker],
+    events: queue.Queue[tuple[int, str | None]],
+    stopping: _Flag,
+    stop_all: Callable[[], None],
+) -> int:
+    per_machine = 2 if args.native_port is not None else 1
     try:
         for k, served in enumerate(slices):
             if stopping.is_set():
@@ -180,8 +206,6 @@ def run_workers(args: argparse.Namespace, serve: Serve) -> int:
         stop_all()
         for w in workers:
             _reap(w)
-        for number, handler in previous.items():
-            signal.signal(number, handler)
 
 
 def _reap(worker: _Worker) -> None:
@@ -200,7 +224,7 @@ def _reap(worker: _Worker) -> None:
 def _supervise(
     workers: list[_Worker],
     events: queue.Queue[tuple[int, str | None]],
-    stopping: threading.Event,
+    stopping: _Flag,
     stop_all: Callable[[], None],
 ) -> int:
     """Print the ready lines once all are in, then wait for the workers to end."""

@@ -21,10 +21,10 @@ http://HOST:PORT/`` (``docs/web.md``).
 from __future__ import annotations
 
 import argparse
+import asyncio
 import gc
 import importlib.util
 import logging
-import signal
 import ssl
 import sys
 from collections.abc import AsyncIterator
@@ -64,6 +64,7 @@ from ._args import (
 )
 from ._fleet import ConfigError, build_machines, fleet_indices, machines_per_process
 from ._format import address_text
+from ._signals import on_first_signal
 from ._state import Kept, keep_running, saver
 from ._workers import MAX_WORKERS, run_workers
 
@@ -501,7 +502,13 @@ async def _serve(
     web: tuple[str, int] | None = None,
     states: list[Kept] | None = None,
 ) -> int:
-    with anyio.open_signal_receiver(signal.SIGINT, signal.SIGTERM) as signals:
+    told = anyio.Event()
+    loop = asyncio.get_running_loop()
+
+    def stop() -> None:  # in the signal handler: nothing that blocks (see ._signals)
+        loop.call_soon_threadsafe(told.set)
+
+    with on_first_signal(stop):
         async with (
             server,
             _dashboard(server, web, read_only) as dashboard,
@@ -528,9 +535,8 @@ async def _serve(
                     f"focas-net: web dashboard{_modes(False, read_only)} on {dashboard.url}\n"
                 )
             out.flush()
-            async for signum in signals:
-                _log.info("%s received: shutting down", signal.Signals(signum).name)
-                break
+            await told.wait()
+            _log.info("told to stop (SIGINT or SIGTERM): shutting down")
     return 0
 
 

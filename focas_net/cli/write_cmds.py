@@ -11,7 +11,7 @@ from focas_net._typed import NO_PASSWORD_NOTE
 from focas_net.client import CncClient, FocasClient
 from focas_net.client._failures import command_text
 from focas_net.errors import AccessDeniedError, CncError
-from focas_net.protocol import Command, PmcArea
+from focas_net.protocol import Command, PmcArea, pmc_bit_refusal
 
 from . import _format as fmt
 from ._run import Go, Output, PackedOnly
@@ -129,10 +129,9 @@ def _parse_byte_bit(area: PmcArea, text: str) -> tuple[int, int]:
     byte, bit = fmt.parse_number_bit(text, expected)
     if bit is None or byte < 0:
         raise ValueError(f"expected {expected}, got {text!r}")
-    if bit > 7:
-        raise ValueError(
-            f"{area.name}{text.strip()}: bit {bit} is outside 0..7: a PMC address is 1 byte wide"
-        )
+    why = pmc_bit_refusal(area.name, byte, bit)  # the words of every front end
+    if why is not None:
+        raise ValueError(why)
     return byte, bit
 
 

@@ -30,7 +30,7 @@ from collections.abc import Callable, Coroutine, Sequence
 from decimal import Decimal
 from typing import Any, Final, TypeVar
 
-from focas_net.errors import EW, CncError, PayloadError
+from focas_net.errors import EW, CncError, FocasError, PayloadError
 
 from ..protocol import (
     COMMANDS,
@@ -305,8 +305,12 @@ class FocasClient(Link):
         which = PositionKind.parse(kind)
         check_axis(axis)
         p = self._path_of(path)
+        deadline = self._deadline(timeout)
         payload = _RDPOSITION.request.encode(PositionRequest(which, -1 if axis is None else axis))
-        data: PositionData = await self._request(_RDPOSITION, payload, timeout, p)
+        try:
+            data: PositionData = await self._request_at(_RDPOSITION, payload, deadline, path=p)
+        except CncError as exc:
+            raise await self._axis_refusal(exc, axis, p, deadline) from None
         dec = data.dec
         return Positions(
             which,
@@ -316,11 +320,39 @@ class FocasClient(Link):
         )
 
     # -- parameters and diagnostics ------------------------------------------------------
+    async def _axis_count(self, path: int, deadline: float | None) -> int | None:
+        """The number of axes of ``path`` (one ``cnc_rdposition`` of every axis); None when
+        it cannot be read."""
+        payload = _RDPOSITION.request.encode(PositionRequest(PositionKind.ABSOLUTE, -1))
+        try:
+            data: PositionData = await self._request_at(_RDPOSITION, payload, deadline, path=path)
+        except FocasError:
+            return None
+        return len(data.axes)
+
+    async def _axis_refusal(
+        self, exc: CncError, axis: int | None, path: int, deadline: float | None
+    ) -> CncError:
+        """``exc``, or for EW_ATTRIB of an ``axis`` beyond ``path``'s axes the same refusal
+        naming the axis and the count as the native client does (``cnc_rdparam: axis 9 of
+        3``): a packed answer carries the code only, so the count is read after the refusal,
+        within the call's deadline. EW_ATTRIB of an axis the path has (an axis given for a
+        parameter of no axis) stays as it came."""
+        if exc.ew != EW.ATTRIB or axis is None or axis < 1:
+            return exc
+        count = await self._axis_count(path, deadline)
+        if count is None or axis <= count:
+            return exc
+        return CncError.from_ew(exc.ew, f"{exc.detail}: axis {axis} of {count}")
+
     async def _read_param_value(
         self, number: int, axis: int, deadline: float | None, path: int
     ) -> ParamValue:
         payload = _RDPARAM.request.encode(DataRequest(number, axis))
-        value: ParamValue = await self._request_at(_RDPARAM, payload, deadline, path=path)
+        try:
+            value: ParamValue = await self._request_at(_RDPARAM, payload, deadline, path=path)
+        except CncError as exc:
+            raise await self._axis_refusal(exc, axis, path, deadline) from None
         self._param_widths[number] = value.width
         return value
 
@@ -371,29 +403,30 @@ class FocasClient(Link):
         ``cnc_rdparainfo``, which needs no axis (as FOCAS/2's ``cnc_wrparam`` asks the type
         first): a value that does not fit the type is refused before anything is written,
         and a missing ``axis`` is the write's EW_ATTRIB, alike on both transports; a CNC
-        that cannot tell the type gives the width of one read. A refusal of those asks is
-        the write's (``cnc_wrparam``)."""
+        that cannot tell the type gives the width of one read. A refusal of what the write
+        asks first is the write's refusal, named ``cnc_wrparam`` (FOCAS/2 asks the same in
+        the first frame of ``cnc_wrparam``)."""
         learnt = False
-        if width is None:
-            cached = self._param_widths.get(number)
-            if cached is None:
-                learnt = number not in self._param_types  # (asked now, not kept from before)
-                try:
-                    kind = await self._param_type(number, deadline)
+        try:
+            if width is None:
+                cached = self._param_widths.get(number)
+                if cached is None:
+                    learnt = number not in self._param_types  # (asked now, not kept before)
+                    told = await self._param_type(number, deadline)
                     width = (
-                        _TYPE_WIDTHS[kind]
-                        if kind is not None
+                        _TYPE_WIDTHS[told]
+                        if told is not None
                         else (await self._read_param_value(number, axis, deadline, path)).width
                     )
-                except CncError as exc:
-                    raise CncError.from_ew(exc.ew, _WRPARAM.focas_name) from exc
-            else:
-                width = cached
+                else:
+                    width = cached
+            kind = await self._param_type(number, deadline) if width == 1 else None
+        except CncError as exc:
+            raise CncError.from_ew(exc.ew, _WRPARAM.focas_name) from None
         if width == REAL_WIDTH:
             mantissa, decimals = real_to_wire(number, value)
             pv = ParamValue(number, axis, mantissa, width, decimals)
         else:
-            kind = await self._param_type(number, deadline) if width == 1 else None
             raw = param_int(number, value, kind)
             pv = ParamValue(number, axis, int_to_wire(number, raw, width, kind), width)
         payload = _WRPARAM.request.encode(pv)
@@ -403,7 +436,7 @@ class FocasClient(Link):
             if exc.ew == EW.LENGTH and not learnt:
                 self._param_widths.pop(number, None)  # stale width: learn it again next time
                 self._param_types.pop(number, None)  # (the type it came from)
-            raise
+            raise await self._axis_refusal(exc, axis, path, deadline) from None
 
     async def _write_param_bits(
         self, number: int, axis: int, bits: int, width: int, deadline: float | None, path: int
@@ -411,7 +444,10 @@ class FocasClient(Link):
         size = 8 * width
         raw = bits - (1 << size) if bits >= 1 << (size - 1) else bits
         payload = _WRPARAM.request.encode(ParamValue(number, axis, raw, width))
-        await self._request_at(_WRPARAM, payload, deadline, path=path)
+        try:
+            await self._request_at(_WRPARAM, payload, deadline, path=path)
+        except CncError as exc:
+            raise await self._axis_refusal(exc, axis, path, deadline) from None
 
     async def read_diag(
         self,
@@ -424,8 +460,12 @@ class FocasClient(Link):
         """``cnc_rddiag``: the value of diagnostic ``number``."""
         check_item(number, axis, "diagnostic")
         p = self._path_of(path)
+        deadline = self._deadline(timeout)
         payload = _RDDIAG.request.encode(DataRequest(number, axis))
-        value: ParamValue = await self._request(_RDDIAG, payload, timeout, p)
+        try:
+            value: ParamValue = await self._request_at(_RDDIAG, payload, deadline, path=p)
+        except CncError as exc:
+            raise await self._axis_refusal(exc, axis, p, deadline) from None
         return value.value
 
     # -- macros --------------------------------------------------------------------------
@@ -564,9 +604,12 @@ class FocasClient(Link):
     ) -> int:
         """``cnc_download``: store one O-number program; returns its number. A number already
         stored answers EW_REJECT unless ``replace``; a program being executed EW_BUSY; text
-        that is not one program EW_DATA; a full memory EW_OVRFLOW."""
+        that is not one program EW_DATA; a full memory EW_OVRFLOW. A ``replace`` other than
+        True or False is a TypeError, as the machine says it."""
         if not isinstance(text, str):
             raise TypeError(f"a program is text, got {text!r}")
+        if not isinstance(replace, bool):
+            raise TypeError(f"replace must be True or False, got {replace!r}")
         p = self._path_of(path)
         payload = _WRPROGRAM.request.encode(ProgramText(int(bool(replace)), text))
         stored: ProgramNumber = await self._request(_WRPROGRAM, payload, timeout, p)

@@ -8,7 +8,8 @@ from __future__ import annotations
 from dataclasses import dataclass
 from typing import TYPE_CHECKING, Final
 
-from .._typed import override_unfit
+from .._typed import alarm_axis_unfit, override_percent, override_unfit
+from ..errors import EW, CncError
 from ..protocol import (
     COMMANDS,
     AlarmType,
@@ -149,7 +150,24 @@ class SimControl:
         raw = alarm_message(msg)
         payload = _RAISE_ALARM.request.encode(RaiseAlarm(axis_no, t, alm_no, raw))
         client = self._client
-        await client._request(_RAISE_ALARM, payload, timeout, client._path_of(path))
+        p = client._path_of(path)
+        deadline = client._deadline(timeout)
+        try:
+            await client._request_at(_RAISE_ALARM, payload, deadline, path=p)
+        except CncError as exc:
+            if exc.ew != EW.ATTRIB or axis_no == 0:
+                raise
+            unfit = await self._axis_unfit(axis_no, p, deadline)
+            if unfit is None:
+                raise
+            raise CncError.from_ew(exc.ew, f"{exc.detail}: {unfit}") from None
+
+    async def _axis_unfit(self, axis_no: int, path: int, deadline: float | None) -> str | None:
+        """Why the CNC refused an alarm of axis ``axis_no`` on ``path`` with EW_ATTRIB, in the
+        machine's words with the path's axis count (a packed answer carries the code only, so
+        the count is read, within the call's deadline); None when it cannot be read."""
+        axes = await self._client._axis_count(path, deadline)
+        return None if axes is None else alarm_axis_unfit(axis_no, axes)
 
     async def clear_alarms(
         self,
@@ -191,25 +209,27 @@ class SimControl:
         self,
         *,
         feed: int | None = None,
-        rapid: int | None = None,
+        rapid: int | str | None = None,
         spindle: int | None = None,
         path: int | None = None,
         timeout: float | None = None,
     ) -> None:
         """Feed override 0..254 %, rapid override 0 (F0), 25, 50 or 100 %, spindle override
-        0..254 % (0x0E21); an override not given stays as it is. A value out of range (a rapid
-        override between the steps) is a ValueError in the machine's words."""
+        0..254 % (0x0E21); an override not given stays as it is. The rapid override also takes
+        the name of its slowest step as the command line and the page read it, ``"F0"`` (any
+        case; ``"F25"`` is a ValueError listing the steps). A value
+        out of range (a rapid override between the steps) is a ValueError in the machine's
+        words, a value of another type a TypeError, both before anything is sent."""
         values = []
         for what, value in (("feed", feed), ("rapid", rapid), ("spindle", spindle)):
             if value is None:
                 values.append(_UNCHANGED)
                 continue
-            if isinstance(value, bool) or not isinstance(value, int):
-                raise TypeError(f"{what} override must be an integer, got {value!r}")
-            unfit = override_unfit(what, value)
+            percent = override_percent(what, value)
+            unfit = override_unfit(what, percent)
             if unfit is not None:
                 raise ValueError(unfit)  # the machine's words
-            values.append(value)
+            values.append(percent)
         client = self._client
         payload = _OVERRIDES.request.encode(Overrides(*values))
         await client._request(_OVERRIDES, payload, timeout, client._path_of(path))

@@ -29,6 +29,7 @@ from ._keys import At, ConfigError
 from .model import ITEMS
 
 __all__ = [
+    "DEFAULT_GATEWAY",
     "MAX_FLEET",
     "MIN_INTERVAL",
     "ConfigError",
@@ -48,6 +49,9 @@ __all__ = [
     "with_port",
 ]
 
+#: The gateway's name in its MQTT topics when ``[mqtt]`` gives neither ``gateway`` nor
+#: ``client_id``.
+DEFAULT_GATEWAY: Final = "focas-net"
 #: Most machines one ``[[fleet]]`` expands to.
 MAX_FLEET: Final = 10_000
 #: The shortest poll interval of a group, in seconds: a group read faster than this would
@@ -172,10 +176,16 @@ class MqttSettings:
     buffer: int = 10_000
     tls: bool = False
     deadbands: Mapping[str, float] = field(default_factory=dict)
-    #: The gateway's name in its topics (``P/$gateway/G/state``) and messages; ``--shard
-    #: I/N`` (N > 1) makes it ``focas-net-I``, so that no shard's will or clean stop says
-    #: another is offline.
-    gateway: str = "focas-net"
+    #: The gateway's name in its topics (``P/$gateway/G/state``) and messages (None:
+    #: :attr:`gateway_name`'s default); ``--shard I/N`` (N > 1) appends ``-I``, so that no
+    #: shard's will or clean stop says another is offline.
+    gateway: str | None = None
+
+    @property
+    def gateway_name(self) -> str:
+        """:attr:`gateway`, or else :attr:`client_id` (a broker holds one session per client
+        id, so two gateways on one broker have distinct ones), or else ``focas-net``."""
+        return self.gateway or self.client_id or DEFAULT_GATEWAY
 
     def check(self, source: str = "") -> None:
         """Raise :class:`ConfigError` naming the key (``mqtt.qos: got 3; ...``, after
@@ -193,9 +203,15 @@ class MqttSettings:
             or any(c in prefix for c in "+#\0")
         ):
             at.key("prefix").expected(prefix, _PREFIX_TEXT)
-        for key in ("client_id", "username", "password", "gateway"):
+        for key in ("username", "password"):
             if getattr(self, key) is not None:
                 at.key(key).text(getattr(self, key), "a non-empty string")
+        for key in ("client_id", "gateway"):  # (a topic level, a payload's text: printable)
+            value = getattr(self, key)
+            if value is not None and (
+                not isinstance(value, str) or not value or not value.isprintable()
+            ):
+                at.key(key).expected(value, "a non-empty string of printable characters")
         at.key("qos").integer(self.qos, 0, 2)
         at.key("keepalive").integer(self.keepalive, 1, 65535)
         at.key("buffer").integer(self.buffer, 1, 10_000_000)
@@ -329,7 +345,7 @@ _MACHINE_KEYS: Final = ("name", "port", *_COMMON)
 _FLEET_KEYS: Final = ("name_prefix", "first_port", "count", *_COMMON)
 _MQTT_KEYS: Final = (
     "host", "port", "prefix", "client_id", "username", "password", "password_env", "qos",
-    "keepalive", "buffer", "tls", "deadbands",
+    "keepalive", "buffer", "tls", "deadbands", "gateway",
 )  # fmt: skip
 _OPCUA_KEYS: Final = (
     "endpoint", "namespace", "anonymous", "users", "certificate", "private_key", "writes",
@@ -424,7 +440,7 @@ def shard(config: GatewayConfig, index: int, count: int) -> GatewayConfig:
             )
         opcua = replace(opcua, endpoint=with_port(opcua.endpoint, port))
     if mqtt is not None:
-        mqtt = replace(mqtt, gateway=f"{mqtt.gateway}-{index}")
+        mqtt = replace(mqtt, gateway=f"{mqtt.gateway_name}-{index}")
         if mqtt.client_id is not None:
             mqtt = replace(mqtt, client_id=f"{mqtt.client_id}-{index}")
     return replace(config, machines=machines, opcua=opcua, mqtt=mqtt)
@@ -616,7 +632,9 @@ def _secret(at: At, table: Mapping[str, Any]) -> str | None:
 def _mqtt(at: At, value: object) -> MqttSettings:
     table = at.table(value, _MQTT_KEYS)
     out: dict[str, Any] = {}
-    for key in ("host", "port", "prefix", "client_id", "username", "qos", "keepalive", "buffer"):
+    for key in (
+        "host", "port", "prefix", "client_id", "username", "qos", "keepalive", "buffer", "gateway",
+    ):  # fmt: skip
         if key in table:
             out[key] = table[key]
     if "tls" in table:

@@ -20,17 +20,19 @@ broker is there), then ``offline`` itself, then disconnects.
 from __future__ import annotations
 
 import asyncio
+import contextlib
 import logging
 import os
 import re
 import ssl
 import time
 from collections import deque
-from collections.abc import Callable, Sequence
+from collections.abc import AsyncIterator, Callable, Sequence
 from types import TracebackType
 from typing import Final
 
 import aiomqtt
+from aiomqtt.exceptions import MqttConnectError
 
 from ._mqtt_messages import Buffer, Message, Publication
 from .config import MqttSettings
@@ -42,34 +44,109 @@ _log = logging.getLogger("focas_net.gateway.mqtt")
 
 #: ``[Errno 104] Connection reset by peer``: what the MQTT client keeps of a socket's error.
 _ERRNO: Final = re.compile(r"\[Errno (-?\d+)\] ")
+#: aiomqtt's words for a connection that broke while it waited for messages, and for an
+#: acknowledgement (or CONNACK) that did not come within its timeout.
+_LOST: Final = "Disconnected during message iteration"
+_TIMED_OUT: Final = "Operation timed out"
+#: What paho-mqtt logs of its socket's errors (then it drops the connection).
+_SOCKET_ERRORS: Final = frozenset({"failed to receive on socket: %s", "timeout on socket: %s"})
 #: The port MQTT over TLS listens on by convention (and 1883 plain MQTT).
 _TLS_PORT: Final = 8883
 
 
-def broker_reason(exc: BaseException, settings: MqttSettings) -> str:
+def broker_reason(
+    exc: BaseException,
+    settings: MqttSettings,
+    *,
+    connected: bool = False,
+    reached: bool = False,
+    socket_error: str | None = None,
+) -> str:
     """Why the broker of ``settings`` could not be reached or dropped the connection, as
     words (``connection refused``, never ``[Errno 111] ...``), with a hint where the settings
     may be the cause: TLS to a plain port or plain MQTT to a TLS one, a peer that never
-    answers MQTT's CONNECT, a broker that refused the client (its reason code)."""
-    rc = getattr(exc, "rc", None)
-    if rc is not None:
+    answers MQTT's CONNECT, a broker that refused the client (its reason code).
+
+    ``connected``: the connection was up when ``exc`` ended it (a lost connection, or a
+    message the broker did not acknowledge in time); ``reached``: a connection to this broker
+    was up before (so a silent port is that broker, not some other program);
+    ``socket_error``: what the MQTT client's socket said before the connection was up (its
+    log, ``[Errno 104] Connection reset by peer``)."""
+    if isinstance(exc, MqttConnectError):
         words = str(exc).partition("] ")[2] or str(exc)
-        code = getattr(rc, "value", rc)
+        code = getattr(exc.rc, "value", exc.rc)
         return f"the broker refused: {words[:1].lower() + words[1:]} (MQTT reason code {code})"
     text = str(exc)
-    found = _ERRNO.match(text)
-    if found:  # (a resolver's error numbers are negative: its own words stay)
-        errno = int(found[1])
-        text = os.strerror(errno) if errno > 0 else text[found.end() :]
-    text = text[:1].lower() + text[1:]
+    if connected or getattr(exc, "rc", None) is not None or text == _LOST:
+        if text == _TIMED_OUT:
+            return "the broker acknowledged no message in time: the connection is taken as lost"
+        return "the connection to the broker was lost"
+    if text == _TIMED_OUT and socket_error:
+        text = f"{_words(socket_error)} before any answer to MQTT's CONNECT"
+    else:
+        text = _words(text)
     tls = settings.tls
     if tls and ("reset" in text or "ssl" in text or "eof" in text):
         return f"{text} (tls = true: is that the broker's TLS port?)"
     if not tls and settings.port == _TLS_PORT:
         return f"{text} (port {_TLS_PORT} is MQTT over TLS by convention: tls = true?)"
     if text == "operation timed out":
-        return "no answer to MQTT's CONNECT in time (is that a broker's port?)"
+        text = "no answer to MQTT's CONNECT in time"
+        return text if reached else f"{text} (is that a broker's port?)"
+    if text.endswith("before any answer to MQTT's CONNECT") and not reached:
+        return f"{text} (is that a broker's port?)"
     return text
+
+
+def _words(text: str) -> str:
+    """A socket's error as words: ``[Errno 104] Connection reset by peer`` is ``connection
+    reset by peer`` (a resolver's negative error numbers keep their own words)."""
+    found = _ERRNO.match(text)
+    if found:
+        errno = int(found[1])
+        text = os.strerror(errno) if errno > 0 else text[found.end() :]
+    return text[:1].lower() + text[1:]
+
+
+class _SocketErrors(logging.Filter):
+    """Keeps out of the MQTT client's log (aiomqtt's ``mqtt`` logger) its socket's errors,
+    which :func:`broker_reason` tells in words, and holds the last one."""
+
+    def __init__(self) -> None:
+        super().__init__()
+        self.last: str | None = None
+
+    def filter(self, record: logging.LogRecord) -> bool:
+        if record.msg in _SOCKET_ERRORS and record.args:
+            self.last = str(record.args[0] if isinstance(record.args, tuple) else record.args)
+            return False
+        return True
+
+
+def _forget(client: aiomqtt.Client) -> None:
+    """A client whose connection attempt failed (its CONNECT not answered in time) may still
+    connect when the broker answers late: it is disconnected cleanly, so that the broker
+    drops its last will, and its end is no news (asyncio would log its exception as never
+    retrieved)."""
+    client._disconnected.add_done_callback(_retrieved)
+    with contextlib.suppress(Exception):  # (no socket: nothing to disconnect)
+        client._client.disconnect()
+
+
+def _retrieved(future: asyncio.Future[None]) -> None:
+    if not future.cancelled():
+        future.exception()
+
+
+@contextlib.asynccontextmanager
+async def _entered(client: aiomqtt.Client) -> AsyncIterator[aiomqtt.Client]:
+    """``client``, connected already, left as ``async with client`` leaves it."""
+    try:
+        yield client
+    except BaseException as exc:
+        await client.__aexit__(type(exc), exc, exc.__traceback__)
+        raise
+    await client.__aexit__(None, None, None)
 
 
 #: Messages published at once (each waits for its acknowledgement at QoS 1 and 2).
@@ -87,7 +164,13 @@ class MqttSink:
     check.
 
     ``reconnect`` is the first and the longest delay between connection attempts (doubling
-    from one to the other, back to the first once connected)."""
+    from one to the other, back to the first once connected); ``timeout`` how long the broker
+    may take to answer the connection and to acknowledge a message (then the connection is
+    taken as lost and made again).
+
+    While it runs, the MQTT client's log (``mqtt``) leaves out its socket's errors: the sink's
+    warning tells them, in words (:func:`broker_reason`). After a warning, the next connection
+    made is told too (``connected again``)."""
 
     def __init__(
         self,
@@ -96,16 +179,21 @@ class MqttSink:
         gateway_name: str | None = None,
         reconnect: tuple[float, float] = (0.5, 30.0),
         close_timeout: float = 5.0,
+        timeout: float = 10.0,
     ) -> None:
         if not isinstance(settings, MqttSettings):
             raise TypeError(f"settings must be an MqttSettings, got {settings!r}")
         settings.check()
-        name = settings.gateway if gateway_name is None else gateway_name
+        name = settings.gateway_name if gateway_name is None else gateway_name
         self.publication = Publication(settings.prefix, name, settings.deadbands)
         self._buffer = Buffer(settings.buffer)
         self.settings = settings
         self._reconnect = reconnect
         self._close_timeout = close_timeout
+        self._timeout = timeout
+        self._socket_errors = _SocketErrors()
+        #: whether a warning was given since the last connection
+        self._warned = False
         self._wake = asyncio.Event()
         self._closing = asyncio.Event()
         self._task: asyncio.Task[None] | None = None
@@ -166,6 +254,7 @@ class MqttSink:
     # --- the task -----------------------------------------------------------------------------
 
     async def __aenter__(self) -> MqttSink:
+        aiomqtt.client.MQTT_LOGGER.addFilter(self._socket_errors)
         self._task = asyncio.create_task(self._run(), name="focas_net mqtt publisher")
         return self
 
@@ -192,22 +281,32 @@ class MqttSink:
             await asyncio.gather(task, return_exceptions=True)
         finally:
             self._task = None
+            aiomqtt.client.MQTT_LOGGER.removeFilter(self._socket_errors)
 
     async def _run(self) -> None:
         first, longest = self._reconnect
         delay = first
         while not self._closing.is_set():
+            self._socket_errors.last = None
+            reached = self.connections > 0
             try:
                 await self._connection()
                 return
             except aiomqtt.MqttError as exc:
                 if self.connected:
                     delay = first
+                self._warned = True
                 _log.warning(
                     "MQTT broker %s:%d: %s",
                     self.settings.host,
                     self.settings.port,
-                    broker_reason(exc, self.settings),
+                    broker_reason(
+                        exc,
+                        self.settings,
+                        connected=self.connected,
+                        reached=reached,
+                        socket_error=self._socket_errors.last,
+                    ),
                 )
             except Exception:
                 self.errors += 1
@@ -232,6 +331,7 @@ class MqttSink:
             will=aiomqtt.Will(will.topic, will.payload, s.qos, retain=will.retain),
             tls_context=ssl.create_default_context() if s.tls else None,
             max_inflight_messages=WINDOW,
+            timeout=self._timeout,
         )
         # a full window is the normal state of a busy publisher, not a concern to log
         client.pending_calls_threshold = WINDOW + 1
@@ -240,9 +340,19 @@ class MqttSink:
     async def _connection(self) -> None:
         """One connection: birth, then the buffer until the connection breaks (MqttError) or
         the sink closes (then ``offline`` and a clean disconnect)."""
-        async with self._client() as client:
+        s = self.settings
+        attempt = self._client()
+        try:
+            await attempt.__aenter__()
+        except BaseException:
+            _forget(attempt)
+            raise
+        async with _entered(attempt) as client:
             self.connected = True
             self.connections += 1
+            if self._warned:
+                self._warned = False
+                _log.warning("MQTT broker %s:%d: connected again", s.host, s.port)
             await self._publish(client, self.publication.birth())
             if self.connections > 1 or self._buffer.dropped != self._dropped_resynced:
                 # connected again (the broker may have restarted without its retained

@@ -139,7 +139,9 @@ def encode_part(requests: Sequence[NativeRequest], path: int = 1, function: str 
     """The :class:`Part` of ``requests`` (one frame's worth of one call) on ``path`` (of
     ``function``, the FOCAS function, named in a failure).
 
-    :raises ValueError: a request whose fields do not fit its block (naming the request).
+    :raises ValueError: a request whose fields do not fit its block, naming the function (or
+        the request's kind) and the field and value that do not fit, never the request's
+        repr.
     """
     encoded: list[bytes] = []
     fixed = axes = 0
@@ -147,7 +149,7 @@ def encode_part(requests: Sequence[NativeRequest], path: int = 1, function: str 
         try:
             encoded.append(request.to_block(path).encode())
         except ValueError as exc:
-            raise ValueError(f"{request!r} cannot be sent: {exc}") from None
+            raise ValueError(f"{function or type(request).__name__}: {exc}") from None
         size, per_axis = _answer_size(request)
         fixed += size
         axes += per_axis

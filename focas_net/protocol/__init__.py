@@ -70,6 +70,7 @@ from .pmc import (
     PmcArea,
     PmcData,
     PmcRange,
+    pmc_bit_refusal,
 )
 from .programs import (
     MAX_DIRECTORY_ENTRIES,
@@ -211,6 +212,7 @@ __all__ = [
     "encode_response",
     "ew_of_text",
     "field_label",
+    "pmc_bit_refusal",
     "scan_frames",
     "status_labels",
     "tmmode_label",

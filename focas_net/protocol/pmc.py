@@ -12,7 +12,7 @@ from typing import ClassVar, Final, Self
 from ..errors import PayloadError
 from ._base import FixedPayload, field_error
 
-__all__ = ["MAX_PMC_CHUNK", "PmcArea", "PmcData", "PmcRange"]
+__all__ = ["MAX_PMC_CHUNK", "PmcArea", "PmcData", "PmcRange", "pmc_bit_refusal"]
 
 #: Most data bytes one PMC range call carries.
 MAX_PMC_CHUNK: Final = 32
@@ -53,6 +53,15 @@ class PmcArea(enum.IntEnum):
             return cls(area)
         except ValueError:
             raise ValueError(f"unknown PMC area number {area}") from None
+
+
+def pmc_bit_refusal(area: str, address: int, bit: int) -> str | None:
+    """Why ``bit`` of PMC byte ``address`` of ``area`` (its letter) is no bit, in the words
+    every front end gives (the command line's ``pmc bit R 1.8``, the dashboard's bit); None for
+    a bit 0..7."""
+    if 0 <= bit <= 7:
+        return None
+    return f"{area}{address}.{bit}: bit {bit} is outside 0..7: a PMC address is 1 byte wide"
 
 
 @dataclass(frozen=True, slots=True)

@@ -9,6 +9,8 @@ import math
 import ssl as _ssl
 from collections.abc import Sequence
 
+from focas_net._address import check_host
+
 __all__ = ["check_server_options"]
 
 #: Arguments that are an ``int`` (None allowed for the second group).
@@ -36,6 +38,7 @@ def check_server_options(options: dict[str, object]) -> None:
     host = options["host"]
     if not isinstance(host, str):
         raise TypeError(f"host must be a str (an address or a name), got {host!r}")
+    check_host(host)  # the clients' and the command line's words for a host that is none
     for name in _INTS:
         if not _is_int(options[name]):
             raise TypeError(f"{name} must be an integer, got {options[name]!r}")

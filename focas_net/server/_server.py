@@ -37,6 +37,8 @@ from typing import Any, Final, cast
 import anyio
 import anyio.lowlevel
 
+from focas_net._address import check_host
+from focas_net._typed import os_words
 from focas_net.adapters import PackedAdapter
 from focas_net.native import DEFAULT_MAX_BODY, MAGIC
 from focas_net.protocol import DEFAULT_MAX_FRAME
@@ -96,6 +98,11 @@ class ListenError(OSError):
         super().__init__(cause.errno, cause.strerror or str(cause))
         self.where = where
         self.native_only = native_only
+
+    def __str__(self) -> str:
+        """``cannot listen on HOST:PORT: name or service not known``: the address tried and
+        the system's words (never ``[Errno -2] ...`` alone)."""
+        return f"cannot listen on {self.where}: {os_words(self)}"
 
 
 class Listener:
@@ -490,7 +497,7 @@ class FocasServer:
         for p in (self._ports or []) + (self._native_ports or []):
             if not 0 <= p <= 65_535:
                 raise ValueError(f"port {p} outside 0..65535")
-        self.host = host
+        self.host = check_host(host)  # an IPv6 address without its brackets
         self.ssl = ssl
         self.max_frame = max_frame
         self.max_connections = max_connections

@@ -15,15 +15,13 @@ The connection itself is :class:`focas_net.server.NativeConnection`.
 
 from __future__ import annotations
 
-from typing import TYPE_CHECKING, Final
+from typing import Final
 
 from focas_net.native import DEFAULT_MAX_BODY
+from focas_net.sim import Machine
 
 from ._native import NativeConnection
 from ._server import FocasServer
-
-if TYPE_CHECKING:
-    from focas_net.sim import Machine
 
 __all__ = [
     "DEFAULT_NATIVE_IDLE_TIMEOUT",
@@ -62,6 +60,13 @@ class NativeServer:
         idle_timeout: float = DEFAULT_NATIVE_IDLE_TIMEOUT,
         backlog: int = 128,
     ) -> None:
+        if not isinstance(machine, Machine):
+            raise TypeError(f"machine must be a Machine, got {machine!r}")
+        for name, value in (("version", version), ("max_body", max_body)):
+            if isinstance(value, bool) or not isinstance(value, int | None):
+                raise TypeError(f"{name} must be an integer, got {value!r}")
+        if max_body is None:
+            raise TypeError("max_body must be an integer, got None")
         if version is not None and not 1 <= version <= 0xFFFF:
             raise ValueError(f"version must be within 1..65535, got {version}")
         if not 0 <= max_body <= 0xFFFF:

@@ -13,6 +13,7 @@ from ._information import (
     PmcAreaExtent,
     SoftwareVersion,
 )
+from ._known_params import AXIS_NAME_PARAM, KNOWN_PARAMS, KnownParam
 from ._modal import EXTERNAL_MESSAGE_NUMBERS, ExternalMessage, OperatorMessage
 from ._pmc import pmc_letter
 from ._signals import CLOCK_VARIABLES, SERVO_POWER_DIAG, TIMER_PARAMS, OperatorSignals
@@ -27,6 +28,7 @@ from .machine import (
     DEFAULT_HISTORY_CAPACITY,
     F_SIGNALS,
     G_SIGNALS,
+    MAX_HISTORY_CAPACITY,
     MAX_MACRO_DECIMALS,
     MAX_PATHS,
     PATH_PARAMS,
@@ -56,6 +58,7 @@ from .machinefile import MachineFileError, load_machine, machine_from_dict
 
 __all__ = [
     "AUT_MODES",
+    "AXIS_NAME_PARAM",
     "CLASSES_16I",
     "CLASS_MAX_AXES",
     "CLOCK_VARIABLES",
@@ -67,8 +70,10 @@ __all__ = [
     "EXTERNAL_MESSAGE_NUMBERS",
     "F_SIGNALS",
     "G_SIGNALS",
+    "KNOWN_PARAMS",
     "LIFE_TYPES",
     "MAX_ALARM_NO",
+    "MAX_HISTORY_CAPACITY",
     "MAX_MACRO_DECIMALS",
     "MAX_NAME_LENGTH",
     "MAX_PATHS",
@@ -92,6 +97,7 @@ __all__ = [
     "GroupStatus",
     "HistoryEntry",
     "Identity",
+    "KnownParam",
     "LadderTitle",
     "LifeInfo",
     "LifeTool",

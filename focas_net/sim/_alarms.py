@@ -9,7 +9,7 @@ from datetime import UTC, datetime, timedelta
 from itertools import islice
 from typing import Final
 
-from focas_net._typed import MAX_ALARM_TEXT, alarm_text_unfit
+from focas_net._typed import MAX_ALARM_TEXT, alarm_axis_unfit, alarm_text_unfit
 from focas_net.errors import EW
 
 from ._base import Counters, MachineError, logger, need_int, need_text
@@ -20,6 +20,7 @@ __all__ = [
     "MAX_ALARM_NO",
     "MAX_ALARM_TEXT",
     "MAX_ALARM_TYPE",
+    "MAX_HISTORY_CAPACITY",
     "NC_ALARM_TYPES",
     "Alarm",
     "AlarmKey",
@@ -40,6 +41,8 @@ PathAlarmKey = tuple[int, AlarmKey]
 
 #: Alarm history capacity of a FANUC 0i/30i.
 DEFAULT_HISTORY_CAPACITY: Final = 250
+#: The largest alarm history a machine keeps (a machine file's ``history_capacity`` too).
+MAX_HISTORY_CAPACITY: Final = 100_000
 #: Alarm type numbers a CNC can carry (``alm_type`` is a bit number in FANUC's masks).
 MAX_ALARM_TYPE: Final = 31
 #: The highest alarm number the CNC holds (its ``alm_no`` is a signed 16-bit word).
@@ -100,8 +103,14 @@ class Alarms:
     __slots__ = ("active", "clock", "counters", "history", "name", "shift")
 
     def __init__(self, name: str, capacity: int, clock: Clock, counters: Counters) -> None:
-        if capacity < 1:
-            raise ValueError("alarm history capacity must be at least 1")
+        if isinstance(capacity, bool) or not isinstance(capacity, int):
+            raise TypeError(f"history_capacity must be an integer, got {capacity!r}")
+        if not 1 <= capacity <= MAX_HISTORY_CAPACITY:
+            raise ValueError(
+                f"history_capacity {capacity} is outside 1..{MAX_HISTORY_CAPACITY} (entries)"
+            )
+        if not callable(clock):
+            raise TypeError(f"clock must be callable (it returns the time), got {clock!r}")
         self.name = name
         self.clock = clock
         self.counters = counters
@@ -141,8 +150,9 @@ class Alarms:
             raise MachineError(EW.DATA, f"alm_type {alm_type} outside 0..{MAX_ALARM_TYPE}")
         if not 0 <= alm_no <= MAX_ALARM_NO:
             raise MachineError(EW.DATA, f"alm_no {alm_no} outside 0..{MAX_ALARM_NO}")
-        if not 0 <= axis_no <= axes:
-            raise MachineError(EW.ATTRIB, f"axis_no {axis_no} outside 0..{axes}")
+        axis_unfit = alarm_axis_unfit(axis_no, axes)
+        if axis_unfit is not None:
+            raise MachineError(EW.ATTRIB, axis_unfit)
         text = msg[:MAX_ALARM_TEXT] or _TABLE.get((alm_type, alm_no), "")
         unfit = alarm_text_unfit(text)
         if unfit is not None:

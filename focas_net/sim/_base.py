@@ -42,6 +42,22 @@ def need_int(what: str, value: object) -> int:
     return value
 
 
+def need_flag(what: str, value: object) -> bool:
+    """``value`` when it is a ``bool``: a switch given another value (``1.5``, ``"yes"``,
+    ``0``) is a TypeError naming ``what`` and the value, rather than counting as set because
+    it is truthy."""
+    if not isinstance(value, bool):
+        raise TypeError(f"{what} must be True or False, got {value!r}")
+    return value
+
+
+def need_flag_or_none(what: str, value: object) -> bool | None:
+    """``value`` when it is a ``bool`` or None (:func:`need_flag`, None allowed)."""
+    if value is not None and not isinstance(value, bool):
+        raise TypeError(f"{what} must be True, False or None, got {value!r}")
+    return value
+
+
 def need_text(what: str, value: object) -> str:
     """``value`` when it is a ``str``: TypeError naming ``what`` and the value otherwise."""
     if not isinstance(value, str):

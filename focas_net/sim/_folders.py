@@ -249,7 +249,7 @@ class FolderOperations(PathOperations):
         background (EW_DATA otherwise)."""
         self._check_folders()
         self._paths.at(path)
-        if kind not in _KINDS:
+        if isinstance(kind, bool) or kind not in _KINDS:
             raise MachineError(EW.DATA, f"current folder kind {kind!r}: 1 or 2")
         return self._folder_current.get((path, kind), path_folder(path))
 
@@ -284,7 +284,7 @@ class FolderOperations(PathOperations):
         """Make ``folder`` ``path``'s current folder (``cnc_wrpdf_curdir``)."""
         self._check_folders()
         self._paths.at(path)
-        if kind not in _KINDS:
+        if isinstance(kind, bool) or kind not in _KINDS:
             raise MachineError(EW.DATA, f"current folder kind {kind!r}: 1 or 2")
         parts = self._folder_key(folder, path)
         self._folder_current[(path, kind)] = f"//{DRIVE}/" + "".join(p + "/" for p in parts)

@@ -25,24 +25,6 @@ __all__ = [
 PARTS_COUNT: Final = 6711
 PARTS_TOTAL: Final = 6712
 PARTS_REQUIRED: Final = 6713
-#: The parameters the machine itself counts in: a whole number of parts, not per axis.
-_PARTS_PARAMS: Final = (PARTS_COUNT, PARTS_TOTAL, PARTS_REQUIRED)
-
-
-def parts_param_problem(number: int, kind: int | None, is_axis: bool) -> str | None:
-    """What is wrong with parameter ``number`` of ``kind`` as the machine's parts count, total
-    parts or parts required (6711/6712/6713: an integer, word or two-word, not per axis); None
-    when nothing is (or it is another parameter)."""
-    if number not in _PARTS_PARAMS:
-        return None
-    if kind not in (ParamKind.WORD, ParamKind.TWO_WORD) or is_axis:
-        given = "an axis" if is_axis else "a"
-        type_name = "?" if kind is None else ParamKind(kind).name.lower().replace("_", "-")
-        return (
-            "the machine counts parts in it: it is a word or two-word parameter, not per axis "
-            f"(got {given} {type_name} parameter)"
-        )
-    return None
 
 
 class ParamKind(enum.IntEnum):
@@ -198,11 +180,6 @@ class Items:
         for item in items:
             try:
                 item.check(self.axes)
-                problem = what == "parameter" and parts_param_problem(
-                    item.number, item.kind, item.axis
-                )
-                if problem:
-                    raise ValueError(problem)
             except ValueError as exc:
                 raise ValueError(f"{what} {item.number}: {exc}") from None
             if item.number in table:

@@ -13,7 +13,7 @@ import math
 from collections.abc import Callable, Iterable
 from contextlib import AbstractContextManager
 
-from ._base import need_int
+from ._base import need_flag, need_flag_or_none, need_int
 from ._paths import Paths
 from ._signals import METER, Collected
 from ._spindles import (
@@ -165,8 +165,9 @@ class PathOperations:
 
         ``repeat`` True: production, the main program starts again at once after each M2/M30
         (a part counted each time) until ``repeat`` False is given or an alarm stops it; None
-        leaves the setting as it is."""
+        leaves the setting as it is (another value is a TypeError)."""
         self.check_writable()
+        need_flag_or_none("repeat", repeat)
         self._paths.at(path).cycle_start(repeat)
 
     def feed_hold(self, *, path: int = 1) -> None:
@@ -184,7 +185,7 @@ class PathOperations:
     def set_overrides(
         self,
         feed: int | None = None,
-        rapid: int | None = None,
+        rapid: int | str | None = None,
         spindle: int | None = None,
         *,
         path: int = 1,
@@ -192,7 +193,9 @@ class PathOperations:
         """Feed override 0..254 %, rapid override one of FANUC's steps 0 (F0), 25, 50, 100 %,
         spindle override 0..254 % (None: unchanged): EW_PROT (read-only machine), EW_DATA (a
         value outside its range, a rapid override between the steps), TypeError (a value that
-        is no whole number)."""
+        is no whole number). The rapid override also takes the name of its slowest step as the
+        command line and the page read it, ``"F0"`` (any case; ``"F25"`` is a ValueError listing
+        the steps)."""
         self.check_writable()
         self._paths.at(path).set_overrides(feed, rapid, spindle)
         self._show_overrides(path)
@@ -211,6 +214,7 @@ class PathOperations:
         since its start from reset), 4 the general-purpose integrating meter (while TMRON,
         G53.0, is 1); EW_NUMBER for another kind. A write of the run-time parameters
         6750-6758 sets them (:mod:`._signals`)."""
+        need_int("timer kind", kind)
         if kind == METER:
             self._paths.at(path)
             return self._meter(path)
@@ -311,6 +315,7 @@ class PathOperations:
 
     def program_text(self, number: int, *, path: int = 1) -> str:
         """The text of program ``number`` as stored: EW_NUMBER when there is none."""
+        need_int("program number", number)
         return self._paths.at(path).program_text(number)
 
     def store_program(self, text: str, *, path: int = 1, replace: bool = False) -> int:
@@ -321,12 +326,14 @@ class PathOperations:
         self.check_writable()
         if not isinstance(text, str):
             raise TypeError(f"a program must be text (str), got {text!r}")
+        need_flag("replace", replace)
         return self._paths.at(path).store_program(text, replace)
 
     def delete_program(self, number: int, *, path: int = 1) -> None:
         """Delete program ``number``: EW_PROT (read-only machine), EW_NUMBER (no such
         program), EW_BUSY (being executed). Deleting the main program unselects it."""
         self.check_writable()
+        need_int("program number", number)
         self._paths.at(path).delete_program(number)
 
     def select_program(self, number: int, *, path: int = 1) -> None:
@@ -334,4 +341,5 @@ class PathOperations:
         machine), EW_MODE (a mode other than MEM and EDIT), EW_NUMBER (no such program),
         EW_BUSY (another program is being executed)."""
         self.check_writable()
+        need_int("program number", number)
         self._paths.at(path).select_program(number)

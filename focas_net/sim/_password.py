@@ -11,6 +11,7 @@ import hmac
 from dataclasses import dataclass
 from typing import Final
 
+from focas_net._typed import WRONG_PASSWORD
 from focas_net.errors import EW
 
 from ._base import MachineError
@@ -98,7 +99,7 @@ class ParamLock:
             session.unlocked = True
             return
         session.unlocked = False
-        raise MachineError(EW.PASSWD, "parameter password mismatch")
+        raise MachineError(EW.PASSWD, WRONG_PASSWORD)
 
     def digest(self) -> str:
         """A digest of the password, for the machine's state digest."""

@@ -27,7 +27,7 @@ from dataclasses import dataclass, replace
 from decimal import Decimal
 from typing import Final
 
-from focas_net._typed import override_unfit
+from focas_net._typed import override_percent, override_unfit
 from focas_net.errors import EW
 
 from ._alarms import MAX_ALARM_TEXT, NC_ALARM_TYPES, AlarmKey, Alarms, nc_alarm
@@ -316,9 +316,9 @@ class Path:
             "stroke_limits": tuple(limits),
             "reference": reference,
         }
-        feed = items.param_or(1422, 0)
+        feed = items.param_float(1422, 0.0, 0, 1.0)  # mm/min, a real one's value as it reads
         if feed > 0:
-            values["max_cutting_feed"] = float(feed)
+            values["max_cutting_feed"] = feed
         low, high = items.param_or(WAIT_LOW, 0), items.param_or(WAIT_HIGH, 0)
         if path_count > 1 and 0 < low <= high:
             values["waiting_m"] = (low, high)
@@ -635,21 +635,23 @@ class Path:
             self.engine.alarm_stop(nc_alarm(key, text))
             self.settled(True)
 
-    def set_overrides(self, feed: int | None, rapid: int | None, spindle: int | None) -> None:
+    def set_overrides(self, feed: int | None, rapid: int | str | None, spindle: int | None) -> None:
         self.sync()
+        given: dict[str, int] = {}
         for what, value in (("feed", feed), ("rapid", rapid), ("spindle", spindle)):
-            if value is not None and (isinstance(value, bool) or not isinstance(value, int)):
-                raise TypeError(f"{what} override must be a whole number, got {value!r}")
-            unfit = None if value is None else override_unfit(what, value)
+            if value is None:
+                continue
+            given[what] = percent = override_percent(what, value)
+            unfit = override_unfit(what, percent)
             if unfit is not None:
                 raise MachineError(EW.DATA, unfit)
         e = self.engine
-        if feed is not None:
-            e.set_feed_override(feed)
-        if rapid is not None:
-            e.set_rapid_override(rapid)
-        if spindle is not None:
-            e.set_spindle_override(spindle)
+        if "feed" in given:
+            e.set_feed_override(given["feed"])
+        if "rapid" in given:
+            e.set_rapid_override(given["rapid"])
+        if "spindle" in given:
+            e.set_spindle_override(given["spindle"])
         self.settled(True)
 
     def apply(self, asked: GRequest) -> None:

@@ -20,6 +20,7 @@ from collections.abc import Iterable, Iterator, Sequence
 from dataclasses import dataclass
 from typing import TYPE_CHECKING, Final
 
+from focas_net._address import shown
 from focas_net.errors import EW
 
 from ._base import MachineError, need_int
@@ -300,6 +301,24 @@ class Paths:
             p.engine.parts_to_go = None
 
 
+def program_texts(programs: object) -> tuple[str, ...]:
+    """``programs`` as a tuple of program texts: TypeError naming what is not (one text
+    given alone, ``"O1000..."``, which would be read character by character, or an item
+    that is no ``str``)."""
+    if isinstance(programs, str):
+        raise TypeError(
+            f"programs must be a list of program texts, got one text {shown(programs)}: "
+            "give it in a list"
+        )
+    if isinstance(programs, bytes) or not isinstance(programs, Iterable):
+        raise TypeError(f"programs must be a list of program texts, got {programs!r}")
+    texts = tuple(programs)
+    for i, text in enumerate(texts):
+        if not isinstance(text, str):
+            raise TypeError(f"programs[{i}] must be a program's text (str), got {text!r}")
+    return texts
+
+
 def path_specs(
     paths: Sequence[PathSpec] | None,
     axes: Iterable[str] | None,
@@ -310,7 +329,8 @@ def path_specs(
     identity: Identity | None,
 ) -> list[PathSpec]:
     """The machine's paths: ``paths``, or one path of the single-path arguments (ValueError
-    when both are given)."""
+    when both are given; TypeError for ``programs`` that are no list of texts)."""
+    programs = program_texts(programs)
     if paths is None:
         kind = identity.mt_type.strip() if identity is not None else "M"
         return [
@@ -333,7 +353,6 @@ def path_specs(
         )
         if value is not None
     ]
-    programs = tuple(programs)
     if programs:
         given.append("programs")
     if given:

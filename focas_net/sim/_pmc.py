@@ -25,6 +25,7 @@ __all__ = [
     "GRequest",
     "Pmc",
     "PmcAreaSpec",
+    "need_pmc_count",
     "pmc_letter",
 ]
 
@@ -41,6 +42,18 @@ def pmc_letter(text: str) -> str:
     if letter not in PMC_AREAS:
         raise ValueError(f"unknown PMC area {text!r} (one of {', '.join(PMC_AREAS)})")
     return letter
+
+
+def need_pmc_count(count: int) -> int:
+    """``count`` PMC bytes to read or write, at least one: a PMC range holds one byte at least
+    (FANUC's ``pmc_rdpmcrng`` and ``pmc_wrpmcrng`` give it from ``s`` to ``e``, both included),
+    so a count below 1 is EW_LENGTH, as the CNC answers a range that ends before it starts,
+    and the clients refuse it before sending."""
+    if count < 1:
+        raise MachineError(
+            EW.LENGTH, f"PMC byte count {count}: a PMC range holds one byte at least"
+        )
+    return count
 
 
 #: The G signals the machine reads (FANUC Series 0i addresses): (byte, bit).
@@ -203,6 +216,7 @@ class Pmc:
         if not isinstance(data, bytes | bytearray | memoryview):
             raise TypeError(f"PMC data must be bytes, got {data!r}")
         area = self.area(letter)
+        need_pmc_count(len(data))
         end = start + len(data)
         if start < 0 or end > area.size:
             raise area.beyond(start, end)

@@ -46,6 +46,27 @@ _MAX_MINUTES: Final = 4300
 _MAX_CYCLES: Final = 9999
 
 
+def _values(values: object, what: str) -> Sequence[int]:
+    """``values`` when it is a non-empty sequence (a list, a tuple): a write of no values is
+    EW_LENGTH, as a PMC write of no bytes is; TypeError naming ``what`` for another type (a
+    number, text, bytes). Each value is checked by the write."""
+    if isinstance(values, str | bytes | bytearray) or not isinstance(values, Sequence):
+        raise TypeError(f"{what} must be a list or tuple of integers, got {values!r}")
+    if not values:
+        raise MachineError(EW.LENGTH, f"{what}: a write of no values")
+    return values
+
+
+def _rows(rows: object) -> Sequence[object]:
+    """``rows`` when it is a non-empty sequence of rows (EW_LENGTH for none, TypeError for
+    another type)."""
+    if isinstance(rows, str | bytes | bytearray) or not isinstance(rows, Sequence):
+        raise TypeError(f"work offset rows must be a list or tuple of rows, got {rows!r}")
+    if not rows:
+        raise MachineError(EW.LENGTH, "work offset rows: a write of no rows")
+    return rows
+
+
 @dataclass(frozen=True, slots=True)
 class ToolOffsetInfo:
     """The kind of a path's tool offset memory and its size: ``kind`` ``"M"`` (memory C: 4
@@ -175,9 +196,12 @@ class ToolOperations:
     ) -> None:
         """Set tool offsets ``first``, ``first + 1``... of type ``offset_type``, one value
         each: every number and value is checked before any is set (EW_PROT, EW_PATH,
-        EW_NUMBER, EW_ATTRIB, EW_DATA), so a refused write changes nothing."""
+        EW_NUMBER, EW_LENGTH for no values, EW_ATTRIB, EW_DATA; TypeError for values that are
+        no list or tuple), so a refused write changes nothing."""
         self.check_writable()
         offsets = self._tools_of(path).offsets
+        _number(first, 1, offsets.count, "tool offset number")
+        values = _values(values, "tool offset values")
         for number, value in enumerate(values, first):
             offsets.check_value(number, offset_type, value)
         for number, value in enumerate(values, first):
@@ -208,10 +232,13 @@ class ToolOperations:
         self, first: int, axis: int | None, rows: Sequence[Sequence[int]], *, path: int = 1
     ) -> None:
         """Set work zero offsets ``first``, ``first + 1``..., one row of values each (as
-        :meth:`write_work_offset`): every row is checked before any is set, so a refused
-        write changes nothing."""
+        :meth:`write_work_offset`; EW_LENGTH for no rows, TypeError for rows that are no list
+        or tuple): every row is checked before any is set, so a refused write changes
+        nothing."""
         self.check_writable()
-        targets = self._work_rows(first, first + len(rows) - 1, path) if rows else []
+        _number(first, 0, len(WORK_OFFSET_NAMES) - 1, "work offset number")
+        rows = [_values(values, "work offset values") for values in _rows(rows)]
+        targets = self._work_rows(first, first + len(rows) - 1, path)
         axes = self._axes(axis, path)
         for values in rows:
             if len(values) != len(axes):

@@ -103,8 +103,16 @@ from decimal import Decimal
 from focas_net.errors import EW
 from focas_net.versamax import IOModuleRecord
 
-from ._alarms import DEFAULT_HISTORY_CAPACITY, Alarm, Alarms, Clock, HistoryEntry, utc_now
-from ._base import Counters, MachineError, need_int
+from ._alarms import (
+    DEFAULT_HISTORY_CAPACITY,
+    MAX_HISTORY_CAPACITY,
+    Alarm,
+    Alarms,
+    Clock,
+    HistoryEntry,
+    utc_now,
+)
+from ._base import Counters, MachineError, need_flag, need_int
 from ._folders import FolderOperations
 from ._identity import (
     CONTROL_CLASSES,
@@ -116,6 +124,7 @@ from ._identity import (
 from ._information import InformationOperations
 from ._items import MAX_REAL_DECIMALS as MAX_REAL_DECIMALS  # the native adapter's
 from ._items import PARTS_COUNT, PARTS_TOTAL, DataItem, Items, ParamKind
+from ._known_params import AXIS_NAME_PARAM, RENAME_REFUSED, axis_letter_problem, params_problem
 from ._macros import MAX_MACRO_DECIMALS, MacroRange, Macros
 from ._modal import ModalOperations
 from ._password import ParamLock, Session
@@ -132,7 +141,7 @@ from ._paths import (
     own_params,
     path_specs,
 )
-from ._pmc import F_SIGNALS, G_SIGNALS, PMC_AREAS, Pmc, PmcAreaSpec
+from ._pmc import F_SIGNALS, G_SIGNALS, PMC_AREAS, Pmc, PmcAreaSpec, need_pmc_count
 from ._signals import (
     CLOCK_VARIABLES,
     SERVO_POWER_DIAG,
@@ -170,6 +179,7 @@ __all__ = [
     "DEFAULT_HISTORY_CAPACITY",
     "F_SIGNALS",
     "G_SIGNALS",
+    "MAX_HISTORY_CAPACITY",
     "MAX_MACRO_DECIMALS",
     "MAX_PATHS",
     "MDI",
@@ -253,8 +263,8 @@ class Machine(
         #: Which class of FANUC control this machine is (one of :data:`CONTROL_CLASSES`).
         self.control_class = control_class
         #: Whether the simulator control commands of a front end are served.
-        self.control_enabled = control_enabled
-        self.read_only = read_only
+        self.control_enabled = need_flag("control_enabled", control_enabled)
+        self.read_only = need_flag("read_only", read_only)
         for spec in specs:
             if spec.panel is not None and spec.panel.mode not in AUT_MODES:
                 raise ValueError(f"panel mode {spec.panel.mode} is not an aut value")
@@ -264,6 +274,9 @@ class Machine(
         self._station = Station(station or {})
         c = self._counters = Counters()
         self._items = Items(collected_params(params), collected_diags(diags), n, c)
+        problem = params_problem(self._items.params, self.axes)  # what the machine reads
+        if problem is not None:
+            raise ValueError(problem)
         self._collected = Collected()
         self._macros = Macros(macro_ranges, macro_values or {}, c)
         self._pmc = Pmc(pmc, c)
@@ -465,10 +478,12 @@ class Machine(
     # -- parameters and diagnostics ------------------------------------------------------
     def param_item(self, datano: int) -> DataItem | None:
         """The description of parameter ``datano`` (None when the machine has none)."""
+        need_int("parameter number", datano)
         return self._items.params.get(datano)
 
     def diag_item(self, datano: int) -> DataItem | None:
         """The description of diagnostic ``datano`` (None when the machine has none)."""
+        need_int("diagnostic number", datano)
         return self._items.diags.get(datano)
 
     def param_numbers(self) -> tuple[int, ...]:
@@ -494,6 +509,8 @@ class Machine(
     def read_diag(self, datano: int, axis: int, *, path: int = 1) -> int:
         """The value of diagnostic ``datano`` (axes those of ``path``; a spindle diagnostic's
         ``axis`` is the spindle, see :mod:`._signals`): EW_PATH, EW_NUMBER, then EW_ATTRIB."""
+        need_int("number", datano)
+        need_int("axis", axis)
         spindle = self._spindle_diag(datano, axis, path)
         if spindle is not None:
             return spindle
@@ -554,6 +571,9 @@ class Machine(
         if closed is not None:
             raise MachineError(EW.PASSWD, f"parameter write not enabled: {closed}")
         value = items.rescaled(item, value, decimals)
+        renamed = datano == AXIS_NAME_PARAM and axis_letter_problem(value, self.axes[i])
+        if renamed:
+            raise MachineError(EW.DATA, f"parameter {datano}: {renamed}{RENAME_REFUSED}")
         items.set(item, i, value, "parameter")
         if datano in TIMER_PARAMS:
             self._write_timer_param(datano, value, path)
@@ -572,6 +592,7 @@ class Machine(
     # -- macro variables -----------------------------------------------------------------
     def macro_writable(self, number: int) -> bool | None:
         """True/False for a writable/read-only variable; None when there is no such variable."""
+        need_int("macro number", number)
         if number in CLOCK_VARIABLES:
             return False
         r = self._macros.range_of(number)
@@ -606,7 +627,7 @@ class Machine(
         self.check_writable()
         p = self._paths.at(path)
         if number in CLOCK_VARIABLES:
-            raise MachineError(EW.PROT, f"#{number} is read-only")
+            raise MachineError(EW.PROT, f"macro variable #{number} is read-only (the clock)")
         self._macros.check_write(number)
         if number in PARTS_VARIABLES:
             p.write_parts(number, value)
@@ -625,12 +646,11 @@ class Machine(
 
     def read_pmc(self, letter: str, start: int, length: int) -> bytes:
         """``length`` bytes of area ``letter`` from address ``start``: EW_NOOPT (no such area),
-        EW_NUMBER (addresses outside the area)."""
+        EW_LENGTH (a ``length`` below 1: a PMC range holds one byte at least, as FANUC's
+        ``pmc_rdpmcrng`` from ``s`` to ``e`` does), EW_NUMBER (addresses outside the area)."""
         area = self._pmc.area(letter)
         need_int("PMC start address", start)
-        need_int("PMC byte count", length)
-        if length < 0:
-            raise ValueError(f"a PMC read of {length} bytes")
+        need_pmc_count(need_int("PMC byte count", length))
         if area.letter == "F":
             if self._paths.live:
                 self._sync()  # the F signals follow the run state
@@ -643,10 +663,12 @@ class Machine(
     def write_pmc(self, letter: str, start: int, data: bytes, *, force: bool = False) -> None:
         """Write ``data`` into area ``letter`` from address ``start`` (``force``: the
         simulator's own write, which ignores write protection): EW_PROT (read-only machine),
-        EW_NOOPT, EW_NUMBER (addresses outside the area), EW_PROT (write-protected area).
+        EW_NOOPT, EW_LENGTH (no bytes: a PMC range holds one at least, as :meth:`read_pmc`'s),
+        EW_NUMBER (addresses outside the area), EW_PROT (write-protected area).
         A write that changes G signals of automatic operation (:data:`G_SIGNALS`) acts on
         them as the CNC does."""
         self.check_writable()
+        need_flag("force", force)
         for path, asked in self._pmc.write(letter, start, data, force):
             self._paths.at(path).apply(asked)
             self._show_overrides(path)
@@ -726,16 +748,22 @@ class Machine(
     # -- VersaMax ------------------------------------------------------------------------
     def module_record(self, rack: int, slot: int) -> IOModuleRecord | None:
         """The configuration record in ``rack``/``slot`` (None when empty)."""
+        need_int("rack", rack)
+        need_int("slot", slot)
         return self._station.records.get((rack, slot))
 
     def config_record(self, rack: int, slot: int) -> bytes:
         """The bytes of the configuration record in ``rack``/``slot``: EW_NUMBER when the slot
         is empty or out of range."""
+        need_int("rack", rack)
+        need_int("slot", slot)
         return self._station.config_record(rack, slot)
 
     def read_config(self, rack: int, slot: int, offset: int, length: int) -> bytes:
         """Up to ``length`` bytes of the configuration record in ``rack``/``slot`` from
         ``offset``: EW_NUMBER (empty slot), EW_NUMBER (offset outside the record)."""
+        for what, value in (("rack", rack), ("slot", slot), ("offset", offset), ("length", length)):
+            need_int(what, value)
         return self._station.read(rack, slot, offset, length)
 
     # -- whole-state view ----------------------------------------------------------------

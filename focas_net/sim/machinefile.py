@@ -24,7 +24,11 @@ from focas_net.versamax import BoardId, IOModuleRecord, RefType
 
 from ._base import NUMBERS
 from ._identity import CLASS_MAX_AXES, name_problem
-from ._items import parts_param_problem
+from ._known_params import (
+    AXIS_NAME_PARAM,
+    axis_letter_problem,
+    param_type_problem,
+)
 from ._modal import ExternalMessage
 from ._pmc import pmc_letter
 from ._station import MAX_RACK, MAX_SLOT
@@ -50,6 +54,7 @@ from .machine import (
     CONTROL_CLASSES,
     DEFAULT_CONTROL_CLASS,
     DEFAULT_HISTORY_CAPACITY,
+    MAX_HISTORY_CAPACITY,
     MAX_REAL_DECIMALS,
     MODE_NAMES,
     PMC_AREAS,
@@ -109,8 +114,9 @@ def _identity(ctx: _Ctx, value: Any, n_axes: int, control_class: str) -> Identit
     )
 
 
-def _items(ctx: _Ctx, value: Any, n_axes: int, *, parts: bool = False) -> list[DataItem]:
-    """Parameters (``parts``: the machine's parts counts among them) or diagnostics."""
+def _items(ctx: _Ctx, value: Any, n_axes: int, *, names: list[str] | None = None) -> list[DataItem]:
+    """Parameters (``names``: the machine's axes, which parameter 1020 must name; the types
+    of the parameters the machine reads are checked) or diagnostics (``names`` None)."""
     t = _table(ctx, value)
     items: list[DataItem] = []
     for key, raw in t.items():
@@ -144,9 +150,6 @@ def _items(ctx: _Ctx, value: Any, n_axes: int, *, parts: bool = False) -> list[D
             high = _item_value(rc.sub(1), bounds[1], kind, decimals, span)
             if low > high:
                 rc.fail(f"low {bounds[0]} is above high {bounds[1]}")
-        problem = parts and parts_param_problem(number, kind, is_axis)
-        if problem:
-            c.sub("type").fail(problem)
         vc = c.sub("value")
         raw_value = spec.get("value")
         if raw_value is None:  # 0, or the low end of the range (a real one's mantissa)
@@ -164,6 +167,14 @@ def _items(ctx: _Ctx, value: Any, n_axes: int, *, parts: bool = False) -> list[D
             values = [_item_value(vc, raw_value, kind, decimals, (low, high))] * (
                 n_axes if is_axis else 1
             )
+        problem = names is not None and param_type_problem(number, kind, is_axis)
+        if problem:
+            c.sub("type").fail(problem)
+        if names is not None and number == AXIS_NAME_PARAM:
+            for i, (v, axis) in enumerate(zip(values, names, strict=True)):
+                wrong = axis_letter_problem(v, axis)
+                if wrong:
+                    (vc.sub(i) if isinstance(raw_value, list) else vc).fail(wrong)
         name = _str(c.sub("name"), spec.get("name", ""))
         items.append(DataItem(number, kind.width, is_axis, low, high, values, name, kind, decimals))
     return items
@@ -553,7 +564,7 @@ def machine_from_dict(
     capacity = _int(
         mc.sub("history_capacity"),
         head.get("history_capacity", DEFAULT_HISTORY_CAPACITY),
-        (1, 100_000),
+        (1, MAX_HISTORY_CAPACITY),
     )
     ranges, values = _macros(root.sub("macros"), top.get("macros", {}))
     messages = _operator_messages(root.sub("operator_messages"), top.get("operator_messages", []))
@@ -611,7 +622,7 @@ def _build(
         axes=axes if alone else None,
         paths=paths,
         identity=_identity(root.sub("sysinfo"), top.get("sysinfo", {}), n, control_class),
-        params=_items(root.sub("parameters"), top.get("parameters", {}), n, parts=True),
+        params=_items(root.sub("parameters"), top.get("parameters", {}), n, names=axes),
         diags=_items(root.sub("diagnostics"), top.get("diagnostics", {}), n),
         macro_ranges=ranges,
         macro_values=values,
@@ -656,7 +667,10 @@ def load_machine(
     sim_clock: SimClock | None = None,
 ) -> Machine:
     """Read the machine file at ``path`` (TOML). Raises :class:`MachineFileError`. A
-    program's ``file`` is relative to the machine file's folder."""
+    program's ``file`` is relative to the machine file's folder; TypeError naming a ``path``
+    that is no ``str`` or path object."""
+    if not isinstance(path, str | PathLike):
+        raise TypeError(f"a machine file's path must be a str or a Path, got {path!r}")
     p = Path(path)
     name = str(path)
     try:

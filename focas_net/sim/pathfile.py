@@ -195,6 +195,11 @@ def _programs(ctx: _Ctx, value: Any, base: Path | None) -> tuple[list[str], int 
         try:
             program = parse_program(text)
         except ProgramError as exc:
+            if "\\n" in text and "\n" not in text.strip():  # 'O1\nM30': a literal string
+                key.fail(
+                    f"{exc} (a TOML string in '...' keeps \\n as written: write the "
+                    'program in """...""", one block a line, or in "..." with \\n)'
+                )
             key.fail(str(exc))
         if program.number in numbers:
             key.fail(f"program O{program.number:04d} is given twice")

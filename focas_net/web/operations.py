@@ -21,13 +21,12 @@ import math
 from collections.abc import Callable, Mapping
 from dataclasses import dataclass, field
 from decimal import Decimal
-from typing import Any, Final
+from typing import Any, Final, TypeVar
 
 from focas_net._bits import bits_of_text
 from focas_net._typed import (
     NO_PASSWORD_NOTE,
     decimal_number,
-    decimal_text,
     program_number,
     rapid_step,
     switch,
@@ -43,11 +42,12 @@ from focas_net.protocol import (
     alarm_message,
     alarm_type_of,
     ew_of_text,
+    pmc_bit_refusal,
 )
 from focas_net.server.faults import FaultQueue, fault_refusal, parse_inject
 from focas_net.sim import Machine, MachineError, ParamKind, Session
 
-from .view import JsonDict, PathTrail, param_text
+from .view import JsonDict, PathTrail, macro_value, param_data
 
 __all__ = [
     "ACTIONS",
@@ -161,6 +161,29 @@ def _optional_int(args: Mapping[str, Any], key: str) -> int | None:
     return _int(args, key)
 
 
+_T = TypeVar("_T")
+
+
+def _read_as(
+    args: Mapping[str, Any],
+    key: str,
+    parse: Callable[[str], int],
+    fallback: Callable[[Mapping[str, Any], str], _T],
+) -> int | _T:
+    """``args[key]`` typed as text, read by ``parse`` as the command line reads the option
+    (:func:`~focas_net._typed.rapid_step` for ``F0``, :func:`~focas_net.protocol.ew_of_text`
+    for ``EW_BUSY``), its refusal naming ``key``; anything else (a JSON number, nothing, empty
+    text) as ``fallback(args, key)`` reads it (:func:`_int`: needed; :func:`_optional_int`:
+    None when not given)."""
+    value = args.get(key)
+    if isinstance(value, str) and value.strip():
+        try:
+            return parse(value)
+        except ValueError as exc:
+            raise ActionError(f"{key}: {exc}") from None
+    return fallback(args, key)
+
+
 def _text(args: Mapping[str, Any], key: str, default: str = "", *, needed: str = "") -> str:
     """``args[key]`` as text (``default`` when not given); with ``needed`` (what the key
     names: ``start, hold or reset``), a key not given (or ``null``) is refused saying so,
@@ -235,18 +258,15 @@ def _mode(args: Mapping[str, Any]) -> int | None:
 
 
 def _switch(args: Mapping[str, Any], key: str) -> int | None:
-    """A switch (PWE, the emergency stop, a PMC bit) as the command line takes it: 1/0, a
-    JSON ``true``/``false`` or ``on``/``off`` and the other words of :func:`switch` (None when
-    not given); another number is the machine's to refuse, with its range."""
+    """A switch (PWE, the emergency stop, a PMC bit) as the command line takes it: text read
+    by :func:`switch` as ``--pwe`` reads it (``1``/``0``, ``on``/``off`` and its other words:
+    ``+1`` or ``2`` typed is refused in its words), a JSON ``true``/``false``, or a JSON number,
+    the value as the wire carries it (the machine refuses another than 0 and 1, with its
+    range); None when not given."""
     value = args.get(key)
     if isinstance(value, bool):
         return int(value)
-    if isinstance(value, str) and value.strip() and not value.strip().lstrip("+-").isdigit():
-        try:
-            return int(switch(value))
-        except ValueError as exc:
-            raise ActionError(f"{key}: {exc}") from None
-    return _optional_int(args, key)
+    return _read_as(args, key, lambda text: int(switch(text)), _optional_int)
 
 
 def _panel(station: Station, args: Mapping[str, Any]) -> JsonDict:
@@ -259,22 +279,10 @@ def _panel(station: Station, args: Mapping[str, Any]) -> JsonDict:
     return {}
 
 
-def _rapid(args: Mapping[str, Any]) -> int | None:
-    """The rapid override as the command line takes it: ``F0`` (0 %) or a number
-    (:func:`~focas_net._typed.rapid_step`); None when not given."""
-    value = args.get("rapid")
-    if isinstance(value, str) and value.strip():
-        try:
-            return rapid_step(value)
-        except ValueError as exc:
-            raise ActionError(f"rapid: {exc}") from None
-    return _optional_int(args, "rapid")
-
-
 def _overrides(station: Station, args: Mapping[str, Any]) -> JsonDict:
     station.machine.set_overrides(
         _optional_int(args, "feed"),
-        _rapid(args),
+        _read_as(args, "rapid", rapid_step, _optional_int),
         _optional_int(args, "spindle"),
         path=_path(args),
     )
@@ -284,13 +292,14 @@ def _overrides(station: Station, args: Mapping[str, Any]) -> JsonDict:
 def _alarm_type(args: Mapping[str, Any], default: int | None = None) -> int:
     """``alm_type`` by its number or its name (``PS``), as the command line and the client
     take it (:func:`~focas_net.protocol.alarm_type_of`)."""
-    value = args.get("alm_type")
-    if isinstance(value, str) and value.strip().isalpha():
-        try:
-            return alarm_type_of(value)
-        except ValueError as exc:
-            raise ActionError(f"alm_type: {exc}") from None
-    return _int(args, "alm_type", default)
+    return _read_as(args, "alm_type", _alarm_type_text, lambda a, k: _int(a, k, default))
+
+
+def _alarm_type_text(text: str) -> int:
+    """An alarm type typed as text: a number (``3``) or, any other text, a name (``PS``),
+    refused naming what was typed and the names (``P S`` or ``T31`` is no number either)."""
+    word = text.strip().lstrip("+-")
+    return whole_number(text) if word[:1].isdigit() else alarm_type_of(text)
 
 
 def _raise_alarm(station: Station, args: Mapping[str, Any]) -> JsonDict:
@@ -329,8 +338,9 @@ def _pmc_bit(station: Station, args: Mapping[str, Any]) -> JsonDict:
     m.check_pmc_area(typed)  # and for an area this machine has not (EW_NOOPT)
     area = typed.strip().upper()
     address, bit = _int(args, "address"), _int(args, "bit")
-    if not 0 <= bit <= 7:
-        raise ActionError(f"bit: 0..7, got {bit}")
+    why = pmc_bit_refusal(area, address, bit)  # as `pmc bit R 1.8` is refused
+    if why is not None:
+        raise ActionError(why)
     m.check_writable()
     (byte,) = m.read_pmc(area, address, 1)
     value = _switch(args, "value")
@@ -341,7 +351,9 @@ def _pmc_bit(station: Station, args: Mapping[str, Any]) -> JsonDict:
     else:
         raise ActionError(f"value: 0 or 1, got {value}")
     m.write_pmc(area, address, bytes([byte]), force=area in FORCED_PMC_AREAS)
-    return {"area": area, "address": address, "byte": byte}
+    # the bit as `focas-net pmc bit --json` names it (its "byte" is the address: the byte's
+    # value is not answered under that name)
+    return {"area": area, "address": address, "bit": bit, "value": byte >> bit & 1}
 
 
 #: Digits of a parameter value the page passes on (a parameter holds 10 at most): beyond, the
@@ -404,15 +416,17 @@ def _write_param(station: Station, args: Mapping[str, Any]) -> JsonDict:
     value, decimals = _param_value(m, number, given)
     path = _path(args)
     m.write_param(station.session, number, axis, value, decimals=decimals, path=path)
-    now = m.read_param(number, axis, path=path)
-    return {"number": number, "value": now, "text": param_text(item, now)}
+    # the value as `param get --json` gives it (a real one's as its decimal text, not the
+    # number of its least units), and the text the page shows
+    return param_data(item, axis, m.read_param(number, axis, path=path))
 
 
 def _unlock(station: Station, args: Mapping[str, Any]) -> JsonDict:
     """Unlock the page's session; on a machine without a password, say what that means in
     the command line's words (``focas-net unlock``)."""
     m = station.machine
-    m.unlock(station.session, _text(args, "password"))
+    password = _text(args, "password", needed="a parameter password (1..4 ASCII characters)")
+    m.unlock(station.session, password)
     if not m.has_password:
         return {"password_set": False, "note": NO_PASSWORD_NOTE}
     return {"password_set": True}
@@ -421,9 +435,10 @@ def _unlock(station: Station, args: Mapping[str, Any]) -> JsonDict:
 def _write_macro(station: Station, args: Mapping[str, Any]) -> JsonDict:
     m = station.machine
     number, path = _int(args, "number"), _path(args)
+    if "value" not in args:  # a variable is made vacant when told, never for a key left out
+        raise ActionError('value: a number is needed (null or "" makes the variable vacant)')
     m.write_macro(number, _decimal(args, "value"), path=path)
-    value = m.read_macro(number, path=path)
-    return {"number": number, "value": "" if value is None else decimal_text(value)}
+    return {"number": number, "value": macro_value(m.read_macro(number, path=path))}
 
 
 def _select_program(station: Station, args: Mapping[str, Any]) -> JsonDict:
@@ -446,18 +461,6 @@ def _digits(text: str) -> bool:
     return text.isascii() and text.isdigit()
 
 
-def _ew_arg(args: Mapping[str, Any]) -> int:
-    """An ERROR fault's ``arg``: an EW code by number or name (``EW_BUSY``, ``busy``), as
-    ``focas-net sim fault error --arg`` takes it (:func:`~focas_net.protocol.ew_of_text`)."""
-    value = args.get("arg")
-    if isinstance(value, str) and value.strip():
-        try:
-            return ew_of_text(value)
-        except ValueError as exc:
-            raise ActionError(f"arg: {exc}") from None
-    return _int(args, "arg")
-
-
 def _inject_fault(station: Station, args: Mapping[str, Any]) -> JsonDict:
     """Arm a machine-wide fault with the checks of 0x0E05 inject_fault: a refused argument is
     ``EW_DATA`` with the reason :func:`~focas_net.server.faults.fault_refusal` gives every
@@ -469,10 +472,16 @@ def _inject_fault(station: Station, args: Mapping[str, Any]) -> JsonDict:
     except (KeyError, ValueError):
         names = ", ".join(k.name for k in FaultKind)
         raise ActionError(f"kind: one of {names}, got {kind_text!r}") from None
-    # a delay or an error needs its argument; a drop or a split ignores the arg box
-    needs_arg = kind in (FaultKind.DELAY, FaultKind.ERROR)
     count = _int(args, "count", 1)
-    arg = (_ew_arg(args) if kind is FaultKind.ERROR else _int(args, "arg")) if needs_arg else 0
+    # a delay or an error needs its argument; a drop or a split takes none
+    if kind is FaultKind.ERROR:
+        arg = _read_as(args, "arg", ew_of_text, _int)
+    elif kind is FaultKind.DELAY:
+        arg = _int(args, "arg")
+    elif args.get("arg") not in (None, ""):  # as `sim fault drop --arg 5` is refused
+        raise ActionError(f"arg does not apply to a {kind.name.lower()} fault")
+    else:
+        arg = 0
     station.machine.check_writable()  # the order of every control command: read-only first
     reason = fault_refusal(int(kind), int(FaultScope.MACHINE), count, arg)
     if reason is not None:

@@ -413,9 +413,14 @@ class Dashboard:
         sender = asyncio.get_running_loop().create_task(self._send(ws, sub))
         try:
             async for msg in ws:
-                if msg.type != WSMsgType.TEXT:
+                if msg.type == WSMsgType.BINARY:  # said, not left unanswered
+                    topic: Topic | str = (
+                        "bad subscription: a text frame of JSON is expected, got a binary frame"
+                    )
+                elif msg.type != WSMsgType.TEXT:
                     continue
-                topic = self._topic(msg.data)
+                else:
+                    topic = self._topic(msg.data)
                 if isinstance(topic, str):  # refused: the page keeps what it had
                     await ws.send_str(json.dumps({"type": "error", "error": topic}))
                     continue

@@ -55,6 +55,7 @@ __all__ = [
     "macro_range",
     "macro_rows",
     "no_machine",
+    "param_data",
     "param_rows",
     "param_text",
     "pmc_address",
@@ -389,6 +390,23 @@ def param_text(item: DataItem, value: int) -> str:
     return str(value)
 
 
+def param_data(item: DataItem, axis: int, value: int) -> JsonDict:
+    """A parameter's value as ``focas-net param get --json`` gives it (``number``, ``axis``,
+    ``value``, ``width``, ``type``; a real one's ``value`` as decimal text with its
+    ``decimals``, a bit one's ``bits``), and ``text`` as the page shows it
+    (:func:`param_text`)."""
+    data: JsonDict = {"number": item.number, "axis": axis, "value": value, "width": item.width}
+    if item.kind is not None:
+        data["type"] = ParamDataType(item.kind).label
+    if item.kind is ParamKind.REAL:
+        data["value"] = decimal_text(Decimal(value).scaleb(-item.decimals))
+        data["decimals"] = item.decimals
+    elif item.kind is ParamKind.BIT:
+        data["value"] = value & 0xFF
+        data["bits"] = f"{value & 0xFF:08b}"
+    return {**data, "text": param_text(item, value)}
+
+
 def param_rows(
     machine: Machine, query: str = "", limit: int = 200, *, path: int = 1
 ) -> list[JsonDict]:
@@ -434,10 +452,11 @@ def param_rows(
     return rows
 
 
-def _macro_text(value: Decimal | None) -> str:
-    """A macro value as the page shows it: as the command line writes it (``-0.000000001``,
-    never ``-1E-9``, which its box would refuse), empty when vacant."""
-    return "" if value is None else decimal_text(value)
+def macro_value(value: Decimal | None) -> str | None:
+    """A macro value as the page is given it: text as the command line writes it
+    (``-0.000000001``, never ``-1E-9``, which its box would refuse), None (JSON ``null``) when
+    vacant, as ``focas-net macro get --json`` gives it."""
+    return None if value is None else decimal_text(value)
 
 
 #: The macro variable numbers a search may name (FOCAS carries a variable number as a short).
@@ -508,7 +527,7 @@ def macro_rows(
         rows.append(
             {
                 "number": number,
-                "value": _macro_text(value),
+                "value": macro_value(value),
                 "writable": bool(machine.macro_writable(number)),
             }
         )

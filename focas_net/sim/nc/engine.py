@@ -626,8 +626,12 @@ class Engine:
             self._single_block_pending = False
             return False
         if isinstance(action, ProgramEnd):
-            self._end(action)
-            return False
+            short = self._short_part(action)
+            if short <= 1e-9:
+                self._end(action)
+                return False
+            self._queue.appendleft(action)  # after the rest of the part's least time
+            action = Wait(short, BUSY)
         if not (isinstance(action, Wait) and not action.fin):
             self._zero_steps = 0
         self._start(action)
@@ -661,6 +665,15 @@ class Engine:
         if self._overtravel is not None:
             alarm = self._overtravel
             self._raise(alarm.number, alarm.detail, alarm.kind, alarm.axis)
+
+    def _short_part(self, action: ProgramEnd) -> float:
+        """In production (:attr:`repeat`), the seconds a part ending at ``action`` (M2/M30)
+        lacks to the time of M30's FIN (``m_function_time``): a part takes at least that, so
+        that a program of (almost) no machine time counts its parts as time goes rather than
+        without end at one instant. 0 otherwise."""
+        if not self.repeat or action.code is None:
+            return 0.0
+        return self.settings.m_function_time - self._cycle_time
 
     def _end(self, action: ProgramEnd) -> None:
         if action.code is not None:

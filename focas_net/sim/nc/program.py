@@ -174,6 +174,24 @@ def _strip_comments(line: str) -> tuple[str, str]:
     return "".join(code), comment or ""
 
 
+def _code_end(line: str, count: int) -> int:
+    """The index in ``line`` just after its ``count``-th character of code (outside comments,
+    spaces not counted: :func:`_strip_comments`'s code), so that ``(12)O12 G0`` goes on after
+    ``O12``, not after the comment's ``12``."""
+    depth = 0
+    seen = 0
+    for i, c in enumerate(line):
+        if seen == count:
+            return i
+        if depth:
+            depth = 0 if c == ")" else 1
+        elif c == "(":
+            depth = 1
+        elif not c.isspace():
+            seen += 1
+    return len(line)
+
+
 #: A block that opens a program: its number after O (or ``:``, FANUC's other program address).
 _PROGRAM_NUMBER: Final = re.compile(r"[O:]\d", re.IGNORECASE)
 
@@ -374,6 +392,19 @@ def parse_program(text: str, max_number: int = 9999) -> Program:
         raise ProgramError(
             ProgramErrorReason.FORMAT, f"no program number after O in {first.strip()[:40]!r}"
         )
+    width = len(str(max_number))
+    if pos < len(code) and not code[pos].isalpha():  # O1.5, O1-2: no whole number
+        what = "no decimal point" if code[pos] in ".," else f"no {code[pos]!r} after its digits"
+    elif len(digits) > width and int(digits) <= max_number:  # O00001: digits too many
+        what = f"not {len(digits)}"
+    else:
+        what = ""
+    if what:
+        raise ProgramError(
+            ProgramErrorReason.FORMAT,
+            f"{first.strip()[:40]!r}: a program number is O and 1..{width} digits, {what} "
+            f"(O1..O{max_number})",
+        )
     number = int(digits)
     if not 1 <= number <= max_number:
         raise ProgramError(
@@ -381,7 +412,7 @@ def parse_program(text: str, max_number: int = 9999) -> Program:
             f"program number O{digits} is outside O1..O{max_number}",
             number,
         )
-    rest = first[first.upper().index(digits) + len(digits) :]
+    rest = first[_code_end(first, pos) :]
     rest_code, _ = _strip_comments(rest)
     for n, b in blocks_text[1:]:
         if _opens(b):

@@ -207,10 +207,13 @@ function setIfIdle(input, value) {
 
 function fmt(v, d = 3) { return Number(v).toFixed(d); }
 
+// A time as focas-net watch writes it: 1:02:03.4 (to a tenth of a second, cut, not rounded,
+// from the milliseconds the wire carries)
 function clock(seconds) {
-  const s = Math.floor(seconds);
+  const tenths = Math.floor(Math.floor(Math.max(seconds, 0) * 1000 + 1e-6) / 100);
+  const s = Math.floor(tenths / 10);
   const h = Math.floor(s / 3600), m = Math.floor((s % 3600) / 60);
-  return `${h}:${String(m).padStart(2, "0")}:${String(s % 60).padStart(2, "0")}`;
+  return `${h}:${String(m).padStart(2, "0")}:${String(s % 60).padStart(2, "0")}.${tenths % 10}`;
 }
 
 // A machine of several paths: a section per path (its state and its cycle buttons), and the
@@ -523,7 +526,7 @@ async function loadMacros() {
   searchNote("macro-note", body.note || "", false);
   const key = JSON.stringify(body.macros.map((m) => [m.number, m.writable]));
   if (state.macroKey === key) {
-    for (const m of body.macros) refresh(`macro-${m.number}`, m.value);
+    for (const m of body.macros) refresh(`macro-${m.number}`, m.value ?? "");
     return;
   }
   state.macroKey = key;
@@ -531,10 +534,10 @@ async function loadMacros() {
     el("tr", {}, el("th", {}, "#"), el("th", {}, "value")),
     ...body.macros.map((m) => {
       const id = `macro-${m.number}`;
-      const input = valueBox(id, m.value, { placeholder: "vacant",
+      const input = valueBox(id, m.value ?? "", { placeholder: "vacant",
         disabled: state.readOnly || !m.writable });
       const write = () => writeBox(id, "write_macro", { number: m.number, value: input.value },
-        (r) => r.value);
+        (r) => r.value ?? "");
       input.addEventListener("keydown", (ev) => { if (ev.key === "Enter") write(); });
       const save = el("button", { class: "small", id: `macro-save-${m.number}`, "data-write": "",
         disabled: state.readOnly || !m.writable, onclick: write }, "write");
@@ -572,6 +575,18 @@ function applyReadOnly() {
   for (const node of document.querySelectorAll("[data-write]")) {
     if ("disabled" in node) node.disabled = state.readOnly;
   }
+  faultKindChosen();
+}
+
+// What the fault's arg box takes, beside it: a DROP or a SPLIT takes none, so its box is shut
+// and nothing of it is sent (the action refuses an arg for them, as sim fault drop --arg does)
+const FAULT_ARGS = { DELAY: "milliseconds", ERROR: "EW code, by number or name" };
+
+function faultKindChosen() {
+  const kind = $("fault-kind").value;
+  const takes = FAULT_ARGS[kind];
+  $("fault-arg").disabled = state.readOnly || !takes;
+  $("fault-arg-note").textContent = takes ?? (kind ? `${kind} takes no arg` : "");
 }
 
 function wire() {
@@ -586,8 +601,13 @@ function wire() {
   $("alarm-raise").onclick = () => act("raise_alarm", {
     alm_type: $("alarm-type").value, alm_no: $("alarm-no").value, msg: $("alarm-msg").value });
   $("alarm-clear").onclick = () => act("clear_alarms", {});
-  $("fault-inject").onclick = () => act("inject_fault", {
-    kind: $("fault-kind").value, count: $("fault-count").value, arg: $("fault-arg").value });
+  $("fault-kind").onchange = faultKindChosen;
+  $("fault-inject").onclick = () => {
+    const kind = $("fault-kind").value;
+    const args = { kind, count: $("fault-count").value };
+    if (FAULT_ARGS[kind]) args.arg = $("fault-arg").value;
+    act("inject_fault", args);
+  };
   $("fault-clear").onclick = () => act("clear_faults", {});
   // Enter in a form's box does what its button does, as in the parameter and macro boxes
   const onEnter = (ids, button) => ids.forEach((id) => $(id).addEventListener("keydown",

@@ -1,0 +1,134 @@
+"""The parameters the machine itself reads, with the types FANUC's controls give them.
+
+A machine may hold any parameter of any type; but a parameter the machine acts on (its rapid
+traverse rate, its waiting M codes, its parts count, the bits FANUC's library reads at
+connect ...) must have a type the machine can read as the control does, or the machine would
+read a real parameter's mantissa as mm/min, or an axis parameter where it looks for one value.
+:func:`param_type_problem` says what is wrong with such a parameter's type; every builder of a
+machine (a machine file, :class:`~focas_net.sim.Machine` itself) meets it.
+
+Parameter 1020 names each axis's program letter (``'X'`` is 88): :func:`axis_letter_problem`
+keeps its values and the machine's axes in agreement, at build and at every write. A control
+takes a new 1020 at the next power-on (PW0000); the simulated machine's axes are fixed when it
+is built, so it refuses a write that would rename an axis.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Mapping, Sequence
+from dataclasses import dataclass
+from typing import Final
+
+from ._items import DataItem, ParamKind
+
+__all__ = [
+    "AXIS_NAME_PARAM",
+    "KNOWN_PARAMS",
+    "RENAME_REFUSED",
+    "KnownParam",
+    "axis_letter_problem",
+    "param_type_problem",
+    "params_problem",
+]
+
+#: FANUC's parameter of each axis's program name: the axis's letter as a character code.
+AXIS_NAME_PARAM: Final = 1020
+#: Why a write of 1020 that renames an axis is refused (after :func:`axis_letter_problem`).
+RENAME_REFUSED: Final = (
+    ": the machine's axes are fixed when it is built (a control takes a new name at its "
+    "next power-on)"
+)
+
+
+@dataclass(frozen=True, slots=True)
+class KnownParam:
+    """What the machine does with a parameter (``what``: ``"the machine counts parts in
+    it"``), the types it may have (FANUC's; the 16i class has integer types where the 30i
+    class has real ones) and whether it has one value per axis."""
+
+    what: str
+    kinds: tuple[ParamKind, ...]
+    axis: bool
+
+
+_W, _2W, _R = ParamKind.WORD, ParamKind.TWO_WORD, ParamKind.REAL
+_PARTS: Final = KnownParam("the machine counts parts in it", (_W, _2W), False)
+_TIMER: Final = KnownParam("the machine keeps a timer in it", (_2W,), False)
+_WAIT: Final = KnownParam("the machine reads its waiting M codes from it", (_W, _2W), False)
+_LIBRARY: Final = "FANUC's library reads its bits"
+
+#: The parameters the machine reads, by number.
+KNOWN_PARAMS: Final[dict[int, KnownParam]] = {
+    AXIS_NAME_PARAM: KnownParam("it names each axis's letter", (ParamKind.BYTE,), True),
+    1240: KnownParam("the machine reads each axis's reference position from it", (_2W, _R), True),
+    1320: KnownParam("the machine reads each axis's stroke limit from it", (_2W, _R), True),
+    1321: KnownParam("the machine reads each axis's stroke limit from it", (_2W, _R), True),
+    1420: KnownParam("the machine reads each axis's rapid traverse rate from it", (_2W, _R), True),
+    1422: KnownParam("the machine reads its maximum cutting feed from it", (_2W, _R), False),
+    1825: KnownParam("the machine reads each axis's servo loop gain from it", (_W,), True),
+    3106: KnownParam(_LIBRARY, (ParamKind.BIT,), False),
+    3107: KnownParam(_LIBRARY, (ParamKind.BIT,), False),
+    3115: KnownParam(_LIBRARY, (ParamKind.BIT,), True),
+    6711: _PARTS,
+    6712: _PARTS,
+    6713: _PARTS,
+    **dict.fromkeys(range(6750, 6759), _TIMER),
+    8110: _WAIT,
+    8111: _WAIT,
+    9936: KnownParam(_LIBRARY, (ParamKind.BIT,), False),
+    9968: KnownParam(_LIBRARY, (ParamKind.BIT,), False),
+}
+
+
+def _type_name(kind: ParamKind) -> str:
+    return kind.name.lower().replace("_", "-")
+
+
+def param_type_problem(number: int, kind: ParamKind | int | None, is_axis: bool) -> str | None:
+    """What is wrong with parameter ``number`` of ``kind`` (per axis or not) as the machine
+    reads it (:data:`KNOWN_PARAMS`); None when nothing is, or the machine does not read it."""
+    known = KNOWN_PARAMS.get(number)
+    if known is None:
+        return None
+    if kind in known.kinds and is_axis == known.axis:
+        return None
+    types = " or ".join(_type_name(k) for k in known.kinds)
+    shape = "one per axis" if known.axis else "not per axis"
+    given = "an axis" if is_axis else "a"
+    if kind is None:
+        type_name = "?"
+    else:
+        type_name = _type_name(ParamKind(kind))
+        given = given if is_axis or type_name[0] not in "aeiou" else "an"
+    article = "an" if types[0] in "aeiou" else "a"
+    return (
+        f"{known.what}: it is {article} {types} parameter, {shape} "
+        f"(got {given} {type_name} parameter)"
+    )
+
+
+def axis_letter_problem(value: int, axis: str) -> str | None:
+    """What is wrong with ``value`` as parameter 1020 of the axis named ``axis`` (its letter's
+    code: 88 for ``X``, ``X1`` or ``XA``); None when it is that."""
+    letter = axis[0]
+    if value == ord(letter):
+        return None
+    shown = f"{value} ({chr(value)!r})" if 65 <= value <= 90 else str(value)
+    return f"axis {axis}'s letter {letter!r} is {ord(letter)}, not {shown}"
+
+
+def params_problem(params: Mapping[int, DataItem], axes: Sequence[str]) -> str | None:
+    """The first problem of a machine's parameters (``params``, by number) with the machine's
+    ``axes`` (every axis, path by path): a type of :func:`param_type_problem`, or a value of
+    parameter 1020 that does not name its axis (:func:`axis_letter_problem`); None when none."""
+    for number, item in sorted(params.items()):
+        problem = param_type_problem(number, item.kind, item.axis)
+        if problem is not None:
+            return f"parameter {number}: {problem}"
+    names = params.get(AXIS_NAME_PARAM)
+    if names is not None:
+        for value, axis in zip(names.values, axes, strict=True):
+            problem = axis_letter_problem(value, axis)
+            if problem is not None:
+                return f"parameter {AXIS_NAME_PARAM}: {problem}"
+    return None

@@ -1,0 +1,33 @@
+"""The machine shapes the gateway's tests describe to their sinks: one builder, so that the
+MQTT, OPC UA and poller tests share one declaration of a machine (its name, ``cnc_sysinfo``'s
+words and the axes and spindles of each path)."""
+
+from __future__ import annotations
+
+from focas_net.gateway.model import MachineShape, PathShape
+
+__all__ = ["machine_shape"]
+
+
+def machine_shape(
+    name: str = "lathe",
+    *axes: tuple[str, ...],
+    mt_type: str = "T",
+    series: str = "G421",
+    host: str = "127.0.0.1",
+    port: int = 8193,
+) -> MachineShape:
+    """A 30i-class control called ``name`` with one path per entry of ``axes`` (its axis
+    names; path N has spindle ``SN``), two paths of X and Z when none is given."""
+    paths = axes or (("X", "Z"), ("X", "Z"))
+    return MachineShape(
+        name=name,
+        host=host,
+        port=port,
+        protocol="native",
+        cnc_type="31",
+        mt_type=mt_type,
+        series=series,
+        version="30.0",
+        paths=tuple(PathShape(i, names, (f"S{i}",)) for i, names in enumerate(paths, 1)),
+    )
