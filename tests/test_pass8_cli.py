@@ -410,3 +410,14 @@ async def test_an_argument_that_may_be_left_out_is_not_named_required(
 async def test_an_alarm_message_after_the_axis_is_still_the_message(server: Served) -> None:
     out = await ok("sim", "alarm", "SV0411", "--axis", "2", "SERVO", "ALARM", *at(server))
     assert out == "raised SV0411 (axis 2) SERVO ALARM\n"
+
+
+async def test_sim_clear_names_the_axis_of_each_alarm_it_cleared(server: Served) -> None:
+    """``cleared PS0100, PS0100`` named two alarms alike: each is named as ``sim alarm``
+    raised it."""
+    assert await ok("sim", "alarm", "PS0100", "--axis", "1", *at(server)) == (
+        "raised PS0100 (axis 1)\n"
+    )
+    await ok("sim", "alarm", "PS0100", *at(server))
+    out = await ok("sim", "clear", "ps", *at(server))
+    assert out == "cleared PS0100 (axis 1), PS0100; 0 still active\n"  # oldest raised first

@@ -141,7 +141,11 @@ def clear(args: argparse.Namespace) -> PackedOnly:
         }
         if not gone:
             return Output(data, "no active alarms; nothing to clear")
-        what = ", ".join(fmt.alarm_code(a.alm_type, a.alm_no) for a in gone)
+        # each as sim alarm names it: two alarms of one code on two axes are two entries
+        what = ", ".join(
+            fmt.alarm_code(a.alm_type, a.alm_no) + (f" (axis {a.axis_no})" if a.axis_no else "")
+            for a in gone
+        )
         return Output(data, f"cleared {what}; {len(remaining)} still active")
 
     return PackedOnly(go, SIM_CONTROLS)
