@@ -144,6 +144,8 @@ def main() -> int:
         parser.error("--events, --interval and --seconds must be positive")
     try:
         return asyncio.run(watch(args))
+    except KeyboardInterrupt:  # Ctrl-C: exit 130, as the command line, no traceback
+        return 130
     except FocasError as exc:
         print(f"alarm_watch: {exc}", file=sys.stderr)
         return 1

@@ -221,6 +221,8 @@ def main() -> int:
         parser.error("--rounds, --machines and --simulate must be at least 1")
     try:
         return asyncio.run(run(args))
+    except KeyboardInterrupt:  # Ctrl-C: exit 130, as the command line, no traceback
+        return 130
     except (FocasError, OSError) as exc:
         print(f"fleet_poll: {exc}", file=sys.stderr)
         return 1

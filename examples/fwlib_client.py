@@ -151,8 +151,8 @@ def odbdy2(max_axis: int) -> type[ctypes.Structure]:
 class FocasFailure(Exception):
     """A library call that did not answer EW_OK."""
 
-    def __init__(self, function: str, ew: int) -> None:
-        super().__init__(f"{function} returned EW {ew}")
+    def __init__(self, function: str, ew: int, what: str = "") -> None:
+        super().__init__(f"{function}{f' of {what}' if what else ''} returned EW {ew}")
         self.function = function
         self.ew = ew
 
@@ -192,11 +192,12 @@ class Fwlib:
         """``name(*args)``; its EW code."""
         return int(getattr(self._lib, name)(*args))
 
-    def call(self, name: str, *args: object) -> None:
-        """``name(*args)``; raises :class:`FocasFailure` unless it answers EW_OK."""
+    def call(self, name: str, *args: object, what: str = "") -> None:
+        """``name(*args)``; raises :class:`FocasFailure` (naming ``what`` it asked for, when
+        given) unless it answers EW_OK."""
         ew = self.raw(name, *args)
         if ew != 0:
-            raise FocasFailure(name, ew)
+            raise FocasFailure(name, ew, what)
 
 
 def decimal_text(mantissa: int, decimals: int) -> str:
@@ -250,9 +251,12 @@ def read_handle(
     p = IODBPMC()
     last = first + count - 1
     length = 8 + count
-    lib.call("pmc_rdpmcrng", handle, PMC_AREAS[area], 0, first, last, length, ctypes.byref(p))
+    span = f"{area}{first}..{area}{last}"
+    lib.call(
+        "pmc_rdpmcrng", handle, PMC_AREAS[area], 0, first, last, length, ctypes.byref(p), what=span
+    )
     data = bytes(p.u.cdata[:count])
-    print(f"pmc {area}{first}..{area}{last}: {data.hex(' ')}")
+    print(f"pmc {span}: {data.hex(' ')}")
     dy = odbdy2(info.max_axis)()
     lib.call("cnc_rddynamic2", handle, ALL_AXES, ctypes.sizeof(dy), ctypes.byref(dy))
     h = dy.head

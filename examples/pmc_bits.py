@@ -77,6 +77,8 @@ def main() -> int:
         parser.error("--bytes must be at least 1")
     try:
         return asyncio.run(write_bits(args))
+    except KeyboardInterrupt:  # Ctrl-C: exit 130, as the command line, no traceback
+        return 130
     except CncError as exc:
         why = {
             int(EW.NOOPT): f"the CNC has no PMC area {args.area} (give --area of one it has)",

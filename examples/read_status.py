@@ -68,6 +68,8 @@ def main() -> int:
     args = parser.parse_args()
     try:
         asyncio.run(read_status(args.host, args.port, args.timeout, args.protocol))
+    except KeyboardInterrupt:  # Ctrl-C: exit 130, as the command line, no traceback
+        return 130
     except FocasError as exc:
         print(f"read_status: {exc}", file=sys.stderr)
         return 1

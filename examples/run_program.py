@@ -163,6 +163,8 @@ def main() -> int:
         return 2
     try:
         asyncio.run(run_program(args, text))
+    except KeyboardInterrupt:  # Ctrl-C: exit 130, as the command line, no traceback
+        return 130
     except (Failed, FocasError) as exc:
         print(f"run_program: {exc}", file=sys.stderr)
         return 1

@@ -79,6 +79,8 @@ def main() -> int:
             return 2
     try:
         return asyncio.run(read_station(args))
+    except KeyboardInterrupt:  # Ctrl-C: exit 130, as the command line, no traceback
+        return 130
     except FocasError as exc:
         print(f"versamax_config: {exc}", file=sys.stderr)
         return 1

@@ -77,6 +77,8 @@ def main() -> int:
     args = parser.parse_args()
     try:
         return asyncio.run(write_param(args))
+    except KeyboardInterrupt:  # Ctrl-C: exit 130, as the command line, no traceback
+        return 130
     except CncError as exc:
         why = f"the CNC has no parameter {args.param} (give --param N)"
         print(

@@ -176,9 +176,12 @@ def program_number(typed: object) -> int:
     if isinstance(typed, int) and not isinstance(typed, bool) and 1 <= typed <= _MAX_PROGRAM:
         return typed
     text = typed.strip().upper().removeprefix("O") if isinstance(typed, str) else ""
-    if not (text.isascii() and text.isdigit() and 1 <= int(text) <= _MAX_PROGRAM):
+    # the digits counted before they become a number (Python refuses to read 4,301 and more)
+    digits = text.lstrip("0")
+    fits = len(digits) <= len(str(_MAX_PROGRAM))
+    if not (text.isascii() and text.isdigit() and fits and 1 <= int(digits or 0) <= _MAX_PROGRAM):
         raise ValueError(f"{typed!r} is not a program number (e.g. O1000)")
-    return int(text)
+    return int(digits)
 
 
 # -- number text -----------------------------------------------------------------------------

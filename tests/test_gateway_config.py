@@ -88,7 +88,7 @@ BAD: list[tuple[str, tuple[str, ...]]] = [
     (ONE + "[mqtt]\npasword = 'x'", ("mqtt.pasword: unknown key", "'password'")),
     (ONE + "[mqtt]\npassword_env = 'FOCAS_NET_NO_SUCH_VARIABLE'", ("FOCAS_NET_NO_SUCH_VARIABLE",)),
     (ONE + "[mqtt]\npassword = 'a'\npassword_env = 'B'", ("mqtt.password_env", "not both")),
-    (ONE + "[mqtt.deadbands]\nmode = 1.0", ("mqtt.deadbands.mode: unknown key",)),
+    (ONE + "[mqtt.deadbands]\nmode = 1.0", ("mqtt.deadbands.mode: mode is not a number",)),
     (ONE + "[mqtt.deadbands]\nfeed = -1", ("mqtt.deadbands.feed: got -1",)),
     (ONE + "[opcua]\nendpoint = 'http://x:1/'", ("opcua.endpoint: got 'http://x:1/'",)),
     (

@@ -173,25 +173,25 @@ def test_availability_in_golden_bytes() -> None:
 
 def test_alarms_are_events_and_a_retained_active_list() -> None:
     p = publication()
-    raised = AlarmChange("lathe-2", 2, 4, 100, 0, "PARAMETER ENABLE", True, 3.0)
+    raised = AlarmChange("lathe-2", 2, 0, 100, 0, "PARAMETER ENABLE", True, 3.0)
     messages = p.alarms([raised])
     assert messages == [
         Message(
             "focas/lathe-2/path2/alarms/event",
-            b'{"type":4,"number":100,"axis":0,"message":"PARAMETER ENABLE","active":true,'
-            b'"time":"1970-01-01T00:00:03.000Z"}',
+            b'{"type":0,"number":100,"code":"SW0100","axis":0,"message":"PARAMETER ENABLE",'
+            b'"active":true,"time":"1970-01-01T00:00:03.000Z"}',
             False,
         ),
         Message(
             "focas/lathe-2/path2/alarms/active",
-            b'{"alarms":[{"type":4,"number":100,"axis":0,"message":"PARAMETER ENABLE",'
-            b'"active":true,"time":"1970-01-01T00:00:03.000Z"}],"status":"Good",'
-            b'"time":"1970-01-01T00:00:03.000Z"}',
+            b'{"alarms":[{"type":0,"number":100,"code":"SW0100","axis":0,'
+            b'"message":"PARAMETER ENABLE","active":true,"time":"1970-01-01T00:00:03.000Z"}],'
+            b'"status":"Good","time":"1970-01-01T00:00:03.000Z"}',
             True,
         ),
     ]
     servo = AlarmChange("lathe-2", 2, 6, 401, 1, "V-READY OFF", True, 4.0)
-    cleared = AlarmChange("lathe-2", 2, 4, 100, 0, "PARAMETER ENABLE", False, 4.0)
+    cleared = AlarmChange("lathe-2", 2, 0, 100, 0, "PARAMETER ENABLE", False, 4.0)
     *events, active = p.alarms([servo, cleared])
     assert [AlarmEvent.decode(e.payload).active for e in events] == [True, False]
     listed = ActiveAlarms.decode(active.payload).alarms

@@ -14,6 +14,7 @@ import pytest
 
 from focas_net import (
     EW,
+    AlarmProjection,
     CncError,
     FocasClient,
     FocasServer,
@@ -26,6 +27,7 @@ from focas_net import (
 from focas_net.server import ListenError
 from focas_net.sim import MAX_HISTORY_CAPACITY, Machine, machine_from_dict
 from focas_net.sim.nc import ManualClock
+from focas_net.web import Dashboard, stations_of
 
 EXAMPLES = Path(__file__).resolve().parent.parent / "examples"
 
@@ -447,3 +449,94 @@ async def test_a_path_of_two_axes_counts_its_own(tmp_path: Path) -> None:
                 await cnc.read_positions(axis=3, path=2)
             assert len((await cnc.read_positions(axis=2, path=2)).values) == 1
     assert refused.value.detail == "cnc_rdposition: axis 3 of 2"
+
+
+# -- the machine's sessions, messages, positions and macro words -------------------------------
+@pytest.mark.parametrize("session", [None, "s", 1])
+def test_a_session_of_another_type_is_named_before_the_lock_is_asked(session: Any) -> None:
+    machine = default_machine(param_password="1234")
+    machine.set_panel(0, 1, 0)  # MDI, PWE on: the write would reach the password
+    words = (
+        rf"session must be a Session \(machine.new_session\(\)\), got {re.escape(repr(session))}"
+    )
+    calls: tuple[Callable[[], object], ...] = (
+        lambda: machine.unlock(session, "1234"),
+        lambda: machine.write_param(session, 1420, 1, 5),
+        lambda: machine.param_gate_closed(session),
+    )
+    for call in calls:
+        with pytest.raises(TypeError, match=words):
+            call()
+
+
+@pytest.mark.parametrize("password", [1234, None, 12.5])
+def test_an_unlock_with_a_password_of_another_type_is_a_type_error(password: Any) -> None:
+    for machine in (default_machine(), default_machine(param_password="1234")):
+        session = machine.new_session()
+        with pytest.raises(TypeError, match="a parameter password is text or bytes, got "):
+            machine.unlock(session, password)
+        assert not session.unlocked
+
+
+@pytest.mark.parametrize("messages", ["2001 HELLO", 5, [("A", 0, 0, 2001, "HELLO")]])
+def test_external_messages_of_another_type_are_named(messages: Any) -> None:
+    machine = default_machine()
+    with pytest.raises(TypeError, match=r"messages(\[0\])? must be a(n| list of) ExternalMessage"):
+        machine.set_external_messages(messages)
+
+
+@pytest.mark.parametrize("kind", ["foo", 0, "abs"])
+def test_a_position_kind_the_machine_has_not_lists_the_kinds(kind: Any) -> None:
+    with pytest.raises(MachineError, match="one of absolute, machine, relative, distance_to_go"):
+        default_machine().positions(kind)
+    with pytest.raises(TypeError, match="axis must be an integer, got '1'"):
+        default_machine().positions("absolute", "1")  # type: ignore[arg-type]
+
+
+@pytest.mark.parametrize(
+    "value", [Decimal("NaN"), Decimal("Infinity"), Decimal("1E+12"), 10**12, Decimal("1E-10")]
+)
+async def test_a_macro_value_no_variable_holds_is_refused_in_one_wording(
+    served: tuple[Machine, FocasClient, NativeClient], value: Decimal | int
+) -> None:
+    machine, cnc, native = served
+    with pytest.raises(MachineError) as by_machine:
+        machine.write_macro(500, value)
+    for client in (cnc, native):
+        with pytest.raises(ValueError) as by_client:
+            await client.write_macro(500, value)
+        assert str(by_client.value) == by_machine.value.detail
+    assert by_machine.value.detail.startswith(f"#500: macro value {value} ")
+
+
+# -- reprs ---------------------------------------------------------------------------------------
+def test_a_machines_repr_keeps_its_axis_names_apart() -> None:
+    assert repr(default_machine()) == "Machine('focas-sim-0i', axes=('X', 'Y', 'Z'))"
+    lathe = load_machine(EXAMPLES / "lathe_2path.toml")
+    assert repr(lathe) == "Machine('twin-turret-lathe', paths=[('X1', 'Z1'), ('X2', 'Z2')])"
+
+
+@pytest.mark.parametrize(
+    ("mode", "shown"),
+    [
+        ("active_plus_history", "active+history"),
+        ("ACTIVE_PLUS_HISTORY", "active+history"),
+        (" Active+History ", "active+history"),
+        ("active", "active"),
+    ],
+)
+async def test_a_projection_takes_its_mode_by_value_or_name_and_says_what_it_follows(
+    served: tuple[Machine, FocasClient, NativeClient], mode: str, shown: str
+) -> None:
+    _, cnc, _ = served
+    projection = AlarmProjection(cnc, mode, interval=0.5)
+    assert repr(projection) == f"<AlarmProjection {shown} every 0.5 s of {cnc!r}>"
+
+
+async def test_a_dashboards_repr_is_its_address_and_its_machines() -> None:
+    async with FocasServer([default_machine(), default_machine()], port=0) as server:
+        dashboard = Dashboard(stations_of(server), port=0)
+        assert repr(dashboard) == "<Dashboard http://127.0.0.1:0/ 2 machines>"
+        async with dashboard:
+            assert repr(dashboard) == f"<Dashboard {dashboard.url} 2 machines>"
+            assert dashboard.address[1] != 0

@@ -4,18 +4,23 @@ program store's O line, production's part time, the command line's reasons, the 
 
 from __future__ import annotations
 
+import asyncio
+import signal
+import sys
 from collections.abc import AsyncIterator
 from pathlib import Path
 
 import pytest
 from cli_support import Cli, fails
-from examples_support import EXAMPLES, port_args, run_example
+from examples_support import EXAMPLES, RUN_TIMEOUT, port_args, run_example
+from fwlib_support import LIBRARY
 from support import serve_process, serving
 
 from focas_net.cli import EXIT_CNC, EXIT_USAGE
 from focas_net.errors import EW
 from focas_net.sim import (
     AXIS_NAME_PARAM,
+    KNOWN_DIAGS,
     KNOWN_PARAMS,
     DataItem,
     Machine,
@@ -394,3 +399,108 @@ async def test_run_program_names_the_alarm_that_refuses_cycle_start(
         "run_program: an alarm is active: PS0010 IMPROPER G-CODE (focas-net sim clear clears "
         "alarms)\n"
     )
+
+
+@pytest.mark.skipif(
+    LIBRARY is None, reason="set FOCAS_NET_FWLIB to FANUC's libfwlib32 to run fwlib_client.py"
+)
+async def test_fwlib_client_names_the_pmc_range_the_cnc_refused(
+    lathe: tuple[Machine, list[str]],
+) -> None:
+    assert LIBRARY is not None
+    code, out, err = await run_example("fwlib_client.py", "--library", LIBRARY, *lathe[1])
+    assert code == 6 and "cnc: type 0T" in out  # EW_NOOPT as the exit status
+    assert err == "fwlib_client: pmc_rdpmcrng of D0..D3 returned EW 6\n"
+
+
+@pytest.mark.parametrize(
+    ("path2", "words"),
+    [
+        ("", "a scenario cannot start on path 2: no main program is selected"),
+        (
+            '[path.panel]\nmode = "EDIT"\n[[path.program]]\ntext = "O2\\nM30"\n',
+            "a scenario cannot start on path 2: the mode is EDIT, not MEM",
+        ),
+    ],
+)
+async def test_serve_run_names_the_path_that_cannot_start(
+    tmp_path: Path, path2: str, words: str
+) -> None:
+    """A path of several without a main program was refused as if the machine had none."""
+    path = tmp_path / "m.toml"
+    path.write_text(
+        '[machine]\nname = "tp"\n[[path]]\naxes = ["X1", "Z1"]\n[[path.program]]\n'
+        'text = "O1\\nG4 X1.\\nM30"\n[[path]]\naxes = ["X2", "Z2"]\n' + path2 + "[run]\n",
+        encoding="utf-8",
+    )
+    line = await fails(
+        EXIT_USAGE, "serve", "--port", "0", "--machine", str(path), prefix="focas-net"
+    )
+    assert line.endswith(
+        f"m.toml: [run]: tp: {'EW_DATA' if 'program' in words else 'EW_MODE'}: {words}"
+    )
+
+
+@pytest.mark.parametrize("number", sorted(KNOWN_DIAGS))
+@pytest.mark.parametrize("kind", list(ParamKind))
+def test_a_diagnostic_the_machine_computes_has_a_whole_number_type(
+    tmp_path: Path, number: int, kind: ParamKind
+) -> None:
+    """410, 4901 and 4902 follow the loads: a bit or byte one read a load of 555 W past its
+    type (4901 of type byte), a real one counted in its mantissa."""
+    name = kind.name.lower().replace("_", "-")
+    for axis in ("true", "false"):
+        body = f'[diagnostics.{number}]\ntype = "{name}"\naxis = {axis}\n'
+        if kind in (ParamKind.WORD, ParamKind.TWO_WORD):
+            assert _load(tmp_path, body).read_diag(number, 1 if axis == "true" else 0) == 0
+        else:
+            message = _refused(tmp_path, body)
+            assert f"diagnostics.{number}.type: the machine shows" in message
+            got = f"(got an axis {name} diagnostic)" if axis == "true" else f"(got a {name} "
+            assert f"it is a word or two-word diagnostic {got}" in message
+
+
+def test_a_servo_power_is_held_within_its_range() -> None:
+    clock = ManualClock()
+    diags = [DataItem(4901, kind=ParamKind.WORD, axis=True, low=0, high=100)]
+    machine = Machine(
+        "M", axes=["X"], diags=diags, sim_clock=clock, programs=("O1\nG0 X500.\nM30\n",)
+    )
+    machine.cycle_start()
+    clock.advance(0.5)
+    assert machine.status().run == 3
+    assert machine.read_diag(4901, 1) == 100  # a rapid's load times 15 W, held at its high
+
+
+@pytest.mark.parametrize(
+    ("name", "args"),
+    [
+        ("alarm_watch.py", ["--events", "100", "--seconds", "60", "--interval", "0.05"]),
+        ("run_program.py", ["--interval", "0.05"]),
+    ],
+)
+async def test_an_example_interrupted_by_ctrl_c_exits_130_without_a_traceback(
+    name: str, args: list[str]
+) -> None:
+    """Ctrl-C printed asyncio's traceback of KeyboardInterrupt; the examples now end as the
+    command line does (exit 130), and alarm_watch clears the alarms it raised."""
+    machine = default_machine()
+    async with serving(machine) as served:
+        proc = await asyncio.create_subprocess_exec(
+            sys.executable, str(EXAMPLES / name), *port_args(served), *args,
+            stdout=asyncio.subprocess.PIPE, stderr=asyncio.subprocess.PIPE,
+        )  # fmt: skip
+        assert proc.stdout is not None
+        try:
+            async with asyncio.timeout(RUN_TIMEOUT):
+                assert await proc.stdout.readline()  # at work: it printed its first line
+                proc.send_signal(signal.SIGINT)
+                _, err = await proc.communicate()
+        finally:
+            if proc.returncode is None:
+                proc.kill()
+                await proc.wait()
+    assert proc.returncode == 130
+    assert err == b""  # no traceback
+    if name == "alarm_watch.py":
+        assert machine.active_alarms() == []

@@ -6,22 +6,31 @@ so that a change of their wording fails here rather than reaching a user."""
 from __future__ import annotations
 
 import asyncio
+import contextlib
 import gc
+import json
 import logging
 import signal
 import socket
+from dataclasses import replace
 from pathlib import Path
+from typing import Literal
 
 import aiomqtt
 import pytest
 from asyncua import Server, ua
 from cli_support import at, fails
 from mosquitto_support import Broker, broker, mosquitto_binary, subscriber
+from poller_support import QUICK, RecordingSink, config
 from support import free_port, serving, wait_until
 
-from focas_net.cli import EXIT_CNC
+from focas_net.cli import EXIT_CNC, EXIT_PROTOCOL, EXIT_USAGE
+from focas_net.cli._args import parse_log_level
 from focas_net.client import FocasClient, NativeClient
 from focas_net.errors import EW, CncError
+from focas_net.gateway import AlarmChange, Gateway, GatewayConfig
+from focas_net.gateway._mqtt_messages import AlarmEvent, Publication
+from focas_net.gateway._opcua_conditions import condition_name
 from focas_net.gateway.config import (
     DEFAULT_GATEWAY,
     ConfigError,
@@ -33,6 +42,7 @@ from focas_net.gateway.config import (
 )
 from focas_net.gateway.mqtt import MqttSink, broker_reason
 from focas_net.gateway.opcua import _TOLD, _Told
+from focas_net.protocol.alarms import alarm_code
 from focas_net.sim import load_machine
 
 __all__ = ["broker"]  # the fixture, used by name
@@ -347,3 +357,75 @@ def test_what_the_example_gateway_opens_to_writes_the_example_machine_has() -> N
             assert len(lathe.read_pmc(letter, first, last - first + 1)) == last - first + 1
     for path in (1, 2):
         lathe.read_param(6713, 0, path=path)
+
+
+@pytest.mark.parametrize("command", ["serve", "gateway"])
+async def test_a_log_level_refused_is_named_as_typed_and_any_case_is_taken(command: str) -> None:
+    said = await fails(
+        EXIT_USAGE, command, "gateway.toml", "--log-level", "verbose", prefix="focas-net"
+    )
+    assert said == (
+        f"focas-net {command}: error: argument --log-level: invalid choice: 'verbose' (choose "
+        f"from DEBUG, INFO, WARNING, ERROR, CRITICAL, in any case); see focas-net {command} --help"
+    )
+    assert parse_log_level(" info ") == "INFO"
+
+
+@pytest.mark.parametrize("item", ["mode", "alarm", "message"])
+def test_a_deadband_of_an_item_without_a_unit_says_so_rather_than_unknown_key(item: str) -> None:
+    with pytest.raises(ConfigError) as refused:
+        parse_config(MACHINE + f"[mqtt]\ndeadbands = {{ {item} = 1 }}\n", "plant.toml")
+    said = str(refused.value)
+    assert said.startswith(
+        f"plant.toml: mqtt.deadbands.{item}: {item} is not a number with a unit, which a "
+        "deadband is for (the items that are: absolute, cutting_time, "
+    )
+    assert "unknown key" not in said
+    with pytest.raises(ConfigError, match=f"^mqtt.deadbands.{item}: {item} is not a number"):
+        MqttSettings(deadbands={item: 1.0}).check()
+
+
+@pytest.mark.parametrize(("alm_type", "number", "axis"), [(15, 1001, 0), (6, 411, 2), (14, 1, 0)])
+def test_an_alarm_on_mqtt_carries_the_code_the_cli_and_opc_ua_show(
+    alm_type: int, number: int, axis: int
+) -> None:
+    change = AlarmChange("m1", 1, alm_type, number, axis, "COOLANT LEVEL LOW", True, 0.0)
+    event, active = Publication("focas", "gw", {}).alarms([change])
+    code = alarm_code(alm_type, number)  # (the CLI's `alarms --json` code)
+    assert json.loads(event.payload)["code"] == code
+    assert json.loads(active.payload)["alarms"][0]["code"] == code
+    assert condition_name(alm_type, number, axis) == (f"{code}/{axis}" if axis else code)
+    assert AlarmEvent.decode(event.payload).number == number
+
+
+# -- a port that is an HTTP server, as the command line and the gateway name it --------------------
+@pytest.mark.parametrize("protocol", ["native", "packed"])
+async def test_an_http_server_where_a_cnc_was_expected_is_named_alike_by_cli_and_gateway(
+    protocol: Literal["native", "packed"],
+) -> None:
+    async def http(reader: asyncio.StreamReader, writer: asyncio.StreamWriter) -> None:
+        with contextlib.suppress(OSError, asyncio.IncompleteReadError):
+            await reader.readuntil(b"\r\n\r\n")  # (a FOCAS frame never ends a request line)
+            writer.write(b"HTTP/1.0 404 Not Found\r\n\r\n")
+            await writer.drain()
+        writer.close()
+
+    server = await asyncio.start_server(http, "127.0.0.1", 0)
+    async with server:
+        port = server.sockets[0].getsockname()[1]
+        said = await fails(
+            EXIT_PROTOCOL, "status", "--protocol", protocol, "--timeout", "0.5", "--port", str(port)
+        )
+        sink = RecordingSink()
+        gateway = Gateway(
+            GatewayConfig((replace(config("web", port, protocol), timeout=0.5),)), policy=QUICK
+        )
+        gateway.add_sink(sink)
+        async with gateway:
+            await wait_until(lambda: any(not up for _, up, _ in sink.states))
+        reasons = [why for _, up, why in sink.states if not up]
+    assert said == (
+        f"focas-net: 127.0.0.1:{port} does not speak the FOCAS protocol (it answers "
+        "b'HTTP/1.0 404' to an HTTP request and no FOCAS frame: an HTTP server)"
+    )
+    assert reasons[0] == "protocol: " + said.removeprefix("focas-net: ")

@@ -16,7 +16,15 @@ from focas_net._typed import WRONG_PASSWORD, rapid_step, switch
 from focas_net.errors import EW
 from focas_net.protocol import AutMode, FaultKind, alarm_type_of, ew_of_text
 from focas_net.sim import MachineError, default_machine, load_machine
-from focas_net.web import ActionError, Dashboard, Station, macro_rows, perform, stations_of
+from focas_net.web import (
+    ActionError,
+    Dashboard,
+    Station,
+    action_args,
+    macro_rows,
+    perform,
+    stations_of,
+)
 
 
 def _station() -> Station:
@@ -286,3 +294,54 @@ async def test_a_parameter_written_on_the_page_answers_as_param_get_json(
             "--json",
         )
         assert json.loads(written) == cli  # the same value written by the command line
+
+
+# -- a number of thousands of digits ------------------------------------------------------------
+@pytest.mark.parametrize("typed", ["1" * 5000, "O" + "9" * 9, "0" * 5000])
+async def test_a_program_number_of_thousands_of_digits_is_refused_as_no_program_number(
+    typed: str,
+) -> None:
+    """``{"number": "111...1"}`` (5,000 digits), as ``program select 111...1``, said "Exceeds
+    the limit (4300 digits) for integer string conversion: ... use
+    sys.set_int_max_str_digits()", Python's words; leading zeros are no digits of it."""
+    async with serving() as served:
+        station = Station(0, served.machine)
+        with pytest.raises(ActionError) as refused:
+            perform(station, "select_program", {"number": typed})
+        assert str(refused.value) == f"number: {typed!r} is not a program number (e.g. O1000)"
+        line = await fails(2, "program", "select", typed, *at(served))
+        assert line == f"focas-net: program select: {typed!r} is not a program number (e.g. O1000)"
+    leading = perform(_station(), "select_program", {"number": "O" + "0" * 4999 + "1"})
+    assert leading == {"ok": True}
+
+
+def test_a_json_number_of_thousands_of_digits_is_refused_saying_so_not_as_no_json() -> None:
+    """A body ``{"number": 111...1}`` (5,000 digits, a JSON number) was "the body is not
+    JSON": Python refuses to read it, and that refusal read as no JSON."""
+    for digits, sign in ((5000, ""), (101, "-")):
+        body = f'{{"number": {sign}{"1" * digits}, "value": 1}}'.encode()
+        with pytest.raises(ActionError) as refused:
+            action_args(body)
+        shown_digits = f"{sign}{'1' * 12}"[:12]
+        assert str(refused.value) == (
+            f"a JSON number of {digits} digits ({shown_digits}...): no value holds more than 100"
+        )
+    assert action_args(b'{"number": -' + b"9" * 100 + b"}")["number"] == -int("9" * 100)
+
+
+async def test_a_subscription_with_a_number_of_thousands_of_digits_says_so() -> None:
+    aiohttp = pytest.importorskip("aiohttp", reason="the web dashboard needs aiohttp")
+    async with serving() as served:
+        web = Dashboard(stations_of(served.server), port=0, interval=0.05)
+        async with web, aiohttp.ClientSession() as session:
+            async with session.ws_connect(f"{web.url}ws") as ws:
+                await ws.send_str('{"subscribe": "machine", "index": ' + "1" * 5000 + "}")
+                for _ in range(50):
+                    frame = json.loads(await ws.receive_str(timeout=IO_TIMEOUT))
+                    if frame["type"] != "fleet":
+                        break
+                assert frame == {
+                    "type": "error",
+                    "error": "bad subscription: a JSON number of 5000 digits (111111111111...): "
+                    "no value holds more than 100",
+                }

@@ -50,6 +50,8 @@ __all__ = [
     "INT",
     "INTERVAL",
     "LISTEN_PORT",
+    "LOG_LEVEL",
+    "LOG_LEVELS",
     "MAX_INTERVAL",
     "MIN_INTERVAL",
     "NON_NEGATIVE",
@@ -69,6 +71,7 @@ __all__ = [
     "parse_history_depth",
     "parse_host",
     "parse_interval",
+    "parse_log_level",
     "parse_non_negative",
     "parse_path",
     "parse_port",
@@ -372,6 +375,21 @@ def parse_area(text: str) -> PmcArea:
     return PmcArea.parse(text)
 
 
+#: The thresholds ``--log-level`` takes (``logging``'s level names).
+LOG_LEVELS: Final = ("DEBUG", "INFO", "WARNING", "ERROR", "CRITICAL")
+
+
+def parse_log_level(text: str) -> str:
+    """A logging threshold of :data:`LOG_LEVELS`, in any case (``info``); its refusal names
+    the text as typed."""
+    level = text.strip().upper()
+    if level not in LOG_LEVELS:
+        raise ValueError(
+            f"invalid choice: {text!r} (choose from {', '.join(LOG_LEVELS)}, in any case)"
+        )
+    return level
+
+
 #: A port to connect to, 1..65535.
 PORT: Final = argument_type(parse_port, "port")
 #: A port to listen on, 0..65535 (0: an ephemeral port).
@@ -388,3 +406,4 @@ BOOL: Final = argument_type(fmt.parse_bool, "on/off")
 AREA: Final = argument_type(parse_area, "area")
 HISTORY_DEPTH: Final = argument_type(parse_history_depth, "depth")
 PATH: Final = argument_type(parse_path, "path")
+LOG_LEVEL: Final = argument_type(parse_log_level, "log level")

@@ -31,25 +31,19 @@ from dataclasses import dataclass
 from typing import Final
 
 from focas_net.client import FocasClient
-from focas_net.client._failures import BEFORE_ANY_ANSWER, NOTHING_RECEIVED, not_focas_error
+from focas_net.client._failures import BEFORE_ANY_ANSWER
+from focas_net.client._http_peer import as_http_peer, says_nothing
 from focas_net.client._native_link import _open_channel
 from focas_net.errors import (
     CncError,
     FocasConnectionError,
-    FocasTimeoutError,
-    PayloadError,
-    ProtocolError,
 )
 from focas_net.protocol import FaultScope
-
-from . import _format as fmt
 
 __all__ = ["PROBE_TIMEOUT", "Findings", "advice", "diagnosis", "probed"]
 
 #: Longest wait of one probe, in seconds (the command's ``--timeout`` when shorter).
 PROBE_TIMEOUT: Final = 2.0
-#: What the HTTP probe sends: the smallest request an HTTP/1 server answers.
-_HTTP_REQUEST: Final = b"HEAD / HTTP/1.0\r\n\r\n"
 
 
 @dataclass(frozen=True, slots=True)
@@ -162,16 +156,6 @@ async def _answers_native(host: str, port: int, bound: float) -> bool:
     return True
 
 
-async def _answers_http(host: str, port: int) -> bytes:
-    """The first bytes the peer answers to an HTTP request (empty: none)."""
-    reader, writer = await asyncio.open_connection(host, port)
-    try:
-        writer.write(_HTTP_REQUEST)
-        return await reader.read(64)
-    finally:
-        writer.close()
-
-
 async def probed(host: str, port: int, bound: float) -> Findings:
     """Probe ``host:port`` (each probe ``bound`` seconds at most): the one waiting for a
     close at once is waited for only when no other probe found the peer answering. A peer
@@ -194,14 +178,6 @@ async def probed(host: str, port: int, bound: float) -> Findings:
     return Findings(refused, tls, False, native)
 
 
-async def _http_answer(host: str, port: int, bound: float) -> bytes:
-    try:
-        async with asyncio.timeout(bound):
-            return await _answers_http(host, port)
-    except (OSError, TimeoutError):
-        return b""
-
-
 def diagnosis(
     exc: BaseException,
     host: str,
@@ -217,22 +193,8 @@ def diagnosis(
     speak the FOCAS protocol)."""
     text = str(exc)
     bound = min(timeout, PROBE_TIMEOUT)
-    silent = isinstance(exc, FocasTimeoutError) and NOTHING_RECEIVED in text
-    # a peer that broke the framing: an HTTP server answers a request line it could read
-    # with an error page, which reads the same as one that answered nothing
-    garbled = (
-        isinstance(exc, ProtocolError)
-        and not isinstance(exc, PayloadError)
-        and "does not speak the FOCAS protocol" in text
-        and "TLS record" not in text
-    )
-    if silent or garbled:
-        head = asyncio.run(_http_answer(host, port, bound))
-        if not head.startswith(b"HTTP/"):
-            return exc, None
-        where = fmt.address_text(host, port)
-        why = f"it answers {head[:12]!r} to an HTTP request and no FOCAS frame"
-        return not_focas_error(where, f"{why}: an HTTP server"), None
+    if says_nothing(exc):  # (as the gateway asks it: focas_net.client._http_peer)
+        return asyncio.run(as_http_peer(exc, host, port, bound)), None
     closed = isinstance(exc, FocasConnectionError) and (
         BEFORE_ANY_ANSWER in text or (tls and "TLS handshake failed" in text)
     )

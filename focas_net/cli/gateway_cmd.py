@@ -34,7 +34,16 @@ from focas_net.gateway import (
 )
 from focas_net.gateway.config import with_port
 
-from ._args import EXIT_CNC, EXIT_OK, EXIT_USAGE, PROG, argument_type, command_parser, print_error
+from ._args import (
+    EXIT_CNC,
+    EXIT_OK,
+    EXIT_USAGE,
+    LOG_LEVEL,
+    PROG,
+    argument_type,
+    command_parser,
+    print_error,
+)
 from ._run import stopping_on_signals
 
 __all__: list[str] = []
@@ -71,15 +80,15 @@ def register(subparsers: Any) -> None:
         metavar="I/N",
         help="poll only shard I of N (machines I, I+N, I+2N, ... of the file), so that N "
         "gateway processes share a plant; shard I serves OPC UA on the endpoint's port + I-1 "
-        "and connects to MQTT as CLIENT_ID-I",
+        "and connects to MQTT as CLIENT_ID-I, named GATEWAY-I in its topics",
     )
     p.add_argument(
         "--log-level",
         default="WARNING",
-        type=str.upper,
-        choices=["DEBUG", "INFO", "WARNING", "ERROR", "CRITICAL"],
-        help="logging threshold of focas-net's own messages on stderr (default "
-        "%(default)s; other libraries' from WARNING)",
+        type=LOG_LEVEL,
+        metavar="LEVEL",
+        help="logging threshold of focas-net's own messages on stderr: DEBUG, INFO, WARNING, "
+        "ERROR or CRITICAL, in any case (default %(default)s; other libraries' from WARNING)",
     )
     p.set_defaults(func=run)
 

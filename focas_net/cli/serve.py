@@ -54,6 +54,7 @@ from ._args import (
     FILE_NAME,
     HOST,
     LISTEN_PORT,
+    LOG_LEVEL,
     NON_NEGATIVE,
     POSITIVE,
     PROG,
@@ -329,9 +330,10 @@ def register(subparsers: Any) -> None:
     p.add_argument(
         "--log-level",
         default="WARNING",
-        type=str.upper,
-        choices=["DEBUG", "INFO", "WARNING", "ERROR", "CRITICAL"],
-        help="logging threshold on stderr (default %(default)s)",
+        type=LOG_LEVEL,
+        metavar="LEVEL",
+        help="logging threshold on stderr: DEBUG, INFO, WARNING, ERROR or CRITICAL, in any case "
+        "(default %(default)s)",
     )
     p.set_defaults(func=run)
 

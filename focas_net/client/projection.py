@@ -69,9 +69,14 @@ def _mode(mode: object) -> ProjectionMode:
     if isinstance(mode, ProjectionMode):
         return mode
     if isinstance(mode, str):
+        word = mode.strip()
         try:
-            return ProjectionMode(mode.strip().lower())
+            return ProjectionMode(word.lower())
         except ValueError:
+            pass
+        try:  # the member's name, as other modes and kinds are taken by name
+            return ProjectionMode[word.upper()]
+        except KeyError:
             modes = ", ".join(repr(m.value) for m in ProjectionMode)
             raise ValueError(f"unknown projection mode {mode!r} (one of {modes})") from None
     raise TypeError(f"mode must be a ProjectionMode, got {mode!r}")
@@ -178,6 +183,10 @@ class AlarmProjection:
         self.failed_polls = 0
         #: Polls that completed.
         self.polls = 0
+
+    def __repr__(self) -> str:
+        """``<AlarmProjection active every 1.0 s of <FocasClient 127.0.0.1:8193 connected>>``."""
+        return f"<AlarmProjection {self.mode.value} every {self.interval} s of {self.client!r}>"
 
     @property
     def active(self) -> tuple[ActiveAlarm, ...]:

@@ -39,6 +39,7 @@ from datetime import UTC, datetime
 from typing import Any, Final, Literal
 
 from focas_net.errors import OPCUA_BAD_COMMUNICATION_ERROR, OPCUA_GOOD
+from focas_net.protocol.alarms import alarm_code
 
 from .model import ITEMS, AlarmChange, Item, MachineShape, Sample, Scope, Value
 
@@ -148,7 +149,9 @@ class Availability:
 class AlarmEvent:
     """The payload of ``P/M/pathN/alarms/event`` (and one entry of the active list): the alarm's
     FOCAS type and number, its axis (0: none), its message, whether it was raised (``active``)
-    or cleared, and when."""
+    or cleared, and when; its document carries the alarm's code as the CNC screen shows it
+    besides (``EX1001``: :func:`~focas_net.protocol.alarms.alarm_code`, as the command line's
+    ``code`` and the OPC UA condition's name)."""
 
     type: int
     number: int
@@ -161,6 +164,7 @@ class AlarmEvent:
         return {
             "type": self.type,
             "number": self.number,
+            "code": alarm_code(self.type, self.number),
             "axis": self.axis,
             "message": self.message,
             "active": self.active,

@@ -217,7 +217,7 @@ class MqttSettings:
         at.key("buffer").integer(self.buffer, 1, 10_000_000)
         at.key("tls").boolean(self.tls)
         bands = at.key("deadbands")
-        for name, band in bands.table(self.deadbands, _ANALOGUE).items():
+        for name, band in _deadbands(bands, self.deadbands).items():
             bands.key(name).number(band)
 
 
@@ -614,6 +614,19 @@ def _writes(at: At, value: object) -> WriteGates:
     return WriteGates(macros, params, pmc)  # (checked as the file gives them)
 
 
+def _deadbands(at: At, value: object) -> Mapping[str, Any]:
+    """``value`` as a table of deadbands by item name: an item that is no number with a unit
+    is named as such, a name that is no item as an unknown key (with the closest one)."""
+    if isinstance(value, Mapping):
+        for name in value:
+            if name in ITEMS and name not in _ANALOGUE:
+                at.key(name).fail(
+                    f"{name} is not a number with a unit, which a deadband is for (the items "
+                    f"that are: {', '.join(sorted(_ANALOGUE))})"
+                )
+    return at.table(value, _ANALOGUE)
+
+
 def _secret(at: At, table: Mapping[str, Any]) -> str | None:
     """``password``, or the environment variable ``password_env`` names (not both)."""
     if "password" in table and "password_env" in table:
@@ -641,7 +654,7 @@ def _mqtt(at: At, value: object) -> MqttSettings:
         out["tls"] = table["tls"]
     out["password"] = _secret(at, table)
     if "deadbands" in table:
-        bands = at.key("deadbands").table(table["deadbands"], _ANALOGUE)
+        bands = _deadbands(at.key("deadbands"), table["deadbands"])
         out["deadbands"] = dict(bands)
     settings = MqttSettings(**out)
     settings.check(at.source)

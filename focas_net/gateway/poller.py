@@ -69,6 +69,7 @@ from focas_net.client import (
     ReconnectPolicy,
     alarm_changes,
 )
+from focas_net.client._http_peer import HTTP_PROBE_BOUND, as_http_peer
 from focas_net.errors import (
     EW,
     OPCUA_GOOD,
@@ -411,7 +412,14 @@ class Poller:
                 await st.client.connect()
             reader = await describe(st.config, st.client)
         except Exception as exc:  # (any failure: tried again after the policy's delay)
-            st.failure = reason_of(exc)
+            if st.attempts == 0 and st.described is None:
+                # a port never reached that said nothing may be an HTTP server: asked once,
+                # as the command line asks it
+                bound = min(st.config.timeout, HTTP_PROBE_BOUND)
+                told = await as_http_peer(exc, st.config.host, st.config.port, bound)
+            else:
+                told = exc
+            st.failure = reason_of(told)
             st.next_attempt = self.timer() + self.policy.delay(st.attempts)
             st.attempts += 1
             unexpected = not isinstance(exc, FocasError | OSError)

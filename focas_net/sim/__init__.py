@@ -13,7 +13,7 @@ from ._information import (
     PmcAreaExtent,
     SoftwareVersion,
 )
-from ._known_params import AXIS_NAME_PARAM, KNOWN_PARAMS, KnownParam
+from ._known_params import AXIS_NAME_PARAM, KNOWN_DIAGS, KNOWN_PARAMS, KnownParam
 from ._modal import EXTERNAL_MESSAGE_NUMBERS, ExternalMessage, OperatorMessage
 from ._pmc import pmc_letter
 from ._signals import CLOCK_VARIABLES, SERVO_POWER_DIAG, TIMER_PARAMS, OperatorSignals
@@ -70,6 +70,7 @@ __all__ = [
     "EXTERNAL_MESSAGE_NUMBERS",
     "F_SIGNALS",
     "G_SIGNALS",
+    "KNOWN_DIAGS",
     "KNOWN_PARAMS",
     "LIFE_TYPES",
     "MAX_ALARM_NO",

@@ -23,6 +23,7 @@ from ._items import DataItem, ParamKind
 
 __all__ = [
     "AXIS_NAME_PARAM",
+    "KNOWN_DIAGS",
     "KNOWN_PARAMS",
     "RENAME_REFUSED",
     "KnownParam",
@@ -44,11 +45,12 @@ RENAME_REFUSED: Final = (
 class KnownParam:
     """What the machine does with a parameter (``what``: ``"the machine counts parts in
     it"``), the types it may have (FANUC's; the 16i class has integer types where the 30i
-    class has real ones) and whether it has one value per axis."""
+    class has real ones) and whether it has one value per axis (None: either; a diagnostic the
+    machine computes in one shape only and reads as given in the other)."""
 
     what: str
     kinds: tuple[ParamKind, ...]
-    axis: bool
+    axis: bool | None
 
 
 _W, _2W, _R = ParamKind.WORD, ParamKind.TWO_WORD, ParamKind.REAL
@@ -80,20 +82,36 @@ KNOWN_PARAMS: Final[dict[int, KnownParam]] = {
 }
 
 
+_DIAG_LOAD: Final = "the machine shows the spindle's load in it"
+#: The diagnostics whose values the machine computes while a program runs, by number.
+KNOWN_DIAGS: Final[dict[int, KnownParam]] = {
+    410: KnownParam(_DIAG_LOAD, (_W, _2W), None),
+    4901: KnownParam("the machine shows each axis's servo power in it", (_W, _2W), None),
+    4902: KnownParam("the machine shows the spindle's power in it", (_W, _2W), None),
+}
+
+
 def _type_name(kind: ParamKind) -> str:
     return kind.name.lower().replace("_", "-")
 
 
-def param_type_problem(number: int, kind: ParamKind | int | None, is_axis: bool) -> str | None:
+def param_type_problem(
+    number: int,
+    kind: ParamKind | int | None,
+    is_axis: bool,
+    known_items: Mapping[int, KnownParam] = KNOWN_PARAMS,
+) -> str | None:
     """What is wrong with parameter ``number`` of ``kind`` (per axis or not) as the machine
-    reads it (:data:`KNOWN_PARAMS`); None when nothing is, or the machine does not read it."""
-    known = KNOWN_PARAMS.get(number)
+    reads it (:data:`KNOWN_PARAMS`; a diagnostic with ``known_items`` :data:`KNOWN_DIAGS`);
+    None when nothing is, or the machine does not read it."""
+    known = known_items.get(number)
     if known is None:
         return None
-    if kind in known.kinds and is_axis == known.axis:
+    if kind in known.kinds and known.axis in (None, is_axis):
         return None
     types = " or ".join(_type_name(k) for k in known.kinds)
-    shape = "one per axis" if known.axis else "not per axis"
+    shape = {True: ", one per axis", False: ", not per axis", None: ""}[known.axis]
+    noun = "diagnostic" if known_items is KNOWN_DIAGS else "parameter"
     given = "an axis" if is_axis else "a"
     if kind is None:
         type_name = "?"
@@ -101,10 +119,7 @@ def param_type_problem(number: int, kind: ParamKind | int | None, is_axis: bool)
         type_name = _type_name(ParamKind(kind))
         given = given if is_axis or type_name[0] not in "aeiou" else "an"
     article = "an" if types[0] in "aeiou" else "a"
-    return (
-        f"{known.what}: it is {article} {types} parameter, {shape} "
-        f"(got {given} {type_name} parameter)"
-    )
+    return f"{known.what}: it is {article} {types} {noun}{shape} (got {given} {type_name} {noun})"
 
 
 def axis_letter_problem(value: int, axis: str) -> str | None:
@@ -117,14 +132,19 @@ def axis_letter_problem(value: int, axis: str) -> str | None:
     return f"axis {axis}'s letter {letter!r} is {ord(letter)}, not {shown}"
 
 
-def params_problem(params: Mapping[int, DataItem], axes: Sequence[str]) -> str | None:
-    """The first problem of a machine's parameters (``params``, by number) with the machine's
-    ``axes`` (every axis, path by path): a type of :func:`param_type_problem`, or a value of
-    parameter 1020 that does not name its axis (:func:`axis_letter_problem`); None when none."""
-    for number, item in sorted(params.items()):
-        problem = param_type_problem(number, item.kind, item.axis)
-        if problem is not None:
-            return f"parameter {number}: {problem}"
+def params_problem(
+    params: Mapping[int, DataItem], diags: Mapping[int, DataItem], axes: Sequence[str]
+) -> str | None:
+    """The first problem of a machine's parameters and diagnostics (``params``, ``diags``, by
+    number) with the machine's ``axes`` (every axis, path by path): a type of
+    :func:`param_type_problem`, or a value of parameter 1020 that does not name its axis
+    (:func:`axis_letter_problem`); None when none."""
+    tables = (("parameter", params, KNOWN_PARAMS), ("diagnostic", diags, KNOWN_DIAGS))
+    for what, items, known in tables:
+        for number, item in sorted(items.items()):
+            problem = param_type_problem(number, item.kind, item.axis, known)
+            if problem is not None:
+                return f"{what} {number}: {problem}"
     names = params.get(AXIS_NAME_PARAM)
     if names is not None:
         for value, axis in zip(names.values, axes, strict=True):

@@ -132,8 +132,10 @@ class Macros:
                 self.changed()
             return
         held = macro_value(value)
-        if held is None:
-            raise MachineError(EW.DATA, f"#{number} = {macro_unfit(value)}")
+        if held is None:  # in the clients' words (focas_net.client._values.macro_write)
+            if isinstance(value, Decimal) and not value.is_finite():
+                raise MachineError(EW.DATA, f"#{number}: macro value {value} is not finite")
+            raise MachineError(EW.DATA, f"#{number}: macro value {macro_unfit(value)}")
         values[number] = held
         self.changed()
 

@@ -127,7 +127,13 @@ class ModalOperations:
         """Define the external operator messages (replacing those defined). ValueError, and
         nothing changes, for a bit outside the A area or 0..7, a number outside 2000-2999
         (1000-1999, external alarm messages, are not modelled), a number or a bit given
-        twice, or a text that is not 1..255 printable ASCII characters."""
+        twice, or a text that is not 1..255 printable ASCII characters; TypeError for messages
+        that are no list of :class:`ExternalMessage`."""
+        if isinstance(messages, str | bytes) or not isinstance(messages, Sequence):
+            raise TypeError(f"messages must be a list of ExternalMessage, got {messages!r}")
+        for i, m in enumerate(messages):
+            if not isinstance(m, ExternalMessage):
+                raise TypeError(f"messages[{i}] must be an ExternalMessage, got {m!r}")
         area = self.pmc_area("A")
         size = 0 if area is None else area[0]
         if size == 0 and messages:

@@ -16,7 +16,7 @@ from focas_net.errors import EW
 
 from ._base import MachineError
 
-__all__ = ["ParamLock", "Session"]
+__all__ = ["ParamLock", "Session", "need_session"]
 
 _PASSWORD_SIZE: Final = 4
 
@@ -28,6 +28,14 @@ class Session:
 
     unlocked: bool = False
     epoch: int = 0
+
+
+def need_session(session: object) -> Session:
+    """``session`` when it is a :class:`Session` (``machine.new_session()``): TypeError naming
+    what was given otherwise, before the lock is asked."""
+    if not isinstance(session, Session):
+        raise TypeError(f"session must be a Session (machine.new_session()), got {session!r}")
+    return session
 
 
 def _password(text: str | bytes) -> bytes:
@@ -76,13 +84,18 @@ class ParamLock:
 
     def admits(self, session: Session) -> bool:
         """No password, or ``session`` unlocked under the current one."""
+        need_session(session)
         return self._password is None or (session.unlocked and session.epoch == self.epoch)
 
     def unlock(self, session: Session, password: str | bytes) -> None:
         """Unlock ``session`` (any password when there is none); EW_PASSWD, the session locked
         again, on a mismatch, and for text that is no password (not 1..4 ASCII characters:
         ``""``, ``"aé"``, ``"12345"``), which no front end may offer, with that reason. Bytes
-        are the wire's 4 (or more) bytes: a longer payload is a mismatch."""
+        are the wire's 4 (or more) bytes: a longer payload is a mismatch. TypeError for a
+        session that is none or a password that is neither text nor bytes."""
+        need_session(session)
+        if not isinstance(password, str | bytes | bytearray):
+            raise TypeError(f"a parameter password is text or bytes, got {password!r}")
         expected = self._password
         session.epoch = self.epoch
         if isinstance(password, str):

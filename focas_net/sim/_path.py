@@ -31,7 +31,7 @@ from focas_net._typed import override_percent, override_unfit
 from focas_net.errors import EW
 
 from ._alarms import MAX_ALARM_TEXT, NC_ALARM_TYPES, AlarmKey, Alarms, nc_alarm
-from ._base import I32_MAX, I32_MIN, Counters, MachineError, logger
+from ._base import I32_MAX, I32_MIN, Counters, MachineError, logger, need_int
 from ._items import PARTS_COUNT, PARTS_TOTAL, Items
 from ._macros import Macros, float_macro, macro_value
 from ._paths import PATH_MACROS, PathItems
@@ -563,8 +563,11 @@ class Path:
         if kind not in POSITION_KINDS:
             if kind == _SKIP:
                 raise MachineError(EW.NOOPT, "no skip function")
-            raise MachineError(EW.ATTRIB, f"position kind {kind!r}")
+            kinds = ", ".join(POSITION_KINDS)
+            raise MachineError(EW.ATTRIB, f"position kind {kind!r}: one of {kinds}")
         values: list[int] = getattr(self.figures(), kind)
+        if axis is not None:
+            need_int("axis", axis)
         if axis is None:
             return list(zip(self.axes, values, strict=True))
         if not 1 <= axis <= len(self.axes):

@@ -178,9 +178,12 @@ class Production:
         program)."""
         path = self.path
         path.sync()
-        path.check_ready("a scenario cannot start")
+        refused = "a scenario cannot start"
+        if len(path.group) > 1:  # which path of several lacks what
+            refused += f" on path {path.number}"
+        path.check_ready(refused)
         if path.programs.main is None:
-            raise MachineError(EW.DATA, "a scenario cannot start: no main program is selected")
+            raise MachineError(EW.DATA, f"{refused}: no main program is selected")
 
     def start(self, scenario: Scenario, *, settle: bool = True) -> float:
         """Run ``scenario`` from its phase ago, the cycle rewound first: EW_ALARM, EW_MODE (as

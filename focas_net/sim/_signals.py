@@ -353,8 +353,11 @@ class SignalOperations:
         if not p.driven:
             item, i = p.items.lookup(True, SERVO_POWER_DIAG, axis)
             return item.values[i]
+        item, _ = p.items.lookup(True, SERVO_POWER_DIAG, axis)
         loads = p.production.servo_loads()
-        return loads[axis - 1] * SERVO_WATTS_PER_PERCENT if axis <= len(loads) else 0
+        value = loads[axis - 1] * SERVO_WATTS_PER_PERCENT if axis <= len(loads) else 0
+        assert item.low is not None and item.high is not None
+        return max(item.low, min(item.high, value))  # within the range the machine gives it
 
     def _spindle_diag(self, datano: int, axis: int, path: int) -> int | None:
         """A spindle diagnostic of spindle ``axis`` (0: the first) of ``path``, None when

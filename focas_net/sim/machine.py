@@ -127,7 +127,7 @@ from ._items import PARTS_COUNT, PARTS_TOTAL, DataItem, Items, ParamKind
 from ._known_params import AXIS_NAME_PARAM, RENAME_REFUSED, axis_letter_problem, params_problem
 from ._macros import MAX_MACRO_DECIMALS, MacroRange, Macros
 from ._modal import ModalOperations
-from ._password import ParamLock, Session
+from ._password import ParamLock, Session, need_session
 from ._path import ENGINE_VARIABLES, PARTS_VARIABLES, Path, Shared
 from ._paths import (
     MAX_PATHS,
@@ -274,7 +274,7 @@ class Machine(
         self._station = Station(station or {})
         c = self._counters = Counters()
         self._items = Items(collected_params(params), collected_diags(diags), n, c)
-        problem = params_problem(self._items.params, self.axes)  # what the machine reads
+        problem = params_problem(self._items.params, self._items.diags, self.axes)
         if problem is not None:
             raise ValueError(problem)
         self._collected = Collected()
@@ -339,7 +339,13 @@ class Machine(
             p.name = name if self._paths.count == 1 else f"{name}/{info.name}"
 
     def __repr__(self) -> str:
-        return f"Machine({self.name!r}, axes={''.join(self.axes)!r})"
+        """``Machine('focas-sim-0i', axes=('X', 'Y', 'Z'))``; a machine of several paths shows
+        each path's axes (``paths=[('X1', 'Z1'), ('X2', 'Z2')]``), never the names run
+        together."""
+        infos = self._paths.infos
+        if len(infos) == 1:
+            return f"Machine({self.name!r}, axes={tuple(self.axes)!r})"
+        return f"Machine({self.name!r}, paths={[tuple(i.axes) for i in infos]!r})"
 
     # -- paths ---------------------------------------------------------------------------
     @property
@@ -528,6 +534,7 @@ class Machine(
         """Why a parameter write from ``session`` to ``path`` is refused (the first closed
         gate, in the order an operator opens them: PWE, MDI mode, the password), or None when
         it is open."""
+        need_session(session)
         p = self._paths.at(path).panel
         if p.pwe != 1:
             return "parameter write enable (PWE) is off"
@@ -562,6 +569,7 @@ class Machine(
         written, and whose mode the write gate asks (EW_PATH before everything but the
         read-only machine)."""
         self.check_writable()
+        need_session(session)
         p = self._paths.at(path)
         items = self._items
         item, i = p.items.lookup(False, datano, axis)

@@ -26,6 +26,8 @@ from ._base import NUMBERS
 from ._identity import CLASS_MAX_AXES, name_problem
 from ._known_params import (
     AXIS_NAME_PARAM,
+    KNOWN_DIAGS,
+    KNOWN_PARAMS,
     axis_letter_problem,
     param_type_problem,
 )
@@ -115,8 +117,9 @@ def _identity(ctx: _Ctx, value: Any, n_axes: int, control_class: str) -> Identit
 
 
 def _items(ctx: _Ctx, value: Any, n_axes: int, *, names: list[str] | None = None) -> list[DataItem]:
-    """Parameters (``names``: the machine's axes, which parameter 1020 must name; the types
-    of the parameters the machine reads are checked) or diagnostics (``names`` None)."""
+    """Parameters (``names``: the machine's axes, which parameter 1020 must name) or
+    diagnostics (``names`` None); the types of those the machine reads or computes are
+    checked."""
     t = _table(ctx, value)
     items: list[DataItem] = []
     for key, raw in t.items():
@@ -167,7 +170,8 @@ def _items(ctx: _Ctx, value: Any, n_axes: int, *, names: list[str] | None = None
             values = [_item_value(vc, raw_value, kind, decimals, (low, high))] * (
                 n_axes if is_axis else 1
             )
-        problem = names is not None and param_type_problem(number, kind, is_axis)
+        known = KNOWN_DIAGS if names is None else KNOWN_PARAMS
+        problem = param_type_problem(number, kind, is_axis, known)
         if problem:
             c.sub("type").fail(problem)
         if names is not None and number == AXIS_NAME_PARAM:

@@ -25,6 +25,7 @@ from typing import Any, Final, TypeVar
 
 from focas_net._bits import bits_of_text
 from focas_net._typed import (
+    MAX_DIGITS,
     NO_PASSWORD_NOTE,
     decimal_number,
     program_number,
@@ -559,13 +560,27 @@ def no_twice(pairs: list[tuple[str, Any]]) -> dict[str, Any]:
     return args
 
 
+def json_int(text: str) -> int:
+    """A JSON number without a point (``-12``): one of more than
+    :data:`~focas_net._typed.MAX_DIGITS` digits is refused saying so, as typed text of as many
+    is (Python refuses to read 4,301 and more in words of its own, and the body would read as
+    no JSON)."""
+    count = len(text.lstrip("-"))
+    if count > MAX_DIGITS:
+        raise ActionError(
+            f"a JSON number of {count} digits ({text[:12]}...): no value holds more than "
+            f"{MAX_DIGITS}"
+        )
+    return int(text)
+
+
 def action_args(body: bytes) -> dict[str, Any]:
     """The arguments of an action from its request body (empty: none): a JSON object, each
     key once; :class:`ActionError` saying what the body is instead."""
     if not body.strip():
         return {}
     try:
-        args = json.loads(body, object_pairs_hook=no_twice)
+        args = json.loads(body, object_pairs_hook=no_twice, parse_int=json_int)
     except RecursionError:
         raise ActionError("the body nests too deep to be an action's arguments") from None
     except ValueError as exc:

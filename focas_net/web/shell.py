@@ -49,6 +49,7 @@ from .operations import (
     ActionError,
     Station,
     action_args,
+    json_int,
     no_twice,
     perform,
     refusal,
@@ -147,6 +148,12 @@ class Dashboard:
         self._runner: web.AppRunner | None = None
         self._task: asyncio.Task[None] | None = None
         self._sockets: set[web.WebSocketResponse] = set()
+
+    def __repr__(self) -> str:
+        """``<Dashboard http://127.0.0.1:8080/ 20 machines>`` (port 0 until it listens on
+        the port it picked)."""
+        count = len(self.stations)
+        return f"<Dashboard {self.url} {count} machine{'' if count == 1 else 's'}>"
 
     @property
     def url(self) -> str:
@@ -366,7 +373,7 @@ class Dashboard:
         """The topic a page's ``message`` subscribes to, or why it names none: each field of
         a machine's topic checked (its number, path, PMC window) and named when wrong."""
         try:
-            wanted = json.loads(message, object_pairs_hook=no_twice)
+            wanted = json.loads(message, object_pairs_hook=no_twice, parse_int=json_int)
         except ActionError as exc:
             return f"bad subscription: {exc}"
         except (ValueError, RecursionError):
