@@ -1,5 +1,5 @@
 """An address typed, checked once for every front end: :func:`check_host` (the clients, the
-command line's ``--host``, the gateway's file, the dashboard's ``--web``), :func:`check_port`
+server's bind address, the command line's ``--host``, the gateway's file, the dashboard's ``--web``), :func:`check_port`
 and :func:`address_text`. It knows no protocol and no machine.
 
 A host is a name (at most 253 characters, parts of 1..63 between dots), an IPv4 address or an
@@ -19,6 +19,8 @@ __all__ = [
     "check_host",
     "check_port",
     "host_and_port",
+    "port_words",
+    "split_advice",
     "url_address",
     "url_advice",
 ]
@@ -28,8 +30,8 @@ __all__ = [
 _LABEL: Final = re.compile(r"[\w-]+")
 #: A URL (``tcp://127.0.0.1:8193/``): its scheme, then its host and port up to a path.
 _URL: Final = re.compile(r"[A-Za-z][A-Za-z0-9+.-]*://([^/?#]*)(?:[/?#].*)?", re.DOTALL)
-#: ``[::1]:8193``: an IPv6 address in brackets and a port.
-_BRACKETED_PORT: Final = re.compile(r"\[([^\]]*)\]:(\d+)")
+#: ``[::1]:8193``: an IPv6 address in brackets, a colon and what follows (a port, or not).
+_BRACKETED_PORT: Final = re.compile(r"\[([^\]]*)\]:(.*)", re.DOTALL)
 
 
 def check_port(port: object) -> int:
@@ -66,15 +68,45 @@ def url_address(text: str) -> tuple[str, str | None] | None:
 
 
 def host_and_port(text: str) -> tuple[str, str] | None:
-    """``(host, port)`` when ``text`` is a host with a port (``127.0.0.1:8193``,
-    ``[::1]:8193``), else None (``::1`` is an IPv6 address, no port)."""
+    """``(host, port)`` when ``text`` is a host, a colon and what a port would be
+    (``127.0.0.1:8193``, ``[::1]:8193``, but also ``localhost:``, ``127.0.0.1:99999``,
+    ``localhost:abc``: the port as typed, which :func:`port_words` judges), else None
+    (``::1`` is an IPv6 address, no port)."""
     bracketed = _BRACKETED_PORT.fullmatch(text)
     if bracketed:
         return bracketed[1], bracketed[2]
     name, colon, port = text.rpartition(":")
-    if colon and name and ":" not in name and port.isdigit():
+    if colon and name and ":" not in name:
         return name, port
     return None
+
+
+def port_words(port: str) -> str | None:
+    """Why ``port``, typed after a host's colon, is no port a client connects to (None: it
+    is one, 1..65535 in ASCII digits)."""
+    if not port:
+        return "with nothing after its colon"
+    if port.isascii() and port.isdigit():
+        if 1 <= int(port) <= 0xFFFF:
+            return None
+        return "and a port outside 1..65535"
+    return f"a colon and {shown(port, 12)}, which is no port number"
+
+
+def split_advice(split: tuple[str, str], options: bool) -> str:
+    """What to say of a host typed with a colon and a port, ``split``, and what to give
+    instead: as the command line's options (``options``) or as a client's arguments. A
+    port that is none (``localhost:``, ``127.0.0.1:99999``) is never suggested."""
+    name, port = split
+    why = port_words(port)
+    if why is None:
+        if options:
+            return f"is a host and a port: give --host {name} --port {port}"
+        return f"is a host and a port: give the host {name!r} and the port {port} apart"
+    what = f"is a host {why}" if not why.startswith("a colon") else f"is a host, {why}"
+    if options:
+        return f"{what}: give --host {name} and --port 1..65535"
+    return f"{what}: give the host {name!r} and a port 1..65535 apart"
 
 
 def url_advice(url: tuple[str, str | None], options: bool) -> str:
@@ -82,6 +114,8 @@ def url_advice(url: tuple[str, str | None], options: bool) -> str:
     options (``options``: ``give --host 127.0.0.1 --port 8193``) or as a client's
     arguments."""
     name, number = url
+    if number is not None and port_words(number) is not None:
+        number = None  # no port (``tcp://host:``, ``:99999``): none to suggest
     if not name:
         return "give a host name or address alone, without a scheme (127.0.0.1)"
     if options:
@@ -105,10 +139,7 @@ def check_host(text: object) -> str:
         raise ValueError(f"host {shown(text)} is a URL: {url_advice(url, False)}")
     split = host_and_port(text)
     if split:
-        raise ValueError(
-            f"host {shown(text)} is a host and a port: give the host {split[0]!r} "
-            f"and the port {split[1]} apart"
-        )
+        raise ValueError(f"host {shown(text)} {split_advice(split, False)}")
     host = text
     if host.startswith("[") and host.endswith("]"):
         host = host[1:-1]

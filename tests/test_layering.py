@@ -213,8 +213,9 @@ BEYOND_THE_TABLE: dict[str, tuple[str, ...]] = {
     # machine and the text every front end encodes), whether a host is the loopback (the page
     # and the gateway), the words of the system's refusal of a file or address (every layer)
     "focas_net._typed": (),
-    # an address typed: the host and port checks of the clients, the command line, the
-    # gateway's file and the dashboard's --web
+    # an address typed: the host and port checks of the clients, the server's bind address,
+    # the command line, the gateway's file and the dashboard's --web; a typed value shown
+    # as the user typed it (the machine's refusals)
     "focas_net._address": (),
 }
 
@@ -224,6 +225,8 @@ SHARED: dict[str, tuple[str, ...]] = {
     "focas_net._receive": ("focas_net.server", "focas_net.client"),
     "focas_net._bits": ("focas_net.sim", "focas_net.client", "focas_net.web", "focas_net.cli"),
     "focas_net._address": (
+        "focas_net.sim",
+        "focas_net.server",
         "focas_net.client",
         "focas_net.web",
         "focas_net.cli",
@@ -231,6 +234,7 @@ SHARED: dict[str, tuple[str, ...]] = {
     ),
     "focas_net._typed": (
         "focas_net.sim",
+        "focas_net.server",
         "focas_net.client",
         "focas_net.web",
         "focas_net.cli",
@@ -251,6 +255,7 @@ THIRD_PARTY: dict[str, tuple[str, ...]] = {
         "focas_net.gateway._opcua_types",
         "focas_net.gateway._opcua_conditions",
         "focas_net.gateway._opcua_methods",
+        "focas_net.gateway._opcua_sessions",
     ),
     "aiomqtt": ("focas_net.gateway.mqtt",),
 }

@@ -24,6 +24,7 @@ from focas_net import (
     default_machine,
     load_machine,
 )
+from focas_net.protocol import alarm_code, alarm_type_of, encode_ew, ew_of_text
 from focas_net.server import ListenError
 from focas_net.sim import MAX_HISTORY_CAPACITY, Machine, machine_from_dict
 from focas_net.sim.nc import ManualClock
@@ -540,3 +541,38 @@ async def test_a_dashboards_repr_is_its_address_and_its_machines() -> None:
         async with dashboard:
             assert repr(dashboard) == f"<Dashboard {dashboard.url} 2 machines>"
             assert dashboard.address[1] != 0
+
+
+# -- the protocol's helpers ------------------------------------------------------------------------
+def given(value: object) -> Any:
+    """``value`` as any type: the calls a type checker refuses, made as a user may make them."""
+    return value
+
+
+@pytest.mark.parametrize(
+    ("call", "error", "words"),
+    [
+        (
+            lambda: alarm_type_of(given(6)),
+            TypeError,
+            "an alarm type's name must be text (str), got 6",
+        ),
+        (lambda: ew_of_text(given(5)), TypeError, "an EW code as typed must be text (str), got 5"),
+        (lambda: alarm_code(given("SV"), 1), TypeError, "alm_type must be an integer, got 'SV'"),
+        (lambda: alarm_code(6, given(1.5)), TypeError, "alm_no must be an integer, got 1.5"),
+        (lambda: encode_ew(2**20), ValueError, "EW code 1048576 is outside -32768..32767 (an i16)"),
+        (lambda: encode_ew(given("5")), TypeError, "an EW code must be an integer, got '5'"),
+        (
+            lambda: machine_from_dict(given(None)),
+            TypeError,
+            "a machine file's data must be a mapping (parsed TOML), got None",
+        ),
+    ],
+)
+def test_the_protocols_helpers_name_an_argument_of_another_type(
+    call: Callable[[], object], error: type[Exception], words: str
+) -> None:
+    with pytest.raises(error) as refused:
+        call()
+    assert str(refused.value) == words
+    assert alarm_code(6, 411) == "SV0411" and encode_ew(-1) == b"\xff\xff"

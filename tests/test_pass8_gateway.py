@@ -18,16 +18,17 @@ from typing import Literal
 
 import aiomqtt
 import pytest
-from asyncua import Server, ua
+from asyncua import Client, Server, ua
 from cli_support import at, fails
 from mosquitto_support import Broker, broker, mosquitto_binary, subscriber
+from opcua_support import url as opcua_url
 from poller_support import QUICK, RecordingSink, config
 from support import free_port, serving, wait_until
 
 from focas_net.cli import EXIT_CNC, EXIT_PROTOCOL, EXIT_USAGE
 from focas_net.cli._args import parse_log_level
 from focas_net.client import FocasClient, NativeClient
-from focas_net.errors import EW, CncError
+from focas_net.errors import EW, CncError, FocasConnectionError
 from focas_net.gateway import AlarmChange, Gateway, GatewayConfig
 from focas_net.gateway._mqtt_messages import AlarmEvent, Publication
 from focas_net.gateway._opcua_conditions import condition_name
@@ -35,13 +36,16 @@ from focas_net.gateway.config import (
     DEFAULT_GATEWAY,
     ConfigError,
     MqttSettings,
+    OpcUaSettings,
+    OpcUaUser,
     WriteGates,
     load_config,
     parse_config,
     shard,
 )
 from focas_net.gateway.mqtt import MqttSink, broker_reason
-from focas_net.gateway.opcua import _TOLD, _Told
+from focas_net.gateway.opcua import _TOLD, OpcUaSink, _Told
+from focas_net.gateway.poller import reason_of
 from focas_net.protocol.alarms import alarm_code
 from focas_net.sim import load_machine
 
@@ -429,3 +433,138 @@ async def test_an_http_server_where_a_cnc_was_expected_is_named_alike_by_cli_and
         "b'HTTP/1.0 404' to an HTTP request and no FOCAS frame: an HTTP server)"
     )
     assert reasons[0] == "protocol: " + said.removeprefix("focas-net: ")
+
+
+# -- OPC UA certificate files -------------------------------------------------------------------
+async def test_a_certificate_or_key_the_server_cannot_load_names_the_key_and_the_file(
+    tmp_path: Path,
+) -> None:
+    garbage = tmp_path / "garbage.pem"
+    garbage.write_text("not a certificate\n")
+    settings = OpcUaSettings(
+        endpoint="opc.tcp://127.0.0.1:0/focas_net/",
+        users=(OpcUaUser("operator", "s3cret"),),
+        certificate=garbage,
+        private_key=garbage,
+    )
+    with pytest.raises(ConfigError) as refused:
+        async with OpcUaSink(settings):
+            pass
+    said = str(refused.value)
+    assert said.startswith(
+        f"opcua.certificate: got {str(garbage)!r}; expected a certificate in PEM or DER ("
+    )
+    assert "http" not in said
+
+
+def test_a_certificate_that_is_a_folder_is_not_said_not_to_exist(tmp_path: Path) -> None:
+    (tmp_path / "certs").mkdir()
+    (tmp_path / "key.pem").write_text("")
+    text = MACHINE + '[opcua]\ncertificate = "certs"\nprivate_key = "key.pem"\n'
+    with pytest.raises(ConfigError) as refused:
+        parse_config(text, "plant.toml", folder=tmp_path)
+    assert str(refused.value) == (
+        "plant.toml: opcua.certificate: got 'certs'; expected a file that exists "
+        f"({tmp_path / 'certs'} is a directory)"
+    )
+
+
+async def test_a_host_name_without_an_address_is_unresolved_not_lost() -> None:
+    for client_type in (FocasClient, NativeClient):
+        with pytest.raises(FocasConnectionError) as failed:
+            async with client_type("no-such-host.invalid", 8193, timeout=2.0):
+                pass
+        assert reason_of(failed.value) == f"unresolved: {failed.value}"
+    assert reason_of(FocasConnectionError("gone")) == "lost: gone"
+
+
+async def test_a_refused_opc_ua_session_is_one_warning_naming_the_user(
+    caplog: pytest.LogCaptureFixture,
+) -> None:
+    """asyncua's own ERROR lines of a refused session name nobody; the sink tells each refusal
+    once at WARNING, with the user and why (and fails here if asyncua's words change)."""
+    caplog.set_level(logging.INFO)
+    settings = OpcUaSettings(
+        endpoint="opc.tcp://127.0.0.1:0/focas_net/",
+        users=(OpcUaUser("op", "s3cret"),),
+        anonymous=False,
+    )
+    async with OpcUaSink(settings) as sink:
+        for user, password in (("op", "wrong"), ("nobody", "x"), (None, None)):
+            client = Client(opcua_url(sink))
+            if user is not None:
+                client.set_user(user)
+                client.set_password(password or "")
+            with pytest.raises(ua.UaStatusCodeError):
+                async with client:
+                    pass
+    ours = [r.getMessage() for r in caplog.records if r.name == "focas_net.gateway.opcua"]
+    assert "OPC UA: user 'op' refused: wrong password" in ours
+    assert "OPC UA: user 'nobody' refused: no such user" in ours
+    assert any(m.startswith("OPC UA: a session refused: its identity is not offered") for m in ours)
+    theirs = [
+        r.getMessage()
+        for r in caplog.records
+        if r.name.startswith("asyncua.server") and r.levelno >= logging.WARNING
+    ]
+    assert not [m for m in theirs if "refused" in m.lower() or "Bad" in m or "Reject" in m]
+
+
+def _self_signed(folder: Path) -> tuple[Path, Path]:
+    """A self-signed certificate for 127.0.0.1 and its key, PEM files in ``folder``."""
+    import datetime
+
+    from cryptography import x509
+    from cryptography.hazmat.primitives import hashes, serialization
+    from cryptography.hazmat.primitives.asymmetric import rsa
+    from cryptography.x509.oid import NameOID
+
+    key = rsa.generate_private_key(public_exponent=65537, key_size=2048)
+    name = x509.Name([x509.NameAttribute(NameOID.COMMON_NAME, "127.0.0.1")])
+    now = datetime.datetime.now(datetime.UTC)
+    cert = (
+        x509.CertificateBuilder()
+        .subject_name(name)
+        .issuer_name(name)
+        .public_key(key.public_key())
+        .serial_number(x509.random_serial_number())
+        .not_valid_before(now - datetime.timedelta(days=1))
+        .not_valid_after(now + datetime.timedelta(days=1))
+        .sign(key, hashes.SHA256())
+    )
+    cert_file, key_file = folder / "broker.crt", folder / "broker.key"
+    cert_file.write_bytes(cert.public_bytes(serialization.Encoding.PEM))
+    key_file.write_bytes(
+        key.private_bytes(
+            serialization.Encoding.PEM,
+            serialization.PrivateFormat.TraditionalOpenSSL,
+            serialization.NoEncryption(),
+        )
+    )
+    return cert_file, key_file
+
+
+async def test_a_tls_broker_whose_certificate_is_not_trusted_is_told_so_not_a_wrong_port(
+    tmp_path: Path, caplog: pytest.LogCaptureFixture
+) -> None:
+    binary = mosquitto_binary()
+    if binary is None:
+        pytest.skip("mosquitto is not installed (apt-get install mosquitto; .ci/run does)")
+    caplog.set_level(logging.WARNING)
+    cert, key = _self_signed(tmp_path)
+    tls = Broker(binary, tmp_path)
+    tls.config.write_text(
+        f"listener {tls.port} 127.0.0.1\nallow_anonymous true\npersistence false\nuser root\n"
+        f"certfile {cert}\nkeyfile {key}\n"
+    )
+    await tls.start()
+    try:
+        settings = MqttSettings(host=tls.host, port=tls.port, tls=True)
+        async with MqttSink(settings, reconnect=(5.0, 5.0), timeout=2.0):
+            await _until_warned(caplog, "TLS certificate not trusted")
+    finally:
+        await tls.stop()
+    assert (
+        f"MQTT broker 127.0.0.1:{tls.port}: TLS certificate not trusted: self-signed "
+        "certificate (the gateway trusts the certificate authorities of the system)"
+    ) in _warnings(caplog)

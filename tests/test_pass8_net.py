@@ -19,12 +19,17 @@ import os
 import signal
 import sys
 from collections.abc import Iterator
+from pathlib import Path
 from typing import Final
 
 import pytest
-from support import serve_process, serving
+from cli_support import one_line, run_focas_net
+from support import LoopbackPeer, serve_process, serving
 
-from focas_net.cli import _signals
+from focas_net.cli import EXIT_PROTOCOL, _reasons, _run, _signals, build_parser
+from focas_net.cli._args import parse_host
+from focas_net.client import FocasClient, NativeClient
+from focas_net.errors import EW, CncError, ProtocolError
 
 #: Upper bound of a subprocess's start (an interpreter and the package imported) and end.
 PROCESS_TIMEOUT: Final = 30.0
@@ -133,3 +138,167 @@ async def test_until_told_commands_exit_zero_on_ctrl_c_pressed_twice(
         async with asyncio.timeout(PROCESS_TIMEOUT):
             assert await proc.stdout.readline()  # it polls: its first line is out
         assert await _ctrl_c_until_it_ends(proc) == (0, "")
+
+
+# -- a refusal's reason, for every code a peer may answer -----------------------------------
+
+#: One command line of each command whose refusals have a table (focas_net/cli/_reasons.py).
+_COMMAND_LINES: Final = {
+    "param get": "param get 1020",
+    "param set": "param set 1020 1",
+    "diag": "diag 300",
+    "macro get": "macro get 100",
+    "macro set": "macro set 100 1",
+    "macro clear": "macro clear 100",
+    "pmc read": "pmc read R 0 1",
+    "pmc write": "pmc write R 0 1",
+    "pmc bit": "pmc bit R 0.1 1",
+    "program load": "program load {program}",
+    "program select": "program select 1",
+    "program delete": "program delete 1",
+    "program show": "program show 1",
+    "sim panel": "sim panel",
+    "sim alarm": "sim alarm EX1001",
+    "sim clear": "sim clear",
+    "sim cycle start": "sim cycle start",
+    "sim cycle hold": "sim cycle hold",
+    "sim cycle reset": "sim cycle reset",
+    "sim override": "sim override",
+    "sim fault": "sim fault drop",
+    "sim faults": "sim faults",
+    "versamax": "versamax 0 0",
+    "unlock": "unlock ABCD",
+}
+
+
+def test_every_command_with_reasons_has_a_command_line_here() -> None:
+    assert set(_COMMAND_LINES) == set(_reasons.FAMILIES)
+
+
+@pytest.mark.parametrize("command", sorted(_COMMAND_LINES))
+def test_every_code_a_peer_may_answer_has_a_reason_or_none_never_a_traceback(
+    command: str, tmp_path: Path
+) -> None:
+    """A CNC, or a peer that is none, may answer any command any EW code: what the command
+    prints then is the code and, where its table has one, a reason built from the command's
+    own arguments (``param get`` has no ``--width``, ``macro get`` no value to name)."""
+    program = tmp_path / "O1000.nc"
+    program.write_text("O1000\nM30\n%\n")
+    args = build_parser().parse_args(_COMMAND_LINES[command].format(program=program).split())
+    assert _run.command_name(args) == command
+    for ew in EW:
+        if ew == EW.OK:
+            continue
+        said = _reasons.reason(command, args, CncError.from_ew(ew, "cnc_call"))
+        assert said is None or said.strip(), (command, ew)
+
+
+# -- a peer that sends back what it is sent -------------------------------------------------
+
+
+class Echo(LoopbackPeer):
+    """An echo server: every byte it reads, it sends back."""
+
+    async def _serve(self, reader: asyncio.StreamReader, writer: asyncio.StreamWriter) -> None:
+        try:
+            for _ in range(1000):  # bounded: a command sends a few requests
+                data = await reader.read(4096)
+                if not data:
+                    break
+                writer.write(data)
+                await writer.drain()
+        except OSError:
+            pass
+        finally:
+            writer.close()
+
+
+ECHO_WORDS: Final = (
+    "does not speak the FOCAS protocol (it sent back the request it was sent, as an echo "
+    "server does"
+)
+
+
+@pytest.mark.parametrize("protocol", ["packed", "native"])
+@pytest.mark.parametrize(
+    "command",
+    # a request without payload (its echo has no EW code), one whose echo read as EW_LENGTH
+    # (which ended in a traceback: param get has no --width), one read as EW_DATA
+    ["status", "param get 2", "pmc read R 5 1"],
+)
+async def test_an_echo_server_does_not_speak_focas_on_both_transports(
+    protocol: str, command: str
+) -> None:
+    async with Echo() as peer:
+        code, out, err = await run_focas_net(
+            *command.split(), "--port", str(peer.port), "--protocol", protocol, "--timeout", "2"
+        )
+    assert (code, out) == (EXIT_PROTOCOL, "")
+    line = one_line(err)
+    assert line.startswith(f"focas-net: 127.0.0.1:{peer.port} {ECHO_WORDS}"), line
+
+
+async def test_an_echoed_unlock_is_no_wrong_password() -> None:
+    async with Echo() as peer:
+        client = FocasClient("127.0.0.1", peer.port, timeout=2.0)
+        async with client:
+            with pytest.raises(ProtocolError, match=r"as an echo server does: cnc_wrunlockparam"):
+                await client.unlock("ABCD")
+            with pytest.raises(ProtocolError, match=r"as an echo server does: cnc_rdmacro"):
+                await client.read_macro(500)  # 4 bytes: no EW code alone repeats them
+
+
+async def test_an_ew_code_equal_to_a_two_byte_request_is_taken_as_the_cncs() -> None:
+    """An answer of an EW code alone may equal a request of 2 bytes (``cnc_rdmacro`` of #5
+    answered EW_DATA, 5): that is the CNC's refusal, not an echo."""
+    async with Echo() as peer:
+        async with FocasClient("127.0.0.1", peer.port, timeout=2.0) as client:
+            with pytest.raises(CncError) as refused:
+                await client.read_macro(5)
+    assert refused.value.ew == EW.DATA
+
+
+# -- a host typed with a colon and no port after it -----------------------------------------
+
+
+@pytest.mark.parametrize(
+    ("typed", "said"),
+    [
+        ("127.0.0.1:", "'127.0.0.1:' is a host with nothing after its colon"),
+        ("[::1]:", "'[::1]:' is a host with nothing after its colon"),
+        ("127.0.0.1:99999", "'127.0.0.1:99999' is a host and a port outside 1..65535"),
+        ("127.0.0.1:0", "'127.0.0.1:0' is a host and a port outside 1..65535"),
+        ("localhost:abc", "'localhost:abc' is a host, a colon and 'abc', which is no port number"),
+        (
+            "localhost:8193/",
+            "'localhost:8193/' is a host, a colon and '8193/', which is no port number",
+        ),
+        (
+            "127.0.0.1:٨١٩٣",
+            "'127.0.0.1:٨١٩٣' is a host, a colon and '٨١٩٣', which is no port number",
+        ),
+    ],
+)
+def test_a_host_with_a_colon_but_no_port_is_never_an_ipv6_address_nor_given_that_port(
+    typed: str, said: str
+) -> None:
+    """It read as `not an IPv6 address` (``127.0.0.1:``), or suggested ``--port 99999``."""
+    host = typed.rpartition(":")[0].strip("[]")
+    with pytest.raises(ValueError) as cli_refusal:
+        parse_host(typed)
+    assert str(cli_refusal.value) == f"{said}: give --host {host} and --port 1..65535"
+    for client in (FocasClient, NativeClient):
+        with pytest.raises(ValueError) as refusal:
+            client(typed, 8193)
+        assert str(refusal.value) == (
+            f"host {said}: give the host {host!r} and a port 1..65535 apart"
+        )
+
+
+async def test_a_host_with_a_colon_and_no_port_at_the_command_line() -> None:
+    code, out, err = await run_focas_net("status", "--host", "127.0.0.1:")
+    assert (code, out) == (2, "")
+    assert one_line(err, "focas-net status: error:") == (
+        "focas-net status: error: argument --host: '127.0.0.1:' is a host with nothing after "
+        "its colon: give --host 127.0.0.1 and --port 1..65535; see focas-net status --help"
+    )

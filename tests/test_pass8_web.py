@@ -345,3 +345,18 @@ async def test_a_subscription_with_a_number_of_thousands_of_digits_says_so() -> 
                     "error": "bad subscription: a JSON number of 5000 digits (111111111111...): "
                     "no value holds more than 100",
                 }
+
+
+@pytest.mark.parametrize("typed", ["1", "2", " 3 ", "4"])
+async def test_a_fault_kind_is_a_name_as_on_the_command_line(typed: str) -> None:
+    """``{"kind": "1"}`` armed a delay, though the refusal of ``"5"`` named the kinds only and
+    ``sim fault 1`` is refused: a kind is its name on both."""
+    async with serving() as served:
+        await fails(2, "sim", "fault", typed.strip(), *at(served), prefix="focas-net sim fault")
+        station = Station(0, served.machine)
+        with pytest.raises(ActionError) as refused:
+            perform(station, "inject_fault", {"kind": typed, "arg": 5})
+        assert str(refused.value) == (
+            f"kind: one of DELAY, ERROR, DROP, SPLIT, got {typed.strip()!r}"
+        )
+        assert len(station.faults) == 0

@@ -24,6 +24,7 @@ from focas_net._address import (
     check_host,
     host_and_port,
     shown,
+    split_advice,
     url_address,
     url_advice,
 )
@@ -349,9 +350,7 @@ def parse_host(text: str) -> str:
         raise ValueError(f"{shown(text)} is a URL: {url_advice(url, True)}")
     split = host_and_port(text.strip())
     if split:
-        raise ValueError(
-            f"{shown(text)} is a host and a port: give --host {split[0]} --port {split[1]}"
-        )
+        raise ValueError(f"{shown(text)} {split_advice(split, True)}")
     return check_host(text.strip())
 
 

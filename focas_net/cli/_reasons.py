@@ -105,21 +105,34 @@ def _param_range(args: argparse.Namespace) -> str:
     return what
 
 
-_PARAM: Final[Table] = {
+#: ``param get``'s: a read has no value, no write gate and no ``--width`` to blame.
+_PARAM_READ: Final[Table] = {
     EW.NUMBER: lambda a: f"the CNC has no {_item('parameter', a)}",
+}
+_PARAM: Final[Table] = {
+    **_PARAM_READ,
     EW.PASSWD: _param_gate,
     EW.DATA: _param_range,
+    EW.PROT: _read_only,
     EW.LENGTH: lambda a: (
         f"parameter {a.number} is not {a.width} bytes wide: leave out --width (the CNC's "
         "own width is used)"
     ),
-    EW.PROT: _read_only,
 }
 _DIAG: Final[Table] = {EW.NUMBER: lambda a: f"the CNC has no {_item('diagnostic', a)}"}
-_MACRO: Final[Table] = {
+#: ``macro get``'s (``cnc_rdmacro``: no value to name, and no simulator control command).
+_MACRO_READ: Final[Table] = {
     EW.NUMBER: lambda a: f"the CNC has no macro variable #{a.number}",
+}
+_MACRO: Final[Table] = {
+    **_MACRO_READ,
     EW.PROT: lambda a: f"#{a.number} is a read-only variable, or the machine is read-only",
     EW.DATA: lambda a: f"#{a.number} cannot hold {a.value}",
+}
+#: ``macro clear``'s: ``sim_vacate_macro`` is a simulator control command.
+_MACRO_CLEAR: Final[Table] = {
+    **_MACRO_READ,
+    EW.PROT: _MACRO[EW.PROT],
     EW.FUNC: _no_control,
 }
 
@@ -178,8 +191,13 @@ _PMC: Final[Table] = {
     EW.NUMBER: _pmc_beyond,
     EW.NOOPT: lambda a: f"the CNC has no PMC area {a.area.name}",
     EW.PROT: _pmc_protected,
-    EW.FUNC: _no_control,
 }
+
+
+def _pmc_forced(args: argparse.Namespace, exc: CncError) -> str | None:
+    """``EW_FUNC`` of ``pmc write --force``, a simulator control command (None: another
+    write, ``pmc_wrpmcrng``, which no simulator control setting refuses)."""
+    return _no_control(args) if getattr(args, "force", False) else None
 
 
 # -- part programs and the cycle --------------------------------------------------------------
@@ -299,12 +317,12 @@ _UNLOCK: Final[Table] = {EW.PASSWD: lambda a: WRONG_PASSWORD}
 
 #: The table of each command, by its name as typed.
 FAMILIES: Final[Mapping[str, Table]] = {
-    "param get": _PARAM,
+    "param get": _PARAM_READ,
     "param set": _PARAM,
     "diag": _DIAG,
-    "macro get": _MACRO,
+    "macro get": _MACRO_READ,
     "macro set": _MACRO,
-    "macro clear": _MACRO,
+    "macro clear": _MACRO_CLEAR,
     "pmc read": _PMC,
     "pmc write": _PMC,
     "pmc bit": _PMC,
@@ -333,6 +351,7 @@ _BY_REFUSAL: Final[
 ] = {
     ("param set", EW.PASSWD): _param_password,
     ("param set", EW.LENGTH): _param_length,
+    ("pmc write", EW.FUNC): _pmc_forced,
 }
 
 

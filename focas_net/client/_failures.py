@@ -25,6 +25,7 @@ from typing import Final
 
 from focas_net._typed import os_words
 from focas_net.errors import (
+    EW,
     FocasConnectionError,
     FocasTimeoutError,
     FrameError,
@@ -36,11 +37,13 @@ from focas_net.protocol.frame import DEFAULT_MAX_FRAME
 
 __all__ = [
     "BEFORE_ANY_ANSWER",
+    "ECHOED",
     "NEVER_SENT",
     "NOTHING_RECEIVED",
     "closed_error",
     "command_text",
     "connect_reason",
+    "echo_error",
     "lost_error",
     "no_answer_error",
     "not_focas_error",
@@ -81,6 +84,26 @@ def undecodable_error(peer: str, command: int, exc: PayloadError) -> PayloadErro
     )
     err.__cause__ = exc
     return err
+
+
+#: The EW codes a CNC answers (an answer of another is no CNC's).
+_KNOWN_EW: Final = frozenset(int(ew) for ew in EW)
+#: Why a peer that sent back the request it was sent does not speak FOCAS.
+ECHOED: Final = "it sent back the request it was sent, as an echo server does"
+
+
+def echo_error(peer: str, command: int, raw: bytes, sent: bytes) -> ProtocolError | None:
+    """The error of ``peer`` answering a packed ``command`` with ``raw``, the very payload
+    ``sent`` in its request, or None when that may be a FOCAS answer: a known EW code alone
+    (2 bytes) can equal a request's 2 bytes (``cnc_rdmacro`` of #5 refused ``EW_DATA``, 5),
+    but no answer repeats a longer request or an empty one (every answer has its EW code,
+    and an EW code other than 0 is its whole payload). Asked only of an answer that does
+    not decode or carries an EW code."""
+    if raw != sent:
+        return None
+    if len(raw) == 2 and int.from_bytes(raw, "little", signed=True) in _KNOWN_EW:
+        return None
+    return not_focas_error(peer, f"{ECHOED}: {command_text(command)}")
 
 
 def not_focas_error(peer: str, why: str) -> ProtocolError:

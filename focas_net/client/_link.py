@@ -31,7 +31,7 @@ from focas_net.errors import (
 from ..protocol import COMMANDS, CommandSpec, EwReply, FaultScope, FaultsRequest, Password
 from ..protocol import Command as C
 from ._composite import CompositeCalls
-from ._failures import undecodable_error
+from ._failures import echo_error, undecodable_error
 from ._values import check_int
 from .connection import MAX_IN_FLIGHT, Connection, NotSentError, _Pending, open_connection
 from .reconnect import ClientState, ReconnectPolicy, StateCallback
@@ -320,10 +320,12 @@ class Link(CompositeCalls):
                 try:
                     value = spec.response.decode_bytes(raw)  # the connection's are bytes
                 except PayloadError as exc:
-                    raise undecodable_error(self.address, spec.command, exc) from exc
+                    raise self._echoed(spec, raw, payload) or undecodable_error(
+                        self.address, spec.command, exc
+                    ) from exc
                 if type(value) is not EwReply:
                     return value
-                self._raise_unless_unlock(spec, value.ew, False)
+                self._raise_unless_unlock(spec, value.ew, False, raw, payload)
                 await self._unlock_for_retry(conn, deadline)
                 return await self._request_at(spec, payload, deadline, True, path)
         return await self._request_at(spec, payload, deadline, path=path)
@@ -361,7 +363,7 @@ class Link(CompositeCalls):
                 if self._policy is None:
                     raise
                 continue  # never reached the peer: safe to send on the next connection
-            value = self._answer(spec, raw, retried)
+            value = self._answer(spec, raw, retried, payload)
             if value is not UNLOCK_AND_RETRY:
                 return value
             await self._unlock_for_retry(conn, deadline)
@@ -386,28 +388,50 @@ class Link(CompositeCalls):
             return None
         return None if entry is None else (conn, entry)
 
-    def _answer(self, spec: CommandSpec, raw: bytes, retried: bool = False) -> Any:
+    def _answer(
+        self, spec: CommandSpec, raw: bytes, retried: bool = False, sent: bytes | None = None
+    ) -> Any:
         """The decoded answer of a call of ``spec``: its value, :class:`CncError` raised for
         an EW code, or ``UNLOCK_AND_RETRY`` for an ``EW_PASSWD`` answer to unlock and send
         once more (never after ``retried``, the answer to that retry). The one rule of
-        :meth:`_request` and of those awaiting many answers in one task."""
-        value = self._decoded(spec, raw)
+        :meth:`_request` and of those awaiting many answers in one task. ``sent``: the
+        request's payload, when known, to tell an echo server (:func:`echo_error`)."""
+        value = self._decoded(spec, raw, sent)
         if type(value) is not EwReply:
             return value
-        self._raise_unless_unlock(spec, value.ew, retried)
+        self._raise_unless_unlock(spec, value.ew, retried, raw, sent)
         return UNLOCK_AND_RETRY
 
-    def _decoded(self, spec: CommandSpec, raw: bytes) -> Any:
+    def _decoded(self, spec: CommandSpec, raw: bytes, sent: bytes | None = None) -> Any:
         """``raw`` decoded as an answer of ``spec``; an answer that does not decode is the
-        peer's :class:`PayloadError`, naming it and the call."""
+        peer's :class:`PayloadError`, naming it and the call (a :class:`ProtocolError` when
+        it is the request ``sent`` back)."""
         try:
             return spec.response.decode(raw)
         except PayloadError as exc:
-            raise undecodable_error(self.address, spec.command, exc) from exc
+            raise self._echoed(spec, raw, sent) or undecodable_error(
+                self.address, spec.command, exc
+            ) from exc
 
-    def _raise_unless_unlock(self, spec: CommandSpec, ew: int, retried: bool) -> None:
+    def _echoed(self, spec: CommandSpec, raw: bytes, sent: bytes | None) -> ProtocolError | None:
+        """The error of a peer that answered ``spec``'s request with its own payload
+        ``sent`` (None: not known, or not an echo)."""
+        return None if sent is None else echo_error(self.address, spec.command, raw, sent)
+
+    def _raise_unless_unlock(
+        self,
+        spec: CommandSpec,
+        ew: int,
+        retried: bool,
+        raw: bytes = b"",
+        sent: bytes | None = None,
+    ) -> None:
         """Raise :class:`CncError` for a call of ``spec`` answered ``ew``, unless it is to be
-        unlocked and sent once more (never after ``retried``)."""
+        unlocked and sent once more (never after ``retried``); :class:`ProtocolError` when
+        the answer ``raw`` is the request's payload ``sent`` back (an echo server)."""
+        echoed = self._echoed(spec, raw, sent)
+        if echoed is not None:
+            raise echoed
         if retried or not self._retries_after_unlock(spec, ew):
             raise CncError.from_ew(ew, spec.focas_name)
 
@@ -434,9 +458,8 @@ class Link(CompositeCalls):
         self, conn: Connection, password: str | bytes, deadline: float | None
     ) -> None:
         """``cnc_wrunlockparam`` on ``conn`` itself: no wait, no retry, EW -> CncError."""
-        raw = await conn.request(
-            _UNLOCK.command, _UNLOCK.request.encode(Password.from_text(password)), deadline
-        )
-        value = self._decoded(_UNLOCK, raw)
+        sent = _UNLOCK.request.encode(Password.from_text(password))
+        raw = await conn.request(_UNLOCK.command, sent, deadline)
+        value = self._decoded(_UNLOCK, raw, sent)
         if type(value) is EwReply:
-            raise CncError.from_ew(value.ew, _UNLOCK.focas_name)
+            self._raise_unless_unlock(_UNLOCK, value.ew, True, raw, sent)

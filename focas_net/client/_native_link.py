@@ -71,6 +71,7 @@ from ..native import (
 from ._channel import Channel, open_channel
 from ._composite import CompositeCalls
 from ._failures import (
+    ECHOED,
     NEVER_SENT,
     connect_reason,
     lost_error,
@@ -100,6 +101,11 @@ _ANSWER_TYPES: Final = frozenset(
     }
 )
 
+#: The frame types the client sends (open, close, data): no CNC answers with one.
+_REQUEST_TYPES: Final = frozenset(
+    {FrameType.OPEN_REQUEST, FrameType.CLOSE_REQUEST, FrameType.DATA_REQUEST}
+)
+
 Future = asyncio.Future[tuple[ResponseBlock, ...]]
 
 
@@ -127,6 +133,8 @@ async def _read_frame(channel: Channel, peer: str, answered: bool = True) -> byt
     magic, _, kind, length = NATIVE_HEADER.unpack(head)
     if magic != _MAGIC:
         raise violation_error(peer, _NOT_A_FRAME, head)
+    if kind in _REQUEST_TYPES:  # what the client sends, back: an echo server
+        raise violation_error(peer, f"{ECHOED}: a frame of type 0x{kind:04X}", head)
     if kind not in _ANSWER_TYPES:
         raise violation_error(peer, f"its answer is a frame of type 0x{kind:04X}", head)
     try:

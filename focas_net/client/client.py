@@ -239,7 +239,7 @@ class FocasClient(Link):
             except NotSentError:
                 raw = None
             if raw is not None:
-                value = self._answer(_RDCNCSTAT, raw)
+                value = self._answer(_RDCNCSTAT, raw, sent=_EMPTY)
                 if value is not UNLOCK_AND_RETRY:
                     result: StatusInfo = value
                     return result

@@ -665,7 +665,8 @@ def _file(at: At, value: object, base: Path) -> Path:
     name = at.text(value, "a file name")
     path = Path(name) if Path(name).is_absolute() else base / name
     if not path.is_file():
-        at.fail(f"got {name!r}; expected a file that exists ({path} does not)")
+        why = "is a directory" if path.is_dir() else "does not exist"
+        at.fail(f"got {name!r}; expected a file that exists ({path} {why})")
     return path
 
 

@@ -76,6 +76,13 @@ def broker_reason(
         words = str(exc).partition("] ")[2] or str(exc)
         code = getattr(exc.rc, "value", exc.rc)
         return f"the broker refused: {words[:1].lower() + words[1:]} (MQTT reason code {code})"
+    cause = exc.__cause__ or exc.__context__
+    if isinstance(cause, ssl.SSLCertVerificationError):  # (the clients' words, and why)
+        why = (cause.verify_message or str(cause)).rstrip(".")
+        return (
+            f"TLS certificate not trusted: {why} (the gateway trusts the certificate "
+            "authorities of the system)"
+        )
     text = str(exc)
     if connected or getattr(exc, "rc", None) is not None or text == _LOST:
         if text == _TIMED_OUT:

@@ -22,24 +22,24 @@ from __future__ import annotations
 import asyncio
 import contextlib
 import gc
-import hmac
 import logging
 import math
 from collections import deque
-from collections.abc import Iterator, Sequence
+from collections.abc import Awaitable, Callable, Iterator, Sequence
 from datetime import UTC, datetime
+from pathlib import Path
 from types import TracebackType
 from typing import Any, Final
 
 from asyncua import Server, ua
-from asyncua.crypto.permission_rules import User, UserRole
-from asyncua.server.internal_server import InternalServer
 
 from focas_net.errors import OpcUaStatus
 from focas_net.gateway import _opcua_model as om
 from focas_net.gateway import _opcua_types as ot
+from focas_net.gateway._keys import ConfigError
 from focas_net.gateway._opcua_conditions import Conditions
 from focas_net.gateway._opcua_methods import add_write_methods
+from focas_net.gateway._opcua_sessions import SESSION_LOGGERS, RefusedSessions, Users
 from focas_net.gateway.config import OpcUaSettings, is_loopback, with_port
 from focas_net.gateway.model import AlarmChange, MachineShape, Sample, Writer
 
@@ -69,6 +69,20 @@ def _told_by_us() -> Iterator[None]:
         logger.removeFilter(told)
 
 
+async def _load(load: Callable[[str], Awaitable[Any]], key: str, path: Path) -> None:
+    """``load`` (the server's loader of a certificate or a private key) of ``path``; a file it
+    cannot read is a :class:`ConfigError` naming the key and the file, in the words of the
+    file's other checks (``opcua.certificate: ...``)."""
+    try:
+        await load(str(path))
+    except Exception as exc:  # (cryptography's ValueError, an OSError, asyncua's own)
+        what = "a certificate" if key == "certificate" else "a private key"
+        why = " ".join(str(exc).split(" See http")[0].split()) or type(exc).__name__
+        raise ConfigError(
+            f"opcua.{key}: got {str(path)!r}; expected {what} in PEM or DER ({why})"
+        ) from None
+
+
 #: Nodes added, or samples applied, between two turns of the event loop: the server's work
 #: comes in slices of a few milliseconds, so the poller's reads are never held up for long.
 CHUNK: Final = 64
@@ -82,33 +96,6 @@ _NULL: Final = ua.Variant(None)
 
 #: A variable's samples: machine, path, item and key (axis or spindle).
 _Key = tuple[str, int, str, str]
-
-
-class _Users:
-    """The configuration's users (passwords compared in constant time); anonymous sessions
-    when allowed."""
-
-    def __init__(self, settings: OpcUaSettings, anonymous: bool) -> None:
-        self._users = {u.name: u.password for u in settings.users}
-        self._anonymous = anonymous
-
-    def get_user(
-        self,
-        iserver: InternalServer,
-        username: str | None = None,
-        password: str | None = None,
-        certificate: Any = None,
-    ) -> User | None:
-        # only anonymous and user name tokens are offered: no user name is an anonymous session
-        # (``certificate`` is then the secure channel's, not an identity)
-        if username is None:
-            return User(role=UserRole.User) if self._anonymous else None
-        if password is None:
-            return None
-        expected = self._users.get(username)
-        if expected is None or not hmac.compare_digest(expected.encode(), password.encode()):
-            return None
-        return User(role=UserRole.User, name=username)
 
 
 class _Value(ua.DataValue):  # type: ignore[misc]
@@ -216,6 +203,7 @@ class OpcUaSink:
         self._writer = writer if settings.writes else None
         self._anonymous = settings.anonymous_sessions
         self._server: Server | None = None
+        self._refused = RefusedSessions()
         self._ns = 0
         self._cnc = 0
         self._machines: dict[str, om.MachineNodes] = {}
@@ -254,7 +242,7 @@ class OpcUaSink:
     async def start(self) -> None:
         """Build the server and listen."""
         s = self._settings
-        server = Server(user_manager=_Users(s, self._anonymous))
+        server = Server(user_manager=Users(s, self._anonymous))
         # ConditionRefresh (and ConditionRefresh2) of ConditionType send the retained
         # conditions again; asyncua binds them only when asked
         server.iserver.bind_condition_methods = True
@@ -266,8 +254,8 @@ class OpcUaSink:
         if self._loopback:
             policies.append(ua.SecurityPolicyType.NoSecurity)
         if s.certificate is not None and s.private_key is not None:
-            await server.load_certificate(str(s.certificate))
-            await server.load_private_key(str(s.private_key))
+            await _load(server.load_certificate, "certificate", s.certificate)
+            await _load(server.load_private_key, "private_key", s.private_key)
             policies += [
                 ua.SecurityPolicyType.Basic256Sha256_Sign,
                 ua.SecurityPolicyType.Basic256Sha256_SignAndEncrypt,
@@ -287,6 +275,8 @@ class OpcUaSink:
         self._position_cls = made.get("CncPositionDataType") or ua.CncPositionDataType
         with _told_by_us():
             await server.start()
+        for name in SESSION_LOGGERS:
+            logging.getLogger(name).addFilter(self._refused)
         gc.freeze()  # the standard address space, for good (see _describe)
         self._server = server
         if s.users and s.certificate is None:  # (named with the port it took: port 0 asks any)
@@ -310,6 +300,8 @@ class OpcUaSink:
         if self._server is not None:
             await self._server.stop()
             self._server = None
+            for name in SESSION_LOGGERS:
+                logging.getLogger(name).removeFilter(self._refused)
 
     @property
     def port(self) -> int:

@@ -53,6 +53,7 @@ import heapq
 import itertools
 import logging
 import math
+import socket
 import time
 from collections import deque
 from collections.abc import Callable, Sequence
@@ -102,10 +103,13 @@ _UNDECODED: Final = ProtocolError.opcua_status
 
 def reason_of(exc: BaseException) -> str:
     """Why a machine was lost, in a word and the error's text: ``refused``, ``timeout``,
-    ``reset``, ``closed``, ``protocol``, ``unreachable`` or ``lost``."""
+    ``reset``, ``closed``, ``protocol``, ``unreachable``, ``unresolved`` (its host name has
+    no address) or ``lost``."""
     text = " ".join(str(exc).split()) or type(exc).__name__
     if isinstance(exc, FocasTimeoutError | TimeoutError):
         return f"timeout: {text}"
+    if isinstance(exc.__cause__ or exc, socket.gaierror):
+        return f"unresolved: {text}"
     if isinstance(exc, ProtocolError):
         return f"protocol: {text}"
     low = text.lower()

@@ -82,7 +82,10 @@ def alarm_time_text(when: datetime) -> str:
 
 def alarm_type_of(name: str) -> int:
     """An alarm type's number from its two-letter name as every front end takes it (``PS``,
-    ``ps``: ASCII letters, spaces around); ValueError naming what was given and the names."""
+    ``ps``: ASCII letters, spaces around); ValueError naming what was given and the names,
+    TypeError for a name that is no ``str``."""
+    if not isinstance(name, str):
+        raise TypeError(f"an alarm type's name must be text (str), got {name!r}")
     text = name.strip().upper() if name.isascii() else ""
     if text in AlarmType.__members__:
         return int(AlarmType[text])
@@ -92,7 +95,11 @@ def alarm_type_of(name: str) -> int:
 
 def alarm_code(alm_type: int, alm_no: int) -> str:
     """An alarm's code as the CNC screen shows it: ``PS0100`` for type 3, number 100; a type
-    without a name is ``T<n>:`` (``T14:0001``)."""
+    without a name is ``T<n>:`` (``T14:0001``). TypeError for a type or number that is no
+    ``int`` (a name, ``"SV"``, is :func:`alarm_type_of`'s)."""
+    for what, value in (("alm_type", alm_type), ("alm_no", alm_no)):
+        if isinstance(value, bool) or not isinstance(value, int):
+            raise TypeError(f"{what} must be an integer, got {value!r}")
     prefix = ALARM_TYPE_NAMES.get(alm_type)
     if prefix is None:
         return f"T{alm_type}:{alm_no:04d}"

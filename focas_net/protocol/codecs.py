@@ -88,7 +88,12 @@ class EwReply:
 
 
 def encode_ew(ew: int) -> bytes:
-    """The 2-byte ``i16 ew`` payload."""
+    """The 2-byte ``i16 ew`` payload: ValueError naming a code outside -32768..32767, which
+    no ``i16`` carries, TypeError for one that is no ``int``."""
+    if isinstance(ew, bool) or not isinstance(ew, int):
+        raise TypeError(f"an EW code must be an integer, got {ew!r}")
+    if not -0x8000 <= ew <= 0x7FFF:
+        raise ValueError(f"EW code {ew} is outside -32768..32767 (an i16)")
     return I16.pack(ew)
 
 

@@ -70,7 +70,10 @@ class FaultsCleared(FixedPayload):
 def ew_of_text(text: str) -> int:
     """An EW code as typed on every front end (an ERROR fault's argument: the command line's
     ``--arg``, the page's box): by number (``17``, ``-1``, read as every whole number is) or by name
-    (``EW_PASSWD``, ``passwd``, any case); ValueError naming the text otherwise."""
+    (``EW_PASSWD``, ``passwd``, any case); ValueError naming the text otherwise, TypeError
+    for a value that is no ``str``."""
+    if not isinstance(text, str):
+        raise TypeError(f"an EW code as typed must be text (str), got {text!r}")
     try:
         return whole_number(text)
     except ValueError:

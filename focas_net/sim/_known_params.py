@@ -7,6 +7,9 @@ read a real parameter's mantissa as mm/min, or an axis parameter where it looks 
 :func:`param_type_problem` says what is wrong with such a parameter's type; every builder of a
 machine (a machine file, :class:`~focas_net.sim.Machine` itself) meets it.
 
+The diagnostics the machine computes while a program runs (410, 4901, 4902: the loads) are
+checked alike (:data:`KNOWN_DIAGS`).
+
 Parameter 1020 names each axis's program letter (``'X'`` is 88): :func:`axis_letter_problem`
 keeps its values and the machine's axes in agreement, at build and at every write. A control
 takes a new 1020 at the next power-on (PW0000); the simulated machine's axes are fixed when it
@@ -19,7 +22,10 @@ from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
 from typing import Final
 
-from ._items import DataItem, ParamKind
+from focas_net.errors import EW
+
+from ._base import MachineError
+from ._items import DataItem, Items, ParamKind
 
 __all__ = [
     "AXIS_NAME_PARAM",
@@ -28,6 +34,8 @@ __all__ = [
     "RENAME_REFUSED",
     "KnownParam",
     "axis_letter_problem",
+    "check_known",
+    "check_rename",
     "param_type_problem",
     "params_problem",
 ]
@@ -152,3 +160,18 @@ def params_problem(
             if problem is not None:
                 return f"parameter {AXIS_NAME_PARAM}: {problem}"
     return None
+
+
+def check_known(items: Items, axes: Sequence[str]) -> None:
+    """ValueError naming the first problem :func:`params_problem` finds (for builders)."""
+    problem = params_problem(items.params, items.diags, axes)
+    if problem is not None:
+        raise ValueError(problem)
+
+
+def check_rename(number: int, value: int, axis: str) -> None:
+    """EW_DATA with why when writing ``value`` to parameter ``number`` of the axis named
+    ``axis`` would rename the axis (parameter 1020 other than its letter)."""
+    renamed = number == AXIS_NAME_PARAM and axis_letter_problem(value, axis)
+    if renamed:
+        raise MachineError(EW.DATA, f"parameter {number}: {renamed}{RENAME_REFUSED}")

@@ -124,7 +124,7 @@ from ._identity import (
 from ._information import InformationOperations
 from ._items import MAX_REAL_DECIMALS as MAX_REAL_DECIMALS  # the native adapter's
 from ._items import PARTS_COUNT, PARTS_TOTAL, DataItem, Items, ParamKind
-from ._known_params import AXIS_NAME_PARAM, RENAME_REFUSED, axis_letter_problem, params_problem
+from ._known_params import check_known, check_rename
 from ._macros import MAX_MACRO_DECIMALS, MacroRange, Macros
 from ._modal import ModalOperations
 from ._password import ParamLock, Session, need_session
@@ -274,9 +274,7 @@ class Machine(
         self._station = Station(station or {})
         c = self._counters = Counters()
         self._items = Items(collected_params(params), collected_diags(diags), n, c)
-        problem = params_problem(self._items.params, self._items.diags, self.axes)
-        if problem is not None:
-            raise ValueError(problem)
+        check_known(self._items, self.axes)  # the types of what the machine reads, 1020
         self._collected = Collected()
         self._macros = Macros(macro_ranges, macro_values or {}, c)
         self._pmc = Pmc(pmc, c)
@@ -579,9 +577,7 @@ class Machine(
         if closed is not None:
             raise MachineError(EW.PASSWD, f"parameter write not enabled: {closed}")
         value = items.rescaled(item, value, decimals)
-        renamed = datano == AXIS_NAME_PARAM and axis_letter_problem(value, self.axes[i])
-        if renamed:
-            raise MachineError(EW.DATA, f"parameter {datano}: {renamed}{RENAME_REFUSED}")
+        check_rename(datano, value, self.axes[i])
         items.set(item, i, value, "parameter")
         if datano in TIMER_PARAMS:
             self._write_timer_param(datano, value, path)

@@ -525,6 +525,8 @@ def machine_from_dict(
     ``param_password`` and ``control_enabled``, when given, override the file. ``sim_clock``
     drives its programs; ``base`` is the folder a program's ``file`` is relative to (None:
     the current folder)."""
+    if not isinstance(data, Mapping):
+        raise TypeError(f"a machine file's data must be a mapping (parsed TOML), got {data!r}")
     root = _Ctx(path, "")
     top = _table(root, dict(data))
     _only(root, top, _TOP)

@@ -457,20 +457,15 @@ def _select_program(station: Station, args: Mapping[str, Any]) -> JsonDict:
     return {}
 
 
-def _digits(text: str) -> bool:
-    """Whether ``text`` is ASCII digits only (a number, not a name)."""
-    return text.isascii() and text.isdigit()
-
-
 def _inject_fault(station: Station, args: Mapping[str, Any]) -> JsonDict:
     """Arm a machine-wide fault with the checks of 0x0E05 inject_fault: a refused argument is
     ``EW_DATA`` with the reason :func:`~focas_net.server.faults.fault_refusal` gives every
     front end."""
     kinds = ", ".join(k.name for k in FaultKind)
     kind_text = _text(args, "kind", needed=f"one of {kinds}").strip().upper()
-    try:
-        kind = FaultKind[kind_text] if not _digits(kind_text) else FaultKind(int(kind_text))
-    except (KeyError, ValueError):
+    try:  # by its name, as `sim fault KIND` takes it (a number is none: "1" was a delay)
+        kind = FaultKind[kind_text]
+    except KeyError:
         names = ", ".join(k.name for k in FaultKind)
         raise ActionError(f"kind: one of {names}, got {kind_text!r}") from None
     count = _int(args, "count", 1)
