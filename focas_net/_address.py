@@ -1,6 +1,6 @@
 """An address typed, checked once for every front end: :func:`check_host` (the clients, the
-server's bind address, the command line's ``--host``, the gateway's file, the dashboard's ``--web``), :func:`check_port`
-and :func:`address_text`. It knows no protocol and no machine.
+server's bind address, the command line's ``--host``, the gateway's file, the dashboard's
+``--web``), :func:`check_port` and :func:`address_text`. It knows no protocol and no machine.
 
 A host is a name (at most 253 characters, parts of 1..63 between dots), an IPv4 address or an
 IPv6 address (``::1``, or ``[::1]`` in brackets). A host with a port (``127.0.0.1:8193``,
