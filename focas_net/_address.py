@@ -1,6 +1,7 @@
 """An address typed, checked once for every front end: :func:`check_host` (the clients, the
 server's bind address, the command line's ``--host``, the gateway's file, the dashboard's
-``--web``), :func:`check_port` and :func:`address_text`. It knows no protocol and no machine.
+``--web``), :func:`check_port` and :func:`address_text`. It knows no protocol and no
+machine.
 
 A host is a name (at most 253 characters, parts of 1..63 between dots), an IPv4 address or an
 IPv6 address (``::1``, or ``[::1]`` in brackets). A host with a port (``127.0.0.1:8193``,
@@ -81,32 +82,35 @@ def host_and_port(text: str) -> tuple[str, str] | None:
     return None
 
 
-def port_words(port: str) -> str | None:
+def port_words(port: str, lowest: int = 1) -> str | None:
     """Why ``port``, typed after a host's colon, is no port a client connects to (None: it
-    is one, 1..65535 in ASCII digits)."""
+    is one, 1..65535 in ASCII digits; ``lowest`` 0 for a server, which listens on port 0
+    too)."""
     if not port:
         return "with nothing after its colon"
     if port.isascii() and port.isdigit():
-        if 1 <= int(port) <= 0xFFFF:
+        if lowest <= int(port) <= 0xFFFF:
             return None
-        return "and a port outside 1..65535"
+        return f"and a port outside {lowest}..65535"
     return f"a colon and {shown(port, 12)}, which is no port number"
 
 
-def split_advice(split: tuple[str, str], options: bool) -> str:
+def split_advice(split: tuple[str, str], options: bool, lowest: int = 1) -> str:
     """What to say of a host typed with a colon and a port, ``split``, and what to give
     instead: as the command line's options (``options``) or as a client's arguments. A
-    port that is none (``localhost:``, ``127.0.0.1:99999``) is never suggested."""
+    port that is none (``localhost:``, ``127.0.0.1:99999``) is never suggested; ``lowest``
+    as :func:`port_words`'s."""
     name, port = split
-    why = port_words(port)
+    why = port_words(port, lowest)
+    ports = f"{lowest}..65535"
     if why is None:
         if options:
             return f"is a host and a port: give --host {name} --port {port}"
         return f"is a host and a port: give the host {name!r} and the port {port} apart"
     what = f"is a host {why}" if not why.startswith("a colon") else f"is a host, {why}"
     if options:
-        return f"{what}: give --host {name} and --port 1..65535"
-    return f"{what}: give the host {name!r} and a port 1..65535 apart"
+        return f"{what}: give --host {name} and --port {ports}"
+    return f"{what}: give the host {name!r} and a port {ports} apart"
 
 
 def url_advice(url: tuple[str, str | None], options: bool) -> str:
@@ -125,8 +129,9 @@ def url_advice(url: tuple[str, str | None], options: bool) -> str:
     return f"give {given}, without a scheme"
 
 
-def check_host(text: object) -> str:
-    """The host ``text`` names (an IPv6 address without its brackets).
+def check_host(text: object, lowest: int = 1) -> str:
+    """The host ``text`` names (an IPv6 address without its brackets); ``lowest``: the
+    lowest port a host typed with one is told to give apart (0 for a server).
 
     :raises TypeError: not a ``str``.
     :raises ValueError: empty, a host with a port, or not a name or an address (each naming
@@ -139,7 +144,7 @@ def check_host(text: object) -> str:
         raise ValueError(f"host {shown(text)} is a URL: {url_advice(url, False)}")
     split = host_and_port(text)
     if split:
-        raise ValueError(f"host {shown(text)} {split_advice(split, False)}")
+        raise ValueError(f"host {shown(text)} {split_advice(split, False, lowest)}")
     host = text
     if host.startswith("[") and host.endswith("]"):
         host = host[1:-1]

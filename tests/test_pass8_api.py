@@ -4,6 +4,7 @@ ranges, refused alike wherever the same rule applies, naming what was given."""
 
 from __future__ import annotations
 
+import asyncio
 import re
 from collections.abc import AsyncIterator, Awaitable, Callable
 from decimal import Decimal
@@ -18,12 +19,14 @@ from focas_net import (
     CncError,
     FocasClient,
     FocasServer,
+    FocasTimeoutError,
     MachineError,
     NativeClient,
     NativeServer,
     default_machine,
     load_machine,
 )
+from focas_net.client._locks import KeyedLocks
 from focas_net.protocol import alarm_code, alarm_type_of, encode_ew, ew_of_text
 from focas_net.server import ListenError
 from focas_net.sim import MAX_HISTORY_CAPACITY, Machine, machine_from_dict
@@ -576,3 +579,51 @@ def test_the_protocols_helpers_name_an_argument_of_another_type(
         call()
     assert str(refused.value) == words
     assert alarm_code(6, 411) == "SV0411" and encode_ew(-1) == b"\xff\xff"
+
+
+def test_a_manual_clocks_repr_is_where_it_stands() -> None:
+    clock = ManualClock(10)
+    clock.advance(2.5)
+    assert repr(clock) == "ManualClock(12.5)"
+
+
+# -- a bit write that waited for another past its deadline ---------------------------------------
+async def test_a_lock_not_freed_in_time_names_the_address_not_its_key() -> None:
+    locks: KeyedLocks[tuple[int, int]] = KeyedLocks()
+    passed = asyncio.get_running_loop().time() - 1.0  # a deadline already gone
+    async with locks.hold((4, 100)):
+        with pytest.raises(FocasTimeoutError) as waited:
+            async with locks.hold((4, 100), passed, "R100"):
+                pytest.fail("the lock is held")
+    assert str(waited.value) == (
+        "R100: another bit write of this client held it past the call's deadline "
+        "(no request was sent)"
+    )
+    assert len(locks) == 0
+
+
+@pytest.mark.parametrize(
+    ("kwargs", "words"),
+    [
+        (
+            {"port": 41001, "native_port": 41002},
+            "port 41002 would be both the port of machine 1 and the native port of machine 0",
+        ),
+        (
+            {"ports": [41011, 41011]},
+            "port 41011 would be both the port of machine 0 and the port of machine 1",
+        ),
+    ],
+)
+def test_a_fleets_ports_that_repeat_are_refused_before_anything_listens(
+    kwargs: dict[str, Any], words: str
+) -> None:
+    machines = [default_machine("m0"), default_machine("m1")]
+    with pytest.raises(ValueError, match=re.escape(words) + ": each listens on a port of its own"):
+        FocasServer(machines, **kwargs)
+
+
+async def test_ports_of_zero_repeat_freely() -> None:
+    machines = [default_machine("m0"), default_machine("m1")]
+    async with FocasServer(machines, ports=[0, 0], native_port=0) as server:
+        assert len({port for _, port in server.addresses}) == 2

@@ -30,6 +30,8 @@ from focas_net.cli import EXIT_PROTOCOL, _reasons, _run, _signals, build_parser
 from focas_net.cli._args import parse_host
 from focas_net.client import FocasClient, NativeClient
 from focas_net.errors import EW, CncError, ProtocolError
+from focas_net.server import FocasServer
+from focas_net.sim import default_machine
 
 #: Upper bound of a subprocess's start (an interpreter and the package imported) and end.
 PROCESS_TIMEOUT: Final = 30.0
@@ -302,3 +304,39 @@ async def test_a_host_with_a_colon_and_no_port_at_the_command_line() -> None:
         "focas-net status: error: argument --host: '127.0.0.1:' is a host with nothing after "
         "its colon: give --host 127.0.0.1 and --port 1..65535; see focas-net status --help"
     )
+
+
+def test_a_host_to_listen_on_typed_with_port_0_points_to_port_0() -> None:
+    """A server listens on port 0 too (an ephemeral port): ``serve --host 127.0.0.1:0`` and
+    ``FocasServer(host="127.0.0.1:0")`` are told to give it apart, not that it is none."""
+    parser = build_parser()
+    with pytest.raises(SystemExit):
+        parser.parse_args(["serve", "--host", "127.0.0.1:0"])
+    with pytest.raises(ValueError, match=r"^'127\.0\.0\.1:0' is a host and a port: give --host"):
+        parse_host("127.0.0.1:0", lowest=0)
+    with pytest.raises(ValueError, match=r"and the port 0 apart$"):
+        FocasServer([default_machine()], host="127.0.0.1:0")
+    with pytest.raises(ValueError, match=r"outside 0\.\.65535: give --host 127\.0\.0\.1 and"):
+        parse_host("127.0.0.1:65536", lowest=0)
+
+
+# -- seconds typed as docs/cli.md's "Numbers as typed" says ----------------------------------
+
+
+@pytest.mark.parametrize(
+    ("argv", "option", "seconds"),
+    [
+        ("status --timeout 0x2", "timeout", 2.0),
+        ("status --timeout 0b11", "timeout", 3.0),
+        ("alarms --follow --interval 0o2", "interval", 2.0),
+        ("serve --grace-period 0x5", "grace_period", 5.0),
+        ("serve --idle-timeout 0x0", "idle_timeout", 0.0),
+    ],
+)
+def test_a_whole_number_of_seconds_in_hex_binary_or_octal_is_taken(
+    argv: str, option: str, seconds: float
+) -> None:
+    """Every number a command takes is read by one rule, seconds too: ``--timeout 0x2`` was
+    refused as `not a number`, though ``--port 0x2001`` and ``macro set 100 0x10`` took it."""
+    args = build_parser().parse_args(argv.split())
+    assert getattr(args, option) == seconds

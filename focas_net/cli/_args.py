@@ -28,7 +28,7 @@ from focas_net._address import (
     url_address,
     url_advice,
 )
-from focas_net._typed import decimal_number, rapid_step
+from focas_net._typed import rapid_step, typed_number
 from focas_net.client._failures import os_reason
 from focas_net.client._values import check_path
 from focas_net.protocol import PmcArea
@@ -50,6 +50,7 @@ __all__ = [
     "HOST",
     "INT",
     "INTERVAL",
+    "LISTEN_HOST",
     "LISTEN_PORT",
     "LOG_LEVEL",
     "LOG_LEVELS",
@@ -311,9 +312,10 @@ def parse_file_name(text: str) -> str:
 
 
 def _number(text: str) -> float:
-    """A number of seconds as every front end reads number text (digits, a sign, a point; no
-    exponent, NaN or infinity: :func:`focas_net._typed.decimal_number`)."""
-    value = float(decimal_number(text))
+    """A number of seconds as every front end reads number text (digits, a sign, a point, or
+    a whole number in ``0x``/``0b``/``0o``; no exponent, NaN or infinity:
+    :func:`focas_net._typed.typed_number`)."""
+    value = float(typed_number(text))
     if math.isinf(value):
         raise ValueError(f"must be finite, got {text.strip()}")
     return value
@@ -342,16 +344,17 @@ def parse_interval(text: str) -> float:
     return value
 
 
-def parse_host(text: str) -> str:
+def parse_host(text: str, lowest: int = 1) -> str:
     """A host to connect to (:func:`~focas_net._address.check_host`), spaces around it
-    left out; a host with a port points to ``--port``."""
+    left out; a host with a port points to ``--port`` (``lowest``: 0 for a host to listen
+    on, whose port may be 0)."""
     url = url_address(text.strip())
     if url is not None:
         raise ValueError(f"{shown(text)} is a URL: {url_advice(url, True)}")
     split = host_and_port(text.strip())
     if split:
-        raise ValueError(f"{shown(text)} {split_advice(split, True)}")
-    return check_host(text.strip())
+        raise ValueError(f"{shown(text)} {split_advice(split, True, lowest)}")
+    return check_host(text.strip(), lowest)
 
 
 def parse_path(text: str) -> int:
@@ -401,6 +404,8 @@ FILE_NAME: Final = argument_type(parse_file_name, "file name")
 SECONDS: Final = argument_type(parse_seconds, "seconds")
 INTERVAL: Final = argument_type(parse_interval, "seconds")
 HOST: Final = argument_type(parse_host, "host")
+#: A host to listen on (``serve --host``): one typed with a port points to ``--port``, 0 too.
+LISTEN_HOST: Final = argument_type(partial(parse_host, lowest=0), "host")
 BOOL: Final = argument_type(fmt.parse_bool, "on/off")
 AREA: Final = argument_type(parse_area, "area")
 HISTORY_DEPTH: Final = argument_type(parse_history_depth, "depth")

@@ -34,7 +34,7 @@ from typing import TYPE_CHECKING, Any, Final
 
 import anyio
 
-from focas_net._typed import decimal_number
+from focas_net._typed import typed_number
 from focas_net.client._failures import os_reason
 from focas_net.protocol import PASSWORD_SIZE
 from focas_net.server import (
@@ -52,7 +52,7 @@ from ._args import (
     EXIT_CNC,
     EXIT_USAGE,
     FILE_NAME,
-    HOST,
+    LISTEN_HOST,
     LISTEN_PORT,
     LOG_LEVEL,
     NON_NEGATIVE,
@@ -94,10 +94,11 @@ _RESERVED_FILES: Final = 32
 
 
 def _typed(text: str) -> float:
-    """A number as every front end reads number text (no exponent, no NaN or infinity:
-    :func:`focas_net._typed.decimal_number`), its refusal argparse's one line."""
+    """A number as every front end reads number text (no exponent, no NaN or infinity; a
+    whole number in ``0x``/``0b``/``0o`` too: :func:`focas_net._typed.typed_number`), its
+    refusal argparse's one line."""
     try:
-        value = float(decimal_number(text))
+        value = float(typed_number(text))
     except ValueError as exc:
         raise argparse.ArgumentTypeError(str(exc)) from None
     if value in (float("inf"), float("-inf")):
@@ -173,7 +174,10 @@ def register(subparsers: Any) -> None:
         "FANUC's native FOCAS/2 Ethernet protocol, both on each machine's port.",
     )
     p.add_argument(
-        "--host", type=HOST, default=DEFAULT_HOST, help="address to bind (default %(default)s)"
+        "--host",
+        type=LISTEN_HOST,
+        default=DEFAULT_HOST,
+        help="address to bind (default %(default)s)",
     )
     p.add_argument(
         "--port",

@@ -303,7 +303,8 @@ class CompositeCalls(Lifecycle):
         on = check_bit_value(value)
         p = self._path_of(path)
         deadline = self._deadline(timeout)
-        async with self._param_locks.hold((number, axis, p), deadline):
+        held = f"parameter {number}" + (f" axis {axis}" if axis else "")
+        async with self._param_locks.hold((number, axis, p), deadline, held):
             current = await self._read_param_value(number, axis, deadline, p)
             width = current.width
             if width == REAL_WIDTH:
@@ -374,7 +375,7 @@ class CompositeCalls(Lifecycle):
         check_pmc_range(byte, 1)
         on = check_bit_value(value)
         deadline = self._deadline(timeout)
-        async with self._pmc_locks.hold((a.value, byte), deadline):
+        async with self._pmc_locks.hold((a.value, byte), deadline, f"{a.name}{byte}"):
             current = (await self._read_pmc(a, byte, 1, deadline))[0]
             new = current | (1 << bit) if on else current & ~(1 << bit)
             (outcome,) = await self._write_pmc_chunks(a, [(byte, bytes((new,)))], deadline)

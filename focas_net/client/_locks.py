@@ -64,8 +64,12 @@ class KeyedLocks(Generic[K]):
         return len(self._entries)
 
     @asynccontextmanager
-    async def hold(self, key: K, deadline: float | None = None) -> AsyncIterator[None]:
-        """Hold the lock of ``key``; waiting for it counts towards ``deadline``."""
+    async def hold(
+        self, key: K, deadline: float | None = None, what: str | None = None
+    ) -> AsyncIterator[None]:
+        """Hold the lock of ``key``; waiting for it counts towards ``deadline``. ``what`` names
+        the key for a user (``R100``) when the deadline passes while waiting (the key's repr
+        otherwise)."""
         entries = self._entries
         entry = entries.get(key)
         if entry is None:
@@ -80,7 +84,10 @@ class KeyedLocks(Generic[K]):
                         await waiter
                 except TimeoutError:
                     entry.leave_line(waiter)
-                    raise FocasTimeoutError(f"lock of {key!r} not free in time") from None
+                    raise FocasTimeoutError(
+                        f"{what or repr(key)}: another bit write of this client held it past "
+                        "the call's deadline (no request was sent)"
+                    ) from None
                 except BaseException:
                     entry.leave_line(waiter)
                     raise

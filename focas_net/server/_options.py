@@ -38,7 +38,7 @@ def check_server_options(options: dict[str, object]) -> None:
     host = options["host"]
     if not isinstance(host, str):
         raise TypeError(f"host must be a str (an address or a name), got {host!r}")
-    check_host(host)  # the clients' and the command line's words for a host that is none
+    check_host(host, 0)  # the clients' and the command line's words for a host that is none
     for name in _INTS:
         if not _is_int(options[name]):
             raise TypeError(f"{name} must be an integer, got {options[name]!r}")

@@ -392,6 +392,25 @@ def _machines(machines: Machine | Iterable[Machine] | None) -> list[Machine]:
     return result
 
 
+def _check_distinct(ports: list[int] | None, native_ports: list[int] | None) -> None:
+    """Each fixed port the server would listen on is one port's only: ValueError naming the
+    two it would be (``native port 8194 of machine 0 is the port of machine 1``) before
+    anything listens, rather than the system's ``address already in use`` for the server's
+    own port. Port 0 (any free port) repeats freely."""
+    taken: dict[int, str] = {}
+    named = [(p, f"the port of machine {i}") for i, p in enumerate(ports or [])]
+    named += [(p, f"the native port of machine {i}") for i, p in enumerate(native_ports or [])]
+    for port, what in named:
+        if port == 0:
+            continue
+        if port in taken:
+            raise ValueError(
+                f"port {port} would be both {taken[port]} and {what}: each listens on a port "
+                "of its own"
+            )
+        taken[port] = what
+
+
 class FocasServer:
     """Serve simulated machines over both protocols, one listening port per machine.
 
@@ -497,7 +516,8 @@ class FocasServer:
         for p in (self._ports or []) + (self._native_ports or []):
             if not 0 <= p <= 65_535:
                 raise ValueError(f"port {p} outside 0..65535")
-        self.host = check_host(host)  # an IPv6 address without its brackets
+        _check_distinct(self._ports, self._native_ports)
+        self.host = check_host(host, 0)  # an IPv6 address without its brackets
         self.ssl = ssl
         self.max_frame = max_frame
         self.max_connections = max_connections

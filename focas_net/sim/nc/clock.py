@@ -83,6 +83,10 @@ class ManualClock:
     def __init__(self, start: float = 0.0) -> None:
         self._now = _seconds("start", start)
 
+    def __repr__(self) -> str:
+        """``ManualClock(12.5)``: the clock as built to stand where it stands."""
+        return f"ManualClock({self._now!r})"
+
     def now(self) -> float:
         return self._now
 
