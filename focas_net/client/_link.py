@@ -202,6 +202,7 @@ class Link(CompositeCalls):
             return
         if self._policy is None:
             logger.warning("connection to %s lost: %s", self.address, exc or "closed")
+            self._lost_why = conn.end or exc
             self._set_state(ClientState.DISCONNECTED)
             return
         self._reconnecting(conn.end or exc)

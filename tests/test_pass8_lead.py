@@ -1,0 +1,61 @@
+"""A client's refusal for want of a connection says what to do or why it was lost, on both
+transports; the machine names an axis beyond the path with the path's count."""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+
+import pytest
+
+from focas_net.client import FocasClient, NativeClient
+from focas_net.errors import EW, FocasConnectionError
+from focas_net.server import FocasServer
+from focas_net.sim import (
+    MachineError,
+    default_machine,
+)
+
+Client = Callable[[str, int], FocasClient | NativeClient]
+CLIENTS: list[Client] = [FocasClient, NativeClient]
+
+
+@pytest.mark.parametrize("make", CLIENTS, ids=["packed", "native"])
+async def test_a_client_never_connected_says_how_to_connect(make: Client) -> None:
+    client = make("127.0.0.1", 8193)
+    with pytest.raises(FocasConnectionError) as caught:
+        await client.read_status()
+    assert str(caught.value) == (
+        "not connected to 127.0.0.1:8193: call connect() first, or use `async with`"
+    )
+
+
+@pytest.mark.parametrize("make", CLIENTS, ids=["packed", "native"])
+async def test_a_client_without_reconnect_says_why_its_link_was_lost(make: Client) -> None:
+    server = FocasServer(default_machine(), host="127.0.0.1", port=0)
+    await server.start()
+    port = server.addresses[0][1]
+    client = make("127.0.0.1", port)
+    try:
+        await client.connect()
+        await client.read_status()
+        await server.aclose()
+        for _ in range(2):  # the loss is seen by the first call or before it; both say why
+            with pytest.raises(FocasConnectionError) as caught:
+                await client.read_status()
+        text = str(caught.value)
+        assert text.startswith(f"not connected to 127.0.0.1:{port} (connection closed by")
+        assert client.lost_reason is not None and str(client.lost_reason) in text
+    finally:
+        await client.aclose()
+        await server.aclose()
+
+
+def test_the_machine_names_an_axis_beyond_the_path_with_the_count() -> None:
+    machine = default_machine()
+    count = len(machine.positions("absolute"))
+    with pytest.raises(MachineError) as caught:
+        machine.positions("absolute", axis=count + 1)
+    assert caught.value.ew == EW.ATTRIB
+    assert str(caught.value).endswith(
+        f"axis {count + 1} is outside 1..{count}: the path has {count} axes"
+    )
