@@ -72,20 +72,38 @@ def _slots() -> asyncio.Semaphore:
     return _SLOTS[loop]
 
 
+@asynccontextmanager
+async def killed_at_exit(
+    proc: asyncio.subprocess.Process,
+) -> AsyncIterator[asyncio.subprocess.Process]:
+    """``proc`` for the block; killed (and waited for) at its end unless it ended already:
+    a test that fails or times out leaves no process behind."""
+    try:
+        yield proc
+    finally:
+        if proc.returncode is None:
+            proc.kill()
+            await proc.wait()
+
+
+async def focas_net_process(
+    *argv: str, stdout: Any = asyncio.subprocess.PIPE, **kwargs: Any
+) -> asyncio.subprocess.Process:
+    """``python -m focas_net ARGV`` started (stderr piped; ``stdout`` and the other keywords
+    as :func:`asyncio.create_subprocess_exec` takes them); end it with
+    :func:`killed_at_exit`."""
+    return await asyncio.create_subprocess_exec(
+        sys.executable, "-m", "focas_net", *argv,
+        stdout=stdout, stderr=asyncio.subprocess.PIPE, **kwargs,
+    )  # fmt: skip
+
+
 async def run_focas_net(*argv: str, seconds: float = SUBPROCESS_TIMEOUT) -> tuple[int, str, str]:
     """``python -m focas_net ARGV``: exit code, stdout, stderr (killed after ``seconds``)."""
     async with _slots():
-        proc = await asyncio.create_subprocess_exec(
-            sys.executable, "-m", "focas_net", *argv,
-            stdout=asyncio.subprocess.PIPE, stderr=asyncio.subprocess.PIPE,
-        )  # fmt: skip
-        try:
+        async with killed_at_exit(await focas_net_process(*argv)) as proc:
             async with asyncio.timeout(seconds):
                 out, err = await proc.communicate()
-        finally:
-            if proc.returncode is None:
-                proc.kill()
-                await proc.wait()
     assert proc.returncode is not None
     return proc.returncode, out.decode(), err.decode()
 
@@ -147,17 +165,9 @@ class Gateway:
 async def gateway_process(*argv: str) -> AsyncIterator[Gateway]:
     """``focas-net gateway *argv`` in a process of its own, once it printed its ready line;
     killed at the end unless :meth:`Gateway.stop` ended it."""
-    proc = await asyncio.create_subprocess_exec(
-        sys.executable, "-m", "focas_net", "gateway", *argv,
-        stdout=asyncio.subprocess.PIPE, stderr=asyncio.subprocess.PIPE,
-        env={**os.environ, "PYTHONUNBUFFERED": "1"},
-    )  # fmt: skip
+    proc = await focas_net_process("gateway", *argv, env={**os.environ, "PYTHONUNBUFFERED": "1"})
     assert proc.stdout is not None
-    try:
+    async with killed_at_exit(proc):
         async with asyncio.timeout(SUBPROCESS_TIMEOUT):
             ready = (await proc.stdout.readline()).decode()
         yield Gateway(proc, ready)
-    finally:
-        if proc.returncode is None:
-            proc.kill()
-            await proc.wait()

@@ -9,6 +9,7 @@ from __future__ import annotations
 import asyncio
 import struct
 from collections.abc import AsyncIterator
+from decimal import Decimal
 
 import pytest
 from peers import RDPARAM, STATUS, ScriptedPeer, tiny_cnc
@@ -29,11 +30,14 @@ from focas_net.protocol import (
     Command,
     EwReply,
     Frame,
+    ParamAttributes,
+    ParamDataType,
     encode_frame,
 )
 
 BOUND = 10.0  # upper bound for waits that must end much sooner; keeps a broken test finite
 WRPARAM = int(Command.WRPARAM)
+RDPARAINFO = int(Command.RDPARAINFO)
 
 
 @pytest.fixture
@@ -250,42 +254,83 @@ async def test_password_retry_once_on_ew_passwd(peer: ScriptedPeer) -> None:
         assert info.value.ew == EW.PASSWD
 
 
-async def test_write_param_learns_the_width_by_one_read_and_keeps_it(
+def _sent_since(peer: ScriptedPeer, first: int) -> list[tuple[int, int]]:
+    """``(command, parameter)`` of each frame received from ``first`` on."""
+    return [
+        (f.command, COMMANDS[f.command].request.decode(f.payload).datano)
+        for f in peer.received[first:]
+    ]
+
+
+def _typed_cnc(frame: Frame, p: ScriptedPeer) -> bytes | None:
+    """:func:`tiny_cnc` that tells each parameter's type: a two-word parameter."""
+    if frame.command == RDPARAINFO:
+        number = COMMANDS[RDPARAINFO].request.decode(frame.payload).datano
+        attrs = ParamAttributes(number, ParamDataType.TWO_WORD, 0, 0, -(2**31), 2**31 - 1)
+        return COMMANDS[RDPARAINFO].response.encode(attrs)
+    return tiny_cnc(frame, p)
+
+
+async def test_write_param_learns_the_width_from_the_type_and_keeps_it(
     peer: ScriptedPeer, client: FocasClient
 ) -> None:
-    """Without ``width=``, the first write of a parameter reads it once to learn its width (4
-    bytes here) and later writes use the width kept; a read keeps it too; a write answered
-    ``EW_LENGTH`` drops it, so the next write learns it again."""
-
-    def sent_since(first: int) -> list[tuple[int, int]]:
-        """``(command, parameter)`` of each frame received from ``first`` on."""
-        return [
-            (f.command, COMMANDS[f.command].request.decode(f.payload).datano)
-            for f in peer.received[first:]
-        ]
-
+    """Without ``width=``, the first write of a parameter asks its type once
+    (``cnc_rdparainfo``, which needs no axis, as FOCAS/2's ``cnc_wrparam`` asks it) for its
+    width (4 bytes here), and later writes use what was kept; a read keeps the width too; a
+    write answered ``EW_LENGTH`` drops what was kept, so the next write asks again."""
+    peer.answer = _typed_cnc
     await client.write_param(6711, 1234)
-    assert sent_since(0) == [(RDPARAM, 6711), (WRPARAM, 6711)]
+    assert _sent_since(peer, 0) == [(RDPARAINFO, 6711), (WRPARAM, 6711)]
     written = COMMANDS[Command.WRPARAM].request.decode(peer.received[-1].payload)
     assert (written.value, written.width) == (1234, 4)
     await client.write_param(6711, 99)
-    assert sent_since(2) == [(WRPARAM, 6711)]  # the width kept
+    assert _sent_since(peer, 2) == [(WRPARAM, 6711)]  # the type kept
     assert await client.read_param(20) == 20
     await client.write_param(20, 3)
-    assert sent_since(3) == [(RDPARAM, 20), (WRPARAM, 20)]  # the width kept by the read
+    assert _sent_since(peer, 3) == [(RDPARAM, 20), (WRPARAM, 20)]  # the width kept by the read
 
     def refuse_length(frame: Frame, p: ScriptedPeer) -> bytes | None:
         if frame.command == WRPARAM:
             return COMMANDS[WRPARAM].response.encode(EwReply(EW.LENGTH))
-        return tiny_cnc(frame, p)
+        return _typed_cnc(frame, p)
 
     peer.answer = refuse_length
     with pytest.raises(CncError) as info:
         await client.write_param(6711, 5)
     assert info.value.ew == EW.LENGTH
-    peer.answer = tiny_cnc
+    peer.answer = _typed_cnc
     await client.write_param(6711, 6)
-    assert sent_since(5) == [(WRPARAM, 6711), (RDPARAM, 6711), (WRPARAM, 6711)]
+    assert _sent_since(peer, 5) == [(WRPARAM, 6711), (RDPARAINFO, 6711), (WRPARAM, 6711)]
+    with pytest.raises(ValueError, match=r"^parameter 7000 is not a real parameter: 1\.5 is no"):
+        await client.write_param(7000, Decimal("1.5"))  # refused by the type, no axis needed
+    assert _sent_since(peer, 8) == [(RDPARAINFO, 7000)]
+
+
+async def test_write_param_of_a_cnc_that_cannot_tell_the_type_learns_the_width_by_a_read(
+    peer: ScriptedPeer, client: FocasClient
+) -> None:
+    """``cnc_rdparainfo`` answered ``EW_FUNC``: the width is the one of one read, kept."""
+    await client.write_param(6711, 1234)
+    assert _sent_since(peer, 0) == [(RDPARAINFO, 6711), (RDPARAM, 6711), (WRPARAM, 6711)]
+    await client.write_param(6711, 99)
+    assert _sent_since(peer, 3) == [(WRPARAM, 6711)]
+
+
+async def test_a_refusal_of_the_type_ask_is_the_writes(
+    peer: ScriptedPeer, client: FocasClient
+) -> None:
+    """The CNC has no such parameter: the refusal names ``cnc_wrparam``, as on FOCAS/2."""
+
+    def no_parameter(frame: Frame, p: ScriptedPeer) -> bytes | None:
+        if frame.command == RDPARAINFO:
+            return COMMANDS[RDPARAINFO].response.encode(EwReply(EW.NUMBER))
+        return tiny_cnc(frame, p)
+
+    peer.answer = no_parameter
+    with pytest.raises(CncError) as info:
+        await client.write_param(9999, 1)
+    assert (info.value.ew, info.value.detail) == (EW.NUMBER, "cnc_wrparam")
+    assert _sent_since(peer, 0) == [(RDPARAINFO, 9999)]
 
 
 async def test_wrong_password_fails_connect(peer: ScriptedPeer) -> None:

@@ -45,7 +45,7 @@ from focas_net.errors import (
     FocasConnectionError,
     FocasTimeoutError,
 )
-from focas_net.protocol import Command
+from focas_net.protocol import Command, FrameDecoder, encode_frame
 
 SHORT = 0.05  # a timeout meant to pass while the peer holds the answer back
 FAST = ReconnectPolicy(initial_delay=0.0, max_delay=0.01, jitter=0.0)
@@ -493,8 +493,9 @@ class RecordedPolicy(ReconnectPolicy):
 
 async def _record_reconnects(stable_after: float, attempts: int) -> list[Event]:
     """Connect to a server whose first connection stays up until dropped and whose later ones
-    are closed as soon as they are accepted; return the reconnect attempts and state changes
-    seen until ``attempts`` attempts were made."""
+    answer their first request (EW_FUNC, as a server without simulator control answers the
+    reconnect's own request) and are closed right after; return the reconnect attempts and
+    state changes seen until ``attempts`` attempts were made."""
     loop = asyncio.get_running_loop()
     accepted: list[asyncio.Transport] = []
 
@@ -502,8 +503,14 @@ async def _record_reconnects(stable_after: float, attempts: int) -> list[Event]:
         def connection_made(self, transport: asyncio.BaseTransport) -> None:
             assert isinstance(transport, asyncio.Transport)
             accepted.append(transport)
-            if len(accepted) > 1:
-                transport.close()  # accepted, then closed at once
+            self.transport = transport
+            self.frames = FrameDecoder()
+
+        def data_received(self, data: bytes) -> None:
+            for frame in self.frames.feed(data):
+                if len(accepted) > 1:  # answered, then closed at once
+                    self.transport.write(encode_frame(frame.command, frame.request_id, b"\x01\x00"))
+                    self.transport.close()
 
     server = await loop.create_server(Closer, "127.0.0.1", 0)
     port = server.sockets[0].getsockname()[1]
@@ -531,9 +538,9 @@ async def _record_reconnects(stable_after: float, attempts: int) -> list[Event]:
 
 
 async def test_backoff_goes_on_while_connections_close_at_once() -> None:
-    """Every reconnect is accepted and closed at once: the backoff is not reset by those
-    short connections, so the delays grow (up to ``max_delay``) instead of the server being
-    retried every ``initial_delay`` for ever."""
+    """Every reconnect is accepted, answered once and closed: the backoff is not reset by
+    those short connections, so the delays grow (up to ``max_delay``) instead of the server
+    being retried every ``initial_delay`` for ever."""
     events = await _record_reconnects(stable_after=3600.0, attempts=6)
     steps = [n for _, n in events if isinstance(n, int)]
     assert steps[:6] == [0, 1, 2, 3, 4, 5]

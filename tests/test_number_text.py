@@ -156,7 +156,7 @@ async def test_a_parameter_value_with_an_exponent_is_refused_on_every_front_end(
         perform(Station(0, machine), "write_param", {"number": 1420, "axis": 1, "value": typed})
     assert str(page.value) == f"value: {verdict}"
     line = await fails(EXIT_USAGE, "param", "set", "1420", typed, "--axis", "1", *at(server))
-    assert line == f"focas-net: {verdict}"
+    assert line == f"focas-net: VALUE: {verdict}"  # (named as --help names it; the page: value)
     assert machine.read_param(1420, 1) == before
 
 

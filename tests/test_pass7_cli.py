@@ -10,12 +10,20 @@ from __future__ import annotations
 import asyncio
 import os
 import signal
-import sys
 from decimal import Decimal
 from pathlib import Path
 
 import pytest
-from cli_support import SUBPROCESS_TIMEOUT, at, fails, ok, one_line, run_focas_net
+from cli_support import (
+    SUBPROCESS_TIMEOUT,
+    at,
+    fails,
+    focas_net_process,
+    killed_at_exit,
+    ok,
+    one_line,
+    run_focas_net,
+)
 from support import LoopbackPeer, Served, serving
 
 from focas_net._typed import MAX_DIGITS, decimal_number, whole_number
@@ -134,20 +142,11 @@ class _Silent(LoopbackPeer):
 async def _interrupted(*argv: str, signum: int = signal.SIGINT) -> tuple[int, str, str]:
     """``focas-net ARGV`` against a peer that never answers, sent ``signum`` once it asked."""
     async with _Silent() as peer:
-        proc = await asyncio.create_subprocess_exec(
-            sys.executable, "-m", "focas_net", *argv, "--port", str(peer.port),
-            "--timeout", "60",
-            stdout=asyncio.subprocess.PIPE, stderr=asyncio.subprocess.PIPE,
-        )  # fmt: skip
-        try:
-            async with asyncio.timeout(SUBPROCESS_TIMEOUT):
-                await peer.seen.wait()
-                proc.send_signal(signum)
-                out, err = await proc.communicate()
-        finally:
-            if proc.returncode is None:
-                proc.kill()
-                await proc.wait()
+        proc = await focas_net_process(*argv, "--port", str(peer.port), "--timeout", "60")
+        async with killed_at_exit(proc), asyncio.timeout(SUBPROCESS_TIMEOUT):
+            await peer.seen.wait()
+            proc.send_signal(signum)
+            out, err = await proc.communicate()
     assert proc.returncode is not None
     return proc.returncode, out.decode(), err.decode()
 
@@ -269,14 +268,12 @@ async def test_alarms_follow_ends_when_its_reader_goes_away(
     """As ``watch`` does: the first event written after the reader closed (``| head -1``)
     ends it, exit 0, where it went on polling for ever."""
     reader, writer = os.pipe()
-    proc = await asyncio.create_subprocess_exec(
-        sys.executable, "-m", "focas_net", "alarms", "--follow", "--interval", "0.05",
-        *protocol, *at(server),
-        stdout=writer, stderr=asyncio.subprocess.PIPE,
-    )  # fmt: skip
+    proc = await focas_net_process(
+        "alarms", "--follow", "--interval", "0.05", *protocol, *at(server), stdout=writer
+    )
     os.close(writer)
     try:
-        async with asyncio.timeout(SUBPROCESS_TIMEOUT):
+        async with killed_at_exit(proc), asyncio.timeout(SUBPROCESS_TIMEOUT):
             await ok("sim", "alarm", "PS0101", *at(server))
             first = await asyncio.to_thread(os.read, reader, 4096)
             assert first == b"raised   PS0101\n"
@@ -288,9 +285,6 @@ async def test_alarms_follow_ends_when_its_reader_goes_away(
     finally:
         if reader >= 0:
             os.close(reader)
-        if proc.returncode is None:
-            proc.kill()
-            await proc.wait()
 
 
 @pytest.mark.parametrize(

@@ -65,6 +65,7 @@ __all__ = [
     "SECONDS",
     "Parser",
     "argument_type",
+    "choice",
     "command_parser",
     "parse_area",
     "parse_bounded",
@@ -232,6 +233,20 @@ def argument_type(parse: Callable[[str], T], what: str) -> Callable[[str], T]:
             raise argparse.ArgumentTypeError(str(exc)) from None
 
     convert.__name__ = what  # argparse names the type in its messages
+    return convert
+
+
+def choice(choices: Sequence[str], what: str) -> Callable[[str], str]:
+    """An ``argparse`` type for an argument with ``choices`` (their names in lower case): a
+    name in any case, spaces around it left out, as every name the command line takes is read
+    (a mode, a PMC area, an EW code, ``serve --log-level``); anything else is left as typed,
+    for the parser's refusal, which names it and lists the choices."""
+
+    def convert(text: str) -> str:
+        name = text.strip().lower()
+        return name if name in choices else text
+
+    convert.__name__ = what
     return convert
 
 

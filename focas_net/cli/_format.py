@@ -519,16 +519,25 @@ def parse_number_bit(
     text: str, expected: str = "NUMBER or NUMBER.BIT (e.g. 1815 or 1815.0)"
 ) -> tuple[int, int | None]:
     """``"1815"`` -> ``(1815, None)``; ``"1815.0"`` -> ``(1815, 0)``; ``expected`` names the
-    argument as its command's help does."""
+    argument as its command's help does. The number is read as every whole number is
+    (:func:`parse_int`: ``0x717`` too, as ``diag 0x12c`` and ``pmc read R 0x10`` read theirs;
+    a negative one is the client's range check to refuse, in its words)."""
     s = text.strip()
     number, dot, bit = s.partition(".")
-    if not (number.isascii() and number.isdigit()):
-        raise ValueError(f"expected {expected}, got {text!r}")
+    try:
+        value = parse_int(number)
+    except ValueError as exc:
+        # the rule's own reason where it has one (nothing typed, too many digits, a digit
+        # beyond ASCII), after the form the argument takes
+        why = str(exc)
+        rest = why.removeprefix(f"not a whole number: {number!r}")
+        detail = f" ({why})" if rest == why else rest
+        raise ValueError(f"expected {expected}, got {text!r}{detail}") from None
     if dot and not (bit.isascii() and bit.isdigit()):
         raise ValueError(
             f"{text!r}: the bit after the dot must be a bit number (0..7 of a byte), got {bit!r}"
         )
-    return int(number), (int(bit) if dot else None)
+    return value, (int(bit) if dot else None)
 
 
 def parse_bool(text: str) -> bool:

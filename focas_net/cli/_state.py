@@ -66,8 +66,9 @@ def load_state(
     except StateError as exc:
         raise ValueError(f"{_named_by(args)}: {exc}") from None
     except OSError as exc:
-        where = exc.filename if exc.filename is not None else directory
-        raise ValueError(f"{_named_by(args)} {directory}: {where}: {os_reason(exc)}") from None
+        # the folder once; a file in it (or a path beyond it) by its own name too
+        where = "" if exc.filename in (None, directory) else f"{exc.filename}: "
+        raise ValueError(f"{_named_by(args)} {directory}: {where}{os_reason(exc)}") from None
     states.append((state, machine))
     return machine
 

@@ -34,9 +34,11 @@ from ._args import (
     RAPID,
     SECONDS,
     argument_type,
+    choice,
     command_parser,
     parse_bounded,
 )
+from ._format import parse_aut
 from ._run import PACKED, PROTOCOLS, Handler, runner
 
 __all__ = ["COMMANDS", "Arg", "ArgOptions", "Cmd", "Group", "arg", "register"]
@@ -109,6 +111,7 @@ _CONNECTION: Final = (
     ),
     arg(
         "--protocol",
+        type=choice(PROTOCOLS, "protocol"),
         choices=PROTOCOLS,
         default=PACKED,
         help="packed: this project's protocol (default); native: FOCAS/2 Ethernet, as FANUC's "
@@ -165,6 +168,12 @@ def _range_arg(name: str, low: int, high: int) -> Arg:
     return arg(name, type=what, metavar=name.upper(), help=f"{name} {low}..{high}")
 
 
+#: ``position --kind``, as cnc_rdposition numbers them (0..3).
+_POSITION_KINDS: Final = ("absolute", "machine", "relative", "distance")
+#: ``sim fault KIND`` and ``--scope``, sorted.
+_FAULT_KINDS: Final = tuple(sorted(sim_cmds.FAULT_KINDS))
+_FAULT_SCOPES: Final = tuple(sorted(sim_cmds.FAULT_SCOPES))
+
 #: A VersaMax station's racks and slots.
 _RACKS: Final = (0, 7)
 _SLOTS: Final = (0, 9)
@@ -184,7 +193,9 @@ COMMANDS: Final[tuple[Cmd | Group, ...]] = (
             arg(
                 "action",
                 nargs="?",
+                type=choice(program_cmds.PROGRAM_ACTIONS, "action"),
                 choices=program_cmds.PROGRAM_ACTIONS,
+                metavar="ACTION",
                 help="list: the program directory; show N: a program's text; load FILE: store "
                 "a program; delete N; select N: make N the main program (default: read the "
                 "numbers, feed and spindle speed)",
@@ -204,7 +215,8 @@ COMMANDS: Final[tuple[Cmd | Group, ...]] = (
         (
             arg(
                 "--kind",
-                choices=("absolute", "machine", "relative", "distance"),
+                type=choice(_POSITION_KINDS, "kind"),
+                choices=_POSITION_KINDS,
                 default="absolute",
                 help="which position; distance = distance to go (default %(default)s)",
             ),
@@ -299,7 +311,11 @@ COMMANDS: Final[tuple[Cmd | Group, ...]] = (
                     _AREA,
                     _START,
                     arg(
-                        "values", nargs="*", metavar="BYTE", help="byte values: 1 2 0xff or 1,2,255"
+                        "values",
+                        nargs="*",
+                        default=[],  # (not one of the required: --hex gives the bytes too)
+                        metavar="BYTE",
+                        help="byte values: 1 2 0xff or 1,2,255",
                     ),
                     arg("--hex", metavar="HEX", help="the bytes as hex instead, e.g. 0102ff"),
                     arg(
@@ -318,7 +334,13 @@ COMMANDS: Final[tuple[Cmd | Group, ...]] = (
                 (
                     _AREA,
                     arg("address", metavar="BYTE.BIT", help="e.g. 100.3"),
-                    arg("value", nargs="?", metavar="VALUE", help="0/1 (on/off) to write"),
+                    arg(
+                        "value",
+                        nargs="?",
+                        type=BOOL,
+                        metavar="VALUE",
+                        help="0/1 (on/off) to write",
+                    ),
                 ),
                 writes=True,
             ),
@@ -394,6 +416,7 @@ COMMANDS: Final[tuple[Cmd | Group, ...]] = (
                 (
                     arg(
                         "--mode",
+                        type=argument_type(parse_aut, "mode"),
                         metavar="MODE",
                         help="MDI MEM EDIT HND JOG ... (default: unchanged)",
                     ),
@@ -417,7 +440,13 @@ COMMANDS: Final[tuple[Cmd | Group, ...]] = (
                 sim_cmds.alarm,
                 (
                     arg("alarm", metavar="ALARM", help="alarm code, e.g. PS0100 (or TYPE:NO)"),
-                    arg("message", nargs="*", metavar="MESSAGE", help="alarm message (ASCII)"),
+                    arg(
+                        "message",
+                        nargs="*",
+                        default=[],  # (may be left out: not one of the required)
+                        metavar="MESSAGE",
+                        help="alarm message (ASCII)",
+                    ),
                     _AXIS,
                 ),
             ),
@@ -438,7 +467,15 @@ COMMANDS: Final[tuple[Cmd | Group, ...]] = (
                 "cycle",
                 "cycle start, feed hold or reset of the part program",
                 program_cmds.cycle,
-                (arg("action", choices=program_cmds.CYCLE_ACTIONS, help="what to press"),),
+                (
+                    arg(
+                        "action",
+                        type=choice(program_cmds.CYCLE_ACTIONS, "action"),
+                        choices=program_cmds.CYCLE_ACTIONS,
+                        metavar="ACTION",
+                        help="what to press: start, hold or reset",
+                    ),
+                ),
             ),
             Cmd(
                 "override",
@@ -467,8 +504,10 @@ COMMANDS: Final[tuple[Cmd | Group, ...]] = (
                 (
                     arg(
                         "kind",
-                        choices=sorted(sim_cmds.FAULT_KINDS),
-                        help="what happens to the answers",
+                        type=choice(_FAULT_KINDS, "kind"),
+                        choices=_FAULT_KINDS,
+                        metavar="KIND",
+                        help="what happens to the answers: delay, drop, error or split",
                     ),
                     arg(
                         "--arg",
@@ -484,7 +523,8 @@ COMMANDS: Final[tuple[Cmd | Group, ...]] = (
                     ),
                     arg(
                         "--scope",
-                        choices=sorted(sim_cmds.FAULT_SCOPES),
+                        type=choice(_FAULT_SCOPES, "scope"),
+                        choices=_FAULT_SCOPES,
                         default="machine",
                         help="machine: the next answers on any connection (default); "
                         "connection: only this command's own connection",
@@ -503,7 +543,8 @@ COMMANDS: Final[tuple[Cmd | Group, ...]] = (
                     ),
                     arg(
                         "--scope",
-                        choices=sorted(sim_cmds.FAULT_SCOPES),
+                        type=choice(_FAULT_SCOPES, "scope"),
+                        choices=_FAULT_SCOPES,
                         default="machine",
                         help="machine: the machine's queue (default); connection: this "
                         "command's own connection (always empty)",

@@ -23,8 +23,8 @@ from focas_net.errors import EW, CncError, FocasError
 from focas_net.protocol import ParamDataType, ParamValue, PmcArea, PositionKind
 
 from . import _format as fmt
+from . import _run
 from ._run import (
-    FOLLOW_MAX_FAILURES,
     Go,
     HintedError,
     Output,
@@ -290,7 +290,11 @@ def _alarms_follow(args: argparse.Namespace) -> Go:
         await cnc.read_alarms()
         cnc.add_state_callback(report_state(cnc))
         projection = AlarmProjection(
-            cnc, mode, interval=interval, depth=args.history or 50, max_failures=FOLLOW_MAX_FAILURES
+            cnc,
+            mode,
+            interval=interval,
+            depth=args.history or 50,
+            max_failures=_run.FOLLOW_MAX_FAILURES,  # (read when it runs, as the reconnect's)
         )
         printed = 0
         with stopping_on_signals(projection.stop):

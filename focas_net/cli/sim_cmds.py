@@ -16,7 +16,13 @@ from typing import Any, Final
 
 from focas_net.client import FocasClient
 from focas_net.errors import CncError, FocasError
-from focas_net.protocol import MAX_ALARM_MSG, ArmedFault, FaultKind, FaultScope
+from focas_net.protocol import (
+    MAX_ALARM_MSG,
+    ArmedFault,
+    FaultKind,
+    FaultScope,
+    alarm_message,
+)
 from focas_net.server.faults import fault_arg_text, fault_refusal
 
 from . import _format as fmt
@@ -49,7 +55,7 @@ SIM_CONTROLS: Final = "the simulator controls are packed-protocol commands"
 
 
 def panel(args: argparse.Namespace) -> PackedOnly:
-    mode = None if args.mode is None else fmt.parse_aut(args.mode)
+    mode = args.mode  # an AutMode, read by the parser (argument --mode)
     writes = mode is not None or args.pwe is not None or args.emergency is not None
 
     async def go(cnc: FocasClient) -> Output:
@@ -74,6 +80,9 @@ def panel(args: argparse.Namespace) -> PackedOnly:
 def alarm(args: argparse.Namespace) -> PackedOnly:
     alm_type, alm_no = fmt.parse_alarm(args.alarm)
     msg = " ".join(args.message)
+    # the message by the rule its encoding keeps, before anything is read: one the machine
+    # would refuse is refused also when the alarm is active already (nothing raised then)
+    alarm_message(msg)
 
     async def go(cnc: FocasClient) -> Output:
         # A CNC shows one entry per alarm: raised again while active, the alarm keeps its
@@ -132,7 +141,11 @@ def clear(args: argparse.Namespace) -> PackedOnly:
         }
         if not gone:
             return Output(data, "no active alarms; nothing to clear")
-        what = ", ".join(fmt.alarm_code(a.alm_type, a.alm_no) for a in gone)
+        # each as sim alarm names it: two alarms of one code on two axes are two entries
+        what = ", ".join(
+            fmt.alarm_code(a.alm_type, a.alm_no) + (f" (axis {a.axis_no})" if a.axis_no else "")
+            for a in gone
+        )
         return Output(data, f"cleared {what}; {len(remaining)} still active")
 
     return PackedOnly(go, SIM_CONTROLS)

@@ -4,6 +4,8 @@
 from __future__ import annotations
 
 import argparse
+from collections.abc import Callable
+from typing import TypeVar
 
 from focas_net._typed import NO_PASSWORD_NOTE
 from focas_net.client import CncClient, FocasClient
@@ -17,15 +19,26 @@ from .read_cmds import axis_hint, macro_dict, param_kind, param_output
 
 __all__ = ["macro_clear", "macro_set", "param_set", "pmc_bit", "pmc_write", "unlock"]
 
+T = TypeVar("T")
+
+
+def _named(argument: str, parse: Callable[[str], T], text: str) -> T:
+    """``parse(text)``, its refusal (ValueError) naming the argument as --help does, as the
+    parser names the arguments it reads itself (``VALUE: expected 1, on, ...``)."""
+    try:
+        return parse(text)
+    except ValueError as exc:
+        raise ValueError(f"{argument}: {exc}") from None
+
 
 def param_set(args: argparse.Namespace) -> Go:
     number, bit = fmt.parse_number_bit(args.number)
     if bit is not None:
         if args.width is not None:
             raise ValueError("--width does not apply to a bit write (NUMBER.BIT)")
-        bit_value = fmt.parse_bool(args.value)
+        bit_value = _named("VALUE", fmt.parse_bool, args.value)
     else:
-        value = fmt.parse_param_value(args.value)
+        value = _named("VALUE", fmt.parse_param_value, args.value)
 
     async def go(cnc: CncClient) -> Output:
         try:
@@ -79,9 +92,9 @@ def pmc_write(args: argparse.Namespace) -> Go | PackedOnly:
     if args.hex is not None and args.values:
         raise ValueError("give the bytes either as values or with --hex, not both")
     if args.hex is not None:
-        payload = fmt.parse_hex(args.hex)
+        payload = _named("--hex", fmt.parse_hex, args.hex)
     else:
-        payload = fmt.parse_byte_list(args.values)
+        payload = _named("BYTE", fmt.parse_byte_list, args.values)
 
     def written() -> Output:
         last = args.start + len(payload) - 1
@@ -114,7 +127,7 @@ def pmc_write(args: argparse.Namespace) -> Go | PackedOnly:
 def _parse_byte_bit(area: PmcArea, text: str) -> tuple[int, int]:
     expected = "BYTE.BIT (e.g. 100.3)"
     byte, bit = fmt.parse_number_bit(text, expected)
-    if bit is None:
+    if bit is None or byte < 0:
         raise ValueError(f"expected {expected}, got {text!r}")
     why = pmc_bit_refusal(area.name, byte, bit)  # the words of every front end
     if why is not None:
@@ -125,7 +138,7 @@ def _parse_byte_bit(area: PmcArea, text: str) -> tuple[int, int]:
 def pmc_bit(args: argparse.Namespace) -> Go:
     area: PmcArea = args.area
     byte, bit = _parse_byte_bit(area, args.address)
-    value = None if args.value is None else fmt.parse_bool(args.value)
+    value: bool | None = args.value  # read by the parser (argument VALUE)
 
     async def go(cnc: CncClient) -> Output:
         if value is not None:

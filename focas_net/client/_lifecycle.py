@@ -92,7 +92,8 @@ class Lifecycle:
         self._up_since = 0.0
         #: Why the last reconnect attempt failed (None: none failed since the last link).
         self._attempt_error: BaseException | None = None
-        #: Why the last link was lost (None: connected, or never lost).
+        #: Why the last link was lost (None: connected, or never lost), with or without a
+        #: reconnect policy.
         self._lost_why: BaseException | None = None
 
     def __repr__(self) -> str:
@@ -184,11 +185,17 @@ class Lifecycle:
         raise NotImplementedError
 
     def _nothing_to_wait_for(self) -> Exception:
-        """What a call raises when there is no link and none coming (with why the last
-        reconnect attempt failed, when one did)."""
+        """What a call raises when there is no link and none coming: how to connect when the
+        client never was, else why the link was lost and why the last reconnect attempt
+        failed (each when known)."""
         text = f"not connected to {self.address}"
+        if self._loop is None:
+            return FocasConnectionError(f"{text}: call connect() first, or use `async with`")
+        causes = [str(self._lost_why)] if self._lost_why is not None else []
         if self._attempt_error is not None:
-            text += f" (the last reconnect attempt failed: {self._attempt_error})"
+            causes.append(f"the last reconnect attempt failed: {self._attempt_error}")
+        if causes:
+            text += f" ({'; '.join(causes)})"
         err = FocasConnectionError(text)
         err.__cause__ = self._attempt_error  # (what a caller may look into)
         return err

@@ -28,7 +28,7 @@ from focas_net.errors import (
     ProtocolError,
 )
 
-from ..protocol import COMMANDS, CommandSpec, EwReply, Password
+from ..protocol import COMMANDS, CommandSpec, EwReply, FaultScope, FaultsRequest, Password
 from ..protocol import Command as C
 from ._composite import CompositeCalls
 from ._failures import echo_error, undecodable_error
@@ -42,6 +42,12 @@ __all__ = ["Link"]
 logger = logging.getLogger("focas_net.client.client")
 
 _UNLOCK: Final = COMMANDS[C.WRUNLOCKPARAM]
+#: The request a new connection of a reconnect must have answered before the link counts as
+#: back: the listing of that connection's own faults, a control command no fault armed on the
+#: server replaces or counts (the user's next request keeps the fault meant for it); an EW
+#: code is an answer too (``serve --no-control``).
+_ANSWERS: Final = COMMANDS[C.SIM_LIST_FAULTS]
+_ANSWERS_PAYLOAD: Final = _ANSWERS.request.encode(FaultsRequest(int(FaultScope.CONNECTION)))
 #: What :meth:`Link._answer` gives for an ``EW_PASSWD`` answer to unlock and send again.
 UNLOCK_AND_RETRY: Final = object()
 _CLOSE_GRACE: Final = 2.0
@@ -196,13 +202,28 @@ class Link(CompositeCalls):
             return
         if self._policy is None:
             logger.warning("connection to %s lost: %s", self.address, exc or "closed")
+            self._lost_why = conn.end or exc
             self._set_state(ClientState.DISCONNECTED)
             return
         self._reconnecting(conn.end or exc)
 
+    async def _answered_on(self, conn: Connection, deadline: float | None) -> None:
+        """A request answered on ``conn`` (:data:`_ANSWERS`), as the open of FOCAS/2 is
+        answered before its client counts as connected: a peer that accepts the TCP connect
+        and then says nothing (an HTTP server) or no FOCAS frame is no link. ``conn`` is
+        closed when it fails."""
+        try:
+            raw = await conn.request(_ANSWERS.command, _ANSWERS_PAYLOAD, deadline)
+            self._decoded(_ANSWERS, raw)
+        except BaseException:
+            conn.close()
+            raise
+
     async def _reconnect_attempt(self, attempt: int) -> bool:
         try:
             conn = await self._open(self._deadline(None), strict=False)
+            if self._password is None:  # (an unlock was answered already)
+                await self._answered_on(conn, self._deadline(None))
         except (FocasConnectionError, FocasTimeoutError) as exc:
             logger.debug("reconnect attempt %d to %s: %s", attempt, self.address, exc)
             self._attempt_error = exc

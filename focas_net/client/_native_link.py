@@ -534,6 +534,7 @@ class NativeLink(CompositeCalls):
             return
         if not keep:
             logger.warning("connection to %s lost: %s", self.address, why)
+            self._lost_why = FocasConnectionError(why)
             self._set_state(ClientState.DISCONNECTED)
             return
         self._reconnecting(FocasConnectionError(why))

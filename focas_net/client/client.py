@@ -119,6 +119,14 @@ _ACTF: Final = COMMANDS[C.ACTF]
 _ACTS: Final = COMMANDS[C.ACTS]
 _RDPOSITION: Final = COMMANDS[C.RDPOSITION]
 _RDPARAINFO: Final = COMMANDS[C.RDPARAINFO]
+#: The bytes of a parameter of each type (IODBPSD: cdata, idata, ldata, rdata).
+_TYPE_WIDTHS: Final = {
+    ParamDataType.BIT: 1,
+    ParamDataType.BYTE: 1,
+    ParamDataType.WORD: 2,
+    ParamDataType.TWO_WORD: 4,
+    ParamDataType.REAL: REAL_WIDTH,
+}
 _RDPROGDIR: Final = COMMANDS[C.RDPROGDIR]
 _RDPROGRAM: Final = COMMANDS[C.RDPROGRAM]
 _RDRUNINFO: Final = COMMANDS[C.RDRUNINFO]
@@ -391,17 +399,25 @@ class FocasClient(Link):
         deadline: float | None,
         path: int,
     ) -> None:
-        """With ``width=None`` the width is the one the CNC reported for this parameter; the
-        first time it is learnt by one read and then cached. A refusal of what the write asks
-        first is the write's refusal, named ``cnc_wrparam`` (FOCAS/2 asks the same in the
-        first frame of ``cnc_wrparam``)."""
+        """With ``width=None`` the width is the one of the parameter's type, asked once with
+        ``cnc_rdparainfo``, which needs no axis (as FOCAS/2's ``cnc_wrparam`` asks the type
+        first): a value that does not fit the type is refused before anything is written,
+        and a missing ``axis`` is the write's EW_ATTRIB, alike on both transports; a CNC
+        that cannot tell the type gives the width of one read. A refusal of what the write
+        asks first is the write's refusal, named ``cnc_wrparam`` (FOCAS/2 asks the same in
+        the first frame of ``cnc_wrparam``)."""
         learnt = False
         try:
             if width is None:
                 cached = self._param_widths.get(number)
                 if cached is None:
-                    width = (await self._read_param_value(number, axis, deadline, path)).width
-                    learnt = True
+                    learnt = number not in self._param_types  # (asked now, not kept before)
+                    told = await self._param_type(number, deadline)
+                    width = (
+                        _TYPE_WIDTHS[told]
+                        if told is not None
+                        else (await self._read_param_value(number, axis, deadline, path)).width
+                    )
                 else:
                     width = cached
             kind = await self._param_type(number, deadline) if width == 1 else None
@@ -419,6 +435,7 @@ class FocasClient(Link):
         except CncError as exc:
             if exc.ew == EW.LENGTH and not learnt:
                 self._param_widths.pop(number, None)  # stale width: learn it again next time
+                self._param_types.pop(number, None)  # (the type it came from)
             raise await self._axis_refusal(exc, axis, path, deadline) from None
 
     async def _write_param_bits(

@@ -571,7 +571,10 @@ class Path:
         if axis is None:
             return list(zip(self.axes, values, strict=True))
         if not 1 <= axis <= len(self.axes):
-            raise MachineError(EW.ATTRIB, f"axis {axis} outside 1..{len(self.axes)}")
+            count = len(self.axes)
+            raise MachineError(
+                EW.ATTRIB, f"axis {axis} is outside 1..{count}: the path has {count} axes"
+            )
         return [(self.axes[axis - 1], values[axis - 1])]
 
     def engine_variable(self, number: int) -> Decimal | None:

@@ -50,6 +50,15 @@ __all__ = [
 MAX_PATHS: Final = 10
 #: The machine type of a path: machining centre (M) or lathe (T).
 PATH_KINDS: Final = ("M", "T")
+
+
+def kind_of(mt_type: str) -> str:
+    """The machine type of a path from ODBSYS ``mt_type``: "T" when its letters are all T
+    (``" T"``, and ``"TT"`` of a lathe of several paths; case aside), else "M"."""
+    letters = set(mt_type.strip().upper())
+    return "T" if letters == {"T"} else "M"
+
+
 #: FANUC's path-type parameters the machine keeps one value of per path (the others are
 #: shared): 1401 (rapid traverse bits), 1422 (maximum cutting feed), 6700 (M codes that
 #: count parts), 6710 (the M code that counts parts), 6711 parts count, 6712 total parts,
@@ -332,11 +341,10 @@ def path_specs(
     when both are given; TypeError for ``programs`` that are no list of texts)."""
     programs = program_texts(programs)
     if paths is None:
-        kind = identity.mt_type.strip() if identity is not None else "M"
         return [
             PathSpec(
                 tuple(axes if axes is not None else ("X", "Y", "Z")),
-                kind=kind if kind in PATH_KINDS else "M",
+                kind=kind_of(identity.mt_type) if identity is not None else "M",
                 programs=tuple(programs),
                 main_program=main_program,
                 panel=panel,

@@ -18,7 +18,7 @@ from typing import Any, Final
 from focas_net._typed import os_words
 
 from ._identity import axes_problem, axis_name_problem
-from ._paths import MAX_PATHS, PATH_KINDS, PathSpec
+from ._paths import MAX_PATHS, PATH_KINDS, PathSpec, kind_of
 from ._status import AUT_MODES, MODE_NAMES, MOTION_NUMBERS, MotionData, Panel
 from .filecheck import (
     _I32,
@@ -45,15 +45,13 @@ _PER_PATH: Final = ("panel", "motion", "program")
 
 def path_specs(root: _Ctx, top: dict[str, Any], base: Path | None) -> list[PathSpec] | None:
     """The paths of a machine file's ``top`` table, None when it has no ``[[path]]`` (a
-    machine of one path). A path's kind is the file's ``sysinfo.mt_type`` unless it gives
-    one ("M" when that is neither)."""
+    machine of one path). A path's kind is the one of the file's ``sysinfo.mt_type``
+    (:func:`kind_of`) unless it gives one."""
     if "path" not in top:
         return None
     sysinfo = top.get("sysinfo")
     given = sysinfo.get("mt_type") if isinstance(sysinfo, dict) else None
-    default_kind = given.strip() if isinstance(given, str) else "M"
-    if default_kind not in PATH_KINDS:
-        default_kind = "M"
+    default_kind = kind_of(given) if isinstance(given, str) else "M"
     ctx = root.sub("path")
     for key in _PER_PATH:
         if key in top:
