@@ -18,7 +18,7 @@ from focas_net.sim import (
     default_machine,
     load_machine,
 )
-from focas_net.sim.nc import Engine, ManualClock
+from focas_net.sim.nc import Engine, ManualClock, ProgramError, parse_program
 
 HEAD = '[machine]\nname = "M"\naxes = ["X", "Y"]\n[panel]\nmode = "MDI"\npwe = true\n'
 
@@ -166,3 +166,23 @@ def test_a_list_of_values_of_another_length_is_counted_in_words(
 ) -> None:
     body = f'[parameters.1825]\ntype = "word"\naxis = true\nvalue = {value}\n'
     assert f"parameters.1825.value: {words}" in _refused(tmp_path, body)
+
+
+# -- the O line ---------------------------------------------------------------------------
+
+
+@pytest.mark.parametrize("o_line", ["O1O2", "O1 O2", ":1 O2", "O1 (NAME) O2"])
+def test_an_o_line_holding_a_second_o_number_is_refused(tmp_path: Path, o_line: str) -> None:
+    """``O1O2`` loaded as O1 with a block ``O2``, stored as ``O0001`` / ``O2`` / ...: a text
+    the program store itself refuses as two programs, so the machine's own text could not be
+    loaded again (a download of the upload, a state file)."""
+    with pytest.raises(ProgramError, match="starts a second program: one program per text"):
+        parse_program(f"{o_line}\nM30\n")
+    message = _refused(tmp_path, f'[[program]]\ntext = "{o_line}\\nM30\\n"\n')
+    assert "m.toml: program[0].text: line 1: " in message and "starts a second program" in message
+
+
+def test_an_o_line_with_a_block_is_stored_as_a_text_that_loads_again() -> None:
+    program = parse_program("O1 G90 (O2 IN A COMMENT)\nM30\n")
+    assert program.number == 1 and program.blocks[0].text == "G90 (O2 IN A COMMENT)"
+    assert parse_program(program.text).text == program.text
