@@ -186,3 +186,19 @@ def test_an_o_line_with_a_block_is_stored_as_a_text_that_loads_again() -> None:
     program = parse_program("O1 G90 (O2 IN A COMMENT)\nM30\n")
     assert program.number == 1 and program.blocks[0].text == "G90 (O2 IN A COMMENT)"
     assert parse_program(program.text).text == program.text
+
+
+# -- a path's kind from mt_type -----------------------------------------------------------
+
+
+@pytest.mark.parametrize(
+    ("mt_type", "kind"),
+    [("MT", "T"), ("mt", "T"), ("T ", "T"), (" W", "M"), (" P", "M"), ("  ", "M")],
+)
+def test_a_t_series_code_makes_a_lathe(tmp_path: Path, mt_type: str, kind: str) -> None:
+    """FANUC's ODBSYS codes: " T" a lathe, "TT" a lathe of 2/3 paths, "MT" a T series control
+    with the compound machining function; "MT" made machining centres."""
+    head = f'[machine]\nname = "L"\naxes = ["X", "Z"]\n[sysinfo]\nmt_type = "{mt_type}"\n'
+    path = tmp_path / "l.toml"
+    path.write_text(head, encoding="utf-8")
+    assert load_machine(path).path_info(1).kind == kind
