@@ -6,6 +6,8 @@ from __future__ import annotations
 from pathlib import Path
 
 import pytest
+from examples_support import port_args, run_example
+from support import serving
 
 from focas_net.errors import EW
 from focas_net.sim import (
@@ -202,3 +204,25 @@ def test_a_t_series_code_makes_a_lathe(tmp_path: Path, mt_type: str, kind: str) 
     path = tmp_path / "l.toml"
     path.write_text(head, encoding="utf-8")
     assert load_machine(path).path_info(1).kind == kind
+
+
+# -- the examples -------------------------------------------------------------------------
+
+
+async def test_run_program_names_a_program_stopped_in_its_middle() -> None:
+    """A machine stopped in the middle of its program (M0; a scenario's tool-change wait)
+    made run_program end with ``EW_BUSY (-1): busy, retry: cnc_search``: a retry never helps
+    until a reset; it says so, before storing anything."""
+    clock = ManualClock()
+    machine = default_machine(sim_clock=clock, programs=("O0400\nM0\nM30\n",))
+    machine.select_program(400)
+    machine.cycle_start()
+    clock.advance(5.0)
+    assert machine.status().run == 1
+    async with serving(machine) as served:
+        code, out, err = await run_example("run_program.py", *port_args(served))
+    assert (code, out) == (1, "")
+    assert err == (
+        "run_program: the CNC stopped in the middle of a program (run STOP): reset it first "
+        "(focas-net sim cycle reset)\n"
+    )
