@@ -226,3 +226,18 @@ async def test_run_program_names_a_program_stopped_in_its_middle() -> None:
         "run_program: the CNC stopped in the middle of a program (run STOP): reset it first "
         "(focas-net sim cycle reset)\n"
     )
+
+
+async def test_write_param_with_unlock_names_a_wrong_password() -> None:
+    """A wrong ``--password`` ended with ``EW_PASSWD (17): protection / password error:
+    cnc_wrunlockparam``, where ``focas-net unlock`` says the password is not the CNC's; the
+    example names the password typed, and puts the panel back."""
+    machine = default_machine(param_password="5810")
+    async with serving(machine) as served:
+        code, out, err = await run_example(
+            "write_param_with_unlock.py", *port_args(served), "--password", "0000"
+        )
+    assert code == 1
+    assert err.endswith("; --password '0000' is not the CNC's parameter password\n")
+    assert out.endswith("panel: mode restored, PWE off\n")
+    assert machine.read_param(1320, 1) != 500_000
