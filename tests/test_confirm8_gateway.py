@@ -5,6 +5,7 @@ words when the file cannot be loaded, and reached live over TLS."""
 from __future__ import annotations
 
 import asyncio
+import logging
 import datetime
 import ipaddress
 import ssl
@@ -174,3 +175,39 @@ async def test_a_broker_a_private_ca_signed_is_reached_with_tls_ca(tmp_path: Pat
                 assert message.topic.value == "focas/$gateway/focas-net/state"
     finally:
         await broker.stop()
+
+
+# -- a refused OPC UA write: the log names the machine, the method and why, in words ------------
+async def test_a_refused_write_is_logged_with_the_machine_and_method_and_no_repr(
+    caplog: pytest.LogCaptureFixture,
+) -> None:
+    from asyncua import ua
+    from opcua_support import writable
+    from support import serving
+
+    from focas_net.gateway import WriteGates
+    from focas_net.sim import default_machine
+
+    i32 = ua.Variant(1, ua.VariantType.Int32)
+    async with serving(default_machine()) as served:
+        async with writable(served.port, WriteGates(macros=((500, 599),))) as (root, ns):
+            with caplog.at_level(logging.INFO, "focas_net.gateway"):
+                with pytest.raises(ua.uaerrors.BadInvalidArgument):
+                    await root.call_method(f"{ns}:WriteMacro", "500", True, i32)
+                with pytest.raises(ua.uaerrors.BadUserAccessDenied):
+                    await root.call_method(
+                        f"{ns}:WriteMacro", ua.Variant(100, ua.VariantType.Int32), 1.0, i32
+                    )
+                with pytest.raises(ua.uaerrors.BadInvalidArgument):
+                    await root.call_method(
+                        f"{ns}:WriteMacro", ua.Variant(500, ua.VariantType.Int32), float("nan"), i32
+                    )
+    told = [r.getMessage() for r in caplog.records if r.name.startswith("focas_net.gateway.")]
+    refused = [m for m in told if "refused" in m]
+    assert refused == [
+        "OPC UA: mill WriteMacro refused: its arguments ('500', True, 1) are not of the "
+        "declared types (Number Int32, Value Double, Path Int32)",
+        "OPC UA: mill WriteMacro refused: mill: writes.macros does not allow #100 "
+        "(allowed: 500..599)",
+        "OPC UA: mill WriteMacro refused: #500: macro value NaN is not finite",
+    ]
