@@ -4,10 +4,11 @@ words when the file cannot be loaded, and reached live over TLS."""
 
 from __future__ import annotations
 
+import argparse
 import asyncio
-import logging
 import datetime
 import ipaddress
+import logging
 import ssl
 from pathlib import Path
 
@@ -133,9 +134,7 @@ def test_a_ca_file_that_cannot_be_loaded_is_refused_in_the_clients_words(
     assert message.startswith(f"plant.toml: mqtt.tls_ca: got '{ca}': ")
     assert words.lower() in message.lower()
     # the command line's --tls-ca refuses the same file with the same reason
-    import argparse
-
-    with pytest.raises(ValueError, match="^--tls-ca ") as cli:
+    with pytest.raises(ValueError, match=r"^--tls-ca ") as cli:
         tls_context(argparse.Namespace(tls=True, tls_ca=str(ca), tls_insecure=False))
     assert message.split(": ", 3)[3] == str(cli.value).split(": ", 1)[1]
 
