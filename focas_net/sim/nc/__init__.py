@@ -93,7 +93,7 @@ from .modal import (
     program_pointer,
 )
 from .motion import ArcMove, LinearMove, Motion, RapidMove
-from .program import Block, Program, ProgramInfo, ProgramStore, Word, parse_program
+from .program import Block, Program, ProgramInfo, ProgramStore, Word, no_program, parse_program
 from .scenario import (
     DEFAULT_SCENARIO,
     SCENARIO_ALARMS,
@@ -149,6 +149,7 @@ __all__ = [
     "fleet_seed",
     "g_code_text",
     "modal_state",
+    "no_program",
     "parse_program",
     "program_pointer",
 ]
