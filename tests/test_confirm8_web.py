@@ -11,7 +11,6 @@ from cli_support import Cli
 from support import serving
 
 from focas_net.cli import EXIT_CNC, EXIT_USAGE
-from focas_net.errors import EW
 from focas_net.sim import MachineError, default_machine
 from focas_net.web import ActionError, Station, machine_view, perform
 
