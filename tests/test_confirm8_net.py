@@ -7,10 +7,17 @@ exit code is checked.
 
 from __future__ import annotations
 
+import asyncio
+import errno
 import socket
+import ssl
+import struct
 
 import pytest
 from cli_support import one_line, run_focas_net
+from support import LoopbackPeer
+
+from focas_net.client._failures import connect_error
 
 
 def _closed_port() -> int:
@@ -44,3 +51,47 @@ async def test_a_bad_password_is_a_usage_error_naming_its_argument_before_any_co
         f"focas-net {command}: error: argument {named}: must be 1..4 ASCII characters, got "
         f"{typed!r}; see focas-net {command} --help"
     )
+
+
+class _ResettingPeer(LoopbackPeer):
+    """Accepts each connection and resets it at once (a close with SO_LINGER 0), as a
+    server at its limit may close one: the client's connect may meet the reset."""
+
+    async def _serve(self, reader: asyncio.StreamReader, writer: asyncio.StreamWriter) -> None:
+        sock = writer.get_extra_info("socket")
+        sock.setsockopt(socket.SOL_SOCKET, socket.SO_LINGER, struct.pack("ii", 1, 0))
+        writer.transport.abort()
+
+
+@pytest.mark.parametrize("protocol", ["packed", "native"])
+async def test_a_peer_that_resets_each_connection_at_once_reads_as_closed_before_any_answer(
+    protocol: str,
+) -> None:
+    """It read `cannot connect to 127.0.0.1:P: connection reset by peer`, where docs/cli.md
+    says a reset reads as a close, and without the probe's advice a close at once gets."""
+    async with _ResettingPeer() as peer:
+        code, out, err = await run_focas_net(
+            "status", "--port", str(peer.port), "--timeout", "1", "--protocol", protocol
+        )
+    assert (code, out) == (3, "")
+    assert one_line(err) == (
+        f"focas-net: connection closed by 127.0.0.1:{peer.port} before any answer; the server "
+        "refused the connection: it closes new ones at once, as a server at its connection "
+        "limit does (focas-net serve --max-connections)"
+    )
+
+
+def test_a_connect_the_peer_resets_is_a_close_before_any_answer() -> None:
+    """Whether the reset of a peer that closes at once meets the connect or the request is
+    a race: both read the same, without TLS (with TLS it ended the handshake)."""
+    exc = ConnectionResetError(errno.ECONNRESET, "Connection reset by peer")
+    plain = connect_error("127.0.0.1", 8193, exc, None)
+    assert str(plain) == "connection closed by 127.0.0.1:8193 before any answer"
+    assert plain.__cause__ is exc
+    tls = connect_error("127.0.0.1", 8193, exc, ssl.create_default_context())
+    assert str(tls) == (
+        "cannot connect to 127.0.0.1:8193: TLS handshake failed (the peer closed it): the peer "
+        "may not speak TLS"
+    )
+    refused = connect_error("::1", 8193, ConnectionRefusedError(errno.ECONNREFUSED, "x"), None)
+    assert str(refused) == "cannot connect to [::1]:8193: connection refused"
