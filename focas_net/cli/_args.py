@@ -13,11 +13,9 @@ import argparse
 import math
 import re
 import shlex
-import ssl
 import sys
 from collections.abc import Callable, Sequence
 from functools import partial
-from pathlib import Path
 from typing import Any, Final, NoReturn, TypeVar
 
 from focas_net._address import (
@@ -28,8 +26,8 @@ from focas_net._address import (
     url_address,
     url_advice,
 )
+from focas_net._tls import pem_holds, ssl_error_text
 from focas_net._typed import rapid_step, typed_number
-from focas_net.client._failures import os_reason
 from focas_net.client._values import check_path
 from focas_net.protocol import PASSWORD_SIZE, PmcArea
 
@@ -114,24 +112,6 @@ EXIT_CODES: Final[tuple[tuple[int, str], ...]] = (
     (EXIT_PROTOCOL, "protocol violation"),
     (EXIT_INTERRUPTED, "interrupted (Ctrl-C)"),
 )
-
-
-def pem_holds(path: str, label: str) -> bool | None:
-    """Whether the PEM file ``path`` has a block whose label ends with ``label``
-    (``CERTIFICATE``, ``PRIVATE KEY``); None when it cannot be read."""
-    try:
-        text = Path(path).read_text("ascii", errors="replace")
-    except OSError:
-        return None
-    return re.search(rf"-----BEGIN [A-Z0-9 ]*{label}-----", text) is not None
-
-
-def ssl_error_text(exc: OSError) -> str:
-    """OpenSSL's words for ``exc`` without its library tag and source line (``[X509: ...]``,
-    ``(_ssl.c:4154)``)."""
-    if not isinstance(exc, ssl.SSLError):
-        return os_reason(exc)  # (a file that cannot be read: the system's words)
-    return re.sub(r"^\[[A-Z0-9_: ]+\] | \(_ssl\.c:\d+\)$", "", str(exc.strerror or exc))
 
 
 def print_error(message: str, prog: str = PROG) -> None:
