@@ -28,6 +28,7 @@ from ._args import (
     INT,
     INTERVAL,
     NON_NEGATIVE,
+    PASSWORD,
     PATH,
     PORT,
     POSITIVE,
@@ -137,6 +138,7 @@ _CONNECTION: Final = (
 )
 _PASSWORD: Final = arg(
     "--password",
+    type=PASSWORD,
     metavar="TEXT",
     help="parameter password, sent with cnc_wrunlockparam after connecting",
 )
@@ -393,7 +395,7 @@ COMMANDS: Final[tuple[Cmd | Group, ...]] = (
         "unlock",
         "check a parameter password (cnc_wrunlockparam); the unlock lasts one connection",
         write_cmds.unlock,
-        (arg("secret", metavar="PASSWORD", help="the parameter password"),),
+        (arg("secret", type=PASSWORD, metavar="PASSWORD", help="the parameter password"),),
     ),
     Cmd(
         "versamax",
