@@ -29,7 +29,7 @@ from focas_net._address import (
 from focas_net._tls import pem_holds, ssl_error_text
 from focas_net._typed import rapid_step, typed_number
 from focas_net.client._values import check_path
-from focas_net.protocol import PmcArea
+from focas_net.protocol import PASSWORD_SIZE, PmcArea
 
 from . import _format as fmt
 
@@ -55,6 +55,7 @@ __all__ = [
     "MAX_INTERVAL",
     "MIN_INTERVAL",
     "NON_NEGATIVE",
+    "PASSWORD",
     "PATH",
     "PORT",
     "POSITIVE",
@@ -337,6 +338,14 @@ def parse_host(text: str, lowest: int = 1) -> str:
     return check_host(text.strip(), lowest)
 
 
+def parse_password(text: str) -> str:
+    """A parameter password as ``cnc_wrunlockparam`` carries it: 1..4 ASCII characters, no
+    NUL (the codec's rule, checked by the parser so nothing connects for a bad one)."""
+    if not 1 <= len(text) <= PASSWORD_SIZE or not text.isascii() or "\x00" in text:
+        raise ValueError(f"must be 1..{PASSWORD_SIZE} ASCII characters, got {text!r}")
+    return text
+
+
 def parse_path(text: str) -> int:
     """A path of the CNC, 1..10 (:func:`~focas_net.client._values.check_path`, where both
     clients check a ``path=``)."""
@@ -391,3 +400,5 @@ AREA: Final = argument_type(parse_area, "area")
 HISTORY_DEPTH: Final = argument_type(parse_history_depth, "depth")
 PATH: Final = argument_type(parse_path, "path")
 LOG_LEVEL: Final = argument_type(parse_log_level, "log level")
+#: A parameter password (``--password``, ``unlock PASSWORD``, ``serve --param-password``).
+PASSWORD: Final = argument_type(parse_password, "password")
