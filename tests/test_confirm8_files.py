@@ -241,3 +241,30 @@ async def test_write_param_with_unlock_names_a_wrong_password() -> None:
     assert err.endswith("; --password '0000' is not the CNC's parameter password\n")
     assert out.endswith("panel: mode restored, PWE off\n")
     assert machine.read_param(1320, 1) != 500_000
+
+
+@pytest.mark.parametrize(
+    ("block", "alarm"),
+    [
+        ("G91 G1 X99999999. F100", 3),
+        ("#1 = 1000000\nG0 X#1", 3),
+        ("G20 G0 X100000.", 3),
+        ("G1 X999999.999 F100000", None),
+        ("G20 G0 X99999.9999", None),
+    ],
+)
+def test_an_axis_word_has_at_most_nine_digits(block: str, alarm: int | None) -> None:
+    """``X99999999.`` (99999999 mm) ran a move of two years at F100; an axis word beyond the
+    9 digits of a number in least input increments is PS0003, as its literal of 10 digits
+    already was."""
+    clock = ManualClock()
+    engine = Engine(clock)
+    engine.store.store(f"O1\n{block}\nM30\n")
+    engine.store.select(1)
+    engine.cycle_start()
+    clock.advance(0.01)
+    if alarm is None:
+        assert engine.alarm is None
+    else:
+        assert engine.alarm is not None and engine.alarm.code == "PS0003"
+        assert "an axis word has at most 9 digits" in str(engine.alarm)
