@@ -68,7 +68,7 @@ def test_the_machine_names_an_axis_beyond_the_path_with_the_count() -> None:
 
 @pytest.mark.parametrize(
     ("mt_type", "kind"),
-    [(" T", "T"), (" t", "T"), ("TT", "T"), ("tt", "T"), (" M", "M"), ("MM", "M"), ("MT", "M")],
+    [(" T", "T"), (" t", "T"), ("TT", "T"), ("tt", "T"), (" M", "M"), ("MM", "M"), ("MT", "T")],
 )
 def test_a_path_kind_follows_mt_type_as_the_kind_key_reads_it(mt_type: str, kind: str) -> None:
     """``mt_type = " t"`` made a lathe's one path M while ``kind = "t"`` is T, and ``"TT"``
