@@ -9,8 +9,8 @@ from __future__ import annotations
 
 import asyncio
 import errno
-import socket
 import shutil
+import socket
 import ssl
 import struct
 import subprocess
