@@ -18,9 +18,11 @@ from pathlib import Path
 
 import pytest
 from cli_support import one_line, run_focas_net
-from support import LoopbackPeer, serving
+from support import IO_TIMEOUT, LoopbackPeer, serving
 
+from focas_net.client import NativeClient
 from focas_net.client._failures import connect_error
+from focas_net.errors import ProtocolError
 
 
 def _closed_port() -> int:
@@ -134,4 +136,28 @@ async def test_a_certificate_the_tls_ca_file_given_does_not_trust_names_that_fil
     assert line.endswith(
         f"; the server's certificate is neither in --tls-ca {other} nor signed by a "
         "certificate there: give its own certificate or its CA's, or --tls-insecure"
+    )
+
+
+class _OneByteThenSilent(LoopbackPeer):
+    """Answers each connection with one byte that starts no frame, then says nothing."""
+
+    async def _serve(self, reader: asyncio.StreamReader, writer: asyncio.StreamWriter) -> None:
+        writer.write(b"\x00")
+        await reader.read()  # until the client closes
+        writer.close()
+
+
+async def test_a_native_answer_that_cannot_start_a_frame_is_refused_as_it_comes() -> None:
+    """docs/cli.md: bytes that cannot start a frame make the peer one that does not speak
+    FOCAS `at once`; FOCAS/2's open waited for the call's whole time first (a client of a
+    long timeout sat there for all of it)."""
+    async with _OneByteThenSilent() as peer:
+        client = NativeClient("127.0.0.1", peer.port, timeout=3600)
+        async with asyncio.timeout(IO_TIMEOUT):  # (not the client's hour)
+            with pytest.raises(ProtocolError) as refusal:
+                await client.connect()
+    assert str(refusal.value) == (
+        f"127.0.0.1:{peer.port} does not speak the FOCAS protocol (its answer does not start "
+        "with A0 A0 A0 A0; it sent b'\\x00')"
     )
