@@ -484,7 +484,7 @@ COMMANDS: Final[tuple[Cmd | Group, ...]] = (
                 "set the overrides given (percent), or show them when none is given",
                 program_cmds.override,
                 (
-                    arg("--feed", type=NON_NEGATIVE, metavar="PCT", help="feed override 0..254"),
+                    arg("--feed", type=INT, metavar="PCT", help="feed override 0..254"),
                     arg(
                         "--rapid",
                         type=RAPID,
@@ -493,7 +493,7 @@ COMMANDS: Final[tuple[Cmd | Group, ...]] = (
                     ),
                     arg(
                         "--spindle",
-                        type=NON_NEGATIVE,
+                        type=INT,
                         metavar="PCT",
                         help="spindle override 0..254",
                     ),
