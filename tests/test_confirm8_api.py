@@ -1,0 +1,168 @@
+"""The Python API as a new user meets it, a confirming pass after the eighth: a parameter value
+with decimals refused in one wording whether it is text or a Decimal, on both clients; a
+sequence of clients that is no list named without a Python repr; and a call on a client that
+is not connected telling why, in every state, on both clients."""
+
+from __future__ import annotations
+
+from collections.abc import AsyncIterator
+from decimal import Decimal
+from typing import Any
+
+import pytest
+from support import free_port
+
+from focas_net import (
+    FocasClient,
+    FocasConnectionError,
+    FocasServer,
+    NativeClient,
+    default_machine,
+    read_dynamic_all,
+    read_status_all,
+    read_status_paths_all,
+)
+from focas_net.client._values import param_int
+from focas_net.sim import Machine
+from focas_net.sim.nc import ManualClock
+
+_CLIENTS = [FocasClient, NativeClient]
+
+
+@pytest.fixture
+async def served() -> AsyncIterator[tuple[Machine, FocasClient, NativeClient]]:
+    machine = default_machine(sim_clock=ManualClock())
+    async with FocasServer(machine, port=0) as server:
+        host, port = server.addresses[0]
+        async with (
+            FocasClient(host, port, timeout=5) as cnc,
+            NativeClient(host, port, timeout=5) as native,
+        ):
+            yield machine, cnc, native
+
+
+# -- a parameter value with decimals -----------------------------------------------------------
+@pytest.mark.parametrize("value", ["1.5", Decimal("1.5"), " 1.5 ", "+1.50"])
+async def test_decimals_for_an_integer_parameter_are_refused_in_one_wording(
+    served: tuple[Machine, FocasClient, NativeClient], value: str | Decimal
+) -> None:
+    machine, cnc, native = served
+    shown = str(Decimal(str(value).strip()))
+    for client in (cnc, native):
+        with pytest.raises(ValueError) as caught:
+            await client.write_param(1410, value)
+        assert str(caught.value) == (
+            f"parameter 1410 is not a real parameter: {shown} is no integer"
+        )
+    assert machine.read_param(1410, 0) == 5000
+
+
+@pytest.mark.parametrize(("value", "written"), [("1.0", 1), (" 12.00 ", 12), (Decimal("7.0"), 7)])
+async def test_text_with_zero_decimals_is_written_as_a_decimal_is(
+    served: tuple[Machine, FocasClient, NativeClient], value: str | Decimal, written: int
+) -> None:
+    machine, cnc, native = served
+    machine.set_panel(0, 1, 0)  # MDI, PWE on
+    session = machine.new_session()
+    for client in (cnc, native):
+        machine.write_param(session, 1410, 0, 5000)
+        await client.write_param(1410, value)
+        assert machine.read_param(1410, 0) == written
+
+
+@pytest.mark.parametrize("value", [Decimal("NaN"), Decimal("-Infinity"), Decimal("sNaN")])
+async def test_a_decimal_that_is_no_number_is_refused_alike_without_a_repr(
+    served: tuple[Machine, FocasClient, NativeClient], value: Decimal
+) -> None:
+    _, cnc, native = served
+    texts = set()
+    for client in (cnc, native):
+        with pytest.raises(ValueError) as caught:
+            await client.write_param(1410, value)
+        texts.add(str(caught.value))
+    assert texts == {f"parameter 1410: not a number: {value} (no NaN or infinity)"}
+
+
+async def test_a_decimal_fitting_no_parameter_type_is_named_as_typed(
+    served: tuple[Machine, FocasClient, NativeClient],
+) -> None:
+    _, cnc, native = served
+    for client in (cnc, native):
+        with pytest.raises(ValueError) as caught:
+            await client.write_param(1410, Decimal("0.00000000001"))
+        assert "Decimal(" not in str(caught.value)
+        assert "0.00000000001" in str(caught.value)
+
+
+@pytest.mark.parametrize(
+    ("typed", "words"),
+    [
+        ("1e3", "parameter 6711: not a number: '1e3' (no exponent: write the digits)"),
+        ("inf", "parameter 6711: not a number: 'inf' (no NaN or infinity: write the digits)"),
+        ("1_000", "parameter 6711: not a number: '1_000'"),
+        ("", "parameter 6711: not a number: '' (nothing typed)"),
+        ("12.5", "parameter 6711 is not a real parameter: 12.5 is no integer"),
+    ],
+)
+def test_parameter_text_is_read_as_param_set_reads_it(typed: str, words: str) -> None:
+    with pytest.raises(ValueError) as caught:
+        param_int(6711, typed)
+    assert str(caught.value) == words
+    assert param_int(6711, "12.0") == 12
+
+
+# -- many clients at once ------------------------------------------------------------------------
+@pytest.mark.parametrize("call", [read_status_all, read_status_paths_all, read_dynamic_all])
+async def test_clients_given_as_a_generator_are_named_without_a_repr(call: Any) -> None:
+    clients = (c for c in [NativeClient("127.0.0.1", 1)])
+    with pytest.raises(TypeError) as caught:
+        await call(clients)
+    text = str(caught.value)
+    assert " at 0x" not in text and "<" not in text
+    assert text == "clients must be a list of clients, got a generator (make it a list: list(...))"
+
+
+@pytest.mark.parametrize(
+    ("clients", "kind"), [({NativeClient("127.0.0.1", 1)}, "a set"), (iter([]), "a list_iterator")]
+)
+async def test_clients_in_a_set_or_an_iterator_are_named_by_kind(clients: Any, kind: str) -> None:
+    with pytest.raises(TypeError) as caught:
+        await read_status_all(clients)
+    assert str(caught.value) == (
+        f"clients must be a list of clients, got {kind} (make it a list: list(...))"
+    )
+
+
+async def test_clients_in_a_dict_are_named_without_a_hint_to_list_its_keys() -> None:
+    with pytest.raises(TypeError) as caught:
+        clients: Any = {"m1": NativeClient("127.0.0.1", 1)}
+        await read_status_all(clients)
+    assert str(caught.value) == "clients must be a list of clients, got a dict"
+
+
+# -- a call on a client that is not connected -----------------------------------------------------
+@pytest.mark.parametrize("kind", _CLIENTS)
+async def test_a_call_after_a_refused_connect_tells_why(kind: Any) -> None:
+    port = free_port()
+    client = kind("127.0.0.1", port, timeout=5)
+    with pytest.raises(FocasConnectionError) as refused:
+        await client.connect()
+    with pytest.raises(FocasConnectionError) as caught:
+        await client.read_status()
+    assert str(caught.value) == (
+        f"not connected to 127.0.0.1:{port} (connect() failed: {refused.value})"
+    )
+
+
+@pytest.mark.parametrize("kind", _CLIENTS)
+async def test_a_call_on_a_closed_client_names_it_and_why(kind: Any) -> None:
+    async with FocasServer(default_machine(sim_clock=ManualClock()), port=0) as server:
+        host, port = server.addresses[0]
+        client = kind(host, port, timeout=5)
+        async with client:
+            pass
+        words = f"not connected to {host}:{port}: the client is closed (a closed client "
+        for call in (client.read_status(), client.connect()):
+            with pytest.raises(FocasConnectionError) as caught:
+                await call
+            assert str(caught.value).startswith(words)
