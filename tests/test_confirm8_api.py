@@ -13,6 +13,9 @@ import pytest
 from support import free_port
 
 from focas_net import (
+    EW,
+    CncError,
+    FaultKind,
     FocasClient,
     FocasConnectionError,
     FocasServer,
@@ -166,3 +169,25 @@ async def test_a_call_on_a_closed_client_names_it_and_why(kind: Any) -> None:
             with pytest.raises(FocasConnectionError) as caught:
                 await call
             assert str(caught.value).startswith(words)
+
+
+# -- a fault the server refuses --------------------------------------------------------------------
+@pytest.mark.parametrize(
+    ("kind", "options", "why"),
+    [
+        ("error", {}, "an error fault's EW code is a nonzero -32768..32767, got 0"),
+        (FaultKind.DELAY, {"arg": -5}, "a delay is 0..60000 ms, got -5"),
+        ("drop", {"count": 0}, "a fault's count is 1..10000, got 0"),
+        (99, {}, "no fault kind 99 (one of 1 DELAY, 2 ERROR, 3 DROP, 4 SPLIT)"),
+        ("drop", {"scope": 7}, "no fault scope 7 (one of 0 CONNECTION, 1 MACHINE)"),
+    ],
+)
+async def test_a_fault_the_server_refuses_says_why_as_the_command_line_does(
+    served: tuple[Machine, FocasClient, NativeClient], kind: Any, options: Any, why: str
+) -> None:
+    _, cnc, _ = served
+    with pytest.raises(CncError) as caught:
+        await cnc.sim.inject_fault(kind, **options)
+    assert caught.value.ew == EW.DATA
+    assert str(caught.value) == f"EW_DATA (5): data error: sim_inject_fault: {why}"
+    assert await cnc.sim.list_faults() == ()
