@@ -14,6 +14,7 @@ from support import free_port
 
 from focas_net import (
     EW,
+    AlarmProjection,
     CncError,
     FaultKind,
     FocasClient,
@@ -191,3 +192,21 @@ async def test_a_fault_the_server_refuses_says_why_as_the_command_line_does(
     assert caught.value.ew == EW.DATA
     assert str(caught.value) == f"EW_DATA (5): data error: sim_inject_fault: {why}"
     assert await cnc.sim.list_faults() == ()
+
+
+# -- an alarm projection of something that is no client ---------------------------------------
+@pytest.mark.parametrize("client", ["cnc", None, 5, default_machine()])
+def test_a_projection_of_no_client_is_refused_naming_what_was_given(client: Any) -> None:
+    with pytest.raises(TypeError) as caught:
+        AlarmProjection(client)
+    assert str(caught.value) == (f"client must be a FocasClient or a NativeClient, got {client!r}")
+
+
+async def test_a_server_s_repr_counts_one_machine_as_one() -> None:
+    server = FocasServer(default_machine(), port=0)
+    assert repr(server) == "<FocasServer new 1 machine>"
+    async with server:
+        assert repr(server) == "<FocasServer serving 1 machine>"
+    assert repr(FocasServer([default_machine(), default_machine()])) == (
+        "<FocasServer new 2 machines>"
+    )

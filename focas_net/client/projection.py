@@ -144,6 +144,11 @@ class AlarmProjection:
         timeout: float | None = None,
         max_failures: int | None = None,
     ) -> None:
+        if not all(
+            callable(getattr(client, call, None)) for call in ("read_alarms", "read_alarm_history")
+        ) or not hasattr(client, "state"):
+            # (else the first poll fails with an AttributeError of what was given)
+            raise TypeError(f"client must be a FocasClient or a NativeClient, got {client!r}")
         self.mode = _mode(mode)
         if isinstance(interval, bool) or not isinstance(interval, int | float):
             raise TypeError(f"interval must be a number of seconds, got {interval!r}")

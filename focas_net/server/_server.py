@@ -756,7 +756,8 @@ class FocasServer:
 
     def __repr__(self) -> str:
         state = "closed" if self._closed else "serving" if self._started else "new"
-        return f"<FocasServer {state} {len(self.listeners)} machines>"
+        count = len(self.listeners)
+        return f"<FocasServer {state} {count} machine{'' if count == 1 else 's'}>"
 
     def stats(self) -> dict[str, dict[str, Any]]:
         """Per machine: address, open packed connections and the packed counters, the
