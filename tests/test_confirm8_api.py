@@ -29,6 +29,7 @@ from focas_net import (
 from focas_net.client._values import param_int
 from focas_net.sim import Machine
 from focas_net.sim.nc import ManualClock
+from focas_net.web import ActionError, Station, perform
 
 _CLIENTS = [FocasClient, NativeClient]
 
@@ -210,3 +211,18 @@ async def test_a_server_s_repr_counts_one_machine_as_one() -> None:
     assert repr(FocasServer([default_machine(), default_machine()])) == (
         "<FocasServer new 2 machines>"
     )
+
+
+@pytest.mark.parametrize(("typed", "shown"), [("1.5", "1.5"), (1.5, "1.5"), (" 1.50 ", "1.50")])
+def test_the_page_refuses_decimals_for_an_integer_parameter_in_the_clients_words(
+    typed: Any, shown: str
+) -> None:
+    machine = default_machine()
+    with pytest.raises(ActionError) as caught:
+        perform(Station(0, machine), "write_param", {"number": 1410, "value": typed})
+    assert str(caught.value) == (
+        f"value: parameter 1410 is not a real parameter: {shown} is no integer"
+    )
+    with pytest.raises(ValueError) as client:
+        param_int(1410, typed if isinstance(typed, str) else Decimal(str(typed)))
+    assert f"value: {client.value}" == str(caught.value)

@@ -18,7 +18,7 @@ from decimal import Decimal
 from typing import Final
 
 from .._bits import bits_of_text
-from .._typed import decimal_text, macro_unfit, typed_number
+from .._typed import macro_unfit, param_decimals_refused, typed_number
 from ..protocol import (
     MAX_HISTORY_DEPTH,
     MAX_REAL_DECIMALS,
@@ -294,9 +294,7 @@ def param_int(number: int, value: object, kind: ParamDataType | None = None) -> 
         if not value.is_finite():
             raise ValueError(not_finite(number, value))
         if value != value.to_integral_value():  # text "1.5" as Decimal("1.5"), in one wording
-            raise ValueError(
-                f"parameter {number} is not a real parameter: {decimal_text(value)} is no integer"
-            )
+            raise ValueError(param_decimals_refused(number, value))
         return int(value)
     return value
 
