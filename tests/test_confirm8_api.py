@@ -226,3 +226,25 @@ def test_the_page_refuses_decimals_for_an_integer_parameter_in_the_clients_words
     with pytest.raises(ValueError) as client:
         param_int(1410, typed if isinstance(typed, str) else Decimal(str(typed)))
     assert f"value: {client.value}" == str(caught.value)
+
+
+# -- the machine's tools given a number of another type ---------------------------------------
+@pytest.mark.parametrize("typed", ["1", 1.5, True])
+def test_the_machine_s_tool_calls_refuse_a_number_of_another_type_as_a_type(typed: Any) -> None:
+    machine = default_machine()
+    calls = [
+        (lambda: machine.tool_group(typed), "tool group"),
+        (lambda: machine.tool_offsets(typed, 2, 0), "tool offset number"),
+        (lambda: machine.tool_offsets(1, 2, typed), "tool offset type"),
+        (lambda: machine.write_tool_offset(1, 0, typed), "tool offset 1 "),
+        (lambda: machine.work_offsets(0, 1, typed), "axis"),
+        (lambda: machine.write_work_offset(typed, None, [1, 2, 3]), "work offset number"),
+        (lambda: machine.set_tool_life_count(1, typed), "tool group 1 count"),
+    ]
+    before = machine.state_digest()
+    for call, what in calls:
+        with pytest.raises(TypeError) as caught:
+            call()
+        assert str(caught.value).startswith(what)
+        assert str(caught.value).endswith(f" must be an integer, got {typed!r}")
+    assert machine.state_digest() == before
