@@ -248,3 +248,25 @@ def test_the_machine_s_tool_calls_refuse_a_number_of_another_type_as_a_type(type
         assert str(caught.value).startswith(what)
         assert str(caught.value).endswith(f" must be an integer, got {typed!r}")
     assert machine.state_digest() == before
+
+
+# -- reprs -------------------------------------------------------------------------------------
+async def test_a_started_call_and_the_sim_control_show_what_they_are(
+    served: tuple[Machine, FocasClient, NativeClient],
+) -> None:
+    _, cnc, native = served
+    assert repr(cnc.sim) == f"<SimControl of {cnc!r}>"
+    for client in (cnc, native):
+        call = client.start_read_status()
+        assert repr(call) in ("<StartedCall waiting>", "<StartedCall answered>")
+        await call.result()
+        assert repr(call) == "<StartedCall ended>"
+        given_up = client.start_read_status()
+        given_up.cancel()
+        assert repr(given_up) == "<StartedCall ended>"
+    for kind in _CLIENTS:
+        failed = kind("127.0.0.1", 1).start_read_status()
+        assert repr(failed) == "<StartedCall failed>"
+        with pytest.raises(FocasConnectionError):
+            await failed.result()
+        assert repr(failed) == "<StartedCall ended>"

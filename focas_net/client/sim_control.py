@@ -88,6 +88,9 @@ class SimControl:
     def __init__(self, client: FocasClient) -> None:
         self._client = client
 
+    def __repr__(self) -> str:
+        return f"<SimControl of {self._client!r}>"
+
     async def set_panel(
         self,
         mode: AutMode | str | int | None = None,
