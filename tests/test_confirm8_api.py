@@ -265,8 +265,8 @@ async def test_a_started_call_and_the_sim_control_show_what_they_are(
         given_up.cancel()
         assert repr(given_up) == "<StartedCall ended>"
     for kind in _CLIENTS:
-        failed = kind("127.0.0.1", 1).start_read_status()
-        assert repr(failed) == "<StartedCall failed>"
+        failed = kind("127.0.0.1", 1).start_read_status()  # read by a task of its own
+        assert repr(failed) in ("<StartedCall waiting>", "<StartedCall answered>")
         with pytest.raises(FocasConnectionError):
             await failed.result()
         assert repr(failed) == "<StartedCall ended>"
