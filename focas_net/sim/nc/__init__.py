@@ -94,7 +94,7 @@ from .modal import (
     program_pointer,
 )
 from .motion import ArcMove, LinearMove, Motion, RapidMove
-from .program import Block, Program, ProgramInfo, ProgramStore, Word, parse_program
+from .program import Block, Program, ProgramInfo, ProgramStore, Word, no_program, parse_program
 from .scenario import (
     DEFAULT_SCENARIO,
     SCENARIO_ALARMS,
@@ -150,6 +150,7 @@ __all__ = [
     "fleet_seed",
     "g_code_text",
     "modal_state",
+    "no_program",
     "parse_program",
     "program_pointer",
 ]
