@@ -5,7 +5,7 @@ is not connected telling why, in every state, on both clients."""
 
 from __future__ import annotations
 
-from collections.abc import AsyncIterator
+from collections.abc import AsyncIterator, Callable
 from decimal import Decimal
 from typing import Any
 
@@ -232,7 +232,7 @@ def test_the_page_refuses_decimals_for_an_integer_parameter_in_the_clients_words
 @pytest.mark.parametrize("typed", ["1", 1.5, True])
 def test_the_machine_s_tool_calls_refuse_a_number_of_another_type_as_a_type(typed: Any) -> None:
     machine = default_machine()
-    calls = [
+    calls: list[tuple[Callable[[], object], str]] = [
         (lambda: machine.tool_group(typed), "tool group"),
         (lambda: machine.tool_offsets(typed, 2, 0), "tool offset number"),
         (lambda: machine.tool_offsets(1, 2, typed), "tool offset type"),
