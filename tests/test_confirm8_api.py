@@ -26,6 +26,7 @@ from focas_net import (
     read_status_all,
     read_status_paths_all,
 )
+from focas_net.client import alarm_changes
 from focas_net.client._values import param_int
 from focas_net.sim import Machine
 from focas_net.sim.nc import ManualClock
@@ -270,3 +271,18 @@ async def test_a_started_call_and_the_sim_control_show_what_they_are(
         with pytest.raises(FocasConnectionError):
             await failed.result()
         assert repr(failed) == "<StartedCall ended>"
+
+
+@pytest.mark.parametrize(
+    ("before", "active", "words"),
+    [
+        ([], [], r"^before must be the alarms by key a previous call returned \(\{\} at first\)"),
+        (None, [], r"^before must be .*, got None$"),
+        ({}, "y", r"^active must be a list of ActiveAlarm, got 'y'$"),
+        ({}, None, r"^active must be a list of ActiveAlarm, got None$"),
+        ({}, [1], r"^active must be a list of ActiveAlarm, it holds 1$"),
+    ],
+)
+def test_alarm_changes_names_what_is_no_alarm_list(before: Any, active: Any, words: str) -> None:
+    with pytest.raises(TypeError, match=words):
+        alarm_changes(before, active)
