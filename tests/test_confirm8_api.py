@@ -286,3 +286,15 @@ async def test_a_started_call_and_the_sim_control_show_what_they_are(
 def test_alarm_changes_names_what_is_no_alarm_list(before: Any, active: Any, words: str) -> None:
     with pytest.raises(TypeError, match=words):
         alarm_changes(before, active)
+
+
+# -- a fleet past the last port ------------------------------------------------------------------
+@pytest.mark.parametrize("option", ["port", "native_port"])
+def test_a_fleet_past_the_last_port_is_named_as_the_command_line_names_it(option: str) -> None:
+    machines = [Machine(f"m{i}") for i in range(3)]
+    options: dict[str, Any] = {option: 65534}
+    with pytest.raises(ValueError) as caught:
+        FocasServer(machines, **options)
+    assert str(caught.value) == (
+        f"3 machines from {option}=65534 run past 65535 (the last machine would get port 65536)"
+    )
