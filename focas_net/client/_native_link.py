@@ -125,11 +125,12 @@ async def _read_frame(channel: Channel, peer: str, answered: bool = True) -> byt
         it before; the start of one counts too).
     """
     try:
-        head = await channel.readexactly(NATIVE_HEADER_SIZE)
+        # a start no frame has is refused as it comes, not once the call's time is up
+        head = await channel.readexactly(NATIVE_HEADER_SIZE, partial(_check_start, peer))
     except (asyncio.IncompleteReadError, OSError) as exc:
-        partial = exc.partial if isinstance(exc, asyncio.IncompleteReadError) else channel.kept
-        _check_start(peer, partial)
-        raise lost_error(peer, exc, answered or bool(partial)) from exc
+        came = exc.partial if isinstance(exc, asyncio.IncompleteReadError) else channel.kept
+        _check_start(peer, came)
+        raise lost_error(peer, exc, answered or bool(came)) from exc
     magic, _, kind, length = NATIVE_HEADER.unpack(head)
     if magic != _MAGIC:
         raise violation_error(peer, _NOT_A_FRAME, head)
