@@ -161,3 +161,14 @@ async def test_a_native_answer_that_cannot_start_a_frame_is_refused_as_it_comes(
         f"127.0.0.1:{peer.port} does not speak the FOCAS protocol (its answer does not start "
         "with A0 A0 A0 A0; it sent b'\\x00')"
     )
+
+
+async def test_a_native_port_equal_to_the_port_names_no_fleet_not_typed() -> None:
+    """It said `overlaps the ports 40111..40111 of --fleet 1`, an option not typed."""
+    port = _closed_port()
+    code, out, err = await run_focas_net("serve", "--port", str(port), "--native-port", str(port))
+    assert (code, out) == (2, "")
+    assert one_line(err, "focas-net serve: error:") == (
+        f"focas-net serve: error: --native-port {port} is the port of --port {port}, which "
+        "speaks FOCAS/2 too: leave --native-port out, or give it another port"
+    )
