@@ -527,10 +527,10 @@ async def test_an_unknown_pmc_area_is_named_with_the_areas_in_one_wording(
 @pytest.mark.parametrize(
     ("kwargs", "words"),
     [
-        ({"mode": True}, "mode must be an integer, got True"),
-        ({"mode": "MDI"}, "mode must be an integer, got 'MDI'"),
-        ({"pwe": "on"}, "pwe must be 0, 1, True, False or None, got 'on'"),
-        ({"emergency": 1.0}, "emergency must be 0, 1, True, False or None, got 1.0"),
+        ({"mode": True}, "mode must be a mode's number or name, got True"),
+        ({"mode": 1.5}, "mode must be a mode's number or name, got 1.5"),
+        ({"pwe": "on"}, "pwe must be True, False or None (unchanged), got 'on'"),
+        ({"emergency": 1.0}, "emergency must be True, False or None (unchanged), got 1.0"),
     ],
 )
 def test_machine_set_panel_names_a_wrong_type(kwargs: dict[str, Any], words: str) -> None:

@@ -3,6 +3,7 @@ transports; the machine names an axis beyond the path with the path's count."""
 
 from __future__ import annotations
 
+import re
 from collections.abc import Callable
 
 import pytest
@@ -106,3 +107,41 @@ async def test_a_pmc_address_past_its_area_reads_alike_on_the_page_and_the_comma
             else:
                 served.machine.write_pmc("R", 7999, b"\1\2")
         assert refused.value.detail == f"{words} (R0..R7999)"
+
+
+@pytest.mark.parametrize(
+    ("mode", "words"),
+    [
+        (99, "unknown mode 99 (one of MDI, MEM, EDIT, HND, JOG, TJOG, THND, INC, REF, RMT)"),
+        ("mdx", "unknown mode 'mdx' (one of MDI, MEM, EDIT, HND, JOG, TJOG, THND, INC, REF, RMT)"),
+    ],
+)
+async def test_a_panel_mode_the_panel_has_not_reads_alike_in_the_machine_and_the_client(
+    mode: int | str, words: str
+) -> None:
+    """The machine said ``panel mode 99 is not a mode (one of 0 MDI, ...)`` where the client,
+    the command line and the page say ``unknown mode 99 (one of MDI, ...)``; and the machine
+    took no name, where ``sim.set_panel("MDI")`` does."""
+    machine = default_machine()
+    with pytest.raises(MachineError) as refused:
+        machine.set_panel(mode)
+    assert str(refused.value) == f"EW_DATA: {words}"
+    async with serving(machine) as served, FocasClient("127.0.0.1", served.port) as cnc:
+        with pytest.raises(ValueError, match=re.escape(words)):
+            await cnc.sim.set_panel(mode)
+    machine.set_panel(" mdi ")
+    assert machine.panel.mode == 0
+
+
+@pytest.mark.parametrize("switch", ["pwe", "emergency"])
+async def test_a_panel_switch_neither_on_nor_off_reads_alike_in_the_machine_and_the_client(
+    switch: str,
+) -> None:
+    words = f"{switch} must be True, False or None (unchanged), got 2"
+    machine = default_machine()
+    with pytest.raises(MachineError) as refused:
+        machine.set_panel(**{switch: 2})
+    assert str(refused.value) == f"EW_DATA: {words}"
+    async with serving(machine) as served, FocasClient("127.0.0.1", served.port) as cnc:
+        with pytest.raises(ValueError, match=re.escape(words)):
+            await cnc.sim.set_panel(**{switch: 2})  # type: ignore[arg-type]  # (wrongly typed)

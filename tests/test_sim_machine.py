@@ -729,9 +729,9 @@ def test_a_clock_behind_the_machine_is_refused_with_what_to_give() -> None:
 @pytest.mark.parametrize(
     ("mode", "pwe", "emergency", "words"),
     [
-        (2, None, None, "panel mode 2 is not a mode (one of 0 MDI, 1 MEM, 3 EDIT,"),
-        (None, 2, None, "panel pwe is 0 or 1, got 2"),
-        (None, None, -1, "panel emergency is 0 or 1, got -1"),
+        (2, None, None, "unknown mode 2 (one of MDI, MEM, EDIT,"),
+        (None, 2, None, "pwe must be True, False or None (unchanged), got 2"),
+        (None, None, -1, "emergency must be True, False or None (unchanged), got -1"),
     ],
 )
 def test_a_panel_refusal_gives_the_values_it_takes(

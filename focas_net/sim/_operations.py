@@ -13,7 +13,9 @@ import math
 from collections.abc import Callable, Iterable
 from contextlib import AbstractContextManager
 
-from ._base import need_flag, need_flag_or_none, need_int
+from focas_net.errors import EW
+
+from ._base import MachineError, need_flag, need_flag_or_none, need_int
 from ._paths import Paths
 from ._signals import METER, Collected
 from ._spindles import (
@@ -23,7 +25,7 @@ from ._spindles import (
     servo_motor_speeds,
     spindle_states,
 )
-from ._status import MotionData
+from ._status import MotionData, panel_mode, switch_unfit
 from .nc import ProgramInfo, SimClock, check_sim_clock
 from .nc.scenario import DEFAULT_SCENARIO, Scenario
 
@@ -48,21 +50,27 @@ class PathOperations:
     # -- operator panel and motion figures -----------------------------------------------
     def set_panel(
         self,
-        mode: int | None = None,
+        mode: int | str | None = None,
         pwe: int | None = None,
         emergency: int | None = None,
         *,
         path: int = 1,
     ) -> None:
-        """Set the operator panel: ``mode`` an ``aut`` value other than 2, ``pwe`` and
-        ``emergency`` 0/1, else EW_DATA; a switch given as None stays as it is. EW_PROT on a
-        read-only machine. Leaving MEM holds the feed; the emergency stop resets. TypeError
-        for a mode that is no integer (``True`` is no mode); a switch may be a ``bool``."""
-        if mode is not None:
-            need_int("mode", mode)
+        """Set the operator panel: ``mode`` an ``aut`` value other than 2 or its name
+        (``"MDI"``), ``pwe`` and ``emergency`` 0/1, else EW_DATA; a switch given as None stays
+        as it is. EW_PROT on a read-only machine. Leaving MEM holds the feed; the emergency
+        stop resets. TypeError for a mode that is neither an integer nor text (``True`` is no
+        mode); a switch may be a ``bool``."""
+        if isinstance(mode, str):
+            try:
+                mode = panel_mode(mode)
+            except ValueError as exc:
+                raise MachineError(EW.DATA, str(exc)) from None
+        elif mode is not None and (isinstance(mode, bool) or not isinstance(mode, int)):
+            raise TypeError(f"mode must be a mode's number or name, got {mode!r}")
         for what, value in (("pwe", pwe), ("emergency", emergency)):
             if value is not None and not isinstance(value, int):
-                raise TypeError(f"{what} must be 0, 1, True, False or None, got {value!r}")
+                raise TypeError(switch_unfit(what, value))
         self.check_writable()
         self._paths.at(path).set_panel(mode, pwe, emergency)
 

@@ -41,7 +41,6 @@ from ._status import (
     AUT_MODES,
     EDIT,
     MEM,
-    MODE_NAMES,
     MOTION_NUMBERS,
     POSITION_DECIMALS,
     POSITION_KINDS,
@@ -50,6 +49,8 @@ from ._status import (
     Panel,
     Status,
     mode_name,
+    switch_unfit,
+    unknown_mode,
 )
 from ._time import MachineTime
 from ._variables import PARTS_VARIABLES, PathVariables
@@ -469,11 +470,10 @@ class Path:
         pwe = p.pwe if pwe is None else pwe
         emergency = p.emergency if emergency is None else emergency
         if mode not in AUT_MODES:
-            modes = ", ".join(f"{value} {name}" for name, value in MODE_NAMES.items())
-            raise MachineError(EW.DATA, f"panel mode {mode} is not a mode (one of {modes})")
+            raise MachineError(EW.DATA, unknown_mode(mode))
         for name, value in (("pwe", pwe), ("emergency", emergency)):
             if value not in (0, 1):
-                raise MachineError(EW.DATA, f"panel {name} is 0 or 1, got {value}")
+                raise MachineError(EW.DATA, switch_unfit(name, value))
         self.sync()
         leaving_mem = p.mode == MEM and mode != MEM
         stop = emergency and not p.emergency

@@ -21,6 +21,9 @@ __all__ = [
     "Panel",
     "Status",
     "mode_name",
+    "panel_mode",
+    "switch_unfit",
+    "unknown_mode",
 ]
 
 #: The panel's modes by name (``aut`` values of ``cnc_statinfo``: 6 and 7 are teach-in JOG and
@@ -39,6 +42,29 @@ MODE_NAMES: Final[dict[str, int]] = {
 }
 #: The ``aut`` values a panel selects.
 AUT_MODES: Final = frozenset(MODE_NAMES.values())
+
+
+def unknown_mode(given: object) -> str:
+    """The words for a panel mode the panel does not select, alike on every front end."""
+    return f"unknown mode {given!r} (one of {', '.join(MODE_NAMES)})"
+
+
+def panel_mode(given: int | str) -> int:
+    """The ``aut`` value of a panel mode given by number or by name (``"MDI"``, ASCII letters
+    in any case, spaces around it); ValueError in :func:`unknown_mode`'s words for a name it
+    has not."""
+    if isinstance(given, str):
+        word = given.strip().upper() if given.isascii() else ""  # (ASCII letters only)
+        value = MODE_NAMES.get(word)
+        if value is None:
+            raise ValueError(unknown_mode(given))
+        return value
+    return given
+
+
+def switch_unfit(name: str, given: object) -> str:
+    """The words for a panel switch (``pwe``, ``emergency``) that is neither on nor off."""
+    return f"{name} must be True, False or None (unchanged), got {given!r}"
 
 
 def mode_name(aut: int) -> str:

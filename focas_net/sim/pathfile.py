@@ -20,7 +20,7 @@ from focas_net._typed import os_words
 from ._base import n_values
 from ._identity import axes_problem, axis_name_problem
 from ._paths import MAX_PATHS, PATH_KINDS, PathSpec, kind_of
-from ._status import AUT_MODES, MODE_NAMES, MOTION_NUMBERS, MotionData, Panel
+from ._status import AUT_MODES, MOTION_NUMBERS, MotionData, Panel, panel_mode, unknown_mode
 from .filecheck import (
     _I32,
     MachineFileError,
@@ -130,14 +130,14 @@ def _panel(ctx: _Ctx, value: Any) -> Panel:
     mode_v = t.get("mode", "MEM")
     c = ctx.sub("mode")
     if isinstance(mode_v, str):
-        word = mode_v.strip().upper() if mode_v.isascii() else ""  # (ASCII letters only, as --mode)
-        if word not in MODE_NAMES:
-            c.fail(f"unknown mode {mode_v!r} (expected one of: {', '.join(MODE_NAMES)})")
-        mode = MODE_NAMES[word]
+        try:
+            mode = panel_mode(mode_v)
+        except ValueError as exc:
+            c.fail(str(exc))
     else:
         mode = _int(c, mode_v)
         if mode not in AUT_MODES:
-            c.fail(f"{mode} is not a mode (0, 1, 3..10)")
+            c.fail(unknown_mode(mode))
     return Panel(
         mode=mode,
         pwe=int(_bool(ctx.sub("pwe"), t.get("pwe", False))),
