@@ -295,7 +295,7 @@ _CYCLE_START: Final[Table] = {
 
 _SIM_ALARM: Final[Table] = {
     **_SIM,
-    EW.ATTRIB: lambda a: f"the machine has no axis {a.axis} (--axis 0: an alarm of no axis)",
+    # EW_ATTRIB: an --axis past the path's, told with the path's axes (sim_cmds.alarm)
     EW.DATA: lambda a: (
         f"the CNC cannot hold alarm {a.alarm}: its type, number or message is out of range"
     ),
