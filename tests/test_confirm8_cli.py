@@ -102,3 +102,26 @@ async def test_a_type_past_31_is_refused_in_the_range_a_code_can_have(
     """It said "outside -1..31": -1 (every type) is no type a code can name."""
     line = await fails(EXIT_USAGE, "sim", command, given, *at(server))
     assert line == "focas-net: alarm type 32 is outside 0..31", line
+
+
+# -- the advice of a refusal on path 2 acts on path 2 --------------------------------------------
+
+
+async def test_the_advice_of_a_refusal_names_the_path_it_was_refused_on(lathe: Served) -> None:
+    """The advice said ``focas-net sim panel --mode MDI --pwe on``, which sets path 1's panel:
+    followed as printed, path 2's write was refused again."""
+    two = ("--path", "2", *at(lathe))
+    line = await fails(EXIT_CNC, "param", "set", "6711", "3", *two)
+    assert "(focas-net sim panel --mode MDI --pwe on --path 2)" in line, line
+    await ok("sim", "panel", "--mode", "MDI", "--pwe", "on", *two)
+    assert "(written)" in await ok("param", "set", "6711", "3", *two)
+    line = await fails(EXIT_CNC, "sim", "cycle", "start", *two)
+    assert line.endswith("(focas-net sim panel --mode MEM --path 2)"), line
+    line = await fails(EXIT_CNC, "program", "select", "2001", *two)
+    assert line.endswith("(focas-net sim panel --mode MEM --path 2)"), line
+    await ok("sim", "panel", "--mode", "MEM", *two)
+    line = await fails(EXIT_CNC, "program", "select", "1001", *two)
+    assert line.endswith("no program O1001 (focas-net program list --path 2)"), line
+    # path 1 (given or not) keeps the advice as it was
+    line = await fails(EXIT_CNC, "program", "select", "2001", *at(lathe))
+    assert line.endswith("no program O2001 (focas-net program list)"), line
