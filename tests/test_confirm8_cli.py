@@ -125,3 +125,22 @@ async def test_the_advice_of_a_refusal_names_the_path_it_was_refused_on(lathe: S
     # path 1 (given or not) keeps the advice as it was
     line = await fails(EXIT_CNC, "program", "select", "2001", *at(lathe))
     assert line.endswith("no program O2001 (focas-net program list)"), line
+
+
+# -- sim clear: the alarm cleared named by its code --------------------------------------------
+
+
+@pytest.mark.parametrize(
+    ("typed", "named"), [(" ps100 ", "PS0100"), ("3:100", "PS0100"), ("ps", "PS")]
+)
+async def test_sim_clear_names_what_it_cleared_by_its_code(
+    server: Served, typed: str, named: str
+) -> None:
+    """``--json`` said ``"cleared": " ps100 "``, the text as typed, where docs/cli.md gives
+    the code (``"PS0100" | "PS" | "all"``)."""
+    await ok("sim", "alarm", "PS0100", *at(server))
+    cleared = json.loads(await ok("sim", "clear", typed, "--json", *at(server)))
+    assert cleared["cleared"] == named
+    assert [a["code"] for a in cleared["alarms"]] == ["PS0100"]
+    line = await fails(1, "sim", "clear", typed, *at(server))
+    assert line == f"focas-net: no active alarm matches {named}; nothing cleared", line

@@ -17,6 +17,7 @@ from typing import Any, Final
 from focas_net.client import FocasClient
 from focas_net.errors import CncError, FocasError
 from focas_net.protocol import (
+    ALARM_TYPE_NAMES,
     MAX_ALARM_MSG,
     ArmedFault,
     FaultKind,
@@ -128,6 +129,13 @@ def clear(args: argparse.Namespace) -> PackedOnly:
     if given is not None and given.strip().lower() == "all":
         given = None  # what leaving it out means, as --help and the JSON name it
     alm_type, alm_no = fmt.parse_alarm_filter(given)
+    # what was given, as the CNC names it (``ps100`` is PS0100, ``ps`` every PS alarm)
+    if given is not None:
+        given = (
+            ALARM_TYPE_NAMES.get(alm_type, given.strip())
+            if alm_no == -1
+            else fmt.alarm_code(alm_type, alm_no)
+        )
 
     def matches(a: Any) -> bool:
         return alm_type in (-1, a.alm_type) and alm_no in (-1, a.alm_no)
