@@ -35,8 +35,10 @@ __all__ = [
     "alarm_text_unfit",
     "decimal_number",
     "decimal_text",
+    "field_unfit",
     "file_text",
     "is_loopback",
+    "item_number_unfit",
     "macro_unfit",
     "os_words",
     "override_percent",
@@ -83,6 +85,28 @@ def macro_unfit(value: object) -> str:
         f"{value} does not fit a macro variable: give at most 9 decimals and at most 10 digits, "
         "which without the decimal point stay within 32 bits (-2147483648..2147483647)"
     )
+
+
+def field_unfit(what: str, value: int, low: int, high: int) -> str | None:
+    """Why ``value`` cannot be ``what`` (``parameter number``), a field of ``low..high``, in
+    the words of every front end (``parameter number 99999 is outside 0..32767``); None when
+    it can."""
+    return None if low <= value <= high else f"{what} {value} is outside {low}..{high}"
+
+
+#: The numbers a CNC's fields carry: a parameter's (a C ``short`` of no sign) and a macro
+#: variable's (a C ``short``).
+_ITEM_NUMBERS: Final[Mapping[str, tuple[int, int]]] = {
+    "parameter number": (0, 0x7FFF),
+    "macro variable number": (-0x8000, 0x7FFF),
+}
+
+
+def item_number_unfit(what: str, number: int) -> str | None:
+    """Why ``number`` is no ``what`` (``parameter number``, ``macro variable number``) a CNC's
+    field carries (:func:`field_unfit`); None when it is one."""
+    low, high = _ITEM_NUMBERS[what]
+    return field_unfit(what, number, low, high)
 
 
 def override_unfit(what: str, value: int) -> str | None:

@@ -49,7 +49,7 @@ def _named(fields: dict[str, Any]) -> dict[str, tuple[str, str]]:
 
 async def test_every_front_end_names_the_status_alike(cli: Cli) -> None:
     machine = cli.served.machine
-    web = {f["field"]: (f["label"], f["meaning"]) for f in status_fields(machine)}
+    web = {f["field"]: (f["name"], f["meaning"]) for f in status_fields(machine)}
     status = _named(await cli.json("status"))
     (frame,) = [json.loads(line) for line in (await cli.ok("watch", "--json", "--count", "1"))
                 .splitlines()]  # fmt: skip

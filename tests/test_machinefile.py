@@ -187,7 +187,7 @@ BAD_FILES = [
     (
         "[parameters.1420]\ntype = 'i32'\naxis = true\nvalue = [1, 2, 3]\n",
         "parameters.1420.value",
-        "3 values for 1 axes",
+        "3 values for 1 axis",
     ),
     (
         "[parameters.1420]\ntype = 'i32'\naxis = true\nvalue = ['a']\n",
@@ -307,7 +307,7 @@ BAD_FILES = [
         "versamax[0].label",
         "unknown key",
     ),
-    ("[motion]\nabsolute = [1, 2, 3]\n", "motion.absolute", "3 values for 1 axes"),
+    ("[motion]\nabsolute = [1, 2, 3]\n", "motion.absolute", "3 values for 1 axis"),
     ("[motion]\nfeed = -1\n", "motion.feed", "outside"),
     ("[motion]\nspeed = 1\n", "motion.speed", "unknown key"),
     ("[motion]\nfeed = nan\n", "motion.feed", "must be an integer, got a float (nan)"),

@@ -12,7 +12,7 @@ import sys
 from collections.abc import AsyncIterator
 
 import pytest
-from cli_support import Cli
+from cli_support import Cli, run_focas_net
 from support import Served, serving
 
 from focas_net.cli import EXIT_CNC, EXIT_USAGE
@@ -98,17 +98,25 @@ async def locked_cli(capsys: pytest.CaptureFixture[str]) -> AsyncIterator[Cli]:
 
 
 async def test_cli_unlock_refuses_a_long_password(locked_cli: Cli) -> None:
-    err = await locked_cli.fails(EXIT_USAGE, "unlock", "1234xx")
-    assert "'1234xx'" in err and "1..4" in err
-    err = await locked_cli.fails(EXIT_USAGE, "unlock", "1234WRONG")
-    assert "'1234WRONG'" in err
+    for typed in ("1234xx", "1234WRONG"):  # refused by the parser, naming the argument
+        code, out, err = await run_focas_net("unlock", typed, "--port", str(locked_cli.served.port))
+        assert (code, out) == (EXIT_USAGE, "")
+        assert err.startswith(
+            f"focas-net unlock: error: argument PASSWORD: must be 1..4 ASCII characters, "
+            f"got {typed!r}; "
+        )
     await locked_cli.fails(EXIT_CNC, "unlock", "4321")
     await locked_cli.ok("unlock", "1234")
 
 
 async def test_cli_password_option_refuses_a_long_password(locked_cli: Cli) -> None:
-    err = await locked_cli.fails(EXIT_USAGE, "param", "set", "6711", "42", "--password", "1234zzz")
-    assert "'1234zzz'" in err
+    port = str(locked_cli.served.port)
+    code, out, err = await run_focas_net(
+        "param", "set", "6711", "42", "--password", "1234zzz", "--port", port
+    )
+    assert (code, out) == (EXIT_USAGE, "")
+    assert err.startswith("focas-net param set: error: argument --password: must be 1..4 ")
+    assert "got '1234zzz'; " in err
     assert locked_cli.served.machine.read_param(6711, 0) == 0
 
 

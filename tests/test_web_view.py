@@ -71,10 +71,10 @@ def test_status_fields_carry_the_focas_names_and_labels() -> None:
         "hdck",
     ]
     status = machine.status()
-    assert fields["aut"]["value"] == status.aut == MEM and fields["aut"]["label"] == "MEM"
-    assert fields["run"]["value"] == status.run and fields["run"]["label"] == "STRT"
+    assert fields["aut"]["value"] == status.aut == MEM and fields["aut"]["name"] == "MEM"
+    assert fields["run"]["value"] == status.run and fields["run"]["name"] == "STRT"
     # the built-in machine is an M series machine: tmmode selects nothing there
-    assert (fields["tmmode"]["value"], fields["tmmode"]["label"]) == (0, "M")
+    assert (fields["tmmode"]["value"], fields["tmmode"]["name"]) == (0, "M")
 
 
 def test_a_tile_follows_the_machine() -> None:

@@ -13,11 +13,9 @@ import argparse
 import math
 import re
 import shlex
-import ssl
 import sys
 from collections.abc import Callable, Sequence
 from functools import partial
-from pathlib import Path
 from typing import Any, Final, NoReturn, TypeVar
 
 from focas_net._address import (
@@ -28,10 +26,10 @@ from focas_net._address import (
     url_address,
     url_advice,
 )
+from focas_net._tls import pem_holds, ssl_error_text
 from focas_net._typed import rapid_step, typed_number
-from focas_net.client._failures import os_reason
 from focas_net.client._values import check_path
-from focas_net.protocol import PmcArea
+from focas_net.protocol import PASSWORD_SIZE, PmcArea
 
 from . import _format as fmt
 
@@ -57,6 +55,7 @@ __all__ = [
     "MAX_INTERVAL",
     "MIN_INTERVAL",
     "NON_NEGATIVE",
+    "PASSWORD",
     "PATH",
     "PORT",
     "POSITIVE",
@@ -113,24 +112,6 @@ EXIT_CODES: Final[tuple[tuple[int, str], ...]] = (
     (EXIT_PROTOCOL, "protocol violation"),
     (EXIT_INTERRUPTED, "interrupted (Ctrl-C)"),
 )
-
-
-def pem_holds(path: str, label: str) -> bool | None:
-    """Whether the PEM file ``path`` has a block whose label ends with ``label``
-    (``CERTIFICATE``, ``PRIVATE KEY``); None when it cannot be read."""
-    try:
-        text = Path(path).read_text("ascii", errors="replace")
-    except OSError:
-        return None
-    return re.search(rf"-----BEGIN [A-Z0-9 ]*{label}-----", text) is not None
-
-
-def ssl_error_text(exc: OSError) -> str:
-    """OpenSSL's words for ``exc`` without its library tag and source line (``[X509: ...]``,
-    ``(_ssl.c:4154)``)."""
-    if not isinstance(exc, ssl.SSLError):
-        return os_reason(exc)  # (a file that cannot be read: the system's words)
-    return re.sub(r"^\[[A-Z0-9_: ]+\] | \(_ssl\.c:\d+\)$", "", str(exc.strerror or exc))
 
 
 def print_error(message: str, prog: str = PROG) -> None:
@@ -357,6 +338,14 @@ def parse_host(text: str, lowest: int = 1) -> str:
     return check_host(text.strip(), lowest)
 
 
+def parse_password(text: str) -> str:
+    """A parameter password as ``cnc_wrunlockparam`` carries it: 1..4 ASCII characters, no
+    NUL (the codec's rule, checked by the parser so nothing connects for a bad one)."""
+    if not 1 <= len(text) <= PASSWORD_SIZE or not text.isascii() or "\x00" in text:
+        raise ValueError(f"must be 1..{PASSWORD_SIZE} ASCII characters, got {text!r}")
+    return text
+
+
 def parse_path(text: str) -> int:
     """A path of the CNC, 1..10 (:func:`~focas_net.client._values.check_path`, where both
     clients check a ``path=``)."""
@@ -411,3 +400,5 @@ AREA: Final = argument_type(parse_area, "area")
 HISTORY_DEPTH: Final = argument_type(parse_history_depth, "depth")
 PATH: Final = argument_type(parse_path, "path")
 LOG_LEVEL: Final = argument_type(parse_log_level, "log level")
+#: A parameter password (``--password``, ``unlock PASSWORD``, ``serve --param-password``).
+PASSWORD: Final = argument_type(parse_password, "password")

@@ -109,8 +109,12 @@ async def _bounded(probe: Awaitable[bool], bound: float) -> bool:
 
 
 async def _closes_at_once(host: str, port: int) -> bool:
-    """A connection on which nothing is sent ends (the peer refused it)."""
-    reader, writer = await asyncio.open_connection(host, port)
+    """A connection on which nothing is sent ends (the peer refused it): by an end of
+    stream or a reset, which may meet the connect itself (a refused connect is no peer)."""
+    try:
+        reader, writer = await asyncio.open_connection(host, port)
+    except ConnectionResetError:
+        return True
     try:
         return await reader.read(1) == b""
     except ConnectionError:

@@ -19,7 +19,7 @@ from focas_net._typed import WRONG_PASSWORD
 from focas_net.errors import EW, CncError
 from focas_net.server.faults import fault_refusal
 from focas_net.sim import AXIS_NAME_PARAM
-from focas_net.sim.nc import ProgramError, parse_program
+from focas_net.sim.nc import ProgramError, no_program, parse_program
 
 from . import _format as fmt
 
@@ -278,7 +278,11 @@ _PROGRAM_LOAD: Final[Table] = {
 
 
 def _no_program(args: argparse.Namespace) -> str:
-    return f"no program {_target(args)} ({_next(args, 'program list')})"
+    """The store's words for the program number given (``no program O1234``, or for one no
+    program can have ``program number 10000 outside 1..9999``), as the dashboard says it."""
+    text = str(args.target).strip().upper().removeprefix("O")
+    what = no_program(int(text)) if text.isdigit() else f"no program {args.target}"
+    return f"{what} ({_next(args, 'program list')})"
 
 
 _PROGRAM_SELECT: Final[Table] = {

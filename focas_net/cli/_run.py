@@ -23,6 +23,7 @@ from collections.abc import Awaitable, Callable, Iterator
 from dataclasses import dataclass
 from typing import Any, Final
 
+from focas_net._tls import ca_context
 from focas_net._typed import os_words
 from focas_net.client import (
     ClientState,
@@ -49,9 +50,7 @@ from ._args import (
     EXIT_OK,
     EXIT_PROTOCOL,
     EXIT_USAGE,
-    pem_holds,
     print_error,
-    ssl_error_text,
 )
 from ._diagnose import diagnosis
 from ._reasons import reason
@@ -232,16 +231,9 @@ def tls_context(args: argparse.Namespace) -> ssl.SSLContext | None:
         ctx.verify_mode = ssl.CERT_NONE
         return ctx
     try:
-        return ssl.create_default_context(cafile=ca)
-    except (OSError, ssl.SSLError) as exc:
-        reason = ssl_error_text(exc)
-        if isinstance(exc, ssl.SSLError) and ca is not None:
-            reason = (
-                f"a certificate in it cannot be read ({reason})"
-                if pem_holds(ca, "CERTIFICATE")
-                else "no PEM certificate in it"
-            )
-        raise ValueError(f"--tls-ca {ca}: {reason}") from None
+        return ca_context(ca)
+    except ValueError as exc:
+        raise ValueError(f"--tls-ca {ca}: {exc}") from None
 
 
 async def _session(

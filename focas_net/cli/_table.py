@@ -28,6 +28,7 @@ from ._args import (
     INT,
     INTERVAL,
     NON_NEGATIVE,
+    PASSWORD,
     PATH,
     PORT,
     POSITIVE,
@@ -137,6 +138,7 @@ _CONNECTION: Final = (
 )
 _PASSWORD: Final = arg(
     "--password",
+    type=PASSWORD,
     metavar="TEXT",
     help="parameter password, sent with cnc_wrunlockparam after connecting",
 )
@@ -393,7 +395,7 @@ COMMANDS: Final[tuple[Cmd | Group, ...]] = (
         "unlock",
         "check a parameter password (cnc_wrunlockparam); the unlock lasts one connection",
         write_cmds.unlock,
-        (arg("secret", metavar="PASSWORD", help="the parameter password"),),
+        (arg("secret", type=PASSWORD, metavar="PASSWORD", help="the parameter password"),),
     ),
     Cmd(
         "versamax",
@@ -482,7 +484,7 @@ COMMANDS: Final[tuple[Cmd | Group, ...]] = (
                 "set the overrides given (percent), or show them when none is given",
                 program_cmds.override,
                 (
-                    arg("--feed", type=NON_NEGATIVE, metavar="PCT", help="feed override 0..254"),
+                    arg("--feed", type=INT, metavar="PCT", help="feed override 0..254"),
                     arg(
                         "--rapid",
                         type=RAPID,
@@ -491,7 +493,7 @@ COMMANDS: Final[tuple[Cmd | Group, ...]] = (
                     ),
                     arg(
                         "--spindle",
-                        type=NON_NEGATIVE,
+                        type=INT,
                         metavar="PCT",
                         help="spindle override 0..254",
                     ),

@@ -36,7 +36,6 @@ import anyio
 
 from focas_net._typed import typed_number
 from focas_net.client._failures import os_reason
-from focas_net.protocol import PASSWORD_SIZE
 from focas_net.server import (
     DEFAULT_GRACE_PERIOD,
     DEFAULT_HOST,
@@ -56,6 +55,7 @@ from ._args import (
     LISTEN_PORT,
     LOG_LEVEL,
     NON_NEGATIVE,
+    PASSWORD,
     POSITIVE,
     PROG,
     command_parser,
@@ -111,14 +111,6 @@ def _seconds(text: str) -> float:
     if not value >= 0:
         raise argparse.ArgumentTypeError(f"must be a number >= 0, got {text}")
     return value
-
-
-def _password(text: str) -> str:
-    if not 1 <= len(text) <= PASSWORD_SIZE or not text.isascii() or "\x00" in text:
-        raise argparse.ArgumentTypeError(
-            f"must be 1..{PASSWORD_SIZE} ASCII characters, got {text!r}"
-        )
-    return text
 
 
 def _speed(text: str) -> float:
@@ -209,7 +201,7 @@ def register(subparsers: Any) -> None:
     )
     p.add_argument(
         "--param-password",
-        type=_password,
+        type=PASSWORD,
         metavar="TEXT",
         help="parameter-write password (cnc_wrunlockparam), 1..4 ASCII characters",
     )

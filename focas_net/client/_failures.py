@@ -23,6 +23,7 @@ import socket
 import ssl as _ssl
 from typing import Final
 
+from focas_net._address import address_text
 from focas_net._typed import os_words
 from focas_net.errors import (
     EW,
@@ -42,6 +43,7 @@ __all__ = [
     "NOTHING_RECEIVED",
     "closed_error",
     "command_text",
+    "connect_error",
     "connect_reason",
     "echo_error",
     "lost_error",
@@ -196,6 +198,23 @@ def _unscoped_link_local(host: str) -> bool:
     return isinstance(address, ipaddress.IPv6Address) and (
         address.is_link_local and address.scope_id is None
     )
+
+
+def connect_error(
+    host: str, port: int, exc: BaseException, ssl: _ssl.SSLContext | None
+) -> FocasConnectionError:
+    """The error of a connect to ``host:port`` that failed for ``exc``: ``cannot connect to
+    HOST:PORT: <why>``, but for a reset without TLS, which is a peer that accepted the
+    connection and closed it at once (whether its reset meets the connect or the request is
+    a race): ``connection closed by HOST:PORT before any answer``, as it reads after the
+    connect."""
+    where = address_text(host, port)
+    if ssl is None and isinstance(exc, ConnectionResetError):
+        err = closed_error(where, answered=False)
+    else:
+        err = FocasConnectionError(f"cannot connect to {where}: {connect_reason(exc, ssl, host)}")
+    err.__cause__ = exc
+    return err
 
 
 def connect_reason(exc: BaseException, ssl: _ssl.SSLContext | None, host: str = "") -> str:

@@ -73,7 +73,7 @@ from ._composite import CompositeCalls
 from ._failures import (
     ECHOED,
     NEVER_SENT,
-    connect_reason,
+    connect_error,
     lost_error,
     no_answer_error,
     timeout_error,
@@ -232,9 +232,7 @@ async def _open_channel(
     except TimeoutError:
         raise FocasTimeoutError(f"connecting to {where} timed out") from None
     except OSError as exc:
-        raise FocasConnectionError(
-            f"cannot connect to {where}: {connect_reason(exc, None, host)}"
-        ) from exc
+        raise connect_error(host, port, exc, None) from exc
     try:
         conn.write(encode_open_request(channel))
         try:

@@ -18,7 +18,7 @@ from decimal import Decimal
 from typing import Final
 
 from .._bits import bits_of_text
-from .._typed import macro_unfit, typed_number, whole_number
+from .._typed import field_unfit, macro_unfit, typed_number, whole_number
 from ..protocol import (
     MAX_HISTORY_DEPTH,
     MAX_REAL_DECIMALS,
@@ -83,8 +83,9 @@ def check_int(what: str, value: object, low: int, high: int) -> int:
     """
     if isinstance(value, bool) or not isinstance(value, int):
         raise TypeError(f"{what} must be an integer, got {value!r}")
-    if not low <= value <= high:
-        raise ValueError(f"{what} {value} is outside {low}..{high}")
+    why = field_unfit(what, value, low, high)
+    if why is not None:
+        raise ValueError(why)
     return value
 
 

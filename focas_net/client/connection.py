@@ -66,7 +66,7 @@ from ._failures import (
     NEVER_SENT,
     closed_error,
     command_text,
-    connect_reason,
+    connect_error,
     lost_error,
     no_answer_error,
     violation_error,
@@ -730,9 +730,7 @@ async def open_connection(
     except TimeoutError:
         raise FocasTimeoutError(f"connecting to {address_text(host, port)} timed out") from None
     except (OSError, _ssl.SSLError) as exc:
-        raise FocasConnectionError(
-            f"cannot connect to {address_text(host, port)}: {connect_reason(exc, ssl, host)}"
-        ) from exc
+        raise connect_error(host, port, exc, ssl) from exc
     except UnicodeError as exc:  # the idna codec refusing a host name (a label over 63)
         raise FocasConnectionError(
             f"cannot connect to {address_text(host, port)}: not a valid host name ({exc})"

@@ -37,11 +37,29 @@ def refusal(exc: BaseException) -> ua.StatusCode:
     return _INVALID
 
 
-async def _run(call: Callable[[], Awaitable[None]]) -> Result:
+def _given_text(given: tuple[Any, ...], declared: list[ua.Argument]) -> str:
+    """Why ``given`` (variants) do not fit ``declared``, in words: the values as sent and the
+    declared arguments with their types (``('500', True, 1) are not of the declared types
+    (Number Int32, Value Double, Path Int32)``), never a variant's repr."""
+
+    def shown(v: Any) -> str:
+        value = v.Value if isinstance(v, ua.Variant) else v
+        return "an empty variant" if value is None else repr(value)
+
+    types = ", ".join(
+        f"{a.Name} {ua.ObjectIdNames.get(a.DataType.Identifier, a.DataType)}" for a in declared
+    )
+    values = f"({', '.join(shown(v) for v in given)})"
+    if len(given) != len(declared):
+        return f"{len(given)} arguments {values}; expected {len(declared)} ({types})"
+    return f"its arguments {values} are not of the declared types ({types})"
+
+
+async def _run(told: str, call: Callable[[], Awaitable[None]]) -> Result:
     try:
         await call()
     except (PermissionError, FocasError, ValueError, TypeError) as exc:
-        log.info("opcua: a write was refused: %s", exc)
+        log.info("OPC UA: %s refused: %s", told, exc)
         return refusal(exc)
     return []
 
@@ -99,14 +117,16 @@ async def add_write_methods(root: Node, ns: int, writer: Writer, machine: str) -
     the declared ones first (:func:`arguments`), then by the writer's gates and checks."""
 
     def method(
-        declared: list[ua.Argument], write: Callable[..., Awaitable[None]]
+        name: str, declared: list[ua.Argument], write: Callable[..., Awaitable[None]]
     ) -> Callable[..., Awaitable[Result]]:
+        told = f"{machine} {name}"
+
         async def called(parent: Any, *given: Any) -> Result:
             values = arguments(given, declared)
             if not isinstance(values, list):
-                log.info("opcua: a write was refused: its arguments %r", given)
+                log.info("OPC UA: %s refused: %s", told, _given_text(given, declared))
                 return values
-            return await _run(lambda: write(*values))
+            return await _run(told, lambda: write(*values))
 
         return called
 
@@ -151,4 +171,4 @@ async def add_write_methods(root: Node, ns: int, writer: Writer, machine: str) -
     )
     for name, write, args in methods:
         nid = ua.NodeId(f"{root.nodeid.Identifier}/{name}", ns)
-        await root.add_method(nid, ua.QualifiedName(name, ns), method(args, write), args, [])
+        await root.add_method(nid, ua.QualifiedName(name, ns), method(name, args, write), args, [])

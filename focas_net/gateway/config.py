@@ -13,6 +13,7 @@ from __future__ import annotations
 
 import os
 import re
+import ssl
 import tomllib
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field, replace
@@ -21,6 +22,7 @@ from typing import Any, Final, Literal
 from urllib.parse import urlsplit, urlunsplit
 
 from focas_net._address import check_host, check_port
+from focas_net._tls import ca_context
 from focas_net._typed import file_text, is_loopback, os_words
 from focas_net.client._values import I16_MAX, check_path
 from focas_net.protocol import PmcArea
@@ -180,12 +182,38 @@ class MqttSettings:
     #: :attr:`gateway_name`'s default); ``--shard I/N`` (N > 1) appends ``-I``, so that no
     #: shard's will or clean stop says another is offline.
     gateway: str | None = None
+    #: A PEM file of the certificate authorities the broker's certificate is checked against
+    #: (None: the system's), with :attr:`tls`; a relative name is the current folder's (the
+    #: file's reader makes it the configuration file's folder's).
+    tls_ca: Path | None = None
 
     @property
     def gateway_name(self) -> str:
         """:attr:`gateway`, or else :attr:`client_id` (a broker holds one session per client
         id, so two gateways on one broker have distinct ones), or else ``focas-net``."""
         return self.gateway or self.client_id or DEFAULT_GATEWAY
+
+    def tls_context(self, source: str = "") -> ssl.SSLContext | None:
+        """The TLS context of the connection to the broker (None: plain MQTT), checking the
+        broker's certificate against :attr:`tls_ca` or else the system's authorities; a
+        ``tls_ca`` without ``tls = true``, or one that cannot be loaded, is a
+        :class:`ConfigError` naming the key (after ``source``, the file, when given)."""
+        at = At(source, "mqtt").key("tls_ca")
+        ca = self.tls_ca
+        if ca is not None:
+            if not isinstance(ca, str | os.PathLike):
+                at.expected(ca, "a PEM file of certificate authorities")
+            if self.tls is not True:
+                at.fail(
+                    f"got {os.fspath(ca)!r} with tls = false; expected tls = true "
+                    "(the CA file checks the broker's TLS certificate)"
+                )
+        if not self.tls:
+            return None
+        try:
+            return ca_context(None if ca is None else os.fspath(ca))
+        except ValueError as exc:
+            at.fail(f"got {os.fspath(ca or '')!r}: {exc}")
 
     def check(self, source: str = "") -> None:
         """Raise :class:`ConfigError` naming the key (``mqtt.qos: got 3; ...``, after
@@ -216,6 +244,8 @@ class MqttSettings:
         at.key("keepalive").integer(self.keepalive, 1, 65535)
         at.key("buffer").integer(self.buffer, 1, 10_000_000)
         at.key("tls").boolean(self.tls)
+        if self.tls_ca is not None:
+            self.tls_context(source)
         bands = at.key("deadbands")
         for name, band in _deadbands(bands, self.deadbands).items():
             bands.key(name).number(band)
@@ -345,7 +375,7 @@ _MACHINE_KEYS: Final = ("name", "port", *_COMMON)
 _FLEET_KEYS: Final = ("name_prefix", "first_port", "count", *_COMMON)
 _MQTT_KEYS: Final = (
     "host", "port", "prefix", "client_id", "username", "password", "password_env", "qos",
-    "keepalive", "buffer", "tls", "deadbands", "gateway",
+    "keepalive", "buffer", "tls", "tls_ca", "deadbands", "gateway",
 )  # fmt: skip
 _OPCUA_KEYS: Final = (
     "endpoint", "namespace", "anonymous", "users", "certificate", "private_key", "writes",
@@ -396,7 +426,7 @@ def parse_config(
             _unique(machine.name, where_of, at.index(i), "name_prefix")
     if not machines:
         top.fail("no machine: give at least one [[machine]] or [[fleet]]")
-    mqtt = _mqtt(top.key("mqtt"), doc["mqtt"]) if "mqtt" in doc else None
+    mqtt = _mqtt(top.key("mqtt"), doc["mqtt"], base) if "mqtt" in doc else None
     opcua = _opcua(top.key("opcua"), doc["opcua"], base) if "opcua" in doc else None
     return GatewayConfig(tuple(machines), opcua, mqtt)
 
@@ -642,7 +672,7 @@ def _secret(at: At, table: Mapping[str, Any]) -> str | None:
     return None
 
 
-def _mqtt(at: At, value: object) -> MqttSettings:
+def _mqtt(at: At, value: object, base: Path) -> MqttSettings:
     table = at.table(value, _MQTT_KEYS)
     out: dict[str, Any] = {}
     for key in (
@@ -652,6 +682,9 @@ def _mqtt(at: At, value: object) -> MqttSettings:
             out[key] = table[key]
     if "tls" in table:
         out["tls"] = table["tls"]
+    if "tls_ca" in table:
+        name = at.key("tls_ca").text(table["tls_ca"], "a PEM file of certificate authorities")
+        out["tls_ca"] = Path(name) if Path(name).is_absolute() else base / name
     out["password"] = _secret(at, table)
     if "deadbands" in table:
         bands = _deadbands(at.key("deadbands"), table["deadbands"])

@@ -79,9 +79,10 @@ def broker_reason(
     cause = exc.__cause__ or exc.__context__
     if isinstance(cause, ssl.SSLCertVerificationError):  # (the clients' words, and why)
         why = (cause.verify_message or str(cause)).rstrip(".")
+        trusted = "the system" if settings.tls_ca is None else f"tls_ca {settings.tls_ca}"
         return (
             f"TLS certificate not trusted: {why} (the gateway trusts the certificate "
-            "authorities of the system)"
+            f"authorities of {trusted})"
         )
     text = str(exc)
     if connected or getattr(exc, "rc", None) is not None or text == _LOST:
@@ -336,7 +337,7 @@ class MqttSink:
             password=s.password,
             keepalive=s.keepalive,
             will=aiomqtt.Will(will.topic, will.payload, s.qos, retain=will.retain),
-            tls_context=ssl.create_default_context() if s.tls else None,
+            tls_context=s.tls_context(),
             max_inflight_messages=WINDOW,
             timeout=self._timeout,
         )

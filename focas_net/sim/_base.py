@@ -19,6 +19,7 @@ __all__ = [
     "Counters",
     "MachineError",
     "logger",
+    "n_values",
     "need_int",
     "need_text",
 ]
@@ -31,6 +32,12 @@ I32_MAX: Final = 0x7FFF_FFFF
 #: The numbers a parameter, a diagnostic or a macro variable can have (FANUC numbers them from
 #: 0; a wire carries them in a signed 16-bit word).
 NUMBERS: Final = (0, 0x7FFF)
+
+
+def n_values(given: int, axes: int) -> str:
+    """``3 values for 2 axes``, ``1 value for 1 axis``: a count of values against axes."""
+    values = "value" if given == 1 else "values"
+    return f"{given} {values} for {axes} {'axis' if axes == 1 else 'axes'}"
 
 
 def need_int(what: str, value: object) -> int:

@@ -18,14 +18,14 @@ is built, so it refuses a write that would rename an axis.
 
 from __future__ import annotations
 
-from collections.abc import Mapping, Sequence
+from collections.abc import Iterable, Mapping, Sequence
 from dataclasses import dataclass
 from typing import Final
 
 from focas_net.errors import EW
 
 from ._base import MachineError
-from ._items import DataItem, Items, ParamKind
+from ._items import _KIND_OF_WIDTH, DataItem, Items, ParamKind
 
 __all__ = [
     "AXIS_NAME_PARAM",
@@ -36,8 +36,10 @@ __all__ = [
     "axis_letter_problem",
     "check_known",
     "check_rename",
+    "known_range",
     "param_type_problem",
     "params_problem",
+    "with_known_ranges",
 ]
 
 #: FANUC's parameter of each axis's program name: the axis's letter as a character code.
@@ -59,11 +61,14 @@ class KnownParam:
     what: str
     kinds: tuple[ParamKind, ...]
     axis: bool | None
+    #: FANUC's valid data range, taken (within the type) when a builder gives no range
+    span: tuple[int, int] | None = None
 
 
 _W, _2W, _R = ParamKind.WORD, ParamKind.TWO_WORD, ParamKind.REAL
-_PARTS: Final = KnownParam("the machine counts parts in it", (_W, _2W), False)
-_TIMER: Final = KnownParam("the machine keeps a timer in it", (_2W,), False)
+_PARTS: Final = KnownParam("the machine counts parts in it", (_W, _2W), False, (0, 999_999_999))
+_TIMER: Final = KnownParam("the machine keeps a timer in it", (_2W,), False, (0, 999_999_999))
+_TIMER_MS: Final = KnownParam("the machine keeps a timer in it", (_2W,), False, (0, 59_999))
 _WAIT: Final = KnownParam("the machine reads its waiting M codes from it", (_W, _2W), False)
 _LIBRARY: Final = "FANUC's library reads its bits"
 
@@ -82,7 +87,8 @@ KNOWN_PARAMS: Final[dict[int, KnownParam]] = {
     6711: _PARTS,
     6712: _PARTS,
     6713: _PARTS,
-    **dict.fromkeys(range(6750, 6759), _TIMER),
+    **dict.fromkeys(range(6750, 6759, 2), _TIMER),  # minutes
+    **dict.fromkeys(range(6751, 6759, 2), _TIMER_MS),  # the ms past the minutes
     8110: _WAIT,
     8111: _WAIT,
     9936: KnownParam(_LIBRARY, (ParamKind.BIT,), False),
@@ -128,6 +134,34 @@ def param_type_problem(
         given = given if is_axis or type_name[0] not in "aeiou" else "an"
     article = "an" if types[0] in "aeiou" else "a"
     return f"{known.what}: it is {article} {types} {noun}{shape} (got {given} {type_name} {noun})"
+
+
+def known_range(number: int, kind: ParamKind) -> tuple[int, int]:
+    """The range parameter ``number`` of ``kind`` takes when its builder gives none: FANUC's
+    valid data range of a parameter the machine keeps a count or a timer in (a parts count is
+    never negative, the ms past a minute 0..59999), within the type; else the whole type."""
+    low, high = kind.span
+    known = KNOWN_PARAMS.get(number)
+    if known is None or known.span is None:
+        return low, high
+    return max(low, known.span[0]), min(high, known.span[1])
+
+
+def with_known_ranges(params: Iterable[DataItem]) -> list[DataItem]:
+    """``params``, each item without a range given :func:`known_range`'s (for builders; an
+    item of no valid type is left for :meth:`DataItem.check` to refuse)."""
+    items = list(params)
+    for item in items:
+        if item.number not in KNOWN_PARAMS or (item.low is not None and item.high is not None):
+            continue
+        try:
+            kind = ParamKind(item.kind) if item.kind is not None else _KIND_OF_WIDTH[item.width]
+        except (ValueError, KeyError):
+            continue
+        low, high = known_range(item.number, kind)
+        item.low = low if item.low is None else item.low
+        item.high = high if item.high is None else item.high
+    return items
 
 
 def axis_letter_problem(value: int, axis: str) -> str | None:

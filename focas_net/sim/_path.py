@@ -31,7 +31,7 @@ from focas_net._typed import override_percent, override_unfit
 from focas_net.errors import EW
 
 from ._alarms import MAX_ALARM_TEXT, NC_ALARM_TYPES, AlarmKey, Alarms, nc_alarm
-from ._base import I32_MAX, I32_MIN, Counters, MachineError, logger, need_int
+from ._base import I32_MAX, I32_MIN, Counters, MachineError, logger, n_values, need_int
 from ._items import PARTS_COUNT, PARTS_TOTAL, Items
 from ._macros import Macros, float_macro, macro_value
 from ._paths import PATH_MACROS, PathItems
@@ -283,9 +283,7 @@ class Path:
         builders)."""
         for key in POSITION_KINDS:
             if len(getattr(motion, key)) != axes:
-                raise ValueError(
-                    f"motion {key}: {len(getattr(motion, key))} values for {axes} axes"
-                )
+                raise ValueError(f"motion {key}: {n_values(len(getattr(motion, key)), axes)}")
 
     def take_settings(self) -> None:
         """The settings again after a write of one of them (``SETTING_PARAMS``): from the next

@@ -17,7 +17,7 @@ from typing import Final
 
 from focas_net.errors import EW
 
-from ._base import Counters, MachineError
+from ._base import Counters, MachineError, n_values
 from ._path import Path
 from ._paths import Paths
 from ._tools import (
@@ -118,7 +118,7 @@ class PathTools:
             if name not in WORK_OFFSET_NAMES:
                 raise ValueError(f"work offset {name!r}: not one of {WORK_OFFSET_NAMES}")
             if len(values) != axes:
-                raise ValueError(f"work offset {name}: {len(values)} values for {axes} axes")
+                raise ValueError(f"work offset {name}: {n_values(len(values), axes)}")
             for axis, value in enumerate(values):
                 if not -MAX_WORK_OFFSET <= value <= MAX_WORK_OFFSET:
                     mm = Decimal(value).scaleb(-3)
@@ -242,7 +242,7 @@ class ToolOperations:
         axes = self._axes(axis, path)
         for values in rows:
             if len(values) != len(axes):
-                raise MachineError(EW.LENGTH, f"{len(values)} values for {len(axes)} axes")
+                raise MachineError(EW.LENGTH, n_values(len(values), len(axes)))
             for value in values:
                 _number(value, -MAX_WORK_OFFSET, MAX_WORK_OFFSET, "work offset", EW.DATA)
         for row, values in zip(targets, rows, strict=True):

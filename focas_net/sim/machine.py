@@ -124,7 +124,7 @@ from ._identity import (
 from ._information import InformationOperations
 from ._items import MAX_REAL_DECIMALS as MAX_REAL_DECIMALS  # the native adapter's
 from ._items import PARTS_COUNT, PARTS_TOTAL, DataItem, Items, ParamKind
-from ._known_params import check_known, check_rename
+from ._known_params import check_known, check_rename, with_known_ranges
 from ._macros import MAX_MACRO_DECIMALS, MacroRange, Macros
 from ._modal import ModalOperations
 from ._password import ParamLock, Session, need_session
@@ -273,7 +273,9 @@ class Machine(
         self._lock = ParamLock(param_password)
         self._station = Station(station or {})
         c = self._counters = Counters()
-        self._items = Items(collected_params(params), collected_diags(diags), n, c)
+        self._items = Items(
+            collected_params(with_known_ranges(params)), collected_diags(diags), n, c
+        )
         check_known(self._items, self.axes)  # the types of what the machine reads, 1020
         self._collected = Collected()
         self._macros = Macros(macro_ranges, macro_values or {}, c)

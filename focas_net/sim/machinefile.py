@@ -22,13 +22,14 @@ from focas_net._bits import bits_hint, bits_of_text
 from focas_net._typed import decimal_number, os_words
 from focas_net.versamax import BoardId, IOModuleRecord, RefType
 
-from ._base import NUMBERS
+from ._base import NUMBERS, n_values
 from ._identity import CLASS_MAX_AXES, name_problem
 from ._known_params import (
     AXIS_NAME_PARAM,
     KNOWN_DIAGS,
     KNOWN_PARAMS,
     axis_letter_problem,
+    known_range,
     param_type_problem,
 )
 from ._modal import ExternalMessage
@@ -143,7 +144,7 @@ def _items(ctx: _Ctx, value: Any, n_axes: int, *, names: list[str] | None = None
         span = kind.span
 
         is_axis = _bool(c.sub("axis"), spec.get("axis", False))
-        low, high = span
+        low, high = span if names is None else known_range(number, kind)
         if "range" in spec:
             rc = c.sub("range")
             bounds = _list(rc, spec["range"])
@@ -155,13 +156,18 @@ def _items(ctx: _Ctx, value: Any, n_axes: int, *, names: list[str] | None = None
                 rc.fail(f"low {bounds[0]} is above high {bounds[1]}")
         vc = c.sub("value")
         raw_value = spec.get("value")
-        if raw_value is None:  # 0, or the low end of the range (a real one's mantissa)
+        if raw_value is None and names is not None and number == AXIS_NAME_PARAM and is_axis:
+            values = [ord(axis[0]) for axis in names]  # each axis's letter, as a control has it
+            for v, axis in zip(values, names, strict=True):
+                if not low <= v <= high:
+                    c.sub("range").fail(f"{low}..{high} leaves out axis {axis}'s letter {v}")
+        elif raw_value is None:  # 0, or the low end of the range (a real one's mantissa)
             values = [0 if low <= 0 <= high else low] * (n_axes if is_axis else 1)
         elif isinstance(raw_value, list):
             if not is_axis:
                 vc.fail("a list of values needs axis = true")
             if len(raw_value) != n_axes:
-                vc.fail(f"{len(raw_value)} values for {n_axes} axes")
+                vc.fail(n_values(len(raw_value), n_axes))
             values = [
                 _item_value(vc.sub(i), v, kind, decimals, (low, high))
                 for i, v in enumerate(raw_value)

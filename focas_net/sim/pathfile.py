@@ -17,6 +17,7 @@ from typing import Any, Final
 
 from focas_net._typed import os_words
 
+from ._base import n_values
 from ._identity import axes_problem, axis_name_problem
 from ._paths import MAX_PATHS, PATH_KINDS, PathSpec, kind_of
 from ._status import AUT_MODES, MODE_NAMES, MOTION_NUMBERS, MotionData, Panel
@@ -155,7 +156,7 @@ def _motion(ctx: _Ctx, value: Any, n_axes: int) -> MotionData:
         c = ctx.sub(key)
         raw = _list(c, t.get(key, [0] * n_axes))
         if len(raw) != n_axes:
-            c.fail(f"{len(raw)} values for {n_axes} axes")
+            c.fail(n_values(len(raw), n_axes))
         positions.append([_int(c.sub(i), v, _I32) for i, v in enumerate(raw)])
     nums = [_int(ctx.sub(k), t.get(k, 0), MOTION_NUMBERS[k]) for k in scalars]
     return MotionData(positions[0], positions[1], positions[2], positions[3], *nums)

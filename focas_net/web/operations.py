@@ -28,6 +28,7 @@ from focas_net._typed import (
     MAX_DIGITS,
     NO_PASSWORD_NOTE,
     decimal_number,
+    item_number_unfit,
     program_number,
     rapid_step,
     switch,
@@ -403,9 +404,19 @@ def _bits(number: int, value: object) -> int | None:
     )
 
 
+def _item_number(args: Mapping[str, Any], what: str) -> int:
+    """``number`` of a parameter or a macro variable, refused as every front end refuses a
+    number the CNC's field does not carry (``parameter number 99999 is outside 0..32767``)."""
+    number = _int(args, "number")
+    why = item_number_unfit(what, number)
+    if why is not None:
+        raise ActionError(f"number: {why}")
+    return number
+
+
 def _write_param(station: Station, args: Mapping[str, Any]) -> JsonDict:
     m = station.machine
-    number, axis = _int(args, "number"), _int(args, "axis", 0)
+    number, axis = _item_number(args, "parameter number"), _int(args, "axis", 0)
     item = m.param_item(number)
     bits = _bits(number, args.get("value")) if item and item.kind is ParamKind.BIT else None
     given = _decimal(args, "value") if bits is None else Decimal(bits)
@@ -435,7 +446,7 @@ def _unlock(station: Station, args: Mapping[str, Any]) -> JsonDict:
 
 def _write_macro(station: Station, args: Mapping[str, Any]) -> JsonDict:
     m = station.machine
-    number, path = _int(args, "number"), _path(args)
+    number, path = _item_number(args, "macro variable number"), _path(args)
     if "value" not in args:  # a variable is made vacant when told, never for a key left out
         raise ActionError('value: a number is needed (null or "" makes the variable vacant)')
     m.write_macro(number, _decimal(args, "value"), path=path)

@@ -90,11 +90,11 @@ _RUN_NAMES: Final = {m.value: m.name for m in RunState}
 
 
 def status_fields(machine: Machine, path: int = 1) -> list[JsonDict]:
-    """The ODBST fields of ``path``: ``{"field": "run", "value": 3, "label": "STRT",
+    """The ODBST fields of ``path``: ``{"field": "run", "value": 3, "name": "STRT",
     "meaning": ...}``, named by the table the command line uses (``tmmode`` by the machine's
-    series)."""
+    series), with the keys of ``status --json`` (``name``: the label a FANUC screen shows)."""
     rows = status_labels(machine.status(path=path), machine.identity().mt_type)
-    return [{"field": f, "value": v, "label": label, "meaning": m} for f, v, label, m in rows]
+    return [{"field": f, "value": v, "name": label, "meaning": m} for f, v, label, m in rows]
 
 
 def _alarm(axis_no: int, alm_type: int, alm_no: int, msg: str) -> JsonDict:

@@ -47,10 +47,11 @@ What the interpreter supports
   external offset (#5201-#5326); G90/G91; G43/G44/G49 with H (tool length on Z); the cancel
   and default codes G15 G22 G23 G40 G40.1 G50 G50.1 G61-G64 G67 G69 G80 G94 G97 G98 G99 are
   accepted as modal states without effect. F (clamped to the maximum cutting feed), S, T,
-  M6 (tool change time), M3/M4/M5, M8/M9, M0, M1 (optional stop switch), M2/M30 (part
-  count, rewind, spindle and coolant off), M98 P L (also P with the count in front of four
-  digits), M99 (P n: return to sequence n; in a main program: back to its head), any other
-  M code as an M function taking its time.
+  (M and T codes of up to 8 digits, S of up to 5: FANUC's defaults of parameters 3030-3032;
+  more raises PS0003), M6 (tool change time), M3/M4/M5, M8/M9, M0, M1 (optional stop
+  switch), M2/M30 (part count, rewind, spindle and coolant off), M98 P L (also P with the
+  count in front of four digits), M99 (P n: return to sequence n; in a main program: back
+  to its head), any other M code as an M function taking its time.
 - Custom macro B: ``#i = expr``, locals #1-#33, commons #100-#199 (vacant after a reset and
   a program's end; the interpreter's own only where :class:`NcVariables` refuses them with
   PS0115), #500-#999 and other system variables through :class:`NcVariables`,
@@ -93,7 +94,7 @@ from .modal import (
     program_pointer,
 )
 from .motion import ArcMove, LinearMove, Motion, RapidMove
-from .program import Block, Program, ProgramInfo, ProgramStore, Word, parse_program
+from .program import Block, Program, ProgramInfo, ProgramStore, Word, no_program, parse_program
 from .scenario import (
     DEFAULT_SCENARIO,
     SCENARIO_ALARMS,
@@ -149,6 +150,7 @@ __all__ = [
     "fleet_seed",
     "g_code_text",
     "modal_state",
+    "no_program",
     "parse_program",
     "program_pointer",
 ]

@@ -56,6 +56,9 @@ DEFAULT_MODAL: Final[dict[int, int]] = {
 }  # fmt: skip
 
 _ADDRESSES_OTHER: Final = frozenset("FGHDILJKMPRST")
+#: the digits of an M, S and T code FANUC's controls allow by default (parameters 3030,
+#: 3031 and 3032 set to 0); more is PS0003
+CODE_DIGITS: Final = {"M": 8, "S": 5, "T": 8}
 _LOCALS: Final = range(1, 34)
 _COMMONS: Final = range(100, 200)
 _PLANES: Final = {170: ("X", "Y", "I", "J"), 180: ("Z", "X", "K", "I"), 190: ("Y", "Z", "J", "K")}
@@ -487,7 +490,7 @@ class Interpreter:
                 axes[self.axis_index[address]] = (value * increment if literal else value) * scale
                 other.setdefault(address, (value, literal))  # X of a dwell
             elif address == "M":
-                m_codes.append(self._integer(address, value))
+                m_codes.append(self._code(address, value))
             elif address != "G":
                 other[address] = (value, literal)
         if "F" in other:
@@ -496,9 +499,9 @@ class Interpreter:
                 raise AlarmRaised(6, f"F{feed:g}")
             self.feed = min(feed * scale, s.max_cutting_feed)
         if "S" in other:
-            self.spindle_command = float(self._integer("S", other["S"][0]))
+            self.spindle_command = float(self._code("S", other["S"][0]))
         if "T" in other:
-            self.next_tool = self._integer("T", other["T"][0])
+            self.next_tool = self._code("T", other["T"][0])
         length_changed = False
         work = self.work_position()
         if "H" in other or modal[8] != self.modal[8]:
@@ -594,6 +597,18 @@ class Interpreter:
         if value != math.floor(value):
             raise AlarmRaised(7, f"{address}{value:g}")
         return int(value)
+
+    @classmethod
+    def _code(cls, address: str, value: float) -> int:
+        """An M, S or T code: a whole number of at most FANUC's default digits (parameters
+        3030, 3031 and 3032 left 0: 8 for M and T, 5 for S), else PS0003."""
+        code = cls._integer(address, value)
+        digits = CODE_DIGITS[address]
+        if code >= 10**digits:
+            article = "a" if address == "T" else "an"
+            what = f"{article} {address} code has 1..{digits} digits"
+            raise AlarmRaised(3, f"{address}{code}: {what}")
+        return code
 
     def _call(self, other: Mapping[str, tuple[float, bool]]) -> None:
         if "P" not in other:

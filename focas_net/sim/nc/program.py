@@ -27,6 +27,7 @@ __all__ = [
     "ProgramInfo",
     "ProgramStore",
     "Word",
+    "no_program",
     "parse_program",
 ]
 
@@ -369,6 +370,15 @@ def _word_value(cur: Cursor, address: str) -> Word:
     return Word(address, value, literal)
 
 
+def no_program(number: int, max_number: int = 9999) -> str:
+    """Why a store of programs O1..O``max_number`` has no program ``number``, in the words
+    of every front end: ``no program O1234``, or for a number no program can have, the range
+    (``program number 10000 outside 1..9999``)."""
+    if 1 <= number <= max_number:
+        return f"no program O{number:04d}"
+    return f"program number {number} outside 1..{max_number}"
+
+
 def parse_program(text: str, max_number: int = 9999) -> Program:
     """Parse one program; raises :class:`ProgramError` (FORMAT or RANGE) when the text does
     not start with an O-number in 1..``max_number``, holds a second program (a block opening
@@ -501,11 +511,7 @@ class ProgramStore:
         try:
             return self._programs[number]
         except KeyError:
-            text = (
-                f"no program O{number:04d}"
-                if 1 <= number <= self.max_number
-                else f"program number {number} outside 1..{self.max_number}"
-            )
+            text = no_program(number, self.max_number)
             raise ProgramError(ProgramErrorReason.NOT_FOUND, text, number) from None
 
     def find(self, number: int) -> Program | None:

@@ -273,7 +273,7 @@ function renderMachine(v) {
   run.className = v.run;
   $("status-table").replaceChildren(el("tr", {}, el("th", {}, "field"), el("th", {}, "value"),
     el("th", {}, "")), ...v.status.map((f) => el("tr", {}, el("td", {}, f.field),
-    el("td", {}, `${f.value} ${f.label}`), el("td", {}, el("small", {}, f.meaning)))));
+    el("td", {}, `${f.value} ${f.name}`), el("td", {}, el("small", {}, f.meaning)))));
 
   if (first) {
     $("mode").replaceChildren(...v.modes.map(([n, label]) =>

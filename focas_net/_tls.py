@@ -1,0 +1,50 @@
+"""The client side of TLS shared by every front end: a context that trusts the certificate
+authorities of one CA file (the command line's ``--tls-ca`` and the gateway's
+``mqtt.tls_ca``), refused in the same words wherever it was named, and OpenSSL's words
+without their library tags."""
+
+from __future__ import annotations
+
+import re
+import ssl
+from pathlib import Path
+
+from focas_net.client._failures import os_reason
+
+__all__ = ["ca_context", "pem_holds", "ssl_error_text"]
+
+
+def pem_holds(path: str, label: str) -> bool | None:
+    """Whether the PEM file ``path`` has a block whose label ends with ``label``
+    (``CERTIFICATE``, ``PRIVATE KEY``); None when it cannot be read."""
+    try:
+        text = Path(path).read_text("ascii", errors="replace")
+    except OSError:
+        return None
+    return re.search(rf"-----BEGIN [A-Z0-9 ]*{label}-----", text) is not None
+
+
+def ssl_error_text(exc: OSError) -> str:
+    """OpenSSL's words for ``exc`` without its library tag and source line (``[X509: ...]``,
+    ``(_ssl.c:4154)``)."""
+    if not isinstance(exc, ssl.SSLError):
+        return os_reason(exc)  # (a file that cannot be read: the system's words)
+    return re.sub(r"^\[[A-Z0-9_: ]+\] | \(_ssl\.c:\d+\)$", "", str(exc.strerror or exc))
+
+
+def ca_context(cafile: str | None) -> ssl.SSLContext:
+    """A client context checking the peer's certificate and host name against the
+    certificate authorities of the PEM file ``cafile`` (None: the system's). A file that
+    cannot be loaded is a ``ValueError`` saying why (``no PEM certificate in it``, the
+    system's words for a file that cannot be read), without the file's name."""
+    try:
+        return ssl.create_default_context(cafile=cafile)
+    except (OSError, ssl.SSLError) as exc:
+        reason = ssl_error_text(exc)
+        if isinstance(exc, ssl.SSLError) and cafile is not None:
+            reason = (
+                f"a certificate in it cannot be read ({reason})"
+                if pem_holds(cafile, "CERTIFICATE")
+                else "no PEM certificate in it"
+            )
+        raise ValueError(reason) from None

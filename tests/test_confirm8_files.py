@@ -1,0 +1,168 @@
+"""A confirming new-user pass over machine files, part programs and the examples: the cases it
+found, each checked where the fix lives (the interpreter's M, S and T codes)."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import pytest
+
+from focas_net.errors import EW
+from focas_net.sim import (
+    DataItem,
+    Machine,
+    MachineError,
+    MachineFileError,
+    ParamKind,
+    Session,
+    default_machine,
+    load_machine,
+)
+from focas_net.sim.nc import Engine, ManualClock
+
+HEAD = '[machine]\nname = "M"\naxes = ["X", "Y"]\n[panel]\nmode = "MDI"\npwe = true\n'
+
+
+def _load(tmp_path: Path, body: str, clock: ManualClock | None = None) -> Machine:
+    path = tmp_path / "m.toml"
+    path.write_text(HEAD + body, encoding="utf-8")
+    return load_machine(path, sim_clock=clock)
+
+
+def _refused(tmp_path: Path, body: str) -> str:
+    with pytest.raises(MachineFileError) as refused:
+        _load(tmp_path, body)
+    return str(refused.value)
+
+
+@pytest.mark.parametrize(
+    ("block", "alarm", "words"),
+    [
+        ("M123456789", 3, "M123456789: an M code has 1..8 digits"),
+        ("T123456789", 3, "T123456789: a T code has 1..8 digits"),
+        ("S123456", 3, "S123456: an S code has 1..5 digits"),
+        ("#1 = 123456789\nM#1", 3, "M123456789: an M code has 1..8 digits"),
+        ("M12345678 T12345678 S99999", None, ""),
+    ],
+)
+def test_an_m_s_or_t_code_has_fanucs_default_digits(
+    block: str, alarm: int | None, words: str
+) -> None:
+    """FANUC's controls allow 8 digits of an M and a T code and 5 of an S code by default
+    (parameters 3030, 3032, 3031 left 0); more raised no alarm and ran the code. Now it is
+    PS0003 (too many digits) naming the code, a literal or a macro's value alike."""
+    clock = ManualClock()
+    programs = (f"O0300\n{block}\nM30\n", "O0301\nG4 P5000\nM30\n")
+    machine = default_machine(sim_clock=clock, programs=programs)
+    machine.select_program(300)
+    machine.cycle_start()
+    clock.advance(5.0)
+    active = machine.active_alarms()
+    assert [(a.alm_type, a.alm_no) for a in active] == ([] if alarm is None else [(3, alarm)])
+    if alarm is not None:
+        assert machine.status().run == 1
+    machine.reset()
+    machine.select_program(301)
+    machine.cycle_start()
+    assert machine.active_alarms() == [] and machine.status().run == 3
+
+
+@pytest.mark.parametrize(
+    ("block", "words"),
+    [
+        ("M123456789", "PS0003 TOO MANY DIGITS"),
+        ("M123456789", "M123456789: an M code has 1..8 digits"),
+        ("T123456789", "T123456789: a T code has 1..8 digits"),
+        ("S123456", "S123456: an S code has 1..5 digits"),
+        ("#1 = 123456789\nM#1", "M123456789: an M code has 1..8 digits"),
+    ],
+)
+def test_the_alarm_of_too_many_digits_names_the_code(block: str, words: str) -> None:
+    clock = ManualClock()
+    engine = Engine(clock)
+    engine.store.store(f"O1\n{block}\nM30\n")
+    engine.store.select(1)
+    engine.cycle_start()
+    clock.advance(5.0)
+    assert engine.alarm is not None
+    assert words in str(engine.alarm)
+
+
+# -- the ranges of the counts and timers a file gives without one --------------------------
+
+
+@pytest.mark.parametrize(
+    ("number", "value", "words"),
+    [
+        (6711, "-3", "parameters.6711.value: -3 is outside 0..999999999"),
+        (6713, "-1", "parameters.6713.value: -1 is outside 0..999999999"),
+        (6750, "1000000000", "parameters.6750.value: 1000000000 is outside 0..999999999"),
+        (6751, "60000", "parameters.6751.value: 60000 is outside 0..59999"),
+        (6758, "-5", "parameters.6758.value: -5 is outside 0..999999999"),
+    ],
+)
+def test_a_count_or_timer_given_without_a_range_has_fanucs(
+    tmp_path: Path, number: int, value: str, words: str
+) -> None:
+    """A file giving a parts count or a run-time parameter without a range took the whole
+    two-word range: a parts count of -3, a timer of 60000 ms past the minute loaded."""
+    body = f'[parameters.{number}]\ntype = "two-word"\nvalue = {value}\n'
+    assert f"m.toml: {words}" in _refused(tmp_path, body)
+
+
+def test_a_write_of_a_negative_count_or_timer_is_refused(tmp_path: Path) -> None:
+    """Written through the wire, -100 minutes of operating time made the timer read -5800 s
+    and -7 parts counted on from -7; now EW_DATA as on the built-in machine."""
+    clock = ManualClock()
+    body = "".join(f'[parameters.{n}]\ntype = "two-word"\n' for n in (6711, 6751, 6752))
+    machine = _load(tmp_path, body, clock)
+    session = Session()
+    for number, value in ((6752, -100), (6751, 60000), (6711, -7)):
+        with pytest.raises(MachineError) as refused:
+            machine.write_param(session, number, 0, value)
+        assert refused.value.ew == EW.DATA
+    machine.write_param(session, 6711, 0, 12)
+    assert machine.read_param(6711, 0) == 12
+    assert machine.read_param(6752, 0) == 0 and machine.read_param(6751, 0) == 0
+
+
+def test_a_file_may_still_give_a_count_another_range(tmp_path: Path) -> None:
+    body = '[parameters.6711]\ntype = "word"\nrange = [-10, 100]\nvalue = -5\n'
+    assert _load(tmp_path, body).read_param(6711, 0) == -5
+    word = _load(tmp_path, '[parameters.6712]\ntype = "word"\n').param_item(6712)
+    assert word is not None and (word.low, word.high) == (0, 32767)
+
+
+def test_a_machine_built_in_python_takes_the_same_ranges() -> None:
+    with pytest.raises(ValueError, match=r"parameter 6711: value -3 is outside 0\.\.999999999"):
+        Machine("M", axes=["X"], params=[DataItem(6711, kind=ParamKind.TWO_WORD, values=[-3])])
+    machine = Machine("M", axes=["X"], params=[DataItem(6757, kind=ParamKind.TWO_WORD)])
+    item = machine.param_item(6757)
+    assert item is not None and (item.low, item.high) == (0, 59999)
+
+
+# -- parameter 1020 without a value ---------------------------------------------------------
+
+
+def test_parameter_1020_without_a_value_holds_the_axes_letters(tmp_path: Path) -> None:
+    """A file giving 1020 without a value was refused for a value it did not give
+    (``value: axis X's letter 'X' is 88, not 0``); the value is each axis's letter."""
+    machine = _load(tmp_path, '[parameters.1020]\ntype = "byte"\naxis = true\nname = "axis"\n')
+    assert [machine.read_param(1020, axis) for axis in (1, 2)] == [88, 89]
+
+
+def test_a_range_of_1020_that_leaves_out_a_letter_names_the_range(tmp_path: Path) -> None:
+    body = '[parameters.1020]\ntype = "byte"\naxis = true\nrange = [65, 88]\n'
+    assert "m.toml: parameters.1020.range: 65..88 leaves out axis Y's letter 89" in _refused(
+        tmp_path, body
+    )
+
+
+@pytest.mark.parametrize(
+    ("value", "words"), [("[88]", "1 value for 2 axes"), ("[88, 89, 90]", "3 values for 2 axes")]
+)
+def test_a_list_of_values_of_another_length_is_counted_in_words(
+    tmp_path: Path, value: str, words: str
+) -> None:
+    body = f'[parameters.1825]\ntype = "word"\naxis = true\nvalue = {value}\n'
+    assert f"parameters.1825.value: {words}" in _refused(tmp_path, body)
