@@ -17,7 +17,7 @@ import pytest
 from mosquitto_support import BOUND, Broker, mosquitto_binary
 
 from focas_net.cli._run import tls_context
-from focas_net.gateway.config import ConfigError, MqttSettings, parse_config
+from focas_net.gateway.config import ConfigError, MqttSettings, OpcUaSettings, parse_config
 from focas_net.gateway.mqtt import MqttSink
 
 MACHINE = '[[machine]]\nname = "m1"\nhost = "127.0.0.1"\n'
@@ -210,3 +210,66 @@ async def test_a_refused_write_is_logged_with_the_machine_and_method_and_no_repr
         "(allowed: 500..599)",
         "OPC UA: mill WriteMacro refused: #500: macro value NaN is not finite",
     ]
+
+
+# -- the OPC UA server's certificate and key: PEM or DER, whatever the files are named --------
+async def test_pem_files_named_crt_and_key_are_read_as_pem(tmp_path: Path) -> None:
+    """A PEM certificate and key are read by what they hold, not by their names' ending (a
+    ``.crt`` or ``.key`` file was read as DER and refused)."""
+    from opcua_support import url as opcua_url
+
+    from focas_net.gateway.opcua import OpcUaSink
+
+    _ca, cert, key = _private_ca(tmp_path)
+    settings = OpcUaSettings(
+        endpoint="opc.tcp://127.0.0.1:0/focas_net/", certificate=cert, private_key=key
+    )
+    async with OpcUaSink(settings) as sink:
+        assert opcua_url(sink).startswith("opc.tcp://127.0.0.1:")
+
+
+@pytest.mark.parametrize(
+    ("swap", "refusal"),
+    [
+        ("certificate", "opcua.certificate: got '{key}'; expected a certificate in PEM or DER "
+         "(no PEM certificate in it)"),
+        ("private_key", "opcua.private_key: got '{cert}'; expected a private key in PEM or DER "
+         "(no PEM private key in it)"),
+        ("junk", "opcua.certificate: got '{junk}'; expected a certificate in PEM or DER (it is "
+         "neither)"),
+    ],
+)  # fmt: skip
+async def test_a_file_of_the_wrong_kind_is_refused_in_words(
+    tmp_path: Path, swap: str, refusal: str
+) -> None:
+    from focas_net.gateway.opcua import OpcUaSink
+
+    _ca, cert, key = _private_ca(tmp_path)
+    junk = tmp_path / "junk.der"
+    junk.write_bytes(b"\x30\x03\x02\x01")
+    files = {"certificate": (key, key), "private_key": (cert, cert), "junk": (junk, key)}[swap]
+    settings = OpcUaSettings(
+        endpoint="opc.tcp://127.0.0.1:0/focas_net/", certificate=files[0], private_key=files[1]
+    )
+    with pytest.raises(ConfigError) as refused:
+        async with OpcUaSink(settings):
+            pass
+    assert str(refused.value) == refusal.format(key=key, cert=cert, junk=junk)
+
+
+def test_the_command_line_names_the_file_of_a_certificate_it_cannot_read(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    from focas_net.cli import main
+
+    _ca, _cert, key = _private_ca(tmp_path)
+    config = tmp_path / "plant.toml"
+    config.write_text(
+        MACHINE + '[opcua]\nendpoint = "opc.tcp://127.0.0.1:0/x/"\n'
+        'certificate = "broker.key"\nprivate_key = "broker.key"\n'
+    )
+    assert main(["gateway", str(config)]) == 2
+    assert capsys.readouterr().err == (
+        f"focas-net gateway: error: {config}: opcua.certificate: got '{key}'; expected a "
+        "certificate in PEM or DER (no PEM certificate in it)\n"
+    )

@@ -244,8 +244,10 @@ async def test_a_subscription_no_page_sends_is_refused_and_the_socket_lives(
 # -- the command line, where the fix lives in a table both read ------------------------------
 async def test_the_command_line_refuses_a_mode_of_other_letters_and_takes_f0() -> None:
     async with serving() as served:
-        line = await fails(2, "sim", "panel", *at(served), "--mode", "md\u0131")
-        assert line.startswith("focas-net: unknown mode 'md\u0131' (one of MDI, MEM")
+        line = await fails(2, "sim", "panel", *at(served), "--mode", "md\u0131", prefix="focas-net")
+        assert line.startswith(
+            "focas-net sim panel: error: argument --mode: unknown mode 'md\u0131' (one of MDI, MEM"
+        )
         assert served.machine.panel.mode == AutMode.MEM
         assert "rapid 0 %" in await ok("sim", "override", *at(served), "--rapid", "F0")
 

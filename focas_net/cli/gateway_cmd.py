@@ -103,7 +103,7 @@ def run(args: argparse.Namespace) -> int:
     except ConfigError as exc:
         print_error(str(exc), _ERROR_PREFIX)
         return EXIT_USAGE
-    return asyncio.run(_serve(config, args.shard))
+    return asyncio.run(_serve(config, args.shard, args.config))
 
 
 def log_to_stderr(level: str) -> None:
@@ -159,7 +159,7 @@ def _listening(endpoint: str, sinks: list[Sink]) -> str:
     return endpoint
 
 
-async def _serve(config: GatewayConfig, part: tuple[int, int] | None) -> int:
+async def _serve(config: GatewayConfig, part: tuple[int, int] | None, source: str) -> int:
     stop = asyncio.Event()
     gateway = Gateway(config)
     with stopping_on_signals(stop.set):
@@ -169,8 +169,11 @@ async def _serve(config: GatewayConfig, part: tuple[int, int] | None) -> int:
                 for output in outputs(config, gateway.writer):
                     what = _output_name(config, output)
                     gateway.add_sink(await stack.enter_async_context(output))
-            except ValueError as exc:  # (ConfigError too: a missing extra)
-                print_error(" ".join(str(exc).split()), _ERROR_PREFIX)
+            except ValueError as exc:  # (a missing extra; ConfigError: a file it names)
+                text = " ".join(str(exc).split())
+                print_error(
+                    f"{source}: {text}" if isinstance(exc, ConfigError) else text, _ERROR_PREFIX
+                )
                 await gateway.poller.aclose()
                 return EXIT_USAGE
             except OSError as exc:

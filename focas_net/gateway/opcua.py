@@ -33,6 +33,8 @@ from typing import Any, Final
 
 from asyncua import Server, ua
 
+from focas_net._tls import pem_holds
+from focas_net._typed import os_words
 from focas_net.errors import OpcUaStatus
 from focas_net.gateway import _opcua_model as om
 from focas_net.gateway import _opcua_types as ot
@@ -69,18 +71,31 @@ def _told_by_us() -> Iterator[None]:
         logger.removeFilter(told)
 
 
-async def _load(load: Callable[[str], Awaitable[Any]], key: str, path: Path) -> None:
-    """``load`` (the server's loader of a certificate or a private key) of ``path``; a file it
-    cannot read is a :class:`ConfigError` naming the key and the file, in the words of the
-    file's other checks (``opcua.certificate: ...``)."""
+async def _load(load: Callable[..., Awaitable[Any]], key: str, path: Path) -> None:
+    """``load`` (the server's loader of a certificate or a private key) of ``path``, PEM or
+    DER by what the file holds (asyncua goes by the name's ending, so that a PEM
+    ``server.crt`` would be read as DER); a file it cannot read is a :class:`ConfigError`
+    naming the key and the file, in the words of the file's other checks
+    (``opcua.certificate: ...``) and of the command line's ``--tls-cert``."""
+    what = "a certificate" if key == "certificate" else "a private key"
+    label = "CERTIFICATE" if key == "certificate" else "PRIVATE KEY"
     try:
-        await load(str(path))
-    except Exception as exc:  # (cryptography's ValueError, an OSError, asyncua's own)
-        what = "a certificate" if key == "certificate" else "a private key"
-        why = " ".join(str(exc).split(" See http")[0].split()) or type(exc).__name__
-        raise ConfigError(
-            f"opcua.{key}: got {str(path)!r}; expected {what} in PEM or DER ({why})"
-        ) from None
+        content = await asyncio.to_thread(path.read_bytes)
+    except OSError as exc:
+        why = os_words(exc)
+    else:
+        pem = b"-----BEGIN " in content
+        try:
+            await load(content, format="pem" if pem else "der")
+            return
+        except Exception as exc:  # (cryptography's ValueError, asyncua's own)
+            if pem and not pem_holds(str(path), label):
+                why = f"no PEM {label.lower()} in it"
+            elif not pem:
+                why = "it is neither"
+            else:
+                why = " ".join(str(exc).split(" See http")[0].split()) or type(exc).__name__
+    raise ConfigError(f"opcua.{key}: got {str(path)!r}; expected {what} in PEM or DER ({why})")
 
 
 #: Nodes added, or samples applied, between two turns of the event loop: the server's work
