@@ -11,7 +11,8 @@ once on one connection: the status, the absolute positions, the actual feed, the
 number (system variable #4114) and the run information (parts count, timers). It prints a
 line whenever the block or the run state changes, and ends when the program's M30 has counted
 a part. Exit code 0 then; 1 when an alarm stops the program, the CNC is already running a
-program, or the program does not finish within ``--seconds``.
+program (or stopped in the middle of one), or the program does not finish within
+``--seconds``.
 """
 
 from __future__ import annotations
@@ -87,6 +88,11 @@ async def run_program(args: argparse.Namespace, text: str) -> None:
             why = f"an alarm is active: {await alarm_text(cnc)}" if status.alarm else ""
             why = why or "the emergency stop is on (focas-net sim panel --emergency off)"
             raise Failed(f"{why} (focas-net sim clear clears alarms)" if status.alarm else why)
+        if status.run == RunState.STOP:  # M0, or an operator's stop: the program is in use
+            raise Failed(
+                "the CNC stopped in the middle of a program (run STOP): reset it first "
+                "(focas-net sim cycle reset)"
+            )
         try:
             number = await cnc.write_program(text, replace=True)
         except CncError as exc:

@@ -51,7 +51,12 @@ async def write_param(args: argparse.Namespace) -> int:
                 if args.password is None:
                     print("the CNC has a parameter password: give --password", file=sys.stderr)
                     return 1
-                await cnc.unlock(args.password)
+                try:
+                    await cnc.unlock(args.password)
+                except AccessDeniedError as exc:
+                    why = f"--password {args.password!r} is not the CNC's parameter password"
+                    print(f"write_param_with_unlock: {exc}; {why}", file=sys.stderr)
+                    return 1
                 print("unlocked with the parameter password")
                 await cnc.write_param(args.param, args.value, axis=args.axis)
             new = await cnc.read_param(args.param, axis=args.axis)

@@ -6,6 +6,8 @@ from __future__ import annotations
 from pathlib import Path
 
 import pytest
+from examples_support import port_args, run_example
+from support import serving
 
 from focas_net.errors import EW
 from focas_net.sim import (
@@ -18,7 +20,7 @@ from focas_net.sim import (
     default_machine,
     load_machine,
 )
-from focas_net.sim.nc import Engine, ManualClock
+from focas_net.sim.nc import Engine, ManualClock, ProgramError, parse_program
 
 HEAD = '[machine]\nname = "M"\naxes = ["X", "Y"]\n[panel]\nmode = "MDI"\npwe = true\n'
 
@@ -166,3 +168,103 @@ def test_a_list_of_values_of_another_length_is_counted_in_words(
 ) -> None:
     body = f'[parameters.1825]\ntype = "word"\naxis = true\nvalue = {value}\n'
     assert f"parameters.1825.value: {words}" in _refused(tmp_path, body)
+
+
+# -- the O line ---------------------------------------------------------------------------
+
+
+@pytest.mark.parametrize("o_line", ["O1O2", "O1 O2", ":1 O2", "O1 (NAME) O2"])
+def test_an_o_line_holding_a_second_o_number_is_refused(tmp_path: Path, o_line: str) -> None:
+    """``O1O2`` loaded as O1 with a block ``O2``, stored as ``O0001`` / ``O2`` / ...: a text
+    the program store itself refuses as two programs, so the machine's own text could not be
+    loaded again (a download of the upload, a state file)."""
+    with pytest.raises(ProgramError, match="starts a second program: one program per text"):
+        parse_program(f"{o_line}\nM30\n")
+    message = _refused(tmp_path, f'[[program]]\ntext = "{o_line}\\nM30\\n"\n')
+    assert "m.toml: program[0].text: line 1: " in message and "starts a second program" in message
+
+
+def test_an_o_line_with_a_block_is_stored_as_a_text_that_loads_again() -> None:
+    program = parse_program("O1 G90 (O2 IN A COMMENT)\nM30\n")
+    assert program.number == 1 and program.blocks[0].text == "G90 (O2 IN A COMMENT)"
+    assert parse_program(program.text).text == program.text
+
+
+# -- a path's kind from mt_type -----------------------------------------------------------
+
+
+@pytest.mark.parametrize(
+    ("mt_type", "kind"),
+    [("MT", "T"), ("mt", "T"), ("T ", "T"), (" W", "M"), (" P", "M"), ("  ", "M")],
+)
+def test_a_t_series_code_makes_a_lathe(tmp_path: Path, mt_type: str, kind: str) -> None:
+    """FANUC's ODBSYS codes: " T" a lathe, "TT" a lathe of 2/3 paths, "MT" a T series control
+    with the compound machining function; "MT" made machining centres."""
+    head = f'[machine]\nname = "L"\naxes = ["X", "Z"]\n[sysinfo]\nmt_type = "{mt_type}"\n'
+    path = tmp_path / "l.toml"
+    path.write_text(head, encoding="utf-8")
+    assert load_machine(path).path_info(1).kind == kind
+
+
+# -- the examples -------------------------------------------------------------------------
+
+
+async def test_run_program_names_a_program_stopped_in_its_middle() -> None:
+    """A machine stopped in the middle of its program (M0; a scenario's tool-change wait)
+    made run_program end with ``EW_BUSY (-1): busy, retry: cnc_search``: a retry never helps
+    until a reset; it says so, before storing anything."""
+    clock = ManualClock()
+    machine = default_machine(sim_clock=clock, programs=("O0400\nM0\nM30\n",))
+    machine.select_program(400)
+    machine.cycle_start()
+    clock.advance(5.0)
+    assert machine.status().run == 1
+    async with serving(machine) as served:
+        code, out, err = await run_example("run_program.py", *port_args(served))
+    assert (code, out) == (1, "")
+    assert err == (
+        "run_program: the CNC stopped in the middle of a program (run STOP): reset it first "
+        "(focas-net sim cycle reset)\n"
+    )
+
+
+async def test_write_param_with_unlock_names_a_wrong_password() -> None:
+    """A wrong ``--password`` ended with ``EW_PASSWD (17): protection / password error:
+    cnc_wrunlockparam``, where ``focas-net unlock`` says the password is not the CNC's; the
+    example names the password typed, and puts the panel back."""
+    machine = default_machine(param_password="5810")
+    async with serving(machine) as served:
+        code, out, err = await run_example(
+            "write_param_with_unlock.py", *port_args(served), "--password", "0000"
+        )
+    assert code == 1
+    assert err.endswith("; --password '0000' is not the CNC's parameter password\n")
+    assert out.endswith("panel: mode restored, PWE off\n")
+    assert machine.read_param(1320, 1) != 500_000
+
+
+@pytest.mark.parametrize(
+    ("block", "alarm"),
+    [
+        ("G91 G1 X99999999. F100", 3),
+        ("#1 = 1000000\nG0 X#1", 3),
+        ("G20 G0 X100000.", 3),
+        ("G1 X999999.999 F100000", None),
+        ("G20 G0 X99999.9999", None),
+    ],
+)
+def test_an_axis_word_has_at_most_nine_digits(block: str, alarm: int | None) -> None:
+    """``X99999999.`` (99999999 mm) ran a move of two years at F100; an axis word beyond the
+    9 digits of a number in least input increments is PS0003, as its literal of 10 digits
+    already was."""
+    clock = ManualClock()
+    engine = Engine(clock)
+    engine.store.store(f"O1\n{block}\nM30\n")
+    engine.store.select(1)
+    engine.cycle_start()
+    clock.advance(0.01)
+    if alarm is None:
+        assert engine.alarm is None
+    else:
+        assert engine.alarm is not None and engine.alarm.code == "PS0003"
+        assert "an axis word has at most 9 digits" in str(engine.alarm)

@@ -94,7 +94,8 @@ def test_a_pmc_address_beyond_its_area_is_refused_in_one_set_of_words(
     """The page's PMC window said ``R8000 is outside R0..R7999`` and a click on a bit of the
     same address ``R address 8000 outside 0..7999``: both are the machine's words now."""
     station = Station(0, default_machine())
-    words = f"{shown} is outside R0..R7999"
+    where = "is outside" if start < 0 else "goes past the end of"
+    words = f"{shown} {where} PMC area R (R0..R7999)"
     with pytest.raises(MachineError) as read:
         pmc_window(station.machine, "R", start)
     with pytest.raises(MachineError) as clicked:
@@ -108,7 +109,7 @@ def test_a_pmc_address_beyond_its_area_is_refused_in_one_set_of_words(
 def test_a_pmc_range_running_past_its_area_names_the_area() -> None:
     with pytest.raises(MachineError) as refused:
         default_machine().write_pmc("R", 7999, b"\0\0")
-    assert refused.value.detail == "R7999..R8000 goes past the end of R0..R7999"
+    assert refused.value.detail == "R7999..R8000 goes past the end of PMC area R (R0..R7999)"
 
 
 @pytest.fixture

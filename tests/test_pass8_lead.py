@@ -6,7 +6,10 @@ from __future__ import annotations
 from collections.abc import Callable
 
 import pytest
+from cli_support import at, fails
+from support import serving
 
+from focas_net.cli import EXIT_CNC
 from focas_net.client import FocasClient, NativeClient
 from focas_net.errors import EW, FocasConnectionError
 from focas_net.server import FocasServer
@@ -15,6 +18,7 @@ from focas_net.sim import (
     default_machine,
     machine_from_dict,
 )
+from focas_net.web.view import pmc_window
 
 Client = Callable[[str, int], FocasClient | NativeClient]
 CLIENTS: list[Client] = [FocasClient, NativeClient]
@@ -64,7 +68,7 @@ def test_the_machine_names_an_axis_beyond_the_path_with_the_count() -> None:
 
 @pytest.mark.parametrize(
     ("mt_type", "kind"),
-    [(" T", "T"), (" t", "T"), ("TT", "T"), ("tt", "T"), (" M", "M"), ("MM", "M"), ("MT", "M")],
+    [(" T", "T"), (" t", "T"), ("TT", "T"), ("tt", "T"), (" M", "M"), ("MM", "M"), ("MT", "T")],
 )
 def test_a_path_kind_follows_mt_type_as_the_kind_key_reads_it(mt_type: str, kind: str) -> None:
     """``mt_type = " t"`` made a lathe's one path M while ``kind = "t"`` is T, and ``"TT"``
@@ -81,3 +85,24 @@ def test_a_path_kind_follows_mt_type_as_the_kind_key_reads_it(mt_type: str, kind
         }
     )
     assert [two.path_info(n).kind for n in (1, 2)] == [kind, kind]
+
+
+@pytest.mark.parametrize(
+    ("argv", "span"),
+    [(["read", "R", "8000", "1"], "R8000"), (["write", "R", "7999", "1", "2"], "R7999..R8000")],
+)
+async def test_a_pmc_address_past_its_area_reads_alike_on_the_page_and_the_command_line(
+    argv: list[str], span: str
+) -> None:
+    """The page said ``R8000 is outside R0..R7999`` where ``pmc read`` says ``R8000 goes past
+    the end of PMC area R``: the machine's words are the command line's, the range after."""
+    async with serving() as served:
+        line = await fails(EXIT_CNC, "pmc", *argv[:1], *at(served), *argv[1:])
+        words = f"{span} goes past the end of PMC area R"
+        assert words in line
+        with pytest.raises(MachineError) as refused:
+            if argv[0] == "read":
+                pmc_window(served.machine, "R", 8000)
+            else:
+                served.machine.write_pmc("R", 7999, b"\1\2")
+        assert refused.value.detail == f"{words} (R0..R7999)"

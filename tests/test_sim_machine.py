@@ -695,9 +695,15 @@ def test_raising_an_active_alarm_again_keeps_the_first_message() -> None:
         (lambda m: m.select_program(10000), "program number 10000 outside 1..9999"),
         (lambda m: m.delete_program(0), "program number 0 outside 1..9999"),
         (lambda m: m.select_program(1234), "no program O1234"),
-        (lambda m: m.read_pmc("R", -1, 1), "R-1 is outside R0..R7999"),
-        (lambda m: m.read_pmc("R", 10**20, 1), f"R{10**20} is outside R0..R7999"),
-        (lambda m: m.write_pmc("R", 7999, b"\0\0"), "R7999..R8000 goes past the end of R0..R7999"),
+        (lambda m: m.read_pmc("R", -1, 1), "R-1 is outside PMC area R (R0..R7999)"),
+        (
+            lambda m: m.read_pmc("R", 10**20, 1),
+            f"R{10**20} goes past the end of PMC area R (R0..R7999)",
+        ),
+        (
+            lambda m: m.write_pmc("R", 7999, b"\0\0"),
+            "R7999..R8000 goes past the end of PMC area R (R0..R7999)",
+        ),
     ],
 )
 def test_a_refused_number_is_named_as_given(call: Callable[[Machine], object], words: str) -> None:

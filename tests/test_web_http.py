@@ -536,11 +536,11 @@ async def test_a_pmc_area_is_refused_alike_by_a_read_and_a_write(area: str, stat
         ),
         (
             '{"subscribe": "machine", "index": 0, "pmc_start": -1}',
-            "PMC window: X-1 is outside X0..X127",
+            "PMC window: X-1 is outside PMC area X (X0..X127)",
         ),
         (
             '{"subscribe": "machine", "index": 0, "pmc_start": 128}',
-            "PMC window: X128 is outside X0..X127",
+            "PMC window: X128 goes past the end of PMC area X (X0..X127)",
         ),
     ],
 )

@@ -53,10 +53,10 @@ PATH_KINDS: Final = ("M", "T")
 
 
 def kind_of(mt_type: str) -> str:
-    """The machine type of a path from ODBSYS ``mt_type``: "T" when its letters are all T
-    (``" T"``, and ``"TT"`` of a lathe of several paths; case aside), else "M"."""
-    letters = set(mt_type.strip().upper())
-    return "T" if letters == {"T"} else "M"
+    """The machine type of a path from ODBSYS ``mt_type``: "T" for FANUC's T series, whose
+    codes end in T (``" T"``, ``"TT"`` of a lathe of several paths, ``"MT"`` of a lathe with
+    the compound machining function; case aside), else "M"."""
+    return "T" if mt_type.strip().upper().endswith("T") else "M"
 
 
 #: FANUC's path-type parameters the machine keeps one value of per path (the others are

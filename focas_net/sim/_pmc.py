@@ -158,16 +158,14 @@ class Area:
 
     def beyond(self, start: int, end: int) -> MachineError:
         """The refusal of addresses ``start..end - 1`` outside the area, in the words of every
-        front end: a first address outside it is named as given (``R-1 is outside
-        R0..R7999``, as the dashboard's PMC window says it), a range running past the end by
-        both ends (``R7999..R8000 goes past the end of R0..R7999``, as the command line says
-        it)."""
+        front end, the area's range after them: ``R-1 is outside PMC area R (R0..R7999)``,
+        ``R8000 goes past the end of PMC area R (R0..R7999)`` and ``R7999..R8000 goes past the
+        end ...``, as the command line says it from the EW code alone (without the range)."""
         letter, last = self.letter, self.size - 1
-        if not 0 <= start < self.size:
-            return MachineError(EW.NUMBER, f"{letter}{start} is outside {letter}0..{letter}{last}")
+        span = f"{letter}{start}" + (f"..{letter}{end - 1}" if end - 1 != start else "")
+        where = "is outside" if start < 0 else "goes past the end of"
         return MachineError(
-            EW.NUMBER,
-            f"{letter}{start}..{letter}{end - 1} goes past the end of {letter}0..{letter}{last}",
+            EW.NUMBER, f"{span} {where} PMC area {letter} ({letter}0..{letter}{last})"
         )
 
 

@@ -39,7 +39,8 @@ What the interpreter supports
   or ``;``, ``N`` sequence numbers (N1-N99999), comments in parentheses, block delete ``/``
   (with the switch), lower case read as upper case. Axis words (and the R, I, J, K of arcs, X of a
   dwell) without a decimal point are in least input increments: 0.001 mm (G21), 0.0001 inch
-  (G20); F and S are taken as written. Positions, feeds and offsets are kept in mm.
+  (G20), at most 9 digits of them (999999.999 mm; more raises PS0003, written or a macro
+  variable's value); F and S are taken as written. Positions, feeds and offsets are kept in mm.
 - G0 (non-linear positioning, each axis at its rapid rate times the rapid override), G1, G2,
   G3 with I/J/K or R (negative R: more than 180 degrees) in G17/G18/G19, helical with the
   third axis, full circles with I/J/K; G4 (P in ms, X in s or increments); G20/G21;

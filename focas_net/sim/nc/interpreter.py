@@ -59,6 +59,9 @@ _ADDRESSES_OTHER: Final = frozenset("FGHDILJKMPRST")
 #: the digits of an M, S and T code FANUC's controls allow by default (parameters 3030,
 #: 3031 and 3032 set to 0); more is PS0003
 CODE_DIGITS: Final = {"M": 8, "S": 5, "T": 8}
+#: the largest axis word in least input increments: 9 digits, as a number may have
+AXIS_WORD_MAX: Final = 999_999_999
+_AXIS_WORD_RULE: Final = "an axis word has at most 9 digits (999999.999 mm, 99999.9999 inch)"
 _LOCALS: Final = range(1, 34)
 _COMMONS: Final = range(100, 200)
 _PLANES: Final = {170: ("X", "Y", "I", "J"), 180: ("Z", "X", "K", "I"), 190: ("Y", "Z", "J", "K")}
@@ -487,6 +490,8 @@ class Interpreter:
         m_codes: list[int] = []
         for address, value, literal in values:
             if address in self.axis_index:
+                if abs(value if literal else value / increment) > AXIS_WORD_MAX + 0.5:
+                    raise AlarmRaised(3, f"{address}{value:g}: {_AXIS_WORD_RULE}")
                 axes[self.axis_index[address]] = (value * increment if literal else value) * scale
                 other.setdefault(address, (value, literal))  # X of a dwell
             elif address == "M":

@@ -424,6 +424,12 @@ def parse_program(text: str, max_number: int = 9999) -> Program:
         )
     rest = first[_code_end(first, pos) :]
     rest_code, _ = _strip_comments(rest)
+    if _opens(rest):  # O1O2: the O line's block would be a second program's O line
+        raise ProgramError(
+            ProgramErrorReason.FORMAT,
+            f"line {line}: {first.strip()[:40]!r}: {rest.strip()[:40]!r} starts a second "
+            "program: one program per text",
+        )
     for n, b in blocks_text[1:]:
         if _opens(b):
             raise ProgramError(
