@@ -9,15 +9,20 @@ from __future__ import annotations
 
 import asyncio
 import errno
+import shutil
 import socket
 import ssl
 import struct
+import subprocess
+from pathlib import Path
 
 import pytest
 from cli_support import one_line, run_focas_net
-from support import LoopbackPeer
+from support import IO_TIMEOUT, LoopbackPeer, serving
 
+from focas_net.client import NativeClient
 from focas_net.client._failures import connect_error
+from focas_net.errors import ProtocolError
 
 
 def _closed_port() -> int:
@@ -95,3 +100,75 @@ def test_a_connect_the_peer_resets_is_a_close_before_any_answer() -> None:
     )
     refused = connect_error("::1", 8193, ConnectionRefusedError(errno.ECONNREFUSED, "x"), None)
     assert str(refused) == "cannot connect to [::1]:8193: connection refused"
+
+
+def _self_signed(folder: Path, name: str) -> tuple[Path, Path]:
+    """A self-signed certificate for ``name`` and 127.0.0.1, and its key, in ``folder``."""
+    openssl = shutil.which("openssl")
+    if openssl is None:
+        pytest.skip("TLS tests need the openssl command to generate a certificate")
+    cert, key = folder / f"{name}.pem", folder / f"{name}-key.pem"
+    subprocess.run(
+        [openssl, "req", "-x509", "-newkey", "ec", "-pkeyopt", "ec_paramgen_curve:prime256v1",
+         "-nodes", "-keyout", str(key), "-out", str(cert), "-days", "1", "-subj", f"/CN={name}",
+         "-addext", "subjectAltName=IP:127.0.0.1"],
+        check=True, capture_output=True, timeout=60,
+    )  # fmt: skip
+    return cert, key
+
+
+async def test_a_certificate_the_tls_ca_file_given_does_not_trust_names_that_file(
+    tmp_path: Path,
+) -> None:
+    """With ``--tls-ca`` given, the advice was `give --tls-ca FILE (the server's certificate
+    or its CA) or --tls-insecure`, as if no file had been given."""
+    cert, key = _self_signed(tmp_path, "cnc")
+    other, _ = _self_signed(tmp_path, "other")
+    context = ssl.SSLContext(ssl.PROTOCOL_TLS_SERVER)
+    context.load_cert_chain(cert, key)
+    async with serving(ssl=context) as served:
+        code, out, err = await run_focas_net(
+            "status", "--port", str(served.port), "--tls-ca", str(other)
+        )
+    assert (code, out) == (3, "")
+    line = one_line(err)
+    assert line.startswith(f"focas-net: cannot connect to 127.0.0.1:{served.port}: TLS ")
+    assert line.endswith(
+        f"; the server's certificate is neither in --tls-ca {other} nor signed by a "
+        "certificate there: give its own certificate or its CA's, or --tls-insecure"
+    )
+
+
+class _OneByteThenSilent(LoopbackPeer):
+    """Answers each connection with one byte that starts no frame, then says nothing."""
+
+    async def _serve(self, reader: asyncio.StreamReader, writer: asyncio.StreamWriter) -> None:
+        writer.write(b"\x00")
+        await reader.read()  # until the client closes
+        writer.close()
+
+
+async def test_a_native_answer_that_cannot_start_a_frame_is_refused_as_it_comes() -> None:
+    """docs/cli.md: bytes that cannot start a frame make the peer one that does not speak
+    FOCAS `at once`; FOCAS/2's open waited for the call's whole time first (a client of a
+    long timeout sat there for all of it)."""
+    async with _OneByteThenSilent() as peer:
+        client = NativeClient("127.0.0.1", peer.port, timeout=3600)
+        async with asyncio.timeout(IO_TIMEOUT):  # (not the client's hour)
+            with pytest.raises(ProtocolError) as refusal:
+                await client.connect()
+    assert str(refusal.value) == (
+        f"127.0.0.1:{peer.port} does not speak the FOCAS protocol (its answer does not start "
+        "with A0 A0 A0 A0; it sent b'\\x00')"
+    )
+
+
+async def test_a_native_port_equal_to_the_port_names_no_fleet_not_typed() -> None:
+    """It said `overlaps the ports 40111..40111 of --fleet 1`, an option not typed."""
+    port = _closed_port()
+    code, out, err = await run_focas_net("serve", "--port", str(port), "--native-port", str(port))
+    assert (code, out) == (2, "")
+    assert one_line(err, "focas-net serve: error:") == (
+        f"focas-net serve: error: --native-port {port} is the port of --port {port}, which "
+        "speaks FOCAS/2 too: leave --native-port out, or give it another port"
+    )

@@ -349,6 +349,12 @@ def _tls_hint(args: argparse.Namespace, exc: BaseException) -> str | None:
                 f"the certificate does not name {args.host}: connect by a name it holds "
                 "(--host NAME), or give --tls-insecure"
             )
+        ca = getattr(args, "tls_ca", None)
+        if ca is not None:  # the file given trusts another certificate
+            return (
+                f"the server's certificate is neither in --tls-ca {ca} nor signed by a "
+                "certificate there: give its own certificate or its CA's, or --tls-insecure"
+            )
         return "give --tls-ca FILE (the server's certificate or its CA) or --tls-insecure"
     text = str(exc)
     if tls and isinstance(exc, FocasConnectionError) and "TLS handshake failed" in text:

@@ -367,6 +367,11 @@ def check_options(args: argparse.Namespace) -> None:
             f"--max-connections {args.max_connections} leaves --native-port unusable: it speaks "
             "FOCAS/2 alone, whose open takes two connections (give 2 or more)"
         )
+    if args.port and args.native_port == args.port and fleet == 1:
+        raise ConfigError(
+            f"--native-port {args.native_port} is the port of --port {args.port}, which speaks "
+            "FOCAS/2 too: leave --native-port out, or give it another port"
+        )
     if args.port and args.native_port and abs(args.port - args.native_port) < fleet:
         raise ConfigError(
             f"--native-port {args.native_port} overlaps the ports "

@@ -129,14 +129,18 @@ class Channel:
         (the start of a frame that never came whole)."""
         return bytes(self._kept)
 
-    async def readexactly(self, n: int) -> bytes:
-        """The next ``n`` bytes read (before :meth:`start` or after :meth:`stop`).
+    async def readexactly(self, n: int, check: Callable[[bytes], None] | None = None) -> bytes:
+        """The next ``n`` bytes read (before :meth:`start` or after :meth:`stop`); ``check``
+        sees the bytes kept each time more are waited for, and may raise at once (a start
+        that no frame has).
 
         :raises asyncio.IncompleteReadError: the connection ended first (its error instead,
             an :class:`OSError`, when it failed).
         """
         kept = self._kept
         while len(kept) < n:
+            if check is not None:
+                check(bytes(kept))
             if self.ended or self.closed:
                 if self._error is not None:
                     raise self._error

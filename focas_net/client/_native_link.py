@@ -125,11 +125,12 @@ async def _read_frame(channel: Channel, peer: str, answered: bool = True) -> byt
         it before; the start of one counts too).
     """
     try:
-        head = await channel.readexactly(NATIVE_HEADER_SIZE)
+        # a start no frame has is refused as it comes, not once the call's time is up
+        head = await channel.readexactly(NATIVE_HEADER_SIZE, partial(_check_start, peer))
     except (asyncio.IncompleteReadError, OSError) as exc:
-        partial = exc.partial if isinstance(exc, asyncio.IncompleteReadError) else channel.kept
-        _check_start(peer, partial)
-        raise lost_error(peer, exc, answered or bool(partial)) from exc
+        came = exc.partial if isinstance(exc, asyncio.IncompleteReadError) else channel.kept
+        _check_start(peer, came)
+        raise lost_error(peer, exc, answered or bool(came)) from exc
     magic, _, kind, length = NATIVE_HEADER.unpack(head)
     if magic != _MAGIC:
         raise violation_error(peer, _NOT_A_FRAME, head)
@@ -422,15 +423,19 @@ class NativeLink(CompositeCalls):
         cannot be reached or its open answer is refused; the first connect is not retried.
         """
         if self._state is ClientState.CLOSED:
-            raise FocasConnectionError("client is closed")
+            raise self._closed()
         if self._linked():
             return
         self._bind_loop()
         self._violation = None
-        handle = await open_handle(self.host, self.port, self._deadline(None))
+        try:
+            handle = await open_handle(self.host, self.port, self._deadline(None))
+        except FocasError as exc:
+            self._connect_failed(exc)
+            raise
         if self.state is ClientState.CLOSED:  # closed while connecting
             handle.abort()
-            raise FocasConnectionError("client is closed")
+            raise self._closed()
         if self._linked():  # a concurrent connect() won
             handle.abort()
             return
@@ -584,7 +589,7 @@ class NativeLink(CompositeCalls):
             raise (
                 self._nothing_to_wait_for()
                 if self._state is not ClientState.CLOSED
-                else (FocasConnectionError("client is closed"))
+                else self._closed()
             )
         loop = self._loop or asyncio.get_running_loop()
         session = self._session
@@ -705,7 +710,7 @@ class NativeLink(CompositeCalls):
         if ending is Ending.STALE:
             return FocasConnectionError("the CNC's command set changed on reconnect; call again")
         if self._state is ClientState.CLOSED:
-            return FocasConnectionError("client is closed")
+            return self._closed()
         if self._violation is not None:
             return ProtocolError(str(self._violation))
         if job.sent:
