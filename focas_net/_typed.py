@@ -305,6 +305,12 @@ def decimal_text(value: Decimal) -> str:
     return format(value, "f")
 
 
+def param_decimals_refused(number: int, value: Decimal) -> str:
+    """The refusal of a value with decimals for parameter ``number``, one of no decimals, in
+    the words of every front end (clients, command line, page), whether typed or a Decimal."""
+    return f"parameter {number} is not a real parameter: {decimal_text(value)} is no integer"
+
+
 def typed_number(text: str) -> int | Decimal:
     """A number typed where a whole number or a decimal may stand (a parameter's or a macro
     variable's value): ``0x``, ``0b`` or ``0o`` text as :func:`whole_number` (an ``int``),

@@ -90,7 +90,8 @@ def test_a_json_number_that_is_not_finite_is_named(value: float) -> None:
 
 def test_a_json_number_with_a_point_for_a_whole_parameter_is_refused_as_typed() -> None:
     station = _station()
-    with pytest.raises(ActionError, match=r"parameter 1420 takes a whole number, got 1\.5"):
+    words = r"parameter 1420 is not a real parameter: 1\.5 is no integer"
+    with pytest.raises(ActionError, match=words):
         perform(station, "write_param", {"number": 1420, "value": 1.5, "axis": 1})
     perform(station, "write_param", {"number": 1420, "value": 1200.0, "axis": 1})
     assert station.machine.read_param(1420, 1) == 1200

@@ -35,6 +35,7 @@ from ._values import (
     check_bit_value,
     check_item,
     check_pmc_range,
+    not_finite,
     pmc_data,
 )
 
@@ -276,6 +277,8 @@ class CompositeCalls(Lifecycle):
                 typed_number(value)
             except ValueError as exc:
                 raise ValueError(f"parameter {number}: {exc}") from None
+        elif isinstance(value, Decimal) and not value.is_finite():
+            raise ValueError(not_finite(number, value))
         p = self._path_of(path)
         await self._write_param(number, value, axis, width, self._deadline(timeout), p)
 

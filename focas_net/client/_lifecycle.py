@@ -95,6 +95,8 @@ class Lifecycle:
         #: Why the last link was lost (None: connected, or never lost), with or without a
         #: reconnect policy.
         self._lost_why: BaseException | None = None
+        #: Why the last connect() failed (None: none failed since the last link).
+        self._connect_error: BaseException | None = None
 
     def __repr__(self) -> str:
         return f"<{type(self).__name__} {self.address} {self._state.value}>"
@@ -194,11 +196,24 @@ class Lifecycle:
         causes = [str(self._lost_why)] if self._lost_why is not None else []
         if self._attempt_error is not None:
             causes.append(f"the last reconnect attempt failed: {self._attempt_error}")
+        if self._connect_error is not None:
+            causes.append(f"connect() failed: {self._connect_error}")
         if causes:
             text += f" ({'; '.join(causes)})"
         err = FocasConnectionError(text)
-        err.__cause__ = self._attempt_error  # (what a caller may look into)
+        err.__cause__ = self._attempt_error or self._connect_error  # (what a caller may look into)
         return err
+
+    def _closed(self) -> FocasConnectionError:
+        """What a call or a connect() on a closed client raises."""
+        return FocasConnectionError(
+            f"not connected to {self.address}: the client is closed (a closed client does not "
+            "connect again: make a new one)"
+        )
+
+    def _connect_failed(self, exc: BaseException) -> None:
+        """connect() failed with ``exc``: a call made next tells it."""
+        self._connect_error = exc
 
     async def _wait_linked(self, deadline: float | None) -> None:
         """Return once a link is open, waiting (until ``deadline``) while reconnecting.
@@ -209,7 +224,7 @@ class Lifecycle:
         while not self._linked():
             state = self._state
             if state is ClientState.CLOSED:
-                raise FocasConnectionError("client is closed")
+                raise self._closed()
             task = self._reconnect_task
             if (
                 state is not ClientState.RECONNECTING
@@ -293,6 +308,7 @@ class Lifecycle:
         self._up_since = loop.time()
         self._attempt_error = None
         self._lost_why = None
+        self._connect_error = None
         self._set_state(ClientState.CONNECTED)
         if self._ready is not None:
             self._ready.set()

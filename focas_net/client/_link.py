@@ -23,6 +23,7 @@ from focas_net.errors import (
     EW,
     CncError,
     FocasConnectionError,
+    FocasError,
     FocasTimeoutError,
     PayloadError,
     ProtocolError,
@@ -126,16 +127,20 @@ class Link(CompositeCalls):
         first connection is not retried; the reconnect policy applies to later losses.
         """
         if self._state is ClientState.CLOSED:
-            raise FocasConnectionError("client is closed")
+            raise self._closed()
         if self._conn is not None and not self._conn.closed:
             return
         self._bind_loop()
-        conn = await self._open(self._deadline(None), strict=True)
+        try:
+            conn = await self._open(self._deadline(None), strict=True)
+        except FocasError as exc:
+            self._connect_failed(exc)
+            raise
         self._violation = None
         if self.state is ClientState.CLOSED:  # closed while connecting
             conn.close()
             await conn.wait_closed()
-            raise FocasConnectionError("client is closed")
+            raise self._closed()
         current = self._conn
         if current is not None and not current.closed:  # a concurrent connect() won
             conn.close()

@@ -18,6 +18,7 @@ from typing import Any, Final, TypeVar
 
 from focas_net.errors import EW, CncError, PayloadError, ProtocolError
 
+from .._typed import decimal_text
 from ..native import (
     CommandSet,
     DiagType,
@@ -288,8 +289,9 @@ class NativeItems(NativeLink):
         except ValueError as exc:
             as_real = exc
         if isinstance(as_int, ValueError) and isinstance(as_real, ValueError):
+            shown = decimal_text(value) if isinstance(value, Decimal) else repr(value)
             raise ValueError(
-                f"parameter {number}: {value!r} is not a value of any parameter type (an "
+                f"parameter {number}: {shown} is not a value of any parameter type (an "
                 "integer, or a real value within an i32 mantissa and 0..9 decimals)"
             )
         handle = self._handle_now() or await self._handle_for(deadline)

@@ -423,15 +423,19 @@ class NativeLink(CompositeCalls):
         cannot be reached or its open answer is refused; the first connect is not retried.
         """
         if self._state is ClientState.CLOSED:
-            raise FocasConnectionError("client is closed")
+            raise self._closed()
         if self._linked():
             return
         self._bind_loop()
         self._violation = None
-        handle = await open_handle(self.host, self.port, self._deadline(None))
+        try:
+            handle = await open_handle(self.host, self.port, self._deadline(None))
+        except FocasError as exc:
+            self._connect_failed(exc)
+            raise
         if self.state is ClientState.CLOSED:  # closed while connecting
             handle.abort()
-            raise FocasConnectionError("client is closed")
+            raise self._closed()
         if self._linked():  # a concurrent connect() won
             handle.abort()
             return
@@ -585,7 +589,7 @@ class NativeLink(CompositeCalls):
             raise (
                 self._nothing_to_wait_for()
                 if self._state is not ClientState.CLOSED
-                else (FocasConnectionError("client is closed"))
+                else self._closed()
             )
         loop = self._loop or asyncio.get_running_loop()
         session = self._session
@@ -706,7 +710,7 @@ class NativeLink(CompositeCalls):
         if ending is Ending.STALE:
             return FocasConnectionError("the CNC's command set changed on reconnect; call again")
         if self._state is ClientState.CLOSED:
-            return FocasConnectionError("client is closed")
+            return self._closed()
         if self._violation is not None:
             return ProtocolError(str(self._violation))
         if job.sent:

@@ -45,6 +45,21 @@ class StartedCall(Generic[T]):
         self._done = done
         self._ended = False
 
+    def __repr__(self) -> str:
+        """``<StartedCall waiting>``, ``answered`` (its result there to take), ``failed``
+        (before anything was sent) or ``ended`` (its result taken, or given up)."""
+        done = self._done
+        state = (
+            "ended"
+            if self._ended
+            else "failed"
+            if done is None
+            else "answered"
+            if done.done()
+            else "waiting"
+        )
+        return f"<StartedCall {state}>"
+
     def on_done(self, callback: Callable[[], None]) -> None:
         """Call ``callback()`` (from the event loop, once) when the answer (or the failure)
         is there: :meth:`result` then returns without waiting on the wire (a packed read

@@ -18,7 +18,7 @@ from decimal import Decimal
 from typing import Final
 
 from .._bits import bits_of_text
-from .._typed import field_unfit, macro_unfit, typed_number, whole_number
+from .._typed import field_unfit, macro_unfit, param_decimals_refused, typed_number
 from ..protocol import (
     MAX_HISTORY_DEPTH,
     MAX_REAL_DECIMALS,
@@ -268,9 +268,16 @@ def macro_from_wire(mcr_val: int, dec_val: int) -> Decimal | None:
 
 
 # -- parameter values --------------------------------------------------------------------------
+def not_finite(number: int, value: Decimal) -> str:
+    """The refusal of a Decimal NaN or infinity as a parameter's value, in the words a front
+    end gives the same text."""
+    return f"parameter {number}: not a number: {value} (no NaN or infinity)"
+
+
 def param_int(number: int, value: object, kind: ParamDataType | None = None) -> int:
     """An integer parameter value from ``value`` (text: decimal, leading zeros allowed, ``0x``,
-    ``0b`` or ``0o``, read by :func:`focas_net._typed.whole_number`); for a bit parameter
+    ``0b`` or ``0o``, decimals of none but zeros, read by :func:`focas_net._typed.typed_number`,
+    refused with decimals in the words of a ``Decimal``); for a bit parameter
     (``kind``) eight 0/1 digits of text are its bits #7..#0, as the machine file and the page
     read them (:func:`focas_net._bits.bits_of_text`)."""
     if isinstance(value, str):
@@ -278,15 +285,17 @@ def param_int(number: int, value: object, kind: ParamDataType | None = None) -> 
             bits = bits_of_text(value)
             if bits is not None:
                 return bits
-        try:  # as every front end reads a whole number (0042, 0xB0; no exponent)
-            return whole_number(value)
+        try:  # as every front end reads a number (0042, 0xB0, 1.0; no exponent)
+            value = typed_number(value)
         except ValueError as exc:
             raise ValueError(f"parameter {number}: {exc}") from None
     if isinstance(value, bool) or not isinstance(value, int | Decimal):
         raise TypeError(f"parameter {number}: a value is an integer, got {value!r}")
     if isinstance(value, Decimal):
-        if not value.is_finite() or value != value.to_integral_value():
-            raise ValueError(f"parameter {number} is not a real parameter: {value} is no integer")
+        if not value.is_finite():
+            raise ValueError(not_finite(number, value))
+        if value != value.to_integral_value():  # text "1.5" as Decimal("1.5"), in one wording
+            raise ValueError(param_decimals_refused(number, value))
         return int(value)
     return value
 

@@ -18,7 +18,7 @@ need be; :func:`read_dynamic_all` reads ``cnc_rddynamic2`` of native clients.
 from __future__ import annotations
 
 import asyncio
-from collections.abc import Callable, Sequence
+from collections.abc import Callable, Iterable, Mapping, Sequence
 from typing import TypeVar
 
 from focas_net.errors import CncError, FocasError
@@ -80,7 +80,15 @@ def _check_clients(clients: object, method: str, kinds: str, timeout: object) ->
     timeout: TypeError or ValueError naming what was given otherwise, before any read."""
     check_timeout(timeout)
     if isinstance(clients, str | bytes) or not isinstance(clients, Sequence):
-        raise TypeError(f"clients must be a list of clients, got {clients!r}")
+        words = "clients must be a list of clients, got"
+        if isinstance(clients, Mapping):
+            raise TypeError(f"{words} a {type(clients).__name__}")
+        if isinstance(clients, Iterable) and not isinstance(clients, str | bytes):
+            # a generator's or a set's repr tells nothing ("<generator object ... at 0x...>")
+            kind = type(clients).__name__
+            article = "an" if kind[:1].lower() in "aeiou" else "a"
+            raise TypeError(f"{words} {article} {kind} (make it a list: list(...))")
+        raise TypeError(f"{words} {clients!r}")
     for i, client in enumerate(clients):
         if not callable(getattr(client, method, None)):
             raise TypeError(f"clients[{i}] must be {kinds}, got {client!r}")

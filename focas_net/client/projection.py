@@ -115,8 +115,20 @@ def alarm_changes(
     """What changed from the active list ``before`` (by key) to ``active``: the alarms that
     left it (in ``before``'s order), those that entered it (in ``active``'s order), and the
     new list by key. An alarm is the same while its key is: a new message text alone is no
-    change."""
-    now = {a.key: a for a in active}
+    change. TypeError naming what was given for a ``before`` that is no mapping (``{}`` at
+    first) and an ``active`` that is no list of :class:`ActiveAlarm`."""
+    if not isinstance(before, Mapping):
+        raise TypeError(
+            "before must be the alarms by key a previous call returned ({} at first), "
+            f"got {before!r}"
+        )
+    if isinstance(active, str | bytes) or not isinstance(active, Iterable):
+        raise TypeError(f"active must be a list of ActiveAlarm, got {active!r}")
+    now: dict[AlarmKey, ActiveAlarm] = {}
+    for alarm in active:
+        if not isinstance(alarm, ActiveAlarm):
+            raise TypeError(f"active must be a list of ActiveAlarm, it holds {alarm!r}")
+        now[alarm.key] = alarm
     cleared = [a for k, a in before.items() if k not in now]
     raised = [a for k, a in now.items() if k not in before]
     return cleared, raised, now
@@ -144,6 +156,11 @@ class AlarmProjection:
         timeout: float | None = None,
         max_failures: int | None = None,
     ) -> None:
+        if not all(
+            callable(getattr(client, call, None)) for call in ("read_alarms", "read_alarm_history")
+        ) or not hasattr(client, "state"):
+            # (else the first poll fails with an AttributeError of what was given)
+            raise TypeError(f"client must be a FocasClient or a NativeClient, got {client!r}")
         self.mode = _mode(mode)
         if isinstance(interval, bool) or not isinstance(interval, int | float):
             raise TypeError(f"interval must be a number of seconds, got {interval!r}")

@@ -30,6 +30,7 @@ from ..protocol import (
     alarm_message,
 )
 from ..protocol import Command as C
+from ..server.faults import fault_refusal
 from ._pmc import write_pmc_range
 from ._values import AreaLike, alarm_type_number, check_int, number_of_name, pmc_data
 
@@ -86,6 +87,9 @@ class SimControl:
 
     def __init__(self, client: FocasClient) -> None:
         self._client = client
+
+    def __repr__(self) -> str:
+        return f"<SimControl of {self._client!r}>"
 
     async def set_panel(
         self,
@@ -260,7 +264,8 @@ class SimControl:
         once those are used up (:meth:`list_faults` shows the queue). ``count`` and ``arg``
         are integers (TypeError, naming them, for another type). The server checks the
         numbers (an unknown kind or scope, a count outside 1..10000, an arg outside the kind's
-        range answer EW_DATA), as it does for every front end.
+        range answer EW_DATA, raised with the reason the command line gives), as it does for
+        every front end.
         """
         k, s = _fault_number(FaultKind, kind, "kind"), _fault_number(FaultScope, scope, "scope")
         for what, value in (("count", count), ("arg", arg)):
@@ -268,7 +273,15 @@ class SimControl:
                 raise TypeError(f"{what} must be an integer, got {value!r}")
         payload = _INJECT_FAULT.request.encode(InjectFault(k, s, count, arg))
         client = self._client
-        await client._request(_INJECT_FAULT, payload, timeout)
+        try:
+            await client._request(_INJECT_FAULT, payload, timeout)
+        except CncError as exc:
+            # a packed answer carries the code only: EW_DATA told with the server's reason,
+            # in the words the command line and the dashboard give it
+            why = fault_refusal(k, s, count, arg) if exc.ew == EW.DATA else None
+            if why is None:
+                raise
+            raise CncError.from_ew(exc.ew, f"{exc.detail}: {why}") from None
 
     async def list_faults(
         self, scope: FaultScope | str | int = FaultScope.CONNECTION, *, timeout: float | None = None

@@ -11,7 +11,7 @@ from collections.abc import Sequence
 
 from focas_net._address import check_host
 
-__all__ = ["check_server_options"]
+__all__ = ["check_fleet_ports", "check_server_options"]
 
 #: Arguments that are an ``int`` (None allowed for the second group).
 _INTS = (
@@ -77,3 +77,15 @@ def check_server_options(options: dict[str, object]) -> None:
     durable = options["durable"]
     if durable is not None and not callable(durable):
         raise TypeError(f"durable must be callable or None, got {durable!r}")
+
+
+def check_fleet_ports(first: int | None, ports: Sequence[int] | None, name: str) -> None:
+    """A fleet's ``ports`` from ``first`` (the ``name=`` given) within 0..65535: ValueError
+    naming the fleet and its last port otherwise, in the command line's words for ``--fleet``
+    and ``--port`` (a first port outside the range is refused as itself)."""
+    if not ports or ports[-1] <= 65_535 or first is None or not 0 <= first <= 65_535:
+        return
+    raise ValueError(
+        f"{len(ports)} machines from {name}={first} run past 65535 (the last machine would get "
+        f"port {ports[-1]})"
+    )

@@ -53,7 +53,7 @@ from ._base import (
 )
 from ._durable import Keeper
 from ._native import NativeConnection, NativeFront
-from ._options import check_server_options
+from ._options import check_fleet_ports, check_server_options
 from ._packed import PackedConnection
 from .faults import FaultQueue
 
@@ -513,6 +513,8 @@ class FocasServer:
         if native_port is not None:
             step = 0 if native_port == 0 else 1
             self._native_ports = [native_port + i * step for i in range(len(machine_list))]
+        check_fleet_ports(port, self._ports if ports is None else None, "port")
+        check_fleet_ports(native_port, self._native_ports, "native_port")
         for p in (self._ports or []) + (self._native_ports or []):
             if not 0 <= p <= 65_535:
                 raise ValueError(f"port {p} outside 0..65535")
@@ -756,7 +758,8 @@ class FocasServer:
 
     def __repr__(self) -> str:
         state = "closed" if self._closed else "serving" if self._started else "new"
-        return f"<FocasServer {state} {len(self.listeners)} machines>"
+        count = len(self.listeners)
+        return f"<FocasServer {state} {count} machine{'' if count == 1 else 's'}>"
 
     def stats(self) -> dict[str, dict[str, Any]]:
         """Per machine: address, open packed connections and the packed counters, the

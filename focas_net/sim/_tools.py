@@ -37,7 +37,7 @@ from typing import Final
 
 from focas_net.errors import EW
 
-from ._base import MachineError
+from ._base import MachineError, need_int
 
 __all__ = [
     "LIFE_TYPES",
@@ -81,7 +81,11 @@ MAX_T: Final = 99_999_999
 
 
 def _number(value: int, low: int, high: int, what: str, ew: int = EW.NUMBER) -> int:
-    if isinstance(value, bool) or not isinstance(value, int) or not low <= value <= high:
+    """``value`` within ``low..high``: ``ew`` naming it outside; a number of another type
+    (``"3"``, ``1.5``, ``True``) a TypeError naming it, as every other operation of the
+    machine refuses one (not a range it would not be outside)."""
+    need_int(what, value)
+    if not low <= value <= high:
         raise MachineError(ew, f"{what} {value!r} is outside {low}..{high}")
     return value
 

@@ -29,6 +29,7 @@ from focas_net._typed import (
     NO_PASSWORD_NOTE,
     decimal_number,
     item_number_unfit,
+    param_decimals_refused,
     program_number,
     rapid_step,
     switch,
@@ -376,7 +377,7 @@ def _param_value(m: Machine, number: int, text: Decimal) -> tuple[int, int | Non
         decimals = max(0, -exponent)
         return int(text.scaleb(decimals)), decimals
     if text != text.to_integral_value():
-        raise ActionError(f"value: parameter {number} takes a whole number, got {text}")
+        raise ActionError(f"value: {param_decimals_refused(number, text)}")
     return int(text), None
 
 
