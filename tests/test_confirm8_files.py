@@ -268,3 +268,42 @@ def test_an_axis_word_has_at_most_nine_digits(block: str, alarm: int | None) -> 
     else:
         assert engine.alarm is not None and engine.alarm.code == "PS0003"
         assert "an axis word has at most 9 digits" in str(engine.alarm)
+
+
+# -- operator messages --------------------------------------------------------------------
+
+_A_AREA = "[pmc.A]\nsize = 4\n"
+
+
+@pytest.mark.parametrize(
+    ("messages", "words"),
+    [
+        (
+            [("A4.0", 2000, "X")],
+            "operator_messages[0]: A4.0 is outside the A area (A0.0..A3.7)",
+        ),
+        (
+            [("A0.1", 2000, "X"), ("A0.2", 2000, "Y")],
+            "operator_messages[1]: ",
+        ),
+        (
+            [("A0.1", 2000, "X"), ("A0.1", 2001, "Y")],
+            "operator_messages[1]: ",
+        ),
+        (
+            [("A0.1", 2000, "TAB\\tHERE")],
+            "operator_messages[0].text: a message is printable ASCII, got 'TAB\\tHERE'",
+        ),
+        ([("A0.1", 2000, "")], "operator_messages[0].text: a message is 1..255 characters"),
+    ],
+)
+def test_an_operator_message_refused_is_named_by_its_entry(
+    tmp_path: Path, messages: list[tuple[str, int, str]], words: str
+) -> None:
+    """The machine's checks of the messages (the A area, a number or a bit twice, the text)
+    named only ``operator_messages``, not which entry nor its key."""
+    body = _A_AREA + "".join(
+        f'[[operator_messages]]\naddress = "{a}"\nnumber = {n}\ntext = "{t}"\n'
+        for a, n, t in messages
+    )
+    assert f"m.toml: {words}" in _refused(tmp_path, body)

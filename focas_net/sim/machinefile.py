@@ -32,7 +32,7 @@ from ._known_params import (
     known_range,
     param_type_problem,
 )
-from ._modal import ExternalMessage
+from ._modal import ExternalMessage, message_problem
 from ._pmc import pmc_letter
 from ._station import MAX_RACK, MAX_SLOT
 from .default import gniu_record, mdd844_record
@@ -447,6 +447,9 @@ def _operator_messages(ctx: _Ctx, value: Any) -> list[ExternalMessage]:
             c.sub("address").fail(f'{address!r} is not an A-area bit such as "A0.1"')
         number = _int(c.sub("number"), spec["number"], (2000, 2999))
         text = _str(c.sub("text"), spec["text"])
+        problem = message_problem(text)
+        if problem is not None:
+            c.sub("text").fail(problem)
         out.append(ExternalMessage(int(match.group(1)), int(match.group(2)), number, text))
     return out
 
@@ -601,10 +604,11 @@ def machine_from_dict(
         raise
     except ValueError as exc:  # a check of the machine itself that the file checks missed
         root.fail(str(exc))
-    try:
-        machine.set_external_messages(messages)
-    except ValueError as exc:  # the machine's checks: the A area, a number or bit twice
-        root.sub("operator_messages").fail(str(exc))
+    for i in range(len(messages)):  # the first entry the machine refuses, named by its index
+        try:
+            machine.set_external_messages(messages[: i + 1])
+        except ValueError as exc:  # the machine's checks: the A area, a number or bit twice
+            root.sub("operator_messages").sub(i).fail(str(exc))
     return machine
 
 
