@@ -1,11 +1,14 @@
 """The ``focas-net`` command's first step, run before the focas_net package is imported: Ctrl-C
 while Python imports the package (about the first half second) ends the command as Ctrl-C
-does later, with exit 130 and nothing printed (docs/cli.md), rather than with a traceback of
-the import under way."""
+does later, with exit 130 and nothing printed (docs/cli.md), or 0 for a command that runs
+until told (``serve``, ``gateway``, ``watch``, ``alarms --follow``), rather than with a
+traceback of the import under way."""
 
 from __future__ import annotations
 
 import signal
+import sys
+from collections.abc import Sequence
 from types import FrameType
 
 __all__ = ["main"]
@@ -14,9 +17,25 @@ __all__ = ["main"]
 _INTERRUPTED = 130
 
 
+#: The commands that run until told, which Ctrl-C ends with exit 0 at any moment (docs/cli.md).
+_UNTIL_TOLD = frozenset({"serve", "gateway", "watch"})
+
+
+def _runs_until_told(argv: Sequence[str]) -> bool:
+    """Whether ``argv`` (the arguments, without the program) names a command that runs until
+    told: ``serve``, ``gateway``, ``watch``, or ``alarms`` with ``--follow`` (or a prefix of
+    it, as the parser takes one); read before the package is imported."""
+    command = next((word for word in argv if not word.startswith("-")), None)
+    if command in _UNTIL_TOLD:
+        return True
+    return command == "alarms" and any(
+        len(word) > 3 and "--follow".startswith(word.partition("=")[0]) for word in argv
+    )
+
+
 def _interrupted(signum: int, frame: FrameType | None) -> None:
     signal.signal(signal.SIGINT, signal.SIG_IGN)  # a second Ctrl-C: the exit is under way
-    raise SystemExit(_INTERRUPTED)
+    raise SystemExit(0 if _runs_until_told(sys.argv[1:]) else _INTERRUPTED)
 
 
 def main() -> int:
@@ -37,6 +56,8 @@ def main() -> int:
         code = run()
     except KeyboardInterrupt:  # a second Ctrl-C while the command handled the first
         code = _INTERRUPTED
+    if code == _INTERRUPTED and _runs_until_told(sys.argv[1:]):
+        code = 0  # Ctrl-C before the command's own handling began: it ends as it would then
     if quiet and code == _INTERRUPTED:
         signal.signal(signal.SIGINT, signal.SIG_IGN)
     return code

@@ -273,3 +273,37 @@ def test_the_command_line_names_the_file_of_a_certificate_it_cannot_read(
         f"focas-net gateway: error: {config}: opcua.certificate: got '{key}'; expected a "
         "certificate in PEM or DER (no PEM certificate in it)\n"
     )
+
+
+# -- a connection lost and back: the client's log says it as the command line does ------------
+@pytest.mark.parametrize("protocol", ["packed", "native"])
+async def test_the_client_log_tells_a_lost_connection_and_its_return_as_the_cli_does(
+    protocol: str, caplog: pytest.LogCaptureFixture
+) -> None:
+    """The gateway's standard error shows the clients' log from WARNING: a connection lost
+    was told (``connection to H:P lost (why); reconnecting``) and its return only at INFO, so
+    a machine back looked lost still; the lines are now the command line's own, both told."""
+    from support import serving, wait_until
+
+    from focas_net.client import ClientState, FocasClient, NativeClient, ReconnectPolicy
+
+    policy = ReconnectPolicy(initial_delay=0.01, max_delay=0.05, jitter=0)
+    cls = NativeClient if protocol == "native" else FocasClient
+    async with serving() as served:
+        client = cls("127.0.0.1", served.port, timeout=2.0, reconnect=policy)
+        await client.connect()
+        try:
+            await client.read_status()
+            with caplog.at_level(logging.WARNING, "focas_net.client"):
+                for conn in list(served.listener.all_connections()):
+                    conn.abort()
+                await wait_until(lambda: client.state is ClientState.RECONNECTING)
+                await client.read_status()  # reconnected
+                await wait_until(lambda: len(caplog.records) >= 2)
+        finally:
+            await client.aclose()
+    address = f"127.0.0.1:{served.port}"
+    assert [r.getMessage() for r in caplog.records if r.levelno >= logging.WARNING] == [
+        f"connection to {address} lost: connection closed by {address}; reconnecting",
+        f"reconnected to {address}",
+    ]

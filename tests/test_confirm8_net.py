@@ -19,6 +19,7 @@ from pathlib import Path
 import pytest
 from cli_support import one_line, run_focas_net
 from support import IO_TIMEOUT, LoopbackPeer, serving
+from test_pass7_entry import INTERRUPTED_IMPORT, run
 
 from focas_net.client import NativeClient
 from focas_net.client._failures import connect_error
@@ -172,3 +173,24 @@ async def test_a_native_port_equal_to_the_port_names_no_fleet_not_typed() -> Non
         f"focas-net serve: error: --native-port {port} is the port of --port {port}, which "
         "speaks FOCAS/2 too: leave --native-port out, or give it another port"
     )
+
+
+@pytest.mark.parametrize(
+    ("argv", "code"),
+    [
+        (["watch", "--port", "1"], 0),
+        (["alarms", "--port", "1", "--follow"], 0),
+        (["alarms", "--fol", "--port", "1"], 0),
+        (["serve", "--port", "0"], 0),
+        (["status", "--port", "1"], 130),
+        (["alarms", "--port", "1"], 130),
+    ],
+)
+def test_ctrl_c_while_importing_ends_a_command_that_runs_until_told_with_0(
+    argv: list[str], code: int
+) -> None:
+    """docs/cli.md: ``watch`` and ``alarms --follow`` end with 0 on Ctrl-C `at any moment`, as
+    ``serve`` and ``gateway`` do; while the package was imported they ended with 130."""
+    program = INTERRUPTED_IMPORT.replace('["focas-net", "--version"]', repr(["focas-net", *argv]))
+    done = run(program)
+    assert (done.returncode, done.stdout, done.stderr) == (code, "", "")

@@ -42,12 +42,12 @@ async def lathe() -> AsyncIterator[Served]:
 @pytest.mark.parametrize(
     ("argv", "hint"),
     [
-        (("param", "get", "1420", "--axis", "3"), "the machine has 2 axes: give --axis 1..2"),
+        (("param", "get", "1420", "--axis", "3"), "the path has 2 axes: give --axis 1..2"),
         (("param", "get", "1420"), "parameter 1420 is an axis parameter: give --axis 1..2"),
-        (("position", "--axis", "3"), "the machine has 2 axes: give --axis 1..2"),
+        (("position", "--axis", "3"), "the path has 2 axes: give --axis 1..2"),
         (
             ("position", "--axis", "3", "--path", "2"),
-            "the machine has 2 axes: give --axis 1..2",
+            "the path has 2 axes: give --axis 1..2",
         ),
     ],
 )

@@ -249,7 +249,9 @@ async def test_an_alarm_code_with_digits_of_another_script_is_refused(
     server: Served, typed: str
 ) -> None:
     line = await fails(EXIT_USAGE, "sim", "alarm", typed, *at(server))
-    assert line == f"focas-net: not an alarm code: {typed!r} (expected e.g. PS0100 or 3:100)"
+    assert line == (
+        f"focas-net: not an alarm code: {typed!r} (expected e.g. PS0100, 3:100 or T31:0005)"
+    )
     assert server.machine.active_alarms() == []
 
 

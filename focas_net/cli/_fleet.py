@@ -71,6 +71,12 @@ def build_machines(args: argparse.Namespace, states: list[Kept] | None = None) -
 
     clock = RealTimeClock(getattr(args, "speed", 1.0))  # one machine time for the whole fleet
     machines: list[Machine] = []
+    if args.machine is not None:
+        try:  # a file that cannot be read is named by its option, as --tls-ca's is
+            with open(args.machine, "rb"):
+                pass
+        except OSError as exc:
+            raise ConfigError(f"--machine {args.machine}: {os_reason(exc)}") from None
     try:
         kept_in = state_folder_of(args)
     except MachineFileError as exc:

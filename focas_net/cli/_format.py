@@ -17,6 +17,7 @@ from decimal import Decimal
 from typing import Any, Final
 
 from focas_net._typed import decimal_text, switch, typed_number, whole_number
+from focas_net.client._values import alarm_type_number
 from focas_net.errors import ChunkedWriteError, CncError, ew_info, ew_label
 from focas_net.protocol import (
     STATUS_FIELDS,
@@ -267,7 +268,8 @@ def history_dict(entry: AlarmHistoryEntry) -> dict[str, Any]:
 #: ``PS0100``: ASCII letters and digits only, as every number is typed (a digit of another
 #: script is refused); the number's range is the codec's to say (``0..32767``).
 _ALARM_RE: Final = re.compile(r"^([A-Za-z]{2})([0-9]+)$", re.ASCII)
-_ALARM_NUMERIC_RE: Final = re.compile(r"^([0-9]{1,2}):([0-9]+)$", re.ASCII)
+#: ``3:100``, or ``T31:0005`` as a type with no name is printed (``alarm_code``).
+_ALARM_NUMERIC_RE: Final = re.compile(r"^[Tt]?([0-9]{1,2}):([0-9]+)$", re.ASCII)
 
 
 def _alarm_type(prefix: str) -> int:
@@ -275,15 +277,17 @@ def _alarm_type(prefix: str) -> int:
 
 
 def parse_alarm(text: str) -> tuple[int, int]:
-    """``"PS0100"`` -> ``(3, 100)``; ``"3:100"`` (type number, alarm number) also works."""
+    """``"PS0100"`` -> ``(3, 100)``; ``"3:100"`` (type number, alarm number) also works, and
+    ``"T31:0005"``, the code of a type with no name as it is printed."""
     s = text.strip()
     m = _ALARM_RE.match(s)
     if m:
         return _alarm_type(m[1]), whole_number(m[2])
     m = _ALARM_NUMERIC_RE.match(s)
     if m:
-        return int(m[1]), whole_number(m[2])
-    raise ValueError(f"not an alarm code: {text!r} (expected e.g. PS0100 or 3:100)")
+        # a type of a code is one an alarm has (0..31; -1, every type, is a filter's alone)
+        return alarm_type_number(int(m[1])), whole_number(m[2])
+    raise ValueError(f"not an alarm code: {text!r} (expected e.g. PS0100, 3:100 or T31:0005)")
 
 
 def parse_alarm_filter(text: str | None) -> tuple[int, int]:

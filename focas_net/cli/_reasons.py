@@ -45,8 +45,21 @@ def _item(kind: str, args: argparse.Namespace) -> str:
     return f"{kind} {number}" + (f" axis {args.axis}" if getattr(args, "axis", 0) else "")
 
 
+def _on(args: argparse.Namespace) -> str:
+    """`` --path N`` for the advice of a command refused on path N (a per-path command
+    acts on path 1 without it), nothing on path 1."""
+    path = getattr(args, "path", 1)
+    return "" if path in (None, 1) else f" --path {path}"
+
+
+def _next(args: argparse.Namespace, command: str) -> str:
+    """``focas-net COMMAND`` to run next, on the path the refused command named."""
+    return f"focas-net {command}{_on(args)}"
+
+
 def _param_gate(args: argparse.Namespace) -> str:
-    gate = "parameter writes need MDI mode and PWE on (focas-net sim panel --mode MDI --pwe on)"
+    panel = _next(args, "sim panel --mode MDI --pwe on")
+    gate = f"parameter writes need MDI mode and PWE on ({panel})"
     if getattr(args, "protocol", "packed") == "native":
         return (
             f"{gate}; FOCAS/2 cannot send a parameter password: on a CNC that has one, write "
@@ -69,7 +82,7 @@ def _param_password(args: argparse.Namespace, exc: CncError) -> str | None:
         )
     return (
         "the --password was accepted; parameter writes need MDI mode and PWE on too "
-        "(focas-net sim panel --mode MDI --pwe on)"
+        f"({_next(args, 'sim panel --mode MDI --pwe on')})"
     )
 
 
@@ -250,13 +263,16 @@ def _beyond_the_store(args: argparse.Namespace) -> str:
     )
 
 
-_RESET_FIRST: Final = "(focas-net sim cycle reset ends it)"
+def _reset_first(args: argparse.Namespace) -> str:
+    return f"({_next(args, 'sim cycle reset')} ends it)"
+
+
 _PROGRAM_LOAD: Final[Table] = {
     EW.REJECT: lambda a: f"{_loaded(a)} is already stored: give --replace to replace it",
     EW.DATA: _not_one_program,
     EW.NUMBER: _beyond_the_store,
-    EW.OVRFLOW: lambda a: "the program store is full (focas-net program delete N makes room)",
-    EW.BUSY: lambda a: f"{_loaded(a)} is being executed {_RESET_FIRST}",
+    EW.OVRFLOW: lambda a: f"the program store is full ({_next(a, 'program delete N')} makes room)",
+    EW.BUSY: lambda a: f"{_loaded(a)} is being executed {_reset_first(a)}",
     EW.PROT: _read_only,
 }
 
@@ -266,31 +282,33 @@ def _no_program(args: argparse.Namespace) -> str:
     program can have ``program number 10000 outside 1..9999``), as the dashboard says it."""
     text = str(args.target).strip().upper().removeprefix("O")
     what = no_program(int(text)) if text.isdigit() else f"no program {args.target}"
-    return f"{what} (focas-net program list)"
+    return f"{what} ({_next(args, 'program list')})"
 
 
 _PROGRAM_SELECT: Final[Table] = {
     EW.NUMBER: _no_program,
-    EW.MODE: lambda a: "program search needs MEM or EDIT mode (focas-net sim panel --mode MEM)",
-    EW.BUSY: lambda a: f"a program is being executed {_RESET_FIRST}",
+    EW.MODE: lambda a: (
+        f"program search needs MEM or EDIT mode ({_next(a, 'sim panel --mode MEM')})"
+    ),
+    EW.BUSY: lambda a: f"a program is being executed {_reset_first(a)}",
     EW.PROT: _read_only,
 }
 _PROGRAM_DELETE: Final[Table] = {
     EW.NUMBER: _no_program,
-    EW.BUSY: lambda a: f"{_target(a)} is being executed {_RESET_FIRST}",
+    EW.BUSY: lambda a: f"{_target(a)} is being executed {_reset_first(a)}",
     EW.PROT: _read_only,
 }
 _SIM: Final[Table] = {EW.FUNC: _no_control, EW.PROT: _read_only}
 _CYCLE_START: Final[Table] = {
     **_SIM,
-    EW.MODE: lambda a: "cycle start runs in MEM mode only (focas-net sim panel --mode MEM)",
+    EW.MODE: lambda a: f"cycle start runs in MEM mode only ({_next(a, 'sim panel --mode MEM')})",
     EW.ALARM: lambda a: (
-        "cycle start refused: an alarm is active or the emergency stop is on (focas-net alarms "
-        "lists them; focas-net sim clear or sim cycle reset clears them, sim panel --emergency "
-        "off releases the stop)"
+        "cycle start refused: an alarm is active or the emergency stop is on "
+        f"({_next(a, 'alarms')} lists them; {_next(a, 'sim clear')} or sim cycle reset{_on(a)} "
+        f"clears them, sim panel --emergency off{_on(a)} releases the stop)"
     ),
     EW.DATA: lambda a: (
-        "cycle start refused: no main program is selected (focas-net program select N)"
+        f"cycle start refused: no main program is selected ({_next(a, 'program select N')})"
     ),
 }
 
@@ -299,7 +317,7 @@ _CYCLE_START: Final[Table] = {
 
 _SIM_ALARM: Final[Table] = {
     **_SIM,
-    EW.ATTRIB: lambda a: f"the machine has no axis {a.axis} (--axis 0: an alarm of no axis)",
+    # EW_ATTRIB: an --axis past the path's, told with the path's axes (sim_cmds.alarm)
     EW.DATA: lambda a: (
         f"the CNC cannot hold alarm {a.alarm}: its type, number or message is out of range"
     ),

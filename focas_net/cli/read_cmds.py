@@ -121,17 +121,18 @@ async def axis_hint(cnc: CncClient, exc: CncError, kind: str, number: int, axis:
     return HintedError(exc, f"{kind} {number} is not an axis {kind}: leave out --axis")
 
 
-async def axis_past(cnc: CncClient, exc: CncError, axis: int | None) -> FocasError:
-    """``exc`` with advice when it is ``EW_ATTRIB`` for an ``--axis`` past the machine's
-    (the same words as :func:`axis_hint`'s)."""
+async def axis_past(cnc: CncClient, exc: CncError, axis: int | None, also: str = "") -> FocasError:
+    """``exc`` with advice when it is ``EW_ATTRIB`` for an ``--axis`` past the path's (the
+    same words as :func:`axis_hint`'s, then ``also``)."""
     if exc.ew != EW.ATTRIB or axis is None:
         return exc
     axes = await _axis_count(cnc)
-    return HintedError(exc, _axes_text(axes)) if axis > axes else exc
+    return HintedError(exc, f"{_axes_text(axes)}{also}") if axis > axes else exc
 
 
 def _axes_text(axes: int) -> str:
-    return f"the machine has {axes} ax{'is' if axes == 1 else 'es'}: give --axis 1..{axes}"
+    # the machine's words (the path's count: on a machine of several paths not the machine's)
+    return f"the path has {axes} ax{'is' if axes == 1 else 'es'}: give --axis 1..{axes}"
 
 
 async def _axis_count(cnc: CncClient) -> int:

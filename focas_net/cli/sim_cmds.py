@@ -17,6 +17,7 @@ from typing import Any, Final
 from focas_net.client import FocasClient
 from focas_net.errors import CncError, FocasError
 from focas_net.protocol import (
+    ALARM_TYPE_NAMES,
     MAX_ALARM_MSG,
     ArmedFault,
     FaultKind,
@@ -27,6 +28,7 @@ from focas_net.server.faults import fault_arg_text, fault_refusal
 
 from . import _format as fmt
 from ._run import Output, PackedOnly
+from .read_cmds import axis_past
 
 __all__ = [
     "FAULT_KINDS",
@@ -51,7 +53,8 @@ FAULT_KINDS: Final = {k.name.lower(): k for k in FaultKind}
 FAULT_SCOPES: Final = {s.name.lower(): s for s in FaultScope}
 #: Why a simulator control command needs the packed transport.
 SIM_CONTROLS: Final = "the simulator controls are packed-protocol commands"
-#: The EW codes an error fault carries (an i16 on the wire).
+#: ``sim alarm``'s other choice after an ``--axis`` past the path's.
+_NO_AXIS: Final = " (or --axis 0: an alarm of no axis)"
 
 
 def panel(args: argparse.Namespace) -> PackedOnly:
@@ -100,7 +103,10 @@ def alarm(args: argparse.Namespace) -> PackedOnly:
                 + " (a CNC shows one entry per alarm: clear it first to raise it with another "
                 "message)",
             )
-        await cnc.sim.raise_alarm(alm_type, alm_no, msg, axis_no=args.axis)
+        try:
+            await cnc.sim.raise_alarm(alm_type, alm_no, msg, axis_no=args.axis)
+        except CncError as exc:  # an --axis past the path's: its axes, in the machine's words
+            raise await axis_past(cnc, exc, args.axis, _NO_AXIS) from exc
         # what the machine kept: the message cut at 32, or its table's for one left out
         now = [a.msg for a in await cnc.read_alarms(alm_type=alm_type) if a.key == key]
         kept = now[0] if now else msg[:MAX_ALARM_MSG]
@@ -123,6 +129,13 @@ def clear(args: argparse.Namespace) -> PackedOnly:
     if given is not None and given.strip().lower() == "all":
         given = None  # what leaving it out means, as --help and the JSON name it
     alm_type, alm_no = fmt.parse_alarm_filter(given)
+    # what was given, as the CNC names it (``ps100`` is PS0100, ``ps`` every PS alarm)
+    if given is not None:
+        given = (
+            ALARM_TYPE_NAMES.get(alm_type, given.strip())
+            if alm_no == -1
+            else fmt.alarm_code(alm_type, alm_no)
+        )
 
     def matches(a: Any) -> bool:
         return alm_type in (-1, a.alm_type) and alm_no in (-1, a.alm_no)

@@ -90,6 +90,8 @@ class Lifecycle:
         # ``stable_after`` seconds) and when the current connection was installed.
         self._backoff = 0
         self._up_since = 0.0
+        #: a loss was told at WARNING: the return is told too (``reconnected to H:P``)
+        self._told_lost = False
         #: Why the last reconnect attempt failed (None: none failed since the last link).
         self._attempt_error: BaseException | None = None
         #: Why the last link was lost (None: connected, or never lost), with or without a
@@ -255,9 +257,11 @@ class Lifecycle:
         ``_ready``, and one reconnect task (the backoff starts again after a stable link)."""
         policy = self._policy
         assert policy is not None and self._ready is not None and self._loop is not None
+        # (the command line's words of the same event: ``alarms --follow``, ``watch``)
         self._logger.warning(
-            "connection to %s lost (%s); reconnecting", self.address, exc or "closed"
+            "connection to %s lost: %s; reconnecting", self.address, exc or "closed"
         )
+        self._told_lost = True
         self._lost_why = exc
         if self._loop.time() - self._up_since >= policy.stable_after:
             self._backoff = 0  # a stable connection: the backoff starts again from the start
@@ -310,6 +314,9 @@ class Lifecycle:
         self._lost_why = None
         self._connect_error = None
         self._set_state(ClientState.CONNECTED)
+        if self._told_lost:
+            self._told_lost = False
+            self._logger.warning("reconnected to %s", self.address)
         if self._ready is not None:
             self._ready.set()
 
