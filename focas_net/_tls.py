@@ -9,7 +9,7 @@ import re
 import ssl
 from pathlib import Path
 
-from focas_net.client._failures import os_reason
+from focas_net._typed import os_reason
 
 __all__ = ["ca_context", "pem_holds", "ssl_error_text"]
 

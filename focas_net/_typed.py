@@ -17,9 +17,12 @@ the same words wherever it was typed, naming the text.
 
 from __future__ import annotations
 
+import asyncio
 import ipaddress
 import os
 import re
+import socket
+import ssl
 from collections.abc import Mapping
 from decimal import Decimal
 from typing import Final
@@ -40,6 +43,7 @@ __all__ = [
     "is_loopback",
     "item_number_unfit",
     "macro_unfit",
+    "os_reason",
     "os_words",
     "override_percent",
     "override_unfit",
@@ -366,3 +370,19 @@ def file_text(raw: bytes) -> str:
         raise ValueError(
             f"not UTF-8 text: byte 0x{bad} at byte {where} (save the file as UTF-8)"
         ) from None
+
+
+def os_reason(exc: BaseException) -> str:
+    """What an operating system error says, as text: ``connection reset by peer``,
+    ``connection refused``, ``name or service not known`` (never ``[Errno 104] ...`` or the
+    address tuple asyncio adds); an end of stream is ``the peer closed the connection``."""
+    if isinstance(exc, asyncio.IncompleteReadError):
+        return "the peer closed the connection"
+    text = str(exc)
+    if isinstance(exc, OSError) and not isinstance(exc, ssl.SSLError):
+        if not (isinstance(exc, socket.gaierror) and exc.strerror):
+            return os_words(exc)
+        text = exc.strerror
+    if not text:
+        return type(exc).__name__
+    return text[:1].lower() + text[1:]

@@ -7,11 +7,13 @@ import asyncio
 import json
 import os
 import signal
+import subprocess
 import sys
 import weakref
 from collections.abc import AsyncIterator
 from contextlib import asynccontextmanager
 from dataclasses import dataclass
+from pathlib import Path
 from typing import Any, Protocol
 
 import pytest
@@ -171,3 +173,34 @@ async def gateway_process(*argv: str) -> AsyncIterator[Gateway]:
         async with asyncio.timeout(SUBPROCESS_TIMEOUT):
             ready = (await proc.stdout.readline()).decode()
         yield Gateway(proc, ready)
+
+
+_ROOT = Path(__file__).resolve().parent.parent
+
+#: Runs the command's entry with a SIGINT delivered while ``focas_net.cli`` is being imported.
+INTERRUPTED_IMPORT = """
+import builtins, os, signal, sys
+real = builtins.__import__
+def importing(name, *args, **kwargs):
+    if name == "focas_net.cli":
+        os.kill(os.getpid(), signal.SIGINT)
+    return real(name, *args, **kwargs)
+builtins.__import__ = importing
+import focas_net_entry
+sys.argv = ["focas-net", "--version"]
+sys.exit(focas_net_entry.main())
+"""
+
+
+def run_entry(code: str, *, ignore_sigint: bool = False) -> subprocess.CompletedProcess[str]:
+    """Run ``code`` in a new interpreter from the project's folder (with SIGINT ignored, as
+    a shell leaves it to a background job, when ``ignore_sigint``)."""
+    prefix = "import signal; signal.signal(signal.SIGINT, signal.SIG_IGN)\n"
+    return subprocess.run(
+        [sys.executable, "-c", (prefix if ignore_sigint else "") + code],
+        capture_output=True,
+        text=True,
+        cwd=_ROOT,
+        timeout=SUBPROCESS_TIMEOUT,
+        check=False,
+    )

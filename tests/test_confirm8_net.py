@@ -17,9 +17,8 @@ import subprocess
 from pathlib import Path
 
 import pytest
-from cli_support import one_line, run_focas_net
+from cli_support import INTERRUPTED_IMPORT, one_line, run_entry, run_focas_net
 from support import IO_TIMEOUT, LoopbackPeer, serving
-from test_pass7_entry import INTERRUPTED_IMPORT, run
 
 from focas_net.client import NativeClient
 from focas_net.client._failures import connect_error
@@ -192,5 +191,5 @@ def test_ctrl_c_while_importing_ends_a_command_that_runs_until_told_with_0(
     """docs/cli.md: ``watch`` and ``alarms --follow`` end with 0 on Ctrl-C `at any moment`, as
     ``serve`` and ``gateway`` do; while the package was imported they ended with 130."""
     program = INTERRUPTED_IMPORT.replace('["focas-net", "--version"]', repr(["focas-net", *argv]))
-    done = run(program)
+    done = run_entry(program)
     assert (done.returncode, done.stdout, done.stderr) == (code, "", "")

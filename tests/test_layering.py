@@ -213,6 +213,9 @@ BEYOND_THE_TABLE: dict[str, tuple[str, ...]] = {
     # machine and the text every front end encodes), whether a host is the loopback (the page
     # and the gateway), the words of the system's refusal of a file or address (every layer)
     "focas_net._typed": (),
+    # TLS as a client: a CA file's context (the command line's --tls-ca, the gateway's
+    # mqtt.tls_ca), PEM files told by their content, OpenSSL's words without their tags
+    "focas_net._tls": ("focas_net._typed",),
     # an address typed: the host and port checks of the clients, the server's bind address,
     # the command line, the gateway's file and the dashboard's --web; a typed value shown
     # as the user typed it (the machine's refusals)
@@ -232,6 +235,7 @@ SHARED: dict[str, tuple[str, ...]] = {
         "focas_net.cli",
         "focas_net.gateway",
     ),
+    "focas_net._tls": ("focas_net.cli", "focas_net.gateway"),
     "focas_net._typed": (
         "focas_net.sim",
         "focas_net.server",

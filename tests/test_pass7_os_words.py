@@ -11,9 +11,8 @@ from pathlib import Path
 import pytest
 from cli_support import fails
 
-from focas_net._typed import os_words
+from focas_net._typed import os_reason, os_words
 from focas_net.cli import EXIT_USAGE
-from focas_net.client._failures import os_reason
 from focas_net.gateway.config import ConfigError, load_config
 from focas_net.sim import MachineFileError, load_machine
 

@@ -11,7 +11,7 @@ import argparse
 from dataclasses import replace
 from typing import TYPE_CHECKING
 
-from focas_net.client._failures import os_reason
+from focas_net._typed import os_reason
 
 from ._state import Kept, load_state, state_folder_of
 

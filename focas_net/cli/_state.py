@@ -11,7 +11,7 @@ from typing import TYPE_CHECKING, Final
 
 import anyio
 
-from focas_net.client._failures import os_reason
+from focas_net._typed import os_reason
 
 if TYPE_CHECKING:
     from focas_net.server import FocasServer

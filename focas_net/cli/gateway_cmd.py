@@ -22,7 +22,7 @@ from contextlib import AsyncExitStack
 from typing import Any
 from urllib.parse import urlsplit
 
-from focas_net.client._failures import os_reason
+from focas_net._typed import os_reason
 from focas_net.gateway import (
     ConfigError,
     Gateway,

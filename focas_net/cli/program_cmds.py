@@ -9,9 +9,8 @@ import argparse
 from pathlib import Path
 from typing import Any, Final
 
-from focas_net._typed import program_number
+from focas_net._typed import os_reason, program_number
 from focas_net.client import FocasClient
-from focas_net.client._failures import os_reason
 
 from . import _format as fmt
 from . import read_cmds

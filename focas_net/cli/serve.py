@@ -34,8 +34,7 @@ from typing import TYPE_CHECKING, Any, Final
 
 import anyio
 
-from focas_net._typed import typed_number
-from focas_net.client._failures import os_reason
+from focas_net._typed import os_reason, typed_number
 from focas_net.server import (
     DEFAULT_GRACE_PERIOD,
     DEFAULT_HOST,

@@ -33,8 +33,7 @@ from typing import Any, Final, cast
 
 from focas_net._address import address_text
 from focas_net._receive import Received, _local
-
-from ._failures import os_reason
+from focas_net._typed import os_reason
 
 #: Bytes one read of a :class:`SocketChannel` may bring: a whole answer frame (at most 10 +
 #: 65535 bytes) in one or two.

@@ -19,12 +19,11 @@ from __future__ import annotations
 import asyncio
 import errno
 import ipaddress
-import socket
 import ssl as _ssl
 from typing import Final
 
 from focas_net._address import address_text
-from focas_net._typed import os_words
+from focas_net._typed import os_reason
 from focas_net.errors import (
     EW,
     FocasConnectionError,
@@ -49,7 +48,6 @@ __all__ = [
     "lost_error",
     "no_answer_error",
     "not_focas_error",
-    "os_reason",
     "timeout_error",
     "undecodable_error",
     "violation_error",
@@ -136,22 +134,6 @@ def violation_error(
         what = f"it sent {head[:8]!r}"
     rule = str(reason).removesuffix("; closing the connection")
     return not_focas_error(peer, f"{rule}; {what}")
-
-
-def os_reason(exc: BaseException) -> str:
-    """What an operating system error says, as text: ``connection reset by peer``,
-    ``connection refused``, ``name or service not known`` (never ``[Errno 104] ...`` or the
-    address tuple asyncio adds); an end of stream is ``the peer closed the connection``."""
-    if isinstance(exc, asyncio.IncompleteReadError):
-        return "the peer closed the connection"
-    text = str(exc)
-    if isinstance(exc, OSError) and not isinstance(exc, _ssl.SSLError):
-        if not (isinstance(exc, socket.gaierror) and exc.strerror):
-            return os_words(exc)
-        text = exc.strerror
-    if not text:
-        return type(exc).__name__
-    return text[:1].lower() + text[1:]
 
 
 def closed_error(peer: str, answered: bool) -> FocasConnectionError:

@@ -30,7 +30,7 @@ from ..protocol import (
     alarm_message,
 )
 from ..protocol import Command as C
-from ..server.faults import fault_refusal
+from ..protocol.faults import fault_refusal
 from ._pmc import write_pmc_range
 from ._values import AreaLike, alarm_type_number, check_int, number_of_name, pmc_data
 

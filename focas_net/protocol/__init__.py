@@ -54,7 +54,17 @@ from .codecs import (
     encode_response,
 )
 from .commands import FAULT_COMMANDS, PATH_COMMANDS, PATH_INDEPENDENT_COMMANDS, Command
-from .faults import ArmedFault, FaultList, FaultsCleared, FaultsRequest, ew_of_text
+from .faults import (
+    FAULT_SCOPES,
+    MAX_DELAY_MS,
+    MAX_FAULT_COUNT,
+    ArmedFault,
+    FaultList,
+    FaultsCleared,
+    FaultsRequest,
+    ew_of_text,
+    fault_refusal,
+)
 from .frame import (
     DEFAULT_MAX_FRAME,
     HEADER,
@@ -118,11 +128,14 @@ __all__ = [
     "DEFAULT_MAX_FRAME",
     "EW_OK_BYTES",
     "FAULT_COMMANDS",
+    "FAULT_SCOPES",
     "HEADER",
     "HEADER_SIZE",
     "MAX_ALARM_MSG",
     "MAX_CONFIG_CHUNK",
+    "MAX_DELAY_MS",
     "MAX_DIRECTORY_ENTRIES",
+    "MAX_FAULT_COUNT",
     "MAX_HISTORY_DEPTH",
     "MAX_PMC_CHUNK",
     "MAX_PROGRAM_CHUNK",
@@ -211,6 +224,7 @@ __all__ = [
     "encode_frame",
     "encode_response",
     "ew_of_text",
+    "fault_refusal",
     "field_label",
     "pmc_bit_refusal",
     "scan_frames",

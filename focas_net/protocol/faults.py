@@ -10,8 +10,49 @@ from typing import ClassVar, Final, Self
 from .._typed import whole_number
 from ..errors import EW, PayloadError
 from ._base import I16, FixedPayload
+from .values import FaultKind, FaultScope
 
-__all__ = ["ArmedFault", "FaultList", "FaultsCleared", "FaultsRequest", "ew_of_text"]
+__all__ = [
+    "FAULT_SCOPES",
+    "MAX_DELAY_MS",
+    "MAX_FAULT_COUNT",
+    "ArmedFault",
+    "FaultList",
+    "FaultsCleared",
+    "FaultsRequest",
+    "ew_of_text",
+    "fault_refusal",
+]
+
+#: Longest delay a fault may ask for, in milliseconds.
+MAX_DELAY_MS: Final = 60_000
+#: Largest ``count`` of one fault.
+MAX_FAULT_COUNT: Final = 10_000
+#: The scopes a fault queue has, as numbers.
+FAULT_SCOPES: Final = frozenset(int(s) for s in FaultScope)
+_FAULT_KINDS: Final = frozenset(int(k) for k in FaultKind)
+_I16_MIN: Final = -32_768
+_I16_MAX: Final = 32_767
+
+
+def fault_refusal(kind: int, scope: int, count: int, arg: int) -> str | None:
+    """Why a fault of these numbers is refused (``EW_DATA``), in the words every front end
+    shows (the dashboard, the command line, the client from the EW code alone); None when it
+    is armed. The one check of a fault's arguments: the server's ``parse_inject`` answers
+    ``EW_DATA`` exactly when this gives a reason."""
+    if kind not in _FAULT_KINDS:
+        kinds = ", ".join(f"{int(k)} {k.name}" for k in FaultKind)
+        return f"no fault kind {kind} (one of {kinds})"
+    if scope not in FAULT_SCOPES:
+        scopes = ", ".join(f"{int(s)} {s.name}" for s in FaultScope)
+        return f"no fault scope {scope} (one of {scopes})"
+    if not 1 <= count <= MAX_FAULT_COUNT:
+        return f"a fault's count is 1..{MAX_FAULT_COUNT}, got {count}"
+    if kind == FaultKind.DELAY and not 0 <= arg <= MAX_DELAY_MS:
+        return f"a delay is 0..{MAX_DELAY_MS} ms, got {arg}"
+    if kind == FaultKind.ERROR and (arg == 0 or not _I16_MIN <= arg <= _I16_MAX):
+        return f"an error fault's EW code is a nonzero {_I16_MIN}..{_I16_MAX}, got {arg}"
+    return None
 
 
 @dataclass(frozen=True, slots=True)

@@ -41,6 +41,12 @@ from focas_net.protocol import (
     FaultsRequest,
     InjectFault,
 )
+from focas_net.protocol.faults import (
+    FAULT_SCOPES,
+    MAX_DELAY_MS,
+    MAX_FAULT_COUNT,
+    fault_refusal,
+)
 
 __all__ = [
     "MAX_ARMED_FAULTS",
@@ -56,15 +62,8 @@ __all__ = [
     "parse_scope",
 ]
 
-#: Longest delay a fault may ask for, in milliseconds.
-MAX_DELAY_MS: Final = 60_000
-#: Largest ``count`` of one fault.
-MAX_FAULT_COUNT: Final = 10_000
 #: Most faults one queue holds at once; arming one more answers ``EW_OVRFLOW``.
 MAX_ARMED_FAULTS: Final = 64
-
-_I16_MIN: Final = -32_768
-_I16_MAX: Final = 32_767
 
 
 class Fault:
@@ -138,7 +137,7 @@ def parse_scope(payload: bytes, *, refused: bool = False) -> FaultScope | int:
         return EW.LENGTH
     if refused:
         return EW.PROT
-    if req.scope not in _SCOPES:
+    if req.scope not in FAULT_SCOPES:
         return EW.DATA
     return FaultScope(req.scope)
 
@@ -163,25 +162,6 @@ def parse_inject(payload: bytes, *, read_only: bool = False) -> tuple[FaultScope
     return FaultScope(scope), Fault(FaultKind(kind), arg, count)
 
 
-def fault_refusal(kind: int, scope: int, count: int, arg: int) -> str | None:
-    """Why a fault of these numbers is refused (``EW_DATA``), in the words every front end
-    shows (the dashboard, the command line); None when it is armed. The one check of a fault's
-    arguments: :func:`parse_inject` answers ``EW_DATA`` exactly when this gives a reason."""
-    if kind not in _KINDS:
-        kinds = ", ".join(f"{int(k)} {k.name}" for k in FaultKind)
-        return f"no fault kind {kind} (one of {kinds})"
-    if scope not in _SCOPES:
-        scopes = ", ".join(f"{int(s)} {s.name}" for s in FaultScope)
-        return f"no fault scope {scope} (one of {scopes})"
-    if not 1 <= count <= MAX_FAULT_COUNT:
-        return f"a fault's count is 1..{MAX_FAULT_COUNT}, got {count}"
-    if kind == FaultKind.DELAY and not 0 <= arg <= MAX_DELAY_MS:
-        return f"a delay is 0..{MAX_DELAY_MS} ms, got {arg}"
-    if kind == FaultKind.ERROR and (arg == 0 or not _I16_MIN <= arg <= _I16_MAX):
-        return f"an error fault's EW code is a nonzero {_I16_MIN}..{_I16_MAX}, got {arg}"
-    return None
-
-
 def fault_arg_text(kind: int, arg: int) -> str:
     """A fault's argument as every front end lists it (the command line's ``sim faults``, the
     dashboard): a delay's ``500 ms``, an error's ``EW_BUSY (-1)``, ``-`` for a drop or a split
@@ -191,7 +171,3 @@ def fault_arg_text(kind: int, arg: int) -> str:
     if kind == FaultKind.ERROR:
         return ew_label(arg)
     return "-"
-
-
-_KINDS: Final = frozenset(int(k) for k in FaultKind)
-_SCOPES: Final = frozenset(int(s) for s in FaultScope)
