@@ -20,6 +20,11 @@ from hypothesis import settings
 from peers import ScriptedPeer
 from support import Served, Wire, serving
 
+from focas_net.client import FocasClient, NativeClient
+from focas_net.server import FocasServer
+from focas_net.sim import Machine, default_machine
+from focas_net.sim.nc import ManualClock
+
 # No wall-clock deadline on a hypothesis example: speed is the benchmarks' to measure, and a
 # busy machine made single examples of pure codec tests run past hypothesis's 200 ms.
 settings.register_profile("focas_net", deadline=None)
@@ -50,6 +55,20 @@ async def server() -> AsyncIterator[Served]:
     """The default machine served on 127.0.0.1, an ephemeral port."""
     async with serving() as served:
         yield served
+
+
+@pytest.fixture
+async def both_clients() -> AsyncIterator[tuple[Machine, FocasClient, NativeClient]]:
+    """The default machine on a manual clock, served on 127.0.0.1, with a packed and a
+    FOCAS/2 client connected to it."""
+    machine = default_machine(sim_clock=ManualClock())
+    async with FocasServer(machine, port=0) as server:
+        host, port = server.addresses[0]
+        async with (
+            FocasClient(host, port, timeout=5) as cnc,
+            NativeClient(host, port, timeout=5) as native,
+        ):
+            yield machine, cnc, native
 
 
 @pytest.fixture

@@ -5,7 +5,7 @@ is not connected telling why, in every state, on both clients."""
 
 from __future__ import annotations
 
-from collections.abc import AsyncIterator, Callable
+from collections.abc import Callable
 from decimal import Decimal
 from typing import Any
 
@@ -35,24 +35,12 @@ from focas_net.web import ActionError, Station, perform
 _CLIENTS = [FocasClient, NativeClient]
 
 
-@pytest.fixture
-async def served() -> AsyncIterator[tuple[Machine, FocasClient, NativeClient]]:
-    machine = default_machine(sim_clock=ManualClock())
-    async with FocasServer(machine, port=0) as server:
-        host, port = server.addresses[0]
-        async with (
-            FocasClient(host, port, timeout=5) as cnc,
-            NativeClient(host, port, timeout=5) as native,
-        ):
-            yield machine, cnc, native
-
-
 # -- a parameter value with decimals -----------------------------------------------------------
 @pytest.mark.parametrize("value", ["1.5", Decimal("1.5"), " 1.5 ", "+1.50"])
 async def test_decimals_for_an_integer_parameter_are_refused_in_one_wording(
-    served: tuple[Machine, FocasClient, NativeClient], value: str | Decimal
+    both_clients: tuple[Machine, FocasClient, NativeClient], value: str | Decimal
 ) -> None:
-    machine, cnc, native = served
+    machine, cnc, native = both_clients
     shown = str(Decimal(str(value).strip()))
     for client in (cnc, native):
         with pytest.raises(ValueError) as caught:
@@ -65,9 +53,9 @@ async def test_decimals_for_an_integer_parameter_are_refused_in_one_wording(
 
 @pytest.mark.parametrize(("value", "written"), [("1.0", 1), (" 12.00 ", 12), (Decimal("7.0"), 7)])
 async def test_text_with_zero_decimals_is_written_as_a_decimal_is(
-    served: tuple[Machine, FocasClient, NativeClient], value: str | Decimal, written: int
+    both_clients: tuple[Machine, FocasClient, NativeClient], value: str | Decimal, written: int
 ) -> None:
-    machine, cnc, native = served
+    machine, cnc, native = both_clients
     machine.set_panel(0, 1, 0)  # MDI, PWE on
     session = machine.new_session()
     for client in (cnc, native):
@@ -78,9 +66,9 @@ async def test_text_with_zero_decimals_is_written_as_a_decimal_is(
 
 @pytest.mark.parametrize("value", [Decimal("NaN"), Decimal("-Infinity"), Decimal("sNaN")])
 async def test_a_decimal_that_is_no_number_is_refused_alike_without_a_repr(
-    served: tuple[Machine, FocasClient, NativeClient], value: Decimal
+    both_clients: tuple[Machine, FocasClient, NativeClient], value: Decimal
 ) -> None:
-    _, cnc, native = served
+    _, cnc, native = both_clients
     texts = set()
     for client in (cnc, native):
         with pytest.raises(ValueError) as caught:
@@ -90,9 +78,9 @@ async def test_a_decimal_that_is_no_number_is_refused_alike_without_a_repr(
 
 
 async def test_a_decimal_fitting_no_parameter_type_is_named_as_typed(
-    served: tuple[Machine, FocasClient, NativeClient],
+    both_clients: tuple[Machine, FocasClient, NativeClient],
 ) -> None:
-    _, cnc, native = served
+    _, cnc, native = both_clients
     for client in (cnc, native):
         with pytest.raises(ValueError) as caught:
             await client.write_param(1410, Decimal("0.00000000001"))
@@ -186,9 +174,9 @@ async def test_a_call_on_a_closed_client_names_it_and_why(kind: Any) -> None:
     ],
 )
 async def test_a_fault_the_server_refuses_says_why_as_the_command_line_does(
-    served: tuple[Machine, FocasClient, NativeClient], kind: Any, options: Any, why: str
+    both_clients: tuple[Machine, FocasClient, NativeClient], kind: Any, options: Any, why: str
 ) -> None:
-    _, cnc, _ = served
+    _, cnc, _ = both_clients
     with pytest.raises(CncError) as caught:
         await cnc.sim.inject_fault(kind, **options)
     assert caught.value.ew == EW.DATA
@@ -253,9 +241,9 @@ def test_the_machine_s_tool_calls_refuse_a_number_of_another_type_as_a_type(type
 
 # -- reprs -------------------------------------------------------------------------------------
 async def test_a_started_call_and_the_sim_control_show_what_they_are(
-    served: tuple[Machine, FocasClient, NativeClient],
+    both_clients: tuple[Machine, FocasClient, NativeClient],
 ) -> None:
-    _, cnc, native = served
+    _, cnc, native = both_clients
     assert repr(cnc.sim) == f"<SimControl of {cnc!r}>"
     for client in (cnc, native):
         call = client.start_read_status()

@@ -6,7 +6,6 @@ changed."""
 from __future__ import annotations
 
 import math
-from collections.abc import AsyncIterator
 from decimal import Decimal
 from pathlib import Path
 from typing import Any
@@ -43,24 +42,12 @@ from focas_net.sim import Machine
 from focas_net.sim.nc import ManualClock
 
 
-@pytest.fixture
-async def served() -> AsyncIterator[tuple[Machine, FocasClient, NativeClient]]:
-    machine = default_machine(sim_clock=ManualClock())
-    async with FocasServer(machine, port=0) as server:
-        host, port = server.addresses[0]
-        async with (
-            FocasClient(host, port, timeout=5) as cnc,
-            NativeClient(host, port, timeout=5) as native,
-        ):
-            yield machine, cnc, native
-
-
 # -- the clients -----------------------------------------------------------------------------
 @pytest.mark.parametrize("kind", [True, None, 1.5, b"0", Decimal(1)])
 async def test_a_position_kind_of_another_type_is_a_type_error_naming_kind(
-    served: tuple[Machine, FocasClient, NativeClient], kind: Any
+    both_clients: tuple[Machine, FocasClient, NativeClient], kind: Any
 ) -> None:
-    _, cnc, native = served
+    _, cnc, native = both_clients
     for client in (cnc, native):
         with pytest.raises(TypeError, match="position kind must be") as caught:
             await client.read_positions(kind)
@@ -69,9 +56,9 @@ async def test_a_position_kind_of_another_type_is_a_type_error_naming_kind(
 
 @pytest.mark.parametrize("kind", [4, -1, 70000])
 async def test_a_position_kind_number_out_of_range_names_the_kinds(
-    served: tuple[Machine, FocasClient, NativeClient], kind: int
+    both_clients: tuple[Machine, FocasClient, NativeClient], kind: int
 ) -> None:
-    _, cnc, native = served
+    _, cnc, native = both_clients
     for client in (cnc, native):
         with pytest.raises(ValueError, match=rf"unknown position kind {kind} \(absolute"):
             await client.read_positions(kind)
@@ -89,9 +76,9 @@ def test_labelled_values_refuse_a_bool_or_another_type() -> None:
 
 @pytest.mark.parametrize("mode", [True, False, 1.5, b"MEM", [1]])
 async def test_set_panel_mode_of_another_type_is_refused_and_nothing_changes(
-    served: tuple[Machine, FocasClient, NativeClient], mode: Any
+    both_clients: tuple[Machine, FocasClient, NativeClient], mode: Any
 ) -> None:
-    machine, cnc, _ = served
+    machine, cnc, _ = both_clients
     before = machine.state_digest()
     with pytest.raises(TypeError, match="mode"):
         await cnc.sim.set_panel(mode)
@@ -101,9 +88,9 @@ async def test_set_panel_mode_of_another_type_is_refused_and_nothing_changes(
 @pytest.mark.parametrize("switch", ["pwe", "emergency"])
 @pytest.mark.parametrize("value", ["on", 1.0, b"1", [True]])
 async def test_a_panel_switch_of_another_type_is_a_type_error(
-    served: tuple[Machine, FocasClient, NativeClient], switch: str, value: Any
+    both_clients: tuple[Machine, FocasClient, NativeClient], switch: str, value: Any
 ) -> None:
-    _, cnc, _ = served
+    _, cnc, _ = both_clients
     with pytest.raises(TypeError, match=rf"{switch} must be True, False or None"):
         await cnc.sim.set_panel(**{switch: value})
     with pytest.raises(ValueError, match=rf"{switch} must be True, False or None .* got 2"):
@@ -114,9 +101,9 @@ async def test_a_panel_switch_of_another_type_is_a_type_error(
 @pytest.mark.parametrize("what", ["count", "arg"])
 @pytest.mark.parametrize("value", [True, "5", 1.5, None, b"1"])
 async def test_inject_fault_count_and_arg_of_another_type_are_type_errors(
-    served: tuple[Machine, FocasClient, NativeClient], what: str, value: Any
+    both_clients: tuple[Machine, FocasClient, NativeClient], what: str, value: Any
 ) -> None:
-    _, cnc, _ = served
+    _, cnc, _ = both_clients
     with pytest.raises(TypeError, match=rf"{what} must be an integer, got {value!r}"):
         await cnc.sim.inject_fault("delay", **{what: value})
     assert await cnc.sim.list_faults() == ()
@@ -124,9 +111,9 @@ async def test_inject_fault_count_and_arg_of_another_type_are_type_errors(
 
 @pytest.mark.parametrize("msg", [None, 5, 1.5, b"OIL LOW", True])
 async def test_raise_alarm_message_of_another_type_is_a_type_error(
-    served: tuple[Machine, FocasClient, NativeClient], msg: Any
+    both_clients: tuple[Machine, FocasClient, NativeClient], msg: Any
 ) -> None:
-    _, cnc, _ = served
+    _, cnc, _ = both_clients
     with pytest.raises(TypeError, match=r"alarm message must be text \(str\), got"):
         await cnc.sim.raise_alarm("PS", 100, msg)
     assert await cnc.read_alarms() == ()
@@ -134,9 +121,9 @@ async def test_raise_alarm_message_of_another_type_is_a_type_error(
 
 @pytest.mark.parametrize("width", [True, "4", 4.0, b"4"])
 async def test_write_param_width_of_another_type_is_a_type_error_before_sending(
-    served: tuple[Machine, FocasClient, NativeClient], width: Any
+    both_clients: tuple[Machine, FocasClient, NativeClient], width: Any
 ) -> None:
-    machine, cnc, native = served
+    machine, cnc, native = both_clients
     before = machine.state_digest()
     for client in (cnc, native):
         with pytest.raises(TypeError, match=r"parameter width must be 1, 2, 4 or 8 .*got"):
@@ -145,9 +132,9 @@ async def test_write_param_width_of_another_type_is_a_type_error_before_sending(
 
 
 async def test_native_figure_kind_and_address_of_another_type_are_type_errors(
-    served: tuple[Machine, FocasClient, NativeClient],
+    both_clients: tuple[Machine, FocasClient, NativeClient],
 ) -> None:
-    _, _, native = served
+    _, _, native = both_clients
     with pytest.raises(TypeError, match="servo figure must be"):
         await native.read_servo_figures(None)  # type: ignore[arg-type]
     with pytest.raises(ValueError, match="servo figure 3 is not"):
@@ -160,9 +147,9 @@ async def test_native_figure_kind_and_address_of_another_type_are_type_errors(
 
 @pytest.mark.parametrize("given", ["1", -1, 0, math.nan, True])
 async def test_native_calls_that_send_nothing_still_check_their_timeout(
-    served: tuple[Machine, FocasClient, NativeClient], given: Any
+    both_clients: tuple[Machine, FocasClient, NativeClient], given: Any
 ) -> None:
-    _, _, native = served
+    _, _, native = both_clients
     error = (
         ValueError if isinstance(given, int | float) and not isinstance(given, bool) else TypeError
     )
@@ -355,9 +342,9 @@ def test_alarm_projection_names_what_it_refuses(
 
 
 async def test_reading_many_names_what_is_no_client(
-    served: tuple[Machine, FocasClient, NativeClient],
+    both_clients: tuple[Machine, FocasClient, NativeClient],
 ) -> None:
-    _, cnc, native = served
+    _, cnc, native = both_clients
     with pytest.raises(TypeError, match=r"clients\[1\] must be a NativeClient, got <FocasClient"):
         await read_dynamic_all([native, cnc])  # type: ignore[list-item]
     with pytest.raises(TypeError, match=r"clients\[0\] must be a FocasClient or a NativeClient"):
@@ -397,9 +384,9 @@ def test_opcua_settings_built_in_python_check_their_users(users: Any, words: str
     ],
 )
 async def test_write_param_text_no_number_is_refused_in_one_wording_on_both_clients(
-    served: tuple[Machine, FocasClient, NativeClient], text: str, words: str
+    both_clients: tuple[Machine, FocasClient, NativeClient], text: str, words: str
 ) -> None:
-    machine, cnc, native = served
+    machine, cnc, native = both_clients
     machine.set_panel(mode=0, pwe=1)
     before = machine.state_digest()
     for client in (cnc, native):
@@ -511,9 +498,9 @@ async def test_a_16i_real_parameter_write_is_ew_length_in_plain_words() -> None:
 
 
 async def test_an_unknown_pmc_area_is_named_with_the_areas_in_one_wording(
-    served: tuple[Machine, FocasClient, NativeClient],
+    both_clients: tuple[Machine, FocasClient, NativeClient],
 ) -> None:
-    machine, cnc, native = served
+    machine, cnc, native = both_clients
     words = "unknown PMC area 'Q' (one of X, Y, F, G, R, T, C, D, K, A, E)"
     for client in (cnc, native):
         with pytest.raises(ValueError) as caught:
@@ -568,9 +555,9 @@ def test_gateway_names_a_wrong_argument(
 
 
 async def test_started_call_on_done_refuses_what_is_not_callable(
-    served: tuple[Machine, FocasClient, NativeClient],
+    both_clients: tuple[Machine, FocasClient, NativeClient],
 ) -> None:
-    _, cnc, native = served
+    _, cnc, native = both_clients
     for started in (cnc.start_read_status(), native.start_read_macro(500)):
         with pytest.raises(TypeError, match="on_done takes a callable with no arguments, got 5"):
             started.on_done(5)  # type: ignore[arg-type]

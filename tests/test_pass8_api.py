@@ -6,7 +6,7 @@ from __future__ import annotations
 
 import asyncio
 import re
-from collections.abc import AsyncIterator, Awaitable, Callable
+from collections.abc import Awaitable, Callable
 from decimal import Decimal
 from pathlib import Path
 from typing import Any
@@ -36,18 +36,6 @@ from focas_net.web import Dashboard, stations_of
 EXAMPLES = Path(__file__).resolve().parent.parent / "examples"
 
 
-@pytest.fixture
-async def served() -> AsyncIterator[tuple[Machine, FocasClient, NativeClient]]:
-    machine = default_machine(sim_clock=ManualClock())
-    async with FocasServer(machine, port=0) as server:
-        host, port = server.addresses[0]
-        async with (
-            FocasClient(host, port, timeout=5) as cnc,
-            NativeClient(host, port, timeout=5) as native,
-        ):
-            yield machine, cnc, native
-
-
 def _ew(exc: BaseException) -> int:
     assert isinstance(exc, MachineError | CncError)
     return exc.ew
@@ -56,9 +44,9 @@ def _ew(exc: BaseException) -> int:
 # -- the rapid override's F0 -------------------------------------------------------------------
 @pytest.mark.parametrize(("typed", "percent"), [("F0", 0), (" f0 ", 0), ("f0", 0)])
 async def test_the_rapid_override_takes_f0_from_python_as_the_command_line_does(
-    served: tuple[Machine, FocasClient, NativeClient], typed: str, percent: int
+    both_clients: tuple[Machine, FocasClient, NativeClient], typed: str, percent: int
 ) -> None:
-    machine, cnc, _ = served
+    machine, cnc, _ = both_clients
     machine.set_overrides(rapid=25)
     machine.set_overrides(rapid=typed)
     assert machine.overrides()[1] == percent
@@ -69,9 +57,9 @@ async def test_the_rapid_override_takes_f0_from_python_as_the_command_line_does(
 
 @pytest.mark.parametrize("typed", ["F25", "F", "f 0", "F00"])
 async def test_other_rapid_override_text_is_refused_alike_naming_it(
-    served: tuple[Machine, FocasClient, NativeClient], typed: str
+    both_clients: tuple[Machine, FocasClient, NativeClient], typed: str
 ) -> None:
-    machine, cnc, _ = served
+    machine, cnc, _ = both_clients
     with pytest.raises(ValueError) as by_machine:
         machine.set_overrides(feed=50, rapid=typed)
     with pytest.raises(ValueError) as by_client:
@@ -94,9 +82,9 @@ async def test_other_rapid_override_text_is_refused_alike_naming_it(
     ],
 )
 async def test_an_override_of_another_type_is_one_type_error_on_machine_and_client(
-    served: tuple[Machine, FocasClient, NativeClient], kwargs: dict[str, Any], words: str
+    both_clients: tuple[Machine, FocasClient, NativeClient], kwargs: dict[str, Any], words: str
 ) -> None:
-    machine, cnc, _ = served
+    machine, cnc, _ = both_clients
     with pytest.raises(TypeError, match=words):
         machine.set_overrides(**kwargs)
     with pytest.raises(TypeError, match=words):
@@ -123,9 +111,9 @@ def test_the_machine_refuses_a_pmc_range_of_no_bytes_as_the_clients_do(area: str
 
 
 async def test_a_pmc_range_of_no_bytes_is_refused_by_every_front_end(
-    served: tuple[Machine, FocasClient, NativeClient],
+    both_clients: tuple[Machine, FocasClient, NativeClient],
 ) -> None:
-    _, cnc, native = served
+    _, cnc, native = both_clients
     for call in (
         lambda: cnc.write_pmc("R", 0, b""),
         lambda: cnc.read_pmc("R", 0, 0),
@@ -139,9 +127,9 @@ async def test_a_pmc_range_of_no_bytes_is_refused_by_every_front_end(
 
 # -- an alarm of an axis the path has not ------------------------------------------------------
 async def test_an_alarm_of_an_axis_beyond_the_path_names_the_axis_and_the_count(
-    served: tuple[Machine, FocasClient, NativeClient],
+    both_clients: tuple[Machine, FocasClient, NativeClient],
 ) -> None:
-    machine, cnc, _ = served
+    machine, cnc, _ = both_clients
     words = "axis_no 9 outside 0..3: the path has 3 axes"
     with pytest.raises(MachineError) as by_machine:
         machine.raise_alarm(9, 6, 411, "SERVO")
@@ -262,9 +250,9 @@ def test_an_offset_write_of_no_values_is_refused_as_a_pmc_write_of_no_bytes() ->
 
 
 async def test_the_packed_client_takes_replace_as_true_or_false(
-    served: tuple[Machine, FocasClient, NativeClient],
+    both_clients: tuple[Machine, FocasClient, NativeClient],
 ) -> None:
-    machine, cnc, _ = served
+    machine, cnc, _ = both_clients
     with pytest.raises(TypeError, match="replace must be True or False, got 'no'"):
         await cnc.write_program("O1234\nM30\n%", replace="no")  # type: ignore[arg-type]
     assert 1234 not in [p.number for p in machine.program_directory()]
@@ -396,11 +384,11 @@ def test_a_native_server_names_an_argument_of_another_type(
     ],
 )
 async def test_a_native_request_that_does_not_fit_names_the_function_not_its_repr(
-    served: tuple[Machine, FocasClient, NativeClient],
+    both_clients: tuple[Machine, FocasClient, NativeClient],
     call: Callable[[NativeClient], Awaitable[object]],
     words: str,
 ) -> None:
-    _, _, native = served
+    _, _, native = both_clients
     with pytest.raises(ValueError) as refused:
         await call(native)
     assert str(refused.value) == words
@@ -419,11 +407,11 @@ async def test_a_native_request_that_does_not_fit_names_the_function_not_its_rep
     ],
 )
 async def test_an_axis_beyond_the_path_is_named_with_the_count_on_both_clients(
-    served: tuple[Machine, FocasClient, NativeClient],
+    both_clients: tuple[Machine, FocasClient, NativeClient],
     call: Callable[[Any], Awaitable[object]],
     function: str | None,
 ) -> None:
-    machine, cnc, native = served
+    machine, cnc, native = both_clients
     machine.set_panel(0, 1, 0)  # MDI, PWE on: a write is refused for its axis only
     details = []
     for client in (cnc, native):
@@ -437,9 +425,9 @@ async def test_an_axis_beyond_the_path_is_named_with_the_count_on_both_clients(
 
 
 async def test_an_axis_given_to_an_item_of_no_axis_stays_as_the_cnc_answered(
-    served: tuple[Machine, FocasClient, NativeClient],
+    both_clients: tuple[Machine, FocasClient, NativeClient],
 ) -> None:
-    _, cnc, native = served
+    _, cnc, native = both_clients
     for client in (cnc, native):
         with pytest.raises(CncError) as refused:
             await client.read_param(6711, axis=1)
@@ -503,9 +491,9 @@ def test_a_position_kind_the_machine_has_not_lists_the_kinds(kind: Any) -> None:
     "value", [Decimal("NaN"), Decimal("Infinity"), Decimal("1E+12"), 10**12, Decimal("1E-10")]
 )
 async def test_a_macro_value_no_variable_holds_is_refused_in_one_wording(
-    served: tuple[Machine, FocasClient, NativeClient], value: Decimal | int
+    both_clients: tuple[Machine, FocasClient, NativeClient], value: Decimal | int
 ) -> None:
-    machine, cnc, native = served
+    machine, cnc, native = both_clients
     with pytest.raises(MachineError) as by_machine:
         machine.write_macro(500, value)
     for client in (cnc, native):
@@ -532,9 +520,9 @@ def test_a_machines_repr_keeps_its_axis_names_apart() -> None:
     ],
 )
 async def test_a_projection_takes_its_mode_by_value_or_name_and_says_what_it_follows(
-    served: tuple[Machine, FocasClient, NativeClient], mode: str, shown: str
+    both_clients: tuple[Machine, FocasClient, NativeClient], mode: str, shown: str
 ) -> None:
-    _, cnc, _ = served
+    _, cnc, _ = both_clients
     projection = AlarmProjection(cnc, mode, interval=0.5)
     assert repr(projection) == f"<AlarmProjection {shown} every 0.5 s of {cnc!r}>"
 
