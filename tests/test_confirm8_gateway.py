@@ -268,7 +268,12 @@ def test_the_command_line_names_the_file_of_a_certificate_it_cannot_read(
         MACHINE + '[opcua]\nendpoint = "opc.tcp://127.0.0.1:0/x/"\n'
         'certificate = "broker.key"\nprivate_key = "broker.key"\n'
     )
-    assert main(["gateway", str(config)]) == 2
+    logger = logging.getLogger("focas_net")
+    level = logger.level
+    try:
+        assert main(["gateway", str(config)]) == 2
+    finally:  # (the command sets focas_net's threshold: later tests' DEBUG records must show)
+        logger.setLevel(level)
     assert capsys.readouterr().err == (
         f"focas-net gateway: error: {config}: opcua.certificate: got '{key}'; expected a "
         "certificate in PEM or DER (no PEM certificate in it)\n"
