@@ -18,6 +18,7 @@ from typing import Any, Protocol
 
 import pytest
 from support import IO_TIMEOUT, Served
+from support import killed_at_exit as killed_at_exit  # the CLI tests import it from here
 
 from focas_net.cli import EXIT_OK, main
 
@@ -72,20 +73,6 @@ def _slots() -> asyncio.Semaphore:
     if loop not in _SLOTS:
         _SLOTS[loop] = asyncio.Semaphore(os.cpu_count() or 1)
     return _SLOTS[loop]
-
-
-@asynccontextmanager
-async def killed_at_exit(
-    proc: asyncio.subprocess.Process,
-) -> AsyncIterator[asyncio.subprocess.Process]:
-    """``proc`` for the block; killed (and waited for) at its end unless it ended already:
-    a test that fails or times out leaves no process behind."""
-    try:
-        yield proc
-    finally:
-        if proc.returncode is None:
-            proc.kill()
-            await proc.wait()
 
 
 async def focas_net_process(

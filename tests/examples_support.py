@@ -7,7 +7,7 @@ import asyncio
 import sys
 from pathlib import Path
 
-from support import IO_TIMEOUT, Served
+from support import IO_TIMEOUT, Served, killed_at_exit
 
 EXAMPLES = Path(__file__).resolve().parent.parent / "examples"
 #: Upper bound of one example run (they all finish by themselves well before).
@@ -20,12 +20,8 @@ async def run_example(name: str, *args: str) -> tuple[int, str, str]:
         sys.executable, str(EXAMPLES / name), *args,
         stdout=asyncio.subprocess.PIPE, stderr=asyncio.subprocess.PIPE,
     )  # fmt: skip
-    try:
+    async with killed_at_exit(proc):
         out, err = await asyncio.wait_for(proc.communicate(), RUN_TIMEOUT)
-    finally:
-        if proc.returncode is None:
-            proc.kill()
-            await proc.wait()
     assert proc.returncode is not None
     return proc.returncode, out.decode(), err.decode()
 

@@ -233,6 +233,20 @@ SERVE_READY = re.compile(
 
 
 @asynccontextmanager
+async def killed_at_exit(
+    proc: asyncio.subprocess.Process,
+) -> AsyncIterator[asyncio.subprocess.Process]:
+    """``proc`` for the block; killed (and waited for) at its end unless it ended already:
+    a test that fails or times out leaves no process behind."""
+    try:
+        yield proc
+    finally:
+        if proc.returncode is None:
+            proc.kill()
+            await proc.wait()
+
+
+@asynccontextmanager
 async def serve_process(
     *args: str, lines: int, start_timeout: float
 ) -> AsyncIterator[tuple[asyncio.subprocess.Process, list[re.Match[str]]]]:
@@ -246,7 +260,7 @@ async def serve_process(
     )  # fmt: skip
     assert proc.stdout is not None
     ready: list[re.Match[str]] = []
-    try:
+    async with killed_at_exit(proc):
         async with asyncio.timeout(start_timeout):
             for _ in range(lines):
                 line = (await proc.stdout.readline()).decode().rstrip("\n")
@@ -254,10 +268,6 @@ async def serve_process(
                 assert match is not None, f"unexpected output: {line!r}"
                 ready.append(match)
         yield proc, ready
-    finally:
-        if proc.returncode is None:
-            proc.kill()
-            await proc.wait()
 
 
 class ChannelLog:

@@ -8,7 +8,7 @@ import asyncio
 import json
 import sys
 
-from support import IO_TIMEOUT, Served, Wire, serving
+from support import IO_TIMEOUT, Served, Wire, killed_at_exit, serving
 
 from focas_net.cli import EXIT_CNC, EXIT_OK
 from focas_net.client import FocasClient
@@ -112,13 +112,8 @@ async def focas_net(served: Served, *argv: str) -> tuple[int, str, str]:
         sys.executable, "-m", "focas_net", *argv, "--port", str(served.port),
         stdout=asyncio.subprocess.PIPE, stderr=asyncio.subprocess.PIPE,
     )  # fmt: skip
-    try:
-        async with asyncio.timeout(6 * IO_TIMEOUT):
-            out, err = await proc.communicate()
-    finally:
-        if proc.returncode is None:
-            proc.kill()
-            await proc.wait()
+    async with killed_at_exit(proc), asyncio.timeout(6 * IO_TIMEOUT):
+        out, err = await proc.communicate()
     assert proc.returncode is not None
     return proc.returncode, out.decode(), err.decode()
 

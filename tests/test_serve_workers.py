@@ -15,7 +15,7 @@ from contextlib import AbstractAsyncContextManager
 from pathlib import Path
 
 import pytest
-from support import IO_TIMEOUT, SERVE_READY, serve_process, wait_until
+from support import IO_TIMEOUT, SERVE_READY, killed_at_exit, serve_process, wait_until
 
 from focas_net.cli import _fleet, _workers, serve
 from focas_net.client import NativeClient
@@ -215,7 +215,7 @@ async def test_sigint_to_the_whole_group_stops_every_worker_once() -> None:
         start_new_session=True,
     )  # fmt: skip
     assert proc.stdout is not None
-    try:
+    async with killed_at_exit(proc):
         async with asyncio.timeout(START_TIMEOUT):
             for _ in range(4):
                 assert READY.match((await proc.stdout.readline()).decode().rstrip("\n"))
@@ -223,7 +223,3 @@ async def test_sigint_to_the_whole_group_stops_every_worker_once() -> None:
         os.killpg(proc.pid, signal.SIGINT)
         assert await stopped(proc) == (0, "")
         await wait_until(lambda: not any(alive(k) for k in kids), within=START_TIMEOUT)
-    finally:
-        if proc.returncode is None:
-            proc.kill()
-            await proc.wait()

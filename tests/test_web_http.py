@@ -17,7 +17,7 @@ from contextlib import asynccontextmanager
 from typing import Any
 
 import pytest
-from support import IO_TIMEOUT, wait_until
+from support import IO_TIMEOUT, killed_at_exit, wait_until
 
 from focas_net.cli import serve
 from focas_net.client import FocasClient, NativeClient
@@ -404,19 +404,14 @@ async def serving_web(*args: str) -> AsyncIterator[tuple[asyncio.subprocess.Proc
         stdout=asyncio.subprocess.PIPE, stderr=asyncio.subprocess.PIPE, env={**os.environ},
     )  # fmt: skip
     assert proc.stdout is not None
-    try:
-        async with asyncio.timeout(30.0):
-            for _ in range(100):
-                line = (await proc.stdout.readline()).decode().rstrip("\n")
-                assert line, "serve ended before the dashboard's ready line"
-                match = READY_WEB.match(line)
-                if match:
-                    yield proc, match["url"]
-                    break
-    finally:
-        if proc.returncode is None:
-            proc.kill()
-            await proc.wait()
+    async with killed_at_exit(proc), asyncio.timeout(30.0):
+        for _ in range(100):
+            line = (await proc.stdout.readline()).decode().rstrip("\n")
+            assert line, "serve ended before the dashboard's ready line"
+            match = READY_WEB.match(line)
+            if match:
+                yield proc, match["url"]
+                break
 
 
 async def test_serve_web_prints_the_url_and_stops_on_sigterm() -> None:
@@ -445,13 +440,8 @@ async def test_serve_web_beyond_loopback_that_cannot_listen_is_one_line() -> Non
         sys.executable, "-m", "focas_net", "serve", "--port", "0", "--web", "192.0.2.1:0",
         stdout=asyncio.subprocess.PIPE, stderr=asyncio.subprocess.PIPE,
     )  # fmt: skip
-    try:
-        async with asyncio.timeout(30.0):
-            out, err = await proc.communicate()
-    finally:
-        if proc.returncode is None:
-            proc.kill()
-            await proc.wait()
+    async with killed_at_exit(proc), asyncio.timeout(30.0):
+        out, err = await proc.communicate()
     assert proc.returncode == 1 and out == b""
     (error,) = err.decode().splitlines()
     assert error.startswith("focas-net serve: error: --web 192.0.2.1:0: cannot listen")
