@@ -1,0 +1,50 @@
+"""Pass 9 of the gateway and of the labels every front end shares: an alarm carries the same
+keys on MQTT as on the command line and the web page, the password rule is one rule in one
+wording, and a status field is named alike by the command line, the web page and the
+gateway."""
+
+from __future__ import annotations
+
+import json
+from typing import Any
+
+import pytest
+from cli_support import Cli
+from support import serving
+
+from focas_net.gateway import AlarmChange
+from focas_net.gateway._mqtt_messages import ActiveAlarms, AlarmEvent, Publication
+from focas_net.protocol import ActiveAlarm
+from focas_net.sim import default_machine
+from focas_net.web.view import machine_view
+
+# -- one alarm, one set of keys ---------------------------------------------------------------
+ALARM = (2, 6, 411, "EXCESS ERROR IN MOVE")  # axis_no, alm_type, alm_no, msg
+
+
+def _core(d: dict[str, Any]) -> dict[str, Any]:
+    return {k: d[k] for k in ("code", "axis_no", "alm_type", "alm_no", "msg")}
+
+
+async def test_an_alarm_has_the_same_keys_on_mqtt_as_on_the_cli_and_the_web_page(
+    capsys: pytest.CaptureFixture[str],
+) -> None:
+    axis_no, alm_type, alm_no, msg = ALARM
+    machine = default_machine()
+    machine.raise_alarm(*ALARM)
+    async with serving(machine) as served:
+        cli = Cli(served, capsys)
+        (listed,) = (await cli.json("alarms"))["active"]
+    (shown,) = machine_view(0, machine, 8193)["alarms"]
+    change = AlarmChange("m1", 1, alm_type, alm_no, axis_no, msg, True, 0.0)
+    event, active = Publication("focas", "gw", {}).alarms([change])
+    sent = json.loads(event.payload)
+    assert set(listed) == {"code", "axis_no", "alm_type", "alm_no", "msg"}
+    assert set(sent) == set(listed) | {"active", "time"}
+    assert _core(sent) == _core(shown) == listed
+    assert json.loads(active.payload)["alarms"] == [sent]
+    decoded = AlarmEvent.decode(event.payload)
+    assert (decoded.axis_no, decoded.alm_type, decoded.alm_no, decoded.msg) == ALARM
+    kept = ActiveAlarms.decode(active.payload).alarms
+    assert kept is not None and [a.key for a in kept] == [ActiveAlarm(*ALARM).key]
+    assert (change.axis_no, change.msg) == (axis_no, msg)  # the change's names are the same
