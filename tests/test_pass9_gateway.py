@@ -9,13 +9,13 @@ import json
 from typing import Any
 
 import pytest
-from cli_support import Cli
+from cli_support import Cli, run_focas_net
 from support import serving
 
 from focas_net.gateway import AlarmChange
 from focas_net.gateway._mqtt_messages import ActiveAlarms, AlarmEvent, Publication
-from focas_net.protocol import ActiveAlarm
-from focas_net.sim import default_machine
+from focas_net.protocol import ActiveAlarm, Password
+from focas_net.sim import MachineError, default_machine
 from focas_net.web.view import machine_view
 
 # -- one alarm, one set of keys ---------------------------------------------------------------
@@ -48,3 +48,26 @@ async def test_an_alarm_has_the_same_keys_on_mqtt_as_on_the_cli_and_the_web_page
     kept = ActiveAlarms.decode(active.payload).alarms
     assert kept is not None and [a.key for a in kept] == [ActiveAlarm(*ALARM).key]
     assert (change.axis_no, change.msg) == (axis_no, msg)  # the change's names are the same
+
+
+# -- one password rule, one wording -----------------------------------------------------------
+@pytest.mark.parametrize("typed", ["abcde", "a\u00e9", "", "\uff11"])
+async def test_a_password_is_refused_in_one_wording_by_the_codec_the_machine_and_the_cli(
+    typed: str,
+) -> None:
+    reason = f"parameter password {typed!r}: must be 1..4 ASCII characters"
+    with pytest.raises(ValueError) as codec:
+        Password.from_text(typed)
+    assert str(codec.value) == reason
+    machine = default_machine()
+    with pytest.raises(ValueError) as kept:
+        machine.set_param_password(typed)
+    assert str(kept.value) == reason
+    with pytest.raises(MachineError) as offered:
+        machine.unlock(machine.new_session(), typed)
+    assert reason in str(offered.value)
+    code, out, err = await run_focas_net("unlock", typed, "--port", "1")
+    assert (code, out) == (2, "")
+    assert err.strip() == (
+        f"focas-net unlock: error: argument PASSWORD: {reason}; see focas-net unlock --help"
+    )
