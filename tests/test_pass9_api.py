@@ -12,8 +12,16 @@ from pathlib import Path
 import pytest
 from fwlib_support import LIBRARY, buf, s16, served_cnc
 
-from focas_net import EW, CncError, FocasClient, FocasServer, NativeClient, load_machine
-from focas_net.sim import Machine, ParamKind
+from focas_net import (
+    EW,
+    CncError,
+    FocasClient,
+    FocasServer,
+    NativeClient,
+    default_machine,
+    load_machine,
+)
+from focas_net.sim import LifeTool, Machine, ParamKind, ToolGroup, ToolsSpec
 from focas_net.sim.nc import ManualClock
 
 MACHINE_16I = Path(__file__).with_name("data") / "fwlib_16i_machine.toml"
@@ -99,3 +107,40 @@ async def test_fanucs_library_writes_a_missing_parameter_by_the_next_ones_inform
                     await native.write_param(7000, value)
                 assert refused.value.ew == EW.NUMBER
         assert machine.param_item(7000) is None
+
+
+# -- arguments that contradict one another -----------------------------------------------------
+@pytest.mark.parametrize("client", [FocasClient])
+def test_a_server_hostname_without_tls_is_refused_naming_it(client: type[FocasClient]) -> None:
+    with pytest.raises(ValueError, match=r"server_hostname='cnc-7' is the name .* without ssl"):
+        client("127.0.0.1", server_hostname="cnc-7")
+
+
+def test_a_port_beside_ports_is_refused_naming_both() -> None:
+    machines = [default_machine(), default_machine()]
+    with pytest.raises(ValueError, match=r"port=5000 and ports=\[6000, 6001\] both given"):
+        FocasServer(machines, port=5000, ports=[6000, 6001])
+
+
+@pytest.mark.parametrize(
+    ("group", "refused"),
+    [
+        (
+            ToolGroup(1, life=5, tools=[LifeTool(1)], current=3),
+            r"tool group 1: the tool in use, current=3, is outside 0..0 \(the index among "
+            r"its 1 tools\)",
+        ),
+        (
+            ToolGroup(1, life=5, tools=[LifeTool(1)], current=-1),
+            r"tool group 1: the tool in use, current=-1, is outside 0..0",
+        ),
+        (ToolGroup(1, life=5, count=9, tools=[LifeTool(1)]), r"count 9 is outside 0..5"),
+        (ToolGroup(1, life=5, count=-1, tools=[LifeTool(1)]), r"count -1 is outside 0..5"),
+        (ToolGroup(1, life=5), r"tool group 1 has 0 tools: 1..4 are allowed"),
+    ],
+)
+def test_a_tool_group_at_odds_with_itself_is_refused_naming_the_values(
+    group: ToolGroup, refused: str
+) -> None:
+    with pytest.raises(ValueError, match=refused):
+        Machine("x", tools={1: ToolsSpec(groups=[group])})
