@@ -6,17 +6,20 @@ gateway."""
 from __future__ import annotations
 
 import json
+from contextlib import AsyncExitStack
 from typing import Any
 
 import pytest
 from cli_support import Cli, run_focas_net
+from poller_support import all_online, config, polling, until
 from support import serving
 
 from focas_net.gateway import AlarmChange
 from focas_net.gateway._mqtt_messages import ActiveAlarms, AlarmEvent, Publication
 from focas_net.protocol import ActiveAlarm, Password
 from focas_net.sim import MachineError, default_machine
-from focas_net.web.view import machine_view
+from focas_net.sim.nc import ManualClock
+from focas_net.web.view import machine_view, status_fields
 
 # -- one alarm, one set of keys ---------------------------------------------------------------
 ALARM = (2, 6, 411, "EXCESS ERROR IN MOVE")  # axis_no, alm_type, alm_no, msg
@@ -71,3 +74,27 @@ async def test_a_password_is_refused_in_one_wording_by_the_codec_the_machine_and
     assert err.strip() == (
         f"focas-net unlock: error: argument PASSWORD: {reason}; see focas-net unlock --help"
     )
+
+
+# -- one status field, one label ----------------------------------------------------------------
+async def test_the_gateway_names_mode_run_and_motion_as_the_cli_and_the_web_page_do(
+    capsys: pytest.CaptureFixture[str],
+) -> None:
+    """A reset path in MEM: ``run`` ``****``, ``motion`` ``***`` on the CNC screen, in
+    ``status``, on the web page, and on MQTT and OPC UA (the one table's label)."""
+    clock = ManualClock(1_000.0)
+    machine = default_machine()
+    async with AsyncExitStack() as stack:
+        served = await stack.enter_async_context(serving(machine))
+        shown = await Cli(served, capsys).json("status")
+        poller, sink = await stack.enter_async_context(
+            polling([config("mill", served.port)], clock)
+        )
+        await until(poller, clock, all_online(poller))
+        clock.advance(10.0)
+        await poller.step()
+        got = sink.of("mill")
+    web = {f["field"]: f["name"] for f in status_fields(machine)}
+    for item, field in (("mode", "aut"), ("run", "run"), ("motion", "motion")):
+        assert got[(1, item, "")].value == shown[field]["name"] == web[field], item
+    assert (shown["run"]["name"], shown["motion"]["name"]) == ("****", "***")
