@@ -14,7 +14,7 @@ from cli_support import Cli, run_focas_net
 from poller_support import all_online, config, polling, until
 from support import serving
 
-from focas_net.gateway import AlarmChange
+from focas_net.gateway import AlarmChange, ConfigError, MqttSettings, parse_config
 from focas_net.gateway._mqtt_messages import ActiveAlarms, AlarmEvent, Publication
 from focas_net.protocol import ActiveAlarm, Password
 from focas_net.sim import MachineError, default_machine
@@ -98,3 +98,26 @@ async def test_the_gateway_names_mode_run_and_motion_as_the_cli_and_the_web_page
     for item, field in (("mode", "aut"), ("run", "run"), ("motion", "motion")):
         assert got[(1, item, "")].value == shown[field]["name"] == web[field], item
     assert (shown["run"]["name"], shown["motion"]["name"]) == ("****", "***")
+
+
+# -- the gateway's file: new cases --------------------------------------------------------------
+MACHINE = '[[machine]]\nname = "m1"\nhost = "127.0.0.1"\n'
+
+
+@pytest.mark.parametrize("secret", ['password = "p"', 'password_env = "P9_SECRET"'])
+def test_an_mqtt_password_without_a_username_is_refused_not_dropped(
+    secret: str, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    """MQTT carries a password only beside a user name: the client would connect without
+    it, anonymously, as if the key were not there."""
+    monkeypatch.setenv("P9_SECRET", "s3cret")
+    with pytest.raises(ConfigError) as refused:
+        parse_config(MACHINE + f"[mqtt]\n{secret}\n", "plant.toml")
+    assert str(refused.value) == (
+        "plant.toml: mqtt.username: missing (MQTT sends a password only with a user name: "
+        "give username too)"
+    )
+    with pytest.raises(ConfigError, match=r"^mqtt.username: missing \(MQTT sends"):
+        MqttSettings(password="p").check()
+    taken = parse_config(MACHINE + f'[mqtt]\nusername = "u"\n{secret}\n', "plant.toml").mqtt
+    assert taken is not None and (taken.username, taken.password) == ("u", taken.password)
