@@ -8,11 +8,12 @@ station and the motion figures (positions, feed, spindle, program numbers).
 The machine is a facade over components, each of one concern, in private modules beside this
 one: identity and control class (``_identity``), parameters and diagnostics (``_items``), the
 parameter password and sessions (``_password``), macro variables (``_macros``), PMC areas and
-the G/F signals of automatic operation (``_pmc``), active alarms and the history
-(``_alarms``, read, raised and cleared by the operations of ``_alarm_ops``), the VersaMax station (``_station``), and the path (``_path``): programs, NC
-engine on machine time (``_time``), panel, status and figures, and its production on its own
-(``_production``), and the program folders of a 30i-class control over the paths' programs
-(``_folders``). A component keeps its own state and checks and moves the version counters
+the G/F signals of automatic operation (``_pmc``), active alarms and the history (``_alarms``,
+read, raised and cleared by the operations of ``_alarm_ops``), the VersaMax station
+(``_station``), and the path (``_path``): programs, NC engine on machine time (``_time``),
+panel, status and figures, and its production on its own (``_production``), and the program
+folders of a 30i-class control over the paths' programs (``_folders``).
+A component keeps its own state and checks and moves the version counters
 it shares with the others (``_base``); the machine builds them, asks for the checks in each
 operation's order and answers its reads through them. A control with several paths would hold
 one path each, sharing the rest.
