@@ -3,8 +3,12 @@ names a case that was wrong, and the behaviour FANUC's practice asks for."""
 
 from __future__ import annotations
 
+from pathlib import Path
+
 import pytest
 
+from focas_net.adapters._native_cnc import path_sysinfo
+from focas_net.sim import Identity, Machine, MachineError, PathSpec, load_machine
 from focas_net.sim.nc import CycleState, Engine, ManualClock, NcSettings, parse_program
 
 
@@ -100,3 +104,38 @@ def test_an_alarm_of_a_block_without_a_sequence_number_shows_no_none() -> None:
     assert str(engine.alarm) == (
         "PS0007 ILLEGAL USE OF DECIMAL POINT (O0001): T1.: a T code takes no decimal point"
     )
+
+
+# -- a lathe of several paths reports "TT", as FANUC's T series of 2/3 paths does -----------
+
+EXAMPLE = Path(__file__).parent.parent / "examples" / "lathe_2path.toml"
+
+
+def test_the_twin_turret_example_is_a_t_series_of_two_paths() -> None:
+    machine = load_machine(EXAMPLE)
+    assert machine.identity().mt_type == "TT"
+    for path in (1, 2):
+        i = machine.path_identity(path)
+        assert (i.mt_type, i.axes) == ("TT", "02")
+        assert machine.path_info(path).kind == "T"
+    # the wire's 0x18 answer of each path is the same identity
+    assert path_sysinfo(machine, 2) == machine.path_identity(2)
+
+
+def test_a_path_of_another_kind_than_the_machines_code_reports_its_own() -> None:
+    machine = Machine(
+        "mill-turn",
+        paths=[PathSpec(("X", "Z"), kind="T"), PathSpec(("X2", "Y2", "Z2"), kind="M")],
+        identity=Identity(2, 32, " 0", "TT", "D6F1", "32.0", "05"),
+    )
+    assert machine.path_identity(1).mt_type == "TT"
+    assert (machine.path_identity(2).mt_type, machine.path_identity(2).axes) == (" M", "03")
+    with pytest.raises(MachineError):
+        machine.path_identity(3)
+
+
+def test_one_path_reports_the_identity_as_it_is() -> None:
+    machine = Machine(
+        "lathe", axes=["X", "Z"], identity=Identity(2, 8, " 0", " T", "D6F1", "32.0", "02")
+    )
+    assert machine.path_identity(1) == machine.identity()
