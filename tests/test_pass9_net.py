@@ -15,9 +15,11 @@ from dataclasses import replace
 from typing import Literal
 
 import pytest
+from cli_support import fails
 from poller_support import QUICK, RecordingSink, config
 from support import free_port, wait_until
 
+from focas_net.cli import EXIT_USAGE
 from focas_net.client import FocasClient, NativeClient, ReconnectPolicy
 from focas_net.errors import EW, CncError
 from focas_net.gateway import Gateway, GatewayConfig
@@ -145,3 +147,15 @@ async def test_an_http_server_met_after_the_first_attempt_is_named_as_on_the_fir
                 await wait_until(lambda: named in caplog.messages)
     # (each attempt's failure is logged; the first one told the sinks the machine is offline)
     assert "refused" in sink.states[0][2]
+
+
+# -- a host of spaces alone, as each front end names it ------------------------------------------
+@pytest.mark.parametrize("typed", [" ", "\t"])
+async def test_a_host_of_spaces_alone_is_named_as_typed_on_every_front_end(typed: str) -> None:
+    said = await fails(EXIT_USAGE, "status", "--host", typed, "--port", "1", prefix="focas-net")
+    with pytest.raises(ValueError) as refused:
+        FocasClient(typed, 1)
+    assert f"empty host {typed!r}" in str(refused.value)
+    assert said == (
+        f"focas-net status: error: argument --host: {refused.value}; see focas-net status --help"
+    )
