@@ -335,15 +335,15 @@ def parse_interval(text: str) -> float:
 
 def parse_host(text: str, lowest: int = 1) -> str:
     """A host to connect to (:func:`~focas_net._address.check_host`), spaces around it
-    left out; a host with a port points to ``--port`` (``lowest``: 0 for a host to listen
-    on, whose port may be 0)."""
+    left out (spaces alone are refused as typed, as the clients refuse them); a host with a
+    port points to ``--port`` (``lowest``: 0 for a host to listen on, whose port may be 0)."""
     url = url_address(text.strip())
     if url is not None:
         raise ValueError(f"{shown(text)} is a URL: {url_advice(url, True)}")
     split = host_and_port(text.strip())
     if split:
         raise ValueError(f"{shown(text)} {split_advice(split, True, lowest)}")
-    return check_host(text.strip(), lowest)
+    return check_host(text.strip() or text, lowest)  # (spaces alone: named as typed)
 
 
 def parse_password(text: str) -> str:
