@@ -1,0 +1,84 @@
+"""A ninth new user's pass over the dashboard: the page's refusals of alarm numbers, PMC
+addresses and fault kinds compared, word for word, with the command line's for the same input
+on the same machine; each case that was worded otherwise once, kept."""
+
+from __future__ import annotations
+
+from typing import Any
+
+import pytest
+from cli_support import at, fails
+from support import serving
+
+from focas_net.errors import EW
+from focas_net.sim import MachineError, default_machine
+from focas_net.web import ActionError, Station, perform
+
+
+def _refusal(station: Station, action: str, args: dict[str, Any]) -> str:
+    """The words the page shows for a refused action (an argument's or the machine's)."""
+    with pytest.raises((ActionError, MachineError)) as refused:
+        perform(station, action, args)
+    exc = refused.value
+    return exc.detail if isinstance(exc, MachineError) else str(exc)
+
+
+# -- an alarm's type and number out of range ---------------------------------------------------
+@pytest.mark.parametrize(
+    ("typed", "args", "words"),
+    [
+        ("PS99999", {"alm_type": "PS", "alm_no": "99999"}, "alarm number 99999 is outside 0..32767"),
+        ("PS32768", {"alm_type": "PS", "alm_no": 32768}, "alarm number 32768 is outside 0..32767"),
+        ("32:1", {"alm_type": "32", "alm_no": "1"}, "alarm type 32 is outside 0..31"),
+        ("99:1", {"alm_type": 99, "alm_no": 1}, "alarm type 99 is outside 0..31"),
+    ],
+)
+async def test_an_alarm_out_of_range_is_refused_in_the_same_words_on_both(
+    typed: str, args: dict[str, Any], words: str
+) -> None:
+    """``raise_alarm {"alm_no": 99999}`` was EW_DATA "alm_no 99999 outside 0..32767" where
+    ``sim alarm PS99999`` says "alarm number 99999 is outside 0..32767": the machine words it
+    as the command line and the client do."""
+    async with serving() as served:
+        line = await fails(2, "sim", "alarm", *at(served), typed)
+        assert line == f"focas-net: {words}"
+        station = Station(0, served.machine)
+        assert _refusal(station, "raise_alarm", args) == words
+        assert served.machine.active_alarms() == []
+
+
+@pytest.mark.parametrize(
+    ("typed", "args", "words"),
+    [
+        ("PS40000", {"alm_type": "PS", "alm_no": "40000"}, "alarm number 40000 is outside 0..32767"),
+        ("99:1", {"alm_type": "99", "alm_no": "1"}, "alarm type 99 is outside 0..31"),
+    ],
+)
+async def test_a_clear_out_of_range_is_refused_in_the_same_words_on_both(
+    typed: str, args: dict[str, Any], words: str
+) -> None:
+    async with serving() as served:
+        served.machine.raise_alarm(0, 3, 100, "x")
+        line = await fails(2, "sim", "clear", *at(served), typed)
+        assert line == f"focas-net: {words}"
+        station = Station(0, served.machine)
+        assert _refusal(station, "clear_alarms", args) == words
+        assert len(served.machine.active_alarms()) == 1
+
+
+@pytest.mark.parametrize(
+    ("args", "words"),
+    [
+        ({"alm_type": -2}, "alarm type -2 is outside 0..31"),
+        ({"alm_no": -2}, "alarm number -2 is outside 0..32767"),
+    ],
+)
+def test_a_clear_of_minus_two_is_refused_and_minus_one_is_any(
+    args: dict[str, int], words: str
+) -> None:
+    station = Station(0, default_machine())
+    station.machine.raise_alarm(0, 3, 100, "x")
+    with pytest.raises(MachineError) as refused:
+        perform(station, "clear_alarms", args)
+    assert (refused.value.ew, refused.value.detail) == (EW.DATA, words)
+    assert perform(station, "clear_alarms", {"alm_type": -1, "alm_no": -1})["cleared"] == 1
