@@ -27,7 +27,11 @@ def _refusal(station: Station, action: str, args: dict[str, Any]) -> str:
 @pytest.mark.parametrize(
     ("typed", "args", "words"),
     [
-        ("PS99999", {"alm_type": "PS", "alm_no": "99999"}, "alarm number 99999 is outside 0..32767"),
+        (
+            "PS99999",
+            {"alm_type": "PS", "alm_no": "99999"},
+            "alarm number 99999 is outside 0..32767",
+        ),
         ("PS32768", {"alm_type": "PS", "alm_no": 32768}, "alarm number 32768 is outside 0..32767"),
         ("32:1", {"alm_type": "32", "alm_no": "1"}, "alarm type 32 is outside 0..31"),
         ("99:1", {"alm_type": 99, "alm_no": 1}, "alarm type 99 is outside 0..31"),
@@ -50,7 +54,11 @@ async def test_an_alarm_out_of_range_is_refused_in_the_same_words_on_both(
 @pytest.mark.parametrize(
     ("typed", "args", "words"),
     [
-        ("PS40000", {"alm_type": "PS", "alm_no": "40000"}, "alarm number 40000 is outside 0..32767"),
+        (
+            "PS40000",
+            {"alm_type": "PS", "alm_no": "40000"},
+            "alarm number 40000 is outside 0..32767",
+        ),
         ("99:1", {"alm_type": "99", "alm_no": "1"}, "alarm type 99 is outside 0..31"),
     ],
 )
@@ -82,3 +90,21 @@ def test_a_clear_of_minus_two_is_refused_and_minus_one_is_any(
         perform(station, "clear_alarms", args)
     assert (refused.value.ew, refused.value.detail) == (EW.DATA, words)
     assert perform(station, "clear_alarms", {"alm_type": -1, "alm_no": -1})["cleared"] == 1
+
+
+# -- a fault's kind -----------------------------------------------------------------------------
+@pytest.mark.parametrize("typed", ["dely", "Delays", "ERR", "0x1", "délai"])
+async def test_a_fault_kind_no_fault_has_is_named_as_typed_in_the_same_words_on_both(
+    typed: str,
+) -> None:
+    """``{"kind": "dely"}`` was "one of DELAY, ERROR, DROP, SPLIT, got 'DELY'" (not what was
+    typed) where ``sim fault dely`` was argparse's "invalid choice": one reader words both."""
+    words = f"unknown fault kind {typed!r} (one of delay, drop, error, split)"
+    async with serving() as served:
+        line = await fails(2, "sim", "fault", *at(served), typed, "--arg", "5", prefix="focas-net")
+        assert line == (
+            f"focas-net sim fault: error: argument KIND: {words}; see focas-net sim fault --help"
+        )
+        station = Station(0, served.machine)
+        assert _refusal(station, "inject_fault", {"kind": typed, "arg": 5}) == f"kind: {words}"
+        assert len(station.faults) == 0

@@ -63,6 +63,7 @@ from .faults import (
     FaultsCleared,
     FaultsRequest,
     ew_of_text,
+    fault_kind_of,
     fault_refusal,
 )
 from .frame import (
@@ -224,6 +225,7 @@ __all__ = [
     "encode_frame",
     "encode_response",
     "ew_of_text",
+    "fault_kind_of",
     "fault_refusal",
     "field_label",
     "pmc_bit_refusal",
