@@ -10,9 +10,10 @@ import pytest
 from cli_support import at, fails
 from support import serving
 
+from focas_net._typed import whole_number
 from focas_net.errors import EW
 from focas_net.sim import MachineError, default_machine
-from focas_net.web import ActionError, Station, perform
+from focas_net.web import ActionError, Station, perform, pmc_address
 
 
 def _refusal(station: Station, action: str, args: dict[str, Any]) -> str:
@@ -108,3 +109,32 @@ async def test_a_fault_kind_no_fault_has_is_named_as_typed_in_the_same_words_on_
         station = Station(0, served.machine)
         assert _refusal(station, "inject_fault", {"kind": typed, "arg": 5}) == f"kind: {words}"
         assert len(station.faults) == 0
+
+
+# -- a PMC address no request carries ----------------------------------------------------------
+@pytest.mark.parametrize("address", [-1, 65536, 99999])
+async def test_a_pmc_bit_of_an_address_no_request_carries_is_refused_alike(address: int) -> None:
+    """``pmc_bit {"address": 99999}`` was EW_NUMBER "R99999 goes past the end of PMC area R"
+    where ``pmc bit R 99999.0 1`` says "PMC start address 99999 is outside 0..65535" (and
+    ``R -1.0`` only "expected BYTE.BIT"): both give the field's words now."""
+    words = f"PMC start address {address} is outside 0..65535"
+    async with serving() as served:
+        line = await fails(2, "pmc", "bit", *at(served), "R", f"{address}.0", "1")
+        assert line == f"focas-net: {words}"
+        station = Station(0, served.machine)
+        args = {"area": "R", "address": str(address), "bit": "0", "value": "1"}
+        assert _refusal(station, "pmc_bit", args) == words
+        assert served.machine.read_pmc("R", 0, 1) == b"\x00"
+
+
+@pytest.mark.parametrize("start", ["65536", "R70000", "0x10000"])
+async def test_the_pmc_window_of_an_address_no_request_carries_says_so(start: str) -> None:
+    """The page's PMC window at ``70000`` was the machine's "goes past the end of PMC area R",
+    where ``pmc read R 70000`` says the field's words."""
+    number = whole_number(start.lstrip("R"))
+    words = f"PMC start address {number} is outside 0..65535"
+    async with serving() as served:
+        line = await fails(2, "pmc", "read", *at(served), "R", str(number), "1")
+        assert line == f"focas-net: {words}"
+        with pytest.raises(ValueError, match=f"^{words}$"):
+            pmc_address(start, "R")

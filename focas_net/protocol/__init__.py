@@ -81,6 +81,7 @@ from .pmc import (
     PmcArea,
     PmcData,
     PmcRange,
+    pmc_address_unfit,
     pmc_bit_refusal,
 )
 from .programs import (
@@ -228,6 +229,7 @@ __all__ = [
     "fault_kind_of",
     "fault_refusal",
     "field_label",
+    "pmc_address_unfit",
     "pmc_bit_refusal",
     "scan_frames",
     "status_labels",
