@@ -126,7 +126,7 @@ def test_a_machine_wide_action_of_a_path_the_machine_has_not_is_refused(
         ("cycle", {"action": 5}, "action: text is needed, got 5"),
         ("cycle", {"action": None}, "action: start, hold or reset is needed"),
         ("cycle", {}, "action: start, hold or reset is needed"),
-        ("inject_fault", {}, "kind: one of DELAY, ERROR, DROP, SPLIT is needed"),
+        ("inject_fault", {}, "kind: one of delay, drop, error, split is needed"),
         ("pmc_bit", {"address": 0, "bit": 0}, "area: a PMC area's letter (X, R, ...) is needed"),
         ("panel", {"pwe": [1]}, "pwe: not a whole number: [1]"),
         ("panel", {"mode": {"a": 1}}, 'mode: not a whole number: {"a": 1}'),
