@@ -82,6 +82,11 @@ class Link(CompositeCalls):
             raise TypeError(f"ssl must be an ssl.SSLContext or None, got {ssl!r}")
         if server_hostname is not None and not isinstance(server_hostname, str):
             raise TypeError(f"server_hostname must be a str or None, got {server_hostname!r}")
+        if server_hostname is not None and ssl is None:
+            raise ValueError(
+                f"server_hostname={server_hostname!r} is the name a TLS certificate is checked "
+                "against, without ssl there is none: give ssl= too, or leave it out"
+            )
         if not 1 <= max_in_flight <= MAX_IN_FLIGHT:
             raise ValueError(
                 f"max_in_flight must be within 1..{MAX_IN_FLIGHT}, got {max_in_flight}"

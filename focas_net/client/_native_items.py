@@ -245,17 +245,24 @@ class NativeItems(NativeLink):
         self, handle: Handle, number: int, width: int | None, deadline: float | None, path: int
     ) -> tuple[int, int]:
         """The first frame of ``cnc_wrparam``: the parameter's type word and its width;
-        EW_LENGTH (before anything is written) when ``width`` differs, as the library."""
+        EW_LENGTH (before anything is written) when ``width`` differs, as the library.
+
+        The information is that of the first parameter from ``number`` on: one that names
+        another number (or none, past the last) says the CNC has no parameter ``number``, and
+        the write is refused with EW_NUMBER, the CNC's answer to its write, before it is sent
+        (a value is never judged by the next parameter's type)."""
         call = calls.wrparam_info(handle.command_set, number)
         (block,) = await self._exchange(handle, call, deadline, 0, path)
         info = decoded(call, (block,), 0, handle.max_axes)
         if isinstance(info, ParamInfo3):
+            named: int | None = info.number
             ptype = info.type
         else:
             assert isinstance(info, ParamInfo)
-            if not info.entries:
-                raise PayloadError(f"cnc_wrparam: no information on parameter {number}")
-            ptype = info.entries[0].attribute & 3
+            named = info.entries[0].number if info.entries else None
+            ptype = info.entries[0].attribute & 3 if info.entries else 0
+        if named != number:
+            raise CncError.from_ew(EW.NUMBER, "cnc_wrparam")
         self._param_types[number] = ptype
         size = REAL_WIDTH if ptype == ParamType.REAL else _PARAM_WIDTH.get(ptype)
         if size is None:

@@ -416,9 +416,10 @@ class FocasServer:
 
     ``machines`` is a machine, several (a fleet), or None for the default machine. With
     ``port`` 0 every machine gets an ephemeral port; otherwise machine *i* listens on
-    ``port + i``, or on ``ports[i]`` when ``ports`` is given. Each such port answers the packed
-    protocol (``docs/protocol.md``) and FANUC's native FOCAS/2 Ethernet protocol
-    (``docs/native-protocol.md``) alike: the first four bytes of a connection decide.
+    ``port + i``, or on ``ports[i]`` when ``ports`` is given (``port`` left out). Each such
+    port answers the packed protocol (``docs/protocol.md``) and FANUC's native FOCAS/2
+    Ethernet protocol (``docs/native-protocol.md``) alike: the first four bytes of a
+    connection decide.
 
     ``native_port`` (None = off) adds, for each machine, a port serving the native protocol
     only: machine *i* on ``native_port + i``, or an ephemeral port for each when it is 0 (see
@@ -498,6 +499,11 @@ class FocasServer:
                 m.control_enabled = control
         self._ports: list[int] | None
         if ports is not None:
+            if port not in (None, DEFAULT_PORT):
+                raise ValueError(
+                    f"port={port} and ports={list(ports)} both given: ports names each "
+                    "machine's port, leave port out"
+                )
             if len(ports) != len(machine_list):
                 raise ValueError(f"{len(ports)} ports for {len(machine_list)} machines")
             self._ports = list(ports)

@@ -255,9 +255,20 @@ class ToolLife:
             limit = _MAX_LIFE[group.life_type]
             raise ValueError(f"tool group {group.number}: life {group.life} is outside 1..{limit}")
         if not 0 <= group.count <= group.life:
-            raise ValueError(f"tool group {group.number}: count {group.count} exceeds the life")
-        if not 1 <= len(group.tools) <= self.max_tools:
-            raise ValueError(f"tool group {group.number}: 1..{self.max_tools} tools")
+            raise ValueError(
+                f"tool group {group.number}: count {group.count} is outside 0..{group.life} "
+                "(the life)"
+            )
+        tools = len(group.tools)
+        if not 1 <= tools <= self.max_tools:
+            raise ValueError(
+                f"tool group {group.number} has {tools} tools: 1..{self.max_tools} are allowed"
+            )
+        if not 0 <= group.current < tools:
+            raise ValueError(
+                f"tool group {group.number}: the tool in use, current={group.current}, is "
+                f"outside 0..{tools - 1} (the index among its {tools} tools)"
+            )
         for tool in group.tools:
             for what, value in (("T", tool.number), ("H", tool.h), ("D", tool.d)):
                 if not 0 <= value <= MAX_T or (what == "T" and value == 0):
