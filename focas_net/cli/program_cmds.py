@@ -166,7 +166,7 @@ def _select(number: int) -> PackedOnly:
 
 
 def cycle(args: argparse.Namespace) -> PackedOnly:
-    action: str = args.action
+    action = args.action.name.lower()  # read by cycle_action_of, as every front end reads it
 
     async def go(cnc: FocasClient) -> Output:
         if action == "start":
