@@ -15,7 +15,7 @@ from dataclasses import dataclass
 from functools import partial
 from typing import Any, Final, Literal, TypedDict, Unpack
 
-from focas_net.protocol import cycle_action_of, fault_kind_of
+from focas_net.protocol import fault_kind_of
 from focas_net.server.faults import MAX_FAULT_COUNT
 
 from . import program_cmds, read_cmds, sim_cmds, watch_cmds, write_cmds
@@ -474,7 +474,7 @@ COMMANDS: Final[tuple[Cmd | Group, ...]] = (
                 (
                     arg(
                         "action",
-                        type=argument_type(cycle_action_of, "action"),
+                        type=argument_type(program_cmds.cycle_action, "action"),
                         metavar="ACTION",
                         help="what to press: start, hold or reset",
                     ),
