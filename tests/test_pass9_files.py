@@ -8,7 +8,14 @@ from pathlib import Path
 import pytest
 
 from focas_net.adapters._native_cnc import path_sysinfo
-from focas_net.sim import Identity, Machine, MachineError, PathSpec, load_machine
+from focas_net.sim import (
+    Identity,
+    Machine,
+    MachineError,
+    MachineFileError,
+    PathSpec,
+    load_machine,
+)
 from focas_net.sim.nc import CycleState, Engine, ManualClock, NcSettings, parse_program
 
 
@@ -139,3 +146,21 @@ def test_one_path_reports_the_identity_as_it_is() -> None:
         "lathe", axes=["X", "Z"], identity=Identity(2, 8, " 0", " T", "D6F1", "32.0", "02")
     )
     assert machine.path_identity(1) == machine.identity()
+
+
+# -- a bit parameter given more than eight bits is told so, not shown another value ---------
+
+
+@pytest.mark.parametrize("text", ["101100001", "0b101100001", "1_0110_0001"])
+def test_more_than_eight_bits_are_named_without_a_made_up_value(tmp_path: Path, text: str) -> None:
+    path = tmp_path / "m.toml"
+    path.write_text(
+        f'[machine]\nname = "m"\naxes = ["X"]\n[parameters.1815]\ntype = "bit"\nvalue = "{text}"\n',
+        encoding="utf-8",
+    )
+    with pytest.raises(MachineFileError) as e:
+        load_machine(path)
+    message = str(e.value)
+    assert f"parameters.1815.value: {text!r} has 9 bits" in message
+    # no example made of another value (it said "00001011" and "0b1011" for any of these)
+    assert '"00001011"' not in message and '"0b1011"' not in message
