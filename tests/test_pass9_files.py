@@ -164,3 +164,24 @@ def test_more_than_eight_bits_are_named_without_a_made_up_value(tmp_path: Path, 
     assert f"parameters.1815.value: {text!r} has 9 bits" in message
     # no example made of another value (it said "00001011" and "0b1011" for any of these)
     assert '"00001011"' not in message and '"0b1011"' not in message
+
+
+# -- a word of too many digits or none names its address ------------------------------------
+
+
+@pytest.mark.parametrize(
+    ("block", "code", "detail"),
+    [
+        ("G4 P99999999999", "PS0003", "P99999999999: a number has at most 9 digits"),
+        ("G00000000001 X1.", "PS0003", "G00000000001: a number has at most 9 digits"),
+        ("X" + "9" * 40, "PS0003", "X9999999999999999999...: a number has at most 9 digits"),
+        ("G0 X.", "PS0005", "X.: no digits after X"),
+        ("G0 Y-.", "PS0005", "Y-.: no digits after Y"),
+    ],
+)
+def test_a_word_of_too_many_digits_or_none_names_its_address(
+    block: str, code: str, detail: str
+) -> None:
+    got, text, _ = _alarm_of(block)
+    assert got == code
+    assert text.endswith(f"(O0012 N20): {detail}")
