@@ -6,6 +6,8 @@ from __future__ import annotations
 from pathlib import Path
 
 import pytest
+from examples_support import port_args, run_example
+from support import serving
 
 from focas_net.adapters._native_cnc import path_sysinfo
 from focas_net.sim import (
@@ -14,6 +16,7 @@ from focas_net.sim import (
     MachineError,
     MachineFileError,
     PathSpec,
+    default_machine,
     load_machine,
 )
 from focas_net.sim.nc import CycleState, Engine, ManualClock, NcSettings, parse_program
@@ -185,3 +188,54 @@ def test_a_word_of_too_many_digits_or_none_names_its_address(
     got, text, _ = _alarm_of(block)
     assert got == code
     assert text.endswith(f"(O0012 N20): {detail}")
+
+
+# -- the examples check what was typed before they change anything -------------------------
+
+
+@pytest.mark.parametrize(("count", "shown"), [("0", "0"), ("-3", "-3"), ("100000", "100000")])
+async def test_pmc_bits_names_the_byte_count_as_typed_and_writes_nothing(
+    count: str, shown: str
+) -> None:
+    """``--bytes -3`` said ``PMC byte count 0``; ``--bytes 0`` was refused in other words
+    (``--bytes must be at least 1``) than ``--bytes 100000``."""
+    machine = default_machine()
+    before = machine.read_pmc("R", 100, 4)
+    async with serving(machine) as served:
+        code, out, err = await run_example(
+            "pmc_bits.py", *port_args(served), "--area", "R", "--bytes", count
+        )
+    assert (code, out) == (2, "")
+    assert err == f"pmc_bits: PMC byte count {shown} is outside 1..65536\n"
+    assert machine.read_pmc("R", 100, 4) == before
+
+
+async def test_write_param_with_unlock_refuses_a_bad_password_before_touching_the_panel() -> None:
+    machine = default_machine()
+    async with serving(machine) as served:
+        code, out, err = await run_example(
+            "write_param_with_unlock.py", *port_args(served), "--password", "12345"
+        )
+    assert (code, out) == (2, "")
+    assert err == (
+        "write_param_with_unlock: parameter password '12345': must be 1..4 ASCII characters\n"
+    )
+
+
+async def test_run_program_names_a_program_file_that_is_not_text(tmp_path: Path) -> None:
+    """A program file of Latin-1 bytes ended run_program in a UnicodeDecodeError traceback."""
+    path = tmp_path / "cafe.nc"
+    path.write_bytes(b"O3005 (CAF\xe9)\nM30\n")
+    code, out, err = await run_example("run_program.py", "--port", "1", "--program", str(path))
+    assert (code, out) == (2, "")
+    assert err == (
+        f"run_program: {str(path)!r}: line 1: byte 0xE9 is not text: a program is printable "
+        "ASCII text\n"
+    )
+
+
+async def test_run_program_says_a_missing_file_as_the_command_line_does(tmp_path: Path) -> None:
+    path = tmp_path / "none.nc"
+    code, out, err = await run_example("run_program.py", "--port", "1", "--program", str(path))
+    assert (code, out) == (2, "")
+    assert err == f"run_program: cannot read {str(path)!r}: no such file or directory\n"
