@@ -239,3 +239,16 @@ async def test_run_program_says_a_missing_file_as_the_command_line_does(tmp_path
     code, out, err = await run_example("run_program.py", "--port", "1", "--program", str(path))
     assert (code, out) == (2, "")
     assert err == f"run_program: cannot read {str(path)!r}: no such file or directory\n"
+
+
+def test_one_lathe_path_of_a_machining_centres_code_reports_a_lathe(tmp_path: Path) -> None:
+    """A file of one ``[[path]]`` of ``kind = "T"`` (mt_type left " M") answered
+    ``cnc_sysinfo`` with " M" where its open answer's path record says " T"."""
+    path = tmp_path / "l.toml"
+    path.write_text(
+        '[machine]\nname = "l"\n[[path]]\naxes = ["X", "Z"]\nkind = "T"\n', encoding="utf-8"
+    )
+    machine = load_machine(path)
+    assert machine.path_info(1).kind == "T"
+    assert (machine.path_identity(1).mt_type, machine.path_identity(1).axes) == (" T", "02")
+    assert path_sysinfo(machine, 1).mt_type == " T"
