@@ -12,14 +12,15 @@ import contextlib
 import errno
 import logging
 from dataclasses import replace
+from pathlib import Path
 from typing import Literal
 
 import pytest
-from cli_support import fails
+from cli_support import at, fails
 from poller_support import QUICK, RecordingSink, config
-from support import free_port, wait_until
+from support import free_port, serving, wait_until
 
-from focas_net.cli import EXIT_USAGE
+from focas_net.cli import EXIT_CONNECTION, EXIT_USAGE
 from focas_net.client import FocasClient, NativeClient, ReconnectPolicy
 from focas_net.errors import EW, CncError
 from focas_net.gateway import Gateway, GatewayConfig
@@ -158,4 +159,20 @@ async def test_a_host_of_spaces_alone_is_named_as_typed_on_every_front_end(typed
     assert f"empty host {typed!r}" in str(refused.value)
     assert said == (
         f"focas-net status: error: argument --host: {refused.value}; see focas-net status --help"
+    )
+
+
+# -- a request longer than the server takes: the hint names --max-frame too ----------------------
+async def test_a_request_longer_than_the_servers_max_frame_is_not_blamed_on_a_drop_alone(
+    tmp_path: Path,
+) -> None:
+    program = tmp_path / "o1234.nc"
+    program.write_text("O1234\nG0 X1.\nM30\n%\n")
+    async with serving(max_frame=8) as served:
+        said = await fails(EXIT_CONNECTION, "program", "load", str(program), *at(served))
+    assert said == (
+        f"focas-net: connection closed by 127.0.0.1:{served.port} before any answer; the server "
+        "answers a new connection, so it closed this one on purpose (as a drop fault does: "
+        "focas-net sim fault drop), or as a server does with a request longer than it takes "
+        "(focas-net serve --max-frame)"
     )
