@@ -13,7 +13,7 @@ import errno
 import logging
 from dataclasses import replace
 from pathlib import Path
-from typing import Literal
+from typing import Any, Literal
 
 import pytest
 from cli_support import at, fails
@@ -176,3 +176,34 @@ async def test_a_request_longer_than_the_servers_max_frame_is_not_blamed_on_a_dr
         "focas-net sim fault drop), or as a server does with a request longer than it takes "
         "(focas-net serve --max-frame)"
     )
+
+
+# -- a path the CNC lacks is named before an axis of it, and by every path-taking call -----------
+@pytest.mark.parametrize(
+    ("call", "function"),
+    [
+        (lambda c: c.read_param(1420, axis=1, path=3), "cnc_rdparam"),
+        (lambda c: c.write_param(1420, 8000, axis=1, path=3), "cnc_wrparam"),
+        (lambda c: c.read_positions(axis=1, path=3), "cnc_rdposition"),
+    ],
+)
+async def test_an_axis_of_a_path_the_cnc_lacks_is_refused_for_the_path(
+    both_clients: tuple[Machine, FocasClient, NativeClient], call: Any, function: str
+) -> None:
+    _, cnc, native = both_clients
+    for client in (cnc, native):
+        with pytest.raises(CncError) as caught:
+            await call(client)
+        assert caught.value.ew == EW.PATH, caught.value
+        assert str(caught.value).endswith(f"{function}: path 3, the CNC has paths 1..1")
+
+
+async def test_the_alarms_of_a_path_the_cnc_lacks_are_refused_alike(
+    both_clients: tuple[Machine, FocasClient, NativeClient],
+) -> None:
+    _, cnc, native = both_clients
+    for client in (cnc, native):
+        with pytest.raises(CncError) as caught:
+            await client.read_alarms(path=2)
+        assert caught.value.ew == EW.PATH
+        assert str(caught.value).endswith("path 2, the CNC has paths 1..1"), caught.value
