@@ -4,7 +4,8 @@ words for a macro value that does not fit (the machine and the clients), a progr
 (the command line and the page), an override's type and range (the machine and the
 clients), an alarm's axis and an alarm message that is no line of single-byte text (the
 machine and the encoded text of every front end), whether a host typed is the loopback (the
-dashboard's and the gateway's guards), what an unlock of a CNC without a parameter password
+dashboard's and the gateway's guards), a parameter password (the codec, the machine and
+the command line), what an unlock of a CNC without a parameter password
 means (the command line and the page), and the words of the system's refusal of a file or
 address the user named (every front end).
 
@@ -32,6 +33,7 @@ __all__ = [
     "MAX_DIGITS",
     "NO_PASSWORD_NOTE",
     "OVERRIDE_RANGES",
+    "PASSWORD_SIZE",
     "RAPID_STEPS",
     "WRONG_PASSWORD",
     "alarm_axis_unfit",
@@ -47,6 +49,7 @@ __all__ = [
     "os_words",
     "override_percent",
     "override_unfit",
+    "password_bytes",
     "program_number",
     "rapid_step",
     "switch",
@@ -75,6 +78,26 @@ NO_PASSWORD_NOTE: Final = (
 #: Why an unlock with a password that is not the CNC's is refused (EW_PASSWD), as every front
 #: end says it (the machine, so the dashboard; the command line's reason of the code).
 WRONG_PASSWORD: Final = "the password is not the CNC's"
+
+#: Bytes of a parameter password (``cnc_wrunlockparam``'s ``password[4]``).
+PASSWORD_SIZE: Final = 4
+
+
+def password_bytes(text: object) -> bytes:
+    """A parameter password as the CNC keeps it and ``cnc_wrunlockparam`` carries it: 1..4
+    ASCII characters, no NUL, padded to 4 bytes with NUL (a longer one is never cut). The one
+    rule of every front end (the codec's ``Password.from_text``, the machine, the command
+    line): ValueError ``parameter password 'abcde': must be 1..4 ASCII characters`` for any
+    other text, TypeError for what is neither text nor bytes."""
+    if not isinstance(text, str | bytes | bytearray):
+        raise TypeError(f"a parameter password is text or bytes, got {text!r}")
+    shown = text if isinstance(text, str) else bytes(text).decode("latin-1")
+    if not (1 <= len(shown) <= PASSWORD_SIZE and shown.isascii() and "\x00" not in shown):
+        raise ValueError(
+            f"parameter password {shown!r}: must be 1..{PASSWORD_SIZE} ASCII characters"
+        )
+    return shown.encode("ascii").ljust(PASSWORD_SIZE, b"\x00")
+
 
 #: Characters of an alarm's message the CNC keeps (a longer one is cut).
 MAX_ALARM_TEXT: Final = 32

@@ -22,6 +22,7 @@ from ._args import (
     AREA,
     BOOL,
     EXIT_CODES,
+    FEED,
     FILE_NAME,
     HISTORY_DEPTH,
     HOST,
@@ -34,6 +35,7 @@ from ._args import (
     POSITIVE,
     RAPID,
     SECONDS,
+    SPINDLE,
     argument_type,
     choice,
     command_parser,
@@ -484,7 +486,7 @@ COMMANDS: Final[tuple[Cmd | Group, ...]] = (
                 "set the overrides given (percent), or show them when none is given",
                 program_cmds.override,
                 (
-                    arg("--feed", type=INT, metavar="PCT", help="feed override 0..254"),
+                    arg("--feed", type=FEED, metavar="PCT", help="feed override 0..254"),
                     arg(
                         "--rapid",
                         type=RAPID,
@@ -493,7 +495,7 @@ COMMANDS: Final[tuple[Cmd | Group, ...]] = (
                     ),
                     arg(
                         "--spindle",
-                        type=INT,
+                        type=SPINDLE,
                         metavar="PCT",
                         help="spindle override 0..254",
                     ),

@@ -22,7 +22,7 @@ from focas_net.protocol import (
     FaultKind,
     ParamDataType,
     RunState,
-    alarm_code,
+    alarm_fields,
     alarm_text,
     alarm_time_text,
     status_labels,
@@ -100,11 +100,7 @@ def status_fields(machine: Machine, path: int = 1) -> list[JsonDict]:
 def _alarm(axis_no: int, alm_type: int, alm_no: int, msg: str) -> JsonDict:
     """An alarm's numbers, message, code and the text every front end shows."""
     return {
-        "axis_no": axis_no,
-        "alm_type": alm_type,
-        "alm_no": alm_no,
-        "msg": msg,
-        "code": alarm_code(alm_type, alm_no),
+        **alarm_fields(axis_no, alm_type, alm_no, msg),
         "text": alarm_text(alm_type, alm_no, msg, axis_no),
     }
 
