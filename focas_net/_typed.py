@@ -29,7 +29,9 @@ from decimal import Decimal
 from typing import Final
 
 __all__ = [
+    "MAX_ALARM_NO",
     "MAX_ALARM_TEXT",
+    "MAX_ALARM_TYPE",
     "MAX_DIGITS",
     "NO_PASSWORD_NOTE",
     "OVERRIDE_RANGES",
@@ -37,6 +39,7 @@ __all__ = [
     "RAPID_STEPS",
     "WRONG_PASSWORD",
     "alarm_axis_unfit",
+    "alarm_key_unfit",
     "alarm_text_unfit",
     "decimal_number",
     "decimal_text",
@@ -101,6 +104,10 @@ def password_bytes(text: object) -> bytes:
 
 #: Characters of an alarm's message the CNC keeps (a longer one is cut).
 MAX_ALARM_TEXT: Final = 32
+#: Alarm type numbers a CNC can carry (``alm_type`` is a bit number in FANUC's masks).
+MAX_ALARM_TYPE: Final = 31
+#: The highest alarm number the CNC holds (its ``alm_no`` is a signed 16-bit word).
+MAX_ALARM_NO: Final = 0x7FFF
 
 #: The most O-numbers a program number has (O1 .. O99999999).
 _MAX_PROGRAM: int = 99_999_999
@@ -161,6 +168,20 @@ def override_percent(what: str, value: object) -> int:
         also = " or the text F0" if what == "rapid" else ""
         raise TypeError(f"{what} override must be a whole number{also}, got {value!r}")
     return value
+
+
+def alarm_key_unfit(alm_type: int, alm_no: int, *, every: bool = False) -> str | None:
+    """Why no alarm is of type ``alm_type`` and number ``alm_no``, in the words of every front
+    end (``alarm number 99999 is outside 0..32767``, as the command line and the client say
+    it); with ``every`` (a clear's filter), -1 is any type or any number. None when one is."""
+    for what, value, high in (
+        ("alarm type", alm_type, MAX_ALARM_TYPE),
+        ("alarm number", alm_no, MAX_ALARM_NO),
+    ):
+        why = None if every and value == -1 else field_unfit(what, value, 0, high)
+        if why is not None:
+            return why
+    return None
 
 
 def alarm_axis_unfit(axis_no: int, axes: int) -> str | None:

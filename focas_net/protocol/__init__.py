@@ -64,6 +64,7 @@ from .faults import (
     FaultsCleared,
     FaultsRequest,
     ew_of_text,
+    fault_kind_of,
     fault_refusal,
 )
 from .frame import (
@@ -81,6 +82,7 @@ from .pmc import (
     PmcArea,
     PmcData,
     PmcRange,
+    pmc_address_unfit,
     pmc_bit_refusal,
 )
 from .programs import (
@@ -226,8 +228,10 @@ __all__ = [
     "encode_frame",
     "encode_response",
     "ew_of_text",
+    "fault_kind_of",
     "fault_refusal",
     "field_label",
+    "pmc_address_unfit",
     "pmc_bit_refusal",
     "scan_frames",
     "status_labels",
