@@ -142,3 +142,15 @@ async def test_every_override_refusal_names_its_option(
         line
     )
     assert server.machine.overrides() == before
+
+
+# -- a program number refused says what one is ---------------------------------------------------
+
+
+@pytest.mark.parametrize("typed", ["0", "O0", "-5", "O100000000"])
+async def test_a_program_number_refused_gives_the_range(server: Served, typed: str) -> None:
+    """``program show 0`` said "'0' is not a program number (e.g. O1000)", not why."""
+    line = await fails(EXIT_USAGE, "program", "show", typed, *at(server))
+    assert line == (
+        f"focas-net: program show: {typed!r} is not a program number (O1..O99999999, e.g. O1000)"
+    ), line
