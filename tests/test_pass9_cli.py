@@ -154,3 +154,15 @@ async def test_a_program_number_refused_gives_the_range(server: Served, typed: s
     assert line == (
         f"focas-net: program show: {typed!r} is not a program number (O1..O99999999, e.g. O1000)"
     ), line
+
+
+# -- NUMBER.BIT without its number ----------------------------------------------------------------
+
+
+@pytest.mark.parametrize("command", [["param", "get"], ["param", "set", "--axis", "1"]])
+async def test_a_bit_without_its_number_says_so(server: Served, command: list[str]) -> None:
+    """``param get .4`` said "got '.4' (nothing typed)", though '.4' was typed."""
+    line = await fails(
+        EXIT_USAGE, *command, ".4", *(["1"] if "set" in command else []), *at(server)
+    )
+    assert line.endswith("got '.4' (no number before the dot)"), line
