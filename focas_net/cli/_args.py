@@ -29,7 +29,7 @@ from focas_net._address import (
 from focas_net._tls import pem_holds, ssl_error_text
 from focas_net._typed import override_unfit, rapid_step, typed_number
 from focas_net.client._values import check_path
-from focas_net.protocol import PASSWORD_SIZE, PmcArea
+from focas_net.protocol import Password, PmcArea
 
 from . import _format as fmt
 
@@ -347,10 +347,10 @@ def parse_host(text: str, lowest: int = 1) -> str:
 
 
 def parse_password(text: str) -> str:
-    """A parameter password as ``cnc_wrunlockparam`` carries it: 1..4 ASCII characters, no
-    NUL (the codec's rule, checked by the parser so nothing connects for a bad one)."""
-    if not 1 <= len(text) <= PASSWORD_SIZE or not text.isascii() or "\x00" in text:
-        raise ValueError(f"must be 1..{PASSWORD_SIZE} ASCII characters, got {text!r}")
+    """A parameter password as ``cnc_wrunlockparam`` carries it: the codec's rule
+    (:meth:`Password.from_text`), in its words, checked by the parser so nothing connects
+    for a bad one."""
+    Password.from_text(text)
     return text
 
 
