@@ -36,6 +36,7 @@ __all__ = [
     "NO_PASSWORD_NOTE",
     "OVERRIDE_RANGES",
     "PASSWORD_SIZE",
+    "PROGRAM_NUMBERS",
     "RAPID_STEPS",
     "WRONG_PASSWORD",
     "alarm_axis_unfit",
@@ -111,6 +112,8 @@ MAX_ALARM_NO: Final = 0x7FFF
 
 #: The most O-numbers a program number has (O1 .. O99999999).
 _MAX_PROGRAM: int = 99_999_999
+#: What a program number is, as every refusal of one says it.
+PROGRAM_NUMBERS: Final = f"(O1..O{_MAX_PROGRAM}, e.g. O1000)"
 
 
 def macro_unfit(value: object) -> str:
@@ -252,7 +255,7 @@ def program_number(typed: object) -> int:
     digits = text.lstrip("0")
     fits = len(digits) <= len(str(_MAX_PROGRAM))
     if not (text.isascii() and text.isdigit() and fits and 1 <= int(digits or 0) <= _MAX_PROGRAM):
-        raise ValueError(f"{typed!r} is not a program number (e.g. O1000)")
+        raise ValueError(f"{typed!r} is not a program number {PROGRAM_NUMBERS}")
     return int(digits)
 
 
