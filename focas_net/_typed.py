@@ -29,14 +29,18 @@ from decimal import Decimal
 from typing import Final
 
 __all__ = [
+    "MAX_ALARM_NO",
     "MAX_ALARM_TEXT",
+    "MAX_ALARM_TYPE",
     "MAX_DIGITS",
     "NO_PASSWORD_NOTE",
     "OVERRIDE_RANGES",
     "PASSWORD_SIZE",
+    "PROGRAM_NUMBERS",
     "RAPID_STEPS",
     "WRONG_PASSWORD",
     "alarm_axis_unfit",
+    "alarm_key_unfit",
     "alarm_text_unfit",
     "decimal_number",
     "decimal_text",
@@ -101,9 +105,15 @@ def password_bytes(text: object) -> bytes:
 
 #: Characters of an alarm's message the CNC keeps (a longer one is cut).
 MAX_ALARM_TEXT: Final = 32
+#: Alarm type numbers a CNC can carry (``alm_type`` is a bit number in FANUC's masks).
+MAX_ALARM_TYPE: Final = 31
+#: The highest alarm number the CNC holds (its ``alm_no`` is a signed 16-bit word).
+MAX_ALARM_NO: Final = 0x7FFF
 
 #: The most O-numbers a program number has (O1 .. O99999999).
 _MAX_PROGRAM: int = 99_999_999
+#: What a program number is, as every refusal of one says it.
+PROGRAM_NUMBERS: Final = f"(O1..O{_MAX_PROGRAM}, e.g. O1000)"
 
 
 def macro_unfit(value: object) -> str:
@@ -161,6 +171,20 @@ def override_percent(what: str, value: object) -> int:
         also = " or the text F0" if what == "rapid" else ""
         raise TypeError(f"{what} override must be a whole number{also}, got {value!r}")
     return value
+
+
+def alarm_key_unfit(alm_type: int, alm_no: int, *, every: bool = False) -> str | None:
+    """Why no alarm is of type ``alm_type`` and number ``alm_no``, in the words of every front
+    end (``alarm number 99999 is outside 0..32767``, as the command line and the client say
+    it); with ``every`` (a clear's filter), -1 is any type or any number. None when one is."""
+    for what, value, high in (
+        ("alarm type", alm_type, MAX_ALARM_TYPE),
+        ("alarm number", alm_no, MAX_ALARM_NO),
+    ):
+        why = None if every and value == -1 else field_unfit(what, value, 0, high)
+        if why is not None:
+            return why
+    return None
 
 
 def alarm_axis_unfit(axis_no: int, axes: int) -> str | None:
@@ -231,7 +255,7 @@ def program_number(typed: object) -> int:
     digits = text.lstrip("0")
     fits = len(digits) <= len(str(_MAX_PROGRAM))
     if not (text.isascii() and text.isdigit() and fits and 1 <= int(digits or 0) <= _MAX_PROGRAM):
-        raise ValueError(f"{typed!r} is not a program number (e.g. O1000)")
+        raise ValueError(f"{typed!r} is not a program number {PROGRAM_NUMBERS}")
     return int(digits)
 
 
@@ -393,6 +417,37 @@ def file_text(raw: bytes) -> str:
         raise ValueError(
             f"not UTF-8 text: byte 0x{bad} at byte {where} (save the file as UTF-8)"
         ) from None
+
+
+def program_file_text(raw: bytes) -> str:
+    """The text of a part program's file (``program load``, a machine file's
+    ``[[program]] file``): ASCII, after a UTF-8 byte-order mark if any; ValueError naming the
+    line of the first character that is not, in the program store's words (``line 2:
+    character 'É' (U+00C9) in '(CAFÉ)': a program is printable ASCII text``), or its byte
+    when it starts no UTF-8 character."""
+    raw = raw.removeprefix(_BOM)
+    try:
+        return raw.decode("ascii")
+    except UnicodeDecodeError as exc:
+        at = exc.start
+    start = raw.rfind(b"\n", 0, at) + 1
+    end = raw.find(b"\n", at)
+    line = raw[start : len(raw) if end < 0 else end]
+    shown = line.decode("utf-8", "backslashreplace").strip()[:40]
+    number = raw.count(b"\n", 0, at) + 1
+    where = f"line {number}"
+    for size in range(1, 5):
+        try:
+            char = raw[at : at + size].decode("utf-8")
+        except UnicodeDecodeError:
+            continue
+        raise ValueError(
+            f"{where}: character {char!r} (U+{ord(char):04X}) in {shown!r}: a program is "
+            "printable ASCII text"
+        )
+    raise ValueError(
+        f"{where}: byte 0x{raw[at]:02X} in '{shown}' is not text: a program is printable ASCII text"
+    )
 
 
 def os_reason(exc: BaseException) -> str:

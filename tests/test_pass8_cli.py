@@ -178,13 +178,13 @@ async def test_a_mode_that_is_none_names_mode(server: Served) -> None:
     [
         (
             ["sim", "fault", "drp"],
-            "focas-net sim fault: error: argument KIND: invalid choice: 'drp' (choose from "
-            "'delay', 'drop', 'error', 'split'); see focas-net sim fault --help",
+            "focas-net sim fault: error: argument KIND: unknown fault kind 'drp' (one of "
+            "delay, drop, error, split); see focas-net sim fault --help",
         ),
         (
             ["sim", "cycle", "Stat"],
-            "focas-net sim cycle: error: argument ACTION: invalid choice: 'Stat' (choose from "
-            "'start', 'hold', 'reset'); see focas-net sim cycle --help",
+            "focas-net sim cycle: error: argument ACTION: unknown cycle action 'Stat' (one of "
+            "start, hold, reset); see focas-net sim cycle --help",
         ),
         (
             ["program", "lst"],

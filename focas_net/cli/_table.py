@@ -15,6 +15,7 @@ from dataclasses import dataclass
 from functools import partial
 from typing import Any, Final, Literal, TypedDict, Unpack
 
+from focas_net.protocol import fault_kind_of
 from focas_net.server.faults import MAX_FAULT_COUNT
 
 from . import program_cmds, read_cmds, sim_cmds, watch_cmds, write_cmds
@@ -174,8 +175,7 @@ def _range_arg(name: str, low: int, high: int) -> Arg:
 
 #: ``position --kind``, as cnc_rdposition numbers them (0..3).
 _POSITION_KINDS: Final = ("absolute", "machine", "relative", "distance")
-#: ``sim fault KIND`` and ``--scope``, sorted.
-_FAULT_KINDS: Final = tuple(sorted(sim_cmds.FAULT_KINDS))
+#: ``sim fault --scope``, sorted (a KIND is read by :func:`fault_kind_of`).
 _FAULT_SCOPES: Final = tuple(sorted(sim_cmds.FAULT_SCOPES))
 
 #: A VersaMax station's racks and slots.
@@ -474,8 +474,7 @@ COMMANDS: Final[tuple[Cmd | Group, ...]] = (
                 (
                     arg(
                         "action",
-                        type=choice(program_cmds.CYCLE_ACTIONS, "action"),
-                        choices=program_cmds.CYCLE_ACTIONS,
+                        type=argument_type(program_cmds.cycle_action, "action"),
                         metavar="ACTION",
                         help="what to press: start, hold or reset",
                     ),
@@ -508,8 +507,7 @@ COMMANDS: Final[tuple[Cmd | Group, ...]] = (
                 (
                     arg(
                         "kind",
-                        type=choice(_FAULT_KINDS, "kind"),
-                        choices=_FAULT_KINDS,
+                        type=argument_type(fault_kind_of, "kind"),
                         metavar="KIND",
                         help="what happens to the answers: delay, drop, error or split",
                     ),

@@ -64,6 +64,7 @@ from .faults import (
     FaultsCleared,
     FaultsRequest,
     ew_of_text,
+    fault_kind_of,
     fault_refusal,
 )
 from .frame import (
@@ -81,6 +82,7 @@ from .pmc import (
     PmcArea,
     PmcData,
     PmcRange,
+    pmc_address_unfit,
     pmc_bit_refusal,
 )
 from .programs import (
@@ -100,6 +102,7 @@ from .programs import (
     ProgramNumber,
     ProgramText,
     RunInfo,
+    cycle_action_of,
 )
 from .values import (
     COMPOUND_MT_TYPE,
@@ -222,12 +225,15 @@ __all__ = [
     "alarm_text",
     "alarm_time_text",
     "alarm_type_of",
+    "cycle_action_of",
     "encode_ew",
     "encode_frame",
     "encode_response",
     "ew_of_text",
+    "fault_kind_of",
     "fault_refusal",
     "field_label",
+    "pmc_address_unfit",
     "pmc_bit_refusal",
     "scan_frames",
     "status_labels",

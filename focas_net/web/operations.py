@@ -27,6 +27,7 @@ from focas_net._bits import bits_of_text
 from focas_net._typed import (
     MAX_DIGITS,
     NO_PASSWORD_NOTE,
+    PROGRAM_NUMBERS,
     decimal_number,
     item_number_unfit,
     param_decimals_refused,
@@ -39,12 +40,15 @@ from focas_net._typed import (
 from focas_net.errors import EW, ew_name
 from focas_net.protocol import (
     AutMode,
+    CycleAction,
     FaultKind,
     FaultScope,
     InjectFault,
     alarm_message,
     alarm_type_of,
+    cycle_action_of,
     ew_of_text,
+    fault_kind_of,
     pmc_bit_refusal,
 )
 from focas_net.server.faults import FaultQueue, fault_refusal, parse_inject
@@ -232,15 +236,17 @@ def _path(args: Mapping[str, Any]) -> int:
 
 def _cycle(station: Station, args: Mapping[str, Any]) -> JsonDict:
     m = station.machine
-    what, path = _text(args, "action", needed="start, hold or reset"), _path(args)
-    if what == "start":
+    typed, path = _text(args, "action", needed="start, hold or reset"), _path(args)
+    try:  # as `sim cycle ACTION` reads it: Start, " reset "
+        what = cycle_action_of(typed)
+    except ValueError as exc:
+        raise ActionError(f"action: {exc}") from None
+    if what is CycleAction.START:
         m.cycle_start(path=path)
-    elif what == "hold":
+    elif what is CycleAction.HOLD:
         m.feed_hold(path=path)
-    elif what == "reset":
-        m.reset(path=path)
     else:
-        raise ActionError(f"action: one of start, hold, reset, got {what!r}")
+        m.reset(path=path)
     return {}
 
 
@@ -459,7 +465,7 @@ def _select_program(station: Station, args: Mapping[str, Any]) -> JsonDict:
     if typed is None or (isinstance(typed, str) and not typed.strip()):
         raise ActionError("number: a program number is needed (e.g. O1000)")
     if not isinstance(typed, str | int) or isinstance(typed, bool):
-        raise ActionError(f"number: {shown(typed)} is not a program number (e.g. O1000)")
+        raise ActionError(f"number: {shown(typed)} is not a program number {PROGRAM_NUMBERS}")
     try:  # O1000 or 1000, as the command line reads it
         number = program_number(typed)
     except ValueError as exc:
@@ -473,13 +479,12 @@ def _inject_fault(station: Station, args: Mapping[str, Any]) -> JsonDict:
     """Arm a machine-wide fault with the checks of 0x0E05 inject_fault: a refused argument is
     ``EW_DATA`` with the reason :func:`~focas_net.server.faults.fault_refusal` gives every
     front end."""
-    kinds = ", ".join(k.name for k in FaultKind)
-    kind_text = _text(args, "kind", needed=f"one of {kinds}").strip().upper()
+    kinds = ", ".join(sorted(k.name.lower() for k in FaultKind))
+    typed = _text(args, "kind", needed=f"one of {kinds}")
     try:  # by its name, as `sim fault KIND` takes it (a number is none: "1" was a delay)
-        kind = FaultKind[kind_text]
-    except KeyError:
-        names = ", ".join(k.name for k in FaultKind)
-        raise ActionError(f"kind: one of {names}, got {kind_text!r}") from None
+        kind = fault_kind_of(typed)
+    except ValueError as exc:
+        raise ActionError(f"kind: {exc}") from None
     count = _int(args, "count", 1)
     # a delay or an error needs its argument; a drop or a split takes none
     if kind is FaultKind.ERROR:

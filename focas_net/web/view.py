@@ -25,6 +25,7 @@ from focas_net.protocol import (
     alarm_fields,
     alarm_text,
     alarm_time_text,
+    pmc_address_unfit,
     status_labels,
 )
 from focas_net.server.faults import fault_arg_text
@@ -349,6 +350,9 @@ def pmc_address(text: str, area: str) -> tuple[str, int]:
     digits = found[2]
     if len(digits) > 6:
         raise ValueError(f"PMC address {text!r}: beyond every PMC area")
+    beyond = pmc_address_unfit(int(digits))  # as `pmc read R 70000` is refused
+    if beyond is not None:
+        raise ValueError(beyond)
     return letter, int(digits)
 
 
