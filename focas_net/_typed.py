@@ -419,6 +419,37 @@ def file_text(raw: bytes) -> str:
         ) from None
 
 
+def program_file_text(raw: bytes) -> str:
+    """The text of a part program's file (``program load``, a machine file's
+    ``[[program]] file``): ASCII, after a UTF-8 byte-order mark if any; ValueError naming the
+    line of the first character that is not, in the program store's words (``line 2:
+    character 'É' (U+00C9) in '(CAFÉ)': a program is printable ASCII text``), or its byte
+    when it starts no UTF-8 character."""
+    raw = raw.removeprefix(_BOM)
+    try:
+        return raw.decode("ascii")
+    except UnicodeDecodeError as exc:
+        at = exc.start
+    start = raw.rfind(b"\n", 0, at) + 1
+    end = raw.find(b"\n", at)
+    line = raw[start : len(raw) if end < 0 else end]
+    shown = line.decode("utf-8", "backslashreplace").strip()[:40]
+    number = raw.count(b"\n", 0, at) + 1
+    where = f"line {number}"
+    for size in range(1, 5):
+        try:
+            char = raw[at : at + size].decode("utf-8")
+        except UnicodeDecodeError:
+            continue
+        raise ValueError(
+            f"{where}: character {char!r} (U+{ord(char):04X}) in {shown!r}: a program is "
+            "printable ASCII text"
+        )
+    raise ValueError(
+        f"{where}: byte 0x{raw[at]:02X} in '{shown}' is not text: a program is printable ASCII text"
+    )
+
+
 def os_reason(exc: BaseException) -> str:
     """What an operating system error says, as text: ``connection reset by peer``,
     ``connection refused``, ``name or service not known`` (never ``[Errno 104] ...`` or the
