@@ -144,3 +144,30 @@ def test_a_tool_group_at_odds_with_itself_is_refused_naming_the_values(
 ) -> None:
     with pytest.raises(ValueError, match=refused):
         Machine("x", tools={1: ToolsSpec(groups=[group])})
+
+
+# -- a width that is not the parameter's -------------------------------------------------------
+@pytest.mark.parametrize("width", [1, 2, 8])
+@pytest.mark.parametrize("value", [5, 24000])
+async def test_a_width_the_parameter_does_not_have_is_ew_length_in_the_same_words(
+    both_sets: tuple[Machine, FocasClient, NativeClient], width: int, value: int
+) -> None:
+    machine, cnc, native = both_sets
+    machine.set_panel(0, 1, 0)
+    number = next(
+        n
+        for n in range(1, 10000)
+        if (i := machine.param_item(n)) and i.kind is ParamKind.TWO_WORD and not i.axis
+    )
+    before = machine.param_item(number)
+    assert before is not None
+    kept = list(before.values)
+    refusals = []
+    for client in (cnc, native):
+        with pytest.raises(CncError) as refused:
+            await client.write_param(number, value, width=width)
+        refusals.append(str(refused.value))
+        assert refused.value.ew == EW.LENGTH
+    assert refusals[0] == refusals[1]
+    assert f"cnc_wrparam: {number} is 4 bytes wide, not {width}" in refusals[0]
+    assert machine.param_item(number).values == kept  # type: ignore[union-attr]

@@ -19,6 +19,7 @@ from typing import Final
 
 from .._bits import bits_of_text
 from .._typed import field_unfit, macro_unfit, param_decimals_refused, typed_number
+from ..errors import EW, CncError
 from ..protocol import (
     MAX_HISTORY_DEPTH,
     MAX_REAL_DECIMALS,
@@ -315,6 +316,14 @@ def byte_to_wire(number: int, value: int, kind: ParamDataType | None) -> int:
 
 
 _INT_PARAM_NAMES: Final = {2: "word", 4: "two-word"}
+
+
+def width_refused(number: int, size: int, width: int, why: str = "") -> CncError:
+    """EW_LENGTH of ``cnc_wrparam`` given ``width`` for parameter ``number``, ``size`` bytes
+    wide (as FANUC's library answers a length that is not the type's), in the same words on
+    both clients."""
+    wide = "1 byte" if size == 1 else f"{size} bytes"
+    return CncError.from_ew(EW.LENGTH, f"cnc_wrparam: {number} is {wide} wide, not {width}{why}")
 
 
 def int_to_wire(number: int, value: int, width: int, kind: ParamDataType | None) -> int:
