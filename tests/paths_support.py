@@ -77,7 +77,7 @@ def twin_turret(
             PathSpec(v.axes, kind="T", spindles=1, panel=Panel(mode=v.mode, pwe=1, emergency=0))
             for v in VALUES
         ],
-        identity=Identity(2, 8, " 0", " T", "D6F1", "32.0", "05"),
+        identity=Identity(2, 8, " 0", "TT", "D6F1", "32.0", "05"),
         params=[
             DataItem(1320, 4, True, -_STROKE, _STROKE, [_STROKE], "stroke limit +"),
             DataItem(6711, 4, False, 0, _STROKE, [0], "parts count"),

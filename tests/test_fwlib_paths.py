@@ -87,7 +87,7 @@ async def test_sysinfo_of_each_path(cnc: Cnc) -> None:
         i = path_sysinfo(cnc.machine, path)
         assert (addinfo, max_axis) == (i.addinfo, i.max_axis)
         assert [t.decode() for t in texts] == [i.cnc_type, i.mt_type, i.series, i.version, i.axes]
-        assert (texts[1], texts[4]) == (b" T", f"{len(v.axes):02d}".encode())
+        assert (texts[1], texts[4]) == (b"TT", f"{len(v.axes):02d}".encode())
 
 
 # --------------------------------------------------------------------------------------------

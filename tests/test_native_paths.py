@@ -255,7 +255,7 @@ def test_each_path_has_its_axes_spindles_and_identity(set_name: str) -> None:
                 cnc(path, C.AXIS_COUNT, 1),
             ],
         )
-        assert sysinfo.data[6:8] == b" T"  # mt_type
+        assert sysinfo.data[6:8] == b"TT"  # mt_type: a T series of 2 paths
         assert sysinfo.data[-2:] == f"{len(v.axes):02d}".encode()  # axes
         assert [names.data[i : i + 2] for i in range(0, len(names.data), 4)] == [
             a.encode() for a in v.axes

@@ -89,21 +89,8 @@ def block_path(block: RequestBlock) -> int:
 
 def path_sysinfo(machine: Machine, path: int) -> Identity:
     """The identity as ``path`` shows it (``cnc_sysinfo`` after ``cnc_setpath``): the
-    machine's, with the path's machine type and axis count when the machine has several
-    paths (a single-path machine's is its identity as it is)."""
-    i = machine.identity()
-    if machine.path_count == 1:
-        return i
-    info = machine.path_info(path)
-    return Identity(
-        i.addinfo,
-        i.max_axis,
-        i.cnc_type,
-        f" {info.kind}",
-        i.series,
-        i.version,
-        f"{len(info.axes):02d}",
-    )
+    machine's :meth:`~focas_net.sim.Machine.path_identity`."""
+    return machine.path_identity(path)
 
 
 class _Path:

@@ -8,11 +8,12 @@ station and the motion figures (positions, feed, spindle, program numbers).
 The machine is a facade over components, each of one concern, in private modules beside this
 one: identity and control class (``_identity``), parameters and diagnostics (``_items``), the
 parameter password and sessions (``_password``), macro variables (``_macros``), PMC areas and
-the G/F signals of automatic operation (``_pmc``), active alarms and the history
-(``_alarms``), the VersaMax station (``_station``), and the path (``_path``): programs, NC
-engine on machine time (``_time``), panel, status and figures, and its production on its own
-(``_production``), and the program folders of a 30i-class control over the paths' programs
-(``_folders``). A component keeps its own state and checks and moves the version counters
+the G/F signals of automatic operation (``_pmc``), active alarms and the history (``_alarms``,
+read, raised and cleared by the operations of ``_alarm_ops``), the VersaMax station
+(``_station``), and the path (``_path``): programs, NC engine on machine time (``_time``),
+panel, status and figures, and its production on its own (``_production``), and the program
+folders of a 30i-class control over the paths' programs (``_folders``).
+A component keeps its own state and checks and moves the version counters
 it shares with the others (``_base``); the machine builds them, asks for the checks in each
 operation's order and answers its reads through them. A control with several paths would hold
 one path each, sharing the rest.
@@ -96,13 +97,13 @@ from __future__ import annotations
 import hashlib
 from collections import deque
 from collections.abc import Iterable, Mapping, Sequence
-from dataclasses import astuple
-from datetime import datetime
+from dataclasses import astuple, replace
 from decimal import Decimal
 
 from focas_net.errors import EW
 from focas_net.versamax import IOModuleRecord
 
+from ._alarm_ops import AlarmOperations
 from ._alarms import (
     DEFAULT_HISTORY_CAPACITY,
     MAX_HISTORY_CAPACITY,
@@ -138,6 +139,7 @@ from ._paths import (
     Paths,
     PathSpec,
     checked_specs,
+    kind_of,
     own_params,
     path_specs,
 )
@@ -211,7 +213,12 @@ __all__ = [
 
 
 class Machine(
-    FolderOperations, SignalOperations, ToolOperations, ModalOperations, InformationOperations
+    AlarmOperations,
+    FolderOperations,
+    SignalOperations,
+    ToolOperations,
+    ModalOperations,
+    InformationOperations,
 ):
     """One simulated CNC.
 
@@ -481,6 +488,20 @@ class Machine(
         """What the CNC says it is."""
         return self._identity
 
+    def path_identity(self, path: int = 1) -> Identity:
+        """What the CNC says it is on ``path`` (``cnc_sysinfo`` after ``cnc_setpath``):
+        EW_PATH for a path the machine has not. A machine of one path answers its identity.
+        On one of several paths the axes are the path's, and the machine type is the
+        machine's code when that is of the path's kind (a lathe of two paths reports
+        ``"TT"`` on each, as FANUC's T series of 2/3 paths does), else the kind's own
+        (``" M"`` on the milling path of a machine whose code is ``"TT"``)."""
+        info = self.path_info(path)
+        i = self._identity
+        if self.path_count == 1:
+            return i
+        mt_type = i.mt_type if kind_of(i.mt_type) == info.kind else f" {info.kind}"
+        return replace(i, mt_type=mt_type, axes=f"{len(info.axes):02d}")
+
     # -- parameters and diagnostics ------------------------------------------------------
     def param_item(self, datano: int) -> DataItem | None:
         """The description of parameter ``datano`` (None when the machine has none)."""
@@ -680,76 +701,6 @@ class Machine(
             self._show_overrides(path)
         if letter.upper() == "G":
             self._watch_meters()
-
-    # -- alarms --------------------------------------------------------------------------
-    def active_alarms(
-        self, alm_type: int = -1, limit: int | None = None, *, path: int = 1
-    ) -> list[Alarm]:
-        """The active alarms of ``path`` of ``alm_type`` (-1: every type; a type no alarm has
-        matches nothing), oldest raised first, at most ``limit`` of them (None: all): EW_PATH
-        for a path the machine has not."""
-        self._paths.at(path)
-        self._sync()
-        return self._alarms.read(alm_type, limit, path)
-
-    def alarm_history(self, depth: int | None = None) -> tuple[HistoryEntry, ...]:
-        """The ``depth`` newest entries of the history (None: all), newest first (the paths
-        share one history)."""
-        self._sync()
-        return self._alarms.read_history(depth)
-
-    @property
-    def history_capacity(self) -> int:
-        """How many entries the alarm history keeps."""
-        return self._alarms.capacity
-
-    @property
-    def clock(self) -> Clock:
-        """The wall clock the machine stamps alarms with (:meth:`now`)."""
-        return self._alarms.clock
-
-    @clock.setter
-    def clock(self, clock: Clock) -> None:
-        self._alarms.clock = clock
-
-    def now(self) -> datetime:
-        """The clock, as aware UTC cut to whole seconds."""
-        return self._alarms.now()
-
-    def raise_alarm(
-        self, axis_no: int, alm_type: int, alm_no: int, msg: str = "", *, path: int = 1
-    ) -> bool:
-        """Make an alarm active and record it in the history (UTC, whole seconds); True when it
-        was raised.
-
-        A CNC shows one entry per alarm: an alarm already active (same axis_no, alm_type,
-        alm_no) changes nothing, whatever ``msg`` says: it keeps the message it was raised
-        with, the history gets no second entry, and the answer is False. Clear it first to raise
-        it with another message. The CNC keeps 32 characters of ``msg``, single-byte (Latin-1)
-        text. EW_PROT (read-only machine), EW_DATA (alm_type outside 0..31, alm_no outside
-        0..32767), EW_ATTRIB (axis_no), EW_DATA (a character beyond U+00FF). Any alarm stops
-        the cycle of its path.
-
-        The alarm is ``path``'s (EW_PATH for a path the machine has not, after EW_PROT);
-        ``axis_no`` numbers that path's axes."""
-        self.check_writable()
-        p = self._paths.at(path)
-        text = self._alarms.checked(axis_no, alm_type, alm_no, msg, len(p.axes))
-        self._sync()
-        key = (axis_no, alm_type, alm_no)
-        if not self._alarms.add(key, text, self.now(), path):
-            return False
-        p.alarm_stop(key, text)
-        return True
-
-    def clear_alarms(self, alm_type: int = -1, alm_no: int = -1, *, path: int = 1) -> int:
-        """Remove the active alarms of ``path`` matching ``alm_type`` and ``alm_no`` (-1 =
-        any); the history is kept. Returns how many were removed. EW_PROT on a read-only
-        machine, then EW_PATH, then EW_DATA (alm_type outside -1..31, alm_no outside
-        -1..32767)."""
-        self.check_writable()
-        self._paths.at(path)
-        return self._alarms.clear(alm_type, alm_no, path)
 
     # -- VersaMax ------------------------------------------------------------------------
     def module_record(self, rack: int, slot: int) -> IOModuleRecord | None:

@@ -93,7 +93,7 @@ def status_fields(machine: Machine, path: int = 1) -> list[JsonDict]:
     """The ODBST fields of ``path``: ``{"field": "run", "value": 3, "name": "STRT",
     "meaning": ...}``, named by the table the command line uses (``tmmode`` by the machine's
     series), with the keys of ``status --json`` (``name``: the label a FANUC screen shows)."""
-    rows = status_labels(machine.status(path=path), machine.identity().mt_type)
+    rows = status_labels(machine.status(path=path), machine.path_identity(path).mt_type)
     return [{"field": f, "value": v, "name": label, "meaning": m} for f, v, label, m in rows]
 
 

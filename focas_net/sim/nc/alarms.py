@@ -84,7 +84,8 @@ class NcAlarm:
         return f"{self.kind.value}{self.number:04d}"
 
     def __str__(self) -> str:
-        where = f" (O{self.program:04d} N{self.sequence})" if self.program is not None else ""
+        sequence = "" if self.sequence is None else f" N{self.sequence}"
+        where = f" (O{self.program:04d}{sequence})" if self.program is not None else ""
         detail = f": {self.detail}" if self.detail else ""
         return f"{self.code} {self.message}{where}{detail}"
 

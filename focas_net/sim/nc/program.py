@@ -39,6 +39,18 @@ DIRECTORY_NAME: Final = 61
 SEQUENCE_DIGITS: Final = 5
 #: Word addresses a block may carry (O and N are handled apart).
 ADDRESSES: Final = frozenset("ABCDEFGHIJKLMPQRSTUVWXYZ")
+#: The addresses whose number FANUC reads as a whole number, never with a decimal point
+#: (``T1.``, ``M98 P1.`` raise PS0007, ILLEGAL USE OF DECIMAL POINT), and what each holds.
+#: G takes one (G43.4); the axes, F, I, J, K, Q, R take one as a length, feed or time.
+WHOLE_NUMBER_ADDRESSES: Final = {
+    "D": "an offset number",
+    "H": "an offset number",
+    "L": "a repetition count",
+    "M": "an M code",
+    "P": "a program, sequence, path or time number",
+    "S": "an S code",
+    "T": "a T code",
+}
 
 
 @dataclass(frozen=True, slots=True)
@@ -349,6 +361,7 @@ def _words(cur: Cursor) -> list[Word]:
 
 
 def _word_value(cur: Cursor, address: str) -> Word:
+    start = cur.pos
     negative = cur.take("-")
     if not negative:
         cur.take("+")
@@ -361,6 +374,10 @@ def _word_value(cur: Cursor, address: str) -> Word:
         value = bracketed(cur)
     elif c.isdigit() or c == ".":
         number, point, _ = parse_number(cur)
+        held = WHOLE_NUMBER_ADDRESSES.get(address)
+        if point and held is not None:
+            written = f"{address}{cur.text[start : cur.pos]}"
+            raise AlarmRaised(7, f"{written}: {held} takes no decimal point")
         value = Num(number)
         literal = not point
     else:
@@ -423,6 +440,15 @@ def parse_program(text: str, max_number: int = 9999) -> Program:
             number,
         )
     rest = first[_code_end(first, pos) :]
+    # the program's name is the comment right after the number (or before the O): it is the
+    # O line's, as FANUC's directory shows it, not a comment of the block the line goes on with
+    lead = len(rest) - len(rest.lstrip())
+    cut = 0
+    if rest[lead : lead + 1] == "(":
+        close = rest.find(")", lead)
+        cut = len(rest) if close < 0 else close + 1
+    _, name = _strip_comments(first[: len(first) - len(rest) + cut])
+    rest = rest[cut:]
     rest_code, _ = _strip_comments(rest)
     if _opens(rest):  # O1O2: the O line's block would be a second program's O line
         raise ProgramError(

@@ -1,0 +1,141 @@
+"""A new user's pass over machine files, part programs and the examples (pass 9): each test
+names a case that was wrong, and the behaviour FANUC's practice asks for."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import pytest
+
+from focas_net.adapters._native_cnc import path_sysinfo
+from focas_net.sim import Identity, Machine, MachineError, PathSpec, load_machine
+from focas_net.sim.nc import CycleState, Engine, ManualClock, NcSettings, parse_program
+
+
+def _alarm_of(block: str) -> tuple[str, str, int | None]:
+    """Run ``block`` as N20 of a program and answer the alarm's code, its text and block."""
+    clock = ManualClock()
+    engine = Engine(clock, NcSettings())
+    main = engine.store.store(f"O12\nN10 G90\nN20 {block}\nN30 G1 X50. F100\nM30\n")
+    engine.store.store("O1\nM99\n")
+    engine.store.select(main.number)
+    engine.cycle_start()
+    clock.advance(1.0)
+    alarm = engine.alarm
+    assert alarm is not None, block
+    assert engine.state is CycleState.STOP
+    return alarm.code, str(alarm), alarm.sequence
+
+
+# -- a decimal point on an address that takes none is PS0007 ---------------------------------
+
+
+@pytest.mark.parametrize(
+    ("block", "shown"),
+    [
+        ("T1.", "T1."),
+        ("M3.", "M3."),
+        ("S1000.", "S1000."),
+        ("M98 P1.", "P1."),
+        ("G4 P100.", "P100."),
+        ("G43 H1. Z10.", "H1."),
+        ("M98 P1 L2.", "L2."),
+        ("M3 S-.5", "S-.5"),
+        ("T.1", "T.1"),
+        ("G41 D1. X1.", "D1."),
+    ],
+)
+def test_a_decimal_point_on_an_address_that_takes_none_is_ps0007(block: str, shown: str) -> None:
+    code, text, sequence = _alarm_of(block)
+    assert code == "PS0007", text
+    assert sequence == 20
+    assert shown in text and "decimal point" in text
+
+
+@pytest.mark.parametrize(
+    "block",
+    ["G1 X1. F100.", "G4 X1.5", "G2 X10. I5. F100", "G4 P100", "M3 S1000 T1", "#1 = 3.\nN25 M#1"],
+)
+def test_addresses_that_take_a_decimal_point_or_whole_numbers_run(block: str) -> None:
+    clock = ManualClock()
+    engine = Engine(clock, NcSettings())
+    main = engine.store.store(f"O12\nN10 G90\nN20 {block}\nM30\n")
+    engine.store.select(main.number)
+    engine.cycle_start()
+    for _ in range(100):
+        if engine.state is not CycleState.START:
+            break
+        clock.advance(1.0)
+    assert engine.alarm is None, block
+    assert engine.state is CycleState.RESET
+
+
+# -- the comment after the O number is the program's name, not a part of its first block ----
+
+
+def test_the_o_line_comment_names_the_program_and_is_not_the_first_blocks() -> None:
+    program = parse_program("O1234 (DEMO) G0 X1.\nM30\n")
+    assert program.name == "DEMO"
+    first = program.blocks[0]
+    assert (first.text, first.comment) == ("G0 X1.", "")
+    # the stored text keeps the comment on the O line, once
+    assert program.text == "O1234 (DEMO)\nG0 X1.\nM30\n"
+    again = parse_program(program.text)
+    assert again.name == "DEMO"
+    assert [(b.text, b.comment) for b in again.blocks] == [("G0 X1.", ""), ("M30", "")]
+
+
+def test_a_comment_later_on_the_o_line_is_its_blocks_not_the_name() -> None:
+    program = parse_program("O1234 G0 (FIRST MOVE) X1.\nM30\n")
+    assert program.name == ""
+    first = program.blocks[0]
+    assert (first.text, first.comment) == ("G0 (FIRST MOVE) X1.", "FIRST MOVE")
+    again = parse_program(program.text)
+    assert [(b.text, b.comment) for b in again.blocks] == [(first.text, first.comment), ("M30", "")]
+
+
+def test_an_alarm_of_a_block_without_a_sequence_number_shows_no_none() -> None:
+    clock = ManualClock()
+    engine = Engine(clock, NcSettings())
+    engine.store.store("O1\nT1.\nM30\n")
+    engine.store.select(1)
+    engine.cycle_start()
+    clock.advance(1.0)
+    assert str(engine.alarm) == (
+        "PS0007 ILLEGAL USE OF DECIMAL POINT (O0001): T1.: a T code takes no decimal point"
+    )
+
+
+# -- a lathe of several paths reports "TT", as FANUC's T series of 2/3 paths does -----------
+
+EXAMPLE = Path(__file__).parent.parent / "examples" / "lathe_2path.toml"
+
+
+def test_the_twin_turret_example_is_a_t_series_of_two_paths() -> None:
+    machine = load_machine(EXAMPLE)
+    assert machine.identity().mt_type == "TT"
+    for path in (1, 2):
+        i = machine.path_identity(path)
+        assert (i.mt_type, i.axes) == ("TT", "02")
+        assert machine.path_info(path).kind == "T"
+    # the wire's 0x18 answer of each path is the same identity
+    assert path_sysinfo(machine, 2) == machine.path_identity(2)
+
+
+def test_a_path_of_another_kind_than_the_machines_code_reports_its_own() -> None:
+    machine = Machine(
+        "mill-turn",
+        paths=[PathSpec(("X", "Z"), kind="T"), PathSpec(("X2", "Y2", "Z2"), kind="M")],
+        identity=Identity(2, 32, " 0", "TT", "D6F1", "32.0", "05"),
+    )
+    assert machine.path_identity(1).mt_type == "TT"
+    assert (machine.path_identity(2).mt_type, machine.path_identity(2).axes) == (" M", "03")
+    with pytest.raises(MachineError):
+        machine.path_identity(3)
+
+
+def test_one_path_reports_the_identity_as_it_is() -> None:
+    machine = Machine(
+        "lathe", axes=["X", "Z"], identity=Identity(2, 8, " 0", " T", "D6F1", "32.0", "02")
+    )
+    assert machine.path_identity(1) == machine.identity()
