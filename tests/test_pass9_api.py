@@ -4,6 +4,7 @@ another, naming them."""
 
 from __future__ import annotations
 
+import re
 import struct
 from collections.abc import AsyncIterator
 from decimal import Decimal
@@ -171,3 +172,36 @@ async def test_a_width_the_parameter_does_not_have_is_ew_length_in_the_same_word
     assert refusals[0] == refusals[1]
     assert f"cnc_wrparam: {number} is 4 bytes wide, not {width}" in refusals[0]
     assert machine.param_item(number).values == kept  # type: ignore[union-attr]
+
+
+# -- an alarm type typed as its number ---------------------------------------------------------
+@pytest.mark.parametrize(("typed", "number"), [("1", 1), (" 31 ", 31), ("0", 0), ("+3", 3)])
+async def test_an_alarm_type_given_as_digits_is_its_number_as_the_page_takes_it(
+    both_clients: tuple[Machine, FocasClient, NativeClient], typed: str, number: int
+) -> None:
+    """``read_alarms(alm_type="1")`` was refused with ``(one of SW PW ..., or 0..31)``, though
+    the hint names numbers and the page takes ``"31"``."""
+    machine, cnc, native = both_clients
+    machine.raise_alarm(0, number, 100, "TYPED")
+    for client in (cnc, native):
+        found = await client.read_alarms(alm_type=typed)
+        assert [(a.alm_type, a.alm_no) for a in found] == [(number, 100)]
+    await cnc.sim.clear_alarms(alm_type=typed)
+    assert machine.active_alarms() == []
+
+
+@pytest.mark.parametrize(
+    ("typed", "refused"),
+    [
+        ("32", "alarm type 32 is outside -1..31"),
+        ("1.5", "not a whole number: '1.5'"),
+        ("P S", "unknown alarm type 'P S'"),
+    ],
+)
+async def test_alarm_type_text_that_is_none_is_refused_naming_it(
+    both_clients: tuple[Machine, FocasClient, NativeClient], typed: str, refused: str
+) -> None:
+    _, cnc, native = both_clients
+    for client in (cnc, native):
+        with pytest.raises(ValueError, match=re.escape(refused)):
+            await client.read_alarms(alm_type=typed)

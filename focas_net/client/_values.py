@@ -18,7 +18,13 @@ from decimal import Decimal
 from typing import Final
 
 from .._bits import bits_of_text
-from .._typed import field_unfit, macro_unfit, param_decimals_refused, typed_number
+from .._typed import (
+    field_unfit,
+    macro_unfit,
+    param_decimals_refused,
+    typed_number,
+    whole_number,
+)
 from ..errors import EW, CncError
 from ..protocol import (
     MAX_HISTORY_DEPTH,
@@ -189,9 +195,11 @@ def number_of_name(names: type[enum.IntEnum], given: str, what: str, numbers: st
 
 def alarm_type_number(alm_type: object, *, every: bool = False) -> int:
     """An alarm type number from its name (``"PS"``), an :class:`AlarmType` or 0..31 (and -1,
-    every type, with ``every``)."""
+    every type, with ``every``), the number also as text (``"3"``), as the page takes it."""
     if isinstance(alm_type, str):
-        return alarm_type_of(alm_type)
+        if not alm_type.strip().lstrip("+-")[:1].isdigit():
+            return alarm_type_of(alm_type)
+        alm_type = whole_number(alm_type)
     return check_int("alarm type", alm_type, -1 if every else 0, _MAX_ALARM_TYPE)
 
 
