@@ -36,8 +36,11 @@ def client(args: argparse.Namespace) -> CncClient:
 
 
 async def write_bits(args: argparse.Namespace) -> int:
-    target = pattern(args.bytes)
     async with client(args) as cnc:
+        # read the bytes first: the client checks --start and --bytes as typed, and the CNC
+        # that it has them, before anything is written
+        await cnc.read_pmc(args.area, args.start, args.bytes)
+        target = pattern(args.bytes)
         await cnc.write_pmc(args.area, args.start, bytes(~b & 0xFF for b in target))
         writes = [
             cnc.write_pmc_bit(args.area, args.start + i, bit, bool(byte >> bit & 1))
@@ -73,8 +76,6 @@ def main() -> int:
         help="packed (default) or native: FOCAS/2 Ethernet, as a real control speaks it",
     )
     args = parser.parse_args()
-    if args.bytes < 1:
-        parser.error("--bytes must be at least 1")
     try:
         return asyncio.run(write_bits(args))
     except KeyboardInterrupt:  # Ctrl-C: exit 130, as the command line, no traceback

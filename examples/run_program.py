@@ -142,6 +142,20 @@ def refusal(path: Path | None, text: str) -> str:
     return f"{name} is not a program the CNC takes"
 
 
+def read_program(path: Path) -> str:
+    """The text of the program file ``path``; ValueError naming the line of a byte that is not
+    ASCII (a program is printable ASCII text; the store names any other character)."""
+    raw = path.read_bytes()
+    try:
+        return raw.decode("utf-8")
+    except UnicodeDecodeError as exc:
+        line = raw.count(b"\n", 0, exc.start) + 1
+        raise ValueError(
+            f"{str(path)!r}: line {line}: byte 0x{raw[exc.start]:02X} is not text: a program is "
+            "printable ASCII text"
+        ) from None
+
+
 def positive(text: str) -> float:
     value = float(text)
     if not value > 0:
@@ -163,9 +177,13 @@ def main() -> int:
     )
     args = parser.parse_args()
     try:
-        text = PROGRAM if args.program is None else args.program.read_text()
+        text = PROGRAM if args.program is None else read_program(args.program)
     except OSError as exc:
-        print(f"run_program: cannot read {args.program}: {exc.strerror}", file=sys.stderr)
+        why = (exc.strerror or str(exc)).lower()
+        print(f"run_program: cannot read {str(args.program)!r}: {why}", file=sys.stderr)
+        return 2
+    except ValueError as exc:
+        print(f"run_program: {exc}", file=sys.stderr)
         return 2
     try:
         asyncio.run(run_program(args, text))

@@ -19,6 +19,7 @@ import sys
 
 from focas_net import FocasClient
 from focas_net.errors import EW, AccessDeniedError, CncError, FocasError
+from focas_net.protocol import Password
 
 MDI = 0
 
@@ -81,6 +82,8 @@ def main() -> int:
     parser.add_argument("--password", help="parameter password, used when the CNC asks")
     args = parser.parse_args()
     try:
+        if args.password is not None:  # checked as the client checks it, before any change
+            Password.from_text(args.password)
         return asyncio.run(write_param(args))
     except KeyboardInterrupt:  # Ctrl-C: exit 130, as the command line, no traceback
         return 130

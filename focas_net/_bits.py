@@ -16,6 +16,12 @@ _BINARY = frozenset("01")
 def bits_hint(text: str) -> str:
     """How to write a bit parameter's value, for a refusal of ``text``."""
     raw = text.strip().lower().replace("_", "").removeprefix("0b")
+    if raw and not set(raw) - _BINARY and len(raw) > 8:  # no value to show it as: too many
+        return (
+            f"{text!r} has {len(raw)} bits: a bit parameter has eight, #7..#0: write them "
+            '(as "10110000"), a binary number with 0b of at most eight digits or an integer '
+            "0..255"
+        )
     example = raw if raw and not set(raw) - _BINARY and len(raw) < 8 else "1011"
     return (
         f'{text!r} is not 8 bits: write the eight bits #7..#0 ("{int(example, 2):08b}"), '

@@ -4,7 +4,8 @@ words for a macro value that does not fit (the machine and the clients), a progr
 (the command line and the page), an override's type and range (the machine and the
 clients), an alarm's axis and an alarm message that is no line of single-byte text (the
 machine and the encoded text of every front end), whether a host typed is the loopback (the
-dashboard's and the gateway's guards), what an unlock of a CNC without a parameter password
+dashboard's and the gateway's guards), a parameter password (the codec, the machine and
+the command line), what an unlock of a CNC without a parameter password
 means (the command line and the page), and the words of the system's refusal of a file or
 address the user named (every front end).
 
@@ -28,13 +29,17 @@ from decimal import Decimal
 from typing import Final
 
 __all__ = [
+    "MAX_ALARM_NO",
     "MAX_ALARM_TEXT",
+    "MAX_ALARM_TYPE",
     "MAX_DIGITS",
     "NO_PASSWORD_NOTE",
     "OVERRIDE_RANGES",
+    "PASSWORD_SIZE",
     "RAPID_STEPS",
     "WRONG_PASSWORD",
     "alarm_axis_unfit",
+    "alarm_key_unfit",
     "alarm_text_unfit",
     "decimal_number",
     "decimal_text",
@@ -47,6 +52,7 @@ __all__ = [
     "os_words",
     "override_percent",
     "override_unfit",
+    "password_bytes",
     "program_number",
     "rapid_step",
     "switch",
@@ -76,8 +82,32 @@ NO_PASSWORD_NOTE: Final = (
 #: end says it (the machine, so the dashboard; the command line's reason of the code).
 WRONG_PASSWORD: Final = "the password is not the CNC's"
 
+#: Bytes of a parameter password (``cnc_wrunlockparam``'s ``password[4]``).
+PASSWORD_SIZE: Final = 4
+
+
+def password_bytes(text: object) -> bytes:
+    """A parameter password as the CNC keeps it and ``cnc_wrunlockparam`` carries it: 1..4
+    ASCII characters, no NUL, padded to 4 bytes with NUL (a longer one is never cut). The one
+    rule of every front end (the codec's ``Password.from_text``, the machine, the command
+    line): ValueError ``parameter password 'abcde': must be 1..4 ASCII characters`` for any
+    other text, TypeError for what is neither text nor bytes."""
+    if not isinstance(text, str | bytes | bytearray):
+        raise TypeError(f"a parameter password is text or bytes, got {text!r}")
+    shown = text if isinstance(text, str) else bytes(text).decode("latin-1")
+    if not (1 <= len(shown) <= PASSWORD_SIZE and shown.isascii() and "\x00" not in shown):
+        raise ValueError(
+            f"parameter password {shown!r}: must be 1..{PASSWORD_SIZE} ASCII characters"
+        )
+    return shown.encode("ascii").ljust(PASSWORD_SIZE, b"\x00")
+
+
 #: Characters of an alarm's message the CNC keeps (a longer one is cut).
 MAX_ALARM_TEXT: Final = 32
+#: Alarm type numbers a CNC can carry (``alm_type`` is a bit number in FANUC's masks).
+MAX_ALARM_TYPE: Final = 31
+#: The highest alarm number the CNC holds (its ``alm_no`` is a signed 16-bit word).
+MAX_ALARM_NO: Final = 0x7FFF
 
 #: The most O-numbers a program number has (O1 .. O99999999).
 _MAX_PROGRAM: int = 99_999_999
@@ -138,6 +168,20 @@ def override_percent(what: str, value: object) -> int:
         also = " or the text F0" if what == "rapid" else ""
         raise TypeError(f"{what} override must be a whole number{also}, got {value!r}")
     return value
+
+
+def alarm_key_unfit(alm_type: int, alm_no: int, *, every: bool = False) -> str | None:
+    """Why no alarm is of type ``alm_type`` and number ``alm_no``, in the words of every front
+    end (``alarm number 99999 is outside 0..32767``, as the command line and the client say
+    it); with ``every`` (a clear's filter), -1 is any type or any number. None when one is."""
+    for what, value, high in (
+        ("alarm type", alm_type, MAX_ALARM_TYPE),
+        ("alarm number", alm_no, MAX_ALARM_NO),
+    ):
+        why = None if every and value == -1 else field_unfit(what, value, 0, high)
+        if why is not None:
+            return why
+    return None
 
 
 def alarm_axis_unfit(axis_no: int, axes: int) -> str | None:

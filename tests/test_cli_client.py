@@ -531,7 +531,7 @@ def test_usage_errors_exit_2(capsys: pytest.CaptureFixture[str]) -> None:
     assert main(["param", "set", "1815.1", "1", "--width", "1", "--port", "1"]) == EXIT_USAGE
     assert main(["pmc", "bit", "R", "-1.0", "1", "--port", "1"]) == EXIT_USAGE
     err = capsys.readouterr().err.splitlines()
-    assert err.pop() == "focas-net: expected BYTE.BIT (e.g. 100.3), got '-1.0'"
+    assert err.pop() == "focas-net: PMC start address -1 is outside 0..65535"
     assert err[-3:] == [
         "focas-net: expected NUMBER or NUMBER.BIT (e.g. 1815 or 1815.0), got 'abc'",
         "focas-net: VALUE: expected 1, on, true, yes or set, or 0, off, false, no or clear, "

@@ -172,7 +172,7 @@ async def test_a_path_the_cnc_has_not_is_named(
 ) -> None:
     line = await fails(EXIT_CNC, *command, "--path", "2", "--protocol", protocol, *at(server))
     assert "EW_PATH" in line and line.endswith(
-        "; the CNC has no path 2 (--path names one of its paths; a CNC of one path has path 1)"
+        "; the CNC has no path 2: it has path 1 only (leave out --path)"
     ), line
 
 

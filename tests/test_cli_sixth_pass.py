@@ -266,8 +266,8 @@ async def test_a_path_the_cnc_has_not_is_ew_path_for_every_command(
     ``status --path 2`` said EW_PATH."""
     line = await fails(EXIT_CNC, *command, "--path", "2", *protocol, *at(server))
     assert line == (
-        "focas-net: EW_PATH (11): path number error (cnc_setpath); the CNC has no path 2 (--path "
-        "names one of its paths; a CNC of one path has path 1)"
+        "focas-net: EW_PATH (11): path number error (cnc_setpath); the CNC has no path 2: it "
+        "has path 1 only (leave out --path)"
     )
 
 

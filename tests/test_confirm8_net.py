@@ -53,8 +53,8 @@ async def test_a_bad_password_is_a_usage_error_naming_its_argument_before_any_co
     code, out, err = await run_focas_net(*argv, "--port", str(_closed_port()))
     assert (code, out) == (2, "")
     assert one_line(err, f"focas-net {command}: error:") == (
-        f"focas-net {command}: error: argument {named}: must be 1..4 ASCII characters, got "
-        f"{typed!r}; see focas-net {command} --help"
+        f"focas-net {command}: error: argument {named}: parameter password {typed!r}: must be "
+        f"1..4 ASCII characters; see focas-net {command} --help"
     )
 
 

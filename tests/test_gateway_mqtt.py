@@ -103,7 +103,7 @@ async def test_a_subscriber_sees_birth_model_values_and_alarms(broker: Broker) -
             active = late.latest("focas/m1/path2/alarms/active")
             assert active is not None
             alarms = ActiveAlarms.decode(active).alarms
-            assert alarms is not None and [a.number for a in alarms] == [401]
+            assert alarms is not None and [a.alm_no for a in alarms] == [401]
             assert late.on(event) == []
     # a clean stop says offline itself
     async with subscriber(broker) as after:

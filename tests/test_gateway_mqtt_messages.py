@@ -178,14 +178,14 @@ def test_alarms_are_events_and_a_retained_active_list() -> None:
     assert messages == [
         Message(
             "focas/lathe-2/path2/alarms/event",
-            b'{"type":0,"number":100,"code":"SW0100","axis":0,"message":"PARAMETER ENABLE",'
+            b'{"code":"SW0100","axis_no":0,"alm_type":0,"alm_no":100,"msg":"PARAMETER ENABLE",'
             b'"active":true,"time":"1970-01-01T00:00:03.000Z"}',
             False,
         ),
         Message(
             "focas/lathe-2/path2/alarms/active",
-            b'{"alarms":[{"type":0,"number":100,"code":"SW0100","axis":0,'
-            b'"message":"PARAMETER ENABLE","active":true,"time":"1970-01-01T00:00:03.000Z"}],'
+            b'{"alarms":[{"code":"SW0100","axis_no":0,"alm_type":0,"alm_no":100,'
+            b'"msg":"PARAMETER ENABLE","active":true,"time":"1970-01-01T00:00:03.000Z"}],'
             b'"status":"Good","time":"1970-01-01T00:00:03.000Z"}',
             True,
         ),
@@ -195,7 +195,7 @@ def test_alarms_are_events_and_a_retained_active_list() -> None:
     *events, active = p.alarms([servo, cleared])
     assert [AlarmEvent.decode(e.payload).active for e in events] == [True, False]
     listed = ActiveAlarms.decode(active.payload).alarms
-    assert listed is not None and [(a.type, a.number, a.axis) for a in listed] == [(6, 401, 1)]
+    assert listed is not None and [a.key for a in listed] == [(1, 6, 401)]
 
 
 def test_a_lost_machine_shows_every_value_bad_and_its_alarms_unknown() -> None:

@@ -70,7 +70,7 @@ async def test_a_two_path_lathe_through_the_poller_to_a_subscriber(broker: Broke
             event = "focas/lathe/path2/alarms/event"
             await seen.until(lambda s: s.latest(event) is not None)
             raised = AlarmEvent.decode(seen.latest(event) or b"")
-            assert (raised.type, raised.number, raised.active) == (4, 510, True)
+            assert (raised.alm_type, raised.alm_no, raised.active) == (4, 510, True)
 
             await server.aclose()
             await until(poller, clock, lambda: poller.is_online("lathe") is False, 1.0)

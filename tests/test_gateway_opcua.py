@@ -157,7 +157,7 @@ async def test_focas_states_become_opc_40502_enumerations() -> None:
             assert await read(2, "ActOperationMode") == 1  # MDA
             assert await read(2, "ActProgramStatus") == 1  # Running
             assert await read(2, "ActStatus") == 0  # Active
-            sink.samples([sample("lathe", 1, "run", "RESET"), sample("lathe", 1, "mode", "EDIT")])
+            sink.samples([sample("lathe", 1, "run", "****"), sample("lathe", 1, "mode", "EDIT")])
             await sink.flush()
             assert await read(1, "ActProgramStatus") == 0  # Stopped
             assert await read(1, "ActStatus") == 2  # Reset

@@ -139,12 +139,12 @@ async def test_alarms_raised_and_cleared_are_events_of_their_path() -> None:
         clock.advance(1.0)
         await poller.step()
         assert {
-            (c.machine, c.path, c.alm_type, c.alm_no, c.axis, c.active) for c in sink.changes
+            (c.machine, c.path, c.alm_type, c.alm_no, c.axis_no, c.active) for c in sink.changes
         } == {
             ("lathe", 2, 4, 510, 1, True),
             ("packed", 2, 4, 510, 1, True),
         }
-        assert all(c.message == "OVER TRAVEL +Z" for c in sink.changes)
+        assert all(c.msg == "OVER TRAVEL +Z" for c in sink.changes)
         assert sink.of("lathe")[(2, "alarm", "")].value is True
         sink.clear()
         clock.advance(1.0)

@@ -178,8 +178,8 @@ async def test_a_mode_that_is_none_names_mode(server: Served) -> None:
     [
         (
             ["sim", "fault", "drp"],
-            "focas-net sim fault: error: argument KIND: invalid choice: 'drp' (choose from "
-            "'delay', 'drop', 'error', 'split'); see focas-net sim fault --help",
+            "focas-net sim fault: error: argument KIND: unknown fault kind 'drp' (one of "
+            "delay, drop, error, split); see focas-net sim fault --help",
         ),
         (
             ["sim", "cycle", "Stat"],

@@ -360,7 +360,7 @@ async def test_alarm_watch_stopped_early_leaves_none_of_its_alarms(
         (
             "pmc_bits.py",
             ["--area", "D"],
-            "pmc_wrpmcrng; the CNC has no PMC area D (give --area of one it has)",
+            "pmc_rdpmcrng; the CNC has no PMC area D (give --area of one it has)",
         ),
         (
             "pmc_bits.py",

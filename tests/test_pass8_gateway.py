@@ -399,7 +399,7 @@ def test_an_alarm_on_mqtt_carries_the_code_the_cli_and_opc_ua_show(
     assert json.loads(event.payload)["code"] == code
     assert json.loads(active.payload)["alarms"][0]["code"] == code
     assert condition_name(alm_type, number, axis) == (f"{code}/{axis}" if axis else code)
-    assert AlarmEvent.decode(event.payload).number == number
+    assert AlarmEvent.decode(event.payload).alm_no == number
 
 
 # -- a port that is an HTTP server, as the command line and the gateway name it --------------------

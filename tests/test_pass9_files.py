@@ -6,9 +6,19 @@ from __future__ import annotations
 from pathlib import Path
 
 import pytest
+from examples_support import port_args, run_example
+from support import serving
 
 from focas_net.adapters._native_cnc import path_sysinfo
-from focas_net.sim import Identity, Machine, MachineError, PathSpec, load_machine
+from focas_net.sim import (
+    Identity,
+    Machine,
+    MachineError,
+    MachineFileError,
+    PathSpec,
+    default_machine,
+    load_machine,
+)
 from focas_net.sim.nc import CycleState, Engine, ManualClock, NcSettings, parse_program
 
 
@@ -139,3 +149,93 @@ def test_one_path_reports_the_identity_as_it_is() -> None:
         "lathe", axes=["X", "Z"], identity=Identity(2, 8, " 0", " T", "D6F1", "32.0", "02")
     )
     assert machine.path_identity(1) == machine.identity()
+
+
+# -- a bit parameter given more than eight bits is told so, not shown another value ---------
+
+
+@pytest.mark.parametrize("text", ["101100001", "0b101100001", "1_0110_0001"])
+def test_more_than_eight_bits_are_named_without_a_made_up_value(tmp_path: Path, text: str) -> None:
+    path = tmp_path / "m.toml"
+    path.write_text(
+        f'[machine]\nname = "m"\naxes = ["X"]\n[parameters.1815]\ntype = "bit"\nvalue = "{text}"\n',
+        encoding="utf-8",
+    )
+    with pytest.raises(MachineFileError) as e:
+        load_machine(path)
+    message = str(e.value)
+    assert f"parameters.1815.value: {text!r} has 9 bits" in message
+    # no example made of another value (it said "00001011" and "0b1011" for any of these)
+    assert '"00001011"' not in message and '"0b1011"' not in message
+
+
+# -- a word of too many digits or none names its address ------------------------------------
+
+
+@pytest.mark.parametrize(
+    ("block", "code", "detail"),
+    [
+        ("G4 P99999999999", "PS0003", "P99999999999: a number has at most 9 digits"),
+        ("G00000000001 X1.", "PS0003", "G00000000001: a number has at most 9 digits"),
+        ("X" + "9" * 40, "PS0003", "X9999999999999999999...: a number has at most 9 digits"),
+        ("G0 X.", "PS0005", "X.: no digits after X"),
+        ("G0 Y-.", "PS0005", "Y-.: no digits after Y"),
+    ],
+)
+def test_a_word_of_too_many_digits_or_none_names_its_address(
+    block: str, code: str, detail: str
+) -> None:
+    got, text, _ = _alarm_of(block)
+    assert got == code
+    assert text.endswith(f"(O0012 N20): {detail}")
+
+
+# -- the examples check what was typed before they change anything -------------------------
+
+
+@pytest.mark.parametrize(("count", "shown"), [("0", "0"), ("-3", "-3"), ("100000", "100000")])
+async def test_pmc_bits_names_the_byte_count_as_typed_and_writes_nothing(
+    count: str, shown: str
+) -> None:
+    """``--bytes -3`` said ``PMC byte count 0``; ``--bytes 0`` was refused in other words
+    (``--bytes must be at least 1``) than ``--bytes 100000``."""
+    machine = default_machine()
+    before = machine.read_pmc("R", 100, 4)
+    async with serving(machine) as served:
+        code, out, err = await run_example(
+            "pmc_bits.py", *port_args(served), "--area", "R", "--bytes", count
+        )
+    assert (code, out) == (2, "")
+    assert err == f"pmc_bits: PMC byte count {shown} is outside 1..65536\n"
+    assert machine.read_pmc("R", 100, 4) == before
+
+
+async def test_write_param_with_unlock_refuses_a_bad_password_before_touching_the_panel() -> None:
+    machine = default_machine()
+    async with serving(machine) as served:
+        code, out, err = await run_example(
+            "write_param_with_unlock.py", *port_args(served), "--password", "12345"
+        )
+    assert (code, out) == (2, "")
+    assert err == (
+        "write_param_with_unlock: parameter password '12345': must be 1..4 ASCII characters\n"
+    )
+
+
+async def test_run_program_names_a_program_file_that_is_not_text(tmp_path: Path) -> None:
+    """A program file of Latin-1 bytes ended run_program in a UnicodeDecodeError traceback."""
+    path = tmp_path / "cafe.nc"
+    path.write_bytes(b"O3005 (CAF\xe9)\nM30\n")
+    code, out, err = await run_example("run_program.py", "--port", "1", "--program", str(path))
+    assert (code, out) == (2, "")
+    assert err == (
+        f"run_program: {str(path)!r}: line 1: byte 0xE9 is not text: a program is printable "
+        "ASCII text\n"
+    )
+
+
+async def test_run_program_says_a_missing_file_as_the_command_line_does(tmp_path: Path) -> None:
+    path = tmp_path / "none.nc"
+    code, out, err = await run_example("run_program.py", "--port", "1", "--program", str(path))
+    assert (code, out) == (2, "")
+    assert err == f"run_program: cannot read {str(path)!r}: no such file or directory\n"

@@ -102,8 +102,8 @@ async def test_cli_unlock_refuses_a_long_password(locked_cli: Cli) -> None:
         code, out, err = await run_focas_net("unlock", typed, "--port", str(locked_cli.served.port))
         assert (code, out) == (EXIT_USAGE, "")
         assert err.startswith(
-            f"focas-net unlock: error: argument PASSWORD: must be 1..4 ASCII characters, "
-            f"got {typed!r}; "
+            f"focas-net unlock: error: argument PASSWORD: parameter password {typed!r}: "
+            "must be 1..4 ASCII characters; "
         )
     await locked_cli.fails(EXIT_CNC, "unlock", "4321")
     await locked_cli.ok("unlock", "1234")
@@ -115,8 +115,10 @@ async def test_cli_password_option_refuses_a_long_password(locked_cli: Cli) -> N
         "param", "set", "6711", "42", "--password", "1234zzz", "--port", port
     )
     assert (code, out) == (EXIT_USAGE, "")
-    assert err.startswith("focas-net param set: error: argument --password: must be 1..4 ")
-    assert "got '1234zzz'; " in err
+    assert err.startswith(
+        "focas-net param set: error: argument --password: parameter password '1234zzz': must "
+        "be 1..4 ASCII characters; "
+    )
     assert locked_cli.served.machine.read_param(6711, 0) == 0
 
 

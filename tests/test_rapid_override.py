@@ -86,8 +86,13 @@ async def test_both_clients_and_protocols_agree_on_the_steps() -> None:
 
 async def test_the_command_line_refuses_7_and_takes_f0() -> None:
     async with serving(default_machine()) as served:
-        line = await fails(EXIT_USAGE, "sim", "override", "--rapid", "7", *at(served))
-        assert line == f"focas-net: {WORDS_7}"
+        line = await fails(
+            EXIT_USAGE, "sim", "override", "--rapid", "7", *at(served), prefix="focas-net"
+        )
+        assert line == (
+            f"focas-net sim override: error: argument --rapid: {WORDS_7}; see focas-net sim "
+            "override --help"
+        )
         assert served.machine.overrides()[1] == 100
         out = await ok("sim", "override", "--rapid", "F0", "--json", *at(served))
         assert '"rapid": 0' in out

@@ -27,9 +27,9 @@ from focas_net._address import (
     url_advice,
 )
 from focas_net._tls import pem_holds, ssl_error_text
-from focas_net._typed import rapid_step, typed_number
+from focas_net._typed import override_unfit, rapid_step, typed_number
 from focas_net.client._values import check_path
-from focas_net.protocol import PASSWORD_SIZE, PmcArea
+from focas_net.protocol import Password, PmcArea
 
 from . import _format as fmt
 
@@ -43,6 +43,7 @@ __all__ = [
     "EXIT_OK",
     "EXIT_PROTOCOL",
     "EXIT_USAGE",
+    "FEED",
     "FILE_NAME",
     "HISTORY_DEPTH",
     "HOST",
@@ -62,6 +63,7 @@ __all__ = [
     "PROG",
     "RAPID",
     "SECONDS",
+    "SPINDLE",
     "Parser",
     "argument_type",
     "choice",
@@ -74,10 +76,10 @@ __all__ = [
     "parse_interval",
     "parse_log_level",
     "parse_non_negative",
+    "parse_override",
     "parse_path",
     "parse_port",
     "parse_positive",
-    "parse_rapid",
     "parse_seconds",
     "pem_holds",
     "print_error",
@@ -278,10 +280,16 @@ def parse_non_negative(text: str) -> int:
     return value
 
 
-def parse_rapid(text: str) -> int:
-    """A rapid override as typed: ``F0`` (0 %) or a whole number, which the machine checks
-    against FANUC's steps (0, 25, 50, 100)."""
-    return rapid_step(text)
+def parse_override(what: str, text: str) -> int:
+    """The ``what`` override (``feed``, ``rapid``, ``spindle``) as typed, a whole number of
+    percent (the rapid one also ``F0``), refused in the machine's words
+    (:func:`~focas_net._typed.override_unfit`) when the machine would refuse it, so the
+    parser names the option."""
+    value = rapid_step(text) if what == "rapid" else fmt.parse_int(text)
+    why = override_unfit(what, value)
+    if why is not None:
+        raise ValueError(why)
+    return value
 
 
 def parse_file_name(text: str) -> str:
@@ -327,22 +335,22 @@ def parse_interval(text: str) -> float:
 
 def parse_host(text: str, lowest: int = 1) -> str:
     """A host to connect to (:func:`~focas_net._address.check_host`), spaces around it
-    left out; a host with a port points to ``--port`` (``lowest``: 0 for a host to listen
-    on, whose port may be 0)."""
+    left out (spaces alone are refused as typed, as the clients refuse them); a host with a
+    port points to ``--port`` (``lowest``: 0 for a host to listen on, whose port may be 0)."""
     url = url_address(text.strip())
     if url is not None:
         raise ValueError(f"{shown(text)} is a URL: {url_advice(url, True)}")
     split = host_and_port(text.strip())
     if split:
         raise ValueError(f"{shown(text)} {split_advice(split, True, lowest)}")
-    return check_host(text.strip(), lowest)
+    return check_host(text.strip() or text, lowest)  # (spaces alone: named as typed)
 
 
 def parse_password(text: str) -> str:
-    """A parameter password as ``cnc_wrunlockparam`` carries it: 1..4 ASCII characters, no
-    NUL (the codec's rule, checked by the parser so nothing connects for a bad one)."""
-    if not 1 <= len(text) <= PASSWORD_SIZE or not text.isascii() or "\x00" in text:
-        raise ValueError(f"must be 1..{PASSWORD_SIZE} ASCII characters, got {text!r}")
+    """A parameter password as ``cnc_wrunlockparam`` carries it: the codec's rule
+    (:meth:`Password.from_text`), in its words, checked by the parser so nothing connects
+    for a bad one."""
+    Password.from_text(text)
     return text
 
 
@@ -388,7 +396,10 @@ LISTEN_PORT: Final = argument_type(partial(parse_port, lowest=0), "port")
 INT: Final = argument_type(fmt.parse_int, "integer")
 POSITIVE: Final = argument_type(parse_positive, "count")
 NON_NEGATIVE: Final = argument_type(parse_non_negative, "count")
-RAPID: Final = argument_type(parse_rapid, "rapid override")
+#: An override of ``sim override`` (its option: ``--feed``, ``--rapid``, ``--spindle``).
+FEED: Final = argument_type(partial(parse_override, "feed"), "feed override")
+RAPID: Final = argument_type(partial(parse_override, "rapid"), "rapid override")
+SPINDLE: Final = argument_type(partial(parse_override, "spindle"), "spindle override")
 FILE_NAME: Final = argument_type(parse_file_name, "file name")
 SECONDS: Final = argument_type(parse_seconds, "seconds")
 INTERVAL: Final = argument_type(parse_interval, "seconds")

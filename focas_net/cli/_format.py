@@ -31,6 +31,7 @@ from focas_net.protocol import (
     StatusInfo,
     SysInfo,
     alarm_code,
+    alarm_fields,
     alarm_text,
     alarm_time_text,
     alarm_type_of,
@@ -245,24 +246,12 @@ def format_history_entry(entry: AlarmHistoryEntry) -> str:
 
 
 def alarm_dict(alarm: ActiveAlarm) -> dict[str, Any]:
-    return {
-        "code": alarm_code(alarm.alm_type, alarm.alm_no),
-        "axis_no": alarm.axis_no,
-        "alm_type": alarm.alm_type,
-        "alm_no": alarm.alm_no,
-        "msg": alarm.msg,
-    }
+    return alarm_fields(alarm.axis_no, alarm.alm_type, alarm.alm_no, alarm.msg)
 
 
 def history_dict(entry: AlarmHistoryEntry) -> dict[str, Any]:
-    return {
-        "occurred_at": utc_text(entry.occurred_at),
-        "code": alarm_code(entry.alm_type, entry.alm_no),
-        "axis_no": entry.axis_no,
-        "alm_type": entry.alm_type,
-        "alm_no": entry.alm_no,
-        "msg": entry.msg,
-    }
+    fields = alarm_fields(entry.axis_no, entry.alm_type, entry.alm_no, entry.msg)
+    return {"occurred_at": utc_text(entry.occurred_at), **fields}
 
 
 #: ``PS0100``: ASCII letters and digits only, as every number is typed (a digit of another

@@ -391,7 +391,10 @@ def reason(command: str, args: argparse.Namespace, exc: CncError) -> str | None:
 
 
 def _no_path(args: argparse.Namespace) -> str:
-    return (
-        f"the CNC has no path {args.path} (--path names one of its paths; a CNC of one path "
-        "has path 1)"
-    )
+    """The machine's paths, as the command read them before it refused ``--path``."""
+    count: int | None = getattr(args, "path_count", None)
+    if count is None:
+        return f"the CNC has no path {args.path} (--path names one of its paths)"
+    if count == 1:
+        return f"the CNC has no path {args.path}: it has path 1 only (leave out --path)"
+    return f"the CNC has no path {args.path}: it has paths 1..{count} (give --path 1..{count})"

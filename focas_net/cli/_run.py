@@ -274,7 +274,10 @@ async def _check_path(client: CncClient, args: argparse.Namespace) -> None:
     ``cnc_setpath`` refuses it, also for the reads no path changes (``sysinfo``, ``pmc``,
     the history), which would otherwise answer as though the path were there."""
     path = getattr(args, "path", 1)
-    if path != 1 and path > (await client.read_paths()).count:
+    if path == 1:
+        return
+    args.path_count = (await client.read_paths()).count  # for the refusal's words (_reasons)
+    if path > args.path_count:
         raise CncError.from_ew(EW.PATH, "cnc_setpath")
 
 

@@ -15,6 +15,7 @@ from dataclasses import dataclass
 from functools import partial
 from typing import Any, Final, Literal, TypedDict, Unpack
 
+from focas_net.protocol import fault_kind_of
 from focas_net.server.faults import MAX_FAULT_COUNT
 
 from . import program_cmds, read_cmds, sim_cmds, watch_cmds, write_cmds
@@ -22,6 +23,7 @@ from ._args import (
     AREA,
     BOOL,
     EXIT_CODES,
+    FEED,
     FILE_NAME,
     HISTORY_DEPTH,
     HOST,
@@ -34,6 +36,7 @@ from ._args import (
     POSITIVE,
     RAPID,
     SECONDS,
+    SPINDLE,
     argument_type,
     choice,
     command_parser,
@@ -172,8 +175,7 @@ def _range_arg(name: str, low: int, high: int) -> Arg:
 
 #: ``position --kind``, as cnc_rdposition numbers them (0..3).
 _POSITION_KINDS: Final = ("absolute", "machine", "relative", "distance")
-#: ``sim fault KIND`` and ``--scope``, sorted.
-_FAULT_KINDS: Final = tuple(sorted(sim_cmds.FAULT_KINDS))
+#: ``sim fault --scope``, sorted (a KIND is read by :func:`fault_kind_of`).
 _FAULT_SCOPES: Final = tuple(sorted(sim_cmds.FAULT_SCOPES))
 
 #: A VersaMax station's racks and slots.
@@ -484,7 +486,7 @@ COMMANDS: Final[tuple[Cmd | Group, ...]] = (
                 "set the overrides given (percent), or show them when none is given",
                 program_cmds.override,
                 (
-                    arg("--feed", type=INT, metavar="PCT", help="feed override 0..254"),
+                    arg("--feed", type=FEED, metavar="PCT", help="feed override 0..254"),
                     arg(
                         "--rapid",
                         type=RAPID,
@@ -493,7 +495,7 @@ COMMANDS: Final[tuple[Cmd | Group, ...]] = (
                     ),
                     arg(
                         "--spindle",
-                        type=INT,
+                        type=SPINDLE,
                         metavar="PCT",
                         help="spindle override 0..254",
                     ),
@@ -506,8 +508,7 @@ COMMANDS: Final[tuple[Cmd | Group, ...]] = (
                 (
                     arg(
                         "kind",
-                        type=choice(_FAULT_KINDS, "kind"),
-                        choices=_FAULT_KINDS,
+                        type=argument_type(fault_kind_of, "kind"),
                         metavar="KIND",
                         help="what happens to the answers: delay, drop, error or split",
                     ),

@@ -341,6 +341,11 @@ def check_options(args: argparse.Namespace) -> None:
     if fleet > MAX_FLEET:
         raise ConfigError(f"--fleet {fleet}: at most {MAX_FLEET} machines")
     workers = getattr(args, "workers", 1)
+    if fleet == 1 and 1 < workers <= MAX_WORKERS:
+        raise ConfigError(
+            f"--workers {workers} spreads a fleet over processes, and the fleet is 1 machine "
+            f"(without --fleet): give --fleet N (at least {workers} machines)"
+        )
     if workers > min(fleet, MAX_WORKERS):
         raise ConfigError(
             f"--workers {workers}: at most {MAX_WORKERS}, and no more than the {fleet} "

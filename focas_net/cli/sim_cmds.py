@@ -12,6 +12,7 @@ fault applies to (``queued behind 2 pending faults: answers 4..5 of this machine
 from __future__ import annotations
 
 import argparse
+from collections.abc import Callable
 from typing import Any, Final
 
 from focas_net.client import FocasClient
@@ -141,27 +142,55 @@ def clear(args: argparse.Namespace) -> PackedOnly:
         return alm_type in (-1, a.alm_type) and alm_no in (-1, a.alm_no)
 
     async def go(cnc: FocasClient) -> Output:
+        # the alarms of the --path path, as a CNC's RESET clears the selected path's; on a
+        # machine of several paths every line names that path, and a refusal where matches are
+        paths = (await cnc.read_paths()).count
+        on = f" on path {args.path}" if paths > 1 else ""
         before = await cnc.read_alarms()
         await cnc.sim.clear_alarms(alm_type, alm_no)
         remaining = await cnc.read_alarms()
         gone = [a for a in before if matches(a) and a not in remaining]
-        if given is not None and not gone:
-            raise NothingMatched(f"no active alarm matches {given}; nothing cleared")
+        if not gone:
+            elsewhere = await _elsewhere(cnc, paths, args.path, matches)
+            if given is not None:
+                where = ""
+                if elsewhere:
+                    other = elsewhere[0][0]
+                    where = f" ({given} is active on path {other}: focas-net sim clear {given}" + (
+                        f" --path {other})" if other != 1 else ")"
+                    )
+                raise NothingMatched(f"no active alarm matches {given}{on}; nothing cleared{where}")
         data = {
             "cleared": given or "all",
             "alarms": [fmt.alarm_dict(a) for a in gone],
             "active": [fmt.alarm_dict(a) for a in remaining],
         }
         if not gone:
-            return Output(data, "no active alarms; nothing to clear")
+            others = "; ".join(f"{n} active on path {p}" for p, n in elsewhere)
+            return Output(
+                data, f"no active alarms{on}; nothing to clear" + (f" ({others})" if others else "")
+            )
         # each as sim alarm names it: two alarms of one code on two axes are two entries
         what = ", ".join(
             fmt.alarm_code(a.alm_type, a.alm_no) + (f" (axis {a.axis_no})" if a.axis_no else "")
             for a in gone
         )
-        return Output(data, f"cleared {what}; {len(remaining)} still active")
+        return Output(data, f"cleared {what}{on}; {len(remaining)} still active{on}")
 
     return PackedOnly(go, SIM_CONTROLS)
+
+
+async def _elsewhere(
+    cnc: FocasClient, paths: int, path: int, matches: Callable[[Any], bool]
+) -> list[tuple[int, int]]:
+    """The other paths of a machine with alarms ``matches`` takes, and how many each has."""
+    found = []
+    for other in range(1, paths + 1):
+        if other != path:
+            n = sum(1 for a in await cnc.read_alarms(path=other) if matches(a))
+            if n:
+                found.append((other, n))
+    return found
 
 
 def _whose(scope: FaultScope) -> str:
@@ -201,7 +230,7 @@ def parse_fault_count(text: str) -> int:
 
 
 def fault(args: argparse.Namespace) -> PackedOnly:
-    kind = FAULT_KINDS[args.kind]
+    kind: FaultKind = args.kind  # read by fault_kind_of, as every front end reads it
     scope = FAULT_SCOPES[args.scope]
     arg = _fault_arg(kind, args.arg)
     #: the numbers sent, for the words of a refusal (cli._reasons)

@@ -127,9 +127,9 @@ def pmc_write(args: argparse.Namespace) -> Go | PackedOnly:
 def _parse_byte_bit(area: PmcArea, text: str) -> tuple[int, int]:
     expected = "BYTE.BIT (e.g. 100.3)"
     byte, bit = fmt.parse_number_bit(text, expected)
-    if bit is None or byte < 0:
+    if bit is None:
         raise ValueError(f"expected {expected}, got {text!r}")
-    why = pmc_bit_refusal(area.name, byte, bit)  # the words of every front end
+    why = pmc_bit_refusal(area.name, byte, bit)  # the words of every front end (-1 too)
     if why is not None:
         raise ValueError(why)
     return byte, bit

@@ -26,6 +26,7 @@ from focas_net._address import address_text
 from focas_net._typed import os_reason
 from focas_net.errors import (
     EW,
+    CncError,
     FocasConnectionError,
     FocasTimeoutError,
     FrameError,
@@ -48,6 +49,7 @@ __all__ = [
     "lost_error",
     "no_answer_error",
     "not_focas_error",
+    "path_refusal",
     "timeout_error",
     "undecodable_error",
     "violation_error",
@@ -155,6 +157,12 @@ def lost_error(peer: str, exc: BaseException | None, answered: bool = True) -> F
         err = FocasConnectionError(f"connection to {peer} lost{when}: {os_reason(exc)}")
     err.__cause__ = exc
     return err
+
+
+def path_refusal(function: str, path: int, paths: int) -> CncError:
+    """EW_PATH of a call of ``function`` for ``path``, which a CNC of ``paths`` paths does not
+    have, in the words of both clients: ``cnc_statinfo: path 3, the CNC has paths 1..1``."""
+    return CncError.from_ew(EW.PATH, f"{function}: path {path}, the CNC has paths 1..{paths}")
 
 
 def no_answer_error(call: str, peer: str | None, sent: bool = True) -> FocasTimeoutError:

@@ -17,6 +17,7 @@ from types import TracebackType
 from typing import Self
 
 from focas_net._address import address_text, check_host, check_port
+from focas_net._typed import os_reason
 from focas_net.errors import FocasConnectionError
 
 from ._values import check_path, check_timeout
@@ -328,8 +329,9 @@ class Lifecycle:
             if not task.done():
                 task.cancel()
                 await asyncio.wait([task])
-            if not task.cancelled() and task.exception() is not None:
-                self._logger.warning("reconnect to %s failed: %r", self.address, task.exception())
+            failed = None if task.cancelled() else task.exception()
+            if failed is not None:
+                self._logger.warning("reconnect to %s failed: %s", self.address, os_reason(failed))
         if self._ready is not None:
             self._ready.set()
 

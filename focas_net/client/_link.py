@@ -19,6 +19,7 @@ import logging
 import ssl as _ssl
 from typing import Any, Final
 
+from focas_net._typed import os_reason
 from focas_net.errors import (
     EW,
     CncError,
@@ -29,10 +30,18 @@ from focas_net.errors import (
     ProtocolError,
 )
 
-from ..protocol import COMMANDS, CommandSpec, EwReply, FaultScope, FaultsRequest, Password
+from ..protocol import (
+    COMMANDS,
+    CommandSpec,
+    EwReply,
+    FaultScope,
+    FaultsRequest,
+    Password,
+    PathSelection,
+)
 from ..protocol import Command as C
 from ._composite import CompositeCalls
-from ._failures import echo_error, undecodable_error
+from ._failures import echo_error, path_refusal, undecodable_error
 from ._values import check_int
 from .connection import MAX_IN_FLIGHT, Connection, NotSentError, _Pending, open_connection
 from .reconnect import ClientState, ReconnectPolicy, StateCallback
@@ -43,6 +52,7 @@ __all__ = ["Link"]
 logger = logging.getLogger("focas_net.client.client")
 
 _UNLOCK: Final = COMMANDS[C.WRUNLOCKPARAM]
+_GETPATH: Final = COMMANDS[C.GETPATH]
 #: The request a new connection of a reconnect must have answered before the link counts as
 #: back: the listing of that connection's own faults, a control command no fault armed on the
 #: server replaces or counts (the user's next request keeps the fault meant for it); an EW
@@ -240,14 +250,16 @@ class Link(CompositeCalls):
             return False
         except ProtocolError as exc:
             if isinstance(exc, PayloadError):  # an unlock answer that does not decode
-                logger.warning("reconnect attempt %d to %s: %r", attempt, self.address, exc)
+                logger.warning(
+                    "reconnect attempt %d to %s: %s", attempt, self.address, os_reason(exc)
+                )
                 return False
             logger.warning("%s; not reconnecting", exc)  # not a FOCAS server
             self._violation = exc
             self._set_state(ClientState.DISCONNECTED)
             return True
         except Exception as exc:  # e.g. an unlock answer that does not decode
-            logger.warning("reconnect attempt %d to %s: %r", attempt, self.address, exc)
+            logger.warning("reconnect attempt %d to %s: %s", attempt, self.address, os_reason(exc))
             return False
         if conn.closed:
             return False
@@ -336,7 +348,10 @@ class Link(CompositeCalls):
                     ) from exc
                 if type(value) is not EwReply:
                     return value
-                self._raise_unless_unlock(spec, value.ew, False, raw, payload)
+                try:
+                    self._raise_unless_unlock(spec, value.ew, False, raw, payload)
+                except CncError as exc:
+                    raise await self._path_refusal(exc, spec, path, deadline) from None
                 await self._unlock_for_retry(conn, deadline)
                 return await self._request_at(spec, payload, deadline, True, path)
         return await self._request_at(spec, payload, deadline, path=path)
@@ -374,11 +389,31 @@ class Link(CompositeCalls):
                 if self._policy is None:
                     raise
                 continue  # never reached the peer: safe to send on the next connection
-            value = self._answer(spec, raw, retried, payload)
+            try:
+                value = self._answer(spec, raw, retried, payload)
+            except CncError as exc:
+                raise await self._path_refusal(exc, spec, path, deadline) from None
             if value is not UNLOCK_AND_RETRY:
                 return value
             await self._unlock_for_retry(conn, deadline)
             retried = True
+
+    async def _path_refusal(
+        self, refused: CncError, spec: CommandSpec, path: int, deadline: float | None
+    ) -> CncError:
+        """``refused`` (a call of ``spec`` for ``path``; 0: of no path), or for EW_PATH of a
+        path beyond the CNC's the same refusal in the native client's words (``path 3, the
+        CNC has paths 1..1``): a packed answer carries the code only, so the count is read
+        after the refusal (``cnc_getpath``), within the call's deadline."""
+        if refused.ew != EW.PATH or not path:
+            return refused
+        try:
+            paths: PathSelection = await self._request_at(_GETPATH, b"", deadline)
+        except FocasError:
+            return refused
+        if not 0 < paths.max < path:
+            return refused
+        return path_refusal(spec.focas_name, path, paths.max)
 
     def _start(
         self, spec: CommandSpec, payload: bytes, deadline: float | None, path: int = 0

@@ -35,8 +35,8 @@ from functools import partial
 from typing import Any, Final
 
 from focas_net._address import address_text
+from focas_net._typed import os_reason
 from focas_net.errors import (
-    EW,
     CncError,
     FocasConnectionError,
     FocasError,
@@ -76,6 +76,7 @@ from ._failures import (
     connect_error,
     lost_error,
     no_answer_error,
+    path_refusal,
     timeout_error,
     violation_error,
 )
@@ -320,9 +321,7 @@ async def _connect_requests(handle: Handle) -> None:
 def check_path_of(handle: Handle, path: int, function: str) -> None:
     """EW_PATH (:class:`CncError`) unless ``handle``'s open answer announces ``path``."""
     if path > handle.paths:
-        raise CncError.from_ew(
-            EW.PATH, f"{function}: path {path}, the CNC has paths 1..{handle.paths}"
-        )
+        raise path_refusal(function, path, handle.paths)
 
 
 def _abort(channels: list[Channel]) -> None:
@@ -489,7 +488,7 @@ class NativeLink(CompositeCalls):
             self._set_state(ClientState.DISCONNECTED)
             return True
         except Exception as exc:  # refused, unreachable, or an answer that does not decode
-            logger.debug("reconnect attempt %d to %s: %s", attempt, self.address, exc)
+            logger.debug("reconnect attempt %d to %s: %s", attempt, self.address, os_reason(exc))
             self._attempt_error = exc
             return False
         self._install(handle)

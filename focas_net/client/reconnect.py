@@ -63,6 +63,11 @@ class ReconnectPolicy:
                 raise ValueError(
                     f"reconnect delays must not be negative: {what} {getattr(self, what)!r}"
                 )
+        if self.initial_delay > self.max_delay:
+            raise ValueError(
+                f"initial_delay {self.initial_delay!r} must not exceed max_delay "
+                f"{self.max_delay!r} (the cap of every delay)"
+            )
         attempts = self.max_attempts
         if attempts is not None and (isinstance(attempts, bool) or not isinstance(attempts, int)):
             raise TypeError(f"max_attempts must be an integer or None, got {attempts!r}")

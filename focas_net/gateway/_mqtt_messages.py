@@ -39,7 +39,7 @@ from datetime import UTC, datetime
 from typing import Any, Final, Literal
 
 from focas_net.errors import OPCUA_BAD_COMMUNICATION_ERROR, OPCUA_GOOD
-from focas_net.protocol.alarms import alarm_code
+from focas_net.protocol.alarms import alarm_fields
 
 from .model import ITEMS, AlarmChange, Item, MachineShape, Sample, Scope, Value
 
@@ -147,36 +147,34 @@ class Availability:
 
 @dataclass(frozen=True, slots=True)
 class AlarmEvent:
-    """The payload of ``P/M/pathN/alarms/event`` (and one entry of the active list): the alarm's
-    FOCAS type and number, its axis (0: none), its message, whether it was raised (``active``)
-    or cleared, and when; its document carries the alarm's code as the CNC screen shows it
-    besides (``EX1001``: :func:`~focas_net.protocol.alarms.alarm_code`, as the command line's
-    ``code`` and the OPC UA condition's name)."""
+    """The payload of ``P/M/pathN/alarms/event`` (and one entry of the active list): the alarm
+    with the keys every front end gives it (:func:`~focas_net.protocol.alarms.alarm_fields`:
+    ``code`` as the CNC screen shows it, ``axis_no`` (0: none), ``alm_type``, ``alm_no``,
+    ``msg``, as the command line's ``alarms --json`` and the web page's API), whether it was
+    raised (``active``) or cleared, and when."""
 
-    type: int
-    number: int
-    axis: int
-    message: str
+    alm_type: int
+    alm_no: int
+    axis_no: int
+    msg: str
     active: bool
     time: str
 
+    @property
+    def key(self) -> tuple[int, int, int]:
+        """The identity of an alarm: ``(axis_no, alm_type, alm_no)``, as ``ActiveAlarm.key``."""
+        return (self.axis_no, self.alm_type, self.alm_no)
+
     def document(self) -> dict[str, Value]:
-        return {
-            "type": self.type,
-            "number": self.number,
-            "code": alarm_code(self.type, self.number),
-            "axis": self.axis,
-            "message": self.message,
-            "active": self.active,
-            "time": self.time,
-        }
+        fields = alarm_fields(self.axis_no, self.alm_type, self.alm_no, self.msg)
+        return {**fields, "active": self.active, "time": self.time}
 
     def encode(self) -> bytes:
         return _dumps(self.document())
 
     @classmethod
     def from_document(cls, d: Mapping[str, Any]) -> AlarmEvent:
-        return cls(d["type"], d["number"], d["axis"], d["message"], d["active"], d["time"])
+        return cls(d["alm_type"], d["alm_no"], d["axis_no"], d["msg"], d["active"], d["time"])
 
     @classmethod
     def decode(cls, payload: bytes) -> AlarmEvent:
@@ -462,11 +460,11 @@ class Publication:
         touched: dict[tuple[str, int], str] = {}
         for c in changes:
             stamp = iso_time(c.time)
-            event = AlarmEvent(c.alm_type, c.alm_no, c.axis, c.message, c.active, stamp)
+            event = AlarmEvent(c.alm_type, c.alm_no, c.axis_no, c.msg, c.active, stamp)
             topic = f"{self.path_topic(c.machine, c.path)}/alarms/event"
             messages.append(Message(topic, event.encode(), False))
             active = self._active.setdefault(c.machine, {}).setdefault(c.path, {})
-            key = (c.alm_type, c.alm_no, c.axis)
+            key = (c.alm_type, c.alm_no, c.axis_no)
             if c.active:
                 active[key] = event
             else:

@@ -73,7 +73,7 @@ class Conditions:
             root = roots.get(c.machine)
             if root is None:
                 continue
-            key = (c.machine, c.path, c.alm_type, c.alm_no, c.axis)
+            key = (c.machine, c.path, c.alm_type, c.alm_no, c.axis_no)
             ev = self._active.get(key)
             if c.active:
                 if ev is not None:
@@ -172,7 +172,7 @@ class Conditions:
         for name, dtype in ev.data_types.items():  # fields typed by a data type's node id
             if isinstance(dtype, ua.NodeId):
                 ev.data_types[name] = _BUILT_IN.get(dtype.Identifier, ua.VariantType.Variant)
-        ident = condition_name(c.alm_type, c.alm_no, c.axis)
+        ident = condition_name(c.alm_type, c.alm_no, c.axis_no)
         ev.add_property("AlarmIdentifier", ident, ua.VariantType.String)
         ev.add_property("NodeId", None, ua.VariantType.NodeId)  # the ConditionId
         ev.EventType = ua.NodeId(CncId.ALARM_TYPE, self._cnc)
@@ -182,7 +182,7 @@ class Conditions:
         ev.ConditionName = ident
         ev.ConditionClassId = ua.NodeId(ua.ObjectIds.ProcessConditionClassType)
         ev.ConditionClassName = ua.LocalizedText("ProcessConditionClassType")
-        ev.Message = ua.LocalizedText(alarm_text(c.alm_type, c.alm_no, c.message, c.axis))
+        ev.Message = ua.LocalizedText(alarm_text(c.alm_type, c.alm_no, c.msg, c.axis_no))
         ev.Severity = ALARM_SEVERITY
         ev.LastSeverity = ALARM_SEVERITY
         ev.EnabledState = ua.LocalizedText("Enabled")

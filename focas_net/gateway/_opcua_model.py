@@ -76,22 +76,22 @@ class MachineNodes:
 
 # --- conversions of FOCAS values into OPC 40502's ---------------------------------------------
 
-# (the poller names the modes and run states as focas_net.protocol.values does: AutMode.MEM is
-# "MEM", RunState.RESET "RESET")
-_OPERATION_MODE: Final = {AutMode.MDI.name: 1, AutMode.MEM.name: 2, AutMode.RMT.name: 2}
+# (the poller names the modes and run states by the one table's labels, as the CNC screen and
+# every front end: AutMode.MEM is "MEM", RunState.RESET "****")
+_OPERATION_MODE: Final = {AutMode.MDI.label: 1, AutMode.MEM.label: 2, AutMode.RMT.label: 2}
 _PROGRAM_STATUS: Final = {
-    RunState.RESET.name: 0,  # Stopped
-    RunState.STOP.name: 3,  # Interrupted
-    RunState.HOLD.name: 3,
-    RunState.STRT.name: 1,  # Running
-    RunState.MSTR.name: 1,
+    RunState.RESET.label: 0,  # Stopped
+    RunState.STOP.label: 3,  # Interrupted
+    RunState.HOLD.label: 3,
+    RunState.STRT.label: 1,  # Running
+    RunState.MSTR.label: 1,
 }
 _CHANNEL_STATUS: Final = {
-    RunState.RESET.name: 2,  # Reset
-    RunState.STOP.name: 1,  # Interrupted
-    RunState.HOLD.name: 1,
-    RunState.STRT.name: 0,  # Active
-    RunState.MSTR.name: 0,
+    RunState.RESET.label: 2,  # Reset
+    RunState.STOP.label: 1,  # Interrupted
+    RunState.HOLD.label: 1,
+    RunState.STRT.label: 0,  # Active
+    RunState.MSTR.label: 0,
 }
 
 

@@ -234,6 +234,10 @@ class MqttSettings:
         for key in ("username", "password"):
             if getattr(self, key) is not None:
                 at.key(key).text(getattr(self, key), "a non-empty string")
+        if self.password is not None and self.username is None:  # (the client would drop it)
+            at.key("username").fail(
+                "missing (MQTT sends a password only with a user name: give username too)"
+            )
         for key in ("client_id", "gateway"):  # (a topic level, a payload's text: printable)
             value = getattr(self, key)
             if value is not None and (

@@ -190,14 +190,15 @@ class Sample:
 @dataclass(frozen=True, slots=True)
 class AlarmChange:
     """An alarm entered (``active``) or left the active list of a path: identified by its FOCAS
-    type and number (and axis, 0 for none), with its message."""
+    type and number (and axis, 0 for none), with its message; named as ``ActiveAlarm`` and
+    every front end name them (``alm_type``, ``alm_no``, ``axis_no``, ``msg``)."""
 
     machine: str
     path: int
     alm_type: int
     alm_no: int
-    axis: int
-    message: str
+    axis_no: int
+    msg: str
     active: bool
     time: float
 

@@ -416,13 +416,13 @@ class Poller:
                 await st.client.connect()
             reader = await describe(st.config, st.client)
         except Exception as exc:  # (any failure: tried again after the policy's delay)
-            if st.attempts == 0 and st.described is None:
-                # a port never reached that said nothing may be an HTTP server: asked once,
-                # as the command line asks it
-                bound = min(st.config.timeout, HTTP_PROBE_BOUND)
-                told = await as_http_peer(exc, st.config.host, st.config.port, bound)
-            else:
-                told = exc
+            # a port that said nothing may be an HTTP server, on any attempt (one that took
+            # the port after a refusal or a loss too): asked as the command line asks it. The
+            # probe is asked only of a peer that said nothing, and costs an HTTP server well
+            # under a millisecond, a silent peer at most min(timeout, HTTP_PROBE_BOUND), no
+            # longer than the failed attempt itself waited (docs/gateway.md)
+            bound = min(st.config.timeout, HTTP_PROBE_BOUND)
+            told = await as_http_peer(exc, st.config.host, st.config.port, bound)
             st.failure = reason_of(told)
             st.next_attempt = self.timer() + self.policy.delay(st.attempts)
             st.attempts += 1

@@ -58,6 +58,7 @@ from focas_net.protocol import (
     PositionKind,
     RunState,
     StatusInfo,
+    field_label,
 )
 
 from .config import MachineConfig
@@ -121,10 +122,10 @@ class _Plan:
 
 
 def _name(values: type[LabelledValue], value: int) -> str:
-    try:
-        return values(value).name
-    except ValueError:
-        return str(value)
+    """The field's value as the CNC screen, the command line and the web page label it (the
+    one table's :func:`~focas_net.protocol.values.field_label`: ``MEM``, ``****``; a number
+    without a name as its digits)."""
+    return field_label(values, value)[0]
 
 
 def _status(path: int, s: StatusInfo) -> dict[Key, Outcome]:

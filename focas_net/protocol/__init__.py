@@ -13,6 +13,7 @@ from .alarms import (
     AlarmHistoryEntry,
     AlarmType,
     alarm_code,
+    alarm_fields,
     alarm_message,
     alarm_text,
     alarm_time_text,
@@ -63,6 +64,7 @@ from .faults import (
     FaultsCleared,
     FaultsRequest,
     ew_of_text,
+    fault_kind_of,
     fault_refusal,
 )
 from .frame import (
@@ -80,6 +82,7 @@ from .pmc import (
     PmcArea,
     PmcData,
     PmcRange,
+    pmc_address_unfit,
     pmc_bit_refusal,
 )
 from .programs import (
@@ -216,6 +219,7 @@ __all__ = [
     "VersaMaxReply",
     "VersaMaxRequest",
     "alarm_code",
+    "alarm_fields",
     "alarm_message",
     "alarm_text",
     "alarm_time_text",
@@ -224,8 +228,10 @@ __all__ = [
     "encode_frame",
     "encode_response",
     "ew_of_text",
+    "fault_kind_of",
     "fault_refusal",
     "field_label",
+    "pmc_address_unfit",
     "pmc_bit_refusal",
     "scan_frames",
     "status_labels",

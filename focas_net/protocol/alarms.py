@@ -31,6 +31,7 @@ __all__ = [
     "AlarmHistoryEntry",
     "AlarmType",
     "alarm_code",
+    "alarm_fields",
     "alarm_message",
     "alarm_text",
     "alarm_time_text",
@@ -104,6 +105,14 @@ def alarm_code(alm_type: int, alm_no: int) -> str:
     if prefix is None:
         return f"T{alm_type}:{alm_no:04d}"
     return f"{prefix}{alm_no:04d}"
+
+
+def alarm_fields(axis_no: int, alm_type: int, alm_no: int, msg: str) -> dict[str, int | str]:
+    """One alarm as every front end writes it in JSON (``alarms --json``, the web page's
+    API, the gateway's MQTT alarm events): its code as the CNC screen shows it, then the
+    FOCAS names of ``ODBALMMSG2``'s fields (``axis_no``, ``alm_type``, ``alm_no``, ``msg``)."""
+    code = alarm_code(alm_type, alm_no)
+    return {"code": code, "axis_no": axis_no, "alm_type": alm_type, "alm_no": alm_no, "msg": msg}
 
 
 def alarm_text(alm_type: int, alm_no: int, msg: str = "", axis_no: int = 0) -> str:

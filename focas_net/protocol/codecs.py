@@ -18,6 +18,7 @@ from decimal import Decimal
 from typing import Any, ClassVar, Final, Self
 
 from .._memo import Memoized
+from .._typed import PASSWORD_SIZE, password_bytes
 from ..errors import PayloadError
 from ._base import I16, INT_RANGES, Codec, FixedPayload, field_error
 from .alarms import ActiveAlarmList, AlarmHistory
@@ -74,8 +75,6 @@ __all__ = [
     "encode_response",
 ]
 
-#: Bytes of a parameter password (``cnc_wrunlockparam``): 1..4 ASCII characters.
-PASSWORD_SIZE: Final = 4
 #: ``i16 ew = 0``, the start of every successful read or write answer.
 EW_OK_BYTES: Final = b"\x00\x00"
 
@@ -225,15 +224,9 @@ class Password(FixedPayload):
     @classmethod
     def from_text(cls, text: str | bytes) -> Self:
         """The payload of ``text``; ValueError, naming it, unless 1..4 ASCII characters
-        (TypeError unless text or bytes)."""
-        if not isinstance(text, str | bytes | bytearray):
-            raise TypeError(f"a parameter password is text or bytes, got {text!r}")
-        shown = text if isinstance(text, str) else bytes(text).decode("latin-1")
-        if not (1 <= len(shown) <= PASSWORD_SIZE and shown.isascii() and "\x00" not in shown):
-            raise ValueError(
-                f"parameter password {shown!r}: must be 1..{PASSWORD_SIZE} ASCII characters"
-            )
-        return cls(shown.encode("ascii").ljust(PASSWORD_SIZE, b"\x00"))
+        (TypeError unless text or bytes): the one rule, :func:`~focas_net._typed.password_bytes`,
+        which the machine and the command line apply too."""
+        return cls(password_bytes(text))
 
 
 @dataclass(frozen=True, slots=True)

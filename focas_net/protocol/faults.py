@@ -21,6 +21,7 @@ __all__ = [
     "FaultsCleared",
     "FaultsRequest",
     "ew_of_text",
+    "fault_kind_of",
     "fault_refusal",
 ]
 
@@ -33,6 +34,17 @@ FAULT_SCOPES: Final = frozenset(int(s) for s in FaultScope)
 _FAULT_KINDS: Final = frozenset(int(k) for k in FaultKind)
 _I16_MIN: Final = -32_768
 _I16_MAX: Final = 32_767
+
+
+def fault_kind_of(text: str) -> FaultKind:
+    """A fault's kind as typed on every front end (``sim fault KIND``, the page's ``kind``): its
+    name in any case, spaces around it left out; ValueError naming the text as typed and the
+    names otherwise (a number is no kind: ``1`` is not read as a delay)."""
+    try:
+        return FaultKind[text.strip().upper()]
+    except KeyError:
+        names = ", ".join(sorted(k.name.lower() for k in FaultKind))
+        raise ValueError(f"unknown fault kind {text!r} (one of {names})") from None
 
 
 def fault_refusal(kind: int, scope: int, count: int, arg: int) -> str | None:

@@ -9,13 +9,23 @@ import struct
 from dataclasses import dataclass
 from typing import ClassVar, Final, Self
 
+from .._typed import field_unfit
 from ..errors import PayloadError
 from ._base import FixedPayload, field_error
 
-__all__ = ["MAX_PMC_CHUNK", "PmcArea", "PmcData", "PmcRange", "pmc_bit_refusal"]
+__all__ = [
+    "MAX_PMC_CHUNK",
+    "PmcArea",
+    "PmcData",
+    "PmcRange",
+    "pmc_address_unfit",
+    "pmc_bit_refusal",
+]
 
 #: Most data bytes one PMC range call carries.
 MAX_PMC_CHUNK: Final = 32
+#: The highest PMC address a request carries (``datano_s`` and ``datano_e`` are ``u16``).
+_MAX_PMC_ADDRESS: Final = 0xFFFF
 
 
 class PmcArea(enum.IntEnum):
@@ -55,10 +65,22 @@ class PmcArea(enum.IntEnum):
             raise ValueError(f"unknown PMC area number {area}") from None
 
 
+def pmc_address_unfit(address: int) -> str | None:
+    """Why ``address`` is no PMC address a request carries (its ``u16`` field), in the words
+    every front end gives (``PMC start address 65536 is outside 0..65535``, as the client
+    refuses it before sending); None when it is one (the machine says whether its area has
+    it)."""
+    return field_unfit("PMC start address", address, 0, _MAX_PMC_ADDRESS)
+
+
 def pmc_bit_refusal(area: str, address: int, bit: int) -> str | None:
     """Why ``bit`` of PMC byte ``address`` of ``area`` (its letter) is no bit, in the words
     every front end gives (the command line's ``pmc bit R 1.8``, the dashboard's bit); None for
-    a bit 0..7."""
+    a bit 0..7. An address the request's ``u16`` field cannot carry is refused first, as the
+    client refuses it (``PMC start address 65536 is outside 0..65535``)."""
+    beyond = pmc_address_unfit(address)
+    if beyond is not None:
+        return beyond
     if 0 <= bit <= 7:
         return None
     return f"{area}{address}.{bit}: bit {bit} is outside 0..7: a PMC address is 1 byte wide"

@@ -9,7 +9,14 @@ from datetime import UTC, datetime, timedelta
 from itertools import islice
 from typing import Final
 
-from focas_net._typed import MAX_ALARM_TEXT, alarm_axis_unfit, alarm_text_unfit
+from focas_net._typed import (
+    MAX_ALARM_NO,
+    MAX_ALARM_TEXT,
+    MAX_ALARM_TYPE,
+    alarm_axis_unfit,
+    alarm_key_unfit,
+    alarm_text_unfit,
+)
 from focas_net.errors import EW
 
 from ._base import Counters, MachineError, logger, need_int, need_text
@@ -43,10 +50,6 @@ PathAlarmKey = tuple[int, AlarmKey]
 DEFAULT_HISTORY_CAPACITY: Final = 250
 #: The largest alarm history a machine keeps (a machine file's ``history_capacity`` too).
 MAX_HISTORY_CAPACITY: Final = 100_000
-#: Alarm type numbers a CNC can carry (``alm_type`` is a bit number in FANUC's masks).
-MAX_ALARM_TYPE: Final = 31
-#: The highest alarm number the CNC holds (its ``alm_no`` is a signed 16-bit word).
-MAX_ALARM_NO: Final = 0x7FFF
 #: Alarm type numbers of the alarms a program raises (FANUC 0i-D/F, 30i numbering).
 NC_ALARM_TYPES: Final = {AlarmKind.PS: 3, AlarmKind.OT: 4, AlarmKind.MC: 8}
 _NC_ALARM_KINDS: Final = {number: kind for kind, number in NC_ALARM_TYPES.items()}
@@ -146,10 +149,9 @@ class Alarms:
         for what, value in (("axis_no", axis_no), ("alm_type", alm_type), ("alm_no", alm_no)):
             need_int(what, value)
         need_text("alarm message", msg)
-        if not 0 <= alm_type <= MAX_ALARM_TYPE:
-            raise MachineError(EW.DATA, f"alm_type {alm_type} outside 0..{MAX_ALARM_TYPE}")
-        if not 0 <= alm_no <= MAX_ALARM_NO:
-            raise MachineError(EW.DATA, f"alm_no {alm_no} outside 0..{MAX_ALARM_NO}")
+        key_unfit = alarm_key_unfit(alm_type, alm_no)  # the words of every front end
+        if key_unfit is not None:
+            raise MachineError(EW.DATA, key_unfit)
         axis_unfit = alarm_axis_unfit(axis_no, axes)
         if axis_unfit is not None:
             raise MachineError(EW.ATTRIB, axis_unfit)
@@ -189,11 +191,9 @@ class Alarms:
         -1..32767), which would match nothing and say nothing of the typing."""
         need_int("alm_type", alm_type)
         need_int("alm_no", alm_no)
-        if not -1 <= alm_type <= MAX_ALARM_TYPE:
-            why = f"alm_type {alm_type} outside -1..{MAX_ALARM_TYPE} (-1: any)"
+        why = alarm_key_unfit(alm_type, alm_no, every=True)  # -1: any
+        if why is not None:
             raise MachineError(EW.DATA, why)
-        if not -1 <= alm_no <= MAX_ALARM_NO:
-            raise MachineError(EW.DATA, f"alm_no {alm_no} outside -1..{MAX_ALARM_NO} (-1: any)")
         gone = [
             k
             for p, k in self.active

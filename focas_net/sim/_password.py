@@ -9,16 +9,13 @@ from __future__ import annotations
 import hashlib
 import hmac
 from dataclasses import dataclass
-from typing import Final
 
-from focas_net._typed import WRONG_PASSWORD
+from focas_net._typed import PASSWORD_SIZE, WRONG_PASSWORD, password_bytes
 from focas_net.errors import EW
 
 from ._base import MachineError
 
 __all__ = ["ParamLock", "Session", "need_session"]
-
-_PASSWORD_SIZE: Final = 4
 
 
 @dataclass(slots=True)
@@ -39,26 +36,18 @@ def need_session(session: object) -> Session:
 
 
 def _password(text: str | bytes) -> bytes:
-    """A parameter password as the CNC keeps it: 1..4 ASCII characters (no NUL), padded to 4
-    bytes with NUL. ValueError, naming what was given, for anything else (TypeError for
-    what is neither text nor bytes)."""
-    if not isinstance(text, str | bytes):
-        raise TypeError(f"a parameter password is text or bytes, got {text!r}")
-    shown = text if isinstance(text, str) else text.decode("latin-1")
-    if not (1 <= len(shown) <= _PASSWORD_SIZE and shown.isascii() and "\x00" not in shown):
-        raise ValueError(
-            f"parameter password {shown!r}: must be 1..{_PASSWORD_SIZE} ASCII characters"
-        )
-    return shown.encode("ascii").ljust(_PASSWORD_SIZE, b"\x00")
+    """A parameter password as the CNC keeps it: the one rule of every front end
+    (:func:`~focas_net._typed.password_bytes`, the codec's too)."""
+    return password_bytes(text)
 
 
 def _offered(text: str | bytes) -> bytes | None:
     """The 4 bytes a password offered to :meth:`Machine.unlock` stands for, or None when it can
     match no password (longer than 4 bytes: never cut to a prefix)."""
     raw = text.encode("latin-1", "replace") if isinstance(text, str) else bytes(text)
-    if len(raw) > _PASSWORD_SIZE:
+    if len(raw) > PASSWORD_SIZE:
         return None
-    return raw.ljust(_PASSWORD_SIZE, b"\x00")
+    return raw.ljust(PASSWORD_SIZE, b"\x00")
 
 
 class ParamLock:

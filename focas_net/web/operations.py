@@ -45,6 +45,7 @@ from focas_net.protocol import (
     alarm_message,
     alarm_type_of,
     ew_of_text,
+    fault_kind_of,
     pmc_bit_refusal,
 )
 from focas_net.server.faults import FaultQueue, fault_refusal, parse_inject
@@ -473,13 +474,12 @@ def _inject_fault(station: Station, args: Mapping[str, Any]) -> JsonDict:
     """Arm a machine-wide fault with the checks of 0x0E05 inject_fault: a refused argument is
     ``EW_DATA`` with the reason :func:`~focas_net.server.faults.fault_refusal` gives every
     front end."""
-    kinds = ", ".join(k.name for k in FaultKind)
-    kind_text = _text(args, "kind", needed=f"one of {kinds}").strip().upper()
+    kinds = ", ".join(sorted(k.name.lower() for k in FaultKind))
+    typed = _text(args, "kind", needed=f"one of {kinds}")
     try:  # by its name, as `sim fault KIND` takes it (a number is none: "1" was a delay)
-        kind = FaultKind[kind_text]
-    except KeyError:
-        names = ", ".join(k.name for k in FaultKind)
-        raise ActionError(f"kind: one of {names}, got {kind_text!r}") from None
+        kind = fault_kind_of(typed)
+    except ValueError as exc:
+        raise ActionError(f"kind: {exc}") from None
     count = _int(args, "count", 1)
     # a delay or an error needs its argument; a drop or a split takes none
     if kind is FaultKind.ERROR:

@@ -22,9 +22,10 @@ from focas_net.protocol import (
     FaultKind,
     ParamDataType,
     RunState,
-    alarm_code,
+    alarm_fields,
     alarm_text,
     alarm_time_text,
+    pmc_address_unfit,
     status_labels,
 )
 from focas_net.server.faults import fault_arg_text
@@ -100,11 +101,7 @@ def status_fields(machine: Machine, path: int = 1) -> list[JsonDict]:
 def _alarm(axis_no: int, alm_type: int, alm_no: int, msg: str) -> JsonDict:
     """An alarm's numbers, message, code and the text every front end shows."""
     return {
-        "axis_no": axis_no,
-        "alm_type": alm_type,
-        "alm_no": alm_no,
-        "msg": msg,
-        "code": alarm_code(alm_type, alm_no),
+        **alarm_fields(axis_no, alm_type, alm_no, msg),
         "text": alarm_text(alm_type, alm_no, msg, axis_no),
     }
 
@@ -353,6 +350,9 @@ def pmc_address(text: str, area: str) -> tuple[str, int]:
     digits = found[2]
     if len(digits) > 6:
         raise ValueError(f"PMC address {text!r}: beyond every PMC area")
+    beyond = pmc_address_unfit(int(digits))  # as `pmc read R 70000` is refused
+    if beyond is not None:
+        raise ValueError(beyond)
     return letter, int(digits)
 
 

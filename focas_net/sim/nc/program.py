@@ -39,6 +39,8 @@ DIRECTORY_NAME: Final = 61
 SEQUENCE_DIGITS: Final = 5
 #: Word addresses a block may carry (O and N are handled apart).
 ADDRESSES: Final = frozenset("ABCDEFGHIJKLMPQRSTUVWXYZ")
+#: The characters of a word an alarm's detail shows (a longer one is cut, with "...").
+_SHOWN: Final = 23
 #: The addresses whose number FANUC reads as a whole number, never with a decimal point
 #: (``T1.``, ``M98 P1.`` raise PS0007, ILLEGAL USE OF DECIMAL POINT), and what each holds.
 #: G takes one (G43.4); the axes, F, I, J, K, Q, R take one as a length, feed or time.
@@ -373,7 +375,16 @@ def _word_value(cur: Cursor, address: str) -> Word:
     elif c == "[":
         value = bracketed(cur)
     elif c.isdigit() or c == ".":
-        number, point, _ = parse_number(cur)
+        try:
+            number, point, _ = parse_number(cur)
+        except AlarmRaised as e:  # name the word, not the digits alone
+            written = f"{address}{cur.text[start : cur.pos]}"
+            if len(written) > _SHOWN:
+                written = written[: _SHOWN - 3] + "..."
+            what = (
+                "a number has at most 9 digits" if e.number == 3 else f"no digits after {address}"
+            )
+            raise AlarmRaised(e.number, f"{written}: {what}") from None
         held = WHOLE_NUMBER_ADDRESSES.get(address)
         if point and held is not None:
             written = f"{address}{cur.text[start : cur.pos]}"
