@@ -12,14 +12,15 @@ import contextlib
 import errno
 import logging
 from dataclasses import replace
-from typing import Literal
+from pathlib import Path
+from typing import Any, Literal
 
 import pytest
-from cli_support import fails
+from cli_support import at, fails
 from poller_support import QUICK, RecordingSink, config
-from support import free_port, wait_until
+from support import free_port, serving, wait_until
 
-from focas_net.cli import EXIT_USAGE
+from focas_net.cli import EXIT_CONNECTION, EXIT_USAGE
 from focas_net.client import FocasClient, NativeClient, ReconnectPolicy
 from focas_net.errors import EW, CncError
 from focas_net.gateway import Gateway, GatewayConfig
@@ -159,3 +160,50 @@ async def test_a_host_of_spaces_alone_is_named_as_typed_on_every_front_end(typed
     assert said == (
         f"focas-net status: error: argument --host: {refused.value}; see focas-net status --help"
     )
+
+
+# -- a request longer than the server takes: the hint names --max-frame too ----------------------
+async def test_a_request_longer_than_the_servers_max_frame_is_not_blamed_on_a_drop_alone(
+    tmp_path: Path,
+) -> None:
+    program = tmp_path / "o1234.nc"
+    program.write_text("O1234\nG0 X1.\nM30\n%\n")
+    async with serving(max_frame=8) as served:
+        said = await fails(EXIT_CONNECTION, "program", "load", str(program), *at(served))
+    assert said == (
+        f"focas-net: connection closed by 127.0.0.1:{served.port} before any answer; the server "
+        "answers a new connection, so it closed this one on purpose (as a drop fault does: "
+        "focas-net sim fault drop), or as a server does with a request longer than it takes "
+        "(focas-net serve --max-frame)"
+    )
+
+
+# -- a path the CNC lacks is named before an axis of it, and by every path-taking call -----------
+@pytest.mark.parametrize(
+    ("call", "function"),
+    [
+        (lambda c: c.read_param(1420, axis=1, path=3), "cnc_rdparam"),
+        (lambda c: c.write_param(1420, 8000, axis=1, path=3), "cnc_wrparam"),
+        (lambda c: c.read_positions(axis=1, path=3), "cnc_rdposition"),
+    ],
+)
+async def test_an_axis_of_a_path_the_cnc_lacks_is_refused_for_the_path(
+    both_clients: tuple[Machine, FocasClient, NativeClient], call: Any, function: str
+) -> None:
+    _, cnc, native = both_clients
+    for client in (cnc, native):
+        with pytest.raises(CncError) as caught:
+            await call(client)
+        assert caught.value.ew == EW.PATH, caught.value
+        assert str(caught.value).endswith(f"{function}: path 3, the CNC has paths 1..1")
+
+
+async def test_the_alarms_of_a_path_the_cnc_lacks_are_refused_alike(
+    both_clients: tuple[Machine, FocasClient, NativeClient],
+) -> None:
+    _, cnc, native = both_clients
+    for client in (cnc, native):
+        with pytest.raises(CncError) as caught:
+            await client.read_alarms(path=2)
+        assert caught.value.ew == EW.PATH
+        assert str(caught.value).endswith("path 2, the CNC has paths 1..1"), caught.value

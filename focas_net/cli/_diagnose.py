@@ -92,9 +92,17 @@ def advice(found: Findings, protocol: str, tls: bool, packed_only: str | None = 
             "packed, or free a connection or raise the limit"
         )
     if found.packed if protocol == "packed" else found.native:
+        # (a packed server closes a connection whose frame is longer than its max_frame,
+        # answering nothing: the probes' requests are short and answered)
+        longer = (
+            ", or as a server does with a request longer than it takes (focas-net serve "
+            "--max-frame)"
+            if protocol == "packed"
+            else ""
+        )
         return (
             "the server answers a new connection, so it closed this one on purpose (as a drop "
-            "fault does: focas-net sim fault drop)"
+            f"fault does: focas-net sim fault drop){longer}"
         )
     return None
 

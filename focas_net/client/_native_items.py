@@ -36,7 +36,7 @@ from ..native import (
     info,
 )
 from ..protocol import ParamDataType, ParamValue
-from ._native_link import Handle, NativeLink
+from ._native_link import Handle, NativeLink, check_path_of
 from ._values import (
     REAL_WIDTH,
     byte_to_wire,
@@ -154,6 +154,7 @@ class NativeItems(NativeLink):
     # -- parameters and diagnostics ------------------------------------------------------
     @staticmethod
     def _check_axis_of(handle: Handle, axis: int, function: str, path: int = 1) -> None:
+        check_path_of(handle, path, function)  # (a path it lacks has no axes: named first)
         axes = handle.axes_on(path)
         if axis > axes:
             raise CncError.from_ew(EW.ATTRIB, f"{function}: axis {axis} of {axes}")

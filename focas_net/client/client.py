@@ -547,7 +547,8 @@ class FocasClient(Link):
         payload = _RDALMMSG.request.encode(AlarmMsgRequest(t, _MAX_ACTIVE_ALARMS))
         result: ActiveAlarmList = await self._request(_RDALMMSG, payload, timeout, p)
         if result.ew:
-            raise CncError.from_ew(result.ew, _RDALMMSG.focas_name)
+            refused = CncError.from_ew(result.ew, _RDALMMSG.focas_name)
+            raise await self._path_refusal(refused, _RDALMMSG, p, self._deadline(timeout))
         return result.entries
 
     async def read_alarm_history(

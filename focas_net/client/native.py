@@ -510,6 +510,7 @@ class NativeClient(
         check_axis(axis)
         deadline = self._deadline(timeout)
         handle = self._handle_now() or await self._handle_for(deadline)
+        check_path_of(handle, p, "cnc_rdposition")  # (before its axes: it has none)
         if axis is not None and axis > handle.axes_on(p):
             raise CncError.from_ew(EW.ATTRIB, f"cnc_rdposition: axis {axis} of {handle.axes_on(p)}")
         call = calls.cnc_rdposition(handle.command_set)
