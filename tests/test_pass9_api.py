@@ -205,3 +205,15 @@ async def test_alarm_type_text_that_is_none_is_refused_naming_it(
     for client in (cnc, native):
         with pytest.raises(ValueError, match=re.escape(refused)):
             await client.read_alarms(alm_type=typed)
+
+
+def test_the_calls_the_native_guide_says_it_lacks_are_lacking_and_the_stand_ins_exist() -> None:
+    text = (Path(__file__).resolve().parent.parent / "docs" / "native-client.md").read_text()
+    start = text.index("Not methods of the native client at all")
+    paragraph = text[start : text.index("\n\n", start)]
+    lacking, stand_ins = paragraph.split("Over\nFOCAS/2")
+    named = [n for n in re.findall(r"`(\w+)`", lacking) if n != "AttributeError"]
+    assert named and all(not hasattr(NativeClient, n) for n in named), named
+    assert all(hasattr(FocasClient, n) for n in named), named
+    offered = [n for n in re.findall(r"`(\w+)`", stand_ins) if n not in named]
+    assert offered and all(hasattr(NativeClient, n) for n in offered), offered
