@@ -36,6 +36,7 @@ __all__ = [
     "NO_PASSWORD_NOTE",
     "OVERRIDE_RANGES",
     "PASSWORD_SIZE",
+    "PROGRAM_NUMBERS",
     "RAPID_STEPS",
     "WRONG_PASSWORD",
     "alarm_axis_unfit",
@@ -111,6 +112,8 @@ MAX_ALARM_NO: Final = 0x7FFF
 
 #: The most O-numbers a program number has (O1 .. O99999999).
 _MAX_PROGRAM: int = 99_999_999
+#: What a program number is, as every refusal of one says it.
+PROGRAM_NUMBERS: Final = f"(O1..O{_MAX_PROGRAM}, e.g. O1000)"
 
 
 def macro_unfit(value: object) -> str:
@@ -252,7 +255,7 @@ def program_number(typed: object) -> int:
     digits = text.lstrip("0")
     fits = len(digits) <= len(str(_MAX_PROGRAM))
     if not (text.isascii() and text.isdigit() and fits and 1 <= int(digits or 0) <= _MAX_PROGRAM):
-        raise ValueError(f"{typed!r} is not a program number (e.g. O1000)")
+        raise ValueError(f"{typed!r} is not a program number {PROGRAM_NUMBERS}")
     return int(digits)
 
 
@@ -414,6 +417,37 @@ def file_text(raw: bytes) -> str:
         raise ValueError(
             f"not UTF-8 text: byte 0x{bad} at byte {where} (save the file as UTF-8)"
         ) from None
+
+
+def program_file_text(raw: bytes) -> str:
+    """The text of a part program's file (``program load``, a machine file's
+    ``[[program]] file``): ASCII, after a UTF-8 byte-order mark if any; ValueError naming the
+    line of the first character that is not, in the program store's words (``line 2:
+    character 'É' (U+00C9) in '(CAFÉ)': a program is printable ASCII text``), or its byte
+    when it starts no UTF-8 character."""
+    raw = raw.removeprefix(_BOM)
+    try:
+        return raw.decode("ascii")
+    except UnicodeDecodeError as exc:
+        at = exc.start
+    start = raw.rfind(b"\n", 0, at) + 1
+    end = raw.find(b"\n", at)
+    line = raw[start : len(raw) if end < 0 else end]
+    shown = line.decode("utf-8", "backslashreplace").strip()[:40]
+    number = raw.count(b"\n", 0, at) + 1
+    where = f"line {number}"
+    for size in range(1, 5):
+        try:
+            char = raw[at : at + size].decode("utf-8")
+        except UnicodeDecodeError:
+            continue
+        raise ValueError(
+            f"{where}: character {char!r} (U+{ord(char):04X}) in {shown!r}: a program is "
+            "printable ASCII text"
+        )
+    raise ValueError(
+        f"{where}: byte 0x{raw[at]:02X} in '{shown}' is not text: a program is printable ASCII text"
+    )
 
 
 def os_reason(exc: BaseException) -> str:

@@ -182,9 +182,9 @@ async def test_a_path_the_cnc_has_not_is_named(
 @pytest.mark.parametrize("typed", ["\u0661", "O\u0661", "O", "0", "O123456789"])
 async def test_a_program_number_typed_wrong_is_refused(server: Served, typed: str) -> None:
     line = await fails(EXIT_USAGE, "program", "select", typed, *at(server))
-    assert line == (f"focas-net: program select: {typed!r} is not a program number (e.g. O1000)"), (
-        line
-    )
+    assert line == (
+        f"focas-net: program select: {typed!r} is not a program number (O1..O99999999, e.g. O1000)"
+    ), line
 
 
 def test_the_page_reads_a_program_number_as_the_command_line() -> None:

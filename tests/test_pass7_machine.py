@@ -164,8 +164,8 @@ def test_a_program_file_that_is_not_utf8_is_named_with_its_key(tmp_path: Path) -
     with pytest.raises(MachineFileError) as refused:
         _load(tmp_path, '[[program]]\nfile = "latin.nc"\n')
     assert str(refused.value) == (
-        f"{tmp_path / 'm.toml'}: program[0].file: {tmp_path / 'latin.nc'}: not UTF-8 text: "
-        "byte 0xE9 at byte 10 (save the file as UTF-8)"
+        f"{tmp_path / 'm.toml'}: program[0].file: {str(tmp_path / 'latin.nc')!r}: line 1: "
+        "byte 0xE9 in 'O1308 (CAF\\xe9)' is not text: a program is printable ASCII text"
     )
 
 

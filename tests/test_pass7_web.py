@@ -135,8 +135,16 @@ def test_a_machine_wide_action_of_a_path_the_machine_has_not_is_refused(
         ("unlock", {"password": False}, "password: text is needed, got false"),
         ("select_program", {}, "number: a program number is needed (e.g. O1000)"),
         ("select_program", {"number": None}, "number: a program number is needed (e.g. O1000)"),
-        ("select_program", {"number": 1.0}, "number: 1.0 is not a program number (e.g. O1000)"),
-        ("select_program", {"number": True}, "number: true is not a program number (e.g. O1000)"),
+        (
+            "select_program",
+            {"number": 1.0},
+            "number: 1.0 is not a program number (O1..O99999999, e.g. O1000)",
+        ),
+        (
+            "select_program",
+            {"number": True},
+            "number: true is not a program number (O1..O99999999, e.g. O1000)",
+        ),
     ],
 )
 def test_a_json_value_is_named_as_json_not_as_python(

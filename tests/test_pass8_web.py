@@ -308,9 +308,15 @@ async def test_a_program_number_of_thousands_of_digits_is_refused_as_no_program_
         station = Station(0, served.machine)
         with pytest.raises(ActionError) as refused:
             perform(station, "select_program", {"number": typed})
-        assert str(refused.value) == f"number: {typed!r} is not a program number (e.g. O1000)"
+        assert (
+            str(refused.value)
+            == f"number: {typed!r} is not a program number (O1..O99999999, e.g. O1000)"
+        )
         line = await fails(2, "program", "select", typed, *at(served))
-        assert line == f"focas-net: program select: {typed!r} is not a program number (e.g. O1000)"
+        assert line == (
+            f"focas-net: program select: {typed!r} is not a program number "
+            "(O1..O99999999, e.g. O1000)"
+        )
     leading = perform(_station(), "select_program", {"number": "O" + "0" * 4999 + "1"})
     assert leading == {"ok": True}
 

@@ -142,3 +142,27 @@ async def test_every_override_refusal_names_its_option(
         line
     )
     assert server.machine.overrides() == before
+
+
+# -- a program number refused says what one is ---------------------------------------------------
+
+
+@pytest.mark.parametrize("typed", ["0", "O0", "-5", "O100000000"])
+async def test_a_program_number_refused_gives_the_range(server: Served, typed: str) -> None:
+    """``program show 0`` said "'0' is not a program number (e.g. O1000)", not why."""
+    line = await fails(EXIT_USAGE, "program", "show", typed, *at(server))
+    assert line == (
+        f"focas-net: program show: {typed!r} is not a program number (O1..O99999999, e.g. O1000)"
+    ), line
+
+
+# -- NUMBER.BIT without its number ----------------------------------------------------------------
+
+
+@pytest.mark.parametrize("command", [["param", "get"], ["param", "set", "--axis", "1"]])
+async def test_a_bit_without_its_number_says_so(server: Served, command: list[str]) -> None:
+    """``param get .4`` said "got '.4' (nothing typed)", though '.4' was typed."""
+    line = await fails(
+        EXIT_USAGE, *command, ".4", *(["1"] if "set" in command else []), *at(server)
+    )
+    assert line.endswith("got '.4' (no number before the dot)"), line

@@ -6,10 +6,12 @@ from __future__ import annotations
 from pathlib import Path
 
 import pytest
+from cli_support import fails
 from examples_support import port_args, run_example
 from support import serving
 
 from focas_net.adapters._native_cnc import path_sysinfo
+from focas_net.cli import EXIT_USAGE
 from focas_net.sim import (
     Identity,
     Machine,
@@ -239,3 +241,67 @@ async def test_run_program_says_a_missing_file_as_the_command_line_does(tmp_path
     code, out, err = await run_example("run_program.py", "--port", "1", "--program", str(path))
     assert (code, out) == (2, "")
     assert err == f"run_program: cannot read {str(path)!r}: no such file or directory\n"
+
+
+def test_one_lathe_path_of_a_machining_centres_code_reports_a_lathe(tmp_path: Path) -> None:
+    """A file of one ``[[path]]`` of ``kind = "T"`` (mt_type left " M") answered
+    ``cnc_sysinfo`` with " M" where its open answer's path record says " T"."""
+    path = tmp_path / "l.toml"
+    path.write_text(
+        '[machine]\nname = "l"\n[[path]]\naxes = ["X", "Z"]\nkind = "T"\n', encoding="utf-8"
+    )
+    machine = load_machine(path)
+    assert machine.path_info(1).kind == "T"
+    assert (machine.path_identity(1).mt_type, machine.path_identity(1).axes) == (" T", "02")
+    assert path_sysinfo(machine, 1).mt_type == " T"
+
+
+# -- a program file is refused in the same words by the machine file and the command line ---
+
+
+def _program_file_refusal(tmp_path: Path, raw: bytes, name: str = "p.nc") -> str:
+    (tmp_path / name).write_bytes(raw)
+    path = tmp_path / "m.toml"
+    path.write_text(
+        f'[machine]\nname = "m"\naxes = ["X"]\n[[program]]\nfile = "{name}"\n', encoding="utf-8"
+    )
+    with pytest.raises(MachineFileError) as e:
+        load_machine(path)
+    return str(e.value)
+
+
+@pytest.mark.parametrize(
+    ("raw", "why"),
+    [
+        (
+            b"O5 (CAF\xe9)\nM30\n",
+            "line 1: byte 0xE9 in 'O5 (CAF\\xe9)' is not text: a program is printable ASCII text",
+        ),
+        (
+            "O5\n(CAFÉ)\nM30\n".encode(),
+            "line 2: character 'É' (U+00C9) in '(CAFÉ)': a program is printable ASCII text",
+        ),
+    ],
+)
+async def test_a_program_file_that_is_not_ascii_is_named_alike_everywhere(
+    tmp_path: Path, raw: bytes, why: str
+) -> None:
+    """The machine file said ``not UTF-8 text: ... (save the file as UTF-8)`` of a Latin-1
+    file, which saved as UTF-8 is still refused; ``program load`` named the line."""
+    message = _program_file_refusal(tmp_path, raw)
+    assert message.endswith(f"program[0].file: {str(tmp_path / 'p.nc')!r}: {why}")
+    line = await fails(EXIT_USAGE, "program", "load", str(tmp_path / "p.nc"), "--port", "1")
+    assert line == f"focas-net: program load: {str(tmp_path / 'p.nc')!r}: {why}"
+
+
+def test_an_empty_program_file_name_is_named_as_empty(tmp_path: Path) -> None:
+    """``file = ""`` said ``cannot read '<the folder>': is a directory``."""
+    path = tmp_path / "m.toml"
+    path.write_text(
+        '[machine]\nname = "m"\naxes = ["X"]\n[[program]]\nfile = " "\n', encoding="utf-8"
+    )
+    with pytest.raises(MachineFileError) as e:
+        load_machine(path)
+    assert str(e.value).endswith(
+        "program[0].file: ' ' names no file: give the path of the program's text"
+    )

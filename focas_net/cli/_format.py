@@ -525,6 +525,8 @@ def parse_number_bit(
         why = str(exc)
         rest = why.removeprefix(f"not a whole number: {number!r}")
         detail = f" ({why})" if rest == why else rest
+        if dot and not number.strip():  # ``.4``: something was typed, only the number not
+            detail = " (no number before the dot)"
         raise ValueError(f"expected {expected}, got {text!r}{detail}") from None
     if dot and not (bit.isascii() and bit.isdigit()):
         raise ValueError(

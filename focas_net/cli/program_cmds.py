@@ -9,7 +9,7 @@ import argparse
 from pathlib import Path
 from typing import Any, Final
 
-from focas_net._typed import os_reason, program_number
+from focas_net._typed import os_reason, program_file_text, program_number
 from focas_net.client import FocasClient
 
 from . import _format as fmt
@@ -47,35 +47,10 @@ def _text_of(target: str | None) -> tuple[str, str]:
         raw = path.read_bytes()
     except OSError as exc:
         raise ValueError(f"program load: cannot read {target!r}: {os_reason(exc)}") from None
-    raw = raw.removeprefix(b"\xef\xbb\xbf")  # a UTF-8 byte-order mark (Windows Notepad)
     try:
-        return raw.decode("ascii"), target
-    except UnicodeDecodeError as exc:
-        raise ValueError(f"program load: {target!r}: {_not_ascii(raw, exc.start)}") from None
-
-
-def _not_ascii(raw: bytes, at: int) -> str:
-    """Why ``raw`` is no program, its byte ``at`` not being ASCII: its line and character in
-    the machine's words (a character other than printable ASCII), or the byte when it starts
-    no UTF-8 character."""
-    start = raw.rfind(b"\n", 0, at) + 1
-    end = raw.find(b"\n", at)
-    line = raw[start : len(raw) if end < 0 else end]
-    shown = line.decode("utf-8", "backslashreplace").strip()[:40]
-    number = raw.count(b"\n", 0, at) + 1
-    where = f"line {number}"
-    for size in range(1, 5):
-        try:
-            char = raw[at : at + size].decode("utf-8")
-        except UnicodeDecodeError:
-            continue
-        return (
-            f"{where}: character {char!r} (U+{ord(char):04X}) in {shown!r}: a program is "
-            "printable ASCII text"
-        )
-    return (
-        f"{where}: byte 0x{raw[at]:02X} in '{shown}' is not text: a program is printable ASCII text"
-    )
+        return program_file_text(raw), target
+    except ValueError as exc:
+        raise ValueError(f"program load: {target!r}: {exc}") from None
 
 
 def program(args: argparse.Namespace) -> Go | PackedOnly:

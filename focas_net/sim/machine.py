@@ -490,15 +490,13 @@ class Machine(
 
     def path_identity(self, path: int = 1) -> Identity:
         """What the CNC says it is on ``path`` (``cnc_sysinfo`` after ``cnc_setpath``):
-        EW_PATH for a path the machine has not. A machine of one path answers its identity.
-        On one of several paths the axes are the path's, and the machine type is the
-        machine's code when that is of the path's kind (a lathe of two paths reports
-        ``"TT"`` on each, as FANUC's T series of 2/3 paths does), else the kind's own
-        (``" M"`` on the milling path of a machine whose code is ``"TT"``)."""
+        EW_PATH for a path the machine has not. The axes are the path's, and the machine
+        type is the machine's code when that is of the path's kind (a lathe of two paths
+        reports ``"TT"`` on each, as FANUC's T series of 2/3 paths does), else the kind's
+        own (``" M"`` on the milling path of a machine whose code is ``"TT"``, ``" T"`` on a
+        lathe path of a machine left at ``" M"``)."""
         info = self.path_info(path)
         i = self._identity
-        if self.path_count == 1:
-            return i
         mt_type = i.mt_type if kind_of(i.mt_type) == info.kind else f" {info.kind}"
         return replace(i, mt_type=mt_type, axes=f"{len(info.axes):02d}")
 

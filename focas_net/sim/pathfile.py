@@ -15,7 +15,7 @@ from __future__ import annotations
 from pathlib import Path
 from typing import Any, Final
 
-from focas_net._typed import os_words
+from focas_net._typed import os_words, program_file_text
 
 from ._base import n_values
 from ._identity import axes_problem, axis_name_problem
@@ -23,7 +23,6 @@ from ._paths import MAX_PATHS, PATH_KINDS, PathSpec, kind_of
 from ._status import AUT_MODES, MOTION_NUMBERS, MotionData, Panel, panel_mode, unknown_mode
 from .filecheck import (
     _I32,
-    MachineFileError,
     _ascii,
     _bool,
     _Ctx,
@@ -32,7 +31,6 @@ from .filecheck import (
     _only,
     _str,
     _table,
-    _text,
 )
 from .nc import ProgramError, ProgramStore, parse_program
 
@@ -181,16 +179,19 @@ def _programs(ctx: _Ctx, value: Any, base: Path | None) -> tuple[list[str], int 
             text = _str(key, t["text"])
         else:
             key = c.sub("file")
-            given = Path(_str(key, t["file"]))
+            named = _str(key, t["file"])
+            if not named.strip():  # it would name the machine file's folder
+                key.fail(f"{named!r} names no file: give the path of the program's text")
+            given = Path(named)
             where = given if given.is_absolute() or base is None else base / given
             if "\x00" in str(given):  # no file system takes it
                 key.fail(f"{str(given)!r}: a file name has no NUL character")
             try:
-                text = _text(str(where), where.read_bytes())
+                text = program_file_text(where.read_bytes())
             except OSError as exc:
                 key.fail(f"cannot read {str(where)!r}: {os_words(exc)}")
-            except MachineFileError as exc:  # named by the machine file and the key too
-                key.fail(f"{where}: {exc.problem}")
+            except ValueError as exc:  # in the words of program load
+                key.fail(f"{str(where)!r}: {exc}")
         try:
             program = parse_program(text)
         except ProgramError as exc:

@@ -27,6 +27,7 @@ from focas_net._bits import bits_of_text
 from focas_net._typed import (
     MAX_DIGITS,
     NO_PASSWORD_NOTE,
+    PROGRAM_NUMBERS,
     decimal_number,
     item_number_unfit,
     param_decimals_refused,
@@ -460,7 +461,7 @@ def _select_program(station: Station, args: Mapping[str, Any]) -> JsonDict:
     if typed is None or (isinstance(typed, str) and not typed.strip()):
         raise ActionError("number: a program number is needed (e.g. O1000)")
     if not isinstance(typed, str | int) or isinstance(typed, bool):
-        raise ActionError(f"number: {shown(typed)} is not a program number (e.g. O1000)")
+        raise ActionError(f"number: {shown(typed)} is not a program number {PROGRAM_NUMBERS}")
     try:  # O1000 or 1000, as the command line reads it
         number = program_number(typed)
     except ValueError as exc:
