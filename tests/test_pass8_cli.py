@@ -183,8 +183,8 @@ async def test_a_mode_that_is_none_names_mode(server: Served) -> None:
         ),
         (
             ["sim", "cycle", "Stat"],
-            "focas-net sim cycle: error: argument ACTION: invalid choice: 'Stat' (choose from "
-            "'start', 'hold', 'reset'); see focas-net sim cycle --help",
+            "focas-net sim cycle: error: argument ACTION: unknown cycle action 'Stat' (one of "
+            "start, hold, reset); see focas-net sim cycle --help",
         ),
         (
             ["program", "lst"],

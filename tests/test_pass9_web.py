@@ -138,3 +138,26 @@ async def test_the_pmc_window_of_an_address_no_request_carries_says_so(start: st
         assert line == f"focas-net: {words}"
         with pytest.raises(ValueError, match=f"^{words}$"):
             pmc_address(start, "R")
+
+
+# -- a cycle action -----------------------------------------------------------------------------
+@pytest.mark.parametrize("typed", ["Start", " start ", "START"])
+def test_a_cycle_action_is_read_in_any_case_as_the_command_line_reads_it(typed: str) -> None:
+    """``{"action": "Start"}`` was refused ("one of start, hold, reset, got 'Start'") where
+    ``sim cycle Start`` starts the cycle."""
+    station = Station(0, default_machine())
+    assert station.machine.status().run == 0  # reset
+    assert perform(station, "cycle", {"action": typed}) == {"ok": True}
+    assert station.machine.status().run == 3  # started
+
+
+@pytest.mark.parametrize("typed", ["go", "Stat", "5", "stärt"])
+async def test_a_cycle_action_no_cnc_has_is_refused_in_the_same_words_on_both(typed: str) -> None:
+    words = f"unknown cycle action {typed!r} (one of start, hold, reset)"
+    async with serving() as served:
+        line = await fails(2, "sim", "cycle", *at(served), typed, prefix="focas-net")
+        assert line == (
+            f"focas-net sim cycle: error: argument ACTION: {words}; see focas-net sim cycle --help"
+        )
+        station = Station(0, served.machine)
+        assert _refusal(station, "cycle", {"action": typed}) == f"action: {words}"

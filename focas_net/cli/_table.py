@@ -474,8 +474,7 @@ COMMANDS: Final[tuple[Cmd | Group, ...]] = (
                 (
                     arg(
                         "action",
-                        type=choice(program_cmds.CYCLE_ACTIONS, "action"),
-                        choices=program_cmds.CYCLE_ACTIONS,
+                        type=argument_type(program_cmds.cycle_action, "action"),
                         metavar="ACTION",
                         help="what to press: start, hold or reset",
                     ),

@@ -11,13 +11,21 @@ from typing import Any, Final
 
 from focas_net._typed import os_reason, program_file_text, program_number
 from focas_net.client import FocasClient
+from focas_net.protocol import cycle_action_of
 
 from . import _format as fmt
 from . import read_cmds
 from ._run import Go, Output, PackedOnly
 from .sim_cmds import SIM_CONTROLS
 
-__all__ = ["CYCLE_ACTIONS", "PROGRAM_ACTIONS", "cycle", "override", "program"]
+__all__ = [
+    "CYCLE_ACTIONS",
+    "PROGRAM_ACTIONS",
+    "cycle",
+    "cycle_action",
+    "override",
+    "program",
+]
 
 #: ``program ACTION``: what each action does (a bare ``program`` reads the numbers).
 PROGRAM_ACTIONS: Final = ("list", "show", "load", "delete", "select")
@@ -138,6 +146,12 @@ def _select(number: int) -> PackedOnly:
         return Output({"main": number}, f"O{number:04d} is the main program")
 
     return PackedOnly(go, _WHY)
+
+
+def cycle_action(text: str) -> str:
+    """``sim cycle ACTION`` as every front end reads it (:func:`cycle_action_of`: ``Start``,
+    `` reset ``), by its name in lower case (``start``), as the command's words name it."""
+    return cycle_action_of(text).name.lower()
 
 
 def cycle(args: argparse.Namespace) -> PackedOnly:

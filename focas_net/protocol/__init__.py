@@ -102,6 +102,7 @@ from .programs import (
     ProgramNumber,
     ProgramText,
     RunInfo,
+    cycle_action_of,
 )
 from .values import (
     COMPOUND_MT_TYPE,
@@ -224,6 +225,7 @@ __all__ = [
     "alarm_text",
     "alarm_time_text",
     "alarm_type_of",
+    "cycle_action_of",
     "encode_ew",
     "encode_frame",
     "encode_response",

@@ -31,6 +31,7 @@ __all__ = [
     "ProgramNumber",
     "ProgramText",
     "RunInfo",
+    "cycle_action_of",
 ]
 
 #: Most entries of one directory answer (``max`` 1..64).
@@ -207,6 +208,17 @@ class CycleAction(enum.IntEnum):
     START = 0  #: cycle start
     HOLD = 1  #: feed hold
     RESET = 2  #: reset
+
+
+def cycle_action_of(text: str) -> CycleAction:
+    """A cycle action as typed on every front end (``sim cycle ACTION``, the page's
+    ``action``): its name in any case, spaces around it left out; ValueError naming the text
+    as typed and the names otherwise."""
+    try:
+        return CycleAction[text.strip().upper()]
+    except KeyError:
+        names = ", ".join(a.name.lower() for a in CycleAction)
+        raise ValueError(f"unknown cycle action {text!r} (one of {names})") from None
 
 
 @dataclass(frozen=True, slots=True)

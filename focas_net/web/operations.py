@@ -40,11 +40,13 @@ from focas_net._typed import (
 from focas_net.errors import EW, ew_name
 from focas_net.protocol import (
     AutMode,
+    CycleAction,
     FaultKind,
     FaultScope,
     InjectFault,
     alarm_message,
     alarm_type_of,
+    cycle_action_of,
     ew_of_text,
     fault_kind_of,
     pmc_bit_refusal,
@@ -234,15 +236,17 @@ def _path(args: Mapping[str, Any]) -> int:
 
 def _cycle(station: Station, args: Mapping[str, Any]) -> JsonDict:
     m = station.machine
-    what, path = _text(args, "action", needed="start, hold or reset"), _path(args)
-    if what == "start":
+    typed, path = _text(args, "action", needed="start, hold or reset"), _path(args)
+    try:  # as `sim cycle ACTION` reads it: Start, " reset "
+        what = cycle_action_of(typed)
+    except ValueError as exc:
+        raise ActionError(f"action: {exc}") from None
+    if what is CycleAction.START:
         m.cycle_start(path=path)
-    elif what == "hold":
+    elif what is CycleAction.HOLD:
         m.feed_hold(path=path)
-    elif what == "reset":
-        m.reset(path=path)
     else:
-        raise ActionError(f"action: one of start, hold, reset, got {what!r}")
+        m.reset(path=path)
     return {}
 
 
