@@ -305,3 +305,10 @@ def test_an_empty_program_file_name_is_named_as_empty(tmp_path: Path) -> None:
     assert str(e.value).endswith(
         "program[0].file: ' ' names no file: give the path of the program's text"
     )
+
+
+def test_the_comment_after_the_number_names_the_program_over_one_before_the_o() -> None:
+    program = parse_program("(PRE)O1 (NAME)\nM30\n")
+    assert program.name == "NAME"
+    assert program.text == "O0001 (NAME)\nM30\n"
+    assert parse_program("(12)O12\nM30\n").name == "12"  # none after: the one before

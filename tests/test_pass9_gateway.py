@@ -6,6 +6,7 @@ gateway."""
 from __future__ import annotations
 
 import json
+import logging
 from contextlib import AsyncExitStack
 from typing import Any
 
@@ -14,8 +15,10 @@ from cli_support import Cli, run_focas_net
 from poller_support import all_online, config, polling, until
 from support import serving
 
-from focas_net.gateway import AlarmChange, ConfigError, MqttSettings, parse_config
+from focas_net.client import FocasClient
+from focas_net.gateway import AlarmChange, ConfigError, MachineConfig, MqttSettings, parse_config
 from focas_net.gateway._mqtt_messages import ActiveAlarms, AlarmEvent, Publication
+from focas_net.gateway.reads import describe
 from focas_net.protocol import ActiveAlarm, Password
 from focas_net.sim import MachineError, default_machine
 from focas_net.sim.nc import ManualClock
@@ -121,3 +124,20 @@ def test_an_mqtt_password_without_a_username_is_refused_not_dropped(
         MqttSettings(password="p").check()
     taken = parse_config(MACHINE + f'[mqtt]\nusername = "u"\n{secret}\n', "plant.toml").mqtt
     assert taken is not None and (taken.username, taken.password) == ("u", taken.password)
+
+
+@pytest.mark.parametrize(("paths", "said"), [((1, 3), "path 3 is"), ((2, 3), "paths 2, 3 are")])
+async def test_paths_the_cnc_has_not_are_named_in_words_and_none_left_is_said(
+    paths: tuple[int, ...], said: str, caplog: pytest.LogCaptureFixture
+) -> None:
+    async with (
+        serving(default_machine()) as served,
+        FocasClient("127.0.0.1", served.port) as client,
+    ):
+        config = MachineConfig("m1", "127.0.0.1", port=served.port, protocol="packed", paths=paths)
+        with caplog.at_level(logging.WARNING, "focas_net.gateway"):
+            reader = await describe(config, client)
+    (record,) = caplog.records
+    left = "" if 1 in paths else "; nothing of it is read"
+    assert record.getMessage() == (f"m1: the CNC has 1 path (machine.paths): {said} not read{left}")
+    assert [p.number for p in reader.shape.paths] == [p for p in paths if p == 1]

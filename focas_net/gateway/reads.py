@@ -174,6 +174,15 @@ def _text(raw: bytes) -> str:
     return raw.split(b"\x00", 1)[0].decode("latin-1").strip()
 
 
+def _paths_missing(count: int, missing: list[int], wanted: int) -> str:
+    """``the CNC has 1 path (machine.paths): paths 2, 3 are not read; ...`` in words."""
+    has = f"the CNC has {count} path{'' if count == 1 else 's'} (machine.paths)"
+    named = ", ".join(map(str, missing))
+    told = f"path {named} is" if len(missing) == 1 else f"paths {named} are"
+    rest = "; nothing of it is read" if len(missing) == wanted else ""
+    return f"{has}: {told} not read{rest}"
+
+
 async def describe(config: MachineConfig, client: FocasClient | NativeClient) -> Reader:
     """The reader of ``client``'s machine, with its shape read now: ``cnc_sysinfo``, the
     paths (the configured ones the CNC has), each path's axis names and position decimals
@@ -187,7 +196,7 @@ async def describe(config: MachineConfig, client: FocasClient | NativeClient) ->
     wanted = config.paths or tuple(range(1, max(count, 1) + 1))
     missing = [p for p in wanted if p > count]
     if missing:
-        _log.warning("%s: the CNC has %d path(s); not read: %s", config.name, count, missing)
+        _log.warning("%s: %s", config.name, _paths_missing(count, missing, len(wanted)))
     paths: list[PathShape] = []
     decimals: dict[int, int] = {}
     for p in (p for p in wanted if p <= count):

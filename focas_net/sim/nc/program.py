@@ -458,7 +458,8 @@ def parse_program(text: str, max_number: int = 9999) -> Program:
     if rest[lead : lead + 1] == "(":
         close = rest.find(")", lead)
         cut = len(rest) if close < 0 else close + 1
-    _, name = _strip_comments(first[: len(first) - len(rest) + cut])
+    # the comment after the number, else one before the O (``(12)O12``)
+    _, name = _strip_comments(rest[:cut] if cut else first[: len(first) - len(rest)])
     rest = rest[cut:]
     rest_code, _ = _strip_comments(rest)
     if _opens(rest):  # O1O2: the O line's block would be a second program's O line
