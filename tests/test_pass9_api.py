@@ -4,6 +4,7 @@ another, naming them."""
 
 from __future__ import annotations
 
+import re
 import struct
 from collections.abc import AsyncIterator
 from decimal import Decimal
@@ -144,3 +145,75 @@ def test_a_tool_group_at_odds_with_itself_is_refused_naming_the_values(
 ) -> None:
     with pytest.raises(ValueError, match=refused):
         Machine("x", tools={1: ToolsSpec(groups=[group])})
+
+
+# -- a width that is not the parameter's -------------------------------------------------------
+@pytest.mark.parametrize("width", [1, 2, 8])
+@pytest.mark.parametrize("value", [5, 24000])
+async def test_a_width_the_parameter_does_not_have_is_ew_length_in_the_same_words(
+    both_sets: tuple[Machine, FocasClient, NativeClient], width: int, value: int
+) -> None:
+    machine, cnc, native = both_sets
+    machine.set_panel(0, 1, 0)
+    number = next(
+        n
+        for n in range(1, 10000)
+        if (i := machine.param_item(n)) and i.kind is ParamKind.TWO_WORD and not i.axis
+    )
+    before = machine.param_item(number)
+    assert before is not None
+    kept = list(before.values)
+    refusals = []
+    for client in (cnc, native):
+        with pytest.raises(CncError) as refused:
+            await client.write_param(number, value, width=width)
+        refusals.append(str(refused.value))
+        assert refused.value.ew == EW.LENGTH
+    assert refusals[0] == refusals[1]
+    assert f"cnc_wrparam: {number} is 4 bytes wide, not {width}" in refusals[0]
+    assert machine.param_item(number).values == kept  # type: ignore[union-attr]
+
+
+# -- an alarm type typed as its number ---------------------------------------------------------
+@pytest.mark.parametrize(("typed", "number"), [("1", 1), (" 31 ", 31), ("0", 0), ("+3", 3)])
+async def test_an_alarm_type_given_as_digits_is_its_number_as_the_page_takes_it(
+    both_clients: tuple[Machine, FocasClient, NativeClient], typed: str, number: int
+) -> None:
+    """``read_alarms(alm_type="1")`` was refused with ``(one of SW PW ..., or 0..31)``, though
+    the hint names numbers and the page takes ``"31"``."""
+    machine, cnc, native = both_clients
+    machine.raise_alarm(0, number, 100, "TYPED")
+    for client in (cnc, native):
+        found = await client.read_alarms(alm_type=typed)
+        assert [(a.alm_type, a.alm_no) for a in found] == [(number, 100)]
+    await cnc.sim.clear_alarms(alm_type=typed)
+    assert machine.active_alarms() == []
+
+
+@pytest.mark.parametrize(
+    ("typed", "refused"),
+    [
+        ("32", "alarm type 32 is outside -1..31"),
+        ("1.5", "not a whole number: '1.5'"),
+        ("P S", "unknown alarm type 'P S'"),
+    ],
+)
+async def test_alarm_type_text_that_is_none_is_refused_naming_it(
+    both_clients: tuple[Machine, FocasClient, NativeClient], typed: str, refused: str
+) -> None:
+    _, cnc, native = both_clients
+    for client in (cnc, native):
+        with pytest.raises(ValueError, match=re.escape(refused)):
+            await client.read_alarms(alm_type=typed)
+
+
+def test_the_calls_the_native_guide_says_it_lacks_are_lacking_and_the_stand_ins_exist() -> None:
+    text = (Path(__file__).resolve().parent.parent / "docs" / "native-client.md").read_text()
+    start = text.index("Not methods of the native client at all")
+    paragraph = text[start : text.index("\n\n", start)]
+    lacking, stand_ins = paragraph.split("Over\nFOCAS/2")
+    named = [n for n in re.findall(r"`(\w+)`", lacking) if n != "AttributeError"]
+    assert named and all(not hasattr(NativeClient, n) for n in named), named
+    assert all(hasattr(FocasClient, n) for n in named), named
+    offered = [n for n in re.findall(r"`(\w+)`", stand_ins) if n not in named]
+    assert offered and all(hasattr(NativeClient, n) for n in offered), offered

@@ -14,6 +14,7 @@ from focas_net._typed import whole_number
 from focas_net.errors import EW
 from focas_net.sim import MachineError, default_machine
 from focas_net.web import ActionError, Station, perform, pmc_address
+from focas_net.web.broadcast import Broadcaster, machine_topic
 
 
 def _refusal(station: Station, action: str, args: dict[str, Any]) -> str:
@@ -161,3 +162,17 @@ async def test_a_cycle_action_no_cnc_has_is_refused_in_the_same_words_on_both(ty
         )
         station = Station(0, served.machine)
         assert _refusal(station, "cycle", {"action": typed}) == f"action: {words}"
+
+
+@pytest.mark.parametrize("start", [-1, 65536, 70000])
+def test_a_pmc_window_subscribed_beyond_every_request_is_refused_as_the_get_refuses_it(
+    start: int,
+) -> None:
+    """A subscription's ``pmc_start`` 70000 was "R70000 goes past the end of PMC area R"
+    where the page's GET of the same window and ``pmc read R 70000`` say the field's words."""
+    stations = [Station(0, default_machine())]
+    words = f"PMC start address {start} is outside 0..65535"
+    assert Broadcaster(stations).refusal(machine_topic(0, "R", start)) == f"PMC window: {words}"
+    if start >= 0:
+        with pytest.raises(ValueError, match=f"^{words}$"):
+            pmc_address(str(start), "R")

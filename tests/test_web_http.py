@@ -526,7 +526,7 @@ async def test_a_pmc_area_is_refused_alike_by_a_read_and_a_write(area: str, stat
         ),
         (
             '{"subscribe": "machine", "index": 0, "pmc_start": -1}',
-            "PMC window: X-1 is outside PMC area X (X0..X127)",
+            "PMC window: PMC start address -1 is outside 0..65535",
         ),
         (
             '{"subscribe": "machine", "index": 0, "pmc_start": 128}',

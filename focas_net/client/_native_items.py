@@ -37,7 +37,15 @@ from ..native import (
 )
 from ..protocol import ParamDataType, ParamValue
 from ._native_link import Handle, NativeLink, check_path_of
-from ._values import REAL_WIDTH, byte_to_wire, check_item, int_to_wire, param_int, real_to_wire
+from ._values import (
+    REAL_WIDTH,
+    byte_to_wire,
+    check_item,
+    int_to_wire,
+    param_int,
+    real_to_wire,
+    width_refused,
+)
 
 __all__: list[str] = []
 
@@ -134,10 +142,6 @@ def signed(raw: int, width: int) -> int:
     bits = 8 * width
     raw &= (1 << bits) - 1
     return raw - (1 << bits) if raw >= 1 << (bits - 1) else raw
-
-
-def _bytes(size: int) -> str:
-    return "1 byte" if size == 1 else f"{size} bytes"
 
 
 class NativeItems(NativeLink):
@@ -270,9 +274,7 @@ class NativeItems(NativeLink):
             raise PayloadError(f"cnc_wrparam: {number} has type {ptype}, which has no value")
         if width is not None and width != size:
             self._param_widths.pop(number, None)
-            raise CncError.from_ew(
-                EW.LENGTH, f"cnc_wrparam: {number} is {_bytes(size)} wide, not {width}"
-            )
+            raise width_refused(number, size, width)
         return ptype, size
 
     async def _write_param(
@@ -317,11 +319,7 @@ class NativeItems(NativeLink):
                     # a value with decimals travels as a REALPRM, 8 bytes: the information
                     # of the 16i set gives a real parameter as a bit one, and the library
                     # answers EW_LENGTH, nothing written (the set cannot write a real one)
-                    raise CncError.from_ew(
-                        EW.LENGTH,
-                        f"cnc_wrparam: {number} is {_bytes(size)} wide, not {REAL_WIDTH} (a "
-                        "value with decimals)",
-                    )
+                    raise width_refused(number, size, REAL_WIDTH, " (a value with decimals)")
                 # a parameter the information names: refused as the packed client does
                 raise as_int
             kind = ParamDataType.BIT if ptype == ParamType.BIT else None

@@ -18,7 +18,14 @@ from decimal import Decimal
 from typing import Final
 
 from .._bits import bits_of_text
-from .._typed import field_unfit, macro_unfit, param_decimals_refused, typed_number
+from .._typed import (
+    field_unfit,
+    macro_unfit,
+    param_decimals_refused,
+    typed_number,
+    whole_number,
+)
+from ..errors import EW, CncError
 from ..protocol import (
     MAX_HISTORY_DEPTH,
     MAX_REAL_DECIMALS,
@@ -188,9 +195,11 @@ def number_of_name(names: type[enum.IntEnum], given: str, what: str, numbers: st
 
 def alarm_type_number(alm_type: object, *, every: bool = False) -> int:
     """An alarm type number from its name (``"PS"``), an :class:`AlarmType` or 0..31 (and -1,
-    every type, with ``every``)."""
+    every type, with ``every``), the number also as text (``"3"``), as the page takes it."""
     if isinstance(alm_type, str):
-        return alarm_type_of(alm_type)
+        if not alm_type.strip().lstrip("+-")[:1].isdigit():
+            return alarm_type_of(alm_type)
+        alm_type = whole_number(alm_type)
     return check_int("alarm type", alm_type, -1 if every else 0, _MAX_ALARM_TYPE)
 
 
@@ -315,6 +324,14 @@ def byte_to_wire(number: int, value: int, kind: ParamDataType | None) -> int:
 
 
 _INT_PARAM_NAMES: Final = {2: "word", 4: "two-word"}
+
+
+def width_refused(number: int, size: int, width: int, why: str = "") -> CncError:
+    """EW_LENGTH of ``cnc_wrparam`` given ``width`` for parameter ``number``, ``size`` bytes
+    wide (as FANUC's library answers a length that is not the type's), in the same words on
+    both clients."""
+    wide = "1 byte" if size == 1 else f"{size} bytes"
+    return CncError.from_ew(EW.LENGTH, f"cnc_wrparam: {number} is {wide} wide, not {width}{why}")
 
 
 def int_to_wire(number: int, value: int, width: int, kind: ParamDataType | None) -> int:

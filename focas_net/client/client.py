@@ -95,6 +95,7 @@ from ._values import (
     macro_write,
     param_int,
     real_to_wire,
+    width_refused,
 )
 from .connection import NotSentError
 from .reconnect import ReconnectPolicy, StateCallback
@@ -407,6 +408,7 @@ class FocasClient(Link):
         asks first is the write's refusal, named ``cnc_wrparam`` (FOCAS/2 asks the same in
         the first frame of ``cnc_wrparam``)."""
         learnt = False
+        given = width
         try:
             if width is None:
                 cached = self._param_widths.get(number)
@@ -423,6 +425,8 @@ class FocasClient(Link):
             kind = await self._param_type(number, deadline) if width == 1 else None
         except CncError as exc:
             raise CncError.from_ew(exc.ew, _WRPARAM.focas_name) from None
+        if given is not None and kind is not None and _TYPE_WIDTHS[kind] != given:
+            raise width_refused(number, _TYPE_WIDTHS[kind], given)  # as FOCAS/2 refuses it
         if width == REAL_WIDTH:
             mantissa, decimals = real_to_wire(number, value)
             pv = ParamValue(number, axis, mantissa, width, decimals)
@@ -436,7 +440,22 @@ class FocasClient(Link):
             if exc.ew == EW.LENGTH and not learnt:
                 self._param_widths.pop(number, None)  # stale width: learn it again next time
                 self._param_types.pop(number, None)  # (the type it came from)
+            if exc.ew == EW.LENGTH and given is not None:
+                raise await self._width_refusal(exc, number, given, deadline) from None
             raise await self._axis_refusal(exc, axis, path, deadline) from None
+
+    async def _width_refusal(
+        self, exc: CncError, number: int, width: int, deadline: float | None
+    ) -> CncError:
+        """The EW_LENGTH of a write given ``width``, naming the parameter's own width as
+        FOCAS/2's ``cnc_wrparam`` does (one ``cnc_rdparainfo``, after the refusal)."""
+        try:
+            kind = await self._param_type(number, deadline)
+        except CncError:
+            return exc
+        if kind is None or _TYPE_WIDTHS[kind] == width:
+            return exc
+        return width_refused(number, _TYPE_WIDTHS[kind], width)
 
     async def _write_param_bits(
         self, number: int, axis: int, bits: int, width: int, deadline: float | None, path: int

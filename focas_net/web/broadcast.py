@@ -19,6 +19,7 @@ from collections import deque
 from collections.abc import Sequence
 from typing import Final
 
+from focas_net.protocol import pmc_address_unfit
 from focas_net.sim import PMC_AREAS, MachineError
 
 from .operations import Station
@@ -142,6 +143,9 @@ class Broadcaster:
         count = machine.path_count
         if not 1 <= path <= count:
             return f"path {path}: machine {index} has paths 1..{count}"
+        beyond = pmc_address_unfit(start) if window else None
+        if beyond is not None:  # as the page's GET and `pmc read R 70000` refuse it
+            return f"PMC window: {beyond}"
         try:
             if window:
                 pmc_window(machine, area, start)
