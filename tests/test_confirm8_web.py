@@ -7,7 +7,7 @@ from collections.abc import AsyncIterator
 from typing import Any
 
 import pytest
-from cli_support import Cli
+from cli_support import Cli, at, fails
 from support import serving
 
 from focas_net.cli import EXIT_CNC, EXIT_USAGE
@@ -102,8 +102,12 @@ async def test_a_negative_override_is_refused_in_the_machines_words(cli: Cli, wh
     """``sim override --feed -1`` said ``must not be negative, got -1`` where the page (and
     ``--feed 300``) say the override's range."""
     words = f"{which} override -1 outside 0..254 %"
-    line = await cli.fails(EXIT_USAGE, "sim", "override", f"--{which}", "-1")
-    assert line == f"focas-net: {words}"
+    argv = ("sim", "override", *at(cli.served), f"--{which}", "-1")
+    line = await fails(EXIT_USAGE, *argv, prefix="focas-net")
+    assert line == (
+        f"focas-net sim override: error: argument --{which}: {words}; "
+        "see focas-net sim override --help"
+    )
     assert _page_refusal("overrides", {which: -1}) == words
 
 
