@@ -3,9 +3,11 @@ found, each checked where the fix lives (the program parser's words of a block).
 
 from __future__ import annotations
 
+from pathlib import Path
+
 import pytest
 
-from focas_net.sim import default_machine
+from focas_net.sim import MachineFileError, default_machine, load_machine
 from focas_net.sim.nc import Engine, ManualClock
 
 # -- one address given twice in a block ------------------------------------------------------
@@ -59,3 +61,45 @@ def test_the_panel_alarm_of_a_duplicated_address_is_ps_5074() -> None:
     [alarm] = machine.active_alarms()
     assert (alarm.alm_type, alarm.alm_no) == (3, 5074)
     assert "ADDRESS DUPLICATION ERROR" in alarm.msg
+
+
+# -- an offset value of the other machine type -----------------------------------------------
+
+
+@pytest.mark.parametrize(
+    ("kind", "name", "words"),
+    [
+        (
+            "M",
+            "x_wear",
+            "tool offset 1: x_wear is a lathe's offset, not a machining centre's (kind M): "
+            "radius_wear, radius_geometry, length_wear, length_geometry",
+        ),
+        (
+            "T",
+            "radius_wear",
+            "tool offset 1: radius_wear is a machining centre's offset, not a lathe's (kind T): "
+            "x_wear, x_geometry, z_wear, z_geometry, nose_wear, nose_geometry, tip",
+        ),
+        (
+            "M",
+            "tip",
+            "tool offset 1: tip is a lathe's offset, not a machining centre's (kind M): "
+            "radius_wear, radius_geometry, length_wear, length_geometry",
+        ),
+    ],
+)
+def test_an_offset_of_the_other_machine_type_names_the_ones_it_has(
+    tmp_path: Path, kind: str, name: str, words: str
+) -> None:
+    """It said `M offsets have no 'x_wear'`: a letter for the machine and no word of the
+    offsets a machining centre has."""
+    path = tmp_path / "m.toml"
+    path.write_text(
+        f'[machine]\nname = "M"\n[[path]]\nkind = "{kind}"\n'
+        f'axes = ["X", "Z"]\n[[tools]]\n[[tools.offset]]\nnumber = 1\n{name} = 1\n',
+        encoding="utf-8",
+    )
+    with pytest.raises(MachineFileError) as refused:
+        load_machine(path)
+    assert str(refused.value).endswith(f"m.toml: {words}")
