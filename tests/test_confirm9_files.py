@@ -103,3 +103,35 @@ def test_an_offset_of_the_other_machine_type_names_the_ones_it_has(
     with pytest.raises(MachineFileError) as refused:
         load_machine(path)
     assert str(refused.value).endswith(f"m.toml: {words}")
+
+
+# -- a loop of dwells of no time -------------------------------------------------------------
+
+
+@pytest.mark.parametrize("dwell", ["G4 P0", "G4 X0", "G4 X0.", "G4 P0\nG4 X0"])
+def test_a_loop_of_zero_dwells_takes_the_busy_block_time(dwell: str) -> None:
+    """`G4 P0` then `M99` looped in no machine time: each dwell of 0 s restarted the count of
+    blocks of no time, so the busy block time (1 ms a block after 10,000 of them) never
+    applied, and one read of the machine stepped the program millions of times (20 s of CPU,
+    the server's answers held meanwhile)."""
+    clock = ManualClock()
+    engine = Engine(clock)
+    engine.store.store(f"O1\n{dwell}\nM99\n")
+    engine.store.select(1)
+    steps = 0
+    step = engine.interpreter.step
+
+    def counted() -> object:
+        nonlocal steps
+        steps += 1
+        if steps > 100_000:
+            raise AssertionError("the loop of no time ran on")
+        return step()
+
+    engine.interpreter.step = counted  # type: ignore[method-assign]
+    engine.cycle_start()
+    clock.advance(1.0)
+    assert engine.alarm is None
+    settings = engine.settings
+    bound = 2 * settings.zero_time_blocks + 2 * round(1.0 / settings.busy_block_time)
+    assert steps <= bound
