@@ -9,6 +9,7 @@ import pytest
 
 from focas_net.sim import MachineFileError, default_machine, load_machine
 from focas_net.sim.nc import Engine, ManualClock
+from focas_net.sim.nc.interpreter import Step
 
 # -- one address given twice in a block ------------------------------------------------------
 
@@ -121,7 +122,7 @@ def test_a_loop_of_zero_dwells_takes_the_busy_block_time(dwell: str) -> None:
     steps = 0
     step = engine.interpreter.step
 
-    def counted() -> object:
+    def counted() -> Step:
         nonlocal steps
         steps += 1
         if steps > 100_000:
