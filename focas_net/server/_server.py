@@ -386,9 +386,19 @@ def _machines(machines: Machine | Iterable[Machine] | None) -> list[Machine]:
     result = list(machines)
     if not result:
         raise ValueError("FocasServer needs at least one machine")
+    seen: dict[int, int] = {}
     for i, m in enumerate(result):
         if not isinstance(m, Machine):
             raise TypeError(f"machines[{i}] must be a Machine, got {m!r}")
+        first = seen.setdefault(id(m), i)
+        if first != i:
+            # two ports onto one state would look like two CNCs where a write on one
+            # shows on the other
+            raise ValueError(
+                f"machines[{i}] is machines[{first}] ({m!r}): each machine served is a CNC "
+                "of its own, with its own port and state; make another Machine for another "
+                "CNC (native_port serves one machine on a second port)"
+            )
     return result
 
 
@@ -414,7 +424,8 @@ def _check_distinct(ports: list[int] | None, native_ports: list[int] | None) -> 
 class FocasServer:
     """Serve simulated machines over both protocols, one listening port per machine.
 
-    ``machines`` is a machine, several (a fleet), or None for the default machine. With
+    ``machines`` is a machine, several (a fleet; one Machine object given twice is refused,
+    a ValueError naming both places), or None for the default machine. With
     ``port`` 0 every machine gets an ephemeral port; otherwise machine *i* listens on
     ``port + i``, or on ``ports[i]`` when ``ports`` is given (``port`` left out). Each such
     port answers the packed protocol (``docs/protocol.md``) and FANUC's native FOCAS/2
