@@ -15,13 +15,14 @@ from support import IO_TIMEOUT, LoopbackPeer
 
 from focas_net.adapters import NativeAdapter
 from focas_net.client import NativeClient
-from focas_net.errors import ProtocolError
+from focas_net.errors import FocasConnectionError, FocasTimeoutError, ProtocolError
 from focas_net.native import (
     DEFAULT_MAX_BODY,
     LIBRARY_MAX_REQUEST_BODY,
     MAGIC_WORD,
     NATIVE_HEADER,
     FrameType,
+    NativeFrameDecoder,
 )
 from focas_net.server import FocasServer, NativeServer
 from focas_net.sim import default_machine
@@ -127,3 +128,60 @@ async def test_an_open_answer_the_library_refuses_is_a_peer_not_speaking_focas2(
         )
         assert (code, out) == (4, "")
         assert one_line(err) == f"focas-net: {caught.value}"
+
+
+class _PmcMisanswering(LoopbackPeer):
+    """A FOCAS/2 peer of the default machine that answers a PMC read twice (``twice``) or
+    never (else); everything else as the simulator."""
+
+    def __init__(self, twice: bool) -> None:
+        self.twice = twice
+        self.adapter = NativeAdapter(default_machine())
+
+    async def _serve(self, reader: asyncio.StreamReader, writer: asyncio.StreamWriter) -> None:
+        decoder = NativeFrameDecoder()
+        try:
+            for _ in range(100):
+                data = await reader.read(65536)
+                if not data:
+                    return
+                for frame in decoder.feed(data):
+                    if frame.type == FrameType.OPEN_REQUEST:
+                        writer.write(self.adapter.open_response())
+                        continue
+                    answer = self.adapter.answer(frame.body)
+                    if frame.body[8:10] == b"\x80\x01":  # the first block's command
+                        if not self.twice:
+                            continue
+                        answer += answer
+                    writer.write(answer)
+        finally:
+            writer.close()
+
+
+async def test_bytes_no_request_asked_for_name_the_peer_that_sent_them() -> None:
+    """A read of three chunks whose first answer came twice failed with `bytes no request
+    asked for (the request was never sent)`, naming no peer."""
+    async with (
+        _PmcMisanswering(twice=True) as peer,
+        NativeClient("127.0.0.1", peer.port, timeout=IO_TIMEOUT) as client,
+    ):
+        with pytest.raises(FocasConnectionError) as caught:
+            await client.read_pmc("D", 0, 8000)
+    assert str(caught.value) == (
+        f"127.0.0.1:{peer.port} sent bytes no request asked for (the request was never sent)"
+    )
+
+
+async def test_a_chunked_read_left_unanswered_names_the_chunk_that_was_sent() -> None:
+    """The first chunk went out and was never answered, the others waited behind it: the read
+    failed with `no answer to pmc_rdpmcrng (the request was never sent)`, a later chunk's
+    words, as if nothing had been sent."""
+    async with (
+        _PmcMisanswering(twice=False) as peer,
+        NativeClient("127.0.0.1", peer.port, timeout=0.5) as client,
+    ):
+        with pytest.raises(FocasTimeoutError) as caught:
+            await client.read_pmc("D", 0, 8000)
+    assert "never sent" not in str(caught.value)
+    assert str(caught.value).endswith("no answer to pmc_rdpmcrng")

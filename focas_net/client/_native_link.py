@@ -641,12 +641,13 @@ class NativeLink(CompositeCalls):
         ended = session.receive(data)
         if session.failure is not None:
             # (the jobs it ended fail with why, set before they complete)
+            why = session.failure
             if session.broken:
-                self._broken(handle, session.failure, data[:8])
-            else:  # a stray answer: lost, as a connection the peer ended
-                self._why = session.failure
+                self._broken(handle, why, data[:8])
+            else:  # a stray answer: lost, as a connection the peer ended, named alike
+                why = self._why = f"{self.address} sent {why}"
             self._complete(ended)
-            self._lose(handle, session.failure)
+            self._lose(handle, why)
             return
         if session.queue:
             self._send()
