@@ -139,7 +139,10 @@ class AlarmProjection:
 
     The first poll reports every alarm already active as :class:`AlarmRaised` and, unless
     ``replay_history`` is False, every history entry within ``depth`` as
-    :class:`AlarmHistoryEvent`. ``timeout`` bounds each poll (default: the client's).
+    :class:`AlarmHistoryEvent`. ``depth`` and ``replay_history`` concern the history, which
+    only ``ACTIVE_PLUS_HISTORY`` reads: in ACTIVE mode they change nothing (the alarms active
+    at the first poll are reported as raised either way). ``timeout`` bounds each poll
+    (default: the client's).
     ``max_failures`` (None: no bound) ends the iteration, raising the last error, once that
     many polls in a row have failed; a client left ``DISCONNECTED`` by a protocol violation or
     by its reconnect policy giving up ends it at once.

@@ -40,7 +40,7 @@ import anyio.lowlevel
 from focas_net._address import check_host
 from focas_net._typed import os_words
 from focas_net.adapters import PackedAdapter
-from focas_net.native import DEFAULT_MAX_BODY, MAGIC
+from focas_net.native import DEFAULT_MAX_BODY, MAGIC, check_server_max_body
 from focas_net.protocol import DEFAULT_MAX_FRAME
 from focas_net.sim import Machine
 
@@ -386,9 +386,19 @@ def _machines(machines: Machine | Iterable[Machine] | None) -> list[Machine]:
     result = list(machines)
     if not result:
         raise ValueError("FocasServer needs at least one machine")
+    seen: dict[int, int] = {}
     for i, m in enumerate(result):
         if not isinstance(m, Machine):
             raise TypeError(f"machines[{i}] must be a Machine, got {m!r}")
+        first = seen.setdefault(id(m), i)
+        if first != i:
+            # two ports onto one state would look like two CNCs where a write on one
+            # shows on the other
+            raise ValueError(
+                f"machines[{i}] is machines[{first}] ({m!r}): each machine served is a CNC "
+                "of its own, with its own port and state; make another Machine for another "
+                "CNC (native_port serves one machine on a second port)"
+            )
     return result
 
 
@@ -414,7 +424,8 @@ def _check_distinct(ports: list[int] | None, native_ports: list[int] | None) -> 
 class FocasServer:
     """Serve simulated machines over both protocols, one listening port per machine.
 
-    ``machines`` is a machine, several (a fleet), or None for the default machine. With
+    ``machines`` is a machine, several (a fleet; one Machine object given twice is refused,
+    a ValueError naming both places), or None for the default machine. With
     ``port`` 0 every machine gets an ephemeral port; otherwise machine *i* listens on
     ``port + i``, or on ``ports[i]`` when ``ports`` is given (``port`` left out). Each such
     port answers the packed protocol (``docs/protocol.md``) and FANUC's native FOCAS/2
@@ -427,7 +438,9 @@ class FocasServer:
     out, so that only the native ports are served. ``native_version`` overrides the version word
     of every native answer, which each machine's control class picks otherwise (it also picks
     the command set FANUC's library uses), ``native_max_body`` the largest
-    native frame body accepted (checked on the header before any of the body is buffered).
+    native frame body accepted (checked on the header before any of the body is buffered; at
+    least :data:`~focas_net.native.LIBRARY_MAX_REQUEST_BODY`, 1450, the longest request body
+    FANUC's library sends).
 
     Limits: ``max_frame`` (a longer or shorter packed length prefix closes that connection; at
     least 4 and below 0xA0A0A0A0, which is how a native frame's first four bytes read),
@@ -489,8 +502,7 @@ class FocasServer:
             raise ValueError(f"grace_period must be >= 0, got {grace_period}")
         if native_version is not None and not 1 <= native_version <= 0xFFFF:
             raise ValueError(f"native_version must be within 1..65535, got {native_version}")
-        if not 0 <= native_max_body <= 0xFFFF:
-            raise ValueError(f"native_max_body must be within 0..65535, got {native_max_body}")
+        check_server_max_body(native_max_body, "native_max_body")
         machine_list = _machines(machines)
         for m in machine_list:
             if read_only is not None:

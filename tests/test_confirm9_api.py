@@ -1,0 +1,71 @@
+"""The Python API as a new user meets it, a confirming ninth pass: points left arguable are
+decided (one machine served twice is refused, naming it; the history options of an alarm
+projection that reads no history are documented as changing nothing), and the packed and
+native clients asked the same thing answer the same."""
+
+from __future__ import annotations
+
+import pytest
+
+from focas_net import FocasClient, FocasServer, NativeClient, default_machine
+from focas_net.client import AlarmProjection, AlarmRaised, ProjectionMode
+from focas_net.sim import Machine
+
+
+# -- one Machine object given twice to FocasServer --------------------------------------------
+@pytest.mark.parametrize("where", [(0, 1), (0, 2), (1, 2)])
+def test_the_same_machine_given_twice_is_refused_naming_both_places(
+    where: tuple[int, int],
+) -> None:
+    machines = [default_machine(), default_machine(), default_machine()]
+    first, second = where
+    machines[second] = machines[first]
+    with pytest.raises(ValueError) as refused:
+        FocasServer(machines, port=0)
+    text = str(refused.value)
+    assert f"machines[{second}]" in text
+    assert f"machines[{first}]" in text
+    assert repr(machines[first]) in text
+
+
+def test_two_machines_alike_but_not_the_same_object_are_served() -> None:
+    one, other = default_machine(), default_machine()
+    server = FocasServer([one, other], port=0)
+    assert [listener.machine for listener in server.listeners] == [one, other]
+
+
+def test_a_machine_given_twice_through_a_generator_is_refused_as_well() -> None:
+    machine = default_machine()
+    with pytest.raises(ValueError, match=r"machines\[1\] is machines\[0\]"):
+        FocasServer((machine for _ in range(2)), port=0)
+
+
+# -- AlarmProjection's history options in ACTIVE mode ----------------------------------------
+@pytest.mark.parametrize("replay", [True, False])
+@pytest.mark.parametrize("native", [False, True])
+async def test_active_mode_reads_no_history_whatever_replay_history_says(
+    both_clients: tuple[Machine, FocasClient, NativeClient],
+    monkeypatch: pytest.MonkeyPatch,
+    replay: bool,
+    native: bool,
+) -> None:
+    machine, cnc, through_native = both_clients
+    client: FocasClient | NativeClient = through_native if native else cnc
+    machine.raise_alarm(0, 4, 100, "a test alarm")
+
+    async def no_history(*args: object, **kwargs: object) -> object:
+        raise AssertionError("ACTIVE mode reads no history")
+
+    monkeypatch.setattr(client, "read_alarm_history", no_history)
+    projection = AlarmProjection(client, mode="active", replay_history=replay, depth=7)
+    assert projection.mode is ProjectionMode.ACTIVE
+    events = await projection.poll()
+    assert [type(e) for e in events] == [AlarmRaised]
+
+
+def test_the_docs_say_what_replay_history_does_in_active_mode() -> None:
+    from pathlib import Path
+
+    docs = (Path(__file__).parents[1] / "docs" / "client.md").read_text(encoding="utf-8")
+    assert "in `ACTIVE` mode they change nothing" in docs
+    assert "in ACTIVE mode they change nothing" in (AlarmProjection.__doc__ or "")
