@@ -69,3 +69,42 @@ def test_the_docs_say_what_replay_history_does_in_active_mode() -> None:
     docs = (Path(__file__).parents[1] / "docs" / "client.md").read_text(encoding="utf-8")
     assert "in `ACTIVE` mode they change nothing" in docs
     assert "in ACTIVE mode they change nothing" in (AlarmProjection.__doc__ or "")
+
+
+# -- alarm history depth: the clients read more than 250 as 250 ------------------------------
+@pytest.mark.parametrize("native", [False, True])
+@pytest.mark.parametrize("depth", [0, -1, -250])
+async def test_a_depth_below_one_is_refused_without_a_bound_the_client_does_not_keep(
+    both_clients: tuple[Machine, FocasClient, NativeClient], native: bool, depth: int
+) -> None:
+    _, cnc, through_native = both_clients
+    client: FocasClient | NativeClient = through_native if native else cnc
+    assert (await client.read_alarm_history(251)).ew == 0  # taken, read as 250
+    with pytest.raises(ValueError) as refused:
+        await client.read_alarm_history(depth)
+    assert str(refused.value) == (
+        f"history depth {depth} is below 1 (the latest entries to read; more than 250 "
+        "reads the 250 the history holds)"
+    )
+
+
+@pytest.mark.parametrize("depth", [251, 1000])
+async def test_a_projection_takes_the_depths_its_client_takes(
+    both_clients: tuple[Machine, FocasClient, NativeClient], depth: int
+) -> None:
+    machine, cnc, _ = both_clients
+    machine.raise_alarm(0, 4, 100, "a test alarm")
+    projection = AlarmProjection(cnc, "active+history", depth=depth)
+    events = await projection.poll()
+    assert [type(e).__name__ for e in events] == ["AlarmRaised", "AlarmHistoryEvent"]
+
+
+@pytest.mark.parametrize("depth", [0, -3])
+def test_a_projection_refuses_a_depth_below_one_as_its_client_does(depth: int) -> None:
+    client = FocasClient("127.0.0.1", 8193)
+    with pytest.raises(ValueError) as refused:
+        AlarmProjection(client, "active+history", depth=depth)
+    assert str(refused.value) == (
+        f"history depth {depth} is below 1 (the latest entries to read; more than 250 "
+        "reads the 250 the history holds)"
+    )
