@@ -5,11 +5,14 @@ native clients asked the same thing answer the same."""
 
 from __future__ import annotations
 
+from typing import Any
+
 import pytest
 
 from focas_net import FocasClient, FocasServer, NativeClient, default_machine
 from focas_net.client import AlarmProjection, AlarmRaised, ProjectionMode
 from focas_net.sim import Machine
+from focas_net.sim.nc.scenario import DEFAULT_SCENARIO
 
 
 # -- one Machine object given twice to FocasServer --------------------------------------------
@@ -108,3 +111,37 @@ def test_a_projection_refuses_a_depth_below_one_as_its_client_does(depth: int) -
         f"history depth {depth} is below 1 (the latest entries to read; more than 250 "
         "reads the 250 the history holds)"
     )
+
+
+# -- a scenario of another type ----------------------------------------------------------------
+@pytest.mark.parametrize("scenario", ["nope", 5, {"parts": 3}, True])
+def test_start_scenario_names_a_scenario_of_another_type(scenario: Any) -> None:
+    machine = default_machine()
+    with pytest.raises(TypeError) as refused:
+        machine.start_scenario(scenario)
+    assert str(refused.value) == (
+        f"scenario must be a Scenario (focas_net.sim.nc.scenario) or None, got {scenario!r}"
+    )
+    assert not machine.scenario_running
+
+
+@pytest.mark.parametrize("scenario", ["nope", 5, ["a"]])
+def test_a_machine_is_not_built_with_a_scenario_of_another_type(scenario: Any) -> None:
+    with pytest.raises(TypeError) as refused:
+        Machine("m", scenario=scenario)
+    assert str(refused.value) == (
+        f"scenario must be a Scenario (focas_net.sim.nc.scenario) or None, got {scenario!r}"
+    )
+
+
+def test_a_scenario_of_its_own_type_still_starts() -> None:
+    machine = default_machine()
+    machine.start_scenario(DEFAULT_SCENARIO)
+    assert machine.scenario_running
+
+
+def test_a_scenario_attribute_set_to_another_type_is_named_when_started() -> None:
+    machine = default_machine()
+    machine.scenario = "nope"  # type: ignore[assignment]
+    with pytest.raises(TypeError, match=r"scenario must be a Scenario .* got 'nope'"):
+        machine.start_scenario()
