@@ -145,3 +145,31 @@ def test_a_scenario_attribute_set_to_another_type_is_named_when_started() -> Non
     machine.scenario = "nope"  # type: ignore[assignment]
     with pytest.raises(TypeError, match=r"scenario must be a Scenario .* got 'nope'"):
         machine.start_scenario()
+
+
+# -- the native client's arguments, as its guide gives them -----------------------------------
+def test_the_native_guide_gives_the_native_clients_arguments_and_their_defaults() -> None:
+    import inspect
+    import re
+    from pathlib import Path
+
+    text = (Path(__file__).parents[1] / "docs" / "native-client.md").read_text(encoding="utf-8")
+    (block,) = re.findall(r"```python\n(NativeClient\(host.*?)```", text, flags=re.S)
+    written = dict(
+        (name, value)
+        for name, value in re.findall(r"(\w+)=([^,)\s]+)", " ".join(block.split()))
+    )
+    signature = inspect.signature(NativeClient)
+    defaults = {
+        name: repr(p.default)
+        for name, p in signature.parameters.items()
+        if p.default is not inspect.Parameter.empty
+    }
+    assert written == defaults
+    packed = set(inspect.signature(FocasClient).parameters)
+    lacking = sorted(packed - set(signature.parameters))
+    assert lacking == ["max_frame", "max_in_flight", "password", "server_hostname", "ssl"]
+    for name in lacking:
+        assert f"`{name}`" in text
+        with pytest.raises(TypeError, match=f"unexpected keyword argument '{name}'"):
+            NativeClient("127.0.0.1", **{name: None})
