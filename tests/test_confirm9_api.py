@@ -156,8 +156,7 @@ def test_the_native_guide_gives_the_native_clients_arguments_and_their_defaults(
     text = (Path(__file__).parents[1] / "docs" / "native-client.md").read_text(encoding="utf-8")
     (block,) = re.findall(r"```python\n(NativeClient\(host.*?)```", text, flags=re.S)
     written = dict(
-        (name, value)
-        for name, value in re.findall(r"(\w+)=([^,)\s]+)", " ".join(block.split()))
+        (name, value) for name, value in re.findall(r"(\w+)=([^,)\s]+)", " ".join(block.split()))
     )
     signature = inspect.signature(NativeClient)
     defaults = {
