@@ -172,3 +172,25 @@ def test_the_native_guide_gives_the_native_clients_arguments_and_their_defaults(
         assert f"`{name}`" in text
         with pytest.raises(TypeError, match=f"unexpected keyword argument '{name}'"):
             NativeClient("127.0.0.1", **{name: None})
+
+
+# -- machines in a dict or a set ---------------------------------------------------------------
+def test_machines_in_a_dict_are_refused_naming_the_dict_not_its_first_key() -> None:
+    machines = {"lathe": default_machine(), "mill": default_machine()}
+    with pytest.raises(TypeError) as refused:
+        FocasServer(machines, port=0)  # type: ignore[arg-type]
+    assert str(refused.value) == (
+        "machines must be a Machine or a list of them, got a dict (its machines in order: "
+        "list(machines.values()))"
+    )
+
+
+@pytest.mark.parametrize("kind", [set, frozenset])
+def test_machines_in_a_set_are_refused_as_a_set_has_no_order(kind: Any) -> None:
+    machines = kind([default_machine(), default_machine()])
+    with pytest.raises(TypeError) as refused:
+        FocasServer(machines, port=8193)
+    assert str(refused.value) == (
+        f"machines must be a Machine or a list of them, got a {kind.__name__}, which has no "
+        "order (machine i listens on port + i): make it a list"
+    )
