@@ -171,7 +171,7 @@ def test_the_native_guide_gives_the_native_clients_arguments_and_their_defaults(
     for name in lacking:
         assert f"`{name}`" in text
         with pytest.raises(TypeError, match=f"unexpected keyword argument '{name}'"):
-            NativeClient("127.0.0.1", **{name: None})
+            NativeClient("127.0.0.1", **{name: None})  # type: ignore[arg-type]
 
 
 # -- machines in a dict or a set ---------------------------------------------------------------
