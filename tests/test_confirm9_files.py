@@ -136,3 +136,36 @@ def test_a_loop_of_zero_dwells_takes_the_busy_block_time(dwell: str) -> None:
     settings = engine.settings
     bound = 2 * settings.zero_time_blocks + 2 * round(1.0 / settings.busy_block_time)
     assert steps <= bound
+
+
+# -- what an alarm's detail names -------------------------------------------------------------
+
+
+@pytest.mark.parametrize(
+    ("block", "words"),
+    [
+        # the repetitions in front of four digits: the detail names P as written
+        ("M98 P12345678", "M98 P12345678: no program O5678 (1234 times)"),
+        ("M98 P20003", "M98 P20003: no program O0003 (2 times)"),
+        ("M98 P3", "M98 P3: no program O0003"),
+        # a canned cycle is PS0010 (its G code), as docs/machine-file.md says, not its Q
+        ("G83 X1. Y1. Z-1. R1. Q1. F100", "PS0010 IMPROPER G-CODE (O0001): G83"),
+        ("G73 X1. Z-1. Q0.5 F100", "PS0010 IMPROPER G-CODE (O0001): G73"),
+        # Q names no axis: the detail does not offer the axes in its place
+        (
+            "G0 X1. Q1.",
+            "PS0009 ILLEGAL ADDRESS INPUT (O0001): address Q: the interpreter reads no Q",
+        ),
+        ("G0 A1.", "PS0009 ILLEGAL ADDRESS INPUT (O0001): address A (axes are XYZ)"),
+    ],
+)
+def test_an_alarm_names_the_word_as_written_and_the_code_refused(block: str, words: str) -> None:
+    """`M98 P12345678` was named `M98 P5678`; `G83 ... Q1.` raised PS0009 `address Q (axes
+    are XYZ)` as if Q were a missing axis, where the docs say a canned cycle raises PS0010."""
+    clock = ManualClock()
+    engine = Engine(clock)
+    engine.store.store(f"O1\n{block}\nM30\n")
+    engine.store.select(1)
+    engine.cycle_start()
+    clock.advance(5.0)
+    assert str(engine.alarm).endswith(words)
