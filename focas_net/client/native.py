@@ -34,6 +34,7 @@ from typing import Any, Final
 from focas_net.errors import EW, CncError, FocasError, PayloadError
 
 from ..native import (
+    LIBRARY_MAX_REQUEST_BODY,
     REQUEST_BLOCK_SIZE,
     AlarmMessages,
     AlarmStatus,
@@ -596,11 +597,9 @@ class NativeClient(
         return max_response_body(version) - 2 - _ANSWER_HEAD
 
     def _pmc_write_chunk(self) -> int:
-        """Most PMC bytes one write carries (request bodies are kept within the answers'
-        limit)."""
-        handle = self._handle
-        version = handle.version if handle is not None else 1
-        return max_response_body(version) - 2 - REQUEST_BLOCK_SIZE
+        """Most PMC bytes one write carries: 1420, a request body of
+        :data:`LIBRARY_MAX_REQUEST_BODY` as FANUC's library cuts it, whatever the version."""
+        return LIBRARY_MAX_REQUEST_BODY - 2 - REQUEST_BLOCK_SIZE
 
     async def _read_pmc_chunk(
         self, code: int, start: int, count: int, deadline: float | None

@@ -40,7 +40,7 @@ import anyio.lowlevel
 from focas_net._address import check_host
 from focas_net._typed import os_words
 from focas_net.adapters import PackedAdapter
-from focas_net.native import DEFAULT_MAX_BODY, MAGIC
+from focas_net.native import DEFAULT_MAX_BODY, MAGIC, check_server_max_body
 from focas_net.protocol import DEFAULT_MAX_FRAME
 from focas_net.sim import Machine
 
@@ -438,7 +438,9 @@ class FocasServer:
     out, so that only the native ports are served. ``native_version`` overrides the version word
     of every native answer, which each machine's control class picks otherwise (it also picks
     the command set FANUC's library uses), ``native_max_body`` the largest
-    native frame body accepted (checked on the header before any of the body is buffered).
+    native frame body accepted (checked on the header before any of the body is buffered; at
+    least :data:`~focas_net.native.LIBRARY_MAX_REQUEST_BODY`, 1450, the longest request body
+    FANUC's library sends).
 
     Limits: ``max_frame`` (a longer or shorter packed length prefix closes that connection; at
     least 4 and below 0xA0A0A0A0, which is how a native frame's first four bytes read),
@@ -500,8 +502,7 @@ class FocasServer:
             raise ValueError(f"grace_period must be >= 0, got {grace_period}")
         if native_version is not None and not 1 <= native_version <= 0xFFFF:
             raise ValueError(f"native_version must be within 1..65535, got {native_version}")
-        if not 0 <= native_max_body <= 0xFFFF:
-            raise ValueError(f"native_max_body must be within 0..65535, got {native_max_body}")
+        check_server_max_body(native_max_body, "native_max_body")
         machine_list = _machines(machines)
         for m in machine_list:
             if read_only is not None:
