@@ -7,11 +7,23 @@ Servers here bind 127.0.0.1 on ephemeral ports.
 
 from __future__ import annotations
 
-import pytest
-from support import IO_TIMEOUT
+import asyncio
 
+import pytest
+from cli_support import one_line, run_focas_net
+from support import IO_TIMEOUT, LoopbackPeer
+
+from focas_net.adapters import NativeAdapter
 from focas_net.client import NativeClient
-from focas_net.native import DEFAULT_MAX_BODY, LIBRARY_MAX_REQUEST_BODY
+from focas_net.errors import FocasConnectionError, FocasTimeoutError, ProtocolError
+from focas_net.native import (
+    DEFAULT_MAX_BODY,
+    LIBRARY_MAX_REQUEST_BODY,
+    MAGIC_WORD,
+    NATIVE_HEADER,
+    FrameType,
+    NativeFrameDecoder,
+)
 from focas_net.server import FocasServer, NativeServer
 from focas_net.sim import default_machine
 
@@ -55,3 +67,121 @@ async def test_a_long_pmc_write_keeps_each_request_within_the_librarys_size(
         await client.write_pmc("D", 0, data)
         assert client.frames_sent == 5  # 6000 bytes, 1420 a request
         assert await client.read_pmc("D", 0, len(data)) == data
+
+
+class _OpenAnswering(LoopbackPeer):
+    """A FOCAS/2 peer answering each open request with ``frame`` (header and body), and
+    nothing else."""
+
+    def __init__(self, frame: bytes) -> None:
+        self.frame = frame
+
+    async def _serve(self, reader: asyncio.StreamReader, writer: asyncio.StreamWriter) -> None:
+        try:
+            await reader.readexactly(12)  # the open request
+            writer.write(self.frame)
+            await writer.drain()
+            await reader.read(1)  # until the client closes
+        finally:
+            writer.close()
+
+
+_V3_OPEN = NativeAdapter(default_machine()).open_answer()
+
+
+@pytest.mark.parametrize(
+    ("frame", "why"),
+    [
+        (
+            NATIVE_HEADER.pack(MAGIC_WORD, 3, FrameType.OPEN_RESPONSE, 0),
+            "open answer refused: open answer of 0 bytes at version 3, shorter than the 12 "
+            "bytes that hold its path count; it sent b'\\xa0\\xa0\\xa0\\xa0\\x00\\x03\\x01\\x02'",
+        ),
+        (
+            NATIVE_HEADER.pack(MAGIC_WORD, 3, FrameType.OPEN_RESPONSE, 20) + _V3_OPEN[:20],
+            "open answer refused: open answer of 20 bytes at version 3, not the 72 bytes its "
+            "path count of 1 makes; it sent b'\\xa0\\xa0\\xa0\\xa0\\x00\\x03\\x01\\x02'",
+        ),
+        (
+            NATIVE_HEADER.pack(MAGIC_WORD, 3, FrameType.DATA_RESPONSE, len(_V3_OPEN)) + _V3_OPEN,
+            "its answer to the open is a frame of type 0x2102; "
+            "it sent b'\\xa0\\xa0\\xa0\\xa0\\x00\\x03!\\x02'",
+        ),
+    ],
+)
+async def test_an_open_answer_the_library_refuses_is_a_peer_not_speaking_focas2(
+    frame: bytes, why: str
+) -> None:
+    """FANUC's library refuses such an open answer as it refuses a data answer of no block
+    (EW_PROTOCOL); the client said `open answer refused: ... expected None` (a Python None)
+    or `answered the open with type 0x2102`, a connection error (exit 3), where a refused data
+    answer is a peer that does not speak the FOCAS protocol (exit 4)."""
+    async with _OpenAnswering(frame) as peer:
+        with pytest.raises(ProtocolError) as caught:
+            async with NativeClient("127.0.0.1", peer.port, timeout=IO_TIMEOUT):
+                pass
+        assert str(caught.value) == (
+            f"127.0.0.1:{peer.port} does not speak the FOCAS protocol ({why})"
+        )
+        code, out, err = await run_focas_net(
+            "status", "--protocol", "native", "--port", str(peer.port)
+        )
+        assert (code, out) == (4, "")
+        assert one_line(err) == f"focas-net: {caught.value}"
+
+
+class _PmcMisanswering(LoopbackPeer):
+    """A FOCAS/2 peer of the default machine that answers a PMC read twice (``twice``) or
+    never (else); everything else as the simulator."""
+
+    def __init__(self, twice: bool) -> None:
+        self.twice = twice
+        self.adapter = NativeAdapter(default_machine())
+
+    async def _serve(self, reader: asyncio.StreamReader, writer: asyncio.StreamWriter) -> None:
+        decoder = NativeFrameDecoder()
+        try:
+            for _ in range(100):
+                data = await reader.read(65536)
+                if not data:
+                    return
+                for frame in decoder.feed(data):
+                    if frame.type == FrameType.OPEN_REQUEST:
+                        writer.write(self.adapter.open_response())
+                        continue
+                    answer = self.adapter.answer(frame.body)
+                    if frame.body[8:10] == b"\x80\x01":  # the first block's command
+                        if not self.twice:
+                            continue
+                        answer += answer
+                    writer.write(answer)
+        finally:
+            writer.close()
+
+
+async def test_bytes_no_request_asked_for_name_the_peer_that_sent_them() -> None:
+    """A read of three chunks whose first answer came twice failed with `bytes no request
+    asked for (the request was never sent)`, naming no peer."""
+    async with (
+        _PmcMisanswering(twice=True) as peer,
+        NativeClient("127.0.0.1", peer.port, timeout=IO_TIMEOUT) as client,
+    ):
+        with pytest.raises(FocasConnectionError) as caught:
+            await client.read_pmc("D", 0, 8000)
+    assert str(caught.value) == (
+        f"127.0.0.1:{peer.port} sent bytes no request asked for (the request was never sent)"
+    )
+
+
+async def test_a_chunked_read_left_unanswered_names_the_chunk_that_was_sent() -> None:
+    """The first chunk went out and was never answered, the others waited behind it: the read
+    failed with `no answer to pmc_rdpmcrng (the request was never sent)`, a later chunk's
+    words, as if nothing had been sent."""
+    async with (
+        _PmcMisanswering(twice=False) as peer,
+        NativeClient("127.0.0.1", peer.port, timeout=0.5) as client,
+    ):
+        with pytest.raises(FocasTimeoutError) as caught:
+            await client.read_pmc("D", 0, 8000)
+    assert "never sent" not in str(caught.value)
+    assert str(caught.value).endswith("no answer to pmc_rdpmcrng")

@@ -744,16 +744,20 @@ class NativeClient(
 
 
 async def _all_or_first_error(coros: Any) -> list[bytes]:
-    """Run ``coros`` (reads, safe to give up) together; the first failure cancels the rest and
-    is raised."""
+    """Run ``coros`` (reads, safe to give up) together; a failure cancels those still
+    running, and the first failure in chunk order is raised: the chunk that was sent, not
+    one queued behind it that ended with it (``never sent``)."""
     tasks = [asyncio.ensure_future(c) for c in coros]
     try:
-        return list(await asyncio.gather(*tasks))
+        await asyncio.wait(tasks, return_when=asyncio.FIRST_EXCEPTION)
     finally:
         for t in tasks:
             if not t.done():
                 t.cancel()
         await asyncio.wait(tasks)
-        for t in tasks:
-            if not t.cancelled():
-                t.exception()  # retrieved: none is reported unseen
+        # every failure retrieved (none reported unseen), also while this call is cancelled
+        failures = [t.exception() for t in tasks if not t.cancelled()]
+    first = next((e for e in failures if e is not None), None)
+    if first is not None:
+        raise first
+    return [t.result() for t in tasks]
