@@ -9,21 +9,24 @@ from __future__ import annotations
 
 import asyncio
 import contextlib
+import ctypes
 import logging
 import struct
 
 import pytest
 from cli_support import one_line, run_focas_net
-from support import IO_TIMEOUT, LoopbackPeer
+from fwlib_support import LIBRARY, buf, connect, i32, s16
+from support import IO_TIMEOUT, LoopbackPeer, serving
 
 from focas_net.adapters import NativeAdapter
-from focas_net.client import NativeClient
+from focas_net.client import FocasClient, NativeClient
 from focas_net.errors import FocasConnectionError, FocasTimeoutError, ProtocolError
 from focas_net.native import (
     DEFAULT_MAX_BODY,
     LIBRARY_MAX_REQUEST_BODY,
     MAGIC_WORD,
     NATIVE_HEADER,
+    PROGRAM_CHUNK,
     FrameType,
     NativeFrameDecoder,
 )
@@ -237,3 +240,38 @@ async def test_a_connection_over_the_limit_is_logged_with_its_peer_as_host_port(
     assert record.getMessage().startswith(
         f"focas-sim-0i: connection from 127.0.0.1:{local} refused: "
     )
+
+
+@pytest.mark.skipif(
+    not LIBRARY,
+    reason="set FOCAS_NET_FWLIB to the path of FANUC's libfwlib32 (e.g. libfwlib32.so.1) "
+    "to run FANUC's library against the simulator",
+)
+@pytest.mark.parametrize("version", [2, 3, 5])
+async def test_the_library_writes_and_downloads_within_the_smallest_body_limit(
+    version: int,
+) -> None:
+    """FANUC's library cuts a long PMC write into requests of 1450 body bytes and a download
+    into data frames of 1280, whatever the answer version: a server of the smallest limit
+    it accepts takes both."""
+    data = bytes(i % 251 for i in range(6000))
+    program = "O0777\n" + "".join(f"N{n} G0 X{n}.\n" for n in range(1, 500)) + "M30\n"
+    async with serving(native_max_body=LIBRARY_MAX_REQUEST_BODY, native_version=version) as served:
+        handle = await connect(served)
+        try:
+            iodbpmc = buf(8 + len(data))
+            struct.pack_into("<hhhh", iodbpmc, 0, 9, 0, 0, len(data) - 1)  # D, bytes, 0..5999
+            iodbpmc[8 : 8 + len(data)] = data
+            assert await handle.call("pmc_wrpmcrng", s16(8 + len(data)), iodbpmc) == 0
+            assert served.machine.read_pmc("D", 0, len(data)) == data
+            assert len(program) > 4 * PROGRAM_CHUNK
+            assert await handle.call("cnc_dwnstart3", s16(0)) == 0
+            text = ("\n" + program + "%").encode()
+            n = i32(len(text))
+            piece = ctypes.create_string_buffer(text)
+            assert await handle.call("cnc_download3", ctypes.byref(n), piece) == 0
+            assert await handle.call("cnc_dwnend3") == 0
+        finally:
+            await handle.free()
+        async with FocasClient(served.host, served.port, timeout=IO_TIMEOUT) as packed:
+            assert await packed.read_program(777) == program
