@@ -5,11 +5,14 @@ native clients asked the same thing answer the same."""
 
 from __future__ import annotations
 
+from typing import Any
+
 import pytest
 
 from focas_net import FocasClient, FocasServer, NativeClient, default_machine
 from focas_net.client import AlarmProjection, AlarmRaised, ProjectionMode
 from focas_net.sim import Machine
+from focas_net.sim.nc.scenario import DEFAULT_SCENARIO
 
 
 # -- one Machine object given twice to FocasServer --------------------------------------------
@@ -69,3 +72,125 @@ def test_the_docs_say_what_replay_history_does_in_active_mode() -> None:
     docs = (Path(__file__).parents[1] / "docs" / "client.md").read_text(encoding="utf-8")
     assert "in `ACTIVE` mode they change nothing" in docs
     assert "in ACTIVE mode they change nothing" in (AlarmProjection.__doc__ or "")
+
+
+# -- alarm history depth: the clients read more than 250 as 250 ------------------------------
+@pytest.mark.parametrize("native", [False, True])
+@pytest.mark.parametrize("depth", [0, -1, -250])
+async def test_a_depth_below_one_is_refused_without_a_bound_the_client_does_not_keep(
+    both_clients: tuple[Machine, FocasClient, NativeClient], native: bool, depth: int
+) -> None:
+    _, cnc, through_native = both_clients
+    client: FocasClient | NativeClient = through_native if native else cnc
+    assert (await client.read_alarm_history(251)).ew == 0  # taken, read as 250
+    with pytest.raises(ValueError) as refused:
+        await client.read_alarm_history(depth)
+    assert str(refused.value) == (
+        f"history depth {depth} is below 1 (the latest entries to read; more than 250 "
+        "reads the 250 the history holds)"
+    )
+
+
+@pytest.mark.parametrize("depth", [251, 1000])
+async def test_a_projection_takes_the_depths_its_client_takes(
+    both_clients: tuple[Machine, FocasClient, NativeClient], depth: int
+) -> None:
+    machine, cnc, _ = both_clients
+    machine.raise_alarm(0, 4, 100, "a test alarm")
+    projection = AlarmProjection(cnc, "active+history", depth=depth)
+    events = await projection.poll()
+    assert [type(e).__name__ for e in events] == ["AlarmRaised", "AlarmHistoryEvent"]
+
+
+@pytest.mark.parametrize("depth", [0, -3])
+def test_a_projection_refuses_a_depth_below_one_as_its_client_does(depth: int) -> None:
+    client = FocasClient("127.0.0.1", 8193)
+    with pytest.raises(ValueError) as refused:
+        AlarmProjection(client, "active+history", depth=depth)
+    assert str(refused.value) == (
+        f"history depth {depth} is below 1 (the latest entries to read; more than 250 "
+        "reads the 250 the history holds)"
+    )
+
+
+# -- a scenario of another type ----------------------------------------------------------------
+@pytest.mark.parametrize("scenario", ["nope", 5, {"parts": 3}, True])
+def test_start_scenario_names_a_scenario_of_another_type(scenario: Any) -> None:
+    machine = default_machine()
+    with pytest.raises(TypeError) as refused:
+        machine.start_scenario(scenario)
+    assert str(refused.value) == (
+        f"scenario must be a Scenario (focas_net.sim.nc.scenario) or None, got {scenario!r}"
+    )
+    assert not machine.scenario_running
+
+
+@pytest.mark.parametrize("scenario", ["nope", 5, ["a"]])
+def test_a_machine_is_not_built_with_a_scenario_of_another_type(scenario: Any) -> None:
+    with pytest.raises(TypeError) as refused:
+        Machine("m", scenario=scenario)
+    assert str(refused.value) == (
+        f"scenario must be a Scenario (focas_net.sim.nc.scenario) or None, got {scenario!r}"
+    )
+
+
+def test_a_scenario_of_its_own_type_still_starts() -> None:
+    machine = default_machine()
+    machine.start_scenario(DEFAULT_SCENARIO)
+    assert machine.scenario_running
+
+
+def test_a_scenario_attribute_set_to_another_type_is_named_when_started() -> None:
+    machine = default_machine()
+    machine.scenario = "nope"  # type: ignore[assignment]
+    with pytest.raises(TypeError, match=r"scenario must be a Scenario .* got 'nope'"):
+        machine.start_scenario()
+
+
+# -- the native client's arguments, as its guide gives them -----------------------------------
+def test_the_native_guide_gives_the_native_clients_arguments_and_their_defaults() -> None:
+    import inspect
+    import re
+    from pathlib import Path
+
+    text = (Path(__file__).parents[1] / "docs" / "native-client.md").read_text(encoding="utf-8")
+    (block,) = re.findall(r"```python\n(NativeClient\(host.*?)```", text, flags=re.S)
+    written = dict(
+        (name, value) for name, value in re.findall(r"(\w+)=([^,)\s]+)", " ".join(block.split()))
+    )
+    signature = inspect.signature(NativeClient)
+    defaults = {
+        name: repr(p.default)
+        for name, p in signature.parameters.items()
+        if p.default is not inspect.Parameter.empty
+    }
+    assert written == defaults
+    packed = set(inspect.signature(FocasClient).parameters)
+    lacking = sorted(packed - set(signature.parameters))
+    assert lacking == ["max_frame", "max_in_flight", "password", "server_hostname", "ssl"]
+    for name in lacking:
+        assert f"`{name}`" in text
+        with pytest.raises(TypeError, match=f"unexpected keyword argument '{name}'"):
+            NativeClient("127.0.0.1", **{name: None})  # type: ignore[arg-type]
+
+
+# -- machines in a dict or a set ---------------------------------------------------------------
+def test_machines_in_a_dict_are_refused_naming_the_dict_not_its_first_key() -> None:
+    machines = {"lathe": default_machine(), "mill": default_machine()}
+    with pytest.raises(TypeError) as refused:
+        FocasServer(machines, port=0)  # type: ignore[arg-type]
+    assert str(refused.value) == (
+        "machines must be a Machine or a list of them, got a dict (its machines in order: "
+        "list(machines.values()))"
+    )
+
+
+@pytest.mark.parametrize("kind", [set, frozenset])
+def test_machines_in_a_set_are_refused_as_a_set_has_no_order(kind: Any) -> None:
+    machines = kind([default_machine(), default_machine()])
+    with pytest.raises(TypeError) as refused:
+        FocasServer(machines, port=8193)
+    assert str(refused.value) == (
+        f"machines must be a Machine or a list of them, got a {kind.__name__}, which has no "
+        "order (machine i listens on port + i): make it a list"
+    )

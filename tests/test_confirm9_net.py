@@ -15,7 +15,7 @@ import struct
 
 import pytest
 from cli_support import one_line, run_focas_net
-from fwlib_support import LIBRARY, buf, connect, i32, s16
+from fwlib_support import LIBRARY, connect, i32, s16
 from support import IO_TIMEOUT, LoopbackPeer, serving
 
 from focas_net.adapters import NativeAdapter
@@ -259,9 +259,9 @@ async def test_the_library_writes_and_downloads_within_the_smallest_body_limit(
     async with serving(native_max_body=LIBRARY_MAX_REQUEST_BODY, native_version=version) as served:
         handle = await connect(served)
         try:
-            iodbpmc = buf(8 + len(data))
-            struct.pack_into("<hhhh", iodbpmc, 0, 9, 0, 0, len(data) - 1)  # D, bytes, 0..5999
-            iodbpmc[8 : 8 + len(data)] = data
+            # IODBPMC: D (9), bytes (0), 0..5999, then the bytes
+            head = struct.pack("<hhhh", 9, 0, 0, len(data) - 1)
+            iodbpmc = ctypes.create_string_buffer(head + data)
             assert await handle.call("pmc_wrpmcrng", s16(8 + len(data)), iodbpmc) == 0
             assert served.machine.read_pmc("D", 0, len(data)) == data
             assert len(program) > 4 * PROGRAM_CHUNK

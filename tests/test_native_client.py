@@ -186,7 +186,7 @@ async def test_reads_equal_the_packed_clients(
     assert await native.read_diag(300, axis=2) == await packed.read_diag(300, axis=2)
     assert await native.read_alarms() == await packed.read_alarms()
     assert await native.read_alarm_history(5) == await packed.read_alarm_history(5)
-    with pytest.raises(ValueError, match=r"history depth 0 is outside 1\.\.250"):
+    with pytest.raises(ValueError, match=r"history depth 0 is below 1 \(the latest entries"):
         await native.read_alarm_history(0)
     assert await native.read_axis_names() == tuple(m.axes)
 

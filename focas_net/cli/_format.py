@@ -86,13 +86,14 @@ __all__ = [
 
 #: An ODBST enumeration (``AutMode``, ...): its members carry a ``label`` and a ``meaning``.
 FieldValues = type[LabelledValue]
-_SUMMARY_FIELDS: Final = ("aut", "run", "motion", "mstb", "emergency", "alarm", "edit")
+_SUMMARY_FIELDS: Final = ("mode", "run", "motion", "mstb", "emergency", "alarm", "edit")
 
 
 def status_summary(status: StatusInfo) -> str:
-    """One line: ``aut=MEM run=STRT motion=MTN mstb=*** emergency=**** alarm=ALM edit=****``."""
-    fields = dict(STATUS_FIELDS)
-    return " ".join(f"{f}={field_name(fields[f], getattr(status, f))[0]}" for f in _SUMMARY_FIELDS)
+    """One line: ``mode=MEM run=STRT motion=MTN mstb=*** emergency=**** alarm=ALM edit=****``
+    (the keys of :data:`STATUS_FIELDS`)."""
+    labels = {f: label for f, _, label, _ in status_labels(status)}
+    return " ".join(f"{f}={labels[f]}" for f in _SUMMARY_FIELDS)
 
 
 def status_rows(status: StatusInfo, mt_type: str | None) -> list[tuple[str, str, str, str]]:

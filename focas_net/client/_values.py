@@ -179,7 +179,10 @@ def history_depth(depth: object) -> int:
     history holds no more); below 1 is a ValueError naming it, as the command line says."""
     given = check_int("history depth", depth, -(2**63), 2**63)
     if given < 1:
-        raise ValueError(f"history depth {given} is outside 1..{_MAX_HISTORY_DEPTH}")
+        raise ValueError(
+            f"history depth {given} is below 1 (the latest entries to read; more than "
+            f"{_MAX_HISTORY_DEPTH} reads the {_MAX_HISTORY_DEPTH} the history holds)"
+        )
     return min(given, _MAX_HISTORY_DEPTH)
 
 

@@ -121,6 +121,7 @@ from .values import (
     TmMode,
     field_label,
     status_labels,
+    status_member,
     tmmode_label,
 )
 from .versamax import MAX_CONFIG_CHUNK, VersaMaxReply, VersaMaxRequest
@@ -237,5 +238,6 @@ __all__ = [
     "pmc_bit_refusal",
     "scan_frames",
     "status_labels",
+    "status_member",
     "tmmode_label",
 ]

@@ -54,7 +54,12 @@ from ._base import (
 )
 from ._durable import Keeper
 from ._native import NativeConnection, NativeFront
-from ._options import check_fleet_ports, check_server_options
+from ._options import (
+    check_distinct_ports,
+    check_fleet_ports,
+    check_server_options,
+    server_machines,
+)
 from ._packed import PackedConnection
 from .faults import FaultQueue
 
@@ -375,58 +380,12 @@ class _NativeOnlyConnection(NativeConnection):
             super().connection_made(base if keeper is None else keeper.hold(base))  # type: ignore[arg-type]
 
 
-def _machines(machines: Machine | Iterable[Machine] | None) -> list[Machine]:
-    if machines is None:
-        from focas_net.sim import default_machine
-
-        return [default_machine()]
-    if isinstance(machines, Machine):
-        return [machines]
-    if isinstance(machines, str | bytes) or not isinstance(machines, Iterable):
-        raise TypeError(f"machines must be a Machine or a list of them, got {machines!r}")
-    result = list(machines)
-    if not result:
-        raise ValueError("FocasServer needs at least one machine")
-    seen: dict[int, int] = {}
-    for i, m in enumerate(result):
-        if not isinstance(m, Machine):
-            raise TypeError(f"machines[{i}] must be a Machine, got {m!r}")
-        first = seen.setdefault(id(m), i)
-        if first != i:
-            # two ports onto one state would look like two CNCs where a write on one
-            # shows on the other
-            raise ValueError(
-                f"machines[{i}] is machines[{first}] ({m!r}): each machine served is a CNC "
-                "of its own, with its own port and state; make another Machine for another "
-                "CNC (native_port serves one machine on a second port)"
-            )
-    return result
-
-
-def _check_distinct(ports: list[int] | None, native_ports: list[int] | None) -> None:
-    """Each fixed port the server would listen on is one port's only: ValueError naming the
-    two it would be (``native port 8194 of machine 0 is the port of machine 1``) before
-    anything listens, rather than the system's ``address already in use`` for the server's
-    own port. Port 0 (any free port) repeats freely."""
-    taken: dict[int, str] = {}
-    named = [(p, f"the port of machine {i}") for i, p in enumerate(ports or [])]
-    named += [(p, f"the native port of machine {i}") for i, p in enumerate(native_ports or [])]
-    for port, what in named:
-        if port == 0:
-            continue
-        if port in taken:
-            raise ValueError(
-                f"port {port} would be both {taken[port]} and {what}: each listens on a port "
-                "of its own"
-            )
-        taken[port] = what
-
-
 class FocasServer:
     """Serve simulated machines over both protocols, one listening port per machine.
 
-    ``machines`` is a machine, several (a fleet; one Machine object given twice is refused,
-    a ValueError naming both places), or None for the default machine. With
+    ``machines`` is a machine, several in order (a fleet: a list or any iterable but a dict
+    or a set; one Machine object given twice is refused, naming both places), or None for
+    the default machine. With
     ``port`` 0 every machine gets an ephemeral port; otherwise machine *i* listens on
     ``port + i``, or on ``ports[i]`` when ``ports`` is given (``port`` left out). Each such
     port answers the packed protocol (``docs/protocol.md``) and FANUC's native FOCAS/2
@@ -504,7 +463,7 @@ class FocasServer:
         if native_version is not None and not 1 <= native_version <= 0xFFFF:
             raise ValueError(f"native_version must be within 1..65535, got {native_version}")
         check_server_max_body(native_max_body, "native_max_body")
-        machine_list = _machines(machines)
+        machine_list = server_machines(machines)
         for m in machine_list:
             if read_only is not None:
                 m.read_only = read_only
@@ -537,7 +496,7 @@ class FocasServer:
         for p in (self._ports or []) + (self._native_ports or []):
             if not 0 <= p <= 65_535:
                 raise ValueError(f"port {p} outside 0..65535")
-        _check_distinct(self._ports, self._native_ports)
+        check_distinct_ports(self._ports, self._native_ports)
         self.host = check_host(host, 0)  # an IPv6 address without its brackets
         self.ssl = ssl
         self.max_frame = max_frame
