@@ -64,6 +64,7 @@ from .faults import (
     FaultsCleared,
     FaultsRequest,
     ew_of_text,
+    fault_arg_needed,
     fault_kind_of,
     fault_refusal,
 )
@@ -231,6 +232,7 @@ __all__ = [
     "encode_frame",
     "encode_response",
     "ew_of_text",
+    "fault_arg_needed",
     "fault_kind_of",
     "fault_refusal",
     "field_label",

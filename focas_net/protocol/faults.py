@@ -21,6 +21,7 @@ __all__ = [
     "FaultsCleared",
     "FaultsRequest",
     "ew_of_text",
+    "fault_arg_needed",
     "fault_kind_of",
     "fault_refusal",
 ]
@@ -45,6 +46,17 @@ def fault_kind_of(text: str) -> FaultKind:
     except KeyError:
         names = ", ".join(sorted(k.name.lower() for k in FaultKind))
         raise ValueError(f"unknown fault kind {text!r} (one of {names})") from None
+
+
+def fault_arg_needed(kind: int) -> str | None:
+    """What a fault of ``kind`` given no argument lacks, in the words every front end shows
+    after the argument's own name (the command line's ``--arg``, the dashboard's ``arg``);
+    None for a kind that takes none (a drop, a split)."""
+    if kind == FaultKind.DELAY:
+        return f"a delay fault needs its delay in milliseconds (0..{MAX_DELAY_MS})"
+    if kind == FaultKind.ERROR:
+        return "an error fault needs the EW code it answers with (e.g. EW_BUSY or -1)"
+    return None
 
 
 def fault_refusal(kind: int, scope: int, count: int, arg: int) -> str | None:
