@@ -66,6 +66,7 @@ from .faults import (
     ew_of_text,
     fault_kind_of,
     fault_refusal,
+    scope_refusal,
 )
 from .frame import (
     DEFAULT_MAX_FRAME,
@@ -236,6 +237,7 @@ __all__ = [
     "pmc_address_unfit",
     "pmc_bit_refusal",
     "scan_frames",
+    "scope_refusal",
     "status_labels",
     "tmmode_label",
 ]
