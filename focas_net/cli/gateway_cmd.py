@@ -32,7 +32,7 @@ from focas_net.gateway import (
     outputs,
     shard,
 )
-from focas_net.gateway.config import with_port
+from focas_net.gateway.config import shard_refusal, with_port
 
 from ._args import (
     EXIT_CNC,
@@ -53,10 +53,14 @@ _log = logging.getLogger("focas_net.cli.gateway")
 
 
 def parse_shard(text: str) -> tuple[int, int]:
-    """``I/N`` as two integers (their ranges are checked with the file, by ``shard``)."""
+    """``I/N`` as two integers, shard I of N (whether the file has a machine for it is
+    checked with the file, by ``shard``)."""
     first, slash, second = text.strip().partition("/")
     if not slash or not all(t.strip().isascii() and t.strip().isdigit() for t in (first, second)):
         raise ValueError(f"give the shard as I/N (1/4: the first of four), got {text!r}")
+    why = shard_refusal(int(first), int(second))
+    if why is not None:
+        raise ValueError(f"{why}, got {text!r}")
     return int(first), int(second)
 
 

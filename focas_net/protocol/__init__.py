@@ -64,6 +64,7 @@ from .faults import (
     FaultsCleared,
     FaultsRequest,
     ew_of_text,
+    fault_arg_needed,
     fault_kind_of,
     fault_refusal,
     scope_refusal,
@@ -122,6 +123,7 @@ from .values import (
     TmMode,
     field_label,
     status_labels,
+    status_member,
     tmmode_label,
 )
 from .versamax import MAX_CONFIG_CHUNK, VersaMaxReply, VersaMaxRequest
@@ -231,6 +233,7 @@ __all__ = [
     "encode_frame",
     "encode_response",
     "ew_of_text",
+    "fault_arg_needed",
     "fault_kind_of",
     "fault_refusal",
     "field_label",
@@ -239,5 +242,6 @@ __all__ = [
     "scan_frames",
     "scope_refusal",
     "status_labels",
+    "status_member",
     "tmmode_label",
 ]

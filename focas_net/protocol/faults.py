@@ -21,6 +21,7 @@ __all__ = [
     "FaultsCleared",
     "FaultsRequest",
     "ew_of_text",
+    "fault_arg_needed",
     "fault_kind_of",
     "fault_refusal",
     "scope_refusal",
@@ -55,6 +56,17 @@ def scope_refusal(scope: int) -> str | None:
         return None
     scopes = ", ".join(f"{int(s)} {s.name}" for s in FaultScope)
     return f"no fault scope {scope} (one of {scopes})"
+
+
+def fault_arg_needed(kind: int) -> str | None:
+    """What a fault of ``kind`` given no argument lacks, in the words every front end shows
+    after the argument's own name (the command line's ``--arg``, the dashboard's ``arg``);
+    None for a kind that takes none (a drop, a split)."""
+    if kind == FaultKind.DELAY:
+        return f"a delay fault needs its delay in milliseconds (0..{MAX_DELAY_MS})"
+    if kind == FaultKind.ERROR:
+        return "an error fault needs the EW code it answers with (e.g. EW_BUSY or -1)"
+    return None
 
 
 def fault_refusal(kind: int, scope: int, count: int, arg: int) -> str | None:
