@@ -67,6 +67,7 @@ from .faults import (
     fault_arg_needed,
     fault_kind_of,
     fault_refusal,
+    scope_refusal,
 )
 from .frame import (
     DEFAULT_MAX_FRAME,
@@ -239,6 +240,7 @@ __all__ = [
     "pmc_address_unfit",
     "pmc_bit_refusal",
     "scan_frames",
+    "scope_refusal",
     "status_labels",
     "status_member",
     "tmmode_label",

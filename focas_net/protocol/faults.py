@@ -24,6 +24,7 @@ __all__ = [
     "fault_arg_needed",
     "fault_kind_of",
     "fault_refusal",
+    "scope_refusal",
 ]
 
 #: Longest delay a fault may ask for, in milliseconds.
@@ -48,6 +49,15 @@ def fault_kind_of(text: str) -> FaultKind:
         raise ValueError(f"unknown fault kind {text!r} (one of {names})") from None
 
 
+def scope_refusal(scope: int) -> str | None:
+    """Why a fault scope number is refused (``EW_DATA``), in the words of
+    :func:`fault_refusal`; None for a scope the server has."""
+    if scope in FAULT_SCOPES:
+        return None
+    scopes = ", ".join(f"{int(s)} {s.name}" for s in FaultScope)
+    return f"no fault scope {scope} (one of {scopes})"
+
+
 def fault_arg_needed(kind: int) -> str | None:
     """What a fault of ``kind`` given no argument lacks, in the words every front end shows
     after the argument's own name (the command line's ``--arg``, the dashboard's ``arg``);
@@ -67,9 +77,9 @@ def fault_refusal(kind: int, scope: int, count: int, arg: int) -> str | None:
     if kind not in _FAULT_KINDS:
         kinds = ", ".join(f"{int(k)} {k.name}" for k in FaultKind)
         return f"no fault kind {kind} (one of {kinds})"
-    if scope not in FAULT_SCOPES:
-        scopes = ", ".join(f"{int(s)} {s.name}" for s in FaultScope)
-        return f"no fault scope {scope} (one of {scopes})"
+    why = scope_refusal(scope)
+    if why is not None:
+        return why
     if not 1 <= count <= MAX_FAULT_COUNT:
         return f"a fault's count is 1..{MAX_FAULT_COUNT}, got {count}"
     if kind == FaultKind.DELAY and not 0 <= arg <= MAX_DELAY_MS:
