@@ -186,3 +186,13 @@ async def test_a_negative_pmc_address_is_refused_as_one_past_the_end_is(typed: s
         with pytest.raises(ValueError, match=f"^{words}$"):
             pmc_address(typed, "R")
         assert served.machine.read_pmc("R", 0, 1) == b"\x00"
+
+
+# -- a value of spaces, named as typed ----------------------------------------------------------
+@pytest.mark.parametrize("typed", ["  ", "   "])
+async def test_a_fault_argument_of_spaces_is_named_as_typed_on_the_command_line(typed: str) -> None:
+    """``sim fault delay --arg '  '`` named ``' '`` (the one-line message collapsed the value's
+    own spaces), where a usage error and the page keep them."""
+    async with serving() as served:
+        line = await fails(2, "sim", "fault", *at(served), "delay", "--arg", typed)
+        assert line == f"focas-net: --arg: not a whole number: {typed!r} (nothing typed)"

@@ -60,6 +60,7 @@ __all__ = [
     "module_dict",
     "module_lines",
     "mt_type_text",
+    "one_line",
     "parse_alarm",
     "parse_alarm_filter",
     "parse_aut",
@@ -624,10 +625,20 @@ def error_line(exc: BaseException) -> str:
         text = str(exc)
     else:
         text = str(exc) or type(exc).__name__
-    return " ".join(text.split())
+    return one_line(text)
 
 
 def macro_text(value: Decimal | None) -> str:
     """A macro value as the CNC shows it (:func:`decimal_text`); a vacant variable is
     ``<vacant>``."""
     return "<vacant>" if value is None else decimal_text(value)
+
+
+#: A line break with the indentation around it (argparse wraps long messages over lines).
+_LINE_BREAK: Final = re.compile(r"[ \t]*\n\s*")
+
+
+def one_line(message: str) -> str:
+    """``message`` on one line: its line breaks (with the indentation around them) joined by
+    a space, a value's own spaces kept as typed (``'  '`` stays two)."""
+    return _LINE_BREAK.sub(" ", message.strip())
