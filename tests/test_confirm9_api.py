@@ -11,7 +11,7 @@ import pytest
 
 from focas_net import EW, CncError, FocasClient, FocasServer, NativeClient, default_machine
 from focas_net.client import AlarmProjection, AlarmRaised, ProjectionMode
-from focas_net.sim import Machine, MachineError
+from focas_net.sim import Machine, MachineError, PathSpec
 from focas_net.sim.nc.scenario import DEFAULT_SCENARIO
 
 
@@ -235,3 +235,14 @@ def test_the_machine_refuses_a_vacant_parts_count_in_the_clients_words() -> None
     assert str(refused.value) == (
         "EW_DATA: #3902 is a parts count, which always holds a number (write 0 to reset it)"
     )
+
+
+# -- a main program number of another type ----------------------------------------------------
+@pytest.mark.parametrize("number", ["1", 1.0, True, "O0001"])
+def test_a_main_program_of_another_type_is_a_type_error_naming_it(number: Any) -> None:
+    with pytest.raises(TypeError) as refused:
+        Machine("m", programs=["O0001\nM30\n"], main_program=number)
+    assert str(refused.value) == f"main_program must be an integer, got {number!r}"
+    with pytest.raises(TypeError) as by_path:
+        Machine("m", paths=[PathSpec(("X",), programs=("O0001\nM30\n",), main_program=number)])
+    assert str(by_path.value) == str(refused.value)
