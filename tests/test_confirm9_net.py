@@ -275,3 +275,12 @@ async def test_the_library_writes_and_downloads_within_the_smallest_body_limit(
             await handle.free()
         async with FocasClient(served.host, served.port, timeout=IO_TIMEOUT) as packed:
             assert await packed.read_program(777) == program
+
+
+async def test_serve_help_does_not_promise_focas2_on_a_tls_main_port() -> None:
+    """`--native-port` said `off by default (the main port speaks it anyway)`, also with
+    `--tls-cert`, where the main port speaks TLS, which no FOCAS/2 client does."""
+    code, out, _ = await run_focas_net("serve", "--help")
+    assert code == 0
+    words = " ".join(out.split())
+    assert "(the main port speaks it too, unless --tls-cert makes it TLS" in words
