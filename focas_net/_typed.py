@@ -118,7 +118,11 @@ PROGRAM_NUMBERS: Final = f"(O1..O{_MAX_PROGRAM}, e.g. O1000)"
 
 
 def macro_unfit(value: object) -> str:
-    """Why ``value`` does not fit a macro variable, and what to type instead."""
+    """Why ``value`` does not fit a macro variable, and what to type instead; a Decimal in
+    plain decimals as it was typed (``0.0000000001``, not ``1E-10``) unless that would take
+    more than 40 places (``1E+99999``)."""
+    if isinstance(value, Decimal) and value.is_finite() and abs(value.adjusted()) <= 40:
+        value = decimal_text(value)
     return (
         f"{value} does not fit a macro variable: give at most 9 decimals and at most 10 digits, "
         "which without the decimal point stay within 32 bits (-2147483648..2147483647)"
