@@ -54,6 +54,7 @@ __all__ = [
     "os_words",
     "override_percent",
     "override_unfit",
+    "param_value_unfit",
     "password_bytes",
     "program_number",
     "rapid_step",
@@ -118,7 +119,11 @@ PROGRAM_NUMBERS: Final = f"(O1..O{_MAX_PROGRAM}, e.g. O1000)"
 
 
 def macro_unfit(value: object) -> str:
-    """Why ``value`` does not fit a macro variable, and what to type instead."""
+    """Why ``value`` does not fit a macro variable, and what to type instead; a Decimal in
+    plain decimals as it was typed (``0.0000000001``, not ``1E-10``) unless that would take
+    more than 40 places (``1E+99999``)."""
+    if isinstance(value, Decimal) and value.is_finite() and abs(value.adjusted()) <= 40:
+        value = decimal_text(value)
     return (
         f"{value} does not fit a macro variable: give at most 9 decimals and at most 10 digits, "
         "which without the decimal point stay within 32 bits (-2147483648..2147483647)"
@@ -153,6 +158,24 @@ def item_axis_unfit(axis: int, what: str) -> str | None:
     parameter)``); None when it is one (whether the item has that axis is the CNC's to say)."""
     why = field_unfit("axis", axis, 0, 0x7FFF)
     return None if why is None else f"{why} (0: not an axis {what})"
+
+
+def param_value_unfit(number: int, value: int, width: int, *, bit: bool = False) -> str | None:
+    """Why ``value`` cannot travel as the value of integer parameter ``number``, ``width``
+    bytes wide (1, 2 or 4; ``bit``: a bit parameter, 0..255), in the words of every front end
+    (both clients refuse it before anything is sent, the dashboard before the write gates);
+    None when the wire carries it. A value the wire carries but the parameter does not is the
+    CNC's to refuse (EW_DATA), after its write gates. The range named is the type's, the one
+    every front end knows: FOCAS/2's ``cnc_rdparainfo`` tells no parameter's own range."""
+    if bit:
+        if 0 <= value <= 0xFF:
+            return None
+        return f"bit parameter {number} holds 0..255 (0b00000000..0b11111111), got {value}"
+    high = (1 << (8 * width - 1)) - 1
+    if -high - 1 <= value <= high:
+        return None
+    label = {1: "byte", 2: "word", 4: "two-word"}.get(width, f"{width}-byte")
+    return f"parameter {number} is a {label} parameter: {value} is outside {-high - 1}..{high}"
 
 
 def override_unfit(what: str, value: int) -> str | None:

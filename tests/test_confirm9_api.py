@@ -9,9 +9,9 @@ from typing import Any
 
 import pytest
 
-from focas_net import FocasClient, FocasServer, NativeClient, default_machine
+from focas_net import EW, CncError, FocasClient, FocasServer, NativeClient, default_machine
 from focas_net.client import AlarmProjection, AlarmRaised, ProjectionMode
-from focas_net.sim import Machine
+from focas_net.sim import Machine, MachineError
 from focas_net.sim.nc.scenario import DEFAULT_SCENARIO
 
 
@@ -193,4 +193,45 @@ def test_machines_in_a_set_are_refused_as_a_set_has_no_order(kind: Any) -> None:
     assert str(refused.value) == (
         f"machines must be a Machine or a list of them, got a {kind.__name__}, which has no "
         "order (machine i listens on port + i): make it a list"
+    )
+
+
+# -- simulator controls refused by the server say why ------------------------------------------
+@pytest.mark.parametrize("call", ["list_faults", "clear_faults"])
+async def test_a_fault_scope_the_server_does_not_know_is_named_as_inject_fault_names_it(
+    both_clients: tuple[Machine, FocasClient, NativeClient], call: str
+) -> None:
+    _, cnc, _ = both_clients
+    with pytest.raises(CncError) as armed:
+        await cnc.sim.inject_fault("delay", scope=5)
+    with pytest.raises(CncError) as refused:
+        await getattr(cnc.sim, call)(5)
+    assert refused.value.ew == EW.DATA
+    why = "no fault scope 5 (one of 0 CONNECTION, 1 MACHINE)"
+    assert str(armed.value).endswith(why)
+    assert str(refused.value).endswith(f"sim_{call}: {why}")
+
+
+@pytest.mark.parametrize("number", [3901, 3902])
+async def test_vacating_a_parts_count_says_why_it_is_refused(
+    both_clients: tuple[Machine, FocasClient, NativeClient], number: int
+) -> None:
+    machine, cnc, _ = both_clients
+    before = machine.read_macro(number)
+    with pytest.raises(CncError) as refused:
+        await cnc.sim.vacate_macro(number)
+    assert refused.value.ew == EW.DATA
+    assert str(refused.value).endswith(
+        f"sim_vacate_macro: #{number} is a parts count, which always holds a number "
+        "(write 0 to reset it)"
+    )
+    assert machine.read_macro(number) == before
+
+
+def test_the_machine_refuses_a_vacant_parts_count_in_the_clients_words() -> None:
+    machine = default_machine()
+    with pytest.raises(MachineError) as refused:
+        machine.write_macro(3902, None)
+    assert str(refused.value) == (
+        "EW_DATA: #3902 is a parts count, which always holds a number (write 0 to reset it)"
     )

@@ -6,7 +6,9 @@ from __future__ import annotations
 from pathlib import Path
 
 import pytest
+from cli_support import fails
 
+from focas_net.cli import EXIT_USAGE
 from focas_net.sim import MachineFileError, default_machine, load_machine
 from focas_net.sim.nc import Engine, ManualClock
 from focas_net.sim.nc.interpreter import Step
@@ -169,3 +171,37 @@ def test_an_alarm_names_the_word_as_written_and_the_code_refused(block: str, wor
     engine.cycle_start()
     clock.advance(5.0)
     assert str(engine.alarm).endswith(words)
+
+
+# -- an option of the command before an action not given --------------------------------------
+
+
+@pytest.mark.parametrize(
+    ("argv", "words"),
+    [
+        (
+            ("macro", "--port", "1234", "500"),
+            "focas-net macro: error: --port is an option of the command: give it after the "
+            "command (focas-net macro get|set|clear --port ...)",
+        ),
+        (
+            ("param", "--port=1234", "6711"),
+            "focas-net param: error: --port is an option of the command: give it after the "
+            "command (focas-net param get|set --port ...)",
+        ),
+        (
+            ("--host", "cnc7"),
+            "focas-net: error: --host is an option of the command: give it after the command "
+            "(focas-net COMMAND --host ...)",
+        ),
+        # an option no command has is left to argparse's own words
+        (("macro", "--bogus", "500"), "focas-net macro: error: argument ACTION: invalid choice"),
+    ],
+)
+async def test_an_option_before_a_missing_action_is_named(
+    argv: tuple[str, ...], words: str
+) -> None:
+    """`focas-net macro --port 1234 500` (the action forgotten) said `argument ACTION:
+    invalid choice: '1234'`: the port's value named as the action the user never typed."""
+    line = await fails(EXIT_USAGE, *argv, prefix="focas-net")
+    assert line.startswith(words), line

@@ -8,19 +8,25 @@ Servers here bind 127.0.0.1 on ephemeral ports.
 from __future__ import annotations
 
 import asyncio
+import contextlib
+import ctypes
+import logging
+import struct
 
 import pytest
 from cli_support import one_line, run_focas_net
-from support import IO_TIMEOUT, LoopbackPeer
+from fwlib_support import LIBRARY, connect, i32, s16
+from support import IO_TIMEOUT, LoopbackPeer, serving
 
 from focas_net.adapters import NativeAdapter
-from focas_net.client import NativeClient
+from focas_net.client import FocasClient, NativeClient
 from focas_net.errors import FocasConnectionError, FocasTimeoutError, ProtocolError
 from focas_net.native import (
     DEFAULT_MAX_BODY,
     LIBRARY_MAX_REQUEST_BODY,
     MAGIC_WORD,
     NATIVE_HEADER,
+    PROGRAM_CHUNK,
     FrameType,
     NativeFrameDecoder,
 )
@@ -185,3 +191,96 @@ async def test_a_chunked_read_left_unanswered_names_the_chunk_that_was_sent() ->
             await client.read_pmc("D", 0, 8000)
     assert "never sent" not in str(caught.value)
     assert str(caught.value).endswith("no answer to pmc_rdpmcrng")
+
+
+@pytest.mark.parametrize(
+    ("sent", "why"),
+    [
+        (struct.pack("<I", 0), "frame length 0 outside 4..65536"),
+        (b"\x16\x03\x01\x00\x05hello", "frame length 66326 outside 4..65536"),
+        (
+            b"\xa0\xa0\xa0\xa0\x00\x01\x01\x01\x00\x03\x00\x01\x00",
+            "open request body: 3 bytes, expected 2",
+        ),
+    ],
+)
+async def test_a_closed_connection_is_logged_with_its_peer_as_host_port_on_both_protocols(
+    sent: bytes, why: str, caplog: pytest.LogCaptureFixture
+) -> None:
+    """The packed side logged `focas-sim-0i: framing violation from ('127.0.0.1', 52948): ...;
+    closing the connection` (a Python tuple), the FOCAS/2 side `native focas-sim-0i: closing
+    the connection from 127.0.0.1:45130: OpenRequest: 3 bytes, expected 2` (a class name)."""
+    async with FocasServer(default_machine(), port=0) as server:
+        reader, writer = await asyncio.open_connection("127.0.0.1", server.listeners[0].port)
+        local = writer.get_extra_info("sockname")[1]
+        with caplog.at_level(logging.WARNING, logger="focas_net.server"):
+            writer.write(sent)
+            assert await asyncio.wait_for(reader.read(), IO_TIMEOUT) == b""
+        writer.close()
+    (record,) = [r for r in caplog.records if r.levelno == logging.WARNING]
+    label = "native focas-sim-0i" if sent.startswith(b"\xa0") else "focas-sim-0i"
+    assert record.getMessage() == (f"{label}: closing the connection from 127.0.0.1:{local}: {why}")
+
+
+async def test_a_connection_over_the_limit_is_logged_with_its_peer_as_host_port(
+    caplog: pytest.LogCaptureFixture,
+) -> None:
+    """It read `connection from ('127.0.0.1', 50000) refused: ...` (a Python tuple)."""
+    async with FocasServer(default_machine(), port=0, max_connections=1) as server:
+        port = server.listeners[0].port
+        _, first = await asyncio.open_connection("127.0.0.1", port)
+        with caplog.at_level(logging.WARNING, logger="focas_net.server"):
+            reader, second = await asyncio.open_connection("127.0.0.1", port)
+            local = second.get_extra_info("sockname")[1]
+            with contextlib.suppress(ConnectionResetError):
+                assert await asyncio.wait_for(reader.read(), IO_TIMEOUT) == b""
+        first.close()
+        second.close()
+    (record,) = [r for r in caplog.records if r.levelno == logging.WARNING]
+    assert record.getMessage().startswith(
+        f"focas-sim-0i: connection from 127.0.0.1:{local} refused: "
+    )
+
+
+@pytest.mark.skipif(
+    not LIBRARY,
+    reason="set FOCAS_NET_FWLIB to the path of FANUC's libfwlib32 (e.g. libfwlib32.so.1) "
+    "to run FANUC's library against the simulator",
+)
+@pytest.mark.parametrize("version", [2, 3, 5])
+async def test_the_library_writes_and_downloads_within_the_smallest_body_limit(
+    version: int,
+) -> None:
+    """FANUC's library cuts a long PMC write into requests of 1450 body bytes and a download
+    into data frames of 1280, whatever the answer version: a server of the smallest limit
+    it accepts takes both."""
+    data = bytes(i % 251 for i in range(6000))
+    program = "O0777\n" + "".join(f"N{n} G0 X{n}.\n" for n in range(1, 500)) + "M30\n"
+    async with serving(native_max_body=LIBRARY_MAX_REQUEST_BODY, native_version=version) as served:
+        handle = await connect(served)
+        try:
+            # IODBPMC: D (9), bytes (0), 0..5999, then the bytes
+            head = struct.pack("<hhhh", 9, 0, 0, len(data) - 1)
+            iodbpmc = ctypes.create_string_buffer(head + data)
+            assert await handle.call("pmc_wrpmcrng", s16(8 + len(data)), iodbpmc) == 0
+            assert served.machine.read_pmc("D", 0, len(data)) == data
+            assert len(program) > 4 * PROGRAM_CHUNK
+            assert await handle.call("cnc_dwnstart3", s16(0)) == 0
+            text = ("\n" + program + "%").encode()
+            n = i32(len(text))
+            piece = ctypes.create_string_buffer(text)
+            assert await handle.call("cnc_download3", ctypes.byref(n), piece) == 0
+            assert await handle.call("cnc_dwnend3") == 0
+        finally:
+            await handle.free()
+        async with FocasClient(served.host, served.port, timeout=IO_TIMEOUT) as packed:
+            assert await packed.read_program(777) == program
+
+
+async def test_serve_help_does_not_promise_focas2_on_a_tls_main_port() -> None:
+    """`--native-port` said `off by default (the main port speaks it anyway)`, also with
+    `--tls-cert`, where the main port speaks TLS, which no FOCAS/2 client does."""
+    code, out, _ = await run_focas_net("serve", "--help")
+    assert code == 0
+    words = " ".join(out.split())
+    assert "(the main port speaks it too, unless --tls-cert makes it TLS" in words

@@ -92,7 +92,9 @@ async def test_a_fault_argument_the_page_cannot_read_is_refused() -> None:
         status, body = await post(session, web, "inject_fault", {"kind": "DELAY", "arg": "abc"})
         assert status == 400 and body == {"ok": False, "error": "arg: not a whole number: 'abc'"}
         status, body = await post(session, web, "inject_fault", {"kind": "DELAY", "arg": ""})
-        assert status == 400 and body["error"] == "arg: a number is needed"
+        assert status == 400 and body["error"] == (
+            "arg: a delay fault needs its delay in milliseconds (0..60000)"
+        )
         assert len(server.listeners[0].faults) == 0  # nothing armed
 
 
@@ -142,9 +144,11 @@ async def test_searches_and_pmc_windows_say_what_is_wrong() -> None:
         status, body = await get(session, f"{base}/pmc?area=E&start=0")
         assert (status, body["ew_name"]) == (409, "EW_NOOPT")
         assert body["error"].startswith("the machine has no PMC area E (it has X, Y, F")
-        for start in ("R100.3", "-1", "\u0661", "Q5"):
+        for start in ("R100.3", "\u0661", "Q5"):
             status, body = await get(session, f"{base}/pmc?area=X&start={start}")
             assert status == 400 and repr(start) in body["error"], start
+        status, body = await get(session, f"{base}/pmc?area=X&start=-1")  # as `pmc read X -1`
+        assert (status, body["error"]) == (400, "PMC start address -1 is outside 0..65535")
 
 
 async def test_cycle_start_from_the_page_is_read_through_the_packed_client() -> None:

@@ -529,7 +529,10 @@ def parse_number_bit(
         if dot and not number.strip():  # ``.4``: something was typed, only the number not
             detail = " (no number before the dot)"
         raise ValueError(f"expected {expected}, got {text!r}{detail}") from None
-    if dot and not (bit.isascii() and bit.isdigit()):
+    # a sign is part of a number (``1.-1`` is bit -1, refused by the range every front end
+    # words: ``R1.-1: bit -1 is outside 0..7``); anything else is no bit number
+    digits = bit.removeprefix("-").removeprefix("+") if bit[:1] in "+-" else bit
+    if dot and not (digits.isascii() and digits.isdigit()):
         raise ValueError(
             f"{text!r}: the bit after the dot must be a bit number (0..7 of a byte), got {bit!r}"
         )

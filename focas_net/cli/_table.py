@@ -158,7 +158,9 @@ _PARAM_NUMBER: Final = arg(
 )
 _MACRO_NUMBER: Final = arg("number", type=INT, metavar="NUMBER", help="variable number, e.g. 100")
 _AREA: Final = arg("area", type=AREA, metavar="AREA", help="area letter: X Y F G R T C D K A E")
-_START: Final = arg("start", type=NON_NEGATIVE, metavar="START", help="first byte address")
+#: (a whole number: one no request carries, -1 or 70000, is the client's to refuse, in the
+#: words every front end gives)
+_START: Final = arg("start", type=INT, metavar="START", help="first byte address")
 
 
 def _bounded(low: int, high: int, what: str) -> Callable[[str], int]:

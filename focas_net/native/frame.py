@@ -262,6 +262,7 @@ class OpenRequest(NativeRecord):
 
     FORMAT: ClassVar[str] = ">H"
     ERROR: ClassVar[Callable[[str], ProtocolError]] = NativeFrameError
+    WHAT: ClassVar[str] = "open request body"
     channel: int = 2
 
 

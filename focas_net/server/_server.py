@@ -50,6 +50,7 @@ from ._base import (
     NATIVE_MAGIC_LENGTH,
     BaseConnection,
     Limits,
+    peer_text,
 )
 from ._durable import Keeper
 from ._native import NativeConnection, NativeFront
@@ -262,7 +263,7 @@ class Listener:
             _log.warning(
                 "%s: connection from %s refused: %d connections is the limit",
                 self._log_label,
-                transport.get_extra_info("peername"),
+                peer_text(transport.get_extra_info("peername")),
                 self.max_connections,
             )
             self.refused += 1
