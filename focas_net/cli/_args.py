@@ -27,7 +27,7 @@ from focas_net._address import (
     url_advice,
 )
 from focas_net._tls import pem_holds, ssl_error_text
-from focas_net._typed import override_unfit, rapid_step, typed_number
+from focas_net._typed import item_axis_unfit, override_unfit, rapid_step, typed_number
 from focas_net.client._values import check_path
 from focas_net.protocol import Password, PmcArea
 
@@ -36,6 +36,7 @@ from . import _format as fmt
 __all__ = [
     "AREA",
     "BOOL",
+    "DIAG_AXIS",
     "EXIT_CNC",
     "EXIT_CODES",
     "EXIT_CONNECTION",
@@ -56,6 +57,7 @@ __all__ = [
     "MAX_INTERVAL",
     "MIN_INTERVAL",
     "NON_NEGATIVE",
+    "PARAM_AXIS",
     "PASSWORD",
     "PATH",
     "PORT",
@@ -304,6 +306,17 @@ def parse_non_negative(text: str) -> int:
     return value
 
 
+def parse_item_axis(what: str, text: str) -> int:
+    """The axis of a ``what`` (``parameter``, ``diagnostic``), 0 for none, refused in the
+    client's words (:func:`~focas_net._typed.item_axis_unfit`), so that the parser names the
+    option."""
+    value = fmt.parse_int(text)
+    why = item_axis_unfit(value, what)
+    if why is not None:
+        raise ValueError(why)
+    return value
+
+
 def parse_override(what: str, text: str) -> int:
     """The ``what`` override (``feed``, ``rapid``, ``spindle``) as typed, a whole number of
     percent (the rapid one also ``F0``), refused in the machine's words
@@ -420,6 +433,9 @@ LISTEN_PORT: Final = argument_type(partial(parse_port, lowest=0), "port")
 INT: Final = argument_type(fmt.parse_int, "integer")
 POSITIVE: Final = argument_type(parse_positive, "count")
 NON_NEGATIVE: Final = argument_type(parse_non_negative, "count")
+#: ``--axis`` of a parameter and of a diagnostic (0: not an axis item).
+PARAM_AXIS: Final = argument_type(partial(parse_item_axis, "parameter"), "axis")
+DIAG_AXIS: Final = argument_type(partial(parse_item_axis, "diagnostic"), "axis")
 #: An override of ``sim override`` (its option: ``--feed``, ``--rapid``, ``--spindle``).
 FEED: Final = argument_type(partial(parse_override, "feed"), "feed override")
 RAPID: Final = argument_type(partial(parse_override, "rapid"), "rapid override")
