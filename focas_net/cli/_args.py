@@ -28,7 +28,7 @@ from focas_net._address import (
 )
 from focas_net._tls import pem_holds, ssl_error_text
 from focas_net._typed import override_unfit, rapid_step, typed_number
-from focas_net.client._values import check_path
+from focas_net.client._values import check_path, check_pmc_range
 from focas_net.protocol import Password, PmcArea
 
 from . import _format as fmt
@@ -58,6 +58,8 @@ __all__ = [
     "NON_NEGATIVE",
     "PASSWORD",
     "PATH",
+    "PMC_COUNT",
+    "PMC_START",
     "PORT",
     "POSITIVE",
     "PROG",
@@ -78,6 +80,8 @@ __all__ = [
     "parse_non_negative",
     "parse_override",
     "parse_path",
+    "parse_pmc_count",
+    "parse_pmc_start",
     "parse_port",
     "parse_positive",
     "parse_seconds",
@@ -358,6 +362,17 @@ def parse_password(text: str) -> str:
     return text
 
 
+def parse_pmc_start(text: str) -> int:
+    """The first byte address of a PMC range, 0..65535, in the clients' words
+    (:func:`~focas_net.client._values.check_pmc_range`)."""
+    return check_pmc_range(fmt.parse_int(text), 1)[0]
+
+
+def parse_pmc_count(text: str) -> int:
+    """The bytes of a PMC range, 1..65536, in the clients' words."""
+    return check_pmc_range(0, fmt.parse_int(text))[1]
+
+
 def parse_path(text: str) -> int:
     """A path of the CNC, 1..10 (:func:`~focas_net.client._values.check_path`, where both
     clients check a ``path=``)."""
@@ -414,6 +429,10 @@ BOOL: Final = argument_type(fmt.parse_bool, "on/off")
 AREA: Final = argument_type(parse_area, "area")
 HISTORY_DEPTH: Final = argument_type(parse_history_depth, "depth")
 PATH: Final = argument_type(parse_path, "path")
+#: The first byte address of a PMC range (``pmc read``/``write`` START).
+PMC_START: Final = argument_type(parse_pmc_start, "address")
+#: The bytes of a PMC range (``pmc read`` COUNT).
+PMC_COUNT: Final = argument_type(parse_pmc_count, "count")
 LOG_LEVEL: Final = argument_type(parse_log_level, "log level")
 #: A parameter password (``--password``, ``unlock PASSWORD``, ``serve --param-password``).
 PASSWORD: Final = argument_type(parse_password, "password")

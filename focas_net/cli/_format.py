@@ -60,6 +60,7 @@ __all__ = [
     "module_dict",
     "module_lines",
     "mt_type_text",
+    "one_line",
     "parse_alarm",
     "parse_alarm_filter",
     "parse_aut",
@@ -287,7 +288,7 @@ def parse_alarm_filter(text: str | None) -> tuple[int, int]:
     s = text.strip()
     if s.isalpha() and len(s) == 2:
         return (_alarm_type(s), -1)
-    return parse_alarm(s)
+    return parse_alarm(text)  # (its refusal shows the text as typed, spaces too)
 
 
 # -- VersaMax ------------------------------------------------------------------------------
@@ -546,9 +547,15 @@ def parse_hex(text: str) -> bytes:
     s = text.strip()
     if s[:2].lower() == "0x":
         s = s[2:]
-    s = re.sub(r"[\s:_-]", "", s)
+    # a separator parts whole bytes: "0 1" is no byte 01, nor "1:2" a byte 12
+    groups = [g for g in re.split(r"[\s:_-]", s) if g]
+    if len(groups) > 1 and any(len(g) % 2 for g in groups):
+        raise ValueError(
+            f"not hex bytes: {text!r} (write each byte as two digits between separators, "
+            "e.g. 00 01)"
+        )
     try:
-        data = bytes.fromhex(s)
+        data = bytes.fromhex("".join(groups))
     except ValueError:
         raise ValueError(f"not hex bytes: {text!r}") from None
     if not data:
@@ -620,7 +627,17 @@ def error_line(exc: BaseException) -> str:
         text = str(exc)
     else:
         text = str(exc) or type(exc).__name__
-    return " ".join(text.split())
+    return one_line(text)
+
+
+#: A line break with the spaces around it.
+_LINE_BREAK: Final = re.compile(r"[ \t]*[\r\n]\s*")
+
+
+def one_line(text: str) -> str:
+    """``text`` on one line: each line break, with the spaces around it, one space; spaces
+    within a line (a value's own, as typed) kept."""
+    return _LINE_BREAK.sub(" ", text.strip())
 
 
 def macro_text(value: Decimal | None) -> str:

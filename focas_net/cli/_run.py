@@ -184,7 +184,7 @@ def _stdout_to_devnull() -> None:
 
 
 def _print_one_line(message: str) -> None:
-    print_error(" ".join(message.split()))
+    print_error(fmt.one_line(message))
 
 
 def _emit(args: argparse.Namespace, out: Output) -> None:

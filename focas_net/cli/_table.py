@@ -32,6 +32,8 @@ from ._args import (
     NON_NEGATIVE,
     PASSWORD,
     PATH,
+    PMC_COUNT,
+    PMC_START,
     PORT,
     POSITIVE,
     RAPID,
@@ -159,7 +161,7 @@ _PARAM_NUMBER: Final = arg(
 )
 _MACRO_NUMBER: Final = arg("number", type=INT, metavar="NUMBER", help="variable number, e.g. 100")
 _AREA: Final = arg("area", type=AREA, metavar="AREA", help="area letter: X Y F G R T C D K A E")
-_START: Final = arg("start", type=NON_NEGATIVE, metavar="START", help="first byte address")
+_START: Final = arg("start", type=PMC_START, metavar="START", help="first byte address")
 
 
 def _bounded(low: int, high: int, what: str) -> Callable[[str], int]:
@@ -299,7 +301,7 @@ COMMANDS: Final[tuple[Cmd | Group, ...]] = (
                     _START,
                     arg(
                         "count",
-                        type=POSITIVE,
+                        type=PMC_COUNT,
                         nargs="?",
                         default=1,
                         metavar="COUNT",

@@ -6,10 +6,11 @@ Once its outputs are up it prints, flushed, one line::
 
     focas-net: gateway polling 4 machines (shard 1/2); MQTT 127.0.0.1:1883; OPC UA opc.tcp://...
 
-A bad configuration (or ``--shard``), or an output whose package is not installed, ends with
-one line and exit code 2, before anything connects; an output that cannot start (a port in
-use) with exit code 1. SIGINT and SIGTERM end it cleanly: the outputs stop, the clients close,
-exit 0. Machines that cannot be reached are not an error: they are shown lost, and tried again.
+A bad ``--shard`` (checked before the file is read), a bad configuration, or an output whose
+package is not installed, ends with one line and exit code 2, before anything connects; an
+output that cannot start (a port in use) with exit code 1. SIGINT and SIGTERM end it cleanly:
+the outputs stop, the clients close, exit 0. Machines that cannot be reached are not an error:
+they are shown lost, and tried again.
 """
 
 from __future__ import annotations
@@ -32,12 +33,13 @@ from focas_net.gateway import (
     outputs,
     shard,
 )
-from focas_net.gateway.config import with_port
+from focas_net.gateway.config import shard_unfit, with_port
 
 from ._args import (
     EXIT_CNC,
     EXIT_OK,
     EXIT_USAGE,
+    FILE_NAME,
     LOG_LEVEL,
     PROG,
     argument_type,
@@ -53,11 +55,16 @@ _log = logging.getLogger("focas_net.cli.gateway")
 
 
 def parse_shard(text: str) -> tuple[int, int]:
-    """``I/N`` as two integers (their ranges are checked with the file, by ``shard``)."""
+    """``I/N`` as two integers, a shard of N (:func:`~focas_net.gateway.config.shard_unfit`),
+    checked before the file is read; whether the file has machine I is the file's check."""
     first, slash, second = text.strip().partition("/")
     if not slash or not all(t.strip().isascii() and t.strip().isdigit() for t in (first, second)):
         raise ValueError(f"give the shard as I/N (1/4: the first of four), got {text!r}")
-    return int(first), int(second)
+    index, count = int(first), int(second)
+    why = shard_unfit(index, count)
+    if why is not None:
+        raise ValueError(f"{text.strip()}: {why}")
+    return index, count
 
 
 SHARD = argument_type(parse_shard, "shard")
@@ -72,7 +79,9 @@ def register(subparsers: Any) -> None:
         description="Poll the FANUC CNCs of a configuration file (TOML, docs/gateway.md) and "
         "publish their values, alarms and availability to an MQTT broker and an OPC UA server.",
     )
-    p.add_argument("config", metavar="CONFIG.toml", help="the gateway's configuration file")
+    p.add_argument(
+        "config", type=FILE_NAME, metavar="CONFIG.toml", help="the gateway's configuration file"
+    )
     p.add_argument(
         "--shard",
         type=SHARD,
