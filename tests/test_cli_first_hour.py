@@ -228,7 +228,7 @@ def test_serve_builds_no_machine_for_bad_options(monkeypatch: pytest.MonkeyPatch
     monkeypatch.setattr(serve, "build_machines", build)
     parser = argparse.ArgumentParser()
     serve.register(parser.add_subparsers())
-    args = parser.parse_args(["serve", "--fleet", "100000", "--port", "1000"])
+    args = parser.parse_args(["serve", "--fleet", "500", "--port", "65300"])
     assert serve.run(args) == EXIT_USAGE
 
 
