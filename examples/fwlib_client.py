@@ -242,7 +242,7 @@ def read_handle(
     st = ODBST()
     lib.call("cnc_statinfo", handle, ctypes.byref(st))
     print(
-        f"status: aut={st.aut} run={st.run} motion={st.motion} mstb={st.mstb} "
+        f"status: mode={st.aut} run={st.run} motion={st.motion} mstb={st.mstb} "
         f"emergency={st.emergency} alarm={st.alarm} edit={st.edit}"
     )
     m = ODBM()

@@ -43,7 +43,7 @@ async def read_status(host: str, port: int, call_timeout: float, protocol: str) 
     print(f"CNC {host}:{port}: series {series} version {version}, {info.axes_count} axes")
     # the labels a FANUC screen shows, from the table the command line and the dashboard use
     fields = (
-        ("aut", AutMode, status.aut),
+        ("mode", AutMode, status.aut),
         ("run", RunState, status.run),
         ("emergency", EmergencyState, status.emergency),
         ("alarm", AlarmState, status.alarm),

@@ -53,6 +53,7 @@ __all__ = [
     "os_words",
     "override_percent",
     "override_unfit",
+    "param_value_unfit",
     "password_bytes",
     "program_number",
     "rapid_step",
@@ -144,6 +145,24 @@ def item_number_unfit(what: str, number: int) -> str | None:
     field carries (:func:`field_unfit`); None when it is one."""
     low, high = _ITEM_NUMBERS[what]
     return field_unfit(what, number, low, high)
+
+
+def param_value_unfit(number: int, value: int, width: int, *, bit: bool = False) -> str | None:
+    """Why ``value`` cannot travel as the value of integer parameter ``number``, ``width``
+    bytes wide (1, 2 or 4; ``bit``: a bit parameter, 0..255), in the words of every front end
+    (both clients refuse it before anything is sent, the dashboard before the write gates);
+    None when the wire carries it. A value the wire carries but the parameter does not is the
+    CNC's to refuse (EW_DATA), after its write gates. The range named is the type's, the one
+    every front end knows: FOCAS/2's ``cnc_rdparainfo`` tells no parameter's own range."""
+    if bit:
+        if 0 <= value <= 0xFF:
+            return None
+        return f"bit parameter {number} holds 0..255 (0b00000000..0b11111111), got {value}"
+    high = (1 << (8 * width - 1)) - 1
+    if -high - 1 <= value <= high:
+        return None
+    label = {1: "byte", 2: "word", 4: "two-word"}.get(width, f"{width}-byte")
+    return f"parameter {number} is a {label} parameter: {value} is outside {-high - 1}..{high}"
 
 
 def override_unfit(what: str, value: int) -> str | None:

@@ -40,6 +40,7 @@ from focas_net.protocol import (
     StatusInfo,
     SysInfo,
     encode_frame,
+    status_member,
 )
 from focas_net.sim import default_machine
 from focas_net.sim.default import mdd844_record
@@ -63,28 +64,28 @@ async def locked_cli(capsys: pytest.CaptureFixture[str]) -> AsyncIterator[Cli]:
 async def test_status_table_and_json(cli: Cli) -> None:
     out = await cli.ok("status")
     first, *rest = out.splitlines()
-    assert first == "aut=MEM run=**** motion=*** mstb=*** emergency=**** alarm=**** edit=****"
-    assert any(line.split()[:3] == ["aut", "1", "MEM"] for line in rest)
+    assert first == "mode=MEM run=**** motion=*** mstb=*** emergency=**** alarm=**** edit=****"
+    assert any(line.split()[:3] == ["mode", "1", "MEM"] for line in rest)
     data = await cli.json("status")
-    assert data["aut"] == {"value": 1, "name": "MEM", "meaning": "memory (automatic operation)"}
+    assert data["mode"] == {"value": 1, "name": "MEM", "meaning": "memory (automatic operation)"}
     assert data["alarm"]["name"] == "****"
-    assert set(data) == {"hdck", "tmmode", "aut", "run", "motion", "mstb", "emergency",
+    assert set(data) == {"hdck", "tmmode", "mode", "run", "motion", "mstb", "emergency",
                          "alarm", "edit"}  # fmt: skip
 
 
 async def test_status_follows_the_panel_and_alarms(cli: Cli) -> None:
     out = await cli.ok("sim", "panel", "--mode", "MDI", "--emergency", "on")
-    assert out.startswith("aut=MDI ") and "emergency=EMG" in out
+    assert out.startswith("mode=MDI ") and "emergency=EMG" in out
     await cli.ok("sim", "alarm", "PS0100", "PARAMETER", "WRITE", "ENABLE")
     data = await cli.json("status")
-    assert (data["aut"]["name"], data["emergency"]["name"], data["alarm"]["name"]) == (
+    assert (data["mode"]["name"], data["emergency"]["name"], data["alarm"]["name"]) == (
         "MDI",
         "EMG",
         "ALM",
     )
     # mode unchanged when --mode is omitted; emergency back off
     out = await cli.ok("sim", "panel", "--emergency", "off")
-    assert "aut=MDI" in out and "emergency=****" in out
+    assert "mode=MDI" in out and "emergency=****" in out
 
 
 async def test_sysinfo(cli: Cli) -> None:
@@ -565,7 +566,7 @@ def test_every_command_has_the_common_options(capsys: pytest.CaptureFixture[str]
 def test_status_formatting() -> None:
     st = StatusInfo(0, 1, 3, 3, 1, 1, 1, 1, 0)
     assert fmt.status_summary(st) == (
-        "aut=EDIT run=STRT motion=MTN mstb=FIN emergency=EMG alarm=ALM edit=****"
+        "mode=EDIT run=STRT motion=MTN mstb=FIN emergency=EMG alarm=ALM edit=****"
     )
     rows = {r[0]: r for r in fmt.status_rows(st, "MT")}  # a compound machine selects T/M
     assert rows["run"] == ("run", "3", "STRT", "cycle start (running)")
@@ -576,15 +577,17 @@ def test_status_formatting() -> None:
         "meaning": "emergency stop",
     }
     odd = StatusInfo(0, 0, 42, 0, 0, 0, 0, 0, 99)
-    assert fmt.status_summary(odd).startswith("aut=42 ")
+    assert fmt.status_summary(odd).startswith("mode=42 ")
     assert fmt.field_name(AlarmState, 3) == ("FAN", "fan alarm (CNC or servo amplifier)")
     assert fmt.field_name(EditState, 99) == ("99", "unknown value")
     assert fmt.field_name(AutMode, 0) == ("MDI", "manual data input")
     assert fmt.field_name(AutMode, 10) == ("RMT", "remote (DNC) operation")
     assert [f for f, _ in fmt.STATUS_FIELDS] == [
-        "aut", "run", "motion", "mstb", "emergency", "alarm", "edit", "tmmode", "hdck",
+        "mode", "run", "motion", "mstb", "emergency", "alarm", "edit", "tmmode", "hdck",
     ]  # fmt: skip
-    assert {f for f, _ in fmt.STATUS_FIELDS} == {f.name for f in dataclasses.fields(StatusInfo)}
+    assert {status_member(f) for f, _ in fmt.STATUS_FIELDS} == {
+        f.name for f in dataclasses.fields(StatusInfo)
+    }
 
 
 def test_sysinfo_formatting() -> None:

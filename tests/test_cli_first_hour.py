@@ -147,7 +147,7 @@ async def test_cli_tls_options(certificate: tuple[Path, Path]) -> None:
     async with tls_served(certificate) as served:
         code, out, err = await run_focas_net("status", "--tls-ca", str(cert), *at(served))
         assert (code, err) == (EXIT_OK, "")
-        assert out.startswith("aut=MEM ")
+        assert out.startswith("mode=MEM ")
         code, out, err = await run_focas_net("sysinfo", "--tls-insecure", "--json", *at(served))
         assert (code, err) == (EXIT_OK, "")
         assert json.loads(out)["mt_type"]["value"] == "M"

@@ -47,7 +47,7 @@ async def test_sim_panel_changes_only_the_switches_given(cli: Cli) -> None:
     assert (machine.panel.mode, machine.panel.pwe, machine.panel.emergency) == (0, 1, 0)
     out = await cli.ok("sim", "panel", "--emergency", "on")
     assert (machine.panel.mode, machine.panel.pwe, machine.panel.emergency) == (0, 1, 1)
-    assert out.startswith("aut=MDI ") and "emergency=EMG" in out and out.endswith(" pwe=on\n")
+    assert out.startswith("mode=MDI ") and "emergency=EMG" in out and out.endswith(" pwe=on\n")
     await cli.ok("sim", "panel", "--pwe", "off")
     assert (machine.panel.mode, machine.panel.pwe, machine.panel.emergency) == (0, 0, 1)
 
@@ -57,10 +57,10 @@ async def test_bare_sim_panel_reads_without_writing(cli: Cli) -> None:
     machine.set_panel(0, 1, 0)
     version = machine.version
     out = await cli.ok("sim", "panel")
-    assert out.startswith("aut=MDI ") and "emergency=****" in out and out.endswith(" pwe=on\n")
+    assert out.startswith("mode=MDI ") and "emergency=****" in out and out.endswith(" pwe=on\n")
     data = await cli.json("sim", "panel")
     assert (data["mode"], data["pwe"], data["emergency"]) == (0, 1, 0)
-    assert data["status"]["aut"]["name"] == "MDI"
+    assert data["status"]["mode"]["name"] == "MDI"
     assert machine.version == version
 
 

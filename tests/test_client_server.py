@@ -222,7 +222,7 @@ async def test_alarms_and_history(cnc: FocasClient) -> None:
     assert history.ew == 0
     assert [e.alm_no for e in history.entries] == [401, 10]  # newest first
     for depth in (0, -5):
-        with pytest.raises(ValueError, match=rf"history depth {depth} is outside 1\.\.250"):
+        with pytest.raises(ValueError, match=rf"history depth {depth} is below 1 \("):
             await cnc.read_alarm_history(depth)
     assert len((await cnc.read_alarm_history(1)).entries) == 1
     assert len((await cnc.read_alarm_history(10_000)).entries) == 2  # clamped to 250

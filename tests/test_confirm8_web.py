@@ -7,7 +7,7 @@ from collections.abc import AsyncIterator
 from typing import Any
 
 import pytest
-from cli_support import Cli
+from cli_support import Cli, fails
 from support import serving
 
 from focas_net.cli import EXIT_CNC, EXIT_USAGE
@@ -98,12 +98,15 @@ async def test_a_number_no_cnc_field_holds_is_refused_in_one_set_of_words(
 
 
 @pytest.mark.parametrize("which", ["feed", "spindle"])
-async def test_a_negative_override_is_refused_in_the_machines_words(cli: Cli, which: str) -> None:
+async def test_a_negative_override_is_refused_in_the_machines_words(which: str) -> None:
     """``sim override --feed -1`` said ``must not be negative, got -1`` where the page (and
-    ``--feed 300``) say the override's range."""
+    ``--feed 300``) say the override's range; the parser refuses it, naming the option."""
     words = f"{which} override -1 outside 0..254 %"
-    line = await cli.fails(EXIT_USAGE, "sim", "override", f"--{which}", "-1")
-    assert line == f"focas-net: {words}"
+    line = await fails(EXIT_USAGE, "sim", "override", f"--{which}", "-1", prefix="focas-net")
+    assert line == (
+        f"focas-net sim override: error: argument --{which}: {words}; "
+        "see focas-net sim override --help"
+    )
     assert _page_refusal("overrides", {which: -1}) == words
 
 

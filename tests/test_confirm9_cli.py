@@ -64,9 +64,9 @@ async def test_serve_workers_out_of_range_is_the_parsers_one_wording(given: str)
 @pytest.mark.parametrize(
     ("given", "words"),
     [
-        ("0/2", "0/2: the shard must be within 1..2"),
-        ("3/2", "3/2: the shard must be within 1..2"),
-        ("1/0", "1/0: the number of shards must be 1 or more"),
+        ("0/2", "the shard must be within 1..2, got '0/2'"),
+        ("3/2", "the shard must be within 1..2, got '3/2'"),
+        ("1/0", "the number of shards must be 1 or more, got '1/0'"),
     ],
 )
 async def test_gateway_checks_the_shard_before_reading_the_file(
@@ -75,7 +75,7 @@ async def test_gateway_checks_the_shard_before_reading_the_file(
     """A missing file was reported before the bad ``--shard`` typed with it."""
     missing = str(tmp_path / "none.toml")
     line = await fails(EXIT_USAGE, "gateway", missing, "--shard", given, prefix=GATEWAY_ERROR)
-    assert line == (f"{GATEWAY_ERROR}argument --shard: {words}; see focas-net gateway --help"), line
+    assert line == f"{GATEWAY_ERROR}argument --shard: {words}; see focas-net gateway --help", line
 
 
 # -- sim alarm on path 2 names the path ----------------------------------------------------------

@@ -80,7 +80,7 @@ async def test_read_status(server: Served, protocol: str) -> None:
     assert (code, err) == (0, "")
     lines = out.splitlines()
     assert lines[0] == f"CNC {server.host}:{server.port}: series D4F1 version 32.0, 3 axes"
-    assert lines[1] == "aut=MEM run=**** emergency=**** alarm=ALM"
+    assert lines[1] == "mode=MEM run=**** emergency=**** alarm=ALM"
     assert lines[2:] == ["active alarms: 1", "  PS0100 PARAMETER WRITE ENABLE"]
 
 
@@ -373,7 +373,7 @@ def fwlib_expected(machine: Machine) -> list[str]:
     lines = [
         f"cnc: type {i.cnc_type.strip()}{i.mt_type.strip()} series {i.series} version "
         f"{i.version}, {len(machine.axes)} axes",
-        f"status: aut={st.aut} run={st.run} motion={st.motion} mstb={st.mstb} "
+        f"status: mode={st.aut} run={st.run} motion={st.motion} mstb={st.mstb} "
         f"emergency={st.emergency} alarm={st.alarm} edit={st.edit}",
         f"macro #500: {'<vacant>' if macro is None else macro}",
         f"pmc D0..D3: {machine.read_pmc('D', 0, 4).hex(' ')}",

@@ -342,7 +342,7 @@ def test_a_lathe_has_the_lathe_offsets() -> None:
         machine.write_tool_offset(2, 6, 10)  # a tip is 0..9
     assert err.value.ew == EW.DATA
     assert machine.tool_offset_info(path=2).kind == "M"
-    with pytest.raises(ValueError, match="no 'tip'"):
+    with pytest.raises(ValueError, match="tip is a lathe's offset, not a machining centre's"):
         Machine("bad", axes=["X"], tools={1: ToolsSpec(offset_values={(1, "tip"): 1})})
 
 

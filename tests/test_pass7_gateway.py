@@ -51,7 +51,7 @@ def refusal(text: str) -> str:
         ),
         (
             ONE + "[mqtt.deadbands]\nfeed = -1",
-            "plant.toml: mqtt.deadbands.feed: got -1; expected a number >= 0",
+            "plant.toml: mqtt.deadbands.feed: got -1; expected a finite number >= 0",
         ),
         (
             ONE + "[opcua]\nendpoint = 'opc.tcp://127.0.0.1:99999/x'",
@@ -74,7 +74,8 @@ def test_a_host_refusal_keeps_the_check_s_reason() -> None:
 def test_an_interval_below_the_shortest_is_refused(key: str) -> None:
     text = refusal(f"[groups]\n{key} = 0.001\n" + ONE)
     assert text == (
-        f"plant.toml: groups.{key}: got 0.001; expected a number of seconds >= {MIN_INTERVAL:g}"
+        f"plant.toml: groups.{key}: got 0.001; expected a finite number of seconds "
+        f">= {MIN_INTERVAL:g}"
     )
     text = refusal(ONE + f"[machine.groups]\n{key} = 0.005")
     assert text.startswith(f"plant.toml: machine[1].groups.{key}: got 0.005;")
@@ -165,11 +166,11 @@ def machine_refusal(*machines: MachineConfig) -> str:
         (MachineConfig("m", "h", paths=()), "machine[1].paths: got 0 entries; expected 1..10"),
         (
             MachineConfig("m", "h", timeout=-1),
-            "machine[1].timeout: got -1; expected a number of seconds > 0",
+            "machine[1].timeout: got -1; expected a finite number of seconds > 0",
         ),
         (
             MachineConfig("m", "h", groups=GroupIntervals(fast=0.001)),
-            "machine[1].groups.fast: got 0.001; expected a number of seconds >= 0.01",
+            "machine[1].groups.fast: got 0.001; expected a finite number of seconds >= 0.01",
         ),
         (
             MachineConfig("m", "h", writes=WriteGates(macros=((600, 500),))),

@@ -112,7 +112,7 @@ async def test_a_path_waiting_at_a_waiting_m_code_shows_motion_wait(
     async with serving(machine) as served:
         cli = Cli(served, capsys)
         out = await cli.ok("status")
-        assert out.startswith("aut=MEM run=STRT motion=WAIT ")
+        assert out.startswith("mode=MEM run=STRT motion=WAIT ")
         assert "unknown value" not in out
 
 

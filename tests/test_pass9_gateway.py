@@ -98,7 +98,7 @@ async def test_the_gateway_names_mode_run_and_motion_as_the_cli_and_the_web_page
         await poller.step()
         got = sink.of("mill")
     web = {f["field"]: f["name"] for f in status_fields(machine)}
-    for item, field in (("mode", "aut"), ("run", "run"), ("motion", "motion")):
+    for item, field in (("mode", "mode"), ("run", "run"), ("motion", "motion")):
         assert got[(1, item, "")].value == shown[field]["name"] == web[field], item
     assert (shown["run"]["name"], shown["motion"]["name"]) == ("****", "***")
 

@@ -92,7 +92,9 @@ async def test_a_fault_argument_the_page_cannot_read_is_refused() -> None:
         status, body = await post(session, web, "inject_fault", {"kind": "DELAY", "arg": "abc"})
         assert status == 400 and body == {"ok": False, "error": "arg: not a whole number: 'abc'"}
         status, body = await post(session, web, "inject_fault", {"kind": "DELAY", "arg": ""})
-        assert status == 400 and body["error"] == "arg: a number is needed"
+        assert status == 400 and body["error"] == (
+            "arg: a delay fault needs its delay in milliseconds (0..60000)"
+        )
         assert len(server.listeners[0].faults) == 0  # nothing armed
 
 

@@ -60,7 +60,7 @@ def test_status_fields_carry_the_focas_names_and_labels() -> None:
     fields = {f["field"]: f for f in status_fields(machine)}
     # in the order the command line lists them
     assert list(fields) == [
-        "aut",
+        "mode",
         "run",
         "motion",
         "mstb",
@@ -71,7 +71,7 @@ def test_status_fields_carry_the_focas_names_and_labels() -> None:
         "hdck",
     ]
     status = machine.status()
-    assert fields["aut"]["value"] == status.aut == MEM and fields["aut"]["name"] == "MEM"
+    assert fields["mode"]["value"] == status.aut == MEM and fields["mode"]["name"] == "MEM"
     assert fields["run"]["value"] == status.run and fields["run"]["name"] == "STRT"
     # the built-in machine is an M series machine: tmmode selects nothing there
     assert (fields["tmmode"]["value"], fields["tmmode"]["name"]) == (0, "M")

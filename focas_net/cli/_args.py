@@ -193,16 +193,36 @@ class Parser(argparse.ArgumentParser):
         (``focas-net --port 9400 status``), which would read as a command name."""
         if not args or not args[0].startswith("-") or args[0] in self._option_string_actions:
             return
-        commands = next(
-            (a.choices for a in self._actions if isinstance(a, argparse._SubParsersAction)), {}
-        )
+        sub = next((a for a in self._actions if isinstance(a, argparse._SubParsersAction)), None)
+        commands = {} if sub is None else sub.choices
         command = next((word for word in args if word in commands), None)
-        if command is not None:
-            option = args[0].partition("=")[0]
-            self.error(
-                f"{option} is an option of the command: give it after the command "
-                f"({self.prog} {command} {option} ...)"
-            )
+        option = args[0].partition("=")[0]
+        if command is None:  # none given: name the choices, if a command has the option
+            if not any(_has_option(parser, option) for parser in commands.values()):
+                return
+            metavar = None if sub is None else sub.metavar
+            few = len(commands) <= _FEW_COMMANDS or not metavar
+            command = "|".join(commands) if few else str(metavar)
+        self.error(
+            f"{option} is an option of the command: give it after the command "
+            f"({self.prog} {command} {option} ...)"
+        )
+
+
+#: Commands a usage error lists by name; more are named by their metavar (``COMMAND``).
+_FEW_COMMANDS: Final = 6
+
+
+def _has_option(parser: argparse.ArgumentParser, option: str) -> bool:
+    """Whether ``parser`` or a command under it takes ``option``."""
+    if option in parser._option_string_actions:
+        return True
+    return any(
+        _has_option(sub, option)
+        for action in parser._actions
+        if isinstance(action, argparse._SubParsersAction)
+        for sub in action.choices.values()
+    )
 
 
 def command_parser(subparsers: Any, name: str, **kwargs: Any) -> argparse.ArgumentParser:

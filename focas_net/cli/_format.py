@@ -87,13 +87,14 @@ __all__ = [
 
 #: An ODBST enumeration (``AutMode``, ...): its members carry a ``label`` and a ``meaning``.
 FieldValues = type[LabelledValue]
-_SUMMARY_FIELDS: Final = ("aut", "run", "motion", "mstb", "emergency", "alarm", "edit")
+_SUMMARY_FIELDS: Final = ("mode", "run", "motion", "mstb", "emergency", "alarm", "edit")
 
 
 def status_summary(status: StatusInfo) -> str:
-    """One line: ``aut=MEM run=STRT motion=MTN mstb=*** emergency=**** alarm=ALM edit=****``."""
-    fields = dict(STATUS_FIELDS)
-    return " ".join(f"{f}={field_name(fields[f], getattr(status, f))[0]}" for f in _SUMMARY_FIELDS)
+    """One line: ``mode=MEM run=STRT motion=MTN mstb=*** emergency=**** alarm=ALM edit=****``
+    (the keys of :data:`STATUS_FIELDS`)."""
+    labels = {f: label for f, _, label, _ in status_labels(status)}
+    return " ".join(f"{f}={labels[f]}" for f in _SUMMARY_FIELDS)
 
 
 def status_rows(status: StatusInfo, mt_type: str | None) -> list[tuple[str, str, str, str]]:
@@ -529,7 +530,10 @@ def parse_number_bit(
         if dot and not number.strip():  # ``.4``: something was typed, only the number not
             detail = " (no number before the dot)"
         raise ValueError(f"expected {expected}, got {text!r}{detail}") from None
-    if dot and not (bit.isascii() and bit.isdigit()):
+    # a sign is part of a number (``1.-1`` is bit -1, refused by the range every front end
+    # words: ``R1.-1: bit -1 is outside 0..7``); anything else is no bit number
+    digits = bit.removeprefix("-").removeprefix("+") if bit[:1] in "+-" else bit
+    if dot and not (digits.isascii() and digits.isdigit()):
         raise ValueError(
             f"{text!r}: the bit after the dot must be a bit number (0..7 of a byte), got {bit!r}"
         )

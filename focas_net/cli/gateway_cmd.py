@@ -33,7 +33,7 @@ from focas_net.gateway import (
     outputs,
     shard,
 )
-from focas_net.gateway.config import shard_unfit, with_port
+from focas_net.gateway.config import shard_refusal, with_port
 
 from ._args import (
     EXIT_CNC,
@@ -55,16 +55,15 @@ _log = logging.getLogger("focas_net.cli.gateway")
 
 
 def parse_shard(text: str) -> tuple[int, int]:
-    """``I/N`` as two integers, a shard of N (:func:`~focas_net.gateway.config.shard_unfit`),
-    checked before the file is read; whether the file has machine I is the file's check."""
+    """``I/N`` as two integers, shard I of N (whether the file has a machine for it is
+    checked with the file, by ``shard``)."""
     first, slash, second = text.strip().partition("/")
     if not slash or not all(t.strip().isascii() and t.strip().isdigit() for t in (first, second)):
         raise ValueError(f"give the shard as I/N (1/4: the first of four), got {text!r}")
-    index, count = int(first), int(second)
-    why = shard_unfit(index, count)
+    why = shard_refusal(int(first), int(second))
     if why is not None:
-        raise ValueError(f"{text.strip()}: {why}")
-    return index, count
+        raise ValueError(f"{why}, got {text!r}")
+    return int(first), int(second)
 
 
 SHARD = argument_type(parse_shard, "shard")

@@ -269,7 +269,8 @@ def register(subparsers: Any) -> None:
         default=None,
         metavar="PORT",
         help="also serve FANUC's native FOCAS/2 Ethernet protocol alone on PORT (PORT+i for "
-        "machine i of a fleet; 0 = ephemeral); off by default (the main port speaks it anyway)",
+        "machine i of a fleet; 0 = ephemeral); off by default (the main port speaks it too, "
+        "unless --tls-cert makes it TLS, which FOCAS/2 clients do not speak)",
     )
     p.add_argument(
         "--uvloop",

@@ -24,6 +24,7 @@ from focas_net.protocol import (
     FaultKind,
     FaultScope,
     alarm_message,
+    fault_arg_needed,
 )
 from focas_net.server.faults import fault_arg_text, fault_refusal
 
@@ -267,11 +268,8 @@ def _fault_arg(kind: FaultKind, text: str | None) -> int:
     """``--arg`` of a fault of ``kind``, in the range the server takes: ValueError naming it,
     in the server's words (:func:`~focas_net.server.faults.fault_refusal`)."""
     if kind is FaultKind.ERROR or kind is FaultKind.DELAY:
-        if text is None:
-            needs = "EW_CODE (e.g. --arg EW_BUSY)" if kind is FaultKind.ERROR else "MILLISECONDS"
-            raise ValueError(
-                f"a{'n' * (kind is FaultKind.ERROR)} {kind.name.lower()} fault needs --arg {needs}"
-            )
+        if text is None:  # in the words of every front end, after the option's name
+            raise ValueError(f"--arg: {fault_arg_needed(int(kind))}")
         try:
             value = fmt.parse_ew(text) if kind is FaultKind.ERROR else fmt.parse_int(text)
         except ValueError as exc:

@@ -247,35 +247,35 @@ class NativeItems(NativeLink):
         return value.value
 
     async def _param_info(
-        self, handle: Handle, number: int, width: int | None, deadline: float | None, path: int
+        self, handle: Handle, number: int, deadline: float | None, path: int
     ) -> tuple[int, int]:
-        """The first frame of ``cnc_wrparam``: the parameter's type word and its width;
-        EW_LENGTH (before anything is written) when ``width`` differs, as the library.
-
-        The information is that of the first parameter from ``number`` on: one that names
-        another number (or none, past the last) says the CNC has no parameter ``number``, and
-        the write is refused with EW_NUMBER, the CNC's answer to its write, before it is sent
-        (a value is never judged by the next parameter's type)."""
+        """The first frame of ``cnc_wrparam``: the type word and the width of the first
+        parameter from ``number`` on, as the library reads them (the next one's when the CNC
+        lacks ``number``; the answer's number word is not relied on: in the 30i set its place
+        is not known)."""
         call = calls.wrparam_info(handle.command_set, number)
         (block,) = await self._exchange(handle, call, deadline, 0, path)
         info = decoded(call, (block,), 0, handle.max_axes)
         if isinstance(info, ParamInfo3):
-            named: int | None = info.number
             ptype = info.type
         else:
             assert isinstance(info, ParamInfo)
-            named = info.entries[0].number if info.entries else None
             ptype = info.entries[0].attribute & 3 if info.entries else 0
-        if named != number:
-            raise CncError.from_ew(EW.NUMBER, "cnc_wrparam")
-        self._param_types[number] = ptype
         size = REAL_WIDTH if ptype == ParamType.REAL else _PARAM_WIDTH.get(ptype)
         if size is None:
             raise PayloadError(f"cnc_wrparam: {number} has type {ptype}, which has no value")
-        if width is not None and width != size:
-            self._param_widths.pop(number, None)
-            raise width_refused(number, size, width)
         return ptype, size
+
+    async def _lacks(self, number: int, axis: int, deadline: float | None, path: int) -> bool:
+        """Whether the CNC has no parameter ``number``: its read answers EW_NUMBER. Asked
+        before a write is refused by the information's type or width, which is then the next
+        parameter's: the refusal is the CNC's answer to the write (EW_NUMBER), never a value
+        judged by another parameter's type."""
+        try:
+            await self._read_item(number, axis, deadline, path, diagnostic=False)
+        except CncError as exc:
+            return exc.ew == EW.NUMBER
+        return False
 
     async def _write_param(
         self,
@@ -306,38 +306,73 @@ class NativeItems(NativeLink):
             )
         handle = self._handle_now() or await self._handle_for(deadline)
         self._check_axis_of(handle, axis, "cnc_wrparam", path)
-        ptype, size = await self._param_info(handle, number, width, deadline, path)
+        ptype, size = await self._param_info(handle, number, deadline, path)
+        try:
+            self._check_width(number, size, width)
+            record = self._value_record(handle, number, axis, ptype, size, value, as_int, as_real)
+        except (ValueError, CncError):
+            if await self._lacks(number, axis, deadline, path):
+                raise CncError.from_ew(EW.NUMBER, "cnc_wrparam") from None
+            raise
+        await self._write_record(handle, record, deadline, path)
+        self._param_types[number] = ptype
+
+    def _check_width(self, number: int, size: int, width: int | None) -> None:
+        """EW_LENGTH (nothing written) when the caller's ``width`` is not the type's, as the
+        library answers; the width learnt is forgotten."""
+        if width is not None and width != size:
+            self._param_widths.pop(number, None)
+            raise width_refused(number, size, width)
+
+    def _value_record(
+        self,
+        handle: Handle,
+        number: int,
+        axis: int,
+        ptype: int,
+        size: int,
+        value: int | Decimal | str,
+        as_int: int | ValueError,
+        as_real: tuple[int, int] | ValueError,
+    ) -> ItemRecord | ScaledItemRecord:
+        """The write record of ``value`` for a parameter of type word ``ptype``: the reading
+        of the value that fits the type, or its refusal."""
         if ptype == ParamType.REAL:
             if isinstance(as_real, ValueError):
                 raise as_real
-            record = self._param_record(handle, number, axis, ptype, *as_real)
-        else:
-            if isinstance(as_int, ValueError):
-                if not isinstance(as_real, ValueError) and (
-                    handle.command_set is CommandSet.FS16I and ptype == ParamType.BIT
-                ):
-                    # a value with decimals travels as a REALPRM, 8 bytes: the information
-                    # of the 16i set gives a real parameter as a bit one, and the library
-                    # answers EW_LENGTH, nothing written (the set cannot write a real one)
-                    raise width_refused(number, size, REAL_WIDTH, " (a value with decimals)")
-                # a parameter the information names: refused as the packed client does
-                raise as_int
-            kind = ParamDataType.BIT if ptype == ParamType.BIT else None
-            if kind is not None:
-                as_int = param_int(number, value, kind)  # "00000011": the bits
-            raw = signed(int_to_wire(number, as_int, size, kind), size)
-            record = self._param_record(handle, number, axis, ptype, raw)
-        await self._write_record(handle, record, deadline, path)
+            return self._param_record(handle, number, axis, ptype, *as_real)
+        if isinstance(as_int, ValueError):
+            if not isinstance(as_real, ValueError) and (
+                handle.command_set is CommandSet.FS16I and ptype == ParamType.BIT
+            ):
+                # a value with decimals travels as a REALPRM, 8 bytes: the information of the
+                # 16i set gives a real parameter as a bit one, and the library answers
+                # EW_LENGTH, nothing written (the set cannot write a real one)
+                raise width_refused(number, size, REAL_WIDTH, " (a value with decimals)")
+            # a parameter the information names: refused as the packed client does
+            raise as_int
+        kind = ParamDataType.BIT if ptype == ParamType.BIT else None
+        if kind is not None:
+            as_int = param_int(number, value, kind)  # "00000011": the bits
+        raw = signed(int_to_wire(number, as_int, size, kind), size)
+        return self._param_record(handle, number, axis, ptype, raw)
 
     async def _write_param_bits(
         self, number: int, axis: int, bits: int, width: int, deadline: float | None, path: int
     ) -> None:
         handle = self._handle_now() or await self._handle_for(deadline)
         self._check_axis_of(handle, axis, "cnc_wrparam", path)
-        ptype, _ = await self._param_info(handle, number, width, deadline, path)
+        ptype, size = await self._param_info(handle, number, deadline, path)
+        try:
+            self._check_width(number, size, width)
+        except CncError:
+            if await self._lacks(number, axis, deadline, path):
+                raise CncError.from_ew(EW.NUMBER, "cnc_wrparam") from None
+            raise
         raw = byte_to_wire(number, bits, ParamDataType.BIT) if ptype == ParamType.BIT else bits
         record = self._param_record(handle, number, axis, ptype, signed(raw, width))
         await self._write_record(handle, record, deadline, path)
+        self._param_types[number] = ptype
 
     async def _write_record(
         self,

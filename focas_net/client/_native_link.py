@@ -251,10 +251,10 @@ async def _open_channel(
     except BaseException:
         conn.close()
         raise
-    if NATIVE_HEADER.unpack_from(raw)[2] != FrameType.OPEN_RESPONSE:
+    kind = NATIVE_HEADER.unpack_from(raw)[2]
+    if kind != FrameType.OPEN_RESPONSE:
         conn.close()
-        kind = NATIVE_HEADER.unpack_from(raw)[2]
-        raise FocasConnectionError(f"{where} answered the open with type 0x{kind:04X}")
+        raise violation_error(where, f"its answer to the open is a frame of type 0x{kind:04X}", raw)
     return conn, raw
 
 
@@ -272,11 +272,13 @@ async def open_handle(host: str, port: int, deadline: float | None) -> Handle:
         channels.append(a)
         b, raw_b = await _open_channel(host, port, 2, deadline)
         channels.append(b)
+        raw = raw_a
         try:
             _opened(raw_a)
+            raw = raw_b
             opened = _opened(raw_b)
-        except ProtocolError as exc:
-            raise FocasConnectionError(f"{where}: open answer refused: {exc}") from None
+        except ProtocolError as exc:  # FANUC's library: EW_PROTOCOL, as for a data answer
+            raise violation_error(where, f"open answer refused: {exc}", raw) from None
         if isinstance(opened.head, OpenHeadV2) and opened.head.kind == 2:
             raise FocasConnectionError(f"{where}: an FS15-family control (kind 2) is not supported")
         handle = Handle(a, b, opened, where)
@@ -639,12 +641,13 @@ class NativeLink(CompositeCalls):
         ended = session.receive(data)
         if session.failure is not None:
             # (the jobs it ended fail with why, set before they complete)
+            why = session.failure
             if session.broken:
-                self._broken(handle, session.failure, data[:8])
-            else:  # a stray answer: lost, as a connection the peer ended
-                self._why = session.failure
+                self._broken(handle, why, data[:8])
+            else:  # a stray answer: lost, as a connection the peer ended, named alike
+                why = self._why = f"{self.address} sent {why}"
             self._complete(ended)
-            self._lose(handle, session.failure)
+            self._lose(handle, why)
             return
         if session.queue:
             self._send()

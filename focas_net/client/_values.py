@@ -22,6 +22,7 @@ from .._typed import (
     field_unfit,
     macro_unfit,
     param_decimals_refused,
+    param_value_unfit,
     typed_number,
     whole_number,
 )
@@ -179,7 +180,10 @@ def history_depth(depth: object) -> int:
     history holds no more); below 1 is a ValueError naming it, as the command line says."""
     given = check_int("history depth", depth, -(2**63), 2**63)
     if given < 1:
-        raise ValueError(f"history depth {given} is outside 1..{_MAX_HISTORY_DEPTH}")
+        raise ValueError(
+            f"history depth {given} is below 1 (the latest entries to read; more than "
+            f"{_MAX_HISTORY_DEPTH} reads the {_MAX_HISTORY_DEPTH} the history holds)"
+        )
     return min(given, _MAX_HISTORY_DEPTH)
 
 
@@ -311,19 +315,13 @@ def param_int(number: int, value: object, kind: ParamDataType | None = None) -> 
 
 def byte_to_wire(number: int, value: int, kind: ParamDataType | None) -> int:
     """The signed byte of a 1-byte parameter's ``value``: a bit parameter's 0..255 as the byte
-    of the same eight bits, a byte parameter's -128..127 as it is."""
-    if kind is ParamDataType.BIT:
-        if not 0 <= value <= 0xFF:
-            raise ValueError(
-                f"bit parameter {number} holds 0..255 (0b00000000..0b11111111), got {value}"
-            )
-        return value - 0x100 if value > 0x7F else value
-    if not -0x80 <= value <= 0x7F:
-        raise ValueError(f"parameter {number} is a byte parameter: {value} is outside -128..127")
-    return value
-
-
-_INT_PARAM_NAMES: Final = {2: "word", 4: "two-word"}
+    of the same eight bits, a byte parameter's -128..127 as it is (refused in the words of
+    :func:`~focas_net._typed.param_value_unfit`)."""
+    bit = kind is ParamDataType.BIT
+    why = param_value_unfit(number, value, 1, bit=bit)
+    if why is not None:
+        raise ValueError(why)
+    return value - 0x100 if bit and value > 0x7F else value
 
 
 def width_refused(number: int, size: int, width: int, why: str = "") -> CncError:
@@ -337,15 +335,13 @@ def width_refused(number: int, size: int, width: int, why: str = "") -> CncError
 def int_to_wire(number: int, value: int, width: int, kind: ParamDataType | None) -> int:
     """The signed value of an integer parameter ``width`` bytes wide (1, 2 or 4; ``kind``
     tells a bit parameter's byte from a byte parameter's): ValueError naming the parameter,
-    its kind and its range when ``value`` does not fit, in the same words on both clients."""
+    its kind and its range when ``value`` does not fit, in the words of every front end
+    (:func:`~focas_net._typed.param_value_unfit`)."""
     if width == 1:
         return byte_to_wire(number, value, kind)
-    high = (1 << (8 * width - 1)) - 1
-    if not -high - 1 <= value <= high:
-        name = _INT_PARAM_NAMES.get(width, f"{width}-byte")
-        raise ValueError(
-            f"parameter {number} is a {name} parameter: {value} is outside {-high - 1}..{high}"
-        )
+    why = param_value_unfit(number, value, width)
+    if why is not None:
+        raise ValueError(why)
     return value
 
 

@@ -34,6 +34,7 @@ from typing import Any, Final
 from focas_net.errors import EW, CncError, FocasError, PayloadError
 
 from ..native import (
+    LIBRARY_MAX_REQUEST_BODY,
     REQUEST_BLOCK_SIZE,
     AlarmMessages,
     AlarmStatus,
@@ -596,11 +597,9 @@ class NativeClient(
         return max_response_body(version) - 2 - _ANSWER_HEAD
 
     def _pmc_write_chunk(self) -> int:
-        """Most PMC bytes one write carries (request bodies are kept within the answers'
-        limit)."""
-        handle = self._handle
-        version = handle.version if handle is not None else 1
-        return max_response_body(version) - 2 - REQUEST_BLOCK_SIZE
+        """Most PMC bytes one write carries: 1420, a request body of
+        :data:`LIBRARY_MAX_REQUEST_BODY` as FANUC's library cuts it, whatever the version."""
+        return LIBRARY_MAX_REQUEST_BODY - 2 - REQUEST_BLOCK_SIZE
 
     async def _read_pmc_chunk(
         self, code: int, start: int, count: int, deadline: float | None
@@ -745,16 +744,20 @@ class NativeClient(
 
 
 async def _all_or_first_error(coros: Any) -> list[bytes]:
-    """Run ``coros`` (reads, safe to give up) together; the first failure cancels the rest and
-    is raised."""
+    """Run ``coros`` (reads, safe to give up) together; a failure cancels those still
+    running, and the first failure in chunk order is raised: the chunk that was sent, not
+    one queued behind it that ended with it (``never sent``)."""
     tasks = [asyncio.ensure_future(c) for c in coros]
     try:
-        return list(await asyncio.gather(*tasks))
+        await asyncio.wait(tasks, return_when=asyncio.FIRST_EXCEPTION)
     finally:
         for t in tasks:
             if not t.done():
                 t.cancel()
         await asyncio.wait(tasks)
-        for t in tasks:
-            if not t.cancelled():
-                t.exception()  # retrieved: none is reported unseen
+        # every failure retrieved (none reported unseen), also while this call is cancelled
+        failures = [t.exception() for t in tasks if not t.cancelled()]
+    first = next((e for e in failures if e is not None), None)
+    if first is not None:
+        raise first
+    return [t.result() for t in tasks]

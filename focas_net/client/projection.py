@@ -36,7 +36,7 @@ from typing import Final, Self
 from focas_net.errors import FocasError, PayloadError, ProtocolError
 
 from ..protocol import ActiveAlarm, AlarmHistoryEntry
-from ._values import check_timeout
+from ._values import check_timeout, history_depth
 from .cnc import CncClient
 from .reconnect import ClientState
 
@@ -139,7 +139,11 @@ class AlarmProjection:
 
     The first poll reports every alarm already active as :class:`AlarmRaised` and, unless
     ``replay_history`` is False, every history entry within ``depth`` as
-    :class:`AlarmHistoryEvent`. ``timeout`` bounds each poll (default: the client's).
+    :class:`AlarmHistoryEvent`. ``depth`` (1 or more; more than 250 reads 250, as the
+    clients' ``read_alarm_history``) and ``replay_history`` concern the history, which
+    only ``ACTIVE_PLUS_HISTORY`` reads: in ACTIVE mode they change nothing (the alarms active
+    at the first poll are reported as raised either way). ``timeout`` bounds each poll
+    (default: the client's).
     ``max_failures`` (None: no bound) ends the iteration, raising the last error, once that
     many polls in a row have failed; a client left ``DISCONNECTED`` by a protocol violation or
     by its reconnect policy giving up ends it at once.
@@ -179,11 +183,11 @@ class AlarmProjection:
             )
         if max_failures is not None and max_failures < 1:
             raise ValueError(f"max_failures must be at least 1 (or None), got {max_failures}")
-        if not 1 <= depth <= 250:
-            raise ValueError(f"depth must be within 1..250, got {depth}")
         self.client = client
         self.interval = interval
-        self.depth = depth
+        #: History entries read by each poll: ``depth`` as the clients take it (from 1;
+        #: more than 250 reads 250).
+        self.depth = history_depth(depth)
         self.timeout = timeout
         self.max_failures = max_failures
         self._replay_history = replay_history
@@ -191,7 +195,7 @@ class AlarmProjection:
         self._last_error: FocasError | None = None
         self._active: dict[tuple[int, int, int], ActiveAlarm] = {}
         self._seen: dict[_HistoryKey, None] = {}  # insertion-ordered: oldest first
-        self._memory = max(4 * depth, MIN_HISTORY_MEMORY)
+        self._memory = max(4 * self.depth, MIN_HISTORY_MEMORY)
         self._queue: deque[AlarmEvent] = deque()
         self._stop = asyncio.Event()
         self._polled = False

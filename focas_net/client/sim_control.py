@@ -30,7 +30,7 @@ from ..protocol import (
     alarm_message,
 )
 from ..protocol import Command as C
-from ..protocol.faults import fault_refusal
+from ..protocol.faults import fault_refusal, scope_refusal
 from ._pmc import write_pmc_range
 from ._values import AreaLike, alarm_type_number, check_int, number_of_name, pmc_data
 
@@ -40,6 +40,8 @@ if TYPE_CHECKING:
 __all__ = ["PanelSwitches", "SimControl"]
 
 _UNCHANGED: Final = -1
+#: The macro variables of the parts count and the total parts, which always hold a number.
+_PARTS_VARIABLES: Final = (3901, 3902)
 _I16_MAX: Final = 0x7FFF
 
 
@@ -129,7 +131,14 @@ class SimControl:
         check_int("macro variable number", number, -0x8000, 0x7FFF)
         payload = _VACATE_MACRO.request.encode(VacateMacro(number))
         client = self._client
-        await client._request(_VACATE_MACRO, payload, timeout, client._path_of(path))
+        try:
+            await client._request(_VACATE_MACRO, payload, timeout, client._path_of(path))
+        except CncError as exc:
+            if exc.ew != EW.DATA or number not in _PARTS_VARIABLES:
+                raise
+            # the packed answer carries the code only: the machine's reason, in its words
+            why = f"#{number} is a parts count, which always holds a number (write 0 to reset it)"
+            raise CncError.from_ew(exc.ew, f"{exc.detail}: {why}") from None
 
     async def raise_alarm(
         self,
@@ -295,7 +304,10 @@ class SimControl:
             FaultsRequest(_fault_number(FaultScope, scope, "scope"))
         )
         client = self._client
-        listing = await client._request(_LIST_FAULTS, payload, timeout)
+        try:
+            listing = await client._request(_LIST_FAULTS, payload, timeout)
+        except CncError as exc:
+            raise _scope_refused(exc, scope) from None
         return tuple(_typed(f) for f in listing.faults)
 
     async def clear_faults(
@@ -307,8 +319,21 @@ class SimControl:
             FaultsRequest(_fault_number(FaultScope, scope, "scope"))
         )
         client = self._client
-        answer = await client._request(_CLEAR_FAULTS, payload, timeout)
+        try:
+            answer = await client._request(_CLEAR_FAULTS, payload, timeout)
+        except CncError as exc:
+            raise _scope_refused(exc, scope) from None
         return int(answer.cleared)
+
+
+def _scope_refused(exc: CncError, scope: object) -> CncError:
+    """``exc`` (a fault listing or clearing refused), told with the server's reason for
+    EW_DATA as :meth:`SimControl.inject_fault` tells it: the packed answer carries the code
+    only."""
+    if exc.ew != EW.DATA or not isinstance(scope, int):
+        return exc
+    why = scope_refusal(int(scope))
+    return exc if why is None else CncError.from_ew(exc.ew, f"{exc.detail}: {why}")
 
 
 def _fault_number(names: type[FaultKind | FaultScope], given: object, what: str) -> int:

@@ -3,7 +3,7 @@
 
 Every message names the file, the key path, what was typed and what is expected::
 
-    gateway.toml: machine[3].groups.fast: got -1; expected a number of seconds > 0
+    gateway.toml: machine[3].groups.fast: got -1; expected a finite number of seconds > 0
 
 Arrays of tables and arrays count from 1 (``machine[1]`` is the first ``[[machine]]``), as a
 person counts the blocks of a file. Nothing here knows the gateway's schema.
@@ -105,7 +105,10 @@ class At:
             or value < least
         ):
             self.expected(
-                value, f"a number of seconds >= {least:g}" if least else "a number of seconds > 0"
+                value,
+                f"a finite number of seconds >= {least:g}"
+                if least
+                else "a finite number of seconds > 0",
             )
         return float(value)
 
@@ -116,7 +119,7 @@ class At:
             or not isinstance(value, int | float)
             or not low <= value < math.inf
         ):
-            self.expected(value, f"a number >= {low:g}")
+            self.expected(value, f"a finite number >= {low:g}")
         return float(value)
 
     def text(self, value: object, what: str = "a string") -> str:

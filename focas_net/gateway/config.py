@@ -48,7 +48,7 @@ __all__ = [
     "load_config",
     "parse_config",
     "shard",
-    "shard_unfit",
+    "shard_refusal",
     "with_port",
 ]
 
@@ -444,10 +444,10 @@ def with_port(endpoint: str, port: int) -> str:
     return urlunsplit(parts._replace(netloc=netloc))
 
 
-def shard_unfit(index: int, count: int) -> str | None:
-    """Why shard ``index`` of ``count`` is no shard (``count`` at least 1, ``index`` within
-    1..``count``), in the words :func:`shard` and ``gateway --shard`` refuse it with; None
-    when it is one."""
+def shard_refusal(index: int, count: int) -> str | None:
+    """Why shard ``index`` of ``count`` is no shard (``"the shard must be within 1..2"``), or
+    None when it is one: the check :func:`shard` and ``focas-net gateway --shard`` share, which
+    needs no file."""
     if isinstance(count, bool) or not isinstance(count, int) or count < 1:
         return "the number of shards must be 1 or more"
     if isinstance(index, bool) or not isinstance(index, int) or not 1 <= index <= count:
@@ -463,7 +463,7 @@ def shard(config: GatewayConfig, index: int, count: int) -> GatewayConfig:
     ``client_id-index`` (when the file names a client id), so that the shards of one file run
     side by side on one host. Raises :class:`ConfigError` for a bad shard, one with no machine
     or one whose port would pass 65535."""
-    why = shard_unfit(index, count)
+    why = shard_refusal(index, count)
     if why is not None:
         raise ConfigError(f"--shard {index}/{count}: {why}")
     machines = config.machines[index - 1 :: count]

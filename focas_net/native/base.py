@@ -89,6 +89,8 @@ class NativeRecord(FixedPayload):
     WIRE: ClassVar[tuple[str, ...]] = ()
     #: Exception ``decode`` raises (built with one message argument).
     ERROR: ClassVar[Callable[[str], ProtocolError]] = NativePayloadError
+    #: What ``decode``'s refusals call the record, in words (the class's name when empty).
+    WHAT: ClassVar[str] = ""
 
     _wire_names: ClassVar[tuple[str, ...]]
     _text_slots: ClassVar[tuple[tuple[int, int], ...]]
@@ -183,7 +185,8 @@ class NativeRecord(FixedPayload):
     def decode(cls, data: bytes | bytearray | memoryview) -> Self:
         """The record in ``data``, which must be exactly :attr:`SIZE` bytes."""
         if len(data) != cls.SIZE:
-            raise cls.ERROR(f"{cls.__name__}: {len(data)} bytes, expected {cls.SIZE}")
+            what = cls.WHAT or cls.__name__
+            raise cls.ERROR(f"{what}: {len(data)} bytes, expected {cls.SIZE}")
         return cls._from_values(cls.STRUCT.unpack(data))
 
     @classmethod

@@ -25,6 +25,7 @@ __all__ = [
     "CLIENT_VERSION",
     "DEFAULT_MAX_BODY",
     "DEFAULT_SERVER_VERSION",
+    "LIBRARY_MAX_REQUEST_BODY",
     "MAGIC",
     "MAGIC_WORD",
     "NATIVE_HEADER",
@@ -33,6 +34,7 @@ __all__ = [
     "NativeFrame",
     "NativeFrameDecoder",
     "OpenRequest",
+    "check_server_max_body",
     "decode_frame",
     "encode_close_request",
     "encode_close_response",
@@ -61,7 +63,24 @@ CLIENT_VERSION: Final = 1
 DEFAULT_SERVER_VERSION: Final = 2
 #: Default ceiling of an incoming frame's body (the decoder refuses more before buffering).
 DEFAULT_MAX_BODY: Final = 4096
+#: The longest request body FANUC's library sends: it cuts a PMC write into requests of at
+#: most 1450 body bytes, whatever the answer version; a download's data frames carry 1280
+#: and a transfer start 516 [V, libfwlib32 1.0.5]. A server's body limit is at least this.
+LIBRARY_MAX_REQUEST_BODY: Final = 1450
 _U16_MAX: Final = 0xFFFF
+
+
+def check_server_max_body(value: int, name: str) -> int:
+    """``value`` as a server's limit on an incoming frame's body, the argument called ``name``:
+    :class:`ValueError` below :data:`LIBRARY_MAX_REQUEST_BODY` (with less, FANUC's library's
+    requests would close the connection before any answer) or above 65535."""
+    if not LIBRARY_MAX_REQUEST_BODY <= value <= _U16_MAX:
+        raise ValueError(
+            f"{name} must be within {LIBRARY_MAX_REQUEST_BODY}..{_U16_MAX}, got {value}: "
+            f"FANUC's library sends request bodies of up to {LIBRARY_MAX_REQUEST_BODY} bytes "
+            "(a PMC write is cut into requests of that size)"
+        )
+    return value
 
 
 class FrameType(enum.IntEnum):
@@ -243,6 +262,7 @@ class OpenRequest(NativeRecord):
 
     FORMAT: ClassVar[str] = ">H"
     ERROR: ClassVar[Callable[[str], ProtocolError]] = NativeFrameError
+    WHAT: ClassVar[str] = "open request body"
     channel: int = 2
 
 

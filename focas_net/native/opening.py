@@ -291,10 +291,15 @@ def decode_open_answer(body: bytes, version: int) -> OpenAnswer:
     """The open answer ``body`` received with ``version``; :class:`NativePayloadError` when its
     size is not the one the library checks."""
     size = open_answer_size(body, version)
-    if size is None or size != len(body):
-        raise NativePayloadError(
-            f"open answer of {len(body)} bytes, version {version}, expected {size}"
-        )
+    what = f"open answer of {len(body)} bytes at version {version}"
+    if size is None:
+        holds = 10 if version <= 2 else 12
+        raise NativePayloadError(f"{what}, shorter than the {holds} bytes that hold its path count")
+    if size != len(body):
+        count = (size - OpenHeadV2.SIZE) // PathRecordV2.SIZE
+        if version > 2:
+            count = (size - OpenHeadV3.SIZE) // PathRecordV3.SIZE
+        raise NativePayloadError(f"{what}, not the {size} bytes its path count of {count} makes")
     if version <= 2:
         head2 = OpenHeadV2.decode_from(body)
         return OpenAnswer(version, head2, PathRecordV2.decode_many(body[OpenHeadV2.SIZE :]))

@@ -12,8 +12,9 @@ connection, and a connection carries **one request frame in flight**. What the s
 * **a queue of jobs** in call order. A job is one frame's worth of blocks of one call: a
   :class:`Part`, encoded when the call was made, and the call's deadline;
 * **greedy packing**: :meth:`NativeSession.next_frame` takes jobs from the head of the queue
-  while they fit (at most ``max_blocks`` blocks, an answer and a request body within the limit
-  of the open answer's version) and at least one, whatever its size, so no call is overtaken;
+  while they fit (at most ``max_blocks`` blocks, an answer within the limit of the open
+  answer's version, a request body within 1450 bytes, as FANUC's library sends) and at least
+  one, whatever its size, so no call is overtaken;
 * **matching**: the answer's blocks are handed out in order, each job its own ``count``;
 * **deadlines**: :meth:`NativeSession.expire` ends every job whose deadline passed (a queued
   one was never sent; a sent one's blocks are dropped when the answer comes);
@@ -50,6 +51,7 @@ from .blocks import (
 )
 from .frame import (
     CLIENT_VERSION,
+    LIBRARY_MAX_REQUEST_BODY,
     MAGIC,
     NATIVE_HEADER,
     NATIVE_HEADER_SIZE,
@@ -85,6 +87,9 @@ _DATA_ANSWER: Final = FrameType.DATA_RESPONSE >> 8
 _ERROR_WORDS: Final = struct.Struct(">hhhh")
 #: The bytes of each axis in an answer of one record per axis (a position, a parameter).
 _AXIS_RECORD: Final = 16
+#: The room of a request's blocks after the block count: FANUC's library keeps a request
+#: body within 1450 bytes whatever the answer version, and servers may refuse more.
+_SEND_LIMIT: Final = LIBRARY_MAX_REQUEST_BODY - 2
 
 
 @dataclass(frozen=True, slots=True)
@@ -395,7 +400,8 @@ class NativeSession(Generic[T]):
         batch: list[Job[T]] = []
         blocks: list[bytes] = []
         blocks_left = self.max_blocks
-        answer_left = send_left = self._limit
+        answer_left = self._limit
+        send_left = min(self._limit, _SEND_LIMIT)
         given_up = self._given_up
         latest = 0.0
         # Jobs of one call in a row share their part: how many of them the frame still takes

@@ -64,8 +64,10 @@ from .faults import (
     FaultsCleared,
     FaultsRequest,
     ew_of_text,
+    fault_arg_needed,
     fault_kind_of,
     fault_refusal,
+    scope_refusal,
 )
 from .frame import (
     DEFAULT_MAX_FRAME,
@@ -121,6 +123,7 @@ from .values import (
     TmMode,
     field_label,
     status_labels,
+    status_member,
     tmmode_label,
 )
 from .versamax import MAX_CONFIG_CHUNK, VersaMaxReply, VersaMaxRequest
@@ -230,12 +233,15 @@ __all__ = [
     "encode_frame",
     "encode_response",
     "ew_of_text",
+    "fault_arg_needed",
     "fault_kind_of",
     "fault_refusal",
     "field_label",
     "pmc_address_unfit",
     "pmc_bit_refusal",
     "scan_frames",
+    "scope_refusal",
     "status_labels",
+    "status_member",
     "tmmode_label",
 ]

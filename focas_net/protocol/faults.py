@@ -21,8 +21,10 @@ __all__ = [
     "FaultsCleared",
     "FaultsRequest",
     "ew_of_text",
+    "fault_arg_needed",
     "fault_kind_of",
     "fault_refusal",
+    "scope_refusal",
 ]
 
 #: Longest delay a fault may ask for, in milliseconds.
@@ -47,6 +49,26 @@ def fault_kind_of(text: str) -> FaultKind:
         raise ValueError(f"unknown fault kind {text!r} (one of {names})") from None
 
 
+def scope_refusal(scope: int) -> str | None:
+    """Why a fault scope number is refused (``EW_DATA``), in the words of
+    :func:`fault_refusal`; None for a scope the server has."""
+    if scope in FAULT_SCOPES:
+        return None
+    scopes = ", ".join(f"{int(s)} {s.name}" for s in FaultScope)
+    return f"no fault scope {scope} (one of {scopes})"
+
+
+def fault_arg_needed(kind: int) -> str | None:
+    """What a fault of ``kind`` given no argument lacks, in the words every front end shows
+    after the argument's own name (the command line's ``--arg``, the dashboard's ``arg``);
+    None for a kind that takes none (a drop, a split)."""
+    if kind == FaultKind.DELAY:
+        return f"a delay fault needs its delay in milliseconds (0..{MAX_DELAY_MS})"
+    if kind == FaultKind.ERROR:
+        return "an error fault needs the EW code it answers with (e.g. EW_BUSY or -1)"
+    return None
+
+
 def fault_refusal(kind: int, scope: int, count: int, arg: int) -> str | None:
     """Why a fault of these numbers is refused (``EW_DATA``), in the words every front end
     shows (the dashboard, the command line, the client from the EW code alone); None when it
@@ -55,9 +77,9 @@ def fault_refusal(kind: int, scope: int, count: int, arg: int) -> str | None:
     if kind not in _FAULT_KINDS:
         kinds = ", ".join(f"{int(k)} {k.name}" for k in FaultKind)
         return f"no fault kind {kind} (one of {kinds})"
-    if scope not in FAULT_SCOPES:
-        scopes = ", ".join(f"{int(s)} {s.name}" for s in FaultScope)
-        return f"no fault scope {scope} (one of {scopes})"
+    why = scope_refusal(scope)
+    if why is not None:
+        return why
     if not 1 <= count <= MAX_FAULT_COUNT:
         return f"a fault's count is 1..{MAX_FAULT_COUNT}, got {count}"
     if kind == FaultKind.DELAY and not 0 <= arg <= MAX_DELAY_MS:

@@ -33,6 +33,7 @@ __all__ = [
     "TmMode",
     "field_label",
     "status_labels",
+    "status_member",
     "tmmode_label",
 ]
 
@@ -197,10 +198,13 @@ class HdckState(LabelledValue):
     HDCK = 1, "HDCK", "manual handle retrace on"
 
 
-#: The ODBST fields in the order every front end lists them, each with the enumeration that
-#: names its values.
+#: The ODBST fields in the order every front end lists them, each by the key every front end
+#: gives it (the command line, the web page, the gateway), with the enumeration that names its
+#: values. The key is the ODBST member's name but for ``mode``, the member ``aut``: the mode
+#: selection, as FANUC's operator panel (MODE SELECT) and screens name it, and as ``--mode``
+#: sets it.
 STATUS_FIELDS: Final[tuple[tuple[str, type[LabelledValue]], ...]] = (
-    ("aut", AutMode),
+    ("mode", AutMode),
     ("run", RunState),
     ("motion", MotionState),
     ("mstb", MstbState),
@@ -238,6 +242,12 @@ def tmmode_label(value: int, mt_type: str | None) -> tuple[str, str]:
     return "-", "no T/M mode selection"
 
 
+def status_member(field: str) -> str:
+    """The ODBST member (and :class:`~focas_net.protocol.StatusInfo` attribute) of the field
+    every front end keys ``field``: ``aut`` for ``mode``, any other its own name."""
+    return "aut" if field == "mode" else field
+
+
 def status_labels(status: object, mt_type: str | None = None) -> list[tuple[str, int, str, str]]:
     """``(field, value, label, meaning)`` of every ODBST field of ``status`` (a
     :class:`~focas_net.protocol.StatusInfo`, or any record with the same fields) in
@@ -245,7 +255,7 @@ def status_labels(status: object, mt_type: str | None = None) -> list[tuple[str,
     (:func:`tmmode_label`)."""
     rows = []
     for name, values in STATUS_FIELDS:
-        value = int(getattr(status, name))
+        value = int(getattr(status, status_member(name)))
         if values is TmMode:
             label, meaning = tmmode_label(value, mt_type)
         else:

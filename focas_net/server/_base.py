@@ -45,6 +45,7 @@ __all__ = [
     "BaseConnection",
     "CloseCallback",
     "Limits",
+    "peer_text",
 ]
 
 _log = logging.getLogger("focas_net.server")
@@ -76,6 +77,15 @@ class Limits:
     max_body: int = DEFAULT_MAX_BODY
     max_delayed: int = DEFAULT_MAX_DELAYED
     write_buffer_high: int = DEFAULT_WRITE_BUFFER_HIGH
+
+
+def peer_text(peer: Any) -> str:
+    """A transport's ``peername`` as logs show it: ``127.0.0.1:50000``, ``[::1]:50000``
+    (``?`` when unknown)."""
+    if not peer:
+        return "?"
+    host, port = peer[0], peer[1]
+    return f"[{host}]:{port}" if ":" in str(host) else f"{host}:{port}"
 
 
 #: Called once by a connection when its transport is gone (``connection_lost``).
@@ -186,8 +196,8 @@ class BaseConnection(Received, asyncio.Protocol, Generic[F]):
 
     @property
     def peer_text(self) -> str:
-        """The peer address as logs show it."""
-        return str(self._peer)
+        """The peer address as logs show it: ``127.0.0.1:50000``, ``[::1]:50000``."""
+        return peer_text(self._peer)
 
     @property
     def closing(self) -> bool:

@@ -119,14 +119,6 @@ class NativeConnection(BaseConnection[NativeFrame]):
         self._transfer = front.new_transfer()
 
     @property
-    def peer_text(self) -> str:
-        peer = self._peer
-        if not peer:
-            return "?"
-        host, port = peer[0], peer[1]
-        return f"[{host}]:{port}" if ":" in str(host) else f"{host}:{port}"
-
-    @property
     def buffered_input(self) -> int:
         """Bytes received and not answered yet (a partial frame, plus any backlog)."""
         held = self._decoder.buffered

@@ -1,17 +1,24 @@
 """The checks of :class:`~focas_net.server.FocasServer`'s arguments given from Python: each
 one of a wrong type is a :class:`TypeError`, NaN a :class:`ValueError`, naming the argument and
-the value given, before a machine is touched or a socket made. The ranges are the server's
-own checks (``_server.py``)."""
+the value given, before a machine is touched or a socket made; the machines served and the
+fixed ports, each one's own. The ranges are the server's own checks (``_server.py``)."""
 
 from __future__ import annotations
 
 import math
 import ssl as _ssl
-from collections.abc import Sequence
+from collections.abc import Iterable, Mapping, Sequence
+from collections.abc import Set as AbstractSet
 
 from focas_net._address import check_host
+from focas_net.sim import Machine
 
-__all__ = ["check_fleet_ports", "check_server_options"]
+__all__ = [
+    "check_distinct_ports",
+    "check_fleet_ports",
+    "check_server_options",
+    "server_machines",
+]
 
 #: Arguments that are an ``int`` (None allowed for the second group).
 _INTS = (
@@ -89,3 +96,60 @@ def check_fleet_ports(first: int | None, ports: Sequence[int] | None, name: str)
         f"{len(ports)} machines from {name}={first} run past 65535 (the last machine would get "
         f"port {ports[-1]})"
     )
+
+
+def server_machines(machines: Machine | Iterable[Machine] | None) -> list[Machine]:
+    if machines is None:
+        from focas_net.sim import default_machine
+
+        return [default_machine()]
+    if isinstance(machines, Machine):
+        return [machines]
+    words = "machines must be a Machine or a list of them, got"
+    if isinstance(machines, str | bytes) or not isinstance(machines, Iterable):
+        raise TypeError(f"{words} {machines!r}")
+    if isinstance(machines, Mapping):  # (its keys would be taken for machines)
+        raise TypeError(
+            f"{words} a {type(machines).__name__} (its machines in order: list(machines.values()))"
+        )
+    if isinstance(machines, AbstractSet):  # machine i's port would be anyone's
+        raise TypeError(
+            f"{words} a {type(machines).__name__}, which has no order (machine i listens on "
+            "port + i): make it a list"
+        )
+    result = list(machines)
+    if not result:
+        raise ValueError("FocasServer needs at least one machine")
+    seen: dict[int, int] = {}
+    for i, m in enumerate(result):
+        if not isinstance(m, Machine):
+            raise TypeError(f"machines[{i}] must be a Machine, got {m!r}")
+        first = seen.setdefault(id(m), i)
+        if first != i:
+            # two ports onto one state would look like two CNCs where a write on one
+            # shows on the other
+            raise ValueError(
+                f"machines[{i}] is machines[{first}] ({m!r}): each machine served is a CNC "
+                "of its own, with its own port and state; make another Machine for another "
+                "CNC (native_port serves one machine on a second port)"
+            )
+    return result
+
+
+def check_distinct_ports(ports: list[int] | None, native_ports: list[int] | None) -> None:
+    """Each fixed port the server would listen on is one port's only: ValueError naming the
+    two it would be (``native port 8194 of machine 0 is the port of machine 1``) before
+    anything listens, rather than the system's ``address already in use`` for the server's
+    own port. Port 0 (any free port) repeats freely."""
+    taken: dict[int, str] = {}
+    named = [(p, f"the port of machine {i}") for i, p in enumerate(ports or [])]
+    named += [(p, f"the native port of machine {i}") for i, p in enumerate(native_ports or [])]
+    for port, what in named:
+        if port == 0:
+            continue
+        if port in taken:
+            raise ValueError(
+                f"port {port} would be both {taken[port]} and {what}: each listens on a port "
+                "of its own"
+            )
+        taken[port] = what

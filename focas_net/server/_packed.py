@@ -130,7 +130,7 @@ class PackedConnection(BaseConnection[RawFrame]):
     def connection_made(self, base: asyncio.BaseTransport) -> None:
         super().connection_made(base)
         self._session = self._machine.new_session()
-        _log.debug("%s: connection from %s", self._label, self._peer)
+        _log.debug("%s: connection from %s", self._label, self.peer_text)
 
     # -- the data path ---------------------------------------------------------------------
 
@@ -172,7 +172,7 @@ class PackedConnection(BaseConnection[RawFrame]):
         if not frames:
             return True
         if _log.isEnabledFor(_DEBUG):
-            _log.debug("%s: from %s: %s", self._label, self._peer, _dump_frames(frames))
+            _log.debug("%s: from %s: %s", self._label, self.peer_text, _dump_frames(frames))
         self.idle_sweeps = 0
         return self._run(frames)
 
@@ -246,7 +246,9 @@ class PackedConnection(BaseConnection[RawFrame]):
                 return self._adapter.path_answer(payload, self._path)
             return self._adapter.answer(self._session, command, payload, self._path)  # type: ignore[arg-type]
         except Exception:
-            _log.exception("%s: command 0x%04X from %s failed", self._label, command, self._peer)
+            _log.exception(
+                "%s: command 0x%04X from %s failed", self._label, command, self.peer_text
+            )
             return self._adapter.error_answer(command, EW.REJECT)
 
     def _apply_fault(
@@ -290,13 +292,14 @@ class PackedConnection(BaseConnection[RawFrame]):
         return True
 
     def _framing_violation(self, exc: FrameError, data: bytes | memoryview) -> None:
-        _log.warning("%s: %s from %s: %s", self._label, "framing violation", self._peer, exc)
+        why = str(exc).removesuffix("; closing the connection")
+        _log.warning("%s: closing the connection from %s: %s", self._label, self.peer_text, why)
         if _log.isEnabledFor(_DEBUG):
             # Whole frames only: raw bytes could hold part of an unlock request's password.
             _log.debug(
                 "%s: offending chunk from %s: %d bytes, whole frames before the violation: %s",
                 self._label,
-                self._peer,
+                self.peer_text,
                 len(data),
                 _dump_frames(exc.frames) or "none",
             )
@@ -315,7 +318,7 @@ class PackedConnection(BaseConnection[RawFrame]):
         ew = queue.arm(fault)
         if ew:
             return encode_ew(ew)
-        _log.info("%s: %s armed by %s (%s)", self._label, fault, self._peer, scope.name)
+        _log.info("%s: %s armed by %s (%s)", self._label, fault, self.peer_text, scope.name)
         return _EW_OK
 
     def _fault_queue(self, command: int, payload: bytes) -> bytes:
@@ -339,6 +342,10 @@ class PackedConnection(BaseConnection[RawFrame]):
             self._faults = None
         if cleared:
             _log.info(
-                "%s: %d fault(s) cleared by %s (%s)", self._label, cleared, self._peer, scope.name
+                "%s: %d fault(s) cleared by %s (%s)",
+                self._label,
+                cleared,
+                self.peer_text,
+                scope.name,
             )
         return _CLEAR_ANSWER(FaultsCleared(cleared))

@@ -40,7 +40,7 @@ import anyio.lowlevel
 from focas_net._address import check_host
 from focas_net._typed import os_words
 from focas_net.adapters import PackedAdapter
-from focas_net.native import DEFAULT_MAX_BODY, MAGIC
+from focas_net.native import DEFAULT_MAX_BODY, MAGIC, check_server_max_body
 from focas_net.protocol import DEFAULT_MAX_FRAME
 from focas_net.sim import Machine
 
@@ -50,10 +50,16 @@ from ._base import (
     NATIVE_MAGIC_LENGTH,
     BaseConnection,
     Limits,
+    peer_text,
 )
 from ._durable import Keeper
 from ._native import NativeConnection, NativeFront
-from ._options import check_fleet_ports, check_server_options
+from ._options import (
+    check_distinct_ports,
+    check_fleet_ports,
+    check_server_options,
+    server_machines,
+)
 from ._packed import PackedConnection
 from .faults import FaultQueue
 
@@ -257,7 +263,7 @@ class Listener:
             _log.warning(
                 "%s: connection from %s refused: %d connections is the limit",
                 self._log_label,
-                transport.get_extra_info("peername"),
+                peer_text(transport.get_extra_info("peername")),
                 self.max_connections,
             )
             self.refused += 1
@@ -374,47 +380,12 @@ class _NativeOnlyConnection(NativeConnection):
             super().connection_made(base if keeper is None else keeper.hold(base))  # type: ignore[arg-type]
 
 
-def _machines(machines: Machine | Iterable[Machine] | None) -> list[Machine]:
-    if machines is None:
-        from focas_net.sim import default_machine
-
-        return [default_machine()]
-    if isinstance(machines, Machine):
-        return [machines]
-    if isinstance(machines, str | bytes) or not isinstance(machines, Iterable):
-        raise TypeError(f"machines must be a Machine or a list of them, got {machines!r}")
-    result = list(machines)
-    if not result:
-        raise ValueError("FocasServer needs at least one machine")
-    for i, m in enumerate(result):
-        if not isinstance(m, Machine):
-            raise TypeError(f"machines[{i}] must be a Machine, got {m!r}")
-    return result
-
-
-def _check_distinct(ports: list[int] | None, native_ports: list[int] | None) -> None:
-    """Each fixed port the server would listen on is one port's only: ValueError naming the
-    two it would be (``native port 8194 of machine 0 is the port of machine 1``) before
-    anything listens, rather than the system's ``address already in use`` for the server's
-    own port. Port 0 (any free port) repeats freely."""
-    taken: dict[int, str] = {}
-    named = [(p, f"the port of machine {i}") for i, p in enumerate(ports or [])]
-    named += [(p, f"the native port of machine {i}") for i, p in enumerate(native_ports or [])]
-    for port, what in named:
-        if port == 0:
-            continue
-        if port in taken:
-            raise ValueError(
-                f"port {port} would be both {taken[port]} and {what}: each listens on a port "
-                "of its own"
-            )
-        taken[port] = what
-
-
 class FocasServer:
     """Serve simulated machines over both protocols, one listening port per machine.
 
-    ``machines`` is a machine, several (a fleet), or None for the default machine. With
+    ``machines`` is a machine, several in order (a fleet: a list or any iterable but a dict
+    or a set; one Machine object given twice is refused, naming both places), or None for
+    the default machine. With
     ``port`` 0 every machine gets an ephemeral port; otherwise machine *i* listens on
     ``port + i``, or on ``ports[i]`` when ``ports`` is given (``port`` left out). Each such
     port answers the packed protocol (``docs/protocol.md``) and FANUC's native FOCAS/2
@@ -427,7 +398,9 @@ class FocasServer:
     out, so that only the native ports are served. ``native_version`` overrides the version word
     of every native answer, which each machine's control class picks otherwise (it also picks
     the command set FANUC's library uses), ``native_max_body`` the largest
-    native frame body accepted (checked on the header before any of the body is buffered).
+    native frame body accepted (checked on the header before any of the body is buffered; at
+    least :data:`~focas_net.native.LIBRARY_MAX_REQUEST_BODY`, 1450, the longest request body
+    FANUC's library sends).
 
     Limits: ``max_frame`` (a longer or shorter packed length prefix closes that connection; at
     least 4 and below 0xA0A0A0A0, which is how a native frame's first four bytes read),
@@ -489,9 +462,8 @@ class FocasServer:
             raise ValueError(f"grace_period must be >= 0, got {grace_period}")
         if native_version is not None and not 1 <= native_version <= 0xFFFF:
             raise ValueError(f"native_version must be within 1..65535, got {native_version}")
-        if not 0 <= native_max_body <= 0xFFFF:
-            raise ValueError(f"native_max_body must be within 0..65535, got {native_max_body}")
-        machine_list = _machines(machines)
+        check_server_max_body(native_max_body, "native_max_body")
+        machine_list = server_machines(machines)
         for m in machine_list:
             if read_only is not None:
                 m.read_only = read_only
@@ -524,7 +496,7 @@ class FocasServer:
         for p in (self._ports or []) + (self._native_ports or []):
             if not 0 <= p <= 65_535:
                 raise ValueError(f"port {p} outside 0..65535")
-        _check_distinct(self._ports, self._native_ports)
+        check_distinct_ports(self._ports, self._native_ports)
         self.host = check_host(host, 0)  # an IPv6 address without its brackets
         self.ssl = ssl
         self.max_frame = max_frame

@@ -17,7 +17,7 @@ from __future__ import annotations
 
 from typing import Final
 
-from focas_net.native import DEFAULT_MAX_BODY
+from focas_net.native import DEFAULT_MAX_BODY, check_server_max_body
 from focas_net.sim import Machine
 
 from ._native import NativeConnection
@@ -43,7 +43,8 @@ class NativeServer:
     what one front end writes, the other reads. ``port`` 0 picks an ephemeral port (see
     :attr:`address`). ``version`` overrides the version word of every answer, which the
     machine's control class picks otherwise; ``max_body`` bounds an incoming frame's body,
-    checked on its header before any of it is buffered; ``max_connections`` open connections
+    checked on its header before any of it is buffered (1450..65535: FANUC's library sends
+    request bodies of up to 1450 bytes); ``max_connections`` open connections
     at most (more are closed at once); ``idle_timeout`` seconds without a complete frame close
     a connection (0 = never).
     """
@@ -69,8 +70,7 @@ class NativeServer:
             raise TypeError("max_body must be an integer, got None")
         if version is not None and not 1 <= version <= 0xFFFF:
             raise ValueError(f"version must be within 1..65535, got {version}")
-        if not 0 <= max_body <= 0xFFFF:
-            raise ValueError(f"max_body must be within 0..65535, got {max_body}")
+        check_server_max_body(max_body, "max_body")
         self._server = FocasServer(
             machine,
             host=host,

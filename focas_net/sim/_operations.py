@@ -27,7 +27,7 @@ from ._spindles import (
 )
 from ._status import MotionData, panel_mode, switch_unfit
 from .nc import ProgramInfo, SimClock, check_sim_clock
-from .nc.scenario import DEFAULT_SCENARIO, Scenario
+from .nc.scenario import DEFAULT_SCENARIO, Scenario, checked_scenario
 
 __all__ = ["PathOperations"]
 
@@ -245,8 +245,10 @@ class PathOperations:
         EW_MODE (not MEM), EW_DATA (no main program); a read-only machine runs it too (the
         machine works, clients only read it). On a machine of several paths the scenario
         drives path 1 (its events, its parts) and every other path produces alongside from
-        the same moment, the waiting M codes keeping them in step."""
-        self._paths.start_production(scenario or self.scenario or DEFAULT_SCENARIO)
+        the same moment, the waiting M codes keeping them in step. A ``scenario`` of another
+        type is a TypeError naming it."""
+        chosen = checked_scenario(scenario) or checked_scenario(self.scenario) or DEFAULT_SCENARIO
+        self._paths.start_production(chosen)
 
     def stop_scenario(self) -> None:
         """Stop running on its own: the cycle goes on as it is (production without the

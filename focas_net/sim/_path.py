@@ -447,7 +447,12 @@ class Path:
     def write_parts(self, variable: int, value: Decimal | int | None) -> None:
         """Write the parts count or the total parts through its macro variable: EW_DATA for
         anything but a whole number >= 0."""
-        held = None if value is None else macro_value(value)
+        if value is None:  # in the words the clients' sim.vacate_macro gives
+            raise MachineError(
+                EW.DATA,
+                f"#{variable} is a parts count, which always holds a number (write 0 to reset it)",
+            )
+        held = macro_value(value)
         if held is None or held != held.to_integral_value() or held < 0:
             raise MachineError(EW.DATA, f"#{variable} = {value}: a count of parts")
         self.set_parts(PARTS_VARIABLES[variable], int(held))

@@ -58,6 +58,8 @@ OFFSET_TYPES: Final[dict[str, tuple[str, ...]]] = {
     "M": ("radius_wear", "radius_geometry", "length_wear", "length_geometry"),
     "T": ("x_wear", "x_geometry", "z_wear", "z_geometry", "nose_wear", "nose_geometry", "tip"),
 }
+#: A machine type in words.
+_KIND_WORDS: Final = {"M": "a machining centre", "T": "a lathe"}
 #: Largest offset value in least input increments (999.999 mm).
 MAX_OFFSET: Final = 999_999
 #: Largest tip number of a lathe's imaginary tool tip.
@@ -112,7 +114,11 @@ class ToolOffsets:
         self._lengths = lengths
         for (number, name), value in (values or {}).items():
             if name not in self.types:
-                raise ValueError(f"tool offset {number}: {kind} offsets have no {name!r}")
+                owner = " or ".join(_KIND_WORDS[k] for k, n in OFFSET_TYPES.items() if name in n)
+                raise ValueError(
+                    f"tool offset {number}: {name} is {owner or 'no machine'}'s offset, not "
+                    f"{_KIND_WORDS[kind]}'s (kind {kind}): {', '.join(self.types)}"
+                )
             try:
                 self.write(number, self.types.index(name), value)
             except MachineError as exc:

@@ -171,7 +171,7 @@ from ._status import (
 from ._tool_ops import ToolOperations, build_tools
 from ._tools import ToolsSpec
 from .nc import Engine, ProgramStore, RealTimeClock, SimClock, check_sim_clock
-from .nc.scenario import Scenario, ScenarioEvent
+from .nc.scenario import Scenario, ScenarioEvent, checked_scenario
 from .nc.waits import PathSync
 
 __all__ = [
@@ -260,7 +260,7 @@ class Machine(
         self._name = checked_name(name)
         #: How the machine runs on its own when it is told to (:meth:`start_scenario`;
         #: ``serve`` starts it): a machine file's ``[run]``, None when it has none.
-        self.scenario = scenario
+        self.scenario = checked_scenario(scenario)
         specs = path_specs(paths, axes, panel, motion, programs, main_program, identity)
         #: Every axis of the machine, path by path.
         self.axes: list[str] = [a for spec in specs for a in spec.axes]

@@ -31,6 +31,7 @@ from focas_net._typed import (
     decimal_number,
     item_number_unfit,
     param_decimals_refused,
+    param_value_unfit,
     program_number,
     rapid_step,
     switch,
@@ -48,6 +49,7 @@ from focas_net.protocol import (
     alarm_type_of,
     cycle_action_of,
     ew_of_text,
+    fault_arg_needed,
     fault_kind_of,
     pmc_bit_refusal,
 )
@@ -254,13 +256,11 @@ def _mode(args: Mapping[str, Any]) -> int | None:
     """``mode`` as the command line takes it: text (a name, ``MDI``, ``mdi``, ``EDIT``, or an
     ``aut`` number, ``1``) read by :meth:`AutMode.parse_panel` as ``--mode`` reads it, or a
     JSON number, the ``aut`` value as the wire carries it (the machine refuses one that is
-    not a mode, with EW_DATA)."""
+    not a mode, with EW_DATA); None (the mode left as it is) when not given or ``null``."""
     value = args.get("mode")
     if not isinstance(value, str):
         return _optional_int(args, "mode")
-    if not value.strip():
-        return None
-    try:
+    try:  # text of no mode (spaces, nothing) is refused, as `--mode ''` is: no panel has it
         return int(AutMode.parse_panel(value))
     except ValueError as exc:
         raise ActionError(f"mode: {exc}") from None
@@ -271,11 +271,17 @@ def _switch(args: Mapping[str, Any], key: str) -> int | None:
     by :func:`switch` as ``--pwe`` reads it (``1``/``0``, ``on``/``off`` and its other words:
     ``+1`` or ``2`` typed is refused in its words), a JSON ``true``/``false``, or a JSON number,
     the value as the wire carries it (the machine refuses another than 0 and 1, with its
-    range); None when not given."""
+    range); None when not given or ``null`` (text of only spaces is no switch: refused, as
+    the command line refuses it)."""
     value = args.get(key)
     if isinstance(value, bool):
         return int(value)
-    return _read_as(args, key, lambda text: int(switch(text)), _optional_int)
+    if isinstance(value, str):  # text of no switch (spaces, nothing) too, as `--pwe ''` is
+        try:
+            return int(switch(value))
+        except ValueError as exc:
+            raise ActionError(f"{key}: {exc}") from None
+    return _optional_int(args, key)
 
 
 def _panel(station: Station, args: Mapping[str, Any]) -> JsonDict:
@@ -429,10 +435,19 @@ def _write_param(station: Station, args: Mapping[str, Any]) -> JsonDict:
     given = _decimal(args, "value") if bits is None else Decimal(bits)
     if given is None:
         raise ActionError("value: a number is needed")
+    if item is not None:  # a value no wire carries is refused before the write gates, as
+        value, decimals = _param_value(m, number, given)  # every client refuses to send it
+        kind = item.kind
+        why = (
+            None
+            if kind is ParamKind.REAL
+            else param_value_unfit(number, value, item.width, bit=kind is ParamKind.BIT)
+        )
+        if why is not None:
+            raise ActionError(f"value: {why}")
     m.check_writable()  # the machine's order: read-only first, then the number
     if item is None:
         raise MachineError(EW.NUMBER, f"no parameter {number}")
-    value, decimals = _param_value(m, number, given)
     path = _path(args)
     m.write_param(station.session, number, axis, value, decimals=decimals, path=path)
     # the value as `param get --json` gives it (a real one's as its decimal text, not the
@@ -487,6 +502,9 @@ def _inject_fault(station: Station, args: Mapping[str, Any]) -> JsonDict:
         raise ActionError(f"kind: {exc}") from None
     count = _int(args, "count", 1)
     # a delay or an error needs its argument; a drop or a split takes none
+    needed, given = fault_arg_needed(int(kind)), args.get("arg")
+    if needed is not None and (given is None or (isinstance(given, str) and not given.strip())):
+        raise ActionError(f"arg: {needed}")  # as `sim fault delay` without --arg is refused
     if kind is FaultKind.ERROR:
         arg = _read_as(args, "arg", ew_of_text, _int)
     elif kind is FaultKind.DELAY:

@@ -65,7 +65,8 @@ What the interpreter supports
 - Alarms (block's program and last sequence number): PS0003, 0004, 0005, 0006, 0007, 0009,
   0010 improper G code, 0011 no feed, 0020 radius tolerance (also R less than half the
   chord: inferred), 0021, 0022, 0030, 0076, 0077, 0078, 0111, 0112, 0114, 0115, 0116,
-  0118, 0119, 0124, 0126, 0127, 0128; OT0500/OT0501 when a motion would pass a stroke limit:
+  0118, 0119, 0124, 0126, 0127, 0128, 5074 (an address but G given twice in a block; M too:
+  one M code a block); OT0500/OT0501 when a motion would pass a stroke limit:
   the axis stops on the limit. MC numbering of ``#3000`` and PS0009 for an axis the machine
   lacks are inferred.
 
@@ -74,9 +75,10 @@ What it does not support
 Cutter compensation G41/G42, canned cycles G73-G89, G92 and G52 coordinate settings, G10,
 G65/G66 macro calls and their argument locals, G95 feed per revolution, G96 constant surface
 speed, polar and scaling and rotation, inch machines (positions are reported in mm whatever
-G20 says), acceleration (feeds and rapids are reached at once), multiple M codes waited in
-parallel, the ``/1``..``/9`` block delete switches (all are one switch), program protection
-of O8000/O9000, and ``ATAN[a,b]``. These raise PS0010 (G codes) or PS0114 (syntax).
+G20 says), acceleration (feeds and rapids are reached at once), several M codes in a block
+(FANUC's option; PS5074 here), the ``/1``..``/9`` block delete switches (all are one
+switch), program protection of O8000/O9000, and ``ATAN[a,b]``. These raise PS0010 (G
+codes) or PS0114 (syntax).
 """
 
 from .alarms import ALARM_MESSAGES, AlarmKind, NcAlarm, ProgramError, ProgramErrorReason

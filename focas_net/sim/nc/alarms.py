@@ -59,6 +59,7 @@ ALARM_MESSAGES: Final[dict[tuple[AlarmKind, int], str]] = {
     (AlarmKind.PS, 128): "ILLEGAL MACRO SEQUENCE NUMBER",
     (AlarmKind.PS, 160): "MISMATCH WAITING M-CODE",
     (AlarmKind.PS, 161): "ILLEGAL P OF WAITING M-CODE",
+    (AlarmKind.PS, 5074): "ADDRESS DUPLICATION ERROR",  # also two M codes: one M a block
     (AlarmKind.OT, 500): "+ OVERTRAVEL ( SOFT 1 )",
     (AlarmKind.OT, 501): "- OVERTRAVEL ( SOFT 1 )",
 }

@@ -614,11 +614,11 @@ class Engine:
                 return False
             self._single_block_pending = step.nc_block
             self._queue.extend(step.actions)
-            if not step.actions:
+            if all(map(_instant, step.actions)):  # none, or dwells of 0 s: no time
                 self._zero_steps += 1
                 if self._zero_steps > self.settings.zero_time_blocks:
                     self._queue.append(Wait(self.settings.busy_block_time, BUSY))
-                else:
+                elif not step.actions:
                     return True
         action = self._queue.popleft()
         if isinstance(action, Stop):
@@ -632,7 +632,7 @@ class Engine:
                 return False
             self._queue.appendleft(action)  # after the rest of the part's least time
             action = Wait(short, BUSY)
-        if not (isinstance(action, Wait) and not action.fin):
+        if not (isinstance(action, Wait) and not action.fin) and not _instant(action):
             self._zero_steps = 0
         self._start(action)
         return True
@@ -764,3 +764,8 @@ def _percent(value: float, low: float, high: float, what: str) -> float:
     if not (math.isfinite(value) and low <= value <= high):
         raise ValueError(f"{what} is {low:g}..{high:g} %, got {value!r}")
     return float(value)
+
+
+def _instant(action: Action) -> bool:
+    """A dwell of no time (``G4 P0``): a block of no time, as one without actions."""
+    return isinstance(action, Dwell) and action.seconds <= 0

@@ -56,6 +56,8 @@ DEFAULT_MODAL: Final[dict[int, int]] = {
 }  # fmt: skip
 
 _ADDRESSES_OTHER: Final = frozenset("FGHDILJKMPRST")
+#: The letters FANUC's parameter 1020 may name an axis by (the others are no axis).
+_AXIS_LETTERS: Final = frozenset("ABCEUVWXYZ")
 #: the digits of an M, S and T code FANUC's controls allow by default (parameters 3030,
 #: 3031 and 3032 set to 0); more is PS0003
 CODE_DIGITS: Final = {"M": 8, "S": 5, "T": 8}
@@ -460,9 +462,11 @@ class Interpreter:
     def _words(self, st: Words, comment: str) -> Step:
         s = self.settings
         values: list[tuple[str, float, bool]] = []
+        unread: str | None = None  # raised once the G codes are known good (PS0010 first)
         for word in st.words:
             if word.address not in self.axis_index and word.address not in _ADDRESSES_OTHER:
-                raise AlarmRaised(9, f"address {word.address} (axes are {''.join(s.axes)})")
+                unread = unread or word.address
+                continue
             value = evaluate(word.value, self.read)
             if value is not None:
                 values.append((word.address, value, word.integer_literal))
@@ -482,6 +486,10 @@ class Interpreter:
                     self.one_shot = one_shot = code
                 else:
                     modal[group] = code
+        if unread is not None:
+            if unread in _AXIS_LETTERS:
+                raise AlarmRaised(9, f"address {unread} (axes are {''.join(s.axes)})")
+            raise AlarmRaised(9, f"address {unread}: the interpreter reads no {unread}")
         inch = modal[6] == 200
         scale = INCH if inch else 1.0
         increment = s.increment_inch if inch else s.increment_mm
@@ -620,13 +628,15 @@ class Interpreter:
             raise AlarmRaised(76, "M98 without P")
         p = self._integer("P", other["P"][0])
         repeats = self._integer("L", other["L"][0]) if "L" in other else 1
+        written = p
         if "L" not in other and p > 9999:
             repeats, p = divmod(p, 10000)
         if repeats == 0:
             return
         program = self.store.find(p)
         if program is None:
-            raise AlarmRaised(78, f"M98 P{p}: no program O{p:04d}")
+            times = f" ({repeats} times)" if written != p else ""
+            raise AlarmRaised(78, f"M98 P{written}: no program O{p:04d}{times}")
         if len(self.frames) > self.settings.max_subprogram_nesting:
             raise AlarmRaised(77, f"more than {self.settings.max_subprogram_nesting} levels")
         self.frames.append(_Frame(program, 0, repeats))

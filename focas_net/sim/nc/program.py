@@ -347,6 +347,7 @@ def _loop_number(cur: Cursor) -> int:
 
 def _words(cur: Cursor) -> list[Word]:
     words: list[Word] = []
+    written: dict[str, str] = {}  # each address but G: the word as written
     while not cur.done():
         c = cur.peek()
         if c == "#":
@@ -357,9 +358,19 @@ def _words(cur: Cursor) -> list[Word]:
             raise AlarmRaised(4, f"a value without an address at {cur.text[cur.pos :]!r}")
         if c not in ADDRESSES:
             raise AlarmRaised(9, f"{c!r}")
+        start = cur.pos
         cur.pos += 1
         words.append(_word_value(cur, c))
+        if c != "G":
+            word = _shown(cur.text[start : cur.pos])
+            if c in written:
+                raise AlarmRaised(5074, f"{c} given twice in one block ({written[c]} and {word})")
+            written[c] = word
     return words
+
+
+def _shown(written: str) -> str:
+    return written if len(written) <= _SHOWN else written[: _SHOWN - 3] + "..."
 
 
 def _word_value(cur: Cursor, address: str) -> Word:

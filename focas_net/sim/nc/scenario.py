@@ -38,6 +38,7 @@ __all__ = [
     "ScenarioAlarm",
     "ScenarioEvent",
     "Schedule",
+    "checked_scenario",
     "fleet_seed",
     "noise",
     "servo_load",
@@ -230,6 +231,16 @@ class Schedule:
         while self.next_time < when:
             events.append(self.pop())
         return events
+
+
+def checked_scenario(scenario: object) -> Scenario | None:
+    """``scenario`` when it is a :class:`Scenario` or None, else a TypeError naming it (a
+    scenario's name or its settings are no scenario: a machine file's ``[run]`` makes one)."""
+    if scenario is None or isinstance(scenario, Scenario):
+        return scenario
+    raise TypeError(
+        f"scenario must be a Scenario (focas_net.sim.nc.scenario) or None, got {scenario!r}"
+    )
 
 
 def _stream(seed: int, name: str) -> random.Random:

@@ -1,0 +1,153 @@
+"""A confirming pass over the dashboard: refusals the page and the command line worded
+differently for the same input on the same machine (a parameter value no wire carries, a fault
+without its argument, a PMC bit below 0, a mode or a switch of only spaces), each kept."""
+
+from __future__ import annotations
+
+from typing import Any
+
+import pytest
+from cli_support import at, fails
+from support import serving
+
+from focas_net.protocol import AutMode
+from focas_net.sim import MachineError
+from focas_net.web import ActionError, Station, perform
+
+
+def _refusal(station: Station, action: str, args: dict[str, Any]) -> str:
+    """The words the page shows for a refused action (an argument's or the machine's)."""
+    with pytest.raises((ActionError, MachineError)) as refused:
+        perform(station, action, args)
+    exc = refused.value
+    return exc.detail if isinstance(exc, MachineError) else str(exc)
+
+
+# -- a parameter value no wire carries ----------------------------------------------------------
+@pytest.mark.parametrize(
+    ("number", "typed", "words"),
+    [
+        (
+            6711,
+            "99999999999",
+            "parameter 6711 is a two-word parameter: 99999999999 is outside "
+            "-2147483648..2147483647",
+        ),
+        (
+            3216,
+            "-40000",
+            "parameter 3216 is a word parameter: -40000 is outside -32768..32767",
+        ),
+        (20, "300", "parameter 20 is a byte parameter: 300 is outside -128..127"),
+        (1001, "0x100", "bit parameter 1001 holds 0..255 (0b00000000..0b11111111), got 256"),
+    ],
+)
+async def test_a_value_no_wire_carries_is_refused_alike_before_the_write_gates(
+    number: int, typed: str, words: str
+) -> None:
+    """``param set 6711 99999999999`` said what a two-word value carries while the page, after
+    checking PWE and MDI, said the parameter's range (``0..999999999``): a value no wire
+    carries is refused before the write gates (PWE off, the mode not MDI here) in the words
+    both transports of the command line give; the parameter's own range is named by the CNC
+    for a value the wire carries (FOCAS/2 tells no client a parameter's range)."""
+    async with serving() as served:
+        before = served.machine.read_param(number, 0)
+        line = await fails(2, "param", "set", *at(served), str(number), typed)
+        assert line == f"focas-net: {words}"
+        station = Station(0, served.machine)
+        assert _refusal(station, "write_param", {"number": number, "value": typed}) == (
+            f"value: {words}"
+        )
+        assert served.machine.read_param(number, 0) == before
+
+
+async def test_a_value_the_wire_carries_outside_the_range_is_the_machines_after_its_gates() -> None:
+    """Within the wire the CNC answers: EW_PASSWD first with PWE off (FANUC's order), and
+    EW_DATA for its range with the gate open."""
+    async with serving() as served:
+        station = Station(0, served.machine)
+        with pytest.raises(MachineError) as gated:
+            perform(station, "write_param", {"number": 6711, "value": "1000000000"})
+        assert gated.value.detail.startswith("parameter write not enabled")
+        served.machine.set_panel(int(AutMode.MDI), 1, None)
+        words = "parameter 6711: 1000000000 outside 0..999999999"
+        assert _refusal(station, "write_param", {"number": 6711, "value": "1000000000"}) == words
+        line = await fails(1, "param", "set", *at(served), "6711", "1000000000")
+        assert line.startswith("focas-net: EW_DATA (5)") and "1000000000" in line
+        assert served.machine.read_param(6711, 0) == 0
+
+
+# -- a fault without its argument ---------------------------------------------------------------
+@pytest.mark.parametrize(
+    ("kind", "words"),
+    [
+        ("delay", "a delay fault needs its delay in milliseconds (0..60000)"),
+        ("error", "an error fault needs the EW code it answers with (e.g. EW_BUSY or -1)"),
+    ],
+)
+@pytest.mark.parametrize("arg", [None, "", "  "])
+async def test_a_fault_without_its_argument_is_refused_in_the_same_words(
+    kind: str, words: str, arg: str | None
+) -> None:
+    """``sim fault delay`` said "needs --arg MILLISECONDS", the page "arg: a number is
+    needed": each names its field, then the same reason."""
+    async with serving() as served:
+        line = await fails(2, "sim", "fault", *at(served), kind)
+        assert line == f"focas-net: --arg: {words}"
+        station = Station(0, served.machine)
+        args: dict[str, Any] = {"kind": kind} if arg is None else {"kind": kind, "arg": arg}
+        assert _refusal(station, "inject_fault", args) == f"arg: {words}"
+        assert len(station.faults) == 0
+
+
+# -- a PMC bit below 0 --------------------------------------------------------------------------
+@pytest.mark.parametrize("bit", [-1, -8])
+async def test_a_pmc_bit_below_zero_is_refused_in_the_same_words(bit: int) -> None:
+    """``pmc bit R 0.-1`` said "the bit after the dot must be a bit number", the page
+    "R0.-1: bit -1 is outside 0..7": a signed bit is a number, refused by its range."""
+    words = f"R0.{bit}: bit {bit} is outside 0..7: a PMC address is 1 byte wide"
+    async with serving() as served:
+        line = await fails(2, "pmc", "bit", *at(served), "R", f"0.{bit}", "1")
+        assert line == f"focas-net: {words}"
+        station = Station(0, served.machine)
+        args = {"area": "R", "address": 0, "bit": bit, "value": 1}
+        assert _refusal(station, "pmc_bit", args) == words
+        assert served.machine.read_pmc("R", 0, 1) == b"\x00"
+
+
+async def test_a_parameter_bit_below_zero_is_refused_by_its_range() -> None:
+    async with serving() as served:
+        line = await fails(2, "param", "get", *at(served), "1815.-1", "--axis", "1")
+        assert line == "focas-net: bit -1 is outside 0..7: parameter 1815 is 1 byte wide"
+
+
+# -- a mode or a switch of only spaces ----------------------------------------------------------
+@pytest.mark.parametrize("typed", ["", "  "])
+async def test_a_mode_of_no_text_is_refused_as_the_command_line_refuses_it(typed: str) -> None:
+    """A mode of only spaces was "leave unchanged" on the page while ``--mode ''`` is refused:
+    a mode switch has no blank position, so both refuse text that names no mode (a mode left
+    out, or ``null``, leaves it as it is)."""
+    words = f"unknown mode {typed!r} (one of MDI, MEM, EDIT, HND, JOG, TJOG, THND, INC, REF, RMT)"
+    async with serving() as served:
+        before = served.machine.status()
+        line = await fails(2, "sim", "panel", *at(served), "--mode", typed, prefix="focas-net")
+        assert f"argument --mode: {words};" in line
+        station = Station(0, served.machine)
+        assert _refusal(station, "panel", {"mode": typed}) == f"mode: {words}"
+        assert perform(station, "panel", {"mode": None}) == {"ok": True}
+        assert served.machine.status() == before
+
+
+@pytest.mark.parametrize("key", ["pwe", "emergency"])
+@pytest.mark.parametrize("typed", ["", "  "])
+async def test_a_switch_of_no_text_is_refused_as_the_command_line_refuses_it(
+    key: str, typed: str
+) -> None:
+    """``{"pwe": "  "}`` was "pwe: a number is needed" and ``{"pwe": ""}`` left PWE as it
+    was, where ``--pwe '  '`` names the words a switch takes."""
+    words = f"expected 1, on, true, yes or set, or 0, off, false, no or clear, got {typed!r}"
+    async with serving() as served:
+        line = await fails(2, "sim", "panel", *at(served), f"--{key}", typed, prefix="focas-net")
+        assert f"argument --{key}: {words};" in line
+        station = Station(0, served.machine)
+        assert _refusal(station, "panel", {key: typed}) == f"{key}: {words}"
