@@ -47,6 +47,7 @@ __all__ = [
     "field_unfit",
     "file_text",
     "is_loopback",
+    "item_axis_unfit",
     "item_number_unfit",
     "macro_unfit",
     "os_reason",
@@ -118,7 +119,11 @@ PROGRAM_NUMBERS: Final = f"(O1..O{_MAX_PROGRAM}, e.g. O1000)"
 
 
 def macro_unfit(value: object) -> str:
-    """Why ``value`` does not fit a macro variable, and what to type instead."""
+    """Why ``value`` does not fit a macro variable, and what to type instead; a Decimal in
+    plain decimals as it was typed (``0.0000000001``, not ``1E-10``) unless that would take
+    more than 40 places (``1E+99999``)."""
+    if isinstance(value, Decimal) and value.is_finite() and abs(value.adjusted()) <= 40:
+        value = decimal_text(value)
     return (
         f"{value} does not fit a macro variable: give at most 9 decimals and at most 10 digits, "
         "which without the decimal point stay within 32 bits (-2147483648..2147483647)"
@@ -145,6 +150,14 @@ def item_number_unfit(what: str, number: int) -> str | None:
     field carries (:func:`field_unfit`); None when it is one."""
     low, high = _ITEM_NUMBERS[what]
     return field_unfit(what, number, low, high)
+
+
+def item_axis_unfit(axis: int, what: str) -> str | None:
+    """Why ``axis`` is no axis of a ``what`` (``parameter``, ``diagnostic``) a CNC's field
+    carries, in the words of every front end (``axis -1 is outside 0..32767 (0: not an axis
+    parameter)``); None when it is one (whether the item has that axis is the CNC's to say)."""
+    why = field_unfit("axis", axis, 0, 0x7FFF)
+    return None if why is None else f"{why} (0: not an axis {what})"
 
 
 def param_value_unfit(number: int, value: int, width: int, *, bit: bool = False) -> str | None:

@@ -9,9 +9,18 @@ from typing import Any
 
 import pytest
 
-from focas_net import EW, CncError, FocasClient, FocasServer, NativeClient, default_machine
+from focas_net import (
+    EW,
+    CncError,
+    FocasClient,
+    FocasServer,
+    NativeClient,
+    NativeServer,
+    default_machine,
+    start_native,
+)
 from focas_net.client import AlarmProjection, AlarmRaised, ProjectionMode
-from focas_net.sim import Machine, MachineError
+from focas_net.sim import Machine, MachineError, PathSpec
 from focas_net.sim.nc.scenario import DEFAULT_SCENARIO
 
 
@@ -235,3 +244,34 @@ def test_the_machine_refuses_a_vacant_parts_count_in_the_clients_words() -> None
     assert str(refused.value) == (
         "EW_DATA: #3902 is a parts count, which always holds a number (write 0 to reset it)"
     )
+
+
+# -- a main program number of another type ----------------------------------------------------
+@pytest.mark.parametrize("number", ["1", 1.0, True, "O0001"])
+def test_a_main_program_of_another_type_is_a_type_error_naming_it(number: Any) -> None:
+    with pytest.raises(TypeError) as refused:
+        Machine("m", programs=["O0001\nM30\n"], main_program=number)
+    assert str(refused.value) == f"main_program must be an integer, got {number!r}"
+    with pytest.raises(TypeError) as by_path:
+        Machine("m", paths=[PathSpec(("X",), programs=("O0001\nM30\n",), main_program=number)])
+    assert str(by_path.value) == str(refused.value)
+
+
+# -- a native-only server's port is named as the argument typed ------------------------------
+@pytest.mark.parametrize(
+    ("port", "kind", "words"),
+    [
+        (-1, ValueError, "port -1 is outside 0..65535 (0: any free port)"),
+        (65536, ValueError, "port 65536 is outside 0..65535 (0: any free port)"),
+        ("8193", TypeError, "port must be an integer, got '8193'"),
+        (None, TypeError, "port must be an integer, got None"),
+        (True, TypeError, "port must be an integer, got True"),
+    ],
+)
+async def test_a_native_server_names_its_port_as_given(port: Any, kind: Any, words: str) -> None:
+    with pytest.raises(kind) as refused:
+        NativeServer(default_machine(), "127.0.0.1", port)
+    assert str(refused.value) == words
+    with pytest.raises(kind) as started:
+        await start_native(default_machine(), port=port)
+    assert str(started.value) == words

@@ -12,7 +12,10 @@ from cli_support import Cli, run_focas_net
 from poller_support import all_online, config, polling, until
 from support import serving
 
-from focas_net.gateway import ConfigError, parse_config
+from focas_net.client._values import check_item
+from focas_net.client.native import NativeClient
+from focas_net.gateway import ConfigError, MachineConfig, WriteGates, parse_config
+from focas_net.gateway.writer import GatedWriter
 from focas_net.sim import default_machine
 from focas_net.sim.nc import ManualClock
 from focas_net.web.view import machine_view, status_fields
@@ -93,3 +96,36 @@ async def test_a_shard_out_of_range_is_refused_as_the_argument(
     assert err.splitlines()[-1] == (
         f"focas-net gateway: error: argument --shard: {words}; see focas-net gateway --help"
     )
+
+
+# -- an axis out of range: one wording on the command line, the client and the gateway -------
+@pytest.mark.parametrize(
+    ("argv", "what"),
+    [
+        (("param", "set", "6711", "5"), "parameter"),
+        (("param", "get", "6711"), "parameter"),
+        (("diag", "300"), "diagnostic"),
+    ],
+)
+@pytest.mark.parametrize("axis", [-1, 40000])
+async def test_an_axis_out_of_range_is_worded_as_the_client_and_the_gateway_word_it(
+    argv: tuple[str, ...], what: str, axis: int
+) -> None:
+    """``--axis -1`` said ``must not be negative, got -1`` where ``--axis 40000``, the Python
+    client and the gateway's WriteParameter say the axis field's range."""
+    words = f"axis {axis} is outside 0..32767 (0: not an axis {what})"
+    code, out, err = await run_focas_net(*argv, "--axis", str(axis), "--port", "1")
+    command = " ".join(argv[: 2 if argv[0] == "param" else 1])
+    assert (code, out) == (2, "")
+    assert err.splitlines()[-1] == (
+        f"focas-net {command}: error: argument --axis: {words}; see focas-net {command} --help"
+    )
+    if what == "parameter":
+        with pytest.raises(ValueError) as caught:
+            check_item(6711, axis, "parameter")
+        assert str(caught.value) == words
+        machine = MachineConfig("m1", "127.0.0.1", writes=WriteGates(params=((6711, 6711),)))
+        writer = GatedWriter(lambda name: (machine, NativeClient("127.0.0.1", 1)))
+        with pytest.raises(ValueError) as caught:  # refused before any connection is made
+            await writer.write_param("m1", 6711, 5, axis)
+        assert str(caught.value) == words

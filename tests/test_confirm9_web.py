@@ -10,9 +10,10 @@ import pytest
 from cli_support import at, fails
 from support import serving
 
+from focas_net._typed import whole_number
 from focas_net.protocol import AutMode
 from focas_net.sim import MachineError
-from focas_net.web import ActionError, Station, perform
+from focas_net.web import ActionError, Station, perform, pmc_address
 
 
 def _refusal(station: Station, action: str, args: dict[str, Any]) -> str:
@@ -151,3 +152,37 @@ async def test_a_switch_of_no_text_is_refused_as_the_command_line_refuses_it(
         assert f"argument --{key}: {words};" in line
         station = Station(0, served.machine)
         assert _refusal(station, "panel", {key: typed}) == f"{key}: {words}"
+
+
+# -- a macro value of more decimals than a variable keeps ---------------------------------------
+@pytest.mark.parametrize("typed", ["0.0000000001", "-0.00000000010", "12345678901.5"])
+async def test_a_macro_value_no_variable_holds_is_named_as_typed_on_both(typed: str) -> None:
+    """``{"value": "0.0000000001"}`` was refused as ``macro value 1E-10`` where ``macro set
+    100 0.0000000001`` names the digits typed."""
+    words = (
+        f"#100: macro value {typed} does not fit a macro variable: give at most 9 decimals and "
+        "at most 10 digits, which without the decimal point stay within 32 bits "
+        "(-2147483648..2147483647)"
+    )
+    async with serving() as served:
+        line = await fails(2, "macro", "set", *at(served), "100", typed)
+        assert line == f"focas-net: {words}"
+        station = Station(0, served.machine)
+        assert _refusal(station, "write_macro", {"number": 100, "value": typed}) == words
+
+
+# -- a negative PMC address ---------------------------------------------------------------------
+@pytest.mark.parametrize("typed", ["-1", "-0x10"])
+async def test_a_negative_pmc_address_is_refused_as_one_past_the_end_is(typed: str) -> None:
+    """The page's PMC window at ``-1`` said "PMC address '-1': must not be negative", ``pmc
+    read R -1`` "argument START: must not be negative, got -1", while 70000 was "PMC start
+    address 70000 is outside 0..65535" on both (and -1 too in a subscription): one wording."""
+    number = whole_number(typed)
+    words = f"PMC start address {number} is outside 0..65535"
+    async with serving() as served:
+        for argv in (("pmc", "read", "R", typed, "1"), ("pmc", "write", "R", typed, "5")):
+            line = await fails(2, *argv, *at(served))
+            assert line == f"focas-net: {words}"
+        with pytest.raises(ValueError, match=f"^{words}$"):
+            pmc_address(typed, "R")
+        assert served.machine.read_pmc("R", 0, 1) == b"\x00"

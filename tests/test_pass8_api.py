@@ -500,7 +500,9 @@ async def test_a_macro_value_no_variable_holds_is_refused_in_one_wording(
         with pytest.raises(ValueError) as by_client:
             await client.write_macro(500, value)
         assert str(by_client.value) == by_machine.value.detail
-    assert by_machine.value.detail.startswith(f"#500: macro value {value} ")
+    # a finite Decimal in plain decimals, as it was typed (0.0000000001, not 1E-10)
+    typed = format(value, "f") if isinstance(value, Decimal) and value.is_finite() else value
+    assert by_machine.value.detail.startswith(f"#500: macro value {typed} ")
 
 
 # -- reprs ---------------------------------------------------------------------------------------

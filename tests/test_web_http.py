@@ -144,9 +144,11 @@ async def test_searches_and_pmc_windows_say_what_is_wrong() -> None:
         status, body = await get(session, f"{base}/pmc?area=E&start=0")
         assert (status, body["ew_name"]) == (409, "EW_NOOPT")
         assert body["error"].startswith("the machine has no PMC area E (it has X, Y, F")
-        for start in ("R100.3", "-1", "\u0661", "Q5"):
+        for start in ("R100.3", "\u0661", "Q5"):
             status, body = await get(session, f"{base}/pmc?area=X&start={start}")
             assert status == 400 and repr(start) in body["error"], start
+        status, body = await get(session, f"{base}/pmc?area=X&start=-1")  # as `pmc read X -1`
+        assert (status, body["error"]) == (400, "PMC start address -1 is outside 0..65535")
 
 
 async def test_cycle_start_from_the_page_is_read_through_the_packed_client() -> None:

@@ -27,8 +27,8 @@ from focas_net._address import (
     url_advice,
 )
 from focas_net._tls import pem_holds, ssl_error_text
-from focas_net._typed import override_unfit, rapid_step, typed_number
-from focas_net.client._values import check_path, check_pmc_range
+from focas_net._typed import item_axis_unfit, override_unfit, rapid_step, typed_number
+from focas_net.client._values import check_path
 from focas_net.protocol import Password, PmcArea
 
 from . import _format as fmt
@@ -36,6 +36,7 @@ from . import _format as fmt
 __all__ = [
     "AREA",
     "BOOL",
+    "DIAG_AXIS",
     "EXIT_CNC",
     "EXIT_CODES",
     "EXIT_CONNECTION",
@@ -56,10 +57,9 @@ __all__ = [
     "MAX_INTERVAL",
     "MIN_INTERVAL",
     "NON_NEGATIVE",
+    "PARAM_AXIS",
     "PASSWORD",
     "PATH",
-    "PMC_COUNT",
-    "PMC_START",
     "PORT",
     "POSITIVE",
     "PROG",
@@ -80,8 +80,6 @@ __all__ = [
     "parse_non_negative",
     "parse_override",
     "parse_path",
-    "parse_pmc_count",
-    "parse_pmc_start",
     "parse_port",
     "parse_positive",
     "parse_seconds",
@@ -308,6 +306,17 @@ def parse_non_negative(text: str) -> int:
     return value
 
 
+def parse_item_axis(what: str, text: str) -> int:
+    """The axis of a ``what`` (``parameter``, ``diagnostic``), 0 for none, refused in the
+    client's words (:func:`~focas_net._typed.item_axis_unfit`), so that the parser names the
+    option."""
+    value = fmt.parse_int(text)
+    why = item_axis_unfit(value, what)
+    if why is not None:
+        raise ValueError(why)
+    return value
+
+
 def parse_override(what: str, text: str) -> int:
     """The ``what`` override (``feed``, ``rapid``, ``spindle``) as typed, a whole number of
     percent (the rapid one also ``F0``), refused in the machine's words
@@ -382,17 +391,6 @@ def parse_password(text: str) -> str:
     return text
 
 
-def parse_pmc_start(text: str) -> int:
-    """The first byte address of a PMC range, 0..65535, in the clients' words
-    (:func:`~focas_net.client._values.check_pmc_range`)."""
-    return check_pmc_range(fmt.parse_int(text), 1)[0]
-
-
-def parse_pmc_count(text: str) -> int:
-    """The bytes of a PMC range, 1..65536, in the clients' words."""
-    return check_pmc_range(0, fmt.parse_int(text))[1]
-
-
 def parse_path(text: str) -> int:
     """A path of the CNC, 1..10 (:func:`~focas_net.client._values.check_path`, where both
     clients check a ``path=``)."""
@@ -435,6 +433,9 @@ LISTEN_PORT: Final = argument_type(partial(parse_port, lowest=0), "port")
 INT: Final = argument_type(fmt.parse_int, "integer")
 POSITIVE: Final = argument_type(parse_positive, "count")
 NON_NEGATIVE: Final = argument_type(parse_non_negative, "count")
+#: ``--axis`` of a parameter and of a diagnostic (0: not an axis item).
+PARAM_AXIS: Final = argument_type(partial(parse_item_axis, "parameter"), "axis")
+DIAG_AXIS: Final = argument_type(partial(parse_item_axis, "diagnostic"), "axis")
 #: An override of ``sim override`` (its option: ``--feed``, ``--rapid``, ``--spindle``).
 FEED: Final = argument_type(partial(parse_override, "feed"), "feed override")
 RAPID: Final = argument_type(partial(parse_override, "rapid"), "rapid override")
@@ -449,10 +450,6 @@ BOOL: Final = argument_type(fmt.parse_bool, "on/off")
 AREA: Final = argument_type(parse_area, "area")
 HISTORY_DEPTH: Final = argument_type(parse_history_depth, "depth")
 PATH: Final = argument_type(parse_path, "path")
-#: The first byte address of a PMC range (``pmc read``/``write`` START).
-PMC_START: Final = argument_type(parse_pmc_start, "address")
-#: The bytes of a PMC range (``pmc read`` COUNT).
-PMC_COUNT: Final = argument_type(parse_pmc_count, "count")
 LOG_LEVEL: Final = argument_type(parse_log_level, "log level")
 #: A parameter password (``--password``, ``unlock PASSWORD``, ``serve --param-password``).
 PASSWORD: Final = argument_type(parse_password, "password")

@@ -22,6 +22,7 @@ from . import program_cmds, read_cmds, sim_cmds, watch_cmds, write_cmds
 from ._args import (
     AREA,
     BOOL,
+    DIAG_AXIS,
     EXIT_CODES,
     FEED,
     FILE_NAME,
@@ -30,10 +31,9 @@ from ._args import (
     INT,
     INTERVAL,
     NON_NEGATIVE,
+    PARAM_AXIS,
     PASSWORD,
     PATH,
-    PMC_COUNT,
-    PMC_START,
     PORT,
     POSITIVE,
     RAPID,
@@ -149,19 +149,18 @@ _PASSWORD: Final = arg(
 )
 _EPILOG: Final = "exit status: " + ", ".join(f"{code} {text}" for code, text in EXIT_CODES)
 
-_AXIS: Final = arg(
-    "--axis",
-    type=NON_NEGATIVE,
-    default=0,
-    metavar="N",
-    help="axis 1..n for an axis item; 0 for a non-axis item (default 0)",
-)
+_AXIS_HELP: Final = "axis 1..n for an axis item; 0 for a non-axis item (default 0)"
+_AXIS: Final = arg("--axis", type=NON_NEGATIVE, default=0, metavar="N", help=_AXIS_HELP)
+_PARAM_AXIS: Final = arg("--axis", type=PARAM_AXIS, default=0, metavar="N", help=_AXIS_HELP)
+_DIAG_AXIS: Final = arg("--axis", type=DIAG_AXIS, default=0, metavar="N", help=_AXIS_HELP)
 _PARAM_NUMBER: Final = arg(
     "number", metavar="NUMBER[.BIT]", help="parameter number, e.g. 1320 or 1815.4"
 )
 _MACRO_NUMBER: Final = arg("number", type=INT, metavar="NUMBER", help="variable number, e.g. 100")
 _AREA: Final = arg("area", type=AREA, metavar="AREA", help="area letter: X Y F G R T C D K A E")
-_START: Final = arg("start", type=PMC_START, metavar="START", help="first byte address")
+#: (a whole number: one no request carries, -1 or 70000, is the client's to refuse, in the
+#: words every front end gives)
+_START: Final = arg("start", type=INT, metavar="START", help="first byte address")
 
 
 def _bounded(low: int, high: int, what: str) -> Callable[[str], int]:
@@ -236,7 +235,10 @@ COMMANDS: Final[tuple[Cmd | Group, ...]] = (
         "read or write a CNC parameter",
         (
             Cmd(
-                "get", "read a parameter (cnc_rdparam)", read_cmds.param_get, (_PARAM_NUMBER, _AXIS)
+                "get",
+                "read a parameter (cnc_rdparam)",
+                read_cmds.param_get,
+                (_PARAM_NUMBER, _PARAM_AXIS),
             ),
             Cmd(
                 "set",
@@ -245,7 +247,7 @@ COMMANDS: Final[tuple[Cmd | Group, ...]] = (
                 (
                     _PARAM_NUMBER,
                     arg("value", metavar="VALUE", help="integer (0x.. hex); 0/1 for a bit"),
-                    _AXIS,
+                    _PARAM_AXIS,
                     arg(
                         "--width",
                         type=INT,
@@ -285,7 +287,7 @@ COMMANDS: Final[tuple[Cmd | Group, ...]] = (
         read_cmds.diag,
         (
             arg("number", type=INT, metavar="NUMBER", help="diagnostic number, e.g. 300"),
-            _AXIS,
+            _DIAG_AXIS,
         ),
     ),
     Group(
@@ -301,7 +303,9 @@ COMMANDS: Final[tuple[Cmd | Group, ...]] = (
                     _START,
                     arg(
                         "count",
-                        type=PMC_COUNT,
+                        # (a whole number: one no request carries, 0 or 100000, is the
+                        # client's to refuse, as START's)
+                        type=INT,
                         nargs="?",
                         default=1,
                         metavar="COUNT",

@@ -20,6 +20,7 @@ from typing import Final
 from .._bits import bits_of_text
 from .._typed import (
     field_unfit,
+    item_axis_unfit,
     macro_unfit,
     param_decimals_refused,
     param_value_unfit,
@@ -127,8 +128,9 @@ def check_item(number: object, axis: object, what: str) -> None:
     check_int(f"{what} number", number, 0, I16_MAX)
     if isinstance(axis, bool) or not isinstance(axis, int):
         raise TypeError(f"axis must be an integer (0: not an axis {what}), got {axis!r}")
-    if not 0 <= axis <= I16_MAX:
-        raise ValueError(f"axis {axis} is outside 0..{I16_MAX} (0: not an axis {what})")
+    why = item_axis_unfit(axis, what)
+    if why is not None:
+        raise ValueError(why)
 
 
 def check_axis(axis: object, what: str = "axis", *, every: int | None = None) -> int | None:

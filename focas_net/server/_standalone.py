@@ -68,6 +68,11 @@ class NativeServer:
                 raise TypeError(f"{name} must be an integer, got {value!r}")
         if max_body is None:
             raise TypeError("max_body must be an integer, got None")
+        # (FocasServer would name it native_port, and None its two-protocol port)
+        if isinstance(port, bool) or not isinstance(port, int):
+            raise TypeError(f"port must be an integer, got {port!r}")
+        if not 0 <= port <= 0xFFFF:
+            raise ValueError(f"port {port} is outside 0..65535 (0: any free port)")
         if version is not None and not 1 <= version <= 0xFFFF:
             raise ValueError(f"version must be within 1..65535, got {version}")
         check_server_max_body(max_body, "max_body")

@@ -245,7 +245,7 @@ class Path:
         )
         self.engine.parts_count = self.items.param_or(PARTS_COUNT, 0)
         self.engine.parts_total = self.items.param_or(PARTS_TOTAL, 0)
-        main = main_program if main_program is not None else first
+        main = need_int("main_program", main_program) if main_program is not None else first
         if main is not None:
             self.programs.select(main)
             if motion.program_running == motion.program_main == 0:

@@ -339,8 +339,9 @@ def pmc_address(text: str, area: str) -> tuple[str, int]:
             number = whole_number(text)
         except ValueError:
             raise ValueError(f"PMC address {text!r}: write a byte address, 100 or R100") from None
-        if number < 0:
-            raise ValueError(f"PMC address {text!r}: must not be negative")
+        beyond = pmc_address_unfit(number)  # -1 as `pmc read R -1` is refused
+        if beyond is not None:
+            raise ValueError(beyond)
         found = _PMC_ADDRESS.fullmatch(str(number))
         assert found is not None
     try:
