@@ -131,10 +131,12 @@ async def test_sim_clear_of_spaces_shows_what_was_typed(server: Served, given: s
         ("100000", "PMC byte count 100000 is outside 1..65536"),
     ],
 )
-async def test_pmc_count_is_refused_alike_at_both_ends(given: str, words: str) -> None:
+async def test_pmc_count_is_refused_alike_at_both_ends(
+    server: Served, given: str, words: str
+) -> None:
     """``pmc read R 0 0`` was the parser's "must be at least 1", ``pmc read R 0 100000`` the
     clients' "PMC byte count 100000 is outside 1..65536"."""
-    line = await fails(EXIT_USAGE, "pmc", "read", "R", "0", given, "--port", "1")
+    line = await fails(EXIT_USAGE, "pmc", "read", "R", "0", given, *at(server))
     assert line == f"focas-net: {words}", line
 
 
