@@ -83,7 +83,7 @@ async def test_refusals_of_the_built_in_machine_say_why(programs: Path) -> None:
             "writing it as the simulator (--force) needs --protocol packed",
         ),
         (("versamax", "0", "9"), "NUMBER", "rack 0 slot 9 holds no module"),
-        (("sim", "alarm", "PS0100", "--axis", "9"), "ATTRIB", "the path has 3 axes"),
+        (("sim", "alarm", "PS0100", "--axis", "9"), "ATTRIB", "give --axis 1..3 (or --axis 0"),
         (("param", "set", "1420", "5", "--axis", "1"), "PASSWD", "need MDI mode and PWE on"),
         (("param", "get", "9999"), "NUMBER", "the CNC has no parameter 9999"),
     ]

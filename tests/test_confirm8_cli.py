@@ -65,7 +65,7 @@ async def test_sim_alarm_past_the_paths_axes_agrees_with_the_machine(lathe: Serv
     assert line.startswith("focas-net: EW_ATTRIB (4)"), line
     assert "the machine has" not in line, line
     assert line.endswith(
-        "; the path has 2 axes: give --axis 1..2 (or --axis 0: an alarm of no axis)"
+        "the path has 2 axes); give --axis 1..2 (or --axis 0: an alarm of no axis)"
     ), line
 
 

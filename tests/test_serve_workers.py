@@ -92,7 +92,6 @@ def _options(*argv: str) -> argparse.Namespace:
     [
         (("--fleet", "2", "--workers", "3"), "--workers 3: at most 64, and no more than the 2 "),
         (("--workers", "2"), "the fleet is 1 machine (without --fleet): give --fleet N"),
-        (("--fleet", "100", "--workers", "65"), "--workers 65: at most 64"),
         (
             ("--fleet", "4", "--workers", "2", "--web", "0"),
             "--web shows the machines of one process, not of --workers 2",

@@ -125,8 +125,8 @@ def print_error(message: str, prog: str = PROG) -> None:
 
 
 #: An argument that starts with "-" and is a negative number, not an option.
-
-
+#: A line break with the indentation around it, in an argparse message.
+_LINE_BREAK: Final = re.compile(r"[ \t]*\n\s*")
 _NEGATIVE_VALUE: Final = re.compile(r"^-(?:\.?\d|inf$|infinity$|nan$)", re.IGNORECASE)
 
 
@@ -152,7 +152,7 @@ class Parser(argparse.ArgumentParser):
 
     def error(self, message: str) -> NoReturn:
         # argparse wraps long messages over lines; a value's own spaces stay as typed.
-        line = fmt.one_line(message)
+        line = _LINE_BREAK.sub(" ", message.strip())
         print_error(f"error: {line}; see {self.prog} --help", self.prog)
         sys.exit(EXIT_USAGE)
 

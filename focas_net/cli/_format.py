@@ -289,7 +289,7 @@ def parse_alarm_filter(text: str | None) -> tuple[int, int]:
     s = text.strip()
     if s.isalpha() and len(s) == 2:
         return (_alarm_type(s), -1)
-    return parse_alarm(s)
+    return parse_alarm(text)  # (its refusal shows the text as typed, spaces too)
 
 
 # -- VersaMax ------------------------------------------------------------------------------
@@ -551,9 +551,15 @@ def parse_hex(text: str) -> bytes:
     s = text.strip()
     if s[:2].lower() == "0x":
         s = s[2:]
-    s = re.sub(r"[\s:_-]", "", s)
+    # a separator parts whole bytes: "0 1" is no byte 01, nor "1:2" a byte 12
+    groups = [g for g in re.split(r"[\s:_-]", s) if g]
+    if len(groups) > 1 and any(len(g) % 2 for g in groups):
+        raise ValueError(
+            f"not hex bytes: {text!r} (write each byte as two digits between separators, "
+            "e.g. 00 01)"
+        )
     try:
-        data = bytes.fromhex(s)
+        data = bytes.fromhex("".join(groups))
     except ValueError:
         raise ValueError(f"not hex bytes: {text!r}") from None
     if not data:
@@ -628,17 +634,17 @@ def error_line(exc: BaseException) -> str:
     return one_line(text)
 
 
+#: A line break with the spaces around it.
+_LINE_BREAK: Final = re.compile(r"[ \t]*[\r\n]\s*")
+
+
+def one_line(text: str) -> str:
+    """``text`` on one line: each line break, with the spaces around it, one space; spaces
+    within a line (a value's own, as typed) kept."""
+    return _LINE_BREAK.sub(" ", text.strip())
+
+
 def macro_text(value: Decimal | None) -> str:
     """A macro value as the CNC shows it (:func:`decimal_text`); a vacant variable is
     ``<vacant>``."""
     return "<vacant>" if value is None else decimal_text(value)
-
-
-#: A line break with the indentation around it (argparse wraps long messages over lines).
-_LINE_BREAK: Final = re.compile(r"[ \t]*\n\s*")
-
-
-def one_line(message: str) -> str:
-    """``message`` on one line: its line breaks (with the indentation around them) joined by
-    a space, a value's own spaces kept as typed (``'  '`` stays two)."""
-    return _LINE_BREAK.sub(" ", message.strip())

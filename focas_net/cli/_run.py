@@ -184,7 +184,7 @@ def _stdout_to_devnull() -> None:
 
 
 def _print_one_line(message: str) -> None:
-    print_error(fmt.one_line(message))  # a value's own spaces kept, as in a usage error
+    print_error(fmt.one_line(message))
 
 
 def _emit(args: argparse.Namespace, out: Output) -> None:

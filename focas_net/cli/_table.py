@@ -303,7 +303,9 @@ COMMANDS: Final[tuple[Cmd | Group, ...]] = (
                     _START,
                     arg(
                         "count",
-                        type=POSITIVE,
+                        # (a whole number: one no request carries, 0 or 100000, is the
+                        # client's to refuse, as START's)
+                        type=INT,
                         nargs="?",
                         default=1,
                         metavar="COUNT",

@@ -6,10 +6,11 @@ Once its outputs are up it prints, flushed, one line::
 
     focas-net: gateway polling 4 machines (shard 1/2); MQTT 127.0.0.1:1883; OPC UA opc.tcp://...
 
-A bad configuration (or ``--shard``), or an output whose package is not installed, ends with
-one line and exit code 2, before anything connects; an output that cannot start (a port in
-use) with exit code 1. SIGINT and SIGTERM end it cleanly: the outputs stop, the clients close,
-exit 0. Machines that cannot be reached are not an error: they are shown lost, and tried again.
+A bad ``--shard`` (checked before the file is read), a bad configuration, or an output whose
+package is not installed, ends with one line and exit code 2, before anything connects; an
+output that cannot start (a port in use) with exit code 1. SIGINT and SIGTERM end it cleanly:
+the outputs stop, the clients close, exit 0. Machines that cannot be reached are not an error:
+they are shown lost, and tried again.
 """
 
 from __future__ import annotations
@@ -38,6 +39,7 @@ from ._args import (
     EXIT_CNC,
     EXIT_OK,
     EXIT_USAGE,
+    FILE_NAME,
     LOG_LEVEL,
     PROG,
     argument_type,
@@ -76,7 +78,9 @@ def register(subparsers: Any) -> None:
         description="Poll the FANUC CNCs of a configuration file (TOML, docs/gateway.md) and "
         "publish their values, alarms and availability to an MQTT broker and an OPC UA server.",
     )
-    p.add_argument("config", metavar="CONFIG.toml", help="the gateway's configuration file")
+    p.add_argument(
+        "config", type=FILE_NAME, metavar="CONFIG.toml", help="the gateway's configuration file"
+    )
     p.add_argument(
         "--shard",
         type=SHARD,

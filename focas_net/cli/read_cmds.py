@@ -127,12 +127,21 @@ async def axis_past(cnc: CncClient, exc: CncError, axis: int | None, also: str =
     if exc.ew != EW.ATTRIB or axis is None:
         return exc
     axes = await _axis_count(cnc)
-    return HintedError(exc, f"{_axes_text(axes)}{also}") if axis > axes else exc
+    if axis <= axes:
+        return exc
+    # the count once: where the machine's own words tell it already, only what to give
+    told = _axes_count_text(axes) in str(exc)
+    return HintedError(exc, f"{_axes_text(axes, told=told)}{also}")
 
 
-def _axes_text(axes: int) -> str:
+def _axes_count_text(axes: int) -> str:
+    return f"the path has {axes} ax{'is' if axes == 1 else 'es'}"
+
+
+def _axes_text(axes: int, *, told: bool = False) -> str:
     # the machine's words (the path's count: on a machine of several paths not the machine's)
-    return f"the path has {axes} ax{'is' if axes == 1 else 'es'}: give --axis 1..{axes}"
+    give = f"give --axis 1..{axes}"
+    return give if told else f"{_axes_count_text(axes)}: {give}"
 
 
 async def _axis_count(cnc: CncClient) -> int:

@@ -29,6 +29,7 @@ import ssl
 import sys
 from collections.abc import AsyncIterator
 from contextlib import asynccontextmanager
+from functools import partial
 from pathlib import Path
 from typing import TYPE_CHECKING, Any, Final
 
@@ -57,7 +58,9 @@ from ._args import (
     PASSWORD,
     POSITIVE,
     PROG,
+    argument_type,
     command_parser,
+    parse_bounded,
     pem_holds,
     print_error,
     ssl_error_text,
@@ -126,6 +129,13 @@ def _downtime(text: str) -> float:
     return value
 
 
+#: ``--fleet N``: 1..:data:`MAX_FLEET` machines, both ends refused by the parser alike.
+_FLEET: Final = argument_type(partial(parse_bounded, low=1, high=MAX_FLEET), "count")
+#: ``--workers N``: 1..:data:`MAX_WORKERS` processes, both ends refused by the parser alike
+#: (no more than the machines of ``--fleet``: :func:`check_options`).
+_WORKERS: Final = argument_type(partial(parse_bounded, low=1, high=MAX_WORKERS), "count")
+
+
 def _max_frame(text: str) -> int:
     value = POSITIVE(text)
     if value < 4:
@@ -184,15 +194,15 @@ def register(subparsers: Any) -> None:
     )
     p.add_argument(
         "--fleet",
-        type=POSITIVE,
+        type=_FLEET,
         default=1,
         metavar="N",
-        help="serve N independent machines (1..10000) on ports PORT..PORT+N-1 (or N ephemeral "
-        "ports)",
+        help=f"serve N independent machines (1..{MAX_FLEET}) on ports PORT..PORT+N-1 (or N "
+        "ephemeral ports)",
     )
     p.add_argument(
         "--workers",
-        type=POSITIVE,
+        type=_WORKERS,
         default=1,
         metavar="N",
         help=f"serve the fleet from N processes (1..{MAX_WORKERS}), each the machines of a "
@@ -338,16 +348,14 @@ def check_options(args: argparse.Namespace) -> None:
     """Check the options that bound what ``serve`` allocates, before it allocates anything:
     the fleet's size and port ranges, the files a fleet needs, ``--uvloop``. Raises
     :class:`ConfigError`."""
-    fleet = args.fleet
-    if fleet > MAX_FLEET:
-        raise ConfigError(f"--fleet {fleet}: at most {MAX_FLEET} machines")
+    fleet = args.fleet  # (1..MAX_FLEET: its parser's check)
     workers = getattr(args, "workers", 1)
     if fleet == 1 and 1 < workers <= MAX_WORKERS:
         raise ConfigError(
             f"--workers {workers} spreads a fleet over processes, and the fleet is 1 machine "
             f"(without --fleet): give --fleet N (at least {workers} machines)"
         )
-    if workers > min(fleet, MAX_WORKERS):
+    if workers > fleet:  # (1..MAX_WORKERS: its parser's check)
         raise ConfigError(
             f"--workers {workers}: at most {MAX_WORKERS}, and no more than the {fleet} "
             f"machine{'s' if fleet > 1 else ''} of --fleet"

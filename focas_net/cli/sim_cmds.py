@@ -94,13 +94,15 @@ def alarm(args: argparse.Namespace) -> PackedOnly:
         # message and nothing changes (docs/protocol.md section 8). Say so rather than "raised".
         code = fmt.alarm_code(alm_type, alm_no)
         axis = f" (axis {args.axis})" if args.axis else ""
+        # on a machine of several paths the path, as sim clear names it
+        on = f" on path {args.path}" if (await cnc.read_paths()).count > 1 else ""
         key = (args.axis, alm_type, alm_no)
         active = [a for a in await cnc.read_alarms(alm_type=alm_type) if a.key == key]
         if active:
             data = {"raised": None, "active": fmt.alarm_dict(active[0])}
             return Output(
                 data,
-                f"{code}{axis} is already active"
+                f"{code}{axis} is already active{on}"
                 + (f": {active[0].msg}" if active[0].msg else " (with no message)")
                 + " (a CNC shows one entry per alarm: clear it first to raise it with another "
                 "message)",
@@ -121,7 +123,7 @@ def alarm(args: argparse.Namespace) -> PackedOnly:
                 "msg": kept,
             }
         }
-        return Output(data, f"raised {code}{axis} {kept}".rstrip())
+        return Output(data, f"{f'raised {code}{axis} {kept}'.rstrip()}{on}")
 
     return PackedOnly(go, SIM_CONTROLS)
 
