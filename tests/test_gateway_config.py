@@ -231,6 +231,7 @@ def test_mqtt_and_opcua_settings(tmp_path: Path, monkeypatch: pytest.MonkeyPatch
 [mqtt]
 host = "broker.local"
 prefix = "plant/a"
+username = "collector"
 password_env = "FOCAS_NET_TEST_SECRET"
 qos = 0
 [mqtt.deadbands]
@@ -251,8 +252,9 @@ password_env = "FOCAS_NET_TEST_SECRET"
     path.write_text(text)
     config = load_config(path)
     assert config.mqtt is not None and config.opcua is not None
-    assert (config.mqtt.host, config.mqtt.prefix, config.mqtt.password, config.mqtt.qos) == (
-        "broker.local", "plant/a", "s3cret", 0,
+    mqtt = config.mqtt
+    assert (mqtt.host, mqtt.prefix, mqtt.username, mqtt.password, mqtt.qos) == (
+        "broker.local", "plant/a", "collector", "s3cret", 0,
     )  # fmt: skip
     assert config.mqtt.deadbands == {"feed": 5.0, "absolute": 0.01}
     assert config.opcua.anonymous is False  # beyond the loopback: off unless said
