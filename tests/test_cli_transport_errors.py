@@ -114,7 +114,7 @@ async def test_a_peer_answering_http_does_not_speak_focas_on_either_transport(
     assert f"127.0.0.1:{peer.port} does not speak the FOCAS protocol (" in line
     # what it answers, probed on a new connection, names it
     assert line.endswith(
-        "it answers b'HTTP/1.1 400' to an HTTP request and no FOCAS frame: an HTTP server)"
+        "it answers 'HTTP/1.1 400' to an HTTP request and no FOCAS frame: an HTTP server)"
     )
 
 

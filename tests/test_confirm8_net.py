@@ -159,7 +159,7 @@ async def test_a_native_answer_that_cannot_start_a_frame_is_refused_as_it_comes(
                 await client.connect()
     assert str(refusal.value) == (
         f"127.0.0.1:{peer.port} does not speak the FOCAS protocol (its answer does not start "
-        "with A0 A0 A0 A0; it sent b'\\x00')"
+        "with A0 A0 A0 A0; it sent 00)"
     )
 
 

@@ -101,17 +101,16 @@ _V3_OPEN = NativeAdapter(default_machine()).open_answer()
         (
             NATIVE_HEADER.pack(MAGIC_WORD, 3, FrameType.OPEN_RESPONSE, 0),
             "open answer refused: open answer of 0 bytes at version 3, shorter than the 12 "
-            "bytes that hold its path count; it sent b'\\xa0\\xa0\\xa0\\xa0\\x00\\x03\\x01\\x02'",
+            "bytes that hold its path count; it sent A0 A0 A0 A0 00 03 01 02",
         ),
         (
             NATIVE_HEADER.pack(MAGIC_WORD, 3, FrameType.OPEN_RESPONSE, 20) + _V3_OPEN[:20],
             "open answer refused: open answer of 20 bytes at version 3, not the 72 bytes its "
-            "path count of 1 makes; it sent b'\\xa0\\xa0\\xa0\\xa0\\x00\\x03\\x01\\x02'",
+            "path count of 1 makes; it sent A0 A0 A0 A0 00 03 01 02",
         ),
         (
             NATIVE_HEADER.pack(MAGIC_WORD, 3, FrameType.DATA_RESPONSE, len(_V3_OPEN)) + _V3_OPEN,
-            "its answer to the open is a frame of type 0x2102; "
-            "it sent b'\\xa0\\xa0\\xa0\\xa0\\x00\\x03!\\x02'",
+            "its answer to the open is a frame of type 0x2102; it sent A0 A0 A0 A0 00 03 21 02",
         ),
     ],
 )

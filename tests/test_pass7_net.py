@@ -219,7 +219,7 @@ async def test_four_bytes_of_no_frame_then_silence_do_not_speak_focas_on_both(
     assert (code, out) == (EXIT_PROTOCOL, ""), err
     line = one_line(err)
     assert f"127.0.0.1:{peer.port} does not speak the FOCAS protocol (" in line
-    assert line.endswith(r"it sent b'\x00\x00\x00\x10')")
+    assert line.endswith(r"it sent 00 00 00 10)")
 
 
 async def test_a_frame_that_does_not_start_so_is_refused_by_the_native_client() -> None:
@@ -558,7 +558,7 @@ async def test_follow_finds_an_http_server_in_the_cncs_place_on_both_transports(
     last = err[-1]
     assert last.startswith(
         f"focas-net: 127.0.0.1:{port} does not speak the FOCAS protocol (it answers "
-        "b'HTTP/1.0 200' to an HTTP request and no FOCAS frame: an HTTP server); "
+        "'HTTP/1.0 200' to an HTTP request and no FOCAS frame: an HTTP server); "
         "alarms --follow gave up after "
     ), last
 
@@ -617,7 +617,7 @@ async def test_garbage_after_the_connect_is_a_peer_that_does_not_speak_focas_on_
             assert client.state is ClientState.DISCONNECTED
     text = str(caught.value)
     assert text.startswith(f"127.0.0.1:{proxy.port} does not speak the FOCAS protocol (")
-    assert text.endswith(r"it sent b'\xde\xad\xbe\xef\xde\xad\xbe\xef')")
+    assert text.endswith(r"it sent DE AD BE EF DE AD BE EF)")
     assert str(again.value) == text
 
 

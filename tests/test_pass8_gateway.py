@@ -430,7 +430,7 @@ async def test_an_http_server_where_a_cnc_was_expected_is_named_alike_by_cli_and
         reasons = [why for _, up, why in sink.states if not up]
     assert said == (
         f"focas-net: 127.0.0.1:{port} does not speak the FOCAS protocol (it answers "
-        "b'HTTP/1.0 404' to an HTTP request and no FOCAS frame: an HTTP server)"
+        "'HTTP/1.0 404' to an HTTP request and no FOCAS frame: an HTTP server)"
     )
     assert reasons[0] == "protocol: " + said.removeprefix("focas-net: ")
 

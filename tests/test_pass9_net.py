@@ -138,7 +138,7 @@ async def test_an_http_server_met_after_the_first_attempt_is_named_as_on_the_fir
     gateway = Gateway(GatewayConfig((station,)), policy=QUICK)
     gateway.add_sink(sink)
     named = f"web: protocol: 127.0.0.1:{port} does not speak the FOCAS protocol (it answers "
-    named += "b'HTTP/1.0 404' to an HTTP request and no FOCAS frame: an HTTP server)"
+    named += "'HTTP/1.0 404' to an HTTP request and no FOCAS frame: an HTTP server)"
     with caplog.at_level(logging.INFO, logger="focas_net.gateway"):
         async with gateway:
             await wait_until(lambda: any(not up for _, up, _ in sink.states))

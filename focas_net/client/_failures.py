@@ -133,9 +133,17 @@ def violation_error(
     if len(head) >= 2 and head[0] in _TLS_RECORD_TYPES and head[1] == 3:
         what = "it sent a TLS record: the server expects TLS"
     else:
-        what = f"it sent {head[:8]!r}"
+        what = f"it sent {bytes_text(head[:8])}"
     rule = str(reason).removesuffix("; closing the connection")
     return not_focas_error(peer, f"{rule}; {what}")
+
+
+def bytes_text(data: bytes) -> str:
+    """A peer's bytes as a user reads them: quoted text when all are printable ASCII
+    (``'HTTP/1.1'``), else hexadecimal bytes (``A0 A0 00 03``), never a Python repr."""
+    if data and all(0x20 <= b < 0x7F for b in data):
+        return f"'{data.decode('ascii')}'"
+    return data.hex(" ").upper()
 
 
 def closed_error(peer: str, answered: bool) -> FocasConnectionError:

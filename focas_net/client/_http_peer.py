@@ -16,7 +16,7 @@ from typing import Final
 from focas_net._address import address_text
 from focas_net.errors import FocasTimeoutError, PayloadError, ProtocolError
 
-from ._failures import NOTHING_RECEIVED, not_focas_error
+from ._failures import NOTHING_RECEIVED, bytes_text, not_focas_error
 
 __all__ = ["HTTP_PROBE_BOUND", "HTTP_REQUEST", "as_http_peer", "http_answer", "says_nothing"]
 
@@ -64,5 +64,5 @@ async def as_http_peer(exc: BaseException, host: str, port: int, bound: float) -
     head = await http_answer(host, port, bound)
     if not head.startswith(b"HTTP/"):
         return exc
-    why = f"it answers {head[:12]!r} to an HTTP request and no FOCAS frame"
+    why = f"it answers {bytes_text(head[:12])} to an HTTP request and no FOCAS frame"
     return not_focas_error(address_text(host, port), f"{why}: an HTTP server")
