@@ -22,6 +22,7 @@ import pytest
 from focas_net.protocol import COMMANDS, Frame, FrameDecoder, encode_frame
 from focas_net.server import FocasServer, Listener
 from focas_net.sim import Machine, MotionData, PathSpec, default_machine
+from focas_net.sim.nc import Engine, ManualClock
 
 __all__ = [
     "IO_TIMEOUT",
@@ -325,3 +326,15 @@ def two_path_lathe() -> Machine:
             PathSpec(("X2", "Z2", "C2"), kind="T", motion=_motion(3, 5000, 700, 2)),
         ],
     )
+
+
+def block_run(block: str, seconds: float = 5.0) -> Engine:
+    """An engine of its own manual clock that ran ``O1``, ``block``, ``M30`` from cycle start
+    for ``seconds`` of that clock."""
+    clock = ManualClock()
+    engine = Engine(clock)
+    engine.store.store(f"O1\n{block}\nM30\n")
+    engine.store.select(1)
+    engine.cycle_start()
+    clock.advance(seconds)
+    return engine

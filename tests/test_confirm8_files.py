@@ -7,7 +7,7 @@ from pathlib import Path
 
 import pytest
 from examples_support import port_args, run_example
-from support import serving
+from support import block_run, serving
 
 from focas_net.errors import EW
 from focas_net.sim import (
@@ -20,7 +20,7 @@ from focas_net.sim import (
     default_machine,
     load_machine,
 )
-from focas_net.sim.nc import Engine, ManualClock, ProgramError, parse_program
+from focas_net.sim.nc import ManualClock, ProgramError, parse_program
 
 HEAD = '[machine]\nname = "M"\naxes = ["X", "Y"]\n[panel]\nmode = "MDI"\npwe = true\n'
 
@@ -80,12 +80,7 @@ def test_an_m_s_or_t_code_has_fanucs_default_digits(
     ],
 )
 def test_the_alarm_of_too_many_digits_names_the_code(block: str, words: str) -> None:
-    clock = ManualClock()
-    engine = Engine(clock)
-    engine.store.store(f"O1\n{block}\nM30\n")
-    engine.store.select(1)
-    engine.cycle_start()
-    clock.advance(5.0)
+    engine = block_run(block)
     assert engine.alarm is not None
     assert words in str(engine.alarm)
 
@@ -257,12 +252,7 @@ def test_an_axis_word_has_at_most_nine_digits(block: str, alarm: int | None) -> 
     """``X99999999.`` (99999999 mm) ran a move of two years at F100; an axis word beyond the
     9 digits of a number in least input increments is PS0003, as its literal of 10 digits
     already was."""
-    clock = ManualClock()
-    engine = Engine(clock)
-    engine.store.store(f"O1\n{block}\nM30\n")
-    engine.store.select(1)
-    engine.cycle_start()
-    clock.advance(0.01)
+    engine = block_run(block, 0.01)
     if alarm is None:
         assert engine.alarm is None
     else:

@@ -9,10 +9,11 @@ from typing import Any
 import pytest
 from cli_support import Cli, fails
 from support import serving
+from web_support import page_refusal
 
 from focas_net.cli import EXIT_CNC, EXIT_USAGE
-from focas_net.sim import MachineError, default_machine
-from focas_net.web import ActionError, Station, machine_view, perform
+from focas_net.sim import default_machine
+from focas_net.web import Station, machine_view
 
 
 @pytest.fixture
@@ -25,10 +26,7 @@ def _page_refusal(action: str, args: dict[str, Any]) -> str:
     """What the page says of ``action`` refused (the machine's reason or the argument's)."""
     station = Station(0, default_machine())
     station.machine.set_panel(1, 1, None)  # MDI, PWE on: only the refusal under test is left
-    with pytest.raises((MachineError, ActionError)) as refused:
-        perform(station, action, args)
-    exc = refused.value
-    return exc.detail if isinstance(exc, MachineError) else str(exc)
+    return page_refusal(station, action, args)
 
 
 @pytest.mark.parametrize(

@@ -7,6 +7,7 @@ from pathlib import Path
 
 import pytest
 from cli_support import fails
+from support import block_run
 
 from focas_net.cli import EXIT_USAGE
 from focas_net.sim import MachineFileError, default_machine, load_machine
@@ -32,12 +33,7 @@ def test_an_address_given_twice_in_a_block_is_ps5074(block: str, words: str) -> 
     """FANUC's alarm table: PS5074 ADDRESS DUPLICATION ERROR, the same address specified two
     or more times in one block. The interpreter ran such a block (the last X won; M3 M4 ran
     both M codes) with no alarm."""
-    clock = ManualClock()
-    engine = Engine(clock)
-    engine.store.store(f"O1\n{block}\nM30\n")
-    engine.store.select(1)
-    engine.cycle_start()
-    clock.advance(5.0)
+    engine = block_run(block)
     assert engine.alarm is not None
     shown = str(engine.alarm)
     assert shown.startswith("PS5074 ADDRESS DUPLICATION ERROR (O0001")
@@ -164,12 +160,7 @@ def test_a_loop_of_zero_dwells_takes_the_busy_block_time(dwell: str) -> None:
 def test_an_alarm_names_the_word_as_written_and_the_code_refused(block: str, words: str) -> None:
     """`M98 P12345678` was named `M98 P5678`; `G83 ... Q1.` raised PS0009 `address Q (axes
     are XYZ)` as if Q were a missing axis, where the docs say a canned cycle raises PS0010."""
-    clock = ManualClock()
-    engine = Engine(clock)
-    engine.store.store(f"O1\n{block}\nM30\n")
-    engine.store.select(1)
-    engine.cycle_start()
-    clock.advance(5.0)
+    engine = block_run(block)
     assert str(engine.alarm).endswith(words)
 
 

@@ -9,19 +9,12 @@ from typing import Any
 import pytest
 from cli_support import at, fails
 from support import serving
+from web_support import page_refusal
 
 from focas_net._typed import whole_number
 from focas_net.protocol import AutMode
 from focas_net.sim import MachineError
-from focas_net.web import ActionError, Station, perform, pmc_address
-
-
-def _refusal(station: Station, action: str, args: dict[str, Any]) -> str:
-    """The words the page shows for a refused action (an argument's or the machine's)."""
-    with pytest.raises((ActionError, MachineError)) as refused:
-        perform(station, action, args)
-    exc = refused.value
-    return exc.detail if isinstance(exc, MachineError) else str(exc)
+from focas_net.web import Station, perform, pmc_address
 
 
 # -- a parameter value no wire carries ----------------------------------------------------------
@@ -56,7 +49,7 @@ async def test_a_value_no_wire_carries_is_refused_alike_before_the_write_gates(
         line = await fails(2, "param", "set", *at(served), str(number), typed)
         assert line == f"focas-net: {words}"
         station = Station(0, served.machine)
-        assert _refusal(station, "write_param", {"number": number, "value": typed}) == (
+        assert page_refusal(station, "write_param", {"number": number, "value": typed}) == (
             f"value: {words}"
         )
         assert served.machine.read_param(number, 0) == before
@@ -72,7 +65,9 @@ async def test_a_value_the_wire_carries_outside_the_range_is_the_machines_after_
         assert gated.value.detail.startswith("parameter write not enabled")
         served.machine.set_panel(int(AutMode.MDI), 1, None)
         words = "parameter 6711: 1000000000 outside 0..999999999"
-        assert _refusal(station, "write_param", {"number": 6711, "value": "1000000000"}) == words
+        assert (
+            page_refusal(station, "write_param", {"number": 6711, "value": "1000000000"}) == words
+        )
         line = await fails(1, "param", "set", *at(served), "6711", "1000000000")
         assert line.startswith("focas-net: EW_DATA (5)") and "1000000000" in line
         assert served.machine.read_param(6711, 0) == 0
@@ -97,7 +92,7 @@ async def test_a_fault_without_its_argument_is_refused_in_the_same_words(
         assert line == f"focas-net: --arg: {words}"
         station = Station(0, served.machine)
         args: dict[str, Any] = {"kind": kind} if arg is None else {"kind": kind, "arg": arg}
-        assert _refusal(station, "inject_fault", args) == f"arg: {words}"
+        assert page_refusal(station, "inject_fault", args) == f"arg: {words}"
         assert len(station.faults) == 0
 
 
@@ -112,7 +107,7 @@ async def test_a_pmc_bit_below_zero_is_refused_in_the_same_words(bit: int) -> No
         assert line == f"focas-net: {words}"
         station = Station(0, served.machine)
         args = {"area": "R", "address": 0, "bit": bit, "value": 1}
-        assert _refusal(station, "pmc_bit", args) == words
+        assert page_refusal(station, "pmc_bit", args) == words
         assert served.machine.read_pmc("R", 0, 1) == b"\x00"
 
 
@@ -134,7 +129,7 @@ async def test_a_mode_of_no_text_is_refused_as_the_command_line_refuses_it(typed
         line = await fails(2, "sim", "panel", *at(served), "--mode", typed, prefix="focas-net")
         assert f"argument --mode: {words};" in line
         station = Station(0, served.machine)
-        assert _refusal(station, "panel", {"mode": typed}) == f"mode: {words}"
+        assert page_refusal(station, "panel", {"mode": typed}) == f"mode: {words}"
         assert perform(station, "panel", {"mode": None}) == {"ok": True}
         assert served.machine.status() == before
 
@@ -151,7 +146,7 @@ async def test_a_switch_of_no_text_is_refused_as_the_command_line_refuses_it(
         line = await fails(2, "sim", "panel", *at(served), f"--{key}", typed, prefix="focas-net")
         assert f"argument --{key}: {words};" in line
         station = Station(0, served.machine)
-        assert _refusal(station, "panel", {key: typed}) == f"{key}: {words}"
+        assert page_refusal(station, "panel", {key: typed}) == f"{key}: {words}"
 
 
 # -- a macro value of more decimals than a variable keeps ---------------------------------------
@@ -168,7 +163,7 @@ async def test_a_macro_value_no_variable_holds_is_named_as_typed_on_both(typed: 
         line = await fails(2, "macro", "set", *at(served), "100", typed)
         assert line == f"focas-net: {words}"
         station = Station(0, served.machine)
-        assert _refusal(station, "write_macro", {"number": 100, "value": typed}) == words
+        assert page_refusal(station, "write_macro", {"number": 100, "value": typed}) == words
 
 
 # -- a negative PMC address ---------------------------------------------------------------------

@@ -9,20 +9,13 @@ from typing import Any
 import pytest
 from cli_support import at, fails
 from support import serving
+from web_support import page_refusal
 
 from focas_net._typed import whole_number
 from focas_net.errors import EW
 from focas_net.sim import MachineError, default_machine
-from focas_net.web import ActionError, Station, perform, pmc_address
+from focas_net.web import Station, perform, pmc_address
 from focas_net.web.broadcast import Broadcaster, machine_topic
-
-
-def _refusal(station: Station, action: str, args: dict[str, Any]) -> str:
-    """The words the page shows for a refused action (an argument's or the machine's)."""
-    with pytest.raises((ActionError, MachineError)) as refused:
-        perform(station, action, args)
-    exc = refused.value
-    return exc.detail if isinstance(exc, MachineError) else str(exc)
 
 
 # -- an alarm's type and number out of range ---------------------------------------------------
@@ -49,7 +42,7 @@ async def test_an_alarm_out_of_range_is_refused_in_the_same_words_on_both(
         line = await fails(2, "sim", "alarm", *at(served), typed)
         assert line == f"focas-net: {words}"
         station = Station(0, served.machine)
-        assert _refusal(station, "raise_alarm", args) == words
+        assert page_refusal(station, "raise_alarm", args) == words
         assert served.machine.active_alarms() == []
 
 
@@ -72,7 +65,7 @@ async def test_a_clear_out_of_range_is_refused_in_the_same_words_on_both(
         line = await fails(2, "sim", "clear", *at(served), typed)
         assert line == f"focas-net: {words}"
         station = Station(0, served.machine)
-        assert _refusal(station, "clear_alarms", args) == words
+        assert page_refusal(station, "clear_alarms", args) == words
         assert len(served.machine.active_alarms()) == 1
 
 
@@ -108,7 +101,7 @@ async def test_a_fault_kind_no_fault_has_is_named_as_typed_in_the_same_words_on_
             f"focas-net sim fault: error: argument KIND: {words}; see focas-net sim fault --help"
         )
         station = Station(0, served.machine)
-        assert _refusal(station, "inject_fault", {"kind": typed, "arg": 5}) == f"kind: {words}"
+        assert page_refusal(station, "inject_fault", {"kind": typed, "arg": 5}) == f"kind: {words}"
         assert len(station.faults) == 0
 
 
@@ -124,7 +117,7 @@ async def test_a_pmc_bit_of_an_address_no_request_carries_is_refused_alike(addre
         assert line == f"focas-net: {words}"
         station = Station(0, served.machine)
         args = {"area": "R", "address": str(address), "bit": "0", "value": "1"}
-        assert _refusal(station, "pmc_bit", args) == words
+        assert page_refusal(station, "pmc_bit", args) == words
         assert served.machine.read_pmc("R", 0, 1) == b"\x00"
 
 
@@ -161,7 +154,7 @@ async def test_a_cycle_action_no_cnc_has_is_refused_in_the_same_words_on_both(ty
             f"focas-net sim cycle: error: argument ACTION: {words}; see focas-net sim cycle --help"
         )
         station = Station(0, served.machine)
-        assert _refusal(station, "cycle", {"action": typed}) == f"action: {words}"
+        assert page_refusal(station, "cycle", {"action": typed}) == f"action: {words}"
 
 
 @pytest.mark.parametrize("start", [-1, 65536, 70000])
