@@ -175,7 +175,7 @@ async def test_a_peer_sending_a0_a0_a0_a0_and_text_does_not_speak_focas(
         line = await fails(EXIT_PROTOCOL, "status", "--timeout", "2", *protocol, *at(peer))
     assert line == (
         f"focas-net: 127.0.0.1:{peer.port} does not speak the FOCAS protocol ({rule}; it sent "
-        "b'\\xa0\\xa0\\xa0\\xa0garb')"
+        "A0 A0 A0 A0 67 61 72 62)"
     )
 
 
