@@ -18,7 +18,7 @@ from typing import Any, Literal
 import pytest
 from cli_support import at, fails
 from poller_support import QUICK, RecordingSink, config
-from support import free_port, serving, wait_until
+from support import IO_TIMEOUT, free_port, serving, wait_until
 
 from focas_net.cli import EXIT_CONNECTION, EXIT_USAGE
 from focas_net.client import FocasClient, NativeClient, ReconnectPolicy
@@ -139,13 +139,19 @@ async def test_an_http_server_met_after_the_first_attempt_is_named_as_on_the_fir
     gateway.add_sink(sink)
     named = f"web: protocol: 127.0.0.1:{port} does not speak the FOCAS protocol (it answers "
     named += "'HTTP/1.0 404' to an HTTP request and no FOCAS frame: an HTTP server)"
-    with caplog.at_level(logging.INFO, logger="focas_net.gateway"):
-        async with gateway:
-            await wait_until(lambda: any(not up for _, up, _ in sink.states))
-            assert "refused" in sink.states[-1][2], sink.states
-            server = await asyncio.start_server(_http, "127.0.0.1", port)
-            async with server:
+    server: asyncio.Server | None = None
+    try:
+        with caplog.at_level(logging.INFO, logger="focas_net.gateway"):
+            async with gateway:
+                await wait_until(lambda: any(not up for _, up, _ in sink.states))
+                assert "refused" in sink.states[-1][2], sink.states
+                server = await asyncio.start_server(_http, "127.0.0.1", port)
                 await wait_until(lambda: named in caplog.messages)
+    finally:  # the server closes after the gateway, which holds no connection to it then
+        if server is not None:
+            server.close()
+            async with asyncio.timeout(IO_TIMEOUT):
+                await server.wait_closed()
     # (each attempt's failure is logged; the first one told the sinks the machine is offline)
     assert "refused" in sink.states[0][2]
 
