@@ -18,10 +18,9 @@ import pytest
 from fwlib_support import Recorder, record_requests
 from hypothesis import settings
 from peers import ScriptedPeer
-from support import Served, Wire, serving
+from support import Served, Wire, serving, with_both_clients
 
 from focas_net.client import FocasClient, NativeClient
-from focas_net.server import FocasServer
 from focas_net.sim import Machine, default_machine
 from focas_net.sim.nc import ManualClock
 
@@ -62,13 +61,8 @@ async def both_clients() -> AsyncIterator[tuple[Machine, FocasClient, NativeClie
     """The default machine on a manual clock, served on 127.0.0.1, with a packed and a
     FOCAS/2 client connected to it."""
     machine = default_machine(sim_clock=ManualClock())
-    async with FocasServer(machine, port=0) as server:
-        host, port = server.addresses[0]
-        async with (
-            FocasClient(host, port, timeout=5) as cnc,
-            NativeClient(host, port, timeout=5) as native,
-        ):
-            yield machine, cnc, native
+    async with with_both_clients(machine) as both:
+        yield both
 
 
 @pytest.fixture

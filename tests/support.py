@@ -19,6 +19,7 @@ from typing import Any, Self
 
 import pytest
 
+from focas_net.client import FocasClient, NativeClient
 from focas_net.protocol import COMMANDS, Frame, FrameDecoder, encode_frame
 from focas_net.server import FocasServer, Listener
 from focas_net.sim import Machine, MotionData, PathSpec, default_machine
@@ -338,3 +339,17 @@ def block_run(block: str, seconds: float = 5.0) -> Engine:
     engine.cycle_start()
     clock.advance(seconds)
     return engine
+
+
+@asynccontextmanager
+async def with_both_clients(
+    machine: Machine,
+) -> AsyncIterator[tuple[Machine, FocasClient, NativeClient]]:
+    """``machine`` served on 127.0.0.1, with a packed and a FOCAS/2 client connected to it."""
+    async with FocasServer(machine, port=0) as server:
+        host, port = server.addresses[0]
+        async with (
+            FocasClient(host, port, timeout=5) as cnc,
+            NativeClient(host, port, timeout=5) as native,
+        ):
+            yield machine, cnc, native

@@ -12,6 +12,7 @@ from pathlib import Path
 
 import pytest
 from fwlib_support import LIBRARY, buf, s16, served_cnc
+from support import with_both_clients
 
 from focas_net import (
     EW,
@@ -37,13 +38,8 @@ async def both_sets(
         yield both_clients
         return
     machine = load_machine(MACHINE_16I, sim_clock=ManualClock())
-    async with FocasServer(machine, port=0) as server:
-        host, port = server.addresses[0]
-        async with (
-            FocasClient(host, port, timeout=5) as cnc,
-            NativeClient(host, port, timeout=5) as native,
-        ):
-            yield machine, cnc, native
+    async with with_both_clients(machine) as both:
+        yield both
 
 
 # -- a parameter the CNC does not have ---------------------------------------------------------
