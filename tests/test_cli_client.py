@@ -518,7 +518,6 @@ def test_usage_errors_exit_2(capsys: pytest.CaptureFixture[str]) -> None:
         ["status", "--timeout", "0"],
         ["pmc", "read", "Q", "0"],
         ["param", "set", "1320", "1", "--width", "3"],
-        ["alarms", "--history", "251"],
         ["sim", "fault", "explode"],
         ["sim", "panel", "--mode", "TURBO"],
         ["param"],

@@ -28,7 +28,7 @@ from focas_net._address import (
 )
 from focas_net._tls import pem_holds, ssl_error_text
 from focas_net._typed import item_axis_unfit, override_unfit, rapid_step, typed_number
-from focas_net.client._values import check_path
+from focas_net.client._values import check_path, history_depth
 from focas_net.protocol import Password, PmcArea
 
 from . import _format as fmt
@@ -398,11 +398,9 @@ def parse_path(text: str) -> int:
 
 
 def parse_history_depth(text: str) -> int:
-    """How many alarm history entries to read, 1..250."""
-    value = fmt.parse_int(text)
-    if not 1 <= value <= 250:
-        raise ValueError(f"history depth must be 1..250, got {value}")
-    return value
+    """How many alarm history entries to read: 1 or more, more than 250 read as 250, by the
+    rule of both clients (:func:`~focas_net.client._values.history_depth`)."""
+    return history_depth(_whole(text, "history depth"))
 
 
 def parse_area(text: str) -> PmcArea:

@@ -366,7 +366,7 @@ COMMANDS: Final[tuple[Cmd | Group, ...]] = (
                 type=HISTORY_DEPTH,
                 default=0,
                 metavar="N",
-                help="also the N most recent history entries (1..250)",
+                help="also the N most recent history entries (1 or more; above 250 read as 250)",
             ),
             arg(
                 "--follow",

@@ -302,7 +302,7 @@ class CompositeCalls(Lifecycle):
         undone. Share one client among the tasks that write bits.
         """
         check_item(number, axis, "parameter")
-        check_bit(bit, 4)
+        check_bit(bit, None)  # its range once the width is read: the parameter's bits
         on = check_bit_value(value)
         p = self._path_of(path)
         deadline = self._deadline(timeout)

@@ -90,11 +90,17 @@ def check_int(what: str, value: object, low: int, high: int) -> int:
     :raises TypeError: not an integer (naming ``what`` and the value given).
     :raises ValueError: outside the range (naming ``what`` and the value given).
     """
-    if isinstance(value, bool) or not isinstance(value, int):
-        raise TypeError(f"{what} must be an integer, got {value!r}")
-    why = field_unfit(what, value, low, high)
+    number = an_int(what, value)
+    why = field_unfit(what, number, low, high)
     if why is not None:
         raise ValueError(why)
+    return number
+
+
+def an_int(what: str, value: object) -> int:
+    """``value`` when it is an ``int`` (not a ``bool``); TypeError naming ``what`` otherwise."""
+    if isinstance(value, bool) or not isinstance(value, int):
+        raise TypeError(f"{what} must be an integer, got {value!r}")
     return value
 
 
@@ -146,9 +152,12 @@ def check_axis(axis: object, what: str = "axis", *, every: int | None = None) ->
     return axis
 
 
-def check_bit(bit: object, width: int = 1, what: str = "") -> int:
+def check_bit(bit: object, width: int | None = 1, what: str = "") -> int:
     """A bit number of a value ``width`` bytes wide (``what``, when given, names the value
-    in the error: ``parameter 20 is 1 byte wide``)."""
+    in the error: ``parameter 20 is 1 byte wide``); ``width`` None checks the type only, for
+    a value whose width is learnt later (a parameter's, once read), to name its real range."""
+    if width is None:
+        return an_int("bit", bit)
     if what and isinstance(bit, int) and not isinstance(bit, bool):
         if not 0 <= bit < 8 * width:
             unit = "byte" if width == 1 else "bytes"

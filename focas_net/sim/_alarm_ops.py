@@ -79,7 +79,8 @@ class AlarmOperations:
         the cycle of its path.
 
         The alarm is ``path``'s (EW_PATH for a path the machine has not, after EW_PROT);
-        ``axis_no`` numbers that path's axes."""
+        ``axis_no`` numbers that path's axes. The order is the wire's (axis first), unlike
+        a client's ``sim.raise_alarm``; named, the same arguments serve both."""
         self.check_writable()
         p = self._paths.at(path)
         text = self._alarms.checked(axis_no, alm_type, alm_no, msg, len(p.axes))

@@ -19,6 +19,8 @@ __all__ = [
     "axis_name_problem",
     "checked_identity",
     "checked_name",
+    "control_class_unfit",
+    "known_class",
     "name_problem",
 ]
 
@@ -77,14 +79,32 @@ class Identity:
     axes: str
 
 
+def control_class_unfit(text: str) -> str | None:
+    """What keeps ``text`` from naming a control class (None: nothing); a class is named in
+    either case, spaces around it left out."""
+    if any(text.strip().lower() == known.lower() for known in CONTROL_CLASSES):
+        return None
+    return f"unknown control class {text.strip()!r} (expected one of: {', '.join(CONTROL_CLASSES)})"
+
+
+def known_class(control_class: object) -> str:
+    """The control class ``control_class`` names, as :data:`CONTROL_CLASSES` spells it: in
+    either case (``"30I"``), as a machine file takes it; TypeError for another type,
+    ValueError naming the classes for an unknown one."""
+    if not isinstance(control_class, str):
+        raise TypeError(f"control_class must be a str, got {control_class!r}")
+    why = control_class_unfit(control_class)
+    if why is not None:
+        raise ValueError(why)
+    text = control_class.strip().lower()
+    return next(known for known in CONTROL_CLASSES if known.lower() == text)
+
+
 def checked_identity(identity: Identity | None, control_class: str, axes: int) -> Identity:
     """``identity`` (the default one of a machine with ``axes`` axes when None), once it and
     ``control_class`` are checked: ValueError for an unknown class or a text of another width
     or not ASCII."""
-    if control_class not in CONTROL_CLASSES:
-        raise ValueError(
-            f"unknown control class {control_class!r} (one of {', '.join(CONTROL_CLASSES)})"
-        )
+    control_class = known_class(control_class)
     if not 1 <= axes <= 32:
         raise ValueError(f"a machine has 1..32 axes, got {axes}")
     if identity is None:

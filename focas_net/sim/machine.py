@@ -121,6 +121,7 @@ from ._identity import (
     Identity,
     checked_identity,
     checked_name,
+    known_class,
 )
 from ._information import InformationOperations
 from ._items import MAX_REAL_DECIMALS as MAX_REAL_DECIMALS  # the native adapter's
@@ -266,6 +267,7 @@ class Machine(
         self.axes: list[str] = [a for spec in specs for a in spec.axes]
         infos = checked_specs(specs)
         n = len(self.axes)
+        control_class = known_class(control_class)  # "30I" as a machine file takes it
         self._identity = checked_identity(identity, control_class, n)
         #: Which class of FANUC control this machine is (one of :data:`CONTROL_CLASSES`).
         self.control_class = control_class

@@ -23,7 +23,7 @@ from focas_net._typed import decimal_number, os_words
 from focas_net.versamax import BoardId, IOModuleRecord, RefType
 
 from ._base import NUMBERS, n_values
-from ._identity import CLASS_MAX_AXES, name_problem
+from ._identity import CLASS_MAX_AXES, control_class_unfit, known_class, name_problem
 from ._known_params import (
     AXIS_NAME_PARAM,
     KNOWN_DIAGS,
@@ -54,7 +54,6 @@ from .filecheck import (
     _text,
 )
 from .machine import (
-    CONTROL_CLASSES,
     DEFAULT_CONTROL_CLASS,
     DEFAULT_HISTORY_CAPACITY,
     MAX_HISTORY_CAPACITY,
@@ -667,11 +666,11 @@ def _build(
 def _control_class(ctx: _Ctx, head: dict[str, Any]) -> str:
     if "control_class" not in head:
         return DEFAULT_CONTROL_CLASS
-    text = _str(ctx, head["control_class"]).strip()
-    for known in CONTROL_CLASSES:
-        if text.lower() == known.lower():
-            return known
-    ctx.fail(f"unknown control class {text!r} (expected one of: {', '.join(CONTROL_CLASSES)})")
+    text = _str(ctx, head["control_class"])
+    why = control_class_unfit(text)
+    if why is not None:
+        ctx.fail(why)
+    return known_class(text)
 
 
 def load_machine(

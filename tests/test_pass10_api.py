@@ -1,0 +1,100 @@
+"""The Python API as a new user meets it, a tenth pass: one rule for what the command line and
+the clients both take (the alarm history depth, a parameter's bit numbers), the in-process
+machine and the simulator control of a client raising the same alarm, and a control class
+taken in either case and refused by kind."""
+
+from __future__ import annotations
+
+from pathlib import Path
+from typing import Any
+
+import pytest
+
+from focas_net import FocasClient, NativeClient
+from focas_net.cli import main
+from focas_net.sim import Machine
+
+
+# -- the alarm history depth: one rule for the command line and the clients -------------------
+def test_the_command_line_reads_a_depth_above_250_as_the_clients_do(
+    capsys: pytest.CaptureFixture[str],
+) -> None:
+    # no server on port 1: a depth taken goes on to connecting (exit 3), a refused one is a
+    # usage error (exit 2) before it
+    assert main(["alarms", "--history", "251", "--port", "1", "--timeout", "0.5"]) != 2
+    capsys.readouterr()
+
+
+@pytest.mark.parametrize("depth", ["0", "-1"])
+def test_the_command_line_refuses_a_depth_below_one_in_the_clients_words(
+    capsys: pytest.CaptureFixture[str], depth: str
+) -> None:
+    with pytest.raises(SystemExit) as info:
+        main(["alarms", "--history", depth])
+    assert info.value.code == 2
+    assert (
+        f"history depth {depth} is below 1 (the latest entries to read; more than 250 reads "
+        "the 250 the history holds)"
+    ) in capsys.readouterr().err
+
+
+# -- a bit number outside the parameter's bits: its real range, whatever the side -------------
+@pytest.mark.parametrize("native", [False, True])
+@pytest.mark.parametrize("bit", [-1, 8, 32, -40, 2**70])
+async def test_a_bit_outside_a_byte_parameter_names_its_eight_bits(
+    both_clients: tuple[Machine, FocasClient, NativeClient], native: bool, bit: int
+) -> None:
+    machine, cnc, through_native = both_clients
+    client: FocasClient | NativeClient = through_native if native else cnc
+    before = machine.read_param(3401, 0)
+    with pytest.raises(ValueError) as refused:
+        await client.write_param_bit(3401, bit, 1)
+    assert str(refused.value) == f"bit {bit} is outside 0..7: parameter 3401 is 1 byte wide"
+    assert machine.read_param(3401, 0) == before
+
+
+@pytest.mark.parametrize("bit", ["1", 1.0, None, True])
+async def test_a_bit_of_another_type_is_a_type_error_before_anything_is_read(
+    both_clients: tuple[Machine, FocasClient, NativeClient], bit: Any
+) -> None:
+    _, cnc, native = both_clients
+    for client in (cnc, native):
+        with pytest.raises(TypeError, match=r"^bit must be an integer, got "):
+            await client.write_param_bit(3401, bit, 1)
+
+
+# -- a control class: in either case, as a machine file takes it; another type a TypeError -----
+@pytest.mark.parametrize(("given", "kept"), [("30I", "30i"), ("0I-c", "0i-C"), (" 16i ", "16i")])
+def test_a_control_class_is_taken_in_either_case(given: str, kept: str) -> None:
+    assert Machine("m", axes=["X"], control_class=given).control_class == kept
+
+
+@pytest.mark.parametrize("given", [5, None, b"30i", 30.0])
+def test_a_control_class_of_another_type_is_a_type_error(given: Any) -> None:
+    with pytest.raises(TypeError) as refused:
+        Machine("m", axes=["X"], control_class=given)
+    assert str(refused.value) == f"control_class must be a str, got {given!r}"
+
+
+def test_an_unknown_control_class_is_worded_as_in_a_machine_file() -> None:
+    with pytest.raises(ValueError) as refused:
+        Machine("m", axes=["X"], control_class="40i")
+    assert str(refused.value) == (
+        "unknown control class '40i' (expected one of: 16i, 18i, 21i, 0i-C, 0i-D, 0i-F, "
+        "30i, 31i, 32i)"
+    )
+
+
+# -- raising an alarm: the machine's and the client's calls, with their arguments named ---------
+async def test_the_machine_and_the_client_raise_the_same_alarm_by_keywords(
+    both_clients: tuple[Machine, FocasClient, NativeClient],
+) -> None:
+    machine, cnc, _ = both_clients
+    key: dict[str, Any] = {"alm_type": 4, "alm_no": 100, "msg": "DOOR OPEN", "axis_no": 1}
+    assert machine.raise_alarm(**key)
+    machine.clear_alarms()
+    await cnc.sim.raise_alarm(**key)
+    (active,) = machine.active_alarms()
+    assert (active.axis_no, active.alm_type, active.alm_no, active.msg) == (1, 4, 100, "DOOR OPEN")
+    docs = (Path(__file__).parents[1] / "docs" / "client.md").read_text(encoding="utf-8")
+    assert "`Machine.raise_alarm(axis_no, alm_type, alm_no, msg)`" in docs
