@@ -17,7 +17,7 @@ from focas_net.sim.nc import (
     NcSettings,
     VariableRefused,
 )
-from focas_net.sim.nc.alarms import AlarmRaised
+from focas_net.sim.nc.alarms import AlarmRaised, ProgramError, ProgramErrorReason
 from focas_net.sim.nc.macro import Cursor, Value, evaluate, parse_expression
 
 
@@ -146,7 +146,11 @@ def test_random_programs_never_raise_a_python_exception(
     limits = ((-500.0, 500.0), (-500.0, 500.0), None)
     engine = Engine(clock, NcSettings(stroke_limits=limits, zero_time_blocks=50))
     engine.store.store("O2\nG91 G1 X1. F100\nM99\n")
-    engine.store.store("O1\n" + "\n".join(blocks) + "\n")  # malformed blocks are kept
+    try:  # malformed blocks are kept; a comment not closed in its line is refused
+        engine.store.store("O1\n" + "\n".join(blocks) + "\n")
+    except ProgramError as exc:
+        assert exc.reason is ProgramErrorReason.FORMAT and "has no ')'" in str(exc)
+        engine.store.store("O1\n" + ")\n".join(blocks) + ")\n")  # each line closed
     engine.store.select(1)
     engine.cycle_start()
     for dt in steps:

@@ -20,9 +20,12 @@ What a FANUC control keeps per path and a program uses:
   (``"time"``: the engine's cutting time while a tool of the group is the tool in use). The
   counter is that of the tool in use in the group; when it reaches the life, that tool is
   expired and the next tool of the group takes over with its counter at 0 (the group is
-  expired when its last tool is). A tool is in a group when its T number is listed there; the
-  tool the program changes to (M6 with T) selects the group (the T code naming the group
-  through FANUC's tool life ignore number, parameter 6810, is not modelled).
+  expired when its last tool is). The T code of a tool change (M6 with T) names the group:
+  with FANUC's tool life ignore number (parameter 6810) a T code above it names group
+  T - ignore and one at or below it is an ordinary tool, no group's; without one (0) a T
+  code names the group that lists that T number. As on FANUC, a T number may be listed in
+  several groups when groups are named through the ignore number; without one it could
+  name none of them, so it is listed in one group only (:func:`listed_elsewhere`).
 
 Every check of a value lives here (:class:`~._base.MachineError` with the EW code): a number
 outside the table is EW_NUMBER, an offset type or axis the path has not is EW_ATTRIB, a value
@@ -228,6 +231,27 @@ class ToolsSpec:
     ignore: int = 0
 
 
+def listed_elsewhere(groups: Iterable[ToolGroup], group: ToolGroup) -> tuple[int, int] | None:
+    """The first tool of ``group`` that one of ``groups`` lists too: its index in ``group``
+    and the other group's number (None: none). Without an ignore number a T code names the
+    group that lists the tool, so such a tool names no group of its own."""
+    for other in groups:
+        numbers = {t.number for t in other.tools}
+        for i, tool in enumerate(group.tools):
+            if tool.number in numbers:
+                return i, other.number
+    return None
+
+
+def listed_twice(tool: int, other: int) -> str:
+    """Why T ``tool`` cannot be in a second group as well as in group ``other``."""
+    return (
+        f"T{tool} is in tool group {other} too: without an ignore number a T code names the "
+        "group that lists the tool, so a tool is in one group (an ignore number, FANUC's "
+        "parameter 6810, names groups by T code and lets a tool be in several)"
+    )
+
+
 class ToolLife:
     """The tool life management of one path (see the module docstring)."""
 
@@ -239,7 +263,7 @@ class ToolLife:
         self.max_groups = _number(max_groups, 1, MAX_GROUPS, "max tool groups", EW.DATA)
         self.max_tools = _number(max_tools, 1, MAX_TOOLS_PER_GROUP, "max tools", EW.DATA)
         #: FANUC's tool life ignore number (parameter 6810): a T code above it names group
-        #: T - ignore; 0: a T code names the group listing that tool.
+        #: T - ignore, one at or below it no group; 0: a T code names the group listing it.
         self.ignore = _number(ignore, 0, MAX_T, "tool life ignore number", EW.DATA)
         self.groups: dict[int, ToolGroup] = {}
         for group in groups:
@@ -279,6 +303,12 @@ class ToolLife:
             for what, value in (("T", tool.number), ("H", tool.h), ("D", tool.d)):
                 if not 0 <= value <= MAX_T or (what == "T" and value == 0):
                     raise ValueError(f"tool group {group.number}: {what}{value} out of range")
+        shared = None if self.ignore else listed_elsewhere(self.groups.values(), group)
+        if shared is not None:
+            index, other = shared
+            raise ValueError(
+                f"tool group {group.number}: {listed_twice(group.tools[index].number, other)}"
+            )
         self.groups[group.number] = group
 
     def group(self, number: int) -> ToolGroup:
@@ -301,8 +331,11 @@ class ToolLife:
         """M6 with T code ``tool``: the group it names is the group in use. The first time a
         group is changed to in a cycle (since the reset state) a tool whose life has not
         expired is selected from it, and a count-type group counts one use."""
-        named = tool - self.ignore if self.ignore and tool > self.ignore else 0
-        self.selected = named if named in self.groups else self.group_of(tool)
+        if self.ignore:  # FANUC: a T code at or below the ignore number is no group's
+            named = tool - self.ignore if tool > self.ignore else 0
+            self.selected = named if named in self.groups else 0
+        else:
+            self.selected = self.group_of(tool)
         if not self.selected or self.selected in self._used:
             return
         group = self.groups[self.selected]

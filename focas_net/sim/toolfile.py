@@ -22,6 +22,8 @@ from ._tools import (
     LifeTool,
     ToolGroup,
     ToolsSpec,
+    listed_elsewhere,
+    listed_twice,
 )
 from .filecheck import _Ctx, _int, _list, _only, _str, _table
 
@@ -91,6 +93,13 @@ def tool_specs(ctx: _Ctx, value: Any, paths: int = MAX_PATHS) -> dict[int, Tools
             work[name] = [_mm(wc.sub(k), v) for k, v in enumerate(_list(wc, row))]
         gc = c.sub("group")
         groups = [_group(gc.sub(j), g) for j, g in enumerate(_list(gc, t.get("group", [])))]
+        ignore = _int(c.sub("ignore_number"), t.get("ignore_number", 0), (0, _MAX_T))
+        for j, group in enumerate(groups if not ignore else ()):
+            shared = listed_elsewhere(groups[:j], group)
+            if shared is not None:
+                index, other = shared
+                tool = group.tools[index].number
+                gc.sub(j).sub("tools").sub(index).fail(listed_twice(tool, other))
         specs[path] = ToolsSpec(
             offsets=_int(c.sub("offsets"), t.get("offsets", 64), (1, MAX_TOOL_OFFSETS)),
             offset_values=values,
@@ -98,7 +107,7 @@ def tool_specs(ctx: _Ctx, value: Any, paths: int = MAX_PATHS) -> dict[int, Tools
             max_groups=_int(c.sub("max_groups"), t.get("max_groups", 16), (1, MAX_GROUPS)),
             max_tools=_int(c.sub("max_tools"), t.get("max_tools", 4), (1, MAX_TOOLS_PER_GROUP)),
             groups=tuple(groups),
-            ignore=_int(c.sub("ignore_number"), t.get("ignore_number", 0), (0, _MAX_T)),
+            ignore=ignore,
         )
     return specs
 

@@ -244,8 +244,9 @@ def _tape(lines: list[str]) -> range:
 
 def _split_blocks(text: str) -> list[tuple[int, str]]:
     """Lines of the program (:func:`_tape`), each split at ``;`` outside comments, with
-    their line numbers in the text; a character other than printable ASCII and the tab is
-    refused (:class:`ProgramError`, FORMAT), naming its line. The NULs that end a C string
+    their line numbers in the text; a character other than printable ASCII and the tab, or
+    a comment not closed in its line, is refused (:class:`ProgramError`, FORMAT), naming its
+    line. The NULs that end a C string
     are not part of the text."""
     text = text.rstrip("\x00")
     lines = text.replace("\r\n", "\n").replace("\r", "\n").split("\n")
@@ -260,15 +261,21 @@ def _split_blocks(text: str) -> list[tuple[int, str]]:
                 "a program is printable ASCII text",
             )
         depth = 0
-        start = 0
+        start = opened = 0
         for pos, c in enumerate(line):
-            if c == "(":
-                depth = 1
+            if c == "(" and not depth:
+                depth, opened = 1, pos
             elif c == ")":
                 depth = 0
             elif c == ";" and not depth:
                 blocks.append((i + 1, line[start:pos]))
                 start = pos + 1
+        if depth:
+            raise ProgramError(
+                ProgramErrorReason.FORMAT,
+                f"line {i + 1}: the comment {line[opened:].strip()[:40]!r} has no ')': a "
+                "comment opened with ( is closed with ) in its line",
+            )
         blocks.append((i + 1, line[start:]))
     return [(n, b) for n, b in blocks if b.strip()]
 

@@ -1,0 +1,152 @@
+"""A new user's pass over machine files, part programs and the examples (pass 10): each test
+names a case that was wrong or unsettled, and the behaviour FANUC's practice asks for."""
+
+from __future__ import annotations
+
+import tomllib
+
+import pytest
+
+from focas_net.sim import (
+    LifeTool,
+    Machine,
+    MachineFileError,
+    ToolGroup,
+    ToolsSpec,
+    machine_from_dict,
+)
+from focas_net.sim.nc import (
+    CycleState,
+    Engine,
+    ManualClock,
+    NcSettings,
+    ProgramError,
+    ProgramErrorReason,
+    parse_program,
+)
+
+
+def _run(text: str, seconds: float = 30.0) -> Engine:
+    """Run ``text`` (its first program) on an engine of its own for ``seconds``."""
+    clock = ManualClock()
+    engine = Engine(clock, NcSettings())
+    main = engine.store.store(text)
+    engine.store.select(main.number)
+    engine.cycle_start()
+    for _ in range(int(seconds)):
+        if engine.state is not CycleState.START:
+            break
+        clock.advance(1.0)
+    return engine
+
+
+# -- several G codes of one group in a block: the last one is valid (FANUC's G code list) ----
+
+
+@pytest.mark.parametrize(
+    ("first", "x"),
+    [("G90 G91", 20.0), ("G91 G90", 10.0)],
+)
+def test_of_two_g_codes_of_one_group_in_a_block_the_last_is_valid(first: str, x: float) -> None:
+    engine = _run(f"O1\n{first} G0 X10.\nX10.\nM30\n")
+    assert engine.alarm is None
+    assert engine.state is CycleState.RESET
+    assert engine.absolute_position()[0] == pytest.approx(x)
+
+
+def test_of_two_motion_codes_in_a_block_the_last_is_the_modal_one() -> None:
+    engine = _run("O1\nG1 G0 X10.\nM30\n")  # G0 last: a rapid, no feed rate needed
+    assert engine.alarm is None
+    assert engine.absolute_position()[0] == pytest.approx(10.0)
+
+
+# -- a comment opened with ( and not closed in its line is refused, naming the line ---------
+
+
+@pytest.mark.parametrize(
+    ("text", "line", "shown"),
+    [
+        ("O1\nG1 X10. F100 (ROUGH X20.\nM30\n", 2, "'(ROUGH X20.'"),
+        ("O1 (NAME\nG0 X1.\nM30\n", 1, "'(NAME'"),
+        ("O1\nG0 X1. (A;B\nM30\n", 2, "'(A;B'"),
+        ("O1\nG0 X1. (A(B\nM30\n", 2, "'(A(B'"),
+        ("%\nO1\nG0 X1.\n(END\nM30\n%\n", 4, "'(END'"),
+    ],
+)
+def test_an_unclosed_comment_is_refused_naming_its_line(text: str, line: int, shown: str) -> None:
+    with pytest.raises(ProgramError) as caught:
+        parse_program(text)
+    assert caught.value.reason is ProgramErrorReason.FORMAT
+    assert str(caught.value).startswith(f"line {line}: the comment {shown} has no ')'")
+
+
+def test_a_closed_comment_and_a_semicolon_in_it_still_load() -> None:
+    program = parse_program("O1 (NAME)\nG0 X1. (A;B)\nM30\n")
+    assert program.name == "NAME"
+    assert [b.comment for b in program.blocks] == ["A;B", ""]
+
+
+def test_a_machine_file_program_with_an_unclosed_comment_names_the_entry() -> None:
+    data = tomllib.loads(
+        '[machine]\nname = "m"\naxes = ["X"]\n[[program]]\ntext = "O1\\nG0 X1. (OOPS\\nM30"\n'
+    )
+    with pytest.raises(MachineFileError) as caught:
+        machine_from_dict(data)
+    assert "program[0]" in str(caught.value)
+    assert "line 2: the comment '(OOPS' has no ')'" in str(caught.value)
+
+
+# -- a tool in two tool life groups ---------------------------------------------------------
+
+_TOOLS = '[machine]\nname = "m"\naxes = ["X", "Y", "Z"]\n[[tools]]\n'
+
+
+def _tools_file(body: str) -> Machine:
+    return machine_from_dict(tomllib.loads(_TOOLS + body))
+
+
+_TWO_GROUPS = (
+    "[[tools.group]]\nnumber = 1\nlife = 9\ntools = [5, 6]\n"
+    "[[tools.group]]\nnumber = 2\nlife = 9\ntools = [7, 5]\n"
+)
+
+
+def test_a_tool_in_two_groups_without_an_ignore_number_is_refused_naming_the_key() -> None:
+    with pytest.raises(MachineFileError) as caught:
+        _tools_file(_TWO_GROUPS)
+    message = str(caught.value)
+    assert "tools[0].group[1].tools[1]: T5 is in tool group 1 too" in message
+    assert "ignore number" in message
+
+
+def test_a_tool_in_two_groups_is_refused_by_the_machine_too() -> None:
+    groups = [ToolGroup(1, 9, tools=[LifeTool(5)]), ToolGroup(2, 9, tools=[LifeTool(5)])]
+    with pytest.raises(ValueError, match="tool group 2: T5 is in tool group 1 too"):
+        Machine("m", axes=["X"], tools={1: ToolsSpec(groups=groups)})
+    Machine("m", axes=["X"], tools={1: ToolsSpec(groups=groups, ignore=100)})  # named by T
+
+
+def _changed_to(machine: Machine, clock: ManualClock, t_code: int) -> int:
+    machine.store_program(f"O0001\nT{t_code} M6\nM30\n")
+    machine.set_panel(1)
+    machine.select_program(1)
+    machine.cycle_start()
+    clock.advance(60)
+    return machine.tool_life_info().selected
+
+
+def test_with_an_ignore_number_a_tool_may_be_in_several_groups() -> None:
+    clock = ManualClock()
+    data = tomllib.loads(_TOOLS + "ignore_number = 100\n" + _TWO_GROUPS)
+    machine = machine_from_dict(data, sim_clock=clock)
+    assert _changed_to(machine, clock, 102) == 2  # T102: group 2, which lists T5 too
+    assert machine.tool_group(2).count == 1
+    assert machine.tool_group(1).count == 0
+
+
+def test_a_t_code_at_or_below_the_ignore_number_names_no_group() -> None:
+    clock = ManualClock()
+    data = tomllib.loads(_TOOLS + "ignore_number = 100\n" + _TWO_GROUPS)
+    machine = machine_from_dict(data, sim_clock=clock)
+    assert _changed_to(machine, clock, 5) == 0  # FANUC: an ordinary tool, no life counted
+    assert (machine.tool_group(1).count, machine.tool_group(2).count) == (0, 0)
