@@ -10,7 +10,7 @@ from typing import Any
 
 import pytest
 
-from focas_net import FocasClient, NativeClient
+from focas_net import FocasClient, NativeClient, default_machine
 from focas_net.cli import main
 from focas_net.sim import Machine
 
@@ -98,3 +98,44 @@ async def test_the_machine_and_the_client_raise_the_same_alarm_by_keywords(
     assert (active.axis_no, active.alm_type, active.alm_no, active.msg) == (1, 4, 100, "DOOR OPEN")
     docs = (Path(__file__).parents[1] / "docs" / "client.md").read_text(encoding="utf-8")
     assert "`Machine.raise_alarm(axis_no, alm_type, alm_no, msg)`" in docs
+
+
+# -- the machine's constructor and its path argument: a wrong type is a TypeError naming it ----
+@pytest.mark.parametrize(
+    ("given", "words"),
+    [
+        ({"params": [1]}, "params[0] must be a DataItem, got 1"),
+        ({"params": None}, "params must be a list of DataItem, got None"),
+        ({"diags": {"a": 1}}, "diags must be a list of DataItem, got {'a': 1}"),
+        ({"macro_ranges": [(1, 0)]}, "macro_ranges[0] must be a MacroRange, got (1, 0)"),
+        ({"macro_values": {"100": 1}}, "macro_values: a key must be an int, got '100'"),
+        (
+            {"macro_values": {100: 1.5}},
+            "macro_values[100] must be a Decimal, an int or None, got 1.5",
+        ),
+        ({"pmc": [1]}, "pmc[0] must be a PmcAreaSpec, got 1"),
+        ({"station": {(0, 0): 5}}, "station[(0, 0)] must be an IOModuleRecord, got 5"),
+        ({"tools": {1: 5}}, "tools[1] must be a ToolsSpec, got 5"),
+        ({"motion": 5}, "motion must be a MotionData or None, got 5"),
+        ({"identity": 5}, "identity must be an Identity or None, got 5"),
+        ({"panel": 5}, "panel must be a Panel or None, got 5"),
+        ({"paths": [5], "axes": None}, "paths[0] must be a PathSpec, got 5"),
+    ],
+)
+def test_a_machine_part_of_another_type_is_a_type_error_naming_it(
+    given: dict[str, Any], words: str
+) -> None:
+    with pytest.raises(TypeError) as refused:
+        Machine("m", **{"axes": ["X"], **given})
+    assert str(refused.value) == words
+
+
+@pytest.mark.parametrize("path", ["1", 1.0, True, None])
+def test_a_path_of_another_type_is_a_type_error_not_a_path_the_machine_lacks(path: Any) -> None:
+    machine = default_machine()
+    with pytest.raises(TypeError) as refused:
+        machine.status(path=path)
+    assert str(refused.value) == f"path must be an integer, got {path!r}"
+    with pytest.raises(TypeError):
+        machine.raise_alarm(0, 4, 100, "x", path=path)
+    assert machine.active_alarms() == []

@@ -8,7 +8,8 @@ for every change they make.
 from __future__ import annotations
 
 import logging
-from typing import Final
+from collections.abc import Iterable, Mapping
+from typing import Final, TypeVar
 
 from focas_net.errors import EW, FocasError
 
@@ -21,8 +22,14 @@ __all__ = [
     "logger",
     "n_values",
     "need_int",
+    "need_items",
+    "need_mapping",
+    "need_one",
     "need_text",
 ]
+
+T = TypeVar("T")
+K = TypeVar("K")
 
 #: The machine's logger, one name for all its components.
 logger = logging.getLogger("focas_net.sim.machine")
@@ -70,6 +77,51 @@ def need_text(what: str, value: object) -> str:
     if not isinstance(value, str):
         raise TypeError(f"{what} must be text (str), got {value!r}")
     return value
+
+
+def _a(kind: type[object]) -> str:
+    name = kind.__name__
+    return "None" if kind is type(None) else f"{'an' if name[0] in 'AEIOUaeiou' else 'a'} {name}"
+
+
+def need_one(what: str, value: object, kind: type[T]) -> T | None:
+    """``value`` when it is a ``kind`` or None: TypeError naming ``what`` otherwise."""
+    if value is not None and not isinstance(value, kind):
+        raise TypeError(f"{what} must be {_a(kind)} or None, got {value!r}")
+    return value
+
+
+def need_items(what: str, given: object, kind: type[T]) -> list[T]:
+    """The items of ``given``, a list (any iterable but text or a mapping) of ``kind``:
+    TypeError naming ``what`` (and the item, ``params[0]``) otherwise, rather than an
+    ``AttributeError`` from deep in the machine."""
+    if isinstance(given, str | bytes | Mapping) or not isinstance(given, Iterable):
+        raise TypeError(f"{what} must be a list of {kind.__name__}, got {given!r}")
+    items = list(given)
+    for i, item in enumerate(items):
+        if not isinstance(item, kind):
+            raise TypeError(f"{what}[{i}] must be {_a(kind)}, got {item!r}")
+    return items
+
+
+def need_mapping(
+    what: str, given: object, key: type[K], kind: type[T] | tuple[type[T], ...]
+) -> dict[K, T]:
+    """``given`` as a dict, when it is a mapping of ``key`` to ``kind`` (None: empty):
+    TypeError naming ``what`` and the key or value otherwise (a ``bool`` is no ``int``)."""
+    if given is None:
+        return {}
+    kinds = kind if isinstance(kind, tuple) else (kind,)
+    *some, last = [_a(k) for k in kinds]
+    names = f"{', '.join(some)} or {last}" if some else last
+    if not isinstance(given, Mapping):
+        raise TypeError(f"{what} must be a mapping of {key.__name__} to {names}, got {given!r}")
+    for k, v in given.items():
+        if isinstance(k, bool) or not isinstance(k, key):
+            raise TypeError(f"{what}: a key must be {_a(key)}, got {k!r}")
+        if isinstance(v, bool) or not isinstance(v, kinds):
+            raise TypeError(f"{what}[{k!r}] must be {names}, got {v!r}")
+    return dict(given)
 
 
 class MachineError(FocasError):

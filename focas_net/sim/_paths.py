@@ -266,10 +266,11 @@ class Paths:
         return iter(self.all)
 
     def at(self, path: int) -> Path:
-        """Path ``path``: EW_PATH naming it and the machine's range when there is none."""
-        if type(path) is int and 1 <= path <= self.count:
+        """Path ``path``: EW_PATH naming it and the machine's range when there is none; a
+        TypeError for a path of another type (``"1"``, ``1.0``), as every other number."""
+        if 1 <= need_int("path", path) <= self.count:
             return self.all[path - 1]
-        raise MachineError(EW.PATH, f"path {path!r}: this machine has paths 1..{self.count}")
+        raise MachineError(EW.PATH, f"path {path}: this machine has paths 1..{self.count}")
 
     def info(self, path: int) -> PathInfo:
         self.at(path)

@@ -113,7 +113,15 @@ from ._alarms import (
     HistoryEntry,
     utc_now,
 )
-from ._base import Counters, MachineError, need_flag, need_int
+from ._base import (
+    Counters,
+    MachineError,
+    need_flag,
+    need_int,
+    need_items,
+    need_mapping,
+    need_one,
+)
 from ._folders import FolderOperations
 from ._identity import (
     CONTROL_CLASSES,
@@ -259,6 +267,15 @@ class Machine(
         tools: Mapping[int, ToolsSpec] | None = None,
     ) -> None:
         self._name = checked_name(name)
+        params, diags = need_items("params", params, DataItem), need_items("diags", diags, DataItem)
+        macro_ranges = need_items("macro_ranges", macro_ranges, MacroRange)
+        macro_values = need_mapping("macro_values", macro_values, int, (Decimal, int, type(None)))
+        pmc = need_items("pmc", pmc, PmcAreaSpec)
+        station = need_mapping("station", station, tuple, IOModuleRecord)
+        tools = need_mapping("tools", tools, int, ToolsSpec) if tools is not None else None
+        paths = need_items("paths", paths, PathSpec) if paths is not None else None
+        identity = need_one("identity", identity, Identity)
+        panel, motion = need_one("panel", panel, Panel), need_one("motion", motion, MotionData)
         #: How the machine runs on its own when it is told to (:meth:`start_scenario`;
         #: ``serve`` starts it): a machine file's ``[run]``, None when it has none.
         self.scenario = checked_scenario(scenario)
