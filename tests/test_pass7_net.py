@@ -458,7 +458,7 @@ class AnswersWith(LoopbackPeer):
     [
         # (an empty answer to an empty request, status's, is its request sent back: an echo)
         (b"", ("diag", "300"), "cnc_rddiag (0x0004)", "answer of 0 bytes has no EW code"),
-        (b"\0\0", ("macro", "get", "100"), "cnc_rdmacro (0x0003)", "MacroValue: 0 bytes"),
+        (b"\0\0", ("macro", "get", "100"), "cnc_rdmacro (0x0003)", "0 bytes, expected 10"),
         (b"\0", ("pmc", "read", "R", "0", "3"), "pmc_rdpmcrng (0x0010)", "answer of 1 bytes"),
     ],
 )

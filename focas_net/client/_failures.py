@@ -47,6 +47,7 @@ __all__ = [
     "connect_reason",
     "echo_error",
     "lost_error",
+    "native_call_text",
     "no_answer_error",
     "not_focas_error",
     "path_refusal",
@@ -77,13 +78,18 @@ def command_text(command: int) -> str:
     return f"0x{command:04X}" if spec is None else f"{spec.focas_name} (0x{command:04X})"
 
 
-def undecodable_error(peer: str, command: int, exc: PayloadError) -> PayloadError:
-    """The error of an answer of ``peer`` to ``command`` (a packed command) that does not
-    decode: the peer, the call and why (an answer too short for its EW code, or for its
-    record)."""
-    err = PayloadError(
-        f"{peer} sent an answer to {command_text(command)} that does not decode: {exc}"
-    )
+def native_call_text(function: str, command: int) -> str:
+    """A FOCAS/2 request by the library function that sent it and its command id:
+    ``cnc_statinfo (0x19)``."""
+    return f"{function} (0x{command:02X})"
+
+
+def undecodable_error(peer: str, call: str, exc: Exception) -> PayloadError:
+    """The error of an answer of ``peer`` to ``call`` (:func:`command_text` of a packed
+    command, :func:`native_call_text` of a FOCAS/2 one) that does not decode: the peer, the
+    call and why (an answer too short for its EW code, or for its record), in the same words
+    on both transports."""
+    err = PayloadError(f"{peer} sent an answer to {call} that does not decode: {exc}")
     err.__cause__ = exc
     return err
 

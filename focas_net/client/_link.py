@@ -41,7 +41,7 @@ from ..protocol import (
 )
 from ..protocol import Command as C
 from ._composite import CompositeCalls
-from ._failures import echo_error, path_refusal, undecodable_error
+from ._failures import command_text, echo_error, path_refusal, undecodable_error
 from ._values import check_int
 from .connection import MAX_IN_FLIGHT, Connection, NotSentError, _Pending, open_connection
 from .reconnect import ClientState, ReconnectPolicy, StateCallback
@@ -344,7 +344,7 @@ class Link(CompositeCalls):
                     value = spec.response.decode_bytes(raw)  # the connection's are bytes
                 except PayloadError as exc:
                     raise self._echoed(spec, raw, payload) or undecodable_error(
-                        self.address, spec.command, exc
+                        self.address, command_text(spec.command), exc
                     ) from exc
                 if type(value) is not EwReply:
                     return value
@@ -456,7 +456,7 @@ class Link(CompositeCalls):
             return spec.response.decode(raw)
         except PayloadError as exc:
             raise self._echoed(spec, raw, sent) or undecodable_error(
-                self.address, spec.command, exc
+                self.address, command_text(spec.command), exc
             ) from exc
 
     def _echoed(self, spec: CommandSpec, raw: bytes, sent: bytes | None) -> ProtocolError | None:

@@ -218,12 +218,12 @@ def _restart(
 ) -> RestartInfo:
     kinds: list[tuple[int, ...]] = []
     for i in range(len(info.RESTART_KINDS)):
-        values: RestartValues = decoded(call, blocks, i, handle.max_axes)
+        values: RestartValues = decoded(handle, call, blocks, i, handle.max_axes)
         kinds.append(values.values)
     axes = handle.axes_on(path)
     positions: list[tuple[int, ...]] = []
     for i in range(len(info.RESTART_KINDS), len(blocks)):
-        scaled: ScaledValues = decoded(call, blocks, i, handle.max_axes)
+        scaled: ScaledValues = decoded(handle, call, blocks, i, handle.max_axes)
         positions.append(tuple(v.mantissa for v in scaled.values[:axes]))
     return RestartInfo(*kinds, *positions)
 
@@ -251,9 +251,9 @@ class NativeInfo(NativeItems):
         """``cnc_statinfo2``: the status with its warning (hdck and tmmode read 0 when the CNC
         refuses them, as the library reads them)."""
         handle, call, blocks = await self._only(info.cnc_statinfo2, path, timeout)
-        stat: StatInfo2 = decoded(call, blocks, 0, handle.max_axes)
-        hdck = 0 if blocks[1].ew else decoded(call, blocks, 1, 0).hdck
-        tmmode = 0 if blocks[2].ew else decoded(call, blocks, 2, 0).tmmode
+        stat: StatInfo2 = decoded(handle, call, blocks, 0, handle.max_axes)
+        hdck = 0 if blocks[1].ew else decoded(handle, call, blocks, 1, 0).hdck
+        tmmode = 0 if blocks[2].ew else decoded(handle, call, blocks, 2, 0).tmmode
         return StatusInfo2(
             hdck, tmmode, stat.aut, stat.run, stat.motion, stat.mstb, stat.emergency,
             stat.alarm, stat.edit, stat.warning, stat.o3dchk, stat.ext_opt, stat.restart,

@@ -11,8 +11,9 @@ turn an answer block into its value, an EW code into :class:`CncError`.
 
 from __future__ import annotations
 
+import contextlib
 import struct
-from collections.abc import Callable
+from collections.abc import AsyncIterator, Callable
 from decimal import Decimal
 from typing import Any, Final, TypeVar
 
@@ -36,6 +37,7 @@ from ..native import (
     info,
 )
 from ..protocol import ParamDataType, ParamValue
+from ._failures import native_call_text, undecodable_error
 from ._native_link import Handle, NativeLink, check_path_of
 from ._values import (
     REAL_WIDTH,
@@ -70,7 +72,7 @@ _NOT_MADE: Final[Any] = object()
 
 def only_answer(handle: Handle, call: LibraryCall, blocks: tuple[ResponseBlock, ...]) -> Any:
     """The decoded answer of ``call``, a call of one frame of one block, on ``handle``."""
-    return decoded(call, blocks, 0, handle.max_axes)
+    return decoded(handle, call, blocks, 0, handle.max_axes)
 
 
 def made_once(
@@ -105,6 +107,7 @@ def block_data(block: ResponseBlock, function: str) -> bytes:
 
 
 def decoded(
+    handle: Handle,
     call: LibraryCall,
     blocks: tuple[ResponseBlock, ...],
     index: int,
@@ -112,15 +115,16 @@ def decoded(
     frame: int = 0,
 ) -> Any:
     """The answer in ``blocks[index]`` to request ``index`` of frame ``frame`` of ``call``
-    (decoded once for the same bytes, :meth:`LibraryCall.answer`); :class:`CncError` for its
-    EW code, :class:`PayloadError` for data that does not decode."""
+    on ``handle`` (decoded once for the same bytes, :meth:`LibraryCall.answer`);
+    :class:`CncError` for its EW code, :class:`PayloadError` naming the peer and the call
+    for data that does not decode."""
     data = block_data(blocks[index], call.function)
     try:
         return call.answer(frame, index, data, max_axes)
     except (ProtocolError, ValueError, struct.error) as exc:
         command = call.frames[frame][index].COMMAND
-        raise PayloadError(
-            f"{call.function}: answer to 0x{command:X} does not decode: {exc}"
+        raise undecodable_error(
+            handle.peer, native_call_text(call.function, command), exc
         ) from None
 
 
@@ -177,7 +181,7 @@ class NativeItems(NativeLink):
         build = _READS[function]
         call = build(handle.command_set, number, axis)
         (block,) = await self._exchange(handle, call, deadline, 0, path)
-        items: ItemValues | ScaledItemValues = decoded(call, (block,), 0, handle.max_axes)
+        items: ItemValues | ScaledItemValues = decoded(handle, call, (block,), 0, handle.max_axes)
         if not items.records:
             raise PayloadError(f"{function}: answer for {number} carries no record")
         record = items.records[0]
@@ -255,7 +259,7 @@ class NativeItems(NativeLink):
         is not known)."""
         call = calls.wrparam_info(handle.command_set, number)
         (block,) = await self._exchange(handle, call, deadline, 0, path)
-        info = decoded(call, (block,), 0, handle.max_axes)
+        info = decoded(handle, call, (block,), 0, handle.max_axes)
         if isinstance(info, ParamInfo3):
             ptype = info.type
         else:
@@ -267,15 +271,27 @@ class NativeItems(NativeLink):
         return ptype, size
 
     async def _lacks(self, number: int, axis: int, deadline: float | None, path: int) -> bool:
-        """Whether the CNC has no parameter ``number``: its read answers EW_NUMBER. Asked
-        before a write is refused by the information's type or width, which is then the next
-        parameter's: the refusal is the CNC's answer to the write (EW_NUMBER), never a value
-        judged by another parameter's type."""
+        """Whether the CNC has no parameter ``number``: its read answers EW_NUMBER."""
         try:
             await self._read_item(number, axis, deadline, path, diagnostic=False)
         except CncError as exc:
             return exc.ew == EW.NUMBER
         return False
+
+    @contextlib.asynccontextmanager
+    async def _absent_first(
+        self, number: int, axis: int, deadline: float | None, path: int
+    ) -> AsyncIterator[None]:
+        """A write's refusal by the information's type or width (raised in the block) is
+        EW_NUMBER when the CNC has no parameter ``number``, whose information is then the next
+        parameter's: the refusal is the CNC's answer to the write (EW_NUMBER), never a value
+        judged by another parameter's type."""
+        try:
+            yield
+        except (ValueError, CncError):
+            if await self._lacks(number, axis, deadline, path):
+                raise CncError.from_ew(EW.NUMBER, "cnc_wrparam") from None
+            raise
 
     async def _write_param(
         self,
@@ -307,13 +323,9 @@ class NativeItems(NativeLink):
         handle = self._handle_now() or await self._handle_for(deadline)
         self._check_axis_of(handle, axis, "cnc_wrparam", path)
         ptype, size = await self._param_info(handle, number, deadline, path)
-        try:
+        async with self._absent_first(number, axis, deadline, path):
             self._check_width(number, size, width)
             record = self._value_record(handle, number, axis, ptype, size, value, as_int, as_real)
-        except (ValueError, CncError):
-            if await self._lacks(number, axis, deadline, path):
-                raise CncError.from_ew(EW.NUMBER, "cnc_wrparam") from None
-            raise
         await self._write_record(handle, record, deadline, path)
         self._param_types[number] = ptype
 
@@ -363,12 +375,8 @@ class NativeItems(NativeLink):
         handle = self._handle_now() or await self._handle_for(deadline)
         self._check_axis_of(handle, axis, "cnc_wrparam", path)
         ptype, size = await self._param_info(handle, number, deadline, path)
-        try:
+        async with self._absent_first(number, axis, deadline, path):
             self._check_width(number, size, width)
-        except CncError:
-            if await self._lacks(number, axis, deadline, path):
-                raise CncError.from_ew(EW.NUMBER, "cnc_wrparam") from None
-            raise
         raw = byte_to_wire(number, bits, ParamDataType.BIT) if ptype == ParamType.BIT else bits
         record = self._param_record(handle, number, axis, ptype, signed(raw, width))
         await self._write_record(handle, record, deadline, path)

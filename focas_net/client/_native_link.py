@@ -41,6 +41,7 @@ from focas_net.errors import (
     FocasConnectionError,
     FocasError,
     FocasTimeoutError,
+    PayloadError,
     ProtocolError,
 )
 
@@ -75,9 +76,11 @@ from ._failures import (
     NEVER_SENT,
     connect_error,
     lost_error,
+    native_call_text,
     no_answer_error,
     path_refusal,
     timeout_error,
+    undecodable_error,
     violation_error,
 )
 from .connection import NotSentError
@@ -314,7 +317,11 @@ async def _connect_requests(handle: Handle) -> None:
             if block.ew:
                 raise CncError.from_ew(block.ew, "cnc_allclibhndl3")
             if request.COMMAND == NativeCommand.SYSINFO and handle.sysinfo is None:
-                handle.sysinfo = request.decode_answer(block.data)
+                try:
+                    handle.sysinfo = request.decode_answer(block.data)
+                except PayloadError as exc:
+                    what = native_call_text(connect.function, request.COMMAND)
+                    raise undecodable_error(handle.peer, what, exc) from None
             elif request.COMMAND == NativeCommand.RDPARAM:
                 # slot 0's low byte
                 handle.option_bits = block.data[11] if len(block.data) >= 12 else 0

@@ -88,10 +88,10 @@ class NativeSpindles(NativeLink):
         )
         index = 0 if handle.command_set is CommandSet.FS16I else 1
         for i in range(len(blocks)):
-            if i != index and decoded(call, blocks, i, 0).count == 0:
+            if i != index and decoded(handle, call, blocks, i, 0).count == 0:
                 raise CncError.from_ew(EW.NOOPT, f"{call.function}: no spindle")
         try:
-            values: ScaledValues = decoded(call, blocks, index, 0)
+            values: ScaledValues = decoded(handle, call, blocks, index, 0)
         except CncError as exc:
             if exc.ew != EW.NUMBER:
                 raise
@@ -128,7 +128,7 @@ class NativeSpindles(NativeLink):
         """``cnc_rdspdlname``: the name of every spindle of the path (``"S1"``...)."""
         p = self._path_of(path)
         handle, call, blocks = await self._only(spindles.cnc_rdspdlname, p, timeout)
-        names: SpindleNames = decoded(call, blocks, 0, 0)
+        names: SpindleNames = decoded(handle, call, blocks, 0, 0)
         return tuple(n.text for n in names.records[: handle.spindles_on(p)])
 
     async def read_spindle_meters(
@@ -148,7 +148,7 @@ class NativeSpindles(NativeLink):
         names: SpindleNames | None = None
         figures: dict[int, ScaledValues] = {}
         for i, request in enumerate(call.frames[0]):
-            value = decoded(call, blocks, i, 0)
+            value = decoded(handle, call, blocks, i, 0)
             if isinstance(value, SpindleNames):
                 names = value
             elif isinstance(value, ScaledValues):
@@ -188,7 +188,7 @@ class NativeSpindles(NativeLink):
         figure = ServoFigure(figure)
         p = self._path_of(path)
         handle, call, blocks = await self._only(_SERVO_CALLS[figure], p, timeout)
-        values: ScaledValues = decoded(call, blocks, 0, handle.max_axes)
+        values: ScaledValues = decoded(handle, call, blocks, 0, handle.max_axes)
         # cnc_rdcurrent fills shorts (the low 16 bits), the others longs
         width = 2 if figure is ServoFigure.LOAD else 4
         return tuple(signed(v.mantissa, width) for v in values.values[: handle.axes_on(p)])

@@ -154,9 +154,9 @@ def _status(
     """The status of ``cnc_statinfo``'s answer ``blocks`` (hdck and tmmode read 0 when the CNC
     refuses them, as the library reads them)."""
     _, hd, tm = blocks
-    stat: StatInfo = decoded(call, blocks, 0, handle.max_axes)
-    hdck = 0 if hd.ew else decoded(call, blocks, 1, 0).hdck
-    tmmode = 0 if tm.ew else decoded(call, blocks, 2, 0).tmmode
+    stat: StatInfo = decoded(handle, call, blocks, 0, handle.max_axes)
+    hdck = 0 if hd.ew else decoded(handle, call, blocks, 1, 0).hdck
+    tmmode = 0 if tm.ew else decoded(handle, call, blocks, 2, 0).tmmode
     return StatusInfo(
         hdck, tmmode, stat.aut, stat.run, stat.motion, stat.mstb, stat.emergency, stat.alarm,
         stat.edit,
@@ -168,7 +168,7 @@ def _dynamic(
 ) -> DynamicData:
     """The result of a ``cnc_rddynamic2`` ``call`` (of every axis, or of one) on ``path`` from
     its answer ``blocks``."""
-    values = [decoded(call, blocks, i, handle.max_axes) for i in range(5)]
+    values = [decoded(handle, call, blocks, i, handle.max_axes) for i in range(5)]
     axis = call.frames[0][-1].axis  # type: ignore[attr-defined]
     count = handle.axes_on(path) if axis == -1 else 1
     alarm: AlarmStatus = values[0]
@@ -407,10 +407,10 @@ class NativeClient(
         for i, request in enumerate(call.frames[0]):
             block_data(blocks[i], "cnc_rdspload")
             if request.COMMAND == NativeCommand.AXIS_COUNT:
-                if decoded(call, blocks, i, 0).count == 0:
+                if decoded(handle, call, blocks, i, 0).count == 0:
                     raise CncError.from_ew(EW.NOOPT, "cnc_rdspload: no spindle")
         index = 0 if handle.command_set is CommandSet.FS16I else 1
-        loads: ScaledValues = decoded(call, blocks, index, 0)
+        loads: ScaledValues = decoded(handle, call, blocks, index, 0)
         limit = handle.spindles_on(p) if spindle == -1 else 1
         return tuple(signed(v.mantissa, 2) for v in loads.values[: max(limit, 1)])
 
@@ -426,7 +426,7 @@ class NativeClient(
         names: AxisNames | None = None
         loads: ScaledValues | None = None
         for i, request in enumerate(call.frames[0]):
-            value = decoded(call, blocks, i, handle.max_axes)
+            value = decoded(handle, call, blocks, i, handle.max_axes)
             if request.COMMAND == NativeCommand.AXIS_NAME:
                 names = value
             elif request.COMMAND == NativeCommand.RDSVMETER:
@@ -522,11 +522,11 @@ class NativeClient(
             command = request.COMMAND
             block = blocks[i]
             if command == NativeCommand.AXIS_NAME:
-                names = decoded(call, blocks, i, handle.max_axes)
+                names = decoded(handle, call, blocks, i, handle.max_axes)
             elif (
                 command == NativeCommand.POSITION and getattr(request, "kind", None) == which.value
             ):
-                positions = decoded(call, blocks, i, handle.max_axes)
+                positions = decoded(handle, call, blocks, i, handle.max_axes)
             elif command in (
                 NativeCommand.POSITION,
                 NativeCommand.AXIS_COUNT,
@@ -706,7 +706,7 @@ class NativeClient(
             blocks = await self._exchange(handle, call, deadline, n)
             if blocks[0].ew == EW.NUMBER:
                 break  # no entry from here on (from the first: the history is empty)
-            history: NativeAlarmHistory = decoded(call, blocks, 0, 0, frame=n)
+            history: NativeAlarmHistory = decoded(handle, call, blocks, 0, 0, frame=n)
             for r in history.records:
                 try:
                     when = datetime(r.year, r.month, r.day, r.hour, r.minute, r.second, tzinfo=UTC)

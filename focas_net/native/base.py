@@ -89,7 +89,7 @@ class NativeRecord(FixedPayload):
     WIRE: ClassVar[tuple[str, ...]] = ()
     #: Exception ``decode`` raises (built with one message argument).
     ERROR: ClassVar[Callable[[str], ProtocolError]] = NativePayloadError
-    #: What ``decode``'s refusals call the record, in words (the class's name when empty).
+    #: What ``decode``'s refusals call the record, in words (nothing when empty).
     WHAT: ClassVar[str] = ""
 
     _wire_names: ClassVar[tuple[str, ...]]
@@ -182,18 +182,24 @@ class NativeRecord(FixedPayload):
         return cls(*values)
 
     @classmethod
+    def _named(cls, why: str) -> str:
+        """``why`` a decode is refused, after :attr:`WHAT` when the record has one (a
+        client's error names the call and the peer around it; a Python class name is never
+        the user's word)."""
+        return f"{cls.WHAT}: {why}" if cls.WHAT else why
+
+    @classmethod
     def decode(cls, data: bytes | bytearray | memoryview) -> Self:
         """The record in ``data``, which must be exactly :attr:`SIZE` bytes."""
         if len(data) != cls.SIZE:
-            what = cls.WHAT or cls.__name__
-            raise cls.ERROR(f"{what}: {len(data)} bytes, expected {cls.SIZE}")
+            raise cls.ERROR(cls._named(f"{len(data)} bytes, expected {cls.SIZE}"))
         return cls._from_values(cls.STRUCT.unpack(data))
 
     @classmethod
     def decode_from(cls, data: bytes | bytearray | memoryview, offset: int = 0) -> Self:
         """The record at ``offset`` of ``data`` (more bytes may follow)."""
         if offset < 0 or len(data) - offset < cls.SIZE:
-            raise cls.ERROR(f"{cls.__name__}: {cls.SIZE} bytes needed at offset {offset}")
+            raise cls.ERROR(cls._named(f"{cls.SIZE} bytes needed at offset {offset}"))
         return cls._from_values(cls.STRUCT.unpack_from(data, offset))
 
     @classmethod
@@ -202,10 +208,10 @@ class NativeRecord(FixedPayload):
         size = cls.SIZE
         if size == 0:
             if data:
-                raise cls.ERROR(f"{cls.__name__}: expected no data, got {len(data)} bytes")
+                raise cls.ERROR(cls._named(f"expected no data, got {len(data)} bytes"))
             return ()
         if len(data) % size:
-            raise cls.ERROR(f"{cls.__name__}: {len(data)} bytes is not a multiple of {size}")
+            raise cls.ERROR(cls._named(f"{len(data)} bytes is not a multiple of {size}"))
         make = cls._from_values
         return tuple(make(values) for values in cls.STRUCT.iter_unpack(data))
 

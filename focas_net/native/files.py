@@ -148,7 +148,7 @@ class _NamedRequest(NativeRequest):
     def _extra_fields(cls, extra: bytes) -> dict[str, Any]:
         if len(extra) > cls.NAME_SIZE:
             raise NativePayloadError(
-                f"{cls.__name__}: a name of {len(extra)} bytes, at most {cls.NAME_SIZE}",
+                f"a name of {len(extra)} bytes, at most {cls.NAME_SIZE}",
                 EW.LENGTH,
             )
         return {"name": bytes(extra).split(b"\0", 1)[0].decode("latin-1")}

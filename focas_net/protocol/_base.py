@@ -121,7 +121,8 @@ class FixedPayload:
     def decode(cls, data: bytes) -> Self:
         st = cls.STRUCT
         if len(data) != st.size:
-            raise PayloadError(f"{cls.__name__}: {len(data)} bytes, expected {st.size}")
+            # (the client's error names the call and the peer around it)
+            raise PayloadError(f"{len(data)} bytes, expected {st.size}")
         return cls(*st.unpack(data))
 
     @classmethod
