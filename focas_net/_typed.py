@@ -29,6 +29,7 @@ from decimal import Decimal
 from typing import Final
 
 __all__ = [
+    "CNC_YEARS",
     "MAX_ALARM_NO",
     "MAX_ALARM_TEXT",
     "MAX_ALARM_TYPE",
@@ -42,6 +43,7 @@ __all__ = [
     "alarm_axis_unfit",
     "alarm_key_unfit",
     "alarm_text_unfit",
+    "cnc_year_unfit",
     "decimal_number",
     "decimal_text",
     "field_unfit",
@@ -176,6 +178,17 @@ def param_value_unfit(number: int, value: int, width: int, *, bit: bool = False)
         return None
     label = {1: "byte", 2: "word", 4: "two-word"}.get(width, f"{width}-byte")
     return f"parameter {number} is a {label} parameter: {value} is outside {-high - 1}..{high}"
+
+
+#: Years the CNC's clock can be set to (FANUC's calendar): ``cnc_settimer`` refuses another
+#: with EW_DATA.
+CNC_YEARS: Final = (1987, 2037)
+
+
+def cnc_year_unfit(year: int) -> str | None:
+    """Why the CNC's clock cannot be set to a date of ``year``, in the words of the machine
+    and of the client it refuses (``year 1900 is outside 1987..2037``); None when it can."""
+    return field_unfit("year", year, *CNC_YEARS)
 
 
 def override_unfit(what: str, value: int) -> str | None:

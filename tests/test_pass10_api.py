@@ -5,14 +5,15 @@ taken in either case and refused by kind."""
 
 from __future__ import annotations
 
+from datetime import date
 from pathlib import Path
 from typing import Any
 
 import pytest
 
-from focas_net import FocasClient, NativeClient, default_machine
+from focas_net import EW, CncError, FocasClient, NativeClient, default_machine
 from focas_net.cli import main
-from focas_net.sim import Machine
+from focas_net.sim import Machine, MachineError
 
 
 # -- the alarm history depth: one rule for the command line and the clients -------------------
@@ -139,3 +140,20 @@ def test_a_path_of_another_type_is_a_type_error_not_a_path_the_machine_lacks(pat
     with pytest.raises(TypeError):
         machine.raise_alarm(0, 4, 100, "x", path=path)
     assert machine.active_alarms() == []
+
+
+# -- a date the CNC's calendar has not: the reason the machine refuses it ----------------------
+@pytest.mark.parametrize("year", [1900, 1986, 2038])
+async def test_a_date_outside_the_cnc_calendar_names_its_years(
+    both_clients: tuple[Machine, FocasClient, NativeClient], year: int
+) -> None:
+    machine, _, native = both_clients
+    before = machine.now()
+    with pytest.raises(CncError) as refused:
+        await native.write_date(date(year, 1, 1))
+    assert refused.value.ew == EW.DATA
+    assert refused.value.detail == f"cnc_settimer: year {year} is outside 1987..2037"
+    assert machine.now() == before
+    with pytest.raises(MachineError) as by_machine:
+        machine.set_cnc_date(year, 1, 1)
+    assert by_machine.value.detail == f"year {year} is outside 1987..2037"

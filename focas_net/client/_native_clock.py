@@ -12,6 +12,8 @@ from __future__ import annotations
 
 from datetime import date, time
 
+from .._typed import cnc_year_unfit
+from ..errors import EW, CncError
 from ..native import (
     CLOCK_DATE,
     CLOCK_TIME,
@@ -60,12 +62,18 @@ class NativeClock(NativeLink):
 
         :raises TypeError: ``day`` is no :class:`datetime.date` (naming what was given).
         :raises CncError: EW_PROT (a read-only machine), EW_DATA (a year the CNC's calendar
-            does not have).
+            does not have, the detail naming its years, ``year 1900 is outside 1987..2037``).
         """
         if not isinstance(day, date):
             raise TypeError(f"the date must be a datetime.date, got {day!r}")
         value = ClockValue(day.year, day.month, day.day, 0, 0, 0)
-        await self._call(cnc_settimer(CLOCK_DATE, value), path, timeout)
+        try:
+            await self._call(cnc_settimer(CLOCK_DATE, value), path, timeout)
+        except CncError as exc:  # the answer carries the code: the reason the client knows
+            why = cnc_year_unfit(day.year) if exc.ew == EW.DATA else None
+            if why is None:
+                raise
+            raise CncError.from_ew(exc.ew, f"{exc.detail}: {why}") from None
 
     async def write_time(
         self, moment: time, *, path: int | None = None, timeout: float | None = None

@@ -44,6 +44,7 @@ from dataclasses import dataclass
 from datetime import datetime, timedelta
 from typing import TYPE_CHECKING, Final
 
+from focas_net._typed import cnc_year_unfit
 from focas_net.errors import EW
 
 from ._base import MachineError, need_int
@@ -118,8 +119,6 @@ SPINDLE_WATTS_PER_PERCENT: Final = 75
 SPINDLE_DIAGS: Final = frozenset(
     {400, 401, 403, 408, 410, 411, 417, 418, 425, 445, 710, 712, 1520, 1521, SPINDLE_POWER_DIAG}
 )
-#: Years the CNC's clock can be set to (FANUC's calendar).
-_YEARS: Final = (1987, 2037)
 
 #: The F signals of the state: bit of F0 (SA), F1 (AL, MA) and F4 (MREF).
 _SA: Final = 6
@@ -269,8 +268,9 @@ class SignalOperations:
         for what, value in (("year", year), ("month", month), ("day", day)):
             need_int(what, value)
         now = self._alarms.now()
-        if not _YEARS[0] <= year <= _YEARS[1]:
-            raise MachineError(EW.DATA, f"year {year} outside {_YEARS[0]}..{_YEARS[1]}")
+        why = cnc_year_unfit(year)
+        if why is not None:
+            raise MachineError(EW.DATA, why)
         try:
             wanted = now.replace(year=year, month=month, day=day)
         except (ValueError, OverflowError):
