@@ -150,3 +150,24 @@ def test_a_t_code_at_or_below_the_ignore_number_names_no_group() -> None:
     machine = machine_from_dict(data, sim_clock=clock)
     assert _changed_to(machine, clock, 5) == 0  # FANUC: an ordinary tool, no life counted
     assert (machine.tool_group(1).count, machine.tool_group(2).count) == (0, 0)
+
+
+# -- a tool offset out of range is named in the millimetres the file gives ------------------
+
+
+@pytest.mark.parametrize(
+    ("value", "shown"),
+    [("1000.0", "1000.000 mm"), ("-999.9995", None), ("-1000", "-1000.000 mm")],
+)
+def test_a_tool_offset_beyond_its_range_is_named_in_millimetres(
+    value: str, shown: str | None
+) -> None:
+    body = f"[[tools.offset]]\nnumber = 1\nradius_wear = {value}\n"
+    with pytest.raises(MachineFileError) as caught:
+        _tools_file(body)
+    message = str(caught.value)
+    if shown is None:  # a fourth decimal is named first, as typed
+        assert "has more than 3 decimals" in message
+    else:
+        assert f"tool offset 1 radius_wear: {shown} is beyond 999.999 mm" in message
+        assert "1000000" not in message

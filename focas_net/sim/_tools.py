@@ -36,6 +36,7 @@ from __future__ import annotations
 
 from collections.abc import Iterable, Mapping, MutableMapping, Sequence
 from dataclasses import dataclass, field
+from decimal import Decimal
 from typing import Final
 
 from focas_net.errors import EW
@@ -122,6 +123,9 @@ class ToolOffsets:
                     f"tool offset {number}: {name} is {owner or 'no machine'}'s offset, not "
                     f"{_KIND_WORDS[kind]}'s (kind {kind}): {', '.join(self.types)}"
                 )
+            if name != "tip" and not -MAX_OFFSET <= value <= MAX_OFFSET:  # as typed: in mm
+                mm = Decimal(value).scaleb(-3)
+                raise ValueError(f"tool offset {number} {name}: {mm} mm is beyond 999.999 mm")
             try:
                 self.write(number, self.types.index(name), value)
             except MachineError as exc:
