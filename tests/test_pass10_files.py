@@ -171,3 +171,22 @@ def test_a_tool_offset_beyond_its_range_is_named_in_millimetres(
     else:
         assert f"tool offset 1 radius_wear: {shown} is beyond 999.999 mm" in message
         assert "1000000" not in message
+
+
+# -- a second sign is PS0006 naming the word, not "no value" -------------------------------
+
+
+@pytest.mark.parametrize(
+    ("block", "shown"),
+    [("G0 X--1.", "X--1."), ("G0 X+-1.", "X+-1."), ("G1 X1. F--100", "F--100"), ("M--3", "M--3")],
+)
+def test_a_second_sign_is_ps0006_naming_the_word(block: str, shown: str) -> None:
+    engine = _run(f"O1\nN10 {block}\nM30\n")
+    assert engine.alarm is not None
+    assert engine.alarm.code == "PS0006"
+    assert f"{shown}: a value takes one sign" in str(engine.alarm)
+
+
+def test_a_sign_with_nothing_after_it_is_still_no_data() -> None:
+    engine = _run("O1\nN10 G0 X-\nM30\n")
+    assert engine.alarm is not None and engine.alarm.code == "PS0005"

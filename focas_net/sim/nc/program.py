@@ -380,6 +380,10 @@ def _shown(written: str) -> str:
     return written if len(written) <= _SHOWN else written[: _SHOWN - 3] + "..."
 
 
+#: The signs and number of a word with more than one sign (``--1.``), as written.
+_SIGNED: Final = re.compile(r"[-+]+[\d.]*")
+
+
 def _word_value(cur: Cursor, address: str) -> Word:
     start = cur.pos
     negative = cur.take("-")
@@ -409,6 +413,10 @@ def _word_value(cur: Cursor, address: str) -> Word:
             raise AlarmRaised(7, f"{written}: {held} takes no decimal point")
         value = Num(number)
         literal = not point
+    elif c and c in "+-":  # a sign after the sign: FANUC's PS0006, naming the word as written
+        signs = _SIGNED.match(cur.text, start)
+        written = f"{address}{signs.group() if signs else c}"
+        raise AlarmRaised(6, f"{written}: a value takes one sign")
     else:
         raise AlarmRaised(5, f"{address} has no value")
     if negative:
