@@ -216,6 +216,9 @@ BEYOND_THE_TABLE: dict[str, tuple[str, ...]] = {
     # TLS as a client: a CA file's context (the command line's --tls-ca, the gateway's
     # mqtt.tls_ca), PEM files told by their content, OpenSSL's words without their tags
     "focas_net._tls": ("focas_net._typed",),
+    # why a CNC refused a parameter or macro write, in words: the command line and the gateway
+    # (and parameter 1020's number, the machine's too)
+    "focas_net._refusals": ("focas_net.errors",),
     # an address typed: the host and port checks of the clients, the server's bind address,
     # the command line, the gateway's file and the dashboard's --web; a typed value shown
     # as the user typed it (the machine's refusals)
@@ -236,6 +239,7 @@ SHARED: dict[str, tuple[str, ...]] = {
         "focas_net.gateway",
     ),
     "focas_net._tls": ("focas_net.cli", "focas_net.gateway"),
+    "focas_net._refusals": ("focas_net.sim", "focas_net.cli", "focas_net.gateway"),
     "focas_net._typed": (
         "focas_net.sim",
         "focas_net.server",

@@ -15,10 +15,10 @@ from collections.abc import Callable, Mapping
 from pathlib import Path
 from typing import Final
 
+from focas_net._refusals import PARAM_GATE, READ_ONLY, item_named, macro_refusal, param_refusal
 from focas_net._typed import WRONG_PASSWORD
 from focas_net.errors import EW, CncError
 from focas_net.server.faults import fault_refusal
-from focas_net.sim import AXIS_NAME_PARAM
 from focas_net.sim.nc import ProgramError, no_program, parse_program
 
 from . import _format as fmt
@@ -32,7 +32,7 @@ Table = Mapping[int, Why]
 
 
 def _read_only(args: argparse.Namespace) -> str:
-    return "the machine is read-only (a server started with --read-only)"
+    return READ_ONLY
 
 
 def _no_control(args: argparse.Namespace) -> str:
@@ -41,8 +41,7 @@ def _no_control(args: argparse.Namespace) -> str:
 
 def _item(kind: str, args: argparse.Namespace) -> str:
     """``parameter 1420 axis 1``."""
-    number = str(args.number).partition(".")[0]
-    return f"{kind} {number}" + (f" axis {args.axis}" if getattr(args, "axis", 0) else "")
+    return item_named(kind, str(args.number).partition(".")[0], getattr(args, "axis", 0) or 0)
 
 
 def _on(args: argparse.Namespace) -> str:
@@ -58,8 +57,7 @@ def _next(args: argparse.Namespace, command: str) -> str:
 
 
 def _param_gate(args: argparse.Namespace) -> str:
-    panel = _next(args, "sim panel --mode MDI --pwe on")
-    gate = f"parameter writes need MDI mode and PWE on ({panel})"
+    gate = f"{PARAM_GATE} ({_next(args, 'sim panel --mode MDI --pwe on')})"
     if getattr(args, "protocol", "packed") == "native":
         return (
             f"{gate}; FOCAS/2 cannot send a parameter password: on a CNC that has one, write "
@@ -81,7 +79,7 @@ def _param_password(args: argparse.Namespace, exc: CncError) -> str | None:
             "written; focas-net unlock PASSWORD tries one)"
         )
     return (
-        "the --password was accepted; parameter writes need MDI mode and PWE on too "
+        f"the --password was accepted; {PARAM_GATE} too "
         f"({_next(args, 'sim panel --mode MDI --pwe on')})"
     )
 
@@ -91,31 +89,22 @@ def _param_length(args: argparse.Namespace, exc: CncError) -> str | None:
     client sent, the width of the parameter's own information."""
     if getattr(args, "width", None) is not None:
         return None
-    what = f"the CNC refused the value of {_item('parameter', args)} at the width it gave"
-    if getattr(args, "protocol", "packed") == "native":
-        return (
-            f"{what}: FOCAS/2 at a 16i-class CNC gives a real parameter as a bit parameter and "
-            "cannot write it (write it with --protocol packed, or at the CNC)"
-        )
-    return what
+    return _param_refusal(args, EW.LENGTH)
 
 
-def _param_range(args: argparse.Namespace) -> str:
-    bit = str(args.number).partition(".")[2]
-    if bit:  # a bit written by read-modify-write: the value it makes is out of range
-        return (
-            f"the CNC refused {_item('parameter', args)} with bit {bit} set to {args.value}: "
-            f"the value that makes is outside the parameter's range"
-        )
-    what = f"the CNC refused {args.value} for {_item('parameter', args)}: outside its range"
-    if "." in str(args.value):
-        what += ", or more decimals than the parameter keeps"
-    if str(args.number).partition(".")[0].strip() == str(AXIS_NAME_PARAM):
-        what += (
-            ", or a letter other than the axis's own (a focas-net machine's axes are fixed "
-            "when it is built; a control takes a new name at its next power-on)"
-        )
-    return what
+def _param_refusal(args: argparse.Namespace, ew: int) -> str:
+    """The words of the machine's refusal ``ew`` of ``param set`` as typed."""
+    number, _, bit = str(args.number).partition(".")
+    why = param_refusal(
+        ew,
+        number.strip(),
+        args.value,
+        axis=getattr(args, "axis", 0) or 0,
+        bit=bit,
+        protocol=getattr(args, "protocol", "packed"),
+    )
+    assert why is not None
+    return why
 
 
 #: ``param get``'s: a read has no value, no write gate and no ``--width`` to blame.
@@ -125,7 +114,7 @@ _PARAM_READ: Final[Table] = {
 _PARAM: Final[Table] = {
     **_PARAM_READ,
     EW.PASSWD: _param_gate,
-    EW.DATA: _param_range,
+    EW.DATA: lambda a: _param_refusal(a, EW.DATA),
     EW.PROT: _read_only,
     EW.LENGTH: lambda a: (
         f"parameter {a.number} is not {a.width} bytes wide: leave out --width (the CNC's "
@@ -134,14 +123,21 @@ _PARAM: Final[Table] = {
 }
 _DIAG: Final[Table] = {EW.NUMBER: lambda a: f"the CNC has no {_item('diagnostic', a)}"}
 #: ``macro get``'s (``cnc_rdmacro``: no value to name, and no simulator control command).
-_MACRO_READ: Final[Table] = {
-    EW.NUMBER: lambda a: f"the CNC has no macro variable #{a.number}",
-}
+_MACRO_READ: Final[Table] = {EW.NUMBER: lambda a: _macro_refusal(a, EW.NUMBER)}
 _MACRO: Final[Table] = {
     **_MACRO_READ,
-    EW.PROT: lambda a: f"#{a.number} is a read-only variable, or the machine is read-only",
-    EW.DATA: lambda a: f"#{a.number} cannot hold {a.value}",
+    EW.PROT: lambda a: _macro_refusal(a, EW.PROT),
+    EW.DATA: lambda a: _macro_refusal(a, EW.DATA),
 }
+
+
+def _macro_refusal(args: argparse.Namespace, ew: int) -> str:
+    """The words of the machine's refusal ``ew`` of ``macro get``, ``set`` or ``clear``."""
+    why = macro_refusal(ew, args.number, getattr(args, "value", None))
+    assert why is not None
+    return why
+
+
 #: ``macro clear``'s: ``sim_vacate_macro`` is a simulator control command.
 _MACRO_CLEAR: Final[Table] = {
     **_MACRO_READ,

@@ -6,15 +6,22 @@ A write is first held against the machine's :class:`~focas_net.gateway.config.Wr
 ``PermissionError`` naming the machine, the gate and the value asked, and nothing is sent.
 Then it is the client's write, with the client's checks of the values and the CNC's refusals
 (:class:`~focas_net.errors.CncError` for an EW code, a connection error for a lost machine).
+A refusal of the CNC carries its reason after the code, in the command line's words
+(:mod:`focas_net._refusals`): ``EW_DATA (5): data error: cnc_wrparam; the CNC refused
+1000000000 for parameter 6711: outside its range``.
 """
 
 from __future__ import annotations
 
-from collections.abc import Callable
+from collections.abc import Awaitable, Callable
 from decimal import Decimal
+from functools import partial
+from typing import Final
 
+from focas_net._refusals import PARAM_GATE, macro_refusal, param_refusal
 from focas_net.client import FocasClient, NativeClient
 from focas_net.client._values import check_int
+from focas_net.errors import CncError
 from focas_net.protocol import PmcArea
 
 from .config import MachineConfig
@@ -40,7 +47,8 @@ class GatedWriter:
         """``cnc_wrmacro`` of ``#number`` on ``path``, if ``writes.macros`` allows it."""
         config, client = self._machine(machine)
         _gate(machine, "macros", config.writes.macros, number, f"#{number}", "macro variables")
-        await client.write_macro(number, value, path=path)
+        why = partial(macro_refusal, number=number, value=value)
+        await _said(client.write_macro(number, value, path=path), why)
 
     async def write_param(self, machine: str, number: int, value: int, axis: int) -> None:
         """``cnc_wrparam`` of parameter ``number`` (``axis`` 0: not an axis parameter), if
@@ -48,7 +56,10 @@ class GatedWriter:
         config, client = self._machine(machine)
         shown = f"parameter {number}"
         _gate(machine, "params", config.writes.params, number, shown, "parameters")
-        await client.write_param(number, value, axis=axis)
+        why = partial(
+            param_refusal, number=number, value=value, axis=axis, protocol=config.protocol
+        )
+        await _said(client.write_param(number, value, axis=axis), why)
 
     async def write_pmc(self, machine: str, area: str, address: int, value: int) -> None:
         """``pmc_wrpmcrng`` of one byte, if ``writes.pmc`` allows ``area`` ``address``."""
@@ -63,6 +74,25 @@ class GatedWriter:
             )
         byte = check_int("PMC byte value", value, 0, 0xFF)
         await client.write_pmc(letter, address, bytes([byte]))
+
+
+#: EW_PASSWD of a parameter write: the gate, and that the gateway cannot unlock a password.
+_PARAM_GATE: Final = (
+    f"{PARAM_GATE} at the CNC; the gateway sends no parameter password (a CNC that has one "
+    "takes no parameter write from it)"
+)
+
+
+async def _said(write: Awaitable[None], why: Callable[[int], str | None]) -> None:
+    """``write``; a refusal of the CNC again with ``why(ew)``, its reason, after the code."""
+    try:
+        await write
+    except CncError as exc:
+        said = why(exc.ew)
+        said = _PARAM_GATE if said == PARAM_GATE else said
+        if said is None:
+            raise
+        raise CncError.from_ew(exc.ew, f"{exc.detail}; {said}" if exc.detail else said) from exc
 
 
 def _gate(

@@ -22,6 +22,7 @@ from collections.abc import Iterable, Mapping, Sequence
 from dataclasses import dataclass
 from typing import Final
 
+from focas_net._refusals import AXIS_NAME_PARAM  # (FANUC's 1020, each axis's letter)
 from focas_net.errors import EW
 
 from ._base import MachineError
@@ -42,8 +43,6 @@ __all__ = [
     "with_known_ranges",
 ]
 
-#: FANUC's parameter of each axis's program name: the axis's letter as a character code.
-AXIS_NAME_PARAM: Final = 1020
 #: Why a write of 1020 that renames an axis is refused (after :func:`axis_letter_problem`).
 RENAME_REFUSED: Final = (
     ": the machine's axes are fixed when it is built (a control takes a new name at its "

@@ -1,0 +1,105 @@
+"""Why a CNC refused a parameter or a macro write, in words, from what the write named: the
+reasons the command line (``cli/_reasons.py``, which adds what to type next) and the gateway's
+write methods (``gateway/writer.py``) both give.
+
+The wire carries a refusal's EW code only; the reason stays in the machine. What the write
+knows, the item, the value sent and the code, is enough to say it. A code these words do not
+cover gets None (the front end says the code alone).
+"""
+
+from __future__ import annotations
+
+from typing import Final
+
+from focas_net.errors import EW
+
+__all__ = [
+    "AXIS_NAME_PARAM",
+    "PARAM_GATE",
+    "READ_ONLY",
+    "item_named",
+    "macro_refusal",
+    "param_refusal",
+]
+
+#: Parameter 1020, each axis's name (FANUC's number): the machine reads it, the reasons name it.
+AXIS_NAME_PARAM: Final = 1020
+#: EW_PROT of a write no setting of the CNC refuses: the server was started read-only.
+READ_ONLY: Final = "the machine is read-only (a server started with --read-only)"
+#: EW_PASSWD of a parameter write: FANUC's write gate (the setting screen's PWE, in MDI mode).
+PARAM_GATE: Final = "parameter writes need MDI mode and PWE on"
+
+
+def item_named(kind: str, number: int | str, axis: int = 0) -> str:
+    """``parameter 1420 axis 1`` (``axis`` 0: an item of no axis)."""
+    return f"{kind} {number}" + (f" axis {axis}" if axis else "")
+
+
+def _param_range(number: int | str, value: object, axis: int, bit: str) -> str:
+    what = item_named("parameter", number, axis)
+    if bit:  # a bit written by read-modify-write: the value it makes is out of range
+        return (
+            f"the CNC refused {what} with bit {bit} set to {value}: the value that makes is "
+            "outside the parameter's range"
+        )
+    said = f"the CNC refused {value} for {what}: outside its range"
+    if "." in str(value):
+        said += ", or more decimals than the parameter keeps"
+    if str(number).strip() == str(AXIS_NAME_PARAM):
+        said += (
+            ", or a letter other than the axis's own (a focas-net machine's axes are fixed "
+            "when it is built; a control takes a new name at its next power-on)"
+        )
+    return said
+
+
+def _param_width(number: int | str, axis: int, protocol: str) -> str:
+    """EW_LENGTH of a write at the width of the parameter's own information."""
+    said = (
+        f"the CNC refused the value of {item_named('parameter', number, axis)} at the width it gave"
+    )
+    if protocol == "native":
+        said += (
+            ": FOCAS/2 at a 16i-class CNC gives a real parameter as a bit parameter and "
+            "cannot write it (write it with --protocol packed, or at the CNC)"
+        )
+    return said
+
+
+def param_refusal(
+    ew: int,
+    number: int | str,
+    value: object,
+    *,
+    axis: int = 0,
+    bit: str = "",
+    protocol: str = "packed",
+) -> str | None:
+    """Why the CNC answered ``ew`` to ``cnc_wrparam`` of ``value`` (as typed or sent) for
+    parameter ``number`` (``axis`` 0: no axis; ``bit``: the bit written, by
+    read-modify-write, as typed), at the width of the parameter's own information, through
+    ``protocol``; None for a code these words do not cover. EW_PASSWD is the CNC's gate
+    (:data:`PARAM_GATE`); what unlocks it is the front end's to add."""
+    if ew == EW.NUMBER:
+        return f"the CNC has no {item_named('parameter', number, axis)}"
+    if ew == EW.PASSWD:
+        return PARAM_GATE
+    if ew == EW.DATA:
+        return _param_range(number, value, axis, bit)
+    if ew == EW.PROT:
+        return READ_ONLY
+    if ew == EW.LENGTH:
+        return _param_width(number, axis, protocol)
+    return None
+
+
+def macro_refusal(ew: int, number: int | str, value: object = None) -> str | None:
+    """Why the CNC answered ``ew`` to ``cnc_wrmacro`` of ``value`` (None: a read or a
+    vacating) for ``#number``; None for a code these words do not cover."""
+    if ew == EW.NUMBER:
+        return f"the CNC has no macro variable #{number}"
+    if ew == EW.PROT:
+        return f"#{number} is a read-only variable, or the machine is read-only"
+    if ew == EW.DATA and value is not None:
+        return f"#{number} cannot hold {value}"
+    return None

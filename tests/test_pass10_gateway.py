@@ -1,0 +1,82 @@
+"""Pass 10 of the gateway and of the labels every front end shares: a write the CNC refuses
+is logged with its reason, in the command line's words; a shard with no machine names the
+file; a machine's availability tells its current loss, not its first."""
+
+from __future__ import annotations
+
+from argparse import Namespace
+from decimal import Decimal
+from typing import Literal
+
+import pytest
+from support import serving
+
+from focas_net.cli._reasons import reason
+from focas_net.client import FocasClient, NativeClient
+from focas_net.errors import CncError
+from focas_net.gateway import MachineConfig, WriteGates
+from focas_net.gateway._opcua_methods import refusal
+from focas_net.gateway.writer import GatedWriter
+from focas_net.sim import default_machine
+
+ALL = WriteGates(macros=((0, 99999),), params=((0, 99999),))
+
+
+# -- a refused write says why, in the command line's words ------------------------------------
+@pytest.mark.parametrize(
+    ("write", "why"),
+    [
+        (("param", 6711, 1_000_000_000, 0), "the CNC refused 1000000000 for parameter 6711: "
+         "outside its range"),
+        (("param", 9999, 1, 0), "the CNC has no parameter 9999"),
+        (("param", 1020, 90, 1), "the CNC refused 90 for parameter 1020 axis 1: outside its "
+         "range, or a letter other than the axis's own"),
+        (("macro", 5001, 1, 1), "#5001 is a read-only variable, or the machine is read-only"),
+        (("macro", 20000, 1, 1), "the CNC has no macro variable #20000"),
+    ],
+)  # fmt: skip
+@pytest.mark.parametrize("protocol", ["packed", "native"])
+async def test_a_write_the_cnc_refuses_is_logged_with_the_reason_the_cli_gives(
+    write: tuple[str, int, int, int],
+    why: str,
+    protocol: Literal["native", "packed"],
+) -> None:
+    kind, number, value, where = write
+    machine = default_machine()
+    machine.set_panel("MDI", pwe=1)
+    async with serving(machine) as served:
+        kind_of = FocasClient if protocol == "packed" else NativeClient
+        async with kind_of("127.0.0.1", served.port) as client:
+            config = MachineConfig("m1", "127.0.0.1", served.port, protocol, writes=ALL)
+            writer = GatedWriter(lambda name: (config, client))
+            with pytest.raises(Exception) as refused:
+                if kind == "param":
+                    await writer.write_param("m1", number, value, where)
+                else:
+                    await writer.write_macro("m1", number, Decimal(value), where)
+    exc = refused.value
+    assert isinstance(exc, CncError) and why in str(exc), exc
+    assert refusal(exc).is_bad()
+    command, args = (
+        ("param set", Namespace(number=str(number), value=str(value), axis=where))
+        if kind == "param"
+        else ("macro set", Namespace(number=number, value=str(value), path=where))
+    )
+    assert why in (reason(command, args, CncError(exc.ew)) or "")
+
+
+@pytest.mark.parametrize("protocol", ["packed", "native"])
+async def test_a_parameter_write_outside_mdi_names_the_gate_and_the_missing_password(
+    protocol: Literal["native", "packed"],
+) -> None:
+    async with serving(default_machine()) as served:
+        kind_of = FocasClient if protocol == "packed" else NativeClient
+        async with kind_of("127.0.0.1", served.port) as client:
+            config = MachineConfig("m1", "127.0.0.1", served.port, protocol, writes=ALL)
+            with pytest.raises(CncError) as refused:
+                await GatedWriter(lambda name: (config, client)).write_param("m1", 6711, 5, 0)
+    assert str(refused.value) == (
+        "EW_PASSWD (17): protection / password error: cnc_wrparam; parameter writes need MDI "
+        "mode and PWE on at the CNC; the gateway sends no parameter password (a CNC that has "
+        "one takes no parameter write from it)"
+    )
