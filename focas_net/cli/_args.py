@@ -71,6 +71,7 @@ __all__ = [
     "choice",
     "command_parser",
     "parse_area",
+    "parse_at_least",
     "parse_bounded",
     "parse_file_name",
     "parse_history_depth",
@@ -282,28 +283,38 @@ def parse_port(text: str, *, lowest: int = 1) -> int:
     return value
 
 
-def parse_positive(text: str) -> int:
-    """An integer of at least 1."""
+def parse_at_least(text: str, low: int) -> int:
+    """An integer of at least ``low``; its refusal names the number as typed (``0x0``)."""
     value = fmt.parse_int(text)
-    if value < 1:
-        raise ValueError(f"must be at least 1, got {value}")
+    if value < low:
+        rule = "must not be negative" if low == 0 else f"must be at least {low}"
+        raise ValueError(f"{rule}, got {text.strip()}")
     return value
 
 
+def parse_positive(text: str) -> int:
+    """An integer of at least 1."""
+    return parse_at_least(text, 1)
+
+
 def parse_bounded(text: str, *, low: int, high: int) -> int:
-    """An integer within ``low..high``."""
+    """An integer within ``low..high``; its refusal names the number as typed."""
     value = fmt.parse_int(text)
     if not low <= value <= high:
-        raise ValueError(f"must be {low}..{high}, got {value}")
+        raise ValueError(f"must be {low}..{high}, got {text.strip()}")
     return value
 
 
 def parse_non_negative(text: str) -> int:
     """An integer of at least 0."""
-    value = fmt.parse_int(text)
-    if value < 0:
-        raise ValueError(f"must not be negative, got {value}")
-    return value
+    return parse_at_least(text, 0)
+
+
+def _as_typed(why: str, value: int, text: str) -> str:
+    """A refusal in the machine's words, which name the ``value`` checked, led by the number
+    as typed where it reads otherwise (``0x100 reads as 256: ...``)."""
+    typed = text.strip()
+    return why if typed == str(value) else f"{typed} reads as {value}: {why}"
 
 
 def parse_item_axis(what: str, text: str) -> int:
@@ -313,7 +324,7 @@ def parse_item_axis(what: str, text: str) -> int:
     value = fmt.parse_int(text)
     why = item_axis_unfit(value, what)
     if why is not None:
-        raise ValueError(why)
+        raise ValueError(_as_typed(why, value, text))
     return value
 
 
@@ -325,7 +336,7 @@ def parse_override(what: str, text: str) -> int:
     value = rapid_step(text) if what == "rapid" else fmt.parse_int(text)
     why = override_unfit(what, value)
     if why is not None:
-        raise ValueError(why)
+        raise ValueError(_as_typed(why, value, text))
     return value
 
 
@@ -400,7 +411,11 @@ def parse_path(text: str) -> int:
 def parse_history_depth(text: str) -> int:
     """How many alarm history entries to read: 1 or more, more than 250 read as 250, by the
     rule of both clients (:func:`~focas_net.client._values.history_depth`)."""
-    return history_depth(_whole(text, "history depth"))
+    value = _whole(text, "history depth")
+    try:
+        return history_depth(value)
+    except ValueError as exc:
+        raise ValueError(_as_typed(str(exc), value, text)) from None
 
 
 def parse_area(text: str) -> PmcArea:

@@ -60,6 +60,7 @@ from ._args import (
     PROG,
     argument_type,
     command_parser,
+    parse_at_least,
     parse_bounded,
     pem_holds,
     print_error,
@@ -136,10 +137,12 @@ _FLEET: Final = argument_type(partial(parse_bounded, low=1, high=MAX_FLEET), "co
 _WORKERS: Final = argument_type(partial(parse_bounded, low=1, high=MAX_WORKERS), "count")
 
 
+#: ``--max-frame`` at its shortest, 4 bytes: a frame's length field alone.
+_FRAME_BYTES: Final = argument_type(partial(parse_at_least, low=4), "count")
+
+
 def _max_frame(text: str) -> int:
-    value = POSITIVE(text)
-    if value < 4:
-        raise argparse.ArgumentTypeError(f"must be at least 4, got {value}")
+    value = _FRAME_BYTES(text)
     if value >= NATIVE_MAGIC_LENGTH:
         # A native FOCAS/2 frame opens with A0 A0 A0 A0: as a packed length that is 0xA0A0A0A0,
         # which must stay a violation for both protocols to share a port.

@@ -1,0 +1,64 @@
+"""A new user's tenth pass over the command line: every number-range refusal naming the
+number as it was typed (``0x0``, ``0b0``), not the value it was read as.
+
+Each test runs ``focas-net`` as a user does (a subprocess) and checks its one line and its
+exit code.
+"""
+
+from __future__ import annotations
+
+import pytest
+from cli_support import fails
+
+from focas_net.cli import EXIT_USAGE
+
+# -- a refused number named as typed ------------------------------------------------------------
+
+
+@pytest.mark.parametrize(
+    ("argv", "said"),
+    [
+        (("serve", "--fleet", "0x0"), "argument --fleet: must be 1..10000, got 0x0"),
+        (("serve", "--workers", "0b0"), "argument --workers: must be 1..64, got 0b0"),
+        (
+            ("serve", "--max-connections", "0x0"),
+            "argument --max-connections: must be at least 1, got 0x0",
+        ),
+        (("serve", "--seed", "-0x1"), "argument --seed: must not be negative, got -0x1"),
+        (("serve", "--max-frame", "0"), "argument --max-frame: must be at least 4, got 0"),
+        (("serve", "--max-frame", "0x2"), "argument --max-frame: must be at least 4, got 0x2"),
+        (("watch", "--count", "0o0"), "argument --count: must be at least 1, got 0o0"),
+        (("versamax", "0x8", "0"), "argument RACK: must be 0..7, got 0x8"),
+    ],
+)
+async def test_a_range_refusal_names_the_number_as_typed(argv: tuple[str, ...], said: str) -> None:
+    """``serve --fleet 0x0`` said ``got 0`` (the value read), which the user never typed:
+    every range refusal names the text typed."""
+    line = await fails(EXIT_USAGE, *argv, prefix="focas-net")
+    assert f"{said}; see" in line, line
+
+
+@pytest.mark.parametrize(
+    ("argv", "said"),
+    [
+        (
+            ("sim", "override", "--feed", "0x100"),
+            "argument --feed: 0x100 reads as 256: feed override 256 outside 0..254 %",
+        ),
+        (
+            ("alarms", "--history", "-0x1"),
+            "argument --history: -0x1 reads as -1: history depth -1 is below 1",
+        ),
+        (
+            ("param", "get", "1", "--axis", "0x8000"),
+            "argument --axis: 0x8000 reads as 32768: axis 32768 is outside 0..32767",
+        ),
+    ],
+)
+async def test_a_machine_rule_names_the_value_and_the_text_typed(
+    argv: tuple[str, ...], said: str
+) -> None:
+    """A refusal in the machine's words (an override, an item's axis) names the value it
+    checked, and the text typed where the two differ."""
+    line = await fails(EXIT_USAGE, *argv, prefix="focas-net")
+    assert said in line, line
