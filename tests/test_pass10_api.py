@@ -6,6 +6,7 @@ taken in either case and refused by kind."""
 from __future__ import annotations
 
 from datetime import date
+from decimal import Decimal
 from pathlib import Path
 from typing import Any
 
@@ -157,3 +158,21 @@ async def test_a_date_outside_the_cnc_calendar_names_its_years(
     with pytest.raises(MachineError) as by_machine:
         machine.set_cnc_date(year, 1, 1)
     assert by_machine.value.detail == f"year {year} is outside 1987..2037"
+
+
+# -- a value no parameter type carries: refused in the words of the parameter's own type ----------
+@pytest.mark.parametrize("value", ["100.123456789", Decimal("0.0000000001"), "99999999999.5"])
+async def test_a_value_of_no_type_is_refused_alike_on_both_transports(
+    both_clients: tuple[Machine, FocasClient, NativeClient], value: str | Decimal
+) -> None:
+    machine, cnc, native = both_clients
+    machine.set_panel(0, True)  # MDI, PWE on: the value is what is refused
+    before = machine.read_param(1320, 1)
+    words = []
+    for client in (cnc, native):
+        with pytest.raises(ValueError) as refused:
+            await client.write_param(1320, value, axis=1)
+        words.append(str(refused.value))
+    assert words[0] == words[1]
+    assert words[0].startswith("parameter 1320 is not a real parameter: ")
+    assert machine.read_param(1320, 1) == before

@@ -19,7 +19,6 @@ from typing import Any, Final, TypeVar
 
 from focas_net.errors import EW, CncError, PayloadError, ProtocolError
 
-from .._typed import decimal_text
 from ..native import (
     CommandSet,
     DiagType,
@@ -303,7 +302,8 @@ class NativeItems(NativeLink):
         path: int,
     ) -> None:
         # both readings of the value, before anything is sent: one is refused only if the
-        # parameter's type turns out to be the one it does not fit
+        # parameter's type turns out to be the one it does not fit (a value neither reading
+        # takes too, in the words of that type, as the packed client refuses it)
         as_int: int | ValueError
         as_real: tuple[int, int] | ValueError
         try:
@@ -314,12 +314,6 @@ class NativeItems(NativeLink):
             as_real = real_to_wire(number, value)
         except ValueError as exc:
             as_real = exc
-        if isinstance(as_int, ValueError) and isinstance(as_real, ValueError):
-            shown = decimal_text(value) if isinstance(value, Decimal) else repr(value)
-            raise ValueError(
-                f"parameter {number}: {shown} is not a value of any parameter type (an "
-                "integer, or a real value within an i32 mantissa and 0..9 decimals)"
-            )
         handle = self._handle_now() or await self._handle_for(deadline)
         self._check_axis_of(handle, axis, "cnc_wrparam", path)
         ptype, size = await self._param_info(handle, number, deadline, path)
