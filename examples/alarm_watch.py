@@ -16,6 +16,7 @@ from __future__ import annotations
 
 import argparse
 import asyncio
+import math
 import sys
 
 from focas_net.client import (
@@ -140,8 +141,8 @@ def main() -> int:
         help="packed (default) or native: FOCAS/2 Ethernet, as a real control speaks it",
     )
     args = parser.parse_args()
-    if args.events < 1 or args.interval <= 0 or args.seconds <= 0:
-        parser.error("--events, --interval and --seconds must be positive")
+    if args.events < 1 or not 0 < args.interval < math.inf or not 0 < args.seconds < math.inf:
+        parser.error("--events, --interval and --seconds must be positive and finite")
     try:
         return asyncio.run(watch(args))
     except KeyboardInterrupt:  # Ctrl-C: exit 130, as the command line, no traceback

@@ -21,6 +21,7 @@ from __future__ import annotations
 import argparse
 import asyncio
 import contextlib
+import math
 import sys
 import time
 from collections.abc import AsyncIterator
@@ -219,6 +220,8 @@ def main() -> int:
     args = parser.parse_args()
     if args.rounds < 1 or args.machines < 1 or args.simulate < 1:
         parser.error("--rounds, --machines and --simulate must be at least 1")
+    if not 0 <= args.interval < math.inf:  # (NaN too)
+        parser.error("--interval must be a finite number of seconds, 0 or more")
     try:
         return asyncio.run(run(args))
     except KeyboardInterrupt:  # Ctrl-C: exit 130, as the command line, no traceback

@@ -6,6 +6,7 @@ from __future__ import annotations
 import tomllib
 
 import pytest
+from examples_support import run_example
 
 from focas_net.sim import (
     LifeTool,
@@ -190,3 +191,24 @@ def test_a_second_sign_is_ps0006_naming_the_word(block: str, shown: str) -> None
 def test_a_sign_with_nothing_after_it_is_still_no_data() -> None:
     engine = _run("O1\nN10 G0 X-\nM30\n")
     assert engine.alarm is not None and engine.alarm.code == "PS0005"
+
+
+# -- the examples refuse a NaN, infinite or negative number of seconds ----------------------
+
+
+@pytest.mark.parametrize(
+    ("name", "args", "words"),
+    [
+        ("alarm_watch.py", ["--seconds", "nan"], "must be positive and finite"),
+        ("alarm_watch.py", ["--interval", "inf"], "must be positive and finite"),
+        ("fleet_poll.py", ["--interval", "-1"], "--interval must be a finite number of seconds"),
+        ("fleet_poll.py", ["--interval", "nan"], "--interval must be a finite number of seconds"),
+    ],
+)
+async def test_an_example_refuses_seconds_that_are_no_time(
+    name: str, args: list[str], words: str
+) -> None:
+    code, out, err = await run_example(name, "--port", "1", *args)
+    assert code == 2
+    assert out == ""
+    assert words in err and "Traceback" not in err
