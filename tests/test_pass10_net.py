@@ -7,6 +7,9 @@ Servers here bind 127.0.0.1 on ephemeral ports.
 
 from __future__ import annotations
 
+import asyncio
+import logging
+
 import pytest
 from support import IO_TIMEOUT, serving
 
@@ -73,3 +76,47 @@ async def test_a_write_of_a_parameter_the_cnc_lacks_is_its_ew_number_whatever_th
         with pytest.raises(CncError) as caught:
             await client.write_param(9999, value, width=width)
         assert (caught.value.ew, caught.value.detail) == (EW.NUMBER, "cnc_wrparam")
+
+
+# -- a TLS or HTTP client on a plain port ------------------------------------------------------
+
+
+@pytest.mark.parametrize(
+    ("sent", "why"),
+    [
+        (
+            b"\x16\x03\x01\x00\xa5\x01\x00\x00\xa1\x03\x03",
+            "frame length 66326 outside 4..65536; it sent a TLS record: a TLS client, on a "
+            "port that does not serve TLS",
+        ),
+        (
+            b"GET / HTTP/1.1\r\nHost: cnc\r\n\r\n",
+            "frame length 542393671 outside 4..65536; it sent an HTTP request (GET): an HTTP "
+            "client, on a port that serves FOCAS",
+        ),
+        (
+            b"PRI * HTTP/2.0\r\n\r\nSM\r\n\r\n",
+            "frame length 541676112 outside 4..65536; it sent an HTTP request (PRI): an HTTP "
+            "client, on a port that serves FOCAS",
+        ),
+        # other bytes are not shown (a chunk could hold part of an unlock's password)
+        (b"SSH-2.0-OpenSSH_9.6\r\n", "frame length 759714643 outside 4..65536"),
+        (b"GETX / HTTP/1.1\r\n\r\n", "frame length 1481917767 outside 4..65536"),
+    ],
+)
+async def test_a_tls_or_http_client_on_a_plain_port_is_named_in_the_servers_log(
+    sent: bytes, why: str, caplog: pytest.LogCaptureFixture
+) -> None:
+    """The packed side logged only `frame length 66326 outside 4..65536`, where the client
+    names a TLS record it meets."""
+    async with serving() as s:
+        reader, writer = await asyncio.open_connection(s.host, s.port)
+        local = writer.get_extra_info("sockname")[1]
+        with caplog.at_level(logging.WARNING, logger="focas_net.server"):
+            writer.write(sent)
+            assert await asyncio.wait_for(reader.read(), IO_TIMEOUT) == b""
+        writer.close()
+    (record,) = [r for r in caplog.records if r.levelno == logging.WARNING]
+    assert record.getMessage() == (
+        f"focas-sim-0i: closing the connection from 127.0.0.1:{local}: {why}"
+    )

@@ -34,7 +34,7 @@ from focas_net.errors import (
     ProtocolError,
 )
 from focas_net.protocol.codecs import COMMANDS
-from focas_net.protocol.frame import DEFAULT_MAX_FRAME
+from focas_net.protocol.frame import DEFAULT_MAX_FRAME, is_tls_record
 
 __all__ = [
     "BEFORE_ANY_ANSWER",
@@ -55,10 +55,6 @@ __all__ = [
     "undecodable_error",
     "violation_error",
 ]
-
-#: The first byte of a TLS record (change_cipher_spec, alert, handshake, application_data),
-#: which a TLS peer sends where a frame's length should be; its second byte is 3 (TLS 1.x).
-_TLS_RECORD_TYPES: Final = frozenset({0x14, 0x15, 0x16, 0x17})
 
 #: What a connection that ended says when the peer never sent a byte on it.
 BEFORE_ANY_ANSWER: Final = "before any answer"
@@ -136,7 +132,7 @@ def violation_error(
             f"max_frame={max_frame} takes (a FOCAS answer may be up to "
             f"{DEFAULT_MAX_FRAME} bytes: give a larger max_frame)"
         )
-    if len(head) >= 2 and head[0] in _TLS_RECORD_TYPES and head[1] == 3:
+    if is_tls_record(head):
         what = "it sent a TLS record: the server expects TLS"
     else:
         what = f"it sent {bytes_text(head[:8])}"

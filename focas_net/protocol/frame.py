@@ -25,6 +25,8 @@ __all__ = [
     "FrameDecoder",
     "RawFrame",
     "encode_frame",
+    "foreign_client",
+    "is_tls_record",
     "scan_frames",
 ]
 
@@ -166,3 +168,30 @@ class FrameDecoder:
         if end:
             del buf[:end]
         return frames
+
+
+#: The first byte of a TLS record (change_cipher_spec, alert, handshake, application_data),
+#: which a TLS peer sends where a frame's length should be; its second byte is 3 (TLS 1.x).
+_TLS_RECORD_TYPES: Final = frozenset({0x14, 0x15, 0x16, 0x17})
+#: The methods an HTTP request starts with (``PRI``: HTTP/2's connection preface).
+_HTTP_METHODS: Final = frozenset(
+    {"GET", "HEAD", "POST", "PUT", "DELETE", "CONNECT", "OPTIONS", "TRACE", "PATCH", "PRI"}
+)
+
+
+def is_tls_record(head: bytes | memoryview) -> bool:
+    """Whether ``head``, the first bytes a peer sent, start a TLS record."""
+    return len(head) >= 2 and head[0] in _TLS_RECORD_TYPES and head[1] == 3
+
+
+def foreign_client(head: bytes | memoryview) -> str | None:
+    """What a client of another protocol whose first bytes are ``head`` is, in words (a TLS
+    client, an HTTP one naming its method), or None: the hint of a server's log. No other
+    byte is shown (a chunk could hold part of an unlock request's password)."""
+    if is_tls_record(head):
+        return "it sent a TLS record: a TLS client, on a port that does not serve TLS"
+    method, space, _ = bytes(head[:8]).partition(b" ")
+    name = method.decode("ascii", "replace")
+    if space and name in _HTTP_METHODS:
+        return f"it sent an HTTP request ({name}): an HTTP client, on a port that serves FOCAS"
+    return None

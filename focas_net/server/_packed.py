@@ -33,6 +33,7 @@ from focas_net.protocol import (
     encode_ew,
     scan_frames,
 )
+from focas_net.protocol.frame import foreign_client
 
 from ._base import SLICE, BaseConnection, CloseCallback, Limits
 from .faults import FaultKind, FaultQueue, FaultScope, parse_inject, parse_scope
@@ -293,6 +294,10 @@ class PackedConnection(BaseConnection[RawFrame]):
 
     def _framing_violation(self, exc: FrameError, data: bytes | memoryview) -> None:
         why = str(exc).removesuffix("; closing the connection")
+        if not exc.frames:  # (a client of another protocol fails at its first bytes)
+            hint = foreign_client(data)
+            if hint is not None:
+                why = f"{why}; {hint}"
         _log.warning("%s: closing the connection from %s: %s", self._label, self.peer_text, why)
         if _log.isEnabledFor(_DEBUG):
             # Whole frames only: raw bytes could hold part of an unlock request's password.
