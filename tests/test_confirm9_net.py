@@ -196,7 +196,11 @@ async def test_a_chunked_read_left_unanswered_names_the_chunk_that_was_sent() ->
     ("sent", "why"),
     [
         (struct.pack("<I", 0), "frame length 0 outside 4..65536"),
-        (b"\x16\x03\x01\x00\x05hello", "frame length 66326 outside 4..65536"),
+        (
+            b"\x16\x03\x01\x00\x05hello",
+            "frame length 66326 outside 4..65536; it sent a TLS record: a TLS client, on a port "
+            "that does not serve TLS",
+        ),
         (
             b"\xa0\xa0\xa0\xa0\x00\x01\x01\x01\x00\x03\x00\x01\x00",
             "open request body: 3 bytes, expected 2",
