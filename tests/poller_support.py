@@ -1,5 +1,6 @@
 """Helpers of the poller's tests: a sink that records, a machine's configuration on 127.0.0.1,
-a poller stepped by hand on a ManualClock until a condition holds (a bounded number of turns)."""
+a poller stepped by hand on a ManualClock until a condition holds (a bounded number of turns),
+peers that never answer or answer garbage."""
 
 from __future__ import annotations
 
@@ -9,6 +10,7 @@ from contextlib import asynccontextmanager
 from typing import Literal
 
 import pytest
+from support import LoopbackPeer
 
 from focas_net.client import ReconnectPolicy
 from focas_net.gateway import AlarmChange, GroupIntervals, MachineConfig, MachineShape, Sample
@@ -82,3 +84,32 @@ async def until(
 
 def all_online(poller: Poller) -> Callable[[], bool]:
     return lambda: all(poller.is_online(m) for m in poller.machines)
+
+
+class Silent(LoopbackPeer):
+    """A peer that accepts TCP and never answers (a hung control); ``asked`` counts the
+    connections and the requests it got."""
+
+    def __init__(self) -> None:
+        self.asked = 0
+
+    async def _serve(self, reader: asyncio.StreamReader, writer: asyncio.StreamWriter) -> None:
+        self.asked += 1
+        while await reader.read(4096):  # until the client gives up
+            self.asked += 1
+        writer.close()
+
+
+class Garbage(Silent):
+    """A peer that answers every request with bytes of no protocol."""
+
+    async def _serve(self, reader: asyncio.StreamReader, writer: asyncio.StreamWriter) -> None:
+        self.asked += 1
+        while await reader.read(4096):
+            self.asked += 1
+            writer.write(b"\xff\x00garbage\x00\x00\x00\x08" * 4)
+        writer.close()
+
+
+#: Attempts 5 s apart on the poller's clock.
+SLOW = ReconnectPolicy(initial_delay=5.0, max_delay=5.0, jitter=0.0)

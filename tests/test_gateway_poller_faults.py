@@ -12,8 +12,8 @@ from collections.abc import Sequence
 from typing import Any, Literal
 
 import pytest
-from poller_support import QUICK, RecordingSink, all_online, config, until
-from support import LoopbackPeer, serving
+from poller_support import QUICK, SLOW, Garbage, RecordingSink, Silent, all_online, config, until
+from support import serving
 
 from focas_net.client import NativeClient, ReconnectPolicy, StartedCall
 from focas_net.errors import OPCUA_GOOD, ProtocolError
@@ -169,35 +169,6 @@ async def test_leaving_the_poller_leaves_no_task_behind() -> None:
         assert all(
             poller.client(m).state.value in ("closed", "disconnected") for m in poller.machines
         )
-
-
-class Silent(LoopbackPeer):
-    """A peer that accepts TCP and never answers (a hung control); ``asked`` counts the
-    connections and the requests it got."""
-
-    def __init__(self) -> None:
-        self.asked = 0
-
-    async def _serve(self, reader: asyncio.StreamReader, writer: asyncio.StreamWriter) -> None:
-        self.asked += 1
-        while await reader.read(4096):  # until the client gives up
-            self.asked += 1
-        writer.close()
-
-
-class Garbage(Silent):
-    """A peer that answers every request with bytes of no protocol."""
-
-    async def _serve(self, reader: asyncio.StreamReader, writer: asyncio.StreamWriter) -> None:
-        self.asked += 1
-        while await reader.read(4096):
-            self.asked += 1
-            writer.write(b"\xff\x00garbage\x00\x00\x00\x08" * 4)
-        writer.close()
-
-
-#: Attempts 5 s apart on the poller's clock.
-SLOW = ReconnectPolicy(initial_delay=5.0, max_delay=5.0, jitter=0.0)
 
 
 @pytest.mark.parametrize("peer", [Silent, Garbage])

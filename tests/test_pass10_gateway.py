@@ -6,18 +6,24 @@ from __future__ import annotations
 
 from argparse import Namespace
 from decimal import Decimal
+from pathlib import Path
 from typing import Literal
 
 import pytest
+from cli_support import fails
+from poller_support import SLOW, Garbage, RecordingSink, until
 from support import serving
 
+from focas_net.cli import EXIT_USAGE
 from focas_net.cli._reasons import reason
 from focas_net.client import FocasClient, NativeClient
 from focas_net.errors import CncError
-from focas_net.gateway import MachineConfig, WriteGates
+from focas_net.gateway import ConfigError, MachineConfig, WriteGates, parse_config, shard
 from focas_net.gateway._opcua_methods import refusal
+from focas_net.gateway.poller import Poller
 from focas_net.gateway.writer import GatedWriter
 from focas_net.sim import default_machine
+from focas_net.sim.nc import ManualClock
 
 ALL = WriteGates(macros=((0, 99999),), params=((0, 99999),))
 
@@ -80,3 +86,45 @@ async def test_a_parameter_write_outside_mdi_names_the_gate_and_the_missing_pass
         "mode and PWE on at the CNC; the gateway sends no parameter password (a CNC that has "
         "one takes no parameter write from it)"
     )
+
+
+# -- a shard with no machine names the file -----------------------------------------------------
+MACHINE = '[[machine]]\nname = "m1"\nhost = "127.0.0.1"\n'
+
+
+async def test_a_shard_with_no_machine_names_the_file(tmp_path: Path) -> None:
+    plant = tmp_path / "plant.toml"
+    plant.write_text(MACHINE)
+    line = await fails(
+        EXIT_USAGE, "gateway", str(plant), "--shard", "2/2", prefix="focas-net gateway: error: "
+    )
+    words = "--shard 2/2: no machine (the file has 1 machine)"
+    assert line == f"focas-net gateway: error: {plant}: {words}"
+    with pytest.raises(ConfigError) as refused:
+        shard(parse_config(MACHINE), 2, 2, "plant.toml")
+    assert str(refused.value) == f"plant.toml: {words}"
+    two = MACHINE + MACHINE.replace("m1", "m2")
+    top = two + "[opcua]\nendpoint = 'opc.tcp://127.0.0.1:65535/'\n"
+    with pytest.raises(ConfigError) as refused:
+        shard(parse_config(top), 2, 2, "plant.toml")
+    assert str(refused.value).startswith("plant.toml: --shard 2/2: the OPC UA port of this shard")
+
+
+# -- availability tells the current loss ----------------------------------------------------------
+async def test_availability_tells_the_current_loss_not_the_first() -> None:
+    """A machine lost to a peer that breaks the protocol, then refused when the peer is gone:
+    the outputs are told the second reason too, not left with the first."""
+    clock = ManualClock(1_000.0)
+    sink = RecordingSink()
+    async with Garbage() as peer:
+        machines = [MachineConfig("bad", "127.0.0.1", peer.port, "native", timeout=0.5)]
+        async with Poller(machines, [sink], clock=clock.now, policy=SLOW) as poller:
+            await until(poller, clock, lambda: poller.is_online("bad") is False)
+            await peer.stop()
+            clock.advance(5.0)
+            await until(poller, clock, lambda: len(sink.states) == 2)
+            await poller.step()
+    (_, up1, first), (_, up2, second) = sink.states
+    assert (up1, up2) == (False, False)
+    assert first.startswith("protocol: ") and second.startswith("refused: "), sink.states
+    assert poller.is_online("bad") is False

@@ -30,9 +30,10 @@ machine's shape (:func:`~focas_net.gateway.reads.describe`). A machine is online
 after its shape was read (``described`` to the sinks the first time and whenever it changed,
 then ``online(True)``) until a read fails for want of a connection (refused, reset, closed, no
 answer in time) or its client is found reconnecting: then ``online(False, reason)`` and
-nothing more of it until it is back. A read answered EW_SOCKET or EW_HANDLE (the handle is
-dead) is a lost connection too, as FANUC's practice has it: the client is closed (the handle
-freed) and a new one connects after the policy's delay.
+nothing more of it until it is back, but ``online(False, reason)`` again when an attempt fails
+for another reason than the one told (the outputs show the current one). A read answered
+EW_SOCKET or EW_HANDLE (the handle is dead) is a lost connection too, as FANUC's practice has
+it: the client is closed (the handle freed) and a new one connects after the policy's delay.
 
 **Alarms.** Each path's active alarm list is diffed with the last one
 (:func:`~focas_net.client.alarm_changes`, the logic of :class:`AlarmProjection`) into
@@ -137,6 +138,7 @@ class _Station:
     described: MachineShape | None = None
     online: bool | None = None
     failure: str | None = None
+    told: str | None = None  # the loss last announced (None: none since it was online)
     task: asyncio.Task[None] | None = None
     attempts: int = 0
     next_attempt: float = 0.0
@@ -358,6 +360,7 @@ class Poller:
                 st.due.clear()
                 for group in _GROUPS:
                     self._push(now + st.phase * st.interval(group), st, group)
+                st.told = None
                 online.append((st.config.name, True, ""))
                 stamp = self.clock()
                 samples.extend(
@@ -372,8 +375,11 @@ class Poller:
             why = st.client.lost_reason
             told = reason_of(why) if why is not None else f"lost: the connection is {state.value}"
             st.failure = st.failure or told
-        if st.failure is not None and st.online is not False:
-            self._lose(st)
+        if st.failure is not None and st.failure != st.told:
+            # lost, or lost again for another reason than the one told: the current one
+            if st.online is not False:
+                self._lose(st)
+            st.told = st.failure
             online.append((st.config.name, False, st.failure))
         if st.task is not None or self._closed:
             return
@@ -490,7 +496,7 @@ class Poller:
             if out.epoch != st.epoch:
                 continue  # of a connection since lost
             if error is not None and (not _item_error(error) or _handle_dead(error)):
-                st.failure = reason_of(error)
+                st.failure = st.told = reason_of(error)
                 self._lose(st)
                 if _handle_dead(error):
                     self._renew(st)
