@@ -107,7 +107,8 @@ def run(args: argparse.Namespace) -> int:
     try:
         config = load_config(args.config)
         if args.shard is not None:
-            config = shard(config, *args.shard)
+            index, count = args.shard
+            config = shard(config, index, count, args.config)
     except ConfigError as exc:
         print_error(str(exc), _ERROR_PREFIX)
         return EXIT_USAGE

@@ -455,22 +455,22 @@ def shard_refusal(index: int, count: int) -> str | None:
     return None
 
 
-def shard(config: GatewayConfig, index: int, count: int) -> GatewayConfig:
+def shard(config: GatewayConfig, index: int, count: int, source: str = "") -> GatewayConfig:
     """Shard ``index`` of ``count`` (1 <= index <= count): machines ``index``, ``index +
     count``, ... of the file, 1-based (round robin, so that each shard gets its share of every
     ``[[fleet]]``). Each machine is in exactly one shard. Of several shards, shard ``index``
     serves OPC UA on the endpoint's port + ``index - 1`` and connects to the MQTT broker as
     ``client_id-index`` (when the file names a client id), so that the shards of one file run
     side by side on one host. Raises :class:`ConfigError` for a bad shard, one with no machine
-    or one whose port would pass 65535."""
+    or one whose port would pass 65535, naming ``source`` (the file) first when given."""
+    at = At(source, f"--shard {index}/{count}")
     why = shard_refusal(index, count)
     if why is not None:
-        raise ConfigError(f"--shard {index}/{count}: {why}")
+        at.fail(why)
     machines = config.machines[index - 1 :: count]
     if not machines:
-        raise ConfigError(
-            f"--shard {index}/{count}: no machine (the file has {len(config.machines)})"
-        )
+        many = len(config.machines)
+        at.fail(f"no machine (the file has {many} machine{'s' * (many != 1)})")
     if count == 1:
         return replace(config, machines=machines)
     opcua, mqtt = config.opcua, config.mqtt
@@ -479,9 +479,9 @@ def shard(config: GatewayConfig, index: int, count: int) -> GatewayConfig:
         # (port 0, any free port, stays 0 for every shard)
         port = first + index - 1 if first else 0
         if port > 65535:
-            raise ConfigError(
-                f"--shard {index}/{count}: the OPC UA port of this shard, {first} + "
-                f"{index - 1}, passes 65535 (opcua.endpoint {opcua.endpoint!r})"
+            at.fail(
+                f"the OPC UA port of this shard, {first} + {index - 1}, passes 65535 "
+                f"(opcua.endpoint {opcua.endpoint!r})"
             )
         opcua = replace(opcua, endpoint=with_port(opcua.endpoint, port))
     if mqtt is not None:
