@@ -1,12 +1,27 @@
 """The machine shapes the gateway's tests describe to their sinks: one builder, so that the
 MQTT, OPC UA and poller tests share one declaration of a machine (its name, ``cnc_sysinfo``'s
-words and the axes and spindles of each path)."""
+words and the axes and spindles of each path); and one poll of a served machine, the values
+the gateway reads of it."""
 
 from __future__ import annotations
 
-from focas_net.gateway.model import MachineShape, PathShape
+from poller_support import all_online, config, polling, until
 
-__all__ = ["machine_shape"]
+from focas_net.gateway.model import MachineShape, PathShape, Sample
+from focas_net.sim.nc import ManualClock
+
+__all__ = ["machine_shape", "polled_once"]
+
+
+async def polled_once(port: int) -> dict[tuple[int, str, str], Sample]:
+    """The samples of the first reads of every group of the machine served on ``port`` of
+    127.0.0.1 (called ``mill``, through FOCAS/2): what the gateway gives its outputs."""
+    clock = ManualClock(1_000.0)
+    async with polling([config("mill", port)], clock) as (poller, sink):
+        await until(poller, clock, all_online(poller))
+        clock.advance(10.0)  # (each group's first reads are staggered over its interval)
+        await poller.step()
+        return sink.of("mill")
 
 
 def machine_shape(

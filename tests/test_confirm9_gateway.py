@@ -4,12 +4,11 @@ number asks for a finite one; a shard out of range is a usage error of ``--shard
 
 from __future__ import annotations
 
-from contextlib import AsyncExitStack
 from pathlib import Path
 
 import pytest
 from cli_support import Cli, run_focas_net
-from poller_support import all_online, config, polling, until
+from gateway_support import polled_once
 from support import serving
 
 from focas_net.client._values import check_item
@@ -17,7 +16,6 @@ from focas_net.client.native import NativeClient
 from focas_net.gateway import ConfigError, MachineConfig, WriteGates, parse_config
 from focas_net.gateway.writer import GatedWriter
 from focas_net.sim import default_machine
-from focas_net.sim.nc import ManualClock
 from focas_net.web.view import machine_view, status_fields
 
 MACHINE = '[[machine]]\nname = "m1"\nhost = "127.0.0.1"\n'
@@ -27,23 +25,15 @@ MACHINE = '[[machine]]\nname = "m1"\nhost = "127.0.0.1"\n'
 async def test_the_selected_mode_is_mode_on_every_front_end(
     capsys: pytest.CaptureFixture[str],
 ) -> None:
-    clock = ManualClock(1_000.0)
     machine = default_machine()
     machine.set_panel(0, 1, 0)  # MDI
-    async with AsyncExitStack() as stack:
-        served = await stack.enter_async_context(serving(machine))
+    async with serving(machine) as served:
         cli = Cli(served, capsys)
         text = await cli.ok("status")
         shown = await cli.json("status")
         panel = await cli.json("sim", "panel")
         panel_text = await cli.ok("sim", "panel")
-        poller, sink = await stack.enter_async_context(
-            polling([config("mill", served.port)], clock)
-        )
-        await until(poller, clock, all_online(poller))
-        clock.advance(10.0)
-        await poller.step()
-        got = sink.of("mill")
+        got = await polled_once(served.port)
     assert text.startswith("mode=MDI ") and "aut" not in text
     assert any(line.split()[:3] == ["mode", "0", "MDI"] for line in text.splitlines()[1:])
     assert "aut" not in shown and shown["mode"]["name"] == "MDI"

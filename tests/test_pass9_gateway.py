@@ -7,12 +7,11 @@ from __future__ import annotations
 
 import json
 import logging
-from contextlib import AsyncExitStack
 from typing import Any
 
 import pytest
 from cli_support import Cli, run_focas_net
-from poller_support import all_online, config, polling, until
+from gateway_support import polled_once
 from support import serving
 
 from focas_net.client import FocasClient
@@ -21,7 +20,6 @@ from focas_net.gateway._mqtt_messages import ActiveAlarms, AlarmEvent, Publicati
 from focas_net.gateway.reads import describe
 from focas_net.protocol import ActiveAlarm, Password
 from focas_net.sim import MachineError, default_machine
-from focas_net.sim.nc import ManualClock
 from focas_net.web.view import machine_view, status_fields
 
 # -- one alarm, one set of keys ---------------------------------------------------------------
@@ -85,18 +83,10 @@ async def test_the_gateway_names_mode_run_and_motion_as_the_cli_and_the_web_page
 ) -> None:
     """A reset path in MEM: ``run`` ``****``, ``motion`` ``***`` on the CNC screen, in
     ``status``, on the web page, and on MQTT and OPC UA (the one table's label)."""
-    clock = ManualClock(1_000.0)
     machine = default_machine()
-    async with AsyncExitStack() as stack:
-        served = await stack.enter_async_context(serving(machine))
+    async with serving(machine) as served:
         shown = await Cli(served, capsys).json("status")
-        poller, sink = await stack.enter_async_context(
-            polling([config("mill", served.port)], clock)
-        )
-        await until(poller, clock, all_online(poller))
-        clock.advance(10.0)
-        await poller.step()
-        got = sink.of("mill")
+        got = await polled_once(served.port)
     web = {f["field"]: f["name"] for f in status_fields(machine)}
     for item, field in (("mode", "mode"), ("run", "run"), ("motion", "motion")):
         assert got[(1, item, "")].value == shown[field]["name"] == web[field], item
