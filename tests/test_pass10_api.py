@@ -11,8 +11,9 @@ from pathlib import Path
 from typing import Any
 
 import pytest
+from support import with_both_clients
 
-from focas_net import EW, CncError, FocasClient, NativeClient, default_machine
+from focas_net import EW, CncError, FocasClient, NativeClient, default_machine, load_machine
 from focas_net.cli import main
 from focas_net.sim import Machine, MachineError
 
@@ -176,3 +177,36 @@ async def test_a_value_of_no_type_is_refused_alike_on_both_transports(
     assert words[0] == words[1]
     assert words[0].startswith("parameter 1320 is not a real parameter: ")
     assert machine.read_param(1320, 1) == before
+
+
+# -- a real parameter written with decimals and a width that is not its own -------------------
+REAL_1420 = """
+[machine]
+name = "real"
+axes = ["X", "Y"]
+
+[parameters.1420]
+type = "real"
+decimals = 3
+axis = true
+range = [0, 99999.999]
+value = [12.345, "7.5"]
+"""
+
+
+@pytest.mark.parametrize("width", [1, 2, 4])
+async def test_a_real_parameter_given_another_width_is_its_width_refused_on_both_transports(
+    tmp_path: Path, width: int
+) -> None:
+    """The packed client said "parameter 1420 is not a real parameter: 1.5 is no integer" of
+    a real parameter; the native one, as FANUC's library, EW_LENGTH naming its width."""
+    (tmp_path / "real.toml").write_text(REAL_1420, encoding="utf-8")
+    machine = load_machine(tmp_path / "real.toml")
+    machine.set_panel(0, True)
+    async with with_both_clients(machine) as (_, cnc, native):
+        for client in (cnc, native):
+            with pytest.raises(CncError) as refused:
+                await client.write_param(1420, "1.5", axis=1, width=width)
+            assert refused.value.ew == EW.LENGTH
+            assert refused.value.detail == f"cnc_wrparam: 1420 is 8 bytes wide, not {width}"
+    assert machine.read_param(1420, 1) == 12345

@@ -160,6 +160,15 @@ def _awaitable(method: _F) -> _F:
     return method
 
 
+def _integral(number: int, value: int | Decimal | str) -> bool:
+    """Whether ``value`` reads as an integer parameter's value (no decimals but zeros)."""
+    try:
+        param_int(number, value)
+    except ValueError:
+        return False
+    return True
+
+
 class FocasClient(Link):
     """An asyncio client of the packed FOCAS protocol.
 
@@ -422,7 +431,10 @@ class FocasClient(Link):
                     )
                 else:
                     width = cached
-            kind = await self._param_type(number, deadline) if width == 1 else None
+            # the type is asked for a 1-byte width (bit or byte), and for a value with
+            # decimals given an integer width: a real parameter's is then the width refused
+            asks = width == 1 or (given is not None and not _integral(number, value))
+            kind = await self._param_type(number, deadline) if asks else None
         except CncError as exc:
             raise CncError.from_ew(exc.ew, _WRPARAM.focas_name) from None
         if given is not None and kind is not None and _TYPE_WIDTHS[kind] != given:
