@@ -118,9 +118,12 @@ async def run_program(args: argparse.Namespace, text: str) -> None:
                 raise Failed(f"O{number:04d} stopped by an alarm: {await alarm_text(cnc)}")
             if info.parts_count > before.parts_count and status.run != RunState.STRT:
                 break
-            if status.run in (RunState.RESET, RunState.STOP):
+            if status.run == RunState.STOP:
+                raise Failed(f"O{number:04d} stopped at N{sequence} before its end (M0 or M1)")
+            if status.run == RunState.RESET:  # a part is counted by M02/M30 only
                 raise Failed(
-                    f"O{number:04d} stopped at N{sequence} before its end (M0, M1 or a reset)"
+                    f"O{number:04d} ended in reset at N{sequence} with no part counted: it has "
+                    "no M02 or M30 at its end, or the CNC was reset"
                 )
             if time.monotonic() > deadline:
                 raise Failed(f"O{number:04d} did not finish within {args.seconds:g} s")

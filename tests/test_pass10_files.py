@@ -4,9 +4,11 @@ names a case that was wrong or unsettled, and the behaviour FANUC's practice ask
 from __future__ import annotations
 
 import tomllib
+from pathlib import Path
 
 import pytest
-from examples_support import run_example
+from examples_support import port_args, run_example
+from support import serving
 
 from focas_net.sim import (
     LifeTool,
@@ -212,3 +214,19 @@ async def test_an_example_refuses_seconds_that_are_no_time(
     assert code == 2
     assert out == ""
     assert words in err and "Traceback" not in err
+
+
+# -- run_program says a program that ends without M30 ended, not that it stopped early -------
+
+
+async def test_run_program_says_a_program_without_m30_ended_with_no_part(tmp_path: Path) -> None:
+    path = tmp_path / "o17.nc"
+    path.write_text("O17 (NO END)\nG0 X1.\n")
+    async with serving() as served:
+        code, out, err = await run_example(
+            "run_program.py", *port_args(served), "--program", str(path), "--seconds", "20"
+        )
+    assert code == 1, err
+    assert "O0017 stored and selected" in out
+    assert "O0017 ended in reset at N0 with no part counted: it has no M02 or M30" in err
+    assert "before its end" not in err
