@@ -232,14 +232,19 @@ def alarm_key_unfit(alm_type: int, alm_no: int, *, every: bool = False) -> str |
     return None
 
 
-def alarm_axis_unfit(axis_no: int, axes: int) -> str | None:
-    """Why an alarm of a path of ``axes`` axes cannot be of axis ``axis_no`` (0: an alarm of
-    no axis), naming the axis and the count, as the machine and the packed client say it;
-    None when it can."""
-    if 0 <= axis_no <= axes:
+def alarm_axis_unfit(axis_no: int, axes: int | None = None) -> str | None:
+    """Why an alarm cannot be of axis ``axis_no`` (0: an alarm of no axis), in the words of
+    every front end: one the field does not carry (``axis -1 is outside 0..32767 (0: an alarm
+    of no axis)``, what the command line's parser, the clients and the page say alike), then,
+    given the path's ``axes``, one past them, naming the count (``axis 5 is outside 0..3: the
+    path has 3 axes``); None when it can be."""
+    why = field_unfit("axis", axis_no, 0, 0x7FFF)
+    if why is not None:
+        return f"{why} (0: an alarm of no axis)"
+    if axes is None or axis_no <= axes:
         return None
     counted = f"{axes} axis" if axes == 1 else f"{axes} axes"
-    return f"axis_no {axis_no} outside 0..{axes}: the path has {counted}"
+    return f"axis {axis_no} is outside 0..{axes}: the path has {counted}"
 
 
 def alarm_text_unfit(text: str) -> str | None:

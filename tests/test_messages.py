@@ -51,7 +51,6 @@ async def cli(capsys: pytest.CaptureFixture[str]) -> AsyncIterator[Cli]:
         (("macro", "get", "40000"), "macro variable number 40000 is outside -32768..32767"),
         (("macro", "set", "40000", "1"), "macro variable number 40000 is outside -32768..32767"),
         (("sim", "alarm", "PS99999"), "alarm number 99999 is outside 0..32767"),
-        (("sim", "alarm", "PS0100", "--axis", "40000"), "axis 40000 is outside 0..32767"),
         (("sim", "clear", "PS99999"), "alarm number 99999 is outside 0..32767"),
         (("position", "--axis", "40000"), "axis 40000 is outside 1..32767"),
         (
@@ -76,6 +75,10 @@ async def test_cli_messages_name_what_was_typed(
         (
             ("param", "get", "1420", "--axis", "40000"),
             "argument --axis: axis 40000 is outside 0..32767 (0: not an axis parameter)",
+        ),
+        (
+            ("sim", "alarm", "PS0100", "--axis", "40000"),
+            "argument --axis: axis 40000 is outside 0..32767 (0: an alarm of no axis)",
         ),
         (("versamax", "300", "1"), "argument RACK: must be 0..7, got 300"),
         (

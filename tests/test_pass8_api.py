@@ -130,7 +130,7 @@ async def test_an_alarm_of_an_axis_beyond_the_path_names_the_axis_and_the_count(
     both_clients: tuple[Machine, FocasClient, NativeClient],
 ) -> None:
     machine, cnc, _ = both_clients
-    words = "axis_no 9 outside 0..3: the path has 3 axes"
+    words = "axis 9 is outside 0..3: the path has 3 axes"
     with pytest.raises(MachineError) as by_machine:
         machine.raise_alarm(9, 6, 411, "SERVO")
     assert by_machine.value.ew == EW.ATTRIB and by_machine.value.detail == words
@@ -144,7 +144,7 @@ async def test_an_alarm_of_an_axis_beyond_the_path_names_the_axis_and_the_count(
 
 def test_an_alarm_axis_on_a_machine_of_one_axis_says_axis() -> None:
     machine = machine_from_dict({"machine": {"name": "one", "axes": ["X"]}})
-    with pytest.raises(MachineError, match=r"axis_no 2 outside 0\.\.1: the path has 1 axis$"):
+    with pytest.raises(MachineError, match=r"axis 2 is outside 0\.\.1: the path has 1 axis$"):
         machine.raise_alarm(2, 6, 411)
 
 
@@ -156,7 +156,7 @@ async def test_an_alarm_axis_is_named_with_the_count_of_the_path_it_was_raised_o
             with pytest.raises(CncError) as refused:
                 await cnc.sim.raise_alarm("SV", 411, axis_no=3, path=2)
             await cnc.sim.raise_alarm("SV", 411, axis_no=2, path=2)
-    assert refused.value.detail.endswith("axis_no 3 outside 0..2: the path has 2 axes")
+    assert refused.value.detail.endswith("axis 3 is outside 0..2: the path has 2 axes")
     assert [a.axis_no for a in machine.active_alarms(path=2)] == [2]
 
 

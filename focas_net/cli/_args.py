@@ -27,13 +27,20 @@ from focas_net._address import (
     url_advice,
 )
 from focas_net._tls import pem_holds, ssl_error_text
-from focas_net._typed import item_axis_unfit, override_unfit, rapid_step, typed_number
+from focas_net._typed import (
+    alarm_axis_unfit,
+    item_axis_unfit,
+    override_unfit,
+    rapid_step,
+    typed_number,
+)
 from focas_net.client._values import check_path, history_depth
 from focas_net.protocol import Password, PmcArea
 
 from . import _format as fmt
 
 __all__ = [
+    "ALARM_AXIS",
     "AREA",
     "BOOL",
     "DIAG_AXIS",
@@ -328,6 +335,17 @@ def parse_item_axis(what: str, text: str) -> int:
     return value
 
 
+def parse_alarm_axis(text: str) -> int:
+    """The axis of ``sim alarm`` (0: an alarm of no axis), refused in the words of the
+    clients and the page (:func:`~focas_net._typed.alarm_axis_unfit`), so that the parser
+    names the option."""
+    value = fmt.parse_int(text)
+    why = alarm_axis_unfit(value)
+    if why is not None:
+        raise ValueError(why)
+    return value
+
+
 def parse_override(what: str, text: str) -> int:
     """The ``what`` override (``feed``, ``rapid``, ``spindle``) as typed, a whole number of
     percent (the rapid one also ``F0``), refused in the machine's words
@@ -449,6 +467,8 @@ NON_NEGATIVE: Final = argument_type(parse_non_negative, "count")
 #: ``--axis`` of a parameter and of a diagnostic (0: not an axis item).
 PARAM_AXIS: Final = argument_type(partial(parse_item_axis, "parameter"), "axis")
 DIAG_AXIS: Final = argument_type(partial(parse_item_axis, "diagnostic"), "axis")
+#: ``--axis`` of ``sim alarm`` (0: an alarm of no axis).
+ALARM_AXIS: Final = argument_type(parse_alarm_axis, "axis")
 #: An override of ``sim override`` (its option: ``--feed``, ``--rapid``, ``--spindle``).
 FEED: Final = argument_type(partial(parse_override, "feed"), "feed override")
 RAPID: Final = argument_type(partial(parse_override, "rapid"), "rapid override")

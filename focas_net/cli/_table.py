@@ -20,6 +20,7 @@ from focas_net.server.faults import MAX_FAULT_COUNT
 
 from . import program_cmds, read_cmds, sim_cmds, watch_cmds, write_cmds
 from ._args import (
+    ALARM_AXIS,
     AREA,
     BOOL,
     DIAG_AXIS,
@@ -30,7 +31,6 @@ from ._args import (
     HOST,
     INT,
     INTERVAL,
-    NON_NEGATIVE,
     PARAM_AXIS,
     PASSWORD,
     PATH,
@@ -150,7 +150,7 @@ _PASSWORD: Final = arg(
 _EPILOG: Final = "exit status: " + ", ".join(f"{code} {text}" for code, text in EXIT_CODES)
 
 _AXIS_HELP: Final = "axis 1..n for an axis item; 0 for a non-axis item (default 0)"
-_AXIS: Final = arg("--axis", type=NON_NEGATIVE, default=0, metavar="N", help=_AXIS_HELP)
+_AXIS: Final = arg("--axis", type=ALARM_AXIS, default=0, metavar="N", help=_AXIS_HELP)
 _PARAM_AXIS: Final = arg("--axis", type=PARAM_AXIS, default=0, metavar="N", help=_AXIS_HELP)
 _DIAG_AXIS: Final = arg("--axis", type=DIAG_AXIS, default=0, metavar="N", help=_AXIS_HELP)
 _PARAM_NUMBER: Final = arg(

@@ -19,6 +19,7 @@ from typing import Final
 
 from .._bits import bits_of_text
 from .._typed import (
+    alarm_axis_unfit,
     field_unfit,
     item_axis_unfit,
     macro_unfit,
@@ -137,6 +138,17 @@ def check_item(number: object, axis: object, what: str) -> None:
     why = item_axis_unfit(axis, what)
     if why is not None:
         raise ValueError(why)
+
+
+def check_alarm_axis(axis_no: object) -> int:
+    """An alarm's axis (0: an alarm of no axis), refused in the words of every front end
+    (:func:`~focas_net._typed.alarm_axis_unfit`); whether the path has it is the CNC's."""
+    if isinstance(axis_no, bool) or not isinstance(axis_no, int):
+        raise TypeError(f"axis must be an integer (0: an alarm of no axis), got {axis_no!r}")
+    why = alarm_axis_unfit(axis_no)
+    if why is not None:
+        raise ValueError(why)
+    return axis_no
 
 
 def check_axis(axis: object, what: str = "axis", *, every: int | None = None) -> int | None:

@@ -32,7 +32,14 @@ from ..protocol import (
 from ..protocol import Command as C
 from ..protocol.faults import fault_refusal, scope_refusal
 from ._pmc import write_pmc_range
-from ._values import AreaLike, alarm_type_number, check_int, number_of_name, pmc_data
+from ._values import (
+    AreaLike,
+    alarm_type_number,
+    check_alarm_axis,
+    check_int,
+    number_of_name,
+    pmc_data,
+)
 
 if TYPE_CHECKING:
     from .client import FocasClient
@@ -159,7 +166,7 @@ class SimControl:
         active, nothing changes (it keeps its first message)."""
         t = alarm_type_number(alm_type)
         check_int("alarm number", alm_no, 0, _I16_MAX)
-        check_int("axis", axis_no, 0, _I16_MAX)
+        check_alarm_axis(axis_no)
         raw = alarm_message(msg)
         payload = _RAISE_ALARM.request.encode(RaiseAlarm(axis_no, t, alm_no, raw))
         client = self._client
