@@ -9,17 +9,20 @@ cover gets None (the front end says the code alone).
 
 from __future__ import annotations
 
+from collections.abc import Mapping
 from typing import Final
 
 from focas_net.errors import EW
 
 __all__ = [
     "AXIS_NAME_PARAM",
+    "FANUC_SPANS",
     "PARAM_GATE",
     "READ_ONLY",
     "item_named",
     "macro_refusal",
     "param_refusal",
+    "system_read_only",
 ]
 
 #: Parameter 1020, each axis's name (FANUC's number): the machine reads it, the reasons name it.
@@ -28,6 +31,49 @@ AXIS_NAME_PARAM: Final = 1020
 READ_ONLY: Final = "the machine is read-only (a server started with --read-only)"
 #: EW_PASSWD of a parameter write: FANUC's write gate (the setting screen's PWE, in MDI mode).
 PARAM_GATE: Final = "parameter writes need MDI mode and PWE on"
+
+
+#: FANUC's valid data range of the parameters the machine keeps a count or a timer in: the
+#: parts counts (6711..6713), the timers' minutes (6750, 6752, ...) and the ms past them
+#: (6751, 6753, ...). The machine takes them when a builder gives no range; a refusal names them.
+FANUC_SPANS: Final[Mapping[int, tuple[int, int]]] = {
+    **dict.fromkeys((6711, 6712, 6713), (0, 999_999_999)),
+    **dict.fromkeys(range(6750, 6759, 2), (0, 999_999_999)),
+    **dict.fromkeys(range(6751, 6759, 2), (0, 59_999)),
+}
+
+#: FANUC's system variables that a program and a FOCAS client only read, by range, with what
+#: they hold (a FANUC CNC answers a write of one with EW_PROT, a program's with an alarm).
+_SYSTEM_READ_ONLY: Final = (
+    (0, 0, "always vacant"),
+    (4001, 4130, "modal information"),
+    (5001, 5120, "position information"),
+)
+
+
+def _whole(text: object) -> int | None:
+    """``text`` as a whole number written as a command line takes it (``6711``, ``0x1A37``);
+    None when it is none."""
+    raw = str(text).strip()
+    for base in (10, 0):
+        try:
+            return int(raw, base)
+        except ValueError:
+            continue
+    return None
+
+
+def system_read_only(number: int | str) -> str | None:
+    """Why macro variable ``number`` is not written when it is one of FANUC's read-only system
+    variables, in the words of every front end (the machine's refusal, the command line's and
+    the gateway's reason for EW_PROT): ``macro variable #5001 is read-only (FANUC's
+    #5001..#5120: position information)``; None for another variable."""
+    known = _whole(number)
+    for first, last, holds in _SYSTEM_READ_ONLY:
+        if known is not None and first <= known <= last:
+            span = f"#{first}" if first == last else f"#{first}..#{last}"
+            return f"macro variable #{known} is read-only (FANUC's {span}: {holds})"
+    return None
 
 
 def item_named(kind: str, number: int | str, axis: int = 0) -> str:
@@ -43,6 +89,9 @@ def _param_range(number: int | str, value: object, axis: int, bit: str) -> str:
             "outside the parameter's range"
         )
     said = f"the CNC refused {value} for {what}: outside its range"
+    span, typed = FANUC_SPANS.get(_whole(number) or -1), _whole(value)
+    if span is not None and typed is not None and not span[0] <= typed <= span[1]:
+        said += f" {span[0]}..{span[1]}"  # FANUC's (a machine built with another names it)
     if "." in str(value):
         said += ", or more decimals than the parameter keeps"
     if str(number).strip() == str(AXIS_NAME_PARAM):
@@ -99,7 +148,10 @@ def macro_refusal(ew: int, number: int | str, value: object = None) -> str | Non
     if ew == EW.NUMBER:
         return f"the CNC has no macro variable #{number}"
     if ew == EW.PROT:
-        return f"#{number} is a read-only variable, or the machine is read-only"
+        return (
+            system_read_only(number)
+            or f"#{number} is a read-only variable, or the machine is read-only"
+        )
     if ew == EW.DATA and value is not None:
         return f"#{number} cannot hold {value}"
     return None

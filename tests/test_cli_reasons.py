@@ -73,7 +73,7 @@ async def test_refusals_of_the_built_in_machine_say_why(programs: Path) -> None:
         (("program", "load", str(programs / "iso.nc")), "REJECT", "O0001 is already stored"),
         (("program", "select", "4444"), "NUMBER", "no program O4444"),
         (("macro", "get", "2000"), "NUMBER", "the CNC has no macro variable #2000"),
-        (("macro", "set", "5001", "1"), "PROT", "#5001 is a read-only variable"),
+        (("macro", "set", "5001", "1"), "PROT", "macro variable #5001 is read-only (FANUC's"),
         (("pmc", "read", "R", "7999", "2"), "NUMBER", "R7999..R8000 goes past the end"),
         (("pmc", "write", "X", "0", "1"), "PROT", "X is write-protected"),
         (("pmc", "bit", "X", "0.1", "1"), "PROT", "pmc bit has no --force"),

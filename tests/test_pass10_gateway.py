@@ -37,7 +37,7 @@ ALL = WriteGates(macros=((0, 99999),), params=((0, 99999),))
         (("param", 9999, 1, 0), "the CNC has no parameter 9999"),
         (("param", 1020, 90, 1), "the CNC refused 90 for parameter 1020 axis 1: outside its "
          "range, or a letter other than the axis's own"),
-        (("macro", 5001, 1, 1), "#5001 is a read-only variable, or the machine is read-only"),
+        (("macro", 5001, 1, 1), "macro variable #5001 is read-only (FANUC's #5001..#5120"),
         (("macro", 20000, 1, 1), "the CNC has no macro variable #20000"),
     ],
 )  # fmt: skip

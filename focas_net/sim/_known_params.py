@@ -22,7 +22,7 @@ from collections.abc import Iterable, Mapping, Sequence
 from dataclasses import dataclass
 from typing import Final
 
-from focas_net._refusals import AXIS_NAME_PARAM  # (FANUC's 1020, each axis's letter)
+from focas_net._refusals import AXIS_NAME_PARAM, FANUC_SPANS  # (1020: each axis's letter)
 from focas_net.errors import EW
 
 from ._base import MachineError
@@ -65,9 +65,9 @@ class KnownParam:
 
 
 _W, _2W, _R = ParamKind.WORD, ParamKind.TWO_WORD, ParamKind.REAL
-_PARTS: Final = KnownParam("the machine counts parts in it", (_W, _2W), False, (0, 999_999_999))
-_TIMER: Final = KnownParam("the machine keeps a timer in it", (_2W,), False, (0, 999_999_999))
-_TIMER_MS: Final = KnownParam("the machine keeps a timer in it", (_2W,), False, (0, 59_999))
+_PARTS: Final = KnownParam("the machine counts parts in it", (_W, _2W), False, FANUC_SPANS[6711])
+_TIMER: Final = KnownParam("the machine keeps a timer in it", (_2W,), False, FANUC_SPANS[6750])
+_TIMER_MS: Final = KnownParam("the machine keeps a timer in it", (_2W,), False, FANUC_SPANS[6751])
 _WAIT: Final = KnownParam("the machine reads its waiting M codes from it", (_W, _2W), False)
 _LIBRARY: Final = "FANUC's library reads its bits"
 

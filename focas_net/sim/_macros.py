@@ -12,12 +12,19 @@ from dataclasses import dataclass
 from decimal import Decimal, InvalidOperation
 from typing import Final
 
+from focas_net._refusals import system_read_only
 from focas_net._typed import macro_unfit
 from focas_net.errors import EW
 
 from ._base import I32_MAX, I32_MIN, NUMBERS, Counters, MachineError
 
-__all__ = ["MAX_MACRO_DECIMALS", "MacroRange", "Macros", "float_macro", "macro_value"]
+__all__ = [
+    "MAX_MACRO_DECIMALS",
+    "MacroRange",
+    "Macros",
+    "float_macro",
+    "macro_value",
+]
 
 #: Most decimal places a macro variable holds.
 MAX_MACRO_DECIMALS: Final = 9
@@ -117,7 +124,8 @@ class Macros:
         if r is None:
             raise MachineError(EW.NUMBER, f"no macro variable #{number}")
         if not r.writable:
-            raise MachineError(EW.PROT, f"macro variable #{number} is read-only")
+            why = system_read_only(number) or f"macro variable #{number} is read-only"
+            raise MachineError(EW.PROT, why)
 
     def write(
         self, number: int, value: Decimal | int | None, values: dict[int, Decimal] | None = None

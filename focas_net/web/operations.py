@@ -393,6 +393,10 @@ def _param_value(m: Machine, number: int, text: Decimal) -> tuple[int, int | Non
     return int(text), None
 
 
+#: The other way the page takes a bit parameter's value, for the words of a refused one.
+_HEX_BYTE: Final = 'a hexadecimal number with 0x ("0xB0")'
+
+
 def _bits(number: int, value: object) -> int | None:
     """The value of bit parameter ``number`` as the page shows it: its eight bits #7..#0
     (``10110000``), or ``0xB0`` / ``0b10110000`` as the command line takes them (a JSON
@@ -404,7 +408,8 @@ def _bits(number: int, value: object) -> int | None:
         return None
     text = value.strip()
     try:
-        bits = bits_of_text(text)  # the machine file's and the command line's reading
+        bits = bits_of_text(text, _HEX_BYTE)  # the machine file's and the command line's
+
     except ValueError as exc:
         raise ActionError(f"value: {exc}") from None
     if bits is not None:
