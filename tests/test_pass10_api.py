@@ -15,6 +15,7 @@ from support import with_both_clients
 
 from focas_net import EW, CncError, FocasClient, NativeClient, default_machine, load_machine
 from focas_net.cli import main
+from focas_net.client import AlarmProjection
 from focas_net.sim import Machine, MachineError
 
 
@@ -210,3 +211,19 @@ async def test_a_real_parameter_given_another_width_is_its_width_refused_on_both
             assert refused.value.ew == EW.LENGTH
             assert refused.value.detail == f"cnc_wrparam: 1420 is 8 bytes wide, not {width}"
     assert machine.read_param(1420, 1) == 12345
+
+
+# -- a timeout too large for a float: no deadline, as inf, never an OverflowError ---------------
+async def test_a_timeout_beyond_a_float_is_no_deadline_as_infinity_is(
+    both_clients: tuple[Machine, FocasClient, NativeClient],
+) -> None:
+    _, cnc, native = both_clients
+    huge = 10**400
+    for client in (cnc, native):
+        assert (await client.read_status(timeout=huge)).aut == 1
+        assert (await client.start_read_status(timeout=huge).result()).aut == 1
+    assert FocasClient("127.0.0.1", timeout=huge).timeout is None
+    assert NativeClient("127.0.0.1", timeout=huge).timeout is None
+    assert AlarmProjection(cnc, timeout=huge).client is cnc
+    with pytest.raises(ValueError, match=r"^interval must be a positive, finite number of seconds"):
+        AlarmProjection(cnc, interval=huge)  # its first poll added it to the loop's clock

@@ -13,6 +13,7 @@ from __future__ import annotations
 
 import enum
 import math
+import sys
 from dataclasses import dataclass
 from decimal import Decimal
 from typing import Final
@@ -115,13 +116,15 @@ def check_path(path: object) -> int:
 
 def check_timeout(timeout: object) -> float | None:
     """A call's or a client's ``timeout``: None (no deadline) or a positive number of seconds
-    (``inf`` is no deadline either)."""
+    (``inf`` is no deadline either, and so is a whole number too large for a float)."""
     if timeout is None:
         return None
     if isinstance(timeout, bool) or not isinstance(timeout, int | float):
         raise TypeError(f"timeout must be a number of seconds or None, got {timeout!r}")
     if not timeout > 0:  # (also NaN)
         raise ValueError(f"timeout must be positive, got {timeout}")
+    if timeout > sys.float_info.max:  # 10**400: no float holds it, no deadline ends it
+        return None
     return None if math.isinf(timeout) else float(timeout)
 
 

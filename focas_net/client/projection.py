@@ -25,7 +25,7 @@ from __future__ import annotations
 import asyncio
 import enum
 import logging
-import math
+import sys
 from collections import deque
 from collections.abc import Iterable, Mapping
 from dataclasses import dataclass
@@ -177,7 +177,7 @@ class AlarmProjection:
         if not isinstance(replay_history, bool):
             raise TypeError(f"replay_history must be True or False, got {replay_history!r}")
         check_timeout(timeout)
-        if not 0 < interval < math.inf:
+        if not 0 < interval <= sys.float_info.max:  # (10**400 holds in no float)
             raise ValueError(
                 f"interval must be a positive, finite number of seconds, got {interval}"
             )
