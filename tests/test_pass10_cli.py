@@ -1,5 +1,6 @@
 """A new user's tenth pass over the command line: every number-range refusal naming the
-number as it was typed (``0x0``, ``0b0``), not the value it was read as.
+number as it was typed (``0x0``, ``0b0``), not the value it was read as; the program
+numbers read after the main program is deleted.
 
 Each test runs ``focas-net`` as a user does (a subprocess) and checks its one line and its
 exit code.
@@ -7,10 +8,16 @@ exit code.
 
 from __future__ import annotations
 
-import pytest
-from cli_support import fails
+import json
+from typing import Final
 
-from focas_net.cli import EXIT_USAGE
+import pytest
+from cli_support import at, fails, ok
+from support import serving
+
+from focas_net.cli import EXIT_CNC, EXIT_USAGE
+
+PROTOCOLS: Final = (["--protocol", "packed"], ["--protocol", "native"])
 
 # -- a refused number named as typed ------------------------------------------------------------
 
@@ -62,3 +69,19 @@ async def test_a_machine_rule_names_the_value_and_the_text_typed(
     checked, and the text typed where the two differ."""
     line = await fails(EXIT_USAGE, *argv, prefix="focas-net")
     assert said in line, line
+
+
+# -- deleting the selected program --------------------------------------------------------------
+
+
+async def test_deleting_the_main_program_names_no_program() -> None:
+    """``program delete O1`` on a fresh machine deleted its main program, yet ``program``
+    still read O0001 as running and main, while ``sim cycle start`` said "no main program is
+    selected": the figures name no program once it is deleted, as after a program search
+    (on both transports)."""
+    async with serving() as served:
+        assert await ok("program", "delete", "O1", *at(served)) == "deleted O0001\n"
+        shown = [json.loads(await ok("program", "--json", *at(served), *p)) for p in PROTOCOLS]
+        line = await fails(EXIT_CNC, "sim", "cycle", "start", *at(served))
+    assert [(s["program_running"], s["program_main"]) for s in shown] == [(0, 0), (0, 0)], shown
+    assert "no main program is selected" in line, line

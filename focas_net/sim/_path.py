@@ -723,6 +723,11 @@ class Path:
             self.programs.delete(number)
         except ProgramError as exc:
             raise _program_refusal(exc) from None
+        # The figures shown while nothing drives the path name the deleted program no more,
+        # as the engine's do (a program search or a cycle makes them name one again).
+        m = self.manual
+        running, main = (0 if n == number else n for n in (m.program_running, m.program_main))
+        self.manual = replace(m, program_running=running, program_main=main)
         self._programs_changed()
 
     def select_program(self, number: int) -> None:
