@@ -8,6 +8,7 @@ Servers here bind 127.0.0.1 on ephemeral ports.
 from __future__ import annotations
 
 import asyncio
+import contextlib
 import logging
 
 import pytest
@@ -17,6 +18,7 @@ from focas_net.adapters._native_cnc import CncHandlers
 from focas_net.client import FocasClient, NativeClient
 from focas_net.errors import EW, CncError, PayloadError
 from focas_net.native import RequestBlock
+from focas_net.protocol import Command, encode_frame
 from focas_net.sim import Machine, Session
 
 # -- an answer that does not decode ------------------------------------------------------------
@@ -120,3 +122,60 @@ async def test_a_tls_or_http_client_on_a_plain_port_is_named_in_the_servers_log(
     assert record.getMessage() == (
         f"focas-sim-0i: closing the connection from 127.0.0.1:{local}: {why}"
     )
+
+
+@pytest.mark.parametrize(
+    ("sent", "why"),
+    [
+        (
+            encode_frame(Command.RDCNCSTAT, 1, b""),
+            "it sent a packed frame (cnc_rdcncstat): a packed client, on a port that speaks "
+            "FOCAS/2 only",
+        ),
+        (
+            b"\x16\x03\x01\x00\xa5\x01\x00\x00\xa1\x03\x03",
+            "it sent a TLS record: a TLS client, on a port that does not serve TLS",
+        ),
+        (
+            b"GET / HTTP/1.1\r\nHost: cnc\r\n\r\n",
+            "it sent an HTTP request (GET): an HTTP client, on a port that serves FOCAS",
+        ),
+    ],
+)
+async def test_a_client_of_another_protocol_on_a_focas2_only_port_is_named_in_the_log(
+    sent: bytes, why: str, caplog: pytest.LogCaptureFixture
+) -> None:
+    """The FOCAS/2-only port logged `frame does not start with A0 A0 A0 A0` alone, whatever
+    the client was."""
+    async with serving(native_port=0) as s:
+        native = s.listener.native
+        assert native is not None
+        reader, writer = await asyncio.open_connection("127.0.0.1", native.address[1])
+        local = writer.get_extra_info("sockname")[1]
+        with caplog.at_level(logging.WARNING, logger="focas_net.server"):
+            writer.write(sent)
+            assert await asyncio.wait_for(reader.read(), IO_TIMEOUT) == b""
+        writer.close()
+    (record,) = [r for r in caplog.records if r.levelno == logging.WARNING]
+    assert record.getMessage() == (
+        f"native focas-sim-0i: closing the connection from 127.0.0.1:{local}: frame does not "
+        f"start with A0 A0 A0 A0; {why}"
+    )
+
+
+@pytest.mark.parametrize(("limit", "words"), [(1, "1 connection is"), (2, "2 connections are")])
+async def test_a_connection_over_the_limit_is_logged_in_plain_english(
+    limit: int, words: str, caplog: pytest.LogCaptureFixture
+) -> None:
+    """It read `refused: 1 connections is the limit`."""
+    async with serving(max_connections=limit) as s:
+        held = [await asyncio.open_connection(s.host, s.port) for _ in range(limit)]
+        with caplog.at_level(logging.WARNING, logger="focas_net.server"):
+            reader, writer = await asyncio.open_connection(s.host, s.port)
+            with contextlib.suppress(ConnectionResetError):
+                assert await asyncio.wait_for(reader.read(), IO_TIMEOUT) == b""
+        writer.close()
+        for _, w in held:
+            w.close()
+    (record,) = [r for r in caplog.records if r.levelno == logging.WARNING]
+    assert record.getMessage().endswith(f"refused: {words} the limit")

@@ -30,6 +30,8 @@ from focas_net.native import (
     NativeFrameError,
     OpenRequest,
 )
+from focas_net.protocol import COMMANDS, DEFAULT_MAX_FRAME, HEADER
+from focas_net.protocol.frame import foreign_client
 
 from ._base import BaseConnection, CloseCallback, Limits
 from .faults import FaultKind, FaultQueue
@@ -50,6 +52,21 @@ _CLOSE_REQUEST: Final = int(FrameType.CLOSE_REQUEST)
 _DELAY_KIND: Final = FaultKind.DELAY
 _ERROR_KIND: Final = FaultKind.ERROR
 _DROP_KIND: Final = FaultKind.DROP
+
+
+def _foreign_client(head: bytes | memoryview) -> str | None:
+    """What a client of another protocol whose first bytes are ``head`` is, in words: a packed
+    client by the FOCAS function of its first frame, else :func:`foreign_client` (a TLS or an
+    HTTP client); no byte is shown."""
+    if len(head) >= HEADER.size:
+        length, command, _ = HEADER.unpack_from(head)
+        spec = COMMANDS.get(command)
+        if spec is not None and 4 <= length <= DEFAULT_MAX_FRAME:
+            return (
+                f"it sent a packed frame ({spec.focas_name}): a packed client, on a port that "
+                "speaks FOCAS/2 only"
+            )
+    return foreign_client(head)
 
 
 class NativeFront:
@@ -146,7 +163,9 @@ class NativeConnection(BaseConnection[NativeFrame]):
             # The frames before the violation are answered first; a close request among them
             # ends the connection before the violating bytes are read.
             if not exc.frames or self._run(exc.frames) or not self._closing:
-                self._violation(str(exc))
+                why = str(exc)
+                hint = None if exc.frames or self._opened else _foreign_client(chunk)
+                self._violation(why if hint is None else f"{why}; {hint}")
             return False
         if not frames:
             return True

@@ -261,10 +261,12 @@ class Listener:
             return False
         if self.connection_count >= self.max_connections:
             _log.warning(
-                "%s: connection from %s refused: %d connections is the limit",
+                "%s: connection from %s refused: %s the limit",
                 self._log_label,
                 peer_text(transport.get_extra_info("peername")),
-                self.max_connections,
+                "1 connection is"
+                if self.max_connections == 1
+                else f"{self.max_connections} connections are",
             )
             self.refused += 1
             transport.abort()
