@@ -230,3 +230,26 @@ async def test_run_program_says_a_program_without_m30_ended_with_no_part(tmp_pat
     assert "O0017 stored and selected" in out
     assert "O0017 ended in reset at N0 with no part counted: it has no M02 or M30" in err
     assert "before its end" not in err
+
+
+# -- a program number on the % line is not lost in silence -----------------------------------
+
+
+@pytest.mark.parametrize(
+    ("text", "line", "shown"),
+    [
+        ("%O1\nM30\n%\n", 1, "'%O1'"),
+        ("%O1\nO2\nM30\n%\n", 1, "'%O1'"),
+        ("O1\nM30\n%O2\n", 3, "'%O2'"),
+    ],
+)
+def test_a_program_number_on_the_percent_line_is_refused(text: str, line: int, shown: str) -> None:
+    with pytest.raises(ProgramError) as caught:
+        parse_program(text)
+    assert caught.value.reason is ProgramErrorReason.FORMAT
+    assert str(caught.value).startswith(f"line {line}: {shown}: the rest of a % line is not read")
+
+
+def test_a_percent_line_with_a_comment_or_spaces_still_loads() -> None:
+    assert parse_program("% \nO1\nM30\n%\n").number == 1
+    assert parse_program("%(HEADER)\nO1\nM30\n%\n").number == 1

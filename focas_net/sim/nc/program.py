@@ -221,10 +221,19 @@ def _tape(lines: list[str]) -> range:
     the leader (what precedes the opening ``%``) up to the closing ``%`` (``%`` O1234 ...
     M30 ``%``); a text that starts with its program number may end with the closing ``%``
     alone (O1234 ... M30 ``%``). The trailer after the closing ``%`` is not read, but a
-    program there would be lost: :class:`ProgramError` (FORMAT) names its line."""
+    program there would be lost: :class:`ProgramError` (FORMAT) names its line, as it names
+    a program number on a ``%`` line (``%O1``), whose rest is not read either."""
     marks = [i for i, ln in enumerate(lines) if ln.strip().startswith("%")]
     if not marks:
         return range(len(lines))
+    for i in marks:  # a tape reader skips the rest of the % line: a program there is lost
+        line = lines[i].strip()
+        if _opens(line[1:]):
+            raise ProgramError(
+                ProgramErrorReason.FORMAT,
+                f"line {i + 1}: {line[:40]!r}: the rest of a % line is not read, so its "
+                "program number is lost: write % and the O line on lines of their own",
+            )
     leader = [ln for ln in lines[: marks[0]] if ln.strip()]
     if leader and _opens(leader[0]):  # O1234 ... M30 %: the mark closes the program
         start, end = 0, marks[0]
