@@ -1112,11 +1112,11 @@ def test_position_reads_work_on_a_read_only_machine_without_control(clock: FakeC
         {"absolute": [1, 2]},
         {"machine": [1, 2, 3, 4]},
         {"relative": [0, 0, 2**31]},
-        {"distance_to_go": [0, 0, 1.5]},
+        {"distance_to_go": [0, 0, -(2**31) - 1]},
         {"feed": -1},
         {"spindle_speed": 2**31},
         {"program_running": 1, "program_main": -5},
-        {"absolute": [9, 9, 9], "sequence": True},
+        {"absolute": [9, 9, 9], "sequence": 100_000},
     ],
 )
 def test_set_motion_is_all_or_nothing(m: Machine, kwargs: dict[str, Any]) -> None:

@@ -227,3 +227,24 @@ async def test_a_timeout_beyond_a_float_is_no_deadline_as_infinity_is(
     assert AlarmProjection(cnc, timeout=huge).client is cnc
     with pytest.raises(ValueError, match=r"^interval must be a positive, finite number of seconds"):
         AlarmProjection(cnc, interval=huge)  # its first poll added it to the loop's clock
+
+
+# -- motion figures of another type: a TypeError naming the value, nothing changed -------------
+@pytest.mark.parametrize(
+    ("given", "words"),
+    [
+        ({"absolute": [1, 2, 3.5]}, "absolute[2] must be an integer, got 3.5"),
+        ({"machine": "123"}, "machine must be a list of integers, got '123'"),
+        ({"relative": 5}, "relative must be a list of integers, got 5"),
+        ({"feed": 1.5}, "feed must be an integer, got 1.5"),
+        ({"sequence": "10"}, "sequence must be an integer, got '10'"),
+        ({"absolute": [1, 2, True]}, "absolute[2] must be an integer, got True"),
+    ],
+)
+def test_motion_figures_of_another_type_are_a_type_error(given: dict[str, Any], words: str) -> None:
+    machine = default_machine()
+    before = machine.path_motion()
+    with pytest.raises(TypeError) as refused:
+        machine.set_motion(**given)
+    assert str(refused.value) == words
+    assert machine.path_motion() == before

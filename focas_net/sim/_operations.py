@@ -100,7 +100,8 @@ class PathOperations:
         Positions are one i32 per axis in least input increments; feed and spindle speed are
         0..2**31-1, a program number 0..9999 and the sequence number 0..99999 (FANUC's four
         and five digits, 0 for none). EW_DATA (and nothing changes) when a value does not fit
-        or a position list does not have one value per axis.
+        or a position list does not have one value per axis; TypeError naming a value of
+        another type (``absolute[2] must be an integer, got 3.5``).
         """
         self._paths.at(path).set_motion(
             (absolute, machine, relative, distance_to_go),

@@ -512,8 +512,10 @@ class Path:
         for key, values in zip(POSITION_KINDS, positions, strict=True):
             if values is None:
                 continue
-            got = list(values)
-            if len(got) != n or not all(type(v) is int and I32_MIN <= v <= I32_MAX for v in got):
+            if isinstance(values, str | bytes) or not isinstance(values, Iterable):
+                raise TypeError(f"{key} must be a list of integers, got {values!r}")
+            got = [need_int(f"{key}[{i}]", v) for i, v in enumerate(values)]
+            if len(got) != n or not all(I32_MIN <= v <= I32_MAX for v in got):
                 raise MachineError(EW.DATA, f"{key}: {n} i32 values expected, got {got!r}")
             lists[key] = got
         numbers: dict[str, int] = {}
@@ -521,7 +523,7 @@ class Path:
             if value is None:
                 continue
             low, high = MOTION_NUMBERS[key]
-            if type(value) is not int or not low <= value <= high:
+            if not low <= need_int(key, value) <= high:
                 raise MachineError(EW.DATA, f"{key} = {value!r} outside {low}..{high}")
             numbers[key] = value
         m = self.manual
