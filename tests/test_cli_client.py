@@ -437,7 +437,8 @@ async def test_sim_fault_error(cli: Cli) -> None:
 async def test_sim_fault_delay_times_out(cli: Cli) -> None:
     await cli.ok("sim", "fault", "delay", "--arg", "1500")
     err = await cli.fails(EXIT_CONNECTION, "status", "--timeout", "0.2")
-    assert err.startswith("focas-net: timed out after 0.2 s (127.0.0.1:")
+    assert err.startswith("focas-net: timed out after 0.2 s: no answer to cnc_rdcncstat")
+    assert err.count("127.0.0.1:") == 1, err
 
 
 async def test_sim_fault_drop_is_a_connection_error(cli: Cli) -> None:

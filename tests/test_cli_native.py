@@ -197,7 +197,10 @@ async def test_native_timeout_names_the_address(capsys: pytest.CaptureFixture[st
         silent.close()
         await silent.wait_closed()
     assert (code, out) == (EXIT_CONNECTION, "")
-    assert err.startswith(f"focas-net: timed out after 0.3 s (127.0.0.1:{port})")
+    assert err == (
+        "focas-net: timed out after 0.3 s: no answer to the open request: nothing received "
+        f"since connecting to 127.0.0.1:{port}\n"
+    )
 
 
 async def test_alarms_follow_on_native(capsys: pytest.CaptureFixture[str]) -> None:

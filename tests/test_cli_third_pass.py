@@ -165,9 +165,8 @@ async def test_the_probes_after_a_drop_take_no_fault_of_the_next_command(
 async def test_a_timeout_names_what_went_unanswered(server: Served, protocol: str) -> None:
     await ok("sim", "fault", "delay", "--arg", "5000", *at(server))
     line = await fails(3, "status", "--protocol", protocol, "--timeout", "0.5", *at(server))
-    assert line.startswith(
-        f"focas-net: timed out after 0.5 s (127.0.0.1:{server.port}): no answer to "
-    )
+    assert line.startswith("focas-net: timed out after 0.5 s: no answer to ")
+    assert line.count(f"127.0.0.1:{server.port}") == 1, line
     want = "cnc_rdcncstat (0x0001): nothing" if protocol == "packed" else "the connect requests"
     assert want in line, line
 

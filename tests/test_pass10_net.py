@@ -12,9 +12,11 @@ import contextlib
 import logging
 
 import pytest
+from cli_support import at, fails, ok
 from support import IO_TIMEOUT, serving
 
 from focas_net.adapters._native_cnc import CncHandlers
+from focas_net.cli import EXIT_CONNECTION
 from focas_net.client import FocasClient, NativeClient
 from focas_net.errors import EW, CncError, PayloadError
 from focas_net.native import RequestBlock
@@ -179,3 +181,16 @@ async def test_a_connection_over_the_limit_is_logged_in_plain_english(
             w.close()
     (record,) = [r for r in caplog.records if r.levelno == logging.WARNING]
     assert record.getMessage().endswith(f"refused: {words} the limit")
+
+
+@pytest.mark.parametrize("protocol", ["packed", "native"])
+async def test_a_timeout_on_the_command_line_names_the_peer_once(protocol: str) -> None:
+    """It read `timed out after 0.5 s (127.0.0.1:PORT): no answer to cnc_rdcncstat (0x0001):
+    nothing received since connecting to 127.0.0.1:PORT`, the peer twice."""
+    async with serving() as s:
+        await ok("sim", "fault", "delay", "--arg", "3000", *at(s))
+        line = await fails(
+            EXIT_CONNECTION, "status", "--protocol", protocol, "--timeout", "0.5", *at(s)
+        )
+    assert line.count(f"127.0.0.1:{s.port}") == 1, line
+    assert line.startswith("focas-net: timed out after 0.5 s: no answer to "), line

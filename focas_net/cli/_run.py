@@ -386,7 +386,9 @@ def _failure_text(args: argparse.Namespace, exc: BaseException, hint: str | None
     text = fmt.error_line(exc)
     if isinstance(exc, FocasTimeoutError):
         where = fmt.address_text(args.host, args.port)
-        text = f"timed out after {args.timeout:g} s ({where}): {text}"
+        # the peer once: the client's words name it when it was connected to
+        shown = "" if where in text else f" ({where})"
+        text = f"timed out after {args.timeout:g} s{shown}: {text}"
     if hint is None and isinstance(exc, CncError):
         hint = reason(command_name(args), args, exc)
     if hint is None and _protocol(args) != NATIVE:
