@@ -17,6 +17,7 @@ from focas_net import EW, CncError, FocasClient, NativeClient, default_machine, 
 from focas_net.cli import main
 from focas_net.client import AlarmProjection
 from focas_net.sim import Machine, MachineError
+from focas_net.sim.nc import ManualClock, RealTimeClock
 
 
 # -- the alarm history depth: one rule for the command line and the clients -------------------
@@ -248,3 +249,18 @@ def test_motion_figures_of_another_type_are_a_type_error(given: dict[str, Any], 
         machine.set_motion(**given)
     assert str(refused.value) == words
     assert machine.path_motion() == before
+
+
+# -- a clock given a whole number no float holds: refused as not finite, never OverflowError ----
+@pytest.mark.parametrize(
+    ("call", "words"),
+    [
+        (lambda: ManualClock().advance(10**400), "a clock advances by a finite number of seconds"),
+        (lambda: ManualClock().set(10**400), "a clock is set to a finite time"),
+        (lambda: ManualClock(10**400), "start must be a finite number of seconds"),
+        (lambda: RealTimeClock(speed=10**400), "the clock speed must be a positive number"),
+    ],
+)
+def test_a_clock_refuses_a_number_no_float_holds(call: Any, words: str) -> None:
+    with pytest.raises(ValueError, match=f"^{words}"):
+        call()

@@ -8,6 +8,7 @@ factor; :class:`ManualClock` moves only when a test (or a scenario) steps it.
 from __future__ import annotations
 
 import math
+import sys
 import time
 from collections.abc import Callable
 from typing import Protocol
@@ -46,8 +47,13 @@ class RealTimeClock:
         return self._base + (self._source() - self._origin) * self._speed
 
 
+def _finite(value: float) -> bool:
+    """Whether ``value`` is a finite number a float holds (``10**400`` is not one)."""
+    return abs(value) <= sys.float_info.max if isinstance(value, int) else math.isfinite(value)
+
+
 def _checked_speed(speed: float) -> float:
-    if not (math.isfinite(speed) and speed > 0):
+    if not (_finite(speed) and speed > 0):
         raise ValueError(f"the clock speed must be a positive number, got {speed!r}")
     return float(speed)
 
@@ -57,7 +63,7 @@ def _seconds(what: str, value: object) -> float:
     text), ValueError for NaN and the infinities, each naming ``what`` and the value."""
     if isinstance(value, bool) or not isinstance(value, int | float):
         raise TypeError(f"{what} must be a number of seconds, got {value!r}")
-    if not math.isfinite(value):
+    if not _finite(value):
         raise ValueError(f"{what} must be a finite number of seconds, got {value!r}")
     return float(value)
 
@@ -94,7 +100,7 @@ class ManualClock:
         """Move the time forward by ``seconds`` (>= 0); returns the new time."""
         if not _is_number(seconds):
             _seconds("seconds", seconds)  # TypeError
-        if not (math.isfinite(seconds) and seconds >= 0):
+        if not (_finite(seconds) and seconds >= 0):
             raise ValueError(
                 f"a clock advances by a finite number of seconds >= 0, got {seconds!r}"
             )
@@ -105,7 +111,7 @@ class ManualClock:
         """Jump to ``when``, which may not be earlier than the current time."""
         if not _is_number(when):
             _seconds("when", when)  # TypeError
-        if not math.isfinite(when):
+        if not _finite(when):
             raise ValueError(f"a clock is set to a finite time, got {when!r}")
         if not when >= self._now:
             raise ValueError(f"the clock cannot go back from {self._now} to {when!r}")
