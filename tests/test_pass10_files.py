@@ -253,3 +253,24 @@ def test_a_program_number_on_the_percent_line_is_refused(text: str, line: int, s
 def test_a_percent_line_with_a_comment_or_spaces_still_loads() -> None:
     assert parse_program("% \nO1\nM30\n%\n").number == 1
     assert parse_program("%(HEADER)\nO1\nM30\n%\n").number == 1
+
+
+# -- an alarm writes a number as the screen does: no exponent, no digits lost ----------------
+
+
+@pytest.mark.parametrize(
+    ("block", "shown"),
+    [
+        ("G0 X99999999.", "X99999999: an axis word has at most 9 digits"),
+        ("G4 X-1234.5678", "G4 X-1234.5678"),
+        ("#1=TAN[90]", "TAN[90]"),
+        ("#1=SQRT[-2.5]", "SQRT[-2.5]"),
+        ("G1 X1. F-1234.5678", "F-1234.5678"),
+    ],
+)
+def test_an_alarm_writes_the_number_as_the_screen_does(block: str, shown: str) -> None:
+    engine = _run(f"O1\nN10 {block}\nM30\n")
+    assert engine.alarm is not None
+    text = str(engine.alarm)
+    assert shown in text
+    assert "e+" not in text and ".0]" not in text

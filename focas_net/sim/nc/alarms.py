@@ -133,3 +133,12 @@ class AlarmRaised(Exception):
         self.kind = kind
         self.number = number
         self.detail = detail
+
+
+def number_text(value: float) -> str:
+    """A value in an alarm's detail as a CNC's screen writes a number: plain decimals, no
+    exponent and no trailing zeros (``99999999``, ``-1234.5678``, ``90``), never Python's
+    ``1e+08`` or ``90.0``; an absurdly long one is cut short with ``...``."""
+    text = f"{value:.10f}".rstrip("0").rstrip(".")
+    text = "0" if text in ("", "-0") else text
+    return text if len(text) <= 24 else text[:21] + "..."

@@ -13,7 +13,7 @@ from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field
 from typing import Any, Final
 
-from .alarms import AlarmKind, AlarmRaised
+from .alarms import AlarmKind, AlarmRaised, number_text
 from .macro import Expr, NcVariables, Value, VariableRefused, evaluate, round_fanuc, variable_number
 from .motion import ArcMove, LinearMove, Motion, RapidMove, Vector
 from .program import Assign, Bad, End, Goto, IfGoto, IfThen, Program, While, Words
@@ -481,7 +481,7 @@ class Interpreter:
                 code = round_fanuc(value * 10)
                 group = G_CODE_GROUPS.get(code)
                 if group is None or abs(code - value * 10) > 1e-6:
-                    raise AlarmRaised(10, f"G{value:g}")
+                    raise AlarmRaised(10, f"G{number_text(value)}")
                 if group == 0:
                     self.one_shot = one_shot = code
                 else:
@@ -499,7 +499,7 @@ class Interpreter:
         for address, value, literal in values:
             if address in self.axis_index:
                 if abs(value if literal else value / increment) > AXIS_WORD_MAX + 0.5:
-                    raise AlarmRaised(3, f"{address}{value:g}: {_AXIS_WORD_RULE}")
+                    raise AlarmRaised(3, f"{address}{number_text(value)}: {_AXIS_WORD_RULE}")
                 axes[self.axis_index[address]] = (value * increment if literal else value) * scale
                 other.setdefault(address, (value, literal))  # X of a dwell
             elif address == "M":
@@ -509,7 +509,7 @@ class Interpreter:
         if "F" in other:
             feed = other["F"][0]
             if feed < 0:
-                raise AlarmRaised(6, f"F{feed:g}")
+                raise AlarmRaised(6, f"F{number_text(feed)}")
             self.feed = min(feed * scale, s.max_cutting_feed)
         if "S" in other:
             self.spindle_command = float(self._code("S", other["S"][0]))
@@ -586,7 +586,7 @@ class Interpreter:
             return Sync(m, frozenset(range(1, s.path_count + 1)))
         value = p[0]
         if value < 0 or value != math.floor(value):
-            raise AlarmRaised(161, f"M{m} P{value:g}")
+            raise AlarmRaised(161, f"M{m} P{number_text(value)}")
         digits = str(int(value))
         paths = [10 if d == "0" else int(d) for d in digits]
         named = frozenset(paths)
@@ -606,9 +606,9 @@ class Interpreter:
     @staticmethod
     def _integer(address: str, value: float) -> int:
         if value < 0:
-            raise AlarmRaised(6, f"{address}{value:g}")
+            raise AlarmRaised(6, f"{address}{number_text(value)}")
         if value != math.floor(value):
-            raise AlarmRaised(7, f"{address}{value:g}")
+            raise AlarmRaised(7, f"{address}{number_text(value)}")
         return int(value)
 
     @classmethod
@@ -665,7 +665,7 @@ class Interpreter:
             elif "X" in other:
                 value, literal = other["X"]
                 if value < 0:
-                    raise AlarmRaised(6, f"G4 X{value:g}")
+                    raise AlarmRaised(6, f"G4 X{number_text(value)}")
                 seconds = value * s.increment_mm if literal else value
             else:
                 seconds = 0.0
@@ -742,7 +742,10 @@ class Interpreter:
                 self.position = list(end)  # an arc of 0 degrees: no motion
                 return
             if r == 0 or abs(r) * 2 < chord - 1e-9:
-                raise AlarmRaised(20, f"R{abs(r):g} is less than half of the chord {chord:g}")
+                raise AlarmRaised(
+                    20,
+                    f"R{number_text(abs(r))} is less than half of the chord {number_text(chord)}",
+                )
             h = math.sqrt(max(r * r - chord * chord / 4, 0.0))
             ux, uy = (ea - sa) / chord, (eb - sb) / chord
             left = (r > 0) != clockwise  # small arc counter-clockwise: center to the left

@@ -15,7 +15,7 @@ from collections.abc import Callable
 from dataclasses import dataclass
 from typing import Final, Protocol
 
-from .alarms import AlarmRaised
+from .alarms import AlarmRaised, number_text
 
 __all__ = [
     "MACRO_FUNCTIONS",
@@ -334,7 +334,7 @@ def evaluate(expr: Expr, read: Reader) -> Value:
 
 def _checked(value: float) -> float:
     if not math.isfinite(value) or abs(value) > MAX_VALUE:
-        raise AlarmRaised(111, f"{value}")
+        raise AlarmRaised(111, number_text(value))
     return value
 
 
@@ -346,11 +346,11 @@ def _call(name: str, args: list[float]) -> float:
         return math.cos(math.radians(x))
     if name == "TAN":
         if math.isclose(math.fmod(abs(x), 180.0), 90.0):
-            raise AlarmRaised(119, f"TAN[{x}]")
+            raise AlarmRaised(119, f"TAN[{number_text(x)}]")
         return math.tan(math.radians(x))
     if name in ("ASIN", "ACOS"):
         if not -1.0 <= x <= 1.0:
-            raise AlarmRaised(119, f"{name}[{x}]")
+            raise AlarmRaised(119, f"{name}[{number_text(x)}]")
         if name == "ACOS":
             return math.degrees(math.acos(x))
         angle = math.degrees(math.asin(x))
@@ -363,7 +363,7 @@ def _call(name: str, args: list[float]) -> float:
         return angle + 360.0 if angle < 0 else angle
     if name == "SQRT":
         if x < 0:
-            raise AlarmRaised(119, f"SQRT[{x}]")
+            raise AlarmRaised(119, f"SQRT[{number_text(x)}]")
         return math.sqrt(x)
     if name == "ABS":
         return abs(x)
@@ -375,8 +375,8 @@ def _call(name: str, args: list[float]) -> float:
         return float(math.trunc(x) if x == math.trunc(x) else math.trunc(x) + math.copysign(1, x))
     if name == "LN":
         if x <= 0:
-            raise AlarmRaised(119, f"LN[{x}]")
+            raise AlarmRaised(119, f"LN[{number_text(x)}]")
         return math.log(x)
     if x > 109:  # EXP beyond ~1e47 overflows the macro range
-        raise AlarmRaised(111, f"EXP[{x}]")
+        raise AlarmRaised(111, f"EXP[{number_text(x)}]")
     return math.exp(x)

@@ -18,7 +18,7 @@ from collections.abc import Callable, Collection
 from dataclasses import dataclass, field
 from typing import Final
 
-from .alarms import AlarmRaised, ProgramError, ProgramErrorReason
+from .alarms import AlarmRaised, ProgramError, ProgramErrorReason, number_text
 from .macro import Cursor, Expr, Neg, Num, Var, bracketed, parse_expression, parse_number, variable
 
 __all__ = [
@@ -357,7 +357,7 @@ def _loop_number(cur: Cursor) -> int:
     value, point, _ = parse_number(cur)
     _end(cur)
     if point or not 1 <= value <= 3:
-        raise AlarmRaised(126, f"loop number {value:g} is not 1, 2 or 3")
+        raise AlarmRaised(126, f"loop number {number_text(value)} is not 1, 2 or 3")
     return int(value)
 
 
