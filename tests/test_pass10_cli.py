@@ -1,6 +1,6 @@
 """A new user's tenth pass over the command line: every number-range refusal naming the
 number as it was typed (``0x0``, ``0b0``), not the value it was read as; the program
-numbers read after the main program is deleted.
+numbers read after the main program is deleted; `alarms --count` without `--follow`.
 
 Each test runs ``focas-net`` as a user does (a subprocess) and checks its one line and its
 exit code.
@@ -85,3 +85,31 @@ async def test_deleting_the_main_program_names_no_program() -> None:
         line = await fails(EXIT_CNC, "sim", "cycle", "start", *at(served))
     assert [(s["program_running"], s["program_main"]) for s in shown] == [(0, 0), (0, 0)], shown
     assert "no main program is selected" in line, line
+
+
+# -- alarms: an option of --follow without it ---------------------------------------------------
+
+
+@pytest.mark.parametrize(
+    ("given", "said"),
+    [
+        (("--count", "2"), "--count applies to --follow (focas-net alarms --follow --count 2)"),
+        (
+            ("--interval", "5"),
+            "--interval applies to --follow (focas-net alarms --follow --interval 5)",
+        ),
+        (
+            ("--count", "2", "--interval", "5"),
+            "--count and --interval apply to --follow "
+            "(focas-net alarms --follow --count 2 --interval 5)",
+        ),
+    ],
+)
+async def test_an_option_of_follow_alone_is_named_as_given(
+    given: tuple[str, ...], said: str
+) -> None:
+    """``alarms --count 2`` said "--count and --interval apply to --follow", naming an
+    option not given: the refusal names the options given, and the command that takes them."""
+    async with serving() as served:
+        line = await fails(EXIT_USAGE, "alarms", *given, *at(served))
+    assert line == f"focas-net: {said}", line

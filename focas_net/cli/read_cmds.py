@@ -24,6 +24,7 @@ from focas_net.protocol import ParamDataType, ParamValue, PmcArea, PositionKind
 
 from . import _format as fmt
 from . import _run
+from ._args import PROG
 from ._run import (
     Go,
     HintedError,
@@ -259,8 +260,14 @@ def pmc_read(args: argparse.Namespace) -> Go:
 def alarms(args: argparse.Namespace) -> Go:
     if args.follow:
         return _alarms_follow(args)
-    if args.count is not None or args.interval is not None:
-        raise ValueError("--count and --interval apply to --follow")
+    given = {"--count": args.count, "--interval": args.interval}
+    given = {option: value for option, value in given.items() if value is not None}
+    if given:  # named as given, with the command that takes them
+        verb = "apply" if len(given) > 1 else "applies"
+        typed = " ".join(f"{option} {value:g}" for option, value in given.items())
+        raise ValueError(
+            f"{' and '.join(given)} {verb} to --follow ({PROG} alarms --follow {typed})"
+        )
 
     async def go(cnc: CncClient) -> Output:
         active = await cnc.read_alarms()
