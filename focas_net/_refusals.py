@@ -1,5 +1,5 @@
-"""Why a CNC refused a parameter or a macro write, in words, from what the write named: the
-reasons the command line (``cli/_reasons.py``, which adds what to type next) and the gateway's
+"""Why a CNC refused a parameter, a macro or a PMC write, in words, from what the write named:
+the reasons the command line (``cli/_reasons.py``, which adds what to type next) and the gateway's
 write methods (``gateway/writer.py``) both give.
 
 The wire carries a refusal's EW code only; the reason stays in the machine. What the write
@@ -16,12 +16,15 @@ from focas_net.errors import EW
 
 __all__ = [
     "AXIS_NAME_PARAM",
+    "DRIVEN_AREAS",
     "FANUC_SPANS",
     "PARAM_GATE",
     "READ_ONLY",
+    "axis_misfit",
     "item_named",
     "macro_refusal",
     "param_refusal",
+    "pmc_refusal",
     "system_read_only",
 ]
 
@@ -79,6 +82,13 @@ def system_read_only(number: int | str) -> str | None:
 def item_named(kind: str, number: int | str, axis: int = 0) -> str:
     """``parameter 1420 axis 1`` (``axis`` 0: an item of no axis)."""
     return f"{kind} {number}" + (f" axis {axis}" if axis else "")
+
+
+def axis_misfit(kind: str, number: int | str, axis: int) -> str:
+    """EW_ATTRIB of an axis the item does not take: ``parameter 1420 is an axis parameter``
+    (written or read with no axis, ``axis`` 0), ``parameter 6711 is not an axis parameter``
+    (with one); what to give instead is the front end's to add."""
+    return f"{kind} {number} is {'an' if axis == 0 else 'not an'} axis {kind}"
 
 
 def _param_range(number: int | str, value: object, axis: int, bit: str) -> str:
@@ -154,4 +164,28 @@ def macro_refusal(ew: int, number: int | str, value: object = None) -> str | Non
         )
     if ew == EW.DATA and value is not None:
         return f"#{number} cannot hold {value}"
+    return None
+
+
+#: The PMC areas a CNC's own PMC writes (the machine's inputs X and the CNC's signals F),
+#: write-protected on every simulated machine.
+DRIVEN_AREAS: Final = ("X", "F")
+
+
+def pmc_refusal(ew: int, area: str, first: int, last: int) -> str | None:
+    """Why the CNC answered ``ew`` to ``pmc_wrpmcrng`` (or a read) of bytes ``first..last``
+    of PMC area ``area`` (its letter); None for a code these words do not cover. EW_PROT is
+    the area's protection; writing it as the simulator is the front end's to add."""
+    if ew == EW.NUMBER:
+        span = f"{area}{first}" + (f"..{area}{last}" if last != first else "")
+        return f"{span} goes past the end of PMC area {area}"
+    if ew == EW.NOOPT:
+        return f"the CNC has no PMC area {area}"
+    if ew == EW.PROT:
+        if area in DRIVEN_AREAS:
+            return (
+                f"PMC area {area} is write-protected (the machine drives it), or the machine is "
+                "read-only"
+            )
+        return f"the machine is read-only, or its machine file write-protects PMC area {area}"
     return None

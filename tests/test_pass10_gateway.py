@@ -16,12 +16,14 @@ from support import serving
 
 from focas_net.cli import EXIT_USAGE
 from focas_net.cli._reasons import reason
+from focas_net.cli.read_cmds import axis_hint
 from focas_net.client import FocasClient, NativeClient
-from focas_net.errors import CncError
+from focas_net.errors import EW, CncError
 from focas_net.gateway import ConfigError, MachineConfig, WriteGates, parse_config, shard
 from focas_net.gateway._opcua_methods import refusal
 from focas_net.gateway.poller import Poller
 from focas_net.gateway.writer import GatedWriter
+from focas_net.protocol import PmcArea
 from focas_net.sim import default_machine
 from focas_net.sim.nc import ManualClock
 
@@ -128,3 +130,56 @@ async def test_availability_tells_the_current_loss_not_the_first() -> None:
     assert (up1, up2) == (False, False)
     assert first.startswith("protocol: ") and second.startswith("refused: "), sink.states
     assert poller.is_online("bad") is False
+
+
+@pytest.mark.parametrize(
+    ("area", "address", "why"),
+    [
+        ("R", 65535, "R65535 goes past the end of PMC area R"),
+        ("X", 0, "PMC area X is write-protected (the machine drives it), or the machine is "
+         "read-only"),
+        ("E", 0, "the CNC has no PMC area E"),
+    ],
+)  # fmt: skip
+@pytest.mark.parametrize("protocol", ["packed", "native"])
+async def test_a_pmc_write_the_cnc_refuses_says_why_as_the_cli_does(
+    area: str, address: int, why: str, protocol: Literal["native", "packed"]
+) -> None:
+    gates = WriteGates(pmc=((area, 0, 65535),))
+    async with serving(default_machine()) as served:
+        kind_of = FocasClient if protocol == "packed" else NativeClient
+        async with kind_of("127.0.0.1", served.port) as client:
+            config = MachineConfig("m1", "127.0.0.1", served.port, protocol, writes=gates)
+            with pytest.raises(CncError) as refused:
+                await GatedWriter(lambda name: (config, client)).write_pmc("m1", area, address, 1)
+    assert str(refused.value).endswith(f"pmc_wrpmcrng; {why}")
+    args = Namespace(area=PmcArea.parse(area), start=address, values=["1"], hex=None)
+    assert why in (reason("pmc write", args, CncError(refused.value.ew)) or "")
+
+
+@pytest.mark.parametrize(
+    ("number", "axis", "why", "cli"),
+    [
+        (1420, 0, "parameter 1420 is an axis parameter: give Axis 1..3", "give --axis 1..3"),
+        (6711, 1, "parameter 6711 is not an axis parameter: give Axis 0", "leave out --axis"),
+    ],
+)
+@pytest.mark.parametrize("protocol", ["packed", "native"])
+async def test_a_parameter_written_with_the_wrong_axis_says_which_axis_to_give(
+    number: int, axis: int, why: str, cli: str, protocol: Literal["native", "packed"]
+) -> None:
+    """EW_ATTRIB: an axis parameter written without its axis, or one of no axis with one;
+    the command line says the same of ``--axis``."""
+    machine = default_machine()
+    machine.set_panel("MDI", pwe=1)
+    async with serving(machine) as served:
+        kind_of = FocasClient if protocol == "packed" else NativeClient
+        async with kind_of("127.0.0.1", served.port) as client:
+            config = MachineConfig("m1", "127.0.0.1", served.port, protocol, writes=ALL)
+            with pytest.raises(CncError) as refused:
+                await GatedWriter(lambda name: (config, client)).write_param(
+                    "m1", number, 1000, axis
+                )
+            hinted = await axis_hint(client, CncError(EW.ATTRIB), "parameter", number, axis)
+    assert str(refused.value).endswith(f"cnc_wrparam; {why}")
+    assert str(hinted).endswith(why.replace(why.rpartition(": ")[2], cli))

@@ -15,7 +15,14 @@ from collections.abc import Callable, Mapping
 from pathlib import Path
 from typing import Final
 
-from focas_net._refusals import PARAM_GATE, READ_ONLY, item_named, macro_refusal, param_refusal
+from focas_net._refusals import (
+    PARAM_GATE,
+    READ_ONLY,
+    item_named,
+    macro_refusal,
+    param_refusal,
+    pmc_refusal,
+)
 from focas_net._typed import WRONG_PASSWORD
 from focas_net.errors import EW, CncError
 from focas_net.server.faults import fault_refusal
@@ -160,29 +167,18 @@ def _pmc_span(args: argparse.Namespace) -> tuple[int, int]:
     return args.start, args.start + len(data) - 1
 
 
-def _pmc_beyond(args: argparse.Namespace) -> str:
-    area = args.area.name
-    first, last = _pmc_span(args)
-    span = f"{area}{first}" + (f"..{area}{last}" if last != first else "")
-    return f"{span} goes past the end of PMC area {area}"
-
-
-#: The PMC areas a CNC's own PMC writes (the machine's inputs X and the CNC's signals F),
-#: write-protected on every simulated machine.
-_DRIVEN_AREAS: Final = ("X", "F")
+def _pmc_refusal(args: argparse.Namespace, ew: int) -> str:
+    """The words of the machine's refusal ``ew`` of ``pmc read``, ``write`` or ``bit``."""
+    why = pmc_refusal(ew, args.area.name, *_pmc_span(args))
+    assert why is not None
+    return why
 
 
 def _pmc_protected(args: argparse.Namespace) -> str:
     area = args.area.name
     if getattr(args, "force", False):
         return _read_only(args)
-    if area in _DRIVEN_AREAS:
-        what = (
-            f"PMC area {area} is write-protected (the machine drives it), or the machine is "
-            "read-only"
-        )
-    else:
-        what = f"the machine is read-only, or its machine file write-protects PMC area {area}"
+    what = _pmc_refusal(args, EW.PROT)
     native = getattr(args, "protocol", "packed") == "native"
     if hasattr(args, "address"):  # pmc bit
         byte = fmt.parse_number_bit(args.address)[0]
@@ -197,8 +193,8 @@ def _pmc_protected(args: argparse.Namespace) -> str:
 
 
 _PMC: Final[Table] = {
-    EW.NUMBER: _pmc_beyond,
-    EW.NOOPT: lambda a: f"the CNC has no PMC area {a.area.name}",
+    EW.NUMBER: lambda a: _pmc_refusal(a, EW.NUMBER),
+    EW.NOOPT: lambda a: _pmc_refusal(a, EW.NOOPT),
     EW.PROT: _pmc_protected,
 }
 

@@ -8,6 +8,7 @@ import json
 from decimal import Decimal
 from typing import Any
 
+from focas_net._refusals import axis_misfit
 from focas_net.client import (
     AlarmCleared,
     AlarmHistoryEvent,
@@ -115,11 +116,10 @@ async def axis_hint(cnc: CncClient, exc: CncError, kind: str, number: int, axis:
     if exc.ew != EW.ATTRIB:
         return exc
     axes = await _axis_count(cnc)
-    if axis == 0:
-        return HintedError(exc, f"{kind} {number} is an axis {kind}: give --axis 1..{axes}")
     if axis > axes:
         return HintedError(exc, _axes_text(axes))
-    return HintedError(exc, f"{kind} {number} is not an axis {kind}: leave out --axis")
+    give = f"give --axis 1..{axes}" if axis == 0 else "leave out --axis"
+    return HintedError(exc, f"{axis_misfit(kind, number, axis)}: {give}")
 
 
 async def axis_past(cnc: CncClient, exc: CncError, axis: int | None, also: str = "") -> FocasError:

@@ -6,9 +6,9 @@ A write is first held against the machine's :class:`~focas_net.gateway.config.Wr
 ``PermissionError`` naming the machine, the gate and the value asked, and nothing is sent.
 Then it is the client's write, with the client's checks of the values and the CNC's refusals
 (:class:`~focas_net.errors.CncError` for an EW code, a connection error for a lost machine).
-A refusal of the CNC carries its reason after the code, in the command line's words
-(:mod:`focas_net._refusals`): ``EW_DATA (5): data error: cnc_wrparam; the CNC refused
-1000000000 for parameter 6711: outside its range``.
+A refusal of the CNC (of a parameter, a macro or a PMC write) carries its reason after the
+code, in the command line's words (:mod:`focas_net._refusals`): ``EW_DATA (5): data error:
+cnc_wrparam; the CNC refused 1000000000 for parameter 6711: outside its range 0..999999999``.
 """
 
 from __future__ import annotations
@@ -18,10 +18,16 @@ from decimal import Decimal
 from functools import partial
 from typing import Final
 
-from focas_net._refusals import PARAM_GATE, macro_refusal, param_refusal
+from focas_net._refusals import (
+    PARAM_GATE,
+    axis_misfit,
+    macro_refusal,
+    param_refusal,
+    pmc_refusal,
+)
 from focas_net.client import FocasClient, NativeClient
 from focas_net.client._values import check_int
-from focas_net.errors import CncError
+from focas_net.errors import EW, CncError, FocasError
 from focas_net.protocol import PmcArea
 
 from .config import MachineConfig
@@ -59,7 +65,12 @@ class GatedWriter:
         why = partial(
             param_refusal, number=number, value=value, axis=axis, protocol=config.protocol
         )
-        await _said(client.write_param(number, value, axis=axis), why)
+        try:
+            await _said(client.write_param(number, value, axis=axis), why)
+        except CncError as exc:
+            if exc.ew != EW.ATTRIB:
+                raise
+            raise await _axis_said(client, exc, number, axis) from exc
 
     async def write_pmc(self, machine: str, area: str, address: int, value: int) -> None:
         """``pmc_wrpmcrng`` of one byte, if ``writes.pmc`` allows ``area`` ``address``."""
@@ -73,7 +84,8 @@ class GatedWriter:
                 f"({'allowed: ' + allowed if allowed else 'no PMC byte may be written'})"
             )
         byte = check_int("PMC byte value", value, 0, 0xFF)
-        await client.write_pmc(letter, address, bytes([byte]))
+        why = partial(pmc_refusal, area=letter, first=address, last=address)
+        await _said(client.write_pmc(letter, address, bytes([byte])), why)
 
 
 #: EW_PASSWD of a parameter write: the gate, and that the gateway cannot unlock a password.
@@ -93,6 +105,24 @@ async def _said(write: Awaitable[None], why: Callable[[int], str | None]) -> Non
         if said is None:
             raise
         raise CncError.from_ew(exc.ew, f"{exc.detail}; {said}" if exc.detail else said) from exc
+
+
+async def _axis_said(
+    client: FocasClient | NativeClient, exc: CncError, number: int, axis: int
+) -> CncError:
+    """EW_ATTRIB of parameter ``number`` written with ``axis``, again with which Axis to give
+    (the path's axes, as its positions name them, as the command line counts them); ``exc``
+    itself for an axis past the path's (the CNC's words say so) or when they cannot be read."""
+    try:
+        axes = len((await client.read_positions()).values)
+    except FocasError:
+        return exc
+    if axis > axes:
+        return exc
+    give = f"give Axis 1..{axes}" if axis == 0 else "give Axis 0"
+    return CncError.from_ew(
+        exc.ew, f"{exc.detail}; {axis_misfit('parameter', number, axis)}: {give}"
+    )
 
 
 def _gate(
