@@ -247,7 +247,7 @@ def test_non_latin1_message_cannot_be_encoded() -> None:
 
 
 def test_entry_key_and_alarm_types() -> None:
-    assert E1.key == (E1.occurred_at, 500, 4)
+    assert E1.key == (E1.occurred_at, 500, 4, E1.axis_no)
     assert ActiveAlarm(1, 4, 500, "x").key == (1, 4, 500)
     assert ALARM_TYPE_NAMES[3] == "PS"
     assert ALARM_TYPE_NAMES[19] == "PC"

@@ -15,7 +15,7 @@ from support import with_both_clients
 
 from focas_net import EW, CncError, FocasClient, NativeClient, default_machine, load_machine
 from focas_net.cli import main
-from focas_net.client import AlarmProjection
+from focas_net.client import AlarmHistoryEvent, AlarmProjection
 from focas_net.sim import Machine, MachineError
 from focas_net.sim.nc import ManualClock, RealTimeClock
 
@@ -264,3 +264,32 @@ def test_motion_figures_of_another_type_are_a_type_error(given: dict[str, Any], 
 def test_a_clock_refuses_a_number_no_float_holds(call: Any, words: str) -> None:
     with pytest.raises(ValueError, match=f"^{words}"):
         call()
+
+
+# -- the alarm history: alarms of one second are each reported -------------------------------------
+@pytest.mark.parametrize("native", [False, True])
+async def test_one_alarm_on_two_axes_in_one_second_is_two_history_events(
+    both_clients: tuple[Machine, FocasClient, NativeClient], native: bool
+) -> None:
+    """SV0401 on X and on Y in one second: the projection reported one history entry, its
+    key leaving out the axis; and an alarm raised, cleared and raised again within the second
+    is two entries of the history, each reported."""
+    machine, cnc, through_native = both_clients
+    client: FocasClient | NativeClient = through_native if native else cnc
+    projection = AlarmProjection(client, "active+history", replay_history=False)
+    assert await projection.poll() == []
+    machine.raise_alarm(1, 6, 401, "SV0401")
+    machine.raise_alarm(2, 6, 401, "SV0401")
+    machine.clear_alarms()
+    machine.raise_alarm(0, 3, 10, "PS0010")
+    machine.clear_alarms()
+    machine.raise_alarm(0, 3, 10, "PS0010")
+    events = await projection.poll()
+    history = [e.entry for e in events if isinstance(e, AlarmHistoryEvent)]
+    assert [(e.axis_no, e.alm_type, e.alm_no) for e in history] == [
+        (1, 6, 401),
+        (2, 6, 401),
+        (0, 3, 10),
+        (0, 3, 10),
+    ]
+    assert [e for e in await projection.poll() if isinstance(e, AlarmHistoryEvent)] == []

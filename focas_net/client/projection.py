@@ -104,7 +104,7 @@ class AlarmHistoryEvent:
 
 
 AlarmEvent = AlarmRaised | AlarmCleared | AlarmHistoryEvent
-_HistoryKey = tuple[datetime, int, int]
+_HistoryKey = tuple[datetime, int, int, int]
 #: An active alarm's identity: ``(axis, type, number)`` (:attr:`ActiveAlarm.key`).
 AlarmKey = tuple[int, int, int]
 
@@ -194,7 +194,9 @@ class AlarmProjection:
         self._failures_in_row = 0
         self._last_error: FocasError | None = None
         self._active: dict[tuple[int, int, int], ActiveAlarm] = {}
-        self._seen: dict[_HistoryKey, None] = {}  # insertion-ordered: oldest first
+        #: How many entries of each key were seen (one alarm raised twice in a second is two
+        #: entries of one key); insertion-ordered, oldest first.
+        self._seen: dict[_HistoryKey, int] = {}
         self._memory = max(4 * self.depth, MIN_HISTORY_MEMORY)
         self._queue: deque[AlarmEvent] = deque()
         self._stop = asyncio.Event()
@@ -307,11 +309,14 @@ class AlarmProjection:
         if history is not None:
             seen = self._seen
             emit = self._replay_history or not first
+            counted: dict[_HistoryKey, int] = {}
             for entry in reversed(history.entries):  # oldest first
                 key = entry.key
-                if key in seen:
+                n = counted[key] = counted.get(key, 0) + 1
+                if n <= seen.get(key, 0):
                     continue
-                seen[key] = None
+                seen.pop(key, None)
+                seen[key] = n
                 if emit:
                     events.append(AlarmHistoryEvent(entry))
             excess = len(seen) - self._memory

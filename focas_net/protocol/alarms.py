@@ -254,9 +254,11 @@ class AlarmHistoryEntry:
     msg: str
 
     @property
-    def key(self) -> tuple[datetime, int, int]:
-        """Deduplication key: ``(occurred_at, alm_no, alm_type)``."""
-        return (self.occurred_at, self.alm_no, self.alm_type)
+    def key(self) -> tuple[datetime, int, int, int]:
+        """Deduplication key: ``(occurred_at, alm_no, alm_type, axis_no)`` (one alarm of two
+        axes in one second is two entries; the same alarm twice in one second has one key,
+        and counts as often as the history holds it)."""
+        return (self.occurred_at, self.alm_no, self.alm_type, self.axis_no)
 
 
 @dataclass(frozen=True, slots=True)
