@@ -18,7 +18,7 @@ from support import IO_TIMEOUT, serving
 from focas_net.adapters._native_cnc import CncHandlers
 from focas_net.cli import EXIT_CONNECTION
 from focas_net.client import FocasClient, NativeClient
-from focas_net.errors import EW, CncError, PayloadError
+from focas_net.errors import EW, CncError, FocasConnectionError, PayloadError
 from focas_net.native import RequestBlock
 from focas_net.protocol import Command, encode_frame
 from focas_net.sim import Machine, Session
@@ -194,3 +194,25 @@ async def test_a_timeout_on_the_command_line_names_the_peer_once(protocol: str) 
         )
     assert line.count(f"127.0.0.1:{s.port}") == 1, line
     assert line.startswith("focas-net: timed out after 0.5 s: no answer to "), line
+
+
+# -- a connection lost, in the client's log -----------------------------------------------------
+
+
+@pytest.mark.parametrize("native", [False, True])
+async def test_a_connection_the_server_closed_is_logged_alike_by_both_clients(
+    native: bool, caplog: pytest.LogCaptureFixture
+) -> None:
+    """The packed client logged `connection to HOST:PORT lost: closed`, the FOCAS/2 one
+    `lost: connection closed by HOST:PORT`."""
+    async with serving() as s, FocasClient(s.host, s.port, timeout=IO_TIMEOUT) as control:
+        cls = NativeClient if native else FocasClient
+        async with cls(s.host, s.port, timeout=IO_TIMEOUT) as client:
+            await control.sim.inject_fault("drop", scope="machine")
+            with caplog.at_level(logging.WARNING, logger="focas_net.client"):
+                with pytest.raises(FocasConnectionError) as caught:
+                    await client.read_status()
+    (record,) = [r for r in caplog.records if r.levelno == logging.WARNING]
+    # (in the words the call got: the packed connection had received nothing yet)
+    assert record.getMessage() == f"connection to 127.0.0.1:{s.port} lost: {caught.value}"
+    assert str(caught.value).startswith(f"connection closed by 127.0.0.1:{s.port}")

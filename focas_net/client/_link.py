@@ -221,8 +221,9 @@ class Link(CompositeCalls):
             self._set_state(ClientState.DISCONNECTED)
             return
         if self._policy is None:
-            logger.warning("connection to %s lost: %s", self.address, exc or "closed")
+            # (the words its calls get, as the FOCAS/2 client logs them)
             self._lost_why = conn.end or exc
+            logger.warning("connection to %s lost: %s", self.address, self._lost_why or "closed")
             self._set_state(ClientState.DISCONNECTED)
             return
         self._reconnecting(conn.end or exc)
