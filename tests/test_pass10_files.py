@@ -274,3 +274,15 @@ def test_an_alarm_writes_the_number_as_the_screen_does(block: str, shown: str) -
     text = str(engine.alarm)
     assert shown in text
     assert "e+" not in text and ".0]" not in text
+
+
+def test_an_overtravel_names_the_stroke_limit_with_every_digit() -> None:
+    clock = ManualClock()
+    limits = ((-10.0, 1234.567), None, None)
+    engine = Engine(clock, NcSettings(stroke_limits=limits))
+    engine.store.store("O1\nG90 G1 X2000. F60000\nM30\n")
+    engine.store.select(1)
+    engine.cycle_start()
+    clock.advance(10.0)
+    assert engine.alarm is not None and engine.alarm.code == "OT0500"
+    assert "would pass its stroke limit 1234.567" in str(engine.alarm)

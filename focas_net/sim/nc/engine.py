@@ -15,7 +15,7 @@ from dataclasses import dataclass
 from enum import Enum
 from typing import Final
 
-from .alarms import ALARM_MESSAGES, AlarmKind, AlarmRaised, NcAlarm
+from .alarms import ALARM_MESSAGES, AlarmKind, AlarmRaised, NcAlarm, number_text
 from .clock import SimClock
 from .interpreter import (
     BUSY,
@@ -746,7 +746,7 @@ class Engine:
                 number,
                 ALARM_MESSAGES[(AlarmKind.OT, number)],
                 axis=axis + 1,
-                detail=f"{name} would pass its stroke limit {side:g}",
+                detail=f"{name} would pass its stroke limit {number_text(side)}",
             )
             return
 
