@@ -286,3 +286,25 @@ def test_an_overtravel_names_the_stroke_limit_with_every_digit() -> None:
     clock.advance(10.0)
     assert engine.alarm is not None and engine.alarm.code == "OT0500"
     assert "would pass its stroke limit 1234.567" in str(engine.alarm)
+
+
+# -- a macro value of the machine file that does not fit is refused in the clients' words ----
+
+
+@pytest.mark.parametrize(
+    ("value", "key", "shown"),
+    [
+        ("99999999999", "macros.values.500", "99999999999"),
+        ("[-2147483649, 2]", "macros.values.500[0]", "-2147483649"),
+    ],
+)
+def test_a_macro_value_that_does_not_fit_is_named_as_the_clients_name_it(
+    value: str, key: str, shown: str
+) -> None:
+    text = (
+        '[machine]\nname = "m"\naxes = ["X"]\n[macros]\n'
+        f"ranges = [{{ first = 500, last = 999 }}]\nvalues = {{ 500 = {value} }}\n"
+    )
+    with pytest.raises(MachineFileError) as caught:
+        machine_from_dict(tomllib.loads(text))
+    assert f"{key}: {shown} does not fit a macro variable" in str(caught.value)

@@ -19,7 +19,7 @@ from pathlib import Path
 from typing import Any, Final
 
 from focas_net._bits import bits_hint, bits_of_text
-from focas_net._typed import decimal_number, os_words
+from focas_net._typed import decimal_number, macro_unfit, os_words
 from focas_net.versamax import BoardId, IOModuleRecord, RefType
 
 from ._base import NUMBERS, n_values
@@ -291,12 +291,21 @@ def _macros(ctx: _Ctx, value: Any) -> tuple[list[MacroRange], dict[int, Decimal]
         if isinstance(raw, list):
             if len(raw) != 2:
                 c.fail("must be an integer or [mcr_val, dec_val]")
-            digits = _int(c.sub(0), raw[0], _I32)
+            digits = _mcr_val(c.sub(0), raw[0])
             decimals = _int(c.sub(1), raw[1], (0, 9))
             values[number] = Decimal(f"{digits}E-{decimals}")
         else:
-            values[number] = Decimal(_int(c, raw, _I32))
+            values[number] = Decimal(_mcr_val(c, raw))
     return ranges, values
+
+
+def _mcr_val(ctx: _Ctx, value: Any) -> int:
+    """A macro value's digits (``mcr_val``): a 32-bit integer, one that is not refused in the
+    words the machine, the clients and the command line give (:func:`macro_unfit`)."""
+    low, high = _I32
+    if isinstance(value, int) and not isinstance(value, bool) and not low <= value <= high:
+        ctx.fail(macro_unfit(value))
+    return _int(ctx, value, _I32)
 
 
 def _pmc(ctx: _Ctx, value: Any) -> list[PmcAreaSpec]:
