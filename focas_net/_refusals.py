@@ -24,6 +24,7 @@ __all__ = [
     "item_named",
     "macro_refusal",
     "param_refusal",
+    "parts_refusal",
     "pmc_refusal",
     "system_read_only",
 ]
@@ -77,6 +78,18 @@ def system_read_only(number: int | str) -> str | None:
             span = f"#{first}" if first == last else f"#{first}..#{last}"
             return f"macro variable #{known} is read-only (FANUC's {span}: {holds})"
     return None
+
+
+#: FANUC's parts count and total parts, as macro variables.
+_PARTS_VARIABLES: Final = (3901, 3902)
+
+
+def parts_refusal(number: int | str, value: object) -> str:
+    """Why parts count ``#number`` (3901 or 3902) does not take ``value`` (None: made vacant),
+    in the words of the machine, the command line and the gateway."""
+    if value is None:
+        return f"#{number} is a parts count, which always holds a number (write 0 to reset it)"
+    return f"#{number} is a parts count: it holds a whole number of 0 or more, not {value}"
 
 
 def item_named(kind: str, number: int | str, axis: int = 0) -> str:
@@ -163,6 +176,8 @@ def macro_refusal(ew: int, number: int | str, value: object = None) -> str | Non
             or f"#{number} is a read-only variable, or the machine is read-only"
         )
     if ew == EW.DATA and value is not None:
+        if _whole(number) in _PARTS_VARIABLES:
+            return parts_refusal(number, value)
         return f"#{number} cannot hold {value}"
     return None
 

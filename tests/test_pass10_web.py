@@ -143,3 +143,58 @@ async def test_a_read_only_variable_of_no_system_range_keeps_both_causes() -> No
     async with serving(default_machine(read_only=True)) as served:
         line = await fails(1, "macro", "set", "100", "1", *at(served))
         assert line.endswith("#100 is a read-only variable, or the machine is read-only")
+
+
+@pytest.mark.parametrize("protocol", ["packed", "native"])
+async def test_bits_separated_by_underscores_are_written_on_both_transports(protocol: str) -> None:
+    """The page and the machine file take ``1011_0000`` for a bit parameter; ``param set 1815
+    1011_0000`` said "not a number" (the text was checked as a decimal before the parameter's
+    type was known). A parameter of another type still refuses it."""
+    async with serving() as served:
+        station = _writable(Station(0, served.machine))
+        perform(station, "write_param", {"number": 1815, "axis": 2, "value": "1011_0000"})
+        assert served.machine.read_param(1815, 2) == 0b1011_0000
+        out = await ok("param", "set", "1815", "0000_1100", "--axis", "2",
+                       "--protocol", protocol, *at(served))  # fmt: skip
+        assert out.strip() == "1815 axis 2 = 12 (00001100), bit parameter (written)"
+        line = await fails(2, "param", "set", "6711", "1011_0000",
+                           "--protocol", protocol, *at(served))  # fmt: skip
+        assert line == "focas-net: parameter 6711: not a number: '1011_0000'"
+        assert page_refusal(station, "write_param", {"number": 6711, "value": "1011_0000"}) == (
+            "value: not a number: '1011_0000'"
+        )
+
+
+async def test_an_axis_on_an_item_of_no_axis_is_not_an_axis_on_both() -> None:
+    """The page said "parameter 6711 is no axis parameter" where the command line says "is not
+    an axis parameter": one label."""
+    async with serving() as served:
+        station = _writable(Station(0, served.machine))
+        page = page_refusal(station, "write_param", {"number": 6711, "axis": 1, "value": 5})
+        assert page == "parameter 6711 is not an axis parameter: give axis 0, got 1"
+        line = await fails(1, "param", "set", "6711", "5", "--axis", "1", *at(served))
+        assert line.endswith("parameter 6711 is not an axis parameter: leave out --axis")
+
+
+@pytest.mark.parametrize("typed", ["-5", "1.5"])
+async def test_a_parts_count_refused_gives_one_reason_on_both(typed: str) -> None:
+    """``macro set 3901 -5`` said "#3901 cannot hold -5" where the page said "#3901 = -5: a
+    count of parts": both say what a parts count holds."""
+    words = f"#3901 is a parts count: it holds a whole number of 0 or more, not {typed}"
+    async with serving() as served:
+        page = page_refusal(Station(0, served.machine), "write_macro",
+                            {"number": 3901, "value": typed})  # fmt: skip
+        assert page == words
+        line = await fails(1, "macro", "set", "3901", typed, *at(served))
+        assert line.endswith(f"(cnc_wrmacro); {words}")
+
+
+async def test_clear_alarms_takes_all_as_sim_clear_does() -> None:
+    """``sim clear all`` clears every alarm; the page's ``{"alm_type": "all"}`` was refused as
+    an unknown alarm type."""
+    machine = default_machine()
+    machine.raise_alarm(0, 3, 100, "")
+    machine.raise_alarm(0, 15, 1001, "COOLANT")
+    answer = perform(Station(0, machine), "clear_alarms", {"alm_type": " ALL "})
+    assert answer == {"ok": True, "cleared": 2}
+    assert machine.active_alarms() == []

@@ -446,7 +446,7 @@ def test_a_real_parameter_of_many_decimals_is_shown_without_an_exponent() -> Non
     [
         (1320, 4, "parameter 1320 is an axis parameter: give an axis 1..3, got 4"),
         (1320, 0, "parameter 1320 is an axis parameter: give an axis 1..3, got 0"),
-        (9968, 1, "parameter 9968 is no axis parameter: give axis 0, got 1"),
+        (9968, 1, "parameter 9968 is not an axis parameter: give axis 0, got 1"),
     ],
 )
 def test_a_parameters_axis_is_refused_naming_the_parameter_not_an_item(

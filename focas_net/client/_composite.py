@@ -31,6 +31,7 @@ from ._locks import KeyedLocks
 from ._values import (
     REAL_WIDTH,
     AreaLike,
+    bits_shaped,
     check_bit,
     check_bit_value,
     check_item,
@@ -276,7 +277,8 @@ class CompositeCalls(Lifecycle):
             try:  # text that is no number at all, in the words of every front end
                 typed_number(value)
             except ValueError as exc:
-                raise ValueError(f"parameter {number}: {exc}") from None
+                if not bits_shaped(value):  # "1011_0000" is read once the kind is known
+                    raise ValueError(f"parameter {number}: {exc}") from None
         elif isinstance(value, Decimal) and not value.is_finite():
             raise ValueError(not_finite(number, value))
         p = self._path_of(path)

@@ -40,6 +40,7 @@ from ._failures import native_call_text, undecodable_error
 from ._native_link import Handle, NativeLink, check_path_of
 from ._values import (
     REAL_WIDTH,
+    bits_shaped,
     byte_to_wire,
     check_item,
     int_to_wire,
@@ -347,6 +348,9 @@ class NativeItems(NativeLink):
             if isinstance(as_real, ValueError):
                 raise as_real
             return self._param_record(handle, number, axis, ptype, *as_real)
+        kind = ParamDataType.BIT if ptype == ParamType.BIT else None
+        if kind is not None and isinstance(value, str) and bits_shaped(value):
+            as_int = param_int(number, value, kind)  # "1011_0000": the bits, or their words
         if isinstance(as_int, ValueError):
             if not isinstance(as_real, ValueError) and (
                 handle.command_set is CommandSet.FS16I and ptype == ParamType.BIT
@@ -357,7 +361,6 @@ class NativeItems(NativeLink):
                 raise width_refused(number, size, REAL_WIDTH, " (a value with decimals)")
             # a parameter the information names: refused as the packed client does
             raise as_int
-        kind = ParamDataType.BIT if ptype == ParamType.BIT else None
         if kind is not None:
             as_int = param_int(number, value, kind)  # "00000011": the bits
         raw = signed(int_to_wire(number, as_int, size, kind), size)

@@ -313,6 +313,16 @@ def not_finite(number: int, value: Decimal) -> str:
     return f"parameter {number}: not a number: {value} (no NaN or infinity)"
 
 
+def bits_shaped(text: str) -> bool:
+    """Whether ``text`` is written as a bit parameter's bits (``"1011_0000"``, ``"1011"``),
+    which :func:`~focas_net._bits.bits_of_text` reads, or refuses in its words, once the
+    parameter is known to be one."""
+    try:
+        return bits_of_text(text) is not None
+    except ValueError:
+        return True
+
+
 def param_int(number: int, value: object, kind: ParamDataType | None = None) -> int:
     """An integer parameter value from ``value`` (text: decimal, leading zeros allowed, ``0x``,
     ``0b`` or ``0o``, decimals of none but zeros, read by :func:`focas_net._typed.typed_number`,

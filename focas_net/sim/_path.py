@@ -27,6 +27,7 @@ from dataclasses import dataclass, replace
 from decimal import Decimal
 from typing import Final
 
+from focas_net._refusals import parts_refusal
 from focas_net._typed import override_percent, override_unfit
 from focas_net.errors import EW
 
@@ -448,13 +449,10 @@ class Path:
         """Write the parts count or the total parts through its macro variable: EW_DATA for
         anything but a whole number >= 0."""
         if value is None:  # in the words the clients' sim.vacate_macro gives
-            raise MachineError(
-                EW.DATA,
-                f"#{variable} is a parts count, which always holds a number (write 0 to reset it)",
-            )
+            raise MachineError(EW.DATA, parts_refusal(variable, None))
         held = macro_value(value)
         if held is None or held != held.to_integral_value() or held < 0:
-            raise MachineError(EW.DATA, f"#{variable} = {value}: a count of parts")
+            raise MachineError(EW.DATA, parts_refusal(variable, value))
         self.set_parts(PARTS_VARIABLES[variable], int(held))
 
     # -- status and panel ----------------------------------------------------------------

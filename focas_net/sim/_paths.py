@@ -176,7 +176,7 @@ class PathItems:
                 raise MachineError(EW.ATTRIB, why)
             return item, self.offset + axis - 1
         if axis != 0:
-            why = f"{what} {datano} is no axis {what}: give axis 0, got {axis}"
+            why = f"{what} {datano} is not an axis {what}: give axis 0, got {axis}"
             raise MachineError(EW.ATTRIB, why)
         return item, 0
 

@@ -336,9 +336,12 @@ def _raise_alarm(station: Station, args: Mapping[str, Any]) -> JsonDict:
 
 
 def _clear_alarms(station: Station, args: Mapping[str, Any]) -> JsonDict:
-    cleared = station.machine.clear_alarms(
-        _alarm_type(args, -1), _int(args, "alm_no", -1), path=_path(args)
-    )
+    """Clear the matching alarms: ``alm_type`` and ``alm_no`` left out (or ``-1``) match any;
+    ``alm_type`` ``"all"`` is every type, as ``sim clear all`` takes it."""
+    typed = args.get("alm_type")
+    every = isinstance(typed, str) and typed.strip().lower() == "all"
+    alm_type = -1 if every else _alarm_type(args, -1)
+    cleared = station.machine.clear_alarms(alm_type, _int(args, "alm_no", -1), path=_path(args))
     return {"cleared": cleared}
 
 
