@@ -1,6 +1,7 @@
 """A new user's tenth pass over the command line: every number-range refusal naming the
 number as it was typed (``0x0``, ``0b0``), not the value it was read as; the program
-numbers read after the main program is deleted; `alarms --count` without `--follow`.
+numbers read after the main program is deleted; ``alarms --count`` without ``--follow``;
+a switch given a value (``--json=yes``).
 
 Each test runs ``focas-net`` as a user does (a subprocess) and checks its one line and its
 exit code.
@@ -113,3 +114,21 @@ async def test_an_option_of_follow_alone_is_named_as_given(
     async with serving() as served:
         line = await fails(EXIT_USAGE, "alarms", *given, *at(served))
     assert line == f"focas-net: {said}", line
+
+
+# -- a switch given a value ---------------------------------------------------------------------
+
+
+@pytest.mark.parametrize(
+    ("argv", "said"),
+    [
+        (("status", "--json=yes"), "argument --json: --json takes no value, got 'yes'"),
+        (("sim", "faults", "--clear=1"), "argument --clear: --clear takes no value, got '1'"),
+        (("status", "--tls=on"), "argument --tls: --tls takes no value, got 'on'"),
+    ],
+)
+async def test_a_switch_given_a_value_says_it_takes_none(argv: tuple[str, ...], said: str) -> None:
+    """``status --json=yes`` said "ignored explicit argument 'yes'", argparse's words for a
+    switch written with a value: it says the switch takes no value."""
+    line = await fails(EXIT_USAGE, *argv, "--port", "1", prefix="focas-net")
+    assert f": error: {said}; see" in line, line

@@ -138,6 +138,10 @@ _LINE_BREAK: Final = re.compile(r"[ \t]*\n\s*")
 _NEGATIVE_VALUE: Final = re.compile(r"^-(?:\.?\d|inf$|infinity$|nan$)", re.IGNORECASE)
 
 
+#: argparse's refusal of a value given to a switch (``--json=yes``).
+_SWITCH_VALUE: Final = re.compile(r"^argument (\S+): ignored explicit argument ('.*')$")
+
+
 #: A number written with two minus signs (``--1``, ``--0.5``): no option of focas-net reads so.
 _DOUBLE_MINUS_NUMBER: Final = re.compile(r"^--\.?\d")
 
@@ -161,6 +165,8 @@ class Parser(argparse.ArgumentParser):
     def error(self, message: str) -> NoReturn:
         # argparse wraps long messages over lines; a value's own spaces stay as typed.
         line = _LINE_BREAK.sub(" ", message.strip())
+        # argparse's words for a switch written with a value (--json=yes), in plain words
+        line = _SWITCH_VALUE.sub(r"argument \1: \1 takes no value, got \2", line)
         print_error(f"error: {line}; see {self.prog} --help", self.prog)
         sys.exit(EXIT_USAGE)
 
