@@ -1,7 +1,10 @@
 """The Python API as a new user meets it, a tenth pass: one rule for what the command line and
 the clients both take (the alarm history depth, a parameter's bit numbers), the in-process
-machine and the simulator control of a client raising the same alarm, and a control class
-taken in either case and refused by kind."""
+machine and the simulator control of a client raising the same alarm, a control class taken
+in either case and refused by kind; the machine's parts, paths and motion figures of another
+type refused by kind; the two transports refusing a parameter value alike; a date outside the
+CNC's calendar named; numbers no float holds (a timeout, a clock's seconds) refused or taken
+without an OverflowError; and every alarm history entry of one second reported."""
 
 from __future__ import annotations
 
