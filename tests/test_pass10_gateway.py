@@ -16,6 +16,7 @@ from support import serving
 
 from focas_net.cli import EXIT_USAGE
 from focas_net.cli._reasons import reason
+from focas_net.cli.gateway_cmd import parse_shard
 from focas_net.cli.read_cmds import axis_hint
 from focas_net.client import FocasClient, NativeClient
 from focas_net.errors import EW, CncError
@@ -183,3 +184,20 @@ async def test_a_parameter_written_with_the_wrong_axis_says_which_axis_to_give(
             hinted = await axis_hint(client, CncError(EW.ATTRIB), "parameter", number, axis)
     assert str(refused.value).endswith(f"cnc_wrparam; {why}")
     assert str(hinted).endswith(why.replace(why.rpartition(": ")[2], cli))
+
+
+@pytest.mark.parametrize(
+    ("typed", "why"),
+    [
+        ("1/-1", "the number of shards must be 1 or more"),
+        ("-1/2", "the shard must be within 1..2"),
+        ("+1/2", None),
+    ],
+)
+def test_a_signed_shard_is_told_by_its_range_not_as_no_shard(typed: str, why: str | None) -> None:
+    if why is None:
+        assert parse_shard(typed) == (1, 2)
+        return
+    with pytest.raises(ValueError) as refused:
+        parse_shard(typed)
+    assert str(refused.value) == f"{why}, got {typed!r}"

@@ -23,7 +23,7 @@ from contextlib import AsyncExitStack
 from typing import Any
 from urllib.parse import urlsplit
 
-from focas_net._typed import os_reason
+from focas_net._typed import os_reason, whole_number
 from focas_net.gateway import (
     ConfigError,
     Gateway,
@@ -58,12 +58,16 @@ def parse_shard(text: str) -> tuple[int, int]:
     """``I/N`` as two integers, shard I of N (whether the file has a machine for it is
     checked with the file, by ``shard``)."""
     first, slash, second = text.strip().partition("/")
-    if not slash or not all(t.strip().isascii() and t.strip().isdigit() for t in (first, second)):
+    try:  # (each number as every number option reads it: a sign is its range's to refuse)
+        index, count = whole_number(first), whole_number(second)
+    except ValueError:
+        slash = ""
+    if not slash:
         raise ValueError(f"give the shard as I/N (1/4: the first of four), got {text!r}")
-    why = shard_refusal(int(first), int(second))
+    why = shard_refusal(index, count)
     if why is not None:
         raise ValueError(f"{why}, got {text!r}")
-    return int(first), int(second)
+    return index, count
 
 
 SHARD = argument_type(parse_shard, "shard")
