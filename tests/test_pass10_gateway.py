@@ -11,7 +11,7 @@ from typing import Literal
 
 import pytest
 from cli_support import fails
-from poller_support import SLOW, Garbage, RecordingSink, until
+from poller_support import SLOW, Garbage, RecordingSink, all_online, config, polling, until
 from support import serving
 
 from focas_net.cli import EXIT_USAGE
@@ -25,6 +25,7 @@ from focas_net.gateway._opcua_methods import refusal
 from focas_net.gateway.poller import Poller
 from focas_net.gateway.writer import GatedWriter
 from focas_net.protocol import PmcArea
+from focas_net.server import FocasServer
 from focas_net.sim import default_machine
 from focas_net.sim.nc import ManualClock
 
@@ -201,3 +202,29 @@ def test_a_signed_shard_is_told_by_its_range_not_as_no_shard(typed: str, why: st
     with pytest.raises(ValueError) as refused:
         parse_shard(typed)
     assert str(refused.value) == f"{why}, got {typed!r}"
+
+
+@pytest.mark.parametrize("protocol", ["native", "packed"])
+async def test_availability_follows_the_client_s_own_reconnect_attempts(
+    protocol: Literal["native", "packed"],
+) -> None:
+    """A machine lost while it was online (its server closed) whose client's own reconnect
+    attempts are then refused: the outputs are told the refusal, the current reason."""
+    clock = ManualClock(1_000.0)
+    server = FocasServer(default_machine(), host="127.0.0.1", port=0, grace_period=0.5)
+    await server.start()
+    port = server.listeners[0].address[1]
+    refused = f"refused: cannot connect to 127.0.0.1:{port}: connection refused"
+
+    def lost(sink: RecordingSink) -> list[str]:
+        return [reason for _, up, reason in sink.states if not up]
+
+    try:
+        async with polling([config("one", port, protocol)], clock) as (poller, sink):
+            await until(poller, clock, all_online(poller))
+            await server.aclose()
+            await until(poller, clock, lambda: lost(sink)[-1:] == [refused], 1.0)
+    finally:
+        await server.aclose()
+    assert len(lost(sink)) >= 2 and lost(sink)[0] != refused
+    assert poller.is_online("one") is False

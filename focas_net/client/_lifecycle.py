@@ -125,6 +125,12 @@ class Lifecycle:
         return self._lost_why
 
     @property
+    def reconnect_error(self) -> BaseException | None:
+        """Why the last reconnect attempt failed, while the policy reconnects (a connection
+        lost, then refused: the refusal); None before an attempt failed and once connected."""
+        return self._attempt_error if self._state is ClientState.RECONNECTING else None
+
+    @property
     def reconnect_policy(self) -> ReconnectPolicy | None:
         return self._policy
 

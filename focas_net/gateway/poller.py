@@ -375,6 +375,9 @@ class Poller:
             why = st.client.lost_reason
             told = reason_of(why) if why is not None else f"lost: the connection is {state.value}"
             st.failure = st.failure or told
+        elif st.online is False and state is ClientState.RECONNECTING:
+            attempt = st.client.reconnect_error  # (the client's own attempt, failed since)
+            st.failure = reason_of(attempt) if attempt is not None else st.failure
         if st.failure is not None and st.failure != st.told:
             # lost, or lost again for another reason than the one told: the current one
             if st.online is not False:
@@ -384,7 +387,10 @@ class Poller:
         if st.task is not None or self._closed:
             return
         if state is ClientState.RECONNECTING:
-            return  # (the client reconnects: its change of state brings it back here)
+            # (the client reconnects: its change of state brings it back here; meanwhile its
+            # attempts' failures are looked at once each alarm interval, to tell the current)
+            self._push(now + st.interval(_ALARMS), st, _CONNECT)
+            return
         if now >= st.next_attempt:
             st.reader = None
             st.task = asyncio.get_running_loop().create_task(
