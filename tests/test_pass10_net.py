@@ -10,6 +10,7 @@ from __future__ import annotations
 import asyncio
 import contextlib
 import logging
+from collections.abc import Callable
 
 import pytest
 from cli_support import at, fails, ok
@@ -216,3 +217,28 @@ async def test_a_connection_the_server_closed_is_logged_alike_by_both_clients(
     # (in the words the call got: the packed connection had received nothing yet)
     assert record.getMessage() == f"connection to 127.0.0.1:{s.port} lost: {caught.value}"
     assert str(caught.value).startswith(f"connection closed by 127.0.0.1:{s.port}")
+
+
+# -- a client's limits, in one wording ----------------------------------------------------------
+
+
+@pytest.mark.parametrize(
+    ("make", "why"),
+    [
+        (lambda: FocasClient("127.0.0.1", max_in_flight=0), "max_in_flight 0 is outside 1..32768"),
+        (
+            lambda: FocasClient("127.0.0.1", max_in_flight=70000),
+            "max_in_flight 70000 is outside 1..32768",
+        ),
+        (lambda: NativeClient("127.0.0.1", max_blocks=0), "max_blocks 0 is outside 1..65535"),
+        (lambda: FocasClient("127.0.0.1", max_frame=3), "max_frame 3 is outside 4..4294967295"),
+    ],
+)
+async def test_a_clients_limit_out_of_range_is_worded_as_every_range(
+    make: Callable[[], object], why: str
+) -> None:
+    """`max_in_flight must be within 1..32768, got 0` and `max_blocks must be within 1..65535,
+    got 0`, where `max_frame 3 is outside 4..4294967295` and `port 0 is outside 1..65535`."""
+    with pytest.raises(ValueError) as caught:
+        make()
+    assert str(caught.value) == why

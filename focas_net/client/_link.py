@@ -97,10 +97,7 @@ class Link(CompositeCalls):
                 f"server_hostname={server_hostname!r} is the name a TLS certificate is checked "
                 "against, without ssl there is none: give ssl= too, or leave it out"
             )
-        if not 1 <= max_in_flight <= MAX_IN_FLIGHT:
-            raise ValueError(
-                f"max_in_flight must be within 1..{MAX_IN_FLIGHT}, got {max_in_flight}"
-            )
+        check_int("max_in_flight", max_in_flight, 1, MAX_IN_FLIGHT)
         super().__init__(
             host,
             port,

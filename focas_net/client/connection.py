@@ -44,6 +44,7 @@ from typing import Final, cast
 
 from focas_net._address import address_text
 from focas_net._receive import Received
+from focas_net._typed import field_unfit
 from focas_net.errors import (
     FocasConnectionError,
     FocasError,
@@ -131,10 +132,9 @@ class Connection(RequestSlots, Received, asyncio.Protocol):
         on_lost: Callable[[Connection, BaseException | None], None] | None = None,
         batch_writes: bool = True,
     ) -> None:
-        if not 1 <= max_in_flight <= MAX_IN_FLIGHT:
-            raise ValueError(
-                f"max_in_flight must be within 1..{MAX_IN_FLIGHT}, got {max_in_flight}"
-            )
+        why = field_unfit("max_in_flight", max_in_flight, 1, MAX_IN_FLIGHT)
+        if why is not None:
+            raise ValueError(why)
         self._loop = asyncio.get_running_loop()
         self._decoder = FrameDecoder(max_frame)
         self._max_frame = max_frame

@@ -41,6 +41,7 @@ from dataclasses import dataclass, field
 from typing import Final, Generic, TypeVar
 
 from focas_net._memo import Memo
+from focas_net._typed import field_unfit
 from focas_net.errors import ProtocolError
 
 from .blocks import (
@@ -274,8 +275,9 @@ class NativeSession(Generic[T]):
     ) -> None:
         if isinstance(max_blocks, bool) or not isinstance(max_blocks, int):
             raise TypeError(f"max_blocks must be an integer, got {max_blocks!r}")
-        if not 1 <= max_blocks <= 0xFFFF:
-            raise ValueError(f"max_blocks must be within 1..65535, got {max_blocks}")
+        why = field_unfit("max_blocks", max_blocks, 1, 0xFFFF)
+        if why is not None:
+            raise ValueError(why)
         self.max_blocks = max_blocks
         #: Whether the caller of a job's token gave up (cancelled) without saying so: such a
         #: job queued is never sent, as one :meth:`abandon` ended.
