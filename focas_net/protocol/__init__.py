@@ -77,6 +77,8 @@ from .frame import (
     FrameDecoder,
     RawFrame,
     encode_frame,
+    foreign_client,
+    is_tls_record,
     scan_frames,
 )
 from .pmc import (
@@ -237,6 +239,8 @@ __all__ = [
     "fault_kind_of",
     "fault_refusal",
     "field_label",
+    "foreign_client",
+    "is_tls_record",
     "pmc_address_unfit",
     "pmc_bit_refusal",
     "scan_frames",
