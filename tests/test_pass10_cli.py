@@ -1,7 +1,7 @@
 """A new user's tenth pass over the command line: every number-range refusal naming the
 number as it was typed (``0x0``, ``0b0``), not the value it was read as; the program
 numbers read after the main program is deleted; ``alarms --count`` without ``--follow``;
-a switch given a value (``--json=yes``).
+a switch given a value (``--json=yes``); a PMC range past the last address.
 
 Each test runs ``focas-net`` as a user does (a subprocess) and checks its one line and its
 exit code.
@@ -132,3 +132,24 @@ async def test_a_switch_given_a_value_says_it_takes_none(argv: tuple[str, ...], 
     switch written with a value: it says the switch takes no value."""
     line = await fails(EXIT_USAGE, *argv, "--port", "1", prefix="focas-net")
     assert f": error: {said}; see" in line, line
+
+
+# -- a PMC range past the last address ----------------------------------------------------------
+
+
+@pytest.mark.parametrize(
+    "argv", [("pmc", "read", "R", "65535", "2"), ("pmc", "write", "R", "65534", "1", "2", "3")]
+)
+async def test_a_pmc_range_past_the_last_address_names_where_it_ends(
+    argv: tuple[str, ...],
+) -> None:
+    """``pmc read R 65535 2`` said "2 PMC bytes from 65535 do not end by 65535", a riddle:
+    the refusal names the address the range runs to and the last one there is."""
+    async with serving() as served:
+        line = await fails(EXIT_USAGE, *argv, *at(served))
+    count = len(argv) - 4 if argv[1] == "write" else int(argv[4])
+    last = int(argv[3]) + count - 1
+    assert line == (
+        f"focas-net: {count} PMC bytes from {argv[3]} run to {last}, "
+        "past 65535 (the last PMC address)"
+    ), line

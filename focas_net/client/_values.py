@@ -197,7 +197,10 @@ def check_pmc_range(start: object, count: object) -> tuple[int, int]:
     first = check_int("PMC start address", start, 0, _U16_LIMIT - 1)
     size = check_int("PMC byte count", count, 1, _U16_LIMIT)
     if first + size > _U16_LIMIT:
-        raise ValueError(f"{size} PMC bytes from {first} do not end by 65535")
+        raise ValueError(
+            f"{size} PMC bytes from {first} run to {first + size - 1}, "
+            f"past {_U16_LIMIT - 1} (the last PMC address)"
+        )
     return first, size
 
 
