@@ -228,3 +228,19 @@ async def test_availability_follows_the_client_s_own_reconnect_attempts(
         await server.aclose()
     assert len(lost(sink)) >= 2 and lost(sink)[0] != refused
     assert poller.is_online("one") is False
+
+
+@pytest.mark.parametrize(("index", "count", "said"), [
+    ("1", 2, "index must be an int, got '1'"),
+    (1.0, 2, "index must be an int, got 1.0"),
+    (1, "2", "count must be an int, got '2'"),
+    (True, 2, "index must be an int, got True"),
+])  # fmt: skip
+def test_a_shard_of_another_type_is_a_type_error_not_out_of_range(
+    index: object, count: object, said: str
+) -> None:
+    """``shard(config, "1", 2)`` said ``the shard must be within 1..2``, of a shard that is."""
+    config = parse_config(MACHINE)
+    with pytest.raises(TypeError) as refused:
+        shard(config, index, count)  # type: ignore[arg-type]
+    assert str(refused.value) == f"shard(): {said}"

@@ -462,7 +462,11 @@ def shard(config: GatewayConfig, index: int, count: int, source: str = "") -> Ga
     serves OPC UA on the endpoint's port + ``index - 1`` and connects to the MQTT broker as
     ``client_id-index`` (when the file names a client id), so that the shards of one file run
     side by side on one host. Raises :class:`ConfigError` for a bad shard, one with no machine
-    or one whose port would pass 65535, naming ``source`` (the file) first when given."""
+    or one whose port would pass 65535, naming ``source`` (the file) first when given;
+    ``TypeError`` for an ``index`` or a ``count`` that is no ``int``."""
+    for what, number in (("index", index), ("count", count)):
+        if isinstance(number, bool) or not isinstance(number, int):
+            raise TypeError(f"shard(): {what} must be an int, got {number!r}")
     at = At(source, f"--shard {index}/{count}")
     why = shard_refusal(index, count)
     if why is not None:
