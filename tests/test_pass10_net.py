@@ -10,11 +10,12 @@ from __future__ import annotations
 import asyncio
 import contextlib
 import logging
+import ssl
 from collections.abc import Callable
 
 import pytest
 from cli_support import at, fails, ok
-from support import IO_TIMEOUT, serving
+from support import IO_TIMEOUT, LoopbackPeer, serving
 
 from focas_net.adapters._native_cnc import CncHandlers
 from focas_net.cli import EXIT_CONNECTION
@@ -242,3 +243,32 @@ async def test_a_clients_limit_out_of_range_is_worded_as_every_range(
     with pytest.raises(ValueError) as caught:
         make()
     assert str(caught.value) == why
+
+
+# -- a TLS handshake met by a plain peer --------------------------------------------------------
+
+
+class _PlainAnswer(LoopbackPeer):
+    """A plain peer answering whatever comes with an HTTP error, then closing."""
+
+    async def _serve(self, reader: asyncio.StreamReader, writer: asyncio.StreamWriter) -> None:
+        await reader.read(4096)
+        writer.write(b"HTTP/1.0 400 Bad Request\r\n\r\n")
+        await writer.drain()
+        writer.close()
+
+
+async def test_a_tls_handshake_a_plain_peer_answers_is_worded_without_openssls_source() -> None:
+    """It read `TLS handshake failed ([SSL: WRONG_VERSION_NUMBER] wrong version number
+    (_ssl.c:1006))`: OpenSSL's code and its C source line."""
+    context = ssl.create_default_context()
+    context.check_hostname = False
+    context.verify_mode = ssl.CERT_NONE
+    async with _PlainAnswer() as peer:
+        with pytest.raises(FocasConnectionError) as caught:
+            async with FocasClient("127.0.0.1", peer.port, ssl=context, timeout=IO_TIMEOUT):
+                pass
+    assert str(caught.value) == (
+        f"cannot connect to 127.0.0.1:{peer.port}: TLS handshake failed (wrong version number): "
+        "the peer may not speak TLS"
+    )

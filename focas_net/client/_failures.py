@@ -23,6 +23,7 @@ import ssl as _ssl
 from typing import Final
 
 from focas_net._address import address_text
+from focas_net._tls import ssl_error_text
 from focas_net._typed import os_reason
 from focas_net.errors import (
     EW,
@@ -233,6 +234,8 @@ def connect_reason(exc: BaseException, ssl: _ssl.SSLContext | None, host: str = 
         isinstance(exc, ConnectionError) and not isinstance(exc, ConnectionRefusedError)
     )
     if ssl is not None and handshake:
-        detail = text if isinstance(exc, _ssl.SSLError) and text else "the peer closed it"
+        # (OpenSSL's words without its library tag and source line)
+        detail = ssl_error_text(exc) if isinstance(exc, _ssl.SSLError) else ""
+        detail = detail or "the peer closed it"
         return f"TLS handshake failed ({detail}): the peer may not speak TLS"
     return os_reason(exc)
