@@ -23,6 +23,7 @@ __all__ = [
     "axis_misfit",
     "item_named",
     "macro_refusal",
+    "no_path",
     "param_refusal",
     "parts_refusal",
     "pmc_refusal",
@@ -90,6 +91,13 @@ def parts_refusal(number: int | str, value: object) -> str:
     if value is None:
         return f"#{number} is a parts count, which always holds a number (write 0 to reset it)"
     return f"#{number} is a parts count: it holds a whole number of 0 or more, not {value}"
+
+
+def no_path(path: int, count: int) -> str:
+    """Why a CNC of ``count`` paths has no path ``path``, in the words of the machine (the
+    page shows them) and the command line (which adds the ``--path`` to give)."""
+    has = "path 1 only" if count == 1 else f"paths 1..{count}"
+    return f"the CNC has no path {path}: it has {has}"
 
 
 def item_named(kind: str, number: int | str, axis: int = 0) -> str:

@@ -12,6 +12,7 @@ from web_support import page_refusal
 
 from focas_net.sim import default_machine
 from focas_net.web import Station, perform
+from focas_net.web.view import param_rows
 
 
 def _writable(station: Station) -> Station:
@@ -198,3 +199,25 @@ async def test_clear_alarms_takes_all_as_sim_clear_does() -> None:
     answer = perform(Station(0, machine), "clear_alarms", {"alm_type": " ALL "})
     assert answer == {"ok": True, "cleared": 2}
     assert machine.active_alarms() == []
+
+
+def test_a_parameter_search_of_a_bit_as_the_command_line_names_it_finds_the_parameter() -> None:
+    """``1815.1`` typed in the page's parameter search (as ``param get 1815.1`` names the bit)
+    found nothing; it finds parameter 1815, whose bits the page shows."""
+    machine = default_machine()
+    assert [row["number"] for row in param_rows(machine, "1815.1")] == [1815]
+    assert [row["number"] for row in param_rows(machine, " 3401.7 ")] == [3401]
+    assert param_rows(machine, "1815.8") == []  # a bit no byte has
+
+
+async def test_a_path_the_machine_has_not_is_worded_alike_on_the_page_and_the_cli() -> None:
+    """The page said "path 2: this machine has paths 1..1" where ``--path 2`` says "the CNC has
+    no path 2: it has path 1 only (leave out --path)": one rule, the command line adding its
+    advice."""
+    async with serving() as served:
+        page = page_refusal(Station(0, served.machine), "raise_alarm",
+                            {"alm_type": "PS", "alm_no": 100, "path": 2})  # fmt: skip
+        assert page == "the CNC has no path 2: it has path 1 only"
+        line = await fails(1, "sim", "alarm", "PS0100", "--path", "2", *at(served))
+        assert line.endswith(f"; {page} (leave out --path)")
+        assert served.machine.active_alarms() == []

@@ -115,7 +115,7 @@ def test_a_machine_wide_action_of_a_path_the_machine_has_not_is_refused(
     with pytest.raises(MachineError) as refused:
         perform(station, action, {**args, "path": 2})
     assert refused.value.ew == EW.PATH
-    assert refused.value.detail == "path 2: this machine has paths 1..1"
+    assert refused.value.detail == "the CNC has no path 2: it has path 1 only"
     assert station.machine.state_digest() == digest
     assert len(station.faults) == 0
 

@@ -293,7 +293,7 @@ def test_a_path_the_machine_has_not_is_ew_path_naming_it(path: int) -> None:
         with pytest.raises(MachineError) as info:
             call()
         assert info.value.ew == EW.PATH
-        assert info.value.detail == f"path {path}: this machine has paths 1..2"
+        assert info.value.detail == f"the CNC has no path {path}: it has paths 1..2"
 
 
 def test_the_default_machine_has_one_path_and_path_2_is_ew_path() -> None:
@@ -303,7 +303,10 @@ def test_the_default_machine_has_one_path_and_path_2_is_ew_path() -> None:
     assert m.status(path=1) == m.status()
     with pytest.raises(MachineError) as info:
         m.status(path=2)
-    assert (info.value.ew, info.value.detail) == (EW.PATH, "path 2: this machine has paths 1..1")
+    assert (info.value.ew, info.value.detail) == (
+        EW.PATH,
+        "the CNC has no path 2: it has path 1 only",
+    )
 
 
 def test_each_path_has_its_own_programs_engine_and_parts() -> None:

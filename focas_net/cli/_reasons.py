@@ -20,6 +20,7 @@ from focas_net._refusals import (
     READ_ONLY,
     item_named,
     macro_refusal,
+    no_path,
     param_refusal,
     pmc_refusal,
 )
@@ -387,6 +388,5 @@ def _no_path(args: argparse.Namespace) -> str:
     count: int | None = getattr(args, "path_count", None)
     if count is None:
         return f"the CNC has no path {args.path} (--path names one of its paths)"
-    if count == 1:
-        return f"the CNC has no path {args.path}: it has path 1 only (leave out --path)"
-    return f"the CNC has no path {args.path}: it has paths 1..{count} (give --path 1..{count})"
+    give = "leave out --path" if count == 1 else f"give --path 1..{count}"
+    return f"{no_path(args.path, count)} ({give})"

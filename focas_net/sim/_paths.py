@@ -21,6 +21,7 @@ from dataclasses import dataclass
 from typing import TYPE_CHECKING, Final
 
 from focas_net._address import shown
+from focas_net._refusals import no_path
 from focas_net.errors import EW
 
 from ._base import MachineError, need_int
@@ -270,7 +271,7 @@ class Paths:
         TypeError for a path of another type (``"1"``, ``1.0``), as every other number."""
         if 1 <= need_int("path", path) <= self.count:
             return self.all[path - 1]
-        raise MachineError(EW.PATH, f"path {path}: this machine has paths 1..{self.count}")
+        raise MachineError(EW.PATH, no_path(path, self.count))
 
     def info(self, path: int) -> PathInfo:
         self.at(path)

@@ -407,6 +407,10 @@ def param_data(item: DataItem, axis: int, value: int) -> JsonDict:
     return {**data, "text": param_text(item, value)}
 
 
+#: A parameter's bit as the command line names it (``1815.1``): the page finds the parameter.
+_NUMBER_BIT: Final = re.compile(r"([0-9]+)\.[0-7]")
+
+
 def param_rows(
     machine: Machine, query: str = "", limit: int = 200, *, path: int = 1
 ) -> list[JsonDict]:
@@ -414,9 +418,13 @@ def param_rows(
     insensitive), at most ``limit`` of them, by number. ``type`` is the type as every front
     end names it (``two-word``); an axis parameter has a value per axis, named in ``axes``;
     a bit parameter's values are its eight bits #7..#0 (``10110000``), as the page edits
-    them, and ``bits`` too. ValueError for a number typed in digits of another script
-    (``'\u0661\u0663'``), which would find nothing and not say why."""
+    them, and ``bits`` too; ``1815.1``, a bit as ``param get`` names it, finds parameter 1815.
+    ValueError for a number typed in digits of another script (``'\u0661\u0663'``), which
+    would find nothing and not say why."""
     q = query.strip().lower()
+    one_bit = _NUMBER_BIT.fullmatch(q)
+    if one_bit is not None:
+        q = one_bit[1]
     if any(c.isdigit() and not c.isascii() for c in q):
         try:
             whole_number(q)  # the words every front end refuses such digits with
@@ -427,7 +435,10 @@ def param_rows(
     for number in machine.param_numbers():
         item = machine.param_item(number)
         assert item is not None
-        if q and not (str(number).startswith(q) or q in item.name.lower()):
+        found = (
+            number == int(q) if one_bit else (str(number).startswith(q) or q in item.name.lower())
+        )
+        if q and not found:
             continue
         axes = path_axes if item.axis else []
         raw = [
