@@ -20,7 +20,14 @@ from focas_net.cli.gateway_cmd import parse_shard
 from focas_net.cli.read_cmds import axis_hint
 from focas_net.client import FocasClient, NativeClient
 from focas_net.errors import EW, CncError
-from focas_net.gateway import ConfigError, MachineConfig, WriteGates, parse_config, shard
+from focas_net.gateway import (
+    ConfigError,
+    MachineConfig,
+    WriteGates,
+    load_config,
+    parse_config,
+    shard,
+)
 from focas_net.gateway._opcua_methods import refusal
 from focas_net.gateway.poller import Poller
 from focas_net.gateway.writer import GatedWriter
@@ -244,3 +251,12 @@ def test_a_shard_of_another_type_is_a_type_error_not_out_of_range(
     with pytest.raises(TypeError) as refused:
         shard(config, index, count)  # type: ignore[arg-type]
     assert str(refused.value) == f"shard(): {said}"
+
+
+def test_the_machines_are_in_the_file_s_order_whichever_block_comes_first() -> None:
+    """examples/gateway.toml lists a [[fleet]] of two, then machines 3 and 4: ``--shard 1/2``
+    is the first and the third of the file, as its comment and the option's help say."""
+    config = load_config(Path(__file__).parent.parent / "examples" / "gateway.toml")
+    names = [m.name for m in config.machines]
+    assert names == ["lathe-0001", "lathe-0002", "lathe-packed-3", "lathe-packed-4"]
+    assert [m.name for m in shard(config, 1, 2).machines] == ["lathe-0001", "lathe-packed-3"]

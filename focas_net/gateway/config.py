@@ -420,15 +420,18 @@ def parse_config(
     defaults = _groups(top.key("groups"), doc.get("groups", {}), GroupIntervals())
     machines: list[MachineConfig] = []
     where_of: dict[str, At] = {}
-    at = top.key("machine")
-    for i, table in enumerate(at.tables(doc.get("machine", []))):
-        machines.append(_machine(at.index(i), table, defaults))
-        _unique(machines[-1].name, where_of, at.index(i), "name")
-    at = top.key("fleet")
-    for i, table in enumerate(at.tables(doc.get("fleet", []))):
-        for machine in _fleet(at.index(i), table, defaults):
-            machines.append(machine)
-            _unique(machine.name, where_of, at.index(i), "name_prefix")
+    # [[machine]] and [[fleet]] in the file's order (the first block of each kind decides):
+    # --shard's "machines I, I+N, ... of the file" and the staggering follow it
+    for kind in (key for key in doc if key in ("machine", "fleet")):
+        at = top.key(kind)
+        for i, table in enumerate(at.tables(doc[kind])):
+            if kind == "machine":
+                machines.append(_machine(at.index(i), table, defaults))
+                _unique(machines[-1].name, where_of, at.index(i), "name")
+                continue
+            for machine in _fleet(at.index(i), table, defaults):
+                machines.append(machine)
+                _unique(machine.name, where_of, at.index(i), "name_prefix")
     if not machines:
         top.fail("no machine: give at least one [[machine]] or [[fleet]]")
     mqtt = _mqtt(top.key("mqtt"), doc["mqtt"], base) if "mqtt" in doc else None
