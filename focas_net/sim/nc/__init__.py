@@ -36,14 +36,16 @@ implementing :class:`NcVariables` (``read_variable``/``write_variable`` over the
 What the interpreter supports
 -----------------------------
 - Program text: O-number (O1-O9999 by default) and name, ``%`` tape marks, EOB as new line
-  or ``;``, ``N`` sequence numbers (N1-N99999), comments in parentheses, block delete ``/``
+  or ``;``, ``N`` sequence numbers (N1-N99999), comments in parentheses (a tab in one
+  disregarded, as FANUC's ISO code disregards HT), block delete ``/``
   (with the switch), lower case read as upper case. Axis words (and the R, I, J, K of arcs, X of a
   dwell) without a decimal point are in least input increments: 0.001 mm (G21), 0.0001 inch
   (G20), at most 9 digits of them (999999.999 mm; more raises PS0003, written or a macro
   variable's value); F and S are taken as written. Positions, feeds and offsets are kept in mm.
 - G0 (non-linear positioning, each axis at its rapid rate times the rapid override), G1, G2,
   G3 with I/J/K or R (negative R: more than 180 degrees) in G17/G18/G19, helical with the
-  third axis, full circles with I/J/K; G4 (P in ms, X in s or increments); G20/G21;
+  third axis, full circles with I/J/K; G4 (P in ms, X in s or increments; in a block of
+  its own: another axis word raises PS0009, X with P PS5074); G20/G21;
   G28 through the intermediate point to the reference position; G53; G54-G59 and the
   external offset (#5201-#5326); G90/G91; G43/G44/G49 with H (tool length on Z); the cancel
   and default codes G15 G22 G23 G40 G40.1 G50 G50.1 G61-G64 G67 G69 G80 G94 G97 G98 G99 are
@@ -51,15 +53,16 @@ What the interpreter supports
   (M and T codes of up to 8 digits, S of up to 5: FANUC's defaults of parameters 3030-3032;
   more raises PS0003), M6 (tool change time), M3/M4/M5, M8/M9, M0, M1 (optional stop
   switch), M2/M30 (part count, rewind, spindle and coolant off), M98 P L (also P with the
-  count in front of four digits), M99 (P n: return to sequence n; in a main program: back
-  to its head), any other M code as an M function taking its time.
+  count in front of four digits: P of up to 8 digits, L of up to 4; more raises PS0003),
+  M99 (P n: return to sequence n; in a main program: back to its head), any other M code
+  as an M function taking its time.
 - Custom macro B: ``#i = expr``, locals #1-#33, commons #100-#199 (vacant after a reset and
   a program's end; the interpreter's own only where :class:`NcVariables` refuses them with
   PS0115), #500-#999 and other system variables through :class:`NcVariables`,
   #4001-#4030, #4107-#4120, #5001+, #5021+, #5041+ read from the interpreter, ``#3000 = n
   (MESSAGE)`` raising MC alarm 3000+n (0..200); vacant ``#0`` as FANUC defines it;
   ``+ - * / OR XOR AND MOD``, ``EQ NE GT GE LT LE``, brackets (5 levels), ``SIN COS TAN
-  ASIN ACOS ATAN (ATAN[a]/[b]) SQRT ABS ROUND FIX FUP LN EXP`` in degrees; ``GOTO n``,
+  ASIN ACOS ATAN (ATAN[a]/[b] or ATAN[a,b]) SQRT ABS ROUND FIX FUP LN EXP`` in degrees; ``GOTO n``,
   ``IF [c] GOTO n``, ``IF [c] THEN #i = e``, ``WHILE [c] DO m ... END m`` and ``DO m``
   (m = 1..3, nested up to 3).
 - Alarms (block's program and last sequence number): PS0003, 0004, 0005, 0006, 0007, 0009,
@@ -77,8 +80,8 @@ G65/G66 macro calls and their argument locals, G95 feed per revolution, G96 cons
 speed, polar and scaling and rotation, inch machines (positions are reported in mm whatever
 G20 says), acceleration (feeds and rapids are reached at once), several M codes in a block
 (FANUC's option; PS5074 here), the ``/1``..``/9`` block delete switches (all are one
-switch), program protection of O8000/O9000, and ``ATAN[a,b]``. These raise PS0010 (G
-codes) or PS0114 (syntax).
+switch) and program protection of O8000/O9000. These raise PS0010 (G codes) or PS0114
+(syntax).
 """
 
 from .alarms import ALARM_MESSAGES, AlarmKind, NcAlarm, ProgramError, ProgramErrorReason

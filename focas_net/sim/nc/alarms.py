@@ -142,3 +142,10 @@ def number_text(value: float) -> str:
     text = f"{value:.10f}".rstrip("0").rstrip(".")
     text = "0" if text in ("", "-0") else text
     return text if len(text) <= 24 else text[:21] + "..."
+
+
+def word_text(address: str, value: float, literal: bool) -> str:
+    """A word of a block as a CNC's screen writes it: ``X10.`` for a value with a decimal
+    point (``literal`` False), ``X10`` for increments without one, ``P1000``."""
+    text = number_text(value)
+    return f"{address}{text}" if literal or "." in text else f"{address}{text}."

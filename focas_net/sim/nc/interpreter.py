@@ -13,7 +13,7 @@ from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field
 from typing import Any, Final
 
-from .alarms import AlarmKind, AlarmRaised, number_text
+from .alarms import AlarmKind, AlarmRaised, number_text, word_text
 from .macro import Expr, NcVariables, Value, VariableRefused, evaluate, round_fanuc, variable_number
 from .motion import ArcMove, LinearMove, Motion, RapidMove, Vector
 from .program import Assign, Bad, End, Goto, IfGoto, IfThen, Program, While, Words
@@ -58,6 +58,8 @@ DEFAULT_MODAL: Final[dict[int, int]] = {
 _ADDRESSES_OTHER: Final = frozenset("FGHDILJKMPRST")
 #: The letters FANUC's parameter 1020 may name an axis by (the others are no axis).
 _AXIS_LETTERS: Final = frozenset("ABCEUVWXYZ")
+#: What a dwell's alarms ask for.
+_OWN_BLOCK: Final = "(program the move in a block of its own)"
 #: the digits of an M, S and T code FANUC's controls allow by default (parameters 3030,
 #: 3031 and 3032 set to 0); more is PS0003
 CODE_DIGITS: Final = {"M": 8, "S": 5, "T": 8}
@@ -628,6 +630,9 @@ class Interpreter:
             raise AlarmRaised(76, "M98 without P")
         p = self._integer("P", other["P"][0])
         repeats = self._integer("L", other["L"][0]) if "L" in other else 1
+        for address, value, digits in (("P", p, 8), ("L", repeats, 4)):
+            if value >= 10**digits:  # P: 4 digits of repeats and 4 of the program number
+                raise AlarmRaised(3, f"M98 {address}{value}: {address} has at most {digits} digits")
         written = p
         if "L" not in other and p > 9999:
             repeats, p = divmod(p, 10000)
@@ -640,6 +645,25 @@ class Interpreter:
         if len(self.frames) > self.settings.max_subprogram_nesting:
             raise AlarmRaised(77, f"more than {self.settings.max_subprogram_nesting} levels")
         self.frames.append(_Frame(program, 0, repeats))
+
+    def _dwell_seconds(self, other: Mapping[str, tuple[float, bool]]) -> float:
+        """A dwell's time, ``G4 P`` (ms) or ``G4 X`` (s, or increments without a point), in a
+        block of its own: another axis word raises PS0009, X with P PS5074 (no move dropped)."""
+        moved = next((a for a in other if a in self.axis_index and a != "X"), None)
+        if moved is not None:
+            word = word_text(moved, *other[moved])
+            raise AlarmRaised(9, f"G4 with {word}: a dwell moves no axis {_OWN_BLOCK}")
+        if "P" in other and "X" in other:
+            words = f"{word_text('X', *other['X'])} {word_text('P', *other['P'])}"
+            raise AlarmRaised(5074, f"G4 {words}: a dwell takes its time in X or P {_OWN_BLOCK}")
+        if "P" in other:
+            return self._integer("P", other["P"][0]) / 1000.0
+        if "X" in other:
+            value, literal = other["X"]
+            if value < 0:
+                raise AlarmRaised(6, f"G4 X{number_text(value)}")
+            return value * self.settings.increment_mm if literal else value
+        return 0.0
 
     def _targets(self, axes: Mapping[int, float], incremental: bool) -> list[float]:
         target = list(self.position)
@@ -660,16 +684,7 @@ class Interpreter:
         incremental = self.modal[3] == 910
         start = tuple(self.position)
         if one_shot == 40:
-            if "P" in other:
-                seconds = self._integer("P", other["P"][0]) / 1000.0
-            elif "X" in other:
-                value, literal = other["X"]
-                if value < 0:
-                    raise AlarmRaised(6, f"G4 X{number_text(value)}")
-                seconds = value * s.increment_mm if literal else value
-            else:
-                seconds = 0.0
-            step.actions.append(Dwell(seconds))
+            step.actions.append(Dwell(self._dwell_seconds(other)))
             return
         if one_shot == 280:
             middle = self._targets(axes, incremental)

@@ -4,8 +4,8 @@ evaluation with FANUC's rules for vacant variables.
 Values are ``float``; ``None`` is the vacant value (``#0``, or a variable never set). A bare
 variable keeps its vacancy (``#2 = #1`` copies it); any operation reads a vacant operand as 0;
 ``EQ`` and ``NE`` tell vacant from 0, the other comparisons do not. Trigonometric functions
-work in degrees; ``ASIN`` answers 270..90 and two-argument ``ATAN`` 0..360, as with FANUC's
-parameter 6004#0 NAT = 0.
+work in degrees; ``ASIN`` answers 270..90 and two-argument ``ATAN`` (``ATAN[a]/[b]``, or the
+30i's ``ATAN[a,b]``) 0..360, as with FANUC's parameter 6004#0 NAT = 0.
 """
 
 from __future__ import annotations
@@ -217,14 +217,20 @@ def _unary(cur: Cursor) -> Expr:
 
 def bracketed(cur: Cursor) -> Expr:
     """``[ expression ]``."""
+    return _arguments(cur, pair=False)[0]
+
+
+def _arguments(cur: Cursor, *, pair: bool) -> tuple[Expr, Expr | None]:
+    """``[a]``, or with ``pair`` also ``[a,b]`` (the 30i's ``ATAN[a,b]``)."""
     cur.expect("[")
     cur.depth += 1
     if cur.depth > MAX_BRACKETS:
         raise AlarmRaised(118, f"more than {MAX_BRACKETS} nested brackets")
-    inner = parse_expression(cur)
+    first = parse_expression(cur)
+    second = parse_expression(cur) if pair and cur.take(",") else None
     cur.expect("]")
     cur.depth -= 1
-    return inner
+    return first, second
 
 
 def variable(cur: Cursor) -> Var:
@@ -252,12 +258,12 @@ def _primary(cur: Cursor) -> Expr:
     if c.isdigit() or c == ".":
         return Num(parse_number(cur)[0])
     for name in MACRO_FUNCTIONS:
-        if cur.take(name):
-            first = bracketed(cur)
-            if name == "ATAN" and cur.at("/["):
+        if cur.take(name):  # ATAN[a]/[b] or ATAN[a,b]: the angle of the point (b, a)
+            first, second = _arguments(cur, pair=name == "ATAN")
+            if second is None and name == "ATAN" and cur.at("/["):
                 cur.pos += 1
-                return Call(name, (first, bracketed(cur)))
-            return Call(name, (first,))
+                second = bracketed(cur)
+            return Call(name, (first,) if second is None else (first, second))
     rest = cur.text[cur.pos :] or "the end of the block"
     raise AlarmRaised(114, f"expected a value at {rest!r}")
 

@@ -166,7 +166,8 @@ class ProgramInfo:
 
 
 def _strip_comments(line: str) -> tuple[str, str]:
-    """Split a block into its code (spaces removed, upper case) and its first comment."""
+    """Split a block into its code (spaces removed, upper case) and its first comment, whose
+    tabs are disregarded as FANUC's ISO code disregards HT (``(A<tab>B)`` is ``AB``)."""
     code: list[str] = []
     comment: str | None = None
     depth = 0
@@ -178,7 +179,7 @@ def _strip_comments(line: str) -> tuple[str, str]:
                 if comment is None:
                     comment = "".join(current).strip()
                 current = []
-            else:
+            elif c != "\t":
                 current.append(c)
         elif c == "(":
             depth = 1

@@ -1,0 +1,127 @@
+"""A confirming new-user pass over machine files, part programs and the examples (tenth): a
+dwell written in a block with a move, a tab in a program's name, an M98 P of too many digits,
+the two-argument ATAN of the 30i, and the examples' number options read as the command line
+reads numbers; each checked where the fix lives."""
+
+from __future__ import annotations
+
+import pytest
+from support import block_run
+
+from focas_net.sim.nc import Engine, ManualClock, ProgramStore, parse_program
+from focas_net.sim.nc.macro import Cursor, evaluate, parse_expression
+
+# -- a dwell is a block of its own -------------------------------------------------------------
+
+
+@pytest.mark.parametrize(
+    ("block", "code", "words"),
+    [
+        ("G1 X10. F100 G4 P1000", "PS5074", "G4 X10. P1000: a dwell takes its time in X or P"),
+        ("G4 P1000 X2.", "PS5074", "G4 X2. P1000: a dwell takes its time in X or P"),
+        ("G1 Y10. F100 G4 P1000", "PS0009", "G4 with Y10.: a dwell moves no axis"),
+        ("G4 X1. Z-5.", "PS0009", "G4 with Z-5.: a dwell moves no axis"),
+        ("G0 X1. Y2. G4", "PS0009", "G4 with Y2.: a dwell moves no axis"),
+    ],
+)
+def test_a_dwell_with_a_move_raises_an_alarm_naming_the_words(
+    block: str, code: str, words: str
+) -> None:
+    """The block only dwelled: the move was dropped with no alarm."""
+    engine = block_run(block)
+    assert engine.alarm is not None
+    assert engine.alarm.code == code
+    assert words in str(engine.alarm)
+    assert "in a block of its own" in str(engine.alarm)
+    assert engine.absolute_position() == (0.0, 0.0, 0.0)
+
+
+@pytest.mark.parametrize("block", ["G4 P1000 F100 S500 M3", "G4 X1.", "G1 X10. F100\nG4 P1000"])
+def test_a_dwell_with_its_time_and_no_move_runs(block: str) -> None:
+    engine = block_run(block)
+    assert engine.alarm is None
+
+
+# -- a tab in a program's name -------------------------------------------------------------------
+
+
+@pytest.mark.parametrize(
+    ("o_line", "name"),
+    [("O13 (A\tTAB)", "ATAB"), ("O13 (\tLEAD)", "LEAD"), ("O13 (TWO\t\tTABS X)", "TWOTABS X")],
+)
+def test_a_tab_in_the_name_is_disregarded_as_fanuc_reads_iso_ht(o_line: str, name: str) -> None:
+    """The tab was kept in the name, so ``program list`` printed it and its table lost its
+    columns."""
+    store = ProgramStore()
+    program = store.store(f"{o_line}\nG0 X1.\nM30\n")
+    assert program.name == name
+    assert [info.name for info in store.directory()] == [name]
+    assert program.text.startswith(f"O0013 ({name})\n")
+
+
+# -- M98 P of more digits than a repeat count and a program number ----------------------------
+
+
+@pytest.mark.parametrize(
+    ("block", "words"),
+    [
+        ("M98 P123456789", "M98 P123456789: P has at most 8 digits"),
+        ("#1 = 100000000\nM98 P#1", "M98 P100000000: P has at most 8 digits"),
+        ("M98 P2 L123456789", "L123456789: L has at most 4 digits"),
+        ("M98 P2 L10000", "L10000: L has at most 4 digits"),
+    ],
+)
+def test_an_m98_of_too_many_digits_is_ps0003(block: str, words: str) -> None:
+    """``M98 P123456789`` ran O6789 12345 times."""
+    engine = block_run(block)
+    assert engine.alarm is not None
+    assert engine.alarm.code == "PS0003"
+    assert str(engine.alarm).endswith(words), str(engine.alarm)
+    assert engine.absolute_position() == (0.0, 0.0, 0.0)
+
+
+def test_an_m98_of_eight_digits_repeats_the_program() -> None:
+    clock = ManualClock()
+    engine = Engine(clock)
+    engine.store.store("O1\nM98 P00030002\nM30\n")
+    engine.store.store("O2\nG91 G0 X1.\nM99\n")
+    engine.store.select(1)
+    engine.cycle_start()
+    clock.advance(5.0)
+    assert engine.alarm is None
+    assert engine.absolute_position()[0] == pytest.approx(3.0)
+
+
+# -- ATAN[a,b], the two-argument form of the 30i ----------------------------------------------
+
+
+@pytest.mark.parametrize(
+    ("expression", "angle"),
+    [
+        ("ATAN[1,1]", 45.0),
+        ("ATAN[1,-1]", 135.0),
+        ("ATAN[-1,-1]", 225.0),
+        ("ATAN[-1,1]", 315.0),
+        ("ATAN[[2-1],[3-2]]", 45.0),
+        ("ATAN[1,1]/[1]", 45.0),
+    ],
+)
+def test_atan_of_two_arguments_is_atan_a_over_b(expression: str, angle: float) -> None:
+    """FANUC's 30i writes ``ATAN[a,b]`` for ``ATAN[a]/[b]``; it raised PS0114."""
+    cur = Cursor(expression)
+    expr = parse_expression(cur)
+    assert cur.done()
+    assert evaluate(expr, lambda _: None) == pytest.approx(angle)
+
+
+@pytest.mark.parametrize(
+    ("expression", "code"),
+    [("SIN[1,1]", "PS0114"), ("ATAN[1,1,1]", "PS0114"), ("ATAN[1,]", "PS0114")],
+)
+def test_a_comma_elsewhere_is_still_a_format_error(expression: str, code: str) -> None:
+    engine = block_run(f"#1 = {expression}")
+    assert engine.alarm is not None and engine.alarm.code == code
+
+
+def test_parse_program_reads_atan_of_two_arguments() -> None:
+    parse_program("O1\n#1 = ATAN[#2, #3]\nM30\n")
