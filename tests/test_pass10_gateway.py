@@ -260,3 +260,15 @@ def test_the_machines_are_in_the_file_s_order_whichever_block_comes_first() -> N
     names = [m.name for m in config.machines]
     assert names == ["lathe-0001", "lathe-0002", "lathe-packed-3", "lathe-packed-4"]
     assert [m.name for m in shard(config, 1, 2).machines] == ["lathe-0001", "lathe-packed-3"]
+
+
+@pytest.mark.parametrize(("data", "got"), [(b"[[machine]]\n", "bytes"), (None, "None"), (5, "int")])
+def test_parse_config_of_neither_text_nor_a_table_is_a_type_error(data: object, got: str) -> None:
+    """It said ``<config>: got b"[[machine]]\\n"; expected a table``: a Python repr, and a
+    value error for a wrong type."""
+    with pytest.raises(TypeError) as refused:
+        parse_config(data)  # type: ignore[arg-type]
+    assert str(refused.value) == (
+        "parse_config(): data must be TOML text (a str; load_config reads a file) or the "
+        f"table it reads as, got {got}"
+    )

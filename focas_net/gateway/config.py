@@ -408,8 +408,13 @@ def parse_config(
 ) -> GatewayConfig:
     """The configuration in ``data`` (TOML text, or the table it reads as), ``source`` naming
     it in errors; ``folder`` is where relative file names are read from (default: the current
-    folder). Raises :class:`ConfigError`."""
+    folder). Raises :class:`ConfigError`, and ``TypeError`` for ``data`` of another type."""
     top = At(source)
+    if not isinstance(data, str | Mapping):
+        raise TypeError(
+            "parse_config(): data must be TOML text (a str; load_config reads a file) or the "
+            f"table it reads as, got {'None' if data is None else type(data).__name__}"
+        )
     if isinstance(data, str):
         try:
             data = tomllib.loads(data)
