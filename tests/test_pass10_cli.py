@@ -1,7 +1,8 @@
 """A new user's tenth pass over the command line: every number-range refusal naming the
 number as it was typed (``0x0``, ``0b0``), not the value it was read as; the program
 numbers read after the main program is deleted; ``alarms --count`` without ``--follow``;
-a switch given a value (``--json=yes``); a PMC range past the last address.
+a switch given a value (``--json=yes``); a PMC range past the last address; an axis
+beyond the path's of an item the machine lacks, on both transports.
 
 Each test runs ``focas-net`` as a user does (a subprocess) and checks its one line and its
 exit code.
@@ -153,3 +154,21 @@ async def test_a_pmc_range_past_the_last_address_names_where_it_ends(
         f"focas-net: {count} PMC bytes from {argv[3]} run to {last}, "
         "past 65535 (the last PMC address)"
     ), line
+
+
+# -- an axis beyond the path's, of an item the machine lacks -------------------------------------
+
+
+@pytest.mark.parametrize(("command", "number"), [("param", "9999"), ("diag", "9999")])
+async def test_an_axis_beyond_the_path_is_refused_alike_on_both_transports(
+    command: str, number: str
+) -> None:
+    """``param get 9999 --axis 9`` on a machine of 3 axes answered EW_NUMBER over the
+    packed protocol and EW_ATTRIB (``axis 9 of 3``) over FOCAS/2, whose client checks the
+    axis before sending: the machine checks an axis beyond the path's first too."""
+    argv = (command, "get", number) if command == "param" else (command, number)
+    async with serving() as served:
+        lines = [await fails(EXIT_CNC, *argv, "--axis", "9", *at(served), *p) for p in PROTOCOLS]
+    for line in lines:  # (the packed protocol names its diagnostic read cnc_rddiag)
+        assert line.startswith("focas-net: EW_ATTRIB (4)"), lines
+        assert line.endswith(": axis 9 of 3); the path has 3 axes: give --axis 1..3"), lines
