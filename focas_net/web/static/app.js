@@ -599,7 +599,8 @@ function wire() {
   $("feed-ov").onchange = (e) => act("overrides", { feed: Number(e.target.value) });
   $("rapid-ov").onchange = (e) => act("overrides", { rapid: Number(e.target.value) });
   $("alarm-raise").onclick = () => act("raise_alarm", {
-    alm_type: $("alarm-type").value, alm_no: $("alarm-no").value, msg: $("alarm-msg").value });
+    alm_type: $("alarm-type").value, alm_no: $("alarm-no").value, msg: $("alarm-msg").value,
+    axis_no: $("alarm-axis").value });
   $("alarm-clear").onclick = () => act("clear_alarms", {});
   $("fault-kind").onchange = faultKindChosen;
   $("fault-inject").onclick = () => {
@@ -612,7 +613,7 @@ function wire() {
   // Enter in a form's box does what its button does, as in the parameter and macro boxes
   const onEnter = (ids, button) => ids.forEach((id) => $(id).addEventListener("keydown",
     (ev) => { if (ev.key === "Enter") $(button).click(); }));
-  onEnter(["alarm-type", "alarm-no", "alarm-msg"], "alarm-raise");
+  onEnter(["alarm-type", "alarm-no", "alarm-axis", "alarm-msg"], "alarm-raise");
   onEnter(["fault-count", "fault-arg"], "fault-inject");
   $("clear-path").onclick = () => act("clear_path", {});
   $("pmc-area").onchange = pmcFrom;
