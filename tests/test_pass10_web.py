@@ -5,6 +5,8 @@ worded otherwise once, kept."""
 
 from __future__ import annotations
 
+import json
+
 import pytest
 from cli_support import at, fails, ok
 from support import serving, with_both_clients
@@ -12,6 +14,7 @@ from web_support import page_refusal
 
 from focas_net.sim import default_machine
 from focas_net.web import Station, perform
+from focas_net.web.broadcast import Broadcaster, machine_topic
 from focas_net.web.view import param_rows
 
 
@@ -221,3 +224,23 @@ async def test_a_path_the_machine_has_not_is_worded_alike_on_the_page_and_the_cl
         line = await fails(1, "sim", "alarm", "PS0100", "--path", "2", *at(served))
         assert line.endswith(f"; {page} (leave out --path)")
         assert served.machine.active_alarms() == []
+
+
+def test_a_live_view_of_a_path_the_machine_has_not_is_worded_as_the_actions_word_it() -> None:
+    """A subscription of path 5 said "path 5: machine 0 has paths 1..2", written twice in the
+    broadcaster, where an action of that path says the machine's words: now one helper
+    gives those, naming the machine; an unknown machine's frame names the fleet as the
+    subscription's refusal does."""
+    machine = default_machine()
+    b = Broadcaster([Station(0, machine)])
+    words = "the CNC has no path 5: it has path 1 only (machine 0)"
+    assert b.refusal(machine_topic(0, path=5)) == words
+    sub = b.subscribe(machine_topic(0, path=5))
+    b.tick()
+    assert json.loads(sub.take() or "") == {"type": "error", "error": words}
+    other = b.subscribe(machine_topic(3))
+    b.tick()
+    assert json.loads(other.take() or "") == {
+        "type": "error",
+        "error": "no machine 3 (this dashboard shows machine 0)",
+    }

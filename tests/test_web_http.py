@@ -293,7 +293,7 @@ async def test_each_path_is_read_and_worked_and_a_path_past_the_last_is_refused(
             assert frame["data"]["path_no"] == 2 and frame["data"]["run"] == "STRT"
             await ws.send_json({"subscribe": "machine", "index": 0, "path": 5})
             error = await receive(ws, "error")
-            assert error["error"] == "path 5: machine 0 has paths 1..2"
+            assert error["error"] == "the CNC has no path 5: it has paths 1..2 (machine 0)"
         await wait_until(lambda: not web.broadcaster.subscriptions)
 
 

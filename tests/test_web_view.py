@@ -532,7 +532,10 @@ def test_an_unknown_machine_topic_answers_an_error_frame() -> None:
     b = Broadcaster(fleet(1, ManualClock()))
     sub = b.subscribe(machine_topic(7))
     b.tick()
-    assert json.loads(sub.take() or "") == {"type": "error", "error": "no machine 7"}
+    assert json.loads(sub.take() or "") == {
+        "type": "error",
+        "error": "no machine 7 (this dashboard shows machine 0)",
+    }
 
 
 async def test_a_closed_subscription_ends_its_sender() -> None:

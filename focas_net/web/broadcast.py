@@ -48,6 +48,16 @@ def machine_topic(index: int, pmc_area: str = "X", pmc_start: int = 0, path: int
     return ("machine", index, pmc_area.strip().upper(), pmc_start, path)
 
 
+def _path_unfit(station: Station, path: int) -> str | None:
+    """Why ``station``'s machine shows no ``path``, in the machine's words (as the page's
+    actions and ``--path`` say it) and naming the machine; None when it has the path."""
+    try:
+        station.machine.path_info(path)
+    except MachineError as exc:
+        return f"{exc.detail} (machine {station.index})"
+    return None
+
+
 class Subscription:
     """One open page: its topic and the frames waiting for it."""
 
@@ -140,9 +150,9 @@ class Broadcaster:
         if not 0 <= index < len(self.stations):
             return no_machine(str(index), len(self.stations))
         machine = self.stations[index].machine
-        count = machine.path_count
-        if not 1 <= path <= count:
-            return f"path {path}: machine {index} has paths 1..{count}"
+        unfit = _path_unfit(self.stations[index], path)
+        if unfit is not None:
+            return unfit
         beyond = pmc_address_unfit(start) if window else None
         if beyond is not None:  # as the page's GET and `pmc read R 70000` refuse it
             return f"PMC window: {beyond}"
@@ -179,11 +189,11 @@ class Broadcaster:
         assert isinstance(index, int) and isinstance(area, str) and isinstance(start, int)
         assert isinstance(path, int)
         if not 0 <= index < len(self.stations):
-            return {"type": "error", "error": f"no machine {index}"}
+            return {"type": "error", "error": no_machine(str(index), len(self.stations))}
         s = self.stations[index]
-        count = s.machine.path_count
-        if not 1 <= path <= count:
-            return {"type": "error", "error": f"path {path}: machine {index} has paths 1..{count}"}
+        unfit = _path_unfit(s, path)
+        if unfit is not None:
+            return {"type": "error", "error": unfit}
         view = views.get((index, path))
         if view is None:
             self.views_computed += 1
