@@ -16,8 +16,9 @@ from __future__ import annotations
 
 import argparse
 import asyncio
-import math
 import sys
+
+from _options import number, positive, whole
 
 from focas_net.client import (
     AlarmCleared,
@@ -128,11 +129,11 @@ async def watch(args: argparse.Namespace) -> int:
 def main() -> int:
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     parser.add_argument("--host", default="127.0.0.1")
-    parser.add_argument("--port", type=int, default=8193)
-    parser.add_argument("--timeout", type=float, default=3.0, help="seconds per call")
-    parser.add_argument("--interval", type=float, default=0.2, help="poll interval (0.2 s)")
-    parser.add_argument("--events", type=int, default=6, help="stop after this many (6)")
-    parser.add_argument("--seconds", type=float, default=20.0, help="give up after (20 s)")
+    parser.add_argument("--port", type=whole, default=8193)
+    parser.add_argument("--timeout", type=number, default=3.0, help="seconds per call")
+    parser.add_argument("--interval", type=positive, default=0.2, help="poll interval (0.2 s)")
+    parser.add_argument("--events", type=whole, default=6, help="stop after this many (6)")
+    parser.add_argument("--seconds", type=positive, default=20.0, help="give up after (20 s)")
     parser.add_argument("--watch-only", action="store_true", help="do not raise alarms, only watch")
     parser.add_argument(
         "--protocol",
@@ -141,8 +142,8 @@ def main() -> int:
         help="packed (default) or native: FOCAS/2 Ethernet, as a real control speaks it",
     )
     args = parser.parse_args()
-    if args.events < 1 or not 0 < args.interval < math.inf or not 0 < args.seconds < math.inf:
-        parser.error("--events, --interval and --seconds must be positive and finite")
+    if args.events < 1:
+        parser.error(f"--events must be at least 1, got {args.events}")
     try:
         return asyncio.run(watch(args))
     except KeyboardInterrupt:  # Ctrl-C: exit 130, as the command line, no traceback

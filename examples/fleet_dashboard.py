@@ -29,6 +29,8 @@ import sys
 from collections.abc import AsyncIterator
 from dataclasses import dataclass
 
+from _options import ports, positive, whole
+
 from focas_net import FocasClient
 from focas_net.client import ClientState
 from focas_net.errors import FocasError
@@ -154,23 +156,6 @@ async def simulated_fleet(n: int, speed: float) -> AsyncIterator[list[tuple[str,
         yield [lst.address for lst in server.listeners]
 
 
-def positive(text: str) -> float:
-    value = float(text)
-    if not value > 0:
-        raise argparse.ArgumentTypeError(f"must be a positive number, got {text}")
-    return value
-
-
-def port_list(text: str) -> list[int]:
-    try:
-        ports = [int(p) for p in text.split(",")]
-    except ValueError:
-        raise argparse.ArgumentTypeError(f"not a comma-separated list of ports: {text!r}") from None
-    if not all(1 <= p <= 65535 for p in ports):
-        raise argparse.ArgumentTypeError(f"ports are 1..65535, got {text!r}")
-    return ports
-
-
 async def run(args: argparse.Namespace) -> None:
     if args.ports:
         targets = [(args.host, p) for p in args.ports]
@@ -186,13 +171,13 @@ async def run(args: argparse.Namespace) -> None:
 def main() -> int:
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     parser.add_argument("--host", default="127.0.0.1")
-    parser.add_argument("--port", type=int, help="first port (with --machines)")
-    parser.add_argument("--machines", type=int, default=1, help="consecutive ports from --port")
-    parser.add_argument("--ports", type=port_list, help="comma-separated ports on --host")
-    parser.add_argument("--simulate", type=int, default=8, help="simulated machines (default 8)")
+    parser.add_argument("--port", type=whole, help="first port (with --machines)")
+    parser.add_argument("--machines", type=whole, default=1, help="consecutive ports from --port")
+    parser.add_argument("--ports", type=ports, help="comma-separated ports on --host")
+    parser.add_argument("--simulate", type=whole, default=8, help="simulated machines (default 8)")
     parser.add_argument("--speed", type=positive, default=10.0, help="simulated machine time")
     parser.add_argument("--interval", type=positive, default=1.0, help="seconds between tables")
-    parser.add_argument("--count", type=int, default=10, help="tables to show (0: until Ctrl-C)")
+    parser.add_argument("--count", type=whole, default=10, help="tables to show (0: until Ctrl-C)")
     parser.add_argument("--timeout", type=positive, default=2.0, help="seconds per call")
     args = parser.parse_args()
     if args.count < 0 or args.machines < 1 or args.simulate < 1:

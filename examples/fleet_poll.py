@@ -21,11 +21,12 @@ from __future__ import annotations
 import argparse
 import asyncio
 import contextlib
-import math
 import sys
 import time
 from collections.abc import AsyncIterator
 from dataclasses import dataclass
+
+from _options import number, ports, whole
 
 from focas_net import CncClient, FocasClient, NativeClient
 from focas_net.errors import FocasError
@@ -177,19 +178,6 @@ async def simulated_fleet(n: int, call_timeout: float) -> AsyncIterator[list[tup
         yield targets
 
 
-def parse_ports(text: str) -> list[int]:
-    """``--ports``: ports separated by commas (or spaces), at least one, each 1..65535."""
-    try:
-        ports = [int(p) for p in text.replace(",", " ").split()]
-    except ValueError:
-        raise argparse.ArgumentTypeError(f"not a list of ports: {text!r}") from None
-    if not ports:
-        raise argparse.ArgumentTypeError(f"no port in {text!r} (give e.g. 8193,8194)")
-    if not all(1 <= p <= 65535 for p in ports):
-        raise argparse.ArgumentTypeError(f"ports are 1..65535, got {text!r}")
-    return ports
-
-
 async def run(args: argparse.Namespace) -> int:
     if args.ports is not None or args.port is not None:
         ports = args.ports or [args.port + i for i in range(args.machines)]
@@ -202,15 +190,15 @@ async def run(args: argparse.Namespace) -> int:
 def main() -> int:
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     parser.add_argument("--host", default="127.0.0.1")
-    parser.add_argument("--port", type=int, help="port of the first machine")
-    parser.add_argument("--machines", type=int, default=20, help="with --port: how many (20)")
-    parser.add_argument("--ports", type=parse_ports, help="explicit ports, e.g. 8193,8194")
+    parser.add_argument("--port", type=whole, help="port of the first machine")
+    parser.add_argument("--machines", type=whole, default=20, help="with --port: how many (20)")
+    parser.add_argument("--ports", type=ports, help="explicit ports, e.g. 8193,8194")
     parser.add_argument(
-        "--simulate", type=int, default=24, help="simulated machines when no port is given (24)"
+        "--simulate", type=whole, default=24, help="simulated machines when no port is given (24)"
     )
-    parser.add_argument("--rounds", type=int, default=3, help="polls of the whole fleet (3)")
-    parser.add_argument("--interval", type=float, default=0.5, help="seconds between rounds")
-    parser.add_argument("--timeout", type=float, default=3.0, help="seconds per call")
+    parser.add_argument("--rounds", type=whole, default=3, help="polls of the whole fleet (3)")
+    parser.add_argument("--interval", type=number, default=0.5, help="seconds between rounds")
+    parser.add_argument("--timeout", type=number, default=3.0, help="seconds per call")
     parser.add_argument(
         "--protocol",
         choices=("packed", "native"),
@@ -220,8 +208,8 @@ def main() -> int:
     args = parser.parse_args()
     if args.rounds < 1 or args.machines < 1 or args.simulate < 1:
         parser.error("--rounds, --machines and --simulate must be at least 1")
-    if not 0 <= args.interval < math.inf:  # (NaN too)
-        parser.error("--interval must be a finite number of seconds, 0 or more")
+    if args.interval < 0:
+        parser.error(f"--interval must be 0 or more seconds, got {args.interval:g}")
     try:
         return asyncio.run(run(args))
     except KeyboardInterrupt:  # Ctrl-C: exit 130, as the command line, no traceback

@@ -19,6 +19,8 @@ import argparse
 import asyncio
 import sys
 
+from _options import number, whole
+
 from focas_net import CncClient, FocasClient, NativeClient
 from focas_net.errors import EW, CncError, FocasError
 
@@ -64,11 +66,11 @@ async def write_bits(args: argparse.Namespace) -> int:
 def main() -> int:
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     parser.add_argument("--host", default="127.0.0.1")
-    parser.add_argument("--port", type=int, default=8193)
-    parser.add_argument("--timeout", type=float, default=5.0, help="seconds per call")
+    parser.add_argument("--port", type=whole, default=8193)
+    parser.add_argument("--timeout", type=number, default=5.0, help="seconds per call")
     parser.add_argument("--area", default="R", help="PMC area letter (R)")
-    parser.add_argument("--start", type=int, default=100, help="first byte (100)")
-    parser.add_argument("--bytes", type=int, default=4, help="number of bytes (4)")
+    parser.add_argument("--start", type=whole, default=100, help="first byte (100)")
+    parser.add_argument("--bytes", type=whole, default=4, help="number of bytes (4)")
     parser.add_argument(
         "--protocol",
         choices=("packed", "native"),

@@ -14,6 +14,8 @@ import argparse
 import asyncio
 import sys
 
+from _options import number, whole
+
 from focas_net import CncClient, FocasClient, NativeClient
 from focas_net.errors import FocasError
 from focas_net.protocol import (
@@ -57,8 +59,8 @@ async def read_status(host: str, port: int, call_timeout: float, protocol: str) 
 def main() -> int:
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     parser.add_argument("--host", default="127.0.0.1")
-    parser.add_argument("--port", type=int, default=8193)
-    parser.add_argument("--timeout", type=float, default=3.0, help="seconds per call")
+    parser.add_argument("--port", type=whole, default=8193)
+    parser.add_argument("--timeout", type=number, default=3.0, help="seconds per call")
     parser.add_argument(
         "--protocol",
         choices=("packed", "native"),

@@ -24,6 +24,8 @@ import time
 from decimal import Decimal
 from pathlib import Path
 
+from _options import positive, whole
+
 from focas_net import FocasClient
 from focas_net.errors import EW, CncError, FocasError
 from focas_net.protocol import AutMode, RunInfo, RunState, StatusInfo, field_label
@@ -159,17 +161,10 @@ def read_program(path: Path) -> str:
         ) from None
 
 
-def positive(text: str) -> float:
-    value = float(text)
-    if not value > 0:
-        raise argparse.ArgumentTypeError(f"must be a positive number of seconds, got {text}")
-    return value
-
-
 def main() -> int:
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     parser.add_argument("--host", default="127.0.0.1")
-    parser.add_argument("--port", type=int, default=8193)
+    parser.add_argument("--port", type=whole, default=8193)
     parser.add_argument("--timeout", type=positive, default=3.0, help="seconds per call")
     parser.add_argument("--program", type=Path, help="part program file (default: a square)")
     parser.add_argument(

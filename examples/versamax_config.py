@@ -15,6 +15,8 @@ import argparse
 import asyncio
 import sys
 
+from _options import number, whole
+
 from focas_net import FocasClient
 from focas_net.errors import EW, CncError, FocasError
 from focas_net.versamax import IOModuleRecord
@@ -68,10 +70,10 @@ async def read_station(args: argparse.Namespace) -> int:
 def main() -> int:
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     parser.add_argument("--host", default="127.0.0.1")
-    parser.add_argument("--port", type=int, default=8193)
-    parser.add_argument("--timeout", type=float, default=3.0, help="seconds per call")
-    parser.add_argument("--rack", type=int, default=0, help="rack 0..7 (0)")
-    parser.add_argument("--slot", type=int, help="one slot 0..9 (default: every slot)")
+    parser.add_argument("--port", type=whole, default=8193)
+    parser.add_argument("--timeout", type=number, default=3.0, help="seconds per call")
+    parser.add_argument("--rack", type=whole, default=0, help="rack 0..7 (0)")
+    parser.add_argument("--slot", type=whole, help="one slot 0..9 (default: every slot)")
     args = parser.parse_args()
     for what, value, most in (("rack", args.rack, MAX_RACK), ("slot", args.slot, MAX_SLOT)):
         if value is not None and not 0 <= value <= most:  # one line and exit 2, as below

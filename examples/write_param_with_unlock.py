@@ -17,6 +17,8 @@ import argparse
 import asyncio
 import sys
 
+from _options import number, whole
+
 from focas_net import FocasClient
 from focas_net.errors import EW, AccessDeniedError, CncError, FocasError
 from focas_net.protocol import Password
@@ -74,11 +76,11 @@ async def write_param(args: argparse.Namespace) -> int:
 def main() -> int:
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     parser.add_argument("--host", default="127.0.0.1")
-    parser.add_argument("--port", type=int, default=8193)
-    parser.add_argument("--timeout", type=float, default=3.0, help="seconds per call")
-    parser.add_argument("--param", type=int, default=1320, help="parameter number (1320)")
-    parser.add_argument("--axis", type=int, default=1, help="axis, 0 for non-axis (1)")
-    parser.add_argument("--value", type=int, default=500_000, help="value to write (500000)")
+    parser.add_argument("--port", type=whole, default=8193)
+    parser.add_argument("--timeout", type=number, default=3.0, help="seconds per call")
+    parser.add_argument("--param", type=whole, default=1320, help="parameter number (1320)")
+    parser.add_argument("--axis", type=whole, default=1, help="axis, 0 for non-axis (1)")
+    parser.add_argument("--value", type=whole, default=500_000, help="value to write (500000)")
     parser.add_argument("--password", help="parameter password, used when the CNC asks")
     args = parser.parse_args()
     try:

@@ -10,6 +10,9 @@ from pathlib import Path
 from support import IO_TIMEOUT, Served, killed_at_exit
 
 EXAMPLES = Path(__file__).resolve().parent.parent / "examples"
+#: The scripts of ``examples/``; a module named with a leading ``_`` (``_options.py``) is
+#: what they share, imported by them and run by none.
+SCRIPTS = sorted(p.name for p in EXAMPLES.glob("*.py") if not p.name.startswith("_"))
 #: Upper bound of one example run (they all finish by themselves well before).
 RUN_TIMEOUT = 12 * IO_TIMEOUT
 

@@ -6,6 +6,7 @@ reads numbers; each checked where the fix lives."""
 from __future__ import annotations
 
 import pytest
+from examples_support import run_example
 from support import block_run
 
 from focas_net.sim.nc import Engine, ManualClock, ProgramStore, parse_program
@@ -125,3 +126,42 @@ def test_a_comma_elsewhere_is_still_a_format_error(expression: str, code: str) -
 
 def test_parse_program_reads_atan_of_two_arguments() -> None:
     parse_program("O1\n#1 = ATAN[#2, #3]\nM30\n")
+
+
+# -- the examples read numbers as the command line does ----------------------------------------
+
+
+@pytest.mark.parametrize(
+    ("name", "args", "words"),
+    [
+        ("fleet_dashboard.py", ["--speed", "inf"], "--speed: not a number: 'inf'"),
+        ("fleet_dashboard.py", ["--interval", "1e1"], "--interval: not a number: '1e1'"),
+        ("fleet_dashboard.py", ["--timeout", "nan"], "--timeout: not a number: 'nan'"),
+        ("run_program.py", ["--seconds", "1e3"], "--seconds: not a number: '1e3'"),
+        ("run_program.py", ["--interval", "0"], "--interval: must be positive, got 0"),
+        ("alarm_watch.py", ["--seconds", "1e1"], "--seconds: not a number: '1e1'"),
+        ("fleet_poll.py", ["--timeout", "infinity"], "--timeout: not a number: 'infinity'"),
+        ("read_status.py", ["--timeout", "2e0"], "--timeout: not a number: '2e0'"),
+        ("pmc_bits.py", ["--timeout=-inf"], "--timeout: not a number: '-inf'"),
+        ("versamax_config.py", ["--timeout", "1E1"], "--timeout: not a number: '1E1'"),
+        ("write_param_with_unlock.py", ["--timeout", "NaN"], "--timeout: not a number: 'NaN'"),
+        ("fleet_dashboard.py", ["--speed", "1" + "0" * 400], "--speed: not a number: '1000"),
+        ("read_status.py", ["--port", "\u0661"], "--port: '\u0661' holds a digit beyond ASCII"),
+        ("pmc_bits.py", ["--bytes", "1_0"], "--bytes: not a whole number: '1_0'"),
+        (
+            "fleet_poll.py",
+            ["--ports", "8193,\u0662"],
+            "--ports: not a list of ports: '8193,\u0662'",
+        ),
+        ("fleet_dashboard.py", ["--ports", "8193;8194"], "--ports: not a list of ports"),
+        ("alarm_watch.py", ["--events", "0"], "--events must be at least 1, got 0"),
+        ("versamax_config.py", ["--rack", "1.5"], "--rack: not a whole number: '1.5'"),
+    ],
+)
+async def test_an_example_refuses_a_number_the_command_line_refuses(
+    name: str, args: list[str], words: str
+) -> None:
+    """``float()`` took ``1e1``, and ``--speed inf`` ran into a traceback (exit 1)."""
+    code, out, err = await run_example(name, *args)
+    assert (code, out) == (2, ""), (code, out, err)
+    assert "Traceback" not in err and words in err, err

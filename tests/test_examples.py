@@ -8,7 +8,7 @@ from decimal import Decimal
 from pathlib import Path
 
 import pytest
-from examples_support import EXAMPLES, port_args, run_example
+from examples_support import EXAMPLES, SCRIPTS, port_args, run_example
 from support import Served, serving, wait_until
 
 from focas_net.server import FocasServer
@@ -28,7 +28,8 @@ def test_every_example_is_tested() -> None:
         "run_program.py",
         "fleet_dashboard.py",
     }
-    assert {p.name for p in EXAMPLES.glob("*.py")} == tested
+    assert set(SCRIPTS) == tested
+    assert {p.name for p in EXAMPLES.glob("_*.py")} == {"_options.py"}
 
 
 @pytest.mark.parametrize(
@@ -343,7 +344,7 @@ async def test_fleet_dashboard_simulates_its_own_fleet() -> None:
     assert all(r[1] == "STRT" and r[2] == "O0001" for rows in tables for r in rows)
 
 
-@pytest.mark.parametrize("name", sorted(p.name for p in EXAMPLES.glob("*.py")))
+@pytest.mark.parametrize("name", SCRIPTS)
 async def test_examples_document_their_options(name: str) -> None:
     code, out, _ = await run_example(name, "--help")
     assert code == 0
