@@ -36,3 +36,21 @@ async def test_the_pages_alarm_form_raises_an_alarm_of_an_axis(
             assert [(a.axis_no, a.alm_type, a.alm_no) for a in await cnc.read_alarms()] == [
                 (2, 6, 411)
             ]
+
+
+async def test_the_spindle_override_is_on_the_page(browser: WebDriver, tmp_path: Path) -> None:
+    """``sim override --spindle`` had no control on the page, which showed the feed and the
+    rapid overrides only: its dial sets it, and its text shows the machine's value."""
+    async with machine_page(browser, tmp_path) as (server, page):
+        machine = server.machines[0]
+        await page.text_of("spindle-ov-text", lambda t: t == "100 %", "the spindle override")
+        await page.call(
+            lambda: page.driver.execute_script(
+                "const d = document.getElementById('spindle-ov'); d.value = 80;"
+                "d.dispatchEvent(new Event('change'));"
+            )
+        )
+        await page.text_of("spindle-ov-text", lambda t: t == "80 %", "80 %")
+        assert machine.overrides() == (100, 100, 80)
+        machine.set_overrides(spindle=0)
+        await page.text_of("spindle-ov-text", lambda t: t == "0 %", "the machine's 0 %")

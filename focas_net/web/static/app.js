@@ -295,6 +295,8 @@ function renderMachine(v) {
   setIfIdle($("feed-ov"), v.overrides.feed);
   $("feed-ov-text").textContent = `${v.overrides.feed} %`;
   setIfIdle($("rapid-ov"), String(v.overrides.rapid));
+  setIfIdle($("spindle-ov"), v.overrides.spindle);
+  $("spindle-ov-text").textContent = `${v.overrides.spindle} %`;
 
   // the kinds as position --kind and watch name them (distance: the distance to go)
   const kinds = ["absolute", "machine", "relative", "distance"];
@@ -598,6 +600,7 @@ function wire() {
   $("emergency").onchange = (e) => act("panel", { emergency: e.target.checked ? 1 : 0 });
   $("feed-ov").onchange = (e) => act("overrides", { feed: Number(e.target.value) });
   $("rapid-ov").onchange = (e) => act("overrides", { rapid: Number(e.target.value) });
+  $("spindle-ov").onchange = (e) => act("overrides", { spindle: Number(e.target.value) });
   $("alarm-raise").onclick = () => act("raise_alarm", {
     alm_type: $("alarm-type").value, alm_no: $("alarm-no").value, msg: $("alarm-msg").value,
     axis_no: $("alarm-axis").value });
