@@ -137,6 +137,7 @@ class _Station:
     reader: Reader | None = None
     described: MachineShape | None = None
     online: bool | None = None
+    reached: bool = False  # whether it was ever online (a loss, else unavailable)
     failure: str | None = None
     told: str | None = None  # the loss last announced (None: none since it was online)
     task: asyncio.Task[None] | None = None
@@ -354,7 +355,7 @@ class Poller:
                 if shape != st.described:
                     st.described = shape
                     described.append(shape)
-                st.online = True
+                st.online = st.reached = True
                 st.last.clear()
                 st.results.clear()
                 st.due.clear()
@@ -579,7 +580,8 @@ class Poller:
             return
         now = self.clock()
         for name, up, reason in online:
-            _log.info("%s: %s", name, "online" if up else f"lost ({reason})")
+            word = "lost" if self._stations[name].reached else "unavailable"
+            _log.info("%s: %s", name, "online" if up else f"{word} ({reason})")
         for sink in self.sinks:
             for shape in described:
                 _call(sink, "described", shape)
