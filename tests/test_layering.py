@@ -214,7 +214,8 @@ BEYOND_THE_TABLE: dict[str, tuple[str, ...]] = {
     # and the gateway), the words of the system's refusal of a file or address (every layer)
     "focas_net._typed": (),
     # TLS as a client: a CA file's context (the command line's --tls-ca, the gateway's
-    # mqtt.tls_ca), PEM files told by their content, OpenSSL's words without their tags
+    # mqtt.tls_ca), PEM files told by their content, OpenSSL's words without their tags (the
+    # clients' handshake failures too)
     "focas_net._tls": ("focas_net._typed",),
     # why a CNC refused a parameter or macro write, in words: the command line and the gateway
     # (and parameter 1020's number, the machine's too)
@@ -238,7 +239,7 @@ SHARED: dict[str, tuple[str, ...]] = {
         "focas_net.cli",
         "focas_net.gateway",
     ),
-    "focas_net._tls": ("focas_net.cli", "focas_net.gateway"),
+    "focas_net._tls": ("focas_net.client", "focas_net.cli", "focas_net.gateway"),
     "focas_net._refusals": ("focas_net.sim", "focas_net.cli", "focas_net.gateway"),
     "focas_net._typed": (
         "focas_net.sim",
@@ -247,6 +248,7 @@ SHARED: dict[str, tuple[str, ...]] = {
         "focas_net.web",
         "focas_net.cli",
         "focas_net.protocol",
+        "focas_net.native",
         "focas_net.gateway",
     ),
 }
