@@ -215,7 +215,7 @@ BEYOND_THE_TABLE: dict[str, tuple[str, ...]] = {
     "focas_net._typed": (),
     # TLS as a client: a CA file's context (the command line's --tls-ca, the gateway's
     # mqtt.tls_ca), PEM files told by their content, OpenSSL's words without their tags (the
-    # clients' handshake failures too)
+    # clients' and the server's handshake failures too)
     "focas_net._tls": ("focas_net._typed",),
     # why a CNC refused a parameter or macro write, in words: the command line and the gateway
     # (and parameter 1020's number, the machine's too)
@@ -239,7 +239,12 @@ SHARED: dict[str, tuple[str, ...]] = {
         "focas_net.cli",
         "focas_net.gateway",
     ),
-    "focas_net._tls": ("focas_net.client", "focas_net.cli", "focas_net.gateway"),
+    "focas_net._tls": (
+        "focas_net.server",
+        "focas_net.client",
+        "focas_net.cli",
+        "focas_net.gateway",
+    ),
     "focas_net._refusals": ("focas_net.sim", "focas_net.cli", "focas_net.gateway"),
     "focas_net._typed": (
         "focas_net.sim",

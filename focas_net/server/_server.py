@@ -53,6 +53,7 @@ from ._base import (
     peer_text,
 )
 from ._durable import Keeper
+from ._handshake import tls_factory
 from ._native import NativeConnection, NativeFront
 from ._options import (
     check_distinct_ports,
@@ -129,6 +130,7 @@ class Listener:
     __slots__ = (
         "_aserver",
         "_front",
+        "_handshakes",
         "_limits",
         "_native_done",
         "_native_label",
@@ -190,6 +192,8 @@ class Listener:
         self.native_accepted = 0
         self.native_violations = 0
         self._aserver: asyncio.Server | None = None
+        #: The TLS handshakes under way (a port serving TLS: :mod:`._handshake`).
+        self._handshakes: set[asyncio.Task[None]] = set()
         # The close callbacks, one per protocol, shared by every connection of this listener.
         self._packed_done = _Done(self, native=False)
         self._native_done = _Done(self, native=True)
@@ -595,12 +599,14 @@ class FocasServer:
         port: int,
         ssl: _ssl.SSLContext | None,
     ) -> None:
+        factory: Callable[[], asyncio.BaseProtocol] = listener._new_connection
+        if ssl is not None:  # the handshake is the shell's own, to log one that fails
+            factory = tls_factory(factory, ssl, listener._log_label, listener._handshakes)
         try:
             aserver = await loop.create_server(
-                listener._new_connection,
+                factory,
                 self.host,
                 port,
-                ssl=ssl,
                 backlog=self.backlog,
                 start_serving=True,
             )
@@ -618,6 +624,8 @@ class FocasServer:
         aserver = listener._aserver
         if aserver is not None:
             aserver.close()
+        for handshake in listener._handshakes:
+            handshake.cancel()
 
     @staticmethod
     async def _wait_unbound(listener: Listener) -> None:

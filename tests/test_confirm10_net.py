@@ -1,0 +1,120 @@
+"""Transports and hints, a confirming pass (the tenth): the server's log of a plain client on
+a port that serves TLS, the gateway's TLS connection error in plain words, a connect timeout
+worded once, and a NaN timeout named as not a number.
+
+Servers here bind 127.0.0.1 on ephemeral ports.
+"""
+
+from __future__ import annotations
+
+import asyncio
+import logging
+import ssl
+from pathlib import Path
+
+import pytest
+from support import IO_TIMEOUT, serving
+
+from focas_net.client import FocasClient
+from focas_net.native import MAGIC
+from focas_net.protocol import Command, encode_frame
+
+# -- a plain client on a port that serves TLS --------------------------------------------------
+
+
+def _server_context(certificate: tuple[Path, Path]) -> ssl.SSLContext:
+    context = ssl.SSLContext(ssl.PROTOCOL_TLS_SERVER)
+    context.load_cert_chain(*certificate)
+    return context
+
+
+async def _warnings_for(
+    sent: bytes, certificate: tuple[Path, Path], caplog: pytest.LogCaptureFixture
+) -> tuple[int, list[str]]:
+    """The server's warnings about a client that sends ``sent`` to its TLS port, and the
+    client's own port."""
+    with caplog.at_level(logging.WARNING, logger="focas_net.server"):
+        async with serving(ssl=_server_context(certificate)) as s:
+            reader, writer = await asyncio.open_connection(s.host, s.port)
+            local = writer.get_extra_info("sockname")[1]
+            writer.write(sent)
+            assert await asyncio.wait_for(reader.read(), IO_TIMEOUT) is not None
+            writer.close()
+            # a TLS client is still served
+            context = ssl.create_default_context(cafile=str(certificate[0]))
+            async with FocasClient(s.host, s.port, ssl=context, timeout=IO_TIMEOUT) as cnc:
+                await cnc.read_status()
+    return local, [r.getMessage() for r in caplog.records if r.levelno == logging.WARNING]
+
+
+@pytest.mark.parametrize(
+    ("sent", "why"),
+    [
+        (
+            encode_frame(Command.RDCNCSTAT, 1, b""),
+            "it sent no TLS handshake: a plain client, on a port that serves TLS",
+        ),
+        (
+            MAGIC + bytes(6),
+            "it sent no TLS handshake: a plain client, on a port that serves TLS",
+        ),
+        (
+            b"GET / HTTP/1.1\r\nHost: cnc\r\n\r\n",
+            "it sent an HTTP request: a plain HTTP client, on a port that serves TLS",
+        ),
+    ],
+)
+async def test_a_plain_client_on_a_tls_port_is_named_in_the_servers_log(
+    sent: bytes, why: str, certificate: tuple[Path, Path], caplog: pytest.LogCaptureFixture
+) -> None:
+    """`status --port <TLS port>` against `serve --tls-cert ...` left nothing in the server's
+    log: asyncio dropped the failed handshake at its debug level."""
+    local, warnings = await _warnings_for(sent, certificate, caplog)
+    assert warnings == [f"focas-sim-0i: closing the connection from 127.0.0.1:{local}: {why}"]
+
+
+async def test_a_tls_handshake_that_fails_otherwise_says_why_in_openssls_words(
+    certificate: tuple[Path, Path], caplog: pytest.LogCaptureFixture
+) -> None:
+    """A TLS record that is no handshake: OpenSSL's reason, without its code and source."""
+    local, warnings = await _warnings_for(b"\x15\x03\x01\x00\x02\x02\x46", certificate, caplog)
+    assert warnings == [
+        f"focas-sim-0i: closing the connection from 127.0.0.1:{local}: TLS handshake failed "
+        "(unexpected message)"
+    ]
+
+
+def test_a_plain_client_on_a_tls_port_is_named_on_uvloop_too(
+    certificate: tuple[Path, Path], caplog: pytest.LogCaptureFixture
+) -> None:
+    pytest.importorskip("uvloop")
+    import anyio
+
+    async def main() -> tuple[int, list[str]]:
+        return await _warnings_for(encode_frame(Command.RDCNCSTAT, 1, b""), certificate, caplog)
+
+    local, warnings = anyio.run(main, backend="asyncio", backend_options={"use_uvloop": True})
+    assert warnings == [
+        f"focas-sim-0i: closing the connection from 127.0.0.1:{local}: it sent no TLS "
+        "handshake: a plain client, on a port that serves TLS"
+    ]
+
+
+async def test_a_handshake_under_way_ends_with_the_server(
+    certificate: tuple[Path, Path], caplog: pytest.LogCaptureFixture
+) -> None:
+    """A client that connected and sent nothing: its handshake task is cancelled at shutdown
+    and its socket closed, nothing logged above DEBUG."""
+    with caplog.at_level(logging.DEBUG, logger="focas_net.server"):
+        async with serving(ssl=_server_context(certificate)) as s:
+            reader, writer = await asyncio.open_connection(s.host, s.port)
+            listener = s.server.listeners[0]
+            for _ in range(100):  # (bounded: the accept is one loop turn away)
+                if listener._handshakes:
+                    break
+                await asyncio.sleep(0.01)
+            assert len(listener._handshakes) == 1
+        assert await asyncio.wait_for(reader.read(), IO_TIMEOUT) == b""
+        writer.close()
+    assert not listener._handshakes
+    assert [r.getMessage() for r in caplog.records if r.levelno > logging.INFO] == []
