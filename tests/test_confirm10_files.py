@@ -165,3 +165,37 @@ async def test_an_example_refuses_a_number_the_command_line_refuses(
     code, out, err = await run_example(name, *args)
     assert (code, out) == (2, ""), (code, out, err)
     assert "Traceback" not in err and words in err, err
+
+
+# -- words of program alarms ---------------------------------------------------------------
+
+
+@pytest.mark.parametrize(
+    ("block", "words"),
+    [
+        ("G4 X-1.", "PS0006 ILLEGAL USE OF NEGATIVE SIGN (O0001): G4 X-1."),
+        ("G4 X-500", "PS0006 ILLEGAL USE OF NEGATIVE SIGN (O0001): G4 X-500"),
+        ("M98 P10000", "PS0078 NUMBER NOT FOUND (O0001): M98 P10000: no program O0000 (1 time)"),
+    ],
+)
+def test_a_program_alarm_names_the_word_as_written(block: str, words: str) -> None:
+    """``G4 X-1.`` was named ``G4 X-1`` (the point lost: a time in increments), and a call of
+    one repetition said ``(1 times)``."""
+    engine = block_run(block)
+    assert str(engine.alarm) == words
+
+
+@pytest.mark.parametrize(
+    ("block", "detail"),
+    [
+        ("G1 X10. F100 ,C1.", ",C1.: chamfering and corner R (,C and ,R) are not modelled"),
+        ("G1 X10. F100 ,R2. Y1.", ",R2.: chamfering and corner R (,C and ,R) are not modelled"),
+        ("G0 X1. N10", "N10: a sequence number opens its block"),
+        ("G0 X1. $", "'$' is no address (A..Z but N and O)"),
+    ],
+)
+def test_a_character_that_starts_no_word_is_named_with_why(block: str, detail: str) -> None:
+    """PS0009's detail was the character alone (``','``, ``'N'``)."""
+    engine = block_run(block)
+    assert engine.alarm is not None and engine.alarm.code == "PS0009"
+    assert engine.alarm.detail == detail

@@ -640,7 +640,7 @@ class Interpreter:
             return
         program = self.store.find(p)
         if program is None:
-            times = f" ({repeats} times)" if written != p else ""
+            times = f" ({repeats} {'time' if repeats == 1 else 'times'})" if written != p else ""
             raise AlarmRaised(78, f"M98 P{written}: no program O{p:04d}{times}")
         if len(self.frames) > self.settings.max_subprogram_nesting:
             raise AlarmRaised(77, f"more than {self.settings.max_subprogram_nesting} levels")
@@ -661,7 +661,7 @@ class Interpreter:
         if "X" in other:
             value, literal = other["X"]
             if value < 0:
-                raise AlarmRaised(6, f"G4 X{number_text(value)}")
+                raise AlarmRaised(6, f"G4 {word_text('X', value, literal)}")
             return value * self.settings.increment_mm if literal else value
         return 0.0
 

@@ -39,6 +39,8 @@ DIRECTORY_NAME: Final = 61
 SEQUENCE_DIGITS: Final = 5
 #: Word addresses a block may carry (O and N are handled apart).
 ADDRESSES: Final = frozenset("ABCDEFGHIJKLMPQRSTUVWXYZ")
+#: The digits, signs and point of a word's value as written.
+_DIGITS: Final = re.compile(r"[-+]*[\d.]*")
 #: The characters of a word an alarm's detail shows (a longer one is cut, with "...").
 _SHOWN: Final = 23
 #: The addresses whose number FANUC reads as a whole number, never with a decimal point
@@ -374,7 +376,7 @@ def _words(cur: Cursor) -> list[Word]:
         if c.isdigit() or c in "+-":
             raise AlarmRaised(4, f"a value without an address at {cur.text[cur.pos :]!r}")
         if c not in ADDRESSES:
-            raise AlarmRaised(9, f"{c!r}")
+            raise AlarmRaised(9, _no_address(cur))
         start = cur.pos
         cur.pos += 1
         words.append(_word_value(cur, c))
@@ -384,6 +386,19 @@ def _words(cur: Cursor) -> list[Word]:
                 raise AlarmRaised(5074, f"{c} given twice in one block ({written[c]} and {word})")
             written[c] = word
     return words
+
+
+def _no_address(cur: Cursor) -> str:
+    """Why the character at ``cur`` starts no word: an N after the block's head, the
+    ``,C``/``,R`` of chamfering and corner R (FANUC's option, not modelled), or no address."""
+    c = cur.peek()
+    head = cur.pos + (2 if c == "," else 1)
+    word = _shown(cur.text[cur.pos : head + len(_DIGITS.match(cur.text, head)[0])])
+    if c == "N":
+        return f"{word}: a sequence number opens its block"
+    if c == ",":
+        return f"{word}: chamfering and corner R (,C and ,R) are not modelled"
+    return f"{c!r} is no address (A..Z but N and O)"
 
 
 def _shown(written: str) -> str:
