@@ -5,10 +5,13 @@ reads numbers; each checked where the fix lives."""
 
 from __future__ import annotations
 
+from pathlib import Path
+
 import pytest
 from examples_support import run_example
 from support import block_run
 
+from focas_net.sim import MachineFileError, load_machine
 from focas_net.sim.nc import Engine, ManualClock, ProgramStore, parse_program
 from focas_net.sim.nc.macro import Cursor, evaluate, parse_expression
 
@@ -199,3 +202,43 @@ def test_a_character_that_starts_no_word_is_named_with_why(block: str, detail: s
     engine = block_run(block)
     assert engine.alarm is not None and engine.alarm.code == "PS0009"
     assert engine.alarm.detail == detail
+
+
+# -- the [[tools]] table of a machine file ------------------------------------------------------
+
+
+@pytest.mark.parametrize(
+    ("tools", "words"),
+    [
+        (
+            "offsets = 10\n[[tools.offset]]\nnumber = 11\n",
+            "tools[0].offset[0].number: 11 is outside 1..10",
+        ),
+        (
+            "offsets = 10\n[[tools.offset]]\nnumber = 11\nlength_wear = 1\n",
+            "tools[0].offset[0].number: 11 is outside 1..10",
+        ),
+        (
+            "work = { G54 = [inf, 0, 0] }\n",
+            "tools[0].work.G54[0]: must be a finite number of millimetres, got inf",
+        ),
+        (
+            "work = { EXT = [0, nan, 0] }\n",
+            "tools[0].work.EXT[1]: must be a finite number of millimetres, got nan",
+        ),
+        (
+            "[[tools.offset]]\nnumber = 1\nlength_wear = -inf\n",
+            "tools[0].offset[0].length_wear: must be a finite number of millimetres, got -inf",
+        ),
+    ],
+)
+def test_a_tools_table_names_the_key_of_a_number_it_cannot_hold(
+    tmp_path: Path, tools: str, words: str
+) -> None:
+    """An offset number past ``offsets`` with no values loaded; ``inf`` raised an
+    OverflowError's traceback and ``nan`` was said to have more than 3 decimals."""
+    path = tmp_path / "m.toml"
+    path.write_text(f'[machine]\nname = "m"\naxes = ["X", "Y", "Z"]\n\n[[tools]]\n{tools}')
+    with pytest.raises(MachineFileError) as caught:
+        load_machine(path)
+    assert str(caught.value) == f"{path}: {words}"

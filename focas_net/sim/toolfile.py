@@ -8,6 +8,7 @@ values mean and their ranges are the machine's to check (its refusals name the t
 
 from __future__ import annotations
 
+import math
 from decimal import Decimal
 from typing import Any, Final
 
@@ -50,6 +51,8 @@ def _mm(ctx: _Ctx, value: Any) -> int:
     """Millimetres (at most 3 decimals) as least input increments (0.001 mm)."""
     if isinstance(value, bool) or not isinstance(value, int | float):
         ctx.fail(f"must be a number of millimetres, got {type(value).__name__}")
+    if isinstance(value, float) and not math.isfinite(value):
+        ctx.fail(f"must be a finite number of millimetres, got {value}")
     exact = Decimal(repr(value)) if isinstance(value, float) else Decimal(value)
     scaled = exact.scaleb(3)
     if scaled != scaled.to_integral_value():
@@ -69,6 +72,7 @@ def tool_specs(ctx: _Ctx, value: Any, paths: int = MAX_PATHS) -> dict[int, Tools
             c.sub("path").fail(f"the machine has no path {path} (its paths: 1..{paths})")
         if path in specs:
             c.sub("path").fail(f"path {path} has a [[tools]] table already")
+        offsets = _int(c.sub("offsets"), t.get("offsets", 64), (1, MAX_TOOL_OFFSETS))
         values: dict[tuple[int, str], int] = {}
         for j, entry in enumerate(_list(c.sub("offset"), t.get("offset", []))):
             oc = c.sub("offset").sub(j)
@@ -76,7 +80,7 @@ def tool_specs(ctx: _Ctx, value: Any, paths: int = MAX_PATHS) -> dict[int, Tools
             _only(oc, o, _OFFSET_KEYS)
             if "number" not in o:
                 oc.sub("number").fail("missing (the offset number)")
-            number = _int(oc.sub("number"), o["number"], (1, MAX_TOOL_OFFSETS))
+            number = _int(oc.sub("number"), o["number"], (1, offsets))
             for name, v in o.items():
                 if name == "number":
                     continue
@@ -101,7 +105,7 @@ def tool_specs(ctx: _Ctx, value: Any, paths: int = MAX_PATHS) -> dict[int, Tools
                 tool = group.tools[index].number
                 gc.sub(j).sub("tools").sub(index).fail(listed_twice(tool, other))
         specs[path] = ToolsSpec(
-            offsets=_int(c.sub("offsets"), t.get("offsets", 64), (1, MAX_TOOL_OFFSETS)),
+            offsets=offsets,
             offset_values=values,
             work=work,
             max_groups=_int(c.sub("max_groups"), t.get("max_groups", 16), (1, MAX_GROUPS)),
