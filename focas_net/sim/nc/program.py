@@ -393,7 +393,8 @@ def _no_address(cur: Cursor) -> str:
     ``,C``/``,R`` of chamfering and corner R (FANUC's option, not modelled), or no address."""
     c = cur.peek()
     head = cur.pos + (2 if c == "," else 1)
-    word = _shown(cur.text[cur.pos : head + len(_DIGITS.match(cur.text, head)[0])])
+    digits = _DIGITS.match(cur.text, head)
+    word = _shown(cur.text[cur.pos : digits.end() if digits else head])
     if c == "N":
         return f"{word}: a sequence number opens its block"
     if c == ",":
