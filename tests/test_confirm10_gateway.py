@@ -1,22 +1,33 @@
 """A confirming pass over the gateway and the labels every front end shares: the log tells a
-machine never reached as unavailable and one that was online as lost."""
+machine never reached as unavailable and one that was online as lost; the docs map each screen
+word of ``emergency`` and ``alarm`` to the gateway's boolean; a path the CNC has not is worded
+alike by the clients, the gateway's writes, the machine and the command line."""
 
 from __future__ import annotations
 
 import logging
+from decimal import Decimal
 from pathlib import Path
+from typing import Literal
 
 import pytest
 from poller_support import all_online, config, polling, until
-from support import free_port
+from support import free_port, serving
 
+from focas_net._refusals import no_path
+from focas_net.client import FocasClient, NativeClient
+from focas_net.errors import EW, CncError
+from focas_net.gateway import MachineConfig, WriteGates
 from focas_net.gateway.model import ITEMS
 from focas_net.gateway.reads import _status
+from focas_net.gateway.writer import GatedWriter
 from focas_net.protocol import AlarmState, EmergencyState, StatusInfo
 from focas_net.protocol.values import LabelledValue
 from focas_net.server import FocasServer
-from focas_net.sim import default_machine
+from focas_net.sim import MachineError, default_machine
 from focas_net.sim.nc import ManualClock
+
+ALL = WriteGates(macros=((0, 99999),), params=((0, 99999),))
 
 
 # -- a machine never reached is unavailable, one that was online is lost ----------------------
@@ -77,3 +88,27 @@ def test_the_docs_map_each_screen_word_of_emergency_and_alarm_to_the_gateways_bo
     assert f"`{name}` is true when the field reads {_either(true)}" in text
     assert f"false when it reads {_either(false)}" in text
     assert ITEMS[name].kind is bool
+
+
+# -- a path the CNC has not: one wording on every front end ---------------------------------
+@pytest.mark.parametrize("protocol", ["packed", "native"])
+async def test_a_write_to_a_path_the_cnc_has_not_says_it_as_the_cli_and_the_page_do(
+    protocol: Literal["native", "packed"],
+) -> None:
+    machine = default_machine()
+    async with serving(machine) as served:
+        kind_of = FocasClient if protocol == "packed" else NativeClient
+        async with kind_of("127.0.0.1", served.port) as client:
+            config = MachineConfig("m1", "127.0.0.1", served.port, protocol, writes=ALL)
+            writer = GatedWriter(lambda name: (config, client))
+            with pytest.raises(CncError) as refused:
+                await writer.write_macro("m1", 100, Decimal("1.5"), 2)
+            with pytest.raises(CncError) as read:
+                await client.read_status(path=3)
+    said = no_path(2, 1)
+    assert said == "the CNC has no path 2: it has path 1 only"
+    assert refused.value.ew == EW.PATH and str(refused.value).endswith(f"cnc_wrmacro: {said}")
+    assert str(read.value).endswith(f": {no_path(3, 1)}"), read.value
+    with pytest.raises(MachineError) as page:
+        machine.status(path=2)
+    assert str(page.value).endswith(said), page.value

@@ -218,7 +218,7 @@ BEYOND_THE_TABLE: dict[str, tuple[str, ...]] = {
     # clients' and the server's handshake failures too)
     "focas_net._tls": ("focas_net._typed",),
     # why a CNC refused a parameter or macro write, in words: the command line and the gateway
-    # (and parameter 1020's number, the machine's too)
+    # (and parameter 1020's number, the machine's too; a path the CNC has not, the clients' too)
     "focas_net._refusals": ("focas_net.errors",),
     # an address typed: the host and port checks of the clients, the server's bind address,
     # the command line, the gateway's file and the dashboard's --web; a typed value shown
@@ -245,7 +245,12 @@ SHARED: dict[str, tuple[str, ...]] = {
         "focas_net.cli",
         "focas_net.gateway",
     ),
-    "focas_net._refusals": ("focas_net.sim", "focas_net.cli", "focas_net.gateway"),
+    "focas_net._refusals": (
+        "focas_net.sim",
+        "focas_net.client",
+        "focas_net.cli",
+        "focas_net.gateway",
+    ),
     "focas_net._typed": (
         "focas_net.sim",
         "focas_net.server",

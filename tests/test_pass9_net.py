@@ -36,7 +36,7 @@ async def test_a_path_beyond_the_cncs_is_named_alike_by_both_clients(
         with pytest.raises(CncError) as caught:
             await getattr(client, call)(path=3)
         assert caught.value.ew == EW.PATH
-        assert str(caught.value).endswith("path 3, the CNC has paths 1..1"), caught.value
+        assert str(caught.value).endswith("the CNC has no path 3: it has path 1 only"), caught.value
     # the next call on a path the CNC has is answered as before
     assert (await cnc.read_status()).run is not None
 
@@ -201,7 +201,7 @@ async def test_an_axis_of_a_path_the_cnc_lacks_is_refused_for_the_path(
         with pytest.raises(CncError) as caught:
             await call(client)
         assert caught.value.ew == EW.PATH, caught.value
-        assert str(caught.value).endswith(f"{function}: path 3, the CNC has paths 1..1")
+        assert str(caught.value).endswith(f"{function}: the CNC has no path 3: it has path 1 only")
 
 
 async def test_the_alarms_of_a_path_the_cnc_lacks_are_refused_alike(
@@ -212,4 +212,4 @@ async def test_the_alarms_of_a_path_the_cnc_lacks_are_refused_alike(
         with pytest.raises(CncError) as caught:
             await client.read_alarms(path=2)
         assert caught.value.ew == EW.PATH
-        assert str(caught.value).endswith("path 2, the CNC has paths 1..1"), caught.value
+        assert str(caught.value).endswith("the CNC has no path 2: it has path 1 only"), caught.value

@@ -23,6 +23,7 @@ import ssl as _ssl
 from typing import Final
 
 from focas_net._address import address_text
+from focas_net._refusals import no_path
 from focas_net._tls import ssl_error_text
 from focas_net._typed import os_reason
 from focas_net.errors import (
@@ -172,8 +173,9 @@ def lost_error(peer: str, exc: BaseException | None, answered: bool = True) -> F
 
 def path_refusal(function: str, path: int, paths: int) -> CncError:
     """EW_PATH of a call of ``function`` for ``path``, which a CNC of ``paths`` paths does not
-    have, in the words of both clients: ``cnc_statinfo: path 3, the CNC has paths 1..1``."""
-    return CncError.from_ew(EW.PATH, f"{function}: path {path}, the CNC has paths 1..{paths}")
+    have, in the words of both clients, the machine and the command line: ``cnc_statinfo: the
+    CNC has no path 3: it has path 1 only``."""
+    return CncError.from_ew(EW.PATH, f"{function}: {no_path(path, paths)}")
 
 
 def no_answer_error(call: str, peer: str | None, sent: bool = True) -> FocasTimeoutError:
