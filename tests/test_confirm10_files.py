@@ -5,13 +5,14 @@ reads numbers; each checked where the fix lives."""
 
 from __future__ import annotations
 
+import logging
 from pathlib import Path
 
 import pytest
 from examples_support import run_example
 from support import block_run
 
-from focas_net.sim import MachineFileError, load_machine
+from focas_net.sim import MachineFileError, default_machine, load_machine
 from focas_net.sim.nc import Engine, ManualClock, ProgramStore, parse_program
 from focas_net.sim.nc.macro import Cursor, evaluate, parse_expression
 
@@ -242,3 +243,28 @@ def test_a_tools_table_names_the_key_of_a_number_it_cannot_hold(
     with pytest.raises(MachineFileError) as caught:
         load_machine(path)
     assert str(caught.value) == f"{path}: {words}"
+
+
+# -- a served machine's program alarm is logged with its detail --------------------------------
+
+
+def test_a_program_alarm_is_logged_with_what_the_program_said(
+    caplog: pytest.LogCaptureFixture,
+) -> None:
+    """The alarm's detail (the words of the block) reached no front end: the alarm screen,
+    the history and the page show FANUC's message alone, so a served machine's user never saw
+    why ``G1 X10. F100 G4 P1000`` stopped."""
+    clock = ManualClock()
+    machine = default_machine(
+        sim_clock=clock, programs=("O0001\nN20 G1 X10. F100 G4 P1000\nM30\n",)
+    )
+    machine.select_program(1)
+    with caplog.at_level(logging.WARNING, logger="focas_net"):
+        machine.cycle_start()
+        clock.advance(5.0)
+        assert len(machine.active_alarms()) == 1
+    warned = [r.getMessage() for r in caplog.records if r.levelno == logging.WARNING]
+    assert warned == [
+        f"{machine.name}: PS5074 ADDRESS DUPLICATION ERROR (O0001 N20): G4 X10. P1000: a dwell "
+        "takes its time in X or P (program the move in a block of its own)"
+    ]

@@ -417,12 +417,15 @@ class Path:
 
     def engine_event(self, event: EngineEvent, now: float) -> None:
         """Record what the engine reports at machine time ``now``: a part into the parts
-        parameters, an alarm into the machine's alarms (stamped when it was raised)."""
+        parameters, an alarm into the machine's alarms (stamped when it was raised) and the
+        log with the words of the block that raised it (a warning: the alarm screen, the
+        history and the page show FANUC's message alone)."""
         if event.kind == "part":
             self._store_parts(PARTS_COUNT, self.engine.parts_count)
             self._store_parts(PARTS_TOTAL, self.engine.parts_total)
         elif event.kind == "alarm" and event.alarm is not None:
             alarm = event.alarm
+            logger.warning("%s: %s", self.name, alarm)
             key = (alarm.axis or 0, NC_ALARM_TYPES[alarm.kind], alarm.number)
             text = alarm.message[:MAX_ALARM_TEXT].encode("latin-1", "replace").decode("latin-1")
             stamp = self.alarms.stamp(now - event.time)
