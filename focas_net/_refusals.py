@@ -26,6 +26,7 @@ __all__ = [
     "no_path",
     "param_refusal",
     "parts_refusal",
+    "path_axes",
     "pmc_refusal",
     "system_read_only",
 ]
@@ -98,6 +99,12 @@ def no_path(path: int, count: int) -> str:
     page shows them) and the command line (which adds the ``--path`` to give)."""
     has = "path 1 only" if count == 1 else f"paths 1..{count}"
     return f"the CNC has no path {path}: it has {has}"
+
+
+def path_axes(axes: int) -> str:
+    """``the path has 3 axes``: the count an axis past the path's is told with (the command
+    line adds ``give --axis 1..3``, the gateway ``give Axis 1..3``)."""
+    return f"the path has {axes} ax{'is' if axes == 1 else 'es'}"
 
 
 def item_named(kind: str, number: int | str, axis: int = 0) -> str:

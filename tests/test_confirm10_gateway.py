@@ -1,7 +1,8 @@
 """A confirming pass over the gateway and the labels every front end shares: the log tells a
 machine never reached as unavailable and one that was online as lost; the docs map each screen
 word of ``emergency`` and ``alarm`` to the gateway's boolean; a path the CNC has not is worded
-alike by the clients, the gateway's writes, the machine and the command line."""
+alike by the clients, the gateway's writes, the machine and the command line; a parameter
+written with an axis past the path's says which to give."""
 
 from __future__ import annotations
 
@@ -112,3 +113,22 @@ async def test_a_write_to_a_path_the_cnc_has_not_says_it_as_the_cli_and_the_page
     with pytest.raises(MachineError) as page:
         machine.status(path=2)
     assert str(page.value).endswith(said), page.value
+
+
+# -- an axis past the path's: what to give, as the command line says it ---------------------
+@pytest.mark.parametrize("protocol", ["packed", "native"])
+async def test_a_parameter_written_with_an_axis_past_the_paths_says_which_to_give(
+    protocol: Literal["native", "packed"],
+) -> None:
+    machine = default_machine()
+    machine.set_panel("MDI", pwe=1)
+    async with serving(machine) as served:
+        kind_of = FocasClient if protocol == "packed" else NativeClient
+        async with kind_of("127.0.0.1", served.port) as client:
+            config = MachineConfig("m1", "127.0.0.1", served.port, protocol, writes=ALL)
+            writer = GatedWriter(lambda name: (config, client))
+            with pytest.raises(CncError) as refused:
+                await writer.write_param("m1", 1420, 5000, 9)
+    exc = refused.value
+    assert exc.ew == EW.ATTRIB
+    assert str(exc).endswith("; the path has 3 axes: give Axis 1..3"), exc

@@ -8,7 +8,7 @@ import json
 from decimal import Decimal
 from typing import Any
 
-from focas_net._refusals import axis_misfit
+from focas_net._refusals import axis_misfit, path_axes
 from focas_net.client import (
     AlarmCleared,
     AlarmHistoryEvent,
@@ -131,18 +131,14 @@ async def axis_past(cnc: CncClient, exc: CncError, axis: int | None, also: str =
     if axis <= axes:
         return exc
     # the count once: where the machine's own words tell it already, only what to give
-    told = _axes_count_text(axes) in str(exc)
+    told = path_axes(axes) in str(exc)
     return HintedError(exc, f"{_axes_text(axes, told=told)}{also}")
-
-
-def _axes_count_text(axes: int) -> str:
-    return f"the path has {axes} ax{'is' if axes == 1 else 'es'}"
 
 
 def _axes_text(axes: int, *, told: bool = False) -> str:
     # the machine's words (the path's count: on a machine of several paths not the machine's)
     give = f"give --axis 1..{axes}"
-    return give if told else f"{_axes_count_text(axes)}: {give}"
+    return give if told else f"{path_axes(axes)}: {give}"
 
 
 async def _axis_count(cnc: CncClient) -> int:

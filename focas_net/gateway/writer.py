@@ -23,6 +23,7 @@ from focas_net._refusals import (
     axis_misfit,
     macro_refusal,
     param_refusal,
+    path_axes,
     pmc_refusal,
 )
 from focas_net.client import FocasClient, NativeClient
@@ -111,18 +112,18 @@ async def _axis_said(
     client: FocasClient | NativeClient, exc: CncError, number: int, axis: int
 ) -> CncError:
     """EW_ATTRIB of parameter ``number`` written with ``axis``, again with which Axis to give
-    (the path's axes, as its positions name them, as the command line counts them); ``exc``
-    itself for an axis past the path's (the CNC's words say so) or when they cannot be read."""
+    (the path's axes, as its positions name them, as the command line counts them, and as it
+    words them for an axis past the path's); ``exc`` itself when they cannot be read."""
     try:
         axes = len((await client.read_positions()).values)
     except FocasError:
         return exc
     if axis > axes:
-        return exc
-    give = f"give Axis 1..{axes}" if axis == 0 else "give Axis 0"
-    return CncError.from_ew(
-        exc.ew, f"{exc.detail}; {axis_misfit('parameter', number, axis)}: {give}"
-    )
+        said = f"{path_axes(axes)}: give Axis 1..{axes}"
+    else:
+        give = f"give Axis 1..{axes}" if axis == 0 else "give Axis 0"
+        said = f"{axis_misfit('parameter', number, axis)}: {give}"
+    return CncError.from_ew(exc.ew, f"{exc.detail}; {said}")
 
 
 def _gate(
