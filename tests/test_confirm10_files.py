@@ -268,3 +268,18 @@ def test_a_program_alarm_is_logged_with_what_the_program_said(
         f"{machine.name}: PS5074 ADDRESS DUPLICATION ERROR (O0001 N20): G4 X10. P1000: a dwell "
         "takes its time in X or P (program the move in a block of its own)"
     ]
+
+
+@pytest.mark.parametrize(
+    ("block", "detail"),
+    [
+        ("IF [1 EQ 1] THEN G0 X1.", "THEN takes one assignment (#i = ...), not 'G0X1.'"),
+        ("IF [1 EQ 1] THEN", "THEN takes one assignment (#i = ...), not nothing"),
+    ],
+)
+def test_then_with_no_assignment_says_what_then_takes(block: str, detail: str) -> None:
+    """FANUC's IF ... THEN runs one macro statement; an NC block after it said only
+    ``expected '#' at 'G0X1.'``."""
+    engine = block_run(block)
+    assert engine.alarm is not None and engine.alarm.code == "PS0114"
+    assert engine.alarm.detail == detail

@@ -328,6 +328,9 @@ def _statement(cur: Cursor) -> Statement:
             _end(cur)
             return IfGoto(condition, target)
         if cur.take("THEN"):
+            if not cur.at("#"):  # FANUC: THEN runs one macro statement, no NC words
+                rest = repr(cur.text[cur.pos :]) if not cur.done() else "nothing"
+                raise AlarmRaised(114, f"THEN takes one assignment (#i = ...), not {rest}")
             return IfThen(condition, _assignment(cur))
         raise AlarmRaised(114, f"IF without GOTO or THEN at {cur.text[cur.pos :]!r}")
     if cur.take("WHILE"):
