@@ -283,3 +283,16 @@ def test_then_with_no_assignment_says_what_then_takes(block: str, detail: str) -
     engine = block_run(block)
     assert engine.alarm is not None and engine.alarm.code == "PS0114"
     assert engine.alarm.detail == detail
+
+
+@pytest.mark.parametrize("typed", [" ", "\t", "  \t "])
+def test_a_path_name_of_spaces_is_named_as_typed(tmp_path: Path, typed: str) -> None:
+    """It was named after its spaces were dropped: ``''``."""
+    path = tmp_path / "m.toml"
+    name = typed.replace("\t", "\\t")
+    path.write_text(f'[machine]\nname = "m"\n[[path]]\naxes = ["X"]\nname = "{name}"\n')
+    with pytest.raises(MachineFileError) as caught:
+        load_machine(path)
+    assert str(caught.value) == (
+        f"{path}: path[0].name: a path's name is 1..32 printable ASCII characters: {typed!r}"
+    )

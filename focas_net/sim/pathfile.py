@@ -79,9 +79,10 @@ def path_specs(root: _Ctx, top: dict[str, Any], base: Path | None) -> list[PathS
             if axis in owner:
                 c.sub("axes").sub(j).fail(f"axis {axis!r} is path[{owner[axis]}]'s already")
             owner[axis] = i
-        name = _str(c.sub("name"), t.get("name", f"PATH{i + 1}")).strip()
+        typed = _str(c.sub("name"), t.get("name", f"PATH{i + 1}"))
+        name = typed.strip()
         if not name or not name.isascii() or not name.isprintable() or len(name) > 32:
-            c.sub("name").fail(f"a path's name is 1..32 printable ASCII characters: {name!r}")
+            c.sub("name").fail(f"a path's name is 1..32 printable ASCII characters: {typed!r}")
         if name in names:
             c.sub("name").fail(f"{name!r} is path[{names[name]}]'s name already")
         names[name] = i
