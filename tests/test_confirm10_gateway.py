@@ -2,10 +2,12 @@
 machine never reached as unavailable and one that was online as lost; the docs map each screen
 word of ``emergency`` and ``alarm`` to the gateway's boolean; a path the CNC has not is worded
 alike by the clients, the gateway's writes, the machine and the command line; a parameter
-written with an axis past the path's says which to give."""
+written with an axis past the path's says which to give; the page's tile reads the emergency
+field by the gateway's rule."""
 
 from __future__ import annotations
 
+import dataclasses
 import logging
 from decimal import Decimal
 from pathlib import Path
@@ -27,6 +29,7 @@ from focas_net.protocol.values import LabelledValue
 from focas_net.server import FocasServer
 from focas_net.sim import MachineError, default_machine
 from focas_net.sim.nc import ManualClock
+from focas_net.web.view import machine_tile
 
 ALL = WriteGates(macros=((0, 99999),), params=((0, 99999),))
 
@@ -132,3 +135,19 @@ async def test_a_parameter_written_with_an_axis_past_the_paths_says_which_to_giv
     exc = refused.value
     assert exc.ew == EW.ATTRIB
     assert str(exc).endswith("; the path has 3 axes: give Axis 1..3"), exc
+
+
+# -- the emergency stop: one rule for the gateway's boolean and the page's tile ---------------
+@pytest.mark.parametrize("state", list(EmergencyState))
+async def test_the_tile_and_the_gateway_read_the_emergency_field_by_one_rule(
+    state: EmergencyState, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    machine = default_machine()
+    real = machine.status
+    monkeypatch.setattr(
+        machine, "status", lambda path=1: dataclasses.replace(real(path=path), emergency=state)
+    )
+    fields = dict.fromkeys(("hdck", "tmmode", "aut", "run", "motion", "mstb", "alarm"), 0)
+    gateway = _status(1, StatusInfo(**fields, emergency=state.value, edit=0))
+    tile = machine_tile(0, machine, 8193)
+    assert tile["emergency"] is gateway[(1, "emergency", "")] is (state == EmergencyState.EMG)

@@ -19,6 +19,7 @@ from focas_net._typed import decimal_text, whole_number
 from focas_net.errors import EW, ew_name
 from focas_net.protocol import (
     AutMode,
+    EmergencyState,
     FaultKind,
     ParamDataType,
     RunState,
@@ -131,7 +132,7 @@ def _path_tile(machine: Machine, path: int, trail: PathTrail | None = None) -> J
         "mode": _MODE_LABELS.get(status.aut, str(status.aut)),
         "run": _RUN_LABELS.get(status.run, str(status.run)),
         "run_state": _RUN_NAMES.get(status.run, str(status.run)),
-        "emergency": bool(status.emergency),
+        "emergency": status.emergency == EmergencyState.EMG,  # (the gateway's rule: not RESET)
         "program": motion.program_running,
         "sequence": motion.sequence,
         "parts": count,
