@@ -296,3 +296,28 @@ def test_a_path_name_of_spaces_is_named_as_typed(tmp_path: Path, typed: str) -> 
     assert str(caught.value) == (
         f"{path}: path[0].name: a path's name is 1..32 printable ASCII characters: {typed!r}"
     )
+
+
+@pytest.mark.parametrize(
+    ("second", "words"),
+    [
+        (
+            'address = "A0.1"\nnumber = 2001',
+            "message 2001 of A0.1: A0.1 shows message 2000 already",
+        ),
+        ('address = "A0.2"\nnumber = 2000', "message 2000 of A0.2: message 2000 is given twice"),
+    ],
+)
+def test_an_operator_message_given_twice_says_whether_its_bit_or_its_number(
+    tmp_path: Path, second: str, words: str
+) -> None:
+    """Both said ``number or bit given twice``."""
+    path = tmp_path / "m.toml"
+    path.write_text(
+        '[machine]\nname = "m"\naxes = ["X"]\n\n[pmc.A]\nsize = 1\n\n'
+        '[[operator_messages]]\naddress = "A0.1"\nnumber = 2000\ntext = "ONE"\n\n'
+        f'[[operator_messages]]\n{second}\ntext = "TWO"\n'
+    )
+    with pytest.raises(MachineFileError) as caught:
+        load_machine(path)
+    assert str(caught.value) == f"{path}: operator_messages[1]: {words}"

@@ -139,7 +139,7 @@ class ModalOperations:
         if size == 0 and messages:
             raise ValueError("the machine has no A area for external operator messages")
         numbers: set[int] = set()
-        bits: set[tuple[int, int]] = set()
+        bits: dict[tuple[int, int], int] = {}  # each bit's message number
         out = []
         for m in messages:
             for name in ("byte", "bit", "number"):
@@ -153,13 +153,20 @@ class ModalOperations:
                     f"message {m.number} of {where}: external operator messages are "
                     "2000..2999 (1000..1999, external alarm messages, are not modelled)"
                 )
-            if m.number in numbers or (m.byte, m.bit) in bits:
-                raise ValueError(f"message {m.number} of {where}: number or bit given twice")
+            if m.number in numbers:
+                raise ValueError(
+                    f"message {m.number} of {where}: message {m.number} is given twice"
+                )
+            if (m.byte, m.bit) in bits:
+                other = bits[m.byte, m.bit]
+                raise ValueError(
+                    f"message {m.number} of {where}: {where} shows message {other} already"
+                )
             problem = message_problem(m.text)
             if problem is not None:
                 raise ValueError(f"message {m.number} of {where}: {problem}")
             numbers.add(m.number)
-            bits.add((m.byte, m.bit))
+            bits[m.byte, m.bit] = m.number
             out.append(m)
         self._external_messages = tuple(sorted(out, key=lambda m: m.number))
 
