@@ -8,10 +8,11 @@ from __future__ import annotations
 import re
 import ssl
 from pathlib import Path
+from typing import Final
 
 from focas_net._typed import os_reason
 
-__all__ = ["ca_context", "pem_holds", "ssl_error_text"]
+__all__ = ["ca_context", "is_openssl_text", "openssl_words", "pem_holds", "ssl_error_text"]
 
 
 def pem_holds(path: str, label: str) -> bool | None:
@@ -24,12 +25,28 @@ def pem_holds(path: str, label: str) -> bool | None:
     return re.search(rf"-----BEGIN [A-Z0-9 ]*{label}-----", text) is not None
 
 
+#: OpenSSL's library tag and the source line Python adds: ``[SSL: WRONG_VERSION_NUMBER] ``,
+#: `` (_ssl.c:1006)``.
+_OPENSSL_TAGS: Final = re.compile(r"^\[[A-Z0-9_: ]+\] | \(_ssl\.c:\d+\)$")
+
+
 def ssl_error_text(exc: OSError) -> str:
     """OpenSSL's words for ``exc`` without its library tag and source line (``[X509: ...]``,
     ``(_ssl.c:4154)``)."""
     if not isinstance(exc, ssl.SSLError):
         return os_reason(exc)  # (a file that cannot be read: the system's words)
-    return re.sub(r"^\[[A-Z0-9_: ]+\] | \(_ssl\.c:\d+\)$", "", str(exc.strerror or exc))
+    return openssl_words(str(exc.strerror or exc))
+
+
+def openssl_words(text: str) -> str:
+    """``text`` (an SSL error as a string, as a library passes it on) without OpenSSL's tag
+    and source line; other text as it is."""
+    return _OPENSSL_TAGS.sub("", text)
+
+
+def is_openssl_text(text: str) -> bool:
+    """Whether ``text`` is an SSL error as a string (``[SSL: ...] ...``, ``... (_ssl.c:2426)``)."""
+    return _OPENSSL_TAGS.search(text) is not None
 
 
 def ca_context(cafile: str | None) -> ssl.SSLContext:

@@ -13,9 +13,11 @@ import ssl
 from pathlib import Path
 
 import pytest
-from support import IO_TIMEOUT, serving
+from support import IO_TIMEOUT, LoopbackPeer, serving
 
 from focas_net.client import FocasClient
+from focas_net.gateway.config import MqttSettings
+from focas_net.gateway.mqtt import MqttSink
 from focas_net.native import MAGIC
 from focas_net.protocol import Command, encode_frame
 
@@ -118,3 +120,37 @@ async def test_a_handshake_under_way_ends_with_the_server(
         writer.close()
     assert not listener._handshakes
     assert [r.getMessage() for r in caplog.records if r.levelno > logging.INFO] == []
+
+
+# -- the gateway's MQTT broker over TLS, on a plain port ----------------------------------------
+
+
+class _PlainAnswer(LoopbackPeer):
+    """Answers whatever comes with a line of plain text (a port that does not speak TLS)."""
+
+    async def _serve(self, reader: asyncio.StreamReader, writer: asyncio.StreamWriter) -> None:
+        await reader.read(1)
+        writer.write(b"HTTP/1.1 400 Bad Request\r\n\r\n")
+        await writer.drain()
+        writer.close()
+
+
+async def test_a_tls_broker_on_a_plain_port_is_worded_without_openssls_code(
+    caplog: pytest.LogCaptureFixture,
+) -> None:
+    """It read `[SSL: WRONG_VERSION_NUMBER] wrong version number (_ssl.c:1000) (tls = true:
+    ...)`: OpenSSL's code and its C source line, where the clients say `TLS handshake failed
+    (wrong version number)`."""
+    caplog.set_level(logging.WARNING, logger="focas_net.gateway.mqtt")
+    async with _PlainAnswer() as peer:
+        settings = MqttSettings(host="127.0.0.1", port=peer.port, tls=True)
+        async with MqttSink(settings, reconnect=(5.0, 5.0), timeout=2.0):
+            for _ in range(2000):  # bounded: 20 s
+                warned = [r.getMessage() for r in caplog.records if r.name.endswith("mqtt")]
+                if warned:
+                    break
+                await asyncio.sleep(0.01)
+    assert warned[:1] == [
+        f"MQTT broker 127.0.0.1:{peer.port}: TLS handshake failed (wrong version number) "
+        "(tls = true: is that the broker's TLS port?)"
+    ]

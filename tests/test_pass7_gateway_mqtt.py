@@ -36,7 +36,13 @@ TLS = MqttSettings(host="127.0.0.1", port=1883, tls=True)
         (
             "[SSL: WRONG_VERSION_NUMBER] wrong version number (_ssl.c:1000)",
             TLS,
-            "[SSL: WRONG_VERSION_NUMBER] wrong version number (_ssl.c:1000) "
+            "TLS handshake failed (wrong version number) "
+            "(tls = true: is that the broker's TLS port?)",
+        ),
+        (
+            "TLS/SSL connection has been closed (EOF) (_ssl.c:2426)",
+            TLS,
+            "TLS handshake failed (TLS/SSL connection has been closed (EOF)) "
             "(tls = true: is that the broker's TLS port?)",
         ),
         (

@@ -34,6 +34,8 @@ from typing import Final
 import aiomqtt
 from aiomqtt.exceptions import MqttConnectError
 
+from focas_net._tls import is_openssl_text, openssl_words, ssl_error_text
+
 from ._mqtt_messages import Buffer, Message, Publication
 from .config import MqttSettings
 from .model import AlarmChange, MachineShape, Sample
@@ -89,12 +91,15 @@ def broker_reason(
         if text == _TIMED_OUT:
             return "the broker acknowledged no message in time: the connection is taken as lost"
         return "the connection to the broker was lost"
-    if text == _TIMED_OUT and socket_error:
+    if isinstance(cause, ssl.SSLError) or is_openssl_text(text):  # (the clients' words)
+        detail = ssl_error_text(cause) if isinstance(cause, ssl.SSLError) else ""
+        text = f"TLS handshake failed ({detail or openssl_words(text)})"
+    elif text == _TIMED_OUT and socket_error:
         text = f"{_words(socket_error)} before any answer to MQTT's CONNECT"
     else:
         text = _words(text)
     tls = settings.tls
-    if tls and ("reset" in text or "ssl" in text or "eof" in text):
+    if tls and ("reset" in text or "TLS handshake" in text or "eof" in text):
         return f"{text} (tls = true: is that the broker's TLS port?)"
     if not tls and settings.port == _TLS_PORT:
         return f"{text} (port {_TLS_PORT} is MQTT over TLS by convention: tls = true?)"
