@@ -13,8 +13,11 @@ import ssl
 from pathlib import Path
 
 import pytest
+from cli_support import at, fails
+from poller_support import Silent
 from support import IO_TIMEOUT, LoopbackPeer, serving
 
+from focas_net.cli import EXIT_CONNECTION
 from focas_net.client import FocasClient
 from focas_net.gateway.config import MqttSettings
 from focas_net.gateway.mqtt import MqttSink
@@ -154,3 +157,18 @@ async def test_a_tls_broker_on_a_plain_port_is_worded_without_openssls_code(
         f"MQTT broker 127.0.0.1:{peer.port}: TLS handshake failed (wrong version number) "
         "(tls = true: is that the broker's TLS port?)"
     ]
+
+
+# -- a connect that times out, on the command line ---------------------------------------------
+
+
+async def test_a_connect_that_times_out_says_timed_out_once() -> None:
+    """It read `timed out after 0.3 s: connecting to 127.0.0.1:PORT timed out`."""
+    async with Silent() as peer:  # (TCP accepted, the TLS handshake never answered)
+        line = await fails(
+            EXIT_CONNECTION, "status", *at(peer), "--tls-insecure", "--timeout", "0.3"
+        )
+    assert line.startswith(
+        f"focas-net: connecting to 127.0.0.1:{peer.port} timed out after 0.3 s"
+    ), line
+    assert line.count("timed out") == 1, line

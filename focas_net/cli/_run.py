@@ -385,10 +385,14 @@ def _failure_text(args: argparse.Namespace, exc: BaseException, hint: str | None
         return f"{_failure_text(args, exc.cause)}; {exc.hint}"
     text = fmt.error_line(exc)
     if isinstance(exc, FocasTimeoutError):
-        where = fmt.address_text(args.host, args.port)
-        # the peer once: the client's words name it when it was connected to
-        shown = "" if where in text else f" ({where})"
-        text = f"timed out after {args.timeout:g} s{shown}: {text}"
+        after = f"timed out after {args.timeout:g} s"
+        if "timed out" in text:  # (the client's words say so: once, with the time)
+            text = text.replace("timed out", after, 1)
+        else:
+            where = fmt.address_text(args.host, args.port)
+            # the peer once: the client's words name it when it was connected to
+            shown = "" if where in text else f" ({where})"
+            text = f"{after}{shown}: {text}"
     if hint is None and isinstance(exc, CncError):
         hint = reason(command_name(args), args, exc)
     if hint is None and _protocol(args) != NATIVE:
