@@ -52,6 +52,7 @@ __all__ = [
     "item_axis_unfit",
     "item_number_unfit",
     "macro_unfit",
+    "nan_refused",
     "os_reason",
     "os_words",
     "override_percent",
@@ -130,6 +131,13 @@ def macro_unfit(value: object) -> str:
         f"{value} does not fit a macro variable: give at most 9 decimals and at most 10 digits, "
         "which without the decimal point stay within 32 bits (-2147483648..2147483647)"
     )
+
+
+def nan_refused(what: str, kind: str = "a number of seconds") -> str:
+    """The refusal of a NaN given as ``what`` where ``kind`` is wanted, saying what is wrong,
+    in the words of every API (``timeout must be a positive number of seconds, got nan (not
+    a number)``)."""
+    return f"{what} must be {kind}, got nan (not a number)"
 
 
 def field_unfit(what: str, value: int, low: int, high: int) -> str | None:

@@ -9,6 +9,7 @@ from __future__ import annotations
 
 import asyncio
 import logging
+import math
 import ssl
 from pathlib import Path
 
@@ -18,11 +19,12 @@ from poller_support import Silent
 from support import IO_TIMEOUT, LoopbackPeer, serving
 
 from focas_net.cli import EXIT_CONNECTION
-from focas_net.client import FocasClient
+from focas_net.client import AlarmProjection, FocasClient, NativeClient, ReconnectPolicy
 from focas_net.gateway.config import MqttSettings
 from focas_net.gateway.mqtt import MqttSink
 from focas_net.native import MAGIC
 from focas_net.protocol import Command, encode_frame
+from focas_net.server import FocasServer
 
 # -- a plain client on a port that serves TLS --------------------------------------------------
 
@@ -172,3 +174,34 @@ async def test_a_connect_that_times_out_says_timed_out_once() -> None:
         f"focas-net: connecting to 127.0.0.1:{peer.port} timed out after 0.3 s"
     ), line
     assert line.count("timed out") == 1, line
+
+
+# -- a NaN where a number of seconds is wanted --------------------------------------------------
+
+
+@pytest.mark.parametrize("client", [FocasClient, NativeClient])
+async def test_a_nan_timeout_is_named_not_a_number(client: type[FocasClient]) -> None:
+    """It read `timeout must be positive, got nan`: as if NaN were a number below zero."""
+    said = "timeout must be a positive number of seconds, got nan (not a number)"
+    with pytest.raises(ValueError) as caught:
+        client("127.0.0.1", 8193, timeout=math.nan)
+    assert str(caught.value) == said
+    unconnected = client("127.0.0.1", 8193)  # (a call's own timeout, checked first)
+    with pytest.raises(ValueError) as caught:
+        await unconnected.read_status(timeout=math.nan)
+    assert str(caught.value) == said
+
+
+def test_every_api_names_a_nan_number_of_seconds_alike() -> None:
+    """The server, the reconnect policy and the alarm projection: one wording."""
+    with pytest.raises(ValueError) as caught:
+        FocasServer(port=0, idle_timeout=math.nan)
+    assert str(caught.value) == "idle_timeout must be a number of seconds, got nan (not a number)"
+    with pytest.raises(ValueError) as caught:
+        ReconnectPolicy(max_delay=math.nan)
+    assert str(caught.value) == "max_delay must be a number, got nan (not a number)"
+    with pytest.raises(ValueError) as caught:
+        AlarmProjection(FocasClient("127.0.0.1", 8193), interval=math.nan)
+    assert str(caught.value) == (
+        "interval must be a positive, finite number of seconds, got nan (not a number)"
+    )

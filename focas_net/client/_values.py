@@ -24,6 +24,7 @@ from .._typed import (
     field_unfit,
     item_axis_unfit,
     macro_unfit,
+    nan_refused,
     param_decimals_refused,
     param_value_unfit,
     typed_number,
@@ -121,7 +122,9 @@ def check_timeout(timeout: object) -> float | None:
         return None
     if isinstance(timeout, bool) or not isinstance(timeout, int | float):
         raise TypeError(f"timeout must be a number of seconds or None, got {timeout!r}")
-    if not timeout > 0:  # (also NaN)
+    if timeout != timeout:
+        raise ValueError(nan_refused("timeout", "a positive number of seconds"))
+    if not timeout > 0:
         raise ValueError(f"timeout must be positive, got {timeout}")
     if timeout > sys.float_info.max:  # 10**400: no float holds it, no deadline ends it
         return None

@@ -33,6 +33,7 @@ from datetime import datetime
 from types import TracebackType
 from typing import Final, Self
 
+from focas_net._typed import nan_refused
 from focas_net.errors import FocasError, PayloadError, ProtocolError
 
 from ..protocol import ActiveAlarm, AlarmHistoryEntry
@@ -177,6 +178,8 @@ class AlarmProjection:
         if not isinstance(replay_history, bool):
             raise TypeError(f"replay_history must be True or False, got {replay_history!r}")
         check_timeout(timeout)
+        if interval != interval:
+            raise ValueError(nan_refused("interval", "a positive, finite number of seconds"))
         if not 0 < interval <= sys.float_info.max:  # (10**400 holds in no float)
             raise ValueError(
                 f"interval must be a positive, finite number of seconds, got {interval}"

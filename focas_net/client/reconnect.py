@@ -13,6 +13,8 @@ import random
 from collections.abc import Callable
 from dataclasses import dataclass
 
+from focas_net._typed import nan_refused
+
 __all__ = ["ClientState", "ReconnectPolicy"]
 
 
@@ -53,8 +55,8 @@ class ReconnectPolicy:
             value = getattr(self, what)
             if isinstance(value, bool) or not isinstance(value, int | float):
                 raise TypeError(f"{what} must be a number, got {value!r}")
-            if value != value:  # NaN
-                raise ValueError(f"{what} must be a number, got {value!r}")
+            if value != value:
+                raise ValueError(nan_refused(what, "a number"))
         for what in ("initial_delay", "factor"):
             if getattr(self, what) == float("inf"):
                 raise ValueError(f"{what} must be finite, got {getattr(self, what)!r}")

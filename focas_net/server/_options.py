@@ -11,6 +11,7 @@ from collections.abc import Iterable, Mapping, Sequence
 from collections.abc import Set as AbstractSet
 
 from focas_net._address import check_host
+from focas_net._typed import nan_refused
 from focas_net.sim import Machine
 
 __all__ = [
@@ -73,7 +74,7 @@ def check_server_options(options: dict[str, object]) -> None:
         if isinstance(value, bool) or not isinstance(value, int | float):
             raise TypeError(f"{name} must be a number of seconds, got {value!r}")
         if math.isnan(value):
-            raise ValueError(f"{name} must be a number of seconds, got {value!r}")
+            raise ValueError(nan_refused(name))
     for name in _SWITCHES:
         value = options[name]
         if value is not None and not isinstance(value, bool):
