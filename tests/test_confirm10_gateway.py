@@ -3,12 +3,13 @@ machine never reached as unavailable and one that was online as lost; the docs m
 word of ``emergency`` and ``alarm`` to the gateway's boolean; a path the CNC has not is worded
 alike by the clients, the gateway's writes, the machine and the command line; a parameter
 written with an axis past the path's says which to give; the page's tile reads the emergency
-field by the gateway's rule."""
+field by the gateway's rule; OPC UA's operation mode of no selection is BadOutOfRange."""
 
 from __future__ import annotations
 
 import dataclasses
 import logging
+import re
 from decimal import Decimal
 from pathlib import Path
 from typing import Literal
@@ -21,10 +22,11 @@ from focas_net._refusals import no_path
 from focas_net.client import FocasClient, NativeClient
 from focas_net.errors import EW, CncError
 from focas_net.gateway import MachineConfig, WriteGates
+from focas_net.gateway._opcua_model import _operation_mode
 from focas_net.gateway.model import ITEMS
 from focas_net.gateway.reads import _status
 from focas_net.gateway.writer import GatedWriter
-from focas_net.protocol import AlarmState, EmergencyState, StatusInfo
+from focas_net.protocol import AlarmState, AutMode, EmergencyState, StatusInfo
 from focas_net.protocol.values import LabelledValue
 from focas_net.server import FocasServer
 from focas_net.sim import MachineError, default_machine
@@ -151,3 +153,19 @@ async def test_the_tile_and_the_gateway_read_the_emergency_field_by_one_rule(
     gateway = _status(1, StatusInfo(**fields, emergency=state.value, edit=0))
     tile = machine_tile(0, machine, 8193)
     assert tile["emergency"] is gateway[(1, "emergency", "")] is (state == EmergencyState.EMG)
+
+
+# -- OPC UA's operation mode: a mode it has no value for is BadOutOfRange, as the docs say -----
+@pytest.mark.parametrize("mode", list(AutMode))
+def test_each_mode_is_the_docs_operation_mode_and_no_selection_none(mode: AutMode) -> None:
+    text = " ".join((Path(__file__).parents[1] / "docs" / "gateway.md").read_text().split())
+    row = text.split("| `mode` |")[1].split("| `run` |")[0]
+    got = _operation_mode(mode.label)
+    if mode is AutMode.NOSEL:
+        assert got is None  # (the variable BadOutOfRange: no mode of OPC 40502's)
+        assert "`****` (no selection) → BadOutOfRange" in row
+    else:
+        assert got in (0, 1, 2)
+        name = ("Manual", "MDA", "Automatic")[got]
+        assert re.search(rf"\b{re.escape(mode.label)}\b[^;|]*→ {name} \({got}\)", row), mode
+    assert _operation_mode("11") is None  # a number with no name

@@ -78,7 +78,12 @@ class MachineNodes:
 
 # (the poller names the modes and run states by the one table's labels, as the CNC screen and
 # every front end: AutMode.MEM is "MEM", RunState.RESET "****")
-_OPERATION_MODE: Final = {AutMode.MDI.label: 1, AutMode.MEM.label: 2, AutMode.RMT.label: 2}
+_OPERATION_MODE: Final = {
+    **{m.label: 0 for m in AutMode if m not in (AutMode.NOSEL, AutMode.MDI)},  # Manual
+    AutMode.MDI.label: 1,  # MDA
+    AutMode.MEM.label: 2,  # Automatic
+    AutMode.RMT.label: 2,
+}
 _PROGRAM_STATUS: Final = {
     RunState.RESET.label: 0,  # Stopped
     RunState.STOP.label: 3,  # Interrupted
@@ -96,8 +101,10 @@ _CHANNEL_STATUS: Final = {
 
 
 def _operation_mode(value: Value) -> Value:
-    """MDI is OPC 40502's MDA, memory and remote (DNC) operation Automatic, the rest Manual."""
-    return _OPERATION_MODE.get(str(value), 0)
+    """MDI is OPC 40502's MDA, memory and remote (DNC) operation Automatic, the other modes
+    Manual; no selection (``****``) and a number without a name are none of them (None: the
+    variable is BadOutOfRange)."""
+    return _OPERATION_MODE.get(str(value))
 
 
 def _program_status(value: Value) -> Value:
