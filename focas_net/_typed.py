@@ -229,12 +229,14 @@ def override_percent(what: str, value: object) -> int:
 def alarm_key_unfit(alm_type: int, alm_no: int, *, every: bool = False) -> str | None:
     """Why no alarm is of type ``alm_type`` and number ``alm_no``, in the words of every front
     end (``alarm number 99999 is outside 0..32767``, as the command line and the client say
-    it); with ``every`` (a clear's filter), -1 is any type or any number. None when one is."""
+    it); with ``every`` (a clear's filter), -1 is any type or any number, and the range named
+    is the one the argument takes (``alarm type -2 is outside -1..31``). None when one is."""
+    low = -1 if every else 0
     for what, value, high in (
         ("alarm type", alm_type, MAX_ALARM_TYPE),
         ("alarm number", alm_no, MAX_ALARM_NO),
     ):
-        why = None if every and value == -1 else field_unfit(what, value, 0, high)
+        why = field_unfit(what, value, low, high)
         if why is not None:
             return why
     return None

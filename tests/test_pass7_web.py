@@ -76,10 +76,10 @@ def test_the_rapid_override_takes_f0_as_the_command_line_does(typed: str) -> Non
 @pytest.mark.parametrize(
     ("args", "words"),
     [
-        ({"alm_type": 99}, "alarm type 99 is outside 0..31"),
-        ({"alm_type": -2}, "alarm type -2 is outside 0..31"),
-        ({"alm_no": -2}, "alarm number -2 is outside 0..32767"),
-        ({"alm_type": 0, "alm_no": 40000}, "alarm number 40000 is outside 0..32767"),
+        ({"alm_type": 99}, "alarm type 99 is outside -1..31"),
+        ({"alm_type": -2}, "alarm type -2 is outside -1..31"),
+        ({"alm_no": -2}, "alarm number -2 is outside -1..32767"),
+        ({"alm_type": 0, "alm_no": 40000}, "alarm number 40000 is outside -1..32767"),
     ],
 )
 def test_a_clear_of_a_number_no_alarm_has_is_refused_by_the_machine(

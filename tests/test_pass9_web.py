@@ -60,20 +60,22 @@ async def test_an_alarm_out_of_range_is_refused_in_the_same_words_on_both(
 async def test_a_clear_out_of_range_is_refused_in_the_same_words_on_both(
     typed: str, args: dict[str, Any], words: str
 ) -> None:
+    """The command line's code names an alarm (0..); the page's arguments take -1, any, and
+    name the range with it (``-1..32767``)."""
     async with serving() as served:
         served.machine.raise_alarm(0, 3, 100, "x")
         line = await fails(2, "sim", "clear", *at(served), typed)
         assert line == f"focas-net: {words}"
         station = Station(0, served.machine)
-        assert page_refusal(station, "clear_alarms", args) == words
+        assert page_refusal(station, "clear_alarms", args) == words.replace("0..", "-1..")
         assert len(served.machine.active_alarms()) == 1
 
 
 @pytest.mark.parametrize(
     ("args", "words"),
     [
-        ({"alm_type": -2}, "alarm type -2 is outside 0..31"),
-        ({"alm_no": -2}, "alarm number -2 is outside 0..32767"),
+        ({"alm_type": -2}, "alarm type -2 is outside -1..31"),
+        ({"alm_no": -2}, "alarm number -2 is outside -1..32767"),
     ],
 )
 def test_a_clear_of_minus_two_is_refused_and_minus_one_is_any(

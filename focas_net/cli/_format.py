@@ -16,8 +16,7 @@ from datetime import datetime
 from decimal import Decimal
 from typing import Any, Final
 
-from focas_net._typed import decimal_text, switch, typed_number, whole_number
-from focas_net.client._values import alarm_type_number
+from focas_net._typed import alarm_key_unfit, decimal_text, switch, typed_number, whole_number
 from focas_net.errors import ChunkedWriteError, CncError, ew_info, ew_label
 from focas_net.protocol import (
     STATUS_FIELDS,
@@ -271,14 +270,16 @@ def parse_alarm(text: str) -> tuple[int, int]:
     """``"PS0100"`` -> ``(3, 100)``; ``"3:100"`` (type number, alarm number) also works, and
     ``"T31:0005"``, the code of a type with no name as it is printed."""
     s = text.strip()
-    m = _ALARM_RE.match(s)
-    if m:
-        return _alarm_type(m[1]), whole_number(m[2])
-    m = _ALARM_NUMERIC_RE.match(s)
-    if m:
-        # a type of a code is one an alarm has (0..31; -1, every type, is a filter's alone)
-        return alarm_type_number(int(m[1])), whole_number(m[2])
-    raise ValueError(f"not an alarm code: {text!r} (expected e.g. PS0100, 3:100 or T31:0005)")
+    m = _ALARM_RE.match(s) or _ALARM_NUMERIC_RE.match(s)
+    if m is None:
+        raise ValueError(f"not an alarm code: {text!r} (expected e.g. PS0100, 3:100 or T31:0005)")
+    # a code names an alarm: its type and number are one an alarm has (0..31, 0..32767; -1,
+    # any, is a filter argument's alone), in the words of every front end
+    key = (_alarm_type(m[1]) if m[1].isalpha() else int(m[1]), whole_number(m[2]))
+    why = alarm_key_unfit(*key)
+    if why is not None:
+        raise ValueError(why)
+    return key
 
 
 def parse_alarm_filter(text: str | None) -> tuple[int, int]:

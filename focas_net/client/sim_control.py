@@ -200,8 +200,7 @@ class SimControl:
         """Clear the matching active alarms (-1 matches any; ``alm_type`` also by name,
         ``"PS"``); the history is kept."""
         t = alarm_type_number(alm_type, every=True)
-        if alm_no != -1:
-            check_int("alarm number", alm_no, 0, _I16_MAX)
+        check_int("alarm number", alm_no, -1, _I16_MAX)  # -1: any, as the machine words it
         payload = _CLEAR_ALARMS.request.encode(ClearAlarms(t, alm_no))
         client = self._client
         await client._request(_CLEAR_ALARMS, payload, timeout, client._path_of(path))
