@@ -487,16 +487,29 @@ def test_names_that_are_no_file(name: str) -> None:
 @pytest.mark.parametrize(
     ("call", "words"),
     [
+        (lambda m: m.folder_entries(5), r"folder or file name must be text \(str\), got 5"),
+        (lambda m: m.drive_usage(3), r"drive must be text \(str\), got 3"),
+        (lambda m: m.transfer_path(b"//CNC_MEM/"), r"must be text \(str\), got b'//CNC_MEM/'"),
+        (lambda m: m.current_folder("1"), "current folder kind must be an integer, got '1'"),
+    ],
+)
+def test_the_machine_refuses_a_value_of_another_type_as_every_call(call: Any, words: str) -> None:
+    """A name that is no text, or a kind that is no integer, is a TypeError naming it, as
+    every call of the machine says it (it was EW_DATA, the answer to a wire's value)."""
+    machine = default_machine(sim_clock=ManualClock())
+    with pytest.raises(TypeError, match=words):
+        call(machine)
+
+
+@pytest.mark.parametrize(
+    ("call", "words"),
+    [
         (lambda m: m.file_entry("//CNC_MEM/USER/PATHX/O0001"), "PATHX/O0001"),
         (lambda m: m.file_entry("//CNC_MEM/USER/PATH/O0001"), "PATH/O0001"),
         (lambda m: m.file_entry("//CNC_MEM/USER/PATH01/O0001"), "PATH01/O0001"),
         (lambda m: m.delete_file("//CNC_MEM/USER/PATH2/O0001"), "PATH2/O0001"),
         (lambda m: m.folder_entries("//CNC_MEM/" + "A" * 300), "1..255 printable ASCII"),
         (lambda m: m.set_current_folder("//CNC_MEM/ÜSER/"), "ÜSER.*printable ASCII"),
-        (lambda m: m.folder_entries(5), "folder or file name must be text, got 5"),
-        (lambda m: m.drive_usage(3), "drive must be text, got 3"),
-        (lambda m: m.transfer_path(b"//CNC_MEM/"), "must be text, got b'//CNC_MEM/'"),
-        (lambda m: m.current_folder("1"), "kind '1'"),
     ],
 )
 def test_the_machine_names_what_it_refuses(call: Any, words: str) -> None:

@@ -35,7 +35,7 @@ from typing import TYPE_CHECKING, Final
 
 from focas_net.errors import EW
 
-from ._base import MachineError
+from ._base import MachineError, need_int, need_text
 from ._identity import CLASSES_16I
 from ._operations import PathOperations
 
@@ -72,10 +72,9 @@ def path_folder(path: int) -> str:
 
 
 def _name(name: object, what: str) -> str:
-    """``name`` when it is text; EW_DATA naming what was given otherwise."""
-    if not isinstance(name, str):
-        raise MachineError(EW.DATA, f"{what} must be text, got {name!r}")
-    return name
+    """``name`` when it is text; TypeError naming what was given otherwise, as every call of
+    the machine refuses a value of another type."""
+    return need_text(what, name)
 
 
 def file_name(number: int) -> str:
@@ -247,9 +246,10 @@ class FolderOperations(PathOperations):
     def current_folder(self, kind: int = 1, *, path: int = 1) -> str:
         """``path``'s current folder (``cnc_rdpdf_curdir``): ``kind`` 1 foreground, 2
         background (EW_DATA otherwise)."""
+        need_int("current folder kind", kind)
         self._check_folders()
         self._paths.at(path)
-        if isinstance(kind, bool) or kind not in _KINDS:
+        if kind not in _KINDS:
             raise MachineError(EW.DATA, f"current folder kind {kind!r}: 1 or 2")
         return self._folder_current.get((path, kind), path_folder(path))
 
@@ -282,9 +282,10 @@ class FolderOperations(PathOperations):
     # -- writes --------------------------------------------------------------------------
     def set_current_folder(self, folder: str, kind: int = 1, *, path: int = 1) -> None:
         """Make ``folder`` ``path``'s current folder (``cnc_wrpdf_curdir``)."""
+        need_int("current folder kind", kind)
         self._check_folders()
         self._paths.at(path)
-        if isinstance(kind, bool) or kind not in _KINDS:
+        if kind not in _KINDS:
             raise MachineError(EW.DATA, f"current folder kind {kind!r}: 1 or 2")
         parts = self._folder_key(folder, path)
         self._folder_current[(path, kind)] = f"//{DRIVE}/" + "".join(p + "/" for p in parts)

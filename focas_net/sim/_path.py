@@ -32,7 +32,7 @@ from focas_net._typed import override_percent, override_unfit
 from focas_net.errors import EW
 
 from ._alarms import MAX_ALARM_TEXT, NC_ALARM_TYPES, AlarmKey, Alarms, nc_alarm
-from ._base import I32_MAX, I32_MIN, Counters, MachineError, logger, n_values, need_int
+from ._base import I32_MAX, I32_MIN, Counters, MachineError, logger, n_values, need_int, need_text
 from ._items import PARTS_COUNT, PARTS_TOTAL, Items
 from ._macros import Macros, float_macro, macro_value
 from ._paths import PATH_MACROS, PathItems
@@ -565,7 +565,11 @@ class Path:
 
     def positions(self, kind: str, axis: int | None) -> list[tuple[str, int]]:
         """``(axis name, value)`` of every axis or of one: EW_ATTRIB (kind), EW_NOOPT (skip),
-        EW_ATTRIB (axis)."""
+        EW_ATTRIB (axis). ``kind`` is read in any case, as the clients read it (ASCII only, as
+        every name typed)."""
+        need_text("position kind", kind)
+        if kind.isascii():
+            kind = kind.strip().lower()
         if kind not in POSITION_KINDS:
             if kind == _SKIP:
                 raise MachineError(EW.NOOPT, "no skip function")
