@@ -20,6 +20,7 @@ __all__ = [
     "FANUC_SPANS",
     "PARAM_GATE",
     "READ_ONLY",
+    "SPINDLE_DIAGS",
     "axis_misfit",
     "item_named",
     "macro_refusal",
@@ -33,6 +34,12 @@ __all__ = [
 
 #: Parameter 1020, each axis's name (FANUC's number): the machine reads it, the reasons name it.
 AXIS_NAME_PARAM: Final = 1020
+#: FANUC's diagnostics of the serial spindle (400 link .. 4902 power), read with the spindle
+#: number as the axis: the machine answers them by spindle, and the clients name a spindle the
+#: path has not as a spindle, never as an axis.
+SPINDLE_DIAGS: Final = frozenset(
+    {400, 401, 403, 408, 410, 411, 417, 418, 425, 445, 710, 712, 1520, 1521, 4902}
+)
 #: EW_PROT of a write no setting of the CNC refuses: the server was started read-only.
 READ_ONLY: Final = "the machine is read-only (a server started with --read-only)"
 #: EW_PASSWD of a parameter write: FANUC's write gate (the setting screen's PWE, in MDI mode).

@@ -30,6 +30,7 @@ from collections.abc import Callable, Coroutine, Sequence
 from decimal import Decimal
 from typing import Any, Final, TypeVar
 
+from focas_net._refusals import SPINDLE_DIAGS
 from focas_net.errors import EW, CncError, FocasError, PayloadError
 
 from ..protocol import (
@@ -348,12 +349,22 @@ class FocasClient(Link):
         3``): a packed answer carries the code only, so the count is read after the refusal,
         within the call's deadline. EW_ATTRIB of an axis the path has (an axis given for a
         parameter of no axis) stays as it came."""
-        if exc.ew != EW.ATTRIB or axis is None or axis < 1:
+        if exc.ew != EW.ATTRIB:
             return exc
+        return await self._axis_past(exc.detail, axis, path, deadline) or exc
+
+    async def _axis_past(
+        self, function: str, axis: int | None, path: int, deadline: float | None
+    ) -> CncError | None:
+        """EW_ATTRIB naming ``axis`` and the count (``cnc_wrparam: axis 9 of 3``) when
+        ``axis`` is past ``path``'s axes, as FANUC's library checks the axis before anything
+        else; None when it is not (or the count cannot be read)."""
+        if axis is None or axis < 1:
+            return None
         count = await self._axis_count(path, deadline)
         if count is None or axis <= count:
-            return exc
-        return CncError.from_ew(exc.ew, f"{exc.detail}: axis {axis} of {count}")
+            return None
+        return CncError.from_ew(EW.ATTRIB, f"{function}: axis {axis} of {count}")
 
     async def _read_param_value(
         self, number: int, axis: int, deadline: float | None, path: int
@@ -436,7 +447,8 @@ class FocasClient(Link):
             asks = width == 1 or (given is not None and not _integral(number, value))
             kind = await self._param_type(number, deadline) if asks else None
         except CncError as exc:
-            raise CncError.from_ew(exc.ew, _WRPARAM.focas_name) from None
+            past = await self._axis_past(_WRPARAM.focas_name, axis, path, deadline)
+            raise past or CncError.from_ew(exc.ew, _WRPARAM.focas_name) from None
         if given is not None and kind is not None and _TYPE_WIDTHS[kind] != given:
             raise width_refused(number, _TYPE_WIDTHS[kind], given)  # as FOCAS/2 refuses it
         if width == REAL_WIDTH:
@@ -496,6 +508,8 @@ class FocasClient(Link):
         try:
             value: ParamValue = await self._request_at(_RDDIAG, payload, deadline, path=p)
         except CncError as exc:
+            if number in SPINDLE_DIAGS:  # its axis is the spindle: the code says it
+                raise
             raise await self._axis_refusal(exc, axis, p, deadline) from None
         return value.value
 

@@ -44,6 +44,7 @@ from dataclasses import dataclass
 from datetime import datetime, timedelta
 from typing import TYPE_CHECKING, Final
 
+from focas_net._refusals import SPINDLE_DIAGS
 from focas_net._typed import cnc_year_unfit
 from focas_net.errors import EW
 
@@ -115,10 +116,6 @@ SPINDLE_LOAD_DIAG: Final = 410
 SPINDLE_POWER_DIAG: Final = 4902
 #: Watts of diagnostic 4902 per percent of spindle load (a 7.5 kW motor at 100 %).
 SPINDLE_WATTS_PER_PERCENT: Final = 75
-#: FANUC's diagnostics of the serial spindle: read with the spindle number as the axis.
-SPINDLE_DIAGS: Final = frozenset(
-    {400, 401, 403, 408, 410, 411, 417, 418, 425, 445, 710, 712, 1520, 1521, SPINDLE_POWER_DIAG}
-)
 
 #: The F signals of the state: bit of F0 (SA), F1 (AL, MA) and F4 (MREF).
 _SA: Final = 6
