@@ -1,0 +1,172 @@
+"""The Python API as a new user meets it, a confirming tenth pass: a clear's filter is worded
+with the -1 it takes, an axis past the path's is EW_ATTRIB before the number on both
+transports (a spindle diagnostic's axis being its spindle), a chunked PMC write past the end of
+its area writes nothing on either transport, and the machine's own calls refuse a value of
+another type with TypeError and take a position kind in any case."""
+
+from __future__ import annotations
+
+from collections.abc import Awaitable, Callable
+from pathlib import Path
+from typing import Any
+
+import pytest
+from support import with_both_clients
+
+from focas_net import EW, CncError, FocasClient, NativeClient, default_machine
+from focas_net.sim import Machine, MachineError, PathSpec
+from focas_net.sim.default import _diags, _params
+from focas_net.sim.nc import ManualClock
+from focas_net.web.operations import Station, perform
+
+DOCS = Path(__file__).resolve().parent.parent / "docs"
+
+Both = tuple[Machine, FocasClient, NativeClient]
+
+
+# -- a clear's filter: -1 is any, and the range says so ----------------------------------------
+@pytest.mark.parametrize(
+    ("kwargs", "words"),
+    [
+        ({"alm_type": -2}, "alarm type -2 is outside -1..31"),
+        ({"alm_type": 32}, "alarm type 32 is outside -1..31"),
+        ({"alm_no": -2}, "alarm number -2 is outside -1..32767"),
+        ({"alm_no": 40000}, "alarm number 40000 is outside -1..32767"),
+    ],
+)
+async def test_a_clear_filter_out_of_range_names_the_range_with_any(
+    both_clients: Both, kwargs: dict[str, int], words: str
+) -> None:
+    """``clear_alarms(alm_type=-2)`` said ``outside 0..31`` though -1 (any) is taken: the
+    machine, the page and the client name the range an argument takes."""
+    machine, cnc, _ = both_clients
+    machine.raise_alarm(0, 3, 100, "x")
+    with pytest.raises(MachineError) as refused:
+        machine.clear_alarms(**kwargs)
+    assert (refused.value.ew, refused.value.detail) == (EW.DATA, words)
+    with pytest.raises(MachineError) as on_page:
+        perform(Station(0, machine), "clear_alarms", kwargs)
+    assert on_page.value.detail == words
+    with pytest.raises(ValueError, match=f"^{words}$"):
+        await cnc.sim.clear_alarms(**kwargs)
+    assert len(machine.active_alarms()) == 1
+    assert machine.clear_alarms(-1, -1) == 1
+
+
+# -- an axis past the path's axes, before the number ----------------------------------------
+def _spindle_lathe() -> Machine:
+    """One path of two axes and three spindles, with the default machine's items."""
+    return Machine(
+        "lathe",
+        paths=[PathSpec(("X", "Y"), kind="T", spindles=3)],
+        params=_params(2),
+        diags=_diags(),
+        sim_clock=ManualClock(),
+    )
+
+
+Call = Callable[[FocasClient | NativeClient], Awaitable[Any]]
+
+
+@pytest.mark.parametrize(
+    "call",
+    [
+        lambda c: c.read_param(9999, axis=9),
+        lambda c: c.read_diag(9999, axis=9),
+        lambda c: c.write_param(9999, 1, axis=9),
+        lambda c: c.read_param(1320, axis=9),
+    ],
+    ids=["read_param", "read_diag", "write_param", "known"],
+)
+async def test_an_axis_past_the_paths_is_refused_alike_before_the_number(
+    both_clients: Both, call: Call
+) -> None:
+    """``read_param(9999, axis=9)`` was EW_NUMBER on the packed transport and EW_ATTRIB
+    (``axis 9 of 3``) on the native one, where FANUC's library checks the axis first."""
+    _, cnc, native = both_clients
+    for client in (cnc, native):
+        with pytest.raises(CncError) as refused:
+            await call(client)
+        assert refused.value.ew == EW.ATTRIB, (type(client).__name__, refused.value)
+        assert str(refused.value).endswith("axis 9 of 3"), str(refused.value)
+
+
+def test_the_machine_refuses_an_axis_past_the_paths_before_the_number() -> None:
+    machine = default_machine(sim_clock=ManualClock())
+    with pytest.raises(MachineError) as refused:
+        machine.read_param(9999, 9)
+    assert (refused.value.ew, refused.value.detail) == (EW.ATTRIB, "parameter 9999: axis 9 of 3")
+    with pytest.raises(MachineError) as unknown:
+        machine.read_param(9999, 1)
+    assert unknown.value.ew == EW.NUMBER
+
+
+@pytest.mark.parametrize("spindle", [0, 1, 2, 3])
+async def test_a_spindle_diagnostic_takes_every_spindle_of_the_path(spindle: int) -> None:
+    """The native client refused ``read_diag(410, axis=3)`` of the third spindle of a path of
+    two axes (``axis 3 of 2``): the axis of a spindle diagnostic is the spindle."""
+    async with with_both_clients(_spindle_lathe()) as (_, cnc, native):
+        for client in (cnc, native):
+            assert await client.read_diag(410, axis=spindle) == 0
+
+
+async def test_a_spindle_past_the_paths_is_named_as_a_spindle() -> None:
+    async with with_both_clients(_spindle_lathe()) as (_, cnc, native):
+        for client in (cnc, native):
+            with pytest.raises(CncError) as refused:
+                await client.read_diag(410, axis=4)
+            assert refused.value.ew == EW.ATTRIB
+            assert "axis 4 of 2" not in str(refused.value), str(refused.value)
+
+
+def test_the_protocol_docs_say_which_comes_first() -> None:
+    text = " ".join((DOCS / "protocol.md").read_text().split())
+    assert "the axis before the number" in text
+
+
+# -- a chunked PMC write past its area's end ------------------------------------------------
+@pytest.mark.parametrize(
+    ("area", "start", "count", "last"),
+    [("X", 0, 300, 127), ("R", 7000, 2000, 7999), ("D", 9950, 94, 9999)],
+)
+async def test_a_pmc_write_past_the_end_writes_nothing_on_either_transport(
+    both_clients: Both, area: str, start: int, count: int, last: int
+) -> None:
+    """``write_pmc("R", 7000, 2000 bytes)`` wrote R7000..R7991 on the packed transport and
+    nothing on the native one: both check the range before the first chunk."""
+    machine, cnc, native = both_clients
+    before = bytes(machine.read_pmc(area, start, last - start + 1))
+    for client in (cnc, native):
+        with pytest.raises(CncError) as refused:
+            await client.write_pmc(area, start, b"\x01" * count)
+        assert type(refused.value) is CncError
+        assert refused.value.ew == EW.NUMBER
+        end = start + count - 1
+        assert f"{area}{start}..{area}{end} goes past the end of PMC area {area}" in str(
+            refused.value
+        )
+        assert bytes(machine.read_pmc(area, start, last - start + 1)) == before
+
+
+# -- the machine's own calls --------------------------------------------------------------------
+@pytest.mark.parametrize(
+    "call",
+    [
+        lambda m: m.select_main_file(5),
+        lambda m: m.folder_entries(5),
+        lambda m: m.set_current_folder(None),
+        lambda m: m.delete_file(b"//CNC_MEM/USER/PATH1/O0001"),
+        lambda m: m.drive_usage(3),
+        lambda m: m.current_folder("1"),
+    ],
+)
+def test_a_folder_call_given_no_text_is_a_type_error(call: Callable[[Machine], Any]) -> None:
+    machine = default_machine(sim_clock=ManualClock())
+    with pytest.raises(TypeError):
+        call(machine)
+
+
+@pytest.mark.parametrize("kind", ["ABSOLUTE", "Machine", " relative "])
+def test_the_machine_takes_a_position_kind_in_any_case(kind: str) -> None:
+    machine = default_machine(sim_clock=ManualClock())
+    assert machine.positions(kind) == machine.positions(kind.strip().lower())
