@@ -1,8 +1,7 @@
 """The Python API as a new user meets it, a confirming tenth pass: a clear's filter is worded
 with the -1 it takes, an axis past the path's is EW_ATTRIB before the number on both
-transports (a spindle diagnostic's axis being its spindle), a chunked PMC write past the end of
-its area writes nothing on either transport, and the machine's own calls refuse a value of
-another type with TypeError and take a position kind in any case."""
+transports (a spindle diagnostic's axis being its spindle), and the machine's own calls refuse
+a value of another type with TypeError and take a position kind in any case."""
 
 from __future__ import annotations
 
@@ -122,30 +121,6 @@ async def test_a_spindle_past_the_paths_is_named_as_a_spindle() -> None:
 def test_the_protocol_docs_say_which_comes_first() -> None:
     text = " ".join((DOCS / "protocol.md").read_text().split())
     assert "the axis before the number" in text
-
-
-# -- a chunked PMC write past its area's end ------------------------------------------------
-@pytest.mark.parametrize(
-    ("area", "start", "count", "last"),
-    [("X", 0, 300, 127), ("R", 7000, 2000, 7999), ("D", 9950, 94, 9999)],
-)
-async def test_a_pmc_write_past_the_end_writes_nothing_on_either_transport(
-    both_clients: Both, area: str, start: int, count: int, last: int
-) -> None:
-    """``write_pmc("R", 7000, 2000 bytes)`` wrote R7000..R7991 on the packed transport and
-    nothing on the native one: both check the range before the first chunk."""
-    machine, cnc, native = both_clients
-    before = bytes(machine.read_pmc(area, start, last - start + 1))
-    for client in (cnc, native):
-        with pytest.raises(CncError) as refused:
-            await client.write_pmc(area, start, b"\x01" * count)
-        assert type(refused.value) is CncError
-        assert refused.value.ew == EW.NUMBER
-        end = start + count - 1
-        assert f"{area}{start}..{area}{end} goes past the end of PMC area {area}" in str(
-            refused.value
-        )
-        assert bytes(machine.read_pmc(area, start, last - start + 1)) == before
 
 
 # -- the machine's own calls --------------------------------------------------------------------
