@@ -1,6 +1,7 @@
 """What a user types, read alike by every front end (it knows no protocol and no machine):
-number text (the page, the command line, the clients' text values and the machine file), the
-words for a macro value that does not fit (the machine and the clients), a program number
+number text (the page, the command line, the clients' text values and the machine file), a
+macro value as the wire carries it and the words for one that does not fit (the machine, the
+clients and the page), a program number
 (the command line and the page), an override's type and range (the machine and the
 clients), an alarm's axis and an alarm message that is no line of single-byte text (the
 machine and the encoded text of every front end), whether a host typed is the loopback (the
@@ -20,6 +21,8 @@ from __future__ import annotations
 
 import asyncio
 import ipaddress
+import json
+import math
 import os
 import re
 import socket
@@ -51,6 +54,7 @@ __all__ = [
     "is_loopback",
     "item_axis_unfit",
     "item_number_unfit",
+    "macro_to_wire",
     "macro_unfit",
     "nan_refused",
     "os_reason",
@@ -63,6 +67,7 @@ __all__ = [
     "rapid_step",
     "switch",
     "typed_number",
+    "typed_shown",
     "whole_number",
 ]
 
@@ -138,6 +143,69 @@ def nan_refused(what: str, kind: str = "a number of seconds") -> str:
     in the words of every API (``timeout must be a positive number of seconds, got nan (not
     a number)``)."""
     return f"{what} must be {kind}, got nan (not a number)"
+
+
+#: The 32 bits of a macro variable's ``mcr_val``.
+_I32_MIN: Final = -(2**31)
+_I32_MAX: Final = 2**31 - 1
+#: Decimals a macro variable holds at most (``dec_val``).
+_MAX_MACRO_DECIMALS: Final = 9
+#: The highest power of ten a macro value reaches (its 32 bits stop below 1e10: adjusted 9).
+_MAX_MACRO_MAGNITUDE: Final = 9
+
+
+def macro_to_wire(value: int | Decimal | float | str) -> tuple[int, int]:
+    """``(mcr_val, dec_val)`` for ``value``; :class:`ValueError` when it cannot be carried,
+    :class:`TypeError` when it is not a number.
+
+    An ``int`` keeps ``dec_val = 0``; a ``Decimal`` or string keeps the digits it was given
+    (``"1.50"`` -> ``(150, 2)``) when they fit, else the fewest that represent it exactly; a
+    ``float`` uses its shortest decimal form (``0.1`` -> ``(1, 1)``). ``dec_val`` is 0..9 and
+    ``mcr_val`` an i32.
+    """
+    if isinstance(value, bool):
+        raise TypeError("a macro value must be a number, not a bool")
+    if isinstance(value, int):
+        if not _I32_MIN <= value <= _I32_MAX:
+            raise ValueError(f"macro value {macro_unfit(value)}")
+        return value, 0
+    if isinstance(value, float):
+        if not math.isfinite(value):
+            raise ValueError(f"macro value {value} is not finite")
+        dec = Decimal(repr(value))
+    elif isinstance(value, Decimal):
+        dec = value
+    elif isinstance(value, str):
+        dec = Decimal(typed_number(value))  # as every front end reads number text
+    else:
+        raise TypeError(f"a macro value must be int, Decimal, float or str, not {value!r}")
+    if not dec.is_finite():
+        raise ValueError(f"macro value {value} is not finite")
+    if dec and not -_MAX_MACRO_DECIMALS <= dec.adjusted() <= _MAX_MACRO_MAGNITUDE:
+        # below 1e-9 or from 1e10 on no variable holds it (nor need its digits be worked out:
+        # 1e99999999999 has more than any context takes)
+        raise ValueError(f"macro value {macro_unfit(value)}")
+    for candidate in (dec, dec.normalize()):
+        exponent = candidate.as_tuple().exponent
+        assert isinstance(exponent, int)
+        places = max(0, -exponent)
+        if places > _MAX_MACRO_DECIMALS:
+            continue
+        mcr = int(candidate.scaleb(places))
+        if _I32_MIN <= mcr <= _I32_MAX:
+            return mcr, places
+    raise ValueError(f"macro value {macro_unfit(value)}")
+
+
+def typed_shown(value: object) -> str:
+    """A value as a refusal names what was typed or sent: text quoted (``'abc'``), anything
+    else as the JSON that was sent (``true``, ``null``, ``[1]``), never as Python writes it."""
+    if isinstance(value, str):
+        return repr(value)
+    try:
+        return json.dumps(value)
+    except (TypeError, ValueError):  # not from JSON: as Python shows it
+        return repr(value)
 
 
 def field_unfit(what: str, value: int, low: int, high: int) -> str | None:

@@ -208,10 +208,11 @@ BEYOND_THE_TABLE: dict[str, tuple[str, ...]] = {
     "focas_net._receive": (),
     # a bit parameter's value written as its bits: the machine file, the clients, the page
     "focas_net._bits": (),
-    # what a user types: the words for a macro value that does not fit (the machine and the
-    # clients), a program number (the command line and the page), an alarm's message (the
-    # machine and the text every front end encodes), whether a host is the loopback (the page
-    # and the gateway), the words of the system's refusal of a file or address (every layer)
+    # what a user types: a macro value as the wire carries it and the words for one that does
+    # not fit (the machine, the clients and the page), a program number (the command line and
+    # the page), an alarm's message (the machine and the text every front end encodes), whether
+    # a host is the loopback (the page and the gateway), the words of the system's refusal of a
+    # file or address (every layer), a value named as typed (the codecs' words and the page)
     "focas_net._typed": (),
     # TLS as a client: a CA file's context (the command line's --tls-ca, the gateway's
     # mqtt.tls_ca), PEM files told by their content, OpenSSL's words without their tags (the

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import re
 from collections.abc import AsyncIterator, Awaitable, Callable
+from decimal import Decimal
 from typing import Any
 
 import pytest
@@ -24,7 +25,7 @@ from focas_net.protocol import (
     VersaMaxRequest,
 )
 from focas_net.sim import MachineError, default_machine
-from focas_net.web import Station, perform
+from focas_net.web import ActionError, Station, perform
 
 #: The machine's refusal of an out-of-range override, as every front end words it.
 OVERRIDE_WORDS = "rapid override 101 is not a step of FANUC's: 0 (F0), 25, 50 or 100 %"
@@ -200,16 +201,20 @@ def test_codec_messages_name_the_field_not_the_class(
 
 @pytest.mark.parametrize("typed", ["1.23456789012345", "2147483648", "-99999999999"])
 async def test_a_macro_value_that_does_not_fit_has_one_wording(typed: str) -> None:
-    """The client (the command line's) and the machine (the page's) say the same, and what to
-    type: at most 9 decimals and digits within 32 bits."""
+    """The client (the command line's), the page (before the write, by the clients' rule) and
+    the machine say the same, and what to type: at most 9 decimals and digits within 32
+    bits."""
     words = f"{typed} does not fit a macro variable: give at most 9 decimals"
     async with serving(default_machine()) as served:
         async with FocasClient(served.host, served.port) as cnc:
             with pytest.raises(ValueError, match=re.escape(words)) as by_client:
                 await cnc.write_macro(500, typed)
-        with pytest.raises(MachineError) as exc:
+        with pytest.raises(ActionError) as by_page:
             perform(Station(0, served.machine), "write_macro", {"number": 500, "value": typed})
-    assert exc.value.detail == str(by_client.value)  # "#500: macro value ... does not fit"
+        with pytest.raises(MachineError) as exc:
+            served.machine.write_macro(500, Decimal(typed))
+    assert str(by_page.value) == str(by_client.value)  # "#500: macro value ... does not fit"
+    assert exc.value.detail == str(by_client.value)
     assert "does not fit a macro variable: give at most 9 decimals" in str(exc.value)
     assert "within 32 bits" in str(exc.value)
 

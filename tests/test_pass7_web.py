@@ -123,7 +123,7 @@ def test_a_machine_wide_action_of_a_path_the_machine_has_not_is_refused(
 @pytest.mark.parametrize(
     ("action", "args", "words"),
     [
-        ("cycle", {"action": 5}, "action: text is needed, got 5"),
+        ("cycle", {"action": 5}, "action: unknown cycle action 5 (one of start, hold, reset)"),
         ("cycle", {"action": None}, "action: start, hold or reset is needed"),
         ("cycle", {}, "action: start, hold or reset is needed"),
         ("inject_fault", {}, "kind: one of delay, drop, error, split is needed"),

@@ -443,7 +443,7 @@ async def test_searches_say_what_is_wrong_and_forget_it_after_a_good_one(
         assert await value_of(page, "pmc-area") == "R"
         await page.type("pmc-start", "E5" + Keys.ENTER)
         note = await page.text_of("pmc-note", lambda t: "EW_NOOPT" in t, "no area E")
-        assert "the machine has no PMC area E" in note
+        assert "the CNC has no PMC area E" in note
         await page.type("pmc-start", "104" + Keys.ENTER)
         await page.until(lambda d: d.find_elements(By.ID, "pmc-R104-0"), "R104")
         await page.until(lambda d: "EW" not in d.find_element(By.ID, "pmc-note").text, "no error")

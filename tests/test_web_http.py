@@ -143,7 +143,7 @@ async def test_searches_and_pmc_windows_say_what_is_wrong() -> None:
         assert (status, body["area"], body["start"]) == (200, "R", 100)
         status, body = await get(session, f"{base}/pmc?area=E&start=0")
         assert (status, body["ew_name"]) == (409, "EW_NOOPT")
-        assert body["error"].startswith("the machine has no PMC area E (it has X, Y, F")
+        assert body["error"].startswith("the CNC has no PMC area E (it has X, Y, F")
         for start in ("R100.3", "\u0661", "Q5"):
             status, body = await get(session, f"{base}/pmc?area=X&start={start}")
             assert status == 400 and repr(start) in body["error"], start
@@ -486,7 +486,7 @@ async def test_a_pmc_area_is_refused_alike_by_a_read_and_a_write(area: str, stat
     if status == 409:
         assert read[1]["ew_name"] == "EW_NOOPT"
         has = "X, Y, F, G, R, T, C, D, K, A"
-        assert read[1]["error"] == f"the machine has no PMC area E (it has {has})"
+        assert read[1]["error"] == f"the CNC has no PMC area E (it has {has})"
     else:
         assert read[1]["error"] == (
             f"unknown PMC area {area!r} (one of X, Y, F, G, R, T, C, D, K, A, E)"
@@ -526,7 +526,7 @@ async def test_a_pmc_area_is_refused_alike_by_a_read_and_a_write(area: str, stat
         ),
         (
             '{"subscribe": "machine", "index": 0, "pmc_area": "E"}',
-            "PMC window: the machine has no PMC area E (it has X, Y, F, G, R, T, C, D, K, A)",
+            "PMC window: the CNC has no PMC area E (it has X, Y, F, G, R, T, C, D, K, A)",
         ),
         (
             '{"subscribe": "machine", "index": 0, "pmc_start": -1}',

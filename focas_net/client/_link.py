@@ -400,8 +400,8 @@ class Link(CompositeCalls):
         self, refused: CncError, spec: CommandSpec, path: int, deadline: float | None
     ) -> CncError:
         """``refused`` (a call of ``spec`` for ``path``; 0: of no path), or for EW_PATH of a
-        path beyond the CNC's the same refusal in the native client's words (``path 3, the
-        CNC has paths 1..1``): a packed answer carries the code only, so the count is read
+        path beyond the CNC's the same refusal in the native client's words (``the CNC has no
+        path 3: it has path 1 only``): a packed answer carries the code only, so the count is read
         after the refusal (``cnc_getpath``), within the call's deadline."""
         if refused.ew != EW.PATH or not path:
             return refused

@@ -23,7 +23,7 @@ from .._typed import (
     alarm_axis_unfit,
     field_unfit,
     item_axis_unfit,
-    macro_unfit,
+    macro_to_wire,
     nan_refused,
     param_decimals_refused,
     param_value_unfit,
@@ -48,9 +48,6 @@ I16_MAX: Final = 0x7FFF
 I32_MIN: Final = -(2**31)
 I32_MAX: Final = 2**31 - 1
 _U16_LIMIT: Final = 0x10000
-_MAX_MACRO_DECIMALS: Final = 9
-#: The highest power of ten a macro value reaches (its 32 bits stop below 1e10: adjusted 9).
-_MAX_MACRO_MAGNITUDE: Final = 9
 _MAX_ALARM_TYPE: Final = 31
 _MAX_HISTORY_DEPTH: Final = MAX_HISTORY_DEPTH
 #: The IODBPSD width of a real parameter's REALPRM.
@@ -249,49 +246,6 @@ def pmc_data(start: object, data: object) -> bytes:
 
 
 # -- macro values ----------------------------------------------------------------------------
-def macro_to_wire(value: int | Decimal | float | str) -> tuple[int, int]:
-    """``(mcr_val, dec_val)`` for ``value``; :class:`ValueError` when it cannot be carried,
-    :class:`TypeError` when it is not a number.
-
-    An ``int`` keeps ``dec_val = 0``; a ``Decimal`` or string keeps the digits it was given
-    (``"1.50"`` -> ``(150, 2)``) when they fit, else the fewest that represent it exactly; a
-    ``float`` uses its shortest decimal form (``0.1`` -> ``(1, 1)``). ``dec_val`` is 0..9 and
-    ``mcr_val`` an i32.
-    """
-    if isinstance(value, bool):
-        raise TypeError("a macro value must be a number, not a bool")
-    if isinstance(value, int):
-        if not I32_MIN <= value <= I32_MAX:
-            raise ValueError(f"macro value {macro_unfit(value)}")
-        return value, 0
-    if isinstance(value, float):
-        if not math.isfinite(value):
-            raise ValueError(f"macro value {value} is not finite")
-        dec = Decimal(repr(value))
-    elif isinstance(value, Decimal):
-        dec = value
-    elif isinstance(value, str):
-        dec = Decimal(typed_number(value))  # as every front end reads number text
-    else:
-        raise TypeError(f"a macro value must be int, Decimal, float or str, not {value!r}")
-    if not dec.is_finite():
-        raise ValueError(f"macro value {value} is not finite")
-    if dec and not -_MAX_MACRO_DECIMALS <= dec.adjusted() <= _MAX_MACRO_MAGNITUDE:
-        # below 1e-9 or from 1e10 on no variable holds it (nor need its digits be worked out:
-        # 1e99999999999 has more than any context takes)
-        raise ValueError(f"macro value {macro_unfit(value)}")
-    for candidate in (dec, dec.normalize()):
-        exponent = candidate.as_tuple().exponent
-        assert isinstance(exponent, int)
-        places = max(0, -exponent)
-        if places > _MAX_MACRO_DECIMALS:
-            continue
-        mcr = int(candidate.scaleb(places))
-        if I32_MIN <= mcr <= I32_MAX:
-            return mcr, places
-    raise ValueError(f"macro value {macro_unfit(value)}")
-
-
 def macro_write(number: int, value: int | Decimal | float | str) -> tuple[int, int]:
     """``(mcr_val, dec_val)`` of a write of ``value`` to ``#number``, checked as both clients
     check it: the number (:func:`check_macro`), then the value (:func:`macro_to_wire`), whose

@@ -533,7 +533,7 @@ class FocasClient(Link):
         timeout: float | None = None,
     ) -> None:
         """``cnc_wrmacro``: write ``#number``; see
-        :func:`~focas_net.client._values.macro_to_wire` for the scaling.
+        :func:`~focas_net._typed.macro_to_wire` for the scaling.
 
         A value that cannot be carried raises :class:`ValueError` naming ``#number`` before
         anything is sent.

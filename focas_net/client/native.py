@@ -574,7 +574,7 @@ class NativeClient(
         timeout: float | None = None,
     ) -> None:
         """``cnc_wrmacro``: write ``#number`` (a binary record at 16i class, base 10 at 30i,
-        as the library sends it); see :func:`~focas_net.client._values.macro_to_wire`."""
+        as the library sends it); see :func:`~focas_net._typed.macro_to_wire`."""
         p = self._path_of(path)
         mcr_val, dec_val = macro_write(number, value)
         deadline = self._deadline(timeout)

@@ -7,7 +7,7 @@ import struct
 from dataclasses import dataclass
 from typing import ClassVar, Final, Self
 
-from .._typed import whole_number
+from .._typed import typed_shown, whole_number
 from ..errors import EW, PayloadError
 from ._base import I16, FixedPayload
 from .values import FaultKind, FaultScope
@@ -38,15 +38,16 @@ _I16_MIN: Final = -32_768
 _I16_MAX: Final = 32_767
 
 
-def fault_kind_of(text: str) -> FaultKind:
+def fault_kind_of(typed: object) -> FaultKind:
     """A fault's kind as typed on every front end (``sim fault KIND``, the page's ``kind``): its
-    name in any case, spaces around it left out; ValueError naming the text as typed and the
-    names otherwise (a number is no kind: ``1`` is not read as a delay)."""
-    try:
-        return FaultKind[text.strip().upper()]
-    except KeyError:
+    name in any case, spaces around it left out; ValueError naming what was typed (text
+    quoted, a JSON value as sent) and the names otherwise (a number is no kind: ``1`` is not
+    read as a delay)."""
+    found = FaultKind.__members__.get(typed.strip().upper()) if isinstance(typed, str) else None
+    if found is None:
         names = ", ".join(sorted(k.name.lower() for k in FaultKind))
-        raise ValueError(f"unknown fault kind {text!r} (one of {names})") from None
+        raise ValueError(f"unknown fault kind {typed_shown(typed)} (one of {names})")
+    return found
 
 
 def scope_refusal(scope: int) -> str | None:

@@ -11,6 +11,7 @@ import struct
 from dataclasses import dataclass
 from typing import ClassVar, Final, Self
 
+from .._typed import typed_shown
 from ..errors import PayloadError
 from ._base import I16, FixedPayload
 
@@ -210,15 +211,15 @@ class CycleAction(enum.IntEnum):
     RESET = 2  #: reset
 
 
-def cycle_action_of(text: str) -> CycleAction:
+def cycle_action_of(typed: object) -> CycleAction:
     """A cycle action as typed on every front end (``sim cycle ACTION``, the page's
-    ``action``): its name in any case, spaces around it left out; ValueError naming the text
-    as typed and the names otherwise."""
-    try:
-        return CycleAction[text.strip().upper()]
-    except KeyError:
+    ``action``): its name in any case, spaces around it left out; ValueError naming what was
+    typed (text quoted, a JSON value as sent: ``1``) and the names otherwise."""
+    found = CycleAction.__members__.get(typed.strip().upper()) if isinstance(typed, str) else None
+    if found is None:
         names = ", ".join(a.name.lower() for a in CycleAction)
-        raise ValueError(f"unknown cycle action {text!r} (one of {names})") from None
+        raise ValueError(f"unknown cycle action {typed_shown(typed)} (one of {names})")
+    return found
 
 
 @dataclass(frozen=True, slots=True)

@@ -200,7 +200,7 @@ class Pmc:
         if area is None:
             has = ", ".join(a for a in PMC_AREAS if a in self.areas) or "none"
             shown = letter.strip().upper() or repr(letter)
-            raise MachineError(EW.NOOPT, f"the machine has no PMC area {shown} (it has {has})")
+            raise MachineError(EW.NOOPT, f"the CNC has no PMC area {shown} (it has {has})")
         return area
 
     def write(

@@ -30,6 +30,7 @@ from focas_net._typed import (
     PROGRAM_NUMBERS,
     decimal_number,
     item_number_unfit,
+    macro_to_wire,
     param_decimals_refused,
     param_value_unfit,
     program_number,
@@ -38,6 +39,7 @@ from focas_net._typed import (
     typed_number,
     whole_number,
 )
+from focas_net._typed import typed_shown as shown
 from focas_net.errors import EW, ew_name
 from focas_net.protocol import (
     AutMode,
@@ -131,17 +133,6 @@ def refusal(exc: MachineError) -> JsonDict:
 
 
 # -- arguments ------------------------------------------------------------------------------
-def shown(value: object) -> str:
-    """A value from a request's JSON as a message names it: text quoted (``'abc'``), anything
-    else as the JSON that was sent (``true``, ``null``, ``[1]``), never as Python writes it."""
-    if isinstance(value, str):
-        return repr(value)
-    try:
-        return json.dumps(value)
-    except (TypeError, ValueError):  # not from JSON: as Python shows it
-        return repr(value)
-
-
 def _int(args: Mapping[str, Any], key: str, default: int | None = None) -> int:
     """``args[key]`` as a whole number (decimal, ``0x``, ``0b`` or ``0o``, ASCII digits only:
     :func:`~focas_net._typed.whole_number`, as every front end reads it); ``default`` when it
@@ -205,6 +196,20 @@ def _text(args: Mapping[str, Any], key: str, default: str = "", *, needed: str =
     return value
 
 
+def _named(args: Mapping[str, Any], key: str, needed: str, read: Callable[[object], _T]) -> _T:
+    """``args[key]`` read by ``read`` as the command line reads the word typed (a cycle's
+    action, a fault's kind), which names what it refuses, a JSON value that is no text too
+    (``unknown cycle action 1``); a key not given (or ``null``) is refused saying what is
+    ``needed``."""
+    value = args.get(key)
+    if value is None:
+        raise ActionError(f"{key}: {needed} is needed")
+    try:
+        return read(value)
+    except ValueError as exc:
+        raise ActionError(f"{key}: {exc}") from None
+
+
 def _decimal(args: Mapping[str, Any], key: str) -> Decimal | None:
     """``args[key]`` as a number: decimal text (``12.345``) or a whole number written as the
     command line writes it (``0xB0``, ``0b10110000``), read by
@@ -238,11 +243,9 @@ def _path(args: Mapping[str, Any]) -> int:
 
 def _cycle(station: Station, args: Mapping[str, Any]) -> JsonDict:
     m = station.machine
-    typed, path = _text(args, "action", needed="start, hold or reset"), _path(args)
-    try:  # as `sim cycle ACTION` reads it: Start, " reset "
-        what = cycle_action_of(typed)
-    except ValueError as exc:
-        raise ActionError(f"action: {exc}") from None
+    # as `sim cycle ACTION` reads it: Start, " reset "
+    what = _named(args, "action", "start, hold or reset", cycle_action_of)
+    path = _path(args)
     if what is CycleAction.START:
         m.cycle_start(path=path)
     elif what is CycleAction.HOLD:
@@ -479,7 +482,14 @@ def _write_macro(station: Station, args: Mapping[str, Any]) -> JsonDict:
     number, path = _item_number(args, "macro variable number"), _path(args)
     if "value" not in args:  # a variable is made vacant when told, never for a key left out
         raise ActionError('value: a number is needed (null or "" makes the variable vacant)')
-    m.write_macro(number, _decimal(args, "value"), path=path)
+    value = _decimal(args, "value")
+    if value is not None:  # a value no wire carries, refused as the clients refuse to send it
+        try:
+            mcr_val, dec_val = macro_to_wire(value)
+        except ValueError as exc:
+            raise ActionError(f"#{number}: {exc}") from None
+        value = Decimal(mcr_val).scaleb(-dec_val)  # the digits the clients send
+    m.write_macro(number, value, path=path)
     return {"number": number, "value": macro_value(m.read_macro(number, path=path))}
 
 
@@ -503,11 +513,8 @@ def _inject_fault(station: Station, args: Mapping[str, Any]) -> JsonDict:
     ``EW_DATA`` with the reason :func:`~focas_net.server.faults.fault_refusal` gives every
     front end."""
     kinds = ", ".join(sorted(k.name.lower() for k in FaultKind))
-    typed = _text(args, "kind", needed=f"one of {kinds}")
-    try:  # by its name, as `sim fault KIND` takes it (a number is none: "1" was a delay)
-        kind = fault_kind_of(typed)
-    except ValueError as exc:
-        raise ActionError(f"kind: {exc}") from None
+    # by its name, as `sim fault KIND` takes it (a number is none: "1" was a delay)
+    kind = _named(args, "kind", f"one of {kinds}", fault_kind_of)
     count = _int(args, "count", 1)
     # a delay or an error needs its argument; a drop or a split takes none
     needed, given = fault_arg_needed(int(kind)), args.get("arg")

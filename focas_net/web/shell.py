@@ -27,7 +27,8 @@ A read takes the query keys shown, each once (another, or one twice, is 400); an
 takes none (its arguments are its body's keys: a query key is 400).
 An action answers 200 ``{"ok": true, ...}``; a refusal 409 (403 on a read-only dashboard)
 ``{"ok": false, "ew": 5, "ew_name": "EW_PASSWD", "error": ...}``; a bad argument 400
-``{"ok": false, "error": ...}``; an unknown machine 404.
+``{"ok": false, "error": ...}``; an unknown machine 404. A URL under ``/api/`` the dashboard
+has not is 404, a method the URL does not take 405, both in JSON too.
 """
 
 from __future__ import annotations
@@ -117,6 +118,31 @@ def _whole(value: object) -> bool:
     return isinstance(value, int) and not isinstance(value, bool)
 
 
+async def _api_errors(request: web.Request, handler: Any) -> web.StreamResponse:
+    """The dashboard's middleware: a request of ``/api/`` for a URL it has not (404) or a
+    method the URL does not take (405) is answered in JSON as its other refusals are,
+    ``{"ok": false, "error": "GET /api/machines/0/actions/cycle: this URL takes POST"}``,
+    not in aiohttp's plain text."""
+    aw = _aiohttp()
+    try:
+        response: web.StreamResponse = await handler(request)
+    except aw.HTTPException as exc:
+        if not request.path.startswith("/api/") or exc.content_type == "application/json":
+            raise
+        if isinstance(exc, aw.HTTPMethodNotAllowed):
+            takes = ", ".join(sorted(m for m in exc.allowed_methods if m != "HEAD"))
+            why = f"{request.method} {request.path}: this URL takes {takes}"
+        elif isinstance(exc, aw.HTTPNotFound):
+            why = f"{request.path}: the dashboard has no such URL"
+        else:
+            raise
+        answer: web.Response = aw.json_response({"ok": False, "error": why}, status=exc.status)
+        if "Allow" in exc.headers:
+            answer.headers["Allow"] = exc.headers["Allow"]
+        return answer
+    return response
+
+
 class Dashboard:
     """The web dashboard of ``stations`` (see :func:`stations_of`) on ``host:port``.
 
@@ -171,7 +197,7 @@ class Dashboard:
     # -- lifecycle ------------------------------------------------------------------------
     async def start(self) -> None:
         aw = _aiohttp()
-        app = aw.Application(client_max_size=_MAX_BODY)
+        app = aw.Application(client_max_size=_MAX_BODY, middlewares=[aw.middleware(_api_errors)])
         app.router.add_get("/", self._index)
         app.router.add_static("/static/", STATIC_DIR, show_index=False)
         app.router.add_get("/favicon.ico", self._icon)

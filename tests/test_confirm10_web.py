@@ -1,0 +1,158 @@
+"""A confirming tenth pass over the dashboard: the page's refusals and the command line's and
+the clients' for the same input on the same machine (a PMC area the machine has not, a macro
+value of ten decimals, a cycle action that is no text, a path past the CNC's), and the page's
+HTTP answers to a request the dashboard has no route for, each kept."""
+
+from __future__ import annotations
+
+from collections.abc import AsyncIterator
+from contextlib import asynccontextmanager
+from decimal import Decimal
+from typing import Any
+
+import pytest
+from cli_support import at, fails, ok
+from support import serving, with_both_clients
+from web_support import page_refusal
+
+from focas_net.errors import EW, CncError
+from focas_net.server import FocasServer
+from focas_net.sim import default_machine
+from focas_net.web import Dashboard, Station, perform, stations_of
+
+aiohttp = pytest.importorskip("aiohttp", reason="the web dashboard tests need aiohttp")
+
+
+@asynccontextmanager
+async def _dashboard() -> AsyncIterator[Dashboard]:
+    """A default machine on 127.0.0.1 and its dashboard, both on ephemeral ports."""
+    async with FocasServer(default_machine(), host="127.0.0.1", port=0, grace_period=1.0) as srv:
+        async with Dashboard(stations_of(srv), port=0) as web:
+            yield web
+
+
+async def _answer(method: str, url: str, body: Any = None) -> tuple[int, str, Any]:
+    """The status, the content type and the JSON of a ``method`` request of ``url``."""
+    async with aiohttp.ClientSession() as session:
+        async with session.request(method, url, json=body) as response:
+            return response.status, response.content_type, await response.json()
+
+
+# -- a PMC area the machine has not, an address past an area ----------------------------------
+async def test_a_pmc_area_the_machine_has_not_is_the_cncs_on_the_page_and_the_cli() -> None:
+    """``pmc bit E 0.1 1`` said "the CNC has no PMC area E" where the page said "the machine
+    has no PMC area E (it has X, Y, ...)": one noun, the page adding the areas the machine
+    knows (the wire carries the EW code only)."""
+    async with serving() as served:
+        page = page_refusal(Station(0, served.machine), "pmc_bit",
+                            {"area": "E", "address": 0, "bit": 1, "value": 1})  # fmt: skip
+        common = "the CNC has no PMC area E"
+        assert page == f"{common} (it has X, Y, F, G, R, T, C, D, K, A)"
+        for protocol in ("packed", "native"):
+            line = await fails(1, "pmc", "bit", "E", "0.1", "1", "--protocol", protocol,
+                               *at(served))  # fmt: skip
+            assert line.endswith(f"; {common}")
+
+
+async def test_an_address_past_an_area_is_worded_alike_the_page_naming_its_range() -> None:
+    """``pmc bit R 8000.0``: the command line's words are the page's, which add the range."""
+    async with serving() as served:
+        page = page_refusal(Station(0, served.machine), "pmc_bit",
+                            {"area": "R", "address": 8000, "bit": 0})  # fmt: skip
+        common = "R8000 goes past the end of PMC area R"
+        assert page == f"{common} (R0..R7999)"
+        line = await fails(1, "pmc", "bit", "R", "8000.0", *at(served))
+        assert line.endswith(f"; {common}")
+
+
+# -- a macro value of ten decimals ----------------------------------------------------------------
+@pytest.mark.parametrize("value", [1.0000000001, "1.0000000001", "-0.0000000001"])
+async def test_a_macro_value_no_wire_carries_is_refused_by_the_page_before_the_write(
+    value: object,
+) -> None:
+    """The JSON number ``1.0000000001`` was a 409 EW_DATA from the machine while the command
+    line refuses it before the write (exit 2): the page checks it with the clients' rule,
+    before the machine is asked (a read-only machine says the value first too)."""
+    async with serving(default_machine(read_only=True)) as served:
+        station = Station(0, served.machine)
+        typed = str(value)
+        words = page_refusal(station, "write_macro", {"number": 100, "value": value})
+        line = await fails(2, "macro", "set", "100", typed, *at(served))
+        assert line == f"focas-net: {words}"
+        assert words.startswith(f"#100: macro value {typed} does not fit a macro variable")
+
+
+async def test_a_macro_value_of_trailing_zeros_is_written_by_the_page_as_by_the_cli() -> None:
+    """``macro set 100 1.0000000000`` writes 1 (the clients send the fewest digits that hold
+    it); the page refused the same text with the machine's EW_DATA."""
+    async with serving() as served:
+        station = Station(0, served.machine)
+        answer = perform(station, "write_macro", {"number": 100, "value": "1.0000000000"})
+        assert answer == {"ok": True, "number": 100, "value": "1"}
+        assert served.machine.read_macro(100) == Decimal(1)
+        await ok("macro", "set", "101", "1.0000000000", *at(served))
+        assert served.machine.read_macro(101) == Decimal(1)
+
+
+# -- a request of a method or a URL the dashboard has not ---------------------------------------
+@pytest.mark.parametrize(
+    ("method", "path", "status", "words"),
+    [
+        ("GET", "api/machines/0/actions/cycle", 405,
+         "GET /api/machines/0/actions/cycle: this URL takes POST"),
+        ("DELETE", "api/fleet", 405, "DELETE /api/fleet: this URL takes GET"),
+        ("GET", "api/machine/0", 404, "/api/machine/0: the dashboard has no such URL"),
+    ],
+)  # fmt: skip
+async def test_a_method_or_url_the_api_has_not_is_answered_in_json(
+    method: str, path: str, status: int, words: str
+) -> None:
+    """A GET of an action's URL answered aiohttp's plain text ``405: Method Not Allowed``, not
+    JSON as the dashboard's other refusals are."""
+    async with _dashboard() as web:
+        got = await _answer(method, f"{web.url}{path}")
+        assert got == (status, "application/json", {"ok": False, "error": words})
+
+
+# -- a cycle action that is no text -----------------------------------------------------------
+@pytest.mark.parametrize(("typed", "shown"), [(1, "1"), (True, "true"), ([], "[]")])
+async def test_a_cycle_action_that_is_no_text_is_worded_as_the_cli_words_one(
+    typed: object, shown: str
+) -> None:
+    """``{"action": 1}`` said "action: text is needed, got 1" where ``sim cycle 1`` says
+    "unknown cycle action '1' (one of start, hold, reset)": one wording, the JSON value named."""
+    async with serving() as served:
+        words = "(one of start, hold, reset)"
+        page = page_refusal(Station(0, served.machine), "cycle", {"action": typed})
+        assert page == f"action: unknown cycle action {shown} {words}"
+        line = await fails(2, "sim", "cycle", "1", *at(served), prefix="focas-net sim cycle: ")
+        assert f"unknown cycle action '1' {words}" in line
+
+
+# -- a path past the CNC's ----------------------------------------------------------------------
+async def test_a_path_past_the_cncs_is_refused_by_both_clients_in_the_machines_words() -> None:
+    """The clients said "cnc_statinfo: path 3, the CNC has paths 1..1" where the machine, the
+    command line and the page say "the CNC has no path 3: it has path 1 only": one wording,
+    from one function."""
+    async with with_both_clients(default_machine()) as (machine, cnc, native):
+        page = page_refusal(Station(0, machine), "cycle", {"action": "reset", "path": 3})
+        assert page == "the CNC has no path 3: it has path 1 only"
+        for client, function in ((cnc, "cnc_rdcncstat"), (native, "cnc_statinfo")):
+            with pytest.raises(CncError) as refused:
+                await client.read_status(path=3)
+            assert refused.value.ew == EW.PATH
+            assert str(refused.value).endswith(f"{function}: {page}")
+
+
+async def test_a_fault_kind_that_is_no_text_is_worded_as_the_cli_words_one() -> None:
+    """``{"kind": 1}`` said "kind: text is needed, got 1" where ``sim fault 1`` says "unknown
+    fault kind '1' (one of ...)": one wording, and nothing armed."""
+    async with serving() as served:
+        words = "(one of delay, drop, error, split)"
+        station = Station(0, served.machine)
+        assert page_refusal(station, "inject_fault", {"kind": 1}) == (
+            f"kind: unknown fault kind 1 {words}"
+        )
+        line = await fails(2, "sim", "fault", "1", *at(served), prefix="focas-net sim fault: ")
+        assert f"unknown fault kind '1' {words}" in line
+        assert len(station.faults) == 0
