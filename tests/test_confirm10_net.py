@@ -127,6 +127,23 @@ async def test_a_handshake_under_way_ends_with_the_server(
     assert [r.getMessage() for r in caplog.records if r.levelno > logging.INFO] == []
 
 
+async def test_a_tls_client_that_closes_at_once_leaves_no_asyncio_warning(
+    certificate: tuple[Path, Path], caplog: pytest.LogCaptureFixture
+) -> None:
+    """A client (the command line's probe) that closes right after its handshake: asyncio
+    warned `returning true from eof_received() has no effect when using ssl`."""
+    context = ssl.create_default_context(cafile=str(certificate[0]))
+    with caplog.at_level(logging.DEBUG):
+        async with serving(ssl=_server_context(certificate)) as s:
+            for _ in range(20):  # (the close must meet the hand-over: tried a few times)
+                _, writer = await asyncio.open_connection(s.host, s.port, ssl=context)
+                writer.close()
+                await writer.wait_closed()
+            async with FocasClient(s.host, s.port, ssl=context, timeout=IO_TIMEOUT) as cnc:
+                await cnc.read_status()
+    assert [r.getMessage() for r in caplog.records if r.name == "asyncio"] == []
+
+
 # -- the gateway's MQTT broker over TLS, on a plain port ----------------------------------------
 
 

@@ -113,7 +113,7 @@ class TlsHandshake(asyncio.Protocol):
 
     def eof_received(self) -> bool:
         self._eof = True
-        return True  # (the connection decides, once made)
+        return False  # (the TLS layer closes after an end of stream whatever is returned)
 
     def connection_lost(self, exc: Exception | None) -> None:
         self._lost = True
