@@ -2,7 +2,8 @@
 number text (the page, the command line, the clients' text values and the machine file), a
 macro value as the wire carries it and the words for one that does not fit (the machine, the
 clients and the page), a program number
-(the command line and the page), an override's type and range (the machine and the
+(the command line and the page), a program's text of a character beyond ASCII (a file, the
+clients' ``write_program``), an override's type and range (the machine and the
 clients), an alarm's axis and an alarm message that is no line of single-byte text (the
 machine and the encoded text of every front end), whether a host typed is the loopback (the
 dashboard's and the gateway's guards), a parameter password (the codec, the machine and
@@ -64,6 +65,7 @@ __all__ = [
     "param_value_unfit",
     "password_bytes",
     "program_number",
+    "program_text_unfit",
     "rapid_step",
     "switch",
     "typed_number",
@@ -550,32 +552,36 @@ def file_text(raw: bytes) -> str:
 def program_file_text(raw: bytes) -> str:
     """The text of a part program's file (``program load``, a machine file's
     ``[[program]] file``): ASCII, after a UTF-8 byte-order mark if any; ValueError naming the
-    line of the first character that is not, in the program store's words (``line 2:
-    character 'É' (U+00C9) in '(CAFÉ)': a program is printable ASCII text``), or its byte
-    when it starts no UTF-8 character."""
-    raw = raw.removeprefix(_BOM)
-    try:
-        return raw.decode("ascii")
-    except UnicodeDecodeError as exc:
-        at = exc.start
-    start = raw.rfind(b"\n", 0, at) + 1
-    end = raw.find(b"\n", at)
-    line = raw[start : len(raw) if end < 0 else end]
-    shown = line.decode("utf-8", "backslashreplace").strip()[:40]
-    number = raw.count(b"\n", 0, at) + 1
-    where = f"line {number}"
-    for size in range(1, 5):
-        try:
-            char = raw[at : at + size].decode("utf-8")
-        except UnicodeDecodeError:
-            continue
-        raise ValueError(
-            f"{where}: character {char!r} (U+{ord(char):04X}) in {shown!r}: a program is "
-            "printable ASCII text"
-        )
-    raise ValueError(
-        f"{where}: byte 0x{raw[at]:02X} in '{shown}' is not text: a program is printable ASCII text"
-    )
+    line of the first character that is not, in the program store's words
+    (:func:`program_text_unfit`), or its byte when it starts no UTF-8 character."""
+    text = raw.removeprefix(_BOM).decode("utf-8", "surrogateescape")
+    why = program_text_unfit(text)
+    if why is not None:
+        raise ValueError(why)
+    return text
+
+
+def program_text_unfit(text: str) -> str | None:
+    """Why ``text`` is no program text, in the program store's words, naming the line of its
+    first character beyond ASCII (``line 2: character 'É' (U+00C9) in '(CAFÉ)': a program is
+    printable ASCII text``; a byte a file's UTF-8 does not decode, kept as
+    ``surrogateescape`` does, as the byte); None when it is ASCII. The words of a file's
+    text, of the clients' ``write_program`` and of the machine alike."""
+    at = next((i for i, c in enumerate(text) if not c.isascii()), None)
+    if at is None:
+        return None
+    start = text.rfind("\n", 0, at) + 1
+    end = text.find("\n", at)
+    line = text[start : len(text) if end < 0 else end]
+    shown = line.encode("utf-8", "surrogateescape").decode("utf-8", "backslashreplace")
+    shown = shown.strip()[:40]
+    where = f"line {text.count(chr(10), 0, at) + 1}"
+    char = text[at]
+    if "\udc80" <= char <= "\udcff":  # a byte that starts no UTF-8 character
+        what = f"byte 0x{ord(char) - 0xDC00:02X} in '{shown}' is not text"
+    else:
+        what = f"character {char!r} (U+{ord(char):04X}) in {shown!r}"
+    return f"{where}: {what}: a program is printable ASCII text"
 
 
 def os_reason(exc: BaseException) -> str:

@@ -10,10 +10,11 @@ from pathlib import Path
 
 import pytest
 from examples_support import run_example
-from support import block_run
+from support import block_run, serving
 
+from focas_net import FocasClient
 from focas_net.sim import MachineFileError, default_machine, load_machine
-from focas_net.sim.nc import Engine, ManualClock, ProgramStore, parse_program
+from focas_net.sim.nc import Engine, ManualClock, ProgramError, ProgramStore, parse_program
 from focas_net.sim.nc.macro import Cursor, evaluate, parse_expression
 
 # -- a dwell is a block of its own -------------------------------------------------------------
@@ -321,3 +322,35 @@ def test_an_operator_message_given_twice_says_whether_its_bit_or_its_number(
     with pytest.raises(MachineFileError) as caught:
         load_machine(path)
     assert str(caught.value) == f"{path}: operator_messages[1]: {words}"
+
+
+# -- a program of a character beyond ASCII, written through the client ------------------------
+
+
+@pytest.mark.parametrize(
+    ("text", "words"),
+    [
+        (
+            "O7004 (CAF\u00c9)\nM30\n",
+            "line 1: character '\u00c9' (U+00C9) in 'O7004 (CAF\u00c9)': a program is printable "
+            "ASCII text",
+        ),
+        (
+            "O7005\nG0 X1. (\u2013)\nM30\n",
+            "line 2: character '\u2013' (U+2013) in 'G0 X1. (\u2013)': a program is printable "
+            "ASCII text",
+        ),
+    ],
+)
+async def test_write_program_refuses_a_character_beyond_ascii_in_the_store_s_words(
+    text: str, words: str
+) -> None:
+    """The client said ``program text must be ASCII text: 'O7004 (CAF\u00c9)\\nM30\\n'``
+    where ``program load`` and the machine name the line and the character."""
+    async with serving() as served, FocasClient(served.host, served.port, timeout=5) as cnc:
+        with pytest.raises(ValueError) as caught:
+            await cnc.write_program(text)
+    assert str(caught.value) == words
+    with pytest.raises(ProgramError) as stored:
+        served.machine.path_programs().store(text)  # the machine's own words
+    assert str(stored.value) == words

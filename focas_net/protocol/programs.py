@@ -11,7 +11,7 @@ import struct
 from dataclasses import dataclass
 from typing import ClassVar, Final, Self
 
-from .._typed import typed_shown
+from .._typed import program_text_unfit, typed_shown
 from ..errors import PayloadError
 from ._base import I16, FixedPayload
 
@@ -142,6 +142,9 @@ def _pack_text(head: struct.Struct, first: int, text: str, limit: int, kind: str
     """``head`` (``first``, the text's length), then the ASCII text, at most ``limit`` bytes;
     ``kind`` (``chunk`` or ``text``) names the payload in messages."""
     name, too_long = _TEXT_NAMES[kind]
+    why = program_text_unfit(text) if isinstance(text, str) else None
+    if why is not None:  # the program store's words, naming the line and the character
+        raise ValueError(why)
     raw = _raw(text, "program text")
     if len(raw) > limit:
         raise ValueError(f"{too_long} of {len(raw)} bytes: {limit} at most")
