@@ -3,7 +3,8 @@ machine never reached as unavailable and one that was online as lost; the docs m
 word of ``emergency`` and ``alarm`` to the gateway's boolean; a path the CNC has not is worded
 alike by the clients, the gateway's writes, the machine and the command line; a parameter
 written with an axis past the path's says which to give; the page's tile reads the emergency
-field by the gateway's rule; OPC UA's operation mode of no selection is BadOutOfRange."""
+field by the gateway's rule; OPC UA's operation mode of no selection is BadOutOfRange; the OPC
+UA endpoint's host is checked as a machine's."""
 
 from __future__ import annotations
 
@@ -21,7 +22,7 @@ from support import free_port, serving
 from focas_net._refusals import no_path
 from focas_net.client import FocasClient, NativeClient
 from focas_net.errors import EW, CncError
-from focas_net.gateway import MachineConfig, WriteGates
+from focas_net.gateway import ConfigError, MachineConfig, WriteGates, parse_config
 from focas_net.gateway._opcua_model import _operation_mode
 from focas_net.gateway.model import ITEMS
 from focas_net.gateway.reads import _status
@@ -169,3 +170,27 @@ def test_each_mode_is_the_docs_operation_mode_and_no_selection_none(mode: AutMod
         name = ("Manual", "MDA", "Automatic")[got]
         assert re.search(rf"\b{re.escape(mode.label)}\b[^;|]*→ {name} \({got}\)", row), mode
     assert _operation_mode("11") is None  # a number with no name
+
+
+# -- the OPC UA endpoint's host: the host rule of every front end -----------------------------
+@pytest.mark.parametrize(
+    ("host", "why"),
+    [
+        ("256.0.0.1", "not an IPv4 address: host '256.0.0.1'"),
+        ("plant..local", "host name 'plant..local' has a part of 0 characters"),
+    ],
+)
+def test_an_endpoint_host_no_server_can_listen_on_is_named_as_a_machine_host_is(
+    host: str, why: str
+) -> None:
+    text = (
+        '[[machine]]\nname = "m1"\nhost = "127.0.0.1"\n[opcua]\n'
+        f'endpoint = "opc.tcp://{host}:4840/"\n[[opcua.users]]\nname = "op"\npassword = "pw"\n'
+    )
+    with pytest.raises(ConfigError) as refused:
+        parse_config(text, source="plant.toml")
+    said = str(refused.value)
+    assert said.startswith(
+        f"plant.toml: opcua.endpoint: got 'opc.tcp://{host}:4840/'; expected opc.tcp://HOST:PORT"
+    ), said
+    assert why in said and "no way in" not in said and "certificate" not in said

@@ -319,6 +319,10 @@ class OpcUaSettings:
             )
         if parts is None or parts.scheme != "opc.tcp" or not parts.hostname or port is None:
             at.key("endpoint").expected(self.endpoint, "opc.tcp://HOST:PORT/PATH")
+        try:  # (the host rule of every front end: a machine's host, the command line's --host)
+            check_host(parts.hostname)
+        except ValueError as exc:
+            at.key("endpoint").expected(self.endpoint, f"opc.tcp://HOST:PORT/PATH ({exc})")
         at.key("namespace").text(self.namespace, "a namespace URI")
         at.key("writes").boolean(self.writes)
         users = at.key("users")
