@@ -9,6 +9,7 @@ cover gets None (the front end says the code alone).
 
 from __future__ import annotations
 
+import re
 from collections.abc import Mapping
 from typing import Final
 
@@ -18,6 +19,7 @@ __all__ = [
     "AXIS_NAME_PARAM",
     "DRIVEN_AREAS",
     "FANUC_SPANS",
+    "O_LINE",
     "PARAM_GATE",
     "READ_ONLY",
     "SPINDLE_DIAGS",
@@ -29,6 +31,7 @@ __all__ = [
     "parts_refusal",
     "path_axes",
     "pmc_refusal",
+    "program_refusal",
     "system_read_only",
 ]
 
@@ -225,4 +228,44 @@ def pmc_refusal(ew: int, area: str, first: int, last: int) -> str | None:
                 "read-only"
             )
         return f"the machine is read-only, or its machine file write-protects PMC area {area}"
+    return None
+
+
+#: What a part program the store takes is, when the text is not one.
+_ONE_PROGRAM: Final = (
+    "the text is not one part program: it must hold one program, whose first block is the O "
+    "line with the program number (e.g. O1000)"
+)
+#: The program number of a program's text: its O line (``:`` in ISO code), after a ``%`` line.
+O_LINE: Final = re.compile(r"\s*(?:%[^\n]*\n\s*)?[O:](\d+)", re.IGNORECASE)
+
+
+def _first_block(text: str) -> str | None:
+    """The first block of ``text`` (blank lines and ``%`` lines left out) when the text is
+    plain: printable ASCII with no comment and no ``;``, which the store splits as it does;
+    ``""`` when there is none; None for another text."""
+    if any(not (" " <= c <= "~" or c in "\t\r\n") for c in text.rstrip("\x00")):
+        return None
+    blocks = [line.strip() for line in text.rstrip("\x00").splitlines()]
+    first = next((b for b in blocks if b and not b.startswith("%")), "")
+    return None if "(" in first or ";" in first else first
+
+
+def program_refusal(ew: int, text: str) -> str | None:
+    """Why the CNC answered ``ew`` to ``cnc_download`` of part program ``text``, in the words
+    of the machine's program store where the text says it plainly (``the program text is
+    empty``, ``a program starts with O and its number, not 'G01 X1'``), else what a program
+    must be; None for a code these words do not cover (the command line, which reads the file
+    with the store's own rules, names the store's reason instead)."""
+    if ew == EW.DATA:
+        first = _first_block(text)
+        if first == "":
+            return "the program text is empty"
+        if first is not None and first[:1].upper() not in ("O", ":"):
+            return f"a program starts with O and its number, not {first[:40]!r}"
+        return _ONE_PROGRAM
+    if ew == EW.NUMBER:
+        m = O_LINE.match(text)
+        what = f"program number O{m[1]}" if m else "the program number"
+        return f"{what} is outside the program store's range"
     return None

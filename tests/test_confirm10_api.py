@@ -145,3 +145,48 @@ def test_a_folder_call_given_no_text_is_a_type_error(call: Callable[[Machine], A
 def test_the_machine_takes_a_position_kind_in_any_case(kind: str) -> None:
     machine = default_machine(sim_clock=ManualClock())
     assert machine.positions(kind) == machine.positions(kind.strip().lower())
+
+
+# -- a program the store refuses: the reason on the client and once on the command line --------
+@pytest.mark.parametrize(
+    ("text", "ew", "words"),
+    [
+        ("", EW.DATA, "the program text is empty"),
+        ("  \n", EW.DATA, "the program text is empty"),
+        ("G01 X1\nM30\n", EW.DATA, "a program starts with O and its number, not 'G01 X1'"),
+        ("%\nG1X1\n%", EW.DATA, "a program starts with O and its number, not 'G1X1'"),
+        ("O1\nM30\nO2\nM30\n", EW.DATA, "one part program"),
+        ("O0\nM30\n", EW.NUMBER, "program number O0 is outside the program store's range"),
+    ],
+)
+async def test_a_program_the_store_refuses_carries_its_reason(
+    both_clients: Both, text: str, ew: int, words: str
+) -> None:
+    """``write_program("")`` raised ``EW_DATA: cnc_download`` with no reason, where the command
+    line names the store's."""
+    machine, cnc, _ = both_clients
+    before = [p.number for p in machine.program_directory()]
+    with pytest.raises(CncError) as refused:
+        await cnc.write_program(text)
+    assert refused.value.ew == ew
+    assert refused.value.detail.startswith("cnc_download: "), refused.value.detail
+    assert words in refused.value.detail
+    assert [p.number for p in machine.program_directory()] == before
+
+
+@pytest.mark.parametrize(
+    ("text", "words"),
+    [("", "the program text is empty"), ("G01 X1\n", "a program starts with O and its number")],
+)
+async def test_the_command_line_names_the_stores_reason_once(
+    tmp_path: Path, text: str, words: str
+) -> None:
+    from cli_support import at, fails
+    from support import serving
+
+    program = tmp_path / "part.nc"
+    program.write_text(text)
+    async with serving() as served:
+        line = await fails(1, "program", "load", str(program), *at(served))
+    assert line.count(words) == 1, line
+    assert f"{program}: {words}" in line, line

@@ -10,12 +10,12 @@ as typed (``sim cycle start``); a code the table does not have gets no reason.
 from __future__ import annotations
 
 import argparse
-import re
 from collections.abc import Callable, Mapping
 from pathlib import Path
 from typing import Final
 
 from focas_net._refusals import (
+    O_LINE,
     PARAM_GATE,
     READ_ONLY,
     item_named,
@@ -31,7 +31,7 @@ from focas_net.sim.nc import ProgramError, no_program, parse_program
 
 from . import _format as fmt
 
-__all__ = ["FAMILIES", "Table", "Why", "reason"]
+__all__ = ["FAMILIES", "Table", "Why", "as_said", "reason"]
 
 #: The reason of a refusal, from the command's arguments.
 Why = Callable[[argparse.Namespace], str]
@@ -208,14 +208,11 @@ def _pmc_forced(args: argparse.Namespace, exc: CncError) -> str | None:
 
 # -- part programs and the cycle --------------------------------------------------------------
 
-#: The program number of a program file: its O line (``:`` in ISO code), after a ``%`` line.
-_O_LINE: Final = re.compile(r"\s*(?:%[^\n]*\n\s*)?[O:](\d+)", re.IGNORECASE)
-
 
 def _loaded(args: argparse.Namespace) -> str:
     """``O1000``, the program of the file of ``program load``, or ``the program``."""
     try:
-        m = _O_LINE.match(Path(args.target).read_text("ascii", errors="replace"))
+        m = O_LINE.match(Path(args.target).read_text("ascii", errors="replace"))
     except OSError:
         m = None
     return f"O{int(m[1]):04d}" if m else "the program"
@@ -368,6 +365,20 @@ _BY_REFUSAL: Final[
     ("param set", EW.LENGTH): _param_length,
     ("pmc write", EW.FUNC): _pmc_forced,
 }
+
+
+#: Commands whose reasons read what the client sent with the machine's own rules (the program
+#: file with the store's): theirs replace the shorter words the client's error carries.
+_OWN_WORDS: Final = frozenset({"program load"})
+
+
+def as_said(command: str, exc: CncError) -> CncError:
+    """``exc`` as the command line shows it next to :func:`reason`'s words: of a command
+    whose reason replaces the client's (:data:`_OWN_WORDS`), the code and the call alone
+    (``cnc_download``), so that a reason is said once."""
+    if command not in _OWN_WORDS:
+        return exc
+    return CncError.from_ew(exc.ew, exc.detail.partition(": ")[0])
 
 
 def reason(command: str, args: argparse.Namespace, exc: CncError) -> str | None:

@@ -53,7 +53,7 @@ from ._args import (
     print_error,
 )
 from ._diagnose import diagnosis
-from ._reasons import reason
+from ._reasons import as_said, reason
 from ._signals import on_first_signal
 
 __all__ = [
@@ -383,6 +383,10 @@ def tls_context_wanted(args: argparse.Namespace) -> bool:
 def _failure_text(args: argparse.Namespace, exc: BaseException, hint: str | None = None) -> str:
     if isinstance(exc, HintedError):
         return f"{_failure_text(args, exc.cause)}; {exc.hint}"
+    if hint is None and isinstance(exc, CncError):
+        hint = reason(command_name(args), args, exc)
+        if hint is not None:
+            exc = as_said(command_name(args), exc)  # (its reason said once: the hint's)
     text = fmt.error_line(exc)
     if isinstance(exc, FocasTimeoutError):
         after = f"timed out after {args.timeout:g} s"
@@ -393,8 +397,6 @@ def _failure_text(args: argparse.Namespace, exc: BaseException, hint: str | None
             # the peer once: the client's words name it when it was connected to
             shown = "" if where in text else f" ({where})"
             text = f"{after}{shown}: {text}"
-    if hint is None and isinstance(exc, CncError):
-        hint = reason(command_name(args), args, exc)
     if hint is None and _protocol(args) != NATIVE:
         hint = _tls_hint(args, exc)
     return text if hint is None else f"{text}; {hint}"

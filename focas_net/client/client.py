@@ -30,7 +30,7 @@ from collections.abc import Callable, Coroutine, Sequence
 from decimal import Decimal
 from typing import Any, Final, TypeVar
 
-from focas_net._refusals import SPINDLE_DIAGS
+from focas_net._refusals import SPINDLE_DIAGS, program_refusal
 from focas_net.errors import EW, CncError, FocasError, PayloadError
 
 from ..protocol import (
@@ -658,7 +658,13 @@ class FocasClient(Link):
             raise TypeError(f"replace must be True or False, got {replace!r}")
         p = self._path_of(path)
         payload = _WRPROGRAM.request.encode(ProgramText(int(bool(replace)), text))
-        stored: ProgramNumber = await self._request(_WRPROGRAM, payload, timeout, p)
+        try:
+            stored: ProgramNumber = await self._request(_WRPROGRAM, payload, timeout, p)
+        except CncError as exc:
+            why = program_refusal(exc.ew, text)  # the store's reason: the wire has the code
+            if why is None:
+                raise
+            raise CncError.from_ew(exc.ew, f"{exc.detail}: {why}") from None
         return stored.number
 
     async def delete_program(
