@@ -26,6 +26,7 @@ __all__ = [
     "axis_misfit",
     "item_named",
     "macro_refusal",
+    "mode_refusal",
     "no_path",
     "param_refusal",
     "parts_refusal",
@@ -115,6 +116,18 @@ def path_axes(axes: int) -> str:
     """``the path has 3 axes``: the count an axis past the path's is told with (the command
     line adds ``give --axis 1..3``, the gateway ``give Axis 1..3``)."""
     return f"the path has {axes} ax{'is' if axes == 1 else 'es'}"
+
+
+def mode_refusal(refused: str, modes: str, mode: str | None = None) -> str:
+    """EW_MODE of ``refused`` (``cycle start refused``), which runs in ``modes`` (``MEM``) only,
+    in ``mode``, as the machine says it (``cycle start refused: the mode is JOG, not MEM``)
+    and a front end that knows not the mode (None, the wire's code alone: ``cycle start
+    refused: the mode is not MEM``); what to type is the front end's to add."""
+    return (
+        f"{refused}: the mode is {mode}, not {modes}"
+        if mode
+        else f"{refused}: the mode is not {modes}"
+    )
 
 
 def item_named(kind: str, number: int | str, axis: int = 0) -> str:

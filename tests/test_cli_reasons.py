@@ -1,7 +1,7 @@
 """A refusal at the command line says why, in the machine's words: the EW code the wire carries,
-then the reason the command's family gives for it with what to do (``; cycle start runs in MEM
-mode only (focas-net sim panel --mode MEM)``), on both transports where the command runs on
-both. ``unlock`` says whether the CNC has a password at all.
+then the reason the command's family gives for it with what to do (``; cycle start refused:
+the mode is not MEM (focas-net sim panel --mode MEM)``), on both transports where the command
+runs on both. ``unlock`` says whether the CNC has a password at all.
 
 Each case runs ``focas-net`` as a subprocess against a server this test started on 127.0.0.1
 (port 0) and set up through the client; the cases of one server run side by side.
@@ -112,7 +112,7 @@ async def test_cycle_start_and_parameter_ranges_in_mdi() -> None:
         await refusals(
             served,
             [
-                (("sim", "cycle", "start"), "MODE", "cycle start runs in MEM mode only"),
+                (("sim", "cycle", "start"), "MODE", "cycle start refused: the mode is not MEM"),
                 (
                     ("param", "set", "1420", "1000000000", "--axis", "1"),
                     "DATA",

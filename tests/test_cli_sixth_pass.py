@@ -211,11 +211,11 @@ async def test_program_load_of_an_empty_name_asks_for_the_file(server: Served) -
 
 
 async def test_a_program_search_outside_mem_and_edit_names_the_mode(server: Served) -> None:
-    """The machine said "program search in mode 0: MEM or EDIT"."""
+    """The machine said "program search in mode 0: MEM or EDIT"; it names the mode."""
     server.machine.set_panel(mode=0)
     with pytest.raises(MachineError) as refused:
         perform(Station(0, server.machine), "select_program", {"number": "O0001"})
-    assert str(refused.value).endswith("program search in MDI mode: MEM or EDIT")
+    assert str(refused.value).endswith("program search refused: the mode is MDI, not MEM or EDIT")
 
 
 async def test_an_active_alarm_of_no_message_says_so(server: Served) -> None:

@@ -156,3 +156,56 @@ async def test_a_fault_kind_that_is_no_text_is_worded_as_the_cli_words_one() -> 
         line = await fails(2, "sim", "fault", "1", *at(served), prefix="focas-net sim fault: ")
         assert f"unknown fault kind '1' {words}" in line
         assert len(station.faults) == 0
+
+
+# -- an alarm raised with no message ----------------------------------------------------------
+async def test_an_alarm_of_no_message_takes_the_tables_text_without_a_note_of_a_cut() -> None:
+    """``raise_alarm`` PS5 with no message answered "the CNC keeps 21 characters of a message:
+    'NO DATA AFTER ADDRESS'", as if the text given had been cut: the machine took its alarm
+    table's text, as ``sim alarm PS5`` shows it, and nothing was cut."""
+    async with serving() as served:
+        station = Station(0, served.machine)
+        answer = perform(station, "raise_alarm", {"alm_type": "PS", "alm_no": 5, "msg": ""})
+        assert answer == {"ok": True, "raised": True, "msg": "NO DATA AFTER ADDRESS"}
+        out = await ok("sim", "alarm", "PS6", *at(served))
+        assert out == "raised PS0006 ILLEGAL USE OF NEGATIVE SIGN\n"
+        assert perform(station, "raise_alarm", {"alm_type": "PS", "alm_no": 7}) == {
+            "ok": True,
+            "raised": True,
+            "msg": "ILLEGAL USE OF DECIMAL POINT",
+        }
+        cut = perform(station, "raise_alarm", {"alm_type": "PS", "alm_no": 8, "msg": "A" * 40})
+        assert cut["note"] == f"the CNC keeps 32 characters of a message: {'A' * 32!r}"
+
+
+# -- a cycle start or a program search in a mode that does not take it -------------------------
+@pytest.mark.parametrize(
+    ("action", "args", "argv", "words"),
+    [
+        ("cycle", {"action": "start"}, ("sim", "cycle", "start"), "cycle start refused"),
+        ("select_program", {"number": "O1"}, ("program", "select", "O1"),
+         "program search refused"),
+    ],
+)  # fmt: skip
+async def test_a_mode_that_does_not_take_it_is_worded_alike_on_the_page_and_the_cli(
+    action: str, args: dict[str, Any], argv: tuple[str, ...], words: str
+) -> None:
+    """In JOG mode the page said "cycle start refused: the mode is JOG, not MEM" and "program
+    search in JOG mode: MEM or EDIT" where the command line said "cycle start runs in MEM mode
+    only" and "program search needs MEM or EDIT mode": one wording, the page naming the mode
+    the machine is in (the wire carries the EW code only), the command line what to type."""
+    modes = "MEM" if action == "cycle" else "MEM or EDIT"
+    async with serving() as served:
+        station = Station(0, served.machine)
+        perform(station, "panel", {"mode": "JOG"})
+        assert page_refusal(station, action, args) == f"{words}: the mode is JOG, not {modes}"
+        line = await fails(1, *argv, *at(served))
+        assert line.endswith(f"; {words}: the mode is not {modes} (focas-net sim panel --mode MEM)")
+
+
+async def test_sim_alarm_axis_help_names_an_alarms_axis_as_the_page_does() -> None:
+    """``sim alarm --help`` said "axis 1..n for an axis item; 0 for a non-axis item" (a
+    parameter's words) where the page's axis box says "0: an alarm of no axis"."""
+    out = await ok("sim", "alarm", "--help")
+    assert "axis item" not in out
+    assert "0: an alarm of no axis" in " ".join(out.split())

@@ -20,6 +20,7 @@ from focas_net._refusals import (
     READ_ONLY,
     item_named,
     macro_refusal,
+    mode_refusal,
     no_path,
     param_refusal,
     pmc_refusal,
@@ -278,7 +279,8 @@ def _no_program(args: argparse.Namespace) -> str:
 _PROGRAM_SELECT: Final[Table] = {
     EW.NUMBER: _no_program,
     EW.MODE: lambda a: (
-        f"program search needs MEM or EDIT mode ({_next(a, 'sim panel --mode MEM')})"
+        f"{mode_refusal('program search refused', 'MEM or EDIT')} "
+        f"({_next(a, 'sim panel --mode MEM')})"
     ),
     EW.BUSY: lambda a: f"a program is being executed {_reset_first(a)}",
     EW.PROT: _read_only,
@@ -291,7 +293,9 @@ _PROGRAM_DELETE: Final[Table] = {
 _SIM: Final[Table] = {EW.FUNC: _no_control, EW.PROT: _read_only}
 _CYCLE_START: Final[Table] = {
     **_SIM,
-    EW.MODE: lambda a: f"cycle start runs in MEM mode only ({_next(a, 'sim panel --mode MEM')})",
+    EW.MODE: lambda a: (
+        f"{mode_refusal('cycle start refused', 'MEM')} ({_next(a, 'sim panel --mode MEM')})"
+    ),
     EW.ALARM: lambda a: (
         "cycle start refused: an alarm is active or the emergency stop is on "
         f"({_next(a, 'alarms')} lists them; {_next(a, 'sim clear')} or sim cycle reset{_on(a)} "

@@ -150,7 +150,13 @@ _PASSWORD: Final = arg(
 _EPILOG: Final = "exit status: " + ", ".join(f"{code} {text}" for code, text in EXIT_CODES)
 
 _AXIS_HELP: Final = "axis 1..n for an axis item; 0 for a non-axis item (default 0)"
-_AXIS: Final = arg("--axis", type=ALARM_AXIS, default=0, metavar="N", help=_AXIS_HELP)
+_AXIS: Final = arg(
+    "--axis",
+    type=ALARM_AXIS,
+    default=0,
+    metavar="N",
+    help="the alarm's axis 1..n; 0: an alarm of no axis (default 0)",
+)
 _PARAM_AXIS: Final = arg("--axis", type=PARAM_AXIS, default=0, metavar="N", help=_AXIS_HELP)
 _DIAG_AXIS: Final = arg("--axis", type=DIAG_AXIS, default=0, metavar="N", help=_AXIS_HELP)
 _PARAM_NUMBER: Final = arg(

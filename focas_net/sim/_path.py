@@ -27,7 +27,7 @@ from dataclasses import dataclass, replace
 from decimal import Decimal
 from typing import Final
 
-from focas_net._refusals import parts_refusal
+from focas_net._refusals import mode_refusal, parts_refusal
 from focas_net._typed import override_percent, override_unfit
 from focas_net.errors import EW
 
@@ -614,7 +614,7 @@ class Path:
         if self.alarms.on(self.number):
             raise MachineError(EW.ALARM, f"{refused}: an alarm is active")
         if p.mode != MEM:
-            raise MachineError(EW.MODE, f"{refused}: the mode is {mode_name(p.mode)}, not MEM")
+            raise MachineError(EW.MODE, mode_refusal(refused, "MEM", mode_name(p.mode)))
 
     def cycle_start(self, repeat: bool | None) -> None:
         self.sync()
@@ -741,7 +741,7 @@ class Path:
         self.sync()
         if self.panel.mode not in (MEM, EDIT):
             mode = mode_name(self.panel.mode)
-            raise MachineError(EW.MODE, f"program search in {mode} mode: MEM or EDIT")
+            raise MachineError(EW.MODE, mode_refusal("program search refused", "MEM or EDIT", mode))
         try:
             self.engine.select_program(number)
         except ProgramError as exc:

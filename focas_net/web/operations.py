@@ -329,11 +329,12 @@ def _raise_alarm(station: Station, args: Mapping[str, Any]) -> JsonDict:
     m, path = station.machine, _path(args)
     key = (_int(args, "axis_no", 0), _alarm_type(args), _int(args, "alm_no"))
     raised = m.raise_alarm(*key, msg, path=path)
-    # the machine's rule, as for every front end: it keeps the first 32 characters; the
-    # answer says what it kept (an alarm active before keeps its message)
+    # the machine's rule, as for every front end: it keeps the first 32 characters (and takes
+    # its alarm table's text for none); the answer says what it kept (an alarm active before
+    # keeps its message), and that it cut one given
     kept = next(a.msg for a in m.active_alarms(path=path) if a.key == key)
     result: JsonDict = {"raised": raised, "msg": kept}
-    if raised and kept != msg:
+    if raised and msg and kept != msg:
         result["note"] = f"the CNC keeps {len(kept)} characters of a message: {kept!r}"
     return result
 
