@@ -69,6 +69,14 @@ async def _warnings_for(
             b"GET / HTTP/1.1\r\nHost: cnc\r\n\r\n",
             "it sent an HTTP request: a plain HTTP client, on a port that serves TLS",
         ),
+        (
+            b"CONNECT cnc:8193 HTTP/1.1\r\n\r\n",
+            "it sent an HTTP request: a plain HTTP client, on a port that serves TLS",
+        ),
+        (
+            b"SSH-2.0-OpenSSH_9.6\r\n",
+            "it sent no TLS handshake: a plain client, on a port that serves TLS",
+        ),
     ],
 )
 async def test_a_plain_client_on_a_tls_port_is_named_in_the_servers_log(

@@ -28,13 +28,12 @@ _log = logging.getLogger("focas_net.server")
 #: Seconds a client has to complete its TLS handshake (asyncio's own default).
 HANDSHAKE_TIMEOUT: Final = 60.0
 
+_HTTP_CLIENT: Final = "it sent an HTTP request: a plain HTTP client, on a port that serves TLS"
 #: OpenSSL's reasons for a first record that is none of TLS's, with what the client was.
 _PLAIN_CLIENTS: Final = {
     "WRONG_VERSION_NUMBER": "it sent no TLS handshake: a plain client, on a port that serves TLS",
-    "HTTP_REQUEST": "it sent an HTTP request: a plain HTTP client, on a port that serves TLS",
-    "HTTPS_PROXY_REQUEST": (
-        "it sent an HTTP request: a plain HTTP client, on a port that serves TLS"
-    ),
+    "HTTP_REQUEST": _HTTP_CLIENT,
+    "HTTPS_PROXY_REQUEST": _HTTP_CLIENT,  # (CONNECT)
 }
 
 
