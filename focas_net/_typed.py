@@ -530,6 +530,17 @@ def os_words(exc: OSError) -> str:
     return text[:1].lower() + text[1:] if text else type(exc).__name__
 
 
+def file_name_unfit(name: str) -> str | None:
+    """Why ``name``, typed as the name of a file or a folder, names none: empty (it would read
+    as the current folder, which no one means) or holding a NUL (which no system takes in a
+    name), in the words of the command line and the Python API; None when it may."""
+    if not name.strip():
+        return f"an empty name is no file or folder, got {name!r}"
+    if "\0" in name:
+        return f"a file name holds no NUL character, got {name!r}"
+    return None
+
+
 #: The byte-order mark an editor (Windows Notepad) may write before UTF-8 text.
 _BOM: Final = b"\xef\xbb\xbf"
 

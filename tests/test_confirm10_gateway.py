@@ -4,7 +4,8 @@ word of ``emergency`` and ``alarm`` to the gateway's boolean; a path the CNC has
 alike by the clients, the gateway's writes, the machine and the command line; a parameter
 written with an axis past the path's says which to give; the page's tile reads the emergency
 field by the gateway's rule; OPC UA's operation mode of no selection is BadOutOfRange; the OPC
-UA endpoint's host is checked as a machine's."""
+UA endpoint's host is checked as a machine's; load_config of an empty name says so as the
+command line does."""
 
 from __future__ import annotations
 
@@ -20,9 +21,10 @@ from poller_support import all_online, config, polling, until
 from support import free_port, serving
 
 from focas_net._refusals import no_path
+from focas_net.cli._args import parse_file_name
 from focas_net.client import FocasClient, NativeClient
 from focas_net.errors import EW, CncError
-from focas_net.gateway import ConfigError, MachineConfig, WriteGates, parse_config
+from focas_net.gateway import ConfigError, MachineConfig, WriteGates, load_config, parse_config
 from focas_net.gateway._opcua_model import _operation_mode
 from focas_net.gateway.model import ITEMS
 from focas_net.gateway.reads import _status
@@ -194,3 +196,36 @@ def test_an_endpoint_host_no_server_can_listen_on_is_named_as_a_machine_host_is(
         f"plant.toml: opcua.endpoint: got 'opc.tcp://{host}:4840/'; expected opc.tcp://HOST:PORT"
     ), said
     assert why in said and "no way in" not in said and "certificate" not in said
+
+
+# -- load_config of a name that names no file ---------------------------------------------
+@pytest.mark.parametrize(
+    ("name", "words"),
+    [
+        ("", "an empty name is no file or folder, got ''"),
+        ("  ", "an empty name is no file or folder, got '  '"),
+        ("plant\0.toml", "a file name holds no NUL character, got 'plant\\x00.toml'"),
+    ],
+)
+def test_load_config_of_an_empty_name_says_so_as_the_command_line_does(
+    name: str, words: str
+) -> None:
+    with pytest.raises(ConfigError) as refused:
+        load_config(name)
+    assert str(refused.value) == words
+    assert parse_file_name_words(name) == words
+
+
+def parse_file_name_words(name: str) -> str:
+    with pytest.raises(ValueError) as refused:
+        parse_file_name(name)
+    return str(refused.value)
+
+
+@pytest.mark.parametrize("path", [None, 5, b"plant.toml"])
+def test_load_config_of_no_file_name_is_a_type_error_naming_it(path: object) -> None:
+    with pytest.raises(TypeError) as refused:
+        load_config(path)  # type: ignore[arg-type]
+    assert str(refused.value) == (
+        f"load_config(): path must be a file name (a str or a Path), got {path!r}"
+    )

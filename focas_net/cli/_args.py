@@ -29,6 +29,7 @@ from focas_net._address import (
 from focas_net._tls import pem_holds, ssl_error_text
 from focas_net._typed import (
     alarm_axis_unfit,
+    file_name_unfit,
     item_axis_unfit,
     override_unfit,
     rapid_step,
@@ -366,9 +367,10 @@ def parse_override(what: str, text: str) -> int:
 
 def parse_file_name(text: str) -> str:
     """The name of a file or a folder as typed: not empty (an empty name reads as the
-    current folder, which no option means)."""
-    if not text.strip():
-        raise ValueError(f"an empty name is no file or folder, got {text!r}")
+    current folder, which no option means; :func:`~focas_net._typed.file_name_unfit`)."""
+    why = file_name_unfit(text)
+    if why is not None:
+        raise ValueError(why)
     return text
 
 

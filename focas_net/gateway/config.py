@@ -23,7 +23,7 @@ from urllib.parse import urlsplit, urlunsplit
 
 from focas_net._address import check_host, check_port
 from focas_net._tls import ca_context
-from focas_net._typed import file_text, is_loopback, os_words
+from focas_net._typed import file_name_unfit, file_text, is_loopback, os_words
 from focas_net.client._values import I16_MAX, check_path
 from focas_net.protocol import PmcArea
 
@@ -394,8 +394,14 @@ _USER_KEYS: Final = ("name", "password", "password_env")
 
 def load_config(path: str | os.PathLike[str]) -> GatewayConfig:
     """The configuration in the TOML file ``path`` (relative file names in it are read from
-    the file's folder); :class:`ConfigError` names what is wrong, an unreadable file too."""
-    name = os.fspath(path)
+    the file's folder); :class:`ConfigError` names what is wrong, an unreadable file and an
+    empty name too; ``TypeError`` for a ``path`` that is no file name."""
+    name = os.fspath(path) if isinstance(path, str | os.PathLike) else None
+    if not isinstance(name, str):
+        raise TypeError(f"load_config(): path must be a file name (a str or a Path), got {path!r}")
+    why = file_name_unfit(name)
+    if why is not None:
+        raise ConfigError(why)
     try:
         raw = Path(name).read_bytes()
     except OSError as exc:
