@@ -130,7 +130,8 @@ def test_a_comma_elsewhere_is_still_a_format_error(expression: str, code: str) -
 
 
 def test_parse_program_reads_atan_of_two_arguments() -> None:
-    parse_program("O1\n#1 = ATAN[#2, #3]\nM30\n")
+    program = parse_program("O1\n#1 = ATAN[#2, #3]\nM30\n")
+    assert [type(b.statement).__name__ for b in program.blocks] == ["Assign", "Words"]
 
 
 # -- the examples read numbers as the command line does ----------------------------------------
