@@ -355,3 +355,29 @@ async def test_write_program_refuses_a_character_beyond_ascii_in_the_store_s_wor
     with pytest.raises(ProgramError) as stored:
         served.machine.path_programs().store(text)  # the machine's own words
     assert str(stored.value) == words
+
+
+# -- a machine file's value of a macro variable the machine computes ---------------------------
+
+
+@pytest.mark.parametrize(
+    ("number", "words"),
+    [
+        (3901, "#3901 is the parts count, parameter 6711's value: give it there"),
+        (3902, "#3902 is the total parts, parameter 6712's value: give it there"),
+        (3011, "#3011 is the CNC's clock (the date): the machine keeps it, no file gives it"),
+        (3012, "#3012 is the CNC's clock (the time): the machine keeps it, no file gives it"),
+    ],
+)
+def test_a_value_of_a_variable_the_machine_computes_is_refused(
+    tmp_path: Path, number: int, words: str
+) -> None:
+    """``values = { 3901 = 5 }`` loaded and was never seen: #3901 reads the parts count."""
+    path = tmp_path / "m.toml"
+    path.write_text(
+        '[machine]\nname = "m"\naxes = ["X"]\n\n[macros]\n'
+        f"ranges = [{{ first = {number}, last = {number} }}]\nvalues = {{ {number} = 5 }}\n"
+    )
+    with pytest.raises(MachineFileError) as caught:
+        load_machine(path)
+    assert str(caught.value) == f"{path}: macros.values.{number}: {words}"

@@ -34,7 +34,9 @@ from ._known_params import (
 )
 from ._modal import ExternalMessage, message_problem
 from ._pmc import pmc_letter
+from ._signals import CLOCK_VARIABLES
 from ._station import MAX_RACK, MAX_SLOT
+from ._variables import PARTS_VARIABLES
 from .default import gniu_record, mdd844_record
 from .filecheck import (
     _I16,
@@ -251,6 +253,19 @@ def _macro_pair(value: float) -> str:
     return f" ({value!r} is [{mcr}, {places}])"
 
 
+#: The macro variables the machine computes, which no value of ``[macros]`` could set.
+_COMPUTED: Final = {
+    **{
+        number: f"the {what}, parameter {PARTS_VARIABLES[number]}'s value: give it there"
+        for number, what in ((3901, "parts count"), (3902, "total parts"))
+    },
+    **{
+        number: f"the CNC's clock (the {what}): the machine keeps it, no file gives it"
+        for number, what in zip(CLOCK_VARIABLES, ("date", "time"), strict=True)
+    },
+}
+
+
 def _macros(ctx: _Ctx, value: Any) -> tuple[list[MacroRange], dict[int, Decimal]]:
     t = _table(ctx, value)
     _only(ctx, t, ("ranges", "values"))
@@ -280,6 +295,8 @@ def _macros(ctx: _Ctx, value: Any) -> tuple[list[MacroRange], dict[int, Decimal]
             c.fail(f"#{number} is given twice")
         if not any(r.first <= number <= r.last for r in ranges):
             c.fail(f"#{number} is in no macro range" + ("" if ranges else " (ranges gives none)"))
+        if number in _COMPUTED:  # read from the parts count or the clock, never from here
+            c.fail(f"#{number} is {_COMPUTED[number]}")
         if isinstance(raw, float):
             c.fail(f"must be an integer or [mcr_val, dec_val]{_macro_pair(raw)}, got {raw!r}")
         if isinstance(raw, str):
