@@ -12,7 +12,7 @@ from typing import Any
 import pytest
 from support import with_both_clients
 
-from focas_net import EW, CncError, FocasClient, NativeClient, default_machine
+from focas_net import EW, ChunkedWriteError, CncError, FocasClient, NativeClient, default_machine
 from focas_net.sim import Machine, MachineError, PathSpec
 from focas_net.sim.default import _diags, _params
 from focas_net.sim.nc import ManualClock
@@ -190,3 +190,23 @@ async def test_the_command_line_names_the_stores_reason_once(
         line = await fails(1, "program", "load", str(program), *at(served))
     assert line.count(words) == 1, line
     assert f"{program}: {words}" in line, line
+
+
+# -- a chunked PMC write past its area's end: what each transport writes, as documented -----
+async def test_a_pmc_write_past_the_end_lists_what_each_transport_wrote(
+    both_clients: Both,
+) -> None:
+    """``write_pmc("R", 7000, 2000 bytes)`` writes R7000..R7991 over the packed protocol and
+    nothing over FOCAS/2: the docs say so, and the error lists what was written."""
+    machine, cnc, native = both_clients
+    expected = {cnc: [(7000, 7991)], native: []}
+    for client in (native, cnc):
+        with pytest.raises(ChunkedWriteError) as refused:
+            await client.write_pmc("R", 7000, b"\x01" * 2000)
+        assert refused.value.written == expected[client]
+        assert isinstance(refused.value.cause, CncError)
+        assert refused.value.cause.ew == EW.NUMBER
+    assert bytes(machine.read_pmc("R", 7000, 1000)) == b"\x01" * 992 + bytes(8)
+    text = " ".join((DOCS / "client.md").read_text().split())
+    assert "`written` R7000..R7991 and `not_written` R7992..R8999" in text
+    assert "(`not_written` R7000..R8999)" in text
