@@ -32,6 +32,7 @@ __all__ = [
     "parts_refusal",
     "path_axes",
     "pmc_refusal",
+    "program_missing",
     "program_refusal",
     "system_read_only",
 ]
@@ -282,3 +283,9 @@ def program_refusal(ew: int, text: str) -> str | None:
         what = f"program number O{m[1]}" if m else "the program number"
         return f"{what} is outside the program store's range"
     return None
+
+
+def program_missing(number: int) -> str:
+    """Why a CNC answered EW_NUMBER to a call of program ``number`` (``cnc_search``,
+    ``cnc_delete``, ``cnc_upload``), in the store's words: ``no program O1234``."""
+    return f"no program O{number:04d}"

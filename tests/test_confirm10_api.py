@@ -210,3 +210,25 @@ async def test_a_pmc_write_past_the_end_lists_what_each_transport_wrote(
     text = " ".join((DOCS / "client.md").read_text().split())
     assert "`written` R7000..R7991 and `not_written` R7992..R8999" in text
     assert "(`not_written` R7000..R8999)" in text
+
+
+# -- a program the CNC has not: named by the client, once on the command line ---------------
+@pytest.mark.parametrize("call", ["select_program", "delete_program", "read_program"])
+async def test_a_program_the_cnc_has_not_is_named(both_clients: Both, call: str) -> None:
+    """``select_program(1234)`` raised ``EW_NUMBER: cnc_search`` with no reason, where the
+    command line and the page say ``no program O1234``."""
+    _, cnc, _ = both_clients
+    with pytest.raises(CncError) as refused:
+        await getattr(cnc, call)(1234)
+    assert refused.value.ew == EW.NUMBER
+    assert refused.value.detail.endswith(": no program O1234"), refused.value.detail
+
+
+@pytest.mark.parametrize("command", ["select", "delete", "show"])
+async def test_the_command_line_names_a_missing_program_once(command: str) -> None:
+    from cli_support import at, fails
+    from support import serving
+
+    async with serving() as served:
+        line = await fails(1, "program", command, "1234", *at(served))
+    assert line.count("no program O1234") == 1, line

@@ -371,9 +371,9 @@ _BY_REFUSAL: Final[
 }
 
 
-#: Commands whose reasons read what the client sent with the machine's own rules (the program
-#: file with the store's): theirs replace the shorter words the client's error carries.
-_OWN_WORDS: Final = frozenset({"program load"})
+#: Commands whose reasons say what the client's error says and more (the program file read
+#: with the store's rules, what to run next): theirs replace the client's words.
+_OWN_WORDS: Final = frozenset({"program load", "program select", "program delete", "program show"})
 
 
 def as_said(command: str, exc: CncError) -> CncError:

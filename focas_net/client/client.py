@@ -26,11 +26,12 @@ from __future__ import annotations
 
 import inspect
 import ssl as _ssl
-from collections.abc import Callable, Coroutine, Sequence
+from collections.abc import AsyncIterator, Callable, Coroutine, Sequence
+from contextlib import asynccontextmanager
 from decimal import Decimal
 from typing import Any, Final, TypeVar
 
-from focas_net._refusals import SPINDLE_DIAGS, program_refusal
+from focas_net._refusals import SPINDLE_DIAGS, program_missing, program_refusal
 from focas_net.errors import EW, CncError, FocasError, PayloadError
 
 from ..protocol import (
@@ -168,6 +169,18 @@ def _integral(number: int, value: int | Decimal | str) -> bool:
     except ValueError:
         return False
     return True
+
+
+@asynccontextmanager
+async def _program_named(number: int) -> AsyncIterator[None]:
+    """EW_NUMBER of a call of program ``number`` named as the store names it (``no program
+    O1234``): the packed answer carries the code only."""
+    try:
+        yield
+    except CncError as exc:
+        if exc.ew != EW.NUMBER:
+            raise
+        raise CncError.from_ew(exc.ew, f"{exc.detail}: {program_missing(number)}") from None
 
 
 class FocasClient(Link):
@@ -633,7 +646,8 @@ class FocasClient(Link):
         offset = 0
         for _ in range(_MAX_PROGRAM_CHUNKS):
             request = _RDPROGRAM.request.encode(ProgramChunkRequest(number, offset))
-            chunk: ProgramChunk = await self._request_at(_RDPROGRAM, request, deadline, path=p)
+            async with _program_named(number):
+                chunk: ProgramChunk = await self._request_at(_RDPROGRAM, request, deadline, path=p)
             parts.append(chunk.text)
             offset += len(chunk.text)
             if not chunk.text or offset >= chunk.total:
@@ -674,7 +688,8 @@ class FocasClient(Link):
         check_int("program number", number, 0, I32_MAX)
         p = self._path_of(path)
         payload = _DELPROGRAM.request.encode(ProgramNumber(number))
-        await self._request(_DELPROGRAM, payload, timeout, p)
+        async with _program_named(number):
+            await self._request(_DELPROGRAM, payload, timeout, p)
 
     async def select_program(
         self, number: int, *, path: int | None = None, timeout: float | None = None
@@ -684,7 +699,8 @@ class FocasClient(Link):
         check_int("program number", number, 0, I32_MAX)
         p = self._path_of(path)
         payload = _SELPROGRAM.request.encode(ProgramNumber(number))
-        await self._request(_SELPROGRAM, payload, timeout, p)
+        async with _program_named(number):
+            await self._request(_SELPROGRAM, payload, timeout, p)
 
     @_awaitable
     def read_run_info(
