@@ -10,11 +10,13 @@ from __future__ import annotations
 import asyncio
 import logging
 import math
+import shutil
 import ssl
+import subprocess
 from pathlib import Path
 
 import pytest
-from cli_support import at, fails
+from cli_support import at, fails, run_focas_net
 from poller_support import Silent
 from support import IO_TIMEOUT, LoopbackPeer, serving
 
@@ -229,4 +231,43 @@ def test_every_api_names_a_nan_number_of_seconds_alike() -> None:
         AlarmProjection(FocasClient("127.0.0.1", 8193), interval=math.nan)
     assert str(caught.value) == (
         "interval must be a positive, finite number of seconds, got nan (not a number)"
+    )
+
+
+# -- serve --tls-key with a key under a pass phrase ----------------------------------------------
+
+
+@pytest.fixture(params=["--tls-key", "--tls-cert"])
+def locked(
+    request: pytest.FixtureRequest, certificate: tuple[Path, Path], tmp_path: Path
+) -> tuple[list[str], str, Path]:
+    """The certificate fixture's key encrypted under the pass phrase ``x``, in a file of its
+    own (``--tls-key``) or after the certificate (``--tls-cert`` alone): the options of
+    serve, the option named and the file."""
+    openssl = shutil.which("openssl")
+    assert openssl is not None  # (the certificate fixture needs it too)
+    cert, key = certificate
+    locked = tmp_path / "locked.pem"
+    subprocess.run(
+        [openssl, "pkey", "-in", str(key), "-out", str(locked), "-aes256", "-passout", "pass:x"],
+        check=True, capture_output=True, timeout=60,
+    )  # fmt: skip
+    if request.param == "--tls-key":
+        return ["--tls-cert", str(cert), "--tls-key", str(locked)], request.param, locked
+    locked.write_text(cert.read_text() + locked.read_text())
+    return ["--tls-cert", str(locked)], request.param, locked
+
+
+async def test_a_private_key_under_a_pass_phrase_is_named_without_a_prompt(
+    locked: tuple[list[str], str, Path],
+) -> None:
+    """OpenSSL asked `Enter PEM pass phrase:` on the terminal (twice), then the command said
+    `TLS certificate/key (c.pem, k.pem): invalid argument`."""
+    options, flag, path = locked
+    code, out, err = await run_focas_net("serve", "--port", "0", *options)
+    assert (code, out) == (2, "")
+    assert err == (
+        f"focas-net serve: error: {flag} {path}: its private key is encrypted (under a pass "
+        "phrase), which serve cannot ask for: give it unencrypted (openssl pkey -in "
+        f"{path} -out KEY.pem)\n"
     )

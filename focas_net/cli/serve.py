@@ -420,10 +420,27 @@ def _ssl_context(args: argparse.Namespace) -> ssl.SSLContext | None:
         raise ConfigError("--tls-key needs --tls-cert")
     ctx = ssl.SSLContext(ssl.PROTOCOL_TLS_SERVER)
     try:
-        ctx.load_cert_chain(args.tls_cert, args.tls_key)
+        # (asked only for a key under a pass phrase, which OpenSSL would ask on the terminal)
+        ctx.load_cert_chain(args.tls_cert, args.tls_key, password=_no_pass_phrase)
+    except _PassPhrase:
+        flag, path = (
+            ("--tls-cert", args.tls_cert) if args.tls_key is None else ("--tls-key", args.tls_key)
+        )
+        raise ConfigError(
+            f"{flag} {path}: its private key is encrypted (under a pass phrase), which serve "
+            f"cannot ask for: give it unencrypted (openssl pkey -in {path} -out KEY.pem)"
+        ) from None
     except (OSError, ssl.SSLError) as exc:
         raise ConfigError(_tls_files_error(args.tls_cert, args.tls_key, exc)) from None
     return ctx
+
+
+class _PassPhrase(Exception):
+    """The private key of ``--tls-key`` (or ``--tls-cert``) is encrypted."""
+
+
+def _no_pass_phrase() -> bytes:
+    raise _PassPhrase
 
 
 def _tls_files_error(cert: str, key: str | None, exc: OSError) -> str:
