@@ -5,7 +5,7 @@ alike by the clients, the gateway's writes, the machine and the command line; a 
 written with an axis past the path's says which to give; the page's tile reads the emergency
 field by the gateway's rule; OPC UA's operation mode of no selection is BadOutOfRange; the OPC
 UA endpoint's host is checked as a machine's; load_config of an empty name says so as the
-command line does."""
+command line does; a deadband of a number that names something is refused."""
 
 from __future__ import annotations
 
@@ -229,3 +229,20 @@ def test_load_config_of_no_file_name_is_a_type_error_naming_it(path: object) -> 
     assert str(refused.value) == (
         f"load_config(): path must be a file name (a str or a Path), got {path!r}"
     )
+
+
+# -- a deadband on a number that names something ---------------------------------------------
+@pytest.mark.parametrize("item", ["program", "main_program", "sequence", "tool"])
+def test_a_deadband_of_a_number_that_names_something_is_refused(item: str) -> None:
+    text = f'[[machine]]\nname = "m1"\nhost = "127.0.0.1"\n[mqtt]\ndeadbands = {{ {item} = 1 }}\n'
+    with pytest.raises(ConfigError) as refused:
+        parse_config(text, source="plant.toml")
+    said = str(refused.value)
+    assert said.startswith(
+        f"plant.toml: mqtt.deadbands.{item}: {item} is a number that names a program, a block or "
+        "a tool, not a quantity: a deadband would hide a change of it (the items a deadband is "
+        "for: absolute, cutting_time, "
+    ), said
+    listed = said.rpartition("for: ")[2]
+    assert not {"program", "main_program", "sequence", "tool"} & set(listed[:-1].split(", "))
+    assert "parts" in listed and "feed" in listed

@@ -381,8 +381,8 @@ def test_a_deadband_of_an_item_without_a_unit_says_so_rather_than_unknown_key(it
         parse_config(MACHINE + f"[mqtt]\ndeadbands = {{ {item} = 1 }}\n", "plant.toml")
     said = str(refused.value)
     assert said.startswith(
-        f"plant.toml: mqtt.deadbands.{item}: {item} is not a number with a unit, which a "
-        "deadband is for (the items that are: absolute, cutting_time, "
+        f"plant.toml: mqtt.deadbands.{item}: {item} is not a number with a unit (the items a "
+        "deadband is for: absolute, cutting_time, "
     )
     assert "unknown key" not in said
     with pytest.raises(ConfigError, match=f"^mqtt.deadbands.{item}: {item} is not a number"):

@@ -68,9 +68,13 @@ _PROTOCOLS: Final = ("native", "packed")
 _PMC_RANGE: Final = re.compile(r"([A-Za-z])([0-9]{1,9})(?:-([A-Za-z]?)([0-9]{1,9}))?")
 _PMC_LAST_BYTE: Final = 0xFFFF
 _PREFIX_TEXT: Final = "a topic prefix without '+', '#', a '$' first or a '/' at either end"
-#: The items a deadband may name: numbers with a unit.
+#: The items whose numbers name something (a program, a block, a tool), not a quantity.
+_NAMING: Final = ("program", "main_program", "sequence", "tool")
+#: The items a deadband may name: quantities, numbers with a unit that name nothing.
 _ANALOGUE: Final = tuple(
-    n for n, i in ITEMS.items() if i.kind in (int, float) and i.unit is not None
+    n
+    for n, i in ITEMS.items()
+    if i.kind in (int, float) and i.unit is not None and n not in _NAMING
 )
 
 
@@ -682,14 +686,20 @@ def _writes(at: At, value: object) -> WriteGates:
 
 
 def _deadbands(at: At, value: object) -> Mapping[str, Any]:
-    """``value`` as a table of deadbands by item name: an item that is no number with a unit
-    is named as such, a name that is no item as an unknown key (with the closest one)."""
+    """``value`` as a table of deadbands by item name: an item that is no quantity (no number
+    with a unit, or a number that names something) is named as such, a name that is no item
+    as an unknown key (with the closest one)."""
     if isinstance(value, Mapping):
         for name in value:
             if name in ITEMS and name not in _ANALOGUE:
+                why = (
+                    "is a number that names a program, a block or a tool, not a quantity: a "
+                    "deadband would hide a change of it"
+                    if name in _NAMING
+                    else "is not a number with a unit"
+                )
                 at.key(name).fail(
-                    f"{name} is not a number with a unit, which a deadband is for (the items "
-                    f"that are: {', '.join(sorted(_ANALOGUE))})"
+                    f"{name} {why} (the items a deadband is for: {', '.join(sorted(_ANALOGUE))})"
                 )
     return at.table(value, _ANALOGUE)
 
