@@ -32,12 +32,12 @@ from focas_net.client import (
     ProjectionMode,
 )
 from focas_net.errors import FocasError
-from focas_net.protocol import alarm_code
+from focas_net.protocol import alarm_text
 
 #: (alm_type, alm_no, message, axis_no) raised by the demonstration.
 DEMO_ALARMS = [
     (3, 100, "PARAMETER WRITE ENABLE", 0),
-    (4, 500, "OVER TRAVEL ( +1 )", 1),
+    (4, 500, "+ OVERTRAVEL ( SOFT 1 )", 1),
 ]
 
 
@@ -45,13 +45,11 @@ def describe(event: AlarmEvent) -> str:
     if isinstance(event, AlarmHistoryEvent):
         e = event.entry
         when = e.occurred_at.strftime("%Y-%m-%d %H:%M:%S")
-        axis = f" axis {e.axis_no}" if e.axis_no else ""
-        return f"history  {when} UTC {alarm_code(e.alm_type, e.alm_no)}{axis} {e.msg}"
+        return f"history  {when} UTC {alarm_text(e.alm_type, e.alm_no, e.msg, e.axis_no)}"
     kind = "raised " if isinstance(event, AlarmRaised) else "cleared"
     assert isinstance(event, AlarmRaised | AlarmCleared)
     a = event.alarm
-    axis = f" axis {a.axis_no}" if a.axis_no else ""
-    return f"{kind}  {alarm_code(a.alm_type, a.alm_no)}{axis} {a.msg}"
+    return f"{kind}  {alarm_text(a.alm_type, a.alm_no, a.msg, a.axis_no)}"
 
 
 async def drive(host: str, port: int, call_timeout: float, pause: float) -> None:

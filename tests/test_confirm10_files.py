@@ -9,10 +9,11 @@ import logging
 from pathlib import Path
 
 import pytest
-from examples_support import run_example
+from examples_support import port_args, run_example
 from support import block_run, serving
 
 from focas_net import FocasClient
+from focas_net.protocol import alarm_text
 from focas_net.sim import MachineFileError, default_machine, load_machine
 from focas_net.sim.nc import Engine, ManualClock, ProgramError, ProgramStore, parse_program
 from focas_net.sim.nc.macro import Cursor, evaluate, parse_expression
@@ -381,3 +382,20 @@ def test_a_value_of_a_variable_the_machine_computes_is_refused(
     with pytest.raises(MachineFileError) as caught:
         load_machine(path)
     assert str(caught.value) == f"{path}: macros.values.{number}: {words}"
+
+
+# -- alarm_watch writes an alarm as every front end writes it ----------------------------------
+
+
+async def test_alarm_watch_writes_an_axis_alarm_as_every_front_end_does() -> None:
+    """It wrote ``OT0500 axis 1 OVER TRAVEL ( +1 )`` where the command line and the page write
+    ``alarm_text``'s ``OT0500 (axis 1) ...``, with the message a control gives OT0500."""
+    async with serving() as served:
+        code, out, err = await run_example(
+            "alarm_watch.py", *port_args(served), "--interval", "0.05", "--events", "6"
+        )
+    assert (code, err) == (0, "")
+    raised = alarm_text(4, 500, "+ OVERTRAVEL ( SOFT 1 )", 1)
+    assert raised == "OT0500 (axis 1) + OVERTRAVEL ( SOFT 1 )"
+    assert any(line.endswith(f"raised   {raised}") for line in out.splitlines()), out
+    assert any(line.endswith(f"UTC {raised}") for line in out.splitlines()), out

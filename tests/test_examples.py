@@ -163,7 +163,7 @@ async def test_alarm_watch(server: Served, protocol: str) -> None:
     assert sum(e.startswith("raised") for e in events) == 2
     assert sum(e.startswith("cleared") for e in events) == 2
     assert sum(e.startswith("PS0100") or e.startswith("OT0500") for e in events) == 2
-    assert "raised   OT0500 axis 1 OVER TRAVEL ( +1 )" in events
+    assert "raised   OT0500 (axis 1) + OVERTRAVEL ( SOFT 1 )" in events
     # the demonstration cleaned up after itself; the history keeps both
     assert server.machine.active_alarms() == []
     assert len(server.machine.alarm_history(10)) == 2
