@@ -27,6 +27,7 @@ __all__ = [
     "item_named",
     "macro_refusal",
     "mode_refusal",
+    "no_item",
     "no_path",
     "param_refusal",
     "parts_refusal",
@@ -131,6 +132,12 @@ def mode_refusal(refused: str, modes: str, mode: str | None = None) -> str:
     )
 
 
+def no_item(kind: str, number: int | str, axis: int = 0) -> str:
+    """EW_NUMBER of an item the CNC has not, in the words of the machine (so the page) and the
+    command line: ``the CNC has no parameter 1234``, ``the CNC has no macro variable #50``."""
+    return f"the CNC has no {item_named(kind, number, axis)}"
+
+
 def item_named(kind: str, number: int | str, axis: int = 0) -> str:
     """``parameter 1420 axis 1`` (``axis`` 0: an item of no axis)."""
     return f"{kind} {number}" + (f" axis {axis}" if axis else "")
@@ -192,7 +199,7 @@ def param_refusal(
     ``protocol``; None for a code these words do not cover. EW_PASSWD is the CNC's gate
     (:data:`PARAM_GATE`); what unlocks it is the front end's to add."""
     if ew == EW.NUMBER:
-        return f"the CNC has no {item_named('parameter', number, axis)}"
+        return no_item("parameter", number, axis)
     if ew == EW.PASSWD:
         return PARAM_GATE
     if ew == EW.DATA:
@@ -208,7 +215,7 @@ def macro_refusal(ew: int, number: int | str, value: object = None) -> str | Non
     """Why the CNC answered ``ew`` to ``cnc_wrmacro`` of ``value`` (None: a read or a
     vacating) for ``#number``; None for a code these words do not cover."""
     if ew == EW.NUMBER:
-        return f"the CNC has no macro variable #{number}"
+        return no_item("macro variable", f"#{number}")
     if ew == EW.PROT:
         return (
             system_read_only(number)

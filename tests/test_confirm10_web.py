@@ -38,6 +38,12 @@ async def _answer(method: str, url: str, body: Any = None) -> tuple[int, str, An
             return response.status, response.content_type, await response.json()
 
 
+def _writable(station: Station) -> Station:
+    """``station`` with its panel in MDI and PWE on (parameter writes pass the gates)."""
+    perform(station, "panel", {"mode": "MDI", "pwe": 1})
+    return station
+
+
 # -- a PMC area the machine has not, an address past an area ----------------------------------
 async def test_a_pmc_area_the_machine_has_not_is_the_cncs_on_the_page_and_the_cli() -> None:
     """``pmc bit E 0.1 1`` said "the CNC has no PMC area E" where the page said "the machine
@@ -209,3 +215,42 @@ async def test_sim_alarm_axis_help_names_an_alarms_axis_as_the_page_does() -> No
     out = await ok("sim", "alarm", "--help")
     assert "axis item" not in out
     assert "0: an alarm of no axis" in " ".join(out.split())
+
+
+# -- a parameter's axis, a number the CNC has not -----------------------------------------------
+@pytest.mark.parametrize(("number", "axis"), [(1320, -1), (6711, 40000)])
+async def test_an_axis_no_field_carries_is_refused_by_the_page_before_the_write(
+    number: int, axis: int
+) -> None:
+    """``param set 1320 1 --axis -1`` is refused by the parser in the clients' words ("axis -1
+    is outside 0..32767 (0: not an axis parameter)") where the page asked the machine, which
+    said "parameter 1320 is an axis parameter: give an axis 1..3, got -1" (409 EW_ATTRIB)."""
+    words = f"axis {axis} is outside 0..32767 (0: not an axis parameter)"
+    async with serving() as served:
+        station = _writable(Station(0, served.machine))
+        args = {"number": number, "axis": axis, "value": "1"}
+        assert page_refusal(station, "write_param", args) == f"axis: {words}"
+        line = await fails(2, "param", "set", str(number), "1", "--axis", str(axis),
+                           *at(served), prefix="focas-net param set: ")  # fmt: skip
+        assert f"argument --axis: {words};" in line
+
+
+@pytest.mark.parametrize(
+    ("action", "args", "argv", "what"),
+    [
+        ("write_param", {"number": 1234, "value": "1"}, ("param", "set", "1234", "1"),
+         "parameter 1234"),
+        ("write_macro", {"number": 50, "value": 1}, ("macro", "set", "50", "1"),
+         "macro variable #50"),
+    ],
+)  # fmt: skip
+async def test_a_number_the_cnc_has_not_is_worded_alike_on_the_page_and_the_cli(
+    action: str, args: dict[str, Any], argv: tuple[str, ...], what: str
+) -> None:
+    """The page said "no parameter 1234" and "no macro variable #50" where the command line
+    says "the CNC has no parameter 1234": one wording, the machine's."""
+    async with serving() as served:
+        station = _writable(Station(0, served.machine))
+        assert page_refusal(station, action, args) == f"the CNC has no {what}"
+        line = await fails(1, *argv, *at(served))
+        assert line.endswith(f"; the CNC has no {what}")

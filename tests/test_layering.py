@@ -219,7 +219,8 @@ BEYOND_THE_TABLE: dict[str, tuple[str, ...]] = {
     # clients' and the server's handshake failures too)
     "focas_net._tls": ("focas_net._typed",),
     # why a CNC refused a parameter or macro write, in words: the command line and the gateway
-    # (and parameter 1020's number, the machine's too; a path the CNC has not, the clients' too)
+    # (and parameter 1020's number, the machine's too; a path the CNC has not, the clients' too;
+    # an item the CNC has not, the machine's and the page's too)
     "focas_net._refusals": ("focas_net.errors",),
     # an address typed: the host and port checks of the clients, the server's bind address,
     # the command line, the gateway's file and the dashboard's --web; a typed value shown
@@ -249,6 +250,7 @@ SHARED: dict[str, tuple[str, ...]] = {
     "focas_net._refusals": (
         "focas_net.sim",
         "focas_net.client",
+        "focas_net.web",
         "focas_net.cli",
         "focas_net.gateway",
     ),

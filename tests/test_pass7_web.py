@@ -462,5 +462,5 @@ def test_a_parameters_axis_is_refused_naming_the_parameter_not_an_item(
     with pytest.raises(MachineError) as read:
         station.machine.read_param(number, axis)
     assert read.value.detail == words
-    with pytest.raises(MachineError, match=r": no diagnostic 99999$"):
+    with pytest.raises(MachineError, match=r": the CNC has no diagnostic 99999$"):
         station.machine.read_diag(99999, 0)

@@ -12,7 +12,7 @@ from dataclasses import dataclass
 from decimal import Decimal, InvalidOperation
 from typing import Final
 
-from focas_net._refusals import system_read_only
+from focas_net._refusals import no_item, system_read_only
 from focas_net._typed import macro_unfit
 from focas_net.errors import EW
 
@@ -122,7 +122,7 @@ class Macros:
         """EW_NUMBER (no such variable), EW_PROT (a read-only one)."""
         r = self.range_of(number)
         if r is None:
-            raise MachineError(EW.NUMBER, f"no macro variable #{number}")
+            raise MachineError(EW.NUMBER, no_item("macro variable", f"#{number}"))
         if not r.writable:
             why = system_read_only(number) or f"macro variable #{number} is read-only"
             raise MachineError(EW.PROT, why)

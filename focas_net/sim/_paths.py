@@ -21,7 +21,7 @@ from dataclasses import dataclass
 from typing import TYPE_CHECKING, Final
 
 from focas_net._address import shown
-from focas_net._refusals import no_path
+from focas_net._refusals import no_item, no_path
 from focas_net.errors import EW
 
 from ._base import MachineError, need_int
@@ -174,7 +174,7 @@ class PathItems:
         if item is None:
             if axis > self.axes:
                 raise MachineError(EW.ATTRIB, f"{what} {datano}: axis {axis} of {self.axes}")
-            raise MachineError(EW.NUMBER, f"no {what} {datano}")
+            raise MachineError(EW.NUMBER, no_item(what, datano))
         if item.axis:
             if not 1 <= axis <= self.axes:
                 why = f"{what} {datano} is an axis {what}: give an axis 1..{self.axes}, got {axis}"

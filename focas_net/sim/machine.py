@@ -100,6 +100,7 @@ from collections.abc import Iterable, Mapping, Sequence
 from dataclasses import astuple, replace
 from decimal import Decimal
 
+from focas_net._refusals import no_item
 from focas_net.errors import EW
 from focas_net.versamax import IOModuleRecord
 
@@ -653,7 +654,7 @@ class Machine(
             self._follow_clock()
             return Decimal(clock_variable(number, self.now()))
         if macros.range_of(number) is None:
-            raise MachineError(EW.NUMBER, f"no macro variable #{number}")
+            raise MachineError(EW.NUMBER, no_item("macro variable", f"#{number}"))
         if self._paths.live:
             self._sync()
         if number in PARTS_VARIABLES:

@@ -24,11 +24,13 @@ from decimal import Decimal
 from typing import Any, Final, TypeVar
 
 from focas_net._bits import bits_of_text
+from focas_net._refusals import no_item
 from focas_net._typed import (
     MAX_DIGITS,
     NO_PASSWORD_NOTE,
     PROGRAM_NUMBERS,
     decimal_number,
+    item_axis_unfit,
     item_number_unfit,
     macro_to_wire,
     param_decimals_refused,
@@ -442,6 +444,9 @@ def _item_number(args: Mapping[str, Any], what: str) -> int:
 def _write_param(station: Station, args: Mapping[str, Any]) -> JsonDict:
     m = station.machine
     number, axis = _item_number(args, "parameter number"), _int(args, "axis", 0)
+    why = item_axis_unfit(axis, "parameter")  # an axis no field carries, as the clients say
+    if why is not None:
+        raise ActionError(f"axis: {why}")
     item = m.param_item(number)
     bits = _bits(number, args.get("value")) if item and item.kind is ParamKind.BIT else None
     given = _decimal(args, "value") if bits is None else Decimal(bits)
@@ -459,7 +464,7 @@ def _write_param(station: Station, args: Mapping[str, Any]) -> JsonDict:
             raise ActionError(f"value: {why}")
     m.check_writable()  # the machine's order: read-only first, then the number
     if item is None:
-        raise MachineError(EW.NUMBER, f"no parameter {number}")
+        raise MachineError(EW.NUMBER, no_item("parameter", number))
     path = _path(args)
     m.write_param(station.session, number, axis, value, decimals=decimals, path=path)
     # the value as `param get --json` gives it (a real one's as its decimal text, not the
