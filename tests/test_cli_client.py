@@ -416,7 +416,7 @@ async def test_sim_fault_error(cli: Cli) -> None:
     out = await cli.ok("sim", "fault", "error", "--arg", "EW_BUSY")
     assert out.strip() == "the next answer of this machine: answered with EW_BUSY (-1): busy, retry"
     err = await cli.fails(EXIT_CNC, "status")
-    assert err == "focas-net: EW_BUSY (-1): busy, retry (cnc_rdcncstat)"
+    assert err == "focas-net: EW_BUSY (-1): busy, retry (cnc_statinfo)"
     await cli.ok("status")  # the fault was used up
     data = await cli.json("sim", "fault", "error", "--arg", "7", "--count", "2")
     assert data == {

@@ -169,6 +169,6 @@ async def test_an_axis_beyond_the_path_is_refused_alike_on_both_transports(
     argv = (command, "get", number) if command == "param" else (command, number)
     async with serving() as served:
         lines = [await fails(EXIT_CNC, *argv, "--axis", "9", *at(served), *p) for p in PROTOCOLS]
-    for line in lines:  # (the packed protocol names its diagnostic read cnc_rddiag)
+    for line in lines:  # (both name the diagnostic read cnc_diagnoss)
         assert line.startswith("focas-net: EW_ATTRIB (4)"), lines
         assert line.endswith(": axis 9 of 3); the path has 3 axes: give --axis 1..3"), lines

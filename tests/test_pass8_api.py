@@ -402,7 +402,7 @@ async def test_a_native_request_that_does_not_fit_names_the_function_not_its_rep
     [
         (lambda c: c.read_param(1420, axis=9), "cnc_rdparam"),
         (lambda c: c.read_param_real(1420, axis=9), "cnc_rdparam"),
-        (lambda c: c.read_diag(300, axis=9), None),
+        (lambda c: c.read_diag(300, axis=9), "cnc_diagnoss"),
         (lambda c: c.read_positions(axis=9), "cnc_rdposition"),
         (lambda c: c.write_param_bit(1005, 1, True, axis=9), "cnc_rdparam"),
     ],
@@ -410,7 +410,7 @@ async def test_a_native_request_that_does_not_fit_names_the_function_not_its_rep
 async def test_an_axis_beyond_the_path_is_named_with_the_count_on_both_clients(
     both_clients: tuple[Machine, FocasClient, NativeClient],
     call: Callable[[Any], Awaitable[object]],
-    function: str | None,
+    function: str,
 ) -> None:
     machine, cnc, native = both_clients
     machine.set_panel(0, 1, 0)  # MDI, PWE on: a write is refused for its axis only
@@ -421,8 +421,8 @@ async def test_an_axis_beyond_the_path_is_named_with_the_count_on_both_clients(
         assert refused.value.ew == EW.ATTRIB
         details.append(refused.value.detail)
     assert all(d.endswith(": axis 9 of 3") for d in details), details
-    if function is not None:  # the diagnostic's function is cnc_rddiag / cnc_diagnoss
-        assert details[0] == details[1] == f"{function}: axis 9 of 3"
+    # (both name FANUC's function: the packed cnc_rddiag's refusal is cnc_diagnoss's too)
+    assert details[0] == details[1] == f"{function}: axis 9 of 3"
 
 
 async def test_an_axis_given_to_an_item_of_no_axis_stays_as_the_cnc_answered(

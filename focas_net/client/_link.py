@@ -411,7 +411,7 @@ class Link(CompositeCalls):
             return refused
         if not 0 < paths.max < path:
             return refused
-        return path_refusal(spec.focas_name, path, paths.max)
+        return path_refusal(spec.function, path, paths.max)
 
     def _start(
         self, spec: CommandSpec, payload: bytes, deadline: float | None, path: int = 0
@@ -477,7 +477,7 @@ class Link(CompositeCalls):
         if echoed is not None:
             raise echoed
         if retried or not self._retries_after_unlock(spec, ew):
-            raise CncError.from_ew(ew, spec.focas_name)
+            raise CncError.from_ew(ew, spec.function)
 
     def _retries_after_unlock(self, spec: CommandSpec, ew: int) -> bool:
         """Whether a call of ``spec`` answered ``ew`` is unlocked and sent once more."""

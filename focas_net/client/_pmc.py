@@ -109,7 +109,7 @@ async def _read_batch(
         if type(value) is EwReply:
             if link._retries_after_unlock(_RDPMCRNG, value.ew):
                 return None
-            raise CncError.from_ew(value.ew, _RDPMCRNG.focas_name)
+            raise CncError.from_ew(value.ew, _RDPMCRNG.function)
         parts.append(_checked(value, first, n))
     if len(parts) != len(chunks):  # not reached: a chunk given up implies one raised
         raise PayloadError("pmc_rdpmcrng: a chunked read ended with chunks missing")
@@ -217,7 +217,7 @@ async def _write_chunks(
                     if not retried[i] and link._retries_after_unlock(spec, value.ew):
                         locked.append(i)
                     else:
-                        errors[i] = CncError.from_ew(value.ew, spec.focas_name)
+                        errors[i] = CncError.from_ew(value.ew, spec.function)
             elif not isinstance(result, Exception):
                 raise result
             elif isinstance(result, NotSentError):

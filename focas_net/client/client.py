@@ -460,8 +460,8 @@ class FocasClient(Link):
             asks = width == 1 or (given is not None and not _integral(number, value))
             kind = await self._param_type(number, deadline) if asks else None
         except CncError as exc:
-            past = await self._axis_past(_WRPARAM.focas_name, axis, path, deadline)
-            raise past or CncError.from_ew(exc.ew, _WRPARAM.focas_name) from None
+            past = await self._axis_past(_WRPARAM.function, axis, path, deadline)
+            raise past or CncError.from_ew(exc.ew, _WRPARAM.function) from None
         if given is not None and kind is not None and _TYPE_WIDTHS[kind] != given:
             raise width_refused(number, _TYPE_WIDTHS[kind], given)  # as FOCAS/2 refuses it
         if width == REAL_WIDTH:
@@ -513,7 +513,7 @@ class FocasClient(Link):
         path: int | None = None,
         timeout: float | None = None,
     ) -> int:
-        """``cnc_rddiag``: the value of diagnostic ``number``."""
+        """``cnc_diagnoss`` (this protocol's ``cnc_rddiag``): the value of diagnostic ``number``."""
         check_item(number, axis, "diagnostic")
         p = self._path_of(path)
         deadline = self._deadline(timeout)
@@ -586,7 +586,7 @@ class FocasClient(Link):
         payload = _RDALMMSG.request.encode(AlarmMsgRequest(t, _MAX_ACTIVE_ALARMS))
         result: ActiveAlarmList = await self._request(_RDALMMSG, payload, timeout, p)
         if result.ew:
-            refused = CncError.from_ew(result.ew, _RDALMMSG.focas_name)
+            refused = CncError.from_ew(result.ew, _RDALMMSG.function)
             raise await self._path_refusal(refused, _RDALMMSG, p, self._deadline(timeout))
         return result.entries
 
@@ -600,7 +600,7 @@ class FocasClient(Link):
         payload = _RDALMHISTRY.request.encode(AlarmHistoryRequest(depth))
         result: AlarmHistory = await self._request(_RDALMHISTRY, payload, timeout)
         if result.ew:
-            raise CncError.from_ew(result.ew, _RDALMHISTRY.focas_name)
+            raise CncError.from_ew(result.ew, _RDALMHISTRY.function)
         return result
 
     # -- unlock --------------------------------------------------------------------------

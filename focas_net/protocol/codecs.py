@@ -597,7 +597,8 @@ def encode_response(command: int, value: Any) -> bytes:
 
 @dataclass(frozen=True, slots=True)
 class CommandSpec:
-    """One row of the command table."""
+    """One row of the command table: ``focas_name`` is the call's name in this protocol
+    (with the command id, what a wire's words name), :attr:`function` FANUC's library's."""
 
     command: Command
     focas_name: str
@@ -605,9 +606,19 @@ class CommandSpec:
     response: Codec[Any]
     counted: bool = False
 
+    @property
+    def function(self) -> str:
+        """The function of FANUC's library a refusal of this call names (``cnc_diagnoss``
+        where this protocol says ``cnc_rddiag``): a user reads one name on both transports."""
+        return _LIBRARY_NAMES.get(self.focas_name, self.focas_name)
+
     def error_payload(self, ew: int) -> bytes:
         """The answer carrying only ``ew`` (``count = -1, ew`` for counted lists)."""
         return struct.pack("<hh", -1, ew) if self.counted else encode_ew(ew)
+
+
+#: The calls this protocol names otherwise than FANUC's library (its table's names in brackets).
+_LIBRARY_NAMES: Final = {"cnc_rdcncstat": "cnc_statinfo", "cnc_rddiag": "cnc_diagnoss"}
 
 
 def _counted(cls: type[ActiveAlarmList] | type[AlarmHistory]) -> Codec[Any]:
