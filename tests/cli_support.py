@@ -51,12 +51,14 @@ class Cli:
     async def json(self, *argv: str) -> Any:
         return json.loads(await self.ok(*argv, "--json"))
 
-    async def fails(self, expected_code: int, *argv: str) -> str:
-        """Run a failing command; its stderr must be one ``focas-net:`` line, stdout empty."""
+    async def fails(self, expected_code: int, *argv: str, prefix: str = "focas-net: ") -> str:
+        """Run a failing command; its stderr must be one line starting with ``prefix``
+        (``"focas-net"`` lets a usage error's ``focas-net sim fault: error: ...`` pass too),
+        stdout empty."""
         code, out, err = await self.run(*argv)
         assert code == expected_code, f"{argv}: exit {code}, stderr {err!r}"
         assert out == ""
-        assert err.startswith("focas-net: ") and err.endswith("\n")
+        assert err.startswith(prefix) and err.endswith("\n")
         assert err.count("\n") == 1
         return err.strip()
 

@@ -447,18 +447,25 @@ async def test_sim_fault_drop_is_a_connection_error(cli: Cli) -> None:
     assert "closed" in err or "lost" in err
 
 
+#: How ``sim fault`` refuses its ``--arg``: as the parser refuses an option.
+FAULT = "focas-net sim fault: error: argument --arg: "
+SEE_FAULT = "; see focas-net sim fault --help"
+
+
 async def test_sim_fault_usage(cli: Cli) -> None:
-    err = await cli.fails(EXIT_USAGE, "sim", "fault", "error")
+    err = await cli.fails(EXIT_USAGE, "sim", "fault", "error", prefix="focas-net")
     assert "--arg" in err
-    err = await cli.fails(EXIT_USAGE, "sim", "fault", "error", "--arg", "EW_NOSUCH")
+    err = await cli.fails(
+        EXIT_USAGE, "sim", "fault", "error", "--arg", "EW_NOSUCH", prefix="focas-net"
+    )
     assert "unknown EW code" in err
     # the server's ranges, checked before anything is sent
-    err = await cli.fails(EXIT_USAGE, "sim", "fault", "delay", "--arg", "70000")
-    assert err == "focas-net: --arg: a delay is 0..60000 ms, got 70000"
-    err = await cli.fails(EXIT_USAGE, "sim", "fault", "error", "--arg", "0")
-    assert err == "focas-net: --arg: an error fault's EW code is a nonzero -32768..32767, got 0"
-    err = await cli.fails(EXIT_USAGE, "sim", "fault", "drop", "--arg", "5")
-    assert err == "focas-net: --arg does not apply to a drop fault"
+    err = await cli.fails(EXIT_USAGE, "sim", "fault", "delay", "--arg", "70000", prefix="focas-net")
+    assert err == f"{FAULT}a delay is 0..60000 ms, got 70000{SEE_FAULT}"
+    err = await cli.fails(EXIT_USAGE, "sim", "fault", "error", "--arg", "0", prefix="focas-net")
+    assert err == f"{FAULT}an error fault's EW code is a nonzero -32768..32767, got 0{SEE_FAULT}"
+    err = await cli.fails(EXIT_USAGE, "sim", "fault", "drop", "--arg", "5", prefix="focas-net")
+    assert err == f"{FAULT}does not apply to a drop fault{SEE_FAULT}"
 
 
 async def test_control_disabled(capsys: pytest.CaptureFixture[str]) -> None:
@@ -537,7 +544,8 @@ def test_usage_errors_exit_2(capsys: pytest.CaptureFixture[str]) -> None:
         "focas-net: expected NUMBER or NUMBER.BIT (e.g. 1815 or 1815.0), got 'abc'",
         "focas-net: VALUE: expected 1, on, true, yes or set, or 0, off, false, no or clear, "
         "got 'maybe'",
-        "focas-net: --width does not apply to a bit write (NUMBER.BIT)",
+        "focas-net param set: error: argument --width: does not apply to a bit write "
+        "(NUMBER.BIT); see focas-net param set --help",
     ]
 
 

@@ -16,6 +16,9 @@ from focas_net.protocol import AutMode
 from focas_net.sim import MachineError
 from focas_net.web import Station, perform, pmc_address
 
+#: How ``sim fault`` refuses its ``--arg``: as the parser refuses an option.
+FAULT_ARG = "focas-net sim fault: error: argument --arg: "
+
 
 # -- a parameter value no wire carries ----------------------------------------------------------
 @pytest.mark.parametrize(
@@ -88,8 +91,8 @@ async def test_a_fault_without_its_argument_is_refused_in_the_same_words(
     """``sim fault delay`` said "needs --arg MILLISECONDS", the page "arg: a number is
     needed": each names its field, then the same reason."""
     async with serving() as served:
-        line = await fails(2, "sim", "fault", *at(served), kind)
-        assert line == f"focas-net: --arg: {words}"
+        line = await fails(2, "sim", "fault", *at(served), kind, prefix="focas-net")
+        assert line == f"{FAULT_ARG}{words}; see focas-net sim fault --help"
         station = Station(0, served.machine)
         args: dict[str, Any] = {"kind": kind} if arg is None else {"kind": kind, "arg": arg}
         assert page_refusal(station, "inject_fault", args) == f"arg: {words}"
@@ -174,10 +177,12 @@ async def test_a_negative_pmc_address_is_refused_as_one_past_the_end_is(typed: s
     address 70000 is outside 0..65535" on both (and -1 too in a subscription): one wording."""
     number = whole_number(typed)
     words = f"PMC start address {number} is outside 0..65535"
+    # (the command line leads with a number typed otherwise than it reads, as it is typed)
+    lead = "" if typed == str(number) else f"{typed} reads as {number}: "
     async with serving() as served:
         for argv in (("pmc", "read", "R", typed, "1"), ("pmc", "write", "R", typed, "5")):
             line = await fails(2, *argv, *at(served))
-            assert line == f"focas-net: {words}"
+            assert line == f"focas-net: {lead}{words}"
         with pytest.raises(ValueError, match=f"^{words}$"):
             pmc_address(typed, "R")
         assert served.machine.read_pmc("R", 0, 1) == b"\x00"
@@ -189,5 +194,10 @@ async def test_a_fault_argument_of_spaces_is_named_as_typed_on_the_command_line(
     """``sim fault delay --arg '  '`` named ``' '`` (the one-line message collapsed the value's
     own spaces), where a usage error and the page keep them."""
     async with serving() as served:
-        line = await fails(2, "sim", "fault", *at(served), "delay", "--arg", typed)
-        assert line == f"focas-net: --arg: not a whole number: {typed!r} (nothing typed)"
+        line = await fails(
+            2, "sim", "fault", *at(served), "delay", "--arg", typed, prefix="focas-net"
+        )
+        assert line == (
+            f"{FAULT_ARG}not a whole number: {typed!r} (nothing typed); "
+            "see focas-net sim fault --help"
+        )

@@ -56,14 +56,14 @@ async def cli(capsys: pytest.CaptureFixture[str]) -> AsyncIterator[Cli]:
         (("position", "--axis", "40000"), "axis 40000 is outside 1..32767"),
         (
             ("sim", "fault", "delay", "--arg", "10000000000"),
-            "--arg: a delay is 0..60000 ms, got 10000000000",
+            "argument --arg: a delay is 0..60000 ms, got 10000000000",
         ),
     ],
 )
 async def test_cli_messages_name_what_was_typed(
     cli: Cli, argv: tuple[str, ...], expected: str
 ) -> None:
-    err = await cli.fails(EXIT_USAGE, *argv)
+    err = await cli.fails(EXIT_USAGE, *argv, prefix="focas-net")
     assert expected in err
     assert not INTERNAL.search(err), err
 

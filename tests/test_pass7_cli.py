@@ -88,8 +88,10 @@ async def test_a_port_or_path_keeps_the_number_rules_reason(
 async def test_a_fault_argument_that_is_no_number_names_arg(
     server: Served, kind: str, typed: str, said: str
 ) -> None:
-    line = await fails(EXIT_USAGE, "sim", "fault", kind, "--arg", typed, *at(server))
-    assert line.startswith(f"focas-net: {said}"), line
+    line = await fails(
+        EXIT_USAGE, "sim", "fault", kind, "--arg", typed, *at(server), prefix="focas-net"
+    )
+    assert line.startswith(f"focas-net sim fault: error: argument {said}"), line
 
 
 # -- a call that waits for a reconnect says why the reconnect fails ------------------------------

@@ -74,6 +74,9 @@ __all__ = [
     "RAPID",
     "SECONDS",
     "SPINDLE",
+    "TYPED_NUMBERS",
+    "WIDTH",
+    "OptionError",
     "Parser",
     "argument_type",
     "choice",
@@ -87,6 +90,7 @@ __all__ = [
     "parse_interval",
     "parse_log_level",
     "parse_non_negative",
+    "parse_one_of",
     "parse_override",
     "parse_path",
     "parse_port",
@@ -94,7 +98,10 @@ __all__ = [
     "parse_seconds",
     "pem_holds",
     "print_error",
+    "print_usage_error",
     "ssl_error_text",
+    "typed_lead",
+    "typed_number_bit",
 ]
 
 T = TypeVar("T")
@@ -133,6 +140,69 @@ def print_error(message: str, prog: str = PROG) -> None:
     sys.stderr.flush()
 
 
+def print_usage_error(message: str, prog: str) -> None:
+    """A usage error of command ``prog`` (``focas-net sim fault``) in the parser's one line:
+    ``prog: error: message; see prog --help``."""
+    print_error(f"error: {message}; see {prog} --help", prog)
+
+
+class OptionError(ValueError):
+    """An option's value refused by a rule that needs another argument too, found by the
+    command rather than by the parser (``sim fault --arg``, whose range is the fault kind's):
+    reported as the parser reports an option it refuses, ``argument --arg: why``."""
+
+    def __init__(self, option: str, why: str) -> None:
+        super().__init__(f"argument {option}: {why}")
+        self.option = option
+        self.why = why
+
+
+#: The namespace's record of the numbers typed otherwise than they read (``0x10000`` for
+#: 65536), by the value read: a refusal found after the parser read them leads with them
+#: (:func:`typed_lead`).
+TYPED_NUMBERS: Final = "typed_numbers"
+
+
+def _typed_numbers(args: argparse.Namespace) -> dict[int, str]:
+    numbers: dict[int, str] = vars(args).setdefault(TYPED_NUMBERS, {})
+    return numbers
+
+
+def _in_a_base(text: str) -> bool:
+    """Whether a whole number was typed in another base than ten (``0x10``, ``-0b1``): then
+    the value it reads as is not what the user typed (a sign or a leading zero is)."""
+    return text.strip().lower().lstrip("+-").startswith(("0x", "0b", "0o"))
+
+
+def _note_typed(numbers: dict[int, str], value: int, text: str) -> None:
+    if _in_a_base(text):
+        numbers[value] = text.strip()
+
+
+def typed_number_bit(args: argparse.Namespace, text: str, *expected: str) -> tuple[int, int | None]:
+    """``NUMBER[.BIT]`` read by :func:`~focas_net.cli._format.parse_number_bit` (``expected``:
+    the form its refusal names), the number as typed kept for the words of a later refusal."""
+    number, bit = fmt.parse_number_bit(text, *expected)
+    _note_typed(_typed_numbers(args), number, text.strip().partition(".")[0])
+    return number, bit
+
+
+def typed_lead(message: str, args: argparse.Namespace) -> str:
+    """``message`` (a refusal of a number the command read: the client's range words, which
+    name the value) led by the numbers it names as they were typed where they read otherwise
+    (``0x10000 reads as 65536: PMC start address 65536 is outside 0..65535``)."""
+    named = [
+        (value, text)
+        for value, text in _typed_numbers(args).items()
+        if re.search(rf"(?<![\w.-]){re.escape(str(value))}(?![\w.])", message)
+    ]
+    if not named:
+        return message
+    (value, text), *more = named
+    lead = f"{text} reads as {value}" + "".join(f", {t} as {v}" for v, t in more)
+    return f"{lead}: {message}"
+
+
 #: An argument that starts with "-" and is a negative number, not an option.
 #: A line break with the indentation around it, in an argparse message.
 _LINE_BREAK: Final = re.compile(r"[ \t]*\n\s*")
@@ -159,6 +229,8 @@ class Parser(argparse.ArgumentParser):
         super().__init__(*args, **kwargs)
         self.leaf = False
         self._mixing = False
+        #: the numbers of the parse under way typed otherwise than they read (TYPED_NUMBERS)
+        self._typed: dict[int, str] = {}
         # A value a command takes, not an option: -5 and -.5 as argparse reads them, and
         # -0x10, -0b101, -1e3, -inf too (no option of focas-net starts with a digit or these).
         self._negative_number_matcher = _NEGATIVE_VALUE
@@ -168,8 +240,14 @@ class Parser(argparse.ArgumentParser):
         line = _LINE_BREAK.sub(" ", message.strip())
         # argparse's words for a switch written with a value (--json=yes), in plain words
         line = _SWITCH_VALUE.sub(r"argument \1: \1 takes no value, got \2", line)
-        print_error(f"error: {line}; see {self.prog} --help", self.prog)
+        print_usage_error(line, self.prog)
         sys.exit(EXIT_USAGE)
+
+    def _get_values(self, action: argparse.Action, arg_strings: list[str]) -> Any:
+        value = super()._get_values(action, arg_strings)
+        if len(arg_strings) == 1 and isinstance(value, int) and not isinstance(value, bool):
+            _note_typed(self._typed, value, arg_strings[0])  # (for typed_lead)
+        return value
 
     def parse_known_args(  # type: ignore[override]
         self, args: Sequence[str] | None = None, namespace: Any = None
@@ -180,10 +258,12 @@ class Parser(argparse.ArgumentParser):
             return super().parse_known_args(args, namespace)
         self._double_minus_number(sys.argv[1:] if args is None else list(args))
         self._mixing = True  # (the intermixed parse calls this method for each of its passes)
+        self._typed = {}
         try:
             namespace, extras = self.parse_known_intermixed_args(args, namespace)
         finally:
             self._mixing = False
+        setattr(namespace, TYPED_NUMBERS, self._typed)
         if extras:
             # quoted as a shell takes them back, so an empty one ('') or one with spaces shows
             self.error(f"unrecognized arguments: {shlex.join(extras)}")
@@ -326,9 +406,8 @@ def parse_non_negative(text: str) -> int:
 
 def _as_typed(why: str, value: int, text: str) -> str:
     """A refusal in the machine's words, which name the ``value`` checked, led by the number
-    as typed where it reads otherwise (``0x100 reads as 256: ...``)."""
-    typed = text.strip()
-    return why if typed == str(value) else f"{typed} reads as {value}: {why}"
+    as typed where it reads otherwise, in another base (``0x100 reads as 256: ...``)."""
+    return f"{text.strip()} reads as {value}: {why}" if _in_a_base(text) else why
 
 
 def parse_item_axis(what: str, text: str) -> int:
@@ -349,7 +428,7 @@ def parse_alarm_axis(text: str) -> int:
     value = fmt.parse_int(text)
     why = alarm_axis_unfit(value)
     if why is not None:
-        raise ValueError(why)
+        raise ValueError(_as_typed(why, value, text))
     return value
 
 
@@ -431,7 +510,21 @@ def parse_password(text: str) -> str:
 def parse_path(text: str) -> int:
     """A path of the CNC, 1..10 (:func:`~focas_net.client._values.check_path`, where both
     clients check a ``path=``)."""
-    return check_path(_whole(text, "path number"))
+    value = _whole(text, "path number")
+    try:
+        return check_path(value)
+    except ValueError as exc:
+        raise ValueError(_as_typed(str(exc), value, text)) from None
+
+
+def parse_one_of(text: str, choices: Sequence[int]) -> int:
+    """A whole number of ``choices`` (``--width``: 1, 2 or 4), refused in ``argparse``'s
+    words for a choice, naming the number as typed (``0x3``)."""
+    value = fmt.parse_int(text)
+    if value not in choices:
+        listed = ", ".join(map(str, choices))
+        raise ValueError(f"invalid choice: {text.strip()} (choose from {listed})")
+    return value
 
 
 def parse_history_depth(text: str) -> int:
@@ -488,6 +581,8 @@ HOST: Final = argument_type(parse_host, "host")
 #: A host to listen on (``serve --host``): one typed with a port points to ``--port``, 0 too.
 LISTEN_HOST: Final = argument_type(partial(parse_host, lowest=0), "host")
 BOOL: Final = argument_type(fmt.parse_bool, "on/off")
+#: A value's width in bytes (``param set --width``).
+WIDTH: Final = argument_type(partial(parse_one_of, choices=(1, 2, 4)), "width")
 AREA: Final = argument_type(parse_area, "area")
 HISTORY_DEPTH: Final = argument_type(parse_history_depth, "depth")
 PATH: Final = argument_type(parse_path, "path")

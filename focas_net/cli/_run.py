@@ -50,7 +50,11 @@ from ._args import (
     EXIT_OK,
     EXIT_PROTOCOL,
     EXIT_USAGE,
+    PROG,
+    OptionError,
     print_error,
+    print_usage_error,
+    typed_lead,
 )
 from ._diagnose import diagnosis
 from ._reasons import as_said, reason
@@ -224,7 +228,7 @@ def tls_context(args: argparse.Namespace) -> ssl.SSLContext | None:
     if not (getattr(args, "tls", False) or ca is not None or insecure):
         return None
     if ca is not None and insecure:
-        raise ValueError("--tls-ca and --tls-insecure exclude each other")
+        raise OptionError("--tls-insecure", "not allowed with --tls-ca")
     if insecure:
         ctx = ssl.SSLContext(ssl.PROTOCOL_TLS_CLIENT)
         ctx.check_hostname = False
@@ -388,6 +392,8 @@ def _failure_text(args: argparse.Namespace, exc: BaseException, hint: str | None
         if hint is not None:
             exc = as_said(command_name(args), exc)  # (its reason said once: the hint's)
     text = fmt.error_line(exc)
+    if isinstance(exc, ValueError):  # a number the command read, named as typed
+        text = typed_lead(text, args)
     if isinstance(exc, FocasTimeoutError):
         after = f"timed out after {args.timeout:g} s"
         if "timed out" in text:  # (the client's words say so: once, with the time)
@@ -447,6 +453,9 @@ def runner(handler: Handler) -> Callable[[argparse.Namespace], int]:
             go = handler(args)
             _check_native(args, go)
             context = tls_context(args)
+        except OptionError as exc:  # in the parser's words, as it refuses an option
+            print_usage_error(str(exc), f"{PROG} {command_name(args)}")
+            return EXIT_USAGE
         except (FocasError, ValueError, OSError) as exc:
             _print_one_line(_failure_text(args, exc))
             return _exit_code(exc)

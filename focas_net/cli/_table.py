@@ -39,6 +39,7 @@ from ._args import (
     RAPID,
     SECONDS,
     SPINDLE,
+    WIDTH,
     argument_type,
     choice,
     command_parser,
@@ -193,7 +194,7 @@ _SLOTS: Final = (0, 9)
 # -- the table ------------------------------------------------------------------------------
 
 COMMANDS: Final[tuple[Cmd | Group, ...]] = (
-    Cmd("status", "read the CNC status (cnc_rdcncstat, ODBST)", read_cmds.status),
+    Cmd("status", "read the CNC status (cnc_statinfo, ODBST)", read_cmds.status),
     Cmd("sysinfo", "read the CNC identity (cnc_sysinfo, ODBSYS)", read_cmds.sysinfo),
     Cmd(
         "program",
@@ -256,7 +257,7 @@ COMMANDS: Final[tuple[Cmd | Group, ...]] = (
                     _PARAM_AXIS,
                     arg(
                         "--width",
-                        type=INT,
+                        type=WIDTH,
                         choices=(1, 2, 4),
                         help="value width in bytes (default: the width the CNC reports)",
                     ),
@@ -289,7 +290,7 @@ COMMANDS: Final[tuple[Cmd | Group, ...]] = (
     ),
     Cmd(
         "diag",
-        "read a diagnostic (cnc_rddiag)",
+        "read a diagnostic (cnc_diagnoss)",
         read_cmds.diag,
         (
             arg("number", type=INT, metavar="NUMBER", help="diagnostic number, e.g. 300"),

@@ -25,7 +25,7 @@ from focas_net.protocol import ParamDataType, ParamValue, PmcArea, PositionKind
 
 from . import _format as fmt
 from . import _run
-from ._args import PROG
+from ._args import PROG, typed_number_bit
 from ._run import (
     Go,
     HintedError,
@@ -187,7 +187,7 @@ async def param_kind(cnc: CncClient, number: int, pv: ParamValue) -> ParamDataTy
 
 
 def param_get(args: argparse.Namespace) -> Go:
-    number, bit = fmt.parse_number_bit(args.number)
+    number, bit = typed_number_bit(args, args.number)
 
     async def go(cnc: CncClient) -> Output:
         try:

@@ -29,6 +29,7 @@ from focas_net.protocol import (
 from focas_net.server.faults import fault_arg_text, fault_refusal
 
 from . import _format as fmt
+from ._args import OptionError
 from ._run import Output, PackedOnly
 from .read_cmds import axis_past
 
@@ -265,21 +266,22 @@ def fault(args: argparse.Namespace) -> PackedOnly:
 
 
 def _fault_arg(kind: FaultKind, text: str | None) -> int:
-    """``--arg`` of a fault of ``kind``, in the range the server takes: ValueError naming it,
-    in the server's words (:func:`~focas_net.server.faults.fault_refusal`)."""
+    """``--arg`` of a fault of ``kind``, in the range the server takes: an
+    :class:`~._args.OptionError` naming it, in the server's words
+    (:func:`~focas_net.server.faults.fault_refusal`)."""
     if kind is FaultKind.ERROR or kind is FaultKind.DELAY:
         if text is None:  # in the words of every front end, after the option's name
-            raise ValueError(f"--arg: {fault_arg_needed(int(kind))}")
+            raise OptionError("--arg", str(fault_arg_needed(int(kind))))
         try:
             value = fmt.parse_ew(text) if kind is FaultKind.ERROR else fmt.parse_int(text)
         except ValueError as exc:
-            raise ValueError(f"--arg: {exc}") from None
+            raise OptionError("--arg", str(exc)) from None
         why = fault_refusal(int(kind), int(FaultScope.MACHINE), 1, value)
         if why is not None:
-            raise ValueError(f"--arg: {why}")
+            raise OptionError("--arg", why)
         return value
     if text is not None:
-        raise ValueError(f"--arg does not apply to a {kind.name.lower()} fault")
+        raise OptionError("--arg", f"does not apply to a {kind.name.lower()} fault")
     return 0
 
 

@@ -14,6 +14,7 @@ from focas_net.errors import AccessDeniedError, CncError
 from focas_net.protocol import Command, PmcArea, pmc_bit_refusal
 
 from . import _format as fmt
+from ._args import OptionError, typed_number_bit
 from ._run import Go, Output, PackedOnly
 from .read_cmds import axis_hint, macro_dict, param_kind, param_output
 
@@ -32,10 +33,10 @@ def _named(argument: str, parse: Callable[[str], T], text: str) -> T:
 
 
 def param_set(args: argparse.Namespace) -> Go:
-    number, bit = fmt.parse_number_bit(args.number)
+    number, bit = typed_number_bit(args, args.number)
     if bit is not None:
         if args.width is not None:
-            raise ValueError("--width does not apply to a bit write (NUMBER.BIT)")
+            raise OptionError("--width", "does not apply to a bit write (NUMBER.BIT)")
         bit_value = _named("VALUE", fmt.parse_bool, args.value)
     else:
         value = _named("VALUE", fmt.parse_param_value, args.value)
@@ -124,9 +125,9 @@ def pmc_write(args: argparse.Namespace) -> Go | PackedOnly:
     return go
 
 
-def _parse_byte_bit(area: PmcArea, text: str) -> tuple[int, int]:
+def _parse_byte_bit(args: argparse.Namespace, area: PmcArea, text: str) -> tuple[int, int]:
     expected = "BYTE.BIT (e.g. 100.3)"
-    byte, bit = fmt.parse_number_bit(text, expected)
+    byte, bit = typed_number_bit(args, text, expected)
     if bit is None:
         raise ValueError(f"expected {expected}, got {text!r}")
     why = pmc_bit_refusal(area.name, byte, bit)  # the words of every front end (-1 too)
@@ -137,7 +138,7 @@ def _parse_byte_bit(area: PmcArea, text: str) -> tuple[int, int]:
 
 def pmc_bit(args: argparse.Namespace) -> Go:
     area: PmcArea = args.area
-    byte, bit = _parse_byte_bit(area, args.address)
+    byte, bit = _parse_byte_bit(args, area, args.address)
     value: bool | None = args.value  # read by the parser (argument VALUE)
 
     async def go(cnc: CncClient) -> Output:
