@@ -163,7 +163,8 @@ async def test_a_refused_status_read_names_cnc_statinfo() -> None:
     [
         (
             ("sim", "alarm", "SV0411", "--axis", "-0x1"),
-            "argument --axis: -0x1 reads as -1: axis -1 is outside 0..32767",
+            "argument --axis: -0x1 reads as -1: axis -1 is outside 0..32767 (0: an alarm of no "
+            "axis)",
         ),
         (("status", "--path", "0x0"), "argument --path: 0x0 reads as 0: path 0 is outside 1..10"),
         (("status", "--path", "0xB"), "argument --path: 0xB reads as 11: path 11 is outside 1..10"),
