@@ -90,14 +90,16 @@ async def test_an_axis_past_the_paths_is_refused_alike_before_the_number(
         assert str(refused.value).endswith("axis 9 of 3"), str(refused.value)
 
 
-def test_the_machine_refuses_an_axis_past_the_paths_before_the_number() -> None:
+def test_the_machine_keeps_the_packed_contracts_order_number_first() -> None:
+    """The packed contract checks the number before the axis (the clients, not the machine,
+    turn an axis past the path's into EW_ATTRIB, as FANUC's library does before sending)."""
     machine = default_machine(sim_clock=ManualClock())
-    with pytest.raises(MachineError) as refused:
-        machine.read_param(9999, 9)
-    assert (refused.value.ew, refused.value.detail) == (EW.ATTRIB, "parameter 9999: axis 9 of 3")
     with pytest.raises(MachineError) as unknown:
-        machine.read_param(9999, 1)
+        machine.read_param(9999, 9)
     assert unknown.value.ew == EW.NUMBER
+    with pytest.raises(MachineError) as refused:
+        machine.read_param(1420, 9)
+    assert refused.value.ew == EW.ATTRIB
 
 
 @pytest.mark.parametrize("spindle", [0, 1, 2, 3])
@@ -120,7 +122,8 @@ async def test_a_spindle_past_the_paths_is_named_as_a_spindle() -> None:
 
 def test_the_protocol_docs_say_which_comes_first() -> None:
     text = " ".join((DOCS / "protocol.md").read_text().split())
-    assert "the axis before the number" in text
+    assert "FANUC's library checks the axis before it sends" in text
+    assert "in this order (the contract's): unknown number → EW_NUMBER" in text
 
 
 # -- the machine's own calls --------------------------------------------------------------------

@@ -357,12 +357,12 @@ class FocasClient(Link):
     async def _axis_refusal(
         self, exc: CncError, axis: int | None, path: int, deadline: float | None
     ) -> CncError:
-        """``exc``, or for EW_ATTRIB of an ``axis`` beyond ``path``'s axes the same refusal
-        naming the axis and the count as the native client does (``cnc_rdparam: axis 9 of
-        3``): a packed answer carries the code only, so the count is read after the refusal,
-        within the call's deadline. EW_ATTRIB of an axis the path has (an axis given for a
-        parameter of no axis) stays as it came."""
-        if exc.ew != EW.ATTRIB:
+        """``exc``, or for EW_ATTRIB or EW_NUMBER with an ``axis`` beyond ``path``'s axes
+        EW_ATTRIB naming the axis and the count as the native client does before sending
+        (``cnc_rdparam: axis 9 of 3``): a packed answer carries the code only, and the packed
+        contract checks the number first, so the count is read after the refusal, within the
+        call's deadline. A refusal with an axis the path has stays as it came."""
+        if exc.ew not in (EW.ATTRIB, EW.NUMBER):
             return exc
         return await self._axis_past(exc.detail, axis, path, deadline) or exc
 

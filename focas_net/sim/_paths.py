@@ -163,17 +163,15 @@ class PathItems:
 
     def lookup(self, diag: bool, datano: int, axis: int) -> tuple[DataItem, int]:
         """A parameter (a diagnostic when ``diag``) and the index of the value of the path's
-        ``axis``: EW_ATTRIB for an axis beyond the path's, whatever the number (FANUC's
-        library, and so the native client, checks it before sending), EW_NUMBER (no such
-        item), EW_ATTRIB (axis 0 for an axis item, an axis for another); TypeError for a
-        number of another type."""
+        ``axis``: EW_NUMBER (no such item), then EW_ATTRIB (axis 0 for an axis item, an axis
+        for another, an axis beyond the path's), in the packed contract's order; TypeError
+        for a number of another type. (The clients name an axis beyond the path's first,
+        as FANUC's library does before sending.)"""
         need_int("number", datano)
         need_int("axis", axis)
         item = self.items.diags.get(datano) if diag else self.param(datano)
         what = "diagnostic" if diag else "parameter"  # named as every front end names it
         if item is None:
-            if axis > self.axes:
-                raise MachineError(EW.ATTRIB, f"{what} {datano}: axis {axis} of {self.axes}")
             raise MachineError(EW.NUMBER, no_item(what, datano))
         if item.axis:
             if not 1 <= axis <= self.axes:
