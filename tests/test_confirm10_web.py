@@ -15,10 +15,12 @@ from cli_support import at, fails, ok
 from support import serving, with_both_clients
 from web_support import page_refusal
 
+from focas_net.client import FocasClient
 from focas_net.errors import EW, CncError
 from focas_net.server import FocasServer
 from focas_net.sim import default_machine
 from focas_net.web import Dashboard, Station, perform, stations_of
+from focas_net.web.broadcast import Broadcaster, machine_topic
 
 aiohttp = pytest.importorskip("aiohttp", reason="the web dashboard tests need aiohttp")
 
@@ -254,3 +256,31 @@ async def test_a_number_the_cnc_has_not_is_worded_alike_on_the_page_and_the_cli(
         assert page_refusal(station, action, args) == f"the CNC has no {what}"
         line = await fails(1, *argv, *at(served))
         assert line.endswith(f"; the CNC has no {what}")
+
+
+# -- a path no CNC has ----------------------------------------------------------------------------
+@pytest.mark.parametrize("path", [0, -1, 11])
+async def test_a_path_no_field_carries_is_refused_as_the_cli_and_the_clients_refuse_it(
+    path: int,
+) -> None:
+    """``--path 0`` is refused by the parser, as the clients refuse ``path=0``: "path 0 is
+    outside 1..10"; the page asked the machine, which said "the CNC has no path 0: it has path
+    1 only" (409), of an action, a view and a live view alike. A path within 1..10 that the
+    machine has not is still the machine's to word."""
+    words = f"path {path} is outside 1..10"
+    async with serving() as served:
+        station = Station(0, served.machine)
+        page = page_refusal(station, "cycle", {"action": "reset", "path": path})
+        assert page == f"path: {words}"
+        line = await fails(2, "sim", "cycle", "reset", "--path", str(path), *at(served),
+                           prefix="focas-net sim cycle: ")  # fmt: skip
+        assert f"argument --path: {words};" in line
+        async with FocasClient("127.0.0.1", served.port) as cnc:
+            with pytest.raises(ValueError) as refused:
+                await cnc.read_status(path=path)
+            assert str(refused.value) == words
+        b = Broadcaster([station])
+        assert b.refusal(machine_topic(0, path=path)) == f"{words} (machine 0)"
+        async with Dashboard([station], port=0) as web:
+            got = await _answer("GET", f"{web.url}api/machines/0?path={path}")
+            assert got == (400, "application/json", {"ok": False, "error": f"path: {words}"})

@@ -22,7 +22,7 @@ from typing import Final
 from focas_net.protocol import pmc_address_unfit
 from focas_net.sim import PMC_AREAS, MachineError
 
-from .operations import Station
+from .operations import Station, path_unfit
 from .view import JsonDict, fleet_view, machine_view, no_machine, pmc_window
 
 __all__ = ["DEFAULT_INTERVAL", "FLEET", "Broadcaster", "Subscription", "Topic", "machine_topic"]
@@ -51,6 +51,9 @@ def machine_topic(index: int, pmc_area: str = "X", pmc_start: int = 0, path: int
 def _path_unfit(station: Station, path: int) -> str | None:
     """Why ``station``'s machine shows no ``path``, in the machine's words (as the page's
     actions and ``--path`` say it) and naming the machine; None when it has the path."""
+    why = path_unfit(path)  # no CNC's path, as the actions and the clients word it
+    if why is not None:
+        return f"{why} (machine {station.index})"
     try:
         station.machine.path_info(path)
     except MachineError as exc:

@@ -30,6 +30,7 @@ from focas_net._typed import (
     NO_PASSWORD_NOTE,
     PROGRAM_NUMBERS,
     decimal_number,
+    field_unfit,
     item_axis_unfit,
     item_number_unfit,
     macro_to_wire,
@@ -58,7 +59,7 @@ from focas_net.protocol import (
     pmc_bit_refusal,
 )
 from focas_net.server.faults import FaultQueue, fault_refusal, parse_inject
-from focas_net.sim import Machine, MachineError, ParamKind, Session
+from focas_net.sim import MAX_PATHS, Machine, MachineError, ParamKind, Session
 
 from .view import JsonDict, PathTrail, macro_value, param_data
 
@@ -71,6 +72,7 @@ __all__ = [
     "action_args",
     "decimal_number",
     "no_twice",
+    "path_unfit",
     "perform",
     "refusal",
     "shown",
@@ -237,10 +239,21 @@ def _decimal(args: Mapping[str, Any], key: str) -> Decimal | None:
 _Action = Callable[[Station, Mapping[str, Any]], JsonDict]
 
 
+def path_unfit(path: int) -> str | None:
+    """Why ``path`` is no path a CNC has (outside 1..10), in the words the command line's
+    ``--path`` and the clients give (``path 0 is outside 1..10``); None when it may be one
+    (whether the machine has it is the machine's to say, with EW_PATH)."""
+    return field_unfit("path", path, 1, MAX_PATHS)
+
+
 def _path(args: Mapping[str, Any]) -> int:
-    """The path an action is for: ``path`` (1 when not given); the machine refuses one it has
-    not (EW_PATH, naming it)."""
-    return _int(args, "path", 1)
+    """The path an action is for: ``path`` (1 when not given), refused as :func:`path_unfit`
+    words it; the machine refuses one it has not (EW_PATH, naming it)."""
+    path = _int(args, "path", 1)
+    why = path_unfit(path)
+    if why is not None:
+        raise ActionError(f"path: {why}")
+    return path
 
 
 def _cycle(station: Station, args: Mapping[str, Any]) -> JsonDict:

@@ -52,6 +52,7 @@ from .operations import (
     action_args,
     json_int,
     no_twice,
+    path_unfit,
     perform,
     refusal,
     shown,
@@ -311,6 +312,9 @@ class Dashboard:
             return refused
         try:
             path = whole_number(request.query.get("path", "1"))
+            why = path_unfit(path)
+            if why is not None:
+                raise ValueError(why)
             s.machine.path_info(path)
         except ValueError as exc:
             return self._json({"ok": False, "error": f"path: {exc}"}, 400)
