@@ -235,3 +235,55 @@ async def test_the_command_line_names_a_missing_program_once(command: str) -> No
     async with serving() as served:
         line = await fails(1, "program", command, "1234", *at(served))
     assert line.count("no program O1234") == 1, line
+
+
+# -- a PMC range or a variable the CNC refuses: the reason on the client's error -------------
+Refused = Callable[[FocasClient | NativeClient], Awaitable[Any]]
+
+
+@pytest.mark.parametrize(
+    ("call", "words"),
+    [
+        (lambda c: c.read_pmc("R", 7990, 20), "R7990..R8009 goes past the end of PMC area R"),
+        (lambda c: c.write_pmc("X", 120, bytes(16)), "X120..X135 goes past the end of PMC area X"),
+        (lambda c: c.write_pmc("F", 0, b"\x01"), "PMC area F is write-protected"),
+        (lambda c: c.write_pmc_bit("R", 8000, 0, True), "R8000 goes past the end of PMC area R"),
+    ],
+)
+async def test_a_pmc_range_the_cnc_refuses_is_named_on_both(
+    both_clients: Both, call: Refused, words: str
+) -> None:
+    """``read_pmc("R", 7990, 20)`` raised ``EW_NUMBER: pmc_rdpmcrng`` with no reason, where the
+    command line names the range and the area."""
+    _, cnc, native = both_clients
+    for client in (cnc, native):
+        with pytest.raises(CncError) as refused:
+            await call(client)
+        assert words in refused.value.detail, (type(client).__name__, refused.value.detail)
+
+
+async def test_the_simulators_pmc_write_past_the_end_is_named(both_clients: Both) -> None:
+    _, cnc, _ = both_clients
+    with pytest.raises(CncError) as refused:
+        await cnc.sim.set_pmc("X", 120, bytes(16))
+    assert refused.value.detail == "sim_set_pmc: X120..X135 goes past the end of PMC area X"
+
+
+async def test_vacating_a_read_only_variable_is_named(both_clients: Both) -> None:
+    """``sim.vacate_macro(5001)`` raised ``EW_PROT: sim_vacate_macro`` with no reason."""
+    _, cnc, _ = both_clients
+    with pytest.raises(CncError) as refused:
+        await cnc.sim.vacate_macro(5001)
+    assert refused.value.detail == (
+        "sim_vacate_macro: macro variable #5001 is read-only (FANUC's #5001..#5120: position "
+        "information)"
+    )
+
+
+async def test_the_command_line_names_a_pmc_range_once() -> None:
+    from cli_support import at, fails
+    from support import serving
+
+    async with serving() as served:
+        line = await fails(1, "pmc", "read", "R", "7990", "20", *at(served))
+    assert line.count("goes past the end of PMC area R") == 1, line

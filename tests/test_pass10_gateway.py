@@ -161,7 +161,7 @@ async def test_a_pmc_write_the_cnc_refuses_says_why_as_the_cli_does(
             config = MachineConfig("m1", "127.0.0.1", served.port, protocol, writes=gates)
             with pytest.raises(CncError) as refused:
                 await GatedWriter(lambda name: (config, client)).write_pmc("m1", area, address, 1)
-    assert str(refused.value).endswith(f"pmc_wrpmcrng; {why}")
+    assert str(refused.value).endswith(f"pmc_wrpmcrng: {why}")
     args = Namespace(area=PmcArea.parse(area), start=address, values=["1"], hex=None)
     assert why in (reason("pmc write", args, CncError(refused.value.ew)) or "")
 

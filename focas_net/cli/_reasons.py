@@ -373,7 +373,18 @@ _BY_REFUSAL: Final[
 
 #: Commands whose reasons say what the client's error says and more (the program file read
 #: with the store's rules, what to run next): theirs replace the client's words.
-_OWN_WORDS: Final = frozenset({"program load", "program select", "program delete", "program show"})
+_OWN_WORDS: Final = frozenset(
+    {
+        "program load",
+        "program select",
+        "program delete",
+        "program show",
+        "pmc read",
+        "pmc write",
+        "pmc bit",
+        "macro clear",
+    }
+)
 
 
 def as_said(command: str, exc: CncError) -> CncError:

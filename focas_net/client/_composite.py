@@ -19,10 +19,12 @@ for many tasks").
 
 from __future__ import annotations
 
-from collections.abc import Awaitable, Callable, Sequence
+from collections.abc import AsyncIterator, Awaitable, Callable, Sequence
+from contextlib import asynccontextmanager
 from decimal import Decimal
 
-from focas_net.errors import ChunkedWriteError
+from focas_net._refusals import pmc_refusal
+from focas_net.errors import ChunkedWriteError, CncError
 
 from .._typed import typed_number
 from ..protocol import ParamValue, PmcArea
@@ -40,7 +42,13 @@ from ._values import (
     pmc_data,
 )
 
-__all__ = ["ChunkOutcome", "CompositeCalls", "chunked_write_error", "write_chunked"]
+__all__ = [
+    "ChunkOutcome",
+    "CompositeCalls",
+    "chunked_write_error",
+    "pmc_named",
+    "write_chunked",
+]
 
 #: What became of one chunk of a chunked write: None (written, the CNC said so), or the
 #: exception it ended with and whether it is *unanswered*: its request left and no answer
@@ -112,6 +120,20 @@ async def write_chunked(
     error = chunked_write_error(area.name, spans, outcomes)
     if error is not None:
         raise error
+
+
+@asynccontextmanager
+async def pmc_named(area: PmcArea, start: int, count: int) -> AsyncIterator[None]:
+    """A refusal of ``count`` bytes of ``area`` from ``start`` (one call's, or one range's:
+    a :class:`ChunkedWriteError` lists its own) naming why, in the words of the command line
+    (``R7990..R8009 goes past the end of PMC area R``): the answer carries the code only."""
+    try:
+        yield
+    except CncError as exc:
+        why = pmc_refusal(exc.ew, area.name, start, start + count - 1)
+        if why is None:
+            raise
+        raise CncError.from_ew(exc.ew, f"{exc.detail}: {why}") from None
 
 
 class CompositeCalls(Lifecycle):
@@ -328,7 +350,8 @@ class CompositeCalls(Lifecycle):
         ``start``; a range longer than one call carries is read in several, sent together."""
         a = self._pmc_area(area)
         check_pmc_range(start, count)
-        return await self._read_pmc(a, start, count, self._deadline(timeout))
+        async with pmc_named(a, start, count):
+            return await self._read_pmc(a, start, count, self._deadline(timeout))
 
     async def write_pmc(
         self, area: AreaLike, start: int, data: bytes, *, timeout: float | None = None
@@ -346,7 +369,8 @@ class CompositeCalls(Lifecycle):
         async def write(chunks: Sequence[tuple[int, bytes]]) -> list[ChunkOutcome]:
             return await self._write_pmc_chunks(a, chunks, deadline)
 
-        await write_chunked(a, start, data, self._pmc_write_chunk(), write)
+        async with pmc_named(a, start, len(data)):
+            await write_chunked(a, start, data, self._pmc_write_chunk(), write)
 
     async def read_pmc_bit(
         self, area: AreaLike, byte: int, bit: int, *, timeout: float | None = None
@@ -380,7 +404,10 @@ class CompositeCalls(Lifecycle):
         check_pmc_range(byte, 1)
         on = check_bit_value(value)
         deadline = self._deadline(timeout)
-        async with self._pmc_locks.hold((a.value, byte), deadline, f"{a.name}{byte}"):
+        async with (
+            self._pmc_locks.hold((a.value, byte), deadline, f"{a.name}{byte}"),
+            pmc_named(a, byte, 1),
+        ):
             current = (await self._read_pmc(a, byte, 1, deadline))[0]
             new = current | (1 << bit) if on else current & ~(1 << bit)
             (outcome,) = await self._write_pmc_chunks(a, [(byte, bytes((new,)))], deadline)

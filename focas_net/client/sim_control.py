@@ -8,6 +8,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 from typing import TYPE_CHECKING, Final
 
+from .._refusals import parts_refusal, system_read_only
 from .._typed import alarm_axis_unfit, override_percent, override_unfit
 from ..errors import EW, CncError
 from ..protocol import (
@@ -31,6 +32,7 @@ from ..protocol import (
 )
 from ..protocol import Command as C
 from ..protocol.faults import fault_refusal, scope_refusal
+from ._composite import pmc_named
 from ._pmc import write_pmc_range
 from ._values import (
     AreaLike,
@@ -141,10 +143,14 @@ class SimControl:
         try:
             await client._request(_VACATE_MACRO, payload, timeout, client._path_of(path))
         except CncError as exc:
-            if exc.ew != EW.DATA or number not in _PARTS_VARIABLES:
-                raise
             # the packed answer carries the code only: the machine's reason, in its words
-            why = f"#{number} is a parts count, which always holds a number (write 0 to reset it)"
+            why = None
+            if exc.ew == EW.DATA and number in _PARTS_VARIABLES:
+                why = parts_refusal(number, None)
+            elif exc.ew == EW.PROT:
+                why = system_read_only(number)  # one of FANUC's read-only variables
+            if why is None:
+                raise
             raise CncError.from_ew(exc.ew, f"{exc.detail}: {why}") from None
 
     async def raise_alarm(
@@ -261,7 +267,8 @@ class SimControl:
         a = PmcArea.parse(area)
         raw = pmc_data(start, data)
         client = self._client
-        await write_pmc_range(client, _SET_PMC, a, start, raw, client._deadline(timeout))
+        async with pmc_named(a, start, len(raw)):
+            await write_pmc_range(client, _SET_PMC, a, start, raw, client._deadline(timeout))
 
     async def inject_fault(
         self,

@@ -24,7 +24,6 @@ from focas_net._refusals import (
     macro_refusal,
     param_refusal,
     path_axes,
-    pmc_refusal,
 )
 from focas_net.client import FocasClient, NativeClient
 from focas_net.client._values import check_int
@@ -85,8 +84,7 @@ class GatedWriter:
                 f"({'allowed: ' + allowed if allowed else 'no PMC byte may be written'})"
             )
         byte = check_int("PMC byte value", value, 0, 0xFF)
-        why = partial(pmc_refusal, area=letter, first=address, last=address)
-        await _said(client.write_pmc(letter, address, bytes([byte])), why)
+        await client.write_pmc(letter, address, bytes([byte]))  # (its refusal names why)
 
 
 #: EW_PASSWD of a parameter write: the gate, and that the gateway cannot unlock a password.
