@@ -82,13 +82,12 @@ def main() -> int:
         return asyncio.run(write_bits(args))
     except KeyboardInterrupt:  # Ctrl-C: exit 130, as the command line, no traceback
         return 130
-    except CncError as exc:
-        why = {
-            int(EW.NOOPT): f"the CNC has no PMC area {args.area} (give --area of one it has)",
-            int(EW.NUMBER): f"the CNC's area {args.area} has no bytes {args.start}.."
-            f"{args.start + args.bytes - 1} (give --start and --bytes within it)",
+    except CncError as exc:  # (the client's error names why: what to give instead, here)
+        advice = {
+            int(EW.NOOPT): "give --area of one it has",
+            int(EW.NUMBER): "give --start and --bytes within it",
         }.get(exc.ew)
-        print(f"pmc_bits: {exc}" + (f"; {why}" if why else ""), file=sys.stderr)
+        print(f"pmc_bits: {exc}" + (f"; {advice}" if advice else ""), file=sys.stderr)
         return 1
     except FocasError as exc:
         print(f"pmc_bits: {exc}", file=sys.stderr)

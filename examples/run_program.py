@@ -98,8 +98,9 @@ async def run_program(args: argparse.Namespace, text: str) -> None:
         try:
             number = await cnc.write_program(text, replace=True)
         except CncError as exc:
-            if exc.ew in (EW.DATA, EW.NUMBER):  # the store's reason for the same text
-                raise Failed(f"{exc}; {refusal(args.program, text)}") from None
+            if exc.ew in (EW.DATA, EW.NUMBER):  # the store's reason for the same text, once
+                code = CncError.from_ew(exc.ew, exc.detail.partition(": ")[0])
+                raise Failed(f"{code}; {refusal(args.program, text)}") from None
             raise
         if status.aut != AutMode.MEM:
             await cnc.sim.set_panel(mode=AutMode.MEM)

@@ -360,12 +360,12 @@ async def test_alarm_watch_stopped_early_leaves_none_of_its_alarms(
         (
             "pmc_bits.py",
             ["--area", "D"],
-            "pmc_rdpmcrng; the CNC has no PMC area D (give --area of one it has)",
+            "pmc_rdpmcrng: the CNC has no PMC area D; give --area of one it has",
         ),
         (
             "pmc_bits.py",
             ["--area", "G", "--start", "1999", "--bytes", "2"],
-            "the CNC's area G has no bytes 1999..2000",
+            "G1999..G2000 goes past the end of PMC area G; give --start and --bytes within it",
         ),
     ],
 )
