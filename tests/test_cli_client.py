@@ -242,9 +242,9 @@ async def test_pmc_errors(cli: Cli) -> None:
     assert err.startswith("focas-net: EW_NUMBER (3)")
     err = await cli.fails(EXIT_USAGE, "pmc", "write", "R", "0", "1", "--hex", "02")
     assert "not both" in err
-    err = await cli.fails(EXIT_USAGE, "pmc", "write", "R", "0", "256")
+    err = await cli.fails(EXIT_USAGE, "pmc", "write", "R", "0", "256", prefix="focas-net")
     assert "outside 0..255" in err
-    err = await cli.fails(EXIT_USAGE, "pmc", "write", "R", "0")
+    err = await cli.fails(EXIT_USAGE, "pmc", "write", "R", "0", prefix="focas-net")
     assert "no data bytes" in err
     err = await cli.fails(EXIT_USAGE, "pmc", "bit", "R", "10")
     assert "BYTE.BIT" in err
@@ -542,8 +542,8 @@ def test_usage_errors_exit_2(capsys: pytest.CaptureFixture[str]) -> None:
     assert err.pop() == "focas-net: PMC start address -1 is outside 0..65535"
     assert err[-3:] == [
         "focas-net: expected NUMBER or NUMBER.BIT (e.g. 1815 or 1815.0), got 'abc'",
-        "focas-net: VALUE: expected 1, on, true, yes or set, or 0, off, false, no or clear, "
-        "got 'maybe'",
+        "focas-net param set: error: argument VALUE: expected 1, on, true, yes or set, or 0, "
+        "off, false, no or clear, got 'maybe'; see focas-net param set --help",
         "focas-net param set: error: argument --width: does not apply to a bit write "
         "(NUMBER.BIT); see focas-net param set --help",
     ]

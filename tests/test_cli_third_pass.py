@@ -34,7 +34,9 @@ async def test_an_empty_item_of_a_byte_list_is_refused_naming_it(
     server: Served, values: str
 ) -> None:
     before = server.machine.read_pmc("R", 0, 4)
-    line = await fails(EXIT_USAGE, "pmc", "write", "R", "0", values, *at(server))
+    line = await fails(
+        EXIT_USAGE, "pmc", "write", "R", "0", values, *at(server), prefix="focas-net"
+    )
     assert "empty item" in line and repr(values) in line
     assert server.machine.read_pmc("R", 0, 4) == before
 

@@ -52,6 +52,16 @@ PROTOCOLS: Final = (["--protocol", "packed"], ["--protocol", "native"])
             "(NUMBER.BIT); see focas-net param set --help",
         ),
         (
+            ("param", "set", "3401.1", "2"),
+            "focas-net param set: error: argument VALUE: expected 1, on, true, yes or set, or 0, "
+            "off, false, no or clear, got '2'; see focas-net param set --help",
+        ),
+        (
+            ("pmc", "write", "R", "0", "1", "256"),
+            "focas-net pmc write: error: argument BYTE: byte value '256' outside 0..255; "
+            "see focas-net pmc write --help",
+        ),
+        (
             ("status", "--tls-ca", "ca.pem", "--tls-insecure"),
             "focas-net status: error: argument --tls-insecure: not allowed with --tls-ca; "
             "see focas-net status --help",
@@ -62,8 +72,10 @@ async def test_an_option_refused_with_another_argument_is_worded_as_the_parser_w
     argv: tuple[str, ...], said: str
 ) -> None:
     """``sim fault error --arg 0`` said ``focas-net: --arg: ...`` where ``--count 0`` says
-    ``focas-net sim fault: error: argument --count: ...``: one form for an option's refusal,
-    whether the parser or the command found it (nothing is connected to)."""
+    ``focas-net sim fault: error: argument --count: ...``, and ``param set 3401.1 2`` said
+    ``focas-net: VALUE: ...`` where ``pmc bit R 0.1 2`` says ``focas-net pmc bit: error:
+    argument VALUE: ...``: one form for an argument's refusal, whether the parser or the
+    command found it (nothing is connected to)."""
     assert await fails(EXIT_USAGE, *argv, "--port", "1", prefix="focas-net") == said
 
 

@@ -147,8 +147,9 @@ async def test_pmc_count_is_refused_alike_at_both_ends(
 async def test_pmc_write_hex_groups_of_half_a_byte_are_refused(server: Served, given: str) -> None:
     """``--hex "0 1"`` wrote the one byte 01, ``--hex 1:2`` the byte 12: a separator glued two
     halves of bytes together."""
-    line = await fails(EXIT_USAGE, "pmc", "write", "R", "0", "--hex", given, *at(server))
-    assert line.startswith(f"focas-net: --hex: not hex bytes: {given!r}"), line
+    argv = ("pmc", "write", "R", "0", "--hex", given)
+    line = await fails(EXIT_USAGE, *argv, *at(server), prefix="focas-net")
+    assert line.startswith(f"focas-net pmc write: error: argument --hex: not hex bytes: {given!r}")
     assert "two digits" in line, line
     assert await ok("pmc", "read", "R", "0", "2", *at(server)) == "R0000  00 00\n"
 

@@ -65,6 +65,10 @@ WHOLES: list[tuple[str, int | str]] = [
 ]
 
 
+#: Where a refusal of ``param set`` points to.
+PARAM_SET_HELP = "focas-net param set --help"
+
+
 @pytest.mark.parametrize(("typed", "verdict"), DECIMALS)
 def test_the_reader_of_decimals(typed: str, verdict: Decimal | str) -> None:
     if isinstance(verdict, str):
@@ -154,8 +158,11 @@ async def test_a_parameter_value_with_an_exponent_is_refused_on_every_front_end(
     with pytest.raises(ActionError) as page:
         perform(Station(0, machine), "write_param", {"number": 1420, "axis": 1, "value": typed})
     assert str(page.value) == f"value: {verdict}"
-    line = await fails(EXIT_USAGE, "param", "set", "1420", typed, "--axis", "1", *at(server))
-    assert line == f"focas-net: VALUE: {verdict}"  # (named as --help names it; the page: value)
+    line = await fails(
+        EXIT_USAGE, "param", "set", "1420", typed, "--axis", "1", *at(server), prefix="focas-net"
+    )
+    # (named as --help names it; the page: value)
+    assert line == f"focas-net param set: error: argument VALUE: {verdict}; see {PARAM_SET_HELP}"
     assert machine.read_param(1420, 1) == before
 
 

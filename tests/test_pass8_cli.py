@@ -140,19 +140,33 @@ async def test_a_parameter_the_cnc_lacks_is_the_writes_refusal_on_both(server: S
         ),
         (
             ["param", "set", "1815.0", "2", "--axis", "1"],
-            "focas-net: VALUE: expected 1, on, true, yes or set, or 0, off, false, no or clear, "
-            "got '2'",
+            "focas-net param set: error: argument VALUE: expected 1, on, true, yes or set, or 0, "
+            "off, false, no or clear, got '2'; see focas-net param set --help",
         ),
         (
             ["param", "set", "1420", "", "--axis", "1"],
-            "focas-net: VALUE: not a number: '' (nothing typed)",
+            "focas-net param set: error: argument VALUE: not a number: '' (nothing typed); "
+            "see focas-net param set --help",
         ),
-        (["param", "set", "1420", "abc"], "focas-net: VALUE: not a number: 'abc'"),
-        (["pmc", "write", "R", "0", "--hex", ""], "focas-net: --hex: no data bytes given"),
-        (["pmc", "write", "R", "0", "--hex", "0g"], "focas-net: --hex: not hex bytes: '0g'"),
+        (
+            ["param", "set", "1420", "abc"],
+            "focas-net param set: error: argument VALUE: not a number: 'abc'; "
+            "see focas-net param set --help",
+        ),
+        (
+            ["pmc", "write", "R", "0", "--hex", ""],
+            "focas-net pmc write: error: argument --hex: no data bytes given; "
+            "see focas-net pmc write --help",
+        ),
+        (
+            ["pmc", "write", "R", "0", "--hex", "0g"],
+            "focas-net pmc write: error: argument --hex: not hex bytes: '0g'; "
+            "see focas-net pmc write --help",
+        ),
         (
             ["pmc", "write", "R", "0", "1", "256"],
-            "focas-net: BYTE: byte value '256' outside 0..255",
+            "focas-net pmc write: error: argument BYTE: byte value '256' outside 0..255; "
+            "see focas-net pmc write --help",
         ),
     ],
 )

@@ -76,7 +76,7 @@ __all__ = [
     "SPINDLE",
     "TYPED_NUMBERS",
     "WIDTH",
-    "OptionError",
+    "ArgumentRefused",
     "Parser",
     "argument_type",
     "choice",
@@ -146,10 +146,11 @@ def print_usage_error(message: str, prog: str) -> None:
     print_error(f"error: {message}; see {prog} --help", prog)
 
 
-class OptionError(ValueError):
-    """An option's value refused by a rule that needs another argument too, found by the
-    command rather than by the parser (``sim fault --arg``, whose range is the fault kind's):
-    reported as the parser reports an option it refuses, ``argument --arg: why``."""
+class ArgumentRefused(ValueError):
+    """An argument's value refused by a rule the command checks rather than the parser (it
+    needs another argument too, as ``sim fault --arg`` the fault's kind, or is read by the
+    command, as ``param set VALUE``): reported as the parser reports an argument it
+    refuses, ``argument --arg: why``."""
 
     def __init__(self, option: str, why: str) -> None:
         super().__init__(f"argument {option}: {why}")

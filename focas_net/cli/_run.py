@@ -51,7 +51,7 @@ from ._args import (
     EXIT_PROTOCOL,
     EXIT_USAGE,
     PROG,
-    OptionError,
+    ArgumentRefused,
     print_error,
     print_usage_error,
     typed_lead,
@@ -228,7 +228,7 @@ def tls_context(args: argparse.Namespace) -> ssl.SSLContext | None:
     if not (getattr(args, "tls", False) or ca is not None or insecure):
         return None
     if ca is not None and insecure:
-        raise OptionError("--tls-insecure", "not allowed with --tls-ca")
+        raise ArgumentRefused("--tls-insecure", "not allowed with --tls-ca")
     if insecure:
         ctx = ssl.SSLContext(ssl.PROTOCOL_TLS_CLIENT)
         ctx.check_hostname = False
@@ -453,7 +453,7 @@ def runner(handler: Handler) -> Callable[[argparse.Namespace], int]:
             go = handler(args)
             _check_native(args, go)
             context = tls_context(args)
-        except OptionError as exc:  # in the parser's words, as it refuses an option
+        except ArgumentRefused as exc:  # in the parser's words, as it refuses an option
             print_usage_error(str(exc), f"{PROG} {command_name(args)}")
             return EXIT_USAGE
         except (FocasError, ValueError, OSError) as exc:

@@ -29,7 +29,7 @@ from focas_net.protocol import (
 from focas_net.server.faults import fault_arg_text, fault_refusal
 
 from . import _format as fmt
-from ._args import OptionError
+from ._args import ArgumentRefused
 from ._run import Output, PackedOnly
 from .read_cmds import axis_past
 
@@ -267,21 +267,21 @@ def fault(args: argparse.Namespace) -> PackedOnly:
 
 def _fault_arg(kind: FaultKind, text: str | None) -> int:
     """``--arg`` of a fault of ``kind``, in the range the server takes: an
-    :class:`~._args.OptionError` naming it, in the server's words
+    :class:`~._args.ArgumentRefused` naming it, in the server's words
     (:func:`~focas_net.server.faults.fault_refusal`)."""
     if kind is FaultKind.ERROR or kind is FaultKind.DELAY:
         if text is None:  # in the words of every front end, after the option's name
-            raise OptionError("--arg", str(fault_arg_needed(int(kind))))
+            raise ArgumentRefused("--arg", str(fault_arg_needed(int(kind))))
         try:
             value = fmt.parse_ew(text) if kind is FaultKind.ERROR else fmt.parse_int(text)
         except ValueError as exc:
-            raise OptionError("--arg", str(exc)) from None
+            raise ArgumentRefused("--arg", str(exc)) from None
         why = fault_refusal(int(kind), int(FaultScope.MACHINE), 1, value)
         if why is not None:
-            raise OptionError("--arg", why)
+            raise ArgumentRefused("--arg", why)
         return value
     if text is not None:
-        raise OptionError("--arg", f"does not apply to a {kind.name.lower()} fault")
+        raise ArgumentRefused("--arg", f"does not apply to a {kind.name.lower()} fault")
     return 0
 
 

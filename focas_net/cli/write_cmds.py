@@ -14,7 +14,7 @@ from focas_net.errors import AccessDeniedError, CncError
 from focas_net.protocol import Command, PmcArea, pmc_bit_refusal
 
 from . import _format as fmt
-from ._args import OptionError, typed_number_bit
+from ._args import ArgumentRefused, typed_number_bit
 from ._run import Go, Output, PackedOnly
 from .read_cmds import axis_hint, macro_dict, param_kind, param_output
 
@@ -24,19 +24,20 @@ T = TypeVar("T")
 
 
 def _named(argument: str, parse: Callable[[str], T], text: str) -> T:
-    """``parse(text)``, its refusal (ValueError) naming the argument as --help does, as the
-    parser names the arguments it reads itself (``VALUE: expected 1, on, ...``)."""
+    """``parse(text)``, its refusal naming the argument as --help does, in the words of the
+    parser's refusal of an argument it reads itself (``argument VALUE: expected 1, on,
+    ...``: :class:`~._args.ArgumentRefused`)."""
     try:
         return parse(text)
     except ValueError as exc:
-        raise ValueError(f"{argument}: {exc}") from None
+        raise ArgumentRefused(argument, str(exc)) from None
 
 
 def param_set(args: argparse.Namespace) -> Go:
     number, bit = typed_number_bit(args, args.number)
     if bit is not None:
         if args.width is not None:
-            raise OptionError("--width", "does not apply to a bit write (NUMBER.BIT)")
+            raise ArgumentRefused("--width", "does not apply to a bit write (NUMBER.BIT)")
         bit_value = _named("VALUE", fmt.parse_bool, args.value)
     else:
         value = _named("VALUE", fmt.parse_param_value, args.value)
