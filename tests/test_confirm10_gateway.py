@@ -17,26 +17,23 @@ from pathlib import Path
 from typing import Literal
 
 import pytest
+from gateway_support import gated_writer
 from poller_support import all_online, config, polling, until
-from support import free_port, serving
+from support import free_port
 
 from focas_net._refusals import no_path
 from focas_net.cli._args import parse_file_name
-from focas_net.client import FocasClient, NativeClient
 from focas_net.errors import EW, CncError
-from focas_net.gateway import ConfigError, MachineConfig, WriteGates, load_config, parse_config
+from focas_net.gateway import ConfigError, load_config, parse_config
 from focas_net.gateway._opcua_model import _operation_mode
 from focas_net.gateway.model import ITEMS
 from focas_net.gateway.reads import _status
-from focas_net.gateway.writer import GatedWriter
 from focas_net.protocol import AlarmState, AutMode, EmergencyState, StatusInfo
 from focas_net.protocol.values import LabelledValue
 from focas_net.server import FocasServer
 from focas_net.sim import MachineError, default_machine
 from focas_net.sim.nc import ManualClock
 from focas_net.web.view import machine_tile
-
-ALL = WriteGates(macros=((0, 99999),), params=((0, 99999),))
 
 
 # -- a machine never reached is unavailable, one that was online is lost ----------------------
@@ -105,15 +102,11 @@ async def test_a_write_to_a_path_the_cnc_has_not_says_it_as_the_cli_and_the_page
     protocol: Literal["native", "packed"],
 ) -> None:
     machine = default_machine()
-    async with serving(machine) as served:
-        kind_of = FocasClient if protocol == "packed" else NativeClient
-        async with kind_of("127.0.0.1", served.port) as client:
-            config = MachineConfig("m1", "127.0.0.1", served.port, protocol, writes=ALL)
-            writer = GatedWriter(lambda name: (config, client))
-            with pytest.raises(CncError) as refused:
-                await writer.write_macro("m1", 100, Decimal("1.5"), 2)
-            with pytest.raises(CncError) as read:
-                await client.read_status(path=3)
+    async with gated_writer(machine, protocol) as (writer, client):
+        with pytest.raises(CncError) as refused:
+            await writer.write_macro("m1", 100, Decimal("1.5"), 2)
+        with pytest.raises(CncError) as read:
+            await client.read_status(path=3)
     said = no_path(2, 1)
     assert said == "the CNC has no path 2: it has path 1 only"
     assert refused.value.ew == EW.PATH and str(refused.value).endswith(f"cnc_wrmacro: {said}")
@@ -130,13 +123,9 @@ async def test_a_parameter_written_with_an_axis_past_the_paths_says_which_to_giv
 ) -> None:
     machine = default_machine()
     machine.set_panel("MDI", pwe=1)
-    async with serving(machine) as served:
-        kind_of = FocasClient if protocol == "packed" else NativeClient
-        async with kind_of("127.0.0.1", served.port) as client:
-            config = MachineConfig("m1", "127.0.0.1", served.port, protocol, writes=ALL)
-            writer = GatedWriter(lambda name: (config, client))
-            with pytest.raises(CncError) as refused:
-                await writer.write_param("m1", 1420, 5000, 9)
+    async with gated_writer(machine, protocol) as (writer, _):
+        with pytest.raises(CncError) as refused:
+            await writer.write_param("m1", 1420, 5000, 9)
     exc = refused.value
     assert exc.ew == EW.ATTRIB
     assert str(exc).endswith("; the path has 3 axes: give Axis 1..3"), exc

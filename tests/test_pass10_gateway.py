@@ -11,14 +11,13 @@ from typing import Literal
 
 import pytest
 from cli_support import fails
+from gateway_support import gated_writer
 from poller_support import SLOW, Garbage, RecordingSink, all_online, config, polling, until
-from support import serving
 
 from focas_net.cli import EXIT_USAGE
 from focas_net.cli._reasons import reason
 from focas_net.cli.gateway_cmd import parse_shard
 from focas_net.cli.read_cmds import axis_hint
-from focas_net.client import FocasClient, NativeClient
 from focas_net.errors import EW, CncError
 from focas_net.gateway import (
     ConfigError,
@@ -30,13 +29,10 @@ from focas_net.gateway import (
 )
 from focas_net.gateway._opcua_methods import refusal
 from focas_net.gateway.poller import Poller
-from focas_net.gateway.writer import GatedWriter
 from focas_net.protocol import PmcArea
 from focas_net.server import FocasServer
 from focas_net.sim import default_machine
 from focas_net.sim.nc import ManualClock
-
-ALL = WriteGates(macros=((0, 99999),), params=((0, 99999),))
 
 
 # -- a refused write says why, in the command line's words ------------------------------------
@@ -61,16 +57,12 @@ async def test_a_write_the_cnc_refuses_is_logged_with_the_reason_the_cli_gives(
     kind, number, value, where = write
     machine = default_machine()
     machine.set_panel("MDI", pwe=1)
-    async with serving(machine) as served:
-        kind_of = FocasClient if protocol == "packed" else NativeClient
-        async with kind_of("127.0.0.1", served.port) as client:
-            config = MachineConfig("m1", "127.0.0.1", served.port, protocol, writes=ALL)
-            writer = GatedWriter(lambda name: (config, client))
-            with pytest.raises(Exception) as refused:
-                if kind == "param":
-                    await writer.write_param("m1", number, value, where)
-                else:
-                    await writer.write_macro("m1", number, Decimal(value), where)
+    async with gated_writer(machine, protocol) as (writer, _):
+        with pytest.raises(Exception) as refused:
+            if kind == "param":
+                await writer.write_param("m1", number, value, where)
+            else:
+                await writer.write_macro("m1", number, Decimal(value), where)
     exc = refused.value
     assert isinstance(exc, CncError) and why in str(exc), exc
     assert refusal(exc).is_bad()
@@ -86,12 +78,9 @@ async def test_a_write_the_cnc_refuses_is_logged_with_the_reason_the_cli_gives(
 async def test_a_parameter_write_outside_mdi_names_the_gate_and_the_missing_password(
     protocol: Literal["native", "packed"],
 ) -> None:
-    async with serving(default_machine()) as served:
-        kind_of = FocasClient if protocol == "packed" else NativeClient
-        async with kind_of("127.0.0.1", served.port) as client:
-            config = MachineConfig("m1", "127.0.0.1", served.port, protocol, writes=ALL)
-            with pytest.raises(CncError) as refused:
-                await GatedWriter(lambda name: (config, client)).write_param("m1", 6711, 5, 0)
+    async with gated_writer(default_machine(), protocol) as (writer, _):
+        with pytest.raises(CncError) as refused:
+            await writer.write_param("m1", 6711, 5, 0)
     assert str(refused.value) == (
         "EW_PASSWD (17): protection / password error: cnc_wrparam; parameter writes need MDI "
         "mode and PWE on at the CNC; the gateway sends no parameter password (a CNC that has "
@@ -155,12 +144,9 @@ async def test_a_pmc_write_the_cnc_refuses_says_why_as_the_cli_does(
     area: str, address: int, why: str, protocol: Literal["native", "packed"]
 ) -> None:
     gates = WriteGates(pmc=((area, 0, 65535),))
-    async with serving(default_machine()) as served:
-        kind_of = FocasClient if protocol == "packed" else NativeClient
-        async with kind_of("127.0.0.1", served.port) as client:
-            config = MachineConfig("m1", "127.0.0.1", served.port, protocol, writes=gates)
-            with pytest.raises(CncError) as refused:
-                await GatedWriter(lambda name: (config, client)).write_pmc("m1", area, address, 1)
+    async with gated_writer(default_machine(), protocol, gates) as (writer, _):
+        with pytest.raises(CncError) as refused:
+            await writer.write_pmc("m1", area, address, 1)
     assert str(refused.value).endswith(f"pmc_wrpmcrng: {why}")
     args = Namespace(area=PmcArea.parse(area), start=address, values=["1"], hex=None)
     assert why in (reason("pmc write", args, CncError(refused.value.ew)) or "")
@@ -181,15 +167,10 @@ async def test_a_parameter_written_with_the_wrong_axis_says_which_axis_to_give(
     the command line says the same of ``--axis``."""
     machine = default_machine()
     machine.set_panel("MDI", pwe=1)
-    async with serving(machine) as served:
-        kind_of = FocasClient if protocol == "packed" else NativeClient
-        async with kind_of("127.0.0.1", served.port) as client:
-            config = MachineConfig("m1", "127.0.0.1", served.port, protocol, writes=ALL)
-            with pytest.raises(CncError) as refused:
-                await GatedWriter(lambda name: (config, client)).write_param(
-                    "m1", number, 1000, axis
-                )
-            hinted = await axis_hint(client, CncError(EW.ATTRIB), "parameter", number, axis)
+    async with gated_writer(machine, protocol) as (writer, client):
+        with pytest.raises(CncError) as refused:
+            await writer.write_param("m1", number, 1000, axis)
+        hinted = await axis_hint(client, CncError(EW.ATTRIB), "parameter", number, axis)
     assert str(refused.value).endswith(f"cnc_wrparam; {why}")
     assert str(hinted).endswith(why.replace(why.rpartition(": ")[2], cli))
 
