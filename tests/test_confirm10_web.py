@@ -285,3 +285,16 @@ async def test_a_path_no_field_carries_is_refused_as_the_cli_and_the_clients_ref
         async with Dashboard([station], port=0) as web:
             got = await _answer("GET", f"{web.url}api/machines/0?path={path}")
             assert got == (400, "application/json", {"ok": False, "error": f"path: {words}"})
+
+
+async def test_an_axis_past_the_paths_is_worded_as_the_cli_and_a_position_word_it() -> None:
+    """The page said "parameter 1320 is an axis parameter: give an axis 1..3, got 9" where
+    ``param set 1320 1 --axis 9`` says "the path has 3 axes: give --axis 1..3" and ``position
+    --axis 9`` "axis 9 is outside 1..3: the path has 3 axes": the machine words it so."""
+    async with serving() as served:
+        station = _writable(Station(0, served.machine))
+        words = "axis 9 is outside 1..3: the path has 3 axes"
+        page = page_refusal(station, "write_param", {"number": 1320, "axis": 9, "value": "1"})
+        assert page == words
+        line = await fails(1, "param", "set", "1320", "1", "--axis", "9", *at(served))
+        assert line.endswith("the path has 3 axes: give --axis 1..3")

@@ -444,7 +444,7 @@ def test_a_real_parameter_of_many_decimals_is_shown_without_an_exponent() -> Non
 @pytest.mark.parametrize(
     ("number", "axis", "words"),
     [
-        (1320, 4, "parameter 1320 is an axis parameter: give an axis 1..3, got 4"),
+        (1320, 4, "axis 4 is outside 1..3: the path has 3 axes"),
         (1320, 0, "parameter 1320 is an axis parameter: give an axis 1..3, got 0"),
         (9968, 1, "parameter 9968 is not an axis parameter: give axis 0, got 1"),
     ],

@@ -21,7 +21,7 @@ from dataclasses import dataclass
 from typing import TYPE_CHECKING, Final
 
 from focas_net._address import shown
-from focas_net._refusals import no_item, no_path
+from focas_net._refusals import no_item, no_path, path_axes
 from focas_net.errors import EW
 
 from ._base import MachineError, need_int
@@ -174,7 +174,10 @@ class PathItems:
         if item is None:
             raise MachineError(EW.NUMBER, no_item(what, datano))
         if item.axis:
-            if not 1 <= axis <= self.axes:
+            if axis > self.axes:  # as a position's axis past the path's is worded
+                why = f"axis {axis} is outside 1..{self.axes}: {path_axes(self.axes)}"
+                raise MachineError(EW.ATTRIB, why)
+            if axis < 1:
                 why = f"{what} {datano} is an axis {what}: give an axis 1..{self.axes}, got {axis}"
                 raise MachineError(EW.ATTRIB, why)
             return item, self.offset + axis - 1
