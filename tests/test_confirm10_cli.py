@@ -211,3 +211,13 @@ async def test_a_number_with_a_plus_sign_is_not_read_back_to_the_user(
     async with serving() as served:
         line = await fails(EXIT_USAGE, *argv, *at(served), prefix="focas-net")
     assert said in line and "reads as" not in line, line
+
+
+async def test_a_serve_option_refused_with_another_names_the_number_as_typed() -> None:
+    """``serve --fleet 0x3 --port 65534`` said ``--fleet 3 from --port 65534 runs past
+    65535``: the number leads as typed, as every refusal of a number read does."""
+    line = await fails(EXIT_USAGE, "serve", "--fleet", "0x3", "--port", "65534", prefix="focas-net")
+    assert line == (
+        "focas-net serve: error: 0x3 reads as 3: --fleet 3 from --port 65534 runs past 65535 "
+        "(the last machine would get port 65536)"
+    ), line

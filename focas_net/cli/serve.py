@@ -65,6 +65,7 @@ from ._args import (
     pem_holds,
     print_error,
     ssl_error_text,
+    typed_lead,
 )
 from ._fleet import ConfigError, build_machines, fleet_indices, machines_per_process
 from ._format import address_text
@@ -478,8 +479,8 @@ def run(args: argparse.Namespace) -> int:
             return run_workers(args, run)
         states: list[Kept] = []
         machines = build_machines(args, states)
-    except ConfigError as exc:
-        print_error(str(exc), _ERROR_PREFIX)
+    except ConfigError as exc:  # (a number of an option named as typed: --fleet 0x3)
+        print_error(typed_lead(str(exc), args), _ERROR_PREFIX)
         return EXIT_USAGE
     server = FocasServer(
         machines,
