@@ -399,3 +399,22 @@ async def test_alarm_watch_writes_an_axis_alarm_as_every_front_end_does() -> Non
     assert raised == "OT0500 (axis 1) + OVERTRAVEL ( SOFT 1 )"
     assert any(line.endswith(f"raised   {raised}") for line in out.splitlines()), out
     assert any(line.endswith(f"UTC {raised}") for line in out.splitlines()), out
+
+
+# -- a machine file's name that names no file ---------------------------------------------------
+@pytest.mark.parametrize(
+    ("name", "said"),
+    [
+        ("", "an empty name is no file or folder, got ''"),
+        ("  ", "an empty name is no file or folder, got '  '"),
+        ("mill\0.toml", "a file name holds no NUL character, got 'mill\\x00.toml'"),
+    ],
+)
+def test_load_machine_refuses_a_name_that_names_no_file_as_the_cli_does(
+    name: str, said: str
+) -> None:
+    """``load_machine("")`` said ``: cannot read: is a directory`` and a NUL raised Python's
+    ``embedded null byte``: the command line's words, from the rule ``load_config`` uses."""
+    with pytest.raises(MachineFileError) as refused:
+        load_machine(name)
+    assert str(refused.value) == said

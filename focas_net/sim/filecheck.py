@@ -30,7 +30,7 @@ class MachineFileError(FocasError, ValueError):
         self.key = key
         self.problem = problem
         where = f"{path}: {key}" if key else path
-        super().__init__(f"{where}: {problem}")
+        super().__init__(f"{where}: {problem}" if where else problem)
 
 
 @dataclass(frozen=True, slots=True)

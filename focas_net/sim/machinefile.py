@@ -19,7 +19,7 @@ from pathlib import Path
 from typing import Any, Final
 
 from focas_net._bits import bits_hint, bits_of_text
-from focas_net._typed import decimal_number, macro_unfit, os_words
+from focas_net._typed import decimal_number, file_name_unfit, macro_unfit, os_words
 from focas_net.versamax import BoardId, IOModuleRecord, RefType
 
 from ._base import NUMBERS, n_values
@@ -708,12 +708,16 @@ def load_machine(
     sim_clock: SimClock | None = None,
 ) -> Machine:
     """Read the machine file at ``path`` (TOML). Raises :class:`MachineFileError`. A
-    program's ``file`` is relative to the machine file's folder; TypeError naming a ``path``
-    that is no ``str`` or path object."""
+    program's ``file`` is relative to the machine file's folder, an empty name or one with a
+    NUL is refused as the command line refuses it; TypeError naming a ``path`` that is no
+    ``str`` or path object."""
     if not isinstance(path, str | PathLike):
         raise TypeError(f"a machine file's path must be a str or a Path, got {path!r}")
     p = Path(path)
     name = str(path)
+    why = file_name_unfit(name)
+    if why is not None:
+        raise MachineFileError("", "", why)
     try:
         raw = p.read_bytes()
     except OSError as exc:
