@@ -108,7 +108,7 @@ async def test_a_faults_arguments_are_refused_in_the_servers_words(
     kind, count, arg = numbers
     reason = fault_refusal(int(kind), int(FaultScope.MACHINE), count, arg)
     assert reason is not None
-    line = await fails(EXIT_USAGE, "sim", "fault", *argv, *at(server))
+    line = await fails(EXIT_USAGE, "sim", "fault", *argv, *at(server), prefix="focas-net")
     assert line.endswith(reason) or f"{reason};" in line, line
     assert await ok("sim", "faults", *at(server)) == "no pending faults of this machine\n"
 
