@@ -7,10 +7,11 @@ from decimal import Decimal
 
 import pytest
 
+from focas_net._typed import macro_to_wire
 from focas_net.client import FocasClient, ReconnectPolicy
 from focas_net.client._composite import chunked_write_error
 from focas_net.client._locks import KeyedLocks
-from focas_net.client._values import macro_from_wire, macro_to_wire, param_int
+from focas_net.client._values import macro_from_wire, param_int
 from focas_net.errors import EW, CncError, FocasConnectionError, FocasTimeoutError
 
 
