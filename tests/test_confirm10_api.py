@@ -104,20 +104,26 @@ def test_the_machine_keeps_the_packed_contracts_order_number_first() -> None:
 
 @pytest.mark.parametrize("spindle", [0, 1, 2, 3])
 async def test_a_spindle_diagnostic_takes_every_spindle_of_the_path(spindle: int) -> None:
-    """The native client refused ``read_diag(410, axis=3)`` of the third spindle of a path of
-    two axes (``axis 3 of 2``): the axis of a spindle diagnostic is the spindle."""
+    """The machine answers a spindle diagnostic by spindle: the packed client reads all
+    three spindles of a path of two axes. The native client does what FANUC's library does
+    with a per-axis argument, checks it against the path's axes before sending: spindle 3
+    of that path is EW_ATTRIB ``axis 3 of 2`` there."""
     async with with_both_clients(_spindle_lathe()) as (_, cnc, native):
-        for client in (cnc, native):
-            assert await client.read_diag(410, axis=spindle) == 0
-
-
-async def test_a_spindle_past_the_paths_is_named_as_a_spindle() -> None:
-    async with with_both_clients(_spindle_lathe()) as (_, cnc, native):
-        for client in (cnc, native):
+        assert await cnc.read_diag(410, axis=spindle) == 0
+        if spindle <= 2:
+            assert await native.read_diag(410, axis=spindle) == 0
+        else:
             with pytest.raises(CncError) as refused:
-                await client.read_diag(410, axis=4)
-            assert refused.value.ew == EW.ATTRIB
-            assert "axis 4 of 2" not in str(refused.value), str(refused.value)
+                await native.read_diag(410, axis=spindle)
+            assert str(refused.value).endswith("cnc_diagnoss: axis 3 of 2"), refused.value
+
+
+async def test_a_spindle_past_the_paths_is_named_as_a_spindle_by_the_packed_client() -> None:
+    async with with_both_clients(_spindle_lathe()) as (_, cnc, _native):
+        with pytest.raises(CncError) as refused:
+            await cnc.read_diag(410, axis=4)
+        assert refused.value.ew == EW.ATTRIB
+        assert "axis 4 of 2" not in str(refused.value), str(refused.value)
 
 
 def test_the_protocol_docs_say_which_comes_first() -> None:

@@ -17,7 +17,6 @@ from collections.abc import AsyncIterator, Callable
 from decimal import Decimal
 from typing import Any, Final, TypeVar
 
-from focas_net._refusals import SPINDLE_DIAGS
 from focas_net.errors import EW, CncError, PayloadError, ProtocolError
 
 from ..native import (
@@ -158,18 +157,15 @@ class NativeItems(NativeLink):
 
     # -- parameters and diagnostics ------------------------------------------------------
     @staticmethod
-    def _check_axis_of(
-        handle: Handle, axis: int, function: str, path: int = 1, *, number: int = 0
-    ) -> None:
+    def _check_axis_of(handle: Handle, axis: int, function: str, path: int = 1) -> None:
         """EW_ATTRIB, before anything is sent, for an ``axis`` past ``path``'s axes, as
-        FANUC's library checks it; of a spindle diagnostic (``number``), whose axis is the
-        spindle, past ``path``'s spindles."""
+        FANUC's library checks every per-axis argument against the path's axis count (a
+        spindle diagnostic's too: the library sends ``cnc_diagnoss(411, axis 2)`` to a CNC
+        of one spindle and three axes, and refuses spindle 3 of a path of two axes)."""
         check_path_of(handle, path, function)  # (a path it lacks has no axes: named first)
-        spindle = function == "cnc_diagnoss" and number in SPINDLE_DIAGS
-        what, count = ("spindle", handle.spindles_on(path)) if spindle else ("axis", None)
-        count = handle.axes_on(path) if count is None else count
-        if axis > count:
-            raise CncError.from_ew(EW.ATTRIB, f"{function}: {what} {axis} of {count}")
+        axes = handle.axes_on(path)
+        if axis > axes:
+            raise CncError.from_ew(EW.ATTRIB, f"{function}: axis {axis} of {axes}")
 
     async def _read_item(
         self,
@@ -185,7 +181,7 @@ class NativeItems(NativeLink):
         and axis as a :class:`ParamValue` (setting data are read as parameters)."""
         function = "cnc_diagnoss" if diagnostic else "cnc_rdset" if setting else "cnc_rdparam"
         handle = self._handle_now() or await self._handle_for(deadline)
-        self._check_axis_of(handle, axis, function, path, number=number)
+        self._check_axis_of(handle, axis, function, path)
         build = _READS[function]
         call = build(handle.command_set, number, axis)
         (block,) = await self._exchange(handle, call, deadline, 0, path)
