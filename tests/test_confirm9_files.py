@@ -12,7 +12,7 @@ from support import block_run
 from focas_net.cli import EXIT_USAGE
 from focas_net.sim import MachineFileError, default_machine, load_machine
 from focas_net.sim.nc import Engine, ManualClock
-from focas_net.sim.nc.interpreter import Step
+from focas_net.sim.nc.actions import Step
 
 # -- one address given twice in a block ------------------------------------------------------
 

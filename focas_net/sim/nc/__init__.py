@@ -87,7 +87,6 @@ PS0009 naming the word). The others raise PS0010 (G codes) or PS0114 (syntax).
 from .alarms import ALARM_MESSAGES, AlarmKind, NcAlarm, ProgramError, ProgramErrorReason
 from .clock import ManualClock, RealTimeClock, SimClock, check_sim_clock
 from .engine import CycleState, Engine, EngineEvent, MotionKind, NcStateError
-from .interpreter import DEFAULT_MODAL, G_CODE_GROUPS, NcSettings
 from .macro import MACRO_FUNCTIONS, MemoryVariables, NcVariables, VariableRefused
 from .modal import (
     FANUC_GROUPS,
@@ -110,6 +109,7 @@ from .scenario import (
     Schedule,
     fleet_seed,
 )
+from .settings import DEFAULT_MODAL, G_CODE_GROUPS, NcSettings
 
 __all__ = [
     "ALARM_MESSAGES",

@@ -15,22 +15,14 @@ from dataclasses import dataclass
 from enum import Enum
 from typing import Final
 
+from .actions import BUSY, Action, Dwell, ProgramEnd, Stop, Sync, Wait
 from .alarms import ALARM_MESSAGES, AlarmKind, AlarmRaised, NcAlarm, number_text
 from .clock import SimClock
-from .interpreter import (
-    BUSY,
-    Action,
-    Dwell,
-    Interpreter,
-    NcSettings,
-    ProgramEnd,
-    Stop,
-    Sync,
-    Wait,
-)
+from .interpreter import Interpreter
 from .macro import MemoryVariables, NcVariables
 from .motion import Motion, Vector
 from .program import ProgramStore
+from .settings import NcSettings
 from .waits import MISMATCH, PathSync, Unknown
 
 __all__ = ["CycleState", "Engine", "EngineEvent", "MotionKind", "NcStateError"]

@@ -3,57 +3,26 @@
 :meth:`Interpreter.step` executes the block at the program pointer and answers the actions
 it asks of the machine (motion, dwell, an M/T function's wait, a stop, the program's end);
 macro statements and modal changes take no time. It never raises anything but
-:class:`~focas_net.sim.nc.alarms.AlarmRaised` (turned into an alarm by the engine).
+:class:`~focas_net.sim.nc.alarms.AlarmRaised` (turned into an alarm by the engine). What the
+parameters say is :mod:`.settings`; the actions it answers are :mod:`.actions`.
 """
 
 from __future__ import annotations
 
 import math
-from collections.abc import Mapping, Sequence
-from dataclasses import dataclass, field
-from typing import Any, Final
+from collections.abc import Mapping
+from dataclasses import dataclass
+from typing import Final
 
+from .actions import Dwell, ProgramEnd, Step, Stop, Sync, Wait
 from .alarms import AlarmKind, AlarmRaised, number_text, word_text
 from .macro import Expr, NcVariables, Value, VariableRefused, evaluate, round_fanuc, variable_number
-from .motion import ArcMove, LinearMove, Motion, RapidMove, Vector
+from .motion import ArcMove, LinearMove, RapidMove, Vector
 from .program import Assign, Bad, End, Goto, IfGoto, IfThen, Program, While, Words
 from .program import ProgramStore as _Store
+from .settings import DEFAULT_MODAL, G_CODE_GROUPS, INCH, NcSettings
 
-__all__ = ["DEFAULT_MODAL", "G_CODE_GROUPS", "NcSettings"]
-
-INCH: Final = 25.4
-
-#: Each G code the interpreter accepts (value x 10) and its group, FANUC's numbering of the M
-#: series (G40.1 group 18, G50.1 group 22); group 0 is one-shot.
-G_CODE_GROUPS: Final[dict[int, int]] = {
-    0: 1, 10: 1, 20: 1, 30: 1,
-    40: 0, 280: 0, 530: 0,
-    170: 2, 180: 2, 190: 2,
-    900: 3, 910: 3,
-    220: 4, 230: 4,
-    940: 5,
-    200: 6, 210: 6,
-    400: 7,
-    430: 8, 440: 8, 490: 8,
-    800: 9,
-    980: 10, 990: 10,
-    500: 11,
-    670: 12,
-    970: 13,
-    540: 14, 550: 14, 560: 14, 570: 14, 580: 14, 590: 14,
-    610: 15, 620: 15, 630: 15, 640: 15,
-    690: 16,
-    150: 17,
-    401: 18,
-    501: 22,
-}  # fmt: skip
-
-#: The power-on state of each modal group (value x 10), as #4001-#4022 read it (a group not
-#: modelled, 19-21, reads vacant).
-DEFAULT_MODAL: Final[dict[int, int]] = {
-    1: 0, 2: 170, 3: 900, 4: 220, 5: 940, 6: 210, 7: 400, 8: 490, 9: 800, 10: 980,
-    11: 500, 12: 670, 13: 970, 14: 540, 15: 640, 16: 690, 17: 150, 18: 401, 22: 501,
-}  # fmt: skip
+__all__ = ["Interpreter"]
 
 _ADDRESSES_OTHER: Final = frozenset("FGHDILJKMPRST")
 #: The letters FANUC's parameter 1020 may name an axis by (the others are no axis).
@@ -72,141 +41,11 @@ _PLANES: Final = {170: ("X", "Y", "I", "J"), 180: ("Z", "X", "K", "I"), 190: ("Y
 _CENTER: Final = {"X": "I", "Y": "J", "Z": "K"}
 
 
-@dataclass(frozen=True, slots=True)
-class NcSettings:
-    """What the control's parameters say about execution. Lengths in mm, feeds in mm/min,
-    times in seconds; per-axis tuples follow ``axes``."""
-
-    axes: tuple[str, ...] = ("X", "Y", "Z")
-    #: Rapid traverse rate per axis (parameter 1420).
-    rapid_rates: tuple[float, ...] = (24000.0, 24000.0, 24000.0)
-    #: Upper limit of cutting feed (parameter 1430/1432).
-    max_cutting_feed: float = 10000.0
-    #: Stored stroke limit 1 per axis, (minus, plus) in machine coordinates (parameters
-    #: 1320/1321); ``None``: no limit on that axis.
-    stroke_limits: tuple[tuple[float, float] | None, ...] = (None, None, None)
-    #: Reference position per axis in machine coordinates (parameter 1240).
-    reference: tuple[float, ...] = (0.0, 0.0, 0.0)
-    #: Least input increment of axis words without a decimal point (IS-B): 0.001 mm,
-    #: 0.0001 inch; the same increment in seconds for a dwell's X.
-    increment_mm: float = 0.001
-    increment_inch: float = 0.0001
-    #: Limit of the difference between start and end radius of an arc (parameter 3410).
-    arc_tolerance: float = 0.02
-    #: Largest spindle speed (parameter 3772), min^-1.
-    max_spindle_speed: float = 6000.0
-    #: Seconds an M6 tool change and any other M function take.
-    tool_change_time: float = 4.0
-    m_function_time: float = 0.5
-    #: Deepest subprogram nesting (M98 within M98).
-    max_subprogram_nesting: int = 10
-    #: Highest tool length offset number H.
-    max_offset_number: int = 400
-    #: Blocks executed in zero time in a row before each further one takes ``busy_block_time``
-    #: (keeps an endless macro loop from hanging a read).
-    zero_time_blocks: int = 10000
-    busy_block_time: float = 0.001
-    #: The waiting M codes, lowest and highest (parameters 8110 and 8111), on a control of
-    #: ``path_count`` paths of which this is path ``path_number``; None: no waiting M codes
-    #: (a one-path control has none).
-    waiting_m: tuple[int, int] | None = None
-    path_number: int = 1
-    path_count: int = 1
-
-    @classmethod
-    def for_axes(cls, axes: Sequence[str], **values: Any) -> NcSettings:
-        """Settings for ``axes`` with the per-axis defaults repeated for each axis (24 m/min
-        rapids, no stroke limits, reference at 0); ``values`` override any field."""
-        n = len(axes)
-        defaults: dict[str, Any] = {
-            "rapid_rates": (24000.0,) * n,
-            "stroke_limits": (None,) * n,
-            "reference": (0.0,) * n,
-        }
-        return cls(axes=tuple(axes), **{**defaults, **values})
-
-    def __post_init__(self) -> None:
-        n = len(self.axes)
-        if not 1 <= n <= 20 or len(set(self.axes)) != n:
-            raise ValueError(f"1..20 distinct axis names are needed, got {self.axes!r}")
-        for name, value in (
-            ("rapid_rates", self.rapid_rates),
-            ("stroke_limits", self.stroke_limits),
-            ("reference", self.reference),
-        ):
-            if len(value) != n:
-                raise ValueError(f"{name} has {len(value)} entries for {n} axes")
-        if any(not (math.isfinite(r) and r > 0) for r in self.rapid_rates):
-            raise ValueError(f"rapid rates must be positive, got {self.rapid_rates!r}")
-        for limit in self.stroke_limits:
-            if limit is not None and not limit[0] <= limit[1]:
-                raise ValueError(f"a stroke limit is (minus, plus), got {limit!r}")
-
-
-@dataclass(frozen=True, slots=True)
-class Dwell:
-    seconds: float
-
-
-#: The code of the engine's own wait in a loop of blocks that take no time (not a function).
-BUSY: Final = "busy"
-
-
-@dataclass(frozen=True, slots=True)
-class Wait:
-    """An M, T or tool-change function: the program waits ``seconds`` for its completion; or
-    the engine's own time for a block-only loop (``code`` :data:`BUSY`), which is no function."""
-
-    seconds: float
-    code: str
-
-    @property
-    def fin(self) -> bool:
-        """Whether an M/S/T/B function waits for its completion (ODBST ``mstb`` FIN)."""
-        return self.code != BUSY
-
-
-@dataclass(frozen=True, slots=True)
-class Sync:
-    """A waiting M code: the path stops until every path of ``paths`` (its own among them)
-    has reached a waiting M code; they go on together (see :mod:`.waits`)."""
-
-    code: int
-    paths: frozenset[int]
-
-
-@dataclass(frozen=True, slots=True)
-class Stop:
-    """M0, or M1 with the optional stop switch on."""
-
-    code: int
-
-
-@dataclass(frozen=True, slots=True)
-class ProgramEnd:
-    """M2/M30 (``code``), or the program's last block (``code`` None): counts a part when
-    ``code`` is set."""
-
-    code: int | None
-
-
-Action = Motion | Dwell | Wait | Sync | Stop | ProgramEnd
-
-
 @dataclass(slots=True)
 class _Frame:
     program: Program
     index: int
     repeats: int = 1  #: runs left of this subprogram, this one included
-
-
-@dataclass(slots=True)
-class Step:
-    """What one block asked for: the actions in order, and whether it was an NC block (a
-    single-block stop follows those, not macro statements)."""
-
-    actions: list[Action] = field(default_factory=list)
-    nc_block: bool = False
 
 
 class Interpreter:

@@ -15,7 +15,8 @@ from __future__ import annotations
 from dataclasses import dataclass
 from typing import Final
 
-from .interpreter import G_CODE_GROUPS, Interpreter
+from .interpreter import Interpreter
+from .settings import G_CODE_GROUPS
 
 __all__ = [
     "FANUC_GROUPS",
