@@ -21,6 +21,7 @@ __all__ = [
     "Panel",
     "Status",
     "mode_name",
+    "panel_conflict",
     "panel_mode",
     "switch_unfit",
     "unknown_mode",
@@ -75,6 +76,23 @@ def mode_name(aut: int) -> str:
 MDI: Final = 0
 MEM: Final = 1
 EDIT: Final = 3
+#: The run states (ODBST ``run``) by number, as the status shows them.
+RUN_NAMES: Final = ("reset", "STOP", "HOLD", "STRT", "MSTR")
+#: The modes a cycle runs in (STRT): memory, MDI and remote (DNC) operation.
+_CYCLE_MODES: Final = frozenset({MDI, MEM, MODE_NAMES["RMT"]})
+
+
+def panel_conflict(mode: int, emergency: int, run: int) -> str | None:
+    """Why no CNC shows run state ``run`` with panel ``mode`` and ``emergency`` (None: it
+    may): a cycle runs (STRT) in MEM, MDI or RMT only, and an emergency stop resets the CNC."""
+    name = f"{run} ({RUN_NAMES[run]})" if run in range(len(RUN_NAMES)) else str(run)
+    if emergency and run != 0:
+        return f"{name} cannot be with emergency = true: an emergency stop resets the CNC (run 0)"
+    if run == 3 and mode not in _CYCLE_MODES:
+        return f"{name} cannot be with mode {mode_name(mode)}: a cycle runs in MEM, MDI or RMT"
+    return None
+
+
 #: Decimals of the least input increment of the positions (0.001 mm, IS-B).
 POSITION_DECIMALS: Final = 3
 #: The position kinds :meth:`Machine.positions` serves (``"skip"`` answers EW_NOOPT).

@@ -247,6 +247,17 @@ def listed_elsewhere(groups: Iterable[ToolGroup], group: ToolGroup) -> tuple[int
     return None
 
 
+def repeated_tool(group: ToolGroup) -> tuple[int, str] | None:
+    """The second listing of a tool ``group`` lists twice (its index) and why that cannot be
+    (None: none): a tool is listed once in a group, whose next tool is the next one listed."""
+    seen: set[int] = set()
+    for index, tool in enumerate(group.tools):
+        if tool.number in seen:
+            return index, f"T{tool.number} is in tool group {group.number} twice: list a tool once"
+        seen.add(tool.number)
+    return None
+
+
 def listed_twice(tool: int, other: int) -> str:
     """Why T ``tool`` cannot be in a second group as well as in group ``other``."""
     return (
@@ -307,6 +318,9 @@ class ToolLife:
             for what, value in (("T", tool.number), ("H", tool.h), ("D", tool.d)):
                 if not 0 <= value <= MAX_T or (what == "T" and value == 0):
                     raise ValueError(f"tool group {group.number}: {what}{value} out of range")
+        repeated = repeated_tool(group)
+        if repeated is not None:
+            raise ValueError(repeated[1])
         shared = None if self.ignore else listed_elsewhere(self.groups.values(), group)
         if shared is not None:
             index, other = shared

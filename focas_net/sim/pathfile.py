@@ -20,7 +20,15 @@ from focas_net._typed import os_words, program_file_text
 from ._base import n_values
 from ._identity import axes_problem, axis_name_problem
 from ._paths import MAX_PATHS, PATH_KINDS, PathSpec, kind_of
-from ._status import AUT_MODES, MOTION_NUMBERS, MotionData, Panel, panel_mode, unknown_mode
+from ._status import (
+    AUT_MODES,
+    MOTION_NUMBERS,
+    MotionData,
+    Panel,
+    panel_conflict,
+    panel_mode,
+    unknown_mode,
+)
 from .filecheck import (
     _I32,
     _ascii,
@@ -137,12 +145,13 @@ def _panel(ctx: _Ctx, value: Any) -> Panel:
         mode = _int(c, mode_v)
         if mode not in AUT_MODES:
             c.fail(unknown_mode(mode))
-    return Panel(
-        mode=mode,
-        pwe=int(_bool(ctx.sub("pwe"), t.get("pwe", False))),
-        emergency=int(_bool(ctx.sub("emergency"), t.get("emergency", False))),
-        run=_int(ctx.sub("run"), t.get("run", 0), (0, 4)),
-    )
+    pwe = int(_bool(ctx.sub("pwe"), t.get("pwe", False)))
+    emergency = int(_bool(ctx.sub("emergency"), t.get("emergency", False)))
+    run = _int(ctx.sub("run"), t.get("run", 0), (0, 4))
+    conflict = panel_conflict(mode, emergency, run)
+    if conflict is not None:
+        ctx.sub("run").fail(conflict)
+    return Panel(mode=mode, pwe=pwe, emergency=emergency, run=run)
 
 
 def _motion(ctx: _Ctx, value: Any, n_axes: int) -> MotionData:

@@ -25,6 +25,7 @@ from ._tools import (
     ToolsSpec,
     listed_elsewhere,
     listed_twice,
+    repeated_tool,
 )
 from .filecheck import _Ctx, _int, _list, _only, _str, _table
 
@@ -98,6 +99,10 @@ def tool_specs(ctx: _Ctx, value: Any, paths: int = MAX_PATHS) -> dict[int, Tools
         gc = c.sub("group")
         groups = [_group(gc.sub(j), g) for j, g in enumerate(_list(gc, t.get("group", [])))]
         ignore = _int(c.sub("ignore_number"), t.get("ignore_number", 0), (0, _MAX_T))
+        for j, group in enumerate(groups):
+            repeated = repeated_tool(group)
+            if repeated is not None:
+                gc.sub(j).sub("tools").sub(repeated[0]).fail(repeated[1])
         for j, group in enumerate(groups if not ignore else ()):
             shared = listed_elsewhere(groups[:j], group)
             if shared is not None:
