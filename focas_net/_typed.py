@@ -41,6 +41,7 @@ __all__ = [
     "NO_PASSWORD_NOTE",
     "OVERRIDE_RANGES",
     "PASSWORD_SIZE",
+    "PMC_BYTES",
     "PROGRAM_NUMBERS",
     "RAPID_STEPS",
     "WRONG_PASSWORD",
@@ -64,6 +65,7 @@ __all__ = [
     "override_unfit",
     "param_value_unfit",
     "password_bytes",
+    "pmc_count_unfit",
     "program_number",
     "program_text_unfit",
     "rapid_step",
@@ -215,6 +217,22 @@ def field_unfit(what: str, value: int, low: int, high: int) -> str | None:
     the words of every front end (``parameter number 99999 is outside 0..32767``); None when
     it can."""
     return None if low <= value <= high else f"{what} {value} is outside {low}..{high}"
+
+
+#: PMC bytes a range reaches at most: its addresses are a request's ``u16`` fields (0..65535).
+PMC_BYTES: Final = 0x10000
+
+
+def pmc_count_unfit(count: int) -> str | None:
+    """Why ``count`` PMC bytes are no range, in the words of every front end (the machine's
+    EW_LENGTH, both clients' ValueError before sending): ``PMC byte count 0 is outside
+    1..65536 (a PMC range holds one byte at least)``, as for a range whose end is before its
+    start (FANUC's ``pmc_rdpmcrng`` and ``pmc_wrpmcrng`` take it from ``s`` to ``e``, both
+    included); None for 1..65536 (whether the area has them is the CNC's to say)."""
+    why = field_unfit("PMC byte count", count, 1, PMC_BYTES)
+    if why is None or count > 0:
+        return why
+    return f"{why} (a PMC range holds one byte at least)"
 
 
 #: The numbers a CNC's fields carry: a parameter's (a C ``short`` of no sign) and a macro

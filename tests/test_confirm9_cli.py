@@ -127,7 +127,7 @@ async def test_sim_clear_of_spaces_shows_what_was_typed(server: Served, given: s
 @pytest.mark.parametrize(
     ("given", "words"),
     [
-        ("0", "PMC byte count 0 is outside 1..65536"),
+        ("0", "PMC byte count 0 is outside 1..65536 (a PMC range holds one byte at least)"),
         ("100000", "PMC byte count 100000 is outside 1..65536"),
     ],
 )

@@ -27,6 +27,7 @@ from .._typed import (
     nan_refused,
     param_decimals_refused,
     param_value_unfit,
+    pmc_count_unfit,
     typed_number,
     whole_number,
 )
@@ -195,7 +196,10 @@ def check_bit_value(value: object) -> bool:
 def check_pmc_range(start: object, count: object) -> tuple[int, int]:
     """``count`` (at least 1) PMC bytes from ``start``, ending by 65535."""
     first = check_int("PMC start address", start, 0, _U16_LIMIT - 1)
-    size = check_int("PMC byte count", count, 1, _U16_LIMIT)
+    size = an_int("PMC byte count", count)
+    why = pmc_count_unfit(size)
+    if why is not None:
+        raise ValueError(why)
     if first + size > _U16_LIMIT:
         raise ValueError(
             f"{size} PMC bytes from {first} run to {first + size - 1}, "

@@ -11,6 +11,7 @@ from collections.abc import Iterable, Mapping
 from dataclasses import dataclass, field
 from typing import Final
 
+from focas_net._typed import pmc_count_unfit
 from focas_net.errors import EW
 
 from ._base import Counters, MachineError, need_int
@@ -48,11 +49,10 @@ def need_pmc_count(count: int) -> int:
     """``count`` PMC bytes to read or write, at least one: a PMC range holds one byte at least
     (FANUC's ``pmc_rdpmcrng`` and ``pmc_wrpmcrng`` give it from ``s`` to ``e``, both included),
     so a count below 1 is EW_LENGTH, as the CNC answers a range that ends before it starts,
-    and the clients refuse it before sending."""
+    in the words the clients refuse it with before sending (:func:`pmc_count_unfit`). A count
+    past the area is the area's to refuse (EW_NUMBER)."""
     if count < 1:
-        raise MachineError(
-            EW.LENGTH, f"PMC byte count {count}: a PMC range holds one byte at least"
-        )
+        raise MachineError(EW.LENGTH, pmc_count_unfit(count) or "")
     return count
 
 
