@@ -8,7 +8,7 @@ from __future__ import annotations
 
 import pytest
 
-from focas_net import EW, FocasClient, NativeClient
+from focas_net import EW, ChunkedWriteError, FocasClient, NativeClient
 from focas_net._typed import pmc_count_unfit
 from focas_net.sim import Machine, MachineError
 
@@ -41,3 +41,46 @@ async def test_a_pmc_range_of_no_bytes_is_refused_in_one_rule_s_words(
             with pytest.raises(ValueError) as given:
                 await client.write_pmc("R", 10, b"")
             assert str(given.value) == words, type(client).__name__
+
+
+# -- a chunked PMC write names why its first failing chunk was refused ------------------------
+@pytest.mark.parametrize(
+    ("client_kind", "area", "start", "size", "reason"),
+    [
+        ("packed", "R", 7000, 2000, "pmc_wrpmcrng: R7992..R8023 goes past the end of PMC area R"),
+        ("native", "R", 6000, 2500, "pmc_wrpmcrng: R7420..R8499 goes past the end of PMC area R"),
+        ("packed", "X", 0, 64, "pmc_wrpmcrng: PMC area X is write-protected (the machine drives"),
+        ("sim", "X", 120, 40, "sim_set_pmc: X120..X151 goes past the end of PMC area X"),
+    ],
+)
+async def test_a_chunked_pmc_write_names_why_its_chunk_was_refused(
+    both_clients: Both, client_kind: str, area: str, start: int, size: int, reason: str
+) -> None:
+    """``ChunkedWriteError`` said ``PMC write to R failed (EW_NUMBER (3): data number / address
+    range error: pmc_wrpmcrng); ...``, the code without its reason, where a write of one call
+    names it (``R7990..R8009 goes past the end of PMC area R``)."""
+    _, cnc, native = both_clients
+    client = native if client_kind == "native" else cnc
+    write = cnc.sim.set_pmc if client_kind == "sim" else client.write_pmc
+    with pytest.raises(ChunkedWriteError) as failed:
+        await write(area, start, bytes(size))
+    assert reason in str(failed.value.cause)
+    assert reason in str(failed.value)
+    assert str(failed.value).count("goes past") <= 1  # named once, not once per wrapper
+
+
+async def test_a_pmc_write_past_the_end_writes_what_the_docs_say(both_clients: Both) -> None:
+    """docs/client.md, "A PMC write past the end of its area": the spans each client writes."""
+    machine, cnc, native = both_clients
+    expected = [
+        (cnc, 7000, 2000, [(7000, 7991)], [(7992, 8999)]),
+        (native, 7000, 2000, [], [(7000, 8999)]),
+        (native, 6000, 2500, [(6000, 7419)], [(7420, 8499)]),
+    ]
+    for client, start, size, written, not_written in expected:
+        machine.write_pmc("R", 6000, bytes(2000))
+        with pytest.raises(ChunkedWriteError) as failed:
+            await client.write_pmc("R", start, b"\x01" * size)
+        assert (failed.value.written, failed.value.not_written) == (written, not_written)
+        ones = machine.read_pmc("R", 6000, 2000).count(1)
+        assert ones == sum(last - first + 1 for first, last in written)

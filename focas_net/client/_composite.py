@@ -47,6 +47,7 @@ __all__ = [
     "CompositeCalls",
     "chunked_write_error",
     "pmc_named",
+    "pmc_named_error",
     "write_chunked",
 ]
 
@@ -111,7 +112,12 @@ async def write_chunked(
     chunks = [
         (s, data[s - start : s - start + step]) for s in range(start, start + len(data), step)
     ]
-    outcomes = await write(chunks)
+    outcomes = [
+        None
+        if outcome is None
+        else (pmc_named_error(outcome[0], area, first, len(part)), outcome[1])
+        for outcome, (first, part) in zip(await write(chunks), chunks, strict=True)
+    ]
     if len(chunks) == 1:
         if outcomes[0] is not None:
             raise outcomes[0][0]
@@ -122,18 +128,31 @@ async def write_chunked(
         raise error
 
 
+def pmc_named_error(exc: Exception, area: PmcArea, start: int, count: int) -> Exception:
+    """``exc``, the refusal of ``count`` bytes of ``area`` from ``start`` (one call's, or one
+    chunk's), naming why in the words of the command line (``R7990..R8009 goes past the end of
+    PMC area R``) when it is a :class:`CncError` whose code says it: the answer carries the
+    code only."""
+    if not isinstance(exc, CncError):
+        return exc
+    why = pmc_refusal(exc.ew, area.name, start, start + count - 1)
+    if why is None:
+        return exc
+    return CncError.from_ew(exc.ew, f"{exc.detail}: {why}")
+
+
 @asynccontextmanager
 async def pmc_named(area: PmcArea, start: int, count: int) -> AsyncIterator[None]:
-    """A refusal of ``count`` bytes of ``area`` from ``start`` (one call's, or one range's:
-    a :class:`ChunkedWriteError` lists its own) naming why, in the words of the command line
-    (``R7990..R8009 goes past the end of PMC area R``): the answer carries the code only."""
+    """A refusal of ``count`` bytes of ``area`` from ``start`` by one call, named as
+    :func:`pmc_named_error` names it (a chunked write names each chunk's in
+    :func:`write_chunked`)."""
     try:
         yield
     except CncError as exc:
-        why = pmc_refusal(exc.ew, area.name, start, start + count - 1)
-        if why is None:
+        named = pmc_named_error(exc, area, start, count)
+        if named is exc:
             raise
-        raise CncError.from_ew(exc.ew, f"{exc.detail}: {why}") from None
+        raise named from None
 
 
 class CompositeCalls(Lifecycle):
@@ -369,8 +388,7 @@ class CompositeCalls(Lifecycle):
         async def write(chunks: Sequence[tuple[int, bytes]]) -> list[ChunkOutcome]:
             return await self._write_pmc_chunks(a, chunks, deadline)
 
-        async with pmc_named(a, start, len(data)):
-            await write_chunked(a, start, data, self._pmc_write_chunk(), write)
+        await write_chunked(a, start, data, self._pmc_write_chunk(), write)
 
     async def read_pmc_bit(
         self, area: AreaLike, byte: int, bit: int, *, timeout: float | None = None

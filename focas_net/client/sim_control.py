@@ -32,7 +32,6 @@ from ..protocol import (
 )
 from ..protocol import Command as C
 from ..protocol.faults import fault_refusal, scope_refusal
-from ._composite import pmc_named
 from ._pmc import write_pmc_range
 from ._values import (
     AreaLike,
@@ -267,8 +266,7 @@ class SimControl:
         a = PmcArea.parse(area)
         raw = pmc_data(start, data)
         client = self._client
-        async with pmc_named(a, start, len(raw)):
-            await write_pmc_range(client, _SET_PMC, a, start, raw, client._deadline(timeout))
+        await write_pmc_range(client, _SET_PMC, a, start, raw, client._deadline(timeout))
 
     async def inject_fault(
         self,
