@@ -14,8 +14,10 @@ from focas_net.sim import (
     MachineFileError,
     ToolGroup,
     ToolsSpec,
+    load_machine,
     machine_from_dict,
 )
+from focas_net.sim.nc import CycleState, Engine, ManualClock, NcSettings
 
 ROOT = Path(__file__).resolve().parent.parent
 NC = ROOT / "focas_net" / "sim" / "nc"
@@ -77,3 +79,103 @@ def test_one_tool_twice_in_one_group_is_refused_by_the_machine_too() -> None:
     groups = [ToolGroup(4, 9, tools=[LifeTool(1), LifeTool(1)])]
     with pytest.raises(ValueError, match="T1 is in tool group 4 twice"):
         Machine("m", axes=["X"], tools={1: ToolsSpec(groups=groups, ignore=100)})
+
+
+# -- part programs ----------------------------------------------------------------------------
+
+
+def _engine(text: str, settings: NcSettings | None = None) -> tuple[Engine, ManualClock]:
+    """An engine of its own clock at cycle start of ``text`` (its first program)."""
+    clock = ManualClock()
+    engine = Engine(clock, settings or NcSettings())
+    engine.store.select(engine.store.store(text).number)
+    engine.cycle_start()
+    return engine, clock
+
+
+def _alarm(engine: Engine) -> str | None:
+    alarm = engine.alarm
+    return None if alarm is None else f"PS{alarm.number:04d} {alarm.detail}"
+
+
+def test_of_two_one_shot_g_codes_in_a_block_the_last_is_valid() -> None:
+    """FANUC's G code list: of several G codes of one group in a block the last is valid, and
+    group 00 is no exception (no alarm): `G28 G4 P100` dwells 0.1 s, `G4 G28 X10.` returns."""
+    engine, clock = _engine("O1\nG28 G4 P100\nM30\n")
+    clock.advance(0.05)
+    assert (engine.state, _alarm(engine)) == (CycleState.START, None)  # dwelling
+    clock.advance(0.1)
+    assert (engine.state, _alarm(engine)) == (CycleState.RESET, None)
+    engine, clock = _engine("O1\nG0 X50.\nG4 G28 X10.\nM30\n")
+    clock.advance(30)
+    assert (engine.state, _alarm(engine)) == (CycleState.RESET, None)
+    assert engine.absolute_position()[0] == pytest.approx(0.0)
+
+
+_LATHE = NcSettings.for_axes(("X", "Z"), lathe=True)
+
+
+@pytest.mark.parametrize("dwell", ["G4 U1.", "G4 U1000", "G04 U1.0", "G4 X1.", "G4 P1000"])
+def test_a_lathe_dwells_by_u_in_seconds(dwell: str) -> None:
+    """FANUC's T series gives G4 its time in X, U (seconds) or P (ms): `G4 U1.` dwells 1 s."""
+    engine, clock = _engine(f"O1\n{dwell}\nM30\n", _LATHE)
+    clock.advance(0.9)
+    assert (engine.state, _alarm(engine)) == (CycleState.START, None)
+    clock.advance(0.2)
+    assert (engine.state, _alarm(engine)) == (CycleState.RESET, None)
+
+
+@pytest.mark.parametrize(
+    ("block", "settings", "words"),
+    [
+        ("G4 U1. P100", _LATHE, "PS5074 G4 U1. P100: a dwell takes its time in X, U or P"),
+        ("G4 X1. U1.", _LATHE, "PS5074 G4 X1. U1.: a dwell takes its time in X, U or P"),
+        ("G0 U1.", _LATHE, "PS0009 address U (axes are XZ)"),
+        ("G4 U-1.", _LATHE, "PS0006 G4 U-1."),
+        ("G4 U1.", NcSettings(), "PS0009 address U (axes are XYZ)"),
+    ],
+)
+def test_a_dwell_s_u_is_the_lathe_s_alone(block: str, settings: NcSettings, words: str) -> None:
+    engine, clock = _engine(f"O1\n{block}\nM30\n", settings)
+    clock.advance(2)
+    assert (_alarm(engine) or "").startswith(words)
+
+
+def test_a_lathe_machine_dwells_by_u() -> None:
+    machine = machine_from_dict(
+        tomllib.loads(
+            '[machine]\nname = "l"\naxes = ["X", "Z"]\n[sysinfo]\nmt_type = " T"\n'
+            '[[program]]\ntext = "O1\\nG4 U1.\\nM30"\n'
+        ),
+        sim_clock=(clock := ManualClock()),
+    )
+    machine.cycle_start()
+    clock.advance(0.5)
+    assert machine.status().run == 3
+    clock.advance(1)
+    assert (machine.status().run, machine.status().alarm) == (0, 0)
+
+
+@pytest.mark.parametrize(
+    ("body", "words"),
+    [
+        ("[run]\nphase = 1e400\n", "run.phase: must be a finite number, got 1e400"),
+        ("[run]\nphase = 1e10\n", "run.phase: 1e10 is outside 0..31536000"),
+        ("[run]\nphase = -1E-3\n", "run.phase: -1E-3 is outside 0..31536000"),
+        (
+            "[[tools]]\n[[tools.offset]]\nnumber = 1\nlength_wear = 1e400\n",
+            "tools[0].offset[0].length_wear: must be a finite number of millimetres, got 1e400",
+        ),
+        (
+            "[[tools]]\n[[tools.offset]]\nnumber = 1\nlength_wear = 1.000_1\n",
+            "tools[0].offset[0].length_wear: 1.000_1 has more than 3 decimals",
+        ),
+    ],
+)
+def test_a_float_of_a_machine_file_is_named_as_typed(tmp_path: Path, body: str, words: str) -> None:
+    """TOML reads 1e400 as inf: the refusal named `inf`, which the file does not hold."""
+    file = tmp_path / "m.toml"
+    file.write_text(_HEAD + body, encoding="utf-8")
+    with pytest.raises(MachineFileError) as caught:
+        load_machine(file)
+    assert words in str(caught.value)

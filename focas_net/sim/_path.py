@@ -180,6 +180,7 @@ class Path:
         "group",
         "items",
         "key",
+        "lathe",
         "listeners",
         "live",
         "local_macros",
@@ -206,6 +207,7 @@ class Path:
         shared: Shared,
         *,
         number: int = 1,
+        lathe: bool = False,
         items: PathItems | None = None,
         sync: PathSync | None = None,
         path_count: int = 1,
@@ -217,8 +219,9 @@ class Path:
     ) -> None:
         self.name = name
         self.axes = axes
-        #: The path's number (1..).
+        #: The path's number (1..), and whether it is a lathe's (T series).
         self.number = number
+        self.lathe = lathe
         self.counters = shared.counters
         self.items = items or PathItems(shared.items, 0, len(axes), {})
         self.macros = shared.macros
@@ -312,6 +315,7 @@ class Path:
             limits.append((minus, plus) if plus > minus else None)
         reference = tuple(items.param_float(1240, 0.0, a, 1 / _MM) for a in axes)
         values: dict[str, object] = {
+            "lathe": self.lathe,
             "rapid_rates": rapid,
             "stroke_limits": tuple(limits),
             "reference": reference,

@@ -33,6 +33,28 @@ class MachineFileError(FocasError, ValueError):
         super().__init__(f"{where}: {problem}" if where else problem)
 
 
+class TomlFloat(float):
+    """A float of a machine file that reads as typed in it (``1e400`` rather than the
+    ``inf`` TOML makes of it, ``1_000.5``): every refusal naming the value names the file's
+    text. Arithmetic gives plain floats. ``tomllib.loads(text, parse_float=TomlFloat)``."""
+
+    __slots__ = ("text",)
+    text: str
+
+    def __new__(cls, text: str) -> TomlFloat:
+        self = super().__new__(cls, text)
+        self.text = text
+        return self
+
+    def __repr__(self) -> str:
+        return self.text
+
+    __str__ = __repr__
+
+    def __format__(self, spec: str) -> str:
+        return self.text if not spec else float.__format__(self, spec)
+
+
 @dataclass(frozen=True, slots=True)
 class _Ctx:
     """Where we are: the file and the dotted key of the current table."""

@@ -322,6 +322,7 @@ class Machine(
                     list(info.axes),
                     shared,
                     number=info.number,
+                    lathe=info.kind == "T",
                     items=PathItems(self._items, offset, k, own_params(self._items, info.number)),
                     sync=sync,
                     path_count=len(specs),

@@ -42,6 +42,7 @@ from .filecheck import (
     _I16,
     _I32,
     MachineFileError,
+    TomlFloat,
     _ascii,
     _bool,
     _bytes,
@@ -723,7 +724,7 @@ def load_machine(
     except OSError as exc:
         raise MachineFileError(name, "", f"cannot read: {os_words(exc)}") from None
     try:
-        data = tomllib.loads(_text(name, raw))
+        data = tomllib.loads(_text(name, raw), parse_float=TomlFloat)
     except tomllib.TOMLDecodeError as exc:
         raise MachineFileError(name, "", f"not valid TOML: {exc}") from None
     return machine_from_dict(
@@ -743,7 +744,7 @@ def state_folder(path: str | PathLike[str]) -> Path | None:
     it names none. MachineFileError as :func:`load_machine`."""
     p = Path(path)
     try:
-        data = tomllib.loads(_text(str(path), p.read_bytes()))
+        data = tomllib.loads(_text(str(path), p.read_bytes()), parse_float=TomlFloat)
     except OSError as exc:
         raise MachineFileError(str(path), "", f"cannot read: {os_words(exc)}") from None
     except tomllib.TOMLDecodeError as exc:

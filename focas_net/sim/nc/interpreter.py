@@ -303,11 +303,13 @@ class Interpreter:
     def _words(self, st: Words, comment: str) -> Step:
         s = self.settings
         values: list[tuple[str, float, bool]] = []
-        unread: str | None = None  # raised once the G codes are known good (PS0010 first)
+        # no axis nor another address: raised once the G codes are known good (PS0010 first)
+        foreign: list[str] = []
         for word in st.words:
             if word.address not in self.axis_index and word.address not in _ADDRESSES_OTHER:
-                unread = unread or word.address
-                continue
+                foreign.append(word.address)
+                if not (word.address == "U" and s.lathe):  # a lathe's G4 U: seen below
+                    continue
             value = evaluate(word.value, self.read)
             if value is not None:
                 values.append((word.address, value, word.integer_literal))
@@ -327,6 +329,8 @@ class Interpreter:
                     self.one_shot = one_shot = code
                 else:
                     modal[group] = code
+        dwell_u = s.lathe and one_shot == 40
+        unread = next((a for a in foreign if not (a == "U" and dwell_u)), None)
         if unread is not None:
             if unread in _AXIS_LETTERS:
                 raise AlarmRaised(9, f"address {unread} (axes are {''.join(s.axes)})")
@@ -486,23 +490,28 @@ class Interpreter:
         self.frames.append(_Frame(program, 0, repeats))
 
     def _dwell_seconds(self, other: Mapping[str, tuple[float, bool]]) -> float:
-        """A dwell's time, ``G4 P`` (ms) or ``G4 X`` (s, or increments without a point), in a
-        block of its own: another axis word raises PS0009, X with P PS5074 (no move dropped)."""
+        """A dwell's time, ``G4 P`` (ms) or ``G4 X`` (s, or increments without a point), on a
+        lathe (T series) ``G4 U`` as X, in a block of its own: another axis word raises
+        PS0009, two of the time's words PS5074 (no move dropped)."""
         moved = next((a for a in other if a in self.axis_index and a != "X"), None)
         if moved is not None:
             word = word_text(moved, *other[moved])
             raise AlarmRaised(9, f"G4 with {word}: a dwell moves no axis {_OWN_BLOCK}")
-        if "P" in other and "X" in other:
-            words = f"{word_text('X', *other['X'])} {word_text('P', *other['P'])}"
-            raise AlarmRaised(5074, f"G4 {words}: a dwell takes its time in X or P {_OWN_BLOCK}")
-        if "P" in other:
-            return self._integer("P", other["P"][0]) / 1000.0
-        if "X" in other:
-            value, literal = other["X"]
-            if value < 0:
-                raise AlarmRaised(6, f"G4 {word_text('X', value, literal)}")
-            return value * self.settings.increment_mm if literal else value
-        return 0.0
+        times = "XUP" if self.settings.lathe else "XP"
+        given = [a for a in times if a in other]
+        if len(given) > 1:
+            words = " ".join(word_text(a, *other[a]) for a in given)
+            takes = " or ".join(", ".join(times).rsplit(", ", 1))
+            raise AlarmRaised(5074, f"G4 {words}: a dwell takes its time in {takes} {_OWN_BLOCK}")
+        if not given:
+            return 0.0
+        address = given[0]
+        value, literal = other[address]
+        if address == "P":
+            return self._integer("P", value) / 1000.0
+        if value < 0:
+            raise AlarmRaised(6, f"G4 {word_text(address, value, literal)}")
+        return value * self.settings.increment_mm if literal else value
 
     def _targets(self, axes: Mapping[int, float], incremental: bool) -> list[float]:
         target = list(self.position)

@@ -55,6 +55,8 @@ class NcSettings:
     times in seconds; per-axis tuples follow ``axes``."""
 
     axes: tuple[str, ...] = ("X", "Y", "Z")
+    #: A lathe's path (FANUC's T series): a dwell takes its time in U too.
+    lathe: bool = False
     #: Rapid traverse rate per axis (parameter 1420).
     rapid_rates: tuple[float, ...] = (24000.0, 24000.0, 24000.0)
     #: Upper limit of cutting feed (parameter 1430/1432).
