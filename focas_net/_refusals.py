@@ -10,7 +10,7 @@ cover gets None (the front end says the code alone).
 from __future__ import annotations
 
 import re
-from collections.abc import Mapping
+from collections.abc import Mapping, Sequence
 from typing import Final
 
 from focas_net.errors import EW
@@ -107,11 +107,15 @@ def parts_refusal(number: int | str, value: object) -> str:
     return f"#{number} is a parts count: it holds a whole number of 0 or more, not {value}"
 
 
-def no_path(path: int, count: int) -> str:
-    """Why a CNC of ``count`` paths has no path ``path``, in the words of the machine (the
-    page shows them) and the command line (which adds the ``--path`` to give)."""
+def no_path(path: int | Sequence[int], count: int) -> str:
+    """Why a CNC of ``count`` paths has no path ``path`` (or none of several), in the words of
+    the machine (the page shows them), the command line (which adds the ``--path`` to give)
+    and the gateway (which adds the key that named them): ``the CNC has no path 3: it has
+    path 1 only``, ``the CNC has no paths 2, 3: it has path 1 only``."""
     has = "path 1 only" if count == 1 else f"paths 1..{count}"
-    return f"the CNC has no path {path}: it has {has}"
+    named = [path] if isinstance(path, int) else list(path)
+    which = f"path {named[0]}" if len(named) == 1 else f"paths {', '.join(map(str, named))}"
+    return f"the CNC has no {which}: it has {has}"
 
 
 def path_axes(axes: int) -> str:

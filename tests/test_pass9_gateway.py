@@ -116,7 +116,7 @@ def test_an_mqtt_password_without_a_username_is_refused_not_dropped(
     assert taken is not None and (taken.username, taken.password) == ("u", taken.password)
 
 
-@pytest.mark.parametrize(("paths", "said"), [((1, 3), "path 3 is"), ((2, 3), "paths 2, 3 are")])
+@pytest.mark.parametrize(("paths", "said"), [((1, 3), "path 3"), ((2, 3), "paths 2, 3")])
 async def test_paths_the_cnc_has_not_are_named_in_words_and_none_left_is_said(
     paths: tuple[int, ...], said: str, caplog: pytest.LogCaptureFixture
 ) -> None:
@@ -129,5 +129,7 @@ async def test_paths_the_cnc_has_not_are_named_in_words_and_none_left_is_said(
             reader = await describe(config, client)
     (record,) = caplog.records
     left = "" if 1 in paths else "; nothing of it is read"
-    assert record.getMessage() == (f"m1: the CNC has 1 path (machine.paths): {said} not read{left}")
+    assert record.getMessage() == (
+        f"m1: the CNC has no {said}: it has path 1 only (machine.paths){left}"
+    )
     assert [p.number for p in reader.shape.paths] == [p for p in paths if p == 1]

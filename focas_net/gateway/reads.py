@@ -39,6 +39,7 @@ from dataclasses import dataclass
 from functools import partial
 from typing import Any, Final
 
+from focas_net._refusals import no_path
 from focas_net.client import (
     DynamicData,
     FocasClient,
@@ -175,12 +176,10 @@ def _text(raw: bytes) -> str:
 
 
 def _paths_missing(count: int, missing: list[int], wanted: int) -> str:
-    """``the CNC has 1 path (machine.paths): paths 2, 3 are not read; ...`` in words."""
-    has = f"the CNC has {count} path{'' if count == 1 else 's'} (machine.paths)"
-    named = ", ".join(map(str, missing))
-    told = f"path {named} is" if len(missing) == 1 else f"paths {named} are"
+    """``the CNC has no paths 2, 3: it has path 1 only (machine.paths); ...``: the machine's
+    and the command line's words (:func:`~focas_net._refusals.no_path`), with the key."""
     rest = "; nothing of it is read" if len(missing) == wanted else ""
-    return f"{has}: {told} not read{rest}"
+    return f"{no_path(missing, count)} (machine.paths){rest}"
 
 
 async def describe(config: MachineConfig, client: FocasClient | NativeClient) -> Reader:
