@@ -91,6 +91,8 @@ class Lifecycle:
         # ``stable_after`` seconds) and when the current connection was installed.
         self._backoff = 0
         self._up_since = 0.0
+        #: whether a link was ever up (a client never connected closes without a word)
+        self._opened = False
         #: a loss was told at WARNING: the return is told too (``reconnected to H:P``)
         self._told_lost = False
         #: Why the last reconnect attempt failed (None: none failed since the last link).
@@ -156,7 +158,8 @@ class Lifecycle:
         if state is self._state:
             return
         self._state = state
-        self._logger.info("%s %s", self.address, state.value)
+        if state is not ClientState.CLOSED or self._opened:  # (never open: nothing closed)
+            self._logger.info("%s %s", self.address, state.value)
         for callback in tuple(self._callbacks):
             try:
                 callback(state)
@@ -317,6 +320,7 @@ class Lifecycle:
             task.cancel()
         loop = self._loop or asyncio.get_running_loop()
         self._up_since = loop.time()
+        self._opened = True
         self._attempt_error = None
         self._lost_why = None
         self._connect_error = None
