@@ -67,7 +67,18 @@ _NAME_TEXT: Final = "a name of 1..64 letters, digits, '-', '_' or '.'"
 _PROTOCOLS: Final = ("native", "packed")
 _PMC_RANGE: Final = re.compile(r"([A-Za-z])([0-9]{1,9})(?:-([A-Za-z]?)([0-9]{1,9}))?")
 _PMC_LAST_BYTE: Final = 0xFFFF
-_PREFIX_TEXT: Final = "a topic prefix without '+', '#', a '$' first or a '/' at either end"
+#: The most characters of ``mqtt.prefix``, ``client_id`` and ``gateway``: each goes into every
+#: message (a topic holds the prefix and the gateway's or a machine's name), and MQTT carries a
+#: topic and a client id in at most 65535 bytes.
+_MOST_CHARS: Final = 1000
+_PREFIX_TEXT: Final = (
+    f"a topic prefix of at most {_MOST_CHARS} characters without '+', '#', a '$' first or a "
+    "'/' at either end"
+)
+#: The most bytes of a string MQTT carries (a user name, a password), in UTF-8.
+_MQTT_STRING: Final = 65535
+#: What a topic level may not hold: a level separator or a wildcard.
+_NOT_IN_LEVEL: Final = "/+#"
 #: The items whose numbers name something (a program, a block, a tool), not a quantity.
 _NAMING: Final = ("program", "main_program", "sequence", "tool")
 #: The items a deadband may name: quantities, numbers with a unit that name nothing.
@@ -234,11 +245,15 @@ class MqttSettings:
             or prefix[0] in "$/"
             or prefix.endswith("/")
             or any(c in prefix for c in "+#\0")
+            or len(prefix) > _MOST_CHARS
         ):
             at.key("prefix").expected(prefix, _PREFIX_TEXT)
         for key in ("username", "password"):
-            if getattr(self, key) is not None:
-                at.key(key).text(getattr(self, key), "a non-empty string")
+            value = getattr(self, key)
+            if value is not None and not _mqtt_string(value):
+                at.key(key).expected(
+                    value, f"a non-empty string of at most {_MQTT_STRING} bytes in UTF-8"
+                )
         if self.password is not None and self.username is None:  # (the client would drop it)
             at.key("username").fail(
                 "missing (MQTT sends a password only with a user name: give username too)"
@@ -246,9 +261,15 @@ class MqttSettings:
         for key in ("client_id", "gateway"):  # (a topic level, a payload's text: printable)
             value = getattr(self, key)
             if value is not None and (
-                not isinstance(value, str) or not value or not value.isprintable()
+                not isinstance(value, str)
+                or not value
+                or not value.isprintable()
+                or len(value) > _MOST_CHARS
             ):
-                at.key(key).expected(value, "a non-empty string of printable characters")
+                at.key(key).expected(
+                    value, f"a non-empty string of printable characters, at most {_MOST_CHARS}"
+                )
+        self._check_level(at)
         at.key("qos").integer(self.qos, 0, 2)
         at.key("keepalive").integer(self.keepalive, 1, 65535)
         at.key("buffer").integer(self.buffer, 1, 10_000_000)
@@ -258,6 +279,31 @@ class MqttSettings:
         bands = at.key("deadbands")
         for name, band in _deadbands(bands, self.deadbands).items():
             bands.key(name).number(band)
+
+    def _check_level(self, at: At) -> None:
+        """The gateway's name is one level of its topics (``P/$gateway/G/state``): no level
+        separator nor wildcard, refused under the key it comes from (``client_id`` when no
+        ``gateway`` is given)."""
+        key = "gateway" if self.gateway is not None else "client_id"
+        name = getattr(self, key)
+        if name is not None and any(c in name for c in _NOT_IN_LEVEL):
+            given = "" if key == "gateway" else " (no mqtt.gateway given: give one)"
+            at.key(key).expected(
+                name,
+                "one level of a topic, the gateway's name in its topics "
+                f"(P/$gateway/NAME/state): no '/', '+' or '#'{given}",
+            )
+
+
+def _mqtt_string(value: object) -> bool:
+    """Whether ``value`` is text MQTT carries as a string: non-empty, and at most
+    :data:`_MQTT_STRING` bytes in UTF-8."""
+    if not isinstance(value, str) or not value:
+        return False
+    try:
+        return len(value.encode()) <= _MQTT_STRING
+    except UnicodeEncodeError:  # (a lone surrogate: no UTF-8)
+        return False
 
 
 @dataclass(frozen=True, slots=True)
