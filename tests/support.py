@@ -208,6 +208,12 @@ class LoopbackPeer:
         await self.stop()
 
 
+def reset_at_close(sock: socket.socket) -> None:
+    """SO_LINGER 0 on ``sock``: its close sends a reset, whatever the peer sent (a bare close
+    resets only when data the peer sent is unread, else it ends with a FIN)."""
+    sock.setsockopt(socket.SOL_SOCKET, socket.SO_LINGER, struct.pack("ii", 1, 0))
+
+
 def free_port() -> int:
     """A port of 127.0.0.1 free a moment ago, for a server that must be told its port before
     it starts (a broker's file, a restart on the same port)."""

@@ -31,7 +31,8 @@ TLS = MqttSettings(host="127.0.0.1", port=1883, tls=True)
         (
             "[Errno 104] Connection reset by peer",
             TLS,
-            "connection reset by peer (tls = true: is that the broker's TLS port?)",
+            "connection reset by peer before any answer to MQTT's CONNECT "
+            "(tls = true: is that the broker's TLS port?)",
         ),
         (
             "[SSL: WRONG_VERSION_NUMBER] wrong version number (_ssl.c:1000)",
@@ -48,7 +49,8 @@ TLS = MqttSettings(host="127.0.0.1", port=1883, tls=True)
         (
             "[Errno 104] Connection reset by peer",
             MqttSettings(host="127.0.0.1", port=8883),
-            "connection reset by peer (port 8883 is MQTT over TLS by convention: tls = true?)",
+            "connection reset by peer before any answer to MQTT's CONNECT "
+            "(port 8883 is MQTT over TLS by convention: tls = true?)",
         ),
         (
             "Operation timed out",

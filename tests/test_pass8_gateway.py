@@ -23,7 +23,7 @@ from cli_support import at, fails
 from mosquitto_support import Broker, broker, mosquitto_binary, subscriber
 from opcua_support import url as opcua_url
 from poller_support import QUICK, RecordingSink, config
-from support import free_port, serving, wait_until
+from support import free_port, reset_at_close, serving, wait_until
 
 from focas_net.cli import EXIT_CNC, EXIT_PROTOCOL, EXIT_USAGE
 from focas_net.cli._args import parse_log_level
@@ -292,7 +292,10 @@ async def test_a_peer_that_resets_the_connection_is_one_warning_in_words(
     caplog.set_level(logging.WARNING)
 
     async def closing(reader: asyncio.StreamReader, writer: asyncio.StreamWriter) -> None:
-        writer.transport.abort()  # (a reset, what a port forwarder with nothing behind does)
+        # a reset, what a port forwarder with nothing behind does (a bare abort before the
+        # CONNECT came would close cleanly instead)
+        reset_at_close(writer.get_extra_info("socket"))
+        writer.transport.abort()
 
     server = await asyncio.start_server(closing, "127.0.0.1", 0)
     async with server:

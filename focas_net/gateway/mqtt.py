@@ -28,8 +28,9 @@ import ssl
 import time
 from collections import deque
 from collections.abc import AsyncIterator, Callable, Sequence
+from dataclasses import replace
 from types import TracebackType
-from typing import Final
+from typing import Any, Final
 
 import aiomqtt
 from aiomqtt.exceptions import MqttConnectError
@@ -50,6 +51,11 @@ _ERRNO: Final = re.compile(r"\[Errno (-?\d+)\] ")
 #: acknowledgement (or CONNACK) that did not come within its timeout.
 _LOST: Final = "Disconnected during message iteration"
 _TIMED_OUT: Final = "Operation timed out"
+#: Why a connection attempt ended before the broker answered MQTT's CONNECT: the connection
+#: ended (:func:`_ended_early`).
+_ENDED_EARLY: Final = "connection ended before any answer to MQTT's CONNECT"
+#: A socket's words for a connection the peer ended (a reset; a write after it).
+_ENDED: Final = frozenset({"connection reset by peer", "broken pipe"})
 #: What paho-mqtt logs of its socket's errors (then it drops the connection).
 _SOCKET_ERRORS: Final = frozenset({"failed to receive on socket: %s", "timeout on socket: %s"})
 #: The port MQTT over TLS listens on by convention (and 1883 plain MQTT).
@@ -94,10 +100,14 @@ def broker_reason(
     if isinstance(cause, ssl.SSLError) or is_openssl_text(text):  # (the clients' words)
         detail = ssl_error_text(cause) if isinstance(cause, ssl.SSLError) else ""
         text = f"TLS handshake failed ({detail or openssl_words(text)})"
-    elif text == _TIMED_OUT and socket_error:
+    elif text in (_TIMED_OUT, _ENDED_EARLY) and socket_error:
         text = f"{_words(socket_error)} before any answer to MQTT's CONNECT"
+    elif text == _ENDED_EARLY:  # (closed without a word of the socket: the peer closed it)
+        text = "connection closed by peer before any answer to MQTT's CONNECT"
     else:
         text = _words(text)
+        if text in _ENDED:  # (the connecting thread met it: the same end, told alike)
+            text = f"{text} before any answer to MQTT's CONNECT"
     tls = settings.tls
     if tls and ("reset" in text or "TLS handshake" in text or "eof" in text):
         return f"{text} (tls = true: is that the broker's TLS port?)"
@@ -144,6 +154,30 @@ def _forget(client: aiomqtt.Client) -> None:
     client._disconnected.add_done_callback(_retrieved)
     with contextlib.suppress(Exception):  # (no socket: nothing to disconnect)
         client._client.disconnect()
+
+
+def _ended_early(client: aiomqtt.Client) -> None:
+    """A connection that ends before the broker answered MQTT's CONNECT (the peer closed it,
+    or reset it) fails ``client``'s connection attempt at once with :data:`_ENDED_EARLY`, as
+    it ends: aiomqtt would wait out its timeout and say the CONNECT was not answered in time.
+    (What the socket said, a reset, is in the MQTT client's log before this is called.)"""
+    paho = client._client
+    theirs = paho.on_disconnect
+    loop = asyncio.get_running_loop()
+
+    def fail() -> None:
+        connected = client._connected
+        if not connected.done():
+            connected.set_exception(aiomqtt.MqttError(_ENDED_EARLY))
+            _retrieved(connected)  # (an attempt given up already awaits it no more)
+
+    def on_disconnect(*args: Any) -> None:
+        if not client._connected.done():
+            loop.call_soon_threadsafe(fail)  # (paho may call from the connecting thread)
+        if theirs is not None:
+            theirs(*args)
+
+    paho.on_disconnect = on_disconnect
 
 
 def _retrieved(future: asyncio.Future[None]) -> None:
@@ -196,9 +230,10 @@ class MqttSink:
     ) -> None:
         if not isinstance(settings, MqttSettings):
             raise TypeError(f"settings must be an MqttSettings, got {settings!r}")
+        if gateway_name is not None:  # (checked as the file's mqtt.gateway)
+            settings = replace(settings, gateway=gateway_name)
         settings.check()
-        name = settings.gateway_name if gateway_name is None else gateway_name
-        self.publication = Publication(settings.prefix, name, settings.deadbands)
+        self.publication = Publication(settings.prefix, settings.gateway_name, settings.deadbands)
         self._buffer = Buffer(settings.buffer)
         self.settings = settings
         self._reconnect = reconnect
@@ -348,6 +383,7 @@ class MqttSink:
         )
         # a full window is the normal state of a busy publisher, not a concern to log
         client.pending_calls_threshold = WINDOW + 1
+        _ended_early(client)
         return client
 
     async def _connection(self) -> None:

@@ -1,0 +1,140 @@
+"""Pass 11 of the gateway and of the labels every front end shares: the paths a machine has not
+are named in the machine's words; a client never reached closes without a word; the MQTT
+settings that would make a topic, a client id or a credential MQTT cannot carry, or a gateway
+name that is no topic level, are refused naming the key; a peer that ends the connection
+before any answer to MQTT's CONNECT is told so at once, whether it reset or closed it."""
+
+from __future__ import annotations
+
+import asyncio
+import logging
+
+import pytest
+from poller_support import QUICK
+from support import free_port, reset_at_close, serving
+
+from focas_net._refusals import no_path
+from focas_net.client import FocasClient, NativeClient
+from focas_net.gateway import ConfigError, MachineConfig, MqttSettings, parse_config
+from focas_net.gateway.mqtt import MqttSink
+from focas_net.gateway.reads import describe
+from focas_net.sim import default_machine
+
+MACHINE = '[[machine]]\nname = "m1"\nhost = "127.0.0.1"\n'
+
+
+# -- the paths a machine has not: the machine's words -----------------------------------------
+@pytest.mark.parametrize(("paths", "missing"), [((1, 3), [3]), ((2, 3), [2, 3])])
+async def test_paths_the_cnc_has_not_are_told_in_the_machines_words(
+    paths: tuple[int, ...], missing: list[int], caplog: pytest.LogCaptureFixture
+) -> None:
+    async with (
+        serving(default_machine()) as served,
+        FocasClient("127.0.0.1", served.port) as client,
+    ):
+        config = MachineConfig("m1", "127.0.0.1", port=served.port, protocol="packed", paths=paths)
+        with caplog.at_level(logging.WARNING, "focas_net.gateway"):
+            await describe(config, client)
+    (record,) = caplog.records
+    said = record.getMessage()
+    assert said.startswith(f"m1: {no_path(missing, 1)} (machine.paths)"), said
+    assert no_path(3, 1) == "the CNC has no path 3: it has path 1 only"  # (one path: as before)
+
+
+# -- a client the gateway never reached closes without a word ----------------------------------
+@pytest.mark.parametrize("kind", [FocasClient, NativeClient])
+async def test_a_client_never_connected_says_nothing_when_closed(
+    kind: type[FocasClient] | type[NativeClient], caplog: pytest.LogCaptureFixture
+) -> None:
+    caplog.set_level(logging.INFO, "focas_net.client")
+    client = kind("127.0.0.1", free_port(), timeout=1.0, reconnect=QUICK)
+    with pytest.raises(OSError):
+        await client.connect()
+    await client.aclose()
+    assert not [r.getMessage() for r in caplog.records if r.getMessage().endswith(" closed")]
+
+
+async def test_a_client_that_was_connected_still_says_closed(
+    caplog: pytest.LogCaptureFixture,
+) -> None:
+    caplog.set_level(logging.INFO, "focas_net.client")
+    async with serving() as served, NativeClient("127.0.0.1", served.port):
+        pass
+    assert f"127.0.0.1:{served.port} closed" in [r.getMessage() for r in caplog.records]
+
+
+# -- [mqtt]: what MQTT cannot carry, and a gateway name that is no topic level ----------------
+LONG = "x" * 70_000
+
+
+@pytest.mark.parametrize(
+    ("line", "said"),
+    [
+        (f'gateway = "{LONG}"', "mqtt.gateway: got 'xxxx"),
+        (f'client_id = "{LONG}"', "mqtt.client_id: got 'xxxx"),
+        (f'prefix = "{LONG}"', "mqtt.prefix: got 'xxxx"),
+        (f'username = "{LONG}"\npassword = "p"', "mqtt.username: got 'xxxx"),
+        (f'username = "u"\npassword = "{"é" * 40_000}"', "mqtt.password: got 'éééé"),
+        ('gateway = "+"', "mqtt.gateway: got '+'; expected one level of a topic"),
+        ('gateway = "#"', "mqtt.gateway: got '#'; expected one level of a topic"),
+        ('gateway = "cell/7"', "mqtt.gateway: got 'cell/7'; expected one level of a topic"),
+        ('gateway = "/"', "mqtt.gateway: got '/'; expected one level of a topic"),
+        ('gateway = ""', "mqtt.gateway: got ''; expected a non-empty string"),
+        ('client_id = "plant/1"', "mqtt.client_id: got 'plant/1'; expected one level of a"),
+    ],
+)
+def test_mqtt_text_that_makes_no_topic_or_no_mqtt_string_is_refused_naming_the_key(
+    line: str, said: str
+) -> None:
+    with pytest.raises(ConfigError) as caught:
+        parse_config(f"{MACHINE}[mqtt]\n{line}\n", "plant.toml")
+    assert str(caught.value).startswith(f"plant.toml: {said}"), str(caught.value)
+    assert len(str(caught.value)) < 400  # (a long value is cut, never printed whole)
+
+
+def test_a_client_id_with_a_slash_is_taken_beside_a_gateway_name() -> None:
+    taken = parse_config(f'{MACHINE}[mqtt]\nclient_id = "plant/1"\ngateway = "plant-1"\n').mqtt
+    assert taken is not None and taken.gateway_name == "plant-1"
+
+
+def test_the_sinks_gateway_name_is_checked_as_the_files() -> None:
+    with pytest.raises(ConfigError, match=r"^mqtt.gateway: got '\+'; expected one level"):
+        MqttSink(MqttSettings(), gateway_name="+")
+
+
+# -- a peer that ends the connection before any answer to MQTT's CONNECT -----------------------
+async def _warned_of(peer: str, caplog: pytest.LogCaptureFixture) -> str:
+    """The first warning of a sink whose broker's port is served by a peer that resets
+    (``reset``) or closes (``close``, once it read the CONNECT) each connection."""
+
+    async def serve(reader: asyncio.StreamReader, writer: asyncio.StreamWriter) -> None:
+        if peer == "reset":
+            reset_at_close(writer.get_extra_info("socket"))
+            writer.transport.abort()
+        else:
+            await reader.read(4096)
+            writer.close()
+
+    caplog.set_level(logging.WARNING, "focas_net.gateway")
+    server = await asyncio.start_server(serve, "127.0.0.1", 0)
+    async with server:
+        port = server.sockets[0].getsockname()[1]
+        # (a timeout no test waits out: the end is told as it comes)
+        async with MqttSink(MqttSettings(port=port), reconnect=(60.0, 60.0), timeout=60.0):
+            for _ in range(400):
+                if caplog.records:
+                    break
+                await asyncio.sleep(0.025)
+    return caplog.records[0].getMessage().partition(f"127.0.0.1:{port}: ")[2]
+
+
+@pytest.mark.parametrize(
+    ("peer", "said"),
+    [("reset", "connection reset by peer"), ("close", "connection closed by peer")],
+)
+async def test_a_connection_ended_before_connack_is_told_so_at_once(
+    peer: str, said: str, caplog: pytest.LogCaptureFixture
+) -> None:
+    assert await _warned_of(peer, caplog) == (
+        f"{said} before any answer to MQTT's CONNECT (is that a broker's port?)"
+    )
