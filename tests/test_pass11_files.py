@@ -179,3 +179,22 @@ def test_a_float_of_a_machine_file_is_named_as_typed(tmp_path: Path, body: str, 
     with pytest.raises(MachineFileError) as caught:
         load_machine(file)
     assert words in str(caught.value)
+
+
+@pytest.mark.parametrize("block", ["G2 I5. F1000", "G91 G3 J-5. F1000", "G1 F1000\nG2 I5."])
+def test_a_full_circle_with_no_end_point_is_cut(block: str) -> None:
+    """FANUC: an arc whose end point is left out ends where it starts; with I, J or K it is
+    a full circle (`G2 I5.`: 31.4 mm at 1000 mm/min, 1.9 s). The block moved nothing."""
+    engine, clock = _engine(f"O1\n{block}\nM30\n")
+    clock.advance(1.5)
+    assert (engine.state, _alarm(engine)) == (CycleState.START, None)
+    clock.advance(0.5)
+    assert (engine.state, _alarm(engine)) == (CycleState.RESET, None)
+    assert engine.absolute_position() == pytest.approx((0.0, 0.0, 0.0))
+
+
+def test_an_arc_by_r_with_no_end_point_moves_nothing() -> None:
+    """FANUC: R with the end point at the start is an arc of 0 degrees: no motion."""
+    engine, clock = _engine("O1\nG2 R5. F1000\nM30\n")
+    clock.advance(0.1)
+    assert (engine.state, _alarm(engine)) == (CycleState.RESET, None)

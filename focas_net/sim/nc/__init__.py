@@ -44,8 +44,9 @@ What the interpreter supports
   variable's value); F and S are taken as written. Positions, feeds and offsets are kept in mm.
 - G0 (non-linear positioning, each axis at its rapid rate times the rapid override), G1, G2,
   G3 with I/J/K or R (negative R: more than 180 degrees) in G17/G18/G19, helical with the
-  third axis, full circles with I/J/K; G4 (P in ms, X in s or increments, on a lathe U as
-  X; in a block of its own: another axis word raises PS0009, two time words PS5074); G20/G21;
+  third axis, full circles with I/J/K (the end point left out too: ``G2 I5.``); G4 (P in
+  ms, X in s or increments, on a lathe U as X; in a block of its own: another axis word
+  raises PS0009, two time words PS5074); G20/G21;
   G28 through the intermediate point to the reference position; G53; G54-G59 and the
   external offset (#5201-#5326); G90/G91; G43/G44/G49 with H (tool length on Z); the cancel
   and default codes G15 G22 G23 G40 G40.1 G50 G50.1 G61-G64 G67 G69 G80 G94 G97 G98 G99 are

@@ -548,9 +548,10 @@ class Interpreter:
                 target[i] = value
             self._rapid(step, start, tuple(target))
             return
-        if not axes and not self._hold:
-            return
         group1 = self.modal[1]
+        circle = group1 in (20, 30) and any(w in other for w in _CENTER.values())
+        if not axes and not self._hold and not circle:  # G2 I5.: a full circle
+            return
         if group1 == 0:
             self._rapid(step, start, tuple(self._targets(axes, incremental)))
             return
