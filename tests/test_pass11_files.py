@@ -198,3 +198,19 @@ def test_an_arc_by_r_with_no_end_point_moves_nothing() -> None:
     engine, clock = _engine("O1\nG2 R5. F1000\nM30\n")
     clock.advance(0.1)
     assert (engine.state, _alarm(engine)) == (CycleState.RESET, None)
+
+
+@pytest.mark.parametrize(
+    ("goto", "words"),
+    [
+        ("GOTO 0", "PS0128 GOTO 0: a sequence number is 1..99999"),
+        ("GOTO 100000", "PS0128 GOTO 100000: a sequence number is 1..99999"),
+        ("GOTO -1", "PS0128 GOTO -1: a sequence number is 1..99999"),
+        ("GOTO #1", "PS0128 GOTO a vacant variable: a sequence number is 1..99999"),
+        ("GOTO 7", "PS0128 GOTO 7: no block N7 in O0001"),
+    ],
+)
+def test_a_goto_past_the_sequence_numbers_says_so(goto: str, words: str) -> None:
+    """`GOTO 100000` said `no block N100000`, as if the program could hold one."""
+    engine, _ = _engine(f"O1\n{goto}\nM30\n")
+    assert _alarm(engine) == words

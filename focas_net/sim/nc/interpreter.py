@@ -281,7 +281,10 @@ class Interpreter:
 
     def _goto(self, frame: _Frame, target: Value) -> None:
         n = 0 if target is None else round_fanuc(target)
-        index = frame.program.sequences.get(n) if 1 <= n <= 99999 else None
+        if not 1 <= n <= 99999:
+            given = "a vacant variable" if target is None else n
+            raise AlarmRaised(128, f"GOTO {given}: a sequence number is 1..99999")
+        index = frame.program.sequences.get(n)
         if index is None:
             raise AlarmRaised(128, f"GOTO {n}: no block N{n} in O{frame.program.number:04d}")
         frame.index = index
