@@ -130,7 +130,6 @@ def test_a_lathe_dwells_by_u_in_seconds(dwell: str) -> None:
     [
         ("G4 U1. P100", _LATHE, "PS5074 G4 U1. P100: a dwell takes its time in X, U or P"),
         ("G4 X1. U1.", _LATHE, "PS5074 G4 X1. U1.: a dwell takes its time in X, U or P"),
-        ("G0 U1.", _LATHE, "PS0009 address U (axes are XZ)"),
         ("G4 U-1.", _LATHE, "PS0006 G4 U-1."),
         ("G4 U1.", NcSettings(), "PS0009 address U (axes are XYZ)"),
     ],
@@ -214,3 +213,45 @@ def test_a_goto_past_the_sequence_numbers_says_so(goto: str, words: str) -> None
     """`GOTO 100000` said `no block N100000`, as if the program could hold one."""
     engine, _ = _engine(f"O1\n{goto}\nM30\n")
     assert _alarm(engine) == words
+
+
+@pytest.mark.parametrize(
+    ("blocks", "end"),
+    [
+        ("G0 X10. Z10.\nG28 U0 W0", (0.0, 0.0)),  # every lathe program's return
+        ("G0 X10. Z10.\nG0 U10. W-5.", (20.0, 5.0)),
+        ("G0 X10. Z10.\nG1 U-2. W-2. F1000", (8.0, 8.0)),
+        ("G0 X20. Z0\nG2 U2. W-5. R5. F1000", (22.0, -5.0)),
+        ("G0 X20. Z0\nX30. W-1.", (30.0, -1.0)),
+        ("G0 X20. Z0\nU1000", (21.0, 0.0)),  # no point: least increments
+    ],
+)
+def test_a_lathe_moves_by_u_and_w(blocks: str, end: tuple[float, float]) -> None:
+    """FANUC's T series (G code system A) moves X by U and Z by W, from where the axis is;
+    `G28 U0 W0` raised PS0009 (address U)."""
+    engine, clock = _engine(f"O1\n{blocks}\nM30\n", _LATHE)
+    clock.advance(30)
+    assert (engine.state, _alarm(engine)) == (CycleState.RESET, None)
+    assert engine.absolute_position() == pytest.approx(end)
+
+
+@pytest.mark.parametrize(
+    ("block", "words"),
+    [
+        ("G0 X10. U5.", "PS5074 X10. U5.: X given twice in one block (U moves X)"),
+        ("G4 W1.", "PS0009 G4 with W1.: a dwell moves no axis"),
+        ("G0 V1.", "PS0009 address V (axes are XZ)"),
+    ],
+)
+def test_a_lathe_s_u_and_w_refusals(block: str, words: str) -> None:
+    engine, clock = _engine(f"O1\n{block}\nM30\n", _LATHE)
+    clock.advance(2)
+    assert (_alarm(engine) or "").startswith(words)
+
+
+def test_a_lathe_cuts_arcs_in_the_zx_plane_from_power_on() -> None:
+    """The T series powers on in G18 (ZX): `G2 X.. Z.. R..` raised PS0021 (plane G17)."""
+    engine, clock = _engine("O1\nG0 X20. Z0\nG3 X20. Z-10. K-5. F1000\nM30\n", _LATHE)
+    clock.advance(10)
+    assert (engine.state, _alarm(engine)) == (CycleState.RESET, None)
+    assert engine.modal_groups()[2] == 18

@@ -46,12 +46,13 @@ What the interpreter supports
   G3 with I/J/K or R (negative R: more than 180 degrees) in G17/G18/G19, helical with the
   third axis, full circles with I/J/K (the end point left out too: ``G2 I5.``); G4 (P in
   ms, X in s or increments, on a lathe U as X; in a block of its own: another axis word
-  raises PS0009, two time words PS5074); G20/G21;
-  G28 through the intermediate point to the reference position; G53; G54-G59 and the
-  external offset (#5201-#5326); G90/G91; G43/G44/G49 with H (tool length on Z); the cancel
-  and default codes G15 G22 G23 G40 G40.1 G50 G50.1 G61-G64 G67 G69 G80 G94 G97 G98 G99 are
-  accepted as modal states without effect. F (clamped to the maximum cutting feed), S, T,
-  (M and T codes of up to 8 digits, S of up to 5: FANUC's defaults of parameters 3030-3032;
+  raises PS0009, two time words PS5074); G20/G21; on a lathe (``NcSettings.lathe``) U and
+  W moving X and Z incrementally (G code system A) and G18 at power-on; G28 through the
+  intermediate point to the reference position; G53; G54-G59 and the external offset
+  (#5201-#5326); G90/G91; G43/G44/G49 with H (tool length on Z); the cancel and default
+  codes G15 G22 G23 G40 G40.1 G50 G50.1 G61-G64 G67 G69 G80 G94 G97 G98 G99 are accepted
+  as modal states without effect. F (clamped to the maximum cutting feed), S, T, (M and T
+  codes of up to 8 digits, S of up to 5: FANUC's defaults of parameters 3030-3032;
   more raises PS0003), M6 (tool change time), M3/M4/M5, M8/M9, M0, M1 (optional stop
   switch), M2/M30 (part count, rewind, spindle and coolant off), M98 P L (also P with the
   count in front of four digits: P of up to 8 digits, L of up to 4; more raises PS0003),

@@ -20,7 +20,7 @@ from .macro import Expr, NcVariables, Value, VariableRefused, evaluate, round_fa
 from .motion import ArcMove, LinearMove, RapidMove, Vector
 from .program import Assign, Bad, End, Goto, IfGoto, IfThen, Program, While, Words
 from .program import ProgramStore as _Store
-from .settings import DEFAULT_MODAL, G_CODE_GROUPS, INCH, NcSettings
+from .settings import G_CODE_GROUPS, INCH, NcSettings
 
 __all__ = ["Interpreter"]
 
@@ -39,6 +39,9 @@ _LOCALS: Final = range(1, 34)
 _COMMONS: Final = range(100, 200)
 _PLANES: Final = {170: ("X", "Y", "I", "J"), 180: ("Z", "X", "K", "I"), 190: ("Y", "Z", "J", "K")}
 _CENTER: Final = {"X": "I", "Y": "J", "Z": "K"}
+#: A lathe's incremental addresses (FANUC's G code system A, the T series' default): U moves X
+#: by its value, W moves Z.
+_STEP_WORDS: Final = {"U": "X", "W": "Z"}
 
 
 @dataclass(slots=True)
@@ -69,7 +72,7 @@ class Interpreter:
         self.axis_index = {name: i for i, name in enumerate(settings.axes)}
         self.length_axis = self.axis_index.get("Z", n - 1)
         self.position: list[float] = [0.0] * n  #: machine coordinates at the end of the block
-        self.modal: dict[int, int] = dict(DEFAULT_MODAL)
+        self.modal: dict[int, int] = settings.power_on_modal()
         self.feed = 0.0
         self.spindle_command = 0.0
         self.spindle = 5  #: 3, 4 or 5 (M3/M4/M5)
@@ -87,6 +90,7 @@ class Interpreter:
         self.sequence: int | None = None
         self.block: int | None = None  #: index of the block being executed
         self._hold: dict[int, float] = {}  #: axes kept at a work position this block
+        self._steps: dict[int, float] = {}  #: a lathe's U and W this block: axis -> mm
         #: The executing NC block: its addresses but G with their values, its G codes (x10).
         self.block_words: dict[str, float] = {}
         self.block_codes: frozenset[int] = frozenset()
@@ -306,13 +310,14 @@ class Interpreter:
     def _words(self, st: Words, comment: str) -> Step:
         s = self.settings
         values: list[tuple[str, float, bool]] = []
+        steps = self._step_words()
         # no axis nor another address: raised once the G codes are known good (PS0010 first)
         foreign: list[str] = []
         for word in st.words:
             if word.address not in self.axis_index and word.address not in _ADDRESSES_OTHER:
                 foreign.append(word.address)
-                if not (word.address == "U" and s.lathe):  # a lathe's G4 U: seen below
-                    continue
+                if not (word.address in steps or (word.address == "U" and s.lathe)):
+                    continue  # a lathe's U and W, and its G4 U: seen below
             value = evaluate(word.value, self.read)
             if value is not None:
                 values.append((word.address, value, word.integer_literal))
@@ -333,7 +338,7 @@ class Interpreter:
                 else:
                     modal[group] = code
         dwell_u = s.lathe and one_shot == 40
-        unread = next((a for a in foreign if not (a == "U" and dwell_u)), None)
+        unread = next((a for a in foreign if a not in steps and not (a == "U" and dwell_u)), None)
         if unread is not None:
             if unread in _AXIS_LETTERS:
                 raise AlarmRaised(9, f"address {unread} (axes are {''.join(s.axes)})")
@@ -342,18 +347,30 @@ class Interpreter:
         scale = INCH if inch else 1.0
         increment = s.increment_inch if inch else s.increment_mm
         axes: dict[int, float] = {}
+        moves: dict[int, float] = {}
         other: dict[str, tuple[float, bool]] = {}
         m_codes: list[int] = []
         for address, value, literal in values:
-            if address in self.axis_index:
+            index = self.axis_index.get(address, steps.get(address))
+            if index is not None and not (address == "U" and dwell_u):
                 if abs(value if literal else value / increment) > AXIS_WORD_MAX + 0.5:
                     raise AlarmRaised(3, f"{address}{number_text(value)}: {_AXIS_WORD_RULE}")
-                axes[self.axis_index[address]] = (value * increment if literal else value) * scale
+                mm = (value * increment if literal else value) * scale
+                (moves if address in steps else axes)[index] = mm
                 other.setdefault(address, (value, literal))  # X of a dwell
             elif address == "M":
                 m_codes.append(self._code(address, value))
             elif address != "G":
                 other[address] = (value, literal)
+        for index in moves:
+            if index in axes:
+                name = s.axes[index]
+                by = next(w for w, a in _STEP_WORDS.items() if a == name)
+                words = f"{word_text(name, *other[name])} {word_text(by, *other[by])}"
+                raise AlarmRaised(
+                    5074, f"{words}: {name} given twice in one block ({by} moves {name})"
+                )
+            axes[index] = moves[index]
         if "F" in other:
             feed = other["F"][0]
             if feed < 0:
@@ -376,6 +393,7 @@ class Interpreter:
             self.tool_length = new_length
         self.modal = modal
         self._hold = {}
+        self._steps = moves
         if length_changed and self.length_axis not in axes and one_shot is None:
             # the compensation moves the axis; the program position stays
             self._hold[self.length_axis] = work[self.length_axis]
@@ -420,6 +438,14 @@ class Interpreter:
                         raise AlarmRaised(78, f"M99 P{sequence}: no N{sequence}")
                     frame.index = index
         return step
+
+    def _step_words(self) -> dict[str, int]:
+        """A lathe's U and W (:data:`_STEP_WORDS`): each with the index of the axis it moves,
+        where the path has that axis and no axis named by the word itself."""
+        if not self.settings.lathe:
+            return {}
+        ix = self.axis_index
+        return {w: ix[a] for w, a in _STEP_WORDS.items() if a in ix and w not in ix}
 
     def _waiting(self, m: int) -> bool:
         codes = self.settings.waiting_m
@@ -496,7 +522,10 @@ class Interpreter:
         """A dwell's time, ``G4 P`` (ms) or ``G4 X`` (s, or increments without a point), on a
         lathe (T series) ``G4 U`` as X, in a block of its own: another axis word raises
         PS0009, two of the time's words PS5074 (no move dropped)."""
-        moved = next((a for a in other if a in self.axis_index and a != "X"), None)
+        steps = self._step_words()
+        moved = next(
+            (a for a in other if (a in self.axis_index or a in steps) and a not in "XU"), None
+        )
         if moved is not None:
             word = word_text(moved, *other[moved])
             raise AlarmRaised(9, f"G4 with {word}: a dwell moves no axis {_OWN_BLOCK}")
@@ -522,6 +551,8 @@ class Interpreter:
             target[i] = self.position[i] + value if incremental else value + self.offset(i)
         for i, value in self._hold.items():
             target[i] = value + self.offset(i)
+        for i, value in self._steps.items():  # a lathe's U and W: from where the axis is
+            target[i] = self.position[i] + value
         return target
 
     def _motion(

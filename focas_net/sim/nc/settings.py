@@ -104,6 +104,11 @@ class NcSettings:
         }
         return cls(axes=tuple(axes), **{**defaults, **values})
 
+    def power_on_modal(self) -> dict[int, int]:
+        """The G code of each group at power-on: :data:`DEFAULT_MODAL`, on a lathe with the ZX
+        plane (G18), the T series' own."""
+        return {**DEFAULT_MODAL, 2: 180} if self.lathe else dict(DEFAULT_MODAL)
+
     def __post_init__(self) -> None:
         n = len(self.axes)
         if not 1 <= n <= 20 or len(set(self.axes)) != n:
