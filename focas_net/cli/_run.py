@@ -134,8 +134,9 @@ class HintedError(FocasError):
 def stopping_on_signals(stop: Callable[[], object]) -> Iterator[None]:
     """``stop()``, in the running loop, on SIGINT or SIGTERM while the block runs (a command
     that runs until told: it ends cleanly, exit 0, no traceback, and a second Ctrl-C while it
-    ends is ignored, :mod:`._signals`); off the main thread Ctrl-C still ends it as usual.
-    Blocks nest: a signal calls the innermost block's ``stop``."""
+    ends is ignored, :mod:`._signals`); the loop wakes at once, whichever of the process's
+    threads the signal reaches. Off the main thread Ctrl-C still ends it as usual. Blocks
+    nest: a signal calls the innermost block's ``stop``."""
     loop = asyncio.get_running_loop()
 
     def told() -> None:
@@ -144,7 +145,7 @@ def stopping_on_signals(stop: Callable[[], object]) -> Iterator[None]:
         except RuntimeError:  # pragma: no cover - the loop closed meanwhile
             pass
 
-    with on_first_signal(told):
+    with on_first_signal(told, loop):
         yield
 
 

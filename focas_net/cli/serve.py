@@ -21,7 +21,6 @@ http://HOST:PORT/`` (``docs/web.md``).
 from __future__ import annotations
 
 import argparse
-import asyncio
 import gc
 import importlib.util
 import logging
@@ -69,7 +68,7 @@ from ._args import (
 )
 from ._fleet import ConfigError, build_machines, fleet_indices, machines_per_process
 from ._format import address_text
-from ._signals import on_first_signal
+from ._run import stopping_on_signals
 from ._state import Kept, keep_running, saver
 from ._workers import MAX_WORKERS, run_workers
 
@@ -540,12 +539,7 @@ async def _serve(
     states: list[Kept] | None = None,
 ) -> int:
     told = anyio.Event()
-    loop = asyncio.get_running_loop()
-
-    def stop() -> None:  # in the signal handler: nothing that blocks (see ._signals)
-        loop.call_soon_threadsafe(told.set)
-
-    with on_first_signal(stop):
+    with stopping_on_signals(told.set):
         async with (
             server,
             _dashboard(server, web, read_only) as dashboard,
