@@ -10,6 +10,7 @@ import pytest
 
 from focas_net import EW, ChunkedWriteError, FocasClient, NativeClient
 from focas_net._typed import pmc_count_unfit
+from focas_net.client._values import history_depth
 from focas_net.sim import Machine, MachineError
 
 Both = tuple[Machine, FocasClient, NativeClient]
@@ -84,3 +85,24 @@ async def test_a_pmc_write_past_the_end_writes_what_the_docs_say(both_clients: B
         assert (failed.value.written, failed.value.not_written) == (written, not_written)
         ones = machine.read_pmc("R", 6000, 2000).count(1)
         assert ones == sum(last - first + 1 for first, last in written)
+
+
+# -- an alarm history depth of any size -----------------------------------------------------
+@pytest.mark.parametrize("depth", [2**63, 10**20, 10**400], ids=["2**63", "10**20", "10**400"])
+async def test_a_huge_alarm_history_depth_reads_the_250_the_history_holds(
+    both_clients: Both, depth: int
+) -> None:
+    """``read_alarm_history(10**20)`` said ``history depth ... is outside
+    -9223372036854775808..9223372036854775808``, a range no one gave, where the docs say more
+    than 250 reads as 250."""
+    machine, cnc, native = both_clients
+    machine.raise_alarm(0, 1, 100, "ONE")
+    for client in (cnc, native):
+        history = await client.read_alarm_history(depth)
+        assert [e.alm_no for e in history.entries] == [100], type(client).__name__
+
+
+@pytest.mark.parametrize("depth", [-(2**63) - 1, -(10**20)])
+def test_a_hugely_negative_history_depth_is_below_one(depth: int) -> None:
+    with pytest.raises(ValueError, match=rf"^history depth {depth} is below 1 \("):
+        history_depth(depth)

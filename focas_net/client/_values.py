@@ -211,7 +211,7 @@ def check_pmc_range(start: object, count: object) -> tuple[int, int]:
 def history_depth(depth: object) -> int:
     """The alarm history entries to read: ``depth`` from 1, more than 250 read as 250 (the
     history holds no more); below 1 is a ValueError naming it, as the command line says."""
-    given = check_int("history depth", depth, -(2**63), 2**63)
+    given = an_int("history depth", depth)
     if given < 1:
         raise ValueError(
             f"history depth {given} is below 1 (the latest entries to read; more than "
