@@ -1,6 +1,7 @@
 """Why a CNC refused a parameter, a macro or a PMC write, in words, from what the write named:
 the reasons the command line (``cli/_reasons.py``, which adds what to type next) and the gateway's
-write methods (``gateway/writer.py``) both give.
+write methods (``gateway/writer.py``) both give; and why a program folder call was refused, the
+native client's.
 
 The wire carries a refusal's EW code only; the reason stays in the machine. What the write
 knows, the item, the value sent and the code, is enough to say it. A code these words do not
@@ -24,6 +25,7 @@ __all__ = [
     "READ_ONLY",
     "SPINDLE_DIAGS",
     "axis_misfit",
+    "folder_refusal",
     "item_named",
     "macro_refusal",
     "mode_refusal",
@@ -254,6 +256,32 @@ def pmc_refusal(ew: int, area: str, first: int, last: int) -> str | None:
             )
         return f"the machine is read-only, or its machine file write-protects PMC area {area}"
     return None
+
+
+#: What the name of each of FANUC's program folder calls must name, which EW_DATA says the CNC
+#: has not: a drive, a folder, a program file (of the path's own folder, for the main program).
+_FOLDER_NAMES: Final[Mapping[str, str]] = {
+    "cnc_rdpdf_inf": "drive",
+    **dict.fromkeys(
+        ("cnc_rdpdf_alldir", "cnc_rdpdf_subdir", "cnc_rdpdf_subdirn", "cnc_wrpdf_curdir"),
+        "folder",
+    ),
+    **dict.fromkeys(("cnc_rdpdf_prginf", "cnc_pdf_del"), "program file"),
+}
+
+
+def folder_refusal(ew: int, function: str, name: str) -> str | None:
+    """Why the CNC answered ``ew`` to ``function`` (``cnc_pdf_del``...), one of the program
+    folder calls of a 30i-class control, of ``name``: EW_DATA is a name of nothing the CNC has
+    (``no folder 'NOPE'``, ``no program file '5'``, ``no program file 'O7777' in the path's
+    folder`` for ``cnc_pdf_slctmain``), as the machine says it; None for another code or
+    call."""
+    if ew != EW.DATA:
+        return None
+    if function == "cnc_pdf_slctmain":
+        return f"no program file {name!r} in the path's folder"
+    what = _FOLDER_NAMES.get(function)
+    return None if what is None else f"no {what} {name!r}"
 
 
 #: What a part program the store takes is, when the text is not one.

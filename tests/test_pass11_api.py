@@ -6,9 +6,11 @@ sent."""
 
 from __future__ import annotations
 
+from typing import Any
+
 import pytest
 
-from focas_net import EW, ChunkedWriteError, FocasClient, NativeClient
+from focas_net import EW, ChunkedWriteError, CncError, FocasClient, NativeClient
 from focas_net._typed import pmc_count_unfit
 from focas_net.client._values import history_depth
 from focas_net.sim import Machine, MachineError
@@ -106,3 +108,35 @@ async def test_a_huge_alarm_history_depth_reads_the_250_the_history_holds(
 def test_a_hugely_negative_history_depth_is_below_one(depth: int) -> None:
     with pytest.raises(ValueError, match=rf"^history depth {depth} is below 1 \("):
         history_depth(depth)
+
+
+# -- the program folders: an EW_DATA names what the CNC has not ------------------------------
+@pytest.mark.parametrize(
+    ("call", "words"),
+    [
+        (lambda n: n.read_drive_usage("//USB/"), "cnc_rdpdf_inf: no drive '//USB/'"),
+        (
+            lambda n: n.read_folder("//CNC_MEM/NOPE/"),
+            "cnc_rdpdf_alldir: no folder '//CNC_MEM/NOPE/'",
+        ),
+        (lambda n: n.read_subfolders("NOPE"), "cnc_rdpdf_subdir: no folder 'NOPE'"),
+        (lambda n: n.read_folder_counts("5"), "cnc_rdpdf_subdirn: no folder '5'"),
+        (lambda n: n.write_current_folder("5"), "cnc_wrpdf_curdir: no folder '5'"),
+        (lambda n: n.read_file_info("O7777"), "cnc_rdpdf_prginf: no program file 'O7777'"),
+        (lambda n: n.delete_file("5"), "cnc_pdf_del: no program file '5'"),
+        (
+            lambda n: n.select_main_file("//CNC_MEM/USER/PATH1/O7777"),
+            "cnc_pdf_slctmain: no program file '//CNC_MEM/USER/PATH1/O7777' in the path's folder",
+        ),
+    ],
+)
+async def test_a_folder_call_refused_names_what_the_cnc_has_not(
+    both_clients: Both, call: Any, words: str
+) -> None:
+    """``select_main_file("5")`` raised ``EW_DATA (5): data error: cnc_pdf_slctmain`` and
+    nothing more, where the machine knows there is no such file."""
+    _, _, native = both_clients
+    with pytest.raises(CncError) as refused:
+        await call(native)
+    assert refused.value.ew == EW.DATA
+    assert refused.value.detail == words

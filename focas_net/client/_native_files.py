@@ -23,6 +23,7 @@ from typing import Any, Final
 
 from focas_net.errors import EW, CncError
 
+from .._refusals import folder_refusal
 from ..native import (
     MAX_FOLDER_ENTRIES,
     SIZE_UNITS,
@@ -119,12 +120,21 @@ def _size_kind(size_kind: int) -> int:
 class NativeFiles(NativeLink):
     """The program folders over FOCAS/2 (see the module docstring)."""
 
-    async def _one(self, call: LibraryCall, path: int | None, timeout: float | None) -> Any:
-        """The decoded answer of ``call`` (one frame, one block) on ``path``."""
+    async def _one(
+        self, call: LibraryCall, path: int | None, timeout: float | None, name: str | None = None
+    ) -> Any:
+        """The decoded answer of ``call`` (one frame, one block) on ``path``; a refusal of
+        ``name`` (the drive, folder or file the call names) says what the CNC has not."""
         p = self._path_of(path)
         deadline = self._deadline(timeout)
         handle = self._handle_now() or await self._handle_for(deadline)
-        return only_answer(handle, call, await self._exchange(handle, call, deadline, 0, p))
+        try:
+            return only_answer(handle, call, await self._exchange(handle, call, deadline, 0, p))
+        except CncError as exc:
+            why = None if name is None else folder_refusal(exc.ew, exc.detail, name)
+            if why is None:
+                raise
+            raise CncError.from_ew(exc.ew, f"{exc.detail}: {why}") from None
 
     async def read_drives(
         self, *, path: int | None = None, timeout: float | None = None
@@ -137,7 +147,7 @@ class NativeFiles(NativeLink):
         self, drive: str = "//CNC_MEM/", *, path: int | None = None, timeout: float | None = None
     ) -> DriveUsage:
         """``cnc_rdpdf_inf``: how much of ``drive`` is used."""
-        info: DriveInfo = await self._one(cnc_rdpdf_inf(_ANY_SET, drive, 0), path, timeout)
+        info: DriveInfo = await self._one(cnc_rdpdf_inf(_ANY_SET, drive, 0), path, timeout, drive)
         return DriveUsage(info.used_pages, info.pages, info.used_entries, info.entries)
 
     async def read_current_folder(
@@ -155,7 +165,7 @@ class NativeFiles(NativeLink):
         """``cnc_wrpdf_curdir``: make ``folder`` the path's current folder of ``kind``
         (EW_DATA for a folder the CNC has not)."""
         check_int("folder kind", kind, 1, 2)
-        await self._one(cnc_wrpdf_curdir(_ANY_SET, kind, folder), path, timeout)
+        await self._one(cnc_wrpdf_curdir(_ANY_SET, kind, folder), path, timeout, folder)
 
     async def read_subfolders(
         self, folder: str, *, path: int | None = None, timeout: float | None = None
@@ -165,7 +175,7 @@ class NativeFiles(NativeLink):
         out: list[tuple[str, bool]] = []
         while len(out) < _MOST_ENTRIES:
             call = cnc_rdpdf_subdir(_ANY_SET, folder, len(out), MAX_FOLDER_ENTRIES)
-            records: SubfolderRecords | None = await self._listing(call, path, timeout, out)
+            records: SubfolderRecords | None = await self._listing(call, path, timeout, folder)
             if records is None:
                 break
             out.extend((text(r.name), bool(r.has_folders & 0xFFFF)) for r in records.records)
@@ -188,7 +198,7 @@ class NativeFiles(NativeLink):
         out: list[FolderEntry] = []
         while len(out) < _MOST_ENTRIES:
             call = cnc_rdpdf_alldir(_ANY_SET, folder, len(out), MAX_FOLDER_ENTRIES, 1, size_kind)
-            records: FolderRecords | None = await self._listing(call, path, timeout, out)
+            records: FolderRecords | None = await self._listing(call, path, timeout, folder)
             if records is None:
                 break
             out.extend(
@@ -207,12 +217,12 @@ class NativeFiles(NativeLink):
         return out
 
     async def _listing(
-        self, call: LibraryCall, path: int | None, timeout: float | None, so_far: list[Any]
+        self, call: LibraryCall, path: int | None, timeout: float | None, folder: str
     ) -> Any:
-        """One request of a listing; None at its end (EW_NUMBER after the first entry, or
-        for a folder with no entry)."""
+        """One request of a listing of ``folder``; None at its end (EW_NUMBER after the first
+        entry, or for a folder with no entry)."""
         try:
-            return await self._one(call, path, timeout)
+            return await self._one(call, path, timeout, folder)
         except CncError as exc:
             if exc.ew == EW.NUMBER:
                 return None
@@ -222,7 +232,9 @@ class NativeFiles(NativeLink):
         self, folder: str, *, path: int | None = None, timeout: float | None = None
     ) -> FolderCounts:
         """``cnc_rdpdf_subdirn``: how many folders and files ``folder`` holds."""
-        count: FolderCount = await self._one(cnc_rdpdf_subdirn(_ANY_SET, folder), path, timeout)
+        count: FolderCount = await self._one(
+            cnc_rdpdf_subdirn(_ANY_SET, folder), path, timeout, folder
+        )
         return FolderCounts(count.folders & 0xFFFF, count.files & 0xFFFF)
 
     async def read_file_info(
@@ -237,7 +249,7 @@ class NativeFiles(NativeLink):
         :meth:`read_folder`), attributes and comment (EW_DATA for no such file)."""
         _size_kind(size_kind)
         call = cnc_rdpdf_prginf(_ANY_SET, name, size_kind, 1)
-        info: FileInfo = await self._one(call, path, timeout)
+        info: FileInfo = await self._one(call, path, timeout, name)
         return ProgramFileInfo(
             _when(info.year, info.month, info.day, info.hour, info.minute, info.second),
             info.size,
@@ -251,7 +263,7 @@ class NativeFiles(NativeLink):
         """``cnc_pdf_del``: delete the program of file ``name`` (a full name such as
         ``//CNC_MEM/USER/PATH1/O0001``, or one of the current folder): EW_DATA for no such
         file, EW_PROT on a protected CNC, EW_REJECT while it is being executed."""
-        await self._one(cnc_pdf_del(_ANY_SET, name), path, timeout)
+        await self._one(cnc_pdf_del(_ANY_SET, name), path, timeout, name)
 
     async def read_main_file(self, *, path: int | None = None, timeout: float | None = None) -> str:
         """``cnc_pdf_rdmain``: the file of the path's main program ("" when none is)."""
@@ -263,4 +275,4 @@ class NativeFiles(NativeLink):
     ) -> None:
         """``cnc_pdf_slctmain``: make the program of file ``name`` the path's main program
         (EW_DATA for no file of the path's folder; EW_MODE outside MEM and EDIT)."""
-        await self._one(cnc_pdf_slctmain(_ANY_SET, name), path, timeout)
+        await self._one(cnc_pdf_slctmain(_ANY_SET, name), path, timeout, name)
