@@ -308,7 +308,8 @@ def program_refusal(ew: int, text: str) -> str | None:
     """Why the CNC answered ``ew`` to ``cnc_download`` of part program ``text``, in the words
     of the machine's program store where the text says it plainly (``the program text is
     empty``, ``a program starts with O and its number, not 'G01 X1'``), else what a program
-    must be; None for a code these words do not cover (the command line, which reads the file
+    must be; a number already stored (EW_REJECT), a program being executed (EW_BUSY) and a
+    full store (EW_OVRFLOW) name the program; None for a code these words do not cover (the command line, which reads the file
     with the store's own rules, names the store's reason instead)."""
     if ew == EW.DATA:
         first = _first_block(text)
@@ -317,10 +318,17 @@ def program_refusal(ew: int, text: str) -> str | None:
         if first is not None and first[:1].upper() not in ("O", ":"):
             return f"a program starts with O and its number, not {first[:40]!r}"
         return _ONE_PROGRAM
+    m = O_LINE.match(text)
     if ew == EW.NUMBER:
-        m = O_LINE.match(text)
         what = f"program number O{m[1]}" if m else "the program number"
         return f"{what} is outside the program store's range"
+    program = f"program O{int(m[1]):04d}" if m else "the program"
+    if ew == EW.REJECT:
+        return f"{program} is already stored"
+    if ew == EW.BUSY:
+        return f"{program} is being executed"
+    if ew == EW.OVRFLOW:
+        return f"the program store has no room for {program}"
     return None
 
 

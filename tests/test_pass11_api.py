@@ -140,3 +140,22 @@ async def test_a_folder_call_refused_names_what_the_cnc_has_not(
         await call(native)
     assert refused.value.ew == EW.DATA
     assert refused.value.detail == words
+
+
+# -- a program stored twice ----------------------------------------------------------------
+async def test_a_program_already_stored_is_named_with_how_to_replace_it(
+    both_clients: Both,
+) -> None:
+    """``write_program`` of a number already stored raised ``EW_REJECT (13): execution
+    rejected: cnc_download`` and nothing more, where the machine says ``program O9999 is
+    already stored`` and the command line how to replace it."""
+    machine, cnc, _ = both_clients
+    text = "%\nO9999 (TWICE)\nM30\n%\n"
+    assert await cnc.write_program(text) == 9999
+    with pytest.raises(CncError) as refused:
+        await cnc.write_program(text)
+    assert refused.value.ew == EW.REJECT
+    assert refused.value.detail == (
+        "cnc_download: program O9999 is already stored (replace=True replaces it)"
+    )
+    assert await cnc.write_program(text, replace=True) == 9999

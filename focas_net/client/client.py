@@ -678,6 +678,8 @@ class FocasClient(Link):
             why = program_refusal(exc.ew, text)  # the store's reason: the wire has the code
             if why is None:
                 raise
+            if exc.ew == EW.REJECT:
+                why += " (replace=True replaces it)"
             raise CncError.from_ew(exc.ew, f"{exc.detail}: {why}") from None
         return stored.number
 
