@@ -438,7 +438,7 @@ def test_settings_are_parameters_below_100() -> None:
     with pytest.raises(MachineError, match="no setting data 1001") as raised:
         machine.check_setting(1001)
     assert raised.value.ew == EW.NUMBER
-    with pytest.raises(MachineError, match="no setting data '20'"):
+    with pytest.raises(TypeError, match="setting number must be an integer, got '20'"):
         machine.check_setting("20")  # type: ignore[arg-type]
 
 

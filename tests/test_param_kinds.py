@@ -81,7 +81,7 @@ def test_data_item_width_follows_kind() -> None:
     item = DataItem(1, kind=ParamKind.WORD)
     item.check(3)
     assert item.width == 2 and (item.low, item.high) == (-32768, 32767)
-    with pytest.raises(ValueError, match="bit item is 1 bytes wide"):
+    with pytest.raises(ValueError, match="bit item is 1 byte wide"):
         DataItem(1, 2, kind=ParamKind.BIT).check(3)
     with pytest.raises(ValueError, match="decimals"):
         DataItem(1, kind=ParamKind.WORD, decimals=2).check(3)

@@ -10,7 +10,7 @@ from typing import Any
 
 import pytest
 
-from focas_net import EW, ChunkedWriteError, CncError, FocasClient, NativeClient
+from focas_net import EW, ChunkedWriteError, CncError, FocasClient, NativeClient, default_machine
 from focas_net._typed import pmc_count_unfit
 from focas_net.client._values import history_depth
 from focas_net.sim import Machine, MachineError
@@ -159,3 +159,44 @@ async def test_a_program_already_stored_is_named_with_how_to_replace_it(
         "cnc_download: program O9999 is already stored (replace=True replaces it)"
     )
     assert await cnc.write_program(text, replace=True) == 9999
+
+
+# -- the machine's write_param and check_setting refuse another type by kind ----------------
+@pytest.mark.parametrize(
+    ("kwargs", "words"),
+    [
+        ({"width": "1"}, "parameter width must be an integer, got '1'"),
+        ({"width": 1.0}, "parameter width must be an integer, got 1.0"),
+        ({"width": True}, "parameter width must be an integer, got True"),
+        ({"decimals": "3"}, "parameter decimals must be an integer, got '3'"),
+        ({"decimals": 1.5}, "parameter decimals must be an integer, got 1.5"),
+        ({"decimals": True}, "parameter decimals must be an integer, got True"),
+    ],
+)
+def test_the_machine_refuses_a_parameter_width_or_decimals_of_another_type(
+    kwargs: dict[str, object], words: str
+) -> None:
+    """``Machine.write_param(..., width="1")`` was EW_LENGTH ``parameter 20 is 1 bytes wide``
+    (a range for a type), ``width=True`` was taken as 1 and ``decimals="3"`` was ignored."""
+    machine = default_machine()
+    machine.set_panel("MDI", pwe=True)
+    version = machine.version
+    with pytest.raises(TypeError) as refused:
+        machine.write_param(machine.new_session(), 20, 0, 1, **kwargs)  # type: ignore[arg-type]
+    assert str(refused.value) == words
+    assert machine.version == version
+
+
+def test_the_machine_names_a_parameter_s_width_in_bytes_of_one_byte() -> None:
+    machine = default_machine()
+    with pytest.raises(MachineError) as refused:
+        machine.write_param(machine.new_session(), 20, 0, 1, width=2)
+    assert refused.value.detail == "parameter 20 is 1 byte wide"
+
+
+@pytest.mark.parametrize("number", [None, "0", 1.5, True])
+def test_the_machine_refuses_a_setting_number_of_another_type_by_kind(number: object) -> None:
+    """``check_setting(None)`` was EW_NUMBER ``no setting data None``; ``True`` a TypeError
+    naming a parameter number."""
+    with pytest.raises(TypeError, match=r"^setting number must be an integer, got "):
+        default_machine().check_setting(number)  # type: ignore[arg-type]

@@ -20,6 +20,7 @@ __all__ = [
     "Counters",
     "MachineError",
     "logger",
+    "n_bytes",
     "n_values",
     "need_int",
     "need_items",
@@ -45,6 +46,11 @@ def n_values(given: int, axes: int) -> str:
     """``3 values for 2 axes``, ``1 value for 1 axis``: a count of values against axes."""
     values = "value" if given == 1 else "values"
     return f"{given} {values} for {axes} {'axis' if axes == 1 else 'axes'}"
+
+
+def n_bytes(width: int) -> str:
+    """``1 byte``, ``4 bytes``: a width, as a refusal names it."""
+    return f"{width} byte" if width == 1 else f"{width} bytes"
 
 
 def need_int(what: str, value: object) -> int:

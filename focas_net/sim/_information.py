@@ -20,7 +20,7 @@ from typing import TYPE_CHECKING, Final, Protocol
 
 from focas_net.errors import EW
 
-from ._base import MachineError
+from ._base import MachineError, need_int
 from ._identity import CLASSES_16I
 from ._pmc import PMC_AREAS
 from ._status import POSITION_DECIMALS
@@ -186,6 +186,8 @@ class InformationOperations:
         return numbers[: bisect_left(numbers, SETTING_NUMBERS.stop)]
 
     def check_setting(self: _Facts, datano: int) -> None:
-        """EW_NUMBER unless ``datano`` is setting data of the machine."""
+        """EW_NUMBER unless ``datano`` is setting data of the machine (TypeError for a number
+        of another type, naming it)."""
+        need_int("setting number", datano)
         if datano not in SETTING_NUMBERS or self.param_item(datano) is None:
             raise MachineError(EW.NUMBER, f"no setting data {datano!r}")

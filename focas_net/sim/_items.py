@@ -9,7 +9,7 @@ from typing import Final
 
 from focas_net.errors import EW
 
-from ._base import NUMBERS, Counters, MachineError, need_int
+from ._base import NUMBERS, Counters, MachineError, n_bytes, need_int
 
 __all__ = [
     "MAX_REAL_DECIMALS",
@@ -109,7 +109,7 @@ class DataItem:
                 self.width = self.kind.width
             elif self.width != self.kind.width:
                 raise ValueError(
-                    f"a {self.kind.name.lower()} item is {self.kind.width} bytes wide, "
+                    f"a {self.kind.name.lower()} item is {n_bytes(self.kind.width)} wide, "
                     f"width {self.width} given"
                 )
         if self.kind is ParamKind.REAL:

@@ -117,6 +117,7 @@ from ._alarms import (
 from ._base import (
     Counters,
     MachineError,
+    n_bytes,
     need_flag,
     need_int,
     need_items,
@@ -610,11 +611,14 @@ class Machine(
         read-only machine)."""
         self.check_writable()
         need_session(session)
+        for what, given in (("width", width), ("decimals", decimals)):
+            if given is not None:
+                need_int(f"parameter {what}", given)
         p = self._paths.at(path)
         items = self._items
         item, i = p.items.lookup(False, datano, axis)
         if width is not None and width != item.width:
-            raise MachineError(EW.LENGTH, f"parameter {datano} is {item.width} bytes wide")
+            raise MachineError(EW.LENGTH, f"parameter {datano} is {n_bytes(item.width)} wide")
         closed = self.param_gate_closed(session, path=path)
         if closed is not None:
             raise MachineError(EW.PASSWD, f"parameter write not enabled: {closed}")
