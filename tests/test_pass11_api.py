@@ -200,3 +200,12 @@ def test_the_machine_refuses_a_setting_number_of_another_type_by_kind(number: ob
     naming a parameter number."""
     with pytest.raises(TypeError, match=r"^setting number must be an integer, got "):
         default_machine().check_setting(number)  # type: ignore[arg-type]
+
+
+@pytest.mark.parametrize("given", [2**63, 10**20])
+def test_a_huge_max_in_flight_is_named_with_the_range_it_takes(given: int) -> None:
+    """``FocasClient(max_in_flight=10**20)`` said ``... is outside
+    -9223372036854775808..9223372036854775808`` where ``max_in_flight=0`` says ``1..32768``."""
+    with pytest.raises(ValueError) as refused:
+        FocasClient("127.0.0.1", max_in_flight=given)
+    assert str(refused.value) == f"max_in_flight {given} is outside 1..32768"

@@ -42,7 +42,7 @@ from ..protocol import (
 from ..protocol import Command as C
 from ._composite import CompositeCalls
 from ._failures import command_text, echo_error, path_refusal, undecodable_error
-from ._values import check_int
+from ._values import an_int, check_int
 from .connection import MAX_IN_FLIGHT, Connection, NotSentError, _Pending, open_connection
 from .reconnect import ClientState, ReconnectPolicy, StateCallback
 
@@ -86,7 +86,7 @@ class Link(CompositeCalls):
         on_state_change: StateCallback | None,
         path: int = 1,
     ) -> None:
-        check_int("max_in_flight", max_in_flight, -(2**63), 2**63)  # a TypeError, naming it
+        an_int("max_in_flight", max_in_flight)  # a TypeError, naming it (its range: below)
         check_int("max_frame", max_frame, 4, 0xFFFF_FFFF)
         if ssl is not None and not isinstance(ssl, _ssl.SSLContext):
             raise TypeError(f"ssl must be an ssl.SSLContext or None, got {ssl!r}")
