@@ -309,8 +309,9 @@ def program_refusal(ew: int, text: str) -> str | None:
     of the machine's program store where the text says it plainly (``the program text is
     empty``, ``a program starts with O and its number, not 'G01 X1'``), else what a program
     must be; a number already stored (EW_REJECT), a program being executed (EW_BUSY) and a
-    full store (EW_OVRFLOW) name the program; None for a code these words do not cover (the command line, which reads the file
-    with the store's own rules, names the store's reason instead)."""
+    full store (EW_OVRFLOW) name the program; None for a code these words do not cover (the
+    command line, which reads the file with the store's own rules, names the store's reason
+    instead)."""
     if ew == EW.DATA:
         first = _first_block(text)
         if first == "":

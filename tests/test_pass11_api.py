@@ -149,7 +149,7 @@ async def test_a_program_already_stored_is_named_with_how_to_replace_it(
     """``write_program`` of a number already stored raised ``EW_REJECT (13): execution
     rejected: cnc_download`` and nothing more, where the machine says ``program O9999 is
     already stored`` and the command line how to replace it."""
-    machine, cnc, _ = both_clients
+    _, cnc, _ = both_clients
     text = "%\nO9999 (TWICE)\nM30\n%\n"
     assert await cnc.write_program(text) == 9999
     with pytest.raises(CncError) as refused:
