@@ -71,7 +71,7 @@ from focas_net.client import (
     ReconnectPolicy,
     alarm_changes,
 )
-from focas_net.client._http_peer import HTTP_PROBE_BOUND, as_http_peer
+from focas_net.client._probes import GATEWAY, diagnosed
 from focas_net.errors import (
     EW,
     OPCUA_GOOD,
@@ -429,14 +429,17 @@ class Poller:
                 await st.client.connect()
             reader = await describe(st.config, st.client)
         except Exception as exc:  # (any failure: tried again after the policy's delay)
-            # a port that said nothing may be an HTTP server, on any attempt (one that took
-            # the port after a refusal or a loss too): asked as the command line asks it. The
-            # probe is asked only of a peer that said nothing, and costs an HTTP server well
-            # under a millisecond, a silent peer at most min(timeout, HTTP_PROBE_BOUND), no
-            # longer than the failed attempt itself waited (docs/gateway.md)
-            bound = min(st.config.timeout, HTTP_PROBE_BOUND)
-            told = await as_http_peer(exc, st.config.host, st.config.port, bound)
-            st.failure = reason_of(told)
+            # a port that said nothing may be an HTTP server, a TLS port, a port of FOCAS/2
+            # alone..., on any attempt (one that took the port after a refusal or a loss too):
+            # asked as the command line asks it, with the advice in the file's keys. The probes
+            # are asked only of a peer that said nothing, and cost an HTTP server well under a
+            # millisecond, a silent peer at most min(timeout, PROBE_TIMEOUT) each, no longer
+            # than the failed attempt itself waited (docs/gateway.md)
+            c = st.config
+            told, hint = await diagnosed(
+                exc, c.host, c.port, c.protocol, False, c.timeout, wording=GATEWAY
+            )
+            st.failure = reason_of(told) + ("" if hint is None else f"; {hint}")
             st.next_attempt = self.timer() + self.policy.delay(st.attempts)
             st.attempts += 1
             unexpected = not isinstance(exc, FocasError | OSError)
