@@ -12,7 +12,16 @@ from typing import Final
 
 from focas_net._typed import os_reason
 
-__all__ = ["ca_context", "is_openssl_text", "openssl_words", "pem_holds", "ssl_error_text"]
+__all__ = [
+    "alert_text",
+    "ca_context",
+    "is_openssl_text",
+    "openssl_words",
+    "peer_alert",
+    "pem_holds",
+    "ssl_error_text",
+    "wants_client_certificate",
+]
 
 
 def pem_holds(path: str, label: str) -> bool | None:
@@ -36,6 +45,37 @@ def ssl_error_text(exc: OSError) -> str:
     if not isinstance(exc, ssl.SSLError):
         return os_reason(exc)  # (a file that cannot be read: the system's words)
     return openssl_words(str(exc.strerror or exc))
+
+
+#: OpenSSL's reason of TLS 1.3's alert of a server that wants a client certificate and got
+#: none (sent after the client's handshake is done: read on the connection's first read).
+_CERTIFICATE_REQUIRED: Final = "TLSV13_ALERT_CERTIFICATE_REQUIRED"
+#: OpenSSL's reason of TLS 1.2's alert of a server that ends a handshake it will not complete
+#: (a client certificate it wants and did not get, or no version or cipher in common).
+_HANDSHAKE_FAILURE: Final = "SSLV3_ALERT_HANDSHAKE_FAILURE"
+
+
+def peer_alert(exc: BaseException) -> bool:
+    """Whether ``exc`` is a TLS alert the peer sent (a peer that speaks TLS and refused)."""
+    return isinstance(exc, ssl.SSLError) and "_ALERT_" in str(exc.reason)
+
+
+def wants_client_certificate(exc: BaseException) -> bool | None:
+    """Whether the TLS alert ``exc`` says the server wants a client certificate: True
+    (TLS 1.3's alert), None (TLS 1.2's handshake failure, which may say so), False (no)."""
+    reason = str(exc.reason) if isinstance(exc, ssl.SSLError) else ""
+    if reason == _CERTIFICATE_REQUIRED:
+        return True
+    return None if reason == _HANDSHAKE_FAILURE else False
+
+
+def alert_text(exc: ssl.SSLError) -> str:
+    """The words of an SSL error ``exc`` of a connection: OpenSSL's without their tags, led
+    by what a server that wants a client certificate means by its alert."""
+    words = ssl_error_text(exc)
+    if wants_client_certificate(exc):
+        return f"the server wants a client certificate ({words})"
+    return words
 
 
 def openssl_words(text: str) -> str:

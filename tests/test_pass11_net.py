@@ -9,7 +9,12 @@ Servers here bind 127.0.0.1 on ephemeral ports.
 
 from __future__ import annotations
 
+import contextlib
+import socket
 import ssl
+import threading
+from collections.abc import Iterator
+from contextlib import contextmanager
 from dataclasses import replace
 from pathlib import Path
 from typing import Literal
@@ -17,10 +22,18 @@ from typing import Literal
 import pytest
 from cli_support import fails
 from poller_support import QUICK, RecordingSink, config
-from support import serving, wait_until
+from support import IO_TIMEOUT, serving, wait_until
 
 from focas_net.cli import EXIT_CONNECTION
+from focas_net.client import FocasClient
+from focas_net.errors import FocasConnectionError
 from focas_net.gateway import Gateway, GatewayConfig
+
+#: The command line's advice for a server that wants a client certificate.
+_NO_CLIENT_CERTIFICATE = (
+    "the command line sends no client certificate: connect from Python, with FocasClient's "
+    "ssl= a context holding one (SSLContext.load_cert_chain)"
+)
 
 
 def _server_tls(certificate: tuple[Path, Path]) -> ssl.SSLContext:
@@ -77,3 +90,111 @@ async def test_the_gateway_at_a_port_of_focas2_alone_asks_for_protocol_native() 
         f'{hint}protocol = "native"'
     )
     assert said.endswith(f"before any answer; {hint}--protocol native")
+
+
+# -- a server that wants a client certificate ---------------------------------------------------
+def _wants_client_certificate(
+    certificate: tuple[Path, Path], version: ssl.TLSVersion
+) -> ssl.SSLContext:
+    context = _server_tls(certificate)
+    context.verify_mode = ssl.CERT_REQUIRED
+    context.load_verify_locations(certificate[0])
+    context.maximum_version = version
+    return context
+
+
+@contextmanager
+def _openssl_server(context: ssl.SSLContext) -> Iterator[int]:
+    """A TLS server of OpenSSL's own sockets on 127.0.0.1 (its port), in a thread: unlike an
+    asyncio server, it sends the alert of a handshake it refuses. It takes connections until
+    the block ends, each handshake bounded."""
+    listener = socket.create_server(("127.0.0.1", 0))
+    listener.settimeout(0.05)
+    done = threading.Event()
+
+    def serve() -> None:
+        while not done.is_set():
+            try:
+                conn, _ = listener.accept()
+            except TimeoutError:
+                continue
+            conn.settimeout(IO_TIMEOUT)
+            tls = context.wrap_socket(conn, server_side=True, do_handshake_on_connect=False)
+            with contextlib.suppress(OSError):
+                tls.do_handshake()  # (TLS 1.3 checks the client's certificate after its Finished)
+            with contextlib.suppress(OSError):  # (its alert read before the end: no reset)
+                tls.shutdown(socket.SHUT_WR)
+                while tls.recv(4096):
+                    pass
+            tls.close()
+
+    thread = threading.Thread(target=serve, daemon=True)
+    thread.start()
+    try:
+        yield listener.getsockname()[1]
+    finally:
+        done.set()
+        thread.join(IO_TIMEOUT)
+        listener.close()
+
+
+async def _status_over_tls(port: int, cafile: Path) -> FocasConnectionError:
+    context = ssl.create_default_context(cafile=cafile)
+    with pytest.raises(FocasConnectionError) as caught:
+        async with FocasClient("127.0.0.1", port, ssl=context, timeout=IO_TIMEOUT) as client:
+            await client.read_status()
+    return caught.value
+
+
+async def test_the_alert_of_a_tls13_server_that_wants_a_client_certificate_is_worded(
+    certificate: tuple[Path, Path],
+) -> None:
+    """It read `connection to ... lost before any answer: [SSL:
+    TLSV13_ALERT_CERTIFICATE_REQUIRED] tlsv13 alert certificate required (_ssl.c:2580)`."""
+    context = _wants_client_certificate(certificate, ssl.TLSVersion.TLSv1_3)
+    with _openssl_server(context) as port:
+        said = str(await _status_over_tls(port, certificate[0]))
+        line = await fails(
+            EXIT_CONNECTION, "status", "--port", str(port), "--tls-ca", str(certificate[0])
+        )
+    assert said == (
+        f"connection to 127.0.0.1:{port} lost before any answer: the server wants a client "
+        "certificate (tlsv13 alert certificate required)"
+    )
+    assert line == f"focas-net: {said}; {_NO_CLIENT_CERTIFICATE}"
+
+
+async def test_the_handshake_alert_of_a_tls12_server_that_wants_a_client_certificate(
+    certificate: tuple[Path, Path],
+) -> None:
+    """It read `TLS handshake failed (sslv3 alert handshake failure): the peer may not speak
+    TLS`: a peer that sends an alert speaks TLS."""
+    context = _wants_client_certificate(certificate, ssl.TLSVersion.TLSv1_2)
+    with _openssl_server(context) as port:
+        said = str(await _status_over_tls(port, certificate[0]))
+        line = await fails(
+            EXIT_CONNECTION, "status", "--port", str(port), "--tls-ca", str(certificate[0])
+        )
+    assert said == (
+        f"cannot connect to 127.0.0.1:{port}: TLS handshake failed (sslv3 alert handshake "
+        "failure): the server refused it: it may want a client certificate, or share no TLS "
+        "version or cipher with this client"
+    )
+    assert line == f"focas-net: {said}; {_NO_CLIENT_CERTIFICATE}"  # (not "drop --tls")
+
+
+async def test_a_tls_connection_closed_after_its_handshake_names_a_client_certificate(
+    certificate: tuple[Path, Path],
+) -> None:
+    """An asyncio server drops its alert: the client reads an end of stream alone."""
+    context = _wants_client_certificate(certificate, ssl.TLSVersion.TLSv1_3)
+    async with serving(ssl=context) as served:
+        said = str(await _status_over_tls(served.port, certificate[0]))
+        line = await fails(
+            EXIT_CONNECTION, "status", "--port", str(served.port), "--tls-ca", str(certificate[0])
+        )
+    assert line == f"focas-net: {said}; {_NO_CLIENT_CERTIFICATE}"
+    assert said == (
+        f"connection closed by 127.0.0.1:{served.port} before any answer (a TLS server closes "
+        "so when it wants a client certificate and gets none)"
+    )

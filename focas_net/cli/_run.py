@@ -23,7 +23,7 @@ from collections.abc import Awaitable, Callable, Iterator
 from dataclasses import dataclass
 from typing import Any, Final
 
-from focas_net._tls import ca_context
+from focas_net._tls import ca_context, peer_alert, wants_client_certificate
 from focas_net._typed import os_words
 from focas_net.client import (
     ClientState,
@@ -33,6 +33,7 @@ from focas_net.client import (
     NativeUnsupportedError,
     ReconnectPolicy,
 )
+from focas_net.client._failures import WANTS_CERTIFICATE
 from focas_net.errors import (
     EW,
     ChunkedWriteError,
@@ -346,6 +347,17 @@ def report_state(client: CncClient) -> Callable[[ClientState], None]:
     return report
 
 
+def _ssl_cause(exc: BaseException) -> BaseException | None:
+    """The SSL error ``exc`` was raised for, through the errors it was passed on as (a call
+    fails with its connection's error as its cause)."""
+    for _ in range(4):  # (a chain of a few links at most)
+        cause = exc.__cause__
+        if cause is None or isinstance(cause, ssl.SSLError):
+            return cause
+        exc = cause
+    return None
+
+
 def _tls_hint(args: argparse.Namespace, exc: BaseException) -> str | None:
     """Advice when ``exc`` itself shows TLS on one side only (the probes of
     :func:`._diagnose.diagnosis` found nothing certain)."""
@@ -364,6 +376,11 @@ def _tls_hint(args: argparse.Namespace, exc: BaseException) -> str | None:
                 "certificate there: give its own certificate or its CA's, or --tls-insecure"
             )
         return "give --tls-ca FILE (the server's certificate or its CA) or --tls-insecure"
+    alert = _ssl_cause(exc)
+    if wants_client_certificate(alert) is not False or WANTS_CERTIFICATE in str(exc):
+        return _NO_CLIENT_CERTIFICATE  # (what the command line cannot give)
+    if peer_alert(alert):
+        return None  # (a server that refused the handshake speaks TLS)
     text = str(exc)
     if tls and isinstance(exc, FocasConnectionError) and "TLS handshake failed" in text:
         return "if the server is plain TCP, drop --tls"
@@ -371,6 +388,12 @@ def _tls_hint(args: argparse.Namespace, exc: BaseException) -> str | None:
         return "the server uses TLS: give --tls (with --tls-ca FILE or --tls-insecure)"
     return None
 
+
+#: The advice for a server that wants a client certificate (or may: a TLS 1.2 alert).
+_NO_CLIENT_CERTIFICATE: Final = (
+    "the command line sends no client certificate: connect from Python, with FocasClient's "
+    "ssl= a context holding one (SSLContext.load_cert_chain)"
+)
 
 #: OpenSSL's verify codes of a certificate that holds another host name, or IP address.
 _NAME_MISMATCH: Final = frozenset({62, 64})

@@ -24,7 +24,7 @@ from typing import Final
 
 from focas_net._address import address_text
 from focas_net._refusals import no_path
-from focas_net._tls import ssl_error_text
+from focas_net._tls import alert_text, peer_alert, ssl_error_text, wants_client_certificate
 from focas_net._typed import os_reason
 from focas_net.errors import (
     EW,
@@ -43,6 +43,7 @@ __all__ = [
     "ECHOED",
     "NEVER_SENT",
     "NOTHING_RECEIVED",
+    "WANTS_CERTIFICATE",
     "closed_error",
     "command_text",
     "connect_error",
@@ -150,23 +151,38 @@ def bytes_text(data: bytes) -> str:
     return data.hex(" ").upper()
 
 
-def closed_error(peer: str, answered: bool) -> FocasConnectionError:
-    """The error of a connection ``peer`` closed (``answered``: it had sent a byte)."""
-    return FocasConnectionError(
-        f"connection closed by {peer}" + ("" if answered else f" {BEFORE_ANY_ANSWER}")
-    )
+#: What a TLS connection closed before any answer adds: a server that wants a client
+#: certificate and got none ends it so, once the client's handshake is done (TLS 1.3), and a
+#: server of asyncio's (``focas-net``'s among them) drops the alert that would say so.
+WANTS_CERTIFICATE: Final = (
+    "(a TLS server closes so when it wants a client certificate and gets none)"
+)
 
 
-def lost_error(peer: str, exc: BaseException | None, answered: bool = True) -> FocasConnectionError:
+def closed_error(peer: str, answered: bool, tls: bool = False) -> FocasConnectionError:
+    """The error of a connection ``peer`` closed (``answered``: it had sent a byte; ``tls``:
+    a TLS connection, which a server that wants a client certificate closes so)."""
+    text = f"connection closed by {peer}"
+    if not answered:
+        text += f" {BEFORE_ANY_ANSWER}" + (f" {WANTS_CERTIFICATE}" if tls else "")
+    return FocasConnectionError(text)
+
+
+def lost_error(
+    peer: str, exc: BaseException | None, answered: bool = True, tls: bool = False
+) -> FocasConnectionError:
     """The error of a connection to ``peer`` that ended for ``exc`` (None: the peer closed
-    it; a reset reads the same); an error of this package is its own."""
+    it; a reset reads the same; ``tls``: over TLS); an error of this package is its own. An
+    SSL error reads in OpenSSL's words without their tags (a server's alert that it wants a
+    client certificate says so)."""
     if isinstance(exc, FocasConnectionError):
         return exc
     if exc is None or isinstance(exc, _PEER_ENDED):
-        err = closed_error(peer, answered)
+        err = closed_error(peer, answered, tls)
     else:
         when = "" if answered else f" {BEFORE_ANY_ANSWER}"
-        err = FocasConnectionError(f"connection to {peer} lost{when}: {os_reason(exc)}")
+        why = alert_text(exc) if isinstance(exc, _ssl.SSLError) else os_reason(exc)
+        err = FocasConnectionError(f"connection to {peer} lost{when}: {why}")
     err.__cause__ = exc
     return err
 
@@ -220,6 +236,22 @@ def connect_error(
     return err
 
 
+def _handshake_why(exc: BaseException) -> str:
+    """Why a TLS handshake failed with ``exc``: a peer that sent an alert speaks TLS and
+    refused it (a client certificate it wants, maybe), another may not speak TLS."""
+    if not peer_alert(exc):
+        return "the peer may not speak TLS"
+    wants = wants_client_certificate(exc)
+    if wants:
+        return "the server wants a client certificate"
+    if wants is None:
+        return (
+            "the server refused it: it may want a client certificate, or share no TLS "
+            "version or cipher with this client"
+        )
+    return "the server refused it"
+
+
 def connect_reason(exc: BaseException, ssl: _ssl.SSLContext | None, host: str = "") -> str:
     """Why a connect to ``host`` failed, never empty; a failed TLS handshake says so, and so
     does a link-local IPv6 address without its interface (which no connect can reach)."""
@@ -239,5 +271,5 @@ def connect_reason(exc: BaseException, ssl: _ssl.SSLContext | None, host: str = 
         # (OpenSSL's words without its library tag and source line)
         detail = ssl_error_text(exc) if isinstance(exc, _ssl.SSLError) else ""
         detail = detail or "the peer closed it"
-        return f"TLS handshake failed ({detail}): the peer may not speak TLS"
+        return f"TLS handshake failed ({detail}): {_handshake_why(exc)}"
     return os_reason(exc)

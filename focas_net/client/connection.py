@@ -157,6 +157,7 @@ class Connection(RequestSlots, Received, asyncio.Protocol):
         self._on_lost = on_lost
         self._violation: ProtocolError | None = None
         self._answered = False  # any byte received yet
+        self._tls = False  # a TLS connection
         self.peer: str = "?"
         #: The path the peer answers this connection's per-path requests for, as far as what
         #: was sent on it tells: 1 when it opens, then the path of the last ``cnc_setpath``
@@ -193,6 +194,7 @@ class Connection(RequestSlots, Received, asyncio.Protocol):
     def connection_made(self, transport: asyncio.BaseTransport) -> None:
         # uvloop's transports implement the interface without subclassing asyncio.Transport
         self._transport = cast(asyncio.Transport, transport)
+        self._tls = transport.get_extra_info("ssl_object") is not None
         peer = transport.get_extra_info("peername")
         if peer:
             self.peer = address_text(peer[0], peer[1])
@@ -276,7 +278,7 @@ class Connection(RequestSlots, Received, asyncio.Protocol):
 
     def connection_lost(self, exc: Exception | None) -> None:
         if self._closed_exc is None:
-            self._closed_exc = lost_error(self.peer, exc, self._answered)
+            self._closed_exc = lost_error(self.peer, exc, self._answered, self._tls)
         self._transport = None
         self._fail_all()
         if not self._lost.done():
@@ -293,7 +295,7 @@ class Connection(RequestSlots, Received, asyncio.Protocol):
         # a later loop turn. Calls made until then must not be written into the closing
         # transport (where they would vanish and fail as maybe sent): they fail as not sent.
         if self._closed_exc is None:
-            self._closed_exc = closed_error(self.peer, self._answered)
+            self._closed_exc = closed_error(self.peer, self._answered, self._tls)
         return None  # close the transport
 
     # -- requests ------------------------------------------------------------------------
@@ -654,7 +656,7 @@ class Connection(RequestSlots, Received, asyncio.Protocol):
 
     def _abort(self, exc: BaseException) -> None:
         if self._closed_exc is None:
-            self._closed_exc = lost_error(self.peer, exc, self._answered)
+            self._closed_exc = lost_error(self.peer, exc, self._answered, self._tls)
         self._fail_all()
         if self._transport is not None:
             self._transport.abort()
