@@ -55,12 +55,12 @@ _CERTIFICATE_REQUIRED: Final = "TLSV13_ALERT_CERTIFICATE_REQUIRED"
 _HANDSHAKE_FAILURE: Final = "SSLV3_ALERT_HANDSHAKE_FAILURE"
 
 
-def peer_alert(exc: BaseException) -> bool:
+def peer_alert(exc: BaseException | None) -> bool:
     """Whether ``exc`` is a TLS alert the peer sent (a peer that speaks TLS and refused)."""
     return isinstance(exc, ssl.SSLError) and "_ALERT_" in str(exc.reason)
 
 
-def wants_client_certificate(exc: BaseException) -> bool | None:
+def wants_client_certificate(exc: BaseException | None) -> bool | None:
     """Whether the TLS alert ``exc`` says the server wants a client certificate: True
     (TLS 1.3's alert), None (TLS 1.2's handshake failure, which may say so), False (no)."""
     reason = str(exc.reason) if isinstance(exc, ssl.SSLError) else ""
