@@ -255,3 +255,57 @@ def test_a_lathe_cuts_arcs_in_the_zx_plane_from_power_on() -> None:
     clock.advance(10)
     assert (engine.state, _alarm(engine)) == (CycleState.RESET, None)
     assert engine.modal_groups()[2] == 18
+
+
+_TOOLS = "[[tools]]\n"
+
+
+@pytest.mark.parametrize(
+    ("body", "words"),
+    [
+        (
+            "[[tools.offset]]\nnumber = 1\nx_wear = 1.0\n",
+            "tools[0].offset[0].x_wear: tool offset 1: x_wear is a lathe's offset",
+        ),
+        ("work = { G54 = [1, 2] }\n", "tools[0].work.G54: work offset G54: 2 values for 3 axes"),
+        (
+            "work = { G54 = [100000, 2, 3] }\n",
+            "tools[0].work.G54: work offset G54: 100000.000 mm is beyond 99999.999 mm",
+        ),
+        (
+            "[[tools.group]]\nnumber = 1\nlife = 10\ncount = 11\ntools = [1]\n",
+            "tools[0].group[0]: tool group 1: count 11 is outside 0..10 (the life)",
+        ),
+        (
+            "[[tools.group]]\nnumber = 1\nlife = 9\ntools = []\n",
+            "tools[0].group[0]: tool group 1 has 0 tools",
+        ),
+        (
+            "[[tools.group]]\nnumber = 1\nlife = 9\ntools = [1]\n"
+            "[[tools.group]]\nnumber = 1\nlife = 9\ntools = [2]\n",
+            "tools[0].group[1]: tool group 1 is declared twice",
+        ),
+        (
+            "max_groups = 4\n[[tools.group]]\nnumber = 5\nlife = 9\ntools = [1]\n",
+            "tools[0].group[0]: tool group 5 is outside 1..4",
+        ),
+        (
+            '[[tools.group]]\nnumber = 1\nlife = 5000\ntype = "time"\ntools = [1]\n',
+            "tools[0].group[0]: tool group 1: life 5000 is outside 1..4300",
+        ),
+    ],
+)
+def test_a_tools_table_the_machine_refuses_is_refused_naming_the_key(
+    body: str, words: str
+) -> None:
+    """The machine's own checks of offsets, work offsets and groups were told with no key
+    (`m.toml: tool group 1: count 11 ...`): each names where in the file it is."""
+    assert f"<machine file>: {words}" in _refusal(_TOOLS + body)
+
+
+def test_a_lathe_path_s_tools_are_checked_against_its_own_axes_and_kind() -> None:
+    head = '[machine]\nname = "l"\n[sysinfo]\nmt_type = "TT"\n[[path]]\naxes = ["X1", "Z1"]\n'
+    body = "[[tools]]\nwork = { G54 = [1, 2, 3] }\n"
+    with pytest.raises(MachineFileError) as caught:
+        machine_from_dict(tomllib.loads(head + body))
+    assert "tools[0].work.G54: work offset G54: 3 values for 2 axes" in str(caught.value)

@@ -37,6 +37,7 @@ __all__ = [
     "ToolOffsetInfo",
     "ToolOperations",
     "build_tools",
+    "work_problem",
 ]
 
 #: Largest work zero offset in least input increments (99999.999 mm).
@@ -103,6 +104,20 @@ class GroupStatus:
     tools: tuple[tuple[int, int, int, int], ...]
 
 
+def work_problem(name: str, values: Sequence[int], axes: int) -> str | None:
+    """Why work offset ``name`` (``G54``, ``EXT`` ...) cannot be ``values`` (least increments,
+    one per axis of a path of ``axes`` axes); None: it can."""
+    if name not in WORK_OFFSET_NAMES:
+        return f"work offset {name!r}: not one of {WORK_OFFSET_NAMES}"
+    if len(values) != axes:
+        return f"work offset {name}: {n_values(len(values), axes)}"
+    for value in values:
+        if not -MAX_WORK_OFFSET <= value <= MAX_WORK_OFFSET:
+            mm = Decimal(value).scaleb(-3)
+            return f"work offset {name}: {mm} mm is beyond 99999.999 mm"
+    return None
+
+
 class PathTools:
     """The tool offsets and tool life of one path, following its engine's events."""
 
@@ -113,16 +128,11 @@ class PathTools:
         engine = path.engine
         self.offsets = ToolOffsets(kind, spec.offsets, engine.tool_offsets, spec.offset_values)
         self.life = ToolLife(spec.max_groups, spec.max_tools, spec.groups, spec.ignore)
-        axes = len(path.axes)
         for name, values in spec.work.items():
-            if name not in WORK_OFFSET_NAMES:
-                raise ValueError(f"work offset {name!r}: not one of {WORK_OFFSET_NAMES}")
-            if len(values) != axes:
-                raise ValueError(f"work offset {name}: {n_values(len(values), axes)}")
+            problem = work_problem(name, values, len(path.axes))
+            if problem is not None:
+                raise ValueError(problem)
             for axis, value in enumerate(values):
-                if not -MAX_WORK_OFFSET <= value <= MAX_WORK_OFFSET:
-                    mm = Decimal(value).scaleb(-3)
-                    raise ValueError(f"work offset {name}: {mm} mm is beyond 99999.999 mm")
                 engine.work_offsets[WORK_OFFSET_NAMES.index(name)][axis] = value / 1000
         path.listeners.append(self.engine_event)
 

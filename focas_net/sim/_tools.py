@@ -55,6 +55,7 @@ __all__ = [
     "ToolLife",
     "ToolOffsets",
     "ToolsSpec",
+    "offset_problem",
 ]
 
 #: The offset types of each machine type, in FANUC's numbering (the index is the type).
@@ -96,6 +97,22 @@ def _number(value: int, low: int, high: int, what: str, ew: int = EW.NUMBER) -> 
     return value
 
 
+def offset_problem(kind: str, number: int, name: str, value: int) -> str | None:
+    """Why tool offset ``number``'s type ``name`` cannot be ``value`` (least increments) on a
+    path of machine type ``kind`` (None: it can): a type of the other kind, or past 999.999."""
+    types = OFFSET_TYPES[kind]
+    if name not in types:
+        owner = " or ".join(_KIND_WORDS[k] for k, n in OFFSET_TYPES.items() if name in n)
+        return (
+            f"tool offset {number}: {name} is {owner or 'no machine'}'s offset, not "
+            f"{_KIND_WORDS[kind]}'s (kind {kind}): {', '.join(types)}"
+        )
+    if name != "tip" and not -MAX_OFFSET <= value <= MAX_OFFSET:  # as typed: in mm
+        mm = Decimal(value).scaleb(-3)
+        return f"tool offset {number} {name}: {mm} mm is beyond 999.999 mm"
+    return None
+
+
 class ToolOffsets:
     """The tool offset table of one path (see the module docstring): ``count`` numbers of the
     types of machine type ``kind``; ``lengths`` is the engine's table (H -> length in mm)
@@ -117,15 +134,9 @@ class ToolOffsets:
         self._values: dict[tuple[int, int], int] = {}
         self._lengths = lengths
         for (number, name), value in (values or {}).items():
-            if name not in self.types:
-                owner = " or ".join(_KIND_WORDS[k] for k, n in OFFSET_TYPES.items() if name in n)
-                raise ValueError(
-                    f"tool offset {number}: {name} is {owner or 'no machine'}'s offset, not "
-                    f"{_KIND_WORDS[kind]}'s (kind {kind}): {', '.join(self.types)}"
-                )
-            if name != "tip" and not -MAX_OFFSET <= value <= MAX_OFFSET:  # as typed: in mm
-                mm = Decimal(value).scaleb(-3)
-                raise ValueError(f"tool offset {number} {name}: {mm} mm is beyond 999.999 mm")
+            problem = offset_problem(kind, number, name, value)
+            if problem is not None:
+                raise ValueError(problem)
             try:
                 self.write(number, self.types.index(name), value)
             except MachineError as exc:

@@ -33,6 +33,7 @@ from ._known_params import (
     param_type_problem,
 )
 from ._modal import ExternalMessage, message_problem
+from ._paths import kind_of
 from ._pmc import pmc_letter
 from ._signals import CLOCK_VARIABLES
 from ._station import MAX_RACK, MAX_SLOT
@@ -659,11 +660,17 @@ def _build(
     head = top["machine"]
     alone = paths is None  # one path: its axes, panel, motion and programs are the machine's
     control_class = _control_class(mc.sub("control_class"), head)
+    identity = _identity(root.sub("sysinfo"), top.get("sysinfo", {}), n, control_class)
+    shapes = (
+        [(kind_of(identity.mt_type), n)]
+        if paths is None
+        else [(spec.kind, len(spec.axes)) for spec in paths]
+    )
     return Machine(
         name,
         axes=axes if alone else None,
         paths=paths,
-        identity=_identity(root.sub("sysinfo"), top.get("sysinfo", {}), n, control_class),
+        identity=identity,
         params=_items(root.sub("parameters"), top.get("parameters", {}), n, names=axes),
         diags=_items(root.sub("diagnostics"), top.get("diagnostics", {}), n),
         macro_ranges=ranges,
@@ -682,11 +689,7 @@ def _build(
         main_program=programs[1],
         sim_clock=sim_clock,
         scenario=_run(root.sub("run"), top["run"]) if "run" in top else None,
-        tools=(
-            tool_specs(root.sub("tools"), top["tools"], 1 if paths is None else len(paths))
-            if "tools" in top
-            else None
-        ),
+        tools=tool_specs(root.sub("tools"), top["tools"], shapes) if "tools" in top else None,
     )
 
 

@@ -3,16 +3,19 @@ tool life groups (schema in ``docs/machine-file.md``; the model: :mod:`._tools`)
 
 Each table names its ``path`` (1 unless given; one table per path). Lengths are millimetres
 (an integer or a decimal of at most 3 places), kept in least input increments; what the
-values mean and their ranges are the machine's to check (its refusals name the table).
+values mean and their ranges are the machine's rules, checked here for the path's kind and
+axes so that each refusal names its key.
 """
 
 from __future__ import annotations
 
 import math
+from collections.abc import Sequence
 from decimal import Decimal
 from typing import Any, Final
 
 from ._paths import MAX_PATHS
+from ._tool_ops import work_problem
 from ._tools import (
     LIFE_TYPES,
     MAX_GROUPS,
@@ -22,9 +25,11 @@ from ._tools import (
     WORK_OFFSET_NAMES,
     LifeTool,
     ToolGroup,
+    ToolLife,
     ToolsSpec,
     listed_elsewhere,
     listed_twice,
+    offset_problem,
     repeated_tool,
 )
 from .filecheck import _Ctx, _int, _list, _only, _str, _table
@@ -61,8 +66,11 @@ def _mm(ctx: _Ctx, value: Any) -> int:
     return int(scaled)
 
 
-def tool_specs(ctx: _Ctx, value: Any, paths: int = MAX_PATHS) -> dict[int, ToolsSpec]:
-    """Every ``[[tools]]`` table of a machine file of ``paths`` paths, by path number."""
+def tool_specs(ctx: _Ctx, value: Any, shapes: Sequence[tuple[str, int]]) -> dict[int, ToolsSpec]:
+    """Every ``[[tools]]`` table of a machine file whose paths are ``shapes`` (each path's
+    kind, ``"M"`` or ``"T"``, and number of axes), by path number; a value the machine would
+    refuse is refused naming its key, in the machine's words."""
+    paths = len(shapes)
     specs: dict[int, ToolsSpec] = {}
     for i, raw in enumerate(_list(ctx, value)):
         c = ctx.sub(i)
@@ -73,6 +81,7 @@ def tool_specs(ctx: _Ctx, value: Any, paths: int = MAX_PATHS) -> dict[int, Tools
             c.sub("path").fail(f"the machine has no path {path} (its paths: 1..{paths})")
         if path in specs:
             c.sub("path").fail(f"path {path} has a [[tools]] table already")
+        kind, n_axes = shapes[path - 1]
         offsets = _int(c.sub("offsets"), t.get("offsets", 64), (1, MAX_TOOL_OFFSETS))
         values: dict[tuple[int, str], int] = {}
         for j, entry in enumerate(_list(c.sub("offset"), t.get("offset", []))):
@@ -90,12 +99,18 @@ def tool_specs(ctx: _Ctx, value: Any, paths: int = MAX_PATHS) -> dict[int, Tools
                     oc.sub(name).fail(f"offset {number} {name} is given twice")
                 tip = name == "tip"
                 values[key] = _int(oc.sub(name), v, (0, 9)) if tip else _mm(oc.sub(name), v)
+                problem = offset_problem(kind, number, name, values[key])
+                if problem is not None:
+                    oc.sub(name).fail(problem)
         work: dict[str, list[int]] = {}
         w = _table(c.sub("work"), t.get("work", {}))
         _only(c.sub("work"), w, WORK_OFFSET_NAMES)
         for name, row in w.items():
             wc = c.sub("work").sub(name)
             work[name] = [_mm(wc.sub(k), v) for k, v in enumerate(_list(wc, row))]
+            problem = work_problem(name, work[name], n_axes)
+            if problem is not None:
+                wc.fail(problem)
         gc = c.sub("group")
         groups = [_group(gc.sub(j), g) for j, g in enumerate(_list(gc, t.get("group", [])))]
         ignore = _int(c.sub("ignore_number"), t.get("ignore_number", 0), (0, _MAX_T))
@@ -109,12 +124,20 @@ def tool_specs(ctx: _Ctx, value: Any, paths: int = MAX_PATHS) -> dict[int, Tools
                 index, other = shared
                 tool = group.tools[index].number
                 gc.sub(j).sub("tools").sub(index).fail(listed_twice(tool, other))
+        max_groups = _int(c.sub("max_groups"), t.get("max_groups", 16), (1, MAX_GROUPS))
+        max_tools = _int(c.sub("max_tools"), t.get("max_tools", 4), (1, MAX_TOOLS_PER_GROUP))
+        life = ToolLife(max_groups, max_tools, (), ignore)
+        for j, group in enumerate(groups):  # the machine's checks, naming the group's key
+            try:
+                life.add(group)
+            except ValueError as exc:
+                gc.sub(j).fail(str(exc))
         specs[path] = ToolsSpec(
             offsets=offsets,
             offset_values=values,
             work=work,
-            max_groups=_int(c.sub("max_groups"), t.get("max_groups", 16), (1, MAX_GROUPS)),
-            max_tools=_int(c.sub("max_tools"), t.get("max_tools", 4), (1, MAX_TOOLS_PER_GROUP)),
+            max_groups=max_groups,
+            max_tools=max_tools,
             groups=tuple(groups),
             ignore=ignore,
         )
