@@ -295,9 +295,7 @@ _TOOLS = "[[tools]]\n"
         ),
     ],
 )
-def test_a_tools_table_the_machine_refuses_is_refused_naming_the_key(
-    body: str, words: str
-) -> None:
+def test_a_tools_table_the_machine_refuses_is_refused_naming_the_key(body: str, words: str) -> None:
     """The machine's own checks of offsets, work offsets and groups were told with no key
     (`m.toml: tool group 1: count 11 ...`): each names where in the file it is."""
     assert f"<machine file>: {words}" in _refusal(_TOOLS + body)
@@ -309,3 +307,27 @@ def test_a_lathe_path_s_tools_are_checked_against_its_own_axes_and_kind() -> Non
     with pytest.raises(MachineFileError) as caught:
         machine_from_dict(tomllib.loads(head + body))
     assert "tools[0].work.G54: work offset G54: 3 values for 2 axes" in str(caught.value)
+
+
+@pytest.mark.parametrize(
+    "value", ["length_wear = 1000.", "length_wear = .5", "length_wear = -.5", "x = [1., 2]"]
+)
+def test_a_point_written_as_a_part_program_writes_it_gets_a_hint(
+    tmp_path: Path, value: str
+) -> None:
+    """`1000.` is a number in a part program, not in TOML: the error said only `Expected
+    newline or end of document after a statement`."""
+    file = tmp_path / "m.toml"
+    file.write_text(f"{_HEAD}[[tools]]\n[[tools.offset]]\nnumber = 1\n{value}\n", "utf-8")
+    with pytest.raises(MachineFileError) as caught:
+        load_machine(file)
+    assert "not valid TOML: " in str(caught.value)
+    assert "(TOML writes a decimal with a digit on each side of its point" in str(caught.value)
+
+
+def test_another_toml_error_gets_no_point_hint(tmp_path: Path) -> None:
+    file = tmp_path / "m.toml"
+    file.write_text(f"{_HEAD}[run\n", "utf-8")
+    with pytest.raises(MachineFileError) as caught:
+        load_machine(file)
+    assert "TOML writes" not in str(caught.value)

@@ -33,6 +33,27 @@ class MachineFileError(FocasError, ValueError):
         super().__init__(f"{where}: {problem}" if where else problem)
 
 
+_TOML_AT: Final = re.compile(r"\(at line (\d+), column (\d+)\)$")
+
+
+def toml_point_hint(text: str, error: str) -> str:
+    """A hint for a TOML error at a number written with a point as a part program writes it
+    (``1000.``, ``.5``), which TOML does not read; empty for any other error."""
+    at = _TOML_AT.search(error)
+    if at is None:
+        return ""
+    lines = text.splitlines()
+    row, column = int(at.group(1)) - 1, int(at.group(2)) - 1
+    line = lines[row] if 0 <= row < len(lines) else ""
+    near = line[max(column - 1, 0) : column + 3]
+    if re.search(r"\d\.(?!\d)|(?<!\d)\.\d", near) is None:
+        return ""
+    return (
+        " (TOML writes a decimal with a digit on each side of its point: 1000.0 and 0.5, "
+        "not 1000. and .5 as a part program does)"
+    )
+
+
 class TomlFloat(float):
     """A float of a machine file that reads as typed in it (``1e400`` rather than the
     ``inf`` TOML makes of it, ``1_000.5``): every refusal naming the value names the file's

@@ -56,6 +56,7 @@ from .filecheck import (
     _str,
     _table,
     _text,
+    toml_point_hint,
 )
 from .machine import (
     DEFAULT_CONTROL_CLASS,
@@ -726,10 +727,12 @@ def load_machine(
         raw = p.read_bytes()
     except OSError as exc:
         raise MachineFileError(name, "", f"cannot read: {os_words(exc)}") from None
+    text = _text(name, raw)
     try:
-        data = tomllib.loads(_text(name, raw), parse_float=TomlFloat)
+        data = tomllib.loads(text, parse_float=TomlFloat)
     except tomllib.TOMLDecodeError as exc:
-        raise MachineFileError(name, "", f"not valid TOML: {exc}") from None
+        hint = toml_point_hint(text, str(exc))
+        raise MachineFileError(name, "", f"not valid TOML: {exc}{hint}") from None
     return machine_from_dict(
         data,
         path=name,
