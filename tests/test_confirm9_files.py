@@ -101,7 +101,7 @@ def test_an_offset_of_the_other_machine_type_names_the_ones_it_has(
     )
     with pytest.raises(MachineFileError) as refused:
         load_machine(path)
-    assert str(refused.value).endswith(f"m.toml: {words}")
+    assert str(refused.value).endswith(f"m.toml: tools[0].offset[0].{name}: {words}")
 
 
 # -- a loop of dwells of no time -------------------------------------------------------------
