@@ -209,3 +209,30 @@ def test_a_huge_max_in_flight_is_named_with_the_range_it_takes(given: int) -> No
     with pytest.raises(ValueError) as refused:
         FocasClient("127.0.0.1", max_in_flight=given)
     assert str(refused.value) == f"max_in_flight {given} is outside 1..32768"
+
+
+# -- words that mislead ---------------------------------------------------------------------
+@pytest.mark.parametrize("kind", ["3", " 0 "])
+async def test_a_position_kind_as_digits_is_told_to_be_given_as_a_number(
+    both_clients: Both, kind: str
+) -> None:
+    """``read_positions("3")`` said ``unknown position kind '3' (absolute, machine, relative,
+    distance or 0..3)``: 3 is in 0..3, as text it is not taken."""
+    _, cnc, native = both_clients
+    for client in (cnc, native):
+        with pytest.raises(ValueError) as refused:
+            await client.read_positions(kind)
+        assert str(refused.value) == (
+            f"unknown position kind {kind!r} (absolute, machine, relative, distance, or 0..3 "
+            "as an integer)"
+        )
+
+
+async def test_a_parameter_width_refused_names_the_parameter(both_clients: Both) -> None:
+    """``write_param(20, 1, width=2)`` said ``cnc_wrparam: 20 is 1 byte wide, not 2``, where
+    the machine says ``parameter 20 is 1 byte wide``."""
+    _, cnc, native = both_clients
+    for client in (cnc, native):
+        with pytest.raises(CncError) as refused:
+            await client.write_param(20, 1, width=2)
+        assert refused.value.detail == "cnc_wrparam: parameter 20 is 1 byte wide, not 2"

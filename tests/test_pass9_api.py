@@ -166,7 +166,7 @@ async def test_a_width_the_parameter_does_not_have_is_ew_length_in_the_same_word
         refusals.append(str(refused.value))
         assert refused.value.ew == EW.LENGTH
     assert refusals[0] == refusals[1]
-    assert f"cnc_wrparam: {number} is 4 bytes wide, not {width}" in refusals[0]
+    assert f"cnc_wrparam: parameter {number} is 4 bytes wide, not {width}" in refusals[0]
     assert machine.param_item(number).values == kept  # type: ignore[union-attr]
 
 

@@ -329,7 +329,9 @@ def width_refused(number: int, size: int, width: int, why: str = "") -> CncError
     wide (as FANUC's library answers a length that is not the type's), in the same words on
     both clients."""
     wide = "1 byte" if size == 1 else f"{size} bytes"
-    return CncError.from_ew(EW.LENGTH, f"cnc_wrparam: {number} is {wide} wide, not {width}{why}")
+    return CncError.from_ew(
+        EW.LENGTH, f"cnc_wrparam: parameter {number} is {wide} wide, not {width}{why}"
+    )
 
 
 def int_to_wire(number: int, value: int, width: int, kind: ParamDataType | None) -> int:

@@ -293,6 +293,7 @@ class PositionKind(enum.IntEnum):
             return kind
         kinds = "absolute, machine, relative, distance or 0..3"
         if isinstance(kind, str):
+            kinds = "absolute, machine, relative, distance, or 0..3 as an integer"
             key = kind.strip().upper().replace("-", "_")
             if key == "DISTANCE_TO_GO":
                 key = "DISTANCE"
