@@ -38,6 +38,7 @@ __all__ = [
     "MAX_ALARM_TEXT",
     "MAX_ALARM_TYPE",
     "MAX_DIGITS",
+    "MODE_TYPE",
     "NO_PASSWORD_NOTE",
     "OVERRIDE_RANGES",
     "PASSWORD_SIZE",
@@ -96,6 +97,10 @@ NO_PASSWORD_NOTE: Final = (
 #: Why an unlock with a password that is not the CNC's is refused (EW_PASSWD), as every front
 #: end says it (the machine, so the dashboard; the command line's reason of the code).
 WRONG_PASSWORD: Final = "the password is not the CNC's"
+
+#: The words for an operator panel mode of another type than text or an integer (``True``,
+#: ``1.5``), alike on every front end (the machine, the clients' and the page's reading).
+MODE_TYPE: Final = "mode must be an AutMode, its name or its number"
 
 #: Bytes of a parameter password (``cnc_wrunlockparam``'s ``password[4]``).
 PASSWORD_SIZE: Final = 4

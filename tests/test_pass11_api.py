@@ -236,3 +236,31 @@ async def test_a_parameter_width_refused_names_the_parameter(both_clients: Both)
         with pytest.raises(CncError) as refused:
             await client.write_param(20, 1, width=2)
         assert refused.value.detail == "cnc_wrparam: parameter 20 is 1 byte wide, not 2"
+
+
+# -- a panel mode as digits: the machine reads it as every other front end does ------------
+@pytest.mark.parametrize(("typed", "aut"), [("5", 5), (" 3 ", 3), ("0", 0)])
+async def test_the_machine_reads_a_panel_mode_typed_as_digits_as_the_client_does(
+    both_clients: Both, typed: str, aut: int
+) -> None:
+    """``cnc.sim.set_panel("5")`` (and ``sim panel --mode 5``, the page) select JOG, where
+    ``Machine.set_panel("5")`` was EW_DATA ``unknown mode '5'``."""
+    machine, cnc, _ = both_clients
+    machine.set_panel(typed)
+    assert machine.status().aut == aut
+    machine.set_panel("MEM")
+    await cnc.sim.set_panel(typed)
+    assert machine.status().aut == aut
+
+
+@pytest.mark.parametrize("mode", [True, 1.5, b"1"])
+async def test_a_panel_mode_of_another_type_is_worded_alike(
+    both_clients: Both, mode: object
+) -> None:
+    machine, cnc, _ = both_clients
+    with pytest.raises(TypeError) as by_machine:
+        machine.set_panel(mode)  # type: ignore[arg-type]
+    with pytest.raises(TypeError) as by_client:
+        await cnc.sim.set_panel(mode)  # type: ignore[arg-type]
+    assert str(by_machine.value) == str(by_client.value)
+    assert str(by_machine.value) == f"mode must be an AutMode, its name or its number, got {mode!r}"

@@ -518,8 +518,8 @@ async def test_an_unknown_pmc_area_is_named_with_the_areas_in_one_wording(
 @pytest.mark.parametrize(
     ("kwargs", "words"),
     [
-        ({"mode": True}, "mode must be a mode's number or name, got True"),
-        ({"mode": 1.5}, "mode must be a mode's number or name, got 1.5"),
+        ({"mode": True}, "mode must be an AutMode, its name or its number, got True"),
+        ({"mode": 1.5}, "mode must be an AutMode, its name or its number, got 1.5"),
         ({"pwe": "on"}, "pwe must be True, False or None (unchanged), got 'on'"),
         ({"emergency": 1.0}, "emergency must be True, False or None (unchanged), got 1.0"),
     ],

@@ -16,6 +16,8 @@ from __future__ import annotations
 import enum
 from typing import TYPE_CHECKING, Final, Self
 
+from .._typed import MODE_TYPE
+
 __all__ = [
     "COMPOUND_MT_TYPE",
     "STATUS_FIELDS",
@@ -109,7 +111,7 @@ class AutMode(LabelledValue):
         NOSEL (2, no selection); ValueError naming the modes it selects otherwise (TypeError
         for what is neither text nor an integer)."""
         if isinstance(value, bool) or not isinstance(value, str | int):
-            raise TypeError(f"mode must be an AutMode, its name or its number, got {value!r}")
+            raise TypeError(f"{MODE_TYPE}, got {value!r}")
         try:
             mode = cls.parse(value)
         except ValueError:

@@ -13,6 +13,7 @@ import math
 from collections.abc import Callable, Iterable
 from contextlib import AbstractContextManager
 
+from focas_net._typed import MODE_TYPE
 from focas_net.errors import EW
 
 from ._base import MachineError, need_flag, need_flag_or_none, need_int
@@ -67,7 +68,7 @@ class PathOperations:
             except ValueError as exc:
                 raise MachineError(EW.DATA, str(exc)) from None
         elif mode is not None and (isinstance(mode, bool) or not isinstance(mode, int)):
-            raise TypeError(f"mode must be a mode's number or name, got {mode!r}")
+            raise TypeError(f"{MODE_TYPE}, got {mode!r}")
         for what, value in (("pwe", pwe), ("emergency", emergency)):
             if value is not None and not isinstance(value, int):
                 raise TypeError(switch_unfit(what, value))

@@ -52,11 +52,14 @@ def unknown_mode(given: object) -> str:
 
 def panel_mode(given: int | str) -> int:
     """The ``aut`` value of a panel mode given by number or by name (``"MDI"``, ASCII letters
-    in any case, spaces around it); ValueError in :func:`unknown_mode`'s words for a name it
-    has not."""
+    in any case, spaces around it), or by its number as text (``"5"``, ASCII digits, as a
+    CNC's keys and as every front end reads it); ValueError in :func:`unknown_mode`'s words
+    for a name it has not (a number is the panel's to check)."""
     if isinstance(given, str):
         word = given.strip().upper() if given.isascii() else ""  # (ASCII letters only)
         value = MODE_NAMES.get(word)
+        if value is None and word.lstrip("-").isdigit():
+            return int(word)
         if value is None:
             raise ValueError(unknown_mode(given))
         return value
