@@ -12,6 +12,7 @@ import pytest
 
 from focas_net import EW, ChunkedWriteError, CncError, FocasClient, NativeClient, default_machine
 from focas_net._typed import pmc_count_unfit
+from focas_net.client import AlarmProjection
 from focas_net.client._values import history_depth
 from focas_net.sim import Machine, MachineError
 
@@ -264,3 +265,19 @@ async def test_a_panel_mode_of_another_type_is_worded_alike(
         await cnc.sim.set_panel(mode)  # type: ignore[arg-type]
     assert str(by_machine.value) == str(by_client.value)
     assert str(by_machine.value) == f"mode must be an AutMode, its name or its number, got {mode!r}"
+
+
+@pytest.mark.parametrize("depth", ["5", 5.0, True])
+async def test_the_alarm_projection_names_a_depth_of_another_type_as_the_clients_do(
+    both_clients: Both, depth: object
+) -> None:
+    """``AlarmProjection(cnc, depth="5")`` said ``depth must be an integer`` and ``depth=0``
+    ``history depth 0 is below 1``: one argument under two labels; the clients say ``history
+    depth`` for both."""
+    _, cnc, _ = both_clients
+    with pytest.raises(TypeError) as by_projection:
+        AlarmProjection(cnc, depth=depth)  # type: ignore[arg-type]
+    with pytest.raises(TypeError) as by_client:
+        await cnc.read_alarm_history(depth)  # type: ignore[arg-type]
+    assert str(by_projection.value) == str(by_client.value)
+    assert str(by_projection.value) == f"history depth must be an integer, got {depth!r}"

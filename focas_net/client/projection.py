@@ -37,7 +37,7 @@ from focas_net._typed import nan_refused
 from focas_net.errors import FocasError, PayloadError, ProtocolError
 
 from ..protocol import ActiveAlarm, AlarmHistoryEntry
-from ._values import check_timeout, history_depth
+from ._values import an_int, check_timeout, history_depth
 from .cnc import CncClient
 from .reconnect import ClientState
 
@@ -169,8 +169,7 @@ class AlarmProjection:
         self.mode = _mode(mode)
         if isinstance(interval, bool) or not isinstance(interval, int | float):
             raise TypeError(f"interval must be a number of seconds, got {interval!r}")
-        if isinstance(depth, bool) or not isinstance(depth, int):
-            raise TypeError(f"depth must be an integer, got {depth!r}")
+        an_int("history depth", depth)  # its range below, with the others' checked
         if max_failures is not None and (
             isinstance(max_failures, bool) or not isinstance(max_failures, int)
         ):
