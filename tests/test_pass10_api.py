@@ -213,7 +213,8 @@ async def test_a_real_parameter_given_another_width_is_its_width_refused_on_both
             with pytest.raises(CncError) as refused:
                 await client.write_param(1420, "1.5", axis=1, width=width)
             assert refused.value.ew == EW.LENGTH
-            assert refused.value.detail == f"cnc_wrparam: parameter 1420 is 8 bytes wide, not {width}"
+            wide = f"cnc_wrparam: parameter 1420 is 8 bytes wide, not {width}"
+            assert refused.value.detail == wide
     assert machine.read_param(1420, 1) == 12345
 
 

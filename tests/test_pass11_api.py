@@ -6,6 +6,7 @@ sent."""
 
 from __future__ import annotations
 
+from decimal import Decimal
 from typing import Any
 
 import pytest
@@ -14,7 +15,7 @@ from focas_net import EW, ChunkedWriteError, CncError, FocasClient, NativeClient
 from focas_net._typed import pmc_count_unfit
 from focas_net.client import AlarmProjection
 from focas_net.client._values import history_depth
-from focas_net.sim import Machine, MachineError
+from focas_net.sim import Machine, MachineError, MacroRange
 
 Both = tuple[Machine, FocasClient, NativeClient]
 
@@ -281,3 +282,19 @@ async def test_the_alarm_projection_names_a_depth_of_another_type_as_the_clients
         await cnc.read_alarm_history(depth)  # type: ignore[arg-type]
     assert str(by_projection.value) == str(by_client.value)
     assert str(by_projection.value) == f"history depth must be an integer, got {depth!r}"
+
+
+# -- a machine built with a macro value no variable holds ------------------------------------
+@pytest.mark.parametrize(
+    "value", [Decimal("1E+20"), 2**40, Decimal("1.0000000001"), Decimal("NaN")]
+)
+def test_a_machine_built_with_a_macro_value_no_variable_holds_says_why(value: object) -> None:
+    """``Machine(..., macro_values={100: Decimal("1E+20")})`` said ``macro #100: value 1E+20
+    invalid``, where a write of the same value says what a variable holds."""
+    ranges = [MacroRange(100, 199)]
+    written = Machine("m", macro_ranges=ranges)
+    with pytest.raises(MachineError) as by_write:
+        written.write_macro(100, value)  # type: ignore[arg-type]
+    with pytest.raises(ValueError) as by_build:
+        Machine("m", macro_ranges=ranges, macro_values={100: value})  # type: ignore[dict-item]
+    assert str(by_build.value) == by_write.value.detail

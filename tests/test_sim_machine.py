@@ -444,8 +444,14 @@ AXIS_RULE = (
         ({"macro_ranges": [MacroRange(1, 10), MacroRange(5, 20)]}, "overlap"),
         ({"macro_ranges": [MacroRange(10, 1)]}, "empty"),
         ({"macro_ranges": [MacroRange(1, 10)], "macro_values": {11: 1}}, "not in any"),
-        ({"macro_ranges": [MacroRange(1, 10)], "macro_values": {1: Decimal("1E-10")}}, "invalid"),
-        ({"macro_ranges": [MacroRange(1, 10)], "macro_values": {1: 2**31}}, "invalid"),
+        (
+            {"macro_ranges": [MacroRange(1, 10)], "macro_values": {1: Decimal("1E-10")}},
+            "does not fit a macro variable",
+        ),
+        (
+            {"macro_ranges": [MacroRange(1, 10)], "macro_values": {1: 2**31}},
+            "does not fit a macro variable",
+        ),
         ({"pmc": [PmcAreaSpec("Q", 10)]}, "unknown PMC area"),
         ({"identity": Identity(2, 8, "0", " M", "D4F1", "32.0", "03")}, "cnc_type"),
         ({"pmc": [PmcAreaSpec("R", 10), PmcAreaSpec("R", 20)]}, "twice"),

@@ -61,6 +61,14 @@ def macro_value(value: Decimal | int) -> Decimal | None:
     return value.copy_abs() if sign and not coefficient else value
 
 
+def _unheld(number: int, value: Decimal | int) -> str:
+    """Why variable ``#number`` cannot hold ``value`` (a write's, or a machine's built with it),
+    in the clients' words (:func:`focas_net.client._values.macro_write`)."""
+    if isinstance(value, Decimal) and not value.is_finite():
+        return f"#{number}: macro value {value} is not finite"
+    return f"#{number}: macro value {macro_unfit(value)}"
+
+
 def float_macro(value: float) -> Decimal | None:
     """The macro value a float of the program stands for (at most 9 decimals), or None when
     a variable cannot hold it."""
@@ -106,7 +114,7 @@ class Macros:
             if value is not None:
                 held = macro_value(value)
                 if held is None:
-                    raise ValueError(f"macro #{number}: value {value} invalid")
+                    raise ValueError(_unheld(number, value))
                 self.values[number] = held
 
     def range_of(self, number: int) -> MacroRange | None:
@@ -140,10 +148,8 @@ class Macros:
                 self.changed()
             return
         held = macro_value(value)
-        if held is None:  # in the clients' words (focas_net.client._values.macro_write)
-            if isinstance(value, Decimal) and not value.is_finite():
-                raise MachineError(EW.DATA, f"#{number}: macro value {value} is not finite")
-            raise MachineError(EW.DATA, f"#{number}: macro value {macro_unfit(value)}")
+        if held is None:
+            raise MachineError(EW.DATA, _unheld(number, value))
         values[number] = held
         self.changed()
 
