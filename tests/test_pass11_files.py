@@ -331,3 +331,29 @@ def test_another_toml_error_gets_no_point_hint(tmp_path: Path) -> None:
     with pytest.raises(MachineFileError) as caught:
         load_machine(file)
     assert "TOML writes" not in str(caught.value)
+
+
+@pytest.mark.parametrize(
+    ("expression", "value"),
+    [("BIN[16]", 10.0), ("BCD[10]", 16.0), ("BIN[BCD[12345678]]", 12345678.0), ("BCD[0]", 0.0)],
+)
+def test_bin_and_bcd_convert_as_fanuc_s_macro_functions(expression: str, value: float) -> None:
+    """BIN (BCD to binary) and BCD (binary to BCD) are functions of FANUC's custom macro B;
+    `#1 = BIN[16]` raised PS0114 (expected a value)."""
+    engine, _ = _engine(f"O1\n#1 = {expression}\nM0\nM30\n")
+    assert (engine.state, _alarm(engine)) == (CycleState.STOP, None)
+    assert engine.interpreter.read(1) == value
+
+
+@pytest.mark.parametrize(
+    ("expression", "words"),
+    [
+        ("BIN[10]", "PS0119 BIN[10]: 10 (0xA) is no BCD value"),
+        ("BIN[-16]", "PS0119 BIN[-16]: 0..2576980377 (BCD 0..99999999)"),
+        ("BCD[100000000]", "PS0119 BCD[100000000]: 0..99999999"),
+        ("BCD[1.5]", "PS0119 BCD[1.5]: 0..99999999"),
+    ],
+)
+def test_bin_and_bcd_refuse_what_they_cannot_convert(expression: str, words: str) -> None:
+    engine, _ = _engine(f"O1\n#1 = {expression}\nM30\n")
+    assert _alarm(engine) == words

@@ -64,9 +64,10 @@ What the interpreter supports
   #4001-#4030, #4107-#4120, #5001+, #5021+, #5041+ read from the interpreter, ``#3000 = n
   (MESSAGE)`` raising MC alarm 3000+n (0..200); vacant ``#0`` as FANUC defines it;
   ``+ - * / OR XOR AND MOD``, ``EQ NE GT GE LT LE``, brackets (5 levels), ``SIN COS TAN
-  ASIN ACOS ATAN (ATAN[a]/[b] or ATAN[a,b]) SQRT ABS ROUND FIX FUP LN EXP`` in degrees; ``GOTO n``,
-  ``IF [c] GOTO n``, ``IF [c] THEN #i = e``, ``WHILE [c] DO m ... END m`` and ``DO m``
-  (m = 1..3, nested up to 3).
+  ASIN ACOS ATAN (ATAN[a]/[b] or ATAN[a,b]) SQRT ABS ROUND BIN BCD FIX FUP LN EXP`` in
+  degrees (BIN and BCD on 0..99999999 in BCD, PS0119 beyond); ``GOTO n``, ``IF [c] GOTO
+  n``, ``IF [c] THEN #i = e``, ``WHILE [c] DO m ... END m`` and ``DO m`` (m = 1..3, nested
+  up to 3).
 - Alarms (block's program and last sequence number): PS0003, 0004, 0005, 0006, 0007, 0009,
   0010 improper G code, 0011 no feed, 0020 radius tolerance (also R less than half the
   chord: inferred), 0021, 0022, 0030, 0076, 0077, 0078, 0111, 0112, 0114, 0115, 0116,

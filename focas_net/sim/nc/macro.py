@@ -37,6 +37,8 @@ MACRO_FUNCTIONS: Final = (
     "SQRT",
     "ABS",
     "ROUND",
+    "BIN",
+    "BCD",
     "FIX",
     "FUP",
     "LN",
@@ -344,6 +346,28 @@ def _checked(value: float) -> float:
     return value
 
 
+#: The largest value BCD gives (8 decimal digits in 32 bits), and BIN takes.
+_BCD_MAX: Final = 99_999_999
+_BCD_BITS_MAX: Final = 0x9999_9999
+
+
+def _bin_bcd(name: str, x: float) -> int:
+    """BIN[x]: the BCD value ``x`` (each 4 bits a decimal digit) as a number; BCD[x]: the
+    whole number ``x`` as BCD. PS0119 for what they cannot convert."""
+    if name == "BCD":
+        if x != math.floor(x) or not 0 <= x <= _BCD_MAX:
+            raise AlarmRaised(119, f"BCD[{number_text(x)}]: 0..{_BCD_MAX}")
+        return int(f"{int(x)}", 16)
+    if x != math.floor(x) or not 0 <= x <= _BCD_BITS_MAX:
+        raise AlarmRaised(119, f"BIN[{number_text(x)}]: 0..{_BCD_BITS_MAX} (BCD 0..{_BCD_MAX})")
+    digits = f"{int(x):x}"
+    if not digits.isdigit():
+        raise AlarmRaised(
+            119, f"BIN[{number_text(x)}]: {int(x)} (0x{digits.upper()}) is no BCD value"
+        )
+    return int(digits)
+
+
 def _call(name: str, args: list[float]) -> float:
     x = args[0]
     if name == "SIN":
@@ -375,6 +399,8 @@ def _call(name: str, args: list[float]) -> float:
         return abs(x)
     if name == "ROUND":
         return float(round_fanuc(x))
+    if name in ("BIN", "BCD"):
+        return float(_bin_bcd(name, x))
     if name == "FIX":
         return float(math.trunc(x))
     if name == "FUP":
