@@ -357,3 +357,12 @@ def test_bin_and_bcd_convert_as_fanuc_s_macro_functions(expression: str, value: 
 def test_bin_and_bcd_refuse_what_they_cannot_convert(expression: str, words: str) -> None:
     engine, _ = _engine(f"O1\n#1 = {expression}\nM30\n")
     assert _alarm(engine) == words
+
+
+@pytest.mark.parametrize("block", ["POPEN", "DPRNT[X#5001[44]]", "BPRNT[#100[3]]", "PCLOS"])
+def test_external_data_output_says_it_is_not_modelled(block: str) -> None:
+    """`DPRNT[...]` raised `PS0005 D has no value`, read as an address D."""
+    engine, _ = _engine(f"O1\n{block}\nM30\n")
+    assert _alarm(engine) == (
+        f"PS0114 {block[:5]}: external data output (POPEN, BPRNT, DPRNT, PCLOS) is not modelled"
+    )

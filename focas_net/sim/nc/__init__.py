@@ -83,8 +83,9 @@ G65/G66 macro calls and their argument locals, G95 feed per revolution, G96 cons
 speed, polar and scaling and rotation, inch machines (positions are reported in mm whatever
 G20 says), acceleration (feeds and rapids are reached at once), several M codes in a block
 (FANUC's option; PS5074 here), the ``/1``..``/9`` block delete switches (all are one
-switch), program protection of O8000/O9000 and chamfering and corner R (``,C`` ``,R``:
-PS0009 naming the word). The others raise PS0010 (G codes) or PS0114 (syntax).
+switch), program protection of O8000/O9000, chamfering and corner R (``,C`` ``,R``:
+PS0009 naming the word) and external data output (``POPEN`` ``BPRNT`` ``DPRNT`` ``PCLOS``:
+PS0114 naming the command, *inferred*). The others raise PS0010 (G codes) or PS0114 (syntax).
 """
 
 from .alarms import ALARM_MESSAGES, AlarmKind, NcAlarm, ProgramError, ProgramErrorReason

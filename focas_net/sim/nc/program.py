@@ -314,9 +314,17 @@ def parse_block(line: int, raw: str) -> Block:
     return Block(line, sequence, deletable, comment, statement, raw.strip())
 
 
+#: Custom macro B's external data output commands (not modelled).
+_OUTPUT_COMMANDS: Final = ("POPEN", "BPRNT", "DPRNT", "PCLOS")
+
+
 def _statement(cur: Cursor) -> Statement:
     if cur.at("#"):
         return _assignment(cur)
+    for command in _OUTPUT_COMMANDS:  # read as addresses they told of a D or P with no value
+        if cur.at(command):
+            words = ", ".join(_OUTPUT_COMMANDS)
+            raise AlarmRaised(114, f"{command}: external data output ({words}) is not modelled")
     if cur.take("GOTO"):
         target = parse_expression(cur)
         _end(cur)
