@@ -8,16 +8,21 @@ from __future__ import annotations
 
 import asyncio
 import logging
+from dataclasses import replace
 
 import pytest
+from gateway_support import machine_shape
+from opcua_support import cnc_path, connected, machine_node, running
 from poller_support import QUICK
 from support import free_port, reset_at_close, serving
 
 from focas_net._refusals import no_path
+from focas_net.cli._format import sysinfo_rows
 from focas_net.client import FocasClient, NativeClient
 from focas_net.gateway import ConfigError, MachineConfig, MqttSettings, parse_config
 from focas_net.gateway.mqtt import MqttSink
 from focas_net.gateway.reads import describe
+from focas_net.protocol import SysInfo
 from focas_net.sim import default_machine
 
 MACHINE = '[[machine]]\nname = "m1"\nhost = "127.0.0.1"\n'
@@ -81,6 +86,9 @@ LONG = "x" * 70_000
         ('gateway = "/"', "mqtt.gateway: got '/'; expected one level of a topic"),
         ('gateway = ""', "mqtt.gateway: got ''; expected a non-empty string"),
         ('client_id = "plant/1"', "mqtt.client_id: got 'plant/1'; expected one level of a"),
+        # (a broker closes a CONNECT whose will topic or user name holds a control character)
+        ('prefix = "a\\nb"', "mqtt.prefix: got 'a\\nb'; expected a topic prefix of at most"),
+        ('username = "u\\tx"\npassword = "p"', "mqtt.username: got 'u\\tx'; expected a"),
     ],
 )
 def test_mqtt_text_that_makes_no_topic_or_no_mqtt_string_is_refused_naming_the_key(
@@ -138,3 +146,30 @@ async def test_a_connection_ended_before_connack_is_told_so_at_once(
     assert await _warned_of(peer, caplog) == (
         f"{said} before any answer to MQTT's CONNECT (is that a broker's port?)"
     )
+
+
+# -- the control's type: one name on the command line and in OPC UA --------------------------
+@pytest.mark.parametrize(
+    ("cnc_type", "mt_type", "label", "name"),
+    [
+        ("0", "M", "Series 0i", "Series 0i-M"),
+        ("31", "T", "Series 31i", "Series 31i-T"),
+        ("16", "M", "Series 16/16i", "Series 16/16i-M"),
+        ("PD", "M", "Power Mate i-D", "Power Mate i-D"),
+        ("ZZ", "M", "", "ZZ-M"),
+    ],
+)
+async def test_opc_uas_cnc_type_name_is_the_command_lines_label(
+    cnc_type: str, mt_type: str, label: str, name: str
+) -> None:
+    info = SysInfo(
+        0, 4, cnc_type.rjust(2).encode(), mt_type.rjust(2).encode(), b"D4F1", b"32.0", b"03"
+    )
+    assert {r[0]: r[2] for r in sysinfo_rows(info)}["cnc_type"] == label
+    shape = replace(machine_shape("m1", ("X",)), cnc_type=cnc_type, mt_type=mt_type)
+    async with running() as sink:
+        sink.described(shape)
+        await sink.flush()
+        async with connected(sink) as client:
+            root = await machine_node(client, "m1")
+            assert await (await cnc_path(client, root, "CncTypeName")).read_value() == name

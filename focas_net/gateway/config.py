@@ -72,8 +72,8 @@ _PMC_LAST_BYTE: Final = 0xFFFF
 #: topic and a client id in at most 65535 bytes.
 _MOST_CHARS: Final = 1000
 _PREFIX_TEXT: Final = (
-    f"a topic prefix of at most {_MOST_CHARS} characters without '+', '#', a '$' first or a "
-    "'/' at either end"
+    f"a topic prefix of at most {_MOST_CHARS} printable characters without '+', '#', a '$' "
+    "first or a '/' at either end"
 )
 #: The most bytes of a string MQTT carries (a user name, a password), in UTF-8.
 _MQTT_STRING: Final = 65535
@@ -244,15 +244,17 @@ class MqttSettings:
             or not prefix
             or prefix[0] in "$/"
             or prefix.endswith("/")
-            or any(c in prefix for c in "+#\0")
+            or any(c in prefix for c in "+#")
+            or not prefix.isprintable()  # (a broker closes a CONNECT whose will topic is not)
             or len(prefix) > _MOST_CHARS
         ):
             at.key("prefix").expected(prefix, _PREFIX_TEXT)
-        for key in ("username", "password"):
+        for key, printable in (("username", True), ("password", False)):  # (MQTT: text, bytes)
             value = getattr(self, key)
-            if value is not None and not _mqtt_string(value):
+            if value is not None and not _mqtt_string(value, printable=printable):
+                kind = "printable characters" if printable else "characters"
                 at.key(key).expected(
-                    value, f"a non-empty string of at most {_MQTT_STRING} bytes in UTF-8"
+                    value, f"a non-empty string of {kind}, at most {_MQTT_STRING} bytes in UTF-8"
                 )
         if self.password is not None and self.username is None:  # (the client would drop it)
             at.key("username").fail(
@@ -295,10 +297,11 @@ class MqttSettings:
             )
 
 
-def _mqtt_string(value: object) -> bool:
+def _mqtt_string(value: object, *, printable: bool) -> bool:
     """Whether ``value`` is text MQTT carries as a string: non-empty, and at most
-    :data:`_MQTT_STRING` bytes in UTF-8."""
-    if not isinstance(value, str) or not value:
+    :data:`_MQTT_STRING` bytes in UTF-8; ``printable``: without a control character (a broker
+    closes a CONNECT whose text holds one, as MQTT's string rules allow)."""
+    if not isinstance(value, str) or not value or (printable and not value.isprintable()):
         return False
     try:
         return len(value.encode()) <= _MQTT_STRING
