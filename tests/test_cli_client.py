@@ -607,7 +607,7 @@ def test_sysinfo_formatting() -> None:
     assert rows["axes"] == ("axes", "03", "3 controlled axes")
     info = SysInfo(0, 4, b"31", b" T", b"G4F1", b"01.0", b"??")
     rows = {r[0]: r for r in fmt.sysinfo_rows(info)}
-    assert rows["cnc_type"][2] == "Series 31/31i" and rows["axes"][2] == ""
+    assert rows["cnc_type"][2] == "Series 31i" and rows["axes"][2] == ""
 
 
 def test_alarm_formatting() -> None:

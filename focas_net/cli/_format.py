@@ -34,7 +34,9 @@ from focas_net.protocol import (
     alarm_text,
     alarm_time_text,
     alarm_type_of,
+    cnc_type_label,
     ew_of_text,
+    mt_type_label,
     status_labels,
 )
 from focas_net.protocol import field_label as field_name
@@ -113,28 +115,9 @@ def status_dict(status: StatusInfo, mt_type: str | None) -> dict[str, dict[str, 
 
 # -- ODBSYS --------------------------------------------------------------------------------
 
-_MT_TYPES: Final[dict[str, str]] = {
-    "M": "machining center (M series)",
-    "T": "lathe (T series)",
-    "MM": "M series, two paths",
-    "TT": "T series, two or three paths",
-    "MT": "compound machining (T with M)",
-    "P": "punch press",
-    "L": "laser",
-    "W": "wire cut",
-}
-
 
 def _ascii(raw: bytes) -> str:
     return raw.decode("latin-1").strip(" \x00")
-
-
-def _cnc_type_text(cnc_type: str) -> str:
-    if cnc_type == "0":
-        return "Series 0i"
-    if cnc_type.isdigit():
-        return f"Series {cnc_type}/{cnc_type}i"
-    return {"PD": "Power Mate i-D", "PH": "Power Mate i-H"}.get(cnc_type, "")
 
 
 def mt_type_text(info: SysInfo) -> str:
@@ -161,8 +144,8 @@ def sysinfo_json(info: SysInfo) -> dict[str, Any]:
     ``cnc_type`` and ``mt_type``, as ``{"value": ..., "meaning": ...}`` like the ODBST fields
     of ``status --json``."""
     data = sysinfo_dict(info)
-    data["cnc_type"] = {"value": data["cnc_type"], "meaning": _cnc_type_text(data["cnc_type"])}
-    data["mt_type"] = {"value": data["mt_type"], "meaning": _MT_TYPES.get(data["mt_type"], "")}
+    data["cnc_type"] = {"value": data["cnc_type"], "meaning": cnc_type_label(data["cnc_type"])}
+    data["mt_type"] = {"value": data["mt_type"], "meaning": mt_type_label(data["mt_type"])}
     return data
 
 
@@ -171,8 +154,8 @@ def sysinfo_rows(info: SysInfo) -> list[tuple[str, str, str]]:
     d = sysinfo_dict(info)
     axes = d["axes_count"]
     return [
-        ("cnc_type", d["cnc_type"], _cnc_type_text(d["cnc_type"])),
-        ("mt_type", d["mt_type"], _MT_TYPES.get(d["mt_type"], "")),
+        ("cnc_type", d["cnc_type"], cnc_type_label(d["cnc_type"])),
+        ("mt_type", d["mt_type"], mt_type_label(d["mt_type"])),
         ("series", d["series"], "software series"),
         ("version", d["version"], "software version"),
         ("axes", d["axes"], f"{axes} controlled axes" if axes is not None else ""),

@@ -32,7 +32,7 @@ from focas_net.gateway._opcua_types import (
     eu_range,
 )
 from focas_net.gateway.model import ITEMS, MILLIMETRE, Item, MachineShape, Scope, Unit, Value
-from focas_net.protocol.values import AutMode, RunState
+from focas_net.protocol.values import AutMode, RunState, control_type_name
 
 __all__ = ["MachineNodes", "Target", "axis_names", "machine_nodes", "spindle_names"]
 
@@ -274,7 +274,7 @@ class _Machine:
         self.prop(root, "VendorName", "FANUC")
         self.prop(root, "VendorRevision", f"{shape.series} {shape.version}".strip())
         self.prop(root, "Version", "1.00")
-        self.prop(root, "CncTypeName", f"Series {shape.cnc_type}i-{shape.mt_type}".strip())
+        self.prop(root, "CncTypeName", control_type_name(shape.cnc_type, shape.mt_type))
         channels = self.obj(root, "CncChannelList", CncId.CHANNEL_LIST_TYPE)
         axes = self.obj(root, "CncAxisList", CncId.AXIS_LIST_TYPE)
         spindles = self.obj(root, "CncSpindleList", CncId.SPINDLE_LIST_TYPE)

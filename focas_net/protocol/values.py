@@ -33,7 +33,10 @@ __all__ = [
     "MstbState",
     "RunState",
     "TmMode",
+    "cnc_type_label",
+    "control_type_name",
     "field_label",
+    "mt_type_label",
     "status_labels",
     "status_member",
     "tmmode_label",
@@ -280,3 +283,50 @@ class FaultScope(enum.IntEnum):
 
     CONNECTION = 0  #: the next answers on this connection
     MACHINE = 1  #: the next answers of this machine on any connection (one shared count)
+
+
+# -- ODBSYS: what the control says it is ---------------------------------------------------
+
+#: ODBSYS ``mt_type``, FANUC's machine types, in words.
+_MT_TYPES: Final[dict[str, str]] = {
+    "M": "machining center (M series)",
+    "T": "lathe (T series)",
+    "MM": "M series, two paths",
+    "TT": "T series, two or three paths",
+    "MT": "compound machining (T with M)",
+    "P": "punch press",
+    "L": "laser",
+    "W": "wire cut",
+}
+#: ODBSYS ``cnc_type`` codes that are no series number (FOCAS's cnc_sysinfo table).
+_NAMED_TYPES: Final[dict[str, str]] = {
+    "PD": "Power Mate i-D",
+    "PH": "Power Mate i-H",
+    "PM": "Power Motion i",
+}
+#: The series FANUC made only as i series (the others, 15 16 18 21, were made with and without).
+_I_ONLY: Final = frozenset({"0", "30", "31", "32", "35"})
+
+
+def cnc_type_label(cnc_type: str) -> str:
+    """ODBSYS ``cnc_type`` (stripped) in FOCAS's words: ``Series 0i``, ``Series 31i``,
+    ``Series 16/16i``, ``Power Mate i-D``; ``""`` for a code without a name. The command line's
+    ``sysinfo`` and the gateway's OPC UA ``CncTypeName`` (:func:`control_type_name`)."""
+    if cnc_type.isdigit():
+        return f"Series {cnc_type}i" if cnc_type in _I_ONLY else f"Series {cnc_type}/{cnc_type}i"
+    return _NAMED_TYPES.get(cnc_type, "")
+
+
+def mt_type_label(mt_type: str) -> str:
+    """ODBSYS ``mt_type`` (stripped) in words; ``""`` for a type without a name."""
+    return _MT_TYPES.get(mt_type, "")
+
+
+def control_type_name(cnc_type: str, mt_type: str) -> str:
+    """The control's type as one name, :func:`cnc_type_label`'s with the machine type after a
+    series (``Series 31i-T``, ``Series 16/16i-M``, ``Power Mate i-D``); the codes themselves
+    for a type without a name."""
+    label = cnc_type_label(cnc_type)
+    if not label:
+        return "-".join(code for code in (cnc_type, mt_type) if code)
+    return f"{label}-{mt_type}" if mt_type and label.startswith("Series") else label
