@@ -173,3 +173,24 @@ async def test_opc_uas_cnc_type_name_is_the_command_lines_label(
         async with connected(sink) as client:
             root = await machine_node(client, "m1")
             assert await (await cnc_path(client, root, "CncTypeName")).read_value() == name
+
+
+# -- [opcua] endpoint: only what the server serves as typed ------------------------------------
+@pytest.mark.parametrize(
+    "endpoint",
+    [
+        "opc.tcp://op@127.0.0.1:4840/x",  # (it advertised opc.tcp://127.0.0.1:4840/x)
+        "opc.tcp://127.0.0.1:4840/x?y=1",
+        "opc.tcp://127.0.0.1:4840/x#f",
+        "opc.tcp://127.0.0.1:4840/focas_net/ ",
+    ],
+)
+def test_an_endpoint_with_a_user_a_query_or_a_space_is_refused_naming_the_key(
+    endpoint: str,
+) -> None:
+    with pytest.raises(ConfigError) as caught:
+        parse_config(f'{MACHINE}[opcua]\nendpoint = "{endpoint}"\n', "plant.toml")
+    assert str(caught.value) == (
+        f"plant.toml: opcua.endpoint: got {endpoint!r}; expected opc.tcp://HOST:PORT/PATH "
+        "without a user (users: [[opcua.users]]), a '?' query, a '#' fragment or a space"
+    )

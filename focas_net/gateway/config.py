@@ -372,6 +372,17 @@ class OpcUaSettings:
             )
         if parts is None or parts.scheme != "opc.tcp" or not parts.hostname or port is None:
             at.key("endpoint").expected(self.endpoint, "opc.tcp://HOST:PORT/PATH")
+        if (
+            parts.username is not None
+            or parts.query
+            or parts.fragment
+            or any(c.isspace() for c in self.endpoint)
+        ):  # (what the server would not serve as typed: it advertises HOST:PORT/PATH alone)
+            at.key("endpoint").expected(
+                self.endpoint,
+                "opc.tcp://HOST:PORT/PATH without a user (users: [[opcua.users]]), a '?' query, "
+                "a '#' fragment or a space",
+            )
         try:  # (the host rule of every front end: a machine's host, the command line's --host)
             check_host(parts.hostname)
         except ValueError as exc:
