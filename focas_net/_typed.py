@@ -28,7 +28,7 @@ import os
 import re
 import socket
 import ssl
-from collections.abc import Mapping
+from collections.abc import Iterable, Mapping
 from decimal import Decimal
 from typing import Final
 
@@ -57,6 +57,7 @@ __all__ = [
     "is_loopback",
     "item_axis_unfit",
     "item_number_unfit",
+    "lead_as_typed",
     "macro_to_wire",
     "macro_unfit",
     "nan_refused",
@@ -70,8 +71,11 @@ __all__ = [
     "program_number",
     "program_text_unfit",
     "rapid_step",
+    "read_otherwise",
     "switch",
+    "switch_value",
     "typed_number",
+    "typed_numbers",
     "typed_shown",
     "whole_number",
 ]
@@ -369,6 +373,8 @@ def alarm_text_unfit(text: str) -> str | None:
 #: The words of a switch turned on, and off (the command line's and the page's).
 _ON: Final = frozenset({"1", "on", "true", "yes", "set"})
 _OFF: Final = frozenset({"0", "off", "false", "no", "clear"})
+#: What a switch takes, as its refusal says it.
+_SWITCH_WORDS: Final = "expected 1, on, true, yes or set, or 0, off, false, no or clear"
 
 
 def switch(typed: str) -> bool:
@@ -379,9 +385,18 @@ def switch(typed: str) -> bool:
         return True
     if word in _OFF:
         return False
-    raise ValueError(
-        f"expected 1, on, true, yes or set, or 0, off, false, no or clear, got {typed!r}"
-    )
+    raise ValueError(f"{_SWITCH_WORDS}, got {typed!r}")
+
+
+def switch_value(value: object) -> bool:
+    """A switch given as text (:func:`switch`) or as the number the wire carries, 0 or 1 (a
+    JSON ``true``/``false`` too); ValueError in :func:`switch`'s words naming what was given
+    (``got 2``) for any other."""
+    if isinstance(value, str):
+        return switch(value)
+    if isinstance(value, int) and value in (0, 1):
+        return bool(value)
+    raise ValueError(f"{_SWITCH_WORDS}, got {typed_shown(value)}")
 
 
 def rapid_step(text: str) -> int:
@@ -483,6 +498,59 @@ def whole_number(text: str) -> int:
     if digits.startswith(_PREFIXES):
         return int(stripped.replace("_", ""), 0)
     return int(stripped, 10)
+
+
+def read_otherwise(text: str) -> bool:
+    """Whether a whole number typed as ``text`` reads as a value written otherwise: one typed
+    in another base than ten (``0x10``, ``-0b1``), which a refusal naming the value read
+    (``16``) would not name as typed (a sign or a leading zero does not count)."""
+    return text.strip().lower().lstrip("+-").startswith(_PREFIXES)
+
+
+def typed_numbers(given: Iterable[object]) -> dict[int, str]:
+    """The whole numbers among ``given`` (all a front end was given at once: text, numbers)
+    typed otherwise than they read (:func:`read_otherwise`), by the value read: ``{65536:
+    "0x10000"}``, for :func:`lead_as_typed`. A value also given as it reads (``1`` beside
+    ``0x1``) is left out: a refusal naming it would not say which was meant."""
+    typed: dict[int, str] = {}
+    plain: set[object] = set()
+    for text in given:
+        if not isinstance(text, str):
+            if isinstance(text, int | float | Decimal):  # (a JSON list is no number)
+                plain.add(text)
+            continue
+        try:
+            value = typed_number(text)
+        except ValueError:  # no number: its own refusal names the text
+            continue
+        if isinstance(value, int) and read_otherwise(text):
+            typed[value] = text.strip()
+        else:
+            plain.add(value)
+    return {value: text for value, text in typed.items() if value not in plain}
+
+
+def _names(message: str, word: str) -> bool:
+    """Whether ``message`` names ``word`` (a number, or text as typed) as a word of its own."""
+    return re.search(rf"(?<![\w.-]){re.escape(word)}(?![\w.])", message) is not None
+
+
+def lead_as_typed(message: str, typed: Mapping[int, str]) -> str:
+    """``message`` (a refusal whose words name the values checked, as the machine's and the
+    clients' range words do) led by the numbers it names as they were typed, where they read
+    otherwise (``typed``: :func:`typed_numbers`): ``0x10000 reads as 65536: PMC start address
+    65536 is outside 0..65535``; the words of every front end (the command line, the page).
+    A message that names the text typed already has no lead."""
+    named = [
+        (value, text)
+        for value, text in typed.items()
+        if _names(message, str(value)) and not _names(message, text)
+    ]
+    if not named:
+        return message
+    (value, text), *more = named
+    lead = f"{text} reads as {value}" + "".join(f", {t} as {v}" for v, t in more)
+    return f"{lead}: {message}"
 
 
 def decimal_number(text: str) -> Decimal:

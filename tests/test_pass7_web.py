@@ -128,7 +128,11 @@ def test_a_machine_wide_action_of_a_path_the_machine_has_not_is_refused(
         ("cycle", {}, "action: start, hold or reset is needed"),
         ("inject_fault", {}, "kind: one of delay, drop, error, split is needed"),
         ("pmc_bit", {"address": 0, "bit": 0}, "area: a PMC area's letter (X, R, ...) is needed"),
-        ("panel", {"pwe": [1]}, "pwe: not a whole number: [1]"),
+        (
+            "panel",
+            {"pwe": [1]},
+            "pwe: expected 1, on, true, yes or set, or 0, off, false, no or clear, got [1]",
+        ),
         ("panel", {"mode": {"a": 1}}, 'mode: not a whole number: {"a": 1}'),
         ("overrides", {"feed": True}, "feed: a number is needed, got true"),
         ("write_macro", {"number": 500, "value": False}, "value: a number is needed, got false"),

@@ -31,9 +31,12 @@ from focas_net._typed import (
     alarm_axis_unfit,
     file_name_unfit,
     item_axis_unfit,
+    lead_as_typed,
     override_unfit,
     rapid_step,
+    read_otherwise,
     typed_number,
+    typed_numbers,
 )
 from focas_net.client._values import check_path, history_depth
 from focas_net.protocol import Password, PmcArea
@@ -81,6 +84,7 @@ __all__ = [
     "argument_type",
     "choice",
     "command_parser",
+    "note_typed",
     "parse_area",
     "parse_at_least",
     "parse_bounded",
@@ -169,15 +173,16 @@ def _typed_numbers(args: argparse.Namespace) -> dict[int, str]:
     return numbers
 
 
-def _in_a_base(text: str) -> bool:
-    """Whether a whole number was typed in another base than ten (``0x10``, ``-0b1``): then
-    the value it reads as is not what the user typed (a sign or a leading zero is)."""
-    return text.strip().lower().lstrip("+-").startswith(("0x", "0b", "0o"))
-
-
 def _note_typed(numbers: dict[int, str], value: int, text: str) -> None:
-    if _in_a_base(text):
+    if read_otherwise(text):
         numbers[value] = text.strip()
+
+
+def note_typed(args: argparse.Namespace, value: object, text: str) -> None:
+    """Keep ``text``, a number a command read as ``value``, for the words of a later refusal
+    (:func:`typed_lead`) where it reads otherwise (``0x80000000``, read as 2147483648)."""
+    if isinstance(value, int) and not isinstance(value, bool):
+        _note_typed(_typed_numbers(args), value, text)
 
 
 def typed_number_bit(args: argparse.Namespace, text: str, *expected: str) -> tuple[int, int | None]:
@@ -191,17 +196,9 @@ def typed_number_bit(args: argparse.Namespace, text: str, *expected: str) -> tup
 def typed_lead(message: str, args: argparse.Namespace) -> str:
     """``message`` (a refusal of a number the command read: the client's range words, which
     name the value) led by the numbers it names as they were typed where they read otherwise
-    (``0x10000 reads as 65536: PMC start address 65536 is outside 0..65535``)."""
-    named = [
-        (value, text)
-        for value, text in _typed_numbers(args).items()
-        if re.search(rf"(?<![\w.-]){re.escape(str(value))}(?![\w.])", message)
-    ]
-    if not named:
-        return message
-    (value, text), *more = named
-    lead = f"{text} reads as {value}" + "".join(f", {t} as {v}" for v, t in more)
-    return f"{lead}: {message}"
+    (``0x10000 reads as 65536: PMC start address 65536 is outside 0..65535``), as every
+    front end leads it (:func:`~focas_net._typed.lead_as_typed`)."""
+    return lead_as_typed(message, _typed_numbers(args))
 
 
 #: An argument that starts with "-" and is a negative number, not an option.
@@ -405,10 +402,10 @@ def parse_non_negative(text: str) -> int:
     return parse_at_least(text, 0)
 
 
-def _as_typed(why: str, value: int, text: str) -> str:
-    """A refusal in the machine's words, which name the ``value`` checked, led by the number
-    as typed where it reads otherwise, in another base (``0x100 reads as 256: ...``)."""
-    return f"{text.strip()} reads as {value}: {why}" if _in_a_base(text) else why
+def _as_typed(why: str, text: str) -> str:
+    """A refusal in the machine's words, which name the value checked, led by the number as
+    typed where it reads otherwise, in another base (``0x100 reads as 256: ...``)."""
+    return lead_as_typed(why, typed_numbers([text]))
 
 
 def parse_item_axis(what: str, text: str) -> int:
@@ -418,7 +415,7 @@ def parse_item_axis(what: str, text: str) -> int:
     value = fmt.parse_int(text)
     why = item_axis_unfit(value, what)
     if why is not None:
-        raise ValueError(_as_typed(why, value, text))
+        raise ValueError(_as_typed(why, text))
     return value
 
 
@@ -429,7 +426,7 @@ def parse_alarm_axis(text: str) -> int:
     value = fmt.parse_int(text)
     why = alarm_axis_unfit(value)
     if why is not None:
-        raise ValueError(_as_typed(why, value, text))
+        raise ValueError(_as_typed(why, text))
     return value
 
 
@@ -441,7 +438,7 @@ def parse_override(what: str, text: str) -> int:
     value = rapid_step(text) if what == "rapid" else fmt.parse_int(text)
     why = override_unfit(what, value)
     if why is not None:
-        raise ValueError(_as_typed(why, value, text))
+        raise ValueError(_as_typed(why, text))
     return value
 
 
@@ -515,7 +512,7 @@ def parse_path(text: str) -> int:
     try:
         return check_path(value)
     except ValueError as exc:
-        raise ValueError(_as_typed(str(exc), value, text)) from None
+        raise ValueError(_as_typed(str(exc), text)) from None
 
 
 def parse_one_of(text: str, choices: Sequence[int]) -> int:
@@ -535,7 +532,7 @@ def parse_history_depth(text: str) -> int:
     try:
         return history_depth(value)
     except ValueError as exc:
-        raise ValueError(_as_typed(str(exc), value, text)) from None
+        raise ValueError(_as_typed(str(exc), text)) from None
 
 
 def parse_area(text: str) -> PmcArea:

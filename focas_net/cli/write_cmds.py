@@ -14,7 +14,7 @@ from focas_net.errors import AccessDeniedError, CncError
 from focas_net.protocol import Command, PmcArea, pmc_bit_refusal
 
 from . import _format as fmt
-from ._args import ArgumentRefused, typed_number_bit
+from ._args import ArgumentRefused, note_typed, typed_number_bit
 from ._run import Go, Output, PackedOnly
 from .read_cmds import axis_hint, macro_dict, param_kind, param_output
 
@@ -41,6 +41,7 @@ def param_set(args: argparse.Namespace) -> Go:
         bit_value = _named("VALUE", fmt.parse_bool, args.value)
     else:
         value = _named("VALUE", fmt.parse_param_value, args.value)
+        note_typed(args, value, args.value)  # (0x80000000 named as typed if refused)
 
     async def go(cnc: CncClient) -> Output:
         try:

@@ -33,13 +33,15 @@ from focas_net._typed import (
     field_unfit,
     item_axis_unfit,
     item_number_unfit,
+    lead_as_typed,
     macro_to_wire,
     param_decimals_refused,
     param_value_unfit,
     program_number,
     rapid_step,
-    switch,
+    switch_value,
     typed_number,
+    typed_numbers,
     whole_number,
 )
 from focas_net._typed import typed_shown as shown
@@ -286,20 +288,17 @@ def _mode(args: Mapping[str, Any]) -> int | None:
 
 def _switch(args: Mapping[str, Any], key: str) -> int | None:
     """A switch (PWE, the emergency stop, a PMC bit) as the command line takes it: text read
-    by :func:`switch` as ``--pwe`` reads it (``1``/``0``, ``on``/``off`` and its other words:
-    ``+1`` or ``2`` typed is refused in its words), a JSON ``true``/``false``, or a JSON number,
-    the value as the wire carries it (the machine refuses another than 0 and 1, with its
-    range); None when not given or ``null`` (text of only spaces is no switch: refused, as
-    the command line refuses it)."""
+    by :func:`~focas_net._typed.switch` as ``--pwe`` reads it (``1``/``0``, ``on``/``off`` and
+    its other words), a JSON ``true``/``false``, or a JSON number 0 or 1, the value as the
+    wire carries it; another (``2``, ``"+1"``, text of only spaces) is refused in the words of
+    ``--pwe 2``. None when not given or ``null``."""
     value = args.get(key)
-    if isinstance(value, bool):
-        return int(value)
-    if isinstance(value, str):  # text of no switch (spaces, nothing) too, as `--pwe ''` is
-        try:
-            return int(switch(value))
-        except ValueError as exc:
-            raise ActionError(f"{key}: {exc}") from None
-    return _optional_int(args, key)
+    if value is None:
+        return None
+    try:
+        return int(switch_value(value))
+    except ValueError as exc:
+        raise ActionError(f"{key}: {exc}") from None
 
 
 def _panel(station: Station, args: Mapping[str, Any]) -> JsonDict:
@@ -383,10 +382,8 @@ def _pmc_bit(station: Station, args: Mapping[str, Any]) -> JsonDict:
     value = _switch(args, "value")
     if value is None:
         byte ^= 1 << bit
-    elif value in (0, 1):
-        byte = byte | 1 << bit if value else byte & ~(1 << bit)
     else:
-        raise ActionError(f"value: 0 or 1, got {value}")
+        byte = byte | 1 << bit if value else byte & ~(1 << bit)
     m.write_pmc(area, address, bytes([byte]), force=area in FORCED_PMC_AREAS)
     # the bit as `focas-net pmc bit --json` names it (its "byte" is the address: the byte's
     # value is not answered under that name)
@@ -501,10 +498,10 @@ def _write_macro(station: Station, args: Mapping[str, Any]) -> JsonDict:
     number, path = _item_number(args, "macro variable number"), _path(args)
     if "value" not in args:  # a variable is made vacant when told, never for a key left out
         raise ActionError('value: a number is needed (null or "" makes the variable vacant)')
-    value = _decimal(args, "value")
+    value, typed = _decimal(args, "value"), args.get("value")
     if value is not None:  # a value no wire carries, refused as the clients refuse to send it
-        try:
-            mcr_val, dec_val = macro_to_wire(value)
+        try:  # (naming the text typed, as the command line's macro set does)
+            mcr_val, dec_val = macro_to_wire(typed if isinstance(typed, str) else value)
         except ValueError as exc:
             raise ActionError(f"#{number}: {exc}") from None
         value = Decimal(mcr_val).scaleb(-dec_val)  # the digits the clients send
@@ -677,7 +674,27 @@ def perform(
         raise ActionError(f"{action} takes no {', '.join(map(repr, unknown))} (it takes {takes})")
     if read_only and action not in _VIEW_ONLY:
         raise MachineError(EW.PROT, "the dashboard is read-only")
-    # every action names a path the machine has, the machine-wide ones (PMC, the password,
-    # faults) too: a page of a path the machine has not is refused, not served path 1
-    station.machine.path_info(_path(args))
-    return {"ok": True, **operation(station, args)}
+    try:
+        # every action names a path the machine has, the machine-wide ones (PMC, the
+        # password, faults) too: a page of a path the machine has not is refused, not served
+        # path 1
+        station.machine.path_info(_path(args))
+        return {"ok": True, **operation(station, args)}
+    except ActionError as exc:
+        raise ActionError(_as_typed(str(exc), args)) from None
+    except MachineError as exc:
+        led = _as_typed(exc.detail, args)
+        if led == exc.detail:
+            raise
+        raise MachineError(exc.ew, led) from None
+
+
+def _as_typed(why: str, args: Mapping[str, Any]) -> str:
+    """A refusal, ``why``, led by the numbers of ``args`` it names as they were typed where
+    they read otherwise (``0x10000 reads as 65536: ...``), as the command line leads its
+    refusals (:func:`~focas_net._typed.lead_as_typed`); after the key a refusal of one
+    argument names first (``number: 0x10000 reads as 65536: parameter number 65536 ...``)."""
+    key, sep, rest = why.partition(": ")
+    if sep and key in args:
+        return f"{key}: {lead_as_typed(rest, typed_numbers([args[key]]))}"
+    return lead_as_typed(why, typed_numbers(args.values()))

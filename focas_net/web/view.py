@@ -15,7 +15,7 @@ from collections.abc import Iterable, Sequence
 from decimal import Decimal
 from typing import Any, Final
 
-from focas_net._typed import decimal_text, whole_number
+from focas_net._typed import decimal_text, lead_as_typed, typed_numbers, whole_number
 from focas_net.errors import EW, ew_name
 from focas_net.protocol import (
     AutMode,
@@ -341,8 +341,8 @@ def pmc_address(text: str, area: str) -> tuple[str, int]:
         except ValueError:
             raise ValueError(f"PMC address {text!r}: write a byte address, 100 or R100") from None
         beyond = pmc_address_unfit(number)  # -1 as `pmc read R -1` is refused
-        if beyond is not None:
-            raise ValueError(beyond)
+        if beyond is not None:  # (named as typed: 0x10000 reads as 65536)
+            raise ValueError(lead_as_typed(beyond, typed_numbers([text])))
         found = _PMC_ADDRESS.fullmatch(str(number))
         assert found is not None
     try:
