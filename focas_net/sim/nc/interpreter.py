@@ -39,6 +39,15 @@ _LOCALS: Final = range(1, 34)
 _COMMONS: Final = range(100, 200)
 _PLANES: Final = {170: ("X", "Y", "I", "J"), 180: ("Z", "X", "K", "I"), 190: ("Y", "Z", "J", "K")}
 _CENTER: Final = {"X": "I", "Y": "J", "Z": "K"}
+#: The codes of the M series a lathe reads otherwise (FANUC's T series, G code system A):
+#: what each is there, none of it modelled (PS0010 rather than a milling meaning).
+_LATHE_CODES: Final = {
+    900: "on a lathe the outer and inner diameter cutting cycle (not modelled)",
+    910: "no code of a lathe's G code system A (U and W move incrementally)",
+    940: "on a lathe the end face turning cycle (not modelled)",
+    990: "on a lathe feed per revolution (not modelled: F is per minute, G98)",
+    500: "on a lathe coordinate system setting and the spindle speed limit (not modelled)",
+}
 #: A lathe's incremental addresses (FANUC's G code system A, the T series' default): U moves X
 #: by its value, W moves Z.
 _STEP_WORDS: Final = {"U": "X", "W": "Z"}
@@ -333,6 +342,8 @@ class Interpreter:
                 group = G_CODE_GROUPS.get(code)
                 if group is None or abs(code - value * 10) > 1e-6:
                     raise AlarmRaised(10, f"G{number_text(value)}")
+                if s.lathe and code in _LATHE_CODES:
+                    raise AlarmRaised(10, f"G{number_text(value)}: {_LATHE_CODES[code]}")
                 if group == 0:
                     self.one_shot = one_shot = code
                 else:
