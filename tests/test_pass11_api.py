@@ -15,7 +15,7 @@ from focas_net import EW, ChunkedWriteError, CncError, FocasClient, NativeClient
 from focas_net._typed import pmc_count_unfit
 from focas_net.client import AlarmProjection
 from focas_net.client._values import history_depth
-from focas_net.sim import Machine, MachineError, MacroRange
+from focas_net.sim import Machine, MachineError, MacroRange, PathSpec
 
 Both = tuple[Machine, FocasClient, NativeClient]
 
@@ -298,3 +298,38 @@ def test_a_machine_built_with_a_macro_value_no_variable_holds_says_why(value: ob
     with pytest.raises(ValueError) as by_build:
         Machine("m", macro_ranges=ranges, macro_values={100: value})  # type: ignore[dict-item]
     assert str(by_build.value) == by_write.value.detail
+
+
+# -- a path described with a value of another type -----------------------------------------
+@pytest.mark.parametrize(
+    ("spec", "error", "words"),
+    [
+        (PathSpec(("X",), spindles="2"), TypeError, "path 1: spindles must be an integer, got '2'"),
+        (
+            PathSpec(("X",), spindles=None),
+            TypeError,
+            "path 1: spindles must be an integer, got None",
+        ),
+        (PathSpec(("X",), spindles=1.5), TypeError, "path 1: spindles must be an integer, got 1.5"),
+        (
+            PathSpec(("X",), spindles=True),
+            TypeError,
+            "path 1: spindles must be an integer, got True",
+        ),
+        (PathSpec(("X",), spindles=9), ValueError, "path 1: 1..8 spindles, got 9"),
+        (PathSpec(("X",), kind=5), TypeError, "path 1: kind must be text (str), got 5"),
+        (PathSpec(("X",), name=5), TypeError, "path 1: name must be text (str), got 5"),
+        (PathSpec(("X",), name="A\nB"), ValueError, "path 1: name 'A\\nB': '\\n' is not printable"),
+        (PathSpec(5), TypeError, "path 1: axes must be a list of axis names, got 5"),
+        (PathSpec(None), TypeError, "path 1: axes must be a list of axis names, got None"),
+    ],
+)
+def test_a_path_described_with_a_value_of_another_type_is_refused_by_kind(
+    spec: PathSpec, error: type[Exception], words: str
+) -> None:
+    """``PathSpec(("X",), spindles="2")`` raised ``'<=' not supported between instances of
+    'int' and 'str'``, ``PathSpec(5)`` ``'int' object is not iterable``, and a name of
+    another type or with a line break was taken."""
+    with pytest.raises(error) as refused:
+        Machine("m", paths=[spec])
+    assert str(refused.value) == words

@@ -114,6 +114,7 @@ def checked_specs(specs: Sequence[PathSpec]) -> list[PathInfo]:
     names: dict[str, int] = {}
     for number, spec in enumerate(specs, 1):
         where = f"path {number}"
+        _check_types(spec, where)
         axes = tuple(spec.axes)
         problem = axes_problem(axes)
         if problem is not None:
@@ -126,7 +127,7 @@ def checked_specs(specs: Sequence[PathSpec]) -> list[PathInfo]:
             owner[axis] = number
         if spec.kind not in PATH_KINDS:
             raise ValueError(f"{where}: kind {spec.kind!r} is not one of {PATH_KINDS}")
-        if isinstance(spec.spindles, bool) or not 1 <= spec.spindles <= 8:
+        if not 1 <= spec.spindles <= 8:
             raise ValueError(f"{where}: 1..8 spindles, got {spec.spindles!r}")
         name = spec.name or f"PATH{number}"
         if name in names:
@@ -134,6 +135,24 @@ def checked_specs(specs: Sequence[PathSpec]) -> list[PathInfo]:
         names[name] = number
         infos.append(PathInfo(number, name, spec.kind, axes, spec.spindles))
     return infos
+
+
+def _check_types(spec: PathSpec, where: str) -> None:
+    """TypeError naming ``where`` (``path 1``) and the value for a field of ``spec`` of
+    another type than it takes; ValueError for a name that is not one line of printable
+    text (it shows on the page and in the logs, ``machine/name``)."""
+    if isinstance(spec.axes, bytes) or not isinstance(spec.axes, Iterable):
+        raise TypeError(f"{where}: axes must be a list of axis names, got {spec.axes!r}")
+    for what, value in (("kind", spec.kind), ("name", spec.name)):
+        if not isinstance(value, str):
+            raise TypeError(f"{where}: {what} must be text (str), got {value!r}")
+    bad = next((c for c in spec.name if not c.isprintable()), None)
+    if bad is not None:
+        raise ValueError(f"{where}: name {spec.name!r}: {bad!r} is not printable")
+    try:
+        need_int("spindles", spec.spindles)
+    except TypeError as exc:
+        raise TypeError(f"{where}: {exc}") from None
 
 
 def own_params(items: Items, number: int) -> dict[int, DataItem]:

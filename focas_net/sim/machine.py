@@ -282,9 +282,9 @@ class Machine(
         #: ``serve`` starts it): a machine file's ``[run]``, None when it has none.
         self.scenario = checked_scenario(scenario)
         specs = path_specs(paths, axes, panel, motion, programs, main_program, identity)
-        #: Every axis of the machine, path by path.
-        self.axes: list[str] = [a for spec in specs for a in spec.axes]
         infos = checked_specs(specs)
+        #: Every axis of the machine, path by path.
+        self.axes: list[str] = [a for info in infos for a in info.axes]
         n = len(self.axes)
         control_class = known_class(control_class)  # "30I" as a machine file takes it
         self._identity = checked_identity(identity, control_class, n)
