@@ -11,7 +11,15 @@ from typing import Any
 
 import pytest
 
-from focas_net import EW, ChunkedWriteError, CncError, FocasClient, NativeClient, default_machine
+from focas_net import (
+    EW,
+    ChunkedWriteError,
+    CncError,
+    FocasClient,
+    FocasServer,
+    NativeClient,
+    default_machine,
+)
 from focas_net._typed import pmc_count_unfit
 from focas_net.client import AlarmProjection
 from focas_net.client._values import history_depth
@@ -332,4 +340,21 @@ def test_a_path_described_with_a_value_of_another_type_is_refused_by_kind(
     another type or with a line break was taken."""
     with pytest.raises(error) as refused:
         Machine("m", paths=[spec])
+    assert str(refused.value) == words
+
+
+@pytest.mark.parametrize(
+    ("ports", "count", "words"),
+    [
+        ([0, 0], 1, "2 ports for 1 machine: ports names each machine's port, one each"),
+        ([0], 2, "1 port for 2 machines: ports names each machine's port, one each"),
+    ],
+)
+async def test_a_server_given_ports_not_one_a_machine_counts_them_in_words(
+    ports: list[int], count: int, words: str
+) -> None:
+    """``FocasServer(machine, ports=[0, 0])`` said ``2 ports for 1 machines``."""
+    machines = [default_machine() for _ in range(count)]
+    with pytest.raises(ValueError) as refused:
+        FocasServer(machines, ports=ports)
     assert str(refused.value) == words

@@ -483,7 +483,11 @@ class FocasServer:
                     "machine's port, leave port out"
                 )
             if len(ports) != len(machine_list):
-                raise ValueError(f"{len(ports)} ports for {len(machine_list)} machines")
+                given, count = len(ports), len(machine_list)
+                raise ValueError(
+                    f"{given} port{'s' * (given != 1)} for {count} machine{'s' * (count != 1)}: "
+                    "ports names each machine's port, one each"
+                )
             self._ports = list(ports)
         elif port is None:
             if native_port is None:
