@@ -6,7 +6,9 @@ sent."""
 
 from __future__ import annotations
 
+import inspect
 from decimal import Decimal
+from pathlib import Path
 from typing import Any
 
 import pytest
@@ -358,3 +360,12 @@ async def test_a_server_given_ports_not_one_a_machine_counts_them_in_words(
     with pytest.raises(ValueError) as refused:
         FocasServer(machines, ports=ports)
     assert str(refused.value) == words
+
+
+def test_the_docs_say_connect_takes_the_client_s_timeout() -> None:
+    """docs/client.md said every method takes ``timeout=``; ``connect(timeout=2)`` is a
+    TypeError: the docs say ``connect()`` is given the client's."""
+    docs = (Path(__file__).parents[1] / "docs" / "client.md").read_text()
+    assert "`connect()` takes no\n`timeout=`" in docs
+    for cls in (FocasClient, NativeClient):
+        assert "timeout" not in inspect.signature(cls.connect).parameters
