@@ -367,5 +367,7 @@ def test_the_docs_say_connect_takes_the_client_s_timeout() -> None:
     TypeError: the docs say ``connect()`` is given the client's."""
     docs = (Path(__file__).parents[1] / "docs" / "client.md").read_text()
     assert "`connect()` takes no\n`timeout=`" in docs
+    native = (Path(__file__).parents[1] / "docs" / "native-client.md").read_text()
+    assert "Every method but `connect()` takes `timeout=`" in native
     for cls in (FocasClient, NativeClient):
         assert "timeout" not in inspect.signature(cls.connect).parameters
