@@ -311,27 +311,32 @@ def test_a_machine_built_with_a_macro_value_no_variable_holds_says_why(value: ob
 
 
 # -- a path described with a value of another type -----------------------------------------
+def _spec(**fields: Any) -> PathSpec:
+    """A path of axis X with ``fields`` as given, of whatever type."""
+    return PathSpec(**{"axes": ("X",), **fields})
+
+
 @pytest.mark.parametrize(
     ("spec", "error", "words"),
     [
-        (PathSpec(("X",), spindles="2"), TypeError, "path 1: spindles must be an integer, got '2'"),
+        (_spec(spindles="2"), TypeError, "path 1: spindles must be an integer, got '2'"),
         (
-            PathSpec(("X",), spindles=None),
+            _spec(spindles=None),
             TypeError,
             "path 1: spindles must be an integer, got None",
         ),
-        (PathSpec(("X",), spindles=1.5), TypeError, "path 1: spindles must be an integer, got 1.5"),
+        (_spec(spindles=1.5), TypeError, "path 1: spindles must be an integer, got 1.5"),
         (
-            PathSpec(("X",), spindles=True),
+            _spec(spindles=True),
             TypeError,
             "path 1: spindles must be an integer, got True",
         ),
-        (PathSpec(("X",), spindles=9), ValueError, "path 1: 1..8 spindles, got 9"),
-        (PathSpec(("X",), kind=5), TypeError, "path 1: kind must be text (str), got 5"),
-        (PathSpec(("X",), name=5), TypeError, "path 1: name must be text (str), got 5"),
-        (PathSpec(("X",), name="A\nB"), ValueError, "path 1: name 'A\\nB': '\\n' is not printable"),
-        (PathSpec(5), TypeError, "path 1: axes must be a list of axis names, got 5"),
-        (PathSpec(None), TypeError, "path 1: axes must be a list of axis names, got None"),
+        (_spec(spindles=9), ValueError, "path 1: 1..8 spindles, got 9"),
+        (_spec(kind=5), TypeError, "path 1: kind must be text (str), got 5"),
+        (_spec(name=5), TypeError, "path 1: name must be text (str), got 5"),
+        (_spec(name="A\nB"), ValueError, "path 1: name 'A\\nB': '\\n' is not printable"),
+        (_spec(axes=5), TypeError, "path 1: axes must be a list of axis names, got 5"),
+        (_spec(axes=None), TypeError, "path 1: axes must be a list of axis names, got None"),
     ],
 )
 def test_a_path_described_with_a_value_of_another_type_is_refused_by_kind(
@@ -371,3 +376,27 @@ def test_the_docs_say_connect_takes_the_client_s_timeout() -> None:
     assert "Every method but `connect()` takes `timeout=`" in native
     for cls in (FocasClient, NativeClient):
         assert "timeout" not in inspect.signature(cls.connect).parameters
+
+
+# -- a work offset of an axis the path has not ----------------------------------------------
+@pytest.mark.parametrize(
+    ("call", "function"),
+    [
+        (lambda n: n.read_work_offset(1, 4), "cnc_rdzofs"),
+        (lambda n: n.read_work_offsets(1, 2, 4), "cnc_rdzofsr"),
+        (lambda n: n.write_work_offset(1, [5], 4), "cnc_wrzofs"),
+    ],
+)
+async def test_a_work_offset_of_an_axis_the_path_has_not_is_named_before_sending(
+    both_clients: Both, call: Any, function: str
+) -> None:
+    """``read_work_offset(1, axis=4)`` on a path of 3 axes raised ``EW_ATTRIB: cnc_rdzofs`` from
+    the CNC, with no reason, where every other per-axis call of the native client names the
+    axis and the count before anything is sent, as FANUC's library checks it."""
+    machine, _, native = both_clients
+    before = machine.state_digest()
+    with pytest.raises(CncError) as refused:
+        await call(native)
+    assert refused.value.ew == EW.ATTRIB
+    assert refused.value.detail == f"{function}: axis 4 of 3"
+    assert machine.state_digest() == before

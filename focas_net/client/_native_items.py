@@ -37,7 +37,7 @@ from ..native import (
 )
 from ..protocol import ParamDataType, ParamValue
 from ._failures import native_call_text, undecodable_error
-from ._native_link import Handle, NativeLink, check_path_of
+from ._native_link import Handle, NativeLink, check_axis_of
 from ._values import (
     REAL_WIDTH,
     bits_shaped,
@@ -156,17 +156,6 @@ class NativeItems(NativeLink):
         self._param_types: dict[int, int] = {}
 
     # -- parameters and diagnostics ------------------------------------------------------
-    @staticmethod
-    def _check_axis_of(handle: Handle, axis: int, function: str, path: int = 1) -> None:
-        """EW_ATTRIB, before anything is sent, for an ``axis`` past ``path``'s axes, as
-        FANUC's library checks every per-axis argument against the path's axis count (a
-        spindle diagnostic's too: the library sends ``cnc_diagnoss(411, axis 2)`` to a CNC
-        of one spindle and three axes, and refuses spindle 3 of a path of two axes)."""
-        check_path_of(handle, path, function)  # (a path it lacks has no axes: named first)
-        axes = handle.axes_on(path)
-        if axis > axes:
-            raise CncError.from_ew(EW.ATTRIB, f"{function}: axis {axis} of {axes}")
-
     async def _read_item(
         self,
         number: int,
@@ -181,7 +170,7 @@ class NativeItems(NativeLink):
         and axis as a :class:`ParamValue` (setting data are read as parameters)."""
         function = "cnc_diagnoss" if diagnostic else "cnc_rdset" if setting else "cnc_rdparam"
         handle = self._handle_now() or await self._handle_for(deadline)
-        self._check_axis_of(handle, axis, function, path)
+        check_axis_of(handle, axis, function, path)
         build = _READS[function]
         call = build(handle.command_set, number, axis)
         (block,) = await self._exchange(handle, call, deadline, 0, path)
@@ -320,7 +309,7 @@ class NativeItems(NativeLink):
         except ValueError as exc:
             as_real = exc
         handle = self._handle_now() or await self._handle_for(deadline)
-        self._check_axis_of(handle, axis, "cnc_wrparam", path)
+        check_axis_of(handle, axis, "cnc_wrparam", path)
         ptype, size = await self._param_info(handle, number, deadline, path)
         async with self._absent_first(number, axis, deadline, path):
             self._check_width(number, size, width)
@@ -374,7 +363,7 @@ class NativeItems(NativeLink):
         self, number: int, axis: int, bits: int, width: int, deadline: float | None, path: int
     ) -> None:
         handle = self._handle_now() or await self._handle_for(deadline)
-        self._check_axis_of(handle, axis, "cnc_wrparam", path)
+        check_axis_of(handle, axis, "cnc_wrparam", path)
         ptype, size = await self._param_info(handle, number, deadline, path)
         async with self._absent_first(number, axis, deadline, path):
             self._check_width(number, size, width)

@@ -37,6 +37,7 @@ from typing import Any, Final
 from focas_net._address import address_text
 from focas_net._typed import os_reason
 from focas_net.errors import (
+    EW,
     CncError,
     FocasConnectionError,
     FocasError,
@@ -331,6 +332,18 @@ def check_path_of(handle: Handle, path: int, function: str) -> None:
     """EW_PATH (:class:`CncError`) unless ``handle``'s open answer announces ``path``."""
     if path > handle.paths:
         raise path_refusal(function, path, handle.paths)
+
+
+def check_axis_of(handle: Handle, axis: int, function: str, path: int = 1) -> None:
+    """EW_ATTRIB (:class:`CncError`), before anything is sent, for an ``axis`` past ``path``'s
+    axes, as FANUC's library checks every per-axis argument against the path's axis count (a
+    spindle diagnostic's too: the library sends ``cnc_diagnoss(411, axis 2)`` to a CNC of one
+    spindle and three axes, and refuses spindle 3 of a path of two axes); EW_PATH first for a
+    path the CNC has not (it has no axes)."""
+    check_path_of(handle, path, function)
+    axes = handle.axes_on(path)
+    if axis > axes:
+        raise CncError.from_ew(EW.ATTRIB, f"{function}: axis {axis} of {axes}")
 
 
 def _abort(channels: list[Channel]) -> None:

@@ -12,12 +12,15 @@ mm on a metric machine), as the CNC keeps them.
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from dataclasses import dataclass
-from typing import Final
+from typing import Any, Final
 
 from focas_net.errors import PayloadError
 
 from ..native import (
+    LibraryCall,
+    ResponseBlock,
     ScaledValues,
     ToolEntry,
     ToolGroupRecords,
@@ -28,7 +31,7 @@ from ..native import (
 )
 from ..native import offsets as calls
 from ._native_items import only_answer
-from ._native_link import NativeLink
+from ._native_link import Handle, NativeLink, check_axis_of
 from ._values import I16_MAX, I32_MAX, I32_MIN, check_int
 
 __all__ = ["ToolGroupData"]
@@ -136,7 +139,9 @@ class NativeOffsets(NativeLink):
         check_int("first work offset", first, 0, _MAX_WORK)
         check_int("last work offset", last, first, _MAX_WORK)
         _check_axis(axis)
-        handle, call, blocks = await self._only(calls.cnc_rdzofsr, path, timeout, first, axis, last)
+        handle, call, blocks = await self._per_axis(
+            calls.cnc_rdzofsr, path, timeout, axis, first, axis, last
+        )
         value: ScaledValues = only_answer(handle, call, blocks)
         keep = handle.axes_on(self._path_of(path)) if axis == -1 else 1
         return _rows(value, last - first + 1, keep)
@@ -152,7 +157,9 @@ class NativeOffsets(NativeLink):
         """``cnc_rdzofs``: work zero offset ``number`` of every axis (-1) or of one."""
         check_int("work offset", number, 0, _MAX_WORK)
         _check_axis(axis)
-        handle, call, blocks = await self._only(calls.cnc_rdzofs, path, timeout, number, axis)
+        handle, call, blocks = await self._per_axis(
+            calls.cnc_rdzofs, path, timeout, axis, number, axis
+        )
         value: ScaledValues = only_answer(handle, call, blocks)
         keep = handle.axes_on(self._path_of(path)) if axis == -1 else 1
         return tuple(v.mantissa for v in value.values[:keep])
@@ -175,6 +182,7 @@ class NativeOffsets(NativeLink):
         given = _check_values(values, "work offset value")
         deadline = self._deadline(timeout)
         handle = self._handle_now() or await self._handle_for(deadline)
+        check_axis_of(handle, axis, "cnc_wrzofs", p)
         want = handle.axes_on(p) if axis == -1 else 1
         if len(given) != want:
             raise ValueError(f"{len(given)} work offset values for {want} axes")
@@ -182,6 +190,23 @@ class NativeOffsets(NativeLink):
             given += (0,) * (max(handle.max_axes, want) - want)
         call = calls.cnc_wrzofs(handle.command_set, number, axis, given)
         only_answer(handle, call, await self._exchange(handle, call, deadline, 0, p))
+
+    async def _per_axis(
+        self,
+        call_of: Callable[..., LibraryCall],
+        path: int | None,
+        timeout: float | None,
+        axis: int,
+        *args: Any,
+    ) -> tuple[Handle, LibraryCall, tuple[ResponseBlock, ...]]:
+        """:meth:`_only` of a call of ``axis`` (-1: every axis), checked against the path's
+        axes before anything is sent."""
+        p = self._path_of(path)
+        deadline = self._deadline(timeout)
+        handle = self._handle_now() or await self._handle_for(deadline)
+        check_axis_of(handle, axis, call_of.__name__, p)
+        call = call_of(handle.command_set, *args)
+        return handle, call, await self._exchange(handle, call, deadline, 0, p)
 
     # -- tool life -----------------------------------------------------------------------
     async def read_tool_life_info(

@@ -83,7 +83,7 @@ from ._native_items import (
     signed,
     text,
 )
-from ._native_link import Handle, check_path_of
+from ._native_link import Handle, check_axis_of
 from ._native_modal import NativeModal
 from ._native_offsets import NativeOffsets
 from ._native_spindles import NativeSpindles
@@ -485,11 +485,7 @@ class NativeClient(
         when the CNC lacks the option, the path or the axis."""
         if not handle.option_bits & 1:
             raise CncError.from_ew(EW.NOOPT, "cnc_rddynamic2: the CNC lacks FOCAS option bit 0")
-        if path != 1:
-            check_path_of(handle, path, "cnc_rddynamic2")
-        axes = handle.axes_on(path)
-        if axis > axes:
-            raise CncError.from_ew(EW.ATTRIB, f"cnc_rddynamic2: axis {axis} of {axes}")
+        check_axis_of(handle, axis, "cnc_rddynamic2", path)
         return calls.cnc_rddynamic2(handle.command_set, axis)
 
     async def read_positions(
@@ -511,9 +507,7 @@ class NativeClient(
         check_axis(axis)
         deadline = self._deadline(timeout)
         handle = self._handle_now() or await self._handle_for(deadline)
-        check_path_of(handle, p, "cnc_rdposition")  # (before its axes: it has none)
-        if axis is not None and axis > handle.axes_on(p):
-            raise CncError.from_ew(EW.ATTRIB, f"cnc_rdposition: axis {axis} of {handle.axes_on(p)}")
+        check_axis_of(handle, axis or 0, "cnc_rdposition", p)
         call = calls.cnc_rdposition(handle.command_set)
         blocks = await self._exchange(handle, call, deadline, 0, p)
         names: PositionAxisNames | None = None
