@@ -9,9 +9,12 @@ Servers here bind 127.0.0.1 on ephemeral ports.
 
 from __future__ import annotations
 
+import asyncio
 import contextlib
+import logging
 import socket
 import ssl
+import struct
 import threading
 from collections.abc import Iterator
 from contextlib import contextmanager
@@ -198,3 +201,29 @@ async def test_a_tls_connection_closed_after_its_handshake_names_a_client_certif
         f"connection closed by 127.0.0.1:{served.port} before any answer (a TLS server closes "
         "so when it wants a client certificate and gets none)"
     )
+
+
+# -- the server's log of a client that goes away ------------------------------------------------
+@pytest.mark.parametrize("reset", [False, True])
+@pytest.mark.parametrize("native", [False, True])
+async def test_the_server_logs_a_client_gone_in_words_never_none_nor_an_errno(
+    caplog: pytest.LogCaptureFixture, reset: bool, native: bool
+) -> None:
+    """It logged `connection from 127.0.0.1:PORT closed (None)` and `closed ([Errno 104]
+    Connection reset by peer)`."""
+    caplog.set_level(logging.DEBUG, logger="focas_net.server")
+    async with serving(native_port=0) as served:
+        listener = served.listener.native if native else None
+        port = served.port if listener is None else listener.address[1]
+        _, writer = await asyncio.open_connection("127.0.0.1", port)
+        here = "127.0.0.1:{}".format(writer.get_extra_info("sockname")[1])
+        if reset:
+            linger = struct.pack("ii", 1, 0)
+            writer.get_extra_info("socket").setsockopt(socket.SOL_SOCKET, socket.SO_LINGER, linger)
+            writer.transport.abort()
+        else:
+            writer.close()
+        gone = f"connection from {here} closed"
+        await wait_until(lambda: any(gone in r.getMessage() for r in caplog.records))
+    said = next(r.getMessage() for r in caplog.records if gone in r.getMessage())
+    assert said.endswith(gone + (": connection reset by peer" if reset else ""))

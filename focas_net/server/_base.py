@@ -32,6 +32,7 @@ from dataclasses import dataclass
 from typing import Any, Final, Generic, TypeVar, cast
 
 from focas_net._receive import Received, receive_buffer
+from focas_net._tls import ssl_error_text
 from focas_net.native import DEFAULT_MAX_BODY
 from focas_net.protocol import DEFAULT_MAX_FRAME
 
@@ -246,7 +247,12 @@ class BaseConnection(Received, asyncio.Protocol, Generic[F]):
         self._backlog = None
         self._cancel_delayed()
         self._on_close(self)
-        _log.debug("%s: connection from %s closed (%s)", self._label, self.peer_text, exc)
+        if _log.isEnabledFor(logging.DEBUG):  # (why, in the system's words: a reset)
+            if exc is None:
+                why = ""
+            else:
+                why = f": {ssl_error_text(exc) if isinstance(exc, OSError) else exc}"
+            _log.debug("%s: connection from %s closed%s", self._label, self.peer_text, why)
 
     def pause_writing(self) -> None:
         self._write_paused = True
