@@ -16,7 +16,7 @@ import socket
 import ssl
 import struct
 import threading
-from collections.abc import Iterator
+from collections.abc import Callable, Iterator
 from contextlib import contextmanager
 from dataclasses import replace
 from pathlib import Path
@@ -25,11 +25,11 @@ from typing import Literal
 import pytest
 from cli_support import fails
 from poller_support import QUICK, RecordingSink, config
-from support import IO_TIMEOUT, serving, wait_until
+from support import IO_TIMEOUT, LoopbackPeer, serving, wait_until
 
 from focas_net.cli import EXIT_CONNECTION
-from focas_net.client import FocasClient
-from focas_net.errors import FocasConnectionError
+from focas_net.client import FocasClient, NativeClient
+from focas_net.errors import FocasConnectionError, ProtocolError
 from focas_net.gateway import Gateway, GatewayConfig
 
 #: The command line's advice for a server that wants a client certificate.
@@ -227,3 +227,52 @@ async def test_the_server_logs_a_client_gone_in_words_never_none_nor_an_errno(
         await wait_until(lambda: any(gone in r.getMessage() for r in caplog.records))
     said = next(r.getMessage() for r in caplog.records if gone in r.getMessage())
     assert said.endswith(gone + (": connection reset by peer" if reset else ""))
+
+
+# -- a peer that breaks an answer after the connect ---------------------------------------------
+class _Relay(LoopbackPeer):
+    """A peer passing each connection on to ``upstream`` (a port of 127.0.0.1) and its answers
+    back; ``change``, once set, is applied to the next chunk of answers, then the relay says
+    nothing more on that connection."""
+
+    def __init__(self, upstream: int) -> None:
+        self.upstream = upstream
+        self.change: Callable[[bytes], bytes] | None = None
+
+    async def _serve(self, reader: asyncio.StreamReader, writer: asyncio.StreamWriter) -> None:
+        up_reader, up_writer = await asyncio.open_connection("127.0.0.1", self.upstream)
+
+        async def requests() -> None:
+            with contextlib.suppress(OSError):
+                while data := await reader.read(65536):
+                    up_writer.write(data)
+            up_writer.close()
+
+        task = asyncio.ensure_future(requests())
+        try:
+            with contextlib.suppress(OSError):
+                while data := await up_reader.read(65536):
+                    change, self.change = self.change, None
+                    writer.write(data if change is None else change(data))
+                    if change is not None:
+                        await reader.read()  # (nothing more: until the client leaves)
+                        break
+        finally:
+            task.cancel()
+            with contextlib.suppress(asyncio.CancelledError):
+                await task
+            writer.close()
+
+
+async def test_a_native_answer_that_is_no_frame_reads_alike_at_the_connect_and_after_it() -> None:
+    """After the connect it read `(answer does not start with A0 A0 A0 A0; ...)`, at it `(its
+    answer does not start ...)`."""
+    async with serving() as served, _Relay(served.port) as relay:
+        async with NativeClient("127.0.0.1", relay.port, timeout=IO_TIMEOUT) as native:
+            relay.change = lambda data: bytes(len(data))
+            with pytest.raises(ProtocolError) as caught:
+                await native.read_status()
+    assert str(caught.value) == (
+        f"127.0.0.1:{relay.port} does not speak the FOCAS protocol (its answer does not start "
+        "with A0 A0 A0 A0; it sent 00 00 00 00 00 00 00 00)"
+    )

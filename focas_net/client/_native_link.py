@@ -50,6 +50,7 @@ from ..native import (
     MAGIC,
     NATIVE_HEADER,
     NATIVE_HEADER_SIZE,
+    NOT_A_FRAME,
     AnswerRefused,
     CommandSet,
     Ending,
@@ -94,7 +95,6 @@ logger = logging.getLogger("focas_net.client.native")
 _NEVER: Final = float("inf")
 _CLOSE_GRACE: Final = 2.0
 _MAGIC: Final = int.from_bytes(MAGIC, "big")
-_NOT_A_FRAME: Final = "its answer does not start with A0 A0 A0 A0"
 _NO_OPEN_ANSWER: Final = "no answer to the open request"
 #: The frame types of a FOCAS/2 answer (open, close, data, error): another comes from no CNC.
 _ANSWER_TYPES: Final = frozenset(
@@ -138,7 +138,7 @@ async def _read_frame(channel: Channel, peer: str, answered: bool = True) -> byt
         raise lost_error(peer, exc, answered or bool(came)) from exc
     magic, _, kind, length = NATIVE_HEADER.unpack(head)
     if magic != _MAGIC:
-        raise violation_error(peer, _NOT_A_FRAME, head)
+        raise violation_error(peer, NOT_A_FRAME, head)
     if kind in _REQUEST_TYPES:  # what the client sends, back: an echo server
         raise violation_error(peer, f"{ECHOED}: a frame of type 0x{kind:04X}", head)
     if kind not in _ANSWER_TYPES:
@@ -153,7 +153,7 @@ def _check_start(peer: str, partial: bytes) -> None:
     """Raise the :class:`ProtocolError` of ``peer`` when ``partial``, the bytes of a frame's
     header that came before its connection ended or its call timed out, cannot begin one."""
     if partial and not MAGIC.startswith(partial[: len(MAGIC)]):
-        raise violation_error(peer, _NOT_A_FRAME, partial) from None
+        raise violation_error(peer, NOT_A_FRAME, partial) from None
 
 
 class Handle:

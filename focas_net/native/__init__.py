@@ -387,6 +387,7 @@ from .requests import (
     decode_request,
 )
 from .session import (
+    NOT_A_FRAME,
     AnswerRefused,
     Ending,
     Job,
@@ -442,6 +443,7 @@ __all__ = [
     "MODAL_GROUPS",
     "NATIVE_HEADER",
     "NATIVE_HEADER_SIZE",
+    "NOT_A_FRAME",
     "NO_PATH",
     "OPERATOR_MESSAGE_TEXT",
     "OPTION_PARAMETER",

@@ -64,6 +64,7 @@ from .pmc import PmcReadRequest
 from .requests import AlarmMessageRequest, NativeAlarmHistoryRequest, NativeRequest
 
 __all__ = [
+    "NOT_A_FRAME",
     "AnswerRefused",
     "Ending",
     "Job",
@@ -75,6 +76,9 @@ __all__ = [
 ]
 
 T = TypeVar("T")
+
+#: Why an answer is no FOCAS/2 frame, at the connect and after it alike.
+NOT_A_FRAME: Final = "its answer does not start with A0 A0 A0 A0"
 
 #: No deadline.
 _NEVER: Final = float("inf")
@@ -461,7 +465,7 @@ class NativeSession(Generic[T]):
         while len(rx) >= NATIVE_HEADER_SIZE:
             magic, _, _, length = NATIVE_HEADER.unpack_from(rx)
             if magic != _MAGIC:
-                return ended + self._fail("answer does not start with A0 A0 A0 A0", True)
+                return ended + self._fail(NOT_A_FRAME, True)
             end = NATIVE_HEADER_SIZE + length
             if len(rx) < end:
                 break
