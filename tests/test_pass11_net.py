@@ -31,6 +31,7 @@ from focas_net.cli import EXIT_CONNECTION
 from focas_net.client import FocasClient, NativeClient
 from focas_net.errors import FocasConnectionError, ProtocolError
 from focas_net.gateway import Gateway, GatewayConfig
+from focas_net.protocol import FaultKind, FaultScope
 
 #: The command line's advice for a server that wants a client certificate.
 _NO_CLIENT_CERTIFICATE = (
@@ -275,4 +276,26 @@ async def test_a_native_answer_that_is_no_frame_reads_alike_at_the_connect_and_a
     assert str(caught.value) == (
         f"127.0.0.1:{relay.port} does not speak the FOCAS protocol (its answer does not start "
         "with A0 A0 A0 A0; it sent 00 00 00 00 00 00 00 00)"
+    )
+
+
+async def test_a_drop_fault_over_tls_is_named_a_drop_not_a_client_certificate(
+    certificate: tuple[Path, Path],
+) -> None:
+    """A TLS connection closed before any answer may be a server that wants a client
+    certificate; the probes ask a packed request over TLS too, which a drop answers."""
+    async with serving(ssl=_server_tls(certificate)) as served:
+        insecure = ssl.SSLContext(ssl.PROTOCOL_TLS_CLIENT)
+        insecure.check_hostname, insecure.verify_mode = False, ssl.CERT_NONE
+        async with FocasClient("127.0.0.1", served.port, ssl=insecure, timeout=IO_TIMEOUT) as c:
+            await c.sim.inject_fault(FaultKind.DROP, scope=FaultScope.MACHINE)
+        line = await fails(
+            EXIT_CONNECTION, "status", "--port", str(served.port), "--tls-ca", str(certificate[0])
+        )
+    assert line == (
+        f"focas-net: connection closed by 127.0.0.1:{served.port} before any answer (a TLS "
+        "server closes so when it wants a client certificate and gets none); the server "
+        "answers a new connection, so it closed this one on purpose (as a drop fault does: "
+        "focas-net sim fault drop), or as a server does with a request longer than it takes "
+        "(focas-net serve --max-frame)"
     )

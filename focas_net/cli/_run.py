@@ -377,6 +377,7 @@ def _tls_hint(args: argparse.Namespace, exc: BaseException) -> str | None:
             )
         return "give --tls-ca FILE (the server's certificate or its CA) or --tls-insecure"
     alert = _ssl_cause(exc)
+    # (a TLS connection closed before any answer: the probes found no drop, no other cause)
     if wants_client_certificate(alert) is not False or WANTS_CERTIFICATE in str(exc):
         return _NO_CLIENT_CERTIFICATE  # (what the command line cannot give)
     if peer_alert(alert):

@@ -66,6 +66,7 @@ class Findings:
     tls: bool  #: it completed a TLS handshake
     packed: bool  #: it answered a packed request
     native: bool  #: it answered the open of FOCAS/2
+    packed_tls: bool = False  #: it answered a packed request over TLS (asked with TLS only)
 
 
 @dataclass(frozen=True, slots=True)
@@ -115,6 +116,8 @@ def advice(
             "connection limit does (focas-net serve --max-connections)"
         )
     if tls:  # (asked for by a front end that has TLS: wording.tls)
+        if found.packed_tls:
+            return _on_purpose(protocol)
         if found.packed:
             return f"the server is plain TCP: drop {wording.tls}"
         if found.native:
@@ -142,19 +145,24 @@ def advice(
             "or free a connection or raise the limit"
         )
     if found.packed if protocol == "packed" else found.native:
-        # (a packed server closes a connection whose frame is longer than its max_frame,
-        # answering nothing: the probes' requests are short and answered)
-        longer = (
-            ", or as a server does with a request longer than it takes (focas-net serve "
-            "--max-frame)"
-            if protocol == "packed"
-            else ""
-        )
-        return (
-            "the server answers a new connection, so it closed this one on purpose (as a drop "
-            f"fault does: focas-net sim fault drop){longer}"
-        )
+        return _on_purpose(protocol)
     return None
+
+
+def _on_purpose(protocol: str) -> str:
+    """The advice for a port of ``protocol`` that answers the request a new connection
+    sends: it closed the failed one on purpose."""
+    # (a packed server closes a connection whose frame is longer than its max_frame,
+    # answering nothing: the probes' requests are short and answered)
+    longer = (
+        ", or as a server does with a request longer than it takes (focas-net serve --max-frame)"
+        if protocol == "packed"
+        else ""
+    )
+    return (
+        "the server answers a new connection, so it closed this one on purpose (as a drop "
+        f"fault does: focas-net sim fault drop){longer}"
+    )
 
 
 async def _bounded(probe: Awaitable[bool], bound: float) -> bool:
@@ -181,22 +189,28 @@ async def _closes_at_once(host: str, port: int) -> bool:
         writer.close()
 
 
-async def _speaks_tls(host: str, port: int) -> bool:
-    """A TLS handshake completes (no certificate checked: only whether TLS is spoken)."""
+def _any_certificate() -> ssl.SSLContext:
+    """A client context that checks no certificate: a probe asks only whether TLS is spoken."""
     context = ssl.SSLContext(ssl.PROTOCOL_TLS_CLIENT)
     context.check_hostname = False
     context.verify_mode = ssl.CERT_NONE
-    _, writer = await asyncio.open_connection(host, port, ssl=context)
+    return context
+
+
+async def _speaks_tls(host: str, port: int) -> bool:
+    """A TLS handshake completes (no certificate checked: only whether TLS is spoken)."""
+    _, writer = await asyncio.open_connection(host, port, ssl=_any_certificate())
     writer.close()
     return True
 
 
-async def _answers_packed(host: str, port: int, bound: float) -> bool:
-    """A packed request is answered: the listing of this connection's own faults, a
-    control command, whose answer a fault armed on the server never replaces nor counts (a
-    probe must not take the fault meant for the caller's next call); an EW code answers too
-    (a real CNC, ``serve --no-control``)."""
-    async with FocasClient(host, port, timeout=bound) as client:
+async def _answers_packed(host: str, port: int, bound: float, tls: bool = False) -> bool:
+    """A packed request is answered (over TLS with ``tls``, no certificate checked): the
+    listing of this connection's own faults, a control command, whose answer a fault armed
+    on the server never replaces nor counts (a probe must not take the fault meant for the
+    caller's next call); an EW code answers too (a real CNC, ``serve --no-control``)."""
+    context = _any_certificate() if tls else None
+    async with FocasClient(host, port, timeout=bound, ssl=context) as client:
         try:
             await client.sim.list_faults(FaultScope.CONNECTION)
         except CncError:
@@ -218,11 +232,16 @@ async def _answers_native(host: str, port: int, bound: float) -> bool:
     return True
 
 
-async def probed(host: str, port: int, bound: float) -> Findings:
+async def probed(host: str, port: int, bound: float, tls: bool = False) -> Findings:
     """Probe ``host:port`` (each probe ``bound`` seconds at most): the one waiting for a
     close at once is waited for only when no other probe found the peer answering. A peer
     that answers the packed protocol is then asked the open of FOCAS/2 alone, so that a
-    server of one connection at a time answers it if it can (FOCAS/2 takes two)."""
+    server of one connection at a time answers it if it can (FOCAS/2 takes two). For a
+    connection of TLS (``tls``), a packed request over TLS is asked first: a server that
+    answers it closed the failed connection on purpose (one that closes a TLS connection
+    before any answer may want a client certificate)."""
+    if tls and await _bounded(_answers_packed(host, port, bound, tls=True), bound):
+        return Findings(refused=False, tls=True, packed=False, native=False, packed_tls=True)
     if await _bounded(_answers_packed(host, port, bound), bound):
         native = await _bounded(_answers_native(host, port, bound), bound)
         return Findings(refused=False, tls=False, packed=True, native=native)
@@ -264,5 +283,5 @@ async def diagnosed(
     )
     if not closed:
         return exc, None
-    found = await probed(host, port, bound)
+    found = await probed(host, port, bound, tls)
     return exc, advice(found, protocol, tls, packed_only, wording)
