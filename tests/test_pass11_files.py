@@ -390,3 +390,12 @@ def test_a_lathe_feeds_per_minute_with_g98() -> None:
     engine, clock = _engine("O1\nG98 G1 Z-10. F600\nM30\n", _LATHE)
     clock.advance(1.5)
     assert (engine.state, _alarm(engine)) == (CycleState.RESET, None)
+
+
+def test_a_real_parameter_with_too_many_decimals_says_which_key_sets_them() -> None:
+    """It said `1000.5 does not have 0 decimals or fewer`."""
+    body = '[parameters.1420]\ntype = "real"\naxis = true\nvalue = [1000.5, 2, 3]\n'
+    assert (
+        "parameters.1420.value[0]: 1000.5 has more than 0 decimals (the item's decimals key)"
+        in _refusal(body)
+    )

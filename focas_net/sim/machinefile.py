@@ -216,7 +216,7 @@ def _item_value(
             number = Decimal(repr(value))
         scaled = number.scaleb(decimals)
         if scaled != scaled.to_integral_value():
-            ctx.fail(f"{value} does not have {decimals} decimals or fewer")
+            ctx.fail(f"{value} has more than {decimals} decimals (the item's decimals key)")
         mantissa = int(scaled)
         if not bounds[0] <= mantissa <= bounds[1]:
             low = Decimal(bounds[0]).scaleb(-decimals)
