@@ -17,6 +17,7 @@ from focas_net.sim import (
     load_machine,
     machine_from_dict,
 )
+from focas_net.sim.machinefile import state_folder
 from focas_net.sim.nc import CycleState, Engine, ManualClock, NcSettings
 
 ROOT = Path(__file__).resolve().parent.parent
@@ -399,3 +400,12 @@ def test_a_real_parameter_with_too_many_decimals_says_which_key_sets_them() -> N
         "parameters.1420.value[0]: 1000.5 has more than 0 decimals (the item's decimals key)"
         in _refusal(body)
     )
+
+
+def test_serve_s_first_read_of_a_machine_file_gives_the_point_hint_too(tmp_path: Path) -> None:
+    """`serve --machine` reads the file's state folder first: its TOML error had no hint."""
+    file = tmp_path / "m.toml"
+    file.write_text(f"{_HEAD}[run]\nphase = 1.\n", "utf-8")
+    with pytest.raises(MachineFileError) as caught:
+        state_folder(file)
+    assert "(TOML writes a decimal with a digit on each side of its point" in str(caught.value)

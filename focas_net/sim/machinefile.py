@@ -727,14 +727,8 @@ def load_machine(
         raw = p.read_bytes()
     except OSError as exc:
         raise MachineFileError(name, "", f"cannot read: {os_words(exc)}") from None
-    text = _text(name, raw)
-    try:
-        data = tomllib.loads(text, parse_float=TomlFloat)
-    except tomllib.TOMLDecodeError as exc:
-        hint = toml_point_hint(text, str(exc))
-        raise MachineFileError(name, "", f"not valid TOML: {exc}{hint}") from None
     return machine_from_dict(
-        data,
+        _toml(name, raw),
         path=name,
         clock=clock,
         param_password=param_password,
@@ -744,18 +738,28 @@ def load_machine(
     )
 
 
+def _toml(name: str, raw: bytes) -> dict[str, Any]:
+    """The machine file ``name`` of bytes ``raw`` as TOML, each float reading as typed; a
+    MachineFileError for what is no UTF-8 or no TOML (with TOML's rule of a number's point
+    where a part program's habit broke it)."""
+    text = _text(name, raw)
+    try:
+        return tomllib.loads(text, parse_float=TomlFloat)
+    except tomllib.TOMLDecodeError as exc:
+        hint = toml_point_hint(text, str(exc))
+        raise MachineFileError(name, "", f"not valid TOML: {exc}{hint}") from None
+
+
 def state_folder(path: str | PathLike[str]) -> Path | None:
     """The folder ``[machine] state`` of the machine file at ``path`` names (relative to the
     machine file's folder), where ``serve`` keeps the machine's nonvolatile memory; None when
     it names none. MachineFileError as :func:`load_machine`."""
     p = Path(path)
     try:
-        data = tomllib.loads(_text(str(path), p.read_bytes()), parse_float=TomlFloat)
+        raw = p.read_bytes()
     except OSError as exc:
         raise MachineFileError(str(path), "", f"cannot read: {os_words(exc)}") from None
-    except tomllib.TOMLDecodeError as exc:
-        raise MachineFileError(str(path), "", f"not valid TOML: {exc}") from None
-    head = data.get("machine")
+    head = _toml(str(path), raw).get("machine")
     folder = head.get("state") if isinstance(head, dict) else None
     if not isinstance(folder, str) or not folder.strip():
         return None
