@@ -9,7 +9,7 @@ from __future__ import annotations
 from typing import Any
 
 import pytest
-from cli_support import at, fails
+from cli_support import at, fails, ok
 from support import serving
 from web_support import page_refusal
 
@@ -159,3 +159,34 @@ def test_a_pmc_bit_given_a_number_that_is_none_is_refused_as_a_switch() -> None:
         got = page_refusal(station, "pmc_bit", args)
         assert got == (words.replace("2", "'2'") if isinstance(value, str) else words)
     assert machine.read_pmc("R", 0, 1) == b"\x00"
+
+
+# -- what an action that changes nothing says --------------------------------------------------
+async def test_raising_an_active_alarm_says_so_on_the_page_as_sim_alarm_does() -> None:
+    """``sim alarm PS0100`` of an active alarm says it is active already and keeps its message;
+    the page answered ``raise_alarm: done``, its new message left unsaid."""
+    async with serving() as served:
+        await fails(1, "sim", "clear", "PS0100", *at(served))  # (none active yet)
+        station = Station(0, served.machine)
+        perform(station, "raise_alarm", {"alm_type": "SV", "alm_no": 411, "axis_no": 2})
+        line = (await ok("sim", "alarm", "SV0411", "--axis", "2", *at(served))).strip()
+        answer = perform(
+            station, "raise_alarm", {"alm_type": "SV", "alm_no": 411, "axis_no": 2, "msg": "NEW"}
+        )
+        assert answer == {"ok": True, "raised": False, "msg": "", "note": line}
+        assert line.startswith("SV0411 (axis 2) is already active (with no message)")
+
+
+async def test_clearing_when_nothing_matches_says_so_on_the_page_as_sim_clear_does() -> None:
+    """``sim clear`` with no alarm says "no active alarms; nothing to clear", ``sim clear
+    PS0100`` "no active alarm matches PS0100; nothing cleared", ``sim faults --clear`` "no
+    pending faults of this machine; nothing to clear"; the page said ``done`` for each."""
+    async with serving() as served:
+        station = Station(0, served.machine)
+        every = (await ok("sim", "clear", *at(served))).strip()
+        assert perform(station, "clear_alarms", {}) == {"ok": True, "cleared": 0, "note": every}
+        one = (await fails(1, "sim", "clear", "PS0100", *at(served))).removeprefix("focas-net: ")
+        answer = perform(station, "clear_alarms", {"alm_type": "PS", "alm_no": "0100"})
+        assert answer == {"ok": True, "cleared": 0, "note": one}
+        faults = (await ok("sim", "faults", "--clear", *at(served))).strip()
+        assert perform(station, "clear_faults", {}) == {"ok": True, "cleared": 0, "note": faults}

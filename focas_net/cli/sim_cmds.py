@@ -23,10 +23,12 @@ from focas_net.protocol import (
     ArmedFault,
     FaultKind,
     FaultScope,
+    alarm_active_already,
     alarm_message,
     fault_arg_needed,
+    nothing_cleared,
 )
-from focas_net.server.faults import fault_arg_text, fault_refusal
+from focas_net.server.faults import fault_arg_text, fault_refusal, no_faults_cleared
 
 from . import _format as fmt
 from ._args import ArgumentRefused
@@ -102,11 +104,7 @@ def alarm(args: argparse.Namespace) -> PackedOnly:
         if active:
             data = {"raised": None, "active": fmt.alarm_dict(active[0])}
             return Output(
-                data,
-                f"{code}{axis} is already active{on}"
-                + (f": {active[0].msg}" if active[0].msg else " (with no message)")
-                + " (a CNC shows one entry per alarm: clear it first to raise it with another "
-                "message)",
+                data, alarm_active_already(alm_type, alm_no, active[0].msg, args.axis, on=on)
             )
         try:
             await cnc.sim.raise_alarm(alm_type, alm_no, msg, axis_no=args.axis)
@@ -163,7 +161,7 @@ def clear(args: argparse.Namespace) -> PackedOnly:
                     where = f" ({given} is active on path {other}: focas-net sim clear {given}" + (
                         f" --path {other})" if other != 1 else ")"
                     )
-                raise NothingMatched(f"no active alarm matches {given}{on}; nothing cleared{where}")
+                raise NothingMatched(f"{nothing_cleared(given, on=on)}{where}")
         data = {
             "cleared": given or "all",
             "alarms": [fmt.alarm_dict(a) for a in gone],
@@ -171,9 +169,7 @@ def clear(args: argparse.Namespace) -> PackedOnly:
         }
         if not gone:
             others = "; ".join(f"{n} active on path {p}" for p, n in elsewhere)
-            return Output(
-                data, f"no active alarms{on}; nothing to clear" + (f" ({others})" if others else "")
-            )
+            return Output(data, nothing_cleared(None, on=on) + (f" ({others})" if others else ""))
         # each as sim alarm names it: two alarms of one code on two axes are two entries
         what = ", ".join(
             fmt.alarm_code(a.alm_type, a.alm_no) + (f" (axis {a.axis_no})" if a.axis_no else "")
@@ -304,7 +300,7 @@ def faults(args: argparse.Namespace) -> PackedOnly:
             cleared = await cnc.sim.clear_faults(scope)
             data: dict[str, Any] = {"scope": scope.name.lower(), "cleared": cleared}
             if not cleared:
-                return Output(data, f"no pending faults {whose}; nothing to clear")
+                return Output(data, no_faults_cleared(whose))
             return Output(data, f"cleared {cleared} pending fault{'s' * (cleared > 1)} {whose}")
         pending = await cnc.sim.list_faults(scope)
         rows = _fault_rows(pending)

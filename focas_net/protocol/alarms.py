@@ -30,12 +30,14 @@ __all__ = [
     "AlarmHistory",
     "AlarmHistoryEntry",
     "AlarmType",
+    "alarm_active_already",
     "alarm_code",
     "alarm_fields",
     "alarm_message",
     "alarm_text",
     "alarm_time_text",
     "alarm_type_of",
+    "nothing_cleared",
 ]
 
 #: Longest message the CNC keeps for an alarm.
@@ -113,6 +115,28 @@ def alarm_fields(axis_no: int, alm_type: int, alm_no: int, msg: str) -> dict[str
     FOCAS names of ``ODBALMMSG2``'s fields (``axis_no``, ``alm_type``, ``alm_no``, ``msg``)."""
     code = alarm_code(alm_type, alm_no)
     return {"code": code, "axis_no": axis_no, "alm_type": alm_type, "alm_no": alm_no, "msg": msg}
+
+
+def alarm_active_already(
+    alm_type: int, alm_no: int, msg: str, axis_no: int = 0, *, on: str = ""
+) -> str:
+    """What every front end says of an alarm raised while it is active (its message ``msg``
+    kept; ``on``: `` on path 2`` on a machine of several paths): a CNC shows one entry per
+    alarm, so nothing changes."""
+    return (
+        f"{alarm_text(alm_type, alm_no, '', axis_no)} is already active{on}"
+        + (f": {msg}" if msg else " (with no message)")
+        + " (a CNC shows one entry per alarm: clear it first to raise it with another message)"
+    )
+
+
+def nothing_cleared(given: str | None, *, on: str = "") -> str:
+    """What every front end says of a clear of alarms that cleared none: ``given`` the alarms
+    asked for as the CNC names them (``PS0100``, ``PS``), None for every one; ``on`` as
+    :func:`alarm_active_already` takes it."""
+    if given is None:
+        return f"no active alarms{on}; nothing to clear"
+    return f"no active alarm matches {given}{on}; nothing cleared"
 
 
 def alarm_text(alm_type: int, alm_no: int, msg: str = "", axis_no: int = 0) -> str:

@@ -58,6 +58,7 @@ __all__ = [
     "FaultScope",
     "fault_arg_text",
     "fault_refusal",
+    "no_faults_cleared",
     "parse_inject",
     "parse_scope",
 ]
@@ -160,6 +161,12 @@ def parse_inject(payload: bytes, *, read_only: bool = False) -> tuple[FaultScope
     if fault_refusal(kind, scope, count, arg) is not None:
         return EW.DATA
     return FaultScope(scope), Fault(FaultKind(kind), arg, count)
+
+
+def no_faults_cleared(whose: str) -> str:
+    """What every front end says of a clear of faults that cleared none (``whose``: ``of this
+    machine``, ``on this connection``)."""
+    return f"no pending faults {whose}; nothing to clear"
 
 
 def fault_arg_text(kind: int, arg: int) -> str:

@@ -47,20 +47,24 @@ from focas_net._typed import (
 from focas_net._typed import typed_shown as shown
 from focas_net.errors import EW, ew_name
 from focas_net.protocol import (
+    ALARM_TYPE_NAMES,
     AutMode,
     CycleAction,
     FaultKind,
     FaultScope,
     InjectFault,
+    alarm_active_already,
+    alarm_code,
     alarm_message,
     alarm_type_of,
     cycle_action_of,
     ew_of_text,
     fault_arg_needed,
     fault_kind_of,
+    nothing_cleared,
     pmc_bit_refusal,
 )
-from focas_net.server.faults import FaultQueue, fault_refusal, parse_inject
+from focas_net.server.faults import FaultQueue, fault_refusal, no_faults_cleared, parse_inject
 from focas_net.sim import MAX_PATHS, Machine, MachineError, ParamKind, Session
 
 from .view import JsonDict, PathTrail, macro_value, param_data
@@ -348,9 +352,16 @@ def _raise_alarm(station: Station, args: Mapping[str, Any]) -> JsonDict:
     # keeps its message), and that it cut one given
     kept = next(a.msg for a in m.active_alarms(path=path) if a.key == key)
     result: JsonDict = {"raised": raised, "msg": kept}
-    if raised and msg and kept != msg:
+    if not raised:  # in the words of sim alarm: nothing changed
+        result["note"] = alarm_active_already(key[1], key[2], kept, key[0], on=_on(m, path))
+    elif msg and kept != msg:
         result["note"] = f"the CNC keeps {len(kept)} characters of a message: {kept!r}"
     return result
+
+
+def _on(machine: Machine, path: int) -> str:
+    """`` on path 2`` on a machine of several paths, as the command line names the path."""
+    return f" on path {path}" if machine.path_count > 1 else ""
 
 
 def _clear_alarms(station: Station, args: Mapping[str, Any]) -> JsonDict:
@@ -359,8 +370,17 @@ def _clear_alarms(station: Station, args: Mapping[str, Any]) -> JsonDict:
     typed = args.get("alm_type")
     every = isinstance(typed, str) and typed.strip().lower() == "all"
     alm_type = -1 if every else _alarm_type(args, -1)
-    cleared = station.machine.clear_alarms(alm_type, _int(args, "alm_no", -1), path=_path(args))
-    return {"cleared": cleared}
+    alm_no, path = _int(args, "alm_no", -1), _path(args)
+    cleared = station.machine.clear_alarms(alm_type, alm_no, path=path)
+    if cleared:
+        return {"cleared": cleared}
+    # as sim clear says it, naming the alarms asked for as the CNC names them
+    given: str | None = None
+    if alm_no == -1 and alm_type != -1:
+        given = ALARM_TYPE_NAMES.get(alm_type, f"type {alm_type}")
+    elif alm_no != -1:
+        given = f"number {alm_no}" if alm_type == -1 else alarm_code(alm_type, alm_no)
+    return {"cleared": 0, "note": nothing_cleared(given, on=_on(station.machine, path))}
 
 
 def _pmc_bit(station: Station, args: Mapping[str, Any]) -> JsonDict:
@@ -560,7 +580,12 @@ def _inject_fault(station: Station, args: Mapping[str, Any]) -> JsonDict:
 
 def _clear_faults(station: Station, args: Mapping[str, Any]) -> JsonDict:
     station.machine.check_writable()
-    return {"cleared": station.faults.clear()}
+    cleared = station.faults.clear()
+    return {"cleared": cleared} if cleared else {"cleared": 0, "note": no_faults_cleared(_OURS)}
+
+
+#: The faults the page arms and clears, as the command line names them (``--scope machine``).
+_OURS: Final = "of this machine"
 
 
 def _clear_path(station: Station, args: Mapping[str, Any]) -> JsonDict:

@@ -48,7 +48,10 @@ async function act(action, args) {
     body: JSON.stringify({ path: state.path, ...(args || {}) }),
   });
   const body = await res.json();
-  if (body.ok) show(`${action}: done${body.note ? `; ${body.note}` : ""}`, true);
+  // an action that changed nothing (an alarm active already, nothing to clear) says only why
+  const none = body.raised === false || body.cleared === 0;
+  const said = none ? body.note : `done${body.note ? `; ${body.note}` : ""}`;
+  if (body.ok) show(`${action}: ${said}`, true);
   else show(`${action} refused: ${body.ew_name ? body.ew_name + " " : ""}${body.error || ""}`, false);
   return body;
 }
