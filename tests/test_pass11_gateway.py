@@ -9,19 +9,22 @@ from __future__ import annotations
 import asyncio
 import logging
 from dataclasses import replace
+from decimal import Decimal
 
 import pytest
 from gateway_support import machine_shape
 from opcua_support import cnc_path, connected, machine_node, running
-from poller_support import QUICK
-from support import free_port, reset_at_close, serving
+from poller_support import QUICK, SLOW
+from support import free_port, reset_at_close, serving, wait_until
 
 from focas_net._refusals import no_path
 from focas_net.cli._format import sysinfo_rows
-from focas_net.client import FocasClient, NativeClient
-from focas_net.gateway import ConfigError, MachineConfig, MqttSettings, parse_config
+from focas_net.client import ClientState, FocasClient, NativeClient
+from focas_net.errors import FocasConnectionError
+from focas_net.gateway import ConfigError, MachineConfig, MqttSettings, WriteGates, parse_config
 from focas_net.gateway.mqtt import MqttSink
 from focas_net.gateway.reads import describe
+from focas_net.gateway.writer import GatedWriter
 from focas_net.protocol import SysInfo
 from focas_net.sim import default_machine
 
@@ -194,3 +197,32 @@ def test_an_endpoint_with_a_user_a_query_or_a_space_is_refused_naming_the_key(
         f"plant.toml: opcua.endpoint: got {endpoint!r}; expected opc.tcp://HOST:PORT/PATH "
         "without a user (users: [[opcua.users]]), a '?' query, a '#' fragment or a space"
     )
+
+
+# -- a write to a machine being reconnected ----------------------------------------------------
+@pytest.mark.parametrize("write", ["macro", "param", "pmc"])
+async def test_a_write_to_a_machine_being_reconnected_is_refused_at_once_with_why(
+    write: str,
+) -> None:
+    """It waited out the call's timeout for a reconnect (holding the OPC UA session's other
+    requests with it) and said ``still reconnecting ... when the call timed out``."""
+    async with serving() as served:
+        client = NativeClient("127.0.0.1", served.port, timeout=30.0, reconnect=SLOW)
+        await client.connect()
+    await wait_until(lambda: client.state is ClientState.RECONNECTING)
+    gates = WriteGates(macros=((500, 500),), params=((6711, 6711),), pmc=(("R", 0, 0),))
+    config = MachineConfig("m1", "127.0.0.1", served.port, writes=gates)
+    writer = GatedWriter(lambda name: (config, client))
+    calls = {
+        "macro": lambda: writer.write_macro("m1", 500, Decimal(1), 1),
+        "param": lambda: writer.write_param("m1", 6711, 1, 0),
+        "pmc": lambda: writer.write_pmc("m1", "R", 0, 1),
+    }
+    try:
+        with pytest.raises(FocasConnectionError) as caught:
+            async with asyncio.timeout(10.0):  # (a bound: the write is refused at once)
+                await calls[write]()
+    finally:
+        await client.aclose()
+    assert str(caught.value).startswith(f"m1: not connected to 127.0.0.1:{served.port} (")
+    assert str(caught.value).endswith("): nothing was written")

@@ -25,9 +25,9 @@ from focas_net._refusals import (
     param_refusal,
     path_axes,
 )
-from focas_net.client import FocasClient, NativeClient
+from focas_net.client import ClientState, FocasClient, NativeClient
 from focas_net.client._values import check_int
-from focas_net.errors import EW, CncError, FocasError
+from focas_net.errors import EW, CncError, FocasConnectionError, FocasError
 from focas_net.protocol import PmcArea
 
 from .config import MachineConfig
@@ -54,7 +54,8 @@ class GatedWriter:
         config, client = self._machine(machine)
         _gate(machine, "macros", config.writes.macros, number, f"#{number}", "macro variables")
         why = partial(macro_refusal, number=number, value=value)
-        await _said(client.write_macro(number, value, path=path), why)
+        write = partial(client.write_macro, number, value, path=path)
+        await _said(_sent(machine, client, write), why)
 
     async def write_param(self, machine: str, number: int, value: int, axis: int) -> None:
         """``cnc_wrparam`` of parameter ``number`` (``axis`` 0: not an axis parameter), if
@@ -66,7 +67,8 @@ class GatedWriter:
             param_refusal, number=number, value=value, axis=axis, protocol=config.protocol
         )
         try:
-            await _said(client.write_param(number, value, axis=axis), why)
+            write = partial(client.write_param, number, value, axis=axis)
+            await _said(_sent(machine, client, write), why)
         except CncError as exc:
             if exc.ew != EW.ATTRIB:
                 raise
@@ -84,7 +86,8 @@ class GatedWriter:
                 f"({'allowed: ' + allowed if allowed else 'no PMC byte may be written'})"
             )
         byte = check_int("PMC byte value", value, 0, 0xFF)
-        await client.write_pmc(letter, address, bytes([byte]))  # (its refusal names why)
+        write = partial(client.write_pmc, letter, address, bytes([byte]))
+        await _sent(machine, client, write)  # (its refusal names why)
 
 
 #: EW_PASSWD of a parameter write: the gate, and that the gateway cannot unlock a password.
@@ -122,6 +125,33 @@ async def _axis_said(
         give = f"give Axis 1..{axes}" if axis == 0 else "give Axis 0"
         said = f"{axis_misfit('parameter', number, axis)}: {give}"
     return CncError.from_ew(exc.ew, f"{exc.detail}; {said}")
+
+
+#: The deadline of a write while the client is not connected: its checks of the values run,
+#: then it is refused at once rather than waiting for a reconnect.
+_AT_ONCE: Final = 1e-6
+
+
+async def _sent(
+    machine: str,
+    client: FocasClient | NativeClient,
+    write: Callable[..., Awaitable[None]],
+) -> None:
+    """``write(timeout=...)``, refused at once (after the client's checks of the values) with
+    why when ``client`` is not connected: it would wait out its timeout for a reconnect (and
+    an OPC UA session's other requests with it), where FANUC's library answers a call on a
+    lost handle at once."""
+    if client.state is ClientState.CONNECTED:
+        await write(timeout=None)
+        return
+    try:
+        await write(timeout=_AT_ONCE)
+    except FocasConnectionError as exc:  # (waiting for the link: nothing was sent)
+        causes = [str(e) for e in (client.lost_reason, client.reconnect_error) if e]
+        why = f" ({'; '.join(causes)})" if causes else ""
+        raise FocasConnectionError(
+            f"{machine}: not connected to {client.address}{why}: nothing was written"
+        ) from exc
 
 
 def _gate(
