@@ -25,6 +25,7 @@ from focas_net import (
 from focas_net._typed import pmc_count_unfit
 from focas_net.client import AlarmProjection
 from focas_net.client._values import history_depth
+from focas_net.protocol import PositionKind
 from focas_net.sim import Machine, MachineError, MacroRange, PathSpec
 
 Both = tuple[Machine, FocasClient, NativeClient]
@@ -400,3 +401,24 @@ async def test_a_work_offset_of_an_axis_the_path_has_not_is_named_before_sending
     assert refused.value.ew == EW.ATTRIB
     assert refused.value.detail == f"{function}: axis 4 of 3"
     assert machine.state_digest() == before
+
+
+# -- a position kind named as the command line and the clients name it ----------------------
+@pytest.mark.parametrize("kind", ["distance", "DISTANCE", "distance-to-go", "distance_to_go"])
+async def test_the_machine_reads_the_distance_to_go_as_every_front_end_names_it(
+    both_clients: Both, kind: str
+) -> None:
+    """``Machine.positions("distance")`` was EW_ATTRIB ``position kind 'distance': one of
+    absolute, machine, relative, distance_to_go``, where ``position --kind distance`` and
+    ``read_positions("distance")`` read it."""
+    machine, cnc, _ = both_clients
+    assert machine.positions(kind) == [("X", 0), ("Y", 0), ("Z", 0)]
+    assert (await cnc.read_positions(kind)).kind is PositionKind.DISTANCE
+
+
+def test_the_machine_names_the_position_kinds_as_the_clients_do() -> None:
+    with pytest.raises(MachineError) as refused:
+        default_machine().positions("abs")
+    assert refused.value.detail == (
+        "unknown position kind 'abs' (absolute, machine, relative, distance)"
+    )

@@ -102,6 +102,8 @@ _START: Final = CycleState.START
 _RESET: Final = CycleState.RESET
 _MOTION_SCALARS: Final = tuple(MOTION_NUMBERS)
 _SKIP: Final = "skip"
+#: The distance to go, as the machine's figures name it.
+_DISTANCE: Final = "distance_to_go"
 #: The EW code of each refusal of the program store.
 _PROGRAM_EW: Final = {
     ProgramErrorReason.FORMAT: EW.DATA,
@@ -570,15 +572,19 @@ class Path:
     def positions(self, kind: str, axis: int | None) -> list[tuple[str, int]]:
         """``(axis name, value)`` of every axis or of one: EW_ATTRIB (kind), EW_NOOPT (skip),
         EW_ATTRIB (axis). ``kind`` is read in any case, as the clients read it (ASCII only, as
-        every name typed)."""
-        need_text("position kind", kind)
+        every name typed), ``distance`` (and ``-`` for ``_``) as the command line names the
+        distance to go."""
+        given = need_text("position kind", kind)
         if kind.isascii():
-            kind = kind.strip().lower()
+            kind = kind.strip().lower().replace("-", "_")
+        kind = _DISTANCE if kind == "distance" else kind  # as the command line names it
         if kind not in POSITION_KINDS:
             if kind == _SKIP:
                 raise MachineError(EW.NOOPT, "no skip function")
-            kinds = ", ".join(POSITION_KINDS)
-            raise MachineError(EW.ATTRIB, f"position kind {kind!r}: one of {kinds}")
+            raise MachineError(
+                EW.ATTRIB,
+                f"unknown position kind {given!r} (absolute, machine, relative, distance)",
+            )
         values: list[int] = getattr(self.figures(), kind)
         if axis is not None:
             need_int("axis", axis)
