@@ -422,3 +422,25 @@ def test_the_machine_names_the_position_kinds_as_the_clients_do() -> None:
     assert refused.value.detail == (
         "unknown position kind 'abs' (absolute, machine, relative, distance)"
     )
+
+
+# -- the CNC's clock set to a date or a time of day that is none ----------------------------
+@pytest.mark.parametrize(
+    ("call", "words"),
+    [
+        (lambda m: m.set_cnc_date(2024, -1, 2), "month -1 is outside 1..12"),
+        (lambda m: m.set_cnc_date(2024, 13, 2), "month 13 is outside 1..12"),
+        (lambda m: m.set_cnc_date(2024, 1, 10**20), f"day {10**20} is outside 1..31 (2024-01)"),
+        (lambda m: m.set_cnc_date(2023, 2, 29), "day 29 is outside 1..28 (2023-02)"),
+        (lambda m: m.set_cnc_time(-1, 2, 3), "hour -1 is outside 0..23"),
+        (lambda m: m.set_cnc_time(1, 60, 3), "minute 60 is outside 0..59"),
+        (lambda m: m.set_cnc_time(1, 2, 10**20), f"second {10**20} is outside 0..59"),
+    ],
+)
+def test_the_machine_names_the_field_of_a_date_or_time_that_is_none(call: Any, words: str) -> None:
+    """``set_cnc_date(2024, -1, 2)`` said ``no date 2024--1-02`` and ``set_cnc_date(2024, 1,
+    10**20)`` ``no date 2024-01100000000000000000000``: the field and its range are named."""
+    machine = default_machine()
+    with pytest.raises(MachineError) as refused:
+        call(machine)
+    assert (refused.value.ew, refused.value.detail) == (EW.DATA, words)

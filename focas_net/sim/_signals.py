@@ -38,6 +38,7 @@ mode and of readiness, each following the machine (a part of :class:`~focas_net.
 
 from __future__ import annotations
 
+import calendar
 import math
 from collections.abc import Iterable
 from dataclasses import dataclass
@@ -45,7 +46,7 @@ from datetime import datetime, timedelta
 from typing import TYPE_CHECKING, Final
 
 from focas_net._refusals import SPINDLE_DIAGS
-from focas_net._typed import cnc_year_unfit
+from focas_net._typed import cnc_year_unfit, field_unfit
 from focas_net.errors import EW
 
 from ._base import MachineError, need_int
@@ -265,14 +266,14 @@ class SignalOperations:
         for what, value in (("year", year), ("month", month), ("day", day)):
             need_int(what, value)
         now = self._alarms.now()
-        why = cnc_year_unfit(year)
+        why = cnc_year_unfit(year) or field_unfit("month", month, 1, 12)
+        if why is None:
+            days = calendar.monthrange(year, month)[1]
+            why = field_unfit("day", day, 1, days)
+            why = None if why is None else f"{why} ({year:04d}-{month:02d})"
         if why is not None:
             raise MachineError(EW.DATA, why)
-        try:
-            wanted = now.replace(year=year, month=month, day=day)
-        except (ValueError, OverflowError):
-            raise MachineError(EW.DATA, f"no date {year:04d}-{month:02d}-{day:02d}") from None
-        self._set_clock(wanted - now)
+        self._set_clock(now.replace(year=year, month=month, day=day) - now)
 
     def set_cnc_time(self, hour: int, minute: int, second: int) -> None:
         """Set the time of day of the CNC's clock (its date stays): EW_PROT (read-only
@@ -281,8 +282,14 @@ class SignalOperations:
         for what, value in (("hour", hour), ("minute", minute), ("second", second)):
             need_int(what, value)
         now = self._alarms.now()
-        if not (0 <= hour <= 23 and 0 <= minute <= 59 and 0 <= second <= 59):
-            raise MachineError(EW.DATA, f"no time of day {hour:02d}:{minute:02d}:{second:02d}")
+        for what, value, high in (
+            ("hour", hour, 23),
+            ("minute", minute, 59),
+            ("second", second, 59),
+        ):
+            why = field_unfit(what, value, 0, high)
+            if why is not None:
+                raise MachineError(EW.DATA, why)
         self._set_clock(now.replace(hour=hour, minute=minute, second=second) - now)
 
     def _set_clock(self, by: timedelta) -> None:
