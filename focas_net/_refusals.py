@@ -18,25 +18,35 @@ from focas_net.errors import EW
 
 __all__ = [
     "AXIS_NAME_PARAM",
+    "CYCLE_START",
     "DRIVEN_AREAS",
     "FANUC_SPANS",
+    "NO_CONTROL",
     "O_LINE",
     "PARAM_GATE",
     "READ_ONLY",
+    "READ_ONLY_MACHINE",
+    "SEARCH",
     "SPINDLE_DIAGS",
     "axis_misfit",
+    "axis_past",
+    "cycle_refusal",
     "folder_refusal",
     "item_named",
     "macro_refusal",
     "mode_refusal",
     "no_item",
     "no_path",
+    "not_ready",
     "param_refusal",
     "parts_refusal",
     "path_axes",
+    "pmc_protected",
     "pmc_refusal",
+    "program_busy",
     "program_missing",
     "program_refusal",
+    "select_busy",
     "system_read_only",
 ]
 
@@ -48,8 +58,14 @@ AXIS_NAME_PARAM: Final = 1020
 SPINDLE_DIAGS: Final = frozenset(
     {400, 401, 403, 408, 410, 411, 417, 418, 425, 445, 710, 712, 1520, 1521, 4902}
 )
+#: EW_PROT of a read-only machine, in the machine's words (which every front end carries).
+READ_ONLY_MACHINE: Final = "the machine is read-only"
 #: EW_PROT of a write no setting of the CNC refuses: the server was started read-only.
-READ_ONLY: Final = "the machine is read-only (a server started with --read-only)"
+READ_ONLY: Final = f"{READ_ONLY_MACHINE} (a server started with --read-only)"
+#: EW_FUNC of a simulator control command: the server serves none.
+NO_CONTROL: Final = (
+    "the server takes no simulator control commands (a real CNC, or serve --no-control)"
+)
 #: EW_PASSWD of a parameter write: FANUC's write gate (the setting screen's PWE, in MDI mode).
 PARAM_GATE: Final = "parameter writes need MDI mode and PWE on"
 
@@ -68,6 +84,7 @@ FANUC_SPANS: Final[Mapping[int, tuple[int, int]]] = {
 _SYSTEM_READ_ONLY: Final = (
     (0, 0, "always vacant"),
     (4001, 4130, "modal information"),
+    (3011, 3012, "the CNC's clock: its date and time"),
     (5001, 5120, "position information"),
 )
 
@@ -126,6 +143,13 @@ def path_axes(axes: int) -> str:
     return f"the path has {axes} ax{'is' if axes == 1 else 'es'}"
 
 
+def axis_past(axis: int, axes: int) -> str:
+    """Why ``axis`` is none of a path of ``axes`` axes, in the words of the machine and both
+    clients (which check it before sending, as FANUC's library does): ``axis 9 is outside
+    1..3: the path has 3 axes``."""
+    return f"axis {axis} is outside 1..{axes}: {path_axes(axes)}"
+
+
 def mode_refusal(refused: str, modes: str, mode: str | None = None) -> str:
     """EW_MODE of ``refused`` (``cycle start refused``), which runs in ``modes`` (``MEM``) only,
     in ``mode``, as the machine says it (``cycle start refused: the mode is JOG, not MEM``)
@@ -136,6 +160,34 @@ def mode_refusal(refused: str, modes: str, mode: str | None = None) -> str:
         if mode
         else f"{refused}: the mode is not {modes}"
     )
+
+
+#: A cycle start the CNC refused, as the machine and every front end begin its reason.
+CYCLE_START: Final = "cycle start refused"
+
+
+def not_ready(
+    refused: str, ew: int, *, mode: str | None = None, emergency: bool | None = None
+) -> str | None:
+    """Why automatic operation did not start (``refused``: what did not, ``cycle start
+    refused``), in the machine's words: EW_MODE (the mode, ``mode``, is not MEM), EW_ALARM
+    (``emergency``: the emergency stop is on; False: an alarm is active; None, a front end
+    that cannot tell: either), EW_DATA (no main program is selected); None for another code.
+    What to type next is the front end's to add."""
+    if ew == EW.MODE:
+        return mode_refusal(refused, "MEM", mode)
+    if ew == EW.ALARM:
+        if emergency is None:
+            return f"{refused}: an alarm is active or the emergency stop is on"
+        return f"{refused}: {'the emergency stop is on' if emergency else 'an alarm is active'}"
+    if ew == EW.DATA:
+        return f"{refused}: no main program is selected"
+    return None
+
+
+def cycle_refusal(ew: int, *, mode: str | None = None, emergency: bool | None = None) -> str | None:
+    """Why the CNC answered ``ew`` to a cycle start (:func:`not_ready`)."""
+    return not_ready(CYCLE_START, ew, mode=mode, emergency=emergency)
 
 
 def no_item(kind: str, number: int | str, axis: int = 0) -> str:
@@ -156,7 +208,9 @@ def axis_misfit(kind: str, number: int | str, axis: int) -> str:
     return f"{kind} {number} is {'an' if axis == 0 else 'not an'} axis {kind}"
 
 
-def _param_range(number: int | str, value: object, axis: int, bit: str) -> str:
+def _param_range(
+    number: int | str, value: object, axis: int, bit: str, span: tuple[int, int] | None
+) -> str:
     what = item_named("parameter", number, axis)
     if bit:  # a bit written by read-modify-write: the value it makes is out of range
         return (
@@ -164,9 +218,10 @@ def _param_range(number: int | str, value: object, axis: int, bit: str) -> str:
             "outside the parameter's range"
         )
     said = f"the CNC refused {value} for {what}: outside its range"
-    span, typed = FANUC_SPANS.get(_whole(number) or -1), _whole(value)
+    span = span or FANUC_SPANS.get(_whole(number) or -1)  # the machine's, else FANUC's
+    typed = _whole(value)
     if span is not None and typed is not None and not span[0] <= typed <= span[1]:
-        said += f" {span[0]}..{span[1]}"  # FANUC's (a machine built with another names it)
+        said += f" {span[0]}..{span[1]}"
     if "." in str(value):
         said += ", or more decimals than the parameter keeps"
     if str(number).strip() == str(AXIS_NAME_PARAM):
@@ -198,18 +253,21 @@ def param_refusal(
     axis: int = 0,
     bit: str = "",
     protocol: str = "packed",
+    span: tuple[int, int] | None = None,
 ) -> str | None:
     """Why the CNC answered ``ew`` to ``cnc_wrparam`` of ``value`` (as typed or sent) for
     parameter ``number`` (``axis`` 0: no axis; ``bit``: the bit written, by
     read-modify-write, as typed), at the width of the parameter's own information, through
     ``protocol``; None for a code these words do not cover. EW_PASSWD is the CNC's gate
-    (:data:`PARAM_GATE`); what unlocks it is the front end's to add."""
+    (:data:`PARAM_GATE`); what unlocks it is the front end's to add. ``span``: the range the
+    machine itself refused the value for (a front end that has the code alone names FANUC's
+    range of the parameters the machine keeps a count or a timer in, :data:`FANUC_SPANS`)."""
     if ew == EW.NUMBER:
         return no_item("parameter", number, axis)
     if ew == EW.PASSWD:
         return PARAM_GATE
     if ew == EW.DATA:
-        return _param_range(number, value, axis, bit)
+        return _param_range(number, value, axis, bit, span)
     if ew == EW.PROT:
         return READ_ONLY
     if ew == EW.LENGTH:
@@ -225,7 +283,7 @@ def macro_refusal(ew: int, number: int | str, value: object = None) -> str | Non
     if ew == EW.PROT:
         return (
             system_read_only(number)
-            or f"#{number} is a read-only variable, or the machine is read-only"
+            or f"macro variable #{number} is read-only, or the machine is read-only"
         )
     if ew == EW.DATA and value is not None:
         if _whole(number) in _PARTS_VARIABLES:
@@ -239,6 +297,14 @@ def macro_refusal(ew: int, number: int | str, value: object = None) -> str | Non
 DRIVEN_AREAS: Final = ("X", "F")
 
 
+def pmc_protected(area: str) -> str:
+    """Why PMC area ``area`` (its letter) takes no write: ``PMC area X is write-protected (the
+    machine drives it)`` for an area the CNC drives, in the words of the machine and, with
+    what else EW_PROT may mean, of every front end that has the code alone."""
+    driven = " (the machine drives it)" if area in DRIVEN_AREAS else ""
+    return f"PMC area {area} is write-protected{driven}"
+
+
 def pmc_refusal(ew: int, area: str, first: int, last: int) -> str | None:
     """Why the CNC answered ``ew`` to ``pmc_wrpmcrng`` (or a read) of bytes ``first..last``
     of PMC area ``area`` (its letter); None for a code these words do not cover. EW_PROT is
@@ -250,10 +316,7 @@ def pmc_refusal(ew: int, area: str, first: int, last: int) -> str | None:
         return f"the CNC has no PMC area {area}"
     if ew == EW.PROT:
         if area in DRIVEN_AREAS:
-            return (
-                f"PMC area {area} is write-protected (the machine drives it), or the machine is "
-                "read-only"
-            )
+            return f"{pmc_protected(area)}, or the machine is read-only"
         return f"the machine is read-only, or its machine file write-protects PMC area {area}"
     return None
 
@@ -327,10 +390,29 @@ def program_refusal(ew: int, text: str) -> str | None:
     if ew == EW.REJECT:
         return f"{program} is already stored"
     if ew == EW.BUSY:
-        return f"{program} is being executed"
+        return program_busy(int(m[1])) if m else f"{program} is being executed"
     if ew == EW.OVRFLOW:
         return f"the program store has no room for {program}"
+    if ew == EW.PROT:
+        return READ_ONLY
     return None
+
+
+def program_busy(number: int) -> str:
+    """Why a CNC answered EW_BUSY to a call of program ``number`` (``cnc_delete``,
+    ``cnc_download``), in the store's words: ``program O0001 is being executed``."""
+    return f"program O{number:04d} is being executed"
+
+
+#: A program search (``cnc_search``) the CNC refused, as the machine and every front end begin
+#: its reason.
+SEARCH: Final = "program search refused"
+
+
+def select_busy(number: int) -> str:
+    """Why a CNC answered EW_BUSY to ``cnc_search`` of program ``number``, in the store's
+    words: ``cannot select O0002 while a program is being executed``."""
+    return f"cannot select O{number:04d} while a program is being executed"
 
 
 def program_missing(number: int) -> str:

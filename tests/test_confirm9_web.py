@@ -69,9 +69,9 @@ async def test_a_value_the_wire_carries_outside_the_range_is_the_machines_after_
         station = Station(0, served.machine)
         with pytest.raises(MachineError) as gated:
             perform(station, "write_param", {"number": 6711, "value": "1000000000"})
-        assert gated.value.detail.startswith("parameter write not enabled")
+        assert gated.value.detail.startswith("parameter writes need MDI mode and PWE on: ")
         served.machine.set_panel(int(AutMode.MDI), 1, None)
-        words = "parameter 6711: 1000000000 outside 0..999999999"
+        words = "the CNC refused 1000000000 for parameter 6711: outside its range 0..999999999"
         assert (
             page_refusal(station, "write_param", {"number": 6711, "value": "1000000000"}) == words
         )

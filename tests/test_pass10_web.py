@@ -85,7 +85,9 @@ async def test_a_value_past_a_parts_count_names_the_range_on_both() -> None:
         station = _writable(Station(0, served.machine))
         before = served.machine.read_param(6711, 0)
         page = page_refusal(station, "write_param", {"number": 6711, "value": "1000000000"})
-        assert page == "parameter 6711: 1000000000 outside 0..999999999"
+        assert page == (
+            "the CNC refused 1000000000 for parameter 6711: outside its range 0..999999999"
+        )
         line = await fails(1, "param", "set", "6711", "1000000000", *at(served))
         assert line.endswith(
             "the CNC refused 1000000000 for parameter 6711: outside its range 0..999999999"
@@ -146,7 +148,7 @@ async def test_a_read_only_variable_of_no_system_range_keeps_both_causes() -> No
     cannot tell it from a read-only machine, and says both."""
     async with serving(default_machine(read_only=True)) as served:
         line = await fails(1, "macro", "set", "100", "1", *at(served))
-        assert line.endswith("#100 is a read-only variable, or the machine is read-only")
+        assert line.endswith("macro variable #100 is read-only, or the machine is read-only")
 
 
 @pytest.mark.parametrize("protocol", ["packed", "native"])

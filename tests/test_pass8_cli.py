@@ -179,7 +179,7 @@ async def test_a_refused_value_names_its_argument(
 async def test_a_mode_that_is_none_names_mode(server: Served) -> None:
     line = await fails(EXIT_USAGE, "sim", "panel", "--mode", "2", *at(server), prefix="focas-net")
     assert line == (
-        "focas-net sim panel: error: argument --mode: unknown mode '2' (one of MDI, MEM, EDIT, "
+        "focas-net sim panel: error: argument --mode: unknown mode 2 (one of MDI, MEM, EDIT, "
         "HND, JOG, TJOG, THND, INC, REF, RMT); see focas-net sim panel --help"
     )
 

@@ -121,7 +121,10 @@ class AutMode(LabelledValue):
             mode = cls.NOSEL
         if mode is cls.NOSEL:
             modes = ", ".join(m.name for m in cls if m is not cls.NOSEL)
-            raise ValueError(f"unknown mode {value!r} (one of {modes})")
+            # a number typed as text is named as the number, as the machine names it
+            typed = value.strip() if isinstance(value, str) else ""
+            shown = typed if typed.isdigit() else repr(value)
+            raise ValueError(f"unknown mode {shown} (one of {modes})")
         return mode
 
 

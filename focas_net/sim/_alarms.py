@@ -146,7 +146,8 @@ class Alarms:
         U+00FF, or a control character: a tab, a line break, NUL...); TypeError for a number
         or a message of another type. An empty message is the one of the control's alarm table
         for an alarm a part program raises too (PS0010 ``IMPROPER G-CODE``), else empty."""
-        for what, value in (("axis_no", axis_no), ("alm_type", alm_type), ("alm_no", alm_no)):
+        # named as the clients and the command line name them
+        for what, value in (("axis", axis_no), ("alarm type", alm_type), ("alarm number", alm_no)):
             need_int(what, value)
         need_text("alarm message", msg)
         key_unfit = alarm_key_unfit(alm_type, alm_no)  # the words of every front end

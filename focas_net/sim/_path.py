@@ -27,7 +27,7 @@ from dataclasses import dataclass, replace
 from decimal import Decimal
 from typing import Final
 
-from focas_net._refusals import mode_refusal, parts_refusal
+from focas_net._refusals import SEARCH, axis_past, mode_refusal, not_ready, parts_refusal
 from focas_net._typed import override_percent, override_unfit
 from focas_net.errors import EW
 
@@ -591,10 +591,7 @@ class Path:
         if axis is None:
             return list(zip(self.axes, values, strict=True))
         if not 1 <= axis <= len(self.axes):
-            count = len(self.axes)
-            raise MachineError(
-                EW.ATTRIB, f"axis {axis} is outside 1..{count}: the path has {count} axes"
-            )
+            raise MachineError(EW.ATTRIB, axis_past(axis, len(self.axes)))
         return [(self.axes[axis - 1], values[axis - 1])]
 
     def engine_variable(self, number: int) -> Decimal | None:
@@ -618,13 +615,14 @@ class Path:
     def check_ready(self, refused: str) -> None:
         """What automatic operation needs: EW_ALARM (emergency stop, an active alarm),
         EW_MODE (not MEM); ``refused`` begins the message."""
-        p = self.panel
-        if p.emergency:
-            raise MachineError(EW.ALARM, f"{refused}: emergency stop")
-        if self.alarms.on(self.number):
-            raise MachineError(EW.ALARM, f"{refused}: an alarm is active")
-        if p.mode != MEM:
-            raise MachineError(EW.MODE, mode_refusal(refused, "MEM", mode_name(p.mode)))
+        p, ew = self.panel, None
+        if p.emergency or self.alarms.on(self.number):
+            ew = EW.ALARM
+        elif p.mode != MEM:
+            ew = EW.MODE
+        if ew is not None:
+            why = not_ready(refused, ew, mode=mode_name(p.mode), emergency=bool(p.emergency))
+            raise MachineError(ew, why or refused)
 
     def cycle_start(self, repeat: bool | None) -> None:
         self.sync()
@@ -751,7 +749,7 @@ class Path:
         self.sync()
         if self.panel.mode not in (MEM, EDIT):
             mode = mode_name(self.panel.mode)
-            raise MachineError(EW.MODE, mode_refusal("program search refused", "MEM or EDIT", mode))
+            raise MachineError(EW.MODE, mode_refusal(SEARCH, "MEM or EDIT", mode))
         try:
             self.engine.select_program(number)
         except ProgramError as exc:

@@ -21,7 +21,7 @@ from dataclasses import dataclass
 from typing import TYPE_CHECKING, Final
 
 from focas_net._address import shown
-from focas_net._refusals import no_item, no_path, path_axes
+from focas_net._refusals import axis_misfit, axis_past, no_item, no_path
 from focas_net.errors import EW
 
 from ._base import MachineError, need_int
@@ -194,14 +194,13 @@ class PathItems:
             raise MachineError(EW.NUMBER, no_item(what, datano))
         if item.axis:
             if axis > self.axes:  # as a position's axis past the path's is worded
-                why = f"axis {axis} is outside 1..{self.axes}: {path_axes(self.axes)}"
-                raise MachineError(EW.ATTRIB, why)
+                raise MachineError(EW.ATTRIB, axis_past(axis, self.axes))
             if axis < 1:
-                why = f"{what} {datano} is an axis {what}: give an axis 1..{self.axes}, got {axis}"
+                why = f"{axis_misfit(what, datano, 0)}: give an axis 1..{self.axes}, got {axis}"
                 raise MachineError(EW.ATTRIB, why)
             return item, self.offset + axis - 1
         if axis != 0:
-            why = f"{what} {datano} is not an axis {what}: give axis 0, got {axis}"
+            why = f"{axis_misfit(what, datano, axis)}: give axis 0, got {axis}"
             raise MachineError(EW.ATTRIB, why)
         return item, 0
 

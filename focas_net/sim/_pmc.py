@@ -11,6 +11,7 @@ from collections.abc import Iterable, Mapping
 from dataclasses import dataclass, field
 from typing import Final
 
+from focas_net._refusals import pmc_protected
 from focas_net._typed import pmc_count_unfit
 from focas_net.errors import EW
 
@@ -219,7 +220,7 @@ class Pmc:
         if start < 0 or end > area.size:
             raise area.beyond(start, end)
         if area.write_protected and not force:
-            raise MachineError(EW.PROT, f"PMC area {area.letter} is write-protected")
+            raise MachineError(EW.PROT, pmc_protected(area.letter))
         before = bytes(area.data[start:end])
         area.data[start:end] = data
         self.counters.pmc += 1

@@ -14,6 +14,7 @@ import math
 from collections import deque
 from typing import TYPE_CHECKING, Final
 
+from focas_net._refusals import not_ready
 from focas_net.errors import EW
 
 from ._alarms import MAX_ALARM_TEXT, nc_alarm
@@ -183,7 +184,7 @@ class Production:
             refused += f" on path {path.number}"
         path.check_ready(refused)
         if path.programs.main is None:
-            raise MachineError(EW.DATA, f"{refused}: no main program is selected")
+            raise MachineError(EW.DATA, not_ready(refused, EW.DATA) or refused)
 
     def start(self, scenario: Scenario, *, settle: bool = True) -> float:
         """Run ``scenario`` from its phase ago, the cycle rewound first: EW_ALARM, EW_MODE (as

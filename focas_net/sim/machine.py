@@ -100,7 +100,13 @@ from collections.abc import Iterable, Mapping, Sequence
 from dataclasses import astuple, replace
 from decimal import Decimal
 
-from focas_net._refusals import no_item
+from focas_net._refusals import (
+    PARAM_GATE,
+    READ_ONLY_MACHINE,
+    no_item,
+    param_refusal,
+    system_read_only,
+)
 from focas_net.errors import EW
 from focas_net.versamax import IOModuleRecord
 
@@ -472,7 +478,7 @@ class Machine(
     def check_writable(self) -> None:
         """EW_PROT when the machine is read-only: the first check of every write."""
         if self.read_only:
-            raise MachineError(EW.PROT, "read-only machine")
+            raise MachineError(EW.PROT, READ_ONLY_MACHINE)
 
     # -- sessions, status, identity ------------------------------------------------------
     def new_session(self) -> Session:
@@ -621,10 +627,13 @@ class Machine(
             raise MachineError(EW.LENGTH, f"parameter {datano} is {n_bytes(item.width)} wide")
         closed = self.param_gate_closed(session, path=path)
         if closed is not None:
-            raise MachineError(EW.PASSWD, f"parameter write not enabled: {closed}")
+            raise MachineError(EW.PASSWD, f"{PARAM_GATE}: {closed}")
         value = items.rescaled(item, value, decimals)
         check_rename(datano, value, self.axes[i])
-        items.set(item, i, value, "parameter")
+        try:
+            items.set(item, i, value, "parameter")
+        except MachineError as exc:  # its range: in the words every front end gives
+            raise MachineError(EW.DATA, self._range_refusal(item, axis, value)) from exc
         if datano in TIMER_PARAMS:
             self._write_timer_param(datano, value, path)
         if datano in (PARTS_COUNT, PARTS_TOTAL):
@@ -632,6 +641,14 @@ class Machine(
         elif datano in SETTING_PARAMS:
             for each in self._paths:  # from the next block, as a control applies them
                 each.take_settings()
+
+    @staticmethod
+    def _range_refusal(item: DataItem, axis: int, value: int) -> str:
+        """Why parameter ``item`` of ``axis`` does not take ``value`` (in its terms)."""
+        assert item.low is not None and item.high is not None
+        shown = Decimal(value).scaleb(-item.decimals) if item.kind is ParamKind.REAL else value
+        span = (item.low, item.high)
+        return param_refusal(EW.DATA, item.number, shown, axis=axis, span=span) or ""
 
     def set_diag(self, datano: int, axis: int, value: int, *, path: int = 1) -> None:
         """Change a diagnostic value (simulation code; a CNC has no diagnostic write):
@@ -677,7 +694,7 @@ class Machine(
         self.check_writable()
         p = self._paths.at(path)
         if number in CLOCK_VARIABLES:
-            raise MachineError(EW.PROT, f"macro variable #{number} is read-only (the clock)")
+            raise MachineError(EW.PROT, system_read_only(number) or READ_ONLY_MACHINE)
         self._macros.check_write(number)
         if number in PARTS_VARIABLES:
             p.write_parts(number, value)
