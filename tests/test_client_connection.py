@@ -329,7 +329,10 @@ async def test_a_refusal_of_the_type_ask_is_the_writes(
     peer.answer = no_parameter
     with pytest.raises(CncError) as info:
         await client.write_param(9999, 1)
-    assert (info.value.ew, info.value.detail) == (EW.NUMBER, "cnc_wrparam")
+    assert (info.value.ew, info.value.detail) == (
+        EW.NUMBER,
+        "cnc_wrparam: the CNC has no parameter 9999",
+    )
     assert _sent_since(peer, 0) == [(RDPARAINFO, 9999)]
 
 

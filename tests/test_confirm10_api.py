@@ -13,6 +13,7 @@ import pytest
 from support import with_both_clients
 
 from focas_net import EW, ChunkedWriteError, CncError, FocasClient, NativeClient, default_machine
+from focas_net._refusals import axis_past
 from focas_net.sim import Machine, MachineError, PathSpec
 from focas_net.sim.default import _diags, _params
 from focas_net.sim.nc import ManualClock
@@ -81,13 +82,14 @@ async def test_an_axis_past_the_paths_is_refused_alike_before_the_number(
     both_clients: Both, call: Call
 ) -> None:
     """``read_param(9999, axis=9)`` was EW_NUMBER on the packed transport and EW_ATTRIB
-    (``axis 9 of 3``) on the native one, where FANUC's library checks the axis first."""
+    (``axis 9 is outside 1..3``) on the native one, where FANUC's library checks the axis
+    first."""
     _, cnc, native = both_clients
     for client in (cnc, native):
         with pytest.raises(CncError) as refused:
             await call(client)
         assert refused.value.ew == EW.ATTRIB, (type(client).__name__, refused.value)
-        assert str(refused.value).endswith("axis 9 of 3"), str(refused.value)
+        assert str(refused.value).endswith(axis_past(9, 3)), str(refused.value)
 
 
 def test_the_machine_keeps_the_packed_contracts_order_number_first() -> None:
@@ -107,7 +109,7 @@ async def test_a_spindle_diagnostic_takes_every_spindle_of_the_path(spindle: int
     """The machine answers a spindle diagnostic by spindle: the packed client reads all
     three spindles of a path of two axes. The native client does what FANUC's library does
     with a per-axis argument, checks it against the path's axes before sending: spindle 3
-    of that path is EW_ATTRIB ``axis 3 of 2`` there."""
+    of that path is EW_ATTRIB ``axis 3 is outside 1..2`` there."""
     async with with_both_clients(_spindle_lathe()) as (_, cnc, native):
         assert await cnc.read_diag(410, axis=spindle) == 0
         if spindle <= 2:
@@ -115,7 +117,7 @@ async def test_a_spindle_diagnostic_takes_every_spindle_of_the_path(spindle: int
         else:
             with pytest.raises(CncError) as refused:
                 await native.read_diag(410, axis=spindle)
-            assert str(refused.value).endswith("cnc_diagnoss: axis 3 of 2"), refused.value
+            assert str(refused.value).endswith(f"cnc_diagnoss: {axis_past(3, 2)}"), refused.value
 
 
 async def test_a_spindle_past_the_paths_is_named_as_a_spindle_by_the_packed_client() -> None:
@@ -123,7 +125,7 @@ async def test_a_spindle_past_the_paths_is_named_as_a_spindle_by_the_packed_clie
         with pytest.raises(CncError) as refused:
             await cnc.read_diag(410, axis=4)
         assert refused.value.ew == EW.ATTRIB
-        assert "axis 4 of 2" not in str(refused.value), str(refused.value)
+        assert axis_past(4, 2) not in str(refused.value), str(refused.value)
 
 
 def test_the_protocol_docs_say_which_comes_first() -> None:

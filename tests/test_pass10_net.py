@@ -81,7 +81,10 @@ async def test_a_write_of_a_parameter_the_cnc_lacks_is_its_ew_number_whatever_th
     for client in (cnc, native):
         with pytest.raises(CncError) as caught:
             await client.write_param(9999, value, width=width)
-        assert (caught.value.ew, caught.value.detail) == (EW.NUMBER, "cnc_wrparam")
+        assert (caught.value.ew, caught.value.detail) == (
+            EW.NUMBER,
+            "cnc_wrparam: the CNC has no parameter 9999",
+        )
 
 
 # -- a TLS or HTTP client on a plain port ------------------------------------------------------

@@ -26,6 +26,7 @@ from focas_net import (
     default_machine,
     load_machine,
 )
+from focas_net._refusals import axis_past
 from focas_net.client._locks import KeyedLocks
 from focas_net.protocol import alarm_code, alarm_type_of, encode_ew, ew_of_text
 from focas_net.server import ListenError
@@ -420,9 +421,9 @@ async def test_an_axis_beyond_the_path_is_named_with_the_count_on_both_clients(
             await call(client)
         assert refused.value.ew == EW.ATTRIB
         details.append(refused.value.detail)
-    assert all(d.endswith(": axis 9 of 3") for d in details), details
+    assert all(d.endswith(f": {axis_past(9, 3)}") for d in details), details
     # (both name FANUC's function: the packed cnc_rddiag's refusal is cnc_diagnoss's too)
-    assert details[0] == details[1] == f"{function}: axis 9 of 3"
+    assert details[0] == details[1] == f"{function}: {axis_past(9, 3)}"
 
 
 async def test_an_axis_given_to_an_item_of_no_axis_stays_as_the_cnc_answered(
@@ -443,7 +444,7 @@ async def test_a_path_of_two_axes_counts_its_own(tmp_path: Path) -> None:
             with pytest.raises(CncError) as refused:
                 await cnc.read_positions(axis=3, path=2)
             assert len((await cnc.read_positions(axis=2, path=2)).values) == 1
-    assert refused.value.detail == "cnc_rdposition: axis 3 of 2"
+    assert refused.value.detail == f"cnc_rdposition: {axis_past(3, 2)}"
 
 
 # -- the machine's sessions, messages, positions and macro words -------------------------------

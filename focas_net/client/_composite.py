@@ -23,8 +23,8 @@ from collections.abc import AsyncIterator, Awaitable, Callable, Sequence
 from contextlib import asynccontextmanager
 from decimal import Decimal
 
-from focas_net._refusals import pmc_refusal
-from focas_net.errors import ChunkedWriteError, CncError
+from focas_net._refusals import axis_misfit, macro_refusal, param_refusal, pmc_refusal
+from focas_net.errors import EW, ChunkedWriteError, CncError
 
 from .._typed import typed_number
 from ..protocol import ParamValue, PmcArea
@@ -46,6 +46,8 @@ __all__ = [
     "ChunkOutcome",
     "CompositeCalls",
     "chunked_write_error",
+    "macro_named",
+    "param_named",
     "pmc_named",
     "pmc_named_error",
     "write_chunked",
@@ -135,10 +137,7 @@ def pmc_named_error(exc: Exception, area: PmcArea, start: int, count: int) -> Ex
     code only."""
     if not isinstance(exc, CncError):
         return exc
-    why = pmc_refusal(exc.ew, area.name, start, start + count - 1)
-    if why is None:
-        return exc
-    return CncError.from_ew(exc.ew, f"{exc.detail}: {why}")
+    return with_reason(exc, pmc_refusal(exc.ew, area.name, start, start + count - 1))
 
 
 @asynccontextmanager
@@ -155,8 +154,47 @@ async def pmc_named(area: PmcArea, start: int, count: int) -> AsyncIterator[None
         raise named from None
 
 
+def with_reason(exc: CncError, why: str | None) -> CncError:
+    """``exc`` told with ``why``, the machine's reason, after its call (the answer carries
+    the code only); ``exc`` itself when there is none, or when its words say why already (a
+    check of the client's own, made before or after the call)."""
+    if why is None or ": " in exc.detail:
+        return exc
+    return CncError.from_ew(exc.ew, f"{exc.detail}: {why}")
+
+
+@asynccontextmanager
+async def param_named(
+    number: int, value: object, axis: int, protocol: str, bit: str = ""
+) -> AsyncIterator[None]:
+    """A refusal of a write of ``value`` to parameter ``number`` (``axis``; ``bit``: the bit
+    written by read-modify-write) through ``protocol``, told with the machine's reason in the
+    words of every front end (``the CNC has no parameter 1``): the answer carries the code
+    only."""
+    try:
+        yield
+    except CncError as exc:
+        why = param_refusal(exc.ew, number, value, axis=axis, bit=bit, protocol=protocol)
+        if exc.ew == EW.ATTRIB:  # (an axis past the path's is the client's own check)
+            why = axis_misfit("parameter", number, axis)
+        raise with_reason(exc, why) from None
+
+
+@asynccontextmanager
+async def macro_named(number: int, value: object) -> AsyncIterator[None]:
+    """A refusal of a write of ``value`` to macro variable ``#number``, told with the
+    machine's reason in the words of every front end: the answer carries the code only."""
+    try:
+        yield
+    except CncError as exc:
+        raise with_reason(exc, macro_refusal(exc.ew, number, value)) from None
+
+
 class CompositeCalls(Lifecycle):
     """The calls written once over a transport's primitives (see the module docstring)."""
+
+    #: The transport, as a refusal's reason names it (``packed`` or ``native``).
+    _transport = "packed"
 
     def _init_composite(self) -> None:
         #: The width of each parameter read or written (the transport's to fill).
@@ -323,7 +361,8 @@ class CompositeCalls(Lifecycle):
         elif isinstance(value, Decimal) and not value.is_finite():
             raise ValueError(not_finite(number, value))
         p = self._path_of(path)
-        await self._write_param(number, value, axis, width, self._deadline(timeout), p)
+        async with param_named(number, value, axis, self._transport):
+            await self._write_param(number, value, axis, width, self._deadline(timeout), p)
 
     async def write_param_bit(
         self,
@@ -359,7 +398,8 @@ class CompositeCalls(Lifecycle):
             bits = 8 * width
             raw = current.value & ((1 << bits) - 1)
             raw = raw | (1 << bit) if on else raw & ~(1 << bit)
-            await self._write_param_bits(number, axis, raw, width, deadline, p)
+            async with param_named(number, int(on), axis, self._transport, str(bit)):
+                await self._write_param_bits(number, axis, raw, width, deadline, p)
 
     # -- PMC -------------------------------------------------------------------------------
     async def read_pmc(

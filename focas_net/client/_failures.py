@@ -23,9 +23,9 @@ import ssl as _ssl
 from typing import Final
 
 from focas_net._address import address_text
-from focas_net._refusals import no_path
+from focas_net._refusals import NO_CONTROL, READ_ONLY, axis_past, no_path
 from focas_net._tls import alert_text, peer_alert, ssl_error_text, wants_client_certificate
-from focas_net._typed import os_reason
+from focas_net._typed import WRONG_PASSWORD, os_reason
 from focas_net.errors import (
     EW,
     CncError,
@@ -35,6 +35,7 @@ from focas_net.errors import (
     PayloadError,
     ProtocolError,
 )
+from focas_net.protocol import Command
 from focas_net.protocol.codecs import COMMANDS
 from focas_net.protocol.frame import DEFAULT_MAX_FRAME, is_tls_record
 
@@ -44,7 +45,9 @@ __all__ = [
     "NEVER_SENT",
     "NOTHING_RECEIVED",
     "WANTS_CERTIFICATE",
+    "axis_refusal",
     "closed_error",
+    "code_reason",
     "command_text",
     "connect_error",
     "connect_reason",
@@ -75,6 +78,23 @@ def command_text(command: int) -> str:
     ``sim_set_pmc (0x0E04)``; an id the protocol does not have by its id alone."""
     spec = COMMANDS.get(command)
     return f"0x{command:04X}" if spec is None else f"{spec.focas_name} (0x{command:04X})"
+
+
+def code_reason(command: int, ew: int) -> str | None:
+    """Why a packed ``command`` was answered ``ew``, where the code alone tells it, in the
+    words of the machine and the command line: EW_PASSWD of ``cnc_wrunlockparam`` (the
+    password is not the CNC's); of a simulator control command (0x0Exx), EW_FUNC (the server
+    serves no control commands) and EW_PROT (the machine is read-only; a vacated macro
+    variable's is its own); None for another command or code."""
+    if command == Command.WRUNLOCKPARAM and ew == EW.PASSWD:
+        return WRONG_PASSWORD
+    if not 0x0E00 <= command <= 0x0EFF:
+        return None
+    if ew == EW.FUNC:
+        return NO_CONTROL
+    if ew == EW.PROT and command != Command.SIM_VACATE_MACRO:
+        return READ_ONLY
+    return None
 
 
 def native_call_text(function: str, command: int) -> str:
@@ -192,6 +212,13 @@ def path_refusal(function: str, path: int, paths: int) -> CncError:
     have, in the words of both clients, the machine and the command line: ``cnc_statinfo: the
     CNC has no path 3: it has path 1 only``."""
     return CncError.from_ew(EW.PATH, f"{function}: {no_path(path, paths)}")
+
+
+def axis_refusal(function: str, axis: int, axes: int) -> CncError:
+    """EW_ATTRIB of a call of ``function`` for ``axis``, past the ``axes`` of the path, in the
+    words of both clients (which check it before sending, as FANUC's library does) and the
+    machine: ``cnc_wrparam: axis 9 is outside 1..3: the path has 3 axes``."""
+    return CncError.from_ew(EW.ATTRIB, f"{function}: {axis_past(axis, axes)}")
 
 
 def no_answer_error(call: str, peer: str | None, sent: bool = True) -> FocasTimeoutError:

@@ -41,7 +41,13 @@ from ..protocol import (
 )
 from ..protocol import Command as C
 from ._composite import CompositeCalls
-from ._failures import command_text, echo_error, path_refusal, undecodable_error
+from ._failures import (
+    code_reason,
+    command_text,
+    echo_error,
+    path_refusal,
+    undecodable_error,
+)
 from ._values import an_int, check_int
 from .connection import MAX_IN_FLIGHT, Connection, NotSentError, _Pending, open_connection
 from .reconnect import ClientState, ReconnectPolicy, StateCallback
@@ -477,7 +483,8 @@ class Link(CompositeCalls):
         if echoed is not None:
             raise echoed
         if retried or not self._retries_after_unlock(spec, ew):
-            raise CncError.from_ew(ew, spec.function)
+            why = code_reason(spec.command, ew)  # (the code alone tells it)
+            raise CncError.from_ew(ew, spec.function + (f": {why}" if why else ""))
 
     def _retries_after_unlock(self, spec: CommandSpec, ew: int) -> bool:
         """Whether a call of ``spec`` answered ``ew`` is unlocked and sent once more."""

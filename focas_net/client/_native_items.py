@@ -151,6 +151,8 @@ def signed(raw: int, width: int) -> int:
 class NativeItems(NativeLink):
     """Parameters and diagnostics over FOCAS/2 (see the module docstring)."""
 
+    _transport = "native"
+
     def _init_items(self) -> None:
         #: The type word (0 bit .. 4 real) of each parameter read or written.
         self._param_types: dict[int, int] = {}

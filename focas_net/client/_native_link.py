@@ -37,7 +37,6 @@ from typing import Any, Final
 from focas_net._address import address_text
 from focas_net._typed import os_reason
 from focas_net.errors import (
-    EW,
     CncError,
     FocasConnectionError,
     FocasError,
@@ -76,6 +75,7 @@ from ._composite import CompositeCalls
 from ._failures import (
     ECHOED,
     NEVER_SENT,
+    axis_refusal,
     connect_error,
     lost_error,
     native_call_text,
@@ -343,7 +343,7 @@ def check_axis_of(handle: Handle, axis: int, function: str, path: int = 1) -> No
     check_path_of(handle, path, function)
     axes = handle.axes_on(path)
     if axis > axes:
-        raise CncError.from_ew(EW.ATTRIB, f"{function}: axis {axis} of {axes}")
+        raise axis_refusal(function, axis, axes)
 
 
 def _abort(channels: list[Channel]) -> None:

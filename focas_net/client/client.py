@@ -31,7 +31,16 @@ from contextlib import asynccontextmanager
 from decimal import Decimal
 from typing import Any, Final, TypeVar
 
-from focas_net._refusals import SPINDLE_DIAGS, program_missing, program_refusal
+from focas_net._refusals import (
+    READ_ONLY,
+    SEARCH,
+    SPINDLE_DIAGS,
+    mode_refusal,
+    program_busy,
+    program_missing,
+    program_refusal,
+    select_busy,
+)
 from focas_net.errors import EW, CncError, FocasError, PayloadError
 
 from ..protocol import (
@@ -77,7 +86,8 @@ from ..protocol import (
 )
 from ..protocol import Command as C
 from ..versamax import IOModuleRecord
-from ._composite import ChunkOutcome
+from ._composite import ChunkOutcome, macro_named, with_reason
+from ._failures import axis_refusal
 from ._link import UNLOCK_AND_RETRY, Link
 from ._pmc import read_pmc_range, write_pmc_chunks
 from ._started import StartedCall
@@ -101,7 +111,7 @@ from ._values import (
 )
 from .connection import NotSentError
 from .reconnect import ReconnectPolicy, StateCallback
-from .sim_control import SimControl
+from .sim_control import SimControl, mode_of
 
 __all__ = ["FocasClient"]
 
@@ -172,15 +182,23 @@ def _integral(number: int, value: int | Decimal | str) -> bool:
 
 
 @asynccontextmanager
-async def _program_named(number: int) -> AsyncIterator[None]:
-    """EW_NUMBER of a call of program ``number`` named as the store names it (``no program
-    O1234``): the packed answer carries the code only."""
+async def _program_named(
+    number: int, busy: Callable[[int], str] | None = None
+) -> AsyncIterator[None]:
+    """A refusal of a call of program ``number`` told as the store tells it (EW_NUMBER: ``no
+    program O1234``; EW_BUSY: ``busy(number)``; EW_PROT: a read-only machine): the packed
+    answer carries the code only."""
     try:
         yield
     except CncError as exc:
-        if exc.ew != EW.NUMBER:
-            raise
-        raise CncError.from_ew(exc.ew, f"{exc.detail}: {program_missing(number)}") from None
+        why = None
+        if exc.ew == EW.NUMBER:
+            why = program_missing(number)
+        elif exc.ew == EW.BUSY and busy is not None:
+            why = busy(number)
+        elif exc.ew == EW.PROT:
+            why = READ_ONLY
+        raise with_reason(exc, why) from None
 
 
 class FocasClient(Link):
@@ -377,7 +395,7 @@ class FocasClient(Link):
         count = await self._axis_count(path, deadline)
         if count is None or axis <= count:
             return None
-        return CncError.from_ew(EW.ATTRIB, f"{function}: axis {axis} of {count}")
+        return axis_refusal(function, axis, count)
 
     async def _read_param_value(
         self, number: int, axis: int, deadline: float | None, path: int
@@ -554,7 +572,8 @@ class FocasClient(Link):
         mcr_val, dec_val = macro_write(number, value)
         p = self._path_of(path)
         payload = _WRMACRO.request.encode(MacroValue(number, 8, mcr_val, dec_val))
-        await self._request(_WRMACRO, payload, timeout, p)
+        async with macro_named(number, value):
+            await self._request(_WRMACRO, payload, timeout, p)
 
     # -- PMC -----------------------------------------------------------------------------
     async def _read_pmc(
@@ -690,19 +709,36 @@ class FocasClient(Link):
         check_int("program number", number, 0, I32_MAX)
         p = self._path_of(path)
         payload = _DELPROGRAM.request.encode(ProgramNumber(number))
-        async with _program_named(number):
+        async with _program_named(number, program_busy):
             await self._request(_DELPROGRAM, payload, timeout, p)
 
     async def select_program(
         self, number: int, *, path: int | None = None, timeout: float | None = None
     ) -> None:
         """``cnc_search``: make ``number`` the main program (EW_NUMBER: none; EW_MODE: not MEM
-        or EDIT; EW_BUSY: another program is executing)."""
+        or EDIT, the mode read after the refusal; EW_BUSY: another program is executing)."""
         check_int("program number", number, 0, I32_MAX)
         p = self._path_of(path)
+        deadline = self._deadline(timeout)
         payload = _SELPROGRAM.request.encode(ProgramNumber(number))
-        async with _program_named(number):
-            await self._request(_SELPROGRAM, payload, timeout, p)
+        try:
+            async with _program_named(number, select_busy):
+                await self._request_at(_SELPROGRAM, payload, deadline, path=p)
+        except CncError as exc:
+            if exc.ew != EW.MODE:
+                raise
+            status = await self._status_now(p, deadline)
+            mode = None if status is None else mode_of(status)
+            raise with_reason(exc, mode_refusal(SEARCH, "MEM or EDIT", mode)) from None
+
+    async def _status_now(self, path: int, deadline: float | None) -> StatusInfo | None:
+        """``path``'s status, read within ``deadline`` for the reason of a refusal the answer
+        tells by its code alone (the mode, the emergency stop); None when it cannot be read."""
+        try:
+            status: StatusInfo = await self._request_at(_RDCNCSTAT, _EMPTY, deadline, path=path)
+        except FocasError:
+            return None
+        return status
 
     @_awaitable
     def read_run_info(

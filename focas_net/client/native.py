@@ -70,7 +70,7 @@ from ..protocol import (
     StatusInfo,
     SysInfo,
 )
-from ._composite import ChunkOutcome
+from ._composite import ChunkOutcome, macro_named
 from ._native_clock import NativeClock
 from ._native_files import NativeFiles
 from ._native_info import NativeInfo
@@ -574,8 +574,9 @@ class NativeClient(
         deadline = self._deadline(timeout)
         handle = self._handle_now() or await self._handle_for(deadline)
         call = calls.cnc_wrmacro(handle.command_set, number, mcr_val, dec_val)
-        (block,) = await self._exchange(handle, call, deadline, 0, p)
-        block_data(block, "cnc_wrmacro")
+        async with macro_named(number, value):
+            (block,) = await self._exchange(handle, call, deadline, 0, p)
+            block_data(block, "cnc_wrmacro")
 
     # -- PMC -----------------------------------------------------------------------------
     def _pmc_area(self, area: AreaLike) -> PmcArea:

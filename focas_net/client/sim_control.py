@@ -8,7 +8,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 from typing import TYPE_CHECKING, Final
 
-from .._refusals import parts_refusal, system_read_only
+from .._refusals import cycle_refusal, parts_refusal, system_read_only
 from .._typed import alarm_axis_unfit, override_percent, override_unfit
 from ..errors import EW, CncError
 from ..protocol import (
@@ -27,11 +27,13 @@ from ..protocol import (
     PmcArea,
     RaiseAlarm,
     SetPanel,
+    StatusInfo,
     VacateMacro,
     alarm_message,
 )
 from ..protocol import Command as C
 from ..protocol.faults import fault_refusal, scope_refusal
+from ._composite import with_reason
 from ._pmc import write_pmc_range
 from ._values import (
     AreaLike,
@@ -45,12 +47,18 @@ from ._values import (
 if TYPE_CHECKING:
     from .client import FocasClient
 
-__all__ = ["PanelSwitches", "SimControl"]
+__all__ = ["PanelSwitches", "SimControl", "mode_of"]
 
 _UNCHANGED: Final = -1
 #: The macro variables of the parts count and the total parts, which always hold a number.
 _PARTS_VARIABLES: Final = (3901, 3902)
 _I16_MAX: Final = 0x7FFF
+
+
+def mode_of(status: StatusInfo) -> str | None:
+    """The name of the mode of ``status`` (``EDIT``), as the machine names it; None for a
+    number no mode has."""
+    return AutMode(status.aut).name if status.aut in AutMode._value2member_map_ else None
 
 
 @dataclass(frozen=True, slots=True)
@@ -84,6 +92,8 @@ _INJECT_FAULT: Final = COMMANDS[C.SIM_INJECT_FAULT]
 _LIST_FAULTS: Final = COMMANDS[C.SIM_LIST_FAULTS]
 _CLEAR_FAULTS: Final = COMMANDS[C.SIM_CLEAR_FAULTS]
 _VACATE_MACRO: Final = COMMANDS[C.SIM_VACATE_MACRO]
+#: The refusals of a cycle start whose reason the status tells.
+_TOLD: Final = (EW.MODE, EW.ALARM)
 
 
 class SimControl:
@@ -218,8 +228,24 @@ class SimControl:
     async def cycle_start(self, *, path: int | None = None, timeout: float | None = None) -> None:
         """Cycle start (0x0E20): run the main program, continue it, or resume after a feed
         hold. EW_MODE outside MEM, EW_ALARM with an alarm or emergency stop (reset first),
-        EW_DATA without a main program."""
-        await self._cycle(CycleAction.START, path, timeout)
+        EW_DATA without a main program: raised with the machine's reason (the mode, or
+        whether the emergency stop is on, read from the status after the refusal)."""
+        client = self._client
+        p, deadline = client._path_of(path), client._deadline(timeout)
+        payload = _CYCLE.request.encode(CycleControl(CycleAction.START))
+        try:
+            await client._request_at(_CYCLE, payload, deadline, path=p)
+        except CncError as exc:
+            raise with_reason(exc, await self._not_started(exc.ew, p, deadline)) from None
+
+    async def _not_started(self, ew: int, path: int, deadline: float | None) -> str | None:
+        """Why a cycle start of ``path`` was answered ``ew``, in the machine's words: the
+        packed answer carries the code only, so the status is read (within the call's
+        deadline) for the mode or the emergency stop; without it, what the code alone says."""
+        status = await self._client._status_now(path, deadline) if ew in _TOLD else None
+        if status is None:
+            return cycle_refusal(ew)
+        return cycle_refusal(ew, mode=mode_of(status), emergency=bool(status.emergency))
 
     async def feed_hold(self, *, path: int | None = None, timeout: float | None = None) -> None:
         """Feed hold (0x0E20): the axes stop where they are; cycle start resumes."""
