@@ -1,6 +1,6 @@
 """A refusal at the command line says why, in the machine's words: the EW code the wire carries,
 then the reason the command's family gives for it with what to do (``; cycle start refused:
-the mode is not MEM (focas-net sim panel --mode MEM)``), on both transports where the command
+the mode is MDI, not MEM (focas-net sim panel --mode MEM)``), on both transports where the command
 runs on both. ``unlock`` says whether the CNC has a password at all.
 
 Each case runs ``focas-net`` as a subprocess against a server this test started on 127.0.0.1
@@ -112,7 +112,11 @@ async def test_cycle_start_and_parameter_ranges_in_mdi() -> None:
         await refusals(
             served,
             [
-                (("sim", "cycle", "start"), "MODE", "cycle start refused: the mode is not MEM"),
+                (
+                    ("sim", "cycle", "start"),
+                    "MODE",
+                    "cycle start refused: the mode is MDI, not MEM",
+                ),
                 (
                     ("param", "set", "1420", "1000000000", "--axis", "1"),
                     "DATA",
@@ -131,7 +135,7 @@ async def test_cycle_start_with_an_alarm_and_without_a_main_program() -> None:
 
     start = ("sim", "cycle", "start")
     async with served_as(alarm) as served:
-        await refusals(served, [(start, "ALARM", "an alarm is active or the emergency stop")])
+        await refusals(served, [(start, "ALARM", "cycle start refused: an alarm is active")])
     async with served_as(no_main) as served:
         await refusals(served, [(start, "DATA", "no main program is selected")])
 

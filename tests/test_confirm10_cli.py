@@ -155,7 +155,7 @@ async def test_a_refused_diagnostic_read_names_cnc_diagnoss_on_both_transports()
         ]
     for line in lines:
         assert line.startswith("focas-net: EW_ATTRIB (4): data attribute"), lines
-        assert "(cnc_diagnoss: axis 9 of 3)" in line, lines
+        assert "(cnc_diagnoss: axis 9 is outside 1..3: the path has 3 axes)" in line, lines
 
 
 async def test_a_refused_status_read_names_cnc_statinfo() -> None:

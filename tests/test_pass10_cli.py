@@ -164,11 +164,11 @@ async def test_an_axis_beyond_the_path_is_refused_alike_on_both_transports(
     command: str, number: str
 ) -> None:
     """``param get 9999 --axis 9`` on a machine of 3 axes answered EW_NUMBER over the
-    packed protocol and EW_ATTRIB (``axis 9 of 3``) over FOCAS/2, whose client checks the
+    packed protocol and EW_ATTRIB (``axis 9 is outside 1..3``) over FOCAS/2, whose client checks the
     axis before sending: the machine checks an axis beyond the path's first too."""
     argv = (command, "get", number) if command == "param" else (command, number)
     async with serving() as served:
         lines = [await fails(EXIT_CNC, *argv, "--axis", "9", *at(served), *p) for p in PROTOCOLS]
     for line in lines:  # (both name the diagnostic read cnc_diagnoss)
         assert line.startswith("focas-net: EW_ATTRIB (4)"), lines
-        assert line.endswith(": axis 9 of 3); the path has 3 axes: give --axis 1..3"), lines
+        assert line.endswith(": axis 9 is outside 1..3: the path has 3 axes); give --axis 1..3")

@@ -243,7 +243,8 @@ async def test_a_write_of_a_parameter_the_cnc_has_not_names_the_write_over_both_
             async with client:
                 with pytest.raises(CncError) as refused:
                     await client.write_param(32000, 5)
-                assert refused.value.ew == EW.NUMBER and refused.value.detail == "cnc_wrparam"
+                assert refused.value.ew == EW.NUMBER
+                assert refused.value.detail == "cnc_wrparam: the CNC has no parameter 32000"
     assert (
         said["packed"]
         == said["native"]

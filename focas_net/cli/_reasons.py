@@ -15,15 +15,21 @@ from pathlib import Path
 from typing import Final
 
 from focas_net._refusals import (
+    NO_CONTROL,
     O_LINE,
     PARAM_GATE,
     READ_ONLY,
+    SEARCH,
+    cycle_refusal,
     item_named,
     macro_refusal,
     mode_refusal,
     no_path,
     param_refusal,
     pmc_refusal,
+    program_busy,
+    program_refusal,
+    select_busy,
 )
 from focas_net._typed import WRONG_PASSWORD
 from focas_net.errors import EW, CncError
@@ -45,7 +51,7 @@ def _read_only(args: argparse.Namespace) -> str:
 
 
 def _no_control(args: argparse.Namespace) -> str:
-    return "the server takes no simulator control commands (a real CNC, or serve --no-control)"
+    return NO_CONTROL
 
 
 def _item(kind: str, args: argparse.Namespace) -> str:
@@ -210,18 +216,41 @@ def _pmc_forced(args: argparse.Namespace, exc: CncError) -> str | None:
 # -- part programs and the cycle --------------------------------------------------------------
 
 
+def _loaded_text(args: argparse.Namespace) -> str:
+    """The text of the file of ``program load`` (none when it cannot be read again)."""
+    try:
+        return Path(args.target).read_text("ascii", errors="replace")
+    except OSError:
+        return ""
+
+
 def _loaded(args: argparse.Namespace) -> str:
     """``O1000``, the program of the file of ``program load``, or ``the program``."""
-    try:
-        m = O_LINE.match(Path(args.target).read_text("ascii", errors="replace"))
-    except OSError:
-        m = None
+    m = O_LINE.match(_loaded_text(args))
     return f"O{int(m[1]):04d}" if m else "the program"
 
 
-def _target(args: argparse.Namespace) -> str:
+def _number(args: argparse.Namespace) -> int | None:
+    """The program number the command named (``O1000`` or ``1000``), None for another text."""
     text = str(args.target).strip().upper().removeprefix("O")
-    return f"O{int(text):04d}" if text.isdigit() else str(args.target)
+    return int(text) if text.isdigit() else None
+
+
+def _program_busy(args: argparse.Namespace) -> str:
+    number = _number(args)
+    return program_busy(number) if number is not None else f"{args.target} is being executed"
+
+
+def _selected_busy(args: argparse.Namespace) -> str:
+    number = _number(args)
+    return select_busy(number) if number is not None else "a program is being executed"
+
+
+def _searched(args: argparse.Namespace, exc: CncError) -> str:
+    """EW_MODE of ``program select``: the client's words of the machine's reason (the mode,
+    read after the refusal), else what the code alone says, with what to do."""
+    said = exc.detail.partition(": ")[2] or mode_refusal(SEARCH, "MEM or EDIT")
+    return f"{said} ({_next(args, 'sim panel --mode MEM')})"
 
 
 def _store_reason(args: argparse.Namespace) -> str | None:
@@ -259,11 +288,13 @@ def _reset_first(args: argparse.Namespace) -> str:
 
 
 _PROGRAM_LOAD: Final[Table] = {
-    EW.REJECT: lambda a: f"{_loaded(a)} is already stored: give --replace to replace it",
+    EW.REJECT: lambda a: (
+        f"{program_refusal(EW.REJECT, _loaded_text(a))}: give --replace to replace it"
+    ),
     EW.DATA: _not_one_program,
     EW.NUMBER: _beyond_the_store,
     EW.OVRFLOW: lambda a: f"the program store is full ({_next(a, 'program delete N')} makes room)",
-    EW.BUSY: lambda a: f"{_loaded(a)} is being executed {_reset_first(a)}",
+    EW.BUSY: lambda a: f"{program_refusal(EW.BUSY, _loaded_text(a))} {_reset_first(a)}",
     EW.PROT: _read_only,
 }
 
@@ -278,33 +309,36 @@ def _no_program(args: argparse.Namespace) -> str:
 
 _PROGRAM_SELECT: Final[Table] = {
     EW.NUMBER: _no_program,
-    EW.MODE: lambda a: (
-        f"{mode_refusal('program search refused', 'MEM or EDIT')} "
-        f"({_next(a, 'sim panel --mode MEM')})"
-    ),
-    EW.BUSY: lambda a: f"a program is being executed {_reset_first(a)}",
+    EW.BUSY: lambda a: f"{_selected_busy(a)} {_reset_first(a)}",
     EW.PROT: _read_only,
 }
 _PROGRAM_DELETE: Final[Table] = {
     EW.NUMBER: _no_program,
-    EW.BUSY: lambda a: f"{_target(a)} is being executed {_reset_first(a)}",
+    EW.BUSY: lambda a: f"{_program_busy(a)} {_reset_first(a)}",
     EW.PROT: _read_only,
 }
 _SIM: Final[Table] = {EW.FUNC: _no_control, EW.PROT: _read_only}
-_CYCLE_START: Final[Table] = {
-    **_SIM,
-    EW.MODE: lambda a: (
-        f"{mode_refusal('cycle start refused', 'MEM')} ({_next(a, 'sim panel --mode MEM')})"
-    ),
+#: What to do about a cycle start refused, by EW code.
+_CYCLE_ADVICE: Final[Table] = {
+    EW.MODE: lambda a: _next(a, "sim panel --mode MEM"),
     EW.ALARM: lambda a: (
-        "cycle start refused: an alarm is active or the emergency stop is on "
-        f"({_next(a, 'alarms')} lists them; {_next(a, 'sim clear')} or sim cycle reset{_on(a)} "
-        f"clears them, sim panel --emergency off{_on(a)} releases the stop)"
+        f"{_next(a, 'alarms')} lists them; {_next(a, 'sim clear')} or sim cycle reset{_on(a)} "
+        f"clears them, sim panel --emergency off{_on(a)} releases the stop"
     ),
-    EW.DATA: lambda a: (
-        f"cycle start refused: no main program is selected ({_next(a, 'program select N')})"
-    ),
+    EW.DATA: lambda a: _next(a, "program select N"),
 }
+
+
+def _cycle_start(args: argparse.Namespace, exc: CncError) -> str | None:
+    """Why a cycle start was refused, in the client's words of the machine's reason (the mode,
+    or whether the emergency stop is on, which it read after the refusal), else in what the
+    code alone says, with what to do."""
+    advice = _CYCLE_ADVICE.get(exc.ew)
+    said = exc.detail.partition(": ")[2] or cycle_refusal(exc.ew)
+    return None if advice is None or said is None else f"{said} ({advice(args)})"
+
+
+_CYCLE_START: Final[Table] = {**_SIM}
 
 
 # -- the simulator's alarms and faults, VersaMax, the password ----------------------------------
@@ -368,6 +402,8 @@ _BY_REFUSAL: Final[
     ("param set", EW.PASSWD): _param_password,
     ("param set", EW.LENGTH): _param_length,
     ("pmc write", EW.FUNC): _pmc_forced,
+    **{("sim cycle start", ew): _cycle_start for ew in _CYCLE_ADVICE},
+    ("program select", EW.MODE): _searched,
 }
 
 
@@ -375,6 +411,8 @@ _BY_REFUSAL: Final[
 #: with the store's rules, what to run next): theirs replace the client's words.
 _OWN_WORDS: Final = frozenset(
     {
+        "param set",
+        "macro set",
         "program load",
         "program select",
         "program delete",
@@ -383,15 +421,18 @@ _OWN_WORDS: Final = frozenset(
         "pmc write",
         "pmc bit",
         "macro clear",
+        "sim cycle start",
     }
 )
 
 
-def as_said(command: str, exc: CncError) -> CncError:
-    """``exc`` as the command line shows it next to :func:`reason`'s words: of a command
-    whose reason replaces the client's (:data:`_OWN_WORDS`), the code and the call alone
-    (``cnc_download``), so that a reason is said once."""
-    if command not in _OWN_WORDS:
+def as_said(command: str, exc: CncError, hint: str = "") -> CncError:
+    """``exc`` as the command line shows it next to :func:`reason`'s words, ``hint``: of a
+    command whose reason replaces the client's (:data:`_OWN_WORDS`), or one whose reason
+    holds the client's words of it, the code and the call alone (``cnc_download``), so that a
+    reason is said once."""
+    said = exc.detail.partition(": ")[2]
+    if command not in _OWN_WORDS and not (said and said in hint):
         return exc
     return CncError.from_ew(exc.ew, exc.detail.partition(": ")[0])
 

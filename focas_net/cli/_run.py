@@ -415,7 +415,7 @@ def _failure_text(args: argparse.Namespace, exc: BaseException, hint: str | None
     if hint is None and isinstance(exc, CncError):
         hint = reason(command_name(args), args, exc)
         if hint is not None:
-            exc = as_said(command_name(args), exc)  # (its reason said once: the hint's)
+            exc = as_said(command_name(args), exc, hint)  # (its reason said once: the hint's)
     text = fmt.error_line(exc)
     if isinstance(exc, ValueError):  # a number the command read, named as typed
         text = typed_lead(text, args)

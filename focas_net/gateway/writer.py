@@ -21,9 +21,9 @@ from typing import Final
 from focas_net._refusals import (
     PARAM_GATE,
     axis_misfit,
+    axis_past,
     macro_refusal,
     param_refusal,
-    path_axes,
 )
 from focas_net.client import ClientState, FocasClient, NativeClient
 from focas_net.client._values import check_int
@@ -106,7 +106,13 @@ async def _said(write: Awaitable[None], why: Callable[[int], str | None]) -> Non
         said = _PARAM_GATE if said == PARAM_GATE else said
         if said is None:
             raise
-        raise CncError.from_ew(exc.ew, f"{exc.detail}; {said}" if exc.detail else said) from exc
+        call = _call(exc)  # (the client's words of the reason, said once: the gateway's)
+        raise CncError.from_ew(exc.ew, f"{call}; {said}" if call else said) from exc
+
+
+def _call(exc: CncError) -> str:
+    """The call a client's refusal names, without the reason its words give after it."""
+    return exc.detail.partition(": ")[0]
 
 
 async def _axis_said(
@@ -120,11 +126,11 @@ async def _axis_said(
     except FocasError:
         return exc
     if axis > axes:
-        said = f"{path_axes(axes)}: give Axis 1..{axes}"
+        said = f"{axis_past(axis, axes)}: give Axis 1..{axes}"
     else:
         give = f"give Axis 1..{axes}" if axis == 0 else "give Axis 0"
         said = f"{axis_misfit('parameter', number, axis)}: {give}"
-    return CncError.from_ew(exc.ew, f"{exc.detail}; {said}")
+    return CncError.from_ew(exc.ew, f"{_call(exc)}; {said}")
 
 
 #: The deadline of a write while the client is not connected: its checks of the values run,
