@@ -128,7 +128,7 @@ async def test_a_parameter_written_with_an_axis_past_the_paths_says_which_to_giv
             await writer.write_param("m1", 1420, 5000, 9)
     exc = refused.value
     assert exc.ew == EW.ATTRIB
-    assert str(exc).endswith("; the path has 3 axes: give Axis 1..3"), exc
+    assert str(exc).endswith("; axis 9 is outside 1..3: the path has 3 axes: give Axis 1..3"), exc
 
 
 # -- the emergency stop: one rule for the gateway's boolean and the page's tile ---------------

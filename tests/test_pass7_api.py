@@ -193,14 +193,20 @@ def test_set_clock_of_no_clock_is_a_type_error(clock: Any) -> None:
         machine.set_clock(clock)
 
 
-@pytest.mark.parametrize("field", ["axis_no", "alm_type", "alm_no"])
+@pytest.mark.parametrize(
+    ("field", "named"),
+    [("axis_no", "axis"), ("alm_type", "alarm type"), ("alm_no", "alarm number")],
+)
 @pytest.mark.parametrize("value", [1.5, True, "3", None])
-def test_machine_raise_alarm_refuses_a_number_of_another_type(field: str, value: Any) -> None:
+def test_machine_raise_alarm_refuses_a_number_of_another_type(
+    field: str, named: str, value: Any
+) -> None:
+    """Named as the clients and the command line name the field."""
     machine = default_machine(sim_clock=ManualClock())
     args: dict[str, Any] = {"axis_no": 0, "alm_type": 3, "alm_no": 100}
     args[field] = value
     before = machine.state_digest()
-    with pytest.raises(TypeError, match=rf"{field} must be an integer, got {value!r}"):
+    with pytest.raises(TypeError, match=rf"{named} must be an integer, got {value!r}"):
         machine.raise_alarm(args["axis_no"], args["alm_type"], args["alm_no"], "X")
     assert machine.state_digest() == before
     assert machine.active_alarms() == []

@@ -117,9 +117,12 @@ async def axis_hint(cnc: CncClient, exc: CncError, kind: str, number: int, axis:
         return exc
     axes = await _axis_count(cnc)
     if axis > axes:
-        return HintedError(exc, _axes_text(axes))
+        return HintedError(exc, _axes_text(axes, told=path_axes(axes) in str(exc)))
     give = f"give --axis 1..{axes}" if axis == 0 else "leave out --axis"
-    return HintedError(exc, f"{axis_misfit(kind, number, axis)}: {give}")
+    said = axis_misfit(kind, number, axis)
+    if said in exc.detail:  # (the client's words of it: said once, the hint's)
+        exc = CncError.from_ew(exc.ew, exc.detail.partition(": ")[0])
+    return HintedError(exc, f"{said}: {give}")
 
 
 async def axis_past(cnc: CncClient, exc: CncError, axis: int | None, also: str = "") -> FocasError:

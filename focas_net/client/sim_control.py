@@ -47,7 +47,7 @@ from ._values import (
 if TYPE_CHECKING:
     from .client import FocasClient
 
-__all__ = ["PanelSwitches", "SimControl", "mode_of"]
+__all__ = ["PanelSwitches", "SimControl"]
 
 _UNCHANGED: Final = -1
 #: The macro variables of the parts count and the total parts, which always hold a number.
