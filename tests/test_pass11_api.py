@@ -22,6 +22,7 @@ from focas_net import (
     NativeClient,
     default_machine,
 )
+from focas_net._refusals import axis_past
 from focas_net._typed import pmc_count_unfit
 from focas_net.client import AlarmProjection
 from focas_net.client._values import history_depth
@@ -399,7 +400,7 @@ async def test_a_work_offset_of_an_axis_the_path_has_not_is_named_before_sending
     with pytest.raises(CncError) as refused:
         await call(native)
     assert refused.value.ew == EW.ATTRIB
-    assert refused.value.detail == f"{function}: axis 4 of 3"
+    assert refused.value.detail == f"{function}: {axis_past(4, 3)}"
     assert machine.state_digest() == before
 
 
