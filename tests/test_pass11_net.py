@@ -299,3 +299,15 @@ async def test_a_drop_fault_over_tls_is_named_a_drop_not_a_client_certificate(
         "focas-net sim fault drop), or as a server does with a request longer than it takes "
         "(focas-net serve --max-frame)"
     )
+
+
+async def test_the_gateway_at_a_server_of_one_connection_asks_for_the_packed_protocol() -> None:
+    """FOCAS/2 takes two connections: the advice names the file's key, not `--protocol`."""
+    async with serving(max_connections=1) as served:
+        why = await _gateway_reason(served.port, "native")
+    assert why.startswith(f"closed: connection closed by 127.0.0.1:{served.port} before any answer")
+    assert why.endswith(
+        "FOCAS/2's open, which takes two: a server with one connection free refuses the second "
+        "(focas-net serve --max-connections 1, or other clients holding the others); give "
+        'protocol = "packed", or free a connection or raise the limit'
+    )
