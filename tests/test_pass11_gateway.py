@@ -20,6 +20,8 @@ from support import free_port, reset_at_close, serving, wait_until
 from focas_net._refusals import no_path
 from focas_net.cli._format import sysinfo_rows
 from focas_net.client import ClientState, FocasClient, NativeClient
+from focas_net.client._failures import BEFORE_ANY_ANSWER
+from focas_net.client._probes import GATEWAY, diagnosed
 from focas_net.errors import FocasConnectionError
 from focas_net.gateway import ConfigError, MachineConfig, MqttSettings, WriteGates, parse_config
 from focas_net.gateway.mqtt import MqttSink
@@ -226,3 +228,24 @@ async def test_a_write_to_a_machine_being_reconnected_is_refused_at_once_with_wh
         await client.aclose()
     assert str(caught.value).startswith(f"m1: not connected to 127.0.0.1:{served.port} (")
     assert str(caught.value).endswith("): nothing was written")
+
+
+# -- the probes of a port that said nothing stay out of the log ---------------------------------
+async def test_the_probes_of_a_port_that_closed_say_nothing_in_the_log(
+    caplog: pytest.LogCaptureFixture,
+) -> None:
+    """At a port that closes every connection (an MQTT broker's, for one) each attempt's
+    probe logged `connection to HOST:PORT lost: ...` at WARNING, and `connected`, `closed` at
+    INFO, for a machine the gateway never reached: only the poller's words are told."""
+
+    async def closing(reader: asyncio.StreamReader, writer: asyncio.StreamWriter) -> None:
+        await reader.read(4096)
+        writer.close()
+
+    server = await asyncio.start_server(closing, "127.0.0.1", 0)
+    async with server:
+        port = server.sockets[0].getsockname()[1]
+        exc = FocasConnectionError(f"connection closed by 127.0.0.1:{port} {BEFORE_ANY_ANSWER}")
+        caplog.set_level(logging.INFO, "focas_net")
+        await diagnosed(exc, "127.0.0.1", port, "native", False, 2.0, wording=GATEWAY)
+    assert [r.getMessage() for r in caplog.records if r.name.startswith("focas_net.client")] == []

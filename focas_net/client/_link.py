@@ -199,7 +199,7 @@ class Link(CompositeCalls):
                     conn.close()
                     await conn.wait_closed()
                     raise
-                logger.warning("%s: unlock after reconnect refused: %s", self.address, exc)
+                self._logger.warning("%s: unlock after reconnect refused: %s", self.address, exc)
             except BaseException:
                 conn.close()
                 raise
@@ -219,14 +219,16 @@ class Link(CompositeCalls):
         if conn.violation is not None:
             # Not a lost connection: the peer is not a FOCAS server, and connecting again
             # would meet the same peer. The reconnect policy does not apply.
-            logger.warning("%s; not reconnecting", conn.violation)
+            self._logger.warning("%s; not reconnecting", conn.violation)
             self._violation = conn.violation
             self._set_state(ClientState.DISCONNECTED)
             return
         if self._policy is None:
             # (the words its calls get, as the FOCAS/2 client logs them)
             self._lost_why = conn.end or exc
-            logger.warning("connection to %s lost: %s", self.address, self._lost_why or "closed")
+            self._logger.warning(
+                "connection to %s lost: %s", self.address, self._lost_why or "closed"
+            )
             self._set_state(ClientState.DISCONNECTED)
             return
         self._reconnecting(conn.end or exc)
@@ -254,16 +256,18 @@ class Link(CompositeCalls):
             return False
         except ProtocolError as exc:
             if isinstance(exc, PayloadError):  # an unlock answer that does not decode
-                logger.warning(
+                self._logger.warning(
                     "reconnect attempt %d to %s: %s", attempt, self.address, os_reason(exc)
                 )
                 return False
-            logger.warning("%s; not reconnecting", exc)  # not a FOCAS server
+            self._logger.warning("%s; not reconnecting", exc)  # not a FOCAS server
             self._violation = exc
             self._set_state(ClientState.DISCONNECTED)
             return True
         except Exception as exc:  # e.g. an unlock answer that does not decode
-            logger.warning("reconnect attempt %d to %s: %s", attempt, self.address, os_reason(exc))
+            self._logger.warning(
+                "reconnect attempt %d to %s: %s", attempt, self.address, os_reason(exc)
+            )
             return False
         if conn.closed:
             return False

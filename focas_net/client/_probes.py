@@ -30,6 +30,7 @@ from __future__ import annotations
 
 import asyncio
 import contextlib
+import logging
 import ssl
 from collections.abc import Awaitable
 from dataclasses import dataclass
@@ -204,13 +205,24 @@ async def _speaks_tls(host: str, port: int) -> bool:
     return True
 
 
+class _ProbeClient(FocasClient):
+    """The packed probe's client: its connections are the probe's, not the caller's, and are
+    never told in the log (a gateway at WARNING would say a machine never reached was lost,
+    at INFO that it connected)."""
+
+    _logger = logging.getLogger("focas_net.client.probe")
+
+
+_ProbeClient._logger.setLevel(logging.CRITICAL + 1)
+
+
 async def _answers_packed(host: str, port: int, bound: float, tls: bool = False) -> bool:
     """A packed request is answered (over TLS with ``tls``, no certificate checked): the
     listing of this connection's own faults, a control command, whose answer a fault armed
     on the server never replaces nor counts (a probe must not take the fault meant for the
     caller's next call); an EW code answers too (a real CNC, ``serve --no-control``)."""
     context = _any_certificate() if tls else None
-    async with FocasClient(host, port, timeout=bound, ssl=context) as client:
+    async with _ProbeClient(host, port, timeout=bound, ssl=context) as client:
         try:
             await client.sim.list_faults(FaultScope.CONNECTION)
         except CncError:
