@@ -147,6 +147,16 @@ CASES: Final[Mapping[str, Case]] = {
         gateway=lambda g: g.write_param("m1", 6711, 5, 0),
         setup=lambda m: m.set_panel(0, 0, 0),
     ),
+    "param-password-locked": Case(
+        f"{PARAM_GATE}: the parameter password is not unlocked on this connection",
+        _session_write(6711, 5),
+        lambda c: c.write_param(6711, 5),
+        page=("write_param", {"number": 6711, "value": 5}),
+        cli=("param", "set", "6711", "5"),
+        gateway=lambda g: g.write_param("m1", 6711, 5, 0),
+        setup=_mdi_pwe,
+        build=lambda: default_machine(param_password="1234"),
+    ),
     "param-no-such": Case(
         no_item("parameter", 1),
         _session_write(1, 5),
@@ -154,6 +164,13 @@ CASES: Final[Mapping[str, Case]] = {
         page=("write_param", {"number": 1, "value": 5}),
         cli=("param", "set", "1", "5"),
         gateway=lambda g: g.write_param("m1", 1, 5, 0),
+        setup=_mdi_pwe,
+    ),
+    "param-width-not-its-own": Case(
+        "parameter 6711 is 4 bytes wide",
+        lambda m: m.write_param(m.new_session(), 6711, 0, 5, width=2),
+        lambda c: c.write_param(6711, 5, width=2),
+        cli=("param", "set", "6711", "5", "--width", "2"),
         setup=_mdi_pwe,
     ),
     "param-axis-past-the-path": Case(
@@ -215,6 +232,14 @@ CASES: Final[Mapping[str, Case]] = {
         page=("write_macro", {"number": 3901, "value": -1}),
         cli=("macro", "set", "3901", "-1"),
         gateway=lambda g: g.write_macro("m1", 3901, Decimal(-1), 1),
+    ),
+    "macro-parts-vacated": Case(
+        parts_refusal(3901, None),
+        lambda m: m.write_macro(3901, None),
+        lambda c: c.sim.vacate_macro(3901),
+        native=False,
+        page=("write_macro", {"number": 3901, "value": None}),
+        cli=("macro", "clear", "3901"),
     ),
     "macro-path-missing": Case(
         no_path(3, 1),
@@ -549,7 +574,8 @@ _GATE_UNTOLD: Final = (
 #: Front ends that offer a case's action but cannot know its reason, with why, and the words
 #: they say instead (from the same source).
 CANNOT_KNOW: Final[Mapping[tuple[str, str], tuple[str, str]]] = {
-    ("param-pwe-off", front): (_GATE_UNTOLD, PARAM_GATE)
+    (case, front): (_GATE_UNTOLD, PARAM_GATE)
+    for case in ("param-pwe-off", "param-password-locked")
     for front in ("packed", "native", "cli", "gateway-packed", "gateway-native")
 }
 

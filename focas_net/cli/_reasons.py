@@ -100,10 +100,14 @@ def _param_password(args: argparse.Namespace, exc: CncError) -> str | None:
 
 
 def _param_length(args: argparse.Namespace, exc: CncError) -> str | None:
-    """EW_LENGTH of a parameter write without ``--width``: the CNC refused the width the
-    client sent, the width of the parameter's own information."""
+    """EW_LENGTH of a parameter write: with ``--width``, the client's words of the width the
+    parameter has (``parameter 6711 is 4 bytes wide, not 2``, as the machine says it) and
+    what to do; without, the CNC refused the width the client sent, the width of the
+    parameter's own information."""
     if getattr(args, "width", None) is not None:
-        return None
+        said = exc.detail.partition(": ")[2]
+        said = said or f"parameter {args.number} is not {args.width} bytes wide"
+        return f"{said}: leave out --width (the CNC's own width is used)"
     return _param_refusal(args, EW.LENGTH)
 
 
@@ -131,10 +135,6 @@ _PARAM: Final[Table] = {
     EW.PASSWD: _param_gate,
     EW.DATA: lambda a: _param_refusal(a, EW.DATA),
     EW.PROT: _read_only,
-    EW.LENGTH: lambda a: (
-        f"parameter {a.number} is not {a.width} bytes wide: leave out --width (the CNC's "
-        "own width is used)"
-    ),
 }
 _DIAG: Final[Table] = {EW.NUMBER: lambda a: f"the CNC has no {_item('diagnostic', a)}"}
 #: ``macro get``'s (``cnc_rdmacro``: no value to name, and no simulator control command).
