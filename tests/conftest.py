@@ -9,8 +9,9 @@ from __future__ import annotations
 
 import asyncio
 import shutil
+import signal
 import subprocess
-from collections.abc import AsyncIterator
+from collections.abc import AsyncIterator, Iterator
 from pathlib import Path
 from typing import Any
 
@@ -20,6 +21,7 @@ from hypothesis import settings
 from peers import ScriptedPeer
 from support import Served, Wire, serving, with_both_clients
 
+from focas_net.cli import _signals
 from focas_net.client import FocasClient, NativeClient
 from focas_net.sim import Machine, default_machine
 from focas_net.sim.nc import ManualClock
@@ -102,3 +104,17 @@ def certificate(tmp_path_factory: pytest.TempPathFactory) -> tuple[Path, Path]:
 def recorder(monkeypatch: pytest.MonkeyPatch) -> Recorder:
     """The request bodies the native adapters answer during the test, in order."""
     return record_requests(monkeypatch)
+
+
+@pytest.fixture
+def signals_restored() -> Iterator[None]:
+    """The test process's handlers as they were, and the module's record of a signal
+    cleared, whatever the test did to them."""
+    saved = {n: signal.getsignal(n) for n in _signals.SIGNALS}
+    try:
+        yield
+    finally:
+        _signals._told.clear()
+        _signals._stops.clear()
+        for number, handler in saved.items():
+            signal.signal(number, handler)

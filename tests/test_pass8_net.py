@@ -18,7 +18,6 @@ import asyncio
 import os
 import signal
 import sys
-from collections.abc import Iterator
 from pathlib import Path
 from typing import Final
 
@@ -35,20 +34,6 @@ from focas_net.sim import default_machine
 
 #: Upper bound of a subprocess's start (an interpreter and the package imported) and end.
 PROCESS_TIMEOUT: Final = 30.0
-
-
-@pytest.fixture
-def signals_restored() -> Iterator[None]:
-    """The test process's handlers as they were, and the module's record of a signal
-    cleared, whatever the test did to them."""
-    saved = {n: signal.getsignal(n) for n in _signals.SIGNALS}
-    try:
-        yield
-    finally:
-        _signals._told.clear()
-        _signals._stops.clear()
-        for number, handler in saved.items():
-            signal.signal(number, handler)
 
 
 @pytest.mark.usefixtures("signals_restored")

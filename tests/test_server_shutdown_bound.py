@@ -27,20 +27,6 @@ WAKE_BOUND: Final = 5.0
 
 
 @pytest.fixture
-def signals_restored() -> Iterator[None]:
-    """The test process's handlers as they were, and the module's record of a signal
-    cleared, whatever the test did to them."""
-    saved = {n: signal.getsignal(n) for n in _signals.SIGNALS}
-    try:
-        yield
-    finally:
-        _signals._told.clear()
-        _signals._stops.clear()
-        for number, handler in saved.items():
-            signal.signal(number, handler)
-
-
-@pytest.fixture
 def other_thread() -> Iterator[int]:
     """The id of a thread of this process that waits (for the signal the test sends it)."""
     done = threading.Event()
