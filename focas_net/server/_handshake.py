@@ -5,8 +5,11 @@ TLS port left nothing in the server's log. Here each socket accepted on such a p
 :class:`TlsHandshake`: it stops reading at once (the TLS layer reads first) and a task runs
 ``loop.start_tls`` with the connection the port's factory made, which is made (admitted) only
 once the handshake is done. A failed handshake is logged in words, naming what the client was
-when OpenSSL can tell (a plain client, an HTTP one). The tasks are held by the listener, one
-per handshake under way, each bounded by the handshake timeout, and cancelled at shutdown.
+when OpenSSL can tell (a plain client, an HTTP one). The listener holds the handshakes under
+way (:class:`Handshakes`), each bounded by the handshake timeout; at shutdown each is ended,
+its task cancelled and its socket closed, and a socket accepted as the shutdown began is
+closed as its handshake would begin: no socket is left open that no connection holds (on
+Python 3.12 and later, asyncio's server waits for every socket it accepted to close).
 """
 
 from __future__ import annotations
@@ -21,7 +24,7 @@ from focas_net._tls import ssl_error_text
 
 from ._base import peer_text
 
-__all__ = ["HANDSHAKE_TIMEOUT", "TlsHandshake", "handshake_failure", "tls_factory"]
+__all__ = ["HANDSHAKE_TIMEOUT", "Handshakes", "TlsHandshake", "handshake_failure", "tls_factory"]
 
 _log = logging.getLogger("focas_net.server")
 
@@ -60,6 +63,35 @@ def handshake_failure(exc: BaseException) -> tuple[int, str]:
     return logging.DEBUG, "it closed the connection during the TLS handshake"
 
 
+class Handshakes:
+    """The TLS handshakes under way on one port. Once :meth:`close` is called (the port
+    shuts down) each is ended, and one that would begin later is refused."""
+
+    __slots__ = ("_open", "_under_way")
+
+    def __init__(self) -> None:
+        self._under_way: set[TlsHandshake] = set()
+        self._open = True
+
+    def __len__(self) -> int:
+        return len(self._under_way)
+
+    def begin(self, handshake: TlsHandshake) -> bool:
+        """Hold ``handshake`` until it ends; False once the port shuts down."""
+        if self._open:
+            self._under_way.add(handshake)
+        return self._open
+
+    def end(self, handshake: TlsHandshake) -> None:
+        self._under_way.discard(handshake)
+
+    def close(self) -> None:
+        """End every handshake under way, and refuse any later one."""
+        self._open = False
+        for handshake in list(self._under_way):
+            handshake.abort()
+
+
 class TlsHandshake(asyncio.Protocol):
     """A socket accepted on a port that serves TLS, until its handshake is done: then
     ``connection`` (the port's own protocol) is made on the TLS transport.
@@ -74,11 +106,13 @@ class TlsHandshake(asyncio.Protocol):
         "_connection",
         "_context",
         "_eof",
+        "_handshakes",
         "_held",
         "_label",
         "_lost",
         "_raw",
-        "_tasks",
+        "_socket",
+        "_task",
     )
 
     def __init__(
@@ -86,24 +120,42 @@ class TlsHandshake(asyncio.Protocol):
         connection: asyncio.BaseProtocol,
         context: _ssl.SSLContext,
         label: str,
-        tasks: set[asyncio.Task[None]],
+        handshakes: Handshakes,
     ) -> None:
         self._connection = connection
         self._context = context
         self._label = label
-        self._tasks = tasks
+        self._handshakes = handshakes
         self._raw: asyncio.Transport | None = None  # (until the TLS layer is in place)
+        #: The accepted socket's transport, until the connection holds it.
+        self._socket: asyncio.Transport | None = None
+        self._task: asyncio.Task[None] | None = None
         self._held: list[bytes] = []
         self._eof = False
         self._lost = False
 
     def connection_made(self, transport: asyncio.BaseTransport) -> None:
         # uvloop's transports do not subclass asyncio.Transport, but have its methods
-        raw = self._raw = cast(asyncio.Transport, transport)
+        raw = cast(asyncio.Transport, transport)
+        if not self._handshakes.begin(self):  # accepted as the port shut down
+            raw.abort()
+            return
+        self._raw = self._socket = raw
         raw.pause_reading()  # not a byte before the TLS layer reads
-        task = asyncio.get_running_loop().create_task(self._handshake(raw))
-        self._tasks.add(task)
-        task.add_done_callback(self._tasks.discard)
+        task = self._task = asyncio.get_running_loop().create_task(self._handshake(raw))
+        task.add_done_callback(self._ended)
+
+    def _ended(self, task: asyncio.Task[None]) -> None:
+        self._handshakes.end(self)
+
+    def abort(self) -> None:
+        """End the handshake (the port shuts down): its task cancelled, and its socket closed
+        unless a connection holds it already (a task cancelled before it began never would)."""
+        if self._task is not None:
+            self._task.cancel()
+        raw, self._socket = self._socket, None
+        if raw is not None:
+            raw.abort()
 
     def data_received(self, data: bytes) -> None:
         self._held.append(data)
@@ -147,6 +199,7 @@ class TlsHandshake(asyncio.Protocol):
             _log.log(level, "%s: closing the connection from %s: %s", self._label, peer, why)
             raw.close()
             return
+        self._socket = None  # the TLS layer holds it, then the connection
         if self._lost or tls is None:
             return
         connection = cast(asyncio.Protocol, self._connection)  # (its data_received too)
@@ -163,8 +216,8 @@ def tls_factory(
     factory: Callable[[], asyncio.BaseProtocol],
     context: _ssl.SSLContext,
     label: str,
-    tasks: set[asyncio.Task[None]],
+    handshakes: Handshakes,
 ) -> Callable[[], TlsHandshake]:
     """The protocol factory of a port serving TLS with ``context`` over ``factory``'s
-    connections (``label``: the port's name in the log)."""
-    return lambda: TlsHandshake(factory(), context, label, tasks)
+    connections (``label``: the port's name in the log; ``handshakes``: the port's)."""
+    return lambda: TlsHandshake(factory(), context, label, handshakes)

@@ -53,7 +53,7 @@ from ._base import (
     peer_text,
 )
 from ._durable import Keeper
-from ._handshake import tls_factory
+from ._handshake import Handshakes, tls_factory
 from ._native import NativeConnection, NativeFront
 from ._options import (
     check_distinct_ports,
@@ -89,6 +89,9 @@ DEFAULT_IDLE_TIMEOUT: Final = 300.0
 #: Seconds a graceful shutdown waits for delayed answers and unsent output.
 DEFAULT_GRACE_PERIOD: Final = 5.0
 
+#: Seconds the shutdown waits, once every connection is closed, for asyncio's server to say
+#: every socket it accepted is closed (on Python 3.12 and later it waits for them).
+_UNBIND_BOUND: Final = 1.0
 #: The idle timeout is checked this many times per timeout period.
 _SWEEPS_PER_TIMEOUT: Final = 4
 _MAGIC_SIZE: Final = len(MAGIC)
@@ -193,7 +196,7 @@ class Listener:
         self.native_violations = 0
         self._aserver: asyncio.Server | None = None
         #: The TLS handshakes under way (a port serving TLS: :mod:`._handshake`).
-        self._handshakes: set[asyncio.Task[None]] = set()
+        self._handshakes = Handshakes()
         # The close callbacks, one per protocol, shared by every connection of this listener.
         self._packed_done = _Done(self, native=False)
         self._native_done = _Done(self, native=True)
@@ -628,15 +631,30 @@ class FocasServer:
         aserver = listener._aserver
         if aserver is not None:
             aserver.close()
-        for handshake in listener._handshakes:
-            handshake.cancel()
+        listener._handshakes.close()
 
     @staticmethod
     async def _wait_unbound(listener: Listener) -> None:
+        """Wait for ``listener``'s asyncio server to be closed, by a deadline. From Python
+        3.12 on it waits for every socket it accepted to close: the connections are closed
+        (or aborted) by now, and so are the TLS handshakes; a socket nothing of the shell
+        holds any more is aborted (Python 3.13's ``abort_clients``), and one left still does
+        not hold the shutdown past :data:`_UNBIND_BOUND` seconds."""
         aserver = listener._aserver
-        if aserver is not None:
-            listener._aserver = None
+        if aserver is None:
+            return
+        listener._aserver = None
+        abort_clients: Callable[[], None] | None = getattr(aserver, "abort_clients", None)
+        if abort_clients is not None:
+            abort_clients()
+        with anyio.move_on_after(_UNBIND_BOUND) as scope:
             await aserver.wait_closed()
+        if scope.cancelled_caught:
+            _log.warning(
+                "%s: a socket it accepted was still open %g s after its connections closed",
+                listener._log_label,
+                _UNBIND_BOUND,
+            )
 
     async def serve_forever(self) -> None:
         """Wait until cancelled (the ``async with`` exit then shuts down gracefully)."""
