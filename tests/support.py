@@ -27,6 +27,7 @@ from focas_net.sim.nc import Engine, ManualClock
 
 __all__ = [
     "IO_TIMEOUT",
+    "REAL_FILE",
     "SERVE_READY",
     "Served",
     "Wire",
@@ -40,6 +41,33 @@ __all__ = [
 
 #: Upper bound of any single wait on the network in a test (a hang fails, it never blocks).
 IO_TIMEOUT = 5.0
+
+#: A machine file of a parameter of each FANUC kind: real 1420 (3 decimals, per axis), bit
+#: 1815 (per axis), word 3216 and 32-bit 6711.
+REAL_FILE = """
+[machine]
+name = "real"
+axes = ["X", "Y"]
+
+[parameters.1420]
+type = "real"
+decimals = 3
+axis = true
+range = [0, 99999.999]
+value = [12.345, "7.5"]
+
+[parameters.1815]
+type = "bit"
+axis = true
+value = ["10110000", 0b00000001]
+
+[parameters.3216]
+type = "word"
+value = 10
+
+[parameters.6711]
+type = "i32"
+"""
 
 
 class Wire:

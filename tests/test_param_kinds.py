@@ -10,7 +10,7 @@ from pathlib import Path
 
 import pytest
 from cli_support import Cli
-from support import serving
+from support import REAL_FILE, serving
 
 from focas_net.cli import EXIT_CNC, EXIT_USAGE
 from focas_net.client import FocasClient
@@ -32,31 +32,6 @@ from focas_net.sim import (
     load_machine,
 )
 from focas_net.web import ActionError, Station, perform
-
-REAL_FILE = """
-[machine]
-name = "real"
-axes = ["X", "Y"]
-
-[parameters.1420]
-type = "real"
-decimals = 3
-axis = true
-range = [0, 99999.999]
-value = [12.345, "7.5"]
-
-[parameters.1815]
-type = "bit"
-axis = true
-value = ["10110000", 0b00000001]
-
-[parameters.3216]
-type = "word"
-value = 10
-
-[parameters.6711]
-type = "i32"
-"""
 
 
 def test_param_kind_numbers_and_widths() -> None:

@@ -14,7 +14,7 @@ from pathlib import Path
 from typing import Any
 
 import pytest
-from support import with_both_clients
+from support import REAL_FILE, with_both_clients
 
 from focas_net import EW, CncError, FocasClient, NativeClient, default_machine, load_machine
 from focas_net.cli import main
@@ -185,18 +185,6 @@ async def test_a_value_of_no_type_is_refused_alike_on_both_transports(
 
 
 # -- a real parameter written with decimals and a width that is not its own -------------------
-REAL_1420 = """
-[machine]
-name = "real"
-axes = ["X", "Y"]
-
-[parameters.1420]
-type = "real"
-decimals = 3
-axis = true
-range = [0, 99999.999]
-value = [12.345, "7.5"]
-"""
 
 
 @pytest.mark.parametrize("width", [1, 2, 4])
@@ -205,7 +193,7 @@ async def test_a_real_parameter_given_another_width_is_its_width_refused_on_both
 ) -> None:
     """The packed client said "parameter 1420 is not a real parameter: 1.5 is no integer" of
     a real parameter; the native one, as FANUC's library, EW_LENGTH naming its width."""
-    (tmp_path / "real.toml").write_text(REAL_1420, encoding="utf-8")
+    (tmp_path / "real.toml").write_text(REAL_FILE, encoding="utf-8")
     machine = load_machine(tmp_path / "real.toml")
     machine.set_panel(0, True)
     async with with_both_clients(machine) as (_, cnc, native):
