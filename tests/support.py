@@ -7,6 +7,7 @@ built on it are in ``conftest.py``.
 from __future__ import annotations
 
 import asyncio
+import logging
 import os
 import re
 import socket
@@ -33,8 +34,10 @@ __all__ = [
     "Wire",
     "ew_of",
     "frame_bytes",
+    "sent_until_closed",
     "serve_process",
     "serving",
+    "the_warning",
     "two_path_lathe",
     "wait_until",
 ]
@@ -387,3 +390,21 @@ async def with_both_clients(
             NativeClient(host, port, timeout=5) as native,
         ):
             yield machine, cnc, native
+
+
+async def sent_until_closed(port: int, sent: bytes, caplog: pytest.LogCaptureFixture) -> int:
+    """Send ``sent`` on a new connection to 127.0.0.1:``port`` and read until the server
+    closes it (its warnings captured meanwhile); the connection's own port."""
+    reader, writer = await asyncio.open_connection("127.0.0.1", port)
+    local: int = writer.get_extra_info("sockname")[1]
+    with caplog.at_level(logging.WARNING, logger="focas_net.server"):
+        writer.write(sent)
+        assert await asyncio.wait_for(reader.read(), IO_TIMEOUT) == b""
+    writer.close()
+    return local
+
+
+def the_warning(caplog: pytest.LogCaptureFixture) -> str:
+    """The one warning logged (it fails when there were none or more)."""
+    (record,) = [r for r in caplog.records if r.levelno == logging.WARNING]
+    return record.getMessage()

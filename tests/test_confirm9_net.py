@@ -16,7 +16,7 @@ import struct
 import pytest
 from cli_support import one_line, run_focas_net
 from fwlib_support import LIBRARY, connect, i32, s16
-from support import IO_TIMEOUT, LoopbackPeer, serving
+from support import IO_TIMEOUT, LoopbackPeer, sent_until_closed, serving, the_warning
 
 from focas_net.adapters import NativeAdapter
 from focas_net.client import FocasClient, NativeClient
@@ -214,15 +214,9 @@ async def test_a_closed_connection_is_logged_with_its_peer_as_host_port_on_both_
     closing the connection` (a Python tuple), the FOCAS/2 side `native focas-sim-0i: closing
     the connection from 127.0.0.1:45130: OpenRequest: 3 bytes, expected 2` (a class name)."""
     async with FocasServer(default_machine(), port=0) as server:
-        reader, writer = await asyncio.open_connection("127.0.0.1", server.listeners[0].port)
-        local = writer.get_extra_info("sockname")[1]
-        with caplog.at_level(logging.WARNING, logger="focas_net.server"):
-            writer.write(sent)
-            assert await asyncio.wait_for(reader.read(), IO_TIMEOUT) == b""
-        writer.close()
-    (record,) = [r for r in caplog.records if r.levelno == logging.WARNING]
+        local = await sent_until_closed(server.listeners[0].port, sent, caplog)
     label = "native focas-sim-0i" if sent.startswith(b"\xa0") else "focas-sim-0i"
-    assert record.getMessage() == (f"{label}: closing the connection from 127.0.0.1:{local}: {why}")
+    assert the_warning(caplog) == f"{label}: closing the connection from 127.0.0.1:{local}: {why}"
 
 
 async def test_a_connection_over_the_limit_is_logged_with_its_peer_as_host_port(

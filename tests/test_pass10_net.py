@@ -15,7 +15,7 @@ from collections.abc import Callable
 
 import pytest
 from cli_support import at, fails, ok
-from support import IO_TIMEOUT, LoopbackPeer, serving
+from support import IO_TIMEOUT, LoopbackPeer, sent_until_closed, serving, the_warning
 
 from focas_net.adapters._native_cnc import CncHandlers
 from focas_net.cli import EXIT_CONNECTION
@@ -119,15 +119,9 @@ async def test_a_tls_or_http_client_on_a_plain_port_is_named_in_the_servers_log(
     """The packed side logged only `frame length 66326 outside 4..65536`, where the client
     names a TLS record it meets."""
     async with serving() as s:
-        reader, writer = await asyncio.open_connection(s.host, s.port)
-        local = writer.get_extra_info("sockname")[1]
-        with caplog.at_level(logging.WARNING, logger="focas_net.server"):
-            writer.write(sent)
-            assert await asyncio.wait_for(reader.read(), IO_TIMEOUT) == b""
-        writer.close()
-    (record,) = [r for r in caplog.records if r.levelno == logging.WARNING]
-    assert record.getMessage() == (
-        f"focas-sim-0i: closing the connection from 127.0.0.1:{local}: {why}"
+        local = await sent_until_closed(s.port, sent, caplog)
+    assert (
+        the_warning(caplog) == f"focas-sim-0i: closing the connection from 127.0.0.1:{local}: {why}"
     )
 
 
@@ -157,14 +151,8 @@ async def test_a_client_of_another_protocol_on_a_focas2_only_port_is_named_in_th
     async with serving(native_port=0) as s:
         native = s.listener.native
         assert native is not None
-        reader, writer = await asyncio.open_connection("127.0.0.1", native.address[1])
-        local = writer.get_extra_info("sockname")[1]
-        with caplog.at_level(logging.WARNING, logger="focas_net.server"):
-            writer.write(sent)
-            assert await asyncio.wait_for(reader.read(), IO_TIMEOUT) == b""
-        writer.close()
-    (record,) = [r for r in caplog.records if r.levelno == logging.WARNING]
-    assert record.getMessage() == (
+        local = await sent_until_closed(native.port, sent, caplog)
+    assert the_warning(caplog) == (
         f"native focas-sim-0i: closing the connection from 127.0.0.1:{local}: frame does not "
         f"start with A0 A0 A0 A0; {why}"
     )
