@@ -63,6 +63,14 @@ def test_of_two_motion_codes_in_a_block_the_last_is_the_modal_one() -> None:
     assert engine.absolute_position()[0] == pytest.approx(10.0)
 
 
+def _format_refusal(text: str) -> str:
+    """Why ``text`` is no program a CNC stores (a format error, as FANUC's)."""
+    with pytest.raises(ProgramError) as caught:
+        parse_program(text)
+    assert caught.value.reason is ProgramErrorReason.FORMAT
+    return str(caught.value)
+
+
 # -- a comment opened with ( and not closed in its line is refused, naming the line ---------
 
 
@@ -77,10 +85,7 @@ def test_of_two_motion_codes_in_a_block_the_last_is_the_modal_one() -> None:
     ],
 )
 def test_an_unclosed_comment_is_refused_naming_its_line(text: str, line: int, shown: str) -> None:
-    with pytest.raises(ProgramError) as caught:
-        parse_program(text)
-    assert caught.value.reason is ProgramErrorReason.FORMAT
-    assert str(caught.value).startswith(f"line {line}: the comment {shown} has no ')'")
+    assert _format_refusal(text).startswith(f"line {line}: the comment {shown} has no ')'")
 
 
 def test_a_closed_comment_and_a_semicolon_in_it_still_load() -> None:
@@ -244,10 +249,9 @@ async def test_run_program_says_a_program_without_m30_ended_with_no_part(tmp_pat
     ],
 )
 def test_a_program_number_on_the_percent_line_is_refused(text: str, line: int, shown: str) -> None:
-    with pytest.raises(ProgramError) as caught:
-        parse_program(text)
-    assert caught.value.reason is ProgramErrorReason.FORMAT
-    assert str(caught.value).startswith(f"line {line}: {shown}: the rest of a % line is not read")
+    assert _format_refusal(text).startswith(
+        f"line {line}: {shown}: the rest of a % line is not read"
+    )
 
 
 def test_a_percent_line_with_a_comment_or_spaces_still_loads() -> None:
