@@ -15,7 +15,14 @@ from support import block_run, serving
 from focas_net import FocasClient
 from focas_net.protocol import alarm_text
 from focas_net.sim import MachineFileError, default_machine, load_machine
-from focas_net.sim.nc import Engine, ManualClock, ProgramError, ProgramStore, parse_program
+from focas_net.sim.nc import (
+    Engine,
+    ManualClock,
+    NcAlarm,
+    ProgramError,
+    ProgramStore,
+    parse_program,
+)
 from focas_net.sim.nc.macro import Cursor, evaluate, parse_expression
 
 # -- a dwell is a block of its own -------------------------------------------------------------
@@ -66,6 +73,14 @@ def test_a_tab_in_the_name_is_disregarded_as_fanuc_reads_iso_ht(o_line: str, nam
     assert program.text.startswith(f"O0013 ({name})\n")
 
 
+def _alarm(engine: Engine, code: str) -> NcAlarm:
+    """The alarm ``engine`` stopped in, which must be ``code``."""
+    alarm = engine.alarm
+    assert alarm is not None, "no alarm"
+    assert alarm.code == code, str(alarm)
+    return alarm
+
+
 # -- M98 P of more digits than a repeat count and a program number ----------------------------
 
 
@@ -81,9 +96,7 @@ def test_a_tab_in_the_name_is_disregarded_as_fanuc_reads_iso_ht(o_line: str, nam
 def test_an_m98_of_too_many_digits_is_ps0003(block: str, words: str) -> None:
     """``M98 P123456789`` ran O6789 12345 times."""
     engine = block_run(block)
-    assert engine.alarm is not None
-    assert engine.alarm.code == "PS0003"
-    assert str(engine.alarm).endswith(words), str(engine.alarm)
+    assert str(_alarm(engine, "PS0003")).endswith(words), str(engine.alarm)
     assert engine.absolute_position() == (0.0, 0.0, 0.0)
 
 
@@ -203,9 +216,7 @@ def test_a_program_alarm_names_the_word_as_written(block: str, words: str) -> No
 )
 def test_a_character_that_starts_no_word_is_named_with_why(block: str, detail: str) -> None:
     """PS0009's detail was the character alone (``','``, ``'N'``)."""
-    engine = block_run(block)
-    assert engine.alarm is not None and engine.alarm.code == "PS0009"
-    assert engine.alarm.detail == detail
+    assert _alarm(block_run(block), "PS0009").detail == detail
 
 
 # -- the [[tools]] table of a machine file ------------------------------------------------------
