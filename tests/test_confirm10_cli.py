@@ -23,48 +23,53 @@ PROTOCOLS: Final = (["--protocol", "packed"], ["--protocol", "native"])
 # -- an option's refusal, in one form ------------------------------------------------------------
 
 
+def _refused(command: str, argument: str, why: str) -> str:
+    """An argument's refusal in the parser's form."""
+    return f"focas-net {command}: error: argument {argument}: {why}; see focas-net {command} --help"
+
+
 @pytest.mark.parametrize(
     ("argv", "said"),
     [
         (
             ("sim", "fault", "error", "--arg", "0"),
-            "focas-net sim fault: error: argument --arg: an error fault's EW code is a nonzero "
-            "-32768..32767, got 0; see focas-net sim fault --help",
+            _refused(
+                "sim fault", "--arg", "an error fault's EW code is a nonzero -32768..32767, got 0"
+            ),
         ),
         (
             ("sim", "fault", "delay", "--arg", "1.5"),
-            "focas-net sim fault: error: argument --arg: not a whole number: '1.5'; "
-            "see focas-net sim fault --help",
+            _refused("sim fault", "--arg", "not a whole number: '1.5'"),
         ),
         (
             ("sim", "fault", "delay"),
-            "focas-net sim fault: error: argument --arg: a delay fault needs its delay in "
-            "milliseconds (0..60000); see focas-net sim fault --help",
+            _refused(
+                "sim fault", "--arg", "a delay fault needs its delay in milliseconds (0..60000)"
+            ),
         ),
         (
             ("sim", "fault", "drop", "--arg", "5"),
-            "focas-net sim fault: error: argument --arg: does not apply to a drop fault; "
-            "see focas-net sim fault --help",
+            _refused("sim fault", "--arg", "does not apply to a drop fault"),
         ),
         (
             ("param", "set", "3401.1", "1", "--width", "4"),
-            "focas-net param set: error: argument --width: does not apply to a bit write "
-            "(NUMBER.BIT); see focas-net param set --help",
+            _refused("param set", "--width", "does not apply to a bit write (NUMBER.BIT)"),
         ),
         (
             ("param", "set", "3401.1", "2"),
-            "focas-net param set: error: argument VALUE: expected 1, on, true, yes or set, or 0, "
-            "off, false, no or clear, got '2'; see focas-net param set --help",
+            _refused(
+                "param set",
+                "VALUE",
+                "expected 1, on, true, yes or set, or 0, off, false, no or clear, got '2'",
+            ),
         ),
         (
             ("pmc", "write", "R", "0", "1", "256"),
-            "focas-net pmc write: error: argument BYTE: byte value '256' outside 0..255; "
-            "see focas-net pmc write --help",
+            _refused("pmc write", "BYTE", "byte value '256' outside 0..255"),
         ),
         (
             ("status", "--tls-ca", "ca.pem", "--tls-insecure"),
-            "focas-net status: error: argument --tls-insecure: not allowed with --tls-ca; "
-            "see focas-net status --help",
+            _refused("status", "--tls-insecure", "not allowed with --tls-ca"),
         ),
     ],
 )
