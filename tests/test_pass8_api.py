@@ -281,6 +281,11 @@ async def test_the_packed_client_takes_replace_as_true_or_false(
         ({"programs": 3}, TypeError, "programs must be a list of program texts, got 3"),
         ({"programs": [b"O1"]}, TypeError, "programs[0] must be a program's text (str), got b'O1'"),
         (
+            {"programs": {"O1\nM30\n": 1}},
+            TypeError,
+            "programs must be a list of program texts, got {'O1\\nM30\\n': 1}",
+        ),
+        (
             {"programs": "O1000\nM30\n"},
             TypeError,
             "programs must be a list of program texts, got one text 'O1000\\nM30\\n': give it in "

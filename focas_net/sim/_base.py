@@ -11,6 +11,7 @@ import logging
 from collections.abc import Iterable, Mapping
 from typing import Final, TypeVar
 
+from focas_net._address import shown
 from focas_net.errors import EW, FocasError
 
 __all__ = [
@@ -97,17 +98,33 @@ def need_one(what: str, value: object, kind: type[T]) -> T | None:
     return value
 
 
-def need_items(what: str, given: object, kind: type[T]) -> list[T]:
+def need_items(
+    what: str,
+    given: object,
+    kind: type[T],
+    *,
+    items: str | None = None,
+    item: str | None = None,
+) -> list[T]:
     """The items of ``given``, a list (any iterable but text or a mapping) of ``kind``:
     TypeError naming ``what`` (and the item, ``params[0]``) otherwise, rather than an
-    ``AttributeError`` from deep in the machine."""
+    ``AttributeError`` from deep in the machine. ``items`` names the list's items (``kind``'s
+    name by default), ``item`` one of them (``a DataItem``). One text given in place of a list
+    of texts, which would be read character by character, is named as such."""
+    named = kind.__name__ if items is None else items
+    if isinstance(given, str) and kind is str:
+        raise TypeError(
+            f"{what} must be a list of {named}, got one text {shown(given)}: give it in a list"
+        )
     if isinstance(given, str | bytes | Mapping) or not isinstance(given, Iterable):
-        raise TypeError(f"{what} must be a list of {kind.__name__}, got {given!r}")
-    items = list(given)
-    for i, item in enumerate(items):
-        if not isinstance(item, kind):
-            raise TypeError(f"{what}[{i}] must be {_a(kind)}, got {item!r}")
-    return items
+        raise TypeError(f"{what} must be a list of {named}, got {given!r}")
+    values = list(given)
+    for i, value in enumerate(values):
+        if not isinstance(value, kind):
+            raise TypeError(
+                f"{what}[{i}] must be {_a(kind) if item is None else item}, got {value!r}"
+            )
+    return values
 
 
 def need_mapping(

@@ -20,11 +20,10 @@ from collections.abc import Iterable, Iterator, Sequence
 from dataclasses import dataclass
 from typing import TYPE_CHECKING, Final
 
-from focas_net._address import shown
 from focas_net._refusals import axis_misfit, axis_past, no_item, no_path
 from focas_net.errors import EW
 
-from ._base import MachineError, need_int
+from ._base import MachineError, need_int, need_items
 from ._identity import axes_problem
 from ._items import DataItem, Items, ParamKind
 
@@ -335,24 +334,6 @@ class Paths:
             p.engine.parts_to_go = None
 
 
-def program_texts(programs: object) -> tuple[str, ...]:
-    """``programs`` as a tuple of program texts: TypeError naming what is not (one text
-    given alone, ``"O1000..."``, which would be read character by character, or an item
-    that is no ``str``)."""
-    if isinstance(programs, str):
-        raise TypeError(
-            f"programs must be a list of program texts, got one text {shown(programs)}: "
-            "give it in a list"
-        )
-    if isinstance(programs, bytes) or not isinstance(programs, Iterable):
-        raise TypeError(f"programs must be a list of program texts, got {programs!r}")
-    texts = tuple(programs)
-    for i, text in enumerate(texts):
-        if not isinstance(text, str):
-            raise TypeError(f"programs[{i}] must be a program's text (str), got {text!r}")
-    return texts
-
-
 def path_specs(
     paths: Sequence[PathSpec] | None,
     axes: Iterable[str] | None,
@@ -364,7 +345,9 @@ def path_specs(
 ) -> list[PathSpec]:
     """The machine's paths: ``paths``, or one path of the single-path arguments (ValueError
     when both are given; TypeError for ``programs`` that are no list of texts)."""
-    programs = program_texts(programs)
+    programs = tuple(
+        need_items("programs", programs, str, items="program texts", item="a program's text (str)")
+    )
     if paths is None:
         return [
             PathSpec(
