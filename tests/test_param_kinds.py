@@ -94,7 +94,7 @@ def test_machine_file_types_bits_and_reals(tmp_path: Path) -> None:
         ('type = "bit"\nvalue = "176"', "or an integer 0..255 without quotes"),
         ('type = "bit"\nvalue = "0b101100001"', "has 9 bits"),
         ('type = "bit"\nrange = [0, "11"]', "is not 8 bits"),
-        ('type = "real"\ndecimals = 2\nvalue = 1.234', "does not have 2 decimals"),
+        ('type = "real"\ndecimals = 2\nvalue = 1.234', "has more than 2 decimals"),
         ('type = "real"\ndecimals = 10', "outside 0..9"),
         ('type = "word"\ndecimals = 1', 'applies to type = "real" only'),
         ('type = "float"', "unknown type 'float'"),
