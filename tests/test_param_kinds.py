@@ -68,7 +68,7 @@ def test_machine_bit_parameter_holds_0_to_255() -> None:
     m.set_panel(0, 1, 0)
     m.write_param(s, 1815, 1, 0b1011_0000, width=1)
     assert m.read_param(1815, 1) == 176
-    with pytest.raises(MachineError, match=r"outside 0\.\.255"):
+    with pytest.raises(MachineError, match=r"outside its range 0\.\.255"):
         m.write_param(s, 1815, 1, 256, width=1)
 
 
