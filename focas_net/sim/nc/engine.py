@@ -260,6 +260,15 @@ class Engine:
         self.advance()
         self.spindle_override = _percent(percent, 0, 254, "spindle override")
 
+    @property
+    def spindle_override(self) -> float:
+        """Percent, read by the spindle speed (and a lathe's feed per revolution)."""
+        return self.interpreter.spindle_override
+
+    @spindle_override.setter
+    def spindle_override(self, percent: float) -> None:
+        self.interpreter.spindle_override = percent
+
     def set_optional_stop(self, on: bool) -> None:
         self.advance()
         self.interpreter.optional_stop = on
@@ -447,11 +456,7 @@ class Engine:
     @property
     def actual_spindle_speed(self) -> float:
         self.advance()
-        it = self.interpreter
-        if it.spindle not in (3, 4):
-            return 0.0
-        speed = it.spindle_command * self.spindle_override / 100.0
-        return min(speed, self.settings.max_spindle_speed)
+        return self.interpreter.spindle_speed(self.absolute_position())
 
     @property
     def program_number(self) -> int | None:

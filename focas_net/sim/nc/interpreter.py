@@ -10,12 +10,13 @@ parameters say is :mod:`.settings`; the actions it answers are :mod:`.actions`.
 from __future__ import annotations
 
 import math
-from collections.abc import Mapping
+from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
 from typing import Final
 
 from .actions import Dwell, ProgramEnd, Step, Stop, Sync, Wait
 from .alarms import AlarmKind, AlarmRaised, number_text, word_text
+from .lathe import CSS, FEED_PER_REVOLUTION, spindle_speed
 from .macro import Expr, NcVariables, Value, VariableRefused, evaluate, round_fanuc, variable_number
 from .motion import ArcMove, LinearMove, RapidMove, Vector
 from .program import Assign, Bad, End, Goto, IfGoto, IfThen, Program, While, Words
@@ -39,15 +40,17 @@ _LOCALS: Final = range(1, 34)
 _COMMONS: Final = range(100, 200)
 _PLANES: Final = {170: ("X", "Y", "I", "J"), 180: ("Z", "X", "K", "I"), 190: ("Y", "Z", "J", "K")}
 _CENTER: Final = {"X": "I", "Y": "J", "Z": "K"}
-#: The codes of the M series a lathe reads otherwise (FANUC's T series, G code system A):
-#: what each is there, none of it modelled (PS0010 rather than a milling meaning).
+#: The codes of the M series a lathe reads otherwise (FANUC's T series, G code system A)
+#: and does not model: what each is there (PS0010 rather than a milling meaning).
 _LATHE_CODES: Final = {
     900: "on a lathe the outer and inner diameter cutting cycle (not modelled)",
     910: "no code of a lathe's G code system A (U and W move incrementally)",
     940: "on a lathe the end face turning cycle (not modelled)",
-    990: "on a lathe feed per revolution (not modelled: F is per minute, G98)",
-    500: "on a lathe coordinate system setting and the spindle speed limit (not modelled)",
 }
+#: The codes only a lathe's path models.
+_MILL_CODES: Final = {CSS: "constant surface speed is modelled on a lathe's path only"}
+#: G50 on a lathe: coordinate system setting and the spindle speed limit (one-shot).
+_LATHE_G50: Final = 500
 #: A lathe's incremental addresses (FANUC's G code system A, the T series' default): U moves X
 #: by its value, W moves Z.
 _STEP_WORDS: Final = {"U": "X", "W": "Z"}
@@ -81,9 +84,14 @@ class Interpreter:
         self.axis_index = {name: i for i, name in enumerate(settings.axes)}
         self.length_axis = self.axis_index.get("Z", n - 1)
         self.position: list[float] = [0.0] * n  #: machine coordinates at the end of the block
+        #: A lathe's G50 X/Z: the shift of the work coordinate system it set, per axis.
+        self.shift: list[float] = [0.0] * n
         self.modal: dict[int, int] = settings.power_on_modal()
         self.feed = 0.0
         self.spindle_command = 0.0
+        #: A lathe's ``G50 S``: the highest spindle speed, min^-1 (None: not given).
+        self.spindle_limit: float | None = None
+        self.spindle_override = 100.0  #: percent (the engine's, read by G96 and G99)
         self.spindle = 5  #: 3, 4 or 5 (M3/M4/M5)
         self.coolant = False
         self.tool = 0
@@ -154,7 +162,13 @@ class Interpreter:
     def offset(self, axis: int) -> float:
         """Machine coordinate of the work zero on ``axis`` (work + external + tool length)."""
         total = self.work_offsets[0][axis] + self.work_offsets[self.modal[14] // 10 - 53][axis]
+        total += self.shift[axis]
         return total + (self.tool_length if axis == self.length_axis else 0.0)
+
+    def spindle_speed(self, work: Sequence[float]) -> float:
+        """The spindle's min^-1 with the tool at ``work`` (work coordinates): see :mod:`.lathe`."""
+        x = self.axis_index.get("X")
+        return spindle_speed(self, None if x is None else work[x], self.settings.max_spindle_speed)
 
     def work_position(self) -> list[float]:
         return [p - self.offset(i) for i, p in enumerate(self.position)]
@@ -334,6 +348,7 @@ class Interpreter:
         one_shot: int | None = None
         self.one_shot = None
         self.block_words = {a: v for a, v, _ in values if a != "G"}
+        last_s = self.last_words.get("S")  # a lathe's G50 S is no commanded S
         self.last_words.update(self.block_words)
         self.block_codes = frozenset(round_fanuc(v * 10) for a, v, _ in values if a == "G")
         for address, value, _ in values:
@@ -342,9 +357,10 @@ class Interpreter:
                 group = G_CODE_GROUPS.get(code)
                 if group is None or abs(code - value * 10) > 1e-6:
                     raise AlarmRaised(10, f"G{number_text(value)}")
-                if s.lathe and code in _LATHE_CODES:
-                    raise AlarmRaised(10, f"G{number_text(value)}: {_LATHE_CODES[code]}")
-                if group == 0:
+                refused = (_LATHE_CODES if s.lathe else _MILL_CODES).get(code)
+                if refused is not None:
+                    raise AlarmRaised(10, f"G{number_text(value)}: {refused}")
+                if group == 0 or (s.lathe and code == _LATHE_G50):
                     self.one_shot = one_shot = code
                 else:
                     modal[group] = code
@@ -386,9 +402,17 @@ class Interpreter:
             feed = other["F"][0]
             if feed < 0:
                 raise AlarmRaised(6, f"F{number_text(feed)}")
-            self.feed = min(feed * scale, s.max_cutting_feed)
+            per_revolution = s.lathe and modal[10] == FEED_PER_REVOLUTION
+            self.feed = feed * scale if per_revolution else min(feed * scale, s.max_cutting_feed)
         if "S" in other:
-            self.spindle_command = float(self._code("S", other["S"][0]))
+            speed = float(self._code("S", other["S"][0]))
+            if s.lathe and one_shot == _LATHE_G50:
+                self.spindle_limit = speed
+                self.last_words.pop("S")
+                if last_s is not None:
+                    self.last_words["S"] = last_s
+            else:
+                self.spindle_command = speed
         if "T" in other:
             self.next_tool = self._code("T", other["T"][0])
         length_changed = False
@@ -587,6 +611,12 @@ class Interpreter:
             self._rapid(step, start, tuple(middle))
             self._rapid(step, tuple(middle), tuple(home))
             return
+        if one_shot == _LATHE_G50:  # a lathe's coordinate system setting: no motion
+            work = self.work_position()
+            for i, value in axes.items():
+                given = work[i] + value if i in self._steps else value
+                self.shift[i] += work[i] - given
+            return
         if one_shot == 530:
             target = list(self.position)
             for i, value in axes.items():
@@ -600,15 +630,30 @@ class Interpreter:
         if group1 == 0:
             self._rapid(step, start, tuple(self._targets(axes, incremental)))
             return
-        if self.feed <= 0:
-            raise AlarmRaised(11, "no feed rate (F) for cutting feed")
+        feed = self._cutting_feed()
         if group1 == 10:
             end = tuple(self._targets(axes, incremental))
             if end != start:
-                step.actions.append(LinearMove.plan(start, end, self.feed))
+                step.actions.append(LinearMove.plan(start, end, feed))
             self.position = list(end)
             return
-        self._arc(step, start, axes, other, incremental, clockwise=group1 == 20)
+        self._arc(step, start, axes, other, incremental, feed, clockwise=group1 == 20)
+
+    def _cutting_feed(self) -> float:
+        """mm/min of a cutting move: F, on a lathe in G99 F times the spindle speed where the
+        block starts (PS0011 with the spindle stopped, whose feed would be 0)."""
+        if self.feed <= 0:
+            raise AlarmRaised(11, "no feed rate (F) for cutting feed")
+        if not (self.settings.lathe and self.modal[10] == FEED_PER_REVOLUTION):
+            return self.feed
+        speed = self.spindle_speed(self.work_position())
+        if speed <= 0:
+            raise AlarmRaised(
+                11,
+                f"G99 F{number_text(self.feed)}: feed per revolution with the spindle stopped "
+                "(start it with M3 or M4 and S, or feed per minute with G98)",
+            )
+        return min(self.feed * speed, self.settings.max_cutting_feed)
 
     def _rapid(self, step: Step, start: Vector, end: Vector) -> None:
         if end != start:
@@ -622,6 +667,7 @@ class Interpreter:
         axes: Mapping[int, float],
         other: Mapping[str, tuple[float, bool]],
         incremental: bool,
+        feed: float,
         *,
         clockwise: bool,
     ) -> None:
@@ -690,9 +736,9 @@ class Interpreter:
             )
         )
         path = arc_length if arc_length > 0 else linear
-        duration = path / self.feed * 60.0
+        duration = path / feed * 60.0
         if path > 0:
             step.actions.append(
-                ArcMove(start, end, self.feed, duration, a, b, center, t0, sweep, r0, r1)
+                ArcMove(start, end, feed, duration, a, b, center, t0, sweep, r0, r1)
             )
         self.position = list(end)
