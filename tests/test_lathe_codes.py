@@ -11,6 +11,8 @@ from focas_net.sim.nc import CycleState, Engine, ManualClock, NcSettings
 from focas_net.sim.nc.modal import modal_state
 
 _LATHE = NcSettings.for_axes(("X", "Z"), lathe=True)
+#: a lathe whose rapids take seconds (6 m/min)
+_SLOW = NcSettings.for_axes(("X", "Z"), lathe=True, rapid_rates=(600.0, 600.0))
 
 
 def _engine(text: str, settings: NcSettings = _LATHE) -> tuple[Engine, ManualClock]:
@@ -125,3 +127,11 @@ def test_the_modal_s_stays_the_commanded_s_after_g50_s() -> None:
     clock.advance(2)
     engine.advance()
     assert modal_state(engine.interpreter).address("S").value == 500.0
+
+
+def test_g96_in_a_rapid_block_turns_for_the_block_s_end_point() -> None:
+    """FANUC computes the surface speed of a G0 block at its end point, not as X passes."""
+    engine, clock = _engine("O1\nG50 X100. Z0\nG96 S157 M3\nG0 X50.\nM30\n", _SLOW)
+    clock.advance(2.0)
+    assert 50.0 < engine.absolute_position()[0] < 100.0
+    assert engine.actual_spindle_speed == pytest.approx(999.49, abs=0.01)

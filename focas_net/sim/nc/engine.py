@@ -20,7 +20,7 @@ from .alarms import ALARM_MESSAGES, AlarmKind, AlarmRaised, NcAlarm, number_text
 from .clock import SimClock
 from .interpreter import Interpreter
 from .macro import MemoryVariables, NcVariables
-from .motion import Motion, Vector
+from .motion import Motion, RapidMove, Vector
 from .program import ProgramStore
 from .settings import NcSettings
 from .waits import MISMATCH, PathSync, Unknown
@@ -456,7 +456,12 @@ class Engine:
     @property
     def actual_spindle_speed(self) -> float:
         self.advance()
-        return self.interpreter.spindle_speed(self.absolute_position())
+        it = self.interpreter
+        action = self._action
+        if self._state is CycleState.START and isinstance(action, RapidMove):
+            # G96 in a rapid block: the surface speed of the block's end point, as FANUC
+            return it.spindle_speed([p - it.offset(i) for i, p in enumerate(action.end)])
+        return it.spindle_speed(self.absolute_position())
 
     @property
     def program_number(self) -> int | None:
