@@ -27,7 +27,7 @@ from focas_net._typed import pmc_count_unfit
 from focas_net.client import AlarmProjection
 from focas_net.client._values import history_depth
 from focas_net.protocol import PositionKind
-from focas_net.sim import Machine, MachineError, MacroRange, PathSpec
+from focas_net.sim import DataItem, Machine, MachineError, MacroRange, PathSpec
 
 Both = tuple[Machine, FocasClient, NativeClient]
 
@@ -445,3 +445,25 @@ def test_the_machine_names_the_field_of_a_date_or_time_that_is_none(call: Any, w
     with pytest.raises(MachineError) as refused:
         call(machine)
     assert (refused.value.ew, refused.value.detail) == (EW.DATA, words)
+
+
+# -- an axis past the path's, worded alike by every call of the machine ---------------------
+@pytest.mark.parametrize(
+    "call",
+    [
+        lambda m: m.positions("absolute", 2),
+        lambda m: m.work_offsets(1, 1, 2),
+        lambda m: m.write_work_offset(1, 2, [0]),
+        lambda m: m.read_param(1420, 2),
+    ],
+)
+def test_an_axis_past_a_path_of_one_axis_is_worded_alike(call: Any) -> None:
+    """``positions("absolute", 2)`` on a path of one axis said ``the path has 1 axes``, and
+    ``work_offsets(1, 1, 2)`` ``axis 2 is outside 1..1`` without the count's words."""
+    machine = Machine("m", paths=[PathSpec(("X",))], params=[DataItem(1420, 4, True)])
+    with pytest.raises(MachineError) as refused:
+        call(machine)
+    assert (refused.value.ew, refused.value.detail) == (
+        EW.ATTRIB,
+        "axis 2 is outside 1..1: the path has 1 axis",
+    )

@@ -15,9 +15,10 @@ from dataclasses import dataclass
 from decimal import Decimal
 from typing import Final
 
+from focas_net._refusals import axis_past
 from focas_net.errors import EW
 
-from ._base import Counters, MachineError, n_values
+from ._base import Counters, MachineError, n_values, need_int
 from ._path import Path
 from ._paths import Paths
 from ._tools import (
@@ -271,7 +272,8 @@ class ToolOperations:
         count = len(self._paths.at(path).axes)
         if axis is None:
             return range(count)
-        _number(axis, 1, count, "axis", EW.ATTRIB)
+        if not 1 <= need_int("axis", axis) <= count:
+            raise MachineError(EW.ATTRIB, axis_past(axis, count))
         return range(axis - 1, axis)
 
     def _moved(self) -> None:
