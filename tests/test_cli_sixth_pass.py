@@ -122,7 +122,7 @@ _RANGE = "ranges = [{ first = 500, last = 999 }]\n"
         ("1.5", "must be an integer or [mcr_val, dec_val] (1.5 is [15, 1]), got 1.5"),
         ("-2.25", "must be an integer or [mcr_val, dec_val] (-2.25 is [-225, 2]), got -2.25"),
         ("100.0", "must be an integer or [mcr_val, dec_val] (100.0 is [100, 0]), got 100.0"),
-        ("1e300", "must be an integer or [mcr_val, dec_val], got 1e+300"),
+        ("1e300", "must be an integer or [mcr_val, dec_val], got 1e300"),
         ("nan", "must be an integer or [mcr_val, dec_val], got nan"),
     ],
 )
