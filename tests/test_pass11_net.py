@@ -33,6 +33,11 @@ from focas_net.errors import FocasConnectionError, ProtocolError
 from focas_net.gateway import Gateway, GatewayConfig
 from focas_net.protocol import FaultKind, FaultScope
 
+#: What a TLS connection closed before any answer adds.
+_CLOSED_AFTER_HANDSHAKE = (
+    "(a TLS server closes so when it wants a client certificate and gets none, or at its "
+    "connection limit)"
+)
 #: The command line's advice for a server that wants a client certificate.
 _NO_CLIENT_CERTIFICATE = (
     "the command line sends no client certificate: connect from Python, with FocasClient's "
@@ -197,10 +202,27 @@ async def test_a_tls_connection_closed_after_its_handshake_names_a_client_certif
         line = await fails(
             EXIT_CONNECTION, "status", "--port", str(served.port), "--tls-ca", str(certificate[0])
         )
-    assert line == f"focas-net: {said}; {_NO_CLIENT_CERTIFICATE}"
+    assert line == f"focas-net: {said}"  # (a cause among others: no advice of one)
     assert said == (
-        f"connection closed by 127.0.0.1:{served.port} before any answer (a TLS server closes "
-        "so when it wants a client certificate and gets none)"
+        f"connection closed by 127.0.0.1:{served.port} before any answer {_CLOSED_AFTER_HANDSHAKE}"
+    )
+
+
+async def test_a_tls_server_at_its_connection_limit_is_not_said_to_want_a_certificate(
+    certificate: tuple[Path, Path],
+) -> None:
+    """It completes the handshake, then closes: the command line told to load a client
+    certificate."""
+    async with serving(ssl=_server_tls(certificate), max_connections=1) as served:
+        insecure = ssl.SSLContext(ssl.PROTOCOL_TLS_CLIENT)
+        insecure.check_hostname, insecure.verify_mode = False, ssl.CERT_NONE
+        async with FocasClient("127.0.0.1", served.port, ssl=insecure, timeout=IO_TIMEOUT):
+            line = await fails(
+                EXIT_CONNECTION, "status", "--port", str(served.port), "--tls-insecure"
+            )
+    assert line == (
+        f"focas-net: connection closed by 127.0.0.1:{served.port} before any answer "
+        f"{_CLOSED_AFTER_HANDSHAKE}"
     )
 
 
@@ -293,9 +315,9 @@ async def test_a_drop_fault_over_tls_is_named_a_drop_not_a_client_certificate(
             EXIT_CONNECTION, "status", "--port", str(served.port), "--tls-ca", str(certificate[0])
         )
     assert line == (
-        f"focas-net: connection closed by 127.0.0.1:{served.port} before any answer (a TLS "
-        "server closes so when it wants a client certificate and gets none); the server "
-        "answers a new connection, so it closed this one on purpose (as a drop fault does: "
+        f"focas-net: connection closed by 127.0.0.1:{served.port} before any answer "
+        f"{_CLOSED_AFTER_HANDSHAKE}; the server answers a new connection, so it closed this "
+        "one on purpose (as a drop fault does: "
         "focas-net sim fault drop), or as a server does with a request longer than it takes "
         "(focas-net serve --max-frame)"
     )

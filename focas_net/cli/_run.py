@@ -33,7 +33,6 @@ from focas_net.client import (
     NativeUnsupportedError,
     ReconnectPolicy,
 )
-from focas_net.client._failures import WANTS_CERTIFICATE
 from focas_net.errors import (
     EW,
     ChunkedWriteError,
@@ -377,8 +376,7 @@ def _tls_hint(args: argparse.Namespace, exc: BaseException) -> str | None:
             )
         return "give --tls-ca FILE (the server's certificate or its CA) or --tls-insecure"
     alert = _ssl_cause(exc)
-    # (a TLS connection closed before any answer: the probes found no drop, no other cause)
-    if wants_client_certificate(alert) is not False or WANTS_CERTIFICATE in str(exc):
+    if wants_client_certificate(alert) is not False:  # (the server's alert says so)
         return _NO_CLIENT_CERTIFICATE  # (what the command line cannot give)
     if peer_alert(alert):
         return None  # (a server that refused the handshake speaks TLS)

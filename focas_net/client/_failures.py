@@ -173,9 +173,11 @@ def bytes_text(data: bytes) -> str:
 
 #: What a TLS connection closed before any answer adds: a server that wants a client
 #: certificate and got none ends it so, once the client's handshake is done (TLS 1.3), and a
-#: server of asyncio's (``focas-net``'s among them) drops the alert that would say so.
+#: server of asyncio's (``focas-net``'s among them) drops the alert that would say so; a
+#: server at its connection limit may close so too, after the handshake.
 WANTS_CERTIFICATE: Final = (
-    "(a TLS server closes so when it wants a client certificate and gets none)"
+    "(a TLS server closes so when it wants a client certificate and gets none, or at its "
+    "connection limit)"
 )
 
 
