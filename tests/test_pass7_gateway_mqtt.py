@@ -31,7 +31,7 @@ TLS = MqttSettings(host="127.0.0.1", port=1883, tls=True)
         (
             "[Errno 104] Connection reset by peer",
             TLS,
-            "connection reset by peer before any answer to MQTT's CONNECT "
+            "connection reset by peer during the TLS handshake "
             "(tls = true: is that the broker's TLS port?)",
         ),
         (

@@ -53,7 +53,8 @@ _LOST: Final = "Disconnected during message iteration"
 _TIMED_OUT: Final = "Operation timed out"
 #: Why a connection attempt ended before the broker answered MQTT's CONNECT: the connection
 #: ended (:func:`_ended_early`).
-_ENDED_EARLY: Final = "connection ended before any answer to MQTT's CONNECT"
+_BEFORE_CONNACK: Final = "before any answer to MQTT's CONNECT"
+_ENDED_EARLY: Final = f"connection ended {_BEFORE_CONNACK}"
 #: A socket's words for a connection the peer ended (a reset; a write after it).
 _ENDED: Final = frozenset({"connection reset by peer", "broken pipe"})
 #: What paho-mqtt logs of its socket's errors (then it drops the connection).
@@ -106,8 +107,9 @@ def broker_reason(
         text = "connection closed by peer before any answer to MQTT's CONNECT"
     else:
         text = _words(text)
-        if text in _ENDED:  # (the connecting thread met it: the same end, told alike)
-            text = f"{text} before any answer to MQTT's CONNECT"
+        if text in _ENDED:  # (the connecting thread met it: in TLS's handshake, or the same end)
+            tls_met = settings.tls  # (the handshake is the connecting thread's)
+            text += " during the TLS handshake" if tls_met else f" {_BEFORE_CONNACK}"
     tls = settings.tls
     if tls and ("reset" in text or "TLS handshake" in text or "eof" in text):
         return f"{text} (tls = true: is that the broker's TLS port?)"
