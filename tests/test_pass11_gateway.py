@@ -23,7 +23,14 @@ from focas_net.client import ClientState, FocasClient, NativeClient
 from focas_net.client._failures import BEFORE_ANY_ANSWER
 from focas_net.client._probes import GATEWAY, diagnosed
 from focas_net.errors import FocasConnectionError
-from focas_net.gateway import ConfigError, MachineConfig, MqttSettings, WriteGates, parse_config
+from focas_net.gateway import (
+    ConfigError,
+    MachineConfig,
+    MqttSettings,
+    WriteGates,
+    parse_config,
+    shard,
+)
 from focas_net.gateway.mqtt import MqttSink
 from focas_net.gateway.reads import describe
 from focas_net.gateway.writer import GatedWriter
@@ -249,3 +256,16 @@ async def test_the_probes_of_a_port_that_closed_say_nothing_in_the_log(
         caplog.set_level(logging.INFO, "focas_net")
         await diagnosed(exc, "127.0.0.1", port, "native", False, 2.0, wording=GATEWAY)
     assert [r.getMessage() for r in caplog.records if r.name.startswith("focas_net.client")] == []
+
+
+def test_a_name_the_shards_suffix_makes_too_long_is_told_with_the_shard() -> None:
+    """A client id of 1000 characters (the most) with ``--shard 2/2`` was refused as ``got
+    'cccc...' (1002 characters)``, a value nobody wrote."""
+    machines = f'{MACHINE}[[machine]]\nname = "m2"\nhost = "127.0.0.1"\n'
+    config = parse_config(f'{machines}[mqtt]\nclient_id = "{"c" * 1000}"\n', "plant.toml")
+    with pytest.raises(ConfigError) as caught:
+        shard(config, 2, 2, "plant.toml")
+    assert str(caught.value) == (
+        "plant.toml: --shard 2/2: mqtt.client_id with this shard's '-2' has 1002 characters, "
+        "more than 1000: give a shorter one"
+    )

@@ -574,6 +574,13 @@ def shard(config: GatewayConfig, index: int, count: int, source: str = "") -> Ga
         mqtt = replace(mqtt, gateway=f"{mqtt.gateway_name}-{index}")
         if mqtt.client_id is not None:
             mqtt = replace(mqtt, client_id=f"{mqtt.client_id}-{index}")
+        for key in ("client_id", "gateway"):  # (the file's own were checked as written)
+            named = getattr(mqtt, key)
+            if named is not None and len(named) > _MOST_CHARS:
+                at.fail(
+                    f"mqtt.{key} with this shard's '-{index}' has {len(named)} characters, "
+                    f"more than {_MOST_CHARS}: give a shorter one"
+                )
     return replace(config, machines=machines, opcua=opcua, mqtt=mqtt)
 
 
