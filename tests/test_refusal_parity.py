@@ -257,6 +257,13 @@ CASES: Final[Mapping[str, Case]] = {
         cli=("pmc", "write", "R", "8000", "1"),
         gateway=lambda g: g.write_pmc("m1", "R", 8000, 1),
     ),
+    "pmc-bit-past-the-area": Case(
+        pmc_refusal(EW.NUMBER, "R", 8000, 8000) or "",
+        lambda m: m.read_pmc("R", 8000, 1),
+        lambda c: c.write_pmc_bit("R", 8000, 0, True),
+        page=("pmc_bit", {"area": "R", "address": 8000, "bit": 0, "value": 1}),
+        cli=("pmc", "bit", "R", "8000.0", "1"),
+    ),
     "pmc-driven-area": Case(
         pmc_protected("X"),
         lambda m: m.write_pmc("X", 0, b"\x01"),
@@ -441,6 +448,22 @@ CASES: Final[Mapping[str, Case]] = {
         native=False,
         page=("cycle", {"action": "start", "path": 2}),
         cli=("sim", "cycle", "start", "--path", "2"),
+    ),
+    "alarm-clear-path-missing": Case(
+        no_path(2, 1),
+        lambda m: m.clear_alarms(path=2),
+        lambda c: c.sim.clear_alarms(path=2),
+        native=False,
+        page=("clear_alarms", {"path": 2}),
+        cli=("sim", "clear", "--path", "2"),
+    ),
+    "overrides-path-missing": Case(
+        no_path(2, 1),
+        lambda m: m.set_overrides(100, None, None, path=2),
+        lambda c: c.sim.set_overrides(feed=100, path=2),
+        native=False,
+        page=("overrides", {"feed": 100, "path": 2}),
+        cli=("sim", "override", "--feed", "100", "--path", "2"),
     ),
     "panel-read-only": Case(
         READ_ONLY_MACHINE,
