@@ -190,3 +190,17 @@ async def test_clearing_when_nothing_matches_says_so_on_the_page_as_sim_clear_do
         assert answer == {"ok": True, "cleared": 0, "note": one}
         faults = (await ok("sim", "faults", "--clear", *at(served))).strip()
         assert perform(station, "clear_faults", {}) == {"ok": True, "cleared": 0, "note": faults}
+
+
+# -- an alarm type left out ---------------------------------------------------------------------
+@pytest.mark.parametrize("args", [{"alm_no": 5}, {"alm_type": "", "alm_no": 5}, {"alm_type": " "}])
+def test_an_alarm_type_left_out_is_asked_for_by_its_names_too(args: dict[str, Any]) -> None:
+    """The type box left empty said "alm_type: a number is needed", where the box takes a name
+    (``PS``) as well: the page asks for a type, naming both, as an unknown type's refusal
+    names them."""
+    action = "raise_alarm" if "alm_no" in args else "clear_alarms"
+    words = page_refusal(Station(0, default_machine()), action, args)
+    assert words == (
+        "alm_type: an alarm type is needed (one of SW PW IO PS OT OH SV SR MC SP DS IE BG SN EX "
+        "PC, or 0..31)"
+    )

@@ -5,6 +5,7 @@ Nothing here touches a socket or an event loop. See ``docs/protocol.md``.
 
 from .alarms import (
     ALARM_TYPE_NAMES,
+    ALARM_TYPES,
     MAX_ALARM_MSG,
     MAX_HISTORY_DEPTH,
     ActiveAlarm,
@@ -136,6 +137,7 @@ from .values import (
 from .versamax import MAX_CONFIG_CHUNK, VersaMaxReply, VersaMaxRequest
 
 __all__ = [
+    "ALARM_TYPES",
     "ALARM_TYPE_NAMES",
     "COMMANDS",
     "COMPOUND_MT_TYPE",

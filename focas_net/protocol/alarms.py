@@ -18,10 +18,11 @@ from dataclasses import dataclass
 from datetime import UTC, datetime
 from typing import Final, Self
 
-from .._typed import MAX_ALARM_TEXT, alarm_text_unfit
+from .._typed import MAX_ALARM_TEXT, MAX_ALARM_TYPE, alarm_text_unfit
 from ..errors import EW
 
 __all__ = [
+    "ALARM_TYPES",
     "ALARM_TYPE_NAMES",
     "MAX_ALARM_MSG",
     "MAX_HISTORY_DEPTH",
@@ -83,6 +84,10 @@ def alarm_time_text(when: datetime) -> str:
     return t.strftime("%Y-%m-%dT%H:%M:%SZ")
 
 
+#: The alarm types every front end takes, as a refusal names them.
+ALARM_TYPES: Final = f"one of {' '.join(t.name for t in AlarmType)}, or 0..{MAX_ALARM_TYPE}"
+
+
 def alarm_type_of(name: str) -> int:
     """An alarm type's number from its two-letter name as every front end takes it (``PS``,
     ``ps``: ASCII letters, spaces around); ValueError naming what was given and the names,
@@ -92,8 +97,7 @@ def alarm_type_of(name: str) -> int:
     text = name.strip().upper() if name.isascii() else ""
     if text in AlarmType.__members__:
         return int(AlarmType[text])
-    names = " ".join(t.name for t in AlarmType)
-    raise ValueError(f"unknown alarm type {name!r} (one of {names}, or 0..31)")
+    raise ValueError(f"unknown alarm type {name!r} ({ALARM_TYPES})")
 
 
 def alarm_code(alm_type: int, alm_no: int) -> str:

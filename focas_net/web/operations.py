@@ -48,6 +48,7 @@ from focas_net._typed import typed_shown as shown
 from focas_net.errors import EW, ew_name
 from focas_net.protocol import (
     ALARM_TYPE_NAMES,
+    ALARM_TYPES,
     AutMode,
     CycleAction,
     FaultKind,
@@ -327,7 +328,11 @@ def _overrides(station: Station, args: Mapping[str, Any]) -> JsonDict:
 
 def _alarm_type(args: Mapping[str, Any], default: int | None = None) -> int:
     """``alm_type`` by its number or its name (``PS``), as the command line and the client
-    take it (:func:`~focas_net.protocol.alarm_type_of`)."""
+    take it (:func:`~focas_net.protocol.alarm_type_of`); one left out (without a
+    ``default``) or empty is asked for by its names and numbers."""
+    value = args.get("alm_type")
+    if (value is None and default is None) or (isinstance(value, str) and not value.strip()):
+        raise ActionError(f"alm_type: an alarm type is needed ({ALARM_TYPES})")
     return _read_as(args, "alm_type", _alarm_type_text, lambda a, k: _int(a, k, default))
 
 
