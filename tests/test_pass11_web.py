@@ -10,7 +10,7 @@ from typing import Any
 
 import pytest
 from cli_support import at, fails, ok
-from support import serving
+from support import serving, two_path_lathe
 from web_support import page_refusal
 
 from focas_net.sim import default_machine
@@ -204,3 +204,22 @@ def test_an_alarm_type_left_out_is_asked_for_by_its_names_too(args: dict[str, An
         "alm_type: an alarm type is needed (one of SW PW IO PS OT OH SV SR MC SP DS IE BG SN EX "
         "PC, or 0..31)"
     )
+
+
+async def test_a_clear_of_one_path_names_the_alarms_active_on_another_as_sim_clear_does() -> None:
+    """``sim clear --path 1`` adds "(1 active on path 2)" when the alarms are on the other
+    path, ``sim clear PS --path 1`` "(PS is active on path 2: ...)"; the page said nothing of
+    them."""
+    async with serving(two_path_lathe()) as served:
+        station = Station(0, served.machine)
+        perform(station, "raise_alarm", {"alm_type": "PS", "alm_no": 100, "path": 2})
+        every = (await ok("sim", "clear", "--path", "1", *at(served))).strip()
+        assert every.endswith("(1 active on path 2)")
+        answer = perform(station, "clear_alarms", {"path": 1})
+        assert answer == {"ok": True, "cleared": 0, "note": every}
+        line = await fails(1, "sim", "clear", "PS", "--path", "1", *at(served))
+        answer = perform(station, "clear_alarms", {"alm_type": "PS", "path": 1})
+        words = "no active alarm matches PS on path 1; nothing cleared (PS is active on path 2"
+        assert answer["note"] == f"{words})"
+        assert line == f"focas-net: {words}: focas-net sim clear PS --path 2)"
+        assert len(served.machine.active_alarms(path=2)) == 1

@@ -155,21 +155,20 @@ def clear(args: argparse.Namespace) -> PackedOnly:
         if not gone:
             elsewhere = await _elsewhere(cnc, paths, args.path, matches)
             if given is not None:
-                where = ""
-                if elsewhere:
-                    other = elsewhere[0][0]
-                    where = f" ({given} is active on path {other}: focas-net sim clear {given}" + (
-                        f" --path {other})" if other != 1 else ")"
-                    )
-                raise NothingMatched(f"{nothing_cleared(given, on=on)}{where}")
+                other = elsewhere[0][0] if elsewhere else 1
+                advice = f": focas-net sim clear {given}" + (
+                    f" --path {other}" if other != 1 else ""
+                )
+                raise NothingMatched(
+                    nothing_cleared(given, on=on, elsewhere=elsewhere, advice=advice)
+                )
         data = {
             "cleared": given or "all",
             "alarms": [fmt.alarm_dict(a) for a in gone],
             "active": [fmt.alarm_dict(a) for a in remaining],
         }
         if not gone:
-            others = "; ".join(f"{n} active on path {p}" for p, n in elsewhere)
-            return Output(data, nothing_cleared(None, on=on) + (f" ({others})" if others else ""))
+            return Output(data, nothing_cleared(None, on=on, elsewhere=elsewhere))
         # each as sim alarm names it: two alarms of one code on two axes are two entries
         what = ", ".join(
             fmt.alarm_code(a.alm_type, a.alm_no) + (f" (axis {a.axis_no})" if a.axis_no else "")

@@ -14,6 +14,7 @@ from __future__ import annotations
 
 import enum
 import struct
+from collections.abc import Sequence
 from dataclasses import dataclass
 from datetime import UTC, datetime
 from typing import Final, Self
@@ -134,13 +135,23 @@ def alarm_active_already(
     )
 
 
-def nothing_cleared(given: str | None, *, on: str = "") -> str:
+def nothing_cleared(
+    given: str | None,
+    *,
+    on: str = "",
+    elsewhere: Sequence[tuple[int, int]] = (),
+    advice: str = "",
+) -> str:
     """What every front end says of a clear of alarms that cleared none: ``given`` the alarms
     asked for as the CNC names them (``PS0100``, ``PS``), None for every one; ``on`` as
-    :func:`alarm_active_already` takes it."""
+    :func:`alarm_active_already` takes it; ``elsewhere`` the other paths with such alarms and
+    how many each has (``(1 active on path 2)``, ``(PS is active on path 2)``, ``advice``
+    after the first: what the front end offers to clear them)."""
     if given is None:
-        return f"no active alarms{on}; nothing to clear"
-    return f"no active alarm matches {given}{on}; nothing cleared"
+        others = "; ".join(f"{n} active on path {p}" for p, n in elsewhere)
+        return f"no active alarms{on}; nothing to clear" + (f" ({others})" if others else "")
+    where = f" ({given} is active on path {elsewhere[0][0]}{advice})" if elsewhere else ""
+    return f"no active alarm matches {given}{on}; nothing cleared{where}"
 
 
 def alarm_text(alm_type: int, alm_no: int, msg: str = "", axis_no: int = 0) -> str:

@@ -385,7 +385,20 @@ def _clear_alarms(station: Station, args: Mapping[str, Any]) -> JsonDict:
         given = ALARM_TYPE_NAMES.get(alm_type, f"type {alm_type}")
     elif alm_no != -1:
         given = f"number {alm_no}" if alm_type == -1 else alarm_code(alm_type, alm_no)
-    return {"cleared": 0, "note": nothing_cleared(given, on=_on(station.machine, path))}
+    m = station.machine
+    elsewhere = [
+        (other, n)
+        for other in range(1, m.path_count + 1)
+        if other != path
+        and (n := sum(1 for a in m.active_alarms(path=other) if _matches(a, alm_type, alm_no)))
+    ]
+    note = nothing_cleared(given, on=_on(m, path), elsewhere=elsewhere)
+    return {"cleared": 0, "note": note}
+
+
+def _matches(alarm: Any, alm_type: int, alm_no: int) -> bool:
+    """Whether ``alarm`` is one a clear of ``alm_type`` and ``alm_no`` (-1: any) takes."""
+    return alm_type in (-1, alarm.alm_type) and alm_no in (-1, alarm.alm_no)
 
 
 def _pmc_bit(station: Station, args: Mapping[str, Any]) -> JsonDict:
