@@ -169,8 +169,9 @@ async def test_a_native_port_equal_to_the_port_names_no_fleet_not_typed() -> Non
     code, out, err = await run_focas_net("serve", "--port", str(port), "--native-port", str(port))
     assert (code, out) == (2, "")
     assert one_line(err, "focas-net serve: error:") == (
-        f"focas-net serve: error: --native-port {port} is the port of --port {port}, which "
-        "speaks FOCAS/2 too: leave --native-port out, or give it another port"
+        f"focas-net serve: error: argument --native-port: {port} is the port of --port {port}, "
+        "which speaks FOCAS/2 too: leave --native-port out, or give it another port; see "
+        "focas-net serve --help"
     )
 
 

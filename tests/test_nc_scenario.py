@@ -420,9 +420,9 @@ def test_serve_run_parts_and_downtime_shape_the_scenario() -> None:
 @pytest.mark.parametrize(
     ("argv", "message"),
     [
-        (("--seed", "3"), "--seed 3: the machines do not run"),
-        (("--run-parts", "5"), "--run-parts 5: the machines do not run"),
-        (("--downtime", "2"), "--downtime 2: the machines do not run"),
+        (("--seed", "3"), "argument --seed: the machines do not run"),
+        (("--run-parts", "5"), "argument --run-parts: the machines do not run"),
+        (("--downtime", "2"), "argument --downtime: the machines do not run"),
     ],
 )
 def test_run_options_without_a_running_machine_are_refused(

@@ -91,8 +91,10 @@ async def test_program_load_names_why_the_machine_refused_the_text(
 async def test_program_load_of_a_too_long_file_names_the_file(cli: Cli, tmp_path: Path) -> None:
     file = tmp_path / "huge.nc"
     file.write_bytes(b"O1\n" + b"G0 X1.\n" * 20_000)
-    line = await cli.fails(EXIT_USAGE, "program", "load", str(file))
-    assert line.startswith(f"focas-net: program load: {str(file)!r}: a program of ")
+    line = await cli.fails(EXIT_USAGE, "program", "load", str(file), prefix="focas-net")
+    assert line.startswith(
+        f"focas-net program: error: argument N|FILE: {str(file)!r}: a program of "
+    )
 
 
 # -- the examples' machines ------------------------------------------------------------------
@@ -140,9 +142,12 @@ def test_the_example_machines_have_the_system_variables_watch_reads(name: str, p
     [
         (
             ["--seed", "9223372036854775808"],
-            "--seed 9223372036854775808: outside 0..9223372036854775807",
+            "argument --seed: must be 0..9223372036854775807, got 9223372036854775808",
         ),
-        (["--run-parts", "2147483648"], "--run-parts 2147483648: outside 0..2147483647"),
+        (
+            ["--run-parts", "2147483648"],
+            "argument --run-parts: must be 0..2147483647, got 2147483648",
+        ),
     ],
 )
 async def test_serve_run_refuses_what_a_run_section_refuses(argv: list[str], line: str) -> None:
@@ -150,7 +155,7 @@ async def test_serve_run_refuses_what_a_run_section_refuses(argv: list[str], lin
     beyond it the start-up stops with a usage error naming the option."""
     code, out, err = await run_focas_net("serve", "--port", "0", "--run", *argv)
     assert (code, out) == (EXIT_USAGE, "")
-    assert err == f"focas-net serve: error: {line}\n"
+    assert err == f"focas-net serve: error: {line}; see focas-net serve --help\n"
 
 
 @pytest.mark.parametrize(("key", "value"), [("seed", 2**63), ("parts", 2**31)])

@@ -628,8 +628,9 @@ async def test_a_native_port_limited_to_one_connection_is_refused_at_start() -> 
     )
     assert (code, out) == (2, ""), err
     assert one_line(err, "focas-net") == (
-        "focas-net serve: error: --max-connections 1 leaves --native-port unusable: it speaks "
-        "FOCAS/2 alone, whose open takes two connections (give 2 or more)"
+        "focas-net serve: error: argument --max-connections: 1 leaves --native-port unusable: "
+        "it speaks FOCAS/2 alone, whose open takes two connections (give 2 or more); see "
+        "focas-net serve --help"
     )
 
 

@@ -9,7 +9,7 @@ from __future__ import annotations
 
 import argparse
 from dataclasses import replace
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, Final
 
 from focas_net._typed import os_reason
 
@@ -21,6 +21,7 @@ if TYPE_CHECKING:
 
 __all__ = [
     "ConfigError",
+    "OptionRefused",
     "build_machines",
     "fleet_indices",
     "fleet_slices",
@@ -30,6 +31,16 @@ __all__ = [
 
 class ConfigError(Exception):
     """A configuration problem reported as one line, exit code 2."""
+
+
+class OptionRefused(ConfigError):
+    """An option refused for what it says with the others (``--workers 3`` with ``--fleet
+    2``): reported as the parser reports an option it refuses, ``argument --workers: why``."""
+
+    def __init__(self, option: str, why: str) -> None:
+        super().__init__(f"argument {option}: {why}")
+        self.option = option
+        self.why = why
 
 
 def fleet_slices(fleet: int, workers: int) -> list[range]:
@@ -117,6 +128,10 @@ def build_machines(args: argparse.Namespace, states: list[Kept] | None = None) -
     return machines
 
 
+#: An option of a running machine given to machines that do not run.
+_NOT_RUNNING: Final = "the machines do not run (give --run, or a machine file with a [run] section)"
+
+
 def _scenario(args: argparse.Namespace, machine: Machine, index: int) -> Scenario | None:
     """How machine ``index`` runs on its own (None: it does not)."""
     from focas_net.sim.nc import DEFAULT_SCENARIO, fleet_seed
@@ -127,22 +142,16 @@ def _scenario(args: argparse.Namespace, machine: Machine, index: int) -> Scenari
     parts: int | None = getattr(args, "run_parts", None)
     for option, value, high in (("--seed", seed, MAX_SEED), ("--run-parts", parts, MAX_PARTS)):
         if value is not None and value > high:  # as a machine file's [run] refuses it
-            raise ConfigError(f"{option} {value}: outside 0..{high}")
+            raise OptionRefused(option, f"must be 0..{high}, got {value}")
     downtime: float = getattr(args, "downtime", 1.0)
     base = machine.scenario
     if base is None:
         if not run:
             for option, value in (("--seed", seed), ("--run-parts", parts)):
                 if value is not None:
-                    raise ConfigError(
-                        f"{option} {value}: the machines do not run (give --run, or a machine "
-                        "file with a [run] section)"
-                    )
+                    raise OptionRefused(option, _NOT_RUNNING)
             if downtime != 1.0:
-                raise ConfigError(
-                    f"--downtime {downtime:g}: the machines do not run (give --run, or a "
-                    "machine file with a [run] section)"
-                )
+                raise OptionRefused("--downtime", _NOT_RUNNING)
             return None
         base = DEFAULT_SCENARIO
     fleet = base.seed if seed is None else seed

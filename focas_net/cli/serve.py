@@ -63,10 +63,17 @@ from ._args import (
     parse_bounded,
     pem_holds,
     print_error,
+    print_usage_error,
     ssl_error_text,
     typed_lead,
 )
-from ._fleet import ConfigError, build_machines, fleet_indices, machines_per_process
+from ._fleet import (
+    ConfigError,
+    OptionRefused,
+    build_machines,
+    fleet_indices,
+    machines_per_process,
+)
 from ._format import address_text
 from ._run import stopping_on_signals
 from ._state import Kept, keep_running, saver
@@ -79,7 +86,8 @@ __all__ = ["DEFAULT_SEED", "MAX_FLEET", "check_options", "register", "run"]
 
 _log = logging.getLogger("focas_net.cli.serve")
 
-_ERROR_PREFIX = f"{PROG} serve: error"  # as argparse words its usage errors
+_SERVE: Final = f"{PROG} serve"
+_ERROR_PREFIX = f"{_SERVE}: error"  # as argparse words its usage errors
 
 
 #: Fastest ``serve --speed``.
@@ -354,19 +362,22 @@ def check_options(args: argparse.Namespace) -> None:
     fleet = args.fleet  # (1..MAX_FLEET: its parser's check)
     workers = getattr(args, "workers", 1)
     if fleet == 1 and 1 < workers <= MAX_WORKERS:
-        raise ConfigError(
-            f"--workers {workers} spreads a fleet over processes, and the fleet is 1 machine "
-            f"(without --fleet): give --fleet N (at least {workers} machines)"
+        raise OptionRefused(
+            "--workers",
+            f"{workers} workers spread a fleet over processes, and the fleet is 1 machine "
+            f"(without --fleet): give --fleet N (at least {workers} machines)",
         )
     if workers > fleet:  # (1..MAX_WORKERS: its parser's check)
-        raise ConfigError(
-            f"--workers {workers}: at most {MAX_WORKERS}, and no more than the {fleet} "
-            f"machine{'s' if fleet > 1 else ''} of --fleet"
+        raise OptionRefused(
+            "--workers",
+            f"at most {MAX_WORKERS}, and no more than the {fleet} "
+            f"machine{'s' if fleet > 1 else ''} of --fleet, got {workers}",
         )
     if workers > 1 and getattr(args, "web", None) is not None:
-        raise ConfigError(
-            f"--web shows the machines of one process, not of --workers {workers}: serve the "
-            "dashboard from a fleet without --workers"
+        raise OptionRefused(
+            "--web",
+            f"the dashboard shows the machines of one process, not of --workers {workers}: "
+            "serve it from a fleet without --workers",
         )
     ranges = [("--port", args.port)]
     if args.native_port is not None:
@@ -374,24 +385,28 @@ def check_options(args: argparse.Namespace) -> None:
     served = len(fleet_indices(args))  # a worker checks the ports of its own slice
     for option, first in ranges:
         if first and first + served - 1 > 65_535:
-            raise ConfigError(
-                f"--fleet {fleet} from {option} {first} runs past 65535 "
-                f"(the last machine would get port {first + served - 1})"
+            raise OptionRefused(
+                "--fleet",
+                f"{fleet} machine{'s' if fleet > 1 else ''} from {option} {first} run past "
+                f"65535 (the last machine would get port {first + served - 1})",
             )
     if args.native_port is not None and getattr(args, "max_connections", 2) < 2:
-        raise ConfigError(
-            f"--max-connections {args.max_connections} leaves --native-port unusable: it speaks "
-            "FOCAS/2 alone, whose open takes two connections (give 2 or more)"
+        raise OptionRefused(
+            "--max-connections",
+            f"{args.max_connections} leaves --native-port unusable: it speaks FOCAS/2 alone, "
+            "whose open takes two connections (give 2 or more)",
         )
     if args.port and args.native_port == args.port and fleet == 1:
-        raise ConfigError(
-            f"--native-port {args.native_port} is the port of --port {args.port}, which speaks "
-            "FOCAS/2 too: leave --native-port out, or give it another port"
+        raise OptionRefused(
+            "--native-port",
+            f"{args.native_port} is the port of --port {args.port}, which speaks FOCAS/2 too: "
+            "leave --native-port out, or give it another port",
         )
     if args.port and args.native_port and abs(args.port - args.native_port) < fleet:
-        raise ConfigError(
-            f"--native-port {args.native_port} overlaps the ports "
-            f"{args.port}..{args.port + fleet - 1} of --fleet {fleet}"
+        raise OptionRefused(
+            "--native-port",
+            f"{args.native_port} overlaps the ports {args.port}..{args.port + fleet - 1} of "
+            f"--fleet {fleet}",
         )
     sockets = machines_per_process(args) * (2 if args.native_port is not None else 1)
     limit = _open_files_limit()
@@ -417,7 +432,7 @@ def _ssl_context(args: argparse.Namespace) -> ssl.SSLContext | None:
     if args.tls_cert is None and args.tls_key is None:
         return None
     if args.tls_cert is None:
-        raise ConfigError("--tls-key needs --tls-cert")
+        raise OptionRefused("--tls-key", "needs --tls-cert")
     ctx = ssl.SSLContext(ssl.PROTOCOL_TLS_SERVER)
     try:
         # (asked only for a key under a pass phrase, which OpenSSL would ask on the terminal)
@@ -478,6 +493,9 @@ def run(args: argparse.Namespace) -> int:
             return run_workers(args, run)
         states: list[Kept] = []
         machines = build_machines(args, states)
+    except OptionRefused as exc:  # in the parser's words (a number named as typed: 0x3)
+        print_usage_error(f"argument {exc.option}: {typed_lead(exc.why, args)}", _SERVE)
+        return EXIT_USAGE
     except ConfigError as exc:  # (a number of an option named as typed: --fleet 0x3)
         print_error(typed_lead(str(exc), args), _ERROR_PREFIX)
         return EXIT_USAGE
