@@ -44,6 +44,7 @@ __all__ = [
     "PASSWORD_SIZE",
     "PMC_BYTES",
     "PROGRAM_NUMBERS",
+    "RAPID_F0",
     "RAPID_STEPS",
     "WRONG_PASSWORD",
     "alarm_axis_unfit",
@@ -58,6 +59,7 @@ __all__ = [
     "item_axis_unfit",
     "item_number_unfit",
     "lead_as_typed",
+    "macro_number",
     "macro_to_wire",
     "macro_unfit",
     "nan_refused",
@@ -70,7 +72,9 @@ __all__ = [
     "pmc_count_unfit",
     "program_number",
     "program_text_unfit",
+    "rapid_shown",
     "rapid_step",
+    "rapid_text",
     "read_otherwise",
     "switch",
     "switch_value",
@@ -91,6 +95,21 @@ OVERRIDE_RANGES: Final[Mapping[str, tuple[int, int]]] = {
 #: The rapid traverse override's steps (%), as the panel's switch and G14's ROV1 ROV2 give
 #: them: F0 (a parameter's low speed, kept as 0 %), 25, 50, 100. No other value exists.
 RAPID_STEPS: Final[tuple[int, ...]] = (0, 25, 50, 100)
+#: The slowest rapid override step by its name: F0 is a rate of its own (a parameter's, 1421
+#: on a FANUC control), no percentage, so every front end shows it as the panel names it.
+RAPID_F0: Final = "F0"
+
+
+def rapid_shown(percent: int) -> int | str:
+    """A rapid override as shown in data (``--json``): ``"F0"`` for the slowest step (kept as
+    0 %), else its percentage."""
+    return RAPID_F0 if percent == 0 else percent
+
+
+def rapid_text(percent: int) -> str:
+    """A rapid override as shown in text: ``F0``, or ``25 %``."""
+    return RAPID_F0 if percent == 0 else f"{percent} %"
+
 
 #: What an unlock of a CNC without a parameter password means, as every front end says it.
 NO_PASSWORD_NOTE: Final = (
@@ -404,7 +423,7 @@ def rapid_step(text: str) -> int:
     switch names it) or a whole number (:func:`whole_number`), which the machine checks
     against :data:`RAPID_STEPS`."""
     word = text.strip().upper()
-    if word == "F0":
+    if word == RAPID_F0:
         return 0
     if word.startswith("F"):  # F25 ...: only F0 is a name; the other steps are percentages
         steps = ", ".join(str(s) for s in RAPID_STEPS[1:])
@@ -553,6 +572,22 @@ def lead_as_typed(message: str, typed: Mapping[int, str]) -> str:
     return f"{lead}: {message}"
 
 
+def macro_number(text: str) -> int:
+    """A macro variable's number as a person types it on every front end: a whole number
+    (:func:`whole_number`), or as FANUC writes it, ``#100`` (spaces around); ValueError
+    naming the text as typed otherwise."""
+    rest = text.strip()
+    if not rest.startswith("#"):
+        return whole_number(text)
+    digits = rest[1:]
+    if not digits.strip() or digits != digits.lstrip():  # '#', '# 100': no number after it
+        raise ValueError(f"not a whole number: {text!r}")
+    try:
+        return whole_number(digits)
+    except ValueError as exc:
+        raise ValueError(str(exc).replace(repr(digits), repr(text), 1)) from None
+
+
 def decimal_number(text: str) -> Decimal:
     """A number as a person types it on every front end: ASCII digits with a sign and a
     decimal point (``-12.5``, ``.5``, ``3.``), spaces around; the digits as typed
@@ -563,6 +598,9 @@ def decimal_number(text: str) -> Decimal:
     if odd is not None:
         raise ValueError(odd)
     if _DECIMAL.fullmatch(stripped) is None:
+        pointed = stripped.replace(",", ".")
+        if stripped.count(",") == 1 and _DECIMAL.fullmatch(pointed):  # 1,5: a decimal comma
+            raise ValueError(f"not a number: {text!r} (the decimal point is '.': {pointed})")
         raise _refused("not a number", text)
     too_long = _too_long("not a number", text, stripped.lstrip("+-"))
     if too_long is not None:

@@ -261,7 +261,7 @@ async def test_the_command_line_refuses_a_mode_of_other_letters_and_takes_f0() -
             "focas-net sim panel: error: argument --mode: unknown mode 'md\u0131' (one of MDI, MEM"
         )
         assert served.machine.panel.mode == AutMode.MEM
-        assert "rapid 0 %" in await ok("sim", "override", *at(served), "--rapid", "F0")
+        assert "rapid F0," in await ok("sim", "override", *at(served), "--rapid", "F0")
 
 
 # -- the page says what the command line says -----------------------------------------------
@@ -320,10 +320,10 @@ def test_an_unknown_alarm_type_name_is_refused_in_one_set_of_words(typed: str) -
 
 async def test_the_command_line_names_an_unknown_alarm_type_in_the_same_words() -> None:
     async with serving() as served:
-        line = await fails(2, "sim", "alarm", *at(served), "XX0100", "msg")
+        line = await fails(2, "sim", "alarm", *at(served), "XX0100", "msg", prefix="focas-net")
         assert line == (
-            "focas-net: unknown alarm type 'XX' (one of SW PW IO PS OT OH SV SR MC SP DS IE BG "
-            "SN EX PC, or 0..31)"
+            "focas-net sim alarm: error: argument ALARM: unknown alarm type 'XX' (one of SW PW "
+            "IO PS OT OH SV SR MC SP DS IE BG SN EX PC, or 0..31); see focas-net sim alarm --help"
         )
         assert served.machine.active_alarms() == []
 

@@ -27,6 +27,7 @@ from dataclasses import dataclass
 from decimal import Decimal
 from typing import Any, Final, TypeVar
 
+from focas_net._typed import rapid_shown, rapid_text
 from focas_net.client import FocasClient, Positions, ReconnectPolicy
 from focas_net.errors import CncError, FocasConnectionError, FocasTimeoutError
 from focas_net.protocol import (
@@ -223,7 +224,8 @@ def _state_lines(s: WatchState) -> list[str]:
         lines += ["override -", f"parts -  required {_text(s.parts_required)}", "time -"]
     else:
         lines += [
-            f"override feed {info.feed} %  rapid {info.rapid} %  spindle {info.spindle} %",
+            f"override feed {info.feed} %  rapid {rapid_text(info.rapid)}  "
+            f"spindle {info.spindle} %",
             f"parts {info.parts_count}  total {info.parts_total}  "
             f"required {_text(s.parts_required)}",
             f"time cycle {duration_text(info.cycle_ms)}  cutting {duration_text(info.cutting_ms)}"
@@ -327,7 +329,7 @@ def _state_dict(s: WatchState) -> dict[str, Any]:
         "spindle_speed": s.spindle,
         "overrides": None
         if info is None
-        else {"feed": info.feed, "rapid": info.rapid, "spindle": info.spindle},
+        else {"feed": info.feed, "rapid": rapid_shown(info.rapid), "spindle": info.spindle},
         "parts": {
             "count": None if info is None else info.parts_count,
             "total": None if info is None else info.parts_total,
