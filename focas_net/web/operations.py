@@ -34,6 +34,7 @@ from focas_net._typed import (
     item_axis_unfit,
     item_number_unfit,
     lead_as_typed,
+    macro_number,
     macro_to_wire,
     param_decimals_refused,
     param_value_unfit,
@@ -480,9 +481,17 @@ def _bits(number: int, value: object) -> int | None:
 
 
 def _item_number(args: Mapping[str, Any], what: str) -> int:
-    """``number`` of a parameter or a macro variable, refused as every front end refuses a
-    number the CNC's field does not carry (``parameter number 99999 is outside 0..32767``)."""
-    number = _int(args, "number")
+    """``number`` of a parameter or a macro variable (``#100`` too, as FANUC writes one:
+    :func:`~focas_net._typed.macro_number`), refused as every front end refuses a number the
+    CNC's field does not carry (``parameter number 99999 is outside 0..32767``)."""
+    typed = args.get("number")
+    if what == "macro variable number" and isinstance(typed, str) and typed.strip():
+        try:
+            number = macro_number(typed)
+        except ValueError as exc:
+            raise ActionError(f"number: {exc}") from None
+    else:
+        number = _int(args, "number")
     why = item_number_unfit(what, number)
     if why is not None:
         raise ActionError(f"number: {why}")
