@@ -194,11 +194,11 @@ async def test_macro(cli: Cli) -> None:
 
 
 async def test_macro_errors(cli: Cli) -> None:
-    err = await cli.fails(EXIT_USAGE, "macro", "set", "100", "1" + "0" * 30)
+    err = await cli.fails(EXIT_USAGE, "macro", "set", "100", "1" + "0" * 30, prefix="focas-net")
     assert "1000000000000000000000000000000 does not fit a macro variable: give at most 9" in err
-    err = await cli.fails(EXIT_USAGE, "macro", "set", "100", "1e30")
+    err = await cli.fails(EXIT_USAGE, "macro", "set", "100", "1e30", prefix="focas-net")
     assert "not a number: '1e30' (no exponent: write the digits)" in err
-    err = await cli.fails(EXIT_USAGE, "macro", "set", "100", "twelve")
+    err = await cli.fails(EXIT_USAGE, "macro", "set", "100", "twelve", prefix="focas-net")
     assert "not a number" in err
     err = await cli.fails(EXIT_CNC, "macro", "set", "4001", "1")  # modal G code: read-only
     assert err.startswith("focas-net: EW_PROT (7): write-protected")
@@ -240,13 +240,15 @@ async def test_pmc_errors(cli: Cli) -> None:
     )
     err = await cli.fails(EXIT_CNC, "pmc", "read", "K", "99", "2")
     assert err.startswith("focas-net: EW_NUMBER (3)")
-    err = await cli.fails(EXIT_USAGE, "pmc", "write", "R", "0", "1", "--hex", "02")
-    assert "not both" in err
+    err = await cli.fails(
+        EXIT_USAGE, "pmc", "write", "R", "0", "1", "--hex", "02", prefix="focas-net"
+    )
+    assert "argument --hex: not allowed with BYTE values" in err
     err = await cli.fails(EXIT_USAGE, "pmc", "write", "R", "0", "256", prefix="focas-net")
     assert "outside 0..255" in err
     err = await cli.fails(EXIT_USAGE, "pmc", "write", "R", "0", prefix="focas-net")
     assert "no data bytes" in err
-    err = await cli.fails(EXIT_USAGE, "pmc", "bit", "R", "10")
+    err = await cli.fails(EXIT_USAGE, "pmc", "bit", "R", "10", prefix="focas-net")
     assert "BYTE.BIT" in err
     # --force writes protected inputs through simulator control
     await cli.ok("pmc", "write", "X", "5", "0x80", "--force")
@@ -315,9 +317,9 @@ async def test_sim_alarm_reports_the_message_as_the_cnc_keeps_it(cli: Cli) -> No
 
 
 async def test_alarm_usage_errors(cli: Cli) -> None:
-    err = await cli.fails(EXIT_USAGE, "sim", "alarm", "XX0100")
+    err = await cli.fails(EXIT_USAGE, "sim", "alarm", "XX0100", prefix="focas-net")
     assert "unknown alarm type 'XX'" in err
-    err = await cli.fails(EXIT_USAGE, "alarms", "--count", "3")
+    err = await cli.fails(EXIT_USAGE, "alarms", "--count", "3", prefix="focas-net")
     assert "--follow" in err
     err = await cli.fails(EXIT_CNC, "sim", "alarm", "OT0500", "--axis", "4")  # 3 axes
     assert err.startswith("focas-net: EW_ATTRIB (4)")
@@ -539,9 +541,13 @@ def test_usage_errors_exit_2(capsys: pytest.CaptureFixture[str]) -> None:
     assert main(["param", "set", "1815.1", "1", "--width", "1", "--port", "1"]) == EXIT_USAGE
     assert main(["pmc", "bit", "R", "-1.0", "1", "--port", "1"]) == EXIT_USAGE
     err = capsys.readouterr().err.splitlines()
-    assert err.pop() == "focas-net: PMC start address -1 is outside 0..65535"
+    assert err.pop() == (
+        "focas-net pmc bit: error: argument BYTE.BIT: PMC start address -1 is outside 0..65535; "
+        "see focas-net pmc bit --help"
+    )
     assert err[-3:] == [
-        "focas-net: expected NUMBER or NUMBER.BIT (e.g. 1815 or 1815.0), got 'abc'",
+        "focas-net param get: error: argument NUMBER[.BIT]: expected NUMBER or NUMBER.BIT "
+        "(e.g. 1815 or 1815.0), got 'abc'; see focas-net param get --help",
         "focas-net param set: error: argument VALUE: expected 1, on, true, yes or set, or 0, "
         "off, false, no or clear, got 'maybe'; see focas-net param set --help",
         "focas-net param set: error: argument --width: does not apply to a bit write "

@@ -129,9 +129,19 @@ async def test_a_macro_value_refused_names_the_variable(
     server: Served, protocol: str, value: str, words: str
 ) -> None:
     line = await fails(
-        EXIT_USAGE, "macro", "set", "100", value, "--protocol", protocol, *at(server)
+        EXIT_USAGE,
+        "macro",
+        "set",
+        "100",
+        value,
+        "--protocol",
+        protocol,
+        *at(server),
+        prefix="focas-net",
     )
-    assert line.startswith(f"focas-net: {words}"), line
+    assert line == (
+        f"focas-net macro set: error: argument VALUE: {words}; see focas-net macro set --help"
+    ), line
 
 
 # -- digits are ASCII everywhere a number is typed (the page's rule, the machine file's) ---------
@@ -157,7 +167,7 @@ async def test_digits_of_other_scripts_are_refused(
     server: Served, argv: list[str], words: str
 ) -> None:
     before = server.machine.read_pmc("R", 0, 1), server.machine.read_macro(100)
-    line = await fails(EXIT_USAGE, *argv, *at(server))
+    line = await fails(EXIT_USAGE, *argv, *at(server), prefix="focas-net")
     assert words in line, line
     assert (server.machine.read_pmc("R", 0, 1), server.machine.read_macro(100)) == before
 
@@ -181,9 +191,10 @@ async def test_a_path_the_cnc_has_not_is_named(
 
 @pytest.mark.parametrize("typed", ["\u0661", "O\u0661", "O", "0", "O123456789"])
 async def test_a_program_number_typed_wrong_is_refused(server: Served, typed: str) -> None:
-    line = await fails(EXIT_USAGE, "program", "select", typed, *at(server))
+    line = await fails(EXIT_USAGE, "program", "select", typed, *at(server), prefix="focas-net")
     assert line == (
-        f"focas-net: program select: {typed!r} is not a program number (O1..O99999999, e.g. O1000)"
+        f"focas-net program: error: argument N|FILE: {typed!r} is not a program number "
+        "(O1..O99999999, e.g. O1000); see focas-net program --help"
     ), line
 
 

@@ -158,7 +158,8 @@ async def test_what_native_cannot_carry_is_one_line_naming_command_and_transport
     usage error), not 3 (connection refused)."""
     code, out, err = await cli.run(*argv, *NATIVE, port=dead_port)
     assert (code, out) == (EXIT_USAGE, "")
-    assert err.startswith(f"focas-net: {name} ") and err.count("\n") == 1
+    assert err.startswith(f"focas-net {name.split()[0]}") and err.count("\n") == 1
+    assert f": error: {name} " in err
     assert "--protocol native (FOCAS/2 Ethernet)" in err
     assert why in err
 
@@ -167,7 +168,7 @@ async def test_what_native_cannot_carry_is_one_line_naming_command_and_transport
 async def test_tls_with_native_is_a_usage_error_naming_both(
     cli: Cli, flag: tuple[str, ...]
 ) -> None:
-    line = await cli.fails(EXIT_USAGE, "status", *flag, *NATIVE)
+    line = await cli.fails(EXIT_USAGE, "status", *flag, *NATIVE, prefix="focas-net")
     assert f"{flag[0]} does not apply with --protocol native" in line
     assert "FOCAS/2 has no TLS" in line
 

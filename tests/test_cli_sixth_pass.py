@@ -48,8 +48,13 @@ async def test_a_macro_value_with_an_exponent_is_refused_as_typed(
     A CNC's keys write no exponent, and the page refuses one: so does the command line, before
     anything is sent, whatever the exponent."""
     server.machine.write_macro(100, Decimal(7))
-    line = await fails(EXIT_USAGE, "macro", "set", "100", typed, *protocol, *at(server))
-    assert line == f"focas-net: #100: not a number: {typed!r} (no exponent: write the digits)"
+    line = await fails(
+        EXIT_USAGE, "macro", "set", "100", typed, *protocol, *at(server), prefix="focas-net"
+    )
+    assert line == (
+        f"focas-net macro set: error: argument VALUE: #100: not a number: {typed!r} (no exponent: "
+        "write the digits); see focas-net macro set --help"
+    )
     assert server.machine.read_macro(100) == 7
 
 
@@ -88,8 +93,10 @@ async def test_an_alarm_message_with_a_control_character_says_which(
     words = (
         f"alarm message {shown} holds the control character {char}: a message is one line of text"
     )
-    line = await fails(EXIT_USAGE, "sim", "alarm", "PS0102", typed, *at(server))
-    assert line == f"focas-net: {words}"
+    line = await fails(EXIT_USAGE, "sim", "alarm", "PS0102", typed, *at(server), prefix="focas-net")
+    assert line == (
+        f"focas-net sim alarm: error: argument MESSAGE: {words}; see focas-net sim alarm --help"
+    )
     assert list(server.machine.active_alarms()) == []
     with pytest.raises(ActionError) as refused:  # the page's text, refused as the client's
         perform(
@@ -201,9 +208,10 @@ async def test_an_empty_file_name_is_a_usage_error(argv: list[str]) -> None:
 
 async def test_program_load_of_an_empty_name_asks_for_the_file(server: Served) -> None:
     """It said "cannot read '': Is a directory"."""
-    line = await fails(EXIT_USAGE, "program", "load", "", *at(server))
+    line = await fails(EXIT_USAGE, "program", "load", "", *at(server), prefix="focas-net")
     assert line == (
-        "focas-net: program load: give the file of the program, e.g. o1000.nc ('' names none)"
+        "focas-net program: error: argument N|FILE: program load needs the file of the "
+        "program, e.g. o1000.nc ('' names none); see focas-net program --help"
     )
 
 

@@ -137,15 +137,20 @@ async def test_a_positional_number_refused_is_named_as_typed(
     does (``0x100 reads as 256: ...``)."""
     async with serving() as served:
         for protocol in PROTOCOLS:
-            line = await fails(EXIT_USAGE, *argv, *at(served), *protocol)
-            assert line == f"focas-net: {said}", (protocol, line)
+            line = await fails(EXIT_USAGE, *argv, *at(served), *protocol, prefix="focas-net")
+            assert f": {said}; see" in line, (protocol, line)
 
 
 async def test_a_number_typed_as_it_reads_is_named_once() -> None:
     """Typed in decimal, the number is not named twice (``65536 reads as 65536``)."""
     async with serving() as served:
-        line = await fails(EXIT_USAGE, "pmc", "read", "R", "65536", "0x1", *at(served))
-    assert line == "focas-net: PMC start address 65536 is outside 0..65535", line
+        line = await fails(
+            EXIT_USAGE, "pmc", "read", "R", "65536", "0x1", *at(served), prefix="focas-net"
+        )
+    assert line == (
+        "focas-net pmc read: error: argument START: PMC start address 65536 is outside "
+        "0..65535; see focas-net pmc read --help"
+    ), line
 
 
 # -- the diagnostic and status reads, named as FANUC's library names them ------------------------
@@ -204,7 +209,7 @@ async def test_an_option_refused_names_the_number_as_typed(
 @pytest.mark.parametrize(
     ("argv", "said"),
     [
-        (("pmc", "read", "R", "+70000"), "focas-net: PMC start address 70000 is outside"),
+        (("pmc", "read", "R", "+70000"), "argument START: PMC start address 70000 is outside"),
         (("sim", "override", "--feed", "+300"), "argument --feed: feed override 300 outside"),
     ],
 )
@@ -223,6 +228,6 @@ async def test_a_serve_option_refused_with_another_names_the_number_as_typed() -
     65535``: the number leads as typed, as every refusal of a number read does."""
     line = await fails(EXIT_USAGE, "serve", "--fleet", "0x3", "--port", "65534", prefix="focas-net")
     assert line == (
-        "focas-net serve: error: 0x3 reads as 3: --fleet 3 from --port 65534 runs past 65535 "
-        "(the last machine would get port 65536)"
+        "focas-net serve: error: argument --fleet: 0x3 reads as 3: 3 machines from --port 65534 "
+        "run past 65535 (the last machine would get port 65536); see focas-net serve --help"
     ), line

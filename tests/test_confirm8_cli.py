@@ -51,7 +51,7 @@ async def test_an_alarm_of_a_type_with_no_name_is_taken_as_printed(server: Serve
 async def test_a_bad_code_of_that_form_is_still_refused_naming_it(
     server: Served, given: str
 ) -> None:
-    line = await fails(EXIT_USAGE, "sim", "alarm", given, *at(server))
+    line = await fails(EXIT_USAGE, "sim", "alarm", given, *at(server), prefix="focas-net")
     assert repr(given) in line or given in line, line
 
 
@@ -100,8 +100,11 @@ async def test_a_type_past_31_is_refused_in_the_range_a_code_can_have(
     server: Served, command: str, given: str
 ) -> None:
     """It said "outside -1..31": -1 (every type) is no type a code can name."""
-    line = await fails(EXIT_USAGE, "sim", command, given, *at(server))
-    assert line == "focas-net: alarm type 32 is outside 0..31", line
+    line = await fails(EXIT_USAGE, "sim", command, given, *at(server), prefix="focas-net")
+    assert line == (
+        f"focas-net sim {command}: error: argument ALARM: alarm type 32 is outside 0..31; "
+        f"see focas-net sim {command} --help"
+    ), line
 
 
 # -- the advice of a refusal on path 2 acts on path 2 --------------------------------------------
@@ -121,10 +124,16 @@ async def test_the_advice_of_a_refusal_names_the_path_it_was_refused_on(lathe: S
     assert line.endswith("(focas-net sim panel --mode MEM --path 2)"), line
     await ok("sim", "panel", "--mode", "MEM", *two)
     line = await fails(EXIT_CNC, "program", "select", "1001", *two)
-    assert line.endswith("no program O1001 (focas-net program list --path 2)"), line
-    # path 1 (given or not) keeps the advice as it was
+    assert line.endswith(
+        "no program O1001 on path 2 (O1001 is on path 1: focas-net program select O1001)"
+    ), line
+    # path 1 (given or not): the advice acts on the path that holds it
     line = await fails(EXIT_CNC, "program", "select", "2001", *at(lathe))
-    assert line.endswith("no program O2001 (focas-net program list)"), line
+    assert line.endswith(
+        "no program O2001 on path 1 (O2001 is on path 2: focas-net program select O2001 --path 2)"
+    ), line
+    line = await fails(EXIT_CNC, "program", "select", "3001", *at(lathe))
+    assert line.endswith("no program O3001 (focas-net program list)"), line
 
 
 # -- sim clear: the alarm cleared named by its code --------------------------------------------

@@ -117,8 +117,10 @@ async def test_sim_alarm_axis_past_the_path_tells_the_count_once(server: Served)
 
 @pytest.mark.parametrize("given", ["   ", "\t"])
 async def test_sim_clear_of_spaces_shows_what_was_typed(server: Served, given: str) -> None:
-    line = await fails(EXIT_USAGE, "sim", "clear", given, *at(server))
-    assert line.startswith(f"focas-net: not an alarm code: {given!r} "), line
+    line = await fails(EXIT_USAGE, "sim", "clear", given, *at(server), prefix="focas-net")
+    assert line.startswith(
+        f"focas-net sim clear: error: argument ALARM: not an alarm code: {given!r} "
+    ), line
 
 
 # -- pmc: a count refused alike at both ends ---------------------------------------------------
@@ -136,8 +138,10 @@ async def test_pmc_count_is_refused_alike_at_both_ends(
 ) -> None:
     """``pmc read R 0 0`` was the parser's "must be at least 1", ``pmc read R 0 100000`` the
     clients' "PMC byte count 100000 is outside 1..65536"."""
-    line = await fails(EXIT_USAGE, "pmc", "read", "R", "0", given, *at(server))
-    assert line == f"focas-net: {words}", line
+    line = await fails(EXIT_USAGE, "pmc", "read", "R", "0", given, *at(server), prefix="focas-net")
+    assert line == (
+        f"focas-net pmc read: error: argument COUNT: {words}; see focas-net pmc read --help"
+    ), line
 
 
 # -- pmc write --hex: a separator parts whole bytes --------------------------------------------

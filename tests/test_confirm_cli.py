@@ -93,8 +93,11 @@ async def test_a_program_file_not_in_ascii_names_its_line_and_character(
 ) -> None:
     program = tmp_path / "o1235.nc"
     program.write_bytes(content)
-    line = await fails(EXIT_USAGE, "program", "load", str(program), *at(server))
-    assert line == f"focas-net: program load: {str(program)!r}: {said}", line
+    line = await fails(EXIT_USAGE, "program", "load", str(program), *at(server), prefix="focas-net")
+    assert line == (
+        f"focas-net program: error: argument N|FILE: {str(program)!r}: {said}; "
+        "see focas-net program --help"
+    ), line
 
 
 # -- --host: digits of another script ----------------------------------------------------------

@@ -108,8 +108,13 @@ async def test_a_macro_value_gets_one_verdict_on_every_front_end(
             macro_write(500, typed)
         assert str(client.value) == f"#500: {verdict}"
         machine.write_macro(500, Decimal(7))
-        line = await fails(EXIT_USAGE, "macro", "set", "500", typed, *at(server))
-        assert line == f"focas-net: #500: {verdict}"
+        line = await fails(
+            EXIT_USAGE, "macro", "set", "500", typed, *at(server), prefix="focas-net"
+        )
+        assert line == (
+            f"focas-net macro set: error: argument VALUE: #500: {verdict}; "
+            "see focas-net macro set --help"
+        )
         assert machine.read_macro(500) == 7  # nothing written
         return
     assert perform(station, "write_macro", {"number": 500, "value": typed})["ok"]

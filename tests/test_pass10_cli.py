@@ -113,8 +113,8 @@ async def test_an_option_of_follow_alone_is_named_as_given(
     """``alarms --count 2`` said "--count and --interval apply to --follow", naming an
     option not given: the refusal names the options given, and the command that takes them."""
     async with serving() as served:
-        line = await fails(EXIT_USAGE, "alarms", *given, *at(served))
-    assert line == f"focas-net: {said}", line
+        line = await fails(EXIT_USAGE, "alarms", *given, *at(served), prefix="focas-net")
+    assert line == f"focas-net alarms: error: {said}; see focas-net alarms --help", line
 
 
 # -- a switch given a value ---------------------------------------------------------------------
@@ -147,12 +147,13 @@ async def test_a_pmc_range_past_the_last_address_names_where_it_ends(
     """``pmc read R 65535 2`` said "2 PMC bytes from 65535 do not end by 65535", a riddle:
     the refusal names the address the range runs to and the last one there is."""
     async with serving() as served:
-        line = await fails(EXIT_USAGE, *argv, *at(served))
+        line = await fails(EXIT_USAGE, *argv, *at(served), prefix="focas-net")
     count = len(argv) - 4 if argv[1] == "write" else int(argv[4])
     last = int(argv[3]) + count - 1
+    command = f"focas-net pmc {argv[1]}"
     assert line == (
-        f"focas-net: {count} PMC bytes from {argv[3]} run to {last}, "
-        "past 65535 (the last PMC address)"
+        f"{command}: error: {count} PMC bytes from {argv[3]} run to {last}, "
+        f"past 65535 (the last PMC address); see {command} --help"
     ), line
 
 

@@ -38,10 +38,21 @@ NATIVE = ["--protocol", "native"]
 
 
 async def test_pmc_write_force_names_the_option_native_cannot_carry(server: Served) -> None:
-    line = await fails(EXIT_USAGE, "pmc", "write", "X", "0", "1", "--force", *at(server), *NATIVE)
+    line = await fails(
+        EXIT_USAGE,
+        "pmc",
+        "write",
+        "X",
+        "0",
+        "1",
+        "--force",
+        *at(server),
+        *NATIVE,
+        prefix="focas-net",
+    )
     assert line.startswith(
-        "focas-net: pmc write --force is not available with --protocol native (FOCAS/2 "
-        "Ethernet): --force writes through a simulator control command"
+        "focas-net pmc write: error: pmc write --force is not available with --protocol "
+        "native (FOCAS/2 Ethernet): --force writes through a simulator control command"
     ), line
     # without --force the command is carried
     assert (
@@ -50,10 +61,13 @@ async def test_pmc_write_force_names_the_option_native_cannot_carry(server: Serv
 
 
 async def test_sim_override_on_native_says_it_is_a_simulator_control(server: Served) -> None:
-    line = await fails(EXIT_USAGE, "sim", "override", "--feed", "50", *at(server), *NATIVE)
+    line = await fails(
+        EXIT_USAGE, "sim", "override", "--feed", "50", *at(server), *NATIVE, prefix="focas-net"
+    )
     assert line == (
-        "focas-net: sim override is not available with --protocol native (FOCAS/2 Ethernet): "
-        "the simulator controls are packed-protocol commands"
+        "focas-net sim override: error: sim override is not available with --protocol native "
+        "(FOCAS/2 Ethernet): the simulator controls are packed-protocol commands; see "
+        "focas-net sim override --help"
     )
 
 
@@ -186,10 +200,10 @@ async def test_the_exit_codes_in_help_list_130() -> None:
 
 
 async def test_program_list_refuses_a_program_number_it_would_ignore(server: Served) -> None:
-    line = await fails(EXIT_USAGE, "program", "list", "5", *at(server))
+    line = await fails(EXIT_USAGE, "program", "list", "5", *at(server), prefix="focas-net")
     assert line == (
-        "focas-net: program list takes no program number or file, got '5' (program show N "
-        "shows one)"
+        "focas-net program: error: argument N|FILE: program list takes no program number or "
+        "file, got '5' (program show N shows one); see focas-net program --help"
     )
 
 
@@ -203,10 +217,20 @@ async def test_a_tls_ca_file_without_a_certificate_says_so_without_openssls_tags
     text.write_text("root:x:0:0\n")
     broken = tmp_path / "broken.pem"
     broken.write_text("-----BEGIN CERTIFICATE-----\nabc\n-----END CERTIFICATE-----\n")
-    line = await fails(EXIT_USAGE, "status", "--tls-ca", str(text), "--port", "1")
-    assert line == f"focas-net: --tls-ca {text}: no PEM certificate in it"
-    line = await fails(EXIT_USAGE, "status", "--tls-ca", str(broken), "--port", "1")
-    assert line.startswith(f"focas-net: --tls-ca {broken}: a certificate in it cannot be read (")
+    line = await fails(
+        EXIT_USAGE, "status", "--tls-ca", str(text), "--port", "1", prefix="focas-net"
+    )
+    assert line == (
+        f"focas-net status: error: argument --tls-ca: {text}: no PEM certificate in it; "
+        "see focas-net status --help"
+    )
+    line = await fails(
+        EXIT_USAGE, "status", "--tls-ca", str(broken), "--port", "1", prefix="focas-net"
+    )
+    assert line.startswith(
+        f"focas-net status: error: argument --tls-ca: {broken}: a certificate in it cannot be "
+        "read ("
+    )
     assert "_ssl.c" not in line and "[" not in line
 
 
@@ -250,16 +274,20 @@ def test_the_number_rule_reads_a_hundred_digits_and_leading_zeros() -> None:
 async def test_an_alarm_code_with_digits_of_another_script_is_refused(
     server: Served, typed: str
 ) -> None:
-    line = await fails(EXIT_USAGE, "sim", "alarm", typed, *at(server))
+    line = await fails(EXIT_USAGE, "sim", "alarm", typed, *at(server), prefix="focas-net")
     assert line == (
-        f"focas-net: not an alarm code: {typed!r} (expected e.g. PS0100, 3:100 or T31:0005)"
+        f"focas-net sim alarm: error: argument ALARM: not an alarm code: {typed!r} (expected "
+        "e.g. PS0100, 3:100 or T31:0005); see focas-net sim alarm --help"
     )
     assert server.machine.active_alarms() == []
 
 
 async def test_an_alarm_number_of_many_digits_names_the_range(server: Served) -> None:
-    line = await fails(EXIT_USAGE, "sim", "alarm", "PS99999999999", *at(server))
-    assert line == "focas-net: alarm number 99999999999 is outside 0..32767"
+    line = await fails(EXIT_USAGE, "sim", "alarm", "PS99999999999", *at(server), prefix="focas-net")
+    assert line == (
+        "focas-net sim alarm: error: argument ALARM: alarm number 99999999999 is outside "
+        "0..32767; see focas-net sim alarm --help"
+    )
 
 
 # -- a reader that goes away ------------------------------------------------------------------
@@ -315,8 +343,13 @@ async def test_a_number_with_two_minus_signs_is_named(
 async def test_a_pmc_bit_past_7_names_the_address_as_typed(
     server: Served, protocol: list[str]
 ) -> None:
-    line = await fails(EXIT_USAGE, "pmc", "bit", "r", "1.8", "1", *at(server), *protocol)
-    assert line == "focas-net: R1.8: bit 8 is outside 0..7: a PMC address is 1 byte wide"
+    line = await fails(
+        EXIT_USAGE, "pmc", "bit", "r", "1.8", "1", *at(server), *protocol, prefix="focas-net"
+    )
+    assert line == (
+        "focas-net pmc bit: error: argument BYTE.BIT: R1.8: bit 8 is outside 0..7: a PMC "
+        "address is 1 byte wide; see focas-net pmc bit --help"
+    )
 
 
 #: The command line's reference.
@@ -324,6 +357,6 @@ _CLI_DOCS = Path(__file__).resolve().parent.parent / "docs" / "cli.md"
 
 
 async def test_the_docs_quote_the_line_of_a_value_checked_after_parsing(server: Served) -> None:
-    line = await fails(EXIT_USAGE, "param", "get", "abc", *at(server))
+    line = await fails(EXIT_USAGE, "param", "get", "abc", *at(server), prefix="focas-net")
     docs = await asyncio.to_thread(_CLI_DOCS.read_text)
-    assert f"(`{line}`)" in " ".join(docs.split())
+    assert f"(`{line}`;" in " ".join(docs.split())

@@ -57,10 +57,18 @@ async def test_a_negative_parameter_number_reads_as_a_negative_diagnostic_number
 ) -> None:
     """``param get -1`` named the form it expected while ``diag -1`` named the range: both
     name the range now, in the words the clients check it with."""
-    diag = await fails(EXIT_USAGE, "diag", "-1", *protocol, *at(server))
-    param = await fails(EXIT_USAGE, "param", "get", "-1", *protocol, *at(server))
-    assert diag == "focas-net: diagnostic number -1 is outside 0..32767"
-    assert param == "focas-net: parameter number -1 is outside 0..32767"
+    diag = await fails(EXIT_USAGE, "diag", "-1", *protocol, *at(server), prefix="focas-net")
+    param = await fails(
+        EXIT_USAGE, "param", "get", "-1", *protocol, *at(server), prefix="focas-net"
+    )
+    assert diag == (
+        "focas-net diag: error: argument NUMBER: diagnostic number -1 is outside 0..32767; "
+        "see focas-net diag --help"
+    )
+    assert param == (
+        "focas-net param get: error: argument NUMBER[.BIT]: parameter number -1 is outside "
+        "0..32767; see focas-net param get --help"
+    )
 
 
 @pytest.mark.parametrize(
@@ -77,9 +85,12 @@ async def test_a_negative_parameter_number_reads_as_a_negative_diagnostic_number
 async def test_a_parameter_number_refused_keeps_the_number_rules_reason(
     server: Served, typed: str, why: str
 ) -> None:
-    line = await fails(EXIT_USAGE, "param", "get", typed, *at(server))
-    expected = "focas-net: expected NUMBER or NUMBER.BIT (e.g. 1815 or 1815.0), got "
-    assert line == f"{expected}{typed!r}{why}"
+    line = await fails(EXIT_USAGE, "param", "get", typed, *at(server), prefix="focas-net")
+    expected = (
+        "focas-net param get: error: argument NUMBER[.BIT]: expected NUMBER or NUMBER.BIT "
+        "(e.g. 1815 or 1815.0), got "
+    )
+    assert line == f"{expected}{typed!r}{why}; see focas-net param get --help"
 
 
 @pytest.mark.parametrize("protocol", PROTOCOLS)
@@ -245,8 +256,12 @@ async def test_a_message_refused_is_refused_also_when_the_alarm_is_active(
     """It was "already active" and exit 0, the bad message never checked."""
     await ok("sim", "alarm", "PS0100", *at(server))
     for message in ("\u00e9", "a\tb"):
-        line = await fails(EXIT_USAGE, "sim", "alarm", "PS0100", message, *at(server))
-        fresh = await fails(EXIT_USAGE, "sim", "alarm", "PS0101", message, *at(server))
+        line = await fails(
+            EXIT_USAGE, "sim", "alarm", "PS0100", message, *at(server), prefix="focas-net"
+        )
+        fresh = await fails(
+            EXIT_USAGE, "sim", "alarm", "PS0101", message, *at(server), prefix="focas-net"
+        )
         assert line == fresh
     assert [a.alm_no for a in server.machine.active_alarms()] == [100]
 

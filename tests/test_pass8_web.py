@@ -318,10 +318,10 @@ async def test_a_program_number_of_thousands_of_digits_is_refused_as_no_program_
             str(refused.value)
             == f"number: {typed!r} is not a program number (O1..O99999999, e.g. O1000)"
         )
-        line = await fails(2, "program", "select", typed, *at(served))
+        line = await fails(2, "program", "select", typed, *at(served), prefix="focas-net")
         assert line == (
-            f"focas-net: program select: {typed!r} is not a program number "
-            "(O1..O99999999, e.g. O1000)"
+            f"focas-net program: error: argument N|FILE: {typed!r} is not a program number "
+            "(O1..O99999999, e.g. O1000); see focas-net program --help"
         )
     leading = perform(_station(), "select_program", {"number": "O" + "0" * 4999 + "1"})
     assert leading == {"ok": True}

@@ -39,8 +39,9 @@ async def test_workers_without_a_fleet_asks_for_fleet() -> None:
     ``--fleet`` was given: it says that --workers spreads a fleet, and how to give one."""
     line = await fails(EXIT_USAGE, "serve", "--workers", "2", "--port", "0", prefix="focas-net")
     assert line == (
-        "focas-net serve: error: --workers 2 spreads a fleet over processes, and the fleet is "
-        "1 machine (without --fleet): give --fleet N (at least 2 machines)"
+        "focas-net serve: error: argument --workers: 2 workers spread a fleet over processes, "
+        "and the fleet is 1 machine (without --fleet): give --fleet N (at least 2 machines); "
+        "see focas-net serve --help"
     ), line
 
 
@@ -48,7 +49,7 @@ async def test_workers_past_the_fleet_still_names_both() -> None:
     line = await fails(
         EXIT_USAGE, "serve", "--fleet", "2", "--workers", "3", "--port", "0", prefix="focas-net"
     )
-    assert "--workers 3: at most 64, and no more than the 2 machines of --fleet" in line, line
+    assert "--workers: at most 64, and no more than the 2 machines of --fleet, got 3" in line, line
 
 
 # -- sim clear on a machine of several paths ---------------------------------------------------
@@ -150,9 +151,10 @@ async def test_every_override_refusal_names_its_option(
 @pytest.mark.parametrize("typed", ["0", "O0", "-5", "O100000000"])
 async def test_a_program_number_refused_gives_the_range(server: Served, typed: str) -> None:
     """``program show 0`` said "'0' is not a program number (e.g. O1000)", not why."""
-    line = await fails(EXIT_USAGE, "program", "show", typed, *at(server))
+    line = await fails(EXIT_USAGE, "program", "show", typed, *at(server), prefix="focas-net")
     assert line == (
-        f"focas-net: program show: {typed!r} is not a program number (O1..O99999999, e.g. O1000)"
+        f"focas-net program: error: argument N|FILE: {typed!r} is not a program number "
+        "(O1..O99999999, e.g. O1000); see focas-net program --help"
     ), line
 
 
@@ -163,6 +165,11 @@ async def test_a_program_number_refused_gives_the_range(server: Served, typed: s
 async def test_a_bit_without_its_number_says_so(server: Served, command: list[str]) -> None:
     """``param get .4`` said "got '.4' (nothing typed)", though '.4' was typed."""
     line = await fails(
-        EXIT_USAGE, *command, ".4", *(["1"] if "set" in command else []), *at(server)
+        EXIT_USAGE,
+        *command,
+        ".4",
+        *(["1"] if "set" in command else []),
+        *at(server),
+        prefix="focas-net",
     )
-    assert line.endswith("got '.4' (no number before the dot)"), line
+    assert "got '.4' (no number before the dot); see" in line, line

@@ -291,8 +291,13 @@ async def test_a_program_file_that_is_not_ascii_is_named_alike_everywhere(
     file, which saved as UTF-8 is still refused; ``program load`` named the line."""
     message = _program_file_refusal(tmp_path, raw)
     assert message.endswith(f"program[0].file: {str(tmp_path / 'p.nc')!r}: {why}")
-    line = await fails(EXIT_USAGE, "program", "load", str(tmp_path / "p.nc"), "--port", "1")
-    assert line == f"focas-net: program load: {str(tmp_path / 'p.nc')!r}: {why}"
+    line = await fails(
+        EXIT_USAGE, "program", "load", str(tmp_path / "p.nc"), "--port", "1", prefix="focas-net"
+    )
+    assert line == (
+        f"focas-net program: error: argument N|FILE: {str(tmp_path / 'p.nc')!r}: {why}; "
+        "see focas-net program --help"
+    )
 
 
 def test_an_empty_program_file_name_is_named_as_empty(tmp_path: Path) -> None:

@@ -78,12 +78,14 @@ __all__ = [
     "SECONDS",
     "SPINDLE",
     "TYPED_NUMBERS",
+    "USAGE_PROG",
     "WIDTH",
     "ArgumentRefused",
     "Parser",
     "argument_type",
     "choice",
     "command_parser",
+    "named",
     "note_typed",
     "parse_area",
     "parse_at_least",
@@ -106,6 +108,7 @@ __all__ = [
     "ssl_error_text",
     "typed_lead",
     "typed_number_bit",
+    "usage_refusal",
 ]
 
 T = TypeVar("T")
@@ -160,6 +163,34 @@ class ArgumentRefused(ValueError):
         super().__init__(f"argument {option}: {why}")
         self.option = option
         self.why = why
+
+
+def named(argument: str, check: Callable[..., T], *given: Any) -> T:
+    """``check(*given)``, its ``ValueError`` an :class:`ArgumentRefused` of ``argument`` (as
+    ``--help`` names it): a value a command judges without the CNC is refused in the parser's
+    words, before anything is connected."""
+    try:
+        return check(*given)
+    except ArgumentRefused:
+        raise
+    except ValueError as exc:
+        raise ArgumentRefused(argument, str(exc)) from None
+
+
+#: The namespace's key of the ``prog`` of the parser that read it (``focas-net param set``):
+#: a refusal found after parsing is worded as that parser words its own.
+USAGE_PROG: Final = "usage_prog"
+
+
+def usage_refusal(exc: ValueError, args: argparse.Namespace) -> None:
+    """A value the command refused without the CNC (``exc``), on one line in the parser's
+    words (:func:`print_usage_error`), the numbers it names as they were typed
+    (:func:`typed_lead`)."""
+    if isinstance(exc, ArgumentRefused):
+        message = f"argument {exc.option}: {typed_lead(exc.why, args)}"
+    else:
+        message = typed_lead(str(exc), args)
+    print_usage_error(message, str(getattr(args, USAGE_PROG, PROG)))
 
 
 #: The namespace's record of the numbers typed otherwise than they read (``0x10000`` for

@@ -267,13 +267,25 @@ def parse_alarm(text: str) -> tuple[int, int]:
 
 def parse_alarm_filter(text: str | None) -> tuple[int, int]:
     """Filter of ``sim clear``: None -> every alarm ``(-1, -1)``; ``"PS"`` -> every PS alarm
-    ``(3, -1)``; ``"PS0100"`` -> ``(3, 100)``."""
+    ``(3, -1)``, as its number ``"3"`` (the refusal of a type names 0..31) and a type of no
+    name as it is printed, ``"T31"``; ``"PS0100"`` -> ``(3, 100)``."""
     if text is None:
         return (-1, -1)
     s = text.strip()
     if s.isalpha() and len(s) == 2:
         return (_alarm_type(s), -1)
+    number = _TYPE_NUMBER_RE.match(s)
+    if number is not None:
+        alm_type = whole_number(number[1])
+        why = alarm_key_unfit(alm_type, 0)
+        if why is not None:
+            raise ValueError(why)
+        return (alm_type, -1)
     return parse_alarm(text)  # (its refusal shows the text as typed, spaces too)
+
+
+#: A whole alarm type by its number, ``3``, or as a type of no name is printed, ``T31``.
+_TYPE_NUMBER_RE: Final = re.compile(r"^[Tt]?([0-9]+)$", re.ASCII)
 
 
 # -- VersaMax ------------------------------------------------------------------------------

@@ -106,7 +106,8 @@ def _param_length(args: argparse.Namespace, exc: CncError) -> str | None:
     parameter's own information."""
     if getattr(args, "width", None) is not None:
         said = exc.detail.partition(": ")[2]
-        said = said or f"parameter {args.number} is not {args.width} bytes wide"
+        width = args.width
+        said = said or f"parameter {args.number} is not {width} byte{'s' * (width > 1)} wide"
         return f"{said}: leave out --width (the CNC's own width is used)"
     return _param_refusal(args, EW.LENGTH)
 
@@ -304,7 +305,14 @@ def _no_program(args: argparse.Namespace) -> str:
     program can have ``program number 10000 outside 1..9999``), as the dashboard says it."""
     text = str(args.target).strip().upper().removeprefix("O")
     what = no_program(int(text)) if text.isdigit() else f"no program {args.target}"
-    return f"{what} ({_next(args, 'program list')})"
+    other: int | None = getattr(args, "program_path", None)
+    if other is None:
+        return f"{what} ({_next(args, 'program list')})"
+    # (found in another path's store: the same command there)
+    program = f"O{int(text):04d}"
+    command = f"focas-net program {args.action} {program}" + (f" --path {other}" * (other != 1))
+    path = getattr(args, "path", 1)
+    return f"{what} on path {path} ({program} is on path {other}: {command})"
 
 
 _PROGRAM_SELECT: Final[Table] = {

@@ -50,11 +50,10 @@ from ._args import (
     EXIT_OK,
     EXIT_PROTOCOL,
     EXIT_USAGE,
-    PROG,
     ArgumentRefused,
     print_error,
-    print_usage_error,
     typed_lead,
+    usage_refusal,
 )
 from ._diagnose import diagnosis
 from ._reasons import as_said, reason
@@ -238,7 +237,7 @@ def tls_context(args: argparse.Namespace) -> ssl.SSLContext | None:
     try:
         return ca_context(ca)
     except ValueError as exc:
-        raise ValueError(f"--tls-ca {ca}: {exc}") from None
+        raise ArgumentRefused("--tls-ca", f"{ca}: {exc}") from None
 
 
 async def _session(
@@ -476,10 +475,10 @@ def runner(handler: Handler) -> Callable[[argparse.Namespace], int]:
             go = handler(args)
             _check_native(args, go)
             context = tls_context(args)
-        except ArgumentRefused as exc:  # in the parser's words, as it refuses an option
-            print_usage_error(str(exc), f"{PROG} {command_name(args)}")
+        except ValueError as exc:  # judged without the CNC: in the parser's words
+            usage_refusal(exc, args)
             return EXIT_USAGE
-        except (FocasError, ValueError, OSError) as exc:
+        except (FocasError, OSError) as exc:
             _print_one_line(_failure_text(args, exc))
             return _exit_code(exc)
         try:

@@ -15,6 +15,7 @@ from dataclasses import dataclass
 from functools import partial
 from typing import Any, Final, Literal, TypedDict, Unpack
 
+from focas_net._typed import macro_number
 from focas_net.protocol import fault_kind_of
 from focas_net.server.faults import MAX_FAULT_COUNT
 
@@ -39,6 +40,7 @@ from ._args import (
     RAPID,
     SECONDS,
     SPINDLE,
+    USAGE_PROG,
     WIDTH,
     argument_type,
     choice,
@@ -163,7 +165,12 @@ _DIAG_AXIS: Final = arg("--axis", type=DIAG_AXIS, default=0, metavar="N", help=_
 _PARAM_NUMBER: Final = arg(
     "number", metavar="NUMBER[.BIT]", help="parameter number, e.g. 1320 or 1815.4"
 )
-_MACRO_NUMBER: Final = arg("number", type=INT, metavar="NUMBER", help="variable number, e.g. 100")
+_MACRO_NUMBER: Final = arg(
+    "number",
+    type=argument_type(macro_number, "integer"),
+    metavar="NUMBER",
+    help="variable number, e.g. 100 or #100",
+)
 _AREA: Final = arg("area", type=AREA, metavar="AREA", help="area letter: X Y F G R T C D K A E")
 #: (a whole number: one no request carries, -1 or 70000, is the client's to refuse, in the
 #: words every front end gives)
@@ -476,7 +483,7 @@ COMMANDS: Final[tuple[Cmd | Group, ...]] = (
                         "alarm",
                         nargs="?",
                         metavar="ALARM",
-                        help="PS0100, PS for a whole type, or all (the default)",
+                        help="PS0100, PS (or its number, 3) for a whole type, or all (the default)",
                     ),
                 ),
             ),
@@ -591,7 +598,7 @@ def _add_command(subparsers: Any, cmd: Cmd) -> None:
         _add_argument(connection, a)
     for a in cmd.args:
         _add_argument(p, a)
-    p.set_defaults(func=runner(cmd.handler))
+    p.set_defaults(func=runner(cmd.handler), **{USAGE_PROG: p.prog})
 
 
 def _add_group(subparsers: Any, group: Group) -> None:

@@ -6,15 +6,25 @@ feed and spindle speed (:func:`focas_net.cli.read_cmds.program`)."""
 from __future__ import annotations
 
 import argparse
+import contextlib
+from collections.abc import AsyncIterator
 from pathlib import Path
 from typing import Any, Final
 
-from focas_net._typed import os_reason, program_file_text, program_number
+from focas_net._typed import (
+    os_reason,
+    program_file_text,
+    program_number,
+    rapid_shown,
+    rapid_text,
+)
 from focas_net.client import FocasClient
-from focas_net.protocol import cycle_action_of
+from focas_net.errors import EW, CncError, FocasError
+from focas_net.protocol import COMMANDS, Command, ProgramText, cycle_action_of
 
 from . import _format as fmt
 from . import read_cmds
+from ._args import ArgumentRefused, named
 from ._run import Go, Output, PackedOnly
 from .sim_cmds import SIM_CONTROLS
 
@@ -34,50 +44,58 @@ CYCLE_ACTIONS: Final = ("start", "hold", "reset")
 _WHY: Final = "the program store and the cycle are packed-protocol commands"
 
 
+#: ``program``'s argument of a number or a file, as ``--help`` names it.
+_TARGET: Final = "N|FILE"
+
+
 def _number(action: str, target: str | None) -> int:
-    """The O number of ``program show|delete|select`` (``1000``, ``O1000``): ValueError naming
-    what was typed."""
+    """The O number of ``program show|delete|select`` (``1000``, ``O1000``): an
+    :class:`~._args.ArgumentRefused` naming what was typed."""
     if target is None:
-        raise ValueError(f"program {action}: give the program number, e.g. O1000")
-    try:
-        return program_number(target)
-    except ValueError as exc:
-        raise ValueError(f"program {action}: {exc}") from None
+        raise ArgumentRefused(_TARGET, f"program {action} needs the program number, e.g. O1000")
+    return named(_TARGET, program_number, target)
 
 
 def _text_of(target: str | None) -> tuple[str, str]:
     """The program text of ``program load FILE`` and the file's name."""
     if target is None or not target.strip():
         given = "" if target is None else f" ({target!r} names none)"
-        raise ValueError(f"program load: give the file of the program, e.g. o1000.nc{given}")
+        raise ArgumentRefused(
+            _TARGET, f"program load needs the file of the program, e.g. o1000.nc{given}"
+        )
     path = Path(target)
     try:
         raw = path.read_bytes()
     except OSError as exc:
-        raise ValueError(f"program load: cannot read {target!r}: {os_reason(exc)}") from None
+        raise ArgumentRefused(_TARGET, f"cannot read {target!r}: {os_reason(exc)}") from None
     try:
-        return program_file_text(raw), target
+        text = program_file_text(raw)
+        _DOWNLOAD.request.encode(ProgramText(0, text))  # (one the request carries)
     except ValueError as exc:
-        raise ValueError(f"program load: {target!r}: {exc}") from None
+        raise ArgumentRefused(_TARGET, f"{target!r}: {exc}") from None
+    return text, target
+
+
+#: ``cnc_download``, whose request carries the text of ``program load``.
+_DOWNLOAD: Final = COMMANDS[Command.WRPROGRAM]
 
 
 def program(args: argparse.Namespace) -> Go | PackedOnly:
     action: str | None = args.action
-    if action is None and args.replace:
-        raise ValueError("program: --replace goes with program load only")
+    if args.replace and action != "load":
+        raise ArgumentRefused("--replace", "goes with program load only")
     if action is None:
         if args.target is not None:
-            raise ValueError(
-                f"program: {args.target!r} needs an action ({', '.join(PROGRAM_ACTIONS)})"
+            raise ArgumentRefused(
+                "ACTION", f"{args.target!r} needs an action ({', '.join(PROGRAM_ACTIONS)})"
             )
         return read_cmds.program(args)
-    if args.replace and action != "load":
-        raise ValueError(f"program {action}: --replace goes with program load only")
     if action == "list":
         if args.target is not None:
-            raise ValueError(
+            raise ArgumentRefused(
+                _TARGET,
                 f"program list takes no program number or file, got {args.target!r} (program "
-                "show N shows one)"
+                "show N shows one)",
             )
         return _list()
     if action == "load":
@@ -85,10 +103,32 @@ def program(args: argparse.Namespace) -> Go | PackedOnly:
         return _load(text, name, args.replace)
     number = _number(action, args.target)
     if action == "show":
-        return _show(number)
+        return _show(args, number)
     if action == "delete":
-        return _delete(number)
-    return _select(number)
+        return _delete(args, number)
+    return _select(args, number)
+
+
+@contextlib.asynccontextmanager
+async def _looked_up(
+    cnc: FocasClient, args: argparse.Namespace, number: int
+) -> AsyncIterator[None]:
+    """A call on program ``number`` of the ``--path`` path; when the CNC has no such program
+    there (EW_NUMBER) the other paths' stores are looked in, and the path that holds it kept
+    for the refusal's words (``args.program_path``, :mod:`._reasons`), as ``sim clear``
+    names the path where an alarm is."""
+    try:
+        yield
+    except CncError as exc:
+        if exc.ew == EW.NUMBER:
+            path = getattr(args, "path", 1)
+            with contextlib.suppress(FocasError):
+                for other in range(1, (await cnc.read_paths()).count + 1):
+                    entries = () if other == path else await cnc.read_program_directory(path=other)
+                    if any(e.number == number for e in entries):
+                        args.program_path = other
+                        break
+        raise
 
 
 def _list() -> PackedOnly:
@@ -112,9 +152,10 @@ def _list() -> PackedOnly:
     return PackedOnly(go, _WHY)
 
 
-def _show(number: int) -> PackedOnly:
+def _show(args: argparse.Namespace, number: int) -> PackedOnly:
     async def go(cnc: FocasClient) -> Output:
-        text = await cnc.read_program(number)
+        async with _looked_up(cnc, args, number):
+            text = await cnc.read_program(number)
         return Output({"number": number, "text": text}, text)
 
     return PackedOnly(go, _WHY)
@@ -132,17 +173,19 @@ def _load(text: str, name: str, replace: bool) -> PackedOnly:
     return PackedOnly(go, _WHY)
 
 
-def _delete(number: int) -> PackedOnly:
+def _delete(args: argparse.Namespace, number: int) -> PackedOnly:
     async def go(cnc: FocasClient) -> Output:
-        await cnc.delete_program(number)
+        async with _looked_up(cnc, args, number):
+            await cnc.delete_program(number)
         return Output({"deleted": number}, f"deleted O{number:04d}")
 
     return PackedOnly(go, _WHY)
 
 
-def _select(number: int) -> PackedOnly:
+def _select(args: argparse.Namespace, number: int) -> PackedOnly:
     async def go(cnc: FocasClient) -> Output:
-        await cnc.select_program(number)
+        async with _looked_up(cnc, args, number):
+            await cnc.select_program(number)
         return Output({"main": number}, f"O{number:04d} is the main program")
 
     return PackedOnly(go, _WHY)
@@ -179,7 +222,8 @@ def override(args: argparse.Namespace) -> PackedOnly:
         if args.feed is not None or args.rapid is not None or args.spindle is not None:
             await cnc.sim.set_overrides(feed=args.feed, rapid=args.rapid, spindle=args.spindle)
         info = await cnc.read_run_info()
-        data = {"feed": info.feed, "rapid": info.rapid, "spindle": info.spindle}
-        return Output(data, f"feed {info.feed} %, rapid {info.rapid} %, spindle {info.spindle} %")
+        data = {"feed": info.feed, "rapid": rapid_shown(info.rapid), "spindle": info.spindle}
+        rapid = rapid_text(info.rapid)
+        return Output(data, f"feed {info.feed} %, rapid {rapid}, spindle {info.spindle} %")
 
     return PackedOnly(go, SIM_CONTROLS)

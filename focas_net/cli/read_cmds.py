@@ -6,7 +6,7 @@ from __future__ import annotations
 import argparse
 import json
 from decimal import Decimal
-from typing import Any
+from typing import Any, Final
 
 from focas_net._refusals import axis_misfit, path_axes
 from focas_net.client import (
@@ -19,13 +19,13 @@ from focas_net.client import (
     NativeClient,
     ProjectionMode,
 )
-from focas_net.client._values import check_bit
+from focas_net.client._values import check_bit, check_int, check_item, check_macro, check_pmc_range
 from focas_net.errors import EW, CncError, FocasError
 from focas_net.protocol import ParamDataType, ParamValue, PmcArea, PositionKind
 
 from . import _format as fmt
 from . import _run
-from ._args import PROG, typed_number_bit
+from ._args import PROG, named, typed_number_bit
 from ._run import (
     Go,
     HintedError,
@@ -37,6 +37,7 @@ from ._run import (
 )
 
 __all__ = [
+    "PMC_LAST",
     "alarms",
     "axis_hint",
     "diag",
@@ -44,6 +45,7 @@ __all__ = [
     "macro_dict",
     "macro_get",
     "param_get",
+    "param_number",
     "param_output",
     "pmc_read",
     "position",
@@ -189,8 +191,23 @@ async def param_kind(cnc: CncClient, number: int, pv: ParamValue) -> ParamDataTy
         return None
 
 
+#: The last PMC address a request carries.
+PMC_LAST: Final = 0xFFFF
+#: A parameter's argument, as ``--help`` names it.
+_PARAM_NUMBER: Final = "NUMBER[.BIT]"
+
+
+def param_number(args: argparse.Namespace) -> tuple[int, int | None]:
+    """``param get|set``'s NUMBER[.BIT], the number one a CNC's field carries (the clients'
+    rule, :func:`~focas_net.client._values.check_item`), refused without the CNC naming the
+    argument."""
+    number, bit = named(_PARAM_NUMBER, typed_number_bit, args, args.number)
+    named(_PARAM_NUMBER, check_item, number, args.axis, "parameter")
+    return number, bit
+
+
 def param_get(args: argparse.Namespace) -> Go:
-    number, bit = typed_number_bit(args, args.number)
+    number, bit = param_number(args)
 
     async def go(cnc: CncClient) -> Output:
         try:
@@ -209,6 +226,8 @@ def param_get(args: argparse.Namespace) -> Go:
 
 
 def diag(args: argparse.Namespace) -> Go:
+    named("NUMBER", check_item, args.number, args.axis, "diagnostic")
+
     async def go(cnc: CncClient) -> Output:
         try:
             value = await cnc.read_diag(args.number, axis=args.axis)
@@ -226,6 +245,8 @@ def macro_dict(number: int, value: Decimal | None) -> dict[str, Any]:
 
 
 def macro_get(args: argparse.Namespace) -> Go:
+    named("NUMBER", check_macro, args.number)
+
     async def go(cnc: CncClient) -> Output:
         value = await cnc.read_macro(args.number)
         return Output(macro_dict(args.number, value), f"#{args.number} = {fmt.macro_text(value)}")
@@ -238,6 +259,9 @@ def macro_get(args: argparse.Namespace) -> Go:
 
 def pmc_read(args: argparse.Namespace) -> Go:
     area: PmcArea = args.area
+    named("START", check_int, "PMC start address", args.start, 0, PMC_LAST)
+    named("COUNT", check_int, "PMC byte count", args.count, 1, PMC_LAST + 1)
+    check_pmc_range(args.start, args.count)  # (where the bytes end: both arguments)
 
     async def go(cnc: CncClient) -> Output:
         data = await cnc.read_pmc(area, args.start, args.count)

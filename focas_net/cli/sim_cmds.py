@@ -31,7 +31,7 @@ from focas_net.protocol import (
 from focas_net.server.faults import fault_arg_text, fault_refusal, no_faults_cleared
 
 from . import _format as fmt
-from ._args import ArgumentRefused
+from ._args import ArgumentRefused, named
 from ._run import Output, PackedOnly
 from .read_cmds import axis_past
 
@@ -86,11 +86,11 @@ def panel(args: argparse.Namespace) -> PackedOnly:
 
 
 def alarm(args: argparse.Namespace) -> PackedOnly:
-    alm_type, alm_no = fmt.parse_alarm(args.alarm)
+    alm_type, alm_no = named("ALARM", fmt.parse_alarm, args.alarm)
     msg = " ".join(args.message)
     # the message by the rule its encoding keeps, before anything is read: one the machine
     # would refuse is refused also when the alarm is active already (nothing raised then)
-    alarm_message(msg)
+    named("MESSAGE", alarm_message, msg)
 
     async def go(cnc: FocasClient) -> Output:
         # A CNC shows one entry per alarm: raised again while active, the alarm keeps its
@@ -131,11 +131,11 @@ def clear(args: argparse.Namespace) -> PackedOnly:
     given: str | None = args.alarm
     if given is not None and given.strip().lower() == "all":
         given = None  # what leaving it out means, as --help and the JSON name it
-    alm_type, alm_no = fmt.parse_alarm_filter(given)
+    alm_type, alm_no = named("ALARM", fmt.parse_alarm_filter, given)
     # what was given, as the CNC names it (``ps100`` is PS0100, ``ps`` every PS alarm)
     if given is not None:
         given = (
-            ALARM_TYPE_NAMES.get(alm_type, given.strip())
+            ALARM_TYPE_NAMES.get(alm_type, f"T{alm_type}")
             if alm_no == -1
             else fmt.alarm_code(alm_type, alm_no)
         )

@@ -4,43 +4,44 @@
 from __future__ import annotations
 
 import argparse
-from collections.abc import Callable
-from typing import TypeVar
+from typing import Final
 
 from focas_net._typed import NO_PASSWORD_NOTE
 from focas_net.client import CncClient, FocasClient
 from focas_net.client._failures import command_text
+from focas_net.client._values import (
+    check_int,
+    check_macro,
+    check_pmc_range,
+    macro_write,
+    pmc_data,
+)
 from focas_net.errors import AccessDeniedError, CncError
 from focas_net.protocol import Command, PmcArea, pmc_bit_refusal
 
 from . import _format as fmt
-from ._args import ArgumentRefused, note_typed, typed_number_bit
+from ._args import ArgumentRefused, named, note_typed, typed_number_bit
 from ._run import Go, Output, PackedOnly
-from .read_cmds import axis_hint, macro_dict, param_kind, param_output
+from .read_cmds import (
+    PMC_LAST,
+    axis_hint,
+    macro_dict,
+    param_kind,
+    param_number,
+    param_output,
+)
 
 __all__ = ["macro_clear", "macro_set", "param_set", "pmc_bit", "pmc_write", "unlock"]
 
-T = TypeVar("T")
-
-
-def _named(argument: str, parse: Callable[[str], T], text: str) -> T:
-    """``parse(text)``, its refusal naming the argument as --help does, in the words of the
-    parser's refusal of an argument it reads itself (``argument VALUE: expected 1, on,
-    ...``: :class:`~._args.ArgumentRefused`)."""
-    try:
-        return parse(text)
-    except ValueError as exc:
-        raise ArgumentRefused(argument, str(exc)) from None
-
 
 def param_set(args: argparse.Namespace) -> Go:
-    number, bit = typed_number_bit(args, args.number)
+    number, bit = param_number(args)
     if bit is not None:
         if args.width is not None:
             raise ArgumentRefused("--width", "does not apply to a bit write (NUMBER.BIT)")
-        bit_value = _named("VALUE", fmt.parse_bool, args.value)
+        bit_value = named("VALUE", fmt.parse_bool, args.value)
     else:
-        value = _named("VALUE", fmt.parse_param_value, args.value)
+        value = named("VALUE", fmt.parse_param_value, args.value)
         note_typed(args, value, args.value)  # (0x80000000 named as typed if refused)
 
     async def go(cnc: CncClient) -> Output:
@@ -61,7 +62,10 @@ def param_set(args: argparse.Namespace) -> Go:
 
 
 def macro_set(args: argparse.Namespace) -> Go:
-    # A value that cannot be carried raises ValueError before anything is sent (exit 2).
+    # a number or a value no CNC's field carries is refused before connecting (exit 2)
+    named("NUMBER", check_macro, args.number)
+    named("VALUE", macro_write, args.number, args.value)  # (its words name the variable)
+
     async def go(cnc: CncClient) -> Output:
         await cnc.write_macro(args.number, args.value)
         value = await cnc.read_macro(args.number)
@@ -74,6 +78,8 @@ def macro_set(args: argparse.Namespace) -> Go:
 
 
 def macro_clear(args: argparse.Namespace) -> PackedOnly:
+    named("NUMBER", check_macro, args.number)
+
     # a simulator control command (sim_vacate_macro): a real CNC answers EW_FUNC
     async def go(cnc: FocasClient) -> Output:
         await cnc.sim.vacate_macro(args.number)
@@ -93,11 +99,15 @@ def macro_clear(args: argparse.Namespace) -> PackedOnly:
 def pmc_write(args: argparse.Namespace) -> Go | PackedOnly:
     area: PmcArea = args.area
     if args.hex is not None and args.values:
-        raise ValueError("give the bytes either as values or with --hex, not both")
+        raise ArgumentRefused(
+            "--hex", "not allowed with BYTE values: give the bytes either as values or with --hex"
+        )
     if args.hex is not None:
-        payload = _named("--hex", fmt.parse_hex, args.hex)
+        payload = named("--hex", fmt.parse_hex, args.hex)
     else:
-        payload = _named("BYTE", fmt.parse_byte_list, args.values)
+        payload = named("BYTE", fmt.parse_byte_list, args.values)
+    named("START", check_int, "PMC start address", args.start, 0, PMC_LAST)
+    pmc_data(args.start, payload)  # (where the bytes end: both arguments)
 
     def written() -> Output:
         last = args.start + len(payload) - 1
@@ -129,13 +139,18 @@ def pmc_write(args: argparse.Namespace) -> Go | PackedOnly:
 
 def _parse_byte_bit(args: argparse.Namespace, area: PmcArea, text: str) -> tuple[int, int]:
     expected = "BYTE.BIT (e.g. 100.3)"
-    byte, bit = typed_number_bit(args, text, expected)
+    byte, bit = named(_BYTE_BIT, typed_number_bit, args, text, expected)
     if bit is None:
-        raise ValueError(f"expected {expected}, got {text!r}")
+        raise ArgumentRefused(_BYTE_BIT, f"expected {expected}, got {text!r}")
     why = pmc_bit_refusal(area.name, byte, bit)  # the words of every front end (-1 too)
     if why is not None:
-        raise ValueError(why)
+        raise ArgumentRefused(_BYTE_BIT, why)
+    named(_BYTE_BIT, check_pmc_range, byte, 1)
     return byte, bit
+
+
+#: ``pmc bit``'s address, as ``--help`` names it.
+_BYTE_BIT: Final = "BYTE.BIT"
 
 
 def pmc_bit(args: argparse.Namespace) -> Go:
