@@ -181,7 +181,7 @@ async def test_tls_client_against_a_plain_server_says_why(
 
 async def test_tls_option_errors_are_usage_errors(tmp_path: Path) -> None:
     code, _out, err = await run_focas_net("status", "--tls-ca", str(tmp_path / "missing.pem"))
-    assert code == EXIT_USAGE and "missing.pem" in one_line(err)
+    assert code == EXIT_USAGE and "missing.pem" in one_line(err, "focas-net status: error: ")
     code, _out, err = await run_focas_net("status", "--tls-ca", "x.pem", "--tls-insecure")
     line = one_line(err, "focas-net status: error: ")
     assert code == EXIT_USAGE and "argument --tls-insecure: not allowed with --tls-ca" in line
@@ -211,8 +211,8 @@ async def test_serve_ready_line_says_tls_and_read_only(certificate: tuple[Path, 
     ("argv", "words"),
     [
         (("--fleet", "100000", "--port", "1000"), "must be 1..10000"),
-        (("--fleet", "500", "--port", "65300"), "runs past 65535"),
-        (("--fleet", "3", "--port", "0", "--native-port", "65534"), "runs past 65535"),
+        (("--fleet", "500", "--port", "65300"), "run past 65535"),
+        (("--fleet", "3", "--port", "0", "--native-port", "65534"), "run past 65535"),
         (("--fleet", "3", "--port", "9000", "--native-port", "9002"), "overlaps"),
     ],
 )

@@ -58,12 +58,14 @@ async def test_load_list_show_select_and_run(cli: Cli, clock: ManualClock, tmp_p
 async def test_program_refusals_and_bad_input(cli: Cli, tmp_path: Path) -> None:
     err = await cli.fails(EXIT_CNC, "program", "show", "4321")
     assert "EW_NUMBER" in err
-    err = await cli.fails(EXIT_USAGE, "program", "show", "O12X")
+    err = await cli.fails(EXIT_USAGE, "program", "show", "O12X", prefix="focas-net")
     assert "'O12X' is not a program number" in err
-    err = await cli.fails(EXIT_USAGE, "program", "load", str(tmp_path / "missing.nc"))
+    err = await cli.fails(
+        EXIT_USAGE, "program", "load", str(tmp_path / "missing.nc"), prefix="focas-net"
+    )
     assert "cannot read" in err and "missing.nc" in err
-    err = await cli.fails(EXIT_USAGE, "program", "list", "--replace")
-    assert "--replace goes with program load only" in err
+    err = await cli.fails(EXIT_USAGE, "program", "list", "--replace", prefix="focas-net")
+    assert "argument --replace: goes with program load only" in err
     path = tmp_path / "o1.nc"
     path.write_text("O0001\nM30\n")
     err = await cli.fails(EXIT_CNC, "program", "load", str(path))

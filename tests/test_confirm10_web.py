@@ -85,8 +85,8 @@ async def test_a_macro_value_no_wire_carries_is_refused_by_the_page_before_the_w
         station = Station(0, served.machine)
         typed = str(value)
         words = page_refusal(station, "write_macro", {"number": 100, "value": value})
-        line = await fails(2, "macro", "set", "100", typed, *at(served))
-        assert line == f"focas-net: {words}"
+        line = await fails(2, "macro", "set", "100", typed, *at(served), prefix="focas-net")
+        assert f": {words}; see focas-net " in line, line
         assert words.startswith(f"#100: macro value {typed} does not fit a macro variable")
 
 

@@ -162,10 +162,13 @@ def test_the_docs_say_where_the_fault_form_is_that_a_drop_takes_no_arg() -> None
 async def test_a_pmc_bit_past_7_is_refused_in_the_words_of_pmc_bit() -> None:
     """The page said "bit: 0..7, got 8" where ``pmc bit R 1.8`` says which address and why."""
     async with serving() as served:
-        line = await fails(2, "pmc", "bit", "r", "1.8", "1", *at(served))
+        line = await fails(2, "pmc", "bit", "r", "1.8", "1", *at(served), prefix="focas-net")
         with pytest.raises(ActionError) as refused:
             perform(Station(0, served.machine), "pmc_bit", {"area": "r", "address": 1, "bit": 8})
-        assert line == f"focas-net: {refused.value}"
+        assert line == (
+            f"focas-net pmc bit: error: argument BYTE.BIT: {refused.value}; "
+            "see focas-net pmc bit --help"
+        )
         assert str(refused.value) == "R1.8: bit 8 is outside 0..7: a PMC address is 1 byte wide"
         assert served.machine.read_pmc("R", 1, 1) == b"\x00"
 
