@@ -213,9 +213,9 @@ async def test_a_hash_alone_is_refused_naming_it() -> None:
 
 
 async def test_a_cycle_start_refused_says_emergency_stop_or_alarm() -> None:
-    """``sim cycle start`` refused with EW_ALARM said "an alarm is active or the emergency
-    stop is on": after the refusal the client reads the status and says which, in the
-    machine's words, for the command line and every user of the client."""
+    """``sim cycle start`` refused with EW_ALARM advised both what clears an alarm and what
+    releases the emergency stop, whichever it was: the advice is the one of the reason the
+    client read from the status after the refusal."""
     machine = default_machine()
     async with serving(machine) as served:
         machine.set_panel(emergency=1)
@@ -227,10 +227,10 @@ async def test_a_cycle_start_refused_says_emergency_stop_or_alarm() -> None:
         machine.raise_alarm(1, 4, 411, "SERVO")
         alarmed = await fails(EXIT_CNC, "sim", "cycle", "start", *at(served))
     assert refused.value.ew == EW.ALARM
-    assert "cycle start refused: emergency stop" in str(refused.value), refused.value
+    assert "cycle start refused: the emergency stop is on" in str(refused.value), refused.value
     assert stopped == (
         "focas-net: EW_ALARM (15): alarm has occurred (sim_cycle); cycle start refused: "
-        "emergency stop (focas-net sim panel --emergency off releases it)"
+        "the emergency stop is on (focas-net sim panel --emergency off releases it)"
     ), stopped
     assert alarmed == (
         "focas-net: EW_ALARM (15): alarm has occurred (sim_cycle); cycle start refused: an "

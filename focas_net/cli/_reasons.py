@@ -329,10 +329,7 @@ _SIM: Final[Table] = {EW.FUNC: _no_control, EW.PROT: _read_only}
 #: What to do about a cycle start refused, by EW code.
 _CYCLE_ADVICE: Final[Table] = {
     EW.MODE: lambda a: _next(a, "sim panel --mode MEM"),
-    EW.ALARM: lambda a: (
-        f"{_next(a, 'alarms')} lists them; {_next(a, 'sim clear')} or sim cycle reset{_on(a)} "
-        f"clears them, sim panel --emergency off{_on(a)} releases the stop"
-    ),
+    EW.ALARM: lambda a: f"{_alarm_advice(a)}, sim panel --emergency off{_on(a)} releases the stop",
     EW.DATA: lambda a: _next(a, "program select N"),
 }
 
@@ -343,7 +340,21 @@ def _cycle_start(args: argparse.Namespace, exc: CncError) -> str | None:
     code alone says, with what to do."""
     advice = _CYCLE_ADVICE.get(exc.ew)
     said = exc.detail.partition(": ")[2] or cycle_refusal(exc.ew)
-    return None if advice is None or said is None else f"{said} ({advice(args)})"
+    if advice is None or said is None:
+        return None
+    if said == cycle_refusal(EW.ALARM, emergency=True):  # (the advice of the one it was)
+        return f"{said} ({_next(args, 'sim panel --emergency off')} releases it)"
+    if said == cycle_refusal(EW.ALARM, emergency=False):
+        return f"{said} ({_alarm_advice(args)})"
+    return f"{said} ({advice(args)})"
+
+
+def _alarm_advice(args: argparse.Namespace) -> str:
+    """What to do about the active alarms of the path ``args`` named."""
+    return (
+        f"{_next(args, 'alarms')} lists them; {_next(args, 'sim clear')} or sim cycle "
+        f"reset{_on(args)} clears them"
+    )
 
 
 _CYCLE_START: Final[Table] = {**_SIM}
