@@ -252,8 +252,8 @@ async def test_a_width_not_the_parameters_is_said_once(protocol: list[str]) -> N
             EXIT_CNC, "param", "set", "6711", "1", "--width", "1", *at(served), *protocol
         )
     assert line == (
-        "focas-net: EW_LENGTH (2): data block length error (cnc_wrparam: 6711 is 4 bytes wide, "
-        "not 1); leave out --width (the CNC's own width is used)"
+        "focas-net: EW_LENGTH (2): data block length error (cnc_wrparam); parameter 6711 is 4 "
+        "bytes wide, not 1: leave out --width (the CNC's own width is used)"
     ), line
 
 
