@@ -15,7 +15,7 @@ from web_support import page_refusal
 
 from focas_net.sim import default_machine
 from focas_net.web import Station, perform
-from focas_net.web.view import pmc_address
+from focas_net.web.view import param_rows, pmc_address
 
 
 def _writable(station: Station) -> Station:
@@ -223,3 +223,12 @@ async def test_a_clear_of_one_path_names_the_alarms_active_on_another_as_sim_cle
         assert answer["note"] == f"{words})"
         assert line == f"focas-net: {words}: focas-net sim clear PS --path 2)"
         assert len(served.machine.active_alarms(path=2)) == 1
+
+
+def test_a_parameter_number_typed_in_another_base_finds_the_parameter() -> None:
+    """``param get 0x717`` reads parameter 1815; the page's search of ``0x717`` found nothing
+    ("no parameter found"), as if no parameter had that number."""
+    machine = default_machine()
+    assert [row["number"] for row in param_rows(machine, " 0x717 ")] == [1815]
+    assert [row["number"] for row in param_rows(machine, "0b1111101001")] == [1001]
+    assert param_rows(machine, "0x7FFF") == []  # a number the machine has not

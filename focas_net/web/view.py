@@ -9,13 +9,20 @@ increments over ``10**POSITION_DECIMALS``), times in seconds. Status fields carr
 
 from __future__ import annotations
 
+import contextlib
 import re
 from collections import deque
 from collections.abc import Iterable, Sequence
 from decimal import Decimal
 from typing import Any, Final
 
-from focas_net._typed import decimal_text, lead_as_typed, typed_numbers, whole_number
+from focas_net._typed import (
+    decimal_text,
+    lead_as_typed,
+    read_otherwise,
+    typed_numbers,
+    whole_number,
+)
 from focas_net.errors import EW, ew_name
 from focas_net.protocol import (
     AutMode,
@@ -424,8 +431,12 @@ def param_rows(
     would find nothing and not say why."""
     q = query.strip().lower()
     one_bit = _NUMBER_BIT.fullmatch(q)
+    exact = one_bit is not None  # the one parameter of that number
     if one_bit is not None:
         q = one_bit[1]
+    elif read_otherwise(q):  # 0x717, as param get 0x717 names parameter 1815
+        with contextlib.suppress(ValueError):
+            q, exact = str(whole_number(q)), True
     if any(c.isdigit() and not c.isascii() for c in q):
         try:
             whole_number(q)  # the words every front end refuses such digits with
@@ -436,9 +447,7 @@ def param_rows(
     for number in machine.param_numbers():
         item = machine.param_item(number)
         assert item is not None
-        found = (
-            number == int(q) if one_bit else (str(number).startswith(q) or q in item.name.lower())
-        )
+        found = number == int(q) if exact else (str(number).startswith(q) or q in item.name.lower())
         if q and not found:
             continue
         axes = path_axes if item.axis else []
