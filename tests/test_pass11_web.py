@@ -6,6 +6,7 @@ kept."""
 
 from __future__ import annotations
 
+import re
 from typing import Any
 
 import pytest
@@ -22,6 +23,13 @@ def _writable(station: Station) -> Station:
     """``station`` with its panel in MDI and PWE on (parameter writes pass the gates)."""
     perform(station, "panel", {"mode": "MDI", "pwe": 1})
     return station
+
+
+def _words(line: str) -> str:
+    """The words of a command line's refusal, without what names the command and the argument
+    (``focas-net param set: error: argument NUMBER[.BIT]: ...; see ...``)."""
+    words = re.sub(r"^focas-net(?: [a-z ]+: error: argument \S+)?: ", "", line)
+    return words.split("; see focas-net")[0]
 
 
 # -- a number typed in another base -------------------------------------------------------------
@@ -47,8 +55,7 @@ async def test_a_number_typed_in_another_base_is_named_as_typed_on_the_page_and_
     (:func:`focas_net._typed.lead_as_typed`), the page naming the key before it."""
     async with serving() as served:
         station = _writable(Station(0, served.machine))
-        line = await fails(2, *argv, *at(served))
-        words = line.removeprefix("focas-net: ")
+        words = _words(await fails(2, *argv, *at(served), prefix="focas-net"))
         assert words.startswith(f"{args.get(key, args.get('address'))} reads as ")
         page = page_refusal(station, action, args)
         assert page == (f"{key}: {words}" if key else words)
@@ -61,8 +68,8 @@ async def test_a_macro_value_typed_in_another_base_is_named_as_typed_on_both() -
         page = page_refusal(
             Station(0, served.machine), "write_macro", {"number": 100, "value": "0x80000000"}
         )
-        line = await fails(2, "macro", "set", "100", "0x80000000", *at(served))
-        assert page == line.removeprefix("focas-net: ")
+        line = await fails(2, "macro", "set", "100", "0x80000000", *at(served), prefix="focas-net")
+        assert page == _words(line)
         assert page.startswith("#100: macro value 0x80000000 does not fit")
 
 
@@ -70,10 +77,10 @@ async def test_a_pmc_start_typed_in_another_base_is_named_as_typed_on_both() -> 
     """The page's PMC box of ``0x10000`` said "PMC start address 65536 is outside 0..65535";
     ``pmc read R 0x10000 1`` leads with what was typed."""
     async with serving() as served:
-        line = await fails(2, "pmc", "read", "R", "0x10000", "1", *at(served))
+        line = await fails(2, "pmc", "read", "R", "0x10000", "1", *at(served), prefix="focas-net")
     with pytest.raises(ValueError) as refused:
         pmc_address(" 0x10000 ", "R")
-    assert str(refused.value) == line.removeprefix("focas-net: ")
+    assert str(refused.value) == _words(line)
     assert str(refused.value).startswith("0x10000 reads as 65536: ")
 
 
