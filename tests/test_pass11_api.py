@@ -267,6 +267,14 @@ async def test_the_machine_reads_a_panel_mode_typed_as_digits_as_the_client_does
     assert machine.status().aut == aut
 
 
+@pytest.mark.parametrize("typed", ["--5", "-", "5-", "+5"])
+def test_a_panel_mode_that_is_neither_a_name_nor_a_number_is_an_unknown_mode(typed: str) -> None:
+    """``Machine.set_panel("--5")`` leaked Python's ``invalid literal for int()``."""
+    with pytest.raises(MachineError) as refused:
+        Machine("m").set_panel(typed)
+    assert refused.value.detail.startswith(f"unknown mode {typed!r} (one of MDI, MEM, EDIT")
+
+
 @pytest.mark.parametrize("mode", [True, 1.5, b"1"])
 async def test_a_panel_mode_of_another_type_is_worded_alike(
     both_clients: Both, mode: object

@@ -4,6 +4,7 @@ checks share)."""
 
 from __future__ import annotations
 
+import re
 from dataclasses import dataclass
 from typing import Final
 
@@ -50,6 +51,10 @@ def unknown_mode(given: object) -> str:
     return f"unknown mode {given!r} (one of {', '.join(MODE_NAMES)})"
 
 
+#: A panel mode typed as its number: ASCII digits, a minus sign before them at most.
+_DIGITS: Final = re.compile(r"-?[0-9]+")
+
+
 def panel_mode(given: int | str) -> int:
     """The ``aut`` value of a panel mode given by number or by name (``"MDI"``, ASCII letters
     in any case, spaces around it), or by its number as text (``"5"``, ASCII digits, as a
@@ -58,7 +63,7 @@ def panel_mode(given: int | str) -> int:
     if isinstance(given, str):
         word = given.strip().upper() if given.isascii() else ""  # (ASCII letters only)
         value = MODE_NAMES.get(word)
-        if value is None and word.lstrip("-").isdigit():
+        if value is None and _DIGITS.fullmatch(word):
             return int(word)
         if value is None:
             raise ValueError(unknown_mode(given))
