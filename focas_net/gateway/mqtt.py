@@ -158,23 +158,35 @@ def _forget(client: aiomqtt.Client) -> None:
         client._client.disconnect()
 
 
+def _attempt(client: aiomqtt.Client) -> asyncio.Future[None] | None:
+    """The future of ``client``'s connection attempt (aiomqtt 2's own, which it sets when the
+    broker answers MQTT's CONNECT), or None where a release keeps it otherwise: then an attempt
+    ends as aiomqtt ends it (``pyproject.toml`` bounds aiomqtt below 3, a test checks the
+    attribute)."""
+    connected = getattr(client, "_connected", None)
+    return connected if isinstance(connected, asyncio.Future) else None
+
+
 def _ended_early(client: aiomqtt.Client) -> None:
     """A connection that ends before the broker answered MQTT's CONNECT (the peer closed it,
     or reset it) fails ``client``'s connection attempt at once with :data:`_ENDED_EARLY`, as
     it ends: aiomqtt would wait out its timeout and say the CONNECT was not answered in time.
     (What the socket said, a reset, is in the MQTT client's log before this is called.)"""
-    paho = client._client
+    paho = getattr(client, "_client", None)
+    if paho is None or _attempt(client) is None:  # (another release: its own timeout)
+        return
     theirs = paho.on_disconnect
     loop = asyncio.get_running_loop()
 
     def fail() -> None:
-        connected = client._connected
-        if not connected.done():
+        connected = _attempt(client)
+        if connected is not None and not connected.done():
             connected.set_exception(aiomqtt.MqttError(_ENDED_EARLY))
             _retrieved(connected)  # (an attempt given up already awaits it no more)
 
     def on_disconnect(*args: Any) -> None:
-        if not client._connected.done():
+        connected = _attempt(client)
+        if connected is not None and not connected.done():
             loop.call_soon_threadsafe(fail)  # (paho may call from the connecting thread)
         if theirs is not None:
             theirs(*args)
