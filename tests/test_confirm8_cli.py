@@ -82,7 +82,7 @@ async def test_an_axis_past_the_path_is_the_paths_on_both_transports(
     lathe: Served, protocol: str, argv: tuple[str, ...]
 ) -> None:
     line = await fails(EXIT_CNC, *argv, *at(lathe), "--protocol", protocol)
-    assert line.endswith("; the path has 2 axes: give --axis 1..2"), line
+    assert line.endswith("is outside 1..2: the path has 2 axes); give --axis 1..2"), line
 
 
 # -- serve --machine of a file that cannot be read ---------------------------------------------
