@@ -377,9 +377,10 @@ class FocasClient(Link):
     ) -> CncError:
         """``exc``, or for EW_ATTRIB or EW_NUMBER with an ``axis`` beyond ``path``'s axes
         EW_ATTRIB naming the axis and the count as the native client does before sending
-        (``cnc_rdparam: axis 9 of 3``): a packed answer carries the code only, and the packed
-        contract checks the number first, so the count is read after the refusal, within the
-        call's deadline. A refusal with an axis the path has stays as it came."""
+        (``cnc_rdparam: axis 9 is outside 1..3: the path has 3 axes``): a packed answer
+        carries the code only, and the packed contract checks the number first, so the count
+        is read after the refusal, within the call's deadline. A refusal with an axis the
+        path has stays as it came."""
         if exc.ew not in (EW.ATTRIB, EW.NUMBER):
             return exc
         return await self._axis_past(exc.detail, axis, path, deadline) or exc
@@ -387,7 +388,7 @@ class FocasClient(Link):
     async def _axis_past(
         self, function: str, axis: int | None, path: int, deadline: float | None
     ) -> CncError | None:
-        """EW_ATTRIB naming ``axis`` and the count (``cnc_wrparam: axis 9 of 3``) when
+        """EW_ATTRIB naming ``axis`` and the count (``axis 9 is outside 1..3: ...``) when
         ``axis`` is past ``path``'s axes, as FANUC's library checks the axis before anything
         else; None when it is not (or the count cannot be read)."""
         if axis is None or axis < 1:
