@@ -42,12 +42,12 @@ async def test_an_empty_item_of_a_byte_list_is_refused_naming_it(
 
 
 async def test_a_bit_that_is_no_number_is_named(server: Served) -> None:
-    line = await fails(EXIT_USAGE, "pmc", "bit", "R", "1.x", *at(server))
+    line = await fails(EXIT_USAGE, "pmc", "bit", "R", "1.x", *at(server), prefix="focas-net")
     assert "bit after the dot" in line and "'x'" in line and "0..7" in line
 
 
 async def test_a_pmc_address_out_of_range_names_the_range(server: Served) -> None:
-    line = await fails(EXIT_USAGE, "pmc", "bit", "R", "99999.1", *at(server))
+    line = await fails(EXIT_USAGE, "pmc", "bit", "R", "99999.1", *at(server), prefix="focas-net")
     assert "PMC start address 99999" in line and "0..65535" in line
 
 
@@ -112,7 +112,7 @@ async def test_a_wrong_password_is_named_as_such() -> None:
         assert "written" in await ok("param", "set", "3401", "1", "--password", "XXXX", *at(served))
         line = await fails(
             EXIT_USAGE, "param", "set", "3401", "1", "--password", "XXXX",
-            "--protocol", "native", *at(served),
+            "--protocol", "native", *at(served), prefix="focas-net",
         )  # fmt: skip
         assert "FOCAS/2 has no cnc_wrunlockparam" in line
 
@@ -131,11 +131,16 @@ async def test_a_16i_real_parameter_over_focas2_gets_advice_that_fits() -> None:
 
 async def test_control_commands_are_named_with_their_codes(server: Served) -> None:
     line = await fails(
-        EXIT_USAGE, "pmc", "write", "X", "0", "1", "--force", "--protocol", "native", *at(server)
+        EXIT_USAGE,
+        *("pmc", "write", "X", "0", "1", "--force", "--protocol", "native"),
+        *at(server),
+        prefix="focas-net",
     )
-    assert line.endswith("a simulator control command, sim_set_pmc (0x0E04)"), line
-    line = await fails(EXIT_USAGE, "macro", "clear", "100", "--protocol", "native", *at(server))
-    assert line.endswith("a simulator control command, sim_vacate_macro (0x0E11)"), line
+    assert "a simulator control command, sim_set_pmc (0x0E04); see" in line, line
+    line = await fails(
+        EXIT_USAGE, "macro", "clear", "100", "--protocol", "native", *at(server), prefix="focas-net"
+    )
+    assert "a simulator control command, sim_vacate_macro (0x0E11); see" in line, line
     out = await ok("serve", "--help")
     assert "0x0E01..0x0E21" in " ".join(out.split())
     await ok("sim", "fault", "delay", "--arg", "5000", *at(server))
