@@ -98,7 +98,8 @@ def _usage(command: str, said: str) -> str:
         (
             ("pmc", "read", "R", "0", "0"),
             "pmc read",
-            "argument COUNT: PMC byte count 0 is outside 1..65536",
+            "argument COUNT: PMC byte count 0 is outside 1..65536 (a PMC range holds one byte "
+            "at least)",
         ),
         (
             ("alarms", "--count", "2"),

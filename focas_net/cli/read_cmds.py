@@ -260,7 +260,7 @@ def macro_get(args: argparse.Namespace) -> Go:
 def pmc_read(args: argparse.Namespace) -> Go:
     area: PmcArea = args.area
     named("START", check_int, "PMC start address", args.start, 0, PMC_LAST)
-    named("COUNT", check_int, "PMC byte count", args.count, 1, PMC_LAST + 1)
+    named("COUNT", check_pmc_range, 0, args.count)  # (the count alone: the clients' words)
     check_pmc_range(args.start, args.count)  # (where the bytes end: both arguments)
 
     async def go(cnc: CncClient) -> Output:
