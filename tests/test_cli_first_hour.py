@@ -301,7 +301,7 @@ async def test_axis_hints(server: Served) -> None:
     assert code == EXIT_CNC
     assert one_line(err).endswith("parameter 1420 is an axis parameter: give --axis 1..3")
     code, _out, err = await run_focas_net("param", "get", "1420", "--axis", "7", *at(server))
-    assert one_line(err).endswith("the path has 3 axes: give --axis 1..3")
+    assert one_line(err).endswith("axis 7 is outside 1..3: the path has 3 axes); give --axis 1..3")
     code, _out, err = await run_focas_net("diag", "300", *at(server))
     assert one_line(err).endswith("diagnostic 300 is an axis diagnostic: give --axis 1..3")
 

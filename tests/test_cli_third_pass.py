@@ -84,7 +84,7 @@ async def test_position_of_an_axis_the_machine_lacks_names_its_axes(
     server: Served, protocol: str
 ) -> None:
     line = await fails(EXIT_CNC, "position", "--axis", "9", "--protocol", protocol, *at(server))
-    assert line.endswith("the path has 3 axes: give --axis 1..3"), line
+    assert line.endswith("axis 9 is outside 1..3: the path has 3 axes); give --axis 1..3"), line
 
 
 async def test_a_parameter_bit_past_its_width_reads_as_param_set_says_it(server: Served) -> None:
