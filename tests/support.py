@@ -24,7 +24,7 @@ from focas_net.client import FocasClient, NativeClient
 from focas_net.protocol import COMMANDS, Frame, FrameDecoder, encode_frame
 from focas_net.server import FocasServer, Listener
 from focas_net.sim import Machine, MotionData, PathSpec, default_machine
-from focas_net.sim.nc import Engine, ManualClock
+from focas_net.sim.nc import Engine, ManualClock, NcSettings
 
 __all__ = [
     "IO_TIMEOUT",
@@ -364,6 +364,22 @@ def two_path_lathe() -> Machine:
             PathSpec(("X2", "Z2", "C2"), kind="T", motion=_motion(3, 5000, 700, 2)),
         ],
     )
+
+
+def started_engine(text: str, settings: NcSettings | None = None) -> tuple[Engine, ManualClock]:
+    """An engine of its own manual clock (and ``settings``, a machining centre's by default)
+    at cycle start of ``text``, its first program, with that clock."""
+    clock = ManualClock()
+    engine = Engine(clock, settings or NcSettings())
+    engine.store.select(engine.store.store(text).number)
+    engine.cycle_start()
+    return engine, clock
+
+
+def alarm_words(engine: Engine) -> str | None:
+    """``engine``'s alarm as its code and detail (``PS0010 G99 ...``); None without one."""
+    alarm = engine.alarm
+    return None if alarm is None else f"PS{alarm.number:04d} {alarm.detail}"
 
 
 def block_run(block: str, seconds: float = 5.0) -> Engine:

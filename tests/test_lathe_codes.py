@@ -6,6 +6,7 @@ reads give them; and the codes it still refuses (G90, G91, G94)."""
 from __future__ import annotations
 
 import pytest
+from support import alarm_words, started_engine
 
 from focas_net.sim.nc import CycleState, Engine, ManualClock, NcSettings
 from focas_net.sim.nc.modal import modal_state
@@ -16,27 +17,18 @@ _SLOW = NcSettings.for_axes(("X", "Z"), lathe=True, rapid_rates=(600.0, 600.0))
 
 
 def _engine(text: str, settings: NcSettings = _LATHE) -> tuple[Engine, ManualClock]:
-    clock = ManualClock()
-    engine = Engine(clock, settings)
-    engine.store.select(engine.store.store(text).number)
-    engine.cycle_start()
-    return engine, clock
-
-
-def _alarm(engine: Engine) -> str | None:
-    alarm = engine.alarm
-    return None if alarm is None else f"PS{alarm.number:04d} {alarm.detail}"
+    return started_engine(text, settings)
 
 
 def test_g99_feeds_f_per_revolution_of_the_spindle() -> None:
     """`G99 F0.2` at 500 min^-1 is 100 mm/min: 10 mm take 6 s."""
     engine, clock = _engine("O1\nG99 G97 S500 M3\nG1 W-10. F0.2\nM30\n")
     clock.advance(3.5)
-    assert (engine.state, _alarm(engine)) == (CycleState.START, None)
+    assert (engine.state, alarm_words(engine)) == (CycleState.START, None)
     assert engine.axis_speeds()[1] == pytest.approx(100.0)
     assert engine.modal_groups()[10] == 99
     clock.advance(3.5)
-    assert (engine.state, _alarm(engine)) == (CycleState.RESET, None)
+    assert (engine.state, alarm_words(engine)) == (CycleState.RESET, None)
     assert engine.absolute_position() == pytest.approx((0.0, -10.0))
 
 
@@ -50,7 +42,7 @@ def test_g99_follows_the_spindle_override() -> None:
 def test_g99_with_the_spindle_stopped_raises_ps0011() -> None:
     engine, clock = _engine("O1\nG99\nG1 W-10. F0.2\nM30\n")
     clock.advance(1)
-    assert (_alarm(engine) or "").startswith("PS0011 G99 F0.2: feed per revolution")
+    assert (alarm_words(engine) or "").startswith("PS0011 G99 F0.2: feed per revolution")
 
 
 def test_g98_after_g99_feeds_per_minute_again() -> None:
@@ -79,14 +71,14 @@ def test_g96_follows_x_as_the_tool_moves() -> None:
 def test_g50_s_clamps_the_spindle_speed_of_g96() -> None:
     engine, clock = _engine("O1\nG50 S800\nG0 X10. Z0\nG96 S157 M3\nG4 P10000\nM30\n")
     clock.advance(2)
-    assert _alarm(engine) is None
+    assert alarm_words(engine) is None
     assert engine.actual_spindle_speed == pytest.approx(800.0)
 
 
 def test_g50_s_leaves_the_commanded_speed_and_g97_reads_s_as_rpm() -> None:
     engine, clock = _engine("O1\nG97 S500 M3\nG50 S2000\nG4 P10000\nM30\n")
     clock.advance(2)
-    assert _alarm(engine) is None
+    assert alarm_words(engine) is None
     assert engine.actual_spindle_speed == pytest.approx(500.0)
     engine, clock = _engine("O1\nG97 S500 M3\nG50 S300\nG4 P10000\nM30\n")
     clock.advance(2)
@@ -96,11 +88,11 @@ def test_g50_s_leaves_the_commanded_speed_and_g97_reads_s_as_rpm() -> None:
 def test_g50_x_z_sets_the_coordinate_system_where_the_tool_is() -> None:
     engine, clock = _engine("O1\nG0 X20. Z10.\nG50 X100. Z50.\nG4 P10000\nM30\n")
     clock.advance(2)
-    assert _alarm(engine) is None
+    assert alarm_words(engine) is None
     assert engine.absolute_position() == pytest.approx((100.0, 50.0))
     engine, clock = _engine("O1\nG0 X20. Z10.\nG50 X100. Z50.\nG0 X80. W-5.\nM30\n")
     clock.advance(5)
-    assert _alarm(engine) is None
+    assert alarm_words(engine) is None
     assert engine.absolute_position() == pytest.approx((80.0, 45.0))
 
 
@@ -114,12 +106,12 @@ def test_g50_x_z_sets_the_coordinate_system_where_the_tool_is() -> None:
 )
 def test_a_lathe_still_refuses_its_cutting_cycles_and_g91(block: str, words: str) -> None:
     engine, _ = _engine(f"O1\n{block}\nM30\n")
-    assert (_alarm(engine) or "").startswith(words)
+    assert (alarm_words(engine) or "").startswith(words)
 
 
 def test_a_machining_centre_refuses_g96() -> None:
     engine, _ = _engine("O1\nG96 S100\nM30\n", NcSettings())
-    assert (_alarm(engine) or "").startswith("PS0010 G96")
+    assert (alarm_words(engine) or "").startswith("PS0010 G96")
 
 
 def test_the_modal_s_stays_the_commanded_s_after_g50_s() -> None:

@@ -7,6 +7,7 @@ import tomllib
 from pathlib import Path
 
 import pytest
+from support import alarm_words, started_engine
 
 from focas_net.sim import (
     LifeTool,
@@ -18,7 +19,7 @@ from focas_net.sim import (
     machine_from_dict,
 )
 from focas_net.sim.machinefile import state_folder
-from focas_net.sim.nc import CycleState, Engine, ManualClock, NcSettings
+from focas_net.sim.nc import CycleState, ManualClock, NcSettings
 
 ROOT = Path(__file__).resolve().parent.parent
 NC = ROOT / "focas_net" / "sim" / "nc"
@@ -85,31 +86,17 @@ def test_one_tool_twice_in_one_group_is_refused_by_the_machine_too() -> None:
 # -- part programs ----------------------------------------------------------------------------
 
 
-def _engine(text: str, settings: NcSettings | None = None) -> tuple[Engine, ManualClock]:
-    """An engine of its own clock at cycle start of ``text`` (its first program)."""
-    clock = ManualClock()
-    engine = Engine(clock, settings or NcSettings())
-    engine.store.select(engine.store.store(text).number)
-    engine.cycle_start()
-    return engine, clock
-
-
-def _alarm(engine: Engine) -> str | None:
-    alarm = engine.alarm
-    return None if alarm is None else f"PS{alarm.number:04d} {alarm.detail}"
-
-
 def test_of_two_one_shot_g_codes_in_a_block_the_last_is_valid() -> None:
     """FANUC's G code list: of several G codes of one group in a block the last is valid, and
     group 00 is no exception (no alarm): `G28 G4 P100` dwells 0.1 s, `G4 G28 X10.` returns."""
-    engine, clock = _engine("O1\nG28 G4 P100\nM30\n")
+    engine, clock = started_engine("O1\nG28 G4 P100\nM30\n")
     clock.advance(0.05)
-    assert (engine.state, _alarm(engine)) == (CycleState.START, None)  # dwelling
+    assert (engine.state, alarm_words(engine)) == (CycleState.START, None)  # dwelling
     clock.advance(0.1)
-    assert (engine.state, _alarm(engine)) == (CycleState.RESET, None)
-    engine, clock = _engine("O1\nG0 X50.\nG4 G28 X10.\nM30\n")
+    assert (engine.state, alarm_words(engine)) == (CycleState.RESET, None)
+    engine, clock = started_engine("O1\nG0 X50.\nG4 G28 X10.\nM30\n")
     clock.advance(30)
-    assert (engine.state, _alarm(engine)) == (CycleState.RESET, None)
+    assert (engine.state, alarm_words(engine)) == (CycleState.RESET, None)
     assert engine.absolute_position()[0] == pytest.approx(0.0)
 
 
@@ -119,11 +106,11 @@ _LATHE = NcSettings.for_axes(("X", "Z"), lathe=True)
 @pytest.mark.parametrize("dwell", ["G4 U1.", "G4 U1000", "G04 U1.0", "G4 X1.", "G4 P1000"])
 def test_a_lathe_dwells_by_u_in_seconds(dwell: str) -> None:
     """FANUC's T series gives G4 its time in X, U (seconds) or P (ms): `G4 U1.` dwells 1 s."""
-    engine, clock = _engine(f"O1\n{dwell}\nM30\n", _LATHE)
+    engine, clock = started_engine(f"O1\n{dwell}\nM30\n", _LATHE)
     clock.advance(0.9)
-    assert (engine.state, _alarm(engine)) == (CycleState.START, None)
+    assert (engine.state, alarm_words(engine)) == (CycleState.START, None)
     clock.advance(0.2)
-    assert (engine.state, _alarm(engine)) == (CycleState.RESET, None)
+    assert (engine.state, alarm_words(engine)) == (CycleState.RESET, None)
 
 
 @pytest.mark.parametrize(
@@ -136,9 +123,9 @@ def test_a_lathe_dwells_by_u_in_seconds(dwell: str) -> None:
     ],
 )
 def test_a_dwell_s_u_is_the_lathe_s_alone(block: str, settings: NcSettings, words: str) -> None:
-    engine, clock = _engine(f"O1\n{block}\nM30\n", settings)
+    engine, clock = started_engine(f"O1\n{block}\nM30\n", settings)
     clock.advance(2)
-    assert (_alarm(engine) or "").startswith(words)
+    assert (alarm_words(engine) or "").startswith(words)
 
 
 def test_a_lathe_machine_dwells_by_u() -> None:
@@ -185,19 +172,19 @@ def test_a_float_of_a_machine_file_is_named_as_typed(tmp_path: Path, body: str, 
 def test_a_full_circle_with_no_end_point_is_cut(block: str) -> None:
     """FANUC: an arc whose end point is left out ends where it starts; with I, J or K it is
     a full circle (`G2 I5.`: 31.4 mm at 1000 mm/min, 1.9 s). The block moved nothing."""
-    engine, clock = _engine(f"O1\n{block}\nM30\n")
+    engine, clock = started_engine(f"O1\n{block}\nM30\n")
     clock.advance(1.5)
-    assert (engine.state, _alarm(engine)) == (CycleState.START, None)
+    assert (engine.state, alarm_words(engine)) == (CycleState.START, None)
     clock.advance(0.5)
-    assert (engine.state, _alarm(engine)) == (CycleState.RESET, None)
+    assert (engine.state, alarm_words(engine)) == (CycleState.RESET, None)
     assert engine.absolute_position() == pytest.approx((0.0, 0.0, 0.0))
 
 
 def test_an_arc_by_r_with_no_end_point_moves_nothing() -> None:
     """FANUC: R with the end point at the start is an arc of 0 degrees: no motion."""
-    engine, clock = _engine("O1\nG2 R5. F1000\nM30\n")
+    engine, clock = started_engine("O1\nG2 R5. F1000\nM30\n")
     clock.advance(0.1)
-    assert (engine.state, _alarm(engine)) == (CycleState.RESET, None)
+    assert (engine.state, alarm_words(engine)) == (CycleState.RESET, None)
 
 
 @pytest.mark.parametrize(
@@ -212,8 +199,8 @@ def test_an_arc_by_r_with_no_end_point_moves_nothing() -> None:
 )
 def test_a_goto_past_the_sequence_numbers_says_so(goto: str, words: str) -> None:
     """`GOTO 100000` said `no block N100000`, as if the program could hold one."""
-    engine, _ = _engine(f"O1\n{goto}\nM30\n")
-    assert _alarm(engine) == words
+    engine, _ = started_engine(f"O1\n{goto}\nM30\n")
+    assert alarm_words(engine) == words
 
 
 @pytest.mark.parametrize(
@@ -230,9 +217,9 @@ def test_a_goto_past_the_sequence_numbers_says_so(goto: str, words: str) -> None
 def test_a_lathe_moves_by_u_and_w(blocks: str, end: tuple[float, float]) -> None:
     """FANUC's T series (G code system A) moves X by U and Z by W, from where the axis is;
     `G28 U0 W0` raised PS0009 (address U)."""
-    engine, clock = _engine(f"O1\n{blocks}\nM30\n", _LATHE)
+    engine, clock = started_engine(f"O1\n{blocks}\nM30\n", _LATHE)
     clock.advance(30)
-    assert (engine.state, _alarm(engine)) == (CycleState.RESET, None)
+    assert (engine.state, alarm_words(engine)) == (CycleState.RESET, None)
     assert engine.absolute_position() == pytest.approx(end)
 
 
@@ -245,16 +232,16 @@ def test_a_lathe_moves_by_u_and_w(blocks: str, end: tuple[float, float]) -> None
     ],
 )
 def test_a_lathe_s_u_and_w_refusals(block: str, words: str) -> None:
-    engine, clock = _engine(f"O1\n{block}\nM30\n", _LATHE)
+    engine, clock = started_engine(f"O1\n{block}\nM30\n", _LATHE)
     clock.advance(2)
-    assert (_alarm(engine) or "").startswith(words)
+    assert (alarm_words(engine) or "").startswith(words)
 
 
 def test_a_lathe_cuts_arcs_in_the_zx_plane_from_power_on() -> None:
     """The T series powers on in G18 (ZX): `G2 X.. Z.. R..` raised PS0021 (plane G17)."""
-    engine, clock = _engine("O1\nG0 X20. Z0\nG3 X20. Z-10. K-5. F1000\nM30\n", _LATHE)
+    engine, clock = started_engine("O1\nG0 X20. Z0\nG3 X20. Z-10. K-5. F1000\nM30\n", _LATHE)
     clock.advance(10)
-    assert (engine.state, _alarm(engine)) == (CycleState.RESET, None)
+    assert (engine.state, alarm_words(engine)) == (CycleState.RESET, None)
     assert engine.modal_groups()[2] == 18
 
 
@@ -341,8 +328,8 @@ def test_another_toml_error_gets_no_point_hint(tmp_path: Path) -> None:
 def test_bin_and_bcd_convert_as_fanuc_s_macro_functions(expression: str, value: float) -> None:
     """BIN (BCD to binary) and BCD (binary to BCD) are functions of FANUC's custom macro B;
     `#1 = BIN[16]` raised PS0114 (expected a value)."""
-    engine, _ = _engine(f"O1\n#1 = {expression}\nM0\nM30\n")
-    assert (engine.state, _alarm(engine)) == (CycleState.STOP, None)
+    engine, _ = started_engine(f"O1\n#1 = {expression}\nM0\nM30\n")
+    assert (engine.state, alarm_words(engine)) == (CycleState.STOP, None)
     assert engine.interpreter.read(1) == value
 
 
@@ -356,15 +343,15 @@ def test_bin_and_bcd_convert_as_fanuc_s_macro_functions(expression: str, value: 
     ],
 )
 def test_bin_and_bcd_refuse_what_they_cannot_convert(expression: str, words: str) -> None:
-    engine, _ = _engine(f"O1\n#1 = {expression}\nM30\n")
-    assert _alarm(engine) == words
+    engine, _ = started_engine(f"O1\n#1 = {expression}\nM30\n")
+    assert alarm_words(engine) == words
 
 
 @pytest.mark.parametrize("block", ["POPEN", "DPRNT[X#5001[44]]", "BPRNT[#100[3]]", "PCLOS"])
 def test_external_data_output_says_it_is_not_modelled(block: str) -> None:
     """`DPRNT[...]` raised `PS0005 D has no value`, read as an address D."""
-    engine, _ = _engine(f"O1\n{block}\nM30\n")
-    assert _alarm(engine) == (
+    engine, _ = started_engine(f"O1\n{block}\nM30\n")
+    assert alarm_words(engine) == (
         f"PS0114 {block[:5]}: external data output (POPEN, BPRNT, DPRNT, PCLOS) is not modelled"
     )
 
@@ -380,14 +367,14 @@ def test_external_data_output_says_it_is_not_modelled(block: str) -> None:
 def test_a_lathe_refuses_the_milling_meaning_of_its_own_codes(block: str, words: str) -> None:
     """On FANUC's T series G90 and G94 are cutting cycles (not modelled): a lathe's `G90 X50.
     Z-20. F100` ran as absolute mode and a move."""
-    engine, _ = _engine(f"O1\n{block}\nM30\n", _LATHE)
-    assert (_alarm(engine) or "").startswith(words)
+    engine, _ = started_engine(f"O1\n{block}\nM30\n", _LATHE)
+    assert (alarm_words(engine) or "").startswith(words)
 
 
 def test_a_lathe_feeds_per_minute_with_g98() -> None:
-    engine, clock = _engine("O1\nG98 G1 Z-10. F600\nM30\n", _LATHE)
+    engine, clock = started_engine("O1\nG98 G1 Z-10. F600\nM30\n", _LATHE)
     clock.advance(1.5)
-    assert (engine.state, _alarm(engine)) == (CycleState.RESET, None)
+    assert (engine.state, alarm_words(engine)) == (CycleState.RESET, None)
 
 
 def test_a_real_parameter_with_too_many_decimals_says_which_key_sets_them() -> None:
