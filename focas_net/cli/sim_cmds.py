@@ -18,12 +18,12 @@ from typing import Any, Final
 from focas_net.client import FocasClient
 from focas_net.errors import CncError, FocasError
 from focas_net.protocol import (
-    ALARM_TYPE_NAMES,
     MAX_ALARM_MSG,
     ArmedFault,
     FaultKind,
     FaultScope,
     alarm_active_already,
+    alarm_filter_text,
     alarm_message,
     fault_arg_needed,
     nothing_cleared,
@@ -134,11 +134,7 @@ def clear(args: argparse.Namespace) -> PackedOnly:
     alm_type, alm_no = named("ALARM", fmt.parse_alarm_filter, given)
     # what was given, as the CNC names it (``ps100`` is PS0100, ``ps`` every PS alarm)
     if given is not None:
-        given = (
-            ALARM_TYPE_NAMES.get(alm_type, f"T{alm_type}")
-            if alm_no == -1
-            else fmt.alarm_code(alm_type, alm_no)
-        )
+        given = alarm_filter_text(alm_type, alm_no)
 
     def matches(a: Any) -> bool:
         return alm_type in (-1, a.alm_type) and alm_no in (-1, a.alm_no)

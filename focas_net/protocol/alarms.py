@@ -35,6 +35,7 @@ __all__ = [
     "alarm_active_already",
     "alarm_code",
     "alarm_fields",
+    "alarm_filter_text",
     "alarm_message",
     "alarm_text",
     "alarm_time_text",
@@ -133,6 +134,15 @@ def alarm_active_already(
         + (f": {msg}" if msg else " (with no message)")
         + " (a CNC shows one entry per alarm: clear it first to raise it with another message)"
     )
+
+
+def alarm_filter_text(alm_type: int, alm_no: int) -> str | None:
+    """The alarms a clear asks for as the CNC names them, for :func:`nothing_cleared`: a code
+    (``PS0100``), a type (``PS``, ``T31`` for one of no name), ``number 100`` of any type, or
+    None for every alarm (-1 matches any)."""
+    if alm_no == -1:
+        return None if alm_type == -1 else ALARM_TYPE_NAMES.get(alm_type, f"T{alm_type}")
+    return f"number {alm_no}" if alm_type == -1 else alarm_code(alm_type, alm_no)
 
 
 def nothing_cleared(

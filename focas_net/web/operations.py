@@ -48,7 +48,6 @@ from focas_net._typed import (
 from focas_net._typed import typed_shown as shown
 from focas_net.errors import EW, ew_name
 from focas_net.protocol import (
-    ALARM_TYPE_NAMES,
     ALARM_TYPES,
     AutMode,
     CycleAction,
@@ -56,7 +55,7 @@ from focas_net.protocol import (
     FaultScope,
     InjectFault,
     alarm_active_already,
-    alarm_code,
+    alarm_filter_text,
     alarm_message,
     alarm_type_of,
     cycle_action_of,
@@ -381,11 +380,7 @@ def _clear_alarms(station: Station, args: Mapping[str, Any]) -> JsonDict:
     if cleared:
         return {"cleared": cleared}
     # as sim clear says it, naming the alarms asked for as the CNC names them
-    given: str | None = None
-    if alm_no == -1 and alm_type != -1:
-        given = ALARM_TYPE_NAMES.get(alm_type, f"type {alm_type}")
-    elif alm_no != -1:
-        given = f"number {alm_no}" if alm_type == -1 else alarm_code(alm_type, alm_no)
+    given = alarm_filter_text(alm_type, alm_no)
     m = station.machine
     elsewhere = [
         (other, n)
