@@ -47,8 +47,9 @@ def test_the_machine_file_and_the_gateway_file_say_it_alike(tmp_path: Path) -> N
     ],
 )
 async def test_the_command_line_says_it_in_lower_case(argv: tuple[str, ...]) -> None:
-    line = await fails(EXIT_USAGE, *argv)
-    assert line.endswith("no such file or directory"), line
+    line = await fails(EXIT_USAGE, *argv, prefix="focas-net")
+    # (the parser's form: the argument, the reason, then where the help is)
+    assert f"no such file or directory; see focas-net {argv[0]} --help" in line, line
 
 
 async def test_serve_says_it_in_lower_case() -> None:

@@ -90,11 +90,14 @@ def _options(*argv: str) -> argparse.Namespace:
 @pytest.mark.parametrize(
     ("argv", "message"),
     [
-        (("--fleet", "2", "--workers", "3"), "--workers 3: at most 64, and no more than the 2 "),
+        (
+            ("--fleet", "2", "--workers", "3"),
+            "argument --workers: at most 64, and no more than the 2 machines of --fleet, got 3",
+        ),
         (("--workers", "2"), "the fleet is 1 machine (without --fleet): give --fleet N"),
         (
             ("--fleet", "4", "--workers", "2", "--web", "0"),
-            "--web shows the machines of one process, not of --workers 2",
+            "argument --web: the dashboard shows the machines of one process, not of --workers 2",
         ),
     ],
 )
