@@ -8,7 +8,7 @@ without an OverflowError; and every alarm history entry of one second reported."
 
 from __future__ import annotations
 
-from datetime import date
+from datetime import UTC, date, datetime
 from decimal import Decimal
 from pathlib import Path
 from typing import Any
@@ -155,6 +155,7 @@ async def test_a_date_outside_the_cnc_calendar_names_its_years(
     both_clients: tuple[Machine, FocasClient, NativeClient], year: int
 ) -> None:
     machine, _, native = both_clients
+    machine.clock = lambda: datetime(2026, 3, 4, 5, 6, 7, tzinfo=UTC)  # (held: nothing ticks)
     before = machine.now()
     with pytest.raises(CncError) as refused:
         await native.write_date(date(year, 1, 1))
