@@ -155,41 +155,38 @@ async def _status_over_tls(port: int, cafile: Path) -> FocasConnectionError:
     return caught.value
 
 
-async def test_the_alert_of_a_tls13_server_that_wants_a_client_certificate_is_worded(
-    certificate: tuple[Path, Path],
+@pytest.mark.parametrize(
+    ("version", "words"),
+    [
+        # It read `connection to ... lost before any answer: [SSL:
+        # TLSV13_ALERT_CERTIFICATE_REQUIRED] tlsv13 alert certificate required (_ssl.c:2580)`.
+        (
+            ssl.TLSVersion.TLSv1_3,
+            "connection to 127.0.0.1:{port} lost before any answer: the server wants a client "
+            "certificate (tlsv13 alert certificate required)",
+        ),
+        # It read `TLS handshake failed (sslv3 alert handshake failure): the peer may not
+        # speak TLS`, and the command line advised "drop --tls": a peer that sends an alert
+        # speaks TLS.
+        (
+            ssl.TLSVersion.TLSv1_2,
+            "cannot connect to 127.0.0.1:{port}: TLS handshake failed (sslv3 alert handshake "
+            "failure): the server refused it: it may want a client certificate, or share no "
+            "TLS version or cipher with this client",
+        ),
+    ],
+)
+async def test_the_alert_of_a_tls_server_that_wants_a_client_certificate_is_worded(
+    certificate: tuple[Path, Path], version: ssl.TLSVersion, words: str
 ) -> None:
-    """It read `connection to ... lost before any answer: [SSL:
-    TLSV13_ALERT_CERTIFICATE_REQUIRED] tlsv13 alert certificate required (_ssl.c:2580)`."""
-    context = _wants_client_certificate(certificate, ssl.TLSVersion.TLSv1_3)
+    context = _wants_client_certificate(certificate, version)
     with _openssl_server(context) as port:
         said = str(await _status_over_tls(port, certificate[0]))
         line = await fails(
             EXIT_CONNECTION, "status", "--port", str(port), "--tls-ca", str(certificate[0])
         )
-    assert said == (
-        f"connection to 127.0.0.1:{port} lost before any answer: the server wants a client "
-        "certificate (tlsv13 alert certificate required)"
-    )
+    assert said == words.format(port=port)
     assert line == f"focas-net: {said}; {_NO_CLIENT_CERTIFICATE}"
-
-
-async def test_the_handshake_alert_of_a_tls12_server_that_wants_a_client_certificate(
-    certificate: tuple[Path, Path],
-) -> None:
-    """It read `TLS handshake failed (sslv3 alert handshake failure): the peer may not speak
-    TLS`: a peer that sends an alert speaks TLS."""
-    context = _wants_client_certificate(certificate, ssl.TLSVersion.TLSv1_2)
-    with _openssl_server(context) as port:
-        said = str(await _status_over_tls(port, certificate[0]))
-        line = await fails(
-            EXIT_CONNECTION, "status", "--port", str(port), "--tls-ca", str(certificate[0])
-        )
-    assert said == (
-        f"cannot connect to 127.0.0.1:{port}: TLS handshake failed (sslv3 alert handshake "
-        "failure): the server refused it: it may want a client certificate, or share no TLS "
-        "version or cipher with this client"
-    )
-    assert line == f"focas-net: {said}; {_NO_CLIENT_CERTIFICATE}"  # (not "drop --tls")
 
 
 async def test_a_tls_connection_closed_after_its_handshake_names_a_client_certificate(
